@@ -1,0 +1,174 @@
+//! Problems found in a patch, each placed on the node and pin it concerns.
+//!
+//! A problem never stops the rest of the patch: the network leaves out the
+//! offending link or value (the document keeps it) and evaluates the rest.
+
+use std::fmt;
+
+use serde::Serialize;
+
+use crate::document::{LinkDoc, NodeId};
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Serialize)]
+pub enum Severity {
+    /// The patch runs, but not all of it as written (e.g. an unknown node type kept as a placeholder).
+    Warning,
+    /// Part of the patch cannot run as written.
+    Error,
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub enum ProblemKind {
+    UnknownNodeType,
+    DuplicateNodeId,
+    LinkFromMissingNode {
+        link: String,
+    },
+    LinkToMissingNode {
+        link: String,
+    },
+    MissingOutputPin {
+        available: Vec<String>,
+    },
+    MissingInputPin {
+        available: Vec<String>,
+    },
+    IncompatibleLink {
+        link: String,
+        from_type: String,
+        to_type: String,
+    },
+    InputLinkedTwice {
+        link: String,
+    },
+    Cycle {
+        link: String,
+        path: Vec<NodeId>,
+    },
+    ValueForMissingPin {
+        available: Vec<String>,
+    },
+    ValueWrongType {
+        expected: String,
+        found: String,
+    },
+    UnknownEnumOption {
+        value: String,
+        options: Vec<String>,
+    },
+    NonFiniteValue {
+        slice: usize,
+    },
+}
+
+/// One problem, located on a node (and a pin where one is involved).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Problem {
+    pub severity: Severity,
+    pub node: NodeId,
+    /// The node's type name, so a message reads well without the patch at hand.
+    pub node_type: String,
+    pub pin: Option<String>,
+    pub kind: ProblemKind,
+}
+
+pub(crate) fn link_text(link: &LinkDoc) -> String {
+    format!("{} -> {}", link.from, link.to)
+}
+
+fn names(list: &[String]) -> String {
+    if list.is_empty() {
+        "none".to_owned()
+    } else {
+        list.iter()
+            .map(|p| format!("`{p}`"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    }
+}
+
+impl fmt::Display for ProblemKind {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        use ProblemKind::*;
+        match self {
+            UnknownNodeType => write!(
+                f,
+                "unknown node type; kept as a placeholder with its values and links (saved back unchanged), outputs nothing"
+            ),
+            DuplicateNodeId => write!(
+                f,
+                "another node already has this id; this one is left out of evaluation"
+            ),
+            LinkFromMissingNode { link } => {
+                write!(f, "link {link} comes from a node that is not in the patch")
+            }
+            LinkToMissingNode { link } => {
+                write!(f, "link {link} goes to a node that is not in the patch")
+            }
+            MissingOutputPin { available } => {
+                write!(f, "no such output pin (outputs: {})", names(available))
+            }
+            MissingInputPin { available } => {
+                write!(f, "no such input pin (inputs: {})", names(available))
+            }
+            IncompatibleLink {
+                link,
+                from_type,
+                to_type,
+            } => {
+                write!(
+                    f,
+                    "link {link} joins an output of type {from_type} to an input of type {to_type}"
+                )
+            }
+            InputLinkedTwice { link } => {
+                write!(f, "input already has a link; link {link} is ignored")
+            }
+            Cycle { link, path } => {
+                let path: Vec<String> = path.iter().map(|n| n.to_string()).collect();
+                write!(
+                    f,
+                    "link {link} closes a cycle ({}); it is ignored",
+                    path.join(" -> ")
+                )
+            }
+            ValueForMissingPin { available } => {
+                write!(
+                    f,
+                    "value for an input the node does not have (inputs: {}); kept in the file, unused",
+                    names(available)
+                )
+            }
+            ValueWrongType { expected, found } => {
+                write!(
+                    f,
+                    "value is {found}, the pin takes {expected}; the default is used"
+                )
+            }
+            UnknownEnumOption { value, options } => {
+                write!(
+                    f,
+                    "`{value}` is not an option (options: {}); the default is used",
+                    names(options)
+                )
+            }
+            NonFiniteValue { slice } => {
+                write!(f, "slice {slice} is NaN or infinite; the default is used")
+            }
+        }
+    }
+}
+
+impl fmt::Display for Problem {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let level = match self.severity {
+            Severity::Warning => "warning",
+            Severity::Error => "error",
+        };
+        write!(f, "{level}: node {} `{}`", self.node, self.node_type)?;
+        if let Some(pin) = &self.pin {
+            write!(f, ", pin `{pin}`")?;
+        }
+        write!(f, ": {}", self.kind)
+    }
+}

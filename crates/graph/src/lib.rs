@@ -1,0 +1,28 @@
+//! Spreadlight's graph crate: the patch document and its `.ron` format,
+//! spreads and pin types, the node registry, and the dataflow runtime that
+//! evaluates a patch frame by frame. No GPU and no UI: everything here runs
+//! headless and deterministically.
+
+pub mod clock;
+pub mod diagnostics;
+pub mod document;
+pub mod format;
+pub mod network;
+pub mod node;
+pub mod registry;
+pub mod runtime;
+pub mod spread;
+pub mod stats;
+pub mod value;
+
+pub use clock::FrameClock;
+pub use diagnostics::{Problem, ProblemKind, Severity};
+pub use document::{FORMAT_VERSION, LinkDoc, NodeDoc, NodeId, Patch, PinRef};
+pub use format::FormatError;
+pub use network::Network;
+pub use node::{EvalContext, Node, NodeError, ProbeLog};
+pub use registry::{NodeDef, PinDef, Registry};
+pub use runtime::Runtime;
+pub use spread::{SliceValue, Spread};
+pub use stats::{FrameStats, NodeRun, NodeStat};
+pub use value::{Color, EnumDef, PinType, Resource, ResourceKind};

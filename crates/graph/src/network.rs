@@ -1,0 +1,463 @@
+//! The network: a patch compiled against the registry into what runs.
+//!
+//! Compiling checks every value and link once, so evaluation never has to:
+//! each input of each node is either a link to an earlier node's output (the
+//! nodes are kept in topological order) or a constant spread. Everything that
+//! cannot run as written becomes a [`Problem`] on its node and is left out;
+//! the document keeps it.
+
+use std::collections::{HashMap, HashSet};
+use std::sync::Arc;
+
+use crate::diagnostics::{Problem, ProblemKind, Severity, link_text};
+use crate::document::{NodeId, Patch};
+use crate::registry::{NodeDef, Registry};
+use crate::spread::Spread;
+use crate::value::PinType;
+
+/// Where an input's spread comes from.
+#[derive(Clone, Debug, PartialEq)]
+pub enum InputSource {
+    /// Output `output` of the node at index `node` of the network (always an earlier one).
+    /// `convert` is the input's type when the link needs a conversion (e.g. Int to Float).
+    Link {
+        node: usize,
+        output: usize,
+        convert: Option<PinType>,
+    },
+    /// A value from the patch, or the pin's default.
+    Constant(Arc<Spread>),
+}
+
+/// One node of the network.
+#[derive(Clone, Debug)]
+pub struct NetworkNode {
+    pub id: NodeId,
+    pub type_name: String,
+    /// `None` for a node type this build does not know: a placeholder that never evaluates.
+    pub def: Option<Arc<NodeDef>>,
+    pub inputs: Vec<InputSource>,
+}
+
+/// A compiled patch.
+#[derive(Clone, Debug, Default)]
+pub struct Network {
+    nodes: Vec<NetworkNode>,
+    index: HashMap<NodeId, usize>,
+    needed: Vec<bool>,
+    problems: Vec<Problem>,
+}
+
+struct Edge {
+    from: usize,
+    output: usize,
+    to: usize,
+    input: usize,
+    convert: Option<PinType>,
+    link: usize,
+}
+
+impl Network {
+    pub fn compile(patch: &Patch, registry: &Registry) -> Network {
+        Compiler {
+            patch,
+            registry,
+            problems: Vec::new(),
+        }
+        .run()
+    }
+
+    /// Nodes in evaluation (topological) order.
+    pub fn nodes(&self) -> &[NetworkNode] {
+        &self.nodes
+    }
+
+    pub fn index_of(&self, id: NodeId) -> Option<usize> {
+        self.index.get(&id).copied()
+    }
+
+    /// Whether node `index` feeds a sink (or is one): only those are evaluated.
+    pub fn is_needed(&self, index: usize) -> bool {
+        self.needed[index]
+    }
+
+    pub fn problems(&self) -> &[Problem] {
+        &self.problems
+    }
+
+    pub fn has_errors(&self) -> bool {
+        self.problems.iter().any(|p| p.severity == Severity::Error)
+    }
+}
+
+struct Compiler<'a> {
+    patch: &'a Patch,
+    registry: &'a Registry,
+    problems: Vec<Problem>,
+}
+
+impl Compiler<'_> {
+    fn problem(
+        &mut self,
+        severity: Severity,
+        doc_index: Option<usize>,
+        id: NodeId,
+        pin: Option<&str>,
+        kind: ProblemKind,
+    ) {
+        let node_type = match doc_index {
+            Some(i) => self.patch.nodes[i].type_name.clone(),
+            None => "(missing)".to_owned(),
+        };
+        self.problems.push(Problem {
+            severity,
+            node: id,
+            node_type,
+            pin: pin.map(str::to_owned),
+            kind,
+        });
+    }
+
+    fn run(mut self) -> Network {
+        let patch = self.patch;
+        // Ids first: a duplicate is left out, so every id names exactly one node.
+        let mut by_id: HashMap<NodeId, usize> = HashMap::new();
+        let mut included = Vec::new();
+        for (i, node) in patch.nodes.iter().enumerate() {
+            if by_id.contains_key(&node.id) {
+                self.problem(
+                    Severity::Error,
+                    Some(i),
+                    node.id,
+                    None,
+                    ProblemKind::DuplicateNodeId,
+                );
+            } else {
+                by_id.insert(node.id, i);
+                included.push(i);
+            }
+        }
+
+        let mut defs: Vec<Option<Arc<NodeDef>>> = vec![None; patch.nodes.len()];
+        let mut inputs: Vec<Vec<InputSource>> = vec![Vec::new(); patch.nodes.len()];
+        for &i in &included {
+            let node = &patch.nodes[i];
+            match self.registry.get(&node.type_name) {
+                Some(def) => {
+                    inputs[i] = self.constant_inputs(i, def);
+                    defs[i] = Some(def.clone());
+                }
+                None => self.problem(
+                    Severity::Warning,
+                    Some(i),
+                    node.id,
+                    None,
+                    ProblemKind::UnknownNodeType,
+                ),
+            }
+        }
+
+        let edges = self.check_links(&by_id, &defs, &mut inputs);
+        let (order, edges) = self.order_and_break_cycles(&included, edges);
+
+        let mut net_index = vec![usize::MAX; patch.nodes.len()];
+        for (k, &i) in order.iter().enumerate() {
+            net_index[i] = k;
+        }
+        for e in &edges {
+            inputs[e.to][e.input] = InputSource::Link {
+                node: net_index[e.from],
+                output: e.output,
+                convert: e.convert,
+            };
+        }
+        let nodes: Vec<NetworkNode> = order
+            .iter()
+            .map(|&i| NetworkNode {
+                id: patch.nodes[i].id,
+                type_name: patch.nodes[i].type_name.clone(),
+                def: defs[i].clone(),
+                inputs: std::mem::take(&mut inputs[i]),
+            })
+            .collect();
+        let index = nodes.iter().enumerate().map(|(k, n)| (n.id, k)).collect();
+        let needed = needed_nodes(&nodes);
+        Network {
+            nodes,
+            index,
+            needed,
+            problems: self.problems,
+        }
+    }
+
+    /// The inputs from the patch's values, or the pins' defaults where a value is missing or bad.
+    fn constant_inputs(&mut self, i: usize, def: &NodeDef) -> Vec<InputSource> {
+        let node = &self.patch.nodes[i];
+        let mut inputs: Vec<InputSource> = def
+            .inputs
+            .iter()
+            .map(|p| InputSource::Constant(Arc::new(p.default.clone())))
+            .collect();
+        for (pin, value) in &node.values {
+            let Some(k) = def.input_index(pin) else {
+                let available = def.inputs.iter().map(|p| p.name.to_owned()).collect();
+                self.problem(
+                    Severity::Error,
+                    Some(i),
+                    node.id,
+                    Some(pin),
+                    ProblemKind::ValueForMissingPin { available },
+                );
+                continue;
+            };
+            let ty = def.inputs[k].ty;
+            if !value.fits(ty) {
+                let kind = ProblemKind::ValueWrongType {
+                    expected: ty.name(),
+                    found: value.type_name().to_owned(),
+                };
+                self.problem(Severity::Error, Some(i), node.id, Some(pin), kind);
+                continue;
+            }
+            if let (PinType::Enum(enum_def), Spread::Enum(options)) = (ty, value)
+                && let Some(bad) = options.iter().find(|o| enum_def.index_of(o).is_none())
+            {
+                let kind = ProblemKind::UnknownEnumOption {
+                    value: bad.clone(),
+                    options: enum_def.options.iter().map(|o| (*o).to_owned()).collect(),
+                };
+                self.problem(Severity::Error, Some(i), node.id, Some(pin), kind);
+                continue;
+            }
+            if let Some(slice) = value.first_non_finite() {
+                self.problem(
+                    Severity::Error,
+                    Some(i),
+                    node.id,
+                    Some(pin),
+                    ProblemKind::NonFiniteValue { slice },
+                );
+                continue;
+            }
+            inputs[k] = InputSource::Constant(Arc::new(value.clone()));
+        }
+        inputs
+    }
+
+    fn check_links(
+        &mut self,
+        by_id: &HashMap<NodeId, usize>,
+        defs: &[Option<Arc<NodeDef>>],
+        inputs: &mut [Vec<InputSource>],
+    ) -> Vec<Edge> {
+        let mut edges = Vec::new();
+        let mut linked: HashSet<(usize, usize)> = HashSet::new();
+        for (li, link) in self.patch.links.iter().enumerate() {
+            let text = link_text(link);
+            let (from, to) = (
+                by_id.get(&link.from.node()).copied(),
+                by_id.get(&link.to.node()).copied(),
+            );
+            let Some(from) = from else {
+                let kind = ProblemKind::LinkFromMissingNode { link: text };
+                self.problem(
+                    Severity::Error,
+                    to,
+                    link.to.node(),
+                    Some(link.to.pin()),
+                    kind,
+                );
+                continue;
+            };
+            let Some(to) = to else {
+                let kind = ProblemKind::LinkToMissingNode { link: text };
+                self.problem(
+                    Severity::Error,
+                    Some(from),
+                    link.from.node(),
+                    Some(link.from.pin()),
+                    kind,
+                );
+                continue;
+            };
+            // A placeholder's pins are whatever the file says; check the known end only.
+            let to_def = defs[to].clone();
+            let input = match &to_def {
+                Some(def) => match def.input_index(link.to.pin()) {
+                    Some(k) => Some(k),
+                    None => {
+                        let available = def.inputs.iter().map(|p| p.name.to_owned()).collect();
+                        let kind = ProblemKind::MissingInputPin { available };
+                        self.problem(
+                            Severity::Error,
+                            Some(to),
+                            link.to.node(),
+                            Some(link.to.pin()),
+                            kind,
+                        );
+                        continue;
+                    }
+                },
+                None => None,
+            };
+            let Some(from_def) = defs[from].clone() else {
+                // A placeholder outputs nothing: the input it feeds gets an empty spread.
+                if let (Some(def), Some(k)) = (&to_def, input) {
+                    inputs[to][k] =
+                        InputSource::Constant(Arc::new(Spread::empty(def.inputs[k].ty)));
+                }
+                continue;
+            };
+            let Some(output) = from_def.output_index(link.from.pin()) else {
+                let available = from_def.outputs.iter().map(|p| p.name.to_owned()).collect();
+                let kind = ProblemKind::MissingOutputPin { available };
+                self.problem(
+                    Severity::Error,
+                    Some(from),
+                    link.from.node(),
+                    Some(link.from.pin()),
+                    kind,
+                );
+                continue;
+            };
+            let (Some(to_def), Some(input)) = (to_def, input) else {
+                continue;
+            };
+            let (from_ty, to_ty) = (from_def.outputs[output].ty, to_def.inputs[input].ty);
+            if !from_ty.links_to(to_ty) {
+                let kind = ProblemKind::IncompatibleLink {
+                    link: text,
+                    from_type: from_ty.name(),
+                    to_type: to_ty.name(),
+                };
+                self.problem(
+                    Severity::Error,
+                    Some(to),
+                    link.to.node(),
+                    Some(link.to.pin()),
+                    kind,
+                );
+                continue;
+            }
+            if !linked.insert((to, input)) {
+                let kind = ProblemKind::InputLinkedTwice { link: text };
+                self.problem(
+                    Severity::Error,
+                    Some(to),
+                    link.to.node(),
+                    Some(link.to.pin()),
+                    kind,
+                );
+                continue;
+            }
+            let convert = (from_ty != to_ty).then_some(to_ty);
+            edges.push(Edge {
+                from,
+                output,
+                to,
+                input,
+                convert,
+                link: li,
+            });
+        }
+        edges
+    }
+
+    /// A topological order of the included nodes, by depth-first search in
+    /// patch order. A link that closes a cycle is reported and left out.
+    fn order_and_break_cycles(
+        &mut self,
+        included: &[usize],
+        edges: Vec<Edge>,
+    ) -> (Vec<usize>, Vec<Edge>) {
+        let n = self.patch.nodes.len();
+        let mut out_edges: Vec<Vec<usize>> = vec![Vec::new(); n];
+        for (k, e) in edges.iter().enumerate() {
+            out_edges[e.from].push(k);
+        }
+        #[derive(Clone, Copy, PartialEq)]
+        enum Mark {
+            New,
+            Open,
+            Done,
+        }
+        let mut mark = vec![Mark::New; n];
+        let mut broken = vec![false; edges.len()];
+        let mut postorder = Vec::with_capacity(included.len());
+        // Iterative, so a chain of 100,000 nodes cannot overflow the stack.
+        let mut stack: Vec<(usize, usize)> = Vec::new();
+        for &root in included {
+            if mark[root] != Mark::New {
+                continue;
+            }
+            mark[root] = Mark::Open;
+            stack.push((root, 0));
+            while let Some(&mut (node, ref mut next)) = stack.last_mut() {
+                if let Some(&k) = out_edges[node].get(*next) {
+                    *next += 1;
+                    let target = edges[k].to;
+                    match mark[target] {
+                        Mark::New => {
+                            mark[target] = Mark::Open;
+                            stack.push((target, 0));
+                        }
+                        Mark::Open => {
+                            broken[k] = true;
+                            let start = stack.iter().position(|&(s, _)| s == target).unwrap_or(0);
+                            let mut path: Vec<NodeId> = stack[start..]
+                                .iter()
+                                .map(|&(s, _)| self.patch.nodes[s].id)
+                                .collect();
+                            path.push(self.patch.nodes[target].id);
+                            let link = &self.patch.links[edges[k].link];
+                            let kind = ProblemKind::Cycle {
+                                link: link_text(link),
+                                path,
+                            };
+                            self.problem(
+                                Severity::Error,
+                                Some(target),
+                                link.to.node(),
+                                Some(link.to.pin()),
+                                kind,
+                            );
+                        }
+                        Mark::Done => {}
+                    }
+                } else {
+                    mark[node] = Mark::Done;
+                    postorder.push(node);
+                    stack.pop();
+                }
+            }
+        }
+        postorder.reverse();
+        let edges = edges
+            .into_iter()
+            .zip(broken)
+            .filter(|(_, b)| !b)
+            .map(|(e, _)| e)
+            .collect();
+        (postorder, edges)
+    }
+}
+
+/// Demand: sinks are needed, and so is everything that feeds a needed node.
+/// One backward pass suffices because links only point forward in the order.
+fn needed_nodes(nodes: &[NetworkNode]) -> Vec<bool> {
+    let mut needed: Vec<bool> = nodes
+        .iter()
+        .map(|n| n.def.as_ref().is_some_and(|d| d.sink))
+        .collect();
+    for i in (0..nodes.len()).rev() {
+        if !needed[i] {
+            continue;
+        }
+        for input in &nodes[i].inputs {
+            if let InputSource::Link { node, .. } = input {
+                needed[*node] = true;
+            }
+        }
+    }
+    needed
+}

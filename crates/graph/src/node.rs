@@ -1,0 +1,114 @@
+//! What a node's code sees: the [`Node`] trait and the [`EvalContext`] it
+//! evaluates in (its input spreads, its output slots, the clock, the probes).
+
+use std::collections::BTreeMap;
+use std::sync::Arc;
+
+use thiserror::Error;
+
+use crate::clock::FrameClock;
+use crate::registry::PinDef;
+use crate::spread::{SliceValue, Spread};
+
+/// An error of one node's evaluation. The node outputs nothing that frame;
+/// the rest of the graph keeps evaluating.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum NodeError {
+    #[error("input `{pin}`: {message}")]
+    Input { pin: String, message: String },
+    #[error("{0}")]
+    Other(String),
+}
+
+/// The code of a node type. One instance per node in the running patch; it may keep state.
+pub trait Node: Send {
+    fn evaluate(&mut self, cx: &mut EvalContext<'_>) -> Result<(), NodeError>;
+}
+
+/// Values recorded by `Probe` nodes, by probe name.
+pub type ProbeLog = BTreeMap<String, Spread>;
+
+/// Everything a node may read or write while it evaluates.
+pub struct EvalContext<'a> {
+    pub clock: &'a FrameClock,
+    inputs: &'a [Arc<Spread>],
+    input_defs: &'a [PinDef],
+    outputs: &'a mut [Arc<Spread>],
+    probes: &'a mut ProbeLog,
+}
+
+impl<'a> EvalContext<'a> {
+    pub fn new(
+        clock: &'a FrameClock,
+        inputs: &'a [Arc<Spread>],
+        input_defs: &'a [PinDef],
+        outputs: &'a mut [Arc<Spread>],
+        probes: &'a mut ProbeLog,
+    ) -> Self {
+        EvalContext {
+            clock,
+            inputs,
+            input_defs,
+            outputs,
+            probes,
+        }
+    }
+
+    pub fn input(&self, index: usize) -> &Spread {
+        &self.inputs[index]
+    }
+
+    /// The shared input spread itself (cheap to pass on unchanged).
+    pub fn input_arc(&self, index: usize) -> &Arc<Spread> {
+        &self.inputs[index]
+    }
+
+    /// The slices of input `index` as their Rust type.
+    pub fn slices<T: SliceValue>(&self, index: usize) -> Result<&[T], NodeError> {
+        T::slices(&self.inputs[index]).ok_or_else(|| NodeError::Input {
+            pin: self.input_defs[index].name.to_owned(),
+            message: format!(
+                "expected {}, got {}",
+                T::PIN_TYPE,
+                self.inputs[index].type_name()
+            ),
+        })
+    }
+
+    /// The option names of an enum input.
+    pub fn enum_slices(&self, index: usize) -> Result<&[String], NodeError> {
+        match &*self.inputs[index] {
+            Spread::Enum(v) => Ok(v),
+            other => Err(self.input_error(
+                index,
+                format!("expected an enum, got {}", other.type_name()),
+            )),
+        }
+    }
+
+    /// An error naming input `index`, for node code to return.
+    pub fn input_error(&self, index: usize, message: impl Into<String>) -> NodeError {
+        NodeError::Input {
+            pin: self.input_defs[index].name.to_owned(),
+            message: message.into(),
+        }
+    }
+
+    pub fn set_output(&mut self, index: usize, spread: Spread) {
+        self.outputs[index] = Arc::new(spread);
+    }
+
+    /// Pass an already shared spread on without copying it.
+    pub fn set_output_arc(&mut self, index: usize, spread: Arc<Spread>) {
+        self.outputs[index] = spread;
+    }
+
+    pub fn set<T: SliceValue>(&mut self, index: usize, values: Vec<T>) {
+        self.set_output(index, T::into_spread(values));
+    }
+
+    /// Record a probed value under `name` (what `spreadlight eval --probe` prints).
+    pub fn record_probe(&mut self, name: &str, value: Spread) {
+        self.probes.insert(name.to_owned(), value);
+    }
+}

@@ -1,0 +1,299 @@
+//! The registry of node types: what a node is called, where it sits in the
+//! browser, its pins with types and defaults, and how to make one.
+//!
+//! A node type is declared once, with [`NodeDef`]'s builder, beside its code;
+//! its family registers it with [`Registry::add`]. Nothing else lists node types.
+
+use std::collections::BTreeMap;
+use std::sync::Arc;
+
+use crate::node::{EvalContext, Node, NodeError};
+use crate::spread::{SliceValue, Spread, map1, map2, map3, map4};
+use crate::value::{EnumDef, PinType};
+
+/// One input or output pin of a node type.
+#[derive(Clone, Debug)]
+pub struct PinDef {
+    pub name: &'static str,
+    pub ty: PinType,
+    /// The spread an unlinked input holds when the patch sets no value (empty for outputs).
+    pub default: Spread,
+}
+
+type Constructor = Arc<dyn Fn() -> Box<dyn Node> + Send + Sync>;
+
+/// A node type.
+#[derive(Clone)]
+pub struct NodeDef {
+    /// The type name as saved in patches and shown in the browser, e.g. `Add (Value)`.
+    pub name: &'static str,
+    pub category: &'static str,
+    pub help: &'static str,
+    pub inputs: Vec<PinDef>,
+    pub outputs: Vec<PinDef>,
+    /// Re-evaluated every frame even when its inputs did not change (it reads the clock or keeps state over time).
+    pub time_dependent: bool,
+    /// Evaluation starts from sinks: outputs, renderers, previews, probes.
+    pub sink: bool,
+    constructor: Constructor,
+}
+
+impl std::fmt::Debug for NodeDef {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("NodeDef")
+            .field("name", &self.name)
+            .field("category", &self.category)
+            .field("inputs", &self.inputs)
+            .field("outputs", &self.outputs)
+            .finish_non_exhaustive()
+    }
+}
+
+struct Unimplemented(&'static str);
+
+impl Node for Unimplemented {
+    fn evaluate(&mut self, _: &mut EvalContext<'_>) -> Result<(), NodeError> {
+        Err(NodeError::Other(format!(
+            "node type `{}` was registered without an evaluation",
+            self.0
+        )))
+    }
+}
+
+impl NodeDef {
+    pub fn new(name: &'static str, category: &'static str, help: &'static str) -> Self {
+        NodeDef {
+            name,
+            category,
+            help,
+            inputs: Vec::new(),
+            outputs: Vec::new(),
+            time_dependent: false,
+            sink: false,
+            constructor: Arc::new(move || Box::new(Unimplemented(name))),
+        }
+    }
+
+    /// An input of a plain value type with a one-slice default.
+    pub fn input<T: SliceValue>(self, name: &'static str, default: T) -> Self {
+        self.input_spread(name, T::PIN_TYPE, T::into_spread(vec![default]))
+    }
+
+    /// An input whose default is a whole spread (or of a type with no [`SliceValue`]).
+    pub fn input_spread(mut self, name: &'static str, ty: PinType, default: Spread) -> Self {
+        assert!(
+            default.fits(ty),
+            "{}: default of `{name}` does not fit {ty}",
+            self.name
+        );
+        self.inputs.push(PinDef { name, ty, default });
+        self
+    }
+
+    /// An enum input; `default` must be one of the enum's options.
+    pub fn input_enum(self, name: &'static str, def: &'static EnumDef, default: &str) -> Self {
+        assert!(
+            def.index_of(default).is_some(),
+            "{}: `{default}` is not an option of {}",
+            self.name,
+            def.name
+        );
+        self.input_spread(
+            name,
+            PinType::Enum(def),
+            Spread::Enum(vec![default.to_owned()]),
+        )
+    }
+
+    pub fn output<T: SliceValue>(self, name: &'static str) -> Self {
+        self.output_typed(name, T::PIN_TYPE)
+    }
+
+    pub fn output_typed(mut self, name: &'static str, ty: PinType) -> Self {
+        self.outputs.push(PinDef {
+            name,
+            ty,
+            default: Spread::empty(ty),
+        });
+        self
+    }
+
+    pub fn time_dependent(mut self) -> Self {
+        self.time_dependent = true;
+        self
+    }
+
+    pub fn sink(mut self) -> Self {
+        self.sink = true;
+        self
+    }
+
+    /// A node with state (or any node that wants the whole [`EvalContext`]).
+    pub fn construct<N: Node + 'static>(
+        mut self,
+        make: impl Fn() -> N + Send + Sync + 'static,
+    ) -> Self {
+        self.constructor = Arc::new(move || Box::new(make()));
+        self
+    }
+
+    /// A stateless node given as one function over the context.
+    pub fn evaluate(self, f: fn(&mut EvalContext<'_>) -> Result<(), NodeError>) -> Self {
+        self.construct(move || FnNode(f))
+    }
+
+    /// A pure one-input, one-output node, written per slice.
+    pub fn per_slice1<A: SliceValue, O: SliceValue>(self, f: fn(&A) -> O) -> Self {
+        self.check_shape(&[A::PIN_TYPE], O::PIN_TYPE);
+        self.evaluate_with(move |cx| {
+            let out = map1(cx.slices::<A>(0)?, f);
+            cx.set(0, out);
+            Ok(())
+        })
+    }
+
+    /// A pure two-input, one-output node, written per slice; spreading and wrapping come free.
+    pub fn per_slice2<A: SliceValue, B: SliceValue, O: SliceValue>(
+        self,
+        f: fn(&A, &B) -> O,
+    ) -> Self {
+        self.check_shape(&[A::PIN_TYPE, B::PIN_TYPE], O::PIN_TYPE);
+        self.evaluate_with(move |cx| {
+            let out = map2(cx.slices::<A>(0)?, cx.slices::<B>(1)?, f);
+            cx.set(0, out);
+            Ok(())
+        })
+    }
+
+    /// A pure three-input, one-output node, written per slice.
+    pub fn per_slice3<A: SliceValue, B: SliceValue, C: SliceValue, O: SliceValue>(
+        self,
+        f: fn(&A, &B, &C) -> O,
+    ) -> Self {
+        self.check_shape(&[A::PIN_TYPE, B::PIN_TYPE, C::PIN_TYPE], O::PIN_TYPE);
+        self.evaluate_with(move |cx| {
+            let out = map3(
+                cx.slices::<A>(0)?,
+                cx.slices::<B>(1)?,
+                cx.slices::<C>(2)?,
+                f,
+            );
+            cx.set(0, out);
+            Ok(())
+        })
+    }
+
+    /// A pure four-input, one-output node, written per slice.
+    pub fn per_slice4<A: SliceValue, B: SliceValue, C: SliceValue, D: SliceValue, O: SliceValue>(
+        self,
+        f: fn(&A, &B, &C, &D) -> O,
+    ) -> Self {
+        self.check_shape(
+            &[A::PIN_TYPE, B::PIN_TYPE, C::PIN_TYPE, D::PIN_TYPE],
+            O::PIN_TYPE,
+        );
+        self.evaluate_with(move |cx| {
+            let out = map4(
+                cx.slices::<A>(0)?,
+                cx.slices::<B>(1)?,
+                cx.slices::<C>(2)?,
+                cx.slices::<D>(3)?,
+                f,
+            );
+            cx.set(0, out);
+            Ok(())
+        })
+    }
+
+    fn evaluate_with(
+        self,
+        f: impl Fn(&mut EvalContext<'_>) -> Result<(), NodeError> + Clone + Send + Sync + 'static,
+    ) -> Self {
+        self.construct(move || ClosureNode(f.clone()))
+    }
+
+    /// A per-slice function must match the declared pins; a mismatch is a bug in the node's code.
+    fn check_shape(&self, inputs: &[PinType], output: PinType) {
+        let declared: Vec<PinType> = self.inputs.iter().map(|p| p.ty).collect();
+        assert_eq!(
+            declared, inputs,
+            "{}: per-slice function does not match the input pins",
+            self.name
+        );
+        assert_eq!(
+            self.outputs.len(),
+            1,
+            "{}: per-slice nodes have exactly one output",
+            self.name
+        );
+        assert_eq!(
+            self.outputs[0].ty, output,
+            "{}: per-slice function does not match the output pin",
+            self.name
+        );
+    }
+
+    pub fn instantiate(&self) -> Box<dyn Node> {
+        (self.constructor)()
+    }
+
+    pub fn input_index(&self, pin: &str) -> Option<usize> {
+        self.inputs.iter().position(|p| p.name == pin)
+    }
+
+    pub fn output_index(&self, pin: &str) -> Option<usize> {
+        self.outputs.iter().position(|p| p.name == pin)
+    }
+}
+
+struct FnNode(fn(&mut EvalContext<'_>) -> Result<(), NodeError>);
+
+impl Node for FnNode {
+    fn evaluate(&mut self, cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
+        (self.0)(cx)
+    }
+}
+
+struct ClosureNode<F>(F);
+
+impl<F: Fn(&mut EvalContext<'_>) -> Result<(), NodeError> + Send> Node for ClosureNode<F> {
+    fn evaluate(&mut self, cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
+        (self.0)(cx)
+    }
+}
+
+/// All node types known to this build, by type name.
+#[derive(Default, Clone)]
+pub struct Registry {
+    defs: BTreeMap<&'static str, Arc<NodeDef>>,
+}
+
+impl Registry {
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Register a node type. Two types with one name is a bug in the node library, so it panics.
+    pub fn add(&mut self, def: NodeDef) {
+        let name = def.name;
+        let previous = self.defs.insert(name, Arc::new(def));
+        assert!(previous.is_none(), "node type `{name}` registered twice");
+    }
+
+    pub fn get(&self, name: &str) -> Option<&Arc<NodeDef>> {
+        self.defs.get(name)
+    }
+
+    /// Every node type, sorted by name.
+    pub fn iter(&self) -> impl Iterator<Item = &Arc<NodeDef>> {
+        self.defs.values()
+    }
+
+    pub fn len(&self) -> usize {
+        self.defs.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.defs.is_empty()
+    }
+}

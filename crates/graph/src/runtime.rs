@@ -1,0 +1,301 @@
+//! The dataflow runtime: evaluates a compiled [`Network`] frame by frame.
+//!
+//! Demand-driven: only nodes that feed a sink run. Cached: a node runs again
+//! only when an input changed (tracked by output versions, not by comparing
+//! spreads) or when it depends on time. A failing node outputs nothing that
+//! frame and everything else keeps going.
+
+use std::sync::Arc;
+use std::time::Instant;
+
+use crate::clock::FrameClock;
+use crate::diagnostics::Problem;
+use crate::document::{NodeId, Patch};
+use crate::network::{InputSource, Network, NetworkNode};
+use crate::node::{EvalContext, Node, NodeError, ProbeLog};
+use crate::registry::Registry;
+use crate::spread::Spread;
+use crate::stats::{FrameStats, NodeRun, NodeStat};
+
+/// The running state of one node.
+struct NodeState {
+    instance: Option<Box<dyn Node>>,
+    inputs: Vec<Arc<Spread>>,
+    /// For each linked input, the version of the upstream output last read.
+    seen: Vec<u64>,
+    outputs: Vec<Arc<Spread>>,
+    /// Bumped (from one counter for the whole runtime) whenever the outputs are recomputed; 0 = never.
+    version: u64,
+    /// Must run next frame whatever its inputs say (new node, or its values or links changed).
+    dirty: bool,
+    error: Option<NodeError>,
+}
+
+const UNSEEN: u64 = u64::MAX;
+
+/// Evaluates a patch. Load a patch with [`Runtime::load`], then call
+/// [`Runtime::evaluate`] once per frame.
+pub struct Runtime {
+    registry: Registry,
+    network: Network,
+    states: Vec<NodeState>,
+    probes: ProbeLog,
+    stats: FrameStats,
+    versions: u64,
+}
+
+impl Runtime {
+    pub fn new(registry: Registry) -> Self {
+        Runtime {
+            registry,
+            network: Network::default(),
+            states: Vec::new(),
+            probes: ProbeLog::new(),
+            stats: FrameStats::default(),
+            versions: 0,
+        }
+    }
+
+    pub fn registry(&self) -> &Registry {
+        &self.registry
+    }
+
+    /// Compile `patch` and make it the running one. Nodes that already ran
+    /// keep their state and outputs where their type, values and links are
+    /// unchanged, so editing one corner of a patch re-evaluates only that corner.
+    pub fn load(&mut self, patch: &Patch) -> &[Problem] {
+        let network = Network::compile(patch, &self.registry);
+        let mut old_states: Vec<Option<NodeState>> = std::mem::take(&mut self.states)
+            .into_iter()
+            .map(Some)
+            .collect();
+        let mut states = Vec::with_capacity(network.nodes().len());
+        for node in network.nodes() {
+            let reused = self
+                .network
+                .index_of(node.id)
+                .filter(|&i| self.network.nodes()[i].type_name == node.type_name)
+                .and_then(|i| old_states[i].take().map(|s| (i, s)));
+            let state = match reused {
+                Some((old_index, mut state)) => {
+                    let old = &self.network.nodes()[old_index];
+                    if !same_inputs(&self.network, old, &network, node) {
+                        state.dirty = true;
+                        state.seen.fill(UNSEEN);
+                    }
+                    set_constants(&mut state, node);
+                    state
+                }
+                None => new_state(node),
+            };
+            states.push(state);
+        }
+        self.stats.nodes = network
+            .nodes()
+            .iter()
+            .map(|n| NodeStat {
+                id: n.id,
+                type_name: n.type_name.clone(),
+                run: NodeRun::Skipped,
+                cpu_ns: 0,
+            })
+            .collect();
+        self.states = states;
+        self.network = network;
+        self.network.problems()
+    }
+
+    pub fn network(&self) -> &Network {
+        &self.network
+    }
+
+    pub fn problems(&self) -> &[Problem] {
+        self.network.problems()
+    }
+
+    /// Evaluate one frame at the given clock.
+    pub fn evaluate(&mut self, clock: FrameClock) -> &FrameStats {
+        let stats = &mut self.stats;
+        stats.frame = clock.frame;
+        stats.time = clock.time;
+        (
+            stats.evaluated,
+            stats.failed,
+            stats.reused,
+            stats.skipped,
+            stats.cpu_ns,
+        ) = (0, 0, 0, 0, 0);
+
+        for (i, node) in self.network.nodes().iter().enumerate() {
+            let stat = &mut stats.nodes[i];
+            stat.cpu_ns = 0;
+            let def = match &node.def {
+                Some(def) if self.network.is_needed(i) => def,
+                _ => {
+                    stat.run = NodeRun::Skipped;
+                    stats.skipped += 1;
+                    continue;
+                }
+            };
+            // Links point only to earlier nodes, so upstream states are all in `before`.
+            let (before, rest) = self.states.split_at_mut(i);
+            let state = &mut rest[0];
+            let mut changed = state.dirty || state.version == 0 || def.time_dependent;
+            for (k, source) in node.inputs.iter().enumerate() {
+                if let InputSource::Link {
+                    node: up,
+                    output,
+                    convert,
+                } = *source
+                {
+                    let upstream = &before[up];
+                    if state.seen[k] != upstream.version {
+                        changed = true;
+                        state.seen[k] = upstream.version;
+                        let spread = &upstream.outputs[output];
+                        state.inputs[k] = match convert {
+                            None => spread.clone(),
+                            Some(ty) => {
+                                Arc::new(spread.convert_to(ty).unwrap_or_else(|| Spread::empty(ty)))
+                            }
+                        };
+                    }
+                }
+            }
+            if !changed {
+                stat.run = NodeRun::Reused;
+                stats.reused += 1;
+                continue;
+            }
+            for (slot, pin) in state.outputs.iter_mut().zip(&def.outputs) {
+                *slot = empty(pin.ty);
+            }
+            let Some(instance) = state.instance.as_mut() else {
+                continue;
+            };
+            let start = Instant::now();
+            let result = {
+                let mut cx = EvalContext::new(
+                    &clock,
+                    &state.inputs,
+                    &def.inputs,
+                    &mut state.outputs,
+                    &mut self.probes,
+                );
+                instance.evaluate(&mut cx)
+            };
+            stat.cpu_ns = start.elapsed().as_nanos() as u64;
+            stats.cpu_ns += stat.cpu_ns;
+            stats.evaluated += 1;
+            match result {
+                Ok(()) => {
+                    state.error = None;
+                    stat.run = NodeRun::Evaluated;
+                }
+                Err(e) => {
+                    for (slot, pin) in state.outputs.iter_mut().zip(&def.outputs) {
+                        *slot = empty(pin.ty);
+                    }
+                    state.error = Some(e);
+                    stat.run = NodeRun::Failed;
+                    stats.failed += 1;
+                }
+            }
+            self.versions += 1;
+            state.version = self.versions;
+            state.dirty = false;
+        }
+        &self.stats
+    }
+
+    /// The statistics of the last evaluated frame.
+    pub fn stats(&self) -> &FrameStats {
+        &self.stats
+    }
+
+    /// Values recorded by `Probe` nodes, by probe name (the latest of each).
+    pub fn probes(&self) -> &ProbeLog {
+        &self.probes
+    }
+
+    /// The current spread on an output pin.
+    pub fn output(&self, node: NodeId, pin: &str) -> Option<&Arc<Spread>> {
+        let i = self.network.index_of(node)?;
+        let k = self.network.nodes()[i].def.as_ref()?.output_index(pin)?;
+        self.states[i].outputs.get(k)
+    }
+
+    /// The error a node returned in the frame it last ran, if any.
+    pub fn node_error(&self, node: NodeId) -> Option<&NodeError> {
+        let i = self.network.index_of(node)?;
+        self.states[i].error.as_ref()
+    }
+
+    /// Every node's last error, in evaluation order.
+    pub fn node_errors(&self) -> impl Iterator<Item = (NodeId, &NodeError)> {
+        self.network
+            .nodes()
+            .iter()
+            .zip(&self.states)
+            .filter_map(|(n, s)| s.error.as_ref().map(|e| (n.id, e)))
+    }
+}
+
+fn empty(ty: crate::value::PinType) -> Arc<Spread> {
+    Arc::new(Spread::empty(ty))
+}
+
+fn new_state(node: &NetworkNode) -> NodeState {
+    let (instance, outputs) = match &node.def {
+        Some(def) => (
+            Some(def.instantiate()),
+            def.outputs.iter().map(|p| empty(p.ty)).collect(),
+        ),
+        None => (None, Vec::new()),
+    };
+    let mut state = NodeState {
+        instance,
+        inputs: Vec::new(),
+        seen: vec![UNSEEN; node.inputs.len()],
+        outputs,
+        version: 0,
+        dirty: true,
+        error: None,
+    };
+    set_constants(&mut state, node);
+    state
+}
+
+fn set_constants(state: &mut NodeState, node: &NetworkNode) {
+    state
+        .inputs
+        .resize_with(node.inputs.len(), || Arc::new(Spread::Float(Vec::new())));
+    state.seen.resize(node.inputs.len(), UNSEEN);
+    for (slot, source) in state.inputs.iter_mut().zip(&node.inputs) {
+        if let InputSource::Constant(value) = source {
+            *slot = value.clone();
+        }
+    }
+}
+
+/// Whether a node reads the same things in two networks: the same constants
+/// and links from the same upstream node ids and pins.
+fn same_inputs(a_net: &Network, a: &NetworkNode, b_net: &Network, b: &NetworkNode) -> bool {
+    a.inputs.len() == b.inputs.len()
+        && a.inputs.iter().zip(&b.inputs).all(|(x, y)| match (x, y) {
+            (InputSource::Constant(u), InputSource::Constant(v)) => Arc::ptr_eq(u, v) || u == v,
+            (
+                InputSource::Link {
+                    node: un,
+                    output: uo,
+                    convert: uc,
+                },
+                InputSource::Link {
+                    node: vn,
+                    output: vo,
+                    convert: vc,
+                },
+            ) => a_net.nodes()[*un].id == b_net.nodes()[*vn].id && uo == vo && uc == vc,
+            _ => false,
+        })
+}
