@@ -46,6 +46,8 @@ impl Spread {
             PinType::Mat4 => Spread::Mat4(Vec::new()),
             PinType::Enum(_) => Spread::Enum(Vec::new()),
             PinType::Resource(kind) => Spread::Resource(kind, Vec::new()),
+            // Nothing is known of an unlinked generic input; an empty Float spread stands for "nothing".
+            PinType::Any => Spread::Float(Vec::new()),
         }
     }
 
@@ -90,7 +92,7 @@ impl Spread {
     pub fn fits(&self, ty: PinType) -> bool {
         match (self, ty) {
             (Spread::Resource(k, _), PinType::Resource(want)) => *k == want,
-            (Spread::Enum(_), PinType::Enum(_)) => true,
+            (Spread::Enum(_), PinType::Enum(_)) | (_, PinType::Any) => true,
             _ => std::mem::discriminant(self) == std::mem::discriminant(&Spread::empty(ty)),
         }
     }

@@ -4,7 +4,7 @@
 //! legal. Resource types (meshes, textures, ...) are opaque here: the graph
 //! crate knows nothing of the GPU, it only moves handles that later crates fill.
 
-use std::any::Any;
+use std::any::Any as AnyValue;
 use std::fmt;
 use std::sync::Arc;
 
@@ -17,6 +17,13 @@ pub struct Color {
     pub g: f32,
     pub b: f32,
     pub a: f32,
+}
+
+/// White, as vvvv's colour IOBox starts.
+impl Default for Color {
+    fn default() -> Self {
+        Color::WHITE
+    }
 }
 
 impl Color {
@@ -67,14 +74,14 @@ pub enum ResourceKind {
 /// A shared, opaque resource handle. Equality is identity: two handles are the
 /// same slice when they point at the same object.
 #[derive(Clone)]
-pub struct Resource(pub Arc<dyn Any + Send + Sync>);
+pub struct Resource(pub Arc<dyn AnyValue + Send + Sync>);
 
 impl Resource {
-    pub fn new<T: Any + Send + Sync>(value: T) -> Self {
+    pub fn new<T: AnyValue + Send + Sync>(value: T) -> Self {
         Resource(Arc::new(value))
     }
 
-    pub fn downcast<T: Any + Send + Sync>(&self) -> Option<&T> {
+    pub fn downcast<T: AnyValue + Send + Sync>(&self) -> Option<&T> {
         self.0.downcast_ref::<T>()
     }
 }
@@ -106,6 +113,8 @@ pub enum PinType {
     Mat4,
     Enum(&'static EnumDef),
     Resource(ResourceKind),
+    /// Accepts a spread of any type: for generic sinks such as `Probe`. Never an output type.
+    Any,
 }
 
 impl PartialEq for PinType {
@@ -127,7 +136,11 @@ impl PinType {
     /// and Color to and from Vec4.
     pub fn links_to(self, to: PinType) -> bool {
         use PinType::*;
-        self == to || matches!((self, to), (Int, Float) | (Color, Vec4) | (Vec4, Color))
+        self == to
+            || matches!(
+                (self, to),
+                (_, Any) | (Int, Float) | (Color, Vec4) | (Vec4, Color)
+            )
     }
 
     pub fn name(self) -> String {

@@ -1,1 +1,28 @@
-//! placeholder
+//! Spreadlight's node library. Each family lives in its own module, named
+//! for what its nodes do, and registers its node types in its `register`
+//! function; [`registry`] gathers the families.
+//!
+//! To find a node from its name: `Add (Value)` is in `value.rs`,
+//! `LinearSpread` in `spreads.rs`, `Translate` in `transform.rs`, `Camera` in
+//! `camera.rs`, `LFO` in `animation.rs`, IOBoxes, `Probe` and `Switch` in `io.rs`.
+
+use spreadlight_graph::Registry;
+
+pub mod animation;
+pub mod camera;
+pub mod io;
+pub mod spreads;
+pub mod transform;
+pub mod value;
+
+/// Every node type this build knows.
+pub fn registry() -> Registry {
+    let mut r = Registry::new();
+    value::register(&mut r);
+    spreads::register(&mut r);
+    animation::register(&mut r);
+    transform::register(&mut r);
+    camera::register(&mut r);
+    io::register(&mut r);
+    r
+}

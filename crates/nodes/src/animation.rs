@@ -1,0 +1,54 @@
+//! Nodes that move with time: `LFO`. They depend on the frame clock, so the
+//! runtime evaluates them every frame.
+
+use spreadlight_graph::{EvalContext, Node, NodeDef, NodeError, Registry, spread};
+
+pub fn register(r: &mut Registry) {
+    r.add(
+        NodeDef::new(
+            "LFO",
+            "Animation",
+            "Low-frequency oscillator: a phase running from 0 to 1 once per Period seconds, per slice. \
+             Pause holds it, Reset sets it to 0. A Period of zero or less holds the phase (no NaN).",
+        )
+        .input("Period", 1.0f32)
+        .input("Pause", false)
+        .input("Reset", false)
+        .output::<f32>("Output")
+        .output::<i64>("Cycles")
+        .time_dependent()
+        .construct(Lfo::default),
+    );
+}
+
+/// Keeps an unwrapped phase per slice, in f64 so long runs stay exact.
+#[derive(Default)]
+struct Lfo {
+    phases: Vec<f64>,
+}
+
+impl Node for Lfo {
+    fn evaluate(&mut self, cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
+        let (period, pause, reset) = (
+            cx.slices::<f32>(0)?,
+            cx.slices::<bool>(1)?,
+            cx.slices::<bool>(2)?,
+        );
+        let n = spread::slice_count([period.len(), pause.len(), reset.len()]);
+        self.phases.resize(n, 0.0);
+        let delta = cx.clock.delta;
+        for (i, phase) in self.phases.iter_mut().enumerate() {
+            let p = f64::from(*spread::wrapped(period, i));
+            if *spread::wrapped(reset, i) {
+                *phase = 0.0;
+            } else if !*spread::wrapped(pause, i) && p > 0.0 && p.is_finite() {
+                *phase += delta / p;
+            }
+        }
+        let output = self.phases.iter().map(|p| p.fract() as f32).collect();
+        let cycles = self.phases.iter().map(|p| p.floor() as i64).collect();
+        cx.set::<f32>(0, output);
+        cx.set::<i64>(1, cycles);
+        Ok(())
+    }
+}

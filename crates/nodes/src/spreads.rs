@@ -1,0 +1,3 @@
+//! (being written)
+use spreadlight_graph::Registry;
+pub fn register(_: &mut Registry) {}
