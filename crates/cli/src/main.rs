@@ -1,1 +1,79 @@
-fn main() {}
+//! `spreadlight`: the command-line edge of Spreadlight. It loads patches,
+//! reports their problems with file and node, and evaluates them headless.
+//! Exit codes: 0 clean, 1 the patch has errors, 2 usage errors (clap's own).
+
+mod check;
+mod eval;
+mod fmt;
+
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+
+#[derive(Parser)]
+#[command(
+    name = "spreadlight",
+    version,
+    about = "Spreadlight: node-based real-time deferred rendering"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Load and validate patches; print every problem with its file, node and pin.
+    Check(check::Args),
+    /// Evaluate a patch headless for a number of frames and print what its probes recorded.
+    Eval(eval::Args),
+    /// Rewrite patches in the canonical layout (what saving writes).
+    Fmt(fmt::Args),
+    /// List the node types this build knows, by category.
+    Nodes,
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Check(args) => check::run(&args),
+        Command::Eval(args) => eval::run(&args),
+        Command::Fmt(args) => fmt::run(&args),
+        Command::Nodes => {
+            list_nodes();
+            Ok(ExitCode::SUCCESS)
+        }
+    };
+    match result {
+        Ok(code) => code,
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            ExitCode::from(1)
+        }
+    }
+}
+
+fn list_nodes() {
+    let registry = spreadlight_nodes::registry();
+    let mut defs: Vec<_> = registry.iter().collect();
+    defs.sort_by_key(|d| (d.category, d.name));
+    let mut category = "";
+    for def in defs {
+        if def.category != category {
+            category = def.category;
+            println!("{category}");
+        }
+        let pins = |pins: &[spreadlight_graph::PinDef]| {
+            pins.iter()
+                .map(|p| format!("{}: {}", p.name, p.ty))
+                .collect::<Vec<_>>()
+                .join(", ")
+        };
+        println!(
+            "  {:<28} ({}) -> ({})",
+            def.name,
+            pins(&def.inputs),
+            pins(&def.outputs)
+        );
+    }
+}

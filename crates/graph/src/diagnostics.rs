@@ -159,13 +159,25 @@ impl fmt::Display for ProblemKind {
     }
 }
 
-impl fmt::Display for Problem {
+impl fmt::Display for Severity {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let level = match self.severity {
+        f.write_str(match self {
             Severity::Warning => "warning",
             Severity::Error => "error",
-        };
-        write!(f, "{level}: node {} `{}`", self.node, self.node_type)?;
+        })
+    }
+}
+
+impl Problem {
+    /// The problem as one line of a report about the file at `path`: `error: FILE: node #3 ...`.
+    pub fn located(&self, path: &std::path::Path) -> String {
+        format!("{}: {}: {self}", self.severity, path.display())
+    }
+}
+
+impl fmt::Display for Problem {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "node {} `{}`", self.node, self.node_type)?;
         if let Some(pin) = &self.pin {
             write!(f, ", pin `{pin}`")?;
         }

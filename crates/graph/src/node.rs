@@ -26,7 +26,7 @@ pub trait Node: Send {
 }
 
 /// Values recorded by `Probe` nodes, by probe name.
-pub type ProbeLog = BTreeMap<String, Spread>;
+pub type ProbeLog = BTreeMap<String, Arc<Spread>>;
 
 /// Everything a node may read or write while it evaluates.
 pub struct EvalContext<'a> {
@@ -108,7 +108,12 @@ impl<'a> EvalContext<'a> {
     }
 
     /// Record a probed value under `name` (what `spreadlight eval --probe` prints).
-    pub fn record_probe(&mut self, name: &str, value: Spread) {
-        self.probes.insert(name.to_owned(), value);
+    pub fn record_probe(&mut self, name: &str, value: Arc<Spread>) {
+        match self.probes.get_mut(name) {
+            Some(slot) => *slot = value,
+            None => {
+                self.probes.insert(name.to_owned(), value);
+            }
+        }
     }
 }

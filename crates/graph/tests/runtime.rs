@@ -69,7 +69,7 @@ fn registry() -> Registry {
             .sink()
             .evaluate(|cx| {
                 let name = cx.slices::<String>(1)?[0].clone();
-                let value = cx.input(0).clone();
+                let value = cx.input_arc(0).clone();
                 cx.record_probe(&name, value);
                 Ok(())
             }),

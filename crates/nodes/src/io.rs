@@ -90,7 +90,7 @@ fn probe(cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
     let Some(name) = names.first().filter(|n| !n.is_empty()).cloned() else {
         return Err(cx.input_error(1, "a probe needs a name"));
     };
-    let value = cx.input(0).clone();
+    let value = cx.input_arc(0).clone();
     cx.record_probe(&name, value);
     Ok(())
 }
