@@ -38,6 +38,19 @@ impl FrameClock {
     }
 }
 
+impl FrameClock {
+    /// The clock of frame `frame` of a run at a fixed `fps`: time is computed,
+    /// not summed, so frame 10,000 is as exact as frame 1.
+    pub fn fixed(frame: u64, fps: f64) -> Self {
+        let delta = if frame == 0 { 0.0 } else { 1.0 / fps };
+        FrameClock {
+            frame,
+            time: frame as f64 / fps,
+            delta,
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -57,18 +70,5 @@ mod tests {
                 delta: 0.25
             }
         );
-    }
-}
-
-impl FrameClock {
-    /// The clock of frame `frame` of a run at a fixed `fps`: time is computed,
-    /// not summed, so frame 10,000 is as exact as frame 1.
-    pub fn fixed(frame: u64, fps: f64) -> Self {
-        let delta = if frame == 0 { 0.0 } else { 1.0 / fps };
-        FrameClock {
-            frame,
-            time: frame as f64 / fps,
-            delta,
-        }
     }
 }

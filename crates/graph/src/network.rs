@@ -6,6 +6,7 @@
 //! cannot run as written becomes a [`Problem`] on its node and is left out;
 //! the document keeps it.
 
+use std::collections::hash_map::Entry;
 use std::collections::{HashMap, HashSet};
 use std::sync::Arc;
 
@@ -124,17 +125,18 @@ impl Compiler<'_> {
         let mut by_id: HashMap<NodeId, usize> = HashMap::new();
         let mut included = Vec::new();
         for (i, node) in patch.nodes.iter().enumerate() {
-            if by_id.contains_key(&node.id) {
-                self.problem(
+            match by_id.entry(node.id) {
+                Entry::Occupied(_) => self.problem(
                     Severity::Error,
                     Some(i),
                     node.id,
                     None,
                     ProblemKind::DuplicateNodeId,
-                );
-            } else {
-                by_id.insert(node.id, i);
-                included.push(i);
+                ),
+                Entry::Vacant(slot) => {
+                    slot.insert(i);
+                    included.push(i);
+                }
             }
         }
 

@@ -108,7 +108,7 @@ fn count(frames: &[spreadlight_graph::FrameStats], id: u32, run: NodeRun) -> usi
 fn probe(rt: &Runtime, name: &str) -> Spread {
     rt.probes()
         .get(name)
-        .cloned()
+        .map(|s| (**s).clone())
         .unwrap_or_else(|| panic!("probe {name} recorded nothing"))
 }
 

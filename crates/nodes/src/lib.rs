@@ -14,11 +14,16 @@ pub mod io;
 pub mod spreads;
 pub mod transform;
 pub mod value;
+pub mod vector;
+
+#[cfg(test)]
+mod testing;
 
 /// Every node type this build knows.
 pub fn registry() -> Registry {
     let mut r = Registry::new();
     value::register(&mut r);
+    vector::register(&mut r);
     spreads::register(&mut r);
     animation::register(&mut r);
     transform::register(&mut r);

@@ -318,7 +318,7 @@ mod tests {
     fn linear_spread_alignments_match_vvvv() {
         let count = ("Spread Count", ints(&[5]));
         assert_close(
-            &linear(&[count.clone()]),
+            &linear(std::slice::from_ref(&count)),
             &[-0.4, -0.2, 0.0, 0.2, 0.4],
             1e-6,
         );

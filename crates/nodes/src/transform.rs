@@ -1,3 +1,428 @@
-//! (being written)
-use spreadlight_graph::Registry;
-pub fn register(_: &mut Registry) {}
+//! Transforms, in the "Transform" category: `Translate`, `Rotate`, `Scale`,
+//! the all-in-one `Transform (Transform 3d)`, `Multiply (Transform)` and
+//! `LookAt (Transform)`, all on Mat4 spreads.
+//!
+//! Conventions: glam's column vectors (a point `p` transforms as `M * p`) in
+//! a right-handed space, angles in cycles as in vvvv (1 = a full turn).
+//! Like vvvv, a node applies its own transform *after* the one arriving at
+//! Transform In: `Transform Out = Own * Transform In`. So chaining
+//! `Scale -> Rotate -> Translate` scales first, then rotates, then moves.
+
+use std::f32::consts::TAU;
+
+use glam::{Mat4, Vec3};
+use spreadlight_graph::spread::{slice_count, wrapped};
+use spreadlight_graph::{EvalContext, NodeDef, NodeError, Registry};
+
+const CATEGORY: &str = "Transform";
+
+pub fn register(r: &mut Registry) {
+    r.add(
+        NodeDef::new(
+            "Translate (Transform)",
+            CATEGORY,
+            "Moves by (X, Y, Z), applied after Transform In: Transform Out = T * Transform In.",
+        )
+        .input("Transform In", Mat4::IDENTITY)
+        .input("X", 0.0f32)
+        .input("Y", 0.0f32)
+        .input("Z", 0.0f32)
+        .output::<Mat4>("Transform Out")
+        .evaluate(translate),
+    );
+    r.add(
+        NodeDef::new(
+            "Rotate (Transform)",
+            CATEGORY,
+            "Rotates about the X, Y and Z axes by angles in cycles (0.25 = 90 degrees, \
+             counter-clockwise looking down the axis), applied after Transform In. The three \
+             turns are applied as vvvv's yaw-pitch-roll: first Z (roll), then X (pitch), then \
+             Y (yaw), i.e. R = Ry * Rx * Rz.",
+        )
+        .input("Transform In", Mat4::IDENTITY)
+        .input("X", 0.0f32)
+        .input("Y", 0.0f32)
+        .input("Z", 0.0f32)
+        .output::<Mat4>("Transform Out")
+        .evaluate(rotate),
+    );
+    r.add(
+        NodeDef::new(
+            "Scale (Transform)",
+            CATEGORY,
+            "Scales by (X, Y, Z) about the origin, applied after Transform In.",
+        )
+        .input("Transform In", Mat4::IDENTITY)
+        .input("X", 1.0f32)
+        .input("Y", 1.0f32)
+        .input("Z", 1.0f32)
+        .output::<Mat4>("Transform Out")
+        .evaluate(scale),
+    );
+    r.add(
+        NodeDef::new(
+            "Transform (Transform 3d)",
+            CATEGORY,
+            "Scale, rotate and translate in one node, applied after Transform In in that \
+             order: Transform Out = T * R * S * Transform In. Rotations are in cycles and \
+             turn as in Rotate (Transform): Z, then X, then Y.",
+        )
+        .input("Transform In", Mat4::IDENTITY)
+        .input("Translate X", 0.0f32)
+        .input("Translate Y", 0.0f32)
+        .input("Translate Z", 0.0f32)
+        .input("Scale X", 1.0f32)
+        .input("Scale Y", 1.0f32)
+        .input("Scale Z", 1.0f32)
+        .input("Rotate X", 0.0f32)
+        .input("Rotate Y", 0.0f32)
+        .input("Rotate Z", 0.0f32)
+        .output::<Mat4>("Transform Out")
+        .evaluate(transform_3d),
+    );
+    r.add(
+        NodeDef::new(
+            "Multiply (Transform)",
+            CATEGORY,
+            "Chains two transforms: Transform In 1 is applied first, then Transform In 2 \
+             (vvvv's order). In column-vector terms Transform Out = In 2 * In 1.",
+        )
+        .input("Transform In 1", Mat4::IDENTITY)
+        .input("Transform In 2", Mat4::IDENTITY)
+        .output::<Mat4>("Transform Out")
+        .per_slice2(|first: &Mat4, second: &Mat4| *second * *first),
+    );
+    r.add(
+        NodeDef::new(
+            "LookAt (Transform)",
+            CATEGORY,
+            "A right-handed view matrix for a camera at Position looking at Target, with Up \
+             as the rough up direction (view space: X right, Y up, looking down -Z). If Up is \
+             zero or parallel to the view direction, world +Y is used instead, or +Z when \
+             looking straight up or down. If Position equals Target there is no direction: \
+             the camera looks down -Z from Position.",
+        )
+        .input("Position", Vec3::new(0.0, 0.0, 1.0))
+        .input("Target", Vec3::ZERO)
+        .input("Up", Vec3::Y)
+        .output::<Mat4>("Transform Out")
+        .per_slice3(|p: &Vec3, t: &Vec3, up: &Vec3| look_at(*p, *t, *up)),
+    );
+}
+
+/// An angle in cycles to radians, reduced to one turn first so large inputs keep their precision.
+fn radians(cycles: f32) -> f32 {
+    cycles.rem_euclid(1.0) * TAU
+}
+
+/// The rotation of `Rotate (Transform)`: Z first, then X, then Y (angles in cycles).
+pub(crate) fn rotation(x: f32, y: f32, z: f32) -> Mat4 {
+    Mat4::from_rotation_y(radians(y))
+        * Mat4::from_rotation_x(radians(x))
+        * Mat4::from_rotation_z(radians(z))
+}
+
+/// A node with Transform In at pin 0 and three Float pins after it:
+/// `Transform Out = own(x, y, z) * Transform In`, spread slice by slice.
+fn xyz_transform(
+    cx: &mut EvalContext<'_>,
+    own: fn(f32, f32, f32) -> Mat4,
+) -> Result<(), NodeError> {
+    let input = cx.slices::<Mat4>(0)?;
+    let x = cx.slices::<f32>(1)?;
+    let y = cx.slices::<f32>(2)?;
+    let z = cx.slices::<f32>(3)?;
+    let n = slice_count([input.len(), x.len(), y.len(), z.len()]);
+    let out: Vec<Mat4> = (0..n)
+        .map(|i| own(*wrapped(x, i), *wrapped(y, i), *wrapped(z, i)) * *wrapped(input, i))
+        .collect();
+    cx.set(0, out);
+    Ok(())
+}
+
+fn translate(cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
+    xyz_transform(cx, |x, y, z| Mat4::from_translation(Vec3::new(x, y, z)))
+}
+
+fn rotate(cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
+    xyz_transform(cx, rotation)
+}
+
+fn scale(cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
+    xyz_transform(cx, |x, y, z| Mat4::from_scale(Vec3::new(x, y, z)))
+}
+
+fn transform_3d(cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
+    let input = cx.slices::<Mat4>(0)?;
+    let mut params: [&[f32]; 9] = [&[]; 9];
+    for (k, p) in params.iter_mut().enumerate() {
+        *p = cx.slices::<f32>(k + 1)?;
+    }
+    let n = slice_count(
+        [input.len()]
+            .into_iter()
+            .chain(params.iter().map(|p| p.len())),
+    );
+    let out: Vec<Mat4> = (0..n)
+        .map(|i| {
+            let [tx, ty, tz, sx, sy, sz, rx, ry, rz] = params.map(|p| *wrapped(p, i));
+            Mat4::from_translation(Vec3::new(tx, ty, tz))
+                * rotation(rx, ry, rz)
+                * Mat4::from_scale(Vec3::new(sx, sy, sz))
+                * *wrapped(input, i)
+        })
+        .collect();
+    cx.set(0, out);
+    Ok(())
+}
+
+/// A right-handed view matrix that never holds NaN: see `LookAt (Transform)`'s help
+/// for what it does where the inputs leave the view undefined.
+pub(crate) fn look_at(position: Vec3, target: Vec3, up: Vec3) -> Mat4 {
+    let Some(forward) = (target - position).try_normalize() else {
+        return Mat4::from_translation(-position);
+    };
+    // An up axis at least ~0.006 degrees away from the view direction; of +Y
+    // and +Z, at most one can be parallel to it, so one always qualifies.
+    let up = [up, Vec3::Y, Vec3::Z]
+        .into_iter()
+        .filter_map(Vec3::try_normalize)
+        .find(|u| forward.cross(*u).length_squared() > 1e-8)
+        .unwrap_or(Vec3::Y);
+    let view = glam::camera::rh::view::look_to_mat4(position, forward, up);
+    if view.is_finite() {
+        view
+    } else {
+        Mat4::from_translation(-position)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::{Mat4, Vec3};
+    use spreadlight_graph::Spread;
+
+    use super::look_at;
+    use crate::testing::eval_out;
+
+    fn floats(v: &[f32]) -> Spread {
+        Spread::Float(v.to_vec())
+    }
+
+    fn mats(v: &[Mat4]) -> Spread {
+        Spread::Mat4(v.to_vec())
+    }
+
+    #[track_caller]
+    fn assert_point(m: &Mat4, p: Vec3, want: Vec3) {
+        let got = m.transform_point3(p);
+        assert!(got.abs_diff_eq(want, 1e-5), "{p} -> {got}, want {want}");
+    }
+
+    fn one(name: &str, values: &[(&str, Spread)]) -> Mat4 {
+        let out: Vec<Mat4> = eval_out(name, values, "Transform Out");
+        assert_eq!(out.len(), 1, "{name}: {out:?}");
+        out[0]
+    }
+
+    #[test]
+    fn translate_scale_rotate_move_points() {
+        let t = one(
+            "Translate (Transform)",
+            &[
+                ("X", floats(&[1.0])),
+                ("Y", floats(&[2.0])),
+                ("Z", floats(&[3.0])),
+            ],
+        );
+        assert_point(&t, Vec3::ZERO, Vec3::new(1.0, 2.0, 3.0));
+        let s = one(
+            "Scale (Transform)",
+            &[("X", floats(&[2.0])), ("Z", floats(&[-1.0]))],
+        );
+        assert_point(&s, Vec3::ONE, Vec3::new(2.0, 1.0, -1.0));
+        // A quarter turn about Z takes +X to +Y (counter-clockwise, right-handed).
+        let r = one("Rotate (Transform)", &[("Z", floats(&[0.25]))]);
+        assert_point(&r, Vec3::X, Vec3::Y);
+        let r = one("Rotate (Transform)", &[("Y", floats(&[0.25]))]);
+        assert_point(&r, Vec3::Z, Vec3::X);
+        let r = one("Rotate (Transform)", &[("X", floats(&[0.25]))]);
+        assert_point(&r, Vec3::Y, Vec3::Z);
+    }
+
+    #[test]
+    fn rotate_applies_z_then_x_then_y() {
+        let r = one(
+            "Rotate (Transform)",
+            &[
+                ("X", floats(&[0.25])),
+                ("Y", floats(&[0.25])),
+                ("Z", floats(&[0.25])),
+            ],
+        );
+        // +X -Rz-> +Y -Rx-> +Z -Ry-> +X.
+        assert_point(&r, Vec3::X, Vec3::X);
+        // +Y -Rz-> -X -Rx-> -X -Ry-> +Z.
+        assert_point(&r, Vec3::Y, Vec3::Z);
+    }
+
+    #[test]
+    fn a_node_applies_its_transform_after_the_incoming_one() {
+        let scaled = Mat4::from_scale(Vec3::splat(2.0));
+        let t = one(
+            "Translate (Transform)",
+            &[("Transform In", mats(&[scaled])), ("X", floats(&[1.0]))],
+        );
+        // Scale first (1 -> 2), then move (2 -> 3); not move then scale (4).
+        assert_point(&t, Vec3::X, Vec3::new(3.0, 0.0, 0.0));
+    }
+
+    #[test]
+    fn transform_3d_equals_scale_then_rotate_then_translate() {
+        let input = Mat4::from_translation(Vec3::new(0.5, 0.0, 0.0));
+        let all = one(
+            "Transform (Transform 3d)",
+            &[
+                ("Transform In", mats(&[input])),
+                ("Translate X", floats(&[1.0])),
+                ("Translate Y", floats(&[2.0])),
+                ("Translate Z", floats(&[3.0])),
+                ("Scale X", floats(&[2.0])),
+                ("Scale Y", floats(&[3.0])),
+                ("Scale Z", floats(&[4.0])),
+                ("Rotate X", floats(&[0.1])),
+                ("Rotate Y", floats(&[0.2])),
+                ("Rotate Z", floats(&[0.3])),
+            ],
+        );
+        let s = one(
+            "Scale (Transform)",
+            &[
+                ("Transform In", mats(&[input])),
+                ("X", floats(&[2.0])),
+                ("Y", floats(&[3.0])),
+                ("Z", floats(&[4.0])),
+            ],
+        );
+        let r = one(
+            "Rotate (Transform)",
+            &[
+                ("Transform In", mats(&[s])),
+                ("X", floats(&[0.1])),
+                ("Y", floats(&[0.2])),
+                ("Z", floats(&[0.3])),
+            ],
+        );
+        let t = one(
+            "Translate (Transform)",
+            &[
+                ("Transform In", mats(&[r])),
+                ("X", floats(&[1.0])),
+                ("Y", floats(&[2.0])),
+                ("Z", floats(&[3.0])),
+            ],
+        );
+        assert!(all.abs_diff_eq(t, 1e-5), "{all} vs {t}");
+    }
+
+    #[test]
+    fn transforms_spread_over_their_pins() {
+        let out: Vec<Mat4> = eval_out(
+            "Translate (Transform)",
+            &[("X", floats(&[1.0, 2.0, 3.0]))],
+            "Transform Out",
+        );
+        assert_eq!(out.len(), 3);
+        assert_point(&out[2], Vec3::ZERO, Vec3::new(3.0, 0.0, 0.0));
+        let out: Vec<Mat4> = eval_out(
+            "Translate (Transform)",
+            &[("Transform In", mats(&[]))],
+            "Transform Out",
+        );
+        assert!(out.is_empty());
+    }
+
+    #[test]
+    fn multiply_applies_input_1_first() {
+        let scale = Mat4::from_scale(Vec3::splat(2.0));
+        let shift = Mat4::from_translation(Vec3::X);
+        let out = one(
+            "Multiply (Transform)",
+            &[
+                ("Transform In 1", mats(&[scale])),
+                ("Transform In 2", mats(&[shift])),
+            ],
+        );
+        assert_point(&out, Vec3::X, Vec3::new(3.0, 0.0, 0.0));
+    }
+
+    #[test]
+    fn look_at_matches_a_regular_view_matrix() {
+        let m = one(
+            "LookAt (Transform)",
+            &[
+                ("Position", Spread::Vec3(vec![Vec3::new(0.0, 0.0, 5.0)])),
+                ("Target", Spread::Vec3(vec![Vec3::ZERO])),
+            ],
+        );
+        // The target lies straight ahead, 5 units down -Z in view space.
+        assert_point(&m, Vec3::ZERO, Vec3::new(0.0, 0.0, -5.0));
+        assert_point(&m, Vec3::new(0.0, 1.0, 0.0), Vec3::new(0.0, 1.0, -5.0));
+        let m = look_at(Vec3::new(3.0, 4.0, 5.0), Vec3::new(-1.0, 0.5, 2.0), Vec3::Y);
+        let forward = (Vec3::new(-1.0, 0.5, 2.0) - Vec3::new(3.0, 4.0, 5.0)).normalize();
+        let target_in_view = m.transform_point3(Vec3::new(-1.0, 0.5, 2.0));
+        assert!(
+            target_in_view.truncate().length() < 1e-5,
+            "{target_in_view}"
+        );
+        assert!(target_in_view.z < 0.0);
+        // View-space up stays in the plane of world up and the view direction.
+        let up_in_world = m.inverse().transform_vector3(Vec3::Y);
+        assert!(up_in_world.dot(forward).abs() < 1e-5);
+        assert!(up_in_world.y > 0.0);
+    }
+
+    #[test]
+    fn degenerate_look_at_stays_finite() {
+        let cases = [
+            // Position == target.
+            (Vec3::ONE, Vec3::ONE, Vec3::Y),
+            // Up parallel to the view direction, both ways.
+            (Vec3::ZERO, Vec3::new(0.0, 5.0, 0.0), Vec3::Y),
+            (Vec3::ZERO, Vec3::new(0.0, -5.0, 0.0), Vec3::Y),
+            (Vec3::ZERO, Vec3::new(0.0, 0.0, -2.0), Vec3::Z),
+            // Zero up.
+            (Vec3::ZERO, Vec3::X, Vec3::ZERO),
+            // Everything degenerate at once.
+            (Vec3::ZERO, Vec3::ZERO, Vec3::ZERO),
+        ];
+        for (position, target, up) in cases {
+            let m = look_at(position, target, up);
+            assert!(m.is_finite(), "{position} {target} {up}: {m}");
+            // Still a rigid transform: it keeps lengths.
+            let d = m.transform_vector3(Vec3::new(1.0, 2.0, 3.0)).length();
+            assert!(
+                (d - 14f32.sqrt()).abs() < 1e-4,
+                "{position} {target} {up}: {m}"
+            );
+            if position != target {
+                let ahead = m.transform_point3(target);
+                assert!(ahead.truncate().length() < 1e-4 && ahead.z < 0.0, "{ahead}");
+            }
+        }
+        assert_eq!(
+            look_at(Vec3::ONE, Vec3::ONE, Vec3::Y),
+            Mat4::from_translation(-Vec3::ONE)
+        );
+        let out: Vec<Mat4> = eval_out(
+            "LookAt (Transform)",
+            &[
+                ("Position", Spread::Vec3(vec![Vec3::ZERO])),
+                ("Target", Spread::Vec3(vec![Vec3::ZERO])),
+                ("Up", Spread::Vec3(vec![Vec3::ZERO])),
+            ],
+            "Transform Out",
+        );
+        assert_eq!(Spread::Mat4(out).first_non_finite(), None);
+    }
+}

@@ -177,10 +177,7 @@ mod tests {
             )],
         )
         .expect("2d split");
-        assert_eq!(
-            out,
-            vec![floats(&[1.0, 3.0]), floats(&[2.0, 4.0])]
-        );
+        assert_eq!(out, vec![floats(&[1.0, 3.0]), floats(&[2.0, 4.0])]);
         let out = eval(
             "Vector (3d Split)",
             &[("Input", Spread::Vec3(vec![Vec3::new(1.0, 2.0, 3.0)]))],
@@ -194,7 +191,12 @@ mod tests {
         .expect("4d split");
         assert_eq!(
             out,
-            vec![floats(&[1.0]), floats(&[2.0]), floats(&[3.0]), floats(&[4.0])]
+            vec![
+                floats(&[1.0]),
+                floats(&[2.0]),
+                floats(&[3.0]),
+                floats(&[4.0])
+            ]
         );
         let out = eval("Vector (3d Split)", &[("Input", Spread::Vec3(vec![]))]).expect("empty");
         assert!(out.iter().all(Spread::is_empty));
