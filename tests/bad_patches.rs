@@ -98,3 +98,31 @@ fn loading_bad_patches_keeps_their_content_for_saving() {
         );
     }
 }
+
+#[test]
+fn no_truncation_or_corruption_of_a_patch_panics() {
+    // Every prefix of a real patch, and every single-byte corruption of it,
+    // loads to a patch or to an error: never a panic.
+    let path = spreadlight_tests::root().join("patches/circle-of-transforms.ron");
+    let text = std::fs::read_to_string(&path).expect("readable");
+    let registry = spreadlight_nodes::registry();
+    for end in (0..text.len()).filter(|&i| text.is_char_boundary(i)) {
+        if let Ok(patch) = format::from_str(&text[..end], &path) {
+            Network::compile(&patch, &registry);
+        }
+    }
+    let bytes = text.as_bytes();
+    for (i, junk) in (0..bytes.len())
+        .step_by(7)
+        .zip([b'"', b')', b'9', b'-', b'[', b'x', b'}'].iter().cycle())
+    {
+        let mut corrupted = bytes.to_vec();
+        corrupted[i] = *junk;
+        let Ok(corrupted) = String::from_utf8(corrupted) else {
+            continue;
+        };
+        if let Ok(patch) = format::from_str(&corrupted, &path) {
+            Network::compile(&patch, &registry);
+        }
+    }
+}

@@ -143,7 +143,10 @@ impl NodeDef {
     }
 
     /// A pure one-input, one-output node, written per slice.
-    pub fn per_slice1<A: SliceValue, O: SliceValue>(self, f: fn(&A) -> O) -> Self {
+    pub fn per_slice1<A: SliceValue, O: SliceValue>(
+        self,
+        f: impl Fn(&A) -> O + Copy + Send + Sync + 'static,
+    ) -> Self {
         self.check_shape(&[A::PIN_TYPE], O::PIN_TYPE);
         self.evaluate_with(move |cx| {
             let out = map1(cx.slices::<A>(0)?, f);
@@ -155,7 +158,7 @@ impl NodeDef {
     /// A pure two-input, one-output node, written per slice; spreading and wrapping come free.
     pub fn per_slice2<A: SliceValue, B: SliceValue, O: SliceValue>(
         self,
-        f: fn(&A, &B) -> O,
+        f: impl Fn(&A, &B) -> O + Copy + Send + Sync + 'static,
     ) -> Self {
         self.check_shape(&[A::PIN_TYPE, B::PIN_TYPE], O::PIN_TYPE);
         self.evaluate_with(move |cx| {
@@ -168,7 +171,7 @@ impl NodeDef {
     /// A pure three-input, one-output node, written per slice.
     pub fn per_slice3<A: SliceValue, B: SliceValue, C: SliceValue, O: SliceValue>(
         self,
-        f: fn(&A, &B, &C) -> O,
+        f: impl Fn(&A, &B, &C) -> O + Copy + Send + Sync + 'static,
     ) -> Self {
         self.check_shape(&[A::PIN_TYPE, B::PIN_TYPE, C::PIN_TYPE], O::PIN_TYPE);
         self.evaluate_with(move |cx| {
@@ -186,7 +189,7 @@ impl NodeDef {
     /// A pure four-input, one-output node, written per slice.
     pub fn per_slice4<A: SliceValue, B: SliceValue, C: SliceValue, D: SliceValue, O: SliceValue>(
         self,
-        f: fn(&A, &B, &C, &D) -> O,
+        f: impl Fn(&A, &B, &C, &D) -> O + Copy + Send + Sync + 'static,
     ) -> Self {
         self.check_shape(
             &[A::PIN_TYPE, B::PIN_TYPE, C::PIN_TYPE, D::PIN_TYPE],

@@ -222,21 +222,28 @@ pub fn map1<A, O>(a: &[A], mut f: impl FnMut(&A) -> O) -> Vec<O> {
     a.iter().map(&mut f).collect()
 }
 
+/// The first `n` slices of `s` repeated as often as needed: spreading as an
+/// iterator, with no division per slice (unlike [`wrapped`]).
+pub fn cycled<T>(s: &[T], n: usize) -> impl Iterator<Item = &T> {
+    s.iter().cycle().take(n)
+}
+
 /// Apply `f` slice by slice over two inputs, spreading and wrapping.
 pub fn map2<A, B, O>(a: &[A], b: &[B], mut f: impl FnMut(&A, &B) -> O) -> Vec<O> {
     let n = slice_count([a.len(), b.len()]);
-    if a.len() == n && b.len() == n {
-        // The common case needs no modulo per slice.
-        return a.iter().zip(b).map(|(x, y)| f(x, y)).collect();
-    }
-    (0..n).map(|i| f(wrapped(a, i), wrapped(b, i))).collect()
+    cycled(a, n)
+        .zip(cycled(b, n))
+        .map(|(x, y)| f(x, y))
+        .collect()
 }
 
 /// Apply `f` slice by slice over three inputs, spreading and wrapping.
 pub fn map3<A, B, C, O>(a: &[A], b: &[B], c: &[C], mut f: impl FnMut(&A, &B, &C) -> O) -> Vec<O> {
     let n = slice_count([a.len(), b.len(), c.len()]);
-    (0..n)
-        .map(|i| f(wrapped(a, i), wrapped(b, i), wrapped(c, i)))
+    cycled(a, n)
+        .zip(cycled(b, n))
+        .zip(cycled(c, n))
+        .map(|((x, y), z)| f(x, y, z))
         .collect()
 }
 
@@ -249,8 +256,11 @@ pub fn map4<A, B, C, D, O>(
     mut f: impl FnMut(&A, &B, &C, &D) -> O,
 ) -> Vec<O> {
     let n = slice_count([a.len(), b.len(), c.len(), d.len()]);
-    (0..n)
-        .map(|i| f(wrapped(a, i), wrapped(b, i), wrapped(c, i), wrapped(d, i)))
+    cycled(a, n)
+        .zip(cycled(b, n))
+        .zip(cycled(c, n))
+        .zip(cycled(d, n))
+        .map(|(((x, y), z), w)| f(x, y, z, w))
         .collect()
 }
 

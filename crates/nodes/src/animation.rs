@@ -37,11 +37,14 @@ impl Node for Lfo {
         let n = spread::slice_count([period.len(), pause.len(), reset.len()]);
         self.phases.resize(n, 0.0);
         let delta = cx.clock.delta;
-        for (i, phase) in self.phases.iter_mut().enumerate() {
-            let p = f64::from(*spread::wrapped(period, i));
-            if *spread::wrapped(reset, i) {
+        let pins = spread::cycled(period, n)
+            .zip(spread::cycled(pause, n))
+            .zip(spread::cycled(reset, n));
+        for (phase, ((&period, &pause), &reset)) in self.phases.iter_mut().zip(pins) {
+            let p = f64::from(period);
+            if reset {
                 *phase = 0.0;
-            } else if !*spread::wrapped(pause, i) && p > 0.0 && p.is_finite() {
+            } else if !pause && p > 0.0 && p.is_finite() {
                 *phase += delta / p;
             }
         }
