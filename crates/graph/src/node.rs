@@ -28,6 +28,25 @@ pub trait Node: Send {
 /// Values recorded by `Probe` nodes, by probe name.
 pub type ProbeLog = BTreeMap<String, Arc<Spread>>;
 
+/// Shared services the host provides to nodes, by type: the renderer, for
+/// instance. The graph crate knows none of them; nodes ask by type.
+#[derive(Clone, Default)]
+pub struct Services {
+    by_type: BTreeMap<std::any::TypeId, Arc<dyn std::any::Any + Send + Sync>>,
+}
+
+impl Services {
+    pub fn provide<T: std::any::Any + Send + Sync>(&mut self, service: Arc<T>) {
+        self.by_type.insert(std::any::TypeId::of::<T>(), service);
+    }
+
+    pub fn get<T: std::any::Any + Send + Sync>(&self) -> Option<Arc<T>> {
+        self.by_type
+            .get(&std::any::TypeId::of::<T>())
+            .and_then(|s| s.clone().downcast::<T>().ok())
+    }
+}
+
 /// Everything a node may read or write while it evaluates.
 pub struct EvalContext<'a> {
     pub clock: &'a FrameClock,
@@ -35,6 +54,10 @@ pub struct EvalContext<'a> {
     input_defs: &'a [PinDef],
     outputs: &'a mut [Arc<Spread>],
     probes: &'a mut ProbeLog,
+    services: &'a Services,
+    /// The node's id, for nodes that label GPU work or errors with it.
+    pub node_id: crate::document::NodeId,
+    reevaluate: bool,
 }
 
 impl<'a> EvalContext<'a> {
@@ -44,6 +67,8 @@ impl<'a> EvalContext<'a> {
         input_defs: &'a [PinDef],
         outputs: &'a mut [Arc<Spread>],
         probes: &'a mut ProbeLog,
+        services: &'a Services,
+        node_id: crate::document::NodeId,
     ) -> Self {
         EvalContext {
             clock,
@@ -51,7 +76,25 @@ impl<'a> EvalContext<'a> {
             input_defs,
             outputs,
             probes,
+            services,
+            node_id,
+            reevaluate: false,
         }
+    }
+
+    /// A service the host provided (e.g. the renderer), if any.
+    pub fn service<T: std::any::Any + Send + Sync>(&self) -> Option<Arc<T>> {
+        self.services.get::<T>()
+    }
+
+    /// Evaluate this node again next frame even if its inputs do not change:
+    /// for outputs that depend on the previous frame (velocity after a move settles to zero).
+    pub fn reevaluate_next_frame(&mut self) {
+        self.reevaluate = true;
+    }
+
+    pub(crate) fn wants_reevaluation(&self) -> bool {
+        self.reevaluate
     }
 
     pub fn input(&self, index: usize) -> &Spread {

@@ -12,7 +12,7 @@ use crate::clock::FrameClock;
 use crate::diagnostics::Problem;
 use crate::document::{NodeId, Patch};
 use crate::network::{InputSource, Network, NetworkNode};
-use crate::node::{EvalContext, Node, NodeError, ProbeLog};
+use crate::node::{EvalContext, Node, NodeError, ProbeLog, Services};
 use crate::registry::Registry;
 use crate::spread::Spread;
 use crate::stats::{FrameStats, NodeRun, NodeStat};
@@ -42,6 +42,7 @@ pub struct Runtime {
     probes: ProbeLog,
     stats: FrameStats,
     versions: u64,
+    services: Services,
 }
 
 impl Runtime {
@@ -53,6 +54,19 @@ impl Runtime {
             probes: ProbeLog::new(),
             stats: FrameStats::default(),
             versions: 0,
+            services: Services::default(),
+        }
+    }
+
+    /// Make a service (e.g. the renderer) available to every node.
+    pub fn provide<T: std::any::Any + Send + Sync>(&mut self, service: Arc<T>) {
+        self.services.provide(service);
+    }
+
+    /// Re-evaluate every node next frame (benchmarks measure the full cost this way).
+    pub fn invalidate_all(&mut self) {
+        for state in &mut self.states {
+            state.dirty = true;
         }
     }
 
@@ -174,15 +188,18 @@ impl Runtime {
                 continue;
             };
             let start = Instant::now();
-            let result = {
+            let (result, again) = {
                 let mut cx = EvalContext::new(
                     &clock,
                     &state.inputs,
                     &def.inputs,
                     &mut state.outputs,
                     &mut self.probes,
+                    &self.services,
+                    node.id,
                 );
-                instance.evaluate(&mut cx)
+                let result = instance.evaluate(&mut cx);
+                (result, cx.wants_reevaluation())
             };
             stat.cpu_ns = start.elapsed().as_nanos() as u64;
             stats.cpu_ns += stat.cpu_ns;
@@ -203,7 +220,7 @@ impl Runtime {
             }
             self.versions += 1;
             state.version = self.versions;
-            state.dirty = false;
+            state.dirty = again;
         }
         &self.stats
     }

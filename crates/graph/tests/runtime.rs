@@ -399,3 +399,55 @@ fn constants_are_shared_not_copied_each_frame() {
         Some(100_000)
     );
 }
+
+#[test]
+fn services_reach_nodes_and_a_node_can_ask_to_run_again() {
+    struct Greeting(String);
+    let mut r = registry();
+    r.add(
+        NodeDef::new("Greet", "Test", "")
+            .output::<String>("Output")
+            .evaluate(|cx| {
+                let text = cx
+                    .service::<Greeting>()
+                    .map(|g| g.0.clone())
+                    .ok_or_else(|| NodeError::Other("no greeting".into()))?;
+                cx.set(0, vec![text]);
+                Ok(())
+            }),
+    );
+    r.add(
+        NodeDef::new("Settle", "Test", "")
+            .output::<i64>("Output")
+            .construct(|| Settle(0)),
+    );
+    let mut p = Patch::default();
+    p.add(NodeDoc::new(1, "Greet"));
+    p.add(sink(2, "greeting"));
+    p.link(1, "Output", 2, "Input");
+    p.add(NodeDoc::new(3, "Settle"));
+    p.add(sink(4, "settle"));
+    p.link(3, "Output", 4, "Input");
+    let mut rt = Runtime::new(r);
+    rt.provide(Arc::new(Greeting("hello".into())));
+    rt.load(&p);
+    let frames = run_frames(&mut rt, 6);
+    assert_eq!(probe(&rt, "greeting"), Spread::String(vec!["hello".into()]));
+    // Settle asks to run again until its count reaches 3, then is reused.
+    assert_eq!(count(&frames, 3, NodeRun::Evaluated), 3);
+    assert_eq!(probe(&rt, "settle"), Spread::Int(vec![3]));
+}
+
+/// Counts up and asks to be evaluated again until it reaches 3: like velocity settling after a move.
+struct Settle(i64);
+
+impl Node for Settle {
+    fn evaluate(&mut self, cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
+        self.0 += 1;
+        if self.0 < 3 {
+            cx.reevaluate_next_frame();
+        }
+        cx.set(0, vec![self.0]);
+        Ok(())
+    }
+}

@@ -41,7 +41,16 @@ pub(crate) fn eval(name: &str, values: &[(&str, Spread)]) -> Result<Vec<Spread>,
     let clock = FrameClock::default();
     let mut probes = ProbeLog::new();
     let mut node = def.instantiate();
-    let mut cx = EvalContext::new(&clock, &inputs, &def.inputs, &mut outputs, &mut probes);
+    let services = spreadlight_graph::Services::default();
+    let mut cx = EvalContext::new(
+        &clock,
+        &inputs,
+        &def.inputs,
+        &mut outputs,
+        &mut probes,
+        &services,
+        spreadlight_graph::NodeId(1),
+    );
     node.evaluate(&mut cx)?;
     Ok(outputs.into_iter().map(Arc::unwrap_or_clone).collect())
 }
