@@ -40,6 +40,12 @@ fn examples_evaluate_cleanly_for_120_frames() {
     for path in example_patches() {
         let patch = format::load(&path).unwrap_or_else(|e| panic!("{e}"));
         let mut rt = Runtime::new(spreadlight_nodes::registry());
+        // Patches with GPU nodes render at a small size on the test GPU (lavapipe in CI).
+        let renderer = spreadlight_render::renderer::test_renderer();
+        renderer.set_output_size((64, 36));
+        rt.provide(renderer);
+        let images = std::sync::Arc::new(spreadlight_nodes::output::RenderedImages::default());
+        rt.provide(images.clone());
         let problems = rt.load(&patch).to_vec();
         assert!(
             problems.iter().all(|p| p.severity < Severity::Error) && problems.is_empty(),
@@ -60,10 +66,23 @@ fn examples_evaluate_cleanly_for_120_frames() {
             assert_eq!(stats.failed, 0);
         }
         assert!(
-            !rt.probes().is_empty(),
-            "{}: an example should probe something",
+            !rt.probes().is_empty() || !images.names().is_empty(),
+            "{}: an example should probe or render something",
             path.display()
         );
+        for name in images.names() {
+            let (image, _) = images.get(&name).expect("listed");
+            assert!(
+                image.all_finite(),
+                "{}: output {name} has NaN or infinity",
+                path.display()
+            );
+            assert!(
+                image.pixels.iter().any(|p| p[0] + p[1] + p[2] > 0.0),
+                "{}: output {name} is black",
+                path.display()
+            );
+        }
         for (name, value) in rt.probes() {
             assert!(
                 !value.is_empty(),

@@ -6,7 +6,9 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use serde::Serialize;
-use spreadlight_graph::{FrameClock, FrameStats, NodeId, Runtime, Severity, Spread, format};
+use spreadlight_graph::{FrameStats, Spread};
+
+use crate::session::Session;
 
 #[derive(clap::Args)]
 pub struct Args {
@@ -45,28 +47,15 @@ struct FrameReport<'a> {
 }
 
 pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
-    let patch = format::load(&args.patch)?;
-    let mut runtime = Runtime::new(spreadlight_nodes::registry());
-    let mut failed = false;
-    for problem in runtime.load(&patch) {
-        eprintln!("{}", problem.located(&args.patch));
-        failed |= problem.severity == Severity::Error;
-    }
+    let mut session = Session::open(&args.patch, false, None)?;
+    let mut failed = session.load_errors;
     let wanted: BTreeSet<&str> = args.probes.iter().map(String::as_str).collect();
-    let mut reported_errors: BTreeSet<(NodeId, String)> = BTreeSet::new();
+    // Errors are reported when they appear, not on every frame they persist.
+    let mut reported = BTreeSet::new();
     let mut json_frames = Vec::new();
     for frame in 0..args.frames {
-        runtime.evaluate(FrameClock::fixed(frame, args.fps));
-        for (node, error) in runtime.node_errors() {
-            // Report an error when it appears, not on every frame it persists.
-            if reported_errors.insert((node, error.to_string())) {
-                eprintln!(
-                    "error: {}: frame {frame}: node {node}: {error}",
-                    args.patch.display()
-                );
-                failed = true;
-            }
-        }
+        failed |= session.step(frame, args.fps, &args.patch, &mut reported);
+        let runtime = &session.runtime;
         let probes: Vec<(&str, &Spread)> = runtime
             .probes()
             .iter()
@@ -90,7 +79,7 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
         }
     }
     for name in &wanted {
-        if !runtime.probes().contains_key(*name) {
+        if !session.runtime.probes().contains_key(*name) {
             eprintln!(
                 "error: {}: no probe named `{name}` recorded anything",
                 args.patch.display()

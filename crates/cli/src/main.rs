@@ -5,6 +5,10 @@
 mod check;
 mod eval;
 mod fmt;
+mod render;
+mod session;
+mod stats;
+mod view;
 
 use std::process::ExitCode;
 
@@ -27,6 +31,12 @@ enum Command {
     Check(check::Args),
     /// Evaluate a patch headless for a number of frames and print what its probes recorded.
     Eval(eval::Args),
+    /// Render a patch headless to an image (PNG, or EXR by extension).
+    Render(render::Args),
+    /// Render a glTF file with a camera framing it (the G-buffer albedo until lighting lands).
+    View(view::Args),
+    /// Print a frame's statistics: runtime counts, passes executed and culled, compiles, draws, GPU times.
+    Stats(stats::Args),
     /// Rewrite patches in the canonical layout (what saving writes).
     Fmt(fmt::Args),
     /// List the node types this build knows, by category.
@@ -39,6 +49,9 @@ fn main() -> ExitCode {
         Command::Check(args) => check::run(&args),
         Command::Eval(args) => eval::run(&args),
         Command::Fmt(args) => fmt::run(&args),
+        Command::Render(args) => render::run(&args),
+        Command::View(args) => view::run(&args),
+        Command::Stats(args) => stats::run(&args),
         Command::Nodes => {
             list_nodes();
             Ok(ExitCode::SUCCESS)

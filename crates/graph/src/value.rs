@@ -69,6 +69,8 @@ pub enum ResourceKind {
     GBuffer,
     MaterialWorld,
     LightWorld,
+    /// What a `DeferredBase` draws: instanced meshes with feature switches.
+    Layer,
 }
 
 /// A shared, opaque resource handle. Equality is identity: two handles are the
@@ -83,6 +85,16 @@ impl Resource {
 
     pub fn downcast<T: AnyValue + Send + Sync>(&self) -> Option<&T> {
         self.0.downcast_ref::<T>()
+    }
+
+    /// Wrap an already shared value without a second allocation.
+    pub fn from_arc<T: AnyValue + Send + Sync>(value: Arc<T>) -> Self {
+        Resource(value)
+    }
+
+    /// The shared value itself, when it is a `T`.
+    pub fn downcast_arc<T: AnyValue + Send + Sync>(&self) -> Option<Arc<T>> {
+        self.0.clone().downcast::<T>().ok()
     }
 }
 

@@ -4,13 +4,19 @@
 //!
 //! To find a node from its name: `Add (Value)` is in `value.rs`,
 //! `LinearSpread` in `spreads.rs`, `Translate` in `transform.rs`, `Camera` in
-//! `camera.rs`, `LFO` in `animation.rs`, IOBoxes, `Probe` and `Switch` in `io.rs`.
+//! `camera.rs`, `LFO` in `animation.rs`, IOBoxes, `Probe` and `Switch` in `io.rs`,
+//! `Sphere` in `geometry/primitives.rs`, `glTF` in `geometry/gltf.rs`,
+//! `DeferredBase`, `MRE` and `GBufferView` in `deferred/`, `Output` in `output.rs`.
 
 use spreadlight_graph::Registry;
 
 pub mod animation;
 pub mod camera;
+pub mod deferred;
+pub mod geometry;
+pub mod gpu;
 pub mod io;
+pub mod output;
 pub mod spreads;
 pub mod transform;
 pub mod value;
@@ -29,5 +35,8 @@ pub fn registry() -> Registry {
     transform::register(&mut r);
     camera::register(&mut r);
     io::register(&mut r);
+    geometry::register(&mut r);
+    deferred::register(&mut r);
+    output::register(&mut r);
     r
 }

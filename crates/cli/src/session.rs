@@ -1,0 +1,120 @@
+//! A loaded patch ready to run: the runtime, and the renderer when the patch
+//! has GPU nodes. Shared by `eval`, `render` and `stats`.
+
+use std::path::Path;
+use std::sync::Arc;
+
+use anyhow::Context;
+use spreadlight_graph::{FrameClock, Patch, Runtime, Severity, format};
+use spreadlight_nodes::gpu::GPU_CATEGORIES;
+use spreadlight_nodes::output::RenderedImages;
+use spreadlight_render::Renderer;
+
+pub struct Session {
+    pub runtime: Runtime,
+    pub renderer: Option<Arc<Renderer>>,
+    pub images: Arc<RenderedImages>,
+    /// Whether loading reported errors (they are printed already).
+    pub load_errors: bool,
+}
+
+/// Whether any node of the patch needs a GPU.
+pub fn needs_gpu(patch: &Patch) -> bool {
+    let registry = spreadlight_nodes::registry();
+    patch
+        .nodes
+        .iter()
+        .filter_map(|n| registry.get(&n.type_name))
+        .any(|def| GPU_CATEGORIES.contains(&def.category))
+}
+
+impl Session {
+    /// Load `path`; open a GPU if the patch needs one or `force_gpu` says so.
+    pub fn open(path: &Path, force_gpu: bool, size: Option<(u32, u32)>) -> anyhow::Result<Self> {
+        let patch = format::load(path)?;
+        Self::from_patch(&patch, path, force_gpu, size)
+    }
+
+    pub fn from_patch(
+        patch: &Patch,
+        path: &Path,
+        force_gpu: bool,
+        size: Option<(u32, u32)>,
+    ) -> anyhow::Result<Self> {
+        let mut runtime = Runtime::new(spreadlight_nodes::registry());
+        let images = Arc::new(RenderedImages::default());
+        runtime.provide(images.clone());
+        let renderer = if force_gpu || needs_gpu(patch) {
+            let renderer =
+                Arc::new(Renderer::headless().context("cannot open the GPU this patch needs")?);
+            if let Some(size) = size {
+                renderer.set_output_size(size);
+            }
+            runtime.provide(renderer.clone());
+            Some(renderer)
+        } else {
+            None
+        };
+        let mut load_errors = false;
+        for problem in runtime.load(patch) {
+            eprintln!("{}", problem.located(path));
+            load_errors |= problem.severity == Severity::Error;
+        }
+        Ok(Session {
+            runtime,
+            renderer,
+            images,
+            load_errors,
+        })
+    }
+
+    /// Evaluate frame `frame` at `fps`; print node errors and GPU pass errors
+    /// (each with the node it belongs to) the first time they appear.
+    pub fn step(
+        &mut self,
+        frame: u64,
+        fps: f64,
+        path: &Path,
+        reported: &mut std::collections::BTreeSet<String>,
+    ) -> bool {
+        self.runtime.evaluate(FrameClock::fixed(frame, fps));
+        let mut failed = false;
+        for (node, error) in self.runtime.node_errors() {
+            let line = format!("error: {}: node {node}: {error}", path.display());
+            failed = true;
+            if reported.insert(line.clone()) {
+                eprintln!("{line} (frame {frame})");
+            }
+        }
+        if let Some(renderer) = &self.renderer {
+            for (owner, error) in renderer.last_report().errors {
+                let node = owner.map_or("the renderer".to_owned(), |n| format!("node #{n}"));
+                let line = format!("error: {}: {node}: {error}", path.display());
+                failed = true;
+                if reported.insert(line.clone()) {
+                    eprintln!("{line} (frame {frame})");
+                }
+            }
+        }
+        failed
+    }
+}
+
+/// Parse `WIDTHxHEIGHT`.
+pub fn parse_size(s: &str) -> Result<(u32, u32), String> {
+    let (w, h) = s
+        .split_once(['x', 'X'])
+        .ok_or_else(|| format!("`{s}` is not WIDTHxHEIGHT (e.g. 1920x1080)"))?;
+    let parse = |v: &str| {
+        v.trim()
+            .parse::<u32>()
+            .ok()
+            .filter(|v| (1..=16384).contains(v))
+    };
+    match (parse(w), parse(h)) {
+        (Some(w), Some(h)) => Ok((w, h)),
+        _ => Err(format!(
+            "`{s}`: width and height must be whole numbers from 1 to 16384"
+        )),
+    }
+}

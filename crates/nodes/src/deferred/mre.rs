@@ -1,0 +1,88 @@
+//! `MRE`: writes layers into Emeshe's G-buffer and outputs it with the
+//! camera it was seen through.
+
+use glam::Mat4;
+use spreadlight_graph::{
+    EvalContext, Node, NodeDef, NodeError, PinType, Registry, ResourceKind, Spread,
+};
+use spreadlight_render::SizeRule;
+use spreadlight_render::camera::CameraInput;
+use spreadlight_render::gbuffer::{GBuffer, Layer};
+
+use crate::gpu::{renderer, resource_spread, resources};
+
+pub fn register(r: &mut Registry) {
+    r.add(
+        NodeDef::new(
+            "MRE",
+            super::CATEGORY,
+            "Groups layers and writes the G-buffer (Emeshe's layout: color + material id, view-space normals + object \
+             id, velocity + UV, reversed-Z depth). Width and Height of 0 follow the renderer's output size. \
+             Only the targets something reads are rendered.",
+        )
+        .input_spread("Layer", PinType::Resource(ResourceKind::Layer), Spread::Resource(ResourceKind::Layer, vec![]))
+        .input("View", glam::camera::rh::view::look_at_mat4(glam::Vec3::new(0.0, 0.0, 5.0), glam::Vec3::ZERO, glam::Vec3::Y))
+        .input("Projection", glam::camera::rh::proj::directx::perspective(std::f32::consts::FRAC_PI_3, 16.0 / 9.0, 0.1, 100.0))
+        .input("Width", 0i64)
+        .input("Height", 0i64)
+        .output_typed("G-Buffer", PinType::Resource(ResourceKind::GBuffer))
+        .construct(Mre::default),
+    );
+}
+
+/// Keeps last frame's view-projection, for velocity.
+#[derive(Default)]
+struct Mre {
+    previous_view_projection: Option<Mat4>,
+}
+
+impl Node for Mre {
+    fn evaluate(&mut self, cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
+        let renderer = renderer(cx)?;
+        let layers = resources::<Layer>(cx, 0)?;
+        let view = *cx
+            .slices::<Mat4>(1)?
+            .first()
+            .ok_or_else(|| cx.input_error(1, "needs a view transform"))?;
+        let projection = *cx
+            .slices::<Mat4>(2)?
+            .first()
+            .ok_or_else(|| cx.input_error(2, "needs a projection"))?;
+        if !view.is_finite() || !projection.is_finite() {
+            return Err(NodeError::Other(
+                "the camera matrices are not finite".to_owned(),
+            ));
+        }
+        let dimension = |pin: usize| -> Result<u32, NodeError> {
+            let v = cx.slices::<i64>(pin)?.first().copied().unwrap_or(0);
+            u32::try_from(v)
+                .ok()
+                .filter(|v| *v <= 16384)
+                .ok_or_else(|| cx.input_error(pin, "must be 0 (output size) to 16384"))
+        };
+        let (width, height) = (dimension(3)?, dimension(4)?);
+        let size = if width == 0 || height == 0 {
+            SizeRule::Relative(1.0)
+        } else {
+            SizeRule::Absolute { width, height }
+        };
+        let camera = CameraInput { view, projection };
+        let previous = self
+            .previous_view_projection
+            .replace(camera.view_projection());
+        if previous.is_some_and(|p| p != camera.view_projection()) {
+            // Camera velocity is last frame's motion: next frame must see it settle.
+            cx.reevaluate_next_frame();
+        }
+        let gbuffer = GBuffer::new(
+            &renderer,
+            Some(cx.node_id.0),
+            layers,
+            camera,
+            previous,
+            size,
+        );
+        cx.set_output(0, resource_spread(ResourceKind::GBuffer, vec![gbuffer]));
+        Ok(())
+    }
+}

@@ -1,0 +1,47 @@
+//! What GPU nodes share: getting the renderer, and moving GPU objects
+//! through spreads as resource handles.
+
+use std::sync::Arc;
+
+use spreadlight_graph::{EvalContext, NodeError, Resource, ResourceKind, Spread};
+use spreadlight_render::Renderer;
+
+/// The node categories whose nodes need a GPU; hosts provide a renderer when a patch has one.
+pub const GPU_CATEGORIES: &[&str] = &["Geometry", "DeferredBase", "Texture", "Output"];
+
+/// The renderer the host provided, or an error that says how to get one.
+pub fn renderer(cx: &EvalContext<'_>) -> Result<Arc<Renderer>, NodeError> {
+    cx.service::<Renderer>().ok_or_else(|| {
+        NodeError::Other(
+            "no GPU renderer: evaluate this patch with `spreadlight render` (or the editor), which opens one".to_owned(),
+        )
+    })
+}
+
+/// The `T`s in a resource input. A handle of another type is an input error naming the pin.
+pub fn resources<T: std::any::Any + Send + Sync>(
+    cx: &EvalContext<'_>,
+    pin: usize,
+) -> Result<Vec<Arc<T>>, NodeError> {
+    match cx.input(pin) {
+        Spread::Resource(_, handles) => handles
+            .iter()
+            .map(|h| {
+                h.downcast_arc::<T>()
+                    .ok_or_else(|| cx.input_error(pin, "holds a resource of another kind"))
+            })
+            .collect(),
+        other => Err(cx.input_error(
+            pin,
+            format!("expected a resource, got {}", other.type_name()),
+        )),
+    }
+}
+
+/// A spread of resources of `kind`.
+pub fn resource_spread<T: std::any::Any + Send + Sync>(
+    kind: ResourceKind,
+    values: Vec<Arc<T>>,
+) -> Spread {
+    Spread::Resource(kind, values.into_iter().map(Resource::from_arc).collect())
+}

@@ -1,0 +1,101 @@
+//! `Output`: the sink that renders. It builds the frame graph from the
+//! texture it is given (the graph culls every pass that does not lead to
+//! it), executes it at the renderer's output size, reads the image back, and
+//! writes it to its file (PNG, or EXR by extension) and to the host's
+//! [`RenderedImages`].
+
+use std::collections::BTreeMap;
+use std::path::Path;
+use std::sync::Mutex;
+
+use spreadlight_graph::{EnumDef, NodeDef, NodeError, PinType, Registry, ResourceKind, Spread};
+use spreadlight_render::image_io::{Encoding, write_image};
+use spreadlight_render::readback::{ImageF32, read_texture};
+use spreadlight_render::{FrameGraph, TextureRef};
+
+use crate::gpu::{renderer, resources};
+
+pub static ENCODING: EnumDef = EnumDef {
+    name: "Encoding",
+    options: &["sRGB", "Linear"],
+};
+
+/// Images the `Output` nodes rendered, by their Name: the CLI and tests read them here.
+#[derive(Default)]
+pub struct RenderedImages {
+    images: Mutex<BTreeMap<String, (ImageF32, Encoding)>>,
+}
+
+impl RenderedImages {
+    /// The last image an `Output` named `name` rendered, with the encoding it asks for.
+    pub fn get(&self, name: &str) -> Option<(ImageF32, Encoding)> {
+        self.images
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .get(name)
+            .cloned()
+    }
+
+    pub fn names(&self) -> Vec<String> {
+        self.images
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .keys()
+            .cloned()
+            .collect()
+    }
+
+    fn put(&self, name: &str, image: ImageF32, encoding: Encoding) {
+        self.images
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .insert(name.to_owned(), (image, encoding));
+    }
+}
+
+pub fn register(r: &mut Registry) {
+    r.add(
+        NodeDef::new(
+            "Output",
+            "Output",
+            "Renders its texture at the output size and writes it to Filename (PNG 8-bit, or 32-bit float EXR when \
+             the name ends in .exr) when Write is on. Only the passes its texture depends on run.",
+        )
+        .input_spread("Texture", PinType::Resource(ResourceKind::Texture), Spread::Resource(ResourceKind::Texture, vec![]))
+        .input("Filename", String::new())
+        .input("Name", "output".to_owned())
+        .input_enum("Encoding", &ENCODING, "sRGB")
+        .input("Write", true)
+        .sink()
+        .evaluate(|cx| {
+            let renderer = renderer(cx)?;
+            let textures = resources::<TextureRef>(cx, 0)?;
+            let Some(texture) = textures.first() else {
+                return Err(cx.input_error(0, "no texture connected"));
+            };
+            let filename = cx.slices::<String>(1)?.first().cloned().unwrap_or_default();
+            let name = cx.slices::<String>(2)?.first().cloned().unwrap_or_else(|| "output".to_owned());
+            let encoding = match cx.enum_slices(3)?.first().map(String::as_str) {
+                Some("Linear") => Encoding::Linear,
+                _ => Encoding::Srgb,
+            };
+            let write = cx.slices::<bool>(4)?.first().copied().unwrap_or(true);
+
+            let mut graph = FrameGraph::new(renderer.output_size());
+            texture.recipe.declare(&renderer, &mut graph);
+            graph.request(&texture.name);
+            let (_, outputs) = graph.execute(&renderer).map_err(|e| NodeError::Other(e.to_string()))?;
+            let target = outputs
+                .get(&texture.name)
+                .ok_or_else(|| NodeError::Other(format!("the frame produced no `{}`", texture.name)))?;
+            let image = read_texture(&renderer.gpu, target).map_err(|e| NodeError::Other(e.to_string()))?;
+            if write && !filename.is_empty() {
+                write_image(&image, Path::new(&filename), encoding).map_err(|e| cx.input_error(1, e.to_string()))?;
+            }
+            if let Some(store) = cx.service::<RenderedImages>() {
+                store.put(&name, image, encoding);
+            }
+            Ok(())
+        }),
+    );
+}

@@ -1,0 +1,139 @@
+//! The one wgpu device shared by everything that renders.
+//!
+//! Headless by default. The adapter follows wgpu's environment variables
+//! (`WGPU_BACKEND`, `WGPU_ADAPTER_NAME`, `WGPU_POWER_PREF`). Features and
+//! limits the renderer needs are checked up front, so a missing one is an
+//! error naming it rather than a panic deep inside a pass. The editor builds a
+//! context from the device egui-wgpu already opened ([`GpuContext::from_parts`]).
+
+use std::sync::Arc;
+
+use crate::error::RenderError;
+
+/// Features the renderer cannot work without (none yet beyond WebGPU's baseline).
+pub const REQUIRED_FEATURES: wgpu::Features = wgpu::Features::empty();
+/// Features used when the adapter has them.
+pub const OPTIONAL_FEATURES: wgpu::Features = wgpu::Features::TIMESTAMP_QUERY;
+
+/// A shared device and queue, with what the adapter told us about itself.
+#[derive(Clone)]
+pub struct GpuContext {
+    pub device: wgpu::Device,
+    pub queue: wgpu::Queue,
+    pub adapter_info: Arc<wgpu::AdapterInfo>,
+}
+
+impl std::fmt::Debug for GpuContext {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "GpuContext({})", self.adapter_name())
+    }
+}
+
+impl GpuContext {
+    /// Open the default (or environment-chosen) adapter without a window.
+    pub fn headless() -> Result<Self, RenderError> {
+        pollster::block_on(Self::headless_async())
+    }
+
+    async fn headless_async() -> Result<Self, RenderError> {
+        let instance =
+            wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
+        let adapter = match std::env::var("WGPU_ADAPTER_NAME") {
+            Ok(wanted) => {
+                // wgpu's own helper panics when the name matches nothing; this one says so.
+                let wanted_lower = wanted.to_lowercase();
+                let adapters = instance.enumerate_adapters(wgpu::Backends::all()).await;
+                let names: Vec<String> = adapters.iter().map(|a| a.get_info().name).collect();
+                adapters
+                    .into_iter()
+                    .find(|a| a.get_info().name.to_lowercase().contains(&wanted_lower))
+                    .ok_or_else(|| RenderError::NoAdapter {
+                        filter: format!(
+                            " matching WGPU_ADAPTER_NAME=`{wanted}` (adapters: {})",
+                            names.join(", ")
+                        ),
+                    })?
+            }
+            Err(_) => instance
+                .request_adapter(&wgpu::RequestAdapterOptions {
+                    power_preference: wgpu::PowerPreference::from_env()
+                        .unwrap_or(wgpu::PowerPreference::HighPerformance),
+                    ..Default::default()
+                })
+                .await
+                .map_err(|_| RenderError::NoAdapter {
+                    filter: String::new(),
+                })?,
+        };
+        let info = adapter.get_info();
+        let missing = REQUIRED_FEATURES - adapter.features();
+        if !missing.is_empty() {
+            return Err(RenderError::MissingFeatures {
+                adapter: info.name,
+                missing: format!("{missing:?}"),
+            });
+        }
+        let limits = required_limits(&adapter.limits(), &info.name)?;
+        let (device, queue) = adapter
+            .request_device(&wgpu::DeviceDescriptor {
+                label: Some("spreadlight"),
+                required_features: REQUIRED_FEATURES | (OPTIONAL_FEATURES & adapter.features()),
+                required_limits: limits,
+                ..Default::default()
+            })
+            .await
+            .map_err(|e| RenderError::Device {
+                adapter: info.name.clone(),
+                message: e.to_string(),
+            })?;
+        Ok(Self::from_parts(device, queue, info))
+    }
+
+    /// Wrap a device opened elsewhere (the editor's egui-wgpu device).
+    pub fn from_parts(
+        device: wgpu::Device,
+        queue: wgpu::Queue,
+        adapter_info: wgpu::AdapterInfo,
+    ) -> Self {
+        GpuContext {
+            device,
+            queue,
+            adapter_info: Arc::new(adapter_info),
+        }
+    }
+
+    /// The adapter's name and backend, as every figure must be labelled.
+    pub fn adapter_name(&self) -> String {
+        format!(
+            "{} ({:?})",
+            self.adapter_info.name, self.adapter_info.backend
+        )
+    }
+
+    pub fn has_timestamps(&self) -> bool {
+        self.device
+            .features()
+            .contains(wgpu::Features::TIMESTAMP_QUERY)
+    }
+}
+
+/// The limits we ask for: the adapter's own where they exceed WebGPU's
+/// defaults for what we use (storage buffers grow with light and instance counts).
+fn required_limits(adapter: &wgpu::Limits, name: &str) -> Result<wgpu::Limits, RenderError> {
+    let needed_storage: u64 = 128 << 20;
+    if adapter.max_storage_buffer_binding_size < needed_storage {
+        return Err(RenderError::Limit {
+            adapter: name.to_owned(),
+            limit: "max_storage_buffer_binding_size",
+            needed: needed_storage,
+            has: adapter.max_storage_buffer_binding_size,
+        });
+    }
+    Ok(wgpu::Limits {
+        max_storage_buffer_binding_size: adapter.max_storage_buffer_binding_size,
+        max_buffer_size: adapter.max_buffer_size,
+        max_storage_buffers_per_shader_stage: adapter.max_storage_buffers_per_shader_stage.min(16),
+        max_storage_textures_per_shader_stage: adapter.max_storage_textures_per_shader_stage.min(8),
+        ..wgpu::Limits::default()
+    })
+}

@@ -1,0 +1,412 @@
+//! The frame graph: passes declare the textures they read and write by name;
+//! before anything runs, every pass whose outputs do not reach a requested
+//! output is culled. As in breezEngine, a texture is temporary (pooled by
+//! descriptor and reused within and across frames), permanent (lives through
+//! the frame) or persistent (kept across frames under its name: history,
+//! adapted luminance). Sizes are absolute or a scale of the frame's output.
+//!
+//! Each pass records into its own command encoder inside a validation error
+//! scope, so a wgpu validation error is reported against the pass (and the
+//! node that declared it) and the rest of the frame still renders.
+
+use std::collections::{HashMap, HashSet};
+
+use crate::context::GpuContext;
+use crate::error::RenderError;
+use crate::renderer::Renderer;
+use crate::shaders::ShaderCache;
+
+/// How big a texture is.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum SizeRule {
+    Absolute {
+        width: u32,
+        height: u32,
+    },
+    /// A scale of the frame's output size (1.0 full, 0.25 quarter), at least 1x1.
+    Relative(f32),
+}
+
+/// How long a texture lives.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Lifetime {
+    /// Within the passes that use it; its memory is reused by later passes.
+    Temporary,
+    /// Through the whole frame.
+    Permanent,
+    /// Across frames, under its name (last frame's depth, temporal history).
+    Persistent,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TextureDesc {
+    pub format: wgpu::TextureFormat,
+    pub size: SizeRule,
+    pub lifetime: Lifetime,
+    pub usage: wgpu::TextureUsages,
+}
+
+impl TextureDesc {
+    /// A full-size target that compute writes and later passes read: the common case.
+    pub fn storage(format: wgpu::TextureFormat) -> Self {
+        TextureDesc {
+            format,
+            size: SizeRule::Relative(1.0),
+            lifetime: Lifetime::Temporary,
+            usage: wgpu::TextureUsages::STORAGE_BINDING
+                | wgpu::TextureUsages::TEXTURE_BINDING
+                | wgpu::TextureUsages::COPY_SRC,
+        }
+    }
+
+    /// A full-size raster target.
+    pub fn attachment(format: wgpu::TextureFormat) -> Self {
+        TextureDesc {
+            format,
+            size: SizeRule::Relative(1.0),
+            lifetime: Lifetime::Temporary,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+                | wgpu::TextureUsages::TEXTURE_BINDING
+                | wgpu::TextureUsages::COPY_SRC,
+        }
+    }
+
+    pub fn lifetime(mut self, lifetime: Lifetime) -> Self {
+        self.lifetime = lifetime;
+        self
+    }
+
+    pub fn size(mut self, size: SizeRule) -> Self {
+        self.size = size;
+        self
+    }
+}
+
+/// The concrete size and format a [`TextureDesc`] resolves to in one frame: the pool's key.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct TextureKey {
+    pub format: wgpu::TextureFormat,
+    pub width: u32,
+    pub height: u32,
+    pub usage: wgpu::TextureUsages,
+}
+
+type PassFn<'a> = Box<dyn FnOnce(&mut PassContext<'_>) -> Result<(), RenderError> + 'a>;
+
+struct PassEntry<'a> {
+    name: String,
+    /// The patch node that declared the pass, for error reports.
+    owner: Option<u32>,
+    reads: Vec<String>,
+    writes: Vec<(String, TextureDesc)>,
+    run: PassFn<'a>,
+}
+
+/// What a pass sees while it records.
+pub struct PassContext<'f> {
+    pub gpu: &'f GpuContext,
+    pub encoder: wgpu::CommandEncoder,
+    pub shaders: &'f mut ShaderCache,
+    pub(crate) textures: &'f HashMap<String, wgpu::Texture>,
+    pub(crate) fresh: &'f HashSet<String>,
+    pub(crate) timestamps: Option<&'f wgpu::QuerySet>,
+    pub(crate) queries: Vec<(u32, u32)>,
+    pub(crate) next_query: &'f mut u32,
+    pub(crate) query_capacity: u32,
+    /// Draw calls recorded (raster passes count theirs here).
+    pub draws: u64,
+    pub output_size: (u32, u32),
+}
+
+impl<'f> PassContext<'f> {
+    pub fn texture(&self, name: &str) -> Result<&wgpu::Texture, RenderError> {
+        self.textures
+            .get(name)
+            .ok_or_else(|| RenderError::Graph(format!("texture `{name}` is not available here")))
+    }
+
+    pub fn view(&self, name: &str) -> Result<wgpu::TextureView, RenderError> {
+        Ok(self
+            .texture(name)?
+            .create_view(&wgpu::TextureViewDescriptor::default()))
+    }
+
+    /// A persistent texture created this frame: it holds no history yet.
+    pub fn is_fresh(&self, name: &str) -> bool {
+        self.fresh.contains(name)
+    }
+
+    fn next_pair(&mut self) -> Option<(&'f wgpu::QuerySet, u32)> {
+        let set = self.timestamps?;
+        if *self.next_query + 2 > self.query_capacity {
+            return None;
+        }
+        let begin = *self.next_query;
+        *self.next_query += 2;
+        self.queries.push((begin, begin + 1));
+        Some((set, begin))
+    }
+
+    /// Timestamp writes for a compute pass of this graph pass (None without timestamp support).
+    pub fn compute_timestamps(&mut self) -> Option<wgpu::ComputePassTimestampWrites<'f>> {
+        self.next_pair()
+            .map(|(query_set, i)| wgpu::ComputePassTimestampWrites {
+                query_set,
+                beginning_of_pass_write_index: Some(i),
+                end_of_pass_write_index: Some(i + 1),
+            })
+    }
+
+    /// Timestamp writes for a render pass of this graph pass.
+    pub fn render_timestamps(&mut self) -> Option<wgpu::RenderPassTimestampWrites<'f>> {
+        self.next_pair()
+            .map(|(query_set, i)| wgpu::RenderPassTimestampWrites {
+                query_set,
+                beginning_of_pass_write_index: Some(i),
+                end_of_pass_write_index: Some(i + 1),
+            })
+    }
+}
+
+/// One executed pass in the frame report.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct PassReport {
+    pub name: String,
+    pub owner: Option<u32>,
+    /// GPU time from timestamp queries, when the adapter has them.
+    pub gpu_ms: Option<f64>,
+    pub draws: u64,
+}
+
+/// What a frame did: the frame graph's statistics.
+#[derive(Clone, Debug, Default, serde::Serialize)]
+pub struct FrameReport {
+    pub adapter: String,
+    pub passes: Vec<PassReport>,
+    pub culled: Vec<String>,
+    pub pipelines_compiled: u64,
+    pub draws: u64,
+    pub textures_created: u64,
+    /// Errors of passes that failed (validation or their own); those passes' work was dropped.
+    pub errors: Vec<(Option<u32>, String)>,
+    /// Sum of the passes' GPU times.
+    pub gpu_ms: Option<f64>,
+}
+
+/// A frame being described; [`FrameGraph::execute`] runs it.
+pub struct FrameGraph<'a> {
+    output_size: (u32, u32),
+    passes: Vec<PassEntry<'a>>,
+    requested: Vec<String>,
+    imports: HashMap<String, wgpu::Texture>,
+    included: HashSet<u64>,
+}
+
+impl<'a> FrameGraph<'a> {
+    pub fn new(output_size: (u32, u32)) -> Self {
+        FrameGraph {
+            output_size: (output_size.0.max(1), output_size.1.max(1)),
+            passes: Vec::new(),
+            requested: Vec::new(),
+            imports: HashMap::new(),
+            included: HashSet::new(),
+        }
+    }
+
+    pub fn output_size(&self) -> (u32, u32) {
+        self.output_size
+    }
+
+    /// Declare a pass. `writes` are created by the graph; `reads` must be written by another pass or imported.
+    pub fn add_pass(
+        &mut self,
+        name: impl Into<String>,
+        owner: Option<u32>,
+        reads: &[&str],
+        writes: &[(&str, TextureDesc)],
+        run: impl FnOnce(&mut PassContext<'_>) -> Result<(), RenderError> + 'a,
+    ) {
+        self.passes.push(PassEntry {
+            name: name.into(),
+            owner,
+            reads: reads.iter().map(|s| (*s).to_owned()).collect(),
+            writes: writes.iter().map(|(n, d)| ((*n).to_owned(), *d)).collect(),
+            run: Box::new(run),
+        });
+    }
+
+    /// Ask for a texture: only the passes it depends on will run.
+    pub fn request(&mut self, name: &str) {
+        self.requested.push(name.to_owned());
+    }
+
+    /// Make an outside texture readable by passes under `name`.
+    pub fn import(&mut self, name: &str, texture: wgpu::Texture) {
+        self.imports.insert(name.to_owned(), texture);
+    }
+
+    /// True the first time an id is included: a recipe declares its passes only once per frame.
+    pub fn include(&mut self, id: u64) -> bool {
+        self.included.insert(id)
+    }
+
+    pub fn resolve(&self, desc: &TextureDesc) -> TextureKey {
+        let (width, height) = match desc.size {
+            SizeRule::Absolute { width, height } => (width.max(1), height.max(1)),
+            SizeRule::Relative(scale) => {
+                let scale = if scale.is_finite() && scale > 0.0 {
+                    scale
+                } else {
+                    1.0
+                };
+                (
+                    ((self.output_size.0 as f32 * scale).round() as u32).max(1),
+                    ((self.output_size.1 as f32 * scale).round() as u32).max(1),
+                )
+            }
+        };
+        TextureKey {
+            format: desc.format,
+            width,
+            height,
+            usage: desc.usage,
+        }
+    }
+
+    /// Which passes run, in order, and which are culled.
+    fn schedule(
+        &self,
+        persistent: &HashSet<String>,
+    ) -> Result<(Vec<usize>, Vec<usize>), RenderError> {
+        let mut producer: HashMap<&str, usize> = HashMap::new();
+        for (i, pass) in self.passes.iter().enumerate() {
+            for (name, _) in &pass.writes {
+                if let Some(other) = producer.insert(name, i) {
+                    return Err(RenderError::Graph(format!(
+                        "`{name}` is written by two passes, `{}` and `{}`",
+                        self.passes[other].name, pass.name
+                    )));
+                }
+            }
+        }
+        let available = |name: &str| self.imports.contains_key(name) || persistent.contains(name);
+        let mut live = vec![false; self.passes.len()];
+        let mut stack: Vec<(&str, Option<&str>)> =
+            self.requested.iter().map(|n| (n.as_str(), None)).collect();
+        while let Some((name, reader)) = stack.pop() {
+            match producer.get(name) {
+                Some(&p) => {
+                    if !live[p] {
+                        live[p] = true;
+                        stack.extend(
+                            self.passes[p]
+                                .reads
+                                .iter()
+                                .map(|r| (r.as_str(), Some(self.passes[p].name.as_str()))),
+                        );
+                    }
+                }
+                None if available(name) => {}
+                None => {
+                    return Err(RenderError::Graph(match reader {
+                        Some(pass) => format!("pass `{pass}` reads `{name}`, which no pass writes"),
+                        None => format!("`{name}` was requested, but no pass writes it"),
+                    }));
+                }
+            }
+        }
+        // Kahn's order over live passes, keeping declaration order where free.
+        let mut indegree = vec![0usize; self.passes.len()];
+        let mut dependents: Vec<Vec<usize>> = vec![Vec::new(); self.passes.len()];
+        for (i, pass) in self.passes.iter().enumerate().filter(|(i, _)| live[*i]) {
+            for read in &pass.reads {
+                if let Some(&p) = producer.get(read.as_str()) {
+                    indegree[i] += 1;
+                    dependents[p].push(i);
+                }
+            }
+        }
+        let mut order = Vec::new();
+        let mut ready: std::collections::BTreeSet<usize> = (0..self.passes.len())
+            .filter(|&i| live[i] && indegree[i] == 0)
+            .collect();
+        while let Some(i) = ready.pop_first() {
+            order.push(i);
+            for &d in &dependents[i] {
+                indegree[d] -= 1;
+                if indegree[d] == 0 {
+                    ready.insert(d);
+                }
+            }
+        }
+        if order.len() != live.iter().filter(|l| **l).count() {
+            return Err(RenderError::Graph(
+                "the passes read each other's outputs in a cycle".to_owned(),
+            ));
+        }
+        let culled = (0..self.passes.len()).filter(|&i| !live[i]).collect();
+        Ok((order, culled))
+    }
+
+    /// Cull, allocate, record and submit the frame. Returns its report and the requested textures.
+    pub fn execute(
+        self,
+        renderer: &Renderer,
+    ) -> Result<(FrameReport, HashMap<String, wgpu::Texture>), RenderError> {
+        renderer.execute_graph(self)
+    }
+}
+
+/// The parts of a frame graph the renderer's executor needs, taken apart.
+pub(crate) struct GraphParts<'a> {
+    pub names: Vec<String>,
+    pub owners: Vec<Option<u32>>,
+    pub reads: Vec<Vec<String>>,
+    pub writes: Vec<Vec<(String, TextureDesc)>>,
+    pub runs: Vec<Option<PassFn<'a>>>,
+    pub order: Vec<usize>,
+    pub culled: Vec<usize>,
+    pub requested: Vec<String>,
+    pub imports: HashMap<String, wgpu::Texture>,
+    pub keys: Vec<Vec<TextureKey>>,
+}
+
+impl<'a> FrameGraph<'a> {
+    pub(crate) fn into_parts(
+        self,
+        persistent: &HashSet<String>,
+    ) -> Result<GraphParts<'a>, RenderError> {
+        let (order, culled) = self.schedule(persistent)?;
+        let keys = self
+            .passes
+            .iter()
+            .map(|p| p.writes.iter().map(|(_, d)| self.resolve(d)).collect())
+            .collect();
+        let mut parts = GraphParts {
+            names: Vec::new(),
+            owners: Vec::new(),
+            reads: Vec::new(),
+            writes: Vec::new(),
+            runs: Vec::new(),
+            order,
+            culled,
+            requested: self.requested,
+            imports: self.imports,
+            keys,
+        };
+        for pass in self.passes {
+            parts.names.push(pass.name);
+            parts.owners.push(pass.owner);
+            parts.reads.push(pass.reads);
+            parts.writes.push(pass.writes);
+            parts.runs.push(Some(pass.run));
+        }
+        Ok(parts)
+    }
+}
+
+impl PassContext<'_> {
+    pub(crate) fn finish(self) -> (wgpu::CommandBuffer, Vec<(u32, u32)>, u64) {
+        (self.encoder.finish(), self.queries, self.draws)
+    }
+}

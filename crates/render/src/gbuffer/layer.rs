@@ -1,0 +1,152 @@
+//! A layer: what one `DeferredBase` node draws — instanced meshes and the
+//! feature switches its resolve permutation is compiled with.
+
+use std::sync::Arc;
+
+use glam::Mat4;
+use thiserror::Error;
+
+use crate::mesh_arena::GpuMesh;
+use crate::texture::GpuTexture;
+
+/// Where velocity comes from.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum VelocitySource {
+    /// From this and last frame's transforms (rigid motion).
+    #[default]
+    Transforms,
+    /// From the mesh's previous-frame positions as well (deforming geometry).
+    Geometry,
+    /// None: velocity is zero.
+    Off,
+}
+
+/// The DeferredBase switches (Emeshe's `#define`s), each a shader feature.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct LayerFeatures {
+    /// Write the mesh's texture coordinates (the UV target).
+    pub texcoords: bool,
+    /// Perturb normals with the layer's normal map (needs UVs and tangents, or triplanar).
+    pub normal_map: bool,
+    /// Texture coordinates projected from world position, for geometry without UVs.
+    pub triplanar: bool,
+    pub velocity: VelocitySource,
+    /// Write object and material ids (otherwise 0).
+    pub ids: bool,
+}
+
+impl LayerFeatures {
+    /// The resolve shader's features for the surface (color, normals) pass.
+    pub(crate) fn surface_defines(&self) -> Vec<&'static str> {
+        let mut d = Vec::new();
+        if self.normal_map {
+            d.push("NORMAL_MAP");
+            d.extend(self.uv_define());
+        }
+        d
+    }
+
+    /// The resolve shader's features for the motion (velocity, UV) pass.
+    pub(crate) fn motion_defines(&self) -> Vec<&'static str> {
+        let mut d = vec!["MOTION"];
+        d.extend(self.uv_define());
+        if self.velocity == VelocitySource::Geometry {
+            d.push("VELOCITY_FROM_GEOMETRY");
+        }
+        d
+    }
+
+    fn uv_define(&self) -> Option<&'static str> {
+        if self.texcoords {
+            Some("TEXCOORDS")
+        } else if self.triplanar {
+            Some("TRIPLANAR")
+        } else {
+            None
+        }
+    }
+}
+
+/// One instance of a mesh.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct InstanceInput {
+    pub transform: Mat4,
+    /// Last frame's transform (for velocity); the same as `transform` when static.
+    pub previous_transform: Mat4,
+    pub color: [f32; 4],
+    pub material_id: u32,
+    pub object_id: u32,
+}
+
+/// A mesh drawn once per instance.
+#[derive(Clone, Debug)]
+pub struct DrawBatch {
+    pub mesh: Arc<GpuMesh>,
+    pub instances: Vec<InstanceInput>,
+}
+
+/// A switch the geometry cannot serve: an error on the DeferredBase node, not a broken image.
+#[derive(Debug, Error, PartialEq)]
+pub enum LayerError {
+    #[error("Normal Mapping is on but no normal texture is connected")]
+    NoNormalTexture,
+    #[error(
+        "{switch} needs texture coordinates, but mesh slice {mesh} has none (switch on Triplanar, or use a mesh with UVs)"
+    )]
+    NoTexcoords { switch: &'static str, mesh: usize },
+    #[error("Normal Mapping needs tangents, but mesh slice {mesh} has none")]
+    NoTangents { mesh: usize },
+    #[error(
+        "Velocity from geometry needs previous-frame positions, but mesh slice {mesh} has none"
+    )]
+    NoPreviousPositions { mesh: usize },
+}
+
+/// What a DeferredBase node outputs.
+#[derive(Clone, Debug)]
+pub struct Layer {
+    pub owner: Option<u32>,
+    pub batches: Vec<DrawBatch>,
+    pub features: LayerFeatures,
+    pub normal_map: Option<Arc<GpuTexture>>,
+}
+
+impl Layer {
+    /// A layer, if its meshes can serve its switches.
+    pub fn new(
+        owner: Option<u32>,
+        batches: Vec<DrawBatch>,
+        features: LayerFeatures,
+        normal_map: Option<Arc<GpuTexture>>,
+    ) -> Result<Self, LayerError> {
+        if features.normal_map && normal_map.is_none() {
+            return Err(LayerError::NoNormalTexture);
+        }
+        for (mesh, batch) in batches.iter().enumerate() {
+            if features.texcoords && !batch.mesh.has_uvs {
+                return Err(LayerError::NoTexcoords {
+                    switch: "Texture Coordinates",
+                    mesh,
+                });
+            }
+            if features.normal_map && !features.triplanar && !batch.mesh.has_uvs {
+                return Err(LayerError::NoTexcoords {
+                    switch: "Normal Mapping",
+                    mesh,
+                });
+            }
+            if features.normal_map && !batch.mesh.has_tangents {
+                return Err(LayerError::NoTangents { mesh });
+            }
+            if features.velocity == VelocitySource::Geometry && !batch.mesh.has_previous_positions {
+                return Err(LayerError::NoPreviousPositions { mesh });
+            }
+        }
+        Ok(Layer {
+            owner,
+            batches,
+            features,
+            normal_map,
+        })
+    }
+}

@@ -1,0 +1,228 @@
+//! The G-buffer: Emeshe's DeferredBase (layers of instanced meshes with
+//! feature switches) and MRE (the targets they are written into).
+//!
+//! Layout, as Emeshe's MRE: `color` RGBA16F (albedo RGB, material id A),
+//! `normals` RGBA16F (view-space normal RGB, object id A), `velocity_uv`
+//! RGBA16F (velocity in UV units per frame RG, texture coordinates BA),
+//! `depth` Depth32Float, reversed-Z.
+//!
+//! How: raster writes only depth and a visibility buffer (instance,
+//! triangle) — 12 bytes a pixel — and compute resolves that into the MRE
+//! targets (see DEVELOPERS.md: raster output is the H100's bottleneck). The
+//! resolve is split in two passes, surface (color, normals) and motion
+//! (velocity, UV), so a frame that reads no velocity culls the second.
+
+mod layer;
+mod passes;
+mod view;
+
+use std::sync::Arc;
+
+use glam::Mat4;
+use wgpu::util::DeviceExt;
+
+pub use layer::{DrawBatch, InstanceInput, Layer, LayerError, LayerFeatures, VelocitySource};
+pub use view::{Channel, GBufferView};
+
+use crate::camera::{CameraInput, GpuCamera};
+use crate::frame_graph::{FrameGraph, SizeRule};
+use crate::recipe::{Recipe, next_recipe_id};
+use crate::renderer::Renderer;
+
+/// 224 bytes; matches `Instance` in shaders/lib/mesh.wgsl.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct GpuInstance {
+    pub model: [[f32; 4]; 4],
+    pub previous_model: [[f32; 4]; 4],
+    pub normal_matrix: [[f32; 4]; 4],
+    pub color: [f32; 4],
+    /// first index, base vertex, material id, object id
+    pub info: [u32; 4],
+}
+
+/// Matches `Layer` in shaders/gbuffer/resolve.wgsl.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
+struct GpuLayer {
+    first_instance: u32,
+    end_instance: u32,
+    write_background: u32,
+    _pad: u32,
+}
+
+/// One instanced draw: a mesh and a range of the instance buffer.
+struct Draw {
+    index_count: u32,
+    first_instance: u32,
+    instance_count: u32,
+}
+
+/// The frame-graph names of a G-buffer's targets.
+#[derive(Clone, Debug)]
+pub struct GBufferTargets {
+    pub visibility: String,
+    pub depth: String,
+    pub color: String,
+    pub normals: String,
+    pub velocity_uv: String,
+}
+
+/// An MRE: its layers uploaded, ready to declare its passes. Nodes pass it on
+/// as a resource; the sink that reaches it decides which of its targets are needed.
+pub struct GBuffer {
+    id: u64,
+    owner: Option<u32>,
+    pub size: SizeRule,
+    pub camera: CameraInput,
+    previous_view_projection: Option<Mat4>,
+    pub targets: GBufferTargets,
+    layers: Vec<Arc<Layer>>,
+    draws: Vec<Draw>,
+    /// Per layer: its instance range in the instance buffer.
+    layer_ranges: Vec<(u32, u32)>,
+    instances: wgpu::Buffer,
+    camera_buffer: wgpu::Buffer,
+    layer_buffers: Vec<wgpu::Buffer>,
+}
+
+impl std::fmt::Debug for GBuffer {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "GBuffer({}, {} layers)",
+            self.targets.color,
+            self.layers.len()
+        )
+    }
+}
+
+impl GBuffer {
+    /// Upload the layers' instances. `owner` is the node that made it, for error reports.
+    pub fn new(
+        renderer: &Renderer,
+        owner: Option<u32>,
+        layers: Vec<Arc<Layer>>,
+        camera: CameraInput,
+        previous_view_projection: Option<Mat4>,
+        size: SizeRule,
+    ) -> Arc<Self> {
+        let id = next_recipe_id();
+        let prefix = format!("mre{id}");
+        let mut gpu_instances = Vec::new();
+        let mut draws = Vec::new();
+        let mut layer_ranges = Vec::new();
+        for layer in &layers {
+            let first = gpu_instances.len() as u32;
+            for batch in &layer.batches {
+                let first_instance = gpu_instances.len() as u32;
+                for inst in &batch.instances {
+                    gpu_instances.push(GpuInstance {
+                        model: inst.transform.to_cols_array_2d(),
+                        previous_model: inst.previous_transform.to_cols_array_2d(),
+                        normal_matrix: crate::camera::safe_inverse(inst.transform)
+                            .transpose()
+                            .to_cols_array_2d(),
+                        color: inst.color,
+                        info: [
+                            batch.mesh.indices.start,
+                            batch.mesh.vertices.start,
+                            inst.material_id,
+                            inst.object_id,
+                        ],
+                    });
+                }
+                draws.push(Draw {
+                    index_count: batch.mesh.indices.len() as u32,
+                    first_instance,
+                    instance_count: batch.instances.len() as u32,
+                });
+            }
+            layer_ranges.push((first, gpu_instances.len() as u32));
+        }
+        if gpu_instances.is_empty() {
+            // A storage binding cannot be empty.
+            gpu_instances.push(bytemuck::Zeroable::zeroed());
+        }
+        let device = &renderer.gpu.device;
+        let instances = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("mre instances"),
+            contents: bytemuck::cast_slice(&gpu_instances),
+            usage: wgpu::BufferUsages::STORAGE,
+        });
+        let camera_buffer = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("mre camera"),
+            size: std::mem::size_of::<GpuCamera>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let layer_buffers = layer_ranges
+            .iter()
+            .enumerate()
+            .map(|(i, &(first, end))| {
+                device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some("mre layer"),
+                    contents: bytemuck::bytes_of(&GpuLayer {
+                        first_instance: first,
+                        end_instance: end,
+                        write_background: u32::from(i == 0),
+                        _pad: 0,
+                    }),
+                    usage: wgpu::BufferUsages::UNIFORM,
+                })
+            })
+            .collect();
+        Arc::new(GBuffer {
+            id,
+            owner,
+            size,
+            camera,
+            previous_view_projection,
+            targets: GBufferTargets {
+                visibility: format!("{prefix}/visibility"),
+                depth: format!("{prefix}/depth"),
+                color: format!("{prefix}/color"),
+                normals: format!("{prefix}/normals"),
+                velocity_uv: format!("{prefix}/velocity_uv"),
+            },
+            layers,
+            draws,
+            layer_ranges,
+            instances,
+            camera_buffer,
+            layer_buffers,
+        })
+    }
+
+    pub fn owner(&self) -> Option<u32> {
+        self.owner
+    }
+
+    pub fn camera_buffer(&self) -> &wgpu::Buffer {
+        &self.camera_buffer
+    }
+
+    pub fn instance_count(&self) -> u32 {
+        self.layer_ranges.last().map_or(0, |r| r.1)
+    }
+}
+
+impl Recipe for GBuffer {
+    fn declare<'a>(&'a self, renderer: &'a Renderer, fg: &mut FrameGraph<'a>) {
+        if !fg.include(self.id) {
+            return;
+        }
+        let key = fg.resolve(
+            &crate::frame_graph::TextureDesc::storage(wgpu::TextureFormat::Rgba16Float)
+                .size(self.size),
+        );
+        let camera = self
+            .camera
+            .to_gpu(self.previous_view_projection, (key.width, key.height));
+        renderer
+            .gpu
+            .queue
+            .write_buffer(&self.camera_buffer, 0, bytemuck::bytes_of(&camera));
+        passes::declare(self, renderer, fg);
+    }
+}

@@ -1,0 +1,183 @@
+//! GBufferView: one channel of a G-buffer as a displayable texture. It reads
+//! only the target its channel lives in, so the other resolve is culled.
+
+use std::sync::Arc;
+
+use wgpu::util::DeviceExt;
+
+use crate::error::RenderError;
+use crate::frame_graph::{FrameGraph, PassContext, TextureDesc};
+use crate::recipe::{Recipe, TextureRef, next_recipe_id};
+use crate::renderer::Renderer;
+use crate::shaders::ShaderKey;
+
+use super::GBuffer;
+
+/// A G-buffer channel.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Channel {
+    Albedo,
+    Normals,
+    Velocity,
+    Uv,
+    Depth,
+    MaterialId,
+    ObjectId,
+}
+
+impl Channel {
+    pub const ALL: [Channel; 7] = [
+        Channel::Albedo,
+        Channel::Normals,
+        Channel::Velocity,
+        Channel::Uv,
+        Channel::Depth,
+        Channel::MaterialId,
+        Channel::ObjectId,
+    ];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Channel::Albedo => "Albedo",
+            Channel::Normals => "Normals",
+            Channel::Velocity => "Velocity",
+            Channel::Uv => "UV",
+            Channel::Depth => "Depth",
+            Channel::MaterialId => "Material ID",
+            Channel::ObjectId => "Object ID",
+        }
+    }
+
+    fn feature(self) -> &'static str {
+        match self {
+            Channel::Albedo => "ALBEDO",
+            Channel::Normals => "NORMALS",
+            Channel::Velocity => "VELOCITY",
+            Channel::Uv => "UV",
+            Channel::Depth => "DEPTH",
+            Channel::MaterialId => "MATERIAL_ID",
+            Channel::ObjectId => "OBJECT_ID",
+        }
+    }
+
+    fn source(self, g: &GBuffer) -> &str {
+        match self {
+            Channel::Albedo | Channel::MaterialId => &g.targets.color,
+            Channel::Normals | Channel::ObjectId => &g.targets.normals,
+            Channel::Velocity | Channel::Uv => &g.targets.velocity_uv,
+            Channel::Depth => &g.targets.depth,
+        }
+    }
+}
+
+pub struct GBufferView {
+    id: u64,
+    owner: Option<u32>,
+    gbuffer: Arc<GBuffer>,
+    channel: Channel,
+    output: String,
+    params: wgpu::Buffer,
+}
+
+impl GBufferView {
+    pub fn new(
+        renderer: &Renderer,
+        owner: Option<u32>,
+        gbuffer: Arc<GBuffer>,
+        channel: Channel,
+        velocity_scale: f32,
+    ) -> Arc<Self> {
+        let id = next_recipe_id();
+        let params = renderer
+            .gpu
+            .device
+            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("gbuffer view params"),
+                contents: bytemuck::cast_slice(&[velocity_scale, 0.0, 0.0, 0.0]),
+                usage: wgpu::BufferUsages::UNIFORM,
+            });
+        Arc::new(GBufferView {
+            id,
+            owner,
+            gbuffer,
+            channel,
+            output: format!("gbufferview{id}"),
+            params,
+        })
+    }
+
+    pub fn texture(self: &Arc<Self>) -> TextureRef {
+        TextureRef {
+            recipe: self.clone(),
+            name: self.output.clone(),
+        }
+    }
+
+    fn run(&self, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
+        let device = cx.gpu.device.clone();
+        let key = ShaderKey::new("gbuffer/view.wgsl", [self.channel.feature()]);
+        let pipeline = cx.shaders.compute_pipeline(&device, &key, "main")?;
+        let source = cx.view(self.channel.source(&self.gbuffer))?;
+        let output = cx.view(&self.output)?;
+        let (w, h) = {
+            let t = cx.texture(&self.output)?;
+            (t.width(), t.height())
+        };
+        let mut entries = vec![
+            wgpu::BindGroupEntry {
+                binding: 0,
+                resource: self.gbuffer.camera_buffer().as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 2,
+                resource: wgpu::BindingResource::TextureView(&output),
+            },
+            wgpu::BindGroupEntry {
+                binding: 3,
+                resource: wgpu::BindingResource::TextureView(&source),
+            },
+        ];
+        // The layout is derived from the permutation: only the velocity view reads its parameters.
+        if self.channel == Channel::Velocity {
+            entries.push(wgpu::BindGroupEntry {
+                binding: 1,
+                resource: self.params.as_entire_binding(),
+            });
+        }
+        let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("gbuffer view"),
+            layout: &pipeline.get_bind_group_layout(0),
+            entries: &entries,
+        });
+        let timestamps = cx.compute_timestamps();
+        let mut pass = cx.encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("gbuffer view"),
+            timestamp_writes: timestamps,
+        });
+        pass.set_pipeline(&pipeline);
+        pass.set_bind_group(0, &group, &[]);
+        pass.dispatch_workgroups(w.div_ceil(8), h.div_ceil(8), 1);
+        Ok(())
+    }
+}
+
+impl Recipe for GBufferView {
+    fn declare<'a>(&'a self, renderer: &'a Renderer, fg: &mut FrameGraph<'a>) {
+        if !fg.include(self.id) {
+            return;
+        }
+        self.gbuffer.declare(renderer, fg);
+        let name = match self.owner {
+            Some(node) => format!("GBufferView #{node} ({})", self.channel.name()),
+            None => format!("GBufferView ({})", self.channel.name()),
+        };
+        let desc = TextureDesc::storage(wgpu::TextureFormat::Rgba16Float).size(self.gbuffer.size);
+        fg.add_pass(
+            name,
+            self.owner,
+            &[self.channel.source(&self.gbuffer)],
+            &[(&self.output, desc)],
+            move |cx| self.run(cx),
+        );
+    }
+}

@@ -1,0 +1,24 @@
+//! Spreadlight's renderer: one wgpu device shared by everything that renders,
+//! the frame graph that culls and runs passes, the shader permutation cache,
+//! meshes (primitives and glTF), and the deferred passes. No UI: the editor
+//! and the CLI only host it.
+
+pub mod camera;
+pub mod context;
+pub mod error;
+pub mod frame_graph;
+pub mod gbuffer;
+pub mod image_io;
+pub mod mesh;
+pub mod mesh_arena;
+pub mod readback;
+pub mod recipe;
+pub mod renderer;
+pub mod shaders;
+pub mod texture;
+
+pub use context::GpuContext;
+pub use error::RenderError;
+pub use frame_graph::{FrameGraph, FrameReport, Lifetime, SizeRule, TextureDesc};
+pub use recipe::{Recipe, TextureRef};
+pub use renderer::Renderer;

@@ -1,0 +1,166 @@
+//! One glTF primitive to one [`MeshData`]: attributes read through the
+//! checked accessor reader, strips and fans unrolled, normals and tangents
+//! made where the file has none.
+
+use glam::Vec3;
+use gltf::Semantic;
+use gltf::mesh::Mode;
+
+use super::{GltfError, Importer};
+use crate::mesh::{Aabb, MeshData, Shading};
+
+/// "mesh 2 `Wheel`, primitive 1": how messages name a primitive.
+pub(super) fn primitive_name(mesh: &gltf::Mesh, primitive: usize) -> String {
+    match mesh.name() {
+        Some(name) => format!("mesh {} `{name}`, primitive {primitive}", mesh.index()),
+        None => format!("mesh {}, primitive {primitive}", mesh.index()),
+    }
+}
+
+impl Importer<'_> {
+    /// One primitive as a mesh, or `None` (with a warning) for points and lines.
+    pub(super) fn primitive(
+        &mut self,
+        mesh: &gltf::Mesh,
+        primitive: &gltf::Primitive,
+    ) -> Result<Option<MeshData>, GltfError> {
+        let name = primitive_name(mesh, primitive.index());
+        let mode = primitive.mode();
+        if !matches!(
+            mode,
+            Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan
+        ) {
+            self.warnings
+                .push(format!("{name}: {mode:?} are not drawn; skipped"));
+            return Ok(None);
+        }
+        if primitive.morph_targets().next().is_some() {
+            self.warnings
+                .push(format!("{name}: morph targets are ignored"));
+        }
+        let read = |semantic: Semantic| primitive.get(&semantic).map(|a| (semantic, a));
+        let Some(positions) = read(Semantic::Positions) else {
+            return Err(GltfError::Primitive {
+                path: self.path.to_owned(),
+                primitive: name,
+                reason: "it has no POSITION attribute".into(),
+            });
+        };
+        let positions: Vec<[f32; 3]> = self.floats(&name, positions)?;
+        let vertices = positions.len();
+        let normals: Option<Vec<[f32; 3]>> = read(Semantic::Normals)
+            .map(|a| self.floats(&name, a))
+            .transpose()?;
+        let uvs: Option<Vec<[f32; 2]>> = read(Semantic::TexCoords(0))
+            .map(|a| self.floats(&name, a))
+            .transpose()?;
+        let tangents: Option<Vec<[f32; 4]>> = read(Semantic::Tangents)
+            .map(|a| self.floats(&name, a))
+            .transpose()?;
+
+        let indices = match primitive.indices() {
+            Some(a) => self.indices(&name, a)?,
+            None => (0..vertices as u32).collect(),
+        };
+        let indices = self.triangle_list(&name, mode, indices);
+
+        let mesh_error = |source| GltfError::Mesh {
+            path: self.path.to_owned(),
+            primitive: name.clone(),
+            source,
+        };
+        let Some(normals) = normals else {
+            // glTF: flat normals, and tangents in the file are ignored.
+            return MeshData::from_triangles(positions, uvs, indices, Shading::Flat)
+                .map(Some)
+                .map_err(mesh_error);
+        };
+        let normals = normals
+            .into_iter()
+            .map(|n| Vec3::from(n).try_normalize().map_or(n, |n| n.to_array()))
+            .collect();
+        let tangents = tangents.map(|t| {
+            t.into_iter()
+                .map(|[x, y, z, w]| [x, y, z, if w < 0.0 { -1.0 } else { 1.0 }])
+                .collect()
+        });
+        let mut data = MeshData {
+            positions,
+            normals,
+            uvs,
+            tangents,
+            indices,
+            bounds: Aabb::ZERO,
+        };
+        data.recompute_bounds();
+        if data.tangents.is_none() && data.uvs.is_some() {
+            data.generate_tangents().map_err(mesh_error)?;
+        }
+        data.validate().map_err(mesh_error)?;
+        Ok(Some(data))
+    }
+
+    /// Triangle strips and fans unrolled into a list (glTF's vertex order,
+    /// which keeps every triangle's winding); a list cut short loses its
+    /// last partial triangle, with a warning.
+    fn triangle_list(&mut self, name: &str, mode: Mode, indices: Vec<u32>) -> Vec<u32> {
+        let n = indices.len();
+        match mode {
+            Mode::TriangleStrip => (0..n.saturating_sub(2))
+                .flat_map(|i| {
+                    let (a, b, c) = if i % 2 == 0 {
+                        (i, i + 1, i + 2)
+                    } else {
+                        (i, i + 2, i + 1)
+                    };
+                    [indices[a], indices[b], indices[c]]
+                })
+                .collect(),
+            Mode::TriangleFan => (1..n.saturating_sub(1))
+                .flat_map(|i| [indices[i], indices[i + 1], indices[0]])
+                .collect(),
+            _ => {
+                let mut indices = indices;
+                if !n.is_multiple_of(3) {
+                    self.warnings.push(format!(
+                        "{name}: {n} indices is not a whole number of triangles; the last {} are dropped",
+                        n % 3
+                    ));
+                    indices.truncate(n - n % 3);
+                }
+                indices
+            }
+        }
+    }
+
+    fn floats<const N: usize>(
+        &self,
+        primitive: &str,
+        (semantic, accessor): (Semantic, gltf::Accessor),
+    ) -> Result<Vec<[f32; N]>, GltfError> {
+        self.buffers.read_floats::<N>(&accessor).map_err(|reason| {
+            self.accessor_error(&accessor, &semantic.to_string(), primitive, reason)
+        })
+    }
+
+    fn indices(&self, primitive: &str, accessor: gltf::Accessor) -> Result<Vec<u32>, GltfError> {
+        self.buffers
+            .read_indices(&accessor)
+            .map_err(|reason| self.accessor_error(&accessor, "indices", primitive, reason))
+    }
+
+    fn accessor_error(
+        &self,
+        accessor: &gltf::Accessor,
+        usage: &str,
+        primitive: &str,
+        reason: String,
+    ) -> GltfError {
+        GltfError::Accessor {
+            path: self.path.to_owned(),
+            index: accessor.index(),
+            usage: format!("{usage} of {primitive}"),
+            reason,
+        }
+    }
+}

@@ -1,0 +1,122 @@
+//! The scene to show: which nodes (default scene, first scene, or root
+//! nodes), their world transforms, and the instances and bounds they give.
+
+use std::collections::HashMap;
+
+use glam::Mat4;
+use gltf::Document;
+
+use super::{GltfError, GltfScene, Importer, MeshInstance};
+use crate::mesh::Aabb;
+
+impl Importer<'_> {
+    pub(super) fn scene(&mut self, document: &Document) -> Result<GltfScene, GltfError> {
+        let mut meshes = Vec::new();
+        // (glTF mesh, primitive) -> index in `meshes`; skipped ones are absent.
+        let mut loaded: HashMap<(usize, usize), usize> = HashMap::new();
+        for mesh in document.meshes() {
+            for primitive in mesh.primitives() {
+                if let Some(data) = self.primitive(&mesh, &primitive)? {
+                    loaded.insert((mesh.index(), primitive.index()), meshes.len());
+                    meshes.push(data);
+                }
+            }
+        }
+        let materials = document
+            .materials()
+            .map(|m| self.material(document, &m))
+            .collect::<Result<Vec<_>, _>>()?;
+        if document.animations().next().is_some() {
+            self.warnings
+                .push("animations are ignored: the scene loads in its rest pose".into());
+        }
+
+        let mut instances = Vec::new();
+        for (node, world) in self.scene_nodes(document) {
+            let Some(mesh) = node.mesh() else { continue };
+            if node.skin().is_some() {
+                self.warnings.push(format!(
+                    "node {}: skinning is ignored; the mesh is placed by the node alone",
+                    node.index()
+                ));
+            }
+            for primitive in mesh.primitives() {
+                if let Some(&index) = loaded.get(&(mesh.index(), primitive.index())) {
+                    instances.push(MeshInstance {
+                        mesh: index,
+                        transform: world,
+                        material: primitive.material().index(),
+                    });
+                }
+            }
+        }
+        let bounds = instances
+            .iter()
+            .filter_map(|i| Some(meshes.get(i.mesh)?.bounds.transformed(i.transform)))
+            .reduce(Aabb::union)
+            .unwrap_or(Aabb::ZERO);
+        Ok(GltfScene {
+            meshes,
+            materials,
+            instances,
+            bounds,
+            warnings: std::mem::take(&mut self.warnings),
+        })
+    }
+
+    /// Every node of the scene to show, with its world transform. A node
+    /// reached twice (a cycle, or a child of two parents: both invalid glTF)
+    /// is kept once and reported; a non-finite transform drops its subtree.
+    fn scene_nodes<'d>(&mut self, document: &'d Document) -> Vec<(gltf::Node<'d>, Mat4)> {
+        let roots: Vec<gltf::Node> = match document
+            .default_scene()
+            .or_else(|| document.scenes().next())
+        {
+            Some(scene) => scene.nodes().collect(),
+            None => {
+                let mut is_child = vec![false; document.nodes().len()];
+                for child in document.nodes().flat_map(|n| n.children()) {
+                    if let Some(flag) = is_child.get_mut(child.index()) {
+                        *flag = true;
+                    }
+                }
+                document
+                    .nodes()
+                    .filter(|n| !is_child.get(n.index()).copied().unwrap_or(false))
+                    .collect()
+            }
+        };
+        let mut visited = vec![false; document.nodes().len()];
+        let mut out = Vec::new();
+        let mut stack: Vec<(gltf::Node, Mat4)> = roots
+            .into_iter()
+            .rev()
+            .map(|n| (n, Mat4::IDENTITY))
+            .collect();
+        while let Some((node, parent)) = stack.pop() {
+            match visited.get_mut(node.index()) {
+                Some(seen) if !*seen => *seen = true,
+                _ => {
+                    self.warnings.push(format!(
+                        "node {} is reached twice (a cycle or a shared child); its second use is skipped",
+                        node.index()
+                    ));
+                    continue;
+                }
+            }
+            let local = Mat4::from_cols_array_2d(&node.transform().matrix());
+            let world = parent * local;
+            if !world.is_finite() {
+                self.warnings.push(format!(
+                    "node {}: its world transform is not finite; it and its children are skipped",
+                    node.index()
+                ));
+                continue;
+            }
+            let children: Vec<_> = node.children().collect();
+            stack.extend(children.into_iter().rev().map(|c| (c, world)));
+            out.push((node, world));
+        }
+        out
+    }
+}

@@ -1,0 +1,281 @@
+//! Test glTF files, written with gltf-json at test time (nothing is
+//! downloaded): a document builder with one binary buffer that is finished
+//! as a `.gltf` with a data URI, a `.gltf` with an external `.bin`, or a `.glb`.
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use gltf_json as json;
+use json::accessor::{ComponentType, GenericComponentType, Type};
+use json::mesh::{Mode, Semantic};
+use json::validation::Checked::Valid;
+use json::validation::USize64;
+use json::{Index, Root};
+
+/// A glTF document under construction and the bytes of its one buffer.
+pub struct Doc {
+    pub root: Root,
+    pub bin: Vec<u8>,
+}
+
+/// The raw little-endian bytes of `values`.
+pub fn bytes<T: bytemuck::Pod>(values: &[T]) -> Vec<u8> {
+    bytemuck::cast_slice(values).to_vec()
+}
+
+impl Doc {
+    pub fn new() -> Doc {
+        let mut root = Root::default();
+        root.buffers.push(json::Buffer {
+            byte_length: USize64(0),
+            extensions: None,
+            extras: Default::default(),
+            name: None,
+            uri: None,
+        });
+        Doc {
+            root,
+            bin: Vec::new(),
+        }
+    }
+
+    /// Appends `data` (4-byte aligned) to the buffer as a new buffer view.
+    pub fn view(&mut self, data: &[u8]) -> Index<json::buffer::View> {
+        self.pad();
+        let offset = self.bin.len();
+        self.bin.extend_from_slice(data);
+        self.root.push(json::buffer::View {
+            buffer: Index::new(0),
+            byte_length: USize64::from(data.len()),
+            byte_offset: Some(USize64::from(offset)),
+            byte_stride: None,
+            extensions: None,
+            extras: Default::default(),
+            name: None,
+            target: None,
+        })
+    }
+
+    pub fn accessor(
+        &mut self,
+        view: Option<Index<json::buffer::View>>,
+        count: usize,
+        component: ComponentType,
+        type_: Type,
+    ) -> Index<json::Accessor> {
+        self.root.push(json::Accessor {
+            buffer_view: view,
+            byte_offset: None,
+            count: USize64::from(count),
+            component_type: Valid(GenericComponentType(component)),
+            extensions: None,
+            extras: Default::default(),
+            type_: Valid(type_),
+            min: None,
+            max: None,
+            name: None,
+            normalized: false,
+            sparse: None,
+        })
+    }
+
+    /// A POSITION accessor, with the min and max glTF requires.
+    pub fn positions(&mut self, p: &[[f32; 3]]) -> Index<json::Accessor> {
+        let view = self.view(&bytes(p));
+        let a = self.accessor(Some(view), p.len(), ComponentType::F32, Type::Vec3);
+        let (mut min, mut max) = ([f32::MAX; 3], [f32::MIN; 3]);
+        for v in p {
+            for k in 0..3 {
+                min[k] = min[k].min(v[k]);
+                max[k] = max[k].max(v[k]);
+            }
+        }
+        let acc = &mut self.root.accessors[a.value()];
+        acc.min = Some(json::Value::from(min.to_vec()));
+        acc.max = Some(json::Value::from(max.to_vec()));
+        a
+    }
+
+    pub fn floats<const N: usize>(&mut self, v: &[[f32; N]]) -> Index<json::Accessor> {
+        let type_ = match N {
+            2 => Type::Vec2,
+            3 => Type::Vec3,
+            _ => Type::Vec4,
+        };
+        let view = self.view(&bytes(v.as_flattened()));
+        self.accessor(Some(view), v.len(), ComponentType::F32, type_)
+    }
+
+    pub fn indices(&mut self, i: &[u16]) -> Index<json::Accessor> {
+        let view = self.view(&bytes(i));
+        self.accessor(Some(view), i.len(), ComponentType::U16, Type::Scalar)
+    }
+
+    pub fn mesh(
+        &mut self,
+        name: &str,
+        primitives: Vec<json::mesh::Primitive>,
+    ) -> Index<json::Mesh> {
+        self.root.push(json::Mesh {
+            extensions: None,
+            extras: Default::default(),
+            name: Some(name.into()),
+            primitives,
+            weights: None,
+        })
+    }
+
+    pub fn node(&mut self, node: json::Node) -> Index<json::Node> {
+        self.root.push(node)
+    }
+
+    pub fn scene(&mut self, nodes: Vec<Index<json::Node>>) -> Index<json::Scene> {
+        self.root.push(json::Scene {
+            extensions: None,
+            extras: Default::default(),
+            name: None,
+            nodes,
+        })
+    }
+
+    /// A mesh from a finished [`MeshData`](crate::mesh::MeshData): positions,
+    /// normals, UVs (no tangents) and u16 indices.
+    pub fn mesh_data(&mut self, name: &str, m: &crate::mesh::MeshData) -> Index<json::Mesh> {
+        let mut attributes = vec![
+            (Semantic::Positions, self.positions(&m.positions)),
+            (Semantic::Normals, self.floats(&m.normals)),
+        ];
+        if let Some(uvs) = &m.uvs {
+            attributes.push((Semantic::TexCoords(0), self.floats(uvs)));
+        }
+        let indices: Vec<u16> = m.indices.iter().map(|&i| i as u16).collect();
+        let indices = self.indices(&indices);
+        self.mesh(
+            name,
+            vec![primitive(&attributes, Some(indices), Mode::Triangles)],
+        )
+    }
+
+    fn pad(&mut self) {
+        self.bin.resize(self.bin.len().next_multiple_of(4), 0);
+    }
+
+    fn finish_buffer(&mut self, uri: Option<String>) {
+        self.pad();
+        let buffer = &mut self.root.buffers[0];
+        buffer.byte_length = USize64::from(self.bin.len());
+        buffer.uri = uri;
+    }
+
+    /// A `.gltf` whose buffer is a base64 data URI.
+    pub fn gltf_data_uri(mut self) -> Vec<u8> {
+        self.pad();
+        let uri = format!("data:application/octet-stream;base64,{}", base64(&self.bin));
+        self.finish_buffer(Some(uri));
+        json::serialize::to_vec_pretty(&self.root).expect("serialize")
+    }
+
+    /// `name` in `dir`, its buffer referred to by `uri`; the buffer is
+    /// written to `bin_file` in `dir` when given.
+    pub fn gltf_external(
+        mut self,
+        dir: &Path,
+        name: &str,
+        uri: &str,
+        bin_file: Option<&str>,
+    ) -> PathBuf {
+        self.finish_buffer(Some(uri.into()));
+        if let Some(bin_file) = bin_file {
+            std::fs::write(dir.join(bin_file), &self.bin).expect("write bin");
+        }
+        let path = dir.join(name);
+        std::fs::write(
+            &path,
+            json::serialize::to_vec_pretty(&self.root).expect("serialize"),
+        )
+        .expect("write gltf");
+        path
+    }
+
+    /// A `.glb` with the buffer as its BIN chunk.
+    pub fn glb(mut self) -> Vec<u8> {
+        self.finish_buffer(None);
+        let mut json = json::serialize::to_vec(&self.root).expect("serialize");
+        json.resize(json.len().next_multiple_of(4), b' ');
+        let total = 12 + 8 + json.len() + 8 + self.bin.len();
+        let mut out = Vec::with_capacity(total);
+        out.extend_from_slice(b"glTF");
+        out.extend(2u32.to_le_bytes());
+        out.extend((total as u32).to_le_bytes());
+        out.extend((json.len() as u32).to_le_bytes());
+        out.extend_from_slice(b"JSON");
+        out.extend(json);
+        out.extend((self.bin.len() as u32).to_le_bytes());
+        out.extend_from_slice(b"BIN\0");
+        out.extend(&self.bin);
+        out
+    }
+}
+
+pub fn primitive(
+    attributes: &[(Semantic, Index<json::Accessor>)],
+    indices: Option<Index<json::Accessor>>,
+    mode: Mode,
+) -> json::mesh::Primitive {
+    json::mesh::Primitive {
+        attributes: attributes
+            .iter()
+            .map(|(s, a)| (Valid(s.clone()), *a))
+            .collect::<BTreeMap<_, _>>(),
+        extensions: None,
+        extras: Default::default(),
+        indices,
+        material: None,
+        mode: Valid(mode),
+        targets: None,
+    }
+}
+
+/// A node holding `mesh`, placed by translation and uniform scale.
+pub fn mesh_node(mesh: Option<Index<json::Mesh>>, translation: [f32; 3], scale: f32) -> json::Node {
+    json::Node {
+        mesh,
+        translation: Some(translation),
+        scale: Some([scale; 3]),
+        ..Default::default()
+    }
+}
+
+/// A 2 x 2 RGBA PNG: red, green / blue, white.
+pub fn png_2x2() -> Vec<u8> {
+    let pixels = vec![
+        255, 0, 0, 255, 0, 255, 0, 255, //
+        0, 0, 255, 255, 255, 255, 255, 255,
+    ];
+    let img = image::RgbaImage::from_raw(2, 2, pixels).expect("2x2");
+    let mut out = std::io::Cursor::new(Vec::new());
+    img.write_to(&mut out, image::ImageFormat::Png)
+        .expect("encode png");
+    out.into_inner()
+}
+
+fn base64(data: &[u8]) -> String {
+    const ALPHABET: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    let mut out = String::new();
+    for chunk in data.chunks(3) {
+        let b = [
+            chunk[0],
+            *chunk.get(1).unwrap_or(&0),
+            *chunk.get(2).unwrap_or(&0),
+        ];
+        let n = (u32::from(b[0]) << 16) | (u32::from(b[1]) << 8) | u32::from(b[2]);
+        for k in 0..4 {
+            if k <= chunk.len() {
+                out.push(ALPHABET[(n >> (18 - 6 * k)) as usize & 63] as char);
+            } else {
+                out.push('=');
+            }
+        }
+    }
+    out
+}

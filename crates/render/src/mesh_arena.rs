@@ -1,0 +1,233 @@
+//! Every mesh on the GPU lives in one shared vertex buffer and one shared
+//! index buffer. The visibility-buffer resolve fetches any pixel's triangle
+//! by instance, which needs all meshes addressable from one binding; the
+//! arena sub-allocates ranges (range-alloc, as wgpu-hal does) and frees them
+//! when the last [`GpuMesh`] handle drops.
+
+use std::ops::Range;
+use std::sync::{Arc, Mutex};
+
+use bytemuck::{Pod, Zeroable};
+use range_alloc::RangeAllocator;
+
+use crate::context::GpuContext;
+use crate::error::RenderError;
+use crate::mesh::{Aabb, MeshData};
+
+/// 64 bytes; matches `Vertex` in shaders/lib/mesh.wgsl.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct GpuVertex {
+    pub position_u: [f32; 4],
+    pub normal_v: [f32; 4],
+    pub tangent: [f32; 4],
+    pub previous_position: [f32; 4],
+}
+
+const VERTEX_SIZE: u64 = std::mem::size_of::<GpuVertex>() as u64;
+
+struct Inner {
+    vertices: wgpu::Buffer,
+    indices: wgpu::Buffer,
+    vertex_alloc: RangeAllocator<u32>,
+    index_alloc: RangeAllocator<u32>,
+    /// Bumped when a buffer is replaced by a bigger one: bind groups made before must be rebuilt.
+    generation: u64,
+}
+
+/// The shared mesh storage. Cheap to clone (shared).
+#[derive(Clone)]
+pub struct MeshArena {
+    inner: Arc<Mutex<Inner>>,
+}
+
+/// A mesh uploaded to the arena. Its ranges are freed when it drops.
+pub struct GpuMesh {
+    arena: Arc<Mutex<Inner>>,
+    pub vertices: Range<u32>,
+    pub indices: Range<u32>,
+    pub bounds: Aabb,
+    pub has_uvs: bool,
+    pub has_tangents: bool,
+    pub has_previous_positions: bool,
+}
+
+impl std::fmt::Debug for GpuMesh {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "GpuMesh({} vertices, {} indices)",
+            self.vertices.len(),
+            self.indices.len()
+        )
+    }
+}
+
+impl Drop for GpuMesh {
+    fn drop(&mut self) {
+        let mut inner = self.arena.lock().unwrap_or_else(|e| e.into_inner());
+        inner.vertex_alloc.free_range(self.vertices.clone());
+        inner.index_alloc.free_range(self.indices.clone());
+    }
+}
+
+fn storage_buffer(gpu: &GpuContext, label: &str, size: u64) -> wgpu::Buffer {
+    gpu.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size,
+        usage: wgpu::BufferUsages::STORAGE
+            | wgpu::BufferUsages::COPY_DST
+            | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    })
+}
+
+impl MeshArena {
+    pub fn new(gpu: &GpuContext) -> Self {
+        let (vertex_capacity, index_capacity) = (1u32 << 14, 1u32 << 16);
+        MeshArena {
+            inner: Arc::new(Mutex::new(Inner {
+                vertices: storage_buffer(
+                    gpu,
+                    "mesh arena vertices",
+                    u64::from(vertex_capacity) * VERTEX_SIZE,
+                ),
+                indices: storage_buffer(gpu, "mesh arena indices", u64::from(index_capacity) * 4),
+                vertex_alloc: RangeAllocator::new(0..vertex_capacity),
+                index_alloc: RangeAllocator::new(0..index_capacity),
+                generation: 0,
+            })),
+        }
+    }
+
+    /// The shared buffers (vertices, indices) and their generation.
+    pub fn buffers(&self) -> (wgpu::Buffer, wgpu::Buffer, u64) {
+        let inner = self.inner.lock().unwrap_or_else(|e| e.into_inner());
+        (
+            inner.vertices.clone(),
+            inner.indices.clone(),
+            inner.generation,
+        )
+    }
+
+    pub fn upload(&self, gpu: &GpuContext, mesh: &MeshData) -> Result<Arc<GpuMesh>, RenderError> {
+        mesh.validate().map_err(|e| RenderError::Pass {
+            pass: "mesh upload".to_owned(),
+            message: e.to_string(),
+        })?;
+        let vertices: Vec<GpuVertex> = (0..mesh.positions.len())
+            .map(|i| {
+                let p = mesh.positions[i];
+                let n = mesh.normals[i];
+                let uv = mesh.uvs.as_ref().map_or([0.0; 2], |u| u[i]);
+                let t = mesh
+                    .tangents
+                    .as_ref()
+                    .map_or([1.0, 0.0, 0.0, 1.0], |t| t[i]);
+                GpuVertex {
+                    position_u: [p[0], p[1], p[2], uv[0]],
+                    normal_v: [n[0], n[1], n[2], uv[1]],
+                    tangent: t,
+                    previous_position: [p[0], p[1], p[2], 1.0],
+                }
+            })
+            .collect();
+        let too_big = |what: &str| RenderError::Pass {
+            pass: "mesh upload".to_owned(),
+            message: format!("the mesh has too many {what} for one draw (over 2^31)"),
+        };
+        let vertex_count = u32::try_from(vertices.len()).map_err(|_| too_big("vertices"))?;
+        let index_count = u32::try_from(mesh.indices.len()).map_err(|_| too_big("indices"))?;
+        let mut inner = self.inner.lock().unwrap_or_else(|e| e.into_inner());
+        let vertex_range = allocate(gpu, &mut inner, vertex_count, Stream::Vertices)?;
+        let index_range = match allocate(gpu, &mut inner, index_count.max(1), Stream::Indices) {
+            Ok(r) => r,
+            Err(e) => {
+                inner.vertex_alloc.free_range(vertex_range);
+                return Err(e);
+            }
+        };
+        gpu.queue.write_buffer(
+            &inner.vertices,
+            u64::from(vertex_range.start) * VERTEX_SIZE,
+            bytemuck::cast_slice(&vertices),
+        );
+        if !mesh.indices.is_empty() {
+            gpu.queue.write_buffer(
+                &inner.indices,
+                u64::from(index_range.start) * 4,
+                bytemuck::cast_slice(&mesh.indices),
+            );
+        }
+        Ok(Arc::new(GpuMesh {
+            arena: self.inner.clone(),
+            vertices: vertex_range,
+            indices: index_range.start..index_range.start + index_count,
+            bounds: mesh.bounds,
+            has_uvs: mesh.uvs.is_some(),
+            has_tangents: mesh.tangents.is_some(),
+            has_previous_positions: false,
+        }))
+    }
+}
+
+#[derive(Clone, Copy)]
+enum Stream {
+    Vertices,
+    Indices,
+}
+
+/// Allocate `count` elements, growing the buffer (and copying what it holds) when full.
+fn allocate(
+    gpu: &GpuContext,
+    inner: &mut Inner,
+    count: u32,
+    stream: Stream,
+) -> Result<Range<u32>, RenderError> {
+    let (alloc, element) = match stream {
+        Stream::Vertices => (&mut inner.vertex_alloc, VERTEX_SIZE),
+        Stream::Indices => (&mut inner.index_alloc, 4),
+    };
+    if let Ok(range) = alloc.allocate_range(count) {
+        return Ok(range);
+    }
+    let old_end = alloc.initial_range().end;
+    let needed = old_end
+        .checked_add(count)
+        .ok_or_else(|| RenderError::Pass {
+            pass: "mesh upload".to_owned(),
+            message: "the mesh arena cannot grow past 2^32 elements".to_owned(),
+        })?;
+    let new_end = needed.max(old_end.saturating_mul(2));
+    let max = gpu.device.limits().max_storage_buffer_binding_size / element;
+    if u64::from(new_end) > max {
+        return Err(RenderError::Pass {
+            pass: "mesh upload".to_owned(),
+            message: format!(
+                "all meshes together would exceed the GPU's storage buffer limit ({max} elements)"
+            ),
+        });
+    }
+    alloc.grow_to(new_end);
+    let old = match stream {
+        Stream::Vertices => &inner.vertices,
+        Stream::Indices => &inner.indices,
+    };
+    let bigger = storage_buffer(gpu, "mesh arena", u64::from(new_end) * element);
+    let mut encoder = gpu.device.create_command_encoder(&Default::default());
+    encoder.copy_buffer_to_buffer(old, 0, &bigger, 0, u64::from(old_end) * element);
+    gpu.queue.submit([encoder.finish()]);
+    match stream {
+        Stream::Vertices => inner.vertices = bigger,
+        Stream::Indices => inner.indices = bigger,
+    }
+    inner.generation += 1;
+    let alloc = match stream {
+        Stream::Vertices => &mut inner.vertex_alloc,
+        Stream::Indices => &mut inner.index_alloc,
+    };
+    alloc.allocate_range(count).map_err(|_| RenderError::Pass {
+        pass: "mesh upload".to_owned(),
+        message: "the mesh arena could not grow".to_owned(),
+    })
+}

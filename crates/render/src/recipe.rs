@@ -1,0 +1,37 @@
+//! Recipes: how GPU results travel between nodes.
+//!
+//! A render node does not run its passes when it is evaluated; it outputs a
+//! recipe (its buffers already uploaded, its passes ready to declare). A sink
+//! builds a frame graph from the recipes it reaches, requests what it shows,
+//! and the graph culls every pass that does not lead there.
+
+use std::sync::Arc;
+use std::sync::atomic::{AtomicU64, Ordering};
+
+use crate::frame_graph::FrameGraph;
+use crate::renderer::Renderer;
+
+static NEXT_ID: AtomicU64 = AtomicU64::new(1);
+
+/// A fresh id for a recipe: frame graphs declare each recipe once, by id.
+pub fn next_recipe_id() -> u64 {
+    NEXT_ID.fetch_add(1, Ordering::Relaxed)
+}
+
+pub trait Recipe: Send + Sync {
+    /// Declare this recipe's passes, after its inputs'. Must call `fg.include(id)` first and stop when it returns false.
+    fn declare<'a>(&'a self, renderer: &'a Renderer, fg: &mut FrameGraph<'a>);
+}
+
+/// A texture some recipe produces, by its frame-graph name.
+#[derive(Clone)]
+pub struct TextureRef {
+    pub recipe: Arc<dyn Recipe>,
+    pub name: String,
+}
+
+impl std::fmt::Debug for TextureRef {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "TextureRef({})", self.name)
+    }
+}

@@ -1,0 +1,358 @@
+//! Shaders: the WGSL sources (embedded in the binary), their feature
+//! switches, and the permutation cache, which is the only place that compiles
+//! shaders and pipelines.
+//!
+//! Feature switches work like Emeshe's `#define` switches: a shader marks
+//! optional code with `#ifdef FEATURE` (naga_oil's preprocessor), a pass asks
+//! for a set of features, and the cache composes, validates and compiles that
+//! permutation once. A combination no pass asks for is never compiled.
+//! Shared libraries are imported by name (`#import spreadlight::packing`).
+
+use std::borrow::Cow;
+use std::collections::{BTreeSet, HashMap};
+use std::path::Path;
+
+use naga_oil::compose::{
+    ComposableModuleDescriptor, Composer, NagaModuleDescriptor, ShaderDefValue, ShaderLanguage,
+    ShaderType,
+};
+
+use crate::error::RenderError;
+
+/// One WGSL file of `shaders/`.
+pub struct ShaderFile {
+    /// Path below `shaders/`, e.g. `gbuffer/visibility.wgsl`.
+    pub path: &'static str,
+    pub source: &'static str,
+    /// The feature switches the file reacts to; every subset is a valid permutation.
+    pub features: &'static [&'static str],
+    /// Libraries are imported by other shaders; they have no entry points.
+    pub library: bool,
+    /// At most one feature at a time (a choice, such as GBufferView's channel), not any subset.
+    pub exclusive: bool,
+}
+
+macro_rules! shader {
+    ($path:literal, library) => {
+        ShaderFile {
+            path: $path,
+            source: include_str!(concat!("../../../shaders/", $path)),
+            features: &[],
+            library: true,
+            exclusive: false,
+        }
+    };
+    ($path:literal, [$($feature:literal),*]) => {
+        ShaderFile {
+            path: $path,
+            source: include_str!(concat!("../../../shaders/", $path)),
+            features: &[$($feature),*],
+            library: false,
+            exclusive: false,
+        }
+    };
+    ($path:literal, one_of [$($feature:literal),*]) => {
+        ShaderFile {
+            path: $path,
+            source: include_str!(concat!("../../../shaders/", $path)),
+            features: &[$($feature),*],
+            library: false,
+            exclusive: true,
+        }
+    };
+}
+
+/// Every shader, in dependency order (libraries first).
+pub const SHADERS: &[ShaderFile] = &[
+    shader!("lib/packing.wgsl", library),
+    shader!("lib/camera.wgsl", library),
+    shader!("lib/mesh.wgsl", library),
+    shader!("gbuffer/visibility.wgsl", []),
+    shader!(
+        "gbuffer/resolve.wgsl",
+        [
+            "MOTION",
+            "TEXCOORDS",
+            "NORMAL_MAP",
+            "TRIPLANAR",
+            "VELOCITY_FROM_GEOMETRY"
+        ]
+    ),
+    shader!("gbuffer/view.wgsl", one_of ["ALBEDO", "NORMALS", "VELOCITY", "UV", "DEPTH", "MATERIAL_ID", "OBJECT_ID"]),
+];
+
+/// Which permutation of which shader: its path and the set of switched-on features.
+#[derive(Clone, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct ShaderKey {
+    pub path: &'static str,
+    pub features: BTreeSet<&'static str>,
+}
+
+impl ShaderKey {
+    pub fn new(path: &'static str, features: impl IntoIterator<Item = &'static str>) -> Self {
+        ShaderKey {
+            path,
+            features: features.into_iter().collect(),
+        }
+    }
+
+    fn describe_defs(&self) -> String {
+        if self.features.is_empty() {
+            String::new()
+        } else {
+            format!(
+                " [{}]",
+                self.features.iter().copied().collect::<Vec<_>>().join(", ")
+            )
+        }
+    }
+}
+
+/// Composes shader permutations into validated naga modules. No GPU needed,
+/// so tests can validate every permutation anywhere.
+pub struct ShaderComposer {
+    composer: Composer,
+    sources: HashMap<&'static str, Cow<'static, str>>,
+}
+
+impl ShaderComposer {
+    /// A composer over the embedded sources.
+    pub fn new() -> Result<Self, RenderError> {
+        let sources = SHADERS
+            .iter()
+            .map(|s| (s.path, Cow::Borrowed(s.source)))
+            .collect();
+        Self::with_sources(sources)
+    }
+
+    /// A composer over the sources in a `shaders/` folder on disk (for live
+    /// editing); files missing there fall back to the embedded ones.
+    pub fn from_dir(dir: &Path) -> Result<Self, RenderError> {
+        let mut sources = HashMap::new();
+        for file in SHADERS {
+            let text = std::fs::read_to_string(dir.join(file.path))
+                .map(Cow::Owned)
+                .unwrap_or(Cow::Borrowed(file.source));
+            sources.insert(file.path, text);
+        }
+        Self::with_sources(sources)
+    }
+
+    fn with_sources(
+        sources: HashMap<&'static str, Cow<'static, str>>,
+    ) -> Result<Self, RenderError> {
+        let mut composer = Composer::default();
+        for file in SHADERS.iter().filter(|f| f.library) {
+            let source = &sources[file.path];
+            let result = composer
+                .add_composable_module(ComposableModuleDescriptor {
+                    source,
+                    file_path: file.path,
+                    language: ShaderLanguage::Wgsl,
+                    ..Default::default()
+                })
+                .map(|_| ())
+                .map_err(|e| e.emit_to_string(&composer));
+            result.map_err(|message| RenderError::Shader {
+                shader: file.path.to_owned(),
+                defs: String::new(),
+                message,
+            })?;
+        }
+        Ok(ShaderComposer { composer, sources })
+    }
+
+    /// Compose and validate one permutation.
+    pub fn compose(&mut self, key: &ShaderKey) -> Result<naga::Module, RenderError> {
+        let file =
+            SHADERS
+                .iter()
+                .find(|f| f.path == key.path)
+                .ok_or_else(|| RenderError::Shader {
+                    shader: key.path.to_owned(),
+                    defs: String::new(),
+                    message: "no such shader".to_owned(),
+                })?;
+        if file.exclusive && key.features.len() > 1 {
+            return Err(RenderError::Shader {
+                shader: key.path.to_owned(),
+                defs: key.describe_defs(),
+                message: "these features are a choice: set at most one".to_owned(),
+            });
+        }
+        if let Some(unknown) = key.features.iter().find(|f| !file.features.contains(f)) {
+            return Err(RenderError::Shader {
+                shader: key.path.to_owned(),
+                defs: key.describe_defs(),
+                message: format!(
+                    "`{unknown}` is not a feature of this shader (features: {})",
+                    file.features.join(", ")
+                ),
+            });
+        }
+        let shader_defs = key
+            .features
+            .iter()
+            .map(|f| ((*f).to_owned(), ShaderDefValue::Bool(true)))
+            .collect();
+        let result = self.composer.make_naga_module(NagaModuleDescriptor {
+            source: &self.sources[key.path],
+            file_path: key.path,
+            shader_type: ShaderType::Wgsl,
+            shader_defs,
+            additional_imports: &[],
+        });
+        result.map_err(|e| RenderError::Shader {
+            shader: key.path.to_owned(),
+            defs: key.describe_defs(),
+            message: e.emit_to_string(&self.composer),
+        })
+    }
+}
+
+/// Every permutation the shader set allows: each entry shader with every subset of its features.
+pub fn all_permutations() -> Vec<ShaderKey> {
+    let mut keys = Vec::new();
+    for file in SHADERS.iter().filter(|f| !f.library) {
+        if file.exclusive {
+            keys.push(ShaderKey::new(file.path, []));
+            keys.extend(
+                file.features
+                    .iter()
+                    .map(|f| ShaderKey::new(file.path, [*f])),
+            );
+            continue;
+        }
+        let n = file.features.len();
+        for mask in 0u32..(1 << n) {
+            let features = (0..n)
+                .filter(|i| mask & (1 << i) != 0)
+                .map(|i| file.features[i]);
+            keys.push(ShaderKey::new(file.path, features));
+        }
+    }
+    keys
+}
+
+/// Compiled shader modules and pipelines, keyed by permutation. Counts what it
+/// compiles, so the frame statistics show when a frame had to compile.
+pub struct ShaderCache {
+    composer: ShaderComposer,
+    modules: HashMap<ShaderKey, wgpu::ShaderModule>,
+    compute: HashMap<(ShaderKey, &'static str), wgpu::ComputePipeline>,
+    render: HashMap<(ShaderKey, String), wgpu::RenderPipeline>,
+    /// Pipelines compiled since the cache was made.
+    pub pipelines_compiled: u64,
+}
+
+impl ShaderCache {
+    pub fn new(composer: ShaderComposer) -> Self {
+        ShaderCache {
+            composer,
+            modules: HashMap::new(),
+            compute: HashMap::new(),
+            render: HashMap::new(),
+            pipelines_compiled: 0,
+        }
+    }
+
+    /// Swap in new sources (live shader editing); everything compiled is dropped.
+    pub fn replace_sources(&mut self, composer: ShaderComposer) {
+        *self = ShaderCache {
+            pipelines_compiled: self.pipelines_compiled,
+            ..ShaderCache::new(composer)
+        };
+    }
+
+    pub fn module(
+        &mut self,
+        device: &wgpu::Device,
+        key: &ShaderKey,
+    ) -> Result<wgpu::ShaderModule, RenderError> {
+        if let Some(m) = self.modules.get(key) {
+            return Ok(m.clone());
+        }
+        let module = self.composer.compose(key)?;
+        let label = format!("{}{}", key.path, key.describe_defs());
+        let m = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some(&label),
+            source: wgpu::ShaderSource::Naga(Cow::Owned(module)),
+        });
+        self.modules.insert(key.clone(), m.clone());
+        Ok(m)
+    }
+
+    /// The compute pipeline of `entry` in a permutation (bind group layouts derived from the shader).
+    pub fn compute_pipeline(
+        &mut self,
+        device: &wgpu::Device,
+        key: &ShaderKey,
+        entry: &'static str,
+    ) -> Result<wgpu::ComputePipeline, RenderError> {
+        if let Some(p) = self.compute.get(&(key.clone(), entry)) {
+            return Ok(p.clone());
+        }
+        let module = self.module(device, key)?;
+        let label = format!("{}{}::{entry}", key.path, key.describe_defs());
+        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some(&label),
+            layout: None,
+            module: &module,
+            entry_point: Some(entry),
+            compilation_options: Default::default(),
+            cache: None,
+        });
+        self.pipelines_compiled += 1;
+        self.compute.insert((key.clone(), entry), pipeline.clone());
+        Ok(pipeline)
+    }
+
+    /// A render pipeline for a permutation; `variant` names what else the
+    /// caller's descriptor depends on (target formats, blend), and `build` makes it.
+    pub fn render_pipeline(
+        &mut self,
+        device: &wgpu::Device,
+        key: &ShaderKey,
+        variant: &str,
+        build: impl FnOnce(&wgpu::ShaderModule) -> wgpu::RenderPipeline,
+    ) -> Result<wgpu::RenderPipeline, RenderError> {
+        let cache_key = (key.clone(), variant.to_owned());
+        if let Some(p) = self.render.get(&cache_key) {
+            return Ok(p.clone());
+        }
+        let module = self.module(device, key)?;
+        let pipeline = build(&module);
+        self.pipelines_compiled += 1;
+        self.render.insert(cache_key, pipeline.clone());
+        Ok(pipeline)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_permutation_composes_and_validates() {
+        let mut composer = ShaderComposer::new().expect("libraries compose");
+        let keys = all_permutations();
+        assert!(keys.len() >= 32, "resolve alone has 2^5 permutations");
+        let failures: Vec<String> = keys
+            .iter()
+            .filter_map(|k| composer.compose(k).err().map(|e| e.to_string()))
+            .collect();
+        assert!(failures.is_empty(), "{}", failures.join("\n\n"));
+    }
+
+    #[test]
+    fn an_unknown_feature_is_refused_by_name() {
+        let mut composer = ShaderComposer::new().expect("libraries compose");
+        let err = composer
+            .compose(&ShaderKey::new("gbuffer/resolve.wgsl", ["SPARKLES"]))
+            .expect_err("refused");
+        assert!(
+            err.to_string().contains("`SPARKLES` is not a feature"),
+            "{err}"
+        );
+    }
+}

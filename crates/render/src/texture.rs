@@ -1,0 +1,63 @@
+//! Textures uploaded from images (normal maps, later material textures).
+
+use crate::context::GpuContext;
+
+#[derive(Debug)]
+pub struct GpuTexture {
+    pub texture: wgpu::Texture,
+    pub view: wgpu::TextureView,
+}
+
+impl GpuTexture {
+    /// Upload 8-bit RGBA pixels (row-major, top row first). `srgb` for colour
+    /// data, linear for data such as normal maps.
+    pub fn from_rgba8(
+        gpu: &GpuContext,
+        width: u32,
+        height: u32,
+        rgba8: &[u8],
+        srgb: bool,
+        label: &str,
+    ) -> Self {
+        let format = if srgb {
+            wgpu::TextureFormat::Rgba8UnormSrgb
+        } else {
+            wgpu::TextureFormat::Rgba8Unorm
+        };
+        let size = wgpu::Extent3d {
+            width: width.max(1),
+            height: height.max(1),
+            depth_or_array_layers: 1,
+        };
+        let texture = gpu.device.create_texture(&wgpu::TextureDescriptor {
+            label: Some(label),
+            size,
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format,
+            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+            view_formats: &[],
+        });
+        let expected = (size.width * size.height * 4) as usize;
+        let mut data = rgba8.to_vec();
+        data.resize(expected, 255);
+        gpu.queue.write_texture(
+            wgpu::TexelCopyTextureInfo {
+                texture: &texture,
+                mip_level: 0,
+                origin: wgpu::Origin3d::ZERO,
+                aspect: wgpu::TextureAspect::All,
+            },
+            &data,
+            wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(size.width * 4),
+                rows_per_image: None,
+            },
+            size,
+        );
+        let view = texture.create_view(&Default::default());
+        GpuTexture { texture, view }
+    }
+}

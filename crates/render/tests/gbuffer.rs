@@ -1,0 +1,285 @@
+//! The G-buffer on a real (software) GPU: its contents checked numerically,
+//! and the frame graph's culling proven by its statistics. Small sizes; runs
+//! on lavapipe.
+
+use std::sync::Arc;
+
+use glam::{Mat4, Vec3, Vec4};
+use spreadlight_render::camera::CameraInput;
+use spreadlight_render::gbuffer::{
+    Channel, DrawBatch, GBuffer, GBufferView, InstanceInput, Layer, LayerFeatures,
+};
+use spreadlight_render::mesh::primitives::{SphereParams, sphere};
+use spreadlight_render::readback::{ImageF32, read_texture};
+use spreadlight_render::renderer::test_renderer;
+use spreadlight_render::{FrameGraph, Renderer, SizeRule};
+
+const SIZE: (u32, u32) = (64, 64);
+
+fn camera_at(eye: Vec3) -> CameraInput {
+    CameraInput {
+        view: glam::camera::rh::view::look_at_mat4(eye, Vec3::ZERO, Vec3::Y),
+        projection: glam::camera::rh::proj::directx::perspective(
+            60f32.to_radians(),
+            1.0,
+            0.1,
+            100.0,
+        ),
+    }
+}
+
+fn instance(transform: Mat4, previous: Mat4) -> InstanceInput {
+    InstanceInput {
+        transform,
+        previous_transform: previous,
+        color: [0.8, 0.5, 0.2, 1.0],
+        material_id: 3,
+        object_id: 7,
+    }
+}
+
+fn sphere_layer(
+    renderer: &Renderer,
+    instances: Vec<InstanceInput>,
+    features: LayerFeatures,
+) -> Arc<Layer> {
+    let mesh = renderer
+        .meshes
+        .upload(
+            &renderer.gpu,
+            &sphere(SphereParams {
+                radius: 1.0,
+                sectors: 48,
+                stacks: 24,
+            }),
+        )
+        .expect("upload");
+    Arc::new(
+        Layer::new(Some(1), vec![DrawBatch { mesh, instances }], features, None)
+            .expect("valid layer"),
+    )
+}
+
+/// Render `gbuffer`, requesting the given targets, and read them back.
+fn render(
+    renderer: &Renderer,
+    gbuffer: &Arc<GBuffer>,
+    targets: &[&str],
+) -> (spreadlight_render::FrameReport, Vec<ImageF32>) {
+    let mut fg = FrameGraph::new(SIZE);
+    spreadlight_render::Recipe::declare(gbuffer.as_ref(), renderer, &mut fg);
+    for t in targets {
+        fg.request(t);
+    }
+    let (report, outputs) = fg.execute(renderer).expect("frame executes");
+    assert!(report.errors.is_empty(), "{:?}", report.errors);
+    let images = targets
+        .iter()
+        .map(|t| read_texture(&renderer.gpu, &outputs[*t]).expect("readback"))
+        .collect();
+    (report, images)
+}
+
+#[test]
+fn a_sphere_faces_the_camera_and_depth_reconstructs_its_surface() {
+    let renderer = test_renderer();
+    let layer = sphere_layer(
+        &renderer,
+        vec![instance(Mat4::IDENTITY, Mat4::IDENTITY)],
+        LayerFeatures::default(),
+    );
+    let camera = camera_at(Vec3::new(0.0, 0.0, 5.0));
+    let g = GBuffer::new(
+        &renderer,
+        Some(2),
+        vec![layer],
+        camera,
+        None,
+        SizeRule::Relative(1.0),
+    );
+    let t = g.targets.clone();
+    let (_, images) = render(
+        &renderer,
+        &g,
+        &[&t.color, &t.normals, &t.depth, &t.velocity_uv],
+    );
+    let [color, normals, depth, velocity] = &images[..] else {
+        unreachable!()
+    };
+    for image in &images {
+        assert!(image.all_finite(), "no NaN or infinity in any target");
+    }
+
+    // The centre pixel sees the sphere's front: its view-space normal points at the camera,
+    // and equals the analytic normal of the surface point its depth reconstructs.
+    let n = normals.pixel(32, 32);
+    let n = Vec3::new(n[0], n[1], n[2]);
+    assert!(n.z > 0.99, "normal at centre {n:?}");
+    let inv_view_proj =
+        (spreadlight_render::camera::reverse_z(camera.projection) * camera.view).inverse();
+    let surface = |x: u32, y: u32| {
+        let ndc = Vec4::new(
+            (x as f32 + 0.5) / 32.0 - 1.0,
+            1.0 - (y as f32 + 0.5) / 32.0,
+            depth.pixel(x, y)[0],
+            1.0,
+        );
+        let world = inv_view_proj * ndc;
+        world.truncate() / world.w
+    };
+    let analytic = (camera.view * surface(32, 32).normalize().extend(0.0)).truncate();
+    assert!(
+        n.distance(analytic) < 0.01,
+        "normal {n:?} vs analytic {analytic:?}"
+    );
+    let n = normals.pixel(32, 32);
+    assert_eq!(n[3], 7.0, "object id in normals alpha");
+    let c = color.pixel(32, 32);
+    assert_eq!(c[3], 3.0, "material id in color alpha");
+    assert!((c[0] - 0.8).abs() < 1e-3);
+    // A corner sees nothing: cleared targets, depth at the far end (reversed-Z: 0).
+    assert_eq!(normals.pixel(0, 0), [0.0; 4]);
+    assert_eq!(depth.pixel(0, 0)[0], 0.0);
+
+    // Depth reconstructs the world position of the sphere's surface: for
+    // every covered pixel, the reconstructed point lies on the unit sphere.
+    let mut worst: f32 = 0.0;
+    let mut covered = 0;
+    for y in 0..SIZE.1 {
+        for x in 0..SIZE.0 {
+            let d = depth.pixel(x, y)[0];
+            if d == 0.0 {
+                continue;
+            }
+            covered += 1;
+            worst = worst.max((surface(x, y).length() - 1.0).abs());
+        }
+    }
+    assert!(
+        covered > 300,
+        "the sphere covers a good part of the image ({covered} px)"
+    );
+    assert!(
+        worst < 0.01,
+        "reconstructed surface off the sphere by {worst}"
+    );
+    // A static scene has no velocity anywhere.
+    assert!(velocity.pixels.iter().all(|p| p[0] == 0.0 && p[1] == 0.0));
+}
+
+#[test]
+fn velocity_matches_a_known_motion() {
+    let renderer = test_renderer();
+    // The sphere moved +0.5 along X since last frame; the camera is still.
+    let now = Mat4::from_translation(Vec3::new(0.5, 0.0, 0.0));
+    let layer = sphere_layer(
+        &renderer,
+        vec![instance(now, Mat4::IDENTITY)],
+        LayerFeatures::default(),
+    );
+    let camera = camera_at(Vec3::new(0.0, 0.0, 5.0));
+    let g = GBuffer::new(
+        &renderer,
+        None,
+        vec![layer],
+        camera,
+        Some(camera.view_projection()),
+        SizeRule::Relative(1.0),
+    );
+    let (_, images) = render(&renderer, &g, &[&g.targets.velocity_uv]);
+    // At the front pole (0.5, 0, 1) now, (0, 0, 1) before: project both.
+    let vp = camera.view_projection();
+    let project = |p: Vec3| {
+        let c = vp * p.extend(1.0);
+        (c.truncate() / c.w).truncate()
+    };
+    let expected = (project(Vec3::new(0.5, 0.0, 1.0)) - project(Vec3::new(0.0, 0.0, 1.0)))
+        * glam::Vec2::new(0.5, -0.5);
+    let pole_ndc = project(Vec3::new(0.5, 0.0, 1.0));
+    let px = (((pole_ndc.x + 1.0) * 0.5) * SIZE.0 as f32) as u32;
+    let py = (((1.0 - pole_ndc.y) * 0.5) * SIZE.1 as f32) as u32;
+    let v = images[0].pixel(px, py);
+    assert!(
+        (v[0] - expected.x).abs() < 2e-3 && (v[1] - expected.y).abs() < 2e-3,
+        "velocity {v:?}, expected {expected:?}"
+    );
+    assert!(expected.x > 0.01, "the test moves something visibly");
+}
+
+#[test]
+fn a_pass_chain_nobody_requests_is_culled() {
+    let renderer = test_renderer();
+    let layer = sphere_layer(
+        &renderer,
+        vec![instance(Mat4::IDENTITY, Mat4::IDENTITY)],
+        LayerFeatures::default(),
+    );
+    let g = GBuffer::new(
+        &renderer,
+        Some(2),
+        vec![layer],
+        camera_at(Vec3::new(0.0, 0.0, 5.0)),
+        None,
+        SizeRule::Relative(1.0),
+    );
+    // Viewing normals needs the visibility and surface passes, not the motion resolve.
+    let view = GBufferView::new(&renderer, Some(3), g.clone(), Channel::Normals, 1.0);
+    let texture = view.texture();
+    let mut fg = FrameGraph::new(SIZE);
+    texture.recipe.declare(&renderer, &mut fg);
+    fg.request(&texture.name);
+    let (report, outputs) = fg.execute(&renderer).expect("frame executes");
+    assert!(report.errors.is_empty(), "{:?}", report.errors);
+    let executed: Vec<&str> = report.passes.iter().map(|p| p.name.as_str()).collect();
+    assert_eq!(
+        executed,
+        [
+            "MRE #2: visibility",
+            "MRE #2: resolve surface",
+            "GBufferView #3 (Normals)"
+        ]
+    );
+    assert_eq!(report.culled, ["MRE #2: resolve motion"]);
+    assert_eq!(report.draws, 1, "one instanced draw per mesh");
+    let image = read_texture(&renderer.gpu, &outputs[&texture.name]).expect("readback");
+    let centre = image.pixel(32, 32);
+    assert!(
+        (centre[2] - 1.0).abs() < 0.02,
+        "normal (0,0,1) shows as blue: {centre:?}"
+    );
+
+    // The same frame again compiles nothing new.
+    let mut fg = FrameGraph::new(SIZE);
+    texture.recipe.declare(&renderer, &mut fg);
+    fg.request(&texture.name);
+    let (again, _) = fg.execute(&renderer).expect("frame executes");
+    assert_eq!(again.pipelines_compiled, 0);
+}
+
+#[test]
+fn ten_thousand_instances_are_one_draw() {
+    let renderer = test_renderer();
+    let instances: Vec<InstanceInput> = (0..10_000)
+        .map(|i| {
+            let t = Mat4::from_translation(Vec3::new(
+                (i % 100) as f32 * 3.0 - 150.0,
+                0.0,
+                (i / 100) as f32 * -3.0,
+            ));
+            instance(t, t)
+        })
+        .collect();
+    let layer = sphere_layer(&renderer, instances, LayerFeatures::default());
+    let g = GBuffer::new(
+        &renderer,
+        None,
+        vec![layer],
+        camera_at(Vec3::new(0.0, 20.0, 30.0)),
+        None,
+        SizeRule::Relative(1.0),
+    );
+    let (report, images) = render(&renderer, &g, &[&g.targets.normals]);
+    assert_eq!(report.draws, 1);
+    assert_eq!(g.instance_count(), 10_000);
+    assert!(images[0].all_finite());
+}

@@ -1,0 +1,33 @@
+// DeferredBase, raster half: writes depth (reversed-Z) and a visibility
+// buffer of (instance + 1, triangle) per pixel, 12 bytes a pixel instead of
+// MRE's 28: on the H100 raster output costs per byte, compute does not.
+// Vertices are pulled from storage by index, so a triangle's id is
+// vertex_index / 3 and no primitive_index feature is needed.
+#import spreadlight::camera::Camera
+#import spreadlight::mesh::{Vertex, Instance}
+
+@group(0) @binding(0) var<uniform> camera: Camera;
+@group(0) @binding(1) var<storage, read> vertices: array<Vertex>;
+@group(0) @binding(2) var<storage, read> indices: array<u32>;
+@group(0) @binding(3) var<storage, read> instances: array<Instance>;
+
+struct VertexOut {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) @interpolate(flat) ids: vec2<u32>,
+}
+
+@vertex
+fn vs(@builtin(vertex_index) vertex: u32, @builtin(instance_index) instance_index: u32) -> VertexOut {
+    let instance = instances[instance_index];
+    let index = indices[instance.info.x + vertex] + instance.info.y;
+    let position = vertices[index].position_u.xyz;
+    var out: VertexOut;
+    out.clip = camera.view_projection * instance.model * vec4<f32>(position, 1.0);
+    out.ids = vec2<u32>(instance_index + 1u, vertex / 3u);
+    return out;
+}
+
+@fragment
+fn fs(in: VertexOut) -> @location(0) vec2<u32> {
+    return in.ids;
+}
