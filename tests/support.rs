@@ -30,3 +30,35 @@ pub fn example_patches() -> Vec<PathBuf> {
 pub fn bad_patches() -> Vec<PathBuf> {
     ron_files(&root().join("patches/bad"))
 }
+
+/// Render frame `frame` of a patch at `size` on the test GPU and return the
+/// image its Output named `output` produced.
+pub fn render_patch(
+    path: &Path,
+    size: (u32, u32),
+    frame: u64,
+    output: &str,
+) -> spreadlight_render::readback::ImageF32 {
+    use spreadlight_graph::{FrameClock, Runtime, format};
+    let patch = format::load(path).unwrap_or_else(|e| panic!("{e}"));
+    let mut rt = Runtime::new(spreadlight_nodes::registry());
+    let renderer = spreadlight_render::renderer::test_renderer();
+    renderer.set_output_size(size);
+    rt.provide(renderer);
+    let images = std::sync::Arc::new(spreadlight_nodes::output::RenderedImages::default());
+    rt.provide(images.clone());
+    let problems = rt.load(&patch).to_vec();
+    assert!(problems.is_empty(), "{}: {problems:?}", path.display());
+    for f in 0..=frame {
+        rt.evaluate(FrameClock::fixed(f, 60.0));
+    }
+    let errors: Vec<String> = rt
+        .node_errors()
+        .map(|(id, e)| format!("{id}: {e}"))
+        .collect();
+    assert!(errors.is_empty(), "{}: {errors:?}", path.display());
+    images
+        .get(output)
+        .unwrap_or_else(|| panic!("{}: no output `{output}`", path.display()))
+        .0
+}

@@ -18,11 +18,12 @@ struct VertexOut {
 
 @vertex
 fn vs(@builtin(vertex_index) vertex: u32, @builtin(instance_index) instance_index: u32) -> VertexOut {
-    let instance = instances[instance_index];
-    let index = indices[instance.info.x + vertex] + instance.info.y;
+    // Field by field: loading the whole 224-byte instance per vertex would waste bandwidth.
+    let info = instances[instance_index].info;
+    let index = indices[info.x + vertex] + info.y;
     let position = vertices[index].position_u.xyz;
     var out: VertexOut;
-    out.clip = camera.view_projection * instance.model * vec4<f32>(position, 1.0);
+    out.clip = camera.view_projection * instances[instance_index].model * vec4<f32>(position, 1.0);
     out.ids = vec2<u32>(instance_index + 1u, vertex / 3u);
     return out;
 }

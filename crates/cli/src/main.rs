@@ -2,6 +2,7 @@
 //! reports their problems with file and node, and evaluates them headless.
 //! Exit codes: 0 clean, 1 the patch has errors, 2 usage errors (clap's own).
 
+mod bench;
 mod check;
 mod eval;
 mod fmt;
@@ -37,6 +38,8 @@ enum Command {
     View(view::Args),
     /// Print a frame's statistics: runtime counts, passes executed and culled, compiles, draws, GPU times.
     Stats(stats::Args),
+    /// Time a patch's frames on the GPU (timestamp queries; medians; the adapter named).
+    Bench(bench::Args),
     /// Rewrite patches in the canonical layout (what saving writes).
     Fmt(fmt::Args),
     /// List the node types this build knows, by category.
@@ -52,6 +55,7 @@ fn main() -> ExitCode {
         Command::Render(args) => render::run(&args),
         Command::View(args) => view::run(&args),
         Command::Stats(args) => stats::run(&args),
+        Command::Bench(args) => bench::run(&args),
         Command::Nodes => {
             list_nodes();
             Ok(ExitCode::SUCCESS)

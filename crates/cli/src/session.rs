@@ -41,9 +41,22 @@ impl Session {
         force_gpu: bool,
         size: Option<(u32, u32)>,
     ) -> anyhow::Result<Self> {
+        Self::build(patch, path, force_gpu, size, true)
+    }
+
+    /// `capture`: whether Output nodes read their images back for the host (a benchmark does not).
+    pub fn build(
+        patch: &Patch,
+        path: &Path,
+        force_gpu: bool,
+        size: Option<(u32, u32)>,
+        capture: bool,
+    ) -> anyhow::Result<Self> {
         let mut runtime = Runtime::new(spreadlight_nodes::registry());
         let images = Arc::new(RenderedImages::default());
-        runtime.provide(images.clone());
+        if capture {
+            runtime.provide(images.clone());
+        }
         let renderer = if force_gpu || needs_gpu(patch) {
             let renderer =
                 Arc::new(Renderer::headless().context("cannot open the GPU this patch needs")?);

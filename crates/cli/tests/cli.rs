@@ -168,3 +168,164 @@ fn nodes_lists_the_registry() {
         assert!(stdout.contains(name), "{name} missing");
     }
 }
+
+fn spreadlight_env(args: &[&str], env: &[(&str, &str)]) -> Output {
+    let mut cmd = Command::new(env!("CARGO_BIN_EXE_spreadlight"));
+    cmd.args(args).current_dir(root());
+    for (k, v) in env {
+        cmd.env(k, v);
+    }
+    cmd.output().expect("runs")
+}
+
+/// A one-triangle glTF with its buffer inline, facing +Z.
+const TRIANGLE_GLTF: &str = r#"{
+  "asset": {"version": "2.0"},
+  "scene": 0,
+  "scenes": [{"nodes": [0]}],
+  "nodes": [{"mesh": 0}],
+  "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}],
+  "buffers": [{"byteLength": 36, "uri": "data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAA"}],
+  "bufferViews": [{"buffer": 0, "byteLength": 36}],
+  "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]}]
+}"#;
+
+#[test]
+fn render_writes_png_and_exr() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    for name in ["out.png", "out.exr"] {
+        let out = dir.path().join(name);
+        let o = spreadlight(&[
+            "render",
+            "patches/gbuffer-spheres.ron",
+            "-o",
+            out.to_str().expect("utf-8"),
+            "--size",
+            "64x36",
+        ]);
+        assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+        let image = image::open(&out).expect("a readable image");
+        assert_eq!((image.width(), image.height()), (64, 36));
+    }
+}
+
+#[test]
+fn render_without_an_adapter_says_how_to_get_one() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let out = dir.path().join("x.png");
+    let o = spreadlight_env(
+        &[
+            "render",
+            "patches/gbuffer-spheres.ron",
+            "-o",
+            out.to_str().expect("utf-8"),
+        ],
+        &[("WGPU_ADAPTER_NAME", "no-such-gpu-anywhere")],
+    );
+    assert_eq!(o.status.code(), Some(1));
+    let err = text(&o.stderr);
+    assert!(
+        err.contains("no GPU adapter found") && err.contains("apt-get install mesa-vulkan-drivers"),
+        "{err}"
+    );
+}
+
+#[test]
+fn view_renders_any_gltf_and_names_a_broken_one() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let model = dir.path().join("triangle.gltf");
+    std::fs::write(&model, TRIANGLE_GLTF).expect("write");
+    let out = dir.path().join("view.png");
+    let o = spreadlight(&[
+        "view",
+        model.to_str().expect("utf-8"),
+        "-o",
+        out.to_str().expect("utf-8"),
+        "--size",
+        "48x48",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+    let image = image::open(&out).expect("image").to_rgba8();
+    assert!(
+        image.pixels().any(|p| p.0[0] > 200),
+        "the white triangle is in view"
+    );
+
+    let broken = dir.path().join("broken.gltf");
+    std::fs::write(&broken, &TRIANGLE_GLTF[..TRIANGLE_GLTF.len() / 2]).expect("write");
+    let o = spreadlight(&[
+        "view",
+        broken.to_str().expect("utf-8"),
+        "-o",
+        out.to_str().expect("utf-8"),
+    ]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(
+        text(&o.stderr).contains("broken.gltf"),
+        "{}",
+        text(&o.stderr)
+    );
+}
+
+#[test]
+fn stats_json_shows_passes_and_culling() {
+    let o = spreadlight(&[
+        "stats",
+        "patches/gbuffer-spheres.ron",
+        "--json",
+        "--size",
+        "32x18",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+    let json: serde_json::Value = serde_json::from_slice(&o.stdout).expect("JSON");
+    let passes: Vec<&str> = json["render"]["passes"]
+        .as_array()
+        .expect("passes")
+        .iter()
+        .filter_map(|p| p["name"].as_str())
+        .collect();
+    assert!(
+        passes.iter().any(|p| p.ends_with("visibility")),
+        "{passes:?}"
+    );
+    let culled = json["render"]["culled"].as_array().expect("culled");
+    assert!(
+        culled
+            .iter()
+            .any(|c| c.as_str().is_some_and(|c| c.ends_with("resolve motion"))),
+        "{culled:?}"
+    );
+    assert!(json["runtime"]["evaluated"].as_u64().expect("count") > 0);
+}
+
+#[test]
+fn bench_prints_one_json_line_with_the_adapter() {
+    let o = spreadlight(&[
+        "bench",
+        "patches/bench-gbuffer.ron",
+        "--size",
+        "32x18",
+        "--warmup",
+        "1",
+        "--frames",
+        "3",
+        "--set",
+        "2.Input=5",
+        "--json",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+    let stdout = text(&o.stdout);
+    assert_eq!(stdout.lines().count(), 1);
+    let json: serde_json::Value = serde_json::from_str(&stdout).expect("JSON");
+    assert_eq!(json["size"], "32x18");
+    assert!(json["adapter"].as_str().is_some_and(|a| !a.is_empty()));
+    assert!(json["passes"].as_object().is_some());
+
+    let o = spreadlight(&["bench", "patches/bench-gbuffer.ron", "--set", "2.Nope=5"]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(
+        text(&o.stderr).contains("has no input `Nope`"),
+        "{}",
+        text(&o.stderr)
+    );
+}

@@ -63,6 +63,16 @@ impl Runtime {
         self.services.provide(service);
     }
 
+    /// Re-evaluate the sinks next frame even if nothing changed: a benchmark
+    /// renders every frame this way, with the rest of the patch still cached.
+    pub fn invalidate_sinks(&mut self) {
+        for (node, state) in self.network.nodes().iter().zip(&mut self.states) {
+            if node.def.as_ref().is_some_and(|d| d.sink) {
+                state.dirty = true;
+            }
+        }
+    }
+
     /// Re-evaluate every node next frame (benchmarks measure the full cost this way).
     pub fn invalidate_all(&mut self) {
         for state in &mut self.states {

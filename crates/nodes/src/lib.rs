@@ -6,7 +6,8 @@
 //! `LinearSpread` in `spreads.rs`, `Translate` in `transform.rs`, `Camera` in
 //! `camera.rs`, `LFO` in `animation.rs`, IOBoxes, `Probe` and `Switch` in `io.rs`,
 //! `Sphere` in `geometry/primitives.rs`, `glTF` in `geometry/gltf.rs`,
-//! `DeferredBase`, `MRE` and `GBufferView` in `deferred/`, `Output` in `output.rs`.
+//! `DeferredBase`, `MRE` and `GBufferView` in `deferred/`, `Output` in `output.rs`,
+//! `FileTexture` in `texture/file_texture.rs`.
 
 use spreadlight_graph::Registry;
 
@@ -18,6 +19,7 @@ pub mod gpu;
 pub mod io;
 pub mod output;
 pub mod spreads;
+pub mod texture;
 pub mod transform;
 pub mod value;
 pub mod vector;
@@ -38,5 +40,6 @@ pub fn registry() -> Registry {
     geometry::register(&mut r);
     deferred::register(&mut r);
     output::register(&mut r);
+    texture::register(&mut r);
     r
 }

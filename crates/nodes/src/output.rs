@@ -88,11 +88,17 @@ pub fn register(r: &mut Registry) {
             let target = outputs
                 .get(&texture.name)
                 .ok_or_else(|| NodeError::Other(format!("the frame produced no `{}`", texture.name)))?;
+            // Read back only when someone takes the image: a benchmark renders without the copy.
+            let to_file = write && !filename.is_empty();
+            let store = cx.service::<RenderedImages>();
+            if !to_file && store.is_none() {
+                return Ok(());
+            }
             let image = read_texture(&renderer.gpu, target).map_err(|e| NodeError::Other(e.to_string()))?;
-            if write && !filename.is_empty() {
+            if to_file {
                 write_image(&image, Path::new(&filename), encoding).map_err(|e| cx.input_error(1, e.to_string()))?;
             }
-            if let Some(store) = cx.service::<RenderedImages>() {
+            if let Some(store) = store {
                 store.put(&name, image, encoding);
             }
             Ok(())

@@ -191,6 +191,12 @@ pub struct FrameReport {
     pub errors: Vec<(Option<u32>, String)>,
     /// Sum of the passes' GPU times.
     pub gpu_ms: Option<f64>,
+    /// GPU time from the first pass's start to the last pass's end.
+    pub gpu_frame_ms: Option<f64>,
+    /// CPU time spent recording and submitting the frame.
+    pub record_ms: f64,
+    /// Time spent waiting for the GPU to finish (to read the timestamps).
+    pub wait_ms: f64,
 }
 
 /// A frame being described; [`FrameGraph::execute`] runs it.

@@ -125,6 +125,7 @@ impl Renderer {
         &self,
         graph: FrameGraph<'_>,
     ) -> Result<(FrameReport, HashMap<String, wgpu::Texture>), RenderError> {
+        let started = std::time::Instant::now();
         let output_size = graph.output_size();
         let mut textures = self.textures.lock().unwrap_or_else(|e| e.into_inner());
         let lent = std::mem::take(&mut textures.lent);
@@ -287,6 +288,7 @@ impl Renderer {
             commands.push(encoder.finish());
         }
         self.gpu.queue.submit(commands);
+        report.record_ms = started.elapsed().as_secs_f64() * 1e3;
 
         if let (Some(ts), true) = (&self.timestamps, next_query > 0) {
             let ticks = read_buffer(&self.gpu, &ts.readback, u64::from(next_query) * 8)?;
@@ -295,6 +297,16 @@ impl Renderer {
                 .map(|c| u64::from_le_bytes(c.try_into().unwrap_or([0; 8])))
                 .collect();
             let period_ns = f64::from(self.gpu.queue.get_timestamp_period());
+            let written: Vec<u64> = pass_queries
+                .iter()
+                .flat_map(|(_, q)| {
+                    q.iter()
+                        .flat_map(|&(b, e)| [ticks[b as usize], ticks[e as usize]])
+                })
+                .collect();
+            if let (Some(first), Some(last)) = (written.iter().min(), written.iter().max()) {
+                report.gpu_frame_ms = Some(last.saturating_sub(*first) as f64 * period_ns / 1e6);
+            }
             let mut total = 0.0;
             for (index, queries) in pass_queries {
                 let ms: f64 = queries
@@ -326,6 +338,7 @@ impl Renderer {
                 outputs.insert(name.clone(), t.clone());
             }
         }
+        report.wait_ms = (started.elapsed().as_secs_f64() * 1e3 - report.record_ms).max(0.0);
         *self.last_report.lock().unwrap_or_else(|e| e.into_inner()) = report.clone();
         Ok((report, outputs))
     }

@@ -345,6 +345,36 @@ mod tests {
     }
 
     #[test]
+    fn shaders_reload_from_disk_and_report_errors_with_the_file() {
+        let dir = tempfile::tempdir().expect("tempdir");
+        // A folder with one edited shader: the rest fall back to the embedded sources.
+        std::fs::create_dir_all(dir.path().join("gbuffer")).expect("mkdir");
+        std::fs::write(dir.path().join("gbuffer/view.wgsl"), "fn broken( {").expect("write");
+        let mut composer = ShaderComposer::from_dir(dir.path()).expect("libraries still compose");
+        assert!(
+            composer
+                .compose(&ShaderKey::new("gbuffer/visibility.wgsl", []))
+                .is_ok()
+        );
+        let err = composer
+            .compose(&ShaderKey::new("gbuffer/view.wgsl", []))
+            .expect_err("broken");
+        assert!(
+            err.to_string().starts_with("shader `gbuffer/view.wgsl`"),
+            "{err}"
+        );
+    }
+
+    #[test]
+    fn an_exclusive_choice_takes_one_feature() {
+        let mut composer = ShaderComposer::new().expect("libraries compose");
+        let err = composer
+            .compose(&ShaderKey::new("gbuffer/view.wgsl", ["DEPTH", "UV"]))
+            .expect_err("refused");
+        assert!(err.to_string().contains("set at most one"), "{err}");
+    }
+
+    #[test]
     fn an_unknown_feature_is_refused_by_name() {
         let mut composer = ShaderComposer::new().expect("libraries compose");
         let err = composer

@@ -283,3 +283,134 @@ fn ten_thousand_instances_are_one_draw() {
     assert_eq!(g.instance_count(), 10_000);
     assert!(images[0].all_finite());
 }
+
+#[test]
+fn normal_mapping_bends_normals_along_the_tangent() {
+    use spreadlight_render::mesh::primitives::{GridParams, grid};
+    use spreadlight_render::texture::{GpuTexture, StaticTexture};
+    let renderer = test_renderer();
+    let mesh = renderer
+        .meshes
+        .upload(
+            &renderer.gpu,
+            &grid(GridParams {
+                size: glam::Vec2::splat(4.0),
+                resolution_x: 2,
+                resolution_y: 2,
+            }),
+        )
+        .expect("upload");
+    // A normal map whose every texel says "along the tangent" (+X in tangent space).
+    let texels = [255u8, 128, 128, 255].repeat(4);
+    let normal_map = StaticTexture::new(GpuTexture::from_rgba8(
+        &renderer.gpu,
+        2,
+        2,
+        &texels,
+        false,
+        "normal map",
+    ));
+    let facing_camera = Mat4::from_rotation_x(std::f32::consts::FRAC_PI_2);
+    let features = LayerFeatures {
+        texcoords: true,
+        normal_map: true,
+        ..Default::default()
+    };
+    let layer = Layer::new(
+        Some(1),
+        vec![DrawBatch {
+            mesh: mesh.clone(),
+            instances: vec![instance(facing_camera, facing_camera)],
+        }],
+        features,
+        Some(normal_map.texture_ref()),
+    )
+    .expect("a grid has UVs and tangents");
+    let g = GBuffer::new(
+        &renderer,
+        None,
+        vec![Arc::new(layer)],
+        camera_at(Vec3::new(0.0, 0.0, 5.0)),
+        None,
+        SizeRule::Relative(1.0),
+    );
+    let (report, images) = render(&renderer, &g, &[&g.targets.normals]);
+    let n = images[0].pixel(32, 32);
+    assert!(
+        (n[0] - 1.0).abs() < 0.02 && n[2].abs() < 0.05,
+        "mapped normal {n:?}"
+    );
+    assert!(
+        report.pipelines_compiled >= 2,
+        "the normal-mapped permutation was compiled"
+    );
+
+    // The same layer without the switch keeps the geometric normal (facing the camera).
+    let plain = Layer::new(
+        Some(1),
+        vec![DrawBatch {
+            mesh,
+            instances: vec![instance(facing_camera, facing_camera)],
+        }],
+        LayerFeatures::default(),
+        None,
+    )
+    .expect("valid");
+    let g = GBuffer::new(
+        &renderer,
+        None,
+        vec![Arc::new(plain)],
+        camera_at(Vec3::new(0.0, 0.0, 5.0)),
+        None,
+        SizeRule::Relative(1.0),
+    );
+    let (_, images) = render(&renderer, &g, &[&g.targets.normals]);
+    let n = images[0].pixel(32, 32);
+    assert!((n[2] - 1.0).abs() < 0.02, "geometric normal {n:?}");
+}
+
+#[test]
+fn a_switch_the_geometry_cannot_serve_is_an_error_not_a_broken_image() {
+    use spreadlight_render::gbuffer::LayerError;
+    use spreadlight_render::mesh::MeshData;
+    let renderer = test_renderer();
+    // A mesh without texture coordinates.
+    let mut data: MeshData = sphere(SphereParams::default());
+    data.uvs = None;
+    data.tangents = None;
+    let mesh = renderer
+        .meshes
+        .upload(&renderer.gpu, &data)
+        .expect("upload");
+    let batch = || {
+        vec![DrawBatch {
+            mesh: mesh.clone(),
+            instances: vec![instance(Mat4::IDENTITY, Mat4::IDENTITY)],
+        }]
+    };
+    let texcoords = LayerFeatures {
+        texcoords: true,
+        ..Default::default()
+    };
+    assert_eq!(
+        Layer::new(None, batch(), texcoords, None).err(),
+        Some(LayerError::NoTexcoords {
+            switch: "Texture Coordinates",
+            mesh: 0
+        })
+    );
+    let normal_map = LayerFeatures {
+        normal_map: true,
+        ..Default::default()
+    };
+    assert_eq!(
+        Layer::new(None, batch(), normal_map, None).err(),
+        Some(LayerError::NoNormalTexture)
+    );
+    // Triplanar serves texture coordinates for geometry that has none.
+    let triplanar = LayerFeatures {
+        triplanar: true,
+        ..Default::default()
+    };
+    assert!(Layer::new(None, batch(), triplanar, None).is_ok());
+}

@@ -10,9 +10,9 @@ use spreadlight_graph::spread::{cycled, slice_count};
 use spreadlight_graph::{
     Color, EnumDef, EvalContext, Node, NodeDef, NodeError, PinType, Registry, ResourceKind, Spread,
 };
+use spreadlight_render::TextureRef;
 use spreadlight_render::gbuffer::{DrawBatch, InstanceInput, Layer, LayerFeatures, VelocitySource};
 use spreadlight_render::mesh_arena::GpuMesh;
-use spreadlight_render::texture::GpuTexture;
 
 use crate::gpu::{resource_spread, resources};
 
@@ -91,9 +91,10 @@ impl Node for DeferredBase {
             ids: flag(IDS)?,
         };
         let normal_map = match cx.input(NORMAL_TEXTURE) {
-            Spread::Resource(_, v) if !v.is_empty() => resources::<GpuTexture>(cx, NORMAL_TEXTURE)?
+            Spread::Resource(_, v) if !v.is_empty() => resources::<TextureRef>(cx, NORMAL_TEXTURE)?
                 .into_iter()
-                .next(),
+                .next()
+                .map(|t| (*t).clone()),
             _ => None,
         };
 

@@ -7,7 +7,7 @@ use glam::Mat4;
 use thiserror::Error;
 
 use crate::mesh_arena::GpuMesh;
-use crate::texture::GpuTexture;
+use crate::recipe::TextureRef;
 
 /// Where velocity comes from.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -108,7 +108,7 @@ pub struct Layer {
     pub owner: Option<u32>,
     pub batches: Vec<DrawBatch>,
     pub features: LayerFeatures,
-    pub normal_map: Option<Arc<GpuTexture>>,
+    pub normal_map: Option<TextureRef>,
 }
 
 impl Layer {
@@ -117,7 +117,7 @@ impl Layer {
         owner: Option<u32>,
         batches: Vec<DrawBatch>,
         features: LayerFeatures,
-        normal_map: Option<Arc<GpuTexture>>,
+        normal_map: Option<TextureRef>,
     ) -> Result<Self, LayerError> {
         if features.normal_map && normal_map.is_none() {
             return Err(LayerError::NoNormalTexture);

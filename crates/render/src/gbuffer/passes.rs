@@ -38,10 +38,18 @@ pub(super) fn declare<'a>(g: &'a GBuffer, renderer: &'a Renderer, fg: &mut Frame
         ],
         move |cx| visibility(g, renderer, cx),
     );
+    // The surface resolve also reads the layers' normal maps.
+    let mut surface_reads: Vec<&str> = vec![&t.visibility];
+    surface_reads.extend(
+        g.layers
+            .iter()
+            .filter_map(|l| l.normal_map.as_ref())
+            .map(|n| n.name.as_str()),
+    );
     fg.add_pass(
         label("resolve surface"),
         g.owner,
-        &[&t.visibility],
+        &surface_reads,
         &[
             (&t.color, TextureDesc::storage(TARGET_FORMAT).size(g.size)),
             (&t.normals, TextureDesc::storage(TARGET_FORMAT).size(g.size)),
@@ -252,6 +260,7 @@ fn resolve(
             .filter(|_| !motion)
         {
             Some(normal_map) => {
+                let normal_view = cx.view(&normal_map.name)?;
                 let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
                     address_mode_u: wgpu::AddressMode::Repeat,
                     address_mode_v: wgpu::AddressMode::Repeat,
@@ -265,7 +274,7 @@ fn resolve(
                     entries: &[
                         wgpu::BindGroupEntry {
                             binding: 0,
-                            resource: wgpu::BindingResource::TextureView(&normal_map.view),
+                            resource: wgpu::BindingResource::TextureView(&normal_view),
                         },
                         wgpu::BindGroupEntry {
                             binding: 1,

@@ -1,0 +1,36 @@
+//! `FileTexture`: an image file (PNG, JPEG, EXR, ...) as a texture that any
+//! texture pin takes: a normal map for `DeferredBase`, a picture for `Output`.
+
+use std::sync::Arc;
+
+use spreadlight_graph::{NodeDef, PinType, Registry, ResourceKind};
+use spreadlight_render::TextureRef;
+use spreadlight_render::texture::{GpuTexture, StaticTexture};
+
+use crate::gpu::{renderer, resource_spread};
+
+pub fn register(r: &mut Registry) {
+    r.add(
+        NodeDef::new(
+            "FileTexture",
+            "Texture",
+            "Loads an image file as a texture. sRGB for colour images; switch it off for data such as normal maps.",
+        )
+        .input("Filename", String::new())
+        .input("sRGB", true)
+        .output_typed("Texture", PinType::Resource(ResourceKind::Texture))
+        .evaluate(|cx| {
+            let renderer = renderer(cx)?;
+            let files = cx.slices::<String>(0)?.to_vec();
+            let srgb = cx.slices::<bool>(1)?.first().copied().unwrap_or(true);
+            let mut textures = Vec::new();
+            for file in files.iter().filter(|f| !f.is_empty()) {
+                let image = image::open(file).map_err(|e| cx.input_error(0, format!("{file}: {e}")))?.to_rgba8();
+                let texture = GpuTexture::from_rgba8(&renderer.gpu, image.width(), image.height(), &image, srgb, file);
+                textures.push(Arc::new(StaticTexture::new(texture).texture_ref()));
+            }
+            cx.set_output(0, resource_spread::<TextureRef>(ResourceKind::Texture, textures));
+            Ok(())
+        }),
+    );
+}

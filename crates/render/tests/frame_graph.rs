@@ -1,0 +1,225 @@
+//! The frame graph's contract: culling by what is requested, clear errors for
+//! impossible graphs, persistent textures across frames, and a failing pass
+//! reported against its node while the rest of the frame renders.
+
+use std::sync::Arc;
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+use spreadlight_render::renderer::test_renderer;
+use spreadlight_render::{FrameGraph, Lifetime, SizeRule, TextureDesc};
+
+fn target() -> TextureDesc {
+    TextureDesc::storage(wgpu::TextureFormat::Rgba16Float)
+}
+
+#[test]
+fn only_passes_leading_to_a_request_run() {
+    let renderer = test_renderer();
+    let ran = Arc::new(AtomicUsize::new(0));
+    let mut fg = FrameGraph::new((16, 16));
+    let counter = |ran: &Arc<AtomicUsize>| {
+        let ran = ran.clone();
+        move |cx: &mut spreadlight_render::frame_graph::PassContext<'_>| {
+            ran.fetch_add(1, Ordering::SeqCst);
+            let _ = cx.output_size;
+            Ok(())
+        }
+    };
+    fg.add_pass("a", Some(1), &[], &[("a", target())], counter(&ran));
+    fg.add_pass("b", Some(2), &["a"], &[("b", target())], counter(&ran));
+    fg.add_pass(
+        "unused c",
+        Some(3),
+        &["a"],
+        &[("c", target())],
+        counter(&ran),
+    );
+    fg.add_pass(
+        "unused d",
+        Some(4),
+        &["c"],
+        &[("d", target())],
+        counter(&ran),
+    );
+    fg.request("b");
+    let (report, outputs) = fg.execute(&renderer).expect("executes");
+    assert_eq!(
+        report
+            .passes
+            .iter()
+            .map(|p| p.name.as_str())
+            .collect::<Vec<_>>(),
+        ["a", "b"]
+    );
+    assert_eq!(report.culled, ["unused c", "unused d"]);
+    assert_eq!(ran.load(Ordering::SeqCst), 2, "culled passes never record");
+    assert!(outputs.contains_key("b") && !outputs.contains_key("a"));
+}
+
+#[test]
+fn passes_run_in_dependency_order_whatever_the_declaration_order() {
+    let renderer = test_renderer();
+    let order = Arc::new(std::sync::Mutex::new(Vec::new()));
+    let mut fg = FrameGraph::new((8, 8));
+    for (name, reads) in [
+        ("last", vec!["mid"]),
+        ("mid", vec!["first"]),
+        ("first", vec![]),
+    ] {
+        let order = order.clone();
+        fg.add_pass(name, None, &reads, &[(name, target())], move |_| {
+            order.lock().expect("lock").push(name);
+            Ok(())
+        });
+    }
+    fg.request("last");
+    fg.execute(&renderer).expect("executes");
+    assert_eq!(*order.lock().expect("lock"), ["first", "mid", "last"]);
+}
+
+#[test]
+fn impossible_graphs_are_clear_errors() {
+    let renderer = test_renderer();
+    let mut fg = FrameGraph::new((8, 8));
+    fg.add_pass("reader", None, &["nowhere"], &[("out", target())], |_| {
+        Ok(())
+    });
+    fg.request("out");
+    let err = fg
+        .execute(&renderer)
+        .map(|_| ())
+        .expect_err("refused")
+        .to_string();
+    assert!(
+        err.contains("pass `reader` reads `nowhere`, which no pass writes"),
+        "{err}"
+    );
+
+    let mut fg = FrameGraph::new((8, 8));
+    fg.add_pass("one", None, &[], &[("x", target())], |_| Ok(()));
+    fg.add_pass("two", None, &[], &[("x", target())], |_| Ok(()));
+    fg.request("x");
+    let err = fg
+        .execute(&renderer)
+        .map(|_| ())
+        .expect_err("refused")
+        .to_string();
+    assert!(
+        err.contains("`x` is written by two passes, `one` and `two`"),
+        "{err}"
+    );
+
+    let mut fg = FrameGraph::new((8, 8));
+    fg.request("ghost");
+    let err = fg
+        .execute(&renderer)
+        .map(|_| ())
+        .expect_err("refused")
+        .to_string();
+    assert!(
+        err.contains("`ghost` was requested, but no pass writes it"),
+        "{err}"
+    );
+}
+
+#[test]
+fn persistent_textures_keep_their_history_across_frames() {
+    let renderer = test_renderer();
+    let fresh = Arc::new(std::sync::Mutex::new(Vec::new()));
+    for _ in 0..3 {
+        let mut fg = FrameGraph::new((8, 8));
+        let fresh = fresh.clone();
+        fg.add_pass(
+            "history",
+            None,
+            &[],
+            &[("history", target().lifetime(Lifetime::Persistent))],
+            move |cx| {
+                fresh.lock().expect("lock").push(cx.is_fresh("history"));
+                Ok(())
+            },
+        );
+        fg.request("history");
+        let (report, _) = fg.execute(&renderer).expect("executes");
+        assert!(report.errors.is_empty());
+    }
+    assert_eq!(*fresh.lock().expect("lock"), [true, false, false]);
+    renderer.reset_history();
+    let mut fg = FrameGraph::new((8, 8));
+    let fresh2 = fresh.clone();
+    fg.add_pass(
+        "history",
+        None,
+        &[],
+        &[("history", target().lifetime(Lifetime::Persistent))],
+        move |cx| {
+            fresh2.lock().expect("lock").push(cx.is_fresh("history"));
+            Ok(())
+        },
+    );
+    fg.request("history");
+    fg.execute(&renderer).expect("executes");
+    assert_eq!(
+        fresh.lock().expect("lock").last(),
+        Some(&true),
+        "a reset (camera cut) starts history again"
+    );
+}
+
+#[test]
+fn relative_sizes_follow_the_output() {
+    let fg = FrameGraph::new((1920, 1080));
+    let quarter = fg.resolve(&target().size(SizeRule::Relative(0.25)));
+    assert_eq!((quarter.width, quarter.height), (480, 270));
+    let fixed = fg.resolve(&target().size(SizeRule::Absolute {
+        width: 512,
+        height: 512,
+    }));
+    assert_eq!((fixed.width, fixed.height), (512, 512));
+    let tiny = fg.resolve(&target().size(SizeRule::Relative(0.0001)));
+    assert_eq!((tiny.width, tiny.height), (1, 1), "never zero-sized");
+}
+
+#[test]
+fn a_pass_with_a_validation_error_is_reported_on_its_node_and_the_rest_renders() {
+    let renderer = test_renderer();
+    let ran_after = Arc::new(AtomicUsize::new(0));
+    let mut fg = FrameGraph::new((8, 8));
+    fg.add_pass("broken", Some(42), &[], &[("broken", target())], |cx| {
+        // A buffer with no usage flags at all is a validation error.
+        let _ = cx.gpu.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("invalid"),
+            size: 16,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::MAP_WRITE,
+            mapped_at_creation: false,
+        });
+        Ok(())
+    });
+    let after = ran_after.clone();
+    fg.add_pass(
+        "healthy",
+        Some(7),
+        &[],
+        &[("healthy", target())],
+        move |_| {
+            after.fetch_add(1, Ordering::SeqCst);
+            Ok(())
+        },
+    );
+    fg.request("broken");
+    fg.request("healthy");
+    let (report, outputs) = fg.execute(&renderer).expect("the frame still executes");
+    assert_eq!(report.errors.len(), 1, "{:?}", report.errors);
+    assert_eq!(
+        report.errors[0].0,
+        Some(42),
+        "the error names the node whose pass caused it"
+    );
+    assert!(
+        report.errors[0].1.contains("pass `broken`"),
+        "{}",
+        report.errors[0].1
+    );
+    assert_eq!(ran_after.load(Ordering::SeqCst), 1);
+    assert!(outputs.contains_key("healthy"));
+}

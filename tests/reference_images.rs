@@ -1,0 +1,84 @@
+//! Rendered images against the references in `tests/reference/`.
+//!
+//! Tolerance: a pixel matches when every channel is within 4/255 of the
+//! reference (8-bit, as written); at least 99% of pixels must match. The
+//! slack is for rasterizers that differ on edge pixels, not for drift.
+//! Regenerate after an intended change with
+//! `SPREADLIGHT_BLESS=1 cargo test -p spreadlight-tests --test reference_images`
+//! and look at the new images before committing them.
+
+use std::path::PathBuf;
+
+use spreadlight_render::image_io::{Encoding, write_image};
+use spreadlight_tests::{render_patch, root};
+
+const CHANNEL_TOLERANCE: i32 = 4;
+const MATCHING_FRACTION: f64 = 0.99;
+
+fn check(name: &str, patch: &str, output: &str, size: (u32, u32), frame: u64) {
+    let image = render_patch(&root().join(patch), size, frame, output);
+    assert!(image.all_finite());
+    let reference: PathBuf = root().join("tests/reference").join(format!("{name}.png"));
+    let rendered =
+        std::env::temp_dir().join(format!("spreadlight-{name}-{}.png", std::process::id()));
+    write_image(&image, &rendered, Encoding::Srgb).expect("write");
+    if std::env::var_os("SPREADLIGHT_BLESS").is_some() {
+        std::fs::create_dir_all(reference.parent().expect("folder")).expect("mkdir");
+        std::fs::copy(&rendered, &reference).expect("bless");
+        return;
+    }
+    let want = image::open(&reference)
+        .unwrap_or_else(|e| {
+            panic!(
+                "{}: {e}; create it with SPREADLIGHT_BLESS=1",
+                reference.display()
+            )
+        })
+        .to_rgba8();
+    let got = image::open(&rendered).expect("re-read").to_rgba8();
+    assert_eq!(
+        want.dimensions(),
+        got.dimensions(),
+        "{name}: size differs from the reference"
+    );
+    let matching = want
+        .pixels()
+        .zip(got.pixels())
+        .filter(|(a, b)| {
+            a.0.iter()
+                .zip(b.0.iter())
+                .all(|(x, y)| (i32::from(*x) - i32::from(*y)).abs() <= CHANNEL_TOLERANCE)
+        })
+        .count();
+    let fraction = matching as f64 / want.pixels().len() as f64;
+    assert!(
+        fraction >= MATCHING_FRACTION,
+        "{name}: only {:.2}% of pixels match {} (rendered: {})",
+        fraction * 100.0,
+        reference.display(),
+        rendered.display()
+    );
+    let _ = std::fs::remove_file(&rendered);
+}
+
+#[test]
+fn gbuffer_spheres_normals() {
+    check(
+        "gbuffer-spheres-normals",
+        "patches/gbuffer-spheres.ron",
+        "normals",
+        (160, 90),
+        0,
+    );
+}
+
+#[test]
+fn bench_scene_normals() {
+    check(
+        "bench-gbuffer-normals",
+        "patches/bench-gbuffer.ron",
+        "normals",
+        (160, 90),
+        0,
+    );
+}
