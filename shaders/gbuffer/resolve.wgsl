@@ -4,8 +4,11 @@
 // and interpolates the attributes. Dispatched once per layer with that
 // layer's feature switches, so a layer pays only for what it asked for.
 //
-// Without MOTION: color (RGB) + material id (A), view-space normal (RGB) + object id (A).
+// Without MOTION: color (RGB) + material id (A), view-space normal (RGB) + object id (A),
+//                 and depth (reversed-Z) as R32Float.
 // With MOTION:    velocity in UV units per frame (RG) + texture coordinates (BA).
+// COMPUTE_RASTER: read the compute rasterizer's 64-bit buffer instead of the
+//                 raster hardware's visibility and depth textures.
 #import spreadlight::camera::{Camera, pixel_to_ndc}
 #import spreadlight::mesh::{Vertex, Instance}
 #import spreadlight::packing::{id_to_channel, safe_normalize}
@@ -22,45 +25,84 @@ struct Layer {
 @group(0) @binding(1) var<storage, read> vertices: array<Vertex>;
 @group(0) @binding(2) var<storage, read> indices: array<u32>;
 @group(0) @binding(3) var<storage, read> instances: array<Instance>;
+#ifdef COMPUTE_RASTER
+// The compute rasterizer's 64-bit words, read as (id + 1, depth bits).
+@group(0) @binding(4) var<storage, read> visibility: array<vec2<u32>>;
+// Per instance, its first global triangle id (ascending), to find a pixel's instance.
+@group(0) @binding(10) var<storage, read> first_triangle: array<u32>;
+#else
 @group(0) @binding(4) var visibility: texture_2d<u32>;
+#endif
 @group(0) @binding(5) var<uniform> layer: Layer;
 #ifdef MOTION
 @group(0) @binding(6) var out_velocity_uv: texture_storage_2d<rgba16float, write>;
 #else
 @group(0) @binding(6) var out_color: texture_storage_2d<rgba16float, write>;
 @group(0) @binding(7) var out_normal: texture_storage_2d<rgba16float, write>;
+@group(0) @binding(8) var out_depth: texture_storage_2d<r32float, write>;
+#ifndef COMPUTE_RASTER
+@group(0) @binding(9) var hardware_depth: texture_depth_2d;
+#endif
 #endif
 #ifdef NORMAL_MAP
 @group(1) @binding(0) var normal_map: texture_2d<f32>;
 @group(1) @binding(1) var normal_sampler: sampler;
 #endif
 
-fn cross2(a: vec2<f32>, b: vec2<f32>) -> f32 {
-    return a.x * b.y - a.y * b.x;
-}
-
-// Perspective-correct barycentrics of `p` (NDC) in the triangle with clip
-// positions c0..c2. A degenerate (zero-area) triangle gives (1, 0, 0), never NaN.
-fn barycentrics(p: vec2<f32>, c0: vec4<f32>, c1: vec4<f32>, c2: vec4<f32>) -> vec3<f32> {
-    let inv_w = 1.0 / vec3<f32>(c0.w, c1.w, c2.w);
-    let n0 = c0.xy * inv_w.x;
-    let n1 = c1.xy * inv_w.y;
-    let n2 = c2.xy * inv_w.z;
-    let e1 = n1 - n0;
-    let e2 = n2 - n0;
-    let area = cross2(e1, e2);
-    if (abs(area) < 1e-12) {
+// Barycentrics of where the pixel's view ray meets the triangle (world
+// space). Exact for any triangle, including ones that cross the near plane;
+// a ray parallel to the triangle gives (1, 0, 0), never NaN.
+fn barycentrics(ndc: vec2<f32>, p0: vec3<f32>, p1: vec3<f32>, p2: vec3<f32>) -> vec3<f32> {
+    let world_from_clip = camera.view_inverse * camera.projection_inverse;
+    let near = world_from_clip * vec4<f32>(ndc, 1.0, 1.0);
+    let mid = world_from_clip * vec4<f32>(ndc, 0.5, 1.0);
+    let origin = near.xyz / near.w;
+    let direction = mid.xyz / mid.w - origin;
+    let e1 = p1 - p0;
+    let e2 = p2 - p0;
+    let pv = cross(direction, e2);
+    let det = dot(e1, pv);
+    if (abs(det) < 1e-20) {
         return vec3<f32>(1.0, 0.0, 0.0);
     }
-    let u = cross2(p - n0, e2) / area;
-    let v = cross2(e1, p - n0) / area;
-    let screen = vec3<f32>(1.0 - u - v, u, v);
-    let weighted = screen * inv_w;
-    let sum = weighted.x + weighted.y + weighted.z;
-    if (abs(sum) < 1e-20) {
-        return screen;
+    let tv = origin - p0;
+    let u = dot(tv, pv) / det;
+    let v = dot(direction, cross(tv, e1)) / det;
+    return vec3<f32>(1.0 - u - v, u, v);
+}
+
+// The pixel's (instance, triangle, depth), or instance u32::MAX for none.
+fn visible(pixel: vec2<u32>) -> vec3<u32> {
+#ifdef COMPUTE_RASTER
+    let word = visibility[pixel.y * u32(camera.size.x) + pixel.x];
+    if (word.x == 0u) {
+        return vec3<u32>(0xffffffffu, 0u, 0u);
     }
-    return weighted / sum;
+    let id = word.x - 1u;
+    // Largest instance whose first triangle is <= id.
+    var lo = 0u;
+    var hi = arrayLength(&first_triangle);
+    while (hi - lo > 1u) {
+        let mid = (lo + hi) / 2u;
+        if (first_triangle[mid] <= id) {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    return vec3<u32>(lo, id - first_triangle[lo], word.y);
+#else
+    let ids = textureLoad(visibility, pixel, 0).xy;
+    if (ids.x == 0u) {
+        return vec3<u32>(0xffffffffu, 0u, 0u);
+    }
+#ifdef MOTION
+    let depth = 0.0;
+#else
+    let depth = textureLoad(hardware_depth, pixel, 0);
+#endif
+    return vec3<u32>(ids.x - 1u, ids.y, bitcast<u32>(depth));
+#endif
 }
 
 fn interpolate3(b: vec3<f32>, a0: vec3<f32>, a1: vec3<f32>, a2: vec3<f32>) -> vec3<f32> {
@@ -74,28 +116,29 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let pixel = id.xy;
-    let ids = textureLoad(visibility, pixel, 0).xy;
-    if (ids.x == 0u || ids.x - 1u < layer.first_instance || ids.x - 1u >= layer.end_instance) {
-        if (ids.x == 0u && layer.write_background == 1u) {
+    let hit = visible(pixel);
+    let covered = hit.x != 0xffffffffu;
+    if (!covered || hit.x < layer.first_instance || hit.x >= layer.end_instance) {
+        if (!covered && layer.write_background == 1u) {
 #ifdef MOTION
             textureStore(out_velocity_uv, pixel, vec4<f32>(0.0));
 #else
             textureStore(out_color, pixel, vec4<f32>(0.0));
             textureStore(out_normal, pixel, vec4<f32>(0.0));
+            textureStore(out_depth, pixel, vec4<f32>(0.0));
 #endif
         }
         return;
     }
-    let instance = instances[ids.x - 1u];
-    let first = instance.info.x + ids.y * 3u;
+    let instance = instances[hit.x];
+    let first = instance.info.x + hit.y * 3u;
     let v0 = vertices[indices[first] + instance.info.y];
     let v1 = vertices[indices[first + 1u] + instance.info.y];
     let v2 = vertices[indices[first + 2u] + instance.info.y];
-    let clip_from_object = camera.view_projection * instance.model;
-    let c0 = clip_from_object * vec4<f32>(v0.position_u.xyz, 1.0);
-    let c1 = clip_from_object * vec4<f32>(v1.position_u.xyz, 1.0);
-    let c2 = clip_from_object * vec4<f32>(v2.position_u.xyz, 1.0);
-    let b = barycentrics(pixel_to_ndc(pixel, camera.size), c0, c1, c2);
+    let w0 = (instance.model * vec4<f32>(v0.position_u.xyz, 1.0)).xyz;
+    let w1 = (instance.model * vec4<f32>(v1.position_u.xyz, 1.0)).xyz;
+    let w2 = (instance.model * vec4<f32>(v2.position_u.xyz, 1.0)).xyz;
+    let b = barycentrics(pixel_to_ndc(pixel, camera.size), w0, w1, w2);
 
 #ifdef TEXCOORDS
     let uv = vec2<f32>(
@@ -150,5 +193,6 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let normal_view = safe_normalize((camera.view * vec4<f32>(normal_world, 0.0)).xyz, vec3<f32>(0.0, 0.0, 1.0));
     textureStore(out_color, pixel, vec4<f32>(instance.color.rgb, id_to_channel(instance.info.z)));
     textureStore(out_normal, pixel, vec4<f32>(normal_view, id_to_channel(instance.info.w)));
+    textureStore(out_depth, pixel, vec4<f32>(bitcast<f32>(hit.z), 0.0, 0.0, 0.0));
 #endif
 }

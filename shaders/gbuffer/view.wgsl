@@ -33,7 +33,7 @@ struct ViewParams {
 @group(0) @binding(3) var source: texture_2d<f32>;
 #endif
 #ifdef DEPTH
-@group(0) @binding(3) var source: texture_depth_2d;
+@group(0) @binding(3) var source: texture_2d<f32>;
 #endif
 
 // A stable, distinct colour per id, so neighbouring ids are told apart.
@@ -75,7 +75,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
 #endif
 #ifdef DEPTH
     // Reversed-Z: 1 at the near plane. Shown as 1 / (1 + view distance).
-    let d = textureLoad(source, p, 0);
+    let d = textureLoad(source, p, 0).r;
     if (d > 0.0) {
         let view = camera.projection_inverse * vec4<f32>(0.0, 0.0, d, 1.0);
         value = vec3<f32>(1.0 / (1.0 + abs(view.z / view.w)));

@@ -285,7 +285,9 @@ fn stats_json_shows_passes_and_culling() {
         .filter_map(|p| p["name"].as_str())
         .collect();
     assert!(
-        passes.iter().any(|p| p.ends_with("visibility")),
+        passes
+            .iter()
+            .any(|p| p.ends_with("visibility") || p.ends_with("compute raster")),
         "{passes:?}"
     );
     let culled = json["render"]["culled"].as_array().expect("culled");

@@ -12,8 +12,12 @@ use crate::error::RenderError;
 
 /// Features the renderer cannot work without (none yet beyond WebGPU's baseline).
 pub const REQUIRED_FEATURES: wgpu::Features = wgpu::Features::empty();
-/// Features used when the adapter has them.
-pub const OPTIONAL_FEATURES: wgpu::Features = wgpu::Features::TIMESTAMP_QUERY;
+/// Features used when the adapter has them: timestamps for GPU times, and
+/// 64-bit atomics for the compute rasterizer (the G-buffer falls back to the
+/// raster hardware without them).
+pub const OPTIONAL_FEATURES: wgpu::Features = wgpu::Features::TIMESTAMP_QUERY
+    .union(wgpu::Features::SHADER_INT64)
+    .union(wgpu::Features::SHADER_INT64_ATOMIC_MIN_MAX);
 
 /// A shared device and queue, with what the adapter told us about itself.
 #[derive(Clone)]
@@ -108,6 +112,13 @@ impl GpuContext {
             "{} ({:?})",
             self.adapter_info.name, self.adapter_info.backend
         )
+    }
+
+    /// Whether the G-buffer can be rasterized in compute (64-bit atomicMax).
+    pub fn has_compute_raster(&self) -> bool {
+        self.device
+            .features()
+            .contains(wgpu::Features::SHADER_INT64 | wgpu::Features::SHADER_INT64_ATOMIC_MIN_MAX)
     }
 
     pub fn has_timestamps(&self) -> bool {

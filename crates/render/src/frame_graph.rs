@@ -27,6 +27,26 @@ pub enum SizeRule {
     Relative(f32),
 }
 
+impl SizeRule {
+    /// Width and height in pixels for a frame of `output` size; never zero.
+    pub fn pixels(self, output: (u32, u32)) -> (u32, u32) {
+        match self {
+            SizeRule::Absolute { width, height } => (width.max(1), height.max(1)),
+            SizeRule::Relative(scale) => {
+                let scale = if scale.is_finite() && scale > 0.0 {
+                    scale
+                } else {
+                    1.0
+                };
+                (
+                    ((output.0 as f32 * scale).round() as u32).max(1),
+                    ((output.1 as f32 * scale).round() as u32).max(1),
+                )
+            }
+        }
+    }
+}
+
 /// How long a texture lives.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Lifetime {
@@ -257,20 +277,7 @@ impl<'a> FrameGraph<'a> {
     }
 
     pub fn resolve(&self, desc: &TextureDesc) -> TextureKey {
-        let (width, height) = match desc.size {
-            SizeRule::Absolute { width, height } => (width.max(1), height.max(1)),
-            SizeRule::Relative(scale) => {
-                let scale = if scale.is_finite() && scale > 0.0 {
-                    scale
-                } else {
-                    1.0
-                };
-                (
-                    ((self.output_size.0 as f32 * scale).round() as u32).max(1),
-                    ((self.output_size.1 as f32 * scale).round() as u32).max(1),
-                )
-            }
-        };
+        let (width, height) = desc.size.pixels(self.output_size);
         TextureKey {
             format: desc.format,
             width,

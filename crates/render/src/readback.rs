@@ -24,7 +24,7 @@ impl ImageF32 {
 }
 
 /// Copy `texture` (mip 0) to the CPU. Supports the formats the renderer writes:
-/// RGBA16F/32F, RGBA8 (sRGB decoded to linear), Depth32Float (in R, G, B) and
+/// RGBA16F/32F, RGBA8 (sRGB decoded to linear), Depth32Float and R32Float (in R, G, B) and
 /// RG32Uint (ids as floats in R, G).
 pub fn read_texture(gpu: &GpuContext, texture: &wgpu::Texture) -> Result<ImageF32, RenderError> {
     let (width, height) = (texture.width(), texture.height());
@@ -34,7 +34,8 @@ pub fn read_texture(gpu: &GpuContext, texture: &wgpu::Texture) -> Result<ImageF3
         wgpu::TextureFormat::Rgba32Float => 16,
         wgpu::TextureFormat::Rgba8Unorm
         | wgpu::TextureFormat::Rgba8UnormSrgb
-        | wgpu::TextureFormat::Depth32Float => 4,
+        | wgpu::TextureFormat::Depth32Float
+        | wgpu::TextureFormat::R32Float => 4,
         other => {
             return Err(RenderError::Readback(format!(
                 "reading back {other:?} is not supported"
@@ -101,7 +102,7 @@ fn decode(format: wgpu::TextureFormat, px: &[u8]) -> [f32; 4] {
         wgpu::TextureFormat::Rgba16Float => [f16(0), f16(2), f16(4), f16(6)],
         wgpu::TextureFormat::Rgba32Float => [f32_at(0), f32_at(4), f32_at(8), f32_at(12)],
         wgpu::TextureFormat::Rg32Uint => [u32_at(0) as f32, u32_at(4) as f32, 0.0, 1.0],
-        wgpu::TextureFormat::Depth32Float => {
+        wgpu::TextureFormat::Depth32Float | wgpu::TextureFormat::R32Float => {
             let d = f32_at(0);
             [d, d, d, 1.0]
         }

@@ -68,9 +68,11 @@ pub const SHADERS: &[ShaderFile] = &[
     shader!("lib/camera.wgsl", library),
     shader!("lib/mesh.wgsl", library),
     shader!("gbuffer/visibility.wgsl", []),
+    shader!("gbuffer/raster.wgsl", []),
     shader!(
         "gbuffer/resolve.wgsl",
         [
+            "COMPUTE_RASTER",
             "MOTION",
             "TEXCOORDS",
             "NORMAL_MAP",
@@ -141,7 +143,11 @@ impl ShaderComposer {
     fn with_sources(
         sources: HashMap<&'static str, Cow<'static, str>>,
     ) -> Result<Self, RenderError> {
-        let mut composer = Composer::default();
+        // Validate with what the compute rasterizer needs; devices without it never compile that shader.
+        let mut composer = Composer::default().with_capabilities(
+            naga::valid::Capabilities::SHADER_INT64
+                | naga::valid::Capabilities::SHADER_INT64_ATOMIC_MIN_MAX,
+        );
         for file in SHADERS.iter().filter(|f| f.library) {
             let source = &sources[file.path];
             let result = composer

@@ -7,7 +7,8 @@ use std::sync::Arc;
 use glam::{Mat4, Vec3, Vec4};
 use spreadlight_render::camera::CameraInput;
 use spreadlight_render::gbuffer::{
-    Channel, DrawBatch, GBuffer, GBufferView, InstanceInput, Layer, LayerFeatures,
+    Channel, DrawBatch, GBuffer, GBufferView, InstanceInput, Layer, LayerFeatures, RasterChoice,
+    RasterMode,
 };
 use spreadlight_render::mesh::primitives::{SphereParams, sphere};
 use spreadlight_render::readback::{ImageF32, read_texture};
@@ -81,7 +82,22 @@ fn render(
 }
 
 #[test]
-fn a_sphere_faces_the_camera_and_depth_reconstructs_its_surface() {
+fn a_sphere_faces_the_camera_and_depth_reconstructs_its_surface_hardware() {
+    sphere_checks(RasterChoice::Hardware, RasterMode::Hardware);
+}
+
+#[test]
+fn a_sphere_faces_the_camera_and_depth_reconstructs_its_surface_compute() {
+    let renderer = test_renderer();
+    assert!(
+        renderer.gpu.has_compute_raster(),
+        "the compute rasterizer needs 64-bit atomics, which {} lacks",
+        renderer.gpu.adapter_name()
+    );
+    sphere_checks(RasterChoice::Compute, RasterMode::Compute);
+}
+
+fn sphere_checks(choice: RasterChoice, expected: RasterMode) {
     let renderer = test_renderer();
     let layer = sphere_layer(
         &renderer,
@@ -89,14 +105,16 @@ fn a_sphere_faces_the_camera_and_depth_reconstructs_its_surface() {
         LayerFeatures::default(),
     );
     let camera = camera_at(Vec3::new(0.0, 0.0, 5.0));
-    let g = GBuffer::new(
+    let g = GBuffer::with_raster(
         &renderer,
         Some(2),
         vec![layer],
         camera,
         None,
         SizeRule::Relative(1.0),
+        choice,
     );
+    assert_eq!(g.raster, expected);
     let t = g.targets.clone();
     let (_, images) = render(
         &renderer,
@@ -231,10 +249,14 @@ fn a_pass_chain_nobody_requests_is_culled() {
     let (report, outputs) = fg.execute(&renderer).expect("frame executes");
     assert!(report.errors.is_empty(), "{:?}", report.errors);
     let executed: Vec<&str> = report.passes.iter().map(|p| p.name.as_str()).collect();
+    let raster = match g.raster {
+        RasterMode::Hardware => "MRE #2: visibility",
+        RasterMode::Compute => "MRE #2: compute raster",
+    };
     assert_eq!(
         executed,
         [
-            "MRE #2: visibility",
+            raster,
             "MRE #2: resolve surface",
             "GBufferView #3 (Normals)"
         ]
@@ -413,4 +435,88 @@ fn a_switch_the_geometry_cannot_serve_is_an_error_not_a_broken_image() {
         ..Default::default()
     };
     assert!(Layer::new(None, batch(), triplanar, None).is_ok());
+}
+
+#[test]
+fn both_rasterizers_see_the_same_scene() {
+    // A crowd of spheres on a plane that crosses the near plane: small
+    // triangles, big tiled ones and near-clipped ones all at once.
+    use spreadlight_render::mesh::primitives::{GridParams, grid};
+    let renderer = test_renderer();
+    let sphere_mesh = renderer
+        .meshes
+        .upload(&renderer.gpu, &sphere(SphereParams::default()))
+        .expect("upload");
+    let plane = renderer
+        .meshes
+        .upload(
+            &renderer.gpu,
+            &grid(GridParams {
+                size: glam::Vec2::splat(100.0),
+                resolution_x: 1,
+                resolution_y: 1,
+            }),
+        )
+        .expect("upload");
+    let spheres: Vec<InstanceInput> = (0..400)
+        .map(|i| {
+            let t = Mat4::from_translation(Vec3::new(
+                (i % 20) as f32 * 2.0 - 20.0,
+                0.5,
+                (i / 20) as f32 * -2.0 + 3.0,
+            ));
+            instance(t, t)
+        })
+        .collect();
+    let batches = vec![
+        DrawBatch {
+            mesh: sphere_mesh,
+            instances: spheres,
+        },
+        DrawBatch {
+            mesh: plane,
+            instances: vec![instance(Mat4::IDENTITY, Mat4::IDENTITY)],
+        },
+    ];
+    let layer = Arc::new(Layer::new(None, batches, LayerFeatures::default(), None).expect("valid"));
+    let camera = camera_at(Vec3::new(0.0, 3.0, 6.0));
+    let mut images = Vec::new();
+    for choice in [RasterChoice::Hardware, RasterChoice::Compute] {
+        let g = GBuffer::with_raster(
+            &renderer,
+            None,
+            vec![layer.clone()],
+            camera,
+            None,
+            SizeRule::Relative(1.0),
+            choice,
+        );
+        let (report, mut out) = render(&renderer, &g, &[&g.targets.normals, &g.targets.depth]);
+        assert!(report.errors.is_empty());
+        images.push((out.remove(0), out.remove(0)));
+    }
+    let (hw, cs) = (&images[0], &images[1]);
+    let total = hw.0.pixels.len();
+    let differing =
+        hw.0.pixels
+            .iter()
+            .zip(&cs.0.pixels)
+            .filter(|(a, b)| a.iter().zip(b.iter()).any(|(x, y)| (x - y).abs() > 0.05))
+            .count();
+    // Rasterizers may disagree on pixels exactly on silhouette edges, nowhere else.
+    assert!(
+        differing * 100 < total * 3,
+        "{differing} of {total} pixels differ"
+    );
+    let depth_close =
+        hw.1.pixels
+            .iter()
+            .zip(&cs.1.pixels)
+            .filter(|(a, b)| (a[0] - b[0]).abs() < 1e-4)
+            .count();
+    assert!(
+        depth_close * 100 > total * 97,
+        "depth agrees on {depth_close} of {total} pixels"
+    );
+    assert!(cs.0.all_finite() && cs.1.all_finite());
 }

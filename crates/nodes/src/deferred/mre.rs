@@ -3,13 +3,18 @@
 
 use glam::Mat4;
 use spreadlight_graph::{
-    EvalContext, Node, NodeDef, NodeError, PinType, Registry, ResourceKind, Spread,
+    EnumDef, EvalContext, Node, NodeDef, NodeError, PinType, Registry, ResourceKind, Spread,
 };
 use spreadlight_render::SizeRule;
 use spreadlight_render::camera::CameraInput;
-use spreadlight_render::gbuffer::{GBuffer, Layer};
+use spreadlight_render::gbuffer::{GBuffer, Layer, RasterChoice};
 
 use crate::gpu::{renderer, resource_spread, resources};
+
+pub static RASTER: EnumDef = EnumDef {
+    name: "Raster",
+    options: &["Auto", "Compute", "Hardware"],
+};
 
 pub fn register(r: &mut Registry) {
     r.add(
@@ -17,7 +22,9 @@ pub fn register(r: &mut Registry) {
             "MRE",
             super::CATEGORY,
             "Groups layers and writes the G-buffer (Emeshe's layout: color + material id, view-space normals + object \
-             id, velocity + UV, reversed-Z depth). Width and Height of 0 follow the renderer's output size. \
+             id, velocity + UV, reversed-Z depth). Width and Height of 0 follow the renderer's output size. Raster: Compute rasterizes in compute \
+             shaders with 64-bit atomics (fast where raster hardware is scarce, as on the H100), Hardware uses the \
+             raster units, Auto picks Compute where the adapter supports it. \
              Only the targets something reads are rendered.",
         )
         .input_spread("Layer", PinType::Resource(ResourceKind::Layer), Spread::Resource(ResourceKind::Layer, vec![]))
@@ -25,6 +32,7 @@ pub fn register(r: &mut Registry) {
         .input("Projection", glam::camera::rh::proj::directx::perspective(std::f32::consts::FRAC_PI_3, 16.0 / 9.0, 0.1, 100.0))
         .input("Width", 0i64)
         .input("Height", 0i64)
+        .input_enum("Raster", &RASTER, "Auto")
         .output_typed("G-Buffer", PinType::Resource(ResourceKind::GBuffer))
         .construct(Mre::default),
     );
@@ -74,13 +82,19 @@ impl Node for Mre {
             // Camera velocity is last frame's motion: next frame must see it settle.
             cx.reevaluate_next_frame();
         }
-        let gbuffer = GBuffer::new(
+        let raster = match cx.enum_slices(5)?.first().map(String::as_str) {
+            Some("Compute") => RasterChoice::Compute,
+            Some("Hardware") => RasterChoice::Hardware,
+            _ => RasterChoice::Auto,
+        };
+        let gbuffer = GBuffer::with_raster(
             &renderer,
             Some(cx.node_id.0),
             layers,
             camera,
             previous,
             size,
+            raster,
         );
         cx.set_output(0, resource_spread(ResourceKind::GBuffer, vec![gbuffer]));
         Ok(())

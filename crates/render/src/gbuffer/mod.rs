@@ -12,6 +12,7 @@
 //! resolve is split in two passes, surface (color, normals) and motion
 //! (velocity, UV), so a frame that reads no velocity culls the second.
 
+mod compute_raster;
 mod layer;
 mod passes;
 mod view;
@@ -58,10 +59,34 @@ struct Draw {
     instance_count: u32,
 }
 
+/// How the visibility buffer is rasterized.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RasterMode {
+    /// The raster hardware: depth + an RG32Uint id target.
+    Hardware,
+    /// Compute shaders with 64-bit atomicMax into a buffer (where the adapter has 64-bit atomics).
+    Compute,
+}
+
+/// Which raster a G-buffer should use.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum RasterChoice {
+    /// Compute where the adapter supports it, else hardware.
+    #[default]
+    Auto,
+    Hardware,
+    Compute,
+}
+
 /// The frame-graph names of a G-buffer's targets.
 #[derive(Clone, Debug)]
 pub struct GBufferTargets {
+    /// Hardware raster: the (instance + 1, triangle) texture. Compute raster:
+    /// an ordering token (the 64-bit buffer itself belongs to the G-buffer).
     pub visibility: String,
+    /// Hardware raster only: its Depth32Float attachment.
+    pub hardware_depth: String,
+    /// Reversed-Z depth as R32Float, written by the surface resolve.
     pub depth: String,
     pub color: String,
     pub normals: String,
@@ -84,6 +109,8 @@ pub struct GBuffer {
     instances: wgpu::Buffer,
     camera_buffer: wgpu::Buffer,
     layer_buffers: Vec<wgpu::Buffer>,
+    pub raster: RasterMode,
+    compute: Option<compute_raster::ComputeRaster>,
 }
 
 impl std::fmt::Debug for GBuffer {
@@ -106,6 +133,28 @@ impl GBuffer {
         camera: CameraInput,
         previous_view_projection: Option<Mat4>,
         size: SizeRule,
+    ) -> Arc<Self> {
+        Self::with_raster(
+            renderer,
+            owner,
+            layers,
+            camera,
+            previous_view_projection,
+            size,
+            RasterChoice::Auto,
+        )
+    }
+
+    /// As [`GBuffer::new`], choosing the rasterizer. `Compute` on an adapter
+    /// without 64-bit atomics falls back to `Hardware`.
+    pub fn with_raster(
+        renderer: &Renderer,
+        owner: Option<u32>,
+        layers: Vec<Arc<Layer>>,
+        camera: CameraInput,
+        previous_view_projection: Option<Mat4>,
+        size: SizeRule,
+        choice: RasterChoice,
     ) -> Arc<Self> {
         let id = next_recipe_id();
         let prefix = format!("mre{id}");
@@ -172,6 +221,13 @@ impl GBuffer {
                 })
             })
             .collect();
+        let raster = match choice {
+            RasterChoice::Hardware => RasterMode::Hardware,
+            _ if !renderer.gpu.has_compute_raster() => RasterMode::Hardware,
+            _ => RasterMode::Compute,
+        };
+        let compute = (raster == RasterMode::Compute)
+            .then(|| compute_raster::ComputeRaster::new(renderer, &draws, gpu_instances.len()));
         Arc::new(GBuffer {
             id,
             owner,
@@ -180,6 +236,7 @@ impl GBuffer {
             previous_view_projection,
             targets: GBufferTargets {
                 visibility: format!("{prefix}/visibility"),
+                hardware_depth: format!("{prefix}/hardware_depth"),
                 depth: format!("{prefix}/depth"),
                 color: format!("{prefix}/color"),
                 normals: format!("{prefix}/normals"),
@@ -191,7 +248,14 @@ impl GBuffer {
             instances,
             camera_buffer,
             layer_buffers,
+            raster,
+            compute,
         })
+    }
+
+    /// The G-buffer's size in pixels for a frame of `output` size.
+    pub fn pixel_size(&self, output: (u32, u32)) -> (u32, u32) {
+        self.size.pixels(output)
     }
 
     pub fn owner(&self) -> Option<u32> {

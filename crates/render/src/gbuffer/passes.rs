@@ -1,15 +1,17 @@
-//! The G-buffer's three passes: visibility (raster), surface and motion
-//! resolves (compute, one dispatch per layer with that layer's permutation).
+//! The G-buffer's three passes: visibility (hardware raster, or the compute
+//! rasterizer in compute_raster.rs), surface and motion resolves (compute,
+//! one dispatch per layer with that layer's permutation).
 
 use crate::error::RenderError;
-use crate::frame_graph::{FrameGraph, PassContext, TextureDesc};
+use crate::frame_graph::{FrameGraph, Lifetime, PassContext, SizeRule, TextureDesc};
 use crate::renderer::Renderer;
 use crate::shaders::ShaderKey;
 
-use super::GBuffer;
+use super::{GBuffer, RasterMode};
 
 const VISIBILITY_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg32Uint;
-const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+const HARDWARE_DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
 const TARGET_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 
 pub(super) fn declare<'a>(g: &'a GBuffer, renderer: &'a Renderer, fg: &mut FrameGraph<'a>) {
@@ -18,28 +20,50 @@ pub(super) fn declare<'a>(g: &'a GBuffer, renderer: &'a Renderer, fg: &mut Frame
         Some(node) => format!("MRE #{node}: {what}"),
         None => format!("MRE: {what}"),
     };
-    // The depth target is Permanent: readers (lighting, GBufferView, Output)
-    // may come after the resolves, which must not recycle it.
-    fg.add_pass(
-        label("visibility"),
-        g.owner,
-        &[],
-        &[
-            (
-                &t.visibility,
-                TextureDesc::attachment(VISIBILITY_FORMAT).size(g.size),
-            ),
-            (
-                &t.depth,
-                TextureDesc::attachment(DEPTH_FORMAT)
-                    .size(g.size)
-                    .lifetime(crate::frame_graph::Lifetime::Permanent),
-            ),
-        ],
-        move |cx| visibility(g, renderer, cx),
-    );
-    // The surface resolve also reads the layers' normal maps.
     let mut surface_reads: Vec<&str> = vec![&t.visibility];
+    match (g.raster, &g.compute) {
+        (RasterMode::Compute, Some(compute)) => {
+            // The 64-bit buffer belongs to the G-buffer; this 1x1 token
+            // carries the dependency through the frame graph.
+            let token = TextureDesc {
+                format: wgpu::TextureFormat::R8Unorm,
+                size: SizeRule::Absolute {
+                    width: 1,
+                    height: 1,
+                },
+                lifetime: Lifetime::Temporary,
+                usage: wgpu::TextureUsages::TEXTURE_BINDING,
+            };
+            fg.add_pass(
+                label("compute raster"),
+                g.owner,
+                &[],
+                &[(&t.visibility, token)],
+                move |cx| compute.record(g, renderer, cx),
+            );
+        }
+        _ => {
+            fg.add_pass(
+                label("visibility"),
+                g.owner,
+                &[],
+                &[
+                    (
+                        &t.visibility,
+                        TextureDesc::attachment(VISIBILITY_FORMAT).size(g.size),
+                    ),
+                    (
+                        &t.hardware_depth,
+                        TextureDesc::attachment(HARDWARE_DEPTH_FORMAT).size(g.size),
+                    ),
+                ],
+                move |cx| visibility(g, renderer, cx),
+            );
+            surface_reads.push(&t.hardware_depth);
+        }
+    }
+    // The surface resolve also reads the layers' normal maps. Its depth is
+    // Permanent: readers (lighting, GBufferView) come later in the frame.
     surface_reads.extend(
         g.layers
             .iter()
@@ -53,6 +77,12 @@ pub(super) fn declare<'a>(g: &'a GBuffer, renderer: &'a Renderer, fg: &mut Frame
         &[
             (&t.color, TextureDesc::storage(TARGET_FORMAT).size(g.size)),
             (&t.normals, TextureDesc::storage(TARGET_FORMAT).size(g.size)),
+            (
+                &t.depth,
+                TextureDesc::storage(DEPTH_FORMAT)
+                    .size(g.size)
+                    .lifetime(Lifetime::Permanent),
+            ),
         ],
         move |cx| resolve(g, renderer, cx, false),
     );
@@ -94,7 +124,7 @@ fn visibility(
                     ..Default::default()
                 },
                 depth_stencil: Some(wgpu::DepthStencilState {
-                    format: DEPTH_FORMAT,
+                    format: HARDWARE_DEPTH_FORMAT,
                     depth_write_enabled: Some(true),
                     depth_compare: Some(wgpu::CompareFunction::Greater),
                     stencil: Default::default(),
@@ -139,7 +169,7 @@ fn visibility(
         ],
     });
     let vis = cx.view(&g.targets.visibility)?;
-    let depth = cx.view(&g.targets.depth)?;
+    let depth = cx.view(&g.targets.hardware_depth)?;
     let timestamps = cx.render_timestamps();
     let mut pass = cx.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
         label: Some("visibility"),
@@ -191,27 +221,49 @@ fn resolve(
 ) -> Result<(), RenderError> {
     let device = cx.gpu.device.clone();
     let (vertices, indices, _) = renderer.meshes.buffers();
-    let vis = cx.view(&g.targets.visibility)?;
+    let compute = g
+        .compute
+        .as_ref()
+        .filter(|_| g.raster == RasterMode::Compute);
+    // What binding 4 is: the compute raster's buffer, or the hardware raster's texture.
+    let (vis_view, vis_buffer) = match compute {
+        Some(c) => {
+            let buffer = c.visibility().ok_or_else(|| RenderError::Pass {
+                pass: "resolve".to_owned(),
+                message: "the compute raster has not run this frame".to_owned(),
+            })?;
+            (None, Some((buffer, c.first_triangle.clone())))
+        }
+        None => (Some(cx.view(&g.targets.visibility)?), None),
+    };
+    let hardware_depth = match (compute, motion) {
+        (None, false) => Some(cx.view(&g.targets.hardware_depth)?),
+        _ => None,
+    };
     let outputs = if motion {
         vec![cx.view(&g.targets.velocity_uv)?]
     } else {
-        vec![cx.view(&g.targets.color)?, cx.view(&g.targets.normals)?]
+        vec![
+            cx.view(&g.targets.color)?,
+            cx.view(&g.targets.normals)?,
+            cx.view(&g.targets.depth)?,
+        ]
     };
-    let (w, h) = {
-        let t = cx.texture(&g.targets.visibility)?;
-        (t.width(), t.height())
-    };
+    let (w, h) = g.pixel_size(cx.output_size);
     // With no layers, the first (background) dispatch still clears the targets.
     let layer_count = g.layers.len().max(1);
     let mut work = Vec::with_capacity(layer_count);
     for i in 0..layer_count {
         let layer = g.layers.get(i);
-        let defines = match layer {
+        let mut defines = match layer {
             Some(l) if motion => l.features.motion_defines(),
             Some(l) => l.features.surface_defines(),
             None if motion => vec!["MOTION"],
             None => vec![],
         };
+        if compute.is_some() {
+            defines.push("COMPUTE_RASTER");
+        }
         let key = ShaderKey::new("gbuffer/resolve.wgsl", defines);
         let pipeline = cx.shaders.compute_pipeline(&device, &key, "main")?;
         let layer_buffer = match g.layer_buffers.get(i) {
@@ -236,14 +288,33 @@ fn resolve(
                 resource: g.instances.as_entire_binding(),
             },
             wgpu::BindGroupEntry {
-                binding: 4,
-                resource: wgpu::BindingResource::TextureView(&vis),
-            },
-            wgpu::BindGroupEntry {
                 binding: 5,
                 resource: layer_buffer.as_entire_binding(),
             },
         ];
+        match (&vis_view, &vis_buffer) {
+            (Some(view), _) => entries.push(wgpu::BindGroupEntry {
+                binding: 4,
+                resource: wgpu::BindingResource::TextureView(view),
+            }),
+            (None, Some((buffer, first_triangle))) => {
+                entries.push(wgpu::BindGroupEntry {
+                    binding: 4,
+                    resource: buffer.as_entire_binding(),
+                });
+                entries.push(wgpu::BindGroupEntry {
+                    binding: 10,
+                    resource: first_triangle.as_entire_binding(),
+                });
+            }
+            (None, None) => {}
+        }
+        if let Some(depth) = &hardware_depth {
+            entries.push(wgpu::BindGroupEntry {
+                binding: 9,
+                resource: wgpu::BindingResource::TextureView(depth),
+            });
+        }
         for (k, view) in outputs.iter().enumerate() {
             entries.push(wgpu::BindGroupEntry {
                 binding: 6 + k as u32,

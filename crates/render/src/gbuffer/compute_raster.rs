@@ -1,0 +1,213 @@
+//! The compute rasterizer's resources and pass (shaders/gbuffer/raster.wgsl).
+//!
+//! The 64-bit visibility buffer lives here, sized to the frame, because the
+//! frame graph manages textures; the raster pass writes an ordering token
+//! that the resolves read, so culling and order still come from the graph.
+
+use std::sync::Mutex;
+
+use wgpu::util::DeviceExt;
+
+use crate::error::RenderError;
+use crate::frame_graph::PassContext;
+use crate::renderer::Renderer;
+use crate::shaders::ShaderKey;
+
+use super::{Draw, GBuffer};
+
+/// How many big-triangle tiles one frame can queue (16 bytes each).
+const TILE_CAPACITY: u32 = 1 << 18;
+/// Workgroups that stride over the queued tiles.
+const TILE_WORKGROUPS: u32 = 1024;
+const WORKGROUP: u32 = 64;
+
+/// Matches `Batch` in raster.wgsl.
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct GpuBatch {
+    first_instance: u32,
+    triangles: u32,
+    instance_count: u32,
+    first_global: u32,
+}
+
+struct Targets {
+    size: (u32, u32),
+    visibility: wgpu::Buffer,
+    tiles: wgpu::Buffer,
+    tile_count: wgpu::Buffer,
+}
+
+pub(super) struct ComputeRaster {
+    /// Per draw: its uniform and how many triangles it rasterizes.
+    batches: Vec<(wgpu::Buffer, u32)>,
+    pub first_triangle: wgpu::Buffer,
+    targets: Mutex<Option<Targets>>,
+}
+
+impl ComputeRaster {
+    pub fn new(renderer: &Renderer, draws: &[Draw], instance_count: usize) -> Self {
+        let device = &renderer.gpu.device;
+        let mut first_triangle = vec![0u32; instance_count.max(1)];
+        let mut global = 0u32;
+        let mut batches = Vec::new();
+        for draw in draws {
+            let triangles = draw.index_count / 3;
+            for k in 0..draw.instance_count {
+                first_triangle[(draw.first_instance + k) as usize] = global + k * triangles;
+            }
+            let total = triangles.saturating_mul(draw.instance_count);
+            if total > 0 {
+                let uniform = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some("raster batch"),
+                    contents: bytemuck::bytes_of(&GpuBatch {
+                        first_instance: draw.first_instance,
+                        triangles,
+                        instance_count: draw.instance_count,
+                        first_global: global,
+                    }),
+                    usage: wgpu::BufferUsages::UNIFORM,
+                });
+                batches.push((uniform, total));
+            }
+            global = global.saturating_add(total);
+        }
+        let first_triangle = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("first triangle per instance"),
+            contents: bytemuck::cast_slice(&first_triangle),
+            usage: wgpu::BufferUsages::STORAGE,
+        });
+        ComputeRaster {
+            batches,
+            first_triangle,
+            targets: Mutex::new(None),
+        }
+    }
+
+    /// The visibility buffer of the last frame this G-buffer rasterized.
+    pub fn visibility(&self) -> Option<wgpu::Buffer> {
+        self.targets
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .as_ref()
+            .map(|t| t.visibility.clone())
+    }
+
+    pub fn record(
+        &self,
+        g: &GBuffer,
+        renderer: &Renderer,
+        cx: &mut PassContext<'_>,
+    ) -> Result<(), RenderError> {
+        let device = cx.gpu.device.clone();
+        let size = g.pixel_size(cx.output_size);
+        let mut guard = self.targets.lock().unwrap_or_else(|e| e.into_inner());
+        if guard.as_ref().is_none_or(|t| t.size != size) {
+            let storage = |label: &str, bytes: u64| {
+                device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some(label),
+                    size: bytes,
+                    usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+                    mapped_at_creation: false,
+                })
+            };
+            *guard = Some(Targets {
+                size,
+                visibility: storage(
+                    "visibility (64-bit)",
+                    u64::from(size.0) * u64::from(size.1) * 8,
+                ),
+                tiles: storage("raster tiles", u64::from(TILE_CAPACITY) * 16),
+                tile_count: storage("raster tile count", 16),
+            });
+        }
+        let Some(targets) = guard.as_ref() else {
+            return Ok(());
+        };
+        cx.encoder.clear_buffer(&targets.visibility, 0, None);
+        cx.gpu.queue.write_buffer(
+            &targets.tile_count,
+            0,
+            bytemuck::cast_slice(&[0u32, TILE_CAPACITY, 0, 0]),
+        );
+
+        let key = ShaderKey::new("gbuffer/raster.wgsl", []);
+        let triangles_pipeline = cx
+            .shaders
+            .compute_pipeline(&device, &key, "raster_triangles")?;
+        let tiles_pipeline = cx.shaders.compute_pipeline(&device, &key, "raster_tiles")?;
+        let (vertices, indices, _) = renderer.meshes.buffers();
+        let shared = |layout: &wgpu::BindGroupLayout, batch: Option<&wgpu::Buffer>| {
+            let mut entries = vec![
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: g.camera_buffer.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: vertices.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: indices.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 3,
+                    resource: g.instances.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 4,
+                    resource: targets.visibility.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 5,
+                    resource: targets.tiles.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 6,
+                    resource: targets.tile_count.as_entire_binding(),
+                },
+            ];
+            if let Some(b) = batch {
+                entries.push(wgpu::BindGroupEntry {
+                    binding: 7,
+                    resource: b.as_entire_binding(),
+                });
+            }
+            device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("raster"),
+                layout,
+                entries: &entries,
+            })
+        };
+        let triangle_layout = triangles_pipeline.get_bind_group_layout(0);
+        let batch_groups: Vec<(wgpu::BindGroup, u32)> = self
+            .batches
+            .iter()
+            .map(|(uniform, total)| (shared(&triangle_layout, Some(uniform)), *total))
+            .collect();
+        let tiles_group = shared(&tiles_pipeline.get_bind_group_layout(0), None);
+
+        let timestamps = cx.compute_timestamps();
+        let mut pass = cx.encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("compute raster"),
+            timestamp_writes: timestamps,
+        });
+        pass.set_pipeline(&triangles_pipeline);
+        let mut dispatches = 0;
+        for (group, total) in &batch_groups {
+            let workgroups = total.div_ceil(WORKGROUP);
+            // Over 65,535 workgroups spill into y; the shader folds y back into one index.
+            let x = workgroups.min(65_535);
+            pass.set_bind_group(0, group, &[]);
+            pass.dispatch_workgroups(x, workgroups.div_ceil(x), 1);
+            dispatches += 1;
+        }
+        pass.set_pipeline(&tiles_pipeline);
+        pass.set_bind_group(0, &tiles_group, &[]);
+        pass.dispatch_workgroups(TILE_WORKGROUPS, 1, 1);
+        drop(pass);
+        cx.draws += dispatches;
+        Ok(())
+    }
+}

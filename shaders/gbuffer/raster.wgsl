@@ -1,0 +1,218 @@
+// DeferredBase's compute rasterizer: the visibility buffer without the
+// raster hardware. On the H100 only a few units run vertex and pixel work
+// while compute runs on all of them (DEVELOPERS.md, shared/GPU-HOST.md), so
+// triangles are rasterized here, one thread per triangle, into a 64-bit
+// buffer with atomicMax: depth (reversed-Z, so nearer is larger) in the high
+// 32 bits, the triangle's global id + 1 in the low 32. Triangles that cover
+// many pixels, or cross the near plane, are split into 32x32-pixel tiles and
+// rasterized by a second kernel, a workgroup per tile.
+#import spreadlight::camera::Camera
+#import spreadlight::mesh::{Vertex, Instance}
+
+// One draw: a mesh's triangles for a run of instances.
+struct Batch {
+    first_instance: u32,
+    triangles: u32,
+    instance_count: u32,
+    first_global: u32,
+}
+
+// A tile of a big triangle: instance, triangle, global id, tile x | tile y << 16.
+struct TileEntry {
+    instance: u32,
+    triangle: u32,
+    global_id: u32,
+    tile: u32,
+}
+
+@group(0) @binding(0) var<uniform> camera: Camera;
+@group(0) @binding(1) var<storage, read> vertices: array<Vertex>;
+@group(0) @binding(2) var<storage, read> indices: array<u32>;
+@group(0) @binding(3) var<storage, read> instances: array<Instance>;
+@group(0) @binding(4) var<storage, read_write> visibility: array<atomic<u64>>;
+@group(0) @binding(5) var<storage, read_write> tiles: array<TileEntry>;
+// x: entries written, y: capacity, z/w unused.
+@group(0) @binding(6) var<storage, read_write> tile_count: array<atomic<u32>, 4>;
+@group(0) @binding(7) var<uniform> batch: Batch;
+
+const TILE: u32 = 32u;
+const SMALL_AREA: f32 = 256.0;
+
+// A triangle made ready to rasterize: up to two screen-space triangles (a
+// near-clipped triangle is a quad), each vertex (x, y in pixels, depth).
+struct Setup {
+    count: u32,
+    a: array<vec3<f32>, 4>,
+    lo: vec2<f32>,
+    hi: vec2<f32>,
+}
+
+fn clip_position(instance: u32, triangle: u32, corner: u32) -> vec4<f32> {
+    let info = instances[instance].info;
+    let index = indices[info.x + triangle * 3u + corner] + info.y;
+    return camera.view_projection * instances[instance].model * vec4<f32>(vertices[index].position_u.xyz, 1.0);
+}
+
+fn to_screen(c: vec4<f32>) -> vec3<f32> {
+    let ndc = c.xyz / c.w;
+    return vec3<f32>((ndc.x * 0.5 + 0.5) * camera.size.x, (0.5 - ndc.y * 0.5) * camera.size.y, ndc.z);
+}
+
+fn cross2(a: vec2<f32>, b: vec2<f32>) -> f32 {
+    return a.x * b.y - a.y * b.x;
+}
+
+// Clip against the near plane, cull back faces, project. count 0: nothing to draw.
+// In reversed-Z clip space the near plane is z = w; in front of it, w - z >= 0.
+fn near_distance(c: vec4<f32>) -> f32 {
+    return c.w - c.z;
+}
+
+fn setup(instance: u32, triangle: u32) -> Setup {
+    var s: Setup;
+    s.count = 0u;
+    var c = array<vec4<f32>, 3>(clip_position(instance, triangle, 0u), clip_position(instance, triangle, 1u), clip_position(instance, triangle, 2u));
+    // Sutherland-Hodgman against the near plane: at most 4 vertices out.
+    var poly: array<vec4<f32>, 4>;
+    var n = 0u;
+    for (var i = 0u; i < 3u; i++) {
+        let p = c[i];
+        let q = c[(i + 1u) % 3u];
+        let p_in = near_distance(p) >= 0.0;
+        let q_in = near_distance(q) >= 0.0;
+        if (p_in) {
+            poly[n] = p;
+            n++;
+        }
+        if (p_in != q_in) {
+            let t = near_distance(p) / (near_distance(p) - near_distance(q));
+            poly[n] = mix(p, q, t);
+            n++;
+        }
+    }
+    if (n < 3u) {
+        return s;
+    }
+    // Back faces: counter-clockwise is front in NDC (y up).
+    let n0 = poly[0].xy / poly[0].w;
+    let n1 = poly[1].xy / poly[1].w;
+    let n2 = poly[2].xy / poly[2].w;
+    if (cross2(n1 - n0, n2 - n0) <= 0.0) {
+        return s;
+    }
+    s.lo = vec2<f32>(1e30);
+    s.hi = vec2<f32>(-1e30);
+    for (var i = 0u; i < n; i++) {
+        let v = to_screen(poly[i]);
+        s.a[i] = v;
+        s.lo = min(s.lo, v.xy);
+        s.hi = max(s.hi, v.xy);
+    }
+    s.count = n - 2u;
+    return s;
+}
+
+fn pack(depth: f32, id: u32) -> u64 {
+    return (u64(bitcast<u32>(depth)) << 32u) | u64(id + 1u);
+}
+
+// Cover one pixel with triangle (a, b, c) in screen space (clockwise there, as y points down).
+fn shade(x: u32, y: u32, a: vec3<f32>, b: vec3<f32>, c: vec3<f32>, id: u32) {
+    let p = vec2<f32>(f32(x) + 0.5, f32(y) + 0.5);
+    let area = cross2(b.xy - a.xy, c.xy - a.xy);
+    if (area == 0.0) {
+        return;
+    }
+    // Inclusive edges: a pixel on a shared edge may be covered twice, never missed;
+    // atomicMax makes the double cover harmless.
+    let w0 = cross2(c.xy - b.xy, p - b.xy) / area;
+    let w1 = cross2(a.xy - c.xy, p - c.xy) / area;
+    let w2 = cross2(b.xy - a.xy, p - a.xy) / area;
+    if (w0 < 0.0 || w1 < 0.0 || w2 < 0.0) {
+        return;
+    }
+    let depth = w0 * a.z + w1 * b.z + w2 * c.z;
+    if (depth < 0.0 || depth > 1.0) {
+        return;
+    }
+    let width = u32(camera.size.x);
+    atomicMax(&visibility[y * width + x], pack(depth, id));
+}
+
+fn shade_rect(s: Setup, id: u32, lo: vec2<u32>, hi: vec2<u32>, lane: u32, lanes: u32) {
+    let w = hi.x - lo.x;
+    let total = w * (hi.y - lo.y);
+    for (var k = lane; k < total; k += lanes) {
+        let x = lo.x + k % w;
+        let y = lo.y + k / w;
+        shade(x, y, s.a[0], s.a[1], s.a[2], id);
+        if (s.count == 2u) {
+            shade(x, y, s.a[0], s.a[2], s.a[3], id);
+        }
+    }
+}
+
+// The pixel rectangle of a setup's bounds, clamped to the target.
+fn pixel_bounds(s: Setup) -> array<vec2<u32>, 2> {
+    let size = camera.size.xy;
+    let lo = clamp(floor(s.lo), vec2<f32>(0.0), size);
+    let hi = clamp(ceil(s.hi) + 1.0, vec2<f32>(0.0), size);
+    return array<vec2<u32>, 2>(vec2<u32>(lo), vec2<u32>(hi));
+}
+
+@compute @workgroup_size(64)
+fn raster_triangles(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
+    let thread = gid.x + gid.y * groups.x * 64u;
+    if (thread >= batch.triangles * batch.instance_count) {
+        return;
+    }
+    let instance = batch.first_instance + thread / batch.triangles;
+    let triangle = thread % batch.triangles;
+    let id = batch.first_global + thread;
+    let s = setup(instance, triangle);
+    if (s.count == 0u) {
+        return;
+    }
+    let bounds = pixel_bounds(s);
+    let lo = bounds[0];
+    let hi = bounds[1];
+    if (lo.x >= hi.x || lo.y >= hi.y) {
+        return;
+    }
+    let area = f32(hi.x - lo.x) * f32(hi.y - lo.y);
+    if (area <= SMALL_AREA) {
+        shade_rect(s, id, lo, hi, 0u, 1u);
+        return;
+    }
+    // Big: hand its tiles to raster_tiles.
+    let t_lo = lo / TILE;
+    let t_hi = (hi + TILE - 1u) / TILE;
+    let count = (t_hi.x - t_lo.x) * (t_hi.y - t_lo.y);
+    let first = atomicAdd(&tile_count[0], count);
+    let capacity = atomicLoad(&tile_count[1]);
+    for (var k = 0u; k < count && first + k < capacity; k++) {
+        let tx = t_lo.x + k % (t_hi.x - t_lo.x);
+        let ty = t_lo.y + k / (t_hi.x - t_lo.x);
+        tiles[first + k] = TileEntry(instance, triangle, id, tx | (ty << 16u));
+    }
+}
+
+// One workgroup per tile entry (striding when there are more than workgroups).
+@compute @workgroup_size(64)
+fn raster_tiles(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation_index) lane: u32, @builtin(num_workgroups) groups: vec3<u32>) {
+    let count = min(atomicLoad(&tile_count[0]), atomicLoad(&tile_count[1]));
+    for (var e = wid.x; e < count; e += groups.x) {
+        let entry = tiles[e];
+        let s = setup(entry.instance, entry.triangle);
+        if (s.count == 0u) {
+            continue;
+        }
+        let tile = vec2<u32>(entry.tile & 0xffffu, entry.tile >> 16u) * TILE;
+        let bounds = pixel_bounds(s);
+        let lo = max(bounds[0], tile);
+        let hi = min(bounds[1], tile + TILE);
+        if (lo.x < hi.x && lo.y < hi.y) {
+            shade_rect(s, entry.global_id, lo, hi, lane, 64u);
+        }
+    }
+}
