@@ -24,7 +24,7 @@ pub struct Args {
     /// Frames timed.
     #[arg(long, default_value_t = 200)]
     frames: u64,
-    /// Override an input value: `NODE_ID.PIN=VALUE`, e.g. `--set "20.Input=10000"` (Int, Float, Bool or String pins).
+    /// Override an input value: `NODE_ID.PIN=VALUE`, e.g. `--set "20.Input=10000"` (Int, Float, Bool, String or enum pins).
     #[arg(long = "set", value_name = "ID.PIN=VALUE")]
     sets: Vec<String>,
     /// Print one JSON line instead of a table.
@@ -72,6 +72,15 @@ fn apply_set(patch: &mut spreadlight_graph::Patch, set: &str) -> anyhow::Result<
         spreadlight_graph::PinType::Int => Spread::Int(vec![value.parse().map_err(|_| bad())?]),
         spreadlight_graph::PinType::Bool => Spread::Bool(vec![value.parse().map_err(|_| bad())?]),
         spreadlight_graph::PinType::String => Spread::String(vec![value.to_owned()]),
+        spreadlight_graph::PinType::Enum(options) => {
+            if options.index_of(value).is_none() {
+                bail!(
+                    "`--set {set}`: `{value}` is not one of {}",
+                    options.options.join(", ")
+                );
+            }
+            Spread::Enum(vec![value.to_owned()])
+        }
         other => bail!("`--set {set}`: pins of type {other} cannot be set from the command line"),
     };
     node.values.insert(pin.to_owned(), spread);
