@@ -141,11 +141,7 @@ mod tests {
     use spreadlight_graph::Spread;
 
     use super::{MIN_DISTANCE, PITCH_LIMIT};
-    use crate::testing::{eval, eval_err, eval_out};
-
-    fn floats(v: &[f32]) -> Spread {
-        Spread::Float(v.to_vec())
-    }
+    use crate::testing::{eval, eval_err, eval_out, floats};
 
     /// View, Projection and Position of a one-slice camera.
     fn camera(values: &[(&str, Spread)]) -> (Mat4, Mat4, Vec3) {

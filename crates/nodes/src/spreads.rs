@@ -295,15 +295,7 @@ mod tests {
     use spreadlight_graph::Spread;
 
     use super::MAX_SLICES;
-    use crate::testing::{assert_close, eval, eval_err, eval_out, option};
-
-    fn floats(v: &[f32]) -> Spread {
-        Spread::Float(v.to_vec())
-    }
-
-    fn ints(v: &[i64]) -> Spread {
-        Spread::Int(v.to_vec())
-    }
+    use crate::testing::{assert_close, eval, eval_err, eval_out, floats, ints, option};
 
     fn linear(values: &[(&str, Spread)]) -> Vec<f32> {
         eval_out("LinearSpread", values, "Output")

@@ -185,3 +185,13 @@ fn every_node_loads_into_a_patch_without_problems() {
     let problems = runtime.load(&patch);
     assert!(problems.is_empty(), "{problems:?}");
 }
+
+/// A Float spread from a slice, for test inputs.
+pub(crate) fn floats(v: &[f32]) -> Spread {
+    Spread::Float(v.to_vec())
+}
+
+/// An Int spread from a slice, for test inputs.
+pub(crate) fn ints(v: &[i64]) -> Spread {
+    Spread::Int(v.to_vec())
+}

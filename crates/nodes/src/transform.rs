@@ -203,11 +203,7 @@ mod tests {
     use spreadlight_graph::Spread;
 
     use super::look_at;
-    use crate::testing::eval_out;
-
-    fn floats(v: &[f32]) -> Spread {
-        Spread::Float(v.to_vec())
-    }
+    use crate::testing::{eval_out, floats};
 
     fn mats(v: &[Mat4]) -> Spread {
         Spread::Mat4(v.to_vec())

@@ -254,11 +254,7 @@ fn map_node(cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
 mod tests {
     use spreadlight_graph::Spread;
 
-    use crate::testing::{assert_close, eval, eval_out, option};
-
-    fn floats(v: &[f32]) -> Spread {
-        Spread::Float(v.to_vec())
-    }
+    use crate::testing::{assert_close, eval, eval_out, floats, option};
 
     fn binary(name: &str, a: &[f32], b: &[f32]) -> Vec<f32> {
         eval_out(

@@ -123,11 +123,7 @@ mod tests {
     use glam::{Vec2, Vec3, Vec4};
     use spreadlight_graph::Spread;
 
-    use crate::testing::{eval, eval_out};
-
-    fn floats(v: &[f32]) -> Spread {
-        Spread::Float(v.to_vec())
-    }
+    use crate::testing::{eval, eval_out, floats};
 
     #[test]
     fn joins_spread_and_wrap() {

@@ -138,23 +138,8 @@ impl ComputeRaster {
         let tiles_pipeline = cx.shaders.compute_pipeline(&device, &key, "raster_tiles")?;
         let (vertices, indices, _) = renderer.meshes.buffers();
         let shared = |layout: &wgpu::BindGroupLayout, batch: Option<&wgpu::Buffer>| {
-            let mut entries = vec![
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: g.camera_buffer.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: vertices.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 2,
-                    resource: indices.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 3,
-                    resource: g.instances.as_entire_binding(),
-                },
+            let mut entries = g.geometry_entries(&vertices, &indices);
+            entries.extend([
                 wgpu::BindGroupEntry {
                     binding: 4,
                     resource: targets.visibility.as_entire_binding(),
@@ -167,7 +152,7 @@ impl ComputeRaster {
                     binding: 6,
                     resource: targets.tile_count.as_entire_binding(),
                 },
-            ];
+            ]);
             if let Some(b) = batch {
                 entries.push(wgpu::BindGroupEntry {
                     binding: 7,

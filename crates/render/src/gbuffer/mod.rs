@@ -258,6 +258,33 @@ impl GBuffer {
         self.size.pixels(output)
     }
 
+    /// Bindings 0 to 3 every G-buffer shader shares: camera, the mesh
+    /// arena's vertices and indices, and the instances.
+    fn geometry_entries<'b>(
+        &'b self,
+        vertices: &'b wgpu::Buffer,
+        indices: &'b wgpu::Buffer,
+    ) -> Vec<wgpu::BindGroupEntry<'b>> {
+        vec![
+            wgpu::BindGroupEntry {
+                binding: 0,
+                resource: self.camera_buffer.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 1,
+                resource: vertices.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 2,
+                resource: indices.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 3,
+                resource: self.instances.as_entire_binding(),
+            },
+        ]
+    }
+
     pub fn owner(&self) -> Option<u32> {
         self.owner
     }

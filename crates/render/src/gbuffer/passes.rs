@@ -149,24 +149,7 @@ fn visibility(
     let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
         label: Some("visibility"),
         layout: &pipeline.get_bind_group_layout(0),
-        entries: &[
-            wgpu::BindGroupEntry {
-                binding: 0,
-                resource: g.camera_buffer.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 1,
-                resource: vertices.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 2,
-                resource: indices.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 3,
-                resource: g.instances.as_entire_binding(),
-            },
-        ],
+        entries: &g.geometry_entries(&vertices, &indices),
     });
     let vis = cx.view(&g.targets.visibility)?;
     let depth = cx.view(&g.targets.hardware_depth)?;
@@ -270,28 +253,11 @@ fn resolve(
             Some(b) => b.clone(),
             None => background_layer(&device),
         };
-        let mut entries = vec![
-            wgpu::BindGroupEntry {
-                binding: 0,
-                resource: g.camera_buffer.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 1,
-                resource: vertices.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 2,
-                resource: indices.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 3,
-                resource: g.instances.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 5,
-                resource: layer_buffer.as_entire_binding(),
-            },
-        ];
+        let mut entries = g.geometry_entries(&vertices, &indices);
+        entries.push(wgpu::BindGroupEntry {
+            binding: 5,
+            resource: layer_buffer.as_entire_binding(),
+        });
         match (&vis_view, &vis_buffer) {
             (Some(view), _) => entries.push(wgpu::BindGroupEntry {
                 binding: 4,
