@@ -7,7 +7,14 @@ use spreadlight_graph::{EvalContext, NodeError, Resource, ResourceKind, Spread};
 use spreadlight_render::Renderer;
 
 /// The node categories whose nodes need a GPU; hosts provide a renderer when a patch has one.
-pub const GPU_CATEGORIES: &[&str] = &["Geometry", "DeferredBase", "Texture", "Output"];
+pub const GPU_CATEGORIES: &[&str] = &[
+    "Geometry",
+    "DeferredBase",
+    "Texture",
+    "Output",
+    "Lighting",
+    "Post",
+];
 
 /// The renderer the host provided, or an error that says how to get one.
 pub fn renderer(cx: &EvalContext<'_>) -> Result<Arc<Renderer>, NodeError> {

@@ -7,17 +7,21 @@
 //! `camera.rs`, `LFO` in `animation.rs`, IOBoxes, `Probe` and `Switch` in `io.rs`,
 //! `Sphere` in `geometry/primitives.rs`, `glTF` in `geometry/gltf.rs`,
 //! `DeferredBase`, `MRE` and `GBufferView` in `deferred/`, `Output` in `output.rs`,
-//! `FileTexture` in `texture/file_texture.rs`.
+//! `FileTexture` in `texture/file_texture.rs`, `PointLightBuffer`, `CookTorrance` and
+//! `CompositeLight` in `lighting/`, `Tonemap` in `post/tonemap.rs`.
 
 use spreadlight_graph::Registry;
 
 pub mod animation;
+pub mod bench;
 pub mod camera;
 pub mod deferred;
 pub mod geometry;
 pub mod gpu;
 pub mod io;
+pub mod lighting;
 pub mod output;
+pub mod post;
 pub mod spreads;
 pub mod texture;
 pub mod transform;
@@ -41,5 +45,8 @@ pub fn registry() -> Registry {
     deferred::register(&mut r);
     output::register(&mut r);
     texture::register(&mut r);
+    lighting::register(&mut r);
+    post::register(&mut r);
+    bench::register(&mut r);
     r
 }

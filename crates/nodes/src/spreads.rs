@@ -30,6 +30,7 @@ pub static ALIGNMENT: EnumDef = EnumDef {
 };
 
 pub fn register(r: &mut Registry) {
+    r.add(cross_2d());
     r.add(
         NodeDef::new(
             "LinearSpread",
@@ -290,12 +291,49 @@ fn integer_range(cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
     Ok(())
 }
 
+/// `Cross (2d)`: every pairing of two spreads, X varying slowest, as vvvv's.
+fn cross_2d() -> NodeDef {
+    NodeDef::new(
+        "Cross (2d)",
+        "Spreads",
+        "Every combination of the slices of X and Y: X[0] with each Y, then X[1] with each Y, and so on \
+         (a grid from two rows of values).",
+    )
+    .input("X", 0.0f32)
+    .input("Y", 0.0f32)
+    .output::<f32>("X")
+    .output::<f32>("Y")
+    .evaluate(|cx| {
+        let (xs, ys) = (cx.slices::<f32>(0)?.to_vec(), cx.slices::<f32>(1)?.to_vec());
+        if xs.len().saturating_mul(ys.len()) > MAX_SLICES {
+            return Err(cx.input_error(1, format!("the cross would have over {MAX_SLICES} slices")));
+        }
+        let out_x = xs.iter().flat_map(|x| std::iter::repeat_n(*x, ys.len())).collect();
+        let out_y = xs.iter().flat_map(|_| ys.iter().copied()).collect();
+        cx.set::<f32>(0, out_x);
+        cx.set::<f32>(1, out_y);
+        Ok(())
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use spreadlight_graph::Spread;
 
     use super::MAX_SLICES;
     use crate::testing::{assert_close, eval, eval_err, eval_out, floats, ints, option};
+
+    #[test]
+    fn cross_pairs_every_x_with_every_y() {
+        let values = [
+            ("X", floats(&[1.0, 2.0])),
+            ("Y", floats(&[10.0, 20.0, 30.0])),
+        ];
+        let x: Vec<f32> = eval_out("Cross (2d)", &values, "X");
+        let y: Vec<f32> = eval_out("Cross (2d)", &values, "Y");
+        assert_eq!(x, [1.0, 1.0, 1.0, 2.0, 2.0, 2.0]);
+        assert_eq!(y, [10.0, 20.0, 30.0, 10.0, 20.0, 30.0]);
+    }
 
     fn linear(values: &[(&str, Spread)]) -> Vec<f32> {
         eval_out("LinearSpread", values, "Output")

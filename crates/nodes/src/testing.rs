@@ -128,6 +128,7 @@ fn every_node_evaluates_with_its_defaults_to_finite_values() {
             "CircularSpread",
             "Clamp (Value)",
             "Cos (Value)",
+            "Cross (2d)",
             "Divide (Value)",
             "I (Spreads)",
             "LinearSpread",

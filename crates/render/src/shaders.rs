@@ -67,6 +67,9 @@ pub const SHADERS: &[ShaderFile] = &[
     shader!("lib/packing.wgsl", library),
     shader!("lib/camera.wgsl", library),
     shader!("lib/mesh.wgsl", library),
+    shader!("lib/brdf.wgsl", library),
+    shader!("lib/lights.wgsl", library),
+    shader!("lib/tonemap.wgsl", library),
     shader!("gbuffer/visibility.wgsl", []),
     shader!("gbuffer/raster.wgsl", []),
     shader!(
@@ -80,6 +83,13 @@ pub const SHADERS: &[ShaderFile] = &[
             "VELOCITY_FROM_GEOMETRY"
         ]
     ),
+    shader!("lighting/clusters.wgsl", []),
+    shader!(
+        "lighting/cook_torrance.wgsl",
+        ["CLUSTERED", "ENERGY_COMPENSATION"]
+    ),
+    shader!("lighting/composite.wgsl", []),
+    shader!("post/tonemap.wgsl", []),
     shader!("gbuffer/view.wgsl", one_of ["ALBEDO", "NORMALS", "VELOCITY", "UV", "DEPTH", "MATERIAL_ID", "OBJECT_ID"]),
 ];
 
@@ -245,6 +255,8 @@ pub fn all_permutations() -> Vec<ShaderKey> {
 pub struct ShaderCache {
     composer: ShaderComposer,
     modules: HashMap<ShaderKey, wgpu::ShaderModule>,
+    /// Per permutation and entry point: the (group, binding)s it uses.
+    used: HashMap<(ShaderKey, String), Vec<(u32, u32)>>,
     compute: HashMap<(ShaderKey, &'static str), wgpu::ComputePipeline>,
     render: HashMap<(ShaderKey, String), wgpu::RenderPipeline>,
     /// Pipelines compiled since the cache was made.
@@ -256,6 +268,7 @@ impl ShaderCache {
         ShaderCache {
             composer,
             modules: HashMap::new(),
+            used: HashMap::new(),
             compute: HashMap::new(),
             render: HashMap::new(),
             pipelines_compiled: 0,
@@ -286,6 +299,73 @@ impl ShaderCache {
         });
         self.modules.insert(key.clone(), m.clone());
         Ok(m)
+    }
+
+    /// The bindings `entry` of a permutation uses (naga's reflection): a
+    /// derived bind group layout has exactly these, so a bind group must too.
+    pub fn used_bindings(
+        &mut self,
+        key: &ShaderKey,
+        entry: &str,
+    ) -> Result<Vec<(u32, u32)>, RenderError> {
+        let cache_key = (key.clone(), entry.to_owned());
+        if let Some(used) = self.used.get(&cache_key) {
+            return Ok(used.clone());
+        }
+        let module = self.composer.compose(key)?;
+        let error = |message: String| RenderError::Shader {
+            shader: key.path.to_owned(),
+            defs: key.describe_defs(),
+            message,
+        };
+        let info = naga::valid::Validator::new(
+            naga::valid::ValidationFlags::all(),
+            naga::valid::Capabilities::all(),
+        )
+        .validate(&module)
+        .map_err(|e| error(e.to_string()))?;
+        let index = module
+            .entry_points
+            .iter()
+            .position(|e| e.name == entry)
+            .ok_or_else(|| error(format!("no entry point `{entry}`")))?;
+        let function = info.get_entry_point(index);
+        let used: Vec<(u32, u32)> = module
+            .global_variables
+            .iter()
+            .filter(|(handle, _)| !function[*handle].is_empty())
+            .filter_map(|(_, var)| var.binding.as_ref().map(|b| (b.group, b.binding)))
+            .collect();
+        self.used.insert(cache_key, used.clone());
+        Ok(used)
+    }
+
+    /// A bind group for group `group` of a compute pipeline made from
+    /// `key`/`entry`, given every resource a caller might bind: those the
+    /// permutation compiled out are left out.
+    pub fn bind_group(
+        &mut self,
+        device: &wgpu::Device,
+        key: &ShaderKey,
+        entry: &str,
+        pipeline: &wgpu::ComputePipeline,
+        group: u32,
+        resources: &[(u32, wgpu::BindingResource<'_>)],
+    ) -> Result<wgpu::BindGroup, RenderError> {
+        let used = self.used_bindings(key, entry)?;
+        let entries: Vec<wgpu::BindGroupEntry<'_>> = resources
+            .iter()
+            .filter(|(binding, _)| used.contains(&(group, *binding)))
+            .map(|(binding, resource)| wgpu::BindGroupEntry {
+                binding: *binding,
+                resource: resource.clone(),
+            })
+            .collect();
+        Ok(device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some(key.path),
+            layout: &pipeline.get_bind_group_layout(group),
+            entries: &entries,
+        }))
     }
 
     /// The compute pipeline of `entry` in a permutation (bind group layouts derived from the shader).

@@ -1,0 +1,60 @@
+//! `CookTorrance`: point lights on the G-buffer, in compute, clustered or
+//! naive (the reference). Roughness and metallic are spreads indexed by the
+//! G-buffer's material id (until the MaterialBuffer lands).
+
+use spreadlight_graph::spread::{cycled, slice_count};
+use spreadlight_graph::{EnumDef, NodeDef, NodeError, PinType, Registry, ResourceKind, Spread};
+use spreadlight_render::TextureRef;
+use spreadlight_render::gbuffer::GBuffer;
+use spreadlight_render::lighting::{CookTorrance, LightLoop, PointLights};
+
+use crate::gpu::{renderer, resource_spread, resources};
+
+pub static LIGHT_LOOP: EnumDef = EnumDef {
+    name: "Light Loop",
+    options: &["Clustered", "Naive"],
+};
+
+pub fn register(r: &mut Registry) {
+    r.add(
+        NodeDef::new(
+            "CookTorrance",
+            super::CATEGORY,
+            "Shades the G-buffer with point lights: GGX, height-correlated Smith, Schlick Fresnel. Clustered \
+             loops over the lights of each pixel's froxel, Naive over all (the reference). Energy Compensation \
+             adds multiple scattering. Roughness and Metallic slice i apply to material id i (wrapping). \
+             Diffuse includes albedo.",
+        )
+        .input_spread("G-Buffer", PinType::Resource(ResourceKind::GBuffer), Spread::Resource(ResourceKind::GBuffer, vec![]))
+        .input_spread("Lights", PinType::Resource(ResourceKind::LightWorld), Spread::Resource(ResourceKind::LightWorld, vec![]))
+        .input("Roughness", 0.5f32)
+        .input("Metallic", 0.0f32)
+        .input_enum("Light Loop", &LIGHT_LOOP, "Clustered")
+        .input("Energy Compensation", true)
+        .output_typed("Diffuse", PinType::Resource(ResourceKind::Texture))
+        .output_typed("Specular", PinType::Resource(ResourceKind::Texture))
+        .evaluate(|cx| {
+            let renderer = renderer(cx)?;
+            let gbuffer = resources::<GBuffer>(cx, 0)?.into_iter().next().ok_or_else(|| cx.input_error(0, "no G-buffer connected"))?;
+            let lights = match resources::<PointLights>(cx, 1)?.into_iter().next() {
+                Some(l) => l,
+                None => PointLights::new(&renderer, Vec::new()),
+            };
+            let (roughness, metallic) = (cx.slices::<f32>(2)?, cx.slices::<f32>(3)?);
+            let n = slice_count([roughness.len(), metallic.len()]);
+            let surfaces: Vec<(f32, f32)> = cycled(roughness, n).zip(cycled(metallic, n)).map(|(r, m)| (*r, *m)).collect();
+            if let Some(slice) = surfaces.iter().position(|(r, m)| !r.is_finite() || !m.is_finite()) {
+                return Err(NodeError::Other(format!("Roughness or Metallic slice {slice} is NaN or infinite")));
+            }
+            let mode = match cx.enum_slices(4)?.first().map(String::as_str) {
+                Some("Naive") => LightLoop::Naive,
+                _ => LightLoop::Clustered,
+            };
+            let energy = cx.slices::<bool>(5)?.first().copied().unwrap_or(true);
+            let recipe = CookTorrance::new(&renderer, Some(cx.node_id.0), gbuffer, lights, mode, energy, &surfaces);
+            cx.set_output(0, resource_spread::<TextureRef>(ResourceKind::Texture, vec![std::sync::Arc::new(recipe.diffuse_texture())]));
+            cx.set_output(1, resource_spread::<TextureRef>(ResourceKind::Texture, vec![std::sync::Arc::new(recipe.specular_texture())]));
+            Ok(())
+        }),
+    );
+}

@@ -1,0 +1,123 @@
+//! Clustered light assignment (shaders/lighting/clusters.wgsl): froxels of
+//! `tile` pixels by exponential depth slices, an exact index list per froxel.
+
+use std::sync::Mutex;
+
+use crate::context::GpuContext;
+
+/// The froxel grid for a target size and depth range.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ClusterGrid {
+    pub tiles_x: u32,
+    pub tiles_y: u32,
+    pub slices: u32,
+    pub tile: u32,
+    pub near: f32,
+    pub far: f32,
+}
+
+impl ClusterGrid {
+    pub const TILE: u32 = 64;
+    pub const SLICES: u32 = 32;
+
+    /// The grid for a `size` target and a camera whose depth runs `near`..`far`.
+    pub fn new(size: (u32, u32), near: f32, far: f32) -> Self {
+        let near = if near.is_finite() && near > 0.0 {
+            near
+        } else {
+            0.01
+        };
+        let far = if far.is_finite() && far > near * 1.01 {
+            far
+        } else {
+            near * 1000.0
+        };
+        ClusterGrid {
+            tiles_x: size.0.div_ceil(Self::TILE).max(1),
+            tiles_y: size.1.div_ceil(Self::TILE).max(1),
+            slices: Self::SLICES,
+            tile: Self::TILE,
+            near,
+            far,
+        }
+    }
+
+    pub fn clusters(&self) -> u32 {
+        self.tiles_x * self.tiles_y * self.slices
+    }
+
+    /// Matches `Grid` in the lighting shaders.
+    pub(crate) fn uniform(&self, lights: u32) -> [u32; 8] {
+        [
+            self.tiles_x,
+            self.tiles_y,
+            self.slices,
+            lights,
+            self.near.to_bits(),
+            self.far.to_bits(),
+            (self.far / self.near).ln().to_bits(),
+            (self.tile as f32).to_bits(),
+        ]
+    }
+}
+
+/// The froxel buffers, kept between frames and grown when needed.
+pub(crate) struct ClusterBuffers {
+    pub clusters: u32,
+    pub lights: u32,
+    pub capacity: u32,
+    pub view_lights: wgpu::Buffer,
+    pub counts: wgpu::Buffer,
+    pub offsets: wgpu::Buffer,
+    pub indices: wgpu::Buffer,
+    pub totals: wgpu::Buffer,
+}
+
+pub(crate) struct ClusterStore(Mutex<Option<ClusterBuffers>>);
+
+impl ClusterStore {
+    pub fn new() -> Self {
+        ClusterStore(Mutex::new(None))
+    }
+
+    /// Buffers for `clusters` froxels and `lights` lights, reusing last frame's when big enough.
+    pub fn get(
+        &self,
+        gpu: &GpuContext,
+        clusters: u32,
+        lights: u32,
+    ) -> std::sync::MutexGuard<'_, Option<ClusterBuffers>> {
+        let mut guard = self.0.lock().unwrap_or_else(|e| e.into_inner());
+        let fits = guard
+            .as_ref()
+            .is_some_and(|b| b.clusters >= clusters && b.lights >= lights.max(1));
+        if !fits {
+            // The index list: on average 64 entries per froxel, at least 4 per light,
+            // capped by the device's storage binding size.
+            let max = (gpu.device.limits().max_storage_buffer_binding_size / 4)
+                .min(u64::from(u32::MAX)) as u32;
+            let capacity = (clusters.saturating_mul(64))
+                .max(lights.saturating_mul(4))
+                .min(max);
+            let storage = |label: &str, bytes: u64| {
+                gpu.device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some(label),
+                    size: bytes.max(16),
+                    usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+                    mapped_at_creation: false,
+                })
+            };
+            *guard = Some(ClusterBuffers {
+                clusters,
+                lights: lights.max(1),
+                capacity,
+                view_lights: storage("view-space lights", u64::from(lights.max(1)) * 16),
+                counts: storage("froxel light counts", u64::from(clusters) * 4),
+                offsets: storage("froxel light offsets", u64::from(clusters) * 4),
+                indices: storage("froxel light indices", u64::from(capacity) * 4),
+                totals: storage("froxel totals", 16),
+            });
+        }
+        guard
+    }
+}

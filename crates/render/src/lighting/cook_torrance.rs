@@ -1,0 +1,281 @@
+//! `CookTorrance` for point lights: the light assignment (clustered or
+//! not) and the shading pass, as one recipe with two frame-graph passes.
+
+use std::sync::Arc;
+
+use wgpu::util::DeviceExt;
+
+use super::PointLights;
+use super::clusters::{ClusterGrid, ClusterStore};
+use crate::error::RenderError;
+use crate::frame_graph::{FrameGraph, Lifetime, PassContext, SizeRule, TextureDesc};
+use crate::gbuffer::GBuffer;
+use crate::recipe::{Recipe, TextureRef, next_recipe_id};
+use crate::renderer::Renderer;
+use crate::shaders::ShaderKey;
+
+/// How the shading pass finds its lights.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LightLoop {
+    /// Only the lights listed in the pixel's froxel.
+    Clustered,
+    /// Every light for every pixel: the reference the clustered path is tested against.
+    Naive,
+}
+
+pub struct CookTorrance {
+    id: u64,
+    owner: Option<u32>,
+    gbuffer: Arc<GBuffer>,
+    lights: Arc<PointLights>,
+    pub mode: LightLoop,
+    energy_compensation: bool,
+    surfaces: wgpu::Buffer,
+    grid: wgpu::Buffer,
+    clusters: ClusterStore,
+    token: String,
+    pub diffuse: String,
+    pub specular: String,
+}
+
+/// Near and far of a conventional (0..1 depth) perspective projection; None for others.
+fn near_far(projection: glam::Mat4) -> Option<(f32, f32)> {
+    let (a, b) = (projection.z_axis.z, projection.w_axis.z);
+    let near = b / a;
+    let far = b / (a + 1.0);
+    (near.is_finite() && far.is_finite() && near > 0.0 && far > near).then_some((near, far))
+}
+
+impl CookTorrance {
+    /// `surfaces`: (roughness, metallic) per material id, wrapping.
+    pub fn new(
+        renderer: &Renderer,
+        owner: Option<u32>,
+        gbuffer: Arc<GBuffer>,
+        lights: Arc<PointLights>,
+        mode: LightLoop,
+        energy_compensation: bool,
+        surfaces: &[(f32, f32)],
+    ) -> Arc<Self> {
+        let id = next_recipe_id();
+        let device = &renderer.gpu.device;
+        let mut packed: Vec<[f32; 2]> = surfaces
+            .iter()
+            .map(|&(r, m)| [sanitize(r), sanitize(m)])
+            .collect();
+        if packed.is_empty() {
+            packed.push([0.5, 0.0]);
+        }
+        let surfaces = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("cook torrance surfaces"),
+            contents: bytemuck::cast_slice(&packed),
+            usage: wgpu::BufferUsages::STORAGE,
+        });
+        let grid = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("cluster grid"),
+            size: 32,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        Arc::new(CookTorrance {
+            id,
+            owner,
+            gbuffer,
+            lights,
+            mode,
+            energy_compensation,
+            surfaces,
+            grid,
+            clusters: ClusterStore::new(),
+            token: format!("cooktorrance{id}/lights"),
+            diffuse: format!("cooktorrance{id}/diffuse"),
+            specular: format!("cooktorrance{id}/specular"),
+        })
+    }
+
+    pub fn diffuse_texture(self: &Arc<Self>) -> TextureRef {
+        TextureRef {
+            recipe: self.clone(),
+            name: self.diffuse.clone(),
+        }
+    }
+
+    pub fn specular_texture(self: &Arc<Self>) -> TextureRef {
+        TextureRef {
+            recipe: self.clone(),
+            name: self.specular.clone(),
+        }
+    }
+
+    pub fn gbuffer(&self) -> &Arc<GBuffer> {
+        &self.gbuffer
+    }
+
+    fn label(&self, what: &str) -> String {
+        match self.owner {
+            Some(node) => format!("CookTorrance #{node}: {what}"),
+            None => format!("CookTorrance: {what}"),
+        }
+    }
+
+    fn assign(&self, grid: ClusterGrid, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
+        let device = cx.gpu.device.clone();
+        let count = self.lights.count();
+        let guard = self.clusters.get(cx.gpu, grid.clusters(), count);
+        let Some(b) = guard.as_ref() else {
+            return Ok(());
+        };
+        cx.encoder.clear_buffer(&b.counts, 0, None);
+        cx.gpu.queue.write_buffer(
+            &b.totals,
+            0,
+            bytemuck::cast_slice(&[0u32, b.capacity, 0, 0]),
+        );
+        let key = ShaderKey::new("lighting/clusters.wgsl", []);
+        let all = [
+            (0, self.gbuffer.camera_buffer().as_entire_binding()),
+            (1, self.grid.as_entire_binding()),
+            (2, self.lights.buffer().as_entire_binding()),
+            (3, b.view_lights.as_entire_binding()),
+            (4, b.counts.as_entire_binding()),
+            (5, b.offsets.as_entire_binding()),
+            (6, b.indices.as_entire_binding()),
+            (7, b.totals.as_entire_binding()),
+        ];
+        let steps: &[&'static str] = match self.mode {
+            LightLoop::Clustered => &["transform", "count", "scan", "fill"],
+            LightLoop::Naive => &["transform"],
+        };
+        let mut work = Vec::new();
+        for step in steps {
+            let pipeline = cx.shaders.compute_pipeline(&device, &key, step)?;
+            let group = cx
+                .shaders
+                .bind_group(&device, &key, step, &pipeline, 0, &all)?;
+            let groups = if *step == "scan" {
+                1
+            } else {
+                count.div_ceil(64).max(1)
+            };
+            work.push((pipeline, group, groups));
+        }
+        let timestamps = cx.compute_timestamps();
+        let mut pass = cx.encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("light assignment"),
+            timestamp_writes: timestamps,
+        });
+        for (pipeline, group, groups) in &work {
+            pass.set_pipeline(pipeline);
+            pass.set_bind_group(0, group, &[]);
+            pass.dispatch_workgroups(*groups, 1, 1);
+        }
+        Ok(())
+    }
+
+    fn shade(&self, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
+        let device = cx.gpu.device.clone();
+        let mut features = Vec::new();
+        if self.mode == LightLoop::Clustered {
+            features.push("CLUSTERED");
+        }
+        if self.energy_compensation {
+            features.push("ENERGY_COMPENSATION");
+        }
+        let key = ShaderKey::new("lighting/cook_torrance.wgsl", features);
+        let pipeline = cx.shaders.compute_pipeline(&device, &key, "main")?;
+        let g = &self.gbuffer;
+        let (color, normals, depth) = (
+            cx.view(&g.targets.color)?,
+            cx.view(&g.targets.normals)?,
+            cx.view(&g.targets.depth)?,
+        );
+        let (diffuse, specular) = (cx.view(&self.diffuse)?, cx.view(&self.specular)?);
+        let guard = self.clusters.get(cx.gpu, 1, self.lights.count());
+        let Some(b) = guard.as_ref() else {
+            return Ok(());
+        };
+        let all = [
+            (0, g.camera_buffer().as_entire_binding()),
+            (1, self.grid.as_entire_binding()),
+            (2, self.lights.buffer().as_entire_binding()),
+            (3, b.view_lights.as_entire_binding()),
+            (4, b.counts.as_entire_binding()),
+            (5, b.offsets.as_entire_binding()),
+            (6, b.indices.as_entire_binding()),
+            (7, self.surfaces.as_entire_binding()),
+            (8, wgpu::BindingResource::TextureView(&color)),
+            (9, wgpu::BindingResource::TextureView(&normals)),
+            (10, wgpu::BindingResource::TextureView(&depth)),
+            (11, wgpu::BindingResource::TextureView(&diffuse)),
+            (12, wgpu::BindingResource::TextureView(&specular)),
+        ];
+        let group = cx
+            .shaders
+            .bind_group(&device, &key, "main", &pipeline, 0, &all)?;
+        let (w, h) = g.pixel_size(cx.output_size);
+        let timestamps = cx.compute_timestamps();
+        let mut pass = cx.encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("cook torrance"),
+            timestamp_writes: timestamps,
+        });
+        pass.set_pipeline(&pipeline);
+        pass.set_bind_group(0, &group, &[]);
+        pass.dispatch_workgroups(w.div_ceil(8), h.div_ceil(8), 1);
+        Ok(())
+    }
+}
+
+/// Roughness and metallic from a pin: finite and in 0..1.
+fn sanitize(v: f32) -> f32 {
+    if v.is_finite() {
+        v.clamp(0.0, 1.0)
+    } else {
+        0.5
+    }
+}
+
+impl Recipe for CookTorrance {
+    fn declare<'a>(&'a self, renderer: &'a Renderer, fg: &mut FrameGraph<'a>) {
+        if !fg.include(self.id) {
+            return;
+        }
+        self.gbuffer.declare(renderer, fg);
+        let size = self.gbuffer.pixel_size(fg.output_size());
+        let (near, far) = near_far(self.gbuffer.camera.projection).unwrap_or((0.1, 1000.0));
+        let grid = ClusterGrid::new(size, near, far);
+        renderer.gpu.queue.write_buffer(
+            &self.grid,
+            0,
+            bytemuck::cast_slice(&grid.uniform(self.lights.count())),
+        );
+        let token = TextureDesc {
+            format: wgpu::TextureFormat::R8Unorm,
+            size: SizeRule::Absolute {
+                width: 1,
+                height: 1,
+            },
+            lifetime: Lifetime::Temporary,
+            usage: wgpu::TextureUsages::TEXTURE_BINDING,
+        };
+        let assign = match self.mode {
+            LightLoop::Clustered => "clustered light assignment",
+            LightLoop::Naive => "lights to view space",
+        };
+        fg.add_pass(
+            self.label(assign),
+            self.owner,
+            &[],
+            &[(&self.token, token)],
+            move |cx| self.assign(grid, cx),
+        );
+        let g = &self.gbuffer.targets;
+        let hdr = TextureDesc::storage(wgpu::TextureFormat::Rgba16Float).size(self.gbuffer.size);
+        fg.add_pass(
+            self.label("shade"),
+            self.owner,
+            &[&self.token, &g.color, &g.normals, &g.depth],
+            &[(&self.diffuse, hdr), (&self.specular, hdr)],
+            move |cx| self.shade(cx),
+        );
+    }
+}

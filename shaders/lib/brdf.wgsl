@@ -1,0 +1,118 @@
+// The Cook-Torrance BRDF: GGX distribution, height-correlated Smith
+// visibility, Schlick Fresnel, Lambert diffuse and the multiple-scattering
+// energy compensation. The CPU reference, with the same names and the
+// reasoning, is crates/render/src/reference/brdf.rs; tests run both.
+//
+// Roughness is perceptual (0..1), alpha = roughness^2 >= MIN_ALPHA; N.L <= 0
+// gives no light, a back-facing view is clamped to grazing. Never NaN.
+#define_import_path spreadlight::brdf
+
+#import spreadlight::packing::safe_normalize
+
+const PI: f32 = 3.14159265358979;
+const MIN_ALPHA: f32 = 1e-3;
+const MIN_COS: f32 = 1e-4;
+const DIELECTRIC_F0: f32 = 0.04;
+
+// What one light contributes, as factors of its incoming radiance (N.L included).
+struct Brdf {
+    diffuse: vec3<f32>,
+    specular: vec3<f32>,
+}
+
+fn roughness_to_alpha(roughness: f32) -> f32 {
+    let r = clamp(roughness, 0.0, 1.0);
+    return max(r * r, MIN_ALPHA);
+}
+
+fn d_ggx(n_dot_h: f32, roughness: f32) -> f32 {
+    let a = roughness_to_alpha(roughness);
+    let a2 = a * a;
+    let nh = clamp(n_dot_h, 0.0, 1.0);
+    // 1 - nh^2 as (1 - nh)(1 + nh): keeps its digits next to a sharp peak.
+    let f = (1.0 - nh) * (1.0 + nh) + nh * nh * a2;
+    return a2 / (PI * f * f);
+}
+
+// G2 / (4 N.L N.V), so the specular lobe is D * V * F.
+fn v_smith_ggx_correlated(n_dot_v: f32, n_dot_l: f32, roughness: f32) -> f32 {
+    let a = roughness_to_alpha(roughness);
+    let a2 = a * a;
+    let nv = clamp(n_dot_v, MIN_COS, 1.0);
+    let nl = clamp(n_dot_l, MIN_COS, 1.0);
+    let lambda_v = nl * sqrt(nv * nv * (1.0 - a2) + a2);
+    let lambda_l = nv * sqrt(nl * nl * (1.0 - a2) + a2);
+    return 0.5 / (lambda_v + lambda_l);
+}
+
+fn f_schlick(f0: vec3<f32>, v_dot_h: f32) -> vec3<f32> {
+    let x = 1.0 - clamp(v_dot_h, 0.0, 1.0);
+    let x2 = x * x;
+    return f0 + (vec3<f32>(1.0) - f0) * (x2 * x2 * x);
+}
+
+fn diffuse_lambert() -> f32 {
+    return 1.0 / PI;
+}
+
+fn poly4(x: f32, c0: f32, c1: f32, c2: f32, c3: f32, c4: f32) -> f32 {
+    return (((c4 * x + c3) * x + c2) * x + c1) * x + c0;
+}
+
+// E_ss, the single-scattering specular albedo with F = 1: ln E_ss is a
+// degree-4 polynomial in roughness and in s = N.V / sqrt(N.V^2 (1 - a^2) + a^2),
+// fitted to a numerical integration (max relative error 1.03%; see the
+// reference for how).
+fn specular_albedo(n_dot_v: f32, roughness: f32) -> f32 {
+    let r = clamp(roughness, 0.0, 1.0);
+    let a = roughness_to_alpha(r);
+    let a2 = a * a;
+    let nv = clamp(n_dot_v, MIN_COS, 1.0);
+    let s = nv / sqrt(nv * nv * (1.0 - a2) + a2);
+    let ln_e = poly4(
+        s,
+        poly4(r, 0.1079475, -0.639055, 1.637571, -1.833237, 0.7098608),
+        poly4(r, -1.615846, 7.462202, -21.4432, 26.51882, -13.93525),
+        poly4(r, 5.613205, -28.53082, 93.49193, -131.1957, 65.84242),
+        poly4(r, -8.25543, 39.95344, -142.8702, 215.3067, -109.894),
+        poly4(r, 4.162487, -18.68436, 72.00439, -114.627, 59.542),
+    );
+    return min(exp(ln_e), 1.0);
+}
+
+// Multiply the specular term by this to restore the energy of the bounces
+// the single-scattering lobe leaves out (Kulla & Conty 2017, Filament's form).
+fn energy_compensation(f0: vec3<f32>, n_dot_v: f32, roughness: f32) -> vec3<f32> {
+    return vec3<f32>(1.0) + f0 * (1.0 / specular_albedo(n_dot_v, roughness) - 1.0);
+}
+
+// Unit n (normal), v (to the eye), l (to the light); metalness workflow.
+fn cook_torrance(
+    n: vec3<f32>,
+    v: vec3<f32>,
+    l: vec3<f32>,
+    albedo_in: vec3<f32>,
+    roughness_in: f32,
+    metallic_in: f32,
+    compensate: bool,
+) -> Brdf {
+    let n_dot_l_raw = dot(n, l);
+    if (n_dot_l_raw <= 0.0) {
+        return Brdf(vec3<f32>(0.0), vec3<f32>(0.0));
+    }
+    let n_dot_l = min(n_dot_l_raw, 1.0);
+    let n_dot_v = clamp(dot(n, v), MIN_COS, 1.0);
+    let h = safe_normalize(v + l, n);
+    let roughness = clamp(roughness_in, 0.0, 1.0);
+    let metallic = clamp(metallic_in, 0.0, 1.0);
+    let albedo = max(albedo_in, vec3<f32>(0.0));
+    let f0 = mix(vec3<f32>(DIELECTRIC_F0), albedo, metallic);
+    let f = f_schlick(f0, dot(v, h));
+    let lobe = d_ggx(dot(n, h), roughness) * v_smith_ggx_correlated(n_dot_v, n_dot_l, roughness);
+    var specular = f * (lobe * n_dot_l);
+    if (compensate) {
+        specular *= energy_compensation(f0, n_dot_v, roughness);
+    }
+    let diffuse = (vec3<f32>(1.0) - f) * (1.0 - metallic) * albedo * (diffuse_lambert() * n_dot_l);
+    return Brdf(diffuse, specular);
+}

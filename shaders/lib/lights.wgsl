@@ -1,0 +1,35 @@
+// Light falloff: the windowed inverse-square law, the spot cone, and
+// photometric power to intensity. The CPU reference, with the same names and
+// the reasoning, is crates/render/src/reference/lights.rs; tests run both.
+#define_import_path spreadlight::lights
+
+const PI: f32 = 3.14159265358979;
+const MIN_DISTANCE_SQUARED: f32 = 1e-4;
+const MIN_CONE_SOFTNESS: f32 = 1e-4;
+
+// Inverse-square times Karis' window: exactly 0 at `range`, finite at the
+// light's centre, 0 for a light with no range.
+fn point_attenuation(distance: f32, range: f32) -> f32 {
+    if (range <= 0.0) {
+        return 0.0;
+    }
+    let d = max(distance, 0.0);
+    let ratio = d / range;
+    let ratio2 = ratio * ratio;
+    let window = clamp(1.0 - ratio2 * ratio2, 0.0, 1.0);
+    return window * window / max(d * d, MIN_DISTANCE_SQUARED);
+}
+
+// Cosines from the spot's axis: 1 inside the inner cone, 0 outside the outer,
+// smoothstep between; a hard step where the edges meet.
+fn spot_attenuation(cos_angle: f32, cos_outer: f32, cos_inner: f32) -> f32 {
+    if (cos_inner <= cos_outer + MIN_CONE_SOFTNESS) {
+        return select(0.0, 1.0, cos_angle >= cos_outer);
+    }
+    return smoothstep(cos_outer, cos_inner, cos_angle);
+}
+
+// Candela from lumen for a point light (4 pi steradians).
+fn luminous_intensity_from_power(lumens: f32) -> f32 {
+    return lumens / (4.0 * PI);
+}

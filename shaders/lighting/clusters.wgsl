@@ -1,0 +1,168 @@
+// Clustered light assignment (Olsson et al. 2012; Dagon's clustered shading):
+// the view frustum is cut into froxels (screen tiles x exponential depth
+// slices) and every light is listed in each froxel its sphere may touch.
+// Light-centric and exact: count per froxel, prefix-sum into offsets, then
+// fill the index list. No per-froxel cap: 100,000 lights in one froxel fit.
+#import spreadlight::camera::Camera
+
+struct PointLight {
+    // xyz world position, w range
+    position_range: vec4<f32>,
+    // rgb colour * luminous intensity (cd), w unused
+    intensity: vec4<f32>,
+}
+
+struct Grid {
+    // tiles x, tiles y, slices, light count
+    dims: vec4<u32>,
+    // near, far, log(far / near), tile size in pixels
+    depth: vec4<f32>,
+}
+
+@group(0) @binding(0) var<uniform> camera: Camera;
+@group(0) @binding(1) var<uniform> grid: Grid;
+@group(0) @binding(2) var<storage, read> lights: array<PointLight>;
+// View-space position (xyz) and range (w) per light, for shading.
+@group(0) @binding(3) var<storage, read_write> view_lights: array<vec4<f32>>;
+@group(0) @binding(4) var<storage, read_write> counts: array<atomic<u32>>;
+@group(0) @binding(5) var<storage, read_write> offsets: array<u32>;
+@group(0) @binding(6) var<storage, read_write> indices: array<u32>;
+// x: total entries, y: capacity, z: overflowed entries
+@group(0) @binding(7) var<storage, read_write> totals: array<atomic<u32>, 4>;
+
+fn slice_of(depth: f32) -> i32 {
+    return i32(floor(log(max(depth, grid.depth.x) / grid.depth.x) / grid.depth.z * f32(grid.dims.z)));
+}
+
+// The froxel range a light may touch: (x0, y0, z0) .. (x1, y1, z1) inclusive; x0 > x1 when none.
+fn froxels(light: vec4<f32>) -> array<vec3<i32>, 2> {
+    let none = array<vec3<i32>, 2>(vec3<i32>(1), vec3<i32>(0));
+    let center = light.xyz;
+    let radius = light.w;
+    let depth = -center.z;
+    if (radius <= 0.0 || depth + radius < grid.depth.x || depth - radius > grid.depth.y) {
+        return none;
+    }
+    let dims = vec3<i32>(grid.dims.xyz);
+    let z0 = clamp(slice_of(depth - radius), 0, dims.z - 1);
+    let z1 = clamp(slice_of(depth + radius), 0, dims.z - 1);
+    var lo = vec2<f32>(1.0);
+    var hi = vec2<f32>(-1.0);
+    if (depth - radius <= grid.depth.x) {
+        // The sphere reaches the camera: every tile.
+        lo = vec2<f32>(-1.0);
+        hi = vec2<f32>(1.0);
+    } else {
+        for (var k = 0u; k < 8u; k++) {
+            let corner = center + radius * vec3<f32>(
+                select(-1.0, 1.0, (k & 1u) != 0u),
+                select(-1.0, 1.0, (k & 2u) != 0u),
+                select(-1.0, 1.0, (k & 4u) != 0u),
+            );
+            let clip = camera.projection * vec4<f32>(corner, 1.0);
+            let ndc = clip.xy / clip.w;
+            lo = min(lo, ndc);
+            hi = max(hi, ndc);
+        }
+    }
+    if (hi.x < -1.0 || lo.x > 1.0 || hi.y < -1.0 || lo.y > 1.0) {
+        return none;
+    }
+    // NDC to pixels (y down) to tiles; the last tile may hang over the edge.
+    let to_tiles = camera.size.xy / grid.depth.w;
+    let x0 = clamp(i32(floor((lo.x * 0.5 + 0.5) * to_tiles.x)), 0, dims.x - 1);
+    let x1 = clamp(i32(floor((hi.x * 0.5 + 0.5) * to_tiles.x)), 0, dims.x - 1);
+    let y0 = clamp(i32(floor((0.5 - hi.y * 0.5) * to_tiles.y)), 0, dims.y - 1);
+    let y1 = clamp(i32(floor((0.5 - lo.y * 0.5) * to_tiles.y)), 0, dims.y - 1);
+    return array<vec3<i32>, 2>(vec3<i32>(x0, y0, z0), vec3<i32>(x1, y1, z1));
+}
+
+fn cluster_index(x: i32, y: i32, z: i32) -> u32 {
+    return u32((z * i32(grid.dims.y) + y) * i32(grid.dims.x) + x);
+}
+
+// Every light to view space (the naive path uses this alone).
+@compute @workgroup_size(64)
+fn transform(@builtin(global_invocation_id) id: vec3<u32>) {
+    if (id.x >= grid.dims.w) {
+        return;
+    }
+    let light = lights[id.x];
+    let view = camera.view * vec4<f32>(light.position_range.xyz, 1.0);
+    view_lights[id.x] = vec4<f32>(view.xyz, light.position_range.w);
+}
+
+@compute @workgroup_size(64)
+fn count(@builtin(global_invocation_id) id: vec3<u32>) {
+    if (id.x >= grid.dims.w) {
+        return;
+    }
+    let range = froxels(view_lights[id.x]);
+    for (var z = range[0].z; z <= range[1].z; z++) {
+        for (var y = range[0].y; y <= range[1].y; y++) {
+            for (var x = range[0].x; x <= range[1].x; x++) {
+                atomicAdd(&counts[cluster_index(x, y, z)], 1u);
+            }
+        }
+    }
+}
+
+var<workgroup> partial: array<u32, 256>;
+
+// Exclusive prefix sum of the counts into offsets, then counts are reset
+// to serve as fill cursors. One workgroup walks the clusters in chunks.
+@compute @workgroup_size(256)
+fn scan(@builtin(local_invocation_index) lane: u32) {
+    let n = grid.dims.x * grid.dims.y * grid.dims.z;
+    var carry = 0u;
+    for (var base = 0u; base < n; base += 256u) {
+        let i = base + lane;
+        var v = 0u;
+        if (i < n) {
+            v = atomicLoad(&counts[i]);
+        }
+        partial[lane] = v;
+        workgroupBarrier();
+        // Hillis-Steele inclusive scan in shared memory.
+        for (var step = 1u; step < 256u; step *= 2u) {
+            var add = 0u;
+            if (lane >= step) {
+                add = partial[lane - step];
+            }
+            workgroupBarrier();
+            partial[lane] += add;
+            workgroupBarrier();
+        }
+        if (i < n) {
+            offsets[i] = carry + partial[lane] - v;
+            atomicStore(&counts[i], 0u);
+        }
+        carry += partial[255];
+        workgroupBarrier();
+    }
+    if (lane == 0u) {
+        atomicStore(&totals[0], carry);
+    }
+}
+
+@compute @workgroup_size(64)
+fn fill(@builtin(global_invocation_id) id: vec3<u32>) {
+    if (id.x >= grid.dims.w) {
+        return;
+    }
+    let capacity = atomicLoad(&totals[1]);
+    let range = froxels(view_lights[id.x]);
+    for (var z = range[0].z; z <= range[1].z; z++) {
+        for (var y = range[0].y; y <= range[1].y; y++) {
+            for (var x = range[0].x; x <= range[1].x; x++) {
+                let c = cluster_index(x, y, z);
+                let slot = offsets[c] + atomicAdd(&counts[c], 1u);
+                if (slot < capacity) {
+                    indices[slot] = id.x;
+                } else {
+                    atomicAdd(&totals[2], 1u);
+                }
+            }
+        }
+    }
+}

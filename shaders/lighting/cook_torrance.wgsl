@@ -1,0 +1,110 @@
+// CookTorrance for point lights (Emeshe's light renderer, in compute):
+// per pixel, the G-buffer's surface lit by the lights of its froxel
+// (CLUSTERED) or by every light (the naive reference). GGX distribution,
+// height-correlated Smith visibility, Schlick Fresnel; ENERGY_COMPENSATION
+// adds the multiple-scattering term. Outputs diffuse (albedo applied, so
+// metals and F0 are exact) and specular radiance, clamped below half-float
+// overflow so no infinity reaches a target.
+#import spreadlight::camera::Camera
+#import spreadlight::brdf::cook_torrance
+#import spreadlight::lights::point_attenuation
+#import spreadlight::packing::{channel_to_id, safe_normalize}
+
+struct PointLight {
+    position_range: vec4<f32>,
+    intensity: vec4<f32>,
+}
+
+struct Grid {
+    dims: vec4<u32>,
+    depth: vec4<f32>,
+}
+
+// Per material id (wrapping): roughness, metallic.
+struct Surface {
+    roughness_metallic: vec2<f32>,
+}
+
+@group(0) @binding(0) var<uniform> camera: Camera;
+@group(0) @binding(1) var<uniform> grid: Grid;
+@group(0) @binding(2) var<storage, read> lights: array<PointLight>;
+@group(0) @binding(3) var<storage, read> view_lights: array<vec4<f32>>;
+#ifdef CLUSTERED
+@group(0) @binding(4) var<storage, read> counts: array<u32>;
+@group(0) @binding(5) var<storage, read> offsets: array<u32>;
+@group(0) @binding(6) var<storage, read> indices: array<u32>;
+#endif
+@group(0) @binding(7) var<storage, read> surfaces: array<Surface>;
+@group(0) @binding(8) var color: texture_2d<f32>;
+@group(0) @binding(9) var normals: texture_2d<f32>;
+@group(0) @binding(10) var depth: texture_2d<f32>;
+@group(0) @binding(11) var out_diffuse: texture_storage_2d<rgba16float, write>;
+@group(0) @binding(12) var out_specular: texture_storage_2d<rgba16float, write>;
+
+const HALF_MAX: f32 = 65000.0;
+
+fn shade(light: u32, p: vec3<f32>, n: vec3<f32>, v: vec3<f32>, albedo: vec3<f32>, rm: vec2<f32>,
+         diffuse: ptr<function, vec3<f32>>, specular: ptr<function, vec3<f32>>) {
+    let lv = view_lights[light];
+    let to_light = lv.xyz - p;
+    let distance = length(to_light);
+    let attenuation = point_attenuation(distance, lv.w);
+    if (attenuation <= 0.0) {
+        return;
+    }
+    let l = safe_normalize(to_light, n);
+    let radiance = lights[light].intensity.rgb * attenuation;
+    let brdf = cook_torrance(n, v, l, albedo, rm.x, rm.y, ENERGY);
+    *diffuse += brdf.diffuse * radiance;
+    *specular += brdf.specular * radiance;
+}
+
+#ifdef ENERGY_COMPENSATION
+const ENERGY: bool = true;
+#else
+const ENERGY: bool = false;
+#endif
+
+@compute @workgroup_size(8, 8)
+fn main(@builtin(global_invocation_id) id: vec3<u32>) {
+    let size = vec2<u32>(camera.size.xy);
+    if (id.x >= size.x || id.y >= size.y) {
+        return;
+    }
+    let pixel = id.xy;
+    let d = textureLoad(depth, pixel, 0).r;
+    if (d <= 0.0) {
+        textureStore(out_diffuse, pixel, vec4<f32>(0.0));
+        textureStore(out_specular, pixel, vec4<f32>(0.0));
+        return;
+    }
+    let uv = (vec2<f32>(pixel) + 0.5) * camera.size.zw;
+    let ndc = vec2<f32>(uv.x * 2.0 - 1.0, 1.0 - uv.y * 2.0);
+    let view_h = camera.projection_inverse * vec4<f32>(ndc, d, 1.0);
+    let p = view_h.xyz / view_h.w;
+    let n = safe_normalize(textureLoad(normals, pixel, 0).xyz, vec3<f32>(0.0, 0.0, 1.0));
+    let v = safe_normalize(-p, vec3<f32>(0.0, 0.0, 1.0));
+    let texel = textureLoad(color, pixel, 0);
+    let albedo = texel.rgb;
+    let material = channel_to_id(texel.a);
+    let rm = surfaces[material % arrayLength(&surfaces)].roughness_metallic;
+
+    var diffuse = vec3<f32>(0.0);
+    var specular = vec3<f32>(0.0);
+#ifdef CLUSTERED
+    let tile = min(pixel / u32(grid.depth.w), grid.dims.xy - 1u);
+    let slice = u32(clamp(floor(log(max(-p.z, grid.depth.x) / grid.depth.x) / grid.depth.z * f32(grid.dims.z)), 0.0, f32(grid.dims.z - 1u)));
+    let cluster = (slice * grid.dims.y + tile.y) * grid.dims.x + tile.x;
+    let first = offsets[cluster];
+    let count = counts[cluster];
+    for (var k = 0u; k < count; k++) {
+        shade(indices[first + k], p, n, v, albedo, rm, &diffuse, &specular);
+    }
+#else
+    for (var i = 0u; i < grid.dims.w; i++) {
+        shade(i, p, n, v, albedo, rm, &diffuse, &specular);
+    }
+#endif
+    textureStore(out_diffuse, pixel, vec4<f32>(min(diffuse, vec3<f32>(HALF_MAX)), 1.0));
+    textureStore(out_specular, pixel, vec4<f32>(min(specular, vec3<f32>(HALF_MAX)), 1.0));
+}
