@@ -77,6 +77,33 @@ fn froxels(light: vec4<f32>) -> array<vec3<i32>, 2> {
     return array<vec3<i32>, 2>(vec3<i32>(x0, y0, z0), vec3<i32>(x1, y1, z1));
 }
 
+fn slice_depth(z: i32) -> f32 {
+    return grid.depth.x * exp(grid.depth.z * f32(z) / f32(grid.dims.z));
+}
+
+// Whether a light's sphere touches froxel (x, y, z): the sphere against the
+// froxel's view-space bounding box. Cuts the corners of the screen-space
+// box, which for big lights is most of it.
+fn touches(light: vec4<f32>, x: i32, y: i32, z: i32) -> bool {
+    let d0 = slice_depth(z);
+    let d1 = slice_depth(z + 1);
+    let to_ndc = grid.depth.w * camera.size.zw * 2.0;
+    let n_lo = vec2<f32>(f32(x), f32(y)) * to_ndc;
+    let n_hi = n_lo + to_ndc;
+    // Tile edges in NDC (x right, y up) from pixel tiles (y down).
+    let ndc_x = vec2<f32>(n_lo.x - 1.0, n_hi.x - 1.0);
+    let ndc_y = vec2<f32>(1.0 - n_hi.y, 1.0 - n_lo.y);
+    let sx = 1.0 / camera.projection[0][0];
+    let sy = 1.0 / camera.projection[1][1];
+    let xs = vec4<f32>(ndc_x.x * d0, ndc_x.x * d1, ndc_x.y * d0, ndc_x.y * d1) * sx;
+    let ys = vec4<f32>(ndc_y.x * d0, ndc_y.x * d1, ndc_y.y * d0, ndc_y.y * d1) * sy;
+    let lo = vec3<f32>(min(min(xs.x, xs.y), min(xs.z, xs.w)), min(min(ys.x, ys.y), min(ys.z, ys.w)), -d1);
+    let hi = vec3<f32>(max(max(xs.x, xs.y), max(xs.z, xs.w)), max(max(ys.x, ys.y), max(ys.z, ys.w)), -d0);
+    let nearest = clamp(light.xyz, lo, hi);
+    let offset = light.xyz - nearest;
+    return dot(offset, offset) <= light.w * light.w;
+}
+
 fn cluster_index(x: i32, y: i32, z: i32) -> u32 {
     return u32((z * i32(grid.dims.y) + y) * i32(grid.dims.x) + x);
 }
@@ -97,11 +124,14 @@ fn count(@builtin(global_invocation_id) id: vec3<u32>) {
     if (id.x >= grid.dims.w) {
         return;
     }
-    let range = froxels(view_lights[id.x]);
+    let light = view_lights[id.x];
+    let range = froxels(light);
     for (var z = range[0].z; z <= range[1].z; z++) {
         for (var y = range[0].y; y <= range[1].y; y++) {
             for (var x = range[0].x; x <= range[1].x; x++) {
-                atomicAdd(&counts[cluster_index(x, y, z)], 1u);
+                if (touches(light, x, y, z)) {
+                    atomicAdd(&counts[cluster_index(x, y, z)], 1u);
+                }
             }
         }
     }
@@ -109,39 +139,41 @@ fn count(@builtin(global_invocation_id) id: vec3<u32>) {
 
 var<workgroup> partial: array<u32, 256>;
 
-// Exclusive prefix sum of the counts into offsets, then counts are reset
-// to serve as fill cursors. One workgroup walks the clusters in chunks.
+// Exclusive prefix sum of the counts into offsets, then counts are reset to
+// serve as fill cursors. One workgroup: each thread sums a contiguous run of
+// froxels, the 256 run totals are scanned in shared memory (8 steps), and
+// each thread writes its run's offsets. Two passes over the counts and a
+// handful of barriers, whatever the froxel count.
 @compute @workgroup_size(256)
 fn scan(@builtin(local_invocation_index) lane: u32) {
     let n = grid.dims.x * grid.dims.y * grid.dims.z;
-    var carry = 0u;
-    for (var base = 0u; base < n; base += 256u) {
-        let i = base + lane;
-        var v = 0u;
-        if (i < n) {
-            v = atomicLoad(&counts[i]);
+    let per = (n + 255u) / 256u;
+    let start = min(lane * per, n);
+    let end = min(start + per, n);
+    var sum = 0u;
+    for (var i = start; i < end; i++) {
+        sum += atomicLoad(&counts[i]);
+    }
+    partial[lane] = sum;
+    workgroupBarrier();
+    for (var step = 1u; step < 256u; step *= 2u) {
+        var add = 0u;
+        if (lane >= step) {
+            add = partial[lane - step];
         }
-        partial[lane] = v;
         workgroupBarrier();
-        // Hillis-Steele inclusive scan in shared memory.
-        for (var step = 1u; step < 256u; step *= 2u) {
-            var add = 0u;
-            if (lane >= step) {
-                add = partial[lane - step];
-            }
-            workgroupBarrier();
-            partial[lane] += add;
-            workgroupBarrier();
-        }
-        if (i < n) {
-            offsets[i] = carry + partial[lane] - v;
-            atomicStore(&counts[i], 0u);
-        }
-        carry += partial[255];
+        partial[lane] += add;
         workgroupBarrier();
     }
-    if (lane == 0u) {
-        atomicStore(&totals[0], carry);
+    var running = partial[lane] - sum;
+    for (var i = start; i < end; i++) {
+        let c = atomicLoad(&counts[i]);
+        offsets[i] = running;
+        running += c;
+        atomicStore(&counts[i], 0u);
+    }
+    if (lane == 255u) {
+        atomicStore(&totals[0], partial[255]);
     }
 }
 
@@ -151,10 +183,14 @@ fn fill(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let capacity = atomicLoad(&totals[1]);
-    let range = froxels(view_lights[id.x]);
+    let light = view_lights[id.x];
+    let range = froxels(light);
     for (var z = range[0].z; z <= range[1].z; z++) {
         for (var y = range[0].y; y <= range[1].y; y++) {
             for (var x = range[0].x; x <= range[1].x; x++) {
+                if (!touches(light, x, y, z)) {
+                    continue;
+                }
                 let c = cluster_index(x, y, z);
                 let slot = offsets[c] + atomicAdd(&counts[c], 1u);
                 if (slot < capacity) {

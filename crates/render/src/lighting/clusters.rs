@@ -92,12 +92,15 @@ impl ClusterStore {
             .as_ref()
             .is_some_and(|b| b.clusters >= clusters && b.lights >= lights.max(1));
         if !fits {
-            // The index list: on average 64 entries per froxel, at least 4 per light,
-            // capped by the device's storage binding size.
+            // The index list: room for every light in 256 froxels, or 64 lights in
+            // every froxel, whichever is more, within the device's binding limit.
+            // A frame that needs more cuts the longest lists (the shader never
+            // reads past the end); the note in docs/benchmarks.md says when.
             let max = (gpu.device.limits().max_storage_buffer_binding_size / 4)
                 .min(u64::from(u32::MAX)) as u32;
-            let capacity = (clusters.saturating_mul(64))
-                .max(lights.saturating_mul(4))
+            let capacity = clusters
+                .saturating_mul(64)
+                .max(lights.saturating_mul(256))
                 .min(max);
             let storage = |label: &str, bytes: u64| {
                 gpu.device.create_buffer(&wgpu::BufferDescriptor {
