@@ -119,20 +119,30 @@ fn transform(@builtin(global_invocation_id) id: vec3<u32>) {
     view_lights[id.x] = vec4<f32>(view.xyz, light.position_range.w);
 }
 
+// A light's froxels are shared among a workgroup's 64 lanes: a big light
+// near the camera can touch thousands, and one thread each would serialize them.
+const LANES: u32 = 64u;
+
+fn light_of(wid: vec3<u32>) -> u32 {
+    return wid.x + wid.y * 65535u;
+}
+
 @compute @workgroup_size(64)
-fn count(@builtin(global_invocation_id) id: vec3<u32>) {
-    if (id.x >= grid.dims.w) {
+fn count(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation_index) lane: u32) {
+    let index = light_of(wid);
+    if (index >= grid.dims.w) {
         return;
     }
-    let light = view_lights[id.x];
+    let light = view_lights[index];
     let range = froxels(light);
-    for (var z = range[0].z; z <= range[1].z; z++) {
-        for (var y = range[0].y; y <= range[1].y; y++) {
-            for (var x = range[0].x; x <= range[1].x; x++) {
-                if (touches(light, x, y, z)) {
-                    atomicAdd(&counts[cluster_index(x, y, z)], 1u);
-                }
-            }
+    let extent = max(range[1] - range[0] + 1, vec3<i32>(0));
+    let total = u32(extent.x * extent.y * extent.z);
+    for (var k = lane; k < total; k += LANES) {
+        let x = range[0].x + i32(k % u32(extent.x));
+        let y = range[0].y + i32((k / u32(extent.x)) % u32(extent.y));
+        let z = range[0].z + i32(k / u32(extent.x * extent.y));
+        if (touches(light, x, y, z)) {
+            atomicAdd(&counts[cluster_index(x, y, z)], 1u);
         }
     }
 }
@@ -178,27 +188,29 @@ fn scan(@builtin(local_invocation_index) lane: u32) {
 }
 
 @compute @workgroup_size(64)
-fn fill(@builtin(global_invocation_id) id: vec3<u32>) {
-    if (id.x >= grid.dims.w) {
+fn fill(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation_index) lane: u32) {
+    let index = light_of(wid);
+    if (index >= grid.dims.w) {
         return;
     }
     let capacity = atomicLoad(&totals[1]);
-    let light = view_lights[id.x];
+    let light = view_lights[index];
     let range = froxels(light);
-    for (var z = range[0].z; z <= range[1].z; z++) {
-        for (var y = range[0].y; y <= range[1].y; y++) {
-            for (var x = range[0].x; x <= range[1].x; x++) {
-                if (!touches(light, x, y, z)) {
-                    continue;
-                }
-                let c = cluster_index(x, y, z);
-                let slot = offsets[c] + atomicAdd(&counts[c], 1u);
-                if (slot < capacity) {
-                    indices[slot] = id.x;
-                } else {
-                    atomicAdd(&totals[2], 1u);
-                }
-            }
+    let extent = max(range[1] - range[0] + 1, vec3<i32>(0));
+    let total = u32(extent.x * extent.y * extent.z);
+    for (var k = lane; k < total; k += LANES) {
+        let x = range[0].x + i32(k % u32(extent.x));
+        let y = range[0].y + i32((k / u32(extent.x)) % u32(extent.y));
+        let z = range[0].z + i32(k / u32(extent.x * extent.y));
+        if (!touches(light, x, y, z)) {
+            continue;
+        }
+        let c = cluster_index(x, y, z);
+        let slot = offsets[c] + atomicAdd(&counts[c], 1u);
+        if (slot < capacity) {
+            indices[slot] = index;
+        } else {
+            atomicAdd(&totals[2], 1u);
         }
     }
 }

@@ -152,10 +152,12 @@ impl CookTorrance {
             let group = cx
                 .shaders
                 .bind_group(&device, &key, step, &pipeline, 0, &all)?;
-            let groups = if *step == "scan" {
-                1
-            } else {
-                count.div_ceil(64).max(1)
+            // transform: a thread per light; count and fill: a workgroup per light
+            // (x up to 65,535, then y); scan: one workgroup.
+            let groups = match *step {
+                "scan" => (1, 1),
+                "transform" => (count.div_ceil(64).max(1), 1),
+                _ => (count.clamp(1, 65_535), count.div_ceil(65_535).max(1)),
             };
             work.push((pipeline, group, groups));
         }
@@ -167,7 +169,7 @@ impl CookTorrance {
         for (pipeline, group, groups) in &work {
             pass.set_pipeline(pipeline);
             pass.set_bind_group(0, group, &[]);
-            pass.dispatch_workgroups(*groups, 1, 1);
+            pass.dispatch_workgroups(groups.0, groups.1, 1);
         }
         Ok(())
     }
