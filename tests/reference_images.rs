@@ -82,3 +82,8 @@ fn bench_scene_normals() {
         0,
     );
 }
+
+#[test]
+fn bench_lights_lit() {
+    check("bench-lights-lit", "patches/bench-lights.ron", "bench", (160, 90), 0);
+}
