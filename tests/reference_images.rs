@@ -85,5 +85,11 @@ fn bench_scene_normals() {
 
 #[test]
 fn bench_lights_lit() {
-    check("bench-lights-lit", "patches/bench-lights.ron", "bench", (160, 90), 0);
+    check(
+        "bench-lights-lit",
+        "patches/bench-lights.ron",
+        "bench",
+        (160, 90),
+        0,
+    );
 }
