@@ -62,6 +62,52 @@ impl GpuTexture {
     }
 }
 
+impl GpuTexture {
+    /// Upload linear RGBA 32-bit float pixels (HDR images, test frames).
+    pub fn from_rgba32f(
+        gpu: &GpuContext,
+        width: u32,
+        height: u32,
+        pixels: &[[f32; 4]],
+        label: &str,
+    ) -> Self {
+        let size = wgpu::Extent3d {
+            width: width.max(1),
+            height: height.max(1),
+            depth_or_array_layers: 1,
+        };
+        let texture = gpu.device.create_texture(&wgpu::TextureDescriptor {
+            label: Some(label),
+            size,
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: wgpu::TextureFormat::Rgba32Float,
+            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+            view_formats: &[],
+        });
+        let mut data: Vec<f32> = pixels.iter().flatten().copied().collect();
+        data.resize((size.width * size.height * 4) as usize, 0.0);
+        gpu.queue.write_texture(
+            wgpu::TexelCopyTextureInfo {
+                texture: &texture,
+                mip_level: 0,
+                origin: wgpu::Origin3d::ZERO,
+                aspect: wgpu::TextureAspect::All,
+            },
+            bytemuck::cast_slice(&data),
+            wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(size.width * 16),
+                rows_per_image: None,
+            },
+            size,
+        );
+        let view = texture.create_view(&Default::default());
+        GpuTexture { texture, view }
+    }
+}
+
 /// A texture that exists before the frame (an image file, a glTF texture):
 /// as a recipe it imports itself into the frame graph under its name, so it
 /// travels between nodes like any rendered texture.
