@@ -5,11 +5,16 @@
 // fill the index list. No per-froxel cap: 100,000 lights in one froxel fit.
 #import spreadlight::camera::Camera
 
-struct PointLight {
-    // xyz world position, w range
+// Matches `GpuLight` in crates/render/src/lighting/mod.rs.
+struct Light {
+    // xyz world position, w range (suns: 0)
     position_range: vec4<f32>,
-    // rgb colour * luminous intensity (cd), w unused
+    // rgb colour * luminous intensity (cd) or illuminance (lux)
     intensity: vec4<f32>,
+    // xyz unit direction the light travels, w cos(outer cone angle)
+    direction: vec4<f32>,
+    // x cos(inner cone angle)
+    cone: vec4<f32>,
 }
 
 struct Grid {
@@ -21,7 +26,7 @@ struct Grid {
 
 @group(0) @binding(0) var<uniform> camera: Camera;
 @group(0) @binding(1) var<uniform> grid: Grid;
-@group(0) @binding(2) var<storage, read> lights: array<PointLight>;
+@group(0) @binding(2) var<storage, read> lights: array<Light>;
 // View-space position (xyz) and range (w) per light, for shading.
 @group(0) @binding(3) var<storage, read_write> view_lights: array<vec4<f32>>;
 @group(0) @binding(4) var<storage, read_write> counts: array<atomic<u32>>;

@@ -1,4 +1,6 @@
-// CookTorrance for point lights (Emeshe's light renderer, in compute):
+// CookTorrance for one light type (Emeshe's light renderer, in compute):
+// point lights by default, LIGHT_SPOT for spot lights (a point light in a
+// cone), LIGHT_SUN for parallel lights.
 // per pixel, the G-buffer's surface lit by the lights of its froxel
 // (CLUSTERED) or by every light (the naive reference). GGX distribution,
 // height-correlated Smith visibility, Schlick Fresnel; ENERGY_COMPENSATION
@@ -7,12 +9,15 @@
 // overflow so no infinity reaches a target.
 #import spreadlight::camera::Camera
 #import spreadlight::brdf::cook_torrance
-#import spreadlight::lights::point_attenuation
+#import spreadlight::lights::{point_attenuation, spot_attenuation}
 #import spreadlight::packing::{channel_to_id, safe_normalize}
 
-struct PointLight {
+// Matches `GpuLight` in crates/render/src/lighting/mod.rs.
+struct Light {
     position_range: vec4<f32>,
     intensity: vec4<f32>,
+    direction: vec4<f32>,
+    cone: vec4<f32>,
 }
 
 struct Grid {
@@ -27,7 +32,7 @@ struct Surface {
 
 @group(0) @binding(0) var<uniform> camera: Camera;
 @group(0) @binding(1) var<uniform> grid: Grid;
-@group(0) @binding(2) var<storage, read> lights: array<PointLight>;
+@group(0) @binding(2) var<storage, read> lights: array<Light>;
 @group(0) @binding(3) var<storage, read> view_lights: array<vec4<f32>>;
 #ifdef CLUSTERED
 @group(0) @binding(4) var<storage, read> counts: array<u32>;
@@ -45,15 +50,26 @@ const HALF_MAX: f32 = 65000.0;
 
 fn shade(light: u32, p: vec3<f32>, n: vec3<f32>, v: vec3<f32>, albedo: vec3<f32>, rm: vec2<f32>,
          diffuse: ptr<function, vec3<f32>>, specular: ptr<function, vec3<f32>>) {
+    let record = lights[light];
+#ifdef LIGHT_SUN
+    let travel = safe_normalize((camera.view * vec4<f32>(record.direction.xyz, 0.0)).xyz, vec3<f32>(0.0, 0.0, -1.0));
+    let l = -travel;
+    let radiance = record.intensity.rgb;
+#else
     let lv = view_lights[light];
     let to_light = lv.xyz - p;
     let distance = length(to_light);
-    let attenuation = point_attenuation(distance, lv.w);
+    var attenuation = point_attenuation(distance, lv.w);
+    let l = safe_normalize(to_light, n);
+#ifdef LIGHT_SPOT
+    let axis = safe_normalize((camera.view * vec4<f32>(record.direction.xyz, 0.0)).xyz, vec3<f32>(0.0, 0.0, -1.0));
+    attenuation *= spot_attenuation(dot(-l, axis), record.direction.w, record.cone.x);
+#endif
     if (attenuation <= 0.0) {
         return;
     }
-    let l = safe_normalize(to_light, n);
-    let radiance = lights[light].intensity.rgb * attenuation;
+    let radiance = record.intensity.rgb * attenuation;
+#endif
     let brdf = cook_torrance(n, v, l, albedo, rm.x, rm.y, ENERGY);
     *diffuse += brdf.diffuse * radiance;
     *specular += brdf.specular * radiance;

@@ -86,7 +86,12 @@ pub const SHADERS: &[ShaderFile] = &[
     shader!("lighting/clusters.wgsl", []),
     shader!(
         "lighting/cook_torrance.wgsl",
-        ["CLUSTERED", "ENERGY_COMPENSATION"]
+        [
+            "CLUSTERED",
+            "ENERGY_COMPENSATION",
+            "LIGHT_SPOT",
+            "LIGHT_SUN"
+        ]
     ),
     shader!("lighting/composite.wgsl", []),
     shader!("post/tonemap.wgsl", []),

@@ -7,7 +7,9 @@ use std::sync::Arc;
 use glam::{Mat4, Vec3};
 use spreadlight_render::camera::CameraInput;
 use spreadlight_render::gbuffer::{DrawBatch, GBuffer, InstanceInput, Layer, LayerFeatures};
-use spreadlight_render::lighting::{CookTorrance, LightLoop, PointLight, PointLights};
+use spreadlight_render::lighting::{
+    CookTorrance, LightBuffer, LightLoop, PointLight, SpotLight, SunLight,
+};
 use spreadlight_render::mesh::primitives::{GridParams, SphereParams, grid, sphere};
 use spreadlight_render::readback::{ImageF32, read_texture};
 use spreadlight_render::renderer::test_renderer;
@@ -85,7 +87,16 @@ fn shade(
     lights: Vec<PointLight>,
     mode: LightLoop,
 ) -> ImageF32 {
-    let lights = PointLights::new(renderer, lights);
+    shade_buffer(renderer, g, LightBuffer::points(renderer, &lights), mode)
+}
+
+/// Diffuse + specular of the scene under a light buffer of any type.
+fn shade_buffer(
+    renderer: &Renderer,
+    g: &Arc<GBuffer>,
+    lights: Arc<LightBuffer>,
+    mode: LightLoop,
+) -> ImageF32 {
     let ct = CookTorrance::new(
         renderer,
         Some(1),
@@ -240,4 +251,112 @@ fn a_hundred_thousand_lights_fit() {
     let g = scene(&renderer);
     let image = shade(&renderer, &g, scattered(100_000), LightLoop::Clustered);
     assert!(image.pixels.iter().any(|p| p[0] > 0.0));
+}
+
+fn lit_pixels(image: &ImageF32) -> usize {
+    image
+        .pixels
+        .iter()
+        .filter(|p| p[0] + p[1] + p[2] > 1e-4)
+        .count()
+}
+
+#[test]
+fn a_sun_lights_what_faces_it_and_nothing_else() {
+    let renderer = test_renderer();
+    let g = scene(&renderer);
+    let from_above = SunLight {
+        direction: Vec3::NEG_Y,
+        color: Vec3::ONE,
+        illuminance: 10.0,
+    };
+    let lit = shade_buffer(
+        &renderer,
+        &g,
+        LightBuffer::suns(&renderer, &[from_above]),
+        LightLoop::Clustered,
+    );
+    assert!(
+        lit_pixels(&lit) > (SIZE.0 * SIZE.1 / 3) as usize,
+        "the floor and the tops of the balls are lit"
+    );
+    // From below, only the undersides of the balls that the camera sees are lit; the floor is not.
+    let from_below = SunLight {
+        direction: Vec3::Y,
+        ..from_above
+    };
+    let dark = shade_buffer(
+        &renderer,
+        &g,
+        LightBuffer::suns(&renderer, &[from_below]),
+        LightLoop::Naive,
+    );
+    let below = lit_pixels(&dark);
+    assert!(
+        below > 0 && below * 10 < lit_pixels(&lit),
+        "{below} of {} pixels lit from below",
+        lit_pixels(&lit)
+    );
+    // A zero direction falls back to straight down rather than NaN.
+    let degenerate = SunLight {
+        direction: Vec3::ZERO,
+        ..from_above
+    };
+    let image = shade_buffer(
+        &renderer,
+        &g,
+        LightBuffer::suns(&renderer, &[degenerate]),
+        LightLoop::Naive,
+    );
+    assert_eq!(lit_pixels(&image), lit_pixels(&lit));
+}
+
+#[test]
+fn spot_cones_from_zero_to_a_hemisphere_stay_finite_and_bounded() {
+    let renderer = test_renderer();
+    let g = scene(&renderer);
+    let spot = |inner: f32, outer: f32| SpotLight {
+        position: Vec3::new(0.0, 4.0, 0.0),
+        direction: Vec3::NEG_Y,
+        color: Vec3::ONE,
+        intensity: 200.0,
+        range: 10.0,
+        inner_angle: inner,
+        outer_angle: outer,
+    };
+    let count = |s: SpotLight, mode| {
+        lit_pixels(&shade_buffer(
+            &renderer,
+            &g,
+            LightBuffer::spots(&renderer, &[s]),
+            mode,
+        ))
+    };
+    let zero = count(spot(0.0, 0.0), LightLoop::Clustered);
+    let narrow = count(spot(0.1, 0.2), LightLoop::Clustered);
+    let wide = count(spot(1.0, 1.5), LightLoop::Clustered);
+    let hemisphere = count(
+        spot(std::f32::consts::PI, std::f32::consts::PI),
+        LightLoop::Clustered,
+    );
+    assert!(
+        zero <= narrow && narrow < wide && wide <= hemisphere,
+        "{zero} {narrow} {wide} {hemisphere}"
+    );
+    assert!(narrow > 0, "a narrow cone still lights a spot");
+    // The same spot through the naive loop: the same pixels.
+    assert_eq!(count(spot(0.1, 0.2), LightLoop::Naive), narrow);
+    // A 180-degree cone is a point light.
+    let point = lit_pixels(&shade(
+        &renderer,
+        &g,
+        vec![PointLight {
+            position: Vec3::new(0.0, 4.0, 0.0),
+            color: Vec3::ONE,
+            intensity: 200.0,
+            range: 10.0,
+        }],
+        LightLoop::Clustered,
+    ));
+    assert_eq!(hemisphere, point);
 }

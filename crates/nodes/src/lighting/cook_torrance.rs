@@ -6,7 +6,7 @@ use spreadlight_graph::spread::{cycled, slice_count};
 use spreadlight_graph::{EnumDef, NodeDef, NodeError, PinType, Registry, ResourceKind, Spread};
 use spreadlight_render::TextureRef;
 use spreadlight_render::gbuffer::GBuffer;
-use spreadlight_render::lighting::{CookTorrance, LightLoop, PointLights};
+use spreadlight_render::lighting::{CookTorrance, LightBuffer, LightLoop};
 
 use crate::gpu::{renderer, resource_spread, resources};
 
@@ -20,7 +20,7 @@ pub fn register(r: &mut Registry) {
         NodeDef::new(
             "CookTorrance",
             super::CATEGORY,
-            "Shades the G-buffer with point lights: GGX, height-correlated Smith, Schlick Fresnel. Clustered \
+            "Shades the G-buffer with one light buffer (point, spot or sun: one permutation per type): GGX, height-correlated Smith, Schlick Fresnel. Clustered \
              loops over the lights of each pixel's froxel, Naive over all (the reference). Energy Compensation \
              adds multiple scattering. Roughness and Metallic slice i apply to material id i (wrapping). \
              Diffuse includes albedo.",
@@ -36,9 +36,9 @@ pub fn register(r: &mut Registry) {
         .evaluate(|cx| {
             let renderer = renderer(cx)?;
             let gbuffer = resources::<GBuffer>(cx, 0)?.into_iter().next().ok_or_else(|| cx.input_error(0, "no G-buffer connected"))?;
-            let lights = match resources::<PointLights>(cx, 1)?.into_iter().next() {
+            let lights = match resources::<LightBuffer>(cx, 1)?.into_iter().next() {
                 Some(l) => l,
-                None => PointLights::new(&renderer, Vec::new()),
+                None => LightBuffer::points(&renderer, &[]),
             };
             let (roughness, metallic) = (cx.slices::<f32>(2)?, cx.slices::<f32>(3)?);
             let n = slice_count([roughness.len(), metallic.len()]);

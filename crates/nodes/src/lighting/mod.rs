@@ -1,16 +1,34 @@
 //! Lights and shading nodes (category "Lighting"): `PointLightBuffer`,
-//! `CookTorrance`, `CompositeLight`.
+//! `SpotLightBuffer`, `SunLightBuffer`, `CookTorrance`, `CompositeLight`.
 
 pub mod composite_light;
 pub mod cook_torrance;
 pub mod point_light_buffer;
+pub mod spot_light_buffer;
+pub mod sun_light_buffer;
 
-use spreadlight_graph::Registry;
+use spreadlight_graph::{EvalContext, NodeError, Registry};
+
+/// A NaN or infinity on any of `pins` is an error on the node naming the pin
+/// and slice: user maths that blew up never reaches a light buffer.
+pub(crate) fn require_finite(
+    cx: &EvalContext<'_>,
+    pins: std::ops::Range<usize>,
+) -> Result<(), NodeError> {
+    for pin in pins {
+        if let Some(slice) = cx.input(pin).first_non_finite() {
+            return Err(cx.input_error(pin, format!("slice {slice} is NaN or infinite")));
+        }
+    }
+    Ok(())
+}
 
 pub const CATEGORY: &str = "Lighting";
 
 pub fn register(r: &mut Registry) {
     point_light_buffer::register(r);
+    spot_light_buffer::register(r);
+    sun_light_buffer::register(r);
     cook_torrance::register(r);
     composite_light::register(r);
 }

@@ -5,7 +5,7 @@
 use glam::Vec3;
 use spreadlight_graph::spread::{cycled, slice_count};
 use spreadlight_graph::{Color, NodeDef, PinType, Registry, ResourceKind};
-use spreadlight_render::lighting::{PointLight, PointLights};
+use spreadlight_render::lighting::{LightBuffer, PointLight};
 
 use crate::gpu::{renderer, resource_spread};
 
@@ -27,30 +27,19 @@ pub fn register(r: &mut Registry) {
             let (positions, colors) = (cx.slices::<Vec3>(0)?, cx.slices::<Color>(1)?);
             let (intensities, ranges) = (cx.slices::<f32>(2)?, cx.slices::<f32>(3)?);
             let n = slice_count([positions.len(), colors.len(), intensities.len(), ranges.len()]);
-            let mut lights = Vec::with_capacity(n);
-            let pins = cycled(positions, n).zip(cycled(colors, n)).zip(cycled(intensities, n)).zip(cycled(ranges, n));
-            for (slice, (((position, color), intensity), range)) in pins.enumerate() {
-                let bad = |pin: usize| cx.input_error(pin, format!("slice {slice} is NaN or infinite"));
-                if !position.is_finite() {
-                    return Err(bad(0));
-                }
-                if !color.to_vec4().is_finite() {
-                    return Err(bad(1));
-                }
-                if !intensity.is_finite() {
-                    return Err(bad(2));
-                }
-                if !range.is_finite() {
-                    return Err(bad(3));
-                }
-                lights.push(PointLight {
+            super::require_finite(cx, 0..4)?;
+            let lights: Vec<PointLight> = cycled(positions, n)
+                .zip(cycled(colors, n))
+                .zip(cycled(intensities, n))
+                .zip(cycled(ranges, n))
+                .map(|(((position, color), intensity), range)| PointLight {
                     position: *position,
-                    color: Vec3::new(color.r, color.g, color.b).max(Vec3::ZERO),
-                    intensity: intensity.max(0.0),
-                    range: range.max(0.0),
-                });
-            }
-            let lights = PointLights::new(&renderer, lights);
+                    color: Vec3::new(color.r, color.g, color.b),
+                    intensity: *intensity,
+                    range: *range,
+                })
+                .collect();
+            let lights = LightBuffer::points(&renderer, &lights);
             cx.set_output(0, resource_spread(ResourceKind::LightWorld, vec![lights]));
             Ok(())
         }),

@@ -5,8 +5,8 @@ use std::sync::Arc;
 
 use wgpu::util::DeviceExt;
 
-use super::PointLights;
 use super::clusters::{ClusterGrid, ClusterStore};
+use super::{LightBuffer, LightKind};
 use crate::error::RenderError;
 use crate::frame_graph::{FrameGraph, Lifetime, PassContext, SizeRule, TextureDesc};
 use crate::gbuffer::GBuffer;
@@ -27,7 +27,7 @@ pub struct CookTorrance {
     id: u64,
     owner: Option<u32>,
     gbuffer: Arc<GBuffer>,
-    lights: Arc<PointLights>,
+    lights: Arc<LightBuffer>,
     pub mode: LightLoop,
     energy_compensation: bool,
     surfaces: wgpu::Buffer,
@@ -52,7 +52,7 @@ impl CookTorrance {
         renderer: &Renderer,
         owner: Option<u32>,
         gbuffer: Arc<GBuffer>,
-        lights: Arc<PointLights>,
+        lights: Arc<LightBuffer>,
         mode: LightLoop,
         energy_compensation: bool,
         surfaces: &[(f32, f32)],
@@ -77,6 +77,12 @@ impl CookTorrance {
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
+        // Suns have no range to cluster by: every pixel sees every sun.
+        let mode = if lights.kind == LightKind::Sun {
+            LightLoop::Naive
+        } else {
+            mode
+        };
         Arc::new(CookTorrance {
             id,
             owner,
@@ -176,7 +182,7 @@ impl CookTorrance {
 
     fn shade(&self, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
         let device = cx.gpu.device.clone();
-        let mut features = Vec::new();
+        let mut features: Vec<&'static str> = self.lights.kind.feature().into_iter().collect();
         if self.mode == LightLoop::Clustered {
             features.push("CLUSTERED");
         }
