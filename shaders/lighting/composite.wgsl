@@ -1,6 +1,7 @@
-// CompositeLight: the lit image from CookTorrance's components. Diffuse
-// already carries albedo; ambient (until image-based light lands) is a
-// constant term times albedo. Clamped below half-float overflow.
+// CompositeLight: the lit image from CookTorrance's components, one pair
+// (diffuse, specular) per light type, up to four pairs (LIGHTS_2..4).
+// Diffuse already carries albedo; ambient (until image-based light lands)
+// is a constant term times albedo. Clamped below half-float overflow.
 #import spreadlight::camera::Camera
 
 struct Params {
@@ -11,10 +12,28 @@ struct Params {
 @group(0) @binding(0) var<uniform> camera: Camera;
 @group(0) @binding(1) var<uniform> params: Params;
 @group(0) @binding(2) var color: texture_2d<f32>;
-@group(0) @binding(3) var diffuse: texture_2d<f32>;
-@group(0) @binding(4) var specular: texture_2d<f32>;
 @group(0) @binding(5) var depth: texture_2d<f32>;
 @group(0) @binding(6) var output: texture_storage_2d<rgba16float, write>;
+@group(0) @binding(3) var diffuse0: texture_2d<f32>;
+@group(0) @binding(4) var specular0: texture_2d<f32>;
+#ifdef LIGHTS_2
+@group(0) @binding(7) var diffuse1: texture_2d<f32>;
+@group(0) @binding(8) var specular1: texture_2d<f32>;
+#endif
+#ifdef LIGHTS_3
+@group(0) @binding(7) var diffuse1: texture_2d<f32>;
+@group(0) @binding(8) var specular1: texture_2d<f32>;
+@group(0) @binding(9) var diffuse2: texture_2d<f32>;
+@group(0) @binding(10) var specular2: texture_2d<f32>;
+#endif
+#ifdef LIGHTS_4
+@group(0) @binding(7) var diffuse1: texture_2d<f32>;
+@group(0) @binding(8) var specular1: texture_2d<f32>;
+@group(0) @binding(9) var diffuse2: texture_2d<f32>;
+@group(0) @binding(10) var specular2: texture_2d<f32>;
+@group(0) @binding(11) var diffuse3: texture_2d<f32>;
+@group(0) @binding(12) var specular3: texture_2d<f32>;
+#endif
 
 @compute @workgroup_size(8, 8)
 fn main(@builtin(global_invocation_id) id: vec3<u32>) {
@@ -26,7 +45,19 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     var lit = vec3<f32>(0.0);
     if (textureLoad(depth, p, 0).r > 0.0) {
         let albedo = textureLoad(color, p, 0).rgb;
-        lit = textureLoad(diffuse, p, 0).rgb + textureLoad(specular, p, 0).rgb + params.ambient.rgb * albedo;
+        lit = params.ambient.rgb * albedo + textureLoad(diffuse0, p, 0).rgb + textureLoad(specular0, p, 0).rgb;
+#ifdef LIGHTS_2
+        lit += textureLoad(diffuse1, p, 0).rgb + textureLoad(specular1, p, 0).rgb;
+#endif
+#ifdef LIGHTS_3
+        lit += textureLoad(diffuse1, p, 0).rgb + textureLoad(specular1, p, 0).rgb;
+        lit += textureLoad(diffuse2, p, 0).rgb + textureLoad(specular2, p, 0).rgb;
+#endif
+#ifdef LIGHTS_4
+        lit += textureLoad(diffuse1, p, 0).rgb + textureLoad(specular1, p, 0).rgb;
+        lit += textureLoad(diffuse2, p, 0).rgb + textureLoad(specular2, p, 0).rgb;
+        lit += textureLoad(diffuse3, p, 0).rgb + textureLoad(specular3, p, 0).rgb;
+#endif
     }
     textureStore(output, p, vec4<f32>(min(lit, vec3<f32>(65000.0)), 1.0));
 }

@@ -68,6 +68,8 @@ pub enum ResourceKind {
     Texture,
     GBuffer,
     MaterialWorld,
+    /// A CPU-side material (features and parameters) before a `MaterialBuffer` uploads it into a `MaterialWorld`.
+    Material,
     LightWorld,
     /// What a `DeferredBase` draws: instanced meshes with feature switches.
     Layer,

@@ -14,6 +14,7 @@ pub const GPU_CATEGORIES: &[&str] = &[
     "Output",
     "Lighting",
     "Post",
+    "Material",
 ];
 
 /// The renderer the host provided, or an error that says how to get one.

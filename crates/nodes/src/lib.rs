@@ -20,6 +20,7 @@ pub mod geometry;
 pub mod gpu;
 pub mod io;
 pub mod lighting;
+pub mod material;
 pub mod output;
 pub mod post;
 pub mod spreads;
@@ -46,6 +47,7 @@ pub fn registry() -> Registry {
     output::register(&mut r);
     texture::register(&mut r);
     lighting::register(&mut r);
+    material::register(&mut r);
     post::register(&mut r);
     bench::register(&mut r);
     r

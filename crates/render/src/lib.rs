@@ -10,6 +10,7 @@ pub mod frame_graph;
 pub mod gbuffer;
 pub mod image_io;
 pub mod lighting;
+pub mod material;
 pub mod mesh;
 pub mod mesh_arena;
 pub mod post;

@@ -70,6 +70,7 @@ pub const SHADERS: &[ShaderFile] = &[
     shader!("lib/brdf.wgsl", library),
     shader!("lib/lights.wgsl", library),
     shader!("lib/tonemap.wgsl", library),
+    shader!("lib/material.wgsl", library),
     shader!("gbuffer/visibility.wgsl", []),
     shader!("gbuffer/raster.wgsl", []),
     shader!(
@@ -93,8 +94,9 @@ pub const SHADERS: &[ShaderFile] = &[
             "LIGHT_SUN"
         ]
     ),
-    shader!("lighting/composite.wgsl", []),
-    shader!("post/tonemap.wgsl", []),
+    shader!("lighting/composite.wgsl", one_of ["LIGHTS_2", "LIGHTS_3", "LIGHTS_4"]),
+    shader!("post/tonemap.wgsl", ["EYE_ADAPTATION"]),
+    shader!("post/eye_adaptation.wgsl", []),
     shader!("gbuffer/view.wgsl", one_of ["ALBEDO", "NORMALS", "VELOCITY", "UV", "DEPTH", "MATERIAL_ID", "OBJECT_ID"]),
 ];
 

@@ -1,9 +1,10 @@
-//! `CompositeLight`: the lit HDR image from CookTorrance's components.
+//! `CompositeLight`: the lit HDR image from CookTorrance's components, one
+//! diffuse/specular pair per light type (join them with `Group (Texture)`).
 
-use spreadlight_graph::{Color, NodeDef, PinType, Registry, ResourceKind, Spread};
+use spreadlight_graph::{Color, NodeDef, NodeError, PinType, Registry, ResourceKind, Spread};
 use spreadlight_render::TextureRef;
 use spreadlight_render::gbuffer::GBuffer;
-use spreadlight_render::lighting::CompositeLight;
+use spreadlight_render::lighting::{CompositeLight, MAX_COMPONENTS};
 
 use crate::gpu::{renderer, resource_spread, resources};
 
@@ -13,27 +14,31 @@ pub fn register(r: &mut Registry) {
         NodeDef::new(
             "CompositeLight",
             super::CATEGORY,
-            "Adds CookTorrance's diffuse and specular and an ambient term (Ambient x albedo) into one HDR image.",
+            "Adds CookTorrance's diffuse and specular (slice i of each: one light type; up to four) and an \
+             ambient term (Ambient x albedo) into one HDR image.",
         )
         .input_spread("G-Buffer", PinType::Resource(ResourceKind::GBuffer), Spread::Resource(ResourceKind::GBuffer, vec![]))
         .input_spread("Diffuse", PinType::Resource(ResourceKind::Texture), texture())
         .input_spread("Specular", PinType::Resource(ResourceKind::Texture), texture())
-        .input("Ambient", spreadlight_graph::Color::rgba(0.0, 0.0, 0.0, 1.0))
+        .input("Ambient", Color::rgba(0.0, 0.0, 0.0, 1.0))
         .output_typed("Texture", PinType::Resource(ResourceKind::Texture))
         .evaluate(|cx| {
             let renderer = renderer(cx)?;
             let gbuffer = resources::<GBuffer>(cx, 0)?.into_iter().next().ok_or_else(|| cx.input_error(0, "no G-buffer connected"))?;
-            let diffuse = resources::<TextureRef>(cx, 1)?.into_iter().next().ok_or_else(|| cx.input_error(1, "not connected"))?;
-            let specular = resources::<TextureRef>(cx, 2)?.into_iter().next().ok_or_else(|| cx.input_error(2, "not connected"))?;
+            let diffuse = resources::<TextureRef>(cx, 1)?;
+            let specular = resources::<TextureRef>(cx, 2)?;
+            if diffuse.is_empty() || diffuse.len() != specular.len() || diffuse.len() > MAX_COMPONENTS {
+                return Err(NodeError::Other(format!(
+                    "Diffuse and Specular need the same number of slices, 1 to {MAX_COMPONENTS} (got {} and {})",
+                    diffuse.len(),
+                    specular.len()
+                )));
+            }
+            super::require_finite(cx, 3..4)?;
             let ambient: Color = cx.slices::<Color>(3)?.first().copied().unwrap_or(Color::BLACK);
-            let composite = CompositeLight::new(
-                &renderer,
-                Some(cx.node_id.0),
-                gbuffer,
-                (*diffuse).clone(),
-                (*specular).clone(),
-                [ambient.r, ambient.g, ambient.b],
-            );
+            let components = diffuse.iter().zip(&specular).map(|(d, s)| ((**d).clone(), (**s).clone())).collect();
+            let composite = CompositeLight::new(&renderer, Some(cx.node_id.0), gbuffer, components, [ambient.r, ambient.g, ambient.b])
+                .map_err(|e| NodeError::Other(e.to_string()))?;
             cx.set_output(0, resource_spread::<TextureRef>(ResourceKind::Texture, vec![std::sync::Arc::new(composite.texture())]));
             Ok(())
         }),

@@ -12,12 +12,15 @@ use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
 use crate::shaders::ShaderKey;
 
+/// Light types one CompositeLight adds up.
+pub const MAX_COMPONENTS: usize = 4;
+
 pub struct CompositeLight {
     id: u64,
     owner: Option<u32>,
     gbuffer: Arc<GBuffer>,
-    diffuse: TextureRef,
-    specular: TextureRef,
+    /// (diffuse, specular) per light type, one to four.
+    components: Vec<(TextureRef, TextureRef)>,
     params: wgpu::Buffer,
     pub output: String,
 }
@@ -27,10 +30,18 @@ impl CompositeLight {
         renderer: &Renderer,
         owner: Option<u32>,
         gbuffer: Arc<GBuffer>,
-        diffuse: TextureRef,
-        specular: TextureRef,
+        components: Vec<(TextureRef, TextureRef)>,
         ambient: [f32; 3],
-    ) -> Arc<Self> {
+    ) -> Result<Arc<Self>, RenderError> {
+        if components.is_empty() || components.len() > MAX_COMPONENTS {
+            return Err(RenderError::Pass {
+                pass: "CompositeLight".to_owned(),
+                message: format!(
+                    "takes 1 to {MAX_COMPONENTS} diffuse/specular pairs, got {}",
+                    components.len()
+                ),
+            });
+        }
         let id = next_recipe_id();
         let ambient = ambient.map(|a| {
             if a.is_finite() {
@@ -47,15 +58,14 @@ impl CompositeLight {
                 contents: bytemuck::cast_slice(&[ambient[0], ambient[1], ambient[2], 0.0]),
                 usage: wgpu::BufferUsages::UNIFORM,
             });
-        Arc::new(CompositeLight {
+        Ok(Arc::new(CompositeLight {
             id,
             owner,
             gbuffer,
-            diffuse,
-            specular,
+            components,
             params,
             output: format!("composite{id}"),
-        })
+        }))
     }
 
     pub fn texture(self: &Arc<Self>) -> TextureRef {
@@ -67,25 +77,41 @@ impl CompositeLight {
 
     fn run(&self, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
         let device = cx.gpu.device.clone();
-        let key = ShaderKey::new("lighting/composite.wgsl", []);
+        let feature = match self.components.len() {
+            2 => Some("LIGHTS_2"),
+            3 => Some("LIGHTS_3"),
+            4 => Some("LIGHTS_4"),
+            _ => None,
+        };
+        let key = ShaderKey::new("lighting/composite.wgsl", feature);
         let pipeline = cx.shaders.compute_pipeline(&device, &key, "main")?;
         let g = &self.gbuffer.targets;
-        let views = [
+        let fixed = [
             cx.view(&g.color)?,
-            cx.view(&self.diffuse.name)?,
-            cx.view(&self.specular.name)?,
             cx.view(&g.depth)?,
             cx.view(&self.output)?,
         ];
-        let all = [
+        let mut lights = Vec::new();
+        for (diffuse, specular) in &self.components {
+            lights.push((cx.view(&diffuse.name)?, cx.view(&specular.name)?));
+        }
+        let mut all = vec![
             (0, self.gbuffer.camera_buffer().as_entire_binding()),
             (1, self.params.as_entire_binding()),
-            (2, wgpu::BindingResource::TextureView(&views[0])),
-            (3, wgpu::BindingResource::TextureView(&views[1])),
-            (4, wgpu::BindingResource::TextureView(&views[2])),
-            (5, wgpu::BindingResource::TextureView(&views[3])),
-            (6, wgpu::BindingResource::TextureView(&views[4])),
+            (2, wgpu::BindingResource::TextureView(&fixed[0])),
+            (5, wgpu::BindingResource::TextureView(&fixed[1])),
+            (6, wgpu::BindingResource::TextureView(&fixed[2])),
         ];
+        // Pair 0 at bindings 3 and 4, pairs 1..3 from binding 7 on.
+        for (k, (diffuse, specular)) in lights.iter().enumerate() {
+            let (d, s) = if k == 0 {
+                (3, 4)
+            } else {
+                (5 + 2 * k as u32, 6 + 2 * k as u32)
+            };
+            all.push((d, wgpu::BindingResource::TextureView(diffuse)));
+            all.push((s, wgpu::BindingResource::TextureView(specular)));
+        }
         let group = cx
             .shaders
             .bind_group(&device, &key, "main", &pipeline, 0, &all)?;
@@ -108,17 +134,24 @@ impl Recipe for CompositeLight {
             return;
         }
         self.gbuffer.declare(renderer, fg);
-        self.diffuse.recipe.declare(renderer, fg);
-        self.specular.recipe.declare(renderer, fg);
+        for (diffuse, specular) in &self.components {
+            diffuse.recipe.declare(renderer, fg);
+            specular.recipe.declare(renderer, fg);
+        }
         let name = match self.owner {
             Some(node) => format!("CompositeLight #{node}"),
             None => "CompositeLight".to_owned(),
         };
         let g = &self.gbuffer.targets;
+        let mut reads: Vec<&str> = vec![&g.color, &g.depth];
+        for (diffuse, specular) in &self.components {
+            reads.push(&diffuse.name);
+            reads.push(&specular.name);
+        }
         fg.add_pass(
             name,
             self.owner,
-            &[&g.color, &g.depth, &self.diffuse.name, &self.specular.name],
+            &reads,
             &[(
                 &self.output,
                 TextureDesc::storage(wgpu::TextureFormat::Rgba16Float).size(self.gbuffer.size),

@@ -12,7 +12,7 @@ use glam::Vec3;
 use wgpu::util::DeviceExt;
 
 pub use clusters::ClusterGrid;
-pub use composite::CompositeLight;
+pub use composite::{CompositeLight, MAX_COMPONENTS};
 pub use cook_torrance::{CookTorrance, LightLoop};
 
 use crate::renderer::Renderer;

@@ -1,5 +1,7 @@
 //! Post-processing passes: texture in, texture out, in compute.
 
+pub mod eye_adaptation;
 pub mod tonemap;
 
-pub use tonemap::Tonemap;
+pub use eye_adaptation::{AdaptationSettings, EyeAdaptation};
+pub use tonemap::{AdaptedExposure, Tonemap};

@@ -1,6 +1,8 @@
 //! `Tonemap`: exposure and one of Emeshe's operators (plus ACES and AgX),
 //! HDR in, display-referred linear 0..1 out. The operator maths lives in
 //! shaders/lib/tonemap.wgsl and, for tests, in `crate::reference::tonemap`.
+//! With an adapted luminance (`EyeAdaptation`'s output) the exposure becomes
+//! `exposure * key / adapted` (the shader's `EYE_ADAPTATION` permutation).
 
 use std::sync::Arc;
 
@@ -12,10 +14,32 @@ use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
 use crate::shaders::ShaderKey;
 
+/// The key exposure maps an adapted luminance to: middle grey.
+pub const DEFAULT_KEY: f32 = 0.18;
+
+/// Exposure from an adapted luminance: `exposure * key / luminance`.
+#[derive(Clone, Debug)]
+pub struct AdaptedExposure {
+    /// A 1x1 texture whose red channel is the adapted luminance (linear), e.g. `EyeAdaptation::texture`.
+    pub luminance: TextureRef,
+    /// What the adapted luminance maps to (0.18: middle grey).
+    pub key: f32,
+}
+
+impl AdaptedExposure {
+    pub fn new(luminance: TextureRef) -> Self {
+        AdaptedExposure {
+            luminance,
+            key: DEFAULT_KEY,
+        }
+    }
+}
+
 pub struct Tonemap {
     id: u64,
     owner: Option<u32>,
     source: TextureRef,
+    adaptation: Option<TextureRef>,
     params: wgpu::Buffer,
     pub output: String,
 }
@@ -30,8 +54,24 @@ impl Tonemap {
         exposure: f32,
         param: f32,
     ) -> Arc<Self> {
+        Self::with_adaptation(renderer, owner, source, operator, exposure, param, None)
+    }
+
+    /// As [`Tonemap::new`]; with `adaptation` the exposure is `exposure * key / adapted luminance`.
+    pub fn with_adaptation(
+        renderer: &Renderer,
+        owner: Option<u32>,
+        source: TextureRef,
+        operator: u32,
+        exposure: f32,
+        param: f32,
+        adaptation: Option<AdaptedExposure>,
+    ) -> Arc<Self> {
         let id = next_recipe_id();
         let finite = |v: f32, fallback: f32| if v.is_finite() { v } else { fallback };
+        let key = adaptation
+            .as_ref()
+            .map_or(DEFAULT_KEY, |a| finite(a.key, DEFAULT_KEY).clamp(0.0, 1e3));
         let params = renderer
             .gpu
             .device
@@ -41,7 +81,7 @@ impl Tonemap {
                     operator,
                     finite(exposure, 1.0).max(0.0).to_bits(),
                     finite(param, 1.0).to_bits(),
-                    0,
+                    key.to_bits(),
                 ]),
                 usage: wgpu::BufferUsages::UNIFORM,
             });
@@ -49,6 +89,7 @@ impl Tonemap {
             id,
             owner,
             source,
+            adaptation: adaptation.map(|a| a.luminance),
             params,
             output: format!("tonemap{id}"),
         })
@@ -63,18 +104,26 @@ impl Tonemap {
 
     fn run(&self, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
         let device = cx.gpu.device.clone();
-        let key = ShaderKey::new("post/tonemap.wgsl", []);
+        let features = self.adaptation.as_ref().map(|_| "EYE_ADAPTATION");
+        let key = ShaderKey::new("post/tonemap.wgsl", features);
         let pipeline = cx.shaders.compute_pipeline(&device, &key, "main")?;
         let (source, output) = (cx.view(&self.source.name)?, cx.view(&self.output)?);
+        let adaptation = match &self.adaptation {
+            Some(a) => Some(cx.view(&a.name)?),
+            None => None,
+        };
         let (w, h) = {
             let t = cx.texture(&self.output)?;
             (t.width(), t.height())
         };
-        let all = [
+        let mut all = vec![
             (0, self.params.as_entire_binding()),
             (1, wgpu::BindingResource::TextureView(&source)),
             (2, wgpu::BindingResource::TextureView(&output)),
         ];
+        if let Some(view) = &adaptation {
+            all.push((3, wgpu::BindingResource::TextureView(view)));
+        }
         let group = cx
             .shaders
             .bind_group(&device, &key, "main", &pipeline, 0, &all)?;
@@ -96,16 +145,23 @@ impl Recipe for Tonemap {
             return;
         }
         self.source.recipe.declare(renderer, fg);
+        if let Some(adaptation) = &self.adaptation {
+            adaptation.recipe.declare(renderer, fg);
+        }
         let name = match self.owner {
             Some(node) => format!("Tonemap #{node}"),
             None => "Tonemap".to_owned(),
         };
         let desc =
             TextureDesc::storage(wgpu::TextureFormat::Rgba16Float).size(SizeRule::Relative(1.0));
+        let mut reads = vec![self.source.name.as_str()];
+        if let Some(adaptation) = &self.adaptation {
+            reads.push(&adaptation.name);
+        }
         fg.add_pass(
             name,
             self.owner,
-            &[&self.source.name],
+            &reads,
             &[(&self.output, desc)],
             move |cx| self.run(cx),
         );

@@ -1,0 +1,105 @@
+//! `AddCookTorrance`, `AddEmission`, `AddFakeSSS`, `AddReflection`,
+//! `AddMatCap`, `AddAmbientOcclusion`: `FeatureManager` with the feature
+//! fixed and its vec4 named pin by pin. Each takes a material (none = a new
+//! one) and outputs it with the feature set, replacing an earlier setting.
+//! One function serves all six: the vec4 is the node's pins after Material,
+//! in order, a Float giving one component and a Color three (rgb).
+
+use spreadlight_graph::{Color, EvalContext, NodeDef, NodeError, Registry, Spread};
+use spreadlight_render::material::Feature;
+
+use super::{
+    CATEGORY, MATERIAL, no_materials, not_finite, set_feature, slice_count_with_materials,
+};
+
+pub fn register(r: &mut Registry) {
+    let node = |name, help| {
+        NodeDef::new(name, CATEGORY, help)
+            .input_spread("Material", MATERIAL, no_materials())
+            .output_typed("Material", MATERIAL)
+    };
+    let color = |r, g, b| Color { r, g, b, a: 1.0 };
+    r.add(
+        node("AddCookTorrance", "Sets CookTorrance shading on each material: GGX roughness 0..1, metallic 0..1 and reflectance, the f0 of the dielectric part (0.04 for most; 0..1). No material in: new ones.")
+            .input("Roughness", 0.5f32)
+            .input("Metallic", 0.0f32)
+            .input("Reflectance", 0.04f32)
+            .evaluate(|cx| add(cx, Feature::CookTorrance, 3)),
+    );
+    r.add(
+        node("AddEmission", "Sets emission on each material: linear colour and strength (both >= 0). No material in: new ones.")
+            .input("Color", color(1.0, 1.0, 1.0))
+            .input("Strength", 1.0f32)
+            .evaluate(|cx| add(cx, Feature::Emission, 2)),
+    );
+    r.add(
+        node("AddFakeSSS", "Sets faked subsurface scattering on each material: scatter colour and strength (both >= 0). No material in: new ones.")
+            .input("Color", color(1.0, 0.2, 0.1))
+            .input("Strength", 1.0f32)
+            .evaluate(|cx| add(cx, Feature::FakeSss, 2)),
+    );
+    let strength = |name, help| node(name, help).input("Strength", 1.0f32);
+    r.add(
+        strength("AddReflection", "Sets environment reflection on each material, with a strength >= 0. No material in: new ones.")
+            .evaluate(|cx| add(cx, Feature::Reflection, 1)),
+    );
+    r.add(
+        strength(
+            "AddMatCap",
+            "Sets matcap shading on each material, with a strength >= 0. No material in: new ones.",
+        )
+        .evaluate(|cx| add(cx, Feature::MatCap, 1)),
+    );
+    r.add(
+        strength("AddAmbientOcclusion", "Sets ambient occlusion on each material, with a strength >= 0. No material in: new ones.")
+            .evaluate(|cx| add(cx, Feature::AmbientOcclusion, 1)),
+    );
+}
+
+/// The value pins of a helper as per-slice components.
+enum Pin<'a> {
+    Float(&'a [f32]),
+    Color(&'a [Color]),
+}
+
+impl Pin<'_> {
+    fn len(&self) -> usize {
+        match self {
+            Pin::Float(v) => v.len(),
+            Pin::Color(v) => v.len(),
+        }
+    }
+}
+
+/// `feature` from the `values` pins after Material (1..=values).
+fn add(cx: &mut EvalContext<'_>, feature: Feature, values: usize) -> Result<(), NodeError> {
+    let mut pins = Vec::with_capacity(values);
+    for k in 1..=values {
+        pins.push(match cx.input(k) {
+            Spread::Color(_) => Pin::Color(cx.slices::<Color>(k)?),
+            _ => Pin::Float(cx.slices::<f32>(k)?),
+        });
+    }
+    let n = slice_count_with_materials(cx.input(0).len(), pins.iter().map(Pin::len));
+    let mut params = Vec::with_capacity(n);
+    for slice in 0..n {
+        // n > 0 means no pin is empty.
+        let mut components = Vec::with_capacity(4);
+        for (k, pin) in pins.iter().enumerate() {
+            let start = components.len();
+            match pin {
+                Pin::Float(s) => components.push(s[slice % s.len()]),
+                Pin::Color(s) => {
+                    let c = s[slice % s.len()];
+                    components.extend([c.r, c.g, c.b]);
+                }
+            }
+            if components[start..].iter().any(|c| !c.is_finite()) {
+                return Err(not_finite(cx, k + 1, slice));
+            }
+        }
+        components.resize(4, 0.0);
+        params.push([components[0], components[1], components[2], components[3]]);
+    }
+    set_feature(cx, 0, n, 1, |_, slice| Ok((feature, vec![params[slice]])))
+}

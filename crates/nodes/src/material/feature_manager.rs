@@ -1,0 +1,61 @@
+//! `FeatureManager`: sets one feature, by id, on each material. Feature id n
+//! is flag 1 << n (Emeshe's convention); 0..=5 are the built-ins (one vec4
+//! each), 16..=31 custom features with any number of vec4s. Bin Size says
+//! how many Parameters slices go to each material, as vvvv's bin sizes do.
+
+use glam::Vec4;
+use spreadlight_graph::{NodeDef, Registry};
+use spreadlight_render::material::Feature;
+
+use super::{
+    CATEGORY, MATERIAL, no_materials, not_finite, refused, set_feature, slice_count_with_materials,
+};
+
+const FEATURE_ID: usize = 1;
+const PARAMETERS: usize = 2;
+const BIN_SIZE: usize = 3;
+
+pub fn register(r: &mut Registry) {
+    r.add(
+        NodeDef::new(
+            "FeatureManager",
+            CATEGORY,
+            "Sets feature Feature ID on each material (none in: new ones), replacing an earlier setting. \
+             Ids: 0 CookTorrance (roughness, metallic, reflectance), 1 Emission (rgb, strength), 2 FakeSSS \
+             (rgb, strength), 3 Reflection, 4 MatCap, 5 AmbientOcclusion (strength); 16..31 custom. Each \
+             material takes Bin Size slices of Parameters (built-ins take 1; 0 sets a custom flag alone). \
+             Values are clamped to their physical ranges.",
+        )
+        .input_spread("Material", MATERIAL, no_materials())
+        .input("Feature ID", 0i64)
+        .input("Parameters", Vec4::new(0.5, 0.0, 0.04, 0.0))
+        .input("Bin Size", 1i64)
+        .output_typed("Material", MATERIAL)
+        .evaluate(|cx| {
+            let ids = cx.slices::<i64>(FEATURE_ID)?.to_vec();
+            let params = cx.slices::<Vec4>(PARAMETERS)?.to_vec();
+            let bin = match cx.slices::<i64>(BIN_SIZE)?.first().copied().unwrap_or(1) {
+                b if b < 0 => return Err(cx.input_error(BIN_SIZE, format!("is {b}; it must be 0 or more"))),
+                b => usize::try_from(b).unwrap_or(usize::MAX),
+            };
+            // Bin size 0: every material gets no parameters, whatever Parameters holds.
+            let bins = if bin == 0 { 1 } else { params.len().div_ceil(bin) };
+            let n = slice_count_with_materials(cx.input(0).len(), [ids.len(), bins]);
+            if let Some(slice) = (0..n).find(|s| (0..bin).any(|k| !params[(s * bin + k) % params.len()].is_finite())) {
+                return Err(not_finite(cx, PARAMETERS, slice));
+            }
+            set_feature(cx, 0, n, PARAMETERS, |cx, slice| {
+                let id = ids[slice % ids.len()];
+                let feature = Feature::from_id(id).map_err(|e| refused(cx, FEATURE_ID, slice, e))?;
+                if feature.param_count().is_some_and(|c| c != bin) {
+                    return Err(cx.input_error(
+                        BIN_SIZE,
+                        format!("is {bin}, but feature {feature} (slice {slice}) takes exactly one parameter vec4"),
+                    ));
+                }
+                let values = (0..bin).map(|k| params[(slice * bin + k) % params.len()].to_array()).collect();
+                Ok((feature, values))
+            })
+        }),
+    );
+}

@@ -1,0 +1,32 @@
+//! `MaterialBuffer`: a spread of materials (slice i = material id i, what
+//! the G-buffer stores) uploaded as one `MaterialWorld`: Emeshe's three
+//! storage buffers. Nothing connected gives the default material (id 0:
+//! CookTorrance, roughness 0.5, metallic 0). Worlds are not singletons:
+//! each MaterialBuffer has its own.
+
+use spreadlight_graph::{NodeDef, PinType, Registry, ResourceKind};
+use spreadlight_render::material::{Material, MaterialWorld};
+
+use super::{CATEGORY, MATERIAL, no_materials};
+use crate::gpu::{renderer, resource_spread, resources};
+
+pub fn register(r: &mut Registry) {
+    r.add(
+        NodeDef::new(
+            "MaterialBuffer",
+            CATEGORY,
+            "Uploads materials for shading: slice i becomes material id i (the G-buffer's material id; ids \
+             beyond the last read material 0). Nothing connected: one default material (CookTorrance, \
+             roughness 0.5, metallic 0). Shading passes compile only the features some material has.",
+        )
+        .input_spread("Materials", MATERIAL, no_materials())
+        .output_typed("Material World", PinType::Resource(ResourceKind::MaterialWorld))
+        .evaluate(|cx| {
+            let renderer = renderer(cx)?;
+            let materials: Vec<Material> = resources::<Material>(cx, 0)?.iter().map(|m| Material::clone(m)).collect();
+            let world = MaterialWorld::new(&renderer, materials);
+            cx.set_output(0, resource_spread(ResourceKind::MaterialWorld, vec![world]));
+            Ok(())
+        }),
+    );
+}

@@ -1,0 +1,93 @@
+//! Materials in patch space (category "Material"), after Emeshe:
+//! `FeatureManager` sets one feature, by id, on a material; `AddCookTorrance`,
+//! `AddEmission`, `AddFakeSSS`, `AddReflection`, `AddMatCap` and
+//! `AddAmbientOcclusion` (in `add_feature.rs`) wrap it per built-in feature;
+//! `MaterialBuffer` uploads a spread of materials (slice i = material id i)
+//! as a `MaterialWorld`.
+//!
+//! Two resource kinds travel: `ResourceKind::Material` carries CPU-side
+//! `Arc<Material>`s (cheap to build and chain, no GPU), and
+//! `ResourceKind::MaterialWorld` the uploaded `Arc<MaterialWorld>`, which is
+//! what shading passes bind. Only `MaterialBuffer` needs the renderer.
+
+pub mod add_feature;
+pub mod feature_manager;
+pub mod material_buffer;
+
+use std::sync::Arc;
+
+use spreadlight_graph::{EvalContext, NodeError, PinType, Registry, ResourceKind, Spread};
+use spreadlight_render::material::{Feature, FeatureError, Material};
+
+use crate::gpu::{resource_spread, resources};
+
+pub const CATEGORY: &str = "Material";
+
+pub fn register(r: &mut Registry) {
+    feature_manager::register(r);
+    add_feature::register(r);
+    material_buffer::register(r);
+}
+
+/// The pin type of a CPU-side material.
+pub const MATERIAL: PinType = PinType::Resource(ResourceKind::Material);
+
+/// An unconnected material pin: no slices, read as "a new material".
+pub fn no_materials() -> Spread {
+    Spread::Resource(ResourceKind::Material, Vec::new())
+}
+
+/// How many materials a feature node outputs: the spread count of its
+/// parameter pins (`counts`), and of its material input unless that is empty,
+/// which stands for new materials rather than for nothing.
+pub fn slice_count_with_materials(
+    materials: usize,
+    counts: impl IntoIterator<Item = usize>,
+) -> usize {
+    let n = spreadlight_graph::spread::slice_count(counts);
+    if materials == 0 || n == 0 {
+        n
+    } else {
+        n.max(materials)
+    }
+}
+
+/// Set `feature` on each of `n` materials from input pin `pin` (wrapping;
+/// empty = new materials) with `params(slice)`, and output them on pin 0.
+/// A refused setting becomes an error on `param_pin` naming the slice.
+pub fn set_feature(
+    cx: &mut EvalContext<'_>,
+    pin: usize,
+    n: usize,
+    param_pin: usize,
+    mut params: impl FnMut(&EvalContext<'_>, usize) -> Result<(Feature, Vec<[f32; 4]>), NodeError>,
+) -> Result<(), NodeError> {
+    let inputs = resources::<Material>(cx, pin)?;
+    let mut out = Vec::with_capacity(n);
+    for slice in 0..n {
+        let (feature, values) = params(cx, slice)?;
+        let mut material = match inputs.len() {
+            0 => Material::new(),
+            len => Material::clone(&inputs[slice % len]),
+        };
+        material
+            .set(feature, &values)
+            .map_err(|e| refused(cx, param_pin, slice, e))?;
+        out.push(Arc::new(material));
+    }
+    cx.set_output(0, resource_spread(ResourceKind::Material, out));
+    Ok(())
+}
+
+/// A `FeatureError` as an input error on `pin` at `slice`.
+pub fn refused(cx: &EvalContext<'_>, pin: usize, slice: usize, e: FeatureError) -> NodeError {
+    cx.input_error(pin, format!("slice {slice}: {e}"))
+}
+
+/// The error for a NaN or infinity on `pin` at `slice`.
+pub fn not_finite(cx: &EvalContext<'_>, pin: usize, slice: usize) -> NodeError {
+    cx.input_error(pin, format!("slice {slice} is NaN or infinite"))
+}
+
+#[cfg(test)]
+mod tests;

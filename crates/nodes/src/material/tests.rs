@@ -1,0 +1,285 @@
+//! The material nodes: building materials on the CPU through `testing::eval`,
+//! and `MaterialBuffer`'s upload through a runtime that has a renderer.
+
+use std::sync::Arc;
+
+use glam::Vec4;
+use spreadlight_graph::{
+    Color, FrameClock, NodeDoc, NodeError, NodeId, Patch, Resource, ResourceKind, Runtime, Spread,
+};
+use spreadlight_render::material::{Feature, Material, MaterialWorld};
+
+use crate::testing::{eval, eval_err, floats, ints};
+
+/// The materials on output 0 of node `name` with `values` on its pins.
+fn materials(name: &str, values: &[(&str, Spread)]) -> Vec<Arc<Material>> {
+    let out = eval(name, values).unwrap_or_else(|e| panic!("`{name}` failed: {e}"));
+    match &out[0] {
+        Spread::Resource(ResourceKind::Material, handles) => handles
+            .iter()
+            .map(|h| h.downcast_arc::<Material>().expect("a Material"))
+            .collect(),
+        other => panic!("`{name}` output {other:?}"),
+    }
+}
+
+fn material_spread(materials: &[Arc<Material>]) -> Spread {
+    Spread::Resource(
+        ResourceKind::Material,
+        materials.iter().cloned().map(Resource::from_arc).collect(),
+    )
+}
+
+#[test]
+fn helpers_make_new_materials_one_per_slice() {
+    let out = materials(
+        "AddCookTorrance",
+        &[("Roughness", floats(&[0.1, 0.9, 2.0]))],
+    );
+    assert_eq!(out.len(), 3);
+    let rough: Vec<f32> = out
+        .iter()
+        .map(|m| m.params(Feature::CookTorrance).unwrap()[0][0])
+        .collect();
+    assert_eq!(rough, [0.1, 0.9, 1.0], "roughness is clamped to 0..1");
+    assert_eq!(
+        out[0].params(Feature::CookTorrance),
+        Some(&[[0.1, 0.0, 0.04, 0.0]][..])
+    );
+    assert!(out.iter().all(|m| m.flags() == 1));
+
+    let sss = materials(
+        "AddFakeSSS",
+        &[(
+            "Color",
+            Spread::Color(vec![Color {
+                r: 0.5,
+                g: -1.0,
+                b: 0.25,
+                a: 0.3,
+            }]),
+        )],
+    );
+    assert_eq!(
+        sss[0].params(Feature::FakeSss),
+        Some(&[[0.5, 0.0, 0.25, 1.0]][..])
+    );
+    for (name, feature) in [
+        ("AddReflection", Feature::Reflection),
+        ("AddMatCap", Feature::MatCap),
+        ("AddAmbientOcclusion", Feature::AmbientOcclusion),
+    ] {
+        let m = materials(name, &[("Strength", floats(&[-2.0, 3.0]))]);
+        assert_eq!(m.len(), 2);
+        assert_eq!(m[0].params(feature), Some(&[[0.0; 4]][..]), "{name}");
+        assert_eq!(
+            m[1].params(feature),
+            Some(&[[3.0, 0.0, 0.0, 0.0]][..]),
+            "{name}"
+        );
+        assert_eq!(m[1].flags(), feature.flag());
+    }
+}
+
+#[test]
+fn helpers_chain_and_replace_their_feature() {
+    let base = materials("AddCookTorrance", &[("Roughness", floats(&[0.2, 0.4]))]);
+    // Spreading: 2 materials, 3 strengths -> 3 materials, the first wraps around.
+    let lit = materials(
+        "AddEmission",
+        &[
+            ("Material", material_spread(&base)),
+            ("Strength", floats(&[1.0, 2.0, 3.0])),
+        ],
+    );
+    assert_eq!(lit.len(), 3);
+    assert_eq!(lit[2].params(Feature::CookTorrance).unwrap()[0][0], 0.2);
+    assert_eq!(
+        lit[2].params(Feature::Emission),
+        Some(&[[1.0, 1.0, 1.0, 3.0]][..])
+    );
+    assert_eq!(lit[0].flags(), 0b11);
+    let again = materials(
+        "AddCookTorrance",
+        &[
+            ("Material", material_spread(&lit)),
+            ("Metallic", floats(&[1.0])),
+        ],
+    );
+    assert_eq!(again.len(), 3, "the material pin counts when connected");
+    assert_eq!(
+        again[1].params(Feature::CookTorrance),
+        Some(&[[0.5, 1.0, 0.04, 0.0]][..]),
+        "replaced, not merged"
+    );
+    assert_eq!(
+        again[1].params(Feature::Emission),
+        lit[1].params(Feature::Emission)
+    );
+    // The inputs are untouched: materials are values.
+    assert_eq!(base[0].flags(), 1);
+    assert!(materials("AddEmission", &[("Strength", floats(&[]))]).is_empty());
+}
+
+#[test]
+fn nan_on_a_pin_is_an_error_naming_pin_and_slice() {
+    let e = eval_err(
+        "AddEmission",
+        &[("Strength", floats(&[1.0, f32::NAN]))],
+        "Strength",
+    );
+    assert!(e.to_string().contains("slice 1"), "{e}");
+    let red = Spread::Color(vec![Color {
+        r: f32::INFINITY,
+        g: 0.0,
+        b: 0.0,
+        a: 1.0,
+    }]);
+    let e = eval_err("AddFakeSSS", &[("Color", red)], "Color");
+    assert!(e.to_string().contains("slice 0"), "{e}");
+    let nan = Spread::Vec4(vec![Vec4::ONE, Vec4::new(0.0, f32::NAN, 0.0, 0.0)]);
+    let e = eval_err("FeatureManager", &[("Parameters", nan)], "Parameters");
+    assert!(e.to_string().contains("slice 1"), "{e}");
+}
+
+#[test]
+fn feature_manager_sets_built_in_and_custom_features() {
+    let params = Spread::Vec4(vec![Vec4::new(0.3, 0.7, 0.5, 9.0)]);
+    let ct = materials("FeatureManager", &[("Parameters", params)]);
+    assert_eq!(ct.len(), 1);
+    assert_eq!(
+        ct[0].params(Feature::CookTorrance),
+        Some(&[[0.3, 0.7, 0.5, 0.0]][..])
+    );
+
+    // Custom feature 20, two vec4s per material: four parameters make two materials.
+    let four = Spread::Vec4((0..4).map(|i| Vec4::splat(i as f32 - 1.0)).collect());
+    let custom = materials(
+        "FeatureManager",
+        &[
+            ("Feature ID", ints(&[20])),
+            ("Parameters", four),
+            ("Bin Size", ints(&[2])),
+        ],
+    );
+    assert_eq!(custom.len(), 2);
+    assert_eq!(
+        custom[0].params(Feature::Custom(20)),
+        Some(&[[-1.0; 4], [0.0; 4]][..])
+    );
+    assert_eq!(
+        custom[1].params(Feature::Custom(20)),
+        Some(&[[1.0; 4], [2.0; 4]][..])
+    );
+    assert_eq!(custom[1].flags(), 1 << 20);
+
+    let flag_only = materials(
+        "FeatureManager",
+        &[("Feature ID", ints(&[16, 31])), ("Bin Size", ints(&[0]))],
+    );
+    assert_eq!(flag_only.len(), 2);
+    assert_eq!(flag_only[1].params(Feature::Custom(31)), Some(&[][..]));
+    assert_eq!(flag_only[1].flags(), 1 << 31);
+}
+
+#[test]
+fn feature_manager_refuses_unknown_ids_and_wrong_bin_sizes() {
+    for id in [6, 15, 32, -1] {
+        let e = eval_err(
+            "FeatureManager",
+            &[("Feature ID", ints(&[1, id]))],
+            "Feature ID",
+        );
+        assert!(e.to_string().contains("slice 1"), "{e}");
+    }
+    let e = eval_err("FeatureManager", &[("Bin Size", ints(&[2]))], "Bin Size");
+    assert!(e.to_string().contains("CookTorrance"), "{e}");
+    eval_err("FeatureManager", &[("Bin Size", ints(&[-1]))], "Bin Size");
+}
+
+#[test]
+fn material_buffer_without_a_renderer_says_how_to_get_one() {
+    match eval("MaterialBuffer", &[]) {
+        Err(NodeError::Other(message)) => assert!(message.contains("renderer"), "{message}"),
+        other => panic!("{other:?}"),
+    }
+}
+
+/// The world a `MaterialBuffer` (node 9, probed) uploads in a runtime with a
+/// GPU, fed by `upstream` nodes: `chain` lists nodes whose Material output
+/// feeds the next one's Material input, the last feeding Materials.
+fn world(upstream: Vec<NodeDoc>, chain: &[u32]) -> Arc<MaterialWorld> {
+    let mut patch = Patch::default();
+    for node in upstream {
+        patch.add(node);
+    }
+    patch.add(NodeDoc::new(9, "MaterialBuffer"));
+    patch.add(NodeDoc::new(10, "Probe"));
+    for pair in chain.windows(2) {
+        patch.link(pair[0], "Material", pair[1], "Material");
+    }
+    if let Some(&last) = chain.last() {
+        patch.link(last, "Material", 9, "Materials");
+    }
+    patch.link(9, "Material World", 10, "Input");
+    let mut runtime = Runtime::new(crate::registry());
+    runtime.provide(spreadlight_render::renderer::test_renderer());
+    let problems = runtime.load(&patch);
+    assert!(problems.is_empty(), "{problems:?}");
+    runtime.evaluate(FrameClock::default());
+    let errors: Vec<_> = runtime.node_errors().collect();
+    assert!(errors.is_empty(), "{errors:?}");
+    match runtime
+        .output(NodeId(9), "Material World")
+        .map(|s| s.as_ref())
+    {
+        Some(Spread::Resource(ResourceKind::MaterialWorld, handles)) if handles.len() == 1 => {
+            handles[0]
+                .downcast_arc::<MaterialWorld>()
+                .expect("a MaterialWorld")
+        }
+        other => panic!("MaterialBuffer output {other:?}"),
+    }
+}
+
+#[test]
+fn material_buffer_uploads_one_world_with_material_id_per_slice() {
+    let default = world(Vec::new(), &[]);
+    assert_eq!(default.len(), 1);
+    assert_eq!(
+        default.params(0, Feature::CookTorrance),
+        Some(&[[0.5, 0.0, 0.04, 0.0]][..])
+    );
+    assert_eq!(default.union_flags(), 1);
+
+    let nodes = || {
+        vec![
+            NodeDoc::new(1, "AddCookTorrance").with("Roughness", vec![0.25f32, 0.75]),
+            NodeDoc::new(2, "AddEmission").with("Strength", vec![0.0f32, 4.0]),
+        ]
+    };
+    // Emission alone: new materials with only that feature.
+    let emissive = world(nodes(), &[2]);
+    assert_eq!(emissive.len(), 2);
+    assert_eq!(emissive.flags(1), Feature::Emission.flag());
+    assert_eq!(
+        emissive.params(1, Feature::Emission),
+        Some(&[[1.0, 1.0, 1.0, 4.0]][..])
+    );
+    assert_eq!(emissive.union_flags(), Feature::Emission.flag());
+
+    let chained = world(nodes(), &[1, 2]);
+    assert_eq!(chained.len(), 2);
+    assert_eq!(chained.flags(1), 0b11);
+    assert_eq!(
+        chained.params(1, Feature::CookTorrance).unwrap()[0][0],
+        0.75
+    );
+    assert_eq!(chained.params(1, Feature::Emission).unwrap()[0][3], 4.0);
+    assert_eq!(
+        chained.flags(7),
+        chained.flags(0),
+        "ids out of range read material 0"
+    );
+    assert_eq!(chained.union_flags(), 0b11);
+}

@@ -1,0 +1,197 @@
+//! Material features: what a bit of a material's flag word switches on, and
+//! the parameters it reads. Feature id `n` is flag `1 << n` (Emeshe's
+//! convention: the id is the exponent, the flag the power of two). Ids 0..16
+//! belong to built-in features (0..=5 exist now; 6..=15 are kept for the
+//! ones to come), 16..=31 are free for custom features.
+//!
+//! Mirrored by the `FEATURE_*` constants of `shaders/lib/material.wgsl`.
+
+use super::FeatureError;
+
+pub const FEATURE_COOK_TORRANCE: u32 = 0;
+pub const FEATURE_EMISSION: u32 = 1;
+pub const FEATURE_FAKE_SSS: u32 = 2;
+pub const FEATURE_REFLECTION: u32 = 3;
+pub const FEATURE_MATCAP: u32 = 4;
+pub const FEATURE_AMBIENT_OCCLUSION: u32 = 5;
+/// The first id free for custom features.
+pub const FIRST_CUSTOM_FEATURE: u32 = 16;
+/// One bit of a `u32` per feature.
+pub const MAX_FEATURES: u32 = 32;
+
+/// How a parameter component is kept physical: clamped into its range.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Range {
+    /// 0..=1: roughness, metallic, reflectance.
+    Unit,
+    /// >= 0: strengths and colours.
+    NonNegative,
+    /// Read by nothing; stored as 0 so equal settings pack equally.
+    Unused,
+    /// Any finite value (custom features: their shader knows the meaning).
+    Free,
+}
+
+/// The parameter layout of a built-in feature: one vec4, named and ranged per component.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ParamLayout {
+    pub names: [&'static str; 4],
+    pub ranges: [Range; 4],
+    pub default: [f32; 4],
+}
+
+use Range::{NonNegative, Unit, Unused};
+
+const COOK_TORRANCE: ParamLayout = ParamLayout {
+    names: ["roughness", "metallic", "reflectance", ""],
+    ranges: [Unit, Unit, Unit, Unused],
+    // 0.04: the f0 of common dielectrics (index of refraction about 1.5).
+    default: [0.5, 0.0, 0.04, 0.0],
+};
+const COLOR_STRENGTH: [Range; 4] = [NonNegative, NonNegative, NonNegative, NonNegative];
+const EMISSION: ParamLayout = ParamLayout {
+    names: ["red", "green", "blue", "strength"],
+    ranges: COLOR_STRENGTH,
+    default: [1.0, 1.0, 1.0, 1.0],
+};
+const FAKE_SSS: ParamLayout = ParamLayout {
+    names: ["red", "green", "blue", "strength"],
+    ranges: COLOR_STRENGTH,
+    default: [1.0, 0.2, 0.1, 1.0],
+};
+const STRENGTH: ParamLayout = ParamLayout {
+    names: ["strength", "", "", ""],
+    ranges: [NonNegative, Unused, Unused, Unused],
+    default: [1.0, 0.0, 0.0, 0.0],
+};
+
+/// A feature a material can have.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Feature {
+    /// GGX specular and Lambert diffuse: roughness, metallic, reflectance (f0 of dielectrics).
+    CookTorrance,
+    /// Light the surface emits: rgb colour, strength.
+    Emission,
+    /// Faked subsurface scattering: rgb scatter colour, strength.
+    FakeSss,
+    /// Environment reflection: strength.
+    Reflection,
+    /// Matcap shading: strength.
+    MatCap,
+    /// Screen-space ambient occlusion: strength.
+    AmbientOcclusion,
+    /// A user feature, id 16..=31, with as many vec4 parameters as it is given.
+    Custom(u32),
+}
+
+impl Feature {
+    pub const BUILT_IN: [Feature; 6] = [
+        Feature::CookTorrance,
+        Feature::Emission,
+        Feature::FakeSss,
+        Feature::Reflection,
+        Feature::MatCap,
+        Feature::AmbientOcclusion,
+    ];
+
+    /// The feature with id `id`: a built-in one, or a custom one for 16..=31.
+    /// Ids 6..=15 are reserved for built-ins to come.
+    pub fn from_id(id: i64) -> Result<Feature, FeatureError> {
+        if let Some(f) = Feature::BUILT_IN.iter().find(|f| i64::from(f.id()) == id) {
+            return Ok(*f);
+        }
+        match u32::try_from(id) {
+            Ok(id) if (FIRST_CUSTOM_FEATURE..MAX_FEATURES).contains(&id) => Ok(Feature::Custom(id)),
+            _ => Err(FeatureError::UnknownFeature { id }),
+        }
+    }
+
+    pub fn id(self) -> u32 {
+        match self {
+            Feature::CookTorrance => FEATURE_COOK_TORRANCE,
+            Feature::Emission => FEATURE_EMISSION,
+            Feature::FakeSss => FEATURE_FAKE_SSS,
+            Feature::Reflection => FEATURE_REFLECTION,
+            Feature::MatCap => FEATURE_MATCAP,
+            Feature::AmbientOcclusion => FEATURE_AMBIENT_OCCLUSION,
+            Feature::Custom(id) => id,
+        }
+    }
+
+    /// The bit of the flag word: `1 << id`.
+    pub fn flag(self) -> u32 {
+        1 << self.id()
+    }
+
+    pub fn name(self) -> String {
+        match self {
+            Feature::CookTorrance => "CookTorrance".to_owned(),
+            Feature::Emission => "Emission".to_owned(),
+            Feature::FakeSss => "FakeSSS".to_owned(),
+            Feature::Reflection => "Reflection".to_owned(),
+            Feature::MatCap => "MatCap".to_owned(),
+            Feature::AmbientOcclusion => "AmbientOcclusion".to_owned(),
+            Feature::Custom(id) => format!("Custom{id}"),
+        }
+    }
+
+    /// The layout of a built-in feature's one vec4; `None` for custom features.
+    pub fn layout(self) -> Option<&'static ParamLayout> {
+        match self {
+            Feature::CookTorrance => Some(&COOK_TORRANCE),
+            Feature::Emission => Some(&EMISSION),
+            Feature::FakeSss => Some(&FAKE_SSS),
+            Feature::Reflection | Feature::MatCap | Feature::AmbientOcclusion => Some(&STRENGTH),
+            Feature::Custom(_) => None,
+        }
+    }
+
+    /// How many vec4 parameters the feature takes; `None`: any number (custom).
+    pub fn param_count(self) -> Option<usize> {
+        self.layout().map(|_| 1)
+    }
+
+    /// Check `params` and keep them physical: non-finite values are an
+    /// error, the rest is clamped to each component's range.
+    pub fn sanitize(self, params: &[[f32; 4]]) -> Result<Vec<[f32; 4]>, FeatureError> {
+        if let Some(expected) = self.param_count()
+            && params.len() != expected
+        {
+            return Err(FeatureError::ParamCount {
+                feature: self.name(),
+                expected,
+                got: params.len(),
+            });
+        }
+        let ranges = self.layout().map_or([Range::Free; 4], |l| l.ranges);
+        params
+            .iter()
+            .enumerate()
+            .map(|(index, p)| {
+                let mut out = [0.0; 4];
+                for (component, ((v, range), o)) in p.iter().zip(ranges).zip(&mut out).enumerate() {
+                    if !v.is_finite() {
+                        return Err(FeatureError::NonFinite {
+                            feature: self.name(),
+                            index,
+                            component,
+                        });
+                    }
+                    *o = match range {
+                        Range::Unit => v.clamp(0.0, 1.0),
+                        Range::NonNegative => v.max(0.0),
+                        Range::Unused => 0.0,
+                        Range::Free => *v,
+                    };
+                }
+                Ok(out)
+            })
+            .collect()
+    }
+}
+
+impl std::fmt::Display for Feature {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.name())
+    }
+}

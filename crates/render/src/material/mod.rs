@@ -1,0 +1,282 @@
+//! Emeshe's flags-driven material system. A [`Material`] is a set of
+//! features, each a bit of a `u32` flag word with its vec4 parameters. A
+//! [`MaterialWorld`] is an ordered list of materials (material id = index,
+//! what the G-buffer stores per pixel) packed into three storage buffers,
+//! read by `shaders/lib/material.wgsl`:
+//!
+//! - MaterialMeta, one per material: flags, address (index of its first
+//!   FeatureOffset entry), size (its number of features), pad.
+//! - FeatureOffset, one per feature of each material, in ascending feature id:
+//!   feature id, offset into MaterialData (in vec4s), count (vec4s), pad.
+//! - MaterialData: every parameter vec4 of every material, back to back.
+//!
+//! Because a material's entries are sorted by id, the shader finds feature
+//! `f` at `address + countOneBits(flags & ((1 << f) - 1))` without a loop.
+//! [`MaterialWorld::union_flags`] is what a shading pass builds its
+//! permutation from: a feature no material has costs nothing. Worlds are not
+//! singletons; each owns its buffers.
+
+mod feature;
+
+use std::collections::BTreeMap;
+use std::sync::Arc;
+
+use thiserror::Error;
+use wgpu::util::DeviceExt;
+
+pub use feature::{
+    FEATURE_AMBIENT_OCCLUSION, FEATURE_COOK_TORRANCE, FEATURE_EMISSION, FEATURE_FAKE_SSS,
+    FEATURE_MATCAP, FEATURE_REFLECTION, FIRST_CUSTOM_FEATURE, Feature, MAX_FEATURES, ParamLayout,
+    Range,
+};
+
+use crate::renderer::Renderer;
+
+/// Why a feature's setting was refused. Names the feature; [`MaterialError`] adds the material.
+#[derive(Clone, Debug, Error, PartialEq)]
+pub enum FeatureError {
+    #[error("feature {feature}: parameter {index} component {component} is NaN or infinite")]
+    NonFinite {
+        feature: String,
+        index: usize,
+        component: usize,
+    },
+    #[error("feature {feature} takes {expected} parameter vec4(s), got {got}")]
+    ParamCount {
+        feature: String,
+        expected: usize,
+        got: usize,
+    },
+    #[error(
+        "feature id {id} does not exist: built-in features are 0..=5 (6..=15 are reserved), custom ones 16..=31"
+    )]
+    UnknownFeature { id: i64 },
+}
+
+/// A [`FeatureError`] on material `material` (its id: index in the world, slice on a node).
+#[derive(Clone, Debug, Error, PartialEq)]
+#[error("material {material}: {source}")]
+pub struct MaterialError {
+    pub material: usize,
+    #[source]
+    pub source: FeatureError,
+}
+
+impl FeatureError {
+    pub fn in_material(self, material: usize) -> MaterialError {
+        MaterialError {
+            material,
+            source: self,
+        }
+    }
+}
+
+/// A material in patch space: features and their (checked, clamped) parameters.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Material {
+    /// By feature id, so packing walks them in ascending order.
+    features: BTreeMap<u32, (Feature, Vec<[f32; 4]>)>,
+}
+
+impl Material {
+    /// A material without features.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// What material id 0 is when nothing is given: CookTorrance, roughness 0.5, metallic 0.
+    pub fn default_material() -> Self {
+        let mut m = Material::new();
+        let params = Feature::CookTorrance.layout().map(|l| l.default);
+        m.features.insert(
+            FEATURE_COOK_TORRANCE,
+            (Feature::CookTorrance, params.into_iter().collect()),
+        );
+        m
+    }
+
+    /// Set `feature`, replacing an earlier setting of it. Non-finite
+    /// parameters are refused; the rest is clamped to physical ranges.
+    pub fn set(&mut self, feature: Feature, params: &[[f32; 4]]) -> Result<(), FeatureError> {
+        let params = feature.sanitize(params)?;
+        self.features.insert(feature.id(), (feature, params));
+        Ok(())
+    }
+
+    /// `self` with `feature` set, for chaining.
+    pub fn with(mut self, feature: Feature, params: &[[f32; 4]]) -> Result<Self, FeatureError> {
+        self.set(feature, params)?;
+        Ok(self)
+    }
+
+    pub fn remove(&mut self, feature: Feature) {
+        self.features.remove(&feature.id());
+    }
+
+    /// The OR of the features' flags.
+    pub fn flags(&self) -> u32 {
+        self.features.keys().fold(0, |acc, id| acc | 1 << id)
+    }
+
+    pub fn params(&self, feature: Feature) -> Option<&[[f32; 4]]> {
+        self.features.get(&feature.id()).map(|(_, p)| p.as_slice())
+    }
+
+    /// The features in ascending id, with their parameters.
+    pub fn features(&self) -> impl Iterator<Item = (Feature, &[[f32; 4]])> {
+        self.features.values().map(|(f, p)| (*f, p.as_slice()))
+    }
+}
+
+/// Matches `MaterialMeta` in shaders/lib/material.wgsl.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct GpuMaterialMeta {
+    pub flags: u32,
+    pub address: u32,
+    pub size: u32,
+    pub pad: u32,
+}
+
+/// Matches `FeatureOffset` in shaders/lib/material.wgsl.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct GpuFeatureOffset {
+    pub feature: u32,
+    pub offset: u32,
+    pub count: u32,
+    pub pad: u32,
+}
+
+/// The three buffers' contents, before upload (also what tests check without a GPU).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct PackedMaterials {
+    pub meta: Vec<GpuMaterialMeta>,
+    pub offsets: Vec<GpuFeatureOffset>,
+    pub data: Vec<[f32; 4]>,
+}
+
+impl PackedMaterials {
+    pub fn pack(materials: &[Material]) -> Self {
+        let mut packed = PackedMaterials::default();
+        for material in materials {
+            packed.meta.push(GpuMaterialMeta {
+                flags: material.flags(),
+                address: packed.offsets.len() as u32,
+                size: material.features.len() as u32,
+                pad: 0,
+            });
+            for (feature, params) in material.features() {
+                packed.offsets.push(GpuFeatureOffset {
+                    feature: feature.id(),
+                    offset: packed.data.len() as u32,
+                    count: params.len() as u32,
+                    pad: 0,
+                });
+                packed.data.extend_from_slice(params);
+            }
+        }
+        packed
+    }
+}
+
+/// A material world on the GPU: what a `MaterialBuffer` node outputs,
+/// uploaded once when its inputs change.
+pub struct MaterialWorld {
+    materials: Vec<Material>,
+    union_flags: u32,
+    meta: wgpu::Buffer,
+    offsets: wgpu::Buffer,
+    data: wgpu::Buffer,
+}
+
+impl std::fmt::Debug for MaterialWorld {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "MaterialWorld({} materials, flags {:#x})",
+            self.materials.len(),
+            self.union_flags
+        )
+    }
+}
+
+impl MaterialWorld {
+    /// Upload `materials` (material id = index). An empty list gives the
+    /// default material as id 0, so every world has one: shaders map ids out
+    /// of range to 0.
+    pub fn new(renderer: &Renderer, mut materials: Vec<Material>) -> Arc<Self> {
+        if materials.is_empty() {
+            materials.push(Material::default_material());
+        }
+        let packed = PackedMaterials::pack(&materials);
+        let device = &renderer.gpu.device;
+        let upload = |label: &str, bytes: &[u8]| {
+            // A storage binding cannot be empty (materials without features
+            // have no offsets or data); the flags say nothing is there.
+            let contents = if bytes.is_empty() {
+                &[0u8; 16][..]
+            } else {
+                bytes
+            };
+            device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some(label),
+                contents,
+                usage: wgpu::BufferUsages::STORAGE,
+            })
+        };
+        let meta = upload("material meta", bytemuck::cast_slice(&packed.meta));
+        let offsets = upload("feature offsets", bytemuck::cast_slice(&packed.offsets));
+        let data = upload("material data", bytemuck::cast_slice(&packed.data));
+        let union_flags = materials.iter().fold(0, |acc, m| acc | m.flags());
+        Arc::new(MaterialWorld {
+            materials,
+            union_flags,
+            meta,
+            offsets,
+            data,
+        })
+    }
+
+    pub fn materials(&self) -> &[Material] {
+        &self.materials
+    }
+
+    pub fn len(&self) -> usize {
+        self.materials.len()
+    }
+
+    /// Never true: a world always has material 0.
+    pub fn is_empty(&self) -> bool {
+        self.materials.is_empty()
+    }
+
+    /// The OR of every material's flags: the features a shading permutation must include.
+    pub fn union_flags(&self) -> u32 {
+        self.union_flags
+    }
+
+    /// Material `id`'s flags; an id out of range reads material 0, as the shader does.
+    pub fn flags(&self, material_id: u32) -> u32 {
+        self.material(material_id).flags()
+    }
+
+    /// Material `id`'s parameters for `feature`, or `None` when it lacks it.
+    pub fn params(&self, material_id: u32, feature: Feature) -> Option<&[[f32; 4]]> {
+        self.material(material_id).params(feature)
+    }
+
+    fn material(&self, id: u32) -> &Material {
+        self.materials
+            .get(id as usize)
+            .unwrap_or(&self.materials[0])
+    }
+
+    /// MaterialMeta, FeatureOffset and MaterialData, for `@group(1) @binding(0..2)`.
+    pub fn buffers(&self) -> (&wgpu::Buffer, &wgpu::Buffer, &wgpu::Buffer) {
+        (&self.meta, &self.offsets, &self.data)
+    }
+}
+
+#[cfg(test)]
+mod tests;

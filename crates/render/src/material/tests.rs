@@ -1,0 +1,139 @@
+//! CPU-side checks of materials and their packing; the GPU side is in
+//! crates/render/tests/material.rs.
+
+use super::*;
+
+#[test]
+fn feature_ids_flags_and_names() {
+    assert_eq!(Feature::CookTorrance.flag(), 1);
+    assert_eq!(Feature::AmbientOcclusion.id(), 5);
+    assert_eq!(Feature::from_id(2), Ok(Feature::FakeSss));
+    assert_eq!(Feature::from_id(16), Ok(Feature::Custom(16)));
+    assert_eq!(Feature::Custom(31).flag(), 1 << 31);
+    for bad in [-1, 6, 15, 32, 1 << 40] {
+        assert_eq!(
+            Feature::from_id(bad),
+            Err(FeatureError::UnknownFeature { id: bad })
+        );
+    }
+    for (i, f) in Feature::BUILT_IN.iter().enumerate() {
+        assert_eq!(f.id() as usize, i);
+        assert_eq!(f.param_count(), Some(1));
+    }
+    assert_eq!(Feature::FakeSss.name(), "FakeSSS");
+}
+
+#[test]
+fn parameters_are_clamped_to_physical_ranges() {
+    let m = Material::new()
+        .with(Feature::CookTorrance, &[[1.5, -0.2, 0.04, 7.0]])
+        .and_then(|m| m.with(Feature::Emission, &[[-1.0, 2.0, 0.5, -3.0]]))
+        .and_then(|m| m.with(Feature::Custom(20), &[[-5.0, 1e6, 0.0, 1.0], [1.0; 4]]))
+        .expect("finite parameters");
+    assert_eq!(
+        m.params(Feature::CookTorrance),
+        Some(&[[1.0, 0.0, 0.04, 0.0]][..])
+    );
+    assert_eq!(
+        m.params(Feature::Emission),
+        Some(&[[0.0, 2.0, 0.5, 0.0]][..])
+    );
+    assert_eq!(
+        m.params(Feature::Custom(20)).map(<[_]>::len),
+        Some(2),
+        "custom features keep any count and any finite value"
+    );
+    assert_eq!(m.params(Feature::Custom(20)).unwrap()[0][0], -5.0);
+    assert_eq!(m.flags(), 0b11 | 1 << 20);
+}
+
+#[test]
+fn setting_a_feature_again_replaces_it() {
+    let mut m = Material::default_material();
+    m.set(Feature::CookTorrance, &[[0.1, 1.0, 0.5, 0.0]])
+        .expect("valid");
+    assert_eq!(m.features().count(), 1);
+    assert_eq!(m.params(Feature::CookTorrance).unwrap()[0][0], 0.1);
+    m.remove(Feature::CookTorrance);
+    assert_eq!(m.flags(), 0);
+}
+
+#[test]
+fn non_finite_parameters_are_refused_naming_material_and_feature() {
+    let err = Material::new()
+        .with(Feature::Reflection, &[[f32::NAN, 0.0, 0.0, 0.0]])
+        .expect_err("NaN");
+    assert_eq!(
+        err,
+        FeatureError::NonFinite {
+            feature: "Reflection".to_owned(),
+            index: 0,
+            component: 0
+        }
+    );
+    let message = err.in_material(3).to_string();
+    assert!(
+        message.contains("material 3") && message.contains("Reflection"),
+        "{message}"
+    );
+    let unused_inf = Material::new().with(Feature::MatCap, &[[1.0, f32::INFINITY, 0.0, 0.0]]);
+    assert!(unused_inf.is_err(), "even unused components must be finite");
+    let count = Material::new().with(Feature::Emission, &[]);
+    assert!(matches!(
+        count,
+        Err(FeatureError::ParamCount {
+            expected: 1,
+            got: 0,
+            ..
+        })
+    ));
+}
+
+#[test]
+fn packing_follows_emeshes_three_buffers() {
+    let a = Material::default_material()
+        .with(Feature::Emission, &[[1.0, 0.5, 0.25, 2.0]])
+        .expect("valid");
+    let b = Material::new();
+    let c = Material::new()
+        .with(
+            Feature::Custom(17),
+            &[[1.0, 2.0, 3.0, 4.0], [5.0, 6.0, 7.0, 8.0]],
+        )
+        .and_then(|m| m.with(Feature::AmbientOcclusion, &[[0.5, 0.0, 0.0, 0.0]]))
+        .expect("valid");
+    let packed = PackedMaterials::pack(&[a, b, c]);
+    let meta = |flags, address, size| GpuMaterialMeta {
+        flags,
+        address,
+        size,
+        pad: 0,
+    };
+    assert_eq!(
+        packed.meta,
+        [
+            meta(0b11, 0, 2),
+            meta(0, 2, 0),
+            meta(1 << 5 | 1 << 17, 2, 2)
+        ]
+    );
+    let entry = |feature, offset, count| GpuFeatureOffset {
+        feature,
+        offset,
+        count,
+        pad: 0,
+    };
+    // Ascending feature id within a material: AO (5) before custom 17.
+    assert_eq!(
+        packed.offsets,
+        [
+            entry(0, 0, 1),
+            entry(1, 1, 1),
+            entry(5, 2, 1),
+            entry(17, 3, 2)
+        ]
+    );
+    assert_eq!(packed.data.len(), 5);
+    assert_eq!(packed.data[1], [1.0, 0.5, 0.25, 2.0]);
+    assert_eq!(packed.data[4], [5.0, 6.0, 7.0, 8.0]);
+}

@@ -1,0 +1,345 @@
+//! `EyeAdaptation`: the average luminance of an HDR image, adapted over time,
+//! as breezEngine's tonemapping effect does it. The log-luminance of the
+//! image is reduced to 1x1 by compute passes that each halve the size
+//! (temporaries of the frame graph), then blended into a persistent 1x1
+//! R32Float target: in log space, by `1 - exp(-dt * speed)` per frame, with
+//! one speed for a brightening and one for a darkening scene. When the
+//! persistent target is fresh (first frame, after `Renderer::reset_history`)
+//! the measurement is taken as it is. The result is linear luminance, always
+//! in the Minimum..Maximum pins: an all-black frame adapts to the minimum,
+//! never to 0 or infinity. Shader: shaders/post/eye_adaptation.wgsl.
+
+use std::sync::Arc;
+
+use wgpu::util::DeviceExt;
+
+use crate::error::RenderError;
+use crate::frame_graph::{FrameGraph, Lifetime, PassContext, SizeRule, TextureDesc};
+use crate::recipe::{Recipe, TextureRef, next_recipe_id};
+use crate::renderer::Renderer;
+use crate::shaders::ShaderKey;
+
+const SHADER: &str = "post/eye_adaptation.wgsl";
+/// The reduction's format: mean log-luminance and the count of valid pixels behind it.
+const REDUCED: wgpu::TextureFormat = wgpu::TextureFormat::Rg32Float;
+/// The adapted luminance's format.
+const ADAPTED: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
+
+/// The lowest luminance the pins allow (the shader's log guard).
+pub const MIN_PIN: f32 = 1e-6;
+/// The highest luminance the pins allow.
+pub const MAX_PIN: f32 = 1e9;
+
+/// How the eye adapts: speeds per second (larger is faster) and the luminance pins.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AdaptationSettings {
+    /// Towards a brighter scene (the adapted luminance rising).
+    pub speed_up: f32,
+    /// Towards a darker scene.
+    pub speed_down: f32,
+    pub min_luminance: f32,
+    pub max_luminance: f32,
+}
+
+impl Default for AdaptationSettings {
+    fn default() -> Self {
+        AdaptationSettings {
+            speed_up: 3.0,
+            speed_down: 1.0,
+            min_luminance: 0.01,
+            max_luminance: 1000.0,
+        }
+    }
+}
+
+impl AdaptationSettings {
+    /// The pins made usable: finite, in `MIN_PIN..=MAX_PIN`, minimum <= maximum.
+    pub fn pins(&self) -> (f32, f32) {
+        let pin = |v: f32, fallback: f32| {
+            if v.is_finite() {
+                v.clamp(MIN_PIN, MAX_PIN)
+            } else {
+                fallback
+            }
+        };
+        let min = pin(self.min_luminance, MIN_PIN);
+        let max = pin(self.max_luminance, MAX_PIN).max(min);
+        (min, max)
+    }
+
+    /// The fraction of the way (in log luminance) one frame of `delta` seconds
+    /// moves at `speed`: `1 - exp(-delta * speed)`, in 0..=1. A speed or delta
+    /// that is negative or NaN does not move; an infinite one moves all the way.
+    pub fn rate(speed: f32, delta: f64) -> f32 {
+        let speed = f64::from(speed);
+        if speed.is_nan() || delta.is_nan() || speed <= 0.0 || delta <= 0.0 {
+            return 0.0;
+        }
+        let rate = -(-delta * speed).exp_m1();
+        if rate.is_finite() {
+            rate.clamp(0.0, 1.0) as f32
+        } else {
+            1.0
+        }
+    }
+
+    /// One step of the adaptation on the CPU, as the shader does it (for tests):
+    /// `last` adapted luminance (`None` when fresh) towards `measured`, both linear.
+    pub fn step(&self, last: Option<f32>, measured: f32, delta: f64) -> f32 {
+        let (min, max) = self.pins();
+        let (lo, hi) = (min.ln(), max.ln());
+        let target = if measured.is_finite() {
+            measured.max(MIN_PIN).ln().clamp(lo, hi)
+        } else {
+            lo
+        };
+        let result = match last {
+            Some(last) if last > 0.0 && last.is_finite() => {
+                let last = last.ln().clamp(lo, hi);
+                let speed = if target > last {
+                    self.speed_up
+                } else {
+                    self.speed_down
+                };
+                last + (target - last) * Self::rate(speed, delta)
+            }
+            _ => target,
+        };
+        result.exp().clamp(min, max)
+    }
+}
+
+/// The reduction's sizes for a frame of `output` size: each level half the
+/// last (rounded up), the first half the output, down to 1x1.
+pub fn reduction_sizes(output: (u32, u32)) -> Vec<(u32, u32)> {
+    let half = |(w, h): (u32, u32)| (w.div_ceil(2).max(1), h.div_ceil(2).max(1));
+    let mut sizes = vec![half((output.0.max(1), output.1.max(1)))];
+    while let Some(&last) = sizes.last() {
+        if last == (1, 1) {
+            break;
+        }
+        sizes.push(half(last));
+    }
+    sizes
+}
+
+pub struct EyeAdaptation {
+    id: u64,
+    owner: Option<u32>,
+    source: TextureRef,
+    settings: AdaptationSettings,
+    rate_up: f32,
+    rate_down: f32,
+    /// The copy of last frame's adapted luminance the blend reads.
+    previous: String,
+    /// The persistent 1x1 adapted luminance: the recipe's output.
+    pub output: String,
+}
+
+impl EyeAdaptation {
+    /// `delta` is the time since the last frame in seconds (the frame clock's delta).
+    /// The persistent target is named after `owner` (the node), so the recipe a
+    /// node makes each frame finds last frame's value; recipes without an owner
+    /// share one history per renderer (use [`EyeAdaptation::with_history`] to part them).
+    pub fn new(
+        renderer: &Renderer,
+        owner: Option<u32>,
+        source: TextureRef,
+        settings: AdaptationSettings,
+        delta: f64,
+    ) -> Arc<Self> {
+        let history = match owner {
+            Some(node) => format!("adapted luminance #{node}"),
+            None => "adapted luminance".to_owned(),
+        };
+        Self::with_history(renderer, owner, source, settings, delta, history)
+    }
+
+    /// As [`EyeAdaptation::new`], with the persistent target's name given.
+    pub fn with_history(
+        _renderer: &Renderer,
+        owner: Option<u32>,
+        source: TextureRef,
+        settings: AdaptationSettings,
+        delta: f64,
+        history: String,
+    ) -> Arc<Self> {
+        let id = next_recipe_id();
+        Arc::new(EyeAdaptation {
+            id,
+            owner,
+            source,
+            settings,
+            rate_up: AdaptationSettings::rate(settings.speed_up, delta),
+            rate_down: AdaptationSettings::rate(settings.speed_down, delta),
+            previous: format!("eye adaptation{id} previous"),
+            output: history,
+        })
+    }
+
+    pub fn texture(self: &Arc<Self>) -> TextureRef {
+        TextureRef {
+            recipe: self.clone(),
+            name: self.output.clone(),
+        }
+    }
+
+    fn level_name(&self, level: usize) -> String {
+        format!("eye adaptation{} level{level}", self.id)
+    }
+
+    fn dispatch(
+        cx: &mut PassContext<'_>,
+        entry: &'static str,
+        resources: &[(u32, wgpu::BindingResource<'_>)],
+        groups: (u32, u32),
+    ) -> Result<(), RenderError> {
+        let device = cx.gpu.device.clone();
+        let key = ShaderKey::new(SHADER, []);
+        let pipeline = cx.shaders.compute_pipeline(&device, &key, entry)?;
+        let group = cx
+            .shaders
+            .bind_group(&device, &key, entry, &pipeline, 0, resources)?;
+        let timestamps = cx.compute_timestamps();
+        let mut pass = cx.encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some(entry),
+            timestamp_writes: timestamps,
+        });
+        pass.set_pipeline(&pipeline);
+        pass.set_bind_group(0, &group, &[]);
+        pass.dispatch_workgroups(groups.0, groups.1, 1);
+        Ok(())
+    }
+
+    /// One reduction step: `input` (the image or the last level) into `output`.
+    fn reduce(
+        &self,
+        cx: &mut PassContext<'_>,
+        entry: &'static str,
+        input: &str,
+        output: &str,
+    ) -> Result<(), RenderError> {
+        let (source, target) = (cx.view(input)?, cx.view(output)?);
+        let (w, h) = {
+            let t = cx.texture(output)?;
+            (t.width(), t.height())
+        };
+        let all = [
+            (1, wgpu::BindingResource::TextureView(&source)),
+            (2, wgpu::BindingResource::TextureView(&target)),
+        ];
+        Self::dispatch(cx, entry, &all, (w.div_ceil(8), h.div_ceil(8)))
+    }
+
+    fn adapt(&self, cx: &mut PassContext<'_>, measured: &str) -> Result<(), RenderError> {
+        let (min, max) = self.settings.pins();
+        let fresh = cx.is_fresh(&self.output);
+        let params = cx
+            .gpu
+            .device
+            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("eye adaptation params"),
+                contents: bytemuck::cast_slice(&[
+                    self.rate_up.to_bits(),
+                    self.rate_down.to_bits(),
+                    min.to_bits(),
+                    max.to_bits(),
+                    u32::from(fresh),
+                    0,
+                    0,
+                    0,
+                ]),
+                usage: wgpu::BufferUsages::UNIFORM,
+            });
+        // The blend reads last frame's value from a copy: a texture cannot be
+        // read and written in one dispatch without read-write storage.
+        let (last, copy) = (
+            cx.texture(&self.output)?.clone(),
+            cx.texture(&self.previous)?.clone(),
+        );
+        cx.encoder.copy_texture_to_texture(
+            last.as_image_copy(),
+            copy.as_image_copy(),
+            wgpu::Extent3d {
+                width: 1,
+                height: 1,
+                depth_or_array_layers: 1,
+            },
+        );
+        let views = [
+            cx.view(measured)?,
+            cx.view(&self.previous)?,
+            cx.view(&self.output)?,
+        ];
+        let all = [
+            (0, params.as_entire_binding()),
+            (3, wgpu::BindingResource::TextureView(&views[0])),
+            (4, wgpu::BindingResource::TextureView(&views[1])),
+            (5, wgpu::BindingResource::TextureView(&views[2])),
+        ];
+        Self::dispatch(cx, "adapt", &all, (1, 1))
+    }
+}
+
+impl Recipe for EyeAdaptation {
+    fn declare<'a>(&'a self, renderer: &'a Renderer, fg: &mut FrameGraph<'a>) {
+        if !fg.include(self.id) {
+            return;
+        }
+        self.source.recipe.declare(renderer, fg);
+        let node = match self.owner {
+            Some(node) => format!(" #{node}"),
+            None => String::new(),
+        };
+        let sizes = reduction_sizes(fg.output_size());
+        let names: Vec<String> = (0..sizes.len()).map(|l| self.level_name(l)).collect();
+        let level = |(width, height): (u32, u32)| {
+            TextureDesc::storage(REDUCED).size(SizeRule::Absolute { width, height })
+        };
+        // Level 0: log-luminance of the image at half the output size.
+        fg.add_pass(
+            format!("EyeAdaptation{node} log luminance"),
+            self.owner,
+            &[&self.source.name],
+            &[(&names[0], level(sizes[0]))],
+            move |cx| self.reduce(cx, "log_luminance", &self.source.name, &self.level_name(0)),
+        );
+        for (l, size) in sizes.iter().enumerate().skip(1) {
+            fg.add_pass(
+                format!("EyeAdaptation{node} reduce {}x{}", size.0, size.1),
+                self.owner,
+                &[&names[l - 1]],
+                &[(&names[l], level(*size))],
+                move |cx| {
+                    self.reduce(
+                        cx,
+                        "downsample",
+                        &self.level_name(l - 1),
+                        &self.level_name(l),
+                    )
+                },
+            );
+        }
+        let last = names.len() - 1;
+        let one = SizeRule::Absolute {
+            width: 1,
+            height: 1,
+        };
+        let adapted = TextureDesc::storage(ADAPTED)
+            .size(one)
+            .lifetime(Lifetime::Persistent);
+        let previous = TextureDesc {
+            format: ADAPTED,
+            size: one,
+            lifetime: Lifetime::Temporary,
+            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+        };
+        fg.add_pass(
+            format!("EyeAdaptation{node} adapt"),
+            self.owner,
+            &[&names[last]],
+            &[(&self.output, adapted), (&self.previous, previous)],
+            move |cx| self.adapt(cx, &self.level_name(last)),
+        );
+    }
+}
