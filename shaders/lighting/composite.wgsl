@@ -1,5 +1,6 @@
 // CompositeLight: the lit image from CookTorrance's components, one pair
-// (diffuse, specular) per light type, up to four pairs (LIGHTS_2..4).
+// (diffuse, specular) per light type, up to four pairs (LIGHTS_2..4), plus
+// emission per material (EMISSION) from the material buffer.
 // Diffuse already carries albedo; ambient (until image-based light lands)
 // is a constant term times albedo. Clamped below half-float overflow.
 #import spreadlight::camera::Camera
@@ -16,23 +17,24 @@ struct Params {
 @group(0) @binding(6) var output: texture_storage_2d<rgba16float, write>;
 @group(0) @binding(3) var diffuse0: texture_2d<f32>;
 @group(0) @binding(4) var specular0: texture_2d<f32>;
+// Pairs beyond the first are cumulative switches: three light types set
+// LIGHTS_2 and LIGHTS_3.
 #ifdef LIGHTS_2
 @group(0) @binding(7) var diffuse1: texture_2d<f32>;
 @group(0) @binding(8) var specular1: texture_2d<f32>;
 #endif
 #ifdef LIGHTS_3
-@group(0) @binding(7) var diffuse1: texture_2d<f32>;
-@group(0) @binding(8) var specular1: texture_2d<f32>;
 @group(0) @binding(9) var diffuse2: texture_2d<f32>;
 @group(0) @binding(10) var specular2: texture_2d<f32>;
 #endif
 #ifdef LIGHTS_4
-@group(0) @binding(7) var diffuse1: texture_2d<f32>;
-@group(0) @binding(8) var specular1: texture_2d<f32>;
-@group(0) @binding(9) var diffuse2: texture_2d<f32>;
-@group(0) @binding(10) var specular2: texture_2d<f32>;
 @group(0) @binding(11) var diffuse3: texture_2d<f32>;
 @group(0) @binding(12) var specular3: texture_2d<f32>;
+#endif
+#ifdef EMISSION
+// Only when some material of the world has the Emission feature.
+#import spreadlight::material::{feature_param, FEATURE_EMISSION}
+#import spreadlight::packing::channel_to_id
 #endif
 
 @compute @workgroup_size(8, 8)
@@ -50,13 +52,14 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         lit += textureLoad(diffuse1, p, 0).rgb + textureLoad(specular1, p, 0).rgb;
 #endif
 #ifdef LIGHTS_3
-        lit += textureLoad(diffuse1, p, 0).rgb + textureLoad(specular1, p, 0).rgb;
         lit += textureLoad(diffuse2, p, 0).rgb + textureLoad(specular2, p, 0).rgb;
 #endif
 #ifdef LIGHTS_4
-        lit += textureLoad(diffuse1, p, 0).rgb + textureLoad(specular1, p, 0).rgb;
-        lit += textureLoad(diffuse2, p, 0).rgb + textureLoad(specular2, p, 0).rgb;
         lit += textureLoad(diffuse3, p, 0).rgb + textureLoad(specular3, p, 0).rgb;
+#endif
+#ifdef EMISSION
+        let emission = feature_param(channel_to_id(textureLoad(color, p, 0).a), FEATURE_EMISSION, 0u, vec4<f32>(0.0));
+        lit += max(emission.rgb, vec3<f32>(0.0)) * max(emission.a, 0.0);
 #endif
     }
     textureStore(output, p, vec4<f32>(min(lit, vec3<f32>(65000.0)), 1.0));

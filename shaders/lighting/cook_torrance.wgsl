@@ -11,6 +11,10 @@
 #import spreadlight::brdf::cook_torrance
 #import spreadlight::lights::{point_attenuation, spot_attenuation}
 #import spreadlight::packing::{channel_to_id, safe_normalize}
+#ifdef MATERIALS
+// Roughness and metallic from the material buffer's CookTorrance feature.
+#import spreadlight::material::{feature_param, FEATURE_COOK_TORRANCE}
+#endif
 
 // Matches `GpuLight` in crates/render/src/lighting/mod.rs.
 struct Light {
@@ -103,7 +107,11 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let texel = textureLoad(color, pixel, 0);
     let albedo = texel.rgb;
     let material = channel_to_id(texel.a);
+#ifdef MATERIALS
+    let rm = feature_param(material, FEATURE_COOK_TORRANCE, 0u, vec4<f32>(0.5, 0.0, 0.04, 0.0)).xy;
+#else
     let rm = surfaces[material % arrayLength(&surfaces)].roughness_metallic;
+#endif
 
     var diffuse = vec3<f32>(0.0);
     var specular = vec3<f32>(0.0);

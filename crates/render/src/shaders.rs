@@ -91,10 +91,14 @@ pub const SHADERS: &[ShaderFile] = &[
             "CLUSTERED",
             "ENERGY_COMPENSATION",
             "LIGHT_SPOT",
-            "LIGHT_SUN"
+            "LIGHT_SUN",
+            "MATERIALS"
         ]
     ),
-    shader!("lighting/composite.wgsl", one_of ["LIGHTS_2", "LIGHTS_3", "LIGHTS_4"]),
+    shader!(
+        "lighting/composite.wgsl",
+        ["LIGHTS_2", "LIGHTS_3", "LIGHTS_4", "EMISSION"]
+    ),
     shader!("post/tonemap.wgsl", ["EYE_ADAPTATION"]),
     shader!("post/eye_adaptation.wgsl", []),
     shader!("gbuffer/view.wgsl", one_of ["ALBEDO", "NORMALS", "VELOCITY", "UV", "DEPTH", "MATERIAL_ID", "OBJECT_ID"]),

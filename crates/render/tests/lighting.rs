@@ -8,7 +8,7 @@ use glam::{Mat4, Vec3};
 use spreadlight_render::camera::CameraInput;
 use spreadlight_render::gbuffer::{DrawBatch, GBuffer, InstanceInput, Layer, LayerFeatures};
 use spreadlight_render::lighting::{
-    CookTorrance, LightBuffer, LightLoop, PointLight, SpotLight, SunLight,
+    CookTorrance, LightBuffer, LightLoop, PointLight, SpotLight, SunLight, Surfaces,
 };
 use spreadlight_render::mesh::primitives::{GridParams, SphereParams, grid, sphere};
 use spreadlight_render::readback::{ImageF32, read_texture};
@@ -104,7 +104,7 @@ fn shade_buffer(
         lights,
         mode,
         true,
-        &[(0.5, 0.0)],
+        Surfaces::PerMaterialId(vec![(0.5, 0.0)]),
     );
     let mut fg = FrameGraph::new(SIZE);
     spreadlight_render::Recipe::declare(ct.as_ref(), renderer, &mut fg);
@@ -359,4 +359,104 @@ fn spot_cones_from_zero_to_a_hemisphere_stay_finite_and_bounded() {
         LightLoop::Clustered,
     ));
     assert_eq!(hemisphere, point);
+}
+
+#[test]
+fn the_material_buffer_drives_shading_and_unused_features_cost_nothing() {
+    use spreadlight_render::lighting::CompositeLight;
+    use spreadlight_render::material::{Feature, Material, MaterialWorld};
+    let renderer = test_renderer();
+    let g = scene(&renderer);
+    let light = PointLight {
+        position: Vec3::new(0.0, 2.0, 1.0),
+        color: Vec3::ONE,
+        intensity: 30.0,
+        range: 8.0,
+    };
+    let shade_with = |surfaces: Surfaces| {
+        let lights = LightBuffer::points(&renderer, &[light]);
+        let ct = CookTorrance::new(
+            &renderer,
+            None,
+            g.clone(),
+            lights,
+            LightLoop::Clustered,
+            true,
+            surfaces,
+        );
+        let mut fg = FrameGraph::new(SIZE);
+        spreadlight_render::Recipe::declare(ct.as_ref(), &renderer, &mut fg);
+        fg.request(&ct.specular);
+        let (_, out) = fg.execute(&renderer).expect("executes");
+        read_texture(&renderer.gpu, &out[&ct.specular]).expect("readback")
+    };
+    // The default material (roughness 0.5, metallic 0) is what the pins say by default.
+    let pins = shade_with(Surfaces::PerMaterialId(vec![(0.5, 0.0)]));
+    let default_world = MaterialWorld::new(&renderer, vec![Material::default_material()]);
+    let from_world = shade_with(Surfaces::Materials(default_world.clone()));
+    assert_eq!(pins.pixels, from_world.pixels);
+    // A metal material changes the specular everywhere it is lit.
+    let metal = Material::new()
+        .with(Feature::CookTorrance, &[[0.2, 1.0, 0.04, 0.0]])
+        .expect("valid");
+    let metal_world = MaterialWorld::new(&renderer, vec![metal]);
+    let shiny = shade_with(Surfaces::Materials(metal_world));
+    assert_ne!(shiny.pixels, pins.pixels);
+
+    // Emission: compiled in only for a world where some material has it.
+    let composite = |world: Option<std::sync::Arc<MaterialWorld>>| {
+        let lights = LightBuffer::points(&renderer, &[]);
+        let ct = CookTorrance::new(
+            &renderer,
+            None,
+            g.clone(),
+            lights,
+            LightLoop::Naive,
+            false,
+            Surfaces::PerMaterialId(vec![(0.5, 0.0)]),
+        );
+        let c = CompositeLight::new(
+            &renderer,
+            None,
+            g.clone(),
+            vec![(ct.diffuse_texture(), ct.specular_texture())],
+            [0.0; 3],
+            world,
+        )
+        .expect("valid");
+        let mut fg = FrameGraph::new(SIZE);
+        spreadlight_render::Recipe::declare(c.as_ref(), &renderer, &mut fg);
+        fg.request(&c.output);
+        let compiled_before = renderer.shaders().pipelines_compiled;
+        let (report, out) = fg.execute(&renderer).expect("executes");
+        assert!(report.errors.is_empty(), "{:?}", report.errors);
+        let image = read_texture(&renderer.gpu, &out[&c.output]).expect("readback");
+        (
+            image,
+            renderer.shaders().pipelines_compiled - compiled_before,
+        )
+    };
+    let (dark, _) = composite(None);
+    let (same, _) = composite(Some(default_world));
+    assert_eq!(
+        dark.pixels, same.pixels,
+        "a world without emission adds nothing"
+    );
+    let glowing = Material::default_material()
+        .with(Feature::Emission, &[[1.0, 0.5, 0.25, 2.0]])
+        .expect("valid");
+    let (glow, compiled) = composite(Some(MaterialWorld::new(&renderer, vec![glowing])));
+    assert!(
+        compiled >= 1,
+        "the emission permutation is compiled when first needed"
+    );
+    let lit = glow
+        .pixels
+        .iter()
+        .filter(|p| (p[0] - 2.0).abs() < 1e-2 && (p[1] - 1.0).abs() < 1e-2)
+        .count();
+    assert!(
+        lit > (SIZE.0 * SIZE.1 / 3) as usize,
+        "every covered pixel glows with colour x strength ({lit})"
+    );
 }

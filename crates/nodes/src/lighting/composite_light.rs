@@ -5,6 +5,7 @@ use spreadlight_graph::{Color, NodeDef, NodeError, PinType, Registry, ResourceKi
 use spreadlight_render::TextureRef;
 use spreadlight_render::gbuffer::GBuffer;
 use spreadlight_render::lighting::{CompositeLight, MAX_COMPONENTS};
+use spreadlight_render::material::MaterialWorld;
 
 use crate::gpu::{renderer, resource_spread, resources};
 
@@ -15,12 +16,17 @@ pub fn register(r: &mut Registry) {
             "CompositeLight",
             super::CATEGORY,
             "Adds CookTorrance's diffuse and specular (slice i of each: one light type; up to four) and an \
-             ambient term (Ambient x albedo) into one HDR image.",
+             ambient term (Ambient x albedo), plus each material's Emission from the Material World, into one HDR image.",
         )
         .input_spread("G-Buffer", PinType::Resource(ResourceKind::GBuffer), Spread::Resource(ResourceKind::GBuffer, vec![]))
         .input_spread("Diffuse", PinType::Resource(ResourceKind::Texture), texture())
         .input_spread("Specular", PinType::Resource(ResourceKind::Texture), texture())
         .input("Ambient", Color::rgba(0.0, 0.0, 0.0, 1.0))
+        .input_spread(
+            "Material World",
+            PinType::Resource(ResourceKind::MaterialWorld),
+            Spread::Resource(ResourceKind::MaterialWorld, vec![]),
+        )
         .output_typed("Texture", PinType::Resource(ResourceKind::Texture))
         .evaluate(|cx| {
             let renderer = renderer(cx)?;
@@ -36,8 +42,9 @@ pub fn register(r: &mut Registry) {
             }
             super::require_finite(cx, 3..4)?;
             let ambient: Color = cx.slices::<Color>(3)?.first().copied().unwrap_or(Color::BLACK);
+            let materials = resources::<MaterialWorld>(cx, 4)?.into_iter().next();
             let components = diffuse.iter().zip(&specular).map(|(d, s)| ((**d).clone(), (**s).clone())).collect();
-            let composite = CompositeLight::new(&renderer, Some(cx.node_id.0), gbuffer, components, [ambient.r, ambient.g, ambient.b])
+            let composite = CompositeLight::new(&renderer, Some(cx.node_id.0), gbuffer, components, [ambient.r, ambient.g, ambient.b], materials)
                 .map_err(|e| NodeError::Other(e.to_string()))?;
             cx.set_output(0, resource_spread::<TextureRef>(ResourceKind::Texture, vec![std::sync::Arc::new(composite.texture())]));
             Ok(())

@@ -6,7 +6,8 @@ use spreadlight_graph::spread::{cycled, slice_count};
 use spreadlight_graph::{EnumDef, NodeDef, NodeError, PinType, Registry, ResourceKind, Spread};
 use spreadlight_render::TextureRef;
 use spreadlight_render::gbuffer::GBuffer;
-use spreadlight_render::lighting::{CookTorrance, LightBuffer, LightLoop};
+use spreadlight_render::lighting::{CookTorrance, LightBuffer, LightLoop, Surfaces};
+use spreadlight_render::material::MaterialWorld;
 
 use crate::gpu::{renderer, resource_spread, resources};
 
@@ -22,7 +23,8 @@ pub fn register(r: &mut Registry) {
             super::CATEGORY,
             "Shades the G-buffer with one light buffer (point, spot or sun: one permutation per type): GGX, height-correlated Smith, Schlick Fresnel. Clustered \
              loops over the lights of each pixel's froxel, Naive over all (the reference). Energy Compensation \
-             adds multiple scattering. Roughness and Metallic slice i apply to material id i (wrapping). \
+             adds multiple scattering. Roughness and Metallic slice i apply to material id i (wrapping), unless a Material World is \
+             connected: then each material's CookTorrance feature decides. \
              Diffuse includes albedo.",
         )
         .input_spread("G-Buffer", PinType::Resource(ResourceKind::GBuffer), Spread::Resource(ResourceKind::GBuffer, vec![]))
@@ -31,6 +33,11 @@ pub fn register(r: &mut Registry) {
         .input("Metallic", 0.0f32)
         .input_enum("Light Loop", &LIGHT_LOOP, "Clustered")
         .input("Energy Compensation", true)
+        .input_spread(
+            "Material World",
+            PinType::Resource(ResourceKind::MaterialWorld),
+            Spread::Resource(ResourceKind::MaterialWorld, vec![]),
+        )
         .output_typed("Diffuse", PinType::Resource(ResourceKind::Texture))
         .output_typed("Specular", PinType::Resource(ResourceKind::Texture))
         .evaluate(|cx| {
@@ -51,7 +58,11 @@ pub fn register(r: &mut Registry) {
                 _ => LightLoop::Clustered,
             };
             let energy = cx.slices::<bool>(5)?.first().copied().unwrap_or(true);
-            let recipe = CookTorrance::new(&renderer, Some(cx.node_id.0), gbuffer, lights, mode, energy, &surfaces);
+            let surfaces = match resources::<MaterialWorld>(cx, 6)?.into_iter().next() {
+                Some(world) => Surfaces::Materials(world),
+                None => Surfaces::PerMaterialId(surfaces),
+            };
+            let recipe = CookTorrance::new(&renderer, Some(cx.node_id.0), gbuffer, lights, mode, energy, surfaces);
             cx.set_output(0, resource_spread::<TextureRef>(ResourceKind::Texture, vec![std::sync::Arc::new(recipe.diffuse_texture())]));
             cx.set_output(1, resource_spread::<TextureRef>(ResourceKind::Texture, vec![std::sync::Arc::new(recipe.specular_texture())]));
             Ok(())

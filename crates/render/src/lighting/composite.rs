@@ -8,6 +8,7 @@ use wgpu::util::DeviceExt;
 use crate::error::RenderError;
 use crate::frame_graph::{FrameGraph, PassContext, TextureDesc};
 use crate::gbuffer::GBuffer;
+use crate::material::{FEATURE_EMISSION, MaterialWorld};
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
 use crate::shaders::ShaderKey;
@@ -21,6 +22,8 @@ pub struct CompositeLight {
     gbuffer: Arc<GBuffer>,
     /// (diffuse, specular) per light type, one to four.
     components: Vec<(TextureRef, TextureRef)>,
+    /// Emission per material, compiled in only when some material of the world has it.
+    materials: Option<Arc<MaterialWorld>>,
     params: wgpu::Buffer,
     pub output: String,
 }
@@ -32,7 +35,10 @@ impl CompositeLight {
         gbuffer: Arc<GBuffer>,
         components: Vec<(TextureRef, TextureRef)>,
         ambient: [f32; 3],
+        materials: Option<Arc<MaterialWorld>>,
     ) -> Result<Arc<Self>, RenderError> {
+        // A feature no material has costs nothing: without emission, no emission code.
+        let materials = materials.filter(|w| w.union_flags() & (1 << FEATURE_EMISSION) != 0);
         if components.is_empty() || components.len() > MAX_COMPONENTS {
             return Err(RenderError::Pass {
                 pass: "CompositeLight".to_owned(),
@@ -63,6 +69,7 @@ impl CompositeLight {
             owner,
             gbuffer,
             components,
+            materials,
             params,
             output: format!("composite{id}"),
         }))
@@ -77,13 +84,14 @@ impl CompositeLight {
 
     fn run(&self, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
         let device = cx.gpu.device.clone();
-        let feature = match self.components.len() {
-            2 => Some("LIGHTS_2"),
-            3 => Some("LIGHTS_3"),
-            4 => Some("LIGHTS_4"),
-            _ => None,
-        };
-        let key = ShaderKey::new("lighting/composite.wgsl", feature);
+        let mut features: Vec<&'static str> = ["LIGHTS_2", "LIGHTS_3", "LIGHTS_4"]
+            .into_iter()
+            .take(self.components.len().saturating_sub(1))
+            .collect();
+        if self.materials.is_some() {
+            features.push("EMISSION");
+        }
+        let key = ShaderKey::new("lighting/composite.wgsl", features);
         let pipeline = cx.shaders.compute_pipeline(&device, &key, "main")?;
         let g = &self.gbuffer.targets;
         let fixed = [
@@ -115,6 +123,12 @@ impl CompositeLight {
         let group = cx
             .shaders
             .bind_group(&device, &key, "main", &pipeline, 0, &all)?;
+        let material_group = match &self.materials {
+            Some(world) => Some(super::cook_torrance::material_bind_group(
+                cx, &device, &key, &pipeline, world,
+            )?),
+            None => None,
+        };
         let (w, h) = self.gbuffer.pixel_size(cx.output_size);
         let timestamps = cx.compute_timestamps();
         let mut pass = cx.encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
@@ -123,6 +137,9 @@ impl CompositeLight {
         });
         pass.set_pipeline(&pipeline);
         pass.set_bind_group(0, &group, &[]);
+        if let Some(materials) = &material_group {
+            pass.set_bind_group(1, materials, &[]);
+        }
         pass.dispatch_workgroups(w.div_ceil(8), h.div_ceil(8), 1);
         Ok(())
     }

@@ -10,9 +10,19 @@ use super::{LightBuffer, LightKind};
 use crate::error::RenderError;
 use crate::frame_graph::{FrameGraph, Lifetime, PassContext, SizeRule, TextureDesc};
 use crate::gbuffer::GBuffer;
+use crate::material::MaterialWorld;
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
 use crate::shaders::ShaderKey;
+
+/// Where roughness and metallic come from.
+#[derive(Clone, Debug)]
+pub enum Surfaces {
+    /// (roughness, metallic) per material id, wrapping: the node's own pins.
+    PerMaterialId(Vec<(f32, f32)>),
+    /// Each material's CookTorrance feature in a material buffer.
+    Materials(Arc<MaterialWorld>),
+}
 
 /// How the shading pass finds its lights.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -31,6 +41,8 @@ pub struct CookTorrance {
     pub mode: LightLoop,
     energy_compensation: bool,
     surfaces: wgpu::Buffer,
+    /// Roughness and metallic per material from the material buffer, when given (else `surfaces`).
+    materials: Option<Arc<MaterialWorld>>,
     grid: wgpu::Buffer,
     clusters: ClusterStore,
     token: String,
@@ -55,8 +67,12 @@ impl CookTorrance {
         lights: Arc<LightBuffer>,
         mode: LightLoop,
         energy_compensation: bool,
-        surfaces: &[(f32, f32)],
+        surfaces: Surfaces,
     ) -> Arc<Self> {
+        let (surfaces, materials) = match surfaces {
+            Surfaces::PerMaterialId(list) => (list, None),
+            Surfaces::Materials(world) => (Vec::new(), Some(world)),
+        };
         let id = next_recipe_id();
         let device = &renderer.gpu.device;
         let mut packed: Vec<[f32; 2]> = surfaces
@@ -91,6 +107,7 @@ impl CookTorrance {
             mode,
             energy_compensation,
             surfaces,
+            materials,
             grid,
             clusters: ClusterStore::new(),
             token: format!("cooktorrance{id}/lights"),
@@ -189,6 +206,9 @@ impl CookTorrance {
         if self.energy_compensation {
             features.push("ENERGY_COMPENSATION");
         }
+        if self.materials.is_some() {
+            features.push("MATERIALS");
+        }
         let key = ShaderKey::new("lighting/cook_torrance.wgsl", features);
         let pipeline = cx.shaders.compute_pipeline(&device, &key, "main")?;
         let g = &self.gbuffer;
@@ -220,6 +240,10 @@ impl CookTorrance {
         let group = cx
             .shaders
             .bind_group(&device, &key, "main", &pipeline, 0, &all)?;
+        let material_group = match &self.materials {
+            Some(world) => Some(material_bind_group(cx, &device, &key, &pipeline, world)?),
+            None => None,
+        };
         let (w, h) = g.pixel_size(cx.output_size);
         let timestamps = cx.compute_timestamps();
         let mut pass = cx.encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
@@ -228,9 +252,30 @@ impl CookTorrance {
         });
         pass.set_pipeline(&pipeline);
         pass.set_bind_group(0, &group, &[]);
+        if let Some(materials) = &material_group {
+            pass.set_bind_group(1, materials, &[]);
+        }
         pass.dispatch_workgroups(w.div_ceil(8), h.div_ceil(8), 1);
         Ok(())
     }
+}
+
+/// Group 1 of a pass that imports `spreadlight::material`: the world's three buffers.
+pub(crate) fn material_bind_group(
+    cx: &mut PassContext<'_>,
+    device: &wgpu::Device,
+    key: &ShaderKey,
+    pipeline: &wgpu::ComputePipeline,
+    world: &MaterialWorld,
+) -> Result<wgpu::BindGroup, RenderError> {
+    let (meta, offsets, data) = world.buffers();
+    let all = [
+        (0, meta.as_entire_binding()),
+        (1, offsets.as_entire_binding()),
+        (2, data.as_entire_binding()),
+    ];
+    cx.shaders
+        .bind_group(device, key, "main", pipeline, 1, &all)
 }
 
 /// Roughness and metallic from a pin: finite and in 0..1.

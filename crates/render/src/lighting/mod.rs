@@ -13,7 +13,7 @@ use wgpu::util::DeviceExt;
 
 pub use clusters::ClusterGrid;
 pub use composite::{CompositeLight, MAX_COMPONENTS};
-pub use cook_torrance::{CookTorrance, LightLoop};
+pub use cook_torrance::{CookTorrance, LightLoop, Surfaces};
 
 use crate::renderer::Renderer;
 
