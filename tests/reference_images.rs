@@ -93,3 +93,8 @@ fn bench_lights_lit() {
         0,
     );
 }
+
+#[test]
+fn showcase_all_three_light_types() {
+    check("showcase", "patches/showcase.ron", "showcase", (160, 90), 0);
+}
