@@ -8,7 +8,8 @@
 //! `Sphere` in `geometry/primitives.rs`, `glTF` in `geometry/gltf.rs`,
 //! `DeferredBase`, `MRE` and `GBufferView` in `deferred/`, `Output` in `output.rs`,
 //! `FileTexture` in `texture/file_texture.rs`, `PointLightBuffer`, `CookTorrance` and
-//! `CompositeLight` in `lighting/`, `Tonemap` in `post/tonemap.rs`.
+//! `CompositeLight` (and the spot and sun buffers) in `lighting/`, `Tonemap` and
+//! `EyeAdaptation` in `post/`, the material nodes in `material/`, `BenchLights` in `bench.rs`.
 
 use spreadlight_graph::Registry;
 
