@@ -177,6 +177,29 @@ impl<'f> PassContext<'f> {
             })
     }
 
+    /// One compute dispatch in its own timed compute pass: the shape of most
+    /// full-screen passes. `groups[i]` is bound at group i.
+    pub fn dispatch(
+        &mut self,
+        label: &str,
+        pipeline: &wgpu::ComputePipeline,
+        groups: &[&wgpu::BindGroup],
+        workgroups: (u32, u32, u32),
+    ) {
+        let timestamps = self.compute_timestamps();
+        let mut pass = self
+            .encoder
+            .begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some(label),
+                timestamp_writes: timestamps,
+            });
+        pass.set_pipeline(pipeline);
+        for (index, group) in groups.iter().enumerate() {
+            pass.set_bind_group(index as u32, *group, &[]);
+        }
+        pass.dispatch_workgroups(workgroups.0, workgroups.1, workgroups.2);
+    }
+
     /// Timestamp writes for a render pass of this graph pass.
     pub fn render_timestamps(&mut self) -> Option<wgpu::RenderPassTimestampWrites<'f>> {
         self.next_pair()

@@ -24,6 +24,42 @@ impl GpuTexture {
         } else {
             wgpu::TextureFormat::Rgba8Unorm
         };
+        // Missing pixels (short data) are opaque white, as they always were.
+        let mut data = rgba8.to_vec();
+        data.resize((width.max(1) * height.max(1) * 4) as usize, 255);
+        Self::upload(gpu, format, 4, width, height, &data, label)
+    }
+
+    /// Upload linear RGBA 32-bit float pixels (HDR images, test frames).
+    pub fn from_rgba32f(
+        gpu: &GpuContext,
+        width: u32,
+        height: u32,
+        pixels: &[[f32; 4]],
+        label: &str,
+    ) -> Self {
+        let bytes: &[u8] = bytemuck::cast_slice(pixels);
+        Self::upload(
+            gpu,
+            wgpu::TextureFormat::Rgba32Float,
+            16,
+            width,
+            height,
+            bytes,
+            label,
+        )
+    }
+
+    /// A sampled texture filled with `bytes`; short data is padded, long data cut, to the size.
+    fn upload(
+        gpu: &GpuContext,
+        format: wgpu::TextureFormat,
+        bytes_per_pixel: u32,
+        width: u32,
+        height: u32,
+        bytes: &[u8],
+        label: &str,
+    ) -> Self {
         let size = wgpu::Extent3d {
             width: width.max(1),
             height: height.max(1),
@@ -39,9 +75,8 @@ impl GpuTexture {
             usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
             view_formats: &[],
         });
-        let expected = (size.width * size.height * 4) as usize;
-        let mut data = rgba8.to_vec();
-        data.resize(expected, 255);
+        let mut data = bytes.to_vec();
+        data.resize((size.width * size.height * bytes_per_pixel) as usize, 0);
         gpu.queue.write_texture(
             wgpu::TexelCopyTextureInfo {
                 texture: &texture,
@@ -52,53 +87,7 @@ impl GpuTexture {
             &data,
             wgpu::TexelCopyBufferLayout {
                 offset: 0,
-                bytes_per_row: Some(size.width * 4),
-                rows_per_image: None,
-            },
-            size,
-        );
-        let view = texture.create_view(&Default::default());
-        GpuTexture { texture, view }
-    }
-}
-
-impl GpuTexture {
-    /// Upload linear RGBA 32-bit float pixels (HDR images, test frames).
-    pub fn from_rgba32f(
-        gpu: &GpuContext,
-        width: u32,
-        height: u32,
-        pixels: &[[f32; 4]],
-        label: &str,
-    ) -> Self {
-        let size = wgpu::Extent3d {
-            width: width.max(1),
-            height: height.max(1),
-            depth_or_array_layers: 1,
-        };
-        let texture = gpu.device.create_texture(&wgpu::TextureDescriptor {
-            label: Some(label),
-            size,
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: wgpu::TextureFormat::Rgba32Float,
-            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
-            view_formats: &[],
-        });
-        let mut data: Vec<f32> = pixels.iter().flatten().copied().collect();
-        data.resize((size.width * size.height * 4) as usize, 0.0);
-        gpu.queue.write_texture(
-            wgpu::TexelCopyTextureInfo {
-                texture: &texture,
-                mip_level: 0,
-                origin: wgpu::Origin3d::ZERO,
-                aspect: wgpu::TextureAspect::All,
-            },
-            bytemuck::cast_slice(&data),
-            wgpu::TexelCopyBufferLayout {
-                offset: 0,
-                bytes_per_row: Some(size.width * 16),
+                bytes_per_row: Some(size.width * bytes_per_pixel),
                 rows_per_image: None,
             },
             size,

@@ -149,14 +149,12 @@ impl GBufferView {
             layout: &pipeline.get_bind_group_layout(0),
             entries: &entries,
         });
-        let timestamps = cx.compute_timestamps();
-        let mut pass = cx.encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some("gbuffer view"),
-            timestamp_writes: timestamps,
-        });
-        pass.set_pipeline(&pipeline);
-        pass.set_bind_group(0, &group, &[]);
-        pass.dispatch_workgroups(w.div_ceil(8), h.div_ceil(8), 1);
+        cx.dispatch(
+            "gbuffer view",
+            &pipeline,
+            &[&group],
+            (w.div_ceil(8), h.div_ceil(8), 1),
+        );
         Ok(())
     }
 }

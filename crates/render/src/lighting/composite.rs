@@ -130,17 +130,15 @@ impl CompositeLight {
             None => None,
         };
         let (w, h) = self.gbuffer.pixel_size(cx.output_size);
-        let timestamps = cx.compute_timestamps();
-        let mut pass = cx.encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some("composite"),
-            timestamp_writes: timestamps,
-        });
-        pass.set_pipeline(&pipeline);
-        pass.set_bind_group(0, &group, &[]);
-        if let Some(materials) = &material_group {
-            pass.set_bind_group(1, materials, &[]);
-        }
-        pass.dispatch_workgroups(w.div_ceil(8), h.div_ceil(8), 1);
+        let groups: Vec<&wgpu::BindGroup> = std::iter::once(&group)
+            .chain(material_group.as_ref())
+            .collect();
+        cx.dispatch(
+            "composite",
+            &pipeline,
+            &groups,
+            (w.div_ceil(8), h.div_ceil(8), 1),
+        );
         Ok(())
     }
 }

@@ -245,17 +245,15 @@ impl CookTorrance {
             None => None,
         };
         let (w, h) = g.pixel_size(cx.output_size);
-        let timestamps = cx.compute_timestamps();
-        let mut pass = cx.encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some("cook torrance"),
-            timestamp_writes: timestamps,
-        });
-        pass.set_pipeline(&pipeline);
-        pass.set_bind_group(0, &group, &[]);
-        if let Some(materials) = &material_group {
-            pass.set_bind_group(1, materials, &[]);
-        }
-        pass.dispatch_workgroups(w.div_ceil(8), h.div_ceil(8), 1);
+        let groups: Vec<&wgpu::BindGroup> = std::iter::once(&group)
+            .chain(material_group.as_ref())
+            .collect();
+        cx.dispatch(
+            "cook torrance",
+            &pipeline,
+            &groups,
+            (w.div_ceil(8), h.div_ceil(8), 1),
+        );
         Ok(())
     }
 }

@@ -200,14 +200,7 @@ impl EyeAdaptation {
         let group = cx
             .shaders
             .bind_group(&device, &key, entry, &pipeline, 0, resources)?;
-        let timestamps = cx.compute_timestamps();
-        let mut pass = cx.encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some(entry),
-            timestamp_writes: timestamps,
-        });
-        pass.set_pipeline(&pipeline);
-        pass.set_bind_group(0, &group, &[]);
-        pass.dispatch_workgroups(groups.0, groups.1, 1);
+        cx.dispatch(entry, &pipeline, &[&group], (groups.0, groups.1, 1));
         Ok(())
     }
 
