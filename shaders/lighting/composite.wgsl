@@ -31,6 +31,19 @@ struct Params {
 @group(0) @binding(11) var diffuse3: texture_2d<f32>;
 @group(0) @binding(12) var specular3: texture_2d<f32>;
 #endif
+// Subsurface terms, per light type k (SSS_k), when its CookTorrance produced one.
+#ifdef SSS_1
+@group(0) @binding(13) var sss0: texture_2d<f32>;
+#endif
+#ifdef SSS_2
+@group(0) @binding(14) var sss1: texture_2d<f32>;
+#endif
+#ifdef SSS_3
+@group(0) @binding(15) var sss2: texture_2d<f32>;
+#endif
+#ifdef SSS_4
+@group(0) @binding(16) var sss3: texture_2d<f32>;
+#endif
 #ifdef EMISSION
 // Only when some material of the world has the Emission feature.
 #import spreadlight::material::{feature_param, FEATURE_EMISSION}
@@ -56,6 +69,18 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
 #endif
 #ifdef LIGHTS_4
         lit += textureLoad(diffuse3, p, 0).rgb + textureLoad(specular3, p, 0).rgb;
+#endif
+#ifdef SSS_1
+        lit += textureLoad(sss0, p, 0).rgb;
+#endif
+#ifdef SSS_2
+        lit += textureLoad(sss1, p, 0).rgb;
+#endif
+#ifdef SSS_3
+        lit += textureLoad(sss2, p, 0).rgb;
+#endif
+#ifdef SSS_4
+        lit += textureLoad(sss3, p, 0).rgb;
 #endif
 #ifdef EMISSION
         let emission = feature_param(channel_to_id(textureLoad(color, p, 0).a), FEATURE_EMISSION, 0u, vec4<f32>(0.0));

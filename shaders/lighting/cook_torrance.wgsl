@@ -5,16 +5,29 @@
 // (CLUSTERED) or by every light (the naive reference). GGX distribution,
 // height-correlated Smith visibility, Schlick Fresnel; ENERGY_COMPENSATION
 // adds the multiple-scattering term. Outputs diffuse (albedo applied, so
-// metals and F0 are exact) and specular radiance, clamped below half-float
+// metals and F0 are exact) and specular radiance (and, with FAKE_SSS, a
+// subsurface term for materials with the FakeSSS feature), clamped below half-float
 // overflow so no infinity reaches a target.
 #import spreadlight::camera::Camera
 #import spreadlight::brdf::cook_torrance
 #import spreadlight::lights::{point_attenuation, spot_attenuation}
 #import spreadlight::packing::{channel_to_id, safe_normalize}
+// The material library, imported once: MATERIALS reads CookTorrance
+// parameters from it, FAKE_SSS the FakeSSS tint.
 #ifdef MATERIALS
-// Roughness and metallic from the material buffer's CookTorrance feature.
-#import spreadlight::material::{feature_param, FEATURE_COOK_TORRANCE}
+#import spreadlight::material::{feature_param, FEATURE_COOK_TORRANCE, FEATURE_FAKE_SSS}
+#else
+#ifdef FAKE_SSS
+#import spreadlight::material::{feature_param, FEATURE_FAKE_SSS}
 #endif
+#endif
+#ifdef FAKE_SSS
+// Wrap-lighting subsurface term, tinted per material by the FakeSSS feature.
+@group(0) @binding(13) var out_sss: texture_storage_2d<rgba16float, write>;
+var<private> sss_tint: vec3<f32>;
+var<private> sss_sum: vec3<f32>;
+#endif
+
 
 // Matches `GpuLight` in crates/render/src/lighting/mod.rs.
 struct Light {
@@ -75,6 +88,12 @@ fn shade(light: u32, p: vec3<f32>, n: vec3<f32>, v: vec3<f32>, albedo: vec3<f32>
     let radiance = record.intensity.rgb * attenuation;
 #endif
     let brdf = cook_torrance(n, v, l, albedo, rm.x, rm.y, ENERGY);
+#ifdef FAKE_SSS
+    // Light that wraps past the terminator (wrap 0.5), beyond what Lambert gives.
+    let n_dot_l = dot(n, l);
+    let wrapped = max((n_dot_l + 0.5) / 1.5, 0.0) - max(n_dot_l, 0.0);
+    sss_sum += sss_tint * radiance * max(wrapped, 0.0) * 0.31830988;
+#endif
     *diffuse += brdf.diffuse * radiance;
     *specular += brdf.specular * radiance;
 }
@@ -96,6 +115,9 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     if (d <= 0.0) {
         textureStore(out_diffuse, pixel, vec4<f32>(0.0));
         textureStore(out_specular, pixel, vec4<f32>(0.0));
+#ifdef FAKE_SSS
+        textureStore(out_sss, pixel, vec4<f32>(0.0));
+#endif
         return;
     }
     let uv = (vec2<f32>(pixel) + 0.5) * camera.size.zw;
@@ -115,6 +137,11 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
 
     var diffuse = vec3<f32>(0.0);
     var specular = vec3<f32>(0.0);
+#ifdef FAKE_SSS
+    let sss = feature_param(material, FEATURE_FAKE_SSS, 0u, vec4<f32>(0.0));
+    sss_tint = max(sss.rgb, vec3<f32>(0.0)) * max(sss.a, 0.0) * albedo;
+    sss_sum = vec3<f32>(0.0);
+#endif
 #ifdef CLUSTERED
     let tile = min(pixel / u32(grid.depth.w), grid.dims.xy - 1u);
     let slice = u32(clamp(floor(log(max(-p.z, grid.depth.x) / grid.depth.x) / grid.depth.z * f32(grid.dims.z)), 0.0, f32(grid.dims.z - 1u)));
@@ -133,4 +160,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
 #endif
     textureStore(out_diffuse, pixel, vec4<f32>(min(diffuse, vec3<f32>(HALF_MAX)), 1.0));
     textureStore(out_specular, pixel, vec4<f32>(min(specular, vec3<f32>(HALF_MAX)), 1.0));
+#ifdef FAKE_SSS
+    textureStore(out_sss, pixel, vec4<f32>(min(sss_sum, vec3<f32>(HALF_MAX)), 1.0));
+#endif
 }

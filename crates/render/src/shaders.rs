@@ -92,7 +92,8 @@ pub const SHADERS: &[ShaderFile] = &[
             "ENERGY_COMPENSATION",
             "LIGHT_SPOT",
             "LIGHT_SUN",
-            "MATERIALS"
+            "MATERIALS",
+            "FAKE_SSS"
         ]
     ),
     shader!(

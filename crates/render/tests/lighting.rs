@@ -363,7 +363,7 @@ fn spot_cones_from_zero_to_a_hemisphere_stay_finite_and_bounded() {
 
 #[test]
 fn the_material_buffer_drives_shading_and_unused_features_cost_nothing() {
-    use spreadlight_render::lighting::CompositeLight;
+    use spreadlight_render::lighting::{CompositeLight, LightComponents};
     use spreadlight_render::material::{Feature, Material, MaterialWorld};
     let renderer = test_renderer();
     let g = scene(&renderer);
@@ -419,7 +419,11 @@ fn the_material_buffer_drives_shading_and_unused_features_cost_nothing() {
             &renderer,
             None,
             g.clone(),
-            vec![(ct.diffuse_texture(), ct.specular_texture())],
+            vec![LightComponents {
+                diffuse: ct.diffuse_texture(),
+                specular: ct.specular_texture(),
+                sss: ct.sss_texture(),
+            }],
             [0.0; 3],
             world,
         )
@@ -458,5 +462,77 @@ fn the_material_buffer_drives_shading_and_unused_features_cost_nothing() {
     assert!(
         lit > (SIZE.0 * SIZE.1 / 3) as usize,
         "every covered pixel glows with colour x strength ({lit})"
+    );
+}
+
+#[test]
+fn fake_sss_adds_light_past_the_terminator_only_for_materials_that_have_it() {
+    use spreadlight_render::material::{Feature, Material, MaterialWorld};
+    let renderer = test_renderer();
+    let g = scene(&renderer);
+    // A light low at the side: the balls have a lit and a dark half.
+    let light = PointLight {
+        position: Vec3::new(-6.0, 0.5, 0.0),
+        color: Vec3::ONE,
+        intensity: 200.0,
+        range: 20.0,
+    };
+    let plain = MaterialWorld::new(&renderer, vec![Material::default_material()]);
+    let lights = LightBuffer::points(&renderer, &[light]);
+    let without = CookTorrance::new(
+        &renderer,
+        None,
+        g.clone(),
+        lights.clone(),
+        LightLoop::Naive,
+        true,
+        Surfaces::Materials(plain),
+    );
+    assert!(
+        without.sss_texture().is_none(),
+        "no material has FakeSSS: no subsurface pass output"
+    );
+
+    let skin = Material::default_material()
+        .with(Feature::FakeSss, &[[1.0, 0.3, 0.2, 1.0]])
+        .expect("valid");
+    let with = CookTorrance::new(
+        &renderer,
+        None,
+        g.clone(),
+        lights,
+        LightLoop::Naive,
+        true,
+        Surfaces::Materials(MaterialWorld::new(&renderer, vec![skin])),
+    );
+    let sss = with
+        .sss_texture()
+        .expect("a FakeSSS material gets a subsurface output");
+    let mut fg = FrameGraph::new(SIZE);
+    spreadlight_render::Recipe::declare(with.as_ref(), &renderer, &mut fg);
+    fg.request(&sss.name);
+    fg.request(&with.diffuse);
+    let (report, out) = fg.execute(&renderer).expect("executes");
+    assert!(report.errors.is_empty(), "{:?}", report.errors);
+    let sss = read_texture(&renderer.gpu, &out[&sss.name]).expect("readback");
+    let diffuse = read_texture(&renderer.gpu, &out[&with.diffuse]).expect("readback");
+    assert!(sss.all_finite());
+    // Somewhere the surface faces away from the light (no diffuse) yet scatters light.
+    let past_terminator = sss
+        .pixels
+        .iter()
+        .zip(&diffuse.pixels)
+        .filter(|(s, d)| s[0] > 1e-4 && d[0] < 1e-6)
+        .count();
+    assert!(
+        past_terminator > 0,
+        "wrap lighting reaches past the terminator"
+    );
+    // Tinted by the material: more red than green.
+    assert!(
+        sss.pixels
+            .iter()
+            .filter(|p| p[0] > 1e-4)
+            .all(|p| p[0] >= p[1])
     );
 }

@@ -4,7 +4,7 @@
 use spreadlight_graph::{Color, NodeDef, NodeError, PinType, Registry, ResourceKind, Spread};
 use spreadlight_render::TextureRef;
 use spreadlight_render::gbuffer::GBuffer;
-use spreadlight_render::lighting::{CompositeLight, MAX_COMPONENTS};
+use spreadlight_render::lighting::{CompositeLight, LightComponents, MAX_COMPONENTS};
 use spreadlight_render::material::MaterialWorld;
 
 use crate::gpu::{renderer, resource_spread, resources};
@@ -15,12 +15,14 @@ pub fn register(r: &mut Registry) {
         NodeDef::new(
             "CompositeLight",
             super::CATEGORY,
-            "Adds CookTorrance's diffuse and specular (slice i of each: one light type; up to four) and an \
+            "Adds CookTorrance's diffuse, specular and SSS (slice i of each: one light type; up to four; SSS \
+             may be empty) and an \
              ambient term (Ambient x albedo), plus each material's Emission from the Material World, into one HDR image.",
         )
         .input_spread("G-Buffer", PinType::Resource(ResourceKind::GBuffer), Spread::Resource(ResourceKind::GBuffer, vec![]))
         .input_spread("Diffuse", PinType::Resource(ResourceKind::Texture), texture())
         .input_spread("Specular", PinType::Resource(ResourceKind::Texture), texture())
+        .input_spread("SSS", PinType::Resource(ResourceKind::Texture), texture())
         .input("Ambient", Color::rgba(0.0, 0.0, 0.0, 1.0))
         .input_spread(
             "Material World",
@@ -40,10 +42,23 @@ pub fn register(r: &mut Registry) {
                     specular.len()
                 )));
             }
-            super::require_finite(cx, 3..4)?;
-            let ambient: Color = cx.slices::<Color>(3)?.first().copied().unwrap_or(Color::BLACK);
-            let materials = resources::<MaterialWorld>(cx, 4)?.into_iter().next();
-            let components = diffuse.iter().zip(&specular).map(|(d, s)| ((**d).clone(), (**s).clone())).collect();
+            super::require_finite(cx, 4..5)?;
+            let ambient: Color = cx.slices::<Color>(4)?.first().copied().unwrap_or(Color::BLACK);
+            let materials = resources::<MaterialWorld>(cx, 5)?.into_iter().next();
+            let sss = resources::<TextureRef>(cx, 3)?;
+            if !sss.is_empty() && sss.len() != diffuse.len() {
+                return Err(cx.input_error(3, format!("needs one slice per light type ({}) or none", diffuse.len())));
+            }
+            let components = diffuse
+                .iter()
+                .zip(&specular)
+                .enumerate()
+                .map(|(k, (d, s))| LightComponents {
+                    diffuse: (**d).clone(),
+                    specular: (**s).clone(),
+                    sss: sss.get(k).map(|t| (**t).clone()),
+                })
+                .collect();
             let composite = CompositeLight::new(&renderer, Some(cx.node_id.0), gbuffer, components, [ambient.r, ambient.g, ambient.b], materials)
                 .map_err(|e| NodeError::Other(e.to_string()))?;
             cx.set_output(0, resource_spread::<TextureRef>(ResourceKind::Texture, vec![std::sync::Arc::new(composite.texture())]));

@@ -25,7 +25,8 @@ pub fn register(r: &mut Registry) {
              loops over the lights of each pixel's froxel, Naive over all (the reference). Energy Compensation \
              adds multiple scattering. Roughness and Metallic slice i apply to material id i (wrapping), unless a Material World is \
              connected: then each material's CookTorrance feature decides. \
-             Diffuse includes albedo.",
+             Diffuse includes albedo. SSS carries a wrap-lighting subsurface term when some material has \
+             FakeSSS, and is empty otherwise.",
         )
         .input_spread("G-Buffer", PinType::Resource(ResourceKind::GBuffer), Spread::Resource(ResourceKind::GBuffer, vec![]))
         .input_spread("Lights", PinType::Resource(ResourceKind::LightWorld), Spread::Resource(ResourceKind::LightWorld, vec![]))
@@ -40,6 +41,7 @@ pub fn register(r: &mut Registry) {
         )
         .output_typed("Diffuse", PinType::Resource(ResourceKind::Texture))
         .output_typed("Specular", PinType::Resource(ResourceKind::Texture))
+        .output_typed("SSS", PinType::Resource(ResourceKind::Texture))
         .evaluate(|cx| {
             let renderer = renderer(cx)?;
             let gbuffer = resources::<GBuffer>(cx, 0)?.into_iter().next().ok_or_else(|| cx.input_error(0, "no G-buffer connected"))?;
@@ -65,6 +67,9 @@ pub fn register(r: &mut Registry) {
             let recipe = CookTorrance::new(&renderer, Some(cx.node_id.0), gbuffer, lights, mode, energy, surfaces);
             cx.set_output(0, resource_spread::<TextureRef>(ResourceKind::Texture, vec![std::sync::Arc::new(recipe.diffuse_texture())]));
             cx.set_output(1, resource_spread::<TextureRef>(ResourceKind::Texture, vec![std::sync::Arc::new(recipe.specular_texture())]));
+            // Only when some material has FakeSSS: otherwise there is no subsurface term to pass on.
+            let sss: Vec<std::sync::Arc<TextureRef>> = recipe.sss_texture().map(std::sync::Arc::new).into_iter().collect();
+            cx.set_output(2, resource_spread::<TextureRef>(ResourceKind::Texture, sss));
             Ok(())
         }),
     );

@@ -16,12 +16,21 @@ use crate::shaders::ShaderKey;
 /// Light types one CompositeLight adds up.
 pub const MAX_COMPONENTS: usize = 4;
 
+/// What one CookTorrance contributes: diffuse, specular and, where materials
+/// have FakeSSS, a subsurface term.
+#[derive(Clone, Debug)]
+pub struct LightComponents {
+    pub diffuse: TextureRef,
+    pub specular: TextureRef,
+    pub sss: Option<TextureRef>,
+}
+
 pub struct CompositeLight {
     id: u64,
     owner: Option<u32>,
     gbuffer: Arc<GBuffer>,
-    /// (diffuse, specular) per light type, one to four.
-    components: Vec<(TextureRef, TextureRef)>,
+    /// One per light type, one to four.
+    components: Vec<LightComponents>,
     /// Emission per material, compiled in only when some material of the world has it.
     materials: Option<Arc<MaterialWorld>>,
     params: wgpu::Buffer,
@@ -33,7 +42,7 @@ impl CompositeLight {
         renderer: &Renderer,
         owner: Option<u32>,
         gbuffer: Arc<GBuffer>,
-        components: Vec<(TextureRef, TextureRef)>,
+        components: Vec<LightComponents>,
         ambient: [f32; 3],
         materials: Option<Arc<MaterialWorld>>,
     ) -> Result<Arc<Self>, RenderError> {
@@ -91,6 +100,11 @@ impl CompositeLight {
         if self.materials.is_some() {
             features.push("EMISSION");
         }
+        for (k, c) in self.components.iter().enumerate() {
+            if c.sss.is_some() {
+                features.push(["SSS_1", "SSS_2", "SSS_3", "SSS_4"][k]);
+            }
+        }
         let key = ShaderKey::new("lighting/composite.wgsl", features);
         let pipeline = cx.shaders.compute_pipeline(&device, &key, "main")?;
         let g = &self.gbuffer.targets;
@@ -100,8 +114,12 @@ impl CompositeLight {
             cx.view(&self.output)?,
         ];
         let mut lights = Vec::new();
-        for (diffuse, specular) in &self.components {
-            lights.push((cx.view(&diffuse.name)?, cx.view(&specular.name)?));
+        let mut subsurface = Vec::new();
+        for (k, c) in self.components.iter().enumerate() {
+            lights.push((cx.view(&c.diffuse.name)?, cx.view(&c.specular.name)?));
+            if let Some(sss) = &c.sss {
+                subsurface.push((13 + k as u32, cx.view(&sss.name)?));
+            }
         }
         let mut all = vec![
             (0, self.gbuffer.camera_buffer().as_entire_binding()),
@@ -119,6 +137,9 @@ impl CompositeLight {
             };
             all.push((d, wgpu::BindingResource::TextureView(diffuse)));
             all.push((s, wgpu::BindingResource::TextureView(specular)));
+        }
+        for (binding, view) in &subsurface {
+            all.push((*binding, wgpu::BindingResource::TextureView(view)));
         }
         let group = cx
             .shaders
@@ -149,9 +170,13 @@ impl Recipe for CompositeLight {
             return;
         }
         self.gbuffer.declare(renderer, fg);
-        for (diffuse, specular) in &self.components {
-            diffuse.recipe.declare(renderer, fg);
-            specular.recipe.declare(renderer, fg);
+        for c in &self.components {
+            for texture in [Some(&c.diffuse), Some(&c.specular), c.sss.as_ref()]
+                .into_iter()
+                .flatten()
+            {
+                texture.recipe.declare(renderer, fg);
+            }
         }
         let name = match self.owner {
             Some(node) => format!("CompositeLight #{node}"),
@@ -159,9 +184,13 @@ impl Recipe for CompositeLight {
         };
         let g = &self.gbuffer.targets;
         let mut reads: Vec<&str> = vec![&g.color, &g.depth];
-        for (diffuse, specular) in &self.components {
-            reads.push(&diffuse.name);
-            reads.push(&specular.name);
+        for c in &self.components {
+            reads.extend(
+                [Some(&c.diffuse), Some(&c.specular), c.sss.as_ref()]
+                    .into_iter()
+                    .flatten()
+                    .map(|t| t.name.as_str()),
+            );
         }
         fg.add_pass(
             name,

@@ -10,7 +10,7 @@ use super::{LightBuffer, LightKind};
 use crate::error::RenderError;
 use crate::frame_graph::{FrameGraph, Lifetime, PassContext, SizeRule, TextureDesc};
 use crate::gbuffer::GBuffer;
-use crate::material::MaterialWorld;
+use crate::material::{FEATURE_FAKE_SSS, MaterialWorld};
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
 use crate::shaders::ShaderKey;
@@ -48,6 +48,8 @@ pub struct CookTorrance {
     token: String,
     pub diffuse: String,
     pub specular: String,
+    /// The subsurface output: only when some material of the world has FakeSSS.
+    pub sss: Option<String>,
 }
 
 /// Near and far of a conventional (0..1 depth) perspective projection; None for others.
@@ -93,6 +95,10 @@ impl CookTorrance {
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
+        let sss = materials
+            .as_ref()
+            .filter(|w| w.union_flags() & (1 << FEATURE_FAKE_SSS) != 0)
+            .map(|_| format!("cooktorrance{id}/sss"));
         // Suns have no range to cluster by: every pixel sees every sun.
         let mode = if lights.kind == LightKind::Sun {
             LightLoop::Naive
@@ -113,6 +119,7 @@ impl CookTorrance {
             token: format!("cooktorrance{id}/lights"),
             diffuse: format!("cooktorrance{id}/diffuse"),
             specular: format!("cooktorrance{id}/specular"),
+            sss,
         })
     }
 
@@ -128,6 +135,14 @@ impl CookTorrance {
             recipe: self.clone(),
             name: self.specular.clone(),
         }
+    }
+
+    /// The subsurface term, when some material has the FakeSSS feature (else there is none to add).
+    pub fn sss_texture(self: &Arc<Self>) -> Option<TextureRef> {
+        self.sss.clone().map(|name| TextureRef {
+            recipe: self.clone(),
+            name,
+        })
     }
 
     pub fn gbuffer(&self) -> &Arc<GBuffer> {
@@ -209,6 +224,9 @@ impl CookTorrance {
         if self.materials.is_some() {
             features.push("MATERIALS");
         }
+        if self.sss.is_some() {
+            features.push("FAKE_SSS");
+        }
         let key = ShaderKey::new("lighting/cook_torrance.wgsl", features);
         let pipeline = cx.shaders.compute_pipeline(&device, &key, "main")?;
         let g = &self.gbuffer;
@@ -218,6 +236,10 @@ impl CookTorrance {
             cx.view(&g.targets.depth)?,
         );
         let (diffuse, specular) = (cx.view(&self.diffuse)?, cx.view(&self.specular)?);
+        let sss = match &self.sss {
+            Some(name) => Some(cx.view(name)?),
+            None => None,
+        };
         let guard = self.clusters.get(cx.gpu, 1, self.lights.count());
         let Some(b) = guard.as_ref() else {
             return Ok(());
@@ -237,6 +259,10 @@ impl CookTorrance {
             (11, wgpu::BindingResource::TextureView(&diffuse)),
             (12, wgpu::BindingResource::TextureView(&specular)),
         ];
+        let mut all = all.to_vec();
+        if let Some(sss) = &sss {
+            all.push((13, wgpu::BindingResource::TextureView(sss)));
+        }
         let group = cx
             .shaders
             .bind_group(&device, &key, "main", &pipeline, 0, &all)?;
@@ -321,11 +347,15 @@ impl Recipe for CookTorrance {
         );
         let g = &self.gbuffer.targets;
         let hdr = TextureDesc::storage(wgpu::TextureFormat::Rgba16Float).size(self.gbuffer.size);
+        let mut outputs = vec![(self.diffuse.as_str(), hdr), (self.specular.as_str(), hdr)];
+        if let Some(sss) = &self.sss {
+            outputs.push((sss.as_str(), hdr));
+        }
         fg.add_pass(
             self.label("shade"),
             self.owner,
             &[&self.token, &g.color, &g.normals, &g.depth],
-            &[(&self.diffuse, hdr), (&self.specular, hdr)],
+            &outputs,
             move |cx| self.shade(cx),
         );
     }
