@@ -1,6 +1,7 @@
 // CompositeLight: the lit image from CookTorrance's components, one pair
 // (diffuse, specular) per light type, up to four pairs (LIGHTS_2..4), plus
-// emission per material (EMISSION) from the material buffer.
+// emission per material (EMISSION) from the material buffer, and ambient
+// occlusion (AO), optionally weighted per material (AO_PER_MATERIAL).
 // Diffuse already carries albedo; ambient (until image-based light lands)
 // is a constant term times albedo. Clamped below half-float overflow.
 #import spreadlight::camera::Camera
@@ -44,10 +45,21 @@ struct Params {
 #ifdef SSS_4
 @group(0) @binding(16) var sss3: texture_2d<f32>;
 #endif
+// The material library, imported once, for EMISSION (only when some
+// material has Emission) and for AO's per-material strength.
 #ifdef EMISSION
-// Only when some material of the world has the Emission feature.
-#import spreadlight::material::{feature_param, FEATURE_EMISSION}
+#import spreadlight::material::{feature_param, FEATURE_EMISSION, FEATURE_AMBIENT_OCCLUSION}
 #import spreadlight::packing::channel_to_id
+#else
+#ifdef AO_PER_MATERIAL
+#import spreadlight::material::{feature_param, FEATURE_AMBIENT_OCCLUSION}
+#import spreadlight::packing::channel_to_id
+#endif
+#endif
+#ifdef AO
+// Ambient visibility (R, 0..1) darkening the ambient term; AO_PER_MATERIAL
+// weights it by each material's AmbientOcclusion strength (0 = unaffected).
+@group(0) @binding(17) var occlusion: texture_2d<f32>;
 #endif
 
 @compute @workgroup_size(8, 8)
@@ -60,7 +72,16 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     var lit = vec3<f32>(0.0);
     if (textureLoad(depth, p, 0).r > 0.0) {
         let albedo = textureLoad(color, p, 0).rgb;
-        lit = params.ambient.rgb * albedo + textureLoad(diffuse0, p, 0).rgb + textureLoad(specular0, p, 0).rgb;
+        var ambient = params.ambient.rgb * albedo;
+#ifdef AO
+        var strength = 1.0;
+#ifdef AO_PER_MATERIAL
+        strength = feature_param(channel_to_id(textureLoad(color, p, 0).a), FEATURE_AMBIENT_OCCLUSION, 0u, vec4<f32>(0.0)).x;
+#endif
+        let visibility = clamp(textureLoad(occlusion, p, 0).r, 0.0, 1.0);
+        ambient *= mix(1.0, visibility, clamp(strength, 0.0, 1.0));
+#endif
+        lit = ambient + textureLoad(diffuse0, p, 0).rgb + textureLoad(specular0, p, 0).rgb;
 #ifdef LIGHTS_2
         lit += textureLoad(diffuse1, p, 0).rgb + textureLoad(specular1, p, 0).rgb;
 #endif

@@ -98,7 +98,18 @@ pub const SHADERS: &[ShaderFile] = &[
     ),
     shader!(
         "lighting/composite.wgsl",
-        ["LIGHTS_2", "LIGHTS_3", "LIGHTS_4", "EMISSION"]
+        [
+            "LIGHTS_2",
+            "LIGHTS_3",
+            "LIGHTS_4",
+            "EMISSION",
+            "SSS_1",
+            "SSS_2",
+            "SSS_3",
+            "SSS_4",
+            "AO",
+            "AO_PER_MATERIAL"
+        ]
     ),
     shader!("post/tonemap.wgsl", ["EYE_ADAPTATION"]),
     shader!("post/eye_adaptation.wgsl", []),

@@ -363,7 +363,7 @@ fn spot_cones_from_zero_to_a_hemisphere_stay_finite_and_bounded() {
 
 #[test]
 fn the_material_buffer_drives_shading_and_unused_features_cost_nothing() {
-    use spreadlight_render::lighting::{CompositeLight, LightComponents};
+    use spreadlight_render::lighting::{CompositeInputs, CompositeLight, LightComponents};
     use spreadlight_render::material::{Feature, Material, MaterialWorld};
     let renderer = test_renderer();
     let g = scene(&renderer);
@@ -419,13 +419,16 @@ fn the_material_buffer_drives_shading_and_unused_features_cost_nothing() {
             &renderer,
             None,
             g.clone(),
-            vec![LightComponents {
-                diffuse: ct.diffuse_texture(),
-                specular: ct.specular_texture(),
-                sss: ct.sss_texture(),
-            }],
-            [0.0; 3],
-            world,
+            CompositeInputs {
+                components: vec![LightComponents {
+                    diffuse: ct.diffuse_texture(),
+                    specular: ct.specular_texture(),
+                    sss: ct.sss_texture(),
+                }],
+                ambient: [0.0; 3],
+                materials: world,
+                occlusion: None,
+            },
         )
         .expect("valid");
         let mut fg = FrameGraph::new(SIZE);
@@ -535,4 +538,92 @@ fn fake_sss_adds_light_past_the_terminator_only_for_materials_that_have_it() {
             .filter(|p| p[0] > 1e-4)
             .all(|p| p[0] >= p[1])
     );
+}
+
+#[test]
+fn ambient_occlusion_darkens_the_ambient_term_as_each_material_says() {
+    use spreadlight_render::lighting::{CompositeInputs, CompositeLight, LightComponents};
+    use spreadlight_render::material::{Feature, Material, MaterialWorld};
+    use spreadlight_render::texture::{GpuTexture, StaticTexture};
+    let renderer = test_renderer();
+    let g = scene(&renderer);
+    let half = vec![[0.5f32, 0.5, 0.5, 1.0]; (SIZE.0 * SIZE.1) as usize];
+    let ao = StaticTexture::new(GpuTexture::from_rgba32f(
+        &renderer.gpu,
+        SIZE.0,
+        SIZE.1,
+        &half,
+        "ao",
+    ));
+    let composite = |occlusion: bool, world: Option<std::sync::Arc<MaterialWorld>>| {
+        let lights = LightBuffer::points(&renderer, &[]);
+        let ct = CookTorrance::new(
+            &renderer,
+            None,
+            g.clone(),
+            lights,
+            LightLoop::Naive,
+            false,
+            Surfaces::PerMaterialId(vec![(0.5, 0.0)]),
+        );
+        let inputs = CompositeInputs {
+            components: vec![LightComponents {
+                diffuse: ct.diffuse_texture(),
+                specular: ct.specular_texture(),
+                sss: None,
+            }],
+            ambient: [1.0; 3],
+            materials: world,
+            occlusion: occlusion.then(|| ao.texture_ref()),
+        };
+        let c = CompositeLight::new(&renderer, None, g.clone(), inputs).expect("valid");
+        let mut fg = FrameGraph::new(SIZE);
+        spreadlight_render::Recipe::declare(c.as_ref(), &renderer, &mut fg);
+        fg.request(&c.output);
+        let (report, out) = fg.execute(&renderer).expect("executes");
+        assert!(report.errors.is_empty(), "{:?}", report.errors);
+        read_texture(&renderer.gpu, &out[&c.output]).expect("readback")
+    };
+    let open = composite(false, None);
+    let occluded = composite(true, None);
+    let weighted_off = composite(
+        true,
+        Some(MaterialWorld::new(
+            &renderer,
+            vec![
+                Material::default_material()
+                    .with(Feature::AmbientOcclusion, &[[0.0, 0.0, 0.0, 0.0]])
+                    .expect("valid"),
+            ],
+        )),
+    );
+    let weighted_on = composite(
+        true,
+        Some(MaterialWorld::new(
+            &renderer,
+            vec![
+                Material::default_material()
+                    .with(Feature::AmbientOcclusion, &[[1.0, 0.0, 0.0, 0.0]])
+                    .expect("valid"),
+            ],
+        )),
+    );
+    for (i, p) in open.pixels.iter().enumerate() {
+        if p[0] == 0.0 {
+            continue; // background
+        }
+        assert!(
+            (occluded.pixels[i][0] - 0.5 * p[0]).abs() < 1e-3,
+            "AO 0.5 halves the ambient term"
+        );
+        assert!(
+            (weighted_off.pixels[i][0] - p[0]).abs() < 1e-3,
+            "strength 0: the material ignores AO"
+        );
+        assert!(
+            (weighted_on.pixels[i][0] - 0.5 * p[0]).abs() < 1e-3,
+            "strength 1: full AO"
+        );
+    }
+    assert!(open.pixels.iter().any(|p| p[0] > 0.0));
 }

@@ -4,7 +4,9 @@
 use spreadlight_graph::{Color, NodeDef, NodeError, PinType, Registry, ResourceKind, Spread};
 use spreadlight_render::TextureRef;
 use spreadlight_render::gbuffer::GBuffer;
-use spreadlight_render::lighting::{CompositeLight, LightComponents, MAX_COMPONENTS};
+use spreadlight_render::lighting::{
+    CompositeInputs, CompositeLight, LightComponents, MAX_COMPONENTS,
+};
 use spreadlight_render::material::MaterialWorld;
 
 use crate::gpu::{renderer, resource_spread, resources};
@@ -17,7 +19,9 @@ pub fn register(r: &mut Registry) {
             super::CATEGORY,
             "Adds CookTorrance's diffuse, specular and SSS (slice i of each: one light type; up to four; SSS \
              may be empty) and an \
-             ambient term (Ambient x albedo), plus each material's Emission from the Material World, into one HDR image.",
+             ambient term (Ambient x albedo), plus each material's Emission from the Material World, into one HDR image. AO (optional, visibility \
+             in R) darkens the ambient term, weighted by each material's AmbientOcclusion strength when a \
+             Material World has that feature.",
         )
         .input_spread("G-Buffer", PinType::Resource(ResourceKind::GBuffer), Spread::Resource(ResourceKind::GBuffer, vec![]))
         .input_spread("Diffuse", PinType::Resource(ResourceKind::Texture), texture())
@@ -29,6 +33,7 @@ pub fn register(r: &mut Registry) {
             PinType::Resource(ResourceKind::MaterialWorld),
             Spread::Resource(ResourceKind::MaterialWorld, vec![]),
         )
+        .input_spread("AO", PinType::Resource(ResourceKind::Texture), texture())
         .output_typed("Texture", PinType::Resource(ResourceKind::Texture))
         .evaluate(|cx| {
             let renderer = renderer(cx)?;
@@ -59,7 +64,9 @@ pub fn register(r: &mut Registry) {
                     sss: sss.get(k).map(|t| (**t).clone()),
                 })
                 .collect();
-            let composite = CompositeLight::new(&renderer, Some(cx.node_id.0), gbuffer, components, [ambient.r, ambient.g, ambient.b], materials)
+            let occlusion = resources::<TextureRef>(cx, 6)?.into_iter().next().map(|t| (*t).clone());
+            let inputs = CompositeInputs { components, ambient: [ambient.r, ambient.g, ambient.b], materials, occlusion };
+            let composite = CompositeLight::new(&renderer, Some(cx.node_id.0), gbuffer, inputs)
                 .map_err(|e| NodeError::Other(e.to_string()))?;
             cx.set_output(0, resource_spread::<TextureRef>(ResourceKind::Texture, vec![std::sync::Arc::new(composite.texture())]));
             Ok(())

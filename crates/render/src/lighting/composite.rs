@@ -8,10 +8,23 @@ use wgpu::util::DeviceExt;
 use crate::error::RenderError;
 use crate::frame_graph::{FrameGraph, PassContext, TextureDesc};
 use crate::gbuffer::GBuffer;
-use crate::material::{FEATURE_EMISSION, MaterialWorld};
+use crate::material::{FEATURE_AMBIENT_OCCLUSION, FEATURE_EMISSION, MaterialWorld};
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
 use crate::shaders::ShaderKey;
+
+/// What a CompositeLight combines.
+#[derive(Clone, Debug)]
+pub struct CompositeInputs {
+    /// One per light type, one to four.
+    pub components: Vec<LightComponents>,
+    /// Ambient radiance, times albedo.
+    pub ambient: [f32; 3],
+    /// Emission and AO strength per material come from here.
+    pub materials: Option<Arc<MaterialWorld>>,
+    /// Ambient visibility in R (0..1), from an AO pass.
+    pub occlusion: Option<TextureRef>,
+}
 
 /// Light types one CompositeLight adds up.
 pub const MAX_COMPONENTS: usize = 4;
@@ -31,8 +44,13 @@ pub struct CompositeLight {
     gbuffer: Arc<GBuffer>,
     /// One per light type, one to four.
     components: Vec<LightComponents>,
-    /// Emission per material, compiled in only when some material of the world has it.
+    /// The material world, bound when emission or per-material AO needs it.
     materials: Option<Arc<MaterialWorld>>,
+    /// Some material has Emission: the emission code is compiled in.
+    emission: bool,
+    /// An AO texture, and whether materials weight it (some has AmbientOcclusion).
+    occlusion: Option<TextureRef>,
+    ao_per_material: bool,
     params: wgpu::Buffer,
     pub output: String,
 }
@@ -42,12 +60,23 @@ impl CompositeLight {
         renderer: &Renderer,
         owner: Option<u32>,
         gbuffer: Arc<GBuffer>,
-        components: Vec<LightComponents>,
-        ambient: [f32; 3],
-        materials: Option<Arc<MaterialWorld>>,
+        inputs: CompositeInputs,
     ) -> Result<Arc<Self>, RenderError> {
-        // A feature no material has costs nothing: without emission, no emission code.
-        let materials = materials.filter(|w| w.union_flags() & (1 << FEATURE_EMISSION) != 0);
+        let CompositeInputs {
+            components,
+            ambient,
+            materials,
+            occlusion,
+        } = inputs;
+        // A feature no material has costs nothing: its code is not compiled in.
+        let has = |feature: u32| {
+            materials
+                .as_ref()
+                .is_some_and(|w| w.union_flags() & (1 << feature) != 0)
+        };
+        let emission = has(FEATURE_EMISSION);
+        let ao_per_material = occlusion.is_some() && has(FEATURE_AMBIENT_OCCLUSION);
+        let materials = materials.filter(|_| emission || ao_per_material);
         if components.is_empty() || components.len() > MAX_COMPONENTS {
             return Err(RenderError::Pass {
                 pass: "CompositeLight".to_owned(),
@@ -79,6 +108,9 @@ impl CompositeLight {
             gbuffer,
             components,
             materials,
+            emission,
+            occlusion,
+            ao_per_material,
             params,
             output: format!("composite{id}"),
         }))
@@ -97,8 +129,14 @@ impl CompositeLight {
             .into_iter()
             .take(self.components.len().saturating_sub(1))
             .collect();
-        if self.materials.is_some() {
+        if self.emission {
             features.push("EMISSION");
+        }
+        if self.occlusion.is_some() {
+            features.push("AO");
+        }
+        if self.ao_per_material {
+            features.push("AO_PER_MATERIAL");
         }
         for (k, c) in self.components.iter().enumerate() {
             if c.sss.is_some() {
@@ -138,6 +176,13 @@ impl CompositeLight {
             all.push((d, wgpu::BindingResource::TextureView(diffuse)));
             all.push((s, wgpu::BindingResource::TextureView(specular)));
         }
+        let occlusion = match &self.occlusion {
+            Some(ao) => Some(cx.view(&ao.name)?),
+            None => None,
+        };
+        if let Some(view) = &occlusion {
+            all.push((17, wgpu::BindingResource::TextureView(view)));
+        }
         for (binding, view) in &subsurface {
             all.push((*binding, wgpu::BindingResource::TextureView(view)));
         }
@@ -170,6 +215,9 @@ impl Recipe for CompositeLight {
             return;
         }
         self.gbuffer.declare(renderer, fg);
+        if let Some(ao) = &self.occlusion {
+            ao.recipe.declare(renderer, fg);
+        }
         for c in &self.components {
             for texture in [Some(&c.diffuse), Some(&c.specular), c.sss.as_ref()]
                 .into_iter()
@@ -184,6 +232,7 @@ impl Recipe for CompositeLight {
         };
         let g = &self.gbuffer.targets;
         let mut reads: Vec<&str> = vec![&g.color, &g.depth];
+        reads.extend(self.occlusion.as_ref().map(|ao| ao.name.as_str()));
         for c in &self.components {
             reads.extend(
                 [Some(&c.diffuse), Some(&c.specular), c.sss.as_ref()]

@@ -12,7 +12,7 @@ use glam::Vec3;
 use wgpu::util::DeviceExt;
 
 pub use clusters::ClusterGrid;
-pub use composite::{CompositeLight, LightComponents, MAX_COMPONENTS};
+pub use composite::{CompositeInputs, CompositeLight, LightComponents, MAX_COMPONENTS};
 pub use cook_torrance::{CookTorrance, LightLoop, Surfaces};
 
 use crate::renderer::Renderer;
