@@ -627,3 +627,118 @@ fn ambient_occlusion_darkens_the_ambient_term_as_each_material_says() {
     }
     assert!(open.pixels.iter().any(|p| p[0] > 0.0));
 }
+
+/// The white furnace, rendered: a white metal sphere (F0 = 1) under uniform
+/// white light from every direction (4,096 suns on a Fibonacci sphere, each
+/// 4 pi / 4,096 lux: radiance 1 everywhere). Each pixel then shows the
+/// directional albedo of the specular lobe: at most 1 without energy
+/// compensation, close to 1 with it.
+#[test]
+fn white_furnace_returns_at_most_the_incoming_energy() {
+    let renderer = test_renderer();
+    let size = (48u32, 48u32);
+    let mesh = renderer
+        .meshes
+        .upload(
+            &renderer.gpu,
+            &sphere(SphereParams {
+                radius: 1.0,
+                sectors: 64,
+                stacks: 32,
+            }),
+        )
+        .expect("upload");
+    let white = InstanceInput {
+        transform: Mat4::IDENTITY,
+        previous_transform: Mat4::IDENTITY,
+        color: [1.0; 4],
+        material_id: 0,
+        object_id: 0,
+    };
+    let layer = Arc::new(
+        Layer::new(
+            None,
+            vec![DrawBatch {
+                mesh,
+                instances: vec![white],
+            }],
+            LayerFeatures::default(),
+            None,
+        )
+        .expect("valid"),
+    );
+    let camera = CameraInput {
+        view: glam::camera::rh::view::look_at_mat4(Vec3::new(0.0, 0.0, 4.0), Vec3::ZERO, Vec3::Y),
+        projection: glam::camera::rh::proj::directx::perspective(0.7, 1.0, 0.1, 100.0),
+    };
+    let g = GBuffer::new(
+        &renderer,
+        None,
+        vec![layer],
+        camera,
+        None,
+        SizeRule::Relative(1.0),
+    );
+    let n = 4096;
+    let golden = std::f32::consts::PI * (3.0 - 5f32.sqrt());
+    let suns: Vec<SunLight> = (0..n)
+        .map(|i| {
+            let z = 1.0 - 2.0 * (i as f32 + 0.5) / n as f32;
+            let r = (1.0 - z * z).sqrt();
+            let phi = i as f32 * golden;
+            SunLight {
+                direction: -Vec3::new(r * phi.cos(), r * phi.sin(), z),
+                color: Vec3::ONE,
+                illuminance: 4.0 * std::f32::consts::PI / n as f32,
+            }
+        })
+        .collect();
+    let lights = LightBuffer::suns(&renderer, &suns);
+    let furnace = |roughness: f32, compensate: bool| {
+        let ct = CookTorrance::new(
+            &renderer,
+            None,
+            g.clone(),
+            lights.clone(),
+            LightLoop::Naive,
+            compensate,
+            Surfaces::PerMaterialId(vec![(roughness, 1.0)]),
+        );
+        let mut fg = FrameGraph::new(size);
+        spreadlight_render::Recipe::declare(ct.as_ref(), &renderer, &mut fg);
+        fg.request(&ct.specular);
+        let (_, out) = fg.execute(&renderer).expect("executes");
+        let image = read_texture(&renderer.gpu, &out[&ct.specular]).expect("readback");
+        assert!(image.all_finite());
+        // Only pixels that see the sphere head-on enough (N.V > ~0.3: the inner part of the disc).
+        let values: Vec<f32> = (0..size.1)
+            .flat_map(|y| (0..size.0).map(move |x| (x, y)))
+            .filter(|&(x, y)| {
+                let (dx, dy) = (x as f32 - 23.5, y as f32 - 23.5);
+                (dx * dx + dy * dy).sqrt() < 11.0
+            })
+            .map(|(x, y)| image.pixel(x, y)[0])
+            .collect();
+        assert!(!values.is_empty());
+        let max = values.iter().copied().fold(0.0f32, f32::max);
+        let min = values.iter().copied().fold(f32::MAX, f32::min);
+        (min, max)
+    };
+    for roughness in [0.5f32, 0.75, 1.0] {
+        let (lo, hi) = furnace(roughness, false);
+        let (clo, chi) = furnace(roughness, true);
+        eprintln!(
+            "roughness {roughness}: without compensation {lo:.3}..{hi:.3}, with {clo:.3}..{chi:.3}"
+        );
+        // 4,096 discrete suns sample the lobe; 3% covers their error.
+        assert!(
+            hi <= 1.03,
+            "roughness {roughness}: returns {hi} of the incoming energy without compensation"
+        );
+        assert!(
+            chi <= 1.03 && clo >= 0.9,
+            "roughness {roughness}: compensated albedo {clo}..{chi}"
+        );
+        assert!(clo >= lo, "compensation only adds energy");
+    }
+}
