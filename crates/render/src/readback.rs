@@ -130,3 +130,31 @@ pub fn linear_to_srgb(c: f32) -> f32 {
         1.055 * c.powf(1.0 / 2.4) - 0.055
     }
 }
+
+/// Build a frame from `recipe`, render the textures named `names` at
+/// `size`, and read them back, in order. Passes that fail are in the
+/// report's `errors` (the rest of the frame still renders); an impossible
+/// graph or a failed readback is an `Err`.
+pub fn render_and_read(
+    renderer: &crate::renderer::Renderer,
+    recipe: &dyn crate::recipe::Recipe,
+    size: (u32, u32),
+    names: &[&str],
+) -> Result<(crate::frame_graph::FrameReport, Vec<ImageF32>), RenderError> {
+    let mut graph = crate::frame_graph::FrameGraph::new(size);
+    recipe.declare(renderer, &mut graph);
+    for name in names {
+        graph.request(name);
+    }
+    let (report, outputs) = graph.execute(renderer)?;
+    let images = names
+        .iter()
+        .map(|name| {
+            let texture = outputs
+                .get(*name)
+                .ok_or_else(|| RenderError::Readback(format!("the frame produced no `{name}`")))?;
+            read_texture(&renderer.gpu, texture)
+        })
+        .collect::<Result<_, _>>()?;
+    Ok((report, images))
+}

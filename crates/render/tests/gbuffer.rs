@@ -67,17 +67,10 @@ fn render(
     gbuffer: &Arc<GBuffer>,
     targets: &[&str],
 ) -> (spreadlight_render::FrameReport, Vec<ImageF32>) {
-    let mut fg = FrameGraph::new(SIZE);
-    spreadlight_render::Recipe::declare(gbuffer.as_ref(), renderer, &mut fg);
-    for t in targets {
-        fg.request(t);
-    }
-    let (report, outputs) = fg.execute(renderer).expect("frame executes");
+    let (report, images) =
+        spreadlight_render::readback::render_and_read(renderer, gbuffer.as_ref(), SIZE, targets)
+            .expect("frame executes");
     assert!(report.errors.is_empty(), "{:?}", report.errors);
-    let images = targets
-        .iter()
-        .map(|t| read_texture(&renderer.gpu, &outputs[*t]).expect("readback"))
-        .collect();
     (report, images)
 }
 

@@ -11,9 +11,9 @@ use spreadlight_render::lighting::{
     CookTorrance, LightBuffer, LightLoop, PointLight, SpotLight, SunLight, Surfaces,
 };
 use spreadlight_render::mesh::primitives::{GridParams, SphereParams, grid, sphere};
-use spreadlight_render::readback::{ImageF32, read_texture};
+use spreadlight_render::readback::{ImageF32, render_and_read};
 use spreadlight_render::renderer::test_renderer;
-use spreadlight_render::{FrameGraph, Renderer, SizeRule};
+use spreadlight_render::{Renderer, SizeRule};
 
 const SIZE: (u32, u32) = (96, 54);
 
@@ -106,14 +106,7 @@ fn shade_buffer(
         true,
         Surfaces::PerMaterialId(vec![(0.5, 0.0)]),
     );
-    let mut fg = FrameGraph::new(SIZE);
-    spreadlight_render::Recipe::declare(ct.as_ref(), renderer, &mut fg);
-    fg.request(&ct.diffuse);
-    fg.request(&ct.specular);
-    let (report, out) = fg.execute(renderer).expect("executes");
-    assert!(report.errors.is_empty(), "{:?}", report.errors);
-    let d = read_texture(&renderer.gpu, &out[&ct.diffuse]).expect("readback");
-    let s = read_texture(&renderer.gpu, &out[&ct.specular]).expect("readback");
+    let [d, s] = frame(renderer, ct.as_ref(), SIZE, [&ct.diffuse, &ct.specular]);
     assert!(
         d.all_finite() && s.all_finite(),
         "no NaN or infinity in the HDR targets"
@@ -128,6 +121,21 @@ fn shade_buffer(
             .map(|(a, b)| [a[0] + b[0], a[1] + b[1], a[2] + b[2], 1.0])
             .collect(),
     }
+}
+
+/// Render `names` of `recipe` at `size` and read them back; no pass may fail.
+fn frame<const N: usize>(
+    renderer: &Renderer,
+    recipe: &dyn spreadlight_render::Recipe,
+    size: (u32, u32),
+    names: [&str; N],
+) -> [ImageF32; N] {
+    let (report, images) =
+        render_and_read(renderer, recipe, size, &names).expect("the frame renders");
+    assert!(report.errors.is_empty(), "{:?}", report.errors);
+    images
+        .try_into()
+        .unwrap_or_else(|_| unreachable!("one image per name"))
 }
 
 /// Lights scattered over the plane, deterministic.
@@ -384,11 +392,8 @@ fn the_material_buffer_drives_shading_and_unused_features_cost_nothing() {
             true,
             surfaces,
         );
-        let mut fg = FrameGraph::new(SIZE);
-        spreadlight_render::Recipe::declare(ct.as_ref(), &renderer, &mut fg);
-        fg.request(&ct.specular);
-        let (_, out) = fg.execute(&renderer).expect("executes");
-        read_texture(&renderer.gpu, &out[&ct.specular]).expect("readback")
+        let [specular] = frame(&renderer, ct.as_ref(), SIZE, [&ct.specular]);
+        specular
     };
     // The default material (roughness 0.5, metallic 0) is what the pins say by default.
     let pins = shade_with(Surfaces::PerMaterialId(vec![(0.5, 0.0)]));
@@ -431,13 +436,8 @@ fn the_material_buffer_drives_shading_and_unused_features_cost_nothing() {
             },
         )
         .expect("valid");
-        let mut fg = FrameGraph::new(SIZE);
-        spreadlight_render::Recipe::declare(c.as_ref(), &renderer, &mut fg);
-        fg.request(&c.output);
         let compiled_before = renderer.shaders().pipelines_compiled;
-        let (report, out) = fg.execute(&renderer).expect("executes");
-        assert!(report.errors.is_empty(), "{:?}", report.errors);
-        let image = read_texture(&renderer.gpu, &out[&c.output]).expect("readback");
+        let [image] = frame(&renderer, c.as_ref(), SIZE, [&c.output]);
         (
             image,
             renderer.shaders().pipelines_compiled - compiled_before,
@@ -511,14 +511,7 @@ fn fake_sss_adds_light_past_the_terminator_only_for_materials_that_have_it() {
     let sss = with
         .sss_texture()
         .expect("a FakeSSS material gets a subsurface output");
-    let mut fg = FrameGraph::new(SIZE);
-    spreadlight_render::Recipe::declare(with.as_ref(), &renderer, &mut fg);
-    fg.request(&sss.name);
-    fg.request(&with.diffuse);
-    let (report, out) = fg.execute(&renderer).expect("executes");
-    assert!(report.errors.is_empty(), "{:?}", report.errors);
-    let sss = read_texture(&renderer.gpu, &out[&sss.name]).expect("readback");
-    let diffuse = read_texture(&renderer.gpu, &out[&with.diffuse]).expect("readback");
+    let [sss, diffuse] = frame(&renderer, with.as_ref(), SIZE, [&sss.name, &with.diffuse]);
     assert!(sss.all_finite());
     // Somewhere the surface faces away from the light (no diffuse) yet scatters light.
     let past_terminator = sss
@@ -577,12 +570,8 @@ fn ambient_occlusion_darkens_the_ambient_term_as_each_material_says() {
             occlusion: occlusion.then(|| ao.texture_ref()),
         };
         let c = CompositeLight::new(&renderer, None, g.clone(), inputs).expect("valid");
-        let mut fg = FrameGraph::new(SIZE);
-        spreadlight_render::Recipe::declare(c.as_ref(), &renderer, &mut fg);
-        fg.request(&c.output);
-        let (report, out) = fg.execute(&renderer).expect("executes");
-        assert!(report.errors.is_empty(), "{:?}", report.errors);
-        read_texture(&renderer.gpu, &out[&c.output]).expect("readback")
+        let [image] = frame(&renderer, c.as_ref(), SIZE, [&c.output]);
+        image
     };
     let open = composite(false, None);
     let occluded = composite(true, None);
@@ -704,11 +693,7 @@ fn white_furnace_returns_at_most_the_incoming_energy() {
             compensate,
             Surfaces::PerMaterialId(vec![(roughness, 1.0)]),
         );
-        let mut fg = FrameGraph::new(size);
-        spreadlight_render::Recipe::declare(ct.as_ref(), &renderer, &mut fg);
-        fg.request(&ct.specular);
-        let (_, out) = fg.execute(&renderer).expect("executes");
-        let image = read_texture(&renderer.gpu, &out[&ct.specular]).expect("readback");
+        let [image] = frame(&renderer, ct.as_ref(), size, [&ct.specular]);
         assert!(image.all_finite());
         // Only pixels that see the sphere head-on enough (N.V > ~0.3: the inner part of the disc).
         let values: Vec<f32> = (0..size.1)
