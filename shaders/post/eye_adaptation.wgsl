@@ -6,8 +6,9 @@
 // pixels a texel covers, G how many valid pixels that is. Each step takes the
 // weighted mean, so odd sizes and left-out pixels do not bias the result.
 // Non-finite pixels (NaN, infinity) are left out; negative channels count as
-// 0; log of 0 is guarded (log(max(L, 1e-6))). A frame with no valid pixel
-// measures the minimum.
+// 0; pixels darker than the Minimum pin count as the minimum (so a black
+// background does not over-expose the rest, and log of 0 never happens). A
+// frame with no valid pixel measures the minimum.
 #import spreadlight::tonemap::{luminance, MIN_LUMINANCE}
 
 struct Params {
@@ -58,7 +59,9 @@ fn log_luminance(@builtin(global_invocation_id) id: vec3<u32>) {
             // NaN compares false everywhere: only finite pixels pass.
             if (all(c >= vec3<f32>(-FLOAT_MAX) & c <= vec3<f32>(FLOAT_MAX))) {
                 let l = luminance(max(c, vec3<f32>(0.0)));
-                sum += log(clamp(l, MIN_LUMINANCE, FLOAT_MAX));
+                // Darker than the eye adapts to counts as the minimum: a black
+                // background must not drag the average into over-exposure.
+                sum += log(clamp(l, max(params.min_luminance, MIN_LUMINANCE), FLOAT_MAX));
                 count += 1.0;
             }
         }

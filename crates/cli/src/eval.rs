@@ -75,7 +75,12 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
                 .iter()
                 .map(|(name, value)| format!("{name} = {}", value.preview(args.slices)))
                 .collect();
-            println!("frame {frame} t={:.4}  {}", stats.time, values.join("  "));
+            let shown = if values.is_empty() {
+                "(no probes: add a Probe node to see values)".to_owned()
+            } else {
+                values.join("  ")
+            };
+            println!("frame {frame} t={:.4}  {shown}", stats.time);
         }
     }
     for name in &wanted {

@@ -263,3 +263,17 @@ fn tonemapping_with_adapted_exposure_stays_finite_and_maps_to_the_key() {
         }
     }
 }
+
+#[test]
+fn a_black_background_does_not_over_expose_the_rest() {
+    // Half the image black (a sky with nothing in it), half at luminance 1:
+    // black counts as the Minimum pin (0.01), so the geometric mean is 0.1,
+    // not the 0.001 that counting black as 1e-6 would give.
+    let renderer = test_renderer();
+    let pixels: Vec<[f32; 4]> = (0..16 * 8)
+        .map(|i| if i < 64 { grey(0.0) } else { grey(1.0) })
+        .collect();
+    let half = source(&renderer, 16, 8, &pixels);
+    let l = frame(&renderer, &half, (16, 8), SETTINGS, 0.0);
+    assert!(close(l, 0.1, 0.01), "adapted {l}");
+}

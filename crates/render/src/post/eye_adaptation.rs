@@ -217,18 +217,20 @@ impl EyeAdaptation {
             let t = cx.texture(output)?;
             (t.width(), t.height())
         };
+        // The first level floors pixels at the Minimum pin, so it reads the parameters.
+        let params = self.params(cx, false);
         let all = [
+            (0, params.as_entire_binding()),
             (1, wgpu::BindingResource::TextureView(&source)),
             (2, wgpu::BindingResource::TextureView(&target)),
         ];
         Self::dispatch(cx, entry, &all, (w.div_ceil(8), h.div_ceil(8)))
     }
 
-    fn adapt(&self, cx: &mut PassContext<'_>, measured: &str) -> Result<(), RenderError> {
+    /// The `Params` uniform of eye_adaptation.wgsl; `fresh`: the target holds no history.
+    fn params(&self, cx: &PassContext<'_>, fresh: bool) -> wgpu::Buffer {
         let (min, max) = self.settings.pins();
-        let fresh = cx.is_fresh(&self.output);
-        let params = cx
-            .gpu
+        cx.gpu
             .device
             .create_buffer_init(&wgpu::util::BufferInitDescriptor {
                 label: Some("eye adaptation params"),
@@ -243,7 +245,12 @@ impl EyeAdaptation {
                     0,
                 ]),
                 usage: wgpu::BufferUsages::UNIFORM,
-            });
+            })
+    }
+
+    fn adapt(&self, cx: &mut PassContext<'_>, measured: &str) -> Result<(), RenderError> {
+        let fresh = cx.is_fresh(&self.output);
+        let params = self.params(cx, fresh);
         // The blend reads last frame's value from a copy: a texture cannot be
         // read and written in one dispatch without read-write storage.
         let (last, copy) = (
