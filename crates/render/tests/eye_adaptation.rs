@@ -3,12 +3,12 @@
 //! step, the pins hold for black and 1e6 frames, non-finite pixels are left
 //! out, and tonemapping with the adapted exposure stays finite in 0..1.
 
+use spreadlight_render::TextureRef;
 use spreadlight_render::post::{AdaptationSettings, AdaptedExposure, EyeAdaptation, Tonemap};
-use spreadlight_render::readback::read_texture;
+use spreadlight_render::readback::render_and_read;
 use spreadlight_render::reference::tonemap::TONEMAP_NAMES;
 use spreadlight_render::renderer::{Renderer, test_renderer};
 use spreadlight_render::texture::{GpuTexture, StaticTexture};
-use spreadlight_render::{FrameGraph, Recipe, TextureRef};
 
 const SETTINGS: AdaptationSettings = AdaptationSettings {
     speed_up: 3.0,
@@ -41,12 +41,15 @@ fn frame(
     delta: f64,
 ) -> f32 {
     let adaptation = EyeAdaptation::new(renderer, None, source.clone(), settings, delta);
-    let mut fg = FrameGraph::new(output_size);
-    adaptation.declare(renderer, &mut fg);
-    fg.request(&adaptation.output);
-    let (report, out) = fg.execute(renderer).expect("executes");
+    let (report, images) = render_and_read(
+        renderer,
+        adaptation.as_ref(),
+        output_size,
+        &[&adaptation.output],
+    )
+    .expect("executes");
     assert!(report.errors.is_empty(), "{:?}", report.errors);
-    let image = read_texture(&renderer.gpu, &out[&adaptation.output]).expect("readback");
+    let image = images.into_iter().next().expect("one image");
     assert_eq!((image.width, image.height), (1, 1));
     let l = image.pixels[0][0];
     assert!(l.is_finite(), "adapted luminance {l}");
@@ -95,14 +98,11 @@ fn a_fresh_frame_measures_the_geometric_mean() {
         let history = format!("history {i}");
         let adaptation =
             EyeAdaptation::with_history(&renderer, None, hdr.clone(), SETTINGS, 0.0, history);
-        let mut fg = FrameGraph::new(size);
-        adaptation.declare(&renderer, &mut fg);
-        fg.request(&adaptation.output);
-        let (report, out) = fg.execute(&renderer).expect("executes");
+        let (report, images) =
+            render_and_read(&renderer, adaptation.as_ref(), size, &[&adaptation.output])
+                .expect("executes");
         assert!(report.errors.is_empty(), "{:?}", report.errors);
-        let got = read_texture(&renderer.gpu, &out[&adaptation.output])
-            .expect("readback")
-            .pixels[0][0];
+        let got = images.into_iter().next().expect("one image").pixels[0][0];
         assert!(
             close(got, want, 0.01),
             "output {size:?}: adapted {got}, want {want}"
@@ -209,12 +209,10 @@ fn tonemapping_with_adapted_exposure_stays_finite_and_maps_to_the_key() {
         4.0,
         Some(AdaptedExposure::new(adaptation.texture())),
     );
-    let mut fg = FrameGraph::new((16, 9));
-    t.declare(&renderer, &mut fg);
-    fg.request(&t.output);
-    let (report, out) = fg.execute(&renderer).expect("executes");
+    let (report, images) =
+        render_and_read(&renderer, t.as_ref(), (16, 9), &[&t.output]).expect("executes");
     assert!(report.errors.is_empty(), "{:?}", report.errors);
-    let image = read_texture(&renderer.gpu, &out[&t.output]).expect("readback");
+    let image = images.into_iter().next().expect("one image");
     for p in &image.pixels {
         assert!(close(p[0], 0.18, 0.01), "key: {p:?}");
     }
@@ -246,12 +244,10 @@ fn tonemapping_with_adapted_exposure_stays_finite_and_maps_to_the_key() {
                     4.0,
                     Some(AdaptedExposure::new(adaptation.texture())),
                 );
-                let mut fg = FrameGraph::new((8, 1));
-                t.declare(&renderer, &mut fg);
-                fg.request(&t.output);
-                let (report, out) = fg.execute(&renderer).expect("executes");
+                let (report, images) =
+                    render_and_read(&renderer, t.as_ref(), (8, 1), &[&t.output]).expect("executes");
                 assert!(report.errors.is_empty(), "{name}: {:?}", report.errors);
-                let image = read_texture(&renderer.gpu, &out[&t.output]).expect("readback");
+                let image = images.into_iter().next().expect("one image");
                 for (i, p) in image.pixels.iter().enumerate() {
                     assert!(
                         p.iter()

@@ -4,11 +4,10 @@
 
 use glam::Vec3;
 use spreadlight_render::post::Tonemap;
-use spreadlight_render::readback::read_texture;
+use spreadlight_render::readback::render_and_read;
 use spreadlight_render::reference::tonemap::{TONEMAP_NAMES, tonemap};
 use spreadlight_render::renderer::test_renderer;
 use spreadlight_render::texture::{GpuTexture, StaticTexture};
-use spreadlight_render::{FrameGraph, Recipe};
 
 #[test]
 fn every_operator_keeps_extreme_frames_finite_and_matches_the_reference() {
@@ -33,12 +32,10 @@ fn every_operator_keeps_extreme_frames_finite_and_matches_the_reference() {
     ));
     for (op, name) in TONEMAP_NAMES.iter().enumerate() {
         let t = Tonemap::new(&renderer, None, source.texture_ref(), op as u32, 1.0, 4.0);
-        let mut fg = FrameGraph::new((8, 1));
-        t.declare(&renderer, &mut fg);
-        fg.request(&t.output);
-        let (report, out) = fg.execute(&renderer).expect("executes");
+        let (report, images) =
+            render_and_read(&renderer, t.as_ref(), (8, 1), &[&t.output]).expect("executes");
         assert!(report.errors.is_empty(), "{name}: {:?}", report.errors);
-        let image = read_texture(&renderer.gpu, &out[&t.output]).expect("readback");
+        let image = images.into_iter().next().expect("one image");
         for (i, p) in image.pixels.iter().enumerate() {
             assert!(
                 p.iter()
