@@ -217,13 +217,16 @@ impl EyeAdaptation {
             let t = cx.texture(output)?;
             (t.width(), t.height())
         };
-        // The first level floors pixels at the Minimum pin, so it reads the parameters.
-        let params = self.params(cx, false);
-        let all = [
-            (0, params.as_entire_binding()),
+        let mut all = vec![
             (1, wgpu::BindingResource::TextureView(&source)),
             (2, wgpu::BindingResource::TextureView(&target)),
         ];
+        // Only the first level reads the parameters (it floors pixels at the
+        // Minimum pin); the halving levels need no uniform made for them.
+        let params = (entry == "log_luminance").then(|| self.params(cx, false));
+        if let Some(params) = &params {
+            all.push((0, params.as_entire_binding()));
+        }
         Self::dispatch(cx, entry, &all, (w.div_ceil(8), h.div_ceil(8)))
     }
 
