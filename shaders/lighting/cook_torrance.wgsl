@@ -1,6 +1,7 @@
 // CookTorrance for one light type (Emeshe's light renderer, in compute):
-// point lights by default, LIGHT_SPOT for spot lights (a point light in a
-// cone), LIGHT_SUN for parallel lights.
+// point lights by default, LIGHT_SPOT for spot lights (projectors: lit inside
+// their frustum, through a layer of a texture array with SPOT_TEXTURE, else a
+// round cone), LIGHT_SUN for parallel lights.
 // per pixel, the G-buffer's surface lit by the lights of its froxel
 // (CLUSTERED) or by every light (the naive reference). GGX distribution,
 // height-correlated Smith visibility, Schlick Fresnel; ENERGY_COMPENSATION
@@ -62,10 +63,42 @@ struct Surface {
 @group(0) @binding(10) var depth: texture_2d<f32>;
 @group(0) @binding(11) var out_diffuse: texture_storage_2d<rgba16float, write>;
 @group(0) @binding(12) var out_specular: texture_storage_2d<rgba16float, write>;
+#ifdef LIGHT_SPOT
+// World to each spot's clip space.
+@group(0) @binding(14) var<storage, read> spot_projections: array<mat4x4<f32>>;
+#ifdef SPOT_TEXTURE
+@group(0) @binding(15) var spot_textures: texture_2d_array<f32>;
+@group(0) @binding(16) var spot_sampler: sampler;
+#endif
+
+// What a spot projects onto world point `pw`: black outside its frustum, its
+// texture layer (cone.y >= 0) or a round cone with a soft edge (cone.x) inside.
+fn spot_mask(light: u32, record: Light, pw: vec3<f32>) -> vec3<f32> {
+    let clip = spot_projections[light] * vec4<f32>(pw, 1.0);
+    if (clip.w <= 0.0) {
+        return vec3<f32>(0.0);
+    }
+    let ndc = clip.xyz / clip.w;
+    if (any(abs(ndc.xy) > vec2<f32>(1.0)) || ndc.z < 0.0 || ndc.z > 1.0) {
+        return vec3<f32>(0.0);
+    }
+#ifdef SPOT_TEXTURE
+    if (record.cone.y >= 0.0) {
+        let layers = textureNumLayers(spot_textures);
+        let layer = u32(record.cone.y) % max(layers, 1u);
+        let uv = vec2<f32>(ndc.x * 0.5 + 0.5, 0.5 - ndc.y * 0.5);
+        return max(textureSampleLevel(spot_textures, spot_sampler, uv, layer, 0.0).rgb, vec3<f32>(0.0));
+    }
+#endif
+    // The cone's edge as the tested smooth step: 1 - radius against 0 (the
+    // edge) and the softness (where it is fully lit).
+    return vec3<f32>(spot_attenuation(1.0 - length(ndc.xy), 0.0, record.cone.x));
+}
+#endif
 
 const HALF_MAX: f32 = 65000.0;
 
-fn shade(light: u32, p: vec3<f32>, n: vec3<f32>, v: vec3<f32>, albedo: vec3<f32>, rm: vec2<f32>,
+fn shade(light: u32, p: vec3<f32>, pw: vec3<f32>, n: vec3<f32>, v: vec3<f32>, albedo: vec3<f32>, rm: vec2<f32>,
          diffuse: ptr<function, vec3<f32>>, specular: ptr<function, vec3<f32>>) {
     let record = lights[light];
 #ifdef LIGHT_SUN
@@ -76,16 +109,20 @@ fn shade(light: u32, p: vec3<f32>, n: vec3<f32>, v: vec3<f32>, albedo: vec3<f32>
     let lv = view_lights[light];
     let to_light = lv.xyz - p;
     let distance = length(to_light);
-    var attenuation = point_attenuation(distance, lv.w);
+    let attenuation = point_attenuation(distance, lv.w);
     let l = safe_normalize(to_light, n);
-#ifdef LIGHT_SPOT
-    let axis = safe_normalize((camera.view * vec4<f32>(record.direction.xyz, 0.0)).xyz, vec3<f32>(0.0, 0.0, -1.0));
-    attenuation *= spot_attenuation(dot(-l, axis), record.direction.w, record.cone.x);
-#endif
     if (attenuation <= 0.0) {
         return;
     }
+#ifdef LIGHT_SPOT
+    let mask = spot_mask(light, record, pw);
+    if (all(mask <= vec3<f32>(0.0))) {
+        return;
+    }
+    let radiance = record.intensity.rgb * attenuation * mask;
+#else
     let radiance = record.intensity.rgb * attenuation;
+#endif
 #endif
     let brdf = cook_torrance(n, v, l, albedo, rm.x, rm.y, ENERGY);
 #ifdef FAKE_SSS
@@ -124,6 +161,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let ndc = vec2<f32>(uv.x * 2.0 - 1.0, 1.0 - uv.y * 2.0);
     let view_h = camera.projection_inverse * vec4<f32>(ndc, d, 1.0);
     let p = view_h.xyz / view_h.w;
+    let pw = (camera.view_inverse * vec4<f32>(p, 1.0)).xyz;
     let n = safe_normalize(textureLoad(normals, pixel, 0).xyz, vec3<f32>(0.0, 0.0, 1.0));
     let v = safe_normalize(-p, vec3<f32>(0.0, 0.0, 1.0));
     let texel = textureLoad(color, pixel, 0);
@@ -151,11 +189,11 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     // grows the buffer for the next frame); never read past it.
     let count = min(counts[cluster], arrayLength(&indices) - min(first, arrayLength(&indices)));
     for (var k = 0u; k < count; k++) {
-        shade(indices[first + k], p, n, v, albedo, rm, &diffuse, &specular);
+        shade(indices[first + k], p, pw, n, v, albedo, rm, &diffuse, &specular);
     }
 #else
     for (var i = 0u; i < grid.dims.w; i++) {
-        shade(i, p, n, v, albedo, rm, &diffuse, &specular);
+        shade(i, p, pw, n, v, albedo, rm, &diffuse, &specular);
     }
 #endif
     textureStore(out_diffuse, pixel, vec4<f32>(min(diffuse, vec3<f32>(HALF_MAX)), 1.0));

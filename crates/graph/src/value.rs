@@ -71,6 +71,10 @@ pub enum ResourceKind {
     /// A CPU-side material (features and parameters) before a `MaterialBuffer` uploads it into a `MaterialWorld`.
     Material,
     LightWorld,
+    /// CPU-side lights of one type with their IDs (from `AddLight` nodes), before a light buffer uploads them.
+    PointLights,
+    SpotLights,
+    SunLights,
     /// What a `DeferredBase` draws: instanced meshes with feature switches.
     Layer,
 }

@@ -136,6 +136,7 @@ fn every_node_evaluates_with_its_defaults_to_finite_values() {
             "Map (Value)",
             "Multiply (Transform)",
             "Multiply (Value)",
+            "Perspective (Transform)",
             "Pow (Value)",
             "RandomSpread",
             "Rotate (Transform)",

@@ -1,6 +1,6 @@
 //! Transforms, in the "Transform" category: `Translate`, `Rotate`, `Scale`,
-//! the all-in-one `Transform (Transform 3d)`, `Multiply (Transform)` and
-//! `LookAt (Transform)`, all on Mat4 spreads.
+//! the all-in-one `Transform (Transform 3d)`, `Multiply (Transform)`,
+//! `LookAt (Transform)` and `Perspective (Transform)`, all on Mat4 spreads.
 //!
 //! Conventions: glam's column vectors (a point `p` transforms as `M * p`) in
 //! a right-handed space, angles in cycles as in vvvv (1 = a full turn).
@@ -108,6 +108,36 @@ pub fn register(r: &mut Registry) {
         .output::<Mat4>("Transform Out")
         .per_slice3(|p: &Vec3, t: &Vec3, up: &Vec3| look_at(*p, *t, *up)),
     );
+    r.add(
+        NodeDef::new(
+            "Perspective (Transform)",
+            CATEGORY,
+            "A perspective projection (depth 0 at Near, 1 at Far, as wgpu expects) with a vertical \
+             field of view in cycles (0.25 = 90 degrees) and an aspect ratio: a spot light's cone \
+             or a camera's lens. FOV is kept within 0.0001..0.4999 cycles, Aspect Ratio within \
+             1e-4..1e4, Near within 1e-6..1e6 and Far beyond Near (up to 1e9), so the matrix is \
+             always invertible.",
+        )
+        .input("FOV", 0.125f32)
+        .input("Aspect Ratio", 1.0f32)
+        .input("Near", 0.05f32)
+        .input("Far", 20.0f32)
+        .output::<Mat4>("Transform Out")
+        .per_slice4(|fov: &f32, aspect: &f32, near: &f32, far: &f32| {
+            perspective(*fov, *aspect, *near, *far)
+        }),
+    );
+}
+
+/// `Perspective (Transform)` with its inputs kept where the matrix exists.
+fn perspective(fov: f32, aspect: f32, near: f32, far: f32) -> Mat4 {
+    let finite = |v: f32, fallback: f32| if v.is_finite() { v } else { fallback };
+    let fov = finite(fov, 0.125).clamp(1e-4, 0.4999) * TAU;
+    // Bounds where every entry of the matrix and its inverse stays finite in f32.
+    let aspect = finite(aspect, 1.0).abs().clamp(1e-4, 1e4);
+    let near = finite(near, 0.05).clamp(1e-6, 1e6);
+    let far = finite(far, 20.0).clamp(near * 1.001, 1e9);
+    glam::camera::rh::proj::directx::perspective(fov, aspect, near, far)
 }
 
 /// An angle in cycles to radians, reduced to one turn first so large inputs keep their precision.
@@ -202,7 +232,7 @@ mod tests {
     use glam::{Mat4, Vec3};
     use spreadlight_graph::Spread;
 
-    use super::look_at;
+    use super::{look_at, perspective};
     use crate::testing::{eval_out, floats};
 
     fn mats(v: &[Mat4]) -> Spread {
@@ -376,6 +406,27 @@ mod tests {
         let up_in_world = m.inverse().transform_vector3(Vec3::Y);
         assert!(up_in_world.dot(forward).abs() < 1e-5);
         assert!(up_in_world.y > 0.0);
+    }
+
+    #[test]
+    fn perspective_is_invertible_whatever_its_pins_say() {
+        let bad = [0.0, -1.0, f32::NAN, f32::INFINITY, 1e30, 0.5];
+        for fov in bad {
+            for near in bad {
+                for far in bad {
+                    let m = perspective(fov, near, near, far);
+                    assert!(m.is_finite(), "{fov} {near} {far}: {m}");
+                    assert!(
+                        m.determinant().abs() > 0.0 && m.inverse().is_finite(),
+                        "{fov} {near} {far}"
+                    );
+                }
+            }
+        }
+        // A regular one: depth 0 at Near, 1 at Far.
+        let m = perspective(0.25, 1.0, 0.5, 10.0);
+        let depth = |z: f32| m.project_point3(Vec3::new(0.0, 0.0, -z)).z;
+        assert!(depth(0.5).abs() < 1e-6 && (depth(10.0) - 1.0).abs() < 1e-6);
     }
 
     #[test]

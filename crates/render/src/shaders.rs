@@ -28,8 +28,42 @@ pub struct ShaderFile {
     pub features: &'static [&'static str],
     /// Libraries are imported by other shaders; they have no entry points.
     pub library: bool,
-    /// At most one feature at a time (a choice, such as GBufferView's channel), not any subset.
-    pub exclusive: bool,
+    /// Which subsets make sense: a permutation that breaks a rule is refused
+    /// and never compiled, and the permutation test skips it.
+    pub rules: &'static [Rule],
+}
+
+/// A constraint between the features of one shader.
+#[derive(Clone, Copy, Debug)]
+pub enum Rule {
+    /// The first feature only with the second (a third light pair only with a second).
+    Requires(&'static str, &'static str),
+    /// At most one of these (a choice, such as GBufferView's channel).
+    AtMostOne(&'static [&'static str]),
+}
+
+impl Rule {
+    fn check(&self, features: &BTreeSet<&'static str>) -> Result<(), String> {
+        match *self {
+            Rule::Requires(a, b) if features.contains(a) && !features.contains(b) => {
+                Err(format!("`{a}` needs `{b}`"))
+            }
+            Rule::AtMostOne(set) if set.iter().filter(|f| features.contains(*f)).count() > 1 => {
+                Err(format!(
+                    "these features are a choice, set at most one: {}",
+                    set.join(", ")
+                ))
+            }
+            _ => Ok(()),
+        }
+    }
+}
+
+impl ShaderFile {
+    /// Whether `features` is a permutation this file allows (every rule holds).
+    pub fn check(&self, features: &BTreeSet<&'static str>) -> Result<(), String> {
+        self.rules.iter().try_for_each(|r| r.check(features))
+    }
 }
 
 macro_rules! shader {
@@ -39,16 +73,16 @@ macro_rules! shader {
             source: include_str!(concat!("../../../shaders/", $path)),
             features: &[],
             library: true,
-            exclusive: false,
+            rules: &[],
         }
     };
-    ($path:literal, [$($feature:literal),*]) => {
+    ($path:literal, [$($feature:literal),*] $(, $rule:expr)*) => {
         ShaderFile {
             path: $path,
             source: include_str!(concat!("../../../shaders/", $path)),
             features: &[$($feature),*],
             library: false,
-            exclusive: false,
+            rules: &[$($rule),*],
         }
     };
     ($path:literal, one_of [$($feature:literal),*]) => {
@@ -57,7 +91,7 @@ macro_rules! shader {
             source: include_str!(concat!("../../../shaders/", $path)),
             features: &[$($feature),*],
             library: false,
-            exclusive: true,
+            rules: &[Rule::AtMostOne(&[$($feature),*])],
         }
     };
 }
@@ -93,8 +127,15 @@ pub const SHADERS: &[ShaderFile] = &[
             "LIGHT_SPOT",
             "LIGHT_SUN",
             "MATERIALS",
-            "FAKE_SSS"
-        ]
+            "FAKE_SSS",
+            "SPOT_TEXTURE",
+            "MATERIAL_TEXTURES"
+        ],
+        Rule::AtMostOne(&["LIGHT_SPOT", "LIGHT_SUN"]),
+        // Suns have no range to cluster by.
+        Rule::AtMostOne(&["LIGHT_SUN", "CLUSTERED"]),
+        Rule::Requires("SPOT_TEXTURE", "LIGHT_SPOT"),
+        Rule::Requires("MATERIAL_TEXTURES", "MATERIALS")
     ),
     shader!(
         "lighting/composite.wgsl",
@@ -108,8 +149,18 @@ pub const SHADERS: &[ShaderFile] = &[
             "SSS_3",
             "SSS_4",
             "AO",
-            "AO_PER_MATERIAL"
-        ]
+            "AO_PER_MATERIAL",
+            "MATERIAL_TEXTURES"
+        ],
+        // Light pairs are cumulative, a subsurface term comes with its pair,
+        // and per-material AO weights only AO.
+        Rule::Requires("LIGHTS_3", "LIGHTS_2"),
+        Rule::Requires("LIGHTS_4", "LIGHTS_3"),
+        Rule::Requires("SSS_2", "LIGHTS_2"),
+        Rule::Requires("SSS_3", "LIGHTS_3"),
+        Rule::Requires("SSS_4", "LIGHTS_4"),
+        Rule::Requires("AO_PER_MATERIAL", "AO"),
+        Rule::Requires("MATERIAL_TEXTURES", "EMISSION")
     ),
     shader!("post/tonemap.wgsl", ["EYE_ADAPTATION"]),
     shader!("post/eye_adaptation.wgsl", []),
@@ -212,11 +263,11 @@ impl ShaderComposer {
                     defs: String::new(),
                     message: "no such shader".to_owned(),
                 })?;
-        if file.exclusive && key.features.len() > 1 {
+        if let Err(message) = file.check(&key.features) {
             return Err(RenderError::Shader {
                 shader: key.path.to_owned(),
                 defs: key.describe_defs(),
-                message: "these features are a choice: set at most one".to_owned(),
+                message,
             });
         }
         if let Some(unknown) = key.features.iter().find(|f| !file.features.contains(f)) {
@@ -249,25 +300,20 @@ impl ShaderComposer {
     }
 }
 
-/// Every permutation the shader set allows: each entry shader with every subset of its features.
+/// Every permutation the shader set allows: each entry shader with every
+/// subset of its features that keeps its rules.
 pub fn all_permutations() -> Vec<ShaderKey> {
     let mut keys = Vec::new();
     for file in SHADERS.iter().filter(|f| !f.library) {
-        if file.exclusive {
-            keys.push(ShaderKey::new(file.path, []));
-            keys.extend(
-                file.features
-                    .iter()
-                    .map(|f| ShaderKey::new(file.path, [*f])),
-            );
-            continue;
-        }
         let n = file.features.len();
         for mask in 0u32..(1 << n) {
             let features = (0..n)
                 .filter(|i| mask & (1 << i) != 0)
                 .map(|i| file.features[i]);
-            keys.push(ShaderKey::new(file.path, features));
+            let key = ShaderKey::new(file.path, features);
+            if file.check(&key.features).is_ok() {
+                keys.push(key);
+            }
         }
     }
     keys
@@ -481,6 +527,26 @@ mod tests {
             .compose(&ShaderKey::new("gbuffer/view.wgsl", ["DEPTH", "UV"]))
             .expect_err("refused");
         assert!(err.to_string().contains("set at most one"), "{err}");
+    }
+
+    #[test]
+    fn a_feature_without_what_it_needs_is_refused_and_never_enumerated() {
+        let mut composer = ShaderComposer::new().expect("libraries compose");
+        let err = composer
+            .compose(&ShaderKey::new("lighting/composite.wgsl", ["LIGHTS_3"]))
+            .expect_err("refused");
+        assert!(
+            err.to_string().contains("`LIGHTS_3` needs `LIGHTS_2`"),
+            "{err}"
+        );
+        let composite: Vec<_> = all_permutations()
+            .into_iter()
+            .filter(|k| k.path == "lighting/composite.wgsl")
+            .collect();
+        // Light pairs with the SSS terms they allow (2 + 4 + 8 + 16), times
+        // AO (none, AO, per material), times emission (none, flat, textured):
+        // 270 of the 2^12 subsets.
+        assert_eq!(composite.len(), 30 * 3 * 3);
     }
 
     #[test]

@@ -30,6 +30,36 @@ impl GpuTexture {
         Self::upload(gpu, format, 4, width, height, &data, label)
     }
 
+    /// Upload layers of 8-bit RGBA pixels of one size as a 2D texture array
+    /// (spots' projected textures, material textures). Short layers are
+    /// padded with opaque white; no layers make one white layer.
+    pub fn array_from_rgba8(
+        gpu: &GpuContext,
+        width: u32,
+        height: u32,
+        layers: &[Vec<u8>],
+        srgb: bool,
+        label: &str,
+    ) -> Self {
+        let format = if srgb {
+            wgpu::TextureFormat::Rgba8UnormSrgb
+        } else {
+            wgpu::TextureFormat::Rgba8Unorm
+        };
+        let layer_bytes = (width.max(1) * height.max(1) * 4) as usize;
+        let mut data = Vec::with_capacity(layer_bytes * layers.len().max(1));
+        for layer in layers {
+            let start = data.len();
+            data.extend_from_slice(&layer[..layer.len().min(layer_bytes)]);
+            data.resize(start + layer_bytes, 255);
+        }
+        if layers.is_empty() {
+            data.resize(layer_bytes, 255);
+        }
+        let count = layers.len().max(1) as u32;
+        Self::upload_layers(gpu, format, 4, (width, height, count), &data, label)
+    }
+
     /// Upload linear RGBA 32-bit float pixels (HDR images, test frames).
     pub fn from_rgba32f(
         gpu: &GpuContext,
@@ -60,10 +90,29 @@ impl GpuTexture {
         bytes: &[u8],
         label: &str,
     ) -> Self {
+        Self::upload_layers(
+            gpu,
+            format,
+            bytes_per_pixel,
+            (width, height, 1),
+            bytes,
+            label,
+        )
+    }
+
+    /// `upload` for (width, height, layers): one layer is a plain 2D texture.
+    fn upload_layers(
+        gpu: &GpuContext,
+        format: wgpu::TextureFormat,
+        bytes_per_pixel: u32,
+        (width, height, layers): (u32, u32, u32),
+        bytes: &[u8],
+        label: &str,
+    ) -> Self {
         let size = wgpu::Extent3d {
             width: width.max(1),
             height: height.max(1),
-            depth_or_array_layers: 1,
+            depth_or_array_layers: layers.max(1),
         };
         let texture = gpu.device.create_texture(&wgpu::TextureDescriptor {
             label: Some(label),
@@ -76,7 +125,10 @@ impl GpuTexture {
             view_formats: &[],
         });
         let mut data = bytes.to_vec();
-        data.resize((size.width * size.height * bytes_per_pixel) as usize, 0);
+        data.resize(
+            (size.width * size.height * size.depth_or_array_layers * bytes_per_pixel) as usize,
+            0,
+        );
         gpu.queue.write_texture(
             wgpu::TexelCopyTextureInfo {
                 texture: &texture,
@@ -88,11 +140,19 @@ impl GpuTexture {
             wgpu::TexelCopyBufferLayout {
                 offset: 0,
                 bytes_per_row: Some(size.width * bytes_per_pixel),
-                rows_per_image: None,
+                rows_per_image: Some(size.height),
             },
             size,
         );
-        let view = texture.create_view(&Default::default());
+        // A one-layer texture views as D2; several as an array.
+        let view = texture.create_view(&wgpu::TextureViewDescriptor {
+            dimension: Some(if size.depth_or_array_layers > 1 {
+                wgpu::TextureViewDimension::D2Array
+            } else {
+                wgpu::TextureViewDimension::D2
+            }),
+            ..Default::default()
+        });
         GpuTexture { texture, view }
     }
 }

@@ -4,6 +4,8 @@
 
 use std::sync::Arc;
 
+use std::f32::consts::PI;
+
 use glam::{Mat4, Vec3};
 use spreadlight_render::camera::CameraInput;
 use spreadlight_render::gbuffer::{DrawBatch, GBuffer, InstanceInput, Layer, LayerFeatures};
@@ -320,41 +322,33 @@ fn a_sun_lights_what_faces_it_and_nothing_else() {
 }
 
 #[test]
-fn spot_cones_from_zero_to_a_hemisphere_stay_finite_and_bounded() {
+fn spot_cones_from_zero_to_nearly_a_hemisphere_stay_finite_and_bounded() {
     let renderer = test_renderer();
     let g = scene(&renderer);
-    let spot = |inner: f32, outer: f32| SpotLight {
-        position: Vec3::new(0.0, 4.0, 0.0),
-        direction: Vec3::NEG_Y,
-        color: Vec3::ONE,
-        intensity: 200.0,
-        range: 10.0,
-        inner_angle: inner,
-        outer_angle: outer,
+    let spot = |inner: f32, outer: f32| {
+        SpotLight::cone(Vec3::new(0.0, 4.0, 0.0), Vec3::NEG_Y, 10.0, inner, outer)
+            .with_light(Vec3::ONE, 200.0)
     };
     let count = |s: SpotLight, mode| {
         lit_pixels(&shade_buffer(
             &renderer,
             &g,
-            LightBuffer::spots(&renderer, &[s]),
+            LightBuffer::spots(&renderer, &[s], None).expect("a valid spot"),
             mode,
         ))
     };
     let zero = count(spot(0.0, 0.0), LightLoop::Clustered);
     let narrow = count(spot(0.1, 0.2), LightLoop::Clustered);
-    let wide = count(spot(1.0, 1.5), LightLoop::Clustered);
-    let hemisphere = count(
-        spot(std::f32::consts::PI, std::f32::consts::PI),
-        LightLoop::Clustered,
-    );
+    let wide = count(spot(1.0, 1.2), LightLoop::Clustered);
+    let widest = count(spot(PI, PI), LightLoop::Clustered);
     assert!(
-        zero <= narrow && narrow < wide && wide <= hemisphere,
-        "{zero} {narrow} {wide} {hemisphere}"
+        zero <= narrow && narrow < wide && wide <= widest,
+        "{zero} {narrow} {wide} {widest}"
     );
     assert!(narrow > 0, "a narrow cone still lights a spot");
     // The same spot through the naive loop: the same pixels.
     assert_eq!(count(spot(0.1, 0.2), LightLoop::Naive), narrow);
-    // A 180-degree cone is a point light.
+    // The widest cone lights no more than a point light at its place.
     let point = lit_pixels(&shade(
         &renderer,
         &g,
@@ -366,7 +360,84 @@ fn spot_cones_from_zero_to_a_hemisphere_stay_finite_and_bounded() {
         }],
         LightLoop::Clustered,
     ));
-    assert_eq!(hemisphere, point);
+    assert!(widest <= point, "{widest} > {point}");
+}
+
+#[test]
+fn a_spot_projects_the_layer_of_its_texture_array_and_wraps_past_its_end() {
+    use spreadlight_render::texture::{GpuTexture, StaticTexture};
+    let renderer = test_renderer();
+    let g = scene(&renderer);
+    // Layer 0 black, layer 1 pure red, layer 2 green on the left half only.
+    let (w, h) = (4u32, 4u32);
+    let solid = |c: [u8; 4]| c.repeat((w * h) as usize);
+    let half: Vec<u8> = (0..w * h)
+        .flat_map(|i| {
+            if i % w < w / 2 {
+                [0, 255, 0, 255]
+            } else {
+                [0, 0, 0, 255]
+            }
+        })
+        .collect();
+    let layers = [solid([0, 0, 0, 255]), solid([255, 0, 0, 255]), half];
+    let array = GpuTexture::array_from_rgba8(&renderer.gpu, w, h, &layers, false, "gobos");
+    let textures = StaticTexture::new(array).texture_ref();
+    let spot = |texture| SpotLight {
+        texture,
+        ..SpotLight::cone(Vec3::new(0.0, 4.0, 0.0), Vec3::NEG_Y, 10.0, 0.5, 0.6)
+            .with_light(Vec3::ONE, 200.0)
+    };
+    let image = |texture| {
+        let lights = LightBuffer::spots(&renderer, &[spot(texture)], Some(textures.clone()))
+            .expect("a valid spot");
+        shade_buffer(&renderer, &g, lights, LightLoop::Clustered)
+    };
+    let (round, black, red, wrapped, half) = (
+        image(None),
+        image(Some(0)),
+        image(Some(1)),
+        image(Some(4)),
+        image(Some(2)),
+    );
+    assert_eq!(lit_pixels(&black), 0, "a black layer lights nothing");
+    let lit = lit_pixels(&red);
+    assert!(
+        lit > lit_pixels(&round),
+        "the full square frustum lights more than its round cone"
+    );
+    assert!(
+        red.pixels.iter().all(|p| p[1] <= 1e-6 && p[2] <= 1e-6),
+        "a red layer lights in red only"
+    );
+    assert_eq!(red.pixels, wrapped.pixels, "layer 4 of 3 is layer 1");
+    let green = lit_pixels(&half);
+    assert!(
+        green > 0 && green < lit,
+        "half a green layer lights part of the frustum: {green} of {lit}"
+    );
+    assert!(half.pixels.iter().all(|p| p[0] <= 1e-6));
+}
+
+#[test]
+fn a_spot_with_a_singular_projection_is_an_error_naming_it() {
+    let renderer = test_renderer();
+    let mut spot = SpotLight::cone(Vec3::ZERO, Vec3::NEG_Y, 10.0, 0.1, 0.2);
+    spot.projection = Mat4::ZERO;
+    let err = LightBuffer::spots(
+        &renderer,
+        &[SpotLight::cone(Vec3::ZERO, Vec3::X, 5.0, 0.1, 0.2), spot],
+        None,
+    )
+    .expect_err("refused");
+    assert!(
+        err.to_string().starts_with("spot 1: the projection"),
+        "{err}"
+    );
+    spot.projection = SpotLight::cone(Vec3::ZERO, Vec3::NEG_Y, 10.0, 0.1, 0.2).projection;
+    spot.view = Mat4::ZERO;
+    let err = LightBuffer::spots(&renderer, &[spot], None).expect_err("refused");
+    assert!(err.to_string().starts_with("spot 0: the view"), "{err}");
 }
 
 #[test]

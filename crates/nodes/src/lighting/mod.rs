@@ -1,6 +1,8 @@
-//! Lights and shading nodes (category "Lighting"): `PointLightBuffer`,
+//! Lights and shading nodes (category "Lighting"): `AddLight (Point)`,
+//! `AddLight (Spot)`, `AddLight (Sun)`, `PointLightBuffer`,
 //! `SpotLightBuffer`, `SunLightBuffer`, `CookTorrance`, `CompositeLight`.
 
+pub mod add_light;
 pub mod composite_light;
 pub mod cook_torrance;
 pub mod point_light_buffer;
@@ -26,9 +28,13 @@ pub(crate) fn require_finite(
 pub const CATEGORY: &str = "Lighting";
 
 pub fn register(r: &mut Registry) {
+    add_light::register(r);
     point_light_buffer::register(r);
     spot_light_buffer::register(r);
     sun_light_buffer::register(r);
     cook_torrance::register(r);
     composite_light::register(r);
 }
+
+#[cfg(test)]
+mod tests;

@@ -1,46 +1,34 @@
-//! `PointLightBuffer`: a spread of point lights, one per slice, uploaded
-//! once when its inputs change. A NaN or infinity on a pin is an error on
-//! this node that names the pin and slice; it never reaches the image.
+//! `PointLightBuffer`: uploads the point lights that `AddLight (Point)` nodes
+//! gathered, once when they change, as the light world a `CookTorrance` shades with.
 
-use glam::Vec3;
-use spreadlight_graph::spread::{cycled, slice_count};
-use spreadlight_graph::{Color, NodeDef, PinType, Registry, ResourceKind};
+use spreadlight_graph::{NodeDef, PinType, Registry, ResourceKind, Spread};
 use spreadlight_render::lighting::{LightBuffer, PointLight};
 
+use super::add_light::LightList;
 use crate::gpu::{renderer, resource_spread};
 
 pub fn register(r: &mut Registry) {
+    let kind = ResourceKind::PointLights;
     r.add(
         NodeDef::new(
             "PointLightBuffer",
             super::CATEGORY,
-            "Point lights, one per slice: position, linear colour, luminous intensity in candela (a power in \
-             lumens divided by 4 pi) and range, where the light fades smoothly to zero.",
+            "The point lights from AddLight (Point) nodes as one GPU buffer, uploaded when they \
+             change. Several light buffers (several light worlds) may coexist.",
         )
-        .input("Position", Vec3::new(0.0, 2.0, 0.0))
-        .input("Color", Color::WHITE)
-        .input("Intensity", 100.0f32)
-        .input("Range", 10.0f32)
+        .input_spread(
+            "Lights",
+            PinType::Resource(kind),
+            Spread::Resource(kind, Vec::new()),
+        )
         .output_typed("Lights", PinType::Resource(ResourceKind::LightWorld))
+        .output::<i64>("Count")
         .evaluate(|cx| {
             let renderer = renderer(cx)?;
-            let (positions, colors) = (cx.slices::<Vec3>(0)?, cx.slices::<Color>(1)?);
-            let (intensities, ranges) = (cx.slices::<f32>(2)?, cx.slices::<f32>(3)?);
-            let n = slice_count([positions.len(), colors.len(), intensities.len(), ranges.len()]);
-            super::require_finite(cx, 0..4)?;
-            let lights: Vec<PointLight> = cycled(positions, n)
-                .zip(cycled(colors, n))
-                .zip(cycled(intensities, n))
-                .zip(cycled(ranges, n))
-                .map(|(((position, color), intensity), range)| PointLight {
-                    position: *position,
-                    color: Vec3::new(color.r, color.g, color.b),
-                    intensity: *intensity,
-                    range: *range,
-                })
-                .collect();
-            let lights = LightBuffer::points(&renderer, &lights);
-            cx.set_output(0, resource_spread(ResourceKind::LightWorld, vec![lights]));
+            let list = LightList::<PointLight>::gather(cx, 0)?;
+            let buffer = LightBuffer::points(&renderer, &list.lights);
+            cx.set_output(0, resource_spread(ResourceKind::LightWorld, vec![buffer]));
+            cx.set_output(1, Spread::Int(vec![list.lights.len() as i64]));
             Ok(())
         }),
     );

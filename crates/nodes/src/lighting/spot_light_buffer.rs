@@ -1,61 +1,53 @@
-//! `SpotLightBuffer`: spot lights, one per slice: a point light limited to a
-//! cone, fading from the inner to the outer angle. Cones of 0 and 180 degrees work.
+//! `SpotLightBuffer`: uploads the spot lights that `AddLight (Spot)` nodes
+//! gathered, with the texture array their Texture IDs index (Emeshe's
+//! Texture2DArray of projected textures; `FileTexture (Array)` makes one).
 
-use glam::Vec3;
-use spreadlight_graph::spread::{cycled, slice_count};
-use spreadlight_graph::{Color, NodeDef, PinType, Registry, ResourceKind};
+use spreadlight_graph::{NodeDef, PinType, Registry, ResourceKind, Spread};
+use spreadlight_render::TextureRef;
 use spreadlight_render::lighting::{LightBuffer, SpotLight};
 
-use crate::gpu::{renderer, resource_spread};
+use super::add_light::LightList;
+use crate::gpu::{renderer, resource_spread, resources};
 
 pub fn register(r: &mut Registry) {
+    let kind = ResourceKind::SpotLights;
     r.add(
         NodeDef::new(
             "SpotLightBuffer",
             super::CATEGORY,
-            "Spot lights, one per slice: position, the direction the light shines, linear colour, luminous \
-             intensity (cd), range, and the cone's inner and outer half-angles in cycles (0.125 = 45 degrees).",
+            "The spot lights from AddLight (Spot) nodes as one GPU buffer, uploaded when they change, \
+             with the textures they project: a texture array (FileTexture (Array)) whose layers the \
+             lights' Texture IDs pick, wrapping past its end. No texture: every spot is a round cone.",
         )
-        .input("Position", Vec3::new(0.0, 4.0, 0.0))
-        .input("Direction", Vec3::NEG_Y)
-        .input("Color", Color::WHITE)
-        .input("Intensity", 500.0f32)
-        .input("Range", 15.0f32)
-        .input("Inner Angle", 0.05f32)
-        .input("Outer Angle", 0.08f32)
+        .input_spread("Lights", PinType::Resource(kind), Spread::Resource(kind, Vec::new()))
+        .input_spread(
+            "Textures",
+            PinType::Resource(ResourceKind::Texture),
+            Spread::Resource(ResourceKind::Texture, Vec::new()),
+        )
         .output_typed("Lights", PinType::Resource(ResourceKind::LightWorld))
+        .output::<i64>("Count")
         .evaluate(|cx| {
             let renderer = renderer(cx)?;
-            super::require_finite(cx, 0..7)?;
-            let (positions, directions, colors) = (cx.slices::<Vec3>(0)?, cx.slices::<Vec3>(1)?, cx.slices::<Color>(2)?);
-            let (intensities, ranges) = (cx.slices::<f32>(3)?, cx.slices::<f32>(4)?);
-            let (inner, outer) = (cx.slices::<f32>(5)?, cx.slices::<f32>(6)?);
-            let n = slice_count([
-                positions.len(),
-                directions.len(),
-                colors.len(),
-                intensities.len(),
-                ranges.len(),
-                inner.len(),
-                outer.len(),
-            ]);
-            let tau = std::f32::consts::TAU;
-            let placement = cycled(positions, n).zip(cycled(directions, n)).zip(cycled(colors, n));
-            let strength = cycled(intensities, n).zip(cycled(ranges, n)).zip(cycled(inner, n).zip(cycled(outer, n)));
-            let lights: Vec<SpotLight> = placement
-                .zip(strength)
-                .map(|(((position, direction), color), ((intensity, range), (inner, outer)))| SpotLight {
-                    position: *position,
-                    direction: *direction,
-                    color: Vec3::new(color.r, color.g, color.b),
-                    intensity: *intensity,
-                    range: *range,
-                    inner_angle: inner * tau,
-                    outer_angle: outer * tau,
-                })
-                .collect();
-            let lights = LightBuffer::spots(&renderer, &lights);
-            cx.set_output(0, resource_spread(ResourceKind::LightWorld, vec![lights]));
+            let list = LightList::<SpotLight>::gather(cx, 0)?;
+            let textures = resources::<TextureRef>(cx, 1)?;
+            if textures.len() > 1 {
+                return Err(cx.input_error(
+                    1,
+                    format!("takes one texture array, got {} textures: join them with FileTexture (Array)", textures.len()),
+                ));
+            }
+            let textures = textures.first().map(|t| (**t).clone());
+            let buffer = LightBuffer::spots(&renderer, &list.lights, textures).map_err(|e| {
+                // Name the light by its ID, as the patch does.
+                let id = match &e {
+                    spreadlight_render::lighting::SpotError::View { index }
+                    | spreadlight_render::lighting::SpotError::Projection { index } => &list.ids[*index],
+                };
+                cx.input_error(0, format!("light `{id}`: {e}"))
+            })?;
+            cx.set_output(0, resource_spread(ResourceKind::LightWorld, vec![buffer]));
+            cx.set_output(1, Spread::Int(vec![list.lights.len() as i64]));
             Ok(())
         }),
     );

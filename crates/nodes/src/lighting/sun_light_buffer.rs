@@ -1,41 +1,28 @@
-//! `SunLightBuffer`: parallel lights, one per slice: the direction the light
-//! travels, linear colour, illuminance in lux.
+//! `SunLightBuffer`: uploads the parallel lights that `AddLight (Sun)` nodes gathered.
 
-use glam::Vec3;
-use spreadlight_graph::spread::{cycled, slice_count};
-use spreadlight_graph::{Color, NodeDef, PinType, Registry, ResourceKind};
+use spreadlight_graph::{NodeDef, PinType, Registry, ResourceKind, Spread};
 use spreadlight_render::lighting::{LightBuffer, SunLight};
 
+use super::add_light::LightList;
 use crate::gpu::{renderer, resource_spread};
 
 pub fn register(r: &mut Registry) {
+    let kind = ResourceKind::SunLights;
     r.add(
         NodeDef::new(
             "SunLightBuffer",
             super::CATEGORY,
-            "Sun lights, one per slice: the direction the light travels (from the sun towards the scene), \
-             linear colour and illuminance in lux.",
+            "The sun lights from AddLight (Sun) nodes as one GPU buffer, uploaded when they change.",
         )
-        .input("Direction", Vec3::new(-0.5, -1.0, -0.25))
-        .input("Color", Color::WHITE)
-        .input("Illuminance", 400.0f32)
+        .input_spread("Lights", PinType::Resource(kind), Spread::Resource(kind, Vec::new()))
         .output_typed("Lights", PinType::Resource(ResourceKind::LightWorld))
+        .output::<i64>("Count")
         .evaluate(|cx| {
             let renderer = renderer(cx)?;
-            super::require_finite(cx, 0..3)?;
-            let (directions, colors, lux) = (cx.slices::<Vec3>(0)?, cx.slices::<Color>(1)?, cx.slices::<f32>(2)?);
-            let n = slice_count([directions.len(), colors.len(), lux.len()]);
-            let lights: Vec<SunLight> = cycled(directions, n)
-                .zip(cycled(colors, n))
-                .zip(cycled(lux, n))
-                .map(|((direction, color), lux)| SunLight {
-                    direction: *direction,
-                    color: Vec3::new(color.r, color.g, color.b),
-                    illuminance: *lux,
-                })
-                .collect();
-            let lights = LightBuffer::suns(&renderer, &lights);
-            cx.set_output(0, resource_spread(ResourceKind::LightWorld, vec![lights]));
+            let list = LightList::<SunLight>::gather(cx, 0)?;
+            let buffer = LightBuffer::suns(&renderer, &list.lights);
+            cx.set_output(0, resource_spread(ResourceKind::LightWorld, vec![buffer]));
+            cx.set_output(1, Spread::Int(vec![list.lights.len() as i64]));
             Ok(())
         }),
     );

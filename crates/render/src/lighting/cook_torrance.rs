@@ -44,6 +44,8 @@ pub struct CookTorrance {
     /// Roughness and metallic per material from the material buffer, when given (else `surfaces`).
     materials: Option<Arc<MaterialWorld>>,
     grid: wgpu::Buffer,
+    /// For the spots' texture array; made with the recipe, not every frame.
+    spot_sampler: Option<wgpu::Sampler>,
     clusters: ClusterStore,
     token: String,
     pub diffuse: String,
@@ -105,6 +107,14 @@ impl CookTorrance {
         } else {
             mode
         };
+        let spot_sampler = lights.textures().map(|_| {
+            device.create_sampler(&wgpu::SamplerDescriptor {
+                label: Some("spot textures"),
+                mag_filter: wgpu::FilterMode::Linear,
+                min_filter: wgpu::FilterMode::Linear,
+                ..Default::default()
+            })
+        });
         Arc::new(CookTorrance {
             id,
             owner,
@@ -115,6 +125,7 @@ impl CookTorrance {
             surfaces,
             materials,
             grid,
+            spot_sampler,
             clusters: ClusterStore::new(),
             token: format!("cooktorrance{id}/lights"),
             diffuse: format!("cooktorrance{id}/diffuse"),
@@ -227,6 +238,9 @@ impl CookTorrance {
         if self.sss.is_some() {
             features.push("FAKE_SSS");
         }
+        if self.spot_sampler.is_some() {
+            features.push("SPOT_TEXTURE");
+        }
         let key = ShaderKey::new("lighting/cook_torrance.wgsl", features);
         let pipeline = cx.shaders.compute_pipeline(&device, &key, "main")?;
         let g = &self.gbuffer;
@@ -262,6 +276,25 @@ impl CookTorrance {
         let mut all = all.to_vec();
         if let Some(sss) = &sss {
             all.push((13, wgpu::BindingResource::TextureView(sss)));
+        }
+        if let Some(projections) = self.lights.projections() {
+            all.push((14, projections.as_entire_binding()));
+        }
+        let spot_textures = match (self.lights.textures(), &self.spot_sampler) {
+            (Some(t), Some(sampler)) => {
+                let view = cx
+                    .texture(&t.name)?
+                    .create_view(&wgpu::TextureViewDescriptor {
+                        dimension: Some(wgpu::TextureViewDimension::D2Array),
+                        ..Default::default()
+                    });
+                Some((view, sampler))
+            }
+            _ => None,
+        };
+        if let Some((view, sampler)) = &spot_textures {
+            all.push((15, wgpu::BindingResource::TextureView(view)));
+            all.push((16, wgpu::BindingResource::Sampler(sampler)));
         }
         let group = cx
             .shaders
@@ -351,10 +384,20 @@ impl Recipe for CookTorrance {
         if let Some(sss) = &self.sss {
             outputs.push((sss.as_str(), hdr));
         }
+        let mut reads = vec![
+            self.token.as_str(),
+            g.color.as_str(),
+            g.normals.as_str(),
+            g.depth.as_str(),
+        ];
+        if let Some(textures) = self.lights.textures() {
+            textures.recipe.declare(renderer, fg);
+            reads.push(&textures.name);
+        }
         fg.add_pass(
             self.label("shade"),
             self.owner,
-            &[&self.token, &g.color, &g.normals, &g.depth],
+            &reads,
             &outputs,
             move |cx| self.shade(cx),
         );

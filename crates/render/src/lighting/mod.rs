@@ -8,13 +8,14 @@ mod cook_torrance;
 
 use std::sync::Arc;
 
-use glam::Vec3;
+use glam::{Mat4, Vec3};
 use wgpu::util::DeviceExt;
 
 pub use clusters::ClusterGrid;
 pub use composite::{CompositeInputs, CompositeLight, LightComponents, MAX_COMPONENTS};
 pub use cook_torrance::{CookTorrance, LightLoop, Surfaces};
 
+use crate::recipe::TextureRef;
 use crate::renderer::Renderer;
 
 /// A point light. Intensity is luminous intensity in candela (lumens / 4 pi).
@@ -26,17 +27,122 @@ pub struct PointLight {
     pub range: f32,
 }
 
-/// A spot light: a point light limited to a cone around `direction`, fading
-/// from the inner to the outer half-angle (radians).
+/// A spot light as Emeshe has it: a projector. `view` places it (it looks
+/// down its -Z), `projection` shapes it: the frustum is the lit volume and
+/// the light fades out at the far plane's distance. Through the frustum it projects a layer of the
+/// buffer's texture array (`texture`), or, without one, a round cone whose
+/// edge fades over `softness` (0..1 of its radius).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SpotLight {
-    pub position: Vec3,
-    pub direction: Vec3,
+    pub view: Mat4,
+    pub projection: Mat4,
     pub color: Vec3,
     pub intensity: f32,
-    pub range: f32,
-    pub inner_angle: f32,
-    pub outer_angle: f32,
+    pub texture: Option<u32>,
+    pub softness: f32,
+}
+
+/// The widest cone a perspective projection can make (just under 180 degrees).
+const MAX_CONE: f32 = std::f32::consts::FRAC_PI_2 * 0.999;
+
+impl SpotLight {
+    /// A round spot at `position` shining along `direction`, out to `range`,
+    /// fading from the inner to the outer half-angle (radians, clamped below 90 degrees).
+    pub fn cone(
+        position: Vec3,
+        direction: Vec3,
+        range: f32,
+        inner_angle: f32,
+        outer_angle: f32,
+    ) -> SpotLight {
+        let direction = unit(direction);
+        // Any up that is not the direction itself.
+        let up = if direction.y.abs() > 0.99 {
+            Vec3::Z
+        } else {
+            Vec3::Y
+        };
+        let outer = outer_angle.clamp(1e-4, MAX_CONE);
+        let inner = inner_angle.clamp(0.0, outer);
+        let range = range.max(1e-3);
+        SpotLight {
+            view: glam::camera::rh::view::look_to_mat4(position, direction, up),
+            projection: glam::camera::rh::proj::directx::perspective(
+                2.0 * outer,
+                1.0,
+                range * 1e-4,
+                range,
+            ),
+            color: Vec3::ONE,
+            intensity: 1.0,
+            texture: None,
+            softness: 1.0 - inner.tan() / outer.tan(),
+        }
+    }
+
+    pub fn with_light(self, color: Vec3, intensity: f32) -> SpotLight {
+        SpotLight {
+            color,
+            intensity,
+            ..self
+        }
+    }
+}
+
+/// Why a spot's transforms cannot make a light.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum SpotError {
+    #[error("spot {index}: the view transform cannot be inverted (a zero scale?)")]
+    View { index: usize },
+    #[error(
+        "spot {index}: the projection has no finite frustum (it must be invertible with a finite far plane)"
+    )]
+    Projection { index: usize },
+}
+
+/// What shading needs of a spot's transforms: where it is, its axis, the
+/// bounding cone of its frustum and its range (the far plane's distance).
+struct SpotFrustum {
+    position: Vec3,
+    axis: Vec3,
+    range: f32,
+    cos_bound: f32,
+}
+
+impl SpotFrustum {
+    fn of(index: usize, view: Mat4, projection: Mat4) -> Result<Self, SpotError> {
+        let to_world = view.inverse();
+        if !to_world.is_finite() || view.determinant().abs() < 1e-12 {
+            return Err(SpotError::View { index });
+        }
+        let unproject = projection.inverse();
+        let mut range = 0.0f32;
+        let mut cos_bound = 1.0f32;
+        for (x, y, z) in [-1.0f32, 1.0]
+            .into_iter()
+            .flat_map(|x| [-1.0f32, 1.0].map(move |y| (x, y)))
+            .flat_map(|(x, y)| [0.0f32, 1.0].map(move |z| (x, y, z)))
+        {
+            let h = unproject * glam::Vec4::new(x, y, z, 1.0);
+            let corner = h.truncate() / h.w;
+            if !corner.is_finite() || h.w.abs() < 1e-12 {
+                return Err(SpotError::Projection { index });
+            }
+            // The far plane's distance, not its corners': the light fades out
+            // at it, so the sphere of this radius holds all it lights.
+            range = range.max(corner.z.abs());
+            cos_bound = cos_bound.min(corner.normalize_or_zero().dot(Vec3::NEG_Z));
+        }
+        if !(range.is_finite() && range > 0.0) {
+            return Err(SpotError::Projection { index });
+        }
+        Ok(SpotFrustum {
+            position: to_world.w_axis.truncate(),
+            axis: unit(to_world.transform_vector3(Vec3::NEG_Z)),
+            range,
+            cos_bound,
+        })
+    }
 }
 
 /// A sun: parallel light travelling along `direction`, `illuminance` in lux.
@@ -75,7 +181,7 @@ struct GpuLight {
     intensity: [f32; 4],
     /// xyz unit direction the light travels, w cosine of the outer cone angle.
     direction: [f32; 4],
-    /// x cosine of the inner cone angle.
+    /// Spots: x edge softness of a round cone, y texture layer (-1: none).
     cone: [f32; 4],
 }
 
@@ -84,6 +190,10 @@ pub struct LightBuffer {
     pub kind: LightKind,
     count: u32,
     buffer: wgpu::Buffer,
+    /// Spots: world to each light's clip space (its projection times its view).
+    projections: Option<wgpu::Buffer>,
+    /// Spots: the texture array their `texture` layers index.
+    textures: Option<TextureRef>,
 }
 
 impl std::fmt::Debug for LightBuffer {
@@ -117,22 +227,48 @@ impl LightBuffer {
         Self::upload(renderer, LightKind::Point, gpu)
     }
 
-    pub fn spots(renderer: &Renderer, lights: &[SpotLight]) -> Arc<Self> {
-        let gpu = lights
-            .iter()
-            .map(|l| {
-                // Half-angles within 0..180 degrees; inner never wider than outer.
-                let outer = l.outer_angle.clamp(0.0, std::f32::consts::PI);
-                let inner = l.inner_angle.clamp(0.0, outer);
-                GpuLight {
-                    position_range: l.position.extend(l.range.max(0.0)).to_array(),
-                    intensity: radiant(l.color, l.intensity),
-                    direction: unit(l.direction).extend(outer.cos()).to_array(),
-                    cone: [inner.cos(), 0.0, 0.0, 0.0],
-                }
-            })
-            .collect();
-        Self::upload(renderer, LightKind::Spot, gpu)
+    /// Spots projecting layers of `textures` (a 2D texture, or an array of
+    /// them); without one, or for a spot with no layer, a round cone. A
+    /// layer past the array's end wraps, as vvvv's slices do.
+    pub fn spots(
+        renderer: &Renderer,
+        lights: &[SpotLight],
+        textures: Option<TextureRef>,
+    ) -> Result<Arc<Self>, SpotError> {
+        let mut gpu = Vec::with_capacity(lights.len());
+        let mut projections = Vec::with_capacity(lights.len().max(1));
+        for (index, l) in lights.iter().enumerate() {
+            let frustum = SpotFrustum::of(index, l.view, l.projection)?;
+            // Layers are exact in f32 far beyond any texture array's limit.
+            let layer = match (l.texture, &textures) {
+                (Some(t), Some(_)) => t as f32,
+                _ => -1.0,
+            };
+            gpu.push(GpuLight {
+                position_range: frustum.position.extend(frustum.range).to_array(),
+                intensity: radiant(l.color, l.intensity),
+                direction: frustum.axis.extend(frustum.cos_bound).to_array(),
+                cone: [sanitize_unit(l.softness), layer, 0.0, 0.0],
+            });
+            projections.push((l.projection * l.view).to_cols_array());
+        }
+        if projections.is_empty() {
+            projections.push(Mat4::ZERO.to_cols_array());
+        }
+        let projections =
+            renderer
+                .gpu
+                .device
+                .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some("spot projections"),
+                    contents: bytemuck::cast_slice(&projections),
+                    usage: wgpu::BufferUsages::STORAGE,
+                });
+        let mut buffer = Self::upload(renderer, LightKind::Spot, gpu);
+        let b = Arc::get_mut(&mut buffer).expect("just made");
+        b.projections = Some(projections);
+        b.textures = textures.filter(|_| lights.iter().any(|l| l.texture.is_some()));
+        Ok(buffer)
     }
 
     pub fn suns(renderer: &Renderer, lights: &[SunLight]) -> Arc<Self> {
@@ -166,6 +302,8 @@ impl LightBuffer {
             kind,
             count,
             buffer,
+            projections: None,
+            textures: None,
         })
     }
 
@@ -175,5 +313,23 @@ impl LightBuffer {
 
     pub(crate) fn buffer(&self) -> &wgpu::Buffer {
         &self.buffer
+    }
+
+    pub(crate) fn projections(&self) -> Option<&wgpu::Buffer> {
+        self.projections.as_ref()
+    }
+
+    /// The spots' texture array, when some spot projects a layer of it.
+    pub fn textures(&self) -> Option<&TextureRef> {
+        self.textures.as_ref()
+    }
+}
+
+/// 0..1, and 0 for NaN.
+fn sanitize_unit(v: f32) -> f32 {
+    if v.is_finite() {
+        v.clamp(0.0, 1.0)
+    } else {
+        0.0
     }
 }

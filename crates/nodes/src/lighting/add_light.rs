@@ -1,0 +1,252 @@
+//! `AddLight (Point)`, `AddLight (Spot)`, `AddLight (Sun)`: Emeshe's way of
+//! filling a light buffer. Each adds a spread of lights, one per slice, each
+//! under a unique ID string, to the lights arriving at its Lights pin, so
+//! nodes chain: `AddLight -> AddLight -> PointLightBuffer`. IDs do not order
+//! the buffer (lights keep their order along the chain); they name lights,
+//! for errors and, with shadows, for which shadow slice is whose.
+//!
+//! A NaN or infinity on a pin is an error on this node that names the pin
+//! and slice; it never reaches a light buffer.
+
+use std::collections::HashMap;
+use std::sync::Arc;
+
+use glam::{Mat4, Vec3};
+use spreadlight_graph::spread::{cycled, slice_count};
+use spreadlight_graph::{
+    Color, EvalContext, NodeDef, NodeError, PinType, Registry, ResourceKind, Spread,
+};
+use spreadlight_render::lighting::{PointLight, SpotLight, SunLight};
+
+use crate::gpu::{resource_spread, resources};
+
+/// Lights of one type with their IDs, in order: what travels between `AddLight` nodes.
+#[derive(Debug, Default)]
+pub struct LightList<T> {
+    pub ids: Vec<String>,
+    pub lights: Vec<T>,
+}
+
+impl<T: Clone + Send + Sync + 'static> LightList<T> {
+    /// Every list arriving at `pin`, joined in slice order. An ID given twice
+    /// is an error on `pin` naming it.
+    pub fn gather(cx: &EvalContext<'_>, pin: usize) -> Result<LightList<T>, NodeError> {
+        let mut all = LightList {
+            ids: Vec::new(),
+            lights: Vec::new(),
+        };
+        for list in resources::<LightList<T>>(cx, pin)? {
+            all.ids.extend(list.ids.iter().cloned());
+            all.lights.extend(list.lights.iter().cloned());
+        }
+        if let Some(id) = first_duplicate(&all.ids) {
+            return Err(cx.input_error(pin, format!("light ID `{id}` arrives twice")));
+        }
+        Ok(all)
+    }
+}
+
+fn first_duplicate(ids: &[String]) -> Option<&str> {
+    let mut seen = HashMap::with_capacity(ids.len());
+    ids.iter()
+        .find(|id| seen.insert(id.as_str(), ()).is_some())
+        .map(String::as_str)
+}
+
+/// The ID of each of `n` lights: the ID pin's slices as they are when there
+/// are as many (the pin counts in `n`, so never more), else each with the
+/// round it is repeated in (`spot0`, `spot1`, ...), so one ID names a whole
+/// spread uniquely.
+fn light_ids(ids: &[String], n: usize) -> Vec<String> {
+    if ids.is_empty() {
+        return (0..n).map(|i| i.to_string()).collect();
+    }
+    if ids.len() >= n {
+        return ids[..n].to_vec();
+    }
+    (0..n)
+        .map(|i| format!("{}{}", ids[i % ids.len()], i / ids.len()))
+        .collect()
+}
+
+/// The ID pin's slice count: like every pin, it spreads the node.
+fn id_count(cx: &EvalContext<'_>) -> Result<usize, NodeError> {
+    Ok(cx.slices::<String>(1)?.len())
+}
+
+/// The upstream lights plus `lights` under IDs from pin 1, as the node's output.
+fn add<T: Clone + Send + Sync + 'static>(
+    cx: &mut EvalContext<'_>,
+    kind: ResourceKind,
+    lights: Vec<T>,
+) -> Result<(), NodeError> {
+    let mut list = LightList::<T>::gather(cx, 0)?;
+    let upstream = list.ids.len();
+    let ids = light_ids(cx.slices::<String>(1)?, lights.len());
+    if let Some(id) = ids.iter().find(|id| list.ids.contains(id)) {
+        return Err(cx.input_error(
+            1,
+            format!("light ID `{id}` is already in the lights arriving at Lights"),
+        ));
+    }
+    list.ids.extend(ids);
+    list.lights.extend(lights);
+    if let Some(id) = first_duplicate(&list.ids[upstream..]) {
+        return Err(cx.input_error(1, format!("light ID `{id}` is given twice")));
+    }
+    cx.set_output(0, resource_spread(kind, vec![Arc::new(list)]));
+    Ok(())
+}
+
+/// The pins every AddLight starts with: the lights to add to, and the IDs.
+fn node(name: &'static str, kind: ResourceKind, help: &'static str) -> NodeDef {
+    NodeDef::new(name, super::CATEGORY, help)
+        .input_spread(
+            "Lights",
+            PinType::Resource(kind),
+            Spread::Resource(kind, Vec::new()),
+        )
+        .input(
+            "ID",
+            name.trim_start_matches("AddLight (")
+                .trim_end_matches(')')
+                .to_lowercase(),
+        )
+        .output_typed("Lights", PinType::Resource(kind))
+}
+
+pub fn register(r: &mut Registry) {
+    r.add(
+        node(
+            "AddLight (Point)",
+            ResourceKind::PointLights,
+            "Adds point lights, one per slice, to the lights at Lights: position, linear colour, \
+             luminous intensity in candela (a power in lumens divided by 4 pi) and range, where the \
+             light fades smoothly to zero. ID names each light (one ID for a spread: point0, point1, ...).",
+        )
+        .input("Position", Vec3::new(0.0, 2.0, 0.0))
+        .input("Color", Color::WHITE)
+        .input("Intensity", 100.0f32)
+        .input("Range", 10.0f32)
+        .evaluate(|cx| {
+            super::require_finite(cx, 2..6)?;
+            let (positions, colors) = (cx.slices::<Vec3>(2)?, cx.slices::<Color>(3)?);
+            let (intensities, ranges) = (cx.slices::<f32>(4)?, cx.slices::<f32>(5)?);
+            let n = slice_count([id_count(cx)?, positions.len(), colors.len(), intensities.len(), ranges.len()]);
+            let lights: Vec<PointLight> = cycled(positions, n)
+                .zip(cycled(colors, n))
+                .zip(cycled(intensities, n))
+                .zip(cycled(ranges, n))
+                .map(|(((position, color), intensity), range)| PointLight {
+                    position: *position,
+                    color: rgb(color),
+                    intensity: *intensity,
+                    range: *range,
+                })
+                .collect();
+            add(cx, ResourceKind::PointLights, lights)
+        }),
+    );
+    r.add(
+        node(
+            "AddLight (Spot)",
+            ResourceKind::SpotLights,
+            "Adds spot lights, one per slice: projectors placed by a View transform (the light looks \
+             down its -Z; LookAt (Transform) makes one) and shaped by a Projection (Perspective \
+             (Transform)): the frustum is the lit volume and its far plane the range. Texture ID \
+             picks the layer of the SpotLightBuffer's texture array to project (-1: a round cone \
+             whose edge fades over Softness, 0..1 of its radius). Linear colour, luminous intensity in candela.",
+        )
+        .input("View", glam::camera::rh::view::look_to_mat4(Vec3::new(0.0, 4.0, 0.0), Vec3::NEG_Y, Vec3::Z))
+        .input("Projection", glam::camera::rh::proj::directx::perspective(std::f32::consts::FRAC_PI_4, 1.0, 0.05, 15.0))
+        .input("Color", Color::WHITE)
+        .input("Intensity", 500.0f32)
+        .input("Texture ID", -1i64)
+        .input("Softness", 0.3f32)
+        .evaluate(|cx| {
+            super::require_finite(cx, 2..8)?;
+            let (views, projections, colors) = (cx.slices::<Mat4>(2)?, cx.slices::<Mat4>(3)?, cx.slices::<Color>(4)?);
+            let (intensities, textures, softness) = (cx.slices::<f32>(5)?, cx.slices::<i64>(6)?, cx.slices::<f32>(7)?);
+            let n = slice_count([
+                id_count(cx)?,
+                views.len(),
+                projections.len(),
+                colors.len(),
+                intensities.len(),
+                textures.len(),
+                softness.len(),
+            ]);
+            let placement = cycled(views, n).zip(cycled(projections, n)).zip(cycled(colors, n));
+            let look = cycled(intensities, n).zip(cycled(textures, n)).zip(cycled(softness, n));
+            let lights: Vec<SpotLight> = placement
+                .zip(look)
+                .map(|(((view, projection), color), ((intensity, texture), softness))| SpotLight {
+                    view: *view,
+                    projection: *projection,
+                    color: rgb(color),
+                    intensity: *intensity,
+                    texture: u32::try_from(*texture).ok(),
+                    softness: *softness,
+                })
+                .collect();
+            add(cx, ResourceKind::SpotLights, lights)
+        }),
+    );
+    r.add(
+        node(
+            "AddLight (Sun)",
+            ResourceKind::SunLights,
+            "Adds parallel lights, one per slice: the direction the light travels, linear colour \
+             and illuminance in lux.",
+        )
+        .input("Direction", Vec3::new(-0.3, -1.0, -0.2))
+        .input("Color", Color::WHITE)
+        .input("Illuminance", 2.0f32)
+        .evaluate(|cx| {
+            super::require_finite(cx, 2..5)?;
+            let (directions, colors, illuminances) = (
+                cx.slices::<Vec3>(2)?,
+                cx.slices::<Color>(3)?,
+                cx.slices::<f32>(4)?,
+            );
+            let n = slice_count([
+                id_count(cx)?,
+                directions.len(),
+                colors.len(),
+                illuminances.len(),
+            ]);
+            let lights: Vec<SunLight> = cycled(directions, n)
+                .zip(cycled(colors, n))
+                .zip(cycled(illuminances, n))
+                .map(|((direction, color), illuminance)| SunLight {
+                    direction: *direction,
+                    color: rgb(color),
+                    illuminance: *illuminance,
+                })
+                .collect();
+            add(cx, ResourceKind::SunLights, lights)
+        }),
+    );
+}
+
+fn rgb(c: &Color) -> Vec3 {
+    Vec3::new(c.r, c.g, c.b)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn one_id_names_a_whole_spread_and_a_full_spread_is_taken_as_is() {
+        assert_eq!(light_ids(&["spot".into()], 3), ["spot0", "spot1", "spot2"]);
+        assert_eq!(light_ids(&["a".into(), "b".into()], 2), ["a", "b"]);
+        assert_eq!(light_ids(&["a".into(), "b".into()], 3), ["a0", "b0", "a1"]);
+        assert_eq!(light_ids(&[], 2), ["0", "1"]);
+        assert_eq!(
+            first_duplicate(&["a".into(), "b".into(), "a".into()]),
+            Some("a")
+        );
+        assert_eq!(first_duplicate(&["a".into(), "b".into()]), None);
+    }
+}

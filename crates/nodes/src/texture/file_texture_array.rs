@@ -1,0 +1,57 @@
+//! `FileTexture (Array)`: image files as the layers of one 2D texture array,
+//! for spots' projected textures and material textures. Every image is
+//! resampled to the first one's size, so files of mixed sizes still make one array.
+
+use std::sync::Arc;
+
+use spreadlight_graph::{NodeDef, PinType, Registry, ResourceKind, Spread};
+use spreadlight_render::TextureRef;
+use spreadlight_render::texture::{GpuTexture, StaticTexture};
+
+use crate::gpu::{renderer, resource_spread};
+
+pub fn register(r: &mut Registry) {
+    r.add(
+        NodeDef::new(
+            "FileTexture (Array)",
+            "Texture",
+            "Loads image files as the layers of one texture array (layer k is file k), resampled to \
+             the first file's size. sRGB for colour images; switch it off for data. Outputs one texture \
+             and its layer count.",
+        )
+        .input_spread("Filenames", PinType::String, Spread::String(Vec::new()))
+        .input("sRGB", true)
+        .output_typed("Texture", PinType::Resource(ResourceKind::Texture))
+        .output::<i64>("Layers")
+        .evaluate(|cx| {
+            let renderer = renderer(cx)?;
+            let files: Vec<String> = cx.slices::<String>(0)?.iter().filter(|f| !f.is_empty()).cloned().collect();
+            let srgb = cx.slices::<bool>(1)?.first().copied().unwrap_or(true);
+            if files.is_empty() {
+                cx.set_output(0, Spread::Resource(ResourceKind::Texture, Vec::new()));
+                cx.set_output(1, Spread::Int(vec![0]));
+                return Ok(());
+            }
+            let mut layers = Vec::with_capacity(files.len());
+            let mut size = None;
+            for (slice, file) in files.iter().enumerate() {
+                let image = image::open(file)
+                    .map_err(|e| cx.input_error(0, format!("slice {slice}, {file}: {e}")))?
+                    .to_rgba8();
+                let (w, h) = *size.get_or_insert(image.dimensions());
+                let image = if image.dimensions() == (w, h) {
+                    image
+                } else {
+                    image::imageops::resize(&image, w, h, image::imageops::FilterType::Triangle)
+                };
+                layers.push(image.into_raw());
+            }
+            let (w, h) = size.unwrap_or((1, 1));
+            let texture = GpuTexture::array_from_rgba8(&renderer.gpu, w, h, &layers, srgb, "texture array");
+            let texture = Arc::new(StaticTexture::new(texture).texture_ref());
+            cx.set_output(0, resource_spread::<TextureRef>(ResourceKind::Texture, vec![texture]));
+            cx.set_output(1, Spread::Int(vec![layers.len() as i64]));
+            Ok(())
+        }),
+    );
+}
