@@ -3,7 +3,7 @@
 //! and evaluates for a while without a node error or a non-finite value.
 
 use spreadlight_graph::{FrameClock, Runtime, Severity, Spread, format};
-use spreadlight_tests::example_patches;
+use spreadlight_tests::{example_patches, patch_dir};
 
 #[test]
 fn there_are_examples() {
@@ -40,6 +40,7 @@ fn examples_evaluate_cleanly_for_120_frames() {
     for path in example_patches() {
         let patch = format::load(&path).unwrap_or_else(|e| panic!("{e}"));
         let mut rt = Runtime::new(spreadlight_nodes::registry());
+        rt.provide(patch_dir(&path));
         // Patches with GPU nodes render at a small size on the test GPU (lavapipe in CI).
         let renderer = spreadlight_render::renderer::test_renderer();
         renderer.set_output_size((64, 36));

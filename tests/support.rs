@@ -33,6 +33,12 @@ pub fn bad_patches() -> Vec<PathBuf> {
 
 /// Render frame `frame` of a patch at `size` on the test GPU and return the
 /// image its Output named `output` produced.
+/// The host service that makes a patch's relative file names resolve beside it.
+pub fn patch_dir(path: &Path) -> std::sync::Arc<spreadlight_graph::PatchDir> {
+    let dir = path.parent().unwrap_or(Path::new("")).to_path_buf();
+    std::sync::Arc::new(spreadlight_graph::PatchDir(dir))
+}
+
 pub fn render_patch(
     path: &Path,
     size: (u32, u32),
@@ -42,6 +48,7 @@ pub fn render_patch(
     use spreadlight_graph::{FrameClock, Runtime, format};
     let patch = format::load(path).unwrap_or_else(|e| panic!("{e}"));
     let mut rt = Runtime::new(spreadlight_nodes::registry());
+    rt.provide(patch_dir(path));
     let renderer = spreadlight_render::renderer::test_renderer();
     renderer.set_output_size(size);
     rt.provide(renderer);

@@ -29,12 +29,21 @@ struct FeatureOffset {
     offset: u32,
     // Number of vec4 parameters.
     count: u32,
-    pad: u32,
+    // The texture layer + 1 that scales the first parameter; 0: none.
+    texture: u32,
 }
 
 @group(1) @binding(0) var<storage, read> material_meta: array<MaterialMeta>;
 @group(1) @binding(1) var<storage, read> feature_offsets: array<FeatureOffset>;
 @group(1) @binding(2) var<storage, read> material_data: array<vec4<f32>>;
+// MATERIAL_TEXTURES: the world's texture array, and the G-buffer's
+// velocity_uv target (UV in zw) to map it by. Compiled only when some
+// material of the world reads a texture.
+#ifdef MATERIAL_TEXTURES
+@group(1) @binding(3) var material_textures: texture_2d_array<f32>;
+@group(1) @binding(4) var material_sampler: sampler;
+@group(1) @binding(5) var material_uv: texture_2d<f32>;
+#endif
 
 // An id the world does not have reads material 0 (every world has one).
 fn material_index(id: u32) -> u32 {
@@ -62,4 +71,31 @@ fn feature_param(id: u32, feature: u32, index: u32, fallback: vec4<f32>) -> vec4
         return fallback;
     }
     return material_data[entry.offset + index];
+}
+
+// The texture layer + 1 of `feature` on material `id`; 0 for none.
+fn feature_texture(id: u32, feature: u32) -> u32 {
+    let m = material_meta[material_index(id)];
+    if (feature >= MAX_FEATURES || (m.flags & (1u << feature)) == 0u) {
+        return 0u;
+    }
+    let below = m.flags & ((1u << feature) - 1u);
+    return feature_offsets[m.address + countOneBits(below)].texture;
+}
+
+// `feature_param` at a pixel: with MATERIAL_TEXTURES, the first parameter
+// of a feature with a texture is scaled by it at the pixel's G-buffer UV.
+// Layers past the array's end wrap; a texture never makes a value negative.
+fn feature_param_at(id: u32, feature: u32, index: u32, fallback: vec4<f32>, pixel: vec2<u32>) -> vec4<f32> {
+    let value = feature_param(id, feature, index, fallback);
+#ifdef MATERIAL_TEXTURES
+    let texture = feature_texture(id, feature);
+    if (index == 0u && texture > 0u) {
+        let uv = textureLoad(material_uv, pixel, 0).zw;
+        let layer = (texture - 1u) % max(textureNumLayers(material_textures), 1u);
+        let scale = textureSampleLevel(material_textures, material_sampler, uv, layer, 0.0);
+        return value * max(scale, vec4<f32>(0.0));
+    }
+#endif
+    return value;
 }

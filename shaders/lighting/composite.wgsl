@@ -48,7 +48,7 @@ struct Params {
 // The material library, imported once, for EMISSION (only when some
 // material has Emission) and for AO's per-material strength.
 #ifdef EMISSION
-#import spreadlight::material::{feature_param, FEATURE_EMISSION, FEATURE_AMBIENT_OCCLUSION}
+#import spreadlight::material::{feature_param, feature_param_at, FEATURE_EMISSION, FEATURE_AMBIENT_OCCLUSION}
 #import spreadlight::packing::channel_to_id
 #else
 #ifdef AO_PER_MATERIAL
@@ -104,7 +104,8 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         lit += textureLoad(sss3, p, 0).rgb;
 #endif
 #ifdef EMISSION
-        let emission = feature_param(channel_to_id(textureLoad(color, p, 0).a), FEATURE_EMISSION, 0u, vec4<f32>(0.0));
+        // A texture scales the emission colour and strength (MATERIAL_TEXTURES).
+        let emission = feature_param_at(channel_to_id(textureLoad(color, p, 0).a), FEATURE_EMISSION, 0u, vec4<f32>(0.0), p);
         lit += max(emission.rgb, vec3<f32>(0.0)) * max(emission.a, 0.0);
 #endif
     }

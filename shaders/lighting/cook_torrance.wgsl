@@ -16,10 +16,10 @@
 // The material library, imported once: MATERIALS reads CookTorrance
 // parameters from it, FAKE_SSS the FakeSSS tint.
 #ifdef MATERIALS
-#import spreadlight::material::{feature_param, FEATURE_COOK_TORRANCE, FEATURE_FAKE_SSS}
+#import spreadlight::material::{feature_param_at, FEATURE_COOK_TORRANCE, FEATURE_FAKE_SSS}
 #else
 #ifdef FAKE_SSS
-#import spreadlight::material::{feature_param, FEATURE_FAKE_SSS}
+#import spreadlight::material::{feature_param_at, FEATURE_FAKE_SSS}
 #endif
 #endif
 #ifdef FAKE_SSS
@@ -168,7 +168,8 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let albedo = texel.rgb;
     let material = channel_to_id(texel.a);
 #ifdef MATERIALS
-    let rm = feature_param(material, FEATURE_COOK_TORRANCE, 0u, vec4<f32>(0.5, 0.0, 0.04, 0.0)).xy;
+    // A texture scales (roughness, metallic, reflectance); kept within 0..1.
+    let rm = clamp(feature_param_at(material, FEATURE_COOK_TORRANCE, 0u, vec4<f32>(0.5, 0.0, 0.04, 0.0), pixel).xy, vec2<f32>(0.0), vec2<f32>(1.0));
 #else
     let rm = surfaces[material % arrayLength(&surfaces)].roughness_metallic;
 #endif
@@ -176,7 +177,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     var diffuse = vec3<f32>(0.0);
     var specular = vec3<f32>(0.0);
 #ifdef FAKE_SSS
-    let sss = feature_param(material, FEATURE_FAKE_SSS, 0u, vec4<f32>(0.0));
+    let sss = feature_param_at(material, FEATURE_FAKE_SSS, 0u, vec4<f32>(0.0), pixel);
     sss_tint = max(sss.rgb, vec3<f32>(0.0)) * max(sss.a, 0.0) * albedo;
     sss_sum = vec3<f32>(0.0);
 #endif

@@ -53,6 +53,8 @@ impl Session {
         capture: bool,
     ) -> anyhow::Result<Self> {
         let mut runtime = Runtime::new(spreadlight_nodes::registry());
+        let dir = path.parent().unwrap_or(Path::new("")).to_path_buf();
+        runtime.provide(Arc::new(spreadlight_graph::PatchDir(dir)));
         let images = Arc::new(RenderedImages::default());
         if capture {
             runtime.provide(images.clone());

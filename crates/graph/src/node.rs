@@ -60,6 +60,11 @@ pub struct EvalContext<'a> {
     reevaluate: bool,
 }
 
+/// The folder of the patch being evaluated: a service hosts provide so that
+/// relative file names on pins resolve beside the patch.
+#[derive(Clone, Debug)]
+pub struct PatchDir(pub std::path::PathBuf);
+
 impl<'a> EvalContext<'a> {
     pub fn new(
         clock: &'a FrameClock,
@@ -85,6 +90,17 @@ impl<'a> EvalContext<'a> {
     /// A service the host provided (e.g. the renderer), if any.
     pub fn service<T: std::any::Any + Send + Sync>(&self) -> Option<Arc<T>> {
         self.services.get::<T>()
+    }
+
+    /// A file name from a pin as a path: relative names are relative to the
+    /// patch's folder when the host says where the patch is ([`PatchDir`]),
+    /// as in vvvv, so a patch and its files move together.
+    pub fn resolve_path(&self, name: &str) -> std::path::PathBuf {
+        let path = std::path::Path::new(name);
+        match self.service::<PatchDir>() {
+            Some(dir) if path.is_relative() => dir.0.join(path),
+            _ => path.to_path_buf(),
+        }
     }
 
     /// Evaluate this node again next frame even if its inputs do not change:

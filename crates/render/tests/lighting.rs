@@ -21,6 +21,11 @@ const SIZE: (u32, u32) = (96, 54);
 
 /// Spheres on a plane, seen from above and in front.
 fn scene(renderer: &Renderer) -> Arc<GBuffer> {
+    scene_with(renderer, LayerFeatures::default())
+}
+
+/// The scene with its layer's G-buffer features (texture coordinates, ...).
+fn scene_with(renderer: &Renderer, features: LayerFeatures) -> Arc<GBuffer> {
     let ball = renderer
         .meshes
         .upload(&renderer.gpu, &sphere(SphereParams::default()))
@@ -62,7 +67,7 @@ fn scene(renderer: &Renderer) -> Arc<GBuffer> {
             instances: vec![instance(Mat4::IDENTITY)],
         },
     ];
-    let layer = Arc::new(Layer::new(None, batches, LayerFeatures::default(), None).expect("valid"));
+    let layer = Arc::new(Layer::new(None, batches, features, None).expect("valid"));
     let camera = CameraInput {
         view: glam::camera::rh::view::look_at_mat4(Vec3::new(0.0, 6.0, 10.0), Vec3::ZERO, Vec3::Y),
         projection: glam::camera::rh::proj::directx::perspective(
@@ -537,6 +542,97 @@ fn the_material_buffer_drives_shading_and_unused_features_cost_nothing() {
         lit > (SIZE.0 * SIZE.1 / 3) as usize,
         "every covered pixel glows with colour x strength ({lit})"
     );
+}
+
+#[test]
+fn material_textures_scale_parameters_at_the_gbuffer_uv_and_compile_only_when_read() {
+    use spreadlight_render::lighting::{CompositeInputs, CompositeLight, LightComponents};
+    use spreadlight_render::material::{Feature, Material, MaterialWorld};
+    use spreadlight_render::texture::{GpuTexture, StaticTexture};
+    let renderer = test_renderer();
+    let g = scene_with(
+        &renderer,
+        LayerFeatures {
+            texcoords: true,
+            ..Default::default()
+        },
+    );
+    // Layer 0 white; layer 1 white on the left half of UV space, black on the right.
+    let (w, h) = (8u32, 8u32);
+    let white = [255u8; 4].repeat((w * h) as usize);
+    let half: Vec<u8> = (0..w * h)
+        .flat_map(|i| {
+            if i % w < w / 2 {
+                [255u8; 4]
+            } else {
+                [0, 0, 0, 255]
+            }
+        })
+        .collect();
+    let array = GpuTexture::array_from_rgba8(&renderer.gpu, w, h, &[white, half], false, "maps");
+    let textures = StaticTexture::new(array).texture_ref();
+    let emissive = |layer: Option<u32>| {
+        let mut m = Material::default_material()
+            .with(Feature::Emission, &[[1.0, 0.5, 0.25, 2.0]])
+            .expect("valid");
+        m.set_texture(Feature::Emission, layer);
+        MaterialWorld::with_textures(&renderer, vec![m], Some(textures.clone()))
+    };
+    let composite = |world: Arc<MaterialWorld>| {
+        let lights = LightBuffer::points(&renderer, &[]);
+        let ct = CookTorrance::new(
+            &renderer,
+            None,
+            g.clone(),
+            lights,
+            LightLoop::Naive,
+            false,
+            Surfaces::Materials(world.clone()),
+        );
+        let c = CompositeLight::new(
+            &renderer,
+            None,
+            g.clone(),
+            CompositeInputs {
+                components: vec![LightComponents {
+                    diffuse: ct.diffuse_texture(),
+                    specular: ct.specular_texture(),
+                    sss: ct.sss_texture(),
+                }],
+                ambient: [0.0; 3],
+                materials: Some(world),
+                occlusion: None,
+            },
+        )
+        .expect("valid");
+        let [image] = frame(&renderer, c.as_ref(), SIZE, [&c.output]);
+        let passes = renderer.last_report().passes;
+        (image, passes)
+    };
+    let glowing = |image: &ImageF32| image.pixels.iter().filter(|p| p[0] > 1e-3).count();
+    // No material reads a texture: the array is not even declared.
+    let plain = emissive(None);
+    assert!(plain.textures().is_none());
+    let (flat, passes) = composite(plain);
+    assert!(
+        passes.iter().all(|p| !p.name.contains("resolve motion")),
+        "no UV needed: {passes:?}"
+    );
+    // A white layer changes nothing.
+    let (white, passes) = composite(emissive(Some(0)));
+    assert!(
+        passes.iter().any(|p| p.name.contains("motion")),
+        "UVs are resolved for the texture: {passes:?}"
+    );
+    assert_eq!(white.pixels, flat.pixels);
+    // Half a layer: only part of what glowed still glows, and nothing turns negative.
+    let (half, _) = composite(emissive(Some(1)));
+    let (all, part) = (glowing(&flat), glowing(&half));
+    assert!(part > 0 && part < all, "{part} of {all} pixels glow");
+    assert!(half.all_finite() && half.pixels.iter().all(|p| p[0] >= 0.0));
+    // Layer 3 of 2 wraps to layer 1.
+    let (wrapped, _) = composite(emissive(Some(3)));
+    assert_eq!(wrapped.pixels, half.pixels);
 }
 
 #[test]

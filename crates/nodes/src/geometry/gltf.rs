@@ -18,7 +18,7 @@ pub fn register(r: &mut Registry) {
             "glTF",
             "Geometry",
             "Loads a glTF 2.0 file (.gltf or .glb): one output slice per mesh instance of the default scene, with its \
-             world transform and material base colour. Missing normals are generated, missing tangents too (MikkTSpace).",
+             world transform and material base colour. A relative Filename is relative to the patch's folder. Missing normals are generated, missing tangents too (MikkTSpace).",
         )
         .input("Filename", String::new())
         .output_typed("Mesh", PinType::Resource(ResourceKind::Mesh))
@@ -30,7 +30,7 @@ pub fn register(r: &mut Registry) {
             let renderer = renderer(cx)?;
             let (mut meshes, mut transforms, mut colors, mut materials) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
             for file in files.iter().filter(|f| !f.is_empty()) {
-                let scene = load_gltf(std::path::Path::new(file)).map_err(|e| cx.input_error(0, e.to_string()))?;
+                let scene = load_gltf(&cx.resolve_path(file)).map_err(|e| cx.input_error(0, e.to_string()))?;
                 let uploaded: Vec<Arc<GpuMesh>> = scene
                     .meshes
                     .iter()

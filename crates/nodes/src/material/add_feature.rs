@@ -3,13 +3,16 @@
 //! fixed and its vec4 named pin by pin. Each takes a material (none = a new
 //! one) and outputs it with the feature set, replacing an earlier setting.
 //! One function serves all six: the vec4 is the node's pins after Material,
-//! in order, a Float giving one component and a Color three (rgb).
+//! in order, a Float giving one component and a Color three (rgb); then
+//! Texture ID, the layer of the MaterialBuffer's texture array that scales
+//! that vec4 at each pixel's UV (-1: none).
 
 use spreadlight_graph::{Color, EvalContext, NodeDef, NodeError, Registry, Spread};
 use spreadlight_render::material::Feature;
 
 use super::{
-    CATEGORY, MATERIAL, no_materials, not_finite, set_feature, slice_count_with_materials,
+    CATEGORY, MATERIAL, TEXTURE_ID, no_materials, not_finite, set_feature,
+    slice_count_with_materials,
 };
 
 pub fn register(r: &mut Registry) {
@@ -24,23 +27,27 @@ pub fn register(r: &mut Registry) {
             .input("Roughness", 0.5f32)
             .input("Metallic", 0.0f32)
             .input("Reflectance", 0.04f32)
+            .input(TEXTURE_ID, -1i64)
             .evaluate(|cx| add(cx, Feature::CookTorrance, 3)),
     );
     r.add(
         node("AddEmission", "Sets emission on each material: linear colour and strength (both >= 0). No material in: new ones.")
             .input("Color", color(1.0, 1.0, 1.0))
             .input("Strength", 1.0f32)
+            .input(TEXTURE_ID, -1i64)
             .evaluate(|cx| add(cx, Feature::Emission, 2)),
     );
     r.add(
         node("AddFakeSSS", "Sets faked subsurface scattering on each material: scatter colour and strength (both >= 0). No material in: new ones.")
             .input("Color", color(1.0, 0.2, 0.1))
             .input("Strength", 1.0f32)
+            .input(TEXTURE_ID, -1i64)
             .evaluate(|cx| add(cx, Feature::FakeSss, 2)),
     );
     let strength = |name, help| node(name, help).input("Strength", 1.0f32);
     r.add(
         strength("AddReflection", "Sets environment reflection on each material, with a strength >= 0. No material in: new ones.")
+            .input(TEXTURE_ID, -1i64)
             .evaluate(|cx| add(cx, Feature::Reflection, 1)),
     );
     r.add(
@@ -48,10 +55,12 @@ pub fn register(r: &mut Registry) {
             "AddMatCap",
             "Sets matcap shading on each material, with a strength >= 0. No material in: new ones.",
         )
+        .input(TEXTURE_ID, -1i64)
         .evaluate(|cx| add(cx, Feature::MatCap, 1)),
     );
     r.add(
         strength("AddAmbientOcclusion", "Sets ambient occlusion on each material, with a strength >= 0. No material in: new ones.")
+            .input(TEXTURE_ID, -1i64)
             .evaluate(|cx| add(cx, Feature::AmbientOcclusion, 1)),
     );
 }
@@ -101,5 +110,7 @@ fn add(cx: &mut EvalContext<'_>, feature: Feature, values: usize) -> Result<(), 
         components.resize(4, 0.0);
         params.push([components[0], components[1], components[2], components[3]]);
     }
-    set_feature(cx, 0, n, 1, |_, slice| Ok((feature, vec![params[slice]])))
+    set_feature(cx, 0, n, 1, values + 1, |_, slice| {
+        Ok((feature, vec![params[slice]]))
+    })
 }

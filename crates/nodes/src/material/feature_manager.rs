@@ -8,12 +8,14 @@ use spreadlight_graph::{NodeDef, Registry};
 use spreadlight_render::material::Feature;
 
 use super::{
-    CATEGORY, MATERIAL, no_materials, not_finite, refused, set_feature, slice_count_with_materials,
+    CATEGORY, MATERIAL, TEXTURE_ID, no_materials, not_finite, refused, set_feature,
+    slice_count_with_materials,
 };
 
 const FEATURE_ID: usize = 1;
 const PARAMETERS: usize = 2;
 const BIN_SIZE: usize = 3;
+const TEXTURE: usize = 4;
 
 pub fn register(r: &mut Registry) {
     r.add(
@@ -24,12 +26,14 @@ pub fn register(r: &mut Registry) {
              Ids: 0 CookTorrance (roughness, metallic, reflectance), 1 Emission (rgb, strength), 2 FakeSSS \
              (rgb, strength), 3 Reflection, 4 MatCap, 5 AmbientOcclusion (strength); 16..31 custom. Each \
              material takes Bin Size slices of Parameters (built-ins take 1; 0 sets a custom flag alone). \
-             Values are clamped to their physical ranges.",
+             Values are clamped to their physical ranges. Texture ID: the layer of the MaterialBuffer's \
+             texture array that scales the first parameter at each pixel's UV (-1: none).",
         )
         .input_spread("Material", MATERIAL, no_materials())
         .input("Feature ID", 0i64)
         .input("Parameters", Vec4::new(0.5, 0.0, 0.04, 0.0))
         .input("Bin Size", 1i64)
+        .input(TEXTURE_ID, -1i64)
         .output_typed("Material", MATERIAL)
         .evaluate(|cx| {
             let ids = cx.slices::<i64>(FEATURE_ID)?.to_vec();
@@ -44,7 +48,7 @@ pub fn register(r: &mut Registry) {
             if let Some(slice) = (0..n).find(|s| (0..bin).any(|k| !params[(s * bin + k) % params.len()].is_finite())) {
                 return Err(not_finite(cx, PARAMETERS, slice));
             }
-            set_feature(cx, 0, n, PARAMETERS, |cx, slice| {
+            set_feature(cx, 0, n, PARAMETERS, TEXTURE, |cx, slice| {
                 let id = ids[slice % ids.len()];
                 let feature = Feature::from_id(id).map_err(|e| refused(cx, FEATURE_ID, slice, e))?;
                 if feature.param_count().is_some_and(|c| c != bin) {

@@ -4,7 +4,8 @@
 //! CookTorrance, roughness 0.5, metallic 0). Worlds are not singletons:
 //! each MaterialBuffer has its own.
 
-use spreadlight_graph::{NodeDef, PinType, Registry, ResourceKind};
+use spreadlight_graph::{NodeDef, PinType, Registry, ResourceKind, Spread};
+use spreadlight_render::TextureRef;
 use spreadlight_render::material::{Material, MaterialWorld};
 
 use super::{CATEGORY, MATERIAL, no_materials};
@@ -17,14 +18,29 @@ pub fn register(r: &mut Registry) {
             CATEGORY,
             "Uploads materials for shading: slice i becomes material id i (the G-buffer's material id; ids \
              beyond the last read material 0). Nothing connected: one default material (CookTorrance, \
-             roughness 0.5, metallic 0). Shading passes compile only the features some material has.",
+             roughness 0.5, metallic 0). Shading passes compile only the features some material has. \
+             Textures: a texture array (FileTexture (Array)) whose layers the features' Texture IDs pick, \
+             mapped by the G-buffer's UV; no texture code is compiled unless some material reads one.",
         )
         .input_spread("Materials", MATERIAL, no_materials())
+        .input_spread(
+            "Textures",
+            PinType::Resource(ResourceKind::Texture),
+            Spread::Resource(ResourceKind::Texture, Vec::new()),
+        )
         .output_typed("Material World", PinType::Resource(ResourceKind::MaterialWorld))
         .evaluate(|cx| {
             let renderer = renderer(cx)?;
             let materials: Vec<Material> = resources::<Material>(cx, 0)?.iter().map(|m| Material::clone(m)).collect();
-            let world = MaterialWorld::new(&renderer, materials);
+            let textures = resources::<TextureRef>(cx, 1)?;
+            if textures.len() > 1 {
+                return Err(cx.input_error(
+                    1,
+                    format!("takes one texture array, got {} textures: join them with FileTexture (Array)", textures.len()),
+                ));
+            }
+            let textures = textures.first().map(|t| TextureRef::clone(t));
+            let world = MaterialWorld::with_textures(&renderer, materials, textures);
             cx.set_output(0, resource_spread(ResourceKind::MaterialWorld, vec![world]));
             Ok(())
         }),

@@ -52,16 +52,23 @@ pub fn slice_count_with_materials(
     }
 }
 
+/// The Texture ID pin every feature node has: which layer of the
+/// MaterialBuffer's texture array scales the feature's first parameter.
+pub const TEXTURE_ID: &str = "Texture ID";
+
 /// Set `feature` on each of `n` materials from input pin `pin` (wrapping;
 /// empty = new materials) with `params(slice)`, and output them on pin 0.
 /// A refused setting becomes an error on `param_pin` naming the slice.
+/// `texture_pin` holds each slice's texture layer (negative: none).
 pub fn set_feature(
     cx: &mut EvalContext<'_>,
     pin: usize,
     n: usize,
     param_pin: usize,
+    texture_pin: usize,
     mut params: impl FnMut(&EvalContext<'_>, usize) -> Result<(Feature, Vec<[f32; 4]>), NodeError>,
 ) -> Result<(), NodeError> {
+    let textures = cx.slices::<i64>(texture_pin)?.to_vec();
     let inputs = resources::<Material>(cx, pin)?;
     let mut out = Vec::with_capacity(n);
     for slice in 0..n {
@@ -73,6 +80,11 @@ pub fn set_feature(
         material
             .set(feature, &values)
             .map_err(|e| refused(cx, param_pin, slice, e))?;
+        let layer = match textures.len() {
+            0 => None,
+            len => u32::try_from(textures[slice % len]).ok(),
+        };
+        material.set_texture(feature, layer);
         out.push(Arc::new(material));
     }
     cx.set_output(0, resource_spread(ResourceKind::Material, out));

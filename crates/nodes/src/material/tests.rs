@@ -283,3 +283,25 @@ fn material_buffer_uploads_one_world_with_material_id_per_slice() {
     );
     assert_eq!(chained.union_flags(), 0b11);
 }
+
+#[test]
+fn texture_ids_pick_a_layer_per_material_and_negative_means_none() {
+    let out = materials(
+        "AddEmission",
+        &[
+            ("Strength", floats(&[1.0, 2.0, 3.0])),
+            ("Texture ID", ints(&[2, -1])),
+        ],
+    );
+    let layers: Vec<_> = out.iter().map(|m| m.texture(Feature::Emission)).collect();
+    assert_eq!(layers, [Some(2), None, Some(2)]);
+    let out = materials(
+        "FeatureManager",
+        &[
+            ("Feature ID", ints(&[1])),
+            ("Parameters", Spread::Vec4(vec![Vec4::ONE])),
+            ("Texture ID", ints(&[0])),
+        ],
+    );
+    assert_eq!(out[0].texture(Feature::Emission), Some(0));
+}

@@ -14,7 +14,7 @@ pub fn register(r: &mut Registry) {
         NodeDef::new(
             "FileTexture",
             "Texture",
-            "Loads an image file as a texture. sRGB for colour images; switch it off for data such as normal maps.",
+            "Loads an image file as a texture (a relative Filename is relative to the patch's folder). sRGB for colour images; switch it off for data such as normal maps.",
         )
         .input("Filename", String::new())
         .input("sRGB", true)
@@ -25,7 +25,7 @@ pub fn register(r: &mut Registry) {
             let srgb = cx.slices::<bool>(1)?.first().copied().unwrap_or(true);
             let mut textures = Vec::new();
             for file in files.iter().filter(|f| !f.is_empty()) {
-                let image = image::open(file).map_err(|e| cx.input_error(0, format!("{file}: {e}")))?.to_rgba8();
+                let image = image::open(cx.resolve_path(file)).map_err(|e| cx.input_error(0, format!("{file}: {e}")))?.to_rgba8();
                 let texture = GpuTexture::from_rgba8(&renderer.gpu, image.width(), image.height(), &image, srgb, file);
                 textures.push(Arc::new(StaticTexture::new(texture).texture_ref()));
             }

@@ -16,7 +16,7 @@ pub fn register(r: &mut Registry) {
             "FileTexture (Array)",
             "Texture",
             "Loads image files as the layers of one texture array (layer k is file k), resampled to \
-             the first file's size. sRGB for colour images; switch it off for data. Outputs one texture \
+             the first file's size; relative names are relative to the patch's folder. sRGB for colour images; switch it off for data. Outputs one texture \
              and its layer count.",
         )
         .input_spread("Filenames", PinType::String, Spread::String(Vec::new()))
@@ -35,7 +35,7 @@ pub fn register(r: &mut Registry) {
             let mut layers = Vec::with_capacity(files.len());
             let mut size = None;
             for (slice, file) in files.iter().enumerate() {
-                let image = image::open(file)
+                let image = image::open(cx.resolve_path(file))
                     .map_err(|e| cx.input_error(0, format!("slice {slice}, {file}: {e}")))?
                     .to_rgba8();
                 let (w, h) = *size.get_or_insert(image.dimensions());

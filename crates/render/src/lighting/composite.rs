@@ -116,6 +116,15 @@ impl CompositeLight {
         }))
     }
 
+    /// Whether emission reads a texture (the only parameter composite maps).
+    fn textured(&self) -> bool {
+        self.emission
+            && self
+                .materials
+                .as_ref()
+                .is_some_and(|w| w.textured(1 << FEATURE_EMISSION))
+    }
+
     pub fn texture(self: &Arc<Self>) -> TextureRef {
         TextureRef {
             recipe: self.clone(),
@@ -137,6 +146,9 @@ impl CompositeLight {
         }
         if self.ao_per_material {
             features.push("AO_PER_MATERIAL");
+        }
+        if self.textured() {
+            features.push("MATERIAL_TEXTURES");
         }
         for (k, c) in self.components.iter().enumerate() {
             if c.sss.is_some() {
@@ -190,8 +202,12 @@ impl CompositeLight {
             .shaders
             .bind_group(&device, &key, "main", &pipeline, 0, &all)?;
         let material_group = match &self.materials {
-            Some(world) => Some(super::cook_torrance::material_bind_group(
-                cx, &device, &key, &pipeline, world,
+            Some(world) => Some(world.bind_group(
+                cx,
+                &key,
+                &pipeline,
+                self.textured(),
+                &self.gbuffer.targets.velocity_uv,
             )?),
             None => None,
         };
@@ -233,6 +249,9 @@ impl Recipe for CompositeLight {
         let g = &self.gbuffer.targets;
         let mut reads: Vec<&str> = vec![&g.color, &g.depth];
         reads.extend(self.occlusion.as_ref().map(|ao| ao.name.as_str()));
+        if let Some(world) = &self.materials {
+            reads.extend(world.declare_textures(renderer, fg, self.textured(), &g.velocity_uv));
+        }
         for c in &self.components {
             reads.extend(
                 [Some(&c.diffuse), Some(&c.specular), c.sss.as_ref()]

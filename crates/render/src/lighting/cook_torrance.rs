@@ -160,6 +160,13 @@ impl CookTorrance {
         &self.gbuffer
     }
 
+    /// Whether some material's CookTorrance or FakeSSS reads a texture.
+    fn textured(&self) -> bool {
+        self.materials.as_ref().is_some_and(|w| {
+            w.textured(1 << crate::material::FEATURE_COOK_TORRANCE | 1 << FEATURE_FAKE_SSS)
+        })
+    }
+
     fn label(&self, what: &str) -> String {
         match self.owner {
             Some(node) => format!("CookTorrance #{node}: {what}"),
@@ -241,6 +248,9 @@ impl CookTorrance {
         if self.spot_sampler.is_some() {
             features.push("SPOT_TEXTURE");
         }
+        if self.textured() {
+            features.push("MATERIAL_TEXTURES");
+        }
         let key = ShaderKey::new("lighting/cook_torrance.wgsl", features);
         let pipeline = cx.shaders.compute_pipeline(&device, &key, "main")?;
         let g = &self.gbuffer;
@@ -300,7 +310,13 @@ impl CookTorrance {
             .shaders
             .bind_group(&device, &key, "main", &pipeline, 0, &all)?;
         let material_group = match &self.materials {
-            Some(world) => Some(material_bind_group(cx, &device, &key, &pipeline, world)?),
+            Some(world) => Some(world.bind_group(
+                cx,
+                &key,
+                &pipeline,
+                self.textured(),
+                &g.targets.velocity_uv,
+            )?),
             None => None,
         };
         let (w, h) = g.pixel_size(cx.output_size);
@@ -315,24 +331,6 @@ impl CookTorrance {
         );
         Ok(())
     }
-}
-
-/// Group 1 of a pass that imports `spreadlight::material`: the world's three buffers.
-pub(crate) fn material_bind_group(
-    cx: &mut PassContext<'_>,
-    device: &wgpu::Device,
-    key: &ShaderKey,
-    pipeline: &wgpu::ComputePipeline,
-    world: &MaterialWorld,
-) -> Result<wgpu::BindGroup, RenderError> {
-    let (meta, offsets, data) = world.buffers();
-    let all = [
-        (0, meta.as_entire_binding()),
-        (1, offsets.as_entire_binding()),
-        (2, data.as_entire_binding()),
-    ];
-    cx.shaders
-        .bind_group(device, key, "main", pipeline, 1, &all)
 }
 
 /// Roughness and metallic from a pin: finite and in 0..1.
@@ -393,6 +391,9 @@ impl Recipe for CookTorrance {
         if let Some(textures) = self.lights.textures() {
             textures.recipe.declare(renderer, fg);
             reads.push(&textures.name);
+        }
+        if let Some(world) = &self.materials {
+            reads.extend(world.declare_textures(renderer, fg, self.textured(), &g.velocity_uv));
         }
         fg.add_pass(
             self.label("shade"),

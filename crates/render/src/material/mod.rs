@@ -30,6 +30,7 @@ pub use feature::{
     Range,
 };
 
+use crate::recipe::TextureRef;
 use crate::renderer::Renderer;
 
 /// Why a feature's setting was refused. Names the feature; [`MaterialError`] adds the material.
@@ -76,6 +77,9 @@ impl FeatureError {
 pub struct Material {
     /// By feature id, so packing walks them in ascending order.
     features: BTreeMap<u32, (Feature, Vec<[f32; 4]>)>,
+    /// Per feature id: the layer of the world's texture array that scales
+    /// its first parameter at each pixel's G-buffer UV.
+    textures: BTreeMap<u32, u32>,
 }
 
 impl Material {
@@ -111,6 +115,31 @@ impl Material {
 
     pub fn remove(&mut self, feature: Feature) {
         self.features.remove(&feature.id());
+        self.textures.remove(&feature.id());
+    }
+
+    /// Let layer `layer` of the world's texture array scale `feature`'s first
+    /// parameter, component by component, at each pixel's UV (None: no texture).
+    /// It takes effect only while the material has the feature.
+    pub fn set_texture(&mut self, feature: Feature, layer: Option<u32>) {
+        match layer {
+            Some(layer) => self.textures.insert(feature.id(), layer),
+            None => self.textures.remove(&feature.id()),
+        };
+    }
+
+    pub fn texture(&self, feature: Feature) -> Option<u32> {
+        self.features
+            .contains_key(&feature.id())
+            .then(|| self.textures.get(&feature.id()).copied())
+            .flatten()
+    }
+
+    /// Whether some feature of this material reads a texture.
+    pub fn has_textures(&self) -> bool {
+        self.textures
+            .keys()
+            .any(|id| self.features.contains_key(id))
     }
 
     /// The OR of the features' flags.
@@ -145,7 +174,8 @@ pub struct GpuFeatureOffset {
     pub feature: u32,
     pub offset: u32,
     pub count: u32,
-    pub pad: u32,
+    /// The texture layer + 1 that scales the first parameter; 0: none.
+    pub texture: u32,
 }
 
 /// The three buffers' contents, before upload (also what tests check without a GPU).
@@ -171,7 +201,7 @@ impl PackedMaterials {
                     feature: feature.id(),
                     offset: packed.data.len() as u32,
                     count: params.len() as u32,
-                    pad: 0,
+                    texture: material.texture(feature).map_or(0, |layer| layer + 1),
                 });
                 packed.data.extend_from_slice(params);
             }
@@ -185,6 +215,10 @@ impl PackedMaterials {
 pub struct MaterialWorld {
     materials: Vec<Material>,
     union_flags: u32,
+    /// The array material textures index, and its sampler; only when some material reads it.
+    textures: Option<(TextureRef, wgpu::Sampler)>,
+    /// Bit n: some material's feature n reads a texture.
+    textured_flags: u32,
     meta: wgpu::Buffer,
     offsets: wgpu::Buffer,
     data: wgpu::Buffer,
@@ -205,7 +239,18 @@ impl MaterialWorld {
     /// Upload `materials` (material id = index). An empty list gives the
     /// default material as id 0, so every world has one: shaders map ids out
     /// of range to 0.
-    pub fn new(renderer: &Renderer, mut materials: Vec<Material>) -> Arc<Self> {
+    pub fn new(renderer: &Renderer, materials: Vec<Material>) -> Arc<Self> {
+        Self::with_textures(renderer, materials, None)
+    }
+
+    /// A world whose materials' texture layers index `textures` (a 2D texture
+    /// or texture array); layers past its end wrap. Without it, or when no
+    /// material reads a texture, shading compiles no texture code.
+    pub fn with_textures(
+        renderer: &Renderer,
+        mut materials: Vec<Material>,
+        textures: Option<TextureRef>,
+    ) -> Arc<Self> {
         if materials.is_empty() {
             materials.push(Material::default_material());
         }
@@ -229,9 +274,32 @@ impl MaterialWorld {
         let offsets = upload("feature offsets", bytemuck::cast_slice(&packed.offsets));
         let data = upload("material data", bytemuck::cast_slice(&packed.data));
         let union_flags = materials.iter().fold(0, |acc, m| acc | m.flags());
+        let textured_flags = match &textures {
+            Some(_) => materials.iter().fold(0, |acc, m| {
+                m.textures
+                    .keys()
+                    .filter(|id| m.features.contains_key(id))
+                    .fold(acc, |acc, id| acc | 1 << id)
+            }),
+            None => 0,
+        };
+        // Repeat, as UVs beyond 0..1 tile; made once with the world.
+        let textures = textures.filter(|_| textured_flags != 0).map(|t| {
+            let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
+                label: Some("material textures"),
+                address_mode_u: wgpu::AddressMode::Repeat,
+                address_mode_v: wgpu::AddressMode::Repeat,
+                mag_filter: wgpu::FilterMode::Linear,
+                min_filter: wgpu::FilterMode::Linear,
+                ..Default::default()
+            });
+            (t, sampler)
+        });
         Arc::new(MaterialWorld {
             materials,
             union_flags,
+            textures,
+            textured_flags,
             meta,
             offsets,
             data,
@@ -273,6 +341,72 @@ impl MaterialWorld {
     }
 
     /// MaterialMeta, FeatureOffset and MaterialData, for `@group(1) @binding(0..2)`.
+    /// The texture array, when some material reads it.
+    pub fn textures(&self) -> Option<&TextureRef> {
+        self.textures.as_ref().map(|(t, _)| t)
+    }
+
+    /// Whether a pass reading `features` (a flag mask) needs MATERIAL_TEXTURES.
+    pub fn textured(&self, features: u32) -> bool {
+        self.textured_flags & features != 0
+    }
+
+    /// Group 1 of a pass that imports `spreadlight::material`: the three
+    /// buffers, and with `textured`, the texture array, its sampler and the
+    /// G-buffer's UV target (`uv`).
+    pub(crate) fn bind_group(
+        &self,
+        cx: &mut crate::frame_graph::PassContext<'_>,
+        key: &crate::shaders::ShaderKey,
+        pipeline: &wgpu::ComputePipeline,
+        textured: bool,
+        uv: &str,
+    ) -> Result<wgpu::BindGroup, crate::error::RenderError> {
+        let device = cx.gpu.device.clone();
+        let views = match (&self.textures, textured) {
+            (Some((t, sampler)), true) => {
+                let array = cx
+                    .texture(&t.name)?
+                    .create_view(&wgpu::TextureViewDescriptor {
+                        dimension: Some(wgpu::TextureViewDimension::D2Array),
+                        ..Default::default()
+                    });
+                Some((array, sampler, cx.view(uv)?))
+            }
+            _ => None,
+        };
+        let mut all = vec![
+            (0, self.meta.as_entire_binding()),
+            (1, self.offsets.as_entire_binding()),
+            (2, self.data.as_entire_binding()),
+        ];
+        if let Some((array, sampler, uv)) = &views {
+            all.push((3, wgpu::BindingResource::TextureView(array)));
+            all.push((4, wgpu::BindingResource::Sampler(sampler)));
+            all.push((5, wgpu::BindingResource::TextureView(uv)));
+        }
+        cx.shaders
+            .bind_group(&device, key, "main", pipeline, 1, &all)
+    }
+
+    /// Declare the texture array for a pass that reads it (`textured`), and
+    /// return what that pass must list as reads: the array and the UV target.
+    pub(crate) fn declare_textures<'a>(
+        &'a self,
+        renderer: &'a Renderer,
+        fg: &mut crate::frame_graph::FrameGraph<'a>,
+        textured: bool,
+        uv: &'a str,
+    ) -> Vec<&'a str> {
+        match (&self.textures, textured) {
+            (Some((t, _)), true) => {
+                t.recipe.declare(renderer, fg);
+                vec![t.name.as_str(), uv]
+            }
+            _ => Vec::new(),
+        }
+    }
+
     pub fn buffers(&self) -> (&wgpu::Buffer, &wgpu::Buffer, &wgpu::Buffer) {
         (&self.meta, &self.offsets, &self.data)
     }

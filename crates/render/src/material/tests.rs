@@ -121,7 +121,7 @@ fn packing_follows_emeshes_three_buffers() {
         feature,
         offset,
         count,
-        pad: 0,
+        texture: 0,
     };
     // Ascending feature id within a material: AO (5) before custom 17.
     assert_eq!(
@@ -136,4 +136,28 @@ fn packing_follows_emeshes_three_buffers() {
     assert_eq!(packed.data.len(), 5);
     assert_eq!(packed.data[1], [1.0, 0.5, 0.25, 2.0]);
     assert_eq!(packed.data[4], [5.0, 6.0, 7.0, 8.0]);
+}
+
+#[test]
+fn a_feature_texture_packs_as_its_layer_plus_one_and_only_with_its_feature() {
+    let mut m = Material::default_material();
+    assert!(!m.has_textures());
+    m.set_texture(Feature::CookTorrance, Some(0));
+    // A texture for a feature the material lacks is kept but not packed.
+    m.set_texture(Feature::Emission, Some(3));
+    assert_eq!(m.texture(Feature::CookTorrance), Some(0));
+    assert_eq!(m.texture(Feature::Emission), None);
+    let packed = PackedMaterials::pack(std::slice::from_ref(&m));
+    assert_eq!(packed.offsets.len(), 1);
+    assert_eq!(packed.offsets[0].texture, 1);
+    m.set(Feature::Emission, &[[1.0, 1.0, 1.0, 1.0]])
+        .expect("valid");
+    let packed = PackedMaterials::pack(std::slice::from_ref(&m));
+    assert_eq!(
+        packed.offsets.iter().map(|o| o.texture).collect::<Vec<_>>(),
+        [1, 4]
+    );
+    m.set_texture(Feature::CookTorrance, None);
+    m.remove(Feature::Emission);
+    assert!(!m.has_textures());
 }
