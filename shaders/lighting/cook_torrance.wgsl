@@ -186,8 +186,8 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let slice = u32(clamp(floor(log(max(-p.z, grid.depth.x) / grid.depth.x) / grid.depth.z * f32(grid.dims.z)), 0.0, f32(grid.dims.z - 1u)));
     let cluster = (slice * grid.dims.y + tile.y) * grid.dims.x + tile.x;
     let first = offsets[cluster];
-    // A list that overflowed the index buffer is cut at its end (the renderer
-    // grows the buffer for the next frame); never read past it.
+    // A list that overflowed the index buffer (sized for every light in 256
+    // froxels, see clusters.rs) is cut at its end; never read past it.
     let count = min(counts[cluster], arrayLength(&indices) - min(first, arrayLength(&indices)));
     for (var k = 0u; k < count; k++) {
         shade(indices[first + k], p, pw, n, v, albedo, rm, &diffuse, &specular);

@@ -319,6 +319,15 @@ pub fn all_permutations() -> Vec<ShaderKey> {
     keys
 }
 
+/// How a pass samples a texture.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Sampling {
+    /// Bilinear, tiling past 0..1 (surface textures mapped by UV).
+    LinearRepeat,
+    /// Bilinear, held at the edges (projected textures).
+    LinearClamp,
+}
+
 /// Compiled shader modules and pipelines, keyed by permutation. Counts what it
 /// compiles, so the frame statistics show when a frame had to compile.
 pub struct ShaderCache {
@@ -328,6 +337,7 @@ pub struct ShaderCache {
     used: HashMap<(ShaderKey, String), Vec<(u32, u32)>>,
     compute: HashMap<(ShaderKey, &'static str), wgpu::ComputePipeline>,
     render: HashMap<(ShaderKey, String), wgpu::RenderPipeline>,
+    samplers: HashMap<Sampling, wgpu::Sampler>,
     /// Pipelines compiled since the cache was made.
     pub pipelines_compiled: u64,
 }
@@ -340,6 +350,7 @@ impl ShaderCache {
             used: HashMap::new(),
             compute: HashMap::new(),
             render: HashMap::new(),
+            samplers: HashMap::new(),
             pipelines_compiled: 0,
         }
     }
@@ -435,6 +446,30 @@ impl ShaderCache {
             layout: &pipeline.get_bind_group_layout(group),
             entries: &entries,
         }))
+    }
+
+    /// A sampler, made once per device rather than once per pass or frame.
+    pub fn sampler(&mut self, device: &wgpu::Device, sampling: Sampling) -> wgpu::Sampler {
+        self.samplers
+            .entry(sampling)
+            .or_insert_with(|| {
+                let address = match sampling {
+                    Sampling::LinearRepeat => wgpu::AddressMode::Repeat,
+                    Sampling::LinearClamp => wgpu::AddressMode::ClampToEdge,
+                };
+                device.create_sampler(&wgpu::SamplerDescriptor {
+                    label: Some(match sampling {
+                        Sampling::LinearRepeat => "linear repeat",
+                        Sampling::LinearClamp => "linear clamp",
+                    }),
+                    address_mode_u: address,
+                    address_mode_v: address,
+                    mag_filter: wgpu::FilterMode::Linear,
+                    min_filter: wgpu::FilterMode::Linear,
+                    ..Default::default()
+                })
+            })
+            .clone()
     }
 
     /// The compute pipeline of `entry` in a permutation (bind group layouts derived from the shader).

@@ -298,13 +298,9 @@ fn resolve(
         {
             Some(normal_map) => {
                 let normal_view = cx.view(&normal_map.name)?;
-                let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
-                    address_mode_u: wgpu::AddressMode::Repeat,
-                    address_mode_v: wgpu::AddressMode::Repeat,
-                    mag_filter: wgpu::FilterMode::Linear,
-                    min_filter: wgpu::FilterMode::Linear,
-                    ..Default::default()
-                });
+                let sampler = cx
+                    .shaders
+                    .sampler(&device, crate::shaders::Sampling::LinearRepeat);
                 Some(device.create_bind_group(&wgpu::BindGroupDescriptor {
                     label: Some("resolve normal map"),
                     layout: &pipeline.get_bind_group_layout(1),

@@ -13,7 +13,7 @@ use crate::gbuffer::GBuffer;
 use crate::material::{FEATURE_FAKE_SSS, MaterialWorld};
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
-use crate::shaders::ShaderKey;
+use crate::shaders::{Sampling, ShaderKey};
 
 /// Where roughness and metallic come from.
 #[derive(Clone, Debug)]
@@ -44,8 +44,6 @@ pub struct CookTorrance {
     /// Roughness and metallic per material from the material buffer, when given (else `surfaces`).
     materials: Option<Arc<MaterialWorld>>,
     grid: wgpu::Buffer,
-    /// For the spots' texture array; made with the recipe, not every frame.
-    spot_sampler: Option<wgpu::Sampler>,
     clusters: ClusterStore,
     token: String,
     pub diffuse: String,
@@ -107,14 +105,6 @@ impl CookTorrance {
         } else {
             mode
         };
-        let spot_sampler = lights.textures().map(|_| {
-            device.create_sampler(&wgpu::SamplerDescriptor {
-                label: Some("spot textures"),
-                mag_filter: wgpu::FilterMode::Linear,
-                min_filter: wgpu::FilterMode::Linear,
-                ..Default::default()
-            })
-        });
         Arc::new(CookTorrance {
             id,
             owner,
@@ -125,7 +115,6 @@ impl CookTorrance {
             surfaces,
             materials,
             grid,
-            spot_sampler,
             clusters: ClusterStore::new(),
             token: format!("cooktorrance{id}/lights"),
             diffuse: format!("cooktorrance{id}/diffuse"),
@@ -245,7 +234,7 @@ impl CookTorrance {
         if self.sss.is_some() {
             features.push("FAKE_SSS");
         }
-        if self.spot_sampler.is_some() {
+        if self.lights.textures().is_some() {
             features.push("SPOT_TEXTURE");
         }
         if self.textured() {
@@ -290,17 +279,17 @@ impl CookTorrance {
         if let Some(projections) = self.lights.projections() {
             all.push((14, projections.as_entire_binding()));
         }
-        let spot_textures = match (self.lights.textures(), &self.spot_sampler) {
-            (Some(t), Some(sampler)) => {
+        let spot_textures = match self.lights.textures() {
+            Some(t) => {
                 let view = cx
                     .texture(&t.name)?
                     .create_view(&wgpu::TextureViewDescriptor {
                         dimension: Some(wgpu::TextureViewDimension::D2Array),
                         ..Default::default()
                     });
-                Some((view, sampler))
+                Some((view, cx.shaders.sampler(&device, Sampling::LinearClamp)))
             }
-            _ => None,
+            None => None,
         };
         if let Some((view, sampler)) = &spot_textures {
             all.push((15, wgpu::BindingResource::TextureView(view)));

@@ -215,8 +215,8 @@ impl PackedMaterials {
 pub struct MaterialWorld {
     materials: Vec<Material>,
     union_flags: u32,
-    /// The array material textures index, and its sampler; only when some material reads it.
-    textures: Option<(TextureRef, wgpu::Sampler)>,
+    /// The array material textures index; only when some material reads it.
+    textures: Option<TextureRef>,
     /// Bit n: some material's feature n reads a texture.
     textured_flags: u32,
     meta: wgpu::Buffer,
@@ -283,18 +283,7 @@ impl MaterialWorld {
             }),
             None => 0,
         };
-        // Repeat, as UVs beyond 0..1 tile; made once with the world.
-        let textures = textures.filter(|_| textured_flags != 0).map(|t| {
-            let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
-                label: Some("material textures"),
-                address_mode_u: wgpu::AddressMode::Repeat,
-                address_mode_v: wgpu::AddressMode::Repeat,
-                mag_filter: wgpu::FilterMode::Linear,
-                min_filter: wgpu::FilterMode::Linear,
-                ..Default::default()
-            });
-            (t, sampler)
-        });
+        let textures = textures.filter(|_| textured_flags != 0);
         Arc::new(MaterialWorld {
             materials,
             union_flags,
@@ -343,7 +332,7 @@ impl MaterialWorld {
     /// MaterialMeta, FeatureOffset and MaterialData, for `@group(1) @binding(0..2)`.
     /// The texture array, when some material reads it.
     pub fn textures(&self) -> Option<&TextureRef> {
-        self.textures.as_ref().map(|(t, _)| t)
+        self.textures.as_ref()
     }
 
     /// Whether a pass reading `features` (a flag mask) needs MATERIAL_TEXTURES.
@@ -364,13 +353,17 @@ impl MaterialWorld {
     ) -> Result<wgpu::BindGroup, crate::error::RenderError> {
         let device = cx.gpu.device.clone();
         let views = match (&self.textures, textured) {
-            (Some((t, sampler)), true) => {
+            (Some(t), true) => {
                 let array = cx
                     .texture(&t.name)?
                     .create_view(&wgpu::TextureViewDescriptor {
                         dimension: Some(wgpu::TextureViewDimension::D2Array),
                         ..Default::default()
                     });
+                // Repeat: UVs beyond 0..1 tile.
+                let sampler = cx
+                    .shaders
+                    .sampler(&device, crate::shaders::Sampling::LinearRepeat);
                 Some((array, sampler, cx.view(uv)?))
             }
             _ => None,
@@ -382,7 +375,7 @@ impl MaterialWorld {
         ];
         if let Some((array, sampler, uv)) = &views {
             all.push((3, wgpu::BindingResource::TextureView(array)));
-            all.push((4, wgpu::BindingResource::Sampler(sampler)));
+            all.push((4, wgpu::BindingResource::Sampler(&sampler)));
             all.push((5, wgpu::BindingResource::TextureView(uv)));
         }
         cx.shaders
@@ -399,7 +392,7 @@ impl MaterialWorld {
         uv: &'a str,
     ) -> Vec<&'a str> {
         match (&self.textures, textured) {
-            (Some((t, _)), true) => {
+            (Some(t), true) => {
                 t.recipe.declare(renderer, fg);
                 vec![t.name.as_str(), uv]
             }
