@@ -2,8 +2,8 @@
 //! `FeatureManager` sets one feature, by id, on a material; `AddCookTorrance`,
 //! `AddEmission`, `AddFakeSSS`, `AddReflection`, `AddMatCap` and
 //! `AddAmbientOcclusion` (in `add_feature.rs`) wrap it per built-in feature;
-//! `MaterialBuffer` uploads a spread of materials (slice i = material id i)
-//! as a `MaterialWorld`.
+//! `MaterialManager` places materials at material IDs; `MaterialBuffer`
+//! uploads a spread of materials (slice i = material id i) as a `MaterialWorld`.
 //!
 //! Two resource kinds travel: `ResourceKind::Material` carries CPU-side
 //! `Arc<Material>`s (cheap to build and chain, no GPU), and
@@ -13,6 +13,7 @@
 pub mod add_feature;
 pub mod feature_manager;
 pub mod material_buffer;
+pub mod material_manager;
 
 use std::sync::Arc;
 
@@ -26,6 +27,7 @@ pub const CATEGORY: &str = "Material";
 pub fn register(r: &mut Registry) {
     feature_manager::register(r);
     add_feature::register(r);
+    material_manager::register(r);
     material_buffer::register(r);
 }
 

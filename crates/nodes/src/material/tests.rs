@@ -305,3 +305,45 @@ fn texture_ids_pick_a_layer_per_material_and_negative_means_none() {
     );
     assert_eq!(out[0].texture(Feature::Emission), Some(0));
 }
+
+#[test]
+fn material_managers_place_materials_at_their_ids_and_later_ones_win() {
+    let shiny = materials("AddCookTorrance", &[("Roughness", floats(&[0.1, 0.2]))]);
+    let placed = materials(
+        "MaterialManager",
+        &[
+            ("Material", material_spread(&shiny)),
+            ("Material ID", ints(&[3, 1])),
+        ],
+    );
+    assert_eq!(placed.len(), 4);
+    let rough = |m: &Material| m.params(Feature::CookTorrance).unwrap()[0][0];
+    assert_eq!(
+        placed.iter().map(|m| rough(m)).collect::<Vec<_>>(),
+        [0.5, 0.2, 0.5, 0.1]
+    );
+    // A second manager replaces id 1 and keeps the rest.
+    let glow = materials("AddEmission", &[]);
+    let chained = materials(
+        "MaterialManager",
+        &[
+            ("Materials", material_spread(&placed)),
+            ("Material", material_spread(&glow)),
+            ("Material ID", ints(&[1])),
+        ],
+    );
+    assert_eq!(chained.len(), 4);
+    assert_eq!(chained[1].flags(), Feature::Emission.flag());
+    assert!(Arc::ptr_eq(&chained[3], &placed[3]));
+    let e = eval_err(
+        "MaterialManager",
+        &[("Material ID", ints(&[2, 2]))],
+        "Material ID",
+    );
+    assert!(e.to_string().contains("id 2 is given twice"), "{e}");
+    eval_err(
+        "MaterialManager",
+        &[("Material ID", ints(&[-1]))],
+        "Material ID",
+    );
+}
