@@ -375,7 +375,7 @@ impl MaterialWorld {
         ];
         if let Some((array, sampler, uv)) = &views {
             all.push((3, wgpu::BindingResource::TextureView(array)));
-            all.push((4, wgpu::BindingResource::Sampler(&sampler)));
+            all.push((4, wgpu::BindingResource::Sampler(sampler)));
             all.push((5, wgpu::BindingResource::TextureView(uv)));
         }
         cx.shaders
