@@ -22,6 +22,13 @@
 #import spreadlight::material::{feature_param_at, FEATURE_FAKE_SSS}
 #endif
 #endif
+#ifdef SHADOWS
+#import spreadlight::shadow_sampling::light_shadow
+// World-space normal of the pixel being shaded, for the shadows' normal offset.
+var<private> normal_world: vec3<f32>;
+// Its camera depth, to pick a sun's cascade.
+var<private> view_depth: f32;
+#endif
 #ifdef FAKE_SSS
 // Wrap-lighting subsurface term, tinted per material by the FakeSSS feature.
 @group(0) @binding(13) var out_sss: texture_storage_2d<rgba16float, write>;
@@ -104,7 +111,12 @@ fn shade(light: u32, p: vec3<f32>, pw: vec3<f32>, n: vec3<f32>, v: vec3<f32>, al
 #ifdef LIGHT_SUN
     let travel = safe_normalize((camera.view * vec4<f32>(record.direction.xyz, 0.0)).xyz, vec3<f32>(0.0, 0.0, -1.0));
     let l = -travel;
-    let radiance = record.intensity.rgb;
+    var radiance = record.intensity.rgb;
+#ifdef SHADOWS
+    if (record.cone.z >= 0.0) {
+        radiance *= light_shadow(u32(record.cone.z), pw, normal_world, record.direction.xyz, view_depth);
+    }
+#endif
 #else
     let lv = view_lights[light];
     let to_light = lv.xyz - p;
@@ -119,9 +131,15 @@ fn shade(light: u32, p: vec3<f32>, pw: vec3<f32>, n: vec3<f32>, v: vec3<f32>, al
     if (all(mask <= vec3<f32>(0.0))) {
         return;
     }
-    let radiance = record.intensity.rgb * attenuation * mask;
+    var radiance = record.intensity.rgb * attenuation * mask;
 #else
-    let radiance = record.intensity.rgb * attenuation;
+    var radiance = record.intensity.rgb * attenuation;
+#endif
+#ifdef SHADOWS
+    // A light's own shadow slice (cone.z; -1: casts none).
+    if (record.cone.z >= 0.0) {
+        radiance *= light_shadow(u32(record.cone.z), pw, normal_world, pw - record.position_range.xyz, view_depth);
+    }
 #endif
 #endif
     let brdf = cook_torrance(n, v, l, albedo, rm.x, rm.y, ENERGY);
@@ -164,6 +182,10 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let pw = (camera.view_inverse * vec4<f32>(p, 1.0)).xyz;
     let n = safe_normalize(textureLoad(normals, pixel, 0).xyz, vec3<f32>(0.0, 0.0, 1.0));
     let v = safe_normalize(-p, vec3<f32>(0.0, 0.0, 1.0));
+#ifdef SHADOWS
+    normal_world = safe_normalize((camera.view_inverse * vec4<f32>(n, 0.0)).xyz, vec3<f32>(0.0, 1.0, 0.0));
+    view_depth = -p.z;
+#endif
     let texel = textureLoad(color, pixel, 0);
     let albedo = texel.rgb;
     let material = channel_to_id(texel.a);

@@ -9,7 +9,7 @@
 //! scope, so a wgpu validation error is reported against the pass (and the
 //! node that declared it) and the rest of the frame still renders.
 
-use std::collections::{HashMap, HashSet};
+use std::collections::{BTreeMap, HashMap, HashSet};
 
 use crate::context::GpuContext;
 use crate::error::RenderError;
@@ -136,6 +136,8 @@ pub struct PassContext<'f> {
     /// Draw calls recorded (raster passes count theirs here).
     pub draws: u64,
     pub output_size: (u32, u32),
+    /// What the pass decided, by name (shadow maps rendered, reused, culled...): summed into the frame report.
+    pub(crate) counters: BTreeMap<&'static str, u64>,
 }
 
 impl<'f> PassContext<'f> {
@@ -149,6 +151,12 @@ impl<'f> PassContext<'f> {
         Ok(self
             .texture(name)?
             .create_view(&wgpu::TextureViewDescriptor::default()))
+    }
+
+    /// Add `n` to the frame report's counter `name`: how passes show the work
+    /// they did and the work they saved.
+    pub fn count(&mut self, name: &'static str, n: u64) {
+        *self.counters.entry(name).or_default() += n;
     }
 
     /// A persistent texture created this frame: it holds no history yet.
@@ -240,6 +248,15 @@ pub struct FrameReport {
     pub record_ms: f64,
     /// Time spent waiting for the GPU to finish (to read the timestamps).
     pub wait_ms: f64,
+    /// Decisions passes counted (`PassContext::count`), e.g. "shadow maps reused".
+    pub counters: BTreeMap<String, u64>,
+}
+
+impl FrameReport {
+    /// A counter's value; 0 when no pass counted it.
+    pub fn counter(&self, name: &str) -> u64 {
+        self.counters.get(name).copied().unwrap_or(0)
+    }
 }
 
 /// A frame being described; [`FrameGraph::execute`] runs it.
@@ -441,8 +458,21 @@ impl<'a> FrameGraph<'a> {
     }
 }
 
+/// What a pass recorded, for the executor.
+pub(crate) struct Recorded {
+    pub commands: wgpu::CommandBuffer,
+    pub queries: Vec<(u32, u32)>,
+    pub draws: u64,
+    pub counters: BTreeMap<&'static str, u64>,
+}
+
 impl PassContext<'_> {
-    pub(crate) fn finish(self) -> (wgpu::CommandBuffer, Vec<(u32, u32)>, u64) {
-        (self.encoder.finish(), self.queries, self.draws)
+    pub(crate) fn finish(self) -> Recorded {
+        Recorded {
+            commands: self.encoder.finish(),
+            queries: self.queries,
+            draws: self.draws,
+            counters: self.counters,
+        }
     }
 }

@@ -19,6 +19,7 @@ pub mod recipe;
 pub mod reference;
 pub mod renderer;
 pub mod shaders;
+pub mod shadows;
 pub mod texture;
 
 pub use context::GpuContext;

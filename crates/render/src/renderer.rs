@@ -6,7 +6,7 @@
 //! interior state is behind mutexes so it is shared, not cloned.
 
 use std::collections::{HashMap, HashSet};
-use std::sync::Mutex;
+use std::sync::{Arc, Mutex};
 
 use crate::context::GpuContext;
 use crate::error::RenderError;
@@ -38,6 +38,8 @@ pub struct Renderer {
     timestamps: Option<Timestamps>,
     last_report: Mutex<FrameReport>,
     output_size: Mutex<(u32, u32)>,
+    /// What recipes keep between frames (shadow maps), by type and key.
+    states: Mutex<HashMap<(std::any::TypeId, u64), Arc<dyn std::any::Any + Send + Sync>>>,
 }
 
 /// The output size until a host sets one.
@@ -74,6 +76,7 @@ impl Renderer {
             timestamps,
             last_report: Mutex::new(FrameReport::default()),
             output_size: Mutex::new(DEFAULT_OUTPUT_SIZE),
+            states: Mutex::new(HashMap::new()),
         })
     }
 
@@ -94,6 +97,21 @@ impl Renderer {
     pub fn set_output_size(&self, size: (u32, u32)) {
         *self.output_size.lock().unwrap_or_else(|e| e.into_inner()) =
             (size.0.max(1), size.1.max(1));
+    }
+
+    /// State a recipe keeps across frames and across its own re-creation
+    /// (a node re-evaluated makes a new recipe), under `key` (usually the
+    /// node id): made with `T::default()` the first time.
+    pub fn state<T: Default + Send + Sync + 'static>(&self, key: u64) -> Arc<T> {
+        let mut states = self.states.lock().unwrap_or_else(|e| e.into_inner());
+        let entry = states
+            .entry((std::any::TypeId::of::<T>(), key))
+            .or_insert_with(|| Arc::new(T::default()));
+        match entry.clone().downcast::<T>() {
+            Ok(state) => state,
+            // Keyed by the type's id: another type cannot be under it.
+            Err(_) => unreachable!("state keyed by its TypeId"),
+        }
     }
 
     /// The report of the last executed frame graph.
@@ -219,13 +237,22 @@ impl Renderer {
                 query_capacity: capacity,
                 draws: 0,
                 output_size,
+                counters: Default::default(),
             };
             let run = parts.runs[p].take();
             let result = match run {
                 Some(run) => run(&mut cx),
                 None => Ok(()),
             };
-            let (buffer, queries, draws) = cx.finish();
+            let frame_graph::Recorded {
+                commands: buffer,
+                queries,
+                draws,
+                counters,
+            } = cx.finish();
+            for (name, n) in counters {
+                *report.counters.entry(name.to_owned()).or_default() += n;
+            }
             let validation = pollster::block_on(scope.pop());
             let error = match (result, validation) {
                 (Err(e), _) => Some(e.to_string()),

@@ -105,6 +105,7 @@ pub const SHADERS: &[ShaderFile] = &[
     shader!("lib/lights.wgsl", library),
     shader!("lib/tonemap.wgsl", library),
     shader!("lib/material.wgsl", library),
+    shader!("lighting/shadow_sampling.wgsl", library),
     shader!("gbuffer/visibility.wgsl", []),
     shader!("gbuffer/raster.wgsl", []),
     shader!(
@@ -129,9 +130,19 @@ pub const SHADERS: &[ShaderFile] = &[
             "MATERIALS",
             "FAKE_SSS",
             "SPOT_TEXTURE",
-            "MATERIAL_TEXTURES"
+            "MATERIAL_TEXTURES",
+            "SHADOWS",
+            "SHADOW_PCF",
+            "SHADOW_PCSS",
+            "SHADOW_VSM"
         ],
         Rule::AtMostOne(&["LIGHT_SPOT", "LIGHT_SUN"]),
+        // SHADOWS alone samples raw; the others choose a filter.
+        Rule::AtMostOne(&["SHADOW_PCF", "SHADOW_PCSS", "SHADOW_VSM"]),
+        Rule::Requires("SHADOW_PCF", "SHADOWS"),
+        Rule::Requires("SHADOW_PCSS", "SHADOWS"),
+        Rule::Requires("SHADOW_VSM", "SHADOWS"),
+        Rule::Requires("FAKE_SSS", "MATERIALS"),
         // Suns have no range to cluster by.
         Rule::AtMostOne(&["LIGHT_SUN", "CLUSTERED"]),
         Rule::Requires("SPOT_TEXTURE", "LIGHT_SPOT"),
@@ -162,6 +173,8 @@ pub const SHADERS: &[ShaderFile] = &[
         Rule::Requires("AO_PER_MATERIAL", "AO"),
         Rule::Requires("MATERIAL_TEXTURES", "EMISSION")
     ),
+    shader!("shadows/depth.wgsl", []),
+    shader!("shadows/moments.wgsl", []),
     shader!("post/tonemap.wgsl", ["EYE_ADAPTATION"]),
     shader!("post/eye_adaptation.wgsl", []),
     shader!("gbuffer/view.wgsl", one_of ["ALBEDO", "NORMALS", "VELOCITY", "UV", "DEPTH", "MATERIAL_ID", "OBJECT_ID"]),
@@ -326,6 +339,8 @@ pub enum Sampling {
     LinearRepeat,
     /// Bilinear, held at the edges (projected textures).
     LinearClamp,
+    /// Bilinear depth comparisons (`<=`), held at the edges: shadow maps.
+    ShadowCompare,
 }
 
 /// Compiled shader modules and pipelines, keyed by permutation. Counts what it
@@ -455,13 +470,18 @@ impl ShaderCache {
             .or_insert_with(|| {
                 let address = match sampling {
                     Sampling::LinearRepeat => wgpu::AddressMode::Repeat,
-                    Sampling::LinearClamp => wgpu::AddressMode::ClampToEdge,
+                    Sampling::LinearClamp | Sampling::ShadowCompare => {
+                        wgpu::AddressMode::ClampToEdge
+                    }
                 };
                 device.create_sampler(&wgpu::SamplerDescriptor {
                     label: Some(match sampling {
                         Sampling::LinearRepeat => "linear repeat",
                         Sampling::LinearClamp => "linear clamp",
+                        Sampling::ShadowCompare => "shadow compare",
                     }),
+                    compare: (sampling == Sampling::ShadowCompare)
+                        .then_some(wgpu::CompareFunction::LessEqual),
                     address_mode_u: address,
                     address_mode_v: address,
                     mag_filter: wgpu::FilterMode::Linear,

@@ -156,6 +156,7 @@ fn scattered(count: usize) -> Vec<PointLight> {
     };
     (0..count)
         .map(|_| PointLight {
+            shadow: None,
             position: Vec3::new(u() * 20.0 - 10.0, 0.3 + u() * 2.0, u() * 20.0 - 10.0),
             color: Vec3::new(u(), u(), u()),
             intensity: 5.0 + u() * 20.0,
@@ -203,6 +204,7 @@ fn zero_one_and_many_lights_in_one_cluster_stay_finite_and_exact() {
         "no light, no radiance"
     );
     let one = PointLight {
+        shadow: None,
         position: Vec3::new(0.0, 2.0, 0.0),
         color: Vec3::ONE,
         intensity: 50.0,
@@ -229,6 +231,7 @@ fn extreme_lights_never_produce_nan_or_infinity() {
     let renderer = test_renderer();
     let g = scene(&renderer);
     let on_surface = PointLight {
+        shadow: None,
         position: Vec3::new(0.0, 0.0, 3.0),
         color: Vec3::ONE,
         intensity: 10.0,
@@ -281,6 +284,7 @@ fn a_sun_lights_what_faces_it_and_nothing_else() {
     let renderer = test_renderer();
     let g = scene(&renderer);
     let from_above = SunLight {
+        shadow: None,
         direction: Vec3::NEG_Y,
         color: Vec3::ONE,
         illuminance: 10.0,
@@ -358,6 +362,7 @@ fn spot_cones_from_zero_to_nearly_a_hemisphere_stay_finite_and_bounded() {
         &renderer,
         &g,
         vec![PointLight {
+            shadow: None,
             position: Vec3::new(0.0, 4.0, 0.0),
             color: Vec3::ONE,
             intensity: 200.0,
@@ -452,6 +457,7 @@ fn the_material_buffer_drives_shading_and_unused_features_cost_nothing() {
     let renderer = test_renderer();
     let g = scene(&renderer);
     let light = PointLight {
+        shadow: None,
         position: Vec3::new(0.0, 2.0, 1.0),
         color: Vec3::ONE,
         intensity: 30.0,
@@ -642,6 +648,7 @@ fn fake_sss_adds_light_past_the_terminator_only_for_materials_that_have_it() {
     let g = scene(&renderer);
     // A light low at the side: the balls have a lit and a dark half.
     let light = PointLight {
+        shadow: None,
         position: Vec3::new(-6.0, 0.5, 0.0),
         color: Vec3::ONE,
         intensity: 200.0,
@@ -843,6 +850,7 @@ fn white_furnace_returns_at_most_the_incoming_energy() {
             let r = (1.0 - z * z).sqrt();
             let phi = i as f32 * golden;
             SunLight {
+                shadow: None,
                 direction: -Vec3::new(r * phi.cos(), r * phi.sin(), z),
                 color: Vec3::ONE,
                 illuminance: 4.0 * std::f32::consts::PI / n as f32,

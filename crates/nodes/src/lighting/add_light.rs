@@ -138,6 +138,7 @@ pub fn register(r: &mut Registry) {
                 .zip(cycled(intensities, n))
                 .zip(cycled(ranges, n))
                 .map(|(((position, color), intensity), range)| PointLight {
+ shadow: None,
                     position: *position,
                     color: rgb(color),
                     intensity: *intensity,
@@ -181,6 +182,7 @@ pub fn register(r: &mut Registry) {
             let lights: Vec<SpotLight> = placement
                 .zip(look)
                 .map(|(((view, projection), color), ((intensity, texture), softness))| SpotLight {
+ shadow: None,
                     view: *view,
                     projection: *projection,
                     color: rgb(color),
@@ -219,6 +221,7 @@ pub fn register(r: &mut Registry) {
                 .zip(cycled(colors, n))
                 .zip(cycled(illuminances, n))
                 .map(|((direction, color), illuminance)| SunLight {
+                    shadow: None,
                     direction: *direction,
                     color: rgb(color),
                     illuminance: *illuminance,

@@ -14,6 +14,7 @@ use crate::material::{FEATURE_FAKE_SSS, MaterialWorld};
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
 use crate::shaders::{Sampling, ShaderKey};
+use crate::shadows::{ShadowFilter, ShadowMaps};
 
 /// Where roughness and metallic come from.
 #[derive(Clone, Debug)]
@@ -50,6 +51,8 @@ pub struct CookTorrance {
     pub specular: String,
     /// The subsurface output: only when some material of the world has FakeSSS.
     pub sss: Option<String>,
+    /// Shadow maps for the lights whose `shadow` slice is set.
+    shadows: Option<Arc<ShadowMaps>>,
 }
 
 /// Near and far of a conventional (0..1 depth) perspective projection; None for others.
@@ -70,6 +73,30 @@ impl CookTorrance {
         mode: LightLoop,
         energy_compensation: bool,
         surfaces: Surfaces,
+    ) -> Arc<Self> {
+        Self::with_shadows(
+            renderer,
+            owner,
+            gbuffer,
+            lights,
+            mode,
+            energy_compensation,
+            surfaces,
+            None,
+        )
+    }
+
+    /// As [`CookTorrance::new`], with the shadow maps its lights' slices index.
+    #[allow(clippy::too_many_arguments)]
+    pub fn with_shadows(
+        renderer: &Renderer,
+        owner: Option<u32>,
+        gbuffer: Arc<GBuffer>,
+        lights: Arc<LightBuffer>,
+        mode: LightLoop,
+        energy_compensation: bool,
+        surfaces: Surfaces,
+        shadows: Option<Arc<ShadowMaps>>,
     ) -> Arc<Self> {
         let (surfaces, materials) = match surfaces {
             Surfaces::PerMaterialId(list) => (list, None),
@@ -120,6 +147,7 @@ impl CookTorrance {
             diffuse: format!("cooktorrance{id}/diffuse"),
             specular: format!("cooktorrance{id}/specular"),
             sss,
+            shadows,
         })
     }
 
@@ -240,6 +268,13 @@ impl CookTorrance {
         if self.textured() {
             features.push("MATERIAL_TEXTURES");
         }
+        if let Some(shadows) = &self.shadows {
+            features.push("SHADOWS");
+            match shadows.filter() {
+                ShadowFilter::Raw => {}
+                filter => features.push(filter.feature()),
+            }
+        }
         let key = ShaderKey::new("lighting/cook_torrance.wgsl", features);
         let pipeline = cx.shaders.compute_pipeline(&device, &key, "main")?;
         let g = &self.gbuffer;
@@ -294,6 +329,35 @@ impl CookTorrance {
         if let Some((view, sampler)) = &spot_textures {
             all.push((15, wgpu::BindingResource::TextureView(view)));
             all.push((16, wgpu::BindingResource::Sampler(sampler)));
+        }
+        let shadow_views = match &self.shadows {
+            Some(shadows) => {
+                let (depth, moments) = shadows.textures().ok_or_else(|| RenderError::Pass {
+                    pass: "cook torrance".to_owned(),
+                    message: "the shadow maps were not rendered this frame".to_owned(),
+                })?;
+                let array = |t: &wgpu::Texture, aspect| {
+                    t.create_view(&wgpu::TextureViewDescriptor {
+                        dimension: Some(wgpu::TextureViewDimension::D2Array),
+                        aspect,
+                        ..Default::default()
+                    })
+                };
+                let depth = array(&depth, wgpu::TextureAspect::DepthOnly);
+                let moments = moments.map(|m| array(&m, wgpu::TextureAspect::All));
+                let compare = cx.shaders.sampler(&device, Sampling::ShadowCompare);
+                Some((shadows, depth, moments, compare))
+            }
+            None => None,
+        };
+        if let Some((shadows, depth, moments, compare)) = &shadow_views {
+            all.push((17, wgpu::BindingResource::TextureView(depth)));
+            all.push((18, wgpu::BindingResource::Sampler(compare)));
+            all.push((19, shadows.views().as_entire_binding()));
+            all.push((20, shadows.params().as_entire_binding()));
+            if let Some(moments) = moments {
+                all.push((21, wgpu::BindingResource::TextureView(moments)));
+            }
         }
         let group = cx
             .shaders
@@ -383,6 +447,10 @@ impl Recipe for CookTorrance {
         }
         if let Some(world) = &self.materials {
             reads.extend(world.declare_textures(renderer, fg, self.textured(), &g.velocity_uv));
+        }
+        if let Some(shadows) = &self.shadows {
+            shadows.declare(renderer, fg);
+            reads.push(shadows.token());
         }
         fg.add_pass(
             self.label("shade"),

@@ -25,6 +25,8 @@ pub struct PointLight {
     pub color: Vec3,
     pub intensity: f32,
     pub range: f32,
+    /// The slice of a `ShadowMap (Point)` that holds this light's shadow (six faces); None: casts none.
+    pub shadow: Option<u32>,
 }
 
 /// A spot light as Emeshe has it: a projector. `view` places it (it looks
@@ -40,6 +42,8 @@ pub struct SpotLight {
     pub intensity: f32,
     pub texture: Option<u32>,
     pub softness: f32,
+    /// The slice of a `ShadowMap (Spot)` that holds this light's shadow; None: casts none.
+    pub shadow: Option<u32>,
 }
 
 /// The widest cone a perspective projection can make (just under 180 degrees).
@@ -66,6 +70,7 @@ impl SpotLight {
         let inner = inner_angle.clamp(0.0, outer);
         let range = range.max(1e-3);
         SpotLight {
+            shadow: None,
             view: glam::camera::rh::view::look_to_mat4(position, direction, up),
             projection: glam::camera::rh::proj::directx::perspective(
                 2.0 * outer,
@@ -151,6 +156,8 @@ pub struct SunLight {
     pub direction: Vec3,
     pub color: Vec3,
     pub illuminance: f32,
+    /// The slice of a `ShadowMap (Sun)` that holds this light's cascades; None: casts none.
+    pub shadow: Option<u32>,
 }
 
 /// Which light type a buffer holds; CookTorrance compiles one permutation per type.
@@ -182,6 +189,7 @@ struct GpuLight {
     /// xyz unit direction the light travels, w cosine of the outer cone angle.
     direction: [f32; 4],
     /// Spots: x edge softness of a round cone, y texture layer (-1: none).
+    /// Every type: z its shadow slice (-1: none).
     cone: [f32; 4],
 }
 
@@ -221,7 +229,7 @@ impl LightBuffer {
                 position_range: l.position.extend(l.range.max(0.0)).to_array(),
                 intensity: radiant(l.color, l.intensity),
                 direction: [0.0, -1.0, 0.0, -1.0],
-                cone: [-1.0, 0.0, 0.0, 0.0],
+                cone: [-1.0, 0.0, shadow_slice(l.shadow), 0.0],
             })
             .collect();
         Self::upload(renderer, LightKind::Point, gpu)
@@ -248,7 +256,12 @@ impl LightBuffer {
                 position_range: frustum.position.extend(frustum.range).to_array(),
                 intensity: radiant(l.color, l.intensity),
                 direction: frustum.axis.extend(frustum.cos_bound).to_array(),
-                cone: [sanitize_unit(l.softness), layer, 0.0, 0.0],
+                cone: [
+                    sanitize_unit(l.softness),
+                    layer,
+                    shadow_slice(l.shadow),
+                    0.0,
+                ],
             });
             projections.push((l.projection * l.view).to_cols_array());
         }
@@ -278,7 +291,7 @@ impl LightBuffer {
                 position_range: [0.0; 4],
                 intensity: radiant(l.color, l.illuminance),
                 direction: unit(l.direction).extend(-1.0).to_array(),
-                cone: [-1.0, 0.0, 0.0, 0.0],
+                cone: [-1.0, 0.0, shadow_slice(l.shadow), 0.0],
             })
             .collect();
         Self::upload(renderer, LightKind::Sun, gpu)
@@ -323,6 +336,11 @@ impl LightBuffer {
     pub fn textures(&self) -> Option<&TextureRef> {
         self.textures.as_ref()
     }
+}
+
+/// A shadow slice as the shader reads it: exact in f32, -1 for none.
+fn shadow_slice(slice: Option<u32>) -> f32 {
+    slice.map_or(-1.0, |s| s as f32)
 }
 
 /// 0..1, and 0 for NaN.

@@ -1,0 +1,754 @@
+//! Shadow maps, after Emeshe's ShadowMap modules and Castor3D's shadow
+//! passes: one `ShadowMaps` recipe serves a whole spread of lights of one
+//! type. Spots get one layer each of a 2D depth array, point lights six
+//! (a cube map array's layout), suns one per cascade. `CookTorrance` samples
+//! the layer a light's `shadow` slice names, with the filter compiled in as
+//! a permutation (Raw, PCF, PCSS or VSM).
+//!
+//! Only the shadows a scene calls for: a light with no slice renders
+//! nothing; a light whose volume misses the camera's frustum renders
+//! nothing; a slice whose light and casters are unchanged since it was
+//! rendered is reused (the maps live in the renderer between frames, under
+//! the node's id). The frame report counts each decision
+//! ("shadow maps rendered", "shadow maps reused", "shadow maps culled").
+
+pub mod views;
+
+use std::sync::{Arc, Mutex};
+
+use glam::{Mat4, Vec3};
+use wgpu::util::DeviceExt;
+
+use crate::camera::CameraInput;
+use crate::error::RenderError;
+use crate::frame_graph::{FrameGraph, Lifetime, PassContext, SizeRule, TextureDesc};
+use crate::gbuffer::Layer;
+use crate::recipe::{Recipe, next_recipe_id};
+use crate::renderer::Renderer;
+use crate::shaders::ShaderKey;
+
+pub use views::{Cascades, LayerView};
+
+/// How a shadow is filtered when it is sampled.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ShadowFilter {
+    /// One comparison at the nearest texel: hard, aliased edges.
+    Raw,
+    /// Percentage-closer filtering over `kernel` x `kernel` texels (odd, 1..=9).
+    Pcf { kernel: u32 },
+    /// Percentage-closer soft shadows (Fernando 2005; Emeshe's soft shadows):
+    /// a blocker search, a penumbra from the light's size, then PCF over it.
+    Pcss { light_size: f32, samples: u32 },
+    /// Variance shadow maps (Donnelly and Lauritzen 2006): depth moments in
+    /// RG32F, blurred, with light-bleeding reduction 0..1.
+    Vsm { bleeding: f32, blur: u32 },
+}
+
+impl ShadowFilter {
+    pub(crate) fn feature(self) -> &'static str {
+        match self {
+            ShadowFilter::Raw => "SHADOW_RAW",
+            ShadowFilter::Pcf { .. } => "SHADOW_PCF",
+            ShadowFilter::Pcss { .. } => "SHADOW_PCSS",
+            ShadowFilter::Vsm { .. } => "SHADOW_VSM",
+        }
+    }
+}
+
+/// What every shadow map of a node shares.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ShadowSettings {
+    /// Texels along each side of a layer.
+    pub resolution: u32,
+    pub filter: ShadowFilter,
+    /// Subtracted from the receiver's depth, in world units.
+    pub depth_bias: f32,
+    /// The receiver moves this many texels along its normal before it is compared.
+    pub normal_bias: f32,
+}
+
+impl Default for ShadowSettings {
+    fn default() -> Self {
+        ShadowSettings {
+            resolution: 1024,
+            filter: ShadowFilter::Pcf { kernel: 3 },
+            depth_bias: 0.02,
+            normal_bias: 1.5,
+        }
+    }
+}
+
+/// The lights of one type that cast, with their slices.
+#[derive(Clone, Debug)]
+pub enum ShadowLights {
+    /// (slice, view, projection) of each casting spot.
+    Spot(Vec<(u32, Mat4, Mat4)>),
+    /// (slice, position, range) of each casting point light.
+    Point(Vec<(u32, Vec3, f32)>),
+    /// (slice, direction) of each casting sun, with the cascade setup.
+    Sun {
+        lights: Vec<(u32, Vec3)>,
+        cascades: Cascades,
+    },
+}
+
+impl ShadowLights {
+    /// Layers per slice: 1 for a spot, 6 for a point light, the cascades for a sun.
+    pub fn layers_per_slice(&self) -> u32 {
+        match self {
+            ShadowLights::Spot(_) => 1,
+            ShadowLights::Point(_) => 6,
+            ShadowLights::Sun { cascades, .. } => cascades.count.clamp(1, 4),
+        }
+    }
+
+    fn slices(&self) -> Vec<u32> {
+        match self {
+            ShadowLights::Spot(l) => l.iter().map(|x| x.0).collect(),
+            ShadowLights::Point(l) => l.iter().map(|x| x.0).collect(),
+            ShadowLights::Sun { lights, .. } => lights.iter().map(|x| x.0).collect(),
+        }
+    }
+}
+
+/// Why a set of shadow lights cannot be rendered.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum ShadowError {
+    #[error("shadow slice {slice} is given to two lights")]
+    SliceTwice { slice: u32 },
+    #[error(
+        "shadow slice {slice} is too high: a texture array holds {max} layers, {per} per slice here"
+    )]
+    TooManySlices { slice: u32, max: u32, per: u32 },
+    #[error("resolution {0} is outside 16..={1}")]
+    Resolution(u32, u32),
+}
+
+/// What is rendered where: one entry per slice that renders this frame.
+#[derive(Clone, Debug)]
+struct SlicePlan {
+    slice: u32,
+    views: Vec<LayerView>,
+    /// The light's volume misses the camera: nothing to render.
+    culled: bool,
+}
+
+/// The maps themselves, kept by the renderer between frames.
+#[derive(Default)]
+pub(crate) struct ShadowStore(Mutex<Option<StoredMaps>>);
+
+pub(crate) struct StoredMaps {
+    layers: u32,
+    resolution: u32,
+    depth: wgpu::Texture,
+    moments: Option<wgpu::Texture>,
+    /// Per slice: what it holds (its views and casters), to reuse it.
+    contents: Vec<Option<SliceContent>>,
+}
+
+/// What a rendered slice shows: reusable while both are the same.
+#[derive(Clone)]
+struct SliceContent {
+    views: Vec<[f32; 16]>,
+    casters: Vec<Arc<Layer>>,
+    filter: ShadowFilter,
+}
+
+impl SliceContent {
+    fn same(&self, other: &SliceContent) -> bool {
+        self.views == other.views
+            && self.filter == other.filter
+            && self.casters.len() == other.casters.len()
+            && self
+                .casters
+                .iter()
+                .zip(&other.casters)
+                .all(|(a, b)| Arc::ptr_eq(a, b))
+    }
+}
+
+/// Matches `Caster` in shaders/shadows/depth.wgsl.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
+struct GpuCaster {
+    model: [f32; 16],
+    /// first index, base vertex, 0, 0
+    info: [u32; 4],
+}
+
+/// Matches `ShadowParams` in shaders/lighting/shadow_sampling.wgsl.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
+struct GpuShadowParams {
+    /// depth bias, normal bias (texels), PCF radius (texels), PCSS light size (UV)
+    bias: [f32; 4],
+    /// PCSS samples, VSM bleeding, resolution, layers per slice
+    filter: [f32; 4],
+}
+
+const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+const MOMENTS_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg32Float;
+/// Room for one view matrix per uniform slot, at the usual offset alignment.
+const VIEW_STRIDE: u64 = 256;
+
+/// A node's shadow maps for one frame: a recipe whose pass renders the
+/// slices that need it into the renderer's stored maps.
+pub struct ShadowMaps {
+    id: u64,
+    owner: Option<u32>,
+    pub settings: ShadowSettings,
+    per_slice: u32,
+    plans: Vec<SlicePlan>,
+    /// Every layer's view, slice-major (what the shader reads), even for slices with no light.
+    views: wgpu::Buffer,
+    params: wgpu::Buffer,
+    /// One view matrix per uniform slot, for the depth pass.
+    view_uniforms: wgpu::Buffer,
+    casters: Vec<Arc<Layer>>,
+    caster_buffer: wgpu::Buffer,
+    draws: Vec<(u32, u32, u32)>,
+    store: Arc<ShadowStore>,
+    layers: u32,
+    token: String,
+}
+
+impl std::fmt::Debug for ShadowMaps {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "ShadowMaps({} slices x {} layers)",
+            self.layers / self.per_slice,
+            self.per_slice
+        )
+    }
+}
+
+/// The largest map side the nodes allow.
+pub const MAX_RESOLUTION: u32 = 8192;
+
+impl ShadowMaps {
+    /// Shadow maps of `lights` cast by `casters`, for a frame seen by
+    /// `camera` (culling and sun cascades follow it). `owner` keys the
+    /// stored maps: the same node reuses its maps from frame to frame.
+    pub fn new(
+        renderer: &Renderer,
+        owner: Option<u32>,
+        lights: &ShadowLights,
+        casters: Vec<Arc<Layer>>,
+        camera: &CameraInput,
+        settings: ShadowSettings,
+    ) -> Result<Arc<Self>, ShadowError> {
+        let id = next_recipe_id();
+        let max_layers = renderer.gpu.device.limits().max_texture_array_layers;
+        let max_side = renderer
+            .gpu
+            .device
+            .limits()
+            .max_texture_dimension_2d
+            .min(MAX_RESOLUTION);
+        if !(16..=max_side).contains(&settings.resolution) {
+            return Err(ShadowError::Resolution(settings.resolution, max_side));
+        }
+        let per = lights.layers_per_slice();
+        let mut seen = std::collections::HashSet::new();
+        for slice in lights.slices() {
+            if !seen.insert(slice) {
+                return Err(ShadowError::SliceTwice { slice });
+            }
+            if (slice + 1).saturating_mul(per) > max_layers {
+                return Err(ShadowError::TooManySlices {
+                    slice,
+                    max: max_layers,
+                    per,
+                });
+            }
+        }
+        let slices = lights.slices().into_iter().max().map_or(0, |m| m + 1);
+        let layers = (slices * per).max(1);
+        let res = settings.resolution;
+        let camera_vp = camera.projection * camera.view;
+        let (bounds_center, bounds_radius) = caster_bounds(&casters);
+        let plans: Vec<SlicePlan> = match lights {
+            ShadowLights::Spot(list) => list
+                .iter()
+                .map(|&(slice, view, projection)| {
+                    let v = views::spot(view, projection, res);
+                    let position = crate::camera::safe_inverse(view).w_axis.truncate();
+                    let culled = match v {
+                        Some(v) => !views::sphere_in_frustum(camera_vp, position, v.far),
+                        None => true,
+                    };
+                    SlicePlan {
+                        slice,
+                        views: v.into_iter().collect(),
+                        culled,
+                    }
+                })
+                .collect(),
+            ShadowLights::Point(list) => list
+                .iter()
+                .map(|&(slice, position, range)| SlicePlan {
+                    slice,
+                    views: views::point(position, range, res).to_vec(),
+                    culled: !views::sphere_in_frustum(camera_vp, position, range.max(0.0)),
+                })
+                .collect(),
+            ShadowLights::Sun { lights, cascades } => lights
+                .iter()
+                .map(|&(slice, direction)| {
+                    // Deep enough to hold every caster between the cascade and the sun.
+                    let depth = bounds_radius * 2.0 + (bounds_center.length());
+                    SlicePlan {
+                        slice,
+                        views: views::sun(direction, camera, *cascades, depth, res),
+                        culled: false,
+                    }
+                })
+                .collect(),
+        };
+        let device = &renderer.gpu.device;
+        let mut all = vec![
+            LayerView {
+                view_projection: Mat4::ZERO,
+                near: 0.0,
+                far: 1.0,
+                texel: 0.0,
+                orthographic: false,
+                split: 0.0,
+            }
+            .to_gpu();
+            layers as usize
+        ];
+        let mut uniforms = vec![0u8; (layers as usize) * VIEW_STRIDE as usize];
+        for plan in &plans {
+            for (k, v) in plan.views.iter().enumerate() {
+                let layer = (plan.slice * per) as usize + k;
+                all[layer] = v.to_gpu();
+                let at = layer * VIEW_STRIDE as usize;
+                uniforms[at..at + 64]
+                    .copy_from_slice(bytemuck::cast_slice(&v.view_projection.to_cols_array()));
+            }
+        }
+        let views_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("shadow views"),
+            contents: bytemuck::cast_slice(&all),
+            usage: wgpu::BufferUsages::STORAGE,
+        });
+        let view_uniforms = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("shadow view uniforms"),
+            contents: &uniforms,
+            usage: wgpu::BufferUsages::UNIFORM,
+        });
+        let (radius, light_size, samples, bleeding) = match settings.filter {
+            ShadowFilter::Raw => (0.0, 0.0, 0.0, 0.0),
+            ShadowFilter::Pcf { kernel } => ((kernel.clamp(1, 9) / 2) as f32, 0.0, 0.0, 0.0),
+            ShadowFilter::Pcss {
+                light_size,
+                samples,
+            } => (
+                0.0,
+                finite_non_negative(light_size),
+                samples.clamp(1, 64) as f32,
+                0.0,
+            ),
+            ShadowFilter::Vsm { bleeding, .. } => {
+                (0.0, 0.0, 0.0, finite_non_negative(bleeding).min(0.99))
+            }
+        };
+        let params = GpuShadowParams {
+            bias: [
+                finite_non_negative(settings.depth_bias),
+                finite_non_negative(settings.normal_bias),
+                radius,
+                light_size,
+            ],
+            filter: [samples, bleeding, res as f32, per as f32],
+        };
+        let params = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("shadow params"),
+            contents: bytemuck::bytes_of(&params),
+            usage: wgpu::BufferUsages::UNIFORM,
+        });
+        let (gpu_casters, draws) = pack_casters(&casters);
+        let caster_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("shadow casters"),
+            contents: bytemuck::cast_slice(&gpu_casters),
+            usage: wgpu::BufferUsages::STORAGE,
+        });
+        let store = renderer.state::<ShadowStore>(owner.map_or(id, u64::from));
+        Ok(Arc::new(ShadowMaps {
+            id,
+            owner,
+            settings,
+            per_slice: per,
+            plans,
+            views: views_buffer,
+            params,
+            view_uniforms,
+            casters,
+            caster_buffer,
+            draws,
+            store,
+            layers,
+            token: format!("shadows{id}/maps"),
+        }))
+    }
+
+    /// The frame-graph name a reader lists to run after the maps are rendered.
+    pub fn token(&self) -> &str {
+        &self.token
+    }
+
+    pub fn filter(&self) -> ShadowFilter {
+        self.settings.filter
+    }
+
+    /// The layer views a reader binds (slice-major).
+    pub(crate) fn views(&self) -> &wgpu::Buffer {
+        &self.views
+    }
+
+    pub(crate) fn params(&self) -> &wgpu::Buffer {
+        &self.params
+    }
+
+    /// The stored depth array (and VSM moments), once the pass has run.
+    pub(crate) fn textures(&self) -> Option<(wgpu::Texture, Option<wgpu::Texture>)> {
+        let guard = self.store.0.lock().unwrap_or_else(|e| e.into_inner());
+        guard.as_ref().map(|m| (m.depth.clone(), m.moments.clone()))
+    }
+
+    fn label(&self, what: &str) -> String {
+        match self.owner {
+            Some(node) => format!("ShadowMap #{node}: {what}"),
+            None => format!("ShadowMap: {what}"),
+        }
+    }
+
+    /// Render every slice that needs it into the stored maps.
+    fn render(&self, cx: &mut PassContext<'_>, renderer: &Renderer) -> Result<(), RenderError> {
+        let device = cx.gpu.device.clone();
+        let vsm = matches!(self.settings.filter, ShadowFilter::Vsm { .. });
+        let mut guard = self.store.0.lock().unwrap_or_else(|e| e.into_inner());
+        let fits = guard.as_ref().is_some_and(|m| {
+            m.layers == self.layers
+                && m.resolution == self.settings.resolution
+                && m.moments.is_some() == vsm
+        });
+        if !fits {
+            *guard = Some(self.allocate(&device, vsm));
+        }
+        let Some(maps) = guard.as_mut() else {
+            return Ok(());
+        };
+        let mut rendered = Vec::new();
+        for plan in &self.plans {
+            if plan.culled {
+                cx.count("shadow maps culled", 1);
+                continue;
+            }
+            let content = SliceContent {
+                views: plan
+                    .views
+                    .iter()
+                    .map(|v| v.view_projection.to_cols_array())
+                    .collect(),
+                casters: self.casters.clone(),
+                filter: self.settings.filter,
+            };
+            let slot = &mut maps.contents[plan.slice as usize];
+            if slot.as_ref().is_some_and(|c| c.same(&content)) {
+                cx.count("shadow maps reused", 1);
+                continue;
+            }
+            *slot = Some(content);
+            rendered.push(plan);
+        }
+        if rendered.is_empty() {
+            return Ok(());
+        }
+        cx.count("shadow maps rendered", rendered.len() as u64);
+        let key = ShaderKey::new("shadows/depth.wgsl", []);
+        let pipeline = cx
+            .shaders
+            .render_pipeline(&device, &key, "depth32f", |module| {
+                device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                    label: Some("shadow depth"),
+                    layout: None,
+                    vertex: wgpu::VertexState {
+                        module,
+                        entry_point: Some("vs"),
+                        compilation_options: Default::default(),
+                        buffers: &[],
+                    },
+                    // Both faces: open meshes (a plane) must cast too.
+                    primitive: wgpu::PrimitiveState::default(),
+                    depth_stencil: Some(wgpu::DepthStencilState {
+                        format: DEPTH_FORMAT,
+                        depth_write_enabled: Some(true),
+                        depth_compare: Some(wgpu::CompareFunction::Less),
+                        stencil: Default::default(),
+                        // Slope-scaled bias against acne on surfaces at grazing angles.
+                        bias: wgpu::DepthBiasState {
+                            constant: 0,
+                            slope_scale: 1.5,
+                            clamp: 0.0,
+                        },
+                    }),
+                    multisample: Default::default(),
+                    fragment: None,
+                    multiview_mask: None,
+                    cache: None,
+                })
+            })?;
+        let (vertices, indices, _) = renderer.meshes.buffers();
+        let mut work = Vec::new();
+        for plan in &rendered {
+            for k in 0..plan.views.len() as u32 {
+                let layer = plan.slice * self.per_slice + k;
+                let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                    label: Some("shadow depth"),
+                    layout: &pipeline.get_bind_group_layout(0),
+                    entries: &[
+                        wgpu::BindGroupEntry {
+                            binding: 0,
+                            resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                                buffer: &self.view_uniforms,
+                                offset: u64::from(layer) * VIEW_STRIDE,
+                                size: std::num::NonZeroU64::new(64),
+                            }),
+                        },
+                        wgpu::BindGroupEntry {
+                            binding: 1,
+                            resource: vertices.as_entire_binding(),
+                        },
+                        wgpu::BindGroupEntry {
+                            binding: 2,
+                            resource: indices.as_entire_binding(),
+                        },
+                        wgpu::BindGroupEntry {
+                            binding: 3,
+                            resource: self.caster_buffer.as_entire_binding(),
+                        },
+                    ],
+                });
+                let view = maps.depth.create_view(&wgpu::TextureViewDescriptor {
+                    dimension: Some(wgpu::TextureViewDimension::D2),
+                    base_array_layer: layer,
+                    array_layer_count: Some(1),
+                    ..Default::default()
+                });
+                work.push((group, view, layer));
+            }
+        }
+        let mut draws = 0;
+        for (index, (group, view, _)) in work.iter().enumerate() {
+            // Time the whole set as one pass: the first begins, the last ends.
+            let timestamps = if index == 0 {
+                cx.render_timestamps()
+            } else {
+                None
+            };
+            let mut pass = cx.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("shadow depth"),
+                color_attachments: &[],
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                    view,
+                    depth_ops: Some(wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(1.0),
+                        store: wgpu::StoreOp::Store,
+                    }),
+                    stencil_ops: None,
+                }),
+                timestamp_writes: timestamps,
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            pass.set_pipeline(&pipeline);
+            pass.set_bind_group(0, group, &[]);
+            for &(index_count, first, count) in &self.draws {
+                pass.draw(0..index_count, first..first + count);
+                draws += 1;
+            }
+        }
+        cx.draws += draws;
+        if let (ShadowFilter::Vsm { blur, .. }, Some(moments)) =
+            (self.settings.filter, &maps.moments)
+        {
+            let layers: Vec<u32> = work.iter().map(|w| w.2).collect();
+            self.moments(cx, &maps.depth, moments, &layers, blur)?;
+        }
+        Ok(())
+    }
+
+    /// VSM: the depth layers just rendered as blurred moments of linear depth.
+    fn moments(
+        &self,
+        cx: &mut PassContext<'_>,
+        depth: &wgpu::Texture,
+        moments: &wgpu::Texture,
+        layers: &[u32],
+        blur: u32,
+    ) -> Result<(), RenderError> {
+        let device = cx.gpu.device.clone();
+        let key = ShaderKey::new("shadows/moments.wgsl", []);
+        let pipeline = cx.shaders.compute_pipeline(&device, &key, "main")?;
+        let depth_view = depth.create_view(&wgpu::TextureViewDescriptor {
+            dimension: Some(wgpu::TextureViewDimension::D2Array),
+            aspect: wgpu::TextureAspect::DepthOnly,
+            ..Default::default()
+        });
+        let res = self.settings.resolution;
+        let mut groups = Vec::new();
+        for &layer in layers {
+            let out = moments.create_view(&wgpu::TextureViewDescriptor {
+                dimension: Some(wgpu::TextureViewDimension::D2),
+                base_array_layer: layer,
+                array_layer_count: Some(1),
+                ..Default::default()
+            });
+            let info = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("moments layer"),
+                contents: bytemuck::cast_slice(&[layer, blur.min(8), 0, 0]),
+                usage: wgpu::BufferUsages::UNIFORM,
+            });
+            let all = [
+                (0, wgpu::BindingResource::TextureView(&depth_view)),
+                (1, self.views.as_entire_binding()),
+                (2, info.as_entire_binding()),
+                (3, wgpu::BindingResource::TextureView(&out)),
+            ];
+            groups.push(
+                cx.shaders
+                    .bind_group(&device, &key, "main", &pipeline, 0, &all)?,
+            );
+        }
+        let timestamps = cx.compute_timestamps();
+        let mut pass = cx.encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("shadow moments"),
+            timestamp_writes: timestamps,
+        });
+        pass.set_pipeline(&pipeline);
+        for group in &groups {
+            pass.set_bind_group(0, group, &[]);
+            pass.dispatch_workgroups(res.div_ceil(8), res.div_ceil(8), 1);
+        }
+        Ok(())
+    }
+
+    fn allocate(&self, device: &wgpu::Device, vsm: bool) -> StoredMaps {
+        let size = wgpu::Extent3d {
+            width: self.settings.resolution,
+            height: self.settings.resolution,
+            depth_or_array_layers: self.layers,
+        };
+        let depth = device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("shadow maps"),
+            size,
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: DEPTH_FORMAT,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+            view_formats: &[],
+        });
+        let moments = vsm.then(|| {
+            device.create_texture(&wgpu::TextureDescriptor {
+                label: Some("shadow moments"),
+                size,
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format: MOMENTS_FORMAT,
+                usage: wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::TEXTURE_BINDING,
+                view_formats: &[],
+            })
+        });
+        StoredMaps {
+            layers: self.layers,
+            resolution: self.settings.resolution,
+            depth,
+            moments,
+            contents: vec![None; (self.layers / self.per_slice) as usize],
+        }
+    }
+}
+
+fn finite_non_negative(v: f32) -> f32 {
+    if v.is_finite() { v.max(0.0) } else { 0.0 }
+}
+
+/// The casters' instances (model matrix and where their mesh is) and one draw per batch.
+fn pack_casters(layers: &[Arc<Layer>]) -> (Vec<GpuCaster>, Vec<(u32, u32, u32)>) {
+    let mut casters = Vec::new();
+    let mut draws = Vec::new();
+    for batch in layers.iter().flat_map(|l| &l.batches) {
+        let first = casters.len() as u32;
+        for instance in &batch.instances {
+            casters.push(GpuCaster {
+                model: instance.transform.to_cols_array(),
+                info: [batch.mesh.indices.start, batch.mesh.vertices.start, 0, 0],
+            });
+        }
+        let count = batch.instances.len() as u32;
+        if count > 0 && !batch.mesh.indices.is_empty() {
+            draws.push((batch.mesh.indices.len() as u32, first, count));
+        }
+    }
+    if casters.is_empty() {
+        casters.push(bytemuck::Zeroable::zeroed());
+    }
+    (casters, draws)
+}
+
+/// A sphere around every caster (their meshes' boxes, transformed).
+fn caster_bounds(layers: &[Arc<Layer>]) -> (Vec3, f32) {
+    let mut min = Vec3::splat(f32::INFINITY);
+    let mut max = Vec3::splat(f32::NEG_INFINITY);
+    for batch in layers.iter().flat_map(|l| &l.batches) {
+        let b = batch.mesh.bounds;
+        for instance in &batch.instances {
+            for i in 0..8 {
+                let corner = Vec3::new(
+                    if i & 1 == 0 { b.min.x } else { b.max.x },
+                    if i & 2 == 0 { b.min.y } else { b.max.y },
+                    if i & 4 == 0 { b.min.z } else { b.max.z },
+                );
+                let p = instance.transform.transform_point3(corner);
+                if p.is_finite() {
+                    min = min.min(p);
+                    max = max.max(p);
+                }
+            }
+        }
+    }
+    if min.x > max.x {
+        return (Vec3::ZERO, 1.0);
+    }
+    ((min + max) * 0.5, (max - min).length() * 0.5)
+}
+
+impl Recipe for ShadowMaps {
+    fn declare<'a>(&'a self, renderer: &'a Renderer, fg: &mut FrameGraph<'a>) {
+        if !fg.include(self.id) {
+            return;
+        }
+        // The maps live in the store; this token orders their pass before readers.
+        let token = TextureDesc {
+            format: wgpu::TextureFormat::R8Unorm,
+            size: SizeRule::Absolute {
+                width: 1,
+                height: 1,
+            },
+            lifetime: Lifetime::Temporary,
+            usage: wgpu::TextureUsages::TEXTURE_BINDING,
+        };
+        fg.add_pass(
+            self.label("render"),
+            self.owner,
+            &[],
+            &[(&self.token, token)],
+            move |cx| self.render(cx, renderer),
+        );
+    }
+}

@@ -1,0 +1,324 @@
+//! Where shadow maps look from: one view per map layer. A spot has one (its
+//! own projector), a point light six (cube faces), a sun one per cascade,
+//! fitted to a slice of the camera's frustum. All projections write
+//! conventional depth (0 near, 1 far), which the shader linearizes with the
+//! layer's near and far.
+
+use glam::{Mat4, Vec3, Vec4};
+
+use crate::camera::CameraInput;
+
+/// One layer of a shadow map: what the depth pass renders and the shader samples.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LayerView {
+    pub view_projection: Mat4,
+    pub near: f32,
+    pub far: f32,
+    /// World size of a texel: at distance 1 for a perspective view (times the
+    /// distance at the receiver), everywhere for an orthographic one.
+    pub texel: f32,
+    pub orthographic: bool,
+    /// Sun cascades: the camera view depth where this cascade ends.
+    pub split: f32,
+}
+
+/// Matches `ShadowView` in shaders/lighting/shadow_sampling.wgsl.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
+pub(crate) struct GpuLayerView {
+    view_projection: [f32; 16],
+    /// near, far, texel, orthographic (0/1)
+    depth: [f32; 4],
+    /// split, 0, 0, 0
+    split: [f32; 4],
+}
+
+impl LayerView {
+    pub(crate) fn to_gpu(self) -> GpuLayerView {
+        GpuLayerView {
+            view_projection: self.view_projection.to_cols_array(),
+            depth: [
+                self.near,
+                self.far,
+                self.texel,
+                if self.orthographic { 1.0 } else { 0.0 },
+            ],
+            split: [self.split, 0.0, 0.0, 0.0],
+        }
+    }
+}
+
+/// A spot's view: its own projector, with near and far read off its projection.
+pub fn spot(view: Mat4, projection: Mat4, resolution: u32) -> Option<LayerView> {
+    let (near, far) = near_far(projection)?;
+    // Half the frustum's width at distance 1, from the projection's x scale.
+    let tan_half = 1.0 / projection.x_axis.x.abs().max(1e-6);
+    Some(LayerView {
+        view_projection: projection * view,
+        near,
+        far,
+        texel: 2.0 * tan_half / resolution.max(1) as f32,
+        orthographic: false,
+        split: 0.0,
+    })
+}
+
+/// The six cube faces of a point light (+X, -X, +Y, -Y, +Z, -Z, as a cube
+/// map orders them), each a 90-degree frustum out to `range`.
+pub fn point(position: Vec3, range: f32, resolution: u32) -> [LayerView; 6] {
+    let far = range.max(1e-3);
+    let near = (far * 1e-3).max(1e-4);
+    let projection =
+        glam::camera::rh::proj::directx::perspective(std::f32::consts::FRAC_PI_2, 1.0, near, far);
+    let faces = [
+        (Vec3::X, Vec3::NEG_Y),
+        (Vec3::NEG_X, Vec3::NEG_Y),
+        (Vec3::Y, Vec3::Z),
+        (Vec3::NEG_Y, Vec3::NEG_Z),
+        (Vec3::Z, Vec3::NEG_Y),
+        (Vec3::NEG_Z, Vec3::NEG_Y),
+    ];
+    faces.map(|(dir, up)| LayerView {
+        view_projection: projection * glam::camera::rh::view::look_to_mat4(position, dir, up),
+        near,
+        far,
+        texel: 2.0 / resolution.max(1) as f32,
+        orthographic: false,
+        split: 0.0,
+    })
+}
+
+/// The distances where each of `count` cascades ends, between the camera's
+/// `near` and `far`: `lambda` 0 splits evenly, 1 logarithmically (the
+/// practical split scheme of Zhang et al. blends the two).
+pub fn cascade_splits(near: f32, far: f32, count: u32, lambda: f32) -> Vec<f32> {
+    let count = count.clamp(1, 4);
+    let lambda = if lambda.is_finite() {
+        lambda.clamp(0.0, 1.0)
+    } else {
+        0.5
+    };
+    (1..=count)
+        .map(|i| {
+            let t = i as f32 / count as f32;
+            let log = near * (far / near).powf(t);
+            let uniform = near + (far - near) * t;
+            lambda * log + (1.0 - lambda) * uniform
+        })
+        .collect()
+}
+
+/// How a sun's shadow is cut into cascades.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Cascades {
+    /// 1 to 4.
+    pub count: u32,
+    /// 0 even splits .. 1 logarithmic.
+    pub split_lambda: f32,
+    /// How far from the camera sun shadows reach.
+    pub distance: f32,
+}
+
+/// A sun's cascades: each an orthographic box around the bounding sphere of
+/// its slice of the camera frustum, snapped to whole texels so the map does
+/// not shimmer as the camera moves, and deep enough (`caster_depth` behind
+/// the sphere) to hold every caster between it and the sun.
+pub fn sun(
+    direction: Vec3,
+    camera: &CameraInput,
+    cascades: Cascades,
+    caster_depth: f32,
+    resolution: u32,
+) -> Vec<LayerView> {
+    let (near, far) = near_far(camera.projection).unwrap_or((0.1, 100.0));
+    let distance = if cascades.distance.is_finite() {
+        cascades.distance
+    } else {
+        far
+    };
+    let far = far.min(distance.max(near * 2.0));
+    let splits = cascade_splits(near, far, cascades.count, cascades.split_lambda);
+    let to_world = crate::camera::safe_inverse(camera.view);
+    let unproject = crate::camera::safe_inverse(camera.projection);
+    // View-space rays through the frustum's corners, at depth 1.
+    let rays: Vec<Vec3> = [(-1.0, -1.0), (1.0, -1.0), (-1.0, 1.0), (1.0, 1.0)]
+        .iter()
+        .map(|&(x, y)| {
+            let h = unproject * Vec4::new(x, y, 1.0, 1.0);
+            let p = h.truncate() / h.w;
+            p / (-p.z).max(1e-6)
+        })
+        .collect();
+    let direction = direction.try_normalize().unwrap_or(Vec3::NEG_Y);
+    let up = if direction.y.abs() > 0.99 {
+        Vec3::Z
+    } else {
+        Vec3::Y
+    };
+    let res = resolution.max(1) as f32;
+    let mut start = near;
+    splits
+        .into_iter()
+        .map(|end| {
+            let corners = rays
+                .iter()
+                .flat_map(|r| [*r * start, *r * end])
+                .map(|p| to_world.transform_point3(p));
+            let corners: Vec<Vec3> = corners.collect();
+            let center = corners.iter().copied().sum::<Vec3>() / corners.len() as f32;
+            let radius = corners
+                .iter()
+                .map(|c| c.distance(center))
+                .fold(0.0f32, f32::max)
+                .max(1e-3);
+            // Snap the centre to whole texels in the light's view.
+            let light_view = glam::camera::rh::view::look_to_mat4(Vec3::ZERO, direction, up);
+            let texel = 2.0 * radius / res;
+            let c = light_view.transform_point3(center);
+            let snapped = Vec3::new(
+                (c.x / texel).floor() * texel,
+                (c.y / texel).floor() * texel,
+                c.z,
+            );
+            let center = crate::camera::safe_inverse(light_view).transform_point3(snapped);
+            let back = radius + caster_depth.max(0.0);
+            let eye = center - direction * back;
+            let view = glam::camera::rh::view::look_to_mat4(eye, direction, up);
+            let depth = back + radius;
+            let projection = glam::camera::rh::proj::directx::orthographic(
+                -radius, radius, -radius, radius, 0.0, depth,
+            );
+            start = end;
+            LayerView {
+                view_projection: projection * view,
+                near: 0.0,
+                far: depth,
+                texel,
+                orthographic: true,
+                split: end,
+            }
+        })
+        .collect()
+}
+
+/// Near and far of a conventional (0..1 depth) perspective projection.
+pub fn near_far(projection: Mat4) -> Option<(f32, f32)> {
+    let (a, b) = (projection.z_axis.z, projection.w_axis.z);
+    let near = b / a;
+    let far = b / (a + 1.0);
+    (near.is_finite() && far.is_finite() && near > 0.0 && far > near).then_some((near, far))
+}
+
+/// Whether a sphere touches the frustum of `view_projection` (conventional
+/// or reversed depth: only the side planes and the near plane are tested,
+/// which is conservative).
+pub fn sphere_in_frustum(view_projection: Mat4, center: Vec3, radius: f32) -> bool {
+    let m = view_projection.transpose();
+    let (r0, r1, r3) = (m.x_axis, m.y_axis, m.w_axis);
+    let planes = [r3 + r0, r3 - r0, r3 + r1, r3 - r1];
+    planes.iter().all(|p| {
+        let n = p.truncate();
+        let len = n.length();
+        len <= 0.0 || (n.dot(center) + p.w) / len >= -radius
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn splits_run_from_even_to_logarithmic_and_end_at_far() {
+        let even = cascade_splits(1.0, 100.0, 4, 0.0);
+        assert_eq!(even, [25.75, 50.5, 75.25, 100.0]);
+        let log = cascade_splits(1.0, 100.0, 4, 1.0);
+        assert!((log[1] - 10.0).abs() < 1e-3 && (log[3] - 100.0).abs() < 1e-3);
+        assert_eq!(cascade_splits(1.0, 100.0, 9, 0.5).len(), 4);
+        assert!(
+            cascade_splits(1.0, 100.0, 2, f32::NAN)
+                .iter()
+                .all(|s| s.is_finite())
+        );
+    }
+
+    #[test]
+    fn every_cascade_holds_its_slice_of_the_camera_frustum() {
+        let view =
+            glam::camera::rh::view::look_at_mat4(Vec3::new(0.0, 5.0, 10.0), Vec3::ZERO, Vec3::Y);
+        let projection = glam::camera::rh::proj::directx::perspective(1.0, 1.5, 0.1, 200.0);
+        let cascades = sun(
+            Vec3::new(-0.3, -1.0, -0.2),
+            &CameraInput { view, projection },
+            Cascades {
+                count: 4,
+                split_lambda: 0.7,
+                distance: 60.0,
+            },
+            20.0,
+            1024,
+        );
+        assert_eq!(cascades.len(), 4);
+        let to_world = view.inverse();
+        let unproject = projection.inverse();
+        let mut start = 0.1;
+        for c in &cascades {
+            for (x, y) in [(-1.0, -1.0), (1.0, 1.0), (-1.0, 1.0), (0.0, 0.0)] {
+                for d in [start, c.split] {
+                    let h = unproject * Vec4::new(x, y, 1.0, 1.0);
+                    let ray = h.truncate() / h.w;
+                    let p = to_world.transform_point3(ray / -ray.z * d);
+                    let ndc = c.view_projection.project_point3(p);
+                    assert!(
+                        ndc.x.abs() <= 1.0 + 1e-3 && ndc.y.abs() <= 1.0 + 1e-3,
+                        "{ndc}"
+                    );
+                    assert!((0.0..=1.0).contains(&ndc.z), "{ndc}");
+                }
+            }
+            start = c.split;
+        }
+    }
+
+    #[test]
+    fn cube_faces_cover_every_direction_once() {
+        let faces = point(Vec3::new(1.0, 2.0, 3.0), 10.0, 256);
+        for dir in [
+            Vec3::X,
+            Vec3::NEG_X,
+            Vec3::Y,
+            Vec3::NEG_Y,
+            Vec3::Z,
+            Vec3::NEG_Z,
+            Vec3::new(1.0, 0.5, -0.2),
+        ] {
+            let p = Vec3::new(1.0, 2.0, 3.0) + dir.normalize() * 5.0;
+            let inside = faces
+                .iter()
+                .filter(|f| {
+                    let ndc = f.view_projection.project_point3(p);
+                    ndc.x.abs() < 1.0 && ndc.y.abs() < 1.0 && (0.0..1.0).contains(&ndc.z)
+                })
+                .count();
+            assert!(inside >= 1, "{dir}: {inside}");
+        }
+    }
+
+    #[test]
+    fn spheres_outside_the_frustum_are_culled() {
+        let view = glam::camera::rh::view::look_at_mat4(Vec3::ZERO, Vec3::NEG_Z, Vec3::Y);
+        let vp = glam::camera::rh::proj::directx::perspective(1.0, 1.0, 0.1, 100.0) * view;
+        assert!(sphere_in_frustum(vp, Vec3::new(0.0, 0.0, -10.0), 1.0));
+        assert!(
+            !sphere_in_frustum(vp, Vec3::new(0.0, 0.0, 10.0), 1.0),
+            "behind"
+        );
+        assert!(
+            !sphere_in_frustum(vp, Vec3::new(50.0, 0.0, -10.0), 1.0),
+            "beside"
+        );
+        assert!(
+            sphere_in_frustum(vp, Vec3::new(0.0, 0.0, 10.0), 11.0),
+            "reaching in from behind"
+        );
+    }
+}

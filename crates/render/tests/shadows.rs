@@ -1,0 +1,453 @@
+//! Shadow maps on the GPU: a ball above a floor, lit from above by each
+//! light type through each filter. The shadow falls where the ball hides
+//! the light and nowhere else; only the maps a frame needs are rendered,
+//! and unchanged ones are reused (the frame report counts both); the hard
+//! cases of the stability suite never produce NaN or infinity.
+
+use std::sync::Arc;
+
+use glam::{Mat4, Vec3};
+use spreadlight_render::camera::CameraInput;
+use spreadlight_render::gbuffer::{DrawBatch, GBuffer, InstanceInput, Layer, LayerFeatures};
+use spreadlight_render::lighting::{
+    CookTorrance, LightBuffer, LightLoop, PointLight, SpotLight, SunLight, Surfaces,
+};
+use spreadlight_render::mesh::primitives::{GridParams, SphereParams, grid, sphere};
+use spreadlight_render::readback::{ImageF32, render_and_read};
+use spreadlight_render::renderer::test_renderer;
+use spreadlight_render::shadows::{
+    Cascades, ShadowFilter, ShadowLights, ShadowMaps, ShadowSettings,
+};
+use spreadlight_render::{FrameReport, Renderer, SizeRule};
+
+const SIZE: (u32, u32) = (64, 64);
+
+/// The casters: a ball of radius 0.5 at `ball`, over a 20 x 20 floor at y = 0.
+fn casters(renderer: &Renderer, ball: Vec3) -> Vec<Arc<Layer>> {
+    let mesh = renderer
+        .meshes
+        .upload(&renderer.gpu, &sphere(SphereParams::default()))
+        .expect("upload");
+    let floor = renderer
+        .meshes
+        .upload(
+            &renderer.gpu,
+            &grid(GridParams {
+                size: glam::Vec2::splat(20.0),
+                resolution_x: 1,
+                resolution_y: 1,
+            }),
+        )
+        .expect("upload");
+    let instance = |t: Mat4| InstanceInput {
+        transform: t,
+        previous_transform: t,
+        color: [0.8, 0.8, 0.8, 1.0],
+        material_id: 0,
+        object_id: 0,
+    };
+    let batches = vec![
+        DrawBatch {
+            mesh,
+            instances: vec![instance(Mat4::from_translation(ball))],
+        },
+        DrawBatch {
+            mesh: floor,
+            instances: vec![instance(Mat4::IDENTITY)],
+        },
+    ];
+    vec![Arc::new(
+        Layer::new(None, batches, LayerFeatures::default(), None).expect("valid"),
+    )]
+}
+
+/// Looking down at the floor's centre from above and in front, past the
+/// ball's side: the image's centre is the floor under the ball.
+fn camera() -> CameraInput {
+    CameraInput {
+        view: glam::camera::rh::view::look_at_mat4(Vec3::new(0.0, 8.0, 6.0), Vec3::ZERO, Vec3::Y),
+        projection: glam::camera::rh::proj::directx::perspective(1.0, 1.0, 0.1, 50.0),
+    }
+}
+
+/// The lit image (diffuse + specular) and the frame's report.
+fn shade(
+    renderer: &Renderer,
+    layers: &[Arc<Layer>],
+    lights: Arc<LightBuffer>,
+    shadows: Option<Arc<ShadowMaps>>,
+) -> (ImageF32, FrameReport) {
+    let g = GBuffer::new(
+        renderer,
+        None,
+        layers.to_vec(),
+        camera(),
+        None,
+        SizeRule::Relative(1.0),
+    );
+    let ct = CookTorrance::with_shadows(
+        renderer,
+        Some(1),
+        g,
+        lights,
+        LightLoop::Naive,
+        true,
+        Surfaces::PerMaterialId(vec![(0.7, 0.0)]),
+        shadows,
+    );
+    let (report, images) =
+        render_and_read(renderer, ct.as_ref(), SIZE, &[&ct.diffuse, &ct.specular])
+            .expect("renders");
+    assert!(report.errors.is_empty(), "{:?}", report.errors);
+    let (d, s) = (&images[0], &images[1]);
+    assert!(
+        d.all_finite() && s.all_finite(),
+        "no NaN or infinity in the HDR targets"
+    );
+    let pixels = d
+        .pixels
+        .iter()
+        .zip(&s.pixels)
+        .map(|(a, b)| [a[0] + b[0], a[1] + b[1], a[2] + b[2], 1.0])
+        .collect();
+    (
+        ImageF32 {
+            width: d.width,
+            height: d.height,
+            pixels,
+        },
+        report,
+    )
+}
+
+fn luminance(image: &ImageF32, x: u32, y: u32) -> f32 {
+    let p = image.pixels[(y * image.width + x) as usize];
+    p[0] + p[1] + p[2]
+}
+
+/// The ball hides the light from the floor straight below it (the image's
+/// centre, ball at the origin's column) but not from the floor's edge.
+fn assert_shadow_below_the_ball(lit: &ImageF32, shadowed: &ImageF32, what: &str) {
+    let (cx, cy) = (SIZE.0 / 2, SIZE.1 / 2);
+    let (under_lit, under_shadowed) = (luminance(lit, cx, cy), luminance(shadowed, cx, cy));
+    assert!(
+        under_lit > 1e-3,
+        "{what}: the floor under the ball is lit without shadows"
+    );
+    assert!(
+        under_shadowed < 0.25 * under_lit,
+        "{what}: the shadow darkens the floor under the ball ({under_shadowed} vs {under_lit})"
+    );
+    // Away from the ball, a third of the way to the edge: as lit as without shadows.
+    let (ex, ey) = (cx + SIZE.0 / 3, cy);
+    let (edge_lit, edge_shadowed) = (luminance(lit, ex, ey), luminance(shadowed, ex, ey));
+    assert!(
+        (edge_shadowed - edge_lit).abs() <= 0.05 * edge_lit + 1e-4,
+        "{what}: no shadow (or acne) away from the ball ({edge_shadowed} vs {edge_lit})"
+    );
+}
+
+const FILTERS: [ShadowFilter; 4] = [
+    ShadowFilter::Raw,
+    ShadowFilter::Pcf { kernel: 3 },
+    ShadowFilter::Pcss {
+        light_size: 0.3,
+        samples: 16,
+    },
+    ShadowFilter::Vsm {
+        bleeding: 0.3,
+        blur: 1,
+    },
+];
+
+fn settings(filter: ShadowFilter) -> ShadowSettings {
+    ShadowSettings {
+        resolution: 256,
+        filter,
+        ..Default::default()
+    }
+}
+
+#[test]
+fn every_light_type_casts_through_every_filter() {
+    let renderer = test_renderer();
+    let layers = casters(&renderer, Vec3::new(0.0, 1.5, 0.0));
+    let spot = SpotLight {
+        shadow: Some(0),
+        ..SpotLight::cone(Vec3::new(0.0, 6.0, 0.0), Vec3::NEG_Y, 12.0, 0.5, 0.7)
+            .with_light(Vec3::ONE, 300.0)
+    };
+    let point = PointLight {
+        position: Vec3::new(0.0, 6.0, 0.0),
+        color: Vec3::ONE,
+        intensity: 300.0,
+        range: 15.0,
+        shadow: Some(0),
+    };
+    let sun = SunLight {
+        direction: Vec3::NEG_Y,
+        color: Vec3::ONE,
+        illuminance: 5.0,
+        shadow: Some(0),
+    };
+    let cases: [(&str, Arc<LightBuffer>, ShadowLights); 3] = [
+        (
+            "spot",
+            LightBuffer::spots(&renderer, &[spot], None).expect("valid"),
+            ShadowLights::Spot(vec![(0, spot.view, spot.projection)]),
+        ),
+        (
+            "point",
+            LightBuffer::points(&renderer, &[point]),
+            ShadowLights::Point(vec![(0, point.position, point.range)]),
+        ),
+        (
+            "sun",
+            LightBuffer::suns(&renderer, &[sun]),
+            ShadowLights::Sun {
+                lights: vec![(0, sun.direction)],
+                cascades: Cascades {
+                    count: 3,
+                    split_lambda: 0.6,
+                    distance: 30.0,
+                },
+            },
+        ),
+    ];
+    for (name, lights, casting) in cases {
+        let (lit, _) = shade(&renderer, &layers, lights.clone(), None);
+        for filter in FILTERS {
+            let maps = ShadowMaps::new(
+                &renderer,
+                None,
+                &casting,
+                layers.clone(),
+                &camera(),
+                settings(filter),
+            )
+            .expect("valid shadows");
+            let (shadowed, report) = shade(&renderer, &layers, lights.clone(), Some(maps));
+            assert_shadow_below_the_ball(&lit, &shadowed, &format!("{name} {filter:?}"));
+            assert_eq!(
+                report.counter("shadow maps rendered"),
+                1,
+                "{name} {filter:?}"
+            );
+        }
+    }
+}
+
+#[test]
+fn only_the_maps_a_frame_needs_are_rendered_and_unchanged_ones_are_reused() {
+    let renderer = test_renderer();
+    let layers = casters(&renderer, Vec3::new(0.0, 1.5, 0.0));
+    // Spot 0 over the ball; spot 1 far behind the camera's view, pointing away; spot 2 casts nothing.
+    let over = SpotLight {
+        shadow: Some(0),
+        ..SpotLight::cone(Vec3::new(0.0, 6.0, 0.0), Vec3::NEG_Y, 12.0, 0.5, 0.7)
+            .with_light(Vec3::ONE, 300.0)
+    };
+    let away = SpotLight {
+        shadow: Some(1),
+        ..SpotLight::cone(Vec3::new(0.0, 6.0, 200.0), Vec3::Z, 12.0, 0.5, 0.7)
+            .with_light(Vec3::ONE, 300.0)
+    };
+    let silent = SpotLight::cone(Vec3::new(3.0, 6.0, 0.0), Vec3::NEG_Y, 12.0, 0.5, 0.7)
+        .with_light(Vec3::ONE, 300.0);
+    let spots = [over, away, silent];
+    let lights = LightBuffer::spots(&renderer, &spots, None).expect("valid");
+    let casting = ShadowLights::Spot(
+        spots
+            .iter()
+            .filter_map(|s| s.shadow.map(|slice| (slice, s.view, s.projection)))
+            .collect(),
+    );
+    let maps = |layers: &[Arc<Layer>]| {
+        // The same node (owner 7) every frame, as a patch re-evaluates it.
+        ShadowMaps::new(
+            &renderer,
+            Some(7),
+            &casting,
+            layers.to_vec(),
+            &camera(),
+            settings(FILTERS[1]),
+        )
+        .expect("valid")
+    };
+    let (first, report) = shade(&renderer, &layers, lights.clone(), Some(maps(&layers)));
+    assert_eq!(
+        report.counter("shadow maps rendered"),
+        1,
+        "only the spot in view: {:?}",
+        report.counters
+    );
+    assert_eq!(report.counter("shadow maps culled"), 1);
+    assert_eq!(report.counter("shadow maps reused"), 0);
+    // Nothing changed: the map is reused and the image is the same.
+    let (second, report) = shade(&renderer, &layers, lights.clone(), Some(maps(&layers)));
+    assert_eq!(
+        report.counter("shadow maps rendered"),
+        0,
+        "{:?}",
+        report.counters
+    );
+    assert_eq!(report.counter("shadow maps reused"), 1);
+    assert_eq!(first.pixels, second.pixels);
+    // The ball moved: new casters, the map is rendered again.
+    let moved = casters(&renderer, Vec3::new(1.0, 1.5, 0.0));
+    let (_, report) = shade(&renderer, &moved, lights.clone(), Some(maps(&moved)));
+    assert_eq!(
+        report.counter("shadow maps rendered"),
+        1,
+        "{:?}",
+        report.counters
+    );
+    // No light casts: no maps at all.
+    let (_, report) = shade(&renderer, &layers, lights, None);
+    assert_eq!(
+        report.counter("shadow maps rendered") + report.counter("shadow maps reused"),
+        0
+    );
+}
+
+#[test]
+fn shadow_hard_cases_stay_finite_and_bounded() {
+    let renderer = test_renderer();
+    // A ball resting on the floor (blocker touching the receiver: zero penumbra),
+    // and a light inside a caster.
+    let resting = casters(&renderer, Vec3::new(0.0, 0.5, 0.0));
+    let point = |position: Vec3| PointLight {
+        position,
+        color: Vec3::ONE,
+        intensity: 300.0,
+        range: 15.0,
+        shadow: Some(0),
+    };
+    for (what, layers, light) in [
+        (
+            "a ball resting on the floor",
+            resting.clone(),
+            point(Vec3::new(0.0, 6.0, 0.0)),
+        ),
+        (
+            "a light inside the ball",
+            resting.clone(),
+            point(Vec3::new(0.0, 0.5, 0.0)),
+        ),
+        // A point light exactly at a vertex of the floor (its corner).
+        (
+            "a light at a vertex",
+            resting.clone(),
+            point(Vec3::new(10.0, 0.0, 10.0)),
+        ),
+    ] {
+        for filter in FILTERS {
+            let casting = ShadowLights::Point(vec![(0, light.position, light.range)]);
+            let maps = ShadowMaps::new(
+                &renderer,
+                None,
+                &casting,
+                layers.clone(),
+                &camera(),
+                settings(filter),
+            )
+            .expect("valid");
+            let (image, _) = shade(
+                &renderer,
+                &layers,
+                LightBuffer::points(&renderer, &[light]),
+                Some(maps),
+            );
+            // shade() asserts finiteness; the light never adds energy by being shadowed.
+            let (unshadowed, _) = shade(
+                &renderer,
+                &layers,
+                LightBuffer::points(&renderer, &[light]),
+                None,
+            );
+            for (s, u) in image.pixels.iter().zip(&unshadowed.pixels) {
+                assert!(
+                    s[0] <= u[0] * 1.0001 + 1e-6,
+                    "{what} {filter:?}: shadows only take light away"
+                );
+            }
+        }
+    }
+    // VSM over a huge depth range: a sun whose cascades reach 10,000 units.
+    let layers = casters(&renderer, Vec3::new(0.0, 1.5, 0.0));
+    let sun = SunLight {
+        direction: Vec3::new(-0.2, -1.0, 0.1),
+        color: Vec3::ONE,
+        illuminance: 5.0,
+        shadow: Some(0),
+    };
+    let casting = ShadowLights::Sun {
+        lights: vec![(0, sun.direction)],
+        cascades: Cascades {
+            count: 4,
+            split_lambda: 1.0,
+            distance: 10_000.0,
+        },
+    };
+    let maps = ShadowMaps::new(
+        &renderer,
+        None,
+        &casting,
+        layers.clone(),
+        &camera(),
+        settings(ShadowFilter::Vsm {
+            bleeding: 0.0,
+            blur: 2,
+        }),
+    )
+    .expect("valid");
+    let (image, _) = shade(
+        &renderer,
+        &layers,
+        LightBuffer::suns(&renderer, &[sun]),
+        Some(maps),
+    );
+    let lit = image.pixels.iter().filter(|p| p[0] > 1e-4).count();
+    assert!(
+        lit > image.pixels.len() / 2,
+        "not a wrong all-black frame: {lit} lit"
+    );
+}
+
+#[test]
+fn bad_shadow_setups_are_errors_naming_what() {
+    let renderer = test_renderer();
+    let layers = casters(&renderer, Vec3::ZERO);
+    let twice = ShadowLights::Point(vec![(3, Vec3::ZERO, 1.0), (3, Vec3::ONE, 1.0)]);
+    let err = ShadowMaps::new(
+        &renderer,
+        None,
+        &twice,
+        layers.clone(),
+        &camera(),
+        ShadowSettings::default(),
+    )
+    .expect_err("refused");
+    assert_eq!(err.to_string(), "shadow slice 3 is given to two lights");
+    let huge = ShadowLights::Point(vec![(100_000, Vec3::ZERO, 1.0)]);
+    let err = ShadowMaps::new(
+        &renderer,
+        None,
+        &huge,
+        layers.clone(),
+        &camera(),
+        ShadowSettings::default(),
+    )
+    .expect_err("refused");
+    assert!(
+        err.to_string()
+            .starts_with("shadow slice 100000 is too high"),
+        "{err}"
+    );
+    let tiny = ShadowSettings {
+        resolution: 4,
+        ..Default::default()
+    };
+    let one = ShadowLights::Point(vec![(0, Vec3::ZERO, 1.0)]);
+    assert!(ShadowMaps::new(&renderer, None, &one, layers, &camera(), tiny).is_err());
+}
