@@ -117,3 +117,37 @@ fn lfo_example_computes_the_expected_wave() {
     assert_eq!(wave.len(), 1);
     assert!((wave[0] - 10.0).abs() < 1e-4, "{wave:?}");
 }
+
+/// The shadows example renders each shadow map once, then only what changes:
+/// its camera turns (an LFO drives the yaw), so the sun's cascades, which
+/// follow the view, are rendered every frame, while the spot's and the
+/// point lights' maps are reused. Lights without a Shadow Slice render none.
+#[test]
+fn the_shadows_example_renders_only_the_shadow_maps_that_changed() {
+    let path = spreadlight_tests::root().join("patches/shadows.ron");
+    let patch = format::load(&path).expect("loads");
+    let mut rt = Runtime::new(spreadlight_nodes::registry());
+    rt.provide(patch_dir(&path));
+    // A renderer of its own: its last report is this test's alone.
+    let renderer = std::sync::Arc::new(
+        spreadlight_render::Renderer::headless().expect("a GPU adapter (lavapipe in CI)"),
+    );
+    renderer.set_output_size((64, 36));
+    rt.provide(renderer.clone());
+    let images = std::sync::Arc::new(spreadlight_nodes::output::RenderedImages::default());
+    rt.provide(images);
+    assert!(rt.load(&patch).is_empty());
+    let mut counts = Vec::new();
+    for frame in 0..3 {
+        rt.evaluate(FrameClock::fixed(frame, 60.0));
+        let report = renderer.last_report();
+        counts.push((
+            report.counter("shadow maps rendered"),
+            report.counter("shadow maps reused"),
+        ));
+    }
+    // Three casting point lights (of six), one spot, one sun.
+    assert_eq!(counts[0], (5, 0), "first frame: every casting light's map");
+    assert_eq!(counts[1], (1, 4), "then only the sun's cascades");
+    assert_eq!(counts[2], (1, 4));
+}

@@ -98,3 +98,8 @@ fn bench_lights_lit() {
 fn showcase_all_three_light_types() {
     check("showcase", "patches/showcase.ron", "showcase", (160, 90), 0);
 }
+
+#[test]
+fn shadows_of_all_three_light_types() {
+    check("shadows", "patches/shadows.ron", "showcase", (160, 90), 0);
+}

@@ -57,6 +57,9 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
             for c in &r.culled {
                 println!("  {c:<40} culled");
             }
+            for (name, n) in &r.counters {
+                println!("  {name}: {n}");
+            }
         }
     }
     Ok(if failed {

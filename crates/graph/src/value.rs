@@ -75,6 +75,8 @@ pub enum ResourceKind {
     PointLights,
     SpotLights,
     SunLights,
+    /// Shadow maps of one light type (from a `ShadowMap` node), for `CookTorrance`.
+    Shadows,
     /// What a `DeferredBase` draws: instanced meshes with feature switches.
     Layer,
 }

@@ -3,7 +3,8 @@
 //! under a unique ID string, to the lights arriving at its Lights pin, so
 //! nodes chain: `AddLight -> AddLight -> PointLightBuffer`. IDs do not order
 //! the buffer (lights keep their order along the chain); they name lights,
-//! for errors and, with shadows, for which shadow slice is whose.
+//! for errors. Shadow Slice says which slice of the `ShadowMap` node of the
+//! light's type holds its shadow (-1: it casts none).
 //!
 //! A NaN or infinity on a pin is an error on this node that names the pin
 //! and slice; it never reaches a light buffer.
@@ -128,17 +129,20 @@ pub fn register(r: &mut Registry) {
         .input("Color", Color::WHITE)
         .input("Intensity", 100.0f32)
         .input("Range", 10.0f32)
+        .input(SHADOW_SLICE, -1i64)
         .evaluate(|cx| {
             super::require_finite(cx, 2..6)?;
+            let shadows = cx.slices::<i64>(6)?.to_vec();
             let (positions, colors) = (cx.slices::<Vec3>(2)?, cx.slices::<Color>(3)?);
             let (intensities, ranges) = (cx.slices::<f32>(4)?, cx.slices::<f32>(5)?);
-            let n = slice_count([id_count(cx)?, positions.len(), colors.len(), intensities.len(), ranges.len()]);
+            let n = slice_count([id_count(cx)?, positions.len(), colors.len(), intensities.len(), ranges.len(), shadows.len()]);
             let lights: Vec<PointLight> = cycled(positions, n)
                 .zip(cycled(colors, n))
                 .zip(cycled(intensities, n))
                 .zip(cycled(ranges, n))
-                .map(|(((position, color), intensity), range)| PointLight {
- shadow: None,
+                .enumerate()
+                .map(|(i, (((position, color), intensity), range))| PointLight {
+                    shadow: shadow_slice(&shadows, i),
                     position: *position,
                     color: rgb(color),
                     intensity: *intensity,
@@ -164,8 +168,10 @@ pub fn register(r: &mut Registry) {
         .input("Intensity", 500.0f32)
         .input("Texture ID", -1i64)
         .input("Softness", 0.3f32)
+        .input(SHADOW_SLICE, -1i64)
         .evaluate(|cx| {
             super::require_finite(cx, 2..8)?;
+            let shadows = cx.slices::<i64>(8)?.to_vec();
             let (views, projections, colors) = (cx.slices::<Mat4>(2)?, cx.slices::<Mat4>(3)?, cx.slices::<Color>(4)?);
             let (intensities, textures, softness) = (cx.slices::<f32>(5)?, cx.slices::<i64>(6)?, cx.slices::<f32>(7)?);
             let n = slice_count([
@@ -176,13 +182,15 @@ pub fn register(r: &mut Registry) {
                 intensities.len(),
                 textures.len(),
                 softness.len(),
+                shadows.len(),
             ]);
             let placement = cycled(views, n).zip(cycled(projections, n)).zip(cycled(colors, n));
             let look = cycled(intensities, n).zip(cycled(textures, n)).zip(cycled(softness, n));
             let lights: Vec<SpotLight> = placement
                 .zip(look)
-                .map(|(((view, projection), color), ((intensity, texture), softness))| SpotLight {
- shadow: None,
+                .enumerate()
+                .map(|(i, (((view, projection), color), ((intensity, texture), softness)))| SpotLight {
+                    shadow: shadow_slice(&shadows, i),
                     view: *view,
                     projection: *projection,
                     color: rgb(color),
@@ -204,8 +212,10 @@ pub fn register(r: &mut Registry) {
         .input("Direction", Vec3::new(-0.3, -1.0, -0.2))
         .input("Color", Color::WHITE)
         .input("Illuminance", 2.0f32)
+        .input(SHADOW_SLICE, -1i64)
         .evaluate(|cx| {
             super::require_finite(cx, 2..5)?;
+            let shadows = cx.slices::<i64>(5)?.to_vec();
             let (directions, colors, illuminances) = (
                 cx.slices::<Vec3>(2)?,
                 cx.slices::<Color>(3)?,
@@ -216,12 +226,14 @@ pub fn register(r: &mut Registry) {
                 directions.len(),
                 colors.len(),
                 illuminances.len(),
+                shadows.len(),
             ]);
             let lights: Vec<SunLight> = cycled(directions, n)
                 .zip(cycled(colors, n))
                 .zip(cycled(illuminances, n))
-                .map(|((direction, color), illuminance)| SunLight {
-                    shadow: None,
+                .enumerate()
+                .map(|(i, ((direction, color), illuminance))| SunLight {
+                    shadow: shadow_slice(&shadows, i),
                     direction: *direction,
                     color: rgb(color),
                     illuminance: *illuminance,
@@ -230,6 +242,17 @@ pub fn register(r: &mut Registry) {
             add(cx, ResourceKind::SunLights, lights)
         }),
     );
+}
+
+/// The pin that says which slice of a `ShadowMap` node holds a light's shadow.
+pub const SHADOW_SLICE: &str = "Shadow Slice";
+
+/// Light `i`'s shadow slice from the Shadow Slice pin (cycled); negative: casts none.
+fn shadow_slice(slices: &[i64], i: usize) -> Option<u32> {
+    match slices.len() {
+        0 => None,
+        len => u32::try_from(slices[i % len]).ok(),
+    }
 }
 
 fn rgb(c: &Color) -> Vec3 {

@@ -8,6 +8,7 @@ use spreadlight_render::TextureRef;
 use spreadlight_render::gbuffer::GBuffer;
 use spreadlight_render::lighting::{CookTorrance, LightBuffer, LightLoop, Surfaces};
 use spreadlight_render::material::MaterialWorld;
+use spreadlight_render::shadows::ShadowMaps;
 
 use crate::gpu::{renderer, resource_spread, resources};
 
@@ -26,7 +27,8 @@ pub fn register(r: &mut Registry) {
              adds multiple scattering. Roughness and Metallic slice i apply to material id i (wrapping), unless a Material World is \
              connected: then each material's CookTorrance feature decides. \
              Diffuse includes albedo. SSS carries a wrap-lighting subsurface term when some material has \
-             FakeSSS, and is empty otherwise.",
+             FakeSSS, and is empty otherwise. Shadows: the ShadowMap node of the same light type; each light whose \
+             AddLight has a Shadow Slice is shadowed by that slice.",
         )
         .input_spread("G-Buffer", PinType::Resource(ResourceKind::GBuffer), Spread::Resource(ResourceKind::GBuffer, vec![]))
         .input_spread("Lights", PinType::Resource(ResourceKind::LightWorld), Spread::Resource(ResourceKind::LightWorld, vec![]))
@@ -39,6 +41,7 @@ pub fn register(r: &mut Registry) {
             PinType::Resource(ResourceKind::MaterialWorld),
             Spread::Resource(ResourceKind::MaterialWorld, vec![]),
         )
+        .input_spread("Shadows", PinType::Resource(ResourceKind::Shadows), Spread::Resource(ResourceKind::Shadows, vec![]))
         .output_typed("Diffuse", PinType::Resource(ResourceKind::Texture))
         .output_typed("Specular", PinType::Resource(ResourceKind::Texture))
         .output_typed("SSS", PinType::Resource(ResourceKind::Texture))
@@ -64,7 +67,13 @@ pub fn register(r: &mut Registry) {
                 Some(world) => Surfaces::Materials(world),
                 None => Surfaces::PerMaterialId(surfaces),
             };
-            let recipe = CookTorrance::new(&renderer, Some(cx.node_id.0), gbuffer, lights, mode, energy, surfaces);
+            let shadows = resources::<ShadowMaps>(cx, 7)?.into_iter().next();
+            if let Some(s) = &shadows
+                && s.kind != lights.kind
+            {
+                return Err(cx.input_error(7, format!("holds shadows of {:?} lights, but Lights holds {:?} lights", s.kind, lights.kind)));
+            }
+            let recipe = CookTorrance::with_shadows(&renderer, Some(cx.node_id.0), gbuffer, lights, mode, energy, surfaces, shadows);
             cx.set_output(0, resource_spread::<TextureRef>(ResourceKind::Texture, vec![std::sync::Arc::new(recipe.diffuse_texture())]));
             cx.set_output(1, resource_spread::<TextureRef>(ResourceKind::Texture, vec![std::sync::Arc::new(recipe.specular_texture())]));
             // Only when some material has FakeSSS: otherwise there is no subsurface term to pass on.

@@ -1,11 +1,13 @@
 //! Lights and shading nodes (category "Lighting"): `AddLight (Point)`,
 //! `AddLight (Spot)`, `AddLight (Sun)`, `PointLightBuffer`,
-//! `SpotLightBuffer`, `SunLightBuffer`, `CookTorrance`, `CompositeLight`.
+//! `SpotLightBuffer`, `SunLightBuffer`, `ShadowMap (Spot)`, `ShadowMap (Point)`,
+//! `ShadowMap (Sun)`, `CookTorrance`, `CompositeLight`.
 
 pub mod add_light;
 pub mod composite_light;
 pub mod cook_torrance;
 pub mod point_light_buffer;
+pub mod shadow_map;
 pub mod spot_light_buffer;
 pub mod sun_light_buffer;
 
@@ -32,6 +34,7 @@ pub fn register(r: &mut Registry) {
     point_light_buffer::register(r);
     spot_light_buffer::register(r);
     sun_light_buffer::register(r);
+    shadow_map::register(r);
     cook_torrance::register(r);
     composite_light::register(r);
 }

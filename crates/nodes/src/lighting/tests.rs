@@ -164,3 +164,67 @@ fn a_spot_that_cannot_be_a_light_is_an_error_naming_its_id() {
         "{errors:?}"
     );
 }
+
+#[test]
+fn shadow_map_settings_out_of_range_are_errors_naming_the_pin() {
+    // Settings are checked before anything needs a G-buffer or a renderer's GPU work.
+    let renderer_error = |name: &str, values: &[(&str, Spread)], pin: &str| {
+        let mut patch = Patch::default();
+        let mut node = NodeDoc::new(1, name);
+        for (p, v) in values {
+            node = node.with(p, v.clone());
+        }
+        patch.add(node);
+        patch.add(NodeDoc::new(2, "Probe"));
+        patch.link(1, "Shadows", 2, "Input");
+        let (runtime, _) = run(&patch, 1, "Shadows");
+        let errors: Vec<String> = runtime.node_errors().map(|(_, e)| e.to_string()).collect();
+        assert_eq!(errors.len(), 1, "{errors:?}");
+        assert!(errors[0].contains(&format!("input `{pin}`")), "{errors:?}");
+        errors[0].clone()
+    };
+    let e = renderer_error(
+        "ShadowMap (Spot)",
+        &[("Resolution", Spread::Int(vec![8]))],
+        "Resolution",
+    );
+    assert!(e.contains("16..="), "{e}");
+    let e = renderer_error(
+        "ShadowMap (Point)",
+        &[("PCF Kernel", Spread::Int(vec![4]))],
+        "PCF Kernel",
+    );
+    assert!(e.contains("odd"), "{e}");
+    // Nothing wrong with the settings, but no view to render shadows for.
+    renderer_error("ShadowMap (Sun)", &[], "G-Buffer");
+}
+
+#[test]
+fn two_lights_on_one_shadow_slice_are_named() {
+    let mut patch = Patch::default();
+    patch.add(
+        NodeDoc::new(1, "AddLight (Point)")
+            .with("Shadow Slice", vec![2i64])
+            .with("Intensity", vec![1.0f32, 2.0]),
+    );
+    patch.add(NodeDoc::new(2, "ShadowMap (Point)"));
+    patch.add(NodeDoc::new(3, "Probe"));
+    patch.add(NodeDoc::new(4, "Sphere"));
+    patch.add(NodeDoc::new(5, "DeferredBase"));
+    patch.add(NodeDoc::new(6, "MRE"));
+    patch.link(1, "Lights", 2, "Lights");
+    patch.link(4, "Mesh", 5, "Mesh");
+    patch.link(5, "Layer", 6, "Layer");
+    patch.link(5, "Layer", 2, "Layer");
+    patch.link(6, "G-Buffer", 2, "G-Buffer");
+    patch.link(2, "Shadows", 3, "Input");
+    let (runtime, _) = run(&patch, 2, "Shadows");
+    let errors: Vec<String> = runtime
+        .node_errors()
+        .map(|(id, e)| format!("#{}: {e}", id.0))
+        .collect();
+    assert_eq!(
+        errors,
+        ["#2: input `Lights`: shadow slice 2 is given to lights `point0`, `point1`"]
+    );
+}

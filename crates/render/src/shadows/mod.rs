@@ -195,6 +195,8 @@ const VIEW_STRIDE: u64 = 256;
 /// slices that need it into the renderer's stored maps.
 pub struct ShadowMaps {
     id: u64,
+    /// The light type these maps are laid out for.
+    pub kind: crate::lighting::LightKind,
     owner: Option<u32>,
     pub settings: ShadowSettings,
     per_slice: u32,
@@ -376,8 +378,14 @@ impl ShadowMaps {
             usage: wgpu::BufferUsages::STORAGE,
         });
         let store = renderer.state::<ShadowStore>(owner.map_or(id, u64::from));
+        let kind = match lights {
+            ShadowLights::Spot(_) => crate::lighting::LightKind::Spot,
+            ShadowLights::Point(_) => crate::lighting::LightKind::Point,
+            ShadowLights::Sun { .. } => crate::lighting::LightKind::Sun,
+        };
         Ok(Arc::new(ShadowMaps {
             id,
+            kind,
             owner,
             settings,
             per_slice: per,
