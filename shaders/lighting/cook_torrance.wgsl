@@ -114,7 +114,7 @@ fn shade(light: u32, p: vec3<f32>, pw: vec3<f32>, n: vec3<f32>, v: vec3<f32>, al
     var radiance = record.intensity.rgb;
 #ifdef SHADOWS
     if (record.cone.z >= 0.0) {
-        radiance *= light_shadow(u32(record.cone.z), pw, normal_world, record.direction.xyz, view_depth);
+        radiance *= light_shadow(u32(record.cone.z), pw, normal_world, record.direction.xyz, view_depth, dot(n, l));
     }
 #endif
 #else
@@ -138,7 +138,7 @@ fn shade(light: u32, p: vec3<f32>, pw: vec3<f32>, n: vec3<f32>, v: vec3<f32>, al
 #ifdef SHADOWS
     // A light's own shadow slice (cone.z; -1: casts none).
     if (record.cone.z >= 0.0) {
-        radiance *= light_shadow(u32(record.cone.z), pw, normal_world, pw - record.position_range.xyz, view_depth);
+        radiance *= light_shadow(u32(record.cone.z), pw, normal_world, pw - record.position_range.xyz, view_depth, dot(n, l));
     }
 #endif
 #endif

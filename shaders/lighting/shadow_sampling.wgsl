@@ -17,7 +17,7 @@ struct ShadowView {
 
 // Matches `GpuShadowParams` in crates/render/src/shadows/mod.rs.
 struct ShadowParams {
-    // depth bias (world units), normal bias (texels), PCF radius (texels), PCSS light size (world)
+    // depth bias (world units), normal bias (texels), reach (PCF radius or VSM blur, texels), PCSS light size (world)
     bias: vec4<f32>,
     // PCSS samples, VSM bleeding reduction, resolution, layers per slice
     sampling: vec4<f32>,
@@ -72,14 +72,21 @@ fn texel_of(uv: vec2<f32>) -> vec2<i32> {
     return vec2<i32>(clamp(uv * size, vec2<f32>(0.0), vec2<f32>(size - 1.0)));
 }
 
-// How lit world point `pw` (world normal `nw`) is in shadow-map layer `layer`.
-// Outside the layer's frustum: lit.
-fn shadow_in_layer(layer: u32, pw: vec3<f32>, nw: vec3<f32>) -> f32 {
+// How lit world point `pw` (world normal `nw`) is in shadow-map layer
+// `layer`; `slope` is the tangent of the angle between the normal and the
+// light. Outside the layer's frustum: lit.
+//
+// Bias: the depth bias, plus the slope times how far (in world units)
+// the filter reaches from the pixel: a tilted receiver is that much deeper
+// at the far end of the kernel, and without it wide filters shadow the
+// receiver itself (acne), most at grazing angles.
+fn shadow_in_layer(layer: u32, pw: vec3<f32>, nw: vec3<f32>, slope: f32) -> f32 {
     let v = shadow_views[layer];
     // Normal offset: a texel's world size at the receiver, times the bias.
     let first = v.view_projection * vec4<f32>(pw, 1.0);
     let distance = select(max(first.w, 0.0), 1.0, v.depth.w > 0.5);
-    let moved = pw + nw * shadow_params.bias.y * v.depth.z * distance;
+    let texel_world = v.depth.z * distance;
+    let moved = pw + nw * shadow_params.bias.y * texel_world;
     let clip = v.view_projection * vec4<f32>(moved, 1.0);
     if (clip.w <= 1e-12) {
         return 1.0;
@@ -90,17 +97,20 @@ fn shadow_in_layer(layer: u32, pw: vec3<f32>, nw: vec3<f32>) -> f32 {
     }
     let uv = vec2<f32>(ndc.x * 0.5 + 0.5, 0.5 - ndc.y * 0.5);
     let receiver = linear_depth(v, ndc.z);
-    let biased = max(receiver - shadow_params.bias.x, v.depth.x);
-    let reference = depth_of(v, biased);
+    let bias = shadow_params.bias.x;
 #ifdef SHADOW_VSM
-    return vsm(layer, uv, v, biased);
+    let reach = (shadow_params.bias.z + 1.0) * texel_world;
+    return vsm(layer, uv, v, max(receiver - bias - slope * reach, v.depth.x));
 #else
 #ifdef SHADOW_PCSS
-    return pcss(layer, uv, v, receiver, biased, reference, moved);
+    return pcss(layer, uv, v, receiver, bias, slope, moved);
 #else
 #ifdef SHADOW_PCF
-    return pcf(layer, uv, reference, i32(shadow_params.bias.z));
+    let r = i32(shadow_params.bias.z);
+    let reach = f32(r + 1) * texel_world;
+    return pcf(layer, uv, depth_of(v, max(receiver - bias - slope * reach, v.depth.x)), r);
 #else
+    let reference = depth_of(v, max(receiver - bias - slope * texel_world, v.depth.x));
     let stored = textureLoad(shadow_maps, texel_of(uv), i32(layer), 0);
     return select(0.0, 1.0, reference <= stored);
 #endif
@@ -127,7 +137,7 @@ fn pcf(layer: u32, uv: vec2<f32>, reference: f32, r: i32) -> f32 {
 // at zb onto a receiver at zr is L (zr - zb) / zb wide for a light at a
 // point (L (zr - zb) for a sun), which sets the PCF radius. Blockers are
 // searched within the widest penumbra a receiver at zr can have.
-fn pcss(layer: u32, uv: vec2<f32>, v: ShadowView, receiver: f32, biased: f32, reference: f32, pw: vec3<f32>) -> f32 {
+fn pcss(layer: u32, uv: vec2<f32>, v: ShadowView, receiver: f32, bias: f32, slope: f32, pw: vec3<f32>) -> f32 {
     let n = u32(shadow_params.sampling.x);
     let light = shadow_params.bias.w;
     let ortho = v.depth.w > 0.5;
@@ -137,12 +147,13 @@ fn pcss(layer: u32, uv: vec2<f32>, v: ShadowView, receiver: f32, biased: f32, re
     let texel = 1.0 / res;
     let search = clamp(select(light, light * receiver, ortho) / max(width, 1e-12), texel, 0.1);
     let phi = shadow_noise(pw) * 6.2831853;
+    let searched = max(receiver - bias - slope * (search + texel) * width, v.depth.x);
     var blockers = 0.0;
     var blocker_sum = 0.0;
     for (var i = 0u; i < n; i++) {
         let d = textureLoad(shadow_maps, texel_of(uv + vogel(i, n, phi) * search), i32(layer), 0);
         let z = linear_depth(v, d);
-        if (z < biased) {
+        if (z < searched) {
             blockers += 1.0;
             blocker_sum += z;
         }
@@ -153,6 +164,7 @@ fn pcss(layer: u32, uv: vec2<f32>, v: ShadowView, receiver: f32, biased: f32, re
     let blocker = max(blocker_sum / blockers, 1e-6);
     let penumbra = select(light * (receiver - blocker) / blocker, light * (receiver - blocker), ortho);
     let radius = clamp(max(penumbra, 0.0) / max(width, 1e-12), texel, 0.1);
+    let reference = depth_of(v, max(receiver - bias - slope * (radius + texel) * width, v.depth.x));
     var lit = 0.0;
     for (var i = 0u; i < n; i++) {
         lit += textureSampleCompareLevel(shadow_maps, shadow_compare, uv + vogel(i, n, phi) * radius, i32(layer), reference);
@@ -193,19 +205,22 @@ fn vsm(layer: u32, uv: vec2<f32>, v: ShadowView, biased: f32) -> f32 {
 // spots read layer `slice`; point lights the cube face `from_light` points
 // at; suns the cascade that holds camera depth `view_depth` (beyond the
 // last: lit).
-fn light_shadow(slice: u32, pw: vec3<f32>, nw: vec3<f32>, from_light: vec3<f32>, view_depth: f32) -> f32 {
+fn light_shadow(slice: u32, pw: vec3<f32>, nw: vec3<f32>, from_light: vec3<f32>, view_depth: f32, n_dot_l: f32) -> f32 {
     let per = u32(shadow_params.sampling.w);
+    // tan of the angle of incidence, capped where the light grazes the surface.
+    let c = clamp(abs(n_dot_l), 0.1, 1.0);
+    let slope = sqrt(1.0 - c * c) / c;
 #ifdef LIGHT_SUN
     for (var c = 0u; c < per; c++) {
         let layer = slice * per + c;
         if (view_depth <= shadow_views[layer].split.x) {
-            return shadow_in_layer(layer, pw, nw);
+            return shadow_in_layer(layer, pw, nw, slope);
         }
     }
     return 1.0;
 #else
 #ifdef LIGHT_SPOT
-    return shadow_in_layer(slice, pw, nw);
+    return shadow_in_layer(slice, pw, nw, slope);
 #else
     let a = abs(from_light);
     var face = 0u;
@@ -216,7 +231,7 @@ fn light_shadow(slice: u32, pw: vec3<f32>, nw: vec3<f32>, from_light: vec3<f32>,
     } else {
         face = select(5u, 4u, from_light.z > 0.0);
     }
-    return shadow_in_layer(slice * 6u + face, pw, nw);
+    return shadow_in_layer(slice * 6u + face, pw, nw, slope);
 #endif
 #endif
 }

@@ -544,15 +544,32 @@ mod tests {
 
     #[test]
     fn every_permutation_composes_and_validates() {
-        let mut composer = ShaderComposer::new().expect("libraries compose");
         let keys = all_permutations();
         assert!(keys.len() >= 32, "resolve alone has 2^5 permutations");
-        let failures: Vec<String> = keys
-            .iter()
-            .filter_map(|k| composer.compose(k).err().map(|e| e.to_string()))
-            .collect();
+        // Hundreds of permutations: a composer per thread, a share of the keys each.
+        let threads = std::thread::available_parallelism().map_or(2, |n| n.get());
+        let chunk = keys.len().div_ceil(threads);
+        let failures: Vec<String> = std::thread::scope(|scope| {
+            let workers: Vec<_> = keys
+                .chunks(chunk)
+                .map(|share| {
+                    scope.spawn(move || {
+                        let mut composer = ShaderComposer::new().expect("libraries compose");
+                        share
+                            .iter()
+                            .filter_map(|k| composer.compose(k).err().map(|e| e.to_string()))
+                            .collect::<Vec<_>>()
+                    })
+                })
+                .collect();
+            workers
+                .into_iter()
+                .flat_map(|w| w.join().expect("no panic"))
+                .collect()
+        });
         assert!(failures.is_empty(), "{}", failures.join("\n\n"));
     }
+
 
     #[test]
     fn shaders_reload_from_disk_and_report_errors_with_the_file() {

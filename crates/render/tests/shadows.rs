@@ -451,3 +451,150 @@ fn bad_shadow_setups_are_errors_naming_what() {
     let one = ShadowLights::Point(vec![(0, Vec3::ZERO, 1.0)]);
     assert!(ShadowMaps::new(&renderer, None, &one, layers, &camera(), tiny).is_err());
 }
+
+/// A layer of just the floor (nothing to cast a shadow on it but itself).
+fn floor_only(renderer: &Renderer) -> Vec<Arc<Layer>> {
+    let layers = casters(renderer, Vec3::new(0.0, -50.0, 0.0));
+    // The ball sits far below the floor, out of every light's way.
+    layers
+}
+
+#[test]
+fn no_acne_at_grazing_angles_and_no_seams_at_cascade_borders_with_the_default_biases() {
+    let renderer = test_renderer();
+    let layers = floor_only(&renderer);
+    // A sun 10 degrees above the horizon over a bare floor: nothing shadows
+    // it, so every pixel must be as lit as without shadows, across all cascades.
+    let sun = SunLight {
+        direction: Vec3::new(1.0, -0.176, 0.3).normalize(),
+        color: Vec3::ONE,
+        illuminance: 5.0,
+        shadow: Some(0),
+    };
+    let casting = ShadowLights::Sun {
+        lights: vec![(0, sun.direction)],
+        cascades: Cascades {
+            count: 4,
+            split_lambda: 0.5,
+            distance: 40.0,
+        },
+    };
+    let (lit, _) = shade(
+        &renderer,
+        &layers,
+        LightBuffer::suns(&renderer, &[sun]),
+        None,
+    );
+    for filter in FILTERS {
+        let defaults = ShadowSettings {
+            filter,
+            resolution: 512,
+            ..Default::default()
+        };
+        let maps = ShadowMaps::new(
+            &renderer,
+            None,
+            &casting,
+            layers.clone(),
+            &camera(),
+            defaults,
+        )
+        .expect("valid");
+        let (shadowed, _) = shade(
+            &renderer,
+            &layers,
+            LightBuffer::suns(&renderer, &[sun]),
+            Some(maps),
+        );
+        let dark = lit
+            .pixels
+            .iter()
+            .zip(&shadowed.pixels)
+            .filter(|(l, s)| l[0] > 1e-4 && s[0] < 0.95 * l[0])
+            .count();
+        assert_eq!(
+            dark, 0,
+            "{filter:?}: {dark} floor pixels darkened by acne or a cascade seam"
+        );
+    }
+}
+
+#[test]
+fn a_ball_resting_on_the_floor_keeps_its_contact_shadow() {
+    let renderer = test_renderer();
+    // Peter-panning: too much bias lifts the shadow off the contact point. A
+    // light 45 degrees up on +x throws the ball's shadow along -x, starting
+    // where the ball touches the floor; seen from straight above, the floor
+    // just past the ball's silhouette on -x must be dark.
+    let layers = casters(&renderer, Vec3::new(0.0, 0.5, 0.0));
+    let position = Vec3::new(4.0, 4.0, 0.0);
+    let spot = SpotLight {
+        shadow: Some(0),
+        ..SpotLight::cone(position, -position, 12.0, 0.4, 0.5).with_light(Vec3::ONE, 300.0)
+    };
+    let lights = LightBuffer::spots(&renderer, &[spot], None).expect("valid");
+    let casting = ShadowLights::Spot(vec![(0, spot.view, spot.projection)]);
+    let top_down = CameraInput {
+        view: glam::camera::rh::view::look_at_mat4(
+            Vec3::new(0.0, 8.0, 0.0),
+            Vec3::ZERO,
+            Vec3::NEG_Z,
+        ),
+        projection: glam::camera::rh::proj::directx::perspective(0.6, 1.0, 0.1, 50.0),
+    };
+    let diffuse = |shadows| {
+        let g = GBuffer::new(
+            &renderer,
+            None,
+            layers.clone(),
+            top_down,
+            None,
+            SizeRule::Relative(1.0),
+        );
+        let ct = CookTorrance::with_shadows(
+            &renderer,
+            None,
+            g,
+            lights.clone(),
+            LightLoop::Naive,
+            true,
+            Surfaces::PerMaterialId(vec![(0.7, 0.0)]),
+            shadows,
+        );
+        let (_, images) =
+            render_and_read(&renderer, ct.as_ref(), SIZE, &[&ct.diffuse]).expect("renders");
+        images.into_iter().next().expect("one image")
+    };
+    let lit = diffuse(None);
+    // The ball's silhouette is ~7 pixels in radius; its shadow reaches ~0.9
+    // units (~12 pixels) along -x. Pixels 8 to 11 left of the centre.
+    let row = (SIZE.1 / 2) * SIZE.0;
+    let near: Vec<usize> = (8..=11)
+        .map(|dx| (row + SIZE.0 / 2 - dx) as usize)
+        .collect();
+    assert!(
+        near.iter().all(|&i| lit.pixels[i][0] > 1e-3),
+        "the floor there is lit without shadows"
+    );
+    for filter in FILTERS {
+        let maps = ShadowMaps::new(
+            &renderer,
+            None,
+            &casting,
+            layers.clone(),
+            &top_down,
+            settings(filter),
+        )
+        .expect("valid");
+        let shadowed = diffuse(Some(maps));
+        for &i in &near {
+            assert!(
+                shadowed.pixels[i][0] < 0.5 * lit.pixels[i][0],
+                "{filter:?}: pixel {} left of centre is in the contact shadow ({} vs {})",
+                SIZE.0 / 2 - (i as u32 - row),
+                shadowed.pixels[i][0],
+                lit.pixels[i][0]
+            );
+        }
+    }
+}

@@ -180,7 +180,7 @@ struct GpuCaster {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
 struct GpuShadowParams {
-    /// depth bias, normal bias (texels), PCF radius (texels), PCSS light size (UV)
+    /// depth bias, normal bias (texels), filter reach (PCF radius or VSM blur, texels), PCSS light size (world)
     bias: [f32; 4],
     /// PCSS samples, VSM bleeding, resolution, layers per slice
     filter: [f32; 4],
@@ -353,9 +353,13 @@ impl ShadowMaps {
                 samples.clamp(1, 64) as f32,
                 0.0,
             ),
-            ShadowFilter::Vsm { bleeding, .. } => {
-                (0.0, 0.0, 0.0, finite_non_negative(bleeding).min(0.99))
-            }
+            // The blur is how far VSM's filter reaches, for the slope bias.
+            ShadowFilter::Vsm { bleeding, blur } => (
+                blur.min(8) as f32,
+                0.0,
+                0.0,
+                finite_non_negative(bleeding).min(0.99),
+            ),
         };
         let params = GpuShadowParams {
             bias: [
