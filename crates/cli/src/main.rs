@@ -2,6 +2,7 @@
 //! reports their problems with file and node, and evaluates them headless.
 //! Exit codes: 0 clean, 1 the patch has errors, 2 usage errors (clap's own).
 
+mod accuracy;
 mod bench;
 mod check;
 mod eval;
@@ -40,6 +41,8 @@ enum Command {
     Stats(stats::Args),
     /// Time a patch's frames on the GPU (timestamp queries; medians; the adapter named).
     Bench(bench::Args),
+    /// What accuracy costs: GPU time against error versus a CPU reference, per quality setting.
+    Accuracy(accuracy::Args),
     /// Rewrite patches in the canonical layout (what saving writes).
     Fmt(fmt::Args),
     /// List the node types this build knows, by category.
@@ -56,6 +59,7 @@ fn main() -> ExitCode {
         Command::View(args) => view::run(&args),
         Command::Stats(args) => stats::run(&args),
         Command::Bench(args) => bench::run(&args),
+        Command::Accuracy(args) => accuracy::run(&args),
         Command::Nodes => {
             list_nodes();
             Ok(ExitCode::SUCCESS)

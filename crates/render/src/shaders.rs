@@ -570,7 +570,6 @@ mod tests {
         assert!(failures.is_empty(), "{}", failures.join("\n\n"));
     }
 
-
     #[test]
     fn shaders_reload_from_disk_and_report_errors_with_the_file() {
         let dir = tempfile::tempdir().expect("tempdir");

@@ -144,6 +144,8 @@ pub(crate) struct StoredMaps {
     moments: Option<wgpu::Texture>,
     /// Per slice: what it holds (its views and casters), to reuse it.
     contents: Vec<Option<SliceContent>>,
+    /// VSM: layers rendered this frame whose moments are still to compute.
+    pending_moments: Vec<u32>,
 }
 
 /// What a rendered slice shows: reusable while both are the same.
@@ -211,7 +213,10 @@ pub struct ShadowMaps {
     draws: Vec<(u32, u32, u32)>,
     store: Arc<ShadowStore>,
     layers: u32,
+    /// What readers wait for: the maps (and for VSM their moments) are ready.
     token: String,
+    /// VSM: the depth layers are drawn (the moments pass waits for it).
+    depth_token: String,
 }
 
 impl std::fmt::Debug for ShadowMaps {
@@ -403,6 +408,7 @@ impl ShadowMaps {
             store,
             layers,
             token: format!("shadows{id}/maps"),
+            depth_token: format!("shadows{id}/depth"),
         }))
     }
 
@@ -584,13 +590,26 @@ impl ShadowMaps {
             }
         }
         cx.draws += draws;
-        if let (ShadowFilter::Vsm { blur, .. }, Some(moments)) =
-            (self.settings.filter, &maps.moments)
-        {
-            let layers: Vec<u32> = work.iter().map(|w| w.2).collect();
-            self.moments(cx, &maps.depth, moments, &layers, blur)?;
+        if vsm {
+            maps.pending_moments = work.iter().map(|w| w.2).collect();
         }
         Ok(())
+    }
+
+    /// VSM's second pass: moments of the layers the render pass just drew.
+    fn moments_pass(&self, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
+        let ShadowFilter::Vsm { blur, .. } = self.settings.filter else {
+            return Ok(());
+        };
+        let mut guard = self.store.0.lock().unwrap_or_else(|e| e.into_inner());
+        let Some(maps) = guard.as_mut() else {
+            return Ok(());
+        };
+        let layers = std::mem::take(&mut maps.pending_moments);
+        match (&maps.moments, layers.is_empty()) {
+            (Some(moments), false) => self.moments(cx, &maps.depth, moments, &layers, blur),
+            _ => Ok(()),
+        }
     }
 
     /// VSM: the depth layers just rendered as blurred moments of linear depth.
@@ -682,6 +701,7 @@ impl ShadowMaps {
             depth,
             moments,
             contents: vec![None; (self.layers / self.per_slice) as usize],
+            pending_moments: Vec::new(),
         }
     }
 }
@@ -755,12 +775,31 @@ impl Recipe for ShadowMaps {
             lifetime: Lifetime::Temporary,
             usage: wgpu::TextureUsages::TEXTURE_BINDING,
         };
-        fg.add_pass(
-            self.label("render"),
-            self.owner,
-            &[],
-            &[(&self.token, token)],
-            move |cx| self.render(cx, renderer),
-        );
+        match self.settings.filter {
+            // VSM: the depth pass, then the moments pass, each timed on its own.
+            ShadowFilter::Vsm { .. } => {
+                fg.add_pass(
+                    self.label("render"),
+                    self.owner,
+                    &[],
+                    &[(&self.depth_token, token)],
+                    move |cx| self.render(cx, renderer),
+                );
+                fg.add_pass(
+                    self.label("moments"),
+                    self.owner,
+                    &[&self.depth_token],
+                    &[(&self.token, token)],
+                    move |cx| self.moments_pass(cx),
+                );
+            }
+            _ => fg.add_pass(
+                self.label("render"),
+                self.owner,
+                &[],
+                &[(&self.token, token)],
+                move |cx| self.render(cx, renderer),
+            ),
+        }
     }
 }

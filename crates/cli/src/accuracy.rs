@@ -1,0 +1,424 @@
+//! `spreadlight accuracy`: what accuracy costs. For an approximating
+//! effect, every quality setting's GPU time at a large size against its
+//! error, at a small size, versus a CPU reference of the same scene. Prints
+//! a Markdown table (and JSON lines with `--json`); `--out` writes the table
+//! to a file. Later effects add themselves as subcommands.
+//!
+//! Shadows: balls over a floor lit by one spot light of radius
+//! `LIGHT_RADIUS`; the reference ray-casts the light's disk from every
+//! pixel's surface point (render::reference::shadows), so soft shadows are
+//! the truth and hard filters pay for their hard edges. Each filter is
+//! measured at each map resolution; the error is the RMSE of the light's
+//! visibility (shadowed over unshadowed lighting) over the pixels the spot
+//! lights, and the share of those pixels off by more than 0.1.
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::sync::Arc;
+
+use anyhow::Context;
+use glam::{Mat4, Vec3, Vec4};
+use spreadlight_render::camera::{CameraInput, reverse_z};
+use spreadlight_render::gbuffer::{DrawBatch, GBuffer, InstanceInput, Layer, LayerFeatures};
+use spreadlight_render::lighting::{CookTorrance, LightBuffer, LightLoop, SpotLight, Surfaces};
+use spreadlight_render::mesh::primitives::{GridParams, SphereParams, grid, sphere};
+use spreadlight_render::readback::{ImageF32, render_and_read};
+use spreadlight_render::reference::shadows::{DiskLight, Sphere, disk_samples, visibility};
+use spreadlight_render::shadows::{ShadowFilter, ShadowLights, ShadowMaps, ShadowSettings};
+use spreadlight_render::{Renderer, SizeRule};
+
+use crate::session::parse_size;
+
+#[derive(clap::Args)]
+pub struct Args {
+    #[command(subcommand)]
+    what: What,
+}
+
+#[derive(clap::Subcommand)]
+enum What {
+    /// Shadow filters (Raw, PCF, PCSS, VSM) by map resolution: GPU time against error versus ray-cast soft shadows.
+    Shadows(ShadowArgs),
+}
+
+#[derive(clap::Args)]
+struct ShadowArgs {
+    /// Where GPU time is measured.
+    #[arg(long, default_value = "1920x1080", value_parser = parse_size)]
+    time_size: (u32, u32),
+    /// Where the error is measured (the CPU reference casts rays from every pixel).
+    #[arg(long, default_value = "320x180", value_parser = parse_size)]
+    error_size: (u32, u32),
+    /// Shadow-map resolutions, comma-separated.
+    #[arg(long, default_value = "512,1024,2048,4096", value_delimiter = ',')]
+    resolutions: Vec<u32>,
+    /// Timed frames per setting (after one warm-up frame); the median is reported.
+    #[arg(long, default_value_t = 9)]
+    frames: usize,
+    /// Rays per pixel in the reference.
+    #[arg(long, default_value_t = 256)]
+    rays: u32,
+    /// Also write the table to this Markdown file.
+    #[arg(long)]
+    out: Option<PathBuf>,
+    /// Print JSON lines instead of the table.
+    #[arg(long)]
+    json: bool,
+}
+
+pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
+    match &args.what {
+        What::Shadows(a) => shadows(a),
+    }
+}
+
+/// The light's radius, for the reference's disk and PCSS's light size.
+const LIGHT_RADIUS: f32 = 0.25;
+
+/// The scene: (centre, radius) of each ball.
+const BALLS: [([f32; 3], f32); 4] = [
+    ([0.0, 0.8, 0.0], 0.8),
+    ([-1.8, 0.5, 0.6], 0.5),
+    ([1.6, 0.3, -0.4], 0.3),
+    ([0.7, 1.9, 1.3], 0.35),
+];
+
+fn spot() -> SpotLight {
+    SpotLight {
+        shadow: Some(0),
+        ..SpotLight::cone(
+            Vec3::new(3.0, 7.0, 2.0),
+            Vec3::new(-3.0, -7.0, -2.0),
+            20.0,
+            0.4,
+            0.5,
+        )
+        .with_light(Vec3::ONE, 400.0)
+    }
+}
+
+fn camera(size: (u32, u32)) -> CameraInput {
+    CameraInput {
+        view: glam::camera::rh::view::look_at_mat4(
+            Vec3::new(0.0, 6.0, 9.0),
+            Vec3::new(0.0, 0.5, 0.0),
+            Vec3::Y,
+        ),
+        projection: glam::camera::rh::proj::directx::perspective(
+            0.8,
+            size.0 as f32 / size.1.max(1) as f32,
+            0.1,
+            100.0,
+        ),
+    }
+}
+
+fn scene(renderer: &Renderer) -> anyhow::Result<Vec<Arc<Layer>>> {
+    let ball = renderer.meshes.upload(
+        &renderer.gpu,
+        &sphere(SphereParams {
+            radius: 1.0,
+            sectors: 96,
+            stacks: 48,
+        }),
+    )?;
+    let floor = renderer.meshes.upload(
+        &renderer.gpu,
+        &grid(GridParams {
+            size: glam::Vec2::splat(30.0),
+            resolution_x: 1,
+            resolution_y: 1,
+        }),
+    )?;
+    let instance = |t: Mat4| InstanceInput {
+        transform: t,
+        previous_transform: t,
+        color: [0.8, 0.8, 0.8, 1.0],
+        material_id: 0,
+        object_id: 0,
+    };
+    let balls = BALLS
+        .iter()
+        .map(|(c, r)| {
+            instance(Mat4::from_translation(Vec3::from(*c)) * Mat4::from_scale(Vec3::splat(*r)))
+        })
+        .collect();
+    let batches = vec![
+        DrawBatch {
+            mesh: ball,
+            instances: balls,
+        },
+        DrawBatch {
+            mesh: floor,
+            instances: vec![instance(Mat4::IDENTITY)],
+        },
+    ];
+    Ok(vec![Arc::new(Layer::new(
+        None,
+        batches,
+        LayerFeatures::default(),
+        None,
+    )?)])
+}
+
+/// A labelled filter setting.
+fn settings() -> Vec<(String, ShadowFilter)> {
+    let mut s = vec![("Raw".to_owned(), ShadowFilter::Raw)];
+    for k in [3, 5, 7] {
+        s.push((format!("PCF {k}x{k}"), ShadowFilter::Pcf { kernel: k }));
+    }
+    for n in [8, 16, 32, 64] {
+        s.push((
+            format!("PCSS {n}"),
+            ShadowFilter::Pcss {
+                light_size: LIGHT_RADIUS,
+                samples: n,
+            },
+        ));
+    }
+    s.push((
+        "VSM".to_owned(),
+        ShadowFilter::Vsm {
+            bleeding: 0.3,
+            blur: 2,
+        },
+    ));
+    s
+}
+
+struct Frame {
+    diffuse: ImageF32,
+    depth: ImageF32,
+    shadow_ms: Option<f64>,
+    shade_ms: Option<f64>,
+}
+
+/// One frame of the scene at `size`, with shadows of `filter` at `resolution` (None: unshadowed).
+fn frame(
+    renderer: &Renderer,
+    layers: &[Arc<Layer>],
+    size: (u32, u32),
+    shadows: Option<(ShadowFilter, u32)>,
+) -> anyhow::Result<Frame> {
+    let spot = spot();
+    let cam = camera(size);
+    let lights = LightBuffer::spots(renderer, &[spot], None)?;
+    let maps = match shadows {
+        Some((filter, resolution)) => Some(ShadowMaps::new(
+            renderer,
+            None,
+            &ShadowLights::Spot(vec![(0, spot.view, spot.projection)]),
+            layers.to_vec(),
+            &cam,
+            ShadowSettings {
+                resolution,
+                filter,
+                ..Default::default()
+            },
+        )?),
+        None => None,
+    };
+    let g = GBuffer::new(
+        renderer,
+        None,
+        layers.to_vec(),
+        cam,
+        None,
+        SizeRule::Relative(1.0),
+    );
+    let ct = CookTorrance::with_shadows(
+        renderer,
+        None,
+        g.clone(),
+        lights,
+        LightLoop::Naive,
+        true,
+        Surfaces::PerMaterialId(vec![(0.8, 0.0)]),
+        maps,
+    );
+    let (report, images) = render_and_read(
+        renderer,
+        ct.as_ref(),
+        size,
+        &[&ct.diffuse, &g.targets.depth],
+    )?;
+    if let Some((_, e)) = report.errors.first() {
+        anyhow::bail!("the frame failed: {e}");
+    }
+    let sum = |what: &str| {
+        let times: Vec<f64> = report
+            .passes
+            .iter()
+            .filter(|p| p.name.contains(what))
+            .filter_map(|p| p.gpu_ms)
+            .collect();
+        (!times.is_empty()).then(|| times.iter().sum())
+    };
+    let mut images = images.into_iter();
+    Ok(Frame {
+        diffuse: images.next().context("diffuse")?,
+        depth: images.next().context("depth")?,
+        shadow_ms: sum("ShadowMap"),
+        shade_ms: sum("shade"),
+    })
+}
+
+fn median(mut v: Vec<f64>) -> Option<f64> {
+    if v.is_empty() {
+        return None;
+    }
+    v.sort_by(f64::total_cmp);
+    Some(v[v.len() / 2])
+}
+
+/// Median shadow-map and shading times over `frames` frames after a warm-up.
+fn time(
+    renderer: &Renderer,
+    layers: &[Arc<Layer>],
+    size: (u32, u32),
+    frames: usize,
+    shadows: Option<(ShadowFilter, u32)>,
+) -> anyhow::Result<(Option<f64>, Option<f64>)> {
+    frame(renderer, layers, size, shadows)?;
+    let mut maps = Vec::new();
+    let mut shade = Vec::new();
+    for _ in 0..frames.max(1) {
+        let f = frame(renderer, layers, size, shadows)?;
+        maps.extend(f.shadow_ms);
+        shade.extend(f.shade_ms);
+    }
+    Ok((median(maps), median(shade)))
+}
+
+/// The reference visibility of the spot's disk from every pixel the spot lights (None elsewhere).
+fn reference(lit: &Frame, size: (u32, u32), rays: u32) -> Vec<Option<f32>> {
+    let spot = spot();
+    let inverse = (reverse_z(camera(size).projection) * camera(size).view).inverse();
+    let light = DiskLight {
+        center: spot.view.inverse().w_axis.truncate(),
+        normal: spot.view.inverse().transform_vector3(Vec3::NEG_Z),
+        radius: LIGHT_RADIUS,
+    };
+    let balls: Vec<Sphere> = BALLS
+        .iter()
+        .map(|(c, r)| Sphere {
+            center: Vec3::from(*c),
+            radius: *r,
+        })
+        .collect();
+    let samples = disk_samples(rays);
+    (0..size.0 * size.1)
+        .map(|i| {
+            let (x, y) = (i % size.0, i / size.0);
+            let unshadowed = lit.diffuse.pixels[i as usize][0];
+            let d = lit.depth.pixels[i as usize][0];
+            if unshadowed <= 1e-3 || d <= 0.0 {
+                return None;
+            }
+            let ndc = Vec4::new(
+                (x as f32 + 0.5) / size.0 as f32 * 2.0 - 1.0,
+                1.0 - (y as f32 + 0.5) / size.1 as f32 * 2.0,
+                d,
+                1.0,
+            );
+            let h = inverse * ndc;
+            let p = h.truncate() / h.w;
+            // Just off the surface, toward the light, so it does not shadow itself.
+            let p = p + (light.center - p).normalize_or_zero() * 2e-3;
+            Some(visibility(p, &light, &balls, &samples))
+        })
+        .collect()
+}
+
+/// RMSE and the share of pixels off by more than 0.1, of the GPU's visibility against the reference.
+fn error(shadowed: &Frame, lit: &Frame, truth: &[Option<f32>]) -> (f64, f64) {
+    let mut sum = 0.0;
+    let mut off = 0usize;
+    let mut n = 0usize;
+    for (i, t) in truth.iter().enumerate() {
+        let Some(t) = t else { continue };
+        let v = (shadowed.diffuse.pixels[i][0] / lit.diffuse.pixels[i][0]).clamp(0.0, 1.0);
+        let e = f64::from(v - t);
+        sum += e * e;
+        off += usize::from(e.abs() > 0.1);
+        n += 1;
+    }
+    let n = n.max(1) as f64;
+    ((sum / n).sqrt(), off as f64 / n)
+}
+
+fn ms(v: Option<f64>) -> String {
+    v.map_or("-".to_owned(), |v| format!("{v:.3}"))
+}
+
+fn shadows(args: &ShadowArgs) -> anyhow::Result<ExitCode> {
+    let renderer = Renderer::headless().context("cannot open a GPU")?;
+    let adapter = renderer.gpu.adapter_name();
+    let layers = scene(&renderer)?;
+    eprintln!(
+        "reference: {} rays per pixel at {}x{} ...",
+        args.rays, args.error_size.0, args.error_size.1
+    );
+    let lit = frame(&renderer, &layers, args.error_size, None)?;
+    let truth = reference(&lit, args.error_size, args.rays);
+    let (_, base_shade) = time(&renderer, &layers, args.time_size, args.frames, None)?;
+    let mut rows = Vec::new();
+    let settings = settings();
+    let total = settings.len() * args.resolutions.len();
+    for (k, (name, filter)) in settings.iter().enumerate() {
+        for (j, &res) in args.resolutions.iter().enumerate() {
+            eprintln!(
+                "[{}/{total}] {name} at {res}",
+                k * args.resolutions.len() + j + 1
+            );
+            let shadowed = frame(&renderer, &layers, args.error_size, Some((*filter, res)))?;
+            let (rmse, off) = error(&shadowed, &lit, &truth);
+            let (maps, shade) = time(
+                &renderer,
+                &layers,
+                args.time_size,
+                args.frames,
+                Some((*filter, res)),
+            )?;
+            rows.push((name.clone(), res, maps, shade, rmse, off));
+        }
+    }
+    let (tw, th) = args.time_size;
+    let (ew, eh) = args.error_size;
+    if args.json {
+        for (name, res, maps, shade, rmse, off) in &rows {
+            println!(
+                "{}",
+                serde_json::json!({
+                    "effect": "shadows", "filter": name, "resolution": res, "adapter": adapter,
+                    "time_size": format!("{tw}x{th}"), "error_size": format!("{ew}x{eh}"),
+                    "shadow_map_ms": maps, "shade_ms": shade, "shade_unshadowed_ms": base_shade,
+                    "rmse": rmse, "pixels_off_0_1": off,
+                })
+            );
+        }
+        return Ok(ExitCode::SUCCESS);
+    }
+    let mut table = format!(
+        "Shadow filters on {adapter}: GPU ms at {tw}x{th} (median of {} frames; the map pass renders every frame here, \
+         no reuse), error at {ew}x{eh} against {} ray-cast samples of a spot light of radius {LIGHT_RADIUS} \
+         (RMSE of visibility over the lit pixels; share of pixels off by more than 0.1). Shading without shadows: {} ms.\n\n\
+         | filter | map | shadow map ms | shade ms | RMSE | off > 0.1 |\n|---|---|---|---|---|---|\n",
+        args.frames,
+        args.rays,
+        ms(base_shade)
+    );
+    for (name, res, maps, shade, rmse, off) in &rows {
+        table.push_str(&format!(
+            "| {name} | {res} | {} | {} | {rmse:.4} | {:.1}% |\n",
+            ms(*maps),
+            ms(*shade),
+            off * 100.0
+        ));
+    }
+    print!("{table}");
+    if let Some(out) = &args.out {
+        std::fs::write(out, &table).with_context(|| format!("cannot write {}", out.display()))?;
+    }
+    Ok(ExitCode::SUCCESS)
+}
