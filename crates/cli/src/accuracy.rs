@@ -61,6 +61,9 @@ struct ShadowArgs {
     /// Also write the table to this Markdown file.
     #[arg(long)]
     out: Option<PathBuf>,
+    /// Write each setting's error image (|GPU - reference| visibility, white = 1) into this folder.
+    #[arg(long)]
+    error_images: Option<PathBuf>,
     /// Print JSON lines instead of the table.
     #[arg(long)]
     json: bool,
@@ -193,6 +196,9 @@ struct Frame {
     shade_ms: Option<f64>,
 }
 
+/// The node id the measured maps are kept under: one store, reused from frame to frame.
+const MAPS_OWNER: u32 = 1;
+
 /// One frame of the scene at `size`, with shadows of `filter` at `resolution` (None: unshadowed).
 fn frame(
     renderer: &Renderer,
@@ -200,15 +206,19 @@ fn frame(
     size: (u32, u32),
     shadows: Option<(ShadowFilter, u32)>,
 ) -> anyhow::Result<Frame> {
+    // New casters (the same geometry) every frame, so the maps are rendered
+    // each time into the kept store, as for a scene that moves, rather than
+    // reused or allocated anew.
+    let layers: Vec<Arc<Layer>> = layers.iter().map(|l| Arc::new(Layer::clone(l))).collect();
     let spot = spot();
     let cam = camera(size);
     let lights = LightBuffer::spots(renderer, &[spot], None)?;
     let maps = match shadows {
         Some((filter, resolution)) => Some(ShadowMaps::new(
             renderer,
-            None,
+            Some(MAPS_OWNER),
             &ShadowLights::Spot(vec![(0, spot.view, spot.projection)]),
-            layers.to_vec(),
+            layers.clone(),
             &cam,
             ShadowSettings {
                 resolution,
@@ -323,11 +333,24 @@ fn reference(lit: &Frame, size: (u32, u32), rays: u32) -> Vec<Option<f32>> {
             );
             let h = inverse * ndc;
             let p = h.truncate() / h.w;
-            // Just off the surface, toward the light, so it does not shadow itself.
-            let p = p + (light.center - p).normalize_or_zero() * 2e-3;
+            // Onto the true sphere's surface when on a ball (the mesh's facets
+            // lie just inside it), then just off it along the normal, so a
+            // grazing ray does not clip the ball it starts on.
+            let p = match balls
+                .iter()
+                .find(|b| p.distance(b.center) < b.radius * 1.02)
+            {
+                Some(b) => b.center + (p - b.center).normalize_or_zero() * (b.radius + 2e-3),
+                None => p + Vec3::Y * 2e-3,
+            };
             Some(visibility(p, &light, &balls, &samples))
         })
         .collect()
+}
+
+/// The GPU's visibility of the light per pixel: shadowed over unshadowed lighting.
+fn gpu_visibility(shadowed: &Frame, lit: &Frame, i: usize) -> f32 {
+    (shadowed.diffuse.pixels[i][0] / lit.diffuse.pixels[i][0]).clamp(0.0, 1.0)
 }
 
 /// RMSE and the share of pixels off by more than 0.1, of the GPU's visibility against the reference.
@@ -337,7 +360,7 @@ fn error(shadowed: &Frame, lit: &Frame, truth: &[Option<f32>]) -> (f64, f64) {
     let mut n = 0usize;
     for (i, t) in truth.iter().enumerate() {
         let Some(t) = t else { continue };
-        let v = (shadowed.diffuse.pixels[i][0] / lit.diffuse.pixels[i][0]).clamp(0.0, 1.0);
+        let v = gpu_visibility(shadowed, lit, i);
         let e = f64::from(v - t);
         sum += e * e;
         off += usize::from(e.abs() > 0.1);
@@ -345,6 +368,42 @@ fn error(shadowed: &Frame, lit: &Frame, truth: &[Option<f32>]) -> (f64, f64) {
     }
     let n = n.max(1) as f64;
     ((sum / n).sqrt(), off as f64 / n)
+}
+
+/// |GPU - reference| visibility as a grey image (pixels the spot does not light: dark blue).
+fn write_error_image(
+    dir: &std::path::Path,
+    name: &str,
+    shadowed: &Frame,
+    lit: &Frame,
+    truth: &[Option<f32>],
+    size: (u32, u32),
+) -> anyhow::Result<()> {
+    std::fs::create_dir_all(dir)?;
+    let pixels = truth
+        .iter()
+        .enumerate()
+        .map(|(i, t)| match t {
+            Some(t) => {
+                let e = (gpu_visibility(shadowed, lit, i) - t).abs();
+                [e, e, e, 1.0]
+            }
+            None => [0.0, 0.0, 0.05, 1.0],
+        })
+        .collect();
+    let image = ImageF32 {
+        width: size.0,
+        height: size.1,
+        pixels,
+    };
+    let file = dir.join(format!("{}.png", name.replace(' ', "-")));
+    spreadlight_render::image_io::write_image(
+        &image,
+        &file,
+        spreadlight_render::image_io::Encoding::Linear,
+    )
+    .with_context(|| format!("cannot write {}", file.display()))?;
+    Ok(())
 }
 
 fn ms(v: Option<f64>) -> String {
@@ -373,6 +432,16 @@ fn shadows(args: &ShadowArgs) -> anyhow::Result<ExitCode> {
             );
             let shadowed = frame(&renderer, &layers, args.error_size, Some((*filter, res)))?;
             let (rmse, off) = error(&shadowed, &lit, &truth);
+            if let Some(dir) = &args.error_images {
+                write_error_image(
+                    dir,
+                    &format!("{name} {res}"),
+                    &shadowed,
+                    &lit,
+                    &truth,
+                    args.error_size,
+                )?;
+            }
             let (maps, shade) = time(
                 &renderer,
                 &layers,

@@ -386,7 +386,11 @@ impl ShadowMaps {
             contents: bytemuck::cast_slice(&gpu_casters),
             usage: wgpu::BufferUsages::STORAGE,
         });
-        let store = renderer.state::<ShadowStore>(owner.map_or(id, u64::from));
+        // A node's maps outlive its recipes; a recipe without a node keeps its own.
+        let store = match owner {
+            Some(node) => renderer.state::<ShadowStore>(u64::from(node)),
+            None => Arc::new(ShadowStore::default()),
+        };
         let kind = match lights {
             ShadowLights::Spot(_) => crate::lighting::LightKind::Spot,
             ShadowLights::Point(_) => crate::lighting::LightKind::Point,
