@@ -17,13 +17,13 @@ use std::process::ExitCode;
 use std::sync::Arc;
 
 use anyhow::Context;
-use glam::{Mat4, Vec3, Vec4};
+use glam::{Vec3, Vec4};
 use spreadlight_render::camera::{CameraInput, reverse_z};
-use spreadlight_render::gbuffer::{DrawBatch, GBuffer, InstanceInput, Layer, LayerFeatures};
+use spreadlight_render::gbuffer::{GBuffer, Layer};
 use spreadlight_render::lighting::{CookTorrance, LightBuffer, LightLoop, SpotLight, Surfaces};
-use spreadlight_render::mesh::primitives::{GridParams, SphereParams, grid, sphere};
 use spreadlight_render::readback::{ImageF32, render_and_read};
 use spreadlight_render::reference::shadows::{DiskLight, Sphere, disk_samples, visibility};
+use spreadlight_render::scenes::balls_on_floor;
 use spreadlight_render::shadows::{ShadowFilter, ShadowLights, ShadowMaps, ShadowSettings};
 use spreadlight_render::{Renderer, SizeRule};
 
@@ -117,51 +117,8 @@ fn camera(size: (u32, u32)) -> CameraInput {
 }
 
 fn scene(renderer: &Renderer) -> anyhow::Result<Vec<Arc<Layer>>> {
-    let ball = renderer.meshes.upload(
-        &renderer.gpu,
-        &sphere(SphereParams {
-            radius: 1.0,
-            sectors: 96,
-            stacks: 48,
-        }),
-    )?;
-    let floor = renderer.meshes.upload(
-        &renderer.gpu,
-        &grid(GridParams {
-            size: glam::Vec2::splat(30.0),
-            resolution_x: 1,
-            resolution_y: 1,
-        }),
-    )?;
-    let instance = |t: Mat4| InstanceInput {
-        transform: t,
-        previous_transform: t,
-        color: [0.8, 0.8, 0.8, 1.0],
-        material_id: 0,
-        object_id: 0,
-    };
-    let balls = BALLS
-        .iter()
-        .map(|(c, r)| {
-            instance(Mat4::from_translation(Vec3::from(*c)) * Mat4::from_scale(Vec3::splat(*r)))
-        })
-        .collect();
-    let batches = vec![
-        DrawBatch {
-            mesh: ball,
-            instances: balls,
-        },
-        DrawBatch {
-            mesh: floor,
-            instances: vec![instance(Mat4::IDENTITY)],
-        },
-    ];
-    Ok(vec![Arc::new(Layer::new(
-        None,
-        batches,
-        LayerFeatures::default(),
-        None,
-    )?)])
+    let balls: Vec<(Vec3, f32)> = BALLS.iter().map(|(c, r)| (Vec3::from(*c), *r)).collect();
+    Ok(vec![balls_on_floor(renderer, &balls, 30.0, 96)?])
 }
 
 /// A labelled filter setting.

@@ -91,6 +91,20 @@ impl TextureDesc {
         }
     }
 
+    /// A 1x1 texture nobody reads: it only orders passes whose real output
+    /// lives outside the graph (a buffer, a store kept between frames).
+    pub fn token() -> Self {
+        TextureDesc {
+            format: wgpu::TextureFormat::R8Unorm,
+            size: SizeRule::Absolute {
+                width: 1,
+                height: 1,
+            },
+            lifetime: Lifetime::Temporary,
+            usage: wgpu::TextureUsages::TEXTURE_BINDING,
+        }
+    }
+
     pub fn lifetime(mut self, lifetime: Lifetime) -> Self {
         self.lifetime = lifetime;
         self

@@ -18,6 +18,7 @@ pub mod readback;
 pub mod recipe;
 pub mod reference;
 pub mod renderer;
+pub mod scenes;
 pub mod shaders;
 pub mod shadows;
 pub mod texture;

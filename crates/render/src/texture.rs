@@ -19,11 +19,7 @@ impl GpuTexture {
         srgb: bool,
         label: &str,
     ) -> Self {
-        let format = if srgb {
-            wgpu::TextureFormat::Rgba8UnormSrgb
-        } else {
-            wgpu::TextureFormat::Rgba8Unorm
-        };
+        let format = rgba8_format(srgb);
         // Missing pixels (short data) are opaque white, as they always were.
         let mut data = rgba8.to_vec();
         data.resize((width.max(1) * height.max(1) * 4) as usize, 255);
@@ -41,11 +37,7 @@ impl GpuTexture {
         srgb: bool,
         label: &str,
     ) -> Self {
-        let format = if srgb {
-            wgpu::TextureFormat::Rgba8UnormSrgb
-        } else {
-            wgpu::TextureFormat::Rgba8Unorm
-        };
+        let format = rgba8_format(srgb);
         let layer_bytes = (width.max(1) * height.max(1) * 4) as usize;
         let mut data = Vec::with_capacity(layer_bytes * layers.len().max(1));
         for layer in layers {
@@ -154,6 +146,15 @@ impl GpuTexture {
             ..Default::default()
         });
         GpuTexture { texture, view }
+    }
+}
+
+/// 8-bit RGBA, with the sRGB transfer for colour or linear for data.
+fn rgba8_format(srgb: bool) -> wgpu::TextureFormat {
+    if srgb {
+        wgpu::TextureFormat::Rgba8UnormSrgb
+    } else {
+        wgpu::TextureFormat::Rgba8Unorm
     }
 }
 

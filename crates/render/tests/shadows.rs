@@ -6,15 +6,15 @@
 
 use std::sync::Arc;
 
-use glam::{Mat4, Vec3};
+use glam::Vec3;
 use spreadlight_render::camera::CameraInput;
-use spreadlight_render::gbuffer::{DrawBatch, GBuffer, InstanceInput, Layer, LayerFeatures};
+use spreadlight_render::gbuffer::{GBuffer, Layer};
 use spreadlight_render::lighting::{
     CookTorrance, LightBuffer, LightLoop, PointLight, SpotLight, SunLight, Surfaces,
 };
-use spreadlight_render::mesh::primitives::{GridParams, SphereParams, grid, sphere};
 use spreadlight_render::readback::{ImageF32, render_and_read};
 use spreadlight_render::renderer::test_renderer;
+use spreadlight_render::scenes::balls_on_floor;
 use spreadlight_render::shadows::{
     Cascades, ShadowFilter, ShadowLights, ShadowMaps, ShadowSettings,
 };
@@ -24,41 +24,7 @@ const SIZE: (u32, u32) = (64, 64);
 
 /// The casters: a ball of radius 0.5 at `ball`, over a 20 x 20 floor at y = 0.
 fn casters(renderer: &Renderer, ball: Vec3) -> Vec<Arc<Layer>> {
-    let mesh = renderer
-        .meshes
-        .upload(&renderer.gpu, &sphere(SphereParams::default()))
-        .expect("upload");
-    let floor = renderer
-        .meshes
-        .upload(
-            &renderer.gpu,
-            &grid(GridParams {
-                size: glam::Vec2::splat(20.0),
-                resolution_x: 1,
-                resolution_y: 1,
-            }),
-        )
-        .expect("upload");
-    let instance = |t: Mat4| InstanceInput {
-        transform: t,
-        previous_transform: t,
-        color: [0.8, 0.8, 0.8, 1.0],
-        material_id: 0,
-        object_id: 0,
-    };
-    let batches = vec![
-        DrawBatch {
-            mesh,
-            instances: vec![instance(Mat4::from_translation(ball))],
-        },
-        DrawBatch {
-            mesh: floor,
-            instances: vec![instance(Mat4::IDENTITY)],
-        },
-    ];
-    vec![Arc::new(
-        Layer::new(None, batches, LayerFeatures::default(), None).expect("valid"),
-    )]
+    vec![balls_on_floor(renderer, &[(ball, 0.5)], 20.0, 32).expect("upload")]
 }
 
 /// Looking down at the floor's centre from above and in front, past the
@@ -77,11 +43,22 @@ fn shade(
     lights: Arc<LightBuffer>,
     shadows: Option<Arc<ShadowMaps>>,
 ) -> (ImageF32, FrameReport) {
+    shade_from(renderer, camera(), layers, lights, shadows)
+}
+
+/// [`shade`] seen from `camera`.
+fn shade_from(
+    renderer: &Renderer,
+    camera: CameraInput,
+    layers: &[Arc<Layer>],
+    lights: Arc<LightBuffer>,
+    shadows: Option<Arc<ShadowMaps>>,
+) -> (ImageF32, FrameReport) {
     let g = GBuffer::new(
         renderer,
         None,
         layers.to_vec(),
-        camera(),
+        camera,
         None,
         SizeRule::Relative(1.0),
     );
@@ -542,29 +519,8 @@ fn a_ball_resting_on_the_floor_keeps_its_contact_shadow() {
         ),
         projection: glam::camera::rh::proj::directx::perspective(0.6, 1.0, 0.1, 50.0),
     };
-    let diffuse = |shadows| {
-        let g = GBuffer::new(
-            &renderer,
-            None,
-            layers.clone(),
-            top_down,
-            None,
-            SizeRule::Relative(1.0),
-        );
-        let ct = CookTorrance::with_shadows(
-            &renderer,
-            None,
-            g,
-            lights.clone(),
-            LightLoop::Naive,
-            true,
-            Surfaces::PerMaterialId(vec![(0.7, 0.0)]),
-            shadows,
-        );
-        let (_, images) =
-            render_and_read(&renderer, ct.as_ref(), SIZE, &[&ct.diffuse]).expect("renders");
-        images.into_iter().next().expect("one image")
-    };
+    // Diffuse and specular: the ball's shadow darkens both.
+    let diffuse = |shadows| shade_from(&renderer, top_down, &layers, lights.clone(), shadows).0;
     let lit = diffuse(None);
     // The ball's silhouette is ~7 pixels in radius; its shadow reaches ~0.9
     // units (~12 pixels) along -x. Pixels 8 to 11 left of the centre.

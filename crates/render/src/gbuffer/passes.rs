@@ -3,7 +3,7 @@
 //! one dispatch per layer with that layer's permutation).
 
 use crate::error::RenderError;
-use crate::frame_graph::{FrameGraph, Lifetime, PassContext, SizeRule, TextureDesc};
+use crate::frame_graph::{FrameGraph, Lifetime, PassContext, TextureDesc};
 use crate::renderer::Renderer;
 use crate::shaders::ShaderKey;
 
@@ -25,15 +25,7 @@ pub(super) fn declare<'a>(g: &'a GBuffer, renderer: &'a Renderer, fg: &mut Frame
         (RasterMode::Compute, Some(compute)) => {
             // The 64-bit buffer belongs to the G-buffer; this 1x1 token
             // carries the dependency through the frame graph.
-            let token = TextureDesc {
-                format: wgpu::TextureFormat::R8Unorm,
-                size: SizeRule::Absolute {
-                    width: 1,
-                    height: 1,
-                },
-                lifetime: Lifetime::Temporary,
-                usage: wgpu::TextureUsages::TEXTURE_BINDING,
-            };
+            let token = TextureDesc::token();
             fg.add_pass(
                 label("compute raster"),
                 g.owner,

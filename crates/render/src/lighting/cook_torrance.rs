@@ -8,7 +8,7 @@ use wgpu::util::DeviceExt;
 use super::clusters::{ClusterGrid, ClusterStore};
 use super::{LightBuffer, LightKind};
 use crate::error::RenderError;
-use crate::frame_graph::{FrameGraph, Lifetime, PassContext, SizeRule, TextureDesc};
+use crate::frame_graph::{FrameGraph, PassContext, TextureDesc};
 use crate::gbuffer::GBuffer;
 use crate::material::{FEATURE_FAKE_SSS, MaterialWorld};
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
@@ -409,15 +409,7 @@ impl Recipe for CookTorrance {
             0,
             bytemuck::cast_slice(&grid.uniform(self.lights.count())),
         );
-        let token = TextureDesc {
-            format: wgpu::TextureFormat::R8Unorm,
-            size: SizeRule::Absolute {
-                width: 1,
-                height: 1,
-            },
-            lifetime: Lifetime::Temporary,
-            usage: wgpu::TextureUsages::TEXTURE_BINDING,
-        };
+        let token = TextureDesc::token();
         let assign = match self.mode {
             LightLoop::Clustered => "clustered light assignment",
             LightLoop::Naive => "lights to view space",

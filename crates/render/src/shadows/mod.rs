@@ -21,7 +21,7 @@ use wgpu::util::DeviceExt;
 
 use crate::camera::CameraInput;
 use crate::error::RenderError;
-use crate::frame_graph::{FrameGraph, Lifetime, PassContext, SizeRule, TextureDesc};
+use crate::frame_graph::{FrameGraph, PassContext, TextureDesc};
 use crate::gbuffer::Layer;
 use crate::recipe::{Recipe, next_recipe_id};
 use crate::renderer::Renderer;
@@ -770,15 +770,7 @@ impl Recipe for ShadowMaps {
             return;
         }
         // The maps live in the store; this token orders their pass before readers.
-        let token = TextureDesc {
-            format: wgpu::TextureFormat::R8Unorm,
-            size: SizeRule::Absolute {
-                width: 1,
-                height: 1,
-            },
-            lifetime: Lifetime::Temporary,
-            usage: wgpu::TextureUsages::TEXTURE_BINDING,
-        };
+        let token = TextureDesc::token();
         match self.settings.filter {
             // VSM: the depth pass, then the moments pass, each timed on its own.
             ShadowFilter::Vsm { .. } => {
