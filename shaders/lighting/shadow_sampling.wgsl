@@ -24,8 +24,9 @@ struct ShadowParams {
 }
 
 #ifdef SHADOWS
-@group(0) @binding(17) var shadow_maps: texture_depth_2d_array;
-@group(0) @binding(18) var shadow_compare: sampler_comparison;
+// Conventional depth in R32F (compute writes it; it is not filterable), so
+// comparisons are done here: 2x2 texels loaded, compared, weighted bilinearly.
+@group(0) @binding(17) var shadow_maps: texture_2d_array<f32>;
 @group(0) @binding(19) var<storage, read> shadow_views: array<ShadowView>;
 @group(0) @binding(20) var<uniform> shadow_params: ShadowParams;
 #ifdef SHADOW_VSM
@@ -111,20 +112,41 @@ fn shadow_in_layer(layer: u32, pw: vec3<f32>, nw: vec3<f32>, slope: f32) -> f32 
     return pcf(layer, uv, depth_of(v, max(receiver - bias - slope * reach, v.depth.x)), r);
 #else
     let reference = depth_of(v, max(receiver - bias - slope * texel_world, v.depth.x));
-    let stored = textureLoad(shadow_maps, texel_of(uv), i32(layer), 0);
+    let stored = textureLoad(shadow_maps, texel_of(uv), i32(layer), 0).r;
     return select(0.0, 1.0, reference <= stored);
 #endif
 #endif
 #endif
 }
 
-// The mean of (2r + 1)^2 hardware-filtered comparisons around uv.
+// What a comparison sampler does: the four texels around uv compared with
+// `reference` (lit when not deeper than the stored depth), weighted
+// bilinearly, so edges move smoothly with the receiver.
+fn compare_bilinear(layer: u32, uv: vec2<f32>, reference: f32) -> f32 {
+    let res = shadow_params.sampling.z;
+    let p = uv * res - 0.5;
+    let base = floor(p);
+    let f = p - base;
+    let limit = vec2<i32>(i32(res) - 1);
+    let t = vec2<i32>(base);
+    let l = i32(layer);
+    let d = vec4<f32>(
+        textureLoad(shadow_maps, clamp(t, vec2<i32>(0), limit), l, 0).r,
+        textureLoad(shadow_maps, clamp(t + vec2<i32>(1, 0), vec2<i32>(0), limit), l, 0).r,
+        textureLoad(shadow_maps, clamp(t + vec2<i32>(0, 1), vec2<i32>(0), limit), l, 0).r,
+        textureLoad(shadow_maps, clamp(t + vec2<i32>(1, 1), vec2<i32>(0), limit), l, 0).r,
+    );
+    let lit = select(vec4<f32>(0.0), vec4<f32>(1.0), vec4<f32>(reference) <= d);
+    return mix(mix(lit.x, lit.y, f.x), mix(lit.z, lit.w, f.x), f.y);
+}
+
+// The mean of (2r + 1)^2 bilinear comparisons around uv.
 fn pcf(layer: u32, uv: vec2<f32>, reference: f32, r: i32) -> f32 {
     let step = 1.0 / shadow_params.sampling.z;
     var sum = 0.0;
     for (var y = -r; y <= r; y++) {
         for (var x = -r; x <= r; x++) {
-            sum += textureSampleCompareLevel(shadow_maps, shadow_compare, uv + vec2<f32>(f32(x), f32(y)) * step, i32(layer), reference);
+            sum += compare_bilinear(layer, uv + vec2<f32>(f32(x), f32(y)) * step, reference);
         }
     }
     let side = f32(2 * r + 1);
@@ -151,7 +173,7 @@ fn pcss(layer: u32, uv: vec2<f32>, v: ShadowView, receiver: f32, bias: f32, slop
     var blockers = 0.0;
     var blocker_sum = 0.0;
     for (var i = 0u; i < n; i++) {
-        let d = textureLoad(shadow_maps, texel_of(uv + vogel(i, n, phi) * search), i32(layer), 0);
+        let d = textureLoad(shadow_maps, texel_of(uv + vogel(i, n, phi) * search), i32(layer), 0).r;
         let z = linear_depth(v, d);
         if (z < searched) {
             blockers += 1.0;
@@ -167,7 +189,7 @@ fn pcss(layer: u32, uv: vec2<f32>, v: ShadowView, receiver: f32, bias: f32, slop
     let reference = depth_of(v, max(receiver - bias - slope * (radius + texel) * width, v.depth.x));
     var lit = 0.0;
     for (var i = 0u; i < n; i++) {
-        lit += textureSampleCompareLevel(shadow_maps, shadow_compare, uv + vogel(i, n, phi) * radius, i32(layer), reference);
+        lit += compare_bilinear(layer, uv + vogel(i, n, phi) * radius, reference);
     }
     return lit / f32(max(n, 1u));
 }

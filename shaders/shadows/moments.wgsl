@@ -8,7 +8,7 @@ struct Info {
     layer_blur: vec4<u32>,
 }
 
-@group(0) @binding(0) var depth: texture_depth_2d_array;
+@group(0) @binding(0) var depth: texture_2d_array<f32>;
 @group(0) @binding(1) var<storage, read> views: array<ShadowView>;
 @group(0) @binding(2) var<uniform> info: Info;
 @group(0) @binding(3) var moments: texture_storage_2d<rg32float, write>;
@@ -28,7 +28,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     for (var y = -blur; y <= blur; y++) {
         for (var x = -blur; x <= blur; x++) {
             let texel = clamp(vec2<i32>(id.xy) + vec2<i32>(x, y), vec2<i32>(0), vec2<i32>(size) - 1);
-            let d = textureLoad(depth, texel, i32(layer), 0);
+            let d = textureLoad(depth, texel, i32(layer), 0).r;
             let t = clamp((linear_depth(view, d) - view.depth.x) / range, 0.0, 1.0);
             m += vec2<f32>(t, t * t);
             n += 1.0;

@@ -175,6 +175,7 @@ pub const SHADERS: &[ShaderFile] = &[
     ),
     shader!("shadows/depth.wgsl", []),
     shader!("shadows/moments.wgsl", []),
+    shader!("shadows/resolve.wgsl", []),
     shader!("post/tonemap.wgsl", ["EYE_ADAPTATION"]),
     shader!("post/eye_adaptation.wgsl", []),
     shader!("gbuffer/view.wgsl", one_of ["ALBEDO", "NORMALS", "VELOCITY", "UV", "DEPTH", "MATERIAL_ID", "OBJECT_ID"]),
@@ -339,8 +340,6 @@ pub enum Sampling {
     LinearRepeat,
     /// Bilinear, held at the edges (projected textures).
     LinearClamp,
-    /// Bilinear depth comparisons (`<=`), held at the edges: shadow maps.
-    ShadowCompare,
 }
 
 /// Compiled shader modules and pipelines, keyed by permutation. Counts what it
@@ -470,18 +469,13 @@ impl ShaderCache {
             .or_insert_with(|| {
                 let address = match sampling {
                     Sampling::LinearRepeat => wgpu::AddressMode::Repeat,
-                    Sampling::LinearClamp | Sampling::ShadowCompare => {
-                        wgpu::AddressMode::ClampToEdge
-                    }
+                    Sampling::LinearClamp => wgpu::AddressMode::ClampToEdge,
                 };
                 device.create_sampler(&wgpu::SamplerDescriptor {
                     label: Some(match sampling {
                         Sampling::LinearRepeat => "linear repeat",
                         Sampling::LinearClamp => "linear clamp",
-                        Sampling::ShadowCompare => "shadow compare",
                     }),
-                    compare: (sampling == Sampling::ShadowCompare)
-                        .then_some(wgpu::CompareFunction::LessEqual),
                     address_mode_u: address,
                     address_mode_v: address,
                     mag_filter: wgpu::FilterMode::Linear,

@@ -192,6 +192,7 @@ fn settings(cx: &EvalContext<'_>) -> Result<ShadowSettings, NodeError> {
         filter,
         depth_bias: first(cx.slices::<f32>(DEPTH_BIAS)?, 0.02),
         normal_bias: first(cx.slices::<f32>(NORMAL_BIAS)?, 1.5),
+        ..Default::default()
     })
 }
 

@@ -36,9 +36,20 @@ struct Targets {
     visibility: wgpu::Buffer,
     tiles: wgpu::Buffer,
     tile_count: wgpu::Buffer,
+    /// What `tile_count` starts each raster with (0 queued, the capacity),
+    /// copied in the encoder so several rasters can share one.
+    tile_reset: wgpu::Buffer,
 }
 
-pub(super) struct ComputeRaster {
+/// What the compute rasterizer draws from and where: the camera uniform
+/// (its reversed-Z view-projection and size), the instances, and the target size.
+pub(crate) struct RasterView<'b> {
+    pub camera: &'b wgpu::Buffer,
+    pub instances: &'b wgpu::Buffer,
+    pub size: (u32, u32),
+}
+
+pub(crate) struct ComputeRaster {
     /// Per draw: its uniform and how many triangles it rasterizes.
     batches: Vec<(wgpu::Buffer, u32)>,
     pub first_triangle: wgpu::Buffer,
@@ -46,7 +57,7 @@ pub(super) struct ComputeRaster {
 }
 
 impl ComputeRaster {
-    pub fn new(renderer: &Renderer, draws: &[Draw], instance_count: usize) -> Self {
+    pub(crate) fn new(renderer: &Renderer, draws: &[Draw], instance_count: usize) -> Self {
         let device = &renderer.gpu.device;
         let mut first_triangle = vec![0u32; instance_count.max(1)];
         let mut global = 0u32;
@@ -99,8 +110,25 @@ impl ComputeRaster {
         renderer: &Renderer,
         cx: &mut PassContext<'_>,
     ) -> Result<(), RenderError> {
+        let view = RasterView {
+            camera: g.camera_buffer(),
+            instances: &g.instances,
+            size: g.pixel_size(cx.output_size),
+        };
+        self.record_view(&view, renderer, cx)?;
+        Ok(())
+    }
+
+    /// Rasterize into the 64-bit buffer for `view`, which this returns (a
+    /// caller may record several views in a row: each clears it first).
+    pub(crate) fn record_view(
+        &self,
+        view: &RasterView<'_>,
+        renderer: &Renderer,
+        cx: &mut PassContext<'_>,
+    ) -> Result<wgpu::Buffer, RenderError> {
         let device = cx.gpu.device.clone();
-        let size = g.pixel_size(cx.output_size);
+        let size = view.size;
         let mut guard = self.targets.lock().unwrap_or_else(|e| e.into_inner());
         if guard.as_ref().is_none_or(|t| t.size != size) {
             let storage = |label: &str, bytes: u64| {
@@ -119,17 +147,22 @@ impl ComputeRaster {
                 ),
                 tiles: storage("raster tiles", u64::from(TILE_CAPACITY) * 16),
                 tile_count: storage("raster tile count", 16),
+                tile_reset: device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some("raster tile count reset"),
+                    contents: bytemuck::cast_slice(&[0u32, TILE_CAPACITY, 0, 0]),
+                    usage: wgpu::BufferUsages::COPY_SRC,
+                }),
             });
         }
         let Some(targets) = guard.as_ref() else {
-            return Ok(());
+            return Err(RenderError::Pass {
+                pass: "compute raster".to_owned(),
+                message: "no visibility buffer".to_owned(),
+            });
         };
         cx.encoder.clear_buffer(&targets.visibility, 0, None);
-        cx.gpu.queue.write_buffer(
-            &targets.tile_count,
-            0,
-            bytemuck::cast_slice(&[0u32, TILE_CAPACITY, 0, 0]),
-        );
+        cx.encoder
+            .copy_buffer_to_buffer(&targets.tile_reset, 0, &targets.tile_count, 0, 16);
 
         let key = ShaderKey::new("gbuffer/raster.wgsl", []);
         let triangles_pipeline = cx
@@ -138,7 +171,24 @@ impl ComputeRaster {
         let tiles_pipeline = cx.shaders.compute_pipeline(&device, &key, "raster_tiles")?;
         let (vertices, indices, _) = renderer.meshes.buffers();
         let shared = |layout: &wgpu::BindGroupLayout, batch: Option<&wgpu::Buffer>| {
-            let mut entries = g.geometry_entries(&vertices, &indices);
+            let mut entries = vec![
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: view.camera.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: vertices.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: indices.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 3,
+                    resource: view.instances.as_entire_binding(),
+                },
+            ];
             entries.extend([
                 wgpu::BindGroupEntry {
                     binding: 4,
@@ -193,6 +243,6 @@ impl ComputeRaster {
         pass.dispatch_workgroups(TILE_WORKGROUPS, 1, 1);
         drop(pass);
         cx.draws += dispatches;
-        Ok(())
+        Ok(targets.visibility.clone())
     }
 }

@@ -12,7 +12,7 @@
 //! resolve is split in two passes, surface (color, normals) and motion
 //! (velocity, UV), so a frame that reads no velocity culls the second.
 
-mod compute_raster;
+pub(crate) mod compute_raster;
 mod layer;
 mod passes;
 mod view;
@@ -53,10 +53,49 @@ struct GpuLayer {
 }
 
 /// One instanced draw: a mesh and a range of the instance buffer.
-struct Draw {
-    index_count: u32,
-    first_instance: u32,
-    instance_count: u32,
+pub(crate) struct Draw {
+    pub index_count: u32,
+    pub first_instance: u32,
+    pub instance_count: u32,
+}
+
+/// The GPU instances of `layers` in order, one draw per batch, and each
+/// layer's range of instances.
+pub(crate) fn pack_instances(
+    layers: &[Arc<Layer>],
+) -> (Vec<GpuInstance>, Vec<Draw>, Vec<(u32, u32)>) {
+    let mut gpu_instances = Vec::new();
+    let mut draws = Vec::new();
+    let mut layer_ranges = Vec::new();
+    for layer in layers {
+        let first = gpu_instances.len() as u32;
+        for batch in &layer.batches {
+            let first_instance = gpu_instances.len() as u32;
+            for inst in &batch.instances {
+                gpu_instances.push(GpuInstance {
+                    model: inst.transform.to_cols_array_2d(),
+                    previous_model: inst.previous_transform.to_cols_array_2d(),
+                    normal_matrix: crate::camera::safe_inverse(inst.transform)
+                        .transpose()
+                        .to_cols_array_2d(),
+                    color: inst.color,
+                    info: [
+                        batch.mesh.indices.start,
+                        batch.mesh.vertices.start,
+                        inst.material_id,
+                        inst.object_id,
+                    ],
+                });
+            }
+            draws.push(Draw {
+                index_count: batch.mesh.indices.len() as u32,
+                first_instance,
+                instance_count: batch.instances.len() as u32,
+            });
+        }
+        layer_ranges.push((first, gpu_instances.len() as u32));
+    }
+    (gpu_instances, draws, layer_ranges)
 }
 
 /// How the visibility buffer is rasterized.
@@ -158,37 +197,7 @@ impl GBuffer {
     ) -> Arc<Self> {
         let id = next_recipe_id();
         let prefix = format!("mre{id}");
-        let mut gpu_instances = Vec::new();
-        let mut draws = Vec::new();
-        let mut layer_ranges = Vec::new();
-        for layer in &layers {
-            let first = gpu_instances.len() as u32;
-            for batch in &layer.batches {
-                let first_instance = gpu_instances.len() as u32;
-                for inst in &batch.instances {
-                    gpu_instances.push(GpuInstance {
-                        model: inst.transform.to_cols_array_2d(),
-                        previous_model: inst.previous_transform.to_cols_array_2d(),
-                        normal_matrix: crate::camera::safe_inverse(inst.transform)
-                            .transpose()
-                            .to_cols_array_2d(),
-                        color: inst.color,
-                        info: [
-                            batch.mesh.indices.start,
-                            batch.mesh.vertices.start,
-                            inst.material_id,
-                            inst.object_id,
-                        ],
-                    });
-                }
-                draws.push(Draw {
-                    index_count: batch.mesh.indices.len() as u32,
-                    first_instance,
-                    instance_count: batch.instances.len() as u32,
-                });
-            }
-            layer_ranges.push((first, gpu_instances.len() as u32));
-        }
+        let (mut gpu_instances, draws, layer_ranges) = pack_instances(&layers);
         if gpu_instances.is_empty() {
             // A storage binding cannot be empty.
             gpu_instances.push(bytemuck::Zeroable::zeroed());

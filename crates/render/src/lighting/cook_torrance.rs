@@ -343,16 +343,14 @@ impl CookTorrance {
                         ..Default::default()
                     })
                 };
-                let depth = array(&depth, wgpu::TextureAspect::DepthOnly);
+                let depth = array(&depth, wgpu::TextureAspect::All);
                 let moments = moments.map(|m| array(&m, wgpu::TextureAspect::All));
-                let compare = cx.shaders.sampler(&device, Sampling::ShadowCompare);
-                Some((shadows, depth, moments, compare))
+                Some((shadows, depth, moments))
             }
             None => None,
         };
-        if let Some((shadows, depth, moments, compare)) = &shadow_views {
+        if let Some((shadows, depth, moments)) = &shadow_views {
             all.push((17, wgpu::BindingResource::TextureView(depth)));
-            all.push((18, wgpu::BindingResource::Sampler(compare)));
             all.push((19, shadows.views().as_entire_binding()));
             all.push((20, shadows.params().as_entire_binding()));
             if let Some(moments) = moments {

@@ -22,7 +22,8 @@ use wgpu::util::DeviceExt;
 use crate::camera::CameraInput;
 use crate::error::RenderError;
 use crate::frame_graph::{FrameGraph, PassContext, TextureDesc};
-use crate::gbuffer::Layer;
+use crate::gbuffer::compute_raster::{ComputeRaster, RasterView};
+use crate::gbuffer::{Draw, Layer, RasterChoice, pack_instances};
 use crate::recipe::{Recipe, next_recipe_id};
 use crate::renderer::Renderer;
 use crate::shaders::ShaderKey;
@@ -65,6 +66,8 @@ pub struct ShadowSettings {
     pub depth_bias: f32,
     /// The receiver moves this many texels along its normal before it is compared.
     pub normal_bias: f32,
+    /// Which rasterizer draws the maps: compute where it can (Auto), or the hardware.
+    pub raster: RasterChoice,
 }
 
 impl Default for ShadowSettings {
@@ -74,6 +77,7 @@ impl Default for ShadowSettings {
             filter: ShadowFilter::Pcf { kernel: 3 },
             depth_bias: 0.02,
             normal_bias: 1.5,
+            raster: RasterChoice::Auto,
         }
     }
 }
@@ -140,7 +144,10 @@ pub(crate) struct ShadowStore(Mutex<Option<StoredMaps>>);
 pub(crate) struct StoredMaps {
     layers: u32,
     resolution: u32,
+    /// Conventional depth (0 near, 1 far) per layer, R32F: what shading samples.
     depth: wgpu::Texture,
+    /// The hardware path's Depth32Float attachments, copied into `depth`.
+    attachments: Option<wgpu::Texture>,
     moments: Option<wgpu::Texture>,
     /// Per slice: what it holds (its views and casters), to reuse it.
     contents: Vec<Option<SliceContent>>,
@@ -169,15 +176,6 @@ impl SliceContent {
     }
 }
 
-/// Matches `Caster` in shaders/shadows/depth.wgsl.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
-struct GpuCaster {
-    model: [f32; 16],
-    /// first index, base vertex, 0, 0
-    info: [u32; 4],
-}
-
 /// Matches `ShadowParams` in shaders/lighting/shadow_sampling.wgsl.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
@@ -189,6 +187,8 @@ struct GpuShadowParams {
 }
 
 const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+/// What shading samples: depth as a float any pass can write.
+const MAP_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
 const MOMENTS_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg32Float;
 /// Room for one view matrix per uniform slot, at the usual offset alignment.
 const VIEW_STRIDE: u64 = 256;
@@ -209,8 +209,12 @@ pub struct ShadowMaps {
     /// One view matrix per uniform slot, for the depth pass.
     view_uniforms: wgpu::Buffer,
     casters: Vec<Arc<Layer>>,
-    caster_buffer: wgpu::Buffer,
-    draws: Vec<(u32, u32, u32)>,
+    /// The casters as the G-buffer's instances (both rasterizers read them).
+    instances: wgpu::Buffer,
+    draws: Vec<Draw>,
+    /// The compute rasterizer (where the adapter has 64-bit atomics and the
+    /// map fits one storage binding), with a camera uniform per layer.
+    compute: Option<(ComputeRaster, Vec<wgpu::Buffer>)>,
     store: Arc<ShadowStore>,
     layers: u32,
     /// What readers wait for: the maps (and for VSM their moments) are ready.
@@ -380,12 +384,44 @@ impl ShadowMaps {
             contents: bytemuck::bytes_of(&params),
             usage: wgpu::BufferUsages::UNIFORM,
         });
-        let (gpu_casters, draws) = pack_casters(&casters);
-        let caster_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        let (mut gpu_instances, draws, _) = pack_instances(&casters);
+        let instance_count = gpu_instances.len();
+        if gpu_instances.is_empty() {
+            gpu_instances.push(bytemuck::Zeroable::zeroed());
+        }
+        let instances = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("shadow casters"),
-            contents: bytemuck::cast_slice(&gpu_casters),
+            contents: bytemuck::cast_slice(&gpu_instances),
             usage: wgpu::BufferUsages::STORAGE,
         });
+        // The raster hardware is the H100's bottleneck (DEVELOPERS.md): rasterize
+        // maps in compute where the 64-bit buffer of a layer fits one binding.
+        let fits = u64::from(res) * u64::from(res) * 8
+            <= device.limits().max_storage_buffer_binding_size;
+        let compute = (renderer.gpu.has_compute_raster()
+            && fits
+            && settings.raster != RasterChoice::Hardware)
+            .then(|| {
+                let cameras = (0..layers)
+                    .map(|layer| {
+                        let vp = all_views(&plans, per, layer);
+                        let camera = CameraInput {
+                            view: Mat4::IDENTITY,
+                            projection: vp,
+                        }
+                        .to_gpu(None, (res, res));
+                        device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                            label: Some("shadow layer camera"),
+                            contents: bytemuck::bytes_of(&camera),
+                            usage: wgpu::BufferUsages::UNIFORM,
+                        })
+                    })
+                    .collect();
+                (
+                    ComputeRaster::new(renderer, &draws, instance_count),
+                    cameras,
+                )
+            });
         // A node's maps outlive its recipes; a recipe without a node keeps its own.
         let store = match owner {
             Some(node) => renderer.state::<ShadowStore>(u64::from(node)),
@@ -407,8 +443,9 @@ impl ShadowMaps {
             params,
             view_uniforms,
             casters,
-            caster_buffer,
+            instances,
             draws,
+            compute,
             store,
             layers,
             token: format!("shadows{id}/maps"),
@@ -456,6 +493,7 @@ impl ShadowMaps {
             m.layers == self.layers
                 && m.resolution == self.settings.resolution
                 && m.moments.is_some() == vsm
+                && m.attachments.is_some() == self.compute.is_none()
         });
         if !fits {
             *guard = Some(self.allocate(&device, vsm));
@@ -490,6 +528,79 @@ impl ShadowMaps {
             return Ok(());
         }
         cx.count("shadow maps rendered", rendered.len() as u64);
+        let layers: Vec<u32> = rendered
+            .iter()
+            .flat_map(|plan| (0..plan.views.len() as u32).map(|k| plan.slice * self.per_slice + k))
+            .collect();
+        match &self.compute {
+            Some((raster, cameras)) => {
+                self.raster_compute(cx, renderer, maps, raster, cameras, &layers)?
+            }
+            None => self.raster_hardware(cx, renderer, maps, &layers)?,
+        }
+        if vsm {
+            maps.pending_moments = layers;
+        }
+        Ok(())
+    }
+
+    /// Each layer through the compute rasterizer, then its depth into the map.
+    fn raster_compute(
+        &self,
+        cx: &mut PassContext<'_>,
+        renderer: &Renderer,
+        maps: &StoredMaps,
+        raster: &ComputeRaster,
+        cameras: &[wgpu::Buffer],
+        layers: &[u32],
+    ) -> Result<(), RenderError> {
+        let device = cx.gpu.device.clone();
+        let res = self.settings.resolution;
+        let key = ShaderKey::new("shadows/resolve.wgsl", []);
+        let pipeline = cx
+            .shaders
+            .compute_pipeline(&device, &key, "from_visibility")?;
+        for &layer in layers {
+            let view = RasterView {
+                camera: &cameras[layer as usize],
+                instances: &self.instances,
+                size: (res, res),
+            };
+            let visibility = raster.record_view(&view, renderer, cx)?;
+            let out = layer_view(&maps.depth, layer);
+            let all = [
+                (0, visibility.as_entire_binding()),
+                (2, cameras[layer as usize].as_entire_binding()),
+                (3, wgpu::BindingResource::TextureView(&out)),
+            ];
+            let group =
+                cx.shaders
+                    .bind_group(&device, &key, "from_visibility", &pipeline, 0, &all)?;
+            cx.dispatch(
+                "shadow depth from visibility",
+                &pipeline,
+                &[&group],
+                (res.div_ceil(8), res.div_ceil(8), 1),
+            );
+        }
+        Ok(())
+    }
+
+    /// Each layer through the raster hardware into a depth attachment, then into the map.
+    fn raster_hardware(
+        &self,
+        cx: &mut PassContext<'_>,
+        renderer: &Renderer,
+        maps: &StoredMaps,
+        layers: &[u32],
+    ) -> Result<(), RenderError> {
+        let device = cx.gpu.device.clone();
+        let Some(attachments) = &maps.attachments else {
+            return Err(RenderError::Pass {
+                pass: "shadow depth".to_owned(),
+                message: "no depth attachments for the raster hardware".to_owned(),
+            });
+        };
         let key = ShaderKey::new("shadows/depth.wgsl", []);
         let pipeline = cx
             .shaders
@@ -525,46 +636,37 @@ impl ShadowMaps {
             })?;
         let (vertices, indices, _) = renderer.meshes.buffers();
         let mut work = Vec::new();
-        for plan in &rendered {
-            for k in 0..plan.views.len() as u32 {
-                let layer = plan.slice * self.per_slice + k;
-                let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-                    label: Some("shadow depth"),
-                    layout: &pipeline.get_bind_group_layout(0),
-                    entries: &[
-                        wgpu::BindGroupEntry {
-                            binding: 0,
-                            resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
-                                buffer: &self.view_uniforms,
-                                offset: u64::from(layer) * VIEW_STRIDE,
-                                size: std::num::NonZeroU64::new(64),
-                            }),
-                        },
-                        wgpu::BindGroupEntry {
-                            binding: 1,
-                            resource: vertices.as_entire_binding(),
-                        },
-                        wgpu::BindGroupEntry {
-                            binding: 2,
-                            resource: indices.as_entire_binding(),
-                        },
-                        wgpu::BindGroupEntry {
-                            binding: 3,
-                            resource: self.caster_buffer.as_entire_binding(),
-                        },
-                    ],
-                });
-                let view = maps.depth.create_view(&wgpu::TextureViewDescriptor {
-                    dimension: Some(wgpu::TextureViewDimension::D2),
-                    base_array_layer: layer,
-                    array_layer_count: Some(1),
-                    ..Default::default()
-                });
-                work.push((group, view, layer));
-            }
+        for &layer in layers {
+            let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("shadow depth"),
+                layout: &pipeline.get_bind_group_layout(0),
+                entries: &[
+                    wgpu::BindGroupEntry {
+                        binding: 0,
+                        resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                            buffer: &self.view_uniforms,
+                            offset: u64::from(layer) * VIEW_STRIDE,
+                            size: std::num::NonZeroU64::new(64),
+                        }),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 1,
+                        resource: vertices.as_entire_binding(),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 2,
+                        resource: indices.as_entire_binding(),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 3,
+                        resource: self.instances.as_entire_binding(),
+                    },
+                ],
+            });
+            work.push((group, layer_view(attachments, layer)));
         }
         let mut draws = 0;
-        for (index, (group, view, _)) in work.iter().enumerate() {
+        for (index, (group, view)) in work.iter().enumerate() {
             // Time the whole set as one pass: the first begins, the last ends.
             let timestamps = if index == 0 {
                 cx.render_timestamps()
@@ -588,14 +690,49 @@ impl ShadowMaps {
             });
             pass.set_pipeline(&pipeline);
             pass.set_bind_group(0, group, &[]);
-            for &(index_count, first, count) in &self.draws {
-                pass.draw(0..index_count, first..first + count);
+            for draw in self
+                .draws
+                .iter()
+                .filter(|d| d.instance_count > 0 && d.index_count > 0)
+            {
+                pass.draw(
+                    0..draw.index_count,
+                    draw.first_instance..draw.first_instance + draw.instance_count,
+                );
                 draws += 1;
             }
         }
         cx.draws += draws;
-        if vsm {
-            maps.pending_moments = work.iter().map(|w| w.2).collect();
+        // Into the sampled map, a dispatch per layer.
+        let key = ShaderKey::new("shadows/resolve.wgsl", []);
+        let pipeline = cx.shaders.compute_pipeline(&device, &key, "from_depth")?;
+        let res = self.settings.resolution;
+        let depth = attachments.create_view(&wgpu::TextureViewDescriptor {
+            dimension: Some(wgpu::TextureViewDimension::D2Array),
+            aspect: wgpu::TextureAspect::DepthOnly,
+            ..Default::default()
+        });
+        for &layer in layers {
+            let info = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("shadow layer"),
+                contents: bytemuck::cast_slice(&[layer, 0, 0, 0]),
+                usage: wgpu::BufferUsages::UNIFORM,
+            });
+            let out = layer_view(&maps.depth, layer);
+            let all = [
+                (1, wgpu::BindingResource::TextureView(&depth)),
+                (3, wgpu::BindingResource::TextureView(&out)),
+                (4, info.as_entire_binding()),
+            ];
+            let group = cx
+                .shaders
+                .bind_group(&device, &key, "from_depth", &pipeline, 0, &all)?;
+            cx.dispatch(
+                "shadow depth copy",
+                &pipeline,
+                &[&group],
+                (res.div_ceil(8), res.div_ceil(8), 1),
+            );
         }
         Ok(())
     }
@@ -630,7 +767,6 @@ impl ShadowMaps {
         let pipeline = cx.shaders.compute_pipeline(&device, &key, "main")?;
         let depth_view = depth.create_view(&wgpu::TextureViewDescriptor {
             dimension: Some(wgpu::TextureViewDimension::D2Array),
-            aspect: wgpu::TextureAspect::DepthOnly,
             ..Default::default()
         });
         let res = self.settings.resolution;
@@ -683,9 +819,22 @@ impl ShadowMaps {
             mip_level_count: 1,
             sample_count: 1,
             dimension: wgpu::TextureDimension::D2,
-            format: DEPTH_FORMAT,
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+            format: MAP_FORMAT,
+            usage: wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::TEXTURE_BINDING,
             view_formats: &[],
+        });
+        let attachments = self.compute.is_none().then(|| {
+            device.create_texture(&wgpu::TextureDescriptor {
+                label: Some("shadow depth attachments"),
+                size,
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format: DEPTH_FORMAT,
+                usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+                    | wgpu::TextureUsages::TEXTURE_BINDING,
+                view_formats: &[],
+            })
         });
         let moments = vsm.then(|| {
             device.create_texture(&wgpu::TextureDescriptor {
@@ -703,6 +852,7 @@ impl ShadowMaps {
             layers: self.layers,
             resolution: self.settings.resolution,
             depth,
+            attachments,
             moments,
             contents: vec![None; (self.layers / self.per_slice) as usize],
             pending_moments: Vec::new(),
@@ -710,31 +860,27 @@ impl ShadowMaps {
     }
 }
 
-fn finite_non_negative(v: f32) -> f32 {
-    if v.is_finite() { v.max(0.0) } else { 0.0 }
+/// The view-projection of `layer` (identity-free zero for a layer no light uses).
+fn all_views(plans: &[SlicePlan], per: u32, layer: u32) -> Mat4 {
+    plans
+        .iter()
+        .find(|p| p.slice == layer / per)
+        .and_then(|p| p.views.get((layer % per) as usize))
+        .map_or(Mat4::ZERO, |v| v.view_projection)
 }
 
-/// The casters' instances (model matrix and where their mesh is) and one draw per batch.
-fn pack_casters(layers: &[Arc<Layer>]) -> (Vec<GpuCaster>, Vec<(u32, u32, u32)>) {
-    let mut casters = Vec::new();
-    let mut draws = Vec::new();
-    for batch in layers.iter().flat_map(|l| &l.batches) {
-        let first = casters.len() as u32;
-        for instance in &batch.instances {
-            casters.push(GpuCaster {
-                model: instance.transform.to_cols_array(),
-                info: [batch.mesh.indices.start, batch.mesh.vertices.start, 0, 0],
-            });
-        }
-        let count = batch.instances.len() as u32;
-        if count > 0 && !batch.mesh.indices.is_empty() {
-            draws.push((batch.mesh.indices.len() as u32, first, count));
-        }
-    }
-    if casters.is_empty() {
-        casters.push(bytemuck::Zeroable::zeroed());
-    }
-    (casters, draws)
+/// One layer of an array texture, as a 2D view.
+fn layer_view(texture: &wgpu::Texture, layer: u32) -> wgpu::TextureView {
+    texture.create_view(&wgpu::TextureViewDescriptor {
+        dimension: Some(wgpu::TextureViewDimension::D2),
+        base_array_layer: layer,
+        array_layer_count: Some(1),
+        ..Default::default()
+    })
+}
+
+fn finite_non_negative(v: f32) -> f32 {
+    if v.is_finite() { v.max(0.0) } else { 0.0 }
 }
 
 /// A sphere around every caster (their meshes' boxes, transformed).

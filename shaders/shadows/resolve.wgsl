@@ -1,0 +1,41 @@
+// Shadow-map depth into the map shading samples (R32F, conventional depth:
+// 0 at the near plane, 1 at the far plane and where nothing was drawn).
+// from_visibility: the compute rasterizer's 64-bit words (id + 1, reversed-Z
+// depth bits), so 1 - depth. from_depth: the raster hardware's Depth32F
+// attachments, copied.
+#import spreadlight::camera::Camera
+
+struct Info {
+    // x: the array layer to read
+    layer: vec4<u32>,
+}
+
+@group(0) @binding(0) var<storage, read> visibility: array<vec2<u32>>;
+@group(0) @binding(1) var depth: texture_depth_2d_array;
+@group(0) @binding(2) var<uniform> camera: Camera;
+@group(0) @binding(3) var out_depth: texture_storage_2d<r32float, write>;
+@group(0) @binding(4) var<uniform> info: Info;
+
+@compute @workgroup_size(8, 8)
+fn from_visibility(@builtin(global_invocation_id) id: vec3<u32>) {
+    let size = vec2<u32>(camera.size.xy);
+    if (id.x >= size.x || id.y >= size.y) {
+        return;
+    }
+    let word = visibility[id.y * size.x + id.x];
+    var d = 1.0;
+    if (word.x != 0u) {
+        d = clamp(1.0 - bitcast<f32>(word.y), 0.0, 1.0);
+    }
+    textureStore(out_depth, id.xy, vec4<f32>(d, 0.0, 0.0, 0.0));
+}
+
+@compute @workgroup_size(8, 8)
+fn from_depth(@builtin(global_invocation_id) id: vec3<u32>) {
+    let size = textureDimensions(depth);
+    if (id.x >= size.x || id.y >= size.y) {
+        return;
+    }
+    let d = textureLoad(depth, vec2<i32>(id.xy), i32(info.layer.x), 0);
+    textureStore(out_depth, id.xy, vec4<f32>(d, 0.0, 0.0, 0.0));
+}
