@@ -19,7 +19,7 @@ use std::sync::Arc;
 use anyhow::Context;
 use glam::{Vec3, Vec4};
 use spreadlight_render::camera::{CameraInput, reverse_z};
-use spreadlight_render::gbuffer::{GBuffer, Layer};
+use spreadlight_render::gbuffer::{GBuffer, Layer, RasterChoice};
 use spreadlight_render::lighting::{CookTorrance, LightBuffer, LightLoop, SpotLight, Surfaces};
 use spreadlight_render::readback::{ImageF32, render_and_read};
 use spreadlight_render::reference::shadows::{DiskLight, Sphere, disk_samples, visibility};
@@ -55,6 +55,9 @@ struct ShadowArgs {
     /// Timed frames per setting (after one warm-up frame); the median is reported.
     #[arg(long, default_value_t = 9)]
     frames: usize,
+    /// Which rasterizer draws the maps.
+    #[arg(long, value_enum, default_value = "auto")]
+    raster: Raster,
     /// Rays per pixel in the reference.
     #[arg(long, default_value_t = 256)]
     rays: u32,
@@ -67,6 +70,24 @@ struct ShadowArgs {
     /// Print JSON lines instead of the table.
     #[arg(long)]
     json: bool,
+}
+
+#[derive(Clone, Copy, clap::ValueEnum)]
+enum Raster {
+    /// Compute where the adapter has 64-bit atomics, else the hardware.
+    Auto,
+    Compute,
+    Hardware,
+}
+
+impl Raster {
+    fn choice(self) -> RasterChoice {
+        match self {
+            Raster::Auto => RasterChoice::Auto,
+            Raster::Compute => RasterChoice::Compute,
+            Raster::Hardware => RasterChoice::Hardware,
+        }
+    }
 }
 
 pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
@@ -161,7 +182,7 @@ fn frame(
     renderer: &Renderer,
     layers: &[Arc<Layer>],
     size: (u32, u32),
-    shadows: Option<(ShadowFilter, u32)>,
+    shadows: Option<(ShadowFilter, u32, RasterChoice)>,
 ) -> anyhow::Result<Frame> {
     // New casters (the same geometry) every frame, so the maps are rendered
     // each time into the kept store, as for a scene that moves, rather than
@@ -171,7 +192,7 @@ fn frame(
     let cam = camera(size);
     let lights = LightBuffer::spots(renderer, &[spot], None)?;
     let maps = match shadows {
-        Some((filter, resolution)) => Some(ShadowMaps::new(
+        Some((filter, resolution, raster)) => Some(ShadowMaps::new(
             renderer,
             Some(MAPS_OWNER),
             &ShadowLights::Spot(vec![(0, spot.view, spot.projection)]),
@@ -180,6 +201,7 @@ fn frame(
             ShadowSettings {
                 resolution,
                 filter,
+                raster,
                 ..Default::default()
             },
         )?),
@@ -244,7 +266,7 @@ fn time(
     layers: &[Arc<Layer>],
     size: (u32, u32),
     frames: usize,
-    shadows: Option<(ShadowFilter, u32)>,
+    shadows: Option<(ShadowFilter, u32, RasterChoice)>,
 ) -> anyhow::Result<(Option<f64>, Option<f64>)> {
     frame(renderer, layers, size, shadows)?;
     let mut maps = Vec::new();
@@ -387,7 +409,8 @@ fn shadows(args: &ShadowArgs) -> anyhow::Result<ExitCode> {
                 "[{}/{total}] {name} at {res}",
                 k * args.resolutions.len() + j + 1
             );
-            let shadowed = frame(&renderer, &layers, args.error_size, Some((*filter, res)))?;
+            let setting = Some((*filter, res, args.raster.choice()));
+            let shadowed = frame(&renderer, &layers, args.error_size, setting)?;
             let (rmse, off) = error(&shadowed, &lit, &truth);
             if let Some(dir) = &args.error_images {
                 write_error_image(
@@ -399,13 +422,7 @@ fn shadows(args: &ShadowArgs) -> anyhow::Result<ExitCode> {
                     args.error_size,
                 )?;
             }
-            let (maps, shade) = time(
-                &renderer,
-                &layers,
-                args.time_size,
-                args.frames,
-                Some((*filter, res)),
-            )?;
+            let (maps, shade) = time(&renderer, &layers, args.time_size, args.frames, setting)?;
             rows.push((name.clone(), res, maps, shade, rmse, off));
         }
     }
@@ -426,10 +443,15 @@ fn shadows(args: &ShadowArgs) -> anyhow::Result<ExitCode> {
         return Ok(ExitCode::SUCCESS);
     }
     let mut table = format!(
-        "Shadow filters on {adapter}: GPU ms at {tw}x{th} (median of {} frames; the map pass renders every frame here, \
+        "Shadow filters on {adapter} ({} raster): GPU ms at {tw}x{th} (median of {} frames; the map pass renders every frame here, \
          no reuse), error at {ew}x{eh} against {} ray-cast samples of a spot light of radius {LIGHT_RADIUS} \
          (RMSE of visibility over the lit pixels; share of pixels off by more than 0.1). Shading without shadows: {} ms.\n\n\
          | filter | map | shadow map ms | shade ms | RMSE | off > 0.1 |\n|---|---|---|---|---|---|\n",
+        match args.raster {
+            Raster::Auto => "automatic",
+            Raster::Compute => "compute",
+            Raster::Hardware => "hardware",
+        },
         args.frames,
         args.rays,
         ms(base_shade)

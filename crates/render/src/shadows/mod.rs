@@ -396,8 +396,8 @@ impl ShadowMaps {
         });
         // The raster hardware is the H100's bottleneck (DEVELOPERS.md): rasterize
         // maps in compute where the 64-bit buffer of a layer fits one binding.
-        let fits = u64::from(res) * u64::from(res) * 8
-            <= device.limits().max_storage_buffer_binding_size;
+        let fits =
+            u64::from(res) * u64::from(res) * 8 <= device.limits().max_storage_buffer_binding_size;
         let compute = (renderer.gpu.has_compute_raster()
             && fits
             && settings.raster != RasterChoice::Hardware)
