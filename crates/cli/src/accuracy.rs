@@ -25,7 +25,7 @@ use spreadlight_render::readback::{ImageF32, render_and_read};
 use spreadlight_render::reference::shadows::{DiskLight, Sphere, disk_samples, visibility};
 use spreadlight_render::scenes::balls_on_floor;
 use spreadlight_render::shadows::{ShadowFilter, ShadowLights, ShadowMaps, ShadowSettings};
-use spreadlight_render::{Renderer, SizeRule};
+use spreadlight_render::{Recipe, Renderer, SizeRule};
 
 use crate::session::parse_size;
 
@@ -183,6 +183,7 @@ fn frame(
     layers: &[Arc<Layer>],
     size: (u32, u32),
     shadows: Option<(ShadowFilter, u32, RasterChoice)>,
+    read: bool,
 ) -> anyhow::Result<Frame> {
     // New casters (the same geometry) every frame, so the maps are rendered
     // each time into the kept store, as for a scene that moves, rather than
@@ -225,6 +226,28 @@ fn frame(
         Surfaces::PerMaterialId(vec![(0.8, 0.0)]),
         maps,
     );
+    if !read {
+        // Timing: run the frame and read nothing back, so the GPU never idles
+        // waiting for the CPU (an idle GPU clocks down and times slow).
+        let mut graph = spreadlight_render::FrameGraph::new(size);
+        ct.declare(renderer, &mut graph);
+        graph.request(&ct.diffuse);
+        let (report, _) = graph.execute(renderer)?;
+        if let Some((_, e)) = report.errors.first() {
+            anyhow::bail!("the frame failed: {e}");
+        }
+        let empty = || ImageF32 {
+            width: 0,
+            height: 0,
+            pixels: Vec::new(),
+        };
+        return Ok(Frame {
+            diffuse: empty(),
+            depth: empty(),
+            shadow_ms: pass_ms(&report, "ShadowMap"),
+            shade_ms: pass_ms(&report, "shade"),
+        });
+    }
     let (report, images) = render_and_read(
         renderer,
         ct.as_ref(),
@@ -234,15 +257,7 @@ fn frame(
     if let Some((_, e)) = report.errors.first() {
         anyhow::bail!("the frame failed: {e}");
     }
-    let sum = |what: &str| {
-        let times: Vec<f64> = report
-            .passes
-            .iter()
-            .filter(|p| p.name.contains(what))
-            .filter_map(|p| p.gpu_ms)
-            .collect();
-        (!times.is_empty()).then(|| times.iter().sum())
-    };
+    let sum = |what: &str| pass_ms(&report, what);
     let mut images = images.into_iter();
     Ok(Frame {
         diffuse: images.next().context("diffuse")?,
@@ -250,6 +265,17 @@ fn frame(
         shadow_ms: sum("ShadowMap"),
         shade_ms: sum("shade"),
     })
+}
+
+/// The summed GPU time of the passes whose name contains `what`.
+fn pass_ms(report: &spreadlight_render::FrameReport, what: &str) -> Option<f64> {
+    let times: Vec<f64> = report
+        .passes
+        .iter()
+        .filter(|p| p.name.contains(what))
+        .filter_map(|p| p.gpu_ms)
+        .collect();
+    (!times.is_empty()).then(|| times.iter().sum())
 }
 
 fn median(mut v: Vec<f64>) -> Option<f64> {
@@ -260,6 +286,9 @@ fn median(mut v: Vec<f64>) -> Option<f64> {
     Some(v[v.len() / 2])
 }
 
+/// Frames run before timing (pipelines compile, the GPU clocks up).
+const WARMUP: usize = 10;
+
 /// Median shadow-map and shading times over `frames` frames after a warm-up.
 fn time(
     renderer: &Renderer,
@@ -268,11 +297,13 @@ fn time(
     frames: usize,
     shadows: Option<(ShadowFilter, u32, RasterChoice)>,
 ) -> anyhow::Result<(Option<f64>, Option<f64>)> {
-    frame(renderer, layers, size, shadows)?;
+    for _ in 0..WARMUP {
+        frame(renderer, layers, size, shadows, false)?;
+    }
     let mut maps = Vec::new();
     let mut shade = Vec::new();
     for _ in 0..frames.max(1) {
-        let f = frame(renderer, layers, size, shadows)?;
+        let f = frame(renderer, layers, size, shadows, false)?;
         maps.extend(f.shadow_ms);
         shade.extend(f.shade_ms);
     }
@@ -397,7 +428,7 @@ fn shadows(args: &ShadowArgs) -> anyhow::Result<ExitCode> {
         "reference: {} rays per pixel at {}x{} ...",
         args.rays, args.error_size.0, args.error_size.1
     );
-    let lit = frame(&renderer, &layers, args.error_size, None)?;
+    let lit = frame(&renderer, &layers, args.error_size, None, true)?;
     let truth = reference(&lit, args.error_size, args.rays);
     let (_, base_shade) = time(&renderer, &layers, args.time_size, args.frames, None)?;
     let mut rows = Vec::new();
@@ -410,7 +441,7 @@ fn shadows(args: &ShadowArgs) -> anyhow::Result<ExitCode> {
                 k * args.resolutions.len() + j + 1
             );
             let setting = Some((*filter, res, args.raster.choice()));
-            let shadowed = frame(&renderer, &layers, args.error_size, setting)?;
+            let shadowed = frame(&renderer, &layers, args.error_size, setting, true)?;
             let (rmse, off) = error(&shadowed, &lit, &truth);
             if let Some(dir) = &args.error_images {
                 write_error_image(
@@ -443,8 +474,8 @@ fn shadows(args: &ShadowArgs) -> anyhow::Result<ExitCode> {
         return Ok(ExitCode::SUCCESS);
     }
     let mut table = format!(
-        "Shadow filters on {adapter} ({} raster): GPU ms at {tw}x{th} (median of {} frames; the map pass renders every frame here, \
-         no reuse), error at {ew}x{eh} against {} ray-cast samples of a spot light of radius {LIGHT_RADIUS} \
+        "Shadow filters on {adapter} ({} raster): GPU ms at {tw}x{th} (median of {} frames after {WARMUP}, back to back; the map pass renders \
+         every frame here, no reuse), error at {ew}x{eh} against {} ray-cast samples of a spot light of radius {LIGHT_RADIUS} \
          (RMSE of visibility over the lit pixels; share of pixels off by more than 0.1). Shading without shadows: {} ms.\n\n\
          | filter | map | shadow map ms | shade ms | RMSE | off > 0.1 |\n|---|---|---|---|---|---|\n",
         match args.raster {
