@@ -52,7 +52,10 @@ struct ShadowArgs {
     /// Shadow-map resolutions, comma-separated.
     #[arg(long, default_value = "512,1024,2048,4096", value_delimiter = ',')]
     resolutions: Vec<u32>,
-    /// Timed frames per setting (after one warm-up frame); the median is reported.
+    /// Frames run before timing each setting, back to back (pipelines compile, the GPU clocks up).
+    #[arg(long, default_value_t = 10)]
+    warmup: usize,
+    /// Timed frames per setting; the median is reported.
     #[arg(long, default_value_t = 9)]
     frames: usize,
     /// Which rasterizer draws the maps.
@@ -286,18 +289,15 @@ fn median(mut v: Vec<f64>) -> Option<f64> {
     Some(v[v.len() / 2])
 }
 
-/// Frames run before timing (pipelines compile, the GPU clocks up).
-const WARMUP: usize = 10;
-
 /// Median shadow-map and shading times over `frames` frames after a warm-up.
 fn time(
     renderer: &Renderer,
     layers: &[Arc<Layer>],
     size: (u32, u32),
-    frames: usize,
+    (warmup, frames): (usize, usize),
     shadows: Option<(ShadowFilter, u32, RasterChoice)>,
 ) -> anyhow::Result<(Option<f64>, Option<f64>)> {
-    for _ in 0..WARMUP {
+    for _ in 0..warmup {
         frame(renderer, layers, size, shadows, false)?;
     }
     let mut maps = Vec::new();
@@ -430,7 +430,13 @@ fn shadows(args: &ShadowArgs) -> anyhow::Result<ExitCode> {
     );
     let lit = frame(&renderer, &layers, args.error_size, None, true)?;
     let truth = reference(&lit, args.error_size, args.rays);
-    let (_, base_shade) = time(&renderer, &layers, args.time_size, args.frames, None)?;
+    let (_, base_shade) = time(
+        &renderer,
+        &layers,
+        args.time_size,
+        (args.warmup, args.frames),
+        None,
+    )?;
     let mut rows = Vec::new();
     let settings = settings();
     let total = settings.len() * args.resolutions.len();
@@ -453,7 +459,13 @@ fn shadows(args: &ShadowArgs) -> anyhow::Result<ExitCode> {
                     args.error_size,
                 )?;
             }
-            let (maps, shade) = time(&renderer, &layers, args.time_size, args.frames, setting)?;
+            let (maps, shade) = time(
+                &renderer,
+                &layers,
+                args.time_size,
+                (args.warmup, args.frames),
+                setting,
+            )?;
             rows.push((name.clone(), res, maps, shade, rmse, off));
         }
     }
@@ -474,7 +486,7 @@ fn shadows(args: &ShadowArgs) -> anyhow::Result<ExitCode> {
         return Ok(ExitCode::SUCCESS);
     }
     let mut table = format!(
-        "Shadow filters on {adapter} ({} raster): GPU ms at {tw}x{th} (median of {} frames after {WARMUP}, back to back; the map pass renders \
+        "Shadow filters on {adapter} ({} raster): GPU ms at {tw}x{th} (median of {} frames after {}, back to back; the map pass renders \
          every frame here, no reuse), error at {ew}x{eh} against {} ray-cast samples of a spot light of radius {LIGHT_RADIUS} \
          (RMSE of visibility over the lit pixels; share of pixels off by more than 0.1). Shading without shadows: {} ms.\n\n\
          | filter | map | shadow map ms | shade ms | RMSE | off > 0.1 |\n|---|---|---|---|---|---|\n",
@@ -484,6 +496,7 @@ fn shadows(args: &ShadowArgs) -> anyhow::Result<ExitCode> {
             Raster::Hardware => "hardware",
         },
         args.frames,
+        args.warmup,
         args.rays,
         ms(base_shade)
     );

@@ -66,7 +66,8 @@ pub struct ShadowSettings {
     pub depth_bias: f32,
     /// The receiver moves this many texels along its normal before it is compared.
     pub normal_bias: f32,
-    /// Which rasterizer draws the maps: compute where it can (Auto), or the hardware.
+    /// Which rasterizer draws the maps. Auto: compute up to 1024 texels a
+    /// side (where the adapter has 64-bit atomics), the hardware beyond.
     pub raster: RasterChoice,
 }
 
@@ -394,34 +395,37 @@ impl ShadowMaps {
             contents: bytemuck::cast_slice(&gpu_instances),
             usage: wgpu::BufferUsages::STORAGE,
         });
-        // The raster hardware is the H100's bottleneck (DEVELOPERS.md): rasterize
-        // maps in compute where the 64-bit buffer of a layer fits one binding.
+        // Which rasterizer: measured on the H100 (docs/shadows.md), compute
+        // is faster up to 1024 texels a side and the hardware beyond, where
+        // 4 bytes a texel of depth is all the raster writes.
         let fits =
             u64::from(res) * u64::from(res) * 8 <= device.limits().max_storage_buffer_binding_size;
-        let compute = (renderer.gpu.has_compute_raster()
-            && fits
-            && settings.raster != RasterChoice::Hardware)
-            .then(|| {
-                let cameras = (0..layers)
-                    .map(|layer| {
-                        let vp = all_views(&plans, per, layer);
-                        let camera = CameraInput {
-                            view: Mat4::IDENTITY,
-                            projection: vp,
-                        }
-                        .to_gpu(None, (res, res));
-                        device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                            label: Some("shadow layer camera"),
-                            contents: bytemuck::bytes_of(&camera),
-                            usage: wgpu::BufferUsages::UNIFORM,
-                        })
+        let wants_compute = match settings.raster {
+            RasterChoice::Compute => true,
+            RasterChoice::Hardware => false,
+            RasterChoice::Auto => res <= 1024,
+        };
+        let compute = (renderer.gpu.has_compute_raster() && fits && wants_compute).then(|| {
+            let cameras = (0..layers)
+                .map(|layer| {
+                    let vp = all_views(&plans, per, layer);
+                    let camera = CameraInput {
+                        view: Mat4::IDENTITY,
+                        projection: vp,
+                    }
+                    .to_gpu(None, (res, res));
+                    device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                        label: Some("shadow layer camera"),
+                        contents: bytemuck::bytes_of(&camera),
+                        usage: wgpu::BufferUsages::UNIFORM,
                     })
-                    .collect();
-                (
-                    ComputeRaster::new(renderer, &draws, instance_count),
-                    cameras,
-                )
-            });
+                })
+                .collect();
+            (
+                ComputeRaster::new(renderer, &draws, instance_count),
+                cameras,
+            )
+        });
         // A node's maps outlive its recipes; a recipe without a node keeps its own.
         let store = match owner {
             Some(node) => renderer.state::<ShadowStore>(u64::from(node)),
