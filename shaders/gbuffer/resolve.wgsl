@@ -48,6 +48,11 @@ struct Layer {
 @group(1) @binding(0) var normal_map: texture_2d<f32>;
 @group(1) @binding(1) var normal_sampler: sampler;
 #endif
+// COLOR_MAP: a texture (sRGB decoded by the sampler) that scales the instance colour.
+#ifdef COLOR_MAP
+@group(1) @binding(2) var color_map: texture_2d<f32>;
+@group(1) @binding(3) var color_sampler: sampler;
+#endif
 
 // Barycentrics of where the pixel's view ray meets the triangle (world
 // space). Exact for any triangle, including ones that cross the near plane;
@@ -191,7 +196,11 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     );
 #endif
     let normal_view = safe_normalize((camera.view * vec4<f32>(normal_world, 0.0)).xyz, vec3<f32>(0.0, 0.0, 1.0));
-    textureStore(out_color, pixel, vec4<f32>(instance.color.rgb, id_to_channel(instance.info.z)));
+    var albedo = instance.color.rgb;
+#ifdef COLOR_MAP
+    albedo *= max(textureSampleLevel(color_map, color_sampler, uv, 0.0).rgb, vec3<f32>(0.0));
+#endif
+    textureStore(out_color, pixel, vec4<f32>(albedo, id_to_channel(instance.info.z)));
     textureStore(out_normal, pixel, vec4<f32>(normal_view, id_to_channel(instance.info.w)));
     textureStore(out_depth, pixel, vec4<f32>(bitcast<f32>(hit.z), 0.0, 0.0, 0.0));
 #endif

@@ -116,8 +116,12 @@ pub const SHADERS: &[ShaderFile] = &[
             "TEXCOORDS",
             "NORMAL_MAP",
             "TRIPLANAR",
-            "VELOCITY_FROM_GEOMETRY"
-        ]
+            "VELOCITY_FROM_GEOMETRY",
+            "COLOR_MAP"
+        ],
+        // The colour map is the surface pass's; it reads UVs.
+        Rule::AtMostOne(&["COLOR_MAP", "MOTION"]),
+        Rule::AtMostOne(&["TEXCOORDS", "TRIPLANAR"])
     ),
     shader!("lighting/clusters.wgsl", []),
     shader!(

@@ -578,3 +578,89 @@ fn reversed_z_keeps_depth_precise_from_near_1e_minus_4_to_far_1e6() {
         "near 1e-4 / far 1e6: worst reconstructed-position error {worst} units at 40-60 units"
     );
 }
+
+#[test]
+fn a_color_texture_scales_albedo_at_the_uv_and_needs_uvs() {
+    use spreadlight_render::texture::{GpuTexture, StaticTexture};
+    let renderer = test_renderer();
+    // Left half of UV space red, right half green, on a sphere seen from +z.
+    // 64 texels wide, so bilinear blending is a thin seam.
+    let texels: Vec<u8> = (0..64 * 4)
+        .flat_map(|i| {
+            if i % 64 < 32 {
+                [255u8, 0, 0, 255]
+            } else {
+                [0, 255, 0, 255]
+            }
+        })
+        .collect();
+    let map = StaticTexture::new(GpuTexture::from_rgba8(
+        &renderer.gpu,
+        64,
+        4,
+        &texels,
+        false,
+        "albedo",
+    ));
+    let features = LayerFeatures {
+        texcoords: true,
+        ..Default::default()
+    };
+    let layer = |map: Option<spreadlight_render::TextureRef>| {
+        let plain = sphere_layer(
+            &renderer,
+            vec![instance(Mat4::IDENTITY, Mat4::IDENTITY)],
+            features,
+        );
+        Arc::new(Layer::clone(&plain).with_color_map(map).expect("has UVs"))
+    };
+    let color_of = |layer: Arc<Layer>| {
+        let g = GBuffer::new(
+            &renderer,
+            None,
+            vec![layer],
+            camera_at(Vec3::new(0.0, 0.0, 4.0)),
+            None,
+            SizeRule::Relative(1.0),
+        );
+        let (_, images) = render(&renderer, &g, &[&g.targets.color]);
+        images.into_iter().next().expect("color")
+    };
+    let plain = color_of(layer(None));
+    let mapped = color_of(layer(Some(map.texture_ref())));
+    let covered: Vec<usize> = (0..plain.pixels.len())
+        .filter(|&i| plain.pixels[i][0] > 0.0)
+        .collect();
+    assert!(!covered.is_empty());
+    // Every covered pixel: the instance colour times pure red or pure green (bilinear between them at seams).
+    let (mut red, mut green) = (0, 0);
+    for &i in &covered {
+        let (p, m) = (plain.pixels[i], mapped.pixels[i]);
+        assert!(
+            m[0] <= p[0] + 1e-3 && m[1] <= p[1] + 1e-3 && m[2] <= 1e-3,
+            "{m:?} from {p:?}"
+        );
+        red += usize::from(m[0] > 0.9 * p[0] && m[1] < 0.05);
+        green += usize::from(m[1] > 0.9 * p[1] && m[0] < 0.05);
+    }
+    assert!(
+        red > covered.len() / 5 && green > covered.len() / 5,
+        "{red} red, {green} green of {}",
+        covered.len()
+    );
+    // The material id still rides in alpha.
+    assert_eq!(plain.pixels[covered[0]][3], mapped.pixels[covered[0]][3]);
+    // Without UVs, a colour map is an error, not a guess.
+    let no_uvs = sphere_layer(
+        &renderer,
+        vec![instance(Mat4::IDENTITY, Mat4::IDENTITY)],
+        LayerFeatures::default(),
+    );
+    let err = Layer::clone(&no_uvs)
+        .with_color_map(Some(map.texture_ref()))
+        .expect_err("refused");
+    assert!(
+        err.to_string().contains("Texture Coordinates or Triplanar"),
+        "{err}"
+    );
+}

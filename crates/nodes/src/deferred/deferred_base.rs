@@ -32,6 +32,7 @@ const NORMAL_TEXTURE: usize = 7;
 const TRIPLANAR: usize = 8;
 const VELOCITY_PIN: usize = 9;
 const IDS: usize = 10;
+const COLOR_TEXTURE: usize = 11;
 
 pub fn register(r: &mut Registry) {
     r.add(
@@ -40,7 +41,8 @@ pub fn register(r: &mut Registry) {
             super::CATEGORY,
             "Draws a spread of meshes with a spread of transforms into a layer for MRE. Slice i uses mesh i and \
              transform i (wrapping); instances of one mesh are one draw. The switches choose what the G-buffer \
-             receives; each is a shader feature compiled only when used.",
+             receives; each is a shader feature compiled only when used. Color Texture scales Color (albedo) at the \
+             surface's UV (needs Texture Coordinates or Triplanar).",
         )
         .input_spread("Mesh", PinType::Resource(ResourceKind::Mesh), Spread::Resource(ResourceKind::Mesh, vec![]))
         .input("Transform", Mat4::IDENTITY)
@@ -57,6 +59,11 @@ pub fn register(r: &mut Registry) {
         .input("Triplanar", false)
         .input_enum("Velocity", &VELOCITY, "Transforms")
         .input("IDs", true)
+        .input_spread(
+            "Color Texture",
+            PinType::Resource(ResourceKind::Texture),
+            Spread::Resource(ResourceKind::Texture, vec![]),
+        )
         .output_typed("Layer", PinType::Resource(ResourceKind::Layer))
         .construct(DeferredBase::default),
     );
@@ -90,13 +97,17 @@ impl Node for DeferredBase {
             velocity,
             ids: flag(IDS)?,
         };
-        let normal_map = match cx.input(NORMAL_TEXTURE) {
-            Spread::Resource(_, v) if !v.is_empty() => resources::<TextureRef>(cx, NORMAL_TEXTURE)?
-                .into_iter()
-                .next()
-                .map(|t| (*t).clone()),
-            _ => None,
+        let first_texture = |pin: usize| -> Result<Option<TextureRef>, NodeError> {
+            Ok(match cx.input(pin) {
+                Spread::Resource(_, v) if !v.is_empty() => resources::<TextureRef>(cx, pin)?
+                    .into_iter()
+                    .next()
+                    .map(|t| (*t).clone()),
+                _ => None,
+            })
         };
+        let normal_map = first_texture(NORMAL_TEXTURE)?;
+        let color_map = first_texture(COLOR_TEXTURE)?;
 
         let n = slice_count([
             meshes.len(),
@@ -149,7 +160,9 @@ impl Node for DeferredBase {
             cx.reevaluate_next_frame();
         }
         let layer = Layer::new(Some(cx.node_id.0), batches, features, normal_map)
-            .map_err(|e| NodeError::Other(e.to_string()))?;
+            .map_err(|e| NodeError::Other(e.to_string()))?
+            .with_color_map(color_map)
+            .map_err(|e| cx.input_error(COLOR_TEXTURE, e.to_string()))?;
         cx.set_output(
             0,
             resource_spread(ResourceKind::Layer, vec![Arc::new(layer)]),

@@ -36,8 +36,8 @@ pub struct LayerFeatures {
 }
 
 impl LayerFeatures {
-    /// The resolve shader's features for the surface (color, normals) pass.
-    pub(crate) fn surface_defines(&self) -> Vec<&'static str> {
+    /// The resolve shader's features for the surface (color, normals) pass, from the switches alone.
+    fn surface_defines(&self) -> Vec<&'static str> {
         let mut d = Vec::new();
         if self.normal_map {
             d.push("NORMAL_MAP");
@@ -56,7 +56,7 @@ impl LayerFeatures {
         d
     }
 
-    fn uv_define(&self) -> Option<&'static str> {
+    pub(crate) fn uv_define(&self) -> Option<&'static str> {
         if self.texcoords {
             Some("TEXCOORDS")
         } else if self.triplanar {
@@ -94,6 +94,10 @@ pub enum LayerError {
         "{switch} needs texture coordinates, but mesh slice {mesh} has none (switch on Triplanar, or use a mesh with UVs)"
     )]
     NoTexcoords { switch: &'static str, mesh: usize },
+    #[error(
+        "a Color Texture needs texture coordinates: switch on Texture Coordinates or Triplanar"
+    )]
+    ColorMapWithoutUvs,
     #[error("Normal Mapping needs tangents, but mesh slice {mesh} has none")]
     NoTangents { mesh: usize },
     #[error(
@@ -109,6 +113,8 @@ pub struct Layer {
     pub batches: Vec<DrawBatch>,
     pub features: LayerFeatures,
     pub normal_map: Option<TextureRef>,
+    /// Multiplies the instances' colour (albedo) at the surface's UV.
+    pub color_map: Option<TextureRef>,
 }
 
 impl Layer {
@@ -147,6 +153,34 @@ impl Layer {
             batches,
             features,
             normal_map,
+            color_map: None,
         })
+    }
+
+    /// The layer with `map` scaling its colour at each pixel's texture
+    /// coordinates (Texture Coordinates or Triplanar must be on).
+    pub fn with_color_map(mut self, map: Option<TextureRef>) -> Result<Self, LayerError> {
+        if map.is_some() && !self.features.texcoords && !self.features.triplanar {
+            return Err(LayerError::ColorMapWithoutUvs);
+        }
+        self.color_map = map;
+        Ok(self)
+    }
+
+    /// The resolve shader's features for the surface (color, normals) pass.
+    pub(crate) fn surface_defines(&self) -> Vec<&'static str> {
+        let mut d = self.features.surface_defines();
+        if self.color_map.is_some() {
+            d.push("COLOR_MAP");
+            if !self.features.normal_map {
+                d.extend(self.features.uv_define());
+            }
+        }
+        d
+    }
+
+    /// The textures its surface pass samples.
+    pub(crate) fn maps(&self) -> impl Iterator<Item = &TextureRef> {
+        self.normal_map.iter().chain(&self.color_map)
     }
 }

@@ -323,8 +323,8 @@ impl Recipe for GBuffer {
             .gpu
             .queue
             .write_buffer(&self.camera_buffer, 0, bytemuck::bytes_of(&camera));
-        for normal_map in self.layers.iter().filter_map(|l| l.normal_map.as_ref()) {
-            normal_map.recipe.declare(renderer, fg);
+        for map in self.layers.iter().flat_map(|l| l.maps()) {
+            map.recipe.declare(renderer, fg);
         }
         passes::declare(self, renderer, fg);
     }

@@ -59,7 +59,7 @@ pub(super) fn declare<'a>(g: &'a GBuffer, renderer: &'a Renderer, fg: &mut Frame
     surface_reads.extend(
         g.layers
             .iter()
-            .filter_map(|l| l.normal_map.as_ref())
+            .flat_map(|l| l.maps())
             .map(|n| n.name.as_str()),
     );
     fg.add_pass(
@@ -232,7 +232,7 @@ fn resolve(
         let layer = g.layers.get(i);
         let mut defines = match layer {
             Some(l) if motion => l.features.motion_defines(),
-            Some(l) => l.features.surface_defines(),
+            Some(l) => l.surface_defines(),
             None if motion => vec!["MOTION"],
             None => vec![],
         };
@@ -284,29 +284,31 @@ fn resolve(
             layout: &pipeline.get_bind_group_layout(0),
             entries: &entries,
         });
-        let group1 = match layer
-            .and_then(|l| l.normal_map.as_ref())
-            .filter(|_| !motion)
-        {
-            Some(normal_map) => {
-                let normal_view = cx.view(&normal_map.name)?;
+        // Group 1: the layer's maps, bound where its permutation samples them.
+        let group1 = match layer.filter(|l| !motion && l.maps().next().is_some()) {
+            Some(l) => {
                 let sampler = cx
                     .shaders
                     .sampler(&device, crate::shaders::Sampling::LinearRepeat);
-                Some(device.create_bind_group(&wgpu::BindGroupDescriptor {
-                    label: Some("resolve normal map"),
-                    layout: &pipeline.get_bind_group_layout(1),
-                    entries: &[
-                        wgpu::BindGroupEntry {
-                            binding: 0,
-                            resource: wgpu::BindingResource::TextureView(&normal_view),
-                        },
-                        wgpu::BindGroupEntry {
-                            binding: 1,
-                            resource: wgpu::BindingResource::Sampler(&sampler),
-                        },
-                    ],
-                }))
+                let normal = l
+                    .normal_map
+                    .as_ref()
+                    .map(|m| cx.view(&m.name))
+                    .transpose()?;
+                let color = l.color_map.as_ref().map(|m| cx.view(&m.name)).transpose()?;
+                let mut all = Vec::new();
+                if let Some(v) = &normal {
+                    all.push((0, wgpu::BindingResource::TextureView(v)));
+                    all.push((1, wgpu::BindingResource::Sampler(&sampler)));
+                }
+                if let Some(v) = &color {
+                    all.push((2, wgpu::BindingResource::TextureView(v)));
+                    all.push((3, wgpu::BindingResource::Sampler(&sampler)));
+                }
+                Some(
+                    cx.shaders
+                        .bind_group(&device, &key, "main", &pipeline, 1, &all)?,
+                )
             }
             None => None,
         };
