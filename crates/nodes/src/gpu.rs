@@ -15,6 +15,7 @@ pub const GPU_CATEGORIES: &[&str] = &[
     "Lighting",
     "Post",
     "Material",
+    "Environment",
 ];
 
 /// The renderer the host provided, or an error that says how to get one.

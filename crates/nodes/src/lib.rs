@@ -7,9 +7,10 @@
 //! `camera.rs`, `LFO` in `animation.rs`, IOBoxes, `Probe` and `Switch` in `io.rs`,
 //! `Sphere` in `geometry/primitives.rs`, `glTF` in `geometry/gltf.rs`,
 //! `DeferredBase`, `MRE` and `GBufferView` in `deferred/`, `Output` in `output.rs`,
-//! `FileTexture` in `texture/file_texture.rs`, `PointLightBuffer`, `CookTorrance` and
-//! `CompositeLight` (and the spot and sun buffers) in `lighting/`, `Tonemap` and
-//! `EyeAdaptation` in `post/`, the material nodes in `material/`, `BenchLights` in `bench.rs`.
+//! `FileTexture` and `FileTexture (Array)` in `texture/`, the `AddLight`s, light
+//! buffers, `ShadowMap`s, `CookTorrance` and `CompositeLight` in `lighting/`, `Sky`
+//! in `environment/`, `Tonemap` and `EyeAdaptation` in `post/`, the material nodes
+//! in `material/`, `Perspective (Transform)` in `transform.rs`, `BenchLights` in `bench.rs`.
 
 use spreadlight_graph::Registry;
 
@@ -17,6 +18,7 @@ pub mod animation;
 pub mod bench;
 pub mod camera;
 pub mod deferred;
+pub mod environment;
 pub mod geometry;
 pub mod gpu;
 pub mod io;
@@ -48,6 +50,7 @@ pub fn registry() -> Registry {
     output::register(&mut r);
     texture::register(&mut r);
     lighting::register(&mut r);
+    environment::register(&mut r);
     material::register(&mut r);
     post::register(&mut r);
     bench::register(&mut r);

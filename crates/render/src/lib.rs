@@ -5,6 +5,7 @@
 
 pub mod camera;
 pub mod context;
+pub mod environment;
 pub mod error;
 pub mod frame_graph;
 pub mod gbuffer;

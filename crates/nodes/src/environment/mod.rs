@@ -1,0 +1,11 @@
+//! The environment around a scene (category "Environment"): `Sky`.
+
+pub mod sky;
+
+use spreadlight_graph::Registry;
+
+pub const CATEGORY: &str = "Environment";
+
+pub fn register(r: &mut Registry) {
+    sky::register(r);
+}
