@@ -181,6 +181,7 @@ pub const SHADERS: &[ShaderFile] = &[
     shader!("shadows/moments.wgsl", []),
     shader!("shadows/resolve.wgsl", []),
     shader!("environment/sky.wgsl", []),
+    shader!("environment/fog.wgsl", []),
     shader!("post/tonemap.wgsl", ["EYE_ADAPTATION"]),
     shader!("post/eye_adaptation.wgsl", []),
     shader!("gbuffer/view.wgsl", one_of ["ALBEDO", "NORMALS", "VELOCITY", "UV", "DEPTH", "MATERIAL_ID", "OBJECT_ID"]),

@@ -1,5 +1,6 @@
-//! The environment around a scene (category "Environment"): `Sky`.
+//! The environment around a scene (category "Environment"): `Sky`, `Fog`.
 
+pub mod fog;
 pub mod sky;
 
 use spreadlight_graph::Registry;
@@ -8,4 +9,5 @@ pub const CATEGORY: &str = "Environment";
 
 pub fn register(r: &mut Registry) {
     sky::register(r);
+    fog::register(r);
 }

@@ -1,0 +1,279 @@
+//! The environment passes. `Sky`: the procedural sky fills exactly the
+//! pixels the G-buffer left empty, with the zenith above the horizon, the
+//! ground below, and the sun's disk where the light comes from. `Fog`: its
+//! closed form matches a numerical integral of its density along each ray.
+//! Bad settings never make NaN.
+
+use std::sync::Arc;
+
+use glam::Vec3;
+use spreadlight_render::camera::CameraInput;
+use spreadlight_render::environment::{Fog, FogSettings, Sky, SkySettings};
+use spreadlight_render::gbuffer::GBuffer;
+use spreadlight_render::readback::{ImageF32, render_and_read};
+use spreadlight_render::renderer::test_renderer;
+use spreadlight_render::scenes::balls_on_floor;
+use spreadlight_render::texture::{GpuTexture, StaticTexture};
+use spreadlight_render::{Renderer, SizeRule};
+
+const SIZE: (u32, u32) = (64, 64);
+
+/// A ball at the origin, seen level from +z: sky above, a far floor below.
+fn gbuffer(renderer: &Renderer) -> Arc<GBuffer> {
+    let layer =
+        balls_on_floor(renderer, &[(Vec3::new(0.0, 1.0, 0.0), 0.5)], 4.0, 24).expect("upload");
+    let camera = CameraInput {
+        view: glam::camera::rh::view::look_at_mat4(
+            Vec3::new(0.0, 1.0, 4.0),
+            Vec3::new(0.0, 1.0, 0.0),
+            Vec3::Y,
+        ),
+        projection: glam::camera::rh::proj::directx::perspective(1.2, 1.0, 0.1, 100.0),
+    };
+    GBuffer::new(
+        renderer,
+        None,
+        vec![layer],
+        camera,
+        None,
+        SizeRule::Relative(1.0),
+    )
+}
+
+fn sky(renderer: &Renderer, settings: SkySettings) -> (ImageF32, ImageF32) {
+    let g = gbuffer(renderer);
+    // The "lit image": constant magenta, to see what passes through.
+    let lit = StaticTexture::new(GpuTexture::from_rgba32f(
+        &renderer.gpu,
+        SIZE.0,
+        SIZE.1,
+        &vec![[1.0, 0.0, 1.0, 1.0]; (SIZE.0 * SIZE.1) as usize],
+        "lit",
+    ));
+    let sky = Sky::new(renderer, None, g.clone(), lit.texture_ref(), settings);
+    let (report, images) = render_and_read(
+        renderer,
+        sky.as_ref(),
+        SIZE,
+        &[&sky.output, &g.targets.depth],
+    )
+    .expect("renders");
+    assert!(report.errors.is_empty(), "{:?}", report.errors);
+    let mut images = images.into_iter();
+    (images.next().expect("sky"), images.next().expect("depth"))
+}
+
+#[test]
+fn the_sky_fills_only_empty_depth_with_zenith_horizon_and_ground() {
+    let renderer = test_renderer();
+    let settings = SkySettings {
+        zenith: Vec3::new(0.0, 0.0, 1.0),
+        horizon: Vec3::new(1.0, 1.0, 1.0),
+        ground: Vec3::new(0.0, 1.0, 0.0),
+        // The sun behind the camera: no disk in view.
+        sun_direction: Vec3::new(0.0, -0.3, -1.0),
+        ..Default::default()
+    };
+    let (image, depth) = sky(&renderer, settings);
+    assert!(image.all_finite());
+    let px = |x: u32, y: u32| image.pixels[(y * SIZE.0 + x) as usize];
+    for (p, d) in image.pixels.iter().zip(&depth.pixels) {
+        if d[0] > 0.0 {
+            assert_eq!(p[..3], [1.0, 0.0, 1.0], "geometry keeps the lit image");
+        } else {
+            assert!(
+                p[0] != 1.0 || p[1] != 0.0 || p[2] != 1.0,
+                "empty depth gets the sky"
+            );
+        }
+    }
+    // Top of the image: near the zenith (blue dominates); just above the
+    // horizon (the middle row, left edge, past the ball): near white.
+    let top = px(2, 0);
+    assert!(top[2] > top[0] + 0.2, "{top:?}");
+    let horizon = px(2, SIZE.1 / 2 - 1);
+    assert!(horizon[0] > 0.8 && horizon[1] > 0.8, "{horizon:?}");
+}
+
+#[test]
+fn the_sun_disk_sits_opposite_the_light_and_bad_settings_stay_finite() {
+    let renderer = test_renderer();
+    // Light travelling towards +z and down a little: the sun is ahead of the camera, up and to the front.
+    let settings = SkySettings {
+        sun_direction: Vec3::new(0.0, -0.3, 1.0),
+        sun_radius: 0.05,
+        sun_color: Vec3::splat(100.0),
+        ..Default::default()
+    };
+    let (image, _) = sky(&renderer, settings);
+    let brightest = image.pixels.iter().map(|p| p[0]).fold(0.0f32, f32::max);
+    assert!(brightest > 50.0, "the disk is in view: {brightest}");
+    for bad in [
+        SkySettings {
+            sun_direction: Vec3::ZERO,
+            ..Default::default()
+        },
+        SkySettings {
+            zenith: Vec3::splat(f32::NAN),
+            sun_color: Vec3::splat(f32::INFINITY),
+            sun_radius: f32::NAN,
+            glow: f32::INFINITY,
+            ..Default::default()
+        },
+        SkySettings {
+            sun_color: Vec3::splat(1e9),
+            sun_radius: 10.0,
+            ..Default::default()
+        },
+    ] {
+        let (image, _) = sky(&renderer, bad);
+        assert!(image.all_finite(), "{bad:?}");
+        assert!(image.pixels.iter().all(|p| p[0] <= 65000.0), "{bad:?}");
+    }
+}
+
+/// The fog over a white image with black fog: each pixel is its transmittance.
+fn fog_over_white(
+    renderer: &Renderer,
+    settings: FogSettings,
+) -> (ImageF32, ImageF32, Arc<GBuffer>) {
+    let g = gbuffer(renderer);
+    let lit = StaticTexture::new(GpuTexture::from_rgba32f(
+        &renderer.gpu,
+        SIZE.0,
+        SIZE.1,
+        &vec![[1.0, 1.0, 1.0, 1.0]; (SIZE.0 * SIZE.1) as usize],
+        "lit",
+    ));
+    let fog = Fog::new(renderer, None, g.clone(), lit.texture_ref(), settings);
+    let (report, images) = render_and_read(
+        renderer,
+        fog.as_ref(),
+        SIZE,
+        &[&fog.output, &g.targets.depth],
+    )
+    .expect("renders");
+    assert!(report.errors.is_empty(), "{:?}", report.errors);
+    let mut images = images.into_iter();
+    (
+        images.next().expect("fog"),
+        images.next().expect("depth"),
+        g,
+    )
+}
+
+#[test]
+fn fog_matches_a_numerical_integral_of_its_density_along_each_ray() {
+    let renderer = test_renderer();
+    let settings = FogSettings {
+        color: Vec3::ZERO,
+        density: 0.3,
+        height_falloff: 0.8,
+        base_height: 0.5,
+        start: 0.5,
+    };
+    let (image, depth, g) = fog_over_white(&renderer, settings);
+    let camera = g.camera;
+    let inverse =
+        (spreadlight_render::camera::reverse_z(camera.projection) * camera.view).inverse();
+    let eye = camera.view.inverse().w_axis.truncate();
+    let mut checked = 0;
+    for y in (0..SIZE.1).step_by(5) {
+        for x in (0..SIZE.0).step_by(5) {
+            let i = (y * SIZE.0 + x) as usize;
+            let d = depth.pixels[i][0];
+            if d <= 0.0 {
+                assert_eq!(image.pixels[i][0], 1.0, "the sky passes through");
+                continue;
+            }
+            let ndc = glam::Vec4::new(
+                (x as f32 + 0.5) / SIZE.0 as f32 * 2.0 - 1.0,
+                1.0 - (y as f32 + 0.5) / SIZE.1 as f32 * 2.0,
+                d,
+                1.0,
+            );
+            let h = inverse * ndc;
+            let p = h.truncate() / h.w;
+            // Midpoint rule, 4,000 steps from the start distance to the surface.
+            let (dir, length) = ((p - eye).normalize(), (p - eye).length());
+            let steps = 4000;
+            let span = (length - settings.start).max(0.0);
+            let dt = span / steps as f32;
+            let depth_sum: f32 = (0..steps)
+                .map(|k| {
+                    let q = eye + dir * (settings.start + (k as f32 + 0.5) * dt);
+                    settings.density
+                        * (-settings.height_falloff * (q.y - settings.base_height)).exp()
+                        * dt
+                })
+                .sum();
+            let expected = (-depth_sum).exp();
+            let got = image.pixels[i][0];
+            assert!(
+                (got - expected).abs() < 2e-3,
+                "pixel ({x}, {y}): {got} vs {expected}"
+            );
+            checked += 1;
+        }
+    }
+    assert!(checked > 20, "{checked} pixels checked");
+}
+
+#[test]
+fn fog_hard_cases_stay_finite_and_in_range() {
+    let renderer = test_renderer();
+    for settings in [
+        FogSettings {
+            density: 0.0,
+            ..Default::default()
+        },
+        FogSettings {
+            density: 1e6,
+            color: Vec3::splat(0.25),
+            ..Default::default()
+        },
+        FogSettings {
+            height_falloff: 0.0,
+            ..Default::default()
+        },
+        FogSettings {
+            height_falloff: 1e3,
+            base_height: -1e9,
+            ..Default::default()
+        },
+        FogSettings {
+            start: 1e9,
+            ..Default::default()
+        },
+        FogSettings {
+            density: f32::NAN,
+            height_falloff: f32::INFINITY,
+            color: Vec3::splat(f32::NAN),
+            ..Default::default()
+        },
+    ] {
+        let (image, _, _) = fog_over_white(&renderer, settings);
+        assert!(image.all_finite(), "{settings:?}");
+        assert!(
+            image
+                .pixels
+                .iter()
+                .all(|p| (0.0..=1.0 + 1e-6).contains(&p[0])),
+            "{settings:?}"
+        );
+    }
+    // Infinitely dense fog: every surface pixel is the fog's colour.
+    let (image, depth, _) = fog_over_white(
+        &renderer,
+        FogSettings {
+            density: 1e6,
+            color: Vec3::splat(0.25),
+            ..Default::default()
+        },
+    );
+    for (p, d) in image.pixels.iter().zip(&depth.pixels) {
+        if d[0] > 0.0 {
+            assert!((p[0] - 0.25).abs() < 1e-3, "{p:?}");
+        }
+    }
+}
