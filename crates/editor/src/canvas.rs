@@ -1,0 +1,418 @@
+//! The canvas: an egui-snarl projection of the document. Snarl holds only
+//! each node's document id; pins, values, errors and timings are read from
+//! the document, the registry and the runtime while drawing, and every
+//! action the canvas takes goes back through [`EditorDoc`] so it is undoable.
+
+use std::cell::RefCell;
+use std::collections::{BTreeSet, HashMap};
+use std::rc::Rc;
+
+use egui::{Color32, Pos2, Rect, Stroke, Ui};
+use egui_snarl::ui::{PinInfo, PinShape, PinWireInfo, SnarlPin, SnarlStyle, SnarlViewer};
+use egui_snarl::{InPin, InPinId, OutPin, OutPinId, Snarl};
+use spreadlight_graph::{NodeId, PinRef, PinType, Registry, Runtime, Severity, Spread};
+
+use crate::model::EditorDoc;
+use crate::values;
+
+/// Canvas pixels per patch canvas unit: patches are laid out on a coarse grid
+/// (vvvv's nodes are small); snarl's nodes are larger.
+pub const SCALE: f32 = 3.0;
+
+/// What snarl stores per node: which document node it shows.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct CanvasNode(pub NodeId);
+
+/// A pin on the canvas, by node and name: `true` for inputs.
+pub type PinKey = (NodeId, String, bool);
+
+/// Where each pin was drawn this frame, in screen points (tests drag between them).
+pub type PinPositions = Rc<RefCell<HashMap<PinKey, Pos2>>>;
+
+/// A refused link, shown where it was dropped.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Refusal {
+    pub message: String,
+    pub at: Pos2,
+    pub since: f64,
+}
+
+pub fn style() -> SnarlStyle {
+    SnarlStyle {
+        // Double-click on the canvas opens the node browser, as in vvvv.
+        centering: Some(false),
+        ..SnarlStyle::new()
+    }
+}
+
+fn pin_color(ty: PinType) -> Color32 {
+    match ty {
+        PinType::Float | PinType::Int => Color32::from_rgb(160, 160, 160),
+        PinType::Bool => Color32::from_rgb(220, 120, 120),
+        PinType::String => Color32::from_rgb(200, 180, 120),
+        PinType::Vec2 | PinType::Vec3 | PinType::Vec4 => Color32::from_rgb(120, 180, 220),
+        PinType::Color => Color32::from_rgb(230, 140, 220),
+        PinType::Mat4 => Color32::from_rgb(120, 220, 160),
+        PinType::Enum(_) => Color32::from_rgb(200, 200, 120),
+        PinType::Resource(_) => Color32::from_rgb(240, 160, 60),
+        PinType::Any => Color32::WHITE,
+    }
+}
+
+/// A pin that remembers where it was drawn.
+pub struct RecordedPin {
+    info: PinInfo,
+    key: PinKey,
+    sink: PinPositions,
+}
+
+impl SnarlPin for RecordedPin {
+    fn draw(
+        self,
+        snarl_style: &SnarlStyle,
+        style: &egui::Style,
+        rect: Rect,
+        painter: &egui::Painter,
+    ) -> PinWireInfo {
+        let to_global = painter
+            .ctx()
+            .layer_transform_to_global(painter.layer_id())
+            .unwrap_or_default();
+        self.sink
+            .borrow_mut()
+            .insert(self.key, to_global * rect.center());
+        self.info.draw(snarl_style, style, rect, painter)
+    }
+}
+
+/// Everything the canvas reads or changes while it draws.
+pub struct Canvas<'a> {
+    pub doc: &'a mut EditorDoc,
+    pub registry: &'a Registry,
+    pub runtime: &'a Runtime,
+    pub selected: &'a mut BTreeSet<NodeId>,
+    pub show_timings: bool,
+    pub gpu_ms: &'a HashMap<u32, f64>,
+    pub refusal: &'a mut Option<Refusal>,
+    pub pins: PinPositions,
+    pub now: f64,
+    pub ctx: egui::Context,
+}
+
+impl Canvas<'_> {
+    fn node_id(snarl: &Snarl<CanvasNode>, node: egui_snarl::NodeId) -> Option<NodeId> {
+        snarl.get_node(node).map(|n| n.0)
+    }
+
+    fn input_pin(&self, snarl: &Snarl<CanvasNode>, pin: InPinId) -> Option<(NodeId, &'static str, PinType)> {
+        let id = Self::node_id(snarl, pin.node)?;
+        let def = self.registry.get(&self.doc.patch().node(id)?.type_name)?;
+        let p = def.inputs.get(pin.input)?;
+        Some((id, p.name, p.ty))
+    }
+
+    fn output_pin(&self, snarl: &Snarl<CanvasNode>, pin: OutPinId) -> Option<(NodeId, &'static str, PinType)> {
+        let id = Self::node_id(snarl, pin.node)?;
+        let def = self.registry.get(&self.doc.patch().node(id)?.type_name)?;
+        let p = def.outputs.get(pin.output)?;
+        Some((id, p.name, p.ty))
+    }
+
+    /// The node's error: a problem found when compiling or the error of its last run.
+    fn error_of(&self, id: NodeId) -> Option<String> {
+        let mut messages: Vec<String> = self
+            .runtime
+            .problems()
+            .iter()
+            .filter(|p| p.node == id && p.severity == Severity::Error)
+            .map(|p| match &p.pin {
+                Some(pin) => format!("{pin}: {}", p.kind),
+                None => p.kind.to_string(),
+            })
+            .collect();
+        if let Some(e) = self.runtime.node_error(id) {
+            messages.push(e.to_string());
+        }
+        (!messages.is_empty()).then(|| messages.join("\n"))
+    }
+
+    fn recorded(&self, key: PinKey, ty: Option<PinType>) -> RecordedPin {
+        let shape = if matches!(ty, Some(PinType::Resource(_))) {
+            PinShape::Square
+        } else {
+            PinShape::Circle
+        };
+        let fill = ty.map_or(Color32::DARK_GRAY, pin_color);
+        RecordedPin {
+            info: PinInfo::default().with_shape(shape).with_fill(fill),
+            key,
+            sink: self.pins.clone(),
+        }
+    }
+
+    fn refuse(&mut self, ui_ctx: &egui::Context, message: String) {
+        let at = ui_ctx
+            .input(|i| i.pointer.latest_pos())
+            .unwrap_or_default();
+        *self.refusal = Some(Refusal {
+            message,
+            at,
+            since: self.now,
+        });
+    }
+}
+
+/// A slice preview as vvvv's tooltips show: the first slices and the count.
+pub fn preview(spread: &Spread) -> String {
+    spread.preview(4)
+}
+
+impl SnarlViewer<CanvasNode> for Canvas<'_> {
+    fn title(&mut self, node: &CanvasNode) -> String {
+        self.doc
+            .patch()
+            .node(node.0)
+            .map_or_else(|| "?".to_owned(), |n| n.type_name.clone())
+    }
+
+    fn header_frame(
+        &mut self,
+        default: egui::Frame,
+        node: egui_snarl::NodeId,
+        _inputs: &[InPin],
+        _outputs: &[OutPin],
+        snarl: &Snarl<CanvasNode>,
+    ) -> egui::Frame {
+        match Self::node_id(snarl, node) {
+            Some(id) if self.error_of(id).is_some() => default.fill(Color32::from_rgb(150, 30, 30)),
+            _ => default,
+        }
+    }
+
+    fn node_frame(
+        &mut self,
+        default: egui::Frame,
+        node: egui_snarl::NodeId,
+        _inputs: &[InPin],
+        _outputs: &[OutPin],
+        snarl: &Snarl<CanvasNode>,
+    ) -> egui::Frame {
+        match Self::node_id(snarl, node) {
+            Some(id) if self.selected.contains(&id) => {
+                default.stroke(Stroke::new(2.0, Color32::from_rgb(90, 170, 255)))
+            }
+            _ => default,
+        }
+    }
+
+    fn show_header(
+        &mut self,
+        node: egui_snarl::NodeId,
+        _inputs: &[InPin],
+        _outputs: &[OutPin],
+        ui: &mut Ui,
+        snarl: &mut Snarl<CanvasNode>,
+    ) {
+        let Some(id) = Self::node_id(snarl, node) else {
+            return;
+        };
+        let title = self.title(&snarl[node]);
+        let resp = ui.add(egui::Label::new(egui::RichText::new(title).strong()).sense(egui::Sense::click()));
+        let resp = match self.error_of(id) {
+            Some(message) => resp.on_hover_text(message),
+            None => resp.on_hover_text(format!("node {id}")),
+        };
+        if resp.clicked() {
+            let add = ui.input(|i| i.modifiers.shift || i.modifiers.command);
+            if !add {
+                self.selected.clear();
+            }
+            self.selected.insert(id);
+        }
+    }
+
+    fn inputs(&mut self, node: &CanvasNode) -> usize {
+        self.doc
+            .patch()
+            .node(node.0)
+            .and_then(|n| self.registry.get(&n.type_name))
+            .map_or(0, |d| d.inputs.len())
+    }
+
+    fn outputs(&mut self, node: &CanvasNode) -> usize {
+        self.doc
+            .patch()
+            .node(node.0)
+            .and_then(|n| self.registry.get(&n.type_name))
+            .map_or(0, |d| d.outputs.len())
+    }
+
+    fn show_input(&mut self, pin: &InPin, ui: &mut Ui, snarl: &mut Snarl<CanvasNode>) -> impl SnarlPin + 'static {
+        let Some((id, name, ty)) = self.input_pin(snarl, pin.id) else {
+            return self.recorded((NodeId(0), String::new(), true), None);
+        };
+        let target = PinRef(id, name.to_owned());
+        let linked = self.doc.link_into(&target).cloned();
+        let shown = match &linked {
+            Some(l) => self.runtime.output(l.from.node(), l.from.pin()).map(|s| preview(s)),
+            None => self.doc.input_value(self.registry, id, name).map(|s| preview(&s)),
+        };
+        let label = ui.label(name);
+        label.on_hover_text(format!("{name}: {ty}\n{}", shown.unwrap_or_else(|| "no value yet".into())));
+        if linked.is_none()
+            && values::editable(ty)
+            && let Some(mut value) = self.doc.input_value(self.registry, id, name)
+        {
+            let edited = ui.push_id((id, name), |ui| values::edit_first(ui, ty, &mut value)).inner;
+            if edited.changed {
+                self.doc.set_value(id, name, Some(value), edited.continuing);
+            }
+        }
+        self.recorded((id, name.to_owned(), true), Some(ty))
+    }
+
+    fn show_output(&mut self, pin: &OutPin, ui: &mut Ui, snarl: &mut Snarl<CanvasNode>) -> impl SnarlPin + 'static {
+        let Some((id, name, ty)) = self.output_pin(snarl, pin.id) else {
+            return self.recorded((NodeId(0), String::new(), false), None);
+        };
+        let shown = self
+            .runtime
+            .output(id, name)
+            .map_or_else(|| "not evaluated".to_owned(), |s| preview(s));
+        ui.label(name).on_hover_text(format!("{name}: {ty}\n{shown}"));
+        self.recorded((id, name.to_owned(), false), Some(ty))
+    }
+
+    fn has_footer(&mut self, _node: &CanvasNode) -> bool {
+        self.show_timings
+    }
+
+    fn show_footer(
+        &mut self,
+        node: egui_snarl::NodeId,
+        _inputs: &[InPin],
+        _outputs: &[OutPin],
+        ui: &mut Ui,
+        snarl: &mut Snarl<CanvasNode>,
+    ) {
+        let Some(id) = Self::node_id(snarl, node) else {
+            return;
+        };
+        let cpu = self
+            .runtime
+            .stats()
+            .node(id)
+            .map_or(0.0, |s| s.cpu_ns as f64 / 1e6);
+        let text = match self.gpu_ms.get(&id.0) {
+            Some(gpu) => format!("cpu {cpu:.3} ms · gpu {gpu:.3} ms"),
+            None => format!("cpu {cpu:.3} ms"),
+        };
+        ui.weak(text);
+    }
+
+    fn connect(&mut self, from: &OutPin, to: &InPin, snarl: &mut Snarl<CanvasNode>) {
+        let (Some((a, out, _)), Some((b, inp, _))) = (self.output_pin(snarl, from.id), self.input_pin(snarl, to.id)) else {
+            return;
+        };
+        let result = self
+            .doc
+            .link(self.registry, PinRef(a, out.to_owned()), PinRef(b, inp.to_owned()));
+        if let Err(e) = result {
+            // Snarl passes no Ui here; the pointer is where the wire was dropped.
+            let ctx = self.ctx.clone();
+            self.refuse(&ctx, e.to_string());
+        }
+    }
+
+    fn disconnect(&mut self, from: &OutPin, to: &InPin, snarl: &mut Snarl<CanvasNode>) {
+        if let (Some((a, out, _)), Some((b, inp, _))) = (self.output_pin(snarl, from.id), self.input_pin(snarl, to.id)) {
+            self.doc.unlink(&PinRef(a, out.to_owned()), &PinRef(b, inp.to_owned()));
+        }
+    }
+
+    fn drop_inputs(&mut self, pin: &InPin, snarl: &mut Snarl<CanvasNode>) {
+        if let Some((id, name, _)) = self.input_pin(snarl, pin.id) {
+            self.doc.unlink_input(&PinRef(id, name.to_owned()));
+        }
+    }
+
+    fn drop_outputs(&mut self, pin: &OutPin, snarl: &mut Snarl<CanvasNode>) {
+        if let Some((id, name, _)) = self.output_pin(snarl, pin.id) {
+            self.doc.unlink_output(&PinRef(id, name.to_owned()));
+        }
+    }
+}
+
+/// Bring snarl in line with the document: nodes added or removed, positions
+/// changed by undo, and wires. Keeps snarl's ids for nodes that stay, so
+/// selection and layout survive edits.
+pub fn sync(
+    snarl: &mut Snarl<CanvasNode>,
+    ids: &mut HashMap<NodeId, egui_snarl::NodeId>,
+    doc: &EditorDoc,
+    registry: &Registry,
+    dragging: bool,
+) {
+    let patch = doc.patch();
+    let present: HashMap<NodeId, (f32, f32)> = patch.nodes.iter().map(|n| (n.id, n.pos)).collect();
+    ids.retain(|id, sid| {
+        let keep = present.contains_key(id);
+        if !keep {
+            snarl.remove_node(*sid);
+        }
+        keep
+    });
+    for n in &patch.nodes {
+        let want = Pos2::new(n.pos.0 * SCALE, n.pos.1 * SCALE);
+        match ids.get(&n.id) {
+            Some(&sid) => {
+                if !dragging
+                    && let Some(info) = snarl.get_node_info_mut(sid)
+                    && (info.pos - want).length() > 0.5 * SCALE
+                {
+                    info.pos = want;
+                }
+            }
+            None => {
+                let sid = snarl.insert_node(want, CanvasNode(n.id));
+                ids.insert(n.id, sid);
+            }
+        }
+    }
+    let mut wanted = std::collections::HashSet::new();
+    for l in &patch.links {
+        let (Some(&a), Some(&b)) = (ids.get(&l.from.node()), ids.get(&l.to.node())) else {
+            continue;
+        };
+        let def = |id: NodeId| patch.node(id).and_then(|n| registry.get(&n.type_name));
+        let (Some(da), Some(db)) = (def(l.from.node()), def(l.to.node())) else {
+            continue;
+        };
+        let (Some(o), Some(i)) = (da.output_index(l.from.pin()), db.input_index(l.to.pin())) else {
+            continue;
+        };
+        wanted.insert((OutPinId { node: a, output: o }, InPinId { node: b, input: i }));
+    }
+    let existing: Vec<(OutPinId, InPinId)> = snarl.wires().collect();
+    for w in &existing {
+        if !wanted.contains(w) {
+            snarl.disconnect(w.0, w.1);
+        }
+    }
+    for w in wanted {
+        snarl.connect(w.0, w.1);
+    }
+}
+
+/// Moves finished on the canvas, in patch units (rounded to whole units so saved files stay clean).
+pub fn moved_nodes(snarl: &Snarl<CanvasNode>, doc: &EditorDoc) -> Vec<(NodeId, (f32, f32))> {
+    snarl
+        .nodes_pos_ids()
+        .filter_map(|(_, pos, node)| {
+            let n = doc.patch().node(node.0)?;
+            let want = Pos2::new(n.pos.0 * SCALE, n.pos.1 * SCALE);
+            ((pos - want).length() > 0.5 * SCALE)
+                .then(|| (node.0, ((pos.x / SCALE).round(), (pos.y / SCALE).round())))
+        })
+        .collect()
+}
