@@ -167,6 +167,8 @@ pub struct EditorApp {
     allow_close: bool,
     dialog: Option<FileDialog>,
     pins: PinPositions,
+    canvas_layer: Option<LayerId>,
+    last_pointer: Pos2,
     title: String,
     ui_times: std::collections::VecDeque<f64>,
     evaluations: u64,
@@ -245,6 +247,8 @@ impl EditorApp {
             allow_close: false,
             dialog: None,
             pins: PinPositions::default(),
+            canvas_layer: None,
+            last_pointer: Pos2::ZERO,
             title: String::new(),
             ui_times: std::collections::VecDeque::new(),
             evaluations: 0,
@@ -301,6 +305,13 @@ impl EditorApp {
             .copied()
     }
 
+    /// Where a point of the canvas (as its widgets report their rects) is on screen.
+    pub fn canvas_to_screen(&self, ctx: &egui::Context, p: Pos2) -> Pos2 {
+        self.canvas_layer
+            .and_then(|l| ctx.layer_transform_to_global(l))
+            .map_or(p, |t| t * p)
+    }
+
     pub fn selected(&self) -> Vec<NodeId> {
         self.selected.iter().copied().collect()
     }
@@ -319,6 +330,15 @@ impl EditorApp {
 
     pub fn is_playing(&self) -> bool {
         self.playing
+    }
+
+    pub fn set_playing(&mut self, playing: bool) {
+        self.playing = playing;
+    }
+
+    /// The frame the patch clock is at: it advances while playing and on Step.
+    pub fn frame(&self) -> u64 {
+        self.clock.frame
     }
 
     /// How many times the patch was evaluated: it runs only on change or while playing.
@@ -824,10 +844,13 @@ impl EditorApp {
         egui::ScrollArea::vertical().show(ui, |ui| {
             for pin in &def.inputs {
                 ui.push_id(pin.name, |ui| {
-                    ui.horizontal(|ui| {
-                        ui.label(egui::RichText::new(pin.name).strong());
-                        ui.weak(pin.ty.name());
-                    });
+                    let label = ui
+                        .horizontal(|ui| {
+                            let label = ui.label(egui::RichText::new(pin.name).strong());
+                            ui.weak(pin.ty.name());
+                            label.id
+                        })
+                        .inner;
                     let target = PinRef(id, pin.name.to_owned());
                     if let Some(link) = self.doc.link_into(&target).cloned() {
                         ui.horizontal(|ui| {
@@ -838,7 +861,7 @@ impl EditorApp {
                         });
                     } else if values::editable(pin.ty) {
                         let mut value = node.values.get(pin.name).cloned().unwrap_or_else(|| pin.default.clone());
-                        let edited = values::edit_spread(ui, pin.ty, &mut value, pin.name);
+                        let edited = values::edit_spread(ui, pin.ty, &mut value, pin.name, Some(label));
                         if edited.changed {
                             self.doc.set_value(id, pin.name, Some(value), edited.continuing);
                         }
@@ -932,6 +955,10 @@ impl EditorApp {
         canvas::sync(&mut self.snarl, &mut self.snarl_ids, &self.doc, &self.registry, dragging);
         let now = ui.input(|i| i.time);
         let layer = LayerId::new(ui.layer_id().order, Id::new(CANVAS_ID));
+        self.canvas_layer = Some(layer);
+        if let Some(p) = ui.input(|i| i.pointer.latest_pos()) {
+            self.last_pointer = p;
+        }
         let response = {
             let mut viewer = Canvas {
                 doc: &mut self.doc,
@@ -942,8 +969,8 @@ impl EditorApp {
                 gpu_ms: &self.gpu_ms,
                 refusal: &mut self.refusal,
                 pins: self.pins.clone(),
+                pointer: self.last_pointer,
                 now,
-                ctx: ui.ctx().clone(),
             };
             SnarlWidget::new()
                 .id(Id::new(CANVAS_ID))
@@ -954,8 +981,10 @@ impl EditorApp {
             let moves = canvas::moved_nodes(&self.snarl, &self.doc);
             self.doc.move_nodes(&moves);
         }
-        if response.double_clicked()
-            && let Some(screen) = response.interact_pointer_pos()
+        let double = ui.input(|i| i.pointer.button_double_clicked(egui::PointerButton::Primary));
+        if double
+            && response.hovered()
+            && let Some(screen) = ui.input(|i| i.pointer.interact_pos())
         {
             let from_global = ui
                 .ctx()

@@ -95,8 +95,9 @@ pub struct Canvas<'a> {
     pub gpu_ms: &'a HashMap<u32, f64>,
     pub refusal: &'a mut Option<Refusal>,
     pub pins: PinPositions,
+    /// The last place the pointer was seen (a drop may come with the pointer leaving).
+    pub pointer: Pos2,
     pub now: f64,
-    pub ctx: egui::Context,
 }
 
 impl Canvas<'_> {
@@ -150,10 +151,8 @@ impl Canvas<'_> {
         }
     }
 
-    fn refuse(&mut self, ui_ctx: &egui::Context, message: String) {
-        let at = ui_ctx
-            .input(|i| i.pointer.latest_pos())
-            .unwrap_or_default();
+    fn refuse(&mut self, message: String) {
+        let at = self.pointer;
         *self.refusal = Some(Refusal {
             message,
             at,
@@ -258,12 +257,16 @@ impl SnarlViewer<CanvasNode> for Canvas<'_> {
             None => self.doc.input_value(self.registry, id, name).map(|s| preview(&s)),
         };
         let label = ui.label(name);
-        label.on_hover_text(format!("{name}: {ty}\n{}", shown.unwrap_or_else(|| "no value yet".into())));
+        let label_id = label.id;
+        label.on_hover_text(format!(
+            "{name}: {ty}\n{}",
+            shown.unwrap_or_else(|| "no value yet".into())
+        ));
         if linked.is_none()
             && values::editable(ty)
             && let Some(mut value) = self.doc.input_value(self.registry, id, name)
         {
-            let edited = ui.push_id((id, name), |ui| values::edit_first(ui, ty, &mut value)).inner;
+            let edited = ui.push_id((id, name), |ui| values::edit_first(ui, ty, &mut value, Some(label_id))).inner;
             if edited.changed {
                 self.doc.set_value(id, name, Some(value), edited.continuing);
             }
@@ -319,8 +322,7 @@ impl SnarlViewer<CanvasNode> for Canvas<'_> {
             .link(self.registry, PinRef(a, out.to_owned()), PinRef(b, inp.to_owned()));
         if let Err(e) = result {
             // Snarl passes no Ui here; the pointer is where the wire was dropped.
-            let ctx = self.ctx.clone();
-            self.refuse(&ctx, e.to_string());
+            self.refuse(e.to_string());
         }
     }
 

@@ -13,6 +13,15 @@ pub struct Edited {
     pub continuing: bool,
 }
 
+/// Name the widget after its pin's label, for screen readers and for tests that find it by name.
+fn track(resp: egui::Response, label: Option<egui::Id>) -> Edited {
+    let resp = match label {
+        Some(id) => resp.labelled_by(id),
+        None => resp,
+    };
+    Edited::from(&resp)
+}
+
 impl Edited {
     fn from(resp: &egui::Response) -> Self {
         Edited {
@@ -41,7 +50,7 @@ pub fn is_path_pin(name: &str) -> bool {
 }
 
 /// A compact editor for slice 0, for use on the node itself.
-pub fn edit_first(ui: &mut Ui, ty: PinType, spread: &mut Spread) -> Edited {
+pub fn edit_first(ui: &mut Ui, ty: PinType, spread: &mut Spread, label: Option<egui::Id>) -> Edited {
     if spread.len() > 1 {
         ui.weak(format!("{} slices", spread.len()));
         return Edited::default();
@@ -50,17 +59,23 @@ pub fn edit_first(ui: &mut Ui, ty: PinType, spread: &mut Spread) -> Edited {
         ui.weak("empty");
         return Edited::default();
     }
-    edit_slice(ui, ty, spread, 0, true)
+    edit_slice(ui, ty, spread, 0, true, label)
 }
 
 /// The inspector's editor: every slice, with add and remove.
-pub fn edit_spread(ui: &mut Ui, ty: PinType, spread: &mut Spread, pin_name: &str) -> Edited {
+pub fn edit_spread(
+    ui: &mut Ui,
+    ty: PinType,
+    spread: &mut Spread,
+    pin_name: &str,
+    label: Option<egui::Id>,
+) -> Edited {
     let mut edited = Edited::default();
     let mut remove = None;
     for i in 0..spread.len() {
         ui.horizontal(|ui| {
             ui.weak(format!("{i}"));
-            edited = edited.or(edit_slice(ui, ty, spread, i, false));
+            edited = edited.or(edit_slice(ui, ty, spread, i, false, label));
             if matches!(spread, Spread::String(_))
                 && is_path_pin(pin_name)
                 && ui.small_button("Browse…").clicked()
@@ -92,47 +107,57 @@ pub fn edit_spread(ui: &mut Ui, ty: PinType, spread: &mut Spread, pin_name: &str
     edited
 }
 
-fn edit_f32(ui: &mut Ui, v: &mut f32, compact: bool) -> Edited {
+fn edit_f32(ui: &mut Ui, v: &mut f32, compact: bool, label: Option<egui::Id>) -> Edited {
     let speed = (v.abs() * 0.01).max(0.001);
     let mut dv = DragValue::new(v).speed(speed).max_decimals(4);
     if compact {
         dv = dv.min_decimals(2);
     }
-    Edited::from(&ui.add(dv))
+    track(ui.add(dv), label)
 }
 
-fn edit_vec(ui: &mut Ui, v: &mut [f32], compact: bool) -> Edited {
+fn edit_vec(ui: &mut Ui, v: &mut [f32], compact: bool, label: Option<egui::Id>) -> Edited {
     let mut e = Edited::default();
     for x in v.iter_mut() {
-        e = e.or(edit_f32(ui, x, compact));
+        e = e.or(edit_f32(ui, x, compact, label));
     }
     e
 }
 
-fn edit_slice(ui: &mut Ui, ty: PinType, spread: &mut Spread, i: usize, compact: bool) -> Edited {
+fn edit_slice(
+    ui: &mut Ui,
+    ty: PinType,
+    spread: &mut Spread,
+    i: usize,
+    compact: bool,
+    label: Option<egui::Id>,
+) -> Edited {
     match spread {
-        Spread::Float(v) => edit_f32(ui, &mut v[i], compact),
-        Spread::Int(v) => Edited::from(&ui.add(DragValue::new(&mut v[i]).speed(0.1))),
-        Spread::Bool(v) => Edited::from(&ui.checkbox(&mut v[i], "")),
+        Spread::Float(v) => edit_f32(ui, &mut v[i], compact, label),
+        Spread::Int(v) => track(ui.add(DragValue::new(&mut v[i]).speed(0.1)), label),
+        Spread::Bool(v) => track(ui.checkbox(&mut v[i], ""), label),
         Spread::String(v) => {
             let width = if compact { 90.0 } else { 160.0 };
-            Edited::from(&ui.add(egui::TextEdit::singleline(&mut v[i]).desired_width(width)))
+            track(
+                ui.add(egui::TextEdit::singleline(&mut v[i]).desired_width(width)),
+                label,
+            )
         }
         Spread::Vec2(v) => {
             let mut a = v[i].to_array();
-            let e = edit_vec(ui, &mut a, compact);
+            let e = edit_vec(ui, &mut a, compact, label);
             v[i] = Vec2::from_array(a);
             e
         }
         Spread::Vec3(v) => {
             let mut a = v[i].to_array();
-            let e = edit_vec(ui, &mut a, compact);
+            let e = edit_vec(ui, &mut a, compact, label);
             v[i] = Vec3::from_array(a);
             e
         }
         Spread::Vec4(v) => {
             let mut a = v[i].to_array();
-            let e = edit_vec(ui, &mut a, compact);
+            let e = edit_vec(ui, &mut a, compact, label);
             v[i] = Vec4::from_array(a);
             e
         }
@@ -140,7 +165,7 @@ fn edit_slice(ui: &mut Ui, ty: PinType, spread: &mut Spread, i: usize, compact: 
             // Our colours are linear RGBA, as egui's float colour editor expects.
             let c = v[i];
             let mut rgba = [c.r, c.g, c.b, c.a];
-            let e = Edited::from(&ui.color_edit_button_rgba_unmultiplied(&mut rgba));
+            let e = track(ui.color_edit_button_rgba_unmultiplied(&mut rgba), label);
             v[i] = Color::rgba(rgba[0], rgba[1], rgba[2], rgba[3]);
             e
         }
@@ -155,7 +180,7 @@ fn edit_slice(ui: &mut Ui, ty: PinType, spread: &mut Spread, i: usize, compact: 
                 for row in 0..4 {
                     ui.horizontal(|ui| {
                         for col in 0..4 {
-                            e = e.or(edit_f32(ui, &mut a[col * 4 + row], false));
+                            e = e.or(edit_f32(ui, &mut a[col * 4 + row], false, label));
                         }
                     });
                 }
