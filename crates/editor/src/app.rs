@@ -168,6 +168,7 @@ pub struct EditorApp {
     dialog: Option<FileDialog>,
     pins: PinPositions,
     canvas_layer: Option<LayerId>,
+    synced_generation: Option<u64>,
     last_pointer: Pos2,
     title: String,
     ui_times: std::collections::VecDeque<f64>,
@@ -248,6 +249,7 @@ impl EditorApp {
             dialog: None,
             pins: PinPositions::default(),
             canvas_layer: None,
+            synced_generation: None,
             last_pointer: Pos2::ZERO,
             title: String::new(),
             ui_times: std::collections::VecDeque::new(),
@@ -387,6 +389,7 @@ impl EditorApp {
         self.selected.clear();
         self.snarl = Snarl::new();
         self.snarl_ids.clear();
+        self.synced_generation = None;
         self.autosaved_generation = None;
         self.recovery_written = false;
         self.clock = FrameClock::default();
@@ -495,17 +498,8 @@ impl EditorApp {
         ids.last().copied()
     }
 
-    /// The app's selection plus snarl's rectangle selection.
-    fn all_selected(&self, ctx: Option<&egui::Context>) -> Vec<NodeId> {
-        let mut set = self.selected.clone();
-        if let Some(ctx) = ctx {
-            for sid in egui_snarl::ui::get_selected_nodes(Id::new(CANVAS_ID), ctx) {
-                if let Some(n) = self.snarl.get_node(sid) {
-                    set.insert(n.0);
-                }
-            }
-        }
-        set.into_iter().collect()
+    fn all_selected(&self, _ctx: Option<&egui::Context>) -> Vec<NodeId> {
+        self.selected.iter().copied().collect()
     }
 
     pub fn delete_selected(&mut self, ctx: &egui::Context) {
@@ -825,7 +819,7 @@ impl EditorApp {
     fn inspector(&mut self, ui: &mut Ui) {
         ui.heading("Inspector");
         let Some(id) = self.focus_node() else {
-            ui.weak("Click a node's title to inspect it.");
+            ui.weak("Click a node to inspect it.");
             return;
         };
         let Some(node) = self.doc.patch().node(id).cloned() else {
@@ -952,19 +946,25 @@ impl EditorApp {
 
     fn canvas(&mut self, ui: &mut Ui) {
         let dragging = ui.input(|i| i.pointer.any_down());
-        canvas::sync(&mut self.snarl, &mut self.snarl_ids, &self.doc, &self.registry, dragging);
+        let changed = self.synced_generation != Some(self.doc.generation());
+        canvas::sync(&mut self.snarl, &mut self.snarl_ids, &self.doc, &self.registry, changed);
+        self.synced_generation = Some(self.doc.generation());
         let now = ui.input(|i| i.time);
         let layer = LayerId::new(ui.layer_id().order, Id::new(CANVAS_ID));
         self.canvas_layer = Some(layer);
         if let Some(p) = ui.input(|i| i.pointer.latest_pos()) {
             self.last_pointer = p;
         }
+        // Labels that select text would take the drags that move nodes.
+        ui.style_mut().interaction.selectable_labels = false;
+        let mut node_rects = Vec::new();
         let response = {
             let mut viewer = Canvas {
                 doc: &mut self.doc,
                 registry: &self.registry,
                 runtime: &self.runtime,
-                selected: &mut self.selected,
+                selected: &self.selected,
+                node_rects: &mut node_rects,
                 show_timings: self.show_timings,
                 gpu_ms: &self.gpu_ms,
                 refusal: &mut self.refusal,
@@ -998,8 +998,25 @@ impl EditorApp {
                 highlighted: 0,
                 focus: true,
             });
-        } else if response.clicked() && !ui.input(|i| i.modifiers.shift) {
-            self.selected.clear();
+        } else if ui.input(|i| i.pointer.primary_clicked())
+            && let Some(p) = ui.input(|i| i.pointer.interact_pos())
+            && ui.max_rect().contains(p)
+        {
+            let add = ui.input(|i| i.modifiers.shift || i.modifiers.command);
+            let hit = node_rects.iter().rev().find(|(_, r)| r.contains(p)).map(|(id, _)| *id);
+            match hit {
+                Some(id) if add && self.selected.contains(&id) => {
+                    self.selected.remove(&id);
+                }
+                Some(id) => {
+                    if !add {
+                        self.selected.clear();
+                    }
+                    self.selected.insert(id);
+                }
+                None if response.hovered() && !add => self.selected.clear(),
+                None => {}
+            }
         }
         if let Some(r) = &self.refusal {
             if now - r.since > 4.0 {
@@ -1008,6 +1025,8 @@ impl EditorApp {
                 egui::Area::new(Id::new("link-refused"))
                     .fixed_pos(r.at + egui::vec2(12.0, 12.0))
                     .order(egui::Order::Tooltip)
+                    // It must not catch the next drop on the pins under it.
+                    .interactable(false)
                     .show(ui.ctx(), |ui| {
                         egui::Frame::popup(ui.style()).show(ui, |ui| {
                             ui.colored_label(egui::Color32::LIGHT_RED, format!("Link refused: {}", r.message));

@@ -41,6 +41,17 @@ pub fn style() -> SnarlStyle {
     SnarlStyle {
         // Double-click on the canvas opens the node browser, as in vvvv.
         centering: Some(false),
+        // A patch opens at its real size, or smaller to fit; never blown up.
+        max_scale: Some(1.0),
+        min_scale: Some(0.1),
+        // The editor keeps its own selection (click, shift-click) and draws it
+        // on the node frame; snarl's would be a second, different one.
+        select_style: Some(egui_snarl::ui::SelectionStyle {
+            margin: egui::Margin::ZERO,
+            rounding: egui::CornerRadius::ZERO,
+            fill: Color32::TRANSPARENT,
+            stroke: Stroke::NONE,
+        }),
         ..SnarlStyle::new()
     }
 }
@@ -90,7 +101,9 @@ pub struct Canvas<'a> {
     pub doc: &'a mut EditorDoc,
     pub registry: &'a Registry,
     pub runtime: &'a Runtime,
-    pub selected: &'a mut BTreeSet<NodeId>,
+    pub selected: &'a BTreeSet<NodeId>,
+    /// Each node's rectangle on screen, in drawing order (the last is on top).
+    pub node_rects: &'a mut Vec<(NodeId, Rect)>,
     pub show_timings: bool,
     pub gpu_ms: &'a HashMap<u32, f64>,
     pub refusal: &'a mut Option<Refusal>,
@@ -216,17 +229,27 @@ impl SnarlViewer<CanvasNode> for Canvas<'_> {
             return;
         };
         let title = self.title(&snarl[node]);
-        let resp = ui.add(egui::Label::new(egui::RichText::new(title).strong()).sense(egui::Sense::click()));
-        let resp = match self.error_of(id) {
+        // Not clickable: a drag on the title moves the node; clicks select through `node_rects`.
+        let resp = ui.label(egui::RichText::new(title).strong());
+        match self.error_of(id) {
             Some(message) => resp.on_hover_text(message),
             None => resp.on_hover_text(format!("node {id}")),
         };
-        if resp.clicked() {
-            let add = ui.input(|i| i.modifiers.shift || i.modifiers.command);
-            if !add {
-                self.selected.clear();
-            }
-            self.selected.insert(id);
+    }
+
+    fn final_node_rect(
+        &mut self,
+        node: egui_snarl::NodeId,
+        rect: Rect,
+        ui: &mut Ui,
+        snarl: &mut Snarl<CanvasNode>,
+    ) {
+        if let Some(id) = Self::node_id(snarl, node) {
+            let to_global = ui
+                .ctx()
+                .layer_transform_to_global(ui.layer_id())
+                .unwrap_or_default();
+            self.node_rects.push((id, to_global * rect));
         }
     }
 
@@ -346,14 +369,14 @@ impl SnarlViewer<CanvasNode> for Canvas<'_> {
 }
 
 /// Bring snarl in line with the document: nodes added or removed, positions
-/// changed by undo, and wires. Keeps snarl's ids for nodes that stay, so
+/// changed by undo (when `doc_changed`), and wires. Keeps snarl's ids for nodes that stay, so
 /// selection and layout survive edits.
 pub fn sync(
     snarl: &mut Snarl<CanvasNode>,
     ids: &mut HashMap<NodeId, egui_snarl::NodeId>,
     doc: &EditorDoc,
     registry: &Registry,
-    dragging: bool,
+    doc_changed: bool,
 ) {
     let patch = doc.patch();
     let present: HashMap<NodeId, (f32, f32)> = patch.nodes.iter().map(|n| (n.id, n.pos)).collect();
@@ -368,7 +391,9 @@ pub fn sync(
         let want = Pos2::new(n.pos.0 * SCALE, n.pos.1 * SCALE);
         match ids.get(&n.id) {
             Some(&sid) => {
-                if !dragging
+                // Only an edit of the document (undo of a move) moves a node
+                // here; otherwise the canvas position is the newer one.
+                if doc_changed
                     && let Some(info) = snarl.get_node_info_mut(sid)
                     && (info.pos - want).length() > 0.5 * SCALE
                 {

@@ -195,7 +195,7 @@ fn edit_slice(
             };
             let mut changed = false;
             let id = ui.next_auto_id();
-            egui::ComboBox::from_id_salt(id)
+            let combo = egui::ComboBox::from_id_salt(id)
                 .selected_text(v[i].clone())
                 .show_ui(ui, |ui| {
                     for option in def.options {
@@ -205,6 +205,7 @@ fn edit_slice(
                         }
                     }
                 });
+            track(combo.response, label);
             Edited {
                 changed,
                 continuing: false,
