@@ -46,7 +46,6 @@ struct AutoRun {
     ui: Vec<f64>,
     cpu: Vec<f64>,
     screenshot_sent: bool,
-    viewport_rect: Option<egui::Rect>,
 }
 
 fn median_and_p95(v: &[f64]) -> (f64, f64) {
@@ -146,6 +145,7 @@ pub struct EditorApp {
     gpu: Option<Gpu>,
     gpu_error: Option<String>,
     viewports: [Viewport; 2],
+    viewport_rects: [Option<egui::Rect>; 2],
     gpu_ms: HashMap<u32, f64>,
     snarl: Snarl<CanvasNode>,
     snarl_ids: HashMap<NodeId, egui_snarl::NodeId>,
@@ -227,6 +227,7 @@ impl EditorApp {
             gpu,
             gpu_error,
             viewports: [Viewport::new(Source::Output), Viewport::new(Source::Output)],
+            viewport_rects: [None; 2],
             gpu_ms: HashMap::new(),
             snarl: Snarl::new(),
             snarl_ids: HashMap::new(),
@@ -351,6 +352,11 @@ impl EditorApp {
     /// The egui texture a viewport shows, once something was rendered into it.
     pub fn viewport_texture(&self, index: usize) -> Option<&wgpu::Texture> {
         self.viewports.get(index)?.target.as_ref().map(|t| &t.texture)
+    }
+
+    /// Where a viewport's image was drawn last frame, in points.
+    pub fn viewport_rect(&self, index: usize) -> Option<egui::Rect> {
+        self.viewport_rects.get(index).copied().flatten()
     }
 
     pub fn viewport_error(&self, index: usize) -> Option<String> {
@@ -896,14 +902,14 @@ impl EditorApp {
         out
     }
 
-    fn viewport_ui(&mut self, ui: &mut Ui, k: usize) {
+    fn viewport_ui(&mut self, ui: &mut Ui, k: usize, label: Option<Id>) {
         if k == 1 {
             let pins = self.texture_pins();
             let current = match &self.viewports[1].source {
                 Source::Output => "Output".to_owned(),
                 Source::Pin(n, p) => format!("{n}.{p}"),
             };
-            egui::ComboBox::from_id_salt("second-viewport")
+            let combo = egui::ComboBox::from_id_salt("second-viewport")
                 .selected_text(current)
                 .show_ui(ui, |ui| {
                     if ui.selectable_label(self.viewports[1].source == Source::Output, "Output").clicked() {
@@ -918,6 +924,9 @@ impl EditorApp {
                         }
                     }
                 });
+            if let Some(label) = label {
+                combo.response.labelled_by(label);
+            }
         }
         let avail = ui.available_size();
         let ppp = ui.ctx().pixels_per_point();
@@ -934,9 +943,7 @@ impl EditorApp {
             (Some(t), None) => {
                 let tex_size = egui::vec2(t.texture.width() as f32, t.texture.height() as f32) / ppp;
                 let r = ui.add(egui::Image::new((t.id, tex_size)).fit_to_exact_size(avail));
-                if k == 0 {
-                    self.auto.viewport_rect = Some(r.rect);
-                }
+                self.viewport_rects[k] = Some(r.rect);
             }
             (None, None) => {
                 ui.weak(self.gpu_error.clone().unwrap_or_else(|| "nothing rendered yet".to_owned()));
@@ -1300,8 +1307,7 @@ impl EditorApp {
             let (frame_med, frame_p95) = median_and_p95(&a.intervals);
             let (cpu_med, _) = median_and_p95(&a.cpu);
             let ppp = ctx.pixels_per_point();
-            let rect = a
-                .viewport_rect
+            let rect = self.viewport_rects[0]
                 .map(|r| [r.min.x * ppp, r.min.y * ppp, r.max.x * ppp, r.max.y * ppp]);
             println!(
                 "{{\"frames\": {}, \"nodes\": {}, \"ui_ms_median\": {:.3}, \"ui_ms_p95\": {:.3}, \"frame_ms_median\": {:.3}, \"frame_ms_p95\": {:.3}, \"eframe_cpu_ms_median\": {:.3}, \"viewport_px\": {}, \"viewport_error\": {:?}}}",
@@ -1348,10 +1354,14 @@ impl EditorApp {
             .show(ui, |ui| {
                 let h = ui.available_height();
                 ui.heading("Viewport");
-                ui.allocate_ui(egui::vec2(ui.available_width(), h * 0.35), |ui| self.viewport_ui(ui, 0));
+                ui.allocate_ui(egui::vec2(ui.available_width(), h * 0.35), |ui| {
+                    self.viewport_ui(ui, 0, None);
+                });
                 ui.separator();
-                ui.label("Texture pin");
-                ui.allocate_ui(egui::vec2(ui.available_width(), h * 0.2), |ui| self.viewport_ui(ui, 1));
+                let label = ui.label("Texture pin").id;
+                ui.allocate_ui(egui::vec2(ui.available_width(), h * 0.2), |ui| {
+                    self.viewport_ui(ui, 1, Some(label));
+                });
                 ui.separator();
                 self.inspector(ui);
             });

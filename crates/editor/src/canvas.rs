@@ -330,8 +330,8 @@ impl SnarlViewer<CanvasNode> for Canvas<'_> {
             .node(id)
             .map_or(0.0, |s| s.cpu_ns as f64 / 1e6);
         let text = match self.gpu_ms.get(&id.0) {
-            Some(gpu) => format!("cpu {cpu:.3} ms · gpu {gpu:.3} ms"),
-            None => format!("cpu {cpu:.3} ms"),
+            Some(gpu) => format!("CPU {cpu:.3} ms · GPU {gpu:.3} ms"),
+            None => format!("CPU {cpu:.3} ms"),
         };
         ui.weak(text);
     }
