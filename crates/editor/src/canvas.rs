@@ -120,14 +120,14 @@ impl Canvas<'_> {
 
     fn input_pin(&self, snarl: &Snarl<CanvasNode>, pin: InPinId) -> Option<(NodeId, &'static str, PinType)> {
         let id = Self::node_id(snarl, pin.node)?;
-        let def = self.registry.get(&self.doc.patch().node(id)?.type_name)?;
+        let def = self.registry.get(&self.doc.node(id)?.type_name)?;
         let p = def.inputs.get(pin.input)?;
         Some((id, p.name, p.ty))
     }
 
     fn output_pin(&self, snarl: &Snarl<CanvasNode>, pin: OutPinId) -> Option<(NodeId, &'static str, PinType)> {
         let id = Self::node_id(snarl, pin.node)?;
-        let def = self.registry.get(&self.doc.patch().node(id)?.type_name)?;
+        let def = self.registry.get(&self.doc.node(id)?.type_name)?;
         let p = def.outputs.get(pin.output)?;
         Some((id, p.name, p.ty))
     }
@@ -182,7 +182,6 @@ pub fn preview(spread: &Spread) -> String {
 impl SnarlViewer<CanvasNode> for Canvas<'_> {
     fn title(&mut self, node: &CanvasNode) -> String {
         self.doc
-            .patch()
             .node(node.0)
             .map_or_else(|| "?".to_owned(), |n| n.type_name.clone())
     }
@@ -255,7 +254,6 @@ impl SnarlViewer<CanvasNode> for Canvas<'_> {
 
     fn inputs(&mut self, node: &CanvasNode) -> usize {
         self.doc
-            .patch()
             .node(node.0)
             .and_then(|n| self.registry.get(&n.type_name))
             .map_or(0, |d| d.inputs.len())
@@ -263,7 +261,6 @@ impl SnarlViewer<CanvasNode> for Canvas<'_> {
 
     fn outputs(&mut self, node: &CanvasNode) -> usize {
         self.doc
-            .patch()
             .node(node.0)
             .and_then(|n| self.registry.get(&n.type_name))
             .map_or(0, |d| d.outputs.len())
@@ -275,16 +272,19 @@ impl SnarlViewer<CanvasNode> for Canvas<'_> {
         };
         let target = PinRef(id, name.to_owned());
         let linked = self.doc.link_into(&target).cloned();
-        let shown = match &linked {
-            Some(l) => self.runtime.output(l.from.node(), l.from.pin()).map(|s| preview(s)),
-            None => self.doc.input_value(self.registry, id, name).map(|s| preview(&s)),
-        };
         let label = ui.label(name);
         let label_id = label.id;
-        label.on_hover_text(format!(
-            "{name}: {ty}\n{}",
-            shown.unwrap_or_else(|| "no value yet".into())
-        ));
+        // Previews are built only for the pin under the pointer: a big patch has thousands of pins.
+        if label.hovered() {
+            let shown = match &linked {
+                Some(l) => self.runtime.output(l.from.node(), l.from.pin()).map(|s| preview(s)),
+                None => self.doc.input_value(self.registry, id, name).map(|s| preview(&s)),
+            };
+            label.on_hover_text(format!(
+                "{name}: {ty}\n{}",
+                shown.unwrap_or_else(|| "no value yet".into())
+            ));
+        }
         if linked.is_none()
             && values::editable(ty)
             && let Some(mut value) = self.doc.input_value(self.registry, id, name)
@@ -301,11 +301,14 @@ impl SnarlViewer<CanvasNode> for Canvas<'_> {
         let Some((id, name, ty)) = self.output_pin(snarl, pin.id) else {
             return self.recorded((NodeId(0), String::new(), false), None);
         };
-        let shown = self
-            .runtime
-            .output(id, name)
-            .map_or_else(|| "not evaluated".to_owned(), |s| preview(s));
-        ui.label(name).on_hover_text(format!("{name}: {ty}\n{shown}"));
+        let label = ui.label(name);
+        if label.hovered() {
+            let shown = self
+                .runtime
+                .output(id, name)
+                .map_or_else(|| "not evaluated".to_owned(), |s| preview(s));
+            label.on_hover_text(format!("{name}: {ty}\n{shown}"));
+        }
         self.recorded((id, name.to_owned(), false), Some(ty))
     }
 
@@ -368,8 +371,9 @@ impl SnarlViewer<CanvasNode> for Canvas<'_> {
     }
 }
 
-/// Bring snarl in line with the document: nodes added or removed, positions
-/// changed by undo (when `doc_changed`), and wires. Keeps snarl's ids for nodes that stay, so
+/// Bring snarl in line with the document after it changed: nodes added or
+/// removed, positions changed by undo, and wires. Between changes the canvas
+/// positions are the newer ones (a drag in progress). Keeps snarl's ids for nodes that stay, so
 /// selection and layout survive edits.
 pub fn sync(
     snarl: &mut Snarl<CanvasNode>,
@@ -378,6 +382,9 @@ pub fn sync(
     registry: &Registry,
     doc_changed: bool,
 ) {
+    if !doc_changed {
+        return;
+    }
     let patch = doc.patch();
     let present: HashMap<NodeId, (f32, f32)> = patch.nodes.iter().map(|n| (n.id, n.pos)).collect();
     ids.retain(|id, sid| {
@@ -391,10 +398,8 @@ pub fn sync(
         let want = Pos2::new(n.pos.0 * SCALE, n.pos.1 * SCALE);
         match ids.get(&n.id) {
             Some(&sid) => {
-                // Only an edit of the document (undo of a move) moves a node
-                // here; otherwise the canvas position is the newer one.
-                if doc_changed
-                    && let Some(info) = snarl.get_node_info_mut(sid)
+                // The document changed (an undone move, say): it wins.
+                if let Some(info) = snarl.get_node_info_mut(sid)
                     && (info.pos - want).length() > 0.5 * SCALE
                 {
                     info.pos = want;
@@ -411,7 +416,7 @@ pub fn sync(
         let (Some(&a), Some(&b)) = (ids.get(&l.from.node()), ids.get(&l.to.node())) else {
             continue;
         };
-        let def = |id: NodeId| patch.node(id).and_then(|n| registry.get(&n.type_name));
+        let def = |id: NodeId| doc.node(id).and_then(|n| registry.get(&n.type_name));
         let (Some(da), Some(db)) = (def(l.from.node()), def(l.to.node())) else {
             continue;
         };
@@ -436,7 +441,7 @@ pub fn moved_nodes(snarl: &Snarl<CanvasNode>, doc: &EditorDoc) -> Vec<(NodeId, (
     snarl
         .nodes_pos_ids()
         .filter_map(|(_, pos, node)| {
-            let n = doc.patch().node(node.0)?;
+            let n = doc.node(node.0)?;
             let want = Pos2::new(n.pos.0 * SCALE, n.pos.1 * SCALE);
             ((pos - want).length() > 0.5 * SCALE)
                 .then(|| (node.0, ((pos.x / SCALE).round(), (pos.y / SCALE).round())))

@@ -160,6 +160,10 @@ pub struct EditorDoc {
     saved_serial: Option<u64>,
     /// Bumped on every change: the runtime reloads when it moves.
     generation: u64,
+    /// Lookups the canvas makes for every pin of every node each frame: by
+    /// index, so a 500-node patch costs no quadratic searches.
+    node_index: HashMap<NodeId, usize>,
+    link_index: HashMap<PinRef, usize>,
 }
 
 impl Default for EditorDoc {
@@ -171,14 +175,36 @@ impl Default for EditorDoc {
 impl EditorDoc {
     /// A document as loaded from disk: clean, with no history.
     pub fn new(patch: Patch) -> Self {
-        EditorDoc {
+        let mut doc = EditorDoc {
             patch,
             undo: VecDeque::new(),
             redo: Vec::new(),
             next_serial: 1,
             saved_serial: Some(0),
             generation: 0,
+            node_index: HashMap::new(),
+            link_index: HashMap::new(),
+        };
+        doc.reindex();
+        doc
+    }
+
+    fn reindex(&mut self) {
+        self.generation += 1;
+        self.node_index.clear();
+        for (i, n) in self.patch.nodes.iter().enumerate() {
+            // The first of duplicate ids wins, as in the network compiler.
+            self.node_index.entry(n.id).or_insert(i);
         }
+        self.link_index.clear();
+        for (i, l) in self.patch.links.iter().enumerate() {
+            self.link_index.entry(l.to.clone()).or_insert(i);
+        }
+    }
+
+    /// The node with this id.
+    pub fn node(&self, id: NodeId) -> Option<&NodeDoc> {
+        self.patch.nodes.get(*self.node_index.get(&id)?)
     }
 
     /// A document restored from an autosave: it differs from the file on disk.
@@ -227,7 +253,7 @@ impl EditorDoc {
     /// Apply a command and record it for undo.
     pub fn execute(&mut self, label: impl Into<String>, command: Command) {
         command.apply(&mut self.patch);
-        self.generation += 1;
+        self.reindex();
         self.redo.clear();
         let serial = self.next_serial;
         self.next_serial += 1;
@@ -246,7 +272,7 @@ impl EditorDoc {
             return false;
         };
         entry.command.inverse().apply(&mut self.patch);
-        self.generation += 1;
+        self.reindex();
         self.redo.push(entry);
         true
     }
@@ -256,7 +282,7 @@ impl EditorDoc {
             return false;
         };
         entry.command.apply(&mut self.patch);
-        self.generation += 1;
+        self.reindex();
         self.undo.push_back(entry);
         true
     }
@@ -311,7 +337,7 @@ impl EditorDoc {
         let moves: Vec<_> = moves
             .iter()
             .filter_map(|&(id, to)| {
-                let from = self.patch.node(id)?.pos;
+                let from = self.node(id)?.pos;
                 (from != to).then_some((id, from, to))
             })
             .collect();
@@ -457,7 +483,7 @@ impl EditorDoc {
     /// `merge`, a change of the same pin as the last edit extends that edit, so
     /// one drag of a slider is one undo step.
     pub fn set_value(&mut self, node: NodeId, pin: &str, value: Option<Spread>, merge: bool) {
-        let Some(n) = self.patch.node(node) else {
+        let Some(n) = self.node(node) else {
             return;
         };
         let old = n.values.get(pin).cloned();
@@ -488,7 +514,7 @@ impl EditorDoc {
                 new: value,
             };
             apply.apply(&mut self.patch);
-            self.generation += 1;
+            self.reindex();
             return;
         }
         self.execute(
@@ -567,12 +593,12 @@ impl EditorDoc {
 
     /// The link into input `to`, if any.
     pub fn link_into(&self, to: &PinRef) -> Option<&LinkDoc> {
-        self.patch.links.iter().find(|l| &l.to == to)
+        self.patch.links.get(*self.link_index.get(to)?)
     }
 
     /// The value an input holds in the document, or its default.
     pub fn input_value(&self, registry: &Registry, node: NodeId, pin: &str) -> Option<Spread> {
-        let n = self.patch.node(node)?;
+        let n = self.node(node)?;
         if let Some(v) = n.values.get(pin) {
             return Some(v.clone());
         }
