@@ -3,8 +3,8 @@
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use spreadlight_editor::app::Automation;
 use spreadlight_editor::EditorOptions;
+use spreadlight_editor::app::Automation;
 
 #[derive(clap::Args, Default)]
 pub struct Args {
@@ -29,5 +29,3 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
     spreadlight_editor::run(options)?;
     Ok(ExitCode::SUCCESS)
 }
-
-

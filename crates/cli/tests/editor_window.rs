@@ -20,7 +20,15 @@ struct Xvfb {
 impl Xvfb {
     fn start() -> Xvfb {
         let mut child = Command::new("Xvfb")
-            .args(["-displayfd", "1", "-screen", "0", "1920x1080x24", "-nolisten", "tcp"])
+            .args([
+                "-displayfd",
+                "1",
+                "-screen",
+                "0",
+                "1920x1080x24",
+                "-nolisten",
+                "tcp",
+            ])
             .stdout(Stdio::piped())
             .stderr(Stdio::null())
             .spawn()
@@ -93,7 +101,9 @@ fn the_editor_opens_the_showcase_in_a_window_and_its_viewport_is_not_blank() {
         .iter()
         .map(|v| v.as_f64().expect("number") as u32)
         .collect();
-    let image = image::open(&shot).expect("the screenshot is a PNG").to_rgba8();
+    let image = image::open(&shot)
+        .expect("the screenshot is a PNG")
+        .to_rgba8();
     let mut colours = std::collections::HashSet::new();
     for y in (rect[1]..rect[3].min(image.height())).step_by(2) {
         for x in (rect[0]..rect[2].min(image.width())).step_by(2) {
@@ -123,7 +133,11 @@ fn big_patch(chains: u32) -> spreadlight_graph::Patch {
         p.add(NodeDoc::new(base + 1, "Multiply (Value)").at(x, y + 20.0));
         p.add(NodeDoc::new(base + 2, "Add (Value)").at(x, y + 40.0));
         p.add(NodeDoc::new(base + 3, "Sin (Value)").at(x, y + 60.0));
-        p.add(NodeDoc::new(base + 4, "Probe").at(x, y + 80.0).with("Name", vec![format!("p{c}")]));
+        p.add(
+            NodeDoc::new(base + 4, "Probe")
+                .at(x, y + 80.0)
+                .with("Name", vec![format!("p{c}")]),
+        );
         p.link(base, "Output", base + 1, "Input 1");
         p.link(base + 1, "Output", base + 2, "Input 1");
         p.link(base + 2, "Output", base + 3, "Input");

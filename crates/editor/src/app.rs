@@ -83,7 +83,11 @@ struct BrowserState {
 enum DialogMode {
     Open,
     SaveAs,
-    PickValue { node: NodeId, pin: String, slice: usize },
+    PickValue {
+        node: NodeId,
+        pin: String,
+        slice: usize,
+    },
 }
 
 struct FileDialog {
@@ -103,6 +107,8 @@ enum Pending {
 /// Which texture a viewport shows.
 #[derive(Clone, Debug, PartialEq)]
 enum Source {
+    /// Nothing until a pin is picked (rendering the Output twice would cost for nothing).
+    None,
     /// The selected Output node, or the first one.
     Output,
     Pin(NodeId, String),
@@ -213,7 +219,10 @@ impl EditorApp {
                     Err(e) => (None, Some(e.to_string())),
                 }
             }
-            None => (None, Some("no wgpu device: the editor runs without viewports".to_owned())),
+            None => (
+                None,
+                Some("no wgpu device: the editor runs without viewports".to_owned()),
+            ),
         };
         let recent = files::load_recent(&options.config_dir);
         let mut app = EditorApp {
@@ -226,7 +235,7 @@ impl EditorApp {
             loaded_generation: None,
             gpu,
             gpu_error,
-            viewports: [Viewport::new(Source::Output), Viewport::new(Source::Output)],
+            viewports: [Viewport::new(Source::Output), Viewport::new(Source::None)],
             viewport_rects: [None; 2],
             gpu_ms: HashMap::new(),
             snarl: Snarl::new(),
@@ -291,11 +300,10 @@ impl EditorApp {
     }
 
     pub fn title(&self) -> String {
-        let name = self
-            .path
-            .as_ref()
-            .and_then(|p| p.file_name())
-            .map_or_else(|| "untitled".to_owned(), |n| n.to_string_lossy().into_owned());
+        let name = self.path.as_ref().and_then(|p| p.file_name()).map_or_else(
+            || "untitled".to_owned(),
+            |n| n.to_string_lossy().into_owned(),
+        );
         let mark = if self.doc.is_dirty() { "*" } else { "" };
         format!("{mark}{name} — Spreadlight")
     }
@@ -351,7 +359,11 @@ impl EditorApp {
 
     /// The egui texture a viewport shows, once something was rendered into it.
     pub fn viewport_texture(&self, index: usize) -> Option<&wgpu::Texture> {
-        self.viewports.get(index)?.target.as_ref().map(|t| &t.texture)
+        self.viewports
+            .get(index)?
+            .target
+            .as_ref()
+            .map(|t| &t.texture)
     }
 
     /// Where a viewport's image was drawn last frame, in points.
@@ -360,7 +372,11 @@ impl EditorApp {
     }
 
     pub fn viewport_error(&self, index: usize) -> Option<String> {
-        self.viewports.get(index)?.error.as_ref().map(ToString::to_string)
+        self.viewports
+            .get(index)?
+            .error
+            .as_ref()
+            .map(ToString::to_string)
     }
 
     pub fn gpu_error(&self) -> Option<&str> {
@@ -572,14 +588,12 @@ impl EditorApp {
     /// The texture a viewport's source points at, if the runtime has one.
     fn texture_of(&self, source: &Source) -> Result<TextureRef, ViewportError> {
         let (node, pin) = match source {
+            Source::None => return Err(ViewportError::NoTexture),
             Source::Pin(node, pin) => (*node, pin.clone()),
             Source::Output => {
                 let patch = self.doc.patch();
-                let is_output = |id: &NodeId| {
-                    patch
-                        .node(*id)
-                        .is_some_and(|n| n.type_name == "Output")
-                };
+                let is_output =
+                    |id: &NodeId| patch.node(*id).is_some_and(|n| n.type_name == "Output");
                 let chosen = self
                     .all_selected(None)
                     .into_iter()
@@ -712,11 +726,10 @@ impl EditorApp {
             .or_else(|| std::env::current_dir().ok())
             .unwrap_or_default();
         let name = match &mode {
-            DialogMode::SaveAs => self
-                .path
-                .as_ref()
-                .and_then(|p| p.file_name())
-                .map_or_else(|| "untitled.ron".to_owned(), |n| n.to_string_lossy().into_owned()),
+            DialogMode::SaveAs => self.path.as_ref().and_then(|p| p.file_name()).map_or_else(
+                || "untitled.ron".to_owned(),
+                |n| n.to_string_lossy().into_owned(),
+            ),
             _ => String::new(),
         };
         self.dialog = Some(FileDialog { mode, dir, name });
@@ -759,14 +772,20 @@ impl EditorApp {
             ui.menu_button("Edit", |ui| {
                 let undo = self.doc.undo_label().map(|l| format!("Undo {l}"));
                 if ui
-                    .add_enabled(undo.is_some(), egui::Button::new(undo.unwrap_or_else(|| "Undo".into())))
+                    .add_enabled(
+                        undo.is_some(),
+                        egui::Button::new(undo.unwrap_or_else(|| "Undo".into())),
+                    )
                     .clicked()
                 {
                     self.doc.undo();
                 }
                 let redo = self.doc.redo_label().map(|l| format!("Redo {l}"));
                 if ui
-                    .add_enabled(redo.is_some(), egui::Button::new(redo.unwrap_or_else(|| "Redo".into())))
+                    .add_enabled(
+                        redo.is_some(),
+                        egui::Button::new(redo.unwrap_or_else(|| "Redo".into())),
+                    )
                     .clicked()
                 {
                     self.doc.redo();
@@ -787,7 +806,11 @@ impl EditorApp {
                 }
             });
             ui.separator();
-            let play = if self.playing { "⏸ Pause" } else { "▶ Play" };
+            let play = if self.playing {
+                "⏸ Pause"
+            } else {
+                "▶ Play"
+            };
             if ui.button(play).clicked() {
                 self.playing = !self.playing;
             }
@@ -795,7 +818,10 @@ impl EditorApp {
                 self.playing = false;
                 self.step = true;
             }
-            ui.label(format!("frame {} · {:.2} s", self.clock.frame, self.clock.time));
+            ui.label(format!(
+                "frame {} · {:.2} s",
+                self.clock.frame, self.clock.time
+            ));
             ui.separator();
             ui.toggle_value(&mut self.show_timings, "⏱ Timings")
                 .on_hover_text("CPU time per node, GPU time per render node");
@@ -833,7 +859,10 @@ impl EditorApp {
         };
         ui.label(egui::RichText::new(format!("{} {}", node.type_name, id)).strong());
         let Some(def) = self.registry.get(&node.type_name).cloned() else {
-            ui.colored_label(egui::Color32::LIGHT_RED, "unknown node type: kept as it is, not run");
+            ui.colored_label(
+                egui::Color32::LIGHT_RED,
+                "unknown node type: kept as it is, not run",
+            );
             return;
         };
         ui.weak(def.help);
@@ -860,12 +889,20 @@ impl EditorApp {
                             }
                         });
                     } else if values::editable(pin.ty) {
-                        let mut value = node.values.get(pin.name).cloned().unwrap_or_else(|| pin.default.clone());
-                        let edited = values::edit_spread(ui, pin.ty, &mut value, pin.name, Some(label));
+                        let mut value = node
+                            .values
+                            .get(pin.name)
+                            .cloned()
+                            .unwrap_or_else(|| pin.default.clone());
+                        let edited =
+                            values::edit_spread(ui, pin.ty, &mut value, pin.name, Some(label));
                         if edited.changed {
-                            self.doc.set_value(id, pin.name, Some(value), edited.continuing);
+                            self.doc
+                                .set_value(id, pin.name, Some(value), edited.continuing);
                         }
-                        if node.values.contains_key(pin.name) && ui.small_button("reset to default").clicked() {
+                        if node.values.contains_key(pin.name)
+                            && ui.small_button("reset to default").clicked()
+                        {
                             self.doc.set_value(id, pin.name, None, false);
                         }
                     }
@@ -881,10 +918,15 @@ impl EditorApp {
                 ui.label(format!("{} → {value}", pin.name));
             }
         });
-        let request: Option<(String, usize)> =
-            ui.ctx().data_mut(|d| d.remove_temp(Id::new("file-picker-request")));
+        let request: Option<(String, usize)> = ui
+            .ctx()
+            .data_mut(|d| d.remove_temp(Id::new("file-picker-request")));
         if let Some((pin, slice)) = request {
-            self.open_dialog(DialogMode::PickValue { node: id, pin, slice });
+            self.open_dialog(DialogMode::PickValue {
+                node: id,
+                pin,
+                slice,
+            });
         }
     }
 
@@ -906,19 +948,26 @@ impl EditorApp {
         if k == 1 {
             let pins = self.texture_pins();
             let current = match &self.viewports[1].source {
+                Source::None => "none".to_owned(),
                 Source::Output => "Output".to_owned(),
                 Source::Pin(n, p) => format!("{n}.{p}"),
             };
             let combo = egui::ComboBox::from_id_salt("second-viewport")
                 .selected_text(current)
                 .show_ui(ui, |ui| {
-                    if ui.selectable_label(self.viewports[1].source == Source::Output, "Output").clicked() {
+                    if ui
+                        .selectable_label(self.viewports[1].source == Source::Output, "Output")
+                        .clicked()
+                    {
                         self.viewports[1].source = Source::Output;
                         self.viewports[1].rendered_size = (0, 0);
                     }
                     for (node, pin, label) in pins {
                         let source = Source::Pin(node, pin.to_owned());
-                        if ui.selectable_label(self.viewports[1].source == source, label).clicked() {
+                        if ui
+                            .selectable_label(self.viewports[1].source == source, label)
+                            .clicked()
+                        {
                             self.viewports[1].source = source;
                             self.viewports[1].rendered_size = (0, 0);
                         }
@@ -941,12 +990,17 @@ impl EditorApp {
                 ui.weak(e.to_string());
             }
             (Some(t), None) => {
-                let tex_size = egui::vec2(t.texture.width() as f32, t.texture.height() as f32) / ppp;
+                let tex_size =
+                    egui::vec2(t.texture.width() as f32, t.texture.height() as f32) / ppp;
                 let r = ui.add(egui::Image::new((t.id, tex_size)).fit_to_exact_size(avail));
                 self.viewport_rects[k] = Some(r.rect);
             }
             (None, None) => {
-                ui.weak(self.gpu_error.clone().unwrap_or_else(|| "nothing rendered yet".to_owned()));
+                ui.weak(
+                    self.gpu_error
+                        .clone()
+                        .unwrap_or_else(|| "nothing rendered yet".to_owned()),
+                );
             }
         }
     }
@@ -954,7 +1008,13 @@ impl EditorApp {
     fn canvas(&mut self, ui: &mut Ui) {
         let dragging = ui.input(|i| i.pointer.any_down());
         let changed = self.synced_generation != Some(self.doc.generation());
-        canvas::sync(&mut self.snarl, &mut self.snarl_ids, &self.doc, &self.registry, changed);
+        canvas::sync(
+            &mut self.snarl,
+            &mut self.snarl_ids,
+            &self.doc,
+            &self.registry,
+            changed,
+        );
         self.synced_generation = Some(self.doc.generation());
         let now = ui.input(|i| i.time);
         let layer = LayerId::new(ui.layer_id().order, Id::new(CANVAS_ID));
@@ -988,7 +1048,10 @@ impl EditorApp {
             let moves = canvas::moved_nodes(&self.snarl, &self.doc);
             self.doc.move_nodes(&moves);
         }
-        let double = ui.input(|i| i.pointer.button_double_clicked(egui::PointerButton::Primary));
+        let double = ui.input(|i| {
+            i.pointer
+                .button_double_clicked(egui::PointerButton::Primary)
+        });
         if double
             && response.hovered()
             && let Some(screen) = ui.input(|i| i.pointer.interact_pos())
@@ -1010,7 +1073,11 @@ impl EditorApp {
             && ui.max_rect().contains(p)
         {
             let add = ui.input(|i| i.modifiers.shift || i.modifiers.command);
-            let hit = node_rects.iter().rev().find(|(_, r)| r.contains(p)).map(|(id, _)| *id);
+            let hit = node_rects
+                .iter()
+                .rev()
+                .find(|(_, r)| r.contains(p))
+                .map(|(id, _)| *id);
             match hit {
                 Some(id) if add && self.selected.contains(&id) => {
                     self.selected.remove(&id);
@@ -1025,6 +1092,26 @@ impl EditorApp {
                 None => {}
             }
         }
+        // Hovering a wire shows what flows through it, as hovering its output pin does.
+        if response.hovered()
+            && let Some(p) = ui.input(|i| i.pointer.hover_pos())
+            && !node_rects.iter().any(|(_, r)| r.contains(p))
+            && let Some(link) = canvas::wire_under(&self.doc, &self.pins, p, 5.0)
+        {
+            let value = self
+                .runtime
+                .output(link.from.node(), link.from.pin())
+                .map_or_else(|| "not evaluated".to_owned(), |s| canvas::preview(s));
+            egui::Area::new(Id::new("wire-value"))
+                .fixed_pos(p + egui::vec2(14.0, 14.0))
+                .order(egui::Order::Tooltip)
+                .interactable(false)
+                .show(ui.ctx(), |ui| {
+                    egui::Frame::popup(ui.style()).show(ui, |ui| {
+                        ui.label(format!("{} → {}\n{value}", link.from, link.to));
+                    });
+                });
+        }
         if let Some(r) = &self.refusal {
             if now - r.since > 4.0 {
                 self.refusal = None;
@@ -1036,7 +1123,10 @@ impl EditorApp {
                     .interactable(false)
                     .show(ui.ctx(), |ui| {
                         egui::Frame::popup(ui.style()).show(ui, |ui| {
-                            ui.colored_label(egui::Color32::LIGHT_RED, format!("Link refused: {}", r.message));
+                            ui.colored_label(
+                                egui::Color32::LIGHT_RED,
+                                format!("Link refused: {}", r.message),
+                            );
                         });
                     });
                 ui.ctx().request_repaint();
@@ -1090,19 +1180,21 @@ impl EditorApp {
                     if escape {
                         close = true;
                     }
-                    egui::ScrollArea::vertical().max_height(300.0).show(ui, |ui| {
-                        for (i, name) in hits.iter().enumerate() {
-                            let category = self.registry.get(name).map_or("", |d| d.category);
-                            let r = ui
-                                .selectable_label(i == b.highlighted, format!("{name}"))
-                                .on_hover_text(self.registry.get(name).map_or("", |d| d.help));
-                            ui.weak(category);
-                            if r.clicked() {
-                                place = Some(*name);
-                                close = true;
+                    egui::ScrollArea::vertical()
+                        .max_height(300.0)
+                        .show(ui, |ui| {
+                            for (i, name) in hits.iter().enumerate() {
+                                let category = self.registry.get(name).map_or("", |d| d.category);
+                                let r = ui
+                                    .selectable_label(i == b.highlighted, *name)
+                                    .on_hover_text(self.registry.get(name).map_or("", |d| d.help));
+                                ui.weak(category);
+                                if r.clicked() {
+                                    place = Some(*name);
+                                    close = true;
+                                }
                             }
-                        }
-                    });
+                        });
                 });
             });
         if let Some(name) = place {
@@ -1135,11 +1227,15 @@ impl EditorApp {
                 });
             });
         }
-        if let Some(pending) = self.pending.clone() {
+        // While the Save-as dialog answers "Save", the question waits behind it.
+        if let Some(pending) = self.pending.clone().filter(|_| self.dialog.is_none()) {
             let mut answer = None;
             egui::Modal::new(Id::new("unsaved")).show(ctx, |ui| {
                 ui.heading("Unsaved changes");
-                ui.label(format!("Save the changes to {}?", self.title().trim_start_matches('*')));
+                ui.label(format!(
+                    "Save the changes to {}?",
+                    self.title().trim_start_matches('*')
+                ));
                 ui.horizontal(|ui| {
                     if ui.button("Save").clicked() {
                         answer = Some(1);
@@ -1189,7 +1285,10 @@ impl EditorApp {
         let mut close = false;
         egui::Window::new(title).collapsible(false).show(ctx, |ui| {
             ui.horizontal(|ui| {
-                if ui.small_button("⬆").on_hover_text("parent folder").clicked()
+                if ui
+                    .small_button("⬆")
+                    .on_hover_text("parent folder")
+                    .clicked()
                     && let Some(parent) = d.dir.parent()
                 {
                     d.dir = parent.to_owned();
@@ -1201,29 +1300,45 @@ impl EditorApp {
                     rd.filter_map(Result::ok)
                         .map(|e| (e.path().is_dir(), e.path()))
                         .filter(|(dir, p)| {
-                            let hidden = p.file_name().is_some_and(|n| n.to_string_lossy().starts_with('.'));
-                            !hidden && (*dir || !matches!(d.mode, DialogMode::Open) || p.extension().is_some_and(|e| e == "ron"))
+                            let hidden = p
+                                .file_name()
+                                .is_some_and(|n| n.to_string_lossy().starts_with('.'));
+                            !hidden
+                                && (*dir
+                                    || !matches!(d.mode, DialogMode::Open)
+                                    || p.extension().is_some_and(|e| e == "ron"))
                         })
                         .collect()
                 })
                 .unwrap_or_default();
             entries.sort_by(|a, b| b.0.cmp(&a.0).then(a.1.cmp(&b.1)));
-            egui::ScrollArea::vertical().max_height(240.0).show(ui, |ui| {
-                for (is_dir, p) in entries {
-                    let name = p.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
-                    let label = if is_dir { format!("📁 {name}") } else { name.clone() };
-                    if ui.selectable_label(d.name == name, label).clicked() {
-                        if is_dir {
-                            d.dir = p;
+            egui::ScrollArea::vertical()
+                .max_height(240.0)
+                .show(ui, |ui| {
+                    for (is_dir, p) in entries {
+                        let name = p
+                            .file_name()
+                            .map(|n| n.to_string_lossy().into_owned())
+                            .unwrap_or_default();
+                        let label = if is_dir {
+                            format!("📁 {name}")
                         } else {
-                            d.name = name;
+                            name.clone()
+                        };
+                        if ui.selectable_label(d.name == name, label).clicked() {
+                            if is_dir {
+                                d.dir = p;
+                            } else {
+                                d.name = name;
+                            }
                         }
                     }
-                }
-            });
+                });
             ui.horizontal(|ui| {
-                ui.label("File:");
-                let edit = ui.add(egui::TextEdit::singleline(&mut d.name).id(Id::new("file-dialog-name")));
+                let label = ui.label("File:").id;
+                let edit = ui
+                    .add(egui::TextEdit::singleline(&mut d.name).id(Id::new("file-dialog-name")))
+                    .labelled_by(label);
                 let enter = edit.lost_focus() && ui.input(|i| i.key_pressed(Key::Enter));
                 let ok = match d.mode {
                     DialogMode::Open => "Open",
@@ -1251,11 +1366,14 @@ impl EditorApp {
                     }
                 }
                 DialogMode::PickValue { node, pin, slice } => {
-                    if let Some(Spread::String(mut v)) = self.doc.input_value(&self.registry, node, &pin) {
+                    if let Some(Spread::String(mut v)) =
+                        self.doc.input_value(&self.registry, node, &pin)
+                    {
                         if slice < v.len() {
                             v[slice] = path.display().to_string();
                         }
-                        self.doc.set_value(node, &pin, Some(Spread::String(v)), false);
+                        self.doc
+                            .set_value(node, &pin, Some(Spread::String(v)), false);
                     }
                 }
             }
@@ -1318,7 +1436,10 @@ impl EditorApp {
                 frame_med * 1e3,
                 frame_p95 * 1e3,
                 cpu_med * 1e3,
-                rect.map_or_else(|| "null".to_owned(), |r| format!("[{}, {}, {}, {}]", r[0], r[1], r[2], r[3])),
+                rect.map_or_else(
+                    || "null".to_owned(),
+                    |r| format!("[{}, {}, {}, {}]", r[0], r[1], r[2], r[3])
+                ),
                 viewport_error,
             );
             self.allow_close = true;
@@ -1327,7 +1448,8 @@ impl EditorApp {
     }
 
     fn handle_close(&mut self, ctx: &egui::Context) {
-        if ctx.input(|i| i.viewport().close_requested()) && !self.allow_close && self.doc.is_dirty() {
+        if ctx.input(|i| i.viewport().close_requested()) && !self.allow_close && self.doc.is_dirty()
+        {
             ctx.send_viewport_cmd(ViewportCommand::CancelClose);
             self.pending = Some(Pending::Quit);
         }

@@ -44,6 +44,8 @@ pub fn style() -> SnarlStyle {
         // A patch opens at its real size, or smaller to fit; never blown up.
         max_scale: Some(1.0),
         min_scale: Some(0.1),
+        // Straight wires, as vvvv draws them; also what `wire_under` hit-tests.
+        wire_style: Some(egui_snarl::ui::WireStyle::Line),
         // The editor keeps its own selection (click, shift-click) and draws it
         // on the node frame; snarl's would be a second, different one.
         select_style: Some(egui_snarl::ui::SelectionStyle {
@@ -118,14 +120,22 @@ impl Canvas<'_> {
         snarl.get_node(node).map(|n| n.0)
     }
 
-    fn input_pin(&self, snarl: &Snarl<CanvasNode>, pin: InPinId) -> Option<(NodeId, &'static str, PinType)> {
+    fn input_pin(
+        &self,
+        snarl: &Snarl<CanvasNode>,
+        pin: InPinId,
+    ) -> Option<(NodeId, &'static str, PinType)> {
         let id = Self::node_id(snarl, pin.node)?;
         let def = self.registry.get(&self.doc.node(id)?.type_name)?;
         let p = def.inputs.get(pin.input)?;
         Some((id, p.name, p.ty))
     }
 
-    fn output_pin(&self, snarl: &Snarl<CanvasNode>, pin: OutPinId) -> Option<(NodeId, &'static str, PinType)> {
+    fn output_pin(
+        &self,
+        snarl: &Snarl<CanvasNode>,
+        pin: OutPinId,
+    ) -> Option<(NodeId, &'static str, PinType)> {
         let id = Self::node_id(snarl, pin.node)?;
         let def = self.registry.get(&self.doc.node(id)?.type_name)?;
         let p = def.outputs.get(pin.output)?;
@@ -266,7 +276,12 @@ impl SnarlViewer<CanvasNode> for Canvas<'_> {
             .map_or(0, |d| d.outputs.len())
     }
 
-    fn show_input(&mut self, pin: &InPin, ui: &mut Ui, snarl: &mut Snarl<CanvasNode>) -> impl SnarlPin + 'static {
+    fn show_input(
+        &mut self,
+        pin: &InPin,
+        ui: &mut Ui,
+        snarl: &mut Snarl<CanvasNode>,
+    ) -> impl SnarlPin + 'static {
         let Some((id, name, ty)) = self.input_pin(snarl, pin.id) else {
             return self.recorded((NodeId(0), String::new(), true), None);
         };
@@ -277,8 +292,14 @@ impl SnarlViewer<CanvasNode> for Canvas<'_> {
         // Previews are built only for the pin under the pointer: a big patch has thousands of pins.
         if label.hovered() {
             let shown = match &linked {
-                Some(l) => self.runtime.output(l.from.node(), l.from.pin()).map(|s| preview(s)),
-                None => self.doc.input_value(self.registry, id, name).map(|s| preview(&s)),
+                Some(l) => self
+                    .runtime
+                    .output(l.from.node(), l.from.pin())
+                    .map(|s| preview(s)),
+                None => self
+                    .doc
+                    .input_value(self.registry, id, name)
+                    .map(|s| preview(&s)),
             };
             label.on_hover_text(format!(
                 "{name}: {ty}\n{}",
@@ -289,7 +310,11 @@ impl SnarlViewer<CanvasNode> for Canvas<'_> {
             && values::editable(ty)
             && let Some(mut value) = self.doc.input_value(self.registry, id, name)
         {
-            let edited = ui.push_id((id, name), |ui| values::edit_first(ui, ty, &mut value, Some(label_id))).inner;
+            let edited = ui
+                .push_id((id, name), |ui| {
+                    values::edit_first(ui, ty, &mut value, Some(label_id))
+                })
+                .inner;
             if edited.changed {
                 self.doc.set_value(id, name, Some(value), edited.continuing);
             }
@@ -297,7 +322,12 @@ impl SnarlViewer<CanvasNode> for Canvas<'_> {
         self.recorded((id, name.to_owned(), true), Some(ty))
     }
 
-    fn show_output(&mut self, pin: &OutPin, ui: &mut Ui, snarl: &mut Snarl<CanvasNode>) -> impl SnarlPin + 'static {
+    fn show_output(
+        &mut self,
+        pin: &OutPin,
+        ui: &mut Ui,
+        snarl: &mut Snarl<CanvasNode>,
+    ) -> impl SnarlPin + 'static {
         let Some((id, name, ty)) = self.output_pin(snarl, pin.id) else {
             return self.recorded((NodeId(0), String::new(), false), None);
         };
@@ -340,12 +370,17 @@ impl SnarlViewer<CanvasNode> for Canvas<'_> {
     }
 
     fn connect(&mut self, from: &OutPin, to: &InPin, snarl: &mut Snarl<CanvasNode>) {
-        let (Some((a, out, _)), Some((b, inp, _))) = (self.output_pin(snarl, from.id), self.input_pin(snarl, to.id)) else {
+        let (Some((a, out, _)), Some((b, inp, _))) = (
+            self.output_pin(snarl, from.id),
+            self.input_pin(snarl, to.id),
+        ) else {
             return;
         };
-        let result = self
-            .doc
-            .link(self.registry, PinRef(a, out.to_owned()), PinRef(b, inp.to_owned()));
+        let result = self.doc.link(
+            self.registry,
+            PinRef(a, out.to_owned()),
+            PinRef(b, inp.to_owned()),
+        );
         if let Err(e) = result {
             // Snarl passes no Ui here; the pointer is where the wire was dropped.
             self.refuse(e.to_string());
@@ -353,8 +388,12 @@ impl SnarlViewer<CanvasNode> for Canvas<'_> {
     }
 
     fn disconnect(&mut self, from: &OutPin, to: &InPin, snarl: &mut Snarl<CanvasNode>) {
-        if let (Some((a, out, _)), Some((b, inp, _))) = (self.output_pin(snarl, from.id), self.input_pin(snarl, to.id)) {
-            self.doc.unlink(&PinRef(a, out.to_owned()), &PinRef(b, inp.to_owned()));
+        if let (Some((a, out, _)), Some((b, inp, _))) = (
+            self.output_pin(snarl, from.id),
+            self.input_pin(snarl, to.id),
+        ) {
+            self.doc
+                .unlink(&PinRef(a, out.to_owned()), &PinRef(b, inp.to_owned()));
         }
     }
 
@@ -423,7 +462,10 @@ pub fn sync(
         let (Some(o), Some(i)) = (da.output_index(l.from.pin()), db.input_index(l.to.pin())) else {
             continue;
         };
-        wanted.insert((OutPinId { node: a, output: o }, InPinId { node: b, input: i }));
+        wanted.insert((
+            OutPinId { node: a, output: o },
+            InPinId { node: b, input: i },
+        ));
     }
     let existing: Vec<(OutPinId, InPinId)> = snarl.wires().collect();
     for w in &existing {
@@ -447,4 +489,28 @@ pub fn moved_nodes(snarl: &Snarl<CanvasNode>, doc: &EditorDoc) -> Vec<(NodeId, (
                 .then(|| (node.0, ((pos.x / SCALE).round(), (pos.y / SCALE).round())))
         })
         .collect()
+}
+
+/// The link under `pointer`, if one passes within `threshold` points of it:
+/// wires are straight lines between the pins' drawn positions.
+pub fn wire_under(
+    doc: &EditorDoc,
+    pins: &PinPositions,
+    pointer: Pos2,
+    threshold: f32,
+) -> Option<spreadlight_graph::LinkDoc> {
+    let pins = pins.borrow();
+    doc.patch()
+        .links
+        .iter()
+        .filter_map(|l| {
+            let a = *pins.get(&(l.from.node(), l.from.pin().to_owned(), false))?;
+            let b = *pins.get(&(l.to.node(), l.to.pin().to_owned(), true))?;
+            let ab = b - a;
+            let t = ((pointer - a).dot(ab) / ab.length_sq().max(1e-6)).clamp(0.0, 1.0);
+            let d = (a + ab * t - pointer).length();
+            (d < threshold).then(|| (d, l.clone()))
+        })
+        .min_by(|x, y| x.0.total_cmp(&y.0))
+        .map(|(_, l)| l)
 }

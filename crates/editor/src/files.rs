@@ -135,7 +135,10 @@ mod tests {
             .open(&patch)
             .and_then(|f| f.set_modified(old))
             .expect("touch");
-        assert_eq!(pending_recovery(Some(&patch), dir.path()), Some(rec.clone()));
+        assert_eq!(
+            pending_recovery(Some(&patch), dir.path()),
+            Some(rec.clone())
+        );
         format::save(&Patch::default(), &patch).expect("save again");
         fs::File::options()
             .write(true)

@@ -24,6 +24,9 @@ pub enum LinkError {
     Cycle { from: PinRef, to: PinRef },
 }
 
+/// A node's move: its id, where it was, where it went (canvas units).
+pub type NodeMove = (NodeId, (f32, f32), (f32, f32));
+
 /// One reversible change of the document. Every command has an exact inverse,
 /// so undo and redo are the same machinery.
 #[derive(Debug, Clone, PartialEq)]
@@ -40,7 +43,7 @@ pub enum Command {
         links: Vec<(usize, LinkDoc)>,
     },
     Move {
-        moves: Vec<(NodeId, (f32, f32), (f32, f32))>,
+        moves: Vec<NodeMove>,
     },
     /// `None` is the pin's default (no value saved).
     SetValue {
@@ -77,7 +80,9 @@ impl Command {
                 old: new.clone(),
                 new: old.clone(),
             },
-            Command::Batch(cmds) => Command::Batch(cmds.iter().rev().map(Command::inverse).collect()),
+            Command::Batch(cmds) => {
+                Command::Batch(cmds.iter().rev().map(Command::inverse).collect())
+            }
         }
     }
 
@@ -554,14 +559,13 @@ impl EditorDoc {
         if clip.nodes.is_empty() {
             return Vec::new();
         }
-        let mut next = self.patch.next_id().0;
+        let first = self.patch.next_id().0;
         let mut ids: HashMap<NodeId, NodeId> = HashMap::new();
         let mut nodes = Vec::new();
         let base = self.patch.nodes.len();
         for (k, n) in clip.nodes.iter().enumerate() {
             let mut copy = n.clone();
-            copy.id = NodeId(next);
-            next += 1;
+            copy.id = NodeId(first + k as u32);
             copy.pos = (n.pos.0 + offset.0, n.pos.1 + offset.1);
             ids.insert(n.id, copy.id);
             nodes.push((base + k, copy));
@@ -646,7 +650,10 @@ fn link_types(
 fn reaches(patch: &Patch, start: NodeId, target: NodeId) -> bool {
     let mut downstream: BTreeMap<NodeId, Vec<NodeId>> = BTreeMap::new();
     for l in &patch.links {
-        downstream.entry(l.from.node()).or_default().push(l.to.node());
+        downstream
+            .entry(l.from.node())
+            .or_default()
+            .push(l.to.node());
     }
     let mut seen = HashSet::new();
     let mut stack = vec![start];
@@ -715,11 +722,23 @@ mod tests {
         let a = doc.add_node("Add (Value)", (0.0, 0.0));
         let b = doc.add_node("Add (Value)", (0.0, 50.0));
         let cam = doc.add_node("Camera", (0.0, 100.0));
-        doc.link(&reg, PinRef(a, "Output".into()), PinRef(b, "Input 1".into()))
-            .expect("a -> b");
-        let cycle = doc.link(&reg, PinRef(b, "Output".into()), PinRef(a, "Input 1".into()));
+        doc.link(
+            &reg,
+            PinRef(a, "Output".into()),
+            PinRef(b, "Input 1".into()),
+        )
+        .expect("a -> b");
+        let cycle = doc.link(
+            &reg,
+            PinRef(b, "Output".into()),
+            PinRef(a, "Input 1".into()),
+        );
         assert!(matches!(cycle, Err(LinkError::Cycle { .. })), "{cycle:?}");
-        let self_loop = doc.link(&reg, PinRef(a, "Output".into()), PinRef(a, "Input 2".into()));
+        let self_loop = doc.link(
+            &reg,
+            PinRef(a, "Output".into()),
+            PinRef(a, "Input 2".into()),
+        );
         assert!(matches!(self_loop, Err(LinkError::Cycle { .. })));
         let def = reg.get("Camera").expect("Camera");
         let out = def
@@ -727,8 +746,15 @@ mod tests {
             .iter()
             .find(|p| !p.ty.links_to(PinType::Float))
             .expect("a camera output that is not a number");
-        let wrong = doc.link(&reg, PinRef(cam, out.name.into()), PinRef(b, "Input 2".into()));
-        assert!(matches!(wrong, Err(LinkError::Incompatible { .. })), "{wrong:?}");
+        let wrong = doc.link(
+            &reg,
+            PinRef(cam, out.name.into()),
+            PinRef(b, "Input 2".into()),
+        );
+        assert!(
+            matches!(wrong, Err(LinkError::Incompatible { .. })),
+            "{wrong:?}"
+        );
         assert_eq!(doc.patch().links.len(), 1, "refused links leave no trace");
     }
 
@@ -757,7 +783,9 @@ mod tests {
         doc.set_value(NodeId(1), "Period", Some(Spread::Float(vec![3.0])), true);
         doc.set_value(NodeId(1), "Period", Some(Spread::Float(vec![4.0])), true);
         assert_eq!(
-            doc.patch().node(NodeId(1)).and_then(|n| n.values.get("Period")),
+            doc.patch()
+                .node(NodeId(1))
+                .and_then(|n| n.values.get("Period")),
             Some(&Spread::Float(vec![4.0]))
         );
         doc.undo();
@@ -765,7 +793,9 @@ mod tests {
         assert!(!doc.can_undo());
         doc.redo();
         assert_eq!(
-            doc.patch().node(NodeId(1)).and_then(|n| n.values.get("Period")),
+            doc.patch()
+                .node(NodeId(1))
+                .and_then(|n| n.values.get("Period")),
             Some(&Spread::Float(vec![4.0]))
         );
     }
@@ -784,7 +814,11 @@ mod tests {
         let new = doc.duplicate(&[a, b], (20.0, 20.0));
         assert_eq!(new.len(), 2);
         assert!(new.iter().all(|id| ![a, b, c].contains(id)));
-        assert_eq!(doc.patch().links.len(), 3, "one inner link copied, the one to c not");
+        assert_eq!(
+            doc.patch().links.len(),
+            3,
+            "one inner link copied, the one to c not"
+        );
         let pasted = doc.patch().node(new[0]).expect("pasted");
         assert_eq!(pasted.pos, (20.0, 20.0));
         doc.undo();
@@ -796,7 +830,11 @@ mod tests {
     fn moves_are_recorded_once_and_undone() {
         let mut doc = lfo_probe();
         doc.move_nodes(&[(NodeId(1), (5.0, 6.0)), (NodeId(2), (0.0, 80.0))]);
-        assert_eq!(doc.undo_label(), Some("move node"), "unmoved nodes are not recorded");
+        assert_eq!(
+            doc.undo_label(),
+            Some("move node"),
+            "unmoved nodes are not recorded"
+        );
         doc.undo();
         assert_eq!(doc.patch().node(NodeId(1)).expect("node").pos, (0.0, 0.0));
     }

@@ -46,11 +46,18 @@ pub fn editable(ty: PinType) -> bool {
 /// Whether a string pin names a file, so it gets a file picker.
 pub fn is_path_pin(name: &str) -> bool {
     let lower = name.to_lowercase();
-    ["file", "path", "filename"].iter().any(|w| lower.contains(w))
+    ["file", "path", "filename"]
+        .iter()
+        .any(|w| lower.contains(w))
 }
 
 /// A compact editor for slice 0, for use on the node itself.
-pub fn edit_first(ui: &mut Ui, ty: PinType, spread: &mut Spread, label: Option<egui::Id>) -> Edited {
+pub fn edit_first(
+    ui: &mut Ui,
+    ty: PinType,
+    spread: &mut Spread,
+    label: Option<egui::Id>,
+) -> Edited {
     if spread.len() > 1 {
         ui.weak(format!("{} slices", spread.len()));
         return Edited::default();
@@ -80,8 +87,12 @@ pub fn edit_spread(
                 && is_path_pin(pin_name)
                 && ui.small_button("Browse…").clicked()
             {
-                ui.ctx()
-                    .data_mut(|d| d.insert_temp(egui::Id::new("file-picker-request"), (pin_name.to_owned(), i)));
+                ui.ctx().data_mut(|d| {
+                    d.insert_temp(
+                        egui::Id::new("file-picker-request"),
+                        (pin_name.to_owned(), i),
+                    )
+                });
             }
             if ui
                 .small_button("−")
@@ -199,7 +210,9 @@ fn edit_slice(
                 .selected_text(v[i].clone())
                 .show_ui(ui, |ui| {
                     for option in def.options {
-                        if ui.selectable_label(v[i] == *option, *option).clicked() && v[i] != *option {
+                        if ui.selectable_label(v[i] == *option, *option).clicked()
+                            && v[i] != *option
+                        {
                             v[i] = (*option).to_owned();
                             changed = true;
                         }

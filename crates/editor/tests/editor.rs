@@ -159,14 +159,22 @@ fn a_node_is_created_through_the_browser_and_undone_and_redone() {
     let nodes = &h.state().doc().patch().nodes;
     assert_eq!(nodes.len(), 1);
     assert_eq!(nodes[0].type_name, "LFO");
-    assert!(h.state().title().starts_with('*'), "unsaved mark: {}", h.state().title());
+    assert!(
+        h.state().title().starts_with('*'),
+        "unsaved mark: {}",
+        h.state().title()
+    );
 
     cmd(&h, Key::Z);
     h.run();
     assert!(h.state().doc().patch().nodes.is_empty(), "undo removes it");
     cmd(&h, Key::Y);
     h.run();
-    assert_eq!(h.state().doc().patch().nodes.len(), 1, "redo brings it back");
+    assert_eq!(
+        h.state().doc().patch().nodes.len(),
+        1,
+        "redo brings it back"
+    );
 }
 
 #[test]
@@ -179,7 +187,10 @@ fn the_browser_filters_by_category_and_places_with_the_arrow_keys() {
     h.event(Event::Text("lighting".into()));
     h.run();
     assert!(h.query_by_label("PointLightBuffer").is_some());
-    assert!(h.query_by_label("LFO").is_none(), "the filter hides other categories");
+    assert!(
+        h.query_by_label("LFO").is_none(),
+        "the filter hides other categories"
+    );
     h.key_press(Key::ArrowDown);
     h.run();
     h.key_press(Key::Enter);
@@ -227,7 +238,10 @@ fn incompatible_and_cyclic_links_are_refused_where_they_are_dropped() {
     drag(&mut h, from, to);
     assert_eq!(h.state().doc().patch().links.len(), 1, "nothing was linked");
     let refusal = h.state().refusal().expect("a refusal message").to_owned();
-    assert!(refusal.contains("Mat4") && refusal.contains("Float"), "{refusal}");
+    assert!(
+        refusal.contains("Mat4") && refusal.contains("Float"),
+        "{refusal}"
+    );
     let shown = h.get_by_label_contains("Link refused");
     assert!(
         (shown.rect().min - to).length() < 60.0,
@@ -250,7 +264,9 @@ fn a_value_is_edited_in_the_inspector_with_one_undo_step_per_drag() {
     assert_eq!(h.state().selected(), vec![NodeId(1)]);
     assert!(h.query_by_label_contains("Inspector").is_some());
     // The inspector's editor is named after its pin (the canvas shows a second one).
-    let editors = h.get_all_by_role_and_label(Role::SpinButton, "Period").collect::<Vec<_>>();
+    let editors = h
+        .get_all_by_role_and_label(Role::SpinButton, "Period")
+        .collect::<Vec<_>>();
     assert_eq!(editors.len(), 2, "one on the node, one in the inspector");
     // The inspector sits right of the canvas and is not zoomed with it.
     let target = editors
@@ -272,7 +288,10 @@ fn a_value_is_edited_in_the_inspector_with_one_undo_step_per_drag() {
     let Some(Spread::Float(v)) = period(&h) else {
         panic!("Period was not set: {:?}", period(&h));
     };
-    assert!(v[0] > 1.0, "dragging right increased the default 1.0: {v:?}");
+    assert!(
+        v[0] > 1.0,
+        "dragging right increased the default 1.0: {v:?}"
+    );
     cmd(&h, Key::Z);
     h.run();
     assert_eq!(period(&h), None, "one undo takes back the whole drag");
@@ -289,7 +308,12 @@ fn an_enum_is_picked_from_its_drop_down() {
     let path = env.patch_file("p.ron", &p);
     let mut h = harness(env.options(Some(path)));
     click_on_canvas(&mut h, "Map (Value)", Modifiers::NONE);
-    let def = h.state().registry().get("Map (Value)").expect("def").clone();
+    let def = h
+        .state()
+        .registry()
+        .get("Map (Value)")
+        .expect("def")
+        .clone();
     let pin = def
         .inputs
         .iter()
@@ -319,7 +343,11 @@ fn an_enum_is_picked_from_its_drop_down() {
     h.get_all_by_label(other).last().expect("option").click();
     h.run();
     assert_eq!(
-        h.state().doc().patch().node(NodeId(1)).and_then(|n| n.values.get(pin.name)),
+        h.state()
+            .doc()
+            .patch()
+            .node(NodeId(1))
+            .and_then(|n| n.values.get(pin.name)),
         Some(&Spread::Enum(vec![other.to_owned()]))
     );
 }
@@ -330,7 +358,10 @@ fn spreads_get_slices_added_and_removed_in_the_inspector() {
     let path = env.patch_file("p.ron", &lfo_probe());
     let mut h = harness(env.options(Some(path)));
     click_on_canvas(&mut h, "LFO", Modifiers::NONE);
-    h.get_all_by_label("+ slice").next().expect("add slice").click();
+    h.get_all_by_label("+ slice")
+        .next()
+        .expect("add slice")
+        .click();
     h.run();
     let period = |h: &Harness<'_, EditorApp>| {
         h.state()
@@ -340,7 +371,10 @@ fn spreads_get_slices_added_and_removed_in_the_inspector() {
             .and_then(|n| n.values.get("Period").cloned())
     };
     assert_eq!(period(&h), Some(Spread::Float(vec![1.0, 1.0])));
-    h.get_all_by_label("−").next().expect("remove slice").click();
+    h.get_all_by_label("−")
+        .next()
+        .expect("remove slice")
+        .click();
     h.run();
     assert_eq!(period(&h), Some(Spread::Float(vec![1.0])));
     cmd(&h, Key::Z);
@@ -360,13 +394,24 @@ fn hovering_a_pin_shows_its_slices() {
     hover_on_canvas(&mut h, "Output");
     // The first four slices, then the count.
     assert!(h.query_by_label_contains(", ...] (5 slices)").is_some());
+
+    // The wire shows the same, hovered halfway along.
+    let a = pin(&h, 1, "Output", false);
+    let b = pin(&h, 2, "Input", true);
+    h.hover_at(a + (b - a) * 0.5);
+    h.run();
+    let tip = h.get_by_label_contains("→");
+    let text = format!("{tip:?}");
+    assert!(text.contains("(5 slices)"), "{text}");
 }
 
 #[test]
 fn a_failing_node_is_red_with_its_message_and_the_rest_runs() {
     let env = Env::new();
     let mut p = lfo_probe();
-    p.nodes[0].values.insert("Nope".into(), Spread::Float(vec![1.0]));
+    p.nodes[0]
+        .values
+        .insert("Nope".into(), Spread::Float(vec![1.0]));
     p.add(NodeDoc::new(3, "LFO").at(20.0, 120.0));
     p.add(NodeDoc::new(4, "Probe").at(120.0, 120.0));
     p.link(3, "Output", 4, "Input");
@@ -380,7 +425,10 @@ fn a_failing_node_is_red_with_its_message_and_the_rest_runs() {
         .expect("the first LFO");
     h.hover_at(on_canvas(&h, top).center());
     h.run();
-    assert!(h.query_by_label_contains("Nope").is_some(), "the error shows on hover");
+    assert!(
+        h.query_by_label_contains("Nope").is_some(),
+        "the error shows on hover"
+    );
     // The header is red: sample it beside the title.
     let image = h.render().expect("render");
     let title = on_canvas(&h, top);
@@ -391,7 +439,11 @@ fn a_failing_node_is_red_with_its_message_and_the_rest_runs() {
     );
     assert!(px[0] > 100 && px[1] < 60, "red header, got {px:?}");
     let stats = h.state().runtime().stats();
-    assert!(stats.node(NodeId(3)).is_some_and(|s| s.run == spreadlight_graph::NodeRun::Evaluated));
+    assert!(
+        stats
+            .node(NodeId(3))
+            .is_some_and(|s| s.run == spreadlight_graph::NodeRun::Evaluated)
+    );
 }
 
 #[test]
@@ -407,7 +459,11 @@ fn copy_paste_duplicate_and_delete_keep_inner_links() {
     cmd(&h, Key::D);
     h.run();
     assert_eq!(h.state().doc().patch().nodes.len(), 4);
-    assert_eq!(h.state().doc().patch().links.len(), 2, "the duplicate has its inner link");
+    assert_eq!(
+        h.state().doc().patch().links.len(),
+        2,
+        "the duplicate has its inner link"
+    );
     cmd(&h, Key::C);
     h.run();
     cmd(&h, Key::V);
@@ -416,7 +472,11 @@ fn copy_paste_duplicate_and_delete_keep_inner_links() {
     assert_eq!(h.state().doc().patch().links.len(), 3);
     h.key_press(Key::Delete);
     h.run();
-    assert_eq!(h.state().doc().patch().nodes.len(), 4, "Del removes the pasted selection");
+    assert_eq!(
+        h.state().doc().patch().nodes.len(),
+        4,
+        "Del removes the pasted selection"
+    );
     assert_eq!(h.state().doc().patch().links.len(), 2);
     cmd(&h, Key::Z);
     h.run();
@@ -437,7 +497,10 @@ fn moving_a_node_is_one_undoable_step() {
     assert_eq!(h.state().doc().undo_label(), Some("move node"));
     cmd(&h, Key::Z);
     h.run();
-    assert_eq!(h.state().doc().patch().node(NodeId(1)).expect("node").pos, (20.0, 20.0));
+    assert_eq!(
+        h.state().doc().patch().node(NodeId(1)).expect("node").pos,
+        (20.0, 20.0)
+    );
 }
 
 #[test]
@@ -452,14 +515,21 @@ fn save_and_reload_give_back_the_same_patch() {
     assert!(h.state().title().starts_with("*p.ron"));
     cmd(&h, Key::S);
     h.run();
-    assert!(h.state().title().starts_with("p.ron"), "saved: {}", h.state().title());
+    assert!(
+        h.state().title().starts_with("p.ron"),
+        "saved: {}",
+        h.state().title()
+    );
     let edited = h.state().doc().patch().clone();
     assert_eq!(format::load(&path).expect("reload"), edited);
 
     let h2 = harness(env.options(Some(path.clone())));
     assert_eq!(h2.state().doc().patch(), &edited, "reopened unchanged");
     assert!(!h2.state().doc().is_dirty());
-    assert!(!h2.state().recovery_offered(), "a saved patch leaves no autosave behind");
+    assert!(
+        !h2.state().recovery_offered(),
+        "a saved patch leaves no autosave behind"
+    );
 }
 
 #[test]
@@ -471,7 +541,7 @@ fn save_as_goes_through_the_file_dialog_and_is_remembered() {
     h.key_press_modifiers(Modifiers::COMMAND | Modifiers::SHIFT, Key::S);
     h.run();
     let target = env.dir.path().join("scene.ron");
-    h.get_by_role(Role::TextInput).focus();
+    h.get_by_role_and_label(Role::TextInput, "File:").focus();
     h.run();
     h.key_press_modifiers(Modifiers::COMMAND, Key::A);
     h.event(Event::Text(target.display().to_string()));
@@ -481,7 +551,10 @@ fn save_as_goes_through_the_file_dialog_and_is_remembered() {
     assert_eq!(h.state().path(), Some(target.as_path()));
     assert_eq!(format::load(&target).expect("saved").nodes.len(), 1);
     let recent = spreadlight_editor::files::load_recent(&env.config());
-    assert_eq!(recent.first().and_then(|p| p.file_name()), target.file_name());
+    assert_eq!(
+        recent.first().and_then(|p| p.file_name()),
+        target.file_name()
+    );
 }
 
 fn recovery_of(path: &Path) -> PathBuf {
@@ -511,11 +584,18 @@ fn an_autosave_is_offered_after_a_crash_and_restores_the_edits() {
     };
     let mut h = harness(env.options(Some(path.clone())));
     assert!(h.state().recovery_offered());
-    assert_eq!(h.state().doc().patch(), &lfo_probe(), "nothing restored before the answer");
+    assert_eq!(
+        h.state().doc().patch(),
+        &lfo_probe(),
+        "nothing restored before the answer"
+    );
     h.get_by_label("Restore").click();
     h.run();
     assert_eq!(h.state().doc().patch(), &edited);
-    assert!(h.state().doc().is_dirty(), "restored edits are unsaved until saved");
+    assert!(
+        h.state().doc().is_dirty(),
+        "restored edits are unsaved until saved"
+    );
     cmd(&h, Key::S);
     h.run();
     assert!(!recovery_of(&path).exists(), "saving removes the autosave");
@@ -539,7 +619,11 @@ fn quitting_with_unsaved_changes_asks_first() {
     h.get_by_label("Cancel").click();
     h.run();
     assert!(h.query_by_label("Unsaved changes").is_none());
-    assert_eq!(h.state().doc().patch().nodes.len(), 3, "cancel keeps editing");
+    assert_eq!(
+        h.state().doc().patch().nodes.len(),
+        3,
+        "cancel keeps editing"
+    );
 }
 
 #[test]
@@ -549,7 +633,11 @@ fn paused_patches_evaluate_only_on_change_or_step() {
     let mut h = harness(env.options(Some(path)));
     let before = h.state().evaluations();
     h.run_steps(5);
-    assert_eq!(h.state().evaluations(), before, "nothing changed, nothing ran");
+    assert_eq!(
+        h.state().evaluations(),
+        before,
+        "nothing changed, nothing ran"
+    );
     let frame = h.state().frame();
     h.get_by_label("⏭ Step").click();
     h.run();
@@ -562,6 +650,8 @@ fn paused_patches_evaluate_only_on_change_or_step() {
     assert_eq!(h.state().evaluations(), before + 2, "an edit re-evaluates");
     h.get_by_label("▶ Play").click();
     h.run_steps(5);
-    assert!(h.state().evaluations() >= before + 5, "time runs while playing");
+    assert!(
+        h.state().evaluations() >= before + 5,
+        "time runs while playing"
+    );
 }
-

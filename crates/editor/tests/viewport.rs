@@ -60,12 +60,18 @@ fn the_viewport_shows_the_output_rendered_on_egui_s_device() {
     let ppp = h.ctx.pixels_per_point();
     assert_eq!(
         (texture.width(), texture.height()),
-        ((rect.width() * ppp).round() as u32, (rect.height() * ppp).round() as u32),
+        (
+            (rect.width() * ppp).round() as u32,
+            (rect.height() * ppp).round() as u32
+        ),
         "rendered at the panel's size in pixels"
     );
     let image = h.render().expect("render the window");
     let colours = distinct_colours(&image, rect, ppp);
-    assert!(colours > 20, "the lit scene has many colours, got {colours}");
+    assert!(
+        colours > 20,
+        "the lit scene has many colours, got {colours}"
+    );
     image
         .save(dir.path().join("window.png"))
         .expect("the image can be written");
@@ -75,7 +81,8 @@ fn the_viewport_shows_the_output_rendered_on_egui_s_device() {
 fn a_second_viewport_shows_any_texture_pin() {
     let dir = tempfile::tempdir().expect("tempdir");
     let mut h = harness(&dir);
-    h.get_by_role_and_label(Role::ComboBox, "Texture pin").click();
+    h.get_by_role_and_label(Role::ComboBox, "Texture pin")
+        .click();
     h.run();
     // The drop-down lists pins as "Type #id.Pin".
     h.get_by_label_contains("CompositeLight #").click();
@@ -91,7 +98,10 @@ fn a_second_viewport_shows_any_texture_pin() {
 fn timings_show_cpu_per_node_and_gpu_per_render_node() {
     let dir = tempfile::tempdir().expect("tempdir");
     let mut h = harness(&dir);
-    assert!(h.query_by_label_contains("CPU ").is_none(), "hidden until asked");
+    assert!(
+        h.query_by_label_contains("CPU ").is_none(),
+        "hidden until asked"
+    );
     h.get_by_label("⏱ Timings").click();
     h.run();
     let cpu = h.query_all_by_label_contains("CPU ").count();
