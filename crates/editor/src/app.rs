@@ -1141,12 +1141,31 @@ impl EditorApp {
         let hits = browser::filter(&self.registry, &b.query);
         let mut place = None;
         let mut close = false;
-        egui::Area::new(Id::new("node-browser"))
+        let opened_now = b.focus;
+        let area = egui::Area::new(Id::new("node-browser"))
             .fixed_pos(b.screen)
             .order(egui::Order::Foreground)
             .show(ctx, |ui| {
                 egui::Frame::popup(ui.style()).show(ui, |ui| {
                     ui.set_width(260.0);
+                    let (down, up, enter, escape) = ui.input(|i| {
+                        (
+                            i.key_pressed(Key::ArrowDown),
+                            i.key_pressed(Key::ArrowUp),
+                            i.key_pressed(Key::Enter),
+                            // egui takes Esc to unfocus the text field; the raw input still has it.
+                            i.raw.events.iter().any(|e| {
+                                matches!(
+                                    e,
+                                    egui::Event::Key {
+                                        key: Key::Escape,
+                                        pressed: true,
+                                        ..
+                                    }
+                                )
+                            }),
+                        )
+                    });
                     let edit = ui.add(
                         egui::TextEdit::singleline(&mut b.query)
                             .hint_text("type a node name or category")
@@ -1159,14 +1178,6 @@ impl EditorApp {
                     if edit.changed() {
                         b.highlighted = 0;
                     }
-                    let (down, up, enter, escape) = ui.input(|i| {
-                        (
-                            i.key_pressed(Key::ArrowDown),
-                            i.key_pressed(Key::ArrowUp),
-                            i.key_pressed(Key::Enter),
-                            i.key_pressed(Key::Escape),
-                        )
-                    });
                     if down {
                         b.highlighted = (b.highlighted + 1).min(hits.len().saturating_sub(1));
                     }
@@ -1197,6 +1208,10 @@ impl EditorApp {
                         });
                 });
             });
+        // A click anywhere else closes it, as a popup menu does.
+        if !opened_now && area.response.clicked_elsewhere() {
+            close = true;
+        }
         if let Some(name) = place {
             let at = b.at;
             let id = self.doc.add_node(name, at);

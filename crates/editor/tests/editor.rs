@@ -178,6 +178,35 @@ fn a_node_is_created_through_the_browser_and_undone_and_redone() {
 }
 
 #[test]
+fn the_browser_closes_on_escape_and_on_a_click_elsewhere() {
+    let env = Env::new();
+    let mut h = harness(env.options(None));
+    let at = Pos2::new(300.0, 300.0);
+    double_click(&mut h, at);
+    h.run();
+    assert!(h.query_by_label("LFO").is_some(), "open");
+    h.key_press(Key::Escape);
+    h.run();
+    assert!(h.query_by_label("LFO").is_none(), "Esc closes it");
+    double_click(&mut h, at);
+    h.run();
+    assert!(h.query_by_label("LFO").is_some(), "open again");
+    h.hover_at(Pos2::new(700.0, 600.0));
+    h.step();
+    h.drag_at(Pos2::new(700.0, 600.0));
+    h.drop_at(Pos2::new(700.0, 600.0));
+    h.run();
+    assert!(
+        h.query_by_label("LFO").is_none(),
+        "a click elsewhere closes it"
+    );
+    assert!(
+        h.state().doc().patch().nodes.is_empty(),
+        "and places nothing"
+    );
+}
+
+#[test]
 fn the_browser_filters_by_category_and_places_with_the_arrow_keys() {
     let env = Env::new();
     let mut h = harness(env.options(None));
