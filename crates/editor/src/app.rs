@@ -62,7 +62,7 @@ impl EditorOptions {
         EditorOptions {
             path,
             config_dir: files::config_dir(),
-            autosave_secs: 5.0,
+            autosave_secs: 2.0,
             automation: None,
         }
     }

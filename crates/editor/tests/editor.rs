@@ -684,3 +684,42 @@ fn paused_patches_evaluate_only_on_change_or_step() {
         "time runs while playing"
     );
 }
+
+#[test]
+fn links_are_removed_from_the_inspector_and_by_right_clicking_a_pin() {
+    let env = Env::new();
+    let mut p = lfo_probe();
+    p.link(1, "Output", 2, "Input");
+    let path = env.patch_file("p.ron", &p);
+    let mut h = harness(env.options(Some(path)));
+    click_on_canvas(&mut h, "Probe", Modifiers::NONE);
+    h.get_by_label("unlink").click();
+    h.run();
+    assert!(
+        h.state().doc().patch().links.is_empty(),
+        "unlinked in the inspector"
+    );
+    cmd(&h, Key::Z);
+    h.run();
+    assert_eq!(h.state().doc().patch().links.len(), 1, "undo relinks");
+
+    let input = pin(&h, 2, "Input", true);
+    h.hover_at(input);
+    h.step();
+    for pressed in [true, false] {
+        h.event(Event::PointerButton {
+            pos: input,
+            button: PointerButton::Secondary,
+            pressed,
+            modifiers: Modifiers::NONE,
+        });
+    }
+    h.run();
+    assert!(
+        h.state().doc().patch().links.is_empty(),
+        "right-click on the pin unlinks"
+    );
+    cmd(&h, Key::Z);
+    h.run();
+    assert_eq!(h.state().doc().patch().links.len(), 1);
+}
