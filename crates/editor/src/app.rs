@@ -608,6 +608,14 @@ impl EditorApp {
                 (link.from.node(), link.from.pin().to_owned())
             }
         };
+        let needed = self
+            .runtime
+            .network()
+            .index_of(node)
+            .is_some_and(|i| self.runtime.network().is_needed(i));
+        if !needed {
+            return Err(ViewportError::NotEvaluated(format!("{node}.{pin}")));
+        }
         match self.runtime.output(node, &pin).map(|s| &**s) {
             Some(Spread::Resource(ResourceKind::Texture, handles)) => handles
                 .first()

@@ -11,6 +11,8 @@ use thiserror::Error;
 pub enum ViewportError {
     #[error("nothing to show: link a texture into the Output node, or pick a texture pin")]
     NoTexture,
+    #[error("{0} feeds no Output, so it is not evaluated")]
+    NotEvaluated(String),
     #[error("rendering failed: {0}")]
     Render(String),
     #[error("the frame produced no `{0}`")]

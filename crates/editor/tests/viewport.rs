@@ -84,8 +84,8 @@ fn a_second_viewport_shows_any_texture_pin() {
     h.get_by_role_and_label(Role::ComboBox, "Texture pin")
         .click();
     h.run();
-    // The drop-down lists pins as "Type #id.Pin".
-    h.get_by_label_contains("CompositeLight #").click();
+    // Pins are listed as "Type #id.Pin"; the first light's diffuse term is near the top.
+    h.get_by_label("CookTorrance #23.Diffuse").click();
     h.run();
     assert_eq!(h.state().viewport_error(1), None);
     let rect = h.state().viewport_rect(1).expect("second viewport drawn");
