@@ -723,3 +723,32 @@ fn links_are_removed_from_the_inspector_and_by_right_clicking_a_pin() {
     h.run();
     assert_eq!(h.state().doc().patch().links.len(), 1);
 }
+
+#[test]
+fn patches_open_through_the_dialog_and_the_recent_list() {
+    let env = Env::new();
+    let first = env.patch_file("first.ron", &lfo_probe());
+    let mut other = lfo_probe();
+    other.add(NodeDoc::new(3, "LFO").at(50.0, 100.0));
+    let second = env.patch_file("second.ron", &other);
+    let mut h = harness(env.options(Some(first.clone())));
+
+    cmd(&h, Key::O);
+    h.run();
+    h.get_by_label("second.ron").click();
+    h.run();
+    h.get_by_label("Open").click();
+    h.run();
+    assert_eq!(h.state().path(), Some(second.as_path()));
+    assert_eq!(h.state().doc().patch(), &other);
+    assert!(h.state().title().starts_with("second.ron"));
+
+    h.get_by_label("File").click();
+    h.run();
+    h.get_by_label_contains("Open recent").hover();
+    h.run();
+    let listed = std::fs::canonicalize(&first).expect("canonical");
+    h.get_by_label(&listed.display().to_string()).click();
+    h.run();
+    assert_eq!(h.state().doc().patch(), &lfo_probe());
+}
