@@ -9,7 +9,7 @@ use egui::{Id, Key, KeyboardShortcut, LayerId, Modifiers, Pos2, Ui, ViewportComm
 use egui_snarl::Snarl;
 use egui_snarl::ui::SnarlWidget;
 use spreadlight_graph::{
-    FrameClock, NodeId, Patch, PinRef, PinType, Registry, ResourceKind, Runtime, Spread, format,
+    FrameClock, NodeId, PinRef, PinType, Registry, ResourceKind, Runtime, Spread, format,
 };
 use spreadlight_render::{GpuContext, Renderer, TextureRef};
 
@@ -156,6 +156,7 @@ pub struct EditorApp {
     snarl: Snarl<CanvasNode>,
     snarl_ids: HashMap<NodeId, egui_snarl::NodeId>,
     selected: BTreeSet<NodeId>,
+    focused: Option<NodeId>,
     browser: Option<BrowserState>,
     refusal: Option<Refusal>,
     clipboard: Clip,
@@ -241,6 +242,7 @@ impl EditorApp {
             snarl: Snarl::new(),
             snarl_ids: HashMap::new(),
             selected: BTreeSet::new(),
+            focused: None,
             browser: None,
             refusal: None,
             clipboard: Clip::default(),
@@ -515,23 +517,21 @@ impl EditorApp {
 
     // ----- edits -----
 
+    /// The node the inspector shows: the last one clicked, while it is selected.
     fn focus_node(&self) -> Option<NodeId> {
-        let ids = self.all_selected(None);
-        ids.last().copied()
+        self.focused
+            .filter(|id| self.selected.contains(id))
+            .or_else(|| self.selected.last().copied())
     }
 
-    fn all_selected(&self, _ctx: Option<&egui::Context>) -> Vec<NodeId> {
-        self.selected.iter().copied().collect()
-    }
-
-    pub fn delete_selected(&mut self, ctx: &egui::Context) {
-        let ids = self.all_selected(Some(ctx));
+    pub fn delete_selected(&mut self) {
+        let ids = self.selected();
         self.doc.delete_nodes(&ids);
         self.selected.clear();
     }
 
-    pub fn copy_selected(&mut self, ctx: &egui::Context) {
-        let ids = self.all_selected(Some(ctx));
+    pub fn copy_selected(&mut self) {
+        let ids = self.selected();
         if !ids.is_empty() {
             self.clipboard = self.doc.copy(&ids);
             self.pastes = 0;
@@ -548,8 +548,8 @@ impl EditorApp {
         }
     }
 
-    pub fn duplicate_selected(&mut self, ctx: &egui::Context) {
-        let ids = self.all_selected(Some(ctx));
+    pub fn duplicate_selected(&mut self) {
+        let ids = self.selected();
         let new = self.doc.duplicate(&ids, (20.0, 20.0));
         if !new.is_empty() {
             self.selected = new.into_iter().collect();
@@ -595,7 +595,7 @@ impl EditorApp {
                 let is_output =
                     |id: &NodeId| patch.node(*id).is_some_and(|n| n.type_name == "Output");
                 let chosen = self
-                    .all_selected(None)
+                    .selected()
                     .into_iter()
                     .rev()
                     .find(is_output)
@@ -698,7 +698,7 @@ impl EditorApp {
             self.doc.undo();
         }
         if consume(cmd(Key::D)) {
-            self.duplicate_selected(ctx);
+            self.duplicate_selected();
         }
         let (copy, paste) = ctx.input(|i| {
             let copy = i.events.iter().any(|e| matches!(e, egui::Event::Copy))
@@ -712,13 +712,13 @@ impl EditorApp {
             (copy, paste)
         });
         if copy {
-            self.copy_selected(ctx);
+            self.copy_selected();
         }
         if paste {
             self.paste();
         }
         if ctx.input_mut(|i| i.consume_key(Modifiers::NONE, Key::Delete)) {
-            self.delete_selected(ctx);
+            self.delete_selected();
         }
         if ctx.input_mut(|i| i.consume_key(Modifiers::NONE, Key::Escape)) {
             self.selected.clear();
@@ -799,18 +799,17 @@ impl EditorApp {
                     self.doc.redo();
                 }
                 ui.separator();
-                let ctx = ui.ctx().clone();
                 if ui.button("Copy").clicked() {
-                    self.copy_selected(&ctx);
+                    self.copy_selected();
                 }
                 if ui.button("Paste").clicked() {
                     self.paste();
                 }
                 if ui.button("Duplicate").clicked() {
-                    self.duplicate_selected(&ctx);
+                    self.duplicate_selected();
                 }
                 if ui.button("Delete").clicked() {
-                    self.delete_selected(&ctx);
+                    self.delete_selected();
                 }
             });
             ui.separator();
@@ -1095,6 +1094,7 @@ impl EditorApp {
                         self.selected.clear();
                     }
                     self.selected.insert(id);
+                    self.focused = Some(id);
                 }
                 None if response.hovered() && !add => self.selected.clear(),
                 None => {}
@@ -1539,9 +1539,4 @@ impl eframe::App for EditorApp {
     fn ui(&mut self, ui: &mut Ui, frame: &mut eframe::Frame) {
         self.show_frame(ui, Some(frame));
     }
-}
-
-/// Load a patch into a fresh document (for tests and the CLI).
-pub fn load_patch(path: &Path) -> Result<Patch, spreadlight_graph::FormatError> {
-    format::load(path)
 }
