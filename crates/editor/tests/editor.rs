@@ -686,7 +686,7 @@ fn paused_patches_evaluate_only_on_change_or_step() {
 }
 
 #[test]
-fn links_are_removed_from_the_inspector_and_by_right_clicking_a_pin() {
+fn links_are_removed_from_the_inspector_and_by_right_clicking_a_pin_or_wire() {
     let env = Env::new();
     let mut p = lfo_probe();
     p.link(1, "Output", 2, "Input");
@@ -718,6 +718,28 @@ fn links_are_removed_from_the_inspector_and_by_right_clicking_a_pin() {
     assert!(
         h.state().doc().patch().links.is_empty(),
         "right-click on the pin unlinks"
+    );
+    cmd(&h, Key::Z);
+    h.run();
+    assert_eq!(h.state().doc().patch().links.len(), 1);
+
+    let a = pin(&h, 1, "Output", false);
+    let b = pin(&h, 2, "Input", true);
+    let middle = a + (b - a) * 0.5;
+    h.hover_at(middle);
+    h.run();
+    for pressed in [true, false] {
+        h.event(Event::PointerButton {
+            pos: middle,
+            button: PointerButton::Secondary,
+            pressed,
+            modifiers: Modifiers::NONE,
+        });
+    }
+    h.run();
+    assert!(
+        h.state().doc().patch().links.is_empty(),
+        "right-click on the wire unlinks"
     );
     cmd(&h, Key::Z);
     h.run();
