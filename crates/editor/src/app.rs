@@ -153,6 +153,8 @@ pub struct EditorApp {
     viewports: [Viewport; 2],
     viewport_rects: [Option<egui::Rect>; 2],
     gpu_ms: HashMap<u32, f64>,
+    /// Errors of the viewport's passes, by the node that declared them.
+    gpu_errors: HashMap<u32, String>,
     snarl: Snarl<CanvasNode>,
     snarl_ids: HashMap<NodeId, egui_snarl::NodeId>,
     selected: BTreeSet<NodeId>,
@@ -194,7 +196,7 @@ impl EditorApp {
         render_state: Option<egui_wgpu::RenderState>,
         options: EditorOptions,
     ) -> Self {
-        let registry = spreadlight_nodes::registry();
+        let registry = crate::nodes::registry();
         let mut runtime = Runtime::new(registry.clone());
         let (gpu, gpu_error) = match render_state {
             Some(state) => {
@@ -239,6 +241,7 @@ impl EditorApp {
             viewports: [Viewport::new(Source::Output), Viewport::new(Source::None)],
             viewport_rects: [None; 2],
             gpu_ms: HashMap::new(),
+            gpu_errors: HashMap::new(),
             snarl: Snarl::new(),
             snarl_ids: HashMap::new(),
             selected: BTreeSet::new(),
@@ -658,6 +661,12 @@ impl EditorApp {
                                 *self.gpu_ms.entry(owner).or_default() += ms;
                             }
                         }
+                        self.gpu_errors.clear();
+                        for (owner, message) in report.errors {
+                            if let Some(owner) = owner {
+                                self.gpu_errors.insert(owner, message);
+                            }
+                        }
                     }
                 }
                 Err(e) => v.error = Some(e),
@@ -1041,6 +1050,7 @@ impl EditorApp {
                 node_rects: &mut node_rects,
                 show_timings: self.show_timings,
                 gpu_ms: &self.gpu_ms,
+                gpu_errors: &self.gpu_errors,
                 refusal: &mut self.refusal,
                 pins: self.pins.clone(),
                 pointer: self.last_pointer,

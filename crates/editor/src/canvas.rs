@@ -108,6 +108,7 @@ pub struct Canvas<'a> {
     pub node_rects: &'a mut Vec<(NodeId, Rect)>,
     pub show_timings: bool,
     pub gpu_ms: &'a HashMap<u32, f64>,
+    pub gpu_errors: &'a HashMap<u32, String>,
     pub refusal: &'a mut Option<Refusal>,
     pub pins: PinPositions,
     /// The last place the pointer was seen (a drop may come with the pointer leaving).
@@ -142,7 +143,8 @@ impl Canvas<'_> {
         Some((id, p.name, p.ty))
     }
 
-    /// The node's error: a problem found when compiling or the error of its last run.
+    /// The node's error: a problem found when compiling, the error of its last
+    /// run, or an error of a GPU pass it declared in the viewport's frame.
     fn error_of(&self, id: NodeId) -> Option<String> {
         let mut messages: Vec<String> = self
             .runtime
@@ -156,6 +158,9 @@ impl Canvas<'_> {
             .collect();
         if let Some(e) = self.runtime.node_error(id) {
             messages.push(e.to_string());
+        }
+        if let Some(e) = self.gpu_errors.get(&id.0) {
+            messages.push(format!("GPU: {e}"));
         }
         (!messages.is_empty()).then(|| messages.join("\n"))
     }

@@ -10,6 +10,7 @@ pub mod canvas;
 pub mod files;
 pub mod gpu;
 pub mod model;
+pub mod nodes;
 pub mod values;
 pub mod viewport;
 
