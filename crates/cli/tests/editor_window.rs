@@ -128,14 +128,14 @@ fn big_patch(chains: u32) -> spreadlight_graph::Patch {
     let mut p = Patch::default();
     for c in 0..chains {
         let base = c * 5 + 1;
-        let (x, y) = ((c % 10) as f32 * 80.0, (c / 10) as f32 * 120.0);
+        let (x, y) = ((c % 10) as f32 * 120.0, (c / 10) as f32 * 400.0);
         p.add(NodeDoc::new(base, "LFO").at(x, y));
-        p.add(NodeDoc::new(base + 1, "Multiply (Value)").at(x, y + 20.0));
-        p.add(NodeDoc::new(base + 2, "Add (Value)").at(x, y + 40.0));
-        p.add(NodeDoc::new(base + 3, "Sin (Value)").at(x, y + 60.0));
+        p.add(NodeDoc::new(base + 1, "Multiply (Value)").at(x, y + 80.0));
+        p.add(NodeDoc::new(base + 2, "Add (Value)").at(x, y + 160.0));
+        p.add(NodeDoc::new(base + 3, "Sin (Value)").at(x, y + 240.0));
         p.add(
             NodeDoc::new(base + 4, "Probe")
-                .at(x, y + 80.0)
+                .at(x, y + 320.0)
                 .with("Name", vec![format!("p{c}")]),
         );
         p.link(base, "Output", base + 1, "Input 1");

@@ -19,6 +19,9 @@ use crate::values;
 /// (vvvv's nodes are small); snarl's nodes are larger.
 pub const SCALE: f32 = 3.0;
 
+/// Below this zoom the canvas shows pins without their value editors (the inspector still edits).
+pub const EDITOR_MIN_ZOOM: f32 = 0.5;
+
 /// What snarl stores per node: which document node it shows.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct CanvasNode(pub NodeId);
@@ -311,7 +314,14 @@ impl SnarlViewer<CanvasNode> for Canvas<'_> {
                 shown.unwrap_or_else(|| "no value yet".into())
             ));
         }
+        // Zoomed far out the editors are too small to use, and a big patch
+        // would spend most of its frame drawing them.
+        let zoom = ui
+            .ctx()
+            .layer_transform_to_global(ui.layer_id())
+            .map_or(1.0, |t| t.scaling);
         if linked.is_none()
+            && zoom >= EDITOR_MIN_ZOOM
             && values::editable(ty)
             && let Some(mut value) = self.doc.input_value(self.registry, id, name)
         {
