@@ -159,6 +159,8 @@ pub struct EditorApp {
     snarl_ids: HashMap<NodeId, egui_snarl::NodeId>,
     selected: BTreeSet<NodeId>,
     focused: Option<NodeId>,
+    /// Where a Shift-drag selection rectangle started, while it is being drawn.
+    rect_select: Option<Pos2>,
     browser: Option<BrowserState>,
     refusal: Option<Refusal>,
     clipboard: Clip,
@@ -246,6 +248,7 @@ impl EditorApp {
             snarl_ids: HashMap::new(),
             selected: BTreeSet::new(),
             focused: None,
+            rect_select: None,
             browser: None,
             refusal: None,
             clipboard: Clip::default(),
@@ -1110,6 +1113,7 @@ impl EditorApp {
                 None => {}
             }
         }
+        self.rectangle_selection(ui, &response, &node_rects);
         // Hovering a wire shows what flows through it, as hovering its output pin does.
         if response.hovered()
             && let Some(p) = ui.input(|i| i.pointer.hover_pos())
@@ -1148,6 +1152,58 @@ impl EditorApp {
                         });
                     });
                 ui.ctx().request_repaint();
+            }
+        }
+    }
+
+    /// Shift-drag on empty canvas selects every node the rectangle touches
+    /// (Shift keeps the selection and adds to it, as Shift-click does).
+    fn rectangle_selection(
+        &mut self,
+        ui: &Ui,
+        canvas: &egui::Response,
+        node_rects: &[(NodeId, egui::Rect)],
+    ) {
+        let (pressed, released, shift, pos) = ui.input(|i| {
+            (
+                i.pointer.primary_pressed(),
+                i.pointer.primary_released(),
+                i.modifiers.shift,
+                i.pointer.latest_pos(),
+            )
+        });
+        let Some(pos) = pos.map(|p| p.clamp(ui.max_rect().min, ui.max_rect().max)) else {
+            return;
+        };
+        // `contains_pointer`, not `hovered`: with Shift held snarl puts its own
+        // (hidden) selection layer over the canvas.
+        let on_empty_canvas =
+            canvas.contains_pointer() && !node_rects.iter().any(|(_, r)| r.contains(pos));
+        if pressed && shift && on_empty_canvas {
+            self.rect_select = Some(pos);
+        }
+        let Some(start) = self.rect_select else {
+            return;
+        };
+        let area = egui::Rect::from_two_pos(start, pos);
+        ui.ctx()
+            .layer_painter(LayerId::new(
+                egui::Order::Foreground,
+                Id::new("rect-select"),
+            ))
+            .rect(
+                area,
+                0.0,
+                egui::Color32::from_rgba_unmultiplied(90, 170, 255, 30),
+                egui::Stroke::new(1.0, egui::Color32::from_rgb(90, 170, 255)),
+                egui::StrokeKind::Inside,
+            );
+        if released {
+            self.rect_select = None;
+            for (id, r) in node_rects {
+                if r.intersects(area) {
+                    self.selected.insert(*id);
+                }
             }
         }
     }

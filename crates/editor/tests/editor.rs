@@ -774,3 +774,52 @@ fn patches_open_through_the_dialog_and_the_recent_list() {
     h.run();
     assert_eq!(h.state().doc().patch(), &lfo_probe());
 }
+
+#[test]
+fn shift_dragging_a_rectangle_selects_the_nodes_it_touches() {
+    let env = Env::new();
+    let mut p = lfo_probe();
+    p.add(NodeDoc::new(3, "LFO").at(20.0, 200.0));
+    let path = env.patch_file("p.ron", &p);
+    let mut h = harness(env.options(Some(path)));
+    let lfo = on_canvas(&h, h.get_all_by_label("LFO").next().expect("LFO").rect());
+    let probe = on_canvas(&h, h.get_by_label("Probe").rect());
+    // From above and left of the first LFO to the Probe's title: the two upper nodes, not node 3.
+    let from = lfo.left_top() - Vec2::new(30.0, 30.0);
+    let to = probe.center();
+    h.hover_at(from);
+    h.step();
+    h.event_modifiers(
+        Event::PointerButton {
+            pos: from,
+            button: PointerButton::Primary,
+            pressed: true,
+            modifiers: Modifiers::SHIFT,
+        },
+        Modifiers::SHIFT,
+    );
+    h.step();
+    for k in 1..=5 {
+        h.event_modifiers(
+            Event::PointerMoved(from + (to - from) * (k as f32 / 5.0)),
+            Modifiers::SHIFT,
+        );
+        h.step();
+    }
+    h.event_modifiers(
+        Event::PointerButton {
+            pos: to,
+            button: PointerButton::Primary,
+            pressed: false,
+            modifiers: Modifiers::SHIFT,
+        },
+        Modifiers::SHIFT,
+    );
+    h.run();
+    assert_eq!(h.state().selected(), vec![NodeId(1), NodeId(2)]);
+    assert_eq!(
+        h.state().doc().undo_label(),
+        None,
+        "selecting moved nothing"
+    );
+}
