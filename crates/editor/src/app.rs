@@ -536,12 +536,36 @@ impl EditorApp {
         self.selected.clear();
     }
 
-    pub fn copy_selected(&mut self) {
+    /// Copy the selection; with a context, also onto the system clipboard as
+    /// patch text, so another editor window (or a text editor) can take it.
+    pub fn copy_selected(&mut self, ctx: Option<&egui::Context>) {
         let ids = self.selected();
         if !ids.is_empty() {
             self.clipboard = self.doc.copy(&ids);
             self.pastes = 0;
             self.status = format!("copied {} nodes", ids.len());
+            let as_patch = spreadlight_graph::Patch {
+                nodes: self.clipboard.nodes.clone(),
+                links: self.clipboard.links.clone(),
+                ..Default::default()
+            };
+            if let (Some(ctx), Ok(text)) = (ctx, format::to_string(&as_patch)) {
+                ctx.copy_text(text);
+            }
+        }
+    }
+
+    /// Take nodes pasted from the system clipboard when the text is a patch.
+    fn take_pasted_text(&mut self, text: &str) {
+        if let Ok(patch) = format::from_str(text, Path::new("clipboard")) {
+            let clip = Clip {
+                nodes: patch.nodes,
+                links: patch.links,
+            };
+            if clip != self.clipboard {
+                self.clipboard = clip;
+                self.pastes = 0;
+            }
         }
     }
 
@@ -712,19 +736,26 @@ impl EditorApp {
         if consume(cmd(Key::D)) {
             self.duplicate_selected();
         }
-        let (copy, paste) = ctx.input(|i| {
+        let (copy, paste, pasted_text) = ctx.input(|i| {
             let copy = i.events.iter().any(|e| matches!(e, egui::Event::Copy))
                 || i.events.iter().any(|e| {
                     matches!(e, egui::Event::Key { key: Key::C, pressed: true, modifiers, .. } if modifiers.command)
                 });
-            let paste = i.events.iter().any(|e| matches!(e, egui::Event::Paste(_)))
+            let pasted_text = i.events.iter().find_map(|e| match e {
+                egui::Event::Paste(text) => Some(text.clone()),
+                _ => None,
+            });
+            let paste = pasted_text.is_some()
                 || i.events.iter().any(|e| {
                     matches!(e, egui::Event::Key { key: Key::V, pressed: true, modifiers, .. } if modifiers.command)
                 });
-            (copy, paste)
+            (copy, paste, pasted_text)
         });
         if copy {
-            self.copy_selected();
+            self.copy_selected(Some(ctx));
+        }
+        if let Some(text) = pasted_text {
+            self.take_pasted_text(&text);
         }
         if paste {
             self.paste();
@@ -812,7 +843,7 @@ impl EditorApp {
                 }
                 ui.separator();
                 if ui.button("Copy").clicked() {
-                    self.copy_selected();
+                    self.copy_selected(Some(ui.ctx()));
                 }
                 if ui.button("Paste").clicked() {
                     self.paste();

@@ -823,3 +823,39 @@ fn shift_dragging_a_rectangle_selects_the_nodes_it_touches() {
         "selecting moved nothing"
     );
 }
+
+#[test]
+fn nodes_travel_between_windows_as_patch_text_on_the_clipboard() {
+    let env = Env::new();
+    let mut p = lfo_probe();
+    p.link(1, "Output", 2, "Input");
+    let path = env.patch_file("p.ron", &p);
+    let mut source = harness(env.options(Some(path)));
+    click_on_canvas(&mut source, "LFO", Modifiers::NONE);
+    click_on_canvas(&mut source, "Probe", Modifiers::SHIFT);
+    // A real window turns Ctrl+C into egui's Copy event; one event, one frame, whose output has the text.
+    source.event(Event::Copy);
+    source.step();
+    let text = source
+        .output()
+        .platform_output
+        .commands
+        .iter()
+        .find_map(|c| match c {
+            egui::OutputCommand::CopyText(text) => Some(text.clone()),
+            _ => None,
+        })
+        .expect("the selection went to the system clipboard");
+    assert!(
+        text.contains("\"LFO\"") && text.contains("\"Probe\""),
+        "{text}"
+    );
+
+    let mut target = harness(env.options(None));
+    target.event(Event::Paste(text));
+    target.run();
+    let pasted = target.state().doc().patch();
+    assert_eq!(pasted.nodes.len(), 2);
+    assert_eq!(pasted.links.len(), 1, "with the link between them");
+    assert_eq!(pasted.nodes[0].type_name, "LFO");
+}
