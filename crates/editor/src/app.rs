@@ -70,6 +70,9 @@ impl EditorOptions {
 
 const CANVAS_ID: &str = "spreadlight-canvas";
 
+/// Measure, fit, measure, fit (see `EditorApp::fit`).
+const FIT_FROM_SCRATCH: u8 = 4;
+
 struct BrowserState {
     /// Where the node goes, in patch units.
     at: (f32, f32),
@@ -161,6 +164,12 @@ pub struct EditorApp {
     focused: Option<NodeId>,
     /// Where a Shift-drag selection rectangle started, while it is being drawn.
     rect_select: Option<Pos2>,
+    /// Fitting the view to the patch alternates measuring the nodes (even)
+    /// and fitting them (odd) down to 0, twice: node sizes change with zoom
+    /// (editors are left out when small), so one pass may not settle.
+    fit: u8,
+    node_rects: Vec<(NodeId, egui::Rect)>,
+    canvas_rect: Option<egui::Rect>,
     browser: Option<BrowserState>,
     refusal: Option<Refusal>,
     clipboard: Clip,
@@ -249,6 +258,9 @@ impl EditorApp {
             selected: BTreeSet::new(),
             focused: None,
             rect_select: None,
+            fit: FIT_FROM_SCRATCH,
+            node_rects: Vec::new(),
+            canvas_rect: None,
             browser: None,
             refusal: None,
             clipboard: Clip::default(),
@@ -329,6 +341,15 @@ impl EditorApp {
         self.canvas_layer
             .and_then(|l| ctx.layer_transform_to_global(l))
             .map_or(p, |t| t * p)
+    }
+
+    /// Each node's rectangle on screen last frame, and the canvas's.
+    pub fn node_screen_rects(&self) -> &[(NodeId, egui::Rect)] {
+        &self.node_rects
+    }
+
+    pub fn canvas_rect(&self) -> Option<egui::Rect> {
+        self.canvas_rect
     }
 
     pub fn selected(&self) -> Vec<NodeId> {
@@ -420,6 +441,7 @@ impl EditorApp {
         self.snarl = Snarl::new();
         self.snarl_ids.clear();
         self.synced_generation = None;
+        self.fit = FIT_FROM_SCRATCH;
         self.autosaved_generation = None;
         self.recovery_written = false;
         self.clock = FrameClock::default();
@@ -766,6 +788,9 @@ impl EditorApp {
         if ctx.input_mut(|i| i.consume_key(Modifiers::NONE, Key::Escape)) {
             self.selected.clear();
         }
+        if ctx.input_mut(|i| i.consume_key(Modifiers::NONE, Key::F)) {
+            self.fit = FIT_FROM_SCRATCH;
+        }
     }
 
     fn open_dialog(&mut self, mode: DialogMode) {
@@ -873,6 +898,13 @@ impl EditorApp {
                 self.clock.frame, self.clock.time
             ));
             ui.separator();
+            if ui
+                .button("⛶ Fit")
+                .on_hover_text("show the whole patch (F)")
+                .clicked()
+            {
+                self.fit = FIT_FROM_SCRATCH;
+            }
             ui.toggle_value(&mut self.show_timings, "⏱ Timings")
                 .on_hover_text("CPU time per node, GPU time per render node");
         });
@@ -1074,6 +1106,16 @@ impl EditorApp {
         }
         // Labels that select text would take the drags that move nodes.
         ui.style_mut().interaction.selectable_labels = false;
+        let canvas_rect = ui.max_rect().shrink(8.0);
+        self.canvas_rect = Some(canvas_rect);
+        let set_view = match ui.ctx().layer_transform_to_global(layer) {
+            Some(view) if !self.fit.is_multiple_of(2) => {
+                self.fit -= 1;
+                ui.ctx().request_repaint();
+                canvas::fit_view(view, &self.node_rects, canvas_rect)
+            }
+            _ => None,
+        };
         let mut node_rects = Vec::new();
         let response = {
             let mut viewer = Canvas {
@@ -1088,6 +1130,7 @@ impl EditorApp {
                 refusal: &mut self.refusal,
                 pins: self.pins.clone(),
                 pointer: self.last_pointer,
+                set_view,
                 now,
             };
             SnarlWidget::new()
@@ -1145,6 +1188,16 @@ impl EditorApp {
             }
         }
         self.rectangle_selection(ui, &response, &node_rects);
+        if self.fit > 0 && self.fit.is_multiple_of(2) {
+            // An empty patch has nothing to fit; its first node must not jump the view.
+            self.fit = if node_rects.is_empty() {
+                0
+            } else {
+                self.fit - 1
+            };
+            ui.ctx().request_repaint();
+        }
+        self.node_rects = node_rects.clone();
         // Hovering a wire shows what flows through it, as hovering its output pin does.
         if response.hovered()
             && let Some(p) = ui.input(|i| i.pointer.hover_pos())

@@ -116,6 +116,8 @@ pub struct Canvas<'a> {
     pub pins: PinPositions,
     /// The last place the pointer was seen (a drop may come with the pointer leaving).
     pub pointer: Pos2,
+    /// A view to show instead of snarl's own (fitting the patch after it opens).
+    pub set_view: Option<egui::emath::TSTransform>,
     pub now: f64,
 }
 
@@ -384,6 +386,16 @@ impl SnarlViewer<CanvasNode> for Canvas<'_> {
         ui.weak(text);
     }
 
+    fn current_transform(
+        &mut self,
+        to_global: &mut egui::emath::TSTransform,
+        _snarl: &mut Snarl<CanvasNode>,
+    ) {
+        if let Some(view) = self.set_view.take() {
+            *to_global = view;
+        }
+    }
+
     fn connect(&mut self, from: &OutPin, to: &InPin, snarl: &mut Snarl<CanvasNode>) {
         let (Some((a, out, _)), Some((b, inp, _))) = (
             self.output_pin(snarl, from.id),
@@ -530,10 +542,66 @@ pub fn wire_under(
         .map(|(_, l)| l)
 }
 
+/// The view that shows every node (given their rectangles on screen under
+/// the current view `to_global`) inside `canvas`, no larger than real size.
+pub fn fit_view(
+    to_global: egui::emath::TSTransform,
+    node_rects: &[(NodeId, Rect)],
+    canvas: Rect,
+) -> Option<egui::emath::TSTransform> {
+    let from_global = to_global.inverse();
+    let bb = node_rects
+        .iter()
+        .map(|(_, r)| from_global * *r)
+        .reduce(|a, b| a.union(b))?
+        .expand(20.0);
+    let scale = (canvas.width() / bb.width())
+        .min(canvas.height() / bb.height())
+        .clamp(0.1, 1.0);
+    // Big patches that cannot fit start at their top left, where patches begin.
+    let anchor = if scale > 0.1 {
+        canvas.center().to_vec2() - bb.center().to_vec2() * scale
+    } else {
+        canvas.min.to_vec2() - bb.min.to_vec2() * scale
+    };
+    Some(egui::emath::TSTransform::new(anchor, scale))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use spreadlight_graph::{NodeDoc, Patch};
+
+    #[test]
+    fn the_fitted_view_holds_every_node_at_most_at_real_size() {
+        let canvas = Rect::from_min_size(Pos2::new(10.0, 30.0), egui::vec2(800.0, 600.0));
+        let view = egui::emath::TSTransform::new(egui::vec2(5.0, 7.0), 0.5);
+        let rects = vec![
+            (
+                NodeId(1),
+                Rect::from_min_size(Pos2::new(-300.0, 0.0), egui::vec2(100.0, 50.0)),
+            ),
+            (
+                NodeId(2),
+                Rect::from_min_size(Pos2::new(900.0, 700.0), egui::vec2(100.0, 50.0)),
+            ),
+        ];
+        let fit = fit_view(view, &rects, canvas).expect("a view");
+        let back = fit * view.inverse();
+        for (_, r) in &rects {
+            assert!(canvas.contains_rect(back * *r), "{r:?} -> {:?}", back * *r);
+        }
+        let small = vec![(
+            NodeId(1),
+            Rect::from_min_size(Pos2::ZERO, egui::vec2(10.0, 10.0)),
+        )];
+        assert_eq!(
+            fit_view(view, &small, canvas).expect("view").scaling,
+            1.0,
+            "never blown up"
+        );
+        assert!(fit_view(view, &[], canvas).is_none());
+    }
 
     #[test]
     fn the_wire_under_the_pointer_is_the_nearest_within_reach() {

@@ -109,3 +109,32 @@ fn timings_show_cpu_per_node_and_gpu_per_render_node() {
     let gpu = h.query_all_by_label_contains("GPU ").count();
     assert!(gpu >= 1, "render nodes show their GPU time");
 }
+
+#[test]
+fn an_opened_patch_is_fitted_into_the_canvas_and_f_fits_again() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let mut h = harness(&dir);
+    let inside = |h: &Harness<'_, EditorApp>| {
+        let canvas = h.state().canvas_rect().expect("canvas drawn");
+        let rects = h.state().node_screen_rects();
+        assert_eq!(rects.len(), 31);
+        rects
+            .iter()
+            .filter(|(_, r)| !canvas.expand(1.0).contains_rect(*r))
+            .count()
+    };
+    assert_eq!(inside(&h), 0, "every node of the showcase is on screen");
+    // Zoom in on the canvas with the wheel, then F shows everything again.
+    let canvas = h.state().canvas_rect().expect("canvas");
+    h.hover_at(canvas.center());
+    h.step();
+    for _ in 0..5 {
+        h.event(egui::Event::Zoom(1.5));
+        h.step();
+    }
+    h.run();
+    assert!(inside(&h) > 0, "zoomed in, some nodes are off screen");
+    h.key_press(egui::Key::F);
+    h.run();
+    assert_eq!(inside(&h), 0);
+}
