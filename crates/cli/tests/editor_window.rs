@@ -122,20 +122,21 @@ fn the_editor_opens_the_showcase_in_a_window_and_its_viewport_is_not_blank() {
     }
 }
 
-/// A patch of `chains` chains of five nodes each (LFO, three maths nodes, a Probe), laid out in a grid.
+/// A patch of `chains` chains of five nodes each (LFO, three maths nodes, a Probe).
 fn big_patch(chains: u32) -> spreadlight_graph::Patch {
     use spreadlight_graph::{NodeDoc, Patch};
     let mut p = Patch::default();
     for c in 0..chains {
         let base = c * 5 + 1;
-        let (x, y) = ((c % 10) as f32 * 120.0, (c / 10) as f32 * 400.0);
+        // Chains run left to right, five to a row, twenty rows: the whole patch fits on screen.
+        let (x, y) = ((c % 5) as f32 * 480.0, (c / 5) as f32 * 60.0);
         p.add(NodeDoc::new(base, "LFO").at(x, y));
-        p.add(NodeDoc::new(base + 1, "Multiply (Value)").at(x, y + 80.0));
-        p.add(NodeDoc::new(base + 2, "Add (Value)").at(x, y + 160.0));
-        p.add(NodeDoc::new(base + 3, "Sin (Value)").at(x, y + 240.0));
+        p.add(NodeDoc::new(base + 1, "Multiply (Value)").at(x + 90.0, y));
+        p.add(NodeDoc::new(base + 2, "Add (Value)").at(x + 180.0, y));
+        p.add(NodeDoc::new(base + 3, "Sin (Value)").at(x + 270.0, y));
         p.add(
             NodeDoc::new(base + 4, "Probe")
-                .at(x, y + 320.0)
+                .at(x + 360.0, y)
                 .with("Name", vec![format!("p{c}")]),
         );
         p.link(base, "Output", base + 1, "Input 1");
