@@ -286,8 +286,14 @@ impl EditorApp {
             evaluations: 0,
             auto: AutoRun::default(),
         };
-        if let Some(path) = options.path {
-            app.open_now(&path);
+        match options.path {
+            // `spreadlight edit new.ron` starts that patch, as text editors do.
+            Some(path) if !path.exists() => {
+                app.path = Some(path.clone());
+                app.status = format!("new patch {}", path.display());
+            }
+            Some(path) => app.open_now(&path),
+            None => {}
         }
         app.recovery_offer = files::pending_recovery(app.path.as_deref(), &app.options.config_dir);
         app

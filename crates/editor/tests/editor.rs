@@ -859,3 +859,21 @@ fn nodes_travel_between_windows_as_patch_text_on_the_clipboard() {
     assert_eq!(pasted.links.len(), 1, "with the link between them");
     assert_eq!(pasted.nodes[0].type_name, "LFO");
 }
+
+#[test]
+fn editing_a_file_that_does_not_exist_yet_saves_it_there() {
+    let env = Env::new();
+    let path = env.dir.path().join("new.ron");
+    let mut h = harness(env.options(Some(path.clone())));
+    assert!(h.state().doc().patch().nodes.is_empty());
+    assert!(
+        h.state().title().starts_with("new.ron"),
+        "{}",
+        h.state().title()
+    );
+    h.state_mut().doc_mut().add_node("LFO", (0.0, 0.0));
+    h.run();
+    cmd(&h, Key::S);
+    h.run();
+    assert_eq!(format::load(&path).expect("saved").nodes.len(), 1);
+}
