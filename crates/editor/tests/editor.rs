@@ -877,3 +877,29 @@ fn editing_a_file_that_does_not_exist_yet_saves_it_there() {
     h.run();
     assert_eq!(format::load(&path).expect("saved").nodes.len(), 1);
 }
+
+#[test]
+fn a_file_pin_is_set_with_the_file_picker() {
+    let env = Env::new();
+    std::fs::write(env.dir.path().join("bricks.png"), b"not read by this test").expect("write");
+    let mut p = Patch::default();
+    p.add(NodeDoc::new(1, "FileTexture").at(20.0, 20.0));
+    let path = env.patch_file("p.ron", &p);
+    let mut h = harness(env.options(Some(path)));
+    click_on_canvas(&mut h, "FileTexture", Modifiers::NONE);
+    h.get_by_label("Browse…").click();
+    h.run();
+    h.get_by_label("bricks.png").click();
+    h.run();
+    h.get_by_label("Pick").click();
+    h.run();
+    let picked = env.dir.path().join("bricks.png").display().to_string();
+    assert_eq!(
+        h.state()
+            .doc()
+            .node(NodeId(1))
+            .and_then(|n| n.values.get("Filename")),
+        Some(&Spread::String(vec![picked]))
+    );
+    assert_eq!(h.state().doc().undo_label(), Some("set #1.Filename"));
+}
