@@ -115,6 +115,20 @@ fn a_lit_scene_is_built_from_scratch_saved_and_reopened_unchanged() {
     let composite = place(&mut h, "CompositeLight", slot(3, 0));
     let tonemap = place(&mut h, "Tonemap", slot(3, 1));
     let output = place(&mut h, "Output", slot(3, 2));
+    // Where the light's parameters live depends on the node library: main's issue 4 work moves
+    // them from `PointLightBuffer` into `AddLight (Point)` nodes that feed it.
+    let add_light = h
+        .state()
+        .registry()
+        .get("AddLight (Point)")
+        .is_some()
+        .then(|| place(&mut h, "AddLight (Point)", slot(0, 2)));
+    let light_params = add_light.unwrap_or(light);
+    let params_title = if add_light.is_some() {
+        "AddLight (Point)"
+    } else {
+        "PointLightBuffer"
+    };
 
     wire(&mut h, (sphere, "Mesh"), (base, "Mesh"));
     wire(&mut h, (base, "Layer"), (mre, "Layer"));
@@ -127,10 +141,13 @@ fn a_lit_scene_is_built_from_scratch_saved_and_reopened_unchanged() {
     wire(&mut h, (cook, "Specular"), (composite, "Specular"));
     wire(&mut h, (composite, "Texture"), (tonemap, "Texture"));
     wire(&mut h, (tonemap, "Texture"), (output, "Texture"));
+    if let Some(add_light) = add_light {
+        wire(&mut h, (add_light, "Lights"), (light, "Lights"));
+    }
 
     // The inspector: select the light and drag its intensity up.
     let title = h
-        .get_all_by_label("PointLightBuffer")
+        .get_all_by_label(params_title)
         .next()
         .expect("title")
         .rect();
@@ -146,7 +163,7 @@ fn a_lit_scene_is_built_from_scratch_saved_and_reopened_unchanged() {
         });
     }
     h.run();
-    assert_eq!(h.state().selected(), vec![light]);
+    assert_eq!(h.state().selected(), vec![light_params]);
     let editor = h
         .get_all_by_role_and_label(Role::SpinButton, "Intensity")
         .map(|n| n.rect())
@@ -166,7 +183,7 @@ fn a_lit_scene_is_built_from_scratch_saved_and_reopened_unchanged() {
     let intensity = h
         .state()
         .doc()
-        .node(light)
+        .node(light_params)
         .and_then(|n| n.values.get("Intensity").cloned());
     assert!(
         matches!(&intensity, Some(spreadlight_graph::Spread::Float(v)) if v[0] > 100.0),

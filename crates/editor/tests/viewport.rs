@@ -117,7 +117,7 @@ fn an_opened_patch_is_fitted_into_the_canvas_and_f_fits_again() {
     let inside = |h: &Harness<'_, EditorApp>| {
         let canvas = h.state().canvas_rect().expect("canvas drawn");
         let rects = h.state().node_screen_rects();
-        assert_eq!(rects.len(), 31);
+        assert_eq!(rects.len(), h.state().doc().patch().nodes.len());
         rects
             .iter()
             .filter(|(_, r)| !canvas.expand(1.0).contains_rect(*r))
