@@ -5,6 +5,7 @@
 mod accuracy;
 mod bench;
 mod check;
+mod edit;
 mod eval;
 mod fmt;
 mod render;
@@ -23,12 +24,15 @@ use clap::{Parser, Subcommand};
     about = "Spreadlight: node-based real-time deferred rendering"
 )]
 struct Cli {
+    /// Without a command, the editor opens on an empty patch.
     #[command(subcommand)]
-    command: Command,
+    command: Option<Command>,
 }
 
 #[derive(Subcommand)]
 enum Command {
+    /// Open the patch editor (a window), on PATCH or on an empty patch.
+    Edit(edit::Args),
     /// Load and validate patches; print every problem with its file, node and pin.
     Check(check::Args),
     /// Evaluate a patch headless for a number of frames and print what its probes recorded.
@@ -52,6 +56,22 @@ enum Command {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
+        None => edit::run(&edit::Args::default()),
+        Some(Command::Edit(args)) => edit::run(&args),
+        Some(command) => run_command(command),
+    };
+    match result {
+        Ok(code) => code,
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            ExitCode::from(1)
+        }
+    }
+}
+
+fn run_command(command: Command) -> anyhow::Result<ExitCode> {
+    match command {
+        Command::Edit(args) => edit::run(&args),
         Command::Check(args) => check::run(&args),
         Command::Eval(args) => eval::run(&args),
         Command::Fmt(args) => fmt::run(&args),
@@ -63,13 +83,6 @@ fn main() -> ExitCode {
         Command::Nodes => {
             list_nodes();
             Ok(ExitCode::SUCCESS)
-        }
-    };
-    match result {
-        Ok(code) => code,
-        Err(e) => {
-            eprintln!("error: {e:#}");
-            ExitCode::from(1)
         }
     }
 }

@@ -1,0 +1,173 @@
+//! The real `spreadlight edit` binary in a real X window, under Xvfb (a
+//! virtual X server), rendering with whatever adapter wgpu finds (lavapipe in
+//! CI). Like the GPU tests, these fail rather than skip when the machine lacks
+//! what they need: install Xvfb with `apt-get install xvfb` (`.ci/run` does).
+
+use std::io::{BufRead, BufReader};
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Stdio};
+
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+/// A private X server on a free display, stopped when dropped.
+struct Xvfb {
+    child: Child,
+    display: String,
+}
+
+impl Xvfb {
+    fn start() -> Xvfb {
+        let mut child = Command::new("Xvfb")
+            .args([
+                "-displayfd",
+                "1",
+                "-screen",
+                "0",
+                "1920x1080x24",
+                "-nolisten",
+                "tcp",
+            ])
+            .stdout(Stdio::piped())
+            .stderr(Stdio::null())
+            .spawn()
+            .expect("Xvfb runs (install it: apt-get install xvfb)");
+        // With -displayfd, Xvfb picks a free display and writes its number once it is ready.
+        let mut line = String::new();
+        BufReader::new(child.stdout.take().expect("stdout"))
+            .read_line(&mut line)
+            .expect("Xvfb reports its display");
+        let display = format!(":{}", line.trim());
+        assert!(display.len() > 1, "Xvfb gave no display number");
+        Xvfb { child, display }
+    }
+}
+
+impl Drop for Xvfb {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+/// Run the editor on `patch` in the virtual display; returns its JSON report.
+fn run_editor(x: &Xvfb, config: &Path, args: &[&str]) -> serde_json::Value {
+    let out = Command::new(env!("CARGO_BIN_EXE_spreadlight"))
+        .arg("edit")
+        .args(args)
+        .current_dir(root())
+        .env("DISPLAY", &x.display)
+        .env_remove("WAYLAND_DISPLAY")
+        .env("XDG_RUNTIME_DIR", std::env::temp_dir())
+        .env("SPREADLIGHT_CONFIG_DIR", config)
+        .output()
+        .expect("the editor runs");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "editor failed: {stdout}{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let line = stdout
+        .lines()
+        .rev()
+        .find(|l| l.starts_with('{'))
+        .unwrap_or_else(|| panic!("no report in {stdout}"));
+    serde_json::from_str(line).expect("the report is JSON")
+}
+
+#[test]
+fn the_editor_opens_the_showcase_in_a_window_and_its_viewport_is_not_blank() {
+    let x = Xvfb::start();
+    let dir = tempfile::tempdir().expect("tempdir");
+    let shot = dir.path().join("editor.png");
+    let report = run_editor(
+        &x,
+        dir.path(),
+        &[
+            "patches/showcase.ron",
+            "--measure-frames",
+            "10",
+            "--screenshot",
+            shot.to_str().expect("utf-8 path"),
+        ],
+    );
+    assert_eq!(report["viewport_error"], "", "{report}");
+    let nodes = spreadlight_graph::format::load(&root().join("patches/showcase.ron"))
+        .expect("the showcase loads")
+        .nodes
+        .len();
+    assert_eq!(report["nodes"], nodes, "{report}");
+    let rect: Vec<u32> = report["viewport_px"]
+        .as_array()
+        .unwrap_or_else(|| panic!("no viewport drawn: {report}"))
+        .iter()
+        .map(|v| v.as_f64().expect("number") as u32)
+        .collect();
+    let image = image::open(&shot)
+        .expect("the screenshot is a PNG")
+        .to_rgba8();
+    let mut colours = std::collections::HashSet::new();
+    for y in (rect[1]..rect[3].min(image.height())).step_by(2) {
+        for x in (rect[0]..rect[2].min(image.width())).step_by(2) {
+            let p = image.get_pixel(x, y);
+            colours.insert((p[0] / 16, p[1] / 16, p[2] / 16));
+        }
+    }
+    assert!(
+        colours.len() > 20,
+        "the viewport shows the lit scene, not a blank: {} colours",
+        colours.len()
+    );
+    // `SPREADLIGHT_EDITOR_SCREENSHOT=docs/editor.png` keeps the picture for the docs.
+    if let Some(keep) = std::env::var_os("SPREADLIGHT_EDITOR_SCREENSHOT") {
+        std::fs::copy(&shot, root().join(keep)).expect("copy the screenshot");
+    }
+}
+
+/// A patch of `chains` chains of five nodes each (LFO, three maths nodes, a Probe).
+fn big_patch(chains: u32) -> spreadlight_graph::Patch {
+    use spreadlight_graph::{NodeDoc, Patch};
+    let mut p = Patch::default();
+    for c in 0..chains {
+        let base = c * 5 + 1;
+        // Chains run left to right, five to a row, twenty rows: the whole patch fits on screen.
+        let (x, y) = ((c % 5) as f32 * 480.0, (c / 5) as f32 * 60.0);
+        p.add(NodeDoc::new(base, "LFO").at(x, y));
+        p.add(NodeDoc::new(base + 1, "Multiply (Value)").at(x + 90.0, y));
+        p.add(NodeDoc::new(base + 2, "Add (Value)").at(x + 180.0, y));
+        p.add(NodeDoc::new(base + 3, "Sin (Value)").at(x + 270.0, y));
+        p.add(
+            NodeDoc::new(base + 4, "Probe")
+                .at(x + 360.0, y)
+                .with("Name", vec![format!("p{c}")]),
+        );
+        p.link(base, "Output", base + 1, "Input 1");
+        p.link(base + 1, "Output", base + 2, "Input 1");
+        p.link(base + 2, "Output", base + 3, "Input");
+        p.link(base + 3, "Output", base + 4, "Input");
+    }
+    p
+}
+
+#[test]
+fn a_500_node_patch_runs_in_the_window_and_reports_its_frame_times() {
+    let x = Xvfb::start();
+    let dir = tempfile::tempdir().expect("tempdir");
+    let path = dir.path().join("big.ron");
+    spreadlight_graph::format::save(&big_patch(100), &path).expect("save");
+    // `SPREADLIGHT_EDITOR_FRAMES` raises the count for a measurement (docs/editor.md).
+    let frames = std::env::var("SPREADLIGHT_EDITOR_FRAMES").unwrap_or_else(|_| "20".into());
+    let report = run_editor(
+        &x,
+        dir.path(),
+        &[path.to_str().expect("utf-8"), "--measure-frames", &frames],
+    );
+    println!("{report}");
+    assert_eq!(report["nodes"], 500, "{report}");
+    let ran = report["frames"].as_u64().expect("frames");
+    assert!(ran >= frames.parse::<u64>().expect("number"), "{report}");
+    let median = report["frame_ms_median"].as_f64().expect("median");
+    assert!(median > 0.0, "frames were timed: {report}");
+}

@@ -1,0 +1,632 @@
+//! The canvas: an egui-snarl projection of the document. Snarl holds only
+//! each node's document id; pins, values, errors and timings are read from
+//! the document, the registry and the runtime while drawing, and every
+//! action the canvas takes goes back through [`EditorDoc`] so it is undoable.
+
+use std::cell::RefCell;
+use std::collections::{BTreeSet, HashMap};
+use std::rc::Rc;
+
+use egui::{Color32, Pos2, Rect, Stroke, Ui};
+use egui_snarl::ui::{PinInfo, PinShape, PinWireInfo, SnarlPin, SnarlStyle, SnarlViewer};
+use egui_snarl::{InPin, InPinId, OutPin, OutPinId, Snarl};
+use spreadlight_graph::{NodeId, PinRef, PinType, Registry, Runtime, Severity, Spread};
+
+use crate::model::EditorDoc;
+use crate::values;
+
+/// Canvas pixels per patch canvas unit: patches are laid out on a coarse grid
+/// (vvvv's nodes are small); snarl's nodes are larger.
+pub const SCALE: f32 = 3.0;
+
+/// Below this zoom the canvas shows pins without their value editors (the inspector still edits).
+pub const EDITOR_MIN_ZOOM: f32 = 0.5;
+
+/// What snarl stores per node: which document node it shows.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct CanvasNode(pub NodeId);
+
+/// A pin on the canvas, by node and name: `true` for inputs.
+pub type PinKey = (NodeId, String, bool);
+
+/// Where each pin was drawn this frame, in screen points (tests drag between them).
+pub type PinPositions = Rc<RefCell<HashMap<PinKey, Pos2>>>;
+
+/// A refused link, shown where it was dropped.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Refusal {
+    pub message: String,
+    pub at: Pos2,
+    pub since: f64,
+}
+
+pub fn style() -> SnarlStyle {
+    SnarlStyle {
+        // Double-click on the canvas opens the node browser, as in vvvv.
+        centering: Some(false),
+        // A patch opens at its real size, or smaller to fit; never blown up.
+        max_scale: Some(1.0),
+        min_scale: Some(0.1),
+        // Straight wires, as vvvv draws them; also what `wire_under` hit-tests.
+        wire_style: Some(egui_snarl::ui::WireStyle::Line),
+        // The editor keeps its own selection (click, shift-click) and draws it
+        // on the node frame; snarl's would be a second, different one.
+        select_style: Some(egui_snarl::ui::SelectionStyle {
+            margin: egui::Margin::ZERO,
+            rounding: egui::CornerRadius::ZERO,
+            fill: Color32::TRANSPARENT,
+            stroke: Stroke::NONE,
+        }),
+        ..SnarlStyle::new()
+    }
+}
+
+fn pin_color(ty: PinType) -> Color32 {
+    match ty {
+        PinType::Float | PinType::Int => Color32::from_rgb(160, 160, 160),
+        PinType::Bool => Color32::from_rgb(220, 120, 120),
+        PinType::String => Color32::from_rgb(200, 180, 120),
+        PinType::Vec2 | PinType::Vec3 | PinType::Vec4 => Color32::from_rgb(120, 180, 220),
+        PinType::Color => Color32::from_rgb(230, 140, 220),
+        PinType::Mat4 => Color32::from_rgb(120, 220, 160),
+        PinType::Enum(_) => Color32::from_rgb(200, 200, 120),
+        PinType::Resource(_) => Color32::from_rgb(240, 160, 60),
+        PinType::Any => Color32::WHITE,
+    }
+}
+
+/// A pin that remembers where it was drawn.
+pub struct RecordedPin {
+    info: PinInfo,
+    key: PinKey,
+    sink: PinPositions,
+}
+
+impl SnarlPin for RecordedPin {
+    fn draw(
+        self,
+        snarl_style: &SnarlStyle,
+        style: &egui::Style,
+        rect: Rect,
+        painter: &egui::Painter,
+    ) -> PinWireInfo {
+        let to_global = painter
+            .ctx()
+            .layer_transform_to_global(painter.layer_id())
+            .unwrap_or_default();
+        self.sink
+            .borrow_mut()
+            .insert(self.key, to_global * rect.center());
+        self.info.draw(snarl_style, style, rect, painter)
+    }
+}
+
+/// Everything the canvas reads or changes while it draws.
+pub struct Canvas<'a> {
+    pub doc: &'a mut EditorDoc,
+    pub registry: &'a Registry,
+    pub runtime: &'a Runtime,
+    pub selected: &'a BTreeSet<NodeId>,
+    /// Each node's rectangle on screen, in drawing order (the last is on top).
+    pub node_rects: &'a mut Vec<(NodeId, Rect)>,
+    pub show_timings: bool,
+    pub gpu_ms: &'a HashMap<u32, f64>,
+    pub gpu_errors: &'a HashMap<u32, String>,
+    pub refusal: &'a mut Option<Refusal>,
+    pub pins: PinPositions,
+    /// The last place the pointer was seen (a drop may come with the pointer leaving).
+    pub pointer: Pos2,
+    /// A view to show instead of snarl's own (fitting the patch after it opens).
+    pub set_view: Option<egui::emath::TSTransform>,
+    pub now: f64,
+}
+
+impl Canvas<'_> {
+    fn node_id(snarl: &Snarl<CanvasNode>, node: egui_snarl::NodeId) -> Option<NodeId> {
+        snarl.get_node(node).map(|n| n.0)
+    }
+
+    fn input_pin(
+        &self,
+        snarl: &Snarl<CanvasNode>,
+        pin: InPinId,
+    ) -> Option<(NodeId, &'static str, PinType)> {
+        let id = Self::node_id(snarl, pin.node)?;
+        let def = self.registry.get(&self.doc.node(id)?.type_name)?;
+        let p = def.inputs.get(pin.input)?;
+        Some((id, p.name, p.ty))
+    }
+
+    fn output_pin(
+        &self,
+        snarl: &Snarl<CanvasNode>,
+        pin: OutPinId,
+    ) -> Option<(NodeId, &'static str, PinType)> {
+        let id = Self::node_id(snarl, pin.node)?;
+        let def = self.registry.get(&self.doc.node(id)?.type_name)?;
+        let p = def.outputs.get(pin.output)?;
+        Some((id, p.name, p.ty))
+    }
+
+    /// The node's error: a problem found when compiling, the error of its last
+    /// run, or an error of a GPU pass it declared in the viewport's frame.
+    fn error_of(&self, id: NodeId) -> Option<String> {
+        let mut messages: Vec<String> = self
+            .runtime
+            .problems()
+            .iter()
+            .filter(|p| p.node == id && p.severity == Severity::Error)
+            .map(|p| match &p.pin {
+                Some(pin) => format!("{pin}: {}", p.kind),
+                None => p.kind.to_string(),
+            })
+            .collect();
+        if let Some(e) = self.runtime.node_error(id) {
+            messages.push(e.to_string());
+        }
+        if let Some(e) = self.gpu_errors.get(&id.0) {
+            messages.push(format!("GPU: {e}"));
+        }
+        (!messages.is_empty()).then(|| messages.join("\n"))
+    }
+
+    fn recorded(&self, key: PinKey, ty: Option<PinType>) -> RecordedPin {
+        let shape = if matches!(ty, Some(PinType::Resource(_))) {
+            PinShape::Square
+        } else {
+            PinShape::Circle
+        };
+        let fill = ty.map_or(Color32::DARK_GRAY, pin_color);
+        RecordedPin {
+            info: PinInfo::default().with_shape(shape).with_fill(fill),
+            key,
+            sink: self.pins.clone(),
+        }
+    }
+
+    fn refuse(&mut self, message: String) {
+        let at = self.pointer;
+        *self.refusal = Some(Refusal {
+            message,
+            at,
+            since: self.now,
+        });
+    }
+}
+
+/// A slice preview as vvvv's tooltips show: the first slices and the count.
+pub fn preview(spread: &Spread) -> String {
+    spread.preview(4)
+}
+
+impl SnarlViewer<CanvasNode> for Canvas<'_> {
+    fn title(&mut self, node: &CanvasNode) -> String {
+        self.doc
+            .node(node.0)
+            .map_or_else(|| "?".to_owned(), |n| n.type_name.clone())
+    }
+
+    fn header_frame(
+        &mut self,
+        default: egui::Frame,
+        node: egui_snarl::NodeId,
+        _inputs: &[InPin],
+        _outputs: &[OutPin],
+        snarl: &Snarl<CanvasNode>,
+    ) -> egui::Frame {
+        match Self::node_id(snarl, node) {
+            Some(id) if self.error_of(id).is_some() => default.fill(Color32::from_rgb(150, 30, 30)),
+            _ => default,
+        }
+    }
+
+    fn node_frame(
+        &mut self,
+        default: egui::Frame,
+        node: egui_snarl::NodeId,
+        _inputs: &[InPin],
+        _outputs: &[OutPin],
+        snarl: &Snarl<CanvasNode>,
+    ) -> egui::Frame {
+        match Self::node_id(snarl, node) {
+            Some(id) if self.selected.contains(&id) => {
+                default.stroke(Stroke::new(2.0, Color32::from_rgb(90, 170, 255)))
+            }
+            _ => default,
+        }
+    }
+
+    fn show_header(
+        &mut self,
+        node: egui_snarl::NodeId,
+        _inputs: &[InPin],
+        _outputs: &[OutPin],
+        ui: &mut Ui,
+        snarl: &mut Snarl<CanvasNode>,
+    ) {
+        let Some(id) = Self::node_id(snarl, node) else {
+            return;
+        };
+        let title = self.title(&snarl[node]);
+        // Not clickable: a drag on the title moves the node; clicks select through `node_rects`.
+        let resp = ui.label(egui::RichText::new(title).strong());
+        match self.error_of(id) {
+            Some(message) => resp.on_hover_text(message),
+            None => resp.on_hover_text(format!("node {id}")),
+        };
+    }
+
+    fn final_node_rect(
+        &mut self,
+        node: egui_snarl::NodeId,
+        rect: Rect,
+        ui: &mut Ui,
+        snarl: &mut Snarl<CanvasNode>,
+    ) {
+        if let Some(id) = Self::node_id(snarl, node) {
+            let to_global = ui
+                .ctx()
+                .layer_transform_to_global(ui.layer_id())
+                .unwrap_or_default();
+            self.node_rects.push((id, to_global * rect));
+        }
+    }
+
+    fn inputs(&mut self, node: &CanvasNode) -> usize {
+        self.doc
+            .node(node.0)
+            .and_then(|n| self.registry.get(&n.type_name))
+            .map_or(0, |d| d.inputs.len())
+    }
+
+    fn outputs(&mut self, node: &CanvasNode) -> usize {
+        self.doc
+            .node(node.0)
+            .and_then(|n| self.registry.get(&n.type_name))
+            .map_or(0, |d| d.outputs.len())
+    }
+
+    fn show_input(
+        &mut self,
+        pin: &InPin,
+        ui: &mut Ui,
+        snarl: &mut Snarl<CanvasNode>,
+    ) -> impl SnarlPin + 'static {
+        let Some((id, name, ty)) = self.input_pin(snarl, pin.id) else {
+            return self.recorded((NodeId(0), String::new(), true), None);
+        };
+        let target = PinRef(id, name.to_owned());
+        let linked = self.doc.link_into(&target).cloned();
+        let label = ui.label(name);
+        let label_id = label.id;
+        // Previews are built only for the pin under the pointer: a big patch has thousands of pins.
+        if label.hovered() {
+            let shown = match &linked {
+                Some(l) => self
+                    .runtime
+                    .output(l.from.node(), l.from.pin())
+                    .map(|s| preview(s)),
+                None => self
+                    .doc
+                    .input_value(self.registry, id, name)
+                    .map(|s| preview(&s)),
+            };
+            label.on_hover_text(format!(
+                "{name}: {ty}\n{}",
+                shown.unwrap_or_else(|| "no value yet".into())
+            ));
+        }
+        // Zoomed far out the editors are too small to use, and a big patch
+        // would spend most of its frame drawing them.
+        let zoom = ui
+            .ctx()
+            .layer_transform_to_global(ui.layer_id())
+            .map_or(1.0, |t| t.scaling);
+        if linked.is_none()
+            && zoom >= EDITOR_MIN_ZOOM
+            && values::editable(ty)
+            && let Some(mut value) = self.doc.input_value(self.registry, id, name)
+        {
+            let edited = ui
+                .push_id((id, name), |ui| {
+                    values::edit_first(ui, ty, &mut value, Some(label_id))
+                })
+                .inner;
+            if edited.changed {
+                self.doc.set_value(id, name, Some(value), edited.continuing);
+            }
+        }
+        self.recorded((id, name.to_owned(), true), Some(ty))
+    }
+
+    fn show_output(
+        &mut self,
+        pin: &OutPin,
+        ui: &mut Ui,
+        snarl: &mut Snarl<CanvasNode>,
+    ) -> impl SnarlPin + 'static {
+        let Some((id, name, ty)) = self.output_pin(snarl, pin.id) else {
+            return self.recorded((NodeId(0), String::new(), false), None);
+        };
+        let label = ui.label(name);
+        if label.hovered() {
+            let shown = self
+                .runtime
+                .output(id, name)
+                .map_or_else(|| "not evaluated".to_owned(), |s| preview(s));
+            label.on_hover_text(format!("{name}: {ty}\n{shown}"));
+        }
+        self.recorded((id, name.to_owned(), false), Some(ty))
+    }
+
+    fn has_footer(&mut self, _node: &CanvasNode) -> bool {
+        self.show_timings
+    }
+
+    fn show_footer(
+        &mut self,
+        node: egui_snarl::NodeId,
+        _inputs: &[InPin],
+        _outputs: &[OutPin],
+        ui: &mut Ui,
+        snarl: &mut Snarl<CanvasNode>,
+    ) {
+        let Some(id) = Self::node_id(snarl, node) else {
+            return;
+        };
+        let cpu = self
+            .runtime
+            .stats()
+            .node(id)
+            .map_or(0.0, |s| s.cpu_ns as f64 / 1e6);
+        let text = match self.gpu_ms.get(&id.0) {
+            Some(gpu) => format!("CPU {cpu:.3} ms · GPU {gpu:.3} ms"),
+            None => format!("CPU {cpu:.3} ms"),
+        };
+        ui.weak(text);
+    }
+
+    fn current_transform(
+        &mut self,
+        to_global: &mut egui::emath::TSTransform,
+        _snarl: &mut Snarl<CanvasNode>,
+    ) {
+        if let Some(view) = self.set_view.take() {
+            *to_global = view;
+        }
+    }
+
+    fn connect(&mut self, from: &OutPin, to: &InPin, snarl: &mut Snarl<CanvasNode>) {
+        let (Some((a, out, _)), Some((b, inp, _))) = (
+            self.output_pin(snarl, from.id),
+            self.input_pin(snarl, to.id),
+        ) else {
+            return;
+        };
+        let result = self.doc.link(
+            self.registry,
+            PinRef(a, out.to_owned()),
+            PinRef(b, inp.to_owned()),
+        );
+        if let Err(e) = result {
+            // Snarl passes no Ui here; the pointer is where the wire was dropped.
+            self.refuse(e.to_string());
+        }
+    }
+
+    fn disconnect(&mut self, from: &OutPin, to: &InPin, snarl: &mut Snarl<CanvasNode>) {
+        if let (Some((a, out, _)), Some((b, inp, _))) = (
+            self.output_pin(snarl, from.id),
+            self.input_pin(snarl, to.id),
+        ) {
+            self.doc
+                .unlink(&PinRef(a, out.to_owned()), &PinRef(b, inp.to_owned()));
+        }
+    }
+
+    fn drop_inputs(&mut self, pin: &InPin, snarl: &mut Snarl<CanvasNode>) {
+        if let Some((id, name, _)) = self.input_pin(snarl, pin.id) {
+            self.doc.unlink_input(&PinRef(id, name.to_owned()));
+        }
+    }
+
+    fn drop_outputs(&mut self, pin: &OutPin, snarl: &mut Snarl<CanvasNode>) {
+        if let Some((id, name, _)) = self.output_pin(snarl, pin.id) {
+            self.doc.unlink_output(&PinRef(id, name.to_owned()));
+        }
+    }
+}
+
+/// Bring snarl in line with the document after it changed: nodes added or
+/// removed, positions changed by undo, and wires. Between changes the canvas
+/// positions are the newer ones (a drag in progress). Keeps snarl's ids for nodes that stay, so
+/// selection and layout survive edits.
+pub fn sync(
+    snarl: &mut Snarl<CanvasNode>,
+    ids: &mut HashMap<NodeId, egui_snarl::NodeId>,
+    doc: &EditorDoc,
+    registry: &Registry,
+    doc_changed: bool,
+) {
+    if !doc_changed {
+        return;
+    }
+    let patch = doc.patch();
+    let present: HashMap<NodeId, (f32, f32)> = patch.nodes.iter().map(|n| (n.id, n.pos)).collect();
+    ids.retain(|id, sid| {
+        let keep = present.contains_key(id);
+        if !keep {
+            snarl.remove_node(*sid);
+        }
+        keep
+    });
+    for n in &patch.nodes {
+        let want = Pos2::new(n.pos.0 * SCALE, n.pos.1 * SCALE);
+        match ids.get(&n.id) {
+            Some(&sid) => {
+                // The document changed (an undone move, say): it wins.
+                if let Some(info) = snarl.get_node_info_mut(sid)
+                    && (info.pos - want).length() > 0.5 * SCALE
+                {
+                    info.pos = want;
+                }
+            }
+            None => {
+                let sid = snarl.insert_node(want, CanvasNode(n.id));
+                ids.insert(n.id, sid);
+            }
+        }
+    }
+    let mut wanted = std::collections::HashSet::new();
+    for l in &patch.links {
+        let (Some(&a), Some(&b)) = (ids.get(&l.from.node()), ids.get(&l.to.node())) else {
+            continue;
+        };
+        let def = |id: NodeId| doc.node(id).and_then(|n| registry.get(&n.type_name));
+        let (Some(da), Some(db)) = (def(l.from.node()), def(l.to.node())) else {
+            continue;
+        };
+        let (Some(o), Some(i)) = (da.output_index(l.from.pin()), db.input_index(l.to.pin())) else {
+            continue;
+        };
+        wanted.insert((
+            OutPinId { node: a, output: o },
+            InPinId { node: b, input: i },
+        ));
+    }
+    let existing: Vec<(OutPinId, InPinId)> = snarl.wires().collect();
+    for w in &existing {
+        if !wanted.contains(w) {
+            snarl.disconnect(w.0, w.1);
+        }
+    }
+    for w in wanted {
+        snarl.connect(w.0, w.1);
+    }
+}
+
+/// Moves finished on the canvas, in patch units (rounded to whole units so saved files stay clean).
+pub fn moved_nodes(snarl: &Snarl<CanvasNode>, doc: &EditorDoc) -> Vec<(NodeId, (f32, f32))> {
+    snarl
+        .nodes_pos_ids()
+        .filter_map(|(_, pos, node)| {
+            let n = doc.node(node.0)?;
+            let want = Pos2::new(n.pos.0 * SCALE, n.pos.1 * SCALE);
+            ((pos - want).length() > 0.5 * SCALE)
+                .then(|| (node.0, ((pos.x / SCALE).round(), (pos.y / SCALE).round())))
+        })
+        .collect()
+}
+
+/// The link under `pointer`, if one passes within `threshold` points of it:
+/// wires are straight lines between the pins' drawn positions.
+pub fn wire_under(
+    doc: &EditorDoc,
+    pins: &PinPositions,
+    pointer: Pos2,
+    threshold: f32,
+) -> Option<spreadlight_graph::LinkDoc> {
+    let pins = pins.borrow();
+    doc.patch()
+        .links
+        .iter()
+        .filter_map(|l| {
+            let a = *pins.get(&(l.from.node(), l.from.pin().to_owned(), false))?;
+            let b = *pins.get(&(l.to.node(), l.to.pin().to_owned(), true))?;
+            let ab = b - a;
+            let t = ((pointer - a).dot(ab) / ab.length_sq().max(1e-6)).clamp(0.0, 1.0);
+            let d = (a + ab * t - pointer).length();
+            (d < threshold).then(|| (d, l.clone()))
+        })
+        .min_by(|x, y| x.0.total_cmp(&y.0))
+        .map(|(_, l)| l)
+}
+
+/// The view that shows every node (given their rectangles on screen under
+/// the current view `to_global`) inside `canvas`, no larger than real size.
+pub fn fit_view(
+    to_global: egui::emath::TSTransform,
+    node_rects: &[(NodeId, Rect)],
+    canvas: Rect,
+) -> Option<egui::emath::TSTransform> {
+    let from_global = to_global.inverse();
+    let bb = node_rects
+        .iter()
+        .map(|(_, r)| from_global * *r)
+        .reduce(|a, b| a.union(b))?
+        .expand(20.0);
+    let scale = (canvas.width() / bb.width())
+        .min(canvas.height() / bb.height())
+        .clamp(0.1, 1.0);
+    // Big patches that cannot fit start at their top left, where patches begin.
+    let anchor = if scale > 0.1 {
+        canvas.center().to_vec2() - bb.center().to_vec2() * scale
+    } else {
+        canvas.min.to_vec2() - bb.min.to_vec2() * scale
+    };
+    Some(egui::emath::TSTransform::new(anchor, scale))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use spreadlight_graph::{NodeDoc, Patch};
+
+    #[test]
+    fn the_fitted_view_holds_every_node_at_most_at_real_size() {
+        let canvas = Rect::from_min_size(Pos2::new(10.0, 30.0), egui::vec2(800.0, 600.0));
+        let view = egui::emath::TSTransform::new(egui::vec2(5.0, 7.0), 0.5);
+        let rects = vec![
+            (
+                NodeId(1),
+                Rect::from_min_size(Pos2::new(-300.0, 0.0), egui::vec2(100.0, 50.0)),
+            ),
+            (
+                NodeId(2),
+                Rect::from_min_size(Pos2::new(900.0, 700.0), egui::vec2(100.0, 50.0)),
+            ),
+        ];
+        let fit = fit_view(view, &rects, canvas).expect("a view");
+        let back = fit * view.inverse();
+        for (_, r) in &rects {
+            assert!(canvas.contains_rect(back * *r), "{r:?} -> {:?}", back * *r);
+        }
+        let small = vec![(
+            NodeId(1),
+            Rect::from_min_size(Pos2::ZERO, egui::vec2(10.0, 10.0)),
+        )];
+        assert_eq!(
+            fit_view(view, &small, canvas).expect("view").scaling,
+            1.0,
+            "never blown up"
+        );
+        assert!(fit_view(view, &[], canvas).is_none());
+    }
+
+    #[test]
+    fn the_wire_under_the_pointer_is_the_nearest_within_reach() {
+        let mut p = Patch::default();
+        p.add(NodeDoc::new(1, "LFO"));
+        p.add(NodeDoc::new(2, "Probe"));
+        p.add(NodeDoc::new(3, "Probe"));
+        p.link(1, "Output", 2, "Input");
+        p.link(1, "Output", 3, "Input");
+        let doc = EditorDoc::new(p);
+        let pins = PinPositions::default();
+        pins.borrow_mut()
+            .insert((NodeId(1), "Output".into(), false), Pos2::new(0.0, 0.0));
+        pins.borrow_mut()
+            .insert((NodeId(2), "Input".into(), true), Pos2::new(100.0, 0.0));
+        pins.borrow_mut()
+            .insert((NodeId(3), "Input".into(), true), Pos2::new(100.0, 100.0));
+        let hit = wire_under(&doc, &pins, Pos2::new(50.0, 3.0), 5.0).expect("a wire");
+        assert_eq!(hit.to.node(), NodeId(2));
+        let hit = wire_under(&doc, &pins, Pos2::new(50.0, 48.0), 5.0).expect("a wire");
+        assert_eq!(hit.to.node(), NodeId(3));
+        assert!(wire_under(&doc, &pins, Pos2::new(50.0, 20.0), 5.0).is_none());
+        assert!(
+            wire_under(&doc, &pins, Pos2::new(130.0, 0.0), 5.0).is_none(),
+            "not past the pin"
+        );
+    }
+}

@@ -1,0 +1,854 @@
+//! The editor's model of a patch: the document plus an undo history of typed
+//! commands. No egui here, so every edit an artist can make is testable
+//! without a window; the canvas is a projection of this model.
+
+use std::collections::{BTreeMap, HashMap, HashSet, VecDeque};
+
+use spreadlight_graph::{LinkDoc, NodeDoc, NodeId, Patch, PinRef, PinType, Registry, Spread};
+use thiserror::Error;
+
+/// Why a link was refused. Shown where the wire was dropped.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum LinkError {
+    #[error("node {0} does not exist")]
+    MissingNode(NodeId),
+    #[error("node {node} is of type `{type_name}`, which this build does not know")]
+    UnknownType { node: NodeId, type_name: String },
+    #[error("{0} is not an output pin")]
+    MissingOutput(PinRef),
+    #[error("{0} is not an input pin")]
+    MissingInput(PinRef),
+    #[error("cannot link {from_type} to {to_type}")]
+    Incompatible { from_type: String, to_type: String },
+    #[error("this link would make a cycle ({from} already depends on {to})", from = .from.node(), to = .to.node())]
+    Cycle { from: PinRef, to: PinRef },
+}
+
+/// A node's move: its id, where it was, where it went (canvas units).
+pub type NodeMove = (NodeId, (f32, f32), (f32, f32));
+
+/// One reversible change of the document. Every command has an exact inverse,
+/// so undo and redo are the same machinery.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Command {
+    /// Insert nodes and links at the given indices (ascending), so an undone
+    /// delete puts everything back where it was and a saved file is unchanged.
+    Insert {
+        nodes: Vec<(usize, NodeDoc)>,
+        links: Vec<(usize, LinkDoc)>,
+    },
+    /// Remove the nodes and links at the given indices (they hold what is removed).
+    Remove {
+        nodes: Vec<(usize, NodeDoc)>,
+        links: Vec<(usize, LinkDoc)>,
+    },
+    Move {
+        moves: Vec<NodeMove>,
+    },
+    /// `None` is the pin's default (no value saved).
+    SetValue {
+        node: NodeId,
+        pin: String,
+        old: Option<Spread>,
+        new: Option<Spread>,
+    },
+    Batch(Vec<Command>),
+}
+
+impl Command {
+    pub fn inverse(&self) -> Command {
+        match self {
+            Command::Insert { nodes, links } => Command::Remove {
+                nodes: nodes.clone(),
+                links: links.clone(),
+            },
+            Command::Remove { nodes, links } => Command::Insert {
+                nodes: nodes.clone(),
+                links: links.clone(),
+            },
+            Command::Move { moves } => Command::Move {
+                moves: moves.iter().map(|&(id, a, b)| (id, b, a)).collect(),
+            },
+            Command::SetValue {
+                node,
+                pin,
+                old,
+                new,
+            } => Command::SetValue {
+                node: *node,
+                pin: pin.clone(),
+                old: new.clone(),
+                new: old.clone(),
+            },
+            Command::Batch(cmds) => {
+                Command::Batch(cmds.iter().rev().map(Command::inverse).collect())
+            }
+        }
+    }
+
+    fn apply(&self, patch: &mut Patch) {
+        match self {
+            Command::Insert { nodes, links } => {
+                for (i, n) in nodes {
+                    let at = (*i).min(patch.nodes.len());
+                    patch.nodes.insert(at, n.clone());
+                }
+                for (i, l) in links {
+                    let at = (*i).min(patch.links.len());
+                    patch.links.insert(at, l.clone());
+                }
+            }
+            Command::Remove { nodes, links } => {
+                // Links first and from the back: the indices were taken before anything moved.
+                for (i, l) in links.iter().rev() {
+                    if patch.links.get(*i) == Some(l) {
+                        patch.links.remove(*i);
+                    }
+                }
+                for (i, n) in nodes.iter().rev() {
+                    if patch.nodes.get(*i).map(|x| x.id) == Some(n.id) {
+                        patch.nodes.remove(*i);
+                    }
+                }
+            }
+            Command::Move { moves } => {
+                for (id, _, to) in moves {
+                    if let Some(n) = patch.node_mut(*id) {
+                        n.pos = *to;
+                    }
+                }
+            }
+            Command::SetValue { node, pin, new, .. } => {
+                if let Some(n) = patch.node_mut(*node) {
+                    match new {
+                        Some(v) => {
+                            n.values.insert(pin.clone(), v.clone());
+                        }
+                        None => {
+                            n.values.remove(pin);
+                        }
+                    }
+                }
+            }
+            Command::Batch(cmds) => {
+                for c in cmds {
+                    c.apply(patch);
+                }
+            }
+        }
+    }
+}
+
+/// What the copy command keeps: nodes and the links between them.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Clip {
+    pub nodes: Vec<NodeDoc>,
+    pub links: Vec<LinkDoc>,
+}
+
+struct Entry {
+    label: String,
+    command: Command,
+    /// Distinguishes history states, so "saved" survives undo back to it.
+    serial: u64,
+}
+
+/// How many edits undo remembers.
+const HISTORY: usize = 1000;
+
+/// The patch being edited, its history, and whether it differs from the saved file.
+pub struct EditorDoc {
+    patch: Patch,
+    undo: VecDeque<Entry>,
+    redo: Vec<Entry>,
+    next_serial: u64,
+    saved_serial: Option<u64>,
+    /// Bumped on every change: the runtime reloads when it moves.
+    generation: u64,
+    /// Lookups the canvas makes for every pin of every node each frame: by
+    /// index, so a 500-node patch costs no quadratic searches.
+    node_index: HashMap<NodeId, usize>,
+    link_index: HashMap<PinRef, usize>,
+}
+
+impl Default for EditorDoc {
+    fn default() -> Self {
+        Self::new(Patch::default())
+    }
+}
+
+impl EditorDoc {
+    /// A document as loaded from disk: clean, with no history.
+    pub fn new(patch: Patch) -> Self {
+        let mut doc = EditorDoc {
+            patch,
+            undo: VecDeque::new(),
+            redo: Vec::new(),
+            next_serial: 1,
+            saved_serial: Some(0),
+            generation: 0,
+            node_index: HashMap::new(),
+            link_index: HashMap::new(),
+        };
+        doc.reindex();
+        doc
+    }
+
+    fn reindex(&mut self) {
+        self.generation += 1;
+        self.node_index.clear();
+        for (i, n) in self.patch.nodes.iter().enumerate() {
+            // The first of duplicate ids wins, as in the network compiler.
+            self.node_index.entry(n.id).or_insert(i);
+        }
+        self.link_index.clear();
+        for (i, l) in self.patch.links.iter().enumerate() {
+            self.link_index.entry(l.to.clone()).or_insert(i);
+        }
+    }
+
+    /// The node with this id.
+    pub fn node(&self, id: NodeId) -> Option<&NodeDoc> {
+        self.patch.nodes.get(*self.node_index.get(&id)?)
+    }
+
+    /// A document restored from an autosave: it differs from the file on disk.
+    pub fn recovered(patch: Patch) -> Self {
+        let mut doc = Self::new(patch);
+        doc.saved_serial = None;
+        doc
+    }
+
+    pub fn patch(&self) -> &Patch {
+        &self.patch
+    }
+
+    pub fn generation(&self) -> u64 {
+        self.generation
+    }
+
+    fn top_serial(&self) -> u64 {
+        self.undo.back().map_or(0, |e| e.serial)
+    }
+
+    pub fn is_dirty(&self) -> bool {
+        self.saved_serial != Some(self.top_serial())
+    }
+
+    pub fn mark_saved(&mut self) {
+        self.saved_serial = Some(self.top_serial());
+    }
+
+    pub fn can_undo(&self) -> bool {
+        !self.undo.is_empty()
+    }
+
+    pub fn can_redo(&self) -> bool {
+        !self.redo.is_empty()
+    }
+
+    pub fn undo_label(&self) -> Option<&str> {
+        self.undo.back().map(|e| e.label.as_str())
+    }
+
+    pub fn redo_label(&self) -> Option<&str> {
+        self.redo.last().map(|e| e.label.as_str())
+    }
+
+    /// Apply a command and record it for undo.
+    pub fn execute(&mut self, label: impl Into<String>, command: Command) {
+        command.apply(&mut self.patch);
+        self.reindex();
+        self.redo.clear();
+        let serial = self.next_serial;
+        self.next_serial += 1;
+        self.undo.push_back(Entry {
+            label: label.into(),
+            command,
+            serial,
+        });
+        if self.undo.len() > HISTORY {
+            self.undo.pop_front();
+        }
+    }
+
+    pub fn undo(&mut self) -> bool {
+        let Some(entry) = self.undo.pop_back() else {
+            return false;
+        };
+        entry.command.inverse().apply(&mut self.patch);
+        self.reindex();
+        self.redo.push(entry);
+        true
+    }
+
+    pub fn redo(&mut self) -> bool {
+        let Some(entry) = self.redo.pop() else {
+            return false;
+        };
+        entry.command.apply(&mut self.patch);
+        self.reindex();
+        self.undo.push_back(entry);
+        true
+    }
+
+    /// Create a node of `type_name` at `pos`; returns its id.
+    pub fn add_node(&mut self, type_name: &str, pos: (f32, f32)) -> NodeId {
+        let id = self.patch.next_id();
+        let node = NodeDoc::new(id.0, type_name).at(pos.0, pos.1);
+        let at = self.patch.nodes.len();
+        self.execute(
+            format!("create {type_name}"),
+            Command::Insert {
+                nodes: vec![(at, node)],
+                links: Vec::new(),
+            },
+        );
+        id
+    }
+
+    /// Delete nodes and every link touching them.
+    pub fn delete_nodes(&mut self, ids: &[NodeId]) {
+        let set: HashSet<NodeId> = ids.iter().copied().collect();
+        let nodes: Vec<(usize, NodeDoc)> = self
+            .patch
+            .nodes
+            .iter()
+            .enumerate()
+            .filter(|(_, n)| set.contains(&n.id))
+            .map(|(i, n)| (i, n.clone()))
+            .collect();
+        if nodes.is_empty() {
+            return;
+        }
+        let links: Vec<(usize, LinkDoc)> = self
+            .patch
+            .links
+            .iter()
+            .enumerate()
+            .filter(|(_, l)| set.contains(&l.from.node()) || set.contains(&l.to.node()))
+            .map(|(i, l)| (i, l.clone()))
+            .collect();
+        let label = if nodes.len() == 1 {
+            format!("delete {}", nodes[0].1.type_name)
+        } else {
+            format!("delete {} nodes", nodes.len())
+        };
+        self.execute(label, Command::Remove { nodes, links });
+    }
+
+    /// Record the end of a drag: nodes moved to new positions.
+    pub fn move_nodes(&mut self, moves: &[(NodeId, (f32, f32))]) {
+        let moves: Vec<_> = moves
+            .iter()
+            .filter_map(|&(id, to)| {
+                let from = self.node(id)?.pos;
+                (from != to).then_some((id, from, to))
+            })
+            .collect();
+        if moves.is_empty() {
+            return;
+        }
+        let label = if moves.len() == 1 {
+            "move node".to_owned()
+        } else {
+            format!("move {} nodes", moves.len())
+        };
+        self.execute(label, Command::Move { moves });
+    }
+
+    /// Check a link against the registry's pin types and the patch's links.
+    pub fn validate_link(
+        &self,
+        registry: &Registry,
+        from: &PinRef,
+        to: &PinRef,
+    ) -> Result<(), LinkError> {
+        let (from_ty, to_ty) = link_types(&self.patch, registry, from, to)?;
+        if !from_ty.links_to(to_ty) {
+            return Err(LinkError::Incompatible {
+                from_type: from_ty.name(),
+                to_type: to_ty.name(),
+            });
+        }
+        if from.node() == to.node() || reaches(&self.patch, to.node(), from.node()) {
+            return Err(LinkError::Cycle {
+                from: from.clone(),
+                to: to.clone(),
+            });
+        }
+        Ok(())
+    }
+
+    /// Link `from` to `to` after validating it. An input takes one link, so a
+    /// link already into `to` is replaced (in one undo step).
+    pub fn link(&mut self, registry: &Registry, from: PinRef, to: PinRef) -> Result<(), LinkError> {
+        self.validate_link(registry, &from, &to)?;
+        let link = LinkDoc { from, to };
+        if self.patch.links.contains(&link) {
+            return Ok(());
+        }
+        let replaced: Vec<(usize, LinkDoc)> = self
+            .patch
+            .links
+            .iter()
+            .enumerate()
+            .filter(|(_, l)| l.to == link.to)
+            .map(|(i, l)| (i, l.clone()))
+            .collect();
+        let at = self.patch.links.len() - replaced.len();
+        let label = format!("link {} to {}", link.from, link.to);
+        let insert = Command::Insert {
+            nodes: Vec::new(),
+            links: vec![(at, link)],
+        };
+        let command = if replaced.is_empty() {
+            insert
+        } else {
+            Command::Batch(vec![
+                Command::Remove {
+                    nodes: Vec::new(),
+                    links: replaced,
+                },
+                insert,
+            ])
+        };
+        self.execute(label, command);
+        Ok(())
+    }
+
+    /// Remove the link from `from` to `to`, if there is one.
+    pub fn unlink(&mut self, from: &PinRef, to: &PinRef) -> bool {
+        let Some(i) = self
+            .patch
+            .links
+            .iter()
+            .position(|l| &l.from == from && &l.to == to)
+        else {
+            return false;
+        };
+        let link = self.patch.links[i].clone();
+        self.execute(
+            format!("unlink {} from {}", link.from, link.to),
+            Command::Remove {
+                nodes: Vec::new(),
+                links: vec![(i, link)],
+            },
+        );
+        true
+    }
+
+    /// Remove every link into input `to` (right-click on an input pin).
+    pub fn unlink_input(&mut self, to: &PinRef) -> bool {
+        let links: Vec<(usize, LinkDoc)> = self
+            .patch
+            .links
+            .iter()
+            .enumerate()
+            .filter(|(_, l)| &l.to == to)
+            .map(|(i, l)| (i, l.clone()))
+            .collect();
+        if links.is_empty() {
+            return false;
+        }
+        self.execute(
+            format!("unlink {to}"),
+            Command::Remove {
+                nodes: Vec::new(),
+                links,
+            },
+        );
+        true
+    }
+
+    /// Remove every link out of output `from`.
+    pub fn unlink_output(&mut self, from: &PinRef) -> bool {
+        let links: Vec<(usize, LinkDoc)> = self
+            .patch
+            .links
+            .iter()
+            .enumerate()
+            .filter(|(_, l)| &l.from == from)
+            .map(|(i, l)| (i, l.clone()))
+            .collect();
+        if links.is_empty() {
+            return false;
+        }
+        self.execute(
+            format!("unlink {from}"),
+            Command::Remove {
+                nodes: Vec::new(),
+                links,
+            },
+        );
+        true
+    }
+
+    /// Set an input's value; `None` goes back to the pin's default. With
+    /// `merge`, a change of the same pin as the last edit extends that edit, so
+    /// one drag of a slider is one undo step.
+    pub fn set_value(&mut self, node: NodeId, pin: &str, value: Option<Spread>, merge: bool) {
+        let Some(n) = self.node(node) else {
+            return;
+        };
+        let old = n.values.get(pin).cloned();
+        if old == value {
+            return;
+        }
+        if merge
+            && self.redo.is_empty()
+            && self.saved_serial != Some(self.top_serial())
+            && let Some(Entry {
+                command:
+                    Command::SetValue {
+                        node: last_node,
+                        pin: last_pin,
+                        new,
+                        ..
+                    },
+                ..
+            }) = self.undo.back_mut()
+            && *last_node == node
+            && last_pin == pin
+        {
+            *new = value.clone();
+            let apply = Command::SetValue {
+                node,
+                pin: pin.to_owned(),
+                old,
+                new: value,
+            };
+            apply.apply(&mut self.patch);
+            self.reindex();
+            return;
+        }
+        self.execute(
+            format!("set {node}.{pin}"),
+            Command::SetValue {
+                node,
+                pin: pin.to_owned(),
+                old,
+                new: value,
+            },
+        );
+    }
+
+    /// The selected nodes and the links between them.
+    pub fn copy(&self, ids: &[NodeId]) -> Clip {
+        let set: HashSet<NodeId> = ids.iter().copied().collect();
+        Clip {
+            nodes: self
+                .patch
+                .nodes
+                .iter()
+                .filter(|n| set.contains(&n.id))
+                .cloned()
+                .collect(),
+            links: self
+                .patch
+                .links
+                .iter()
+                .filter(|l| set.contains(&l.from.node()) && set.contains(&l.to.node()))
+                .cloned()
+                .collect(),
+        }
+    }
+
+    /// Insert a copy of `clip` with fresh ids, shifted by `offset`; returns the new ids.
+    pub fn paste(&mut self, clip: &Clip, offset: (f32, f32)) -> Vec<NodeId> {
+        if clip.nodes.is_empty() {
+            return Vec::new();
+        }
+        let first = self.patch.next_id().0;
+        let mut ids: HashMap<NodeId, NodeId> = HashMap::new();
+        let mut nodes = Vec::new();
+        let base = self.patch.nodes.len();
+        for (k, n) in clip.nodes.iter().enumerate() {
+            let mut copy = n.clone();
+            copy.id = NodeId(first + k as u32);
+            copy.pos = (n.pos.0 + offset.0, n.pos.1 + offset.1);
+            ids.insert(n.id, copy.id);
+            nodes.push((base + k, copy));
+        }
+        let base = self.patch.links.len();
+        let links: Vec<(usize, LinkDoc)> = clip
+            .links
+            .iter()
+            .filter_map(|l| {
+                Some(LinkDoc {
+                    from: PinRef(*ids.get(&l.from.node())?, l.from.pin().to_owned()),
+                    to: PinRef(*ids.get(&l.to.node())?, l.to.pin().to_owned()),
+                })
+            })
+            .enumerate()
+            .map(|(k, l)| (base + k, l))
+            .collect();
+        let new_ids = nodes.iter().map(|(_, n)| n.id).collect();
+        let label = format!("paste {} nodes", nodes.len());
+        self.execute(label, Command::Insert { nodes, links });
+        new_ids
+    }
+
+    /// Copy and paste in one step.
+    pub fn duplicate(&mut self, ids: &[NodeId], offset: (f32, f32)) -> Vec<NodeId> {
+        let clip = self.copy(ids);
+        self.paste(&clip, offset)
+    }
+
+    /// The link into input `to`, if any.
+    pub fn link_into(&self, to: &PinRef) -> Option<&LinkDoc> {
+        self.patch.links.get(*self.link_index.get(to)?)
+    }
+
+    /// The value an input holds in the document, or its default.
+    pub fn input_value(&self, registry: &Registry, node: NodeId, pin: &str) -> Option<Spread> {
+        let n = self.node(node)?;
+        if let Some(v) = n.values.get(pin) {
+            return Some(v.clone());
+        }
+        let def = registry.get(&n.type_name)?;
+        def.inputs
+            .iter()
+            .find(|p| p.name == pin)
+            .map(|p| p.default.clone())
+    }
+}
+
+fn link_types(
+    patch: &Patch,
+    registry: &Registry,
+    from: &PinRef,
+    to: &PinRef,
+) -> Result<(PinType, PinType), LinkError> {
+    let def_of = |id: NodeId| {
+        let node = patch.node(id).ok_or(LinkError::MissingNode(id))?;
+        registry
+            .get(&node.type_name)
+            .ok_or_else(|| LinkError::UnknownType {
+                node: id,
+                type_name: node.type_name.clone(),
+            })
+    };
+    let from_def = def_of(from.node())?;
+    let to_def = def_of(to.node())?;
+    let from_ty = from_def
+        .outputs
+        .iter()
+        .find(|p| p.name == from.pin())
+        .ok_or_else(|| LinkError::MissingOutput(from.clone()))?
+        .ty;
+    let to_ty = to_def
+        .inputs
+        .iter()
+        .find(|p| p.name == to.pin())
+        .ok_or_else(|| LinkError::MissingInput(to.clone()))?
+        .ty;
+    Ok((from_ty, to_ty))
+}
+
+/// Whether `target` can be reached from `start` by following links downstream.
+fn reaches(patch: &Patch, start: NodeId, target: NodeId) -> bool {
+    let mut downstream: BTreeMap<NodeId, Vec<NodeId>> = BTreeMap::new();
+    for l in &patch.links {
+        downstream
+            .entry(l.from.node())
+            .or_default()
+            .push(l.to.node());
+    }
+    let mut seen = HashSet::new();
+    let mut stack = vec![start];
+    while let Some(n) = stack.pop() {
+        if n == target {
+            return true;
+        }
+        if seen.insert(n)
+            && let Some(next) = downstream.get(&n)
+        {
+            stack.extend(next.iter().copied());
+        }
+    }
+    false
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn registry() -> Registry {
+        spreadlight_nodes::registry()
+    }
+
+    fn lfo_probe() -> EditorDoc {
+        let mut p = Patch::default();
+        p.add(NodeDoc::new(1, "LFO"));
+        p.add(NodeDoc::new(2, "Probe").at(0.0, 80.0));
+        EditorDoc::new(p)
+    }
+
+    #[test]
+    fn create_undo_redo_restores_exactly() {
+        let mut doc = EditorDoc::default();
+        let before = doc.patch().clone();
+        let id = doc.add_node("LFO", (10.0, 20.0));
+        assert!(doc.is_dirty());
+        let after = doc.patch().clone();
+        assert_eq!(after.node(id).map(|n| n.type_name.as_str()), Some("LFO"));
+        assert!(doc.undo());
+        assert_eq!(doc.patch(), &before);
+        assert!(!doc.is_dirty(), "undo back to the saved state is clean");
+        assert!(doc.redo());
+        assert_eq!(doc.patch(), &after);
+    }
+
+    #[test]
+    fn delete_restores_links_and_order_on_undo() {
+        let reg = registry();
+        let mut doc = lfo_probe();
+        doc.add_node("LFO", (0.0, 0.0));
+        doc.link(&reg, PinRef::new(1, "Output"), PinRef::new(2, "Input"))
+            .expect("link");
+        let before = doc.patch().clone();
+        doc.delete_nodes(&[NodeId(1)]);
+        assert!(doc.patch().links.is_empty());
+        assert_eq!(doc.patch().nodes.len(), 2);
+        doc.undo();
+        assert_eq!(doc.patch(), &before);
+    }
+
+    #[test]
+    fn incompatible_and_cyclic_links_are_refused() {
+        let reg = registry();
+        let mut doc = EditorDoc::default();
+        let a = doc.add_node("Add (Value)", (0.0, 0.0));
+        let b = doc.add_node("Add (Value)", (0.0, 50.0));
+        let cam = doc.add_node("Camera", (0.0, 100.0));
+        doc.link(
+            &reg,
+            PinRef(a, "Output".into()),
+            PinRef(b, "Input 1".into()),
+        )
+        .expect("a -> b");
+        let cycle = doc.link(
+            &reg,
+            PinRef(b, "Output".into()),
+            PinRef(a, "Input 1".into()),
+        );
+        assert!(matches!(cycle, Err(LinkError::Cycle { .. })), "{cycle:?}");
+        let self_loop = doc.link(
+            &reg,
+            PinRef(a, "Output".into()),
+            PinRef(a, "Input 2".into()),
+        );
+        assert!(matches!(self_loop, Err(LinkError::Cycle { .. })));
+        let def = reg.get("Camera").expect("Camera");
+        let out = def
+            .outputs
+            .iter()
+            .find(|p| !p.ty.links_to(PinType::Float))
+            .expect("a camera output that is not a number");
+        let wrong = doc.link(
+            &reg,
+            PinRef(cam, out.name.into()),
+            PinRef(b, "Input 2".into()),
+        );
+        assert!(
+            matches!(wrong, Err(LinkError::Incompatible { .. })),
+            "{wrong:?}"
+        );
+        assert_eq!(doc.patch().links.len(), 1, "refused links leave no trace");
+    }
+
+    #[test]
+    fn linking_an_input_again_replaces_its_link_in_one_step() {
+        let reg = registry();
+        let mut doc = EditorDoc::default();
+        let a = doc.add_node("LFO", (0.0, 0.0));
+        let b = doc.add_node("LFO", (0.0, 0.0));
+        let p = doc.add_node("Probe", (0.0, 0.0));
+        doc.link(&reg, PinRef(a, "Output".into()), PinRef(p, "Input".into()))
+            .expect("link");
+        let one = doc.patch().clone();
+        doc.link(&reg, PinRef(b, "Output".into()), PinRef(p, "Input".into()))
+            .expect("relink");
+        assert_eq!(doc.patch().links.len(), 1);
+        assert_eq!(doc.patch().links[0].from.node(), b);
+        doc.undo();
+        assert_eq!(doc.patch(), &one);
+    }
+
+    #[test]
+    fn value_drags_merge_into_one_undo_step() {
+        let mut doc = lfo_probe();
+        doc.set_value(NodeId(1), "Period", Some(Spread::Float(vec![2.0])), false);
+        doc.set_value(NodeId(1), "Period", Some(Spread::Float(vec![3.0])), true);
+        doc.set_value(NodeId(1), "Period", Some(Spread::Float(vec![4.0])), true);
+        assert_eq!(
+            doc.patch()
+                .node(NodeId(1))
+                .and_then(|n| n.values.get("Period")),
+            Some(&Spread::Float(vec![4.0]))
+        );
+        doc.undo();
+        assert!(doc.patch().node(NodeId(1)).expect("node").values.is_empty());
+        assert!(!doc.can_undo());
+        doc.redo();
+        assert_eq!(
+            doc.patch()
+                .node(NodeId(1))
+                .and_then(|n| n.values.get("Period")),
+            Some(&Spread::Float(vec![4.0]))
+        );
+    }
+
+    #[test]
+    fn paste_gives_fresh_ids_and_keeps_inner_links_only() {
+        let reg = registry();
+        let mut doc = EditorDoc::default();
+        let a = doc.add_node("LFO", (0.0, 0.0));
+        let b = doc.add_node("Probe", (0.0, 80.0));
+        let c = doc.add_node("Probe", (100.0, 80.0));
+        doc.link(&reg, PinRef(a, "Output".into()), PinRef(b, "Input".into()))
+            .expect("link");
+        doc.link(&reg, PinRef(a, "Output".into()), PinRef(c, "Input".into()))
+            .expect("link");
+        let new = doc.duplicate(&[a, b], (20.0, 20.0));
+        assert_eq!(new.len(), 2);
+        assert!(new.iter().all(|id| ![a, b, c].contains(id)));
+        assert_eq!(
+            doc.patch().links.len(),
+            3,
+            "one inner link copied, the one to c not"
+        );
+        let pasted = doc.patch().node(new[0]).expect("pasted");
+        assert_eq!(pasted.pos, (20.0, 20.0));
+        doc.undo();
+        assert_eq!(doc.patch().nodes.len(), 3);
+        assert_eq!(doc.patch().links.len(), 2);
+    }
+
+    #[test]
+    fn moves_are_recorded_once_and_undone() {
+        let mut doc = lfo_probe();
+        doc.move_nodes(&[(NodeId(1), (5.0, 6.0)), (NodeId(2), (0.0, 80.0))]);
+        assert_eq!(
+            doc.undo_label(),
+            Some("move node"),
+            "unmoved nodes are not recorded"
+        );
+        doc.undo();
+        assert_eq!(doc.patch().node(NodeId(1)).expect("node").pos, (0.0, 0.0));
+    }
+
+    #[test]
+    fn unlink_undo_puts_the_link_back() {
+        let reg = registry();
+        let mut doc = lfo_probe();
+        doc.link(&reg, PinRef::new(1, "Output"), PinRef::new(2, "Input"))
+            .expect("link");
+        let linked = doc.patch().clone();
+        assert!(doc.unlink(&PinRef::new(1, "Output"), &PinRef::new(2, "Input")));
+        assert!(doc.patch().links.is_empty());
+        doc.undo();
+        assert_eq!(doc.patch(), &linked);
+    }
+}

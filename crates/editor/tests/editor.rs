@@ -1,0 +1,905 @@
+//! The real editor, driven through egui_kittest: clicks, drags, keys and text
+//! go through egui's input like a user's, on a wgpu device (lavapipe in CI).
+
+use std::path::{Path, PathBuf};
+
+use egui::accesskit::Role;
+use egui::{Event, Key, Modifiers, PointerButton, Pos2, Vec2};
+use egui_kittest::Harness;
+use egui_kittest::kittest::Queryable;
+use spreadlight_editor::{EditorApp, EditorOptions};
+use spreadlight_graph::{LinkDoc, NodeDoc, NodeId, Patch, Spread, format};
+
+struct Env {
+    dir: tempfile::TempDir,
+}
+
+impl Env {
+    fn new() -> Self {
+        Env {
+            dir: tempfile::tempdir().expect("tempdir"),
+        }
+    }
+
+    fn config(&self) -> PathBuf {
+        self.dir.path().join("config")
+    }
+
+    fn options(&self, path: Option<PathBuf>) -> EditorOptions {
+        EditorOptions {
+            path,
+            config_dir: self.config(),
+            autosave_secs: 0.0,
+            automation: None,
+        }
+    }
+
+    fn patch_file(&self, name: &str, patch: &Patch) -> PathBuf {
+        let path = self.dir.path().join(name);
+        format::save(patch, &path).expect("save");
+        path
+    }
+}
+
+fn harness(options: EditorOptions) -> Harness<'static, EditorApp> {
+    let mut h = Harness::builder()
+        .with_size(Vec2::new(1400.0, 800.0))
+        .with_max_steps(40)
+        .wgpu_setup(spreadlight_editor::gpu::wgpu_setup(true))
+        .build_eframe(move |cc| {
+            let mut app = EditorApp::new(cc, options);
+            // A paused patch settles, so `run` returns; tests that need time step it.
+            app.set_playing(false);
+            app
+        });
+    h.run_steps(2);
+    h
+}
+
+fn lfo_probe() -> Patch {
+    let mut p = Patch::default();
+    p.add(NodeDoc::new(1, "LFO").at(20.0, 20.0));
+    p.add(NodeDoc::new(2, "Probe").at(120.0, 20.0));
+    p
+}
+
+/// Two clicks within egui's double-click time. The harness gives each queued
+/// event its own quarter-second step, longer than that, so both clicks go
+/// into the raw input of one frame.
+fn double_click(h: &mut Harness<'_, EditorApp>, pos: Pos2) {
+    h.hover_at(pos);
+    h.step();
+    for _ in 0..2 {
+        for pressed in [true, false] {
+            h.input_mut().events.push(Event::PointerButton {
+                pos,
+                button: PointerButton::Primary,
+                pressed,
+                modifiers: Modifiers::NONE,
+            });
+        }
+    }
+    h.step();
+}
+
+/// Where a canvas widget is on screen: its accessibility rect is in canvas
+/// coordinates, before the canvas's pan and zoom.
+fn on_canvas(h: &Harness<'_, EditorApp>, rect: egui::Rect) -> egui::Rect {
+    let a = h.state().canvas_to_screen(&h.ctx, rect.min);
+    let b = h.state().canvas_to_screen(&h.ctx, rect.max);
+    egui::Rect::from_min_max(a, b)
+}
+
+/// Click a canvas label (a node's title, a pin's name) where it is on screen.
+fn click_on_canvas(h: &mut Harness<'_, EditorApp>, label: &str, modifiers: Modifiers) {
+    let rect = h.get_all_by_label(label).next().expect("label").rect();
+    let at = on_canvas(h, rect).center();
+    h.hover_at(at);
+    h.step();
+    for pressed in [true, false] {
+        h.event_modifiers(
+            Event::PointerButton {
+                pos: at,
+                button: PointerButton::Primary,
+                pressed,
+                modifiers,
+            },
+            modifiers,
+        );
+    }
+    h.run();
+}
+
+fn hover_on_canvas(h: &mut Harness<'_, EditorApp>, label: &str) {
+    let rect = h.get_all_by_label(label).next().expect("label").rect();
+    let at = on_canvas(h, rect).center();
+    h.hover_at(at);
+    h.run();
+}
+
+/// Drag a wire from one pin to another the way a mouse does: press, move in steps, release.
+fn drag(h: &mut Harness<'_, EditorApp>, from: Pos2, to: Pos2) {
+    h.hover_at(from);
+    h.step();
+    h.drag_at(from);
+    h.step();
+    for k in 1..=6 {
+        let t = k as f32 / 6.0;
+        h.hover_at(from + (to - from) * t);
+        h.step();
+    }
+    h.drop_at(to);
+    h.step();
+    h.step();
+}
+
+fn pin(h: &Harness<'_, EditorApp>, node: u32, pin: &str, input: bool) -> Pos2 {
+    h.state()
+        .pin_pos(NodeId(node), pin, input)
+        .unwrap_or_else(|| panic!("pin {node}.{pin} was not drawn"))
+}
+
+fn cmd(h: &Harness<'_, EditorApp>, key: Key) {
+    h.key_press_modifiers(Modifiers::COMMAND, key);
+}
+
+#[test]
+fn a_node_is_created_through_the_browser_and_undone_and_redone() {
+    let env = Env::new();
+    let mut h = harness(env.options(None));
+    assert!(h.state().doc().patch().nodes.is_empty());
+    let at = Pos2::new(300.0, 300.0);
+    double_click(&mut h, at);
+    h.run();
+    h.get_by_label("LFO");
+    h.event(Event::Text("lfo".into()));
+    h.run();
+    h.key_press(Key::Enter);
+    h.run();
+    let nodes = &h.state().doc().patch().nodes;
+    assert_eq!(nodes.len(), 1);
+    assert_eq!(nodes[0].type_name, "LFO");
+    assert!(
+        h.state().title().starts_with('*'),
+        "unsaved mark: {}",
+        h.state().title()
+    );
+
+    cmd(&h, Key::Z);
+    h.run();
+    assert!(h.state().doc().patch().nodes.is_empty(), "undo removes it");
+    cmd(&h, Key::Y);
+    h.run();
+    assert_eq!(
+        h.state().doc().patch().nodes.len(),
+        1,
+        "redo brings it back"
+    );
+}
+
+#[test]
+fn the_browser_closes_on_escape_and_on_a_click_elsewhere() {
+    let env = Env::new();
+    let mut h = harness(env.options(None));
+    let at = Pos2::new(300.0, 300.0);
+    double_click(&mut h, at);
+    h.run();
+    assert!(h.query_by_label("LFO").is_some(), "open");
+    h.key_press(Key::Escape);
+    h.run();
+    assert!(h.query_by_label("LFO").is_none(), "Esc closes it");
+    double_click(&mut h, at);
+    h.run();
+    assert!(h.query_by_label("LFO").is_some(), "open again");
+    h.hover_at(Pos2::new(700.0, 600.0));
+    h.step();
+    h.drag_at(Pos2::new(700.0, 600.0));
+    h.drop_at(Pos2::new(700.0, 600.0));
+    h.run();
+    assert!(
+        h.query_by_label("LFO").is_none(),
+        "a click elsewhere closes it"
+    );
+    assert!(
+        h.state().doc().patch().nodes.is_empty(),
+        "and places nothing"
+    );
+}
+
+#[test]
+fn the_browser_filters_by_category_and_places_with_the_arrow_keys() {
+    let env = Env::new();
+    let mut h = harness(env.options(None));
+    let at = Pos2::new(400.0, 200.0);
+    double_click(&mut h, at);
+    h.run();
+    h.event(Event::Text("lighting".into()));
+    h.run();
+    assert!(h.query_by_label("PointLightBuffer").is_some());
+    assert!(
+        h.query_by_label("LFO").is_none(),
+        "the filter hides other categories"
+    );
+    h.key_press(Key::ArrowDown);
+    h.run();
+    h.key_press(Key::Enter);
+    h.run();
+    let nodes = &h.state().doc().patch().nodes;
+    assert_eq!(nodes.len(), 1);
+    let second = spreadlight_editor::browser::filter(h.state().registry(), "lighting")[1];
+    assert_eq!(nodes[0].type_name, second);
+}
+
+#[test]
+fn dragging_a_wire_links_two_nodes_and_undo_unlinks() {
+    let env = Env::new();
+    let path = env.patch_file("p.ron", &lfo_probe());
+    let mut h = harness(env.options(Some(path)));
+    let from = pin(&h, 1, "Output", false);
+    let to = pin(&h, 2, "Input", true);
+    drag(&mut h, from, to);
+    h.run();
+    assert_eq!(
+        h.state().doc().patch().links,
+        vec![LinkDoc::new(1, "Output", 2, "Input")]
+    );
+    cmd(&h, Key::Z);
+    h.run();
+    assert!(h.state().doc().patch().links.is_empty());
+    h.key_press_modifiers(Modifiers::COMMAND | Modifiers::SHIFT, Key::Z);
+    h.run();
+    assert_eq!(h.state().doc().patch().links.len(), 1, "redo relinks");
+}
+
+#[test]
+fn incompatible_and_cyclic_links_are_refused_where_they_are_dropped() {
+    let env = Env::new();
+    let mut p = Patch::default();
+    p.add(NodeDoc::new(1, "Camera").at(20.0, 20.0));
+    p.add(NodeDoc::new(2, "Add (Value)").at(150.0, 20.0));
+    p.add(NodeDoc::new(3, "Add (Value)").at(150.0, 120.0));
+    p.link(2, "Output", 3, "Input 1");
+    let path = env.patch_file("p.ron", &p);
+    let mut h = harness(env.options(Some(path)));
+
+    let from = pin(&h, 1, "View", false);
+    let to = pin(&h, 2, "Input 1", true);
+    drag(&mut h, from, to);
+    assert_eq!(h.state().doc().patch().links.len(), 1, "nothing was linked");
+    let refusal = h.state().refusal().expect("a refusal message").to_owned();
+    assert!(
+        refusal.contains("Mat4") && refusal.contains("Float"),
+        "{refusal}"
+    );
+    let shown = h.get_by_label_contains("Link refused");
+    assert!(
+        (shown.rect().min - to).length() < 60.0,
+        "the message sits where the wire was dropped"
+    );
+
+    let from = pin(&h, 3, "Output", false);
+    let to = pin(&h, 2, "Input 2", true);
+    drag(&mut h, from, to);
+    assert_eq!(h.state().doc().patch().links.len(), 1);
+    assert!(h.state().refusal().expect("refused").contains("cycle"));
+}
+
+#[test]
+fn a_value_is_edited_in_the_inspector_with_one_undo_step_per_drag() {
+    let env = Env::new();
+    let path = env.patch_file("p.ron", &lfo_probe());
+    let mut h = harness(env.options(Some(path)));
+    click_on_canvas(&mut h, "LFO", Modifiers::NONE);
+    assert_eq!(h.state().selected(), vec![NodeId(1)]);
+    assert!(h.query_by_label_contains("Inspector").is_some());
+    // The inspector's editor is named after its pin (the canvas shows a second one).
+    let editors = h
+        .get_all_by_role_and_label(Role::SpinButton, "Period")
+        .collect::<Vec<_>>();
+    assert_eq!(editors.len(), 2, "one on the node, one in the inspector");
+    // The inspector sits right of the canvas and is not zoomed with it.
+    let target = editors
+        .iter()
+        .map(|e| e.rect())
+        .max_by(|a, b| a.left().total_cmp(&b.left()))
+        .expect("inspector editor")
+        .center();
+    drop(editors);
+    drag(&mut h, target, target + Vec2::new(60.0, 0.0));
+    h.run();
+    let period = |h: &Harness<'_, EditorApp>| {
+        h.state()
+            .doc()
+            .patch()
+            .node(NodeId(1))
+            .and_then(|n| n.values.get("Period").cloned())
+    };
+    let Some(Spread::Float(v)) = period(&h) else {
+        panic!("Period was not set: {:?}", period(&h));
+    };
+    assert!(
+        v[0] > 1.0,
+        "dragging right increased the default 1.0: {v:?}"
+    );
+    cmd(&h, Key::Z);
+    h.run();
+    assert_eq!(period(&h), None, "one undo takes back the whole drag");
+    cmd(&h, Key::Y);
+    h.run();
+    assert_eq!(period(&h), Some(Spread::Float(v)));
+}
+
+#[test]
+fn an_enum_is_picked_from_its_drop_down() {
+    let env = Env::new();
+    let mut p = Patch::default();
+    p.add(NodeDoc::new(1, "Map (Value)").at(20.0, 20.0));
+    let path = env.patch_file("p.ron", &p);
+    let mut h = harness(env.options(Some(path)));
+    click_on_canvas(&mut h, "Map (Value)", Modifiers::NONE);
+    let def = h
+        .state()
+        .registry()
+        .get("Map (Value)")
+        .expect("def")
+        .clone();
+    let pin = def
+        .inputs
+        .iter()
+        .find(|p| matches!(p.ty, spreadlight_graph::PinType::Enum(_)))
+        .expect("an enum pin");
+    let spreadlight_graph::PinType::Enum(options) = pin.ty else {
+        unreachable!()
+    };
+    let other = options.options[1];
+    // The inspector's drop-down, right of the canvas (whose widgets are zoomed).
+    let inspector_combo = h
+        .get_all_by_role_and_label(Role::ComboBox, pin.name)
+        .map(|n| n.rect())
+        .max_by(|a, b| a.left().total_cmp(&b.left()))
+        .expect("inspector combo");
+    h.hover_at(inspector_combo.center());
+    h.step();
+    h.drag_at(inspector_combo.center());
+    h.step();
+    h.event(Event::PointerButton {
+        pos: inspector_combo.center(),
+        button: PointerButton::Primary,
+        pressed: false,
+        modifiers: Modifiers::NONE,
+    });
+    h.run();
+    h.get_all_by_label(other).last().expect("option").click();
+    h.run();
+    assert_eq!(
+        h.state()
+            .doc()
+            .patch()
+            .node(NodeId(1))
+            .and_then(|n| n.values.get(pin.name)),
+        Some(&Spread::Enum(vec![other.to_owned()]))
+    );
+}
+
+#[test]
+fn spreads_get_slices_added_and_removed_in_the_inspector() {
+    let env = Env::new();
+    let path = env.patch_file("p.ron", &lfo_probe());
+    let mut h = harness(env.options(Some(path)));
+    click_on_canvas(&mut h, "LFO", Modifiers::NONE);
+    h.get_all_by_label("+ slice")
+        .next()
+        .expect("add slice")
+        .click();
+    h.run();
+    let period = |h: &Harness<'_, EditorApp>| {
+        h.state()
+            .doc()
+            .patch()
+            .node(NodeId(1))
+            .and_then(|n| n.values.get("Period").cloned())
+    };
+    assert_eq!(period(&h), Some(Spread::Float(vec![1.0, 1.0])));
+    h.get_all_by_label("−")
+        .next()
+        .expect("remove slice")
+        .click();
+    h.run();
+    assert_eq!(period(&h), Some(Spread::Float(vec![1.0])));
+    cmd(&h, Key::Z);
+    h.run();
+    assert_eq!(period(&h), Some(Spread::Float(vec![1.0, 1.0])));
+}
+
+#[test]
+fn hovering_a_pin_shows_its_slices() {
+    let env = Env::new();
+    let mut p = Patch::default();
+    p.add(NodeDoc::new(1, "LinearSpread").with("Spread Count", vec![5i64]));
+    p.add(NodeDoc::new(2, "Probe").at(150.0, 0.0));
+    p.link(1, "Output", 2, "Input");
+    let path = env.patch_file("p.ron", &p);
+    let mut h = harness(env.options(Some(path)));
+    hover_on_canvas(&mut h, "Output");
+    // The first four slices, then the count.
+    assert!(h.query_by_label_contains(", ...] (5 slices)").is_some());
+
+    // The wire shows the same, hovered halfway along.
+    let a = pin(&h, 1, "Output", false);
+    let b = pin(&h, 2, "Input", true);
+    h.hover_at(a + (b - a) * 0.5);
+    h.run();
+    let tip = h.get_by_label_contains("→");
+    let text = format!("{tip:?}");
+    assert!(text.contains("(5 slices)"), "{text}");
+}
+
+#[test]
+fn a_failing_node_is_red_with_its_message_and_the_rest_runs() {
+    let env = Env::new();
+    let mut p = lfo_probe();
+    p.nodes[0]
+        .values
+        .insert("Nope".into(), Spread::Float(vec![1.0]));
+    p.add(NodeDoc::new(3, "LFO").at(20.0, 120.0));
+    p.add(NodeDoc::new(4, "Probe").at(120.0, 120.0));
+    p.link(3, "Output", 4, "Input");
+    let path = env.patch_file("p.ron", &p);
+    let mut h = harness(env.options(Some(path)));
+    // Node 1 is the upper LFO.
+    let top = h
+        .get_all_by_label("LFO")
+        .map(|n| n.rect())
+        .min_by(|a, b| a.top().total_cmp(&b.top()))
+        .expect("the first LFO");
+    h.hover_at(on_canvas(&h, top).center());
+    h.run();
+    assert!(
+        h.query_by_label_contains("Nope").is_some(),
+        "the error shows on hover"
+    );
+    // The header is red: sample it beside the title.
+    let image = h.render().expect("render");
+    let title = on_canvas(&h, top);
+    let ppp = h.ctx.pixels_per_point();
+    let px = image.get_pixel(
+        ((title.left() - 20.0) * ppp) as u32,
+        (title.center().y * ppp) as u32,
+    );
+    assert!(px[0] > 100 && px[1] < 60, "red header, got {px:?}");
+    let stats = h.state().runtime().stats();
+    assert!(
+        stats
+            .node(NodeId(3))
+            .is_some_and(|s| s.run == spreadlight_graph::NodeRun::Evaluated)
+    );
+}
+
+#[test]
+fn copy_paste_duplicate_and_delete_keep_inner_links() {
+    let env = Env::new();
+    let mut p = lfo_probe();
+    p.link(1, "Output", 2, "Input");
+    let path = env.patch_file("p.ron", &p);
+    let mut h = harness(env.options(Some(path)));
+    click_on_canvas(&mut h, "LFO", Modifiers::NONE);
+    click_on_canvas(&mut h, "Probe", Modifiers::SHIFT);
+    assert_eq!(h.state().selected(), vec![NodeId(1), NodeId(2)]);
+    cmd(&h, Key::D);
+    h.run();
+    assert_eq!(h.state().doc().patch().nodes.len(), 4);
+    assert_eq!(
+        h.state().doc().patch().links.len(),
+        2,
+        "the duplicate has its inner link"
+    );
+    cmd(&h, Key::C);
+    h.run();
+    cmd(&h, Key::V);
+    h.run();
+    assert_eq!(h.state().doc().patch().nodes.len(), 6);
+    assert_eq!(h.state().doc().patch().links.len(), 3);
+    h.key_press(Key::Delete);
+    h.run();
+    assert_eq!(
+        h.state().doc().patch().nodes.len(),
+        4,
+        "Del removes the pasted selection"
+    );
+    assert_eq!(h.state().doc().patch().links.len(), 2);
+    cmd(&h, Key::Z);
+    h.run();
+    assert_eq!(h.state().doc().patch().nodes.len(), 6);
+}
+
+#[test]
+fn moving_a_node_is_one_undoable_step() {
+    let env = Env::new();
+    let path = env.patch_file("p.ron", &lfo_probe());
+    let mut h = harness(env.options(Some(path)));
+    // A drag on the title moves the node (a click there would select it).
+    let grab = on_canvas(&h, h.get_by_label("LFO").rect()).center();
+    drag(&mut h, grab, grab + Vec2::new(90.0, 60.0));
+    h.run();
+    let pos = h.state().doc().patch().node(NodeId(1)).expect("node").pos;
+    assert!(pos.0 > 20.0 && pos.1 > 20.0, "moved: {pos:?}");
+    assert_eq!(h.state().doc().undo_label(), Some("move node"));
+    cmd(&h, Key::Z);
+    h.run();
+    assert_eq!(
+        h.state().doc().patch().node(NodeId(1)).expect("node").pos,
+        (20.0, 20.0)
+    );
+}
+
+#[test]
+fn save_and_reload_give_back_the_same_patch() {
+    let env = Env::new();
+    let path = env.patch_file("p.ron", &lfo_probe());
+    let mut h = harness(env.options(Some(path.clone())));
+    let from = pin(&h, 1, "Output", false);
+    let to = pin(&h, 2, "Input", true);
+    drag(&mut h, from, to);
+    h.run();
+    assert!(h.state().title().starts_with("*p.ron"));
+    cmd(&h, Key::S);
+    h.run();
+    assert!(
+        h.state().title().starts_with("p.ron"),
+        "saved: {}",
+        h.state().title()
+    );
+    let edited = h.state().doc().patch().clone();
+    assert_eq!(format::load(&path).expect("reload"), edited);
+
+    let h2 = harness(env.options(Some(path.clone())));
+    assert_eq!(h2.state().doc().patch(), &edited, "reopened unchanged");
+    assert!(!h2.state().doc().is_dirty());
+    assert!(
+        !h2.state().recovery_offered(),
+        "a saved patch leaves no autosave behind"
+    );
+}
+
+#[test]
+fn save_as_goes_through_the_file_dialog_and_is_remembered() {
+    let env = Env::new();
+    let mut h = harness(env.options(None));
+    h.state_mut().doc_mut().add_node("LFO", (0.0, 0.0));
+    h.run();
+    h.key_press_modifiers(Modifiers::COMMAND | Modifiers::SHIFT, Key::S);
+    h.run();
+    let target = env.dir.path().join("scene.ron");
+    h.get_by_role_and_label(Role::TextInput, "File:").focus();
+    h.run();
+    h.key_press_modifiers(Modifiers::COMMAND, Key::A);
+    h.event(Event::Text(target.display().to_string()));
+    h.run();
+    h.get_by_label("Save").click();
+    h.run();
+    assert_eq!(h.state().path(), Some(target.as_path()));
+    assert_eq!(format::load(&target).expect("saved").nodes.len(), 1);
+    let recent = spreadlight_editor::files::load_recent(&env.config());
+    assert_eq!(
+        recent.first().and_then(|p| p.file_name()),
+        target.file_name()
+    );
+}
+
+fn recovery_of(path: &Path) -> PathBuf {
+    spreadlight_editor::files::recovery_path(Some(path), Path::new("unused"))
+}
+
+#[test]
+fn an_autosave_is_offered_after_a_crash_and_restores_the_edits() {
+    let env = Env::new();
+    let path = env.patch_file("p.ron", &lfo_probe());
+    // Make the patch file older than any autosave, as it is when edits follow a save.
+    let old = std::time::SystemTime::now() - std::time::Duration::from_secs(60);
+    std::fs::File::options()
+        .write(true)
+        .open(&path)
+        .and_then(|f| f.set_modified(old))
+        .expect("touch");
+    let edited = {
+        let mut h = harness(env.options(Some(path.clone())));
+        let from = pin(&h, 1, "Output", false);
+        let to = pin(&h, 2, "Input", true);
+        drag(&mut h, from, to);
+        h.run();
+        assert!(recovery_of(&path).exists(), "autosaved while dirty");
+        h.state().doc().patch().clone()
+        // The harness is dropped without saving: a crash, as far as the files know.
+    };
+    let mut h = harness(env.options(Some(path.clone())));
+    assert!(h.state().recovery_offered());
+    assert_eq!(
+        h.state().doc().patch(),
+        &lfo_probe(),
+        "nothing restored before the answer"
+    );
+    h.get_by_label("Restore").click();
+    h.run();
+    assert_eq!(h.state().doc().patch(), &edited);
+    assert!(
+        h.state().doc().is_dirty(),
+        "restored edits are unsaved until saved"
+    );
+    cmd(&h, Key::S);
+    h.run();
+    assert!(!recovery_of(&path).exists(), "saving removes the autosave");
+}
+
+#[test]
+fn quitting_with_unsaved_changes_asks_first() {
+    let env = Env::new();
+    let path = env.patch_file("p.ron", &lfo_probe());
+    let mut h = harness(env.options(Some(path)));
+    h.state_mut().doc_mut().add_node("LFO", (0.0, 0.0));
+    h.run();
+    h.input_mut()
+        .viewports
+        .entry(egui::ViewportId::ROOT)
+        .or_default()
+        .events
+        .push(egui::ViewportEvent::Close);
+    h.run();
+    assert!(h.query_by_label("Unsaved changes").is_some());
+    h.get_by_label("Cancel").click();
+    h.run();
+    assert!(h.query_by_label("Unsaved changes").is_none());
+    assert_eq!(
+        h.state().doc().patch().nodes.len(),
+        3,
+        "cancel keeps editing"
+    );
+}
+
+#[test]
+fn paused_patches_evaluate_only_on_change_or_step() {
+    let env = Env::new();
+    let path = env.patch_file("p.ron", &lfo_probe());
+    let mut h = harness(env.options(Some(path)));
+    let before = h.state().evaluations();
+    h.run_steps(5);
+    assert_eq!(
+        h.state().evaluations(),
+        before,
+        "nothing changed, nothing ran"
+    );
+    let frame = h.state().frame();
+    h.get_by_label("⏭ Step").click();
+    h.run();
+    assert_eq!(h.state().frame(), frame + 1);
+    assert_eq!(h.state().evaluations(), before + 1);
+    h.state_mut()
+        .doc_mut()
+        .set_value(NodeId(1), "Period", Some(Spread::Float(vec![2.0])), false);
+    h.run();
+    assert_eq!(h.state().evaluations(), before + 2, "an edit re-evaluates");
+    h.get_by_label("▶ Play").click();
+    h.run_steps(5);
+    assert!(
+        h.state().evaluations() >= before + 5,
+        "time runs while playing"
+    );
+}
+
+#[test]
+fn links_are_removed_from_the_inspector_and_by_right_clicking_a_pin_or_wire() {
+    let env = Env::new();
+    let mut p = lfo_probe();
+    p.link(1, "Output", 2, "Input");
+    let path = env.patch_file("p.ron", &p);
+    let mut h = harness(env.options(Some(path)));
+    click_on_canvas(&mut h, "Probe", Modifiers::NONE);
+    h.get_by_label("unlink").click();
+    h.run();
+    assert!(
+        h.state().doc().patch().links.is_empty(),
+        "unlinked in the inspector"
+    );
+    cmd(&h, Key::Z);
+    h.run();
+    assert_eq!(h.state().doc().patch().links.len(), 1, "undo relinks");
+
+    let input = pin(&h, 2, "Input", true);
+    h.hover_at(input);
+    h.step();
+    for pressed in [true, false] {
+        h.event(Event::PointerButton {
+            pos: input,
+            button: PointerButton::Secondary,
+            pressed,
+            modifiers: Modifiers::NONE,
+        });
+    }
+    h.run();
+    assert!(
+        h.state().doc().patch().links.is_empty(),
+        "right-click on the pin unlinks"
+    );
+    cmd(&h, Key::Z);
+    h.run();
+    assert_eq!(h.state().doc().patch().links.len(), 1);
+
+    let a = pin(&h, 1, "Output", false);
+    let b = pin(&h, 2, "Input", true);
+    let middle = a + (b - a) * 0.5;
+    h.hover_at(middle);
+    h.run();
+    for pressed in [true, false] {
+        h.event(Event::PointerButton {
+            pos: middle,
+            button: PointerButton::Secondary,
+            pressed,
+            modifiers: Modifiers::NONE,
+        });
+    }
+    h.run();
+    assert!(
+        h.state().doc().patch().links.is_empty(),
+        "right-click on the wire unlinks"
+    );
+    cmd(&h, Key::Z);
+    h.run();
+    assert_eq!(h.state().doc().patch().links.len(), 1);
+}
+
+#[test]
+fn patches_open_through_the_dialog_and_the_recent_list() {
+    let env = Env::new();
+    let first = env.patch_file("first.ron", &lfo_probe());
+    let mut other = lfo_probe();
+    other.add(NodeDoc::new(3, "LFO").at(50.0, 100.0));
+    let second = env.patch_file("second.ron", &other);
+    let mut h = harness(env.options(Some(first.clone())));
+
+    cmd(&h, Key::O);
+    h.run();
+    h.get_by_label("second.ron").click();
+    h.run();
+    h.get_by_label("Open").click();
+    h.run();
+    assert_eq!(h.state().path(), Some(second.as_path()));
+    assert_eq!(h.state().doc().patch(), &other);
+    assert!(h.state().title().starts_with("second.ron"));
+
+    h.get_by_label("File").click();
+    h.run();
+    h.get_by_label_contains("Open recent").hover();
+    h.run();
+    let listed = std::fs::canonicalize(&first).expect("canonical");
+    h.get_by_label(&listed.display().to_string()).click();
+    h.run();
+    assert_eq!(h.state().doc().patch(), &lfo_probe());
+}
+
+#[test]
+fn shift_dragging_a_rectangle_selects_the_nodes_it_touches() {
+    let env = Env::new();
+    let mut p = lfo_probe();
+    p.add(NodeDoc::new(3, "LFO").at(20.0, 200.0));
+    let path = env.patch_file("p.ron", &p);
+    let mut h = harness(env.options(Some(path)));
+    let lfo = on_canvas(&h, h.get_all_by_label("LFO").next().expect("LFO").rect());
+    let probe = on_canvas(&h, h.get_by_label("Probe").rect());
+    // From above and left of the first LFO to the Probe's title: the two upper nodes, not node 3.
+    let from = lfo.left_top() - Vec2::new(30.0, 30.0);
+    let to = probe.center();
+    h.hover_at(from);
+    h.step();
+    h.event_modifiers(
+        Event::PointerButton {
+            pos: from,
+            button: PointerButton::Primary,
+            pressed: true,
+            modifiers: Modifiers::SHIFT,
+        },
+        Modifiers::SHIFT,
+    );
+    h.step();
+    for k in 1..=5 {
+        h.event_modifiers(
+            Event::PointerMoved(from + (to - from) * (k as f32 / 5.0)),
+            Modifiers::SHIFT,
+        );
+        h.step();
+    }
+    h.event_modifiers(
+        Event::PointerButton {
+            pos: to,
+            button: PointerButton::Primary,
+            pressed: false,
+            modifiers: Modifiers::SHIFT,
+        },
+        Modifiers::SHIFT,
+    );
+    h.run();
+    assert_eq!(h.state().selected(), vec![NodeId(1), NodeId(2)]);
+    assert_eq!(
+        h.state().doc().undo_label(),
+        None,
+        "selecting moved nothing"
+    );
+}
+
+#[test]
+fn nodes_travel_between_windows_as_patch_text_on_the_clipboard() {
+    let env = Env::new();
+    let mut p = lfo_probe();
+    p.link(1, "Output", 2, "Input");
+    let path = env.patch_file("p.ron", &p);
+    let mut source = harness(env.options(Some(path)));
+    click_on_canvas(&mut source, "LFO", Modifiers::NONE);
+    click_on_canvas(&mut source, "Probe", Modifiers::SHIFT);
+    // A real window turns Ctrl+C into egui's Copy event; one event, one frame, whose output has the text.
+    source.event(Event::Copy);
+    source.step();
+    let text = source
+        .output()
+        .platform_output
+        .commands
+        .iter()
+        .find_map(|c| match c {
+            egui::OutputCommand::CopyText(text) => Some(text.clone()),
+            _ => None,
+        })
+        .expect("the selection went to the system clipboard");
+    assert!(
+        text.contains("\"LFO\"") && text.contains("\"Probe\""),
+        "{text}"
+    );
+
+    let mut target = harness(env.options(None));
+    target.event(Event::Paste(text));
+    target.run();
+    let pasted = target.state().doc().patch();
+    assert_eq!(pasted.nodes.len(), 2);
+    assert_eq!(pasted.links.len(), 1, "with the link between them");
+    assert_eq!(pasted.nodes[0].type_name, "LFO");
+}
+
+#[test]
+fn editing_a_file_that_does_not_exist_yet_saves_it_there() {
+    let env = Env::new();
+    let path = env.dir.path().join("new.ron");
+    let mut h = harness(env.options(Some(path.clone())));
+    assert!(h.state().doc().patch().nodes.is_empty());
+    assert!(
+        h.state().title().starts_with("new.ron"),
+        "{}",
+        h.state().title()
+    );
+    h.state_mut().doc_mut().add_node("LFO", (0.0, 0.0));
+    h.run();
+    cmd(&h, Key::S);
+    h.run();
+    assert_eq!(format::load(&path).expect("saved").nodes.len(), 1);
+}
+
+#[test]
+fn a_file_pin_is_set_with_the_file_picker() {
+    let env = Env::new();
+    std::fs::write(env.dir.path().join("bricks.png"), b"not read by this test").expect("write");
+    let mut p = Patch::default();
+    p.add(NodeDoc::new(1, "FileTexture").at(20.0, 20.0));
+    let path = env.patch_file("p.ron", &p);
+    let mut h = harness(env.options(Some(path)));
+    click_on_canvas(&mut h, "FileTexture", Modifiers::NONE);
+    h.get_by_label("Browse…").click();
+    h.run();
+    h.get_by_label("bricks.png").click();
+    h.run();
+    h.get_by_label("Pick").click();
+    h.run();
+    let picked = env.dir.path().join("bricks.png").display().to_string();
+    assert_eq!(
+        h.state()
+            .doc()
+            .node(NodeId(1))
+            .and_then(|n| n.values.get("Filename")),
+        Some(&Spread::String(vec![picked]))
+    );
+    assert_eq!(h.state().doc().undo_label(), Some("set #1.Filename"));
+}

@@ -1,0 +1,140 @@
+//! The viewports and the GPU timings, on the showcase patch: rendered by the
+//! shared renderer on the device the harness's egui draws with.
+
+use std::path::PathBuf;
+
+use egui::Vec2;
+use egui::accesskit::Role;
+use egui_kittest::Harness;
+use egui_kittest::kittest::Queryable;
+use spreadlight_editor::{EditorApp, EditorOptions};
+
+fn showcase() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../patches/showcase.ron")
+}
+
+fn harness(dir: &tempfile::TempDir) -> Harness<'static, EditorApp> {
+    let options = EditorOptions {
+        path: Some(showcase()),
+        config_dir: dir.path().to_owned(),
+        autosave_secs: 0.0,
+        automation: None,
+    };
+    let mut h = Harness::builder()
+        .with_size(Vec2::new(1400.0, 800.0))
+        .with_max_steps(40)
+        .wgpu_setup(spreadlight_editor::gpu::wgpu_setup(true))
+        .build_eframe(move |cc| {
+            let mut app = EditorApp::new(cc, options);
+            app.set_playing(false);
+            app
+        });
+    h.run();
+    h
+}
+
+/// How many distinct colours a region of the rendered window has: a blank
+/// (or single-colour) viewport has one or two.
+fn distinct_colours(image: &image::RgbaImage, rect: egui::Rect, ppp: f32) -> usize {
+    let mut seen = std::collections::HashSet::new();
+    let (x0, y0) = ((rect.min.x * ppp) as u32, (rect.min.y * ppp) as u32);
+    let (x1, y1) = ((rect.max.x * ppp) as u32, (rect.max.y * ppp) as u32);
+    for y in (y0..y1.min(image.height())).step_by(2) {
+        for x in (x0..x1.min(image.width())).step_by(2) {
+            let p = image.get_pixel(x, y);
+            // Quantised, so dithering noise does not count as content.
+            seen.insert((p[0] / 16, p[1] / 16, p[2] / 16));
+        }
+    }
+    seen.len()
+}
+
+#[test]
+fn the_viewport_shows_the_output_rendered_on_egui_s_device() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let mut h = harness(&dir);
+    assert_eq!(h.state().gpu_error(), None);
+    assert_eq!(h.state().viewport_error(0), None);
+    let texture = h.state().viewport_texture(0).expect("a viewport texture");
+    let rect = h.state().viewport_rect(0).expect("the viewport was drawn");
+    let ppp = h.ctx.pixels_per_point();
+    assert_eq!(
+        (texture.width(), texture.height()),
+        (
+            (rect.width() * ppp).round() as u32,
+            (rect.height() * ppp).round() as u32
+        ),
+        "rendered at the panel's size in pixels"
+    );
+    let image = h.render().expect("render the window");
+    let colours = distinct_colours(&image, rect, ppp);
+    assert!(
+        colours > 20,
+        "the lit scene has many colours, got {colours}"
+    );
+    image
+        .save(dir.path().join("window.png"))
+        .expect("the image can be written");
+}
+
+#[test]
+fn a_second_viewport_shows_any_texture_pin() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let mut h = harness(&dir);
+    h.get_by_role_and_label(Role::ComboBox, "Texture pin")
+        .click();
+    h.run();
+    // Pins are listed as "Type #id.Pin"; the first light's diffuse term is near the top.
+    h.get_by_label("CookTorrance #23.Diffuse").click();
+    h.run();
+    assert_eq!(h.state().viewport_error(1), None);
+    let rect = h.state().viewport_rect(1).expect("second viewport drawn");
+    let ppp = h.ctx.pixels_per_point();
+    let image = h.render().expect("render");
+    assert!(distinct_colours(&image, rect, ppp) > 20);
+}
+
+#[test]
+fn timings_show_cpu_per_node_and_gpu_per_render_node() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let mut h = harness(&dir);
+    assert!(
+        h.query_by_label_contains("CPU ").is_none(),
+        "hidden until asked"
+    );
+    h.get_by_label("⏱ Timings").click();
+    h.run();
+    let cpu = h.query_all_by_label_contains("CPU ").count();
+    assert!(cpu > 10, "every node shows its CPU time, got {cpu}");
+    let gpu = h.query_all_by_label_contains("GPU ").count();
+    assert!(gpu >= 1, "render nodes show their GPU time");
+}
+
+#[test]
+fn an_opened_patch_is_fitted_into_the_canvas_and_f_fits_again() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let mut h = harness(&dir);
+    let inside = |h: &Harness<'_, EditorApp>| {
+        let canvas = h.state().canvas_rect().expect("canvas drawn");
+        let rects = h.state().node_screen_rects();
+        assert_eq!(rects.len(), h.state().doc().patch().nodes.len());
+        rects
+            .iter()
+            .filter(|(_, r)| !canvas.expand(1.0).contains_rect(*r))
+            .count()
+    };
+    assert_eq!(inside(&h), 0, "every node of the showcase is on screen");
+    // Zoom in on the canvas with the wheel, then F shows everything again.
+    let canvas = h.state().canvas_rect().expect("canvas");
+    h.hover_at(canvas.center());
+    h.step();
+    for _ in 0..5 {
+        h.event(egui::Event::Zoom(1.5));
+        h.step();
+    }
+    h.run();
+    assert!(inside(&h) > 0, "zoomed in, some nodes are off screen");
+    h.key_press(egui::Key::F);
+    h.run();
+    assert_eq!(inside(&h), 0);
+}
