@@ -97,9 +97,25 @@ fn setup(instance: u32, triangle: u32) -> Setup {
     let n0 = poly[0].xy / poly[0].w;
     let n1 = poly[1].xy / poly[1].w;
     let n2 = poly[2].xy / poly[2].w;
-    if (cross2(n1 - n0, n2 - n0) <= 0.0) {
+    let winding = cross2(n1 - n0, n2 - n0);
+#ifdef TWO_SIDED
+    // Shadow maps: both faces cast (an open mesh, a plane seen from behind).
+    // A back face is turned around, so the rasterizer sees it front-facing.
+    if (winding == 0.0) {
         return s;
     }
+    if (winding < 0.0) {
+        var flipped: array<vec4<f32>, 4>;
+        for (var i = 0u; i < n; i++) {
+            flipped[i] = poly[n - 1u - i];
+        }
+        poly = flipped;
+    }
+#else
+    if (winding <= 0.0) {
+        return s;
+    }
+#endif
     s.lo = vec2<f32>(1e30);
     s.hi = vec2<f32>(-1e30);
     for (var i = 0u; i < n; i++) {

@@ -244,14 +244,20 @@ fn light_shadow(slice: u32, pw: vec3<f32>, nw: vec3<f32>, from_light: vec3<f32>,
 #ifdef LIGHT_SPOT
     return shadow_in_layer(slice, pw, nw, slope);
 #else
-    let a = abs(from_light);
+    // The face where the point lands after its normal offset (a texel of a
+    // face is 2 / resolution at distance 1 along its axis), so a point near
+    // a face border is not moved off the face it was sampled on.
+    let d = abs(from_light);
+    let axis = max(d.x, max(d.y, d.z));
+    let moved = from_light + nw * shadow_params.bias.y * (2.0 / shadow_params.sampling.z) * axis;
+    let a = abs(moved);
     var face = 0u;
     if (a.x >= a.y && a.x >= a.z) {
-        face = select(1u, 0u, from_light.x > 0.0);
+        face = select(1u, 0u, moved.x > 0.0);
     } else if (a.y >= a.z) {
-        face = select(3u, 2u, from_light.y > 0.0);
+        face = select(3u, 2u, moved.y > 0.0);
     } else {
-        face = select(5u, 4u, from_light.z > 0.0);
+        face = select(5u, 4u, moved.z > 0.0);
     }
     return shadow_in_layer(slice * 6u + face, pw, nw, slope);
 #endif

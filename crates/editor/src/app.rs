@@ -456,11 +456,21 @@ impl EditorApp {
             self.runtime.provide(gpu.renderer.clone());
             gpu.renderer.reset_history();
         }
+        self.provide_patch_dir();
         self.loaded_generation = None;
         self.status = match &self.path {
             Some(p) => format!("opened {}", p.display()),
             None => "new patch".to_owned(),
         };
+    }
+
+    /// Relative file names on pins (textures, models) resolve beside the
+    /// patch, as the CLI resolves them; an untitled patch has none.
+    fn provide_patch_dir(&mut self) {
+        if let Some(dir) = self.path.as_deref().and_then(Path::parent) {
+            self.runtime
+                .provide(Arc::new(spreadlight_graph::PatchDir(dir.to_path_buf())));
+        }
     }
 
     fn recovery_file(&self) -> PathBuf {
@@ -480,6 +490,7 @@ impl EditorApp {
             Ok(()) => {
                 let old_recovery = self.recovery_file();
                 self.path = Some(path.to_owned());
+                self.provide_patch_dir();
                 self.doc.mark_saved();
                 files::remove_recovery(&old_recovery);
                 files::remove_recovery(&self.recovery_file());

@@ -113,6 +113,11 @@ impl<'a> EvalContext<'a> {
         self.reevaluate
     }
 
+    /// How many input pins the node has.
+    pub fn input_count(&self) -> usize {
+        self.inputs.len()
+    }
+
     pub fn input(&self, index: usize) -> &Spread {
         &self.inputs[index]
     }

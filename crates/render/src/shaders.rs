@@ -107,7 +107,7 @@ pub const SHADERS: &[ShaderFile] = &[
     shader!("lib/material.wgsl", library),
     shader!("lighting/shadow_sampling.wgsl", library),
     shader!("gbuffer/visibility.wgsl", []),
-    shader!("gbuffer/raster.wgsl", []),
+    shader!("gbuffer/raster.wgsl", ["TWO_SIDED"]),
     shader!(
         "gbuffer/resolve.wgsl",
         [

@@ -194,6 +194,15 @@ fn every_light_type_casts_through_every_filter() {
     for (name, lights, casting) in cases {
         let (lit, _) = shade(&renderer, &layers, lights.clone(), None);
         for filter in FILTERS {
+            // A sun's light size is the tangent of its angular radius: 0.3 would be a
+            // 17-degree sun, whose penumbra swallows a ball this size.
+            let filter = match (name, filter) {
+                ("sun", ShadowFilter::Pcss { samples, .. }) => ShadowFilter::Pcss {
+                    light_size: 0.05,
+                    samples,
+                },
+                _ => filter,
+            };
             // Both rasterizers draw the same maps (lavapipe has the compute one's 64-bit atomics).
             let mut images = Vec::new();
             for raster in [RasterChoice::Compute, RasterChoice::Hardware] {
@@ -568,4 +577,124 @@ fn a_ball_resting_on_the_floor_keeps_its_contact_shadow() {
             );
         }
     }
+}
+
+#[test]
+fn a_one_sided_plane_facing_away_from_the_light_still_casts_on_either_rasterizer() {
+    use spreadlight_render::gbuffer::{DrawBatch, InstanceInput, LayerFeatures};
+    use spreadlight_render::mesh::primitives::{GridParams, grid};
+    let renderer = test_renderer();
+    let mut layers = casters(&renderer, Vec3::new(0.0, -50.0, 0.0));
+    // A 2 x 2 roof at y = 2, turned upside down: its front faces the floor, its back the light.
+    let roof = renderer
+        .meshes
+        .upload(
+            &renderer.gpu,
+            &grid(GridParams {
+                size: glam::Vec2::splat(2.0),
+                resolution_x: 1,
+                resolution_y: 1,
+            }),
+        )
+        .expect("upload");
+    let t = glam::Mat4::from_translation(Vec3::new(0.0, 2.0, 0.0))
+        * glam::Mat4::from_rotation_x(std::f32::consts::PI);
+    let batch = DrawBatch {
+        mesh: roof,
+        instances: vec![InstanceInput {
+            transform: t,
+            previous_transform: t,
+            color: [0.8; 4],
+            material_id: 0,
+            object_id: 0,
+        }],
+    };
+    layers.push(Arc::new(
+        Layer::new(None, vec![batch], LayerFeatures::default(), None).expect("valid"),
+    ));
+    let spot = SpotLight {
+        shadow: Some(0),
+        ..SpotLight::cone(Vec3::new(0.0, 6.0, 0.0), Vec3::NEG_Y, 12.0, 0.5, 0.7)
+            .with_light(Vec3::ONE, 300.0)
+    };
+    let lights = LightBuffer::spots(&renderer, &[spot], None).expect("valid");
+    let casting = ShadowLights::Spot(vec![(0, spot.view, spot.projection)]);
+    let (lit, _) = shade(&renderer, &layers, lights.clone(), None);
+    for raster in [RasterChoice::Compute, RasterChoice::Hardware] {
+        let maps = ShadowMaps::new(
+            &renderer,
+            None,
+            &casting,
+            layers.clone(),
+            &camera(),
+            ShadowSettings {
+                raster,
+                ..settings(ShadowFilter::Raw)
+            },
+        )
+        .expect("valid");
+        let (shadowed, _) = shade(&renderer, &layers, lights.clone(), Some(maps));
+        let (cx, cy) = (SIZE.0 / 2, SIZE.1 / 2);
+        assert!(
+            luminance(&shadowed, cx, cy) < 0.25 * luminance(&lit, cx, cy),
+            "{raster:?}: the roof's shadow is under it"
+        );
+    }
+}
+
+#[test]
+fn a_node_changing_its_cascades_or_slices_never_reuses_a_store_of_another_layout() {
+    let renderer = test_renderer();
+    let layers = casters(&renderer, Vec3::new(0.0, 1.5, 0.0));
+    let sun = |shadow| SunLight {
+        direction: Vec3::NEG_Y,
+        color: Vec3::ONE,
+        illuminance: 5.0,
+        shadow,
+    };
+    // The same node (owner 11): first 4 cascades and no casting sun, then 1
+    // cascade and a casting one (1 layer both times), then 2 suns x 3 and 3 x 2.
+    let cascades = |count| Cascades {
+        count,
+        split_lambda: 0.5,
+        distance: 30.0,
+    };
+    let steps: [(Vec<(u32, Vec3)>, u32); 4] = [
+        (vec![], 4),
+        (vec![(0, Vec3::NEG_Y)], 1),
+        (vec![(0, Vec3::NEG_Y), (1, Vec3::NEG_X)], 3),
+        (
+            vec![(0, Vec3::NEG_Y), (1, Vec3::NEG_X), (2, Vec3::NEG_Z)],
+            2,
+        ),
+    ];
+    for (lights, count) in steps {
+        let suns: Vec<SunLight> = lights.iter().map(|(s, _)| sun(Some(*s))).collect();
+        let buffer = LightBuffer::suns(&renderer, &suns);
+        let maps = ShadowMaps::new(
+            &renderer,
+            Some(11),
+            &ShadowLights::Sun {
+                lights: lights.clone(),
+                cascades: cascades(count),
+            },
+            layers.clone(),
+            &camera(),
+            settings(ShadowFilter::Raw),
+        )
+        .expect("valid");
+        let (_, report) = shade(&renderer, &layers, buffer, Some(maps));
+        assert_eq!(report.counter("shadow maps rendered"), lights.len() as u64);
+    }
+    // A slice so high its layers overflow u32 is an error, not a panic.
+    let err = ShadowMaps::new(
+        &renderer,
+        None,
+        &ShadowLights::Point(vec![(u32::MAX, Vec3::ZERO, 1.0)]),
+        layers,
+        &camera(),
+        ShadowSettings::default(),
+    )
+    .expect_err("refused");
+    assert!(err.to_string().contains("too high"), "{err}");
 }

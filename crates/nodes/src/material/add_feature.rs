@@ -5,7 +5,8 @@
 //! One function serves all six: the vec4 is the node's pins after Material,
 //! in order, a Float giving one component and a Color three (rgb); then
 //! Texture ID, the layer of the MaterialBuffer's texture array that scales
-//! that vec4 at each pixel's UV (-1: none).
+//! that vec4 at each pixel's UV (-1: none), on the features a shader maps
+//! (CookTorrance, Emission, FakeSSS; not yet Reflection, MatCap, AO).
 
 use spreadlight_graph::{Color, EvalContext, NodeDef, NodeError, Registry, Spread};
 use spreadlight_render::material::Feature;
@@ -47,7 +48,6 @@ pub fn register(r: &mut Registry) {
     let strength = |name, help| node(name, help).input("Strength", 1.0f32);
     r.add(
         strength("AddReflection", "Sets environment reflection on each material, with a strength >= 0. No material in: new ones.")
-            .input(TEXTURE_ID, -1i64)
             .evaluate(|cx| add(cx, Feature::Reflection, 1)),
     );
     r.add(
@@ -55,12 +55,10 @@ pub fn register(r: &mut Registry) {
             "AddMatCap",
             "Sets matcap shading on each material, with a strength >= 0. No material in: new ones.",
         )
-        .input(TEXTURE_ID, -1i64)
         .evaluate(|cx| add(cx, Feature::MatCap, 1)),
     );
     r.add(
         strength("AddAmbientOcclusion", "Sets ambient occlusion on each material, with a strength >= 0. No material in: new ones.")
-            .input(TEXTURE_ID, -1i64)
             .evaluate(|cx| add(cx, Feature::AmbientOcclusion, 1)),
     );
 }
@@ -110,7 +108,9 @@ fn add(cx: &mut EvalContext<'_>, feature: Feature, values: usize) -> Result<(), 
         components.resize(4, 0.0);
         params.push([components[0], components[1], components[2], components[3]]);
     }
-    set_feature(cx, 0, n, 1, values + 1, |_, slice| {
+    // Only features a shader maps by texture have a Texture ID pin (after the values).
+    let texture_pin = (cx.input_count() > values + 1).then_some(values + 1);
+    set_feature(cx, 0, n, 1, texture_pin, |_, slice| {
         Ok((feature, vec![params[slice]]))
     })
 }

@@ -48,7 +48,7 @@ pub fn register(r: &mut Registry) {
             if let Some(slice) = (0..n).find(|s| (0..bin).any(|k| !params[(s * bin + k) % params.len()].is_finite())) {
                 return Err(not_finite(cx, PARAMETERS, slice));
             }
-            set_feature(cx, 0, n, PARAMETERS, TEXTURE, |cx, slice| {
+            set_feature(cx, 0, n, PARAMETERS, Some(TEXTURE), |cx, slice| {
                 let id = ids[slice % ids.len()];
                 let feature = Feature::from_id(id).map_err(|e| refused(cx, FEATURE_ID, slice, e))?;
                 if feature.param_count().is_some_and(|c| c != bin) {

@@ -61,16 +61,19 @@ pub const TEXTURE_ID: &str = "Texture ID";
 /// Set `feature` on each of `n` materials from input pin `pin` (wrapping;
 /// empty = new materials) with `params(slice)`, and output them on pin 0.
 /// A refused setting becomes an error on `param_pin` naming the slice.
-/// `texture_pin` holds each slice's texture layer (negative: none).
+/// `texture_pin`, when the node has one, holds each slice's texture layer (negative: none).
 pub fn set_feature(
     cx: &mut EvalContext<'_>,
     pin: usize,
     n: usize,
     param_pin: usize,
-    texture_pin: usize,
+    texture_pin: Option<usize>,
     mut params: impl FnMut(&EvalContext<'_>, usize) -> Result<(Feature, Vec<[f32; 4]>), NodeError>,
 ) -> Result<(), NodeError> {
-    let textures = cx.slices::<i64>(texture_pin)?.to_vec();
+    let textures = match texture_pin {
+        Some(pin) => cx.slices::<i64>(pin)?.to_vec(),
+        None => Vec::new(),
+    };
     let inputs = resources::<Material>(cx, pin)?;
     let mut out = Vec::with_capacity(n);
     for slice in 0..n {

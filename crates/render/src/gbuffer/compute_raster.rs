@@ -47,6 +47,8 @@ pub(crate) struct RasterView<'b> {
     pub camera: &'b wgpu::Buffer,
     pub instances: &'b wgpu::Buffer,
     pub size: (u32, u32),
+    /// Back faces too (shadow maps); the G-buffer culls them.
+    pub two_sided: bool,
 }
 
 pub(crate) struct ComputeRaster {
@@ -114,6 +116,7 @@ impl ComputeRaster {
             camera: g.camera_buffer(),
             instances: &g.instances,
             size: g.pixel_size(cx.output_size),
+            two_sided: false,
         };
         self.record_view(&view, renderer, cx)?;
         Ok(())
@@ -164,7 +167,7 @@ impl ComputeRaster {
         cx.encoder
             .copy_buffer_to_buffer(&targets.tile_reset, 0, &targets.tile_count, 0, 16);
 
-        let key = ShaderKey::new("gbuffer/raster.wgsl", []);
+        let key = ShaderKey::new("gbuffer/raster.wgsl", view.two_sided.then_some("TWO_SIDED"));
         let triangles_pipeline = cx
             .shaders
             .compute_pipeline(&device, &key, "raster_triangles")?;

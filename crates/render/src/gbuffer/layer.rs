@@ -179,8 +179,11 @@ impl Layer {
         d
     }
 
-    /// The textures its surface pass samples.
+    /// The textures its surface pass samples (a normal texture only while Normal Mapping is on).
     pub(crate) fn maps(&self) -> impl Iterator<Item = &TextureRef> {
-        self.normal_map.iter().chain(&self.color_map)
+        self.normal_map
+            .iter()
+            .filter(|_| self.features.normal_map)
+            .chain(&self.color_map)
     }
 }

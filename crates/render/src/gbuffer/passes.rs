@@ -293,6 +293,7 @@ fn resolve(
                 let normal = l
                     .normal_map
                     .as_ref()
+                    .filter(|_| l.features.normal_map)
                     .map(|m| cx.view(&m.name))
                     .transpose()?;
                 let color = l.color_map.as_ref().map(|m| cx.view(&m.name)).transpose()?;

@@ -144,6 +144,8 @@ pub(crate) struct ShadowStore(Mutex<Option<StoredMaps>>);
 
 pub(crate) struct StoredMaps {
     layers: u32,
+    /// Layers per slice: a store laid out for other cascade counts does not fit.
+    per_slice: u32,
     resolution: u32,
     /// Conventional depth (0 near, 1 far) per layer, R32F: what shading samples.
     depth: wgpu::Texture,
@@ -267,7 +269,11 @@ impl ShadowMaps {
             if !seen.insert(slice) {
                 return Err(ShadowError::SliceTwice { slice });
             }
-            if (slice + 1).saturating_mul(per) > max_layers {
+            if slice
+                .checked_add(1)
+                .and_then(|s| s.checked_mul(per))
+                .is_none_or(|layers| layers > max_layers)
+            {
                 return Err(ShadowError::TooManySlices {
                     slice,
                     max: max_layers,
@@ -307,14 +313,16 @@ impl ShadowMaps {
                 .collect(),
             ShadowLights::Sun { lights, cascades } => lights
                 .iter()
-                .map(|&(slice, direction)| {
-                    // Deep enough to hold every caster between the cascade and the sun.
-                    let depth = bounds_radius * 2.0 + (bounds_center.length());
-                    SlicePlan {
-                        slice,
-                        views: views::sun(direction, camera, *cascades, depth, res),
-                        culled: false,
-                    }
+                .map(|&(slice, direction)| SlicePlan {
+                    slice,
+                    views: views::sun(
+                        direction,
+                        camera,
+                        *cascades,
+                        (bounds_center, bounds_radius),
+                        res,
+                    ),
+                    culled: false,
                 })
                 .collect(),
         };
@@ -495,6 +503,7 @@ impl ShadowMaps {
         let mut guard = self.store.0.lock().unwrap_or_else(|e| e.into_inner());
         let fits = guard.as_ref().is_some_and(|m| {
             m.layers == self.layers
+                && m.per_slice == self.per_slice
                 && m.resolution == self.settings.resolution
                 && m.moments.is_some() == vsm
                 && m.attachments.is_some() == self.compute.is_none()
@@ -520,7 +529,9 @@ impl ShadowMaps {
                 casters: self.casters.clone(),
                 filter: self.settings.filter,
             };
-            let slot = &mut maps.contents[plan.slice as usize];
+            let Some(slot) = maps.contents.get_mut(plan.slice as usize) else {
+                continue;
+            };
             if slot.as_ref().is_some_and(|c| c.same(&content)) {
                 cx.count("shadow maps reused", 1);
                 continue;
@@ -569,6 +580,7 @@ impl ShadowMaps {
                 camera: &cameras[layer as usize],
                 instances: &self.instances,
                 size: (res, res),
+                two_sided: true,
             };
             let visibility = raster.record_view(&view, renderer, cx)?;
             let out = layer_view(&maps.depth, layer);
@@ -670,13 +682,23 @@ impl ShadowMaps {
             work.push((group, layer_view(attachments, layer)));
         }
         let mut draws = 0;
+        // Time the whole set as one: the first pass writes the beginning, the last the end.
+        let pair = cx.render_timestamps();
+        let last = work.len().saturating_sub(1);
         for (index, (group, view)) in work.iter().enumerate() {
-            // Time the whole set as one pass: the first begins, the last ends.
-            let timestamps = if index == 0 {
-                cx.render_timestamps()
-            } else {
-                None
-            };
+            let timestamps = pair.as_ref().and_then(|p| {
+                let begin = (index == 0)
+                    .then_some(p.beginning_of_pass_write_index)
+                    .flatten();
+                let end = (index == last)
+                    .then_some(p.end_of_pass_write_index)
+                    .flatten();
+                (begin.is_some() || end.is_some()).then_some(wgpu::RenderPassTimestampWrites {
+                    query_set: p.query_set,
+                    beginning_of_pass_write_index: begin,
+                    end_of_pass_write_index: end,
+                })
+            });
             let mut pass = cx.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("shadow depth"),
                 color_attachments: &[],
@@ -854,6 +876,7 @@ impl ShadowMaps {
         });
         StoredMaps {
             layers: self.layers,
+            per_slice: self.per_slice,
             resolution: self.settings.resolution,
             depth,
             attachments,

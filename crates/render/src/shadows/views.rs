@@ -121,13 +121,13 @@ pub struct Cascades {
 
 /// A sun's cascades: each an orthographic box around the bounding sphere of
 /// its slice of the camera frustum, snapped to whole texels so the map does
-/// not shimmer as the camera moves, and deep enough (`caster_depth` behind
-/// the sphere) to hold every caster between it and the sun.
+/// not shimmer as the camera moves, and deep enough to hold every caster
+/// between it and the sun: `casters` is a sphere (centre, radius) around them.
 pub fn sun(
     direction: Vec3,
     camera: &CameraInput,
     cascades: Cascades,
-    caster_depth: f32,
+    casters: (Vec3, f32),
     resolution: u32,
 ) -> Vec<LayerView> {
     let (near, far) = near_far(camera.projection).unwrap_or((0.1, 100.0));
@@ -166,11 +166,13 @@ pub fn sun(
                 .map(|p| to_world.transform_point3(p));
             let corners: Vec<Vec3> = corners.collect();
             let center = corners.iter().copied().sum::<Vec3>() / corners.len() as f32;
+            // Two texels of room: snapping the centre moves it by up to one.
             let radius = corners
                 .iter()
                 .map(|c| c.distance(center))
                 .fold(0.0f32, f32::max)
-                .max(1e-3);
+                .max(1e-3)
+                * (1.0 + 4.0 / res);
             // Snap the centre to whole texels in the light's view.
             let light_view = glam::camera::rh::view::look_to_mat4(Vec3::ZERO, direction, up);
             let texel = 2.0 * radius / res;
@@ -181,7 +183,10 @@ pub fn sun(
                 c.z,
             );
             let center = crate::camera::safe_inverse(light_view).transform_point3(snapped);
-            let back = radius + caster_depth.max(0.0);
+            // Back to the farthest caster towards the sun (at least the cascade's own sphere).
+            let (caster_center, caster_radius) = casters;
+            let reach = (caster_center - center).dot(-direction) + caster_radius;
+            let back = radius.max(if reach.is_finite() { reach } else { radius });
             let eye = center - direction * back;
             let view = glam::camera::rh::view::look_to_mat4(eye, direction, up);
             let depth = back + radius;
@@ -254,7 +259,7 @@ mod tests {
                 split_lambda: 0.7,
                 distance: 60.0,
             },
-            20.0,
+            (Vec3::ZERO, 20.0),
             1024,
         );
         assert_eq!(cascades.len(), 4);
@@ -277,6 +282,34 @@ mod tests {
             }
             start = c.split;
         }
+    }
+
+    #[test]
+    fn cascades_reach_back_to_casters_far_towards_the_sun() {
+        let view = glam::camera::rh::view::look_at_mat4(
+            Vec3::new(0.0, 1.5, 25.0),
+            Vec3::new(0.0, 1.5, 0.0),
+            Vec3::Y,
+        );
+        let projection = glam::camera::rh::proj::directx::perspective(1.0, 1.5, 0.1, 200.0);
+        // A low sun: light travels towards +z; a caster at the origin, far up-sun of the near cascade.
+        let direction = Vec3::new(0.0, -0.05, 1.0).normalize();
+        let cascades = sun(
+            direction,
+            &CameraInput { view, projection },
+            Cascades {
+                count: 4,
+                split_lambda: 0.7,
+                distance: 60.0,
+            },
+            (Vec3::ZERO, 0.87),
+            1024,
+        );
+        let ndc = cascades[0].view_projection.project_point3(Vec3::ZERO);
+        assert!(
+            (0.0..=1.0).contains(&ndc.z),
+            "the caster lies within the first cascade's depth: {ndc}"
+        );
     }
 
     #[test]
