@@ -50,7 +50,7 @@ fn sky(renderer: &Renderer, settings: SkySettings) -> (ImageF32, ImageF32) {
         &vec![[1.0, 0.0, 1.0, 1.0]; (SIZE.0 * SIZE.1) as usize],
         "lit",
     ));
-    let sky = Sky::new(renderer, None, g.clone(), lit.texture_ref(), settings);
+    let sky = Sky::pass(renderer, None, g.clone(), lit.texture_ref(), settings);
     let (report, images) = render_and_read(
         renderer,
         sky.as_ref(),
@@ -145,7 +145,7 @@ fn fog_over_white(
         &vec![[1.0, 1.0, 1.0, 1.0]; (SIZE.0 * SIZE.1) as usize],
         "lit",
     ));
-    let fog = Fog::new(renderer, None, g.clone(), lit.texture_ref(), settings);
+    let fog = Fog::pass(renderer, None, g.clone(), lit.texture_ref(), settings);
     let (report, images) = render_and_read(
         renderer,
         fog.as_ref(),

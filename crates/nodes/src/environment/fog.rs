@@ -55,7 +55,7 @@ pub fn register(r: &mut Registry) {
                 base_height: float(5, d.base_height)?,
                 start: float(6, d.start)?,
             };
-            let fog = Fog::new(&renderer, Some(cx.node_id.0), gbuffer, (*source).clone(), settings);
+            let fog = Fog::pass(&renderer, Some(cx.node_id.0), gbuffer, (*source).clone(), settings);
             cx.set_output(0, resource_spread::<TextureRef>(ResourceKind::Texture, vec![std::sync::Arc::new(fog.texture())]));
             Ok(())
         }),

@@ -69,7 +69,7 @@ pub fn register(r: &mut Registry) {
                 sun_radius: first_float(9, 0.00075)? * std::f32::consts::TAU,
                 glow: first_float(10, 1.0)?,
             };
-            let sky = Sky::new(&renderer, Some(cx.node_id.0), gbuffer, (*source).clone(), settings);
+            let sky = Sky::pass(&renderer, Some(cx.node_id.0), gbuffer, (*source).clone(), settings);
             cx.set_output(0, resource_spread::<TextureRef>(ResourceKind::Texture, vec![std::sync::Arc::new(sky.texture())]));
             Ok(())
         }),

@@ -3,15 +3,11 @@
 
 use std::sync::Arc;
 
-use glam::Vec3;
-use wgpu::util::DeviceExt;
-
-use crate::error::RenderError;
-use crate::frame_graph::{FrameGraph, PassContext, TextureDesc};
+use super::ImagePass;
 use crate::gbuffer::GBuffer;
-use crate::recipe::{Recipe, TextureRef, next_recipe_id};
+use crate::recipe::TextureRef;
 use crate::renderer::Renderer;
-use crate::shaders::ShaderKey;
+use glam::Vec3;
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FogSettings {
@@ -38,24 +34,17 @@ impl Default for FogSettings {
     }
 }
 
-pub struct Fog {
-    id: u64,
-    owner: Option<u32>,
-    gbuffer: Arc<GBuffer>,
-    source: TextureRef,
-    params: wgpu::Buffer,
-    pub output: String,
-}
+/// The fog pass: an [`ImagePass`] over shaders/environment/fog.wgsl.
+pub struct Fog;
 
 impl Fog {
-    pub fn new(
+    pub fn pass(
         renderer: &Renderer,
         owner: Option<u32>,
         gbuffer: Arc<GBuffer>,
         source: TextureRef,
         settings: FogSettings,
-    ) -> Arc<Self> {
-        let id = next_recipe_id();
+    ) -> Arc<ImagePass> {
         let clean = |v: f32, lo: f32, hi: f32| if v.is_finite() { v.clamp(lo, hi) } else { 0.0 };
         let params = [
             clean(settings.color.x, 0.0, 65000.0),
@@ -67,79 +56,13 @@ impl Fog {
             clean(settings.start, 0.0, 1e9),
             0.0,
         ];
-        let params = renderer
-            .gpu
-            .device
-            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some("fog"),
-                contents: bytemuck::cast_slice(&params),
-                usage: wgpu::BufferUsages::UNIFORM,
-            });
-        Arc::new(Fog {
-            id,
+        ImagePass::new(
+            renderer,
             owner,
+            ("Fog", "environment/fog.wgsl"),
             gbuffer,
             source,
-            params,
-            output: format!("fog{id}"),
-        })
-    }
-
-    pub fn texture(self: &Arc<Self>) -> TextureRef {
-        TextureRef {
-            recipe: self.clone(),
-            name: self.output.clone(),
-        }
-    }
-
-    fn run(&self, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
-        let device = cx.gpu.device.clone();
-        let key = ShaderKey::new("environment/fog.wgsl", []);
-        let pipeline = cx.shaders.compute_pipeline(&device, &key, "main")?;
-        let (source, depth, output) = (
-            cx.view(&self.source.name)?,
-            cx.view(&self.gbuffer.targets.depth)?,
-            cx.view(&self.output)?,
-        );
-        let all = [
-            (0, self.gbuffer.camera_buffer().as_entire_binding()),
-            (1, self.params.as_entire_binding()),
-            (2, wgpu::BindingResource::TextureView(&source)),
-            (3, wgpu::BindingResource::TextureView(&depth)),
-            (4, wgpu::BindingResource::TextureView(&output)),
-        ];
-        let group = cx
-            .shaders
-            .bind_group(&device, &key, "main", &pipeline, 0, &all)?;
-        let (w, h) = self.gbuffer.pixel_size(cx.output_size);
-        cx.dispatch(
-            "fog",
-            &pipeline,
-            &[&group],
-            (w.div_ceil(8), h.div_ceil(8), 1),
-        );
-        Ok(())
-    }
-}
-
-impl Recipe for Fog {
-    fn declare<'a>(&'a self, renderer: &'a Renderer, fg: &mut FrameGraph<'a>) {
-        if !fg.include(self.id) {
-            return;
-        }
-        self.gbuffer.declare(renderer, fg);
-        self.source.recipe.declare(renderer, fg);
-        let name = match self.owner {
-            Some(node) => format!("Fog #{node}"),
-            None => "Fog".to_owned(),
-        };
-        let desc = TextureDesc::storage(wgpu::TextureFormat::Rgba16Float).size(self.gbuffer.size);
-        fg.add_pass(
-            name,
-            self.owner,
-            &[&self.source.name, &self.gbuffer.targets.depth],
-            &[(&self.output, desc)],
-            move |cx| self.run(cx),
-        );
+            bytemuck::cast_slice(&params),
+        )
     }
 }

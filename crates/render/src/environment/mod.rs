@@ -3,7 +3,9 @@
 //! veils what is far or low.
 
 pub mod fog;
+mod pass;
 pub mod sky;
 
 pub use fog::{Fog, FogSettings};
+pub use pass::ImagePass;
 pub use sky::{Sky, SkySettings};

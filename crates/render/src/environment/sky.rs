@@ -4,15 +4,11 @@
 
 use std::sync::Arc;
 
-use glam::Vec3;
-use wgpu::util::DeviceExt;
-
-use crate::error::RenderError;
-use crate::frame_graph::{FrameGraph, PassContext, TextureDesc};
+use super::ImagePass;
 use crate::gbuffer::GBuffer;
-use crate::recipe::{Recipe, TextureRef, next_recipe_id};
+use crate::recipe::TextureRef;
 use crate::renderer::Renderer;
-use crate::shaders::ShaderKey;
+use glam::Vec3;
 
 /// A procedural sky: linear radiance colours and the sun.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -67,25 +63,17 @@ fn radiance(v: Vec3) -> [f32; 4] {
     [clean(v.x), clean(v.y), clean(v.z), 0.0]
 }
 
-pub struct Sky {
-    id: u64,
-    owner: Option<u32>,
-    gbuffer: Arc<GBuffer>,
-    source: TextureRef,
-    params: wgpu::Buffer,
-    pub output: String,
-}
+/// The sky pass: an [`ImagePass`] over shaders/environment/sky.wgsl.
+pub struct Sky;
 
 impl Sky {
-    /// `source` (the lit image) with the sky where `gbuffer` saw nothing.
-    pub fn new(
+    pub fn pass(
         renderer: &Renderer,
         owner: Option<u32>,
         gbuffer: Arc<GBuffer>,
         source: TextureRef,
         settings: SkySettings,
-    ) -> Arc<Self> {
-        let id = next_recipe_id();
+    ) -> Arc<ImagePass> {
         // Towards the sun: against the light's travel; straight up for a zero direction.
         let towards = (-settings.sun_direction).try_normalize().unwrap_or(Vec3::Y);
         let radius = if settings.sun_radius.is_finite() {
@@ -107,79 +95,13 @@ impl Sky {
             sun: towards.extend(radius.cos()).to_array(),
             sun_color,
         };
-        let params = renderer
-            .gpu
-            .device
-            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some("sky"),
-                contents: bytemuck::bytes_of(&gpu),
-                usage: wgpu::BufferUsages::UNIFORM,
-            });
-        Arc::new(Sky {
-            id,
+        ImagePass::new(
+            renderer,
             owner,
+            ("Sky", "environment/sky.wgsl"),
             gbuffer,
             source,
-            params,
-            output: format!("sky{id}"),
-        })
-    }
-
-    pub fn texture(self: &Arc<Self>) -> TextureRef {
-        TextureRef {
-            recipe: self.clone(),
-            name: self.output.clone(),
-        }
-    }
-
-    fn run(&self, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
-        let device = cx.gpu.device.clone();
-        let key = ShaderKey::new("environment/sky.wgsl", []);
-        let pipeline = cx.shaders.compute_pipeline(&device, &key, "main")?;
-        let (source, depth, output) = (
-            cx.view(&self.source.name)?,
-            cx.view(&self.gbuffer.targets.depth)?,
-            cx.view(&self.output)?,
-        );
-        let all = [
-            (0, self.gbuffer.camera_buffer().as_entire_binding()),
-            (1, self.params.as_entire_binding()),
-            (2, wgpu::BindingResource::TextureView(&source)),
-            (3, wgpu::BindingResource::TextureView(&depth)),
-            (4, wgpu::BindingResource::TextureView(&output)),
-        ];
-        let group = cx
-            .shaders
-            .bind_group(&device, &key, "main", &pipeline, 0, &all)?;
-        let (w, h) = self.gbuffer.pixel_size(cx.output_size);
-        cx.dispatch(
-            "sky",
-            &pipeline,
-            &[&group],
-            (w.div_ceil(8), h.div_ceil(8), 1),
-        );
-        Ok(())
-    }
-}
-
-impl Recipe for Sky {
-    fn declare<'a>(&'a self, renderer: &'a Renderer, fg: &mut FrameGraph<'a>) {
-        if !fg.include(self.id) {
-            return;
-        }
-        self.gbuffer.declare(renderer, fg);
-        self.source.recipe.declare(renderer, fg);
-        let name = match self.owner {
-            Some(node) => format!("Sky #{node}"),
-            None => "Sky".to_owned(),
-        };
-        let desc = TextureDesc::storage(wgpu::TextureFormat::Rgba16Float).size(self.gbuffer.size);
-        fg.add_pass(
-            name,
-            self.owner,
-            &[&self.source.name, &self.gbuffer.targets.depth],
-            &[(&self.output, desc)],
-            move |cx| self.run(cx),
-        );
+            bytemuck::bytes_of(&gpu),
+        )
     }
 }

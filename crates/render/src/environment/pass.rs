@@ -1,0 +1,117 @@
+//! What the environment passes share: one compute dispatch per pixel that
+//! reads the lit image, the G-buffer's depth and camera, and a uniform of
+//! its own, and writes a new image of the G-buffer's size.
+
+use std::sync::Arc;
+
+use wgpu::util::DeviceExt;
+
+use crate::error::RenderError;
+use crate::frame_graph::{FrameGraph, PassContext, TextureDesc};
+use crate::gbuffer::GBuffer;
+use crate::recipe::{Recipe, TextureRef, next_recipe_id};
+use crate::renderer::Renderer;
+use crate::shaders::ShaderKey;
+
+/// A pass over the lit image: bindings 0 camera, 1 `params`, 2 the image,
+/// 3 depth, 4 the output (shaders/environment/*.wgsl).
+pub struct ImagePass {
+    id: u64,
+    owner: Option<u32>,
+    /// The node type, for pass names ("Sky #12").
+    name: &'static str,
+    shader: &'static str,
+    gbuffer: Arc<GBuffer>,
+    source: TextureRef,
+    params: wgpu::Buffer,
+    pub output: String,
+}
+
+impl ImagePass {
+    pub(crate) fn new(
+        renderer: &Renderer,
+        owner: Option<u32>,
+        (name, shader): (&'static str, &'static str),
+        gbuffer: Arc<GBuffer>,
+        source: TextureRef,
+        params: &[u8],
+    ) -> Arc<Self> {
+        let id = next_recipe_id();
+        let params = renderer
+            .gpu
+            .device
+            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some(name),
+                contents: params,
+                usage: wgpu::BufferUsages::UNIFORM,
+            });
+        Arc::new(ImagePass {
+            id,
+            owner,
+            name,
+            shader,
+            gbuffer,
+            source,
+            params,
+            output: format!("{}{id}", name.to_lowercase()),
+        })
+    }
+
+    pub fn texture(self: &Arc<Self>) -> TextureRef {
+        TextureRef {
+            recipe: self.clone(),
+            name: self.output.clone(),
+        }
+    }
+
+    fn run(&self, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
+        let device = cx.gpu.device.clone();
+        let key = ShaderKey::new(self.shader, []);
+        let pipeline = cx.shaders.compute_pipeline(&device, &key, "main")?;
+        let (source, depth, output) = (
+            cx.view(&self.source.name)?,
+            cx.view(&self.gbuffer.targets.depth)?,
+            cx.view(&self.output)?,
+        );
+        let all = [
+            (0, self.gbuffer.camera_buffer().as_entire_binding()),
+            (1, self.params.as_entire_binding()),
+            (2, wgpu::BindingResource::TextureView(&source)),
+            (3, wgpu::BindingResource::TextureView(&depth)),
+            (4, wgpu::BindingResource::TextureView(&output)),
+        ];
+        let group = cx
+            .shaders
+            .bind_group(&device, &key, "main", &pipeline, 0, &all)?;
+        let (w, h) = self.gbuffer.pixel_size(cx.output_size);
+        cx.dispatch(
+            self.name,
+            &pipeline,
+            &[&group],
+            (w.div_ceil(8), h.div_ceil(8), 1),
+        );
+        Ok(())
+    }
+}
+
+impl Recipe for ImagePass {
+    fn declare<'a>(&'a self, renderer: &'a Renderer, fg: &mut FrameGraph<'a>) {
+        if !fg.include(self.id) {
+            return;
+        }
+        self.gbuffer.declare(renderer, fg);
+        self.source.recipe.declare(renderer, fg);
+        let name = match self.owner {
+            Some(node) => format!("{} #{node}", self.name),
+            None => self.name.to_owned(),
+        };
+        let desc = TextureDesc::storage(wgpu::TextureFormat::Rgba16Float).size(self.gbuffer.size);
+        fg.add_pass(
+            name,
+            self.owner,
+            &[&self.source.name, &self.gbuffer.targets.depth],
+            &[(&self.output, desc)],
+            move |cx| self.run(cx),
+        );
+    }
+}
