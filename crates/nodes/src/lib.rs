@@ -9,7 +9,7 @@
 //! `DeferredBase`, `MRE` and `GBufferView` in `deferred/`, `Output` in `output.rs`,
 //! `FileTexture` and `FileTexture (Array)` in `texture/`, the `AddLight`s, light
 //! buffers, `ShadowMap`s, `CookTorrance` and `CompositeLight` in `lighting/`, `Sky` and
-//! `Fog` in `environment/`, `Tonemap` and `EyeAdaptation` in `post/`, the material nodes
+//! `Fog` in `environment/`, `Tonemap`, `EyeAdaptation` and `FXAA` in `post/`, the material nodes
 //! in `material/`, `Perspective (Transform)` in `transform.rs`, `BenchLights` in `bench.rs`.
 
 use spreadlight_graph::Registry;

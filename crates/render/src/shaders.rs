@@ -184,6 +184,7 @@ pub const SHADERS: &[ShaderFile] = &[
     shader!("environment/fog.wgsl", []),
     shader!("post/tonemap.wgsl", ["EYE_ADAPTATION"]),
     shader!("post/eye_adaptation.wgsl", []),
+    shader!("post/fxaa.wgsl", []),
     shader!("gbuffer/view.wgsl", one_of ["ALBEDO", "NORMALS", "VELOCITY", "UV", "DEPTH", "MATERIAL_ID", "OBJECT_ID"]),
 ];
 

@@ -1,6 +1,7 @@
 //! Post-processing nodes (category "Post"): texture in, texture out.
 
 pub mod eye_adaptation;
+pub mod fxaa;
 pub mod tonemap;
 
 use spreadlight_graph::Registry;
@@ -8,4 +9,5 @@ use spreadlight_graph::Registry;
 pub fn register(r: &mut Registry) {
     eye_adaptation::register(r);
     tonemap::register(r);
+    fxaa::register(r);
 }

@@ -1,0 +1,131 @@
+//! `FXAA`: fast approximate anti-aliasing (shaders/post/fxaa.wgsl), one
+//! compute pass, texture in, texture out, with a quality setting.
+
+use std::sync::Arc;
+
+use wgpu::util::DeviceExt;
+
+use crate::error::RenderError;
+use crate::frame_graph::{FrameGraph, PassContext, SizeRule, TextureDesc};
+use crate::recipe::{Recipe, TextureRef, next_recipe_id};
+use crate::renderer::Renderer;
+use crate::shaders::ShaderKey;
+
+/// How hard FXAA looks: more edge-search steps follow longer, shallower edges.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FxaaQuality {
+    /// 4 steps, a coarse threshold: the cheapest.
+    Low,
+    /// 8 steps.
+    Medium,
+    /// 12 steps, the finest threshold.
+    High,
+}
+
+impl FxaaQuality {
+    /// (search steps, relative edge threshold, minimum threshold).
+    fn settings(self) -> (f32, f32, f32) {
+        match self {
+            FxaaQuality::Low => (4.0, 0.25, 0.0833),
+            FxaaQuality::Medium => (8.0, 0.166, 0.0625),
+            FxaaQuality::High => (12.0, 0.125, 0.0312),
+        }
+    }
+}
+
+pub struct Fxaa {
+    id: u64,
+    owner: Option<u32>,
+    source: TextureRef,
+    params: wgpu::Buffer,
+    pub output: String,
+}
+
+impl Fxaa {
+    /// `subpixel` 0..1: how much sub-pixel aliasing is smoothed (0.75 is FXAA's default).
+    pub fn new(
+        renderer: &Renderer,
+        owner: Option<u32>,
+        source: TextureRef,
+        quality: FxaaQuality,
+        subpixel: f32,
+    ) -> Arc<Self> {
+        let id = next_recipe_id();
+        let (steps, threshold, minimum) = quality.settings();
+        let subpixel = if subpixel.is_finite() {
+            subpixel.clamp(0.0, 1.0)
+        } else {
+            0.75
+        };
+        let params = renderer
+            .gpu
+            .device
+            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("fxaa"),
+                contents: bytemuck::cast_slice(&[steps, threshold, minimum, subpixel]),
+                usage: wgpu::BufferUsages::UNIFORM,
+            });
+        Arc::new(Fxaa {
+            id,
+            owner,
+            source,
+            params,
+            output: format!("fxaa{id}"),
+        })
+    }
+
+    pub fn texture(self: &Arc<Self>) -> TextureRef {
+        TextureRef {
+            recipe: self.clone(),
+            name: self.output.clone(),
+        }
+    }
+
+    fn run(&self, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
+        let device = cx.gpu.device.clone();
+        let key = ShaderKey::new("post/fxaa.wgsl", []);
+        let pipeline = cx.shaders.compute_pipeline(&device, &key, "main")?;
+        let (source, output) = (cx.view(&self.source.name)?, cx.view(&self.output)?);
+        let (w, h) = {
+            let t = cx.texture(&self.output)?;
+            (t.width(), t.height())
+        };
+        let all = [
+            (0, self.params.as_entire_binding()),
+            (1, wgpu::BindingResource::TextureView(&source)),
+            (3, wgpu::BindingResource::TextureView(&output)),
+        ];
+        let group = cx
+            .shaders
+            .bind_group(&device, &key, "main", &pipeline, 0, &all)?;
+        cx.dispatch(
+            "fxaa",
+            &pipeline,
+            &[&group],
+            (w.div_ceil(8), h.div_ceil(8), 1),
+        );
+        Ok(())
+    }
+}
+
+impl Recipe for Fxaa {
+    fn declare<'a>(&'a self, renderer: &'a Renderer, fg: &mut FrameGraph<'a>) {
+        if !fg.include(self.id) {
+            return;
+        }
+        self.source.recipe.declare(renderer, fg);
+        let name = match self.owner {
+            Some(node) => format!("FXAA #{node}"),
+            None => "FXAA".to_owned(),
+        };
+        let desc =
+            TextureDesc::storage(wgpu::TextureFormat::Rgba16Float).size(SizeRule::Relative(1.0));
+        fg.add_pass(
+            name,
+            self.owner,
+            &[&self.source.name],
+            &[(&self.output, desc)],
+            move |cx| self.run(cx),
+        );
+    }
+}
