@@ -222,6 +222,30 @@ impl<'f> PassContext<'f> {
         pass.dispatch_workgroups(workgroups.0, workgroups.1, workgroups.2);
     }
 
+    /// The most common pass: `key`'s `main` entry with `bindings` at group 0
+    /// (those the permutation does not use are dropped), one thread per pixel
+    /// of `size` in 8x8 workgroups, timed.
+    pub fn dispatch_image(
+        &mut self,
+        label: &str,
+        key: &crate::shaders::ShaderKey,
+        bindings: &[(u32, wgpu::BindingResource<'_>)],
+        size: (u32, u32),
+    ) -> Result<(), RenderError> {
+        let device = self.gpu.device.clone();
+        let pipeline = self.shaders.compute_pipeline(&device, key, "main")?;
+        let group = self
+            .shaders
+            .bind_group(&device, key, "main", &pipeline, 0, bindings)?;
+        self.dispatch(
+            label,
+            &pipeline,
+            &[&group],
+            (size.0.div_ceil(8), size.1.div_ceil(8), 1),
+        );
+        Ok(())
+    }
+
     /// Timestamp writes for a render pass of this graph pass.
     pub fn render_timestamps(&mut self) -> Option<wgpu::RenderPassTimestampWrites<'f>> {
         self.next_pair()

@@ -18,6 +18,19 @@ pub fn next_recipe_id() -> u64 {
     NEXT_ID.fetch_add(1, Ordering::Relaxed)
 }
 
+/// A pass's name in reports: the node type, the node id when there is one
+/// ("Tonemap #12"), and what it does when a node has several passes.
+pub fn pass_name(kind: &str, owner: Option<u32>, what: Option<&str>) -> String {
+    let node = match owner {
+        Some(id) => format!("{kind} #{id}"),
+        None => kind.to_owned(),
+    };
+    match what {
+        Some(what) => format!("{node}: {what}"),
+        None => node,
+    }
+}
+
 pub trait Recipe: Send + Sync {
     /// Declare this recipe's passes, after its inputs'. Must call `fg.include(id)` first and stop when it returns false.
     fn declare<'a>(&'a self, renderer: &'a Renderer, fg: &mut FrameGraph<'a>);

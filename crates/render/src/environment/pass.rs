@@ -65,9 +65,6 @@ impl ImagePass {
     }
 
     fn run(&self, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
-        let device = cx.gpu.device.clone();
-        let key = ShaderKey::new(self.shader, []);
-        let pipeline = cx.shaders.compute_pipeline(&device, &key, "main")?;
         let (source, depth, output) = (
             cx.view(&self.source.name)?,
             cx.view(&self.gbuffer.targets.depth)?,
@@ -80,17 +77,8 @@ impl ImagePass {
             (3, wgpu::BindingResource::TextureView(&depth)),
             (4, wgpu::BindingResource::TextureView(&output)),
         ];
-        let group = cx
-            .shaders
-            .bind_group(&device, &key, "main", &pipeline, 0, &all)?;
-        let (w, h) = self.gbuffer.pixel_size(cx.output_size);
-        cx.dispatch(
-            self.name,
-            &pipeline,
-            &[&group],
-            (w.div_ceil(8), h.div_ceil(8), 1),
-        );
-        Ok(())
+        let size = self.gbuffer.pixel_size(cx.output_size);
+        cx.dispatch_image(self.name, &ShaderKey::new(self.shader, []), &all, size)
     }
 }
 
@@ -101,10 +89,7 @@ impl Recipe for ImagePass {
         }
         self.gbuffer.declare(renderer, fg);
         self.source.recipe.declare(renderer, fg);
-        let name = match self.owner {
-            Some(node) => format!("{} #{node}", self.name),
-            None => self.name.to_owned(),
-        };
+        let name = crate::recipe::pass_name(self.name, self.owner, None);
         let desc = TextureDesc::storage(wgpu::TextureFormat::Rgba16Float).size(self.gbuffer.size);
         fg.add_pass(
             name,

@@ -242,10 +242,7 @@ impl Recipe for CompositeLight {
                 texture.recipe.declare(renderer, fg);
             }
         }
-        let name = match self.owner {
-            Some(node) => format!("CompositeLight #{node}"),
-            None => "CompositeLight".to_owned(),
-        };
+        let name = crate::recipe::pass_name("CompositeLight", self.owner, None);
         let g = &self.gbuffer.targets;
         let mut reads: Vec<&str> = vec![&g.color, &g.depth];
         reads.extend(self.occlusion.as_ref().map(|ao| ao.name.as_str()));

@@ -185,10 +185,7 @@ impl CookTorrance {
     }
 
     fn label(&self, what: &str) -> String {
-        match self.owner {
-            Some(node) => format!("CookTorrance #{node}: {what}"),
-            None => format!("CookTorrance: {what}"),
-        }
+        crate::recipe::pass_name("CookTorrance", self.owner, Some(what))
     }
 
     fn assign(&self, grid: ClusterGrid, cx: &mut PassContext<'_>) -> Result<(), RenderError> {

@@ -82,11 +82,8 @@ impl Fxaa {
     }
 
     fn run(&self, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
-        let device = cx.gpu.device.clone();
-        let key = ShaderKey::new("post/fxaa.wgsl", []);
-        let pipeline = cx.shaders.compute_pipeline(&device, &key, "main")?;
         let (source, output) = (cx.view(&self.source.name)?, cx.view(&self.output)?);
-        let (w, h) = {
+        let size = {
             let t = cx.texture(&self.output)?;
             (t.width(), t.height())
         };
@@ -95,16 +92,7 @@ impl Fxaa {
             (1, wgpu::BindingResource::TextureView(&source)),
             (3, wgpu::BindingResource::TextureView(&output)),
         ];
-        let group = cx
-            .shaders
-            .bind_group(&device, &key, "main", &pipeline, 0, &all)?;
-        cx.dispatch(
-            "fxaa",
-            &pipeline,
-            &[&group],
-            (w.div_ceil(8), h.div_ceil(8), 1),
-        );
-        Ok(())
+        cx.dispatch_image("fxaa", &ShaderKey::new("post/fxaa.wgsl", []), &all, size)
     }
 }
 
@@ -114,10 +102,7 @@ impl Recipe for Fxaa {
             return;
         }
         self.source.recipe.declare(renderer, fg);
-        let name = match self.owner {
-            Some(node) => format!("FXAA #{node}"),
-            None => "FXAA".to_owned(),
-        };
+        let name = crate::recipe::pass_name("FXAA", self.owner, None);
         let desc =
             TextureDesc::storage(wgpu::TextureFormat::Rgba16Float).size(SizeRule::Relative(1.0));
         fg.add_pass(

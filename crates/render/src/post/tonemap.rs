@@ -103,10 +103,8 @@ impl Tonemap {
     }
 
     fn run(&self, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
-        let device = cx.gpu.device.clone();
         let features = self.adaptation.as_ref().map(|_| "EYE_ADAPTATION");
         let key = ShaderKey::new("post/tonemap.wgsl", features);
-        let pipeline = cx.shaders.compute_pipeline(&device, &key, "main")?;
         let (source, output) = (cx.view(&self.source.name)?, cx.view(&self.output)?);
         let adaptation = match &self.adaptation {
             Some(a) => Some(cx.view(&a.name)?),
@@ -124,16 +122,7 @@ impl Tonemap {
         if let Some(view) = &adaptation {
             all.push((3, wgpu::BindingResource::TextureView(view)));
         }
-        let group = cx
-            .shaders
-            .bind_group(&device, &key, "main", &pipeline, 0, &all)?;
-        cx.dispatch(
-            "tonemap",
-            &pipeline,
-            &[&group],
-            (w.div_ceil(8), h.div_ceil(8), 1),
-        );
-        Ok(())
+        cx.dispatch_image("tonemap", &key, &all, (w, h))
     }
 }
 
@@ -146,10 +135,7 @@ impl Recipe for Tonemap {
         if let Some(adaptation) = &self.adaptation {
             adaptation.recipe.declare(renderer, fg);
         }
-        let name = match self.owner {
-            Some(node) => format!("Tonemap #{node}"),
-            None => "Tonemap".to_owned(),
-        };
+        let name = crate::recipe::pass_name("Tonemap", self.owner, None);
         let desc =
             TextureDesc::storage(wgpu::TextureFormat::Rgba16Float).size(SizeRule::Relative(1.0));
         let mut reads = vec![self.source.name.as_str()];

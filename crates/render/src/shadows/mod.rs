@@ -490,10 +490,7 @@ impl ShadowMaps {
     }
 
     fn label(&self, what: &str) -> String {
-        match self.owner {
-            Some(node) => format!("ShadowMap #{node}: {what}"),
-            None => format!("ShadowMap: {what}"),
-        }
+        crate::recipe::pass_name("ShadowMap", self.owner, Some(what))
     }
 
     /// Render every slice that needs it into the stored maps.
