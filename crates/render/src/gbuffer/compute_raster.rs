@@ -174,24 +174,12 @@ impl ComputeRaster {
         let tiles_pipeline = cx.shaders.compute_pipeline(&device, &key, "raster_tiles")?;
         let (vertices, indices, _) = renderer.meshes.buffers();
         let shared = |layout: &wgpu::BindGroupLayout, batch: Option<&wgpu::Buffer>| {
-            let mut entries = vec![
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: view.camera.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: vertices.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 2,
-                    resource: indices.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 3,
-                    resource: view.instances.as_entire_binding(),
-                },
-            ];
+            let mut entries = super::geometry_entries(
+                view.camera.as_entire_binding(),
+                &vertices,
+                &indices,
+                view.instances,
+            );
             entries.extend([
                 wgpu::BindGroupEntry {
                     binding: 4,

@@ -59,6 +59,31 @@ pub(crate) struct Draw {
     pub instance_count: u32,
 }
 
+/// Bindings 0 to 3 of every shader that pulls instanced meshes (the
+/// G-buffer's, the compute rasterizer's, the shadow depth pass): the view
+/// (camera uniform or view matrix), the mesh arena's vertices and indices,
+/// and the instances.
+pub(crate) fn geometry_entries<'b>(
+    view: wgpu::BindingResource<'b>,
+    vertices: &'b wgpu::Buffer,
+    indices: &'b wgpu::Buffer,
+    instances: &'b wgpu::Buffer,
+) -> Vec<wgpu::BindGroupEntry<'b>> {
+    [
+        view,
+        vertices.as_entire_binding(),
+        indices.as_entire_binding(),
+        instances.as_entire_binding(),
+    ]
+    .into_iter()
+    .enumerate()
+    .map(|(binding, resource)| wgpu::BindGroupEntry {
+        binding: binding as u32,
+        resource,
+    })
+    .collect()
+}
+
 /// The GPU instances of `layers` in order, one draw per batch, and each
 /// layer's range of instances.
 pub(crate) fn pack_instances(
@@ -274,24 +299,12 @@ impl GBuffer {
         vertices: &'b wgpu::Buffer,
         indices: &'b wgpu::Buffer,
     ) -> Vec<wgpu::BindGroupEntry<'b>> {
-        vec![
-            wgpu::BindGroupEntry {
-                binding: 0,
-                resource: self.camera_buffer.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 1,
-                resource: vertices.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 2,
-                resource: indices.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 3,
-                resource: self.instances.as_entire_binding(),
-            },
-        ]
+        geometry_entries(
+            self.camera_buffer.as_entire_binding(),
+            vertices,
+            indices,
+            &self.instances,
+        )
     }
 
     pub fn owner(&self) -> Option<u32> {

@@ -23,7 +23,7 @@ use crate::camera::CameraInput;
 use crate::error::RenderError;
 use crate::frame_graph::{FrameGraph, PassContext, TextureDesc};
 use crate::gbuffer::compute_raster::{ComputeRaster, RasterView};
-use crate::gbuffer::{Draw, Layer, RasterChoice, pack_instances};
+use crate::gbuffer::{Draw, Layer, RasterChoice, geometry_entries, pack_instances};
 use crate::recipe::{Recipe, next_recipe_id};
 use crate::renderer::Renderer;
 use crate::shaders::ShaderKey;
@@ -653,28 +653,16 @@ impl ShadowMaps {
             let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("shadow depth"),
                 layout: &pipeline.get_bind_group_layout(0),
-                entries: &[
-                    wgpu::BindGroupEntry {
-                        binding: 0,
-                        resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
-                            buffer: &self.view_uniforms,
-                            offset: u64::from(layer) * VIEW_STRIDE,
-                            size: std::num::NonZeroU64::new(64),
-                        }),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 1,
-                        resource: vertices.as_entire_binding(),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 2,
-                        resource: indices.as_entire_binding(),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 3,
-                        resource: self.instances.as_entire_binding(),
-                    },
-                ],
+                entries: &geometry_entries(
+                    wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                        buffer: &self.view_uniforms,
+                        offset: u64::from(layer) * VIEW_STRIDE,
+                        size: std::num::NonZeroU64::new(64),
+                    }),
+                    &vertices,
+                    &indices,
+                    &self.instances,
+                ),
             });
             work.push((group, layer_view(attachments, layer)));
         }
