@@ -1,9 +1,3 @@
-//! `spreadlight accuracy`: what accuracy costs. For an approximating
-//! effect, every quality setting's GPU time at a large size against its
-//! error, at a small size, versus a CPU reference of the same scene. Prints
-//! a Markdown table (and JSON lines with `--json`); `--out` writes the table
-//! to a file. Later effects add themselves as subcommands.
-//!
 //! Shadows: balls over a floor lit by one spot light of radius
 //! `LIGHT_RADIUS`; the reference ray-casts the light's disk from every
 //! pixel's surface point (render::reference::shadows), so soft shadows are
@@ -27,22 +21,11 @@ use spreadlight_render::scenes::balls_on_floor;
 use spreadlight_render::shadows::{ShadowFilter, ShadowLights, ShadowMaps, ShadowSettings};
 use spreadlight_render::{Recipe, Renderer, SizeRule};
 
+use super::{median, ms, pass_ms};
 use crate::session::parse_size;
 
 #[derive(clap::Args)]
-pub struct Args {
-    #[command(subcommand)]
-    what: What,
-}
-
-#[derive(clap::Subcommand)]
-enum What {
-    /// Shadow filters (Raw, PCF, PCSS, VSM) by map resolution: GPU time against error versus ray-cast soft shadows.
-    Shadows(ShadowArgs),
-}
-
-#[derive(clap::Args)]
-struct ShadowArgs {
+pub struct ShadowArgs {
     /// Where GPU time is measured.
     #[arg(long, default_value = "1920x1080", value_parser = parse_size)]
     time_size: (u32, u32),
@@ -90,12 +73,6 @@ impl Raster {
             Raster::Compute => RasterChoice::Compute,
             Raster::Hardware => RasterChoice::Hardware,
         }
-    }
-}
-
-pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
-    match &args.what {
-        What::Shadows(a) => shadows(a),
     }
 }
 
@@ -270,25 +247,6 @@ fn frame(
     })
 }
 
-/// The summed GPU time of the passes whose name contains `what`.
-fn pass_ms(report: &spreadlight_render::FrameReport, what: &str) -> Option<f64> {
-    let times: Vec<f64> = report
-        .passes
-        .iter()
-        .filter(|p| p.name.contains(what))
-        .filter_map(|p| p.gpu_ms)
-        .collect();
-    (!times.is_empty()).then(|| times.iter().sum())
-}
-
-fn median(mut v: Vec<f64>) -> Option<f64> {
-    if v.is_empty() {
-        return None;
-    }
-    v.sort_by(f64::total_cmp);
-    Some(v[v.len() / 2])
-}
-
 /// Median shadow-map and shading times over `frames` frames after a warm-up.
 fn time(
     renderer: &Renderer,
@@ -416,11 +374,7 @@ fn write_error_image(
     Ok(())
 }
 
-fn ms(v: Option<f64>) -> String {
-    v.map_or("-".to_owned(), |v| format!("{v:.3}"))
-}
-
-fn shadows(args: &ShadowArgs) -> anyhow::Result<ExitCode> {
+pub fn run(args: &ShadowArgs) -> anyhow::Result<ExitCode> {
     let renderer = Renderer::headless().context("cannot open a GPU")?;
     let adapter = renderer.gpu.adapter_name();
     let layers = scene(&renderer)?;
