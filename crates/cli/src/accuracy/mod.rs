@@ -5,6 +5,8 @@
 //! to a file. Later effects add themselves as subcommands.
 //!
 
+pub(crate) mod metrics;
+pub(crate) mod plot;
 mod shadows;
 
 use std::process::ExitCode;
