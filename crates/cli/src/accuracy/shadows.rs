@@ -21,6 +21,8 @@ use spreadlight_render::scenes::balls_on_floor;
 use spreadlight_render::shadows::{ShadowFilter, ShadowLights, ShadowMaps, ShadowSettings};
 use spreadlight_render::{Recipe, Renderer, SizeRule};
 
+use super::metrics::{self, Plane};
+use super::plot::{Series, write_svg};
 use super::{median, ms, pass_ms};
 use crate::session::parse_size;
 
@@ -53,6 +55,9 @@ pub struct ShadowArgs {
     /// Write each setting's error image (|GPU - reference| visibility, white = 1) into this folder.
     #[arg(long)]
     error_images: Option<PathBuf>,
+    /// Also plot shading time (with the map pass) against RMSE, a line per filter, to this SVG file.
+    #[arg(long)]
+    plot: Option<PathBuf>,
     /// Print JSON lines instead of the table.
     #[arg(long)]
     json: bool,
@@ -322,6 +327,28 @@ fn gpu_visibility(shadowed: &Frame, lit: &Frame, i: usize) -> f32 {
 }
 
 /// RMSE and the share of pixels off by more than 0.1, of the GPU's visibility against the reference.
+/// SSIM of the GPU's visibility against the reference, over the lit pixels.
+fn ssim(shadowed: &Frame, lit: &Frame, truth: &[Option<f32>], size: (u32, u32)) -> f64 {
+    let mask: Vec<bool> = truth.iter().map(Option::is_some).collect();
+    let gpu: Vec<f32> = (0..truth.len())
+        .map(|i| {
+            if mask[i] {
+                gpu_visibility(shadowed, lit, i)
+            } else {
+                0.0
+            }
+        })
+        .collect();
+    let reference: Vec<f32> = truth.iter().map(|t| t.unwrap_or(0.0)).collect();
+    let plane = |values| Plane {
+        width: size.0,
+        height: size.1,
+        values,
+        mask: Some(&mask),
+    };
+    metrics::Error::of(&[plane(&gpu)], &[plane(&reference)]).ssim
+}
+
 fn error(shadowed: &Frame, lit: &Frame, truth: &[Option<f32>]) -> (f64, f64) {
     let mut sum = 0.0;
     let mut off = 0usize;
@@ -403,6 +430,7 @@ pub fn run(args: &ShadowArgs) -> anyhow::Result<ExitCode> {
             let setting = Some((*filter, res, args.raster.choice()));
             let shadowed = frame(&renderer, &layers, args.error_size, setting, true)?;
             let (rmse, off) = error(&shadowed, &lit, &truth);
+            let ssim = ssim(&shadowed, &lit, &truth, args.error_size);
             if let Some(dir) = &args.error_images {
                 write_error_image(
                     dir,
@@ -420,20 +448,20 @@ pub fn run(args: &ShadowArgs) -> anyhow::Result<ExitCode> {
                 (args.warmup, args.frames),
                 setting,
             )?;
-            rows.push((name.clone(), res, maps, shade, rmse, off));
+            rows.push((name.clone(), res, maps, shade, rmse, off, ssim));
         }
     }
     let (tw, th) = args.time_size;
     let (ew, eh) = args.error_size;
     if args.json {
-        for (name, res, maps, shade, rmse, off) in &rows {
+        for (name, res, maps, shade, rmse, off, ssim) in &rows {
             println!(
                 "{}",
                 serde_json::json!({
                     "effect": "shadows", "filter": name, "resolution": res, "adapter": adapter,
                     "time_size": format!("{tw}x{th}"), "error_size": format!("{ew}x{eh}"),
                     "shadow_map_ms": maps, "shade_ms": shade, "shade_unshadowed_ms": base_shade,
-                    "rmse": rmse, "pixels_off_0_1": off,
+                    "rmse": rmse, "pixels_off_0_1": off, "ssim": ssim,
                 })
             );
         }
@@ -443,7 +471,7 @@ pub fn run(args: &ShadowArgs) -> anyhow::Result<ExitCode> {
         "Shadow filters on {adapter} ({} raster): GPU ms at {tw}x{th} (median of {} frames after {}, back to back; the map pass renders \
          every frame here, no reuse), error at {ew}x{eh} against {} ray-cast samples of a spot light of radius {LIGHT_RADIUS} \
          (RMSE of visibility over the lit pixels; share of pixels off by more than 0.1). Shading without shadows: {} ms.\n\n\
-         | filter | map | shadow map ms | shade ms | RMSE | off > 0.1 |\n|---|---|---|---|---|---|\n",
+         | filter | map | shadow map ms | shade ms | RMSE | off > 0.1 | SSIM |\n|---|---|---|---|---|---|---|\n",
         match args.raster {
             Raster::Auto => "automatic",
             Raster::Compute => "compute",
@@ -454,15 +482,39 @@ pub fn run(args: &ShadowArgs) -> anyhow::Result<ExitCode> {
         args.rays,
         ms(base_shade)
     );
-    for (name, res, maps, shade, rmse, off) in &rows {
+    for (name, res, maps, shade, rmse, off, ssim) in &rows {
         table.push_str(&format!(
-            "| {name} | {res} | {} | {} | {rmse:.4} | {:.1}% |\n",
+            "| {name} | {res} | {} | {} | {rmse:.4} | {:.1}% | {ssim:.4} |\n",
             ms(*maps),
             ms(*shade),
             off * 100.0
         ));
     }
     print!("{table}");
+    if let Some(file) = &args.plot {
+        let mut series: Vec<Series> = Vec::new();
+        for (name, res, maps, shade, rmse, _, _) in &rows {
+            // One line per filter family and kernel: the points are map resolutions.
+            let point = (
+                maps.unwrap_or(0.0) + shade.unwrap_or(0.0),
+                *rmse,
+                res.to_string(),
+            );
+            match series.iter_mut().find(|s| &s.name == name) {
+                Some(s) => s.points.push(point),
+                None => series.push(Series {
+                    name: name.clone(),
+                    points: vec![point],
+                }),
+            }
+        }
+        write_svg(
+            file,
+            &format!("Shadow filters on {adapter}: map + shade ms at {tw}x{th} against RMSE"),
+            "RMSE of visibility",
+            &series,
+        )?;
+    }
     if let Some(out) = &args.out {
         std::fs::write(out, &table).with_context(|| format!("cannot write {}", out.display()))?;
     }
