@@ -14,6 +14,7 @@ pub mod lighting;
 pub mod material;
 pub mod mesh;
 pub mod mesh_arena;
+pub mod occlusion;
 pub mod post;
 pub mod readback;
 pub mod recipe;

@@ -370,6 +370,17 @@ impl Renderer {
         Ok((report, outputs))
     }
 
+    /// A persistent texture by its name (temporal history), if a frame made it:
+    /// for tests and tools that inspect or seed history.
+    pub fn persistent_texture(&self, name: &str) -> Option<wgpu::Texture> {
+        self.textures
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .persistent
+            .get(name)
+            .map(|(_, t)| t.clone())
+    }
+
     /// Forget persistent textures (a camera cut or a resize resets history).
     pub fn reset_history(&self) {
         self.textures

@@ -105,6 +105,7 @@ pub const SHADERS: &[ShaderFile] = &[
     shader!("lib/lights.wgsl", library),
     shader!("lib/tonemap.wgsl", library),
     shader!("lib/material.wgsl", library),
+    shader!("lib/screen.wgsl", library),
     shader!("lighting/shadow_sampling.wgsl", library),
     shader!("gbuffer/visibility.wgsl", []),
     shader!("gbuffer/raster.wgsl", ["TWO_SIDED"]),
@@ -180,6 +181,14 @@ pub const SHADERS: &[ShaderFile] = &[
     shader!("shadows/depth.wgsl", []),
     shader!("shadows/moments.wgsl", []),
     shader!("shadows/resolve.wgsl", []),
+    shader!("occlusion/linear_depth.wgsl", ["DOWNSAMPLE"]),
+    shader!("occlusion/ao.wgsl", one_of ["SAO", "HBAO"]),
+    shader!("occlusion/temporal.wgsl", []),
+    shader!(
+        "occlusion/blur.wgsl",
+        ["VERTICAL", "COMBINE"],
+        Rule::Requires("COMBINE", "VERTICAL")
+    ),
     shader!("environment/sky.wgsl", []),
     shader!("environment/fog.wgsl", []),
     shader!("post/tonemap.wgsl", ["EYE_ADAPTATION"]),

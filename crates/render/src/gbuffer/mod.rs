@@ -311,6 +311,12 @@ impl GBuffer {
         self.owner
     }
 
+    /// Last frame's view-projection, as the node that made this G-buffer saw it
+    /// (None: no last frame, or not told).
+    pub fn previous_view_projection(&self) -> Option<Mat4> {
+        self.previous_view_projection
+    }
+
     pub fn camera_buffer(&self) -> &wgpu::Buffer {
         &self.camera_buffer
     }

@@ -1,0 +1,541 @@
+//! Screen-space ambient occlusion over the G-buffer: Emeshe's stochastic
+//! wide-range AO and its short-range "HBAO", and McGuire's SAO as Castor3D
+//! has it. One recipe, three estimators (shaders/occlusion/ao.wgsl), and
+//! the passes they share:
+//!
+//! 1. SAO only: view depth and a mip chain of it (shaders/occlusion/linear_depth.wgsl),
+//!    so far taps read coarse levels and stay in cache.
+//! 2. Raw AO: per-pixel rotated samples, the rotation changing every frame.
+//! 3. Temporal (when the blend is above 0): last frame's result reprojected
+//!    with the G-buffer velocity, rejected where depth or normal disagree
+//!    (disocclusion), sanitized on read, blended in. The history is a
+//!    persistent texture named after the node; a resize, a `Reset` or
+//!    `Renderer::reset_history` starts it anew.
+//! 4. A depth- and normal-aware separable blur (shaders/occlusion/blur.wgsl),
+//!    whose last pass also multiplies in another AO (`combine`: wide-range
+//!    times local, as Emeshe pairs them).
+//!
+//! Output: visibility 0..1 in RGB of an RGBA16F texture (1 where depth is
+//! empty), what `CompositeLight`'s Occlusion input reads.
+
+use std::sync::Arc;
+use std::sync::Mutex;
+
+use glam::Mat4;
+use wgpu::util::DeviceExt;
+
+use crate::error::RenderError;
+use crate::frame_graph::{FrameGraph, Lifetime, PassContext, SizeRule, TextureDesc};
+use crate::gbuffer::GBuffer;
+use crate::recipe::{Recipe, TextureRef, next_recipe_id, pass_name};
+use crate::renderer::Renderer;
+use crate::shaders::ShaderKey;
+
+/// Which estimator.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum AoMode {
+    /// Emeshe's stochastic wide-range AO: rays in a cosine-weighted
+    /// hemisphere, each marched `steps` times against the depth buffer; a
+    /// ray is blocked where it passes behind a surface within `radius`.
+    /// Matches ray-cast AO of the same radius as samples grow.
+    Stochastic,
+    /// Scalable Ambient Obscurance (McGuire, Mara, Luebke 2012): a spiral of
+    /// taps over a view-depth mip chain, the obscurance estimator with a
+    /// smooth falloff. Cheap at large radii; not calibrated to ray-cast AO.
+    Sao,
+    /// Horizon-based AO (Bavoil 2008): `samples` directions in screen space,
+    /// `steps` taps each; per direction the highest horizon's sine is the
+    /// occluded share of that slice. Short range, local detail.
+    Hbao,
+}
+
+impl AoMode {
+    fn feature(self) -> Option<&'static str> {
+        match self {
+            AoMode::Stochastic => None,
+            AoMode::Sao => Some("SAO"),
+            AoMode::Hbao => Some("HBAO"),
+        }
+    }
+
+    fn name(self) -> &'static str {
+        match self {
+            AoMode::Stochastic => "SSAO",
+            AoMode::Sao => "SAO",
+            AoMode::Hbao => "HBAO",
+        }
+    }
+}
+
+/// Every AO pin; out-of-range values are clamped where the recipe is made.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AoSettings {
+    pub mode: AoMode,
+    /// World units: how far occluders count.
+    pub radius: f32,
+    /// Rays (Stochastic), taps (SAO) or directions (HBAO): 1..=64.
+    pub samples: u32,
+    /// Steps along each ray or direction (Stochastic, HBAO): 1..=32.
+    pub steps: u32,
+    /// An exponent on visibility: 1 is the estimate as it is, 2 darker.
+    pub intensity: f32,
+    /// 0..=0.98: the weight of last frame's result (0: no temporal pass).
+    pub temporal_blend: f32,
+    /// Blur half-width in pixels, 0..=16 (0: no blur).
+    pub blur_radius: u32,
+    /// Drop the history this frame (a camera cut).
+    pub reset: bool,
+}
+
+impl Default for AoSettings {
+    fn default() -> Self {
+        AoSettings {
+            mode: AoMode::Stochastic,
+            radius: 1.0,
+            samples: 8,
+            steps: 4,
+            intensity: 1.0,
+            temporal_blend: 0.9,
+            blur_radius: 4,
+            reset: false,
+        }
+    }
+}
+
+impl AoSettings {
+    /// Finite and in range: a NaN radius would reach every pixel.
+    fn clamped(self) -> Self {
+        let clean = |v: f32, lo: f32, hi: f32, fallback: f32| {
+            if v.is_finite() {
+                v.clamp(lo, hi)
+            } else {
+                fallback
+            }
+        };
+        AoSettings {
+            // A NaN radius occludes nothing rather than guessing one.
+            radius: clean(self.radius, 0.0, 1e6, 0.0),
+            samples: self.samples.clamp(1, 64),
+            steps: self.steps.clamp(1, 32),
+            intensity: clean(self.intensity, 0.0, 16.0, 1.0),
+            temporal_blend: clean(self.temporal_blend, 0.0, 0.98, 0.0),
+            blur_radius: self.blur_radius.min(16),
+            ..self
+        }
+    }
+}
+
+/// Levels of SAO's view-depth chain (full size, then halves).
+const DEPTH_LEVELS: usize = 5;
+
+/// What a node's AO remembers between frames: a frame counter (the sample
+/// rotation) and last frame's camera (a G-buffer whose "previous" camera is
+/// not the one we saw last frame means frames were skipped: history is stale).
+#[derive(Default)]
+struct AoState {
+    frame: Mutex<(u32, Option<Mat4>)>,
+}
+
+pub struct AmbientOcclusion {
+    id: u64,
+    owner: Option<u32>,
+    gbuffer: Arc<GBuffer>,
+    settings: AoSettings,
+    combine: Option<TextureRef>,
+    /// Key of the per-node state and the history's name.
+    key: u64,
+    params: wgpu::Buffer,
+    state: Arc<AoState>,
+    prefix: String,
+    pub output: String,
+}
+
+impl AmbientOcclusion {
+    /// `combine`: another AO texture multiplied into the result.
+    pub fn new(
+        renderer: &Renderer,
+        owner: Option<u32>,
+        gbuffer: Arc<GBuffer>,
+        settings: AoSettings,
+        combine: Option<TextureRef>,
+    ) -> Arc<Self> {
+        let id = next_recipe_id();
+        let settings = settings.clamped();
+        // The history outlives recipes: a node makes a new one whenever a pin
+        // changes, and its history must carry over. Without a node, per recipe.
+        let key = owner.map_or(id, u64::from);
+        let params = renderer.gpu.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("ao params"),
+            size: 64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let prefix = format!("ao{id}");
+        Arc::new(AmbientOcclusion {
+            id,
+            owner,
+            gbuffer,
+            settings,
+            combine,
+            key,
+            params,
+            state: renderer.state::<AoState>(key),
+            output: format!("{prefix}/out"),
+            prefix,
+        })
+    }
+
+    pub fn texture(self: &Arc<Self>) -> TextureRef {
+        TextureRef {
+            recipe: self.clone(),
+            name: self.output.clone(),
+        }
+    }
+
+    pub fn settings(&self) -> AoSettings {
+        self.settings
+    }
+
+    fn name(&self, what: &str) -> String {
+        format!("{}/{what}", self.prefix)
+    }
+
+    /// The persistent history texture's name (RGBA16F: visibility, view
+    /// distance, world normal octahedron), kept per node and mode.
+    pub fn history_name(&self) -> String {
+        format!("ao-history-{}-{:?}", self.key, self.settings.mode)
+    }
+
+    fn temporal(&self) -> bool {
+        self.settings.temporal_blend > 0.0
+    }
+
+    /// The size of SAO's depth level `k`.
+    fn level_size(&self, k: usize) -> SizeRule {
+        let f = 0.5f32.powi(k as i32);
+        match self.gbuffer.size {
+            SizeRule::Relative(s) => SizeRule::Relative(s * f),
+            SizeRule::Absolute { width, height } => SizeRule::Absolute {
+                width: (width >> k).max(1),
+                height: (height >> k).max(1),
+            },
+        }
+    }
+
+    /// Upload this frame's parameters: the frame index turns the samples.
+    fn write_params(&self, cx: &PassContext<'_>, reset: bool) {
+        let s = self.settings;
+        let words: [u32; 16] = [
+            s.radius.to_bits(),
+            s.intensity.to_bits(),
+            s.temporal_blend.to_bits(),
+            // Bias: a small share of the radius, so flat surfaces do not self-occlude.
+            (s.radius * 0.02).to_bits(),
+            s.samples,
+            s.steps,
+            self.frame(),
+            s.blur_radius,
+            u32::from(reset),
+            0,
+            0,
+            0,
+            0,
+            0,
+            0,
+            0,
+        ];
+        cx.gpu
+            .queue
+            .write_buffer(&self.params, 0, bytemuck::cast_slice(&words));
+    }
+
+    fn frame(&self) -> u32 {
+        self.state.frame.lock().unwrap_or_else(|e| e.into_inner()).0
+    }
+
+    /// Advance the frame and say whether the history must go: asked, or the
+    /// G-buffer's previous camera is not the camera we saw last frame.
+    fn advance(&self) -> bool {
+        let mut state = self.state.frame.lock().unwrap_or_else(|e| e.into_inner());
+        let now = self.gbuffer.camera.view_projection();
+        let stale = match (state.1, self.gbuffer.previous_view_projection()) {
+            (Some(seen), Some(previous)) => !seen.abs_diff_eq(previous, 1e-4),
+            (Some(seen), None) => !seen.abs_diff_eq(now, 1e-4),
+            (None, _) => false,
+        };
+        state.0 = state.0.wrapping_add(1);
+        state.1 = Some(now);
+        self.settings.reset || stale
+    }
+
+    fn linear_depth(&self, cx: &mut PassContext<'_>, level: usize) -> Result<(), RenderError> {
+        let output = self.name(&format!("z{level}"));
+        let (source, target) = if level == 0 {
+            (cx.view(&self.gbuffer.targets.depth)?, cx.view(&output)?)
+        } else {
+            (
+                cx.view(&self.name(&format!("z{}", level - 1)))?,
+                cx.view(&output)?,
+            )
+        };
+        let size = {
+            let t = cx.texture(&output)?;
+            (t.width(), t.height())
+        };
+        let all = [
+            (0, self.gbuffer.camera_buffer().as_entire_binding()),
+            (1, wgpu::BindingResource::TextureView(&source)),
+            (2, wgpu::BindingResource::TextureView(&target)),
+        ];
+        let features = if level == 0 {
+            vec![]
+        } else {
+            vec!["DOWNSAMPLE"]
+        };
+        cx.dispatch_image(
+            if level == 0 {
+                "ao view depth"
+            } else {
+                "ao depth mip"
+            },
+            &ShaderKey::new("occlusion/linear_depth.wgsl", features),
+            &all,
+            size,
+        )
+    }
+
+    fn raw(&self, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
+        let g = &self.gbuffer.targets;
+        let reset = if self.temporal() {
+            self.advance()
+        } else {
+            self.advance();
+            false
+        };
+        if reset {
+            cx.count("AO history reset", 1);
+        }
+        self.write_params(cx, reset);
+        let mut views = vec![
+            cx.view(&g.depth)?,
+            cx.view(&g.normals)?,
+            cx.view(&self.name("raw"))?,
+        ];
+        if self.settings.mode == AoMode::Sao {
+            for k in 0..DEPTH_LEVELS {
+                views.push(cx.view(&self.name(&format!("z{k}")))?);
+            }
+        }
+        let mut all = vec![
+            (0, self.gbuffer.camera_buffer().as_entire_binding()),
+            (1, self.params.as_entire_binding()),
+        ];
+        for (k, v) in views.iter().enumerate() {
+            all.push((2 + k as u32, wgpu::BindingResource::TextureView(v)));
+        }
+        let key = ShaderKey::new("occlusion/ao.wgsl", self.settings.mode.feature());
+        let size = self.gbuffer.pixel_size(cx.output_size);
+        cx.dispatch_image(self.settings.mode.name(), &key, &all, size)
+    }
+
+    fn temporal_pass(&self, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
+        let history = self.history_name();
+        let previous = self.name("previous");
+        if cx.is_fresh(&history) {
+            cx.count("AO history reset", 1);
+        }
+        let fresh = u32::from(cx.is_fresh(&history));
+        let (last, copy) = (
+            cx.texture(&history)?.clone(),
+            cx.texture(&previous)?.clone(),
+        );
+        cx.encoder
+            .copy_texture_to_texture(last.as_image_copy(), copy.as_image_copy(), last.size());
+        let fresh_buffer = cx
+            .gpu
+            .device
+            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("ao temporal"),
+                contents: bytemuck::cast_slice(&[fresh, 0u32, 0, 0]),
+                usage: wgpu::BufferUsages::UNIFORM,
+            });
+        let g = &self.gbuffer.targets;
+        let views = [
+            cx.view(&self.name("raw"))?,
+            cx.view(&g.depth)?,
+            cx.view(&g.normals)?,
+            cx.view(&g.velocity_uv)?,
+            cx.view(&previous)?,
+            cx.view(&history)?,
+        ];
+        let mut all = vec![
+            (0, self.gbuffer.camera_buffer().as_entire_binding()),
+            (1, self.params.as_entire_binding()),
+            (8, fresh_buffer.as_entire_binding()),
+        ];
+        for (k, v) in views.iter().enumerate() {
+            all.push((2 + k as u32, wgpu::BindingResource::TextureView(v)));
+        }
+        let size = self.gbuffer.pixel_size(cx.output_size);
+        cx.dispatch_image(
+            "ao temporal",
+            &ShaderKey::new("occlusion/temporal.wgsl", []),
+            &all,
+            size,
+        )
+    }
+
+    fn blur(
+        &self,
+        cx: &mut PassContext<'_>,
+        source: &str,
+        vertical: bool,
+    ) -> Result<(), RenderError> {
+        let target = if vertical {
+            self.output.clone()
+        } else {
+            self.name("blurred")
+        };
+        let g = &self.gbuffer.targets;
+        let mut features = Vec::new();
+        if vertical {
+            features.push("VERTICAL");
+        }
+        let combine = match (&self.combine, vertical) {
+            (Some(c), true) => {
+                features.push("COMBINE");
+                Some(cx.view(&c.name)?)
+            }
+            _ => None,
+        };
+        let views = [
+            cx.view(source)?,
+            cx.view(&g.depth)?,
+            cx.view(&g.normals)?,
+            cx.view(&target)?,
+        ];
+        let mut all = vec![
+            (0, self.gbuffer.camera_buffer().as_entire_binding()),
+            (1, self.params.as_entire_binding()),
+        ];
+        for (k, v) in views.iter().enumerate() {
+            all.push((2 + k as u32, wgpu::BindingResource::TextureView(v)));
+        }
+        if let Some(c) = &combine {
+            all.push((6, wgpu::BindingResource::TextureView(c)));
+        }
+        let size = self.gbuffer.pixel_size(cx.output_size);
+        cx.dispatch_image(
+            if vertical { "ao blur y" } else { "ao blur x" },
+            &ShaderKey::new("occlusion/blur.wgsl", features),
+            &all,
+            size,
+        )
+    }
+}
+
+impl Recipe for AmbientOcclusion {
+    fn declare<'a>(&'a self, renderer: &'a Renderer, fg: &mut FrameGraph<'a>) {
+        if !fg.include(self.id) {
+            return;
+        }
+        self.gbuffer.declare(renderer, fg);
+        if let Some(c) = &self.combine {
+            c.recipe.declare(renderer, fg);
+        }
+        let kind = self.settings.mode.name();
+        let g = &self.gbuffer.targets;
+        let full = |format| TextureDesc::storage(format).size(self.gbuffer.size);
+        let levels: Vec<String> = (0..DEPTH_LEVELS)
+            .map(|k| self.name(&format!("z{k}")))
+            .collect();
+        if self.settings.mode == AoMode::Sao {
+            for (k, level) in levels.iter().enumerate() {
+                let reads: Vec<&str> = if k == 0 {
+                    vec![&g.depth]
+                } else {
+                    vec![&levels[k - 1]]
+                };
+                fg.add_pass(
+                    pass_name(kind, self.owner, Some(&format!("view depth {k}"))),
+                    self.owner,
+                    &reads,
+                    &[(
+                        level,
+                        TextureDesc::storage(wgpu::TextureFormat::R32Float)
+                            .size(self.level_size(k)),
+                    )],
+                    move |cx| self.linear_depth(cx, k),
+                );
+            }
+        }
+        let raw = self.name("raw");
+        let mut reads: Vec<&str> = vec![&g.depth, &g.normals];
+        if self.settings.mode == AoMode::Sao {
+            reads.extend(levels.iter().map(String::as_str));
+        }
+        fg.add_pass(
+            pass_name(kind, self.owner, Some("raw")),
+            self.owner,
+            &reads,
+            &[(&raw, full(wgpu::TextureFormat::R32Float))],
+            move |cx| self.raw(cx),
+        );
+        let mut source = raw.clone();
+        if self.temporal() {
+            let history = self.history_name();
+            let previous = self.name("previous");
+            // COPY_DST: tools and tests may seed the history.
+            let persistent = TextureDesc {
+                usage: TextureDesc::storage(wgpu::TextureFormat::Rgba16Float).usage
+                    | wgpu::TextureUsages::COPY_DST,
+                ..TextureDesc::storage(wgpu::TextureFormat::Rgba16Float)
+            }
+            .size(self.gbuffer.size)
+            .lifetime(Lifetime::Persistent);
+            let copy = TextureDesc {
+                usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+                ..TextureDesc::storage(wgpu::TextureFormat::Rgba16Float).size(self.gbuffer.size)
+            };
+            fg.add_pass(
+                pass_name(kind, self.owner, Some("temporal")),
+                self.owner,
+                &[&raw, &g.depth, &g.normals, &g.velocity_uv],
+                &[(&history, persistent), (&previous, copy)],
+                move |cx| self.temporal_pass(cx),
+            );
+            source = history;
+        }
+        let blurred = self.name("blurred");
+        let mut last_reads: Vec<&str> = vec![&g.depth, &g.normals];
+        last_reads.extend(self.combine.as_ref().map(|c| c.name.as_str()));
+        if self.settings.blur_radius > 0 {
+            let src = source.clone();
+            fg.add_pass(
+                pass_name(kind, self.owner, Some("blur x")),
+                self.owner,
+                &[&source, &g.depth, &g.normals],
+                &[(&blurred, full(wgpu::TextureFormat::R32Float))],
+                move |cx| self.blur(cx, &src, false),
+            );
+            last_reads.push(&blurred);
+            fg.add_pass(
+                pass_name(kind, self.owner, Some("blur y")),
+                self.owner,
+                &last_reads,
+                &[(&self.output, full(wgpu::TextureFormat::Rgba16Float))],
+                move |cx| self.blur(cx, &self.name("blurred"), true),
+            );
+        } else {
+            let src = source.clone();
+            last_reads.push(&source);
+            fg.add_pass(
+                pass_name(kind, self.owner, Some("resolve")),
+                self.owner,
+                &last_reads,
+                &[(&self.output, full(wgpu::TextureFormat::Rgba16Float))],
+                move |cx| self.blur(cx, &src, true),
+            );
+        }
+    }
+}

@@ -1,0 +1,101 @@
+// AO's depth- and normal-aware separable blur: a Gaussian of half-width
+// `blur_radius` whose taps lose weight with view-distance difference (3%
+// of the distance falls off by e) and normal difference, so occlusion does
+// not bleed across silhouettes. Horizontal by default, VERTICAL the second
+// pass; the vertical pass writes the RGBA result and, with COMBINE,
+// multiplies another AO in. Half-width 0 is a copy.
+#import spreadlight::camera::Camera
+#import spreadlight::packing::safe_normalize
+#import spreadlight::screen::view_position
+
+struct Params {
+    radius: f32,
+    intensity: f32,
+    blend: f32,
+    bias: f32,
+    samples: u32,
+    steps: u32,
+    frame: u32,
+    blur_radius: u32,
+    reset: u32,
+    _pad0: u32,
+    _pad1: u32,
+    _pad2: u32,
+    _pad3: vec4<u32>,
+}
+
+@group(0) @binding(0) var<uniform> camera: Camera;
+@group(0) @binding(1) var<uniform> params: Params;
+@group(0) @binding(2) var source: texture_2d<f32>;
+@group(0) @binding(3) var depth: texture_2d<f32>;
+@group(0) @binding(4) var normals: texture_2d<f32>;
+#ifdef VERTICAL
+@group(0) @binding(5) var output: texture_storage_2d<rgba16float, write>;
+#else
+@group(0) @binding(5) var output: texture_storage_2d<r32float, write>;
+#endif
+#ifdef COMBINE
+@group(0) @binding(6) var combine: texture_2d<f32>;
+#endif
+
+@compute @workgroup_size(8, 8)
+fn main(@builtin(global_invocation_id) id: vec3<u32>) {
+    let size = vec2<u32>(camera.size.xy);
+    if (id.x >= size.x || id.y >= size.y) {
+        return;
+    }
+    let pixel = id.xy;
+    let d0 = textureLoad(depth, pixel, 0).r;
+    var v = 1.0;
+    if (d0 > 0.0) {
+        let z0 = -view_position(camera, pixel, d0).z;
+        let n0 = safe_normalize(textureLoad(normals, pixel, 0).xyz, vec3<f32>(0.0, 0.0, 1.0));
+#ifdef VERTICAL
+        let axis = vec2<i32>(0, 1);
+#else
+        let axis = vec2<i32>(1, 0);
+#endif
+        let r = i32(params.blur_radius);
+        let sigma = max(f32(r), 1.0) * 0.5;
+        var sum = 0.0;
+        var weights = 0.0;
+        for (var o = -r; o <= r; o++) {
+            let q = vec2<i32>(pixel) + axis * o;
+            if (any(q < vec2<i32>(0)) || any(q >= vec2<i32>(size))) {
+                continue;
+            }
+            let qu = vec2<u32>(q);
+            let dq = textureLoad(depth, qu, 0).r;
+            if (dq <= 0.0) {
+                continue;
+            }
+            let zq = -view_position(camera, qu, dq).z;
+            let nq = safe_normalize(textureLoad(normals, qu, 0).xyz, n0);
+            let s = textureLoad(source, qu, 0).r;
+            if (!(abs(s) <= 1e30)) {
+                continue;
+            }
+            let w = exp(-f32(o * o) / (2.0 * sigma * sigma))
+                * exp(-abs(zq - z0) / (0.03 * z0 + 1e-6))
+                * pow(max(dot(n0, nq), 0.0), 8.0);
+            sum += w * clamp(s, 0.0, 1.0);
+            weights += w;
+        }
+        if (weights > 1e-6) {
+            v = sum / weights;
+        } else {
+            let s = textureLoad(source, pixel, 0).r;
+            v = select(1.0, clamp(s, 0.0, 1.0), abs(s) <= 1e30);
+        }
+    }
+#ifdef COMBINE
+    let other = textureLoad(combine, pixel, 0).r;
+    v *= select(1.0, clamp(other, 0.0, 1.0), abs(other) <= 1e30);
+#endif
+    v = clamp(v, 0.0, 1.0);
+#ifdef VERTICAL
+    textureStore(output, pixel, vec4<f32>(v, v, v, 1.0));
+#else
+    textureStore(output, pixel, vec4<f32>(v, 0.0, 0.0, 0.0));
+#endif
+}
