@@ -62,7 +62,7 @@ fn ao(
             .expect("renders");
     assert!(report.errors.is_empty(), "{:?}", report.errors);
     let mut images = images.into_iter();
-    (report, images.next().unwrap(), images.next().unwrap())
+    (report, images.next().expect("ao"), images.next().expect("depth"))
 }
 
 fn single_frame(mode: AoMode, samples: u32) -> AoSettings {
