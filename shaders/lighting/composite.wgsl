@@ -2,8 +2,12 @@
 // (diffuse, specular) per light type, up to four pairs (LIGHTS_2..4), plus
 // emission per material (EMISSION) from the material buffer, and ambient
 // occlusion (AO), optionally weighted per material (AO_PER_MATERIAL).
-// Diffuse already carries albedo; ambient (until image-based light lands)
-// is a constant term times albedo. Clamped below half-float overflow.
+// Diffuse already carries albedo; ambient is a constant term times albedo;
+// GI (indirect diffuse radiance: SSGI, image-based diffuse light) is times
+// albedo too, and AO darkens both. REFLECTION adds specular reflection
+// radiance times each material's Reflection strength (0 without it).
+// MATERIALS: the material library is bound (emission, per-material AO or
+// reflection need it). Clamped below half-float overflow.
 #import spreadlight::camera::Camera
 
 struct Params {
@@ -46,16 +50,22 @@ struct Params {
 @group(0) @binding(16) var sss3: texture_2d<f32>;
 #endif
 // The material library, imported once, for EMISSION (only when some
-// material has Emission) and for AO's per-material strength.
-#ifdef EMISSION
-#import spreadlight::material::{feature_param, feature_param_at, FEATURE_EMISSION, FEATURE_AMBIENT_OCCLUSION}
-#import spreadlight::packing::channel_to_id
-#else
-#ifdef AO_PER_MATERIAL
-#import spreadlight::material::{feature_param, FEATURE_AMBIENT_OCCLUSION}
+// material has Emission), AO's per-material strength and REFLECTION's.
+#ifdef MATERIALS
+#import spreadlight::material::{feature_param, feature_param_at, FEATURE_EMISSION, FEATURE_AMBIENT_OCCLUSION, FEATURE_REFLECTION}
 #import spreadlight::packing::channel_to_id
 #endif
+#ifdef GI
+@group(0) @binding(18) var gi: texture_2d<f32>;
 #endif
+#ifdef REFLECTION
+@group(0) @binding(19) var reflection: texture_2d<f32>;
+#endif
+
+// A texel from an effect's output: negative or non-finite values add nothing.
+fn clean(v: vec3<f32>) -> vec3<f32> {
+    return select(vec3<f32>(0.0), min(v, vec3<f32>(65000.0)), v >= vec3<f32>(0.0) & v <= vec3<f32>(3e38));
+}
 #ifdef AO
 // Ambient visibility (R, 0..1) darkening the ambient term; AO_PER_MATERIAL
 // weights it by each material's AmbientOcclusion strength (0 = unaffected).
@@ -73,6 +83,9 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     if (textureLoad(depth, p, 0).r > 0.0) {
         let albedo = textureLoad(color, p, 0).rgb;
         var ambient = params.ambient.rgb * albedo;
+#ifdef GI
+        ambient += clean(textureLoad(gi, p, 0).rgb) * albedo;
+#endif
 #ifdef AO
         var strength = 1.0;
 #ifdef AO_PER_MATERIAL
@@ -102,6 +115,10 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
 #endif
 #ifdef SSS_4
         lit += textureLoad(sss3, p, 0).rgb;
+#endif
+#ifdef REFLECTION
+        let reflective = feature_param(channel_to_id(textureLoad(color, p, 0).a), FEATURE_REFLECTION, 0u, vec4<f32>(0.0)).x;
+        lit += clean(textureLoad(reflection, p, 0).rgb) * clamp(reflective, 0.0, 1.0);
 #endif
 #ifdef EMISSION
         // A texture scales the emission colour and strength (MATERIAL_TEXTURES).

@@ -166,7 +166,10 @@ pub const SHADERS: &[ShaderFile] = &[
             "SSS_4",
             "AO",
             "AO_PER_MATERIAL",
-            "MATERIAL_TEXTURES"
+            "MATERIAL_TEXTURES",
+            "MATERIALS",
+            "GI",
+            "REFLECTION"
         ],
         // Light pairs are cumulative, a subsurface term comes with its pair,
         // and per-material AO weights only AO.
@@ -176,7 +179,11 @@ pub const SHADERS: &[ShaderFile] = &[
         Rule::Requires("SSS_3", "LIGHTS_3"),
         Rule::Requires("SSS_4", "LIGHTS_4"),
         Rule::Requires("AO_PER_MATERIAL", "AO"),
-        Rule::Requires("MATERIAL_TEXTURES", "EMISSION")
+        Rule::Requires("MATERIAL_TEXTURES", "EMISSION"),
+        // What reads the material library binds it.
+        Rule::Requires("EMISSION", "MATERIALS"),
+        Rule::Requires("AO_PER_MATERIAL", "MATERIALS"),
+        Rule::Requires("REFLECTION", "MATERIALS")
     ),
     shader!("shadows/depth.wgsl", []),
     shader!("shadows/moments.wgsl", []),
@@ -625,9 +632,11 @@ mod tests {
             .filter(|k| k.path == "lighting/composite.wgsl")
             .collect();
         // Light pairs with the SSS terms they allow (2 + 4 + 8 + 16), times
-        // AO (none, AO, per material), times emission (none, flat, textured):
-        // 270 of the 2^12 subsets.
-        assert_eq!(composite.len(), 30 * 3 * 3);
+        // GI (2), times the 20 ways of AO (none, AO, per material), emission
+        // (none, flat, textured), reflection (2) and the material library
+        // (forced on when one of them reads it, free otherwise: 16 + 2 x 2):
+        // 1,200 of the 2^15 subsets.
+        assert_eq!(composite.len(), 30 * 2 * 20);
     }
 
     #[test]

@@ -65,7 +65,7 @@ pub fn register(r: &mut Registry) {
                 })
                 .collect();
             let occlusion = resources::<TextureRef>(cx, 6)?.into_iter().next().map(|t| (*t).clone());
-            let inputs = CompositeInputs { components, ambient: [ambient.r, ambient.g, ambient.b], materials, occlusion };
+            let inputs = CompositeInputs { components, ambient: [ambient.r, ambient.g, ambient.b], materials, occlusion, gi: None, reflection: None };
             let composite = CompositeLight::new(&renderer, Some(cx.node_id.0), gbuffer, inputs)
                 .map_err(|e| NodeError::Other(e.to_string()))?;
             cx.set_output(0, resource_spread::<TextureRef>(ResourceKind::Texture, vec![std::sync::Arc::new(composite.texture())]));

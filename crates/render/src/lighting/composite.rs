@@ -1,5 +1,9 @@
-//! `CompositeLight`: CookTorrance's components and an ambient term into one
-//! HDR image (later: emission, AO, GI and reflections, weighted per material).
+//! `CompositeLight`: CookTorrance's components, an ambient term, emission,
+//! ambient occlusion, indirect diffuse light (GI) and reflections into one
+//! HDR image, each weighted per material: AO by the AmbientOcclusion
+//! feature's strength, GI by albedo, reflections by the Reflection
+//! feature's strength. A reflection input is not even rendered when no
+//! material reflects ("reflection culled: no reflective material").
 
 use std::sync::Arc;
 
@@ -8,7 +12,7 @@ use wgpu::util::DeviceExt;
 use crate::error::RenderError;
 use crate::frame_graph::{FrameGraph, PassContext, TextureDesc};
 use crate::gbuffer::GBuffer;
-use crate::material::{FEATURE_AMBIENT_OCCLUSION, FEATURE_EMISSION, MaterialWorld};
+use crate::material::{FEATURE_AMBIENT_OCCLUSION, FEATURE_EMISSION, FEATURE_REFLECTION, MaterialWorld};
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
 use crate::shaders::ShaderKey;
@@ -24,6 +28,12 @@ pub struct CompositeInputs {
     pub materials: Option<Arc<MaterialWorld>>,
     /// Ambient visibility in R (0..1), from an AO pass.
     pub occlusion: Option<TextureRef>,
+    /// Indirect diffuse radiance arriving at each pixel (RGB; SSGI, image-based
+    /// diffuse light): times albedo, darkened by the occlusion.
+    pub gi: Option<TextureRef>,
+    /// Specular reflection radiance (RGB, Fresnel already applied: the
+    /// Reflection or SSR pass), times each material's Reflection strength.
+    pub reflection: Option<TextureRef>,
 }
 
 /// Light types one CompositeLight adds up.
@@ -51,6 +61,11 @@ pub struct CompositeLight {
     /// An AO texture, and whether materials weight it (some has AmbientOcclusion).
     occlusion: Option<TextureRef>,
     ao_per_material: bool,
+    gi: Option<TextureRef>,
+    /// Only when some material has Reflection.
+    reflection: Option<TextureRef>,
+    /// A reflection input was wired, and dropped: no material reflects.
+    reflection_culled: bool,
     params: wgpu::Buffer,
     pub output: String,
 }
@@ -67,6 +82,8 @@ impl CompositeLight {
             ambient,
             materials,
             occlusion,
+            gi,
+            reflection,
         } = inputs;
         // A feature no material has costs nothing: its code is not compiled in.
         let has = |feature: u32| {
@@ -76,7 +93,9 @@ impl CompositeLight {
         };
         let emission = has(FEATURE_EMISSION);
         let ao_per_material = occlusion.is_some() && has(FEATURE_AMBIENT_OCCLUSION);
-        let materials = materials.filter(|_| emission || ao_per_material);
+        let reflection_culled = reflection.is_some() && !has(FEATURE_REFLECTION);
+        let reflection = reflection.filter(|_| has(FEATURE_REFLECTION));
+        let materials = materials.filter(|_| emission || ao_per_material || reflection.is_some());
         if components.is_empty() || components.len() > MAX_COMPONENTS {
             return Err(RenderError::Pass {
                 pass: "CompositeLight".to_owned(),
@@ -111,6 +130,9 @@ impl CompositeLight {
             emission,
             occlusion,
             ao_per_material,
+            gi,
+            reflection,
+            reflection_culled,
             params,
             output: format!("composite{id}"),
         }))
@@ -149,6 +171,18 @@ impl CompositeLight {
         }
         if self.textured() {
             features.push("MATERIAL_TEXTURES");
+        }
+        if self.materials.is_some() {
+            features.push("MATERIALS");
+        }
+        if self.gi.is_some() {
+            features.push("GI");
+        }
+        if self.reflection.is_some() {
+            features.push("REFLECTION");
+        }
+        if self.reflection_culled {
+            cx.count("reflection culled: no reflective material", 1);
         }
         for (k, c) in self.components.iter().enumerate() {
             if c.sss.is_some() {
@@ -195,6 +229,20 @@ impl CompositeLight {
         if let Some(view) = &occlusion {
             all.push((17, wgpu::BindingResource::TextureView(view)));
         }
+        let gi = match &self.gi {
+            Some(t) => Some(cx.view(&t.name)?),
+            None => None,
+        };
+        if let Some(view) = &gi {
+            all.push((18, wgpu::BindingResource::TextureView(view)));
+        }
+        let reflection = match &self.reflection {
+            Some(t) => Some(cx.view(&t.name)?),
+            None => None,
+        };
+        if let Some(view) = &reflection {
+            all.push((19, wgpu::BindingResource::TextureView(view)));
+        }
         for (binding, view) in &subsurface {
             all.push((*binding, wgpu::BindingResource::TextureView(view)));
         }
@@ -231,8 +279,8 @@ impl Recipe for CompositeLight {
             return;
         }
         self.gbuffer.declare(renderer, fg);
-        if let Some(ao) = &self.occlusion {
-            ao.recipe.declare(renderer, fg);
+        for input in [&self.occlusion, &self.gi, &self.reflection].into_iter().flatten() {
+            input.recipe.declare(renderer, fg);
         }
         for c in &self.components {
             for texture in [Some(&c.diffuse), Some(&c.specular), c.sss.as_ref()]
@@ -245,7 +293,12 @@ impl Recipe for CompositeLight {
         let name = crate::recipe::pass_name("CompositeLight", self.owner, None);
         let g = &self.gbuffer.targets;
         let mut reads: Vec<&str> = vec![&g.color, &g.depth];
-        reads.extend(self.occlusion.as_ref().map(|ao| ao.name.as_str()));
+        reads.extend(
+            [&self.occlusion, &self.gi, &self.reflection]
+                .into_iter()
+                .flatten()
+                .map(|t| t.name.as_str()),
+        );
         if let Some(world) = &self.materials {
             reads.extend(world.declare_textures(renderer, fg, self.textured(), &g.velocity_uv));
         }
