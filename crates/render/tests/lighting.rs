@@ -818,7 +818,9 @@ fn gi_and_reflection_are_weighted_per_material_and_unreflective_scenes_render_no
     let world = |reflective: Option<f32>| {
         let m = Material::default_material();
         let m = match reflective {
-            Some(strength) => m.with(Feature::Reflection, &[[strength, 0.0, 0.0, 0.0]]).expect("valid"),
+            Some(strength) => m
+                .with(Feature::Reflection, &[[strength, 0.0, 0.0, 0.0]])
+                .expect("valid"),
             None => m,
         };
         MaterialWorld::new(&renderer, vec![m])
@@ -847,8 +849,9 @@ fn gi_and_reflection_are_weighted_per_material_and_unreflective_scenes_render_no
             reflection,
         };
         let c = CompositeLight::new(&renderer, None, g.clone(), inputs).expect("valid");
-        let (report, images) = render_and_read(&renderer, c.as_ref(), SIZE, &[&c.output, &g.targets.color])
-            .expect("renders");
+        let (report, images) =
+            render_and_read(&renderer, c.as_ref(), SIZE, &[&c.output, &g.targets.color])
+                .expect("renders");
         assert!(report.errors.is_empty(), "{:?}", report.errors);
         (report, images)
     };
@@ -876,14 +879,20 @@ fn gi_and_reflection_are_weighted_per_material_and_unreflective_scenes_render_no
     let stand_in = AmbientOcclusion::new(&renderer, None, g.clone(), AoSettings::default(), None);
     let (report, images) = composite(false, Some(stand_in.texture()), world(None));
     assert!(images[0].all_finite());
-    assert_eq!(report.counter("reflection culled: no reflective material"), 1);
+    assert_eq!(
+        report.counter("reflection culled: no reflective material"),
+        1
+    );
     assert!(
         !report.passes.iter().any(|p| p.name.starts_with("SSAO")),
         "{:?}",
         report.passes.iter().map(|p| &p.name).collect::<Vec<_>>()
     );
     let (report, _) = composite(false, Some(stand_in.texture()), world(Some(1.0)));
-    assert_eq!(report.counter("reflection culled: no reflective material"), 0);
+    assert_eq!(
+        report.counter("reflection culled: no reflective material"),
+        0
+    );
     assert!(report.passes.iter().any(|p| p.name.starts_with("SSAO")));
 }
 

@@ -62,7 +62,11 @@ fn ao(
             .expect("renders");
     assert!(report.errors.is_empty(), "{:?}", report.errors);
     let mut images = images.into_iter();
-    (report, images.next().expect("ao"), images.next().expect("depth"))
+    (
+        report,
+        images.next().expect("ao"),
+        images.next().expect("depth"),
+    )
 }
 
 fn single_frame(mode: AoMode, samples: u32) -> AoSettings {

@@ -21,7 +21,9 @@ pub fn register(r: &mut Registry) {
              may be empty) and an \
              ambient term (Ambient x albedo), plus each material's Emission from the Material World, into one HDR image. AO (optional, visibility \
              in R) darkens the ambient term, weighted by each material's AmbientOcclusion strength when a \
-             Material World has that feature.",
+             Material World has that feature. GI (optional): indirect diffuse light (SSGI, an environment's \
+             diffuse light), times albedo, darkened by AO. Reflection (optional): specular reflection (Reflection, \
+             SSR), times each material's Reflection strength; not rendered at all when no material reflects.",
         )
         .input_spread("G-Buffer", PinType::Resource(ResourceKind::GBuffer), Spread::Resource(ResourceKind::GBuffer, vec![]))
         .input_spread("Diffuse", PinType::Resource(ResourceKind::Texture), texture())
@@ -34,6 +36,8 @@ pub fn register(r: &mut Registry) {
             Spread::Resource(ResourceKind::MaterialWorld, vec![]),
         )
         .input_spread("AO", PinType::Resource(ResourceKind::Texture), texture())
+        .input_spread("GI", PinType::Resource(ResourceKind::Texture), texture())
+        .input_spread("Reflection", PinType::Resource(ResourceKind::Texture), texture())
         .output_typed("Texture", PinType::Resource(ResourceKind::Texture))
         .evaluate(|cx| {
             let renderer = renderer(cx)?;
@@ -65,7 +69,10 @@ pub fn register(r: &mut Registry) {
                 })
                 .collect();
             let occlusion = resources::<TextureRef>(cx, 6)?.into_iter().next().map(|t| (*t).clone());
-            let inputs = CompositeInputs { components, ambient: [ambient.r, ambient.g, ambient.b], materials, occlusion, gi: None, reflection: None };
+            let gi = resources::<TextureRef>(cx, 7)?.into_iter().next().map(|t| (*t).clone());
+            let reflection = resources::<TextureRef>(cx, 8)?.into_iter().next().map(|t| (*t).clone());
+            let inputs =
+                CompositeInputs { components, ambient: [ambient.r, ambient.g, ambient.b], materials, occlusion, gi, reflection };
             let composite = CompositeLight::new(&renderer, Some(cx.node_id.0), gbuffer, inputs)
                 .map_err(|e| NodeError::Other(e.to_string()))?;
             cx.set_output(0, resource_spread::<TextureRef>(ResourceKind::Texture, vec![std::sync::Arc::new(composite.texture())]));

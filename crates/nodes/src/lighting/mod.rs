@@ -1,9 +1,10 @@
 //! Lights and shading nodes (category "Lighting"): `AddLight (Point)`,
 //! `AddLight (Spot)`, `AddLight (Sun)`, `PointLightBuffer`,
 //! `SpotLightBuffer`, `SunLightBuffer`, `ShadowMap (Spot)`, `ShadowMap (Point)`,
-//! `ShadowMap (Sun)`, `CookTorrance`, `CompositeLight`.
+//! `ShadowMap (Sun)`, `CookTorrance`, `CompositeLight`, `SSAO`, `HBAO`.
 
 pub mod add_light;
+pub mod ambient_occlusion;
 pub mod composite_light;
 pub mod cook_torrance;
 pub mod point_light_buffer;
@@ -37,6 +38,7 @@ pub fn register(r: &mut Registry) {
     shadow_map::register(r);
     cook_torrance::register(r);
     composite_light::register(r);
+    ambient_occlusion::register(r);
 }
 
 #[cfg(test)]

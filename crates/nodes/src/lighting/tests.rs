@@ -228,3 +228,29 @@ fn two_lights_on_one_shadow_slice_are_named() {
         ["#2: input `Lights`: shadow slice 2 is given to lights `point0`, `point1`"]
     );
 }
+
+#[test]
+fn ao_pins_out_of_range_are_errors_naming_the_pin() {
+    let error = |name: &str, values: &[(&str, Spread)]| {
+        let mut patch = Patch::default();
+        let mut node = NodeDoc::new(1, name);
+        for (p, v) in values {
+            node = node.with(p, v.clone());
+        }
+        patch.add(node);
+        patch.add(NodeDoc::new(2, "Probe"));
+        patch.link(1, "Texture", 2, "Input");
+        let (runtime, _) = run(&patch, 1, "Texture");
+        let errors: Vec<String> = runtime.node_errors().map(|(_, e)| e.to_string()).collect();
+        assert_eq!(errors.len(), 1, "{errors:?}");
+        errors[0].clone()
+    };
+    let e = error("SSAO", &[]);
+    assert!(e.contains("input `G-Buffer`"), "{e}");
+    for name in ["SSAO", "HBAO"] {
+        let e = error(name, &[("Radius", Spread::Float(vec![-1.0]))]);
+        assert!(e.contains("input `Radius`"), "{e}");
+        let e = error(name, &[("Temporal Blend", Spread::Float(vec![1.0]))]);
+        assert!(e.contains("input `Temporal Blend`"), "{e}");
+    }
+}

@@ -12,7 +12,9 @@ use wgpu::util::DeviceExt;
 use crate::error::RenderError;
 use crate::frame_graph::{FrameGraph, PassContext, TextureDesc};
 use crate::gbuffer::GBuffer;
-use crate::material::{FEATURE_AMBIENT_OCCLUSION, FEATURE_EMISSION, FEATURE_REFLECTION, MaterialWorld};
+use crate::material::{
+    FEATURE_AMBIENT_OCCLUSION, FEATURE_EMISSION, FEATURE_REFLECTION, MaterialWorld,
+};
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
 use crate::shaders::ShaderKey;
@@ -279,7 +281,10 @@ impl Recipe for CompositeLight {
             return;
         }
         self.gbuffer.declare(renderer, fg);
-        for input in [&self.occlusion, &self.gi, &self.reflection].into_iter().flatten() {
+        for input in [&self.occlusion, &self.gi, &self.reflection]
+            .into_iter()
+            .flatten()
+        {
             input.recipe.declare(renderer, fg);
         }
         for c in &self.components {
