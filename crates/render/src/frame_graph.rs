@@ -105,6 +105,25 @@ impl TextureDesc {
         }
     }
 
+    /// A temporal history: persistent, written by compute, readable, and
+    /// copied into its "previous" twin ([`TextureDesc::history_copy`]) before
+    /// each update ([`PassContext::copy_history`]); COPY_DST so tools and
+    /// tests can seed it.
+    pub fn history(format: wgpu::TextureFormat) -> Self {
+        let mut desc = TextureDesc::storage(format).lifetime(Lifetime::Persistent);
+        desc.usage |= wgpu::TextureUsages::COPY_DST;
+        desc
+    }
+
+    /// Last frame's history, copied for reading while the history is written
+    /// (a texture cannot be read and written in one dispatch without read-write storage).
+    pub fn history_copy(format: wgpu::TextureFormat) -> Self {
+        TextureDesc {
+            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+            ..TextureDesc::storage(format)
+        }
+    }
+
     pub fn lifetime(mut self, lifetime: Lifetime) -> Self {
         self.lifetime = lifetime;
         self
@@ -171,6 +190,21 @@ impl<'f> PassContext<'f> {
     /// they did and the work they saved.
     pub fn count(&mut self, name: &'static str, n: u64) {
         *self.counters.entry(name).or_default() += n;
+    }
+
+    /// Copy `history` into `previous` (see [`TextureDesc::history`]) and say
+    /// whether the history is fresh (created this frame: it holds nothing).
+    pub fn copy_history(&mut self, history: &str, previous: &str) -> Result<bool, RenderError> {
+        let (last, copy) = (
+            self.texture(history)?.clone(),
+            self.texture(previous)?.clone(),
+        );
+        self.encoder.copy_texture_to_texture(
+            last.as_image_copy(),
+            copy.as_image_copy(),
+            last.size(),
+        );
+        Ok(self.is_fresh(history))
     }
 
     /// A persistent texture created this frame: it holds no history yet.

@@ -23,6 +23,7 @@ pub mod renderer;
 pub mod scenes;
 pub mod shaders;
 pub mod shadows;
+pub mod temporal;
 pub mod texture;
 
 pub use context::GpuContext;

@@ -185,6 +185,12 @@ pub const SHADERS: &[ShaderFile] = &[
         Rule::Requires("AO_PER_MATERIAL", "MATERIALS"),
         Rule::Requires("REFLECTION", "MATERIALS")
     ),
+    shader!(
+        "lighting/ssgi.wgsl",
+        ["TEMPORAL", "BLUR", "AMBIENT"],
+        Rule::AtMostOne(&["TEMPORAL", "BLUR"]),
+        Rule::Requires("AMBIENT", "BLUR")
+    ),
     shader!("shadows/depth.wgsl", []),
     shader!("shadows/moments.wgsl", []),
     shader!("shadows/resolve.wgsl", []),

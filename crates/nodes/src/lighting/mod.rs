@@ -1,7 +1,7 @@
 //! Lights and shading nodes (category "Lighting"): `AddLight (Point)`,
 //! `AddLight (Spot)`, `AddLight (Sun)`, `PointLightBuffer`,
 //! `SpotLightBuffer`, `SunLightBuffer`, `ShadowMap (Spot)`, `ShadowMap (Point)`,
-//! `ShadowMap (Sun)`, `CookTorrance`, `CompositeLight`, `SSAO`, `HBAO`.
+//! `ShadowMap (Sun)`, `CookTorrance`, `CompositeLight`, `SSAO`, `HBAO`, `SSGI`.
 
 pub mod add_light;
 pub mod ambient_occlusion;
@@ -10,6 +10,7 @@ pub mod cook_torrance;
 pub mod point_light_buffer;
 pub mod shadow_map;
 pub mod spot_light_buffer;
+pub mod ssgi;
 pub mod sun_light_buffer;
 
 use spreadlight_graph::{EvalContext, NodeError, Registry};
@@ -39,6 +40,7 @@ pub fn register(r: &mut Registry) {
     cook_torrance::register(r);
     composite_light::register(r);
     ambient_occlusion::register(r);
+    ssgi::register(r);
 }
 
 #[cfg(test)]

@@ -5,6 +5,7 @@
 mod clusters;
 mod composite;
 mod cook_torrance;
+mod ssgi;
 
 use std::sync::Arc;
 
@@ -14,6 +15,7 @@ use wgpu::util::DeviceExt;
 pub use clusters::ClusterGrid;
 pub use composite::{CompositeInputs, CompositeLight, LightComponents, MAX_COMPONENTS};
 pub use cook_torrance::{CookTorrance, LightLoop, Surfaces};
+pub use ssgi::{Ssgi, SsgiSettings};
 
 use crate::recipe::TextureRef;
 use crate::renderer::Renderer;

@@ -19,17 +19,15 @@
 //! empty), what `CompositeLight`'s Occlusion input reads.
 
 use std::sync::Arc;
-use std::sync::Mutex;
-
-use glam::Mat4;
 use wgpu::util::DeviceExt;
 
 use crate::error::RenderError;
-use crate::frame_graph::{FrameGraph, Lifetime, PassContext, SizeRule, TextureDesc};
+use crate::frame_graph::{FrameGraph, PassContext, SizeRule, TextureDesc};
 use crate::gbuffer::GBuffer;
 use crate::recipe::{Recipe, TextureRef, next_recipe_id, pass_name};
 use crate::renderer::Renderer;
 use crate::shaders::ShaderKey;
+use crate::temporal::TemporalState;
 
 /// Which estimator.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -128,14 +126,6 @@ impl AoSettings {
 /// Levels of SAO's view-depth chain (full size, then halves).
 const DEPTH_LEVELS: usize = 5;
 
-/// What a node's AO remembers between frames: a frame counter (the sample
-/// rotation) and last frame's camera (a G-buffer whose "previous" camera is
-/// not the one we saw last frame means frames were skipped: history is stale).
-#[derive(Default)]
-struct AoState {
-    frame: Mutex<(u32, Option<Mat4>)>,
-}
-
 pub struct AmbientOcclusion {
     id: u64,
     owner: Option<u32>,
@@ -145,7 +135,7 @@ pub struct AmbientOcclusion {
     /// Key of the per-node state and the history's name.
     key: u64,
     params: wgpu::Buffer,
-    state: Arc<AoState>,
+    state: Arc<TemporalState>,
     prefix: String,
     pub output: String,
 }
@@ -179,7 +169,7 @@ impl AmbientOcclusion {
             combine,
             key,
             params,
-            state: renderer.state::<AoState>(key),
+            state: renderer.state::<TemporalState>(key),
             output: format!("{prefix}/out"),
             prefix,
         })
@@ -223,7 +213,7 @@ impl AmbientOcclusion {
     }
 
     /// Upload this frame's parameters: the frame index turns the samples.
-    fn write_params(&self, cx: &PassContext<'_>, reset: bool) {
+    fn write_params(&self, cx: &PassContext<'_>, frame: u32, reset: bool) {
         let s = self.settings;
         let words: [u32; 16] = [
             s.radius.to_bits(),
@@ -233,7 +223,7 @@ impl AmbientOcclusion {
             (s.radius * 0.02).to_bits(),
             s.samples,
             s.steps,
-            self.frame(),
+            frame,
             s.blur_radius,
             u32::from(reset),
             0,
@@ -247,25 +237,6 @@ impl AmbientOcclusion {
         cx.gpu
             .queue
             .write_buffer(&self.params, 0, bytemuck::cast_slice(&words));
-    }
-
-    fn frame(&self) -> u32 {
-        self.state.frame.lock().unwrap_or_else(|e| e.into_inner()).0
-    }
-
-    /// Advance the frame and say whether the history must go: asked, or the
-    /// G-buffer's previous camera is not the camera we saw last frame.
-    fn advance(&self) -> bool {
-        let mut state = self.state.frame.lock().unwrap_or_else(|e| e.into_inner());
-        let now = self.gbuffer.camera.view_projection();
-        let stale = match (state.1, self.gbuffer.previous_view_projection()) {
-            (Some(seen), Some(previous)) => !seen.abs_diff_eq(previous, 1e-4),
-            (Some(seen), None) => !seen.abs_diff_eq(now, 1e-4),
-            (None, _) => false,
-        };
-        state.0 = state.0.wrapping_add(1);
-        state.1 = Some(now);
-        self.settings.reset || stale
     }
 
     fn linear_depth(&self, cx: &mut PassContext<'_>, level: usize) -> Result<(), RenderError> {
@@ -306,16 +277,12 @@ impl AmbientOcclusion {
 
     fn raw(&self, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
         let g = &self.gbuffer.targets;
-        let reset = if self.temporal() {
-            self.advance()
-        } else {
-            self.advance();
-            false
-        };
+        let (frame, stale) = self.state.advance(&self.gbuffer, self.settings.reset);
+        let reset = stale && self.temporal();
         if reset {
             cx.count("AO history reset", 1);
         }
-        self.write_params(cx, reset);
+        self.write_params(cx, frame, reset);
         let mut views = vec![
             cx.view(&g.depth)?,
             cx.view(&g.normals)?,
@@ -485,18 +452,10 @@ impl Recipe for AmbientOcclusion {
         if self.temporal() {
             let history = self.history_name();
             let previous = self.name("previous");
-            // COPY_DST: tools and tests may seed the history.
-            let persistent = TextureDesc {
-                usage: TextureDesc::storage(wgpu::TextureFormat::Rgba16Float).usage
-                    | wgpu::TextureUsages::COPY_DST,
-                ..TextureDesc::storage(wgpu::TextureFormat::Rgba16Float)
-            }
-            .size(self.gbuffer.size)
-            .lifetime(Lifetime::Persistent);
-            let copy = TextureDesc {
-                usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
-                ..TextureDesc::storage(wgpu::TextureFormat::Rgba16Float).size(self.gbuffer.size)
-            };
+            let persistent =
+                TextureDesc::history(wgpu::TextureFormat::Rgba16Float).size(self.gbuffer.size);
+            let copy =
+                TextureDesc::history_copy(wgpu::TextureFormat::Rgba16Float).size(self.gbuffer.size);
             fg.add_pass(
                 pass_name(kind, self.owner, Some("temporal")),
                 self.owner,

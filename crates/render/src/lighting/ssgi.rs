@@ -1,0 +1,349 @@
+//! `SSGI`: one bounce of diffuse light from what the screen sees
+//! (shaders/lighting/ssgi.wgsl): stochastic rays gather the lit image where
+//! they hit, accumulated over frames (reprojected with the G-buffer
+//! velocity, rejected on disocclusion) and blurred with depth and normal
+//! awareness. The output is indirect radiance per unit albedo, for
+//! CompositeLight's GI input; an optional ambient texture (an
+//! environment's diffuse light) is added so one texture carries both.
+
+use std::sync::Arc;
+
+use crate::error::RenderError;
+use crate::frame_graph::{FrameGraph, PassContext, TextureDesc};
+use crate::gbuffer::GBuffer;
+use crate::recipe::{Recipe, TextureRef, next_recipe_id, pass_name};
+use crate::renderer::Renderer;
+use crate::shaders::ShaderKey;
+use crate::temporal::TemporalState;
+use wgpu::util::DeviceExt;
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SsgiSettings {
+    /// World units a ray travels.
+    pub radius: f32,
+    /// Rays per pixel per frame, 1..=32.
+    pub samples: u32,
+    /// Steps along each ray, 1..=32.
+    pub steps: u32,
+    /// A scale on the gathered light (1: physically one bounce).
+    pub intensity: f32,
+    /// 0..=0.98: last frame's weight (0: no temporal pass).
+    pub temporal_blend: f32,
+    /// Blur half-width in pixels, 0..=16.
+    pub blur_radius: u32,
+    pub reset: bool,
+}
+
+impl Default for SsgiSettings {
+    fn default() -> Self {
+        SsgiSettings {
+            radius: 2.0,
+            samples: 4,
+            steps: 8,
+            intensity: 1.0,
+            temporal_blend: 0.9,
+            blur_radius: 4,
+            reset: false,
+        }
+    }
+}
+
+impl SsgiSettings {
+    fn clamped(self) -> Self {
+        let clean = |v: f32, lo: f32, hi: f32| if v.is_finite() { v.clamp(lo, hi) } else { 0.0 };
+        SsgiSettings {
+            radius: clean(self.radius, 0.0, 1e6),
+            samples: self.samples.clamp(1, 32),
+            steps: self.steps.clamp(1, 32),
+            intensity: clean(self.intensity, 0.0, 1e3),
+            temporal_blend: clean(self.temporal_blend, 0.0, 0.98),
+            blur_radius: self.blur_radius.min(16),
+            reset: self.reset,
+        }
+    }
+}
+
+pub struct Ssgi {
+    id: u64,
+    owner: Option<u32>,
+    gbuffer: Arc<GBuffer>,
+    source: TextureRef,
+    ambient: Option<TextureRef>,
+    settings: SsgiSettings,
+    key: u64,
+    params: wgpu::Buffer,
+    /// The blur's direction per pass: x, then y.
+    axes: [wgpu::Buffer; 2],
+    state: Arc<TemporalState>,
+    prefix: String,
+    pub output: String,
+}
+
+impl Ssgi {
+    /// `source`: the lit image light bounces from (CookTorrance's diffuse, or
+    /// a CompositeLight without GI); `ambient`: light added to the result.
+    pub fn new(
+        renderer: &Renderer,
+        owner: Option<u32>,
+        gbuffer: Arc<GBuffer>,
+        source: TextureRef,
+        ambient: Option<TextureRef>,
+        settings: SsgiSettings,
+    ) -> Arc<Self> {
+        let id = next_recipe_id();
+        let key = owner.map_or(id, u64::from);
+        let device = &renderer.gpu.device;
+        let params = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("ssgi params"),
+            size: 64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let axis = |a: [i32; 4]| {
+            device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("ssgi axis"),
+                contents: bytemuck::cast_slice(&a),
+                usage: wgpu::BufferUsages::UNIFORM,
+            })
+        };
+        let prefix = format!("ssgi{id}");
+        Arc::new(Ssgi {
+            id,
+            owner,
+            gbuffer,
+            source,
+            ambient,
+            settings: settings.clamped(),
+            key,
+            params,
+            axes: [axis([1, 0, 0, 0]), axis([0, 1, 0, 0])],
+            state: renderer.state::<TemporalState>(key),
+            output: format!("{prefix}/out"),
+            prefix,
+        })
+    }
+
+    pub fn texture(self: &Arc<Self>) -> TextureRef {
+        TextureRef {
+            recipe: self.clone(),
+            name: self.output.clone(),
+        }
+    }
+
+    fn name(&self, what: &str) -> String {
+        format!("{}/{what}", self.prefix)
+    }
+
+    /// The persistent history (RGBA16F: radiance, view distance), per node.
+    pub fn history_name(&self) -> String {
+        format!("ssgi-history-{}", self.key)
+    }
+
+    fn temporal(&self) -> bool {
+        self.settings.temporal_blend > 0.0
+    }
+
+    fn write_params(&self, cx: &PassContext<'_>, frame: u32, reset: bool) {
+        let s = self.settings;
+        let words: [u32; 16] = [
+            s.radius.to_bits(),
+            s.intensity.to_bits(),
+            s.temporal_blend.to_bits(),
+            (s.radius * 0.02).to_bits(),
+            s.samples,
+            s.steps,
+            frame,
+            s.blur_radius,
+            u32::from(reset),
+            0,
+            0,
+            0,
+            0,
+            0,
+            0,
+            0,
+        ];
+        cx.gpu
+            .queue
+            .write_buffer(&self.params, 0, bytemuck::cast_slice(&words));
+    }
+
+    /// One pass: bindings 0 camera, 1 params, 2 depth, 3 normals, then `textures`
+    /// (4 source, 5 output, 6.. the pass's own) and `buffers`.
+    fn dispatch(
+        &self,
+        cx: &mut PassContext<'_>,
+        label: &str,
+        features: Vec<&'static str>,
+        textures: &[(u32, &str)],
+        buffers: &[(u32, &wgpu::Buffer)],
+    ) -> Result<(), RenderError> {
+        let g = &self.gbuffer.targets;
+        let mut views = vec![(2, cx.view(&g.depth)?), (3, cx.view(&g.normals)?)];
+        for (binding, name) in textures {
+            views.push((*binding, cx.view(name)?));
+        }
+        let mut all = vec![
+            (0, self.gbuffer.camera_buffer().as_entire_binding()),
+            (1, self.params.as_entire_binding()),
+        ];
+        all.extend(
+            buffers
+                .iter()
+                .map(|(b, buffer)| (*b, buffer.as_entire_binding())),
+        );
+        all.extend(
+            views
+                .iter()
+                .map(|(b, v)| (*b, wgpu::BindingResource::TextureView(v))),
+        );
+        let size = self.gbuffer.pixel_size(cx.output_size);
+        cx.dispatch_image(
+            label,
+            &ShaderKey::new("lighting/ssgi.wgsl", features),
+            &all,
+            size,
+        )
+    }
+
+    fn raw(&self, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
+        let (frame, stale) = self.state.advance(&self.gbuffer, self.settings.reset);
+        let reset = stale && self.temporal();
+        if reset {
+            cx.count("SSGI history reset", 1);
+        }
+        self.write_params(cx, frame, reset);
+        let raw = self.name("raw");
+        self.dispatch(
+            cx,
+            "ssgi",
+            vec![],
+            &[(4, &self.source.name), (5, &raw)],
+            &[],
+        )
+    }
+
+    fn temporal_pass(&self, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
+        let (history, previous) = (self.history_name(), self.name("previous"));
+        let fresh = cx.copy_history(&history, &previous)?;
+        if fresh {
+            cx.count("SSGI history reset", 1);
+        }
+        let fresh = cx
+            .gpu
+            .device
+            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("ssgi fresh"),
+                contents: bytemuck::cast_slice(&[u32::from(fresh), 0, 0, 0]),
+                usage: wgpu::BufferUsages::UNIFORM,
+            });
+        let (raw, velocity) = (self.name("raw"), self.gbuffer.targets.velocity_uv.clone());
+        self.dispatch(
+            cx,
+            "ssgi temporal",
+            vec!["TEMPORAL"],
+            &[(4, &raw), (5, &history), (6, &velocity), (7, &previous)],
+            &[(8, &fresh)],
+        )
+    }
+
+    fn blur(
+        &self,
+        cx: &mut PassContext<'_>,
+        source: &str,
+        vertical: bool,
+    ) -> Result<(), RenderError> {
+        let target = if vertical {
+            self.output.clone()
+        } else {
+            self.name("blurred")
+        };
+        let mut features = vec!["BLUR"];
+        let mut textures = vec![(4, source), (5, target.as_str())];
+        if vertical && let Some(ambient) = &self.ambient {
+            features.push("AMBIENT");
+            textures.push((7, ambient.name.as_str()));
+        }
+        let label = if vertical {
+            "ssgi blur y"
+        } else {
+            "ssgi blur x"
+        };
+        self.dispatch(
+            cx,
+            label,
+            features,
+            &textures,
+            &[(6, &self.axes[usize::from(vertical)])],
+        )
+    }
+}
+
+impl Recipe for Ssgi {
+    fn declare<'a>(&'a self, renderer: &'a Renderer, fg: &mut FrameGraph<'a>) {
+        if !fg.include(self.id) {
+            return;
+        }
+        self.gbuffer.declare(renderer, fg);
+        self.source.recipe.declare(renderer, fg);
+        if let Some(a) = &self.ambient {
+            a.recipe.declare(renderer, fg);
+        }
+        let g = &self.gbuffer.targets;
+        let rgba = TextureDesc::storage(wgpu::TextureFormat::Rgba16Float).size(self.gbuffer.size);
+        let raw = self.name("raw");
+        fg.add_pass(
+            pass_name("SSGI", self.owner, Some("gather")),
+            self.owner,
+            &[&g.depth, &g.normals, &self.source.name],
+            &[(&raw, rgba)],
+            move |cx| self.raw(cx),
+        );
+        let mut source = raw.clone();
+        if self.temporal() {
+            let (history, previous) = (self.history_name(), self.name("previous"));
+            fg.add_pass(
+                pass_name("SSGI", self.owner, Some("temporal")),
+                self.owner,
+                &[&raw, &g.depth, &g.normals, &g.velocity_uv],
+                &[
+                    (
+                        &history,
+                        TextureDesc::history(wgpu::TextureFormat::Rgba16Float)
+                            .size(self.gbuffer.size),
+                    ),
+                    (
+                        &previous,
+                        TextureDesc::history_copy(wgpu::TextureFormat::Rgba16Float)
+                            .size(self.gbuffer.size),
+                    ),
+                ],
+                move |cx| self.temporal_pass(cx),
+            );
+            source = history;
+        }
+        let blurred = self.name("blurred");
+        let mut last = source.clone();
+        if self.settings.blur_radius > 0 {
+            let src = source.clone();
+            fg.add_pass(
+                pass_name("SSGI", self.owner, Some("blur x")),
+                self.owner,
+                &[&source, &g.depth, &g.normals],
+                &[(&blurred, rgba)],
+                move |cx| self.blur(cx, &src, false),
+            );
+            last = blurred;
+        }
+        let mut reads = vec![last.as_str(), &g.depth, &g.normals];
+        reads.extend(self.ambient.as_ref().map(|a| a.name.as_str()));
+        let src = last.clone();
+        fg.add_pass(
+            pass_name("SSGI", self.owner, Some("blur y")),
+            self.owner,
+            &reads,
+            &[(&self.output, rgba)],
+            move |cx| self.blur(cx, &src, true),
+        );
+    }
+}

@@ -1,0 +1,178 @@
+// SSGI: one bounce of diffuse light from what the screen sees. Default
+// (raw): `samples` rays per pixel in a cosine-weighted hemisphere about the
+// normal, marched `steps` times like stochastic AO; where a ray passes
+// behind a surface within `radius`, that surface's lit colour (the source
+// image) is light arriving from it; rays that escape bring none (the
+// environment's diffuse light comes in through the `Ambient` input of the
+// node, added by the resolve). With cosine-weighted rays, the mean of what
+// they bring is the irradiance over pi: the outgoing radiance per unit
+// albedo, which CompositeLight multiplies by albedo.
+// TEMPORAL: last frame's result reprojected with the G-buffer velocity and
+// blended in where its stored view distance matches (5%); non-finite
+// history is never used. BLUR: a depth-aware separable blur along `axis`,
+// adding the ambient input on the second (vertical) pass with AMBIENT.
+#import spreadlight::camera::Camera
+#import spreadlight::packing::safe_normalize
+#import spreadlight::screen::view_position
+#ifndef TEMPORAL
+#ifndef BLUR
+#import spreadlight::screen::{project, tangent_frame, interleaved_gradient_noise}
+#endif
+#endif
+
+struct Params {
+    radius: f32,
+    intensity: f32,
+    blend: f32,
+    bias: f32,
+    samples: u32,
+    steps: u32,
+    frame: u32,
+    blur_radius: u32,
+    reset: u32,
+    _pad0: u32,
+    _pad1: u32,
+    _pad2: u32,
+    _pad3: vec4<u32>,
+}
+
+// Per pass: which way the blur runs.
+struct Axis {
+    axis: vec2<i32>,
+    _pad: vec2<i32>,
+}
+
+@group(0) @binding(0) var<uniform> camera: Camera;
+@group(0) @binding(1) var<uniform> params: Params;
+@group(0) @binding(2) var depth: texture_2d<f32>;
+@group(0) @binding(3) var normals: texture_2d<f32>;
+@group(0) @binding(4) var source: texture_2d<f32>;
+@group(0) @binding(5) var output: texture_storage_2d<rgba16float, write>;
+#ifdef TEMPORAL
+@group(0) @binding(6) var velocity_uv: texture_2d<f32>;
+@group(0) @binding(7) var previous: texture_2d<f32>;
+// x: 1 when the history was created this frame and holds nothing.
+@group(0) @binding(8) var<uniform> fresh: vec4<u32>;
+#endif
+#ifdef BLUR
+@group(0) @binding(6) var<uniform> axis: Axis;
+#ifdef AMBIENT
+@group(0) @binding(7) var ambient: texture_2d<f32>;
+#endif
+#endif
+
+const TAU: f32 = 6.283185307;
+
+// Finite, non-negative, below half-float overflow; anything else is black.
+fn clean(v: vec3<f32>) -> vec3<f32> {
+    return select(vec3<f32>(0.0), min(v, vec3<f32>(65000.0)), v >= vec3<f32>(0.0) & v <= vec3<f32>(3e38));
+}
+
+#ifdef TEMPORAL
+fn resolve(pixel: vec2<u32>, size: vec2<u32>, p: vec3<f32>) -> vec4<f32> {
+    var gi = clean(textureLoad(source, pixel, 0).rgb);
+    let uv = (vec2<f32>(pixel) + 0.5) * camera.size.zw;
+    let before = uv - textureLoad(velocity_uv, pixel, 0).xy;
+    if (params.reset == 0u && fresh.x == 0u && all(before >= vec2<f32>(0.0)) && all(before < vec2<f32>(1.0))) {
+        let h = textureLoad(previous, min(vec2<u32>(before * camera.size.xy), size - 1u), 0);
+        let world = camera.view_inverse * vec4<f32>(p, 1.0);
+        let expected = (camera.previous_view_projection * world).w;
+        if (all(abs(h) <= vec4<f32>(65000.0)) && h.w > 0.0 && abs(h.w - expected) <= 0.05 * expected + 1e-3) {
+            gi = mix(gi, clean(h.rgb), params.blend);
+        }
+    }
+    return vec4<f32>(gi, -p.z);
+}
+#else
+#ifdef BLUR
+fn resolve(pixel: vec2<u32>, size: vec2<u32>, p: vec3<f32>) -> vec4<f32> {
+    let z0 = -p.z;
+    let n0 = safe_normalize(textureLoad(normals, pixel, 0).xyz, vec3<f32>(0.0, 0.0, 1.0));
+    let r = i32(params.blur_radius);
+    let sigma = max(f32(r), 1.0) * 0.5;
+    var sum = vec3<f32>(0.0);
+    var weights = 0.0;
+    for (var o = -r; o <= r; o++) {
+        let q = vec2<i32>(pixel) + axis.axis * o;
+        if (any(q < vec2<i32>(0)) || any(q >= vec2<i32>(size))) {
+            continue;
+        }
+        let qu = vec2<u32>(q);
+        let dq = textureLoad(depth, qu, 0).r;
+        if (dq <= 0.0) {
+            continue;
+        }
+        let zq = -view_position(camera, qu, dq).z;
+        let nq = safe_normalize(textureLoad(normals, qu, 0).xyz, n0);
+        let w = exp(-f32(o * o) / (2.0 * sigma * sigma))
+            * exp(-abs(zq - z0) / (0.03 * z0 + 1e-6))
+            * pow(max(dot(n0, nq), 0.0), 8.0);
+        sum += w * clean(textureLoad(source, qu, 0).rgb);
+        weights += w;
+    }
+    var gi = clean(textureLoad(source, pixel, 0).rgb);
+    if (weights > 1e-6) {
+        gi = sum / weights;
+    }
+#ifdef AMBIENT
+    gi += clean(textureLoad(ambient, pixel, 0).rgb);
+#endif
+    return vec4<f32>(min(gi, vec3<f32>(65000.0)), 1.0);
+}
+#else
+fn resolve(pixel: vec2<u32>, size: vec2<u32>, p: vec3<f32>) -> vec4<f32> {
+    var n = safe_normalize(textureLoad(normals, pixel, 0).xyz, vec3<f32>(0.0, 0.0, 1.0));
+    if (dot(n, -p) < 0.0) {
+        n = -n;
+    }
+    let frame = tangent_frame(n);
+    let noise = interleaved_gradient_noise(vec2<f32>(pixel), params.frame);
+    let jitter = interleaved_gradient_noise(vec2<f32>(pixel.yx) + 29.0, params.frame);
+    let origin = p + n * params.bias;
+    var gathered = vec3<f32>(0.0);
+    for (var i = 0u; i < params.samples; i++) {
+        let u = (f32(i) + fract(noise + 0.5)) / f32(params.samples);
+        let phi = TAU * fract(f32(i) * 0.618034 + noise);
+        let s = sqrt(u);
+        let dir = frame * vec3<f32>(s * cos(phi), s * sin(phi), sqrt(max(1.0 - u, 0.0)));
+        for (var k = 0u; k < params.steps; k++) {
+            let t = params.radius * (f32(k) + jitter) / f32(params.steps);
+            let pr = project(camera, origin + dir * max(t, 1e-6));
+            let tap = vec2<i32>(floor(pr.xy));
+            if (!pr.valid || any(tap < vec2<i32>(0)) || any(tap >= vec2<i32>(size))) {
+                break;
+            }
+            let d = textureLoad(depth, vec2<u32>(tap), 0).r;
+            if (d <= 0.0) {
+                continue;
+            }
+            let in_front = view_position(camera, vec2<u32>(tap), d).z - (origin + dir * t).z;
+            if (in_front > params.bias && in_front < params.radius) {
+                gathered += clean(textureLoad(source, vec2<u32>(tap), 0).rgb);
+                break;
+            }
+        }
+    }
+    return vec4<f32>(min(gathered * params.intensity / f32(params.samples), vec3<f32>(65000.0)), 1.0);
+}
+#endif
+#endif
+
+@compute @workgroup_size(8, 8)
+fn main(@builtin(global_invocation_id) id: vec3<u32>) {
+    let size = vec2<u32>(camera.size.xy);
+    if (id.x >= size.x || id.y >= size.y) {
+        return;
+    }
+    let d = textureLoad(depth, id.xy, 0).r;
+    if (d <= 0.0 || params.radius <= 0.0) {
+#ifdef AMBIENT
+        textureStore(output, id.xy, vec4<f32>(clean(textureLoad(ambient, id.xy, 0).rgb), 1.0));
+#else
+        // A history texel with no distance (w = 0) is never reused.
+        textureStore(output, id.xy, vec4<f32>(0.0));
+#endif
+        return;
+    }
+    textureStore(output, id.xy, resolve(id.xy, size, view_position(camera, id.xy, d)));
+}
