@@ -338,6 +338,7 @@ pub struct FrameGraph<'a> {
     requested: Vec<String>,
     imports: HashMap<String, wgpu::Texture>,
     included: HashSet<u64>,
+    counters: BTreeMap<&'static str, u64>,
 }
 
 impl<'a> FrameGraph<'a> {
@@ -348,7 +349,15 @@ impl<'a> FrameGraph<'a> {
             requested: Vec::new(),
             imports: HashMap::new(),
             included: HashSet::new(),
+            counters: BTreeMap::new(),
         }
+    }
+
+    /// Count a decision made while declaring (work a recipe left out
+    /// altogether, such as an effect no material needs): it reaches the
+    /// frame report's counters like those passes count.
+    pub fn count(&mut self, name: &'static str, n: u64) {
+        *self.counters.entry(name).or_default() += n;
     }
 
     pub fn output_size(&self) -> (u32, u32) {
@@ -494,6 +503,7 @@ pub(crate) struct GraphParts<'a> {
     pub requested: Vec<String>,
     pub imports: HashMap<String, wgpu::Texture>,
     pub keys: Vec<Vec<TextureKey>>,
+    pub counters: BTreeMap<&'static str, u64>,
 }
 
 impl<'a> FrameGraph<'a> {
@@ -518,6 +528,7 @@ impl<'a> FrameGraph<'a> {
             requested: self.requested,
             imports: self.imports,
             keys,
+            counters: self.counters,
         };
         for pass in self.passes {
             parts.names.push(pass.name);

@@ -174,6 +174,9 @@ impl Renderer {
             adapter: self.gpu.adapter_name(),
             ..Default::default()
         };
+        for (name, n) in std::mem::take(&mut parts.counters) {
+            *report.counters.entry(name.to_owned()).or_default() += n;
+        }
         let mut owned: Vec<(String, TextureKey, Lifetime)> = Vec::new();
         let mut commands = Vec::new();
         let mut pass_queries: Vec<(usize, Vec<(u32, u32)>)> = Vec::new();

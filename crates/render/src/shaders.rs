@@ -191,6 +191,7 @@ pub const SHADERS: &[ShaderFile] = &[
         Rule::AtMostOne(&["TEMPORAL", "BLUR"]),
         Rule::Requires("AMBIENT", "BLUR")
     ),
+    shader!("lighting/ssss.wgsl", ["VERTICAL"]),
     shader!("shadows/depth.wgsl", []),
     shader!("shadows/moments.wgsl", []),
     shader!("shadows/resolve.wgsl", []),

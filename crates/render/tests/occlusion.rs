@@ -13,14 +13,15 @@ use std::sync::Arc;
 use glam::{Mat4, Vec3, Vec4};
 use spreadlight_render::camera::{CameraInput, reverse_z};
 use spreadlight_render::gbuffer::GBuffer;
-use spreadlight_render::lighting::{Ssgi, SsgiSettings};
+use spreadlight_render::lighting::{Ssgi, SsgiSettings, Ssss, SsssQuality};
+use spreadlight_render::material::{Feature, Material, MaterialWorld};
 use spreadlight_render::occlusion::{AmbientOcclusion, AoMode, AoSettings};
 use spreadlight_render::readback::{ImageF32, render_and_read};
 use spreadlight_render::reference::occlusion::{Occluders, hemisphere_samples, visibility};
 use spreadlight_render::reference::shadows::Sphere;
 use spreadlight_render::renderer::test_renderer;
 use spreadlight_render::scenes::balls_on_floor;
-use spreadlight_render::{FrameReport, Renderer, SizeRule};
+use spreadlight_render::{FrameReport, Recipe, Renderer, SizeRule};
 
 const SIZE: (u32, u32) = (96, 64);
 const BALL: (Vec3, f32) = (Vec3::new(0.0, 1.0, 0.0), 1.0);
@@ -558,4 +559,114 @@ fn ssgi_accumulates_and_survives_a_nan_history_and_hard_settings() {
         assert!(image.all_finite(), "radius {radius}");
         assert!(image.pixels.iter().all(|p| p[0] >= 0.0 && p[0] <= 65000.0));
     }
+}
+
+/// A texture lit 1 on the left half of the screen and 0 on the right (the SSS term to scatter).
+fn half_lit(renderer: &Renderer, value: f32) -> Arc<spreadlight_render::texture::StaticTexture> {
+    let pixels: Vec<[f32; 4]> = (0..SIZE.0 * SIZE.1)
+        .map(|i| {
+            if i % SIZE.0 < SIZE.0 / 2 {
+                [value, value, value, 1.0]
+            } else {
+                [0.0, 0.0, 0.0, 1.0]
+            }
+        })
+        .collect();
+    spreadlight_render::texture::StaticTexture::new(
+        spreadlight_render::texture::GpuTexture::from_rgba32f(
+            &renderer.gpu,
+            SIZE.0,
+            SIZE.1,
+            &pixels,
+            "sss",
+        ),
+    )
+}
+
+fn scatter(
+    renderer: &Renderer,
+    materials: Arc<MaterialWorld>,
+    value: f32,
+) -> (FrameReport, ImageF32, ImageF32) {
+    let g = gbuffer(renderer, eye(), None, SIZE);
+    let sss = half_lit(renderer, value);
+    let out = Ssss::texture(
+        renderer,
+        Some(3),
+        g.clone(),
+        sss.texture_ref(),
+        Some(materials),
+        0.5,
+        SsssQuality::High,
+    );
+    if out.name == sss.texture_ref().name {
+        // Skipped: the input itself (a static texture that cannot be read back).
+        let mut graph = spreadlight_render::FrameGraph::new(SIZE);
+        g.declare(renderer, &mut graph);
+        out.recipe.declare(renderer, &mut graph);
+        graph.request(&g.targets.depth);
+        let (report, _) = graph.execute(renderer).expect("renders");
+        let empty = ImageF32 {
+            width: 0,
+            height: 0,
+            pixels: vec![],
+        };
+        return (report, empty.clone(), empty);
+    }
+    // The G-buffer declared beside: a skipped SSSS declares nothing of its own.
+    let mut graph = spreadlight_render::FrameGraph::new(SIZE);
+    g.declare(renderer, &mut graph);
+    out.recipe.declare(renderer, &mut graph);
+    graph.request(&out.name);
+    graph.request(&g.targets.depth);
+    let (report, outputs) = graph.execute(renderer).expect("renders");
+    assert!(report.errors.is_empty(), "{:?}", report.errors);
+    let read = |name: &str| {
+        spreadlight_render::readback::read_texture(&renderer.gpu, &outputs[name]).expect("reads")
+    };
+    (report, read(&out.name), read(&g.targets.depth))
+}
+
+#[test]
+fn ssss_scatters_red_farthest_and_only_where_a_material_has_fake_sss() {
+    let renderer = test_renderer();
+    let skin = MaterialWorld::new(
+        &renderer,
+        vec![
+            Material::default_material()
+                .with(Feature::FakeSss, &[[1.0, 0.3, 0.1, 1.0]])
+                .expect("valid"),
+        ],
+    );
+    let (report, image, depth) = scatter(&renderer, skin.clone(), 1.0);
+    assert!(image.all_finite());
+    assert!(report.passes.iter().any(|p| p.name.starts_with("SSSS")));
+    // Just right of the edge, on the floor: light has crept in, red farther than blue.
+    let y = SIZE.1 - 4;
+    let x = SIZE.0 / 2 + 1;
+    assert!(depth.pixel(x, y)[0] > 0.0);
+    let p = image.pixel(x, y);
+    assert!(p[0] > 0.05 && p[0] > p[2] * 1.5, "{p:?}");
+    // Energy is moved, not made: nothing brighter than the input.
+    assert!(image.pixels.iter().all(|p| p[0] <= 1.0 + 1e-3));
+    // The sky passes through.
+    for (p, d) in image
+        .pixels
+        .iter()
+        .zip(&depth.pixels)
+        .take((SIZE.0 * 3) as usize)
+    {
+        if d[0] <= 0.0 {
+            assert!(p[0] == 0.0 || p[0] == 1.0);
+        }
+    }
+    // 1e6 in: finite, below half-float overflow.
+    let (_, bright, _) = scatter(&renderer, skin, 1e6);
+    assert!(bright.all_finite() && bright.pixels.iter().all(|p| p[0] <= 65000.0));
+    // No material with FakeSSS: no pass, the input itself, and the report says why.
+    let plain = MaterialWorld::new(&renderer, vec![Material::default_material()]);
+    let (report, image, _) = scatter(&renderer, plain, 1.0);
+    assert_eq!(report.counter("SSSS culled: no subsurface material"), 1);
+    assert!(!report.passes.iter().any(|p| p.name.starts_with("SSSS")));
+    assert!(image.pixels.is_empty(), "the input is passed on as it is");
 }

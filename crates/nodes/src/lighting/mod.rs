@@ -1,7 +1,7 @@
 //! Lights and shading nodes (category "Lighting"): `AddLight (Point)`,
 //! `AddLight (Spot)`, `AddLight (Sun)`, `PointLightBuffer`,
 //! `SpotLightBuffer`, `SunLightBuffer`, `ShadowMap (Spot)`, `ShadowMap (Point)`,
-//! `ShadowMap (Sun)`, `CookTorrance`, `CompositeLight`, `SSAO`, `HBAO`, `SSGI`.
+//! `ShadowMap (Sun)`, `CookTorrance`, `CompositeLight`, `SSAO`, `HBAO`, `SSGI`, `SSSS`.
 
 pub mod add_light;
 pub mod ambient_occlusion;
@@ -11,6 +11,7 @@ pub mod point_light_buffer;
 pub mod shadow_map;
 pub mod spot_light_buffer;
 pub mod ssgi;
+pub mod ssss;
 pub mod sun_light_buffer;
 
 use spreadlight_graph::{EvalContext, NodeError, Registry};
@@ -41,6 +42,7 @@ pub fn register(r: &mut Registry) {
     composite_light::register(r);
     ambient_occlusion::register(r);
     ssgi::register(r);
+    ssss::register(r);
 }
 
 #[cfg(test)]

@@ -6,6 +6,7 @@ mod clusters;
 mod composite;
 mod cook_torrance;
 mod ssgi;
+mod ssss;
 
 use std::sync::Arc;
 
@@ -16,6 +17,7 @@ pub use clusters::ClusterGrid;
 pub use composite::{CompositeInputs, CompositeLight, LightComponents, MAX_COMPONENTS};
 pub use cook_torrance::{CookTorrance, LightLoop, Surfaces};
 pub use ssgi::{Ssgi, SsgiSettings};
+pub use ssss::{Ssss, SsssQuality};
 
 use crate::recipe::TextureRef;
 use crate::renderer::Renderer;

@@ -1,0 +1,92 @@
+// SSSS: screen-space subsurface scattering (Jimenez et al. 2015,
+// "Separable Subsurface Scattering"): CookTorrance's subsurface term
+// blurred by a separable kernel, one pass along x, one along y (VERTICAL),
+// as wide on screen as `width` world units at the pixel's depth. Per
+// material (the FakeSSS feature): each channel's reach is `width` times
+// that channel of the FakeSSS colour over its largest channel, so a skin
+// tone scatters red farthest. Taps on other materials or the sky take no
+// weight (Jimenez's stencil), and taps across a depth step are pulled back
+// toward the centre ("follow surface"), so light does not bleed between
+// objects. Pixels without FakeSSS pass through.
+#import spreadlight::camera::Camera
+#import spreadlight::packing::channel_to_id
+#import spreadlight::material::{feature_param, has_feature, FEATURE_FAKE_SSS}
+#import spreadlight::screen::view_position
+
+struct Params {
+    // World units of the widest channel's reach (3 standard deviations).
+    width: f32,
+    // Taps on each side of the centre.
+    taps: u32,
+    _pad0: u32,
+    _pad1: u32,
+}
+
+@group(0) @binding(0) var<uniform> camera: Camera;
+@group(0) @binding(1) var<uniform> params: Params;
+@group(0) @binding(2) var source: texture_2d<f32>;
+@group(0) @binding(3) var depth: texture_2d<f32>;
+@group(0) @binding(4) var color: texture_2d<f32>;
+@group(0) @binding(5) var output: texture_storage_2d<rgba16float, write>;
+
+fn clean(v: vec3<f32>) -> vec3<f32> {
+    return select(vec3<f32>(0.0), min(v, vec3<f32>(65000.0)), v >= vec3<f32>(0.0) & v <= vec3<f32>(3e38));
+}
+
+@compute @workgroup_size(8, 8)
+fn main(@builtin(global_invocation_id) id: vec3<u32>) {
+    let size = vec2<u32>(camera.size.xy);
+    if (id.x >= size.x || id.y >= size.y) {
+        return;
+    }
+    let pixel = id.xy;
+    let center = clean(textureLoad(source, pixel, 0).rgb);
+    let d = textureLoad(depth, pixel, 0).r;
+    let material = channel_to_id(textureLoad(color, pixel, 0).a);
+    if (d <= 0.0 || !has_feature(material, FEATURE_FAKE_SSS) || params.width <= 0.0 || params.taps == 0u) {
+        textureStore(output, pixel, vec4<f32>(center, 1.0));
+        return;
+    }
+    let z = max(-view_position(camera, pixel, d).z, 1e-6);
+    let tint = max(feature_param(material, FEATURE_FAKE_SSS, 0u, vec4<f32>(1.0)).rgb, vec3<f32>(0.0));
+    let reach = tint / max(max(tint.r, max(tint.g, tint.b)), 1e-6);
+    // Standard deviation per channel in pixels; the taps cover 3 of the widest.
+    let pixels_per_unit = camera.projection[1][1] * camera.size.y * 0.5 / z;
+    let sigma = max(reach * params.width / 3.0 * pixels_per_unit, vec3<f32>(1e-3));
+    let extent = min(params.width * pixels_per_unit, 256.0);
+#ifdef VERTICAL
+    let axis = vec2<f32>(0.0, 1.0);
+#else
+    let axis = vec2<f32>(1.0, 0.0);
+#endif
+    var sum = center;
+    var weights = vec3<f32>(1.0);
+    let n = f32(params.taps);
+    for (var i = 1u; i <= params.taps; i++) {
+        // Taps denser near the centre (Jimenez's quadratic spacing).
+        let t = f32(i) / n;
+        let offset = t * t * extent;
+        let g = exp(-0.5 * (offset * offset) / (sigma * sigma));
+        for (var side = -1.0; side <= 1.0; side += 2.0) {
+            let q = vec2<i32>(floor(vec2<f32>(pixel) + 0.5 + axis * offset * side));
+            if (any(q < vec2<i32>(0)) || any(q >= vec2<i32>(size))) {
+                continue;
+            }
+            let qu = vec2<u32>(q);
+            let dq = textureLoad(depth, qu, 0).r;
+            if (dq <= 0.0 || channel_to_id(textureLoad(color, qu, 0).a) != material) {
+                continue;
+            }
+            var s = clean(textureLoad(source, qu, 0).rgb);
+            // Follow the surface: across a depth step of the reach, fall back to the centre.
+            let zq = -view_position(camera, qu, dq).z;
+            let step = clamp(abs(zq - z) / max(params.width, 1e-6), 0.0, 1.0);
+            s = mix(s, center, step);
+            // Each tap stands for the band of offsets around it (spacing grows as t).
+            let w = g * (2.0 * t / n) * extent;
+            sum += s * w;
+            weights += w;
+        }
+    }
+    textureStore(output, pixel, vec4<f32>(min(sum / weights, vec3<f32>(65000.0)), 1.0));
+}
