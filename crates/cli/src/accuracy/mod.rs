@@ -5,6 +5,7 @@
 //! to a file. Later effects add themselves as subcommands.
 //!
 
+mod ao;
 pub(crate) mod metrics;
 pub(crate) mod plot;
 mod shadows;
@@ -21,11 +22,14 @@ pub struct Args {
 enum What {
     /// Shadow filters (Raw, PCF, PCSS, VSM) by map resolution: GPU time against error versus ray-cast soft shadows.
     Shadows(shadows::ShadowArgs),
+    /// Ambient occlusion (Stochastic, SAO, HBAO) by samples, temporal off and on: GPU time against error versus ray-cast AO.
+    Ao(ao::AoArgs),
 }
 
 pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
     match &args.what {
         What::Shadows(a) => shadows::run(a),
+        What::Ao(a) => ao::run(a),
     }
 }
 

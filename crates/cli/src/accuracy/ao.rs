@@ -1,0 +1,418 @@
+//! Ambient occlusion: every estimator (Stochastic, SAO, HBAO) at several
+//! sample counts, with temporal accumulation off and on, GPU time at a
+//! large size against the error at a small one versus ray-cast AO
+//! (render::reference::occlusion: `--rays` cosine-weighted rays of the
+//! same radius from every pixel's true surface point). Four balls over a
+//! floor, a still camera; temporal settings are measured after `--settle`
+//! frames, as a viewer would see them.
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::sync::Arc;
+
+use anyhow::Context;
+use glam::{Mat4, Vec3, Vec4};
+use spreadlight_render::camera::{CameraInput, reverse_z};
+use spreadlight_render::gbuffer::{GBuffer, Layer};
+use spreadlight_render::occlusion::{AmbientOcclusion, AoMode, AoSettings};
+use spreadlight_render::readback::{ImageF32, render_and_read};
+use spreadlight_render::reference::occlusion::{Occluders, hemisphere_samples, visibility};
+use spreadlight_render::reference::shadows::Sphere;
+use spreadlight_render::scenes::balls_on_floor;
+use spreadlight_render::{FrameGraph, Recipe, Renderer, SizeRule};
+
+use super::metrics::{self, Plane};
+use super::plot::{Series, write_svg};
+use super::{median, ms, pass_ms};
+use crate::session::parse_size;
+
+#[derive(clap::Args)]
+pub struct AoArgs {
+    /// Where GPU time is measured.
+    #[arg(long, default_value = "1920x1080", value_parser = parse_size)]
+    time_size: (u32, u32),
+    /// Where the error is measured (the reference casts rays from every pixel).
+    #[arg(long, default_value = "320x180", value_parser = parse_size)]
+    error_size: (u32, u32),
+    /// Sample counts (rays, taps or directions), comma-separated.
+    #[arg(long, default_value = "4,8,16,32", value_delimiter = ',')]
+    samples: Vec<u32>,
+    /// AO radius in world units.
+    #[arg(long, default_value_t = 1.0)]
+    radius: f32,
+    /// Frames accumulated before a temporal setting's error is taken.
+    #[arg(long, default_value_t = 16)]
+    settle: usize,
+    /// Frames run before timing each setting, back to back.
+    #[arg(long, default_value_t = 10)]
+    warmup: usize,
+    /// Timed frames per setting; the median is reported.
+    #[arg(long, default_value_t = 9)]
+    frames: usize,
+    /// Rays per pixel in the reference.
+    #[arg(long, default_value_t = 256)]
+    rays: u32,
+    /// Also write the table to this Markdown file.
+    #[arg(long)]
+    out: Option<PathBuf>,
+    /// Also plot GPU time against RMSE, a line per estimator and temporal mode, to this SVG file.
+    #[arg(long)]
+    plot: Option<PathBuf>,
+    /// Write the reference and each setting's AO (white = open) as PNGs into this folder.
+    #[arg(long)]
+    images: Option<PathBuf>,
+    /// Print JSON lines instead of the table.
+    #[arg(long)]
+    json: bool,
+}
+
+/// Visibility as a grey PNG (`None`: the sky, dark blue).
+fn write_visibility(
+    dir: &std::path::Path,
+    name: &str,
+    values: &[Option<f32>],
+    size: (u32, u32),
+) -> anyhow::Result<()> {
+    std::fs::create_dir_all(dir)?;
+    let image = ImageF32 {
+        width: size.0,
+        height: size.1,
+        pixels: values
+            .iter()
+            .map(|v| v.map_or([0.0, 0.0, 0.05, 1.0], |v| [v, v, v, 1.0]))
+            .collect(),
+    };
+    let file = dir.join(format!("{}.png", name.replace(' ', "-")));
+    spreadlight_render::image_io::write_image(
+        &image,
+        &file,
+        spreadlight_render::image_io::Encoding::Linear,
+    )
+    .with_context(|| format!("cannot write {}", file.display()))
+}
+
+const BALLS: [([f32; 3], f32); 4] = [
+    ([0.0, 0.8, 0.0], 0.8),
+    ([-1.8, 0.5, 0.6], 0.5),
+    ([1.6, 0.3, -0.4], 0.3),
+    ([0.7, 1.9, 1.3], 0.35),
+];
+const FLOOR: f32 = 30.0;
+
+fn camera(size: (u32, u32)) -> CameraInput {
+    CameraInput {
+        view: glam::camera::rh::view::look_at_mat4(
+            Vec3::new(0.0, 3.5, 6.0),
+            Vec3::new(0.0, 0.6, 0.0),
+            Vec3::Y,
+        ),
+        projection: glam::camera::rh::proj::directx::perspective(
+            0.8,
+            size.0 as f32 / size.1.max(1) as f32,
+            0.1,
+            100.0,
+        ),
+    }
+}
+
+/// One measured setting.
+struct Row {
+    mode: AoMode,
+    samples: u32,
+    temporal: bool,
+    ms: Option<f64>,
+    error: metrics::Error,
+}
+
+fn settings(mode: AoMode, samples: u32, temporal: bool, radius: f32) -> AoSettings {
+    AoSettings {
+        mode,
+        radius,
+        samples,
+        steps: 8,
+        intensity: 1.0,
+        temporal_blend: if temporal { 0.9 } else { 0.0 },
+        blur_radius: 4,
+        reset: false,
+    }
+}
+
+fn mode_name(mode: AoMode) -> &'static str {
+    match mode {
+        AoMode::Stochastic => "Stochastic",
+        AoMode::Sao => "SAO",
+        AoMode::Hbao => "HBAO",
+    }
+}
+
+/// An AO node's frame: the same node id every frame, so temporal history carries over.
+fn frame(
+    renderer: &Renderer,
+    layer: &Arc<Layer>,
+    size: (u32, u32),
+    settings: AoSettings,
+    owner: u32,
+) -> (Arc<GBuffer>, Arc<AmbientOcclusion>) {
+    let cam = camera(size);
+    let previous: Mat4 = cam.view_projection();
+    let g = GBuffer::new(
+        renderer,
+        None,
+        vec![layer.clone()],
+        cam,
+        Some(previous),
+        SizeRule::Relative(1.0),
+    );
+    let ao = AmbientOcclusion::new(renderer, Some(owner), g.clone(), settings, None);
+    (g, ao)
+}
+
+/// The AO after `frames` frames, and the depth under it.
+fn measure(
+    renderer: &Renderer,
+    layer: &Arc<Layer>,
+    size: (u32, u32),
+    settings: AoSettings,
+    frames: usize,
+    owner: u32,
+) -> anyhow::Result<(ImageF32, ImageF32)> {
+    let mut last = None;
+    for _ in 0..frames.max(1) {
+        let (g, ao) = frame(renderer, layer, size, settings, owner);
+        let (report, images) =
+            render_and_read(renderer, ao.as_ref(), size, &[&ao.output, &g.targets.depth])?;
+        if let Some((_, e)) = report.errors.first() {
+            anyhow::bail!("the frame failed: {e}");
+        }
+        last = Some(images);
+    }
+    let mut images = last.context("no frame")?.into_iter();
+    Ok((
+        images.next().context("ao")?,
+        images.next().context("depth")?,
+    ))
+}
+
+/// Median GPU time of the AO passes, frames back to back (no readback between them).
+fn time(
+    renderer: &Renderer,
+    layer: &Arc<Layer>,
+    args: &AoArgs,
+    settings: AoSettings,
+    owner: u32,
+) -> anyhow::Result<Option<f64>> {
+    let mut times = Vec::new();
+    for k in 0..args.warmup + args.frames.max(1) {
+        let (g, ao) = frame(renderer, layer, args.time_size, settings, owner);
+        let mut graph = FrameGraph::new(args.time_size);
+        ao.declare(renderer, &mut graph);
+        graph.request(&ao.output);
+        let (report, _) = graph.execute(renderer)?;
+        if let Some((_, e)) = report.errors.first() {
+            anyhow::bail!("the frame failed: {e}");
+        }
+        drop(g);
+        if k >= args.warmup {
+            // Every AO pass is named for its estimator ("SSAO #n: raw", "SAO #n: blur x", ...).
+            let name = match settings.mode {
+                AoMode::Stochastic => "SSAO #",
+                AoMode::Sao => "SAO #",
+                AoMode::Hbao => "HBAO #",
+            };
+            times.extend(pass_ms(&report, name));
+        }
+    }
+    Ok(median(times))
+}
+
+/// Ray-cast AO under every pixel with geometry; None for the sky.
+fn reference(depth: &ImageF32, size: (u32, u32), radius: f32, rays: u32) -> Vec<Option<f32>> {
+    let c = camera(size);
+    let inverse = (reverse_z(c.projection) * c.view).inverse();
+    let occluders = Occluders {
+        spheres: BALLS
+            .iter()
+            .map(|(c, r)| Sphere {
+                center: Vec3::from(*c),
+                radius: *r,
+            })
+            .collect(),
+        floor: Some(FLOOR / 2.0),
+    };
+    let samples = hemisphere_samples(rays);
+    depth
+        .pixels
+        .iter()
+        .enumerate()
+        .map(|(i, d)| {
+            if d[0] <= 0.0 {
+                return None;
+            }
+            let (x, y) = (i as u32 % size.0, i as u32 / size.0);
+            let ndc = Vec4::new(
+                (x as f32 + 0.5) / size.0 as f32 * 2.0 - 1.0,
+                1.0 - (y as f32 + 0.5) / size.1 as f32 * 2.0,
+                d[0],
+                1.0,
+            );
+            let h = inverse * ndc;
+            let (p, n) = occluders.on_surface(h.truncate() / h.w);
+            Some(visibility(p, n, radius, &occluders, &samples))
+        })
+        .collect()
+}
+
+fn error(ao: &ImageF32, truth: &[Option<f32>], size: (u32, u32)) -> metrics::Error {
+    let mask: Vec<bool> = truth.iter().map(Option::is_some).collect();
+    let gpu: Vec<f32> = ao.pixels.iter().map(|p| p[0]).collect();
+    let reference: Vec<f32> = truth.iter().map(|t| t.unwrap_or(1.0)).collect();
+    let plane = |values| Plane {
+        width: size.0,
+        height: size.1,
+        values,
+        mask: Some(&mask),
+    };
+    metrics::Error::of(&[plane(&gpu)], &[plane(&reference)])
+}
+
+pub fn run(args: &AoArgs) -> anyhow::Result<ExitCode> {
+    let renderer = Renderer::headless().context("cannot open a GPU")?;
+    let adapter = renderer.gpu.adapter_name();
+    let balls: Vec<(Vec3, f32)> = BALLS.iter().map(|(c, r)| (Vec3::from(*c), *r)).collect();
+    let layer = balls_on_floor(&renderer, &balls, FLOOR, 96)?;
+    eprintln!(
+        "reference: {} rays per pixel at {}x{} ...",
+        args.rays, args.error_size.0, args.error_size.1
+    );
+    let (_, depth) = measure(
+        &renderer,
+        &layer,
+        args.error_size,
+        settings(AoMode::Stochastic, 1, false, 0.0),
+        1,
+        1,
+    )?;
+    let truth = reference(&depth, args.error_size, args.radius, args.rays);
+    if let Some(dir) = &args.images {
+        write_visibility(dir, "reference", &truth, args.error_size)?;
+    }
+    let none = error(
+        &ImageF32 {
+            pixels: vec![[1.0; 4]; truth.len()],
+            ..depth.clone()
+        },
+        &truth,
+        args.error_size,
+    );
+    let modes = [AoMode::Stochastic, AoMode::Sao, AoMode::Hbao];
+    let total = modes.len() * args.samples.len() * 2;
+    let mut rows = Vec::new();
+    // A node id per setting: each its own history.
+    let mut owner = 100;
+    for mode in modes {
+        for temporal in [false, true] {
+            for &samples in &args.samples {
+                owner += 1;
+                eprintln!(
+                    "[{}/{total}] {} {samples}{}",
+                    rows.len() + 1,
+                    mode_name(mode),
+                    if temporal { " temporal" } else { "" }
+                );
+                let s = settings(mode, samples, temporal, args.radius);
+                let frames = if temporal { args.settle } else { 1 };
+                let (ao, _) = measure(&renderer, &layer, args.error_size, s, frames, owner)?;
+                let error = error(&ao, &truth, args.error_size);
+                if let Some(dir) = &args.images {
+                    let values: Vec<Option<f32>> = ao
+                        .pixels
+                        .iter()
+                        .zip(&truth)
+                        .map(|(p, t)| t.map(|_| p[0]))
+                        .collect();
+                    let name = format!(
+                        "{} {samples}{}",
+                        mode_name(mode),
+                        if temporal { " temporal" } else { "" }
+                    );
+                    write_visibility(dir, &name, &values, args.error_size)?;
+                }
+                let ms = time(&renderer, &layer, args, s, owner + 10_000)?;
+                rows.push(Row {
+                    mode,
+                    samples,
+                    temporal,
+                    ms,
+                    error,
+                });
+            }
+        }
+    }
+    let (tw, th) = args.time_size;
+    let (ew, eh) = args.error_size;
+    if args.json {
+        for r in &rows {
+            println!(
+                "{}",
+                serde_json::json!({
+                    "effect": "ao", "mode": mode_name(r.mode), "samples": r.samples, "temporal": r.temporal,
+                    "adapter": adapter, "time_size": format!("{tw}x{th}"), "error_size": format!("{ew}x{eh}"),
+                    "ms": r.ms, "rmse": r.error.rmse, "ssim": r.error.ssim,
+                })
+            );
+        }
+        return Ok(ExitCode::SUCCESS);
+    }
+    let mut table = format!(
+        "Ambient occlusion on {adapter}: GPU ms of all AO passes at {tw}x{th} (median of {} frames after {}, back to back), \
+         error at {ew}x{eh} against ray-cast AO ({} cosine-weighted rays per pixel, radius {}): RMSE and SSIM of visibility \
+         over the pixels with geometry. Steps 8, blur radius 4; temporal: blend 0.9, error after {} frames of a still \
+         camera. No AO at all: RMSE {:.4}, SSIM {:.4}.\n\n\
+         | estimator | samples | temporal | GPU ms | RMSE | SSIM |\n|---|---|---|---|---|---|\n",
+        args.frames, args.warmup, args.rays, args.radius, args.settle, none.rmse, none.ssim
+    );
+    for r in &rows {
+        table.push_str(&format!(
+            "| {} | {} | {} | {} | {:.4} | {:.4} |\n",
+            mode_name(r.mode),
+            r.samples,
+            if r.temporal { "on" } else { "off" },
+            ms(r.ms),
+            r.error.rmse,
+            r.error.ssim
+        ));
+    }
+    print!("{table}");
+    if let Some(file) = &args.plot {
+        let mut series: Vec<Series> = Vec::new();
+        for r in &rows {
+            let name = format!(
+                "{}{}",
+                mode_name(r.mode),
+                if r.temporal { " temporal" } else { "" }
+            );
+            let point = (
+                r.ms.unwrap_or(f64::NAN),
+                r.error.rmse,
+                r.samples.to_string(),
+            );
+            match series.iter_mut().find(|s| s.name == name) {
+                Some(s) => s.points.push(point),
+                None => series.push(Series {
+                    name,
+                    points: vec![point],
+                }),
+            }
+        }
+        write_svg(
+            file,
+            &format!("Ambient occlusion on {adapter}: GPU ms at {tw}x{th} against RMSE"),
+            "RMSE of visibility",
+            &series,
+        )?;
+    }
+    if let Some(out) = &args.out {
+        std::fs::write(out, &table).with_context(|| format!("cannot write {}", out.display()))?;
+    }
+    Ok(ExitCode::SUCCESS)
+}
