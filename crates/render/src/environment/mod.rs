@@ -1,11 +1,21 @@
-//! The environment around a scene: what is seen where no geometry is.
-//! `Sky` fills the G-buffer's empty depth with a procedural sky; `Fog`
-//! veils what is far or low.
+//! The environment around a scene: what is seen where no geometry is, and
+//! the light it sends. `Sky` fills the G-buffer's empty depth with a
+//! procedural sky (or an environment); `Fog` veils what is far or low;
+//! [`Environment`] is a prefiltered cube for image-based light, which
+//! `Reflection` reads.
 
+pub mod environment_map;
 pub mod fog;
 mod pass;
+mod prefilter;
+pub mod reflection;
 pub mod sky;
 
+pub use environment_map::{
+    Environment, EnvironmentError, EnvironmentMaps, EnvironmentQuality, EnvironmentSource,
+    EquirectImage,
+};
 pub use fog::{Fog, FogSettings};
 pub use pass::ImagePass;
+pub use reflection::{Reflection, ReflectionMode};
 pub use sky::{Sky, SkySettings};

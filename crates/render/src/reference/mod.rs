@@ -12,5 +12,6 @@
 
 pub mod brdf;
 pub mod lights;
+pub mod reflection;
 pub mod shadows;
 pub mod tonemap;
