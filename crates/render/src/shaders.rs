@@ -185,6 +185,7 @@ pub const SHADERS: &[ShaderFile] = &[
     shader!("environment/sky.wgsl", ["ENVIRONMENT"]),
     shader!("environment/prefilter.wgsl", []),
     shader!("environment/reflection.wgsl", ["MATERIAL_TEXTURES"]),
+    shader!("environment/ssr.wgsl", ["MATERIAL_TEXTURES"]),
     shader!("environment/fog.wgsl", []),
     shader!("post/tonemap.wgsl", ["EYE_ADAPTATION"]),
     shader!("post/eye_adaptation.wgsl", []),

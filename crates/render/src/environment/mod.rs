@@ -2,7 +2,7 @@
 //! the light it sends. `Sky` fills the G-buffer's empty depth with a
 //! procedural sky (or an environment); `Fog` veils what is far or low;
 //! [`Environment`] is a prefiltered cube for image-based light, which
-//! `Reflection` reads.
+//! `Reflection` reads; `SSR` traces reflections in screen space.
 
 pub mod environment_map;
 pub mod fog;
@@ -10,6 +10,7 @@ mod pass;
 mod prefilter;
 pub mod reflection;
 pub mod sky;
+pub mod ssr;
 
 pub use environment_map::{
     Environment, EnvironmentError, EnvironmentMaps, EnvironmentQuality, EnvironmentSource,
@@ -19,3 +20,4 @@ pub use fog::{Fog, FogSettings};
 pub use pass::ImagePass;
 pub use reflection::{Reflection, ReflectionMode};
 pub use sky::{Sky, SkySettings};
+pub use ssr::{Ssr, SsrSettings};

@@ -293,3 +293,64 @@ pub(crate) fn build(
         sampler,
     })
 }
+
+/// The split-sum table alone, for passes without an environment (SSR):
+/// made once per renderer and kept.
+#[derive(Default)]
+pub struct SplitSumStore(std::sync::Mutex<Option<wgpu::Texture>>);
+
+/// The table from `store`, recorded into this pass the first time.
+pub(crate) fn split_sum_table(
+    cx: &mut PassContext<'_>,
+    store: &SplitSumStore,
+) -> Result<wgpu::Texture, RenderError> {
+    let mut guard = store.0.lock().unwrap_or_else(|e| e.into_inner());
+    if let Some(t) = guard.as_ref() {
+        return Ok(t.clone());
+    }
+    let device = cx.gpu.device.clone();
+    let lut = device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("split-sum table"),
+        size: wgpu::Extent3d {
+            width: LUT_SIZE,
+            height: LUT_SIZE,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: wgpu::TextureFormat::Rgba16Float,
+        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::STORAGE_BINDING,
+        view_formats: &[],
+    });
+    let params = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some("split-sum params"),
+        contents: bytemuck::bytes_of(&Params {
+            size: LUT_SIZE,
+            samples: LUT_SAMPLES,
+            base_size: 1,
+            base_mips: 1,
+            roughness: 0.0,
+            pad: [0.0; 3],
+        }),
+        usage: wgpu::BufferUsages::UNIFORM,
+    });
+    let view = lut.create_view(&Default::default());
+    let key = ShaderKey::new(SHADER, []);
+    let pipeline = cx.shaders.compute_pipeline(&device, &key, "brdf_lut")?;
+    let group = cx.shaders.bind_group(
+        &device,
+        &key,
+        "brdf_lut",
+        &pipeline,
+        0,
+        &[
+            (0, params.as_entire_binding()),
+            (7, wgpu::BindingResource::TextureView(&view)),
+        ],
+    )?;
+    let groups = LUT_SIZE.div_ceil(8);
+    cx.dispatch("split-sum table", &pipeline, &[&group], (groups, groups, 1));
+    *guard = Some(lut.clone());
+    Ok(lut)
+}
