@@ -1,11 +1,12 @@
 //! The environment around a scene (category "Environment"): `Sky`, `Fog`,
-//! `Environment (File)`, `Environment (Sky)`, `Reflection`.
+//! `Environment (File)`, `Environment (Sky)`, `Reflection`, `SSR`.
 
 #[allow(clippy::module_inception)]
 pub mod environment;
 pub mod fog;
 pub mod reflection;
 pub mod sky;
+pub mod ssr;
 #[cfg(test)]
 mod tests;
 
@@ -18,4 +19,5 @@ pub fn register(r: &mut Registry) {
     fog::register(r);
     environment::register(r);
     reflection::register(r);
+    ssr::register(r);
 }

@@ -40,4 +40,8 @@ fn bad_environment_pins_are_errors_naming_the_pin() {
     assert!(e.to_string().contains("at least 1"), "{e}");
     let e = eval_err("Reflection", &[("IOR", floats(&[f32::INFINITY]))], "IOR");
     assert!(e.to_string().contains("NaN or infinite"), "{e}");
+    let e = eval_err("SSR", &[("Blend", floats(&[f32::NAN]))], "Blend");
+    assert!(e.to_string().contains("slice 0"), "{e}");
+    let e = eval_err("SSR", &[("Rays", Spread::Int(vec![0]))], "Rays");
+    assert!(e.to_string().contains("at least 1"), "{e}");
 }
