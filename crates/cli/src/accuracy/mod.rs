@@ -7,6 +7,7 @@
 
 pub(crate) mod metrics;
 pub(crate) mod plot;
+mod reflection;
 mod shadows;
 
 use std::process::ExitCode;
@@ -21,11 +22,14 @@ pub struct Args {
 enum What {
     /// Shadow filters (Raw, PCF, PCSS, VSM) by map resolution: GPU time against error versus ray-cast soft shadows.
     Shadows(shadows::ShadowArgs),
+    /// Prefiltered environment (cube size x samples) and SSR (steps x rays, temporal off and on): GPU time against error versus ray-traced reflections.
+    Reflection(reflection::ReflectionArgs),
 }
 
 pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
     match &args.what {
         What::Shadows(a) => shadows::run(a),
+        What::Reflection(a) => reflection::run(a),
     }
 }
 
