@@ -79,6 +79,8 @@ pub enum ResourceKind {
     Shadows,
     /// What a `DeferredBase` draws: instanced meshes with feature switches.
     Layer,
+    /// A prefiltered environment for image-based light (from an `Environment` node).
+    Environment,
 }
 
 /// A shared, opaque resource handle. Equality is identity: two handles are the

@@ -27,7 +27,17 @@ impl ImageF32 {
 /// RGBA16F/32F, RGBA8 (sRGB decoded to linear), Depth32Float and R32Float (in R, G, B) and
 /// RG32Uint (ids as floats in R, G).
 pub fn read_texture(gpu: &GpuContext, texture: &wgpu::Texture) -> Result<ImageF32, RenderError> {
-    let (width, height) = (texture.width(), texture.height());
+    read_texture_layer(gpu, texture, 0, 0)
+}
+
+/// [`read_texture`] of one array layer (a cube face) at one mip.
+pub fn read_texture_layer(
+    gpu: &GpuContext,
+    texture: &wgpu::Texture,
+    layer: u32,
+    mip: u32,
+) -> Result<ImageF32, RenderError> {
+    let (width, height) = ((texture.width() >> mip).max(1), (texture.height() >> mip).max(1));
     let format = texture.format();
     let bytes_per_pixel: u32 = match format {
         wgpu::TextureFormat::Rgba16Float | wgpu::TextureFormat::Rg32Uint => 8,
@@ -59,8 +69,12 @@ pub fn read_texture(gpu: &GpuContext, texture: &wgpu::Texture) -> Result<ImageF3
     encoder.copy_texture_to_buffer(
         wgpu::TexelCopyTextureInfo {
             texture,
-            mip_level: 0,
-            origin: wgpu::Origin3d::ZERO,
+            mip_level: mip,
+            origin: wgpu::Origin3d {
+                x: 0,
+                y: 0,
+                z: layer,
+            },
             aspect,
         },
         wgpu::TexelCopyBufferInfo {

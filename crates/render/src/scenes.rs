@@ -65,3 +65,16 @@ pub fn balls_on_floor(
     })?;
     Ok(Arc::new(layer))
 }
+
+/// `layer` from [`balls_on_floor`] with the balls given material `ball` and
+/// the floor material `floor` (ids written to the G-buffer).
+pub fn with_materials(layer: &Layer, ball: u32, floor: u32) -> Arc<Layer> {
+    let mut layer = layer.clone();
+    layer.features.ids = true;
+    for (batch, id) in layer.batches.iter_mut().zip([ball, floor]) {
+        for instance in &mut batch.instances {
+            instance.material_id = id;
+        }
+    }
+    Arc::new(layer)
+}

@@ -8,6 +8,7 @@
 mod ao;
 pub(crate) mod metrics;
 pub(crate) mod plot;
+mod reflection;
 mod shadows;
 
 use std::process::ExitCode;
@@ -24,12 +25,15 @@ enum What {
     Shadows(shadows::ShadowArgs),
     /// Ambient occlusion (Stochastic, SAO, HBAO) by samples, temporal off and on: GPU time against error versus ray-cast AO.
     Ao(ao::AoArgs),
+    /// Prefiltered environment (cube size x samples) and SSR (steps x rays, temporal off and on): GPU time against error versus ray-traced reflections.
+    Reflection(reflection::ReflectionArgs),
 }
 
 pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
     match &args.what {
         What::Shadows(a) => shadows::run(a),
         What::Ao(a) => ao::run(a),
+        What::Reflection(a) => reflection::run(a),
     }
 }
 

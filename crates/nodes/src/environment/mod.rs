@@ -1,7 +1,14 @@
-//! The environment around a scene (category "Environment"): `Sky`, `Fog`.
+//! The environment around a scene (category "Environment"): `Sky`, `Fog`,
+//! `Environment (File)`, `Environment (Sky)`, `Reflection`, `SSR`.
 
+#[allow(clippy::module_inception)]
+pub mod environment;
 pub mod fog;
+pub mod reflection;
 pub mod sky;
+pub mod ssr;
+#[cfg(test)]
+mod tests;
 
 use spreadlight_graph::Registry;
 
@@ -10,4 +17,7 @@ pub const CATEGORY: &str = "Environment";
 pub fn register(r: &mut Registry) {
     sky::register(r);
     fog::register(r);
+    environment::register(r);
+    reflection::register(r);
+    ssr::register(r);
 }

@@ -1,11 +1,23 @@
-//! The environment around a scene: what is seen where no geometry is.
-//! `Sky` fills the G-buffer's empty depth with a procedural sky; `Fog`
-//! veils what is far or low.
+//! The environment around a scene: what is seen where no geometry is, and
+//! the light it sends. `Sky` fills the G-buffer's empty depth with a
+//! procedural sky (or an environment); `Fog` veils what is far or low;
+//! [`Environment`] is a prefiltered cube for image-based light, which
+//! `Reflection` reads; `SSR` traces reflections in screen space.
 
+pub mod environment_map;
 pub mod fog;
 mod pass;
+mod prefilter;
+pub mod reflection;
 pub mod sky;
+pub mod ssr;
 
+pub use environment_map::{
+    Environment, EnvironmentError, EnvironmentMaps, EnvironmentQuality, EnvironmentSource,
+    EquirectImage,
+};
 pub use fog::{Fog, FogSettings};
 pub use pass::ImagePass;
+pub use reflection::{Reflection, ReflectionMode};
 pub use sky::{Sky, SkySettings};
+pub use ssr::{Ssr, SsrSettings};

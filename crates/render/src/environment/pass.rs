@@ -6,6 +6,7 @@ use std::sync::Arc;
 
 use wgpu::util::DeviceExt;
 
+use super::environment_map::{Environment, EnvironmentMaps};
 use crate::error::RenderError;
 use crate::frame_graph::{FrameGraph, PassContext, TextureDesc};
 use crate::gbuffer::GBuffer;
@@ -25,6 +26,8 @@ pub struct ImagePass {
     source: TextureRef,
     params: wgpu::Buffer,
     pub output: String,
+    /// The Sky's background from an environment (its ENVIRONMENT permutation, bindings 5 and 6).
+    environment: Option<Arc<Environment>>,
 }
 
 impl ImagePass {
@@ -54,7 +57,20 @@ impl ImagePass {
             source,
             params,
             output: format!("{}{id}", name.to_lowercase()),
+            environment: None,
         })
+    }
+
+    /// This pass reading `environment` too (only the Sky's shader has the switch).
+    pub(crate) fn with_environment(self: Arc<Self>, environment: Arc<Environment>) -> Arc<Self> {
+        match Arc::try_unwrap(self) {
+            Ok(mut pass) => {
+                pass.environment = Some(environment);
+                Arc::new(pass)
+            }
+            // Just made by `new`: nobody else holds it.
+            Err(shared) => shared,
+        }
     }
 
     pub fn texture(self: &Arc<Self>) -> TextureRef {
@@ -70,15 +86,30 @@ impl ImagePass {
             cx.view(&self.gbuffer.targets.depth)?,
             cx.view(&self.output)?,
         );
-        let all = [
+        let mut all = vec![
             (0, self.gbuffer.camera_buffer().as_entire_binding()),
             (1, self.params.as_entire_binding()),
             (2, wgpu::BindingResource::TextureView(&source)),
             (3, wgpu::BindingResource::TextureView(&depth)),
             (4, wgpu::BindingResource::TextureView(&output)),
         ];
+        let maps = match &self.environment {
+            Some(e) => Some(e.maps_for(self.name)?),
+            None => None,
+        };
+        let cube = maps.as_ref().map(|m| EnvironmentMaps::cube_view(&m.base));
+        if let (Some(maps), Some(cube)) = (&maps, &cube) {
+            all.push((5, wgpu::BindingResource::TextureView(cube)));
+            all.push((6, wgpu::BindingResource::Sampler(&maps.sampler)));
+        }
+        let features: &[&'static str] = if maps.is_some() { &["ENVIRONMENT"] } else { &[] };
         let size = self.gbuffer.pixel_size(cx.output_size);
-        cx.dispatch_image(self.name, &ShaderKey::new(self.shader, []), &all, size)
+        cx.dispatch_image(
+            self.name,
+            &ShaderKey::new(self.shader, features.iter().copied()),
+            &all,
+            size,
+        )
     }
 }
 
@@ -89,12 +120,17 @@ impl Recipe for ImagePass {
         }
         self.gbuffer.declare(renderer, fg);
         self.source.recipe.declare(renderer, fg);
+        let mut reads = vec![self.source.name.as_str(), self.gbuffer.targets.depth.as_str()];
+        if let Some(environment) = &self.environment {
+            environment.declare(renderer, fg);
+            reads.push(environment.token());
+        }
         let name = crate::recipe::pass_name(self.name, self.owner, None);
         let desc = TextureDesc::storage(wgpu::TextureFormat::Rgba16Float).size(self.gbuffer.size);
         fg.add_pass(
             name,
             self.owner,
-            &[&self.source.name, &self.gbuffer.targets.depth],
+            &reads,
             &[(&self.output, desc)],
             move |cx| self.run(cx),
         );

@@ -5,6 +5,7 @@
 use std::sync::Arc;
 
 use super::ImagePass;
+use super::environment_map::Environment;
 use crate::gbuffer::GBuffer;
 use crate::recipe::TextureRef;
 use crate::renderer::Renderer;
@@ -40,10 +41,10 @@ impl Default for SkySettings {
     }
 }
 
-/// Matches `Sky` in shaders/environment/sky.wgsl.
+/// Matches `Sky` in shaders/lib/sky.wgsl.
 #[repr(C)]
-#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
-struct GpuSky {
+#[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub(crate) struct GpuSky {
     zenith: [f32; 4],
     horizon: [f32; 4],
     ground: [f32; 4],
@@ -66,14 +67,11 @@ fn radiance(v: Vec3) -> [f32; 4] {
 /// The sky pass: an [`ImagePass`] over shaders/environment/sky.wgsl.
 pub struct Sky;
 
-impl Sky {
-    pub fn pass(
-        renderer: &Renderer,
-        owner: Option<u32>,
-        gbuffer: Arc<GBuffer>,
-        source: TextureRef,
-        settings: SkySettings,
-    ) -> Arc<ImagePass> {
+impl GpuSky {
+    /// The settings as the shader reads them, sanitized: colours finite and
+    /// within 0..=65000, the sun's radius within 0..=0.5, glow within 0..=1000,
+    /// a zero sun direction straight up.
+    pub(crate) fn from_settings(settings: &SkySettings) -> Self {
         // Towards the sun: against the light's travel; straight up for a zero direction.
         let towards = (-settings.sun_direction).try_normalize().unwrap_or(Vec3::Y);
         let radius = if settings.sun_radius.is_finite() {
@@ -88,20 +86,49 @@ impl Sky {
         };
         let mut sun_color = radiance(settings.sun_color);
         sun_color[3] = glow;
-        let gpu = GpuSky {
+        GpuSky {
             zenith: radiance(settings.zenith),
             horizon: radiance(settings.horizon),
             ground: radiance(settings.ground),
             sun: towards.extend(radius.cos()).to_array(),
             sun_color,
-        };
-        ImagePass::new(
+        }
+    }
+}
+
+impl Sky {
+    pub fn pass(
+        renderer: &Renderer,
+        owner: Option<u32>,
+        gbuffer: Arc<GBuffer>,
+        source: TextureRef,
+        settings: SkySettings,
+    ) -> Arc<ImagePass> {
+        Self::with_environment(renderer, owner, gbuffer, source, settings, None)
+    }
+
+    /// The background from `environment` (its unblurred cube) instead of the
+    /// procedural sky, when given.
+    pub fn with_environment(
+        renderer: &Renderer,
+        owner: Option<u32>,
+        gbuffer: Arc<GBuffer>,
+        source: TextureRef,
+        settings: SkySettings,
+        environment: Option<Arc<Environment>>,
+    ) -> Arc<ImagePass> {
+        let gpu = GpuSky::from_settings(&settings);
+        let pass = ImagePass::new(
             renderer,
             owner,
             ("Sky", "environment/sky.wgsl"),
             gbuffer,
             source,
             bytemuck::bytes_of(&gpu),
-        )
+        );
+        match environment {
+            Some(environment) => pass.with_environment(environment),
+            None => pass,
+        }
     }
 }

@@ -13,5 +13,6 @@
 pub mod brdf;
 pub mod lights;
 pub mod occlusion;
+pub mod reflection;
 pub mod shadows;
 pub mod tonemap;

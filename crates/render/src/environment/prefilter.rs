@@ -1,0 +1,356 @@
+//! Building an environment's maps (shaders/environment/prefilter.wgsl), in
+//! one timed compute pass: the base cube from the source, its mip chain,
+//! the prefiltered roughness levels, the irradiance cube and the split-sum
+//! table. Cost: cube_size^2 * 6 * (4/3) texels for the base, and
+//! samples per texel for the rough levels (each a quarter of the last).
+
+use wgpu::util::DeviceExt;
+
+use super::environment_map::{
+    Environment, EnvironmentMaps, EnvironmentSource, EquirectImage, IRRADIANCE_SIZE, LUT_SAMPLES,
+    LUT_SIZE,
+};
+use crate::error::RenderError;
+use crate::frame_graph::PassContext;
+use crate::shaders::{Sampling, ShaderKey};
+
+const SHADER: &str = "environment/prefilter.wgsl";
+
+/// Matches `Params` in shaders/environment/prefilter.wgsl.
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct Params {
+    size: u32,
+    samples: u32,
+    base_size: u32,
+    base_mips: u32,
+    roughness: f32,
+    pad: [f32; 3],
+}
+
+fn cube(device: &wgpu::Device, label: &str, size: u32, mips: u32) -> wgpu::Texture {
+    device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(label),
+        size: wgpu::Extent3d {
+            width: size,
+            height: size,
+            depth_or_array_layers: 6,
+        },
+        mip_level_count: mips,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: wgpu::TextureFormat::Rgba16Float,
+        usage: wgpu::TextureUsages::TEXTURE_BINDING
+            | wgpu::TextureUsages::STORAGE_BINDING
+            | wgpu::TextureUsages::COPY_SRC,
+        view_formats: &[],
+    })
+}
+
+/// One mip of a cube as a 2D array (to write it, or to load from it).
+fn faces(texture: &wgpu::Texture, mip: u32) -> wgpu::TextureView {
+    texture.create_view(&wgpu::TextureViewDescriptor {
+        dimension: Some(wgpu::TextureViewDimension::D2Array),
+        base_mip_level: mip,
+        mip_level_count: Some(1),
+        ..Default::default()
+    })
+}
+
+/// The equirect image as half floats (clamped to 0..=65000, NaN as 0): a
+/// filterable format, so the base cube samples it bilinearly.
+fn upload_equirect(cx: &PassContext<'_>, image: &EquirectImage) -> wgpu::Texture {
+    let data: Vec<u8> = image
+        .pixels
+        .iter()
+        .flat_map(|p| p.map(|c| half::f16::from_f32(EquirectImage::sanitized(c)).to_bits()))
+        .flat_map(u16::to_le_bytes)
+        .collect();
+    cx.gpu.device.create_texture_with_data(
+        &cx.gpu.queue,
+        &wgpu::TextureDescriptor {
+            label: Some("environment equirect"),
+            size: wgpu::Extent3d {
+                width: image.width,
+                height: image.height,
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: wgpu::TextureFormat::Rgba16Float,
+            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+            view_formats: &[],
+        },
+        wgpu::util::TextureDataOrder::LayerMajor,
+        &data,
+    )
+}
+
+/// Record every step and return the maps (valid once the frame is submitted).
+pub(crate) fn build(
+    cx: &mut PassContext<'_>,
+    environment: &Environment,
+    key: u64,
+) -> Result<EnvironmentMaps, RenderError> {
+    let device = cx.gpu.device.clone();
+    let quality = environment.quality;
+    let n = quality.cube_size;
+    let base_mips = quality.base_mips();
+    let levels = quality.levels();
+    let base = cube(&device, "environment base", n, base_mips);
+    let prefiltered = cube(&device, "environment prefiltered", n, levels);
+    let irradiance = cube(&device, "environment irradiance", IRRADIANCE_SIZE, 1);
+    let lut = device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("split-sum table"),
+        size: wgpu::Extent3d {
+            width: LUT_SIZE,
+            height: LUT_SIZE,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: wgpu::TextureFormat::Rgba16Float,
+        usage: wgpu::TextureUsages::TEXTURE_BINDING
+            | wgpu::TextureUsages::STORAGE_BINDING
+            | wgpu::TextureUsages::COPY_SRC,
+        view_formats: &[],
+    });
+    let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
+        label: Some("environment trilinear"),
+        address_mode_u: wgpu::AddressMode::ClampToEdge,
+        address_mode_v: wgpu::AddressMode::ClampToEdge,
+        address_mode_w: wgpu::AddressMode::ClampToEdge,
+        mag_filter: wgpu::FilterMode::Linear,
+        min_filter: wgpu::FilterMode::Linear,
+        mipmap_filter: wgpu::MipmapFilterMode::Linear,
+        ..Default::default()
+    });
+    let repeat = cx.shaders.sampler(&device, Sampling::LinearRepeat);
+    let params = |size: u32, samples: u32, roughness: f32| {
+        device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("environment params"),
+            contents: bytemuck::bytes_of(&Params {
+                size,
+                samples,
+                base_size: n,
+                base_mips,
+                roughness,
+                pad: [0.0; 3],
+            }),
+            usage: wgpu::BufferUsages::UNIFORM,
+        })
+    };
+    let key_shader = ShaderKey::new(SHADER, []);
+    // (entry, bind group, workgroups), recorded in order into one pass.
+    let mut steps: Vec<(wgpu::ComputePipeline, wgpu::BindGroup, (u32, u32, u32))> = Vec::new();
+    let mut step = |cx: &mut PassContext<'_>,
+                    entry: &'static str,
+                    resources: &[(u32, wgpu::BindingResource<'_>)],
+                    size: u32,
+                    layers: u32|
+     -> Result<(), RenderError> {
+        let pipeline = cx.shaders.compute_pipeline(&device, &key_shader, entry)?;
+        let group = cx
+            .shaders
+            .bind_group(&device, &key_shader, entry, &pipeline, 0, resources)?;
+        let groups = size.div_ceil(8);
+        steps.push((pipeline, group, (groups, groups, layers)));
+        Ok(())
+    };
+
+    // The base cube's level 0.
+    let out0 = faces(&base, 0);
+    match &environment.source {
+        EnvironmentSource::Equirect(image) => {
+            let equirect = upload_equirect(cx, image);
+            let view = equirect.create_view(&Default::default());
+            // Enough samples per side that every image texel under a cube texel is seen (at most 8).
+            let per_side = (image.width as f32 / (4.0 * n as f32)).ceil().clamp(1.0, 8.0) as u32;
+            let p = params(n, per_side, 0.0);
+            step(
+                cx,
+                "from_equirect",
+                &[
+                    (0, p.as_entire_binding()),
+                    (1, wgpu::BindingResource::TextureView(&view)),
+                    (2, wgpu::BindingResource::Sampler(&repeat)),
+                    (3, wgpu::BindingResource::TextureView(&out0)),
+                ],
+                n,
+                6,
+            )?;
+        }
+        EnvironmentSource::Sky(_) => {
+            let sky = environment.gpu_sky().unwrap_or_default();
+            let sky = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("environment sky"),
+                contents: bytemuck::bytes_of(&sky),
+                usage: wgpu::BufferUsages::UNIFORM,
+            });
+            let p = params(n, 1, 0.0);
+            step(
+                cx,
+                "from_sky",
+                &[
+                    (0, p.as_entire_binding()),
+                    (3, wgpu::BindingResource::TextureView(&out0)),
+                    (4, sky.as_entire_binding()),
+                ],
+                n,
+                6,
+            )?;
+        }
+    }
+    // Its mip chain.
+    for mip in 1..base_mips {
+        let size = (n >> mip).max(1);
+        let p = params(size, 1, 0.0);
+        let (src, dst) = (faces(&base, mip - 1), faces(&base, mip));
+        step(
+            cx,
+            "downsample",
+            &[
+                (0, p.as_entire_binding()),
+                (3, wgpu::BindingResource::TextureView(&dst)),
+                (5, wgpu::BindingResource::TextureView(&src)),
+            ],
+            size,
+            6,
+        )?;
+    }
+    // The roughness levels.
+    let base_cube = EnvironmentMaps::cube_view(&base);
+    for level in 0..levels {
+        let size = (n >> level).max(1);
+        let roughness = if levels > 1 {
+            level as f32 / (levels - 1) as f32
+        } else {
+            0.0
+        };
+        let p = params(size, quality.samples, roughness);
+        let dst = faces(&prefiltered, level);
+        step(
+            cx,
+            "prefilter",
+            &[
+                (0, p.as_entire_binding()),
+                (2, wgpu::BindingResource::Sampler(&sampler)),
+                (3, wgpu::BindingResource::TextureView(&dst)),
+                (6, wgpu::BindingResource::TextureView(&base_cube)),
+            ],
+            size,
+            6,
+        )?;
+    }
+    // Irradiance from the base mip of (at most) the irradiance cube's size.
+    let source_mip = n.ilog2().saturating_sub(IRRADIANCE_SIZE.ilog2());
+    let p = params(IRRADIANCE_SIZE, 1, 0.0);
+    let (src, dst) = (faces(&base, source_mip), faces(&irradiance, 0));
+    step(
+        cx,
+        "irradiance",
+        &[
+            (0, p.as_entire_binding()),
+            (3, wgpu::BindingResource::TextureView(&dst)),
+            (5, wgpu::BindingResource::TextureView(&src)),
+        ],
+        IRRADIANCE_SIZE,
+        6,
+    )?;
+    let p = params(LUT_SIZE, LUT_SAMPLES, 0.0);
+    let lut_view = lut.create_view(&Default::default());
+    step(
+        cx,
+        "brdf_lut",
+        &[
+            (0, p.as_entire_binding()),
+            (7, wgpu::BindingResource::TextureView(&lut_view)),
+        ],
+        LUT_SIZE,
+        1,
+    )?;
+
+    let timestamps = cx.compute_timestamps();
+    let mut pass = cx.encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+        label: Some("environment prefilter"),
+        timestamp_writes: timestamps,
+    });
+    for (pipeline, group, (x, y, z)) in &steps {
+        pass.set_pipeline(pipeline);
+        pass.set_bind_group(0, group, &[]);
+        pass.dispatch_workgroups(*x, *y, *z);
+    }
+    drop(pass);
+    Ok(EnvironmentMaps {
+        key,
+        quality,
+        base,
+        prefiltered,
+        irradiance,
+        lut,
+        sampler,
+    })
+}
+
+/// The split-sum table alone, for passes without an environment (SSR):
+/// made once per renderer and kept.
+#[derive(Default)]
+pub struct SplitSumStore(std::sync::Mutex<Option<wgpu::Texture>>);
+
+/// The table from `store`, recorded into this pass the first time.
+pub(crate) fn split_sum_table(
+    cx: &mut PassContext<'_>,
+    store: &SplitSumStore,
+) -> Result<wgpu::Texture, RenderError> {
+    let mut guard = store.0.lock().unwrap_or_else(|e| e.into_inner());
+    if let Some(t) = guard.as_ref() {
+        return Ok(t.clone());
+    }
+    let device = cx.gpu.device.clone();
+    let lut = device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("split-sum table"),
+        size: wgpu::Extent3d {
+            width: LUT_SIZE,
+            height: LUT_SIZE,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: wgpu::TextureFormat::Rgba16Float,
+        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::STORAGE_BINDING,
+        view_formats: &[],
+    });
+    let params = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some("split-sum params"),
+        contents: bytemuck::bytes_of(&Params {
+            size: LUT_SIZE,
+            samples: LUT_SAMPLES,
+            base_size: 1,
+            base_mips: 1,
+            roughness: 0.0,
+            pad: [0.0; 3],
+        }),
+        usage: wgpu::BufferUsages::UNIFORM,
+    });
+    let view = lut.create_view(&Default::default());
+    let key = ShaderKey::new(SHADER, []);
+    let pipeline = cx.shaders.compute_pipeline(&device, &key, "brdf_lut")?;
+    let group = cx.shaders.bind_group(
+        &device,
+        &key,
+        "brdf_lut",
+        &pipeline,
+        0,
+        &[
+            (0, params.as_entire_binding()),
+            (7, wgpu::BindingResource::TextureView(&view)),
+        ],
+    )?;
+    let groups = LUT_SIZE.div_ceil(8);
+    cx.dispatch("split-sum table", &pipeline, &[&group], (groups, groups, 1));
+    *guard = Some(lut.clone());
+    Ok(lut)
+}

@@ -1,0 +1,514 @@
+//! `SSR`: screen-space reflection with roughness over the G-buffer
+//! (shaders/environment/ssr.wgsl): a hierarchical depth (Hi-Z) of the
+//! reversed-Z depth, rays traced through it in screen space reading a lit
+//! image, a fallback (Reflection's specular) where rays miss or leave the
+//! screen, and optionally a temporal blend with a persistent history.
+//!
+//! The output is reflected radiance times the split-sum factor, as
+//! Reflection's specular, so the two are interchangeable. Passes: "hi-z",
+//! "trace", and with temporal accumulation "resolve".
+
+use std::sync::atomic::{AtomicU32, Ordering};
+use std::sync::{Arc, Mutex};
+
+
+
+use super::prefilter::{SplitSumStore, split_sum_table};
+use crate::error::RenderError;
+use crate::frame_graph::{FrameGraph, Lifetime, PassContext, TextureDesc};
+use crate::gbuffer::GBuffer;
+use crate::material::{FEATURE_COOK_TORRANCE, FEATURE_REFLECTION, MaterialWorld};
+use crate::recipe::{Recipe, TextureRef, next_recipe_id};
+use crate::renderer::Renderer;
+use crate::shaders::{Sampling, ShaderKey};
+
+const SHADER: &str = "environment/ssr.wgsl";
+
+/// The quality pins.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SsrSettings {
+    /// Steps per ray (each a Hi-Z cell or a level change), 1..=1024.
+    pub max_steps: u32,
+    /// Rays per pixel (GGX-jittered at roughness above 0.02), 1..=64.
+    pub rays: u32,
+    /// Blend with last frame's result (a persistent history per node).
+    pub temporal: bool,
+    /// The new frame's weight in the blend, 0.01..=1.
+    pub blend: f32,
+    /// How thick a surface is assumed behind its depth, in view units.
+    pub thickness: f32,
+}
+
+impl Default for SsrSettings {
+    fn default() -> Self {
+        SsrSettings {
+            max_steps: 64,
+            rays: 1,
+            temporal: true,
+            blend: 0.2,
+            thickness: 0.5,
+        }
+    }
+}
+
+impl SsrSettings {
+    fn sanitized(self) -> Self {
+        let finite = |v: f32, lo: f32, hi: f32, fallback: f32| {
+            if v.is_finite() {
+                v.clamp(lo, hi)
+            } else {
+                fallback
+            }
+        };
+        SsrSettings {
+            max_steps: self.max_steps.clamp(1, 1024),
+            rays: self.rays.clamp(1, 64),
+            temporal: self.temporal,
+            blend: finite(self.blend, 0.01, 1.0, 0.2),
+            thickness: finite(self.thickness, 1e-3, 1e3, 0.5),
+        }
+    }
+}
+
+/// Matches `Params` in shaders/environment/ssr.wgsl.
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct Params {
+    max_steps: u32,
+    rays: u32,
+    frame: u32,
+    flags: u32,
+    near: f32,
+    thickness: f32,
+    blend: f32,
+    max_level: u32,
+}
+
+/// What an SSR node keeps between frames: its Hi-Z texture and frame count.
+#[derive(Default)]
+pub struct SsrStore {
+    hiz: Mutex<Option<wgpu::Texture>>,
+    frame: AtomicU32,
+}
+
+pub struct Ssr {
+    id: u64,
+    owner: Option<u32>,
+    gbuffer: Arc<GBuffer>,
+    materials: Arc<MaterialWorld>,
+    lit: TextureRef,
+    fallback: TextureRef,
+    pub settings: SsrSettings,
+    store: Arc<SsrStore>,
+    table: Arc<SplitSumStore>,
+    trace_params: wgpu::Buffer,
+    resolve_params: wgpu::Buffer,
+    token: String,
+    current: String,
+    /// The persistent history (temporal only).
+    pub history: String,
+    pub output: String,
+}
+
+/// The near plane of a reversed- or forward-Z perspective projection (0.1 when unknown).
+fn near_plane(projection: glam::Mat4) -> f32 {
+    let (a, b) = (projection.z_axis.z, projection.w_axis.z);
+    let near = b / a;
+    if near.is_finite() && near > 0.0 {
+        near
+    } else {
+        0.1
+    }
+}
+
+impl Ssr {
+    pub fn new(
+        renderer: &Renderer,
+        owner: Option<u32>,
+        gbuffer: Arc<GBuffer>,
+        materials: Arc<MaterialWorld>,
+        lit: TextureRef,
+        fallback: TextureRef,
+        settings: SsrSettings,
+    ) -> Arc<Self> {
+        let id = next_recipe_id();
+        let store = match owner {
+            Some(node) => renderer.state::<SsrStore>(u64::from(node)),
+            None => Arc::new(SsrStore::default()),
+        };
+        let uniform = |label| {
+            renderer.gpu.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size: std::mem::size_of::<Params>() as u64,
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            })
+        };
+        let key = owner.map_or(format!("recipe{id}"), |n| format!("node{n}"));
+        Arc::new(Ssr {
+            id,
+            owner,
+            gbuffer,
+            materials,
+            lit,
+            fallback,
+            settings: settings.sanitized(),
+            store,
+            table: renderer.state::<SplitSumStore>(0),
+            trace_params: uniform("ssr trace params"),
+            resolve_params: uniform("ssr resolve params"),
+            token: format!("ssr{id}/hiz"),
+            current: format!("ssr{id}/current"),
+            history: format!("ssr/{key}/history"),
+            output: format!("ssr{id}/reflection"),
+        })
+    }
+
+    pub fn texture(self: &Arc<Self>) -> TextureRef {
+        TextureRef {
+            recipe: self.clone(),
+            name: self.output.clone(),
+        }
+    }
+
+    /// Whether some material reflects: otherwise nothing is traced.
+    pub fn active(&self) -> bool {
+        self.materials.union_flags() & (1 << FEATURE_REFLECTION) != 0
+    }
+
+    fn textured(&self) -> bool {
+        self.materials.textured(1 << FEATURE_COOK_TORRANCE)
+    }
+
+    fn key(&self) -> ShaderKey {
+        let features: &[&'static str] = if self.textured() {
+            &["MATERIAL_TEXTURES"]
+        } else {
+            &[]
+        };
+        ShaderKey::new(SHADER, features.iter().copied())
+    }
+
+    fn label(&self, what: &str) -> String {
+        crate::recipe::pass_name("SSR", self.owner, Some(what))
+    }
+
+    fn params(&self, frame: u32, flags: u32, max_level: u32) -> Params {
+        Params {
+            max_steps: self.settings.max_steps,
+            rays: self.settings.rays,
+            frame,
+            flags,
+            near: near_plane(self.gbuffer.camera.projection),
+            thickness: self.settings.thickness,
+            blend: self.settings.blend,
+            max_level,
+        }
+    }
+
+    fn hiz_texture(&self, cx: &PassContext<'_>, size: (u32, u32)) -> wgpu::Texture {
+        let mut guard = self.store.hiz.lock().unwrap_or_else(|e| e.into_inner());
+        if let Some(t) = guard.as_ref()
+            && (t.width(), t.height()) == size
+        {
+            return t.clone();
+        }
+        let mips = size.0.max(size.1).max(1).ilog2() + 1;
+        let t = cx.gpu.device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("ssr hi-z"),
+            size: wgpu::Extent3d {
+                width: size.0,
+                height: size.1,
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: mips,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: wgpu::TextureFormat::R32Float,
+            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::STORAGE_BINDING,
+            view_formats: &[],
+        });
+        *guard = Some(t.clone());
+        t
+    }
+
+    fn build_hiz(&self, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
+        let size = self.gbuffer.pixel_size(cx.output_size);
+        let hiz = self.hiz_texture(cx, size);
+        split_sum_table(cx, &self.table)?;
+        let device = cx.gpu.device.clone();
+        let key = ShaderKey::new(SHADER, []);
+        let mip = |m: u32| {
+            hiz.create_view(&wgpu::TextureViewDescriptor {
+                base_mip_level: m,
+                mip_level_count: Some(1),
+                ..Default::default()
+            })
+        };
+        let depth = cx.view(&self.gbuffer.targets.depth)?;
+        let mut steps = Vec::new();
+        let first = mip(0);
+        let pipeline = cx.shaders.compute_pipeline(&device, &key, "hiz_copy")?;
+        let group = cx.shaders.bind_group(
+            &device,
+            &key,
+            "hiz_copy",
+            &pipeline,
+            0,
+            &[
+                (4, wgpu::BindingResource::TextureView(&depth)),
+                (11, wgpu::BindingResource::TextureView(&first)),
+            ],
+        )?;
+        steps.push((pipeline, group, (size.0.div_ceil(8), size.1.div_ceil(8))));
+        for m in 1..hiz.mip_level_count() {
+            let (src, dst) = (mip(m - 1), mip(m));
+            let pipeline = cx.shaders.compute_pipeline(&device, &key, "hiz_down")?;
+            let group = cx.shaders.bind_group(
+                &device,
+                &key,
+                "hiz_down",
+                &pipeline,
+                0,
+                &[
+                    (11, wgpu::BindingResource::TextureView(&dst)),
+                    (12, wgpu::BindingResource::TextureView(&src)),
+                ],
+            )?;
+            let (w, h) = ((size.0 >> m).max(1), (size.1 >> m).max(1));
+            steps.push((pipeline, group, (w.div_ceil(8), h.div_ceil(8))));
+        }
+        let timestamps = cx.compute_timestamps();
+        let mut pass = cx.encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("ssr hi-z"),
+            timestamp_writes: timestamps,
+        });
+        for (pipeline, group, (x, y)) in &steps {
+            pass.set_pipeline(pipeline);
+            pass.set_bind_group(0, group, &[]);
+            pass.dispatch_workgroups(*x, *y, 1);
+        }
+        Ok(())
+    }
+
+    fn trace(&self, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
+        cx.count("ssr traced", 1);
+        let frame = self.store.frame.fetch_add(1, Ordering::Relaxed);
+        let hiz = self
+            .store
+            .hiz
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .clone()
+            .ok_or_else(|| RenderError::Pass {
+                pass: self.label("trace"),
+                message: "the hi-z was not built".to_owned(),
+            })?;
+        let lut = split_sum_table(cx, &self.table)?;
+        let max_level = hiz.mip_level_count().saturating_sub(1);
+        cx.gpu.queue.write_buffer(
+            &self.trace_params,
+            0,
+            bytemuck::bytes_of(&self.params(frame, 0, max_level)),
+        );
+        let g = &self.gbuffer;
+        let target = if self.settings.temporal {
+            &self.current
+        } else {
+            &self.output
+        };
+        let (color, normals, depth, lit, fallback, out) = (
+            cx.view(&g.targets.color)?,
+            cx.view(&g.targets.normals)?,
+            cx.view(&g.targets.depth)?,
+            cx.view(&self.lit.name)?,
+            cx.view(&self.fallback.name)?,
+            cx.view(target)?,
+        );
+        let hiz_view = hiz.create_view(&Default::default());
+        let lut_view = lut.create_view(&Default::default());
+        let device = cx.gpu.device.clone();
+        let sampler = cx.shaders.sampler(&device, Sampling::LinearClamp);
+        let key = self.key();
+        let pipeline = cx.shaders.compute_pipeline(&device, &key, "main")?;
+        let all = [
+            (0, g.camera_buffer().as_entire_binding()),
+            (1, self.trace_params.as_entire_binding()),
+            (2, wgpu::BindingResource::TextureView(&color)),
+            (3, wgpu::BindingResource::TextureView(&normals)),
+            (4, wgpu::BindingResource::TextureView(&depth)),
+            (5, wgpu::BindingResource::TextureView(&hiz_view)),
+            (6, wgpu::BindingResource::TextureView(&lit)),
+            (7, wgpu::BindingResource::TextureView(&fallback)),
+            (8, wgpu::BindingResource::TextureView(&lut_view)),
+            (9, wgpu::BindingResource::Sampler(&sampler)),
+            (10, wgpu::BindingResource::TextureView(&out)),
+        ];
+        let group = cx
+            .shaders
+            .bind_group(&device, &key, "main", &pipeline, 0, &all)?;
+        let materials =
+            self.materials
+                .bind_group(cx, &key, &pipeline, self.textured(), &g.targets.velocity_uv)?;
+        let (w, h) = g.pixel_size(cx.output_size);
+        cx.dispatch(
+            "ssr trace",
+            &pipeline,
+            &[&group, &materials],
+            (w.div_ceil(8), h.div_ceil(8), 1),
+        );
+        Ok(())
+    }
+
+    fn resolve(&self, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
+        let fresh = cx.is_fresh(&self.history);
+        cx.count(
+            if fresh {
+                "ssr history reset"
+            } else {
+                "ssr history used"
+            },
+            1,
+        );
+        let frame = self.store.frame.load(Ordering::Relaxed);
+        cx.gpu.queue.write_buffer(
+            &self.resolve_params,
+            0,
+            bytemuck::bytes_of(&self.params(frame, u32::from(!fresh), 0)),
+        );
+        let g = &self.gbuffer;
+        let (current, history, velocity, out) = (
+            cx.view(&self.current)?,
+            cx.view(&self.history)?,
+            cx.view(&g.targets.velocity_uv)?,
+            cx.view(&self.output)?,
+        );
+        let all = [
+            (0, g.camera_buffer().as_entire_binding()),
+            (1, self.resolve_params.as_entire_binding()),
+            (10, wgpu::BindingResource::TextureView(&out)),
+            (13, wgpu::BindingResource::TextureView(&current)),
+            (14, wgpu::BindingResource::TextureView(&history)),
+            (15, wgpu::BindingResource::TextureView(&velocity)),
+        ];
+        let size = g.pixel_size(cx.output_size);
+        let device = cx.gpu.device.clone();
+        let key = ShaderKey::new(SHADER, []);
+        let pipeline = cx.shaders.compute_pipeline(&device, &key, "resolve")?;
+        let group = cx
+            .shaders
+            .bind_group(&device, &key, "resolve", &pipeline, 0, &all)?;
+        cx.dispatch(
+            "ssr resolve",
+            &pipeline,
+            &[&group],
+            (size.0.div_ceil(8), size.1.div_ceil(8), 1),
+        );
+        // This frame's result is next frame's history.
+        let (output, history) = (cx.texture(&self.output)?.clone(), cx.texture(&self.history)?.clone());
+        cx.encoder.copy_texture_to_texture(
+            output.as_image_copy(),
+            history.as_image_copy(),
+            wgpu::Extent3d {
+                width: size.0.min(history.width()),
+                height: size.1.min(history.height()),
+                depth_or_array_layers: 1,
+            },
+        );
+        Ok(())
+    }
+
+    fn clear(&self, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
+        cx.count("ssr skipped", 1);
+        let out = cx.view(&self.output)?;
+        let all = [
+            (0, self.gbuffer.camera_buffer().as_entire_binding()),
+            (10, wgpu::BindingResource::TextureView(&out)),
+        ];
+        let device = cx.gpu.device.clone();
+        let key = ShaderKey::new(SHADER, []);
+        let pipeline = cx.shaders.compute_pipeline(&device, &key, "clear")?;
+        let group = cx
+            .shaders
+            .bind_group(&device, &key, "clear", &pipeline, 0, &all)?;
+        let (w, h) = self.gbuffer.pixel_size(cx.output_size);
+        cx.dispatch(
+            "ssr clear",
+            &pipeline,
+            &[&group],
+            (w.div_ceil(8), h.div_ceil(8), 1),
+        );
+        Ok(())
+    }
+}
+
+impl Recipe for Ssr {
+    fn declare<'a>(&'a self, renderer: &'a Renderer, fg: &mut FrameGraph<'a>) {
+        if !fg.include(self.id) {
+            return;
+        }
+        self.gbuffer.declare(renderer, fg);
+        let hdr = TextureDesc::storage(wgpu::TextureFormat::Rgba16Float).size(self.gbuffer.size);
+        if !self.active() {
+            fg.add_pass(
+                self.label("none reflective"),
+                self.owner,
+                &[],
+                &[(&self.output, hdr)],
+                move |cx| self.clear(cx),
+            );
+            return;
+        }
+        self.lit.recipe.declare(renderer, fg);
+        self.fallback.recipe.declare(renderer, fg);
+        let g = &self.gbuffer.targets;
+        fg.add_pass(
+            self.label("hi-z"),
+            self.owner,
+            &[g.depth.as_str()],
+            &[(&self.token, TextureDesc::token())],
+            move |cx| self.build_hiz(cx),
+        );
+        let mut reads = vec![
+            self.token.as_str(),
+            g.color.as_str(),
+            g.normals.as_str(),
+            g.depth.as_str(),
+            self.lit.name.as_str(),
+            self.fallback.name.as_str(),
+        ];
+        reads.extend(
+            self.materials
+                .declare_textures(renderer, fg, self.textured(), &g.velocity_uv),
+        );
+        let target = if self.settings.temporal {
+            &self.current
+        } else {
+            &self.output
+        };
+        fg.add_pass(
+            self.label("trace"),
+            self.owner,
+            &reads,
+            &[(target, hdr)],
+            move |cx| self.trace(cx),
+        );
+        if self.settings.temporal {
+            let history = TextureDesc {
+                format: wgpu::TextureFormat::Rgba16Float,
+                size: self.gbuffer.size,
+                lifetime: Lifetime::Persistent,
+                usage: wgpu::TextureUsages::TEXTURE_BINDING
+                    | wgpu::TextureUsages::COPY_DST
+                    | wgpu::TextureUsages::COPY_SRC,
+            };
+            fg.add_pass(
+                self.label("resolve"),
+                self.owner,
+                &[self.current.as_str(), g.velocity_uv.as_str()],
+                &[(&self.output, hdr), (&self.history, history)],
+                move |cx| self.resolve(cx),
+            );
+        }
+    }
+}

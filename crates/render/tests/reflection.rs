@@ -1,0 +1,658 @@
+//! Environment maps, `Reflection` and `SSR`: the prefiltered environment is
+//! built once and reused, mirrors show what the CPU sky and the CPU ray
+//! tracer say, roughness 1 is the irradiance's blur, a 1e6 sun pixel stays
+//! inside the stated bound, passes run only when a material reflects, and
+//! no target ever holds NaN or infinity.
+
+use std::sync::Arc;
+
+use glam::{Vec3, Vec4};
+use spreadlight_render::camera::{CameraInput, reverse_z};
+use spreadlight_render::environment::{
+    Environment, EnvironmentQuality, EnvironmentSource, EquirectImage, Reflection, ReflectionMode,
+    Sky, SkySettings,
+};
+use spreadlight_render::gbuffer::GBuffer;
+use spreadlight_render::material::{Feature, Material, MaterialWorld};
+use spreadlight_render::readback::{ImageF32, read_texture_layer, render_and_read};
+use spreadlight_render::reference::brdf::f_schlick;
+use spreadlight_render::reference::reflection::CpuSky;
+use spreadlight_render::renderer::test_renderer;
+use spreadlight_render::scenes::{balls_on_floor, with_materials};
+use spreadlight_render::texture::{GpuTexture, StaticTexture};
+use spreadlight_render::{Renderer, SizeRule};
+
+const SIZE: (u32, u32) = (64, 48);
+const EYE: Vec3 = Vec3::new(0.0, 1.5, 4.0);
+
+fn camera(eye: Vec3, target: Vec3) -> CameraInput {
+    CameraInput {
+        view: glam::camera::rh::view::look_at_mat4(eye, target, Vec3::Y),
+        projection: glam::camera::rh::proj::directx::perspective(
+            1.0,
+            SIZE.0 as f32 / SIZE.1 as f32,
+            0.1,
+            100.0,
+        ),
+    }
+}
+
+/// A ball (material 0) over a floor (material 1) seen from `eye`.
+fn gbuffer_from(renderer: &Renderer, eye: Vec3, target: Vec3) -> Arc<GBuffer> {
+    let layer =
+        balls_on_floor(renderer, &[(Vec3::new(0.0, 0.6, 0.0), 0.6)], 8.0, 32).expect("upload");
+    GBuffer::new(
+        renderer,
+        None,
+        vec![with_materials(&layer, 0, 1)],
+        camera(eye, target),
+        None,
+        SizeRule::Relative(1.0),
+    )
+}
+
+fn gbuffer(renderer: &Renderer) -> Arc<GBuffer> {
+    gbuffer_from(renderer, EYE, Vec3::new(0.0, 0.3, 0.0))
+}
+
+fn reflective(roughness: f32, metallic: f32) -> Material {
+    Material::new()
+        .with(Feature::CookTorrance, &[[roughness, metallic, 0.04, 0.0]])
+        .and_then(|m| m.with(Feature::Reflection, &[[1.0, 0.0, 0.0, 0.0]]))
+        .expect("valid")
+}
+
+/// The sun behind the camera and no glow: a smooth sky to compare against.
+fn calm_sky() -> SkySettings {
+    SkySettings {
+        sun_direction: Vec3::new(0.0, -0.5, -1.0),
+        glow: 0.0,
+        ..Default::default()
+    }
+}
+
+fn sky_environment(renderer: &Renderer, owner: Option<u32>, sky: SkySettings) -> Arc<Environment> {
+    Environment::new(
+        renderer,
+        owner,
+        EnvironmentSource::Sky(sky),
+        EnvironmentQuality {
+            cube_size: 64,
+            samples: 32,
+        },
+    )
+}
+
+fn reflect(
+    renderer: &Renderer,
+    g: &Arc<GBuffer>,
+    world: Vec<Material>,
+    environment: Arc<Environment>,
+    mode: ReflectionMode,
+) -> (spreadlight_render::FrameReport, ImageF32, ImageF32, ImageF32) {
+    let materials = MaterialWorld::new(renderer, world);
+    let r = Reflection::new(renderer, None, g.clone(), materials, environment, mode);
+    let (report, images) = render_and_read(
+        renderer,
+        r.as_ref(),
+        SIZE,
+        &[&r.specular, &r.diffuse, &g.targets.depth],
+    )
+    .expect("renders");
+    assert!(report.errors.is_empty(), "{:?}", report.errors);
+    let mut images = images.into_iter();
+    let (s, d, z) = (
+        images.next().expect("specular"),
+        images.next().expect("diffuse"),
+        images.next().expect("depth"),
+    );
+    (report, s, d, z)
+}
+
+/// The world position of pixel (x, y) at reversed-Z depth `d`.
+fn world_position(g: &GBuffer, x: u32, y: u32, d: f32) -> Vec3 {
+    let inverse = (reverse_z(g.camera.projection) * g.camera.view).inverse();
+    let ndc = Vec4::new(
+        (x as f32 + 0.5) / SIZE.0 as f32 * 2.0 - 1.0,
+        1.0 - (y as f32 + 0.5) / SIZE.1 as f32 * 2.0,
+        d,
+        1.0,
+    );
+    let h = inverse * ndc;
+    h.truncate() / h.w
+}
+
+#[test]
+fn the_environment_is_prefiltered_once_and_reused_until_its_source_changes() {
+    let renderer = test_renderer();
+    let g = gbuffer(&renderer);
+    let world = || vec![reflective(0.3, 0.0), reflective(0.0, 1.0)];
+    let owner = Some(41);
+    let (first, ..) = reflect(
+        &renderer,
+        &g,
+        world(),
+        sky_environment(&renderer, owner, calm_sky()),
+        ReflectionMode::Reflect,
+    );
+    assert_eq!(first.counter("environment prefiltered"), 1);
+    assert_eq!(first.counter("environment reused"), 0);
+    // The node evaluated again with the same settings: a new recipe, the same maps.
+    let (second, ..) = reflect(
+        &renderer,
+        &g,
+        world(),
+        sky_environment(&renderer, owner, calm_sky()),
+        ReflectionMode::Reflect,
+    );
+    assert_eq!(second.counter("environment prefiltered"), 0);
+    assert_eq!(second.counter("environment reused"), 1);
+    let brighter = SkySettings {
+        zenith: Vec3::new(0.5, 0.6, 0.9),
+        ..calm_sky()
+    };
+    let (third, ..) = reflect(
+        &renderer,
+        &g,
+        world(),
+        sky_environment(&renderer, owner, brighter),
+        ReflectionMode::Reflect,
+    );
+    assert_eq!(third.counter("environment prefiltered"), 1);
+}
+
+#[test]
+fn a_mirror_floor_reflects_the_sky_the_cpu_sky_gives_times_fresnel() {
+    let renderer = test_renderer();
+    let g = gbuffer(&renderer);
+    // Ball: rough dielectric; floor: a mirror of albedo 0.8 (F0 = 0.8).
+    let (_, specular, diffuse, depth) = reflect(
+        &renderer,
+        &g,
+        vec![reflective(0.5, 0.0), reflective(0.0, 1.0)],
+        sky_environment(&renderer, None, calm_sky()),
+        ReflectionMode::Reflect,
+    );
+    assert!(specular.all_finite() && diffuse.all_finite());
+    let sky = CpuSky::new(&calm_sky());
+    let mut checked = 0;
+    for y in 0..SIZE.1 {
+        for x in 0..SIZE.0 {
+            let d = depth.pixel(x, y)[0];
+            let got = Vec3::from_slice(&specular.pixel(x, y)[..3]);
+            if d <= 0.0 {
+                assert_eq!(got, Vec3::ZERO, "sky pixels reflect nothing");
+                continue;
+            }
+            let p = world_position(&g, x, y, d);
+            if p.y.abs() > 1e-3 || p.length() < 1.5 {
+                continue; // the ball, or the floor next to it
+            }
+            let v = (EYE - p).normalize();
+            let r = Vec3::new(-v.x, v.y, -v.z);
+            let expected = sky.radiance(r) * f_schlick(Vec3::splat(0.8), v.y);
+            let error = (got - expected).abs().max_element();
+            assert!(
+                error < 0.03 + 0.05 * expected.max_element(),
+                "pixel ({x}, {y}): {got} vs {expected}"
+            );
+            checked += 1;
+        }
+    }
+    assert!(checked > 100, "{checked} floor pixels checked");
+}
+
+fn cube_level(renderer: &Renderer, texture: &wgpu::Texture, mip: u32) -> Vec<ImageF32> {
+    (0..6)
+        .map(|face| read_texture_layer(&renderer.gpu, texture, face, mip).expect("reads"))
+        .collect()
+}
+
+/// Build `environment` alone and return its maps.
+fn build(
+    renderer: &Renderer,
+    environment: &Arc<Environment>,
+) -> Arc<spreadlight_render::environment::EnvironmentMaps> {
+    let mut graph = spreadlight_render::FrameGraph::new(SIZE);
+    spreadlight_render::Recipe::declare(environment.as_ref(), renderer, &mut graph);
+    graph.request(environment.token());
+    let (report, _) = graph.execute(renderer).expect("runs");
+    assert!(report.errors.is_empty(), "{:?}", report.errors);
+    environment.maps().expect("built")
+}
+
+#[test]
+fn roughness_one_is_the_irradiance_blur() {
+    let renderer = test_renderer();
+    let environment = Environment::new(
+        &renderer,
+        None,
+        EnvironmentSource::Sky(calm_sky()),
+        EnvironmentQuality {
+            cube_size: 64,
+            samples: 256,
+        },
+    );
+    let maps = build(&renderer, &environment);
+    let last = maps.levels() - 1;
+    let rough = cube_level(&renderer, &maps.prefiltered, last);
+    let irradiance = cube_level(&renderer, &maps.irradiance, 0);
+    // With N = V, GGX at roughness 1 sends reflected directions uniformly
+    // over the sphere: the N.L-weighted average is E / pi, the irradiance output.
+    // Compared face by face, as means (the levels differ in size).
+    let mean = |image: &ImageF32| {
+        image.pixels.iter().fold(Vec3::ZERO, |acc, p| acc + Vec3::from_slice(&p[..3]))
+            / image.pixels.len() as f32
+    };
+    for face in 0..6 {
+        let (r, i) = (mean(&rough[face]), mean(&irradiance[face]));
+        assert!(
+            ((r - i).abs()).max_element() < 0.08 * i.max_element() + 0.01,
+            "face {face}: roughness 1 {r} vs irradiance {i}"
+        );
+    }
+}
+
+#[test]
+fn a_1e6_sun_pixel_stays_finite_and_inside_the_stated_bound() {
+    let renderer = test_renderer();
+    let (w, h) = (128u32, 64u32);
+    let mut pixels = vec![[1.0f32, 1.0, 1.0, 1.0]; (w * h) as usize];
+    pixels[(20 * w + 40) as usize] = [1e6, 1e6, 1e6, 1.0];
+    // Bad texels too: NaN and infinity are read as 0 and 65000.
+    pixels[(40 * w + 90) as usize] = [f32::NAN, f32::NAN, f32::NAN, 1.0];
+    pixels[(50 * w + 10) as usize] = [f32::INFINITY, 0.0, 0.0, 1.0];
+    let image = Arc::new(EquirectImage {
+        width: w,
+        height: h,
+        pixels,
+    });
+    let environment = Environment::new(
+        &renderer,
+        None,
+        EnvironmentSource::Equirect(image),
+        EnvironmentQuality {
+            cube_size: 32,
+            samples: 64,
+        },
+    );
+    let maps = build(&renderer, &environment);
+    // The stated bound (docs/reflection.md): the sun texel is clamped to
+    // 65000 on upload; its energy is then 65000 x its solid angle, and the
+    // roughest level (the cosine-weighted average E / pi) holds at most the
+    // background plus that energy / pi, doubled for the mip filtering's spread.
+    let theta = (20.5 / h as f32) * std::f32::consts::PI;
+    let solid_angle = (std::f32::consts::TAU / w as f32) * (std::f32::consts::PI / h as f32) * theta.sin();
+    let bound = 1.0 + 2.0 * 65000.0 * solid_angle / std::f32::consts::PI;
+    for level in 0..maps.levels() {
+        let faces = cube_level(&renderer, &maps.prefiltered, level);
+        let max = faces
+            .iter()
+            .flat_map(|f| f.pixels.iter().map(|p| p[0].max(p[1]).max(p[2])))
+            .fold(0.0f32, f32::max);
+        assert!(faces.iter().all(ImageF32::all_finite), "level {level}");
+        assert!(max <= 65000.0, "level {level}: {max}");
+        if level == maps.levels() - 1 {
+            assert!(max <= bound, "roughest level {max} > bound {bound}");
+            assert!(max > 1.0, "the sun's energy is still there: {max}");
+        }
+    }
+    let irradiance = cube_level(&renderer, &maps.irradiance, 0);
+    assert!(irradiance.iter().all(ImageF32::all_finite));
+    let max = irradiance
+        .iter()
+        .flat_map(|f| f.pixels.iter().map(|p| p[0]))
+        .fold(0.0f32, f32::max);
+    assert!(max <= bound, "irradiance {max} > bound {bound}");
+}
+
+#[test]
+fn without_a_reflective_material_no_environment_is_built_and_reflection_only_clears() {
+    let renderer = test_renderer();
+    let g = gbuffer(&renderer);
+    let plain = Material::default_material();
+    let (report, specular, diffuse, _) = reflect(
+        &renderer,
+        &g,
+        vec![plain.clone(), plain],
+        sky_environment(&renderer, Some(77), calm_sky()),
+        ReflectionMode::Reflect,
+    );
+    assert_eq!(report.counter("reflection skipped"), 1);
+    assert_eq!(report.counter("reflection shaded"), 0);
+    assert_eq!(report.counter("environment prefiltered"), 0);
+    assert!(!report.passes.iter().any(|p| p.name.contains("Environment")));
+    assert!(specular.pixels.iter().chain(&diffuse.pixels).all(|p| p[..3] == [0.0; 3]));
+
+    // Wired but not requested: the reflection pass is culled.
+    let materials = MaterialWorld::new(&renderer, vec![reflective(0.2, 1.0)]);
+    let environment = sky_environment(&renderer, None, calm_sky());
+    let r = Reflection::new(&renderer, None, g.clone(), materials, environment, ReflectionMode::Reflect);
+    let mut graph = spreadlight_render::FrameGraph::new(SIZE);
+    spreadlight_render::Recipe::declare(r.as_ref(), &renderer, &mut graph);
+    graph.request(&g.targets.color);
+    let (report, _) = graph.execute(&renderer).expect("runs");
+    assert!(report.errors.is_empty(), "{:?}", report.errors);
+    assert!(!report.passes.iter().any(|p| p.name.contains("Reflection") || p.name.contains("Environment")));
+    assert!(report.culled.iter().any(|p| p.contains("Reflection")));
+}
+
+#[test]
+fn reflection_and_refraction_stay_finite_from_every_side() {
+    let renderer = test_renderer();
+    let environment = sky_environment(&renderer, Some(5), SkySettings::default());
+    // Above; below the floor looking up (its normal faces away); grazing; inside the ball.
+    for (eye, target) in [
+        (EYE, Vec3::ZERO),
+        (Vec3::new(0.5, -2.0, 3.0), Vec3::new(0.0, 0.5, 0.0)),
+        (Vec3::new(0.0, 0.02, 6.0), Vec3::new(0.0, 0.0, 0.0)),
+        (Vec3::new(0.0, 0.6, 0.0), Vec3::new(1.0, 0.6, 0.0)),
+    ] {
+        let g = gbuffer_from(&renderer, eye, target);
+        for mode in [
+            ReflectionMode::Reflect,
+            ReflectionMode::Refract { ior: 1.5 },
+            ReflectionMode::Refract { ior: f32::NAN },
+            ReflectionMode::Refract { ior: 0.2 },
+        ] {
+            for (ball, floor) in [(0.0, 1.0), (1.0, 0.0)] {
+                let (_, s, d, _) = reflect(
+                    &renderer,
+                    &g,
+                    vec![reflective(ball, 1.0), reflective(floor, 0.0)],
+                    environment.clone(),
+                    mode,
+                );
+                assert!(s.all_finite() && d.all_finite(), "{eye} {mode:?}");
+                assert!(s.pixels.iter().chain(&d.pixels).all(|p| p[..3].iter().all(|c| *c >= 0.0 && *c <= 65000.0)));
+            }
+        }
+    }
+}
+
+#[test]
+fn refraction_shows_the_environment_behind_the_surface() {
+    let renderer = test_renderer();
+    // Looking straight down at the floor: reflection sees the zenith, refraction the ground below.
+    let g = gbuffer_from(&renderer, Vec3::new(3.0, 3.0, 0.01), Vec3::new(3.0, 0.0, 0.0));
+    let sky = SkySettings {
+        zenith: Vec3::new(0.0, 0.0, 1.0),
+        horizon: Vec3::ONE,
+        ground: Vec3::new(0.0, 1.0, 0.0),
+        sun_color: Vec3::ZERO,
+        glow: 0.0,
+        ..Default::default()
+    };
+    let environment = sky_environment(&renderer, None, sky);
+    let world = || vec![reflective(0.0, 0.0), reflective(0.0, 0.0)];
+    let (_, reflected, ..) = reflect(&renderer, &g, world(), environment.clone(), ReflectionMode::Reflect);
+    let (_, refracted, ..) = reflect(&renderer, &g, world(), environment, ReflectionMode::Refract { ior: 1.33 });
+    let (r, t) = (reflected.pixel(SIZE.0 / 2, SIZE.1 / 2), refracted.pixel(SIZE.0 / 2, SIZE.1 / 2));
+    assert!(r[2] > r[1], "reflection: the blue zenith {r:?}");
+    assert!(t[1] > t[2] && t[1] > 0.5, "refraction: the green ground, most light through {t:?}");
+}
+
+#[test]
+fn the_sky_node_draws_an_environment_where_depth_is_empty() {
+    let renderer = test_renderer();
+    let g = gbuffer(&renderer);
+    let lit = StaticTexture::new(GpuTexture::from_rgba32f(
+        &renderer.gpu,
+        SIZE.0,
+        SIZE.1,
+        &vec![[1.0, 0.0, 1.0, 1.0]; (SIZE.0 * SIZE.1) as usize],
+        "lit",
+    ));
+    let procedural = Sky::pass(&renderer, None, g.clone(), lit.texture_ref(), calm_sky());
+    let environment = sky_environment(&renderer, None, calm_sky());
+    let baked = Sky::with_environment(
+        &renderer,
+        None,
+        g.clone(),
+        lit.texture_ref(),
+        SkySettings::default(),
+        Some(environment),
+    );
+    let read = |pass: &Arc<spreadlight_render::environment::ImagePass>| {
+        let (report, images) =
+            render_and_read(&renderer, pass.as_ref(), SIZE, &[&pass.output]).expect("renders");
+        assert!(report.errors.is_empty(), "{:?}", report.errors);
+        images.into_iter().next().expect("image")
+    };
+    let (a, b) = (read(&procedural), read(&baked));
+    assert!(b.all_finite());
+    for (p, q) in a.pixels.iter().zip(&b.pixels) {
+        for c in 0..3 {
+            assert!((p[c] - q[c]).abs() < 0.03 + 0.03 * p[c], "{p:?} vs {q:?}");
+        }
+    }
+}
+
+// ---- SSR ----
+
+use spreadlight_render::environment::{Ssr, SsrSettings};
+use spreadlight_render::frame_graph::{Lifetime, TextureDesc};
+use spreadlight_render::reference::reflection::{BallsScene, Surface};
+use spreadlight_render::reference::shadows::Sphere;
+
+const BALL: (Vec3, f32) = (Vec3::new(0.0, 0.6, 0.0), 0.6);
+
+fn constant(renderer: &Renderer, size: (u32, u32), c: [f32; 4]) -> Arc<StaticTexture> {
+    StaticTexture::new(GpuTexture::from_rgba32f(
+        &renderer.gpu,
+        size.0,
+        size.1,
+        &vec![c; (size.0 * size.1) as usize],
+        "constant",
+    ))
+}
+
+/// The lit image a test gives SSR: the ball red, the floor dark blue, the sky black.
+fn lit_image(renderer: &Renderer, g: &Arc<GBuffer>) -> Arc<StaticTexture> {
+    let (_, images) = render_and_read(renderer, g.as_ref(), SIZE, &[&g.targets.depth]).expect("renders");
+    let depth = &images[0];
+    let mut pixels = Vec::new();
+    for y in 0..SIZE.1 {
+        for x in 0..SIZE.0 {
+            let d = depth.pixel(x, y)[0];
+            pixels.push(if d <= 0.0 {
+                [0.0, 0.0, 0.0, 1.0]
+            } else if world_position(g, x, y, d).distance(BALL.0) < BALL.1 * 1.05 {
+                [1.0, 0.0, 0.0, 1.0]
+            } else {
+                [0.0, 0.0, 0.2, 1.0]
+            });
+        }
+    }
+    StaticTexture::new(GpuTexture::from_rgba32f(&renderer.gpu, SIZE.0, SIZE.1, &pixels, "lit"))
+}
+
+fn ssr_frame(
+    renderer: &Renderer,
+    g: &Arc<GBuffer>,
+    world: Vec<Material>,
+    fallback: [f32; 4],
+    settings: SsrSettings,
+    owner: Option<u32>,
+    size: (u32, u32),
+) -> (spreadlight_render::FrameReport, ImageF32, Arc<Ssr>) {
+    let lit = if size == SIZE { lit_image(renderer, g) } else { constant(renderer, size, [1.0, 0.0, 0.0, 1.0]) };
+    let fallback = constant(renderer, size, fallback);
+    let materials = MaterialWorld::new(renderer, world);
+    let ssr = Ssr::new(renderer, owner, g.clone(), materials, lit.texture_ref(), fallback.texture_ref(), settings);
+    let (report, images) = render_and_read(renderer, ssr.as_ref(), size, &[&ssr.output]).expect("renders");
+    assert!(report.errors.is_empty(), "{:?}", report.errors);
+    (report, images.into_iter().next().expect("output"), ssr)
+}
+
+fn plain() -> Material {
+    Material::default_material()
+}
+
+#[test]
+fn a_mirror_floor_reflects_the_ball_where_the_reference_says() {
+    let renderer = test_renderer();
+    let g = gbuffer(&renderer);
+    let settings = SsrSettings {
+        max_steps: 256,
+        temporal: false,
+        ..Default::default()
+    };
+    // Only the floor reflects (a mirror, F0 = 0.8); misses fall back to black.
+    let (_, image, _) = ssr_frame(&renderer, &g, vec![plain(), reflective(0.0, 1.0)], [0.0; 4], settings, None, SIZE);
+    assert!(image.all_finite());
+    let (_, images) = render_and_read(&renderer, g.as_ref(), SIZE, &[&g.targets.depth]).expect("renders");
+    let depth = &images[0];
+    let scene = BallsScene {
+        balls: vec![Sphere { center: BALL.0, radius: BALL.1 }],
+        floor: 8.0,
+    };
+    let (mut agree, mut total, mut ball_hits) = (0, 0, 0);
+    for y in 0..SIZE.1 {
+        for x in 0..SIZE.0 {
+            let d = depth.pixel(x, y)[0];
+            if d <= 0.0 {
+                continue;
+            }
+            let p = world_position(&g, x, y, d);
+            if p.y.abs() > 1e-3 {
+                continue;
+            }
+            let v = (EYE - p).normalize();
+            let r = Vec3::new(-v.x, v.y, -v.z);
+            let sees_ball = matches!(scene.trace(p + Vec3::Y * 1e-3, r), Some(h) if h.surface == Surface::Ball(0));
+            let red = image.pixel(x, y)[0];
+            // The reflected ball is red times F0 (0.8); elsewhere nothing.
+            let gpu_ball = red > 0.3;
+            total += 1;
+            ball_hits += usize::from(sees_ball);
+            agree += usize::from(gpu_ball == sees_ball);
+        }
+    }
+    assert!(ball_hits > 20, "the ball is reflected in view: {ball_hits}");
+    assert!(agree as f32 >= 0.93 * total as f32, "{agree} of {total} floor pixels agree with the reference");
+}
+
+#[test]
+fn ssr_misses_and_rays_leaving_the_screen_fall_back_at_roughness_0_and_1() {
+    let renderer = test_renderer();
+    // Looking down at the floor from high up, away from the ball: every reflection leaves the screen.
+    let g = gbuffer_from(&renderer, Vec3::new(3.0, 4.0, 3.0), Vec3::new(3.0, 0.0, 2.0));
+    for roughness in [0.0, 1.0] {
+        for temporal in [false, true] {
+            let settings = SsrSettings { temporal, rays: 4, ..Default::default() };
+            let (_, image, _) = ssr_frame(
+                &renderer,
+                &g,
+                vec![reflective(roughness, 1.0), reflective(roughness, 1.0)],
+                [0.0, 1.0, 0.0, 1.0],
+                settings,
+                None,
+                SIZE,
+            );
+            assert!(image.all_finite());
+            let centre = image.pixel(SIZE.0 / 2, SIZE.1 / 2);
+            assert!((centre[1] - 1.0).abs() < 1e-3 && centre[0] < 1e-3, "roughness {roughness}: {centre:?}");
+        }
+    }
+}
+
+#[test]
+fn ssr_stays_finite_on_sky_edges_and_surfaces_facing_away() {
+    let renderer = test_renderer();
+    for (eye, target) in [
+        (EYE, Vec3::ZERO),
+        (Vec3::new(0.5, -2.0, 3.0), Vec3::new(0.0, 0.5, 0.0)),
+        (Vec3::new(0.0, 0.02, 6.0), Vec3::ZERO),
+        (Vec3::new(2.0, 0.6, 0.0), Vec3::new(-1.0, 0.6, 0.0)),
+    ] {
+        let g = gbuffer_from(&renderer, eye, target);
+        for roughness in [0.0, 0.5, 1.0] {
+            let settings = SsrSettings { rays: 2, temporal: false, ..Default::default() };
+            let (_, image, _) = ssr_frame(
+                &renderer,
+                &g,
+                vec![reflective(roughness, 1.0), reflective(roughness, 0.0)],
+                [f32::NAN, f32::INFINITY, 1.0, 1.0],
+                settings,
+                None,
+                SIZE,
+            );
+            assert!(image.all_finite(), "{eye} roughness {roughness}");
+            assert!(image.pixels.iter().all(|p| p[..3].iter().all(|c| (0.0..=65000.0).contains(c))));
+        }
+    }
+}
+
+#[test]
+fn ssr_history_survives_a_nan_a_camera_cut_and_a_resize() {
+    let renderer = test_renderer();
+    let g = gbuffer(&renderer);
+    let world = || vec![reflective(0.3, 1.0), reflective(0.1, 1.0)];
+    let settings = SsrSettings { temporal: true, ..Default::default() };
+    let owner = Some(901);
+    let (first, ..) = ssr_frame(&renderer, &g, world(), [0.1; 4], settings, owner, SIZE);
+    assert_eq!(first.counter("ssr history reset"), 1);
+    let (second, _, ssr) = ssr_frame(&renderer, &g, world(), [0.1; 4], settings, owner, SIZE);
+    assert_eq!(second.counter("ssr history used"), 1);
+
+    // Poison the history: a pass writing NaN into it under its name.
+    let history = ssr.history.clone();
+    let desc = TextureDesc {
+        format: wgpu::TextureFormat::Rgba16Float,
+        size: SizeRule::Relative(1.0),
+        lifetime: Lifetime::Persistent,
+        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST | wgpu::TextureUsages::COPY_SRC,
+    };
+    let mut graph = spreadlight_render::FrameGraph::new(SIZE);
+    let name = history.clone();
+    graph.add_pass("poison", None, &[], &[(&history, desc)], move |cx| {
+        let texture = cx.texture(&name)?;
+        let nan = half::f16::NAN.to_bits().to_le_bytes();
+        let data: Vec<u8> = (0..SIZE.0 * SIZE.1 * 4).flat_map(|_| nan).collect();
+        cx.gpu.queue.write_texture(
+            texture.as_image_copy(),
+            &data,
+            wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(SIZE.0 * 8), rows_per_image: None },
+            texture.size(),
+        );
+        Ok(())
+    });
+    graph.request(&history);
+    let (report, _) = graph.execute(&renderer).expect("runs");
+    assert!(report.errors.is_empty(), "{:?}", report.errors);
+    let (third, image, _) = ssr_frame(&renderer, &g, world(), [0.1; 4], settings, owner, SIZE);
+    assert_eq!(third.counter("ssr history used"), 1, "the poisoned history was read");
+    assert!(image.all_finite(), "a NaN in the history does not spread");
+
+    // A camera cut resets the history; so does a resize.
+    renderer.reset_history();
+    let (cut, image, _) = ssr_frame(&renderer, &g, world(), [0.1; 4], settings, owner, SIZE);
+    assert_eq!(cut.counter("ssr history reset"), 1);
+    assert!(image.all_finite());
+    let bigger = (80, 60);
+    let (resized, image, _) = ssr_frame(&renderer, &g, world(), [0.1; 4], settings, owner, bigger);
+    assert_eq!(resized.counter("ssr history reset"), 1);
+    assert!(image.all_finite());
+}
+
+#[test]
+fn ssr_runs_only_when_a_material_reflects_and_its_output_is_wanted() {
+    let renderer = test_renderer();
+    let g = gbuffer(&renderer);
+    let (report, image, _) = ssr_frame(&renderer, &g, vec![plain(), plain()], [1.0; 4], SsrSettings::default(), Some(3), SIZE);
+    assert_eq!(report.counter("ssr skipped"), 1);
+    assert_eq!(report.counter("ssr traced"), 0);
+    assert!(!report.passes.iter().any(|p| p.name.contains("trace") || p.name.contains("hi-z")));
+    assert!(image.pixels.iter().all(|p| p[..3] == [0.0; 3]));
+    // Wired, not requested: culled.
+    let lit = constant(&renderer, SIZE, [1.0; 4]);
+    let materials = MaterialWorld::new(&renderer, vec![reflective(0.0, 1.0)]);
+    let ssr = Ssr::new(&renderer, None, g.clone(), materials, lit.texture_ref(), lit.texture_ref(), SsrSettings::default());
+    let mut graph = spreadlight_render::FrameGraph::new(SIZE);
+    spreadlight_render::Recipe::declare(ssr.as_ref(), &renderer, &mut graph);
+    graph.request(&g.targets.color);
+    let (report, _) = graph.execute(&renderer).expect("runs");
+    assert!(!report.passes.iter().any(|p| p.name.contains("SSR")));
+    assert_eq!(report.counter("ssr traced"), 0);
+}

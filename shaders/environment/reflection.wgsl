@@ -1,0 +1,95 @@
+// Reflection: image-based light from a prefiltered environment over the
+// G-buffer (crates/render/src/environment/reflection.rs). For each pixel
+// whose material has the Reflection feature:
+//   specular = prefiltered(R, roughness) * (F0 A + B)   (split-sum)
+//   diffuse  = irradiance(N)                            (E / pi, albedo NOT applied)
+// with roughness, metallic and reflectance from the material's
+// CookTorrance feature and F0 = mix(reflectance, albedo, metallic).
+// mode 1 (refraction): specular is the environment seen through the
+// surface along the refracted direction (IOR ior, air outside) times
+// 1 - (F0 A + B), what Fresnel lets through; total internal reflection
+// falls back to the reflected direction. Empty depth, materials without
+// the feature: zero. Clamped below half-float overflow.
+#import spreadlight::camera::{Camera, pixel_to_ndc}
+#import spreadlight::packing::{channel_to_id, safe_normalize}
+#import spreadlight::ibl::{split_sum, facing_normal}
+#import spreadlight::material::{feature_param_at, has_feature, FEATURE_COOK_TORRANCE, FEATURE_REFLECTION}
+
+struct Params {
+    // 0: reflect, 1: refract
+    mode: u32,
+    // Prefiltered levels: roughness r reads level r * (levels - 1).
+    levels: u32,
+    ior: f32,
+    pad: f32,
+}
+
+@group(0) @binding(0) var<uniform> camera: Camera;
+@group(0) @binding(1) var<uniform> params: Params;
+@group(0) @binding(2) var color: texture_2d<f32>;
+@group(0) @binding(3) var normals: texture_2d<f32>;
+@group(0) @binding(4) var depth: texture_2d<f32>;
+@group(0) @binding(5) var prefiltered: texture_cube<f32>;
+@group(0) @binding(6) var irradiance: texture_cube<f32>;
+@group(0) @binding(7) var lut: texture_2d<f32>;
+@group(0) @binding(8) var cube_sampler: sampler;
+@group(0) @binding(9) var out_specular: texture_storage_2d<rgba16float, write>;
+@group(0) @binding(10) var out_diffuse: texture_storage_2d<rgba16float, write>;
+
+const HALF_MAX: f32 = 65000.0;
+
+fn store(pixel: vec2<u32>, specular: vec3<f32>, diffuse: vec3<f32>) {
+    textureStore(out_specular, pixel, vec4<f32>(min(max(specular, vec3<f32>(0.0)), vec3<f32>(HALF_MAX)), 1.0));
+    textureStore(out_diffuse, pixel, vec4<f32>(min(max(diffuse, vec3<f32>(0.0)), vec3<f32>(HALF_MAX)), 1.0));
+}
+
+@compute @workgroup_size(8, 8)
+fn main(@builtin(global_invocation_id) id: vec3<u32>) {
+    let size = vec2<u32>(camera.size.xy);
+    if (id.x >= size.x || id.y >= size.y) {
+        return;
+    }
+    let pixel = id.xy;
+    let d = textureLoad(depth, pixel, 0).r;
+    let texel = textureLoad(color, pixel, 0);
+    let material = channel_to_id(texel.a);
+    if (d <= 0.0 || !has_feature(material, FEATURE_REFLECTION)) {
+        store(pixel, vec3<f32>(0.0), vec3<f32>(0.0));
+        return;
+    }
+    let h = camera.projection_inverse * vec4<f32>(pixel_to_ndc(pixel, camera.size), d, 1.0);
+    let p = h.xyz / h.w;
+    let v = safe_normalize(-p, vec3<f32>(0.0, 0.0, 1.0));
+    let n = facing_normal(safe_normalize(textureLoad(normals, pixel, 0).xyz, v), v);
+    let ct = clamp(feature_param_at(material, FEATURE_COOK_TORRANCE, 0u, vec4<f32>(0.5, 0.0, 0.04, 0.0), pixel), vec4<f32>(0.0), vec4<f32>(1.0));
+    let roughness = ct.x;
+    let albedo = max(texel.rgb, vec3<f32>(0.0));
+    let f0 = mix(vec3<f32>(ct.z), albedo, ct.y);
+    let n_dot_v = clamp(dot(n, v), 1e-4, 1.0);
+    let factor = split_sum(lut, cube_sampler, f0, n_dot_v, roughness);
+    var dir = reflect(-v, n);
+    var weight = factor;
+    if (params.mode == 1u) {
+        let t = refract(-v, n, 1.0 / max(params.ior, 1e-3));
+        if (dot(t, t) > 1e-8) {
+            dir = t;
+            weight = max(vec3<f32>(1.0) - factor, vec3<f32>(0.0));
+        }
+    }
+    let world_dir = safe_normalize((camera.view_inverse * vec4<f32>(dir, 0.0)).xyz, vec3<f32>(0.0, 1.0, 0.0));
+    let world_n = safe_normalize((camera.view_inverse * vec4<f32>(n, 0.0)).xyz, vec3<f32>(0.0, 1.0, 0.0));
+    let lod = roughness * f32(max(params.levels, 1u) - 1u);
+    let radiance = textureSampleLevel(prefiltered, cube_sampler, world_dir, lod).rgb;
+    let diffuse = textureSampleLevel(irradiance, cube_sampler, world_n, 0.0).rgb;
+    store(pixel, radiance * weight, diffuse);
+}
+
+// No material reflects: the outputs are zero, the environment is never built.
+@compute @workgroup_size(8, 8)
+fn clear(@builtin(global_invocation_id) id: vec3<u32>) {
+    let size = vec2<u32>(camera.size.xy);
+    if (id.x >= size.x || id.y >= size.y) {
+        return;
+    }
+    store(id.xy, vec3<f32>(0.0), vec3<f32>(0.0));
+}

@@ -1,0 +1,293 @@
+// SSR: screen-space reflection with roughness (crates/render/src/environment/ssr.rs).
+//
+// hiz_copy / hiz_down build a hierarchical depth: mip 0 the G-buffer's
+// reversed-Z depth, each further mip the MAX of the texels under it. In
+// reversed-Z the max is the NEAREST surface of the cell (the farthest is
+// the min): a ray nearer than a cell's max is in front of everything in it
+// and may skip the whole cell; with the min it could skip past a near
+// occluder.
+//
+// trace: per pixel whose material has the Reflection feature, `rays` rays
+// (mirror at roughness < 0.02, else GGX half vectors jittered per pixel and
+// frame) marched in screen space, where reversed-Z depth is affine along the
+// projected ray: a step of 2^level pixels, up a level while the ray is in
+// front of the cell's nearest surface, down a level when not, a hit at level
+// 0 when the ray is behind the surface by less than a thickness. A hit reads
+// the lit image, with a confidence that fades at the screen's edges and for
+// surfaces facing away; misses (off screen, no hit within `max_steps`)
+// have confidence 0. Radiance is averaged with N.L weights (as the
+// prefilter does) and
+//   output = conf * L_hit * (F0 A + B) + (1 - conf) * fallback
+// where fallback is Reflection's specular: the same quantity from the
+// environment, so the two are interchangeable.
+//
+// resolve (TEMPORAL): blend with last frame's output reprojected by the
+// G-buffer velocity; history that is off screen, not finite, or fresh
+// (camera cut, resize) is not used.
+#import spreadlight::camera::{Camera, pixel_to_ndc}
+#import spreadlight::packing::{channel_to_id, safe_normalize}
+#import spreadlight::ibl::{split_sum, facing_normal, importance_sample_ggx, hammersley}
+#import spreadlight::material::{feature_param_at, has_feature, FEATURE_COOK_TORRANCE, FEATURE_REFLECTION}
+
+struct Params {
+    max_steps: u32,
+    rays: u32,
+    frame: u32,
+    // Bit 0: the history holds a previous frame.
+    flags: u32,
+    near: f32,
+    // View-space thickness assumed behind each surface.
+    thickness: f32,
+    // Weight of the new frame in the temporal blend.
+    blend: f32,
+    max_level: u32,
+}
+
+@group(0) @binding(0) var<uniform> camera: Camera;
+@group(0) @binding(1) var<uniform> params: Params;
+@group(0) @binding(2) var color: texture_2d<f32>;
+@group(0) @binding(3) var normals: texture_2d<f32>;
+@group(0) @binding(4) var depth: texture_2d<f32>;
+@group(0) @binding(5) var hiz: texture_2d<f32>;
+@group(0) @binding(6) var lit: texture_2d<f32>;
+@group(0) @binding(7) var fallback: texture_2d<f32>;
+@group(0) @binding(8) var lut: texture_2d<f32>;
+@group(0) @binding(9) var lut_sampler: sampler;
+@group(0) @binding(10) var output: texture_storage_2d<rgba16float, write>;
+@group(0) @binding(11) var out_hiz: texture_storage_2d<r32float, write>;
+@group(0) @binding(12) var hiz_source: texture_2d<f32>;
+@group(0) @binding(13) var current: texture_2d<f32>;
+@group(0) @binding(14) var history: texture_2d<f32>;
+@group(0) @binding(15) var velocity_uv: texture_2d<f32>;
+
+const HALF_MAX: f32 = 65000.0;
+
+fn clean(c: vec3<f32>) -> vec3<f32> {
+    let finite = (c == c) & (abs(c) <= vec3<f32>(3.0e38));
+    return select(vec3<f32>(0.0), min(max(c, vec3<f32>(0.0)), vec3<f32>(HALF_MAX)), finite);
+}
+
+@compute @workgroup_size(8, 8)
+fn hiz_copy(@builtin(global_invocation_id) id: vec3<u32>) {
+    let size = textureDimensions(depth);
+    if (id.x >= size.x || id.y >= size.y) {
+        return;
+    }
+    let d = textureLoad(depth, id.xy, 0).r;
+    textureStore(out_hiz, id.xy, vec4<f32>(select(0.0, d, d == d), 0.0, 0.0, 0.0));
+}
+
+@compute @workgroup_size(8, 8)
+fn hiz_down(@builtin(global_invocation_id) id: vec3<u32>) {
+    let out_size = textureDimensions(out_hiz);
+    if (id.x >= out_size.x || id.y >= out_size.y) {
+        return;
+    }
+    let src_size = textureDimensions(hiz_source);
+    // The 2x2 texels under this one, and a third row or column where the source is odd.
+    let lo = id.xy * 2u;
+    var hi = min(lo + 1u, src_size - 1u);
+    if (id.x == out_size.x - 1u) {
+        hi.x = src_size.x - 1u;
+    }
+    if (id.y == out_size.y - 1u) {
+        hi.y = src_size.y - 1u;
+    }
+    var nearest = 0.0;
+    for (var y = lo.y; y <= hi.y; y++) {
+        for (var x = lo.x; x <= hi.x; x++) {
+            nearest = max(nearest, textureLoad(hiz_source, vec2<u32>(x, y), 0).r);
+        }
+    }
+    textureStore(out_hiz, id.xy, vec4<f32>(nearest, 0.0, 0.0, 0.0));
+}
+
+fn view_position(uv: vec2<f32>, d: f32) -> vec3<f32> {
+    let h = camera.projection_inverse * vec4<f32>(uv.x * 2.0 - 1.0, 1.0 - uv.y * 2.0, d, 1.0);
+    return h.xyz / h.w;
+}
+
+// Screen position in pixels (xy) and reversed-Z depth (z) of view-space `p`.
+fn project(p: vec3<f32>) -> vec3<f32> {
+    let clip = camera.projection * vec4<f32>(p, 1.0);
+    let ndc = clip.xyz / clip.w;
+    return vec3<f32>((ndc.x * 0.5 + 0.5) * camera.size.x, (0.5 - ndc.y * 0.5) * camera.size.y, ndc.z);
+}
+
+// A per-pixel, per-frame, per-ray rotation of the sample pattern.
+fn jitter(pixel: vec2<u32>, frame: u32, ray: u32) -> f32 {
+    var h = pixel.x * 1973u + pixel.y * 9277u + frame * 26699u + ray * 7919u;
+    h = (h ^ (h >> 16u)) * 0x45d9f3bu;
+    h = (h ^ (h >> 16u)) * 0x45d9f3bu;
+    h = h ^ (h >> 16u);
+    return f32(h & 0xffffu) / 65536.0;
+}
+
+struct Trace {
+    radiance: vec3<f32>,
+    confidence: f32,
+}
+
+// March from view-space `origin` along unit view-space `dir`.
+fn trace(origin: vec3<f32>, dir: vec3<f32>) -> Trace {
+    var miss = Trace(vec3<f32>(0.0), 0.0);
+    // Keep the end in front of the near plane, so it projects.
+    var length = 1000.0;
+    if (dir.z > 1e-5) {
+        length = min(length, (-params.near * 1.01 - origin.z) / dir.z);
+    }
+    if (length <= 1e-4) {
+        return miss;
+    }
+    let start = project(origin);
+    let end = project(origin + dir * length);
+    let delta = end.xy - start.xy;
+    let pixels = max(abs(delta.x), abs(delta.y));
+    if (pixels < 1.0) {
+        return miss;
+    }
+    // Per pixel of the major axis: screen step and depth step.
+    let step_xy = delta / pixels;
+    let step_z = (end.z - start.z) / pixels;
+    let size = camera.size.xy;
+    var s = 1.5;
+    var level = 0u;
+    for (var i = 0u; i < params.max_steps; i++) {
+        let cell = f32(1u << level);
+        let next = s + cell;
+        if (next > pixels) {
+            return miss;
+        }
+        let p = start.xy + step_xy * next;
+        if (any(p < vec2<f32>(0.0)) || any(p >= size)) {
+            return miss;
+        }
+        let ray_depth = start.z + step_z * next;
+        let nearest = textureLoad(hiz, vec2<u32>(p) >> vec2<u32>(level), i32(level)).r;
+        if (ray_depth > nearest) {
+            // In front of everything in the cell: skip it, try a coarser level.
+            s = next;
+            level = min(level + 1u, params.max_level);
+            continue;
+        }
+        if (level > 0u) {
+            level -= 1u;
+            continue;
+        }
+        // Level 0: the ray is at or behind this pixel's surface.
+        let pixel = vec2<u32>(p);
+        let surface = textureLoad(depth, pixel, 0).r;
+        let uv = p / size;
+        let surface_z = view_position(uv, surface).z;
+        let ray_z = view_position(uv, ray_depth).z;
+        if (surface > 0.0 && surface_z - ray_z < params.thickness) {
+            let n_hit = safe_normalize(textureLoad(normals, pixel, 0).xyz, -dir);
+            // A surface seen from behind is not what the ray would see.
+            let facing = clamp(-dot(n_hit, dir) * 4.0, 0.0, 1.0);
+            let edge = min(min(uv.x, 1.0 - uv.x), min(uv.y, 1.0 - uv.y));
+            let fade = clamp(edge / 0.08, 0.0, 1.0);
+            return Trace(clean(textureLoad(lit, pixel, 0).rgb), facing * fade);
+        }
+        // Behind a thin surface: pass it.
+        s = next;
+    }
+    return miss;
+}
+
+fn store(pixel: vec2<u32>, c: vec3<f32>) {
+    textureStore(output, pixel, vec4<f32>(clean(c), 1.0));
+}
+
+@compute @workgroup_size(8, 8)
+fn main(@builtin(global_invocation_id) id: vec3<u32>) {
+    let size = vec2<u32>(camera.size.xy);
+    if (id.x >= size.x || id.y >= size.y) {
+        return;
+    }
+    let pixel = id.xy;
+    let d = textureLoad(depth, pixel, 0).r;
+    let texel = textureLoad(color, pixel, 0);
+    let material = channel_to_id(texel.a);
+    if (d <= 0.0 || !has_feature(material, FEATURE_REFLECTION)) {
+        store(pixel, vec3<f32>(0.0));
+        return;
+    }
+    let uv = (vec2<f32>(pixel) + 0.5) * camera.size.zw;
+    let p = view_position(uv, d);
+    let v = safe_normalize(-p, vec3<f32>(0.0, 0.0, 1.0));
+    let n = facing_normal(safe_normalize(textureLoad(normals, pixel, 0).xyz, v), v);
+    let ct = clamp(feature_param_at(material, FEATURE_COOK_TORRANCE, 0u, vec4<f32>(0.5, 0.0, 0.04, 0.0), pixel), vec4<f32>(0.0), vec4<f32>(1.0));
+    let roughness = ct.x;
+    let f0 = mix(vec3<f32>(ct.z), max(texel.rgb, vec3<f32>(0.0)), ct.y);
+    let n_dot_v = clamp(dot(n, v), 1e-4, 1.0);
+    let factor = split_sum(lut, lut_sampler, f0, n_dot_v, roughness);
+    // Start a little off the surface, more for far surfaces (depth precision).
+    let origin = p + n * (0.01 + 0.002 * -p.z);
+    var sum = vec3<f32>(0.0);
+    var confidence = 0.0;
+    var weight = 0.0;
+    let rays = max(params.rays, 1u);
+    for (var k = 0u; k < rays; k++) {
+        var l = reflect(-v, n);
+        if (roughness >= 0.02) {
+            var xi = hammersley(k, rays);
+            xi.x = fract(xi.x + jitter(pixel, params.frame, k));
+            xi.y = fract(xi.y + jitter(pixel, params.frame, k + 977u) / f32(rays));
+            let h = importance_sample_ggx(xi, max(roughness * roughness, 1e-3), n);
+            l = reflect(-v, h);
+        }
+        let n_dot_l = dot(n, l);
+        if (n_dot_l <= 0.0) {
+            continue;
+        }
+        let t = trace(origin, l);
+        sum += t.radiance * t.confidence * n_dot_l;
+        confidence += t.confidence * n_dot_l;
+        weight += n_dot_l;
+    }
+    let fall = clean(textureLoad(fallback, pixel, 0).rgb);
+    if (weight <= 0.0) {
+        store(pixel, fall);
+        return;
+    }
+    let c = clamp(confidence / weight, 0.0, 1.0);
+    store(pixel, sum / weight * factor + (1.0 - c) * fall);
+}
+
+@compute @workgroup_size(8, 8)
+fn resolve(@builtin(global_invocation_id) id: vec3<u32>) {
+    let size = vec2<u32>(camera.size.xy);
+    if (id.x >= size.x || id.y >= size.y) {
+        return;
+    }
+    let pixel = id.xy;
+    let now = clean(textureLoad(current, pixel, 0).rgb);
+    if ((params.flags & 1u) == 0u) {
+        store(pixel, now);
+        return;
+    }
+    let uv = (vec2<f32>(pixel) + 0.5) * camera.size.zw;
+    let before = uv - textureLoad(velocity_uv, pixel, 0).xy;
+    if (any(before < vec2<f32>(0.0)) || any(before >= vec2<f32>(1.0)) || any(before != before)) {
+        store(pixel, now);
+        return;
+    }
+    let old = textureLoad(history, vec2<u32>(before * camera.size.xy), 0).rgb;
+    // Sanitized on read: a NaN or infinity in the history never spreads.
+    let finite = all(old == old) && all(abs(old) <= vec3<f32>(65000.0));
+    if (!finite) {
+        store(pixel, now);
+        return;
+    }
+    store(pixel, mix(old, now, clamp(params.blend, 0.0, 1.0)));
+}
+
+// No material reflects: zero, nothing traced.
+@compute @workgroup_size(8, 8)
+fn clear(@builtin(global_invocation_id) id: vec3<u32>) {
+    let size = vec2<u32>(camera.size.xy);
+    if (id.x >= size.x || id.y >= size.y) {
+        return;
+    }
+    store(id.xy, vec3<f32>(0.0));
+}
