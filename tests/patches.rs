@@ -151,3 +151,66 @@ fn the_shadows_example_renders_only_the_shadow_maps_that_changed() {
     assert_eq!(counts[1], (1, 4), "then only the sun's cascades");
     assert_eq!(counts[2], (1, 4));
 }
+
+/// The showcase without its reflective and subsurface materials (the
+/// AddReflection and AddFakeSSS nodes taken out of the material chain) runs
+/// no Reflection, SSR or SSSS pass, though those nodes are still wired: the
+/// report says why. With them, those passes run.
+#[test]
+fn a_scene_without_reflective_or_subsurface_materials_runs_no_reflection_or_sss_pass() {
+    let path = spreadlight_tests::root().join("patches/showcase.ron");
+    let passes = |patch: &spreadlight_graph::Patch| {
+        let mut rt = Runtime::new(spreadlight_nodes::registry());
+        rt.provide(patch_dir(&path));
+        let renderer = std::sync::Arc::new(
+            spreadlight_render::Renderer::headless().expect("a GPU adapter (lavapipe in CI)"),
+        );
+        renderer.set_output_size((64, 36));
+        rt.provide(renderer.clone());
+        rt.provide(std::sync::Arc::new(
+            spreadlight_nodes::output::RenderedImages::default(),
+        ));
+        assert!(rt.load(patch).is_empty());
+        rt.evaluate(FrameClock::fixed(0, 60.0));
+        let errors: Vec<_> = rt
+            .node_errors()
+            .map(|(id, e)| format!("#{}: {e}", id.0))
+            .collect();
+        assert!(errors.is_empty(), "{errors:?}");
+        renderer.last_report()
+    };
+    // The environment's diffuse light ("Reflection #n: diffuse") lights every
+    // surface and keeps running; its specular pass, SSR and SSSS must not.
+    let named = |report: &spreadlight_render::FrameReport, prefix: &str| {
+        report
+            .passes
+            .iter()
+            .filter(|p| p.name.starts_with(prefix) && !p.name.ends_with(": diffuse"))
+            .count()
+    };
+    let full = format::load(&path).expect("loads");
+    let report = passes(&full);
+    for prefix in ["Reflection #", "SSR #", "SSSS #"] {
+        assert!(named(&report, prefix) > 0, "{prefix} runs in the showcase");
+    }
+    // Take AddFakeSSS (54) and AddReflection (62) out: 22 -> 31 directly.
+    let mut plain = full.clone();
+    plain
+        .links
+        .retain(|l| ![54, 62].contains(&l.from.0.0) && ![54, 62].contains(&l.to.0.0));
+    plain.link(22, "Material", 31, "Materials");
+    let report = passes(&plain);
+    for prefix in ["Reflection #", "SSR #", "SSSS #"] {
+        assert_eq!(
+            named(&report, prefix),
+            0,
+            "{prefix} runs without a material that needs it"
+        );
+    }
+    assert_eq!(
+        report.counter("reflection culled: no reflective material"),
+        1
+    );
+    // CookTorrance makes no SSS term without FakeSSS, so SSSS has nothing to scatter at all.
+    assert!(!report.passes.iter().any(|p| p.name.contains("SSSS")));
+}

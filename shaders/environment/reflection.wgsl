@@ -1,7 +1,9 @@
 // Reflection: image-based light from a prefiltered environment over the
-// G-buffer (crates/render/src/environment/reflection.rs). For each pixel
-// whose material has the Reflection feature:
+// G-buffer (crates/render/src/environment/reflection.rs), two entry points:
+// `main`, for each pixel whose material has the Reflection feature:
 //   specular = prefiltered(R, roughness) * (F0 A + B)   (split-sum)
+// `diffuse`, for every pixel with geometry (diffuse light does not depend
+// on a material reflecting):
 //   diffuse  = irradiance(N)                            (E / pi, albedo NOT applied)
 // with roughness, metallic and reflectance from the material's
 // CookTorrance feature and F0 = mix(reflectance, albedo, metallic).
@@ -38,9 +40,10 @@ struct Params {
 
 const HALF_MAX: f32 = 65000.0;
 
-fn store(pixel: vec2<u32>, specular: vec3<f32>, diffuse: vec3<f32>) {
-    textureStore(out_specular, pixel, vec4<f32>(min(max(specular, vec3<f32>(0.0)), vec3<f32>(HALF_MAX)), 1.0));
-    textureStore(out_diffuse, pixel, vec4<f32>(min(max(diffuse, vec3<f32>(0.0)), vec3<f32>(HALF_MAX)), 1.0));
+fn clean(v: vec3<f32>) -> vec4<f32> {
+    // max/min drop NaN on most drivers; select makes sure.
+    let c = min(max(v, vec3<f32>(0.0)), vec3<f32>(HALF_MAX));
+    return vec4<f32>(select(vec3<f32>(0.0), c, c == c), 1.0);
 }
 
 @compute @workgroup_size(8, 8)
@@ -54,7 +57,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let texel = textureLoad(color, pixel, 0);
     let material = channel_to_id(texel.a);
     if (d <= 0.0 || !has_feature(material, FEATURE_REFLECTION)) {
-        store(pixel, vec3<f32>(0.0), vec3<f32>(0.0));
+        textureStore(out_specular, pixel, vec4<f32>(0.0, 0.0, 0.0, 1.0));
         return;
     }
     let h = camera.projection_inverse * vec4<f32>(pixel_to_ndc(pixel, camera.size), d, 1.0);
@@ -77,19 +80,37 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         }
     }
     let world_dir = safe_normalize((camera.view_inverse * vec4<f32>(dir, 0.0)).xyz, vec3<f32>(0.0, 1.0, 0.0));
-    let world_n = safe_normalize((camera.view_inverse * vec4<f32>(n, 0.0)).xyz, vec3<f32>(0.0, 1.0, 0.0));
     let lod = roughness * f32(max(params.levels, 1u) - 1u);
     let radiance = textureSampleLevel(prefiltered, cube_sampler, world_dir, lod).rgb;
-    let diffuse = textureSampleLevel(irradiance, cube_sampler, world_n, 0.0).rgb;
-    store(pixel, radiance * weight, diffuse);
+    textureStore(out_specular, pixel, clean(radiance * weight));
 }
 
-// No material reflects: the outputs are zero, the environment is never built.
+// The environment's diffuse light on every surface (zero where depth is empty).
+@compute @workgroup_size(8, 8)
+fn diffuse(@builtin(global_invocation_id) id: vec3<u32>) {
+    let size = vec2<u32>(camera.size.xy);
+    if (id.x >= size.x || id.y >= size.y) {
+        return;
+    }
+    let pixel = id.xy;
+    let d = textureLoad(depth, pixel, 0).r;
+    if (d <= 0.0) {
+        textureStore(out_diffuse, pixel, vec4<f32>(0.0, 0.0, 0.0, 1.0));
+        return;
+    }
+    let h = camera.projection_inverse * vec4<f32>(pixel_to_ndc(pixel, camera.size), d, 1.0);
+    let v = safe_normalize(-h.xyz / h.w, vec3<f32>(0.0, 0.0, 1.0));
+    let n = facing_normal(safe_normalize(textureLoad(normals, pixel, 0).xyz, v), v);
+    let world_n = safe_normalize((camera.view_inverse * vec4<f32>(n, 0.0)).xyz, vec3<f32>(0.0, 1.0, 0.0));
+    textureStore(out_diffuse, pixel, clean(textureSampleLevel(irradiance, cube_sampler, world_n, 0.0).rgb));
+}
+
+// No material reflects: the specular output is zero.
 @compute @workgroup_size(8, 8)
 fn clear(@builtin(global_invocation_id) id: vec3<u32>) {
     let size = vec2<u32>(camera.size.xy);
     if (id.x >= size.x || id.y >= size.y) {
         return;
     }
-    store(id.xy, vec3<f32>(0.0), vec3<f32>(0.0));
+    textureStore(out_specular, id.xy, vec4<f32>(0.0, 0.0, 0.0, 1.0));
 }

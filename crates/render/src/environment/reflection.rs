@@ -3,9 +3,12 @@
 //! environment along each pixel's reflected (or refracted) direction at its
 //! roughness, times the split-sum factor, and the diffuse irradiance.
 //!
-//! Only what the scene calls for: when no material of the world has the
-//! Reflection feature, the pass only clears its outputs and the environment
-//! is not built ("reflection skipped" in the frame report).
+//! Two passes, so each runs only when read: `specular` (only pixels whose
+//! material has the Reflection feature) and `diffuse` (every surface: the
+//! environment's diffuse light does not depend on reflecting). When no
+//! material of the world has the Reflection feature, the specular pass
+//! only clears its output ("reflection skipped" in the frame report), and
+//! the environment is built only if the diffuse light is read.
 
 use std::sync::Arc;
 
@@ -143,30 +146,52 @@ impl Reflection {
 
     fn clear(&self, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
         cx.count("reflection skipped", 1);
-        let (specular, diffuse) = (cx.view(&self.specular)?, cx.view(&self.diffuse)?);
-        let device = cx.gpu.device.clone();
-        let key = self.key();
-        let pipeline = cx.shaders.compute_pipeline(&device, &key, "clear")?;
+        let specular = cx.view(&self.specular)?;
         let all = [
             (0, self.gbuffer.camera_buffer().as_entire_binding()),
             (9, wgpu::BindingResource::TextureView(&specular)),
-            (10, wgpu::BindingResource::TextureView(&diffuse)),
         ];
+        self.dispatch(cx, "clear", "reflection clear", &all, false)
+    }
+
+    /// `entry` over the G-buffer with `all` at group 0 (and the material world at group 1 when `materials`).
+    fn dispatch(
+        &self,
+        cx: &mut PassContext<'_>,
+        entry: &'static str,
+        label: &str,
+        all: &[(u32, wgpu::BindingResource<'_>)],
+        materials: bool,
+    ) -> Result<(), RenderError> {
+        let device = cx.gpu.device.clone();
+        let key = self.key();
+        let pipeline = cx.shaders.compute_pipeline(&device, &key, entry)?;
         let group = cx
             .shaders
-            .bind_group(&device, &key, "clear", &pipeline, 0, &all)?;
+            .bind_group(&device, &key, entry, &pipeline, 0, all)?;
+        let material_group = if materials {
+            Some(self.materials.bind_group(
+                cx,
+                &key,
+                &pipeline,
+                self.textured(),
+                &self.gbuffer.targets.velocity_uv,
+            )?)
+        } else {
+            None
+        };
+        let groups: Vec<&wgpu::BindGroup> = std::iter::once(&group)
+            .chain(material_group.as_ref())
+            .collect();
         let (w, h) = self.gbuffer.pixel_size(cx.output_size);
-        cx.dispatch(
-            "reflection clear",
-            &pipeline,
-            &[&group],
-            (w.div_ceil(8), h.div_ceil(8), 1),
-        );
+        cx.dispatch(label, &pipeline, &groups, (w.div_ceil(8), h.div_ceil(8), 1));
         Ok(())
     }
 
-    fn run(&self, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
-        cx.count("reflection shaded", 1);
+    fn run(&self, cx: &mut PassContext<'_>, specular: bool) -> Result<(), RenderError> {
+        if specular {
+            cx.count("reflection shaded", 1);
+        }
         let maps = self.environment.maps_for("reflection")?;
         let g = &self.gbuffer;
         let (color, normals, depth) = (
@@ -174,13 +199,14 @@ impl Reflection {
             cx.view(&g.targets.normals)?,
             cx.view(&g.targets.depth)?,
         );
-        let (specular, diffuse) = (cx.view(&self.specular)?, cx.view(&self.diffuse)?);
+        let output = cx.view(if specular {
+            &self.specular
+        } else {
+            &self.diffuse
+        })?;
         let prefiltered = EnvironmentMaps::cube_view(&maps.prefiltered);
         let irradiance = EnvironmentMaps::cube_view(&maps.irradiance);
         let lut = maps.lut.create_view(&Default::default());
-        let device = cx.gpu.device.clone();
-        let key = self.key();
-        let pipeline = cx.shaders.compute_pipeline(&device, &key, "main")?;
         let all = [
             (0, g.camera_buffer().as_entire_binding()),
             (1, self.params.as_entire_binding()),
@@ -191,27 +217,16 @@ impl Reflection {
             (6, wgpu::BindingResource::TextureView(&irradiance)),
             (7, wgpu::BindingResource::TextureView(&lut)),
             (8, wgpu::BindingResource::Sampler(&maps.sampler)),
-            (9, wgpu::BindingResource::TextureView(&specular)),
-            (10, wgpu::BindingResource::TextureView(&diffuse)),
+            (
+                if specular { 9 } else { 10 },
+                wgpu::BindingResource::TextureView(&output),
+            ),
         ];
-        let group = cx
-            .shaders
-            .bind_group(&device, &key, "main", &pipeline, 0, &all)?;
-        let materials = self.materials.bind_group(
-            cx,
-            &key,
-            &pipeline,
-            self.textured(),
-            &g.targets.velocity_uv,
-        )?;
-        let (w, h) = g.pixel_size(cx.output_size);
-        cx.dispatch(
-            "reflection",
-            &pipeline,
-            &[&group, &materials],
-            (w.div_ceil(8), h.div_ceil(8), 1),
-        );
-        Ok(())
+        if specular {
+            self.dispatch(cx, "main", "reflection", &all, true)
+        } else {
+            self.dispatch(cx, "diffuse", "reflection diffuse", &all, false)
+        }
     }
 }
 
@@ -222,35 +237,47 @@ impl Recipe for Reflection {
         }
         self.gbuffer.declare(renderer, fg);
         let hdr = TextureDesc::storage(wgpu::TextureFormat::Rgba16Float).size(self.gbuffer.size);
-        let outputs = [(self.specular.as_str(), hdr), (self.diffuse.as_str(), hdr)];
+        let g = &self.gbuffer.targets;
+        self.environment.declare(renderer, fg);
+        fg.add_pass(
+            crate::recipe::pass_name("Reflection", self.owner, Some("diffuse")),
+            self.owner,
+            &[
+                self.environment.token(),
+                g.normals.as_str(),
+                g.depth.as_str(),
+            ],
+            &[(self.diffuse.as_str(), hdr)],
+            move |cx| self.run(cx, false),
+        );
         if !self.active() {
             fg.add_pass(
                 crate::recipe::pass_name("Reflection", self.owner, Some("none reflective")),
                 self.owner,
                 &[],
-                &outputs,
+                &[(self.specular.as_str(), hdr)],
                 move |cx| self.clear(cx),
             );
             return;
         }
-        self.environment.declare(renderer, fg);
-        let g = &self.gbuffer.targets;
         let mut reads = vec![
             self.environment.token(),
             g.color.as_str(),
             g.normals.as_str(),
             g.depth.as_str(),
         ];
-        reads.extend(
-            self.materials
-                .declare_textures(renderer, fg, self.textured(), &g.velocity_uv),
-        );
+        reads.extend(self.materials.declare_textures(
+            renderer,
+            fg,
+            self.textured(),
+            &g.velocity_uv,
+        ));
         fg.add_pass(
-            crate::recipe::pass_name("Reflection", self.owner, None),
+            crate::recipe::pass_name("Reflection", self.owner, Some("specular")),
             self.owner,
             &reads,
-            &outputs,
-            move |cx| self.run(cx),
+            &[(self.specular.as_str(), hdr)],
+            move |cx| self.run(cx, true),
         );
     }
 }
