@@ -54,3 +54,61 @@ fn tangent_frame(n: vec3<f32>) -> mat3x3<f32> {
     let u = vec3<f32>(b, s + n.y * n.y * a, -n.y);
     return mat3x3<f32>(t, u, n);
 }
+
+// The uniform the screen-space ray passes share (AO, SSGI): 64 bytes,
+// written by `render::temporal::ray_params`.
+struct RayParams {
+    // World units a ray travels / occluders count.
+    radius: f32,
+    intensity: f32,
+    // Last frame's weight in the temporal pass.
+    blend: f32,
+    // Self-occlusion offset, world units.
+    bias: f32,
+    samples: u32,
+    steps: u32,
+    // Turns the per-pixel pattern every frame.
+    frame: u32,
+    blur_radius: u32,
+    // 1: drop the history this frame.
+    reset: u32,
+    spare_a: u32,
+    spare_b: u32,
+    spare_c: u32,
+    spare_d: vec4<u32>,
+}
+
+// Ray `i` of `samples`, cosine-weighted about the frame's third axis: a
+// stratified spiral turned by the pixel's `noise`.
+fn cosine_direction(frame: mat3x3<f32>, i: u32, samples: u32, noise: f32) -> vec3<f32> {
+    let u = (f32(i) + fract(noise + 0.5)) / f32(samples);
+    let phi = 6.283185307 * fract(f32(i) * 0.618034 + noise);
+    let s = sqrt(u);
+    return frame * vec3<f32>(s * cos(phi), s * sin(phi), sqrt(max(1.0 - u, 0.0)));
+}
+
+// March a view-space ray from `origin` along `dir` over `radius` in `steps`
+// (offset by `jitter`, 0..1) against a reversed-Z depth buffer. The pixel
+// where it first passes behind a surface by more than `bias` and less than
+// `radius` (a surface farther in front is a separate object, not a
+// blocker), or -1 when it leaves the screen or reaches its end unblocked.
+fn march(camera: Camera, depth: texture_2d<f32>, origin: vec3<f32>, dir: vec3<f32>, radius: f32, steps: u32, jitter: f32, bias: f32) -> vec2<i32> {
+    let size = vec2<i32>(camera.size.xy);
+    for (var k = 0u; k < steps; k++) {
+        let q = origin + dir * max(radius * (f32(k) + jitter) / f32(steps), 1e-6);
+        let pr = project(camera, q);
+        let tap = vec2<i32>(floor(pr.xy));
+        if (!pr.valid || any(tap < vec2<i32>(0)) || any(tap >= size)) {
+            break;
+        }
+        let d = textureLoad(depth, vec2<u32>(tap), 0).r;
+        if (d <= 0.0) {
+            continue;
+        }
+        let in_front = view_position(camera, vec2<u32>(tap), d).z - q.z;
+        if (in_front > bias && in_front < radius) {
+            return tap;
+        }
+    }
+    return vec2<i32>(-1);
+}

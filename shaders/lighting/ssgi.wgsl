@@ -13,28 +13,12 @@
 // adding the ambient input on the second (vertical) pass with AMBIENT.
 #import spreadlight::camera::Camera
 #import spreadlight::packing::safe_normalize
-#import spreadlight::screen::view_position
+#import spreadlight::screen::{RayParams, view_position}
 #ifndef TEMPORAL
 #ifndef BLUR
-#import spreadlight::screen::{project, tangent_frame, interleaved_gradient_noise}
+#import spreadlight::screen::{tangent_frame, interleaved_gradient_noise, cosine_direction, march}
 #endif
 #endif
-
-struct Params {
-    radius: f32,
-    intensity: f32,
-    blend: f32,
-    bias: f32,
-    samples: u32,
-    steps: u32,
-    frame: u32,
-    blur_radius: u32,
-    reset: u32,
-    _pad0: u32,
-    _pad1: u32,
-    _pad2: u32,
-    _pad3: vec4<u32>,
-}
 
 // Per pass: which way the blur runs.
 struct Axis {
@@ -43,7 +27,7 @@ struct Axis {
 }
 
 @group(0) @binding(0) var<uniform> camera: Camera;
-@group(0) @binding(1) var<uniform> params: Params;
+@group(0) @binding(1) var<uniform> params: RayParams;
 @group(0) @binding(2) var depth: texture_2d<f32>;
 @group(0) @binding(3) var normals: texture_2d<f32>;
 @group(0) @binding(4) var source: texture_2d<f32>;
@@ -60,8 +44,6 @@ struct Axis {
 @group(0) @binding(7) var ambient: texture_2d<f32>;
 #endif
 #endif
-
-const TAU: f32 = 6.283185307;
 
 // Finite, non-negative, below half-float overflow; anything else is black.
 fn clean(v: vec3<f32>) -> vec3<f32> {
@@ -131,26 +113,10 @@ fn resolve(pixel: vec2<u32>, size: vec2<u32>, p: vec3<f32>) -> vec4<f32> {
     let origin = p + n * params.bias;
     var gathered = vec3<f32>(0.0);
     for (var i = 0u; i < params.samples; i++) {
-        let u = (f32(i) + fract(noise + 0.5)) / f32(params.samples);
-        let phi = TAU * fract(f32(i) * 0.618034 + noise);
-        let s = sqrt(u);
-        let dir = frame * vec3<f32>(s * cos(phi), s * sin(phi), sqrt(max(1.0 - u, 0.0)));
-        for (var k = 0u; k < params.steps; k++) {
-            let t = params.radius * (f32(k) + jitter) / f32(params.steps);
-            let pr = project(camera, origin + dir * max(t, 1e-6));
-            let tap = vec2<i32>(floor(pr.xy));
-            if (!pr.valid || any(tap < vec2<i32>(0)) || any(tap >= vec2<i32>(size))) {
-                break;
-            }
-            let d = textureLoad(depth, vec2<u32>(tap), 0).r;
-            if (d <= 0.0) {
-                continue;
-            }
-            let in_front = view_position(camera, vec2<u32>(tap), d).z - (origin + dir * t).z;
-            if (in_front > params.bias && in_front < params.radius) {
-                gathered += clean(textureLoad(source, vec2<u32>(tap), 0).rgb);
-                break;
-            }
+        let dir = cosine_direction(frame, i, params.samples, noise);
+        let hit = march(camera, depth, origin, dir, params.radius, params.steps, jitter, params.bias);
+        if (hit.x >= 0) {
+            gathered += clean(textureLoad(source, vec2<u32>(hit), 0).rgb);
         }
     }
     return vec4<f32>(min(gathered * params.intensity / f32(params.samples), vec3<f32>(65000.0)), 1.0);

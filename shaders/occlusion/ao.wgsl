@@ -13,33 +13,17 @@
 // temporal pass converges to many more samples than one frame takes.
 #import spreadlight::camera::Camera
 #import spreadlight::packing::safe_normalize
-#import spreadlight::screen::{view_position, interleaved_gradient_noise}
+#import spreadlight::screen::{RayParams, view_position, interleaved_gradient_noise}
 #ifdef SAO
 #import spreadlight::screen::view_position_at_distance
 #else
 #ifndef HBAO
-#import spreadlight::screen::{project, tangent_frame}
+#import spreadlight::screen::{tangent_frame, cosine_direction, march}
 #endif
 #endif
-
-struct Params {
-    radius: f32,
-    intensity: f32,
-    blend: f32,
-    bias: f32,
-    samples: u32,
-    steps: u32,
-    frame: u32,
-    blur_radius: u32,
-    reset: u32,
-    _pad0: u32,
-    _pad1: u32,
-    _pad2: u32,
-    _pad3: vec4<u32>,
-}
 
 @group(0) @binding(0) var<uniform> camera: Camera;
-@group(0) @binding(1) var<uniform> params: Params;
+@group(0) @binding(1) var<uniform> params: RayParams;
 @group(0) @binding(2) var depth: texture_2d<f32>;
 @group(0) @binding(3) var normals: texture_2d<f32>;
 @group(0) @binding(4) var output: texture_storage_2d<r32float, write>;
@@ -151,33 +135,11 @@ fn occlusion(pixel: vec2<u32>, p: vec3<f32>, n: vec3<f32>) -> f32 {
     let noise = interleaved_gradient_noise(vec2<f32>(pixel), params.frame);
     let jitter = interleaved_gradient_noise(vec2<f32>(pixel.yx) + 29.0, params.frame);
     let origin = p + n * params.bias;
-    let size = vec2<i32>(camera.size.xy);
     var blocked = 0u;
     for (var i = 0u; i < params.samples; i++) {
-        // A stratified cosine-weighted direction: Vogel's spiral, turned per pixel.
-        let u = (f32(i) + fract(noise + 0.5)) / f32(params.samples);
-        let phi = TAU * fract(f32(i) * 0.618034 + noise);
-        let s = sqrt(u);
-        let dir = frame * vec3<f32>(s * cos(phi), s * sin(phi), sqrt(max(1.0 - u, 0.0)));
-        for (var k = 0u; k < params.steps; k++) {
-            let t = params.radius * (f32(k) + jitter) / f32(params.steps);
-            let q = origin + dir * max(t, 1e-6);
-            let pr = project(camera, q);
-            let tap = vec2<i32>(floor(pr.xy));
-            if (!pr.valid || any(tap < vec2<i32>(0)) || any(tap >= size)) {
-                // Off screen: nothing known blocks it.
-                break;
-            }
-            let d = textureLoad(depth, vec2<u32>(tap), 0).r;
-            if (d <= 0.0) {
-                continue;
-            }
-            // How far the surface seen there lies in front of the ray's point.
-            let in_front = view_position(camera, vec2<u32>(tap), d).z - q.z;
-            if (in_front > params.bias && in_front < params.radius) {
-                blocked++;
-                break;
-            }
+        let dir = cosine_direction(frame, i, params.samples, noise);
+        if (march(camera, depth, origin, dir, params.radius, params.steps, jitter, params.bias).x >= 0) {
+            blocked++;
         }
     }
     return 1.0 - f32(blocked) / f32(params.samples);

@@ -6,26 +6,10 @@
 // multiplies another AO in. Half-width 0 is a copy.
 #import spreadlight::camera::Camera
 #import spreadlight::packing::safe_normalize
-#import spreadlight::screen::view_position
-
-struct Params {
-    radius: f32,
-    intensity: f32,
-    blend: f32,
-    bias: f32,
-    samples: u32,
-    steps: u32,
-    frame: u32,
-    blur_radius: u32,
-    reset: u32,
-    _pad0: u32,
-    _pad1: u32,
-    _pad2: u32,
-    _pad3: vec4<u32>,
-}
+#import spreadlight::screen::{RayParams, view_position}
 
 @group(0) @binding(0) var<uniform> camera: Camera;
-@group(0) @binding(1) var<uniform> params: Params;
+@group(0) @binding(1) var<uniform> params: RayParams;
 @group(0) @binding(2) var source: texture_2d<f32>;
 @group(0) @binding(3) var depth: texture_2d<f32>;
 @group(0) @binding(4) var normals: texture_2d<f32>;

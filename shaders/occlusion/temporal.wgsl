@@ -9,23 +9,7 @@
 // world normal octahedron-encoded.
 #import spreadlight::camera::Camera
 #import spreadlight::packing::safe_normalize
-#import spreadlight::screen::view_position
-
-struct Params {
-    radius: f32,
-    intensity: f32,
-    blend: f32,
-    bias: f32,
-    samples: u32,
-    steps: u32,
-    frame: u32,
-    blur_radius: u32,
-    reset: u32,
-    _pad0: u32,
-    _pad1: u32,
-    _pad2: u32,
-    _pad3: vec4<u32>,
-}
+#import spreadlight::screen::{RayParams, view_position}
 
 struct Temporal {
     // 1: the history texture was created this frame and holds nothing.
@@ -36,7 +20,7 @@ struct Temporal {
 }
 
 @group(0) @binding(0) var<uniform> camera: Camera;
-@group(0) @binding(1) var<uniform> params: Params;
+@group(0) @binding(1) var<uniform> params: RayParams;
 @group(0) @binding(2) var raw: texture_2d<f32>;
 @group(0) @binding(3) var depth: texture_2d<f32>;
 @group(0) @binding(4) var normals: texture_2d<f32>;

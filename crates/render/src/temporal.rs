@@ -32,3 +32,35 @@ impl TemporalState {
         (state.0, reset || stale)
     }
 }
+
+/// What the screen-space ray passes (AO, SSGI) are told each frame:
+/// `RayParams` in shaders/lib/screen.wgsl.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RayParams {
+    pub radius: f32,
+    pub intensity: f32,
+    pub blend: f32,
+    pub samples: u32,
+    pub steps: u32,
+    pub blur_radius: u32,
+}
+
+impl RayParams {
+    /// The uniform's 16 words for `frame`; `reset` drops the history.
+    pub fn words(&self, frame: u32, reset: bool) -> [u32; 16] {
+        let mut words = [0u32; 16];
+        words[..9].copy_from_slice(&[
+            self.radius.to_bits(),
+            self.intensity.to_bits(),
+            self.blend.to_bits(),
+            // Bias: a small share of the radius, so flat surfaces do not self-occlude.
+            (self.radius * 0.02).to_bits(),
+            self.samples,
+            self.steps,
+            frame,
+            self.blur_radius,
+            u32::from(reset),
+        ]);
+        words
+    }
+}

@@ -10,14 +10,14 @@
 
 use std::sync::Arc;
 
-use glam::{Mat4, Vec3, Vec4};
+use glam::{Mat4, Vec3};
 use spreadlight_render::camera::{CameraInput, reverse_z};
 use spreadlight_render::gbuffer::GBuffer;
 use spreadlight_render::lighting::{Ssgi, SsgiSettings, Ssss, SsssQuality};
 use spreadlight_render::material::{Feature, Material, MaterialWorld};
 use spreadlight_render::occlusion::{AmbientOcclusion, AoMode, AoSettings};
 use spreadlight_render::readback::{ImageF32, render_and_read};
-use spreadlight_render::reference::occlusion::{Occluders, hemisphere_samples, visibility};
+use spreadlight_render::reference::occlusion::{Occluders, visibility_image};
 use spreadlight_render::reference::shadows::Sphere;
 use spreadlight_render::renderer::test_renderer;
 use spreadlight_render::scenes::balls_on_floor;
@@ -100,7 +100,6 @@ fn pixel_of(p: Vec3, size: (u32, u32)) -> (u32, u32) {
 /// Ray-cast AO of radius 1 under every pixel with geometry (None: sky).
 fn reference(depth: &ImageF32, size: (u32, u32), rays: u32) -> Vec<Option<f32>> {
     let c = camera(eye(), size.0 as f32 / size.1 as f32);
-    let inverse = (reverse_z(c.projection) * c.view).inverse();
     let occluders = Occluders {
         spheres: vec![Sphere {
             center: BALL.0,
@@ -108,27 +107,30 @@ fn reference(depth: &ImageF32, size: (u32, u32), rays: u32) -> Vec<Option<f32>> 
         }],
         floor: Some(FLOOR / 2.0),
     };
-    let samples = hemisphere_samples(rays);
-    depth
-        .pixels
-        .iter()
-        .enumerate()
-        .map(|(i, d)| {
-            if d[0] <= 0.0 {
-                return None;
-            }
-            let (x, y) = (i as u32 % size.0, i as u32 / size.0);
-            let ndc = Vec4::new(
-                (x as f32 + 0.5) / size.0 as f32 * 2.0 - 1.0,
-                1.0 - (y as f32 + 0.5) / size.1 as f32 * 2.0,
-                d[0],
-                1.0,
-            );
-            let h = inverse * ndc;
-            let (p, n) = occluders.on_surface(h.truncate() / h.w);
-            Some(visibility(p, n, 1.0, &occluders, &samples))
-        })
-        .collect()
+    let depths: Vec<f32> = depth.pixels.iter().map(|p| p[0]).collect();
+    let inverse = (reverse_z(c.projection) * c.view).inverse();
+    visibility_image(&depths, size, inverse, &occluders, 1.0, rays)
+}
+
+/// Fill a persistent RGBA16F history with half-float NaN and infinity.
+fn poison(renderer: &Renderer, name: &str) {
+    let history = renderer
+        .persistent_texture(name)
+        .expect("the history exists after a frame");
+    let size = history.size();
+    let texels: Vec<u16> = (0..size.width * size.height * 4)
+        .map(|i| if i % 8 < 4 { 0x7e00 } else { 0x7c00 })
+        .collect();
+    renderer.gpu.queue.write_texture(
+        history.as_image_copy(),
+        bytemuck::cast_slice(&texels),
+        wgpu::TexelCopyBufferLayout {
+            offset: 0,
+            bytes_per_row: Some(size.width * 8),
+            rows_per_image: None,
+        },
+        size,
+    );
 }
 
 fn rmse(image: &ImageF32, truth: &[Option<f32>]) -> f32 {
@@ -238,23 +240,8 @@ fn a_nan_in_the_history_does_not_spread() {
     still_frames(&renderer, settings, 2);
     let g = gbuffer(&renderer, eye(), None, SIZE);
     let name = AmbientOcclusion::new(&renderer, Some(7), g, settings, None).history_name();
-    let history = renderer
-        .persistent_texture(&name)
-        .expect("the history exists after a frame");
     // Half-float NaN (0x7e00) and infinity (0x7c00) over the whole history.
-    let texels: Vec<u16> = (0..SIZE.0 * SIZE.1 * 4)
-        .map(|i| if i % 8 < 4 { 0x7e00 } else { 0x7c00 })
-        .collect();
-    renderer.gpu.queue.write_texture(
-        history.as_image_copy(),
-        bytemuck::cast_slice(&texels),
-        wgpu::TexelCopyBufferLayout {
-            offset: 0,
-            bytes_per_row: Some(SIZE.0 * 8),
-            rows_per_image: None,
-        },
-        history.size(),
-    );
+    poison(&renderer, &name);
     for _ in 0..3 {
         let (_, image, _) = still_frames(&renderer, settings, 1);
         assert!(image.all_finite(), "NaN history reached the output");
@@ -538,20 +525,7 @@ fn ssgi_accumulates_and_survives_a_nan_history_and_hard_settings() {
     let g = gbuffer(&renderer, eye(), None, SIZE);
     let lit = constant(&renderer, [1.0; 3], SIZE, "lit");
     let name = Ssgi::new(&renderer, Some(11), g, lit.texture_ref(), None, settings).history_name();
-    let history = renderer.persistent_texture(&name).expect("history");
-    let texels: Vec<u16> = (0..SIZE.0 * SIZE.1 * 4)
-        .map(|i| if i % 2 == 0 { 0x7e00 } else { 0x7c00 })
-        .collect();
-    renderer.gpu.queue.write_texture(
-        history.as_image_copy(),
-        bytemuck::cast_slice(&texels),
-        wgpu::TexelCopyBufferLayout {
-            offset: 0,
-            bytes_per_row: Some(SIZE.0 * 8),
-            rows_per_image: None,
-        },
-        history.size(),
-    );
+    poison(&renderer, &name);
     let (_, image, _) = ssgi(&renderer, settings, true, 2);
     assert!(image.all_finite(), "a NaN history spread");
     for radius in [0.0, 1e5] {

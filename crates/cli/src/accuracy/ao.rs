@@ -11,12 +11,12 @@ use std::process::ExitCode;
 use std::sync::Arc;
 
 use anyhow::Context;
-use glam::{Mat4, Vec3, Vec4};
+use glam::{Mat4, Vec3};
 use spreadlight_render::camera::{CameraInput, reverse_z};
 use spreadlight_render::gbuffer::{GBuffer, Layer};
 use spreadlight_render::occlusion::{AmbientOcclusion, AoMode, AoSettings};
 use spreadlight_render::readback::{ImageF32, render_and_read};
-use spreadlight_render::reference::occlusion::{Occluders, hemisphere_samples, visibility};
+use spreadlight_render::reference::occlusion::{Occluders, visibility_image};
 use spreadlight_render::reference::shadows::Sphere;
 use spreadlight_render::scenes::balls_on_floor;
 use spreadlight_render::{FrameGraph, Recipe, Renderer, SizeRule};
@@ -228,7 +228,6 @@ fn time(
 /// Ray-cast AO under every pixel with geometry; None for the sky.
 fn reference(depth: &ImageF32, size: (u32, u32), radius: f32, rays: u32) -> Vec<Option<f32>> {
     let c = camera(size);
-    let inverse = (reverse_z(c.projection) * c.view).inverse();
     let occluders = Occluders {
         spheres: BALLS
             .iter()
@@ -239,27 +238,9 @@ fn reference(depth: &ImageF32, size: (u32, u32), radius: f32, rays: u32) -> Vec<
             .collect(),
         floor: Some(FLOOR / 2.0),
     };
-    let samples = hemisphere_samples(rays);
-    depth
-        .pixels
-        .iter()
-        .enumerate()
-        .map(|(i, d)| {
-            if d[0] <= 0.0 {
-                return None;
-            }
-            let (x, y) = (i as u32 % size.0, i as u32 / size.0);
-            let ndc = Vec4::new(
-                (x as f32 + 0.5) / size.0 as f32 * 2.0 - 1.0,
-                1.0 - (y as f32 + 0.5) / size.1 as f32 * 2.0,
-                d[0],
-                1.0,
-            );
-            let h = inverse * ndc;
-            let (p, n) = occluders.on_surface(h.truncate() / h.w);
-            Some(visibility(p, n, radius, &occluders, &samples))
-        })
-        .collect()
+    let depths: Vec<f32> = depth.pixels.iter().map(|p| p[0]).collect();
+    let inverse = (reverse_z(c.projection) * c.view).inverse();
+    visibility_image(&depths, size, inverse, &occluders, radius, rays)
 }
 
 fn error(ao: &ImageF32, truth: &[Option<f32>], size: (u32, u32)) -> metrics::Error {

@@ -27,7 +27,7 @@ use crate::gbuffer::GBuffer;
 use crate::recipe::{Recipe, TextureRef, next_recipe_id, pass_name};
 use crate::renderer::Renderer;
 use crate::shaders::ShaderKey;
-use crate::temporal::TemporalState;
+use crate::temporal::{RayParams, TemporalState};
 
 /// Which estimator.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -215,28 +215,19 @@ impl AmbientOcclusion {
     /// Upload this frame's parameters: the frame index turns the samples.
     fn write_params(&self, cx: &PassContext<'_>, frame: u32, reset: bool) {
         let s = self.settings;
-        let words: [u32; 16] = [
-            s.radius.to_bits(),
-            s.intensity.to_bits(),
-            s.temporal_blend.to_bits(),
-            // Bias: a small share of the radius, so flat surfaces do not self-occlude.
-            (s.radius * 0.02).to_bits(),
-            s.samples,
-            s.steps,
-            frame,
-            s.blur_radius,
-            u32::from(reset),
+        let params = RayParams {
+            radius: s.radius,
+            intensity: s.intensity,
+            blend: s.temporal_blend,
+            samples: s.samples,
+            steps: s.steps,
+            blur_radius: s.blur_radius,
+        };
+        cx.gpu.queue.write_buffer(
+            &self.params,
             0,
-            0,
-            0,
-            0,
-            0,
-            0,
-            0,
-        ];
-        cx.gpu
-            .queue
-            .write_buffer(&self.params, 0, bytemuck::cast_slice(&words));
+            bytemuck::cast_slice(&params.words(frame, reset)),
+        );
     }
 
     fn linear_depth(&self, cx: &mut PassContext<'_>, level: usize) -> Result<(), RenderError> {

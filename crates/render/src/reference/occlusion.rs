@@ -4,7 +4,7 @@
 //! are measured against (`spreadlight accuracy ao`, crates/render/tests/occlusion.rs):
 //! it sees what the screen cannot (hidden and off-screen occluders).
 
-use glam::Vec3;
+use glam::{Mat4, Vec3, Vec4};
 
 use super::shadows::Sphere;
 
@@ -109,6 +109,40 @@ pub fn visibility(
         })
         .count();
     open as f32 / samples.len() as f32
+}
+
+/// Ray-cast visibility under every pixel of a `size` image whose reversed-Z
+/// depths are `depth` (row by row; 0 = no geometry, giving None), seen
+/// through `inverse_view_projection`: each pixel's point is put on the true
+/// surface and `rays` cosine-weighted rays of `radius` are cast from it.
+pub fn visibility_image(
+    depth: &[f32],
+    size: (u32, u32),
+    inverse_view_projection: Mat4,
+    occluders: &Occluders,
+    radius: f32,
+    rays: u32,
+) -> Vec<Option<f32>> {
+    let samples = hemisphere_samples(rays);
+    depth
+        .iter()
+        .enumerate()
+        .map(|(i, &d)| {
+            if d <= 0.0 {
+                return None;
+            }
+            let (x, y) = (i as u32 % size.0, i as u32 / size.0);
+            let ndc = Vec4::new(
+                (x as f32 + 0.5) / size.0 as f32 * 2.0 - 1.0,
+                1.0 - (y as f32 + 0.5) / size.1 as f32 * 2.0,
+                d,
+                1.0,
+            );
+            let h = inverse_view_projection * ndc;
+            let (p, n) = occluders.on_surface(h.truncate() / h.w);
+            Some(visibility(p, n, radius, occluders, &samples))
+        })
+        .collect()
 }
 
 #[cfg(test)]
