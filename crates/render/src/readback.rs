@@ -37,7 +37,10 @@ pub fn read_texture_layer(
     layer: u32,
     mip: u32,
 ) -> Result<ImageF32, RenderError> {
-    let (width, height) = ((texture.width() >> mip).max(1), (texture.height() >> mip).max(1));
+    let (width, height) = (
+        (texture.width() >> mip).max(1),
+        (texture.height() >> mip).max(1),
+    );
     let format = texture.format();
     let bytes_per_pixel: u32 = match format {
         wgpu::TextureFormat::Rgba16Float | wgpu::TextureFormat::Rg32Uint => 8,

@@ -89,7 +89,12 @@ fn reflect(
     world: Vec<Material>,
     environment: Arc<Environment>,
     mode: ReflectionMode,
-) -> (spreadlight_render::FrameReport, ImageF32, ImageF32, ImageF32) {
+) -> (
+    spreadlight_render::FrameReport,
+    ImageF32,
+    ImageF32,
+    ImageF32,
+) {
     let materials = MaterialWorld::new(renderer, world);
     let r = Reflection::new(renderer, None, g.clone(), materials, environment, mode);
     let (report, images) = render_and_read(
@@ -241,7 +246,10 @@ fn roughness_one_is_the_irradiance_blur() {
     // over the sphere: the N.L-weighted average is E / pi, the irradiance output.
     // Compared face by face, as means (the levels differ in size).
     let mean = |image: &ImageF32| {
-        image.pixels.iter().fold(Vec3::ZERO, |acc, p| acc + Vec3::from_slice(&p[..3]))
+        image
+            .pixels
+            .iter()
+            .fold(Vec3::ZERO, |acc, p| acc + Vec3::from_slice(&p[..3]))
             / image.pixels.len() as f32
     };
     for face in 0..6 {
@@ -282,7 +290,8 @@ fn a_1e6_sun_pixel_stays_finite_and_inside_the_stated_bound() {
     // roughest level (the cosine-weighted average E / pi) holds at most the
     // background plus that energy / pi, doubled for the mip filtering's spread.
     let theta = (20.5 / h as f32) * std::f32::consts::PI;
-    let solid_angle = (std::f32::consts::TAU / w as f32) * (std::f32::consts::PI / h as f32) * theta.sin();
+    let solid_angle =
+        (std::f32::consts::TAU / w as f32) * (std::f32::consts::PI / h as f32) * theta.sin();
     let bound = 1.0 + 2.0 * 65000.0 * solid_angle / std::f32::consts::PI;
     for level in 0..maps.levels() {
         let faces = cube_level(&renderer, &maps.prefiltered, level);
@@ -322,18 +331,36 @@ fn without_a_reflective_material_no_environment_is_built_and_reflection_only_cle
     assert_eq!(report.counter("reflection shaded"), 0);
     assert_eq!(report.counter("environment prefiltered"), 0);
     assert!(!report.passes.iter().any(|p| p.name.contains("Environment")));
-    assert!(specular.pixels.iter().chain(&diffuse.pixels).all(|p| p[..3] == [0.0; 3]));
+    assert!(
+        specular
+            .pixels
+            .iter()
+            .chain(&diffuse.pixels)
+            .all(|p| p[..3] == [0.0; 3])
+    );
 
     // Wired but not requested: the reflection pass is culled.
     let materials = MaterialWorld::new(&renderer, vec![reflective(0.2, 1.0)]);
     let environment = sky_environment(&renderer, None, calm_sky());
-    let r = Reflection::new(&renderer, None, g.clone(), materials, environment, ReflectionMode::Reflect);
+    let r = Reflection::new(
+        &renderer,
+        None,
+        g.clone(),
+        materials,
+        environment,
+        ReflectionMode::Reflect,
+    );
     let mut graph = spreadlight_render::FrameGraph::new(SIZE);
     spreadlight_render::Recipe::declare(r.as_ref(), &renderer, &mut graph);
     graph.request(&g.targets.color);
     let (report, _) = graph.execute(&renderer).expect("runs");
     assert!(report.errors.is_empty(), "{:?}", report.errors);
-    assert!(!report.passes.iter().any(|p| p.name.contains("Reflection") || p.name.contains("Environment")));
+    assert!(
+        !report
+            .passes
+            .iter()
+            .any(|p| p.name.contains("Reflection") || p.name.contains("Environment"))
+    );
     assert!(report.culled.iter().any(|p| p.contains("Reflection")));
 }
 
@@ -364,7 +391,12 @@ fn reflection_and_refraction_stay_finite_from_every_side() {
                     mode,
                 );
                 assert!(s.all_finite() && d.all_finite(), "{eye} {mode:?}");
-                assert!(s.pixels.iter().chain(&d.pixels).all(|p| p[..3].iter().all(|c| *c >= 0.0 && *c <= 65000.0)));
+                assert!(
+                    s.pixels
+                        .iter()
+                        .chain(&d.pixels)
+                        .all(|p| p[..3].iter().all(|c| *c >= 0.0 && *c <= 65000.0))
+                );
             }
         }
     }
@@ -374,7 +406,11 @@ fn reflection_and_refraction_stay_finite_from_every_side() {
 fn refraction_shows_the_environment_behind_the_surface() {
     let renderer = test_renderer();
     // Looking straight down at the floor: reflection sees the zenith, refraction the ground below.
-    let g = gbuffer_from(&renderer, Vec3::new(3.0, 3.0, 0.01), Vec3::new(3.0, 0.0, 0.0));
+    let g = gbuffer_from(
+        &renderer,
+        Vec3::new(3.0, 3.0, 0.01),
+        Vec3::new(3.0, 0.0, 0.0),
+    );
     let sky = SkySettings {
         zenith: Vec3::new(0.0, 0.0, 1.0),
         horizon: Vec3::ONE,
@@ -385,11 +421,29 @@ fn refraction_shows_the_environment_behind_the_surface() {
     };
     let environment = sky_environment(&renderer, None, sky);
     let world = || vec![reflective(0.0, 0.0), reflective(0.0, 0.0)];
-    let (_, reflected, ..) = reflect(&renderer, &g, world(), environment.clone(), ReflectionMode::Reflect);
-    let (_, refracted, ..) = reflect(&renderer, &g, world(), environment, ReflectionMode::Refract { ior: 1.33 });
-    let (r, t) = (reflected.pixel(SIZE.0 / 2, SIZE.1 / 2), refracted.pixel(SIZE.0 / 2, SIZE.1 / 2));
+    let (_, reflected, ..) = reflect(
+        &renderer,
+        &g,
+        world(),
+        environment.clone(),
+        ReflectionMode::Reflect,
+    );
+    let (_, refracted, ..) = reflect(
+        &renderer,
+        &g,
+        world(),
+        environment,
+        ReflectionMode::Refract { ior: 1.33 },
+    );
+    let (r, t) = (
+        reflected.pixel(SIZE.0 / 2, SIZE.1 / 2),
+        refracted.pixel(SIZE.0 / 2, SIZE.1 / 2),
+    );
     assert!(r[2] > r[1], "reflection: the blue zenith {r:?}");
-    assert!(t[1] > t[2] && t[1] > 0.5, "refraction: the green ground, most light through {t:?}");
+    assert!(
+        t[1] > t[2] && t[1] > 0.5,
+        "refraction: the green ground, most light through {t:?}"
+    );
 }
 
 #[test]
@@ -449,7 +503,8 @@ fn constant(renderer: &Renderer, size: (u32, u32), c: [f32; 4]) -> Arc<StaticTex
 
 /// The lit image a test gives SSR: the ball red, the floor dark blue, the sky black.
 fn lit_image(renderer: &Renderer, g: &Arc<GBuffer>) -> Arc<StaticTexture> {
-    let (_, images) = render_and_read(renderer, g.as_ref(), SIZE, &[&g.targets.depth]).expect("renders");
+    let (_, images) =
+        render_and_read(renderer, g.as_ref(), SIZE, &[&g.targets.depth]).expect("renders");
     let depth = &images[0];
     let mut pixels = Vec::new();
     for y in 0..SIZE.1 {
@@ -464,7 +519,13 @@ fn lit_image(renderer: &Renderer, g: &Arc<GBuffer>) -> Arc<StaticTexture> {
             });
         }
     }
-    StaticTexture::new(GpuTexture::from_rgba32f(&renderer.gpu, SIZE.0, SIZE.1, &pixels, "lit"))
+    StaticTexture::new(GpuTexture::from_rgba32f(
+        &renderer.gpu,
+        SIZE.0,
+        SIZE.1,
+        &pixels,
+        "lit",
+    ))
 }
 
 fn ssr_frame(
@@ -476,11 +537,24 @@ fn ssr_frame(
     owner: Option<u32>,
     size: (u32, u32),
 ) -> (spreadlight_render::FrameReport, ImageF32, Arc<Ssr>) {
-    let lit = if size == SIZE { lit_image(renderer, g) } else { constant(renderer, size, [1.0, 0.0, 0.0, 1.0]) };
+    let lit = if size == SIZE {
+        lit_image(renderer, g)
+    } else {
+        constant(renderer, size, [1.0, 0.0, 0.0, 1.0])
+    };
     let fallback = constant(renderer, size, fallback);
     let materials = MaterialWorld::new(renderer, world);
-    let ssr = Ssr::new(renderer, owner, g.clone(), materials, lit.texture_ref(), fallback.texture_ref(), settings);
-    let (report, images) = render_and_read(renderer, ssr.as_ref(), size, &[&ssr.output]).expect("renders");
+    let ssr = Ssr::new(
+        renderer,
+        owner,
+        g.clone(),
+        materials,
+        lit.texture_ref(),
+        fallback.texture_ref(),
+        settings,
+    );
+    let (report, images) =
+        render_and_read(renderer, ssr.as_ref(), size, &[&ssr.output]).expect("renders");
     assert!(report.errors.is_empty(), "{:?}", report.errors);
     (report, images.into_iter().next().expect("output"), ssr)
 }
@@ -499,12 +573,24 @@ fn a_mirror_floor_reflects_the_ball_where_the_reference_says() {
         ..Default::default()
     };
     // Only the floor reflects (a mirror, F0 = 0.8); misses fall back to black.
-    let (_, image, _) = ssr_frame(&renderer, &g, vec![plain(), reflective(0.0, 1.0)], [0.0; 4], settings, None, SIZE);
+    let (_, image, _) = ssr_frame(
+        &renderer,
+        &g,
+        vec![plain(), reflective(0.0, 1.0)],
+        [0.0; 4],
+        settings,
+        None,
+        SIZE,
+    );
     assert!(image.all_finite());
-    let (_, images) = render_and_read(&renderer, g.as_ref(), SIZE, &[&g.targets.depth]).expect("renders");
+    let (_, images) =
+        render_and_read(&renderer, g.as_ref(), SIZE, &[&g.targets.depth]).expect("renders");
     let depth = &images[0];
     let scene = BallsScene {
-        balls: vec![Sphere { center: BALL.0, radius: BALL.1 }],
+        balls: vec![Sphere {
+            center: BALL.0,
+            radius: BALL.1,
+        }],
         floor: 8.0,
     };
     let (mut agree, mut total, mut ball_hits) = (0, 0, 0);
@@ -530,17 +616,28 @@ fn a_mirror_floor_reflects_the_ball_where_the_reference_says() {
         }
     }
     assert!(ball_hits > 20, "the ball is reflected in view: {ball_hits}");
-    assert!(agree as f32 >= 0.93 * total as f32, "{agree} of {total} floor pixels agree with the reference");
+    assert!(
+        agree as f32 >= 0.93 * total as f32,
+        "{agree} of {total} floor pixels agree with the reference"
+    );
 }
 
 #[test]
 fn ssr_misses_and_rays_leaving_the_screen_fall_back_at_roughness_0_and_1() {
     let renderer = test_renderer();
     // Looking down at the floor from high up, away from the ball: every reflection leaves the screen.
-    let g = gbuffer_from(&renderer, Vec3::new(3.0, 4.0, 3.0), Vec3::new(3.0, 0.0, 2.0));
+    let g = gbuffer_from(
+        &renderer,
+        Vec3::new(3.0, 4.0, 3.0),
+        Vec3::new(3.0, 0.0, 2.0),
+    );
     for roughness in [0.0, 1.0] {
         for temporal in [false, true] {
-            let settings = SsrSettings { temporal, rays: 4, ..Default::default() };
+            let settings = SsrSettings {
+                temporal,
+                rays: 4,
+                ..Default::default()
+            };
             let (_, image, _) = ssr_frame(
                 &renderer,
                 &g,
@@ -552,7 +649,10 @@ fn ssr_misses_and_rays_leaving_the_screen_fall_back_at_roughness_0_and_1() {
             );
             assert!(image.all_finite());
             let centre = image.pixel(SIZE.0 / 2, SIZE.1 / 2);
-            assert!((centre[1] - 1.0).abs() < 1e-3 && centre[0] < 1e-3, "roughness {roughness}: {centre:?}");
+            assert!(
+                (centre[1] - 1.0).abs() < 1e-3 && centre[0] < 1e-3,
+                "roughness {roughness}: {centre:?}"
+            );
         }
     }
 }
@@ -568,7 +668,11 @@ fn ssr_stays_finite_on_sky_edges_and_surfaces_facing_away() {
     ] {
         let g = gbuffer_from(&renderer, eye, target);
         for roughness in [0.0, 0.5, 1.0] {
-            let settings = SsrSettings { rays: 2, temporal: false, ..Default::default() };
+            let settings = SsrSettings {
+                rays: 2,
+                temporal: false,
+                ..Default::default()
+            };
             let (_, image, _) = ssr_frame(
                 &renderer,
                 &g,
@@ -579,7 +683,12 @@ fn ssr_stays_finite_on_sky_edges_and_surfaces_facing_away() {
                 SIZE,
             );
             assert!(image.all_finite(), "{eye} roughness {roughness}");
-            assert!(image.pixels.iter().all(|p| p[..3].iter().all(|c| (0.0..=65000.0).contains(c))));
+            assert!(
+                image
+                    .pixels
+                    .iter()
+                    .all(|p| p[..3].iter().all(|c| (0.0..=65000.0).contains(c)))
+            );
         }
     }
 }
@@ -589,7 +698,10 @@ fn ssr_history_survives_a_nan_a_camera_cut_and_a_resize() {
     let renderer = test_renderer();
     let g = gbuffer(&renderer);
     let world = || vec![reflective(0.3, 1.0), reflective(0.1, 1.0)];
-    let settings = SsrSettings { temporal: true, ..Default::default() };
+    let settings = SsrSettings {
+        temporal: true,
+        ..Default::default()
+    };
     let owner = Some(901);
     let (first, ..) = ssr_frame(&renderer, &g, world(), [0.1; 4], settings, owner, SIZE);
     assert_eq!(first.counter("ssr history reset"), 1);
@@ -602,7 +714,9 @@ fn ssr_history_survives_a_nan_a_camera_cut_and_a_resize() {
         format: wgpu::TextureFormat::Rgba16Float,
         size: SizeRule::Relative(1.0),
         lifetime: Lifetime::Persistent,
-        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST | wgpu::TextureUsages::COPY_SRC,
+        usage: wgpu::TextureUsages::TEXTURE_BINDING
+            | wgpu::TextureUsages::COPY_DST
+            | wgpu::TextureUsages::COPY_SRC,
     };
     let mut graph = spreadlight_render::FrameGraph::new(SIZE);
     let name = history.clone();
@@ -613,7 +727,11 @@ fn ssr_history_survives_a_nan_a_camera_cut_and_a_resize() {
         cx.gpu.queue.write_texture(
             texture.as_image_copy(),
             &data,
-            wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(SIZE.0 * 8), rows_per_image: None },
+            wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(SIZE.0 * 8),
+                rows_per_image: None,
+            },
             texture.size(),
         );
         Ok(())
@@ -622,7 +740,11 @@ fn ssr_history_survives_a_nan_a_camera_cut_and_a_resize() {
     let (report, _) = graph.execute(&renderer).expect("runs");
     assert!(report.errors.is_empty(), "{:?}", report.errors);
     let (third, image, _) = ssr_frame(&renderer, &g, world(), [0.1; 4], settings, owner, SIZE);
-    assert_eq!(third.counter("ssr history used"), 1, "the poisoned history was read");
+    assert_eq!(
+        third.counter("ssr history used"),
+        1,
+        "the poisoned history was read"
+    );
     assert!(image.all_finite(), "a NaN in the history does not spread");
 
     // A camera cut resets the history; so does a resize.
@@ -640,15 +762,36 @@ fn ssr_history_survives_a_nan_a_camera_cut_and_a_resize() {
 fn ssr_runs_only_when_a_material_reflects_and_its_output_is_wanted() {
     let renderer = test_renderer();
     let g = gbuffer(&renderer);
-    let (report, image, _) = ssr_frame(&renderer, &g, vec![plain(), plain()], [1.0; 4], SsrSettings::default(), Some(3), SIZE);
+    let (report, image, _) = ssr_frame(
+        &renderer,
+        &g,
+        vec![plain(), plain()],
+        [1.0; 4],
+        SsrSettings::default(),
+        Some(3),
+        SIZE,
+    );
     assert_eq!(report.counter("ssr skipped"), 1);
     assert_eq!(report.counter("ssr traced"), 0);
-    assert!(!report.passes.iter().any(|p| p.name.contains("trace") || p.name.contains("hi-z")));
+    assert!(
+        !report
+            .passes
+            .iter()
+            .any(|p| p.name.contains("trace") || p.name.contains("hi-z"))
+    );
     assert!(image.pixels.iter().all(|p| p[..3] == [0.0; 3]));
     // Wired, not requested: culled.
     let lit = constant(&renderer, SIZE, [1.0; 4]);
     let materials = MaterialWorld::new(&renderer, vec![reflective(0.0, 1.0)]);
-    let ssr = Ssr::new(&renderer, None, g.clone(), materials, lit.texture_ref(), lit.texture_ref(), SsrSettings::default());
+    let ssr = Ssr::new(
+        &renderer,
+        None,
+        g.clone(),
+        materials,
+        lit.texture_ref(),
+        lit.texture_ref(),
+        SsrSettings::default(),
+    );
     let mut graph = spreadlight_render::FrameGraph::new(SIZE);
     spreadlight_render::Recipe::declare(ssr.as_ref(), &renderer, &mut graph);
     graph.request(&g.targets.color);

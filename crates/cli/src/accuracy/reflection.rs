@@ -215,7 +215,9 @@ fn reference(size: (u32, u32), rays: u32, floor: f32) -> Vec<Option<Vec3>> {
             };
             // A golden-ratio rotation per pixel decorrelates neighbours' patterns.
             let rotation = (i as f32 * 0.618_034).fract();
-            Some(specular_reflection(&scene, &env, &radiance, &s, rays, rotation))
+            Some(specular_reflection(
+                &scene, &env, &radiance, &s, rays, rotation,
+            ))
         })
         .collect()
 }
@@ -291,7 +293,8 @@ fn frame(
         Method::Environment(q) => q,
         Method::Ssr(_) => FALLBACK,
     };
-    let owner = (!fresh_environment).then_some(ENV_OWNER + quality.cube_size * 10_000 + quality.samples);
+    let owner =
+        (!fresh_environment).then_some(ENV_OWNER + quality.cube_size * 10_000 + quality.samples);
     let env = Environment::new(renderer, owner, EnvironmentSource::Sky(sky()), quality);
     let reflection = Reflection::new(
         renderer,
@@ -318,8 +321,12 @@ fn frame(
         }
     };
     let (report, images) = if read {
-        let (report, images) =
-            render_and_read(renderer, recipe.as_ref(), size, &[&output, &g.targets.depth])?;
+        let (report, images) = render_and_read(
+            renderer,
+            recipe.as_ref(),
+            size,
+            &[&output, &g.targets.depth],
+        )?;
         (report, Some(images))
     } else {
         let mut graph = FrameGraph::new(size);
@@ -354,7 +361,12 @@ fn upload_lit(renderer: &Renderer, size: (u32, u32)) -> Arc<StaticTexture> {
     ))
 }
 
-fn error(image: &ImageF32, depth: &ImageF32, truth: &[Option<Vec3>], size: (u32, u32)) -> metrics::Error {
+fn error(
+    image: &ImageF32,
+    depth: &ImageF32,
+    truth: &[Option<Vec3>],
+    size: (u32, u32),
+) -> metrics::Error {
     let mask: Vec<bool> = truth
         .iter()
         .zip(&depth.pixels)
@@ -381,7 +393,10 @@ fn methods(args: &ReflectionArgs) -> Vec<Method> {
     let mut m = Vec::new();
     for &cube_size in &args.cube_sizes {
         for &samples in &args.samples {
-            m.push(Method::Environment(EnvironmentQuality { cube_size, samples }));
+            m.push(Method::Environment(EnvironmentQuality {
+                cube_size,
+                samples,
+            }));
         }
     }
     for temporal in [false, true] {
@@ -413,7 +428,13 @@ pub fn run(args: &ReflectionArgs) -> anyhow::Result<ExitCode> {
     let methods = methods(args);
     let mut rows = Vec::new();
     for (k, method) in methods.iter().enumerate() {
-        eprintln!("[{}/{}] {} {}", k + 1, methods.len(), method.family(), method.setting());
+        eprintln!(
+            "[{}/{}] {} {}",
+            k + 1,
+            methods.len(),
+            method.family(),
+            method.setting()
+        );
         renderer.reset_history();
         let accumulate = match method {
             Method::Ssr(s) if s.temporal => args.temporal_frames.max(1),
@@ -421,7 +442,15 @@ pub fn run(args: &ReflectionArgs) -> anyhow::Result<ExitCode> {
         };
         let mut last = None;
         for _ in 0..accumulate {
-            last = Some(frame(&renderer, &scene, &lit_error, args.error_size, *method, false, true)?);
+            last = Some(frame(
+                &renderer,
+                &scene,
+                &lit_error,
+                args.error_size,
+                *method,
+                false,
+                true,
+            )?);
         }
         let last = last.context("a frame")?;
         let (image, depth) = (last.image.context("image")?, last.depth.context("depth")?);
@@ -430,7 +459,15 @@ pub fn run(args: &ReflectionArgs) -> anyhow::Result<ExitCode> {
         let mut builds = Vec::new();
         if let Method::Environment(_) = method {
             for i in 0..args.warmup.min(1) + args.frames.max(1) {
-                let f = frame(&renderer, &scene, &lit_time, args.time_size, *method, true, false)?;
+                let f = frame(
+                    &renderer,
+                    &scene,
+                    &lit_time,
+                    args.time_size,
+                    *method,
+                    true,
+                    false,
+                )?;
                 if i >= args.warmup.min(1) {
                     builds.extend(f.build_ms);
                 }
@@ -439,7 +476,15 @@ pub fn run(args: &ReflectionArgs) -> anyhow::Result<ExitCode> {
         renderer.reset_history();
         let mut times = Vec::new();
         for i in 0..args.warmup + args.frames.max(1) {
-            let f = frame(&renderer, &scene, &lit_time, args.time_size, *method, false, false)?;
+            let f = frame(
+                &renderer,
+                &scene,
+                &lit_time,
+                args.time_size,
+                *method,
+                false,
+                false,
+            )?;
             if i >= args.warmup {
                 times.extend(f.frame_ms);
             }

@@ -6,19 +6,26 @@
 use std::sync::Arc;
 
 use spreadlight_graph::{EvalContext, NodeDef, NodeError, PinType, Registry, ResourceKind};
-use spreadlight_render::environment::{Environment, EnvironmentQuality, EnvironmentSource, EquirectImage};
+use spreadlight_render::environment::{
+    Environment, EnvironmentQuality, EnvironmentSource, EquirectImage,
+};
 
 use super::sky::{read_sky, sky_pins};
 use crate::gpu::{renderer, resource_spread};
 
 fn with_quality(def: NodeDef) -> NodeDef {
     let d = EnvironmentQuality::default();
-    def.input("Cube Size", i64::from(d.cube_size)).input("Samples", i64::from(d.samples))
+    def.input("Cube Size", i64::from(d.cube_size))
+        .input("Samples", i64::from(d.samples))
 }
 
 fn quality(cx: &EvalContext<'_>, first: usize) -> Result<EnvironmentQuality, NodeError> {
     let int = |pin: usize, fallback: u32| -> Result<u32, NodeError> {
-        let v = cx.slices::<i64>(pin)?.first().copied().unwrap_or(i64::from(fallback));
+        let v = cx
+            .slices::<i64>(pin)?
+            .first()
+            .copied()
+            .unwrap_or(i64::from(fallback));
         if v < 1 {
             return Err(cx.input_error(pin, format!("must be at least 1, got {v}")));
         }
@@ -31,10 +38,17 @@ fn quality(cx: &EvalContext<'_>, first: usize) -> Result<EnvironmentQuality, Nod
     })
 }
 
-fn output(cx: &mut EvalContext<'_>, source: EnvironmentSource, quality: EnvironmentQuality) -> Result<(), NodeError> {
+fn output(
+    cx: &mut EvalContext<'_>,
+    source: EnvironmentSource,
+    quality: EnvironmentQuality,
+) -> Result<(), NodeError> {
     let renderer = renderer(cx)?;
     let environment = Environment::new(&renderer, Some(cx.node_id.0), source, quality);
-    cx.set_output(0, resource_spread::<Environment>(ResourceKind::Environment, vec![environment]));
+    cx.set_output(
+        0,
+        resource_spread::<Environment>(ResourceKind::Environment, vec![environment]),
+    );
     Ok(())
 }
 

@@ -3,7 +3,9 @@
 //! sun's direction so the disk sits where the light comes from.
 
 use glam::Vec3;
-use spreadlight_graph::{Color, EvalContext, NodeDef, NodeError, PinType, Registry, ResourceKind, Spread};
+use spreadlight_graph::{
+    Color, EvalContext, NodeDef, NodeError, PinType, Registry, ResourceKind, Spread,
+};
 use spreadlight_render::TextureRef;
 use spreadlight_render::environment::{Environment, Sky, SkySettings};
 use spreadlight_render::gbuffer::GBuffer;
@@ -37,15 +39,22 @@ pub(super) fn read_sky(cx: &EvalContext<'_>, first: usize) -> Result<SkySettings
         }
     }
     let rgb = |c: &Color| Vec3::new(c.r, c.g, c.b);
-    let first_color = |pin: usize| -> Result<Vec3, NodeError> { Ok(cx.slices::<Color>(pin)?.first().map_or(Vec3::ONE, rgb)) };
-    let first_float =
-        |pin: usize, fallback: f32| -> Result<f32, NodeError> { Ok(cx.slices::<f32>(pin)?.first().copied().unwrap_or(fallback)) };
+    let first_color = |pin: usize| -> Result<Vec3, NodeError> {
+        Ok(cx.slices::<Color>(pin)?.first().map_or(Vec3::ONE, rgb))
+    };
+    let first_float = |pin: usize, fallback: f32| -> Result<f32, NodeError> {
+        Ok(cx.slices::<f32>(pin)?.first().copied().unwrap_or(fallback))
+    };
     let intensity = first_float(first + 3, 1.0)?.max(0.0);
     Ok(SkySettings {
         zenith: first_color(first)? * intensity,
         horizon: first_color(first + 1)? * intensity,
         ground: first_color(first + 2)? * intensity,
-        sun_direction: cx.slices::<Vec3>(first + 4)?.first().copied().unwrap_or(Vec3::NEG_Y),
+        sun_direction: cx
+            .slices::<Vec3>(first + 4)?
+            .first()
+            .copied()
+            .unwrap_or(Vec3::NEG_Y),
         sun_color: first_color(first + 5)? * first_float(first + 6, 50.0)?.max(0.0),
         sun_radius: first_float(first + 7, 0.00075)? * std::f32::consts::TAU,
         glow: first_float(first + 8, 1.0)?,

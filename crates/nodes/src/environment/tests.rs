@@ -13,7 +13,11 @@ fn file(path: &std::path::Path) -> Spread {
 fn a_missing_environment_file_is_an_error_naming_it() {
     let dir = tempfile::tempdir().expect("tempdir");
     let missing = dir.path().join("nowhere.hdr");
-    let e = eval_err("Environment (File)", &[("Filename", file(&missing))], "Filename");
+    let e = eval_err(
+        "Environment (File)",
+        &[("Filename", file(&missing))],
+        "Filename",
+    );
     assert!(e.to_string().contains("nowhere.hdr"), "{e}");
     let e = eval_err("Environment (File)", &[], "Filename");
     assert!(e.to_string().contains("no file given"), "{e}");
@@ -23,20 +27,40 @@ fn a_missing_environment_file_is_an_error_naming_it() {
 fn a_corrupt_environment_file_is_an_error_naming_it() {
     let dir = tempfile::tempdir().expect("tempdir");
     let corrupt = dir.path().join("broken.hdr");
-    std::fs::write(&corrupt, b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 4 +X 4\ngarbage").expect("write");
-    let e = eval_err("Environment (File)", &[("Filename", file(&corrupt))], "Filename");
+    std::fs::write(
+        &corrupt,
+        b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 4 +X 4\ngarbage",
+    )
+    .expect("write");
+    let e = eval_err(
+        "Environment (File)",
+        &[("Filename", file(&corrupt))],
+        "Filename",
+    );
     assert!(e.to_string().contains("broken.hdr"), "{e}");
     let text = dir.path().join("notes.exr");
     std::fs::write(&text, b"not an image at all").expect("write");
-    let e = eval_err("Environment (File)", &[("Filename", file(&text))], "Filename");
+    let e = eval_err(
+        "Environment (File)",
+        &[("Filename", file(&text))],
+        "Filename",
+    );
     assert!(e.to_string().contains("notes.exr"), "{e}");
 }
 
 #[test]
 fn bad_environment_pins_are_errors_naming_the_pin() {
-    let e = eval_err("Environment (Sky)", &[("Glow", floats(&[1.0, f32::NAN]))], "Glow");
+    let e = eval_err(
+        "Environment (Sky)",
+        &[("Glow", floats(&[1.0, f32::NAN]))],
+        "Glow",
+    );
     assert!(e.to_string().contains("slice 1"), "{e}");
-    let e = eval_err("Environment (Sky)", &[("Cube Size", Spread::Int(vec![0]))], "Cube Size");
+    let e = eval_err(
+        "Environment (Sky)",
+        &[("Cube Size", Spread::Int(vec![0]))],
+        "Cube Size",
+    );
     assert!(e.to_string().contains("at least 1"), "{e}");
     let e = eval_err("Reflection", &[("IOR", floats(&[f32::INFINITY]))], "IOR");
     assert!(e.to_string().contains("NaN or infinite"), "{e}");

@@ -102,7 +102,11 @@ impl ImagePass {
             all.push((5, wgpu::BindingResource::TextureView(cube)));
             all.push((6, wgpu::BindingResource::Sampler(&maps.sampler)));
         }
-        let features: &[&'static str] = if maps.is_some() { &["ENVIRONMENT"] } else { &[] };
+        let features: &[&'static str] = if maps.is_some() {
+            &["ENVIRONMENT"]
+        } else {
+            &[]
+        };
         let size = self.gbuffer.pixel_size(cx.output_size);
         cx.dispatch_image(
             self.name,
@@ -120,7 +124,10 @@ impl Recipe for ImagePass {
         }
         self.gbuffer.declare(renderer, fg);
         self.source.recipe.declare(renderer, fg);
-        let mut reads = vec![self.source.name.as_str(), self.gbuffer.targets.depth.as_str()];
+        let mut reads = vec![
+            self.source.name.as_str(),
+            self.gbuffer.targets.depth.as_str(),
+        ];
         if let Some(environment) = &self.environment {
             environment.declare(renderer, fg);
             reads.push(environment.token());

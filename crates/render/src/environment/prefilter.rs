@@ -167,7 +167,9 @@ pub(crate) fn build(
             let equirect = upload_equirect(cx, image);
             let view = equirect.create_view(&Default::default());
             // Enough samples per side that every image texel under a cube texel is seen (at most 8).
-            let per_side = (image.width as f32 / (4.0 * n as f32)).ceil().clamp(1.0, 8.0) as u32;
+            let per_side = (image.width as f32 / (4.0 * n as f32))
+                .ceil()
+                .clamp(1.0, 8.0) as u32;
             let p = params(n, per_side, 0.0);
             step(
                 cx,

@@ -241,10 +241,12 @@ impl Recipe for Reflection {
             g.normals.as_str(),
             g.depth.as_str(),
         ];
-        reads.extend(
-            self.materials
-                .declare_textures(renderer, fg, self.textured(), &g.velocity_uv),
-        );
+        reads.extend(self.materials.declare_textures(
+            renderer,
+            fg,
+            self.textured(),
+            &g.velocity_uv,
+        ));
         fg.add_pass(
             crate::recipe::pass_name("Reflection", self.owner, None),
             self.owner,

@@ -11,8 +11,6 @@
 use std::sync::atomic::{AtomicU32, Ordering};
 use std::sync::{Arc, Mutex};
 
-
-
 use super::prefilter::{SplitSumStore, split_sum_table};
 use crate::error::RenderError;
 use crate::frame_graph::{FrameGraph, Lifetime, PassContext, TextureDesc};
@@ -347,9 +345,13 @@ impl Ssr {
         let group = cx
             .shaders
             .bind_group(&device, &key, "main", &pipeline, 0, &all)?;
-        let materials =
-            self.materials
-                .bind_group(cx, &key, &pipeline, self.textured(), &g.targets.velocity_uv)?;
+        let materials = self.materials.bind_group(
+            cx,
+            &key,
+            &pipeline,
+            self.textured(),
+            &g.targets.velocity_uv,
+        )?;
         let (w, h) = g.pixel_size(cx.output_size);
         cx.dispatch(
             "ssr trace",
@@ -405,7 +407,10 @@ impl Ssr {
             (size.0.div_ceil(8), size.1.div_ceil(8), 1),
         );
         // This frame's result is next frame's history.
-        let (output, history) = (cx.texture(&self.output)?.clone(), cx.texture(&self.history)?.clone());
+        let (output, history) = (
+            cx.texture(&self.output)?.clone(),
+            cx.texture(&self.history)?.clone(),
+        );
         cx.encoder.copy_texture_to_texture(
             output.as_image_copy(),
             history.as_image_copy(),
@@ -477,10 +482,12 @@ impl Recipe for Ssr {
             self.lit.name.as_str(),
             self.fallback.name.as_str(),
         ];
-        reads.extend(
-            self.materials
-                .declare_textures(renderer, fg, self.textured(), &g.velocity_uv),
-        );
+        reads.extend(self.materials.declare_textures(
+            renderer,
+            fg,
+            self.textured(),
+            &g.velocity_uv,
+        ));
         let target = if self.settings.temporal {
             &self.current
         } else {

@@ -27,7 +27,13 @@ pub struct CpuSky {
 }
 
 fn clean(v: Vec3) -> Vec3 {
-    let c = |x: f32| if x.is_finite() { x.clamp(0.0, 65000.0) } else { 0.0 };
+    let c = |x: f32| {
+        if x.is_finite() {
+            x.clamp(0.0, 65000.0)
+        } else {
+            0.0
+        }
+    };
     Vec3::new(c(v.x), c(v.y), c(v.z))
 }
 
@@ -142,7 +148,11 @@ impl BallsScene {
                 continue;
             }
             let root = disc.sqrt();
-            let t = if -b - root > 1e-4 { -b - root } else { -b + root };
+            let t = if -b - root > 1e-4 {
+                -b - root
+            } else {
+                -b + root
+            };
             if t > 1e-4 && best.is_none_or(|h| t < h.t) {
                 let point = origin + dir * t;
                 best = Some(Hit {
@@ -186,7 +196,9 @@ pub fn hammersley(i: u32, n: u32) -> Vec2 {
 pub fn importance_sample_ggx(xi: Vec2, alpha: f32, n: Vec3) -> Vec3 {
     let a2 = alpha * alpha;
     let phi = std::f32::consts::TAU * xi.x;
-    let cos_theta = ((1.0 - xi.y) / (1.0 + (a2 - 1.0) * xi.y)).clamp(0.0, 1.0).sqrt();
+    let cos_theta = ((1.0 - xi.y) / (1.0 + (a2 - 1.0) * xi.y))
+        .clamp(0.0, 1.0)
+        .sqrt();
     let sin_theta = (1.0 - cos_theta * cos_theta).max(0.0).sqrt();
     let (t, b) = n.any_orthonormal_pair();
     (t * (sin_theta * phi.cos()) + b * (sin_theta * phi.sin()) + n * cos_theta).normalize()
@@ -307,7 +319,10 @@ mod tests {
         let sky = CpuSky::new(&SkySettings::default());
         let sun = (-SkySettings::default().sun_direction).normalize();
         assert!(sky.radiance(sun).x > 20.0, "the disk");
-        assert!(sky.radiance(Vec3::Y).z > sky.radiance(Vec3::Y).x, "a blue zenith");
+        assert!(
+            sky.radiance(Vec3::Y).z > sky.radiance(Vec3::Y).x,
+            "a blue zenith"
+        );
         let u = equirect_uv(Vec3::NEG_Z);
         assert!((u - Vec2::new(0.5, 0.5)).length() < 1e-6);
     }
