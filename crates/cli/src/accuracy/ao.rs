@@ -28,9 +28,8 @@ use crate::session::parse_size;
 
 #[derive(clap::Args)]
 pub struct AoArgs {
-    /// Where GPU time is measured.
-    #[arg(long, default_value = "1920x1080", value_parser = parse_size)]
-    time_size: (u32, u32),
+    #[command(flatten)]
+    common: super::Common,
     /// Where the error is measured (the reference casts rays from every pixel).
     #[arg(long, default_value = "320x180", value_parser = parse_size)]
     error_size: (u32, u32),
@@ -43,27 +42,12 @@ pub struct AoArgs {
     /// Frames accumulated before a temporal setting's error is taken.
     #[arg(long, default_value_t = 16)]
     settle: usize,
-    /// Frames run before timing each setting, back to back.
-    #[arg(long, default_value_t = 10)]
-    warmup: usize,
-    /// Timed frames per setting; the median is reported.
-    #[arg(long, default_value_t = 9)]
-    frames: usize,
     /// Rays per pixel in the reference.
     #[arg(long, default_value_t = 256)]
     rays: u32,
-    /// Also write the table to this Markdown file.
-    #[arg(long)]
-    out: Option<PathBuf>,
-    /// Also plot GPU time against RMSE, a line per estimator and temporal mode, to this SVG file.
-    #[arg(long)]
-    plot: Option<PathBuf>,
     /// Write the reference and each setting's AO (white = open) as PNGs into this folder.
     #[arg(long)]
     images: Option<PathBuf>,
-    /// Print JSON lines instead of the table.
-    #[arg(long)]
-    json: bool,
 }
 
 /// Visibility as a grey PNG (`None`: the sky, dark blue).
@@ -202,9 +186,9 @@ fn time(
     owner: u32,
 ) -> anyhow::Result<Option<f64>> {
     let mut times = Vec::new();
-    for k in 0..args.warmup + args.frames.max(1) {
-        let (g, ao) = frame(renderer, layer, args.time_size, settings, owner);
-        let mut graph = FrameGraph::new(args.time_size);
+    for k in 0..args.common.warmup + args.common.frames.max(1) {
+        let (g, ao) = frame(renderer, layer, args.common.time_size, settings, owner);
+        let mut graph = FrameGraph::new(args.common.time_size);
         ao.declare(renderer, &mut graph);
         graph.request(&ao.output);
         let (report, _) = graph.execute(renderer)?;
@@ -212,7 +196,7 @@ fn time(
             anyhow::bail!("the frame failed: {e}");
         }
         drop(g);
-        if k >= args.warmup {
+        if k >= args.common.warmup {
             // Every AO pass is named for its estimator ("SSAO #n: raw", "SAO #n: blur x", ...).
             let name = match settings.mode {
                 AoMode::Stochastic => "SSAO #",
@@ -329,9 +313,9 @@ pub fn run(args: &AoArgs) -> anyhow::Result<ExitCode> {
             }
         }
     }
-    let (tw, th) = args.time_size;
+    let (tw, th) = args.common.time_size;
     let (ew, eh) = args.error_size;
-    if args.json {
+    if args.common.json {
         for r in &rows {
             println!(
                 "{}",
@@ -350,7 +334,13 @@ pub fn run(args: &AoArgs) -> anyhow::Result<ExitCode> {
          over the pixels with geometry. Steps 8, blur radius 4; temporal: blend 0.9, error after {} frames of a still \
          camera. No AO at all: RMSE {:.4}, SSIM {:.4}.\n\n\
          | estimator | samples | temporal | GPU ms | RMSE | SSIM |\n|---|---|---|---|---|---|\n",
-        args.frames, args.warmup, args.rays, args.radius, args.settle, none.rmse, none.ssim
+        args.common.frames,
+        args.common.warmup,
+        args.rays,
+        args.radius,
+        args.settle,
+        none.rmse,
+        none.ssim
     );
     for r in &rows {
         table.push_str(&format!(
@@ -364,27 +354,22 @@ pub fn run(args: &AoArgs) -> anyhow::Result<ExitCode> {
         ));
     }
     print!("{table}");
-    if let Some(file) = &args.plot {
-        let mut series: Vec<Series> = Vec::new();
-        for r in &rows {
+    if let Some(file) = &args.common.plot {
+        let series = Series::group(rows.iter().map(|r| {
             let name = format!(
                 "{}{}",
                 mode_name(r.mode),
                 if r.temporal { " temporal" } else { "" }
             );
-            let point = (
-                r.ms.unwrap_or(f64::NAN),
-                r.error.rmse,
-                r.samples.to_string(),
-            );
-            match series.iter_mut().find(|s| s.name == name) {
-                Some(s) => s.points.push(point),
-                None => series.push(Series {
-                    name,
-                    points: vec![point],
-                }),
-            }
-        }
+            (
+                name,
+                (
+                    r.ms.unwrap_or(f64::NAN),
+                    r.error.rmse,
+                    r.samples.to_string(),
+                ),
+            )
+        }));
         write_svg(
             file,
             &format!("Ambient occlusion on {adapter}: GPU ms at {tw}x{th} against RMSE"),
@@ -392,7 +377,7 @@ pub fn run(args: &AoArgs) -> anyhow::Result<ExitCode> {
             &series,
         )?;
     }
-    if let Some(out) = &args.out {
+    if let Some(out) = &args.common.out {
         std::fs::write(out, &table).with_context(|| format!("cannot write {}", out.display()))?;
     }
     Ok(ExitCode::SUCCESS)

@@ -11,7 +11,34 @@ pub(crate) mod plot;
 mod reflection;
 mod shadows;
 
+use std::path::PathBuf;
 use std::process::ExitCode;
+
+use crate::session::parse_size;
+
+/// What every effect's measurement shares: where and how long GPU time is
+/// taken, and where the table and plot go.
+#[derive(clap::Args)]
+pub struct Common {
+    /// Where GPU time is measured.
+    #[arg(long, default_value = "1920x1080", value_parser = parse_size)]
+    pub time_size: (u32, u32),
+    /// Frames run before timing each setting, back to back (pipelines compile, the GPU clocks up).
+    #[arg(long, default_value_t = 10)]
+    pub warmup: usize,
+    /// Timed frames per setting; the median is reported.
+    #[arg(long, default_value_t = 9)]
+    pub frames: usize,
+    /// Also write the table to this Markdown file.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Also plot GPU time against RMSE, a line per method, to this SVG file.
+    #[arg(long)]
+    pub plot: Option<PathBuf>,
+    /// Print JSON lines instead of the table.
+    #[arg(long)]
+    pub json: bool,
+}
 
 #[derive(clap::Args)]
 pub struct Args {

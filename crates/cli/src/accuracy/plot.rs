@@ -14,6 +14,24 @@ pub struct Series {
     pub points: Vec<(f64, f64, String)>,
 }
 
+impl Series {
+    /// Points gathered into series by name, in first-seen order: one line per
+    /// method, one point per quality setting.
+    pub fn group(points: impl IntoIterator<Item = (String, (f64, f64, String))>) -> Vec<Series> {
+        let mut series: Vec<Series> = Vec::new();
+        for (name, point) in points {
+            match series.iter_mut().find(|s| s.name == name) {
+                Some(s) => s.points.push(point),
+                None => series.push(Series {
+                    name,
+                    points: vec![point],
+                }),
+            }
+        }
+        series
+    }
+}
+
 /// Write `series` as an SVG plot of `y_label` against GPU ms to `file`.
 pub fn write_svg(file: &Path, title: &str, y_label: &str, series: &[Series]) -> anyhow::Result<()> {
     let all: Vec<(f64, f64)> = series

@@ -16,7 +16,6 @@
 //! with temporal accumulation off and on (after --temporal-frames frames).
 //! Error: RMSE of the specular term (linear RGB) and SSIM, over the surface pixels.
 
-use std::path::PathBuf;
 use std::process::ExitCode;
 use std::sync::Arc;
 
@@ -45,9 +44,8 @@ use crate::session::parse_size;
 
 #[derive(clap::Args)]
 pub struct ReflectionArgs {
-    /// Where GPU time is measured.
-    #[arg(long, default_value = "1920x1080", value_parser = parse_size)]
-    time_size: (u32, u32),
+    #[command(flatten)]
+    common: super::Common,
     /// Where the error is measured (the CPU reference traces rays from every pixel).
     #[arg(long, default_value = "240x135", value_parser = parse_size)]
     error_size: (u32, u32),
@@ -72,21 +70,6 @@ pub struct ReflectionArgs {
     /// Rays per pixel in the reference.
     #[arg(long, default_value_t = 256)]
     rays: u32,
-    /// Frames run before timing each setting.
-    #[arg(long, default_value_t = 5)]
-    warmup: usize,
-    /// Timed frames per setting; the median is reported.
-    #[arg(long, default_value_t = 9)]
-    frames: usize,
-    /// Also write the table to this Markdown file.
-    #[arg(long)]
-    out: Option<PathBuf>,
-    /// Also plot frame time against RMSE, a line per method, to this SVG file.
-    #[arg(long)]
-    plot: Option<PathBuf>,
-    /// Print JSON lines instead of the table.
-    #[arg(long)]
-    json: bool,
 }
 
 const BALL_ROUGHNESS: f32 = 0.05;
@@ -424,7 +407,7 @@ pub fn run(args: &ReflectionArgs) -> anyhow::Result<ExitCode> {
     );
     let truth = reference(args.error_size, args.rays, args.floor_roughness);
     let lit_error = upload_lit(&renderer, args.error_size);
-    let lit_time = upload_lit(&renderer, args.time_size);
+    let lit_time = upload_lit(&renderer, args.common.time_size);
     let methods = methods(args);
     let mut rows = Vec::new();
     for (k, method) in methods.iter().enumerate() {
@@ -458,42 +441,42 @@ pub fn run(args: &ReflectionArgs) -> anyhow::Result<ExitCode> {
         // Timing at the large size: the build each frame (a fresh environment), then the per-frame pass.
         let mut builds = Vec::new();
         if let Method::Environment(_) = method {
-            for i in 0..args.warmup.min(1) + args.frames.max(1) {
+            for i in 0..args.common.warmup.min(1) + args.common.frames.max(1) {
                 let f = frame(
                     &renderer,
                     &scene,
                     &lit_time,
-                    args.time_size,
+                    args.common.time_size,
                     *method,
                     true,
                     false,
                 )?;
-                if i >= args.warmup.min(1) {
+                if i >= args.common.warmup.min(1) {
                     builds.extend(f.build_ms);
                 }
             }
         }
         renderer.reset_history();
         let mut times = Vec::new();
-        for i in 0..args.warmup + args.frames.max(1) {
+        for i in 0..args.common.warmup + args.common.frames.max(1) {
             let f = frame(
                 &renderer,
                 &scene,
                 &lit_time,
-                args.time_size,
+                args.common.time_size,
                 *method,
                 false,
                 false,
             )?;
-            if i >= args.warmup {
+            if i >= args.common.warmup {
                 times.extend(f.frame_ms);
             }
         }
         rows.push((*method, median(builds), median(times), e));
     }
-    let (tw, th) = args.time_size;
+    let (tw, th) = args.common.time_size;
     let (ew, eh) = args.error_size;
-    if args.json {
+    if args.common.json {
         for (method, build, time, e) in &rows {
             println!(
                 "{}",
@@ -512,7 +495,11 @@ pub fn run(args: &ReflectionArgs) -> anyhow::Result<ExitCode> {
          built), error at {ew}x{eh} against {} ray-traced GGX samples per pixel (RMSE of the linear specular term over the \
          surface pixels; SSIM). Balls: roughness {BALL_ROUGHNESS}, floor: {}, all metals of F0 {ALBEDO}. SSR temporal: \
          after {} frames.\n\n| method | setting | build ms | frame ms | RMSE | SSIM |\n|---|---|---|---|---|---|\n",
-        args.frames, args.warmup, args.rays, args.floor_roughness, args.temporal_frames
+        args.common.frames,
+        args.common.warmup,
+        args.rays,
+        args.floor_roughness,
+        args.temporal_frames
     );
     for (method, build, time, e) in &rows {
         table.push_str(&format!(
@@ -526,18 +513,13 @@ pub fn run(args: &ReflectionArgs) -> anyhow::Result<ExitCode> {
         ));
     }
     print!("{table}");
-    if let Some(file) = &args.plot {
-        let mut series: Vec<Series> = Vec::new();
-        for (method, _, time, e) in &rows {
-            let point = (time.unwrap_or(0.0), e.rmse, method.setting());
-            match series.iter_mut().find(|s| s.name == method.family()) {
-                Some(s) => s.points.push(point),
-                None => series.push(Series {
-                    name: method.family(),
-                    points: vec![point],
-                }),
-            }
-        }
+    if let Some(file) = &args.common.plot {
+        let series = Series::group(rows.iter().map(|(method, _, time, e)| {
+            (
+                method.family(),
+                (time.unwrap_or(0.0), e.rmse, method.setting()),
+            )
+        }));
         write_svg(
             file,
             &format!("Reflections on {adapter}: frame ms at {tw}x{th} against RMSE"),
@@ -545,7 +527,7 @@ pub fn run(args: &ReflectionArgs) -> anyhow::Result<ExitCode> {
             &series,
         )?;
     }
-    if let Some(out) = &args.out {
+    if let Some(out) = &args.common.out {
         std::fs::write(out, &table).with_context(|| format!("cannot write {}", out.display()))?;
     }
     Ok(ExitCode::SUCCESS)

@@ -28,39 +28,23 @@ use crate::session::parse_size;
 
 #[derive(clap::Args)]
 pub struct ShadowArgs {
-    /// Where GPU time is measured.
-    #[arg(long, default_value = "1920x1080", value_parser = parse_size)]
-    time_size: (u32, u32),
+    #[command(flatten)]
+    common: super::Common,
     /// Where the error is measured (the CPU reference casts rays from every pixel).
     #[arg(long, default_value = "320x180", value_parser = parse_size)]
     error_size: (u32, u32),
     /// Shadow-map resolutions, comma-separated.
     #[arg(long, default_value = "512,1024,2048,4096", value_delimiter = ',')]
     resolutions: Vec<u32>,
-    /// Frames run before timing each setting, back to back (pipelines compile, the GPU clocks up).
-    #[arg(long, default_value_t = 10)]
-    warmup: usize,
-    /// Timed frames per setting; the median is reported.
-    #[arg(long, default_value_t = 9)]
-    frames: usize,
     /// Which rasterizer draws the maps.
     #[arg(long, value_enum, default_value = "auto")]
     raster: Raster,
     /// Rays per pixel in the reference.
     #[arg(long, default_value_t = 256)]
     rays: u32,
-    /// Also write the table to this Markdown file.
-    #[arg(long)]
-    out: Option<PathBuf>,
     /// Write each setting's error image (|GPU - reference| visibility, white = 1) into this folder.
     #[arg(long)]
     error_images: Option<PathBuf>,
-    /// Also plot shading time (with the map pass) against RMSE, a line per filter, to this SVG file.
-    #[arg(long)]
-    plot: Option<PathBuf>,
-    /// Print JSON lines instead of the table.
-    #[arg(long)]
-    json: bool,
 }
 
 #[derive(Clone, Copy, clap::ValueEnum)]
@@ -414,8 +398,8 @@ pub fn run(args: &ShadowArgs) -> anyhow::Result<ExitCode> {
     let (_, base_shade) = time(
         &renderer,
         &layers,
-        args.time_size,
-        (args.warmup, args.frames),
+        args.common.time_size,
+        (args.common.warmup, args.common.frames),
         None,
     )?;
     let mut rows = Vec::new();
@@ -444,16 +428,16 @@ pub fn run(args: &ShadowArgs) -> anyhow::Result<ExitCode> {
             let (maps, shade) = time(
                 &renderer,
                 &layers,
-                args.time_size,
-                (args.warmup, args.frames),
+                args.common.time_size,
+                (args.common.warmup, args.common.frames),
                 setting,
             )?;
             rows.push((name.clone(), res, maps, shade, rmse, off, ssim));
         }
     }
-    let (tw, th) = args.time_size;
+    let (tw, th) = args.common.time_size;
     let (ew, eh) = args.error_size;
-    if args.json {
+    if args.common.json {
         for (name, res, maps, shade, rmse, off, ssim) in &rows {
             println!(
                 "{}",
@@ -477,8 +461,8 @@ pub fn run(args: &ShadowArgs) -> anyhow::Result<ExitCode> {
             Raster::Compute => "compute",
             Raster::Hardware => "hardware",
         },
-        args.frames,
-        args.warmup,
+        args.common.frames,
+        args.common.warmup,
         args.rays,
         ms(base_shade)
     );
@@ -491,23 +475,18 @@ pub fn run(args: &ShadowArgs) -> anyhow::Result<ExitCode> {
         ));
     }
     print!("{table}");
-    if let Some(file) = &args.plot {
-        let mut series: Vec<Series> = Vec::new();
-        for (name, res, maps, shade, rmse, _, _) in &rows {
-            // One line per filter family and kernel: the points are map resolutions.
-            let point = (
-                maps.unwrap_or(0.0) + shade.unwrap_or(0.0),
-                *rmse,
-                res.to_string(),
-            );
-            match series.iter_mut().find(|s| &s.name == name) {
-                Some(s) => s.points.push(point),
-                None => series.push(Series {
-                    name: name.clone(),
-                    points: vec![point],
-                }),
-            }
-        }
+    if let Some(file) = &args.common.plot {
+        // One line per filter family and kernel: the points are map resolutions.
+        let series = Series::group(rows.iter().map(|(name, res, maps, shade, rmse, _, _)| {
+            (
+                name.clone(),
+                (
+                    maps.unwrap_or(0.0) + shade.unwrap_or(0.0),
+                    *rmse,
+                    res.to_string(),
+                ),
+            )
+        }));
         write_svg(
             file,
             &format!("Shadow filters on {adapter}: map + shade ms at {tw}x{th} against RMSE"),
@@ -515,7 +494,7 @@ pub fn run(args: &ShadowArgs) -> anyhow::Result<ExitCode> {
             &series,
         )?;
     }
-    if let Some(out) = &args.out {
+    if let Some(out) = &args.common.out {
         std::fs::write(out, &table).with_context(|| format!("cannot write {}", out.display()))?;
     }
     Ok(ExitCode::SUCCESS)
