@@ -9,8 +9,12 @@
 // the sensor height (from the projection's field of view) and the image
 // height in pixels into one factor, computed on the CPU.
 //
+// `tiles`: per tile (at least as wide as the largest radius), the largest
+// radius in it and its eight neighbours: how far any pixel of the tile must
+// look for circles that may cover it.
+//
 // `main`: a scatter-as-gather lens blur. Each of `samples` points of a
-// golden-angle spiral over a disk of the largest radius in the frame (turned
+// golden-angle spiral over a disk of the tile's radius (turned
 // by a per-pixel random angle: the stochastic part, noise at low sample
 // counts) is a pixel whose own blur circle may cover this one; it counts by
 // its circle's coverage of this pixel over the circle's area, so the image's
@@ -26,7 +30,7 @@ struct Params {
     // x: CoC scale (pixels per unit of |1/s - 1/z|), y: 1/s (fixed focus),
     // z: largest radius in pixels, w: samples
     lens: vec4<f32>,
-    // x: focal length in scene units, y: largest 1/s allowed
+    // x: focal length in scene units, y: largest 1/s allowed, z: tile size in pixels
     limits: vec4<f32>,
 }
 
@@ -37,6 +41,8 @@ struct Params {
 @group(0) @binding(4) var coc_out: texture_storage_2d<rg32float, write>;
 @group(0) @binding(5) var coc_in: texture_2d<f32>;
 @group(0) @binding(6) var output: texture_storage_2d<rgba16float, write>;
+@group(0) @binding(9) var tiles_out: texture_storage_2d<r32float, write>;
+@group(0) @binding(10) var tiles_in: texture_2d<f32>;
 #ifdef AUTOFOCUS
 // 1x1: the inverse focus distance the Autofocus pass keeps.
 @group(0) @binding(7) var focus: texture_2d<f32>;
@@ -67,6 +73,25 @@ fn coc(@builtin(global_invocation_id) id: vec3<u32>) {
     let radius = params.lens.z;
     // Half the diameter: the blur radius, within the largest the pass gathers.
     textureStore(coc_out, id.xy, vec4<f32>(clamp(0.5 * c, -radius, radius), inv_z, 0.0, 0.0));
+}
+
+@compute @workgroup_size(8, 8)
+fn tiles(@builtin(global_invocation_id) id: vec3<u32>) {
+    let size = textureDimensions(tiles_out);
+    if (id.x >= size.x || id.y >= size.y) {
+        return;
+    }
+    let k = i32(params.limits.z);
+    let full = vec2<i32>(textureDimensions(coc_in));
+    let lo = max((vec2<i32>(id.xy) - 1) * k, vec2<i32>(0));
+    let hi = min((vec2<i32>(id.xy) + 2) * k, full);
+    var m = 0.0;
+    for (var y = lo.y; y < hi.y; y++) {
+        for (var x = lo.x; x < hi.x; x++) {
+            m = max(m, abs(textureLoad(coc_in, vec2<i32>(x, y), 0).r));
+        }
+    }
+    textureStore(tiles_out, id.xy, vec4<f32>(m, 0.0, 0.0, 0.0));
 }
 
 fn shape(offset: vec2<f32>) -> f32 {
@@ -100,7 +125,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let here = textureLoad(coc_in, p, 0).rg;
     let c0 = abs(here.x);
     let center = sanitize(load_clamped(source, p));
-    let radius = params.lens.z;
+    let radius = max(load_clamped(tiles_in, p / i32(params.limits.z)).r, 0.5);
     let n = u32(params.lens.w);
     var sum = center.rgb * coverage(c0, vec2<f32>(0.0), 0.0);
     var weight = coverage(c0, vec2<f32>(0.0), 0.0);
@@ -114,13 +139,19 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         let offset = vec2<f32>(cos(angle), sin(angle));
         let distance = sqrt(t) * radius;
         let q = p + vec2<i32>(round(offset * distance));
+        // Coverage by where the sample really is (a whole pixel); this pixel itself is counted above.
+        let actual = vec2<f32>(q - p);
+        let reach = length(actual);
+        if (reach < 0.5) {
+            continue;
+        }
         let there = load_clamped(coc_in, q).rg;
         var c = abs(there.x);
         // Behind this pixel (smaller inverse depth): spreads no further than this pixel's own circle.
         if (there.y < here.y) {
             c = min(c, c0);
         }
-        let w = coverage(c, offset, distance) * area;
+        let w = coverage(c, actual / reach, reach) * area;
         sum += sanitize(load_clamped(source, q)).rgb * w;
         weight += w;
     }

@@ -145,6 +145,7 @@ pub struct Dof {
     settings: DofSettings,
     params: wgpu::Buffer,
     coc: String,
+    tiles: String,
     pub output: String,
 }
 
@@ -170,6 +171,7 @@ impl Dof {
             settings: settings.clean(),
             params,
             coc: format!("dof{id} coc"),
+            tiles: format!("dof{id} tiles"),
             output: format!("dof{id}"),
         })
     }
@@ -202,9 +204,13 @@ impl Dof {
             if let Focus::Texture(t) = &self.focus {
                 views.push((7, cx.view(&t.name)?));
             }
+        } else if entry == "tiles" {
+            views.push((5, coc));
+            views.push((9, cx.view(&self.tiles)?));
         } else {
             views.push((2, cx.view(&self.source.name)?));
             views.push((5, coc));
+            views.push((10, cx.view(&self.tiles)?));
             views.push((6, cx.view(&self.output)?));
             if let Some(t) = &self.bokeh {
                 views.push((8, cx.view(&t.name)?));
@@ -219,7 +225,7 @@ impl Dof {
                 .iter()
                 .map(|(b, v)| (*b, wgpu::BindingResource::TextureView(v))),
         );
-        let size = super::size_of(cx, &self.coc)?;
+        let size = super::size_of(cx, if entry == "tiles" { &self.tiles } else { &self.coc })?;
         super::dispatch_entry(cx, entry, &self.key(), entry, &all, size)?;
         if entry == "main" {
             cx.count(BLURRED, 1);
@@ -266,6 +272,8 @@ impl Recipe for Dof {
         }
         let s = self.settings;
         let radius = (bound.unwrap_or(f32::INFINITY) / 2.0).min(s.max_radius).max(0.5);
+        // Tiles at least as wide as the largest radius: a circle reaches no further than the next tile.
+        let tile = (radius.ceil() as u32).max(8);
         let params = super::words(&[
             s.coc_scale(projection, size.1),
             match self.focus {
@@ -276,7 +284,7 @@ impl Recipe for Dof {
             s.samples as f32,
             s.focal_length(),
             s.max_inverse_focus(),
-            0.0,
+            tile as f32,
             0.0,
         ]);
         renderer
@@ -293,7 +301,22 @@ impl Recipe for Dof {
             )],
             move |cx| self.run(cx, "coc"),
         );
-        let mut reads = vec![self.source.name.as_str(), &self.coc];
+        fg.add_pass(
+            crate::recipe::pass_name("DOF", self.owner, Some("tiles")),
+            self.owner,
+            &[&self.coc],
+            &[(
+                &self.tiles,
+                TextureDesc::storage(wgpu::TextureFormat::R32Float).size(
+                    crate::frame_graph::SizeRule::Absolute {
+                        width: size.0.div_ceil(tile),
+                        height: size.1.div_ceil(tile),
+                    },
+                ),
+            )],
+            move |cx| self.run(cx, "tiles"),
+        );
+        let mut reads = vec![self.source.name.as_str(), &self.coc, &self.tiles];
         if let Some(b) = &self.bokeh {
             reads.push(&b.name);
         }
