@@ -13,7 +13,7 @@ use spreadlight_render::gbuffer::GBuffer;
 use spreadlight_render::post::dof::MIN_F_STOP;
 use spreadlight_render::post::{
     Autofocus, Dof, DofSettings, Focus, Fxaa, FxaaQuality, Glare, GlareSettings, MotionBlur,
-    MotionBlurSettings, Taa, TaaSettings,
+    MotionBlurSettings, Taa, TaaSettings, Transparency, TransparencySettings,
 };
 use spreadlight_render::readback::ImageF32;
 use spreadlight_render::renderer::test_renderer;
@@ -80,6 +80,10 @@ fn every_node(renderer: &Renderer, input: TextureRef, label: &str) {
     }
     let taa = Taa::new(renderer, None, input.clone(), g.clone(), TaaSettings { sharpen: 2.0, ..Default::default() }, None);
     check(&format!("{label} TAA"), &render(renderer, taa.as_ref(), &taa.output, SIZE).1);
+    let glass = balls(renderer, &[Ball::still(Vec3::new(0.0, 0.0, 3.0), 1.0)]);
+    let layers = vec![glass];
+    let clear = Transparency::new(renderer, None, input.clone(), g.clone(), layers, TransparencySettings::default());
+    check(&format!("{label} Transparency"), &render(renderer, clear.as_ref(), &clear.output, SIZE).1);
     let fxaa = Fxaa::new(renderer, None, input, FxaaQuality::High, 0.75);
     check(&format!("{label} FXAA"), &render(renderer, fxaa.as_ref(), &fxaa.output, SIZE).1);
 }

@@ -8,6 +8,7 @@ pub mod glare;
 pub mod motion_blur;
 pub mod taa;
 pub mod tonemap;
+pub mod transparency;
 
 use std::sync::Arc;
 
@@ -26,6 +27,7 @@ pub fn register(r: &mut Registry) {
     motion_blur::register(r);
     glare::register(r);
     taa::register(r);
+    transparency::register(r);
 }
 
 /// The first texture on `pin`, or an error naming it.

@@ -8,6 +8,7 @@ pub mod glare;
 pub mod motion_blur;
 pub mod taa;
 pub mod tonemap;
+pub mod transparency;
 
 pub use autofocus::Autofocus;
 pub use dof::{Dof, DofSettings, Focus};
@@ -17,6 +18,7 @@ pub use glare::{Glare, GlareSettings};
 pub use motion_blur::{MotionBlur, MotionBlurSettings};
 pub use taa::{Taa, TaaQuality, TaaSettings};
 pub use tonemap::{AdaptedExposure, Tonemap};
+pub use transparency::{Transparency, TransparencySettings};
 
 use wgpu::util::DeviceExt;
 
