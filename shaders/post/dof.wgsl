@@ -2,12 +2,12 @@
 //
 // `coc`: per pixel, the signed circle of confusion in pixels (negative in
 // front of the focus plane, the near field; positive behind, the far field)
-// and the inverse view depth. For a lens of focal length f and aperture
-// A = f / N focused at s, a point at depth z blurs to a circle of diameter
-// A f |1/s - 1/z| / (1 - f/s) on the sensor; written with inverse depths it
-// stays finite for a focus at infinity and for the sky. `scale` folds A, f,
-// the sensor height (from the projection's field of view) and the image
-// height in pixels into one factor, computed on the CPU.
+// and the inverse view depth. For a lens of aperture A = f / N focused at s,
+// with the field of view held (the sensor where the focus plane's image
+// forms), a point at depth z blurs to a circle of A |1/s - 1/z| times the
+// image distance: in pixels, `scale` |1/s - 1/z|, where `scale` folds A, the
+// field of view and the image height in pixels, computed on the CPU. Written
+// with inverse depths it stays finite for a focus at infinity and the sky.
 //
 // `tiles`: per tile (at least as wide as the largest radius), the largest
 // radius in it and its eight neighbours: how far any pixel of the tile must
@@ -30,7 +30,7 @@ struct Params {
     // x: CoC scale (pixels per unit of |1/s - 1/z|), y: 1/s (fixed focus),
     // z: largest radius in pixels, w: samples
     lens: vec4<f32>,
-    // x: focal length in scene units, y: largest 1/s allowed, z: tile size in pixels
+    // x: focal length in scene units (unused), y: largest 1/s allowed, z: tile size in pixels
     limits: vec4<f32>,
 }
 
@@ -68,8 +68,7 @@ fn coc(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     let inv_z = inverse_view_depth(camera.projection_inverse, textureLoad(depth, id.xy, 0).r);
     let inv_s = inverse_focus();
-    let f = params.limits.x;
-    let c = params.lens.x * (inv_s - inv_z) / max(1.0 - f * inv_s, 0.5);
+    let c = params.lens.x * (inv_s - inv_z);
     let radius = params.lens.z;
     // Half the diameter: the blur radius, within the largest the pass gathers.
     textureStore(coc_out, id.xy, vec4<f32>(clamp(0.5 * c, -radius, radius), inv_z, 0.0, 0.0));

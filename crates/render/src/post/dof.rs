@@ -90,12 +90,23 @@ impl DofSettings {
     }
 
     /// Pixels of circle diameter per unit of |1/s - 1/z| for an image `height` pixels high seen through `projection`.
+    ///
+    /// The renderer's field of view is fixed, so the sensor sits where the
+    /// image of the focus plane forms: a lens of aperture A = f / N blurs a
+    /// point at z to A |1/s - 1/z| times the image distance, and the image
+    /// height is twice that distance over projection[1][1]. The same as
+    /// averaging views from every point of the aperture re-aimed at the focus
+    /// plane, which is what `spreadlight accuracy post dof` does.
     fn coc_scale(&self, projection: Mat4, height: u32) -> f32 {
-        let f = self.focal_length();
-        // The sensor height h satisfies tan(fov/2) = h / 2f, and projection[1][1] = 1 / tan(fov/2).
-        let cot_half_fov = projection.y_axis.y.abs();
-        let scale = f * f / self.f_stop * height as f32 * cot_half_fov / 2.0;
+        let aperture = self.focal_length() / self.f_stop;
+        let scale = aperture * height as f32 * projection.y_axis.y.abs() / 2.0;
         if scale.is_finite() { scale } else { 0.0 }
+    }
+
+    /// The lens's aperture diameter in scene units.
+    pub fn aperture(&self) -> f32 {
+        let s = self.clean();
+        s.focal_length() / s.f_stop
     }
 }
 
@@ -118,8 +129,8 @@ pub fn max_coc_pixels(
 ) -> Option<f32> {
     let s = settings.clean();
     let near = near_plane(projection)?;
-    let (inv_near, limit, f) = (1.0 / near, s.max_inverse_focus(), s.focal_length());
-    let worst = |inv_s: f32| (inv_s.max(inv_near - inv_s)) / (1.0 - f * inv_s).max(0.5);
+    let (inv_near, limit) = (1.0 / near, s.max_inverse_focus());
+    let worst = |inv_s: f32| inv_s.max(inv_near - inv_s);
     let spread = match focus {
         Some(distance) => worst(inverse_focus(distance, limit)),
         None => worst(0.0).max(worst(limit.min(inv_near))),
