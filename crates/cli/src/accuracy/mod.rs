@@ -7,6 +7,7 @@
 
 pub(crate) mod metrics;
 pub(crate) mod plot;
+mod post;
 mod shadows;
 
 use std::process::ExitCode;
@@ -21,11 +22,14 @@ pub struct Args {
 enum What {
     /// Shadow filters (Raw, PCF, PCSS, VSM) by map resolution: GPU time against error versus ray-cast soft shadows.
     Shadows(shadows::ShadowArgs),
+    /// Post effects (DOF, MotionBlur, TAA, FXAA) by quality: GPU time against error versus brute-force references.
+    Post(post::PostArgs),
 }
 
 pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
     match &args.what {
         What::Shadows(a) => shadows::run(a),
+        What::Post(a) => post::run_post(a),
     }
 }
 
