@@ -195,10 +195,17 @@ fn the_post_example_runs_every_effect_and_skips_what_does_nothing() {
         // The first frame has no last frame: no velocity, so motion blur is a copy.
         let first = u64::from(frame == 0);
         assert_eq!(report.counter("motion blur skipped (no motion)"), first);
-        assert_eq!(report.counter("motion blur blurred"), 1 - first, "frame {frame}");
+        assert_eq!(
+            report.counter("motion blur blurred"),
+            1 - first,
+            "frame {frame}"
+        );
         assert_eq!(report.counter("taa history reset"), u64::from(frame == 0));
     }
     let pinhole = run(1e9);
-    assert_eq!(pinhole[2].counter("dof skipped (circle under half a pixel)"), 1);
+    assert_eq!(
+        pinhole[2].counter("dof skipped (circle under half a pixel)"),
+        1
+    );
     assert_eq!(pinhole[2].counter("dof blurred"), 0);
 }

@@ -178,7 +178,7 @@ fn jitter_offset(cx: &mut EvalContext<'_>) -> Result<Vec2, NodeError> {
 
 #[cfg(test)]
 mod tests {
-    use glam::{Mat4, Vec2, Vec3};
+    use glam::{Mat4, Vec3};
     use spreadlight_graph::Spread;
 
     use super::{MIN_DISTANCE, PITCH_LIMIT};
@@ -341,7 +341,10 @@ mod tests {
             let values = [
                 ("Jitter", Spread::Bool(vec![true])),
                 ("Frame", Spread::Int(vec![frame as i64])),
-                ("Resolution", Spread::Vec2(vec![glam::Vec2::new(100.0, 50.0)])),
+                (
+                    "Resolution",
+                    Spread::Vec2(vec![glam::Vec2::new(100.0, 50.0)]),
+                ),
             ];
             let (_, moved, _) = camera(&values);
             let offset: Vec<glam::Vec2> = eval_out("Camera", &values, "Jitter");

@@ -36,7 +36,10 @@ fn source(renderer: &Renderer) -> (TextureRef, Vec<bool>) {
     let g = ball_scene(renderer);
     let (_, depth) = render(renderer, g.as_ref(), &g.targets.depth, SIZE);
     let mask: Vec<bool> = depth.pixels.iter().map(|p| p[0] > 0.0).collect();
-    assert!(mask.iter().filter(|m| **m).count() > 100, "the ball is in view");
+    assert!(
+        mask.iter().filter(|m| **m).count() > 100,
+        "the ball is in view"
+    );
     let texture = image(renderer, SIZE, |x, y| {
         if mask[(y * SIZE.0 + x) as usize] {
             checker(x, y, RED, BLACK)
@@ -57,7 +60,11 @@ fn telephoto() -> DofSettings {
     }
 }
 
-fn dof(renderer: &Renderer, focus: Focus, settings: DofSettings) -> (ImageF32, Vec<bool>, u64, u64) {
+fn dof(
+    renderer: &Renderer,
+    focus: Focus,
+    settings: DofSettings,
+) -> (ImageF32, Vec<bool>, u64, u64) {
     let (input, mask) = source(renderer);
     let g = ball_scene(renderer);
     let pass = Dof::new(renderer, None, input, g, focus, None, settings);
@@ -96,7 +103,10 @@ fn focused_on_the_ball_the_ball_stays_sharp_and_the_sky_blurs_without_a_red_halo
                 assert!(p[0] < 0.02, "sky ({x}, {y}) has a red halo: {p:?}");
                 let inside = (8..SIZE.0 - 8).contains(&x) && (8..SIZE.1 - 8).contains(&y);
                 if distance_to_ball(&mask, x, y) > 8.0 && inside {
-                    assert!((p[2] - 0.6).abs() < 0.15, "sky ({x}, {y}) not blurred: {p:?}");
+                    assert!(
+                        (p[2] - 0.6).abs() < 0.15,
+                        "sky ({x}, {y}) not blurred: {p:?}"
+                    );
                 }
             }
         }
@@ -126,7 +136,10 @@ fn focused_at_infinity_the_near_ball_blurs_over_the_sharp_sky() {
             }
         }
     }
-    assert!(spilled > 20, "only {spilled} sky pixels beside the ball took its blur");
+    assert!(
+        spilled > 20,
+        "only {spilled} sky pixels beside the ball took its blur"
+    );
     // And the ball itself is blurred: its checker flattens towards 0.5.
     let flat = mask
         .iter()
@@ -188,7 +201,15 @@ fn dof_reads_autofocus_on_the_gpu_and_focuses_on_the_ball() {
     let (input, mask) = source(&renderer);
     let g = ball_scene(&renderer);
     let af = Autofocus::new(&renderer, None, g.clone(), Vec2::splat(0.5), 1.0, 0.0);
-    let pass = Dof::new(&renderer, None, input, g, Focus::Texture(af.texture()), None, telephoto());
+    let pass = Dof::new(
+        &renderer,
+        None,
+        input,
+        g,
+        Focus::Texture(af.texture()),
+        None,
+        telephoto(),
+    );
     let (report, out) = render(&renderer, pass.as_ref(), &pass.output, SIZE);
     assert_eq!(report.counter(BLURRED), 1);
     let sharp = mask
@@ -200,7 +221,10 @@ fn dof_reads_autofocus_on_the_gpu_and_focuses_on_the_ball() {
             **m && (p[0] - checker(x, y, RED, BLACK)[0]).abs() < 0.05
         })
         .count();
-    assert!(sharp * 10 >= mask.iter().filter(|m| **m).count() * 9, "{sharp}");
+    assert!(
+        sharp * 10 >= mask.iter().filter(|m| **m).count() * 9,
+        "{sharp}"
+    );
     let blurred_sky = mask
         .iter()
         .zip(&out.pixels)
@@ -215,10 +239,18 @@ fn a_bokeh_texture_shapes_the_blur() {
     // One bright pixel of sky, focus on the ball: its blur takes the bokeh's shape.
     let g = ball_scene(&renderer);
     let spot = image(&renderer, SIZE, |x, y| {
-        if (x, y) == (10, 10) { [100.0, 100.0, 100.0, 1.0] } else { BLACK }
+        if (x, y) == (10, 10) {
+            [100.0, 100.0, 100.0, 1.0]
+        } else {
+            BLACK
+        }
     });
     // A bokeh that is only the left half of the disk.
-    let half = image(&renderer, (16, 16), |x, _| if x < 8 { [1.0; 4] } else { BLACK });
+    let half = image(
+        &renderer,
+        (16, 16),
+        |x, _| if x < 8 { [1.0; 4] } else { BLACK },
+    );
     let pass = Dof::new(
         &renderer,
         None,
@@ -239,4 +271,3 @@ fn a_bokeh_texture_shapes_the_blur() {
     // a left-half shape puts the spot's light to its left.
     assert!(left > 4.0 * right, "left {left} right {right}");
 }
-

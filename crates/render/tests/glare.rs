@@ -39,7 +39,13 @@ fn a_bright_spot_glows_less_with_distance() {
     });
     assert_eq!(skipped, 0);
     let at = |x: u32| out.pixels[(32 * SIZE.0 + x) as usize][1];
-    assert!(at(20) > at(26) && at(26) > at(34) && at(34) > 0.0, "{} {} {}", at(20), at(26), at(34));
+    assert!(
+        at(20) > at(26) && at(26) > at(34) && at(34) > 0.0,
+        "{} {} {}",
+        at(20),
+        at(26),
+        at(34)
+    );
     // Energy is spread, not made: the glow beside the spot is far below it.
     assert!(at(20) < 10.0, "{}", at(20));
     // The spot itself stays (source plus glow).

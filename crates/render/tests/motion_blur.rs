@@ -48,14 +48,22 @@ fn rows_of(mask: &[bool]) -> (u32, u32) {
         .filter(|(_, m)| **m)
         .map(|(i, _)| i as u32 / SIZE.0)
         .collect();
-    (*rows.iter().min().expect("ball"), *rows.iter().max().expect("ball"))
+    (
+        *rows.iter().min().expect("ball"),
+        *rows.iter().max().expect("ball"),
+    )
 }
 
 #[test]
 fn a_ball_moving_sideways_smears_sideways_only() {
     // Half a unit in x a frame: about ten pixels.
-    let (out, mask, blurred, skipped) =
-        blur(Vec3::new(-0.5, 0.0, 0.0), MotionBlurSettings { shutter_angle: 360.0, ..Default::default() });
+    let (out, mask, blurred, skipped) = blur(
+        Vec3::new(-0.5, 0.0, 0.0),
+        MotionBlurSettings {
+            shutter_angle: 360.0,
+            ..Default::default()
+        },
+    );
     assert_eq!((blurred, skipped), (1, 0));
     let (top, bottom) = rows_of(&mask);
     let at = |x: u32, y: u32| out.pixels[(y * SIZE.0 + x) as usize];
@@ -73,18 +81,34 @@ fn a_ball_moving_sideways_smears_sideways_only() {
         }
     }
     // The silhouette extends over the still sky beside it, on both sides.
-    assert!(extended > 40, "only {extended} sky pixels beside the ball took its blur");
+    assert!(
+        extended > 40,
+        "only {extended} sky pixels beside the ball took its blur"
+    );
     let middle = (top + bottom) / 2;
     let row: Vec<f32> = (0..SIZE.0).map(|x| at(x, middle)[0]).collect();
     let left = row.iter().position(|v| *v > 0.05).expect("ball in the row");
-    let right = row.iter().rposition(|v| *v > 0.05).expect("ball in the row");
+    let right = row
+        .iter()
+        .rposition(|v| *v > 0.05)
+        .expect("ball in the row");
     let (ball_left, ball_right) = (
-        (0..SIZE.0).position(|x| mask[(middle * SIZE.0 + x) as usize]).expect("ball") as usize,
-        (0..SIZE.0).rposition(|x| mask[(middle * SIZE.0 + x) as usize]).expect("ball") as usize,
+        (0..SIZE.0)
+            .position(|x| mask[(middle * SIZE.0 + x) as usize])
+            .expect("ball"),
+        (0..SIZE.0)
+            .rposition(|x| mask[(middle * SIZE.0 + x) as usize])
+            .expect("ball"),
     );
-    assert!(left + 2 < ball_left && right > ball_right + 2, "{left}..{right} vs ball {ball_left}..{ball_right}");
+    assert!(
+        left + 2 < ball_left && right > ball_right + 2,
+        "{left}..{right} vs ball {ball_left}..{ball_right}"
+    );
     // And the edges became ramps, not steps.
-    assert!(row.iter().filter(|v| **v > 0.1 && **v < 0.9).count() >= 4, "{row:?}");
+    assert!(
+        row.iter().filter(|v| **v > 0.1 && **v < 0.9).count() >= 4,
+        "{row:?}"
+    );
 }
 
 #[test]
@@ -100,14 +124,20 @@ fn nothing_moving_costs_a_copy() {
 fn a_closed_shutter_costs_a_copy() {
     let (_, _, blurred, skipped) = blur(
         Vec3::new(-0.5, 0.0, 0.0),
-        MotionBlurSettings { shutter_angle: 0.0, ..Default::default() },
+        MotionBlurSettings {
+            shutter_angle: 0.0,
+            ..Default::default()
+        },
     );
     assert_eq!((blurred, skipped), (0, 1));
 }
 
 #[test]
 fn thousands_of_pixels_a_frame_blur_no_further_than_a_tile() {
-    let settings = MotionBlurSettings { shutter_angle: 360.0, ..Default::default() };
+    let settings = MotionBlurSettings {
+        shutter_angle: 360.0,
+        ..Default::default()
+    };
     let (out, mask, blurred, _) = blur(Vec3::new(-1000.0, 300.0, 0.0), settings);
     assert_eq!(blurred, 1);
     let (lo, hi) = range(&out);
@@ -117,7 +147,8 @@ fn thousands_of_pixels_a_frame_blur_no_further_than_a_tile() {
     for (i, p) in out.pixels.iter().enumerate() {
         let (x, y) = ((i as u32 % SIZE.0) as f32, (i as u32 / SIZE.0) as f32);
         let near = mask.iter().enumerate().any(|(j, m)| {
-            *m && ((j as u32 % SIZE.0) as f32 - x).abs() <= k && ((j as u32 / SIZE.0) as f32 - y).abs() <= k
+            *m && ((j as u32 % SIZE.0) as f32 - x).abs() <= k
+                && ((j as u32 / SIZE.0) as f32 - y).abs() <= k
         });
         if !near {
             assert_eq!(p[0], 0.0, "({x}, {y})");

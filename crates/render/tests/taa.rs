@@ -21,7 +21,12 @@ use spreadlight_render::{FrameGraph, Renderer, TextureRef};
 const SIZE: (u32, u32) = (32, 32);
 
 fn camera() -> CameraInput {
-    look(Vec3::new(0.0, 0.0, 8.0), Vec3::new(0.1, 0.05, 0.0), 0.3, 1.0)
+    look(
+        Vec3::new(0.0, 0.0, 8.0),
+        Vec3::new(0.1, 0.05, 0.0),
+        0.3,
+        1.0,
+    )
 }
 
 fn scene(renderer: &Renderer, camera: CameraInput, previous: Option<Mat4>) -> Arc<GBuffer> {
@@ -50,7 +55,12 @@ fn supersampled(renderer: &Renderer) -> Vec<f32> {
 }
 
 fn rmse(a: &ImageF32, b: &[f32]) -> f32 {
-    let sum: f32 = a.pixels.iter().zip(b).map(|(p, r)| (p[0] - r).powi(2)).sum();
+    let sum: f32 = a
+        .pixels
+        .iter()
+        .zip(b)
+        .map(|(p, r)| (p[0] - r).powi(2))
+        .sum();
     (sum / b.len() as f32).sqrt()
 }
 
@@ -70,7 +80,13 @@ impl Run {
         }
     }
 
-    fn frame(&mut self, n: u64, size: (u32, u32), quality: TaaQuality, reset: bool) -> (ImageF32, u64) {
+    fn frame(
+        &mut self,
+        n: u64,
+        size: (u32, u32),
+        quality: TaaQuality,
+        reset: bool,
+    ) -> (ImageF32, u64) {
         self.frame_then(n, size, quality, reset, false)
     }
 
@@ -98,7 +114,14 @@ impl Run {
             ..Default::default()
         };
         self.previous = Some((cam.view_projection(), jitter));
-        let taa = Taa::new(&self.renderer, None, albedo(&g), g, settings, Some(self.history.clone()));
+        let taa = Taa::new(
+            &self.renderer,
+            None,
+            albedo(&g),
+            g,
+            settings,
+            Some(self.history.clone()),
+        );
         let mut graph = FrameGraph::new(size);
         taa.declare(&self.renderer, &mut graph);
         graph.request(&taa.output);
@@ -125,7 +148,10 @@ impl Run {
                 },
             );
             let poisoned = read_texture(&self.renderer.gpu, &outputs[&taa.history]).expect("reads");
-            assert!(poisoned.pixels.iter().all(|p| p[0].is_nan()), "the history holds NaN");
+            assert!(
+                poisoned.pixels.iter().all(|p| p[0].is_nan()),
+                "the history holds NaN"
+            );
         }
         (image, report.counter(RESET))
     }
@@ -163,7 +189,14 @@ fn a_cut_and_a_resize_reset_the_history() {
     let (cut, resets) = run.frame(4, SIZE, TaaQuality::High, true);
     assert_eq!(resets, 1);
     // After a cut the output is this frame as it is.
-    let g = scene(&run.renderer, CameraInput { projection: jittered(camera().projection, jitter_ndc(4, SIZE)), ..camera() }, None);
+    let g = scene(
+        &run.renderer,
+        CameraInput {
+            projection: jittered(camera().projection, jitter_ndc(4, SIZE)),
+            ..camera()
+        },
+        None,
+    );
     let (_, current) = render(&run.renderer, g.as_ref(), &g.targets.color, SIZE);
     for (a, b) in cut.pixels.iter().zip(&current.pixels) {
         assert!((a[0] - b[0]).abs() < 1e-3, "{a:?} vs {b:?}");

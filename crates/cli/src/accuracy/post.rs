@@ -10,6 +10,7 @@
 //! - `taa` and `fxaa`: one frame rendered 8x8 larger and box-downsampled
 //!   (64 samples a pixel). TAA is measured after `--taa-frames` jittered
 //!   frames of the still scene.
+//!
 //! Error: RMSE and SSIM over RGB (metrics.rs); time: the effect's passes at
 //! `--time-size` (median of `--frames` after `--warmup`).
 
@@ -37,7 +38,11 @@ use crate::session::parse_size;
 #[derive(clap::Args)]
 pub struct PostArgs {
     /// Which effects, comma-separated: dof, motion-blur, taa, fxaa.
-    #[arg(long, default_value = "dof,motion-blur,taa,fxaa", value_delimiter = ',')]
+    #[arg(
+        long,
+        default_value = "dof,motion-blur,taa,fxaa",
+        value_delimiter = ','
+    )]
     only: Vec<Effect>,
     /// Where GPU time is measured.
     #[arg(long, default_value = "1920x1080", value_parser = parse_size)]
@@ -133,10 +138,26 @@ fn scene(renderer: &Renderer, at: f32) -> anyhow::Result<Arc<Layer>> {
     };
     let moving = Vec3::new(0.0, 0.8, 0.0) + MOTION * at;
     let balls = vec![
-        instance(place(Vec3::new(-1.8, 0.6, 2.5), 0.6), place(Vec3::new(-1.8, 0.6, 2.5), 0.6), [0.9, 0.2, 0.1, 1.0]),
-        instance(place(moving, 0.8), place(moving - MOTION, 0.8), [0.1, 0.7, 0.2, 1.0]),
-        instance(place(Vec3::new(2.2, 1.2, -6.0), 1.2), place(Vec3::new(2.2, 1.2, -6.0), 1.2), [0.2, 0.3, 0.9, 1.0]),
-        instance(place(Vec3::new(0.9, 0.3, 1.0), 0.3), place(Vec3::new(0.9, 0.3, 1.0), 0.3), [1.0, 0.9, 0.3, 1.0]),
+        instance(
+            place(Vec3::new(-1.8, 0.6, 2.5), 0.6),
+            place(Vec3::new(-1.8, 0.6, 2.5), 0.6),
+            [0.9, 0.2, 0.1, 1.0],
+        ),
+        instance(
+            place(moving, 0.8),
+            place(moving - MOTION, 0.8),
+            [0.1, 0.7, 0.2, 1.0],
+        ),
+        instance(
+            place(Vec3::new(2.2, 1.2, -6.0), 1.2),
+            place(Vec3::new(2.2, 1.2, -6.0), 1.2),
+            [0.2, 0.3, 0.9, 1.0],
+        ),
+        instance(
+            place(Vec3::new(0.9, 0.3, 1.0), 0.3),
+            place(Vec3::new(0.9, 0.3, 1.0), 0.3),
+            [1.0, 0.9, 0.3, 1.0],
+        ),
     ];
     let batches = vec![
         DrawBatch {
@@ -145,21 +166,51 @@ fn scene(renderer: &Renderer, at: f32) -> anyhow::Result<Arc<Layer>> {
         },
         DrawBatch {
             mesh: floor,
-            instances: vec![instance(Mat4::IDENTITY, Mat4::IDENTITY, [0.5, 0.5, 0.5, 1.0])],
+            instances: vec![instance(
+                Mat4::IDENTITY,
+                Mat4::IDENTITY,
+                [0.5, 0.5, 0.5, 1.0],
+            )],
         },
     ];
-    Ok(Arc::new(Layer::new(None, batches, LayerFeatures::default(), None)?))
+    Ok(Arc::new(Layer::new(
+        None,
+        batches,
+        LayerFeatures::default(),
+        None,
+    )?))
 }
 
 fn camera(size: (u32, u32)) -> CameraInput {
     CameraInput {
-        view: glam::camera::rh::view::look_at_mat4(Vec3::new(0.0, 2.0, 6.8), Vec3::new(0.0, 0.8, 0.0), Vec3::Y),
-        projection: glam::camera::rh::proj::directx::perspective(0.8, size.0 as f32 / size.1.max(1) as f32, 0.1, 100.0),
+        view: glam::camera::rh::view::look_at_mat4(
+            Vec3::new(0.0, 2.0, 6.8),
+            Vec3::new(0.0, 0.8, 0.0),
+            Vec3::Y,
+        ),
+        projection: glam::camera::rh::proj::directx::perspective(
+            0.8,
+            size.0 as f32 / size.1.max(1) as f32,
+            0.1,
+            100.0,
+        ),
     }
 }
 
-fn gbuffer(renderer: &Renderer, layer: Arc<Layer>, camera: CameraInput, previous: Option<Mat4>) -> Arc<GBuffer> {
-    GBuffer::new(renderer, None, vec![layer], camera, previous, SizeRule::Relative(1.0))
+fn gbuffer(
+    renderer: &Renderer,
+    layer: Arc<Layer>,
+    camera: CameraInput,
+    previous: Option<Mat4>,
+) -> Arc<GBuffer> {
+    GBuffer::new(
+        renderer,
+        None,
+        vec![layer],
+        camera,
+        previous,
+        SizeRule::Relative(1.0),
+    )
 }
 
 fn albedo(g: &Arc<GBuffer>) -> TextureRef {
@@ -170,7 +221,13 @@ fn albedo(g: &Arc<GBuffer>) -> TextureRef {
 }
 
 /// Run `recipe` at `size`; read `name` back when `read`. Returns the report and the image.
-fn run(renderer: &Renderer, recipe: &dyn Recipe, name: &str, size: (u32, u32), read: bool) -> anyhow::Result<(spreadlight_render::FrameReport, Option<ImageF32>)> {
+fn run(
+    renderer: &Renderer,
+    recipe: &dyn Recipe,
+    name: &str,
+    size: (u32, u32),
+    read: bool,
+) -> anyhow::Result<(spreadlight_render::FrameReport, Option<ImageF32>)> {
     let mut graph = FrameGraph::new(size);
     recipe.declare(renderer, &mut graph);
     graph.request(name);
@@ -179,7 +236,10 @@ fn run(renderer: &Renderer, recipe: &dyn Recipe, name: &str, size: (u32, u32), r
         anyhow::bail!("the frame failed: {e}");
     }
     let image = if read {
-        Some(read_texture(&renderer.gpu, outputs.get(name).context("no output")?)?)
+        Some(read_texture(
+            &renderer.gpu,
+            outputs.get(name).context("no output")?,
+        )?)
     } else {
         None
     };
@@ -194,7 +254,10 @@ struct Average {
 
 impl Average {
     fn new(len: usize) -> Self {
-        Average { sum: vec![[0.0; 3]; len], n: 0 }
+        Average {
+            sum: vec![[0.0; 3]; len],
+            n: 0,
+        }
     }
 
     fn add(&mut self, image: &ImageF32) {
@@ -211,7 +274,11 @@ impl Average {
         ImageF32 {
             width: size.0,
             height: size.1,
-            pixels: self.sum.iter().map(|s| [(s[0] / n) as f32, (s[1] / n) as f32, (s[2] / n) as f32, 1.0]).collect(),
+            pixels: self
+                .sum
+                .iter()
+                .map(|s| [(s[0] / n) as f32, (s[1] / n) as f32, (s[2] / n) as f32, 1.0])
+                .collect(),
         }
     }
 }
@@ -228,8 +295,12 @@ fn disk(n: u32) -> Vec<Vec2> {
 }
 
 fn error(approx: &ImageF32, truth: &ImageF32) -> (f64, f64) {
-    let channel = |image: &ImageF32, c: usize| -> Vec<f32> { image.pixels.iter().map(|p| p[c]).collect() };
-    let (a, t): (Vec<Vec<f32>>, Vec<Vec<f32>>) = ((0..3).map(|c| channel(approx, c)).collect(), (0..3).map(|c| channel(truth, c)).collect());
+    let channel =
+        |image: &ImageF32, c: usize| -> Vec<f32> { image.pixels.iter().map(|p| p[c]).collect() };
+    let (a, t): (Vec<Vec<f32>>, Vec<Vec<f32>>) = (
+        (0..3).map(|c| channel(approx, c)).collect(),
+        (0..3).map(|c| channel(truth, c)).collect(),
+    );
     let (approx, truth) = (planes(&a, truth), planes(&t, truth));
     let e = metrics::Error::of(&approx, &truth);
     (e.rmse, e.ssim)
@@ -248,7 +319,12 @@ fn planes<'a>(channels: &'a [Vec<f32>], like: &ImageF32) -> Vec<Plane<'a>> {
 }
 
 /// Median GPU time of the passes named `what` over frames made by `make`.
-fn time(renderer: &Renderer, args: &PostArgs, what: &str, mut make: impl FnMut(u64) -> anyhow::Result<(Arc<dyn Recipe>, String)>) -> anyhow::Result<Option<f64>> {
+fn time(
+    renderer: &Renderer,
+    args: &PostArgs,
+    what: &str,
+    mut make: impl FnMut(u64) -> anyhow::Result<(Arc<dyn Recipe>, String)>,
+) -> anyhow::Result<Option<f64>> {
     let mut times = Vec::new();
     for i in 0..(args.warmup + args.frames.max(1)) {
         let (recipe, name) = make(i as u64)?;
@@ -274,7 +350,10 @@ fn measure_dof(renderer: &Renderer, args: &PostArgs, rows: &mut Vec<Row>) -> any
     let layer = scene(renderer, 0.0)?;
     let base = camera(size);
     let aperture = dof_settings(1).aperture();
-    eprintln!("DOF reference: {} views over a {aperture:.4} aperture ...", args.views);
+    eprintln!(
+        "DOF reference: {} views over a {aperture:.4} aperture ...",
+        args.views
+    );
     let mut average = Average::new((size.0 * size.1) as usize);
     let (p00, p11) = (base.projection.x_axis.x, base.projection.y_axis.y);
     for lens in disk(args.views) {
@@ -282,7 +361,10 @@ fn measure_dof(renderer: &Renderer, args: &PostArgs, rows: &mut Vec<Row>) -> any
         // Moved across the lens and re-aimed so the focus plane projects where it did.
         let cam = CameraInput {
             view: Mat4::from_translation(Vec3::new(-d.x, -d.y, 0.0)) * base.view,
-            projection: jittered(base.projection, Vec2::new(p00 * d.x / FOCUS, p11 * d.y / FOCUS)),
+            projection: jittered(
+                base.projection,
+                Vec2::new(p00 * d.x / FOCUS, p11 * d.y / FOCUS),
+            ),
         };
         let g = gbuffer(renderer, layer.clone(), cam, None);
         let (_, image) = run(renderer, g.as_ref(), &g.targets.color, size, true)?;
@@ -292,17 +374,39 @@ fn measure_dof(renderer: &Renderer, args: &PostArgs, rows: &mut Vec<Row>) -> any
     for samples in [8, 16, 32, 64] {
         eprintln!("DOF {samples} samples");
         let g = gbuffer(renderer, layer.clone(), base, None);
-        let dof = Dof::new(renderer, None, albedo(&g), g, Focus::Distance(FOCUS), None, dof_settings(samples));
+        let dof = Dof::new(
+            renderer,
+            None,
+            albedo(&g),
+            g,
+            Focus::Distance(FOCUS),
+            None,
+            dof_settings(samples),
+        );
         let (_, image) = run(renderer, dof.as_ref(), &dof.output, size, true)?;
         let (rmse, ssim) = error(&image.context("image")?, &truth);
         let timed = camera(args.time_size);
         let ms = time(renderer, args, "DOF", |_| {
             let g = gbuffer(renderer, layer.clone(), timed, None);
-            let dof = Dof::new(renderer, None, albedo(&g), g, Focus::Distance(FOCUS), None, dof_settings(samples));
+            let dof = Dof::new(
+                renderer,
+                None,
+                albedo(&g),
+                g,
+                Focus::Distance(FOCUS),
+                None,
+                dof_settings(samples),
+            );
             let name = dof.output.clone();
             Ok((dof as Arc<dyn Recipe>, name))
         })?;
-        rows.push(Row { effect: Effect::Dof, setting: format!("{samples} samples"), ms, rmse, ssim });
+        rows.push(Row {
+            effect: Effect::Dof,
+            setting: format!("{samples} samples"),
+            ms,
+            rmse,
+            ssim,
+        });
     }
     Ok(())
 }
@@ -315,7 +419,11 @@ fn blur_settings(samples: u32) -> MotionBlurSettings {
     }
 }
 
-fn measure_motion_blur(renderer: &Renderer, args: &PostArgs, rows: &mut Vec<Row>) -> anyhow::Result<()> {
+fn measure_motion_blur(
+    renderer: &Renderer,
+    args: &PostArgs,
+    rows: &mut Vec<Row>,
+) -> anyhow::Result<()> {
     let size = args.error_size;
     let cam = camera(size);
     eprintln!("MotionBlur reference: {} sub-frames ...", args.views);
@@ -343,13 +451,23 @@ fn measure_motion_blur(renderer: &Renderer, args: &PostArgs, rows: &mut Vec<Row>
             let name = blur.output.clone();
             Ok((blur as Arc<dyn Recipe>, name))
         })?;
-        rows.push(Row { effect: Effect::MotionBlur, setting: format!("{samples} samples"), ms, rmse, ssim });
+        rows.push(Row {
+            effect: Effect::MotionBlur,
+            setting: format!("{samples} samples"),
+            ms,
+            rmse,
+            ssim,
+        });
     }
     Ok(())
 }
 
 /// The still scene's albedo 8x8 larger, box-downsampled: 64 samples a pixel.
-fn supersampled(renderer: &Renderer, layer: &Arc<Layer>, size: (u32, u32)) -> anyhow::Result<ImageF32> {
+fn supersampled(
+    renderer: &Renderer,
+    layer: &Arc<Layer>,
+    size: (u32, u32),
+) -> anyhow::Result<ImageF32> {
     let big = (size.0 * 8, size.1 * 8);
     let g = gbuffer(renderer, layer.clone(), camera(size), None);
     let (_, image) = run(renderer, g.as_ref(), &g.targets.color, big, true)?;
@@ -373,7 +491,14 @@ struct TaaRun {
 }
 
 impl TaaRun {
-    fn frame(&mut self, renderer: &Renderer, layer: &Arc<Layer>, n: u64, size: (u32, u32), quality: TaaQuality) -> Arc<Taa> {
+    fn frame(
+        &mut self,
+        renderer: &Renderer,
+        layer: &Arc<Layer>,
+        n: u64,
+        size: (u32, u32),
+        quality: TaaQuality,
+    ) -> Arc<Taa> {
         let jitter = jitter_ndc(n, size);
         let base = camera(size);
         let cam = CameraInput {
@@ -388,14 +513,34 @@ impl TaaRun {
             ..Default::default()
         };
         self.previous = Some((cam.view_projection(), jitter));
-        Taa::new(renderer, None, albedo(&g), g, settings, Some(self.history.clone()))
+        Taa::new(
+            renderer,
+            None,
+            albedo(&g),
+            g,
+            settings,
+            Some(self.history.clone()),
+        )
     }
 }
 
-fn measure_taa(renderer: &Renderer, args: &PostArgs, truth: &ImageF32, layer: &Arc<Layer>, rows: &mut Vec<Row>) -> anyhow::Result<()> {
-    for (name, quality) in [("Low", TaaQuality::Low), ("Medium", TaaQuality::Medium), ("High", TaaQuality::High)] {
+fn measure_taa(
+    renderer: &Renderer,
+    args: &PostArgs,
+    truth: &ImageF32,
+    layer: &Arc<Layer>,
+    rows: &mut Vec<Row>,
+) -> anyhow::Result<()> {
+    for (name, quality) in [
+        ("Low", TaaQuality::Low),
+        ("Medium", TaaQuality::Medium),
+        ("High", TaaQuality::High),
+    ] {
         eprintln!("TAA {name}");
-        let mut taa = TaaRun { history: format!("accuracy taa {name}"), previous: None };
+        let mut taa = TaaRun {
+            history: format!("accuracy taa {name}"),
+            previous: None,
+        };
         let mut last = None;
         for n in 0..args.taa_frames.max(1) {
             let t = taa.frame(renderer, layer, n, args.error_size, quality);
@@ -403,23 +548,54 @@ fn measure_taa(renderer: &Renderer, args: &PostArgs, truth: &ImageF32, layer: &A
             last = run(renderer, t.as_ref(), &t.output, args.error_size, read)?.1;
         }
         let (rmse, ssim) = error(&last.context("image")?, truth);
-        let mut timed = TaaRun { history: format!("accuracy taa time {name}"), previous: None };
+        let mut timed = TaaRun {
+            history: format!("accuracy taa time {name}"),
+            previous: None,
+        };
         let ms = time(renderer, args, "TAA", |n| {
             let t = timed.frame(renderer, layer, n, args.time_size, quality);
             let name = t.output.clone();
             Ok((t as Arc<dyn Recipe>, name))
         })?;
-        rows.push(Row { effect: Effect::Taa, setting: format!("{name}, {} frames", args.taa_frames), ms, rmse, ssim });
+        rows.push(Row {
+            effect: Effect::Taa,
+            setting: format!("{name}, {} frames", args.taa_frames),
+            ms,
+            rmse,
+            ssim,
+        });
     }
     Ok(())
 }
 
-fn measure_fxaa(renderer: &Renderer, args: &PostArgs, truth: &ImageF32, layer: &Arc<Layer>, rows: &mut Vec<Row>) -> anyhow::Result<()> {
+fn measure_fxaa(
+    renderer: &Renderer,
+    args: &PostArgs,
+    truth: &ImageF32,
+    layer: &Arc<Layer>,
+    rows: &mut Vec<Row>,
+) -> anyhow::Result<()> {
     let g = gbuffer(renderer, layer.clone(), camera(args.error_size), None);
-    let (_, aliased) = run(renderer, g.as_ref(), &g.targets.color, args.error_size, true)?;
+    let (_, aliased) = run(
+        renderer,
+        g.as_ref(),
+        &g.targets.color,
+        args.error_size,
+        true,
+    )?;
     let (rmse, ssim) = error(&aliased.context("image")?, truth);
-    rows.push(Row { effect: Effect::Fxaa, setting: "off (one sample)".to_owned(), ms: Some(0.0), rmse, ssim });
-    for (name, quality) in [("Low", FxaaQuality::Low), ("Medium", FxaaQuality::Medium), ("High", FxaaQuality::High)] {
+    rows.push(Row {
+        effect: Effect::Fxaa,
+        setting: "off (one sample)".to_owned(),
+        ms: Some(0.0),
+        rmse,
+        ssim,
+    });
+    for (name, quality) in [
+        ("Low", FxaaQuality::Low),
+        ("Medium", FxaaQuality::Medium),
+        ("High", FxaaQuality::High),
+    ] {
         eprintln!("FXAA {name}");
         let g = gbuffer(renderer, layer.clone(), camera(args.error_size), None);
         let fxaa = Fxaa::new(renderer, None, albedo(&g), quality, 0.75);
@@ -432,7 +608,13 @@ fn measure_fxaa(renderer: &Renderer, args: &PostArgs, truth: &ImageF32, layer: &
             let name = fxaa.output.clone();
             Ok((fxaa as Arc<dyn Recipe>, name))
         })?;
-        rows.push(Row { effect: Effect::Fxaa, setting: name.to_owned(), ms, rmse, ssim });
+        rows.push(Row {
+            effect: Effect::Fxaa,
+            setting: name.to_owned(),
+            ms,
+            rmse,
+            ssim,
+        });
     }
     Ok(())
 }
@@ -482,7 +664,14 @@ pub fn run_post(args: &PostArgs) -> anyhow::Result<ExitCode> {
         args.frames, args.warmup, args.views, args.views, args.taa_frames
     );
     for r in &rows {
-        table.push_str(&format!("| {} | {} | {} | {:.4} | {:.4} |\n", r.effect.name(), r.setting, ms(r.ms), r.rmse, r.ssim));
+        table.push_str(&format!(
+            "| {} | {} | {} | {:.4} | {:.4} |\n",
+            r.effect.name(),
+            r.setting,
+            ms(r.ms),
+            r.rmse,
+            r.ssim
+        ));
     }
     print!("{table}");
     if let Some(file) = &args.plot {
@@ -491,10 +680,18 @@ pub fn run_post(args: &PostArgs) -> anyhow::Result<ExitCode> {
             let point = (r.ms.unwrap_or(0.0), r.rmse, r.setting.clone());
             match series.iter_mut().find(|s| s.name == r.effect.name()) {
                 Some(s) => s.points.push(point),
-                None => series.push(Series { name: r.effect.name().to_owned(), points: vec![point] }),
+                None => series.push(Series {
+                    name: r.effect.name().to_owned(),
+                    points: vec![point],
+                }),
             }
         }
-        write_svg(file, &format!("Post effects on {adapter}: ms at {tw}x{th} against RMSE"), "RMSE (RGB)", &series)?;
+        write_svg(
+            file,
+            &format!("Post effects on {adapter}: ms at {tw}x{th} against RMSE"),
+            "RMSE (RGB)",
+            &series,
+        )?;
     }
     if let Some(out) = &args.out {
         std::fs::write(out, &table).with_context(|| format!("cannot write {}", out.display()))?;

@@ -40,12 +40,22 @@ pub(crate) fn texture(cx: &EvalContext<'_>, pin: usize) -> Result<TextureRef, No
 }
 
 /// The first texture on `pin` if one is connected.
-pub(crate) fn optional_texture(cx: &EvalContext<'_>, pin: usize) -> Result<Option<TextureRef>, NodeError> {
-    Ok(resources::<TextureRef>(cx, pin)?.into_iter().next().map(|t| (*t).clone()))
+pub(crate) fn optional_texture(
+    cx: &EvalContext<'_>,
+    pin: usize,
+) -> Result<Option<TextureRef>, NodeError> {
+    Ok(resources::<TextureRef>(cx, pin)?
+        .into_iter()
+        .next()
+        .map(|t| (*t).clone()))
 }
 
 /// The first G-buffer on `pin`, or an error saying what it is for.
-pub(crate) fn gbuffer(cx: &EvalContext<'_>, pin: usize, why: &str) -> Result<Arc<GBuffer>, NodeError> {
+pub(crate) fn gbuffer(
+    cx: &EvalContext<'_>,
+    pin: usize,
+    why: &str,
+) -> Result<Arc<GBuffer>, NodeError> {
     resources::<GBuffer>(cx, pin)?
         .into_iter()
         .next()
@@ -53,7 +63,12 @@ pub(crate) fn gbuffer(cx: &EvalContext<'_>, pin: usize, why: &str) -> Result<Arc
 }
 
 /// The first float on `pin`; NaN (and infinity unless `infinite_ok`) is an error naming the pin.
-pub(crate) fn float(cx: &EvalContext<'_>, pin: usize, fallback: f32, infinite_ok: bool) -> Result<f32, NodeError> {
+pub(crate) fn float(
+    cx: &EvalContext<'_>,
+    pin: usize,
+    fallback: f32,
+    infinite_ok: bool,
+) -> Result<f32, NodeError> {
     let v = cx.slices::<f32>(pin)?.first().copied().unwrap_or(fallback);
     if v.is_nan() || (!infinite_ok && v.is_infinite()) {
         return Err(cx.input_error(pin, format!("slice 0 is {v}")));
@@ -62,7 +77,13 @@ pub(crate) fn float(cx: &EvalContext<'_>, pin: usize, fallback: f32, infinite_ok
 }
 
 /// The first integer on `pin`, within `lo..=hi`, or an error naming the pin.
-pub(crate) fn count(cx: &EvalContext<'_>, pin: usize, fallback: i64, lo: i64, hi: i64) -> Result<u32, NodeError> {
+pub(crate) fn count(
+    cx: &EvalContext<'_>,
+    pin: usize,
+    fallback: i64,
+    lo: i64,
+    hi: i64,
+) -> Result<u32, NodeError> {
     let v = cx.slices::<i64>(pin)?.first().copied().unwrap_or(fallback);
     if !(lo..=hi).contains(&v) {
         return Err(cx.input_error(pin, format!("{v} is not in {lo}..{hi}")));
@@ -72,5 +93,8 @@ pub(crate) fn count(cx: &EvalContext<'_>, pin: usize, fallback: i64, lo: i64, hi
 
 /// Output a texture on pin 0.
 pub(crate) fn set_texture(cx: &mut EvalContext<'_>, texture: TextureRef) {
-    cx.set_output(0, resource_spread::<TextureRef>(ResourceKind::Texture, vec![Arc::new(texture)]));
+    cx.set_output(
+        0,
+        resource_spread::<TextureRef>(ResourceKind::Texture, vec![Arc::new(texture)]),
+    );
 }

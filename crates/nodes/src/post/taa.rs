@@ -2,7 +2,9 @@
 //! Keeps last frame's jitter, so the velocity's jitter part can be taken out.
 
 use glam::Vec2;
-use spreadlight_graph::{EnumDef, EvalContext, Node, NodeDef, NodeError, PinType, Registry, ResourceKind, Spread};
+use spreadlight_graph::{
+    EnumDef, EvalContext, Node, NodeDef, NodeError, PinType, Registry, ResourceKind, Spread,
+};
 use spreadlight_render::post::{Taa, TaaQuality, TaaSettings};
 
 use super::{float, gbuffer, set_texture, texture};
@@ -67,7 +69,14 @@ impl Node for TaaNode {
         }
         let reset = cx.slices::<bool>(6)?.first().copied().unwrap_or(false);
         let previous_jitter = self.previous_jitter.replace(jitter).unwrap_or(jitter);
-        let settings = TaaSettings { quality, feedback, sharpen, jitter, previous_jitter, reset };
+        let settings = TaaSettings {
+            quality,
+            feedback,
+            sharpen,
+            jitter,
+            previous_jitter,
+            reset,
+        };
         let taa = Taa::new(&renderer, Some(cx.node_id.0), source, g, settings, None);
         set_texture(cx, taa.texture());
         Ok(())

@@ -236,7 +236,14 @@ impl Dof {
                 .iter()
                 .map(|(b, v)| (*b, wgpu::BindingResource::TextureView(v))),
         );
-        let size = super::size_of(cx, if entry == "tiles" { &self.tiles } else { &self.coc })?;
+        let size = super::size_of(
+            cx,
+            if entry == "tiles" {
+                &self.tiles
+            } else {
+                &self.coc
+            },
+        )?;
         super::dispatch_entry(cx, entry, &self.key(), entry, &all, size)?;
         if entry == "main" {
             cx.count(BLURRED, 1);
@@ -282,7 +289,9 @@ impl Recipe for Dof {
             b.recipe.declare(renderer, fg);
         }
         let s = self.settings;
-        let radius = (bound.unwrap_or(f32::INFINITY) / 2.0).min(s.max_radius).max(0.5);
+        let radius = (bound.unwrap_or(f32::INFINITY) / 2.0)
+            .min(s.max_radius)
+            .max(0.5);
         // Tiles at least as wide as the largest radius: a circle reaches no further than the next tile.
         let tile = (radius.ceil() as u32).max(8);
         let params = super::words(&[

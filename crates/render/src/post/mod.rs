@@ -65,7 +65,11 @@ pub(crate) fn dispatch_entry(
 /// The pass a node that has nothing to do runs instead of its effect: a
 /// copy of `source` into `output` (any float format to RGBA16F), with
 /// NaN made 0 and values clamped to the half-float range.
-pub(crate) fn copy(cx: &mut PassContext<'_>, source: &str, output: &str) -> Result<(), RenderError> {
+pub(crate) fn copy(
+    cx: &mut PassContext<'_>,
+    source: &str,
+    output: &str,
+) -> Result<(), RenderError> {
     let (from, to) = (cx.view(source)?, cx.view(output)?);
     let size = {
         let t = cx.texture(output)?;

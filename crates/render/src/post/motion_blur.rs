@@ -191,7 +191,12 @@ impl Recipe for MotionBlur {
         fg.add_pass(
             crate::recipe::pass_name("MotionBlur", self.owner, Some("gather")),
             self.owner,
-            &[&self.source.name, &t.depth, &t.velocity_uv, &self.neighbor_max],
+            &[
+                &self.source.name,
+                &t.depth,
+                &t.velocity_uv,
+                &self.neighbor_max,
+            ],
             &[(&self.output, desc)],
             move |cx| {
                 cx.count(BLURRED, 1);

@@ -136,61 +136,63 @@ impl Transparency {
     fn accumulate(&self, renderer: &Renderer, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
         let device = cx.gpu.device.clone();
         let key = ShaderKey::new(SHADER, []);
-        let pipeline = cx.shaders.render_pipeline(&device, &key, "wboit", |module| {
-            let additive = wgpu::BlendComponent {
-                src_factor: wgpu::BlendFactor::One,
-                dst_factor: wgpu::BlendFactor::One,
-                operation: wgpu::BlendOperation::Add,
-            };
-            let reveal = wgpu::BlendComponent {
-                src_factor: wgpu::BlendFactor::Zero,
-                dst_factor: wgpu::BlendFactor::OneMinusSrc,
-                operation: wgpu::BlendOperation::Add,
-            };
-            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some("transparency accumulate"),
-                layout: None,
-                vertex: wgpu::VertexState {
-                    module,
-                    entry_point: Some("vs"),
-                    compilation_options: Default::default(),
-                    buffers: &[],
-                },
-                primitive: wgpu::PrimitiveState {
-                    topology: wgpu::PrimitiveTopology::TriangleList,
-                    // Both faces: a transparent shell shows its back through its front.
-                    cull_mode: None,
-                    ..Default::default()
-                },
-                depth_stencil: None,
-                multisample: Default::default(),
-                fragment: Some(wgpu::FragmentState {
-                    module,
-                    entry_point: Some("fs"),
-                    compilation_options: Default::default(),
-                    targets: &[
-                        Some(wgpu::ColorTargetState {
-                            format: ACCUMULATION,
-                            blend: Some(wgpu::BlendState {
-                                color: additive,
-                                alpha: additive,
+        let pipeline = cx
+            .shaders
+            .render_pipeline(&device, &key, "wboit", |module| {
+                let additive = wgpu::BlendComponent {
+                    src_factor: wgpu::BlendFactor::One,
+                    dst_factor: wgpu::BlendFactor::One,
+                    operation: wgpu::BlendOperation::Add,
+                };
+                let reveal = wgpu::BlendComponent {
+                    src_factor: wgpu::BlendFactor::Zero,
+                    dst_factor: wgpu::BlendFactor::OneMinusSrc,
+                    operation: wgpu::BlendOperation::Add,
+                };
+                device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                    label: Some("transparency accumulate"),
+                    layout: None,
+                    vertex: wgpu::VertexState {
+                        module,
+                        entry_point: Some("vs"),
+                        compilation_options: Default::default(),
+                        buffers: &[],
+                    },
+                    primitive: wgpu::PrimitiveState {
+                        topology: wgpu::PrimitiveTopology::TriangleList,
+                        // Both faces: a transparent shell shows its back through its front.
+                        cull_mode: None,
+                        ..Default::default()
+                    },
+                    depth_stencil: None,
+                    multisample: Default::default(),
+                    fragment: Some(wgpu::FragmentState {
+                        module,
+                        entry_point: Some("fs"),
+                        compilation_options: Default::default(),
+                        targets: &[
+                            Some(wgpu::ColorTargetState {
+                                format: ACCUMULATION,
+                                blend: Some(wgpu::BlendState {
+                                    color: additive,
+                                    alpha: additive,
+                                }),
+                                write_mask: wgpu::ColorWrites::ALL,
                             }),
-                            write_mask: wgpu::ColorWrites::ALL,
-                        }),
-                        Some(wgpu::ColorTargetState {
-                            format: REVEALAGE,
-                            blend: Some(wgpu::BlendState {
-                                color: reveal,
-                                alpha: reveal,
+                            Some(wgpu::ColorTargetState {
+                                format: REVEALAGE,
+                                blend: Some(wgpu::BlendState {
+                                    color: reveal,
+                                    alpha: reveal,
+                                }),
+                                write_mask: wgpu::ColorWrites::ALL,
                             }),
-                            write_mask: wgpu::ColorWrites::ALL,
-                        }),
-                    ],
-                }),
-                multiview_mask: None,
-                cache: None,
-            })
-        })?;
+                        ],
+                    }),
+                    multiview_mask: None,
+                    cache: None,
+                })
+            })?;
         let (vertices, indices, _) = renderer.meshes.buffers();
         let depth = cx.view(&self.gbuffer.targets.depth)?;
         let mut entries = geometry_entries(
@@ -270,7 +272,14 @@ impl Transparency {
             (9, wgpu::BindingResource::TextureView(&views[3])),
         ];
         let size = super::size_of(cx, &self.output)?;
-        super::dispatch_entry(cx, "transparency resolve", &ShaderKey::new(SHADER, []), "resolve", &all, size)
+        super::dispatch_entry(
+            cx,
+            "transparency resolve",
+            &ShaderKey::new(SHADER, []),
+            "resolve",
+            &all,
+            size,
+        )
     }
 }
 
@@ -308,7 +317,10 @@ impl Recipe for Transparency {
                     &self.accumulation,
                     TextureDesc::attachment(ACCUMULATION).size(self.gbuffer.size),
                 ),
-                (&self.revealage, TextureDesc::attachment(REVEALAGE).size(self.gbuffer.size)),
+                (
+                    &self.revealage,
+                    TextureDesc::attachment(REVEALAGE).size(self.gbuffer.size),
+                ),
             ],
             move |cx| self.accumulate(renderer, cx),
         );

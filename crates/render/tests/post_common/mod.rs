@@ -115,7 +115,10 @@ pub fn render(
     let (report, images) = render_and_read(renderer, recipe, size, &[name]).expect("renders");
     assert!(report.errors.is_empty(), "{:?}", report.errors);
     let image = images.into_iter().next().expect("one image");
-    assert!(image.all_finite(), "{name}: a NaN or infinity reached the target");
+    assert!(
+        image.all_finite(),
+        "{name}: a NaN or infinity reached the target"
+    );
     (report, image)
 }
 
@@ -132,5 +135,5 @@ pub fn range(image: &ImageF32) -> (f32, f32) {
 
 /// A checkerboard of 1-pixel cells: all high frequency, what any blur flattens.
 pub fn checker(x: u32, y: u32, a: [f32; 4], b: [f32; 4]) -> [f32; 4] {
-    if (x + y) % 2 == 0 { a } else { b }
+    if (x + y).is_multiple_of(2) { a } else { b }
 }
