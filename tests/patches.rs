@@ -214,3 +214,61 @@ fn a_scene_without_reflective_or_subsurface_materials_runs_no_reflection_or_sss_
     // CookTorrance makes no SSS term without FakeSSS, so SSSS has nothing to scatter at all.
     assert!(!report.passes.iter().any(|p| p.name.contains("SSSS")));
 }
+
+/// The post example runs its whole chain every frame: the glass sphere is
+/// drawn transparent, DOF blurs, MotionBlur blurs once there is a last frame
+/// to move from (the ball moves, so it is not skipped after that), TAA keeps its history after the first frame; and with the
+/// lens stopped down to a pinhole DOF costs a copy, said in the report.
+#[test]
+fn the_post_example_runs_every_effect_and_skips_what_does_nothing() {
+    let path = spreadlight_tests::root().join("patches/post.ron");
+    let run = |f_stop: f32| {
+        let mut patch = format::load(&path).expect("loads");
+        let dof = patch
+            .nodes
+            .iter_mut()
+            .find(|n| n.type_name == "DOF")
+            .expect("a DOF node");
+        dof.values
+            .insert("F-Stop".to_owned(), Spread::Float(vec![f_stop]));
+        let mut rt = Runtime::new(spreadlight_nodes::registry());
+        rt.provide(patch_dir(&path));
+        let renderer = std::sync::Arc::new(
+            spreadlight_render::Renderer::headless().expect("a GPU adapter (lavapipe in CI)"),
+        );
+        renderer.set_output_size((64, 36));
+        rt.provide(renderer.clone());
+        rt.provide(std::sync::Arc::new(
+            spreadlight_nodes::output::RenderedImages::default(),
+        ));
+        assert!(rt.load(&patch).is_empty());
+        let mut reports = Vec::new();
+        for frame in 0..3 {
+            rt.evaluate(FrameClock::fixed(frame, 60.0));
+            assert_eq!(rt.node_errors().count(), 0);
+            reports.push(renderer.last_report());
+        }
+        reports
+    };
+    let reports = run(1.4);
+    for (frame, report) in reports.iter().enumerate() {
+        assert!(report.errors.is_empty(), "{:?}", report.errors);
+        assert_eq!(report.counter("transparent instances drawn"), 1);
+        assert_eq!(report.counter("dof blurred"), 1, "frame {frame}");
+        // The first frame has no last frame: no velocity, so motion blur is a copy.
+        let first = u64::from(frame == 0);
+        assert_eq!(report.counter("motion blur skipped (no motion)"), first);
+        assert_eq!(
+            report.counter("motion blur blurred"),
+            1 - first,
+            "frame {frame}"
+        );
+        assert_eq!(report.counter("taa history reset"), u64::from(frame == 0));
+    }
+    let pinhole = run(1e9);
+    assert_eq!(
+        pinhole[2].counter("dof skipped (circle under half a pixel)"),
+        1
+    );
+    assert_eq!(pinhole[2].counter("dof blurred"), 0);
+}

@@ -103,3 +103,19 @@ fn showcase_all_three_light_types() {
 fn shadows_of_all_three_light_types() {
     check("shadows", "patches/shadows.ron", "showcase", (160, 90), 0);
 }
+
+/// The post chain (Transparency, DOF with Autofocus, MotionBlur on the moving
+/// ball, Glare, TAA over the jittered camera, Tonemap) over the lit showcase,
+/// at the first frame (TAA's history fresh), once it has settled and later.
+#[test]
+fn post_chain_over_several_frames() {
+    for frame in [0, 8, 30] {
+        check(
+            &format!("post-frame-{frame}"),
+            "patches/post.ron",
+            "post",
+            (160, 90),
+            frame,
+        );
+    }
+}

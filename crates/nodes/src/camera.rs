@@ -10,9 +10,12 @@
 use std::f32::consts::TAU;
 
 use glam::camera::rh::{proj::directx::perspective, view::look_to_mat4};
-use glam::{Mat4, Vec3};
+use glam::{Mat4, Vec2, Vec3};
 use spreadlight_graph::spread::{slice_count, wrapped};
 use spreadlight_graph::{EvalContext, NodeDef, NodeError, Registry};
+use spreadlight_render::Renderer;
+use spreadlight_render::camera::{jitter_ndc, jittered};
+use spreadlight_render::renderer::DEFAULT_OUTPUT_SIZE;
 
 const CATEGORY: &str = "Camera";
 
@@ -30,6 +33,9 @@ const FOV: usize = 4;
 const ASPECT: usize = 5;
 const NEAR: usize = 6;
 const FAR: usize = 7;
+const JITTER: usize = 8;
+const FRAME: usize = 9;
+const RESOLUTION: usize = 10;
 
 pub fn register(r: &mut Registry) {
     r.add(
@@ -45,7 +51,10 @@ pub fn register(r: &mut Registry) {
              perspective, depth 0 at Near and 1 at Far, as wgpu expects) and the camera's \
              Position. Angles are in cycles. FOV must lie strictly between 0 and 0.5, Aspect \
              Ratio and Near must be above 0 and Far above Near, or the node reports an error \
-             on that pin. Every pin spreads, giving one camera per slice.",
+             on that pin. Every pin spreads, giving one camera per slice. \
+             Jitter (for TAA) moves the projection by a sub-pixel offset each frame, Halton (2, 3) over \
+             8 frames, for a target of Resolution pixels ((0, 0): the renderer's output size), at Frame \
+             (-1: the clock's frame); the Jitter output is that offset in NDC, for TAA's Jitter pin.",
         )
         .input("Target", Vec3::ZERO)
         .input("Yaw", 0.0f32)
@@ -55,9 +64,13 @@ pub fn register(r: &mut Registry) {
         .input("Aspect Ratio", 16.0f32 / 9.0)
         .input("Near", 0.1f32)
         .input("Far", 100.0f32)
+        .input("Jitter", false)
+        .input("Frame", -1i64)
+        .input("Resolution", Vec2::ZERO)
         .output::<Mat4>("View")
         .output::<Mat4>("Projection")
         .output::<Vec3>("Position")
+        .output::<Vec2>("Jitter")
         .evaluate(camera),
     );
 }
@@ -72,6 +85,7 @@ fn orbit_direction(yaw: f32, pitch: f32) -> Vec3 {
 }
 
 fn camera(cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
+    let jitter = jitter_offset(cx)?;
     let target = cx.slices::<Vec3>(TARGET)?;
     let mut params: [&[f32]; 7] = [&[]; 7];
     for (k, p) in params.iter_mut().enumerate() {
@@ -126,13 +140,40 @@ fn camera(cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
             ));
         }
         views.push(view);
-        projections.push(projection);
+        projections.push(jittered(projection, jitter));
         positions.push(position);
     }
     cx.set(0, views);
     cx.set(1, projections);
     cx.set(2, positions);
+    cx.set(3, vec![jitter]);
     Ok(())
+}
+
+/// This frame's jitter in NDC (zero when off). With it on, the node runs
+/// every frame: the offset changes though no input does.
+fn jitter_offset(cx: &mut EvalContext<'_>) -> Result<Vec2, NodeError> {
+    if !cx.slices::<bool>(JITTER)?.first().copied().unwrap_or(false) {
+        return Ok(Vec2::ZERO);
+    }
+    cx.reevaluate_next_frame();
+    let frame = cx.slices::<i64>(FRAME)?.first().copied().unwrap_or(-1);
+    let frame = u64::try_from(frame).unwrap_or(cx.clock.frame);
+    let resolution = cx
+        .slices::<Vec2>(RESOLUTION)?
+        .first()
+        .copied()
+        .unwrap_or(Vec2::ZERO);
+    if !resolution.is_finite() || resolution.min_element() < 0.0 {
+        return Err(cx.input_error(RESOLUTION, "must be finite and not negative"));
+    }
+    let size = if resolution.min_element() >= 1.0 {
+        (resolution.x as u32, resolution.y as u32)
+    } else {
+        cx.service::<Renderer>()
+            .map_or(DEFAULT_OUTPUT_SIZE, |r| r.output_size())
+    };
+    Ok(jitter_ndc(frame, size))
 }
 
 #[cfg(test)]
@@ -147,7 +188,7 @@ mod tests {
     fn camera(values: &[(&str, Spread)]) -> (Mat4, Mat4, Vec3) {
         let out = eval("Camera", values).expect("camera");
         match &out[..] {
-            [Spread::Mat4(v), Spread::Mat4(p), Spread::Vec3(pos)] if v.len() == 1 => {
+            [Spread::Mat4(v), Spread::Mat4(p), Spread::Vec3(pos), _] if v.len() == 1 => {
                 (v[0], p[0], pos[0])
             }
             other => panic!("unexpected outputs {other:?}"),
@@ -291,6 +332,36 @@ mod tests {
             ],
             "Distance",
         );
+    }
+
+    #[test]
+    fn jitter_moves_the_projection_by_under_half_a_pixel_per_frame() {
+        let (_, still, _) = camera(&[]);
+        let jitter = |frame: f32| {
+            let values = [
+                ("Jitter", Spread::Bool(vec![true])),
+                ("Frame", Spread::Int(vec![frame as i64])),
+                (
+                    "Resolution",
+                    Spread::Vec2(vec![glam::Vec2::new(100.0, 50.0)]),
+                ),
+            ];
+            let (_, moved, _) = camera(&values);
+            let offset: Vec<glam::Vec2> = eval_out("Camera", &values, "Jitter");
+            (moved, offset[0])
+        };
+        let (a, ja) = jitter(0.0);
+        let (b, jb) = jitter(1.0);
+        assert_ne!(ja, jb);
+        for (m, j) in [(a, ja), (b, jb)] {
+            let p = Vec3::new(0.2, 0.1, -3.0);
+            let d = m.project_point3(p) - still.project_point3(p);
+            assert!((d.truncate() - j).length() < 1e-5, "{d} vs {j}");
+            // Under half a pixel of the 100x50 target.
+            assert!(j.x.abs() < 1.0 / 100.0 && j.y.abs() < 1.0 / 50.0, "{j}");
+        }
+        let offset: Vec<glam::Vec2> = eval_out("Camera", &[], "Jitter");
+        assert_eq!(offset, vec![glam::Vec2::ZERO]);
     }
 
     #[test]

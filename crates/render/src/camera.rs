@@ -67,6 +67,34 @@ impl CameraInput {
     }
 }
 
+/// The radical inverse of `index` in `base`: the Halton sequence, in 0..1.
+pub fn halton(index: u32, base: u32) -> f32 {
+    let (mut f, mut r, mut i) = (1.0f32, 0.0f32, index);
+    while i > 0 {
+        f /= base as f32;
+        r += f * (i % base) as f32;
+        i /= base;
+    }
+    r
+}
+
+/// The sub-pixel jitter of `frame` for a target of `size` pixels, in NDC
+/// units: Halton (2, 3) over 8 frames (index 1..=8, skipping 0 which would
+/// sit on the pixel corner), centred so each offset is within half a pixel.
+pub fn jitter_ndc(frame: u64, size: (u32, u32)) -> glam::Vec2 {
+    let index = (frame % 8) as u32 + 1;
+    let pixel = glam::Vec2::new(halton(index, 2) - 0.5, halton(index, 3) - 0.5);
+    let (w, h) = (size.0.max(1) as f32, size.1.max(1) as f32);
+    // NDC spans 2 over the target; +y is up in NDC and down in pixels.
+    glam::Vec2::new(pixel.x * 2.0 / w, -pixel.y * 2.0 / h)
+}
+
+/// `projection` moved by `ndc` in normalized device coordinates: the whole
+/// image shifts by that much whatever the depth (x' = x + ndc.x * w).
+pub fn jittered(projection: Mat4, ndc: glam::Vec2) -> Mat4 {
+    Mat4::from_translation(Vec3::new(ndc.x, ndc.y, 0.0)) * projection
+}
+
 /// The inverse, or identity for a singular matrix: a NaN must never reach a shader.
 pub fn safe_inverse(m: Mat4) -> Mat4 {
     let det = m.determinant();
@@ -94,6 +122,27 @@ mod tests {
         assert!((depth(0.1) - 1.0).abs() < 1e-5);
         assert!(depth(100.0).abs() < 1e-5);
         assert!(depth(1.0) > depth(10.0));
+    }
+
+    #[test]
+    fn jitter_stays_within_half_a_pixel_and_averages_to_the_centre() {
+        let size = (64, 32);
+        let mut sum = glam::Vec2::ZERO;
+        for frame in 0..8 {
+            let j = jitter_ndc(frame, size);
+            let pixels = j * glam::Vec2::new(32.0, -16.0);
+            assert!(pixels.abs().max_element() < 0.5, "{frame}: {pixels}");
+            sum += pixels;
+        }
+        assert!((sum / 8.0).length() < 0.1, "{sum}");
+        assert_ne!(jitter_ndc(0, size), jitter_ndc(1, size));
+        let projection = glam::camera::rh::proj::directx::perspective(1.0, 2.0, 0.1, 100.0);
+        let moved = jittered(projection, glam::Vec2::new(0.01, -0.02));
+        for z in [0.5f32, 10.0, 90.0] {
+            let a = projection.project_point3(Vec3::new(0.3, 0.2, -z));
+            let b = moved.project_point3(Vec3::new(0.3, 0.2, -z));
+            assert!((b - a - Vec3::new(0.01, -0.02, 0.0)).length() < 1e-5);
+        }
     }
 
     #[test]

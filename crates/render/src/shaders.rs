@@ -108,6 +108,7 @@ pub const SHADERS: &[ShaderFile] = &[
     shader!("lib/screen.wgsl", library),
     shader!("lib/sky.wgsl", library),
     shader!("lib/ibl.wgsl", library),
+    shader!("lib/post.wgsl", library),
     shader!("lighting/shadow_sampling.wgsl", library),
     shader!("gbuffer/visibility.wgsl", []),
     shader!("gbuffer/raster.wgsl", ["TWO_SIDED"]),
@@ -213,6 +214,17 @@ pub const SHADERS: &[ShaderFile] = &[
     shader!("post/tonemap.wgsl", ["EYE_ADAPTATION"]),
     shader!("post/eye_adaptation.wgsl", []),
     shader!("post/fxaa.wgsl", []),
+    shader!("post/copy.wgsl", []),
+    shader!("post/dof.wgsl", ["AUTOFOCUS", "BOKEH"]),
+    shader!("post/autofocus.wgsl", []),
+    shader!("post/motion_blur.wgsl", []),
+    shader!("post/glare.wgsl", []),
+    shader!("post/transparency.wgsl", []),
+    shader!(
+        "post/taa.wgsl",
+        ["VARIANCE_CLIP", "CATMULL_ROM"],
+        Rule::Requires("CATMULL_ROM", "VARIANCE_CLIP")
+    ),
     shader!("gbuffer/view.wgsl", one_of ["ALBEDO", "NORMALS", "VELOCITY", "UV", "DEPTH", "MATERIAL_ID", "OBJECT_ID"]),
 ];
 

@@ -8,6 +8,7 @@
 mod ao;
 pub(crate) mod metrics;
 pub(crate) mod plot;
+mod post;
 mod reflection;
 mod shadows;
 
@@ -54,6 +55,8 @@ enum What {
     Ao(ao::AoArgs),
     /// Prefiltered environment (cube size x samples) and SSR (steps x rays, temporal off and on): GPU time against error versus ray-traced reflections.
     Reflection(reflection::ReflectionArgs),
+    /// Post effects (DOF, MotionBlur, TAA, FXAA) by quality: GPU time against error versus brute-force references.
+    Post(post::PostArgs),
 }
 
 pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
@@ -61,6 +64,7 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
         What::Shadows(a) => shadows::run(a),
         What::Ao(a) => ao::run(a),
         What::Reflection(a) => reflection::run(a),
+        What::Post(a) => post::run_post(a),
     }
 }
 

@@ -321,6 +321,25 @@ impl GBuffer {
         &self.camera_buffer
     }
 
+    /// True when nothing moves this frame: the camera and every instance are
+    /// where they were last frame and no layer takes velocity from deforming
+    /// geometry, so the velocity target is zero everywhere (post passes skip on it).
+    pub fn is_still(&self) -> bool {
+        let camera = self
+            .previous_view_projection
+            .is_none_or(|p| p == self.camera.view_projection());
+        camera
+            && self.layers.iter().all(|l| match l.features.velocity {
+                VelocitySource::Off => true,
+                VelocitySource::Geometry => false,
+                VelocitySource::Transforms => l
+                    .batches
+                    .iter()
+                    .flat_map(|b| &b.instances)
+                    .all(|i| i.transform == i.previous_transform),
+            })
+    }
+
     pub fn instance_count(&self) -> u32 {
         self.layer_ranges.last().map_or(0, |r| r.1)
     }

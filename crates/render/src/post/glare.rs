@@ -1,0 +1,223 @@
+//! `Glare`: bloom from a bright pass through a downsample/upsample chain of
+//! mip-like sizes (half, quarter... of the output, `SizeRule::Relative`),
+//! then composited over the source with chromatic aberration
+//! (shaders/post/glare.wgsl). Intensity 0 and aberration 0 cost one copy.
+
+use std::sync::Arc;
+
+use crate::error::RenderError;
+use crate::frame_graph::{FrameGraph, PassContext, SizeRule, TextureDesc};
+use crate::recipe::{Recipe, TextureRef, next_recipe_id};
+use crate::renderer::Renderer;
+use crate::shaders::ShaderKey;
+
+const SHADER: &str = "post/glare.wgsl";
+
+/// Counted when a Glare had nothing to add (intensity and aberration 0) and only copied.
+pub const SKIPPED: &str = "glare skipped (nothing to add)";
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GlareSettings {
+    /// Luminance below which nothing glows.
+    pub threshold: f32,
+    /// How much of the glow is added.
+    pub intensity: f32,
+    /// 0..1: how much each smaller (wider) level adds to the one above it.
+    pub spread: f32,
+    /// Red and blue pushed apart radially by this fraction of the distance to the centre.
+    pub aberration: f32,
+    /// Levels of the chain (the quality): more reach wider.
+    pub levels: u32,
+}
+
+impl Default for GlareSettings {
+    fn default() -> Self {
+        GlareSettings {
+            threshold: 1.0,
+            intensity: 0.3,
+            spread: 0.8,
+            aberration: 0.003,
+            levels: 6,
+        }
+    }
+}
+
+impl GlareSettings {
+    pub fn clean(self) -> Self {
+        let pick = |v: f32, lo: f32, hi: f32, fallback: f32| {
+            if v.is_finite() {
+                v.clamp(lo, hi)
+            } else {
+                fallback
+            }
+        };
+        GlareSettings {
+            threshold: pick(self.threshold, 0.0, 65000.0, 1.0),
+            intensity: pick(self.intensity, 0.0, 1000.0, 0.3),
+            spread: pick(self.spread, 0.0, 1.0, 0.8),
+            aberration: pick(self.aberration, -0.5, 0.5, 0.0),
+            levels: self.levels.clamp(1, 12),
+        }
+    }
+}
+
+pub struct Glare {
+    id: u64,
+    owner: Option<u32>,
+    source: TextureRef,
+    settings: GlareSettings,
+    params: wgpu::Buffer,
+    pub output: String,
+}
+
+impl Glare {
+    pub fn new(
+        renderer: &Renderer,
+        owner: Option<u32>,
+        source: TextureRef,
+        settings: GlareSettings,
+    ) -> Arc<Self> {
+        let id = next_recipe_id();
+        let s = settings.clean();
+        let norm: f32 = (0..s.levels).map(|i| s.spread.powi(i as i32)).sum();
+        let params = super::uniform(
+            &renderer.gpu.device,
+            "glare",
+            &super::words(&[
+                s.threshold,
+                s.intensity,
+                s.spread,
+                s.aberration,
+                1.0 / norm.max(1e-6),
+                0.0,
+                0.0,
+                0.0,
+            ]),
+        );
+        Arc::new(Glare {
+            id,
+            owner,
+            source,
+            settings: s,
+            params,
+            output: format!("glare{id}"),
+        })
+    }
+
+    pub fn texture(self: &Arc<Self>) -> TextureRef {
+        TextureRef {
+            recipe: self.clone(),
+            name: self.output.clone(),
+        }
+    }
+
+    fn down(&self, level: usize) -> String {
+        format!("glare{} down{level}", self.id)
+    }
+
+    fn up(&self, level: usize) -> String {
+        format!("glare{} up{level}", self.id)
+    }
+
+    fn run(
+        &self,
+        cx: &mut PassContext<'_>,
+        entry: &'static str,
+        source: &str,
+        lower: Option<&str>,
+        output: &str,
+    ) -> Result<(), RenderError> {
+        let (s, o) = (cx.view(source)?, cx.view(output)?);
+        let l = match lower {
+            Some(name) => Some(cx.view(name)?),
+            None => None,
+        };
+        let mut all = vec![
+            (0, self.params.as_entire_binding()),
+            (1, wgpu::BindingResource::TextureView(&s)),
+            (3, wgpu::BindingResource::TextureView(&o)),
+        ];
+        if let Some(l) = &l {
+            all.push((2, wgpu::BindingResource::TextureView(l)));
+        }
+        let size = super::size_of(cx, output)?;
+        super::dispatch_entry(cx, entry, &ShaderKey::new(SHADER, []), entry, &all, size)
+    }
+}
+
+impl Recipe for Glare {
+    fn declare<'a>(&'a self, renderer: &'a Renderer, fg: &mut FrameGraph<'a>) {
+        if !fg.include(self.id) {
+            return;
+        }
+        self.source.recipe.declare(renderer, fg);
+        let full = TextureDesc::storage(wgpu::TextureFormat::Rgba16Float);
+        let name = |what: &str| crate::recipe::pass_name("Glare", self.owner, Some(what));
+        if self.settings.intensity == 0.0 && self.settings.aberration == 0.0 {
+            fg.add_pass(
+                name("copy"),
+                self.owner,
+                &[&self.source.name],
+                &[(&self.output, full)],
+                move |cx| {
+                    cx.count(SKIPPED, 1);
+                    super::copy(cx, &self.source.name, &self.output)
+                },
+            );
+            return;
+        }
+        // No level smaller than 2 pixels: a chain of 1x1 levels adds nothing.
+        let (w, h) = fg.output_size();
+        let mut levels = 1usize;
+        while levels < self.settings.levels as usize && (w.min(h) >> (levels + 1)) >= 2 {
+            levels += 1;
+        }
+        let level = |l: usize| full.size(SizeRule::Relative(0.5f32.powi(l as i32 + 1)));
+        let downs: Vec<String> = (0..levels).map(|l| self.down(l)).collect();
+        let ups: Vec<String> = (0..levels).map(|l| self.up(l)).collect();
+        fg.add_pass(
+            name("bright pass"),
+            self.owner,
+            &[&self.source.name],
+            &[(&downs[0], level(0))],
+            move |cx| self.run(cx, "bright", &self.source.name, None, &self.down(0)),
+        );
+        for l in 1..levels {
+            fg.add_pass(
+                name(&format!("down {l}")),
+                self.owner,
+                &[&downs[l - 1]],
+                &[(&downs[l], level(l))],
+                move |cx| self.run(cx, "down", &self.down(l - 1), None, &self.down(l)),
+            );
+        }
+        // The smallest level is its own "up"; each larger one adds the one below.
+        let lower_of = |l: usize| -> String {
+            if l + 1 == levels {
+                self.down(l)
+            } else {
+                self.up(l)
+            }
+        };
+        for l in (0..levels.saturating_sub(1)).rev() {
+            let lower = lower_of(l + 1);
+            let read = lower.clone();
+            fg.add_pass(
+                name(&format!("up {l}")),
+                self.owner,
+                &[&downs[l], &read],
+                &[(&ups[l], level(l))],
+                move |cx| self.run(cx, "up", &self.down(l), Some(&lower), &self.up(l)),
+            );
+        }
+        let top = lower_of(0);
+        let read = top.clone();
+        fg.add_pass(
+            name("composite"),
+            self.owner,
+            &[&self.source.name, &read],
+            &[(&self.output, full)],
+            move |cx| self.run(cx, "composite", &self.source.name, Some(&top), &self.output),
+        );
+    }
+}

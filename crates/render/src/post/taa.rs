@@ -1,0 +1,217 @@
+//! `TAA`: temporal anti-aliasing over a jittered camera
+//! (`camera::jitter_ndc`, applied by the `Camera` node), one compute pass
+//! (shaders/post/taa.wgsl) and a copy of its result into a persistent
+//! history texture named after the node. The history is fresh, and the
+//! frame taken as it is, on the first frame, after a resize (a new size is
+//! a new texture), after `Renderer::reset_history` and when the node says
+//! the camera cut (`TaaSettings::reset`).
+
+use std::sync::Arc;
+
+use glam::Vec2;
+
+use crate::error::RenderError;
+use crate::frame_graph::{FrameGraph, Lifetime, PassContext, TextureDesc};
+use crate::gbuffer::GBuffer;
+use crate::recipe::{Recipe, TextureRef, next_recipe_id};
+use crate::renderer::Renderer;
+use crate::shaders::ShaderKey;
+
+/// Counted when the history was thrown away (fresh target or a cut).
+pub const RESET: &str = "taa history reset";
+
+/// How the history is checked against the current frame.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TaaQuality {
+    /// Clamp to the 3x3 neighbourhood's YCoCg box; bilinear history.
+    Low,
+    /// Clip towards the neighbourhood's mean (variance clipping); bilinear history.
+    Medium,
+    /// Variance clipping and a bicubic (Catmull-Rom) history read, sharper in motion.
+    High,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TaaSettings {
+    pub quality: TaaQuality,
+    /// How much of the history is kept each frame (0.9: about ten frames' average).
+    pub feedback: f32,
+    /// How much of the current frame's detail is added back (0: none).
+    pub sharpen: f32,
+    /// This frame's jitter and last frame's, in NDC (the camera's Jitter output).
+    pub jitter: Vec2,
+    pub previous_jitter: Vec2,
+    /// Throw the history away (a camera cut).
+    pub reset: bool,
+}
+
+impl Default for TaaSettings {
+    fn default() -> Self {
+        TaaSettings {
+            quality: TaaQuality::High,
+            feedback: 0.9,
+            sharpen: 0.0,
+            jitter: Vec2::ZERO,
+            previous_jitter: Vec2::ZERO,
+            reset: false,
+        }
+    }
+}
+
+pub struct Taa {
+    id: u64,
+    owner: Option<u32>,
+    source: TextureRef,
+    gbuffer: Arc<GBuffer>,
+    settings: TaaSettings,
+    params: wgpu::Buffer,
+    /// The persistent history.
+    pub history: String,
+    pub output: String,
+}
+
+impl Taa {
+    /// The history is named after `owner` (the node); without one, after `history`.
+    pub fn new(
+        renderer: &Renderer,
+        owner: Option<u32>,
+        source: TextureRef,
+        gbuffer: Arc<GBuffer>,
+        settings: TaaSettings,
+        history: Option<String>,
+    ) -> Arc<Self> {
+        let id = next_recipe_id();
+        let history = history.unwrap_or_else(|| match owner {
+            Some(node) => format!("taa history #{node}"),
+            None => format!("taa{id} history"),
+        });
+        let clean = |v: f32, lo: f32, hi: f32, fallback: f32| {
+            if v.is_finite() {
+                v.clamp(lo, hi)
+            } else {
+                fallback
+            }
+        };
+        let jitter = |v: Vec2| if v.is_finite() { v } else { Vec2::ZERO };
+        let settings = TaaSettings {
+            feedback: clean(settings.feedback, 0.0, 0.99, 0.9),
+            sharpen: clean(settings.sharpen, 0.0, 2.0, 0.0),
+            jitter: jitter(settings.jitter),
+            previous_jitter: jitter(settings.previous_jitter),
+            ..settings
+        };
+        // NDC to UV: half the size, y flipped.
+        let delta = (settings.jitter - settings.previous_jitter) * Vec2::new(0.5, -0.5);
+        let params = super::uniform(
+            &renderer.gpu.device,
+            "taa",
+            &super::words(&[
+                delta.x,
+                delta.y,
+                settings.feedback,
+                settings.sharpen,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+            ]),
+        );
+        Arc::new(Taa {
+            id,
+            owner,
+            source,
+            gbuffer,
+            settings,
+            params,
+            history,
+            output: format!("taa{id}"),
+        })
+    }
+
+    pub fn texture(self: &Arc<Self>) -> TextureRef {
+        TextureRef {
+            recipe: self.clone(),
+            name: self.output.clone(),
+        }
+    }
+
+    fn key(&self) -> ShaderKey {
+        let features: &[&'static str] = match self.settings.quality {
+            TaaQuality::Low => &[],
+            TaaQuality::Medium => &["VARIANCE_CLIP"],
+            TaaQuality::High => &["VARIANCE_CLIP", "CATMULL_ROM"],
+        };
+        ShaderKey::new("post/taa.wgsl", features.iter().copied())
+    }
+
+    fn run(&self, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
+        let fresh = cx.is_fresh(&self.history) || self.settings.reset;
+        if fresh {
+            cx.count(RESET, 1);
+        }
+        cx.gpu.queue.write_buffer(
+            &self.params,
+            16,
+            bytemuck::cast_slice(&[if fresh { 1.0f32 } else { 0.0 }, 0.0, 0.0, 0.0]),
+        );
+        let t = &self.gbuffer.targets;
+        let views = [
+            cx.view(&self.source.name)?,
+            cx.view(&t.velocity_uv)?,
+            cx.view(&t.depth)?,
+            cx.view(&self.history)?,
+            cx.view(&self.output)?,
+        ];
+        let mut all = vec![(0, self.params.as_entire_binding())];
+        all.extend(
+            views
+                .iter()
+                .enumerate()
+                .map(|(i, v)| (i as u32 + 1, wgpu::BindingResource::TextureView(v))),
+        );
+        let size = super::size_of(cx, &self.output)?;
+        super::dispatch_entry(cx, "taa", &self.key(), "main", &all, size)?;
+        // The result is next frame's history.
+        let (output, history) = (
+            cx.texture(&self.output)?.clone(),
+            cx.texture(&self.history)?.clone(),
+        );
+        cx.encoder.copy_texture_to_texture(
+            output.as_image_copy(),
+            history.as_image_copy(),
+            wgpu::Extent3d {
+                width: size.0,
+                height: size.1,
+                depth_or_array_layers: 1,
+            },
+        );
+        Ok(())
+    }
+}
+
+impl Recipe for Taa {
+    fn declare<'a>(&'a self, renderer: &'a Renderer, fg: &mut FrameGraph<'a>) {
+        if !fg.include(self.id) {
+            return;
+        }
+        self.source.recipe.declare(renderer, fg);
+        self.gbuffer.declare(renderer, fg);
+        let output = TextureDesc::storage(wgpu::TextureFormat::Rgba16Float).size(self.gbuffer.size);
+        let history = TextureDesc {
+            format: wgpu::TextureFormat::Rgba16Float,
+            size: self.gbuffer.size,
+            lifetime: Lifetime::Persistent,
+            usage: wgpu::TextureUsages::TEXTURE_BINDING
+                | wgpu::TextureUsages::COPY_DST
+                | wgpu::TextureUsages::COPY_SRC,
+        };
+        let t = &self.gbuffer.targets;
+        fg.add_pass(
+            crate::recipe::pass_name("TAA", self.owner, None),
+            self.owner,
+            &[&self.source.name, &t.velocity_uv, &t.depth],
+            &[(&self.output, output), (&self.history, history)],
+            move |cx| self.run(cx),
+        );
+    }
+}

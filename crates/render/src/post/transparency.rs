@@ -1,0 +1,335 @@
+//! `Transparency`: weighted blended order-independent transparency
+//! (McGuire and Bavoil 2013; shaders/post/transparency.wgsl). Transparent
+//! layers are rasterized (blending is what raster hardware is for) into an
+//! RGBA16F accumulation and an R16F revealage target, depth-tested by hand
+//! against the G-buffer's depth, then a compute pass composites them over
+//! the opaque lit image. Lighting is simple: the layer's colour times an
+//! ambient term plus one two-sided directional key light. Without
+//! transparent instances the node costs a copy.
+
+use std::sync::Arc;
+
+use glam::Vec3;
+use wgpu::util::DeviceExt;
+
+use crate::error::RenderError;
+use crate::frame_graph::{FrameGraph, PassContext, TextureDesc};
+use crate::gbuffer::{Draw, GBuffer, Layer, geometry_entries, pack_instances};
+use crate::recipe::{Recipe, TextureRef, next_recipe_id};
+use crate::renderer::Renderer;
+use crate::shaders::ShaderKey;
+
+const SHADER: &str = "post/transparency.wgsl";
+const ACCUMULATION: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+const REVEALAGE: wgpu::TextureFormat = wgpu::TextureFormat::R16Float;
+
+/// Counted when there was nothing transparent to draw and the node only copied.
+pub const SKIPPED: &str = "transparency skipped (nothing transparent)";
+/// Transparent instances drawn.
+pub const DRAWN: &str = "transparent instances drawn";
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TransparencySettings {
+    pub ambient: Vec3,
+    /// Towards the key light, in world space.
+    pub light_direction: Vec3,
+    pub light_color: Vec3,
+}
+
+impl Default for TransparencySettings {
+    fn default() -> Self {
+        TransparencySettings {
+            ambient: Vec3::splat(0.3),
+            light_direction: Vec3::new(0.3, 1.0, 0.5),
+            light_color: Vec3::splat(1.0),
+        }
+    }
+}
+
+pub struct Transparency {
+    id: u64,
+    owner: Option<u32>,
+    source: TextureRef,
+    gbuffer: Arc<GBuffer>,
+    layers: Vec<Arc<Layer>>,
+    draws: Vec<Draw>,
+    instances: wgpu::Buffer,
+    instance_count: u32,
+    params: wgpu::Buffer,
+    accumulation: String,
+    revealage: String,
+    pub output: String,
+}
+
+impl Transparency {
+    pub fn new(
+        renderer: &Renderer,
+        owner: Option<u32>,
+        source: TextureRef,
+        gbuffer: Arc<GBuffer>,
+        layers: Vec<Arc<Layer>>,
+        settings: TransparencySettings,
+    ) -> Arc<Self> {
+        let id = next_recipe_id();
+        let (mut gpu_instances, draws, _) = pack_instances(&layers);
+        let instance_count = gpu_instances.len() as u32;
+        if gpu_instances.is_empty() {
+            // A storage binding cannot be empty.
+            gpu_instances.push(bytemuck::Zeroable::zeroed());
+        }
+        let device = &renderer.gpu.device;
+        let instances = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("transparent instances"),
+            contents: bytemuck::cast_slice(&gpu_instances),
+            usage: wgpu::BufferUsages::STORAGE,
+        });
+        let clean = |v: Vec3| {
+            if v.is_finite() {
+                v.clamp(Vec3::ZERO, Vec3::splat(super::HALF_MAX))
+            } else {
+                Vec3::ZERO
+            }
+        };
+        let direction = settings.light_direction.normalize_or(Vec3::Y);
+        let (a, l) = (clean(settings.ambient), clean(settings.light_color));
+        let params = super::uniform(
+            device,
+            "transparency",
+            &super::words(&[
+                a.x,
+                a.y,
+                a.z,
+                0.0,
+                direction.x,
+                direction.y,
+                direction.z,
+                0.0,
+                l.x,
+                l.y,
+                l.z,
+                0.0,
+            ]),
+        );
+        Arc::new(Transparency {
+            id,
+            owner,
+            source,
+            gbuffer,
+            layers,
+            draws,
+            instances,
+            instance_count,
+            params,
+            accumulation: format!("transparency{id} accumulation"),
+            revealage: format!("transparency{id} revealage"),
+            output: format!("transparency{id}"),
+        })
+    }
+
+    pub fn texture(self: &Arc<Self>) -> TextureRef {
+        TextureRef {
+            recipe: self.clone(),
+            name: self.output.clone(),
+        }
+    }
+
+    fn accumulate(&self, renderer: &Renderer, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
+        let device = cx.gpu.device.clone();
+        let key = ShaderKey::new(SHADER, []);
+        let pipeline = cx
+            .shaders
+            .render_pipeline(&device, &key, "wboit", |module| {
+                let additive = wgpu::BlendComponent {
+                    src_factor: wgpu::BlendFactor::One,
+                    dst_factor: wgpu::BlendFactor::One,
+                    operation: wgpu::BlendOperation::Add,
+                };
+                let reveal = wgpu::BlendComponent {
+                    src_factor: wgpu::BlendFactor::Zero,
+                    dst_factor: wgpu::BlendFactor::OneMinusSrc,
+                    operation: wgpu::BlendOperation::Add,
+                };
+                device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                    label: Some("transparency accumulate"),
+                    layout: None,
+                    vertex: wgpu::VertexState {
+                        module,
+                        entry_point: Some("vs"),
+                        compilation_options: Default::default(),
+                        buffers: &[],
+                    },
+                    primitive: wgpu::PrimitiveState {
+                        topology: wgpu::PrimitiveTopology::TriangleList,
+                        // Both faces: a transparent shell shows its back through its front.
+                        cull_mode: None,
+                        ..Default::default()
+                    },
+                    depth_stencil: None,
+                    multisample: Default::default(),
+                    fragment: Some(wgpu::FragmentState {
+                        module,
+                        entry_point: Some("fs"),
+                        compilation_options: Default::default(),
+                        targets: &[
+                            Some(wgpu::ColorTargetState {
+                                format: ACCUMULATION,
+                                blend: Some(wgpu::BlendState {
+                                    color: additive,
+                                    alpha: additive,
+                                }),
+                                write_mask: wgpu::ColorWrites::ALL,
+                            }),
+                            Some(wgpu::ColorTargetState {
+                                format: REVEALAGE,
+                                blend: Some(wgpu::BlendState {
+                                    color: reveal,
+                                    alpha: reveal,
+                                }),
+                                write_mask: wgpu::ColorWrites::ALL,
+                            }),
+                        ],
+                    }),
+                    multiview_mask: None,
+                    cache: None,
+                })
+            })?;
+        let (vertices, indices, _) = renderer.meshes.buffers();
+        let depth = cx.view(&self.gbuffer.targets.depth)?;
+        let mut entries = geometry_entries(
+            self.gbuffer.camera_buffer().as_entire_binding(),
+            &vertices,
+            &indices,
+            &self.instances,
+        );
+        entries.push(wgpu::BindGroupEntry {
+            binding: 4,
+            resource: wgpu::BindingResource::TextureView(&depth),
+        });
+        entries.push(wgpu::BindGroupEntry {
+            binding: 5,
+            resource: self.params.as_entire_binding(),
+        });
+        let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("transparency accumulate"),
+            layout: &pipeline.get_bind_group_layout(0),
+            entries: &entries,
+        });
+        let (accumulation, revealage) = (cx.view(&self.accumulation)?, cx.view(&self.revealage)?);
+        let timestamps = cx.render_timestamps();
+        let attachment = |view, clear| {
+            Some(wgpu::RenderPassColorAttachment {
+                view,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(clear),
+                    store: wgpu::StoreOp::Store,
+                },
+            })
+        };
+        let mut pass = cx.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("transparency accumulate"),
+            color_attachments: &[
+                attachment(&accumulation, wgpu::Color::TRANSPARENT),
+                attachment(&revealage, wgpu::Color::WHITE),
+            ],
+            depth_stencil_attachment: None,
+            timestamp_writes: timestamps,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        pass.set_pipeline(&pipeline);
+        pass.set_bind_group(0, &group, &[]);
+        let mut draws = 0;
+        for draw in self
+            .draws
+            .iter()
+            .filter(|d| d.instance_count > 0 && d.index_count > 0)
+        {
+            pass.draw(
+                0..draw.index_count,
+                draw.first_instance..draw.first_instance + draw.instance_count,
+            );
+            draws += 1;
+        }
+        drop(pass);
+        cx.draws += draws;
+        cx.count(DRAWN, u64::from(self.instance_count));
+        Ok(())
+    }
+
+    fn resolve(&self, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
+        let views = [
+            cx.view(&self.source.name)?,
+            cx.view(&self.accumulation)?,
+            cx.view(&self.revealage)?,
+            cx.view(&self.output)?,
+        ];
+        let all = [
+            (6, wgpu::BindingResource::TextureView(&views[0])),
+            (7, wgpu::BindingResource::TextureView(&views[1])),
+            (8, wgpu::BindingResource::TextureView(&views[2])),
+            (9, wgpu::BindingResource::TextureView(&views[3])),
+        ];
+        let size = super::size_of(cx, &self.output)?;
+        super::dispatch_entry(
+            cx,
+            "transparency resolve",
+            &ShaderKey::new(SHADER, []),
+            "resolve",
+            &all,
+            size,
+        )
+    }
+}
+
+impl Recipe for Transparency {
+    fn declare<'a>(&'a self, renderer: &'a Renderer, fg: &mut FrameGraph<'a>) {
+        if !fg.include(self.id) {
+            return;
+        }
+        self.source.recipe.declare(renderer, fg);
+        let name = |what| crate::recipe::pass_name("Transparency", self.owner, Some(what));
+        let output = TextureDesc::storage(wgpu::TextureFormat::Rgba16Float).size(self.gbuffer.size);
+        if self.instance_count == 0 {
+            fg.add_pass(
+                name("copy"),
+                self.owner,
+                &[&self.source.name],
+                &[(&self.output, output)],
+                move |cx| {
+                    cx.count(SKIPPED, 1);
+                    super::copy(cx, &self.source.name, &self.output)
+                },
+            );
+            return;
+        }
+        self.gbuffer.declare(renderer, fg);
+        for map in self.layers.iter().flat_map(|l| l.maps()) {
+            map.recipe.declare(renderer, fg);
+        }
+        fg.add_pass(
+            name("accumulate"),
+            self.owner,
+            &[&self.gbuffer.targets.depth],
+            &[
+                (
+                    &self.accumulation,
+                    TextureDesc::attachment(ACCUMULATION).size(self.gbuffer.size),
+                ),
+                (
+                    &self.revealage,
+                    TextureDesc::attachment(REVEALAGE).size(self.gbuffer.size),
+                ),
+            ],
+            move |cx| self.accumulate(renderer, cx),
+        );
+        fg.add_pass(
+            name("resolve"),
+            self.owner,
+            &[&self.source.name, &self.accumulation, &self.revealage],
+            &[(&self.output, output)],
+            move |cx| self.resolve(cx),
+        );
+    }
+}

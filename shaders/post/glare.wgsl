@@ -1,0 +1,112 @@
+// Glare: bloom through a mip-like chain, with chromatic aberration.
+//   `bright`:    the source at half size (2x2 box), less the threshold (by
+//                luminance, keeping hue): what glows;
+//   `down`:      each level half the last, a 4x4 box (four bilinear taps);
+//   `up`:        from the smallest level back up, each level plus `spread`
+//                times the tent-filtered level below: wide, soft halos from
+//                the small levels, tight ones from the large;
+//   `composite`: source + intensity * bloom (normalized by the chain's
+//                total weight), red and blue pushed radially apart by
+//                `aberration` (a fraction of the distance to the centre).
+// Every level is clamped below half-float overflow, so 1e6 in is 65000 at
+// worst, never infinity, however many levels add up.
+#import spreadlight::post::{sanitize, load_clamped, bilinear, luminance, HALF_MAX}
+
+struct Params {
+    // x: threshold, y: intensity, z: spread, w: aberration
+    settings: vec4<f32>,
+    // x: 1 / the sum of the levels' weights
+    norm: vec4<f32>,
+}
+
+@group(0) @binding(0) var<uniform> params: Params;
+@group(0) @binding(1) var source: texture_2d<f32>;
+@group(0) @binding(2) var lower: texture_2d<f32>;
+@group(0) @binding(3) var output: texture_storage_2d<rgba16float, write>;
+
+fn clamp_half(c: vec3<f32>) -> vec4<f32> {
+    return vec4<f32>(clamp(c, vec3<f32>(0.0), vec3<f32>(HALF_MAX)), 1.0);
+}
+
+@compute @workgroup_size(8, 8)
+fn bright(@builtin(global_invocation_id) id: vec3<u32>) {
+    let size = textureDimensions(output);
+    if (id.x >= size.x || id.y >= size.y) {
+        return;
+    }
+    let p = vec2<i32>(id.xy) * 2;
+    var c = vec3<f32>(0.0);
+    for (var y = 0; y < 2; y++) {
+        for (var x = 0; x < 2; x++) {
+            c += max(sanitize(load_clamped(source, p + vec2<i32>(x, y))).rgb, vec3<f32>(0.0));
+        }
+    }
+    c *= 0.25;
+    let l = luminance(c);
+    let keep = max(l - params.settings.x, 0.0) / max(l, 1e-6);
+    textureStore(output, id.xy, clamp_half(c * min(keep, 1.0)));
+}
+
+@compute @workgroup_size(8, 8)
+fn down(@builtin(global_invocation_id) id: vec3<u32>) {
+    let size = textureDimensions(output);
+    if (id.x >= size.x || id.y >= size.y) {
+        return;
+    }
+    let texel = 1.0 / vec2<f32>(textureDimensions(source));
+    let uv = (vec2<f32>(id.xy) + 0.5) / vec2<f32>(size);
+    var c = vec3<f32>(0.0);
+    c += bilinear(source, uv + vec2<f32>(-1.0, -1.0) * texel).rgb;
+    c += bilinear(source, uv + vec2<f32>(1.0, -1.0) * texel).rgb;
+    c += bilinear(source, uv + vec2<f32>(-1.0, 1.0) * texel).rgb;
+    c += bilinear(source, uv + vec2<f32>(1.0, 1.0) * texel).rgb;
+    textureStore(output, id.xy, clamp_half(c * 0.25));
+}
+
+@compute @workgroup_size(8, 8)
+fn up(@builtin(global_invocation_id) id: vec3<u32>) {
+    let size = textureDimensions(output);
+    if (id.x >= size.x || id.y >= size.y) {
+        return;
+    }
+    let texel = 1.0 / vec2<f32>(textureDimensions(lower));
+    let uv = (vec2<f32>(id.xy) + 0.5) / vec2<f32>(size);
+    // A 3x3 tent over the smaller level.
+    var c = bilinear(lower, uv).rgb * 4.0;
+    c += (bilinear(lower, uv + vec2<f32>(-texel.x, 0.0)).rgb + bilinear(lower, uv + vec2<f32>(texel.x, 0.0)).rgb
+        + bilinear(lower, uv + vec2<f32>(0.0, -texel.y)).rgb + bilinear(lower, uv + vec2<f32>(0.0, texel.y)).rgb) * 2.0;
+    c += bilinear(lower, uv - texel).rgb + bilinear(lower, uv + texel).rgb
+        + bilinear(lower, uv + vec2<f32>(texel.x, -texel.y)).rgb + bilinear(lower, uv + vec2<f32>(-texel.x, texel.y)).rgb;
+    let here = textureLoad(source, vec2<i32>(id.xy), 0).rgb;
+    textureStore(output, id.xy, clamp_half(here + params.settings.z * c / 16.0));
+}
+
+// `t` sampled with red and blue moved radially by the aberration.
+fn aberrated(t: texture_2d<f32>, uv: vec2<f32>) -> vec3<f32> {
+    let a = params.settings.w;
+    if (a == 0.0) {
+        return bilinear(t, uv).rgb;
+    }
+    let from_center = uv - 0.5;
+    let r = bilinear(t, 0.5 + from_center * (1.0 + a)).r;
+    let g = bilinear(t, uv).g;
+    let b = bilinear(t, 0.5 + from_center * (1.0 - a)).b;
+    return vec3<f32>(r, g, b);
+}
+
+@compute @workgroup_size(8, 8)
+fn composite(@builtin(global_invocation_id) id: vec3<u32>) {
+    let size = textureDimensions(output);
+    if (id.x >= size.x || id.y >= size.y) {
+        return;
+    }
+    let uv = (vec2<f32>(id.xy) + 0.5) / vec2<f32>(size);
+    let center = sanitize(load_clamped(source, vec2<i32>(id.xy)));
+    var base = center.rgb;
+    if (params.settings.w != 0.0) {
+        base = sanitize(vec4<f32>(aberrated(source, uv), 0.0)).rgb;
+    }
+    let glow = aberrated(lower, uv) * params.norm.x;
+    let c = base + params.settings.y * glow;
+    textureStore(output, id.xy, vec4<f32>(clamp(c, vec3<f32>(0.0), vec3<f32>(HALF_MAX)), center.a));
+}

@@ -1,0 +1,113 @@
+// Weighted blended order-independent transparency (McGuire and Bavoil,
+// "Weighted Blended Order-Independent Transparency", JCGT 2013), as
+// Castor3D's transparent pass does it: transparent meshes are rasterized in
+// any order into two targets with fixed-function blending,
+//   accumulation += (premultiplied colour, alpha) * w(z, alpha)   (One, One)
+//   revealage    *= 1 - alpha                                     (Zero, 1 - src)
+// each fragment depth-tested by hand against the G-buffer's (opaque) depth,
+// and a compute `resolve` composites the weighted average over the opaque
+// image by the revealage: opaque * r + average * (1 - r).
+//
+// The weight is the paper's equation 7, 10 / (1e-5 + (z/5)^2 + (z/200)^6)
+// clamped to 1e-2..3e3, divided by 3e3 so it is at most 1: with colours held
+// at 600 or less, 100 overlapping layers sum to under 65504, so the
+// half-float accumulation cannot overflow at the near plane, and at the far
+// plane the smallest weight (3e-6) is still a half float.
+//
+// Lighting is deliberately simple (the transparent surfaces are not in the
+// G-buffer): the layer's colour times an ambient term plus one directional
+// key light, lit from both sides (a thin glass-like shell), all in `params`.
+#import spreadlight::camera::Camera
+#import spreadlight::mesh::{Vertex, Instance}
+#import spreadlight::post::{sanitize, HALF_MAX}
+
+struct Params {
+    // rgb: ambient radiance
+    ambient: vec4<f32>,
+    // xyz: direction towards the key light (world, unit)
+    light_direction: vec4<f32>,
+    // rgb: key light radiance
+    light_color: vec4<f32>,
+}
+
+@group(0) @binding(0) var<uniform> camera: Camera;
+@group(0) @binding(1) var<storage, read> vertices: array<Vertex>;
+@group(0) @binding(2) var<storage, read> indices: array<u32>;
+@group(0) @binding(3) var<storage, read> instances: array<Instance>;
+@group(0) @binding(4) var opaque_depth: texture_2d<f32>;
+@group(0) @binding(5) var<uniform> params: Params;
+@group(0) @binding(6) var opaque: texture_2d<f32>;
+@group(0) @binding(7) var accumulation: texture_2d<f32>;
+@group(0) @binding(8) var revealage: texture_2d<f32>;
+@group(0) @binding(9) var output: texture_storage_2d<rgba16float, write>;
+
+struct VertexOut {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) normal: vec3<f32>,
+    @location(1) color: vec4<f32>,
+    @location(2) distance: f32,
+}
+
+@vertex
+fn vs(@builtin(vertex_index) vertex: u32, @builtin(instance_index) instance_index: u32) -> VertexOut {
+    let info = instances[instance_index].info;
+    let index = indices[info.x + vertex] + info.y;
+    let v = vertices[index];
+    let world = instances[instance_index].model * vec4<f32>(v.position_u.xyz, 1.0);
+    var out: VertexOut;
+    out.clip = camera.view_projection * world;
+    out.normal = (instances[instance_index].normal_matrix * vec4<f32>(v.normal_v.xyz, 0.0)).xyz;
+    out.color = instances[instance_index].color;
+    out.distance = -(camera.view * world).z;
+    return out;
+}
+
+struct Accumulated {
+    @location(0) accumulation: vec4<f32>,
+    @location(1) revealage: vec4<f32>,
+}
+
+fn weight(z: f32, alpha: f32) -> f32 {
+    let d = max(z, 0.0);
+    let w = 10.0 / (1e-5 + pow(d / 5.0, 2.0) + pow(min(d / 200.0, 1e5), 6.0));
+    return alpha * clamp(w, 1e-2, 3e3) / 3e3;
+}
+
+@fragment
+fn fs(in: VertexOut) -> Accumulated {
+    // Behind the opaque surface (reversed-Z: a smaller depth is further): hidden.
+    let opaque_z = textureLoad(opaque_depth, vec2<i32>(in.clip.xy), 0).r;
+    let alpha = clamp(sanitize(in.color).a, 0.0, 1.0);
+    if (in.clip.z < opaque_z || alpha < 1e-4) {
+        discard;
+    }
+    let n = normalize(in.normal + vec3<f32>(0.0, 0.0, 1e-12));
+    let lambert = abs(dot(n, params.light_direction.xyz));
+    let radiance = params.ambient.rgb + params.light_color.rgb * lambert;
+    let color = clamp(sanitize(vec4<f32>(in.color.rgb * radiance, 0.0)).rgb, vec3<f32>(0.0), vec3<f32>(600.0));
+    let w = weight(in.distance, alpha);
+    var out: Accumulated;
+    out.accumulation = vec4<f32>(color * alpha, alpha) * w;
+    out.revealage = vec4<f32>(alpha);
+    return out;
+}
+
+@compute @workgroup_size(8, 8)
+fn resolve(@builtin(global_invocation_id) id: vec3<u32>) {
+    let size = textureDimensions(output);
+    if (id.x >= size.x || id.y >= size.y) {
+        return;
+    }
+    let p = vec2<i32>(id.xy);
+    let base = sanitize(textureLoad(opaque, p, 0));
+    // An overflowed sum reads as infinity: held at the top of the range, never NaN.
+    let sum = sanitize(min(textureLoad(accumulation, p, 0), vec4<f32>(HALF_MAX)));
+    let r = clamp(sanitize(textureLoad(revealage, p, 0)).r, 0.0, 1.0);
+    if (r >= 1.0 || sum.a <= 0.0) {
+        textureStore(output, id.xy, base);
+        return;
+    }
+    let average = sum.rgb / clamp(sum.a, 1e-7, HALF_MAX);
+    let color = base.rgb * r + average * (1.0 - r);
+    textureStore(output, id.xy, vec4<f32>(clamp(color, vec3<f32>(0.0), vec3<f32>(HALF_MAX)), base.a));
+}
