@@ -163,7 +163,9 @@ fn trace(origin: vec3<f32>, dir: vec3<f32>) -> Trace {
             return miss;
         }
         let ray_depth = start.z + step_z * next;
-        let nearest = textureLoad(hiz, vec2<u32>(p) >> vec2<u32>(level), i32(level)).r;
+        // Clamped: a level's size rounds down, and the chain folds odd edges into its last texel.
+        let cell_texel = min(vec2<u32>(p) >> vec2<u32>(level), textureDimensions(hiz, i32(level)) - 1u);
+        let nearest = textureLoad(hiz, cell_texel, i32(level)).r;
         if (ray_depth > nearest) {
             // In front of everything in the cell: skip it, try a coarser level.
             s = next;

@@ -2,9 +2,9 @@
 // (diffuse, specular) per light type, up to four pairs (LIGHTS_2..4), plus
 // emission per material (EMISSION) from the material buffer, and ambient
 // occlusion (AO), optionally weighted per material (AO_PER_MATERIAL).
-// Diffuse already carries albedo; ambient is a constant term times albedo;
-// GI (indirect diffuse radiance: SSGI, image-based diffuse light) is times
-// albedo too, and AO darkens both. REFLECTION adds specular reflection
+// Diffuse already carries albedo; ambient is a constant term times albedo,
+// darkened by AO; GI (indirect diffuse radiance: SSGI, image-based diffuse
+// light) is times albedo too, not darkened again (SSGI occludes its own). REFLECTION adds specular reflection
 // radiance times each material's Reflection strength (0 without it).
 // MATERIALS: the material library is bound (emission, per-material AO or
 // reflection need it). Clamped below half-float overflow.
@@ -83,9 +83,6 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     if (textureLoad(depth, p, 0).r > 0.0) {
         let albedo = textureLoad(color, p, 0).rgb;
         var ambient = params.ambient.rgb * albedo;
-#ifdef GI
-        ambient += clean(textureLoad(gi, p, 0).rgb) * albedo;
-#endif
 #ifdef AO
         var strength = 1.0;
 #ifdef AO_PER_MATERIAL
@@ -95,6 +92,11 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         ambient *= mix(1.0, visibility, clamp(strength, 0.0, 1.0));
 #endif
         lit = ambient + textureLoad(diffuse0, p, 0).rgb + textureLoad(specular0, p, 0).rgb;
+#ifdef GI
+        // Not under AO: GI brings what occluders bounce, and SSGI already lets
+        // environment light in only along the rays that escape.
+        lit += clean(textureLoad(gi, p, 0).rgb) * albedo;
+#endif
 #ifdef LIGHTS_2
         lit += textureLoad(diffuse1, p, 0).rgb + textureLoad(specular1, p, 0).rgb;
 #endif

@@ -2,15 +2,18 @@
 // (raw): `samples` rays per pixel in a cosine-weighted hemisphere about the
 // normal, marched `steps` times like stochastic AO; where a ray passes
 // behind a surface within `radius`, that surface's lit colour (the source
-// image) is light arriving from it; rays that escape bring none (the
-// environment's diffuse light comes in through the `Ambient` input of the
-// node, added by the resolve). With cosine-weighted rays, the mean of what
-// they bring is the irradiance over pi: the outgoing radiance per unit
-// albedo, which CompositeLight multiplies by albedo.
-// TEMPORAL: last frame's result reprojected with the G-buffer velocity and
-// blended in where its stored view distance matches (5%); non-finite
-// history is never used. BLUR: a depth-aware separable blur along `axis`,
-// adding the ambient input on the second (vertical) pass with AMBIENT.
+// image) is light arriving from it. With cosine-weighted rays, the mean of
+// what they bring is the irradiance over pi: the outgoing radiance per unit
+// albedo, which CompositeLight multiplies by albedo. Alpha carries the share
+// of rays that escaped: the environment's diffuse light (the `Ambient`
+// input) reaches the surface only through those, so the resolve adds
+// ambient x escaped share — AO for the environment light, with the bounce
+// filling in what it blocks (no double counting of occlusion).
+// TEMPORAL: last frame's result (RGBA: bounce, escaped share) reprojected
+// with the G-buffer velocity and blended in where the stored view distance
+// (a second history, `distance`) matches within 5%; non-finite history is
+// never used. BLUR: a depth-aware separable blur of all four channels along
+// `axis`; with AMBIENT (the last pass) the ambient is added.
 #import spreadlight::camera::Camera
 #import spreadlight::packing::safe_normalize
 #import spreadlight::screen::{RayParams, view_position}
@@ -23,7 +26,7 @@
 // Per pass: which way the blur runs.
 struct Axis {
     axis: vec2<i32>,
-    _pad: vec2<i32>,
+    spare: vec2<i32>,
 }
 
 @group(0) @binding(0) var<uniform> camera: Camera;
@@ -35,6 +38,8 @@ struct Axis {
 #ifdef TEMPORAL
 @group(0) @binding(6) var velocity_uv: texture_2d<f32>;
 @group(0) @binding(7) var previous: texture_2d<f32>;
+@group(0) @binding(9) var previous_distance: texture_2d<f32>;
+@group(0) @binding(10) var distance: texture_storage_2d<r32float, write>;
 // x: 1 when the history was created this frame and holds nothing.
 @group(0) @binding(8) var<uniform> fresh: vec4<u32>;
 #endif
@@ -50,20 +55,28 @@ fn clean(v: vec3<f32>) -> vec3<f32> {
     return select(vec3<f32>(0.0), min(v, vec3<f32>(65000.0)), v >= vec3<f32>(0.0) & v <= vec3<f32>(3e38));
 }
 
+// A (bounce, escaped share) texel made safe: share in 0..1, 1 when unknown.
+fn clean_gi(v: vec4<f32>) -> vec4<f32> {
+    return vec4<f32>(clean(v.rgb), select(1.0, clamp(v.a, 0.0, 1.0), abs(v.a) <= 1.0));
+}
+
 #ifdef TEMPORAL
 fn resolve(pixel: vec2<u32>, size: vec2<u32>, p: vec3<f32>) -> vec4<f32> {
-    var gi = clean(textureLoad(source, pixel, 0).rgb);
+    var gi = clean_gi(textureLoad(source, pixel, 0));
     let uv = (vec2<f32>(pixel) + 0.5) * camera.size.zw;
     let before = uv - textureLoad(velocity_uv, pixel, 0).xy;
     if (params.reset == 0u && fresh.x == 0u && all(before >= vec2<f32>(0.0)) && all(before < vec2<f32>(1.0))) {
-        let h = textureLoad(previous, min(vec2<u32>(before * camera.size.xy), size - 1u), 0);
+        let texel = min(vec2<u32>(before * camera.size.xy), size - 1u);
+        let h = textureLoad(previous, texel, 0);
+        let last = textureLoad(previous_distance, texel, 0).r;
         let world = camera.view_inverse * vec4<f32>(p, 1.0);
         let expected = (camera.previous_view_projection * world).w;
-        if (all(abs(h) <= vec4<f32>(65000.0)) && h.w > 0.0 && abs(h.w - expected) <= 0.05 * expected + 1e-3) {
-            gi = mix(gi, clean(h.rgb), params.blend);
+        if (all(abs(h) <= vec4<f32>(65000.0)) && last > 0.0 && last < 1e30 && abs(last - expected) <= 0.05 * expected + 1e-3) {
+            gi = mix(gi, clean_gi(h), params.blend);
         }
     }
-    return vec4<f32>(gi, -p.z);
+    textureStore(distance, pixel, vec4<f32>(min(-p.z, 1e30), 0.0, 0.0, 0.0));
+    return gi;
 }
 #else
 #ifdef BLUR
@@ -72,7 +85,7 @@ fn resolve(pixel: vec2<u32>, size: vec2<u32>, p: vec3<f32>) -> vec4<f32> {
     let n0 = safe_normalize(textureLoad(normals, pixel, 0).xyz, vec3<f32>(0.0, 0.0, 1.0));
     let r = i32(params.blur_radius);
     let sigma = max(f32(r), 1.0) * 0.5;
-    var sum = vec3<f32>(0.0);
+    var sum = vec4<f32>(0.0);
     var weights = 0.0;
     for (var o = -r; o <= r; o++) {
         let q = vec2<i32>(pixel) + axis.axis * o;
@@ -89,17 +102,19 @@ fn resolve(pixel: vec2<u32>, size: vec2<u32>, p: vec3<f32>) -> vec4<f32> {
         let w = exp(-f32(o * o) / (2.0 * sigma * sigma))
             * exp(-abs(zq - z0) / (0.03 * z0 + 1e-6))
             * pow(max(dot(n0, nq), 0.0), 8.0);
-        sum += w * clean(textureLoad(source, qu, 0).rgb);
+        sum += w * clean_gi(textureLoad(source, qu, 0));
         weights += w;
     }
-    var gi = clean(textureLoad(source, pixel, 0).rgb);
+    var gi = clean_gi(textureLoad(source, pixel, 0));
     if (weights > 1e-6) {
         gi = sum / weights;
     }
 #ifdef AMBIENT
-    gi += clean(textureLoad(ambient, pixel, 0).rgb);
+    // The environment's light arrives only along the rays that escaped.
+    return vec4<f32>(min(gi.rgb + clean(textureLoad(ambient, pixel, 0).rgb) * gi.a, vec3<f32>(65000.0)), 1.0);
+#else
+    return gi;
 #endif
-    return vec4<f32>(min(gi, vec3<f32>(65000.0)), 1.0);
 }
 #else
 fn resolve(pixel: vec2<u32>, size: vec2<u32>, p: vec3<f32>) -> vec4<f32> {
@@ -112,14 +127,18 @@ fn resolve(pixel: vec2<u32>, size: vec2<u32>, p: vec3<f32>) -> vec4<f32> {
     let jitter = interleaved_gradient_noise(vec2<f32>(pixel.yx) + 29.0, params.frame);
     let origin = p + n * params.bias;
     var gathered = vec3<f32>(0.0);
+    var escaped = 0u;
     for (var i = 0u; i < params.samples; i++) {
         let dir = cosine_direction(frame, i, params.samples, noise);
         let hit = march(camera, depth, origin, dir, params.radius, params.steps, jitter, params.bias);
         if (hit.x >= 0) {
             gathered += clean(textureLoad(source, vec2<u32>(hit), 0).rgb);
+        } else {
+            escaped++;
         }
     }
-    return vec4<f32>(min(gathered * params.intensity / f32(params.samples), vec3<f32>(65000.0)), 1.0);
+    let n_samples = f32(params.samples);
+    return vec4<f32>(min(gathered * params.intensity / n_samples, vec3<f32>(65000.0)), f32(escaped) / n_samples);
 }
 #endif
 #endif
@@ -135,8 +154,12 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
 #ifdef AMBIENT
         textureStore(output, id.xy, vec4<f32>(clean(textureLoad(ambient, id.xy, 0).rgb), 1.0));
 #else
-        // A history texel with no distance (w = 0) is never reused.
-        textureStore(output, id.xy, vec4<f32>(0.0));
+        // No bounce; every ray escapes.
+        textureStore(output, id.xy, vec4<f32>(0.0, 0.0, 0.0, 1.0));
+#endif
+#ifdef TEMPORAL
+        // No distance: never reused.
+        textureStore(distance, id.xy, vec4<f32>(0.0));
 #endif
         return;
     }

@@ -6,9 +6,9 @@
 // an occluder). The unblocked share is ray-cast AO's estimate.
 // SAO: McGuire et al. 2012 — a spiral of taps over a view-depth mip chain,
 // obscurance sum(max(0, v.n - bias) / (v.v + eps) * falloff).
-// HBAO: Bavoil 2008 — `samples` screen directions, `steps` taps each; the
-// sine of the highest horizon above the tangent plane is the occluded
-// share of that slice (cosine-weighted).
+// HBAO: Bavoil 2008 — `samples` screen directions, `steps` taps each; with
+// the highest horizon at elevation e above the tangent plane, sin^2(e) is
+// the cosine-weighted occluded share of that slice.
 // The rotation (interleaved gradient noise) changes every frame, so the
 // temporal pass converges to many more samples than one frame takes.
 #import spreadlight::camera::Camera
@@ -123,9 +123,13 @@ fn occlusion(pixel: vec2<u32>, p: vec3<f32>, n: vec3<f32>) -> f32 {
             // Sine of the elevation above the tangent plane, fading out over
             // the outer half of the radius (no hard edge where occluders leave it).
             let elevation = dot(v, n) * inverseSqrt(l2) - params.bias / params.radius;
-            highest = max(highest, elevation * clamp(2.0 - 2.0 * l2 / r2, 0.0, 1.0));
+            // sqrt: the falloff weighs the squared share below, not the sine twice.
+            highest = max(highest, elevation * sqrt(clamp(2.0 - 2.0 * l2 / r2, 0.0, 1.0)));
         }
-        occluded += clamp(highest, 0.0, 1.0);
+        // Cosine-weighted, a slice whose horizon stands at elevation e above the
+        // tangent plane is occluded by sin^2(e) (the integral of cos x sin x).
+        let e = clamp(highest, 0.0, 1.0);
+        occluded += e * e;
     }
     return 1.0 - occluded / f32(params.samples);
 }

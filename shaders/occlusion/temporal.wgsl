@@ -80,9 +80,10 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         let expected = (camera.previous_view_projection * world).w;
         let same_depth = abs(h.y - expected) <= 0.05 * expected + 1e-3;
         let same_normal = dot(oct_decode(h.zw), n) > 0.8;
-        if (finite4(h) && h.y > 0.0 && same_depth && same_normal) {
+        if (finite4(h) && h.y > 0.0 && h.y < 65000.0 && same_depth && same_normal) {
             ao = mix(ao, clamp(h.x, 0.0, 1.0), params.blend);
         }
     }
-    textureStore(history, pixel, vec4<f32>(ao, -p.z, oct_encode(n)));
+    // Beyond half-float range the distance would store inf: 65000 is "too far to reuse".
+    textureStore(history, pixel, vec4<f32>(ao, min(-p.z, 65000.0), oct_encode(n)));
 }

@@ -874,6 +874,26 @@ fn gi_and_reflection_are_weighted_per_material_and_unreflective_scenes_render_no
             assert!((p[0] - 0.25).abs() < 2e-3, "0.5 x 0.5: {p:?}");
         }
     }
+    // The scene's material (id 0) without the feature, another (id 1) with it:
+    // the reflection is bound, and adds nothing to the pixels of id 0.
+    let mixed = MaterialWorld::new(
+        &renderer,
+        vec![
+            Material::default_material(),
+            Material::default_material()
+                .with(Feature::Reflection, &[[1.0, 0.0, 0.0, 0.0]])
+                .expect("valid"),
+        ],
+    );
+    let (report, images) = composite(false, Some(reflection.texture_ref()), mixed);
+    assert_eq!(
+        report.counter("reflection culled: no reflective material"),
+        0
+    );
+    assert!(
+        images[0].pixels.iter().all(|p| p[0].abs() < 1e-4),
+        "material 0 does not reflect"
+    );
     // A reflection made by a real pass (here an AO recipe stands in for one):
     // without a reflective material it is not declared, so none of its passes run.
     let stand_in = AmbientOcclusion::new(&renderer, None, g.clone(), AoSettings::default(), None);

@@ -171,7 +171,7 @@ fn stochastic_ao_agrees_with_ray_cast_ao() {
     let truth = reference(&depth, SIZE, 256);
     let e = rmse(&image, &truth);
     // What remains is what the screen cannot see (the ball's hidden side,
-    // thickness guesses): measured 0.0; the bound leaves room for drivers.
+    // thickness guesses): about 0.04 on lavapipe; the bound leaves room for drivers.
     assert!(e < 0.1, "RMSE against ray-cast AO: {e}");
     let white = rmse(
         &ImageF32 {
@@ -441,8 +441,19 @@ fn ssgi(
     ambient: bool,
     frames: usize,
 ) -> (FrameReport, ImageF32, ImageF32) {
+    ssgi_lit(renderer, settings, ambient, frames, [1.0, 0.5, 0.0])
+}
+
+/// SSGI over a lit image of constant `lit` colour, `frames` frames of one node.
+fn ssgi_lit(
+    renderer: &Renderer,
+    settings: SsgiSettings,
+    ambient: bool,
+    frames: usize,
+    lit: [f32; 3],
+) -> (FrameReport, ImageF32, ImageF32) {
     let c = camera(eye(), SIZE.0 as f32 / SIZE.1 as f32);
-    let lit = constant(renderer, [1.0, 0.5, 0.0], SIZE, "lit");
+    let lit = constant(renderer, lit, SIZE, "lit");
     let sky = constant(renderer, [0.0, 0.0, 0.25], SIZE, "ambient");
     let mut last = None;
     for _ in 0..frames {
@@ -495,15 +506,30 @@ fn ssgi_gathers_light_where_ray_cast_rays_are_blocked() {
         e < 0.1,
         "RMSE of the gathered share against ray-cast blocked rays: {e}"
     );
-    // With an ambient texture, it is added (here: blue). A new renderer: the same frame, the same noise.
+    // With an ambient texture (here: blue), it comes in along the rays that
+    // escape: the share the bounce leaves in alpha, which is ray-cast AO's
+    // visibility. A new renderer: the same frame, the same noise.
     let renderer = test_renderer();
     let (_, with_ambient, _) = ssgi(&renderer, settings, true, 1);
     for (a, b) in with_ambient.pixels.iter().zip(&gi.pixels) {
         assert!(
-            (a[2] - (b[2] + 0.25)).abs() < 1e-3 && (a[0] - b[0]).abs() < 1e-3,
+            (a[2] - (b[2] + 0.25 * b[3])).abs() < 1e-3 && (a[0] - b[0]).abs() < 1e-3,
             "{a:?} {b:?}"
         );
     }
+    let visible = ImageF32 {
+        pixels: with_ambient
+            .pixels
+            .iter()
+            .map(|p| [p[2] / 0.25; 4])
+            .collect(),
+        ..with_ambient.clone()
+    };
+    let e = rmse(&visible, &truth);
+    assert!(
+        e < 0.1,
+        "RMSE of the environment's share against ray-cast AO: {e}"
+    );
 }
 
 #[test]
@@ -643,4 +669,60 @@ fn ssss_scatters_red_farthest_and_only_where_a_material_has_fake_sss() {
     assert_eq!(report.counter("SSSS culled: no subsurface material"), 1);
     assert!(!report.passes.iter().any(|p| p.name.starts_with("SSSS")));
     assert!(image.pixels.is_empty(), "the input is passed on as it is");
+}
+
+#[test]
+fn ssgi_temporal_accumulation_beats_one_frame_and_hdr_input_stays_finite() {
+    let few = SsgiSettings {
+        radius: 1.0,
+        samples: 2,
+        steps: 8,
+        temporal_blend: 0.0,
+        blur_radius: 0,
+        ..Default::default()
+    };
+    let renderer = test_renderer();
+    let (_, one, depth) = ssgi(&renderer, few, false, 1);
+    let truth: Vec<Option<f32>> = reference(&depth, SIZE, 256)
+        .iter()
+        .map(|t| t.map(|v| 1.0 - v))
+        .collect();
+    let renderer = test_renderer();
+    let (_, many, _) = ssgi(
+        &renderer,
+        SsgiSettings {
+            temporal_blend: 0.9,
+            ..few
+        },
+        false,
+        24,
+    );
+    let (e1, e24) = (rmse(&one, &truth), rmse(&many, &truth));
+    assert!(
+        e24 < e1 * 0.7,
+        "24 accumulated frames ({e24}) against one ({e1})"
+    );
+    // A lit image of 1e6, and one of NaN: finite, below half-float overflow.
+    for lit in [[1e6f32; 3], [f32::NAN; 3], [f32::INFINITY; 3]] {
+        let renderer = test_renderer();
+        let (_, image, _) = ssgi_lit(
+            &renderer,
+            SsgiSettings {
+                temporal_blend: 0.9,
+                blur_radius: 2,
+                ..few
+            },
+            true,
+            2,
+            lit,
+        );
+        assert!(image.all_finite(), "lit {lit:?}");
+        assert!(
+            image
+                .pixels
+                .iter()
+                .all(|p| p[..3].iter().all(|c| (0.0..=65000.0).contains(c))),
+            "lit {lit:?}"
+        );
+    }
 }

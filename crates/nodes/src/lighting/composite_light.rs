@@ -22,7 +22,7 @@ pub fn register(r: &mut Registry) {
              ambient term (Ambient x albedo), plus each material's Emission from the Material World, into one HDR image. AO (optional, visibility \
              in R) darkens the ambient term, weighted by each material's AmbientOcclusion strength when a \
              Material World has that feature. GI (optional): indirect diffuse light (SSGI, an environment's \
-             diffuse light), times albedo, darkened by AO. Reflection (optional): specular reflection (Reflection, \
+             diffuse light), times albedo (not darkened by AO: SSGI occludes the environment light itself). Reflection (optional): specular reflection (Reflection, \
              SSR), times each material's Reflection strength; not rendered at all when no material reflects.",
         )
         .input_spread("G-Buffer", PinType::Resource(ResourceKind::GBuffer), Spread::Resource(ResourceKind::GBuffer, vec![]))

@@ -31,7 +31,9 @@ pub struct CompositeInputs {
     /// Ambient visibility in R (0..1), from an AO pass.
     pub occlusion: Option<TextureRef>,
     /// Indirect diffuse radiance arriving at each pixel (RGB; SSGI, image-based
-    /// diffuse light): times albedo, darkened by the occlusion.
+    /// diffuse light): times albedo. Not darkened by `occlusion`: SSGI lets
+    /// environment light in only along its escaping rays, and what the
+    /// occluders block they bounce.
     pub gi: Option<TextureRef>,
     /// Specular reflection radiance (RGB, Fresnel already applied: the
     /// Reflection or SSR pass), times each material's Reflection strength.

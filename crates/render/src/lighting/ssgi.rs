@@ -134,9 +134,14 @@ impl Ssgi {
         format!("{}/{what}", self.prefix)
     }
 
-    /// The persistent history (RGBA16F: radiance, view distance), per node.
+    /// The persistent history (RGBA16F: bounce radiance, escaped share), per node.
     pub fn history_name(&self) -> String {
         format!("ssgi-history-{}", self.key)
+    }
+
+    /// The persistent view distance under each history texel (R32F).
+    fn distance_name(&self) -> String {
+        format!("ssgi-distance-{}", self.key)
     }
 
     fn temporal(&self) -> bool {
@@ -217,7 +222,9 @@ impl Ssgi {
 
     fn temporal_pass(&self, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
         let (history, previous) = (self.history_name(), self.name("previous"));
-        let fresh = cx.copy_history(&history, &previous)?;
+        let (distance, previous_distance) = (self.distance_name(), self.name("previous distance"));
+        let fresh = cx.copy_history(&history, &previous)?
+            | cx.copy_history(&distance, &previous_distance)?;
         if fresh {
             cx.count("SSGI history reset", 1);
         }
@@ -234,7 +241,14 @@ impl Ssgi {
             cx,
             "ssgi temporal",
             vec!["TEMPORAL"],
-            &[(4, &raw), (5, &history), (6, &velocity), (7, &previous)],
+            &[
+                (4, &raw),
+                (5, &history),
+                (6, &velocity),
+                (7, &previous),
+                (9, &previous_distance),
+                (10, &distance),
+            ],
             &[(8, &fresh)],
         )
     }
@@ -294,20 +308,24 @@ impl Recipe for Ssgi {
         let mut source = raw.clone();
         if self.temporal() {
             let (history, previous) = (self.history_name(), self.name("previous"));
+            let (distance, previous_distance) =
+                (self.distance_name(), self.name("previous distance"));
+            let (rgba, r32) = (
+                wgpu::TextureFormat::Rgba16Float,
+                wgpu::TextureFormat::R32Float,
+            );
+            let size = self.gbuffer.size;
             fg.add_pass(
                 pass_name("SSGI", self.owner, Some("temporal")),
                 self.owner,
                 &[&raw, &g.depth, &g.normals, &g.velocity_uv],
                 &[
+                    (&history, TextureDesc::history(rgba).size(size)),
+                    (&previous, TextureDesc::history_copy(rgba).size(size)),
+                    (&distance, TextureDesc::history(r32).size(size)),
                     (
-                        &history,
-                        TextureDesc::history(wgpu::TextureFormat::Rgba16Float)
-                            .size(self.gbuffer.size),
-                    ),
-                    (
-                        &previous,
-                        TextureDesc::history_copy(wgpu::TextureFormat::Rgba16Float)
-                            .size(self.gbuffer.size),
+                        &previous_distance,
+                        TextureDesc::history_copy(r32).size(size),
                     ),
                 ],
                 move |cx| self.temporal_pass(cx),

@@ -42,8 +42,9 @@ pub enum AoMode {
     /// smooth falloff. Cheap at large radii; not calibrated to ray-cast AO.
     Sao,
     /// Horizon-based AO (Bavoil 2008): `samples` directions in screen space,
-    /// `steps` taps each; per direction the highest horizon's sine is the
-    /// occluded share of that slice. Short range, local detail.
+    /// `steps` taps each; per direction the square of the highest horizon's
+    /// sine is the (cosine-weighted) occluded share of that slice. Short
+    /// range, local detail.
     Hbao,
 }
 
@@ -299,16 +300,11 @@ impl AmbientOcclusion {
     fn temporal_pass(&self, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
         let history = self.history_name();
         let previous = self.name("previous");
-        if cx.is_fresh(&history) {
+        let fresh = cx.copy_history(&history, &previous)?;
+        if fresh {
             cx.count("AO history reset", 1);
         }
-        let fresh = u32::from(cx.is_fresh(&history));
-        let (last, copy) = (
-            cx.texture(&history)?.clone(),
-            cx.texture(&previous)?.clone(),
-        );
-        cx.encoder
-            .copy_texture_to_texture(last.as_image_copy(), copy.as_image_copy(), last.size());
+        let fresh = u32::from(fresh);
         let fresh_buffer = cx
             .gpu
             .device
