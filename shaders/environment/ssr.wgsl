@@ -268,20 +268,35 @@ fn resolve(@builtin(global_invocation_id) id: vec3<u32>) {
         store(pixel, now);
         return;
     }
+    // Alpha keeps the view distance, so next frame can tell the same surface.
+    let d = textureLoad(depth, pixel, 0).r;
+    if (d <= 0.0) {
+        textureStore(output, pixel, vec4<f32>(clean(now), 0.0));
+        return;
+    }
+    let h = camera.projection_inverse * vec4<f32>(pixel_to_ndc(pixel, camera.size), d, 1.0);
+    let p = h.xyz / h.w;
+    let distance = min(-p.z, 65000.0);
     let uv = (vec2<f32>(pixel) + 0.5) * camera.size.zw;
     let before = uv - textureLoad(velocity_uv, pixel, 0).xy;
     if (any(before < vec2<f32>(0.0)) || any(before >= vec2<f32>(1.0)) || any(before != before)) {
-        store(pixel, now);
+        textureStore(output, pixel, vec4<f32>(clean(now), distance));
         return;
     }
-    let old = textureLoad(history, vec2<u32>(before * camera.size.xy), 0).rgb;
-    // Sanitized on read: a NaN or infinity in the history never spreads.
-    let finite = all(old == old) && all(abs(old) <= vec3<f32>(65000.0));
-    if (!finite) {
-        store(pixel, now);
+    let old = textureLoad(history, vec2<u32>(before * camera.size.xy), 0);
+    // Sanitized on read: a NaN or infinity in the history never spreads; and
+    // only the same surface (its stored distance within 5% of this point's
+    // distance from last frame's camera) is blended: no smearing across a
+    // disocclusion.
+    let finite = all(old == old) && all(abs(old) <= vec4<f32>(65000.0));
+    let world = camera.view_inverse * vec4<f32>(p, 1.0);
+    let expected = (camera.previous_view_projection * world).w;
+    let same = old.a > 0.0 && old.a < 65000.0 && abs(old.a - expected) <= 0.05 * expected + 1e-3;
+    if (!finite || !same) {
+        textureStore(output, pixel, vec4<f32>(clean(now), distance));
         return;
     }
-    store(pixel, mix(old, now, clamp(params.blend, 0.0, 1.0)));
+    textureStore(output, pixel, vec4<f32>(clean(mix(old.rgb, now, clamp(params.blend, 0.0, 1.0))), distance));
 }
 
 // No material reflects: zero, nothing traced.

@@ -774,6 +774,16 @@ fn ssr_history_survives_a_nan_a_camera_cut_and_a_resize() {
     let (resized, image, _) = ssr_frame(&renderer, &g, world(), [0.1; 4], settings, owner, bigger);
     assert_eq!(resized.counter("ssr history reset"), 1);
     assert!(image.all_finite());
+    let (kept, ..) = ssr_frame(&renderer, &g, world(), [0.1; 4], settings, owner, bigger);
+    assert_eq!(kept.counter("ssr history used"), 1);
+    // Reset drops it too.
+    let reset = SsrSettings {
+        reset: true,
+        ..settings
+    };
+    let (dropped, image, _) = ssr_frame(&renderer, &g, world(), [0.1; 4], reset, owner, bigger);
+    assert_eq!(dropped.counter("ssr history reset"), 1);
+    assert!(image.all_finite());
 }
 
 #[test]

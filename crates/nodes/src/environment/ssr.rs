@@ -23,7 +23,9 @@ pub fn register(r: &mut Registry) {
              rays leaving the screen and hits near its edges fade smoothly to Fallback (connect Reflection's Specular). \
              Output: reflected radiance times the split-sum factor, like Reflection's Specular, so either can be composited. \
              Temporal blends with last frame's result (weight Blend for the new frame), reprojected by the G-buffer's \
-             velocity; a camera cut or a resize starts the history afresh. Cost: about Rays x Max Steps texture reads a pixel.",
+             velocity, only where the same surface was seen (its distance within 5%); a resize, Reset, or a camera cut (the \
+             G-buffer's last camera is not the one seen last frame) starts the history afresh. Note: Blend is the new frame's \
+             weight here, where SSAO's and SSGI's Temporal Blend is last frame's. Cost: about Rays x Max Steps texture reads a pixel.",
         )
         .input_spread("G-Buffer", PinType::Resource(ResourceKind::GBuffer), Spread::Resource(ResourceKind::GBuffer, vec![]))
         .input_spread(
@@ -38,6 +40,7 @@ pub fn register(r: &mut Registry) {
         .input("Temporal", d.temporal)
         .input("Blend", d.blend)
         .input("Thickness", d.thickness)
+        .input("Reset", false)
         .output_typed("Texture", PinType::Resource(ResourceKind::Texture))
         .evaluate(|cx| {
             let d = SsrSettings::default();
@@ -59,6 +62,7 @@ pub fn register(r: &mut Registry) {
                 temporal: cx.slices::<bool>(6)?.first().copied().unwrap_or(d.temporal),
                 blend: cx.slices::<f32>(7)?.first().copied().unwrap_or(d.blend),
                 thickness: cx.slices::<f32>(8)?.first().copied().unwrap_or(d.thickness),
+                reset: cx.slices::<bool>(9)?.first().copied().unwrap_or(false),
             };
             let renderer = renderer(cx)?;
             let gbuffer = resources::<GBuffer>(cx, 0)?.into_iter().next().ok_or_else(|| cx.input_error(0, "no G-buffer connected"))?;

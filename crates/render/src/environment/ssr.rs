@@ -19,6 +19,7 @@ use crate::material::{FEATURE_COOK_TORRANCE, FEATURE_REFLECTION, MaterialWorld};
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
 use crate::shaders::{Sampling, ShaderKey};
+use crate::temporal::TemporalState;
 
 const SHADER: &str = "environment/ssr.wgsl";
 
@@ -35,6 +36,8 @@ pub struct SsrSettings {
     pub blend: f32,
     /// How thick a surface is assumed behind its depth, in view units.
     pub thickness: f32,
+    /// Drop the history this frame (a camera cut).
+    pub reset: bool,
 }
 
 impl Default for SsrSettings {
@@ -45,6 +48,7 @@ impl Default for SsrSettings {
             temporal: true,
             blend: 0.2,
             thickness: 0.5,
+            reset: false,
         }
     }
 }
@@ -64,6 +68,7 @@ impl SsrSettings {
             temporal: self.temporal,
             blend: finite(self.blend, 0.01, 1.0, 0.2),
             thickness: finite(self.thickness, 1e-3, 1e3, 0.5),
+            reset: self.reset,
         }
     }
 }
@@ -90,6 +95,8 @@ pub struct SsrStore {
 }
 
 pub struct Ssr {
+    /// Last frame's camera, to tell a cut (the history no longer fits).
+    temporal_state: Arc<TemporalState>,
     id: u64,
     owner: Option<u32>,
     gbuffer: Arc<GBuffer>,
@@ -153,6 +160,7 @@ impl Ssr {
             settings: settings.sanitized(),
             store,
             table: renderer.state::<SplitSumStore>(0),
+            temporal_state: renderer.state::<TemporalState>(owner.map_or(id, u64::from)),
             trace_params: uniform("ssr trace params"),
             resolve_params: uniform("ssr resolve params"),
             token: format!("ssr{id}/hiz"),
@@ -363,7 +371,11 @@ impl Ssr {
     }
 
     fn resolve(&self, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
-        let fresh = cx.is_fresh(&self.history);
+        // Fresh (first frame, resize), asked to reset, or a camera cut: no history.
+        let (_, stale) = self
+            .temporal_state
+            .advance(&self.gbuffer, self.settings.reset);
+        let fresh = cx.is_fresh(&self.history) || stale;
         cx.count(
             if fresh {
                 "ssr history reset"
@@ -379,15 +391,17 @@ impl Ssr {
             bytemuck::bytes_of(&self.params(frame, u32::from(!fresh), 0)),
         );
         let g = &self.gbuffer;
-        let (current, history, velocity, out) = (
+        let (current, history, velocity, out, depth) = (
             cx.view(&self.current)?,
             cx.view(&self.history)?,
             cx.view(&g.targets.velocity_uv)?,
             cx.view(&self.output)?,
+            cx.view(&g.targets.depth)?,
         );
         let all = [
             (0, g.camera_buffer().as_entire_binding()),
             (1, self.resolve_params.as_entire_binding()),
+            (4, wgpu::BindingResource::TextureView(&depth)),
             (10, wgpu::BindingResource::TextureView(&out)),
             (13, wgpu::BindingResource::TextureView(&current)),
             (14, wgpu::BindingResource::TextureView(&history)),
@@ -512,7 +526,11 @@ impl Recipe for Ssr {
             fg.add_pass(
                 self.label("resolve"),
                 self.owner,
-                &[self.current.as_str(), g.velocity_uv.as_str()],
+                &[
+                    self.current.as_str(),
+                    g.velocity_uv.as_str(),
+                    g.depth.as_str(),
+                ],
                 &[(&self.output, hdr), (&self.history, history)],
                 move |cx| self.resolve(cx),
             );
