@@ -26,9 +26,16 @@ struct Timestamps {
 struct Textures {
     pool: HashMap<TextureKey, Vec<wgpu::Texture>>,
     persistent: HashMap<String, (TextureKey, wgpu::Texture)>,
+    /// Per persistent texture: frame graphs run since a pass last wrote it.
+    idle: HashMap<String, u32>,
     /// Last frame's requested outputs: handed to the caller, back to the pool next frame.
     lent: Vec<(TextureKey, wgpu::Texture)>,
 }
+
+/// Frame graphs a persistent texture may go unwritten before it is dropped:
+/// about a second at 60 frames a second, so a node briefly culled (an editor
+/// viewport looking elsewhere) keeps its history.
+pub const PERSISTENT_IDLE_GRAPHS: u32 = 60;
 
 pub struct Renderer {
     pub gpu: GpuContext,
@@ -207,7 +214,9 @@ impl Renderer {
                         }
                     }
                 };
-                if desc.lifetime != Lifetime::Persistent {
+                if desc.lifetime == Lifetime::Persistent {
+                    textures.idle.insert(name.clone(), 0);
+                } else {
                     owned.push((name.clone(), *key, desc.lifetime));
                 }
                 live.insert(name.clone(), texture);
@@ -349,6 +358,34 @@ impl Renderer {
                 total += ms;
             }
             report.gpu_ms = Some(total);
+        }
+
+        // History exists only for effects that run: a persistent texture no pass
+        // has written for a while (its node deleted, culled, or switched to
+        // another mode) is dropped.
+        let textures = &mut *textures;
+        let mut dropped = 0;
+        for name in textures.persistent.keys().cloned().collect::<Vec<_>>() {
+            let idle = textures.idle.entry(name.clone()).or_insert(0);
+            if parts
+                .order
+                .iter()
+                .any(|&p| parts.writes[p].iter().any(|(n, _)| *n == name))
+            {
+                continue;
+            }
+            *idle += 1;
+            if *idle > PERSISTENT_IDLE_GRAPHS {
+                textures.persistent.remove(&name);
+                textures.idle.remove(&name);
+                dropped += 1;
+            }
+        }
+        if dropped > 0 {
+            *report
+                .counters
+                .entry("histories dropped".to_owned())
+                .or_default() += dropped;
         }
 
         // Requested outputs go to the caller and come back to the pool next frame;

@@ -309,8 +309,19 @@ fn radius_zero_and_huge_stay_finite_in_every_mode() {
                 blur_radius: 3,
                 ..single_frame(mode, 8)
             };
-            let (_, image, _) = ao(&renderer, g, settings, SIZE);
+            let (report, image, _) = ao(&renderer, g, settings, SIZE);
             assert!(image.all_finite(), "{mode:?} radius {radius}");
+            if !(radius > 0.0) {
+                // Nothing to occlude: the raw pass writes 1, the last pass copies it.
+                assert_eq!(report.counter("AO off: radius 0"), 1);
+                let passes: Vec<&str> = report
+                    .passes
+                    .iter()
+                    .map(|p| p.name.as_str())
+                    .filter(|n| n.contains(" #7:"))
+                    .collect();
+                assert_eq!(passes.len(), 2, "{passes:?}");
+            }
             assert!(
                 image.pixels.iter().all(|p| (0.0..=1.0).contains(&p[0])),
                 "{mode:?} radius {radius}"
@@ -666,7 +677,10 @@ fn ssss_scatters_red_farthest_and_only_where_a_material_has_fake_sss() {
     // No material with FakeSSS: no pass, the input itself, and the report says why.
     let plain = MaterialWorld::new(&renderer, vec![Material::default_material()]);
     let (report, image, _) = scatter(&renderer, plain, 1.0);
-    assert_eq!(report.counter("SSSS culled: no subsurface material"), 1);
+    assert_eq!(
+        report.counter("SSSS culled: no subsurface material or width 0"),
+        1
+    );
     assert!(!report.passes.iter().any(|p| p.name.starts_with("SSSS")));
     assert!(image.pixels.is_empty(), "the input is passed on as it is");
 }
@@ -725,4 +739,26 @@ fn ssgi_temporal_accumulation_beats_one_frame_and_hdr_input_stays_finite() {
             "lit {lit:?}"
         );
     }
+}
+
+/// "Temporal history exists only for effects that run": switched to a
+/// single-frame setting, a node's history texture goes after a while.
+#[test]
+fn a_history_no_pass_writes_any_more_is_dropped() {
+    let renderer = test_renderer();
+    let temporal = AoSettings {
+        temporal_blend: 0.9,
+        ..single_frame(AoMode::Stochastic, 2)
+    };
+    still_frames(&renderer, temporal, 1);
+    let g = gbuffer(&renderer, eye(), None, SIZE);
+    let name = AmbientOcclusion::new(&renderer, Some(7), g, temporal, None).history_name();
+    assert!(renderer.persistent_texture(&name).is_some());
+    let mut dropped = 0;
+    for _ in 0..=spreadlight_render::renderer::PERSISTENT_IDLE_GRAPHS {
+        let (report, ..) = still_frames(&renderer, single_frame(AoMode::Stochastic, 2), 1);
+        dropped += report.counter("histories dropped");
+    }
+    assert_eq!(dropped, 1);
+    assert!(renderer.persistent_texture(&name).is_none());
 }

@@ -144,8 +144,13 @@ impl Ssgi {
         format!("ssgi-distance-{}", self.key)
     }
 
+    /// Radius 0 gathers nothing: the gather writes no bounce and every ray escapes.
+    fn off(&self) -> bool {
+        self.settings.radius <= 0.0
+    }
+
     fn temporal(&self) -> bool {
-        self.settings.temporal_blend > 0.0
+        self.settings.temporal_blend > 0.0 && !self.off()
     }
 
     fn write_params(&self, cx: &PassContext<'_>, frame: u32, reset: bool) {
@@ -156,7 +161,7 @@ impl Ssgi {
             blend: s.temporal_blend,
             samples: s.samples,
             steps: s.steps,
-            blur_radius: s.blur_radius,
+            blur_radius: if self.off() { 0 } else { s.blur_radius },
         };
         cx.gpu.queue.write_buffer(
             &self.params,
@@ -334,7 +339,10 @@ impl Recipe for Ssgi {
         }
         let blurred = self.name("blurred");
         let mut last = source.clone();
-        if self.settings.blur_radius > 0 {
+        if self.off() {
+            fg.count("SSGI off: radius 0", 1);
+        }
+        if self.settings.blur_radius > 0 && !self.off() {
             let src = source.clone();
             fg.add_pass(
                 pass_name("SSGI", self.owner, Some("blur x")),

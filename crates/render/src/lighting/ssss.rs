@@ -1,7 +1,8 @@
 //! `SSSS`: screen-space subsurface scattering over CookTorrance's
 //! subsurface term (shaders/lighting/ssss.wgsl), a separable kernel driven
-//! per material by the FakeSSS feature. When no material has FakeSSS it
-//! runs nothing: its output is its input ("SSSS culled: no subsurface material").
+//! per material by the FakeSSS feature. When no material has FakeSSS (or
+//! the width is 0) it runs nothing: its output is its input ("SSSS culled:
+//! no subsurface material or width 0").
 
 use std::sync::Arc;
 
@@ -56,7 +57,7 @@ impl Recipe for Skipped {
             return;
         }
         self.source.recipe.declare(renderer, fg);
-        fg.count("SSSS culled: no subsurface material", 1);
+        fg.count("SSSS culled: no subsurface material or width 0", 1);
     }
 }
 
@@ -73,18 +74,21 @@ impl Ssss {
         quality: SsssQuality,
     ) -> TextureRef {
         let id = next_recipe_id();
-        let materials = materials.filter(|w| w.union_flags() & (1 << FEATURE_FAKE_SSS) != 0);
+        let width = if width.is_finite() {
+            width.clamp(0.0, 1e3)
+        } else {
+            0.0
+        };
+        // No material scatters, or nothing to scatter over: the input as it is.
+        let materials = materials
+            .filter(|w| w.union_flags() & (1 << FEATURE_FAKE_SSS) != 0)
+            .filter(|_| width > 0.0);
         let Some(materials) = materials else {
             let name = source.name.clone();
             return TextureRef {
                 recipe: Arc::new(Skipped { id, source }),
                 name,
             };
-        };
-        let width = if width.is_finite() {
-            width.clamp(0.0, 1e3)
-        } else {
-            0.0
         };
         let params = renderer
             .gpu

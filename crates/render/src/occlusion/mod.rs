@@ -197,8 +197,18 @@ impl AmbientOcclusion {
         format!("ao-history-{}-{:?}", self.key, self.settings.mode)
     }
 
+    /// Radius 0 occludes nothing: the raw pass writes 1 and nothing else runs.
+    fn off(&self) -> bool {
+        self.settings.radius <= 0.0
+    }
+
     fn temporal(&self) -> bool {
-        self.settings.temporal_blend > 0.0
+        self.settings.temporal_blend > 0.0 && !self.off()
+    }
+
+    /// SAO's depth chain is built only when SAO runs.
+    fn sao(&self) -> bool {
+        self.settings.mode == AoMode::Sao && !self.off()
     }
 
     /// The size of SAO's depth level `k`.
@@ -222,7 +232,7 @@ impl AmbientOcclusion {
             blend: s.temporal_blend,
             samples: s.samples,
             steps: s.steps,
-            blur_radius: s.blur_radius,
+            blur_radius: if self.off() { 0 } else { s.blur_radius },
         };
         cx.gpu.queue.write_buffer(
             &self.params,
@@ -280,7 +290,7 @@ impl AmbientOcclusion {
             cx.view(&g.normals)?,
             cx.view(&self.name("raw"))?,
         ];
-        if self.settings.mode == AoMode::Sao {
+        if self.sao() {
             for k in 0..DEPTH_LEVELS {
                 views.push(cx.view(&self.name(&format!("z{k}")))?);
             }
@@ -292,7 +302,9 @@ impl AmbientOcclusion {
         for (k, v) in views.iter().enumerate() {
             all.push((2 + k as u32, wgpu::BindingResource::TextureView(v)));
         }
-        let key = ShaderKey::new("occlusion/ao.wgsl", self.settings.mode.feature());
+        // Off: the plain estimator's early exit writes 1 (no SAO chain to bind).
+        let feature = if self.off() { None } else { self.settings.mode.feature() };
+        let key = ShaderKey::new("occlusion/ao.wgsl", feature);
         let size = self.gbuffer.pixel_size(cx.output_size);
         cx.dispatch_image(self.settings.mode.name(), &key, &all, size)
     }
@@ -403,7 +415,7 @@ impl Recipe for AmbientOcclusion {
         let levels: Vec<String> = (0..DEPTH_LEVELS)
             .map(|k| self.name(&format!("z{k}")))
             .collect();
-        if self.settings.mode == AoMode::Sao {
+        if self.sao() {
             for (k, level) in levels.iter().enumerate() {
                 let reads: Vec<&str> = if k == 0 {
                     vec![&g.depth]
@@ -425,7 +437,7 @@ impl Recipe for AmbientOcclusion {
         }
         let raw = self.name("raw");
         let mut reads: Vec<&str> = vec![&g.depth, &g.normals];
-        if self.settings.mode == AoMode::Sao {
+        if self.sao() {
             reads.extend(levels.iter().map(String::as_str));
         }
         fg.add_pass(
@@ -455,7 +467,10 @@ impl Recipe for AmbientOcclusion {
         let blurred = self.name("blurred");
         let mut last_reads: Vec<&str> = vec![&g.depth, &g.normals];
         last_reads.extend(self.combine.as_ref().map(|c| c.name.as_str()));
-        if self.settings.blur_radius > 0 {
+        if self.off() {
+            fg.count("AO off: radius 0", 1);
+        }
+        if self.settings.blur_radius > 0 && !self.off() {
             let src = source.clone();
             fg.add_pass(
                 pass_name(kind, self.owner, Some("blur x")),
