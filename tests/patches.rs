@@ -272,3 +272,40 @@ fn the_post_example_runs_every_effect_and_skips_what_does_nothing() {
     );
     assert_eq!(pinhole[2].counter("dof blurred"), 0);
 }
+
+/// A camera cut in the post example (the orbit distance jumps from 8 to 3
+/// between two frames) resets TAA's history for that frame only.
+#[test]
+fn a_camera_cut_resets_taa_history_once() {
+    let path = spreadlight_tests::root().join("patches/post.ron");
+    let mut patch = format::load(&path).expect("loads");
+    let mut rt = Runtime::new(spreadlight_nodes::registry());
+    rt.provide(patch_dir(&path));
+    let renderer = std::sync::Arc::new(
+        spreadlight_render::Renderer::headless().expect("a GPU adapter (lavapipe in CI)"),
+    );
+    renderer.set_output_size((48, 27));
+    rt.provide(renderer.clone());
+    rt.provide(std::sync::Arc::new(
+        spreadlight_nodes::output::RenderedImages::default(),
+    ));
+    assert!(rt.load(&patch).is_empty());
+    let mut resets = Vec::new();
+    for frame in 0..6 {
+        if frame == 3 {
+            let camera = patch
+                .nodes
+                .iter_mut()
+                .find(|n| n.type_name == "Camera")
+                .expect("a camera");
+            camera
+                .values
+                .insert("Distance".to_owned(), Spread::Float(vec![3.0]));
+            assert!(rt.load(&patch).is_empty());
+        }
+        rt.evaluate(FrameClock::fixed(frame, 60.0));
+        assert_eq!(rt.node_errors().count(), 0);
+        resets.push(renderer.last_report().counter("taa history reset"));
+    }
+    assert_eq!(resets, vec![1, 0, 0, 1, 0, 0]);
+}

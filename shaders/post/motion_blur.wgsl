@@ -135,7 +135,10 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         let d = length(vn * t);
         let front = soft_depth_compare(zy, zx);
         let back = soft_depth_compare(zx, zy);
-        let alpha = front * cone(d, ly) + back * cone(d, lx) + cylinder(d, ly) * cylinder(d, lx) * 2.0;
+        // The paper's weights, scaled by 15 / samples: the centre's weight (1 / |V|)
+        // does not grow with the sample count, so without this more samples would
+        // blur more; at 15 (the default) they are the paper's.
+        let alpha = (front * cone(d, ly) + back * cone(d, lx) + cylinder(d, ly) * cylinder(d, lx) * 2.0) * (15.0 / f32(n));
         weight += alpha;
         sum += sanitize(load_clamped(source, y)).rgb * alpha;
     }

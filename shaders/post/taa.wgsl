@@ -8,7 +8,7 @@
 //
 // The history is trusted only as far as the current 3x3 neighbourhood
 // allows, in YCoCg: clamped to its min/max box, or with VARIANCE_CLIP
-// clipped towards the mean into mean +- 1 standard deviation (Salvi 2016),
+// clipped towards the mean into mean +- 1.5 standard deviations (Salvi 2016),
 // which rejects stale colours (disocclusion, lighting change) with less
 // flicker. With CATMULL_ROM the history is read bicubically, which keeps it
 // sharp under motion. History is sanitized on read: NaN or infinity there
@@ -124,8 +124,8 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
 #ifdef VARIANCE_CLIP
         let mean = m1 / 9.0;
         let sigma = sqrt(max(m2 / 9.0 - mean * mean, vec3<f32>(0.0)));
-        let box_lo = max(mean - sigma, lo);
-        let box_hi = min(mean + sigma, hi);
+        let box_lo = max(mean - 1.5 * sigma, lo);
+        let box_hi = min(mean + 1.5 * sigma, hi);
         // Clip along the line to the mean (not per channel), keeping hue.
         let center = 0.5 * (box_hi + box_lo);
         let extent = 0.5 * (box_hi - box_lo) + 1e-5;

@@ -93,8 +93,9 @@ const FOCUS: f32 = 7.0;
 const MOTION: Vec3 = Vec3::new(0.25, 0.0, 0.0);
 const SHUTTER: f32 = 180.0;
 
-/// Coloured balls on a grey floor; the middle one moves by `MOTION` a frame, `at` frames on.
-fn scene(renderer: &Renderer, at: f32) -> anyhow::Result<Arc<Layer>> {
+/// Coloured balls on a floor, `at` frames on; with `moving_ball` the middle one
+/// moves by `MOTION` a frame (its last frame's transform says so).
+fn scene(renderer: &Renderer, at: f32, moving_ball: bool) -> anyhow::Result<Arc<Layer>> {
     let ball = renderer.meshes.upload(
         &renderer.gpu,
         &sphere(SphereParams {
@@ -120,6 +121,7 @@ fn scene(renderer: &Renderer, at: f32) -> anyhow::Result<Arc<Layer>> {
         object_id: 0,
     };
     let moving = Vec3::new(0.0, 0.8, 0.0) + MOTION * at;
+    let motion = if moving_ball { MOTION } else { Vec3::ZERO };
     let balls = vec![
         instance(
             place(Vec3::new(-1.8, 0.6, 2.5), 0.6),
@@ -128,7 +130,7 @@ fn scene(renderer: &Renderer, at: f32) -> anyhow::Result<Arc<Layer>> {
         ),
         instance(
             place(moving, 0.8),
-            place(moving - MOTION, 0.8),
+            place(moving - motion, 0.8),
             [0.1, 0.7, 0.2, 1.0],
         ),
         instance(
@@ -336,7 +338,7 @@ fn dof_settings(samples: u32) -> DofSettings {
 
 fn measure_dof(renderer: &Renderer, args: &PostArgs, rows: &mut Vec<Row>) -> anyhow::Result<()> {
     let size = args.error_size;
-    let layer = scene(renderer, 0.0)?;
+    let layer = scene(renderer, 0.0, false)?;
     let base = camera(size);
     let aperture = dof_settings(1).aperture();
     eprintln!(
@@ -421,12 +423,12 @@ fn measure_motion_blur(
     for i in 0..args.views {
         // The shutter is open for `open` of a frame, centred on the frame.
         let t = ((i as f32 + 0.5) / args.views as f32 - 0.5) * open;
-        let g = gbuffer(renderer, scene(renderer, t)?, cam, None);
+        let g = gbuffer(renderer, scene(renderer, t, false)?, cam, None);
         let (_, image) = run(renderer, g.as_ref(), &g.targets.color, size, true)?;
         average.add(&image.context("image")?);
     }
     let truth = average.image(size);
-    let layer = scene(renderer, 0.0)?;
+    let layer = scene(renderer, 0.0, true)?;
     for samples in [5, 9, 15, 25] {
         eprintln!("MotionBlur {samples} samples");
         let g = gbuffer(renderer, layer.clone(), cam, None);
@@ -619,7 +621,7 @@ pub fn run_post(args: &PostArgs) -> anyhow::Result<ExitCode> {
         measure_motion_blur(&renderer, args, &mut rows)?;
     }
     if args.only.contains(&Effect::Taa) || args.only.contains(&Effect::Fxaa) {
-        let layer = scene(&renderer, 0.0)?;
+        let layer = scene(&renderer, 0.0, false)?;
         eprintln!("TAA/FXAA reference: 64 samples a pixel ...");
         let truth = supersampled(&renderer, &layer, args.error_size)?;
         if args.only.contains(&Effect::Taa) {

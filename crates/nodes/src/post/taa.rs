@@ -1,11 +1,11 @@
 //! `TAA`: temporal anti-aliasing over the `Camera`'s jittered projection.
 //! Keeps last frame's jitter, so the velocity's jitter part can be taken out.
 
-use glam::Vec2;
+use glam::{Mat4, Vec2};
 use spreadlight_graph::{
     EnumDef, EvalContext, Node, NodeDef, NodeError, PinType, Registry, ResourceKind, Spread,
 };
-use spreadlight_render::post::{Taa, TaaQuality, TaaSettings};
+use spreadlight_render::post::{Taa, TaaQuality, TaaSettings, is_cut};
 
 use super::{float, gbuffer, set_texture, texture};
 use crate::gpu::renderer;
@@ -26,7 +26,9 @@ pub fn register(r: &mut Registry) {
              neighbourhood of the current frame: Quality Low clamps to its YCoCg box, Medium clips towards its mean \
              (variance clipping), High also reads the history bicubically (sharper in motion). Feedback is the share \
              of history kept each frame (0.9 averages about ten); Sharpen adds back the current frame's detail. \
-             Reset (a camera cut) throws the history away, as do a resize and the first frame.",
+             Reset throws the history away, as do a resize, the first frame, and a camera cut: the G-buffer's \
+             camera moving further than Cut Distance in a frame (0: never by distance) or turning more than 45 \
+             degrees.",
         )
         .input_spread("Texture", PinType::Resource(ResourceKind::Texture), Spread::Resource(ResourceKind::Texture, vec![]))
         .input_spread("G-Buffer", PinType::Resource(ResourceKind::GBuffer), Spread::Resource(ResourceKind::GBuffer, vec![]))
@@ -35,6 +37,7 @@ pub fn register(r: &mut Registry) {
         .input("Feedback", d.feedback)
         .input("Sharpen", d.sharpen)
         .input("Reset", false)
+        .input("Cut Distance", 1.0f32)
         .output_typed("Texture", PinType::Resource(ResourceKind::Texture))
         .construct(TaaNode::default),
     );
@@ -43,6 +46,7 @@ pub fn register(r: &mut Registry) {
 #[derive(Default)]
 struct TaaNode {
     previous_jitter: Option<Vec2>,
+    previous_view: Option<Mat4>,
 }
 
 impl Node for TaaNode {
@@ -67,7 +71,17 @@ impl Node for TaaNode {
         if sharpen < 0.0 {
             return Err(cx.input_error(5, "is negative"));
         }
-        let reset = cx.slices::<bool>(6)?.first().copied().unwrap_or(false);
+        let cut_distance = float(cx, 7, 1.0, true)?;
+        let view = g.camera.view;
+        let cut = self
+            .previous_view
+            .replace(view)
+            .is_some_and(|last| is_cut(last, view, cut_distance));
+        if cut {
+            // The recipe made now resets the history; next frame's must not.
+            cx.reevaluate_next_frame();
+        }
+        let reset = cx.slices::<bool>(6)?.first().copied().unwrap_or(false) || cut;
         let previous_jitter = self.previous_jitter.replace(jitter).unwrap_or(jitter);
         let settings = TaaSettings {
             quality,

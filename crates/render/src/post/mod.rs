@@ -16,7 +16,7 @@ pub use eye_adaptation::{AdaptationSettings, EyeAdaptation};
 pub use fxaa::{Fxaa, FxaaQuality};
 pub use glare::{Glare, GlareSettings};
 pub use motion_blur::{MotionBlur, MotionBlurSettings};
-pub use taa::{Taa, TaaQuality, TaaSettings};
+pub use taa::{Taa, TaaQuality, TaaSettings, is_cut};
 pub use tonemap::{AdaptedExposure, Tonemap};
 pub use transparency::{Transparency, TransparencySettings};
 

@@ -8,7 +8,7 @@
 
 use std::sync::Arc;
 
-use glam::Vec2;
+use glam::{Mat4, Vec2};
 
 use crate::error::RenderError;
 use crate::frame_graph::{FrameGraph, Lifetime, PassContext, TextureDesc};
@@ -56,6 +56,25 @@ impl Default for TaaSettings {
             reset: false,
         }
     }
+}
+
+/// Whether the camera cut between two frames' views: its eye moved further
+/// than `distance` (0 or less: never by distance) or it turned more than 45
+/// degrees. Hosts and nodes reset TAA's history on a cut.
+pub fn is_cut(previous_view: Mat4, view: Mat4, distance: f32) -> bool {
+    let (a, b) = (
+        crate::camera::safe_inverse(previous_view),
+        crate::camera::safe_inverse(view),
+    );
+    let moved = (a.w_axis - b.w_axis).truncate().length();
+    let turned = a
+        .z_axis
+        .truncate()
+        .normalize_or_zero()
+        .dot(b.z_axis.truncate().normalize_or_zero());
+    (distance > 0.0 && moved > distance)
+        || turned < std::f32::consts::FRAC_1_SQRT_2
+        || !moved.is_finite()
 }
 
 pub struct Taa {
@@ -213,5 +232,37 @@ impl Recipe for Taa {
             &[(&self.output, output), (&self.history, history)],
             move |cx| self.run(cx),
         );
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::Vec3;
+
+    fn view(eye: Vec3, target: Vec3) -> Mat4 {
+        glam::camera::rh::view::look_at_mat4(eye, target, Vec3::Y)
+    }
+
+    #[test]
+    fn a_jump_or_a_sharp_turn_is_a_cut_and_a_small_move_is_not() {
+        let a = view(Vec3::new(0.0, 1.0, 5.0), Vec3::ZERO);
+        assert!(!is_cut(a, view(Vec3::new(0.05, 1.0, 5.0), Vec3::ZERO), 1.0));
+        assert!(is_cut(
+            a,
+            view(Vec3::new(3.0, 1.0, 5.0), Vec3::new(3.0, 0.0, 0.0)),
+            1.0
+        ));
+        assert!(!is_cut(
+            a,
+            view(Vec3::new(3.0, 1.0, 5.0), Vec3::new(3.0, 0.0, 0.0)),
+            0.0
+        ));
+        // Turned around on the spot.
+        assert!(is_cut(
+            a,
+            view(Vec3::new(0.0, 1.0, 5.0), Vec3::new(0.0, 1.0, 10.0)),
+            1.0
+        ));
     }
 }
