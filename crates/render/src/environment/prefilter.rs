@@ -101,22 +101,7 @@ pub(crate) fn build(
     let base = cube(&device, "environment base", n, base_mips);
     let prefiltered = cube(&device, "environment prefiltered", n, levels);
     let irradiance = cube(&device, "environment irradiance", IRRADIANCE_SIZE, 1);
-    let lut = device.create_texture(&wgpu::TextureDescriptor {
-        label: Some("split-sum table"),
-        size: wgpu::Extent3d {
-            width: LUT_SIZE,
-            height: LUT_SIZE,
-            depth_or_array_layers: 1,
-        },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format: wgpu::TextureFormat::Rgba16Float,
-        usage: wgpu::TextureUsages::TEXTURE_BINDING
-            | wgpu::TextureUsages::STORAGE_BINDING
-            | wgpu::TextureUsages::COPY_SRC,
-        view_formats: &[],
-    });
+    let lut = split_sum_texture(&device, wgpu::TextureUsages::COPY_SRC);
     let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
         label: Some("environment trilinear"),
         address_mode_u: wgpu::AddressMode::ClampToEdge,
@@ -311,20 +296,7 @@ pub(crate) fn split_sum_table(
         return Ok(t.clone());
     }
     let device = cx.gpu.device.clone();
-    let lut = device.create_texture(&wgpu::TextureDescriptor {
-        label: Some("split-sum table"),
-        size: wgpu::Extent3d {
-            width: LUT_SIZE,
-            height: LUT_SIZE,
-            depth_or_array_layers: 1,
-        },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format: wgpu::TextureFormat::Rgba16Float,
-        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::STORAGE_BINDING,
-        view_formats: &[],
-    });
+    let lut = split_sum_texture(&device, wgpu::TextureUsages::empty());
     let params = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
         label: Some("split-sum params"),
         contents: bytemuck::bytes_of(&Params {
@@ -355,4 +327,22 @@ pub(crate) fn split_sum_table(
     cx.dispatch("split-sum table", &pipeline, &[&group], (groups, groups, 1));
     *guard = Some(lut.clone());
     Ok(lut)
+}
+
+/// The split-sum table's texture (RG of F0 scale and bias, RGBA16F), written by compute and sampled, plus `extra` usages.
+fn split_sum_texture(device: &wgpu::Device, extra: wgpu::TextureUsages) -> wgpu::Texture {
+    device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("split-sum table"),
+        size: wgpu::Extent3d {
+            width: LUT_SIZE,
+            height: LUT_SIZE,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: wgpu::TextureFormat::Rgba16Float,
+        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::STORAGE_BINDING | extra,
+        view_formats: &[],
+    })
 }

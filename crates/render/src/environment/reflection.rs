@@ -128,7 +128,7 @@ impl Reflection {
 
     /// Whether some material reflects: otherwise there is nothing to compute.
     pub fn active(&self) -> bool {
-        self.materials.union_flags() & (1 << FEATURE_REFLECTION) != 0
+        self.materials.any_has(FEATURE_REFLECTION)
     }
 
     fn textured(&self) -> bool {
@@ -136,12 +136,7 @@ impl Reflection {
     }
 
     fn key(&self) -> ShaderKey {
-        let features: &[&'static str] = if self.textured() {
-            &["MATERIAL_TEXTURES"]
-        } else {
-            &[]
-        };
-        ShaderKey::new(SHADER, features.iter().copied())
+        self.materials.surface_key(SHADER)
     }
 
     fn clear(&self, cx: &mut PassContext<'_>) -> Result<(), RenderError> {

@@ -179,7 +179,7 @@ impl Ssr {
 
     /// Whether some material reflects: otherwise nothing is traced.
     pub fn active(&self) -> bool {
-        self.materials.union_flags() & (1 << FEATURE_REFLECTION) != 0
+        self.materials.any_has(FEATURE_REFLECTION)
     }
 
     fn textured(&self) -> bool {
@@ -187,12 +187,7 @@ impl Ssr {
     }
 
     fn key(&self) -> ShaderKey {
-        let features: &[&'static str] = if self.textured() {
-            &["MATERIAL_TEXTURES"]
-        } else {
-            &[]
-        };
-        ShaderKey::new(SHADER, features.iter().copied())
+        self.materials.surface_key(SHADER)
     }
 
     fn label(&self, what: &str) -> String {

@@ -313,6 +313,18 @@ impl MaterialWorld {
         self.union_flags
     }
 
+    /// Whether some material has `feature` (a `FEATURE_*` id).
+    pub fn any_has(&self, feature: u32) -> bool {
+        feature < MAX_FEATURES && self.union_flags & (1 << feature) != 0
+    }
+
+    /// The key of `path` for a pass that reads surfaces' CookTorrance
+    /// parameters: with MATERIAL_TEXTURES when some material maps them.
+    pub fn surface_key(&self, path: &'static str) -> crate::shaders::ShaderKey {
+        let textured = self.textured(1 << FEATURE_COOK_TORRANCE);
+        crate::shaders::ShaderKey::new(path, textured.then_some("MATERIAL_TEXTURES"))
+    }
+
     /// Material `id`'s flags; an id out of range reads material 0, as the shader does.
     pub fn flags(&self, material_id: u32) -> u32 {
         self.material(material_id).flags()

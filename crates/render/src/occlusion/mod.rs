@@ -303,7 +303,11 @@ impl AmbientOcclusion {
             all.push((2 + k as u32, wgpu::BindingResource::TextureView(v)));
         }
         // Off: the plain estimator's early exit writes 1 (no SAO chain to bind).
-        let feature = if self.off() { None } else { self.settings.mode.feature() };
+        let feature = if self.off() {
+            None
+        } else {
+            self.settings.mode.feature()
+        };
         let key = ShaderKey::new("occlusion/ao.wgsl", feature);
         let size = self.gbuffer.pixel_size(cx.output_size);
         cx.dispatch_image(self.settings.mode.name(), &key, &all, size)
