@@ -52,7 +52,7 @@ struct Params {
 // The material library, imported once, for EMISSION (only when some
 // material has Emission), AO's per-material strength and REFLECTION's.
 #ifdef MATERIALS
-#import spreadlight::material::{feature_param, feature_param_at, FEATURE_EMISSION, FEATURE_AMBIENT_OCCLUSION, FEATURE_REFLECTION}
+#import spreadlight::material::{feature_param, feature_param_at, FEATURE_COOK_TORRANCE, FEATURE_EMISSION, FEATURE_AMBIENT_OCCLUSION, FEATURE_REFLECTION}
 #import spreadlight::packing::channel_to_id
 #endif
 #ifdef GI
@@ -95,7 +95,13 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
 #ifdef GI
         // Not under AO: GI brings what occluders bounce, and SSGI already lets
         // environment light in only along the rays that escape.
-        lit += clean(textureLoad(gi, p, 0).rgb) * albedo;
+        var diffuse_share = 1.0;
+#ifdef MATERIALS
+        // Metals reflect, they do not diffuse: albedo x (1 - metallic).
+        let ct = feature_param(channel_to_id(textureLoad(color, p, 0).a), FEATURE_COOK_TORRANCE, 0u, vec4<f32>(0.5, 0.0, 0.04, 0.0));
+        diffuse_share = 1.0 - clamp(ct.y, 0.0, 1.0);
+#endif
+        lit += clean(textureLoad(gi, p, 0).rgb) * albedo * diffuse_share;
 #endif
 #ifdef LIGHTS_2
         lit += textureLoad(diffuse1, p, 0).rgb + textureLoad(specular1, p, 0).rgb;

@@ -1,6 +1,8 @@
-// SSSS: screen-space subsurface scattering (Jimenez et al. 2015,
-// "Separable Subsurface Scattering"): CookTorrance's subsurface term
+// SSSS: screen-space subsurface scattering in the manner of Jimenez et al.
+// 2015 ("Separable Subsurface Scattering"): CookTorrance's subsurface term
 // blurred by a separable kernel, one pass along x, one along y (VERTICAL),
+// the kernel one Gaussian per channel (not their fitted sum of Gaussians
+// for a measured skin profile: FakeSSS gives a colour, not a profile),
 // as wide on screen as `width` world units at the pixel's depth. Per
 // material (the FakeSSS feature): each channel's reach is `width` times
 // that channel of the FakeSSS colour over its largest channel, so a skin

@@ -866,6 +866,20 @@ fn gi_and_reflection_are_weighted_per_material_and_unreflective_scenes_render_no
         }
     }
     assert!(surface > 0);
+    // Metals reflect, they do not diffuse: no GI on a metallic material.
+    let metal = MaterialWorld::new(
+        &renderer,
+        vec![
+            Material::default_material()
+                .with(Feature::CookTorrance, &[[0.3, 1.0, 0.04, 0.0]])
+                .expect("valid"),
+        ],
+    );
+    let (_, images) = composite(true, None, metal);
+    assert!(
+        images[0].pixels.iter().all(|p| p[0].abs() < 1e-4),
+        "metals take no diffuse GI"
+    );
     // Reflection at strength 0.5 adds half the reflection texture; no Reflection feature adds none.
     let (_, images) = composite(false, Some(reflection.texture_ref()), world(Some(0.5)));
     let (lit, albedo) = (&images[0], &images[1]);

@@ -19,7 +19,7 @@ pub fn register(r: &mut Registry) {
         NodeDef::new(
             "SSSS",
             super::CATEGORY,
-            "Screen-space subsurface scattering (Jimenez's separable kernel): blurs CookTorrance's SSS term (Texture) \
+            "Screen-space subsurface scattering (a separable kernel as Jimenez et al.'s, one Gaussian per channel): blurs CookTorrance's SSS term (Texture) \
              over the surface, Width world units for the widest channel; each material's FakeSSS colour sets how far \
              each channel reaches (skin: red farthest). Taps stay on the same material and follow the surface across \
              depth steps. Quality: Low (4 taps a side), Medium (8), High (16). Without a material that has FakeSSS it \

@@ -99,7 +99,9 @@ impl CompositeLight {
         let ao_per_material = occlusion.is_some() && has(FEATURE_AMBIENT_OCCLUSION);
         let reflection_culled = reflection.is_some() && !has(FEATURE_REFLECTION);
         let reflection = reflection.filter(|_| has(FEATURE_REFLECTION));
-        let materials = materials.filter(|_| emission || ao_per_material || reflection.is_some());
+        // GI reads each material's metallic: metals take no diffuse light.
+        let materials = materials
+            .filter(|_| emission || ao_per_material || reflection.is_some() || gi.is_some());
         if components.is_empty() || components.len() > MAX_COMPONENTS {
             return Err(RenderError::Pass {
                 pass: "CompositeLight".to_owned(),
