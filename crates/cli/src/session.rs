@@ -25,7 +25,7 @@ pub fn needs_gpu(patch: &Patch) -> bool {
         .nodes
         .iter()
         .filter_map(|n| registry.get(&n.type_name))
-        .any(|def| GPU_CATEGORIES.contains(&def.category))
+        .any(|def| GPU_CATEGORIES.contains(&&*def.category))
 }
 
 impl Session {
