@@ -21,6 +21,7 @@ pub mod recipe;
 pub mod reference;
 pub mod renderer;
 pub mod scenes;
+pub mod shader_nodes;
 pub mod shaders;
 pub mod shadows;
 pub mod temporal;

@@ -399,6 +399,8 @@ pub struct ShaderCache {
     compute: HashMap<(ShaderKey, &'static str), wgpu::ComputePipeline>,
     render: HashMap<(ShaderKey, String), wgpu::RenderPipeline>,
     samplers: HashMap<Sampling, wgpu::Sampler>,
+    /// Pipelines of shaders not in [`SHADERS`] (shader node files), by the caller's key and entry.
+    external: HashMap<(u64, String), wgpu::ComputePipeline>,
     /// Pipelines compiled since the cache was made.
     pub pipelines_compiled: u64,
 }
@@ -412,6 +414,7 @@ impl ShaderCache {
             compute: HashMap::new(),
             render: HashMap::new(),
             samplers: HashMap::new(),
+            external: HashMap::new(),
             pipelines_compiled: 0,
         }
     }
@@ -556,6 +559,38 @@ impl ShaderCache {
         self.pipelines_compiled += 1;
         self.compute.insert((key.clone(), entry), pipeline.clone());
         Ok(pipeline)
+    }
+
+    /// The compute pipeline of `entry` in a module validated elsewhere (a
+    /// shader node file), cached under `key`, which must change with the
+    /// source: `module` is called only the first time.
+    pub fn external_compute_pipeline(
+        &mut self,
+        device: &wgpu::Device,
+        key: u64,
+        label: &str,
+        module: impl FnOnce() -> naga::Module,
+        entry: &str,
+    ) -> wgpu::ComputePipeline {
+        let cache_key = (key, entry.to_owned());
+        if let Some(p) = self.external.get(&cache_key) {
+            return p.clone();
+        }
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some(label),
+            source: wgpu::ShaderSource::Naga(Cow::Owned(module())),
+        });
+        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some(&format!("{label}::{entry}")),
+            layout: None,
+            module: &module,
+            entry_point: Some(entry),
+            compilation_options: Default::default(),
+            cache: None,
+        });
+        self.pipelines_compiled += 1;
+        self.external.insert(cache_key, pipeline.clone());
+        pipeline
     }
 
     /// A render pipeline for a permutation; `variant` names what else the

@@ -1,0 +1,18 @@
+//! Shader nodes: an artist's WGSL file is a node type. Its `// @` comment
+//! annotations (see docs/shader-nodes.md) declare the node's help and
+//! category, texture inputs, G-buffer reads, render targets and passes; the
+//! fields of its uniform block are its pins. This module reads and checks a
+//! file ([`Program`]) and declares its passes into the frame graph
+//! ([`ShaderNodeRecipe`]); the node library turns files into node types and
+//! reloads them when they change.
+
+pub mod annotations;
+pub mod error;
+pub mod program;
+pub mod recipe;
+mod utility;
+
+pub use annotations::Annotations;
+pub use error::{ShaderNodeError, Span};
+pub use program::{Builtin, ParamKind, ParamPin, Program, Role, UniformLayout};
+pub use recipe::{ShaderNodeInputs, ShaderNodeRecipe};

@@ -1,0 +1,684 @@
+//! One shader node file compiled: its `#ifdef` permutation preprocessed,
+//! parsed and validated by naga, and checked against its annotations. The
+//! result says what every binding is (a pin's texture, a G-buffer target, a
+//! render target, the uniform block...) and what each pass reads and writes,
+//! so the recipe only has to look things up. Every problem is a
+//! [`ShaderNodeError`] at a file, line and column.
+
+use std::collections::{BTreeSet, HashMap};
+
+use naga::{ScalarKind, TypeInner, VectorSize};
+
+use super::annotations::{Annotations, PassDecl, Repeat, SamplerDecl, TargetDecl};
+use super::error::{ShaderNodeError, Span, span_of};
+use crate::frame_graph::Lifetime;
+
+/// The type of a uniform field that is a pin.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ParamKind {
+    Float,
+    Int,
+    /// A `u32` field annotated `bool`: 0 or 1.
+    Bool,
+    Vec2,
+    Vec3,
+    Vec4,
+    /// A `vec4<f32>` annotated `color`: linear RGBA.
+    Color,
+    Mat4,
+}
+
+/// A uniform field the host fills itself rather than a pin.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Builtin {
+    /// `size: vec2<f32>`: the pass's destination size in pixels.
+    Size,
+    /// `texel: vec2<f32>`: one over it.
+    Texel,
+    /// `time: f32`, seconds.
+    Time,
+    /// `delta: f32`, seconds since the last frame.
+    Delta,
+    /// `iteration: u32`: which repetition of a repeated pass.
+    Iteration,
+    /// `fresh: u32`: 1 when a persistent destination holds no history (first frame, after a cut).
+    Fresh,
+    /// `slice: u32`: which slice of the node's spread.
+    Slice,
+}
+
+impl Builtin {
+    fn by_name(name: &str) -> Option<(Builtin, &'static str)> {
+        Some(match name {
+            "size" => (Builtin::Size, "vec2<f32>"),
+            "texel" => (Builtin::Texel, "vec2<f32>"),
+            "time" => (Builtin::Time, "f32"),
+            "delta" => (Builtin::Delta, "f32"),
+            "iteration" => (Builtin::Iteration, "u32"),
+            "fresh" => (Builtin::Fresh, "u32"),
+            "slice" => (Builtin::Slice, "u32"),
+            _ => return None,
+        })
+    }
+}
+
+/// A pin made from a uniform field.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ParamPin {
+    pub field: String,
+    pub display: String,
+    pub kind: ParamKind,
+    /// As many numbers as the kind has (16 for Mat4, column-major).
+    pub default: Vec<f32>,
+    pub min: Option<f32>,
+    pub max: Option<f32>,
+    /// Byte offset in the uniform block.
+    pub offset: u32,
+}
+
+/// The uniform block: its size, its pins and its built-ins.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct UniformLayout {
+    pub binding: u32,
+    pub size: u32,
+    pub pins: Vec<ParamPin>,
+    pub builtins: Vec<(Builtin, u32)>,
+}
+
+/// What one binding of group 0 is.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Role {
+    Uniform,
+    /// The texture of input pin `i` (in `@input` order).
+    Input(usize),
+    /// A G-buffer texture or its camera, by name.
+    GBuffer(String),
+    /// A target read as a texture.
+    Read(String),
+    /// A target written as a storage texture.
+    Write(String),
+    Sampler(SamplerDecl),
+}
+
+/// One `@pass`, resolved.
+#[derive(Clone, Debug)]
+pub struct PassPlan {
+    pub decl: PassDecl,
+    pub workgroup: [u32; 3],
+    /// The bindings the entry point uses: (binding, role).
+    pub bindings: Vec<(u32, Role)>,
+    /// Index of the Bool pin (in [`Program::bool_pins`] order) that skips it.
+    pub skip: Option<String>,
+}
+
+impl PassPlan {
+    /// The targets this pass reads (textures), in binding order.
+    pub fn reads(&self) -> impl Iterator<Item = &str> {
+        self.bindings.iter().filter_map(|(_, r)| match r {
+            Role::Read(t) => Some(t.as_str()),
+            _ => None,
+        })
+    }
+}
+
+/// One compiled permutation of a shader node file.
+#[derive(Debug)]
+pub struct Program {
+    pub file: String,
+    pub module: naga::Module,
+    /// Identifies the source text and switch set (pipelines are cached under it).
+    pub key: u64,
+    pub uniform: Option<UniformLayout>,
+    pub passes: Vec<PassPlan>,
+    pub targets: Vec<TargetDecl>,
+    /// The texture input pins' names, in `@input` order.
+    pub input_names: Vec<String>,
+}
+
+/// Replace `#ifdef NAME` / `#ifndef NAME` / `#else` / `#endif` by what the
+/// switches select, keeping every line (excluded ones become empty) so naga's
+/// lines and columns are the file's.
+pub fn preprocess(
+    file: &str,
+    source: &str,
+    defines: &BTreeSet<String>,
+) -> Result<String, ShaderNodeError> {
+    let mut out = String::with_capacity(source.len());
+    // Per open #if: (this branch is on, the enclosing is on, its line).
+    let mut stack: Vec<(bool, bool, u32)> = Vec::new();
+    for (i, line) in source.lines().enumerate() {
+        let line_no = i as u32 + 1;
+        let trimmed = line.trim_start();
+        let active = stack.last().is_none_or(|s| s.0 && s.1);
+        let at = Span {
+            line: line_no,
+            column: (line.len() - trimmed.len()) as u32 + 1,
+        };
+        let mut words = trimmed.split_whitespace();
+        match words.next() {
+            Some(d @ ("#ifdef" | "#ifndef")) => {
+                let name = words
+                    .next()
+                    .ok_or_else(|| ShaderNodeError::at(file, at, format!("`{d}` needs a name")))?;
+                let on = defines.contains(name) == (d == "#ifdef");
+                stack.push((on, active, line_no));
+            }
+            Some("#else") => {
+                let top = stack
+                    .last_mut()
+                    .ok_or_else(|| ShaderNodeError::at(file, at, "`#else` without `#ifdef`"))?;
+                top.0 = !top.0;
+            }
+            Some("#endif") => {
+                stack
+                    .pop()
+                    .ok_or_else(|| ShaderNodeError::at(file, at, "`#endif` without `#ifdef`"))?;
+            }
+            _ if active => out.push_str(line),
+            _ => {}
+        }
+        out.push('\n');
+    }
+    if let Some(&(_, _, line)) = stack.last() {
+        return Err(ShaderNodeError::at(
+            file,
+            Span { line, column: 1 },
+            "`#ifdef` without `#endif`",
+        ));
+    }
+    Ok(out)
+}
+
+fn location(file: &str, source: &str, span: naga::Span, message: String) -> ShaderNodeError {
+    match span.to_range() {
+        Some(range) => ShaderNodeError::at_offset(file, source, range.start, message),
+        None => ShaderNodeError::at(file, Span { line: 1, column: 1 }, message),
+    }
+}
+
+/// Parse and validate WGSL: syntax and naga's validation errors at their place.
+fn parse_and_validate(
+    file: &str,
+    text: &str,
+) -> Result<(naga::Module, naga::valid::ModuleInfo), ShaderNodeError> {
+    let module = naga::front::wgsl::parse_str(text).map_err(|e| {
+        let at = e.location(text).map_or(Span { line: 1, column: 1 }, |l| Span {
+            line: l.line_number,
+            column: l.line_position,
+        });
+        ShaderNodeError::at(file, at, format!("WGSL syntax: {}", e.message()))
+    })?;
+    let info = naga::valid::Validator::new(
+        naga::valid::ValidationFlags::all(),
+        naga::valid::Capabilities::default(),
+    )
+    .validate(&module)
+    .map_err(|e| {
+        let mut message = format!("validation: {}", e.as_inner());
+        let mut source_error: &dyn std::error::Error = e.as_inner();
+        while let Some(next) = source_error.source() {
+            message.push_str(&format!(": {next}"));
+            source_error = next;
+        }
+        let span = e.spans().next().map(|(s, _)| *s).unwrap_or_default();
+        location(file, text, span, message)
+    })?;
+    Ok((module, info))
+}
+
+fn kind_of(inner: &TypeInner) -> Option<(&'static str, usize)> {
+    use naga::Scalar;
+    Some(match inner {
+        TypeInner::Scalar(Scalar::F32) => ("f32", 1),
+        TypeInner::Scalar(Scalar::I32) => ("i32", 1),
+        TypeInner::Scalar(Scalar::U32) => ("u32", 1),
+        TypeInner::Vector { size, scalar } if *scalar == Scalar::F32 => match size {
+            VectorSize::Bi => ("vec2<f32>", 2),
+            VectorSize::Tri => ("vec3<f32>", 3),
+            VectorSize::Quad => ("vec4<f32>", 4),
+        },
+        TypeInner::Matrix {
+            columns: VectorSize::Quad,
+            rows: VectorSize::Quad,
+            scalar,
+        } if *scalar == Scalar::F32 => ("mat4x4<f32>", 16),
+        _ => return None,
+    })
+}
+
+/// The line a field is declared on: the first `name:` after the struct's start.
+fn field_line(source: &str, struct_offset: usize, field: &str) -> Span {
+    let rest = &source[struct_offset.min(source.len())..];
+    let found = rest
+        .match_indices(field)
+        .find(|(i, _)| {
+            let after = rest[i + field.len()..].trim_start();
+            let before_ok = *i == 0
+                || !rest[..*i]
+                    .chars()
+                    .next_back()
+                    .is_some_and(|c| c.is_alphanumeric() || c == '_');
+            before_ok && after.starts_with(':')
+        })
+        .map_or(0, |(i, _)| i);
+    span_of(source, struct_offset + found)
+}
+
+fn uniform_layout(
+    file: &str,
+    source: &str,
+    notes: &Annotations,
+    module: &naga::Module,
+    binding: u32,
+    ty: naga::Handle<naga::Type>,
+    var_span: naga::Span,
+) -> Result<UniformLayout, ShaderNodeError> {
+    let TypeInner::Struct { members, span } = &module.types[ty].inner else {
+        return Err(location(
+            file,
+            source,
+            var_span,
+            "the uniform block must be a struct (its fields become pins)".into(),
+        ));
+    };
+    let struct_offset = module
+        .types
+        .get_span(ty)
+        .to_range()
+        .map_or(0, |r| r.start);
+    let mut layout = UniformLayout {
+        binding,
+        size: *span,
+        ..Default::default()
+    };
+    for member in members {
+        let name = member.name.clone().unwrap_or_default();
+        let at = field_line(source, struct_offset, &name);
+        let fail = |m: String| ShaderNodeError::at(file, at, m);
+        let (wgsl, count) = kind_of(&module.types[member.ty].inner).ok_or_else(|| {
+            fail(format!(
+                "field `{name}`: a pin is f32, i32, u32, vec2/3/4<f32> or mat4x4<f32>"
+            ))
+        })?;
+        if let Some((builtin, expected)) = Builtin::by_name(&name) {
+            if wgsl != expected {
+                return Err(fail(format!(
+                    "field `{name}` is the built-in {builtin:?} and must be {expected}, not {wgsl}"
+                )));
+            }
+            layout.builtins.push((builtin, member.offset));
+            continue;
+        }
+        // A pad field is not a pin.
+        if name.starts_with('_') {
+            continue;
+        }
+        // The annotation sits on the field's line or the line above it.
+        let decl = notes
+            .pins
+            .get(&at.line)
+            .or_else(|| notes.pins.get(&(at.line.saturating_sub(1))))
+            .cloned()
+            .unwrap_or_default();
+        let kind = match (wgsl, decl.color, decl.boolean) {
+            ("f32", false, false) => ParamKind::Float,
+            ("i32", false, false) => ParamKind::Int,
+            ("u32", false, false) => ParamKind::Int,
+            ("u32", false, true) => ParamKind::Bool,
+            ("vec2<f32>", false, false) => ParamKind::Vec2,
+            ("vec3<f32>", false, false) => ParamKind::Vec3,
+            ("vec4<f32>", false, false) => ParamKind::Vec4,
+            ("vec4<f32>", true, false) => ParamKind::Color,
+            ("mat4x4<f32>", false, false) => ParamKind::Mat4,
+            _ => {
+                return Err(fail(format!(
+                    "field `{name}` ({wgsl}): `color` is for vec4<f32>, `bool` for u32"
+                )));
+            }
+        };
+        let default = match &decl.default {
+            Some(values) if values.len() == count => values.clone(),
+            Some(values) if values.len() == 1 && kind != ParamKind::Mat4 => vec![values[0]; count],
+            Some(values) => {
+                return Err(fail(format!(
+                    "field `{name}`: default has {} numbers, {wgsl} needs {count}",
+                    values.len()
+                )));
+            }
+            None if kind == ParamKind::Mat4 => glam::Mat4::IDENTITY.to_cols_array().to_vec(),
+            None if kind == ParamKind::Color => vec![1.0; 4],
+            None => vec![0.0; count],
+        };
+        layout.pins.push(ParamPin {
+            display: decl
+                .display
+                .clone()
+                .unwrap_or_else(|| super::annotations::title(&name)),
+            field: name,
+            kind,
+            default,
+            min: decl.min,
+            max: decl.max,
+            offset: member.offset,
+        });
+    }
+    Ok(layout)
+}
+
+fn storage_format(format: naga::StorageFormat) -> Option<wgpu::TextureFormat> {
+    use naga::StorageFormat as S;
+    use wgpu::TextureFormat as F;
+    Some(match format {
+        S::Rgba8Unorm => F::Rgba8Unorm,
+        S::Rgba16Float => F::Rgba16Float,
+        S::Rgba32Float => F::Rgba32Float,
+        S::R32Float => F::R32Float,
+        S::Rg32Float => F::Rg32Float,
+        _ => return None,
+    })
+}
+
+impl Program {
+    /// Compile the permutation of `source` with `defines` switched on.
+    pub fn compile(
+        file: &str,
+        source: &str,
+        notes: &Annotations,
+        defines: &BTreeSet<String>,
+    ) -> Result<Program, ShaderNodeError> {
+        let text = preprocess(file, source, defines)?;
+        let (module, info) = parse_and_validate(file, &text)?;
+        let bindings = Self::roles(file, &text, notes, &module)?;
+        let uniform = match bindings.iter().find(|(_, _, r)| *r == Role::Uniform) {
+            Some((binding, handle, _)) => {
+                let var = &module.global_variables[*handle];
+                Some(uniform_layout(
+                    file,
+                    &text,
+                    notes,
+                    &module,
+                    *binding,
+                    var.ty,
+                    module.global_variables.get_span(*handle),
+                )?)
+            }
+            None => None,
+        };
+        for (target, at) in &notes.outputs {
+            if notes.target(target).is_none() {
+                return Err(ShaderNodeError::at(
+                    file,
+                    *at,
+                    format!("`@output {target}`: unknown target"),
+                ));
+            }
+        }
+        let mut passes = Vec::new();
+        let mut written: HashMap<&str, usize> = HashMap::new();
+        for decl in &notes.passes {
+            let fail = |m: String| ShaderNodeError::at(file, decl.at, m);
+            let index = module
+                .entry_points
+                .iter()
+                .position(|e| e.name == decl.entry)
+                .ok_or_else(|| fail(format!("no entry point `{}` in the shader", decl.entry)))?;
+            let entry = &module.entry_points[index];
+            if entry.stage != naga::ShaderStage::Compute {
+                return Err(fail(format!(
+                    "entry point `{}` is not a compute shader: shader node passes are compute passes",
+                    decl.entry
+                )));
+            }
+            for target in &decl.targets {
+                let t = notes.target(target).ok_or_else(|| {
+                    fail(format!(
+                        "unknown target `{target}` (declare it with `// @target {target} ...`)"
+                    ))
+                })?;
+                if t.lifetime == Lifetime::Persistent
+                    && (written.contains_key(target.as_str()) || decl.repeat != Repeat::Once)
+                {
+                    return Err(fail(format!(
+                        "persistent target `{target}` is written by more than one pass or iteration"
+                    )));
+                }
+            }
+            let used = info.get_entry_point(index);
+            let mut pass_bindings = Vec::new();
+            for (binding, handle, role) in &bindings {
+                if used[*handle].is_empty() {
+                    continue;
+                }
+                if let Role::Write(t) = role
+                    && !decl.targets.contains(t)
+                {
+                    let span = module.global_variables.get_span(*handle);
+                    return Err(location(
+                        file,
+                        &text,
+                        span,
+                        format!(
+                            "entry point `{}` writes `{t}`, which is not a destination of its `@pass`",
+                            decl.entry
+                        ),
+                    ));
+                }
+                if let Role::Read(t) = role
+                    && !written.contains_key(t.as_str())
+                    && notes.target(t).is_some_and(|d| d.lifetime != Lifetime::Persistent)
+                    && !(decl.targets.contains(t) && decl.repeat != Repeat::Once)
+                {
+                    return Err(fail(format!(
+                        "pass `{}` reads target `{t}` before any pass writes it",
+                        decl.entry
+                    )));
+                }
+                pass_bindings.push((*binding, role.clone()));
+            }
+            for target in &decl.targets {
+                if !pass_bindings
+                    .iter()
+                    .any(|(_, r)| *r == Role::Write(target.clone()))
+                {
+                    return Err(fail(format!(
+                        "entry point `{}` never writes destination `{target}`",
+                        decl.entry
+                    )));
+                }
+            }
+            let plan = PassPlan {
+                decl: decl.clone(),
+                workgroup: entry.workgroup_size,
+                bindings: pass_bindings,
+                skip: decl.skip.clone(),
+            };
+            if plan.skip.is_some() && plan.reads().next().is_none()
+                && !plan.bindings.iter().any(|(_, r)| matches!(r, Role::Input(_)))
+            {
+                return Err(fail(format!(
+                    "pass `{}` can be skipped but reads no texture to pass on",
+                    decl.entry
+                )));
+            }
+            for t in &decl.targets {
+                *written.entry(t.as_str()).or_default() += 1;
+            }
+            passes.push(plan);
+        }
+        if passes.is_empty() {
+            return Err(ShaderNodeError::at(
+                file,
+                Span { line: 1, column: 1 },
+                "no `// @pass ENTRY -> TARGET` annotation: a shader node needs at least one pass",
+            ));
+        }
+        use std::hash::{Hash, Hasher};
+        let mut hasher = std::collections::hash_map::DefaultHasher::new();
+        (file, source, defines).hash(&mut hasher);
+        Ok(Program {
+            file: file.to_owned(),
+            module,
+            key: hasher.finish(),
+            uniform,
+            passes,
+            targets: notes.targets.clone(),
+            input_names: notes.inputs.iter().map(|(_, pin, _)| pin.clone()).collect(),
+        })
+    }
+
+    /// Every resource variable with what the annotations say it is; one they
+    /// do not describe is an error at its declaration.
+    fn roles(
+        file: &str,
+        text: &str,
+        notes: &Annotations,
+        module: &naga::Module,
+    ) -> Result<Vec<(u32, naga::Handle<naga::GlobalVariable>, Role)>, ShaderNodeError> {
+        let mut roles = Vec::new();
+        let mut uniforms = 0;
+        for (handle, var) in module.global_variables.iter() {
+            let Some(binding) = &var.binding else {
+                continue;
+            };
+            let name = var.name.clone().unwrap_or_default();
+            let span = module.global_variables.get_span(handle);
+            let fail = |m: String| location(file, text, span, m);
+            if binding.group != 0 {
+                return Err(fail(format!(
+                    "`{name}` is in group {}: shader nodes bind everything in group 0",
+                    binding.group
+                )));
+            }
+            let gbuffer = notes.gbuffer.iter().any(|(g, _)| *g == name);
+            let role = match (&var.space, &module.types[var.ty].inner) {
+                (naga::AddressSpace::Uniform, _) if gbuffer && name == "camera" => {
+                    Role::GBuffer(name.clone())
+                }
+                (naga::AddressSpace::Uniform, _) => {
+                    uniforms += 1;
+                    if uniforms > 1 {
+                        return Err(fail(
+                            "a shader node has one uniform block (its pins); `{name}` is a second".into(),
+                        ));
+                    }
+                    Role::Uniform
+                }
+                (_, TypeInner::Sampler { .. }) => match notes.samplers.get(&name) {
+                    Some(decl) => Role::Sampler(*decl),
+                    None => Role::Sampler(SamplerDecl { repeat: false }),
+                },
+                (
+                    _,
+                    TypeInner::Image {
+                        class: naga::ImageClass::Storage { format, .. },
+                        ..
+                    },
+                ) => {
+                    let target = notes.target(&name).ok_or_else(|| {
+                        fail(format!(
+                            "storage texture `{name}` is not a declared target (`// @target {name} ...`)"
+                        ))
+                    })?;
+                    if storage_format(*format) != Some(target.format) {
+                        return Err(fail(format!(
+                            "storage texture `{name}` is {format:?} but its `@target` says {:?}",
+                            target.format
+                        )));
+                    }
+                    Role::Write(name.clone())
+                }
+                (
+                    _,
+                    TypeInner::Image {
+                        class: naga::ImageClass::Sampled { kind, multi: false },
+                        dim: naga::ImageDimension::D2,
+                        arrayed: false,
+                    },
+                ) if *kind == ScalarKind::Float => {
+                    if let Some(i) = notes.inputs.iter().position(|(v, _, _)| *v == name) {
+                        Role::Input(i)
+                    } else if gbuffer {
+                        Role::GBuffer(name.clone())
+                    } else if notes.target(&name).is_some() {
+                        Role::Read(name.clone())
+                    } else {
+                        return Err(fail(format!(
+                            "texture `{name}` is not described by the annotations: declare it with \
+                             `// @input {name}`, `// @gbuffer {name}` or `// @target {name} ...`"
+                        )));
+                    }
+                }
+                _ => {
+                    return Err(fail(format!(
+                        "binding `{name}` is of a kind shader nodes do not bind (uniform struct, \
+                         texture_2d<f32>, texture_storage_2d, sampler)"
+                    )));
+                }
+            };
+            roles.push((binding.binding, handle, role));
+        }
+        Ok(roles)
+    }
+
+    /// Checks against the device's limits, so a shader too big fails on its
+    /// node instead of losing the device.
+    pub fn check_limits(
+        &self,
+        limits: &wgpu::Limits,
+        output: (u32, u32),
+    ) -> Result<(), ShaderNodeError> {
+        for pass in &self.passes {
+            let fail = |m: String| ShaderNodeError::at(&self.file, pass.decl.at, m);
+            let [x, y, z] = pass.workgroup;
+            if x > limits.max_compute_workgroup_size_x
+                || y > limits.max_compute_workgroup_size_y
+                || z > limits.max_compute_workgroup_size_z
+                || x * y * z > limits.max_compute_invocations_per_workgroup
+            {
+                return Err(fail(format!(
+                    "entry point `{}`: workgroup size {x}x{y}x{z} exceeds the device's limits \
+                     ({}x{}x{}, {} invocations)",
+                    pass.decl.entry,
+                    limits.max_compute_workgroup_size_x,
+                    limits.max_compute_workgroup_size_y,
+                    limits.max_compute_workgroup_size_z,
+                    limits.max_compute_invocations_per_workgroup
+                )));
+            }
+            let storage = pass
+                .bindings
+                .iter()
+                .filter(|(_, r)| matches!(r, Role::Write(_)))
+                .count() as u32;
+            if storage > limits.max_storage_textures_per_shader_stage {
+                return Err(fail(format!(
+                    "entry point `{}` writes {storage} targets; the device allows {}",
+                    pass.decl.entry, limits.max_storage_textures_per_shader_stage
+                )));
+            }
+        }
+        for t in &self.targets {
+            let (w, h) = t.size.pixels(output);
+            if w.max(h) > limits.max_texture_dimension_2d {
+                return Err(ShaderNodeError::at(
+                    &self.file,
+                    t.at,
+                    format!(
+                        "target `{}` would be {w}x{h}; the device allows {} pixels a side",
+                        t.name, limits.max_texture_dimension_2d
+                    ),
+                ));
+            }
+        }
+        if let Some(u) = &self.uniform
+            && u64::from(u.size) > limits.max_uniform_buffer_binding_size
+        {
+            return Err(ShaderNodeError::at(
+                &self.file,
+                Span { line: 1, column: 1 },
+                format!("the uniform block is {} bytes; the device allows {}", u.size, limits.max_uniform_buffer_binding_size),
+            ));
+        }
+        Ok(())
+    }
+}

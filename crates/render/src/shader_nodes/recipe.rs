@@ -1,0 +1,538 @@
+//! A shader node's recipe: its passes declared into the frame graph like any
+//! built-in pass (culled when nothing reads their targets, timed, pooled).
+//!
+//! Targets are versioned: each write of a target (a pass, or one iteration of
+//! a repeated pass) is a frame-graph texture of its own, and a read sees the
+//! latest version written before it, so repetition and ping-ponging need no
+//! swapping. A target's last write is named `shader{id}/{target}`, which is
+//! what the node outputs; a persistent target keeps one name across frames,
+//! and the pass that writes it reads last frame's value through a copy. A
+//! skipped pass (its Bool pin on) passes its first texture on.
+
+use std::collections::HashMap;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+use wgpu::util::DeviceExt;
+
+use super::program::{Builtin, PassPlan, Program, Role};
+use super::utility;
+use crate::error::RenderError;
+use crate::frame_graph::{FrameGraph, Lifetime, PassContext, SizeRule, TextureDesc};
+use crate::gbuffer::GBuffer;
+use crate::recipe::{Recipe, TextureRef, next_recipe_id};
+use crate::renderer::Renderer;
+use crate::shaders::Sampling;
+
+/// What the node gives one slice's recipe.
+pub struct ShaderNodeInputs {
+    /// Per `@input`, in order.
+    pub textures: Vec<Option<TextureRef>>,
+    pub gbuffer: Option<Arc<GBuffer>>,
+    /// The uniform block with the pins written (empty without one).
+    pub params: Vec<u8>,
+    /// Per pass: whether its skip pin is on.
+    pub skips: Vec<bool>,
+    pub time: f32,
+    pub delta: f32,
+    pub slice: u32,
+    /// Permutations compiled to make this recipe (counted once in the frame report).
+    pub compiled: u64,
+}
+
+/// One version of a target, or something outside the node passed on by a skip.
+#[derive(Clone, Debug, PartialEq)]
+enum Source {
+    Version { target: usize, write: u32 },
+    Outside(String),
+}
+
+/// One dispatch (a pass, or one iteration of it) with everything resolved.
+struct Step {
+    pass: usize,
+    iteration: u32,
+    /// Per destination: target index, its write number, size.
+    dests: Vec<(usize, u32, (u32, u32))>,
+    /// Per `Role::Read` binding: what it reads.
+    reads: HashMap<u32, Source>,
+}
+
+pub struct ShaderNodeRecipe {
+    id: u64,
+    owner: Option<u32>,
+    type_name: String,
+    program: Arc<Program>,
+    inputs: ShaderNodeInputs,
+    /// Names persistent targets keep across frames (node and slice).
+    history: String,
+    counted: AtomicBool,
+}
+
+impl ShaderNodeRecipe {
+    pub fn new(
+        owner: Option<u32>,
+        type_name: &str,
+        program: Arc<Program>,
+        inputs: ShaderNodeInputs,
+    ) -> Arc<Self> {
+        let history = format!(
+            "shader {type_name} #{}/{}",
+            owner.map_or(0, |o| o),
+            inputs.slice
+        );
+        Arc::new(ShaderNodeRecipe {
+            id: next_recipe_id(),
+            owner,
+            type_name: type_name.to_owned(),
+            program,
+            inputs,
+            history,
+            counted: AtomicBool::new(false),
+        })
+    }
+
+    /// The frame-graph name `target` ends the frame under.
+    pub fn target_name(&self, target: &str) -> String {
+        match self.program.targets.iter().find(|t| t.name == target) {
+            Some(t) if t.lifetime == Lifetime::Persistent => format!("{} {target}", self.history),
+            _ => format!("shader{}/{target}", self.id),
+        }
+    }
+
+    /// The texture `target` holds when the node's passes are done.
+    pub fn texture(self: &Arc<Self>, target: &str) -> TextureRef {
+        TextureRef {
+            recipe: self.clone(),
+            name: self.target_name(target),
+        }
+    }
+
+    fn version_name(&self, target: usize, write: u32, last: &[u32]) -> String {
+        let decl = &self.program.targets[target];
+        if decl.lifetime == Lifetime::Persistent || last[target] == write {
+            self.target_name(&decl.name)
+        } else {
+            format!("shader{}/{}#{write}", self.id, decl.name)
+        }
+    }
+
+    fn source_name(&self, source: &Source, last: &[u32]) -> String {
+        match source {
+            Source::Version { target, write } => self.version_name(*target, *write, last),
+            Source::Outside(name) => name.clone(),
+        }
+    }
+
+    fn target_index(&self, name: &str) -> usize {
+        self.program
+            .targets
+            .iter()
+            .position(|t| t.name == name)
+            .unwrap_or(0)
+    }
+
+    /// Where binding `role` of a pass reads from, outside the node's targets.
+    fn outside(&self, role: &Role) -> Option<String> {
+        match role {
+            Role::Input(i) => self.inputs.textures.get(*i)?.as_ref().map(|t| t.name.clone()),
+            Role::GBuffer(name) => {
+                let g = &self.inputs.gbuffer.as_ref()?.targets;
+                Some(match name.as_str() {
+                    "color" => g.color.clone(),
+                    "normals" => g.normals.clone(),
+                    "depth" => g.depth.clone(),
+                    "velocity" => g.velocity_uv.clone(),
+                    _ => return None,
+                })
+            }
+            _ => None,
+        }
+    }
+
+    /// Unroll the passes into dispatches for a frame of `output` size.
+    fn plan(&self, output: (u32, u32)) -> (Vec<Step>, Vec<Option<Source>>, u64) {
+        let targets = &self.program.targets;
+        let mut current: Vec<Option<(Source, (u32, u32))>> = vec![None; targets.len()];
+        let mut writes = vec![0u32; targets.len()];
+        let mut steps = Vec::new();
+        let mut skipped = 0;
+        for (index, pass) in self.program.passes.iter().enumerate() {
+            let dest_ids: Vec<usize> = pass
+                .decl
+                .targets
+                .iter()
+                .map(|t| self.target_index(t))
+                .collect();
+            if self.inputs.skips.get(index).copied().unwrap_or(false) {
+                skipped += 1;
+                let through = self.first_read(pass, &current);
+                for &d in &dest_ids {
+                    let size = targets[d].size.pixels(output);
+                    current[d] = through.clone().map(|s| (s, size));
+                }
+                continue;
+            }
+            let mut iteration = 0u32;
+            loop {
+                let done = match pass.decl.repeat {
+                    super::annotations::Repeat::Once => iteration >= 1,
+                    super::annotations::Repeat::Times(n) => iteration >= n,
+                    super::annotations::Repeat::Until { width, height } => {
+                        iteration >= 64
+                            || current[dest_ids[0]]
+                                .as_ref()
+                                .is_some_and(|(_, (w, h))| *w <= width && *h <= height)
+                    }
+                };
+                if done {
+                    break;
+                }
+                let mut reads = HashMap::new();
+                for (binding, role) in &pass.bindings {
+                    let source = match role {
+                        Role::Read(t) => {
+                            let t = self.target_index(t);
+                            match &current[t] {
+                                // The writer of a persistent target reads last frame's value (a copy).
+                                _ if targets[t].lifetime == Lifetime::Persistent => None,
+                                Some((s, _)) => Some(s.clone()),
+                                None => None,
+                            }
+                        }
+                        _ => None,
+                    };
+                    if let Some(s) = source {
+                        reads.insert(*binding, s);
+                    }
+                }
+                let mut dests = Vec::new();
+                for &d in &dest_ids {
+                    let size = match &current[d] {
+                        Some((_, (w, h))) if pass.decl.step < 1.0 => (
+                            ((*w as f32 * pass.decl.step).ceil() as u32).max(1),
+                            ((*h as f32 * pass.decl.step).ceil() as u32).max(1),
+                        ),
+                        _ => targets[d].size.pixels(output),
+                    };
+                    writes[d] += 1;
+                    dests.push((d, writes[d], size));
+                }
+                for &(d, write, size) in &dests {
+                    current[d] = Some((Source::Version { target: d, write }, size));
+                }
+                steps.push(Step {
+                    pass: index,
+                    iteration,
+                    dests,
+                    reads,
+                });
+                iteration += 1;
+            }
+        }
+        (steps, current.into_iter().map(|c| c.map(|(s, _)| s)).collect(), skipped)
+    }
+
+    fn first_read(
+        &self,
+        pass: &PassPlan,
+        current: &[Option<(Source, (u32, u32))>],
+    ) -> Option<Source> {
+        pass.bindings.iter().find_map(|(_, role)| match role {
+            Role::Read(t) => current[self.target_index(t)].as_ref().map(|(s, _)| s.clone()),
+            other => self.outside(other).map(Source::Outside),
+        })
+    }
+
+    fn run(&self, cx: &mut PassContext<'_>, step: &Step, names: &StepNames) -> Result<(), RenderError> {
+        let pass = &self.program.passes[step.pass];
+        let device = cx.gpu.device.clone();
+        let mut fresh = false;
+        for (i, &(d, _, _)) in step.dests.iter().enumerate() {
+            let decl = &self.program.targets[d];
+            let name = &names.dests[i];
+            let persistent = decl.lifetime == Lifetime::Persistent;
+            if persistent && cx.is_fresh(name) {
+                fresh = true;
+            }
+            if let Some(color) = decl.clear
+                && (!persistent || cx.is_fresh(name))
+            {
+                utility::fill(cx, name, decl.format, color)?;
+            }
+        }
+        for (history, copy) in &names.histories {
+            cx.copy_history(history, copy)?;
+        }
+        if step.iteration > 0 {
+            cx.count("shader node repeats", 1);
+        }
+        let size = step.dests[0].2;
+        let uniform = self.program.uniform.as_ref().map(|u| {
+            let mut bytes = self.inputs.params.clone();
+            bytes.resize(u.size as usize, 0);
+            for &(builtin, offset) in &u.builtins {
+                let words: Vec<u32> = match builtin {
+                    Builtin::Size => vec![(size.0 as f32).to_bits(), (size.1 as f32).to_bits()],
+                    Builtin::Texel => vec![
+                        (1.0 / size.0 as f32).to_bits(),
+                        (1.0 / size.1 as f32).to_bits(),
+                    ],
+                    Builtin::Time => vec![self.inputs.time.to_bits()],
+                    Builtin::Delta => vec![self.inputs.delta.to_bits()],
+                    Builtin::Iteration => vec![step.iteration],
+                    Builtin::Fresh => vec![u32::from(fresh)],
+                    Builtin::Slice => vec![self.inputs.slice],
+                };
+                for (k, w) in words.iter().enumerate() {
+                    let at = offset as usize + 4 * k;
+                    bytes[at..at + 4].copy_from_slice(&w.to_le_bytes());
+                }
+            }
+            device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some(&self.type_name),
+                contents: &bytes,
+                usage: wgpu::BufferUsages::UNIFORM,
+            })
+        });
+        enum Bound {
+            View(wgpu::TextureView),
+            Buffer(wgpu::Buffer),
+            Sampler(wgpu::Sampler),
+        }
+        let mut bound: Vec<(u32, Bound)> = Vec::new();
+        for (binding, role) in &pass.bindings {
+            let resource = match role {
+                Role::Uniform => Bound::Buffer(uniform.clone().ok_or_else(|| {
+                    RenderError::Graph("uniform block without a layout".to_owned())
+                })?),
+                Role::GBuffer(name) if name == "camera" => match &self.inputs.gbuffer {
+                    Some(g) => Bound::Buffer(g.camera_buffer().clone()),
+                    None => return Err(missing(&self.type_name, "GBuffer")),
+                },
+                Role::Sampler(decl) => Bound::Sampler(cx.shaders.sampler(
+                    &device,
+                    if decl.repeat {
+                        Sampling::LinearRepeat
+                    } else {
+                        Sampling::LinearClamp
+                    },
+                )),
+                Role::Write(t) => {
+                    let i = pass.decl.targets.iter().position(|d| d == t).unwrap_or(0);
+                    Bound::View(cx.view(&names.dests[i])?)
+                }
+                Role::Read(_) => {
+                    let name = names
+                        .reads
+                        .get(binding)
+                        .ok_or_else(|| missing(&self.type_name, "a target read before it is written"))?;
+                    Bound::View(cx.view(name)?)
+                }
+                other => {
+                    let name = self.outside(other).ok_or_else(|| {
+                        missing(
+                            &self.type_name,
+                            &match other {
+                                Role::Input(i) => self
+                                    .program
+                                    .input_names
+                                    .get(*i)
+                                    .cloned()
+                                    .unwrap_or_default(),
+                                _ => "GBuffer".to_owned(),
+                            },
+                        )
+                    })?;
+                    Bound::View(cx.view(&name)?)
+                }
+            };
+            bound.push((*binding, resource));
+        }
+        let program = self.program.clone();
+        let pipeline = cx.shaders.external_compute_pipeline(
+            &device,
+            self.program.key,
+            &self.program.file,
+            move || program.module.clone(),
+            &pass.decl.entry,
+        );
+        let entries: Vec<wgpu::BindGroupEntry<'_>> = bound
+            .iter()
+            .map(|(binding, b)| wgpu::BindGroupEntry {
+                binding: *binding,
+                resource: match b {
+                    Bound::View(v) => wgpu::BindingResource::TextureView(v),
+                    Bound::Buffer(b) => b.as_entire_binding(),
+                    Bound::Sampler(s) => wgpu::BindingResource::Sampler(s),
+                },
+            })
+            .collect();
+        let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some(&self.type_name),
+            layout: &pipeline.get_bind_group_layout(0),
+            entries: &entries,
+        });
+        let [wx, wy, _] = pass.workgroup;
+        cx.dispatch(
+            &pass.decl.entry,
+            &pipeline,
+            &[&group],
+            (size.0.div_ceil(wx.max(1)), size.1.div_ceil(wy.max(1)), 1),
+        );
+        Ok(())
+    }
+}
+
+fn missing(node: &str, what: &str) -> RenderError {
+    RenderError::Graph(format!("{node}: nothing connected to `{what}`"))
+}
+
+/// A step's frame-graph names, resolved once at declaration.
+struct StepNames {
+    dests: Vec<String>,
+    reads: HashMap<u32, String>,
+    /// (persistent target, its copy) for persistent targets the pass also reads.
+    histories: Vec<(String, String)>,
+}
+
+impl Recipe for ShaderNodeRecipe {
+    fn declare<'a>(&'a self, renderer: &'a Renderer, fg: &mut FrameGraph<'a>) {
+        if !fg.include(self.id) {
+            return;
+        }
+        for t in self.inputs.textures.iter().flatten() {
+            t.recipe.declare(renderer, fg);
+        }
+        if let Some(g) = &self.inputs.gbuffer {
+            g.declare(renderer, fg);
+        }
+        if !self.counted.swap(true, Ordering::Relaxed) && self.inputs.compiled > 0 {
+            fg.count("shader node permutations compiled", self.inputs.compiled);
+        }
+        let (steps, finals, skipped) = self.plan(fg.output_size());
+        if skipped > 0 {
+            fg.count("shader node passes skipped", skipped);
+        }
+        let mut last = vec![0u32; self.program.targets.len()];
+        for step in &steps {
+            for &(d, write, _) in &step.dests {
+                last[d] = write;
+            }
+        }
+        // A final version that is not the last write (a skip passed something
+        // else on) is not named as the target: the target's name gets a copy.
+        for (t, source) in finals.iter().enumerate() {
+            if let Some(Source::Version { target, write }) = source
+                && *target == t
+                && *write == last[t]
+            {
+                continue;
+            }
+            if last[t] > 0 {
+                last[t] = u32::MAX;
+            }
+        }
+        for step in steps {
+            let pass = &self.program.passes[step.pass];
+            let mut names = StepNames {
+                dests: Vec::new(),
+                reads: HashMap::new(),
+                histories: Vec::new(),
+            };
+            let mut writes: Vec<(String, TextureDesc)> = Vec::new();
+            for &(d, write, (width, height)) in &step.dests {
+                let decl = &self.program.targets[d];
+                let name = self.version_name(d, write, &last);
+                let size = SizeRule::Absolute { width, height };
+                let desc = match decl.lifetime {
+                    Lifetime::Persistent => TextureDesc::history(decl.format).size(size),
+                    lifetime => TextureDesc::storage(decl.format)
+                        .size(size)
+                        .lifetime(lifetime),
+                };
+                writes.push((name.clone(), desc));
+                names.dests.push(name);
+            }
+            for (binding, role) in &pass.bindings {
+                let Role::Read(t) = role else { continue };
+                let d = self.target_index(t);
+                let decl = &self.program.targets[d];
+                let name = if decl.lifetime == Lifetime::Persistent {
+                    let persistent = self.target_name(t);
+                    if pass.decl.targets.contains(t) {
+                        let copy = format!("shader{}/{t} previous", self.id);
+                        let (_, _, (width, height)) = step.dests[pass
+                            .decl
+                            .targets
+                            .iter()
+                            .position(|x| x == t)
+                            .unwrap_or(0)];
+                        writes.push((
+                            copy.clone(),
+                            TextureDesc::history_copy(decl.format)
+                                .size(SizeRule::Absolute { width, height }),
+                        ));
+                        names.histories.push((persistent, copy.clone()));
+                        copy
+                    } else {
+                        persistent
+                    }
+                } else {
+                    match step.reads.get(binding) {
+                        Some(source) => self.source_name(source, &last),
+                        None => continue,
+                    }
+                };
+                names.reads.insert(*binding, name);
+            }
+            let mut reads: Vec<String> = names.reads.values().cloned().collect();
+            reads.extend(pass.bindings.iter().filter_map(|(_, role)| self.outside(role)));
+            // A pass does not read what it writes (its persistent target's copy holds last frame).
+            reads.retain(|r| !writes.iter().any(|(w, _)| w == r) && !names.histories.iter().any(|(h, _)| h == r));
+            if let Some(g) = &self.inputs.gbuffer
+                && pass.bindings.iter().any(|(_, r)| *r == Role::GBuffer("camera".into()))
+            {
+                reads.push(g.targets.depth.clone());
+            }
+            let label = match step.iteration {
+                0 => pass.decl.entry.clone(),
+                i => format!("{} {i}", pass.decl.entry),
+            };
+            let pass_name = crate::recipe::pass_name(&self.type_name, self.owner, Some(&label));
+            let read_refs: Vec<&str> = reads.iter().map(String::as_str).collect();
+            let write_refs: Vec<(&str, TextureDesc)> =
+                writes.iter().map(|(n, d)| (n.as_str(), *d)).collect();
+            fg.add_pass(pass_name, self.owner, &read_refs, &write_refs, move |cx| {
+                self.run(cx, &step, &names)
+            });
+        }
+        // Targets whose final content is not their last write: copy it under the target's name.
+        for (t, source) in finals.iter().enumerate() {
+            if last[t] != u32::MAX {
+                continue;
+            }
+            let Some(source) = source else { continue };
+            let decl = &self.program.targets[t];
+            if decl.lifetime == Lifetime::Persistent {
+                continue;
+            }
+            let from = self.source_name(source, &last);
+            let to = self.target_name(&decl.name);
+            let size = decl.size.pixels(fg.output_size());
+            let desc = TextureDesc::storage(decl.format).size(SizeRule::Absolute {
+                width: size.0,
+                height: size.1,
+            });
+            let format = decl.format;
+            let name = crate::recipe::pass_name(
+                &self.type_name,
+                self.owner,
+                Some(&format!("pass {} on", decl.name)),
+            );
+            let (f, t2) = (from.clone(), to.clone());
+            fg.add_pass(name, self.owner, &[&from], &[(&to, desc)], move |cx| {
+                utility::copy(cx, &f, &t2, format)
+            });
+        }
+    }
+}
