@@ -58,6 +58,7 @@ pub struct EvalContext<'a> {
     /// The node's id, for nodes that label GPU work or errors with it.
     pub node_id: crate::document::NodeId,
     reevaluate: bool,
+    reported: Option<NodeError>,
 }
 
 /// The folder of the patch being evaluated: a service hosts provide so that
@@ -84,6 +85,7 @@ impl<'a> EvalContext<'a> {
             services,
             node_id,
             reevaluate: false,
+            reported: None,
         }
     }
 
@@ -111,6 +113,16 @@ impl<'a> EvalContext<'a> {
 
     pub(crate) fn wants_reevaluation(&self) -> bool {
         self.reevaluate
+    }
+
+    /// Show `error` on the node although it produced its outputs: a shader
+    /// node whose file broke keeps rendering its last good version.
+    pub fn report(&mut self, error: NodeError) {
+        self.reported = Some(error);
+    }
+
+    pub(crate) fn take_report(&mut self) -> Option<NodeError> {
+        self.reported.take()
     }
 
     /// How many input pins the node has.

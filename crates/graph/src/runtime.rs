@@ -205,7 +205,7 @@ impl Runtime {
                 continue;
             };
             let start = Instant::now();
-            let (result, again) = {
+            let (result, again, reported) = {
                 let mut cx = EvalContext::new(
                     &clock,
                     &state.inputs,
@@ -216,14 +216,14 @@ impl Runtime {
                     node.id,
                 );
                 let result = instance.evaluate(&mut cx);
-                (result, cx.wants_reevaluation())
+                (result, cx.wants_reevaluation(), cx.take_report())
             };
             stat.cpu_ns = start.elapsed().as_nanos() as u64;
             stats.cpu_ns += stat.cpu_ns;
             stats.evaluated += 1;
             match result {
                 Ok(()) => {
-                    state.error = None;
+                    state.error = reported;
                     stat.run = NodeRun::Evaluated;
                 }
                 Err(e) => {

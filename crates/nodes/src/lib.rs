@@ -10,7 +10,8 @@
 //! `FileTexture` and `FileTexture (Array)` in `texture/`, the `AddLight`s, light
 //! buffers, `ShadowMap`s, `CookTorrance` and `CompositeLight` in `lighting/`, `Sky` and
 //! `Fog` in `environment/`, `Tonemap`, `EyeAdaptation` and `FXAA` in `post/`, the material nodes
-//! in `material/`, `Perspective (Transform)` in `transform.rs`, `BenchLights` in `bench.rs`.
+//! in `material/`, `Perspective (Transform)` in `transform.rs`, `BenchLights` in `bench.rs`;
+//! shader nodes (`Blur (Shader)`, files in `shaders/nodes/`) in `shader_nodes/`.
 
 use spreadlight_graph::Registry;
 
@@ -26,6 +27,7 @@ pub mod lighting;
 pub mod material;
 pub mod output;
 pub mod post;
+pub mod shader_nodes;
 pub mod spreads;
 pub mod texture;
 pub mod transform;
@@ -54,5 +56,6 @@ pub fn registry() -> Registry {
     material::register(&mut r);
     post::register(&mut r);
     bench::register(&mut r);
+    shader_nodes::register(&mut r);
     r
 }

@@ -574,18 +574,22 @@ impl Program {
                         ..
                     },
                 ) => {
-                    let target = notes.target(&name).ok_or_else(|| {
-                        fail(format!(
-                            "storage texture `{name}` is not a declared target (`// @target {name} ...`)"
-                        ))
-                    })?;
+                    // `lum_out` writes `lum`, so the same shader can read `lum` as a texture.
+                    let target = notes
+                        .target(&name)
+                        .or_else(|| name.strip_suffix("_out").and_then(|t| notes.target(t)))
+                        .ok_or_else(|| {
+                            fail(format!(
+                                "storage texture `{name}` is not a declared target (`// @target {name} ...`)"
+                            ))
+                        })?;
                     if storage_format(*format) != Some(target.format) {
                         return Err(fail(format!(
                             "storage texture `{name}` is {format:?} but its `@target` says {:?}",
                             target.format
                         )));
                     }
-                    Role::Write(name.clone())
+                    Role::Write(target.name.clone())
                 }
                 (
                     _,

@@ -1,0 +1,70 @@
+//! Shader nodes: WGSL files that are node types (docs/shader-nodes.md).
+//! [`ShaderType`] turns one file into a node type, [`ShaderNode`] evaluates
+//! it into frame-graph passes, [`ShaderLibrary`] finds files beside the patch
+//! and in the user's library and reloads them when they change. The examples
+//! in the repository's `shaders/nodes/` are built in.
+
+pub mod library;
+pub mod node;
+pub mod shader_type;
+
+pub use library::{Changes, ShaderLibrary};
+pub use node::ShaderNode;
+pub use shader_type::{ShaderType, type_name};
+
+use spreadlight_graph::Registry;
+
+macro_rules! example {
+    ($stem:literal) => {
+        (
+            $stem,
+            concat!("shaders/nodes/", $stem, ".wgsl"),
+            include_str!(concat!("../../../../shaders/nodes/", $stem, ".wgsl")),
+        )
+    };
+}
+
+/// The shipped examples: (file stem, path in the repository, source).
+pub const EXAMPLES: &[(&str, &str, &str)] = &[
+    example!("blur"),
+    example!("edge_detect"),
+    example!("chromatic_aberration"),
+    example!("color_grade"),
+    example!("lut_warm"),
+    example!("noise"),
+    example!("feedback"),
+    example!("eye_adaptation_chain"),
+];
+
+/// Register the shipped examples. One that does not compile (a bug a test
+/// catches) is registered as a node that shows its error.
+pub fn register(r: &mut Registry) {
+    for (stem, path, source) in EXAMPLES {
+        let name = type_name(stem);
+        match ShaderType::load(&name, path, source) {
+            Ok(ty) => r.add(ty.node_def(None)),
+            Err(e) => r.add(shader_type::broken_def(&name, &e)),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_example_compiles_in_every_permutation() {
+        for (stem, path, source) in EXAMPLES {
+            let ty = ShaderType::load(&type_name(stem), path, source)
+                .unwrap_or_else(|e| panic!("{e}"));
+            let switches: Vec<String> = ty.notes.switches.iter().map(|s| s.define.clone()).collect();
+            for mask in 0..(1u32 << switches.len()) {
+                let defines = (0..switches.len())
+                    .filter(|i| mask & (1 << i) != 0)
+                    .map(|i| switches[i].clone())
+                    .collect();
+                ty.program(&defines).unwrap_or_else(|e| panic!("{e}"));
+            }
+        }
+    }
+}

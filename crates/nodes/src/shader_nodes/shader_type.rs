@@ -1,0 +1,271 @@
+//! One shader file as a node type: its annotations, its default
+//! permutation (whose uniform block gives the pins), the permutations
+//! compiled so far, and the [`NodeDef`] made from them.
+
+use std::collections::{BTreeSet, HashMap};
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::{Arc, Mutex};
+
+use spreadlight_graph::{Color, NodeDef, NodeError, PinType, ResourceKind, Spread};
+use spreadlight_render::frame_graph::Lifetime;
+use spreadlight_render::shader_nodes::{
+    Annotations, Builtin, ParamKind, ParamPin, Program, ShaderNodeError,
+};
+
+use super::node::ShaderNode;
+
+/// A loaded shader node file.
+pub struct ShaderType {
+    /// The node type name: `Blur (Shader)` for `blur.wgsl`.
+    pub name: String,
+    /// The file as errors name it.
+    pub file: String,
+    source: String,
+    pub notes: Annotations,
+    /// The permutation with every switch at its default: the pins come from it.
+    pub base: Arc<Program>,
+    permutations: Mutex<HashMap<BTreeSet<String>, Arc<Program>>>,
+    /// Permutations compiled, the default one included (statistics).
+    compiled: AtomicU64,
+}
+
+/// `edge_detect.wgsl` -> `EdgeDetect (Shader)`.
+pub fn type_name(stem: &str) -> String {
+    let camel: String = stem
+        .split(['_', '-', ' '])
+        .filter(|w| !w.is_empty())
+        .map(|w| {
+            let mut c = w.chars();
+            c.next()
+                .map(|f| f.to_uppercase().chain(c).collect::<String>())
+                .unwrap_or_default()
+        })
+        .collect();
+    format!("{camel} (Shader)")
+}
+
+impl ShaderType {
+    /// Read and compile a file's default permutation.
+    pub fn load(name: &str, file: &str, source: &str) -> Result<Arc<Self>, ShaderNodeError> {
+        let notes = Annotations::parse(file, source)?;
+        let defaults: BTreeSet<String> = notes
+            .switches
+            .iter()
+            .filter(|s| s.default)
+            .map(|s| s.define.clone())
+            .collect();
+        let base = Arc::new(Program::compile(file, source, &notes, &defaults)?);
+        let ty = ShaderType {
+            name: name.to_owned(),
+            file: file.to_owned(),
+            source: source.to_owned(),
+            notes,
+            base: base.clone(),
+            permutations: Mutex::new(HashMap::from([(defaults, base)])),
+            compiled: AtomicU64::new(1),
+        };
+        ty.check_skips()?;
+        Ok(Arc::new(ty))
+    }
+
+    /// A skip pin must be a Bool pin (a switch or a `bool` field).
+    fn check_skips(&self) -> Result<(), ShaderNodeError> {
+        for pass in &self.base.passes {
+            if let Some(pin) = &pass.skip
+                && self.bool_pin_index(pin).is_none()
+            {
+                return Err(ShaderNodeError::at(
+                    &self.file,
+                    pass.decl.at,
+                    format!("skip pin `{pin}` is not a Bool pin (a `@switch` or a `bool` field)"),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    pub fn params(&self) -> &[ParamPin] {
+        self.base.uniform.as_ref().map_or(&[], |u| &u.pins)
+    }
+
+    /// Where a Bool pin named `pin` (field, define, or display name) is among the inputs.
+    pub fn bool_pin_index(&self, pin: &str) -> Option<usize> {
+        let params = self.params();
+        if let Some(i) = params
+            .iter()
+            .position(|p| p.kind == ParamKind::Bool && (p.field == pin || p.display == pin))
+        {
+            return Some(self.first_param() + i);
+        }
+        self.notes
+            .switches
+            .iter()
+            .position(|s| s.define == pin || s.display == pin)
+            .map(|i| self.first_param() + params.len() + i)
+    }
+
+    /// Input pins: textures, then the G-buffer (if read), then the fields, then the switches.
+    pub fn first_param(&self) -> usize {
+        self.notes.inputs.len() + usize::from(self.reads_gbuffer())
+    }
+
+    pub fn reads_gbuffer(&self) -> bool {
+        !self.notes.gbuffer.is_empty()
+    }
+
+    /// The permutation for these switches: compiled once, then shared. The
+    /// bool is true when this call compiled it.
+    pub fn program(
+        &self,
+        defines: &BTreeSet<String>,
+    ) -> Result<(Arc<Program>, bool), ShaderNodeError> {
+        let mut cache = self
+            .permutations
+            .lock()
+            .unwrap_or_else(|e| e.into_inner());
+        if let Some(p) = cache.get(defines) {
+            return Ok((p.clone(), false));
+        }
+        let program = Arc::new(Program::compile(
+            &self.file,
+            &self.source,
+            &self.notes,
+            defines,
+        )?);
+        if program.uniform != self.base.uniform {
+            return Err(ShaderNodeError::at(
+                &self.file,
+                self.notes.switches.first().map_or_else(Default::default, |s| s.at),
+                "the uniform block must be the same in every permutation (its fields are the pins)",
+            ));
+        }
+        self.compiled.fetch_add(1, Ordering::Relaxed);
+        cache.insert(defines.clone(), program.clone());
+        Ok((program, true))
+    }
+
+    /// Permutations compiled so far (the default one included).
+    pub fn permutations_compiled(&self) -> u64 {
+        self.compiled.load(Ordering::Relaxed)
+    }
+
+    /// The name of the target the node outputs: the last pass's first destination.
+    pub fn main_target(&self) -> &str {
+        self.base
+            .passes
+            .last()
+            .and_then(|p| p.decl.targets.first())
+            .map_or("", String::as_str)
+    }
+
+    /// Re-evaluated every frame: it reads the clock or keeps history.
+    pub fn time_dependent(&self) -> bool {
+        let clock = self.base.uniform.as_ref().is_some_and(|u| {
+            u.builtins
+                .iter()
+                .any(|(b, _)| matches!(b, Builtin::Time | Builtin::Delta))
+        });
+        clock
+            || self
+                .base
+                .targets
+                .iter()
+                .any(|t| t.lifetime == Lifetime::Persistent)
+    }
+
+    /// The node type; `error` (a newer version of the file that failed) is
+    /// shown on every node of it while this version keeps rendering.
+    pub fn node_def(self: &Arc<Self>, error: Option<ShaderNodeError>) -> NodeDef {
+        let category = self.notes.category.clone().unwrap_or_else(|| "Shader".into());
+        let mut help = self.notes.help.join(" ");
+        let ranges: Vec<String> = self
+            .params()
+            .iter()
+            .filter(|p| p.min.is_some() || p.max.is_some())
+            .map(|p| {
+                let f = |v: Option<f32>| v.map_or(String::new(), |v| v.to_string());
+                format!("{} {}..{}", p.display, f(p.min), f(p.max))
+            })
+            .collect();
+        if !ranges.is_empty() {
+            help.push_str(&format!(" Ranges: {}.", ranges.join(", ")));
+        }
+        help.push_str(&format!(" (Shader node: {}.)", self.file));
+        let texture = PinType::Resource(ResourceKind::Texture);
+        let mut def = NodeDef::new(self.name.clone(), format!("Shader/{category}"), help);
+        for (_, pin, _) in &self.notes.inputs {
+            def = def.input_spread(pin.clone(), texture, Spread::Resource(ResourceKind::Texture, vec![]));
+        }
+        if self.reads_gbuffer() {
+            def = def.input_spread(
+                "GBuffer",
+                PinType::Resource(ResourceKind::GBuffer),
+                Spread::Resource(ResourceKind::GBuffer, vec![]),
+            );
+        }
+        for p in self.params() {
+            let (ty, default) = pin_default(p);
+            def = def.input_spread(p.display.clone(), ty, default);
+        }
+        for s in &self.notes.switches {
+            def = def.input(s.display.clone(), s.default);
+        }
+        def = def.output_typed("Texture", texture);
+        for (target, _) in &self.notes.outputs {
+            def = def.output_typed(
+                spreadlight_render::shader_nodes::annotations::title(target),
+                texture,
+            );
+        }
+        if self.time_dependent() {
+            def = def.time_dependent();
+        }
+        let ty = self.clone();
+        let error = error.map(|e| NodeError::Other(e.to_string()));
+        def.construct(move || ShaderNode::new(ty.clone(), error.clone()))
+    }
+}
+
+/// A field's pin type and its default as a one-slice spread.
+fn pin_default(p: &ParamPin) -> (PinType, Spread) {
+    let v = &p.default;
+    let at = |i: usize| v.get(i).copied().unwrap_or(0.0);
+    match p.kind {
+        ParamKind::Float => (PinType::Float, Spread::Float(vec![at(0)])),
+        ParamKind::Int => (PinType::Int, Spread::Int(vec![at(0) as i64])),
+        ParamKind::Bool => (PinType::Bool, Spread::Bool(vec![at(0) != 0.0])),
+        ParamKind::Vec2 => (PinType::Vec2, Spread::Vec2(vec![glam::Vec2::new(at(0), at(1))])),
+        ParamKind::Vec3 => (
+            PinType::Vec3,
+            Spread::Vec3(vec![glam::Vec3::new(at(0), at(1), at(2))]),
+        ),
+        ParamKind::Vec4 => (
+            PinType::Vec4,
+            Spread::Vec4(vec![glam::Vec4::new(at(0), at(1), at(2), at(3))]),
+        ),
+        ParamKind::Color => (
+            PinType::Color,
+            Spread::Color(vec![Color::rgba(at(0), at(1), at(2), at(3))]),
+        ),
+        ParamKind::Mat4 => {
+            let mut cols = [0.0; 16];
+            for (i, c) in cols.iter_mut().enumerate() {
+                *c = at(i);
+            }
+            (PinType::Mat4, Spread::Mat4(vec![glam::Mat4::from_cols_array(&cols)]))
+        }
+    }
+}
+
+/// A node type for a file that has never compiled: no pins, and its error
+/// on every node of it (patches that use it keep their values and links).
+pub fn broken_def(name: &str, error: &ShaderNodeError) -> NodeDef {
+    let message = error.to_string();
+    NodeDef::new(
+        name.to_owned(),
+        "Shader",
+        format!("Shader node whose file does not compile: {message}"),
+    )
+    .output_typed("Texture", PinType::Resource(ResourceKind::Texture))
+    .construct(move || super::node::Broken(message.clone()))
+}
