@@ -5,6 +5,7 @@
 // @input source "Texture"
 // @sampler smp clamp
 // @target half temporary rgba16float scale=0.5
+// @output half
 // @target blurred temporary rgba16float scale=1
 // @pass horizontal -> half
 // @pass vertical -> blurred

@@ -49,22 +49,4 @@ pub fn register(r: &mut Registry) {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn every_example_compiles_in_every_permutation() {
-        for (stem, path, source) in EXAMPLES {
-            let ty = ShaderType::load(&type_name(stem), path, source)
-                .unwrap_or_else(|e| panic!("{e}"));
-            let switches: Vec<String> = ty.notes.switches.iter().map(|s| s.define.clone()).collect();
-            for mask in 0..(1u32 << switches.len()) {
-                let defines = (0..switches.len())
-                    .filter(|i| mask & (1 << i) != 0)
-                    .map(|i| switches[i].clone())
-                    .collect();
-                ty.program(&defines).unwrap_or_else(|e| panic!("{e}"));
-            }
-        }
-    }
-}
+mod tests;

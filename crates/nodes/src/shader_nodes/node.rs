@@ -118,6 +118,9 @@ impl Node for ShaderNode {
         let limits = renderer.gpu.device.limits();
         let main = ty.main_target().to_owned();
         let mut outputs: Vec<Vec<Arc<TextureRef>>> = vec![Vec::new(); 1 + ty.notes.outputs.len()];
+        // The permutations first, so slice 0's recipe can count every compile.
+        let mut programs = Vec::with_capacity(count);
+        let mut compiled = 0;
         for slice in 0..count {
             let defines: BTreeSet<String> = switches
                 .iter()
@@ -125,12 +128,16 @@ impl Node for ShaderNode {
                 .filter(|(i, _)| numbers(cx.input(first + params.len() + i), slice) == [1.0])
                 .map(|(_, s)| s.define.clone())
                 .collect();
-            let (program, compiled) = ty
+            let (program, fresh) = ty
                 .program(&defines)
                 .map_err(|e| NodeError::Other(e.to_string()))?;
             program
                 .check_limits(&limits, renderer.output_size())
                 .map_err(|e| NodeError::Other(e.to_string()))?;
+            compiled += u64::from(fresh);
+            programs.push(program);
+        }
+        for (slice, program) in programs.into_iter().enumerate() {
             let mut bytes = vec![0u8; program.uniform.as_ref().map_or(0, |u| u.size as usize)];
             for (i, pin) in params.iter().enumerate() {
                 write_param(&mut bytes, pin, &numbers(cx.input(first + i), slice));
@@ -160,7 +167,7 @@ impl Node for ShaderNode {
                     time: cx.clock.time as f32,
                     delta: cx.clock.delta as f32,
                     slice: slice as u32,
-                    compiled: u64::from(compiled),
+                    compiled: if slice == 0 { compiled } else { 0 },
                 },
             );
             outputs[0].push(Arc::new(recipe.texture(&main)));

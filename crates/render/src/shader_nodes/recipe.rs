@@ -421,14 +421,17 @@ impl Recipe for ShaderNodeRecipe {
         }
         // A final version that is not the last write (a skip passed something
         // else on) is not named as the target: the target's name gets a copy.
-        for (t, source) in finals.iter().enumerate() {
-            if let Some(Source::Version { target, write }) = source
-                && *target == t
-                && *write == last[t]
-            {
-                continue;
-            }
-            if last[t] > 0 {
+        let copied: Vec<bool> = finals
+            .iter()
+            .enumerate()
+            .map(|(t, source)| match source {
+                Some(Source::Version { target, write }) => *target != t || *write != last[t],
+                Some(Source::Outside(_)) => true,
+                None => false,
+            })
+            .collect();
+        for (t, copy) in copied.iter().enumerate() {
+            if *copy {
                 last[t] = u32::MAX;
             }
         }
@@ -508,7 +511,7 @@ impl Recipe for ShaderNodeRecipe {
         }
         // Targets whose final content is not their last write: copy it under the target's name.
         for (t, source) in finals.iter().enumerate() {
-            if last[t] != u32::MAX {
+            if !copied[t] {
                 continue;
             }
             let Some(source) = source else { continue };

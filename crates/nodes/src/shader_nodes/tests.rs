@@ -1,0 +1,293 @@
+//! Shader nodes on the test GPU: pins from annotations, hot reload, errors
+//! at file:line:col with the last good version still rendering, repeats,
+//! skips, permutations and culling in the frame report, persistent targets,
+//! and the eye-adaptation example against the built-in EyeAdaptation.
+
+use std::path::Path;
+use std::sync::Arc;
+
+use spreadlight_graph::{
+    Color, FrameClock, NodeDoc, Patch, PinType, Registry, Runtime, Spread,
+};
+use spreadlight_render::readback::ImageF32;
+use spreadlight_render::renderer::test_renderer;
+use spreadlight_render::{FrameReport, Renderer};
+
+use super::{EXAMPLES, ShaderLibrary, ShaderType, type_name};
+use crate::output::RenderedImages;
+
+const SIZE: (u32, u32) = (32, 18);
+
+struct Rig {
+    rt: Runtime,
+    images: Arc<RenderedImages>,
+    renderer: Arc<Renderer>,
+    frame: u64,
+}
+
+impl Rig {
+    fn new(registry: Registry, patch: &Patch) -> Rig {
+        let mut rt = Runtime::new(registry);
+        let renderer = test_renderer();
+        renderer.set_output_size(SIZE);
+        rt.provide(renderer.clone());
+        let images = Arc::new(RenderedImages::default());
+        rt.provide(images.clone());
+        let problems = rt.load(patch).to_vec();
+        assert!(problems.is_empty(), "{problems:?}");
+        Rig {
+            rt,
+            images,
+            renderer,
+            frame: 0,
+        }
+    }
+
+    /// Evaluate one frame; the report of the last frame graph it ran.
+    fn step(&mut self) -> FrameReport {
+        self.rt.evaluate(FrameClock::fixed(self.frame, 60.0));
+        self.frame += 1;
+        self.renderer.last_report()
+    }
+
+    fn image(&self, name: &str) -> ImageF32 {
+        self.images
+            .get(name)
+            .unwrap_or_else(|| panic!("no image `{name}`"))
+            .0
+    }
+
+    fn errors(&self) -> Vec<String> {
+        self.rt
+            .node_errors()
+            .map(|(id, e)| format!("{id}: {e}"))
+            .collect()
+    }
+}
+
+fn output(id: u32, name: &str) -> NodeDoc {
+    NodeDoc::new(id, "Output")
+        .with("Name", vec![name.to_owned()])
+        .with("Write", vec![false])
+}
+
+fn noise_into(patch: &mut Patch, id: u32) {
+    patch.add(NodeDoc::new(id, "Noise (Shader)").with("Speed", vec![0.0f32]));
+}
+
+fn mean(image: &ImageF32) -> [f32; 4] {
+    let n = image.pixels.len() as f32;
+    let mut m = [0.0; 4];
+    for p in &image.pixels {
+        for c in 0..4 {
+            m[c] += p[c] / n;
+        }
+    }
+    m
+}
+
+const TINT_V1: &str = "// @category Filter
+// @help Multiplies by a colour.
+// @input source \"Texture\"
+// @target tinted temporary rgba16float scale=1
+// @pass tint -> tinted
+struct Params {
+    // @pin \"Tint\" color default=1,0.5,0.25,1
+    tint: vec4<f32>,
+    gain: f32, // @pin default=1 min=0 max=4
+    size: vec2<f32>,
+}
+@group(0) @binding(0) var<uniform> params: Params;
+@group(0) @binding(1) var source: texture_2d<f32>;
+@group(0) @binding(2) var tinted: texture_storage_2d<rgba16float, write>;
+@compute @workgroup_size(8, 8)
+fn tint(@builtin(global_invocation_id) id: vec3<u32>) {
+    if (f32(id.x) >= params.size.x || f32(id.y) >= params.size.y) { return; }
+    let c = textureLoad(source, id.xy, 0);
+    textureStore(tinted, id.xy, vec4<f32>(c.rgb * params.tint.rgb * params.gain, 1.0));
+}
+";
+
+fn write(dir: &Path, text: &str) {
+    std::fs::write(dir.join("tint.wgsl"), text).expect("write shader");
+}
+
+/// A folder with tint.wgsl, a library over it, and a patch: noise -> Tint -> Output.
+fn tint_rig(text: &str) -> (tempfile::TempDir, ShaderLibrary, Registry, Patch) {
+    let dir = tempfile::tempdir().expect("tempdir");
+    write(dir.path(), text);
+    let mut library = ShaderLibrary::new(vec![dir.path().to_owned()]);
+    let mut registry = crate::registry();
+    let changes = library.poll(&mut registry);
+    assert_eq!(changes.updated, ["Tint (Shader)"]);
+    let mut patch = Patch::default();
+    noise_into(&mut patch, 1);
+    patch.add(NodeDoc::new(2, "Tint (Shader)").with("Gain", vec![0.5f32]));
+    patch.add(output(3, "out"));
+    patch.link(1, "Texture", 2, "Texture");
+    patch.link(2, "Texture", 3, "Texture");
+    (dir, library, registry, patch)
+}
+
+#[test]
+fn pins_come_from_the_uniform_block_with_names_defaults_ranges_and_colours() {
+    let ty = ShaderType::load("Tint (Shader)", "tint.wgsl", TINT_V1).expect("compiles");
+    let def = ty.node_def(None);
+    assert_eq!(&*def.category, "Shader/Filter");
+    let pins: Vec<(&str, PinType)> = def.inputs.iter().map(|p| (&*p.name, p.ty)).collect();
+    assert_eq!(
+        pins,
+        [
+            ("Texture", PinType::Resource(spreadlight_graph::ResourceKind::Texture)),
+            ("Tint", PinType::Color),
+            ("Gain", PinType::Float),
+        ]
+    );
+    assert_eq!(def.inputs[1].default, Spread::Color(vec![Color::rgba(1.0, 0.5, 0.25, 1.0)]));
+    assert_eq!(def.inputs[2].default, Spread::Float(vec![1.0]));
+    let gain = &ty.params()[1];
+    assert_eq!((gain.min, gain.max), (Some(0.0), Some(4.0)));
+    assert!(def.help.contains("Gain 0..4"), "{}", def.help);
+    // Built-ins (size) are not pins; the noise example's Int and switch are.
+    let noise = crate::registry();
+    let noise = noise.get("Noise (Shader)").expect("shipped");
+    let names: Vec<&str> = noise.inputs.iter().map(|p| &*p.name).collect();
+    assert_eq!(names, ["Scale", "Octaves", "Speed", "Color A", "Color B", "Ridged"]);
+    assert_eq!(noise.inputs[1].default, Spread::Int(vec![4]));
+}
+
+#[test]
+fn hot_reload_keeps_links_and_values_and_a_broken_file_keeps_the_last_good_version() {
+    let (dir, mut library, mut registry, patch) = tint_rig(TINT_V1);
+    let mut rig = Rig::new(registry.clone(), &patch);
+    rig.step();
+    assert!(rig.errors().is_empty(), "{:?}", rig.errors());
+    let before = mean(&rig.image("out"));
+    // Gain 0.5 (the patch's value) times tint (1, 0.5, 0.25).
+    assert!((before[1] / before[0] - 0.5).abs() < 0.02, "{before:?}");
+
+    // Saved: the blue channel now comes out inverted; a new pin appears.
+    let v2 = TINT_V1
+        .replace("c.rgb * params.tint.rgb * params.gain", "vec3<f32>(c.rg * params.tint.rg * params.gain, params.extra)")
+        .replace("    size: vec2<f32>,", "    extra: f32, // @pin default=0.75\n    size: vec2<f32>,");
+    // A different length, so the change is seen even within the file system's time resolution.
+    write(dir.path(), &v2);
+    let changes = library.poll(&mut registry);
+    assert_eq!(changes.updated, ["Tint (Shader)"]);
+    rig.rt.set_registry(registry.clone());
+    assert!(rig.rt.load(&patch).is_empty());
+    rig.step();
+    assert!(rig.errors().is_empty(), "{:?}", rig.errors());
+    let after = mean(&rig.image("out"));
+    // Still linked to the noise, still at Gain 0.5; blue is the new pin's default.
+    assert!((after[0] - before[0]).abs() < 1e-3 && (after[1] - before[1]).abs() < 1e-3);
+    assert!((after[2] - 0.75).abs() < 1e-3, "{after:?}");
+
+    // Each class of broken shader: an error at file:line:col on the node, the last good version renders.
+    let file = dir.path().join("tint.wgsl").display().to_string();
+    let broken = [
+        (v2.replace("let c = textureLoad", "let c = = textureLoad"), "19:13", "WGSL syntax"),
+        (v2.replace("c.rg * params.tint.rg", "c.rgb * params.tint.rg"), "20:", "validation"),
+        (
+            v2.replace("@group(0) @binding(1) var source", "@group(0) @binding(3) var stray: texture_2d<f32>;\n@group(0) @binding(1) var source"),
+            "14:",
+            "not described by the annotations",
+        ),
+        (v2.replace("// @pass tint -> tinted", "// @pass tint -> nowhere"), "5:4", "unknown target `nowhere`"),
+    ];
+    for (text, at, what) in broken {
+        write(dir.path(), &format!("{text}\n"));
+        library.poll(&mut registry);
+        let error = library.errors()["Tint (Shader)"].to_string();
+        assert!(error.starts_with(&format!("{file}:{at}")), "{what}: {error}");
+        assert!(error.contains(what), "{error}");
+        rig.rt.set_registry(registry.clone());
+        assert!(rig.rt.load(&patch).is_empty());
+        rig.step();
+        let errors = rig.errors();
+        assert!(errors.len() == 1 && errors[0].contains(&error), "{errors:?}");
+        let still = mean(&rig.image("out"));
+        assert!((still[2] - 0.75).abs() < 1e-3, "{what}: the last good version renders: {still:?}");
+        // Put the good version back (different length from the broken one).
+        write(dir.path(), &v2);
+        library.poll(&mut registry);
+    }
+    assert!(library.errors().is_empty());
+}
+
+/// noise -> `node` (its pin `from` read) -> Output "out": the first frame's report.
+fn through(node: NodeDoc, from: &str) -> (Rig, FrameReport) {
+    let mut patch = Patch::default();
+    noise_into(&mut patch, 1);
+    patch.add(node);
+    patch.add(output(3, "out"));
+    patch.link(1, "Texture", 2, "Texture");
+    patch.link(2, from, 3, "Texture");
+    let mut rig = Rig::new(crate::registry(), &patch);
+    let report = rig.step();
+    assert!(rig.errors().is_empty(), "{:?}", rig.errors());
+    assert!(report.errors.is_empty(), "{:?}", report.errors);
+    (rig, report)
+}
+
+#[test]
+fn a_repeated_pass_runs_until_its_target_is_small_enough_and_is_counted() {
+    let (rig, report) = through(NodeDoc::new(2, "EyeAdaptationChain (Shader)"), "Texture");
+    // 32x18: log-luminance at 16x9, then 8x5, 4x3, 2x2, 1x1: four iterations, three repeats.
+    assert_eq!(report.counter("shader node repeats"), 3, "{:?}", report.counters);
+    let downsamples = report.passes.iter().filter(|p| p.name.contains("downsample")).count();
+    assert_eq!(downsamples, 4);
+    let image = rig.image("out");
+    assert_eq!((image.width, image.height), (1, 1));
+}
+
+#[test]
+fn a_skipped_pass_passes_its_input_on_and_is_counted() {
+    let (rig, report) = through(
+        NodeDoc::new(2, "EdgeDetect (Shader)").with("Bypass", vec![true]),
+        "Texture",
+    );
+    assert_eq!(report.counter("shader node passes skipped"), 1);
+    assert!(!report.passes.iter().any(|p| p.name.contains("sobel")));
+    // The noise itself (grey levels: equal channels), not edges.
+    let m = mean(&rig.image("out"));
+    assert!(m[0] > 0.2 && (m[0] - m[1]).abs() < 1e-3, "{m:?}");
+}
+
+#[test]
+fn each_used_permutation_compiles_once_and_is_counted() {
+    // Three slices, two inverted: the default permutation and INVERT.
+    let (mut rig, report) = through(
+        NodeDoc::new(2, "EdgeDetect (Shader)").with("Invert", vec![false, true, true]),
+        "Texture",
+    );
+    assert_eq!(report.counter("shader node permutations compiled"), 1);
+    assert_eq!(report.passes.iter().filter(|p| p.name.contains("sobel")).count(), 1);
+    rig.rt.invalidate_all();
+    let again = rig.step();
+    assert_eq!(again.counter("shader node permutations compiled"), 0);
+}
+
+#[test]
+fn passes_whose_targets_nothing_reads_are_culled() {
+    // Only the blur's half-size output is read: its vertical pass is culled.
+    let (rig, report) = through(NodeDoc::new(2, "Blur (Shader)"), "Half");
+    assert!(report.culled.iter().any(|p| p.contains("vertical")), "{:?}", report.culled);
+    assert_eq!(rig.image("out").width, SIZE.0 / 2);
+}
+
+#[test]
+fn every_example_compiles_in_every_permutation() {
+    for (stem, path, source) in EXAMPLES {
+        let ty = ShaderType::load(&type_name(stem), path, source)
+            .unwrap_or_else(|e| panic!("{e}"));
+        let switches: Vec<String> = ty.notes.switches.iter().map(|s| s.define.clone()).collect();
+        for mask in 0..(1u32 << switches.len()) {
+            let defines = (0..switches.len())
+                .filter(|i| mask & (1 << i) != 0)
+                .map(|i| switches[i].clone())
+                .collect();
+            ty.program(&defines).unwrap_or_else(|e| panic!("{e}"));
+        }
+    }
+}
