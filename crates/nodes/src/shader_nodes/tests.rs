@@ -291,3 +291,80 @@ fn every_example_compiles_in_every_permutation() {
         }
     }
 }
+
+fn set(rig: &mut Rig, patch: &mut Patch, node: u32, pin: &str, value: Spread) {
+    let doc = patch.nodes.iter_mut().find(|n| n.id.0 == node).expect("node");
+    doc.values.insert(pin.to_owned(), value);
+    assert!(rig.rt.load(patch).is_empty());
+}
+
+fn grey(v: f32) -> Spread {
+    Spread::Color(vec![Color::rgba(v, v, v, 1.0)])
+}
+
+#[test]
+fn a_persistent_target_survives_frames_and_resets_on_a_cut() {
+    let mut patch = Patch::default();
+    noise_into(&mut patch, 1);
+    patch.add(NodeDoc::new(2, "Feedback (Shader)").with("Decay", vec![0.5f32]));
+    patch.add(output(3, "out"));
+    patch.link(1, "Texture", 2, "Texture");
+    patch.link(2, "Texture", 3, "Texture");
+    let mut rig = Rig::new(crate::registry(), &patch);
+    rig.step();
+    let first = mean(&rig.image("out"));
+    assert!(first[0] > 0.2, "{first:?}");
+    // The input goes black: what is left is last frame's trail, halved.
+    set(&mut rig, &mut patch, 1, "Color B", grey(0.0));
+    rig.step();
+    let second = mean(&rig.image("out"));
+    assert!((second[0] - 0.5 * first[0]).abs() < 2e-3, "{first:?} {second:?}");
+    // A cut: the trail starts again from its clear value.
+    rig.renderer.reset_history();
+    rig.step();
+    let cut = mean(&rig.image("out"));
+    assert!(cut[0].abs() < 1e-4, "{cut:?}");
+    assert!(rig.errors().is_empty(), "{:?}", rig.errors());
+}
+
+#[test]
+fn the_eye_adaptation_example_agrees_with_the_built_in_eye_adaptation() {
+    let mut patch = Patch::default();
+    noise_into(&mut patch, 1);
+    patch.add(NodeDoc::new(2, "EyeAdaptationChain (Shader)"));
+    patch.add(NodeDoc::new(3, "EyeAdaptation"));
+    patch.add(output(4, "shader"));
+    patch.add(output(5, "built-in"));
+    patch.link(1, "Texture", 2, "Texture");
+    patch.link(1, "Texture", 3, "Texture");
+    patch.link(2, "Texture", 4, "Texture");
+    patch.link(3, "Luminance", 5, "Texture");
+    let mut rig = Rig::new(crate::registry(), &patch);
+    let mut seen = Vec::new();
+    for frame in 0..6 {
+        // Bright for three frames, then dark: both adapt down at the same speed.
+        if frame == 3 {
+            set(&mut rig, &mut patch, 1, "Color B", grey(0.05));
+        }
+        rig.step();
+        let (a, b) = (rig.image("shader").pixel(0, 0)[0], rig.image("built-in").pixel(0, 0)[0]);
+        assert!((a - b).abs() <= 1e-4 * b.abs().max(1e-3), "frame {frame}: shader {a}, built-in {b}");
+        seen.push(a);
+    }
+    assert!(seen[5] < seen[2], "it adapted to the darker image: {seen:?}");
+}
+
+#[test]
+fn a_shader_beyond_the_device_limits_fails_on_its_node_and_the_rest_renders() {
+    let text = TINT_V1.replace("@workgroup_size(8, 8)", "@workgroup_size(1024, 1024)");
+    let (_dir, _library, registry, mut patch) = tint_rig(&text);
+    patch.add(output(4, "noise"));
+    patch.link(1, "Texture", 4, "Texture");
+    let mut rig = Rig::new(registry, &patch);
+    rig.step();
+    // The shader node fails (its Output has nothing to show); the other branch renders.
+    let errors: Vec<String> = rig.errors().into_iter().filter(|e| e.starts_with("#2:")).collect();
+    assert_eq!(errors.len(), 1, "{errors:?}");
+    assert!(errors[0].contains("tint.wgsl:5:4") && errors[0].contains("exceeds the device's limits"), "{errors:?}");
+    assert!(mean(&rig.image("noise"))[0] > 0.2);
+}
