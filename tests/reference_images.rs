@@ -119,3 +119,27 @@ fn post_chain_over_several_frames() {
         );
     }
 }
+
+/// Every shipped shader node example (shaders/nodes/, docs/shader-nodes.md)
+/// over the procedural noise, at frame 2 (the feedback has a trail, the eye
+/// adaptation has blended twice).
+#[test]
+fn shader_node_examples() {
+    for output in [
+        "noise",
+        "blur",
+        "edges",
+        "aberration",
+        "graded",
+        "feedback",
+        "eye",
+    ] {
+        check(
+            &format!("shader-{output}"),
+            "patches/shader-nodes.ron",
+            output,
+            (48, 27),
+            2,
+        );
+    }
+}

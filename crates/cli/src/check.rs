@@ -17,7 +17,6 @@ pub struct Args {
 }
 
 pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
-    let registry = spreadlight_nodes::registry();
     let mut files = Vec::new();
     for path in &args.paths {
         files.extend(expand(path)?);
@@ -30,6 +29,12 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
                 errors += 1;
             }
             Ok(patch) => {
+                // Shader files beside the patch are node types; a broken one is an error.
+                let (registry, shader_errors) = crate::session::registry_for(Some(file));
+                for error in &shader_errors {
+                    println!("{error}");
+                }
+                errors += shader_errors.len();
                 let network = Network::compile(&patch, &registry);
                 for problem in network.problems() {
                     println!("{}", problem.located(file));

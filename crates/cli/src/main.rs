@@ -88,7 +88,11 @@ fn run_command(command: Command) -> anyhow::Result<ExitCode> {
 }
 
 fn list_nodes() {
-    let registry = spreadlight_nodes::registry();
+    // The built-in types, the shipped shader examples and the user's shader library.
+    let (registry, errors) = session::registry_for(None);
+    for error in errors {
+        eprintln!("{error}");
+    }
     let mut defs: Vec<_> = registry.iter().collect();
     defs.sort_by_key(|d| (d.category.clone(), d.name.clone()));
     let mut category = "";

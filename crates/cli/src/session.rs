@@ -5,9 +5,10 @@ use std::path::Path;
 use std::sync::Arc;
 
 use anyhow::Context;
-use spreadlight_graph::{FrameClock, Patch, Runtime, Severity, format};
+use spreadlight_graph::{FrameClock, Patch, Registry, Runtime, Severity, format};
 use spreadlight_nodes::gpu::GPU_CATEGORIES;
 use spreadlight_nodes::output::RenderedImages;
+use spreadlight_nodes::shader_nodes::ShaderLibrary;
 use spreadlight_render::Renderer;
 
 pub struct Session {
@@ -18,14 +19,24 @@ pub struct Session {
     pub load_errors: bool,
 }
 
-/// Whether any node of the patch needs a GPU.
-pub fn needs_gpu(patch: &Patch) -> bool {
-    let registry = spreadlight_nodes::registry();
+/// Whether any node of the patch needs a GPU (shader nodes always do).
+pub fn needs_gpu(patch: &Patch, registry: &Registry) -> bool {
     patch
         .nodes
         .iter()
         .filter_map(|n| registry.get(&n.type_name))
-        .any(|def| GPU_CATEGORIES.contains(&&*def.category))
+        .any(|def| GPU_CATEGORIES.contains(&&*def.category) || def.category.starts_with("Shader"))
+}
+
+/// The node types a patch can use: the built-in ones plus the shader nodes of
+/// the user's library and of the `shaders/` folder beside the patch. Files that
+/// do not compile are returned (their nodes show the error too).
+pub fn registry_for(path: Option<&Path>) -> (Registry, Vec<String>) {
+    let mut registry = spreadlight_nodes::registry();
+    let mut library = ShaderLibrary::for_patch(path);
+    library.poll(&mut registry);
+    let errors = library.errors().values().map(|e| format!("error: {e}")).collect();
+    (registry, errors)
 }
 
 impl Session {
@@ -52,14 +63,19 @@ impl Session {
         size: Option<(u32, u32)>,
         capture: bool,
     ) -> anyhow::Result<Self> {
-        let mut runtime = Runtime::new(spreadlight_nodes::registry());
+        let (registry, shader_errors) = registry_for(Some(path));
+        for error in &shader_errors {
+            eprintln!("{error}");
+        }
+        let gpu = force_gpu || needs_gpu(patch, &registry);
+        let mut runtime = Runtime::new(registry);
         let dir = path.parent().unwrap_or(Path::new("")).to_path_buf();
         runtime.provide(Arc::new(spreadlight_graph::PatchDir(dir)));
         let images = Arc::new(RenderedImages::default());
         if capture {
             runtime.provide(images.clone());
         }
-        let renderer = if force_gpu || needs_gpu(patch) {
+        let renderer = if gpu {
             let renderer =
                 Arc::new(Renderer::headless().context("cannot open the GPU this patch needs")?);
             if let Some(size) = size {
@@ -70,7 +86,7 @@ impl Session {
         } else {
             None
         };
-        let mut load_errors = false;
+        let mut load_errors = !shader_errors.is_empty();
         for problem in runtime.load(patch) {
             eprintln!("{}", problem.located(path));
             load_errors |= problem.severity == Severity::Error;
