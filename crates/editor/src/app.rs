@@ -195,6 +195,7 @@ pub struct EditorApp {
     ui_times: std::collections::VecDeque<f64>,
     evaluations: u64,
     auto: AutoRun,
+    shaders: crate::shader_watch::ShaderWatch,
 }
 
 impl EditorApp {
@@ -286,6 +287,7 @@ impl EditorApp {
             ui_times: std::collections::VecDeque::new(),
             evaluations: 0,
             auto: AutoRun::default(),
+            shaders: crate::shader_watch::ShaderWatch::new(None),
         };
         match options.path {
             // `spreadlight edit new.ron` starts that patch, as text editors do.
@@ -452,6 +454,10 @@ impl EditorApp {
         self.autosaved_generation = None;
         self.recovery_written = false;
         self.clock = FrameClock::default();
+        // The patch's own shader folder: its node types replace the last patch's.
+        self.registry = crate::nodes::registry();
+        self.shaders = crate::shader_watch::ShaderWatch::new(self.path.as_deref());
+        self.poll_shaders(f64::INFINITY);
         self.runtime = Runtime::new(self.registry.clone());
         if let Some(gpu) = &self.gpu {
             self.runtime.provide(gpu.renderer.clone());
@@ -627,6 +633,17 @@ impl EditorApp {
     }
 
     // ----- runtime and viewports -----
+
+    /// Pick up saved shader files: their node types are replaced and the
+    /// patch recompiled, keeping links and values; errors go to the status bar.
+    fn poll_shaders(&mut self, now: f64) {
+        if let Some(changes) = self.shaders.poll(now, &mut self.registry) {
+            self.runtime.set_registry(self.registry.clone());
+            self.loaded_generation = None;
+            self.synced_generation = None;
+            self.status = self.shaders.describe(&changes);
+        }
+    }
 
     /// Reload on change; with `dt`, also advance time when playing or stepping.
     fn evaluate_if_needed(&mut self, dt: Option<f64>) {
@@ -1662,6 +1679,12 @@ impl EditorApp {
         let ctx = ui.ctx().clone();
         self.handle_close(&ctx);
         let (now, dt) = ctx.input(|i| (i.time, f64::from(i.stable_dt)));
+        self.poll_shaders(now);
+        if self.shaders.is_watching() {
+            ctx.request_repaint_after(std::time::Duration::from_secs_f64(
+                crate::shader_watch::POLL_SECS,
+            ));
+        }
         self.shortcuts(&ctx);
         self.evaluate_if_needed(Some(dt));
 

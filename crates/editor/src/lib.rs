@@ -11,6 +11,7 @@ pub mod files;
 pub mod gpu;
 pub mod model;
 pub mod nodes;
+pub mod shader_watch;
 pub mod values;
 pub mod viewport;
 
