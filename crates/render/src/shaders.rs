@@ -225,6 +225,8 @@ pub const SHADERS: &[ShaderFile] = &[
         ["VARIANCE_CLIP", "CATMULL_ROM"],
         Rule::Requires("CATMULL_ROM", "VARIANCE_CLIP")
     ),
+    // The shader-node example blur, run as a built-in pass (the baseline its node is benchmarked against).
+    shader!("nodes/blur.wgsl", []),
     shader!("gbuffer/view.wgsl", one_of ["ALBEDO", "NORMALS", "VELOCITY", "UV", "DEPTH", "MATERIAL_ID", "OBJECT_ID"]),
 ];
 

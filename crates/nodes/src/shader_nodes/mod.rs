@@ -4,6 +4,7 @@
 //! and in the user's library and reloads them when they change. The examples
 //! in the repository's `shaders/nodes/` are built in.
 
+pub mod builtin_blur;
 pub mod library;
 pub mod node;
 pub mod shader_type;
@@ -39,6 +40,7 @@ pub const EXAMPLES: &[(&str, &str, &str)] = &[
 /// Register the shipped examples. One that does not compile (a bug a test
 /// catches) is registered as a node that shows its error.
 pub fn register(r: &mut Registry) {
+    builtin_blur::register(r);
     for (stem, path, source) in EXAMPLES {
         let name = type_name(stem);
         match ShaderType::load(&name, path, source) {

@@ -368,3 +368,34 @@ fn a_shader_beyond_the_device_limits_fails_on_its_node_and_the_rest_renders() {
     assert!(errors[0].contains("tint.wgsl:5:4") && errors[0].contains("exceeds the device's limits"), "{errors:?}");
     assert!(mean(&rig.image("noise"))[0] > 0.2);
 }
+
+#[test]
+fn the_blur_node_matches_the_same_blur_written_as_a_built_in_pass() {
+    let mut patch = Patch::default();
+    noise_into(&mut patch, 1);
+    patch.add(NodeDoc::new(2, "Blur (Shader)").with("Radius", vec![6.0f32]));
+    patch.add(NodeDoc::new(3, "BlurBuiltin").with("Radius", vec![6.0f32]));
+    patch.add(output(4, "shader"));
+    patch.add(output(5, "built-in"));
+    patch.link(1, "Texture", 2, "Texture");
+    patch.link(1, "Texture", 3, "Texture");
+    patch.link(2, "Texture", 4, "Texture");
+    patch.link(3, "Texture", 5, "Texture");
+    let mut rig = Rig::new(crate::registry(), &patch);
+    rig.step();
+    assert!(rig.errors().is_empty(), "{:?}", rig.errors());
+    let (a, b) = (rig.image("shader"), rig.image("built-in"));
+    assert_eq!(a.pixels, b.pixels);
+    // And it did blur: less contrast than the noise.
+    let spread = |img: &ImageF32| {
+        let m = mean(img)[0];
+        img.pixels.iter().map(|p| (p[0] - m).abs()).sum::<f32>()
+    };
+    let mut noise_only = Patch::default();
+    noise_into(&mut noise_only, 1);
+    noise_only.add(output(4, "noise"));
+    noise_only.link(1, "Texture", 4, "Texture");
+    let mut plain = Rig::new(crate::registry(), &noise_only);
+    plain.step();
+    assert!(spread(&a) < 0.8 * spread(&plain.image("noise")));
+}

@@ -7,6 +7,7 @@
 //! reloads them when they change.
 
 pub mod annotations;
+pub mod builtin_blur;
 pub mod error;
 pub mod program;
 pub mod recipe;
