@@ -35,7 +35,11 @@ pub fn registry_for(path: Option<&Path>) -> (Registry, Vec<String>) {
     let mut registry = spreadlight_nodes::registry();
     let mut library = ShaderLibrary::for_patch(path);
     library.poll(&mut registry);
-    let errors = library.errors().values().map(|e| format!("error: {e}")).collect();
+    let errors = library
+        .errors()
+        .values()
+        .map(|e| format!("error: {e}"))
+        .collect();
     (registry, errors)
 }
 

@@ -64,14 +64,21 @@ fn reload_200_lines(bencher: divan::Bencher) {
     let path = dir.path().join("big.wgsl");
     let mut library = ShaderLibrary::new(vec![dir.path().to_owned()]);
     let mut registry = spreadlight_nodes::registry();
-    assert_eq!(two_hundred_lines(1).lines().count() / 10, 19, "about 200 lines");
+    assert_eq!(
+        two_hundred_lines(1).lines().count() / 10,
+        19,
+        "about 200 lines"
+    );
     let mut variant = 0u32;
     bencher
         .with_inputs(|| {
             // A different length each time, so the library sees a change.
             variant += 1;
-            std::fs::write(&path, two_hundred_lines(variant) + &" ".repeat(variant as usize % 7 + 1))
-                .expect("write");
+            std::fs::write(
+                &path,
+                two_hundred_lines(variant) + &" ".repeat(variant as usize % 7 + 1),
+            )
+            .expect("write");
         })
         .bench_local_values(|()| {
             let changes = library.poll(&mut registry);

@@ -132,7 +132,10 @@ impl ShaderLibrary {
             if self.seen.get(&path).is_some_and(|s| s.stamp == stamp) {
                 continue;
             }
-            let stem = path.file_stem().and_then(|s| s.to_str()).unwrap_or("shader");
+            let stem = path
+                .file_stem()
+                .and_then(|s| s.to_str())
+                .unwrap_or("shader");
             let name = type_name(stem);
             let file = path.display().to_string();
             let loaded = std::fs::read_to_string(&path)
@@ -141,7 +144,13 @@ impl ShaderLibrary {
                 })
                 .and_then(|text| ShaderType::load(&name, &file, &text));
             self.install(registry, &name, loaded);
-            self.seen.insert(path, Seen { stamp, name: name.clone() });
+            self.seen.insert(
+                path,
+                Seen {
+                    stamp,
+                    name: name.clone(),
+                },
+            );
             changes.updated.push(name);
         }
         changes

@@ -7,9 +7,9 @@ use std::collections::BTreeSet;
 use std::sync::Arc;
 
 use spreadlight_graph::{EvalContext, Node, NodeError, ResourceKind, Spread};
+use spreadlight_render::TextureRef;
 use spreadlight_render::gbuffer::GBuffer;
 use spreadlight_render::shader_nodes::{ParamKind, ParamPin, ShaderNodeInputs, ShaderNodeRecipe};
-use spreadlight_render::TextureRef;
 
 use super::shader_type::ShaderType;
 use crate::gpu::{renderer, resource_spread, resources};
@@ -161,7 +161,8 @@ impl Node for ShaderNode {
                         .iter()
                         .map(|t| Some((*t[slice % t.len()]).clone()))
                         .collect(),
-                    gbuffer: (!gbuffers.is_empty()).then(|| gbuffers[slice % gbuffers.len()].clone()),
+                    gbuffer: (!gbuffers.is_empty())
+                        .then(|| gbuffers[slice % gbuffers.len()].clone()),
                     params: bytes,
                     skips,
                     time: cx.clock.time as f32,

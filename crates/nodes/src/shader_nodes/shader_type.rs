@@ -119,10 +119,7 @@ impl ShaderType {
         &self,
         defines: &BTreeSet<String>,
     ) -> Result<(Arc<Program>, bool), ShaderNodeError> {
-        let mut cache = self
-            .permutations
-            .lock()
-            .unwrap_or_else(|e| e.into_inner());
+        let mut cache = self.permutations.lock().unwrap_or_else(|e| e.into_inner());
         if let Some(p) = cache.get(defines) {
             return Ok((p.clone(), false));
         }
@@ -135,7 +132,10 @@ impl ShaderType {
         if program.uniform != self.base.uniform {
             return Err(ShaderNodeError::at(
                 &self.file,
-                self.notes.switches.first().map_or_else(Default::default, |s| s.at),
+                self.notes
+                    .switches
+                    .first()
+                    .map_or_else(Default::default, |s| s.at),
                 "the uniform block must be the same in every permutation (its fields are the pins)",
             ));
         }
@@ -176,7 +176,11 @@ impl ShaderType {
     /// The node type; `error` (a newer version of the file that failed) is
     /// shown on every node of it while this version keeps rendering.
     pub fn node_def(self: &Arc<Self>, error: Option<ShaderNodeError>) -> NodeDef {
-        let category = self.notes.category.clone().unwrap_or_else(|| "Shader".into());
+        let category = self
+            .notes
+            .category
+            .clone()
+            .unwrap_or_else(|| "Shader".into());
         let mut help = self.notes.help.join(" ");
         let ranges: Vec<String> = self
             .params()
@@ -194,7 +198,11 @@ impl ShaderType {
         let texture = PinType::Resource(ResourceKind::Texture);
         let mut def = NodeDef::new(self.name.clone(), format!("Shader/{category}"), help);
         for (_, pin, _) in &self.notes.inputs {
-            def = def.input_spread(pin.clone(), texture, Spread::Resource(ResourceKind::Texture, vec![]));
+            def = def.input_spread(
+                pin.clone(),
+                texture,
+                Spread::Resource(ResourceKind::Texture, vec![]),
+            );
         }
         if self.reads_gbuffer() {
             def = def.input_spread(
@@ -234,7 +242,10 @@ fn pin_default(p: &ParamPin) -> (PinType, Spread) {
         ParamKind::Float => (PinType::Float, Spread::Float(vec![at(0)])),
         ParamKind::Int => (PinType::Int, Spread::Int(vec![at(0) as i64])),
         ParamKind::Bool => (PinType::Bool, Spread::Bool(vec![at(0) != 0.0])),
-        ParamKind::Vec2 => (PinType::Vec2, Spread::Vec2(vec![glam::Vec2::new(at(0), at(1))])),
+        ParamKind::Vec2 => (
+            PinType::Vec2,
+            Spread::Vec2(vec![glam::Vec2::new(at(0), at(1))]),
+        ),
         ParamKind::Vec3 => (
             PinType::Vec3,
             Spread::Vec3(vec![glam::Vec3::new(at(0), at(1), at(2))]),
@@ -252,7 +263,10 @@ fn pin_default(p: &ParamPin) -> (PinType, Spread) {
             for (i, c) in cols.iter_mut().enumerate() {
                 *c = at(i);
             }
-            (PinType::Mat4, Spread::Mat4(vec![glam::Mat4::from_cols_array(&cols)]))
+            (
+                PinType::Mat4,
+                Spread::Mat4(vec![glam::Mat4::from_cols_array(&cols)]),
+            )
         }
     }
 }

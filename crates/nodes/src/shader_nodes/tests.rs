@@ -6,9 +6,7 @@
 use std::path::Path;
 use std::sync::Arc;
 
-use spreadlight_graph::{
-    Color, FrameClock, NodeDoc, Patch, PinType, Registry, Runtime, Spread,
-};
+use spreadlight_graph::{Color, FrameClock, NodeDoc, Patch, PinType, Registry, Runtime, Spread};
 use spreadlight_render::readback::ImageF32;
 use spreadlight_render::renderer::test_renderer;
 use spreadlight_render::{FrameReport, Renderer};
@@ -138,12 +136,18 @@ fn pins_come_from_the_uniform_block_with_names_defaults_ranges_and_colours() {
     assert_eq!(
         pins,
         [
-            ("Texture", PinType::Resource(spreadlight_graph::ResourceKind::Texture)),
+            (
+                "Texture",
+                PinType::Resource(spreadlight_graph::ResourceKind::Texture)
+            ),
             ("Tint", PinType::Color),
             ("Gain", PinType::Float),
         ]
     );
-    assert_eq!(def.inputs[1].default, Spread::Color(vec![Color::rgba(1.0, 0.5, 0.25, 1.0)]));
+    assert_eq!(
+        def.inputs[1].default,
+        Spread::Color(vec![Color::rgba(1.0, 0.5, 0.25, 1.0)])
+    );
     assert_eq!(def.inputs[2].default, Spread::Float(vec![1.0]));
     let gain = &ty.params()[1];
     assert_eq!((gain.min, gain.max), (Some(0.0), Some(4.0)));
@@ -152,7 +156,10 @@ fn pins_come_from_the_uniform_block_with_names_defaults_ranges_and_colours() {
     let noise = crate::registry();
     let noise = noise.get("Noise (Shader)").expect("shipped");
     let names: Vec<&str> = noise.inputs.iter().map(|p| &*p.name).collect();
-    assert_eq!(names, ["Scale", "Octaves", "Speed", "Color A", "Color B", "Ridged"]);
+    assert_eq!(
+        names,
+        ["Scale", "Octaves", "Speed", "Color A", "Color B", "Ridged"]
+    );
     assert_eq!(noise.inputs[1].default, Spread::Int(vec![4]));
 }
 
@@ -168,8 +175,14 @@ fn hot_reload_keeps_links_and_values_and_a_broken_file_keeps_the_last_good_versi
 
     // Saved: the blue channel now comes out inverted; a new pin appears.
     let v2 = TINT_V1
-        .replace("c.rgb * params.tint.rgb * params.gain", "vec3<f32>(c.rg * params.tint.rg * params.gain, params.extra)")
-        .replace("    size: vec2<f32>,", "    extra: f32, // @pin default=0.75\n    size: vec2<f32>,");
+        .replace(
+            "c.rgb * params.tint.rgb * params.gain",
+            "vec3<f32>(c.rg * params.tint.rg * params.gain, params.extra)",
+        )
+        .replace(
+            "    size: vec2<f32>,",
+            "    extra: f32, // @pin default=0.75\n    size: vec2<f32>,",
+        );
     // A different length, so the change is seen even within the file system's time resolution.
     write(dir.path(), &v2);
     let changes = library.poll(&mut registry);
@@ -199,15 +212,24 @@ fn hot_reload_keeps_links_and_values_and_a_broken_file_keeps_the_last_good_versi
         write(dir.path(), &format!("{text}\n"));
         library.poll(&mut registry);
         let error = library.errors()["Tint (Shader)"].to_string();
-        assert!(error.starts_with(&format!("{file}:{at}")), "{what}: {error}");
+        assert!(
+            error.starts_with(&format!("{file}:{at}")),
+            "{what}: {error}"
+        );
         assert!(error.contains(what), "{error}");
         rig.rt.set_registry(registry.clone());
         assert!(rig.rt.load(&patch).is_empty());
         rig.step();
         let errors = rig.errors();
-        assert!(errors.len() == 1 && errors[0].contains(&error), "{errors:?}");
+        assert!(
+            errors.len() == 1 && errors[0].contains(&error),
+            "{errors:?}"
+        );
         let still = mean(&rig.image("out"));
-        assert!((still[2] - 0.75).abs() < 1e-3, "{what}: the last good version renders: {still:?}");
+        assert!(
+            (still[2] - 0.75).abs() < 1e-3,
+            "{what}: the last good version renders: {still:?}"
+        );
         // Put the good version back (different length from the broken one).
         write(dir.path(), &v2);
         library.poll(&mut registry);
@@ -234,8 +256,17 @@ fn through(node: NodeDoc, from: &str) -> (Rig, FrameReport) {
 fn a_repeated_pass_runs_until_its_target_is_small_enough_and_is_counted() {
     let (rig, report) = through(NodeDoc::new(2, "EyeAdaptationChain (Shader)"), "Texture");
     // 32x18: log-luminance at 16x9, then 8x5, 4x3, 2x2, 1x1: four iterations, three repeats.
-    assert_eq!(report.counter("shader node repeats"), 3, "{:?}", report.counters);
-    let downsamples = report.passes.iter().filter(|p| p.name.contains("downsample")).count();
+    assert_eq!(
+        report.counter("shader node repeats"),
+        3,
+        "{:?}",
+        report.counters
+    );
+    let downsamples = report
+        .passes
+        .iter()
+        .filter(|p| p.name.contains("downsample"))
+        .count();
     assert_eq!(downsamples, 4);
     let image = rig.image("out");
     assert_eq!((image.width, image.height), (1, 1));
@@ -262,7 +293,14 @@ fn each_used_permutation_compiles_once_and_is_counted() {
         "Texture",
     );
     assert_eq!(report.counter("shader node permutations compiled"), 1);
-    assert_eq!(report.passes.iter().filter(|p| p.name.contains("sobel")).count(), 1);
+    assert_eq!(
+        report
+            .passes
+            .iter()
+            .filter(|p| p.name.contains("sobel"))
+            .count(),
+        1
+    );
     rig.rt.invalidate_all();
     let again = rig.step();
     assert_eq!(again.counter("shader node permutations compiled"), 0);
@@ -272,15 +310,18 @@ fn each_used_permutation_compiles_once_and_is_counted() {
 fn passes_whose_targets_nothing_reads_are_culled() {
     // Only the blur's half-size output is read: its vertical pass is culled.
     let (rig, report) = through(NodeDoc::new(2, "Blur (Shader)"), "Half");
-    assert!(report.culled.iter().any(|p| p.contains("vertical")), "{:?}", report.culled);
+    assert!(
+        report.culled.iter().any(|p| p.contains("vertical")),
+        "{:?}",
+        report.culled
+    );
     assert_eq!(rig.image("out").width, SIZE.0 / 2);
 }
 
 #[test]
 fn every_example_compiles_in_every_permutation() {
     for (stem, path, source) in EXAMPLES {
-        let ty = ShaderType::load(&type_name(stem), path, source)
-            .unwrap_or_else(|e| panic!("{e}"));
+        let ty = ShaderType::load(&type_name(stem), path, source).unwrap_or_else(|e| panic!("{e}"));
         let switches: Vec<String> = ty.notes.switches.iter().map(|s| s.define.clone()).collect();
         for mask in 0..(1u32 << switches.len()) {
             let defines = (0..switches.len())
@@ -293,7 +334,11 @@ fn every_example_compiles_in_every_permutation() {
 }
 
 fn set(rig: &mut Rig, patch: &mut Patch, node: u32, pin: &str, value: Spread) {
-    let doc = patch.nodes.iter_mut().find(|n| n.id.0 == node).expect("node");
+    let doc = patch
+        .nodes
+        .iter_mut()
+        .find(|n| n.id.0 == node)
+        .expect("node");
     doc.values.insert(pin.to_owned(), value);
     assert!(rig.rt.load(patch).is_empty());
 }
@@ -318,7 +363,10 @@ fn a_persistent_target_survives_frames_and_resets_on_a_cut() {
     set(&mut rig, &mut patch, 1, "Color B", grey(0.0));
     rig.step();
     let second = mean(&rig.image("out"));
-    assert!((second[0] - 0.5 * first[0]).abs() < 2e-3, "{first:?} {second:?}");
+    assert!(
+        (second[0] - 0.5 * first[0]).abs() < 2e-3,
+        "{first:?} {second:?}"
+    );
     // A cut: the trail starts again from its clear value.
     rig.renderer.reset_history();
     rig.step();
@@ -347,11 +395,20 @@ fn the_eye_adaptation_example_agrees_with_the_built_in_eye_adaptation() {
             set(&mut rig, &mut patch, 1, "Color B", grey(0.05));
         }
         rig.step();
-        let (a, b) = (rig.image("shader").pixel(0, 0)[0], rig.image("built-in").pixel(0, 0)[0]);
-        assert!((a - b).abs() <= 1e-4 * b.abs().max(1e-3), "frame {frame}: shader {a}, built-in {b}");
+        let (a, b) = (
+            rig.image("shader").pixel(0, 0)[0],
+            rig.image("built-in").pixel(0, 0)[0],
+        );
+        assert!(
+            (a - b).abs() <= 1e-4 * b.abs().max(1e-3),
+            "frame {frame}: shader {a}, built-in {b}"
+        );
         seen.push(a);
     }
-    assert!(seen[5] < seen[2], "it adapted to the darker image: {seen:?}");
+    assert!(
+        seen[5] < seen[2],
+        "it adapted to the darker image: {seen:?}"
+    );
 }
 
 #[test]
@@ -363,9 +420,16 @@ fn a_shader_beyond_the_device_limits_fails_on_its_node_and_the_rest_renders() {
     let mut rig = Rig::new(registry, &patch);
     rig.step();
     // The shader node fails (its Output has nothing to show); the other branch renders.
-    let errors: Vec<String> = rig.errors().into_iter().filter(|e| e.starts_with("#2:")).collect();
+    let errors: Vec<String> = rig
+        .errors()
+        .into_iter()
+        .filter(|e| e.starts_with("#2:"))
+        .collect();
     assert_eq!(errors.len(), 1, "{errors:?}");
-    assert!(errors[0].contains("tint.wgsl:5:4") && errors[0].contains("exceeds the device's limits"), "{errors:?}");
+    assert!(
+        errors[0].contains("tint.wgsl:5:4") && errors[0].contains("exceeds the device's limits"),
+        "{errors:?}"
+    );
     assert!(mean(&rig.image("noise"))[0] > 0.2);
 }
 

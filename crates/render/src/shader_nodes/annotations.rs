@@ -31,7 +31,10 @@ pub enum Repeat {
     Times(u32),
     /// Each iteration at `step` times the last one's size (rounded up), until
     /// the destination is at most `width` x `height`.
-    Until { width: u32, height: u32 },
+    Until {
+        width: u32,
+        height: u32,
+    },
 }
 
 /// `// @pass ENTRY -> TARGET[, TARGET] [repeat=N|repeat=until:WxH] [step=S] [skip=PIN]`.
@@ -117,7 +120,8 @@ impl Annotations {
                 "help" => a.help.push(rest.to_owned()),
                 "input" => {
                     let (var, display) = name_and_display(rest);
-                    let var = var.ok_or_else(|| fail("`@input` needs a texture variable".into()))?;
+                    let var =
+                        var.ok_or_else(|| fail("`@input` needs a texture variable".into()))?;
                     let pin = display.unwrap_or_else(|| title(&var));
                     a.inputs.push((var, pin, at));
                 }
@@ -306,7 +310,11 @@ fn parse_target(rest: &str, at: At) -> Result<TargetDecl, String> {
                 };
                 target.clear = Some(c);
             }
-            _ => return Err(format!("unknown target setting `{setting}` (scale=, size=, clear=)")),
+            _ => {
+                return Err(format!(
+                    "unknown target setting `{setting}` (scale=, size=, clear=)"
+                ));
+            }
         }
     }
     Ok(target)
@@ -355,7 +363,11 @@ fn parse_pass(rest: &str, at: At) -> Result<PassDecl, String> {
                     .ok_or_else(|| format!("step `{v}` is not in 0..1"))?;
             }
             Some(("skip", v)) => pass.skip = Some(v.to_owned()),
-            Some(_) => return Err(format!("unknown pass setting `{word}` (repeat=, step=, skip=)")),
+            Some(_) => {
+                return Err(format!(
+                    "unknown pass setting `{word}` (repeat=, step=, skip=)"
+                ));
+            }
         }
     }
     if targets.is_empty() {
@@ -411,7 +423,13 @@ mod tests {
         assert_eq!(a.category.as_deref(), Some("Filter"));
         assert_eq!(a.targets[0].size, SizeRule::Relative(0.5));
         assert_eq!(a.targets[1].clear, Some([0.5, 0.5, 0.5, 0.5]));
-        assert_eq!(a.passes[0].repeat, Repeat::Until { width: 1, height: 1 });
+        assert_eq!(
+            a.passes[0].repeat,
+            Repeat::Until {
+                width: 1,
+                height: 1
+            }
+        );
         assert_eq!(a.passes[0].skip.as_deref(), Some("Bypass"));
         let pin = &a.pins[&6];
         assert_eq!(pin.display.as_deref(), Some("Blur Radius"));
@@ -422,6 +440,9 @@ mod tests {
     fn a_bad_annotation_names_its_line_and_column() {
         let err = Annotations::parse("f.wgsl", "\n  // @target t forever rgba8unorm\n")
             .expect_err("bad lifetime");
-        assert!(err.to_string().starts_with("f.wgsl:2:6: unknown lifetime"), "{err}");
+        assert!(
+            err.to_string().starts_with("f.wgsl:2:6: unknown lifetime"),
+            "{err}"
+        );
     }
 }

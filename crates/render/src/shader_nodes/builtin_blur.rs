@@ -51,7 +51,13 @@ impl BuiltinBlur {
     }
 
     /// One direction: `entry` reads `input`, writes `output` (the shader's Params: radius, size, texel).
-    fn run(&self, cx: &mut PassContext<'_>, entry: &'static str, input: &str, output: &str) -> Result<(), RenderError> {
+    fn run(
+        &self,
+        cx: &mut PassContext<'_>,
+        entry: &'static str,
+        input: &str,
+        output: &str,
+    ) -> Result<(), RenderError> {
         let (w, h) = {
             let t = cx.texture(output)?;
             (t.width(), t.height())
@@ -71,7 +77,11 @@ impl BuiltinBlur {
         let (source, target) = (cx.view(input)?, cx.view(output)?);
         let key = ShaderKey::new(SHADER, []);
         let pipeline = cx.shaders.compute_pipeline(&device, &key, entry)?;
-        let (read, write) = if entry == "horizontal" { (1, 4) } else { (3, 5) };
+        let (read, write) = if entry == "horizontal" {
+            (1, 4)
+        } else {
+            (3, 5)
+        };
         let group = cx.shaders.bind_group(
             &device,
             &key,
@@ -85,7 +95,12 @@ impl BuiltinBlur {
                 (write, wgpu::BindingResource::TextureView(&target)),
             ],
         )?;
-        cx.dispatch(entry, &pipeline, &[&group], (w.div_ceil(8), h.div_ceil(8), 1));
+        cx.dispatch(
+            entry,
+            &pipeline,
+            &[&group],
+            (w.div_ceil(8), h.div_ceil(8), 1),
+        );
         Ok(())
     }
 }
@@ -101,7 +116,10 @@ impl Recipe for BuiltinBlur {
             name("horizontal"),
             self.owner,
             &[&self.source.name],
-            &[(&self.half, TextureDesc::storage(FORMAT).size(SizeRule::Relative(0.5)))],
+            &[(
+                &self.half,
+                TextureDesc::storage(FORMAT).size(SizeRule::Relative(0.5)),
+            )],
             move |cx| self.run(cx, "horizontal", &self.source.name, &self.half),
         );
         fg.add_pass(

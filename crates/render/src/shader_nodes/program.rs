@@ -202,10 +202,12 @@ fn parse_and_validate(
     text: &str,
 ) -> Result<(naga::Module, naga::valid::ModuleInfo), ShaderNodeError> {
     let module = naga::front::wgsl::parse_str(text).map_err(|e| {
-        let at = e.location(text).map_or(Span { line: 1, column: 1 }, |l| Span {
-            line: l.line_number,
-            column: l.line_position,
-        });
+        let at = e
+            .location(text)
+            .map_or(Span { line: 1, column: 1 }, |l| Span {
+                line: l.line_number,
+                column: l.line_position,
+            });
         ShaderNodeError::at(file, at, format!("WGSL syntax: {}", e.message()))
     })?;
     let info = naga::valid::Validator::new(
@@ -281,11 +283,7 @@ fn uniform_layout(
             "the uniform block must be a struct (its fields become pins)".into(),
         ));
     };
-    let struct_offset = module
-        .types
-        .get_span(ty)
-        .to_range()
-        .map_or(0, |r| r.start);
+    let struct_offset = module.types.get_span(ty).to_range().map_or(0, |r| r.start);
     let mut layout = UniformLayout {
         binding,
         size: *span,
@@ -465,7 +463,9 @@ impl Program {
                 }
                 if let Role::Read(t) = role
                     && !written.contains_key(t.as_str())
-                    && notes.target(t).is_some_and(|d| d.lifetime != Lifetime::Persistent)
+                    && notes
+                        .target(t)
+                        .is_some_and(|d| d.lifetime != Lifetime::Persistent)
                     && !(decl.targets.contains(t) && decl.repeat != Repeat::Once)
                 {
                     return Err(fail(format!(
@@ -492,8 +492,12 @@ impl Program {
                 bindings: pass_bindings,
                 skip: decl.skip.clone(),
             };
-            if plan.skip.is_some() && plan.reads().next().is_none()
-                && !plan.bindings.iter().any(|(_, r)| matches!(r, Role::Input(_)))
+            if plan.skip.is_some()
+                && plan.reads().next().is_none()
+                && !plan
+                    .bindings
+                    .iter()
+                    .any(|(_, r)| matches!(r, Role::Input(_)))
             {
                 return Err(fail(format!(
                     "pass `{}` can be skipped but reads no texture to pass on",
@@ -558,7 +562,8 @@ impl Program {
                     uniforms += 1;
                     if uniforms > 1 {
                         return Err(fail(
-                            "a shader node has one uniform block (its pins); `{name}` is a second".into(),
+                            "a shader node has one uniform block (its pins); `{name}` is a second"
+                                .into(),
                         ));
                     }
                     Role::Uniform
@@ -680,7 +685,10 @@ impl Program {
             return Err(ShaderNodeError::at(
                 &self.file,
                 Span { line: 1, column: 1 },
-                format!("the uniform block is {} bytes; the device allows {}", u.size, limits.max_uniform_buffer_binding_size),
+                format!(
+                    "the uniform block is {} bytes; the device allows {}",
+                    u.size, limits.max_uniform_buffer_binding_size
+                ),
             ));
         }
         Ok(())

@@ -134,7 +134,12 @@ impl ShaderNodeRecipe {
     /// Where binding `role` of a pass reads from, outside the node's targets.
     fn outside(&self, role: &Role) -> Option<String> {
         match role {
-            Role::Input(i) => self.inputs.textures.get(*i)?.as_ref().map(|t| t.name.clone()),
+            Role::Input(i) => self
+                .inputs
+                .textures
+                .get(*i)?
+                .as_ref()
+                .map(|t| t.name.clone()),
             Role::GBuffer(name) => {
                 let g = &self.inputs.gbuffer.as_ref()?.targets;
                 Some(match name.as_str() {
@@ -229,7 +234,11 @@ impl ShaderNodeRecipe {
                 iteration += 1;
             }
         }
-        (steps, current.into_iter().map(|c| c.map(|(s, _)| s)).collect(), skipped)
+        (
+            steps,
+            current.into_iter().map(|c| c.map(|(s, _)| s)).collect(),
+            skipped,
+        )
     }
 
     fn first_read(
@@ -238,12 +247,19 @@ impl ShaderNodeRecipe {
         current: &[Option<(Source, (u32, u32))>],
     ) -> Option<Source> {
         pass.bindings.iter().find_map(|(_, role)| match role {
-            Role::Read(t) => current[self.target_index(t)].as_ref().map(|(s, _)| s.clone()),
+            Role::Read(t) => current[self.target_index(t)]
+                .as_ref()
+                .map(|(s, _)| s.clone()),
             other => self.outside(other).map(Source::Outside),
         })
     }
 
-    fn run(&self, cx: &mut PassContext<'_>, step: &Step, names: &StepNames) -> Result<(), RenderError> {
+    fn run(
+        &self,
+        cx: &mut PassContext<'_>,
+        step: &Step,
+        names: &StepNames,
+    ) -> Result<(), RenderError> {
         let pass = &self.program.passes[step.pass];
         let device = cx.gpu.device.clone();
         let mut fresh = false;
@@ -322,10 +338,9 @@ impl ShaderNodeRecipe {
                     Bound::View(cx.view(&names.dests[i])?)
                 }
                 Role::Read(_) => {
-                    let name = names
-                        .reads
-                        .get(binding)
-                        .ok_or_else(|| missing(&self.type_name, "a target read before it is written"))?;
+                    let name = names.reads.get(binding).ok_or_else(|| {
+                        missing(&self.type_name, "a target read before it is written")
+                    })?;
                     Bound::View(cx.view(name)?)
                 }
                 other => {
@@ -464,12 +479,8 @@ impl Recipe for ShaderNodeRecipe {
                     let persistent = self.target_name(t);
                     if pass.decl.targets.contains(t) {
                         let copy = format!("shader{}/{t} previous", self.id);
-                        let (_, _, (width, height)) = step.dests[pass
-                            .decl
-                            .targets
-                            .iter()
-                            .position(|x| x == t)
-                            .unwrap_or(0)];
+                        let (_, _, (width, height)) =
+                            step.dests[pass.decl.targets.iter().position(|x| x == t).unwrap_or(0)];
                         writes.push((
                             copy.clone(),
                             TextureDesc::history_copy(decl.format)
@@ -489,11 +500,20 @@ impl Recipe for ShaderNodeRecipe {
                 names.reads.insert(*binding, name);
             }
             let mut reads: Vec<String> = names.reads.values().cloned().collect();
-            reads.extend(pass.bindings.iter().filter_map(|(_, role)| self.outside(role)));
+            reads.extend(
+                pass.bindings
+                    .iter()
+                    .filter_map(|(_, role)| self.outside(role)),
+            );
             // A pass does not read what it writes (its persistent target's copy holds last frame).
-            reads.retain(|r| !writes.iter().any(|(w, _)| w == r) && !names.histories.iter().any(|(h, _)| h == r));
+            reads.retain(|r| {
+                !writes.iter().any(|(w, _)| w == r) && !names.histories.iter().any(|(h, _)| h == r)
+            });
             if let Some(g) = &self.inputs.gbuffer
-                && pass.bindings.iter().any(|(_, r)| *r == Role::GBuffer("camera".into()))
+                && pass
+                    .bindings
+                    .iter()
+                    .any(|(_, r)| *r == Role::GBuffer("camera".into()))
             {
                 reads.push(g.targets.depth.clone());
             }
