@@ -25,9 +25,10 @@ impl ShaderWatch {
         }
     }
 
-    /// Whether there is anything to watch (so the editor keeps waking up for it).
+    /// Whether there is anything to watch, so the editor keeps waking up for
+    /// it: a folder that exists (one made later is seen at the next repaint).
     pub fn is_watching(&self) -> bool {
-        !self.library.folders().is_empty()
+        self.library.folders().iter().any(|f| f.is_dir())
     }
 
     /// Poll when due (`now` in seconds); what changed, if anything.
