@@ -457,7 +457,7 @@ impl EditorApp {
         // The patch's own shader folder: its node types replace the last patch's.
         self.registry = crate::nodes::registry();
         self.shaders = crate::shader_watch::ShaderWatch::new(self.path.as_deref());
-        self.poll_shaders(f64::INFINITY);
+        self.shaders.poll_now(&mut self.registry);
         self.runtime = Runtime::new(self.registry.clone());
         if let Some(gpu) = &self.gpu {
             self.runtime.provide(gpu.renderer.clone());

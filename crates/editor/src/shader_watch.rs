@@ -37,6 +37,11 @@ impl ShaderWatch {
             return None;
         }
         self.last_poll = now;
+        self.poll_now(registry)
+    }
+
+    /// Poll now, whenever the last poll was (a patch just opened).
+    pub fn poll_now(&mut self, registry: &mut Registry) -> Option<Changes> {
         let changes = self.library.poll(registry);
         (!changes.is_empty()).then_some(changes)
     }

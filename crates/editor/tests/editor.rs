@@ -903,3 +903,109 @@ fn a_file_pin_is_set_with_the_file_picker() {
     );
     assert_eq!(h.state().doc().undo_label(), Some("set #1.Filename"));
 }
+
+const TINT: &str = "// @input source \"Texture\"
+// @target tinted temporary rgba16float scale=1
+// @pass tint -> tinted
+struct Params {
+    gain: f32, // @pin default=1 min=0 max=4
+    size: vec2<f32>,
+}
+@group(0) @binding(0) var<uniform> params: Params;
+@group(0) @binding(1) var source: texture_2d<f32>;
+@group(0) @binding(2) var tinted: texture_storage_2d<rgba16float, write>;
+@compute @workgroup_size(8, 8)
+fn tint(@builtin(global_invocation_id) id: vec3<u32>) {
+    if (f32(id.x) >= params.size.x || f32(id.y) >= params.size.y) { return; }
+    textureStore(tinted, id.xy, textureLoad(source, id.xy, 0) * params.gain);
+}
+";
+
+/// Steps that let the editor's shader poll (every quarter second) come round.
+fn wait_for_poll(h: &mut Harness<'_, EditorApp>) {
+    for _ in 0..4 {
+        std::thread::sleep(std::time::Duration::from_millis(100));
+        h.run_steps(8);
+    }
+}
+
+#[test]
+fn a_saved_shader_file_updates_its_node_keeping_links_and_values() {
+    let env = Env::new();
+    let shaders = env.dir.path().join("shaders");
+    std::fs::create_dir_all(&shaders).expect("mkdir");
+    std::fs::write(shaders.join("tint.wgsl"), TINT).expect("write");
+    let mut p = Patch::default();
+    p.add(NodeDoc::new(1, "Noise (Shader)").at(20.0, 20.0));
+    p.add(
+        NodeDoc::new(2, "Tint (Shader)")
+            .at(20.0, 160.0)
+            .with("Gain", vec![0.5f32]),
+    );
+    p.add(NodeDoc::new(3, "Output").at(20.0, 300.0));
+    p.link(1, "Texture", 2, "Texture");
+    p.link(2, "Texture", 3, "Texture");
+    let path = env.patch_file("shaded.ron", &p);
+    // Polling keeps the editor awake: step it rather than `run` it.
+    let mut h = harness(env.options(Some(path)));
+    wait_for_poll(&mut h);
+    let pins = |h: &Harness<'_, EditorApp>| -> Vec<String> {
+        let def = h
+            .state()
+            .registry()
+            .get("Tint (Shader)")
+            .expect("registered");
+        def.inputs.iter().map(|p| p.name.to_string()).collect()
+    };
+    assert_eq!(pins(&h), ["Texture", "Gain"]);
+    assert!(h.state().runtime().node_error(NodeId(2)).is_none());
+
+    // Saved with a new pin: the node has it, keeps its link and its value.
+    let v2 = TINT
+        .replace(
+            "    size: vec2<f32>,",
+            "    offset: f32, // @pin default=0.25\n    size: vec2<f32>,",
+        )
+        .replace("* params.gain);", "* params.gain + params.offset);");
+    std::fs::write(shaders.join("tint.wgsl"), &v2).expect("write");
+    wait_for_poll(&mut h);
+    assert_eq!(
+        pins(&h),
+        ["Texture", "Gain", "Offset"],
+        "{}",
+        h.state().status()
+    );
+    let doc = h.state().doc().patch();
+    assert_eq!(doc.links.len(), 2);
+    assert_eq!(
+        doc.node(NodeId(2)).and_then(|n| n.values.get("Gain")),
+        Some(&Spread::Float(vec![0.5]))
+    );
+    assert!(h.state().runtime().node_error(NodeId(2)).is_none());
+
+    // Saved broken: the error names the place, on the node and in the status bar.
+    std::fs::write(
+        shaders.join("tint.wgsl"),
+        v2.replace("let", "lett")
+            .replace("textureStore(tinted", "textureStore(nowhere"),
+    )
+    .expect("write");
+    wait_for_poll(&mut h);
+    let error = h
+        .state()
+        .runtime()
+        .node_error(NodeId(2))
+        .map(|e| e.to_string())
+        .unwrap_or_default();
+    assert!(error.contains("tint.wgsl:15:"), "{error}");
+    assert!(
+        h.state().status().contains("tint.wgsl:15:"),
+        "{}",
+        h.state().status()
+    );
+    assert_eq!(
+        pins(&h),
+        ["Texture", "Gain", "Offset"],
+        "the last good version stays"
+    );
+}
