@@ -331,3 +331,30 @@ fn bench_prints_one_json_line_with_the_adapter() {
         text(&o.stderr)
     );
 }
+
+#[test]
+fn shader_nodes_are_listed_and_a_broken_one_beside_a_patch_is_named_by_check() {
+    let out = spreadlight(&["nodes"]);
+    let listed = text(&out.stdout);
+    assert!(listed.contains("Shader/Filter"), "{listed}");
+    assert!(listed.contains("Blur (Shader)"), "{listed}");
+
+    let dir = tempfile::tempdir().expect("tempdir");
+    std::fs::create_dir_all(dir.path().join("shaders")).expect("mkdir");
+    std::fs::write(
+        dir.path().join("shaders/glow.wgsl"),
+        "// @target out temporary rgba16float\n// @pass main -> out\nfn main( {\n",
+    )
+    .expect("write");
+    let patch = dir.path().join("uses-glow.ron");
+    std::fs::write(
+        &patch,
+        "(\n    version: 1,\n    nodes: [\n        (\n            id: 1,\n            type: \"Glow (Shader)\",\n            pos: (0.0, 0.0),\n        ),\n    ],\n    links: [],\n)\n",
+    )
+    .expect("write");
+    let out = spreadlight(&["check", patch.to_str().expect("utf-8")]);
+    let stdout = text(&out.stdout);
+    assert_eq!(out.status.code(), Some(1), "{stdout}");
+    assert!(stdout.contains("glow.wgsl:3:"), "{stdout}");
+    assert!(stdout.contains("WGSL syntax"), "{stdout}");
+}
