@@ -347,3 +347,49 @@ fn material_managers_place_materials_at_their_ids_and_later_ones_win() {
         "Material ID",
     );
 }
+
+#[test]
+fn add_matcap_keeps_mode_mapping_and_its_image_layer() {
+    use spreadlight_render::material::{MatCapMapping, MatCapMode, matcap_params};
+    let out = materials(
+        "AddMatCap",
+        &[
+            ("Strength", floats(&[0.5, 2.0])),
+            (
+                "Mode",
+                Spread::Enum(vec!["Multiply".to_owned(), "Add".to_owned()]),
+            ),
+            ("Mapping", Spread::Enum(vec!["Reflected".to_owned()])),
+            ("MatCap Texture ID", ints(&[3, -1])),
+        ],
+    );
+    assert_eq!(out.len(), 2);
+    assert_eq!(
+        out[0].params(Feature::MatCap),
+        Some(
+            &[matcap_params(
+                0.5,
+                MatCapMode::Multiply,
+                MatCapMapping::Reflected
+            )][..]
+        )
+    );
+    assert_eq!(
+        out[1].params(Feature::MatCap),
+        Some(&[[2.0, 1.0, 1.0, 0.0]][..])
+    );
+    assert_eq!(out[0].texture(Feature::MatCap), Some(3));
+    assert_eq!(
+        out[1].texture(Feature::MatCap),
+        None,
+        "-1: the built-in matcap"
+    );
+    for bad in [f32::NAN, f32::INFINITY, f32::NEG_INFINITY] {
+        let e = eval_err(
+            "AddMatCap",
+            &[("Strength", floats(&[1.0, bad]))],
+            "Strength",
+        );
+        assert!(e.to_string().contains("slice 1"), "{e}");
+    }
+}
