@@ -49,7 +49,7 @@ pub fn register(r: &mut Registry) {
     );
     let strength = |name, help| node(name, help).input("Strength", 1.0f32);
     r.add(
-        strength("AddReflection", "Sets environment reflection on each material, with a strength >= 0. No material in: new ones.")
+        strength("AddReflection", "Sets environment reflection on each material: how much of CompositeLight's Reflection input it takes, 0..1. No material in: new ones.")
             .evaluate(|cx| add(cx, Feature::Reflection, 1)),
     );
     r.add(
@@ -69,7 +69,7 @@ pub fn register(r: &mut Registry) {
         .evaluate(add_matcap),
     );
     r.add(
-        strength("AddAmbientOcclusion", "Sets ambient occlusion on each material, with a strength >= 0. No material in: new ones.")
+        strength("AddAmbientOcclusion", "Sets ambient occlusion on each material: how much CompositeLight's AO input darkens its ambient light, 0..1 (0: unaffected). No material in: new ones.")
             .evaluate(|cx| add(cx, Feature::AmbientOcclusion, 1)),
     );
 }

@@ -72,9 +72,11 @@ fn helpers_make_new_materials_one_per_slice() {
         let m = materials(name, &[("Strength", floats(&[-2.0, 3.0]))]);
         assert_eq!(m.len(), 2);
         assert_eq!(m[0].params(feature), Some(&[[0.0; 4]][..]), "{name}");
+        // Reflection and AO weigh an input 0..1; a matcap may be brighter.
+        let top = if name == "AddMatCap" { 3.0 } else { 1.0 };
         assert_eq!(
             m[1].params(feature),
-            Some(&[[3.0, 0.0, 0.0, 0.0]][..]),
+            Some(&[[top, 0.0, 0.0, 0.0]][..]),
             "{name}"
         );
         assert_eq!(m[1].flags(), feature.flag());
@@ -392,4 +394,29 @@ fn add_matcap_keeps_mode_mapping_and_its_image_layer() {
         );
         assert!(e.to_string().contains("slice 1"), "{e}");
     }
+}
+
+#[test]
+fn feature_manager_refuses_a_texture_on_features_that_read_none() {
+    for id in [3, 5] {
+        let e = eval_err(
+            "FeatureManager",
+            &[
+                ("Feature ID", ints(&[id])),
+                ("Parameters", Spread::Vec4(vec![Vec4::ONE])),
+                ("Texture ID", ints(&[0])),
+            ],
+            "Texture ID",
+        );
+        assert!(e.to_string().contains("reads no texture"), "{e}");
+    }
+    let matcap = materials(
+        "FeatureManager",
+        &[
+            ("Feature ID", ints(&[4])),
+            ("Parameters", Spread::Vec4(vec![Vec4::ONE])),
+            ("Texture ID", ints(&[1])),
+        ],
+    );
+    assert_eq!(matcap[0].texture(Feature::MatCap), Some(1));
 }

@@ -59,9 +59,10 @@ const FAKE_SSS: ParamLayout = ParamLayout {
     ranges: COLOR_STRENGTH,
     default: [1.0, 0.2, 0.1, 1.0],
 };
+/// A weight of a screen-space input, 0..1 (CompositeLight mixes by it).
 const STRENGTH: ParamLayout = ParamLayout {
     names: ["strength", "", "", ""],
-    ranges: [NonNegative, Unused, Unused, Unused],
+    ranges: [Unit, Unused, Unused, Unused],
     default: [1.0, 0.0, 0.0, 0.0],
 };
 /// Strength, then two switches kept as 0 or 1 ([`MatCapMode`], [`MatCapMapping`]).
@@ -186,6 +187,14 @@ impl Feature {
             Feature::MatCap => Some(&MATCAP),
             Feature::Custom(_) => None,
         }
+    }
+
+    /// Whether a shader reads this feature's texture layer: CookTorrance,
+    /// Emission and FakeSSS scale their parameter by it, MatCap looks its
+    /// image up in it, custom features' own shaders decide. Reflection and
+    /// AmbientOcclusion weight screen-space inputs and read none.
+    pub fn reads_texture(self) -> bool {
+        !matches!(self, Feature::Reflection | Feature::AmbientOcclusion)
     }
 
     /// How many vec4 parameters the feature takes; `None`: any number (custom).
