@@ -18,7 +18,7 @@ use crate::session::Session;
 #[derive(Clone, Copy, Debug)]
 pub struct Timing {
     pub fps: f64,
-    /// Frames between two evaluated frames (`--step`): the clock's delta is `step / fps`.
+    /// Frames between two evaluated frames (`--step`).
     pub step: u64,
     /// Sub-frame renders per frame.
     pub samples: u32,
@@ -27,16 +27,29 @@ pub struct Timing {
 }
 
 impl Timing {
-    /// The clock of `frame`, `offset` frames later (a sub-frame instant).
-    fn clock(&self, frame: u64, offset: f64) -> FrameClock {
+    /// The time of sub-frame `k` of `frame`, in seconds (never before 0).
+    fn time(&self, frame: i128, k: u32) -> f64 {
+        let n = self.samples.max(1);
+        ((frame as f64 + shutter_offset(k, n, self.shutter)) / self.fps).max(0.0)
+    }
+
+    /// The clock of sub-frame `k` of `frame`. Its delta is the time since the
+    /// evaluation before it in a run from frame 0 (the previous sub-frame,
+    /// or the last one of the previous frame), whichever frame a run starts
+    /// at: integrating nodes advance the same in a chunk as in a full run,
+    /// and K sub-frames advance them by one frame, not K.
+    fn clock(&self, frame: u64, k: u32) -> FrameClock {
+        let f = i128::from(frame);
+        let time = self.time(f, k);
+        let previous = match k {
+            0 if frame == 0 => time,
+            0 => self.time(f - i128::from(self.step), self.samples.max(1) - 1),
+            _ => self.time(f, k - 1),
+        };
         FrameClock {
             frame,
-            time: (frame as f64 + offset) / self.fps,
-            delta: if frame == 0 {
-                0.0
-            } else {
-                self.step as f64 / self.fps
-            },
+            time,
+            delta: (time - previous).max(0.0),
         }
     }
 }
@@ -98,9 +111,7 @@ impl Evaluator {
             if let Some(offset) = &self.offset {
                 offset.set(pixel_offset(k, n));
             }
-            let clock = self
-                .timing
-                .clock(frame, shutter_offset(k, n, self.timing.shutter));
+            let clock = self.timing.clock(frame, k);
             self.session.runtime.evaluate(clock);
             let errors = self.session.frame_errors(&self.patch);
             if !errors.is_empty() {
@@ -131,5 +142,32 @@ impl Evaluator {
                 encoding,
             })
             .collect())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sub_frames_advance_the_clock_by_one_frame_in_all() {
+        let timing = Timing {
+            fps: 10.0,
+            step: 2,
+            samples: 4,
+            shutter: 0.5,
+        };
+        let clocks: Vec<FrameClock> = (0..4).map(|k| timing.clock(4, k)).collect();
+        let total: f64 = clocks.iter().map(|c| c.delta).sum();
+        assert!((total - 0.2).abs() < 1e-12, "{total}");
+        assert!((clocks[0].time - (4.0 - 0.1875) / 10.0).abs() < 1e-12);
+        assert!(clocks.iter().all(|c| c.frame == 4));
+        let plain = Timing {
+            samples: 1,
+            ..timing
+        };
+        assert_eq!(plain.clock(0, 0).delta, 0.0);
+        assert!((plain.clock(6, 0).delta - 0.2).abs() < 1e-12);
+        assert!((plain.clock(6, 0).time - 0.6).abs() < 1e-12);
     }
 }
