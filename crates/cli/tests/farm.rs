@@ -24,5 +24,8 @@ fn a_dask_cluster_renders_chunks_and_survives_a_killed_worker() {
     );
     assert!(out.status.success(), "{text}");
     assert!(text.contains("one killed mid-chunk"), "{text}");
-    assert!(text.contains("rendered only the two missing frames"), "{text}");
+    assert!(
+        text.contains("rendered only the two missing frames"),
+        "{text}"
+    );
 }
