@@ -57,6 +57,13 @@ fn a_range_writes_one_padded_file_per_frame_in_steps() {
     ok(&out);
     let image = image::open(dir.path().join("exr/f_00004.exr")).expect("an EXR");
     assert_eq!((image.width(), image.height()), (64, 36));
+
+    // One image (no frame number in the name) is rendered anew every time.
+    for _ in 0..2 {
+        let out = render(SPHERES, &dir.path().join("one.png"), &["--frames", "4"]);
+        ok(&out);
+        assert_eq!(done(&out)["written"], 1);
+    }
 }
 
 #[test]

@@ -53,7 +53,8 @@ pub struct Args {
     /// How long the shutter is open with --samples, as a fraction of a frame (0.5: 180 degrees).
     #[arg(long, default_value_t = 0.5)]
     pub shutter: f64,
-    /// Render frames whose files are complete already (they are skipped otherwise).
+    /// Render frames of a sequence whose files are complete already (they are skipped
+    /// otherwise; one image and a video are always rendered).
     #[arg(long)]
     pub overwrite: bool,
     /// Render nothing: list which frames are complete and which would be rendered.
@@ -227,8 +228,10 @@ fn render_frames(args: &Args, plan: &Plan) -> anyhow::Result<bool> {
         .flat_map(|&f| plan.files(f).into_iter().map(|(_, p)| p))
         .collect();
     let swept = sweep_partials(&targets);
+    // One image is always rendered anew: only a sequence resumes.
+    let overwrite = args.overwrite || matches!(plan.target, Target::Image(_));
     let (todo, done): (Vec<u64>, Vec<u64>) = frames.iter().partition(|&&f| {
-        args.overwrite
+        overwrite
             || plan
                 .files(f)
                 .iter()
@@ -314,23 +317,16 @@ fn preroll(evaluator: &mut Evaluator, plan: &Plan, next: &mut Option<u64>, frame
 }
 
 fn render_video(args: &Args, plan: &Plan, kind: VideoKind) -> anyhow::Result<bool> {
+    // A video is one file, made in one go: it is always rendered anew.
     let files = plan.files(plan.range.first);
     let frames: Vec<u64> = plan.range.frames().collect();
-    let complete = !args.overwrite && files.iter().all(|(_, p)| p.exists());
-    let progress = Progress::new(args.json, if complete { 0 } else { frames.len() as u64 });
-    progress.start(plan.start_info(args, if complete { 0 } else { frames.len() }));
-    if complete || args.dry_run {
-        let status = if complete {
-            Status::Skipped
-        } else {
-            Status::Missing
-        };
+    let progress = Progress::new(args.json, frames.len() as u64);
+    progress.start(plan.start_info(args, frames.len()));
+    if args.dry_run {
         for &f in &frames {
-            progress.frame(f, status, 0.0, &shown(&files));
+            progress.frame(f, Status::Missing, 0.0, &shown(&files));
         }
-        progress.finish(
-            json!({"written": 0, "skipped": if complete { frames.len() } else { 0 }, "failed": []}),
-        );
+        progress.finish(json!({"written": 0, "skipped": 0, "failed": []}));
         return Ok(false);
     }
     let rate = args.fps / plan.range.step as f64;
