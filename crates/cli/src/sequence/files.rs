@@ -1,7 +1,7 @@
 //! Frame files on disk. Every file is written to a temporary name beside
 //! its target (`.NAME.HOST-PID.partial`), synced and renamed over it, so a
 //! killed run leaves whole frames or none; a frame counts as complete only
-//! when it decodes at the expected size; and the partial files of runs that
+//! when it is whole at the expected size (`whole.rs`); and the partial files of runs that
 //! were killed on this host are swept before a run renders the same frames.
 
 use std::collections::HashSet;
@@ -51,10 +51,10 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
     result
 }
 
-/// Whether `path` holds a whole image of `size` (a file that does not
-/// decode, or is of another size, is redone).
+/// Whether `path` holds a whole image of `size` (a file cut short, or of
+/// another size, is redone).
 pub fn is_complete(path: &Path, size: (u32, u32)) -> bool {
-    image::open(path).is_ok_and(|image| (image.width(), image.height()) == size)
+    super::whole::is_whole(path, size)
 }
 
 /// Remove the partial files of `targets` that a process of this host left

@@ -15,6 +15,7 @@ mod outputs;
 mod progress;
 mod render;
 mod video;
+mod whole;
 
 pub use render::{Args, run};
 
