@@ -102,11 +102,13 @@ def render_command(args, frames):
     ]
 
 
-def missing(args):
-    """The frames without complete files, by `spreadlight render --dry-run`."""
-    done = subprocess.run(
-        render_command(args, args.frames) + ["--dry-run"], capture_output=True, text=True
-    )
+def missing(args, first):
+    """The frames without complete files, by `spreadlight render --dry-run`.
+    After the first round, --overwrite no longer counts: what was rendered stays."""
+    command = render_command(args, args.frames) + ["--dry-run"]
+    if not first:
+        command = [a for a in command if a != "--overwrite"]
+    done = subprocess.run(command, capture_output=True, text=True)
     if done.returncode != 0:
         sys.stderr.write(done.stderr)
         sys.exit(2)
@@ -133,7 +135,7 @@ def chunks(frames, size, step):
 
 def farm(client, args):
     started = time.time()
-    todo = missing(args)
+    todo = missing(args, first=True)
     total = len(todo)
     print(f"farm: {total} frame(s) to render on {len(client.scheduler_info()['workers'])} worker(s)", flush=True)
     for round_ in range(1, args.rounds + 1):
@@ -168,7 +170,7 @@ def farm(client, args):
                 )
             else:
                 print(f"farm: chunk {a}-{b} done on {result['host']} in {result['seconds']:.1f} s", flush=True)
-        todo = missing(args)
+        todo = missing(args, first=False)
     seconds = time.time() - started
     rendered = total - len(todo)
     line = {"event": "farm", "rendered": rendered, "missing": todo, "seconds": seconds,
@@ -179,6 +181,12 @@ def farm(client, args):
 
 def main(argv):
     args = parse(argv)
+    if args.chunk < 1 or args.rounds < 1:
+        sys.stderr.write("--chunk and --rounds must be at least 1\n")
+        return 2
+    if args.output.lower().endswith((".mp4", ".mov")):
+        sys.stderr.write("farm.py renders frames (-o out/shot_####.exr): a video is one file, made by one process\n")
+        return 2
     try:
         from distributed import Client, LocalCluster
     except ImportError:
