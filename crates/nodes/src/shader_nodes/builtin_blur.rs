@@ -1,6 +1,6 @@
 //! `BlurBuiltin`: the `Blur (Shader)` example as a built-in pass, for
 //! benchmarking the shader node against hand-written Rust
-//! (`spreadlight bench patches/bench-shader-blur.ron`).
+//! (`spreadlight bench patches/bench-builtin-blur.ron` beside `bench-shader-blur.ron`).
 
 use std::sync::Arc;
 

@@ -1,7 +1,7 @@
 //! The shader-node example blur (shaders/nodes/blur.wgsl) written as a
 //! built-in pass: the same WGSL composed by the [`ShaderCache`](crate::shaders::ShaderCache),
 //! its bindings and passes written out by hand. It is the baseline the
-//! `Blur (Shader)` node is benchmarked against (`patches/bench-shader-blur.ron`):
+//! `Blur (Shader)` node is benchmarked against (`patches/bench-shader-blur.ron` against `patches/bench-builtin-blur.ron`):
 //! the two should cost the same on the GPU.
 
 use std::sync::Arc;
