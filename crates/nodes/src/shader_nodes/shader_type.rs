@@ -206,7 +206,7 @@ impl ShaderType {
         }
         if self.reads_gbuffer() {
             def = def.input_spread(
-                "GBuffer",
+                "G-Buffer",
                 PinType::Resource(ResourceKind::GBuffer),
                 Spread::Resource(ResourceKind::GBuffer, vec![]),
             );

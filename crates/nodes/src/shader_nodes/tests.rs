@@ -463,3 +463,46 @@ fn the_blur_node_matches_the_same_blur_written_as_a_built_in_pass() {
     plain.step();
     assert!(spread(&a) < 0.8 * spread(&plain.image("noise")));
 }
+
+#[test]
+fn a_shader_reads_the_g_buffer_by_name() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    std::fs::write(
+        dir.path().join("normal_view.wgsl"),
+        "// @gbuffer depth normals
+// @target shown temporary rgba16float scale=1
+// @pass show -> shown
+@group(0) @binding(0) var depth: texture_2d<f32>;
+@group(0) @binding(1) var normals: texture_2d<f32>;
+@group(0) @binding(2) var shown: texture_storage_2d<rgba16float, write>;
+@compute @workgroup_size(8, 8)
+fn show(@builtin(global_invocation_id) id: vec3<u32>) {
+    let size = textureDimensions(shown);
+    if (id.x >= size.x || id.y >= size.y) { return; }
+    let covered = textureLoad(depth, id.xy, 0).r > 0.0;
+    let n = textureLoad(normals, id.xy, 0).xyz * 0.5 + 0.5;
+    textureStore(shown, id.xy, select(vec4<f32>(0.0), vec4<f32>(n, 1.0), covered));
+}
+",
+    )
+    .expect("write");
+    let mut registry = crate::registry();
+    ShaderLibrary::new(vec![dir.path().to_owned()]).poll(&mut registry);
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../patches/gbuffer-spheres.ron");
+    let mut patch = spreadlight_graph::format::load(&path).expect("example patch");
+    patch.add(NodeDoc::new(50, "NormalView (Shader)"));
+    patch.add(output(51, "normals"));
+    patch.link(7, "G-Buffer", 50, "G-Buffer");
+    patch.link(50, "Texture", 51, "Texture");
+    let mut rig = Rig::new(registry, &patch);
+    rig.step();
+    assert!(rig.errors().is_empty(), "{:?}", rig.errors());
+    let image = rig.image("normals");
+    // Geometry covers the view (depth read), and the spheres' normals vary
+    // where the plane's are one (normals read).
+    assert!(image.pixels.iter().any(|p| p[3] > 0.5));
+    let reds = image.pixels.iter().map(|p| p[0]);
+    let (lo, hi) = reds.fold((f32::MAX, f32::MIN), |(lo, hi), r| (lo.min(r), hi.max(r)));
+    assert!(hi - lo > 0.2, "normals {lo}..{hi}");
+    assert!(image.pixels.iter().all(|p| p.iter().all(|c| c.is_finite())));
+}
