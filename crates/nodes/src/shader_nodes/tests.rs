@@ -465,23 +465,37 @@ fn the_blur_node_matches_the_same_blur_written_as_a_built_in_pass() {
 }
 
 #[test]
-fn a_shader_reads_the_g_buffer_by_name() {
+fn a_shader_reads_the_g_buffer_and_its_camera_by_name() {
     let dir = tempfile::tempdir().expect("tempdir");
     std::fs::write(
         dir.path().join("normal_view.wgsl"),
-        "// @gbuffer depth normals
+        "// @gbuffer depth normals camera
 // @target shown temporary rgba16float scale=1
 // @pass show -> shown
 @group(0) @binding(0) var depth: texture_2d<f32>;
 @group(0) @binding(1) var normals: texture_2d<f32>;
 @group(0) @binding(2) var shown: texture_storage_2d<rgba16float, write>;
+struct Camera {
+    view: mat4x4<f32>,
+    view_inverse: mat4x4<f32>,
+    projection: mat4x4<f32>,
+    projection_inverse: mat4x4<f32>,
+    view_projection: mat4x4<f32>,
+    previous_view_projection: mat4x4<f32>,
+    position: vec4<f32>,
+    size: vec4<f32>,
+}
+@group(0) @binding(3) var<uniform> camera: Camera;
 @compute @workgroup_size(8, 8)
 fn show(@builtin(global_invocation_id) id: vec3<u32>) {
     let size = textureDimensions(shown);
     if (id.x >= size.x || id.y >= size.y) { return; }
     let covered = textureLoad(depth, id.xy, 0).r > 0.0;
     let n = textureLoad(normals, id.xy, 0).xyz * 0.5 + 0.5;
-    textureStore(shown, id.xy, select(vec4<f32>(0.0), vec4<f32>(n, 1.0), covered));
+    // Alpha: whether the camera block says the G-buffer's size.
+    let camera_ok = abs(camera.size.x - f32(size.x)) < 0.5 && abs(camera.size.y - f32(size.y)) < 0.5;
+    let a = select(0.25, 1.0, camera_ok);
+    textureStore(shown, id.xy, select(vec4<f32>(0.0, 0.0, 0.0, a), vec4<f32>(n, a), covered));
 }
 ",
     )
@@ -498,9 +512,9 @@ fn show(@builtin(global_invocation_id) id: vec3<u32>) {
     rig.step();
     assert!(rig.errors().is_empty(), "{:?}", rig.errors());
     let image = rig.image("normals");
-    // Geometry covers the view (depth read), and the spheres' normals vary
-    // where the plane's are one (normals read).
-    assert!(image.pixels.iter().any(|p| p[3] > 0.5));
+    // The camera block is bound; the spheres' normals vary where the plane's
+    // are one (depth and normals read).
+    assert!(image.pixels.iter().all(|p| p[3] == 1.0), "camera block");
     let reds = image.pixels.iter().map(|p| p[0]);
     let (lo, hi) = reds.fold((f32::MAX, f32::MIN), |(lo, hi), r| (lo.min(r), hi.max(r)));
     assert!(hi - lo > 0.2, "normals {lo}..{hi}");
