@@ -14,6 +14,9 @@
 
 use spreadlight_graph::Registry;
 
+#[macro_use]
+mod typed;
+
 pub mod animation;
 pub mod bench;
 pub mod camera;

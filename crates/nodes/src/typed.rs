@@ -1,0 +1,43 @@
+//! One node type per spread type: the macro that registers a generic node
+//! function once for each slice type vvvv patchers move around (values,
+//! strings, colours, 2d/3d/4d vectors, transforms), named as vvvv names the
+//! variants: `GetSlice (Spreads)`, `GetSlice (String)`, ..., `GetSlice (Transform)`.
+//!
+//! Integers need no variants of their own: an Int output links to a Float
+//! input (`PinType::links_to`), so the value variant takes them.
+
+/// `typed!(r, make, "Base", "Spreads")` registers `make::<T>(name, default)`
+/// for each slice type, named `Base (Spreads)` for values and `Base (String)`,
+/// `Base (Color)`, `Base (Vector 2d)`, `Base (Vector 3d)`, `Base (Vector 4d)`,
+/// `Base (Transform)` for the others. With a fourth literal, `typed!(r, make,
+/// "Stallone", "Spreads", "Split")`, the version follows the type:
+/// `Stallone (Spreads Split)`, `Stallone (String Split)`, ...
+macro_rules! typed {
+    ($r:expr, $make:ident, $base:literal, $value:literal $(, $version:literal)?) => {{
+        $r.add($make::<f32>(concat!($base, " (", $value, $(" ", $version,)? ")"), 0.0));
+        $r.add($make::<String>(
+            concat!($base, " (String", $(" ", $version,)? ")"),
+            String::new(),
+        ));
+        $r.add($make::<spreadlight_graph::Color>(
+            concat!($base, " (Color", $(" ", $version,)? ")"),
+            spreadlight_graph::Color::WHITE,
+        ));
+        $r.add($make::<glam::Vec2>(
+            concat!($base, " (Vector 2d", $(" ", $version,)? ")"),
+            glam::Vec2::ZERO,
+        ));
+        $r.add($make::<glam::Vec3>(
+            concat!($base, " (Vector 3d", $(" ", $version,)? ")"),
+            glam::Vec3::ZERO,
+        ));
+        $r.add($make::<glam::Vec4>(
+            concat!($base, " (Vector 4d", $(" ", $version,)? ")"),
+            glam::Vec4::ZERO,
+        ));
+        $r.add($make::<glam::Mat4>(
+            concat!($base, " (Transform", $(" ", $version,)? ")"),
+            glam::Mat4::IDENTITY,
+        ));
+    }};
+}
