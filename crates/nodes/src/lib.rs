@@ -26,6 +26,7 @@ pub mod geometry;
 pub mod gpu;
 pub mod io;
 pub mod lighting;
+pub mod logic;
 pub mod material;
 pub mod output;
 pub mod post;
@@ -44,6 +45,7 @@ pub fn registry() -> Registry {
     value::register(&mut r);
     vector::register(&mut r);
     spreads::register(&mut r);
+    logic::register(&mut r);
     animation::register(&mut r);
     transform::register(&mut r);
     camera::register(&mut r);
