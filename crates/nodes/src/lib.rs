@@ -22,6 +22,7 @@ pub mod bench;
 pub mod camera;
 pub mod deferred;
 pub mod environment;
+pub mod filters;
 pub mod geometry;
 pub mod gpu;
 pub mod io;
@@ -46,6 +47,7 @@ pub fn registry() -> Registry {
     vector::register(&mut r);
     spreads::register(&mut r);
     logic::register(&mut r);
+    filters::register(&mut r);
     animation::register(&mut r);
     transform::register(&mut r);
     camera::register(&mut r);
