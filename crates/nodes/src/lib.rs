@@ -20,6 +20,7 @@ mod typed;
 pub mod animation;
 pub mod bench;
 pub mod camera;
+pub mod color;
 pub mod deferred;
 pub mod environment;
 pub mod filters;
@@ -48,6 +49,7 @@ pub fn registry() -> Registry {
     spreads::register(&mut r);
     logic::register(&mut r);
     filters::register(&mut r);
+    color::register(&mut r);
     animation::register(&mut r);
     transform::register(&mut r);
     camera::register(&mut r);

@@ -177,7 +177,7 @@ fn keyframes<T: Linear>(name: &'static str) -> NodeDef {
 }
 
 /// The track's value at `t`: `keys` sorted by time, not empty.
-fn play<T: Linear>(keys: &[(f32, T, &str)], t: f32) -> T {
+pub(crate) fn play<T: Linear>(keys: &[(f32, T, &str)], t: f32) -> T {
     // The first key after t; the segment is the key before it to it.
     let next = keys.partition_point(|k| k.0 <= t);
     if next == 0 {
