@@ -33,6 +33,7 @@ pub mod material;
 pub mod output;
 pub mod post;
 pub mod spreads;
+pub mod strings;
 pub mod texture;
 pub mod transform;
 pub mod value;
@@ -50,6 +51,7 @@ pub fn registry() -> Registry {
     logic::register(&mut r);
     filters::register(&mut r);
     color::register(&mut r);
+    strings::register(&mut r);
     animation::register(&mut r);
     transform::register(&mut r);
     camera::register(&mut r);

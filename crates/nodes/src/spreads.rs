@@ -22,7 +22,7 @@ use rand_pcg::Pcg32;
 use spreadlight_graph::spread::{slice_count, wrapped};
 use spreadlight_graph::{EnumDef, EvalContext, NodeDef, NodeError, Registry};
 
-mod bins;
+pub(crate) mod bins;
 pub mod combine;
 pub mod memory;
 pub mod reduce;
