@@ -44,6 +44,11 @@ pub fn register(r: &mut Registry) {
     combine::register(r);
     memory::register(r);
     reduce::register(r);
+    register_generators(r);
+}
+
+/// The generators alone (this file's nodes).
+pub fn register_generators(r: &mut Registry) {
     r.add(cross_2d());
     r.add(
         NodeDef::new(

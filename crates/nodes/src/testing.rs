@@ -110,7 +110,7 @@ fn covered() -> Registry {
     let mut r = Registry::new();
     crate::value::register(&mut r);
     crate::vector::register(&mut r);
-    crate::spreads::register(&mut r);
+    crate::spreads::register_generators(&mut r);
     crate::transform::register(&mut r);
     crate::camera::register(&mut r);
     r
@@ -283,4 +283,9 @@ impl Harness {
         self.step();
         self.out(pin)
     }
+}
+
+/// A String spread from string slices, for test inputs.
+pub(crate) fn strings_of(v: &[&str]) -> Spread {
+    Spread::String(v.iter().map(|s| (*s).to_owned()).collect())
 }

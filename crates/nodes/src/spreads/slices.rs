@@ -224,11 +224,7 @@ mod tests {
     use glam::Vec3;
     use spreadlight_graph::Spread;
 
-    use crate::testing::{eval, eval_err, eval_out, floats, ints};
-
-    fn strings(v: &[&str]) -> Spread {
-        Spread::String(v.iter().map(|s| (*s).to_owned()).collect())
-    }
+    use crate::testing::{eval, eval_err, eval_out, floats, ints, strings_of as strings};
 
     #[test]
     fn get_slice_wraps_indices_and_reads_bins() {

@@ -216,8 +216,7 @@ mod tests {
     use glam::Vec3;
     use spreadlight_graph::{Color, Spread};
 
-    use crate::strings::strings;
-    use crate::testing::{eval, eval_out, floats, ints};
+    use crate::testing::{eval, eval_out, floats, ints, strings_of as strings};
 
     #[test]
     fn values_and_vectors_as_text() {

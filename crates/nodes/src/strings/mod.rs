@@ -263,16 +263,9 @@ fn substring(s: &str, start: i64, count: i64) -> String {
         .collect()
 }
 
-/// A String spread from string slices, for tests and defaults.
-#[cfg(test)]
-pub(crate) fn strings(v: &[&str]) -> spreadlight_graph::Spread {
-    spreadlight_graph::Spread::String(v.iter().map(|s| (*s).to_owned()).collect())
-}
-
 #[cfg(test)]
 mod tests {
-    use super::strings;
-    use crate::testing::{eval, eval_err, eval_out, floats, ints};
+    use crate::testing::{eval, eval_err, eval_out, floats, ints, strings_of as strings};
 
     #[test]
     fn format_fills_templates_per_slice() {
