@@ -23,6 +23,7 @@ pub mod camera;
 pub mod color;
 pub mod deferred;
 pub mod environment;
+pub mod expr;
 pub mod filters;
 pub mod geometry;
 pub mod gpu;
@@ -56,6 +57,7 @@ pub fn registry() -> Registry {
     strings::register(&mut r);
     input::register(&mut r);
     osc::register(&mut r);
+    expr::register(&mut r);
     animation::register(&mut r);
     transform::register(&mut r);
     camera::register(&mut r);
