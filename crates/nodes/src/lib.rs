@@ -22,6 +22,7 @@ pub mod bench;
 pub mod camera;
 pub mod color;
 pub mod deferred;
+pub mod docs;
 pub mod environment;
 pub mod expr;
 pub mod filters;

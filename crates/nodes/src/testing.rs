@@ -289,3 +289,43 @@ impl Harness {
 pub(crate) fn strings_of(v: &[&str]) -> Spread {
     Spread::String(v.iter().map(|s| (*s).to_owned()).collect())
 }
+
+/// Every node of the pure families (no GPU, no network) runs with its defaults
+/// and outputs only finite numbers.
+#[test]
+fn every_core_library_node_evaluates_with_its_defaults() {
+    let registry = crate::registry();
+    let families = [
+        "Spreads",
+        "Logic",
+        "Animation",
+        "Color",
+        "String",
+        "Input",
+        "Value",
+        "Vector",
+    ];
+    let mut checked = 0;
+    for def in registry.iter().filter(|d| families.contains(&d.category)) {
+        let outputs = eval(def.name, &[])
+            .unwrap_or_else(|e| panic!("`{}` failed with its defaults: {e}", def.name));
+        assert_eq!(outputs.len(), def.outputs.len());
+        for (pin, spread) in def.outputs.iter().zip(&outputs) {
+            assert!(
+                spread.fits(pin.ty),
+                "`{}`.`{}` has the wrong type",
+                def.name,
+                pin.name
+            );
+            assert_eq!(
+                spread.first_non_finite(),
+                None,
+                "`{}`.`{}` = {spread:?}",
+                def.name,
+                pin.name
+            );
+        }
+        checked += 1;
+    }
+    assert!(checked > 200, "only {checked} nodes checked");
+}
