@@ -202,7 +202,8 @@ impl<T: Linear> Node for LinearFilter<T> {
             }
             let left = (m.goal - m.position).length();
             let step = m.speed * dt;
-            if !(step < left) {
+            // Arrived (a NaN step counts as arrived, so nothing non-finite lingers).
+            if step.partial_cmp(&left) != Some(std::cmp::Ordering::Less) {
                 m.position = m.goal;
             } else {
                 m.position = m.position + (m.goal - m.position) * (step / left);
@@ -266,9 +267,9 @@ impl<T: Linear> Node for Oscillator<T> {
                 v = v + a * h;
                 x = x + v * h;
             }
-            if !(x.length().is_finite() && v.length().is_finite()) || omega == 0.0 {
-                (x, v) = (g, T::ZERO);
-            } else if settled(x, g) && v.length() <= 1e-4 * (1.0 + g.length()) {
+            let blown_up = !(x.length().is_finite() && v.length().is_finite()) || omega == 0.0;
+            let at_rest = settled(x, g) && v.length() <= 1e-4 * (1.0 + g.length());
+            if blown_up || at_rest {
                 (x, v) = (g, T::ZERO);
             } else {
                 moving = true;
