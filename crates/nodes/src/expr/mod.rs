@@ -10,6 +10,7 @@
 //! character of the expression. Every pin spreads, the expression too; each
 //! distinct expression is checked once and cached.
 
+mod functions;
 mod parse;
 mod typed;
 
@@ -17,8 +18,9 @@ use glam::{Mat4, Vec2, Vec3, Vec4};
 use spreadlight_graph::spread::{slice_count, wrapped};
 use spreadlight_graph::{EvalContext, Node, NodeDef, NodeError, Registry, SliceValue};
 
+pub use functions::FUNCTIONS;
 pub use parse::ExprError;
-pub use typed::{Compiled, FUNCTIONS, Ty, Value, compile, eval};
+pub use typed::{Compiled, Ty, Value, compile, eval};
 
 const CATEGORY: &str = "Value";
 
