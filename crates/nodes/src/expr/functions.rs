@@ -179,9 +179,9 @@ pub(super) fn call(func: Func, a: &[Value]) -> Value {
     use Func::*;
     let vec = |k: usize| a[k].lanes().map(|l| l.0).unwrap_or(Vec4::ZERO);
     match func {
-        Map1(f) => map(&a, |x| f(x[0])),
-        Map2(f) => map(&a, |x| f(x[0], x[1])),
-        Map3(f) => map(&a, |x| f(x[0], x[1], x[2])),
+        Map1(f) => map(a, |x| f(x[0])),
+        Map2(f) => map(a, |x| f(x[0], x[1])),
+        Map3(f) => map(a, |x| f(x[0], x[1], x[2])),
         Length => Value::Scalar(vec(0).length()),
         Distance => Value::Scalar((vec(0) - vec(1)).length()),
         Dot => Value::Scalar(vec(0).dot(vec(1))),
