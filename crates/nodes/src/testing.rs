@@ -329,3 +329,18 @@ fn every_core_library_node_evaluates_with_its_defaults() {
     }
     assert!(checked > 200, "only {checked} nodes checked");
 }
+
+/// Every registered node type, with its defaults, compiles into a patch without problems
+/// (the defaults fit their pins, enum defaults are options): what the browser adds.
+#[test]
+fn every_registered_node_type_loads_into_a_patch() {
+    let registry = crate::registry();
+    let mut patch = Patch::default();
+    for (i, def) in registry.iter().enumerate() {
+        let id = u32::try_from(i + 1).expect("few node types");
+        patch.add(NodeDoc::new(id, def.name));
+    }
+    let mut runtime = Runtime::new(crate::registry());
+    let problems = runtime.load(&patch);
+    assert!(problems.is_empty(), "{problems:?}");
+}
