@@ -108,8 +108,8 @@ pub(crate) fn assert_close(got: &[f32], want: &[f32], eps: f32) {
 /// The node types of the families this crate's tests cover here.
 fn covered() -> Registry {
     let mut r = Registry::new();
-    crate::value::register(&mut r);
-    crate::vector::register(&mut r);
+    crate::value::register_basics(&mut r);
+    crate::vector::register_join_split(&mut r);
     crate::spreads::register_generators(&mut r);
     crate::transform::register(&mut r);
     crate::camera::register(&mut r);
