@@ -11,6 +11,18 @@
 //! buffers, `ShadowMap`s, `CookTorrance` and `CompositeLight` in `lighting/`, `Sky` and
 //! `Fog` in `environment/`, `Tonemap`, `EyeAdaptation` and `FXAA` in `post/`, the material nodes
 //! in `material/`, `Perspective (Transform)` in `transform.rs`, `BenchLights` in `bench.rs`.
+//!
+//! The core library vvvv patchers reach for: spread operations (`GetSlice`,
+//! `Queue`, `Stallone`, bin sizes, ...) in `spreads/`, comparisons and boolean
+//! logic in `logic.rs`, `Counter`, `FlipFlop`, `TogEdge` and friends in
+//! `logic/signals.rs`, `Damper`, `LinearFilter`, `Oscillator`, `Decay` in
+//! `filters.rs`, easing and `Keyframes`, Perlin noise and `Time` in
+//! `animation/`, colour in `color.rs`, strings in `strings/`, `Expr` in
+//! `expr/`, more value and vector maths in `value/` and `vector/`, `Mouse`,
+//! `Keyboard` and `WindowSize` (over the host's [`input::HostInput`]) in
+//! `input/`, OSC in `osc.rs`. Variants per slice type come from `typed.rs`.
+//! `docs.rs` turns the registry into `spreadlight nodes --help NAME` and
+//! `docs/nodes.md`.
 
 use spreadlight_graph::Registry;
 

@@ -251,6 +251,9 @@ impl Node for Counter {
             cx.slices::<i64>(5)?,
         ];
         let modes = cx.enum_slices(6)?;
+        if let Some(bad) = modes.iter().find(|m| COUNTER_MODE.index_of(m).is_none()) {
+            return Err(cx.input_error(6, format!("`{bad}` is not a counter mode")));
+        }
         let reset = cx.slices::<bool>(7)?;
         let n = slice_count(
             [up.len(), down.len(), modes.len(), reset.len()]
