@@ -27,14 +27,14 @@ pub fn register(r: &mut Registry) {
             "OSC (Network Receive)",
             CATEGORY,
             "Listens for OSC messages on UDP Port (all interfaces). Per slice of Address (an OSC \
-             address pattern: `/fader/1`, `/fader/*`, `/osc/[0-9]`, `/{a,b}`), Values gives the \
-             numeric arguments of the latest matching message (ints, floats, doubles, booleans \
+             address pattern: `/fader/1`, `/fader/*`, `/osc/[0-9]`, `/{a,b}`; `*` matches within one \
+             level, and `*` alone takes every address), Values gives the numeric arguments of the latest matching message (ints, floats, doubles, booleans \
              as 0/1; other arguments are skipped), one bin per address (Values Bin Size), and \
              Received is on in the frames a matching message arrived. Bundles are opened. Reads \
              without waiting, up to 4096 packets a frame.",
         )
         .input("Port", 9000i64)
-        .input("Address", "/*".to_owned())
+        .input("Address", "*".to_owned())
         .output::<f32>("Values")
         .output::<i64>("Values Bin Size")
         .output::<bool>("Received")
@@ -115,11 +115,15 @@ fn numeric(arg: &OscType) -> Option<f32> {
 impl Node for Receiver {
     fn evaluate(&mut self, cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
         let port = port(cx, 0)?;
-        let patterns: Vec<(String, Matcher)> = cx
+        // `*` alone takes every address; anything else is an OSC address pattern.
+        let patterns: Vec<(String, Option<Matcher>)> = cx
             .slices::<String>(1)?
             .iter()
             .map(|p| {
-                Matcher::new(p).map(|m| (p.clone(), m)).map_err(|e| {
+                if p == "*" {
+                    return Ok((p.clone(), None));
+                }
+                Matcher::new(p).map(|m| (p.clone(), Some(m))).map_err(|e| {
                     cx.input_error(1, format!("`{p}` is not an OSC address pattern: {e}"))
                 })
             })
@@ -146,7 +150,7 @@ impl Node for Receiver {
                 continue;
             };
             for (k, (text, matcher)) in patterns.iter().enumerate() {
-                if matcher.match_address(&address) {
+                if matcher.as_ref().is_none_or(|m| m.match_address(&address)) {
                     received[k] = true;
                     self.latest.insert(text.clone(), message.clone());
                 }
@@ -297,9 +301,9 @@ mod tests {
         let port = free_port();
         let mut h = Harness::new("OSC (Network Receive)");
         h.set("Port", ints(&[port as i64]))
-            .set("Address", strings_of(&["/fader/*", "/xy"]));
+            .set("Address", strings_of(&["/fader/*", "/xy", "*"]));
         // Nothing sent yet: the frame returns at once with nothing received.
-        assert_eq!(h.next::<bool>("Received"), [false, false]);
+        assert_eq!(h.next::<bool>("Received"), [false, false, false]);
         let sender = UdpSocket::bind("127.0.0.1:0").expect("sender");
         let bundle = OscPacket::Bundle(OscBundle {
             timetag: OscTime {
@@ -323,13 +327,14 @@ mod tests {
         sender
             .send_to(b"not osc", ("127.0.0.1", port))
             .expect("send junk");
-        assert_eq!(step_until_received(&mut h), [true, false]);
-        assert_eq!(h.out::<f32>("Values"), [0.5, 3.0]);
-        assert_eq!(h.out::<i64>("Values Bin Size"), [2, 0]);
-        assert_eq!(h.out::<String>("Last Address"), ["/fader/1", ""]);
+        assert_eq!(step_until_received(&mut h), [true, false, true]);
+        // `*` holds the last message of the bundle, `/other`.
+        assert_eq!(h.out::<f32>("Values"), [0.5, 3.0, 9.0]);
+        assert_eq!(h.out::<i64>("Values Bin Size"), [2, 0, 1]);
+        assert_eq!(h.out::<String>("Last Address"), ["/fader/1", "", "/other"]);
         // The values hold; Received is a per-frame flag.
-        assert_eq!(h.next::<bool>("Received"), [false, false]);
-        assert_eq!(h.out::<f32>("Values"), [0.5, 3.0]);
+        assert_eq!(h.next::<bool>("Received"), [false, false, false]);
+        assert_eq!(h.out::<f32>("Values"), [0.5, 3.0, 9.0]);
     }
 
     #[test]
