@@ -1,6 +1,8 @@
 //! Noise: `Perlin (1d)`, `Perlin (2d)`, `Perlin (3d)` (gradient noise,
-//! summed over octaves, smooth in its input) and `Random (Animation)` (new
-//! random values every frame, reproducible from a seed and the frame number).
+//! summed over octaves, smooth in its input), `Noise (Animation)` (the same
+//! noise running over time: values that wander smoothly) and `Random
+//! (Animation)` (new random values every frame, reproducible from a seed and
+//! the frame number).
 //!
 //! Perlin noise here is Ken Perlin's improved noise (quintic fade, 12 edge
 //! gradients in 3d) with the permutation table replaced by an integer hash of
@@ -24,6 +26,24 @@ pub fn register(r: &mut Registry) {
     r.add(perlin::<f32>("Perlin (1d)", 0.0));
     r.add(perlin::<Vec2>("Perlin (2d)", Vec2::ZERO));
     r.add(perlin::<Vec3>("Perlin (3d)", Vec3::ZERO));
+    r.add(
+        NodeDef::new(
+            "Noise (Animation)",
+            CATEGORY,
+            "Values that wander smoothly over time, about -Amplitude to Amplitude: 1d Perlin \
+             noise read at time x Frequency (changes per second), one independent track per \
+             slice of Random Seed. Octaves (1 to 16) and Persistence add finer jitter, as in \
+             Perlin (1d). Reproducible: headless runs give the same values.",
+        )
+        .input("Frequency", 1.0f32)
+        .input("Amplitude", 1.0f32)
+        .input("Octaves", 1i64)
+        .input("Persistence", 0.5f32)
+        .input("Random Seed", 0i64)
+        .output::<f32>("Output")
+        .time_dependent()
+        .evaluate(noise_over_time),
+    );
     r.add(
         NodeDef::new(
             "Random (Animation)",
@@ -210,10 +230,7 @@ fn perlin<T: NoisePoint>(name: &'static str, default: T) -> NodeDef {
     .evaluate(|cx| {
         let input = cx.slices::<T>(0)?;
         let freq = cx.slices::<f32>(1)?;
-        let octaves = cx.slices::<i64>(2)?;
-        if let Some(bad) = octaves.iter().find(|o| !(1..=MAX_OCTAVES).contains(*o)) {
-            return Err(cx.input_error(2, format!("{bad} is not from 1 to {MAX_OCTAVES}")));
-        }
+        let octaves = octaves(cx, 2)?;
         let persistence = cx.slices::<f32>(3)?;
         let seed = cx.slices::<i64>(4)?;
         let n = slice_count([
@@ -241,6 +258,46 @@ fn perlin<T: NoisePoint>(name: &'static str, default: T) -> NodeDef {
         cx.set(0, out);
         Ok(())
     })
+}
+
+/// The Octaves pin (index `pin`), checked to lie in 1..=MAX_OCTAVES.
+fn octaves<'a>(cx: &'a EvalContext<'_>, pin: usize) -> Result<&'a [i64], NodeError> {
+    let octaves = cx.slices::<i64>(pin)?;
+    if let Some(bad) = octaves.iter().find(|o| !(1..=MAX_OCTAVES).contains(*o)) {
+        return Err(cx.input_error(pin, format!("{bad} is not from 1 to {MAX_OCTAVES}")));
+    }
+    Ok(octaves)
+}
+
+fn noise_over_time(cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
+    let (freq, amp) = (cx.slices::<f32>(0)?, cx.slices::<f32>(1)?);
+    let octaves = octaves(cx, 2)?;
+    let (persistence, seed) = (cx.slices::<f32>(3)?, cx.slices::<i64>(4)?);
+    let n = slice_count([
+        freq.len(),
+        amp.len(),
+        octaves.len(),
+        persistence.len(),
+        seed.len(),
+    ]);
+    let time = cx.clock.time;
+    let out: Vec<f32> = (0..n)
+        .map(|i| {
+            // The phase in f64 and reduced, so hours of running keep the noise smooth.
+            let x = (time * f64::from(*wrapped(freq, i))).rem_euclid(65_536.0) as f32;
+            let v = fractal_noise(
+                Vec3::new(x, 0.0, 0.0),
+                1,
+                *wrapped(octaves, i) as u32,
+                *wrapped(persistence, i),
+                *wrapped(seed, i),
+            );
+            let out = v * *wrapped(amp, i);
+            if out.is_finite() { out } else { 0.0 }
+        })
+        .collect();
+    cx.set(0, out);
+    Ok(())
 }
 
 fn random(cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
@@ -323,6 +380,27 @@ mod tests {
         let v3 = Spread::Vec3(vec![Vec3::new(0.3, 0.6, 0.2)]);
         assert_ne!(at("Perlin (3d)", v3, 0), [0.0]);
         eval_err("Perlin (1d)", &[("Octaves", ints(&[0]))], "Octaves");
+    }
+
+    #[test]
+    fn noise_wanders_smoothly_per_seed() {
+        let mut h = Harness::new("Noise (Animation)");
+        h.set("Random Seed", ints(&[1, 2]))
+            .set("Amplitude", floats(&[2.0]));
+        let frames: Vec<Vec<f32>> = (0..120).map(|_| h.next::<f32>("Output")).collect();
+        for f in &frames {
+            assert!(f.iter().all(|v| (-2.0..=2.0).contains(v)), "{f:?}");
+        }
+        // Smooth: at 1 change per second, 1/60 s moves it little; the two seeds differ.
+        for w in frames.windows(2) {
+            assert!((w[1][0] - w[0][0]).abs() < 0.2, "{w:?}");
+        }
+        assert!(frames.iter().any(|f| (f[0] - f[1]).abs() > 0.05));
+        let track: Vec<f32> = frames.iter().map(|f| f[0]).collect();
+        let (lo, hi) = track
+            .iter()
+            .fold((f32::MAX, f32::MIN), |(a, b), &v| (a.min(v), b.max(v)));
+        assert!(hi - lo > 0.2, "it moves: {lo}..{hi}");
     }
 
     #[test]
