@@ -45,6 +45,16 @@ linear_vector!(Vec2);
 linear_vector!(Vec3);
 linear_vector!(Vec4);
 
+/// A goal the filter can move towards: a non-finite one (NaN from upstream)
+/// would poison the filter's state for good, so the slice holds where it is.
+fn usable<T: Linear>(goal: T, current: Option<T>) -> T {
+    if goal.length().is_finite() {
+        goal
+    } else {
+        current.unwrap_or(T::ZERO)
+    }
+}
+
 /// Whether `x` is close enough to `goal` to snap onto it and stop moving.
 fn settled<T: Linear>(x: T, goal: T) -> bool {
     (goal - x).length() <= 1e-5 * (1.0 + goal.length())
@@ -114,7 +124,7 @@ impl<T: Linear> Node for Damper<T> {
         let dt = cx.clock.delta;
         let (mut moving, mut velocity) = (false, Vec::with_capacity(n));
         for i in 0..n {
-            let g = *wrapped(goal, i);
+            let g = usable(*wrapped(goal, i), self.state.get(i).copied());
             if i >= self.state.len() {
                 self.state.push(g);
             }
@@ -180,7 +190,10 @@ impl<T: Linear> Node for LinearFilter<T> {
         let dt = cx.clock.delta as f32;
         let mut moving = false;
         for i in 0..n {
-            let (g, t) = (*wrapped(goal, i), *wrapped(time, i));
+            let (g, t) = (
+                usable(*wrapped(goal, i), self.state.get(i).map(|m| m.position)),
+                *wrapped(time, i),
+            );
             if i >= self.state.len() {
                 self.state.push(Move {
                     position: g,
@@ -252,7 +265,7 @@ impl<T: Linear> Node for Oscillator<T> {
         let dt = cx.clock.delta as f32;
         let mut moving = false;
         for i in 0..n {
-            let g = *wrapped(goal, i);
+            let g = usable(*wrapped(goal, i), self.state.get(i).map(|s| s.0));
             if i >= self.state.len() {
                 self.state.push((g, T::ZERO));
             }
@@ -301,7 +314,7 @@ impl Node for Decay {
         let dt = cx.clock.delta;
         let mut moving = false;
         for i in 0..n {
-            let x = *wrapped(input, i);
+            let x = usable(*wrapped(input, i), self.state.get(i).copied());
             if i >= self.state.len() {
                 self.state.push(x);
             }
@@ -396,6 +409,50 @@ mod tests {
         h.set("Goal Position", floats(&[1.0]));
         let seen = run_until_reused(&mut h, "Position", 2000);
         assert!(seen.iter().all(|&x| x <= 1.0 + 1e-4), "{seen:?}");
+    }
+
+    #[test]
+    fn a_non_finite_goal_holds_the_filters_where_they_are() {
+        use spreadlight_graph::{FrameClock, NodeDoc, NodeId, Patch, Runtime};
+        for (name, goal, out) in [
+            ("Damper (Animation)", "Goal Position", "Position"),
+            ("LinearFilter (Animation)", "Goal Position", "Position"),
+            ("Oscillator (Animation)", "Goal Position", "Position"),
+            ("Decay (Animation)", "Input", "Output"),
+        ] {
+            // Multiply (1e30 x Input) overflows to infinity for large inputs: a
+            // non-finite value can only arrive over a link.
+            let patch_with = |x: f32| {
+                let mut p = Patch::default();
+                p.add(
+                    NodeDoc::new(1, "Multiply (Value)")
+                        .with("Input 1", vec![x])
+                        .with("Input 2", vec![1e30f32]),
+                );
+                p.add(NodeDoc::new(2, name));
+                p.add(NodeDoc::new(3, "Probe"));
+                p.link(1, "Output", 2, goal);
+                p.link(2, out, 3, "Input");
+                p
+            };
+            let mut rt = Runtime::new(crate::registry());
+            let mut frame = 0;
+            let mut run = |rt: &mut Runtime, x: f32, frames: u64| -> f32 {
+                assert!(rt.load(&patch_with(x)).is_empty());
+                for _ in 0..frames {
+                    rt.evaluate(FrameClock::fixed(frame, 60.0));
+                    frame += 1;
+                }
+                let Some(Spread::Float(v)) = rt.output(NodeId(2), out).map(|s| (**s).clone())
+                else {
+                    panic!("{name} outputs values")
+                };
+                v[0]
+            };
+            assert_eq!(run(&mut rt, 2e-30, 1), 2.0, "{name}");
+            assert_eq!(run(&mut rt, 1e30, 3), 2.0, "{name} holds on infinity");
+            assert_eq!(run(&mut rt, 3e-30, 600), 3.0, "{name} recovers");
+        }
     }
 
     #[test]
