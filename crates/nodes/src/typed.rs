@@ -3,11 +3,14 @@
 //! strings, colours, 2d/3d/4d vectors, transforms), named as vvvv names the
 //! variants: `GetSlice (Spreads)`, `GetSlice (String)`, ..., `GetSlice (Transform)`.
 //!
-//! Integers need no variants of their own: an Int output links to a Float
-//! input (`PinType::links_to`), so the value variant takes them.
+//! Integers and booleans get variants too (`GetSlice (Integer)`, `GetSlice
+//! (Toggle)`, named like their IOBoxes): an Int output links to a Float input,
+//! but a Float never links back into an Int pin, so indices and counts taken
+//! through the value variant could not be used as indices again.
 
 /// `typed!(r, make, "Base", "Spreads")` registers `make::<T>(name, default)`
-/// for each slice type, named `Base (Spreads)` for values and `Base (String)`,
+/// for each slice type, named `Base (Spreads)` for values and `Base (Integer)`,
+/// `Base (Toggle)`, `Base (String)`,
 /// `Base (Color)`, `Base (Vector 2d)`, `Base (Vector 3d)`, `Base (Vector 4d)`,
 /// `Base (Transform)` for the others. With a fourth literal, `typed!(r, make,
 /// "Stallone", "Spreads", "Split")`, the version follows the type:
@@ -15,6 +18,8 @@
 macro_rules! typed {
     ($r:expr, $make:ident, $base:literal, $value:literal $(, $version:literal)?) => {{
         $r.add($make::<f32>(concat!($base, " (", $value, $(" ", $version,)? ")"), 0.0));
+        $r.add($make::<i64>(concat!($base, " (Integer", $(" ", $version,)? ")"), 0));
+        $r.add($make::<bool>(concat!($base, " (Toggle", $(" ", $version,)? ")"), false));
         $r.add($make::<String>(
             concat!($base, " (String", $(" ", $version,)? ")"),
             String::new(),

@@ -274,6 +274,26 @@ mod tests {
         assert_eq!(s, ["b"]);
     }
 
+    /// Sort's Former Index through GetSlice (Integer) stays Int, so it can index again.
+    #[test]
+    fn integer_variants_keep_indices_linkable() {
+        use spreadlight_graph::{FrameClock, NodeDoc, NodeId, Patch, Runtime};
+        let mut p = Patch::default();
+        p.add(NodeDoc::new(1, "Sort (Spreads)").with("Input", vec![3.0f32, 1.0, 2.0]));
+        p.add(NodeDoc::new(2, "Reverse (Integer)"));
+        p.add(NodeDoc::new(3, "GetSlice (String)").with("Input", strings(&["a", "b", "c"])));
+        p.add(NodeDoc::new(4, "Probe"));
+        p.link(1, "Former Index", 2, "Input");
+        p.link(2, "Output", 3, "Index");
+        p.link(3, "Output", 4, "Input");
+        let mut rt = Runtime::new(crate::registry());
+        assert!(rt.load(&p).is_empty(), "{:?}", rt.problems());
+        rt.evaluate(FrameClock::fixed(0, 60.0));
+        let out = rt.output(NodeId(3), "Output").expect("output");
+        // Sorted descending by value: 3.0 (a), 2.0 (c), 1.0 (b).
+        assert_eq!(**out, strings(&["a", "c", "b"]));
+    }
+
     #[test]
     fn set_slice_writes_in_order() {
         let out: Vec<f32> = eval_out(
