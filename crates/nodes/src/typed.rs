@@ -46,3 +46,46 @@ macro_rules! typed {
         ));
     }};
 }
+
+#[cfg(test)]
+mod tests {
+    /// Every per-type node exists for every slice type, under vvvv's naming.
+    #[test]
+    fn every_typed_node_has_every_variant() {
+        let r = crate::registry();
+        let ops = [
+            ("GetSlice", "Spreads", ""),
+            ("SetSlice", "Spreads", ""),
+            ("GetSpread", "Spreads", ""),
+            ("Select", "Spreads", ""),
+            ("Reverse", "Spreads", ""),
+            ("Shift", "Spreads", ""),
+            ("Zip", "Spreads", ""),
+            ("Unzip", "Spreads", ""),
+            ("Stallone", "Spreads", " Join"),
+            ("Stallone", "Spreads", " Split"),
+            ("Cons", "Spreads", ""),
+            ("Queue", "Spreads", ""),
+            ("RingBuffer", "Spreads", ""),
+            ("FrameDelay", "Animation", ""),
+            ("S+H", "Animation", ""),
+        ];
+        let types = [
+            "Integer",
+            "Toggle",
+            "String",
+            "Color",
+            "Vector 2d",
+            "Vector 3d",
+            "Vector 4d",
+            "Transform",
+        ];
+        for (base, value, version) in ops {
+            let names = std::iter::once(format!("{base} ({value}{version})"))
+                .chain(types.iter().map(|t| format!("{base} ({t}{version})")));
+            for name in names {
+                assert!(r.get(&name).is_some(), "missing `{name}`");
+            }
+        }
+    }
+}
