@@ -128,8 +128,9 @@ fn expr_node<T: ExprType>(
         name,
         CATEGORY,
         "Evaluates Expression over its inputs, slice by slice (every pin spreads, the \
-         Expression too). The inputs are the variables, by pin name: scalars a, b, c, d, vectors \
-         u, v (of the node's vector type; Vec3 for Expr (Transform)), transform m. Operators + - * \
+         Expression too). The other input pins are the variables, by their names \
+         (whichever this node has): a, b, c, d scalars; u, v vectors of the node's type (Vec3 in \
+         Expr (Transform)); m a transform. Operators + - * \
          / % ^ and comparisons < > <= >= == != (1 or 0); a scalar with a vector applies to each \
          component, m * v transforms a point, m * m composes; swizzles like u.xy, u.zyx; \
          constants pi, tau, e; functions sin cos tan asin acos atan sqrt abs floor ceil round \
