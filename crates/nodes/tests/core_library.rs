@@ -1,6 +1,6 @@
 //! The example patch `patches/core-library.ron`, run frame by frame through
 //! the runtime: a beat counter (LFO > 0.5 -> Counter), a keyframe track with
-//! easing driven by Time, Format, Damper and Expr working together.
+//! easing played by a looping Timeliner, Format, Damper and Expr working together.
 
 use std::path::Path;
 
@@ -42,8 +42,11 @@ fn the_core_library_example_counts_beats_and_plays_keyframes() {
     assert_eq!(edges, [16, 46, 76, 106]);
     // Counter's range is 0..3: the fourth beat wraps to 0.
     assert_eq!(beats[106], 0);
-    // The keyframes ease 0 -> 10 -> 0 over two seconds; at 2 s the track is back at 0.
+    // The keyframes ease 0 -> 10 -> 0 over two seconds; at 2 s the loop is back at 0.
     assert_eq!(probe(&rt, "keyframes"), Spread::Float(vec![0.0]));
+    rt.evaluate(FrameClock::fixed(121, 60.0));
+    let Spread::Float(k) = probe(&rt, "keyframes") else { panic!("keyframes are Float") };
+    assert!(k[0] > 0.0 && k[0] < 0.01, "the loop starts again: {k:?}");
     let Spread::Vec3(orbit) = probe(&rt, "orbit") else {
         panic!("orbit is Vec3")
     };
