@@ -31,7 +31,8 @@ pub fn register(r: &mut Registry) {
              level, and `*` alone takes every address), Values gives the numeric arguments of the latest matching message (ints, floats, doubles, booleans \
              as 0/1; other arguments are skipped), one bin per address (Values Bin Size), and \
              Received is on in the frames a matching message arrived. Bundles are opened. Reads \
-             without waiting, up to 4096 packets a frame.",
+             without waiting, up to 4096 packets a frame. Port 0 lets the system pick a free \
+             port; Bound Port says which (link it into a sender's Port).",
         )
         .input("Port", 9000i64)
         .input("Address", "*".to_owned())
@@ -39,6 +40,7 @@ pub fn register(r: &mut Registry) {
         .output::<i64>("Values Bin Size")
         .output::<bool>("Received")
         .output::<String>("Last Address")
+        .output::<i64>("Bound Port")
         .time_dependent()
         .construct(Receiver::default),
     );
@@ -129,6 +131,7 @@ impl Node for Receiver {
             })
             .collect::<Result<_, _>>()?;
         let socket = self.socket(cx, port)?;
+        let bound = socket.local_addr().map_or(0, |a| i64::from(a.port()));
         let mut arrived = Vec::new();
         let mut buf = vec![0u8; rosc::decoder::MTU];
         for _ in 0..MAX_PACKETS_PER_FRAME {
@@ -172,6 +175,7 @@ impl Node for Receiver {
         cx.set(1, sizes);
         cx.set(2, received);
         cx.set(3, addresses);
+        cx.set(4, vec![bound]);
         Ok(())
     }
 }
@@ -269,14 +273,6 @@ mod tests {
 
     use crate::testing::{Harness, floats, ints, strings_of};
 
-    /// A UDP port that was free a moment ago.
-    fn free_port() -> u16 {
-        UdpSocket::bind("127.0.0.1:0")
-            .and_then(|s| s.local_addr())
-            .expect("a free port")
-            .port()
-    }
-
     fn message(addr: &str, args: Vec<OscType>) -> OscPacket {
         OscPacket::Message(OscMessage {
             addr: addr.into(),
@@ -298,12 +294,14 @@ mod tests {
 
     #[test]
     fn receiver_reads_loopback_messages_without_blocking() {
-        let port = free_port();
+        // Port 0: the system picks a free port, so parallel tests never collide.
         let mut h = Harness::new("OSC (Network Receive)");
-        h.set("Port", ints(&[port as i64]))
+        h.set("Port", ints(&[0]))
             .set("Address", strings_of(&["/fader/*", "/xy", "*"]));
         // Nothing sent yet: the frame returns at once with nothing received.
         assert_eq!(h.next::<bool>("Received"), [false, false, false]);
+        let port = u16::try_from(h.out::<i64>("Bound Port")[0]).expect("a port");
+        assert_ne!(port, 0);
         let sender = UdpSocket::bind("127.0.0.1:0").expect("sender");
         let bundle = OscPacket::Bundle(OscBundle {
             timetag: OscTime {
@@ -379,22 +377,22 @@ mod tests {
 
     #[test]
     fn a_patch_talks_to_itself_over_loopback() {
-        let port = free_port();
         let mut patch = Patch::default();
+        // The receiver listens on a port the system picks; its Bound Port tells the sender.
         patch.add(
             NodeDoc::new(1, "OSC (Network Send)")
-                .with("Port", Spread::Int(vec![port as i64]))
                 .with("Address", Spread::String(vec!["/loop".into()]))
                 .with("Values", Spread::Float(vec![4.0, 2.0]))
                 .with("Send", Spread::Bool(vec![true])),
         );
         patch.add(
             NodeDoc::new(2, "OSC (Network Receive)")
-                .with("Port", Spread::Int(vec![port as i64]))
+                .with("Port", Spread::Int(vec![0]))
                 .with("Address", Spread::String(vec!["/loop".into()])),
         );
         patch.add(NodeDoc::new(3, "Probe"));
         patch.link(2, "Values", 3, "Input");
+        patch.link(2, "Bound Port", 1, "Port");
         let mut runtime = Runtime::new(crate::registry());
         assert!(runtime.load(&patch).is_empty());
         let start = Instant::now();

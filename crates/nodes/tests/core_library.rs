@@ -45,7 +45,9 @@ fn the_core_library_example_counts_beats_and_plays_keyframes() {
     // The keyframes ease 0 -> 10 -> 0 over two seconds; at 2 s the loop is back at 0.
     assert_eq!(probe(&rt, "keyframes"), Spread::Float(vec![0.0]));
     rt.evaluate(FrameClock::fixed(121, 60.0));
-    let Spread::Float(k) = probe(&rt, "keyframes") else { panic!("keyframes are Float") };
+    let Spread::Float(k) = probe(&rt, "keyframes") else {
+        panic!("keyframes are Float")
+    };
     assert!(k[0] > 0.0 && k[0] < 0.01, "the loop starts again: {k:?}");
     let Spread::Vec3(orbit) = probe(&rt, "orbit") else {
         panic!("orbit is Vec3")
