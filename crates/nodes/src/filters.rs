@@ -104,7 +104,8 @@ fn damper<T: Linear>(name: &'static str) -> NodeDef {
         CATEGORY,
         "Follows Goal Position smoothly: each frame Position moves a fixed fraction of the way \
          there, so it comes within 1% of a new goal after Filter Time seconds (0: at once). \
-         Velocity is Position's change per second.",
+         Velocity is Position's change per second. \
+         The 4d variant moves colours too: Color pins link to and from 4d vectors.",
     )
     .input("Goal Position", T::ZERO)
     .input("Filter Time", 1.0f32)
@@ -163,7 +164,8 @@ fn linear_filter<T: Linear>(name: &'static str) -> NodeDef {
         CATEGORY,
         "Moves Position to Goal Position in a straight line at constant speed, arriving Filter \
          Time seconds after the goal changed (0: at once). A goal that changes on the way starts \
-         a new move from where Position is.",
+         a new move from where Position is. \
+         The 4d variant moves colours too: Color pins link to and from 4d vectors.",
     )
     .input("Goal Position", T::ZERO)
     .input("Filter Time", 1.0f32)
@@ -239,7 +241,8 @@ fn oscillator<T: Linear>(name: &'static str) -> NodeDef {
         "A damped spring pulling Position towards Goal Position: it overshoots and swings \
          around the goal Frequency times a second, losing amplitude by Damping (0: swings \
          forever, 1: critically damped, no overshoot). Integrated in sub-steps, so it stays \
-         stable at any frame rate; it stops (and is reused) once it has come to rest.",
+         stable at any frame rate; it stops (and is reused) once it has come to rest. \
+         The 4d variant moves colours too: Color pins link to and from 4d vectors.",
     )
     .input("Goal Position", T::ZERO)
     .input("Frequency", 1.0f32)
@@ -389,6 +392,27 @@ mod tests {
         }
         // The goal frame, then six steps of 1 (6 units in 0.1 s at 60 fps); arrived, it rests.
         assert_close(&xs, &[0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0], 1e-4);
+    }
+
+    /// A colour animates through the 4d variant: Color links to Vector 4d and back.
+    #[test]
+    fn colours_move_through_the_4d_variant() {
+        use spreadlight_graph::{Color, FrameClock, NodeDoc, NodeId, Patch, Runtime};
+        let mut p = Patch::default();
+        p.add(
+            NodeDoc::new(1, "IOBox (Color)").with("Input", vec![Color::rgba(1.0, 0.5, 0.0, 1.0)]),
+        );
+        p.add(NodeDoc::new(2, "Damper (4d)").with("Filter Time", vec![0.0f32]));
+        p.add(NodeDoc::new(3, "SetAlpha (Color)"));
+        p.add(NodeDoc::new(4, "Probe"));
+        p.link(1, "Output", 2, "Goal Position");
+        p.link(2, "Position", 3, "Input");
+        p.link(3, "Output", 4, "Input");
+        let mut rt = Runtime::new(crate::registry());
+        assert!(rt.load(&p).is_empty(), "{:?}", rt.problems());
+        rt.evaluate(FrameClock::fixed(0, 60.0));
+        let out = rt.output(NodeId(3), "Output").expect("colour");
+        assert_eq!(**out, Spread::Color(vec![Color::rgba(1.0, 0.5, 0.0, 1.0)]));
     }
 
     #[test]

@@ -143,7 +143,8 @@ fn keyframes<T: Linear>(name: &'static str) -> NodeDef {
          (spread together) are the keys, in any order; between two keys the value moves with \
          the earlier key's Easing (Easing spreads over the keys, wrapping). Before the first key \
          it holds the first value, after the last the last. One output slice per Time slice; no \
-         keys give no output.",
+         keys give no output. Colour tracks: Keyframes (4d), as Color pins link to and from 4d \
+         vectors.",
     )
     .input("Time", 0.0f32)
     .input("Key Time", 0.0f32)
