@@ -5,7 +5,8 @@ use std::path::Path;
 use std::sync::Arc;
 
 use anyhow::Context;
-use spreadlight_graph::{FrameClock, Patch, Runtime, Severity, format};
+use spreadlight_graph::subpatch::Library;
+use spreadlight_graph::{FrameClock, Network, NodeId, Patch, Runtime, Severity, format};
 use spreadlight_nodes::gpu::GPU_CATEGORIES;
 use spreadlight_nodes::output::RenderedImages;
 use spreadlight_render::Renderer;
@@ -18,13 +19,15 @@ pub struct Session {
     pub load_errors: bool,
 }
 
-/// Whether any node of the patch needs a GPU.
-pub fn needs_gpu(patch: &Patch) -> bool {
+/// Whether any node of the patch, or of a subpatch in it, needs a GPU.
+pub fn needs_gpu(patch: &Patch, path: &Path) -> bool {
     let registry = spreadlight_nodes::registry();
-    patch
-        .nodes
+    let library = Library::beside(path.parent().unwrap_or(Path::new("")));
+    let network = Network::compile_with(patch, &registry, &library);
+    network
+        .nodes()
         .iter()
-        .filter_map(|n| registry.get(&n.type_name))
+        .filter_map(|n| n.def.as_ref())
         .any(|def| GPU_CATEGORIES.contains(&def.category))
 }
 
@@ -59,7 +62,7 @@ impl Session {
         if capture {
             runtime.provide(images.clone());
         }
-        let renderer = if force_gpu || needs_gpu(patch) {
+        let renderer = if force_gpu || needs_gpu(patch, path) {
             let renderer =
                 Arc::new(Renderer::headless().context("cannot open the GPU this patch needs")?);
             if let Some(size) = size {
@@ -94,8 +97,8 @@ impl Session {
     ) -> bool {
         self.runtime.evaluate(FrameClock::fixed(frame, fps));
         let mut failed = false;
-        for (node, error) in self.runtime.node_errors() {
-            let line = format!("error: {}: node {node}: {error}", path.display());
+        for (node, error) in self.runtime.node_errors_at() {
+            let line = format!("error: {}: node {}: {error}", path.display(), path_text(node));
             failed = true;
             if reported.insert(line.clone()) {
                 eprintln!("{line} (frame {frame})");
@@ -103,7 +106,10 @@ impl Session {
         }
         if let Some(renderer) = &self.renderer {
             for (owner, error) in renderer.last_report().errors {
-                let node = owner.map_or("the renderer".to_owned(), |n| format!("node #{n}"));
+                let node = owner.map_or("the renderer".to_owned(), |n| {
+                    let path = self.runtime.path_of(NodeId(n));
+                    format!("node {}", path.map_or(format!("#{n}"), path_text))
+                });
                 let line = format!("error: {}: {node}: {error}", path.display());
                 failed = true;
                 if reported.insert(line.clone()) {
@@ -113,6 +119,12 @@ impl Session {
         }
         failed
     }
+}
+
+/// A node's place: `#4` at the top, `#4 > #2` inside the subpatch node #4.
+pub fn path_text(path: &[NodeId]) -> String {
+    let parts: Vec<String> = path.iter().map(|id| id.to_string()).collect();
+    parts.join(" > ")
 }
 
 /// Parse `WIDTHxHEIGHT`.

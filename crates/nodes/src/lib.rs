@@ -54,5 +54,7 @@ pub fn registry() -> Registry {
     material::register(&mut r);
     post::register(&mut r);
     bench::register(&mut r);
+    // The IOBoxes that make a subpatch's pins (spreadlight_graph::subpatch).
+    spreadlight_graph::subpatch::register(&mut r);
     r
 }
