@@ -90,11 +90,11 @@ fn run_command(command: Command) -> anyhow::Result<ExitCode> {
 fn list_nodes() {
     let registry = spreadlight_nodes::registry();
     let mut defs: Vec<_> = registry.iter().collect();
-    defs.sort_by_key(|d| (d.category, d.name));
+    defs.sort_by_key(|d| (d.category.clone(), d.name.clone()));
     let mut category = "";
     for def in defs {
         if def.category != category {
-            category = def.category;
+            category = &def.category;
             println!("{category}");
         }
         let pins = |pins: &[spreadlight_graph::PinDef]| {

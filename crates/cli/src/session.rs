@@ -28,7 +28,7 @@ pub fn needs_gpu(patch: &Patch, path: &Path) -> bool {
         .nodes()
         .iter()
         .filter_map(|n| n.def.as_ref())
-        .any(|def| GPU_CATEGORIES.contains(&def.category))
+        .any(|def| GPU_CATEGORIES.contains(&&*def.category))
 }
 
 impl Session {

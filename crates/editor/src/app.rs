@@ -8,6 +8,7 @@ use std::time::Instant;
 use egui::{Id, Key, KeyboardShortcut, LayerId, Modifiers, Pos2, Ui, ViewportCommand};
 use egui_snarl::Snarl;
 use egui_snarl::ui::SnarlWidget;
+use spreadlight_graph::registry::Name;
 use spreadlight_graph::{
     FrameClock, NodeId, PinRef, PinType, Registry, ResourceKind, Runtime, Spread, format,
 };
@@ -964,22 +965,22 @@ impl EditorApp {
             );
             return;
         };
-        ui.weak(def.help);
+        ui.weak(&*def.help);
         if let Some(e) = self.runtime.node_error(id) {
             ui.colored_label(egui::Color32::LIGHT_RED, e.to_string());
         }
         ui.separator();
         egui::ScrollArea::vertical().show(ui, |ui| {
             for pin in &def.inputs {
-                ui.push_id(pin.name, |ui| {
+                ui.push_id(&*pin.name, |ui| {
                     let label = ui
                         .horizontal(|ui| {
-                            let label = ui.label(egui::RichText::new(pin.name).strong());
+                            let label = ui.label(egui::RichText::new(&*pin.name).strong());
                             ui.weak(pin.ty.name());
                             label.id
                         })
                         .inner;
-                    let target = PinRef(id, pin.name.to_owned());
+                    let target = PinRef(id, pin.name.to_string());
                     if let Some(link) = self.doc.link_into(&target).cloned() {
                         ui.horizontal(|ui| {
                             ui.weak(format!("linked from {}", link.from));
@@ -990,19 +991,19 @@ impl EditorApp {
                     } else if values::editable(pin.ty) {
                         let mut value = node
                             .values
-                            .get(pin.name)
+                            .get(&*pin.name)
                             .cloned()
                             .unwrap_or_else(|| pin.default.clone());
                         let edited =
-                            values::edit_spread(ui, pin.ty, &mut value, pin.name, Some(label));
+                            values::edit_spread(ui, pin.ty, &mut value, &pin.name, Some(label));
                         if edited.changed {
                             self.doc
-                                .set_value(id, pin.name, Some(value), edited.continuing);
+                                .set_value(id, &pin.name, Some(value), edited.continuing);
                         }
-                        if node.values.contains_key(pin.name)
+                        if node.values.contains_key(&*pin.name)
                             && ui.small_button("reset to default").clicked()
                         {
-                            self.doc.set_value(id, pin.name, None, false);
+                            self.doc.set_value(id, &pin.name, None, false);
                         }
                     }
                     ui.add_space(4.0);
@@ -1012,7 +1013,7 @@ impl EditorApp {
             for pin in &def.outputs {
                 let value = self
                     .runtime
-                    .output(id, pin.name)
+                    .output(id, &pin.name)
                     .map_or_else(|| "not evaluated".to_owned(), |s| canvas::preview(s));
                 ui.label(format!("{} → {value}", pin.name));
             }
@@ -1029,13 +1030,17 @@ impl EditorApp {
         }
     }
 
-    fn texture_pins(&self) -> Vec<(NodeId, &'static str, String)> {
+    fn texture_pins(&self) -> Vec<(NodeId, Name, String)> {
         let mut out = Vec::new();
         for n in &self.doc.patch().nodes {
             if let Some(def) = self.registry.get(&n.type_name) {
                 for p in &def.outputs {
                     if p.ty == PinType::Resource(ResourceKind::Texture) {
-                        out.push((n.id, p.name, format!("{} {}.{}", n.type_name, n.id, p.name)));
+                        out.push((
+                            n.id,
+                            p.name.clone(),
+                            format!("{} {}.{}", n.type_name, n.id, p.name),
+                        ));
                     }
                 }
             }
@@ -1062,7 +1067,7 @@ impl EditorApp {
                         self.viewports[1].rendered_size = (0, 0);
                     }
                     for (node, pin, label) in pins {
-                        let source = Source::Pin(node, pin.to_owned());
+                        let source = Source::Pin(node, pin.to_string());
                         if ui
                             .selectable_label(self.viewports[1].source == source, label)
                             .clicked()
@@ -1370,10 +1375,12 @@ impl EditorApp {
                         .max_height(300.0)
                         .show(ui, |ui| {
                             for (i, name) in hits.iter().enumerate() {
-                                let category = self.registry.get(name).map_or("", |d| d.category);
+                                let category = self.registry.get(name).map_or("", |d| &*d.category);
                                 let r = ui
                                     .selectable_label(i == b.highlighted, *name)
-                                    .on_hover_text(self.registry.get(name).map_or("", |d| d.help));
+                                    .on_hover_text(
+                                        self.registry.get(name).map_or("", |d| &*d.help),
+                                    );
                                 ui.weak(category);
                                 if r.clicked() {
                                     place = Some(*name);

@@ -5,10 +5,10 @@ use spreadlight_graph::Registry;
 /// Node type names matching `query`, best first. Every word of the query must
 /// occur (case-insensitively) in the name or the category; names that start
 /// with the query come first, as in vvvv. An empty query lists everything.
-pub fn filter(registry: &Registry, query: &str) -> Vec<&'static str> {
+pub fn filter<'a>(registry: &'a Registry, query: &str) -> Vec<&'a str> {
     let words: Vec<String> = query.split_whitespace().map(str::to_lowercase).collect();
     let lower_query = query.trim().to_lowercase();
-    let mut hits: Vec<(u8, &'static str, &'static str)> = registry
+    let mut hits: Vec<(u8, &str, &str)> = registry
         .iter()
         .filter_map(|def| {
             let name = def.name.to_lowercase();
@@ -25,7 +25,7 @@ pub fn filter(registry: &Registry, query: &str) -> Vec<&'static str> {
             } else {
                 3
             };
-            Some((rank, def.category, def.name))
+            Some((rank, &*def.category, &*def.name))
         })
         .collect();
     hits.sort();
@@ -42,8 +42,8 @@ mod tests {
         assert_eq!(filter(&reg, "").len(), reg.len());
         for def in reg.iter() {
             assert_eq!(
-                filter(&reg, def.name).first(),
-                Some(&def.name),
+                filter(&reg, &def.name).first(),
+                Some(&&*def.name),
                 "typing the full name puts `{}` first",
                 def.name
             );

@@ -121,7 +121,7 @@ pub struct Canvas<'a> {
     pub now: f64,
 }
 
-impl Canvas<'_> {
+impl<'a> Canvas<'a> {
     fn node_id(snarl: &Snarl<CanvasNode>, node: egui_snarl::NodeId) -> Option<NodeId> {
         snarl.get_node(node).map(|n| n.0)
     }
@@ -130,22 +130,24 @@ impl Canvas<'_> {
         &self,
         snarl: &Snarl<CanvasNode>,
         pin: InPinId,
-    ) -> Option<(NodeId, &'static str, PinType)> {
+    ) -> Option<(NodeId, &'a str, PinType)> {
         let id = Self::node_id(snarl, pin.node)?;
-        let def = self.registry.get(&self.doc.node(id)?.type_name)?;
+        let registry: &'a Registry = self.registry;
+        let def = registry.get(&self.doc.node(id)?.type_name)?;
         let p = def.inputs.get(pin.input)?;
-        Some((id, p.name, p.ty))
+        Some((id, &*p.name, p.ty))
     }
 
     fn output_pin(
         &self,
         snarl: &Snarl<CanvasNode>,
         pin: OutPinId,
-    ) -> Option<(NodeId, &'static str, PinType)> {
+    ) -> Option<(NodeId, &'a str, PinType)> {
         let id = Self::node_id(snarl, pin.node)?;
-        let def = self.registry.get(&self.doc.node(id)?.type_name)?;
+        let registry: &'a Registry = self.registry;
+        let def = registry.get(&self.doc.node(id)?.type_name)?;
         let p = def.outputs.get(pin.output)?;
-        Some((id, p.name, p.ty))
+        Some((id, &*p.name, p.ty))
     }
 
     /// The node's error: a problem found when compiling, the error of its last

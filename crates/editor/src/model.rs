@@ -748,7 +748,7 @@ mod tests {
             .expect("a camera output that is not a number");
         let wrong = doc.link(
             &reg,
-            PinRef(cam, out.name.into()),
+            PinRef(cam, out.name.to_string()),
             PinRef(b, "Input 2".into()),
         );
         assert!(

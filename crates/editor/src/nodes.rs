@@ -84,7 +84,7 @@ mod tests {
         let editor = registry();
         assert_eq!(editor.len(), library.len());
         for def in library.iter() {
-            let mine = editor.get(def.name).expect("registered");
+            let mine = editor.get(&def.name).expect("registered");
             assert_eq!(mine.inputs.len(), def.inputs.len());
             assert_eq!(mine.outputs.len(), def.outputs.len());
             assert_eq!(mine.sink, def.sink);

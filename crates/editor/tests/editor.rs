@@ -354,7 +354,7 @@ fn an_enum_is_picked_from_its_drop_down() {
     let other = options.options[1];
     // The inspector's drop-down, right of the canvas (whose widgets are zoomed).
     let inspector_combo = h
-        .get_all_by_role_and_label(Role::ComboBox, pin.name)
+        .get_all_by_role_and_label(Role::ComboBox, &pin.name)
         .map(|n| n.rect())
         .max_by(|a, b| a.left().total_cmp(&b.left()))
         .expect("inspector combo");
@@ -376,7 +376,7 @@ fn an_enum_is_picked_from_its_drop_down() {
             .doc()
             .patch()
             .node(NodeId(1))
-            .and_then(|n| n.values.get(pin.name)),
+            .and_then(|n| n.values.get(&*pin.name)),
         Some(&Spread::Enum(vec![other.to_owned()]))
     );
 }

@@ -303,7 +303,7 @@ impl Compiler<'_> {
             .collect();
         for (pin, value) in &node.values {
             let Some(k) = def.input_index(pin) else {
-                let available = def.inputs.iter().map(|p| p.name.to_owned()).collect();
+                let available = def.inputs.iter().map(|p| p.name.to_string()).collect();
                 self.problem(
                     Severity::Error,
                     Some(i),
@@ -389,7 +389,7 @@ impl Compiler<'_> {
                 Some(def) => match def.input_index(link.to.pin()) {
                     Some(k) => Some(k),
                     None => {
-                        let available = def.inputs.iter().map(|p| p.name.to_owned()).collect();
+                        let available = def.inputs.iter().map(|p| p.name.to_string()).collect();
                         let kind = ProblemKind::MissingInputPin { available };
                         self.problem(
                             Severity::Error,
@@ -412,7 +412,11 @@ impl Compiler<'_> {
                 continue;
             };
             let Some(output) = from_def.output_index(link.from.pin()) else {
-                let available = from_def.outputs.iter().map(|p| p.name.to_owned()).collect();
+                let available = from_def
+                    .outputs
+                    .iter()
+                    .map(|p| p.name.to_string())
+                    .collect();
                 let kind = ProblemKind::MissingOutputPin { available };
                 self.problem(
                     Severity::Error,

@@ -130,7 +130,7 @@ impl<'a> EvalContext<'a> {
     /// The slices of input `index` as their Rust type.
     pub fn slices<T: SliceValue>(&self, index: usize) -> Result<&[T], NodeError> {
         T::slices(&self.inputs[index]).ok_or_else(|| NodeError::Input {
-            pin: self.input_defs[index].name.to_owned(),
+            pin: self.input_defs[index].name.to_string(),
             message: format!(
                 "expected {}, got {}",
                 T::PIN_TYPE,
@@ -153,7 +153,7 @@ impl<'a> EvalContext<'a> {
     /// An error naming input `index`, for node code to return.
     pub fn input_error(&self, index: usize, message: impl Into<String>) -> NodeError {
         NodeError::Input {
-            pin: self.input_defs[index].name.to_owned(),
+            pin: self.input_defs[index].name.to_string(),
             message: message.into(),
         }
     }

@@ -3,7 +3,10 @@
 //!
 //! A node type is declared once, with [`NodeDef`]'s builder, beside its code;
 //! its family registers it with [`Registry::add`]. Nothing else lists node types.
+//! Types made at run time (shader files, subpatches) have owned names and are
+//! swapped in place with [`Registry::replace`] when their source changes.
 
+use std::borrow::Cow;
 use std::collections::BTreeMap;
 use std::sync::Arc;
 
@@ -11,10 +14,14 @@ use crate::node::{EvalContext, Node, NodeError};
 use crate::spread::{SliceValue, Spread, map1, map2, map3, map4};
 use crate::value::{EnumDef, PinType};
 
+/// A name, category or help text: `&'static str` for node types built into
+/// the binary, owned for those made at run time (no leaking on every reload).
+pub type Name = Cow<'static, str>;
+
 /// One input or output pin of a node type.
 #[derive(Clone, Debug)]
 pub struct PinDef {
-    pub name: &'static str,
+    pub name: Name,
     pub ty: PinType,
     /// The spread an unlinked input holds when the patch sets no value (empty for outputs).
     pub default: Spread,
@@ -26,9 +33,9 @@ type Constructor = Arc<dyn Fn() -> Box<dyn Node> + Send + Sync>;
 #[derive(Clone)]
 pub struct NodeDef {
     /// The type name as saved in patches and shown in the browser, e.g. `Add (Value)`.
-    pub name: &'static str,
-    pub category: &'static str,
-    pub help: &'static str,
+    pub name: Name,
+    pub category: Name,
+    pub help: Name,
     pub inputs: Vec<PinDef>,
     pub outputs: Vec<PinDef>,
     /// Re-evaluated every frame even when its inputs did not change (it reads the clock or keeps state over time).
@@ -49,7 +56,7 @@ impl std::fmt::Debug for NodeDef {
     }
 }
 
-struct Unimplemented(&'static str);
+struct Unimplemented(Name);
 
 impl Node for Unimplemented {
     fn evaluate(&mut self, _: &mut EvalContext<'_>) -> Result<(), NodeError> {
@@ -61,26 +68,29 @@ impl Node for Unimplemented {
 }
 
 impl NodeDef {
-    pub fn new(name: &'static str, category: &'static str, help: &'static str) -> Self {
+    pub fn new(name: impl Into<Name>, category: impl Into<Name>, help: impl Into<Name>) -> Self {
+        let name = name.into();
+        let unimplemented = name.clone();
         NodeDef {
             name,
-            category,
-            help,
+            category: category.into(),
+            help: help.into(),
             inputs: Vec::new(),
             outputs: Vec::new(),
             time_dependent: false,
             sink: false,
-            constructor: Arc::new(move || Box::new(Unimplemented(name))),
+            constructor: Arc::new(move || Box::new(Unimplemented(unimplemented.clone()))),
         }
     }
 
     /// An input of a plain value type with a one-slice default.
-    pub fn input<T: SliceValue>(self, name: &'static str, default: T) -> Self {
+    pub fn input<T: SliceValue>(self, name: impl Into<Name>, default: T) -> Self {
         self.input_spread(name, T::PIN_TYPE, T::into_spread(vec![default]))
     }
 
     /// An input whose default is a whole spread (or of a type with no [`SliceValue`]).
-    pub fn input_spread(mut self, name: &'static str, ty: PinType, default: Spread) -> Self {
+    pub fn input_spread(mut self, name: impl Into<Name>, ty: PinType, default: Spread) -> Self {
+        let name = name.into();
         assert!(
             default.fits(ty),
             "{}: default of `{name}` does not fit {ty}",
@@ -91,7 +101,7 @@ impl NodeDef {
     }
 
     /// An enum input; `default` must be one of the enum's options.
-    pub fn input_enum(self, name: &'static str, def: &'static EnumDef, default: &str) -> Self {
+    pub fn input_enum(self, name: impl Into<Name>, def: &'static EnumDef, default: &str) -> Self {
         assert!(
             def.index_of(default).is_some(),
             "{}: `{default}` is not an option of {}",
@@ -105,13 +115,13 @@ impl NodeDef {
         )
     }
 
-    pub fn output<T: SliceValue>(self, name: &'static str) -> Self {
+    pub fn output<T: SliceValue>(self, name: impl Into<Name>) -> Self {
         self.output_typed(name, T::PIN_TYPE)
     }
 
-    pub fn output_typed(mut self, name: &'static str, ty: PinType) -> Self {
+    pub fn output_typed(mut self, name: impl Into<Name>, ty: PinType) -> Self {
         self.outputs.push(PinDef {
-            name,
+            name: name.into(),
             ty,
             default: Spread::empty(ty),
         });
@@ -268,7 +278,7 @@ impl<F: Fn(&mut EvalContext<'_>) -> Result<(), NodeError> + Send> Node for Closu
 /// All node types known to this build, by type name.
 #[derive(Default, Clone)]
 pub struct Registry {
-    defs: BTreeMap<&'static str, Arc<NodeDef>>,
+    defs: BTreeMap<Name, Arc<NodeDef>>,
 }
 
 impl Registry {
@@ -278,9 +288,21 @@ impl Registry {
 
     /// Register a node type. Two types with one name is a bug in the node library, so it panics.
     pub fn add(&mut self, def: NodeDef) {
-        let name = def.name;
-        let previous = self.defs.insert(name, Arc::new(def));
+        let name = def.name.clone();
+        let previous = self.defs.insert(name.clone(), Arc::new(def));
         assert!(previous.is_none(), "node type `{name}` registered twice");
+    }
+
+    /// Register a node type made at run time, replacing the one of that name
+    /// if any (a reloaded shader file, an edited subpatch). A [`Runtime`](crate::Runtime)
+    /// given the new registry re-instantiates the nodes of a replaced type.
+    pub fn replace(&mut self, def: NodeDef) -> Option<Arc<NodeDef>> {
+        self.defs.insert(def.name.clone(), Arc::new(def))
+    }
+
+    /// Forget a node type (its file was deleted); nodes of it become unknown-type placeholders.
+    pub fn remove(&mut self, name: &str) -> Option<Arc<NodeDef>> {
+        self.defs.remove(name)
     }
 
     pub fn get(&self, name: &str) -> Option<&Arc<NodeDef>> {

@@ -128,6 +128,13 @@ impl Runtime {
         &self.registry
     }
 
+    /// Swap in a registry with types added, replaced or removed at run time;
+    /// the next [`Runtime::load`] compiles against it and re-instantiates
+    /// every node whose type definition changed, keeping its values and links.
+    pub fn set_registry(&mut self, registry: Registry) {
+        self.registry = registry;
+    }
+
     /// Compile `patch` and make it the running one. Nodes that already ran
     /// keep their state and outputs where their type, values and links are
     /// unchanged, so editing one corner of a patch re-evaluates only that corner.
@@ -143,7 +150,7 @@ impl Runtime {
             let reused = self
                 .network
                 .index_of(node.id)
-                .filter(|&i| self.network.nodes()[i].type_name == node.type_name)
+                .filter(|&i| same_def(&self.network.nodes()[i], node))
                 .and_then(|i| old_states[i].take().map(|s| (i, s)));
             let state = match reused {
                 Some((old_index, mut state)) => {
@@ -375,6 +382,17 @@ fn set_constants(state: &mut NodeState, node: &NetworkNode) {
             *slot = value.clone();
         }
     }
+}
+
+/// Whether two compiled nodes run the same type definition (the same `Arc`:
+/// a type replaced in the registry gives its nodes fresh instances).
+fn same_def(a: &NetworkNode, b: &NetworkNode) -> bool {
+    a.type_name == b.type_name
+        && match (&a.def, &b.def) {
+            (Some(x), Some(y)) => Arc::ptr_eq(x, y),
+            (None, None) => true,
+            _ => false,
+        }
 }
 
 /// Whether a node reads the same things in two networks: the same constants

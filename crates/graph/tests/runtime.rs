@@ -451,3 +451,68 @@ impl Node for Settle {
         Ok(())
     }
 }
+
+/// A node type made at run time (as a shader file or subpatch makes one): an
+/// owned name, replaced in the registry when its source changes.
+fn scaled(name: &str, factor: f32, pin: &str) -> NodeDef {
+    NodeDef::new(
+        name.to_owned(),
+        "Runtime".to_owned(),
+        format!("times {factor}"),
+    )
+    .input(pin.to_owned(), 1.0f32)
+    .output::<f32>("Output")
+    .per_slice1(move |v: &f32| v * factor)
+}
+
+#[test]
+fn a_type_replaced_at_run_time_re_instantiates_its_nodes_and_keeps_values_and_links() {
+    let mut reg = registry();
+    reg.add(scaled("Scale", 2.0, "Input"));
+    let mut p = Patch::default();
+    p.add(NodeDoc::new(1, "Const").with("Value", vec![3.0f32]));
+    p.add(NodeDoc::new(2, "Scale"));
+    p.add(NodeDoc::new(3, "Counter"));
+    p.add(sink(4, "scaled"));
+    p.add(sink(5, "runs"));
+    p.link(1, "Output", 2, "Input");
+    p.link(2, "Output", 4, "Input");
+    p.link(1, "Output", 3, "Input");
+    p.link(3, "Runs", 5, "Input");
+    let mut rt = Runtime::new(reg.clone());
+    assert!(rt.load(&p).is_empty());
+    run_frames(&mut rt, 2);
+    assert_eq!(probe(&rt, "scaled"), Spread::Float(vec![6.0]));
+
+    // The file changes: same name, new definition.
+    let old = reg.replace(scaled("Scale", 5.0, "Input"));
+    assert!(old.is_some());
+    rt.set_registry(reg.clone());
+    assert!(rt.load(&p).is_empty());
+    let stats = rt.evaluate(FrameClock::fixed(2, 60.0)).clone();
+    assert_eq!(probe(&rt, "scaled"), Spread::Float(vec![15.0]));
+    assert_eq!(
+        stats.node(NodeId(2)).map(|n| n.run),
+        Some(NodeRun::Evaluated)
+    );
+    // Nodes of other types keep their state.
+    assert_eq!(stats.node(NodeId(3)).map(|n| n.run), Some(NodeRun::Reused));
+    assert_eq!(probe(&rt, "runs"), Spread::Int(vec![1]));
+
+    // A pin renamed away: the link stays in the document and is reported.
+    reg.replace(scaled("Scale", 5.0, "Renamed"));
+    rt.set_registry(reg.clone());
+    let problems = rt.load(&p).to_vec();
+    assert!(
+        problems.iter().any(|pr| pr.node == NodeId(2)),
+        "{problems:?}"
+    );
+    assert_eq!(p.links.len(), 4);
+
+    // Removed: nodes of it become placeholders, the rest runs on.
+    reg.remove("Scale");
+    rt.set_registry(reg);
+    rt.load(&p);
+    rt.evaluate(FrameClock::fixed(3, 60.0));
+    assert_eq!(probe(&rt, "runs"), Spread::Int(vec![1]));
+}

@@ -119,7 +119,7 @@ fn covered() -> Registry {
 #[test]
 fn every_node_evaluates_with_its_defaults_to_finite_values() {
     let r = covered();
-    let names: Vec<&str> = r.iter().map(|d| d.name).collect();
+    let names: Vec<&str> = r.iter().map(|d| &*d.name).collect();
     assert_eq!(
         names,
         [
@@ -155,7 +155,7 @@ fn every_node_evaluates_with_its_defaults_to_finite_values() {
     );
     for def in r.iter() {
         assert!(!def.help.is_empty(), "`{}` has no help", def.name);
-        let outputs = eval(def.name, &[])
+        let outputs = eval(&def.name, &[])
             .unwrap_or_else(|e| panic!("`{}` failed with its defaults: {e}", def.name));
         for (pin, spread) in def.outputs.iter().zip(&outputs) {
             assert!(
@@ -181,7 +181,7 @@ fn every_node_loads_into_a_patch_without_problems() {
     let mut patch = Patch::default();
     for (i, def) in covered.iter().enumerate() {
         let id = u32::try_from(i + 1).expect("few node types");
-        patch.add(NodeDoc::new(id, def.name));
+        patch.add(NodeDoc::new(id, &def.name));
     }
     let mut runtime = Runtime::new(crate::registry());
     let problems = runtime.load(&patch);
