@@ -98,7 +98,11 @@ impl Session {
         self.runtime.evaluate(FrameClock::fixed(frame, fps));
         let mut failed = false;
         for (node, error) in self.runtime.node_errors_at() {
-            let line = format!("error: {}: node {}: {error}", path.display(), path_text(node));
+            let line = format!(
+                "error: {}: node {}: {error}",
+                path.display(),
+                path_text(node)
+            );
             failed = true;
             if reported.insert(line.clone()) {
                 eprintln!("{line} (frame {frame})");

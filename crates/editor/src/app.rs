@@ -14,6 +14,8 @@ use spreadlight_graph::{
 };
 use spreadlight_render::{GpuContext, Renderer, TextureRef};
 
+mod subpatches;
+
 use crate::browser;
 use crate::canvas::{self, Canvas, CanvasNode, PinPositions, Refusal, SCALE};
 use crate::files;
@@ -195,6 +197,10 @@ pub struct EditorApp {
     ui_times: std::collections::VecDeque<f64>,
     evaluations: u64,
     auto: AutoRun,
+    /// Subpatch types this editor put in `registry` (see `subpatches.rs`).
+    subpatch_types: Vec<String>,
+    /// The subpatch instance the open document is shown for.
+    instance: Vec<NodeId>,
 }
 
 impl EditorApp {
@@ -286,6 +292,8 @@ impl EditorApp {
             ui_times: std::collections::VecDeque::new(),
             evaluations: 0,
             auto: AutoRun::default(),
+            subpatch_types: Vec::new(),
+            instance: Vec::new(),
         };
         match options.path {
             // `spreadlight edit new.ron` starts that patch, as text editors do.
@@ -444,6 +452,7 @@ impl EditorApp {
         }
         self.doc = doc;
         self.path = path;
+        self.instance.clear();
         self.selected.clear();
         self.snarl = Snarl::new();
         self.snarl_ids.clear();
@@ -487,7 +496,7 @@ impl EditorApp {
     }
 
     pub fn save_as(&mut self, path: &Path) -> bool {
-        match format::save(self.doc.patch(), path) {
+        match format::save(self.doc.top(), path) {
             Ok(()) => {
                 let old_recovery = self.recovery_file();
                 self.path = Some(path.to_owned());
@@ -541,7 +550,7 @@ impl EditorApp {
             return;
         }
         self.last_autosave = now;
-        match files::write_recovery(self.doc.patch(), &self.recovery_file()) {
+        match files::write_recovery(self.doc.top(), &self.recovery_file()) {
             Ok(()) => {
                 self.autosaved_generation = Some(self.doc.generation());
                 self.recovery_written = true;
@@ -632,7 +641,7 @@ impl EditorApp {
     fn evaluate_if_needed(&mut self, dt: Option<f64>) {
         let mut run = false;
         if self.loaded_generation != Some(self.doc.generation()) {
-            self.runtime.load(self.doc.patch());
+            self.runtime.load(self.doc.top());
             self.loaded_generation = Some(self.doc.generation());
             run = true;
         }
@@ -661,7 +670,8 @@ impl EditorApp {
             Source::None => return Err(ViewportError::NoTexture),
             Source::Pin(node, pin) => (*node, pin.clone()),
             Source::Output => {
-                let patch = self.doc.patch();
+                // Viewports show the top patch, whichever document is open.
+                let patch = self.doc.top();
                 let is_output =
                     |id: &NodeId| patch.node(*id).is_some_and(|n| n.type_name == "Output");
                 let chosen = self
@@ -671,18 +681,20 @@ impl EditorApp {
                     .find(is_output)
                     .or_else(|| patch.nodes.iter().map(|n| n.id).find(is_output))
                     .ok_or(ViewportError::NoTexture)?;
-                let link = self
-                    .doc
-                    .link_into(&PinRef(chosen, "Texture".to_owned()))
+                let into = PinRef(chosen, "Texture".to_owned());
+                let link = patch
+                    .links
+                    .iter()
+                    .find(|l| l.to == into)
                     .ok_or(ViewportError::NoTexture)?;
                 (link.from.node(), link.from.pin().to_owned())
             }
         };
-        let needed = self
-            .runtime
-            .network()
-            .index_of(node)
-            .is_some_and(|i| self.runtime.network().is_needed(i));
+        let network = self.runtime.network();
+        let needed = network
+            .index_at(&[node])
+            .or_else(|| network.instance_output(&[node], &pin))
+            .is_some_and(|i| network.is_needed(i));
         if !needed {
             return Err(ViewportError::NotEvaluated(format!("{node}.{pin}")));
         }
@@ -775,6 +787,12 @@ impl EditorApp {
         }
         if consume(cmd(Key::D)) {
             self.duplicate_selected();
+        }
+        if consume(cmd_shift(Key::G)) {
+            self.unmake_selected_subpatches();
+        }
+        if consume(cmd(Key::G)) {
+            self.make_subpatch_of_selection();
         }
         let (copy, paste, pasted_text) = ctx.input(|i| {
             let copy = i.events.iter().any(|e| matches!(e, egui::Event::Copy))
@@ -897,6 +915,17 @@ impl EditorApp {
                 if ui.button("Delete").clicked() {
                     self.delete_selected();
                 }
+                ui.separator();
+                if ui.button("Make subpatch").on_hover_text("Ctrl+G").clicked() {
+                    self.make_subpatch_of_selection();
+                }
+                if ui
+                    .button("Unmake subpatch")
+                    .on_hover_text("Ctrl+Shift+G")
+                    .clicked()
+                {
+                    self.unmake_selected_subpatches();
+                }
             });
             ui.separator();
             let play = if self.playing {
@@ -1011,9 +1040,11 @@ impl EditorApp {
             }
             ui.separator();
             for pin in &def.outputs {
+                let mut path = self.instance.clone();
+                path.push(id);
                 let value = self
                     .runtime
-                    .output(id, &pin.name)
+                    .output_at(&path, &pin.name)
                     .map_or_else(|| "not evaluated".to_owned(), |s| canvas::preview(s));
                 ui.label(format!("{} → {value}", pin.name));
             }
@@ -1032,7 +1063,7 @@ impl EditorApp {
 
     fn texture_pins(&self) -> Vec<(NodeId, Name, String)> {
         let mut out = Vec::new();
-        for n in &self.doc.patch().nodes {
+        for n in &self.doc.top().nodes {
             if let Some(def) = self.registry.get(&n.type_name) {
                 for p in &def.outputs {
                     if p.ty == PinType::Resource(ResourceKind::Texture) {
@@ -1112,6 +1143,10 @@ impl EditorApp {
     fn canvas(&mut self, ui: &mut Ui) {
         let dragging = ui.input(|i| i.pointer.any_down());
         let changed = self.synced_generation != Some(self.doc.generation());
+        if changed {
+            self.refresh_subpatch_types();
+        }
+        self.breadcrumb(ui);
         canvas::sync(
             &mut self.snarl,
             &mut self.snarl_ids,
@@ -1154,6 +1189,7 @@ impl EditorApp {
                 pointer: self.last_pointer,
                 set_view,
                 now,
+                instance: &self.instance,
             };
             SnarlWidget::new()
                 .id(Id::new(CANVAS_ID))
@@ -1168,7 +1204,17 @@ impl EditorApp {
             i.pointer
                 .button_double_clicked(egui::PointerButton::Primary)
         });
-        if double
+        let on_node = ui.input(|i| i.pointer.interact_pos()).and_then(|p| {
+            node_rects
+                .iter()
+                .rev()
+                .find(|(_, r)| r.contains(p))
+                .map(|(id, _)| *id)
+        });
+        if double && let Some(id) = on_node {
+            // Double-click on a subpatch node opens it in place.
+            self.open_subpatch(id);
+        } else if double
             && response.hovered()
             && let Some(screen) = ui.input(|i| i.pointer.interact_pos())
         {

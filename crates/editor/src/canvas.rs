@@ -119,9 +119,27 @@ pub struct Canvas<'a> {
     /// A view to show instead of snarl's own (fitting the patch after it opens).
     pub set_view: Option<egui::emath::TSTransform>,
     pub now: f64,
+    /// The subpatch instance the open document is shown for (node ids from the
+    /// top; empty at the top): live values, errors and timings are read there.
+    pub instance: &'a [NodeId],
 }
 
 impl<'a> Canvas<'a> {
+    /// The path of node `id` of the open document in the running patch.
+    fn at(&self, id: NodeId) -> Vec<NodeId> {
+        let mut path = self.instance.to_vec();
+        path.push(id);
+        path
+    }
+
+    /// The id GPU passes name node `id` of the open document by (its id in the flat network).
+    fn flat_id(&self, id: NodeId) -> u32 {
+        let network = self.runtime.network();
+        network
+            .index_at(&self.at(id))
+            .map_or(id.0, |i| network.nodes()[i].id.0)
+    }
+
     fn node_id(snarl: &Snarl<CanvasNode>, node: egui_snarl::NodeId) -> Option<NodeId> {
         snarl.get_node(node).map(|n| n.0)
     }
@@ -157,16 +175,16 @@ impl<'a> Canvas<'a> {
             .runtime
             .problems()
             .iter()
-            .filter(|p| p.node == id && p.severity == Severity::Error)
+            .filter(|p| p.node == id && p.within == self.instance && p.severity == Severity::Error)
             .map(|p| match &p.pin {
                 Some(pin) => format!("{pin}: {}", p.kind),
                 None => p.kind.to_string(),
             })
             .collect();
-        if let Some(e) = self.runtime.node_error(id) {
+        if let Some(e) = self.runtime.node_error_at(&self.at(id)) {
             messages.push(e.to_string());
         }
-        if let Some(e) = self.gpu_errors.get(&id.0) {
+        if let Some(e) = self.gpu_errors.get(&self.flat_id(id)) {
             messages.push(format!("GPU: {e}"));
         }
         (!messages.is_empty()).then(|| messages.join("\n"))
@@ -306,7 +324,7 @@ impl SnarlViewer<CanvasNode> for Canvas<'_> {
             let shown = match &linked {
                 Some(l) => self
                     .runtime
-                    .output(l.from.node(), l.from.pin())
+                    .output_at(&self.at(l.from.node()), l.from.pin())
                     .map(|s| preview(s)),
                 None => self
                     .doc
@@ -354,7 +372,7 @@ impl SnarlViewer<CanvasNode> for Canvas<'_> {
         if label.hovered() {
             let shown = self
                 .runtime
-                .output(id, name)
+                .output_at(&self.at(id), name)
                 .map_or_else(|| "not evaluated".to_owned(), |s| preview(s));
             label.on_hover_text(format!("{name}: {ty}\n{shown}"));
         }
@@ -376,12 +394,15 @@ impl SnarlViewer<CanvasNode> for Canvas<'_> {
         let Some(id) = Self::node_id(snarl, node) else {
             return;
         };
-        let cpu = self
-            .runtime
-            .stats()
-            .node(id)
-            .map_or(0.0, |s| s.cpu_ns as f64 / 1e6);
-        let text = match self.gpu_ms.get(&id.0) {
+        let path = self.at(id);
+        let stats = self.runtime.stats();
+        // A subpatch node costs what its inside costs.
+        let cpu = match stats.node_at(&path) {
+            Some(s) => s.cpu_ns,
+            None => stats.inside(&path).map(|s| s.cpu_ns).sum(),
+        } as f64
+            / 1e6;
+        let text = match self.gpu_ms.get(&self.flat_id(id)) {
             Some(gpu) => format!("CPU {cpu:.3} ms · GPU {gpu:.3} ms"),
             None => format!("CPU {cpu:.3} ms"),
         };

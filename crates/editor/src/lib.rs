@@ -11,6 +11,7 @@ pub mod files;
 pub mod gpu;
 pub mod model;
 pub mod nodes;
+pub mod subpatch;
 pub mod values;
 pub mod viewport;
 

@@ -234,7 +234,11 @@ impl Compiler<'_> {
             let node = &patch.nodes[i];
             let def = match self.extras.defs.get(&node.id) {
                 Some(def) => Some(def),
-                None => self.registry.get(&node.type_name),
+                // A subpatch's entry never runs: one still here could not be expanded.
+                None => self
+                    .registry
+                    .get(&node.type_name)
+                    .filter(|d| !crate::subpatch::is_subpatch_def(d)),
             };
             match def {
                 Some(def) => {

@@ -175,8 +175,11 @@ impl Flattener<'_> {
                 None => {}
             }
             let flat_id = self.alloc(within, node.id);
-            let local = if is_iobox(&node.type_name) || self.registry.get(&node.type_name).is_some()
-            {
+            let builtin = self
+                .registry
+                .get(&node.type_name)
+                .is_some_and(|def| !super::is_subpatch_def(def));
+            let local = if is_iobox(&node.type_name) || builtin {
                 self.push(flat_id, path, node);
                 Local::Plain(flat_id)
             } else {

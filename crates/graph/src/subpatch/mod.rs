@@ -25,7 +25,7 @@ pub use pins::{INLET, OUTLET, ioboxes, is_iobox, pin_name, register};
 use crate::diagnostics::ProblemKind;
 use crate::document::{NodeId, Patch};
 use crate::network::{CompileExtras, Network};
-use crate::registry::Registry;
+use crate::registry::{NodeDef, Registry};
 use crate::value::PinType;
 
 /// Flatten and compile a patch; problems are placed in the documents they concern.
@@ -105,6 +105,36 @@ pub fn pins_of(
         .filter(|p| seen.insert(p.name.clone()))
         .collect();
     (inputs, outputs)
+}
+
+/// The browser category of subpatch types.
+pub const CATEGORY: &str = "Subpatches";
+
+/// Whether a registry entry stands for a subpatch (made by [`node_def`]):
+/// compiling expands those instead of running them.
+pub fn is_subpatch_def(def: &NodeDef) -> bool {
+    def.category == CATEGORY
+}
+
+/// A registry entry for a subpatch type, so hosts list and draw its nodes as
+/// any other: its pins from [`pins_of`]. It never runs: compiling expands it.
+pub fn node_def(
+    name: &str,
+    definition: &Patch,
+    registry: &Registry,
+    library: &Library,
+    source: &str,
+) -> NodeDef {
+    let (inputs, outputs) = pins_of(definition, registry, library);
+    let help = format!("A subpatch ({source}): double-click it to open it.");
+    let mut def = NodeDef::new(name.to_owned(), CATEGORY, help);
+    for pin in inputs {
+        def = def.input_spread(pin.name, pin.ty, pin.default);
+    }
+    for pin in outputs {
+        def = def.output_typed(pin.name, pin.ty);
+    }
+    def
 }
 
 /// A pin of a subpatch's node.
