@@ -414,8 +414,10 @@ fn inline_subpatches_round_trip_and_raise_the_version() {
     assert_eq!(back, expected);
     assert_eq!(format::to_string(&back).expect("encode"), text);
 
-    let mut old = Patch::default();
-    old.version = 1;
+    let mut old = Patch {
+        version: 1,
+        ..Patch::default()
+    };
     old.add(NodeDoc::new(1, "Plus"));
     let text = format::to_string(&old).expect("encode");
     assert!(

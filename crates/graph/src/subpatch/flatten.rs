@@ -35,6 +35,9 @@ pub(crate) struct Flat {
     pub explained: HashSet<NodeId>,
 }
 
+/// A subpatch's pins of one direction, in order: name and the flat IOBox behind it.
+type Pins = Vec<(String, NodeId)>;
+
 /// The parent's subpatch node and pin behind a flat `Inlet`.
 pub(crate) struct Fed {
     pub path: Vec<NodeId>,
@@ -45,10 +48,7 @@ pub(crate) struct Fed {
 /// What a node of one document is in the flat patch.
 enum Local {
     Plain(NodeId),
-    Instance {
-        inputs: Vec<(String, NodeId)>,
-        outputs: Vec<(String, NodeId)>,
-    },
+    Instance { inputs: Pins, outputs: Pins },
 }
 
 /// Inline definitions visible from a document: its own, then its parents'.
@@ -155,7 +155,7 @@ impl Flattener<'_> {
         parent: Option<&'s Scope<'s>>,
         within: &[NodeId],
         chain: &[String],
-    ) -> (Vec<(String, NodeId)>, Vec<(String, NodeId)>) {
+    ) -> (Pins, Pins) {
         let scope = Scope { doc, parent };
         let mut locals: HashMap<NodeId, Local> = HashMap::new();
         for node in &doc.nodes {
