@@ -94,6 +94,12 @@ fn the_editor_opens_the_showcase_in_a_window_and_its_viewport_is_not_blank() {
         ],
     );
     assert_eq!(report["viewport_error"], "", "{report}");
+    // Node titles are readable at the zoom the patch opens (fitted) at.
+    let text_px = report["canvas_text_px"].as_f64().expect("text size");
+    assert!(
+        text_px >= 9.0,
+        "titles are {text_px} px tall on screen: {report}"
+    );
     let nodes = spreadlight_graph::format::load(&root().join("patches/showcase.ron"))
         .expect("the showcase loads")
         .nodes

@@ -2,7 +2,55 @@
 
 use super::*;
 
+/// How fast the wheel zooms: the zoom factor per point of scroll is e^this.
+const WHEEL_ZOOM_SPEED: f32 = 0.004;
+
 impl EditorApp {
+    /// The canvas's zoom: on-screen points per canvas point.
+    pub fn canvas_zoom(&self, ctx: &egui::Context) -> Option<f32> {
+        let layer = self.canvas_layer?;
+        Some(
+            ctx.layer_transform_to_global(layer)
+                .unwrap_or_default()
+                .scaling,
+        )
+    }
+
+    /// How tall node titles and pin names are on screen, in points: the body
+    /// text size at the canvas's zoom (what "readable" is asserted on).
+    pub fn canvas_text_points(&self, ctx: &egui::Context) -> Option<f32> {
+        let body = ctx
+            .global_style()
+            .text_styles
+            .get(&egui::TextStyle::Body)?
+            .size;
+        Some(body * self.canvas_zoom(ctx)?)
+    }
+
+    /// The mouse wheel zooms around the pointer (as in vvvv); the canvas would
+    /// otherwise pan with it. Its scroll is taken so the canvas does not also pan.
+    fn wheel_zoom(
+        &mut self,
+        ui: &mut Ui,
+        view: egui::emath::TSTransform,
+        canvas_rect: egui::Rect,
+    ) -> Option<egui::emath::TSTransform> {
+        let pointer = ui.input(|i| i.pointer.hover_pos())?;
+        if !canvas_rect.contains(pointer) || ui.input(|i| !i.modifiers.is_none()) {
+            return None;
+        }
+        let scroll = ui.input(|i| i.smooth_scroll_delta.y);
+        if scroll == 0.0 {
+            return None;
+        }
+        ui.input_mut(|i| i.smooth_scroll_delta = egui::Vec2::ZERO);
+        Some(canvas::zoom_around(
+            view,
+            pointer,
+            (scroll * WHEEL_ZOOM_SPEED).exp(),
+        ))
+    }
+
     pub(super) fn canvas(&mut self, ui: &mut Ui) {
         let dragging = ui.input(|i| i.pointer.any_down());
         let changed = self.synced_generation != Some(self.doc.generation());
@@ -34,7 +82,8 @@ impl EditorApp {
                 ui.ctx().request_repaint();
                 canvas::fit_view(view, &self.node_rects, canvas_rect)
             }
-            _ => None,
+            Some(view) => self.wheel_zoom(ui, view, canvas_rect),
+            None => None,
         };
         let mut node_rects = Vec::new();
         let response = {
