@@ -35,7 +35,8 @@ use crate::viewport::{self, Blitter, ViewTarget, ViewportError};
 pub struct EditorOptions {
     pub path: Option<PathBuf>,
     pub config_dir: PathBuf,
-    /// Seconds between autosaves while there are unsaved changes.
+    /// Seconds between autosaves while there are unsaved changes: an edit is
+    /// in the recovery file at most this long after it is made.
     pub autosave_secs: f64,
     pub automation: Option<Automation>,
 }
@@ -67,12 +68,15 @@ fn median_and_p95(v: &[f64]) -> (f64, f64) {
     (s[s.len() / 2], s[(s.len() * 95 / 100).min(s.len() - 1)])
 }
 
+/// At most this long after an edit, the recovery file holds it.
+pub const AUTOSAVE_SECS: f64 = 1.0;
+
 impl EditorOptions {
     pub fn new(path: Option<PathBuf>) -> Self {
         EditorOptions {
             path,
             config_dir: files::config_dir(),
-            autosave_secs: 2.0,
+            autosave_secs: AUTOSAVE_SECS,
             automation: None,
         }
     }
@@ -558,7 +562,7 @@ impl EditorApp {
         // Edits made while drawing are evaluated at once, so the viewport never shows a stale frame.
         self.evaluate_if_needed(None);
         self.render_viewports();
-        self.autosave(now);
+        self.autosave(now, &ctx);
 
         let title = self.title();
         if title != self.title {

@@ -100,7 +100,10 @@ impl EditorApp {
         }
     }
 
-    pub(super) fn autosave(&mut self, now: f64) {
+    /// Write the recovery file when the document changed and the last write
+    /// is `autosave_secs` old; otherwise ask for a frame when it will be, so an
+    /// idle editor (nothing repaints it) still saves the edit in time.
+    pub(super) fn autosave(&mut self, now: f64, ctx: &egui::Context) {
         if !self.doc.is_dirty() {
             if self.recovery_written {
                 files::remove_recovery(&self.recovery_file());
@@ -108,9 +111,12 @@ impl EditorApp {
             }
             return;
         }
-        if self.autosaved_generation == Some(self.doc.generation())
-            || now - self.last_autosave < self.options.autosave_secs
-        {
+        if self.autosaved_generation == Some(self.doc.generation()) {
+            return;
+        }
+        let wait = self.options.autosave_secs - (now - self.last_autosave);
+        if wait > 0.0 {
+            ctx.request_repaint_after(std::time::Duration::from_secs_f64(wait));
             return;
         }
         self.last_autosave = now;
