@@ -27,6 +27,9 @@ pub const READABLE_ZOOM: f32 = 0.75;
 /// The zoom limits of the canvas (snarl's style says the same).
 const ZOOM_RANGE: std::ops::RangeInclusive<f32> = 0.1..=1.0;
 
+/// Room between an output's name and its pin, which snarl draws over the row's end.
+const OUTPUT_PIN_GAP: f32 = 6.0;
+
 /// Below this zoom the canvas shows pins without their value editors (the inspector still edits).
 pub const EDITOR_MIN_ZOOM: f32 = 0.5;
 
@@ -376,6 +379,8 @@ impl SnarlViewer<CanvasNode> for Canvas<'_> {
         let Some((id, name, ty)) = self.output_pin(snarl, pin.id) else {
             return self.recorded((NodeId(0), String::new(), false), None);
         };
+        // Snarl draws an output's pin over the row's end: keep the name clear of it.
+        ui.add_space(OUTPUT_PIN_GAP);
         let label = ui.label(name);
         if label.hovered() {
             let shown = self
