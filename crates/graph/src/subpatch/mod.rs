@@ -30,9 +30,10 @@ use crate::value::PinType;
 
 /// Flatten and compile a patch; problems are placed in the documents they concern.
 pub(crate) fn compile(patch: &Patch, registry: &Registry, library: &Library) -> Network {
-    let flat = flatten::flatten(patch, registry, library);
+    let mut flat = flatten::flatten(patch, registry, library);
+    let typed = pins::type_ioboxes(&flat.patch, registry);
     let extras = CompileExtras {
-        defs: pins::type_ioboxes(&flat.patch, registry),
+        defs: pins::iobox_defs(&mut flat.patch, &typed),
         link_labels: &flat.link_labels,
     };
     let mut network = Network::compile_flat(&flat.patch, registry, &extras);
@@ -79,13 +80,12 @@ pub fn pins_of(
     library: &Library,
 ) -> (Vec<SubpatchPin>, Vec<SubpatchPin>) {
     let flat = flatten::flatten(definition, registry, library);
-    let defs = pins::type_ioboxes(&flat.patch, registry);
+    let typed = pins::type_ioboxes(&flat.patch, registry);
     let pin = |node: &crate::document::NodeDoc| {
-        let def = defs.get(&node.id);
-        let ty = def.map_or(PinType::Any, |d| d.outputs[0].ty);
-        let default = def.map_or(crate::Spread::Float(Vec::new()), |d| {
-            d.inputs[0].default.clone()
-        });
+        let (ty, default) = typed
+            .get(&node.id)
+            .cloned()
+            .unwrap_or((PinType::Any, crate::Spread::Float(Vec::new())));
         SubpatchPin {
             name: pin_name(node),
             ty,

@@ -36,8 +36,11 @@ pub fn is_iobox(type_name: &str) -> bool {
 /// `Inlet` and `Outlet` as the browser lists them (of any type; a compiled
 /// patch types each one from its links).
 pub fn register(r: &mut Registry) {
-    r.add(inlet_def(PinType::Any, Spread::empty(PinType::Any)));
-    r.add(outlet_def(PinType::Any));
+    // A one-slice default, so each passes something on when tried alone.
+    r.add(inlet_def(PinType::Any, Spread::Float(vec![0.0])));
+    let mut outlet = outlet_def(PinType::Any);
+    outlet.inputs[0].default = Spread::Float(vec![0.0]);
+    r.add(outlet);
 }
 
 /// An `Inlet` of one type: passes its input on.
@@ -98,9 +101,12 @@ fn value_type(value: &Spread) -> PinType {
 }
 
 /// Types the IOBoxes of a flattened patch from their links (IOBoxes of
-/// nested subpatches feed each other, so types are found recursively) and
-/// makes a typed definition for each.
-pub(crate) fn type_ioboxes(flat: &Patch, registry: &Registry) -> HashMap<NodeId, Arc<NodeDef>> {
+/// nested subpatches feed each other, so types are found recursively): each
+/// one's pin type, and an `Inlet`'s default.
+pub(crate) fn type_ioboxes(
+    flat: &Patch,
+    registry: &Registry,
+) -> HashMap<NodeId, (PinType, Spread)> {
     let mut typer = Typer {
         flat,
         registry,
@@ -108,18 +114,45 @@ pub(crate) fn type_ioboxes(flat: &Patch, registry: &Registry) -> HashMap<NodeId,
         known: HashMap::new(),
         open: Vec::new(),
     };
-    let mut defs = HashMap::new();
     for node in &flat.nodes {
-        if !is_iobox(&node.type_name) || defs.contains_key(&node.id) {
-            continue;
+        if is_iobox(&node.type_name) {
+            typer.pin(node.id);
         }
-        let (ty, default) = typer.pin(node.id);
-        let def = if node.type_name == INLET {
-            inlet_def(ty, default)
-        } else {
-            outlet_def(ty)
+    }
+    typer.known
+}
+
+/// The definitions the flat IOBoxes run with. An `Inlet`'s default becomes
+/// its value in the flat patch, so a definition depends on the kind and type
+/// alone and is shared (the runtime keeps a node's state while its
+/// definition is the same one, so a recompile must hand out the same).
+pub(crate) fn iobox_defs(
+    flat: &mut Patch,
+    typed: &HashMap<NodeId, (PinType, Spread)>,
+) -> HashMap<NodeId, Arc<NodeDef>> {
+    static SHARED: std::sync::OnceLock<std::sync::Mutex<HashMap<(bool, String), Arc<NodeDef>>>> =
+        std::sync::OnceLock::new();
+    let mut shared = SHARED
+        .get_or_init(Default::default)
+        .lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner);
+    let mut defs = HashMap::new();
+    for node in &mut flat.nodes {
+        let Some((ty, default)) = typed.get(&node.id) else {
+            continue;
         };
-        defs.insert(node.id, Arc::new(def));
+        let inlet = node.type_name == INLET;
+        if inlet && !node.values.contains_key("Input") {
+            node.values.insert("Input".to_owned(), default.clone());
+        }
+        let def = shared.entry((inlet, ty.name())).or_insert_with(|| {
+            Arc::new(if inlet {
+                inlet_def(*ty, Spread::empty(*ty))
+            } else {
+                outlet_def(*ty)
+            })
+        });
+        defs.insert(node.id, def.clone());
     }
     defs
 }
