@@ -403,7 +403,8 @@ impl EditorDoc {
         to: &PinRef,
     ) -> Result<(), LinkError> {
         let (from_ty, to_ty) = link_types(self.patch(), registry, from, to)?;
-        if !from_ty.links_to(to_ty) {
+        // An `Inlet`'s output is `Any` until compiling types it from what it feeds.
+        if !from_ty.links_to(to_ty) && from_ty != PinType::Any {
             return Err(LinkError::Incompatible {
                 from_type: from_ty.name(),
                 to_type: to_ty.name(),

@@ -487,6 +487,45 @@ mod tests {
     }
 
     #[test]
+    fn inside_a_subpatch_iobox_pins_link_to_any_type_and_make_new_pins() {
+        let registry = spreadlight_nodes::registry();
+        let mut doc = chain();
+        let id = doc.make_subpatch(&registry, &[NodeId(2)]).expect("made");
+        assert!(doc.enter(id));
+        let inlet = doc.add_node(INLET, (200.0, 0.0));
+        let outlet = doc.add_node(OUTLET, (200.0, 120.0));
+        let sine = doc.add_node("Sin (Value)", (200.0, 60.0));
+        doc.set_value(inlet, "Name", Some(vec!["Angle".to_owned()].into()), false);
+        doc.set_value(outlet, "Name", Some(vec!["Sine".to_owned()].into()), false);
+        for (from, to) in [
+            ((inlet, "Output"), (sine, "Input")),
+            ((sine, "Output"), (outlet, "Input")),
+        ] {
+            doc.link(
+                &registry,
+                PinRef(from.0, from.1.to_owned()),
+                PinRef(to.0, to.1.to_owned()),
+            )
+            .expect("links");
+        }
+        let (inputs, outputs) = pin_names(doc.patch());
+        assert_eq!(inputs, ["Input 1", "Angle"]);
+        assert_eq!(outputs, ["Output", "Sine"]);
+        doc.leave_to(0);
+        let (ins, outs) = spreadlight_graph::subpatch::pins_of(
+            &doc.top().subpatches["Subpatch"],
+            &registry,
+            &Default::default(),
+        );
+        assert_eq!(
+            outs[1].ty,
+            spreadlight_graph::PinType::Float,
+            "typed from inside"
+        );
+        assert_eq!(ins[1].ty, spreadlight_graph::PinType::Float);
+    }
+
+    #[test]
     fn unmaking_puts_the_nodes_back_with_their_links_and_values() {
         let registry = spreadlight_nodes::registry();
         let mut doc = chain();
