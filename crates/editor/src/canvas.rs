@@ -353,7 +353,13 @@ impl SnarlViewer<CanvasNode> for Canvas<'_> {
             .ctx()
             .layer_transform_to_global(ui.layer_id())
             .map_or(1.0, |t| t.scaling);
+        // An IOBox edits its value as rows in its body instead.
+        let iobox = self
+            .doc
+            .node(id)
+            .is_some_and(|n| crate::iobox::is_iobox(&n.type_name));
         if linked.is_none()
+            && !iobox
             && zoom >= EDITOR_MIN_ZOOM
             && values::editable(ty)
             && let Some(mut value) = self.doc.input_value(self.registry, id, name)
@@ -390,6 +396,26 @@ impl SnarlViewer<CanvasNode> for Canvas<'_> {
             label.on_hover_text(format!("{name}: {ty}\n{shown}"));
         }
         self.recorded((id, name.to_owned(), false), Some(ty))
+    }
+
+    fn has_body(&mut self, node: &CanvasNode) -> bool {
+        self.doc
+            .node(node.0)
+            .is_some_and(|n| crate::iobox::is_iobox(&n.type_name))
+    }
+
+    fn show_body(
+        &mut self,
+        node: egui_snarl::NodeId,
+        _inputs: &[InPin],
+        _outputs: &[OutPin],
+        ui: &mut Ui,
+        snarl: &mut Snarl<CanvasNode>,
+    ) {
+        if let Some(id) = Self::node_id(snarl, node) {
+            let path = self.at(id);
+            crate::iobox::rows(ui, self.doc, self.registry, self.runtime, &path);
+        }
     }
 
     fn has_footer(&mut self, _node: &CanvasNode) -> bool {

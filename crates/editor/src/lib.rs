@@ -9,6 +9,7 @@ pub mod browser;
 pub mod canvas;
 pub mod files;
 pub mod gpu;
+pub mod iobox;
 pub mod model;
 pub mod nodes;
 pub mod subpatch;
