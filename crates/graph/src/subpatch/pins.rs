@@ -122,6 +122,9 @@ pub(crate) fn type_ioboxes(
     typer.known
 }
 
+/// Typed IOBox definitions by (is an `Inlet`, type name), shared by every compile.
+type SharedDefs = HashMap<(bool, String), Arc<NodeDef>>;
+
 /// The definitions the flat IOBoxes run with. An `Inlet`'s default becomes
 /// its value in the flat patch, so a definition depends on the kind and type
 /// alone and is shared (the runtime keeps a node's state while its
@@ -130,8 +133,7 @@ pub(crate) fn iobox_defs(
     flat: &mut Patch,
     typed: &HashMap<NodeId, (PinType, Spread)>,
 ) -> HashMap<NodeId, Arc<NodeDef>> {
-    static SHARED: std::sync::OnceLock<std::sync::Mutex<HashMap<(bool, String), Arc<NodeDef>>>> =
-        std::sync::OnceLock::new();
+    static SHARED: std::sync::OnceLock<std::sync::Mutex<SharedDefs>> = std::sync::OnceLock::new();
     let mut shared = SHARED
         .get_or_init(Default::default)
         .lock()
