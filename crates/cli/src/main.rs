@@ -8,6 +8,7 @@ mod check;
 mod edit;
 mod eval;
 mod fmt;
+mod play;
 mod render;
 mod session;
 mod stats;
@@ -51,6 +52,8 @@ enum Command {
     Fmt(fmt::Args),
     /// List the node types this build knows, by category.
     Nodes,
+    /// Run a patch in a borderless show window alone (no editor): its Output at the window's size.
+    Play(play::Args),
 }
 
 fn main() -> ExitCode {
@@ -80,6 +83,7 @@ fn run_command(command: Command) -> anyhow::Result<ExitCode> {
         Command::Stats(args) => stats::run(&args),
         Command::Bench(args) => bench::run(&args),
         Command::Accuracy(args) => accuracy::run(&args),
+        Command::Play(args) => play::run(&args),
         Command::Nodes => {
             list_nodes();
             Ok(ExitCode::SUCCESS)

@@ -366,3 +366,58 @@ fn an_edit_survives_killing_the_editor_and_is_offered_back() {
     );
     assert_eq!(report["recovery_offered"], true, "{report}");
 }
+
+/// `spreadlight play` shows the patch's Output alone: a borderless window the
+/// image fills, no menus or canvas, the scene rendered (not blank).
+#[test]
+fn play_shows_the_output_alone_filling_its_window() {
+    let x = Xvfb::start();
+    let dir = tempfile::tempdir().expect("tempdir");
+    let shot = dir.path().join("show.png");
+    let out = Command::new(env!("CARGO_BIN_EXE_spreadlight"))
+        .args(["play", "patches/showcase.ron", "--size", "320x180"])
+        .args(["--measure-frames", "5", "--screenshot"])
+        .arg(&shot)
+        .current_dir(root())
+        .env("DISPLAY", &x.display)
+        .env_remove("WAYLAND_DISPLAY")
+        .env("XDG_RUNTIME_DIR", std::env::temp_dir())
+        .env("SPREADLIGHT_CONFIG_DIR", dir.path())
+        .output()
+        .expect("play runs");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{stdout}{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let line = stdout
+        .lines()
+        .rev()
+        .find(|l| l.starts_with('{'))
+        .expect("a report");
+    let report: serde_json::Value = serde_json::from_str(line).expect("JSON");
+    assert_eq!(report["viewport_error"], "", "{report}");
+    let rect: Vec<f64> = report["viewport_px"]
+        .as_array()
+        .unwrap_or_else(|| panic!("no viewport: {report}"))
+        .iter()
+        .map(|v| v.as_f64().expect("number"))
+        .collect();
+    assert_eq!(
+        rect,
+        [0.0, 0.0, 320.0, 180.0],
+        "the Output fills the window"
+    );
+    let image = image::open(&shot).expect("a PNG").to_rgba8();
+    assert_eq!(image.dimensions(), (320, 180));
+    let colours: std::collections::HashSet<_> = image
+        .pixels()
+        .map(|p| (p[0] / 16, p[1] / 16, p[2] / 16))
+        .collect();
+    assert!(
+        colours.len() > 20,
+        "the lit scene, not a blank: {} colours",
+        colours.len()
+    );
+}

@@ -21,6 +21,7 @@ mod document;
 mod inspector;
 mod menus;
 mod running;
+mod show;
 mod subpatches;
 
 use crate::browser;
@@ -212,6 +213,8 @@ pub struct EditorApp {
     subpatch_types: Vec<String>,
     /// The subpatch instance the open document is shown for.
     instance: Vec<NodeId>,
+    /// Running as the show window (`show.rs`).
+    show_mode: bool,
 }
 
 impl EditorApp {
@@ -305,6 +308,7 @@ impl EditorApp {
             auto: AutoRun::default(),
             subpatch_types: Vec::new(),
             instance: Vec::new(),
+            show_mode: false,
         };
         match options.path {
             // `spreadlight edit new.ron` starts that patch, as text editors do.
@@ -530,6 +534,10 @@ impl EditorApp {
 
     fn show_frame(&mut self, ui: &mut Ui, frame: Option<&eframe::Frame>) {
         let started = Instant::now();
+        if self.show_mode {
+            self.show_only(ui, frame, started);
+            return;
+        }
         let ctx = ui.ctx().clone();
         self.handle_close(&ctx);
         let (now, dt) = ctx.input(|i| (i.time, f64::from(i.stable_dt)));
