@@ -215,6 +215,8 @@ pub struct EditorApp {
     instance: Vec<NodeId>,
     /// Running as the show window (`show.rs`).
     show_mode: bool,
+    /// The patches a subpatch file was opened from, outermost first (the breadcrumb back).
+    parents: Vec<PathBuf>,
 }
 
 impl EditorApp {
@@ -309,6 +311,7 @@ impl EditorApp {
             subpatch_types: Vec::new(),
             instance: Vec::new(),
             show_mode: false,
+            parents: Vec::new(),
         };
         match options.path {
             // `spreadlight edit new.ron` starts that patch, as text editors do.

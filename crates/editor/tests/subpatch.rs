@@ -144,3 +144,48 @@ fn a_subpatch_opens_by_double_click_is_edited_inside_and_unmade() {
     keys(&mut h, Modifiers::COMMAND, Key::Z);
     assert_eq!(types(&h), ["LFO", "Probe", "Subpatch"]);
 }
+
+#[test]
+fn a_subpatch_file_opens_by_double_click_with_the_breadcrumb_back() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let mut module = Patch::default();
+    module.add(NodeDoc::new(1, "Inlet").with("Name", vec!["In".to_owned()]));
+    module.add(NodeDoc::new(2, "Multiply (Value)").at(0.0, 40.0));
+    module.add(
+        NodeDoc::new(3, "Outlet")
+            .at(0.0, 80.0)
+            .with("Name", vec!["Out".to_owned()]),
+    );
+    module.link(1, "Output", 2, "Input 1");
+    module.link(2, "Output", 3, "Input");
+    std::fs::create_dir(dir.path().join("modules")).expect("mkdir");
+    let file = dir.path().join("modules/Scale.ron");
+    format::save(&module, &file).expect("save");
+    let mut p = Patch::default();
+    p.add(NodeDoc::new(1, "LFO").at(10.0, 10.0));
+    p.add(NodeDoc::new(2, "Scale").at(10.0, 60.0));
+    p.add(NodeDoc::new(3, "Probe").at(10.0, 110.0));
+    p.link(1, "Output", 2, "In");
+    p.link(2, "Out", 3, "Input");
+    let mut h = harness(&dir, &p);
+    assert!(
+        h.state().runtime().problems().is_empty(),
+        "{:?}",
+        h.state().runtime().problems()
+    );
+    assert!(
+        h.state().pin_pos(NodeId(2), "In", true).is_some(),
+        "its pins from the file"
+    );
+    let at = node_center(&h, NodeId(2));
+    click(&mut h, at, 2);
+    assert_eq!(h.state().path(), Some(file.as_path()));
+    assert_eq!(types(&h), ["Inlet", "Multiply (Value)", "Outlet"]);
+    h.get_by_label("⏶ chain").click();
+    h.run();
+    assert_eq!(
+        h.state().path(),
+        Some(dir.path().join("chain.ron").as_path())
+    );
+    assert_eq!(types(&h), ["LFO", "Probe", "Scale"]);
+}

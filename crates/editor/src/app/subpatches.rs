@@ -93,14 +93,7 @@ impl EditorApp {
     pub fn open_subpatch(&mut self, id: NodeId) -> bool {
         let mut instance = self.instance.clone();
         if !self.doc.enter(id) {
-            if self
-                .doc
-                .node(id)
-                .is_some_and(|n| self.is_library_type(&n.type_name))
-            {
-                self.status = "a subpatch file: open its .ron file to edit it".to_owned();
-            }
-            return false;
+            return self.open_module_file(id);
         }
         instance.push(id);
         self.instance = instance;
@@ -108,11 +101,23 @@ impl EditorApp {
         true
     }
 
-    fn is_library_type(&self, name: &str) -> bool {
-        self.runtime
-            .library()
-            .and_then(|l: &Library| l.get(name))
-            .is_some()
+    /// A subpatch from a file opens that file, with the breadcrumb back to this one.
+    fn open_module_file(&mut self, id: NodeId) -> bool {
+        let Some(file) = self.doc.node(id).and_then(|n| {
+            let library: &Library = self.runtime.library()?;
+            Some(library.get(&n.type_name)?.path.clone())
+        }) else {
+            return false;
+        };
+        if self.doc.is_dirty() {
+            self.status = "save the patch before opening a subpatch file".to_owned();
+            return false;
+        }
+        if let Some(here) = self.path.clone() {
+            self.parents.push(here);
+        }
+        self.open_now(&file);
+        true
     }
 
     /// Go back to the document at `depth` of the breadcrumb (0: the top patch).
@@ -153,10 +158,30 @@ impl EditorApp {
     /// "Patch › Subpatch › …": where the open document is; a click goes back up.
     pub(super) fn breadcrumb(&mut self, ui: &mut Ui) {
         let scope = self.doc.scope().to_vec();
-        if scope.is_empty() {
+        if scope.is_empty() && self.parents.is_empty() {
             return;
         }
         ui.horizontal(|ui| {
+            // Subpatch files opened from a patch: a click goes back to that file.
+            let stem = |p: &std::path::Path| {
+                p.file_stem()
+                    .map_or_else(String::new, |s| s.to_string_lossy().into_owned())
+            };
+            for (k, parent) in self.parents.clone().iter().enumerate() {
+                if ui.button(format!("⏶ {}", stem(parent))).clicked() {
+                    if self.doc.is_dirty() {
+                        self.status = "save the subpatch before going back".to_owned();
+                    } else {
+                        self.parents.truncate(k);
+                        self.open_now(parent);
+                    }
+                }
+                ui.label("›");
+            }
+            if scope.is_empty() {
+                ui.label(self.path.as_deref().map(stem).unwrap_or_default());
+                return;
+            }
             let top = self
                 .path
                 .as_ref()
