@@ -114,3 +114,44 @@ pub fn user_library_dir() -> Option<PathBuf> {
         .or_else(|| std::env::var_os("HOME").map(|h| PathBuf::from(h).join(".local/share")))?;
     Some(data.join("spreadlight/library"))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn write(dir: &Path, name: &str, text: &str) {
+        std::fs::create_dir_all(dir).expect("mkdir");
+        std::fs::write(dir.join(name), text).expect("write");
+    }
+
+    #[test]
+    fn the_folder_beside_the_patch_shadows_the_user_library() {
+        let root = tempfile::tempdir().expect("tempdir");
+        let (beside, user) = (root.path().join("modules"), root.path().join("library"));
+        write(
+            &beside,
+            "Shared.ron",
+            "(version: 1, nodes: [(id: 1, type: \"A\")])",
+        );
+        write(
+            &user,
+            "Shared.ron",
+            "(version: 1, nodes: [(id: 2, type: \"B\")])",
+        );
+        write(&user, "Mine.ron", "(version: 1)");
+        write(&user, "notes.txt", "not a patch");
+        let library = Library::new(vec![beside.clone(), user.clone()]);
+        let names: Vec<&str> = library.entries().map(|(n, _)| n).collect();
+        assert_eq!(names, ["Mine", "Shared"]);
+        let shared = library.get("Shared").expect("listed");
+        assert_eq!(shared.path, beside.join("Shared.ron"));
+        assert_eq!(
+            shared.definition.as_ref().expect("parsed").nodes[0].type_name,
+            "A"
+        );
+        assert_eq!(
+            library.get("Mine").expect("listed").path,
+            user.join("Mine.ron")
+        );
+    }
+}
