@@ -220,6 +220,9 @@ impl EditorDoc {
 
     pub(crate) fn reindex(&mut self) {
         self.generation += 1;
+        // An undo can take away the subpatch being shown: show the deepest one left.
+        self.scope
+            .truncate(crate::subpatch::existing_depth(&self.top, &self.scope));
         self.node_index.clear();
         let patch = crate::subpatch::doc_at(&self.top, &self.scope);
         for (i, n) in patch.nodes.iter().enumerate() {

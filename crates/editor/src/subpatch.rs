@@ -23,6 +23,18 @@ pub fn doc_at<'p>(top: &'p Patch, scope: &[String]) -> &'p Patch {
     doc
 }
 
+/// How many names of `scope` still lead to a definition, from the top.
+pub fn existing_depth(top: &Patch, scope: &[String]) -> usize {
+    let mut doc = top;
+    for (depth, name) in scope.iter().enumerate() {
+        match doc.subpatches.get(name) {
+            Some(inner) => doc = inner,
+            None => return depth,
+        }
+    }
+    scope.len()
+}
+
 pub fn doc_at_mut<'p>(top: &'p mut Patch, scope: &[String]) -> &'p mut Patch {
     let mut doc = top;
     for name in scope {
@@ -523,6 +535,20 @@ mod tests {
             "typed from inside"
         );
         assert_eq!(ins[1].ty, spreadlight_graph::PinType::Float);
+    }
+
+    #[test]
+    fn undoing_the_making_of_the_open_subpatch_shows_the_patch_again() {
+        let registry = spreadlight_nodes::registry();
+        let mut doc = chain();
+        let id = doc.make_subpatch(&registry, &[NodeId(2)]).expect("made");
+        assert!(doc.enter(id));
+        assert!(doc.undo());
+        assert!(
+            doc.scope().is_empty(),
+            "the definition is gone, so is its breadcrumb"
+        );
+        assert_eq!(doc.patch().nodes.len(), 3);
     }
 
     #[test]
