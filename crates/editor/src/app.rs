@@ -23,6 +23,7 @@ mod menus;
 mod running;
 mod show;
 mod subpatches;
+mod watches;
 
 use crate::browser;
 use crate::canvas::{self, Canvas, CanvasNode, PinPositions, Refusal, SCALE};
@@ -217,6 +218,8 @@ pub struct EditorApp {
     show_mode: bool,
     /// The patches a subpatch file was opened from, outermost first (the breadcrumb back).
     parents: Vec<PathBuf>,
+    /// Outputs pinned as watched values (`watches.rs`).
+    watches: Vec<watches::Watch>,
 }
 
 impl EditorApp {
@@ -312,6 +315,7 @@ impl EditorApp {
             instance: Vec::new(),
             show_mode: false,
             parents: Vec::new(),
+            watches: Vec::new(),
         };
         match options.path {
             // `spreadlight edit new.ron` starts that patch, as text editors do.
@@ -565,6 +569,7 @@ impl EditorApp {
                 });
                 ui.separator();
                 self.inspector(ui);
+                self.watches_ui(ui);
             });
         egui::CentralPanel::default().show(ui, |ui| self.canvas(ui));
         self.node_browser(&ctx);

@@ -9,6 +9,14 @@ use spreadlight_editor::{EditorApp, EditorOptions};
 use spreadlight_graph::{NodeDoc, NodeId, Patch, Spread, format};
 
 fn harness(dir: &tempfile::TempDir, patch: &Patch) -> Harness<'static, EditorApp> {
+    harness_sized(dir, patch, Vec2::new(800.0, 500.0))
+}
+
+fn harness_sized(
+    dir: &tempfile::TempDir,
+    patch: &Patch,
+    size: Vec2,
+) -> Harness<'static, EditorApp> {
     let path = dir.path().join("iobox.ron");
     format::save(patch, &path).expect("save");
     let options = EditorOptions {
@@ -18,7 +26,7 @@ fn harness(dir: &tempfile::TempDir, patch: &Patch) -> Harness<'static, EditorApp
         automation: None,
     };
     let mut h = Harness::builder()
-        .with_size(Vec2::new(800.0, 500.0))
+        .with_size(size)
         .with_max_steps(40)
         .wgpu_setup(spreadlight_editor::gpu::wgpu_setup(true))
         .build_eframe(move |cc| {
@@ -97,4 +105,60 @@ fn an_iobox_shows_and_edits_its_rows_and_a_linked_one_its_live_value() {
         h.query_by_label(&after).is_some(),
         "the row follows: {after}"
     );
+}
+
+#[test]
+fn an_output_pinned_as_a_watch_shows_its_live_value() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let mut p = Patch::default();
+    p.add(NodeDoc::new(1, "LFO"));
+    p.add(NodeDoc::new(2, "Probe").at(80.0, 0.0));
+    p.link(1, "Output", 2, "Input");
+    // Tall enough for the inspector to reach the LFO's outputs below its inputs.
+    let mut h = harness_sized(&dir, &p, Vec2::new(800.0, 1100.0));
+    h.state_mut().select(&[NodeId(1)]);
+    h.run();
+    // The first output's eye (an LFO has more than one output), clicked as a mouse does.
+    let at = h
+        .get_all_by_label("👁")
+        .next()
+        .expect("an eye")
+        .rect()
+        .center();
+    h.hover_at(at);
+    h.step();
+    for pressed in [true, false] {
+        h.event(egui::Event::PointerButton {
+            pos: at,
+            button: egui::PointerButton::Primary,
+            pressed,
+            modifiers: egui::Modifiers::NONE,
+        });
+    }
+    h.run();
+    assert_eq!(
+        h.state().watches(),
+        [(vec![NodeId(1)], "Output".to_owned())]
+    );
+    let shown = |h: &Harness<'_, EditorApp>| {
+        let out = h
+            .state()
+            .runtime()
+            .output(NodeId(1), "Output")
+            .expect("evaluated");
+        spreadlight_editor::canvas::preview(out)
+    };
+    let before = shown(&h);
+    assert!(h.query_by_label(&before).is_some(), "watch shows {before}");
+    // It stays in the list with nothing selected, and follows the value.
+    h.state_mut().select(&[]);
+    h.state_mut().set_playing(true);
+    for _ in 0..5 {
+        h.step();
+    }
+    h.state_mut().set_playing(false);
+    h.run();
+    let after = shown(&h);
+    assert_ne!(before, after);
+    assert!(h.query_by_label(&after).is_some(), "watch follows: {after}");
 }

@@ -21,7 +21,9 @@ impl EditorApp {
             return;
         };
         ui.weak(&*def.help);
-        if let Some(e) = self.runtime.node_error(id) {
+        let mut at = self.instance.clone();
+        at.push(id);
+        if let Some(e) = self.runtime.node_error_at(&at) {
             ui.colored_label(egui::Color32::LIGHT_RED, e.to_string());
         }
         ui.separator();
@@ -65,14 +67,23 @@ impl EditorApp {
                 });
             }
             ui.separator();
+            let mut path = self.instance.clone();
+            path.push(id);
             for pin in &def.outputs {
-                let mut path = self.instance.clone();
-                path.push(id);
                 let value = self
                     .runtime
                     .output_at(&path, &pin.name)
                     .map_or_else(|| "not evaluated".to_owned(), |s| canvas::preview(s));
-                ui.label(format!("{} → {value}", pin.name));
+                ui.horizontal(|ui| {
+                    let watched = self.watches.contains(&(path.clone(), pin.name.to_string()));
+                    let eye = ui
+                        .selectable_label(watched, "👁")
+                        .on_hover_text(format!("watch {}", pin.name));
+                    if eye.clicked() {
+                        self.toggle_watch(path.clone(), &pin.name);
+                    }
+                    ui.label(format!("{} → {value}", pin.name));
+                });
             }
         });
         let request: Option<(String, usize)> = ui
