@@ -15,6 +15,7 @@ pub mod nodes;
 pub mod subpatch;
 pub mod values;
 pub mod viewport;
+pub mod zoom;
 
 pub use app::{EditorApp, EditorOptions};
 pub use model::{Clip, Command, EditorDoc, LinkError};
