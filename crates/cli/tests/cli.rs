@@ -347,7 +347,7 @@ fn bench_prints_one_json_line_with_the_adapter() {
     let json: serde_json::Value = serde_json::from_str(&stdout).expect("JSON");
     assert_eq!(json["size"], "32x18");
     assert!(json["adapter"].as_str().is_some_and(|a| !a.is_empty()));
-    assert!(json["passes"].as_array().is_some_and(|p| !p.is_empty()));
+    assert!(json["passes"].as_object().is_some());
 
     // Every pass of the frame is kept, in order, and named in the map.
     let order = json["pass_order"].as_array().expect("pass_order");
