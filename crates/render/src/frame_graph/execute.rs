@@ -166,7 +166,7 @@ fn execute(
             result.err().map(|e| e.to_string())
         } else {
             let buffer = encoder.finish();
-            let validation = scope.map(|s| pollster::block_on(s.pop())).flatten();
+            let validation = scope.and_then(|s| pollster::block_on(s.pop()));
             match (result, validation) {
                 (Err(e), _) => Some(e.to_string()),
                 (Ok(()), Some(e)) => Some(
@@ -215,7 +215,10 @@ fn execute(
         .collect();
     report.pipelines_compiled = shaders.pipelines_compiled - compiled_before;
     let mut views = views.into_inner();
+    let (uploaded, skipped) = renderer.take_uploads();
     for (name, n) in [
+        ("uniform uploads", uploaded),
+        ("uniform uploads skipped", skipped),
         (
             "bind groups created",
             shaders.bind_groups_created - groups_before.0,
