@@ -349,3 +349,40 @@ fn a_camera_cut_resets_taa_history_once() {
     }
     assert_eq!(resets, vec![1, 0, 0, 1, 0, 0]);
 }
+
+/// The modules shipped as subpatch files in `patches/modules/` are canonical,
+/// check cleanly on their own, and each is used by an example.
+#[test]
+fn shipped_modules_are_canonical_and_used_by_an_example() {
+    let modules = spreadlight_tests::ron_files(&spreadlight_tests::root().join("patches/modules"));
+    assert!(!modules.is_empty(), "DeferredScene at least");
+    let examples: Vec<spreadlight_graph::Patch> = example_patches()
+        .iter()
+        .map(|p| format::load(p).unwrap_or_else(|e| panic!("{e}")))
+        .collect();
+    let registry = spreadlight_nodes::registry();
+    for path in modules {
+        let text = std::fs::read_to_string(&path).expect("readable");
+        let module = format::from_str(&text, &path).unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(
+            format::to_string(&module).expect("encode"),
+            text,
+            "{}",
+            path.display()
+        );
+        let network = spreadlight_graph::Network::compile(&module, &registry);
+        assert!(
+            network.problems().is_empty(),
+            "{}: {:?}",
+            path.display(),
+            network.problems()
+        );
+        let name = path.file_stem().and_then(|s| s.to_str()).expect("a name");
+        assert!(
+            examples
+                .iter()
+                .any(|p| p.nodes.iter().any(|n| n.type_name == name)),
+            "no example uses the module {name}"
+        );
+    }
+}

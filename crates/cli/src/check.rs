@@ -4,6 +4,7 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use anyhow::Context;
+use spreadlight_graph::subpatch::Library;
 use spreadlight_graph::{Network, Severity, format};
 
 #[derive(clap::Args)]
@@ -35,7 +36,9 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
                     println!("{error}");
                 }
                 errors += shader_errors.len();
-                let network = Network::compile(&patch, &registry);
+                // Subpatches are checked where they are used, with the files beside the patch.
+                let library = Library::beside(file.parent().unwrap_or(Path::new("")));
+                let network = Network::compile_with(&patch, &registry, &library);
                 for problem in network.problems() {
                     println!("{}", problem.located(file));
                     match problem.severity {

@@ -10,6 +10,7 @@ mod edit;
 mod eval;
 mod fmt;
 mod nodes;
+mod play;
 mod sequence;
 mod session;
 mod stats;
@@ -53,6 +54,8 @@ enum Command {
     Fmt(fmt::Args),
     /// List the node types this build knows, by category (`--help NAME` documents one).
     Nodes(nodes::Args),
+    /// Run a patch in a borderless show window alone (no editor): its Output at the window's size.
+    Play(play::Args),
 }
 
 fn main() -> ExitCode {
@@ -83,5 +86,6 @@ fn run_command(command: Command) -> anyhow::Result<ExitCode> {
         Command::Bench(args) => bench::run(&args),
         Command::Accuracy(args) => accuracy::run(&args),
         Command::Nodes(args) => nodes::run(&args),
+        Command::Play(args) => play::run(&args),
     }
 }

@@ -67,7 +67,7 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
 
 fn list(registry: &spreadlight_graph::Registry) {
     let mut defs: Vec<_> = registry.iter().collect();
-    defs.sort_by_key(|d| (d.category.clone(), d.name.clone()));
+    defs.sort_by(|a, b| (&a.category, &a.name).cmp(&(&b.category, &b.name)));
     let mut category = "";
     for def in defs {
         if def.category != category {

@@ -5,7 +5,8 @@ use std::path::Path;
 use std::sync::Arc;
 
 use anyhow::Context;
-use spreadlight_graph::{FrameClock, Patch, Registry, Runtime, Severity, format};
+use spreadlight_graph::subpatch::Library;
+use spreadlight_graph::{FrameClock, Network, NodeId, Patch, Registry, Runtime, Severity, format};
 use spreadlight_nodes::gpu::GPU_CATEGORIES;
 use spreadlight_nodes::output::RenderedImages;
 use spreadlight_nodes::shader_nodes::ShaderLibrary;
@@ -19,12 +20,15 @@ pub struct Session {
     pub load_errors: bool,
 }
 
-/// Whether any node of the patch needs a GPU (shader nodes always do).
-pub fn needs_gpu(patch: &Patch, registry: &Registry) -> bool {
-    patch
-        .nodes
+/// Whether any node of the patch, or of a subpatch in it, needs a GPU
+/// (shader nodes always do).
+pub fn needs_gpu(patch: &Patch, path: &Path, registry: &Registry) -> bool {
+    let library = Library::beside(path.parent().unwrap_or(Path::new("")));
+    let network = Network::compile_with(patch, registry, &library);
+    network
+        .nodes()
         .iter()
-        .filter_map(|n| registry.get(&n.type_name))
+        .filter_map(|n| n.def.as_ref())
         .any(|def| GPU_CATEGORIES.contains(&&*def.category) || def.category.starts_with("Shader"))
 }
 
@@ -71,7 +75,7 @@ impl Session {
         for error in &shader_errors {
             eprintln!("{error}");
         }
-        let gpu = force_gpu || needs_gpu(patch, &registry);
+        let gpu = force_gpu || needs_gpu(patch, path, &registry);
         let mut runtime = Runtime::new(registry);
         let dir = path.parent().unwrap_or(Path::new("")).to_path_buf();
         runtime.provide(Arc::new(spreadlight_graph::PatchDir(dir)));
@@ -130,17 +134,27 @@ impl Session {
     /// passes, each with the node it belongs to.
     pub fn frame_errors(&self, path: &Path) -> Vec<String> {
         let mut errors = Vec::new();
-        for (node, error) in self.runtime.node_errors() {
+        for (node, error) in self.runtime.node_errors_at() {
+            let node = path_text(node);
             errors.push(format!("error: {}: node {node}: {error}", path.display()));
         }
         if let Some(renderer) = &self.renderer {
             for (owner, error) in renderer.last_report().errors {
-                let node = owner.map_or("the renderer".to_owned(), |n| format!("node #{n}"));
+                let node = owner.map_or("the renderer".to_owned(), |n| {
+                    let place = self.runtime.path_of(NodeId(n));
+                    format!("node {}", place.map_or(format!("#{n}"), path_text))
+                });
                 errors.push(format!("error: {}: {node}: {error}", path.display()));
             }
         }
         errors
     }
+}
+
+/// A node's place: `#4` at the top, `#4 > #2` inside the subpatch node #4.
+pub fn path_text(path: &[NodeId]) -> String {
+    let parts: Vec<String> = path.iter().map(|id| id.to_string()).collect();
+    parts.join(" > ")
 }
 
 /// Parse `WIDTHxHEIGHT`.

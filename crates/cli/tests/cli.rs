@@ -52,6 +52,32 @@ fn check_reports_every_bad_patch_and_exits_1() {
 }
 
 #[test]
+fn check_looks_inside_subpatch_files_beside_the_patch() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    std::fs::create_dir(dir.path().join("modules")).expect("mkdir");
+    let module = r#"(version: 2, nodes: [
+        (id: 1, type: "Inlet", values: {"Name": String(["In"])}),
+        (id: 2, type: "Multiply (Value)", values: {"Input 2": String(["two"])}),
+        (id: 3, type: "Outlet", values: {"Name": String(["Out"])}),
+    ], links: [
+        (from: (1, "Output"), to: (2, "Input 1")),
+        (from: (2, "Output"), to: (3, "Input")),
+    ])"#;
+    std::fs::write(dir.path().join("modules/Scale.ron"), module).expect("write");
+    let patch = r#"(version: 2, nodes: [(id: 5, type: "Scale"), (id: 6, type: "Probe")],
+        links: [(from: (5, "Out"), to: (6, "Input"))])"#;
+    let path = dir.path().join("uses-scale.ron");
+    std::fs::write(&path, patch).expect("write");
+    let out = spreadlight(&["check", path.to_str().expect("utf-8")]);
+    assert_eq!(out.status.code(), Some(1));
+    let stdout = text(&out.stdout);
+    assert!(
+        stdout.contains("node #5 > #2 `Multiply (Value)`, pin `Input 2`: value is String"),
+        "{stdout}"
+    );
+}
+
+#[test]
 fn a_warning_alone_passes_unless_warnings_are_denied() {
     let path = "patches/bad/21-unknown-node-type.ron";
     assert_eq!(spreadlight(&["check", path]).status.code(), Some(0));

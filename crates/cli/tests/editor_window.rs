@@ -94,6 +94,12 @@ fn the_editor_opens_the_showcase_in_a_window_and_its_viewport_is_not_blank() {
         ],
     );
     assert_eq!(report["viewport_error"], "", "{report}");
+    // Node titles are readable at the zoom the patch opens (fitted) at.
+    let text_px = report["canvas_text_px"].as_f64().expect("text size");
+    assert!(
+        text_px >= 9.0,
+        "titles are {text_px} px tall on screen: {report}"
+    );
     let nodes = spreadlight_graph::format::load(&root().join("patches/showcase.ron"))
         .expect("the showcase loads")
         .nodes
@@ -170,4 +176,248 @@ fn a_500_node_patch_runs_in_the_window_and_reports_its_frame_times() {
     assert!(ran >= frames.parse::<u64>().expect("number"), "{report}");
     let median = report["frame_ms_median"].as_f64().expect("median");
     assert!(median > 0.0, "frames were timed: {report}");
+}
+
+/// A user's mouse and keyboard on the virtual display, through XTEST.
+struct Input {
+    conn: x11rb::rust_connection::RustConnection,
+    root: u32,
+    keysyms: Vec<u32>,
+    per_keycode: usize,
+    min_keycode: u8,
+}
+
+impl Input {
+    fn connect(x: &Xvfb) -> Input {
+        use x11rb::connection::Connection;
+        use x11rb::protocol::xproto::ConnectionExt;
+        let (conn, screen) = x11rb::connect(Some(&x.display)).expect("connects to Xvfb");
+        let root = conn.setup().roots[screen].root;
+        let (min, max) = (conn.setup().min_keycode, conn.setup().max_keycode);
+        let map = conn
+            .get_keyboard_mapping(min, max - min + 1)
+            .expect("request")
+            .reply()
+            .expect("keyboard mapping");
+        Input {
+            conn,
+            root,
+            keysyms: map.keysyms,
+            per_keycode: usize::from(map.keysyms_per_keycode),
+            min_keycode: min,
+        }
+    }
+
+    /// A mapped window of at least `w` x `h` (the editor, once it is up).
+    fn shown_window(&self, w: u16, h: u16) -> Option<u32> {
+        use x11rb::protocol::xproto::{ConnectionExt, MapState};
+        let tree = self.conn.query_tree(self.root).ok()?.reply().ok()?;
+        tree.children.iter().copied().find(|&win| {
+            let mapped = self
+                .conn
+                .get_window_attributes(win)
+                .ok()
+                .and_then(|c| c.reply().ok())
+                .is_some_and(|a| a.map_state == MapState::VIEWABLE);
+            let big = self
+                .conn
+                .get_geometry(win)
+                .ok()
+                .and_then(|c| c.reply().ok())
+                .is_some_and(|g| g.width >= w && g.height >= h);
+            mapped && big
+        })
+    }
+
+    /// Give `window` the keyboard, as a window manager would on a click.
+    fn focus(&self, window: u32) {
+        use x11rb::connection::Connection;
+        use x11rb::protocol::xproto::{ConnectionExt, InputFocus};
+        self.conn
+            .set_input_focus(InputFocus::POINTER_ROOT, window, x11rb::CURRENT_TIME)
+            .expect("focus");
+        self.conn.flush().expect("flush");
+    }
+
+    /// The whole screen as a PNG (Xvfb's 24-bit screen comes as BGRX).
+    fn shot(&self, path: &Path) {
+        use x11rb::protocol::xproto::{ConnectionExt, ImageFormat};
+        let img = self
+            .conn
+            .get_image(ImageFormat::Z_PIXMAP, self.root, 0, 0, 1920, 1080, !0)
+            .expect("request")
+            .reply()
+            .expect("image");
+        let rgba: Vec<u8> = img
+            .data
+            .chunks(4)
+            .flat_map(|p| [p[2], p[1], p[0], 255])
+            .collect();
+        if let Some(image) = image::RgbaImage::from_raw(1920, 1080, rgba) {
+            let _ = image.save(path);
+        }
+    }
+
+    fn fake(&self, kind: u8, detail: u8, x: i16, y: i16) {
+        use x11rb::connection::Connection;
+        use x11rb::protocol::xtest::ConnectionExt;
+        self.conn
+            .xtest_fake_input(kind, detail, 0, self.root, x, y, 0)
+            .expect("XTEST");
+        self.conn.flush().expect("flush");
+        std::thread::sleep(std::time::Duration::from_millis(40));
+    }
+
+    fn double_click(&self, x: i16, y: i16) {
+        const MOTION: u8 = 6;
+        const PRESS: u8 = 4;
+        const RELEASE: u8 = 5;
+        self.fake(MOTION, 0, x, y);
+        for _ in 0..2 {
+            self.fake(PRESS, 1, x, y);
+            self.fake(RELEASE, 1, x, y);
+        }
+    }
+
+    /// Type a key by its X keysym (lowercase letters are their ASCII code).
+    fn key(&self, keysym: u32) {
+        const PRESS: u8 = 2;
+        const RELEASE: u8 = 3;
+        let index = self
+            .keysyms
+            .chunks(self.per_keycode)
+            .position(|syms| syms.first() == Some(&keysym))
+            .unwrap_or_else(|| panic!("no key for keysym {keysym:#x}"));
+        let code = self.min_keycode + u8::try_from(index).expect("a keycode");
+        self.fake(PRESS, code, 0, 0);
+        self.fake(RELEASE, code, 0, 0);
+    }
+}
+
+/// An edit made in the real window (double-click the canvas, type `lfo`,
+/// Enter) is in the recovery file soon after; the process killed mid-session
+/// (SIGKILL, no chance to clean up), the next start offers the recovery.
+#[test]
+fn an_edit_survives_killing_the_editor_and_is_offered_back() {
+    let x = Xvfb::start();
+    let dir = tempfile::tempdir().expect("tempdir");
+    let patch = dir.path().join("crash.ron");
+    spreadlight_graph::format::save(&spreadlight_graph::Patch::default(), &patch).expect("save");
+    let recovery = dir.path().join(".crash.ron.autosave");
+    let mut editor = Command::new(env!("CARGO_BIN_EXE_spreadlight"))
+        .arg("edit")
+        .arg(&patch)
+        .env("DISPLAY", &x.display)
+        .env_remove("WAYLAND_DISPLAY")
+        .env("XDG_RUNTIME_DIR", std::env::temp_dir())
+        .env("SPREADLIGHT_CONFIG_DIR", dir.path().join("config"))
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .expect("the editor starts");
+    let input = Input::connect(&x);
+    let waited = std::time::Instant::now();
+    let window = loop {
+        if let Some(window) = input.shown_window(400, 300) {
+            break window;
+        }
+        assert!(
+            waited.elapsed().as_secs() < 60,
+            "no editor window after a minute"
+        );
+        std::thread::sleep(std::time::Duration::from_millis(200));
+    };
+    // Its first frames (the GPU starts) come after the window shows.
+    std::thread::sleep(std::time::Duration::from_secs(3));
+    input.focus(window);
+    input.double_click(200, 200);
+    std::thread::sleep(std::time::Duration::from_millis(500));
+    for key in [u32::from(b'l'), u32::from(b'f'), u32::from(b'o')] {
+        input.key(key);
+    }
+    const RETURN: u32 = 0xff0d;
+    input.key(RETURN);
+    let edited = std::time::Instant::now();
+    while !recovery.exists() {
+        if edited.elapsed().as_secs() >= 20 {
+            // What the screen showed, for whoever debugs this.
+            let shot = std::env::temp_dir().join("spreadlight-crash-test.png");
+            input.shot(&shot);
+            panic!(
+                "no autosave 20 s after the edit; the screen: {}",
+                shot.display()
+            );
+        }
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    }
+    println!(
+        "autosaved {:.2} s after the edit (the editor promises 1 s)",
+        edited.elapsed().as_secs_f64()
+    );
+    editor.kill().expect("SIGKILL");
+    editor.wait().expect("reaped");
+    let saved = spreadlight_graph::format::load(&recovery).expect("a whole patch, never half");
+    let types: Vec<&str> = saved.nodes.iter().map(|n| n.type_name.as_str()).collect();
+    assert_eq!(types, ["LFO"], "the edit is in the recovery file");
+    let report = run_editor(
+        &x,
+        dir.path(),
+        &[patch.to_str().expect("utf-8"), "--measure-frames", "3"],
+    );
+    assert_eq!(report["recovery_offered"], true, "{report}");
+}
+
+/// `spreadlight play` shows the patch's Output alone: a borderless window the
+/// image fills, no menus or canvas, the scene rendered (not blank).
+#[test]
+fn play_shows_the_output_alone_filling_its_window() {
+    let x = Xvfb::start();
+    let dir = tempfile::tempdir().expect("tempdir");
+    let shot = dir.path().join("show.png");
+    let out = Command::new(env!("CARGO_BIN_EXE_spreadlight"))
+        .args(["play", "patches/showcase.ron", "--size", "320x180"])
+        .args(["--measure-frames", "5", "--screenshot"])
+        .arg(&shot)
+        .current_dir(root())
+        .env("DISPLAY", &x.display)
+        .env_remove("WAYLAND_DISPLAY")
+        .env("XDG_RUNTIME_DIR", std::env::temp_dir())
+        .env("SPREADLIGHT_CONFIG_DIR", dir.path())
+        .output()
+        .expect("play runs");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{stdout}{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let line = stdout
+        .lines()
+        .rev()
+        .find(|l| l.starts_with('{'))
+        .expect("a report");
+    let report: serde_json::Value = serde_json::from_str(line).expect("JSON");
+    assert_eq!(report["viewport_error"], "", "{report}");
+    let rect: Vec<f64> = report["viewport_px"]
+        .as_array()
+        .unwrap_or_else(|| panic!("no viewport: {report}"))
+        .iter()
+        .map(|v| v.as_f64().expect("number"))
+        .collect();
+    assert_eq!(
+        rect,
+        [0.0, 0.0, 320.0, 180.0],
+        "the Output fills the window"
+    );
+    let image = image::open(&shot).expect("a PNG").to_rgba8();
+    assert_eq!(image.dimensions(), (320, 180));
+    let colours: std::collections::HashSet<_> = image
+        .pixels()
+        .map(|p| (p[0] / 16, p[1] / 16, p[2] / 16))
+        .collect();
+    assert!(
+        colours.len() > 20,
+        "the lit scene, not a blank: {} colours",
+        colours.len()
+    );
 }

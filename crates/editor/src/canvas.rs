@@ -19,6 +19,12 @@ use crate::values;
 /// (vvvv's nodes are small); snarl's nodes are larger.
 pub const SCALE: f32 = 3.0;
 
+use crate::zoom::ZOOM_RANGE;
+pub use crate::zoom::{READABLE_ZOOM, fit_view, zoom_around};
+
+/// Room between an output's name and its pin, which snarl draws over the row's end.
+const OUTPUT_PIN_GAP: f32 = 6.0;
+
 /// Below this zoom the canvas shows pins without their value editors (the inspector still edits).
 pub const EDITOR_MIN_ZOOM: f32 = 0.5;
 
@@ -45,8 +51,8 @@ pub fn style() -> SnarlStyle {
         // Double-click on the canvas opens the node browser, as in vvvv.
         centering: Some(false),
         // A patch opens at its real size, or smaller to fit; never blown up.
-        max_scale: Some(1.0),
-        min_scale: Some(0.1),
+        max_scale: Some(*ZOOM_RANGE.end()),
+        min_scale: Some(*ZOOM_RANGE.start()),
         // Straight wires, as vvvv draws them; also what `wire_under` hit-tests.
         wire_style: Some(egui_snarl::ui::WireStyle::Line),
         // The editor keeps its own selection (click, shift-click) and draws it
@@ -119,9 +125,27 @@ pub struct Canvas<'a> {
     /// A view to show instead of snarl's own (fitting the patch after it opens).
     pub set_view: Option<egui::emath::TSTransform>,
     pub now: f64,
+    /// The subpatch instance the open document is shown for (node ids from the
+    /// top; empty at the top): live values, errors and timings are read there.
+    pub instance: &'a [NodeId],
 }
 
 impl<'a> Canvas<'a> {
+    /// The path of node `id` of the open document in the running patch.
+    fn at(&self, id: NodeId) -> Vec<NodeId> {
+        let mut path = self.instance.to_vec();
+        path.push(id);
+        path
+    }
+
+    /// The id GPU passes name node `id` of the open document by (its id in the flat network).
+    fn flat_id(&self, id: NodeId) -> u32 {
+        let network = self.runtime.network();
+        network
+            .index_at(&self.at(id))
+            .map_or(id.0, |i| network.nodes()[i].id.0)
+    }
+
     fn node_id(snarl: &Snarl<CanvasNode>, node: egui_snarl::NodeId) -> Option<NodeId> {
         snarl.get_node(node).map(|n| n.0)
     }
@@ -157,16 +181,16 @@ impl<'a> Canvas<'a> {
             .runtime
             .problems()
             .iter()
-            .filter(|p| p.node == id && p.severity == Severity::Error)
+            .filter(|p| p.node == id && p.within == self.instance && p.severity == Severity::Error)
             .map(|p| match &p.pin {
                 Some(pin) => format!("{pin}: {}", p.kind),
                 None => p.kind.to_string(),
             })
             .collect();
-        if let Some(e) = self.runtime.node_error(id) {
+        if let Some(e) = self.runtime.node_error_at(&self.at(id)) {
             messages.push(e.to_string());
         }
-        if let Some(e) = self.gpu_errors.get(&id.0) {
+        if let Some(e) = self.gpu_errors.get(&self.flat_id(id)) {
             messages.push(format!("GPU: {e}"));
         }
         (!messages.is_empty()).then(|| messages.join("\n"))
@@ -306,7 +330,7 @@ impl SnarlViewer<CanvasNode> for Canvas<'_> {
             let shown = match &linked {
                 Some(l) => self
                     .runtime
-                    .output(l.from.node(), l.from.pin())
+                    .output_at(&self.at(l.from.node()), l.from.pin())
                     .map(|s| preview(s)),
                 None => self
                     .doc
@@ -324,7 +348,13 @@ impl SnarlViewer<CanvasNode> for Canvas<'_> {
             .ctx()
             .layer_transform_to_global(ui.layer_id())
             .map_or(1.0, |t| t.scaling);
+        // An IOBox edits its value as rows in its body instead.
+        let iobox = self
+            .doc
+            .node(id)
+            .is_some_and(|n| crate::iobox::is_iobox(&n.type_name));
         if linked.is_none()
+            && !iobox
             && zoom >= EDITOR_MIN_ZOOM
             && values::editable(ty)
             && let Some(mut value) = self.doc.input_value(self.registry, id, name)
@@ -350,15 +380,37 @@ impl SnarlViewer<CanvasNode> for Canvas<'_> {
         let Some((id, name, ty)) = self.output_pin(snarl, pin.id) else {
             return self.recorded((NodeId(0), String::new(), false), None);
         };
+        // Snarl draws an output's pin over the row's end: keep the name clear of it.
+        ui.add_space(OUTPUT_PIN_GAP);
         let label = ui.label(name);
         if label.hovered() {
             let shown = self
                 .runtime
-                .output(id, name)
+                .output_at(&self.at(id), name)
                 .map_or_else(|| "not evaluated".to_owned(), |s| preview(s));
             label.on_hover_text(format!("{name}: {ty}\n{shown}"));
         }
         self.recorded((id, name.to_owned(), false), Some(ty))
+    }
+
+    fn has_body(&mut self, node: &CanvasNode) -> bool {
+        self.doc
+            .node(node.0)
+            .is_some_and(|n| crate::iobox::is_iobox(&n.type_name))
+    }
+
+    fn show_body(
+        &mut self,
+        node: egui_snarl::NodeId,
+        _inputs: &[InPin],
+        _outputs: &[OutPin],
+        ui: &mut Ui,
+        snarl: &mut Snarl<CanvasNode>,
+    ) {
+        if let Some(id) = Self::node_id(snarl, node) {
+            let path = self.at(id);
+            crate::iobox::rows(ui, self.doc, self.registry, self.runtime, &path);
+        }
     }
 
     fn has_footer(&mut self, _node: &CanvasNode) -> bool {
@@ -376,12 +428,15 @@ impl SnarlViewer<CanvasNode> for Canvas<'_> {
         let Some(id) = Self::node_id(snarl, node) else {
             return;
         };
-        let cpu = self
-            .runtime
-            .stats()
-            .node(id)
-            .map_or(0.0, |s| s.cpu_ns as f64 / 1e6);
-        let text = match self.gpu_ms.get(&id.0) {
+        let path = self.at(id);
+        let stats = self.runtime.stats();
+        // A subpatch node costs what its inside costs.
+        let cpu = match stats.node_at(&path) {
+            Some(s) => s.cpu_ns,
+            None => stats.inside(&path).map(|s| s.cpu_ns).sum(),
+        } as f64
+            / 1e6;
+        let text = match self.gpu_ms.get(&self.flat_id(id)) {
             Some(gpu) => format!("CPU {cpu:.3} ms · GPU {gpu:.3} ms"),
             None => format!("CPU {cpu:.3} ms"),
         };
@@ -544,66 +599,10 @@ pub fn wire_under(
         .map(|(_, l)| l)
 }
 
-/// The view that shows every node (given their rectangles on screen under
-/// the current view `to_global`) inside `canvas`, no larger than real size.
-pub fn fit_view(
-    to_global: egui::emath::TSTransform,
-    node_rects: &[(NodeId, Rect)],
-    canvas: Rect,
-) -> Option<egui::emath::TSTransform> {
-    let from_global = to_global.inverse();
-    let bb = node_rects
-        .iter()
-        .map(|(_, r)| from_global * *r)
-        .reduce(|a, b| a.union(b))?
-        .expand(20.0);
-    let scale = (canvas.width() / bb.width())
-        .min(canvas.height() / bb.height())
-        .clamp(0.1, 1.0);
-    // Big patches that cannot fit start at their top left, where patches begin.
-    let anchor = if scale > 0.1 {
-        canvas.center().to_vec2() - bb.center().to_vec2() * scale
-    } else {
-        canvas.min.to_vec2() - bb.min.to_vec2() * scale
-    };
-    Some(egui::emath::TSTransform::new(anchor, scale))
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
     use spreadlight_graph::{NodeDoc, Patch};
-
-    #[test]
-    fn the_fitted_view_holds_every_node_at_most_at_real_size() {
-        let canvas = Rect::from_min_size(Pos2::new(10.0, 30.0), egui::vec2(800.0, 600.0));
-        let view = egui::emath::TSTransform::new(egui::vec2(5.0, 7.0), 0.5);
-        let rects = vec![
-            (
-                NodeId(1),
-                Rect::from_min_size(Pos2::new(-300.0, 0.0), egui::vec2(100.0, 50.0)),
-            ),
-            (
-                NodeId(2),
-                Rect::from_min_size(Pos2::new(900.0, 700.0), egui::vec2(100.0, 50.0)),
-            ),
-        ];
-        let fit = fit_view(view, &rects, canvas).expect("a view");
-        let back = fit * view.inverse();
-        for (_, r) in &rects {
-            assert!(canvas.contains_rect(back * *r), "{r:?} -> {:?}", back * *r);
-        }
-        let small = vec![(
-            NodeId(1),
-            Rect::from_min_size(Pos2::ZERO, egui::vec2(10.0, 10.0)),
-        )];
-        assert_eq!(
-            fit_view(view, &small, canvas).expect("view").scaling,
-            1.0,
-            "never blown up"
-        );
-        assert!(fit_view(view, &[], canvas).is_none());
-    }
 
     #[test]
     fn the_wire_under_the_pointer_is_the_nearest_within_reach() {

@@ -52,6 +52,12 @@ pub enum Command {
         old: Option<Spread>,
         new: Option<Spread>,
     },
+    /// Define, replace or remove an inline subpatch (`None`: not defined).
+    Define {
+        name: String,
+        old: Option<Box<Patch>>,
+        new: Option<Box<Patch>>,
+    },
     Batch(Vec<Command>),
 }
 
@@ -80,13 +86,18 @@ impl Command {
                 old: new.clone(),
                 new: old.clone(),
             },
+            Command::Define { name, old, new } => Command::Define {
+                name: name.clone(),
+                old: new.clone(),
+                new: old.clone(),
+            },
             Command::Batch(cmds) => {
                 Command::Batch(cmds.iter().rev().map(Command::inverse).collect())
             }
         }
     }
 
-    fn apply(&self, patch: &mut Patch) {
+    pub(crate) fn apply(&self, patch: &mut Patch) {
         match self {
             Command::Insert { nodes, links } => {
                 for (i, n) in nodes {
@@ -130,6 +141,14 @@ impl Command {
                     }
                 }
             }
+            Command::Define { name, new, .. } => match new {
+                Some(def) => {
+                    patch.subpatches.insert(name.clone(), (**def).clone());
+                }
+                None => {
+                    patch.subpatches.remove(name);
+                }
+            },
             Command::Batch(cmds) => {
                 for c in cmds {
                     c.apply(patch);
@@ -149,6 +168,8 @@ pub struct Clip {
 struct Entry {
     label: String,
     command: Command,
+    /// Which document the command changed (undo opens it again).
+    scope: Vec<String>,
     /// Distinguishes history states, so "saved" survives undo back to it.
     serial: u64,
 }
@@ -158,7 +179,9 @@ const HISTORY: usize = 1000;
 
 /// The patch being edited, its history, and whether it differs from the saved file.
 pub struct EditorDoc {
-    patch: Patch,
+    top: Patch,
+    /// The inline subpatch being edited, by the chain of definition names from the top (empty: the top).
+    pub(crate) scope: Vec<String>,
     undo: VecDeque<Entry>,
     redo: Vec<Entry>,
     next_serial: u64,
@@ -181,7 +204,8 @@ impl EditorDoc {
     /// A document as loaded from disk: clean, with no history.
     pub fn new(patch: Patch) -> Self {
         let mut doc = EditorDoc {
-            patch,
+            top: patch,
+            scope: Vec::new(),
             undo: VecDeque::new(),
             redo: Vec::new(),
             next_serial: 1,
@@ -194,22 +218,26 @@ impl EditorDoc {
         doc
     }
 
-    fn reindex(&mut self) {
+    pub(crate) fn reindex(&mut self) {
         self.generation += 1;
+        // An undo can take away the subpatch being shown: show the deepest one left.
+        self.scope
+            .truncate(crate::subpatch::existing_depth(&self.top, &self.scope));
         self.node_index.clear();
-        for (i, n) in self.patch.nodes.iter().enumerate() {
+        let patch = crate::subpatch::doc_at(&self.top, &self.scope);
+        for (i, n) in patch.nodes.iter().enumerate() {
             // The first of duplicate ids wins, as in the network compiler.
             self.node_index.entry(n.id).or_insert(i);
         }
         self.link_index.clear();
-        for (i, l) in self.patch.links.iter().enumerate() {
+        for (i, l) in patch.links.iter().enumerate() {
             self.link_index.entry(l.to.clone()).or_insert(i);
         }
     }
 
     /// The node with this id.
     pub fn node(&self, id: NodeId) -> Option<&NodeDoc> {
-        self.patch.nodes.get(*self.node_index.get(&id)?)
+        self.patch().nodes.get(*self.node_index.get(&id)?)
     }
 
     /// A document restored from an autosave: it differs from the file on disk.
@@ -219,8 +247,19 @@ impl EditorDoc {
         doc
     }
 
+    /// The document the canvas shows: the top patch, or the inline subpatch
+    /// opened in it ([`EditorDoc::scope`]).
     pub fn patch(&self) -> &Patch {
-        &self.patch
+        crate::subpatch::doc_at(&self.top, &self.scope)
+    }
+
+    pub(crate) fn viewed_mut(&mut self) -> &mut Patch {
+        crate::subpatch::doc_at_mut(&mut self.top, &self.scope)
+    }
+
+    /// The whole patch, as saved and run.
+    pub fn top(&self) -> &Patch {
+        &self.top
     }
 
     pub fn generation(&self) -> u64 {
@@ -257,7 +296,7 @@ impl EditorDoc {
 
     /// Apply a command and record it for undo.
     pub fn execute(&mut self, label: impl Into<String>, command: Command) {
-        command.apply(&mut self.patch);
+        command.apply(self.viewed_mut());
         self.reindex();
         self.redo.clear();
         let serial = self.next_serial;
@@ -265,6 +304,7 @@ impl EditorDoc {
         self.undo.push_back(Entry {
             label: label.into(),
             command,
+            scope: self.scope.clone(),
             serial,
         });
         if self.undo.len() > HISTORY {
@@ -276,7 +316,8 @@ impl EditorDoc {
         let Some(entry) = self.undo.pop_back() else {
             return false;
         };
-        entry.command.inverse().apply(&mut self.patch);
+        self.scope = entry.scope.clone();
+        entry.command.inverse().apply(self.viewed_mut());
         self.reindex();
         self.redo.push(entry);
         true
@@ -286,7 +327,7 @@ impl EditorDoc {
         let Some(entry) = self.redo.pop() else {
             return false;
         };
-        entry.command.apply(&mut self.patch);
+        entry.command.apply(self.viewed_mut());
         self.reindex();
         self.undo.push_back(entry);
         true
@@ -294,9 +335,9 @@ impl EditorDoc {
 
     /// Create a node of `type_name` at `pos`; returns its id.
     pub fn add_node(&mut self, type_name: &str, pos: (f32, f32)) -> NodeId {
-        let id = self.patch.next_id();
+        let id = self.patch().next_id();
         let node = NodeDoc::new(id.0, type_name).at(pos.0, pos.1);
-        let at = self.patch.nodes.len();
+        let at = self.patch().nodes.len();
         self.execute(
             format!("create {type_name}"),
             Command::Insert {
@@ -311,7 +352,7 @@ impl EditorDoc {
     pub fn delete_nodes(&mut self, ids: &[NodeId]) {
         let set: HashSet<NodeId> = ids.iter().copied().collect();
         let nodes: Vec<(usize, NodeDoc)> = self
-            .patch
+            .patch()
             .nodes
             .iter()
             .enumerate()
@@ -322,7 +363,7 @@ impl EditorDoc {
             return;
         }
         let links: Vec<(usize, LinkDoc)> = self
-            .patch
+            .patch()
             .links
             .iter()
             .enumerate()
@@ -364,14 +405,15 @@ impl EditorDoc {
         from: &PinRef,
         to: &PinRef,
     ) -> Result<(), LinkError> {
-        let (from_ty, to_ty) = link_types(&self.patch, registry, from, to)?;
-        if !from_ty.links_to(to_ty) {
+        let (from_ty, to_ty) = link_types(self.patch(), registry, from, to)?;
+        // An `Inlet`'s output is `Any` until compiling types it from what it feeds.
+        if !from_ty.links_to(to_ty) && from_ty != PinType::Any {
             return Err(LinkError::Incompatible {
                 from_type: from_ty.name(),
                 to_type: to_ty.name(),
             });
         }
-        if from.node() == to.node() || reaches(&self.patch, to.node(), from.node()) {
+        if from.node() == to.node() || reaches(self.patch(), to.node(), from.node()) {
             return Err(LinkError::Cycle {
                 from: from.clone(),
                 to: to.clone(),
@@ -385,18 +427,18 @@ impl EditorDoc {
     pub fn link(&mut self, registry: &Registry, from: PinRef, to: PinRef) -> Result<(), LinkError> {
         self.validate_link(registry, &from, &to)?;
         let link = LinkDoc { from, to };
-        if self.patch.links.contains(&link) {
+        if self.patch().links.contains(&link) {
             return Ok(());
         }
         let replaced: Vec<(usize, LinkDoc)> = self
-            .patch
+            .patch()
             .links
             .iter()
             .enumerate()
             .filter(|(_, l)| l.to == link.to)
             .map(|(i, l)| (i, l.clone()))
             .collect();
-        let at = self.patch.links.len() - replaced.len();
+        let at = self.patch().links.len() - replaced.len();
         let label = format!("link {} to {}", link.from, link.to);
         let insert = Command::Insert {
             nodes: Vec::new(),
@@ -420,14 +462,14 @@ impl EditorDoc {
     /// Remove the link from `from` to `to`, if there is one.
     pub fn unlink(&mut self, from: &PinRef, to: &PinRef) -> bool {
         let Some(i) = self
-            .patch
+            .patch()
             .links
             .iter()
             .position(|l| &l.from == from && &l.to == to)
         else {
             return false;
         };
-        let link = self.patch.links[i].clone();
+        let link = self.patch().links[i].clone();
         self.execute(
             format!("unlink {} from {}", link.from, link.to),
             Command::Remove {
@@ -441,7 +483,7 @@ impl EditorDoc {
     /// Remove every link into input `to` (right-click on an input pin).
     pub fn unlink_input(&mut self, to: &PinRef) -> bool {
         let links: Vec<(usize, LinkDoc)> = self
-            .patch
+            .patch()
             .links
             .iter()
             .enumerate()
@@ -464,7 +506,7 @@ impl EditorDoc {
     /// Remove every link out of output `from`.
     pub fn unlink_output(&mut self, from: &PinRef) -> bool {
         let links: Vec<(usize, LinkDoc)> = self
-            .patch
+            .patch()
             .links
             .iter()
             .enumerate()
@@ -518,7 +560,7 @@ impl EditorDoc {
                 old,
                 new: value,
             };
-            apply.apply(&mut self.patch);
+            apply.apply(self.viewed_mut());
             self.reindex();
             return;
         }
@@ -538,14 +580,14 @@ impl EditorDoc {
         let set: HashSet<NodeId> = ids.iter().copied().collect();
         Clip {
             nodes: self
-                .patch
+                .patch()
                 .nodes
                 .iter()
                 .filter(|n| set.contains(&n.id))
                 .cloned()
                 .collect(),
             links: self
-                .patch
+                .patch()
                 .links
                 .iter()
                 .filter(|l| set.contains(&l.from.node()) && set.contains(&l.to.node()))
@@ -559,10 +601,10 @@ impl EditorDoc {
         if clip.nodes.is_empty() {
             return Vec::new();
         }
-        let first = self.patch.next_id().0;
+        let first = self.patch().next_id().0;
         let mut ids: HashMap<NodeId, NodeId> = HashMap::new();
         let mut nodes = Vec::new();
-        let base = self.patch.nodes.len();
+        let base = self.patch().nodes.len();
         for (k, n) in clip.nodes.iter().enumerate() {
             let mut copy = n.clone();
             copy.id = NodeId(first + k as u32);
@@ -570,7 +612,7 @@ impl EditorDoc {
             ids.insert(n.id, copy.id);
             nodes.push((base + k, copy));
         }
-        let base = self.patch.links.len();
+        let base = self.patch().links.len();
         let links: Vec<(usize, LinkDoc)> = clip
             .links
             .iter()
@@ -597,7 +639,7 @@ impl EditorDoc {
 
     /// The link into input `to`, if any.
     pub fn link_into(&self, to: &PinRef) -> Option<&LinkDoc> {
-        self.patch.links.get(*self.link_index.get(to)?)
+        self.patch().links.get(*self.link_index.get(to)?)
     }
 
     /// The value an input holds in the document, or its default.
@@ -671,184 +713,4 @@ fn reaches(patch: &Patch, start: NodeId, target: NodeId) -> bool {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn registry() -> Registry {
-        spreadlight_nodes::registry()
-    }
-
-    fn lfo_probe() -> EditorDoc {
-        let mut p = Patch::default();
-        p.add(NodeDoc::new(1, "LFO"));
-        p.add(NodeDoc::new(2, "Probe").at(0.0, 80.0));
-        EditorDoc::new(p)
-    }
-
-    #[test]
-    fn create_undo_redo_restores_exactly() {
-        let mut doc = EditorDoc::default();
-        let before = doc.patch().clone();
-        let id = doc.add_node("LFO", (10.0, 20.0));
-        assert!(doc.is_dirty());
-        let after = doc.patch().clone();
-        assert_eq!(after.node(id).map(|n| n.type_name.as_str()), Some("LFO"));
-        assert!(doc.undo());
-        assert_eq!(doc.patch(), &before);
-        assert!(!doc.is_dirty(), "undo back to the saved state is clean");
-        assert!(doc.redo());
-        assert_eq!(doc.patch(), &after);
-    }
-
-    #[test]
-    fn delete_restores_links_and_order_on_undo() {
-        let reg = registry();
-        let mut doc = lfo_probe();
-        doc.add_node("LFO", (0.0, 0.0));
-        doc.link(&reg, PinRef::new(1, "Output"), PinRef::new(2, "Input"))
-            .expect("link");
-        let before = doc.patch().clone();
-        doc.delete_nodes(&[NodeId(1)]);
-        assert!(doc.patch().links.is_empty());
-        assert_eq!(doc.patch().nodes.len(), 2);
-        doc.undo();
-        assert_eq!(doc.patch(), &before);
-    }
-
-    #[test]
-    fn incompatible_and_cyclic_links_are_refused() {
-        let reg = registry();
-        let mut doc = EditorDoc::default();
-        let a = doc.add_node("Add (Value)", (0.0, 0.0));
-        let b = doc.add_node("Add (Value)", (0.0, 50.0));
-        let cam = doc.add_node("Camera", (0.0, 100.0));
-        doc.link(
-            &reg,
-            PinRef(a, "Output".into()),
-            PinRef(b, "Input 1".into()),
-        )
-        .expect("a -> b");
-        let cycle = doc.link(
-            &reg,
-            PinRef(b, "Output".into()),
-            PinRef(a, "Input 1".into()),
-        );
-        assert!(matches!(cycle, Err(LinkError::Cycle { .. })), "{cycle:?}");
-        let self_loop = doc.link(
-            &reg,
-            PinRef(a, "Output".into()),
-            PinRef(a, "Input 2".into()),
-        );
-        assert!(matches!(self_loop, Err(LinkError::Cycle { .. })));
-        let def = reg.get("Camera").expect("Camera");
-        let out = def
-            .outputs
-            .iter()
-            .find(|p| !p.ty.links_to(PinType::Float))
-            .expect("a camera output that is not a number");
-        let wrong = doc.link(
-            &reg,
-            PinRef(cam, out.name.to_string()),
-            PinRef(b, "Input 2".into()),
-        );
-        assert!(
-            matches!(wrong, Err(LinkError::Incompatible { .. })),
-            "{wrong:?}"
-        );
-        assert_eq!(doc.patch().links.len(), 1, "refused links leave no trace");
-    }
-
-    #[test]
-    fn linking_an_input_again_replaces_its_link_in_one_step() {
-        let reg = registry();
-        let mut doc = EditorDoc::default();
-        let a = doc.add_node("LFO", (0.0, 0.0));
-        let b = doc.add_node("LFO", (0.0, 0.0));
-        let p = doc.add_node("Probe", (0.0, 0.0));
-        doc.link(&reg, PinRef(a, "Output".into()), PinRef(p, "Input".into()))
-            .expect("link");
-        let one = doc.patch().clone();
-        doc.link(&reg, PinRef(b, "Output".into()), PinRef(p, "Input".into()))
-            .expect("relink");
-        assert_eq!(doc.patch().links.len(), 1);
-        assert_eq!(doc.patch().links[0].from.node(), b);
-        doc.undo();
-        assert_eq!(doc.patch(), &one);
-    }
-
-    #[test]
-    fn value_drags_merge_into_one_undo_step() {
-        let mut doc = lfo_probe();
-        doc.set_value(NodeId(1), "Period", Some(Spread::Float(vec![2.0])), false);
-        doc.set_value(NodeId(1), "Period", Some(Spread::Float(vec![3.0])), true);
-        doc.set_value(NodeId(1), "Period", Some(Spread::Float(vec![4.0])), true);
-        assert_eq!(
-            doc.patch()
-                .node(NodeId(1))
-                .and_then(|n| n.values.get("Period")),
-            Some(&Spread::Float(vec![4.0]))
-        );
-        doc.undo();
-        assert!(doc.patch().node(NodeId(1)).expect("node").values.is_empty());
-        assert!(!doc.can_undo());
-        doc.redo();
-        assert_eq!(
-            doc.patch()
-                .node(NodeId(1))
-                .and_then(|n| n.values.get("Period")),
-            Some(&Spread::Float(vec![4.0]))
-        );
-    }
-
-    #[test]
-    fn paste_gives_fresh_ids_and_keeps_inner_links_only() {
-        let reg = registry();
-        let mut doc = EditorDoc::default();
-        let a = doc.add_node("LFO", (0.0, 0.0));
-        let b = doc.add_node("Probe", (0.0, 80.0));
-        let c = doc.add_node("Probe", (100.0, 80.0));
-        doc.link(&reg, PinRef(a, "Output".into()), PinRef(b, "Input".into()))
-            .expect("link");
-        doc.link(&reg, PinRef(a, "Output".into()), PinRef(c, "Input".into()))
-            .expect("link");
-        let new = doc.duplicate(&[a, b], (20.0, 20.0));
-        assert_eq!(new.len(), 2);
-        assert!(new.iter().all(|id| ![a, b, c].contains(id)));
-        assert_eq!(
-            doc.patch().links.len(),
-            3,
-            "one inner link copied, the one to c not"
-        );
-        let pasted = doc.patch().node(new[0]).expect("pasted");
-        assert_eq!(pasted.pos, (20.0, 20.0));
-        doc.undo();
-        assert_eq!(doc.patch().nodes.len(), 3);
-        assert_eq!(doc.patch().links.len(), 2);
-    }
-
-    #[test]
-    fn moves_are_recorded_once_and_undone() {
-        let mut doc = lfo_probe();
-        doc.move_nodes(&[(NodeId(1), (5.0, 6.0)), (NodeId(2), (0.0, 80.0))]);
-        assert_eq!(
-            doc.undo_label(),
-            Some("move node"),
-            "unmoved nodes are not recorded"
-        );
-        doc.undo();
-        assert_eq!(doc.patch().node(NodeId(1)).expect("node").pos, (0.0, 0.0));
-    }
-
-    #[test]
-    fn unlink_undo_puts_the_link_back() {
-        let reg = registry();
-        let mut doc = lfo_probe();
-        doc.link(&reg, PinRef::new(1, "Output"), PinRef::new(2, "Input"))
-            .expect("link");
-        let linked = doc.patch().clone();
-        assert!(doc.unlink(&PinRef::new(1, "Output"), &PinRef::new(2, "Input")));
-        assert!(doc.patch().links.is_empty());
-        doc.undo();
-        assert_eq!(doc.patch(), &linked);
-    }
-}
+mod tests;

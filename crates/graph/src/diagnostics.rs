@@ -59,6 +59,18 @@ pub enum ProblemKind {
     NonFiniteValue {
         slice: usize,
     },
+    /// A subpatch that contains itself, directly or through others: the chain of type names.
+    RecursiveSubpatch {
+        chain: Vec<String>,
+    },
+    /// A subpatch file that exists but cannot be read as a patch.
+    UnreadableSubpatch {
+        message: String,
+    },
+    /// Two IOBoxes of one subpatch give the same pin name; only the first becomes a pin.
+    DuplicatePinName {
+        name: String,
+    },
 }
 
 /// One problem, located on a node (and a pin where one is involved).
@@ -66,6 +78,9 @@ pub enum ProblemKind {
 pub struct Problem {
     pub severity: Severity,
     pub node: NodeId,
+    /// The subpatch nodes the problem's node lies in, outermost first (empty at the top).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub within: Vec<NodeId>,
     /// The node's type name, so a message reads well without the patch at hand.
     pub node_type: String,
     pub pin: Option<String>,
@@ -155,6 +170,22 @@ impl fmt::Display for ProblemKind {
             NonFiniteValue { slice } => {
                 write!(f, "slice {slice} is NaN or infinite; the default is used")
             }
+            RecursiveSubpatch { chain } => {
+                let chain: Vec<String> = chain.iter().map(|c| format!("`{c}`")).collect();
+                write!(
+                    f,
+                    "recursive subpatch: {} includes itself; kept as a placeholder, outputs nothing",
+                    chain.join(" -> ")
+                )
+            }
+            UnreadableSubpatch { message } => write!(
+                f,
+                "subpatch file cannot be read ({message}); kept as a placeholder with its values and links, outputs nothing"
+            ),
+            DuplicatePinName { name } => write!(
+                f,
+                "another IOBox of this subpatch already makes the pin `{name}`; this one is not a pin"
+            ),
         }
     }
 }
@@ -177,7 +208,11 @@ impl Problem {
 
 impl fmt::Display for Problem {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "node {} `{}`", self.node, self.node_type)?;
+        f.write_str("node ")?;
+        for outer in &self.within {
+            write!(f, "{outer} > ")?;
+        }
+        write!(f, "{} `{}`", self.node, self.node_type)?;
         if let Some(pin) = &self.pin {
             write!(f, ", pin `{pin}`")?;
         }

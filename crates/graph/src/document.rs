@@ -14,7 +14,13 @@ use serde::{Deserialize, Serialize};
 use crate::spread::Spread;
 
 /// The format version this build writes; it reads this one and every older one.
-pub const FORMAT_VERSION: u32 = 1;
+///
+/// Version 2 added inline subpatch definitions (`subpatches`); a version-1 file
+/// reads unchanged and is written back as version 1 while it defines none.
+pub const FORMAT_VERSION: u32 = 2;
+
+/// The first version whose files may define subpatches inline.
+pub const SUBPATCH_VERSION: u32 = 2;
 
 /// A node's id: stable for the node's life, unique within its patch.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
@@ -113,6 +119,10 @@ pub struct Patch {
     pub nodes: Vec<NodeDoc>,
     #[serde(default)]
     pub links: Vec<LinkDoc>,
+    /// Subpatches defined inline, by type name: a node whose type is one of
+    /// these names is an instance of it (`crate::subpatch`).
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub subpatches: BTreeMap<String, Patch>,
 }
 
 impl Default for Patch {
@@ -121,6 +131,7 @@ impl Default for Patch {
             version: FORMAT_VERSION,
             nodes: Vec::new(),
             links: Vec::new(),
+            subpatches: BTreeMap::new(),
         }
     }
 }
@@ -143,6 +154,18 @@ impl Patch {
         let id = node.id;
         self.nodes.push(node);
         id
+    }
+
+    /// The oldest format version that can hold this patch: what saving writes
+    /// at least, so an older build refuses a file it would misread.
+    pub fn required_version(&self) -> u32 {
+        let nested = self.subpatches.values().map(Patch::required_version);
+        let own = if self.subpatches.is_empty() {
+            1
+        } else {
+            SUBPATCH_VERSION
+        };
+        nested.fold(own, u32::max)
     }
 
     pub fn link(&mut self, from_node: u32, from_pin: &str, to_node: u32, to_pin: &str) {

@@ -86,6 +86,13 @@ pub fn load(path: &Path) -> Result<Patch, FormatError> {
 /// The canonical text of a patch: what [`save`] writes. Stable, so saved
 /// patches diff well and load-save-load is the identity.
 pub fn to_string(patch: &Patch) -> Result<String, FormatError> {
+    let upgraded;
+    let patch = if patch.version < patch.required_version() {
+        upgraded = versioned(patch.clone());
+        &upgraded
+    } else {
+        patch
+    };
     let config = ron::ser::PrettyConfig::new()
         .depth_limit(4)
         .indentor("    ")
@@ -94,6 +101,16 @@ pub fn to_string(patch: &Patch) -> Result<String, FormatError> {
         .map_err(|e| FormatError::Encode(e.to_string()))?;
     text.push('\n');
     Ok(text)
+}
+
+/// The patch, and every inline subpatch in it, at least at the version its contents need.
+fn versioned(mut patch: Patch) -> Patch {
+    patch.version = patch.version.max(patch.required_version());
+    patch.subpatches = std::mem::take(&mut patch.subpatches)
+        .into_iter()
+        .map(|(name, sub)| (name, versioned(sub)))
+        .collect();
+    patch
 }
 
 /// Write a patch atomically: a crash during save leaves the old file or the

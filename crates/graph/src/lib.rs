@@ -13,6 +13,7 @@ pub mod registry;
 pub mod runtime;
 pub mod spread;
 pub mod stats;
+pub mod subpatch;
 pub mod value;
 
 pub use clock::FrameClock;

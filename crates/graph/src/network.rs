@@ -47,6 +47,19 @@ pub struct Network {
     index: HashMap<NodeId, usize>,
     needed: Vec<bool>,
     problems: Vec<Problem>,
+    /// Where each node (by index) sits in the documents: the ids of the
+    /// subpatch nodes around it, outermost first, then its own id there.
+    paths: Vec<Vec<NodeId>>,
+    by_path: HashMap<Vec<NodeId>, usize>,
+    /// The flat `Outlet` (by index) behind each output pin of each subpatch instance.
+    instance_outputs: HashMap<(Vec<NodeId>, String), usize>,
+}
+
+/// What flattening adds to a compile: typed IOBoxes and the links' own texts.
+#[derive(Default)]
+pub(crate) struct CompileExtras<'a> {
+    pub defs: HashMap<NodeId, Arc<NodeDef>>,
+    pub link_labels: &'a [String],
 }
 
 struct Edge {
@@ -59,13 +72,78 @@ struct Edge {
 }
 
 impl Network {
+    /// Compile a patch whose subpatches are all inline (or absent); see
+    /// [`Network::compile_with`] for subpatch files.
     pub fn compile(patch: &Patch, registry: &Registry) -> Network {
+        Self::compile_with(patch, registry, &crate::subpatch::Library::default())
+    }
+
+    /// Compile a patch, expanding its subpatches (inline, or files from `library`).
+    pub fn compile_with(
+        patch: &Patch,
+        registry: &Registry,
+        library: &crate::subpatch::Library,
+    ) -> Network {
+        crate::subpatch::compile(patch, registry, library)
+    }
+
+    /// Compile an already flat patch (no subpatch nodes left).
+    pub(crate) fn compile_flat(
+        patch: &Patch,
+        registry: &Registry,
+        extras: &CompileExtras<'_>,
+    ) -> Network {
         Compiler {
             patch,
             registry,
+            extras,
             problems: Vec::new(),
         }
         .run()
+    }
+
+    /// Set where each node sits in the documents, from flat id to path.
+    pub(crate) fn set_paths(
+        &mut self,
+        mut paths: HashMap<NodeId, Vec<NodeId>>,
+        instance_outputs: HashMap<(Vec<NodeId>, String), NodeId>,
+    ) {
+        self.paths = self
+            .nodes
+            .iter()
+            .map(|n| paths.remove(&n.id).unwrap_or_else(|| vec![n.id]))
+            .collect();
+        self.by_path = self
+            .paths
+            .iter()
+            .enumerate()
+            .map(|(i, p)| (p.clone(), i))
+            .collect();
+        self.instance_outputs = instance_outputs
+            .into_iter()
+            .filter_map(|(key, id)| Some((key, self.index_of(id)?)))
+            .collect();
+    }
+
+    pub(crate) fn problems_mut(&mut self) -> &mut Vec<Problem> {
+        &mut self.problems
+    }
+
+    /// Where node `index` sits: the subpatch nodes around it, outermost first, then its own id.
+    pub fn path(&self, index: usize) -> &[NodeId] {
+        &self.paths[index]
+    }
+
+    /// The node at a path of ids (a top-level node's path is its id alone).
+    pub fn index_at(&self, path: &[NodeId]) -> Option<usize> {
+        self.by_path.get(path).copied()
+    }
+
+    /// The node that carries output pin `pin` of the subpatch instance at `path`.
+    pub fn instance_output(&self, path: &[NodeId], pin: &str) -> Option<usize> {
+        self.instance_outputs
+            .get(&(path.to_vec(), pin.to_owned()))
+            .copied()
     }
 
     /// Nodes in evaluation (topological) order.
@@ -94,10 +172,19 @@ impl Network {
 struct Compiler<'a> {
     patch: &'a Patch,
     registry: &'a Registry,
+    extras: &'a CompileExtras<'a>,
     problems: Vec<Problem>,
 }
 
 impl Compiler<'_> {
+    /// How messages quote link `index`: as the user wrote it, before flattening.
+    fn link_label(&self, index: usize) -> String {
+        match self.extras.link_labels.get(index) {
+            Some(label) => label.clone(),
+            None => link_text(&self.patch.links[index]),
+        }
+    }
+
     fn problem(
         &mut self,
         severity: Severity,
@@ -113,6 +200,7 @@ impl Compiler<'_> {
         self.problems.push(Problem {
             severity,
             node: id,
+            within: Vec::new(),
             node_type,
             pin: pin.map(str::to_owned),
             kind,
@@ -144,7 +232,15 @@ impl Compiler<'_> {
         let mut inputs: Vec<Vec<InputSource>> = vec![Vec::new(); patch.nodes.len()];
         for &i in &included {
             let node = &patch.nodes[i];
-            match self.registry.get(&node.type_name) {
+            let def = match self.extras.defs.get(&node.id) {
+                Some(def) => Some(def),
+                // A subpatch's entry never runs: one still here could not be expanded.
+                None => self
+                    .registry
+                    .get(&node.type_name)
+                    .filter(|d| !crate::subpatch::is_subpatch_def(d)),
+            };
+            match def {
                 Some(def) => {
                     inputs[i] = self.constant_inputs(i, def);
                     defs[i] = Some(def.clone());
@@ -184,11 +280,20 @@ impl Compiler<'_> {
             .collect();
         let index = nodes.iter().enumerate().map(|(k, n)| (n.id, k)).collect();
         let needed = needed_nodes(&nodes);
+        let paths = nodes.iter().map(|n| vec![n.id]).collect();
+        let by_path = nodes
+            .iter()
+            .enumerate()
+            .map(|(k, n)| (vec![n.id], k))
+            .collect();
         Network {
             nodes,
             index,
             needed,
             problems: self.problems,
+            paths,
+            by_path,
+            instance_outputs: HashMap::new(),
         }
     }
 
@@ -255,7 +360,7 @@ impl Compiler<'_> {
         let mut edges = Vec::new();
         let mut linked: HashSet<(usize, usize)> = HashSet::new();
         for (li, link) in self.patch.links.iter().enumerate() {
-            let text = link_text(link);
+            let text = self.link_label(li);
             let (from, to) = (
                 by_id.get(&link.from.node()).copied(),
                 by_id.get(&link.to.node()).copied(),
@@ -417,7 +522,7 @@ impl Compiler<'_> {
                             path.push(self.patch.nodes[target].id);
                             let link = &self.patch.links[edges[k].link];
                             let kind = ProblemKind::Cycle {
-                                link: link_text(link),
+                                link: self.link_label(edges[k].link),
                                 path,
                             };
                             self.problem(

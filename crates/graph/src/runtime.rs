@@ -12,10 +12,11 @@ use crate::clock::FrameClock;
 use crate::diagnostics::Problem;
 use crate::document::{NodeId, Patch};
 use crate::network::{InputSource, Network, NetworkNode};
-use crate::node::{EvalContext, Node, NodeError, ProbeLog, Services};
+use crate::node::{EvalContext, Node, NodeError, PatchDir, ProbeLog, Services};
 use crate::registry::Registry;
 use crate::spread::Spread;
 use crate::stats::{FrameStats, NodeRun, NodeStat};
+use crate::subpatch::Library;
 
 /// The running state of one node.
 struct NodeState {
@@ -43,6 +44,10 @@ pub struct Runtime {
     stats: FrameStats,
     versions: u64,
     services: Services,
+    /// Subpatch files; `None` until the host sets one or a load finds the patch's folder.
+    library: Option<Library>,
+    /// Whether the host chose the library (otherwise it follows the [`PatchDir`] service).
+    library_set: bool,
 }
 
 impl Runtime {
@@ -55,6 +60,45 @@ impl Runtime {
             stats: FrameStats::default(),
             versions: 0,
             services: Services::default(),
+            library: None,
+            library_set: false,
+        }
+    }
+
+    /// Where subpatch files come from. Without this, a runtime uses
+    /// [`Library::beside`] the folder its [`PatchDir`] service names (if any).
+    pub fn set_library(&mut self, library: Library) {
+        self.library = Some(library);
+        self.library_set = true;
+    }
+
+    /// The subpatch library of the last load (refreshed at every load).
+    pub fn library(&self) -> Option<&Library> {
+        self.library.as_ref()
+    }
+
+    /// The library for the next compile, read again from disk.
+    fn refreshed_library(&mut self) -> Library {
+        if !self.library_set {
+            let beside = self
+                .services
+                .get::<PatchDir>()
+                .map(|dir| Library::beside(&dir.0));
+            let stale = match (&self.library, &beside) {
+                (Some(old), Some(new)) => old.dirs() != new.dirs(),
+                (None, Some(_)) => true,
+                _ => false,
+            };
+            if stale {
+                self.library = beside;
+            }
+        }
+        match &mut self.library {
+            Some(library) => {
+                library.refresh();
+                library.clone()
+            }
+            None => Library::default(),
         }
     }
 
@@ -95,7 +139,8 @@ impl Runtime {
     /// keep their state and outputs where their type, values and links are
     /// unchanged, so editing one corner of a patch re-evaluates only that corner.
     pub fn load(&mut self, patch: &Patch) -> &[Problem] {
-        let network = Network::compile(patch, &self.registry);
+        let library = self.refreshed_library();
+        let network = Network::compile_with(patch, &self.registry, &library);
         let mut old_states: Vec<Option<NodeState>> = std::mem::take(&mut self.states)
             .into_iter()
             .map(Some)
@@ -124,8 +169,10 @@ impl Runtime {
         self.stats.nodes = network
             .nodes()
             .iter()
-            .map(|n| NodeStat {
-                id: n.id,
+            .enumerate()
+            .map(|(i, n)| NodeStat {
+                id: *network.path(i).last().unwrap_or(&n.id),
+                within: network.path(i)[..network.path(i).len() - 1].to_vec(),
                 type_name: n.type_name.clone(),
                 run: NodeRun::Skipped,
                 cpu_ns: 0,
@@ -252,26 +299,51 @@ impl Runtime {
         &self.probes
     }
 
-    /// The current spread on an output pin.
+    /// The current spread on an output pin of a node of the top patch.
     pub fn output(&self, node: NodeId, pin: &str) -> Option<&Arc<Spread>> {
-        let i = self.network.index_of(node)?;
-        let k = self.network.nodes()[i].def.as_ref()?.output_index(pin)?;
-        self.states[i].outputs.get(k)
+        self.output_at(&[node], pin)
     }
 
-    /// The error a node returned in the frame it last ran, if any.
+    /// The current spread on an output pin of the node at `path` (the
+    /// subpatch nodes around it, then its own id); for a subpatch node, its
+    /// output pin.
+    pub fn output_at(&self, path: &[NodeId], pin: &str) -> Option<&Arc<Spread>> {
+        if let Some(i) = self.network.index_at(path) {
+            let k = self.network.nodes()[i].def.as_ref()?.output_index(pin)?;
+            return self.states[i].outputs.get(k);
+        }
+        let i = self.network.instance_output(path, pin)?;
+        self.states[i].outputs.first()
+    }
+
+    /// The error a node of the top patch returned in the frame it last ran, if any.
     pub fn node_error(&self, node: NodeId) -> Option<&NodeError> {
-        let i = self.network.index_of(node)?;
+        self.node_error_at(&[node])
+    }
+
+    /// The last error of the node at `path`.
+    pub fn node_error_at(&self, path: &[NodeId]) -> Option<&NodeError> {
+        let i = self.network.index_at(path)?;
         self.states[i].error.as_ref()
     }
 
-    /// Every node's last error, in evaluation order.
+    /// Every node's last error, in evaluation order, by the node of the top
+    /// patch it is (or lies in, for nodes inside subpatches).
     pub fn node_errors(&self) -> impl Iterator<Item = (NodeId, &NodeError)> {
-        self.network
-            .nodes()
+        self.node_errors_at().map(|(path, e)| (path[0], e))
+    }
+
+    /// Every node's last error with its whole path (subpatch nodes, then its own id).
+    pub fn node_errors_at(&self) -> impl Iterator<Item = (&[NodeId], &NodeError)> {
+        self.states
             .iter()
-            .zip(&self.states)
-            .filter_map(|(n, s)| s.error.as_ref().map(|e| (n.id, e)))
+            .enumerate()
+            .filter_map(|(i, s)| s.error.as_ref().map(|e| (self.network.path(i), e)))
+    }
+
+    /// The path of the node with flat id `id` (what GPU passes name as their owner).
+    pub fn path_of(&self, id: NodeId) -> Option<&[NodeId]> {
+        Some(self.network.path(self.network.index_of(id)?))
     }
 }
 

@@ -20,7 +20,11 @@ pub enum NodeRun {
 
 #[derive(Clone, Debug, Serialize)]
 pub struct NodeStat {
+    /// The node's id in its own document.
     pub id: NodeId,
+    /// The subpatch nodes it lies in, outermost first (empty at the top).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub within: Vec<NodeId>,
     pub type_name: String,
     pub run: NodeRun,
     /// CPU time of the node's own code this frame, in nanoseconds (0 unless it ran).
@@ -44,7 +48,25 @@ pub struct FrameStats {
 }
 
 impl FrameStats {
+    /// A node of the top patch.
     pub fn node(&self, id: NodeId) -> Option<&NodeStat> {
-        self.nodes.iter().find(|n| n.id == id)
+        self.nodes
+            .iter()
+            .find(|n| n.id == id && n.within.is_empty())
+    }
+
+    /// The node at a path: the subpatch nodes around it, then its own id.
+    pub fn node_at(&self, path: &[NodeId]) -> Option<&NodeStat> {
+        let (id, within) = path.split_last()?;
+        self.nodes
+            .iter()
+            .find(|n| n.id == *id && n.within == within)
+    }
+
+    /// Every node inside the subpatch instance at `path`, at any depth.
+    pub fn inside<'a>(&'a self, path: &'a [NodeId]) -> impl Iterator<Item = &'a NodeStat> + 'a {
+        self.nodes
+            .iter()
+            .filter(move |n| n.within.starts_with(path))
     }
 }

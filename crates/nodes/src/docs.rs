@@ -139,7 +139,7 @@ fn cell(text: &str) -> String {
 /// docs/nodes.md: every node type by category, with its pins and help.
 pub fn markdown(registry: &Registry) -> String {
     let mut defs: Vec<&NodeDef> = registry.iter().map(|d| d.as_ref()).collect();
-    defs.sort_by_key(|d| (d.category.clone(), d.name.clone()));
+    defs.sort_by(|a, b| (&a.category, &a.name).cmp(&(&b.category, &b.name)));
     let mut s = String::new();
     let _ = writeln!(
         s,

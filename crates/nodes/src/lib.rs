@@ -87,5 +87,7 @@ pub fn registry() -> Registry {
     post::register(&mut r);
     bench::register(&mut r);
     shader_nodes::register(&mut r);
+    // The IOBoxes that make a subpatch's pins (spreadlight_graph::subpatch).
+    spreadlight_graph::subpatch::register(&mut r);
     r
 }

@@ -1,0 +1,46 @@
+//! `spreadlight play`: run a patch in a borderless show window, no editor.
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use spreadlight_editor::app::Automation;
+use spreadlight_editor::{EditorOptions, ShowWindow};
+
+#[derive(clap::Args)]
+pub struct Args {
+    /// The patch to play; the window shows its `Output`.
+    patch: PathBuf,
+    /// The window's size, WIDTHxHEIGHT (1280x720 by default); the Output renders at its pixel size.
+    #[arg(long, value_parser = crate::session::parse_size)]
+    size: Option<(u32, u32)>,
+    /// Fill the monitor the window opens on.
+    #[arg(long)]
+    fullscreen: bool,
+    /// Run this many frames, print the frame times as JSON, and quit (as `edit` does).
+    #[arg(long, value_name = "FRAMES")]
+    measure_frames: Option<u32>,
+    /// After the frames, write a screenshot of the window (PNG) here and quit.
+    #[arg(long, value_name = "PNG")]
+    screenshot: Option<PathBuf>,
+}
+
+pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
+    anyhow::ensure!(
+        args.patch.is_file(),
+        "{}: no such patch file",
+        args.patch.display()
+    );
+    let mut options = EditorOptions::new(Some(args.patch.clone()));
+    if args.measure_frames.is_some() || args.screenshot.is_some() {
+        options.automation = Some(Automation {
+            frames: args.measure_frames.unwrap_or(30),
+            screenshot: args.screenshot.clone(),
+        });
+    }
+    let window = ShowWindow {
+        size: args.size,
+        fullscreen: args.fullscreen,
+    };
+    spreadlight_editor::play(options, window)?;
+    Ok(ExitCode::SUCCESS)
+}

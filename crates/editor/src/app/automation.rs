@@ -1,0 +1,81 @@
+//! Scripted runs for the CLI's measurements and screenshots (`--measure-frames`, `--screenshot`).
+
+use super::*;
+
+impl EditorApp {
+    /// The scripted run: count frames, then screenshot, report and quit.
+    pub(super) fn automate(
+        &mut self,
+        ctx: &egui::Context,
+        frame: Option<&eframe::Frame>,
+        started: Instant,
+    ) {
+        let Some(auto) = self.options.automation.clone() else {
+            return;
+        };
+        ctx.request_repaint();
+        let nodes = self.doc.patch().nodes.len();
+        let canvas_zoom = self.canvas_zoom(ctx).unwrap_or(0.0);
+        let recovery_offered = self.recovery_offered();
+        let canvas_text_px = self.canvas_text_points(ctx).unwrap_or(0.0) * ctx.pixels_per_point();
+        let viewport_error = self.viewport_error(0).unwrap_or_default();
+        let a = &mut self.auto;
+        if let Some(last) = a.last_start {
+            a.intervals.push(started.duration_since(last).as_secs_f64());
+        }
+        a.last_start = Some(started);
+        a.ui.push(started.elapsed().as_secs_f64());
+        if let Some(cpu) = frame.and_then(|f| f.info().cpu_usage) {
+            a.cpu.push(f64::from(cpu));
+        }
+        a.frames += 1;
+        let shot = ctx.input(|i| {
+            i.events.iter().find_map(|e| match e {
+                egui::Event::Screenshot { image, .. } => Some(image.clone()),
+                _ => None,
+            })
+        });
+        let mut done = auto.screenshot.is_none() && a.frames >= auto.frames;
+        if let (Some(image), Some(path)) = (shot, &auto.screenshot) {
+            let [w, h] = image.size;
+            let bytes: Vec<u8> = image.pixels.iter().flat_map(|c| c.to_array()).collect();
+            match image::RgbaImage::from_raw(w as u32, h as u32, bytes).map(|img| img.save(path)) {
+                Some(Ok(())) => {}
+                Some(Err(e)) => eprintln!("error: cannot write {}: {e}", path.display()),
+                None => eprintln!("error: the screenshot has the wrong size"),
+            }
+            done = true;
+        } else if auto.screenshot.is_some() && a.frames >= auto.frames && !a.screenshot_sent {
+            a.screenshot_sent = true;
+            ctx.send_viewport_cmd(ViewportCommand::Screenshot(egui::UserData::default()));
+        }
+        if done {
+            let (ui_med, ui_p95) = median_and_p95(&a.ui);
+            let (frame_med, frame_p95) = median_and_p95(&a.intervals);
+            let (cpu_med, _) = median_and_p95(&a.cpu);
+            let ppp = ctx.pixels_per_point();
+            let rect = self.viewport_rects[0]
+                .map(|r| [r.min.x * ppp, r.min.y * ppp, r.max.x * ppp, r.max.y * ppp]);
+            println!(
+                "{{\"frames\": {}, \"nodes\": {}, \"ui_ms_median\": {:.3}, \"ui_ms_p95\": {:.3}, \"frame_ms_median\": {:.3}, \"frame_ms_p95\": {:.3}, \"eframe_cpu_ms_median\": {:.3}, \"viewport_px\": {}, \"viewport_error\": {:?}, \"canvas_zoom\": {:.3}, \"canvas_text_px\": {:.2}, \"recovery_offered\": {}}}",
+                a.frames,
+                nodes,
+                ui_med * 1e3,
+                ui_p95 * 1e3,
+                frame_med * 1e3,
+                frame_p95 * 1e3,
+                cpu_med * 1e3,
+                rect.map_or_else(
+                    || "null".to_owned(),
+                    |r| format!("[{}, {}, {}, {}]", r[0], r[1], r[2], r[3])
+                ),
+                viewport_error,
+                canvas_zoom,
+                canvas_text_px,
+                recovery_offered,
+            );
+            self.allow_close = true;
+            ctx.send_viewport_cmd(ViewportCommand::Close);
+        }
+    }
+}

@@ -1,0 +1,364 @@
+//! The canvas panel: the snarl widget over the open document, selection by click and rectangle, double-click to open a subpatch or the node browser, wire values and refusals.
+
+use super::*;
+
+/// How fast the wheel zooms: the zoom factor per point of scroll is e^this.
+const WHEEL_ZOOM_SPEED: f32 = 0.004;
+
+impl EditorApp {
+    /// The canvas's zoom: on-screen points per canvas point.
+    pub fn canvas_zoom(&self, ctx: &egui::Context) -> Option<f32> {
+        let layer = self.canvas_layer?;
+        Some(
+            ctx.layer_transform_to_global(layer)
+                .unwrap_or_default()
+                .scaling,
+        )
+    }
+
+    /// How tall node titles and pin names are on screen, in points: the body
+    /// text size at the canvas's zoom (what "readable" is asserted on).
+    pub fn canvas_text_points(&self, ctx: &egui::Context) -> Option<f32> {
+        let body = ctx
+            .global_style()
+            .text_styles
+            .get(&egui::TextStyle::Body)?
+            .size;
+        Some(body * self.canvas_zoom(ctx)?)
+    }
+
+    /// The mouse wheel zooms around the pointer (as in vvvv); the canvas would
+    /// otherwise pan with it. Its scroll is taken so the canvas does not also pan.
+    fn wheel_zoom(
+        &mut self,
+        ui: &mut Ui,
+        view: egui::emath::TSTransform,
+        canvas_rect: egui::Rect,
+    ) -> Option<egui::emath::TSTransform> {
+        let pointer = ui.input(|i| i.pointer.hover_pos())?;
+        if !canvas_rect.contains(pointer) || ui.input(|i| !i.modifiers.is_none()) {
+            return None;
+        }
+        let scroll = ui.input(|i| i.smooth_scroll_delta.y);
+        if scroll == 0.0 {
+            return None;
+        }
+        ui.input_mut(|i| i.smooth_scroll_delta = egui::Vec2::ZERO);
+        Some(canvas::zoom_around(
+            view,
+            pointer,
+            (scroll * WHEEL_ZOOM_SPEED).exp(),
+        ))
+    }
+
+    pub(super) fn canvas(&mut self, ui: &mut Ui) {
+        let dragging = ui.input(|i| i.pointer.any_down());
+        let changed = self.synced_generation != Some(self.doc.generation());
+        if changed {
+            self.refresh_subpatch_types();
+        }
+        self.breadcrumb(ui);
+        canvas::sync(
+            &mut self.snarl,
+            &mut self.snarl_ids,
+            &self.doc,
+            &self.registry,
+            changed,
+        );
+        self.synced_generation = Some(self.doc.generation());
+        let now = ui.input(|i| i.time);
+        let layer = LayerId::new(ui.layer_id().order, Id::new(CANVAS_ID));
+        self.canvas_layer = Some(layer);
+        if let Some(p) = ui.input(|i| i.pointer.latest_pos()) {
+            self.last_pointer = p;
+        }
+        // Labels that select text would take the drags that move nodes.
+        ui.style_mut().interaction.selectable_labels = false;
+        let canvas_rect = ui.max_rect().shrink(8.0);
+        self.canvas_rect = Some(canvas_rect);
+        let set_view = match ui.ctx().layer_transform_to_global(layer) {
+            Some(view) if !self.fit.is_multiple_of(2) => {
+                self.fit -= 1;
+                ui.ctx().request_repaint();
+                canvas::fit_view(view, &self.node_rects, canvas_rect)
+            }
+            Some(view) => self.wheel_zoom(ui, view, canvas_rect),
+            None => None,
+        };
+        let mut node_rects = Vec::new();
+        let response = {
+            let mut viewer = Canvas {
+                doc: &mut self.doc,
+                registry: &self.registry,
+                runtime: &self.runtime,
+                selected: &self.selected,
+                node_rects: &mut node_rects,
+                show_timings: self.show_timings,
+                gpu_ms: &self.gpu_ms,
+                gpu_errors: &self.gpu_errors,
+                refusal: &mut self.refusal,
+                pins: self.pins.clone(),
+                pointer: self.last_pointer,
+                set_view,
+                now,
+                instance: &self.instance,
+            };
+            SnarlWidget::new()
+                .id(Id::new(CANVAS_ID))
+                .style(canvas::style())
+                .show(&mut self.snarl, &mut viewer, ui)
+        };
+        if !dragging {
+            let moves = canvas::moved_nodes(&self.snarl, &self.doc);
+            self.doc.move_nodes(&moves);
+        }
+        let double = ui.input(|i| {
+            i.pointer
+                .button_double_clicked(egui::PointerButton::Primary)
+        });
+        let on_node = ui.input(|i| i.pointer.interact_pos()).and_then(|p| {
+            node_rects
+                .iter()
+                .rev()
+                .find(|(_, r)| r.contains(p))
+                .map(|(id, _)| *id)
+        });
+        if double && let Some(id) = on_node {
+            // Double-click on a subpatch node opens it in place.
+            self.open_subpatch(id);
+        } else if double
+            && response.hovered()
+            && let Some(screen) = ui.input(|i| i.pointer.interact_pos())
+        {
+            let from_global = ui
+                .ctx()
+                .layer_transform_from_global(layer)
+                .unwrap_or_default();
+            let g = from_global * screen;
+            self.browser = Some(BrowserState {
+                at: ((g.x / SCALE).round(), (g.y / SCALE).round()),
+                screen,
+                query: String::new(),
+                highlighted: 0,
+                focus: true,
+            });
+        } else if ui.input(|i| i.pointer.primary_clicked())
+            && let Some(p) = ui.input(|i| i.pointer.interact_pos())
+            && ui.max_rect().contains(p)
+        {
+            let add = ui.input(|i| i.modifiers.shift || i.modifiers.command);
+            let hit = node_rects
+                .iter()
+                .rev()
+                .find(|(_, r)| r.contains(p))
+                .map(|(id, _)| *id);
+            match hit {
+                Some(id) if add && self.selected.contains(&id) => {
+                    self.selected.remove(&id);
+                }
+                Some(id) => {
+                    if !add {
+                        self.selected.clear();
+                    }
+                    self.selected.insert(id);
+                    self.focused = Some(id);
+                }
+                None if response.hovered() && !add => self.selected.clear(),
+                None => {}
+            }
+        }
+        self.rectangle_selection(ui, &response, &node_rects);
+        if self.fit > 0 && self.fit.is_multiple_of(2) {
+            // An empty patch has nothing to fit; its first node must not jump the view.
+            self.fit = if node_rects.is_empty() {
+                0
+            } else {
+                self.fit - 1
+            };
+            ui.ctx().request_repaint();
+        }
+        self.node_rects = node_rects.clone();
+        // Hovering a wire shows what flows through it, as hovering its output pin does.
+        if response.hovered()
+            && let Some(p) = ui.input(|i| i.pointer.hover_pos())
+            && !node_rects.iter().any(|(_, r)| r.contains(p))
+            && let Some(link) = canvas::wire_under(&self.doc, &self.pins, p, 5.0)
+        {
+            let value = self
+                .runtime
+                .output(link.from.node(), link.from.pin())
+                .map_or_else(|| "not evaluated".to_owned(), |s| canvas::preview(s));
+            egui::Area::new(Id::new("wire-value"))
+                .fixed_pos(p + egui::vec2(14.0, 14.0))
+                .order(egui::Order::Tooltip)
+                .interactable(false)
+                .show(ui.ctx(), |ui| {
+                    egui::Frame::popup(ui.style()).show(ui, |ui| {
+                        ui.label(format!("{} → {}\n{value}", link.from, link.to));
+                    });
+                });
+        }
+        if let Some(r) = &self.refusal {
+            if now - r.since > 4.0 {
+                self.refusal = None;
+            } else {
+                egui::Area::new(Id::new("link-refused"))
+                    .fixed_pos(r.at + egui::vec2(12.0, 12.0))
+                    .order(egui::Order::Tooltip)
+                    // It must not catch the next drop on the pins under it.
+                    .interactable(false)
+                    .show(ui.ctx(), |ui| {
+                        egui::Frame::popup(ui.style()).show(ui, |ui| {
+                            ui.colored_label(
+                                egui::Color32::LIGHT_RED,
+                                format!("Link refused: {}", r.message),
+                            );
+                        });
+                    });
+                ui.ctx().request_repaint();
+            }
+        }
+    }
+
+    /// Shift-drag on empty canvas selects every node the rectangle touches
+    /// (Shift keeps the selection and adds to it, as Shift-click does).
+    pub(super) fn rectangle_selection(
+        &mut self,
+        ui: &Ui,
+        canvas: &egui::Response,
+        node_rects: &[(NodeId, egui::Rect)],
+    ) {
+        let (pressed, released, shift, pos) = ui.input(|i| {
+            (
+                i.pointer.primary_pressed(),
+                i.pointer.primary_released(),
+                i.modifiers.shift,
+                i.pointer.latest_pos(),
+            )
+        });
+        let Some(pos) = pos.map(|p| p.clamp(ui.max_rect().min, ui.max_rect().max)) else {
+            return;
+        };
+        // `contains_pointer`, not `hovered`: with Shift held snarl puts its own
+        // (hidden) selection layer over the canvas.
+        let on_empty_canvas =
+            canvas.contains_pointer() && !node_rects.iter().any(|(_, r)| r.contains(pos));
+        if pressed && shift && on_empty_canvas {
+            self.rect_select = Some(pos);
+        }
+        let Some(start) = self.rect_select else {
+            return;
+        };
+        let area = egui::Rect::from_two_pos(start, pos);
+        ui.ctx()
+            .layer_painter(LayerId::new(
+                egui::Order::Foreground,
+                Id::new("rect-select"),
+            ))
+            .rect(
+                area,
+                0.0,
+                egui::Color32::from_rgba_unmultiplied(90, 170, 255, 30),
+                egui::Stroke::new(1.0, egui::Color32::from_rgb(90, 170, 255)),
+                egui::StrokeKind::Inside,
+            );
+        if released {
+            self.rect_select = None;
+            for (id, r) in node_rects {
+                if r.intersects(area) {
+                    self.selected.insert(*id);
+                }
+            }
+        }
+    }
+
+    pub(super) fn node_browser(&mut self, ctx: &egui::Context) {
+        let Some(b) = &mut self.browser else {
+            return;
+        };
+        let hits = browser::filter(&self.registry, &b.query);
+        let mut place = None;
+        let mut close = false;
+        let opened_now = b.focus;
+        let area = egui::Area::new(Id::new("node-browser"))
+            .fixed_pos(b.screen)
+            .order(egui::Order::Foreground)
+            .show(ctx, |ui| {
+                egui::Frame::popup(ui.style()).show(ui, |ui| {
+                    ui.set_width(260.0);
+                    let (down, up, enter, escape) = ui.input(|i| {
+                        (
+                            i.key_pressed(Key::ArrowDown),
+                            i.key_pressed(Key::ArrowUp),
+                            i.key_pressed(Key::Enter),
+                            // egui takes Esc to unfocus the text field; the raw input still has it.
+                            i.raw.events.iter().any(|e| {
+                                matches!(
+                                    e,
+                                    egui::Event::Key {
+                                        key: Key::Escape,
+                                        pressed: true,
+                                        ..
+                                    }
+                                )
+                            }),
+                        )
+                    });
+                    let edit = ui.add(
+                        egui::TextEdit::singleline(&mut b.query)
+                            .hint_text("type a node name or category")
+                            .id(Id::new("node-browser-query")),
+                    );
+                    if b.focus {
+                        edit.request_focus();
+                        b.focus = false;
+                    }
+                    if edit.changed() {
+                        b.highlighted = 0;
+                    }
+                    if down {
+                        b.highlighted = (b.highlighted + 1).min(hits.len().saturating_sub(1));
+                    }
+                    if up {
+                        b.highlighted = b.highlighted.saturating_sub(1);
+                    }
+                    if enter {
+                        place = hits.get(b.highlighted).copied();
+                        close = true;
+                    }
+                    if escape {
+                        close = true;
+                    }
+                    egui::ScrollArea::vertical()
+                        .max_height(300.0)
+                        .show(ui, |ui| {
+                            for (i, name) in hits.iter().enumerate() {
+                                let category = self.registry.get(name).map_or("", |d| &*d.category);
+                                let r = ui
+                                    .selectable_label(i == b.highlighted, *name)
+                                    .on_hover_text(
+                                        self.registry.get(name).map_or("", |d| &*d.help),
+                                    );
+                                ui.weak(category);
+                                if r.clicked() {
+                                    place = Some(*name);
+                                    close = true;
+                                }
+                            }
+                        });
+                });
+            });
+        // A click anywhere else closes it, as a popup menu does.
+        if !opened_now && area.response.clicked_elsewhere() {
+            close = true;
+        }
+        if let Some(name) = place {
+            let at = b.at;
+            let id = self.doc.add_node(name, at);
+            self.selected = [id].into_iter().collect();
+        }
+        if close {
+            self.browser = None;
+        }
+    }
+}

@@ -1,0 +1,145 @@
+//! The document's life: opening, replacing, saving, autosave and recovery.
+
+use super::*;
+
+impl EditorApp {
+    pub(super) fn open_now(&mut self, path: &Path) {
+        match format::load(path) {
+            Ok(patch) => self.replace_document(EditorDoc::new(patch), Some(path.to_owned())),
+            Err(e) => self.status = e.to_string(),
+        }
+    }
+
+    pub(super) fn replace_document(&mut self, doc: EditorDoc, path: Option<PathBuf>) {
+        if let Some(p) = &path {
+            files::remember_recent(&self.options.config_dir, &mut self.recent, p);
+        }
+        self.doc = doc;
+        self.path = path;
+        self.instance.clear();
+        self.selected.clear();
+        self.snarl = Snarl::new();
+        self.snarl_ids.clear();
+        self.synced_generation = None;
+        self.fit = FIT_FROM_SCRATCH;
+        self.autosaved_generation = None;
+        self.recovery_written = false;
+        self.clock = FrameClock::default();
+        // The patch's own shader folder: its node types join the registry.
+        self.shaders = crate::shader_watch::ShaderWatch::new(self.path.as_deref());
+        self.shaders.poll_now(&mut self.registry);
+        self.runtime = Runtime::new(self.registry.clone());
+        if let Some(gpu) = &self.gpu {
+            self.runtime.provide(gpu.renderer.clone());
+            gpu.renderer.reset_history();
+        }
+        self.provide_patch_dir();
+        self.loaded_generation = None;
+        self.status = match &self.path {
+            Some(p) => format!("opened {}", p.display()),
+            None => "new patch".to_owned(),
+        };
+    }
+
+    /// Relative file names on pins (textures, models) resolve beside the
+    /// patch, as the CLI resolves them; an untitled patch has none.
+    pub(super) fn provide_patch_dir(&mut self) {
+        if let Some(dir) = self.path.as_deref().and_then(Path::parent) {
+            self.runtime
+                .provide(Arc::new(spreadlight_graph::PatchDir(dir.to_path_buf())));
+        }
+    }
+
+    pub(super) fn recovery_file(&self) -> PathBuf {
+        files::recovery_path(self.path.as_deref(), &self.options.config_dir)
+    }
+
+    /// Save to the current path; `false` when there is none (ask for one).
+    pub fn save(&mut self) -> bool {
+        let Some(path) = self.path.clone() else {
+            return false;
+        };
+        self.save_as(&path)
+    }
+
+    pub fn save_as(&mut self, path: &Path) -> bool {
+        match format::save(self.doc.top(), path) {
+            Ok(()) => {
+                let old_recovery = self.recovery_file();
+                self.path = Some(path.to_owned());
+                self.provide_patch_dir();
+                self.doc.mark_saved();
+                files::remove_recovery(&old_recovery);
+                files::remove_recovery(&self.recovery_file());
+                self.recovery_written = false;
+                files::remember_recent(&self.options.config_dir, &mut self.recent, path);
+                self.status = format!("saved {}", path.display());
+                true
+            }
+            Err(e) => {
+                self.status = e.to_string();
+                false
+            }
+        }
+    }
+
+    /// Open `path`, asking first when there are unsaved changes.
+    pub fn request_open(&mut self, path: PathBuf) {
+        if self.doc.is_dirty() {
+            self.pending = Some(Pending::Open(path));
+        } else {
+            self.open_now(&path);
+        }
+    }
+
+    pub(super) fn perform(&mut self, pending: Pending, ctx: &egui::Context) {
+        match pending {
+            Pending::Open(path) => self.open_now(&path),
+            Pending::New => self.replace_document(EditorDoc::default(), None),
+            Pending::Quit => {
+                self.allow_close = true;
+                ctx.send_viewport_cmd(ViewportCommand::Close);
+            }
+        }
+    }
+
+    /// Write the recovery file when the document changed and the last write
+    /// is `autosave_secs` old; otherwise ask for a frame when it will be, so an
+    /// idle editor (nothing repaints it) still saves the edit in time.
+    pub(super) fn autosave(&mut self, now: f64, ctx: &egui::Context) {
+        if !self.doc.is_dirty() {
+            if self.recovery_written {
+                files::remove_recovery(&self.recovery_file());
+                self.recovery_written = false;
+            }
+            return;
+        }
+        if self.autosaved_generation == Some(self.doc.generation()) {
+            return;
+        }
+        let wait = self.options.autosave_secs - (now - self.last_autosave);
+        if wait > 0.0 {
+            ctx.request_repaint_after(std::time::Duration::from_secs_f64(wait));
+            return;
+        }
+        self.last_autosave = now;
+        match files::write_recovery(self.doc.top(), &self.recovery_file()) {
+            Ok(()) => {
+                self.autosaved_generation = Some(self.doc.generation());
+                self.recovery_written = true;
+            }
+            Err(e) => self.status = format!("autosave failed: {e}"),
+        }
+    }
+
+    pub(super) fn restore_recovery(&mut self, recovery: &Path) {
+        match format::load(recovery) {
+            Ok(patch) => {
+                let path = self.path.clone();
+                self.replace_document(EditorDoc::recovered(patch), path);
+                self.status = "restored unsaved changes from the autosave".to_owned();
+            }
+            Err(e) => self.status = format!("cannot restore the autosave: {e}"),
+        }
+    }
+}

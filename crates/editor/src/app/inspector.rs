@@ -1,0 +1,179 @@
+//! The inspector panel: the selected node's values and outputs, and the viewports that show textures.
+
+use super::*;
+
+impl EditorApp {
+    pub(super) fn inspector(&mut self, ui: &mut Ui) {
+        ui.heading("Inspector");
+        let Some(id) = self.focus_node() else {
+            ui.weak("Click a node to inspect it.");
+            return;
+        };
+        let Some(node) = self.doc.patch().node(id).cloned() else {
+            return;
+        };
+        ui.label(egui::RichText::new(format!("{} {}", node.type_name, id)).strong());
+        let Some(def) = self.registry.get(&node.type_name).cloned() else {
+            ui.colored_label(
+                egui::Color32::LIGHT_RED,
+                "unknown node type: kept as it is, not run",
+            );
+            return;
+        };
+        ui.weak(&*def.help);
+        let mut at = self.instance.clone();
+        at.push(id);
+        if let Some(e) = self.runtime.node_error_at(&at) {
+            ui.colored_label(egui::Color32::LIGHT_RED, e.to_string());
+        }
+        ui.separator();
+        egui::ScrollArea::vertical().show(ui, |ui| {
+            for pin in &def.inputs {
+                ui.push_id(&*pin.name, |ui| {
+                    let label = ui
+                        .horizontal(|ui| {
+                            let label = ui.label(egui::RichText::new(&*pin.name).strong());
+                            ui.weak(pin.ty.name());
+                            label.id
+                        })
+                        .inner;
+                    let target = PinRef(id, pin.name.to_string());
+                    if let Some(link) = self.doc.link_into(&target).cloned() {
+                        ui.horizontal(|ui| {
+                            ui.weak(format!("linked from {}", link.from));
+                            if ui.small_button("unlink").clicked() {
+                                self.doc.unlink(&link.from, &link.to);
+                            }
+                        });
+                    } else if values::editable(pin.ty) {
+                        let mut value = node
+                            .values
+                            .get(&*pin.name)
+                            .cloned()
+                            .unwrap_or_else(|| pin.default.clone());
+                        let edited =
+                            values::edit_spread(ui, pin.ty, &mut value, &pin.name, Some(label));
+                        if edited.changed {
+                            self.doc
+                                .set_value(id, &pin.name, Some(value), edited.continuing);
+                        }
+                        if node.values.contains_key(&*pin.name)
+                            && ui.small_button("reset to default").clicked()
+                        {
+                            self.doc.set_value(id, &pin.name, None, false);
+                        }
+                    }
+                    ui.add_space(4.0);
+                });
+            }
+            ui.separator();
+            let mut path = self.instance.clone();
+            path.push(id);
+            for pin in &def.outputs {
+                let value = self
+                    .runtime
+                    .output_at(&path, &pin.name)
+                    .map_or_else(|| "not evaluated".to_owned(), |s| canvas::preview(s));
+                ui.horizontal(|ui| {
+                    let watched = self.watches.contains(&(path.clone(), pin.name.to_string()));
+                    let eye = ui
+                        .selectable_label(watched, "👁")
+                        .on_hover_text(format!("watch {}", pin.name));
+                    if eye.clicked() {
+                        self.toggle_watch(path.clone(), &pin.name);
+                    }
+                    ui.label(format!("{} → {value}", pin.name));
+                });
+            }
+        });
+        let request: Option<(String, usize)> = ui
+            .ctx()
+            .data_mut(|d| d.remove_temp(Id::new("file-picker-request")));
+        if let Some((pin, slice)) = request {
+            self.open_dialog(DialogMode::PickValue {
+                node: id,
+                pin,
+                slice,
+            });
+        }
+    }
+
+    pub(super) fn texture_pins(&self) -> Vec<(NodeId, Name, String)> {
+        let mut out = Vec::new();
+        for n in &self.doc.top().nodes {
+            if let Some(def) = self.registry.get(&n.type_name) {
+                for p in &def.outputs {
+                    if p.ty == PinType::Resource(ResourceKind::Texture) {
+                        out.push((
+                            n.id,
+                            p.name.clone(),
+                            format!("{} {}.{}", n.type_name, n.id, p.name),
+                        ));
+                    }
+                }
+            }
+        }
+        out
+    }
+
+    pub(super) fn viewport_ui(&mut self, ui: &mut Ui, k: usize, label: Option<Id>) {
+        if k == 1 {
+            let pins = self.texture_pins();
+            let current = match &self.viewports[1].source {
+                Source::None => "none".to_owned(),
+                Source::Output => "Output".to_owned(),
+                Source::Pin(n, p) => format!("{n}.{p}"),
+            };
+            let combo = egui::ComboBox::from_id_salt("second-viewport")
+                .selected_text(current)
+                .show_ui(ui, |ui| {
+                    if ui
+                        .selectable_label(self.viewports[1].source == Source::Output, "Output")
+                        .clicked()
+                    {
+                        self.viewports[1].source = Source::Output;
+                        self.viewports[1].rendered_size = (0, 0);
+                    }
+                    for (node, pin, label) in pins {
+                        let source = Source::Pin(node, pin.to_string());
+                        if ui
+                            .selectable_label(self.viewports[1].source == source, label)
+                            .clicked()
+                        {
+                            self.viewports[1].source = source;
+                            self.viewports[1].rendered_size = (0, 0);
+                        }
+                    }
+                });
+            if let Some(label) = label {
+                combo.response.labelled_by(label);
+            }
+        }
+        let avail = ui.available_size();
+        let ppp = ui.ctx().pixels_per_point();
+        let size = (
+            ((avail.x * ppp) as u32).clamp(16, 4096),
+            ((avail.y * ppp) as u32).clamp(16, 4096),
+        );
+        self.viewports[k].size = size;
+        let v = &self.viewports[k];
+        match (&v.target, &v.error) {
+            (_, Some(e)) => {
+                ui.weak(e.to_string());
+            }
+            (Some(t), None) => {
+                let tex_size =
+                    egui::vec2(t.texture.width() as f32, t.texture.height() as f32) / ppp;
+                let r = ui.add(egui::Image::new((t.id, tex_size)).fit_to_exact_size(avail));
+                self.viewport_rects[k] = Some(r.rect);
+            }
+            (None, None) => {
+                ui.weak(
+                    self.gpu_error
+                        .clone()
+                        .unwrap_or_else(|| "nothing rendered yet".to_owned()),
+                );
+            }
+        }
+    }
+}

@@ -1,0 +1,99 @@
+//! The canvas stays readable: fitting a big patch stops at a zoom where node
+//! titles are still readable (a minimum on-screen text size, from the
+//! layout) and pans to the patch's top left instead; the mouse wheel zooms
+//! around the pointer rather than panning. At a small window size.
+
+use egui::{Event, Modifiers, MouseWheelUnit, Pos2, TouchPhase, Vec2};
+use egui_kittest::Harness;
+use spreadlight_editor::canvas::READABLE_ZOOM;
+use spreadlight_editor::{EditorApp, EditorOptions};
+use spreadlight_graph::{NodeDoc, Patch, format};
+
+/// The smallest text, in points, a node title may have on screen after fitting.
+const MIN_TEXT_POINTS: f32 = 9.0;
+
+/// Rows of LFO -> Probe pairs, far wider and taller than the window.
+fn wide_patch() -> Patch {
+    let mut p = Patch::default();
+    for k in 0..40u32 {
+        let (x, y) = ((k % 8) as f32 * 300.0, (k / 8) as f32 * 200.0);
+        p.add(NodeDoc::new(2 * k + 1, "LFO").at(x, y));
+        p.add(NodeDoc::new(2 * k + 2, "Probe").at(x + 120.0, y));
+        p.link(2 * k + 1, "Output", 2 * k + 2, "Input");
+    }
+    p
+}
+
+fn harness(dir: &tempfile::TempDir, patch: &Patch) -> Harness<'static, EditorApp> {
+    let path = dir.path().join("wide.ron");
+    format::save(patch, &path).expect("save");
+    let options = EditorOptions {
+        path: Some(path),
+        config_dir: dir.path().join("config"),
+        autosave_secs: 0.0,
+        automation: None,
+    };
+    let mut h = Harness::builder()
+        .with_size(Vec2::new(800.0, 500.0))
+        .with_max_steps(60)
+        .wgpu_setup(spreadlight_editor::gpu::wgpu_setup(true))
+        .build_eframe(move |cc| {
+            let mut app = EditorApp::new(cc, options);
+            app.set_playing(false);
+            app
+        });
+    h.run();
+    h
+}
+
+#[test]
+fn fitting_a_big_patch_keeps_titles_readable_and_the_wheel_zooms_around_the_pointer() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let mut h = harness(&dir, &wide_patch());
+    let zoom = h.state().canvas_zoom(&h.ctx).expect("canvas drawn");
+    assert!(zoom >= READABLE_ZOOM - 1e-4, "fitted at {zoom}");
+    let text = h.state().canvas_text_points(&h.ctx).expect("canvas drawn");
+    assert!(
+        text >= MIN_TEXT_POINTS,
+        "titles are {text} points tall on screen"
+    );
+    // The patch starts at its top left: the first node is on screen.
+    let canvas = h.state().canvas_rect().expect("canvas");
+    let first = h
+        .state()
+        .node_screen_rects()
+        .iter()
+        .find(|(id, _)| id.0 == 1)
+        .map(|(_, r)| *r);
+    assert!(
+        first.is_some_and(|r| canvas.intersects(r)),
+        "{first:?} in {canvas:?}"
+    );
+
+    // The wheel zooms out around the pointer: the canvas point under it stays put.
+    let pointer = canvas.center();
+    let view_before = h.state().canvas_to_screen(&h.ctx, Pos2::ZERO);
+    let under = {
+        let zoom = h.state().canvas_zoom(&h.ctx).expect("zoom");
+        Pos2::ZERO + (pointer - view_before) / zoom
+    };
+    h.hover_at(pointer);
+    h.step();
+    h.event(Event::MouseWheel {
+        unit: MouseWheelUnit::Point,
+        delta: Vec2::new(0.0, -120.0),
+        phase: TouchPhase::Move,
+        modifiers: Modifiers::NONE,
+    });
+    h.run();
+    let after = h.state().canvas_zoom(&h.ctx).expect("zoom");
+    assert!(
+        after < zoom - 0.05,
+        "the wheel zoomed out: {zoom} -> {after}"
+    );
+    let moved = h.state().canvas_to_screen(&h.ctx, under) - pointer;
+    assert!(
+        moved.length() < 2.0,
+        "the point under the pointer moved by {moved:?}"
+    );
+}
