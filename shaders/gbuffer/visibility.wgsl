@@ -20,7 +20,14 @@ struct VertexOut {
 fn vs(@builtin(vertex_index) vertex: u32, @builtin(instance_index) instance_index: u32) -> VertexOut {
     // Field by field: loading the whole 224-byte instance per vertex would waste bandwidth.
     let info = instances[instance_index].info;
-    let index = indices[info.x + vertex] + info.y;
+    // A mirroring transform (negative determinant) turns the winding
+    // around: take the triangle's corners in the other order so back-face
+    // culling still culls back faces.
+    let m = instances[instance_index].model;
+    let mirrored = determinant(mat3x3<f32>(m[0].xyz, m[1].xyz, m[2].xyz)) < 0.0;
+    let corner = vertex % 3u;
+    let corner_used = select(corner, (3u - corner) % 3u, mirrored);
+    let index = indices[info.x + vertex - corner + corner_used] + info.y;
     let position = vertices[index].position_u.xyz;
     var out: VertexOut;
     out.clip = camera.view_projection * instances[instance_index].model * vec4<f32>(position, 1.0);

@@ -11,6 +11,9 @@ const FEATURE_FAKE_SSS: u32 = 2u;
 const FEATURE_REFLECTION: u32 = 3u;
 const FEATURE_MATCAP: u32 = 4u;
 const FEATURE_AMBIENT_OCCLUSION: u32 = 5u;
+// A glTF material's maps (shaders/lib/material_maps.wgsl); what the G-buffer
+// resolve made of them is in the surface target.
+const FEATURE_SURFACE_MAPS: u32 = 6u;
 const FIRST_CUSTOM_FEATURE: u32 = 16u;
 const MAX_FEATURES: u32 = 32u;
 
@@ -43,6 +46,10 @@ struct FeatureOffset {
 @group(1) @binding(3) var material_textures: texture_2d_array<f32>;
 @group(1) @binding(4) var material_sampler: sampler;
 @group(1) @binding(5) var material_uv: texture_2d<f32>;
+// The G-buffer's surface target: per pixel of a material with surface maps,
+// pack2x16float (roughness, metallic), (occlusion, written), (emission rg),
+// (emission b, 0). Zero where nothing was written.
+@group(1) @binding(6) var material_surface: texture_2d<u32>;
 #endif
 
 // An id the world does not have reads material 0 (every world has one).
@@ -89,6 +96,18 @@ fn feature_texture(id: u32, feature: u32) -> u32 {
 fn feature_param_at(id: u32, feature: u32, index: u32, fallback: vec4<f32>, pixel: vec2<u32>) -> vec4<f32> {
     let value = feature_param(id, feature, index, fallback);
 #ifdef MATERIAL_TEXTURES
+    // Surface maps: the resolve already multiplied the factors by the maps.
+    if (index == 0u && has_feature(id, FEATURE_SURFACE_MAPS) && has_feature(id, feature)) {
+        let s = textureLoad(material_surface, pixel, 0);
+        if (unpack2x16float(s.y).y > 0.5) {
+            if (feature == FEATURE_COOK_TORRANCE) {
+                return vec4<f32>(unpack2x16float(s.x), value.zw);
+            }
+            if (feature == FEATURE_EMISSION) {
+                return vec4<f32>(unpack2x16float(s.z), unpack2x16float(s.w).x, 1.0);
+            }
+        }
+    }
     let texture = feature_texture(id, feature);
     if (index == 0u && texture > 0u) {
         let uv = textureLoad(material_uv, pixel, 0).zw;
@@ -98,4 +117,17 @@ fn feature_param_at(id: u32, feature: u32, index: u32, fallback: vec4<f32>, pixe
     }
 #endif
     return value;
+}
+
+// A material's surface-map occlusion at a pixel (1: none; also without MATERIAL_TEXTURES).
+fn surface_occlusion(id: u32, pixel: vec2<u32>) -> f32 {
+#ifdef MATERIAL_TEXTURES
+    if (has_feature(id, FEATURE_SURFACE_MAPS)) {
+        let o = unpack2x16float(textureLoad(material_surface, pixel, 0).y);
+        if (o.y > 0.5) {
+            return clamp(o.x, 0.0, 1.0);
+        }
+    }
+#endif
+    return 1.0;
 }

@@ -105,6 +105,7 @@ pub const SHADERS: &[ShaderFile] = &[
     shader!("lib/lights.wgsl", library),
     shader!("lib/tonemap.wgsl", library),
     shader!("lib/material.wgsl", library),
+    shader!("lib/material_maps.wgsl", library),
     shader!("lib/screen.wgsl", library),
     shader!("lib/sky.wgsl", library),
     shader!("lib/ibl.wgsl", library),
@@ -121,11 +122,16 @@ pub const SHADERS: &[ShaderFile] = &[
             "NORMAL_MAP",
             "TRIPLANAR",
             "VELOCITY_FROM_GEOMETRY",
-            "COLOR_MAP"
+            "COLOR_MAP",
+            "SURFACE_OUT",
+            "MATERIAL_MAPS"
         ],
         // The colour map is the surface pass's; it reads UVs.
         Rule::AtMostOne(&["COLOR_MAP", "MOTION"]),
-        Rule::AtMostOne(&["TEXCOORDS", "TRIPLANAR"])
+        Rule::AtMostOne(&["TEXCOORDS", "TRIPLANAR"]),
+        // Surface maps are the surface pass's, and write the surface target.
+        Rule::AtMostOne(&["SURFACE_OUT", "MOTION"]),
+        Rule::Requires("MATERIAL_MAPS", "SURFACE_OUT")
     ),
     shader!("lighting/clusters.wgsl", []),
     shader!(
@@ -182,7 +188,8 @@ pub const SHADERS: &[ShaderFile] = &[
         Rule::Requires("SSS_3", "LIGHTS_3"),
         Rule::Requires("SSS_4", "LIGHTS_4"),
         Rule::Requires("AO_PER_MATERIAL", "AO"),
-        Rule::Requires("MATERIAL_TEXTURES", "EMISSION"),
+        // Textured emission, or surface maps' occlusion and emission.
+        Rule::Requires("MATERIAL_TEXTURES", "MATERIALS"),
         // What reads the material library binds it.
         Rule::Requires("EMISSION", "MATERIALS"),
         Rule::Requires("AO_PER_MATERIAL", "MATERIALS"),

@@ -11,6 +11,7 @@ use spreadlight_graph::{
     Color, EnumDef, EvalContext, Node, NodeDef, NodeError, PinType, Registry, ResourceKind, Spread,
 };
 use spreadlight_render::TextureRef;
+use spreadlight_render::material::MaterialWorld;
 use spreadlight_render::gbuffer::{DrawBatch, InstanceInput, Layer, LayerFeatures, VelocitySource};
 use spreadlight_render::mesh_arena::GpuMesh;
 
@@ -33,6 +34,7 @@ const TRIPLANAR: usize = 8;
 const VELOCITY_PIN: usize = 9;
 const IDS: usize = 10;
 const COLOR_TEXTURE: usize = 11;
+const MATERIAL_WORLD: usize = 12;
 
 pub fn register(r: &mut Registry) {
     r.add(
@@ -42,7 +44,9 @@ pub fn register(r: &mut Registry) {
             "Draws a spread of meshes with a spread of transforms into a layer for MRE. Slice i uses mesh i and \
              transform i (wrapping); instances of one mesh are one draw. The switches choose what the G-buffer \
              receives; each is a shader feature compiled only when used. Color Texture scales Color (albedo) at the \
-             surface's UV (needs Texture Coordinates or Triplanar).",
+             surface's UV (needs Texture Coordinates or Triplanar). Material World: the MaterialBuffer the Material IDs \
+             index, needed where materials have surface maps (glTF textures, alpha modes, double-sided): the G-buffer \
+             samples them per pixel, trilinear and anisotropic.",
         )
         .input_spread("Mesh", PinType::Resource(ResourceKind::Mesh), Spread::Resource(ResourceKind::Mesh, vec![]))
         .input("Transform", Mat4::IDENTITY)
@@ -63,6 +67,11 @@ pub fn register(r: &mut Registry) {
             "Color Texture",
             PinType::Resource(ResourceKind::Texture),
             Spread::Resource(ResourceKind::Texture, vec![]),
+        )
+        .input_spread(
+            "Material World",
+            PinType::Resource(ResourceKind::MaterialWorld),
+            Spread::Resource(ResourceKind::MaterialWorld, vec![]),
         )
         .output_typed("Layer", PinType::Resource(ResourceKind::Layer))
         .construct(DeferredBase::default),
@@ -107,6 +116,7 @@ impl Node for DeferredBase {
             })
         };
         let normal_map = first_texture(NORMAL_TEXTURE)?;
+        let world = resources::<MaterialWorld>(cx, MATERIAL_WORLD)?.into_iter().next();
         let color_map = first_texture(COLOR_TEXTURE)?;
 
         let n = slice_count([
@@ -162,7 +172,8 @@ impl Node for DeferredBase {
         let layer = Layer::new(Some(cx.node_id.0), batches, features, normal_map)
             .map_err(|e| NodeError::Other(e.to_string()))?
             .with_color_map(color_map)
-            .map_err(|e| cx.input_error(COLOR_TEXTURE, e.to_string()))?;
+            .map_err(|e| cx.input_error(COLOR_TEXTURE, e.to_string()))?
+            .with_materials(world);
         cx.set_output(
             0,
             resource_spread(ResourceKind::Layer, vec![Arc::new(layer)]),

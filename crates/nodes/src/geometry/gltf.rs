@@ -1,16 +1,24 @@
 //! `glTF`: loads a .gltf or .glb file into a spread of mesh instances, one
-//! slice per instance: its mesh, world transform and base colour, ready for
-//! `DeferredBase`. A broken or unsupported file is an error on the node that
-//! names the file and what is wrong.
+//! slice per instance: its mesh, world transform, base colour and material
+//! id, ready for `DeferredBase`; and the file's materials as materials of
+//! the one material world (slice i = material id i, what `MaterialManager`
+//! chains and `MaterialBuffer` uploads), with their names so a patch can
+//! pick one (`MaterialByName`) and change it. A broken or unsupported file
+//! is an error on the node that names the file and what is wrong.
 
 use std::sync::Arc;
 
 use glam::Mat4;
 use spreadlight_graph::{Color, NodeDef, NodeError, PinType, Registry, ResourceKind};
+use spreadlight_render::material::Material;
+use spreadlight_render::mesh::MaterialData;
 use spreadlight_render::mesh::gltf_import::load_gltf;
 use spreadlight_render::mesh_arena::GpuMesh;
 
 use crate::gpu::{renderer, resource_spread};
+
+/// Material ids beyond this are a mistake, as in `MaterialManager`.
+const MAX_FIRST_ID: i64 = 60_000;
 
 pub fn register(r: &mut Registry) {
     r.add(
@@ -18,17 +26,31 @@ pub fn register(r: &mut Registry) {
             "glTF",
             "Geometry",
             "Loads a glTF 2.0 file (.gltf or .glb): one output slice per mesh instance of the default scene, with its \
-             world transform and material base colour. A relative Filename is relative to the patch's folder. Missing normals are generated, missing tangents too (MikkTSpace).",
+             world transform, material base colour and Material ID. Materials: the file's materials as materials of the \
+             material world, at stable ids: First Material ID for glTF's default material, then one per file material in \
+             file order (ids below First hold the default material, so patch materials placed there by a MaterialManager \
+             coexist). Their textures, alpha modes and sidedness are surface maps, read by DeferredBase when its Material \
+             World pin has them. Material Names: each id's name (empty where none). A relative Filename is relative to \
+             the patch's folder. Missing normals are generated, missing tangents too (MikkTSpace).",
         )
         .input("Filename", String::new())
+        .input("First Material ID", 0i64)
         .output_typed("Mesh", PinType::Resource(ResourceKind::Mesh))
         .output::<Mat4>("Transform")
         .output::<Color>("Base Color")
         .output::<i64>("Material ID")
+        .output_typed("Materials", PinType::Resource(ResourceKind::Material))
+        .output::<String>("Material Names")
         .evaluate(|cx| {
             let files = cx.slices::<String>(0)?.to_vec();
+            let first = cx.slices::<i64>(1)?.first().copied().unwrap_or(0);
+            if !(0..=MAX_FIRST_ID).contains(&first) {
+                return Err(cx.input_error(1, format!("{first} is outside 0..={MAX_FIRST_ID}")));
+            }
             let renderer = renderer(cx)?;
-            let (mut meshes, mut transforms, mut colors, mut materials) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+            let (mut meshes, mut transforms, mut colors, mut ids) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+            let mut materials: Vec<Arc<Material>> = vec![Arc::new(Material::default_material()); first as usize];
+            let mut names = vec![String::new(); first as usize];
             for file in files.iter().filter(|f| !f.is_empty()) {
                 let scene = load_gltf(&cx.resolve_path(file)).map_err(|e| cx.input_error(0, e.to_string()))?;
                 let uploaded: Vec<Arc<GpuMesh>> = scene
@@ -37,19 +59,29 @@ pub fn register(r: &mut Registry) {
                     .map(|m| renderer.meshes.upload(&renderer.gpu, m))
                     .collect::<Result<_, _>>()
                     .map_err(|e| NodeError::Other(format!("{file}: {e}")))?;
+                // This file's default material, then its materials.
+                let base = materials.len() as i64;
+                materials.push(Arc::new(MaterialData::default().to_material()));
+                names.push(String::new());
+                for m in &scene.materials {
+                    materials.push(Arc::new(m.to_material()));
+                    names.push(m.name.clone().unwrap_or_default());
+                }
                 for instance in &scene.instances {
                     meshes.push(uploaded[instance.mesh].clone());
                     transforms.push(instance.transform);
                     let material = instance.material.and_then(|m| scene.materials.get(m));
                     let c = material.map_or([1.0; 4], |m| m.base_color);
                     colors.push(Color::rgba(c[0], c[1], c[2], c[3]));
-                    materials.push(instance.material.map_or(0, |m| m as i64 + 1));
+                    ids.push(base + instance.material.map_or(0, |m| m as i64 + 1));
                 }
             }
             cx.set_output(0, resource_spread(ResourceKind::Mesh, meshes));
             cx.set(1, transforms);
             cx.set(2, colors);
-            cx.set(3, materials);
+            cx.set(3, ids);
+            cx.set_output(4, resource_spread(ResourceKind::Material, materials));
+            cx.set(5, names);
             Ok(())
         }),
     );

@@ -170,7 +170,7 @@ impl Reflection {
                 &key,
                 &pipeline,
                 self.textured(),
-                &self.gbuffer.targets.velocity_uv,
+                &self.gbuffer.targets,
             )?)
         } else {
             None
@@ -265,7 +265,7 @@ impl Recipe for Reflection {
             renderer,
             fg,
             self.textured(),
-            &g.velocity_uv,
+            g,
         ));
         fg.add_pass(
             crate::recipe::pass_name("Reflection", self.owner, Some("specular")),

@@ -353,7 +353,7 @@ impl Ssr {
             &key,
             &pipeline,
             self.textured(),
-            &g.targets.velocity_uv,
+            &g.targets,
         )?;
         let (w, h) = g.pixel_size(cx.output_size);
         cx.dispatch(
@@ -495,7 +495,7 @@ impl Recipe for Ssr {
             renderer,
             fg,
             self.textured(),
-            &g.velocity_uv,
+            g,
         ));
         let target = if self.settings.temporal {
             &self.current

@@ -144,13 +144,11 @@ impl CompositeLight {
         }))
     }
 
-    /// Whether emission reads a texture (the only parameter composite maps).
+    /// Whether emission reads a texture, or surface maps give emission and occlusion.
     fn textured(&self) -> bool {
-        self.emission
-            && self
-                .materials
-                .as_ref()
-                .is_some_and(|w| w.textured(1 << FEATURE_EMISSION))
+        self.materials.as_ref().is_some_and(|w| {
+            (self.emission && w.textured(1 << FEATURE_EMISSION)) || w.has_maps()
+        })
     }
 
     pub fn texture(self: &Arc<Self>) -> TextureRef {
@@ -261,7 +259,7 @@ impl CompositeLight {
                 &key,
                 &pipeline,
                 self.textured(),
-                &self.gbuffer.targets.velocity_uv,
+                &self.gbuffer.targets,
             )?),
             None => None,
         };
@@ -309,7 +307,7 @@ impl Recipe for CompositeLight {
                 .map(|t| t.name.as_str()),
         );
         if let Some(world) = &self.materials {
-            reads.extend(world.declare_textures(renderer, fg, self.textured(), &g.velocity_uv));
+            reads.extend(world.declare_textures(renderer, fg, self.textured(), g));
         }
         for c in &self.components {
             reads.extend(

@@ -363,7 +363,7 @@ impl CookTorrance {
                 &key,
                 &pipeline,
                 self.textured(),
-                &g.targets.velocity_uv,
+                &g.targets,
             )?),
             None => None,
         };
@@ -433,7 +433,7 @@ impl Recipe for CookTorrance {
             reads.push(&textures.name);
         }
         if let Some(world) = &self.materials {
-            reads.extend(world.declare_textures(renderer, fg, self.textured(), &g.velocity_uv));
+            reads.extend(world.declare_textures(renderer, fg, self.textured(), g));
         }
         if let Some(shadows) = &self.shadows {
             shadows.declare(renderer, fg);
