@@ -17,7 +17,7 @@
 //                 pixel (see shaders/lib/material_maps.wgsl).
 #import spreadlight::camera::{Camera, pixel_to_ndc}
 #import spreadlight::mesh::{Vertex, Instance}
-#import spreadlight::packing::{id_to_channel, safe_normalize}
+#import spreadlight::packing::{id_to_channel, safe_normalize, pack_rgb9e5}
 #ifdef MATERIAL_MAPS
 #import spreadlight::material::{feature_param, FEATURE_COOK_TORRANCE, FEATURE_EMISSION}
 #import spreadlight::material_maps::{MapCoords, sample_map, has_map, map_settings, MAP_BASE_COLOR, MAP_METALLIC_ROUGHNESS, MAP_NORMAL, MAP_OCCLUSION, MAP_EMISSIVE}
@@ -251,10 +251,10 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         vec3<f32>(0.0), vec3<f32>(65000.0),
     );
     textureStore(out_surface, pixel, vec4<u32>(
-        pack2x16float(vec2<f32>(roughness, metallic)),
-        pack2x16float(vec2<f32>(occlusion, 1.0)),
-        pack2x16float(emission.rg),
-        pack2x16float(vec2<f32>(emission.b, 0.0)),
+        pack2x16unorm(vec2<f32>(roughness, metallic)),
+        pack2x16unorm(vec2<f32>(occlusion, 1.0)),
+        pack_rgb9e5(emission),
+        0u,
     ));
 #else
 #ifdef SURFACE_OUT

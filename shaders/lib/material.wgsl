@@ -4,6 +4,7 @@
 // Built by crates/render/src/material (MaterialWorld), whose FEATURE_*
 // constants these mirror; crates/render/tests/material.rs ties them together.
 #define_import_path spreadlight::material
+#import spreadlight::packing::unpack_rgb9e5
 
 const FEATURE_COOK_TORRANCE: u32 = 0u;
 const FEATURE_EMISSION: u32 = 1u;
@@ -47,8 +48,8 @@ struct FeatureOffset {
 @group(1) @binding(4) var material_sampler: sampler;
 @group(1) @binding(5) var material_uv: texture_2d<f32>;
 // The G-buffer's surface target: per pixel of a material with surface maps,
-// pack2x16float (roughness, metallic), (occlusion, written), (emission rg),
-// (emission b, 0). Zero where nothing was written.
+// pack2x16unorm (roughness, metallic), (occlusion, written), emission as
+// RGB9E5, 0. Zero where nothing was written.
 @group(1) @binding(6) var material_surface: texture_2d<u32>;
 #endif
 
@@ -99,12 +100,12 @@ fn feature_param_at(id: u32, feature: u32, index: u32, fallback: vec4<f32>, pixe
     // Surface maps: the resolve already multiplied the factors by the maps.
     if (index == 0u && has_feature(id, FEATURE_SURFACE_MAPS) && has_feature(id, feature)) {
         let s = textureLoad(material_surface, pixel, 0);
-        if (unpack2x16float(s.y).y > 0.5) {
+        if (unpack2x16unorm(s.y).y > 0.5) {
             if (feature == FEATURE_COOK_TORRANCE) {
-                return vec4<f32>(unpack2x16float(s.x), value.zw);
+                return vec4<f32>(unpack2x16unorm(s.x), value.zw);
             }
             if (feature == FEATURE_EMISSION) {
-                return vec4<f32>(unpack2x16float(s.z), unpack2x16float(s.w).x, 1.0);
+                return vec4<f32>(unpack_rgb9e5(s.z), 1.0);
             }
         }
     }
@@ -123,7 +124,7 @@ fn feature_param_at(id: u32, feature: u32, index: u32, fallback: vec4<f32>, pixe
 fn surface_occlusion(id: u32, pixel: vec2<u32>) -> f32 {
 #ifdef MATERIAL_TEXTURES
     if (has_feature(id, FEATURE_SURFACE_MAPS)) {
-        let o = unpack2x16float(textureLoad(material_surface, pixel, 0).y);
+        let o = unpack2x16unorm(textureLoad(material_surface, pixel, 0).y);
         if (o.y > 0.5) {
             return clamp(o.x, 0.0, 1.0);
         }

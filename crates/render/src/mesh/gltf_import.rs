@@ -28,12 +28,12 @@
 //!   ignored with one warning each; `asset.version` must be 2.x.
 
 mod accessor;
+pub mod builder;
 mod material;
+pub mod models;
 mod primitive;
 mod scene;
 mod source;
-#[cfg(test)]
-mod test_files;
 #[cfg(test)]
 mod tests;
 

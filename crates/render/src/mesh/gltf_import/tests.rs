@@ -7,7 +7,7 @@ use json::mesh::{Mode, Semantic};
 use json::validation::Checked::Valid;
 use json::validation::USize64;
 
-use super::test_files::{Doc, bytes, mesh_node, png_2x2, primitive};
+use super::builder::{Doc, bytes, mesh_node, png_2x2, primitive};
 use super::*;
 use crate::mesh::primitives::{BoxParams, box_mesh};
 
