@@ -1,9 +1,10 @@
 //! `spreadlight view`: any glTF file in one command. It builds the patch a
 //! user would and renders it: the file's materials (AddReflection, so the
 //! environment lights every one) uploaded by MaterialBuffer, DeferredBase
-//! and MRE with a camera framing the model's bounds, a sun with a shadow,
-//! image-based light from the procedural sky (or `--environment`), the sky
-//! behind, tonemapped; or, with `--channel`, a G-buffer view.
+//! and MRE with the file's first camera or one framing the model's bounds,
+//! the file's own lights (`KHR_lights_punctual`) or else a sun with a
+//! shadow, image-based light from the procedural sky (or `--environment`),
+//! the sky behind, tonemapped; or, with `--channel`, a G-buffer view.
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -63,12 +64,14 @@ pub fn framing(center: Vec3, radius: f32, aspect: f32) -> (Mat4, Mat4) {
 /// The sun's direction (towards the ground) in the default lighting.
 const SUN_DIRECTION: Vec3 = Vec3::new(-0.4, -1.0, -0.3);
 
-/// Where the camera is and what it sees: what both patches need.
+/// Where the camera is and what it sees, and what lights the scene.
 pub struct Framing {
     pub view: Mat4,
     pub projection: Mat4,
     /// The model's bounding radius (for shadow distances).
     pub radius: f32,
+    /// Which light types the file brings (point, spot, sun); none: view's sun.
+    pub file_lights: [bool; 3],
 }
 
 /// The patch `view` renders, as a user would wire it.
@@ -116,7 +119,45 @@ pub fn build_patch(
         patch.link(6, "Texture", 20, "Texture");
         return patch;
     }
-    // A sun from above and behind the camera's right, its shadow covering the model.
+    if framing.file_lights.contains(&true) {
+        file_lights(&mut patch, framing.file_lights);
+    } else {
+        sun(&mut patch, framing.radius);
+    }
+    image_light(&mut patch, environment);
+    patch
+}
+
+/// The file's lights: a buffer and a CookTorrance per type it has, their
+/// components grouped for CompositeLight (node 13).
+fn file_lights(patch: &mut Patch, present: [bool; 3]) {
+    let types = [
+        ("Point Lights", "PointLightBuffer"),
+        ("Spot Lights", "SpotLightBuffer"),
+        ("Sun Lights", "SunLightBuffer"),
+    ];
+    patch.add(NodeDoc::new(16, "Group (Texture)").at(320.0, 320.0));
+    patch.add(NodeDoc::new(17, "Group (Texture)").at(480.0, 320.0));
+    let used = types.iter().zip(present).filter(|(_, p)| *p);
+    for (slot, ((output, buffer), _)) in used.enumerate() {
+        let (b, c) = (30 + 2 * slot as u32, 31 + 2 * slot as u32);
+        let x = 320.0 + 160.0 * slot as f32;
+        patch.add(NodeDoc::new(b, *buffer).at(x, 80.0));
+        patch.add(NodeDoc::new(c, "CookTorrance").at(x, 240.0));
+        patch.link(1, output, b, "Lights");
+        patch.link(5, "G-Buffer", c, "G-Buffer");
+        patch.link(b, "Lights", c, "Lights");
+        patch.link(3, "Material World", c, "Material World");
+        let pin = format!("Texture {}", slot + 1);
+        patch.link(c, "Diffuse", 16, &pin);
+        patch.link(c, "Specular", 17, &pin);
+    }
+    patch.link(16, "Texture", 13, "Diffuse");
+    patch.link(17, "Texture", 13, "Specular");
+}
+
+/// A sun from above and behind the camera's right, its shadow covering the model.
+fn sun(patch: &mut Patch, radius: f32) {
     patch.add(
         NodeDoc::new(7, "AddLight (Sun)")
             .at(320.0, 0.0)
@@ -129,7 +170,7 @@ pub fn build_patch(
         NodeDoc::new(9, "ShadowMap (Sun)")
             .at(480.0, 80.0)
             .with("Cascades", vec![1i64])
-            .with("Distance", vec![framing.radius * 8.0]),
+            .with("Distance", vec![radius * 8.0]),
     );
     patch.add(NodeDoc::new(10, "CookTorrance").at(320.0, 240.0));
     patch.link(7, "Lights", 8, "Lights");
@@ -140,6 +181,13 @@ pub fn build_patch(
     patch.link(8, "Lights", 10, "Lights");
     patch.link(3, "Material World", 10, "Material World");
     patch.link(9, "Shadows", 10, "Shadows");
+    patch.link(10, "Diffuse", 13, "Diffuse");
+    patch.link(10, "Specular", 13, "Specular");
+}
+
+/// Image-based light (the environment's irradiance and prefiltered
+/// reflection) into CompositeLight, the sky behind, tonemapped to the Output.
+fn image_light(patch: &mut Patch, environment: Option<&std::path::Path>) {
     // Image-based light: the environment's irradiance and prefiltered reflection.
     let environment_node = match environment {
         Some(file) => NodeDoc::new(11, "Environment (File)")
@@ -161,8 +209,6 @@ pub fn build_patch(
             .with("Ambient", vec![spreadlight_graph::Color::rgba(0.0, 0.0, 0.0, 1.0)]),
     );
     patch.link(5, "G-Buffer", 13, "G-Buffer");
-    patch.link(10, "Diffuse", 13, "Diffuse");
-    patch.link(10, "Specular", 13, "Specular");
     patch.link(3, "Material World", 13, "Material World");
     patch.link(12, "Diffuse", 13, "GI");
     patch.link(12, "Specular", 13, "Reflection");
@@ -181,7 +227,6 @@ pub fn build_patch(
     );
     patch.link(14, "Texture", 15, "Texture");
     patch.link(15, "Texture", 20, "Texture");
-    patch
 }
 
 pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
@@ -191,11 +236,12 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
         eprintln!("{}: {warning}", args.model.display());
     }
     let radius = scene.bounds.size().length() * 0.5;
-    let (view, projection) = framing(
-        scene.bounds.center(),
-        radius,
-        args.size.0 as f32 / args.size.1 as f32,
-    );
+    let aspect = args.size.0 as f32 / args.size.1 as f32;
+    let (view, projection) = match scene.cameras.first() {
+        Some(camera) => (camera.view, camera.projection_for(aspect)),
+        None => framing(scene.bounds.center(), radius, aspect),
+    };
+    let lights = &scene.lights;
     let model = std::path::absolute(&args.model).unwrap_or_else(|_| args.model.clone());
     let environment = args
         .environment
@@ -209,6 +255,11 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
         } else {
             1.0
         },
+        file_lights: [
+            !lights.points.is_empty(),
+            !lights.spots.is_empty(),
+            !lights.suns.is_empty(),
+        ],
     };
     let patch = build_patch(&model, &framing, &args.channel, environment.as_deref());
     if let Some(path) = &args.save_patch {

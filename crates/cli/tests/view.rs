@@ -101,3 +101,37 @@ fn textured_normal_mapped_cube_is_lit_and_textured() {
     assert!(albedo.pixels().any(|p| near(p, [230, 120, 40])), "orange squares");
     assert!(albedo.pixels().any(|p| near(p, [240, 240, 230])), "white squares");
 }
+
+#[test]
+fn a_scene_is_lit_by_its_own_punctual_lights() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let patch = dir.path().join("lights.ron");
+    let (lit, _) = view(
+        dir.path(),
+        "lights",
+        &models::punctual_lights_scene(),
+        &["--save-patch", patch.to_str().expect("utf-8")],
+    );
+    matches_reference("view-punctual-lights", &lit);
+    // The file's lights replace view's sun: point and spot buffers, no sun, no shadow map.
+    let saved = std::fs::read_to_string(&patch).expect("saved patch");
+    assert!(saved.contains("PointLightBuffer") && saved.contains("SpotLightBuffer"));
+    assert!(!saved.contains("AddLight (Sun)") && !saved.contains("ShadowMap"));
+    // The warm point light is left of the block, the blue spot right of it.
+    let (w, h) = lit.dimensions();
+    let sum = |x0: u32, x1: u32| {
+        let mut s = [0i64; 3];
+        for y in h / 2..h * 3 / 4 {
+            for x in x0..x1 {
+                let p = lit.get_pixel(x, y).0;
+                for c in 0..3 {
+                    s[c] += i64::from(p[c]);
+                }
+            }
+        }
+        s
+    };
+    let (left, right) = (sum(w / 4, w / 2), sum(w / 2, w * 3 / 4));
+    assert!(left[0] > left[2], "warm on the left: {left:?}");
+    assert!(right[2] > right[0], "blue on the right: {right:?}");
+}

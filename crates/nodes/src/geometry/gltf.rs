@@ -3,8 +3,10 @@
 //! id, ready for `DeferredBase`; and the file's materials as materials of
 //! the one material world (slice i = material id i, what `MaterialManager`
 //! chains and `MaterialBuffer` uploads), with their names so a patch can
-//! pick one (`MaterialByName`) and change it. A broken or unsupported file
-//! is an error on the node that names the file and what is wrong.
+//! pick one (`MaterialByName`) and change it; its `KHR_lights_punctual`
+//! lights as light lists that start `AddLight` chains; its cameras as View
+//! and Projection. A broken or unsupported file is an error on the node
+//! that names the file and what is wrong.
 
 use std::sync::Arc;
 
@@ -16,6 +18,27 @@ use spreadlight_render::mesh::gltf_import::load_gltf;
 use spreadlight_render::mesh_arena::GpuMesh;
 
 use crate::gpu::{renderer, resource_spread};
+use crate::lighting::add_light::LightList;
+
+fn empty<T>() -> LightList<T> {
+    LightList {
+        ids: Vec::new(),
+        lights: Vec::new(),
+    }
+}
+
+/// `named` lights appended to `list`, each ID the light's name in the file
+/// (`file: name`, unique across files and lights).
+fn extend<T: Clone>(list: &mut LightList<T>, named: &[(String, T)], file: &str) {
+    for (name, light) in named {
+        let mut id = format!("{file}: {name}");
+        if list.ids.contains(&id) {
+            id = format!("{id} #{}", list.ids.len());
+        }
+        list.ids.push(id);
+        list.lights.push(light.clone());
+    }
+}
 
 /// Material ids beyond this are a mistake, as in `MaterialManager`.
 const MAX_FIRST_ID: i64 = 60_000;
@@ -30,8 +53,9 @@ pub fn register(r: &mut Registry) {
              material world, at stable ids: First Material ID for glTF's default material, then one per file material in \
              file order (ids below First hold the default material, so patch materials placed there by a MaterialManager \
              coexist). Their textures, alpha modes and sidedness are surface maps, read by DeferredBase when its Material \
-             World pin has them. Material Names: each id's name (empty where none). A relative Filename is relative to \
-             the patch's folder. Missing normals are generated, missing tangents too (MikkTSpace).",
+             World pin has them. Material Names: each id's name (empty where none). Point, Spot and Sun Lights: the \
+             file's KHR_lights_punctual lights (candela, lux), to wire into an AddLight chain's Lights or a light buffer. \
+             View and Projection: one slice per camera of the scene. A relative Filename is relative to the patch's folder. Missing normals are generated, missing tangents too (MikkTSpace).",
         )
         .input("Filename", String::new())
         .input("First Material ID", 0i64)
@@ -41,6 +65,11 @@ pub fn register(r: &mut Registry) {
         .output::<i64>("Material ID")
         .output_typed("Materials", PinType::Resource(ResourceKind::Material))
         .output::<String>("Material Names")
+        .output_typed("Point Lights", PinType::Resource(ResourceKind::PointLights))
+        .output_typed("Spot Lights", PinType::Resource(ResourceKind::SpotLights))
+        .output_typed("Sun Lights", PinType::Resource(ResourceKind::SunLights))
+        .output::<Mat4>("View")
+        .output::<Mat4>("Projection")
         .evaluate(|cx| {
             let files = cx.slices::<String>(0)?.to_vec();
             let first = cx.slices::<i64>(1)?.first().copied().unwrap_or(0);
@@ -51,6 +80,8 @@ pub fn register(r: &mut Registry) {
             let (mut meshes, mut transforms, mut colors, mut ids) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
             let mut materials: Vec<Arc<Material>> = vec![Arc::new(Material::default_material()); first as usize];
             let mut names = vec![String::new(); first as usize];
+            let (mut points, mut spots, mut suns) = (empty(), empty(), empty());
+            let (mut views, mut projections) = (Vec::new(), Vec::new());
             for file in files.iter().filter(|f| !f.is_empty()) {
                 let scene = load_gltf(&cx.resolve_path(file)).map_err(|e| cx.input_error(0, e.to_string()))?;
                 let uploaded: Vec<Arc<GpuMesh>> = scene
@@ -67,6 +98,14 @@ pub fn register(r: &mut Registry) {
                     materials.push(Arc::new(m.to_material()));
                     names.push(m.name.clone().unwrap_or_default());
                 }
+                let lights = &scene.lights;
+                extend(&mut points, &lights.points, file);
+                extend(&mut spots, &lights.spots, file);
+                extend(&mut suns, &lights.suns, file);
+                for camera in &scene.cameras {
+                    views.push(camera.view);
+                    projections.push(camera.projection);
+                }
                 for instance in &scene.instances {
                     meshes.push(uploaded[instance.mesh].clone());
                     transforms.push(instance.transform);
@@ -82,6 +121,11 @@ pub fn register(r: &mut Registry) {
             cx.set(3, ids);
             cx.set_output(4, resource_spread(ResourceKind::Material, materials));
             cx.set(5, names);
+            cx.set_output(6, resource_spread(ResourceKind::PointLights, vec![Arc::new(points)]));
+            cx.set_output(7, resource_spread(ResourceKind::SpotLights, vec![Arc::new(spots)]));
+            cx.set_output(8, resource_spread(ResourceKind::SunLights, vec![Arc::new(suns)]));
+            cx.set(9, views);
+            cx.set(10, projections);
             Ok(())
         }),
     );

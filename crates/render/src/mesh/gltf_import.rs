@@ -29,6 +29,7 @@
 
 mod accessor;
 pub mod builder;
+mod content;
 mod material;
 pub mod models;
 mod primitive;
@@ -45,6 +46,8 @@ use glam::Mat4;
 use gltf::{Document, Semantic};
 use thiserror::Error;
 
+pub use content::{SceneCamera, SceneLights};
+
 use super::{Aabb, MeshData, MeshError};
 use accessor::Buffers;
 
@@ -59,6 +62,10 @@ pub struct GltfScene {
     pub instances: Vec<MeshInstance>,
     /// World bounds of all instances ([`Aabb::ZERO`] when there are none).
     pub bounds: Aabb,
+    /// `KHR_lights_punctual` lights of the loaded scene, placed.
+    pub lights: SceneLights,
+    /// Cameras of the loaded scene, in node order.
+    pub cameras: Vec<SceneCamera>,
     /// What was skipped or ignored; the rest of the file loaded.
     pub warnings: Vec<String>,
 }

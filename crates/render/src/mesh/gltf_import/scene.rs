@@ -6,7 +6,7 @@ use std::collections::HashMap;
 use glam::Mat4;
 use gltf::Document;
 
-use super::{GltfError, GltfScene, Importer, MeshInstance};
+use super::{GltfError, GltfScene, Importer, MeshInstance, SceneLights, content};
 use crate::mesh::Aabb;
 
 impl Importer<'_> {
@@ -32,7 +32,9 @@ impl Importer<'_> {
         }
 
         let mut instances = Vec::new();
-        for (node, world) in self.scene_nodes(document) {
+        let nodes = self.scene_nodes(document);
+        for (node, world) in &nodes {
+            let (node, world) = (node, *world);
             let Some(mesh) = node.mesh() else { continue };
             if node.skin().is_some() {
                 self.warnings.push(format!(
@@ -55,11 +57,24 @@ impl Importer<'_> {
             .filter_map(|i| Some(meshes.get(i.mesh)?.bounds.transformed(i.transform)))
             .reduce(Aabb::union)
             .unwrap_or(Aabb::ZERO);
+        let reach = bounds.size().length();
+        let mut lights = SceneLights::default();
+        let mut cameras = Vec::new();
+        for (node, world) in &nodes {
+            if let Some(light) = node.light() {
+                content::add_light(&mut lights, &light, *world, reach);
+            }
+            if let Some(camera) = node.camera() {
+                cameras.push(content::camera(&camera, *world));
+            }
+        }
         Ok(GltfScene {
             meshes,
             materials,
             instances,
             bounds,
+            lights,
+            cameras,
             warnings: std::mem::take(&mut self.warnings),
         })
     }
