@@ -663,11 +663,11 @@ mod tests {
             .filter(|k| k.path == "lighting/composite.wgsl")
             .collect();
         // Light pairs with the SSS terms they allow (2 + 4 + 8 + 16), times
-        // GI (2), times the 20 ways of AO (none, AO, per material), emission
-        // (none, flat, textured), reflection (2) and the material library
-        // (forced on when one of them reads it, free otherwise: 16 + 2 x 2):
-        // 1,200 of the 2^15 subsets.
-        assert_eq!(composite.len(), 30 * 2 * 20);
+        // GI (2), times the 26 ways of AO (none, AO, per material), emission
+        // (2), material textures (textured emission or surface maps: 2),
+        // reflection (2) and the material library (forced on when one of
+        // them reads it, free otherwise: 22 + 2 x 2): 1,560 of the 2^15 subsets.
+        assert_eq!(composite.len(), 30 * 2 * 26);
     }
 
     #[test]

@@ -36,6 +36,8 @@ mod primitive;
 mod scene;
 mod source;
 #[cfg(test)]
+mod hard_cases;
+#[cfg(test)]
 mod tests;
 
 use std::collections::HashMap;

@@ -16,7 +16,8 @@ use crate::material::{Feature, Material};
 struct Slot<'a> {
     texture: gltf::Texture<'a>,
     tex_coord: u32,
-    transform: Option<gltf::json::Value>,
+    /// `KHR_texture_transform`, and the texCoord it overrides with.
+    transform: Option<(UvTransform, Option<u32>)>,
 }
 
 impl Importer<'_> {
@@ -35,12 +36,12 @@ impl Importer<'_> {
         let normal_slot = normal.as_ref().map(|t| Slot {
             texture: t.texture(),
             tex_coord: t.tex_coord(),
-            transform: t.extension_value("KHR_texture_transform").cloned(),
+            transform: t.extension_value("KHR_texture_transform").map(parse_transform),
         });
         let occlusion_slot = occlusion.as_ref().map(|t| Slot {
             texture: t.texture(),
             tex_coord: t.tex_coord(),
-            transform: t.extension_value("KHR_texture_transform").cloned(),
+            transform: t.extension_value("KHR_texture_transform").map(parse_transform),
         });
         Ok(MaterialData {
             name: m.name().map(str::to_owned),
@@ -97,7 +98,10 @@ impl Importer<'_> {
         let Some(slot) = slot else {
             return Ok(None);
         };
-        let (transform, tex_coord) = texture_transform(slot.transform.as_ref(), slot.tex_coord);
+        let (transform, tex_coord) = match slot.transform {
+            Some((t, over)) => (finite_transform(t), over.unwrap_or(slot.tex_coord)),
+            None => (UvTransform::default(), slot.tex_coord),
+        };
         if tex_coord != 0 {
             self.warn(format!(
                 "{what} uses TEXCOORD_{tex_coord}; meshes carry one UV set, so it is mapped with TEXCOORD_0"
@@ -136,40 +140,61 @@ impl Importer<'_> {
 }
 
 fn info_slot(i: gltf::texture::Info<'_>) -> Slot<'_> {
+    // gltf reads the extension of texture infos itself (typed, not in the map).
+    let transform = i.texture_transform().map(|t| {
+        let uv = UvTransform {
+            offset: t.offset(),
+            rotation: t.rotation(),
+            scale: t.scale(),
+        };
+        (uv, t.tex_coord())
+    });
     Slot {
         texture: i.texture(),
         tex_coord: i.tex_coord(),
-        transform: i.extension_value("KHR_texture_transform").cloned(),
+        transform,
     }
 }
 
 /// `KHR_texture_transform` from its extension object (offset, rotation,
 /// scale, texCoord override); absent or malformed fields keep their defaults.
-fn texture_transform(value: Option<&gltf::json::Value>, tex_coord: u32) -> (UvTransform, u32) {
-    let mut t = UvTransform::default();
-    let Some(v) = value else {
-        return (t, tex_coord);
-    };
+fn parse_transform(v: &gltf::json::Value) -> (UvTransform, Option<u32>) {
+    let d = UvTransform::default();
     let pair = |key: &str, default: [f32; 2]| {
         v.get(key)
             .and_then(|p| Some([p.get(0)?.as_f64()? as f32, p.get(1)?.as_f64()? as f32]))
-            .filter(|p| p.iter().all(|c| c.is_finite()))
             .unwrap_or(default)
     };
-    t.offset = pair("offset", t.offset);
-    t.scale = pair("scale", t.scale);
-    t.rotation = v
-        .get("rotation")
-        .and_then(|r| r.as_f64())
-        .map(|r| r as f32)
-        .filter(|r| r.is_finite())
-        .unwrap_or(0.0);
+    let t = UvTransform {
+        offset: pair("offset", d.offset),
+        scale: pair("scale", d.scale),
+        rotation: v
+            .get("rotation")
+            .and_then(|r| r.as_f64())
+            .map_or(0.0, |r| r as f32),
+    };
     let tex_coord = v
         .get("texCoord")
         .and_then(|c| c.as_u64())
-        .and_then(|c| u32::try_from(c).ok())
-        .unwrap_or(tex_coord);
+        .and_then(|c| u32::try_from(c).ok());
     (t, tex_coord)
+}
+
+/// Non-finite parts of a transform replaced by the identity's.
+fn finite_transform(t: UvTransform) -> UvTransform {
+    let d = UvTransform::default();
+    let pair = |p: [f32; 2], or: [f32; 2]| {
+        if p.iter().all(|c| c.is_finite()) {
+            p
+        } else {
+            or
+        }
+    };
+    UvTransform {
+        offset: pair(t.offset, d.offset),
+        scale: pair(t.scale, d.scale),
+        rotation: if t.rotation.is_finite() { t.rotation } else { 0.0 },
+    }
 }
 
 impl TextureData {

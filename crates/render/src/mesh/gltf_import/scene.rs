@@ -9,8 +9,62 @@ use gltf::Document;
 use super::{GltfError, GltfScene, Importer, MeshInstance, SceneLights, content};
 use crate::mesh::Aabb;
 
+/// glTF's node hierarchy must be a forest: no node is its own child, none
+/// has two parents, and following parents never loops. The first problem,
+/// named by its nodes.
+fn check_forest(document: &Document) -> Result<(), String> {
+    let n = document.nodes().len();
+    let mut parent: Vec<Option<usize>> = vec![None; n];
+    for node in document.nodes() {
+        for child in node.children() {
+            let (p, c) = (node.index(), child.index());
+            if p == c {
+                return Err(format!("node {c} is its own child"));
+            }
+            match parent.get_mut(c) {
+                Some(Some(first)) if *first != p => {
+                    return Err(format!(
+                        "node {c} is a child of nodes {first} and {p}; a node has at most one parent"
+                    ));
+                }
+                Some(slot) => *slot = Some(p),
+                None => {}
+            }
+        }
+    }
+    // One parent each: walk up from every node once (O(nodes)); meeting
+    // the walk's own path again is a cycle.
+    let mut walked = vec![usize::MAX; n];
+    for start in 0..n {
+        let mut path = Vec::new();
+        let mut at = Some(start);
+        while let Some(node) = at {
+            if walked[node] == start {
+                let from = path.iter().position(|&p| p == node).unwrap_or(0);
+                let mut names: Vec<String> = path[from..].iter().map(usize::to_string).collect();
+                names.push(node.to_string());
+                return Err(format!(
+                    "nodes {} are each other's ancestors (a cycle)",
+                    names.join(" -> ")
+                ));
+            }
+            if walked[node] != usize::MAX {
+                break; // walked from an earlier start: no cycle above it
+            }
+            walked[node] = start;
+            path.push(node);
+            at = parent[node];
+        }
+    }
+    Ok(())
+}
+
 impl Importer<'_> {
     pub(super) fn scene(&mut self, document: &Document) -> Result<GltfScene, GltfError> {
+        check_forest(document).map_err(|message| GltfError::Invalid {
+            path: self.path.to_owned(),
+            message,
+        })?;
         let mut meshes = Vec::new();
         // (glTF mesh, primitive) -> index in `meshes`; skipped ones are absent.
         let mut loaded: HashMap<(usize, usize), usize> = HashMap::new();
