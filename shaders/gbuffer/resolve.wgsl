@@ -17,9 +17,9 @@
 //                 pixel (see shaders/lib/material_maps.wgsl).
 #import spreadlight::camera::{Camera, pixel_to_ndc}
 #import spreadlight::mesh::{Vertex, Instance}
-#import spreadlight::packing::{id_to_channel, safe_normalize, pack_rgb9e5}
+#import spreadlight::packing::{id_to_channel, safe_normalize}
 #ifdef MATERIAL_MAPS
-#import spreadlight::material::{feature_param, FEATURE_COOK_TORRANCE, FEATURE_EMISSION}
+#import spreadlight::material::{feature_param, pack_rgb9e5, FEATURE_COOK_TORRANCE, FEATURE_EMISSION}
 #import spreadlight::material_maps::{MapCoords, sample_map, has_map, map_settings, MAP_BASE_COLOR, MAP_METALLIC_ROUGHNESS, MAP_NORMAL, MAP_OCCLUSION, MAP_EMISSIVE}
 #endif
 

@@ -4,7 +4,6 @@
 // Built by crates/render/src/material (MaterialWorld), whose FEATURE_*
 // constants these mirror; crates/render/tests/material.rs ties them together.
 #define_import_path spreadlight::material
-#import spreadlight::packing::unpack_rgb9e5
 
 const FEATURE_COOK_TORRANCE: u32 = 0u;
 const FEATURE_EMISSION: u32 = 1u;
@@ -131,4 +130,24 @@ fn surface_occlusion(id: u32, pixel: vec2<u32>) -> f32 {
     }
 #endif
     return 1.0;
+}
+
+// Non-negative HDR colour in one u32, shared-exponent 9-9-9-5 (the
+// RGB9E5 layout): 9-bit mantissas, exponent bias 15. Up to 65408.
+fn pack_rgb9e5(rgb: vec3<f32>) -> u32 {
+    let c = clamp(rgb, vec3<f32>(0.0), vec3<f32>(65408.0));
+    let top = max(c.r, max(c.g, c.b));
+    var exponent = i32(max(-16.0, floor(log2(max(top, 1e-30))))) + 16;
+    var unit = exp2(f32(exponent - 24));
+    if (floor(top / unit + 0.5) >= 512.0) {
+        exponent += 1;
+        unit *= 2.0;
+    }
+    let m = vec3<u32>(min(floor(c / unit + 0.5), vec3<f32>(511.0)));
+    return m.r | (m.g << 9u) | (m.b << 18u) | (u32(exponent) << 27u);
+}
+
+fn unpack_rgb9e5(bits: u32) -> vec3<f32> {
+    let unit = exp2(f32(i32(bits >> 27u) - 24));
+    return vec3<f32>(f32(bits & 511u), f32((bits >> 9u) & 511u), f32((bits >> 18u) & 511u)) * unit;
 }

@@ -40,7 +40,8 @@ pub struct Args {
 
 /// A camera looking at `bounds` from the front-right and above, the whole model in view.
 pub fn framing(center: Vec3, radius: f32, aspect: f32) -> (Mat4, Mat4) {
-    let radius = if radius.is_finite() && radius > 1e-6 {
+    // Any positive size is framed (1e-18 as well as 1e18); none: a unit view.
+    let radius = if radius.is_finite() && radius > f32::MIN_POSITIVE * 1e6 {
         radius
     } else {
         1.0

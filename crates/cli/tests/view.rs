@@ -8,6 +8,7 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
+use spreadlight_render::mesh::gltf_import::builder::{Doc, info, png};
 use spreadlight_render::mesh::gltf_import::models;
 
 const SIZE: &str = "64x64";
@@ -134,4 +135,134 @@ fn a_scene_is_lit_by_its_own_punctual_lights() {
     let (left, right) = (sum(w / 4, w / 2), sum(w / 2, w * 3 / 4));
     assert!(left[0] > left[2], "warm on the left: {left:?}");
     assert!(right[2] > right[0], "blue on the right: {right:?}");
+}
+
+/// A one-sided white quad facing +Z on a node placed by `translation` and `scale`.
+fn quad(translation: [f32; 3], scale: [f32; 3]) -> Vec<u8> {
+    quad_with(translation, scale, 0.0, |_| None)
+}
+
+/// A quad facing +Z turned by `turn` radians about Y, with the material
+/// `material` makes (given the builder, to add textures).
+fn quad_with(
+    translation: [f32; 3],
+    scale: [f32; 3],
+    turn: f32,
+    material: impl FnOnce(&mut Doc) -> Option<gltf_json::Material>,
+) -> Vec<u8> {
+    let mut doc = Doc::new();
+    let mut plane = spreadlight_render::mesh::MeshData {
+        positions: vec![[-1.0, -1.0, 0.0], [1.0, -1.0, 0.0], [1.0, 1.0, 0.0], [-1.0, 1.0, 0.0]],
+        normals: vec![[0.0, 0.0, 1.0]; 4],
+        uvs: Some(vec![[0.0, 1.0], [1.0, 1.0], [1.0, 0.0], [0.0, 0.0]]),
+        tangents: None,
+        indices: vec![0, 1, 2, 0, 2, 3],
+        bounds: spreadlight_render::mesh::Aabb::ZERO,
+    };
+    plane.recompute_bounds();
+    let mesh = doc.mesh_data("Quad", &plane);
+    if let Some(m) = material(&mut doc) {
+        let m = doc.material(m);
+        doc.root.meshes[mesh.value()].primitives[0].material = Some(m);
+    }
+    let node = doc.node(gltf_json::Node {
+        mesh: Some(mesh),
+        translation: Some(translation),
+        scale: Some(scale),
+        rotation: Some(gltf_json::scene::UnitQuaternion(
+            glam::Quat::from_rotation_y(turn).to_array(),
+        )),
+        ..Default::default()
+    });
+    doc.scene(vec![node]);
+    doc.gltf_data_uri()
+}
+
+/// The share of pixels the model covers in the albedo view.
+fn coverage(image: &image::RgbaImage) -> f64 {
+    let covered = image.pixels().filter(|p| p.0[0] > 100).count();
+    covered as f64 / (image.width() * image.height()) as f64
+}
+
+#[test]
+fn mirrored_nodes_turn_their_winding_around() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let args = ["--channel", "Albedo"];
+    let (plain, _) = view(dir.path(), "plain", &quad([0.0; 3], [1.0; 3]), &args);
+    let (mirrored, _) = view(dir.path(), "mirrored", &quad([0.0; 3], [-1.0, 1.0, 1.0]), &args);
+    assert!(coverage(&plain) > 0.2, "{}", coverage(&plain));
+    // Culled as a back face, the mirrored quad would be missing.
+    assert!(
+        (coverage(&mirrored) - coverage(&plain)).abs() < 0.02,
+        "{} vs {}",
+        coverage(&mirrored),
+        coverage(&plain)
+    );
+}
+
+#[test]
+fn extreme_coordinates_are_framed_and_shown() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    for (name, s) in [("tiny", 1e-18f32), ("huge", 1e18)] {
+        let model = quad([s, -s, 3.0 * s], [s; 3]);
+        let (albedo, _) = view(dir.path(), name, &model, &["--channel", "Albedo"]);
+        assert!(coverage(&albedo) > 0.2, "{name}: {}", coverage(&albedo));
+        // Lit: finite, and the quad is not black.
+        let (lit, stderr) = view(dir.path(), name, &model, &[]);
+        // (lavapipe's own XDG_RUNTIME_DIR complaint is not ours)
+        let ours = stderr
+            .lines()
+            .any(|l| l.contains("error") && !l.contains("XDG_RUNTIME_DIR"));
+        assert!(!ours, "{name}: {stderr}");
+        let centre = lit.get_pixel(lit.width() / 2, lit.height() / 2).0;
+        assert!(centre[..3].iter().any(|c| *c > 40), "{name}: {centre:?}");
+    }
+}
+
+#[test]
+fn mask_materials_cut_out_below_their_cutoff() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let args = ["--channel", "Albedo"];
+    // Alpha 0 on the left half of the texture, 1 on the right.
+    let masked = quad_with([0.0; 3], [1.0; 3], 0.0, |doc| {
+        let half = image::RgbaImage::from_fn(16, 16, |x, _| {
+            image::Rgba([255, 255, 255, if x < 8 { 0 } else { 255 }])
+        });
+        let image = doc.png_image(&png(&half));
+        let texture = doc.texture(image);
+        let mut m = gltf_json::Material {
+            alpha_mode: gltf_json::validation::Checked::Valid(gltf_json::material::AlphaMode::Mask),
+            alpha_cutoff: Some(gltf_json::material::AlphaCutoff(0.5)),
+            ..Default::default()
+        };
+        m.pbr_metallic_roughness.base_color_texture = Some(info(texture));
+        Some(m)
+    });
+    let (plain, _) = view(dir.path(), "plain", &quad([0.0; 3], [1.0; 3]), &args);
+    let (cut, _) = view(dir.path(), "masked", &masked, &args);
+    let ratio = coverage(&cut) / coverage(&plain);
+    assert!((0.35..0.65).contains(&ratio), "{ratio}");
+}
+
+#[test]
+fn double_sided_materials_show_lit_back_faces() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let behind = |double_sided: bool| {
+        // Turned away from the camera: the viewer sees its back.
+        quad_with([0.0; 3], [1.0; 3], std::f32::consts::PI, move |_| {
+            Some(gltf_json::Material {
+                double_sided,
+                ..Default::default()
+            })
+        })
+    };
+    let args = ["--channel", "Albedo"];
+    let (one, _) = view(dir.path(), "one", &behind(false), &args);
+    let (two, _) = view(dir.path(), "two", &behind(true), &args);
+    assert!(coverage(&one) < 0.01, "{}", coverage(&one));
+    assert!(coverage(&two) > 0.2, "{}", coverage(&two));
+    // Its normals are flipped towards the viewer (view-space +Z: blue).
+    let (normals, _) = view(dir.path(), "two", &behind(true), &["--channel", "Normals"]);
+    let centre = normals.get_pixel(normals.width() / 2, normals.height() / 2).0;
+    assert!(centre[2] > 150, "{centre:?}");
 }

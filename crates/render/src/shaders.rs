@@ -111,7 +111,7 @@ pub const SHADERS: &[ShaderFile] = &[
     shader!("lib/ibl.wgsl", library),
     shader!("lib/post.wgsl", library),
     shader!("lighting/shadow_sampling.wgsl", library),
-    shader!("gbuffer/visibility.wgsl", []),
+    shader!("gbuffer/visibility.wgsl", ["ALPHA_MASK"]),
     shader!("gbuffer/raster.wgsl", ["TWO_SIDED"]),
     shader!(
         "gbuffer/resolve.wgsl",

@@ -174,6 +174,18 @@ impl Layer {
         self.materials.as_ref().filter(|w| w.has_maps())
     }
 
+    /// Whether some instance's material is alpha-tested (MASK): the
+    /// visibility pass discards its pixels below the cutoff.
+    pub fn alpha_masked(&self) -> bool {
+        let Some(world) = self.map_world() else {
+            return false;
+        };
+        self.batches
+            .iter()
+            .flat_map(|b| &b.instances)
+            .any(|i| world.alpha_masked(i.material_id))
+    }
+
     /// Whether some instance's material is double-sided (drawn without back-face culling).
     pub fn double_sided(&self) -> bool {
         let Some(world) = self.map_world() else {

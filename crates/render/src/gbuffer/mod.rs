@@ -261,6 +261,8 @@ impl GBuffer {
             .collect();
         let raster = match choice {
             RasterChoice::Hardware => RasterMode::Hardware,
+            // Alpha tests discard per pixel, which the raster hardware does.
+            _ if layers.iter().any(|l| l.alpha_masked()) => RasterMode::Hardware,
             _ if !renderer.gpu.has_compute_raster() => RasterMode::Hardware,
             _ => RasterMode::Compute,
         };

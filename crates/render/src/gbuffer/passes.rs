@@ -109,8 +109,125 @@ fn visibility(
     renderer: &Renderer,
     cx: &mut PassContext<'_>,
 ) -> Result<(), RenderError> {
-    let device = &cx.gpu.device;
-    let key = ShaderKey::new("gbuffer/visibility.wgsl", []);
+    let device = cx.gpu.device.clone();
+    let plain = visibility_pipeline(g, cx, false)?;
+    let (vertices, indices, _) = renderer.meshes.buffers();
+    let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("visibility"),
+        layout: &plain.get_bind_group_layout(0),
+        entries: &g.geometry_entries(&vertices, &indices),
+    });
+    // Per layer with alpha-tested materials: the ALPHA_MASK pipeline and its world's groups.
+    let mut masked = Vec::new();
+    for (layer, range) in g.layers.iter().zip(&g.layer_ranges) {
+        let Some(world) = layer.map_world().filter(|_| layer.alpha_masked()) else {
+            continue;
+        };
+        let pipeline = visibility_pipeline(g, cx, true)?;
+        let group0 = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("visibility, alpha mask"),
+            layout: &pipeline.get_bind_group_layout(0),
+            entries: &g.geometry_entries(&vertices, &indices),
+        });
+        let (meta, offsets, data) = world.buffers();
+        let group1 = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("visibility: material world"),
+            layout: &pipeline.get_bind_group_layout(1),
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: meta.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: offsets.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: data.as_entire_binding(),
+                },
+            ],
+        });
+        let group2 = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("visibility: unused group"),
+            layout: &pipeline.get_bind_group_layout(2),
+            entries: &[],
+        });
+        let group3 = world.maps_bind_group(&device, &pipeline.get_bind_group_layout(3));
+        masked.push((*range, pipeline, [Some(group0), Some(group1), Some(group2), group3]));
+    }
+    let vis = cx.view(&g.targets.visibility)?;
+    let depth = cx.view(&g.targets.hardware_depth)?;
+    let timestamps = cx.render_timestamps();
+    let mut pass = cx.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+        label: Some("visibility"),
+        color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+            view: &vis,
+            depth_slice: None,
+            resolve_target: None,
+            ops: wgpu::Operations {
+                load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                store: wgpu::StoreOp::Store,
+            },
+        })],
+        depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+            view: &depth,
+            depth_ops: Some(wgpu::Operations {
+                load: wgpu::LoadOp::Clear(0.0),
+                store: wgpu::StoreOp::Store,
+            }),
+            stencil_ops: None,
+        }),
+        timestamp_writes: timestamps,
+        occlusion_query_set: None,
+        multiview_mask: None,
+    });
+    let mut draws = 0;
+    for draw in g
+        .draws
+        .iter()
+        .filter(|d| d.instance_count > 0 && d.index_count > 0)
+    {
+        let mask = masked
+            .iter()
+            .find(|((first, end), _, _)| (*first..*end).contains(&draw.first_instance));
+        match mask {
+            Some((_, pipeline, groups)) => {
+                pass.set_pipeline(pipeline);
+                for (i, group) in groups.iter().enumerate() {
+                    if let Some(group) = group {
+                        pass.set_bind_group(i as u32, group, &[]);
+                    }
+                }
+            }
+            None => {
+                pass.set_pipeline(&plain);
+                pass.set_bind_group(0, &bind_group, &[]);
+            }
+        }
+        pass.draw(
+            0..draw.index_count,
+            draw.first_instance..draw.first_instance + draw.instance_count,
+        );
+        draws += 1;
+    }
+    drop(pass);
+    cx.draws += draws;
+    Ok(())
+}
+
+/// The visibility pipeline: culling back faces unless the G-buffer draws
+/// a double-sided material, with `alpha_mask` testing MASK materials.
+fn visibility_pipeline(
+    g: &GBuffer,
+    cx: &mut PassContext<'_>,
+    alpha_mask: bool,
+) -> Result<wgpu::RenderPipeline, RenderError> {
+    let device = cx.gpu.device.clone();
+    let key = ShaderKey::new(
+        "gbuffer/visibility.wgsl",
+        alpha_mask.then_some("ALPHA_MASK"),
+    );
     // Double-sided materials: every face is drawn (the resolve flips their back faces' normals).
     let two_sided = g.two_sided();
     let variant = if two_sided {
@@ -118,9 +235,8 @@ fn visibility(
     } else {
         "rg32uint+depth32f"
     };
-    let pipeline = cx
-        .shaders
-        .render_pipeline(device, &key, variant, |module| {
+    cx.shaders
+        .render_pipeline(&device, &key, variant, |module| {
             device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                 label: Some("visibility"),
                 layout: None,
@@ -157,56 +273,7 @@ fn visibility(
                 multiview_mask: None,
                 cache: None,
             })
-        })?;
-    let (vertices, indices, _) = renderer.meshes.buffers();
-    let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some("visibility"),
-        layout: &pipeline.get_bind_group_layout(0),
-        entries: &g.geometry_entries(&vertices, &indices),
-    });
-    let vis = cx.view(&g.targets.visibility)?;
-    let depth = cx.view(&g.targets.hardware_depth)?;
-    let timestamps = cx.render_timestamps();
-    let mut pass = cx.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-        label: Some("visibility"),
-        color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-            view: &vis,
-            depth_slice: None,
-            resolve_target: None,
-            ops: wgpu::Operations {
-                load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
-                store: wgpu::StoreOp::Store,
-            },
-        })],
-        depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-            view: &depth,
-            depth_ops: Some(wgpu::Operations {
-                load: wgpu::LoadOp::Clear(0.0),
-                store: wgpu::StoreOp::Store,
-            }),
-            stencil_ops: None,
-        }),
-        timestamp_writes: timestamps,
-        occlusion_query_set: None,
-        multiview_mask: None,
-    });
-    pass.set_pipeline(&pipeline);
-    pass.set_bind_group(0, &bind_group, &[]);
-    let mut draws = 0;
-    for draw in g
-        .draws
-        .iter()
-        .filter(|d| d.instance_count > 0 && d.index_count > 0)
-    {
-        pass.draw(
-            0..draw.index_count,
-            draw.first_instance..draw.first_instance + draw.instance_count,
-        );
-        draws += 1;
-    }
-    drop(pass);
-    cx.draws += draws;
-    Ok(())
+        })
 }
 
 fn resolve(

@@ -443,6 +443,14 @@ impl MaterialWorld {
             .is_some_and(|m| m.double_sided)
     }
 
+    /// Whether material `id` is alpha-tested (a glTF MASK material).
+    pub fn alpha_masked(&self, material_id: u32) -> bool {
+        self.material(material_id)
+            .maps
+            .as_ref()
+            .is_some_and(|m| matches!(m.alpha, maps::AlphaMode::Mask { .. }))
+    }
+
     /// Whether some material has surface maps (a glTF material).
     pub fn has_maps(&self) -> bool {
         self.maps.is_some()
