@@ -173,7 +173,7 @@ impl Doc {
         self.pad();
         let uri = format!("data:application/octet-stream;base64,{}", base64(&self.bin));
         self.finish_buffer(Some(uri));
-        json::serialize::to_vec_pretty(&self.root).expect("a glTF document serializes")
+        json::serialize::to_vec(&self.root).expect("a glTF document serializes")
     }
 
     /// `name` in `dir`, its buffer referred to by `uri`; the buffer is
@@ -266,11 +266,18 @@ pub fn info(texture: Index<json::Texture>) -> json::texture::Info {
 
 /// `image` encoded as PNG.
 pub fn png(image: &image::RgbaImage) -> Vec<u8> {
-    let mut out = std::io::Cursor::new(Vec::new());
-    image
-        .write_to(&mut out, image::ImageFormat::Png)
+    use image::ImageEncoder;
+    use image::codecs::png::{CompressionType, FilterType, PngEncoder};
+    let mut out = Vec::new();
+    PngEncoder::new_with_quality(&mut out, CompressionType::Best, FilterType::Adaptive)
+        .write_image(
+            image.as_raw(),
+            image.width(),
+            image.height(),
+            image::ExtendedColorType::Rgba8,
+        )
         .expect("PNG encoding to memory cannot fail");
-    out.into_inner()
+    out
 }
 
 pub fn primitive(

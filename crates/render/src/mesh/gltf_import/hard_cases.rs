@@ -311,3 +311,22 @@ fn many_instances_of_one_mesh_share_it() {
     assert_eq!(scene.instances.len(), 2000);
     assert!(scene.instances.iter().all(|i| i.mesh == 0));
 }
+
+#[test]
+fn the_benchmark_models_are_what_the_generator_makes() {
+    // patches/assets/bench-gltf-*.gltf are committed outputs of `bench_grid`.
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../patches/assets");
+    for (file, textured) in [("bench-gltf-textured.gltf", true), ("bench-gltf-plain.gltf", false)] {
+        let made = super::models::bench_grid(1000, 100, 200, textured);
+        let path = root.join(file);
+        if std::env::var_os("SPREADLIGHT_BLESS").is_some() {
+            std::fs::write(&path, &made).unwrap();
+        }
+        let committed = std::fs::read(&path).unwrap();
+        assert!(committed == made, "{file} is stale: regenerate with SPREADLIGHT_BLESS=1");
+        let scene = load(&made).unwrap();
+        assert_eq!(scene.instances.len(), 1000);
+        let textured_materials = scene.materials.iter().filter(|m| m.base_color_texture.is_some());
+        assert_eq!(textured_materials.count(), if textured { 100 } else { 0 });
+    }
+}

@@ -171,3 +171,67 @@ pub fn punctual_lights_scene() -> Vec<u8> {
     doc.scene(nodes);
     doc.gltf_data_uri()
 }
+
+/// The materials benchmark (`patches/bench-gltf.ron`): `instances` spheres
+/// on a grid, one glTF mesh per material (10 instances each), `materials`
+/// materials, each with a base colour and a metallic-roughness texture of
+/// their own out of `textures` (half 64², half 16² texels: two size
+/// classes; small, so the committed files stay small). `textured: false` gives the same meshes and instances with one
+/// untextured material: the baseline the textured scene is measured against.
+pub fn bench_grid(instances: usize, materials: usize, textures: usize, textured: bool) -> Vec<u8> {
+    let mut doc = Doc::new();
+    let sphere = crate::mesh::primitives::sphere(crate::mesh::primitives::SphereParams {
+        radius: 0.4,
+        sectors: 16,
+        stacks: 8,
+    });
+    let mesh = doc.mesh_data("Sphere", &sphere);
+    let template = doc.root.meshes[mesh.value()].primitives[0].clone();
+    let textures: Vec<_> = (0..textures * usize::from(textured))
+        .map(|t| {
+            let size = if t % 2 == 0 { 64 } else { 16 };
+            let hue = (t * 37 % 255) as u8;
+            let image = image::RgbaImage::from_fn(size, size, |x, y| {
+                let cell = size / 8;
+                let on = (x / cell + y / cell) % 2 == 0;
+                image::Rgba(if on { [hue, 255 - hue, 128, 255] } else { [230, 230, 230, 255] })
+            });
+            let image = doc.png_image(&png(&image));
+            doc.texture(image)
+        })
+        .collect();
+    let material_count = if textured { materials.max(1) } else { 1 };
+    let material_ids: Vec<_> = (0..material_count)
+        .map(|m| {
+            let mut material = json::Material::default();
+            material.pbr_metallic_roughness.metallic_factor = json::material::StrengthFactor(0.0);
+            if let (Some(base), Some(rough)) = (
+                textures.get((2 * m) % textures.len().max(1)),
+                textures.get((2 * m + 1) % textures.len().max(1)),
+            ) {
+                material.pbr_metallic_roughness.base_color_texture = Some(info(*base));
+                material.pbr_metallic_roughness.metallic_roughness_texture = Some(info(*rough));
+            }
+            doc.material(material)
+        })
+        .collect();
+    // One mesh per material (glTF ties a primitive to its material); the
+    // primitives share the sphere's accessors.
+    let meshes: Vec<_> = (0..materials.max(1))
+        .map(|m| {
+            let mut primitive = template.clone();
+            primitive.material = Some(material_ids[m % material_ids.len()]);
+            doc.mesh(&format!("Sphere {m}"), vec![primitive])
+        })
+        .collect();
+    let side = (instances as f32).sqrt().ceil() as usize;
+    let nodes = (0..instances)
+        .map(|i| {
+            let (x, z) = ((i % side) as f32, (i / side) as f32);
+            let at = [x - side as f32 * 0.5, 0.4, z - side as f32 * 0.5];
+            doc.node(mesh_node(Some(meshes[i % meshes.len()]), at, 1.0))
+        })
+        .collect();
+    doc.scene(nodes);
+    doc.gltf_data_uri()
+}
