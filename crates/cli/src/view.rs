@@ -33,6 +33,9 @@ pub struct Args {
     /// instead of the procedural sky.
     #[arg(long)]
     environment: Option<PathBuf>,
+    /// Pose the model at this time (seconds) of its first animation (node TRS channels).
+    #[arg(long, default_value_t = 0.0)]
+    time: f32,
     /// Also save the patch this command built, to open and change it.
     #[arg(long)]
     save_patch: Option<PathBuf>,
@@ -73,6 +76,8 @@ pub struct Framing {
     pub radius: f32,
     /// Which light types the file brings (point, spot, sun); none: view's sun.
     pub file_lights: [bool; 3],
+    /// The animation time the glTF node poses the model at.
+    pub time: f32,
 }
 
 /// The patch `view` renders, as a user would wire it.
@@ -87,7 +92,8 @@ pub fn build_patch(
     patch.add(
         NodeDoc::new(1, "glTF")
             .at(0.0, 0.0)
-            .with("Filename", vec![file]),
+            .with("Filename", vec![file])
+            .with("Time", vec![framing.time]),
     );
     patch.add(
         NodeDoc::new(2, "AddReflection")
@@ -261,6 +267,7 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
             !lights.spots.is_empty(),
             !lights.suns.is_empty(),
         ],
+        time: args.time,
     };
     let patch = build_patch(&model, &framing, &args.channel, environment.as_deref());
     if let Some(path) = &args.save_patch {

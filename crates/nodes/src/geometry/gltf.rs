@@ -5,15 +5,18 @@
 //! chains and `MaterialBuffer` uploads), with their names so a patch can
 //! pick one (`MaterialByName`) and change it; its `KHR_lights_punctual`
 //! lights as light lists that start `AddLight` chains; its cameras as View
-//! and Projection. A broken or unsupported file is an error on the node
-//! that names the file and what is wrong.
+//! and Projection. Time and Animation pose the scene (node TRS animations);
+//! the files are loaded and uploaded once and kept while Filename stays.
+//! A broken or unsupported file is an error on the node that names the
+//! file and what is wrong.
 
 use std::sync::Arc;
 
 use glam::Mat4;
-use spreadlight_graph::{Color, NodeDef, NodeError, PinType, Registry, ResourceKind};
+use spreadlight_graph::{Color, EvalContext, Node, NodeDef, NodeError, PinType, Registry, ResourceKind};
 use spreadlight_render::material::Material;
 use spreadlight_render::mesh::MaterialData;
+use spreadlight_render::mesh::GltfScene;
 use spreadlight_render::mesh::gltf_import::load_gltf;
 use spreadlight_render::mesh_arena::GpuMesh;
 
@@ -55,10 +58,13 @@ pub fn register(r: &mut Registry) {
              coexist). Their textures, alpha modes and sidedness are surface maps, read by DeferredBase when its Material \
              World pin has them. Material Names: each id's name (empty where none). Point, Spot and Sun Lights: the \
              file's KHR_lights_punctual lights (candela, lux), to wire into an AddLight chain's Lights or a light buffer. \
-             View and Projection: one slice per camera of the scene. A relative Filename is relative to the patch's folder. Missing normals are generated, missing tangents too (MikkTSpace).",
+             View and Projection: one slice per camera of the scene. Time (seconds) and Animation (index; -1: none) pose \
+             the nodes with the file's TRS animations, looping. A relative Filename is relative to the patch's folder.",
         )
         .input("Filename", String::new())
         .input("First Material ID", 0i64)
+        .input("Time", 0.0f32)
+        .input("Animation", 0i64)
         .output_typed("Mesh", PinType::Resource(ResourceKind::Mesh))
         .output::<Mat4>("Transform")
         .output::<Color>("Base Color")
@@ -70,63 +76,103 @@ pub fn register(r: &mut Registry) {
         .output_typed("Sun Lights", PinType::Resource(ResourceKind::SunLights))
         .output::<Mat4>("View")
         .output::<Mat4>("Projection")
-        .evaluate(|cx| {
-            let files = cx.slices::<String>(0)?.to_vec();
-            let first = cx.slices::<i64>(1)?.first().copied().unwrap_or(0);
-            if !(0..=MAX_FIRST_ID).contains(&first) {
-                return Err(cx.input_error(1, format!("{first} is outside 0..={MAX_FIRST_ID}")));
-            }
-            let renderer = renderer(cx)?;
-            let (mut meshes, mut transforms, mut colors, mut ids) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
-            let mut materials: Vec<Arc<Material>> = vec![Arc::new(Material::default_material()); first as usize];
-            let mut names = vec![String::new(); first as usize];
-            let (mut points, mut spots, mut suns) = (empty(), empty(), empty());
-            let (mut views, mut projections) = (Vec::new(), Vec::new());
-            for file in files.iter().filter(|f| !f.is_empty()) {
-                let scene = load_gltf(&cx.resolve_path(file)).map_err(|e| cx.input_error(0, e.to_string()))?;
-                let uploaded: Vec<Arc<GpuMesh>> = scene
-                    .meshes
-                    .iter()
-                    .map(|m| renderer.meshes.upload(&renderer.gpu, m))
-                    .collect::<Result<_, _>>()
-                    .map_err(|e| NodeError::Other(format!("{file}: {e}")))?;
-                // This file's default material, then its materials.
-                let base = materials.len() as i64;
-                materials.push(Arc::new(MaterialData::default().to_material()));
-                names.push(String::new());
-                for m in &scene.materials {
-                    materials.push(Arc::new(m.to_material()));
-                    names.push(m.name.clone().unwrap_or_default());
-                }
-                let lights = &scene.lights;
-                extend(&mut points, &lights.points, file);
-                extend(&mut spots, &lights.spots, file);
-                extend(&mut suns, &lights.suns, file);
-                for camera in &scene.cameras {
-                    views.push(camera.view);
-                    projections.push(camera.projection);
-                }
-                for instance in &scene.instances {
-                    meshes.push(uploaded[instance.mesh].clone());
-                    transforms.push(instance.transform);
-                    let material = instance.material.and_then(|m| scene.materials.get(m));
-                    let c = material.map_or([1.0; 4], |m| m.base_color);
-                    colors.push(Color::rgba(c[0], c[1], c[2], c[3]));
-                    ids.push(base + instance.material.map_or(0, |m| m as i64 + 1));
-                }
-            }
-            cx.set_output(0, resource_spread(ResourceKind::Mesh, meshes));
-            cx.set(1, transforms);
-            cx.set(2, colors);
-            cx.set(3, ids);
-            cx.set_output(4, resource_spread(ResourceKind::Material, materials));
-            cx.set(5, names);
-            cx.set_output(6, resource_spread(ResourceKind::PointLights, vec![Arc::new(points)]));
-            cx.set_output(7, resource_spread(ResourceKind::SpotLights, vec![Arc::new(spots)]));
-            cx.set_output(8, resource_spread(ResourceKind::SunLights, vec![Arc::new(suns)]));
-            cx.set(9, views);
-            cx.set(10, projections);
-            Ok(())
-        }),
+        .construct(GltfNode::default),
     );
+}
+
+/// A loaded file: the scene and its meshes on the GPU.
+struct Loaded {
+    file: String,
+    scene: GltfScene,
+    meshes: Vec<Arc<GpuMesh>>,
+}
+
+/// Keeps the loaded files while Filename is unchanged, so posing at a new
+/// Time does not read or upload anything.
+#[derive(Default)]
+struct GltfNode {
+    loaded: Vec<Loaded>,
+    /// The Filename slices `loaded` was made from (resolved).
+    from: Vec<std::path::PathBuf>,
+}
+
+impl GltfNode {
+    fn load(&mut self, cx: &EvalContext<'_>) -> Result<(), NodeError> {
+        let files: Vec<String> = cx.slices::<String>(0)?.iter().filter(|f| !f.is_empty()).cloned().collect();
+        let paths: Vec<_> = files.iter().map(|f| cx.resolve_path(f)).collect();
+        if paths == self.from && !self.loaded.is_empty() {
+            return Ok(());
+        }
+        let renderer = renderer(cx)?;
+        let mut loaded = Vec::new();
+        for (file, path) in files.iter().zip(&paths) {
+            let scene = load_gltf(path).map_err(|e| cx.input_error(0, e.to_string()))?;
+            let meshes = scene
+                .meshes
+                .iter()
+                .map(|m| renderer.meshes.upload(&renderer.gpu, m))
+                .collect::<Result<_, _>>()
+                .map_err(|e| NodeError::Other(format!("{file}: {e}")))?;
+            loaded.push(Loaded { file: file.clone(), scene, meshes });
+        }
+        self.loaded = loaded;
+        self.from = paths;
+        Ok(())
+    }
+}
+
+impl Node for GltfNode {
+    fn evaluate(&mut self, cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
+        let first = cx.slices::<i64>(1)?.first().copied().unwrap_or(0);
+        if !(0..=MAX_FIRST_ID).contains(&first) {
+            return Err(cx.input_error(1, format!("{first} is outside 0..={MAX_FIRST_ID}")));
+        }
+        let time = cx.slices::<f32>(2)?.first().copied().unwrap_or(0.0);
+        let animation = cx.slices::<i64>(3)?.first().copied().unwrap_or(-1);
+        self.load(cx)?;
+        let (mut meshes, mut transforms, mut colors, mut ids) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+        let mut materials: Vec<Arc<Material>> = vec![Arc::new(Material::default_material()); first as usize];
+        let mut names = vec![String::new(); first as usize];
+        let (mut points, mut spots, mut suns) = (empty(), empty(), empty());
+        let (mut views, mut projections) = (Vec::new(), Vec::new());
+        for Loaded { file, scene, meshes: uploaded } in &self.loaded {
+            // This file's default material, then its materials.
+            let base = materials.len() as i64;
+            materials.push(Arc::new(MaterialData::default().to_material()));
+            names.push(String::new());
+            for m in &scene.materials {
+                materials.push(Arc::new(m.to_material()));
+                names.push(m.name.clone().unwrap_or_default());
+            }
+            let lights = &scene.lights;
+            extend(&mut points, &lights.points, file);
+            extend(&mut spots, &lights.spots, file);
+            extend(&mut suns, &lights.suns, file);
+            for camera in &scene.cameras {
+                views.push(camera.view);
+                projections.push(camera.projection);
+            }
+            let posed = scene.pose(usize::try_from(animation).ok(), time);
+            for (instance, transform) in scene.instances.iter().zip(posed) {
+                meshes.push(uploaded[instance.mesh].clone());
+                transforms.push(transform);
+                let material = instance.material.and_then(|m| scene.materials.get(m));
+                let c = material.map_or([1.0; 4], |m| m.base_color);
+                colors.push(Color::rgba(c[0], c[1], c[2], c[3]));
+                ids.push(base + instance.material.map_or(0, |m| m as i64 + 1));
+            }
+        }
+        cx.set_output(0, resource_spread(ResourceKind::Mesh, meshes));
+        cx.set(1, transforms);
+        cx.set(2, colors);
+        cx.set(3, ids);
+        cx.set_output(4, resource_spread(ResourceKind::Material, materials));
+        cx.set(5, names);
+        cx.set_output(6, resource_spread(ResourceKind::PointLights, vec![Arc::new(points)]));
+        cx.set_output(7, resource_spread(ResourceKind::SpotLights, vec![Arc::new(spots)]));
+        cx.set_output(8, resource_spread(ResourceKind::SunLights, vec![Arc::new(suns)]));
+        cx.set(9, views);
+        cx.set(10, projections);
+        Ok(())
+    }
 }

@@ -18,8 +18,9 @@
 //! - missing normals are made flat (what the glTF spec asks), and then any
 //!   tangents in the file are dropped (ditto); missing tangents are made
 //!   with MikkTSpace when there are texture coordinates;
-//! - only `TEXCOORD_0` is read; textures using another set, skins, morph
-//!   targets and animations are reported as warnings and ignored;
+//! - only `TEXCOORD_0` is read; textures using another set, skins and
+//!   morph targets are reported as warnings and ignored; node animations
+//!   (TRS) load, and [`GltfScene::pose`] poses the scene at a time;
 //! - materials carry every texture with its sampler and
 //!   `KHR_texture_transform`, and `KHR_materials_emissive_strength`
 //!   ([`MaterialData::to_material`] makes them materials of the one world);
@@ -28,6 +29,7 @@
 //!   ignored with one warning each; `asset.version` must be 2.x.
 
 mod accessor;
+pub mod animation;
 pub mod builder;
 mod content;
 mod material;
@@ -68,6 +70,10 @@ pub struct GltfScene {
     pub lights: SceneLights,
     /// Cameras of the loaded scene, in node order.
     pub cameras: Vec<SceneCamera>,
+    /// The scene's node tree, to pose it ([`GltfScene::pose`]).
+    pub graph: animation::SceneGraph,
+    /// Node animations (TRS channels), in file order.
+    pub animations: Vec<animation::Animation>,
     /// What was skipped or ignored; the rest of the file loaded.
     pub warnings: Vec<String>,
 }
@@ -81,6 +87,8 @@ pub struct MeshInstance {
     pub transform: Mat4,
     /// Index into [`GltfScene::materials`]; `None` means glTF's default material.
     pub material: Option<usize>,
+    /// The glTF node that places it (what animations move).
+    pub node: usize,
 }
 
 pub use crate::material::maps::AlphaMode;

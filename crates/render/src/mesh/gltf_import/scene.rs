@@ -6,6 +6,7 @@ use std::collections::HashMap;
 use glam::Mat4;
 use gltf::Document;
 
+use super::animation::{self, SceneGraph};
 use super::{GltfError, GltfScene, Importer, MeshInstance, SceneLights, content};
 use crate::mesh::Aabb;
 
@@ -80,14 +81,11 @@ impl Importer<'_> {
             .materials()
             .map(|m| self.material(document, &m))
             .collect::<Result<Vec<_>, _>>()?;
-        if document.animations().next().is_some() {
-            self.warnings
-                .push("animations are ignored: the scene loads in its rest pose".into());
-        }
+        let animations = self.animations(document)?;
 
         let mut instances = Vec::new();
         let nodes = self.scene_nodes(document);
-        for (node, world) in &nodes {
+        for (node, world, _) in &nodes {
             let (node, world) = (node, *world);
             let Some(mesh) = node.mesh() else { continue };
             if node.skin().is_some() {
@@ -102,6 +100,7 @@ impl Importer<'_> {
                         mesh: index,
                         transform: world,
                         material: primitive.material().index(),
+                        node: node.index(),
                     });
                 }
             }
@@ -114,7 +113,7 @@ impl Importer<'_> {
         let reach = bounds.size().length();
         let mut lights = SceneLights::default();
         let mut cameras = Vec::new();
-        for (node, world) in &nodes {
+        for (node, world, _) in &nodes {
             if let Some(light) = node.light() {
                 content::add_light(&mut lights, &light, *world, reach);
             }
@@ -122,6 +121,10 @@ impl Importer<'_> {
                 cameras.push(content::camera(&camera, *world));
             }
         }
+        let graph = SceneGraph {
+            order: nodes.iter().map(|(n, _, p)| (n.index(), *p)).collect(),
+            rest: document.nodes().map(|n| animation::rest_of(&n)).collect(),
+        };
         Ok(GltfScene {
             meshes,
             materials,
@@ -129,6 +132,8 @@ impl Importer<'_> {
             bounds,
             lights,
             cameras,
+            graph,
+            animations,
             warnings: std::mem::take(&mut self.warnings),
         })
     }
@@ -136,7 +141,10 @@ impl Importer<'_> {
     /// Every node of the scene to show, with its world transform. A node
     /// reached twice (a cycle, or a child of two parents: both invalid glTF)
     /// is kept once and reported; a non-finite transform drops its subtree.
-    fn scene_nodes<'d>(&mut self, document: &'d Document) -> Vec<(gltf::Node<'d>, Mat4)> {
+    fn scene_nodes<'d>(
+        &mut self,
+        document: &'d Document,
+    ) -> Vec<(gltf::Node<'d>, Mat4, Option<usize>)> {
         let roots: Vec<gltf::Node> = match document
             .default_scene()
             .or_else(|| document.scenes().next())
@@ -157,12 +165,12 @@ impl Importer<'_> {
         };
         let mut visited = vec![false; document.nodes().len()];
         let mut out = Vec::new();
-        let mut stack: Vec<(gltf::Node, Mat4)> = roots
+        let mut stack: Vec<(gltf::Node, Mat4, Option<usize>)> = roots
             .into_iter()
             .rev()
-            .map(|n| (n, Mat4::IDENTITY))
+            .map(|n| (n, Mat4::IDENTITY, None))
             .collect();
-        while let Some((node, parent)) = stack.pop() {
+        while let Some((node, parent, parent_index)) = stack.pop() {
             match visited.get_mut(node.index()) {
                 Some(seen) if !*seen => *seen = true,
                 _ => {
@@ -183,8 +191,13 @@ impl Importer<'_> {
                 continue;
             }
             let children: Vec<_> = node.children().collect();
-            stack.extend(children.into_iter().rev().map(|c| (c, world)));
-            out.push((node, world));
+            stack.extend(
+                children
+                    .into_iter()
+                    .rev()
+                    .map(|c| (c, world, Some(node.index()))),
+            );
+            out.push((node, world, parent_index));
         }
         out
     }

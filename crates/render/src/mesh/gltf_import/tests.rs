@@ -46,7 +46,8 @@ fn cube_with_data_uri_buffer() {
         vec![MeshInstance {
             mesh: 0,
             transform: Mat4::IDENTITY,
-            material: None
+            material: None,
+            node: 0,
         }]
     );
     assert_eq!(scene.bounds, cube.bounds);
