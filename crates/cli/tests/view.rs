@@ -266,3 +266,24 @@ fn double_sided_materials_show_lit_back_faces() {
     let centre = normals.get_pixel(normals.width() / 2, normals.height() / 2).0;
     assert!(centre[2] > 150, "{centre:?}");
 }
+
+#[test]
+fn time_poses_an_animated_model() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let model = models::sliding_cube();
+    // Where the cube is: its red pixels in the albedo view.
+    let centroid = |time: &str| {
+        let (image, _) = view(dir.path(), "slide", &model, &["--channel", "Albedo", "--time", time]);
+        let (mut sum, mut n) = (0.0f64, 0.0f64);
+        for (x, _, p) in image.enumerate_pixels() {
+            if p.0[0] > 150 && p.0[1] < 80 {
+                sum += f64::from(x);
+                n += 1.0;
+            }
+        }
+        assert!(n > 10.0, "the cube is in view at {time} s");
+        sum / n
+    };
+    let (start, middle) = (centroid("0"), centroid("1"));
+    assert!(middle > start + 8.0, "the cube slid right: {start} -> {middle}");
+}

@@ -235,3 +235,60 @@ pub fn bench_grid(instances: usize, materials: usize, textures: usize, textured:
     doc.scene(nodes);
     doc.gltf_data_uri()
 }
+
+/// A red cube sliding from x = -1 to x = 1 and back over 2 seconds (one
+/// linear translation channel) on a still white floor: for posing at a time.
+pub fn sliding_cube() -> Vec<u8> {
+    use json::accessor::{ComponentType, Type};
+    let mut doc = Doc::new();
+    let cube = doc.mesh_data("Cube", &box_mesh(BoxParams::default()));
+    let floor = doc.mesh_data(
+        "Floor",
+        &crate::mesh::primitives::grid(crate::mesh::primitives::GridParams {
+            size: glam::Vec2::new(4.0, 2.0),
+            resolution_x: 1,
+            resolution_y: 1,
+        }),
+    );
+    let red = doc.material(json::Material {
+        pbr_metallic_roughness: json::material::PbrMetallicRoughness {
+            base_color_factor: json::material::PbrBaseColorFactor([0.9, 0.05, 0.05, 1.0]),
+            ..Default::default()
+        },
+        ..Default::default()
+    });
+    doc.root.meshes[cube.value()].primitives[0].material = Some(red);
+    let moving = doc.node(mesh_node(Some(cube), [-1.0, 0.5, 0.0], 0.5));
+    let still = doc.node(mesh_node(Some(floor), [0.0; 3], 1.0));
+    doc.scene(vec![moving, still]);
+    let times = [0.0f32, 1.0, 2.0];
+    let input_view = doc.view(&super::builder::bytes(&times));
+    let input = doc.accessor(Some(input_view), 3, ComponentType::F32, Type::Scalar);
+    doc.root.accessors[input.value()].min = Some(json::Value::from(vec![0.0]));
+    doc.root.accessors[input.value()].max = Some(json::Value::from(vec![2.0]));
+    let output = doc.floats(&[[-1.0f32, 0.5, 0.0], [1.0, 0.5, 0.0], [-1.0, 0.5, 0.0]]);
+    doc.root.push(json::Animation {
+        channels: vec![json::animation::Channel {
+            sampler: json::Index::new(0),
+            target: json::animation::Target {
+                node: moving,
+                path: Valid(json::animation::Property::Translation),
+                extensions: None,
+                extras: Default::default(),
+            },
+            extensions: None,
+            extras: Default::default(),
+        }],
+        samplers: vec![json::animation::Sampler {
+            input,
+            interpolation: Valid(json::animation::Interpolation::Linear),
+            output,
+            extensions: None,
+            extras: Default::default(),
+        }],
+        name: Some("Slide".into()),
+        extensions: None,
+        extras: Default::default(),
+    });
+    doc.gltf_data_uri()
+}
