@@ -106,6 +106,7 @@ pub const SHADERS: &[ShaderFile] = &[
     shader!("lib/tonemap.wgsl", library),
     shader!("lib/material.wgsl", library),
     shader!("lib/material_maps.wgsl", library),
+    shader!("lib/matcap.wgsl", library),
     shader!("lib/screen.wgsl", library),
     shader!("lib/sky.wgsl", library),
     shader!("lib/ibl.wgsl", library),
@@ -178,7 +179,9 @@ pub const SHADERS: &[ShaderFile] = &[
             "MATERIAL_TEXTURES",
             "MATERIALS",
             "GI",
-            "REFLECTION"
+            "REFLECTION",
+            "MATCAP",
+            "MATCAP_TEXTURE"
         ],
         // Light pairs are cumulative, a subsurface term comes with its pair,
         // and per-material AO weights only AO.
@@ -193,7 +196,9 @@ pub const SHADERS: &[ShaderFile] = &[
         // What reads the material library binds it.
         Rule::Requires("EMISSION", "MATERIALS"),
         Rule::Requires("AO_PER_MATERIAL", "MATERIALS"),
-        Rule::Requires("REFLECTION", "MATERIALS")
+        Rule::Requires("REFLECTION", "MATERIALS"),
+        Rule::Requires("MATCAP", "MATERIALS"),
+        Rule::Requires("MATCAP_TEXTURE", "MATCAP")
     ),
     shader!(
         "lighting/ssgi.wgsl",
@@ -540,6 +545,11 @@ impl ShaderCache {
             .clone()
     }
 
+    /// The permutations compiled so far (tests check a feature no scene uses never is).
+    pub fn compiled_keys(&self) -> impl Iterator<Item = &ShaderKey> {
+        self.modules.keys()
+    }
+
     /// The compute pipeline of `entry` in a permutation (bind group layouts derived from the shader).
     pub fn compute_pipeline(
         &mut self,
@@ -663,11 +673,12 @@ mod tests {
             .filter(|k| k.path == "lighting/composite.wgsl")
             .collect();
         // Light pairs with the SSS terms they allow (2 + 4 + 8 + 16), times
-        // GI (2), times the 26 ways of AO (none, AO, per material), emission
+        // GI (2), times the 74 ways of AO (none, AO, per material), emission
         // (2), material textures (textured emission or surface maps: 2),
-        // reflection (2) and the material library (forced on when one of
-        // them reads it, free otherwise: 22 + 2 x 2): 1,560 of the 2^15 subsets.
-        assert_eq!(composite.len(), 30 * 2 * 26);
+        // reflection (2), matcap (none, built-in, textured) and the material
+        // library (forced on when one of them reads it, free otherwise:
+        // 70 + 2 x 2): 4,440 of the 2^17 subsets.
+        assert_eq!(composite.len(), 30 * 2 * 74);
     }
 
     #[test]

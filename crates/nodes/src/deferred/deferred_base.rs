@@ -44,9 +44,10 @@ pub fn register(r: &mut Registry) {
             "Draws a spread of meshes with a spread of transforms into a layer for MRE. Slice i uses mesh i and \
              transform i (wrapping); instances of one mesh are one draw. The switches choose what the G-buffer \
              receives; each is a shader feature compiled only when used. Color Texture scales Color (albedo) at the \
-             surface's UV (needs Texture Coordinates or Triplanar). Material World: the MaterialBuffer the Material IDs \
-             index, needed where materials have surface maps (glTF textures, alpha modes, double-sided): the G-buffer \
-             samples them per pixel, trilinear and anisotropic.",
+             surface's UV (needs Texture Coordinates or Triplanar). Color's alpha is opacity for Transparency only: \
+             the G-buffer keeps the material id there. Normal Mapping reads the mesh's UVs unless Triplanar is on. \
+             Material World: the MaterialBuffer the Material IDs index, needed where materials have surface maps (glTF \
+             textures, alpha modes, double-sided): the G-buffer samples them per pixel, trilinear and anisotropic.",
         )
         .input_spread("Mesh", PinType::Resource(ResourceKind::Mesh), Spread::Resource(ResourceKind::Mesh, vec![]))
         .input("Transform", Mat4::IDENTITY)
