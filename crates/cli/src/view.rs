@@ -149,7 +149,7 @@ fn file_lights(patch: &mut Patch, present: [bool; 3]) {
     for (slot, ((output, buffer), _)) in used.enumerate() {
         let (b, c) = (30 + 2 * slot as u32, 31 + 2 * slot as u32);
         let x = 320.0 + 160.0 * slot as f32;
-        patch.add(NodeDoc::new(b, *buffer).at(x, 80.0));
+        patch.add(NodeDoc::new(b, buffer).at(x, 80.0));
         patch.add(NodeDoc::new(c, "CookTorrance").at(x, 240.0));
         patch.link(1, output, b, "Lights");
         patch.link(5, "G-Buffer", c, "G-Buffer");
@@ -198,8 +198,8 @@ fn image_light(patch: &mut Patch, environment: Option<&std::path::Path>) {
     // Image-based light: the environment's irradiance and prefiltered reflection.
     let environment_node = match environment {
         Some(file) => NodeDoc::new(11, "Environment (File)")
-                .at(640.0, 160.0)
-                .with("Filename", vec![file.to_string_lossy().into_owned()]),
+            .at(640.0, 160.0)
+            .with("Filename", vec![file.to_string_lossy().into_owned()]),
         None => NodeDoc::new(11, "Environment (Sky)")
             .at(640.0, 160.0)
             .with("Intensity", vec![0.5f32])
@@ -210,11 +210,10 @@ fn image_light(patch: &mut Patch, environment: Option<&std::path::Path>) {
     patch.link(5, "G-Buffer", 12, "G-Buffer");
     patch.link(3, "Material World", 12, "Material World");
     patch.link(11, "Environment", 12, "Environment");
-    patch.add(
-        NodeDoc::new(13, "CompositeLight")
-            .at(0.0, 400.0)
-            .with("Ambient", vec![spreadlight_graph::Color::rgba(0.0, 0.0, 0.0, 1.0)]),
-    );
+    patch.add(NodeDoc::new(13, "CompositeLight").at(0.0, 400.0).with(
+        "Ambient",
+        vec![spreadlight_graph::Color::rgba(0.0, 0.0, 0.0, 1.0)],
+    ));
     patch.link(5, "G-Buffer", 13, "G-Buffer");
     patch.link(3, "Material World", 13, "Material World");
     patch.link(12, "Diffuse", 13, "GI");
@@ -227,11 +226,10 @@ fn image_light(patch: &mut Patch, environment: Option<&std::path::Path>) {
     patch.link(13, "Texture", 14, "Texture");
     patch.link(5, "G-Buffer", 14, "G-Buffer");
     patch.link(11, "Environment", 14, "Environment");
-    patch.add(
-        NodeDoc::new(15, "Tonemap")
-            .at(0.0, 560.0)
-            .with("Operator", spreadlight_graph::Spread::Enum(vec!["ACES".to_owned()])),
-    );
+    patch.add(NodeDoc::new(15, "Tonemap").at(0.0, 560.0).with(
+        "Operator",
+        spreadlight_graph::Spread::Enum(vec!["ACES".to_owned()]),
+    ));
     patch.link(14, "Texture", 15, "Texture");
     patch.link(15, "Texture", 20, "Texture");
 }
@@ -277,7 +275,10 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
     let mut session =
         crate::session::Session::from_patch(&patch, &args.model, true, Some(args.size))?;
     if session.load_errors {
-        anyhow::bail!("--channel `{}` is not Lit or a G-buffer channel", args.channel);
+        anyhow::bail!(
+            "--channel `{}` is not Lit or a G-buffer channel",
+            args.channel
+        );
     }
     let mut reported = Default::default();
     let failed = session.step(0, 60.0, &args.model, &mut reported);

@@ -99,8 +99,14 @@ fn textured_normal_mapped_cube_is_lit_and_textured() {
             .zip(c)
             .all(|(a, b)| (i32::from(*a) - i32::from(b)).abs() < 12)
     };
-    assert!(albedo.pixels().any(|p| near(p, [230, 120, 40])), "orange squares");
-    assert!(albedo.pixels().any(|p| near(p, [240, 240, 230])), "white squares");
+    assert!(
+        albedo.pixels().any(|p| near(p, [230, 120, 40])),
+        "orange squares"
+    );
+    assert!(
+        albedo.pixels().any(|p| near(p, [240, 240, 230])),
+        "white squares"
+    );
 }
 
 #[test]
@@ -152,7 +158,12 @@ fn quad_with(
 ) -> Vec<u8> {
     let mut doc = Doc::new();
     let mut plane = spreadlight_render::mesh::MeshData {
-        positions: vec![[-1.0, -1.0, 0.0], [1.0, -1.0, 0.0], [1.0, 1.0, 0.0], [-1.0, 1.0, 0.0]],
+        positions: vec![
+            [-1.0, -1.0, 0.0],
+            [1.0, -1.0, 0.0],
+            [1.0, 1.0, 0.0],
+            [-1.0, 1.0, 0.0],
+        ],
         normals: vec![[0.0, 0.0, 1.0]; 4],
         uvs: Some(vec![[0.0, 1.0], [1.0, 1.0], [1.0, 0.0], [0.0, 0.0]]),
         tangents: None,
@@ -189,7 +200,12 @@ fn mirrored_nodes_turn_their_winding_around() {
     let dir = tempfile::tempdir().expect("tempdir");
     let args = ["--channel", "Albedo"];
     let (plain, _) = view(dir.path(), "plain", &quad([0.0; 3], [1.0; 3]), &args);
-    let (mirrored, _) = view(dir.path(), "mirrored", &quad([0.0; 3], [-1.0, 1.0, 1.0]), &args);
+    let (mirrored, _) = view(
+        dir.path(),
+        "mirrored",
+        &quad([0.0; 3], [-1.0, 1.0, 1.0]),
+        &args,
+    );
     assert!(coverage(&plain) > 0.2, "{}", coverage(&plain));
     // Culled as a back face, the mirrored quad would be missing.
     assert!(
@@ -263,7 +279,9 @@ fn double_sided_materials_show_lit_back_faces() {
     assert!(coverage(&two) > 0.2, "{}", coverage(&two));
     // Its normals are flipped towards the viewer (view-space +Z: blue).
     let (normals, _) = view(dir.path(), "two", &behind(true), &["--channel", "Normals"]);
-    let centre = normals.get_pixel(normals.width() / 2, normals.height() / 2).0;
+    let centre = normals
+        .get_pixel(normals.width() / 2, normals.height() / 2)
+        .0;
     assert!(centre[2] > 150, "{centre:?}");
 }
 
@@ -273,7 +291,12 @@ fn time_poses_an_animated_model() {
     let model = models::sliding_cube();
     // Where the cube is: its red pixels in the albedo view.
     let centroid = |time: &str| {
-        let (image, _) = view(dir.path(), "slide", &model, &["--channel", "Albedo", "--time", time]);
+        let (image, _) = view(
+            dir.path(),
+            "slide",
+            &model,
+            &["--channel", "Albedo", "--time", time],
+        );
         let (mut sum, mut n) = (0.0f64, 0.0f64);
         for (x, _, p) in image.enumerate_pixels() {
             if p.0[0] > 150 && p.0[1] < 80 {
@@ -285,5 +308,8 @@ fn time_poses_an_animated_model() {
         sum / n
     };
     let (start, middle) = (centroid("0"), centroid("1"));
-    assert!(middle > start + 8.0, "the cube slid right: {start} -> {middle}");
+    assert!(
+        middle > start + 8.0,
+        "the cube slid right: {start} -> {middle}"
+    );
 }

@@ -11,8 +11,8 @@ use spreadlight_graph::{
     Color, EnumDef, EvalContext, Node, NodeDef, NodeError, PinType, Registry, ResourceKind, Spread,
 };
 use spreadlight_render::TextureRef;
-use spreadlight_render::material::MaterialWorld;
 use spreadlight_render::gbuffer::{DrawBatch, InstanceInput, Layer, LayerFeatures, VelocitySource};
+use spreadlight_render::material::MaterialWorld;
 use spreadlight_render::mesh_arena::GpuMesh;
 
 use crate::gpu::{resource_spread, resources};
@@ -117,7 +117,9 @@ impl Node for DeferredBase {
             })
         };
         let normal_map = first_texture(NORMAL_TEXTURE)?;
-        let world = resources::<MaterialWorld>(cx, MATERIAL_WORLD)?.into_iter().next();
+        let world = resources::<MaterialWorld>(cx, MATERIAL_WORLD)?
+            .into_iter()
+            .next();
         let color_map = first_texture(COLOR_TEXTURE)?;
 
         let n = slice_count([

@@ -13,10 +13,12 @@
 use std::sync::Arc;
 
 use glam::Mat4;
-use spreadlight_graph::{Color, EvalContext, Node, NodeDef, NodeError, PinType, Registry, ResourceKind};
+use spreadlight_graph::{
+    Color, EvalContext, Node, NodeDef, NodeError, PinType, Registry, ResourceKind,
+};
 use spreadlight_render::material::Material;
-use spreadlight_render::mesh::MaterialData;
 use spreadlight_render::mesh::GltfScene;
+use spreadlight_render::mesh::MaterialData;
 use spreadlight_render::mesh::gltf_import::load_gltf;
 use spreadlight_render::mesh_arena::GpuMesh;
 
@@ -98,7 +100,12 @@ struct GltfNode {
 
 impl GltfNode {
     fn load(&mut self, cx: &EvalContext<'_>) -> Result<(), NodeError> {
-        let files: Vec<String> = cx.slices::<String>(0)?.iter().filter(|f| !f.is_empty()).cloned().collect();
+        let files: Vec<String> = cx
+            .slices::<String>(0)?
+            .iter()
+            .filter(|f| !f.is_empty())
+            .cloned()
+            .collect();
         let paths: Vec<_> = files.iter().map(|f| cx.resolve_path(f)).collect();
         if paths == self.from && !self.loaded.is_empty() {
             return Ok(());
@@ -113,7 +120,11 @@ impl GltfNode {
                 .map(|m| renderer.meshes.upload(&renderer.gpu, m))
                 .collect::<Result<_, _>>()
                 .map_err(|e| NodeError::Other(format!("{file}: {e}")))?;
-            loaded.push(Loaded { file: file.clone(), scene, meshes });
+            loaded.push(Loaded {
+                file: file.clone(),
+                scene,
+                meshes,
+            });
         }
         self.loaded = loaded;
         self.from = paths;
@@ -130,12 +141,22 @@ impl Node for GltfNode {
         let time = cx.slices::<f32>(2)?.first().copied().unwrap_or(0.0);
         let animation = cx.slices::<i64>(3)?.first().copied().unwrap_or(-1);
         self.load(cx)?;
-        let (mut meshes, mut transforms, mut colors, mut ids) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
-        let mut materials: Vec<Arc<Material>> = vec![Arc::new(Material::default_material()); first as usize];
+        let (mut meshes, mut transforms, mut colors, mut ids) =
+            (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+        let mut materials: Vec<Arc<Material>> = {
+            // One shared default for the ids below the file's (never mutated).
+            let default = Arc::new(Material::default_material());
+            vec![default; first as usize]
+        };
         let mut names = vec![String::new(); first as usize];
         let (mut points, mut spots, mut suns) = (empty(), empty(), empty());
         let (mut views, mut projections) = (Vec::new(), Vec::new());
-        for Loaded { file, scene, meshes: uploaded } in &self.loaded {
+        for Loaded {
+            file,
+            scene,
+            meshes: uploaded,
+        } in &self.loaded
+        {
             // This file's default material, then its materials.
             let base = materials.len() as i64;
             materials.push(Arc::new(MaterialData::default().to_material()));
@@ -168,9 +189,18 @@ impl Node for GltfNode {
         cx.set(3, ids);
         cx.set_output(4, resource_spread(ResourceKind::Material, materials));
         cx.set(5, names);
-        cx.set_output(6, resource_spread(ResourceKind::PointLights, vec![Arc::new(points)]));
-        cx.set_output(7, resource_spread(ResourceKind::SpotLights, vec![Arc::new(spots)]));
-        cx.set_output(8, resource_spread(ResourceKind::SunLights, vec![Arc::new(suns)]));
+        cx.set_output(
+            6,
+            resource_spread(ResourceKind::PointLights, vec![Arc::new(points)]),
+        );
+        cx.set_output(
+            7,
+            resource_spread(ResourceKind::SpotLights, vec![Arc::new(spots)]),
+        );
+        cx.set_output(
+            8,
+            resource_spread(ResourceKind::SunLights, vec![Arc::new(suns)]),
+        );
         cx.set(9, views);
         cx.set(10, projections);
         Ok(())

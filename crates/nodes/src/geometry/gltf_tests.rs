@@ -19,16 +19,20 @@ fn run(patch: &Patch, dir: &std::path::Path) -> Runtime {
     let problems = runtime.load(patch);
     assert!(problems.is_empty(), "{problems:?}");
     runtime.evaluate(FrameClock::default());
-    let errors: Vec<_> = runtime.node_errors().map(|(id, e)| format!("{id}: {e}")).collect();
+    let errors: Vec<_> = runtime
+        .node_errors()
+        .map(|(id, e)| format!("{id}: {e}"))
+        .collect();
     assert!(errors.is_empty(), "{errors:?}");
     runtime
 }
 
 fn resource<T: std::any::Any + Send + Sync>(rt: &Runtime, node: u32, pin: &str) -> Vec<Arc<T>> {
     match rt.output(NodeId(node), pin).map(|s| s.as_ref()) {
-        Some(Spread::Resource(_, handles)) => {
-            handles.iter().map(|h| h.downcast_arc::<T>().expect("type")).collect()
-        }
+        Some(Spread::Resource(_, handles)) => handles
+            .iter()
+            .map(|h| h.downcast_arc::<T>().expect("type"))
+            .collect(),
         other => panic!("{node}.{pin}: {other:?}"),
     }
 }
@@ -65,15 +69,30 @@ fn gltf_materials_join_the_world_and_one_is_changed_by_name() {
     assert!(world.has_maps());
     let painted = world.flags(4);
     assert_ne!(painted & (1 << FEATURE_SURFACE_MAPS), 0, "maps kept");
-    assert_ne!(painted & Feature::Reflection.flag(), 0, "reflection added by name");
-    assert_eq!(world.flags(3) & Feature::Reflection.flag(), 0, "others unchanged");
-    assert!(world.params(4, Feature::Emission).is_some(), "the emissive factor");
+    assert_ne!(
+        painted & Feature::Reflection.flag(),
+        0,
+        "reflection added by name"
+    );
+    assert_eq!(
+        world.flags(3) & Feature::Reflection.flag(),
+        0,
+        "others unchanged"
+    );
+    assert!(
+        world.params(4, Feature::Emission).is_some(),
+        "the emissive factor"
+    );
 }
 
 #[test]
 fn lights_start_light_lists_and_instances_of_one_mesh_are_one_batch() {
     let dir = tempfile::tempdir().unwrap();
-    std::fs::write(dir.path().join("lights.gltf"), models::punctual_lights_scene()).unwrap();
+    std::fs::write(
+        dir.path().join("lights.gltf"),
+        models::punctual_lights_scene(),
+    )
+    .unwrap();
     let mut patch = Patch::default();
     patch.add(NodeDoc::new(1, "glTF").with("Filename", vec!["lights.gltf".to_owned()]));
     patch.add(NodeDoc::new(2, "AddLight (Point)").with("ID", vec!["mine".to_owned()]));
@@ -82,13 +101,25 @@ fn lights_start_light_lists_and_instances_of_one_mesh_are_one_batch() {
     patch.link(2, "Lights", 3, "Input");
     let rt = run(&patch, dir.path());
     let list = resource::<LightList<PointLight>>(&rt, 2, "Lights").remove(0);
-    assert_eq!(list.ids, vec!["lights.gltf: light 0".to_owned(), "mine".to_owned()]);
+    assert_eq!(
+        list.ids,
+        vec!["lights.gltf: light 0".to_owned(), "mine".to_owned()]
+    );
     let p = list.lights[0].position;
     assert!((p - glam::Vec3::new(-1.5, 1.5, 1.0)).length() < 1e-5, "{p}");
-    assert_eq!(resource::<LightList<spreadlight_render::lighting::SpotLight>>(&rt, 1, "Spot Lights")[0].lights.len(), 1);
+    assert_eq!(
+        resource::<LightList<spreadlight_render::lighting::SpotLight>>(&rt, 1, "Spot Lights")[0]
+            .lights
+            .len(),
+        1
+    );
 
     // 2,000 nodes of one glTF mesh: one mesh handle, so DeferredBase draws them in one batch.
-    std::fs::write(dir.path().join("grid.gltf"), models::bench_grid(2000, 1, 0, false)).unwrap();
+    std::fs::write(
+        dir.path().join("grid.gltf"),
+        models::bench_grid(2000, 1, 0, false),
+    )
+    .unwrap();
     let mut patch = Patch::default();
     patch.add(NodeDoc::new(1, "glTF").with("Filename", vec!["grid.gltf".to_owned()]));
     patch.add(NodeDoc::new(2, "Probe"));

@@ -154,7 +154,11 @@ fn visibility(
             entries: &[],
         });
         let group3 = world.maps_bind_group(&device, &pipeline.get_bind_group_layout(3));
-        masked.push((*range, pipeline, [Some(group0), Some(group1), Some(group2), group3]));
+        masked.push((
+            *range,
+            pipeline,
+            [Some(group0), Some(group1), Some(group2), group3],
+        ));
     }
     let vis = cx.view(&g.targets.visibility)?;
     let depth = cx.view(&g.targets.hardware_depth)?;
@@ -386,7 +390,8 @@ fn resolve(
             entries: &entries,
         });
         // Groups 1 and 3: the material world and its surface maps' arrays.
-        let (world_group, maps_group) = match layer.and_then(|l| l.map_world()).filter(|_| !motion) {
+        let (world_group, maps_group) = match layer.and_then(|l| l.map_world()).filter(|_| !motion)
+        {
             Some(world) => (
                 Some(world.bind_group(cx, &key, &pipeline, false, &g.targets)?),
                 world.maps_bind_group(&device, &pipeline.get_bind_group_layout(3)),

@@ -154,9 +154,9 @@ impl CompositeLight {
 
     /// Whether emission reads a texture, or surface maps give emission and occlusion.
     fn textured(&self) -> bool {
-        self.materials.as_ref().is_some_and(|w| {
-            (self.emission && w.textured(1 << FEATURE_EMISSION)) || w.has_maps()
-        })
+        self.materials
+            .as_ref()
+            .is_some_and(|w| (self.emission && w.textured(1 << FEATURE_EMISSION)) || w.has_maps())
     }
 
     /// The texture array a matcap reads its images from, when some MatCap

@@ -358,13 +358,9 @@ impl CookTorrance {
             .shaders
             .bind_group(&device, &key, "main", &pipeline, 0, &all)?;
         let material_group = match &self.materials {
-            Some(world) => Some(world.bind_group(
-                cx,
-                &key,
-                &pipeline,
-                self.textured(),
-                &g.targets,
-            )?),
+            Some(world) => {
+                Some(world.bind_group(cx, &key, &pipeline, self.textured(), &g.targets)?)
+            }
             None => None,
         };
         let (w, h) = g.pixel_size(cx.output_size);

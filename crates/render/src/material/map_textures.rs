@@ -199,7 +199,10 @@ mod tests {
         let d = layout.place(&other, MapSlot::BaseColor, 256).unwrap();
         assert_eq!(d, MapLocation { array: 3, layer: 1 });
         // Past the layer limit a map is dropped, not wrapped onto another.
-        assert_eq!(layout.place(&MapRef::new(image(2, 2)), MapSlot::Normal, 0), None);
+        assert_eq!(
+            layout.place(&MapRef::new(image(2, 2)), MapSlot::Normal, 0),
+            None
+        );
         assert_eq!(layout.dropped, 1);
     }
 }

@@ -191,9 +191,7 @@ impl SurfaceMaps {
             finite(self.occlusion_strength, 1.0).clamp(0.0, 1.0),
         ]];
         for slot in MapSlot::ALL {
-            let entry = self
-                .map(slot)
-                .and_then(|m| Some((m, locate(m, slot)?)));
+            let entry = self.map(slot).and_then(|m| Some((m, locate(m, slot)?)));
             match entry {
                 Some((m, at)) => {
                     let t = &m.transform;

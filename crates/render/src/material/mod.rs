@@ -589,7 +589,13 @@ mod tests;
 
 impl Dummies {
     fn new(gpu: &crate::context::GpuContext) -> Self {
-        let array = crate::texture::GpuTexture::upload_rgba8(gpu, (1, 1), &[vec![255; 4]], false, "no material textures");
+        let array = crate::texture::GpuTexture::upload_rgba8(
+            gpu,
+            (1, 1),
+            &[vec![255; 4]],
+            false,
+            "no material textures",
+        );
         let array = array.texture.create_view(&wgpu::TextureViewDescriptor {
             dimension: Some(wgpu::TextureViewDimension::D2Array),
             ..Default::default()

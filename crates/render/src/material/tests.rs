@@ -183,7 +183,11 @@ fn surface_maps_pack_in_id_order_with_their_places() {
     layout.place(map, MapSlot::MetallicRoughness, 256);
     let packed = PackedMaterials::pack_with(&[m], Some(&layout));
     let ids: Vec<u32> = packed.offsets.iter().map(|o| o.feature).collect();
-    assert_eq!(ids, vec![0, 5, FEATURE_SURFACE_MAPS, 16], "ascending, as the shader finds them");
+    assert_eq!(
+        ids,
+        vec![0, 5, FEATURE_SURFACE_MAPS, 16],
+        "ascending, as the shader finds them"
+    );
     let maps = packed.offsets[2];
     assert_eq!(maps.count as usize, maps::PARAM_COUNT);
     // The 300-texel map is in the 512 class (index 3), linear: array 6, layer 0.

@@ -32,13 +32,13 @@ mod accessor;
 pub mod animation;
 pub mod builder;
 mod content;
+#[cfg(test)]
+mod hard_cases;
 mod material;
 pub mod models;
 mod primitive;
 mod scene;
 mod source;
-#[cfg(test)]
-mod hard_cases;
 #[cfg(test)]
 mod tests;
 

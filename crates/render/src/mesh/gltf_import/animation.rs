@@ -97,7 +97,11 @@ impl Importer<'_> {
                         .collect(),
                 };
                 let interpolation = sampler.interpolation();
-                let per_key = if interpolation == Interpolation::CubicSpline { 3 } else { 1 };
+                let per_key = if interpolation == Interpolation::CubicSpline {
+                    3
+                } else {
+                    1
+                };
                 if times.is_empty() || values.len() != times.len() * per_key {
                     self.warn(format!(
                         "{what}: {} keyframes but {} values; the channel is skipped",
@@ -178,7 +182,11 @@ impl Channel {
         let k = next - 1;
         let (t0, t1) = (self.times[k], self.times[next]);
         let span = t1 - t0;
-        let s = if span > 0.0 { ((time - t0) / span).clamp(0.0, 1.0) } else { 0.0 };
+        let s = if span > 0.0 {
+            ((time - t0) / span).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
         let rotation = self.path == Path::Rotation;
         match self.interpolation {
             Interpolation::Step => value(k),
@@ -220,7 +228,9 @@ impl GltfScene {
                 0.0
             };
             for c in &a.channels {
-                let Some(rest) = graph.rest.get(c.node) else { continue };
+                let Some(rest) = graph.rest.get(c.node) else {
+                    continue;
+                };
                 let trs = local[c.node].get_or_insert(rest.1);
                 let v = c.sample(time);
                 match c.path {
@@ -236,7 +246,11 @@ impl GltfScene {
             let matrix = local[node].map_or(rest, |t| t.matrix());
             let parent = parent.map_or(Mat4::IDENTITY, |p| world[p]);
             let posed = parent * matrix;
-            world[node] = if posed.is_finite() { posed } else { parent * rest };
+            world[node] = if posed.is_finite() {
+                posed
+            } else {
+                parent * rest
+            };
         }
         self.instances
             .iter()
@@ -258,7 +272,11 @@ mod tests {
 
     /// A cube on a child node of a parent at x = 10, its translation
     /// animated by `interpolation` from keyframes `times` to `values`.
-    fn animated(interpolation: json::animation::Interpolation, times: &[f32], values: &[[f32; 3]]) -> GltfScene {
+    fn animated(
+        interpolation: json::animation::Interpolation,
+        times: &[f32],
+        values: &[[f32; 3]],
+    ) -> GltfScene {
         let mut doc = Doc::new();
         let mesh = doc.mesh_data("Cube", &box_mesh(BoxParams::default()));
         let child = doc.node(mesh_node(Some(mesh), [0.0; 3], 1.0));
@@ -269,9 +287,15 @@ mod tests {
         });
         doc.scene(vec![parent]);
         let input_view = doc.view(&bytes(times));
-        let input = doc.accessor(Some(input_view), times.len(), ComponentType::F32, Type::Scalar);
+        let input = doc.accessor(
+            Some(input_view),
+            times.len(),
+            ComponentType::F32,
+            Type::Scalar,
+        );
         doc.root.accessors[input.value()].min = Some(json::Value::from(vec![times[0]]));
-        doc.root.accessors[input.value()].max = Some(json::Value::from(vec![*times.last().unwrap()]));
+        doc.root.accessors[input.value()].max =
+            Some(json::Value::from(vec![*times.last().unwrap()]));
         let output = doc.floats(values);
         doc.root.push(json::Animation {
             channels: vec![json::animation::Channel {
@@ -306,7 +330,11 @@ mod tests {
     #[test]
     fn linear_and_step_translation_under_a_parent() {
         use json::animation::Interpolation as I;
-        let linear = animated(I::Linear, &[0.0, 1.0, 2.0], &[[0.0; 3], [2.0, 0.0, 0.0], [4.0, 0.0, 0.0]]);
+        let linear = animated(
+            I::Linear,
+            &[0.0, 1.0, 2.0],
+            &[[0.0; 3], [2.0, 0.0, 0.0], [4.0, 0.0, 0.0]],
+        );
         assert_eq!(linear.animations[0].name, "Slide");
         assert_eq!(linear.animations[0].duration, 2.0);
         assert_eq!(x_at(&linear, 0.5), 11.0, "parent 10 + half of 2");
@@ -315,7 +343,11 @@ mod tests {
         assert_eq!(x_at(&linear, 2.5), 11.0);
         // No animation: the rest pose.
         assert_eq!(linear.pose(None, 0.5)[0].w_axis.x, 10.0);
-        let step = animated(I::Step, &[0.0, 1.0, 2.0], &[[0.0; 3], [2.0, 0.0, 0.0], [4.0, 0.0, 0.0]]);
+        let step = animated(
+            I::Step,
+            &[0.0, 1.0, 2.0],
+            &[[0.0; 3], [2.0, 0.0, 0.0], [4.0, 0.0, 0.0]],
+        );
         assert_eq!(x_at(&step, 0.9), 10.0);
         assert_eq!(x_at(&step, 1.1), 12.0);
     }
@@ -324,7 +356,14 @@ mod tests {
     fn cubic_spline_passes_through_keys_with_its_tangents() {
         use json::animation::Interpolation as I;
         // (in-tangent, value, out-tangent) per key: 0 -> 3 with zero tangents is smoothstep.
-        let values = [[0.0; 3], [0.0; 3], [0.0; 3], [0.0; 3], [3.0, 0.0, 0.0], [0.0; 3]];
+        let values = [
+            [0.0; 3],
+            [0.0; 3],
+            [0.0; 3],
+            [0.0; 3],
+            [3.0, 0.0, 0.0],
+            [0.0; 3],
+        ];
         let cubic = animated(I::CubicSpline, &[0.0, 1.0], &values);
         assert_eq!(x_at(&cubic, 0.0), 10.0);
         assert!((x_at(&cubic, 0.5) - 11.5).abs() < 1e-5);
@@ -332,6 +371,12 @@ mod tests {
         // A channel whose values do not match its keyframes is skipped with a warning.
         let bad = animated(I::CubicSpline, &[0.0, 1.0], &values[..4]);
         assert!(bad.animations[0].channels.is_empty());
-        assert!(bad.warnings.iter().any(|w| w.contains("2 keyframes but 4 values")), "{:?}", bad.warnings);
+        assert!(
+            bad.warnings
+                .iter()
+                .any(|w| w.contains("2 keyframes but 4 values")),
+            "{:?}",
+            bad.warnings
+        );
     }
 }

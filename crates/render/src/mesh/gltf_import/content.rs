@@ -128,7 +128,11 @@ pub(super) fn camera(camera: &gltf::Camera, world: Mat4) -> SceneCamera {
         }
         Projection::Orthographic(o) => {
             let (x, y) = (positive(o.xmag().abs(), 1.0), positive(o.ymag().abs(), 1.0));
-            let near = if o.znear().is_finite() { o.znear().max(0.0) } else { 0.0 };
+            let near = if o.znear().is_finite() {
+                o.znear().max(0.0)
+            } else {
+                0.0
+            };
             let far = positive(o.zfar(), near + 1.0).max(near + 1e-3);
             (
                 glam::camera::rh::proj::directx::orthographic(-x, x, -y, y, near, far),

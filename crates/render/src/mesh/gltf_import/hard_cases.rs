@@ -44,7 +44,11 @@ fn accessors_of_count_zero_load_as_nothing_to_draw() {
     doc.root.accessors[p.value()].max = Some(json::Value::from(vec![0.0, 0.0, 0.0]));
     let empty = doc.mesh(
         "Empty",
-        vec![primitive(&[(Semantic::Positions, p)], None, Mode::Triangles)],
+        vec![primitive(
+            &[(Semantic::Positions, p)],
+            None,
+            Mode::Triangles,
+        )],
     );
     let node = doc.node(mesh_node(Some(empty), [0.0; 3], 1.0));
     doc.root.scenes[0].nodes.push(node);
@@ -167,7 +171,10 @@ fn mirrored_nodes_keep_their_transform() {
     // The winding is turned around where it is drawn (visibility and the
     // compute raster test the determinant); the loader keeps the mirror.
     assert!(scene.instances[0].transform.determinant() < 0.0);
-    assert_eq!(scene.meshes[0].indices, box_mesh(BoxParams::default()).indices);
+    assert_eq!(
+        scene.meshes[0].indices,
+        box_mesh(BoxParams::default()).indices
+    );
 }
 
 #[test]
@@ -176,7 +183,11 @@ fn non_indexed_triangles_load_in_vertex_order() {
     let p = doc.positions(&[[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]);
     let mesh = doc.mesh(
         "Tri",
-        vec![primitive(&[(Semantic::Positions, p)], None, Mode::Triangles)],
+        vec![primitive(
+            &[(Semantic::Positions, p)],
+            None,
+            Mode::Triangles,
+        )],
     );
     let node = doc.node(mesh_node(Some(mesh), [0.0; 3], 1.0));
     doc.scene(vec![node]);
@@ -195,8 +206,7 @@ fn interleaved_buffers_are_read_by_stride() {
     ]
     .concat();
     let view = doc.view(&bytes(&interleaved));
-    doc.root.buffer_views[view.value()].byte_stride =
-        Some(json::buffer::Stride(24));
+    doc.root.buffer_views[view.value()].byte_stride = Some(json::buffer::Stride(24));
     let p = doc.accessor(Some(view), 3, ComponentType::F32, Type::Vec3);
     doc.root.accessors[p.value()].min = Some(json::Value::from(vec![0.0, 0.0, 0.0]));
     doc.root.accessors[p.value()].max = Some(json::Value::from(vec![1.0, 1.0, 0.0]));
@@ -214,7 +224,10 @@ fn interleaved_buffers_are_read_by_stride() {
     doc.scene(vec![node]);
     let scene = load(&doc.gltf_data_uri()).unwrap();
     let m = &scene.meshes[0];
-    assert_eq!(m.positions, vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]);
+    assert_eq!(
+        m.positions,
+        vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]
+    );
     assert_eq!(m.normals, vec![[0.0, 0.0, 1.0]; 3]);
 }
 
@@ -259,7 +272,10 @@ fn supported_required_extensions_load_and_unknown_optional_ones_warn_once() {
     let emission = material.params(crate::material::Feature::Emission).unwrap();
     assert_eq!(emission, &[[1.0, 0.5, 0.0, 4.0]]);
     let maps = material.maps().unwrap();
-    assert!(maps.map(crate::material::maps::MapSlot::BaseColor).is_some());
+    assert!(
+        maps.map(crate::material::maps::MapSlot::BaseColor)
+            .is_some()
+    );
 }
 
 #[test]
@@ -268,7 +284,10 @@ fn untrusted_counts_are_not_allocated() {
     let mut doc = cube_doc();
     doc.root.accessors[0].count = USize64(u32::MAX as u64);
     let err = load(&doc.gltf_data_uri()).unwrap_err().to_string();
-    assert!(err.contains("accessor 0") && err.contains("do not fit"), "{err}");
+    assert!(
+        err.contains("accessor 0") && err.contains("do not fit"),
+        "{err}"
+    );
     // Four billion zeros without a buffer view (sparse, one value): refused too.
     let mut doc = cube_doc();
     let uvs = doc.accessor(None, u32::MAX as usize, ComponentType::F32, Type::Vec2);
@@ -316,17 +335,26 @@ fn many_instances_of_one_mesh_share_it() {
 fn the_benchmark_models_are_what_the_generator_makes() {
     // patches/assets/bench-gltf-*.gltf are committed outputs of `bench_grid`.
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../patches/assets");
-    for (file, textured) in [("bench-gltf-textured.gltf", true), ("bench-gltf-plain.gltf", false)] {
+    for (file, textured) in [
+        ("bench-gltf-textured.gltf", true),
+        ("bench-gltf-plain.gltf", false),
+    ] {
         let made = super::models::bench_grid(1000, 100, 200, textured);
         let path = root.join(file);
         if std::env::var_os("SPREADLIGHT_BLESS").is_some() {
             std::fs::write(&path, &made).unwrap();
         }
         let committed = std::fs::read(&path).unwrap();
-        assert!(committed == made, "{file} is stale: regenerate with SPREADLIGHT_BLESS=1");
+        assert!(
+            committed == made,
+            "{file} is stale: regenerate with SPREADLIGHT_BLESS=1"
+        );
         let scene = load(&made).unwrap();
         assert_eq!(scene.instances.len(), 1000);
-        let textured_materials = scene.materials.iter().filter(|m| m.base_color_texture.is_some());
+        let textured_materials = scene
+            .materials
+            .iter()
+            .filter(|m| m.base_color_texture.is_some());
         assert_eq!(textured_materials.count(), if textured { 100 } else { 0 });
     }
 }

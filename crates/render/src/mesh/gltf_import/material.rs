@@ -36,12 +36,16 @@ impl Importer<'_> {
         let normal_slot = normal.as_ref().map(|t| Slot {
             texture: t.texture(),
             tex_coord: t.tex_coord(),
-            transform: t.extension_value("KHR_texture_transform").map(parse_transform),
+            transform: t
+                .extension_value("KHR_texture_transform")
+                .map(parse_transform),
         });
         let occlusion_slot = occlusion.as_ref().map(|t| Slot {
             texture: t.texture(),
             tex_coord: t.tex_coord(),
-            transform: t.extension_value("KHR_texture_transform").map(parse_transform),
+            transform: t
+                .extension_value("KHR_texture_transform")
+                .map(parse_transform),
         });
         Ok(MaterialData {
             name: m.name().map(str::to_owned),
@@ -193,7 +197,11 @@ fn finite_transform(t: UvTransform) -> UvTransform {
     UvTransform {
         offset: pair(t.offset, d.offset),
         scale: pair(t.scale, d.scale),
-        rotation: if t.rotation.is_finite() { t.rotation } else { 0.0 },
+        rotation: if t.rotation.is_finite() {
+            t.rotation
+        } else {
+            0.0
+        },
     }
 }
 

@@ -16,7 +16,11 @@ pub const TEXTURE_SIZE: u32 = 64;
 pub fn checker(a: [u8; 4], b: [u8; 4]) -> image::RgbaImage {
     image::RgbaImage::from_fn(TEXTURE_SIZE, TEXTURE_SIZE, |x, y| {
         let cell = TEXTURE_SIZE / 8;
-        image::Rgba(if (x / cell + y / cell) % 2 == 0 { a } else { b })
+        image::Rgba(if (x / cell + y / cell).is_multiple_of(2) {
+            a
+        } else {
+            b
+        })
     })
 }
 
@@ -56,7 +60,11 @@ pub fn textured_cube() -> Vec<u8> {
         metal_rough(),
         image::RgbaImage::from_fn(TEXTURE_SIZE, TEXTURE_SIZE, |_, y| {
             let on = (TEXTURE_SIZE * 7 / 16..TEXTURE_SIZE * 9 / 16).contains(&y);
-            image::Rgba(if on { [40, 160, 255, 255] } else { [0, 0, 0, 255] })
+            image::Rgba(if on {
+                [40, 160, 255, 255]
+            } else {
+                [0, 0, 0, 255]
+            })
         }),
     ]
     .iter()
@@ -121,16 +129,17 @@ pub fn punctual_lights_scene() -> Vec<u8> {
     for mesh in [floor, cube] {
         doc.root.meshes[mesh.value()].primitives[0].material = Some(white);
     }
-    let light = |kind, color: [f32; 3], intensity| json::extensions::scene::khr_lights_punctual::Light {
-        color,
-        extensions: None,
-        extras: Default::default(),
-        intensity,
-        name: None,
-        range: None,
-        spot: None,
-        type_: Valid(kind),
-    };
+    let light =
+        |kind, color: [f32; 3], intensity| json::extensions::scene::khr_lights_punctual::Light {
+            color,
+            extensions: None,
+            extras: Default::default(),
+            intensity,
+            name: None,
+            range: None,
+            spot: None,
+            type_: Valid(kind),
+        };
     use json::extensions::scene::khr_lights_punctual::{Spot, Type};
     let point = light(Type::Point, [1.0, 0.6, 0.3], 40.0);
     let mut spot = light(Type::Spot, [0.3, 0.5, 1.0], 80.0);
@@ -149,9 +158,11 @@ pub fn punctual_lights_scene() -> Vec<u8> {
         translation: Some(translation),
         rotation: Some(json::scene::UnitQuaternion(rotation.to_array())),
         extensions: Some(json::extensions::scene::Node {
-            khr_lights_punctual: Some(json::extensions::scene::khr_lights_punctual::KhrLightsPunctual {
-                light: json::Index::new(index),
-            }),
+            khr_lights_punctual: Some(
+                json::extensions::scene::khr_lights_punctual::KhrLightsPunctual {
+                    light: json::Index::new(index),
+                },
+            ),
             ..Default::default()
         }),
         ..Default::default()
@@ -193,8 +204,12 @@ pub fn bench_grid(instances: usize, materials: usize, textures: usize, textured:
             let hue = (t * 37 % 255) as u8;
             let image = image::RgbaImage::from_fn(size, size, |x, y| {
                 let cell = size / 8;
-                let on = (x / cell + y / cell) % 2 == 0;
-                image::Rgba(if on { [hue, 255 - hue, 128, 255] } else { [230, 230, 230, 255] })
+                let on = (x / cell + y / cell).is_multiple_of(2);
+                image::Rgba(if on {
+                    [hue, 255 - hue, 128, 255]
+                } else {
+                    [230, 230, 230, 255]
+                })
             });
             let image = doc.png_image(&png(&image));
             doc.texture(image)

@@ -6,8 +6,8 @@ use std::path::{Path, PathBuf};
 
 use gltf::Document;
 
-use super::accessor::Buffers;
 use super::GltfError;
+use super::accessor::Buffers;
 use crate::material::maps::MapImage;
 
 const GLB_MAGIC: &[u8; 4] = b"glTF";
