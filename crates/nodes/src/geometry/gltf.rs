@@ -165,18 +165,24 @@ impl Node for GltfNode {
                 materials.push(Arc::new(m.to_material()));
                 names.push(m.name.clone().unwrap_or_default());
             }
-            let lights = &scene.lights;
+            // Instances, lights and cameras follow their (animated) nodes.
+            let world = scene.node_worlds(usize::try_from(animation).ok(), time);
+            let (lights, cameras) = scene.posed_content(&world);
             extend(&mut points, &lights.points, file);
             extend(&mut spots, &lights.spots, file);
             extend(&mut suns, &lights.suns, file);
-            for camera in &scene.cameras {
+            for camera in &cameras {
                 views.push(camera.view);
                 projections.push(camera.projection);
             }
-            let posed = scene.pose(usize::try_from(animation).ok(), time);
-            for (instance, transform) in scene.instances.iter().zip(posed) {
+            for instance in &scene.instances {
                 meshes.push(uploaded[instance.mesh].clone());
-                transforms.push(transform);
+                transforms.push(
+                    world
+                        .get(instance.node)
+                        .copied()
+                        .unwrap_or(instance.transform),
+                );
                 let material = instance.material.and_then(|m| scene.materials.get(m));
                 let c = material.map_or([1.0; 4], |m| m.base_color);
                 colors.push(Color::rgba(c[0], c[1], c[2], c[3]));

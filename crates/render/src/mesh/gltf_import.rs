@@ -66,8 +66,10 @@ pub struct GltfScene {
     pub instances: Vec<MeshInstance>,
     /// World bounds of all instances ([`Aabb::ZERO`] when there are none).
     pub bounds: Aabb,
-    /// `KHR_lights_punctual` lights of the loaded scene, placed.
+    /// `KHR_lights_punctual` lights of the loaded scene, placed at rest.
     pub lights: SceneLights,
+    /// The same lights as their nodes hold them, to place at a pose.
+    pub light_sources: Vec<content::LightSource>,
     /// Cameras of the loaded scene, in node order.
     pub cameras: Vec<SceneCamera>,
     /// The scene's node tree, to pose it ([`GltfScene::pose`]).

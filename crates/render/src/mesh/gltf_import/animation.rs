@@ -219,6 +219,33 @@ impl GltfScene {
     /// seconds (looping over its duration); `None`, or an index out of
     /// range: the rest pose.
     pub fn pose(&self, animation: Option<usize>, time: f32) -> Vec<Mat4> {
+        let world = self.node_worlds(animation, time);
+        self.instances
+            .iter()
+            .map(|i| world.get(i.node).copied().unwrap_or(i.transform))
+            .collect()
+    }
+
+    /// The lights and cameras at a pose (`node_worlds`): they follow their nodes.
+    pub fn posed_content(&self, world: &[Mat4]) -> (super::SceneLights, Vec<super::SceneCamera>) {
+        let mut lights = super::SceneLights::default();
+        for source in &self.light_sources {
+            let at = world.get(source.node).copied().unwrap_or(Mat4::IDENTITY);
+            source.place(at, &mut lights);
+        }
+        let cameras = self
+            .cameras
+            .iter()
+            .map(|c| match world.get(c.node) {
+                Some(w) => c.placed(*w),
+                None => c.clone(),
+            })
+            .collect();
+        (lights, cameras)
+    }
+
+    /// Every glTF node's world transform at a pose (identity for nodes outside the scene).
+    pub fn node_worlds(&self, animation: Option<usize>, time: f32) -> Vec<Mat4> {
         let graph = &self.graph;
         let mut local: Vec<Option<Trs>> = vec![None; graph.rest.len()];
         if let Some(a) = animation.and_then(|a| self.animations.get(a)) {
@@ -252,10 +279,7 @@ impl GltfScene {
                 parent * rest
             };
         }
-        self.instances
-            .iter()
-            .map(|i| world.get(i.node).copied().unwrap_or(i.transform))
-            .collect()
+        world
     }
 }
 
@@ -378,5 +402,28 @@ mod tests {
             "{:?}",
             bad.warnings
         );
+    }
+
+    #[test]
+    fn lights_follow_their_animated_nodes() {
+        let scene =
+            load_gltf_slice(&crate::mesh::gltf_import::models::sliding_cube(), None).unwrap();
+        let at = |time: f32| {
+            let world = scene.node_worlds(Some(0), time);
+            let (lights, _) = scene.posed_content(&world);
+            lights.points[0].1.position
+        };
+        // Child of the cube (scale 0.5): 1 above it, riding from x = -1 to x = 1.
+        assert!(
+            (at(0.0) - glam::Vec3::new(-1.0, 1.5, 0.0)).length() < 1e-5,
+            "{}",
+            at(0.0)
+        );
+        assert!(
+            (at(1.0) - glam::Vec3::new(1.0, 1.5, 0.0)).length() < 1e-5,
+            "{}",
+            at(1.0)
+        );
+        assert_eq!(scene.lights.points[0].0, "Lamp");
     }
 }

@@ -27,6 +27,8 @@ impl SceneLights {
 #[derive(Debug, Clone, PartialEq)]
 pub struct SceneCamera {
     pub name: String,
+    /// The node that places it.
+    pub node: usize,
     pub view: Mat4,
     pub projection: Mat4,
     /// The file's aspect ratio, when it states one (perspective only).
@@ -40,77 +42,105 @@ fn default_range(intensity: f32, reach: f32) -> f32 {
     (intensity.abs() * 1000.0).sqrt().max(reach).max(1e-3)
 }
 
-/// The light `light` on a node with world transform `world`.
-pub(super) fn add_light(
-    lights: &mut SceneLights,
-    light: &gltf::khr_lights_punctual::Light,
-    world: Mat4,
-    reach: f32,
-) {
-    use gltf::khr_lights_punctual::Kind;
-    let name = light
-        .name()
-        .map_or_else(|| format!("light {}", light.index()), str::to_owned);
-    let color = Vec3::from(light.color());
-    let finite = |v: f32, or: f32| if v.is_finite() { v } else { or };
-    let intensity = finite(light.intensity(), 1.0).max(0.0);
-    let range = light
-        .range()
-        .filter(|r| r.is_finite() && *r > 0.0)
-        .unwrap_or_else(|| default_range(intensity, reach));
-    let position = world.transform_point3(Vec3::ZERO);
-    // Lights shine down their node's -Z.
-    let direction = world
-        .transform_vector3(Vec3::NEG_Z)
-        .try_normalize()
-        .unwrap_or(Vec3::NEG_Z);
-    match light.kind() {
-        Kind::Point => lights.points.push((
-            name,
-            PointLight {
-                position,
-                color,
-                intensity,
-                range,
-                shadow: None,
+/// A light as its node holds it, to place at any pose of the node.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LightSource {
+    pub node: usize,
+    pub name: String,
+    kind: SourceKind,
+    color: Vec3,
+    /// Candela (point, spot) or lux (directional).
+    intensity: f32,
+    range: f32,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum SourceKind {
+    Point,
+    Spot { inner: f32, outer: f32 },
+    Directional,
+}
+
+impl LightSource {
+    /// The light `light` on node `node`; `reach` (the scene's diameter)
+    /// bounds the range of lights that state none.
+    pub(super) fn new(light: &gltf::khr_lights_punctual::Light, node: usize, reach: f32) -> Self {
+        use gltf::khr_lights_punctual::Kind;
+        let name = light
+            .name()
+            .map_or_else(|| format!("light {}", light.index()), str::to_owned);
+        let finite = |v: f32, or: f32| if v.is_finite() { v } else { or };
+        let intensity = finite(light.intensity(), 1.0).max(0.0);
+        let range = light
+            .range()
+            .filter(|r| r.is_finite() && *r > 0.0)
+            .unwrap_or_else(|| default_range(intensity, reach));
+        let kind = match light.kind() {
+            Kind::Point => SourceKind::Point,
+            Kind::Spot {
+                inner_cone_angle,
+                outer_cone_angle,
+            } => SourceKind::Spot {
+                inner: finite(inner_cone_angle, 0.0),
+                outer: finite(outer_cone_angle, std::f32::consts::FRAC_PI_4),
             },
-        )),
-        Kind::Spot {
-            inner_cone_angle,
-            outer_cone_angle,
-        } => lights.spots.push((
+            Kind::Directional => SourceKind::Directional,
+        };
+        LightSource {
+            node,
             name,
-            SpotLight::cone(
-                position,
-                direction,
-                range,
-                finite(inner_cone_angle, 0.0),
-                finite(outer_cone_angle, std::f32::consts::FRAC_PI_4),
-            )
-            .with_light(color, intensity),
-        )),
-        Kind::Directional => lights.suns.push((
-            name,
-            SunLight {
-                direction,
-                color,
-                illuminance: intensity,
-                shadow: None,
-            },
-        )),
+            kind,
+            color: Vec3::from(light.color()).map(|c| finite(c, 1.0).max(0.0)),
+            intensity,
+            range,
+        }
+    }
+
+    /// The light placed by its node's world transform `world`, added to `lights`.
+    pub fn place(&self, world: Mat4, lights: &mut SceneLights) {
+        let position = world.transform_point3(Vec3::ZERO);
+        // Lights shine down their node's -Z.
+        let direction = world
+            .transform_vector3(Vec3::NEG_Z)
+            .try_normalize()
+            .unwrap_or(Vec3::NEG_Z);
+        let name = self.name.clone();
+        match self.kind {
+            SourceKind::Point => lights.points.push((
+                name,
+                PointLight {
+                    position,
+                    color: self.color,
+                    intensity: self.intensity,
+                    range: self.range,
+                    shadow: None,
+                },
+            )),
+            SourceKind::Spot { inner, outer } => lights.spots.push((
+                name,
+                SpotLight::cone(position, direction, self.range, inner, outer)
+                    .with_light(self.color, self.intensity),
+            )),
+            SourceKind::Directional => lights.suns.push((
+                name,
+                SunLight {
+                    direction,
+                    color: self.color,
+                    illuminance: self.intensity,
+                    shadow: None,
+                },
+            )),
+        }
     }
 }
 
-/// The camera `camera` on a node with world transform `world`. An infinite
-/// perspective is given a far plane 10^6 near planes away.
-pub(super) fn camera(camera: &gltf::Camera, world: Mat4) -> SceneCamera {
+/// The camera `camera` on node `node` with world transform `world`. An
+/// infinite perspective is given a far plane 10^6 near planes away.
+pub(super) fn camera(camera: &gltf::Camera, node: usize, world: Mat4) -> SceneCamera {
     use gltf::camera::Projection;
     let name = camera
         .name()
         .map_or_else(|| format!("camera {}", camera.index()), str::to_owned);
-    // The view is the inverse of the node's rigid placement (scale dropped).
-    let (_, rotation, translation) = world.to_scale_rotation_translation();
-    let view = Mat4::from_rotation_translation(rotation, translation).inverse();
     let positive = |v: f32, or: f32| if v.is_finite() && v > 0.0 { v } else { or };
     let (projection, aspect_ratio) = match camera.projection() {
         Projection::Perspective(p) => {
@@ -142,13 +172,28 @@ pub(super) fn camera(camera: &gltf::Camera, world: Mat4) -> SceneCamera {
     };
     SceneCamera {
         name,
-        view,
+        node,
+        view: view_of(world),
         projection,
         aspect_ratio,
     }
 }
 
+/// The view matrix of a camera node: the inverse of its rigid placement (scale dropped).
+fn view_of(world: Mat4) -> Mat4 {
+    let (_, rotation, translation) = world.to_scale_rotation_translation();
+    Mat4::from_rotation_translation(rotation, translation).inverse()
+}
+
 impl SceneCamera {
+    /// The camera with its node at world transform `world`.
+    pub fn placed(&self, world: Mat4) -> SceneCamera {
+        SceneCamera {
+            view: view_of(world),
+            ..self.clone()
+        }
+    }
+
     /// The projection for an output of `aspect` (width / height) when the
     /// file states none (a perspective camera's matrix is rebuilt).
     pub fn projection_for(&self, aspect: f32) -> Mat4 {

@@ -252,7 +252,8 @@ pub fn bench_grid(instances: usize, materials: usize, textures: usize, textured:
 }
 
 /// A red cube sliding from x = -1 to x = 1 and back over 2 seconds (one
-/// linear translation channel) on a still white floor: for posing at a time.
+/// linear translation channel) on a still white floor, a point light riding
+/// 1 above it (a child node): for posing at a time.
 pub fn sliding_cube() -> Vec<u8> {
     use json::accessor::{ComponentType, Type};
     let mut doc = Doc::new();
@@ -273,7 +274,37 @@ pub fn sliding_cube() -> Vec<u8> {
         ..Default::default()
     });
     doc.root.meshes[cube.value()].primitives[0].material = Some(red);
-    let moving = doc.node(mesh_node(Some(cube), [-1.0, 0.5, 0.0], 0.5));
+    let lamp = doc.node(json::Node {
+        translation: Some([0.0, 2.0, 0.0]),
+        extensions: Some(json::extensions::scene::Node {
+            khr_lights_punctual: Some(
+                json::extensions::scene::khr_lights_punctual::KhrLightsPunctual {
+                    light: json::Index::new(0),
+                },
+            ),
+            ..Default::default()
+        }),
+        ..Default::default()
+    });
+    doc.root.extensions_used.push("KHR_lights_punctual".into());
+    doc.root.extensions = Some(json::extensions::root::Root {
+        khr_lights_punctual: Some(json::extensions::root::KhrLightsPunctual {
+            lights: vec![json::extensions::scene::khr_lights_punctual::Light {
+                color: [1.0, 0.9, 0.8],
+                extensions: None,
+                extras: Default::default(),
+                intensity: 20.0,
+                name: Some("Lamp".into()),
+                range: None,
+                spot: None,
+                type_: Valid(json::extensions::scene::khr_lights_punctual::Type::Point),
+            }],
+        }),
+        ..Default::default()
+    });
+    let mut moving = mesh_node(Some(cube), [-1.0, 0.5, 0.0], 0.5);
+    moving.children = Some(vec![lamp]);
+    let moving = doc.node(moving);
     let still = doc.node(mesh_node(Some(floor), [0.0; 3], 1.0));
     doc.scene(vec![moving, still]);
     let times = [0.0f32, 1.0, 2.0];

@@ -7,6 +7,7 @@ use glam::Mat4;
 use gltf::Document;
 
 use super::animation::{self, SceneGraph};
+use super::content::LightSource;
 use super::{GltfError, GltfScene, Importer, MeshInstance, SceneLights, content};
 use crate::mesh::Aabb;
 
@@ -112,13 +113,16 @@ impl Importer<'_> {
             .unwrap_or(Aabb::ZERO);
         let reach = bounds.size().length();
         let mut lights = SceneLights::default();
+        let mut light_sources = Vec::new();
         let mut cameras = Vec::new();
         for (node, world, _) in &nodes {
             if let Some(light) = node.light() {
-                content::add_light(&mut lights, &light, *world, reach);
+                let source = LightSource::new(&light, node.index(), reach);
+                source.place(*world, &mut lights);
+                light_sources.push(source);
             }
             if let Some(camera) = node.camera() {
-                cameras.push(content::camera(&camera, *world));
+                cameras.push(content::camera(&camera, node.index(), *world));
             }
         }
         let graph = SceneGraph {
@@ -131,6 +135,7 @@ impl Importer<'_> {
             instances,
             bounds,
             lights,
+            light_sources,
             cameras,
             graph,
             animations,
