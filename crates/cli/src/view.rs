@@ -12,6 +12,7 @@ use std::process::ExitCode;
 use anyhow::Context;
 use glam::{Mat4, Vec3};
 use spreadlight_graph::{NodeDoc, Patch, format};
+use spreadlight_render::mesh::AlphaMode;
 use spreadlight_render::mesh::gltf_import::load_gltf;
 
 use crate::session::parse_size;
@@ -78,6 +79,8 @@ pub struct Framing {
     pub file_lights: [bool; 3],
     /// The animation time the glTF node poses the model at.
     pub time: f32,
+    /// Whether some instance has a BLEND material (drawn by Transparency).
+    pub blend: bool,
 }
 
 /// The patch `view` renders, as a user would wire it.
@@ -92,8 +95,12 @@ pub fn build_patch(
     patch.add(
         NodeDoc::new(1, "glTF")
             .at(0.0, 0.0)
-            .with("Filename", vec![file])
-            .with("Time", vec![framing.time]),
+            .with("Filename", vec![file.clone()])
+            .with("Time", vec![framing.time])
+            .with(
+                "Instances",
+                spreadlight_graph::Spread::Enum(vec!["Opaque".to_owned()]),
+            ),
     );
     patch.add(
         NodeDoc::new(2, "AddReflection")
@@ -132,7 +139,40 @@ pub fn build_patch(
         sun(&mut patch, framing.radius);
     }
     image_light(&mut patch, environment);
+    if framing.blend {
+        transparent(&mut patch, file, framing.time);
+    } else {
+        patch.link(14, "Texture", 15, "Texture");
+    }
     patch
+}
+
+/// BLEND materials: a second glTF node giving only them, their layer drawn
+/// by Transparency over the lit image before tonemapping.
+fn transparent(patch: &mut Patch, file: String, time: f32) {
+    patch.add(
+        NodeDoc::new(40, "glTF")
+            .at(800.0, 0.0)
+            .with("Filename", vec![file])
+            .with("Time", vec![time])
+            .with(
+                "Instances",
+                spreadlight_graph::Spread::Enum(vec!["Blend".to_owned()]),
+            ),
+    );
+    patch.add(NodeDoc::new(41, "DeferredBase").at(800.0, 80.0));
+    patch.add(
+        NodeDoc::new(42, "Transparency")
+            .at(0.0, 520.0)
+            .with("Light Direction", vec![-SUN_DIRECTION]),
+    );
+    patch.link(40, "Mesh", 41, "Mesh");
+    patch.link(40, "Transform", 41, "Transform");
+    patch.link(40, "Base Color", 41, "Color");
+    patch.link(14, "Texture", 42, "Texture");
+    patch.link(5, "G-Buffer", 42, "G-Buffer");
+    patch.link(41, "Layer", 42, "Layer");
+    patch.link(42, "Texture", 15, "Texture");
 }
 
 /// The file's lights: a buffer and a CookTorrance per type it has, their
@@ -193,7 +233,8 @@ fn sun(patch: &mut Patch, radius: f32) {
 }
 
 /// Image-based light (the environment's irradiance and prefiltered
-/// reflection) into CompositeLight, the sky behind, tonemapped to the Output.
+/// reflection) into CompositeLight, the sky behind (node 14), Tonemap (15)
+/// to the Output; the caller links 14 to 15, or through Transparency.
 fn image_light(patch: &mut Patch, environment: Option<&std::path::Path>) {
     // Image-based light: the environment's irradiance and prefiltered reflection.
     let environment_node = match environment {
@@ -230,7 +271,6 @@ fn image_light(patch: &mut Patch, environment: Option<&std::path::Path>) {
         "Operator",
         spreadlight_graph::Spread::Enum(vec!["ACES".to_owned()]),
     ));
-    patch.link(14, "Texture", 15, "Texture");
     patch.link(15, "Texture", 20, "Texture");
 }
 
@@ -266,6 +306,11 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
             !lights.suns.is_empty(),
         ],
         time: args.time,
+        blend: scene.instances.iter().any(|i| {
+            i.material
+                .and_then(|m| scene.materials.get(m))
+                .is_some_and(|m| m.alpha_mode == AlphaMode::Blend)
+        }),
     };
     let patch = build_patch(&model, &framing, &args.channel, environment.as_deref());
     if let Some(path) = &args.save_patch {

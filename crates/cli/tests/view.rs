@@ -313,3 +313,45 @@ fn time_poses_an_animated_model() {
         "the cube slid right: {start} -> {middle}"
     );
 }
+
+#[test]
+fn blend_materials_go_through_transparency() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let red = |mode| {
+        move |_: &mut Doc| {
+            let mut m = gltf_json::Material {
+                alpha_mode: gltf_json::validation::Checked::Valid(mode),
+                ..Default::default()
+            };
+            m.pbr_metallic_roughness.base_color_factor =
+                gltf_json::material::PbrBaseColorFactor([1.0, 0.0, 0.0, 0.5]);
+            m.pbr_metallic_roughness.metallic_factor = gltf_json::material::StrengthFactor(0.0);
+            Some(m)
+        }
+    };
+    use gltf_json::material::AlphaMode;
+    let patch = dir.path().join("blend.ron");
+    let blend = quad_with([0.0; 3], [1.0; 3], 0.0, red(AlphaMode::Blend));
+    let opaque = quad_with([0.0; 3], [1.0; 3], 0.0, red(AlphaMode::Opaque));
+    let (glass, _) = view(
+        dir.path(),
+        "glass",
+        &blend,
+        &["--save-patch", patch.to_str().expect("utf-8")],
+    );
+    let (solid, _) = view(dir.path(), "solid", &opaque, &[]);
+    assert!(
+        std::fs::read_to_string(&patch)
+            .expect("patch")
+            .contains("Transparency")
+    );
+    // Not in the G-buffer: the albedo view is empty.
+    let (albedo, _) = view(dir.path(), "glass", &blend, &["--channel", "Albedo"]);
+    assert!(coverage(&albedo) < 0.01, "{}", coverage(&albedo));
+    // Over the sky, half red: redder than the sky, less than the opaque quad.
+    let centre = |i: &image::RgbaImage| i.get_pixel(i.width() / 2, i.height() / 2).0;
+    let (g, s) = (centre(&glass), centre(&solid));
+    let redness = |p: [u8; 4]| i32::from(p[0]) - i32::from(p[2]);
+    assert!(redness(g) > 0, "glass {g:?}");
+    assert!(redness(s) > redness(g), "solid {s:?} vs glass {g:?}");
+}

@@ -13,10 +13,12 @@
 use std::sync::Arc;
 
 use glam::Mat4;
+use spreadlight_graph::EnumDef;
 use spreadlight_graph::{
     Color, EvalContext, Node, NodeDef, NodeError, PinType, Registry, ResourceKind,
 };
 use spreadlight_render::material::Material;
+use spreadlight_render::material::maps::AlphaMode;
 use spreadlight_render::mesh::GltfScene;
 use spreadlight_render::mesh::MaterialData;
 use spreadlight_render::mesh::gltf_import::load_gltf;
@@ -45,6 +47,12 @@ fn extend<T: Clone>(list: &mut LightList<T>, named: &[(String, T)], file: &str) 
     }
 }
 
+/// Which instances the node outputs, by their material's alpha mode.
+pub static INSTANCES: EnumDef = EnumDef {
+    name: "glTF Instances",
+    options: &["All", "Opaque", "Blend"],
+};
+
 /// Material ids beyond this are a mistake, as in `MaterialManager`.
 const MAX_FIRST_ID: i64 = 60_000;
 
@@ -61,12 +69,15 @@ pub fn register(r: &mut Registry) {
              World pin has them. Material Names: each id's name (empty where none). Point, Spot and Sun Lights: the \
              file's KHR_lights_punctual lights (candela, lux), to wire into an AddLight chain's Lights or a light buffer. \
              View and Projection: one slice per camera of the scene. Time (seconds) and Animation (index; -1: none) pose \
-             the nodes with the file's TRS animations, looping. A relative Filename is relative to the patch's folder.",
+             the nodes with the file's TRS animations, looping. Instances: All, Opaque (OPAQUE and MASK materials, for the \
+             G-buffer) or Blend (BLEND materials, for a DeferredBase layer drawn by Transparency: Base Color's alpha is \
+             their opacity). A relative Filename is relative to the patch's folder.",
         )
         .input("Filename", String::new())
         .input("First Material ID", 0i64)
         .input("Time", 0.0f32)
         .input("Animation", 0i64)
+        .input_enum("Instances", &INSTANCES, "All")
         .output_typed("Mesh", PinType::Resource(ResourceKind::Mesh))
         .output::<Mat4>("Transform")
         .output::<Color>("Base Color")
@@ -140,6 +151,7 @@ impl Node for GltfNode {
         }
         let time = cx.slices::<f32>(2)?.first().copied().unwrap_or(0.0);
         let animation = cx.slices::<i64>(3)?.first().copied().unwrap_or(-1);
+        let which = cx.enum_slices(4)?.first().cloned().unwrap_or_default();
         self.load(cx)?;
         let (mut meshes, mut transforms, mut colors, mut ids) =
             (Vec::new(), Vec::new(), Vec::new(), Vec::new());
@@ -176,6 +188,13 @@ impl Node for GltfNode {
                 projections.push(camera.projection);
             }
             for instance in &scene.instances {
+                let material = instance.material.and_then(|m| scene.materials.get(m));
+                let blend = material.is_some_and(|m| m.alpha_mode == AlphaMode::Blend);
+                match which.as_str() {
+                    "Opaque" if blend => continue,
+                    "Blend" if !blend => continue,
+                    _ => {}
+                }
                 meshes.push(uploaded[instance.mesh].clone());
                 transforms.push(
                     world
@@ -183,7 +202,6 @@ impl Node for GltfNode {
                         .copied()
                         .unwrap_or(instance.transform),
                 );
-                let material = instance.material.and_then(|m| scene.materials.get(m));
                 let c = material.map_or([1.0; 4], |m| m.base_color);
                 colors.push(Color::rgba(c[0], c[1], c[2], c[3]));
                 ids.push(base + instance.material.map_or(0, |m| m as i64 + 1));
