@@ -84,6 +84,23 @@ impl MapLayout {
         self.locations.is_empty()
     }
 
+    /// The arrays for this layout: the renderer's last upload when it holds
+    /// the same images in the same places (a MaterialBuffer re-evaluated for
+    /// a changed factor re-uploads nothing), else a new upload, kept.
+    pub fn upload_cached(&self, renderer: &crate::renderer::Renderer) -> Arc<MapTextures> {
+        let cache = renderer.state::<MapCache>(0);
+        let mut last = cache.0.lock().unwrap_or_else(|e| e.into_inner());
+        if let Some((images, textures)) = last.as_ref()
+            && same_images(images, &self.layers)
+        {
+            return textures.clone();
+        }
+        let textures = Arc::new(self.upload(&renderer.gpu));
+        // The cache holds the images, so their addresses cannot be reused by others.
+        *last = Some((self.layers.clone(), textures.clone()));
+        textures
+    }
+
     /// Upload every array (a 1x1 white one for empty classes).
     pub fn upload(&self, gpu: &GpuContext) -> MapTextures {
         let arrays = self
@@ -119,6 +136,17 @@ impl MapLayout {
             .collect();
         MapTextures { arrays }
     }
+}
+
+/// The last map upload of a renderer and the images it holds.
+#[derive(Default)]
+struct MapCache(std::sync::Mutex<Option<(Vec<Vec<Arc<MapImage>>>, Arc<MapTextures>)>>);
+
+fn same_images(a: &[Vec<Arc<MapImage>>], b: &[Vec<Arc<MapImage>>]) -> bool {
+    a.len() == b.len()
+        && a.iter()
+            .zip(b)
+            .all(|(x, y)| x.len() == y.len() && x.iter().zip(y).all(|(i, j)| Arc::ptr_eq(i, j)))
 }
 
 /// `image` resized to `side` x `side` (nothing to do when it already is).

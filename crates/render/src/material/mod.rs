@@ -265,7 +265,7 @@ impl PackedMaterials {
 
 /// A world's map textures on the GPU, with what binds them.
 pub struct WorldMaps {
-    pub textures: MapTextures,
+    pub textures: Arc<MapTextures>,
     samplers: [wgpu::Sampler; 2],
     /// Maps past a size class's layer limit, drawn without their map.
     pub dropped: usize,
@@ -373,7 +373,7 @@ impl MaterialWorld {
                 | 1 << FEATURE_SURFACE_MAPS;
         }
         let maps = has_maps.then(|| WorldMaps {
-            textures: layout.upload(&renderer.gpu),
+            textures: layout.upload_cached(renderer),
             samplers: map_textures::samplers(device),
             dropped: layout.dropped,
         });

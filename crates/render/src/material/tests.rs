@@ -195,3 +195,43 @@ fn surface_maps_pack_in_id_order_with_their_places() {
     assert_eq!(slot[0], (6 * 65536 + 1) as f32);
     assert_eq!(packed.data[(packed.offsets[3].offset) as usize], [2.0; 4]);
 }
+
+#[test]
+fn worlds_with_the_same_maps_share_their_upload() {
+    use maps::{MapImage, MapRef, SurfaceMaps};
+    let renderer = crate::renderer::test_renderer();
+    let image = Arc::new(MapImage {
+        width: 16,
+        height: 16,
+        rgba8: vec![200; 16 * 16 * 4],
+    });
+    let material = |roughness: f32| {
+        let mut surface = SurfaceMaps::default();
+        surface.set_map(MapSlot::BaseColor, Some(MapRef::new(image.clone())));
+        let mut m = Material::new()
+            .with(Feature::CookTorrance, &[[roughness, 0.0, 0.04, 0.0]])
+            .expect("finite");
+        m.set_maps(Some(Arc::new(surface)));
+        m
+    };
+    let a = MaterialWorld::new(&renderer, vec![material(0.2)]);
+    // A changed factor, the same image: no new upload.
+    let b = MaterialWorld::new(&renderer, vec![material(0.7)]);
+    let (ta, tb) = (
+        &a.world_maps().unwrap().textures,
+        &b.world_maps().unwrap().textures,
+    );
+    assert!(Arc::ptr_eq(ta, tb));
+    // Another image: a new upload.
+    let other = Arc::new(MapImage {
+        width: 16,
+        height: 16,
+        rgba8: vec![10; 16 * 16 * 4],
+    });
+    let mut surface = SurfaceMaps::default();
+    surface.set_map(MapSlot::BaseColor, Some(MapRef::new(other)));
+    let mut m = Material::default_material();
+    m.set_maps(Some(Arc::new(surface)));
+    let c = MaterialWorld::new(&renderer, vec![m]);
+    assert!(!Arc::ptr_eq(ta, &c.world_maps().unwrap().textures));
+}
