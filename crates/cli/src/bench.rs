@@ -44,8 +44,8 @@ pub struct Args {
     /// Timestamps around every pass (`pass`) or only the frame's first and last (`frame`).
     #[arg(long, default_value = "pass", value_parser = ["pass", "frame"])]
     timing: String,
-    /// Record each pass in its own command encoder (`isolated`) or the frame in one (`batched`).
-    #[arg(long, default_value = "isolated", value_parser = ["isolated", "batched"])]
+    /// Record the frame in one command encoder (`batched`, as the CLI and editor do) or each pass in its own (`isolated`).
+    #[arg(long, default_value = "batched", value_parser = ["isolated", "batched"])]
     recording: String,
 }
 
@@ -110,6 +110,25 @@ fn apply_set(patch: &mut spreadlight_graph::Patch, set: &str) -> anyhow::Result<
     };
     node.values.insert(pin.to_owned(), spread);
     Ok(())
+}
+
+/// The passes as a map of name to median (shared/bench/README.md's key), a
+/// name that repeats (the three SSSS passes of one node) numbered from its
+/// second time on, so no pass is lost.
+fn unique_names(passes: &[PassFigure]) -> serde_json::Map<String, serde_json::Value> {
+    let mut seen = std::collections::HashMap::<&str, u32>::new();
+    let mut map = serde_json::Map::new();
+    for p in passes {
+        let n = seen.entry(p.name.as_str()).or_default();
+        *n += 1;
+        let key = if *n == 1 {
+            p.name.clone()
+        } else {
+            format!("{} ({n})", p.name)
+        };
+        map.insert(key, serde_json::json!(p.gpu_ms));
+    }
+    map
 }
 
 /// Per-frame figures of the timed frames.
@@ -243,7 +262,8 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
             "cpu_eval_ms_median": eval,
             "cpu_record_ms_median": record,
             "wall_ms_per_frame": wall,
-            "passes": passes,
+            "passes": unique_names(&passes),
+            "pass_order": passes,
         });
         println!("{line}");
     } else {

@@ -411,9 +411,46 @@ pub struct ShaderCache {
     compute: HashMap<(ShaderKey, &'static str), wgpu::ComputePipeline>,
     render: HashMap<(ShaderKey, String), wgpu::RenderPipeline>,
     samplers: HashMap<Sampling, wgpu::Sampler>,
+    /// Bind groups by pipeline, group and what they bind (by identity), with
+    /// the frame they were last used in: a pass that binds what it bound
+    /// last frame reuses its group instead of making one.
+    bind_groups: HashMap<BindGroupKey, (wgpu::BindGroup, u64)>,
+    frame: u64,
     /// Pipelines compiled since the cache was made.
     pub pipelines_compiled: u64,
+    /// Bind groups made and reused since the cache was made.
+    pub bind_groups_created: u64,
+    pub bind_groups_reused: u64,
 }
+
+/// A resource a bind group binds, by identity (wgpu handles compare by the object).
+#[derive(Clone, PartialEq, Eq, Hash)]
+enum Bound {
+    Buffer(wgpu::Buffer, u64, Option<wgpu::BufferSize>),
+    View(wgpu::TextureView),
+    Sampler(wgpu::Sampler),
+}
+
+impl Bound {
+    /// None for resources the cache does not key (arrays of them).
+    fn of(resource: &wgpu::BindingResource<'_>) -> Option<Bound> {
+        match resource {
+            wgpu::BindingResource::Buffer(b) => {
+                Some(Bound::Buffer(b.buffer.clone(), b.offset, b.size))
+            }
+            wgpu::BindingResource::TextureView(v) => Some(Bound::View((*v).clone())),
+            wgpu::BindingResource::Sampler(s) => Some(Bound::Sampler((*s).clone())),
+            _ => None,
+        }
+    }
+}
+
+type BindGroupKey = (wgpu::ComputePipeline, u32, Vec<(u32, Bound)>);
+
+/// Frames a cached bind group may go unused before it is dropped (with the
+/// buffers and views it keeps alive): recipes re-made each frame make new
+/// buffers, whose groups are never hit again.
+const BIND_GROUP_IDLE_FRAMES: u64 = 2;
 
 impl ShaderCache {
     pub fn new(composer: ShaderComposer) -> Self {
@@ -424,8 +461,20 @@ impl ShaderCache {
             compute: HashMap::new(),
             render: HashMap::new(),
             samplers: HashMap::new(),
+            bind_groups: HashMap::new(),
+            frame: 0,
             pipelines_compiled: 0,
+            bind_groups_created: 0,
+            bind_groups_reused: 0,
         }
+    }
+
+    /// A new frame begins: bind groups unused for a while are dropped.
+    pub(crate) fn begin_frame(&mut self) {
+        self.frame += 1;
+        let frame = self.frame;
+        self.bind_groups
+            .retain(|_, (_, last)| frame - *last <= BIND_GROUP_IDLE_FRAMES);
     }
 
     /// Swap in new sources (live shader editing); everything compiled is dropped.
@@ -514,11 +563,28 @@ impl ShaderCache {
                 resource: resource.clone(),
             })
             .collect();
-        Ok(device.create_bind_group(&wgpu::BindGroupDescriptor {
+        let bound: Option<Vec<(u32, Bound)>> = entries
+            .iter()
+            .map(|e| Bound::of(&e.resource).map(|b| (e.binding, b)))
+            .collect();
+        let cache_key = bound.map(|b| (pipeline.clone(), group, b));
+        if let Some(k) = &cache_key
+            && let Some((cached, last)) = self.bind_groups.get_mut(k)
+        {
+            *last = self.frame;
+            self.bind_groups_reused += 1;
+            return Ok(cached.clone());
+        }
+        let made = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some(key.path),
             layout: &pipeline.get_bind_group_layout(group),
             entries: &entries,
-        }))
+        });
+        self.bind_groups_created += 1;
+        if let Some(k) = cache_key {
+            self.bind_groups.insert(k, (made.clone(), self.frame));
+        }
+        Ok(made)
     }
 
     /// A sampler, made once per device rather than once per pass or frame.

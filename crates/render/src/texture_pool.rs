@@ -13,6 +13,36 @@ pub struct TextureKey {
     pub usage: wgpu::TextureUsages,
 }
 
+/// Each texture's default view, made once: views are what passes bind, and
+/// making one per pass per frame was most of a frame's recording time on the
+/// H100's driver. A view not asked for in a frame is dropped (with the
+/// texture it keeps alive).
+#[derive(Default)]
+pub(crate) struct ViewCache {
+    views: HashMap<wgpu::Texture, (wgpu::TextureView, bool)>,
+    pub created: u64,
+    pub reused: u64,
+}
+
+impl ViewCache {
+    pub fn view(&mut self, texture: &wgpu::Texture) -> wgpu::TextureView {
+        if let Some((view, used)) = self.views.get_mut(texture) {
+            *used = true;
+            self.reused += 1;
+            return view.clone();
+        }
+        let view = texture.create_view(&wgpu::TextureViewDescriptor::default());
+        self.created += 1;
+        self.views.insert(texture.clone(), (view.clone(), true));
+        view
+    }
+
+    /// Drop what this frame did not use; the rest waits for the next frame.
+    pub fn end_frame(&mut self) {
+        self.views.retain(|_, (_, used)| std::mem::take(used));
+    }
+}
+
 #[derive(Default)]
 pub(crate) struct TexturePool {
     pub pool: HashMap<TextureKey, Vec<wgpu::Texture>>,
@@ -21,6 +51,7 @@ pub(crate) struct TexturePool {
     pub idle: HashMap<String, u32>,
     /// Last frame's requested outputs: handed to the caller, back to the pool next frame.
     pub lent: Vec<(TextureKey, wgpu::Texture)>,
+    pub views: ViewCache,
 }
 
 impl TexturePool {

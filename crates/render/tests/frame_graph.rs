@@ -345,3 +345,40 @@ fn a_batched_frame_that_fails_validation_is_dropped_and_the_next_names_the_pass(
     assert_eq!(second.errors.len(), 1);
     assert_eq!(second.errors[0].0, Some(42));
 }
+
+#[test]
+fn a_repeated_frame_reuses_its_bind_groups_and_texture_views() {
+    let renderer = test_renderer();
+    let first = arithmetic_frame(&renderer);
+    let report = renderer.last_report();
+    assert!(
+        report.counter("bind groups created") >= 2,
+        "{:?}",
+        report.counters
+    );
+    assert!(
+        report.counter("texture views created") >= 3,
+        "{:?}",
+        report.counters
+    );
+    // Pooled textures may trade places once (a lent output comes back);
+    // from then on the frame binds what it bound before.
+    for _ in 0..3 {
+        assert_eq!(arithmetic_frame(&renderer), first);
+    }
+    let report = renderer.last_report();
+    assert_eq!(
+        report.counter("bind groups created"),
+        0,
+        "{:?}",
+        report.counters
+    );
+    assert_eq!(
+        report.counter("texture views created"),
+        0,
+        "{:?}",
+        report.counters
+    );
+    assert!(report.counter("bind groups reused") >= 2);
+    assert!(report.counter("texture views reused") >= 3);
+}

@@ -83,7 +83,14 @@ fn execute(
     let timestamps = renderer.timestamps().filter(|_| timing != Timing::Off);
     let capacity = if timestamps.is_some() { MAX_QUERIES } else { 0 };
     let mut shaders = renderer.shaders();
+    shaders.begin_frame();
     let compiled_before = shaders.pipelines_compiled;
+    let groups_before = (shaders.bind_groups_created, shaders.bind_groups_reused);
+    let views = std::cell::RefCell::new(std::mem::take(&mut textures.views));
+    let views_before = {
+        let v = views.borrow();
+        (v.created, v.reused)
+    };
     let batched = recording == Recording::Batched;
     let label = |p: usize| if batched { "frame" } else { &parts.names[p] };
     let new_encoder = |label: &str| {
@@ -131,6 +138,7 @@ fn execute(
             encoder,
             shaders: &mut shaders,
             textures: &live,
+            views: &views,
             fresh: &fresh,
             timestamps: timestamps.filter(|_| timed).map(|t| &t.set),
             queries: Vec::new(),
@@ -206,6 +214,25 @@ fn execute(
         .map(|&p| parts.names[p].clone())
         .collect();
     report.pipelines_compiled = shaders.pipelines_compiled - compiled_before;
+    let mut views = views.into_inner();
+    for (name, n) in [
+        (
+            "bind groups created",
+            shaders.bind_groups_created - groups_before.0,
+        ),
+        (
+            "bind groups reused",
+            shaders.bind_groups_reused - groups_before.1,
+        ),
+        ("texture views created", views.created - views_before.0),
+        ("texture views reused", views.reused - views_before.1),
+    ] {
+        if n > 0 {
+            *report.counters.entry(name.to_owned()).or_default() += n;
+        }
+    }
+    views.end_frame();
+    textures.views = views;
     drop(shaders);
 
     if let (Some(ts), true) = (timestamps, next_query > 0) {

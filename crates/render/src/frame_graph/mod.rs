@@ -157,6 +157,7 @@ pub struct PassContext<'f> {
     pub encoder: wgpu::CommandEncoder,
     pub shaders: &'f mut ShaderCache,
     pub(crate) textures: &'f HashMap<String, wgpu::Texture>,
+    pub(crate) views: &'f std::cell::RefCell<crate::texture_pool::ViewCache>,
     pub(crate) fresh: &'f HashSet<String>,
     pub(crate) timestamps: Option<&'f wgpu::QuerySet>,
     pub(crate) queries: Vec<(u32, u32)>,
@@ -176,10 +177,10 @@ impl<'f> PassContext<'f> {
             .ok_or_else(|| RenderError::Graph(format!("texture `{name}` is not available here")))
     }
 
+    /// The texture's default view, made once per texture and kept while frames use it.
     pub fn view(&self, name: &str) -> Result<wgpu::TextureView, RenderError> {
-        Ok(self
-            .texture(name)?
-            .create_view(&wgpu::TextureViewDescriptor::default()))
+        let texture = self.texture(name)?;
+        Ok(self.views.borrow_mut().view(texture))
     }
 
     /// Add `n` to the frame report's counter `name`: how passes show the work
