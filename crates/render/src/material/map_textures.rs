@@ -168,6 +168,54 @@ pub struct MapTextures {
     pub arrays: Vec<GpuTexture>,
 }
 
+/// A world's map textures on the GPU, with what binds them.
+pub struct WorldMaps {
+    pub textures: Arc<MapTextures>,
+    samplers: [wgpu::Sampler; 2],
+    /// Maps past a size class's layer limit, drawn without their map.
+    pub dropped: usize,
+}
+
+impl WorldMaps {
+    pub(crate) fn new(renderer: &crate::renderer::Renderer, layout: &MapLayout) -> Self {
+        WorldMaps {
+            textures: layout.upload_cached(renderer),
+            samplers: samplers(&renderer.gpu.device),
+            dropped: layout.dropped,
+        }
+    }
+
+    /// The arrays and the two samplers as bound by `material_maps.wgsl`.
+    pub(crate) fn bind_group(
+        &self,
+        device: &wgpu::Device,
+        layout: &wgpu::BindGroupLayout,
+    ) -> wgpu::BindGroup {
+        let mut entries: Vec<wgpu::BindGroupEntry> = self
+            .textures
+            .arrays
+            .iter()
+            .enumerate()
+            .map(|(i, t)| wgpu::BindGroupEntry {
+                binding: i as u32,
+                resource: wgpu::BindingResource::TextureView(&t.view),
+            })
+            .collect();
+        let n = entries.len() as u32;
+        for (k, sampler) in self.samplers.iter().enumerate() {
+            entries.push(wgpu::BindGroupEntry {
+                binding: n + k as u32,
+                resource: wgpu::BindingResource::Sampler(sampler),
+            });
+        }
+        device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("material maps"),
+            layout,
+            entries: &entries,
+        })
+    }
+}
+
 /// The samplers maps are read with: trilinear + 16x anisotropic, and nearest.
 pub fn samplers(device: &wgpu::Device) -> [wgpu::Sampler; 2] {
     let linear = device.create_sampler(&wgpu::SamplerDescriptor {

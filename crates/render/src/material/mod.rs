@@ -39,7 +39,8 @@ pub use feature::{
     FEATURE_MATCAP, FEATURE_REFLECTION, FEATURE_SURFACE_MAPS, FIRST_CUSTOM_FEATURE, Feature,
     MAX_FEATURES, MatCapMapping, MatCapMode, ParamLayout, Range, matcap_params,
 };
-use map_textures::{MapLayout, MapTextures};
+use map_textures::MapLayout;
+pub use map_textures::WorldMaps;
 use maps::{MapSlot, SurfaceMaps};
 
 use crate::recipe::TextureRef;
@@ -263,14 +264,6 @@ impl PackedMaterials {
     }
 }
 
-/// A world's map textures on the GPU, with what binds them.
-pub struct WorldMaps {
-    pub textures: Arc<MapTextures>,
-    samplers: [wgpu::Sampler; 2],
-    /// Maps past a size class's layer limit, drawn without their map.
-    pub dropped: usize,
-}
-
 /// Stand-ins bound where a permutation declares a texture the world lacks.
 struct Dummies {
     array: wgpu::TextureView,
@@ -372,11 +365,7 @@ impl MaterialWorld {
                 | 1 << FEATURE_AMBIENT_OCCLUSION
                 | 1 << FEATURE_SURFACE_MAPS;
         }
-        let maps = has_maps.then(|| WorldMaps {
-            textures: layout.upload_cached(renderer),
-            samplers: map_textures::samplers(device),
-            dropped: layout.dropped,
-        });
+        let maps = has_maps.then(|| WorldMaps::new(renderer, &layout));
         Arc::new(MaterialWorld {
             materials,
             union_flags,
@@ -554,29 +543,7 @@ impl MaterialWorld {
         device: &wgpu::Device,
         layout: &wgpu::BindGroupLayout,
     ) -> Option<wgpu::BindGroup> {
-        let maps = self.maps.as_ref()?;
-        let mut entries: Vec<wgpu::BindGroupEntry> = maps
-            .textures
-            .arrays
-            .iter()
-            .enumerate()
-            .map(|(i, t)| wgpu::BindGroupEntry {
-                binding: i as u32,
-                resource: wgpu::BindingResource::TextureView(&t.view),
-            })
-            .collect();
-        let n = entries.len() as u32;
-        for (k, sampler) in maps.samplers.iter().enumerate() {
-            entries.push(wgpu::BindGroupEntry {
-                binding: n + k as u32,
-                resource: wgpu::BindingResource::Sampler(sampler),
-            });
-        }
-        Some(device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("material maps"),
-            layout,
-            entries: &entries,
-        }))
+        Some(self.maps.as_ref()?.bind_group(device, layout))
     }
 
     pub fn buffers(&self) -> (&wgpu::Buffer, &wgpu::Buffer, &wgpu::Buffer) {
