@@ -38,7 +38,7 @@ pub struct MapLayout {
     /// (image pointer, sRGB) -> location.
     locations: HashMap<(usize, bool), MapLocation>,
     /// Per array: the images in layer order.
-    layers: Vec<Vec<Arc<MapImage>>>,
+    layers: Layers,
     /// Maps past an array's layer limit, not placed.
     pub dropped: usize,
 }
@@ -140,7 +140,10 @@ impl MapLayout {
 
 /// The last map upload of a renderer and the images it holds.
 #[derive(Default)]
-struct MapCache(std::sync::Mutex<Option<(Vec<Vec<Arc<MapImage>>>, Arc<MapTextures>)>>);
+struct MapCache(std::sync::Mutex<Option<(Layers, Arc<MapTextures>)>>);
+
+/// Per array, its images in layer order.
+type Layers = Vec<Vec<Arc<MapImage>>>;
 
 fn same_images(a: &[Vec<Arc<MapImage>>], b: &[Vec<Arc<MapImage>>]) -> bool {
     a.len() == b.len()
