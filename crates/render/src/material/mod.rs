@@ -267,6 +267,7 @@ impl PackedMaterials {
 /// Stand-ins bound where a permutation declares a texture the world lacks.
 struct Dummies {
     array: wgpu::TextureView,
+    uv: wgpu::TextureView,
     surface: wgpu::TextureView,
 }
 
@@ -492,7 +493,13 @@ impl MaterialWorld {
                 (Some(name), true) => cx.view(name)?,
                 _ => self.dummies.surface.clone(),
             };
-            Some((array, sampler, cx.view(&targets.velocity_uv)?, surface))
+            // Only a texture array is mapped by the G-buffer's UV: surface
+            // maps alone leave the motion resolve to be culled.
+            let uv = match &self.textures {
+                Some(_) => cx.view(&targets.velocity_uv)?,
+                None => self.dummies.uv.clone(),
+            };
+            Some((array, sampler, uv, surface))
         } else {
             None
         };
@@ -524,10 +531,10 @@ impl MaterialWorld {
         if !textured {
             return Vec::new();
         }
-        let mut reads = vec![targets.velocity_uv.as_str()];
+        let mut reads = Vec::new();
         if let Some(t) = &self.textures {
             t.recipe.declare(renderer, fg);
-            reads.push(t.name.as_str());
+            reads.extend([t.name.as_str(), targets.velocity_uv.as_str()]);
         }
         if let (Some(surface), true) = (&targets.surface, self.has_maps()) {
             reads.push(surface.as_str());
@@ -582,8 +589,10 @@ impl Dummies {
             usage: wgpu::TextureUsages::TEXTURE_BINDING,
             view_formats: &[],
         });
+        let uv = crate::texture::GpuTexture::from_rgba8(gpu, 1, 1, &[0; 4], false, "no UV target");
         Dummies {
             array,
+            uv: uv.view,
             surface: surface.create_view(&Default::default()),
         }
     }
