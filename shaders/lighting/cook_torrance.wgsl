@@ -107,8 +107,8 @@ const HALF_MAX: f32 = 65000.0;
 
 fn shade(light: u32, p: vec3<f32>, pw: vec3<f32>, n: vec3<f32>, v: vec3<f32>, albedo: vec3<f32>, rm: vec3<f32>,
          diffuse: ptr<function, vec3<f32>>, specular: ptr<function, vec3<f32>>) {
-    let record = lights[light];
 #ifdef LIGHT_SUN
+    let record = lights[light];
     let travel = safe_normalize((camera.view * vec4<f32>(record.direction.xyz, 0.0)).xyz, vec3<f32>(0.0, 0.0, -1.0));
     let l = -travel;
     var radiance = record.intensity.rgb;
@@ -126,6 +126,11 @@ fn shade(light: u32, p: vec3<f32>, pw: vec3<f32>, n: vec3<f32>, v: vec3<f32>, al
     if (attenuation <= 0.0) {
         return;
     }
+    // The 64-byte record only for lights that reach the pixel: most of a
+    // froxel's list does not (its 64-pixel tile is wider than a light's reach
+    // seen from any one pixel), and at 100,000 lights these loads were the
+    // shading pass's bandwidth.
+    let record = lights[light];
 #ifdef LIGHT_SPOT
     let mask = spot_mask(light, record, pw);
     if (all(mask <= vec3<f32>(0.0))) {

@@ -1,6 +1,7 @@
 //! `spreadlight`: the command-line edge of Spreadlight. It loads patches,
 //! reports their problems with file and node, and evaluates them headless.
-//! Exit codes: 0 clean, 1 the patch has errors, 2 usage errors (clap's own).
+//! Exit codes: 0 clean, 1 the patch has errors (for `render`: some frames
+//! failed), 2 usage errors (clap's own; for `render`: any bad input).
 
 mod accuracy;
 mod bench;
@@ -8,7 +9,7 @@ mod check;
 mod edit;
 mod eval;
 mod fmt;
-mod render;
+mod sequence;
 mod session;
 mod stats;
 mod view;
@@ -37,8 +38,8 @@ enum Command {
     Check(check::Args),
     /// Evaluate a patch headless for a number of frames and print what its probes recorded.
     Eval(eval::Args),
-    /// Render a patch headless to an image (PNG, or EXR by extension).
-    Render(render::Args),
+    /// Render a patch headless: one image, a frame sequence (PNG/EXR, resumable, in chunks) or a video.
+    Render(sequence::Args),
     /// Render a glTF file lit (sun, shadow, sky light), a camera framing it; or one G-buffer channel.
     View(view::Args),
     /// Print a frame's statistics: runtime counts, passes executed and culled, compiles, draws, GPU times.
@@ -75,7 +76,7 @@ fn run_command(command: Command) -> anyhow::Result<ExitCode> {
         Command::Check(args) => check::run(&args),
         Command::Eval(args) => eval::run(&args),
         Command::Fmt(args) => fmt::run(&args),
-        Command::Render(args) => render::run(&args),
+        Command::Render(args) => sequence::run(&args),
         Command::View(args) => view::run(&args),
         Command::Stats(args) => stats::run(&args),
         Command::Bench(args) => bench::run(&args),

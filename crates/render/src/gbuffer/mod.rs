@@ -266,8 +266,9 @@ impl GBuffer {
             _ if !renderer.gpu.has_compute_raster() => RasterMode::Hardware,
             _ => RasterMode::Compute,
         };
-        let compute = (raster == RasterMode::Compute)
-            .then(|| compute_raster::ComputeRaster::new(renderer, &draws, gpu_instances.len()));
+        let compute = (raster == RasterMode::Compute).then(|| {
+            compute_raster::ComputeRaster::new(renderer, owner, &draws, gpu_instances.len())
+        });
         Arc::new(GBuffer {
             id,
             owner,
