@@ -9,6 +9,7 @@ mod check;
 mod edit;
 mod eval;
 mod fmt;
+mod nodes;
 mod sequence;
 mod session;
 mod stats;
@@ -50,8 +51,8 @@ enum Command {
     Accuracy(accuracy::Args),
     /// Rewrite patches in the canonical layout (what saving writes).
     Fmt(fmt::Args),
-    /// List the node types this build knows, by category.
-    Nodes,
+    /// List the node types this build knows, by category (`--help NAME` documents one).
+    Nodes(nodes::Args),
 }
 
 fn main() -> ExitCode {
@@ -81,34 +82,6 @@ fn run_command(command: Command) -> anyhow::Result<ExitCode> {
         Command::Stats(args) => stats::run(&args),
         Command::Bench(args) => bench::run(&args),
         Command::Accuracy(args) => accuracy::run(&args),
-        Command::Nodes => {
-            list_nodes();
-            Ok(ExitCode::SUCCESS)
-        }
-    }
-}
-
-fn list_nodes() {
-    let registry = spreadlight_nodes::registry();
-    let mut defs: Vec<_> = registry.iter().collect();
-    defs.sort_by_key(|d| (d.category, d.name));
-    let mut category = "";
-    for def in defs {
-        if def.category != category {
-            category = def.category;
-            println!("{category}");
-        }
-        let pins = |pins: &[spreadlight_graph::PinDef]| {
-            pins.iter()
-                .map(|p| format!("{}: {}", p.name, p.ty))
-                .collect::<Vec<_>>()
-                .join(", ")
-        };
-        println!(
-            "  {:<28} ({}) -> ({})",
-            def.name,
-            pins(&def.inputs),
-            pins(&def.outputs)
-        );
+        Command::Nodes(args) => nodes::run(&args),
     }
 }

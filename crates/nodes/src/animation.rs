@@ -1,9 +1,18 @@
-//! Nodes that move with time: `LFO`. They depend on the frame clock, so the
-//! runtime evaluates them every frame.
+//! Nodes that move with time: `LFO` here; easing and keyframes
+//! (`animation/easing.rs`), noise (`animation/noise.rs`) and the clock as
+//! nodes (`animation/time.rs`) beside it. The LFO depends on the frame clock,
+//! so the runtime evaluates it every frame.
 
 use spreadlight_graph::{EvalContext, Node, NodeDef, NodeError, Registry, spread};
 
+pub mod easing;
+pub mod noise;
+pub mod time;
+
 pub fn register(r: &mut Registry) {
+    easing::register(r);
+    noise::register(r);
+    time::register(r);
     r.add(
         NodeDef::new(
             "LFO",

@@ -162,7 +162,24 @@ impl Renderer {
     /// One (owner, label) must name one buffer per frame: a node making
     /// several recipes gives each its own label. Without an owner, a new buffer.
     pub fn uniform(&self, owner: Option<u32>, label: &'static str, bytes: &[u8]) -> wgpu::Buffer {
-        let usage = wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST;
+        self.kept_init(
+            owner,
+            label,
+            bytes,
+            wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        )
+    }
+
+    /// [`Renderer::uniform`] for any usage (COPY_DST is added): storage
+    /// buffers such as a G-buffer's instances, kept and written on change.
+    pub fn kept_init(
+        &self,
+        owner: Option<u32>,
+        label: &'static str,
+        bytes: &[u8],
+        usage: wgpu::BufferUsages,
+    ) -> wgpu::Buffer {
+        let usage = usage | wgpu::BufferUsages::COPY_DST;
         let fresh = || {
             wgpu::util::DeviceExt::create_buffer_init(
                 &self.gpu.device,
