@@ -112,7 +112,10 @@ fn setup(instance: u32, triangle: u32) -> Setup {
         poly = flipped;
     }
 #else
-    if (winding <= 0.0) {
+    // A mirroring transform (negative determinant) turns the winding around.
+    let m = instances[instance].model;
+    let mirrored = determinant(mat3x3<f32>(m[0].xyz, m[1].xyz, m[2].xyz)) < 0.0;
+    if (select(winding, -winding, mirrored) <= 0.0) {
         return s;
     }
 #endif

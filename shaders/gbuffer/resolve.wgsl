@@ -9,9 +9,19 @@
 // With MOTION:    velocity in UV units per frame (RG) + texture coordinates (BA).
 // COMPUTE_RASTER: read the compute rasterizer's 64-bit buffer instead of the
 //                 raster hardware's visibility and depth textures.
+// SURFACE_OUT:    the G-buffer has a surface target (some layer's materials
+//                 have surface maps); layers without maps mark it unwritten.
+// MATERIAL_MAPS:  this layer's material world has glTF surface maps: albedo,
+//                 normal (mapped, flipped on back faces of double-sided
+//                 materials), roughness, metallic, occlusion and emission per
+//                 pixel (see shaders/lib/material_maps.wgsl).
 #import spreadlight::camera::{Camera, pixel_to_ndc}
 #import spreadlight::mesh::{Vertex, Instance}
 #import spreadlight::packing::{id_to_channel, safe_normalize}
+#ifdef MATERIAL_MAPS
+#import spreadlight::material::{feature_param, pack_rgb9e5, FEATURE_COOK_TORRANCE, FEATURE_EMISSION}
+#import spreadlight::material_maps::{MapCoords, sample_map, has_map, map_settings, MAP_BASE_COLOR, MAP_METALLIC_ROUGHNESS, MAP_NORMAL, MAP_OCCLUSION, MAP_EMISSIVE}
+#endif
 
 struct Layer {
     first_instance: u32,
@@ -43,15 +53,19 @@ struct Layer {
 #ifndef COMPUTE_RASTER
 @group(0) @binding(9) var hardware_depth: texture_depth_2d;
 #endif
+#ifdef SURFACE_OUT
+@group(0) @binding(11) var out_surface: texture_storage_2d<rgba32uint, write>;
 #endif
+#endif
+// Group 1 is the material world (MATERIAL_MAPS), group 3 its map arrays.
 #ifdef NORMAL_MAP
-@group(1) @binding(0) var normal_map: texture_2d<f32>;
-@group(1) @binding(1) var normal_sampler: sampler;
+@group(2) @binding(0) var normal_map: texture_2d<f32>;
+@group(2) @binding(1) var normal_sampler: sampler;
 #endif
 // COLOR_MAP: a texture (sRGB decoded by the sampler) that scales the instance colour.
 #ifdef COLOR_MAP
-@group(1) @binding(2) var color_map: texture_2d<f32>;
-@group(1) @binding(3) var color_sampler: sampler;
+@group(2) @binding(2) var color_map: texture_2d<f32>;
+@group(2) @binding(3) var color_sampler: sampler;
 #endif
 
 // Barycentrics of where the pixel's view ray meets the triangle (world
@@ -114,6 +128,14 @@ fn interpolate3(b: vec3<f32>, a0: vec3<f32>, a1: vec3<f32>, a2: vec3<f32>) -> ve
     return a0 * b.x + a1 * b.y + a2 * b.z;
 }
 
+// The world-space direction of the pixel's view ray (any length).
+fn view_ray(ndc: vec2<f32>) -> vec3<f32> {
+    let world_from_clip = camera.view_inverse * camera.projection_inverse;
+    let near = world_from_clip * vec4<f32>(ndc, 1.0, 1.0);
+    let mid = world_from_clip * vec4<f32>(ndc, 0.5, 1.0);
+    return mid.xyz / mid.w - near.xyz / near.w;
+}
+
 @compute @workgroup_size(8, 8)
 fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let size = vec2<u32>(camera.size.xy);
@@ -131,6 +153,9 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
             textureStore(out_color, pixel, vec4<f32>(0.0));
             textureStore(out_normal, pixel, vec4<f32>(0.0));
             textureStore(out_depth, pixel, vec4<f32>(0.0));
+#ifdef SURFACE_OUT
+            textureStore(out_surface, pixel, vec4<u32>(0u));
+#endif
 #endif
         }
         return;
@@ -184,6 +209,58 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
 #else
     let normal_object = interpolate3(b, v0.normal_v.xyz, v1.normal_v.xyz, v2.normal_v.xyz);
     var normal_world = safe_normalize((instance.normal_matrix * vec4<f32>(normal_object, 0.0)).xyz, vec3<f32>(0.0, 1.0, 0.0));
+#ifdef MATERIAL_MAPS
+    let material = instance.info.z;
+    let settings = map_settings(material);
+    // Back faces of double-sided materials: the geometric normal (its
+    // winding flipped by a mirroring transform) faces along the view ray.
+    if ((u32(settings.x) & 4u) != 0u) {
+        let m = mat3x3<f32>(instance.model[0].xyz, instance.model[1].xyz, instance.model[2].xyz);
+        let geometric = cross(w1 - w0, w2 - w0) * select(1.0, -1.0, determinant(m) < 0.0);
+        if (dot(geometric, view_ray(pixel_to_ndc(pixel, camera.size))) > 0.0) {
+            normal_world = -normal_world;
+        }
+    }
+    // Texture coordinates and their screen derivatives, from the
+    // barycentrics of the neighbouring pixels' rays on this triangle's plane.
+    let ndc = pixel_to_ndc(pixel, camera.size);
+    let us = vec3<f32>(v0.position_u.w, v1.position_u.w, v2.position_u.w);
+    let vs = vec3<f32>(v0.normal_v.w, v1.normal_v.w, v2.normal_v.w);
+    let b_dx = barycentrics(ndc + vec2<f32>(2.0 * camera.size.z, 0.0), w0, w1, w2);
+    let b_dy = barycentrics(ndc - vec2<f32>(0.0, 2.0 * camera.size.w), w0, w1, w2);
+    var coords: MapCoords;
+    coords.uv = vec2<f32>(dot(b, us), dot(b, vs));
+    coords.dx = vec2<f32>(dot(b_dx, us), dot(b_dx, vs)) - coords.uv;
+    coords.dy = vec2<f32>(dot(b_dy, us), dot(b_dy, vs)) - coords.uv;
+    if (has_map(material, MAP_NORMAL)) {
+        let t4 = v0.tangent * b.x + v1.tangent * b.y + v2.tangent * b.z;
+        let t = safe_normalize((instance.model * vec4<f32>(t4.xyz, 0.0)).xyz, vec3<f32>(1.0, 0.0, 0.0));
+        let bt = cross(normal_world, t) * select(-1.0, 1.0, t4.w >= 0.0);
+        var texel = sample_map(material, MAP_NORMAL, coords, vec4<f32>(0.5, 0.5, 1.0, 1.0)).xyz * 2.0 - 1.0;
+        texel = vec3<f32>(texel.xy * settings.z, texel.z);
+        normal_world = safe_normalize(t * texel.x + bt * texel.y + normal_world * texel.z, normal_world);
+    }
+    let metal_rough = sample_map(material, MAP_METALLIC_ROUGHNESS, coords, vec4<f32>(1.0));
+    let ct = feature_param(material, FEATURE_COOK_TORRANCE, 0u, vec4<f32>(0.5, 0.0, 0.04, 0.0));
+    let roughness = clamp(ct.x * metal_rough.g, 0.0, 1.0);
+    let metallic = clamp(ct.y * metal_rough.b, 0.0, 1.0);
+    let occlusion = clamp(1.0 + settings.w * (sample_map(material, MAP_OCCLUSION, coords, vec4<f32>(1.0)).r - 1.0), 0.0, 1.0);
+    let em = feature_param(material, FEATURE_EMISSION, 0u, vec4<f32>(0.0));
+    let emission = clamp(
+        max(em.rgb, vec3<f32>(0.0)) * max(em.a, 0.0) * sample_map(material, MAP_EMISSIVE, coords, vec4<f32>(1.0)).rgb,
+        vec3<f32>(0.0), vec3<f32>(65000.0),
+    );
+    textureStore(out_surface, pixel, vec4<u32>(
+        pack2x16unorm(vec2<f32>(roughness, metallic)),
+        pack2x16unorm(vec2<f32>(occlusion, 1.0)),
+        pack_rgb9e5(emission),
+        0u,
+    ));
+#else
+#ifdef SURFACE_OUT
+    textureStore(out_surface, pixel, vec4<u32>(0u));
+#endif
+#endif
 #ifdef NORMAL_MAP
     let tangent4 = v0.tangent * b.x + v1.tangent * b.y + v2.tangent * b.z;
     let tangent_world = safe_normalize((instance.model * vec4<f32>(tangent4.xyz, 0.0)).xyz, vec3<f32>(1.0, 0.0, 0.0));
@@ -199,6 +276,9 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     var albedo = instance.color.rgb;
 #ifdef COLOR_MAP
     albedo *= max(textureSampleLevel(color_map, color_sampler, uv, 0.0).rgb, vec3<f32>(0.0));
+#endif
+#ifdef MATERIAL_MAPS
+    albedo *= max(sample_map(material, MAP_BASE_COLOR, coords, vec4<f32>(1.0)).rgb, vec3<f32>(0.0));
 #endif
     textureStore(out_color, pixel, vec4<f32>(albedo, id_to_channel(instance.info.z)));
     textureStore(out_normal, pixel, vec4<f32>(normal_view, id_to_channel(instance.info.w)));

@@ -59,6 +59,10 @@ struct Params {
 #import spreadlight::material::{feature_param, feature_param_at, FEATURE_COOK_TORRANCE, FEATURE_EMISSION, FEATURE_AMBIENT_OCCLUSION, FEATURE_REFLECTION}
 #import spreadlight::packing::channel_to_id
 #endif
+// MATERIAL_TEXTURES with surface maps: a glTF occlusion texture's term.
+#ifdef MATERIAL_TEXTURES
+#import spreadlight::material::surface_occlusion
+#endif
 #ifdef GI
 @group(0) @binding(18) var gi: texture_2d<f32>;
 #endif
@@ -96,6 +100,11 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     if (textureLoad(depth, p, 0).r > 0.0) {
         let albedo = textureLoad(color, p, 0).rgb;
         var ambient = params.ambient.rgb * albedo;
+#ifdef MATERIAL_TEXTURES
+        // A surface map's occlusion darkens ambient and indirect diffuse light.
+        let map_occlusion = surface_occlusion(channel_to_id(textureLoad(color, p, 0).a), p);
+        ambient *= map_occlusion;
+#endif
 #ifdef AO
         var strength = 1.0;
 #ifdef AO_PER_MATERIAL
@@ -113,6 +122,9 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         // Metals reflect, they do not diffuse: albedo x (1 - metallic).
         let ct = feature_param(channel_to_id(textureLoad(color, p, 0).a), FEATURE_COOK_TORRANCE, 0u, vec4<f32>(0.5, 0.0, 0.04, 0.0));
         diffuse_share = 1.0 - clamp(ct.y, 0.0, 1.0);
+#endif
+#ifdef MATERIAL_TEXTURES
+        diffuse_share *= map_occlusion;
 #endif
         lit += clean(textureLoad(gi, p, 0).rgb) * albedo * diffuse_share;
 #endif

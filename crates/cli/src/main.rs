@@ -42,7 +42,7 @@ enum Command {
     Eval(eval::Args),
     /// Render a patch headless: one image, a frame sequence (PNG/EXR, resumable, in chunks) or a video.
     Render(sequence::Args),
-    /// Render a glTF file with a camera framing it (the G-buffer albedo until lighting lands).
+    /// Render a glTF file lit (sun, shadow, sky light), a camera framing it; or one G-buffer channel.
     View(view::Args),
     /// Print a frame's statistics: runtime counts, passes executed and culled, compiles, draws, GPU times.
     Stats(stats::Args),

@@ -1,6 +1,10 @@
 //! `spreadlight view`: any glTF file in one command. It builds the patch a
-//! user would (glTF -> DeferredBase -> MRE -> GBufferView -> Output), with a
-//! camera framing the model's bounds, and renders it.
+//! user would and renders it: the file's materials (AddReflection, so the
+//! environment lights every one) uploaded by MaterialBuffer, DeferredBase
+//! and MRE with the file's first camera or one framing the model's bounds,
+//! the file's own lights (`KHR_lights_punctual`) or else a sun with a
+//! shadow, image-based light from the procedural sky (or `--environment`),
+//! the sky behind, tonemapped; or, with `--channel`, a G-buffer view.
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -8,6 +12,7 @@ use std::process::ExitCode;
 use anyhow::Context;
 use glam::{Mat4, Vec3};
 use spreadlight_graph::{NodeDoc, Patch, format};
+use spreadlight_render::mesh::AlphaMode;
 use spreadlight_render::mesh::gltf_import::load_gltf;
 
 use crate::session::parse_size;
@@ -21,9 +26,17 @@ pub struct Args {
     output: PathBuf,
     #[arg(long, default_value = "960x540", value_parser = parse_size)]
     size: (u32, u32),
-    /// The G-buffer channel to show: Albedo, Normals, Velocity, UV, Depth, "Material ID", "Object ID".
-    #[arg(long, default_value = "Albedo")]
+    /// What to show: Lit (the shaded picture), or a G-buffer channel: Albedo,
+    /// Normals, Velocity, UV, Depth, "Material ID", "Object ID".
+    #[arg(long, default_value = "Lit")]
     channel: String,
+    /// An equirectangular .hdr (or .exr) image to light the model with and show behind it,
+    /// instead of the procedural sky.
+    #[arg(long)]
+    environment: Option<PathBuf>,
+    /// Pose the model at this time (seconds) of its first animation (node TRS channels).
+    #[arg(long, default_value_t = 0.0)]
+    time: f32,
     /// Also save the patch this command built, to open and change it.
     #[arg(long)]
     save_patch: Option<PathBuf>,
@@ -31,7 +44,8 @@ pub struct Args {
 
 /// A camera looking at `bounds` from the front-right and above, the whole model in view.
 pub fn framing(center: Vec3, radius: f32, aspect: f32) -> (Mat4, Mat4) {
-    let radius = if radius.is_finite() && radius > 1e-6 {
+    // Any positive size is framed (1e-18 as well as 1e18); none: a unit view.
+    let radius = if radius.is_finite() && radius > f32::MIN_POSITIVE * 1e6 {
         radius
     } else {
         1.0
@@ -52,40 +66,253 @@ pub fn framing(center: Vec3, radius: f32, aspect: f32) -> (Mat4, Mat4) {
     (view, projection)
 }
 
-pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
-    // Load once here for the bounds (and a clear error before any GPU work).
-    let scene = load_gltf(&args.model)?;
-    let (view, projection) = framing(
-        scene.bounds.center(),
-        scene.bounds.size().length() * 0.5,
-        args.size.0 as f32 / args.size.1 as f32,
-    );
-    let model = std::path::absolute(&args.model).unwrap_or_else(|_| args.model.clone());
+/// The sun's direction (towards the ground) in the default lighting.
+const SUN_DIRECTION: Vec3 = Vec3::new(-0.4, -1.0, -0.3);
+
+/// Where the camera is and what it sees, and what lights the scene.
+pub struct Framing {
+    pub view: Mat4,
+    pub projection: Mat4,
+    /// The model's bounding radius (for shadow distances).
+    pub radius: f32,
+    /// Which light types the file brings (point, spot, sun); none: view's sun.
+    pub file_lights: [bool; 3],
+    /// The animation time the glTF node poses the model at.
+    pub time: f32,
+    /// Whether some instance has a BLEND material (drawn by Transparency).
+    pub blend: bool,
+}
+
+/// The patch `view` renders, as a user would wire it.
+pub fn build_patch(
+    model: &std::path::Path,
+    framing: &Framing,
+    channel: &str,
+    environment: Option<&std::path::Path>,
+) -> Patch {
     let mut patch = Patch::default();
+    let file = model.to_string_lossy().into_owned();
     patch.add(
         NodeDoc::new(1, "glTF")
             .at(0.0, 0.0)
-            .with("Filename", vec![model.to_string_lossy().into_owned()]),
+            .with("Filename", vec![file.clone()])
+            .with("Time", vec![framing.time])
+            .with(
+                "Instances",
+                spreadlight_graph::Spread::Enum(vec!["Opaque".to_owned()]),
+            ),
     );
-    patch.add(NodeDoc::new(2, "DeferredBase").at(0.0, 80.0));
     patch.add(
-        NodeDoc::new(3, "MRE")
-            .at(0.0, 160.0)
-            .with("View", vec![view])
-            .with("Projection", vec![projection]),
+        NodeDoc::new(2, "AddReflection")
+            .at(160.0, 0.0)
+            .with("Strength", vec![1.0f32]),
     );
-    patch.add(NodeDoc::new(4, "GBufferView").at(0.0, 240.0).with(
-        "Channel",
-        spreadlight_graph::Spread::Enum(vec![args.channel.clone()]),
+    patch.add(NodeDoc::new(3, "MaterialBuffer").at(160.0, 80.0));
+    patch.add(NodeDoc::new(4, "DeferredBase").at(0.0, 80.0));
+    patch.add(
+        NodeDoc::new(5, "MRE")
+            .at(0.0, 160.0)
+            .with("View", vec![framing.view])
+            .with("Projection", vec![framing.projection]),
+    );
+    patch.link(1, "Materials", 2, "Material");
+    patch.link(2, "Material", 3, "Materials");
+    patch.link(1, "Mesh", 4, "Mesh");
+    patch.link(1, "Transform", 4, "Transform");
+    patch.link(1, "Base Color", 4, "Color");
+    patch.link(1, "Material ID", 4, "Material ID");
+    patch.link(3, "Material World", 4, "Material World");
+    patch.link(4, "Layer", 5, "Layer");
+    patch.add(NodeDoc::new(20, "Output").at(0.0, 640.0));
+    if channel != "Lit" {
+        patch.add(NodeDoc::new(6, "GBufferView").at(0.0, 240.0).with(
+            "Channel",
+            spreadlight_graph::Spread::Enum(vec![channel.to_owned()]),
+        ));
+        patch.link(5, "G-Buffer", 6, "G-Buffer");
+        patch.link(6, "Texture", 20, "Texture");
+        return patch;
+    }
+    if framing.file_lights.contains(&true) {
+        file_lights(&mut patch, framing.file_lights);
+    } else {
+        sun(&mut patch, framing.radius);
+    }
+    image_light(&mut patch, environment);
+    if framing.blend {
+        transparent(&mut patch, file, framing.time);
+    } else {
+        patch.link(14, "Texture", 15, "Texture");
+    }
+    patch
+}
+
+/// BLEND materials: a second glTF node giving only them, their layer drawn
+/// by Transparency over the lit image before tonemapping.
+fn transparent(patch: &mut Patch, file: String, time: f32) {
+    patch.add(
+        NodeDoc::new(40, "glTF")
+            .at(800.0, 0.0)
+            .with("Filename", vec![file])
+            .with("Time", vec![time])
+            .with(
+                "Instances",
+                spreadlight_graph::Spread::Enum(vec!["Blend".to_owned()]),
+            ),
+    );
+    patch.add(NodeDoc::new(41, "DeferredBase").at(800.0, 80.0));
+    patch.add(
+        NodeDoc::new(42, "Transparency")
+            .at(0.0, 520.0)
+            .with("Light Direction", vec![-SUN_DIRECTION]),
+    );
+    patch.link(40, "Mesh", 41, "Mesh");
+    patch.link(40, "Transform", 41, "Transform");
+    patch.link(40, "Base Color", 41, "Color");
+    patch.link(14, "Texture", 42, "Texture");
+    patch.link(5, "G-Buffer", 42, "G-Buffer");
+    patch.link(41, "Layer", 42, "Layer");
+    patch.link(42, "Texture", 15, "Texture");
+}
+
+/// The file's lights: a buffer and a CookTorrance per type it has, their
+/// components grouped for CompositeLight (node 13).
+fn file_lights(patch: &mut Patch, present: [bool; 3]) {
+    let types = [
+        ("Point Lights", "PointLightBuffer"),
+        ("Spot Lights", "SpotLightBuffer"),
+        ("Sun Lights", "SunLightBuffer"),
+    ];
+    patch.add(NodeDoc::new(16, "Group (Texture)").at(320.0, 320.0));
+    patch.add(NodeDoc::new(17, "Group (Texture)").at(480.0, 320.0));
+    let used = types.iter().zip(present).filter(|(_, p)| *p);
+    for (slot, ((output, buffer), _)) in used.enumerate() {
+        let (b, c) = (30 + 2 * slot as u32, 31 + 2 * slot as u32);
+        let x = 320.0 + 160.0 * slot as f32;
+        patch.add(NodeDoc::new(b, buffer).at(x, 80.0));
+        patch.add(NodeDoc::new(c, "CookTorrance").at(x, 240.0));
+        patch.link(1, output, b, "Lights");
+        patch.link(5, "G-Buffer", c, "G-Buffer");
+        patch.link(b, "Lights", c, "Lights");
+        patch.link(3, "Material World", c, "Material World");
+        let pin = format!("Texture {}", slot + 1);
+        patch.link(c, "Diffuse", 16, &pin);
+        patch.link(c, "Specular", 17, &pin);
+    }
+    patch.link(16, "Texture", 13, "Diffuse");
+    patch.link(17, "Texture", 13, "Specular");
+}
+
+/// A sun from above and behind the camera's right, its shadow covering the model.
+fn sun(patch: &mut Patch, radius: f32) {
+    patch.add(
+        NodeDoc::new(7, "AddLight (Sun)")
+            .at(320.0, 0.0)
+            .with("ID", vec!["sun".to_owned()])
+            .with("Direction", vec![SUN_DIRECTION])
+            .with("Illuminance", vec![2.0f32]),
+    );
+    patch.add(NodeDoc::new(8, "SunLightBuffer").at(320.0, 80.0));
+    patch.add(
+        NodeDoc::new(9, "ShadowMap (Sun)")
+            .at(480.0, 80.0)
+            .with("Cascades", vec![1i64])
+            .with("Distance", vec![radius * 8.0]),
+    );
+    patch.add(NodeDoc::new(10, "CookTorrance").at(320.0, 240.0));
+    patch.link(7, "Lights", 8, "Lights");
+    patch.link(4, "Layer", 9, "Layer");
+    patch.link(5, "G-Buffer", 9, "G-Buffer");
+    patch.link(7, "Lights", 9, "Lights");
+    patch.link(5, "G-Buffer", 10, "G-Buffer");
+    patch.link(8, "Lights", 10, "Lights");
+    patch.link(3, "Material World", 10, "Material World");
+    patch.link(9, "Shadows", 10, "Shadows");
+    patch.link(10, "Diffuse", 13, "Diffuse");
+    patch.link(10, "Specular", 13, "Specular");
+}
+
+/// Image-based light (the environment's irradiance and prefiltered
+/// reflection) into CompositeLight, the sky behind (node 14), Tonemap (15)
+/// to the Output; the caller links 14 to 15, or through Transparency.
+fn image_light(patch: &mut Patch, environment: Option<&std::path::Path>) {
+    // Image-based light: the environment's irradiance and prefiltered reflection.
+    let environment_node = match environment {
+        Some(file) => NodeDoc::new(11, "Environment (File)")
+            .at(640.0, 160.0)
+            .with("Filename", vec![file.to_string_lossy().into_owned()]),
+        None => NodeDoc::new(11, "Environment (Sky)")
+            .at(640.0, 160.0)
+            .with("Intensity", vec![0.5f32])
+            .with("Sun Direction", vec![SUN_DIRECTION]),
+    };
+    patch.add(environment_node);
+    patch.add(NodeDoc::new(12, "Reflection").at(640.0, 240.0));
+    patch.link(5, "G-Buffer", 12, "G-Buffer");
+    patch.link(3, "Material World", 12, "Material World");
+    patch.link(11, "Environment", 12, "Environment");
+    patch.add(NodeDoc::new(13, "CompositeLight").at(0.0, 400.0).with(
+        "Ambient",
+        vec![spreadlight_graph::Color::rgba(0.0, 0.0, 0.0, 1.0)],
     ));
-    patch.add(NodeDoc::new(5, "Output").at(0.0, 320.0));
-    patch.link(1, "Mesh", 2, "Mesh");
-    patch.link(1, "Transform", 2, "Transform");
-    patch.link(1, "Base Color", 2, "Color");
-    patch.link(1, "Material ID", 2, "Material ID");
-    patch.link(2, "Layer", 3, "Layer");
-    patch.link(3, "G-Buffer", 4, "G-Buffer");
-    patch.link(4, "Texture", 5, "Texture");
+    patch.link(5, "G-Buffer", 13, "G-Buffer");
+    patch.link(3, "Material World", 13, "Material World");
+    patch.link(12, "Diffuse", 13, "GI");
+    patch.link(12, "Specular", 13, "Reflection");
+    let mut sky = NodeDoc::new(14, "Sky").at(0.0, 480.0);
+    if environment.is_none() {
+        sky = sky.with("Sun Direction", vec![SUN_DIRECTION]);
+    }
+    patch.add(sky);
+    patch.link(13, "Texture", 14, "Texture");
+    patch.link(5, "G-Buffer", 14, "G-Buffer");
+    patch.link(11, "Environment", 14, "Environment");
+    patch.add(NodeDoc::new(15, "Tonemap").at(0.0, 560.0).with(
+        "Operator",
+        spreadlight_graph::Spread::Enum(vec!["ACES".to_owned()]),
+    ));
+    patch.link(15, "Texture", 20, "Texture");
+}
+
+pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
+    // Load once here for the bounds (and a clear error before any GPU work).
+    let scene = load_gltf(&args.model)?;
+    for warning in &scene.warnings {
+        eprintln!("{}: {warning}", args.model.display());
+    }
+    let radius = scene.bounds.size().length() * 0.5;
+    let aspect = args.size.0 as f32 / args.size.1 as f32;
+    let (view, projection) = match scene.cameras.first() {
+        Some(camera) => (camera.view, camera.projection_for(aspect)),
+        None => framing(scene.bounds.center(), radius, aspect),
+    };
+    let lights = &scene.lights;
+    let model = std::path::absolute(&args.model).unwrap_or_else(|_| args.model.clone());
+    let environment = args
+        .environment
+        .as_ref()
+        .map(|e| std::path::absolute(e).unwrap_or_else(|_| e.clone()));
+    let framing = Framing {
+        view,
+        projection,
+        radius: if radius.is_finite() && radius > 0.0 {
+            radius
+        } else {
+            1.0
+        },
+        file_lights: [
+            !lights.points.is_empty(),
+            !lights.spots.is_empty(),
+            !lights.suns.is_empty(),
+        ],
+        time: args.time,
+        blend: scene.instances.iter().any(|i| {
+            i.material
+                .and_then(|m| scene.materials.get(m))
+                .is_some_and(|m| m.alpha_mode == AlphaMode::Blend)
+        }),
+    };
+    let patch = build_patch(&model, &framing, &args.channel, environment.as_deref());
     if let Some(path) = &args.save_patch {
         format::save(&patch, path)?;
         eprintln!("saved the patch to {}", path.display());
@@ -93,7 +320,10 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
     let mut session =
         crate::session::Session::from_patch(&patch, &args.model, true, Some(args.size))?;
     if session.load_errors {
-        anyhow::bail!("--channel `{}` is not a G-buffer channel", args.channel);
+        anyhow::bail!(
+            "--channel `{}` is not Lit or a G-buffer channel",
+            args.channel
+        );
     }
     let mut reported = Default::default();
     let failed = session.step(0, 60.0, &args.model, &mut reported);

@@ -295,6 +295,8 @@ fn view_renders_any_gltf_and_names_a_broken_one() {
         out.to_str().expect("utf-8"),
         "--size",
         "48x48",
+        "--channel",
+        "Albedo",
     ]);
     assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
     let image = image::open(&out).expect("image").to_rgba8();

@@ -105,13 +105,14 @@ pub const SHADERS: &[ShaderFile] = &[
     shader!("lib/lights.wgsl", library),
     shader!("lib/tonemap.wgsl", library),
     shader!("lib/material.wgsl", library),
+    shader!("lib/material_maps.wgsl", library),
     shader!("lib/matcap.wgsl", library),
     shader!("lib/screen.wgsl", library),
     shader!("lib/sky.wgsl", library),
     shader!("lib/ibl.wgsl", library),
     shader!("lib/post.wgsl", library),
     shader!("lighting/shadow_sampling.wgsl", library),
-    shader!("gbuffer/visibility.wgsl", []),
+    shader!("gbuffer/visibility.wgsl", ["ALPHA_MASK"]),
     shader!("gbuffer/raster.wgsl", ["TWO_SIDED"]),
     shader!(
         "gbuffer/resolve.wgsl",
@@ -122,11 +123,16 @@ pub const SHADERS: &[ShaderFile] = &[
             "NORMAL_MAP",
             "TRIPLANAR",
             "VELOCITY_FROM_GEOMETRY",
-            "COLOR_MAP"
+            "COLOR_MAP",
+            "SURFACE_OUT",
+            "MATERIAL_MAPS"
         ],
         // The colour map is the surface pass's; it reads UVs.
         Rule::AtMostOne(&["COLOR_MAP", "MOTION"]),
-        Rule::AtMostOne(&["TEXCOORDS", "TRIPLANAR"])
+        Rule::AtMostOne(&["TEXCOORDS", "TRIPLANAR"]),
+        // Surface maps are the surface pass's, and write the surface target.
+        Rule::AtMostOne(&["SURFACE_OUT", "MOTION"]),
+        Rule::Requires("MATERIAL_MAPS", "SURFACE_OUT")
     ),
     shader!("lighting/clusters.wgsl", []),
     shader!(
@@ -185,7 +191,8 @@ pub const SHADERS: &[ShaderFile] = &[
         Rule::Requires("SSS_3", "LIGHTS_3"),
         Rule::Requires("SSS_4", "LIGHTS_4"),
         Rule::Requires("AO_PER_MATERIAL", "AO"),
-        Rule::Requires("MATERIAL_TEXTURES", "EMISSION"),
+        // Textured emission, or surface maps' occlusion and emission.
+        Rule::Requires("MATERIAL_TEXTURES", "MATERIALS"),
         // What reads the material library binds it.
         Rule::Requires("EMISSION", "MATERIALS"),
         Rule::Requires("AO_PER_MATERIAL", "MATERIALS"),
@@ -769,11 +776,12 @@ mod tests {
             .filter(|k| k.path == "lighting/composite.wgsl")
             .collect();
         // Light pairs with the SSS terms they allow (2 + 4 + 8 + 16), times
-        // GI (2), times the 56 ways of AO (none, AO, per material), emission
-        // (none, flat, textured), reflection (2), matcap (none, built-in,
-        // textured) and the material library (forced on when one of them
-        // reads it, free otherwise: 52 + 2 x 2): 3,360 of the 2^17 subsets.
-        assert_eq!(composite.len(), 30 * 2 * 56);
+        // GI (2), times the 74 ways of AO (none, AO, per material), emission
+        // (2), material textures (textured emission or surface maps: 2),
+        // reflection (2), matcap (none, built-in, textured) and the material
+        // library (forced on when one of them reads it, free otherwise:
+        // 70 + 2 x 2): 4,440 of the 2^17 subsets.
+        assert_eq!(composite.len(), 30 * 2 * 74);
     }
 
     #[test]

@@ -1,4 +1,8 @@
-//! Textures uploaded from images (normal maps, later material textures).
+//! Textures uploaded from images (normal maps, file textures, material
+//! textures). 8-bit textures get their whole mip chain on upload
+//! ([`mips`]), so samplers with a mip filter never alias.
+
+pub mod mips;
 
 use crate::context::GpuContext;
 
@@ -19,11 +23,10 @@ impl GpuTexture {
         srgb: bool,
         label: &str,
     ) -> Self {
-        let format = rgba8_format(srgb);
         // Missing pixels (short data) are opaque white, as they always were.
         let mut data = rgba8.to_vec();
         data.resize((width.max(1) * height.max(1) * 4) as usize, 255);
-        Self::upload(gpu, format, 4, width, height, &data, label)
+        Self::upload_rgba8(gpu, (width, height), &[data], srgb, label)
     }
 
     /// Upload layers of 8-bit RGBA pixels of one size as a 2D texture array
@@ -37,7 +40,6 @@ impl GpuTexture {
         srgb: bool,
         label: &str,
     ) -> Self {
-        let format = rgba8_format(srgb);
         let layer_bytes = (width.max(1) * height.max(1) * 4) as usize;
         let mut data = Vec::with_capacity(layer_bytes * layers.len().max(1));
         for layer in layers {
@@ -48,8 +50,76 @@ impl GpuTexture {
         if layers.is_empty() {
             data.resize(layer_bytes, 255);
         }
-        let count = layers.len().max(1) as u32;
-        Self::upload_layers(gpu, format, 4, (width, height, count), &data, label)
+        let layers: Vec<Vec<u8>> = data.chunks(layer_bytes).map(<[u8]>::to_vec).collect();
+        Self::upload_rgba8(gpu, (width, height), &layers, srgb, label)
+    }
+
+    /// Layers of 8-bit RGBA of one size (each exactly width x height x 4
+    /// bytes) with their mip chains, box-filtered in linear light.
+    pub fn upload_rgba8(
+        gpu: &GpuContext,
+        (width, height): (u32, u32),
+        layers: &[Vec<u8>],
+        srgb: bool,
+        label: &str,
+    ) -> Self {
+        let (width, height) = (width.max(1), height.max(1));
+        let chains: Vec<Vec<mips::Level>> = layers
+            .iter()
+            .map(|l| mips::chain(width, height, l, srgb))
+            .collect();
+        let levels = mips::level_count(width, height);
+        let size = wgpu::Extent3d {
+            width,
+            height,
+            depth_or_array_layers: layers.len().max(1) as u32,
+        };
+        let texture = gpu.device.create_texture(&wgpu::TextureDescriptor {
+            label: Some(label),
+            size,
+            mip_level_count: levels,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: rgba8_format(srgb),
+            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+            view_formats: &[],
+        });
+        for (layer, chain) in chains.iter().enumerate() {
+            for (level, mip) in chain.iter().enumerate() {
+                gpu.queue.write_texture(
+                    wgpu::TexelCopyTextureInfo {
+                        texture: &texture,
+                        mip_level: level as u32,
+                        origin: wgpu::Origin3d {
+                            x: 0,
+                            y: 0,
+                            z: layer as u32,
+                        },
+                        aspect: wgpu::TextureAspect::All,
+                    },
+                    &mip.rgba8,
+                    wgpu::TexelCopyBufferLayout {
+                        offset: 0,
+                        bytes_per_row: Some(mip.width * 4),
+                        rows_per_image: Some(mip.height),
+                    },
+                    wgpu::Extent3d {
+                        width: mip.width,
+                        height: mip.height,
+                        depth_or_array_layers: 1,
+                    },
+                );
+            }
+        }
+        let view = texture.create_view(&wgpu::TextureViewDescriptor {
+            dimension: Some(if size.depth_or_array_layers > 1 {
+                wgpu::TextureViewDimension::D2Array
+            } else {
+                wgpu::TextureViewDimension::D2
+            }),
+            ..Default::default()
+        });
+        GpuTexture { texture, view }
     }
 
     /// Upload linear RGBA 32-bit float pixels (HDR images, test frames).

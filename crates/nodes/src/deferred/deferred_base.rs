@@ -12,6 +12,7 @@ use spreadlight_graph::{
 };
 use spreadlight_render::TextureRef;
 use spreadlight_render::gbuffer::{DrawBatch, InstanceInput, Layer, LayerFeatures, VelocitySource};
+use spreadlight_render::material::MaterialWorld;
 use spreadlight_render::mesh_arena::GpuMesh;
 
 use crate::gpu::{resource_spread, resources};
@@ -33,6 +34,7 @@ const TRIPLANAR: usize = 8;
 const VELOCITY_PIN: usize = 9;
 const IDS: usize = 10;
 const COLOR_TEXTURE: usize = 11;
+const MATERIAL_WORLD: usize = 12;
 
 pub fn register(r: &mut Registry) {
     r.add(
@@ -43,7 +45,9 @@ pub fn register(r: &mut Registry) {
              transform i (wrapping); instances of one mesh are one draw. The switches choose what the G-buffer \
              receives; each is a shader feature compiled only when used. Color Texture scales Color (albedo) at the \
              surface's UV (needs Texture Coordinates or Triplanar). Color's alpha is opacity for Transparency only: \
-             the G-buffer keeps the material id there. Normal Mapping reads the mesh's UVs unless Triplanar is on.",
+             the G-buffer keeps the material id there. Normal Mapping reads the mesh's UVs unless Triplanar is on. \
+             Material World: the MaterialBuffer the Material IDs index, needed where materials have surface maps (glTF \
+             textures, alpha modes, double-sided): the G-buffer samples them per pixel, trilinear and anisotropic.",
         )
         .input_spread("Mesh", PinType::Resource(ResourceKind::Mesh), Spread::Resource(ResourceKind::Mesh, vec![]))
         .input("Transform", Mat4::IDENTITY)
@@ -64,6 +68,11 @@ pub fn register(r: &mut Registry) {
             "Color Texture",
             PinType::Resource(ResourceKind::Texture),
             Spread::Resource(ResourceKind::Texture, vec![]),
+        )
+        .input_spread(
+            "Material World",
+            PinType::Resource(ResourceKind::MaterialWorld),
+            Spread::Resource(ResourceKind::MaterialWorld, vec![]),
         )
         .output_typed("Layer", PinType::Resource(ResourceKind::Layer))
         .construct(DeferredBase::default),
@@ -108,6 +117,9 @@ impl Node for DeferredBase {
             })
         };
         let normal_map = first_texture(NORMAL_TEXTURE)?;
+        let world = resources::<MaterialWorld>(cx, MATERIAL_WORLD)?
+            .into_iter()
+            .next();
         let color_map = first_texture(COLOR_TEXTURE)?;
 
         let n = slice_count([
@@ -163,7 +175,8 @@ impl Node for DeferredBase {
         let layer = Layer::new(Some(cx.node_id.0), batches, features, normal_map)
             .map_err(|e| NodeError::Other(e.to_string()))?
             .with_color_map(color_map)
-            .map_err(|e| cx.input_error(COLOR_TEXTURE, e.to_string()))?;
+            .map_err(|e| cx.input_error(COLOR_TEXTURE, e.to_string()))?
+            .with_materials(world);
         cx.set_output(
             0,
             resource_spread(ResourceKind::Layer, vec![Arc::new(layer)]),

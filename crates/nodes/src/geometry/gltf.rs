@@ -1,16 +1,60 @@
 //! `glTF`: loads a .gltf or .glb file into a spread of mesh instances, one
-//! slice per instance: its mesh, world transform and base colour, ready for
-//! `DeferredBase`. A broken or unsupported file is an error on the node that
-//! names the file and what is wrong.
+//! slice per instance: its mesh, world transform, base colour and material
+//! id, ready for `DeferredBase`; and the file's materials as materials of
+//! the one material world (slice i = material id i, what `MaterialManager`
+//! chains and `MaterialBuffer` uploads), with their names so a patch can
+//! pick one (`MaterialByName`) and change it; its `KHR_lights_punctual`
+//! lights as light lists that start `AddLight` chains; its cameras as View
+//! and Projection. Time and Animation pose the scene (node TRS animations);
+//! the files are loaded and uploaded once and kept while Filename stays.
+//! A broken or unsupported file is an error on the node that names the
+//! file and what is wrong.
 
 use std::sync::Arc;
 
 use glam::Mat4;
-use spreadlight_graph::{Color, NodeDef, NodeError, PinType, Registry, ResourceKind};
+use spreadlight_graph::EnumDef;
+use spreadlight_graph::{
+    Color, EvalContext, Node, NodeDef, NodeError, PinType, Registry, ResourceKind,
+};
+use spreadlight_render::material::Material;
+use spreadlight_render::material::maps::AlphaMode;
+use spreadlight_render::mesh::GltfScene;
+use spreadlight_render::mesh::MaterialData;
 use spreadlight_render::mesh::gltf_import::load_gltf;
 use spreadlight_render::mesh_arena::GpuMesh;
 
 use crate::gpu::{renderer, resource_spread};
+use crate::lighting::add_light::LightList;
+
+fn empty<T>() -> LightList<T> {
+    LightList {
+        ids: Vec::new(),
+        lights: Vec::new(),
+    }
+}
+
+/// `named` lights appended to `list`, each ID the light's name in the file
+/// (`file: name`, unique across files and lights).
+fn extend<T: Clone>(list: &mut LightList<T>, named: &[(String, T)], file: &str) {
+    for (name, light) in named {
+        let mut id = format!("{file}: {name}");
+        if list.ids.contains(&id) {
+            id = format!("{id} #{}", list.ids.len());
+        }
+        list.ids.push(id);
+        list.lights.push(light.clone());
+    }
+}
+
+/// Which instances the node outputs, by their material's alpha mode.
+pub static INSTANCES: EnumDef = EnumDef {
+    name: "glTF Instances",
+    options: &["All", "Opaque", "Blend"],
+};
+
+/// Material ids beyond this are a mistake, as in `MaterialManager`.
+const MAX_FIRST_ID: i64 = 60_000;
 
 pub fn register(r: &mut Registry) {
     r.add(
@@ -18,39 +62,171 @@ pub fn register(r: &mut Registry) {
             "glTF",
             "Geometry",
             "Loads a glTF 2.0 file (.gltf or .glb): one output slice per mesh instance of the default scene, with its \
-             world transform and material base colour. A relative Filename is relative to the patch's folder. Missing normals are generated, missing tangents too (MikkTSpace).",
+             world transform, material base colour and Material ID. Materials: the file's materials as materials of the \
+             material world, at stable ids: First Material ID for glTF's default material, then one per file material in \
+             file order (ids below First hold the default material, so patch materials placed there by a MaterialManager \
+             coexist). Their textures, alpha modes and sidedness are surface maps, read by DeferredBase when its Material \
+             World pin has them. Material Names: each id's name (empty where none). Point, Spot and Sun Lights: the \
+             file's KHR_lights_punctual lights (candela, lux), to wire into an AddLight chain's Lights or a light buffer. \
+             View and Projection: one slice per camera of the scene. Time (seconds) and Animation (index; -1: none) pose \
+             the nodes with the file's TRS animations, looping. Instances: All, Opaque (OPAQUE and MASK materials, for the \
+             G-buffer) or Blend (BLEND materials, for a DeferredBase layer drawn by Transparency: Base Color's alpha is \
+             their opacity). A relative Filename is relative to the patch's folder.",
         )
         .input("Filename", String::new())
+        .input("First Material ID", 0i64)
+        .input("Time", 0.0f32)
+        .input("Animation", 0i64)
+        .input_enum("Instances", &INSTANCES, "All")
         .output_typed("Mesh", PinType::Resource(ResourceKind::Mesh))
         .output::<Mat4>("Transform")
         .output::<Color>("Base Color")
         .output::<i64>("Material ID")
-        .evaluate(|cx| {
-            let files = cx.slices::<String>(0)?.to_vec();
-            let renderer = renderer(cx)?;
-            let (mut meshes, mut transforms, mut colors, mut materials) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
-            for file in files.iter().filter(|f| !f.is_empty()) {
-                let scene = load_gltf(&cx.resolve_path(file)).map_err(|e| cx.input_error(0, e.to_string()))?;
-                let uploaded: Vec<Arc<GpuMesh>> = scene
-                    .meshes
-                    .iter()
-                    .map(|m| renderer.meshes.upload(&renderer.gpu, m))
-                    .collect::<Result<_, _>>()
-                    .map_err(|e| NodeError::Other(format!("{file}: {e}")))?;
-                for instance in &scene.instances {
-                    meshes.push(uploaded[instance.mesh].clone());
-                    transforms.push(instance.transform);
-                    let material = instance.material.and_then(|m| scene.materials.get(m));
-                    let c = material.map_or([1.0; 4], |m| m.base_color);
-                    colors.push(Color::rgba(c[0], c[1], c[2], c[3]));
-                    materials.push(instance.material.map_or(0, |m| m as i64 + 1));
-                }
-            }
-            cx.set_output(0, resource_spread(ResourceKind::Mesh, meshes));
-            cx.set(1, transforms);
-            cx.set(2, colors);
-            cx.set(3, materials);
-            Ok(())
-        }),
+        .output_typed("Materials", PinType::Resource(ResourceKind::Material))
+        .output::<String>("Material Names")
+        .output_typed("Point Lights", PinType::Resource(ResourceKind::PointLights))
+        .output_typed("Spot Lights", PinType::Resource(ResourceKind::SpotLights))
+        .output_typed("Sun Lights", PinType::Resource(ResourceKind::SunLights))
+        .output::<Mat4>("View")
+        .output::<Mat4>("Projection")
+        .construct(GltfNode::default),
     );
+}
+
+/// A loaded file: the scene and its meshes on the GPU.
+struct Loaded {
+    file: String,
+    scene: GltfScene,
+    meshes: Vec<Arc<GpuMesh>>,
+}
+
+/// Keeps the loaded files while Filename is unchanged, so posing at a new
+/// Time does not read or upload anything.
+#[derive(Default)]
+struct GltfNode {
+    loaded: Vec<Loaded>,
+    /// The Filename slices `loaded` was made from (resolved).
+    from: Vec<std::path::PathBuf>,
+}
+
+impl GltfNode {
+    fn load(&mut self, cx: &EvalContext<'_>) -> Result<(), NodeError> {
+        let files: Vec<String> = cx
+            .slices::<String>(0)?
+            .iter()
+            .filter(|f| !f.is_empty())
+            .cloned()
+            .collect();
+        let paths: Vec<_> = files.iter().map(|f| cx.resolve_path(f)).collect();
+        if paths == self.from && !self.loaded.is_empty() {
+            return Ok(());
+        }
+        let renderer = renderer(cx)?;
+        let mut loaded = Vec::new();
+        for (file, path) in files.iter().zip(&paths) {
+            let scene = load_gltf(path).map_err(|e| cx.input_error(0, e.to_string()))?;
+            let meshes = scene
+                .meshes
+                .iter()
+                .map(|m| renderer.meshes.upload(&renderer.gpu, m))
+                .collect::<Result<_, _>>()
+                .map_err(|e| NodeError::Other(format!("{file}: {e}")))?;
+            loaded.push(Loaded {
+                file: file.clone(),
+                scene,
+                meshes,
+            });
+        }
+        self.loaded = loaded;
+        self.from = paths;
+        Ok(())
+    }
+}
+
+impl Node for GltfNode {
+    fn evaluate(&mut self, cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
+        let first = cx.slices::<i64>(1)?.first().copied().unwrap_or(0);
+        if !(0..=MAX_FIRST_ID).contains(&first) {
+            return Err(cx.input_error(1, format!("{first} is outside 0..={MAX_FIRST_ID}")));
+        }
+        let time = cx.slices::<f32>(2)?.first().copied().unwrap_or(0.0);
+        let animation = cx.slices::<i64>(3)?.first().copied().unwrap_or(-1);
+        let which = cx.enum_slices(4)?.first().cloned().unwrap_or_default();
+        self.load(cx)?;
+        let (mut meshes, mut transforms, mut colors, mut ids) =
+            (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+        let mut materials: Vec<Arc<Material>> = {
+            // One shared default for the ids below the file's (never mutated).
+            let default = Arc::new(Material::default_material());
+            vec![default; first as usize]
+        };
+        let mut names = vec![String::new(); first as usize];
+        let (mut points, mut spots, mut suns) = (empty(), empty(), empty());
+        let (mut views, mut projections) = (Vec::new(), Vec::new());
+        for Loaded {
+            file,
+            scene,
+            meshes: uploaded,
+        } in &self.loaded
+        {
+            // This file's default material, then its materials.
+            let base = materials.len() as i64;
+            materials.push(Arc::new(MaterialData::default().to_material()));
+            names.push(String::new());
+            for m in &scene.materials {
+                materials.push(Arc::new(m.to_material()));
+                names.push(m.name.clone().unwrap_or_default());
+            }
+            // Instances, lights and cameras follow their (animated) nodes.
+            let world = scene.node_worlds(usize::try_from(animation).ok(), time);
+            let (lights, cameras) = scene.posed_content(&world);
+            extend(&mut points, &lights.points, file);
+            extend(&mut spots, &lights.spots, file);
+            extend(&mut suns, &lights.suns, file);
+            for camera in &cameras {
+                views.push(camera.view);
+                projections.push(camera.projection);
+            }
+            for instance in &scene.instances {
+                let material = instance.material.and_then(|m| scene.materials.get(m));
+                let blend = material.is_some_and(|m| m.alpha_mode == AlphaMode::Blend);
+                match which.as_str() {
+                    "Opaque" if blend => continue,
+                    "Blend" if !blend => continue,
+                    _ => {}
+                }
+                meshes.push(uploaded[instance.mesh].clone());
+                transforms.push(
+                    world
+                        .get(instance.node)
+                        .copied()
+                        .unwrap_or(instance.transform),
+                );
+                let c = material.map_or([1.0; 4], |m| m.base_color);
+                colors.push(Color::rgba(c[0], c[1], c[2], c[3]));
+                ids.push(base + instance.material.map_or(0, |m| m as i64 + 1));
+            }
+        }
+        cx.set_output(0, resource_spread(ResourceKind::Mesh, meshes));
+        cx.set(1, transforms);
+        cx.set(2, colors);
+        cx.set(3, ids);
+        cx.set_output(4, resource_spread(ResourceKind::Material, materials));
+        cx.set(5, names);
+        cx.set_output(
+            6,
+            resource_spread(ResourceKind::PointLights, vec![Arc::new(points)]),
+        );
+        cx.set_output(
+            7,
+            resource_spread(ResourceKind::SpotLights, vec![Arc::new(spots)]),
+        );
+        cx.set_output(
+            8,
+            resource_spread(ResourceKind::SunLights, vec![Arc::new(suns)]),
+        );
+        cx.set(9, views);
+        cx.set(10, projections);
+        Ok(())
+    }
 }

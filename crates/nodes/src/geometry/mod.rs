@@ -2,6 +2,8 @@
 //! output a spread of meshes uploaded to the renderer's mesh arena.
 
 pub mod gltf;
+#[cfg(test)]
+mod gltf_tests;
 pub mod primitives;
 
 use spreadlight_graph::Registry;

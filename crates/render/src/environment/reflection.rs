@@ -170,7 +170,7 @@ impl Reflection {
                 &key,
                 &pipeline,
                 self.textured(),
-                &self.gbuffer.targets.velocity_uv,
+                &self.gbuffer.targets,
             )?)
         } else {
             None
@@ -261,12 +261,10 @@ impl Recipe for Reflection {
             g.normals.as_str(),
             g.depth.as_str(),
         ];
-        reads.extend(self.materials.declare_textures(
-            renderer,
-            fg,
-            self.textured(),
-            &g.velocity_uv,
-        ));
+        reads.extend(
+            self.materials
+                .declare_textures(renderer, fg, self.textured(), g),
+        );
         fg.add_pass(
             crate::recipe::pass_name("Reflection", self.owner, Some("specular")),
             self.owner,

@@ -349,13 +349,9 @@ impl Ssr {
         let group = cx
             .shaders
             .bind_group(&device, &key, "main", &pipeline, 0, &all)?;
-        let materials = self.materials.bind_group(
-            cx,
-            &key,
-            &pipeline,
-            self.textured(),
-            &g.targets.velocity_uv,
-        )?;
+        let materials =
+            self.materials
+                .bind_group(cx, &key, &pipeline, self.textured(), &g.targets)?;
         let (w, h) = g.pixel_size(cx.output_size);
         cx.dispatch(
             "ssr trace",
@@ -492,12 +488,10 @@ impl Recipe for Ssr {
             self.lit.name.as_str(),
             self.fallback.name.as_str(),
         ];
-        reads.extend(self.materials.declare_textures(
-            renderer,
-            fg,
-            self.textured(),
-            &g.velocity_uv,
-        ));
+        reads.extend(
+            self.materials
+                .declare_textures(renderer, fg, self.textured(), g),
+        );
         let target = if self.settings.temporal {
             &self.current
         } else {

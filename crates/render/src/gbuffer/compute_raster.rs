@@ -132,7 +132,7 @@ impl ComputeRaster {
             camera: g.camera_buffer(),
             instances: &g.instances,
             size: g.pixel_size(cx.output_size),
-            two_sided: false,
+            two_sided: g.two_sided(),
         };
         self.record_view(&view, renderer, cx)?;
         Ok(())

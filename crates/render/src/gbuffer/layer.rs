@@ -6,6 +6,7 @@ use std::sync::Arc;
 use glam::Mat4;
 use thiserror::Error;
 
+use crate::material::MaterialWorld;
 use crate::mesh_arena::GpuMesh;
 use crate::recipe::TextureRef;
 
@@ -118,6 +119,9 @@ pub struct Layer {
     pub normal_map: Option<TextureRef>,
     /// Multiplies the instances' colour (albedo) at the surface's UV.
     pub color_map: Option<TextureRef>,
+    /// The material world the instances' material ids index, when the
+    /// resolve must read it: glTF surface maps (MATERIAL_MAPS).
+    pub materials: Option<Arc<MaterialWorld>>,
 }
 
 impl Layer {
@@ -157,7 +161,43 @@ impl Layer {
             features,
             normal_map,
             color_map: None,
+            materials: None,
         })
+    }
+
+    /// The layer with the material world its ids index: with surface maps,
+    /// the resolve samples them (albedo, normals, and the surface target).
+    pub fn with_materials(mut self, materials: Option<Arc<MaterialWorld>>) -> Self {
+        self.materials = materials;
+        self
+    }
+
+    /// The world, when its surface maps are sampled by this layer.
+    pub(crate) fn map_world(&self) -> Option<&Arc<MaterialWorld>> {
+        self.materials.as_ref().filter(|w| w.has_maps())
+    }
+
+    /// Whether some instance's material is alpha-tested (MASK): the
+    /// visibility pass discards its pixels below the cutoff.
+    pub fn alpha_masked(&self) -> bool {
+        let Some(world) = self.map_world() else {
+            return false;
+        };
+        self.batches
+            .iter()
+            .flat_map(|b| &b.instances)
+            .any(|i| world.alpha_masked(i.material_id))
+    }
+
+    /// Whether some instance's material is double-sided (drawn without back-face culling).
+    pub fn double_sided(&self) -> bool {
+        let Some(world) = self.map_world() else {
+            return false;
+        };
+        self.batches
+            .iter()
+            .flat_map(|b| &b.instances)
+            .any(|i| world.double_sided(i.material_id))
     }
 
     /// The layer with `map` scaling its colour at each pixel's texture
@@ -178,6 +218,9 @@ impl Layer {
             if !self.features.normal_map {
                 d.extend(self.features.uv_define());
             }
+        }
+        if self.map_world().is_some() {
+            d.push("MATERIAL_MAPS");
         }
         d
     }

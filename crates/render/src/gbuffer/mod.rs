@@ -155,6 +155,10 @@ pub struct GBufferTargets {
     pub color: String,
     pub normals: String,
     pub velocity_uv: String,
+    /// Per pixel of surface-mapped materials: roughness, metallic,
+    /// occlusion, emission (Rgba32Uint, see shaders/lib/material.wgsl).
+    /// Only when some layer's material world has surface maps.
+    pub surface: Option<String>,
 }
 
 /// An MRE: its layers uploaded, ready to declare its passes. Nodes pass it on
@@ -260,6 +264,8 @@ impl GBuffer {
             .collect();
         let raster = match choice {
             RasterChoice::Hardware => RasterMode::Hardware,
+            // Alpha tests discard per pixel, which the raster hardware does.
+            _ if layers.iter().any(|l| l.alpha_masked()) => RasterMode::Hardware,
             _ if !renderer.gpu.has_compute_raster() => RasterMode::Hardware,
             _ => RasterMode::Compute,
         };
@@ -279,6 +285,10 @@ impl GBuffer {
                 color: format!("{prefix}/color"),
                 normals: format!("{prefix}/normals"),
                 velocity_uv: format!("{prefix}/velocity_uv"),
+                surface: layers
+                    .iter()
+                    .any(|l| l.map_world().is_some())
+                    .then(|| format!("{prefix}/surface")),
             },
             layers,
             draws,
@@ -342,6 +352,11 @@ impl GBuffer {
                     .flat_map(|b| &b.instances)
                     .all(|i| i.transform == i.previous_transform),
             })
+    }
+
+    /// Whether back faces are drawn: some layer draws a double-sided material.
+    pub fn two_sided(&self) -> bool {
+        self.layers.iter().any(|l| l.double_sided())
     }
 
     pub fn instance_count(&self) -> u32 {

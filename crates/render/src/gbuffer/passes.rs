@@ -13,6 +13,7 @@ const VISIBILITY_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg32Uint;
 const HARDWARE_DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
 const TARGET_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+const SURFACE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Uint;
 
 pub(super) fn declare<'a>(g: &'a GBuffer, renderer: &'a Renderer, fg: &mut FrameGraph<'a>) {
     let t = &g.targets;
@@ -62,20 +63,33 @@ pub(super) fn declare<'a>(g: &'a GBuffer, renderer: &'a Renderer, fg: &mut Frame
             .flat_map(|l| l.maps())
             .map(|n| n.name.as_str()),
     );
+    let mut surface_writes = vec![
+        (
+            t.color.as_str(),
+            TextureDesc::storage(TARGET_FORMAT).size(g.size),
+        ),
+        (
+            t.normals.as_str(),
+            TextureDesc::storage(TARGET_FORMAT).size(g.size),
+        ),
+        (
+            t.depth.as_str(),
+            TextureDesc::storage(DEPTH_FORMAT)
+                .size(g.size)
+                .lifetime(Lifetime::Permanent),
+        ),
+    ];
+    if let Some(surface) = &t.surface {
+        surface_writes.push((
+            surface.as_str(),
+            TextureDesc::storage(SURFACE_FORMAT).size(g.size),
+        ));
+    }
     fg.add_pass(
         label("resolve surface"),
         g.owner,
         &surface_reads,
-        &[
-            (&t.color, TextureDesc::storage(TARGET_FORMAT).size(g.size)),
-            (&t.normals, TextureDesc::storage(TARGET_FORMAT).size(g.size)),
-            (
-                &t.depth,
-                TextureDesc::storage(DEPTH_FORMAT)
-                    .size(g.size)
-                    .lifetime(Lifetime::Permanent),
-            ),
-        ],
+        &surface_writes,
         move |cx| resolve(g, renderer, cx, false),
     );
     fg.add_pass(
@@ -95,54 +109,57 @@ fn visibility(
     renderer: &Renderer,
     cx: &mut PassContext<'_>,
 ) -> Result<(), RenderError> {
-    let device = &cx.gpu.device;
-    let key = ShaderKey::new("gbuffer/visibility.wgsl", []);
-    let pipeline = cx
-        .shaders
-        .render_pipeline(device, &key, "rg32uint+depth32f", |module| {
-            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some("visibility"),
-                layout: None,
-                vertex: wgpu::VertexState {
-                    module,
-                    entry_point: Some("vs"),
-                    compilation_options: Default::default(),
-                    buffers: &[],
-                },
-                primitive: wgpu::PrimitiveState {
-                    topology: wgpu::PrimitiveTopology::TriangleList,
-                    front_face: wgpu::FrontFace::Ccw,
-                    cull_mode: Some(wgpu::Face::Back),
-                    ..Default::default()
-                },
-                depth_stencil: Some(wgpu::DepthStencilState {
-                    format: HARDWARE_DEPTH_FORMAT,
-                    depth_write_enabled: Some(true),
-                    depth_compare: Some(wgpu::CompareFunction::Greater),
-                    stencil: Default::default(),
-                    bias: Default::default(),
-                }),
-                multisample: Default::default(),
-                fragment: Some(wgpu::FragmentState {
-                    module,
-                    entry_point: Some("fs"),
-                    compilation_options: Default::default(),
-                    targets: &[Some(wgpu::ColorTargetState {
-                        format: VISIBILITY_FORMAT,
-                        blend: None,
-                        write_mask: wgpu::ColorWrites::ALL,
-                    })],
-                }),
-                multiview_mask: None,
-                cache: None,
-            })
-        })?;
+    let device = cx.gpu.device.clone();
+    let plain = visibility_pipeline(g, cx, false)?;
     let (vertices, indices, _) = renderer.meshes.buffers();
     let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
         label: Some("visibility"),
-        layout: &pipeline.get_bind_group_layout(0),
+        layout: &plain.get_bind_group_layout(0),
         entries: &g.geometry_entries(&vertices, &indices),
     });
+    // Per layer with alpha-tested materials: the ALPHA_MASK pipeline and its world's groups.
+    let mut masked = Vec::new();
+    for (layer, range) in g.layers.iter().zip(&g.layer_ranges) {
+        let Some(world) = layer.map_world().filter(|_| layer.alpha_masked()) else {
+            continue;
+        };
+        let pipeline = visibility_pipeline(g, cx, true)?;
+        let group0 = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("visibility, alpha mask"),
+            layout: &pipeline.get_bind_group_layout(0),
+            entries: &g.geometry_entries(&vertices, &indices),
+        });
+        let (meta, offsets, data) = world.buffers();
+        let group1 = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("visibility: material world"),
+            layout: &pipeline.get_bind_group_layout(1),
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: meta.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: offsets.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: data.as_entire_binding(),
+                },
+            ],
+        });
+        let group2 = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("visibility: unused group"),
+            layout: &pipeline.get_bind_group_layout(2),
+            entries: &[],
+        });
+        let group3 = world.maps_bind_group(&device, &pipeline.get_bind_group_layout(3));
+        masked.push((
+            *range,
+            pipeline,
+            [Some(group0), Some(group1), Some(group2), group3],
+        ));
+    }
     let vis = cx.view(&g.targets.visibility)?;
     let depth = cx.view(&g.targets.hardware_depth)?;
     let timestamps = cx.render_timestamps();
@@ -169,14 +186,29 @@ fn visibility(
         occlusion_query_set: None,
         multiview_mask: None,
     });
-    pass.set_pipeline(&pipeline);
-    pass.set_bind_group(0, &bind_group, &[]);
     let mut draws = 0;
     for draw in g
         .draws
         .iter()
         .filter(|d| d.instance_count > 0 && d.index_count > 0)
     {
+        let mask = masked
+            .iter()
+            .find(|((first, end), _, _)| (*first..*end).contains(&draw.first_instance));
+        match mask {
+            Some((_, pipeline, groups)) => {
+                pass.set_pipeline(pipeline);
+                for (i, group) in groups.iter().enumerate() {
+                    if let Some(group) = group {
+                        pass.set_bind_group(i as u32, group, &[]);
+                    }
+                }
+            }
+            None => {
+                pass.set_pipeline(&plain);
+                pass.set_bind_group(0, &bind_group, &[]);
+            }
+        }
         pass.draw(
             0..draw.index_count,
             draw.first_instance..draw.first_instance + draw.instance_count,
@@ -186,6 +218,66 @@ fn visibility(
     drop(pass);
     cx.draws += draws;
     Ok(())
+}
+
+/// The visibility pipeline: culling back faces unless the G-buffer draws
+/// a double-sided material, with `alpha_mask` testing MASK materials.
+fn visibility_pipeline(
+    g: &GBuffer,
+    cx: &mut PassContext<'_>,
+    alpha_mask: bool,
+) -> Result<wgpu::RenderPipeline, RenderError> {
+    let device = cx.gpu.device.clone();
+    let key = ShaderKey::new(
+        "gbuffer/visibility.wgsl",
+        alpha_mask.then_some("ALPHA_MASK"),
+    );
+    // Double-sided materials: every face is drawn (the resolve flips their back faces' normals).
+    let two_sided = g.two_sided();
+    let variant = if two_sided {
+        "rg32uint+depth32f, two-sided"
+    } else {
+        "rg32uint+depth32f"
+    };
+    cx.shaders
+        .render_pipeline(&device, &key, variant, |module| {
+            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some("visibility"),
+                layout: None,
+                vertex: wgpu::VertexState {
+                    module,
+                    entry_point: Some("vs"),
+                    compilation_options: Default::default(),
+                    buffers: &[],
+                },
+                primitive: wgpu::PrimitiveState {
+                    topology: wgpu::PrimitiveTopology::TriangleList,
+                    front_face: wgpu::FrontFace::Ccw,
+                    cull_mode: (!two_sided).then_some(wgpu::Face::Back),
+                    ..Default::default()
+                },
+                depth_stencil: Some(wgpu::DepthStencilState {
+                    format: HARDWARE_DEPTH_FORMAT,
+                    depth_write_enabled: Some(true),
+                    depth_compare: Some(wgpu::CompareFunction::Greater),
+                    stencil: Default::default(),
+                    bias: Default::default(),
+                }),
+                multisample: Default::default(),
+                fragment: Some(wgpu::FragmentState {
+                    module,
+                    entry_point: Some("fs"),
+                    compilation_options: Default::default(),
+                    targets: &[Some(wgpu::ColorTargetState {
+                        format: VISIBILITY_FORMAT,
+                        blend: None,
+                        write_mask: wgpu::ColorWrites::ALL,
+                    })],
+                }),
+                multiview_mask: None,
+                cache: None,
+            })
+        })
 }
 
 fn resolve(
@@ -224,6 +316,10 @@ fn resolve(
             cx.view(&g.targets.depth)?,
         ]
     };
+    let surface = match (&g.targets.surface, motion) {
+        (Some(name), false) => Some(cx.view(name)?),
+        _ => None,
+    };
     let (w, h) = g.pixel_size(cx.output_size);
     // With no layers, the first (background) dispatch still clears the targets.
     let layer_count = g.layers.len().max(1);
@@ -238,6 +334,9 @@ fn resolve(
         };
         if compute.is_some() {
             defines.push("COMPUTE_RASTER");
+        }
+        if surface.is_some() {
+            defines.push("SURFACE_OUT");
         }
         let key = ShaderKey::new("gbuffer/resolve.wgsl", defines);
         let pipeline = cx.shaders.compute_pipeline(&device, &key, "main")?;
@@ -279,13 +378,28 @@ fn resolve(
                 resource: wgpu::BindingResource::TextureView(view),
             });
         }
+        if let Some(view) = &surface {
+            entries.push(wgpu::BindGroupEntry {
+                binding: 11,
+                resource: wgpu::BindingResource::TextureView(view),
+            });
+        }
         let group0 = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("resolve"),
             layout: &pipeline.get_bind_group_layout(0),
             entries: &entries,
         });
-        // Group 1: the layer's maps, bound where its permutation samples them.
-        let group1 = match layer.filter(|l| !motion && l.maps().next().is_some()) {
+        // Groups 1 and 3: the material world and its surface maps' arrays.
+        let (world_group, maps_group) = match layer.and_then(|l| l.map_world()).filter(|_| !motion)
+        {
+            Some(world) => (
+                Some(world.bind_group(cx, &key, &pipeline, false, &g.targets)?),
+                world.maps_bind_group(&device, &pipeline.get_bind_group_layout(3)),
+            ),
+            None => (None, None),
+        };
+        // Group 2: the layer's maps, bound where its permutation samples them.
+        let group2 = match layer.filter(|l| !motion && l.maps().next().is_some()) {
             Some(l) => {
                 let sampler = cx
                     .shaders
@@ -308,12 +422,24 @@ fn resolve(
                 }
                 Some(
                     cx.shaders
-                        .bind_group(&device, &key, "main", &pipeline, 1, &all)?,
+                        .bind_group(&device, &key, "main", &pipeline, 2, &all)?,
                 )
             }
             None => None,
         };
-        work.push((pipeline, group0, group1));
+        let mut groups = [world_group, group2, maps_group];
+        // A derived layout has every group below the last used: fill the gaps empty.
+        let last = groups.iter().rposition(Option::is_some).unwrap_or(0);
+        for (i, group) in groups.iter_mut().enumerate().take(last) {
+            if group.is_none() {
+                *group = Some(device.create_bind_group(&wgpu::BindGroupDescriptor {
+                    label: Some("resolve: unused group"),
+                    layout: &pipeline.get_bind_group_layout(i as u32 + 1),
+                    entries: &[],
+                }));
+            }
+        }
+        work.push((pipeline, group0, groups));
     }
     let timestamps = cx.compute_timestamps();
     let mut pass = cx.encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
@@ -324,11 +450,13 @@ fn resolve(
         }),
         timestamp_writes: timestamps,
     });
-    for (pipeline, group0, group1) in &work {
+    for (pipeline, group0, groups) in &work {
         pass.set_pipeline(pipeline);
         pass.set_bind_group(0, group0, &[]);
-        if let Some(g1) = group1 {
-            pass.set_bind_group(1, g1, &[]);
+        for (i, group) in groups.iter().enumerate() {
+            if let Some(group) = group {
+                pass.set_bind_group(i as u32 + 1, group, &[]);
+            }
         }
         pass.dispatch_workgroups(w.div_ceil(8), h.div_ceil(8), 1);
     }

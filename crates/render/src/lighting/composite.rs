@@ -147,13 +147,11 @@ impl CompositeLight {
         }))
     }
 
-    /// Whether emission reads a texture (the only parameter composite maps).
+    /// Whether emission reads a texture, or surface maps give emission and occlusion.
     fn textured(&self) -> bool {
-        self.emission
-            && self
-                .materials
-                .as_ref()
-                .is_some_and(|w| w.textured(1 << FEATURE_EMISSION))
+        self.materials
+            .as_ref()
+            .is_some_and(|w| (self.emission && w.textured(1 << FEATURE_EMISSION)) || w.has_maps())
     }
 
     /// The texture array a matcap reads its images from, when some MatCap
@@ -305,7 +303,7 @@ impl CompositeLight {
                 &key,
                 &pipeline,
                 self.textured(),
-                &self.gbuffer.targets.velocity_uv,
+                &self.gbuffer.targets,
             )?),
             None => None,
         };
@@ -353,7 +351,7 @@ impl Recipe for CompositeLight {
                 .map(|t| t.name.as_str()),
         );
         if let Some(world) = &self.materials {
-            reads.extend(world.declare_textures(renderer, fg, self.textured(), &g.velocity_uv));
+            reads.extend(world.declare_textures(renderer, fg, self.textured(), g));
         }
         if self.matcap {
             reads.push(&g.normals);

@@ -359,13 +359,9 @@ impl CookTorrance {
             .shaders
             .bind_group(&device, &key, "main", &pipeline, 0, &all)?;
         let material_group = match &self.materials {
-            Some(world) => Some(world.bind_group(
-                cx,
-                &key,
-                &pipeline,
-                self.textured(),
-                &g.targets.velocity_uv,
-            )?),
+            Some(world) => {
+                Some(world.bind_group(cx, &key, &pipeline, self.textured(), &g.targets)?)
+            }
             None => None,
         };
         let (w, h) = g.pixel_size(cx.output_size);
@@ -434,7 +430,7 @@ impl Recipe for CookTorrance {
             reads.push(&textures.name);
         }
         if let Some(world) = &self.materials {
-            reads.extend(world.declare_textures(renderer, fg, self.textured(), &g.velocity_uv));
+            reads.extend(world.declare_textures(renderer, fg, self.textured(), g));
         }
         if let Some(shadows) = &self.shadows {
             shadows.declare(renderer, fg);

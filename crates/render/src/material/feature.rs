@@ -1,7 +1,7 @@
 //! Material features: what a bit of a material's flag word switches on, and
 //! the parameters it reads. Feature id `n` is flag `1 << n` (Emeshe's
 //! convention: the id is the exponent, the flag the power of two). Ids 0..16
-//! belong to built-in features (0..=5 exist now; 6..=15 are kept for the
+//! belong to built-in features (0..=6 exist now; 7..=15 are kept for the
 //! ones to come), 16..=31 are free for custom features.
 //!
 //! Mirrored by the `FEATURE_*` constants of `shaders/lib/material.wgsl`.
@@ -14,6 +14,10 @@ pub const FEATURE_FAKE_SSS: u32 = 2;
 pub const FEATURE_REFLECTION: u32 = 3;
 pub const FEATURE_MATCAP: u32 = 4;
 pub const FEATURE_AMBIENT_OCCLUSION: u32 = 5;
+/// A glTF material's maps (`maps::SurfaceMaps`): set with
+/// `Material::set_maps`, not as a [`Feature`], since its parameters are
+/// texture places the world assigns when it packs.
+pub const FEATURE_SURFACE_MAPS: u32 = 6;
 /// The first id free for custom features.
 pub const FIRST_CUSTOM_FEATURE: u32 = 16;
 /// One bit of a `u32` per feature.

@@ -15,8 +15,18 @@
 //! [`MaterialWorld::union_flags`] is what a shading pass builds its
 //! permutation from: a feature no material has costs nothing. Worlds are not
 //! singletons; each owns its buffers.
+//!
+//! glTF materials are materials of the same world: their maps are the
+//! SurfaceMaps feature ([`maps`]), whose textures the world uploads in size
+//! classes ([`map_textures`]). The G-buffer resolve samples them and writes
+//! each pixel's roughness, metallic, occlusion and emission to the
+//! G-buffer's `surface` target, which `feature_param_at` reads for
+//! materials with that feature: every shading pass sees mapped values
+//! without knowing glTF.
 
 mod feature;
+pub mod map_textures;
+pub mod maps;
 
 use std::collections::BTreeMap;
 use std::sync::Arc;
@@ -26,9 +36,12 @@ use wgpu::util::DeviceExt;
 
 pub use feature::{
     FEATURE_AMBIENT_OCCLUSION, FEATURE_COOK_TORRANCE, FEATURE_EMISSION, FEATURE_FAKE_SSS,
-    FEATURE_MATCAP, FEATURE_REFLECTION, FIRST_CUSTOM_FEATURE, Feature, MAX_FEATURES, MatCapMapping,
-    MatCapMode, ParamLayout, Range, matcap_params,
+    FEATURE_MATCAP, FEATURE_REFLECTION, FEATURE_SURFACE_MAPS, FIRST_CUSTOM_FEATURE, Feature,
+    MAX_FEATURES, MatCapMapping, MatCapMode, ParamLayout, Range, matcap_params,
 };
+use map_textures::MapLayout;
+pub use map_textures::WorldMaps;
+use maps::{MapSlot, SurfaceMaps};
 
 use crate::recipe::TextureRef;
 use crate::renderer::Renderer;
@@ -80,6 +93,8 @@ pub struct Material {
     /// Per feature id: the layer of the world's texture array that scales
     /// its first parameter at each pixel's G-buffer UV.
     textures: BTreeMap<u32, u32>,
+    /// A glTF material's maps (the SurfaceMaps feature), shared, not copied.
+    maps: Option<Arc<SurfaceMaps>>,
 }
 
 impl Material {
@@ -143,9 +158,40 @@ impl Material {
             .any(|id| self.features.contains_key(id))
     }
 
-    /// The OR of the features' flags.
+    /// The OR of the features' flags (SurfaceMaps' included).
     pub fn flags(&self) -> u32 {
-        self.features.keys().fold(0, |acc, id| acc | 1 << id)
+        let maps = if self.maps.is_some() {
+            1 << FEATURE_SURFACE_MAPS
+        } else {
+            0
+        };
+        self.features.keys().fold(maps, |acc, id| acc | 1 << id)
+    }
+
+    /// Give the material surface maps (the SurfaceMaps feature), or take them away.
+    pub fn set_maps(&mut self, maps: Option<Arc<SurfaceMaps>>) {
+        self.maps = maps;
+    }
+
+    pub fn maps(&self) -> Option<&Arc<SurfaceMaps>> {
+        self.maps.as_ref()
+    }
+
+    /// Every feature entry as packed, in ascending id: (id, parameters, texture layer + 1).
+    fn entries(&self, layout: Option<&MapLayout>) -> Vec<(u32, Vec<[f32; 4]>, u32)> {
+        let mut entries: Vec<_> = self
+            .features()
+            .map(|(f, p)| {
+                let texture = self.texture(f).map_or(0, |layer| layer + 1);
+                (f.id(), p.to_vec(), texture)
+            })
+            .collect();
+        if let Some(maps) = &self.maps {
+            let params = maps.pack(&|m, slot| layout?.location(m, slot));
+            entries.push((FEATURE_SURFACE_MAPS, params, 0));
+            entries.sort_by_key(|e| e.0);
+        }
+        entries
     }
 
     pub fn params(&self, feature: Feature) -> Option<&[[f32; 4]]> {
@@ -188,27 +234,41 @@ pub struct PackedMaterials {
 }
 
 impl PackedMaterials {
+    /// Pack without map textures: maps read as absent.
     pub fn pack(materials: &[Material]) -> Self {
+        Self::pack_with(materials, None)
+    }
+
+    /// Pack with the maps' places in `layout`.
+    pub fn pack_with(materials: &[Material], layout: Option<&MapLayout>) -> Self {
         let mut packed = PackedMaterials::default();
         for material in materials {
+            let entries = material.entries(layout);
             packed.meta.push(GpuMaterialMeta {
                 flags: material.flags(),
                 address: packed.offsets.len() as u32,
-                size: material.features.len() as u32,
+                size: entries.len() as u32,
                 pad: 0,
             });
-            for (feature, params) in material.features() {
+            for (feature, params, texture) in entries {
                 packed.offsets.push(GpuFeatureOffset {
-                    feature: feature.id(),
+                    feature,
                     offset: packed.data.len() as u32,
                     count: params.len() as u32,
-                    texture: material.texture(feature).map_or(0, |layer| layer + 1),
+                    texture,
                 });
-                packed.data.extend_from_slice(params);
+                packed.data.extend_from_slice(&params);
             }
         }
         packed
     }
+}
+
+/// Stand-ins bound where a permutation declares a texture the world lacks.
+struct Dummies {
+    array: wgpu::TextureView,
+    uv: wgpu::TextureView,
+    surface: wgpu::TextureView,
 }
 
 /// A material world on the GPU: what a `MaterialBuffer` node outputs,
@@ -220,6 +280,9 @@ pub struct MaterialWorld {
     textures: Option<TextureRef>,
     /// Bit n: some material's feature n reads a texture.
     textured_flags: u32,
+    /// The SurfaceMaps' textures, when some material has maps.
+    maps: Option<WorldMaps>,
+    dummies: Dummies,
     meta: wgpu::Buffer,
     offsets: wgpu::Buffer,
     data: wgpu::Buffer,
@@ -255,8 +318,17 @@ impl MaterialWorld {
         if materials.is_empty() {
             materials.push(Material::default_material());
         }
-        let packed = PackedMaterials::pack(&materials);
         let device = &renderer.gpu.device;
+        let max_layers = device.limits().max_texture_array_layers;
+        let mut layout = MapLayout::new();
+        for maps in materials.iter().filter_map(|m| m.maps.as_ref()) {
+            for slot in MapSlot::ALL {
+                if let Some(map) = maps.map(slot) {
+                    layout.place(map, slot, max_layers);
+                }
+            }
+        }
+        let packed = PackedMaterials::pack_with(&materials, Some(&layout));
         let upload = |label: &str, bytes: &[u8]| {
             // A storage binding cannot be empty (materials without features
             // have no offsets or data); the flags say nothing is there.
@@ -275,7 +347,7 @@ impl MaterialWorld {
         let offsets = upload("feature offsets", bytemuck::cast_slice(&packed.offsets));
         let data = upload("material data", bytemuck::cast_slice(&packed.data));
         let union_flags = materials.iter().fold(0, |acc, m| acc | m.flags());
-        let textured_flags = match &textures {
+        let mut textured_flags = match &textures {
             Some(_) => materials.iter().fold(0, |acc, m| {
                 m.textures
                     .keys()
@@ -285,11 +357,23 @@ impl MaterialWorld {
             None => 0,
         };
         let textures = textures.filter(|_| textured_flags != 0);
+        let has_maps = union_flags & (1 << FEATURE_SURFACE_MAPS) != 0;
+        if has_maps {
+            // Mapped roughness, metallic, emission and occlusion reach
+            // shading through the MATERIAL_TEXTURES path (the surface target).
+            textured_flags |= 1 << FEATURE_COOK_TORRANCE
+                | 1 << FEATURE_EMISSION
+                | 1 << FEATURE_AMBIENT_OCCLUSION
+                | 1 << FEATURE_SURFACE_MAPS;
+        }
+        let maps = has_maps.then(|| WorldMaps::new(renderer, &layout));
         Arc::new(MaterialWorld {
             materials,
             union_flags,
             textures,
             textured_flags,
+            maps,
+            dummies: Dummies::new(&renderer.gpu),
             meta,
             offsets,
             data,
@@ -342,7 +426,32 @@ impl MaterialWorld {
             .unwrap_or(&self.materials[0])
     }
 
-    /// MaterialMeta, FeatureOffset and MaterialData, for `@group(1) @binding(0..2)`.
+    /// Whether material `id` is double-sided (its surface maps say so).
+    pub fn double_sided(&self, material_id: u32) -> bool {
+        self.material(material_id)
+            .maps
+            .as_ref()
+            .is_some_and(|m| m.double_sided)
+    }
+
+    /// Whether material `id` is alpha-tested (a glTF MASK material).
+    pub fn alpha_masked(&self, material_id: u32) -> bool {
+        self.material(material_id)
+            .maps
+            .as_ref()
+            .is_some_and(|m| matches!(m.alpha, maps::AlphaMode::Mask { .. }))
+    }
+
+    /// Whether some material has surface maps (a glTF material).
+    pub fn has_maps(&self) -> bool {
+        self.maps.is_some()
+    }
+
+    /// The surface maps' textures and samplers, when some material has maps.
+    pub fn world_maps(&self) -> Option<&WorldMaps> {
+        self.maps.as_ref()
+    }
+
     /// The texture array, when some material reads it.
     pub fn textures(&self) -> Option<&TextureRef> {
         self.textures.as_ref()
@@ -354,63 +463,94 @@ impl MaterialWorld {
     }
 
     /// Group 1 of a pass that imports `spreadlight::material`: the three
-    /// buffers, and with `textured`, the texture array, its sampler and the
-    /// G-buffer's UV target (`uv`).
+    /// buffers, and with `textured`, the texture array, its sampler, the
+    /// G-buffer's UV target and its surface target (stand-ins where the
+    /// world or the G-buffer has none).
     pub(crate) fn bind_group(
         &self,
         cx: &mut crate::frame_graph::PassContext<'_>,
         key: &crate::shaders::ShaderKey,
         pipeline: &wgpu::ComputePipeline,
         textured: bool,
-        uv: &str,
+        targets: &crate::gbuffer::GBufferTargets,
     ) -> Result<wgpu::BindGroup, crate::error::RenderError> {
         let device = cx.gpu.device.clone();
-        let views = match (&self.textures, textured) {
-            (Some(t), true) => {
-                let array = cx
+        let views = if textured {
+            let array = match &self.textures {
+                Some(t) => cx
                     .texture(&t.name)?
                     .create_view(&wgpu::TextureViewDescriptor {
                         dimension: Some(wgpu::TextureViewDimension::D2Array),
                         ..Default::default()
-                    });
-                // Repeat: UVs beyond 0..1 tile.
-                let sampler = cx
-                    .shaders
-                    .sampler(&device, crate::shaders::Sampling::LinearRepeat);
-                Some((array, sampler, cx.view(uv)?))
-            }
-            _ => None,
+                    }),
+                None => self.dummies.array.clone(),
+            };
+            // Repeat: UVs beyond 0..1 tile.
+            let sampler = cx
+                .shaders
+                .sampler(&device, crate::shaders::Sampling::LinearRepeat);
+            let surface = match (&targets.surface, self.has_maps()) {
+                (Some(name), true) => cx.view(name)?,
+                _ => self.dummies.surface.clone(),
+            };
+            // Only a texture array is mapped by the G-buffer's UV: surface
+            // maps alone leave the motion resolve to be culled.
+            let uv = match &self.textures {
+                Some(_) => cx.view(&targets.velocity_uv)?,
+                None => self.dummies.uv.clone(),
+            };
+            Some((array, sampler, uv, surface))
+        } else {
+            None
         };
         let mut all = vec![
             (0, self.meta.as_entire_binding()),
             (1, self.offsets.as_entire_binding()),
             (2, self.data.as_entire_binding()),
         ];
-        if let Some((array, sampler, uv)) = &views {
+        if let Some((array, sampler, uv, surface)) = &views {
             all.push((3, wgpu::BindingResource::TextureView(array)));
             all.push((4, wgpu::BindingResource::Sampler(sampler)));
             all.push((5, wgpu::BindingResource::TextureView(uv)));
+            all.push((6, wgpu::BindingResource::TextureView(surface)));
         }
         cx.shaders
             .bind_group(&device, key, "main", pipeline, 1, &all)
     }
 
     /// Declare the texture array for a pass that reads it (`textured`), and
-    /// return what that pass must list as reads: the array and the UV target.
+    /// return what that pass must list as reads: the array, the UV target
+    /// and (for maps) the surface target.
     pub(crate) fn declare_textures<'a>(
         &'a self,
         renderer: &'a Renderer,
         fg: &mut crate::frame_graph::FrameGraph<'a>,
         textured: bool,
-        uv: &'a str,
+        targets: &'a crate::gbuffer::GBufferTargets,
     ) -> Vec<&'a str> {
-        match (&self.textures, textured) {
-            (Some(t), true) => {
-                t.recipe.declare(renderer, fg);
-                vec![t.name.as_str(), uv]
-            }
-            _ => Vec::new(),
+        if !textured {
+            return Vec::new();
         }
+        let mut reads = Vec::new();
+        if let Some(t) = &self.textures {
+            t.recipe.declare(renderer, fg);
+            reads.extend([t.name.as_str(), targets.velocity_uv.as_str()]);
+        }
+        if let (Some(surface), true) = (&targets.surface, self.has_maps()) {
+            reads.push(surface.as_str());
+        }
+        reads
+    }
+
+    /// Group 3 of the G-buffer resolve (and of the visibility pass with
+    /// alpha masks): the map arrays and the two samplers, every one of
+    /// which `material_maps.wgsl` uses. `None` without maps.
+    pub(crate) fn maps_bind_group(
+        &self,
+        device: &wgpu::Device,
+        layout: &wgpu::BindGroupLayout,
+    ) -> Option<wgpu::BindGroup> {
+        Some(self.maps.as_ref()?.bind_group(device, layout))
     }
 
     pub fn buffers(&self) -> (&wgpu::Buffer, &wgpu::Buffer, &wgpu::Buffer) {
@@ -420,3 +560,40 @@ impl MaterialWorld {
 
 #[cfg(test)]
 mod tests;
+
+impl Dummies {
+    fn new(gpu: &crate::context::GpuContext) -> Self {
+        let array = crate::texture::GpuTexture::upload_rgba8(
+            gpu,
+            (1, 1),
+            &[vec![255; 4]],
+            false,
+            "no material textures",
+        );
+        let array = array.texture.create_view(&wgpu::TextureViewDescriptor {
+            dimension: Some(wgpu::TextureViewDimension::D2Array),
+            ..Default::default()
+        });
+        // A zero surface texel says "not written": shading falls back to parameters.
+        let surface = gpu.device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("no surface target"),
+            size: wgpu::Extent3d {
+                width: 1,
+                height: 1,
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: wgpu::TextureFormat::Rgba32Uint,
+            usage: wgpu::TextureUsages::TEXTURE_BINDING,
+            view_formats: &[],
+        });
+        let uv = crate::texture::GpuTexture::from_rgba8(gpu, 1, 1, &[0; 4], false, "no UV target");
+        Dummies {
+            array,
+            uv: uv.view,
+            surface: surface.create_view(&Default::default()),
+        }
+    }
+}

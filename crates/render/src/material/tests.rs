@@ -161,3 +161,77 @@ fn a_feature_texture_packs_as_its_layer_plus_one_and_only_with_its_feature() {
     m.remove(Feature::Emission);
     assert!(!m.has_textures());
 }
+
+#[test]
+fn surface_maps_pack_in_id_order_with_their_places() {
+    use maps::{MapImage, MapRef, SurfaceMaps};
+    let image = Arc::new(MapImage {
+        width: 300,
+        height: 20,
+        rgba8: vec![255; 300 * 20 * 4],
+    });
+    let mut surface = SurfaceMaps::default();
+    surface.set_map(MapSlot::MetallicRoughness, Some(MapRef::new(image)));
+    let mut m = Material::default_material()
+        .with(Feature::AmbientOcclusion, &[[1.0, 0.0, 0.0, 0.0]])
+        .and_then(|m| m.with(Feature::Custom(16), &[[2.0; 4]]))
+        .expect("finite");
+    m.set_maps(Some(Arc::new(surface)));
+    assert_eq!(m.flags(), 1 | 1 << 5 | 1 << FEATURE_SURFACE_MAPS | 1 << 16);
+    let mut layout = MapLayout::new();
+    let map = m.maps().unwrap().map(MapSlot::MetallicRoughness).unwrap();
+    layout.place(map, MapSlot::MetallicRoughness, 256);
+    let packed = PackedMaterials::pack_with(&[m], Some(&layout));
+    let ids: Vec<u32> = packed.offsets.iter().map(|o| o.feature).collect();
+    assert_eq!(
+        ids,
+        vec![0, 5, FEATURE_SURFACE_MAPS, 16],
+        "ascending, as the shader finds them"
+    );
+    let maps = packed.offsets[2];
+    assert_eq!(maps.count as usize, maps::PARAM_COUNT);
+    // The 300-texel map is in the 512 class (index 3), linear: array 6, layer 0.
+    let slot = packed.data[(maps.offset + 1 + 2 * MapSlot::MetallicRoughness as u32) as usize];
+    assert_eq!(slot[0], (6 * 65536 + 1) as f32);
+    assert_eq!(packed.data[(packed.offsets[3].offset) as usize], [2.0; 4]);
+}
+
+#[test]
+fn worlds_with_the_same_maps_share_their_upload() {
+    use maps::{MapImage, MapRef, SurfaceMaps};
+    let renderer = crate::renderer::test_renderer();
+    let image = Arc::new(MapImage {
+        width: 16,
+        height: 16,
+        rgba8: vec![200; 16 * 16 * 4],
+    });
+    let material = |roughness: f32| {
+        let mut surface = SurfaceMaps::default();
+        surface.set_map(MapSlot::BaseColor, Some(MapRef::new(image.clone())));
+        let mut m = Material::new()
+            .with(Feature::CookTorrance, &[[roughness, 0.0, 0.04, 0.0]])
+            .expect("finite");
+        m.set_maps(Some(Arc::new(surface)));
+        m
+    };
+    let a = MaterialWorld::new(&renderer, vec![material(0.2)]);
+    // A changed factor, the same image: no new upload.
+    let b = MaterialWorld::new(&renderer, vec![material(0.7)]);
+    let (ta, tb) = (
+        &a.world_maps().unwrap().textures,
+        &b.world_maps().unwrap().textures,
+    );
+    assert!(Arc::ptr_eq(ta, tb));
+    // Another image: a new upload.
+    let other = Arc::new(MapImage {
+        width: 16,
+        height: 16,
+        rgba8: vec![10; 16 * 16 * 4],
+    });
+    let mut surface = SurfaceMaps::default();
+    surface.set_map(MapSlot::BaseColor, Some(MapRef::new(other)));
+    let mut m = Material::default_material();
+    m.set_maps(Some(Arc::new(surface)));
+    let c = MaterialWorld::new(&renderer, vec![m]);
+    assert!(!Arc::ptr_eq(ta, &c.world_maps().unwrap().textures));
+}

@@ -18,27 +18,39 @@
 //! - missing normals are made flat (what the glTF spec asks), and then any
 //!   tangents in the file are dropped (ditto); missing tangents are made
 //!   with MikkTSpace when there are texture coordinates;
-//! - only `TEXCOORD_0` is read; textures using another set, skins, morph
-//!   targets and animations are reported as warnings and ignored;
-//! - no extension can be required: a file listing any in
-//!   `extensionsRequired` is refused with a [`GltfError`] naming it.
+//! - only `TEXCOORD_0` is read; textures using another set, skins and
+//!   morph targets are reported as warnings and ignored; node animations
+//!   (TRS) load, and [`GltfScene::pose`] poses the scene at a time;
+//! - materials carry every texture with its sampler and
+//!   `KHR_texture_transform`, and `KHR_materials_emissive_strength`
+//!   ([`MaterialData::to_material`] makes them materials of the one world);
+//! - a file requiring an extension outside [`SUPPORTED_EXTENSIONS`] is
+//!   refused with a [`GltfError`] naming it; unknown optional ones are
+//!   ignored with one warning each; `asset.version` must be 2.x.
 
 mod accessor;
+pub mod animation;
+pub mod builder;
+mod content;
+#[cfg(test)]
+mod hard_cases;
 mod material;
+pub mod models;
 mod primitive;
 mod scene;
 mod source;
-#[cfg(test)]
-mod test_files;
 #[cfg(test)]
 mod tests;
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 use glam::Mat4;
 use gltf::{Document, Semantic};
 use thiserror::Error;
+
+pub use content::{SceneCamera, SceneLights};
 
 use super::{Aabb, MeshData, MeshError};
 use accessor::Buffers;
@@ -54,6 +66,16 @@ pub struct GltfScene {
     pub instances: Vec<MeshInstance>,
     /// World bounds of all instances ([`Aabb::ZERO`] when there are none).
     pub bounds: Aabb,
+    /// `KHR_lights_punctual` lights of the loaded scene, placed at rest.
+    pub lights: SceneLights,
+    /// The same lights as their nodes hold them, to place at a pose.
+    pub light_sources: Vec<content::LightSource>,
+    /// Cameras of the loaded scene, in node order.
+    pub cameras: Vec<SceneCamera>,
+    /// The scene's node tree, to pose it ([`GltfScene::pose`]).
+    pub graph: animation::SceneGraph,
+    /// Node animations (TRS channels), in file order.
+    pub animations: Vec<animation::Animation>,
     /// What was skipped or ignored; the rest of the file loaded.
     pub warnings: Vec<String>,
 }
@@ -67,19 +89,12 @@ pub struct MeshInstance {
     pub transform: Mat4,
     /// Index into [`GltfScene::materials`]; `None` means glTF's default material.
     pub material: Option<usize>,
+    /// The glTF node that places it (what animations move).
+    pub node: usize,
 }
 
-/// How a material's alpha is used.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub enum AlphaMode {
-    #[default]
-    Opaque,
-    /// Alpha below `cutoff` is discarded, the rest is opaque.
-    Mask {
-        cutoff: f32,
-    },
-    Blend,
-}
+pub use crate::material::maps::AlphaMode;
+use crate::material::maps::{MapImage, UvTransform, Wrap};
 
 /// A glTF metallic-roughness material. Factors are linear; texture colours
 /// are as stored (see [`TextureData::srgb`]).
@@ -90,6 +105,8 @@ pub struct MaterialData {
     pub metallic: f32,
     pub roughness: f32,
     pub emissive: [f32; 3],
+    /// `KHR_materials_emissive_strength` (1 without it).
+    pub emissive_strength: f32,
     pub base_color_texture: Option<TextureData>,
     /// Roughness in green, metalness in blue.
     pub metallic_roughness_texture: Option<TextureData>,
@@ -114,6 +131,7 @@ impl Default for MaterialData {
             metallic: 1.0,
             roughness: 1.0,
             emissive: [0.0; 3],
+            emissive_strength: 1.0,
             base_color_texture: None,
             metallic_roughness_texture: None,
             normal_texture: None,
@@ -127,14 +145,20 @@ impl Default for MaterialData {
     }
 }
 
-/// A decoded texture image, 8 bits per channel, rows top to bottom.
+/// A material's texture: the decoded image (shared by every use of the
+/// same glTF image) and how this use samples it.
 #[derive(Debug, Clone, PartialEq)]
 pub struct TextureData {
-    pub width: u32,
-    pub height: u32,
-    pub rgba8: Vec<u8>,
+    pub image: Arc<MapImage>,
     /// True for colour (base colour, emissive): sample through an sRGB format.
     pub srgb: bool,
+    /// TEXCOORD_n, after `KHR_texture_transform`'s override.
+    pub tex_coord: u32,
+    pub transform: UvTransform,
+    /// (s, t) wrap modes of its sampler.
+    pub wrap: [Wrap; 2],
+    /// Its sampler's magnification filter is NEAREST.
+    pub nearest: bool,
 }
 
 /// Why a glTF file cannot be loaded. Every message starts with the file.
@@ -229,12 +253,32 @@ fn load(bytes: &[u8], base_dir: Option<&Path>, path: &Path) -> Result<GltfScene,
             message: e.to_string(),
         })?;
     // Before validation, which would call this "unsupported data" without the name.
-    if let Some(extension) = root.extensions_required.first() {
+    if let Some(extension) = root
+        .extensions_required
+        .iter()
+        .find(|e| !SUPPORTED_EXTENSIONS.contains(&e.as_str()))
+    {
         return Err(GltfError::UnsupportedExtension {
             path: path.to_owned(),
             extension: extension.clone(),
         });
     }
+    let major = root.asset.version.split('.').next().unwrap_or("");
+    if major != "2" {
+        return Err(GltfError::Invalid {
+            path: path.to_owned(),
+            message: format!(
+                "asset.version is `{}`: only glTF 2.x can be read",
+                root.asset.version
+            ),
+        });
+    }
+    let ignored: Vec<String> = root
+        .extensions_used
+        .iter()
+        .filter(|e| !SUPPORTED_EXTENSIONS.contains(&e.as_str()))
+        .map(|e| format!("extension `{e}` is not supported; what it adds is ignored"))
+        .collect();
     check_position_indices(&root, path)?;
     let document = Document::from_json(root).map_err(|e| GltfError::Invalid {
         path: path.to_owned(),
@@ -248,6 +292,9 @@ fn load(bytes: &[u8], base_dir: Option<&Path>, path: &Path) -> Result<GltfScene,
         images: HashMap::new(),
         warnings: Vec::new(),
     };
+    for warning in ignored {
+        importer.warn(warning);
+    }
     importer.scene(&document)
 }
 
@@ -272,6 +319,13 @@ fn check_position_indices(root: &gltf::json::Root, path: &Path) -> Result<(), Gl
     }
     Ok(())
 }
+
+/// The extensions read; a file may require these and no others.
+pub const SUPPORTED_EXTENSIONS: &[&str] = &[
+    "KHR_lights_punctual",
+    "KHR_materials_emissive_strength",
+    "KHR_texture_transform",
+];
 
 /// At most this many validation problems are listed in one error.
 const MAX_LISTED: usize = 5;
@@ -299,6 +353,15 @@ struct Importer<'a> {
     base_dir: Option<&'a Path>,
     buffers: Buffers,
     /// Decoded images by glTF image index, each decoded once.
-    images: HashMap<usize, TextureData>,
+    images: HashMap<usize, Arc<MapImage>>,
     warnings: Vec<String>,
+}
+
+impl Importer<'_> {
+    /// Record a warning once: the same problem on many objects is one line.
+    fn warn(&mut self, message: String) {
+        if !self.warnings.contains(&message) {
+            self.warnings.push(message);
+        }
+    }
 }

@@ -1,8 +1,24 @@
-//! glTF materials to [`MaterialData`], decoding each image once.
+//! glTF materials to [`MaterialData`] (decoding each image once), and
+//! [`MaterialData`] to a [`Material`] of the one material world: factors
+//! to CookTorrance and Emission, textures to SurfaceMaps.
+
+use std::sync::Arc;
 
 use gltf::Document;
+use gltf::texture::{MagFilter, WrappingMode};
 
 use super::{AlphaMode, GltfError, Importer, MaterialData, TextureData, source};
+use crate::material::maps::{MapRef, MapSlot, SurfaceMaps, UvTransform, Wrap};
+use crate::material::{Feature, Material};
+
+/// A texture use as glTF states it: the texture, its texCoord, and its
+/// `KHR_texture_transform` extension object if any.
+struct Slot<'a> {
+    texture: gltf::Texture<'a>,
+    tex_coord: u32,
+    /// `KHR_texture_transform`, and the texCoord it overrides with.
+    transform: Option<(UvTransform, Option<u32>)>,
+}
 
 impl Importer<'_> {
     pub(super) fn material(
@@ -17,43 +33,51 @@ impl Importer<'_> {
         };
         let normal = m.normal_texture();
         let occlusion = m.occlusion_texture();
+        let normal_slot = normal.as_ref().map(|t| Slot {
+            texture: t.texture(),
+            tex_coord: t.tex_coord(),
+            transform: t
+                .extension_value("KHR_texture_transform")
+                .map(parse_transform),
+        });
+        let occlusion_slot = occlusion.as_ref().map(|t| Slot {
+            texture: t.texture(),
+            tex_coord: t.tex_coord(),
+            transform: t
+                .extension_value("KHR_texture_transform")
+                .map(parse_transform),
+        });
         Ok(MaterialData {
             name: m.name().map(str::to_owned),
             base_color: pbr.base_color_factor(),
             metallic: pbr.metallic_factor(),
             roughness: pbr.roughness_factor(),
             emissive: m.emissive_factor(),
+            emissive_strength: m.emissive_strength().unwrap_or(1.0),
             base_color_texture: self.texture(
                 document,
-                pbr.base_color_texture()
-                    .map(|i| (i.texture(), i.tex_coord())),
+                pbr.base_color_texture().map(info_slot),
                 true,
                 &what("base colour texture"),
             )?,
             metallic_roughness_texture: self.texture(
                 document,
-                pbr.metallic_roughness_texture()
-                    .map(|i| (i.texture(), i.tex_coord())),
+                pbr.metallic_roughness_texture().map(info_slot),
                 false,
                 &what("metallic-roughness texture"),
             )?,
             normal_scale: normal.as_ref().map_or(1.0, |t| t.scale()),
-            normal_texture: self.texture(
-                document,
-                normal.map(|t| (t.texture(), t.tex_coord())),
-                false,
-                &what("normal texture"),
-            )?,
+            normal_texture: self.texture(document, normal_slot, false, &what("normal texture"))?,
             occlusion_strength: occlusion.as_ref().map_or(1.0, |t| t.strength()),
             occlusion_texture: self.texture(
                 document,
-                occlusion.map(|t| (t.texture(), t.tex_coord())),
+                occlusion_slot,
                 false,
                 &what("occlusion texture"),
             )?,
             emissive_texture: self.texture(
                 document,
-                m.emissive_texture().map(|i| (i.texture(), i.tex_coord())),
+                m.emissive_texture().map(info_slot),
                 true,
                 &what("emissive texture"),
             )?,
@@ -71,27 +95,164 @@ impl Importer<'_> {
     fn texture(
         &mut self,
         document: &Document,
-        slot: Option<(gltf::Texture, u32)>,
+        slot: Option<Slot>,
         srgb: bool,
         what: &str,
     ) -> Result<Option<TextureData>, GltfError> {
-        let Some((texture, tex_coord)) = slot else {
+        let Some(slot) = slot else {
             return Ok(None);
         };
+        let (transform, tex_coord) = match slot.transform {
+            Some((t, over)) => (finite_transform(t), over.unwrap_or(slot.tex_coord)),
+            None => (UvTransform::default(), slot.tex_coord),
+        };
         if tex_coord != 0 {
-            self.warnings.push(format!(
-                "{what} uses TEXCOORD_{tex_coord}; only TEXCOORD_0 is loaded, so it is mapped with that"
+            self.warn(format!(
+                "{what} uses TEXCOORD_{tex_coord}; meshes carry one UV set, so it is mapped with TEXCOORD_0"
             ));
         }
-        let index = texture.source().index();
-        if !self.images.contains_key(&index) {
-            let decoded =
-                source::decode_image(document, index, &self.buffers, self.base_dir, self.path)?;
-            self.images.insert(index, decoded);
-        }
-        Ok(self.images.get(&index).map(|decoded| TextureData {
+        let index = slot.texture.source().index();
+        let image = match self.images.get(&index) {
+            Some(image) => image.clone(),
+            None => {
+                let decoded = Arc::new(source::decode_image(
+                    document,
+                    index,
+                    &self.buffers,
+                    self.base_dir,
+                    self.path,
+                )?);
+                self.images.insert(index, decoded.clone());
+                decoded
+            }
+        };
+        let sampler = slot.texture.sampler();
+        let wrap = |mode| match mode {
+            WrappingMode::ClampToEdge => Wrap::Clamp,
+            WrappingMode::MirroredRepeat => Wrap::Mirror,
+            WrappingMode::Repeat => Wrap::Repeat,
+        };
+        Ok(Some(TextureData {
+            image,
             srgb,
-            ..decoded.clone()
+            tex_coord,
+            transform,
+            wrap: [wrap(sampler.wrap_s()), wrap(sampler.wrap_t())],
+            nearest: sampler.mag_filter() == Some(MagFilter::Nearest),
         }))
+    }
+}
+
+fn info_slot(i: gltf::texture::Info<'_>) -> Slot<'_> {
+    // gltf reads the extension of texture infos itself (typed, not in the map).
+    let transform = i.texture_transform().map(|t| {
+        let uv = UvTransform {
+            offset: t.offset(),
+            rotation: t.rotation(),
+            scale: t.scale(),
+        };
+        (uv, t.tex_coord())
+    });
+    Slot {
+        texture: i.texture(),
+        tex_coord: i.tex_coord(),
+        transform,
+    }
+}
+
+/// `KHR_texture_transform` from its extension object (offset, rotation,
+/// scale, texCoord override); absent or malformed fields keep their defaults.
+fn parse_transform(v: &gltf::json::Value) -> (UvTransform, Option<u32>) {
+    let d = UvTransform::default();
+    let pair = |key: &str, default: [f32; 2]| {
+        v.get(key)
+            .and_then(|p| Some([p.get(0)?.as_f64()? as f32, p.get(1)?.as_f64()? as f32]))
+            .unwrap_or(default)
+    };
+    let t = UvTransform {
+        offset: pair("offset", d.offset),
+        scale: pair("scale", d.scale),
+        rotation: v
+            .get("rotation")
+            .and_then(|r| r.as_f64())
+            .map_or(0.0, |r| r as f32),
+    };
+    let tex_coord = v
+        .get("texCoord")
+        .and_then(|c| c.as_u64())
+        .and_then(|c| u32::try_from(c).ok());
+    (t, tex_coord)
+}
+
+/// Non-finite parts of a transform replaced by the identity's.
+fn finite_transform(t: UvTransform) -> UvTransform {
+    let d = UvTransform::default();
+    let pair = |p: [f32; 2], or: [f32; 2]| {
+        if p.iter().all(|c| c.is_finite()) {
+            p
+        } else {
+            or
+        }
+    };
+    UvTransform {
+        offset: pair(t.offset, d.offset),
+        scale: pair(t.scale, d.scale),
+        rotation: if t.rotation.is_finite() {
+            t.rotation
+        } else {
+            0.0
+        },
+    }
+}
+
+impl TextureData {
+    fn map(&self) -> MapRef {
+        MapRef {
+            image: self.image.clone(),
+            tex_coord: self.tex_coord,
+            transform: self.transform,
+            wrap: self.wrap,
+            nearest: self.nearest,
+        }
+    }
+}
+
+impl MaterialData {
+    /// This material in the material world: CookTorrance with its roughness
+    /// and metallic factors (f0 0.04 for dielectrics, glTF's), Emission
+    /// when it emits (colour, `KHR_materials_emissive_strength`), and
+    /// SurfaceMaps for its textures, alpha mode and sidedness. The base
+    /// colour factor is the instance colour (the glTF node's Base Color).
+    pub fn to_material(&self) -> Material {
+        let mut material = Material::new();
+        let finite = |v: f32| if v.is_finite() { v } else { 0.0 };
+        // Clamped into range by `set`; finite, so it cannot fail.
+        let _ = material.set(
+            Feature::CookTorrance,
+            &[[finite(self.roughness), finite(self.metallic), 0.04, 0.0]],
+        );
+        let [r, g, b] = self.emissive.map(finite);
+        let strength = finite(self.emissive_strength);
+        if (r > 0.0 || g > 0.0 || b > 0.0) && strength > 0.0 {
+            let _ = material.set(Feature::Emission, &[[r, g, b, strength]]);
+        }
+        let mut maps = SurfaceMaps {
+            normal_scale: self.normal_scale,
+            occlusion_strength: self.occlusion_strength,
+            alpha: self.alpha_mode,
+            double_sided: self.double_sided,
+            ..SurfaceMaps::default()
+        };
+        for (slot, texture) in [
+            (MapSlot::BaseColor, &self.base_color_texture),
+            (MapSlot::MetallicRoughness, &self.metallic_roughness_texture),
+            (MapSlot::Normal, &self.normal_texture),
+            (MapSlot::Occlusion, &self.occlusion_texture),
+            (MapSlot::Emissive, &self.emissive_texture),
+        ] {
+            maps.set_map(slot, texture.as_ref().map(TextureData::map));
+        }
+        material.set_maps(Some(Arc::new(maps)));
+        material
     }
 }

@@ -63,6 +63,11 @@ impl Importer<'_> {
             None => (0..vertices as u32).collect(),
         };
         let indices = self.triangle_list(&name, mode, indices);
+        if indices.is_empty() {
+            // Accessors of count 0 are valid glTF: nothing to draw.
+            self.warn(format!("{name}: it has no triangles; skipped"));
+            return Ok(None);
+        }
 
         let mesh_error = |source| GltfError::Mesh {
             path: self.path.to_owned(),

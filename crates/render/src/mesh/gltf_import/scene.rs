@@ -6,11 +6,67 @@ use std::collections::HashMap;
 use glam::Mat4;
 use gltf::Document;
 
-use super::{GltfError, GltfScene, Importer, MeshInstance};
+use super::animation::{self, SceneGraph};
+use super::content::LightSource;
+use super::{GltfError, GltfScene, Importer, MeshInstance, SceneLights, content};
 use crate::mesh::Aabb;
+
+/// glTF's node hierarchy must be a forest: no node is its own child, none
+/// has two parents, and following parents never loops. The first problem,
+/// named by its nodes.
+fn check_forest(document: &Document) -> Result<(), String> {
+    let n = document.nodes().len();
+    let mut parent: Vec<Option<usize>> = vec![None; n];
+    for node in document.nodes() {
+        for child in node.children() {
+            let (p, c) = (node.index(), child.index());
+            if p == c {
+                return Err(format!("node {c} is its own child"));
+            }
+            match parent.get_mut(c) {
+                Some(Some(first)) if *first != p => {
+                    return Err(format!(
+                        "node {c} is a child of nodes {first} and {p}; a node has at most one parent"
+                    ));
+                }
+                Some(slot) => *slot = Some(p),
+                None => {}
+            }
+        }
+    }
+    // One parent each: walk up from every node once (O(nodes)); meeting
+    // the walk's own path again is a cycle.
+    let mut walked = vec![usize::MAX; n];
+    for start in 0..n {
+        let mut path = Vec::new();
+        let mut at = Some(start);
+        while let Some(node) = at {
+            if walked[node] == start {
+                let from = path.iter().position(|&p| p == node).unwrap_or(0);
+                let mut names: Vec<String> = path[from..].iter().map(usize::to_string).collect();
+                names.push(node.to_string());
+                return Err(format!(
+                    "nodes {} are each other's ancestors (a cycle)",
+                    names.join(" -> ")
+                ));
+            }
+            if walked[node] != usize::MAX {
+                break; // walked from an earlier start: no cycle above it
+            }
+            walked[node] = start;
+            path.push(node);
+            at = parent[node];
+        }
+    }
+    Ok(())
+}
 
 impl Importer<'_> {
     pub(super) fn scene(&mut self, document: &Document) -> Result<GltfScene, GltfError> {
+        check_forest(document).map_err(|message| GltfError::Invalid {
+            path: self.path.to_owned(),
+            message,
+        })?;
         let mut meshes = Vec::new();
         // (glTF mesh, primitive) -> index in `meshes`; skipped ones are absent.
         let mut loaded: HashMap<(usize, usize), usize> = HashMap::new();
@@ -26,13 +82,12 @@ impl Importer<'_> {
             .materials()
             .map(|m| self.material(document, &m))
             .collect::<Result<Vec<_>, _>>()?;
-        if document.animations().next().is_some() {
-            self.warnings
-                .push("animations are ignored: the scene loads in its rest pose".into());
-        }
+        let animations = self.animations(document)?;
 
         let mut instances = Vec::new();
-        for (node, world) in self.scene_nodes(document) {
+        let nodes = self.scene_nodes(document);
+        for (node, world, _) in &nodes {
+            let (node, world) = (node, *world);
             let Some(mesh) = node.mesh() else { continue };
             if node.skin().is_some() {
                 self.warnings.push(format!(
@@ -46,6 +101,7 @@ impl Importer<'_> {
                         mesh: index,
                         transform: world,
                         material: primitive.material().index(),
+                        node: node.index(),
                     });
                 }
             }
@@ -55,11 +111,34 @@ impl Importer<'_> {
             .filter_map(|i| Some(meshes.get(i.mesh)?.bounds.transformed(i.transform)))
             .reduce(Aabb::union)
             .unwrap_or(Aabb::ZERO);
+        let reach = bounds.size().length();
+        let mut lights = SceneLights::default();
+        let mut light_sources = Vec::new();
+        let mut cameras = Vec::new();
+        for (node, world, _) in &nodes {
+            if let Some(light) = node.light() {
+                let source = LightSource::new(&light, node.index(), reach);
+                source.place(*world, &mut lights);
+                light_sources.push(source);
+            }
+            if let Some(camera) = node.camera() {
+                cameras.push(content::camera(&camera, node.index(), *world));
+            }
+        }
+        let graph = SceneGraph {
+            order: nodes.iter().map(|(n, _, p)| (n.index(), *p)).collect(),
+            rest: document.nodes().map(|n| animation::rest_of(&n)).collect(),
+        };
         Ok(GltfScene {
             meshes,
             materials,
             instances,
             bounds,
+            lights,
+            light_sources,
+            cameras,
+            graph,
+            animations,
             warnings: std::mem::take(&mut self.warnings),
         })
     }
@@ -67,7 +146,10 @@ impl Importer<'_> {
     /// Every node of the scene to show, with its world transform. A node
     /// reached twice (a cycle, or a child of two parents: both invalid glTF)
     /// is kept once and reported; a non-finite transform drops its subtree.
-    fn scene_nodes<'d>(&mut self, document: &'d Document) -> Vec<(gltf::Node<'d>, Mat4)> {
+    fn scene_nodes<'d>(
+        &mut self,
+        document: &'d Document,
+    ) -> Vec<(gltf::Node<'d>, Mat4, Option<usize>)> {
         let roots: Vec<gltf::Node> = match document
             .default_scene()
             .or_else(|| document.scenes().next())
@@ -88,12 +170,12 @@ impl Importer<'_> {
         };
         let mut visited = vec![false; document.nodes().len()];
         let mut out = Vec::new();
-        let mut stack: Vec<(gltf::Node, Mat4)> = roots
+        let mut stack: Vec<(gltf::Node, Mat4, Option<usize>)> = roots
             .into_iter()
             .rev()
-            .map(|n| (n, Mat4::IDENTITY))
+            .map(|n| (n, Mat4::IDENTITY, None))
             .collect();
-        while let Some((node, parent)) = stack.pop() {
+        while let Some((node, parent, parent_index)) = stack.pop() {
             match visited.get_mut(node.index()) {
                 Some(seen) if !*seen => *seen = true,
                 _ => {
@@ -114,8 +196,13 @@ impl Importer<'_> {
                 continue;
             }
             let children: Vec<_> = node.children().collect();
-            stack.extend(children.into_iter().rev().map(|c| (c, world)));
-            out.push((node, world));
+            stack.extend(
+                children
+                    .into_iter()
+                    .rev()
+                    .map(|c| (c, world, Some(node.index()))),
+            );
+            out.push((node, world, parent_index));
         }
         out
     }

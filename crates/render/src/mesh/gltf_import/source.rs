@@ -6,8 +6,9 @@ use std::path::{Path, PathBuf};
 
 use gltf::Document;
 
+use super::GltfError;
 use super::accessor::Buffers;
-use super::{GltfError, TextureData};
+use crate::material::maps::MapImage;
 
 const GLB_MAGIC: &[u8; 4] = b"glTF";
 const CHUNK_JSON: u32 = 0x4E4F_534A;
@@ -173,15 +174,14 @@ pub(super) fn load_buffers(
         .collect()
 }
 
-/// One image, decoded (PNG or JPEG, told by content) to RGBA8; `srgb` is
-/// left false for the caller to set per use.
+/// One image, decoded (PNG or JPEG, told by content) to RGBA8.
 pub(super) fn decode_image(
     document: &Document,
     index: usize,
     buffers: &Buffers,
     base_dir: Option<&Path>,
     path: &Path,
-) -> Result<TextureData, GltfError> {
+) -> Result<MapImage, GltfError> {
     let image_error = |reason: String| GltfError::Image {
         path: path.to_owned(),
         index,
@@ -209,11 +209,10 @@ pub(super) fn decode_image(
     let decoded = image::load_from_memory(&bytes)
         .map_err(|e| image_error(format!("cannot decode: {e}")))?
         .to_rgba8();
-    Ok(TextureData {
+    Ok(MapImage {
         width: decoded.width(),
         height: decoded.height(),
         rgba8: decoded.into_raw(),
-        srgb: false,
     })
 }
 

@@ -1,11 +1,12 @@
-//! Test glTF files, written with gltf-json at test time (nothing is
-//! downloaded): a document builder with one binary buffer that is finished
-//! as a `.gltf` with a data URI, a `.gltf` with an external `.bin`, or a `.glb`.
+//! glTF files written in code (tests, generated benchmark scenes: nothing
+//! is downloaded): a gltf-json document builder with one binary buffer that
+//! is finished as a `.gltf` with a data URI, a `.gltf` with an external
+//! `.bin`, or a `.glb`.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-use gltf_json as json;
+use gltf::json;
 use json::accessor::{ComponentType, GenericComponentType, Type};
 use json::mesh::{Mode, Semantic};
 use json::validation::Checked::Valid;
@@ -172,7 +173,7 @@ impl Doc {
         self.pad();
         let uri = format!("data:application/octet-stream;base64,{}", base64(&self.bin));
         self.finish_buffer(Some(uri));
-        json::serialize::to_vec_pretty(&self.root).expect("serialize")
+        json::serialize::to_vec(&self.root).expect("a glTF document serializes")
     }
 
     /// `name` in `dir`, its buffer referred to by `uri`; the buffer is
@@ -217,6 +218,68 @@ impl Doc {
     }
 }
 
+impl Default for Doc {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl Doc {
+    /// An image stored in a buffer view (PNG bytes).
+    pub fn png_image(&mut self, png: &[u8]) -> Index<json::Image> {
+        let view = self.view(png);
+        self.root.push(json::Image {
+            buffer_view: Some(view),
+            mime_type: Some(json::image::MimeType("image/png".into())),
+            name: None,
+            uri: None,
+            extensions: None,
+            extras: Default::default(),
+        })
+    }
+
+    /// A texture of `image` with glTF's default sampler.
+    pub fn texture(&mut self, image: Index<json::Image>) -> Index<json::Texture> {
+        self.root.push(json::Texture {
+            name: None,
+            sampler: None,
+            source: image,
+            extensions: None,
+            extras: Default::default(),
+        })
+    }
+
+    pub fn material(&mut self, material: json::Material) -> Index<json::Material> {
+        self.root.push(material)
+    }
+}
+
+/// A texture reference on TEXCOORD_0.
+pub fn info(texture: Index<json::Texture>) -> json::texture::Info {
+    json::texture::Info {
+        index: texture,
+        tex_coord: 0,
+        extensions: None,
+        extras: Default::default(),
+    }
+}
+
+/// `image` encoded as PNG.
+pub fn png(image: &image::RgbaImage) -> Vec<u8> {
+    use image::ImageEncoder;
+    use image::codecs::png::{CompressionType, FilterType, PngEncoder};
+    let mut out = Vec::new();
+    PngEncoder::new_with_quality(&mut out, CompressionType::Best, FilterType::Adaptive)
+        .write_image(
+            image.as_raw(),
+            image.width(),
+            image.height(),
+            image::ExtendedColorType::Rgba8,
+        )
+        .expect("PNG encoding to memory cannot fail");
+    out
+}
+
 pub fn primitive(
     attributes: &[(Semantic, Index<json::Accessor>)],
     indices: Option<Index<json::Accessor>>,
@@ -252,11 +315,7 @@ pub fn png_2x2() -> Vec<u8> {
         255, 0, 0, 255, 0, 255, 0, 255, //
         0, 0, 255, 255, 255, 255, 255, 255,
     ];
-    let img = image::RgbaImage::from_raw(2, 2, pixels).expect("2x2");
-    let mut out = std::io::Cursor::new(Vec::new());
-    img.write_to(&mut out, image::ImageFormat::Png)
-        .expect("encode png");
-    out.into_inner()
+    png(&image::RgbaImage::from_raw(2, 2, pixels).expect("2x2 pixels"))
 }
 
 fn base64(data: &[u8]) -> String {

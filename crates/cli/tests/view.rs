@@ -1,0 +1,357 @@
+//! `spreadlight view` on generated models (`render::mesh::gltf_import::models`),
+//! against reference images in `tests/reference/` with the tolerance of the
+//! workspace's reference tests: every channel within 4/255 on 99% of pixels.
+//! Bless after an intended change with
+//! `SPREADLIGHT_BLESS=1 cargo test -p spreadlight-cli --test view`, and look
+//! at the images before committing them.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+use spreadlight_render::mesh::gltf_import::builder::{Doc, info, png};
+use spreadlight_render::mesh::gltf_import::models;
+
+const SIZE: &str = "64x64";
+
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+fn spreadlight(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_spreadlight"))
+        .args(args)
+        .current_dir(root())
+        .output()
+        .expect("runs")
+}
+
+fn text(bytes: &[u8]) -> String {
+    String::from_utf8_lossy(bytes).into_owned()
+}
+
+/// `view` of `model` (written as `name.gltf`) with `extra` arguments; the image.
+fn view(dir: &Path, name: &str, model: &[u8], extra: &[&str]) -> (image::RgbaImage, String) {
+    let path = dir.join(format!("{name}.gltf"));
+    std::fs::write(&path, model).expect("write model");
+    let out = dir.join(format!("{name}.png"));
+    let mut args = vec![
+        "view",
+        path.to_str().expect("utf-8"),
+        "-o",
+        out.to_str().expect("utf-8"),
+        "--size",
+        SIZE,
+    ];
+    args.extend_from_slice(extra);
+    let o = spreadlight(&args);
+    let stderr = text(&o.stderr);
+    assert_eq!(o.status.code(), Some(0), "{stderr}");
+    (image::open(&out).expect("image").to_rgba8(), stderr)
+}
+
+fn matches_reference(name: &str, got: &image::RgbaImage) {
+    let reference = root().join("tests/reference").join(format!("{name}.png"));
+    if std::env::var_os("SPREADLIGHT_BLESS").is_some() {
+        got.save(&reference).expect("bless");
+        return;
+    }
+    let want = image::open(&reference)
+        .unwrap_or_else(|e| panic!("{}: {e}; bless it", reference.display()))
+        .to_rgba8();
+    assert_eq!(want.dimensions(), got.dimensions(), "{name}: size");
+    let matching = want
+        .pixels()
+        .zip(got.pixels())
+        .filter(|(a, b)| {
+            a.0.iter()
+                .zip(b.0.iter())
+                .all(|(x, y)| (i32::from(*x) - i32::from(*y)).abs() <= 4)
+        })
+        .count();
+    let fraction = matching as f64 / want.pixels().len() as f64;
+    let kept = std::env::temp_dir().join(format!("spreadlight-{name}.png"));
+    got.save(&kept).expect("keep");
+    assert!(
+        fraction >= 0.99,
+        "{name}: {:.1}% of pixels match (rendered: {})",
+        fraction * 100.0,
+        kept.display()
+    );
+}
+
+#[test]
+fn textured_normal_mapped_cube_is_lit_and_textured() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let (lit, _) = view(dir.path(), "cube", &models::textured_cube(), &[]);
+    matches_reference("view-textured-cube", &lit);
+    // Not a silhouette: the checker and the lighting give many distinct colours.
+    let distinct: std::collections::HashSet<[u8; 4]> = lit.pixels().map(|p| p.0).collect();
+    assert!(distinct.len() > 200, "{} colours", distinct.len());
+    // The albedo channel shows the texture: both checker colours appear.
+    let (albedo, _) = view(
+        dir.path(),
+        "cube",
+        &models::textured_cube(),
+        &["--channel", "Albedo"],
+    );
+    let near = |p: &image::Rgba<u8>, c: [u8; 3]| {
+        p.0.iter()
+            .zip(c)
+            .all(|(a, b)| (i32::from(*a) - i32::from(b)).abs() < 12)
+    };
+    assert!(
+        albedo.pixels().any(|p| near(p, [230, 120, 40])),
+        "orange squares"
+    );
+    assert!(
+        albedo.pixels().any(|p| near(p, [240, 240, 230])),
+        "white squares"
+    );
+}
+
+#[test]
+fn a_scene_is_lit_by_its_own_punctual_lights() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let patch = dir.path().join("lights.ron");
+    let (lit, _) = view(
+        dir.path(),
+        "lights",
+        &models::punctual_lights_scene(),
+        &["--save-patch", patch.to_str().expect("utf-8")],
+    );
+    matches_reference("view-punctual-lights", &lit);
+    // The file's lights replace view's sun: point and spot buffers, no sun, no shadow map.
+    let saved = std::fs::read_to_string(&patch).expect("saved patch");
+    assert!(saved.contains("PointLightBuffer") && saved.contains("SpotLightBuffer"));
+    assert!(!saved.contains("AddLight (Sun)") && !saved.contains("ShadowMap"));
+    // The warm point light is left of the block, the blue spot right of it.
+    let (w, h) = lit.dimensions();
+    let sum = |x0: u32, x1: u32| {
+        let mut s = [0i64; 3];
+        for y in h / 2..h * 3 / 4 {
+            for x in x0..x1 {
+                let p = lit.get_pixel(x, y).0;
+                for c in 0..3 {
+                    s[c] += i64::from(p[c]);
+                }
+            }
+        }
+        s
+    };
+    let (left, right) = (sum(w / 4, w / 2), sum(w / 2, w * 3 / 4));
+    assert!(left[0] > left[2], "warm on the left: {left:?}");
+    assert!(right[2] > right[0], "blue on the right: {right:?}");
+}
+
+/// A one-sided white quad facing +Z on a node placed by `translation` and `scale`.
+fn quad(translation: [f32; 3], scale: [f32; 3]) -> Vec<u8> {
+    quad_with(translation, scale, 0.0, |_| None)
+}
+
+/// A quad facing +Z turned by `turn` radians about Y, with the material
+/// `material` makes (given the builder, to add textures).
+fn quad_with(
+    translation: [f32; 3],
+    scale: [f32; 3],
+    turn: f32,
+    material: impl FnOnce(&mut Doc) -> Option<gltf_json::Material>,
+) -> Vec<u8> {
+    let mut doc = Doc::new();
+    let mut plane = spreadlight_render::mesh::MeshData {
+        positions: vec![
+            [-1.0, -1.0, 0.0],
+            [1.0, -1.0, 0.0],
+            [1.0, 1.0, 0.0],
+            [-1.0, 1.0, 0.0],
+        ],
+        normals: vec![[0.0, 0.0, 1.0]; 4],
+        uvs: Some(vec![[0.0, 1.0], [1.0, 1.0], [1.0, 0.0], [0.0, 0.0]]),
+        tangents: None,
+        indices: vec![0, 1, 2, 0, 2, 3],
+        bounds: spreadlight_render::mesh::Aabb::ZERO,
+    };
+    plane.recompute_bounds();
+    let mesh = doc.mesh_data("Quad", &plane);
+    if let Some(m) = material(&mut doc) {
+        let m = doc.material(m);
+        doc.root.meshes[mesh.value()].primitives[0].material = Some(m);
+    }
+    let node = doc.node(gltf_json::Node {
+        mesh: Some(mesh),
+        translation: Some(translation),
+        scale: Some(scale),
+        rotation: Some(gltf_json::scene::UnitQuaternion(
+            glam::Quat::from_rotation_y(turn).to_array(),
+        )),
+        ..Default::default()
+    });
+    doc.scene(vec![node]);
+    doc.gltf_data_uri()
+}
+
+/// The share of pixels the model covers in the albedo view.
+fn coverage(image: &image::RgbaImage) -> f64 {
+    let covered = image.pixels().filter(|p| p.0[0] > 100).count();
+    covered as f64 / (image.width() * image.height()) as f64
+}
+
+#[test]
+fn mirrored_nodes_turn_their_winding_around() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let args = ["--channel", "Albedo"];
+    let (plain, _) = view(dir.path(), "plain", &quad([0.0; 3], [1.0; 3]), &args);
+    let (mirrored, _) = view(
+        dir.path(),
+        "mirrored",
+        &quad([0.0; 3], [-1.0, 1.0, 1.0]),
+        &args,
+    );
+    assert!(coverage(&plain) > 0.2, "{}", coverage(&plain));
+    // Culled as a back face, the mirrored quad would be missing.
+    assert!(
+        (coverage(&mirrored) - coverage(&plain)).abs() < 0.02,
+        "{} vs {}",
+        coverage(&mirrored),
+        coverage(&plain)
+    );
+}
+
+#[test]
+fn extreme_coordinates_are_framed_and_shown() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    for (name, s) in [("tiny", 1e-18f32), ("huge", 1e18)] {
+        let model = quad([s, -s, 3.0 * s], [s; 3]);
+        let (albedo, _) = view(dir.path(), name, &model, &["--channel", "Albedo"]);
+        assert!(coverage(&albedo) > 0.2, "{name}: {}", coverage(&albedo));
+        // Lit: finite, and the quad is not black.
+        let (lit, stderr) = view(dir.path(), name, &model, &[]);
+        // (lavapipe's own XDG_RUNTIME_DIR complaint is not ours)
+        let ours = stderr
+            .lines()
+            .any(|l| l.contains("error") && !l.contains("XDG_RUNTIME_DIR"));
+        assert!(!ours, "{name}: {stderr}");
+        let centre = lit.get_pixel(lit.width() / 2, lit.height() / 2).0;
+        assert!(centre[..3].iter().any(|c| *c > 40), "{name}: {centre:?}");
+    }
+}
+
+#[test]
+fn mask_materials_cut_out_below_their_cutoff() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let args = ["--channel", "Albedo"];
+    // Alpha 0 on the left half of the texture, 1 on the right.
+    let masked = quad_with([0.0; 3], [1.0; 3], 0.0, |doc| {
+        let half = image::RgbaImage::from_fn(16, 16, |x, _| {
+            image::Rgba([255, 255, 255, if x < 8 { 0 } else { 255 }])
+        });
+        let image = doc.png_image(&png(&half));
+        let texture = doc.texture(image);
+        let mut m = gltf_json::Material {
+            alpha_mode: gltf_json::validation::Checked::Valid(gltf_json::material::AlphaMode::Mask),
+            alpha_cutoff: Some(gltf_json::material::AlphaCutoff(0.5)),
+            ..Default::default()
+        };
+        m.pbr_metallic_roughness.base_color_texture = Some(info(texture));
+        Some(m)
+    });
+    let (plain, _) = view(dir.path(), "plain", &quad([0.0; 3], [1.0; 3]), &args);
+    let (cut, _) = view(dir.path(), "masked", &masked, &args);
+    let ratio = coverage(&cut) / coverage(&plain);
+    assert!((0.35..0.65).contains(&ratio), "{ratio}");
+}
+
+#[test]
+fn double_sided_materials_show_lit_back_faces() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let behind = |double_sided: bool| {
+        // Turned away from the camera: the viewer sees its back.
+        quad_with([0.0; 3], [1.0; 3], std::f32::consts::PI, move |_| {
+            Some(gltf_json::Material {
+                double_sided,
+                ..Default::default()
+            })
+        })
+    };
+    let args = ["--channel", "Albedo"];
+    let (one, _) = view(dir.path(), "one", &behind(false), &args);
+    let (two, _) = view(dir.path(), "two", &behind(true), &args);
+    assert!(coverage(&one) < 0.01, "{}", coverage(&one));
+    assert!(coverage(&two) > 0.2, "{}", coverage(&two));
+    // Its normals are flipped towards the viewer (view-space +Z: blue).
+    let (normals, _) = view(dir.path(), "two", &behind(true), &["--channel", "Normals"]);
+    let centre = normals
+        .get_pixel(normals.width() / 2, normals.height() / 2)
+        .0;
+    assert!(centre[2] > 150, "{centre:?}");
+}
+
+#[test]
+fn time_poses_an_animated_model() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let model = models::sliding_cube();
+    // Where the cube is: its red pixels in the albedo view.
+    let centroid = |time: &str| {
+        let (image, _) = view(
+            dir.path(),
+            "slide",
+            &model,
+            &["--channel", "Albedo", "--time", time],
+        );
+        let (mut sum, mut n) = (0.0f64, 0.0f64);
+        for (x, _, p) in image.enumerate_pixels() {
+            if p.0[0] > 150 && p.0[1] < 80 {
+                sum += f64::from(x);
+                n += 1.0;
+            }
+        }
+        assert!(n > 10.0, "the cube is in view at {time} s");
+        sum / n
+    };
+    let (start, middle) = (centroid("0"), centroid("1"));
+    assert!(
+        middle > start + 8.0,
+        "the cube slid right: {start} -> {middle}"
+    );
+}
+
+#[test]
+fn blend_materials_go_through_transparency() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let red = |mode| {
+        move |_: &mut Doc| {
+            let mut m = gltf_json::Material {
+                alpha_mode: gltf_json::validation::Checked::Valid(mode),
+                ..Default::default()
+            };
+            m.pbr_metallic_roughness.base_color_factor =
+                gltf_json::material::PbrBaseColorFactor([1.0, 0.0, 0.0, 0.5]);
+            m.pbr_metallic_roughness.metallic_factor = gltf_json::material::StrengthFactor(0.0);
+            Some(m)
+        }
+    };
+    use gltf_json::material::AlphaMode;
+    let patch = dir.path().join("blend.ron");
+    let blend = quad_with([0.0; 3], [1.0; 3], 0.0, red(AlphaMode::Blend));
+    let opaque = quad_with([0.0; 3], [1.0; 3], 0.0, red(AlphaMode::Opaque));
+    let (glass, _) = view(
+        dir.path(),
+        "glass",
+        &blend,
+        &["--save-patch", patch.to_str().expect("utf-8")],
+    );
+    let (solid, _) = view(dir.path(), "solid", &opaque, &[]);
+    assert!(
+        std::fs::read_to_string(&patch)
+            .expect("patch")
+            .contains("Transparency")
+    );
+    // Not in the G-buffer: the albedo view is empty.
+    let (albedo, _) = view(dir.path(), "glass", &blend, &["--channel", "Albedo"]);
+    assert!(coverage(&albedo) < 0.01, "{}", coverage(&albedo));
+    // Over the sky, half red: redder than the sky, less than the opaque quad.
+    let centre = |i: &image::RgbaImage| i.get_pixel(i.width() / 2, i.height() / 2).0;
+    let (g, s) = (centre(&glass), centre(&solid));
+    let redness = |p: [u8; 4]| i32::from(p[0]) - i32::from(p[2]);
+    assert!(redness(g) > 0, "glass {g:?}");
+    assert!(redness(s) > redness(g), "solid {s:?} vs glass {g:?}");
+}

@@ -1,0 +1,131 @@
+//! The `glTF` node over generated files: its materials join the material
+//! world at stable ids, a patch changes one by name, its lights start light
+//! lists, and many instances of one mesh stay one draw.
+
+use std::sync::Arc;
+
+use spreadlight_graph::{FrameClock, NodeDoc, NodeId, Patch, Runtime, Spread};
+use spreadlight_render::lighting::PointLight;
+use spreadlight_render::material::{FEATURE_SURFACE_MAPS, Feature, MaterialWorld};
+use spreadlight_render::mesh::gltf_import::models;
+
+use crate::lighting::add_light::LightList;
+
+/// Run `patch` one frame with a GPU (the model at `model`), expecting no errors.
+fn run(patch: &Patch, dir: &std::path::Path) -> Runtime {
+    let mut runtime = Runtime::new(crate::registry());
+    runtime.provide(spreadlight_render::renderer::test_renderer());
+    runtime.provide(Arc::new(spreadlight_graph::PatchDir(dir.to_owned())));
+    let problems = runtime.load(patch);
+    assert!(problems.is_empty(), "{problems:?}");
+    runtime.evaluate(FrameClock::default());
+    let errors: Vec<_> = runtime
+        .node_errors()
+        .map(|(id, e)| format!("{id}: {e}"))
+        .collect();
+    assert!(errors.is_empty(), "{errors:?}");
+    runtime
+}
+
+fn resource<T: std::any::Any + Send + Sync>(rt: &Runtime, node: u32, pin: &str) -> Vec<Arc<T>> {
+    match rt.output(NodeId(node), pin).map(|s| s.as_ref()) {
+        Some(Spread::Resource(_, handles)) => handles
+            .iter()
+            .map(|h| h.downcast_arc::<T>().expect("type"))
+            .collect(),
+        other => panic!("{node}.{pin}: {other:?}"),
+    }
+}
+
+#[test]
+fn gltf_materials_join_the_world_and_one_is_changed_by_name() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("cube.gltf"), models::textured_cube()).unwrap();
+    let mut patch = Patch::default();
+    patch.add(
+        NodeDoc::new(1, "glTF")
+            .with("Filename", vec!["cube.gltf".to_owned()])
+            .with("First Material ID", vec![3i64]),
+    );
+    patch.add(NodeDoc::new(2, "MaterialByName").with("Name", vec!["Painted".to_owned()]));
+    patch.add(NodeDoc::new(3, "AddReflection"));
+    patch.add(NodeDoc::new(4, "MaterialManager"));
+    patch.add(NodeDoc::new(5, "MaterialBuffer"));
+    patch.add(NodeDoc::new(6, "Probe"));
+    patch.link(1, "Materials", 2, "Materials");
+    patch.link(1, "Material Names", 2, "Names");
+    patch.link(2, "Material", 3, "Material");
+    patch.link(1, "Materials", 4, "Materials");
+    patch.link(3, "Material", 4, "Material");
+    patch.link(2, "Material ID", 4, "Material ID");
+    patch.link(4, "Materials", 5, "Materials");
+    patch.link(5, "Material World", 6, "Input");
+    let rt = run(&patch, dir.path());
+    // Ids 0..3 are the patch's (default materials), 3 glTF's default, 4 "Painted".
+    let ids = rt.output(NodeId(1), "Material ID").unwrap();
+    assert_eq!(ids.as_ref(), &Spread::Int(vec![4]));
+    let world = resource::<MaterialWorld>(&rt, 5, "Material World").remove(0);
+    assert_eq!(world.len(), 5);
+    assert!(world.has_maps());
+    let painted = world.flags(4);
+    assert_ne!(painted & (1 << FEATURE_SURFACE_MAPS), 0, "maps kept");
+    assert_ne!(
+        painted & Feature::Reflection.flag(),
+        0,
+        "reflection added by name"
+    );
+    assert_eq!(
+        world.flags(3) & Feature::Reflection.flag(),
+        0,
+        "others unchanged"
+    );
+    assert!(
+        world.params(4, Feature::Emission).is_some(),
+        "the emissive factor"
+    );
+}
+
+#[test]
+fn lights_start_light_lists_and_instances_of_one_mesh_are_one_batch() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(
+        dir.path().join("lights.gltf"),
+        models::punctual_lights_scene(),
+    )
+    .unwrap();
+    let mut patch = Patch::default();
+    patch.add(NodeDoc::new(1, "glTF").with("Filename", vec!["lights.gltf".to_owned()]));
+    patch.add(NodeDoc::new(2, "AddLight (Point)").with("ID", vec!["mine".to_owned()]));
+    patch.add(NodeDoc::new(3, "Probe"));
+    patch.link(1, "Point Lights", 2, "Lights");
+    patch.link(2, "Lights", 3, "Input");
+    let rt = run(&patch, dir.path());
+    let list = resource::<LightList<PointLight>>(&rt, 2, "Lights").remove(0);
+    assert_eq!(
+        list.ids,
+        vec!["lights.gltf: light 0".to_owned(), "mine".to_owned()]
+    );
+    let p = list.lights[0].position;
+    assert!((p - glam::Vec3::new(-1.5, 1.5, 1.0)).length() < 1e-5, "{p}");
+    assert_eq!(
+        resource::<LightList<spreadlight_render::lighting::SpotLight>>(&rt, 1, "Spot Lights")[0]
+            .lights
+            .len(),
+        1
+    );
+
+    // 2,000 nodes of one glTF mesh: one mesh handle, so DeferredBase draws them in one batch.
+    std::fs::write(
+        dir.path().join("grid.gltf"),
+        models::bench_grid(2000, 1, 0, false),
+    )
+    .unwrap();
+    let mut patch = Patch::default();
+    patch.add(NodeDoc::new(1, "glTF").with("Filename", vec!["grid.gltf".to_owned()]));
+    patch.add(NodeDoc::new(2, "Probe"));
+    patch.link(1, "Mesh", 2, "Input");
+    let rt = run(&patch, dir.path());
+    let meshes = resource::<spreadlight_render::mesh_arena::GpuMesh>(&rt, 1, "Mesh");
+    assert_eq!(meshes.len(), 2000);
+    assert!(meshes.iter().all(|m| Arc::ptr_eq(m, &meshes[0])));
+}

@@ -1,0 +1,266 @@
+//! Surface maps: the textures of a glTF metallic-roughness material (base
+//! colour, metallic-roughness, normal, occlusion, emissive), each with its
+//! UV set, `KHR_texture_transform` and sampler, plus the alpha mode and
+//! double-sidedness. A [`Material`](super::Material) carries them as the
+//! built-in feature [`FEATURE_SURFACE_MAPS`](super::FEATURE_SURFACE_MAPS):
+//! its flag bit and, when packed, 11 parameter vec4s that
+//! `shaders/lib/material_maps.wgsl` reads in the G-buffer resolve. The
+//! factors stay where every other material keeps them: roughness and
+//! metallic in CookTorrance, emissive colour and strength in Emission, the
+//! base colour factor in the instance colour; maps multiply them.
+
+use std::sync::Arc;
+
+/// The five map slots, in the order their parameters are packed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum MapSlot {
+    BaseColor = 0,
+    /// Roughness in green, metalness in blue.
+    MetallicRoughness = 1,
+    Normal = 2,
+    /// Occlusion in red.
+    Occlusion = 3,
+    Emissive = 4,
+}
+
+impl MapSlot {
+    pub const ALL: [MapSlot; 5] = [
+        MapSlot::BaseColor,
+        MapSlot::MetallicRoughness,
+        MapSlot::Normal,
+        MapSlot::Occlusion,
+        MapSlot::Emissive,
+    ];
+
+    /// Colour maps are stored sRGB-encoded and sampled through an sRGB format.
+    pub fn srgb(self) -> bool {
+        matches!(self, MapSlot::BaseColor | MapSlot::Emissive)
+    }
+}
+
+/// Decoded pixels of a map: 8-bit RGBA, rows top to bottom. Shared by
+/// every material and slot that uses the same image (uploaded once per world).
+#[derive(Clone, Debug, PartialEq)]
+pub struct MapImage {
+    pub width: u32,
+    pub height: u32,
+    pub rgba8: Vec<u8>,
+}
+
+/// glTF's wrap modes.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Wrap {
+    #[default]
+    Repeat = 0,
+    Clamp = 1,
+    Mirror = 2,
+}
+
+/// `KHR_texture_transform`: uv' = translate(offset) * rotate(rotation) * scale(scale) * uv.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct UvTransform {
+    pub offset: [f32; 2],
+    /// Radians, counter-clockwise in UV space (glTF's convention).
+    pub rotation: f32,
+    pub scale: [f32; 2],
+}
+
+impl Default for UvTransform {
+    fn default() -> Self {
+        Self {
+            offset: [0.0; 2],
+            rotation: 0.0,
+            scale: [1.0; 2],
+        }
+    }
+}
+
+impl UvTransform {
+    /// Where `uv` lands (the CPU twin of `map_uv` in material_maps.wgsl).
+    pub fn apply(&self, [u, v]: [f32; 2]) -> [f32; 2] {
+        let (s, c) = self.rotation.sin_cos();
+        let (su, sv) = (u * self.scale[0], v * self.scale[1]);
+        [
+            c * su + s * sv + self.offset[0],
+            -s * su + c * sv + self.offset[1],
+        ]
+    }
+}
+
+/// One map of a material.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MapRef {
+    pub image: Arc<MapImage>,
+    /// Which TEXCOORD_n maps it. Meshes carry one UV set, so n > 0 reads
+    /// TEXCOORD_0 (the importer warns).
+    pub tex_coord: u32,
+    pub transform: UvTransform,
+    pub wrap: [Wrap; 2],
+    /// Nearest magnification (glTF NEAREST mag filter); otherwise trilinear
+    /// and anisotropic.
+    pub nearest: bool,
+}
+
+impl MapRef {
+    /// A map of `image` with glTF's defaults: TEXCOORD_0, no transform, repeat, linear.
+    pub fn new(image: Arc<MapImage>) -> Self {
+        Self {
+            image,
+            tex_coord: 0,
+            transform: UvTransform::default(),
+            wrap: [Wrap::Repeat; 2],
+            nearest: false,
+        }
+    }
+}
+
+/// How a material's alpha is used.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub enum AlphaMode {
+    #[default]
+    Opaque,
+    /// Alpha below `cutoff` is not drawn, the rest is opaque.
+    Mask { cutoff: f32 },
+    /// Blended over what is behind (the Transparency node's job; in the
+    /// G-buffer it is drawn opaque).
+    Blend,
+}
+
+/// Everything of a glTF material that is not a factor of another feature.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SurfaceMaps {
+    pub maps: [Option<MapRef>; 5],
+    /// Scales the normal map's x and y.
+    pub normal_scale: f32,
+    /// How much of the occlusion map applies (0..=1).
+    pub occlusion_strength: f32,
+    pub alpha: AlphaMode,
+    /// Back faces drawn and lit with flipped normals.
+    pub double_sided: bool,
+}
+
+impl Default for SurfaceMaps {
+    fn default() -> Self {
+        Self {
+            maps: Default::default(),
+            normal_scale: 1.0,
+            occlusion_strength: 1.0,
+            alpha: AlphaMode::Opaque,
+            double_sided: false,
+        }
+    }
+}
+
+/// Where a packed map lives in a world's map textures: its size-class
+/// array and layer. Packed as `slot * 65536 + layer + 1` (0: no map),
+/// exact in an f32.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct MapLocation {
+    pub array: u32,
+    pub layer: u32,
+}
+
+/// How many parameter vec4s the SurfaceMaps feature packs.
+pub const PARAM_COUNT: usize = 1 + 2 * MapSlot::ALL.len();
+
+impl SurfaceMaps {
+    pub fn map(&self, slot: MapSlot) -> Option<&MapRef> {
+        self.maps[slot as usize].as_ref()
+    }
+
+    pub fn set_map(&mut self, slot: MapSlot, map: Option<MapRef>) {
+        self.maps[slot as usize] = map;
+    }
+
+    /// The parameters the shader reads, with each map's location from `locate`:
+    /// 0: (alpha mode 0/1/2 + 4 x double-sided, cutoff, normal scale, occlusion strength);
+    /// per slot: (location, texcoord, wrap s + 4 x wrap t + 16 x nearest, rotation),
+    /// (offset u, offset v, scale u, scale v).
+    pub fn pack(&self, locate: &dyn Fn(&MapRef, MapSlot) -> Option<MapLocation>) -> Vec<[f32; 4]> {
+        let (mode, cutoff) = match self.alpha {
+            AlphaMode::Opaque => (0.0, 0.0),
+            AlphaMode::Mask { cutoff } => (1.0, cutoff),
+            AlphaMode::Blend => (2.0, 0.0),
+        };
+        let sided = if self.double_sided { 4.0 } else { 0.0 };
+        let finite = |v: f32, or: f32| if v.is_finite() { v } else { or };
+        let mut params = vec![[
+            mode + sided,
+            finite(cutoff, 0.5),
+            finite(self.normal_scale, 1.0),
+            finite(self.occlusion_strength, 1.0).clamp(0.0, 1.0),
+        ]];
+        for slot in MapSlot::ALL {
+            let entry = self.map(slot).and_then(|m| Some((m, locate(m, slot)?)));
+            match entry {
+                Some((m, at)) => {
+                    let t = &m.transform;
+                    let sampler =
+                        m.wrap[0] as u32 + 4 * m.wrap[1] as u32 + if m.nearest { 16 } else { 0 };
+                    params.push([
+                        (at.array * 65536 + at.layer + 1) as f32,
+                        m.tex_coord as f32,
+                        sampler as f32,
+                        finite(t.rotation, 0.0),
+                    ]);
+                    params.push([
+                        finite(t.offset[0], 0.0),
+                        finite(t.offset[1], 0.0),
+                        finite(t.scale[0], 1.0),
+                        finite(t.scale[1], 1.0),
+                    ]);
+                }
+                None => params.extend([[0.0; 4], [0.0; 4]]),
+            }
+        }
+        params
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn texture_transform_follows_the_extension() {
+        // KHR_texture_transform's example: rotate a quarter turn, then offset.
+        let t = UvTransform {
+            offset: [0.0, 1.0],
+            rotation: std::f32::consts::FRAC_PI_2,
+            scale: [1.0, 1.0],
+        };
+        let [u, v] = t.apply([1.0, 0.0]);
+        assert!((u - 0.0).abs() < 1e-6 && (v - 0.0).abs() < 1e-6, "{u} {v}");
+        let [u, v] = UvTransform::default().apply([0.25, 0.75]);
+        assert_eq!((u, v), (0.25, 0.75));
+    }
+
+    #[test]
+    fn packing_places_maps_and_settings() {
+        let image = Arc::new(MapImage {
+            width: 1,
+            height: 1,
+            rgba8: vec![255; 4],
+        });
+        let mut maps = SurfaceMaps {
+            alpha: AlphaMode::Mask { cutoff: 0.3 },
+            double_sided: true,
+            normal_scale: 0.5,
+            ..SurfaceMaps::default()
+        };
+        let mut normal = MapRef::new(image);
+        normal.wrap = [Wrap::Clamp, Wrap::Mirror];
+        normal.nearest = true;
+        maps.set_map(MapSlot::Normal, Some(normal));
+        let packed = maps.pack(&|_, slot| {
+            (slot == MapSlot::Normal).then_some(MapLocation { array: 3, layer: 7 })
+        });
+        assert_eq!(packed.len(), PARAM_COUNT);
+        assert_eq!(packed[0], [5.0, 0.3, 0.5, 1.0]);
+        let at = 1 + 2 * MapSlot::Normal as usize;
+        assert_eq!(packed[at], [(3 * 65536 + 8) as f32, 0.0, 25.0, 0.0]);
+        assert_eq!(packed[at + 1], [0.0, 0.0, 1.0, 1.0]);
+        // Slots without a map are zero: the shader reads "none".
+        assert_eq!(packed[1], [0.0; 4]);
+    }
+}

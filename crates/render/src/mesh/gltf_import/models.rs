@@ -1,0 +1,340 @@
+//! Generated glTF models (made in code, so nothing is downloaded): what the
+//! reference-image tests, `spreadlight view`'s tests and the generated
+//! benchmark scenes load. Each returns a `.gltf` with its buffer as a data
+//! URI and its images in buffer views.
+
+use gltf::json;
+use json::validation::Checked::Valid;
+
+use super::builder::{Doc, info, mesh_node, png};
+use crate::mesh::primitives::{BoxParams, box_mesh};
+
+/// Texel size of the generated textures (one size class exactly, so they are not resampled).
+pub const TEXTURE_SIZE: u32 = 64;
+
+/// An 8 x 8 checkerboard of `a` and `b`.
+pub fn checker(a: [u8; 4], b: [u8; 4]) -> image::RgbaImage {
+    image::RgbaImage::from_fn(TEXTURE_SIZE, TEXTURE_SIZE, |x, y| {
+        let cell = TEXTURE_SIZE / 8;
+        image::Rgba(if (x / cell + y / cell).is_multiple_of(2) {
+            a
+        } else {
+            b
+        })
+    })
+}
+
+/// A tangent-space normal map of ridges along v: normals lean along +u and
+/// -u in alternating bands, flat between them.
+pub fn ridges() -> image::RgbaImage {
+    image::RgbaImage::from_fn(TEXTURE_SIZE, TEXTURE_SIZE, |x, _| {
+        let band = (x * 8 / TEXTURE_SIZE) % 4;
+        let lean: f32 = match band {
+            0 => 0.6,
+            2 => -0.6,
+            _ => 0.0,
+        };
+        let n = glam::Vec3::new(lean, 0.0, 1.0).normalize();
+        let encode = |c: f32| ((c * 0.5 + 0.5) * 255.0).round() as u8;
+        image::Rgba([encode(n.x), encode(n.y), encode(n.z), 255])
+    })
+}
+
+/// Metallic-roughness: roughness (G) rising with u, metalness (B) 1 in the top half.
+pub fn metal_rough() -> image::RgbaImage {
+    image::RgbaImage::from_fn(TEXTURE_SIZE, TEXTURE_SIZE, |x, y| {
+        let rough = 40 + (x * 200 / TEXTURE_SIZE) as u8;
+        let metal = if y < TEXTURE_SIZE / 2 { 255 } else { 0 };
+        image::Rgba([0, rough, metal, 255])
+    })
+}
+
+/// A unit cube whose material has a checker base colour texture, a ridged
+/// normal map, a metallic-roughness texture and an emissive stripe, turned
+/// so three faces show.
+pub fn textured_cube() -> Vec<u8> {
+    let mut doc = Doc::new();
+    let textures: Vec<_> = [
+        checker([230, 120, 40, 255], [240, 240, 230, 255]),
+        ridges(),
+        metal_rough(),
+        image::RgbaImage::from_fn(TEXTURE_SIZE, TEXTURE_SIZE, |_, y| {
+            let on = (TEXTURE_SIZE * 7 / 16..TEXTURE_SIZE * 9 / 16).contains(&y);
+            image::Rgba(if on {
+                [40, 160, 255, 255]
+            } else {
+                [0, 0, 0, 255]
+            })
+        }),
+    ]
+    .iter()
+    .map(|image| {
+        let image = doc.png_image(&png(image));
+        doc.texture(image)
+    })
+    .collect();
+    let mut material = json::Material {
+        name: Some("Painted".into()),
+        ..Default::default()
+    };
+    material.pbr_metallic_roughness.base_color_texture = Some(info(textures[0]));
+    material.pbr_metallic_roughness.metallic_roughness_texture = Some(info(textures[2]));
+    material.pbr_metallic_roughness.metallic_factor = json::material::StrengthFactor(1.0);
+    material.pbr_metallic_roughness.roughness_factor = json::material::StrengthFactor(1.0);
+    material.normal_texture = Some(json::material::NormalTexture {
+        index: textures[1],
+        scale: 1.0,
+        tex_coord: 0,
+        extensions: None,
+        extras: Default::default(),
+    });
+    material.emissive_texture = Some(info(textures[3]));
+    material.emissive_factor = json::material::EmissiveFactor([1.0, 1.0, 1.0]);
+    let material = doc.material(material);
+    let mesh = doc.mesh_data("Cube", &box_mesh(BoxParams::default()));
+    doc.root.meshes[mesh.value()].primitives[0].material = Some(material);
+    let node = doc.node(json::Node {
+        mesh: Some(mesh),
+        rotation: Some(json::scene::UnitQuaternion(
+            glam::Quat::from_rotation_y(-0.6).to_array(),
+        )),
+        ..Default::default()
+    });
+    doc.scene(vec![node]);
+    doc.gltf_data_uri()
+}
+
+/// A floor and a sphere-less box lit only by the file's own lights: a
+/// warm point light and a cool spot light (`KHR_lights_punctual`), no
+/// sun. Used to test that `view` lights a file with its lights alone.
+pub fn punctual_lights_scene() -> Vec<u8> {
+    let mut doc = Doc::new();
+    let floor = doc.mesh_data(
+        "Floor",
+        &crate::mesh::primitives::grid(crate::mesh::primitives::GridParams {
+            size: glam::Vec2::splat(6.0),
+            resolution_x: 1,
+            resolution_y: 1,
+        }),
+    );
+    let cube = doc.mesh_data("Block", &box_mesh(BoxParams::default()));
+    let white = doc.material(json::Material {
+        pbr_metallic_roughness: json::material::PbrMetallicRoughness {
+            metallic_factor: json::material::StrengthFactor(0.0),
+            roughness_factor: json::material::StrengthFactor(0.6),
+            ..Default::default()
+        },
+        ..Default::default()
+    });
+    for mesh in [floor, cube] {
+        doc.root.meshes[mesh.value()].primitives[0].material = Some(white);
+    }
+    let light =
+        |kind, color: [f32; 3], intensity| json::extensions::scene::khr_lights_punctual::Light {
+            color,
+            extensions: None,
+            extras: Default::default(),
+            intensity,
+            name: None,
+            range: None,
+            spot: None,
+            type_: Valid(kind),
+        };
+    use json::extensions::scene::khr_lights_punctual::{Spot, Type};
+    let point = light(Type::Point, [1.0, 0.6, 0.3], 40.0);
+    let mut spot = light(Type::Spot, [0.3, 0.5, 1.0], 80.0);
+    spot.spot = Some(Spot {
+        inner_cone_angle: 0.3,
+        outer_cone_angle: 0.5,
+    });
+    doc.root.extensions_used.push("KHR_lights_punctual".into());
+    doc.root.extensions = Some(json::extensions::root::Root {
+        khr_lights_punctual: Some(json::extensions::root::KhrLightsPunctual {
+            lights: vec![point, spot],
+        }),
+        ..Default::default()
+    });
+    let light_node = |index: u32, translation: [f32; 3], rotation: glam::Quat| json::Node {
+        translation: Some(translation),
+        rotation: Some(json::scene::UnitQuaternion(rotation.to_array())),
+        extensions: Some(json::extensions::scene::Node {
+            khr_lights_punctual: Some(
+                json::extensions::scene::khr_lights_punctual::KhrLightsPunctual {
+                    light: json::Index::new(index),
+                },
+            ),
+            ..Default::default()
+        }),
+        ..Default::default()
+    };
+    let nodes = vec![
+        doc.node(mesh_node(Some(floor), [0.0; 3], 1.0)),
+        doc.node(mesh_node(Some(cube), [0.0, 0.5, 0.0], 1.0)),
+        doc.node(light_node(0, [-1.5, 1.5, 1.0], glam::Quat::IDENTITY)),
+        // Spots shine along -Z: turned to look down at the block from the right.
+        doc.node(light_node(
+            1,
+            [2.0, 2.5, 0.0],
+            glam::Quat::from_rotation_y(std::f32::consts::FRAC_PI_2)
+                * glam::Quat::from_rotation_x(-0.9),
+        )),
+    ];
+    doc.scene(nodes);
+    doc.gltf_data_uri()
+}
+
+/// The materials benchmark (`patches/bench-gltf.ron`): `instances` spheres
+/// on a grid, one glTF mesh per material (10 instances each), `materials`
+/// materials, each with a base colour and a metallic-roughness texture of
+/// their own out of `textures` (half 64², half 16² texels: two size
+/// classes; small, so the committed files stay small). `textured: false` gives the same meshes and instances with one
+/// untextured material: the baseline the textured scene is measured against.
+pub fn bench_grid(instances: usize, materials: usize, textures: usize, textured: bool) -> Vec<u8> {
+    let mut doc = Doc::new();
+    let sphere = crate::mesh::primitives::sphere(crate::mesh::primitives::SphereParams {
+        radius: 0.4,
+        sectors: 16,
+        stacks: 8,
+    });
+    let mesh = doc.mesh_data("Sphere", &sphere);
+    let template = doc.root.meshes[mesh.value()].primitives[0].clone();
+    let textures: Vec<_> = (0..textures * usize::from(textured))
+        .map(|t| {
+            let size = if t % 2 == 0 { 64 } else { 16 };
+            let hue = (t * 37 % 255) as u8;
+            let image = image::RgbaImage::from_fn(size, size, |x, y| {
+                let cell = size / 8;
+                let on = (x / cell + y / cell).is_multiple_of(2);
+                image::Rgba(if on {
+                    [hue, 255 - hue, 128, 255]
+                } else {
+                    [230, 230, 230, 255]
+                })
+            });
+            let image = doc.png_image(&png(&image));
+            doc.texture(image)
+        })
+        .collect();
+    let material_count = if textured { materials.max(1) } else { 1 };
+    let material_ids: Vec<_> = (0..material_count)
+        .map(|m| {
+            let mut material = json::Material::default();
+            material.pbr_metallic_roughness.metallic_factor = json::material::StrengthFactor(0.0);
+            if let (Some(base), Some(rough)) = (
+                textures.get((2 * m) % textures.len().max(1)),
+                textures.get((2 * m + 1) % textures.len().max(1)),
+            ) {
+                material.pbr_metallic_roughness.base_color_texture = Some(info(*base));
+                material.pbr_metallic_roughness.metallic_roughness_texture = Some(info(*rough));
+            }
+            doc.material(material)
+        })
+        .collect();
+    // One mesh per material (glTF ties a primitive to its material); the
+    // primitives share the sphere's accessors.
+    let meshes: Vec<_> = (0..materials.max(1))
+        .map(|m| {
+            let mut primitive = template.clone();
+            primitive.material = Some(material_ids[m % material_ids.len()]);
+            doc.mesh(&format!("Sphere {m}"), vec![primitive])
+        })
+        .collect();
+    let side = (instances as f32).sqrt().ceil() as usize;
+    let nodes = (0..instances)
+        .map(|i| {
+            let (x, z) = ((i % side) as f32, (i / side) as f32);
+            let at = [x - side as f32 * 0.5, 0.4, z - side as f32 * 0.5];
+            doc.node(mesh_node(Some(meshes[i % meshes.len()]), at, 1.0))
+        })
+        .collect();
+    doc.scene(nodes);
+    doc.gltf_data_uri()
+}
+
+/// A red cube sliding from x = -1 to x = 1 and back over 2 seconds (one
+/// linear translation channel) on a still white floor, a point light riding
+/// 1 above it (a child node): for posing at a time.
+pub fn sliding_cube() -> Vec<u8> {
+    use json::accessor::{ComponentType, Type};
+    let mut doc = Doc::new();
+    let cube = doc.mesh_data("Cube", &box_mesh(BoxParams::default()));
+    let floor = doc.mesh_data(
+        "Floor",
+        &crate::mesh::primitives::grid(crate::mesh::primitives::GridParams {
+            size: glam::Vec2::new(4.0, 2.0),
+            resolution_x: 1,
+            resolution_y: 1,
+        }),
+    );
+    let red = doc.material(json::Material {
+        pbr_metallic_roughness: json::material::PbrMetallicRoughness {
+            base_color_factor: json::material::PbrBaseColorFactor([0.9, 0.05, 0.05, 1.0]),
+            ..Default::default()
+        },
+        ..Default::default()
+    });
+    doc.root.meshes[cube.value()].primitives[0].material = Some(red);
+    let lamp = doc.node(json::Node {
+        translation: Some([0.0, 2.0, 0.0]),
+        extensions: Some(json::extensions::scene::Node {
+            khr_lights_punctual: Some(
+                json::extensions::scene::khr_lights_punctual::KhrLightsPunctual {
+                    light: json::Index::new(0),
+                },
+            ),
+            ..Default::default()
+        }),
+        ..Default::default()
+    });
+    doc.root.extensions_used.push("KHR_lights_punctual".into());
+    doc.root.extensions = Some(json::extensions::root::Root {
+        khr_lights_punctual: Some(json::extensions::root::KhrLightsPunctual {
+            lights: vec![json::extensions::scene::khr_lights_punctual::Light {
+                color: [1.0, 0.9, 0.8],
+                extensions: None,
+                extras: Default::default(),
+                intensity: 20.0,
+                name: Some("Lamp".into()),
+                range: None,
+                spot: None,
+                type_: Valid(json::extensions::scene::khr_lights_punctual::Type::Point),
+            }],
+        }),
+        ..Default::default()
+    });
+    let mut moving = mesh_node(Some(cube), [-1.0, 0.5, 0.0], 0.5);
+    moving.children = Some(vec![lamp]);
+    let moving = doc.node(moving);
+    let still = doc.node(mesh_node(Some(floor), [0.0; 3], 1.0));
+    doc.scene(vec![moving, still]);
+    let times = [0.0f32, 1.0, 2.0];
+    let input_view = doc.view(&super::builder::bytes(&times));
+    let input = doc.accessor(Some(input_view), 3, ComponentType::F32, Type::Scalar);
+    doc.root.accessors[input.value()].min = Some(json::Value::from(vec![0.0]));
+    doc.root.accessors[input.value()].max = Some(json::Value::from(vec![2.0]));
+    let output = doc.floats(&[[-1.0f32, 0.5, 0.0], [1.0, 0.5, 0.0], [-1.0, 0.5, 0.0]]);
+    doc.root.push(json::Animation {
+        channels: vec![json::animation::Channel {
+            sampler: json::Index::new(0),
+            target: json::animation::Target {
+                node: moving,
+                path: Valid(json::animation::Property::Translation),
+                extensions: None,
+                extras: Default::default(),
+            },
+            extensions: None,
+            extras: Default::default(),
+        }],
+        samplers: vec![json::animation::Sampler {
+            input,
+            interpolation: Valid(json::animation::Interpolation::Linear),
+            output,
+            extensions: None,
+            extras: Default::default(),
+        }],
+        name: Some("Slide".into()),
+        extensions: None,
+        extras: Default::default(),
+    });
+    doc.gltf_data_uri()
+}

@@ -1,0 +1,103 @@
+// Surface maps of glTF materials (crates/render/src/material/maps.rs packs
+// them as the SurfaceMaps feature, map_textures.rs uploads the arrays):
+// one 2D texture array per size class and colour space (array = class * 2
+// + sRGB), all bound at once so any material's maps are read in one
+// dispatch. Sampled with explicit screen derivatives (trilinear +
+// anisotropic in compute, where there are no implicit ones).
+#define_import_path spreadlight::material_maps
+#import spreadlight::material::{feature_param, FEATURE_SURFACE_MAPS}
+
+const MAP_BASE_COLOR: u32 = 0u;
+const MAP_METALLIC_ROUGHNESS: u32 = 1u;
+const MAP_NORMAL: u32 = 2u;
+const MAP_OCCLUSION: u32 = 3u;
+const MAP_EMISSIVE: u32 = 4u;
+
+@group(3) @binding(0) var maps_0: texture_2d_array<f32>;
+@group(3) @binding(1) var maps_1: texture_2d_array<f32>;
+@group(3) @binding(2) var maps_2: texture_2d_array<f32>;
+@group(3) @binding(3) var maps_3: texture_2d_array<f32>;
+@group(3) @binding(4) var maps_4: texture_2d_array<f32>;
+@group(3) @binding(5) var maps_5: texture_2d_array<f32>;
+@group(3) @binding(6) var maps_6: texture_2d_array<f32>;
+@group(3) @binding(7) var maps_7: texture_2d_array<f32>;
+@group(3) @binding(8) var maps_8: texture_2d_array<f32>;
+@group(3) @binding(9) var maps_9: texture_2d_array<f32>;
+@group(3) @binding(10) var maps_10: texture_2d_array<f32>;
+@group(3) @binding(11) var maps_11: texture_2d_array<f32>;
+@group(3) @binding(12) var maps_linear: sampler;
+@group(3) @binding(13) var maps_nearest: sampler;
+
+// Texture coordinates (TEXCOORD_0) at a pixel and their change one pixel
+// right (dx) and one pixel down (dy).
+struct MapCoords {
+    uv: vec2<f32>,
+    dx: vec2<f32>,
+    dy: vec2<f32>,
+}
+
+// (alpha mode 0 opaque / 1 mask / 2 blend, + 4 when double-sided;
+// alpha cutoff; normal scale; occlusion strength).
+fn map_settings(material: u32) -> vec4<f32> {
+    return feature_param(material, FEATURE_SURFACE_MAPS, 0u, vec4<f32>(0.0, 0.5, 1.0, 1.0));
+}
+
+fn map_double_sided(material: u32) -> bool {
+    return (u32(map_settings(material).x) & 4u) != 0u;
+}
+
+fn has_map(material: u32, slot: u32) -> bool {
+    return feature_param(material, FEATURE_SURFACE_MAPS, 1u + 2u * slot, vec4<f32>(0.0)).x >= 0.5;
+}
+
+// glTF wrap modes: 0 repeat (the sampler's), 1 clamp to edge, 2 mirrored repeat.
+fn map_wrap(t: f32, mode: u32) -> f32 {
+    if (mode == 1u) {
+        return clamp(t, 0.0, 1.0);
+    }
+    if (mode == 2u) {
+        return 1.0 - abs(t - 2.0 * floor(t * 0.5) - 1.0);
+    }
+    return t;
+}
+
+fn sample_array(s: sampler, array: u32, uv: vec2<f32>, layer: u32, dx: vec2<f32>, dy: vec2<f32>) -> vec4<f32> {
+    switch (array) {
+        case 0u: { return textureSampleGrad(maps_0, s, uv, layer, dx, dy); }
+        case 1u: { return textureSampleGrad(maps_1, s, uv, layer, dx, dy); }
+        case 2u: { return textureSampleGrad(maps_2, s, uv, layer, dx, dy); }
+        case 3u: { return textureSampleGrad(maps_3, s, uv, layer, dx, dy); }
+        case 4u: { return textureSampleGrad(maps_4, s, uv, layer, dx, dy); }
+        case 5u: { return textureSampleGrad(maps_5, s, uv, layer, dx, dy); }
+        case 6u: { return textureSampleGrad(maps_6, s, uv, layer, dx, dy); }
+        case 7u: { return textureSampleGrad(maps_7, s, uv, layer, dx, dy); }
+        case 8u: { return textureSampleGrad(maps_8, s, uv, layer, dx, dy); }
+        case 9u: { return textureSampleGrad(maps_9, s, uv, layer, dx, dy); }
+        case 10u: { return textureSampleGrad(maps_10, s, uv, layer, dx, dy); }
+        default: { return textureSampleGrad(maps_11, s, uv, layer, dx, dy); }
+    }
+}
+
+// Map `slot` of `material` at `coords`, or `fallback` when it has none.
+// KHR_texture_transform: uv' = T * R * S * uv, derivatives by the linear part.
+fn sample_map(material: u32, slot: u32, coords: MapCoords, fallback: vec4<f32>) -> vec4<f32> {
+    let a = feature_param(material, FEATURE_SURFACE_MAPS, 1u + 2u * slot, vec4<f32>(0.0));
+    if (a.x < 0.5) {
+        return fallback;
+    }
+    let b = feature_param(material, FEATURE_SURFACE_MAPS, 2u + 2u * slot, vec4<f32>(0.0, 0.0, 1.0, 1.0));
+    let place = u32(a.x) - 1u;
+    let bits = u32(a.z);
+    let c = cos(a.w);
+    let s = sin(a.w);
+    let row0 = vec2<f32>(c * b.z, s * b.w);
+    let row1 = vec2<f32>(-s * b.z, c * b.w);
+    let uv = vec2<f32>(dot(row0, coords.uv), dot(row1, coords.uv)) + b.xy;
+    let dx = vec2<f32>(dot(row0, coords.dx), dot(row1, coords.dx));
+    let dy = vec2<f32>(dot(row0, coords.dy), dot(row1, coords.dy));
+    let wrapped = vec2<f32>(map_wrap(uv.x, bits & 3u), map_wrap(uv.y, (bits >> 2u) & 3u));
+    if ((bits & 16u) != 0u) {
+        return sample_array(maps_nearest, place >> 16u, wrapped, place & 0xffffu, dx, dy);
+    }
+    return sample_array(maps_linear, place >> 16u, wrapped, place & 0xffffu, dx, dy);
+}
