@@ -9,6 +9,7 @@ pub mod environment;
 pub mod error;
 pub mod frame_graph;
 pub mod gbuffer;
+pub mod geometry;
 pub mod image_io;
 pub mod lighting;
 pub mod material;

@@ -101,6 +101,7 @@ pub const SHADERS: &[ShaderFile] = &[
     shader!("lib/packing.wgsl", library),
     shader!("lib/camera.wgsl", library),
     shader!("lib/mesh.wgsl", library),
+    shader!("lib/geometry.wgsl", library),
     shader!("lib/brdf.wgsl", library),
     shader!("lib/lights.wgsl", library),
     shader!("lib/tonemap.wgsl", library),
@@ -111,6 +112,7 @@ pub const SHADERS: &[ShaderFile] = &[
     shader!("lib/post.wgsl", library),
     shader!("lighting/shadow_sampling.wgsl", library),
     shader!("gbuffer/visibility.wgsl", []),
+    shader!("geometry/spherize.wgsl", []),
     shader!("gbuffer/raster.wgsl", ["TWO_SIDED"]),
     shader!(
         "gbuffer/resolve.wgsl",

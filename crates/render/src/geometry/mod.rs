@@ -1,0 +1,193 @@
+//! GPU geometry (Emeshe's GeomFX list): compute passes that read a mesh in
+//! the arena and write a new one there, so meshes made on the GPU stay on the
+//! GPU and flow into DeferredBase and shadow maps like any mesh.
+//!
+//! Every output vertex carries its position in last frame's output (when
+//! that output had the same vertex count) as its previous position: animate
+//! a geometry node's pins and `Velocity: From Geometry` sees the deformation.
+//! A pass is one dispatch submitted when its node evaluates; the runtime
+//! reuses a node whose inputs did not change, and [`GeometryStats`] counts
+//! the dispatches so tests can prove nothing reran.
+
+pub mod readback;
+pub mod spherize;
+
+use std::sync::Arc;
+use std::sync::atomic::{AtomicU64, Ordering};
+
+use bytemuck::{Pod, Zeroable};
+use wgpu::util::DeviceExt;
+
+use crate::error::RenderError;
+use crate::mesh_arena::{GpuMesh, MeshLayout};
+use crate::renderer::Renderer;
+use crate::shaders::ShaderKey;
+
+pub use readback::{read_mesh, read_storage};
+pub use spherize::{SpherizeParams, spherize};
+
+/// Matches `Job` in shaders/lib/geometry.wgsl.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+struct GpuJob {
+    src_vertex: u32,
+    src_index: u32,
+    dst_vertex: u32,
+    dst_index: u32,
+    vertex_count: u32,
+    index_count: u32,
+    previous_vertex: u32,
+    has_previous: u32,
+    src_vertex_count: u32,
+    src_index_count: u32,
+    _pad: [u32; 2],
+}
+
+/// What GPU geometry did since the renderer started (shared by every node).
+#[derive(Default, Debug)]
+pub struct GeometryStats {
+    dispatches: AtomicU64,
+}
+
+impl GeometryStats {
+    /// The renderer's counters.
+    pub fn of(renderer: &Renderer) -> Arc<GeometryStats> {
+        renderer.state::<GeometryStats>(0)
+    }
+
+    /// Geometry and particle dispatches submitted so far.
+    pub fn dispatches(&self) -> u64 {
+        self.dispatches.load(Ordering::Relaxed)
+    }
+
+    pub(crate) fn count(&self) {
+        self.dispatches.fetch_add(1, Ordering::Relaxed);
+    }
+}
+
+/// One geometry pass: a shader over an input mesh writing a new mesh.
+pub struct Op<'a> {
+    /// The shader (below `shaders/`) and its features; entry point `main`.
+    pub key: ShaderKey,
+    pub input: &'a GpuMesh,
+    /// Last frame's output of the same node and slice: previous positions come from it.
+    pub previous: Option<&'a GpuMesh>,
+    pub vertex_count: u32,
+    pub index_count: u32,
+    /// Invocations (at least the larger of the two counts for one-to-one passes).
+    pub threads: u32,
+    /// The pass's own uniform (binding 3); a multiple of 16 bytes.
+    pub params: &'a [u8],
+    /// More bindings of group 0 (4 and up): textures, samplers, buffers.
+    pub extra: Vec<(u32, wgpu::BindingResource<'a>)>,
+    pub layout: MeshLayout,
+}
+
+/// Runs `op` now (one submission) and returns the mesh it wrote.
+pub fn run(renderer: &Renderer, op: Op<'_>) -> Result<Arc<GpuMesh>, RenderError> {
+    let gpu = &renderer.gpu;
+    let output = renderer
+        .meshes
+        .allocate(gpu, op.vertex_count, op.index_count, op.layout)?;
+    let previous = op
+        .previous
+        .filter(|p| p.vertices.len() == output.vertices.len());
+    let job = GpuJob {
+        src_vertex: op.input.vertices.start,
+        src_index: op.input.indices.start,
+        dst_vertex: output.vertices.start,
+        dst_index: output.indices.start,
+        vertex_count: op.vertex_count,
+        index_count: op.index_count,
+        previous_vertex: previous.map_or(0, |p| p.vertices.start),
+        has_previous: u32::from(previous.is_some()),
+        src_vertex_count: op.input.vertices.len() as u32,
+        src_index_count: op.input.indices.len() as u32,
+        _pad: [0; 2],
+    };
+    dispatch(renderer, &op.key, bytemuck::bytes_of(&job), op.params, op.extra, op.threads)?;
+    Ok(output)
+}
+
+/// Records and submits one dispatch of `key`'s `main` with the arena at
+/// bindings 0 and 1, `job` at 2, `params` at 3 and `extra` after, inside a
+/// validation scope: a broken pass is an error, not a broken frame.
+pub(crate) fn dispatch(
+    renderer: &Renderer,
+    key: &ShaderKey,
+    job: &[u8],
+    params: &[u8],
+    extra: Vec<(u32, wgpu::BindingResource<'_>)>,
+    threads: u32,
+) -> Result<(), RenderError> {
+    let gpu = &renderer.gpu;
+    let device = &gpu.device;
+    let (vertices, indices, _) = renderer.meshes.buffers();
+    let uniform = |label: &str, bytes: &[u8]| {
+        device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some(label),
+            contents: bytes,
+            usage: wgpu::BufferUsages::UNIFORM,
+        })
+    };
+    let job = uniform("geometry job", job);
+    let params = uniform("geometry params", params);
+    let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
+    let (pipeline, bind_group) = {
+        let mut shaders = renderer.shaders();
+        let pipeline = shaders.compute_pipeline(device, key, "main")?;
+        let mut resources = vec![
+            (0, vertices.as_entire_binding()),
+            (1, indices.as_entire_binding()),
+            (2, job.as_entire_binding()),
+            (3, params.as_entire_binding()),
+        ];
+        resources.extend(extra);
+        let group = shaders.bind_group(device, key, "main", &pipeline, 0, &resources)?;
+        (pipeline, group)
+    };
+    let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+        label: Some(key.path),
+    });
+    {
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some(key.path),
+            timestamp_writes: None,
+        });
+        pass.set_pipeline(&pipeline);
+        pass.set_bind_group(0, &bind_group, &[]);
+        let (x, y) = workgroups(threads);
+        pass.dispatch_workgroups(x, y, 1);
+    }
+    gpu.queue.submit([encoder.finish()]);
+    if let Some(e) = pollster::block_on(scope.pop()) {
+        return Err(RenderError::Validation {
+            pass: key.path.to_owned(),
+            message: e.to_string(),
+        });
+    }
+    GeometryStats::of(renderer).count();
+    Ok(())
+}
+
+/// Workgroups of 64 for `threads` invocations, spread over x and y so that
+/// neither exceeds the 65,535 a dimension allows.
+pub(crate) fn workgroups(threads: u32) -> (u32, u32) {
+    let groups = threads.div_ceil(64).max(1);
+    let x = groups.min(65_535);
+    (x, groups.div_ceil(x))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn workgroups_cover_every_thread_within_the_limits() {
+        for threads in [0, 1, 64, 65, 4_194_240, 4_194_241, 10_000_000, u32::MAX] {
+            let (x, y) = workgroups(threads);
+            assert!(x <= 65_535 && y <= 65_535, "{threads}: {x} x {y}");
+            assert!(u64::from(x) * u64::from(y) * 64 >= u64::from(threads));
+        }
+    }
+}

@@ -1,0 +1,250 @@
+//! GPU geometry on a real (software) GPU: previous-frame positions reach the
+//! G-buffer's velocity as the analytic motion predicts, geometry ids reach
+//! its object-id channel, and each geometry pass keeps its shape properties.
+
+use std::sync::Arc;
+
+use glam::{Mat4, Vec2, Vec3};
+use spreadlight_render::camera::CameraInput;
+use spreadlight_render::gbuffer::{
+    DrawBatch, GBuffer, InstanceInput, Layer, LayerError, LayerFeatures, VelocitySource,
+};
+use spreadlight_render::geometry::{SpherizeParams, read_mesh, spherize};
+use spreadlight_render::mesh::primitives::{BoxParams, GridParams, box_mesh, grid};
+use spreadlight_render::mesh_arena::GpuMesh;
+use spreadlight_render::readback::{ImageF32, render_and_read};
+use spreadlight_render::renderer::test_renderer;
+use spreadlight_render::{Renderer, SizeRule};
+
+const SIZE: (u32, u32) = (32, 32);
+
+fn camera() -> CameraInput {
+    CameraInput {
+        view: glam::camera::rh::view::look_at_mat4(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::Y),
+        projection: glam::camera::rh::proj::directx::perspective(
+            50f32.to_radians(),
+            1.0,
+            0.1,
+            100.0,
+        ),
+    }
+}
+
+/// A 3x3 grid facing +Z (the camera) once the instance turns it.
+fn facing() -> Mat4 {
+    Mat4::from_rotation_x(std::f32::consts::FRAC_PI_2)
+}
+
+fn render(
+    renderer: &Renderer,
+    mesh: Arc<GpuMesh>,
+    features: LayerFeatures,
+    object_id: u32,
+) -> (ImageF32, ImageF32) {
+    let layer = Layer::new(
+        Some(1),
+        vec![DrawBatch {
+            mesh,
+            instances: vec![InstanceInput {
+                transform: facing(),
+                previous_transform: facing(),
+                color: [1.0; 4],
+                material_id: 1,
+                object_id,
+            }],
+        }],
+        features,
+        None,
+    )
+    .expect("the mesh serves the switches");
+    let camera = camera();
+    let g = GBuffer::new(
+        renderer,
+        None,
+        vec![Arc::new(layer)],
+        camera,
+        Some(camera.view_projection()),
+        SizeRule::Relative(1.0),
+    );
+    let (report, mut images) = render_and_read(
+        renderer,
+        g.as_ref(),
+        SIZE,
+        &[&g.targets.velocity_uv, &g.targets.normals],
+    )
+    .expect("frame executes");
+    assert!(report.errors.is_empty(), "{:?}", report.errors);
+    let normals = images.pop().unwrap();
+    (images.pop().unwrap(), normals)
+}
+
+fn plane() -> spreadlight_render::mesh::MeshData {
+    grid(GridParams {
+        size: Vec2::splat(3.0),
+        resolution_x: 3,
+        resolution_y: 3,
+    })
+}
+
+#[test]
+fn velocity_from_geometry_is_the_analytic_motion_of_a_deforming_mesh() {
+    let renderer = test_renderer();
+    let data = plane();
+    // Every vertex moved by +0.25 along object X since last frame (the
+    // instance's transform did not move at all).
+    let offset = Vec3::new(0.25, 0.0, 0.0);
+    let previous: Vec<[f32; 4]> = data
+        .positions
+        .iter()
+        .map(|p| (Vec3::from(*p) - offset).extend(0.0).into())
+        .collect();
+    let mesh = renderer
+        .meshes
+        .upload_with_previous(&renderer.gpu, &data, &previous)
+        .expect("upload");
+    let geometry = LayerFeatures {
+        velocity: VelocitySource::Geometry,
+        ..Default::default()
+    };
+    let (velocity, _) = render(&renderer, mesh.clone(), geometry, 0);
+    // The plane sits at z = 0 in world space, so a uniform offset projects to
+    // the same screen motion everywhere on it.
+    let vp = camera().view_projection();
+    let project = |p: Vec3| {
+        let c = vp * p.extend(1.0);
+        (c.truncate() / c.w).truncate()
+    };
+    let world_offset = facing().transform_vector3(offset);
+    let expected = (project(Vec3::ZERO) - project(-world_offset)) * Vec2::new(0.5, -0.5);
+    assert!(expected.x > 0.02, "the test moves something visibly");
+    let mut covered = 0;
+    for y in 0..SIZE.1 {
+        for x in 0..SIZE.0 {
+            let v = velocity.pixel(x, y);
+            if v == [0.0; 4] {
+                continue;
+            }
+            covered += 1;
+            assert!(
+                (v[0] - expected.x).abs() < 1e-3 && (v[1] - expected.y).abs() < 1e-3,
+                "pixel ({x}, {y}): velocity {v:?}, expected {expected:?}"
+            );
+        }
+    }
+    assert!(covered > 100, "the plane covers the middle of the image");
+
+    // Velocity from transforms ignores the deformation: the instance is still.
+    let (still, _) = render(&renderer, mesh, LayerFeatures::default(), 0);
+    assert!(still.pixels.iter().all(|p| p[0] == 0.0 && p[1] == 0.0));
+
+    // A mesh without previous positions cannot serve the switch: an error, as before.
+    let rigid = renderer.meshes.upload(&renderer.gpu, &data).expect("upload");
+    let layer = Layer::new(
+        None,
+        vec![DrawBatch {
+            mesh: rigid,
+            instances: vec![],
+        }],
+        geometry,
+        None,
+    );
+    assert_eq!(
+        layer.err(),
+        Some(LayerError::NoPreviousPositions { mesh: 0 })
+    );
+}
+
+#[test]
+fn geometry_ids_add_to_the_object_id_only_when_asked() {
+    let renderer = test_renderer();
+    let data = plane();
+    let with_ids: Vec<[f32; 4]> = data
+        .positions
+        .iter()
+        .map(|p| [p[0], p[1], p[2], 5.0])
+        .collect();
+    let mesh = renderer
+        .meshes
+        .upload_with_previous(&renderer.gpu, &data, &with_ids)
+        .expect("upload");
+    let object_id_at_centre = |geometry_ids: bool| {
+        let features = LayerFeatures {
+            ids: true,
+            geometry_ids,
+            ..Default::default()
+        };
+        let (_, normals) = render(&renderer, mesh.clone(), features, 7);
+        normals.pixel(SIZE.0 / 2, SIZE.1 / 2)[3]
+    };
+    assert_eq!(object_id_at_centre(false), 7.0);
+    assert_eq!(object_id_at_centre(true), 12.0);
+}
+
+fn length(v: [f32; 4]) -> f32 {
+    Vec3::new(v[0], v[1], v[2]).length()
+}
+
+#[test]
+fn spherize_at_one_lies_on_the_sphere_and_at_zero_is_the_mesh() {
+    let renderer = test_renderer();
+    let data = box_mesh(BoxParams {
+        size: Vec3::ONE,
+        segments: 3,
+    });
+    let input = renderer.meshes.upload(&renderer.gpu, &data).expect("upload");
+    let params = |amount| SpherizeParams {
+        center: Vec3::ZERO,
+        radius: 2.0,
+        amount,
+    };
+    let round = spherize(&renderer, &input, None, params(1.0)).expect("spherize");
+    let (vertices, indices) = read_mesh(&renderer, &round).expect("readback");
+    assert_eq!(indices, data.indices, "spherize keeps the topology");
+    assert_eq!(vertices.len(), data.positions.len());
+    for (i, v) in vertices.iter().enumerate() {
+        let p = Vec3::from_slice(&v.position_u);
+        assert!((p.length() - 2.0).abs() < 1e-5, "vertex {i} at {p}");
+        let n = Vec3::from_slice(&v.normal_v);
+        assert!((n - p / 2.0).length() < 1e-4, "normal {n} at {p}");
+        let t = Vec3::from_slice(&v.tangent);
+        assert!((t.length() - 1.0).abs() < 1e-4 && t.dot(n).abs() < 1e-4);
+        // UVs are kept, and a fresh output has no motion.
+        let uvs = data.uvs.as_ref().unwrap()[i];
+        assert_eq!([v.position_u[3], v.normal_v[3]], uvs);
+        assert_eq!(&v.previous_position[..3], &v.position_u[..3]);
+    }
+    let same = spherize(&renderer, &input, None, params(0.0)).expect("spherize");
+    let (vertices, _) = read_mesh(&renderer, &same).expect("readback");
+    for (v, (p, n)) in vertices.iter().zip(data.positions.iter().zip(&data.normals)) {
+        assert!((Vec3::from_slice(&v.position_u) - Vec3::from(*p)).length() < 1e-6);
+        assert!((Vec3::from_slice(&v.normal_v) - Vec3::from(*n)).length() < 1e-5);
+    }
+    assert!(length(vertices[0].tangent) > 0.99);
+}
+
+#[test]
+fn a_rerun_with_new_pins_keeps_last_frames_positions_as_previous() {
+    let renderer = test_renderer();
+    let data = box_mesh(BoxParams::default());
+    let input = renderer.meshes.upload(&renderer.gpu, &data).expect("upload");
+    let at = |amount| SpherizeParams {
+        center: Vec3::ZERO,
+        radius: 1.0,
+        amount,
+    };
+    let frame0 = spherize(&renderer, &input, None, at(0.0)).unwrap();
+    let frame1 = spherize(&renderer, &input, Some(&frame0), at(0.5)).unwrap();
+    let frame2 = spherize(&renderer, &input, Some(&frame1), at(0.5)).unwrap();
+    let (v0, _) = read_mesh(&renderer, &frame0).unwrap();
+    let (v1, _) = read_mesh(&renderer, &frame1).unwrap();
+    let (v2, _) = read_mesh(&renderer, &frame2).unwrap();
+    let mut moved = 0;
+    for i in 0..v1.len() {
+        assert_eq!(v1[i].previous_position[..3], v0[i].position_u[..3]);
+        moved += usize::from(v1[i].position_u[..3] != v0[i].position_u[..3]);
+        // The pins stood still: the next run settles to zero motion.
+        assert_eq!(v2[i].previous_position[..3], v2[i].position_u[..3]);
+    }
+    assert!(moved > 0, "amount 0 to 0.5 moves the box's corners");
+    assert!(frame1.has_previous_positions);
+}
