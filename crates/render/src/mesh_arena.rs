@@ -136,7 +136,8 @@ impl MeshArena {
         mesh: &MeshData,
         previous: &[[f32; 4]],
     ) -> Result<Arc<GpuMesh>, RenderError> {
-        if previous.len() != mesh.positions.len() || !previous.iter().flatten().all(|x| x.is_finite())
+        if previous.len() != mesh.positions.len()
+            || !previous.iter().flatten().all(|x| x.is_finite())
         {
             return Err(RenderError::Pass {
                 pass: "mesh upload".to_owned(),

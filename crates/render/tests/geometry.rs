@@ -138,7 +138,10 @@ fn velocity_from_geometry_is_the_analytic_motion_of_a_deforming_mesh() {
     assert!(still.pixels.iter().all(|p| p[0] == 0.0 && p[1] == 0.0));
 
     // A mesh without previous positions cannot serve the switch: an error, as before.
-    let rigid = renderer.meshes.upload(&renderer.gpu, &data).expect("upload");
+    let rigid = renderer
+        .meshes
+        .upload(&renderer.gpu, &data)
+        .expect("upload");
     let layer = Layer::new(
         None,
         vec![DrawBatch {
@@ -191,7 +194,10 @@ fn spherize_at_one_lies_on_the_sphere_and_at_zero_is_the_mesh() {
         size: Vec3::ONE,
         segments: 3,
     });
-    let input = renderer.meshes.upload(&renderer.gpu, &data).expect("upload");
+    let input = renderer
+        .meshes
+        .upload(&renderer.gpu, &data)
+        .expect("upload");
     let params = |amount| SpherizeParams {
         center: Vec3::ZERO,
         radius: 2.0,
@@ -215,7 +221,10 @@ fn spherize_at_one_lies_on_the_sphere_and_at_zero_is_the_mesh() {
     }
     let same = spherize(&renderer, &input, None, params(0.0)).expect("spherize");
     let (vertices, _) = read_mesh(&renderer, &same).expect("readback");
-    for (v, (p, n)) in vertices.iter().zip(data.positions.iter().zip(&data.normals)) {
+    for (v, (p, n)) in vertices
+        .iter()
+        .zip(data.positions.iter().zip(&data.normals))
+    {
         assert!((Vec3::from_slice(&v.position_u) - Vec3::from(*p)).length() < 1e-6);
         assert!((Vec3::from_slice(&v.normal_v) - Vec3::from(*n)).length() < 1e-5);
     }
@@ -226,7 +235,10 @@ fn spherize_at_one_lies_on_the_sphere_and_at_zero_is_the_mesh() {
 fn a_rerun_with_new_pins_keeps_last_frames_positions_as_previous() {
     let renderer = test_renderer();
     let data = box_mesh(BoxParams::default());
-    let input = renderer.meshes.upload(&renderer.gpu, &data).expect("upload");
+    let input = renderer
+        .meshes
+        .upload(&renderer.gpu, &data)
+        .expect("upload");
     let at = |amount| SpherizeParams {
         center: Vec3::ZERO,
         radius: 1.0,

@@ -33,6 +33,7 @@ const TRIPLANAR: usize = 8;
 const VELOCITY_PIN: usize = 9;
 const IDS: usize = 10;
 const COLOR_TEXTURE: usize = 11;
+const GEOMETRY_IDS: usize = 12;
 
 pub fn register(r: &mut Registry) {
     r.add(
@@ -42,7 +43,9 @@ pub fn register(r: &mut Registry) {
             "Draws a spread of meshes with a spread of transforms into a layer for MRE. Slice i uses mesh i and \
              transform i (wrapping); instances of one mesh are one draw. The switches choose what the G-buffer \
              receives; each is a shader feature compiled only when used. Color Texture scales Color (albedo) at the \
-             surface's UV (needs Texture Coordinates or Triplanar).",
+             surface's UV (needs Texture Coordinates or Triplanar). Velocity Geometry reads the meshes' previous positions \
+             (GPU geometry and particles make them); Instance from GeomFX adds each triangle's geometry id \
+             (a particle's index, say) to its Object ID.",
         )
         .input_spread("Mesh", PinType::Resource(ResourceKind::Mesh), Spread::Resource(ResourceKind::Mesh, vec![]))
         .input("Transform", Mat4::IDENTITY)
@@ -64,6 +67,7 @@ pub fn register(r: &mut Registry) {
             PinType::Resource(ResourceKind::Texture),
             Spread::Resource(ResourceKind::Texture, vec![]),
         )
+        .input("Instance from GeomFX", false)
         .output_typed("Layer", PinType::Resource(ResourceKind::Layer))
         .construct(DeferredBase::default),
     );
@@ -96,6 +100,7 @@ impl Node for DeferredBase {
             triplanar: flag(TRIPLANAR)?,
             velocity,
             ids: flag(IDS)?,
+            geometry_ids: flag(GEOMETRY_IDS)?,
         };
         let first_texture = |pin: usize| -> Result<Option<TextureRef>, NodeError> {
             Ok(match cx.input(pin) {

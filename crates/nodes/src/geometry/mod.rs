@@ -1,12 +1,23 @@
 //! Geometry nodes (category "Geometry"): primitives and glTF files, each
-//! output a spread of meshes uploaded to the renderer's mesh arena.
+//! output a spread of meshes uploaded to the renderer's mesh arena, and GPU
+//! geometry (Emeshe's GeomFX list: `Spherize`, ...), mesh in, mesh out,
+//! computed in the arena without a readback.
 
+mod continuity;
 pub mod gltf;
 pub mod primitives;
+pub mod spherize;
 
-use spreadlight_graph::Registry;
+use spreadlight_graph::{PinType, Registry, ResourceKind};
+
+const CATEGORY: &str = "Geometry";
+const MESH: PinType = PinType::Resource(ResourceKind::Mesh);
 
 pub fn register(r: &mut Registry) {
     primitives::register(r);
     gltf::register(r);
+    spherize::register(r);
 }
+
+#[cfg(test)]
+mod tests;

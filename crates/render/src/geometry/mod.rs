@@ -105,7 +105,14 @@ pub fn run(renderer: &Renderer, op: Op<'_>) -> Result<Arc<GpuMesh>, RenderError>
         src_index_count: op.input.indices.len() as u32,
         _pad: [0; 2],
     };
-    dispatch(renderer, &op.key, bytemuck::bytes_of(&job), op.params, op.extra, op.threads)?;
+    dispatch(
+        renderer,
+        &op.key,
+        bytemuck::bytes_of(&job),
+        op.params,
+        op.extra,
+        op.threads,
+    )?;
     Ok(output)
 }
 

@@ -37,7 +37,8 @@ pub fn spherize(
     previous: Option<&GpuMesh>,
     params: SpherizeParams,
 ) -> Result<Arc<GpuMesh>, RenderError> {
-    let finite = params.center.is_finite() && params.radius.is_finite() && params.amount.is_finite();
+    let finite =
+        params.center.is_finite() && params.radius.is_finite() && params.amount.is_finite();
     if !finite {
         return Err(RenderError::Pass {
             pass: "Spherize".to_owned(),
