@@ -16,6 +16,7 @@ pub mod material;
 pub mod mesh;
 pub mod mesh_arena;
 pub mod occlusion;
+pub mod particles;
 pub mod post;
 pub mod readback;
 pub mod recipe;

@@ -113,6 +113,11 @@ pub const SHADERS: &[ShaderFile] = &[
     shader!("lighting/shadow_sampling.wgsl", library),
     shader!("gbuffer/visibility.wgsl", []),
     shader!("geometry/spherize.wgsl", []),
+    shader!(
+        "particles/simulate.wgsl",
+        ["FIELD_TEXTURE", "MESH_EMITTER", "DEPTH_COLLISION"]
+    ),
+    shader!("particles/draw.wgsl", ["SPRITES"]),
     shader!("gbuffer/raster.wgsl", ["TWO_SIDED"]),
     shader!(
         "gbuffer/resolve.wgsl",

@@ -69,7 +69,8 @@ impl GeometryStats {
 pub struct Op<'a> {
     /// The shader (below `shaders/`) and its features; entry point `main`.
     pub key: ShaderKey,
-    pub input: &'a GpuMesh,
+    /// The mesh read (none for passes that make geometry from other data).
+    pub input: Option<&'a GpuMesh>,
     /// Last frame's output of the same node and slice: previous positions come from it.
     pub previous: Option<&'a GpuMesh>,
     pub vertex_count: u32,
@@ -93,88 +94,90 @@ pub fn run(renderer: &Renderer, op: Op<'_>) -> Result<Arc<GpuMesh>, RenderError>
         .previous
         .filter(|p| p.vertices.len() == output.vertices.len());
     let job = GpuJob {
-        src_vertex: op.input.vertices.start,
-        src_index: op.input.indices.start,
+        src_vertex: op.input.map_or(0, |m| m.vertices.start),
+        src_index: op.input.map_or(0, |m| m.indices.start),
         dst_vertex: output.vertices.start,
         dst_index: output.indices.start,
         vertex_count: op.vertex_count,
         index_count: op.index_count,
         previous_vertex: previous.map_or(0, |p| p.vertices.start),
         has_previous: u32::from(previous.is_some()),
-        src_vertex_count: op.input.vertices.len() as u32,
-        src_index_count: op.input.indices.len() as u32,
+        src_vertex_count: op.input.map_or(0, |m| m.vertices.len() as u32),
+        src_index_count: op.input.map_or(0, |m| m.indices.len() as u32),
         _pad: [0; 2],
     };
-    dispatch(
-        renderer,
-        &op.key,
-        bytemuck::bytes_of(&job),
-        op.params,
-        op.extra,
-        op.threads,
-    )?;
+    let (vertices, indices, _) = renderer.meshes.buffers();
+    let job = uniform(renderer, "geometry job", bytemuck::bytes_of(&job));
+    let params = uniform(renderer, "geometry params", op.params);
+    let mut resources = vec![
+        (0, vertices.as_entire_binding()),
+        (1, indices.as_entire_binding()),
+        (2, job.as_entire_binding()),
+        (3, params.as_entire_binding()),
+    ];
+    resources.extend(op.extra);
+    dispatch(renderer, &op.key, resources, op.threads)?;
     Ok(output)
 }
 
-/// Records and submits one dispatch of `key`'s `main` with the arena at
-/// bindings 0 and 1, `job` at 2, `params` at 3 and `extra` after, inside a
-/// validation scope: a broken pass is an error, not a broken frame.
-pub(crate) fn dispatch(
-    renderer: &Renderer,
-    key: &ShaderKey,
-    job: &[u8],
-    params: &[u8],
-    extra: Vec<(u32, wgpu::BindingResource<'_>)>,
-    threads: u32,
-) -> Result<(), RenderError> {
-    let gpu = &renderer.gpu;
-    let device = &gpu.device;
-    let (vertices, indices, _) = renderer.meshes.buffers();
-    let uniform = |label: &str, bytes: &[u8]| {
-        device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+/// A uniform buffer holding `bytes`.
+pub(crate) fn uniform(renderer: &Renderer, label: &str, bytes: &[u8]) -> wgpu::Buffer {
+    renderer
+        .gpu
+        .device
+        .create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some(label),
             contents: bytes,
             usage: wgpu::BufferUsages::UNIFORM,
         })
-    };
-    let job = uniform("geometry job", job);
-    let params = uniform("geometry params", params);
+}
+
+/// Records and submits one dispatch of `key`'s `main` over `threads`
+/// invocations with `resources` in group 0 (those the permutation compiled
+/// out are dropped), inside a validation scope: a broken pass is an error,
+/// not a broken frame. Counted in [`GeometryStats`].
+pub(crate) fn dispatch(
+    renderer: &Renderer,
+    key: &ShaderKey,
+    resources: Vec<(u32, wgpu::BindingResource<'_>)>,
+    threads: u32,
+) -> Result<(), RenderError> {
+    let gpu = &renderer.gpu;
+    let device = &gpu.device;
     let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
-    let (pipeline, bind_group) = {
+    let recorded = (|| {
         let mut shaders = renderer.shaders();
         let pipeline = shaders.compute_pipeline(device, key, "main")?;
-        let mut resources = vec![
-            (0, vertices.as_entire_binding()),
-            (1, indices.as_entire_binding()),
-            (2, job.as_entire_binding()),
-            (3, params.as_entire_binding()),
-        ];
-        resources.extend(extra);
         let group = shaders.bind_group(device, key, "main", &pipeline, 0, &resources)?;
-        (pipeline, group)
-    };
-    let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
-        label: Some(key.path),
-    });
-    {
-        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+        drop(shaders);
+        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
             label: Some(key.path),
-            timestamp_writes: None,
         });
-        pass.set_pipeline(&pipeline);
-        pass.set_bind_group(0, &bind_group, &[]);
-        let (x, y) = workgroups(threads);
-        pass.dispatch_workgroups(x, y, 1);
-    }
-    gpu.queue.submit([encoder.finish()]);
-    if let Some(e) = pollster::block_on(scope.pop()) {
-        return Err(RenderError::Validation {
+        {
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some(key.path),
+                timestamp_writes: None,
+            });
+            pass.set_pipeline(&pipeline);
+            pass.set_bind_group(0, &group, &[]);
+            let (x, y) = workgroups(threads);
+            pass.dispatch_workgroups(x, y, 1);
+        }
+        Ok::<_, RenderError>(encoder.finish())
+    })();
+    let validation = pollster::block_on(scope.pop());
+    match (recorded, validation) {
+        (Err(e), _) => Err(e),
+        (Ok(_), Some(e)) => Err(RenderError::Validation {
             pass: key.path.to_owned(),
             message: e.to_string(),
-        });
+        }),
+        (Ok(commands), None) => {
+            gpu.queue.submit([commands]);
+            GeometryStats::of(renderer).count();
+            Ok(())
+        }
     }
-    GeometryStats::of(renderer).count();
-    Ok(())
 }
 
 /// Workgroups of 64 for `threads` invocations, spread over x and y so that

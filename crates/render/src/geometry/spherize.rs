@@ -60,7 +60,7 @@ pub fn spherize(
         renderer,
         Op {
             key: ShaderKey::new("geometry/spherize.wgsl", []),
-            input,
+            input: Some(input),
             previous,
             vertex_count: vertices,
             index_count: indices,
