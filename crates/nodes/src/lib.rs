@@ -25,6 +25,7 @@ pub mod io;
 pub mod lighting;
 pub mod material;
 pub mod output;
+pub mod particles;
 pub mod post;
 pub mod spreads;
 pub mod texture;
@@ -54,5 +55,6 @@ pub fn registry() -> Registry {
     material::register(&mut r);
     post::register(&mut r);
     bench::register(&mut r);
+    particles::register(&mut r);
     r
 }

@@ -20,4 +20,4 @@ pub fn register(r: &mut Registry) {
 }
 
 #[cfg(test)]
-mod tests;
+pub(crate) mod tests;
