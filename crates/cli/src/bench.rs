@@ -97,6 +97,9 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
         bail!("the patch has errors (above); fix them before timing it");
     }
     let renderer = session.renderer.clone().context("no renderer")?;
+    // Geometry and particle passes run as their nodes evaluate: time them too.
+    let geometry = spreadlight_render::geometry::GeometryStats::of(&renderer);
+    geometry.set_timing(true);
     let mut reported = Default::default();
     let (mut gpu, mut cpu) = (Vec::new(), Vec::new());
     let mut passes: BTreeMap<String, Vec<f64>> = BTreeMap::new();
@@ -108,12 +111,19 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
             bail!("frame {frame} failed (errors above)");
         }
         let wall_ms = started.elapsed().as_secs_f64() * 1e3;
+        let geometry_ms = geometry.take_gpu_ms();
         if frame < args.warmup {
             continue;
         }
         let report = renderer.last_report();
         if let Some(ms) = report.gpu_frame_ms {
-            gpu.push(ms);
+            gpu.push(ms + geometry_ms);
+        }
+        if renderer.gpu.has_timestamps() {
+            passes
+                .entry("geometry and particles (compute)".to_owned())
+                .or_default()
+                .push(geometry_ms);
         }
         // CPU: evaluating the patch and recording the frame, without the wait for the GPU.
         cpu.push((wall_ms - report.wait_ms).max(0.0));

@@ -226,6 +226,7 @@ fn hard_cases_leave_no_nan_in_buffers_or_meshes() {
             0.05,
             true,
             settings.world_radius,
+            None,
         )
         .expect(name);
         let (vertices, _) = read_mesh(&renderer, &mesh).unwrap();
@@ -300,6 +301,7 @@ fn sprites_carry_previous_positions_and_slot_ids() {
         0.1,
         false,
         100.0,
+        None,
     )
     .unwrap();
     let (vertices, indices) = read_mesh(&renderer, &mesh).unwrap();

@@ -80,7 +80,7 @@ pub fn register(r: &mut Registry) {
             "Particles",
             super::CATEGORY,
             "A particle system simulated on the GPU each frame with the clock's time step (at most 0.1 s a step): \
-             Count slots in a ring, filled at Rate a second from the Emitter (Point, Box of half size Emitter Size, \
+             Count slots in a ring, filled at Rate a second (negative: Count / Lifetime, the ring kept full) from the Emitter (Point, Box of half size Emitter Size, \
              Sphere of radius Emitter Size.x, or the surface of Emitter Mesh, placed by Emitter Transform); each lives \
              Lifetime ± Lifetime Spread seconds, starts at Velocity plus a random vector up to Velocity Spread long, \
              and is pushed by Gravity, Drag (per second), a Field (curl noise of Curl Frequency, or a VectorField \
@@ -136,6 +136,8 @@ pub fn register(r: &mut Registry) {
 #[derive(Default)]
 struct Particles {
     system: Option<ParticleSystem>,
+    /// Last frame's mesh, redrawn in place when it fits.
+    mesh: Option<Arc<GpuMesh>>,
 }
 
 fn first<T: spreadlight_graph::SliceValue + Copy>(
@@ -158,7 +160,7 @@ fn first_mesh(cx: &EvalContext<'_>, pin: usize, what: &str) -> Result<Arc<GpuMes
 }
 
 impl Particles {
-    fn settings(cx: &EvalContext<'_>) -> Result<ParticleSettings, NodeError> {
+    fn settings(cx: &EvalContext<'_>, count: i64) -> Result<ParticleSettings, NodeError> {
         let size = first(cx, pin::EMITTER_SIZE, Vec3::ONE)?;
         let shape = match choice(cx, pin::EMITTER)? {
             "Box" => EmitterShape::Box(size),
@@ -196,7 +198,14 @@ impl Particles {
         Ok(ParticleSettings {
             emitter: first(cx, pin::EMITTER_TRANSFORM, Mat4::IDENTITY)?,
             shape,
-            rate: first(cx, pin::RATE, 0.0f32)?,
+            rate: match (
+                first(cx, pin::RATE, 0.0f32)?,
+                first(cx, pin::LIFETIME, 1.0f32)?,
+            ) {
+                // Negative: keep the ring full (Count a Lifetime).
+                (rate, lifetime) if rate < 0.0 && lifetime > 0.0 => count as f32 / lifetime,
+                (rate, _) => rate,
+            },
             lifetime: first(cx, pin::LIFETIME, 1.0f32)?,
             lifetime_spread: first(cx, pin::LIFETIME_SPREAD, 0.0f32)?,
             velocity: first(cx, pin::VELOCITY, Vec3::ZERO)?,
@@ -225,7 +234,7 @@ impl Node for Particles {
             return Err(cx.input_error(pin::COUNT, format!("{count} is not within 1..{MAX_COUNT}")));
         }
         let seed = first(cx, pin::SEED, 0i64)? as u32;
-        let settings = Self::settings(cx)?;
+        let settings = Self::settings(cx, count)?;
         let renderer = renderer(cx)?;
         let fresh = self
             .system
@@ -267,8 +276,10 @@ impl Node for Particles {
             first(cx, pin::SIZE, 0.02f32)?,
             first(cx, pin::SHRINK, true)?,
             settings.world_radius,
+            self.mesh.as_ref(),
         )
         .map_err(other)?;
+        self.mesh = Some(mesh.clone());
         cx.set_output(0, resource_spread(ResourceKind::Mesh, vec![mesh]));
         Ok(())
     }

@@ -13,7 +13,7 @@ pub mod readback;
 pub mod spherize;
 
 use std::sync::Arc;
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 
 use bytemuck::{Pod, Zeroable};
 use wgpu::util::DeviceExt;
@@ -44,9 +44,14 @@ struct GpuJob {
 }
 
 /// What GPU geometry did since the renderer started (shared by every node).
+/// Its passes run when their nodes evaluate, outside the frame graph, so
+/// `spreadlight bench` switches on [`GeometryStats::set_timing`] to time them.
 #[derive(Default, Debug)]
 pub struct GeometryStats {
     dispatches: AtomicU64,
+    timing: AtomicBool,
+    /// GPU nanoseconds of timed dispatches not yet taken.
+    gpu_ns: AtomicU64,
 }
 
 impl GeometryStats {
@@ -62,6 +67,60 @@ impl GeometryStats {
 
     pub(crate) fn count(&self) {
         self.dispatches.fetch_add(1, Ordering::Relaxed);
+    }
+
+    /// Time every dispatch on the GPU (where the adapter has timestamps).
+    /// Each timed dispatch waits for its result: for benchmarks, not for frames.
+    pub fn set_timing(&self, on: bool) {
+        self.timing.store(on, Ordering::Relaxed);
+    }
+
+    /// GPU milliseconds of the dispatches timed since the last call.
+    pub fn take_gpu_ms(&self) -> f64 {
+        self.gpu_ns.swap(0, Ordering::Relaxed) as f64 * 1e-6
+    }
+}
+
+/// A query set for one timed dispatch, its resolve and readback buffers.
+struct Timer {
+    set: wgpu::QuerySet,
+    resolve: wgpu::Buffer,
+    readback: wgpu::Buffer,
+}
+
+impl Timer {
+    fn new(device: &wgpu::Device) -> Timer {
+        let buffer = |label, usage| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size: 16,
+                usage,
+                mapped_at_creation: false,
+            })
+        };
+        Timer {
+            set: device.create_query_set(&wgpu::QuerySetDescriptor {
+                label: Some("geometry timestamps"),
+                ty: wgpu::QueryType::Timestamp,
+                count: 2,
+            }),
+            resolve: buffer(
+                "geometry timestamps",
+                wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+            ),
+            readback: buffer(
+                "geometry timestamps readback",
+                wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            ),
+        }
+    }
+
+    /// Nanoseconds between the two timestamps, once the GPU has written them.
+    fn read_ns(&self, renderer: &Renderer) -> Result<u64, RenderError> {
+        let bytes = crate::renderer::read_buffer(&renderer.gpu, &self.readback, 16)?;
+        let ticks: [u64; 2] = bytemuck::pod_read_unaligned(&bytes[..16]);
+        let period = f64::from(renderer.gpu.queue.get_timestamp_period());
+        Ok((ticks[1].saturating_sub(ticks[0]) as f64 * period) as u64)
     }
 }
 
@@ -86,10 +145,32 @@ pub struct Op<'a> {
 
 /// Runs `op` now (one submission) and returns the mesh it wrote.
 pub fn run(renderer: &Renderer, op: Op<'_>) -> Result<Arc<GpuMesh>, RenderError> {
-    let gpu = &renderer.gpu;
-    let output = renderer
-        .meshes
-        .allocate(gpu, op.vertex_count, op.index_count, op.layout)?;
+    run_into(renderer, op, None)
+}
+
+/// As [`run`], writing into `reuse` when it has the op's counts and layout
+/// (particles redraw every frame: reusing their mesh halves the arena they
+/// need), else into a new mesh.
+pub fn run_into(
+    renderer: &Renderer,
+    op: Op<'_>,
+    reuse: Option<&Arc<GpuMesh>>,
+) -> Result<Arc<GpuMesh>, RenderError> {
+    let fits = |m: &&Arc<GpuMesh>| {
+        m.vertices.len() == op.vertex_count as usize
+            && m.indices.len() == op.index_count as usize
+            && m.bounds == op.layout.bounds
+            && m.has_uvs == op.layout.has_uvs
+            && m.has_tangents == op.layout.has_tangents
+    };
+    let output = match reuse.filter(fits) {
+        Some(m) => m.clone(),
+        None => {
+            renderer
+                .meshes
+                .allocate(&renderer.gpu, op.vertex_count, op.index_count, op.layout)?
+        }
+    };
     let previous = op
         .previous
         .filter(|p| p.vertices.len() == output.vertices.len());
@@ -144,6 +225,9 @@ pub(crate) fn dispatch(
 ) -> Result<(), RenderError> {
     let gpu = &renderer.gpu;
     let device = &gpu.device;
+    let stats = GeometryStats::of(renderer);
+    let timer =
+        (stats.timing.load(Ordering::Relaxed) && gpu.has_timestamps()).then(|| Timer::new(device));
     let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
     let recorded = (|| {
         let mut shaders = renderer.shaders();
@@ -156,12 +240,20 @@ pub(crate) fn dispatch(
         {
             let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
                 label: Some(key.path),
-                timestamp_writes: None,
+                timestamp_writes: timer.as_ref().map(|t| wgpu::ComputePassTimestampWrites {
+                    query_set: &t.set,
+                    beginning_of_pass_write_index: Some(0),
+                    end_of_pass_write_index: Some(1),
+                }),
             });
             pass.set_pipeline(&pipeline);
             pass.set_bind_group(0, &group, &[]);
             let (x, y) = workgroups(threads);
             pass.dispatch_workgroups(x, y, 1);
+        }
+        if let Some(t) = &timer {
+            encoder.resolve_query_set(&t.set, 0..2, &t.resolve, 0);
+            encoder.copy_buffer_to_buffer(&t.resolve, 0, &t.readback, 0, 16);
         }
         Ok::<_, RenderError>(encoder.finish())
     })();
@@ -174,7 +266,12 @@ pub(crate) fn dispatch(
         }),
         (Ok(commands), None) => {
             gpu.queue.submit([commands]);
-            GeometryStats::of(renderer).count();
+            stats.count();
+            if let Some(t) = timer {
+                stats
+                    .gpu_ns
+                    .fetch_add(t.read_ns(renderer)?, Ordering::Relaxed);
+            }
             Ok(())
         }
     }

@@ -8,7 +8,7 @@ use glam::Vec3;
 
 use super::ParticleSystem;
 use crate::error::RenderError;
-use crate::geometry::{Op, run};
+use crate::geometry::{Op, run_into};
 use crate::mesh::Aabb;
 use crate::mesh_arena::{GpuMesh, MeshLayout};
 use crate::renderer::Renderer;
@@ -33,7 +33,8 @@ struct Params {
 
 /// The particles of `system` as one mesh: `size` is the sprite half size or
 /// the shape's scale; `shrink` makes particles vanish over their lifetime.
-/// Bounded by the system's world radius plus the particle size.
+/// Bounded by the system's world radius plus the particle size. Written into
+/// `reuse` (last frame's output) when it fits, so the arena holds one copy.
 pub fn draw(
     renderer: &Renderer,
     system: &ParticleSystem,
@@ -41,6 +42,7 @@ pub fn draw(
     size: f32,
     shrink: bool,
     world_radius: f32,
+    reuse: Option<&Arc<GpuMesh>>,
 ) -> Result<Arc<GpuMesh>, RenderError> {
     let size = if size.is_finite() { size.max(0.0) } else { 0.0 };
     let (per_vertex, per_index, input, sprites, right, up, shape_reach) = match shape {
@@ -89,7 +91,7 @@ pub fn draw(
     };
     let reach = world_radius.max(0.0) + size * shape_reach * 2.0;
     let features: &[&'static str] = if sprites { &["SPRITES"] } else { &[] };
-    run(
+    run_into(
         renderer,
         Op {
             key: ShaderKey::new("particles/draw.wgsl", features.iter().copied()),
@@ -109,5 +111,6 @@ pub fn draw(
                 has_tangents: true,
             },
         },
+        reuse,
     )
 }
