@@ -4,9 +4,10 @@
 // seed and the sequence of time steps (not on thread order): deterministic.
 //
 // Forces: gravity, linear drag, a vector field (curl noise or a 3D texture),
-// attractors. Integrators: explicit Euler, or semi-implicit Euler with drag
-// integrated exactly (v' = v e^(-k dt) + a (1 - e^(-k dt)) / k, then
-// x' = x + v' dt), which stays stable for any drag and step. Collisions:
+// attractors. Integrators: explicit Euler, or the exponential integrator:
+// the step solved exactly for the acceleration at its start under linear
+// drag (v' = v e^(-k dt) + a g, x' = x + v g + a (dt - g) / k, with
+// g = (1 - e^(-k dt)) / k), stable for any drag and step. Collisions:
 // a plane, and the previous frame's depth buffer (screen space).
 // Nothing non-finite survives a step: such a particle dies.
 
@@ -41,7 +42,7 @@ struct Sim {
     life: vec4<f32>,
     // x: capacity, y: head, z: emit count, w: emitted before this step (low 32 bits).
     counts: vec4<u32>,
-    // x: integrator (0 explicit Euler, 1 semi-implicit), y: attractor count, z: seed, w: mesh triangles.
+    // x: integrator (0 explicit Euler, 1 exponential), y: attractor count, z: seed, w: mesh triangles.
     misc: vec4<u32>,
     // Depth collision: last frame's view-projection (reversed Z) and the depth target's size.
     view_projection: mat4x4<f32>,
@@ -273,14 +274,17 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) g
             p.position += p.velocity * dt;
             p.velocity += (a - k * p.velocity) * dt;
         } else {
+            // Exact for a constant acceleration under linear drag over the step.
             let decay = exp(-k * dt);
-            // (1 - e^(-k dt)) / k, -> dt as k -> 0.
-            var gain = dt;
-            if (k * dt > 1e-4) {
-                gain = (1.0 - decay) / k;
+            // g = (1 - e^(-k dt)) / k and h = (dt - g) / k, by series as k dt -> 0.
+            var g = dt - 0.5 * k * dt * dt;
+            var h = 0.5 * dt * dt;
+            if (k * dt > 1e-3) {
+                g = (1.0 - decay) / k;
+                h = (dt - g) / k;
             }
-            p.velocity = p.velocity * decay + a * gain;
-            p.position += p.velocity * dt;
+            p.position += p.velocity * g + a * h;
+            p.velocity = p.velocity * decay + a * g;
         }
         p.velocity = clamp_speed(p.velocity);
         if (sim.collide.x > 0.5) {

@@ -7,6 +7,7 @@
 
 mod ao;
 pub(crate) mod metrics;
+mod particles;
 pub(crate) mod plot;
 mod post;
 mod reflection;
@@ -57,6 +58,8 @@ enum What {
     Reflection(reflection::ReflectionArgs),
     /// Post effects (DOF, MotionBlur, TAA, FXAA) by quality: GPU time against error versus brute-force references.
     Post(post::PostArgs),
+    /// Particle integrators (explicit Euler vs exponential) per time step: error against a small-step reference, GPU ms a step.
+    Particles(particles::ParticleArgs),
 }
 
 pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
@@ -65,6 +68,7 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
         What::Ao(a) => ao::run(a),
         What::Reflection(a) => reflection::run(a),
         What::Post(a) => post::run_post(a),
+        What::Particles(a) => particles::run_particles(a),
     }
 }
 

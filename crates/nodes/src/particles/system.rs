@@ -26,7 +26,7 @@ pub static FIELD: EnumDef = EnumDef {
 };
 pub static INTEGRATOR: EnumDef = EnumDef {
     name: "Particle Integrator",
-    options: &["Semi-Implicit Euler", "Explicit Euler"],
+    options: &["Exponential", "Explicit Euler"],
 };
 pub static DRAW: EnumDef = EnumDef {
     name: "Particle Draw",
@@ -121,7 +121,7 @@ pub fn register(r: &mut Registry) {
         .input("Bounce", 0.5f32)
         .input("Friction", 0.1f32)
         .input("World Radius", 100.0f32)
-        .input_enum("Integrator", &INTEGRATOR, "Semi-Implicit Euler")
+        .input_enum("Integrator", &INTEGRATOR, "Exponential")
         .input_enum("Draw", &DRAW, "Sprites")
         .input_spread("Shape", PinType::Resource(ResourceKind::Mesh), mesh())
         .input("Size", 0.02f32)
@@ -221,7 +221,7 @@ impl Particles {
             world_radius: first(cx, pin::WORLD_RADIUS, 100.0f32)?,
             integrator: match choice(cx, pin::INTEGRATOR)? {
                 "Explicit Euler" => Integrator::ExplicitEuler,
-                _ => Integrator::SemiImplicit,
+                _ => Integrator::Exponential,
             },
         })
     }

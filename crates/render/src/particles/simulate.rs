@@ -52,9 +52,10 @@ pub enum Field {
 pub enum Integrator {
     /// x += v dt; v += a dt: the textbook scheme, first order, unstable under stiff drag.
     ExplicitEuler,
-    /// v = v e^(-k dt) + a (1 - e^(-k dt)) / k; x += v dt: symplectic for the
-    /// conservative forces, drag integrated exactly, stable for any step.
-    SemiImplicit,
+    /// The step solved exactly for the acceleration at its start under linear
+    /// drag (an exponential integrator): exact for constant forces, first
+    /// order only in how the field varies, stable for any drag and step.
+    Exponential,
 }
 
 /// A collision plane: particles stay where `dot(normal, p) >= offset`.
@@ -120,7 +121,7 @@ impl Default for ParticleSettings {
             friction: 0.1,
             depth: None,
             world_radius: 100.0,
-            integrator: Integrator::SemiImplicit,
+            integrator: Integrator::Exponential,
         }
     }
 }
@@ -246,7 +247,7 @@ impl ParticleSystem {
             ],
             counts: [self.capacity, self.head, emit, self.emitted as u32],
             misc: [
-                u32::from(s.integrator == Integrator::SemiImplicit),
+                u32::from(s.integrator == Integrator::Exponential),
                 s.attractors.len().min(MAX_ATTRACTORS) as u32,
                 self.seed,
                 triangles,
