@@ -322,3 +322,84 @@ fn sprites_carry_previous_positions_and_slot_ids() {
             .all(|(q, c)| c.iter().all(|&k| (k as usize) / 4 == q))
     );
 }
+
+#[test]
+fn particles_collide_with_the_depth_buffer() {
+    let renderer = test_renderer();
+    // A camera looking down -Z at a wall of depth: every pixel's surface is
+    // at z = -1 in world space (the camera at the origin).
+    let camera = spreadlight_render::camera::CameraInput {
+        view: glam::Mat4::IDENTITY,
+        projection: glam::camera::rh::proj::directx::perspective(1.0, 1.0, 0.1, 100.0),
+    };
+    let view_projection = camera.view_projection();
+    let clip = view_projection * glam::Vec4::new(0.0, 0.0, -1.0, 1.0);
+    let surface = clip.z / clip.w;
+    let (w, h) = (8u32, 8u32);
+    let texture = renderer.gpu.device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("test depth"),
+        size: wgpu::Extent3d {
+            width: w,
+            height: h,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: wgpu::TextureFormat::R32Float,
+        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+        view_formats: &[],
+    });
+    renderer.gpu.queue.write_texture(
+        texture.as_image_copy(),
+        bytemuck::cast_slice(&vec![surface; (w * h) as usize]),
+        wgpu::TexelCopyBufferLayout {
+            offset: 0,
+            bytes_per_row: Some(w * 4),
+            rows_per_image: Some(h),
+        },
+        texture.size(),
+    );
+    let settings = |depth| ParticleSettings {
+        shape: EmitterShape::Sphere(0.05),
+        emitter: glam::Mat4::from_translation(Vec3::new(0.0, 0.0, -0.5)),
+        rate: 1e6,
+        lifetime: 100.0,
+        velocity: Vec3::new(0.0, 0.0, -2.0),
+        gravity: Vec3::ZERO,
+        depth,
+        ..Default::default()
+    };
+    let depth = Some(spreadlight_render::particles::DepthCollision {
+        depth: texture.create_view(&Default::default()),
+        view_projection,
+        size: (w, h),
+        thickness: 1.0,
+    });
+    // Born in one step, then 60 steps at 2 m/s: from z = -0.5 to about -2.5
+    // when nothing stops them.
+    let run = |settings: ParticleSettings| {
+        let mut system = ParticleSystem::new(&renderer, 64, 4).unwrap();
+        system.step(&renderer, &settings, DT).unwrap();
+        let quiet = ParticleSettings { rate: 0.0, ..settings };
+        for _ in 0..60 {
+            system.step(&renderer, &quiet, DT).unwrap();
+        }
+        system.read(&renderer).unwrap()
+    };
+    let through = run(settings(None));
+    let stopped = run(settings(depth));
+    let deepest = |p: &[Particle]| {
+        p.iter()
+            .filter(|p| p.alive == 1)
+            .map(|p| p.position[2])
+            .fold(f32::INFINITY, f32::min)
+    };
+    assert!(deepest(&through) < -2.0, "without collision they pass the wall");
+    assert!(
+        deepest(&stopped) > -1.0 - 0.05,
+        "with it they stay in front: {}",
+        deepest(&stopped)
+    );
+    assert!(all_finite(&stopped));
+}
