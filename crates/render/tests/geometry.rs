@@ -74,8 +74,8 @@ fn render(
     )
     .expect("frame executes");
     assert!(report.errors.is_empty(), "{:?}", report.errors);
-    let normals = images.pop().unwrap();
-    (images.pop().unwrap(), normals)
+    let normals = images.pop().expect("two targets");
+    (images.pop().expect("two targets"), normals)
 }
 
 fn plane() -> spreadlight_render::mesh::MeshData {
