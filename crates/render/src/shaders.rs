@@ -113,6 +113,7 @@ pub const SHADERS: &[ShaderFile] = &[
     shader!("lighting/shadow_sampling.wgsl", library),
     shader!("gbuffer/visibility.wgsl", []),
     shader!("geometry/spherize.wgsl", []),
+    shader!("geometry/extrude.wgsl", []),
     shader!(
         "particles/simulate.wgsl",
         ["FIELD_TEXTURE", "MESH_EMITTER", "DEPTH_COLLISION"]

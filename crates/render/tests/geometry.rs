@@ -260,3 +260,71 @@ fn a_rerun_with_new_pins_keeps_last_frames_positions_as_previous() {
     assert!(moved > 0, "amount 0 to 0.5 moves the box's corners");
     assert!(frame1.has_previous_positions);
 }
+
+/// Directed edges by quantized end positions: a closed oriented surface
+/// has every edge once in each direction (as many times a→b as b→a).
+fn open_edges(vertices: &[spreadlight_render::mesh_arena::GpuVertex], indices: &[u32]) -> usize {
+    use std::collections::HashMap;
+    let key = |i: u32| {
+        let p = vertices[i as usize].position_u;
+        [p[0], p[1], p[2]].map(|x| (x * 1e4).round() as i64)
+    };
+    let mut edges: HashMap<([i64; 3], [i64; 3]), i64> = HashMap::new();
+    for t in indices.chunks(3) {
+        for k in 0..3 {
+            let (a, b) = (key(t[k]), key(t[(k + 1) % 3]));
+            if a == b {
+                continue;
+            }
+            let (lo, hi, d) = if a < b { (a, b, 1) } else { (b, a, -1) };
+            *edges.entry((lo, hi)).or_default() += d;
+        }
+    }
+    edges.values().filter(|&&n| n != 0).count()
+}
+
+#[test]
+fn extrude_adds_seven_triangles_a_face_and_a_closed_mesh_stays_closed() {
+    use spreadlight_render::geometry::extrude;
+    let renderer = test_renderer();
+    let data = box_mesh(BoxParams {
+        size: Vec3::ONE,
+        segments: 2,
+    });
+    let input = renderer
+        .meshes
+        .upload(&renderer.gpu, &data)
+        .expect("upload");
+    let (v_in, i_in) = read_mesh(&renderer, &input).unwrap();
+    assert_eq!(open_edges(&v_in, &i_in), 0, "the box is closed");
+    let out = extrude(&renderer, &input, None, &[0.1, 0.3]).expect("extrude");
+    let (vertices, indices) = read_mesh(&renderer, &out).unwrap();
+    let faces = data.indices.len() / 3;
+    assert_eq!(
+        indices.len() / 3,
+        faces * 7,
+        "cap + 3 walls of 2 triangles a face"
+    );
+    assert_eq!(vertices.len(), faces * 15);
+    assert_eq!(open_edges(&vertices, &indices), 0, "still closed");
+    // Face 1's cap is 0.3 out along its normal (amounts cycle).
+    for (f, amount) in [(0usize, 0.1f32), (1, 0.3)] {
+        let corner = |k: usize| Vec3::from(data.positions[data.indices[f * 3 + k] as usize]);
+        let n = (corner(1) - corner(0))
+            .cross(corner(2) - corner(0))
+            .normalize();
+        for k in 0..3 {
+            let cap = Vec3::from_slice(&vertices[f * 15 + k].position_u);
+            assert!(
+                (cap - corner(k) - n * amount).length() < 1e-5,
+                "face {f} cap {k}"
+            );
+            assert!((Vec3::from_slice(&vertices[f * 15 + k].normal_v) - n).length() < 1e-5);
+        }
+    }
+    for v in &vertices {
+        let n = Vec3::from_slice(&v.normal_v);
+        let t = Vec3::from_slice(&v.tangent);
+        assert!((n.length() - 1.0).abs() < 1e-4 && (t.length() - 1.0).abs() < 1e-4);
+    }
+}

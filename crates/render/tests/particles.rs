@@ -336,20 +336,23 @@ fn particles_collide_with_the_depth_buffer() {
     let clip = view_projection * glam::Vec4::new(0.0, 0.0, -1.0, 1.0);
     let surface = clip.z / clip.w;
     let (w, h) = (8u32, 8u32);
-    let texture = renderer.gpu.device.create_texture(&wgpu::TextureDescriptor {
-        label: Some("test depth"),
-        size: wgpu::Extent3d {
-            width: w,
-            height: h,
-            depth_or_array_layers: 1,
-        },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format: wgpu::TextureFormat::R32Float,
-        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
-        view_formats: &[],
-    });
+    let texture = renderer
+        .gpu
+        .device
+        .create_texture(&wgpu::TextureDescriptor {
+            label: Some("test depth"),
+            size: wgpu::Extent3d {
+                width: w,
+                height: h,
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: wgpu::TextureFormat::R32Float,
+            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+            view_formats: &[],
+        });
     renderer.gpu.queue.write_texture(
         texture.as_image_copy(),
         bytemuck::cast_slice(&vec![surface; (w * h) as usize]),
@@ -381,7 +384,10 @@ fn particles_collide_with_the_depth_buffer() {
     let run = |settings: ParticleSettings| {
         let mut system = ParticleSystem::new(&renderer, 64, 4).unwrap();
         system.step(&renderer, &settings, DT).unwrap();
-        let quiet = ParticleSettings { rate: 0.0, ..settings };
+        let quiet = ParticleSettings {
+            rate: 0.0,
+            ..settings
+        };
         for _ in 0..60 {
             system.step(&renderer, &quiet, DT).unwrap();
         }
@@ -395,7 +401,10 @@ fn particles_collide_with_the_depth_buffer() {
             .map(|p| p.position[2])
             .fold(f32::INFINITY, f32::min)
     };
-    assert!(deepest(&through) < -2.0, "without collision they pass the wall");
+    assert!(
+        deepest(&through) < -2.0,
+        "without collision they pass the wall"
+    );
     assert!(
         deepest(&stopped) > -1.0 - 0.05,
         "with it they stay in front: {}",

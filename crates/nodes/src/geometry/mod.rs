@@ -1,9 +1,10 @@
 //! Geometry nodes (category "Geometry"): primitives and glTF files, each
 //! output a spread of meshes uploaded to the renderer's mesh arena, and GPU
-//! geometry (Emeshe's GeomFX list: `Spherize`, ...), mesh in, mesh out,
+//! geometry (Emeshe's GeomFX list: `Spherize`, `Extrude`), mesh in, mesh out,
 //! computed in the arena without a readback.
 
 mod continuity;
+pub mod extrude;
 pub mod gltf;
 pub mod primitives;
 pub mod spherize;
@@ -17,6 +18,7 @@ pub fn register(r: &mut Registry) {
     primitives::register(r);
     gltf::register(r);
     spherize::register(r);
+    extrude::register(r);
 }
 
 #[cfg(test)]

@@ -92,3 +92,18 @@ fn an_animated_pin_reruns_every_frame_with_last_frames_positions() {
     }
     assert!(moved > 0);
 }
+
+#[test]
+fn extrude_reruns_only_when_its_amounts_change() {
+    let patch = box_into(NodeDoc::new(2, "Extrude").with("Amount", vec![0.1f32, 0.2]));
+    let mut run = Run::new(&patch);
+    assert_eq!(run.frame(0, 2), (NodeRun::Evaluated, 1));
+    assert_eq!(run.frame(1, 2), (NodeRun::Evaluated, 1));
+    assert_eq!(run.frame(2, 2), (NodeRun::Reused, 0));
+    let mesh = run.mesh(2);
+    assert_eq!(
+        mesh.indices.len(),
+        12 * 7 * 3,
+        "a box's 12 faces, 7 triangles each"
+    );
+}

@@ -9,6 +9,7 @@
 //! reuses a node whose inputs did not change, and [`GeometryStats`] counts
 //! the dispatches so tests can prove nothing reran.
 
+pub mod extrude;
 pub mod readback;
 pub mod spherize;
 
@@ -23,6 +24,7 @@ use crate::mesh_arena::{GpuMesh, MeshLayout};
 use crate::renderer::Renderer;
 use crate::shaders::ShaderKey;
 
+pub use extrude::extrude;
 pub use readback::{read_mesh, read_storage};
 pub use spherize::{SpherizeParams, spherize};
 
