@@ -136,7 +136,8 @@ fn particles_in_a_curl_noise_field() {
 
 /// The GPU geometry nodes (issue 17): a sphere's faces extruded by a spread
 /// of amounts, then spherized by an LFO (so it deforms, with velocity from
-/// geometry into MotionBlur), lit and shadowed; frame 20.
+/// geometry into MotionBlur), and a tube along a spline, lit and shadowed;
+/// frame 20.
 #[test]
 fn geometry_nodes_extrude_and_spherize() {
     check(

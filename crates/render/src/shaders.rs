@@ -114,6 +114,7 @@ pub const SHADERS: &[ShaderFile] = &[
     shader!("gbuffer/visibility.wgsl", []),
     shader!("geometry/spherize.wgsl", []),
     shader!("geometry/extrude.wgsl", []),
+    shader!("geometry/spline.wgsl", ["RIBBON"]),
     shader!(
         "particles/simulate.wgsl",
         ["FIELD_TEXTURE", "MESH_EMITTER", "DEPTH_COLLISION"]

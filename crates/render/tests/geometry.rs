@@ -328,3 +328,66 @@ fn extrude_adds_seven_triangles_a_face_and_a_closed_mesh_stays_closed() {
         assert!((n.length() - 1.0).abs() < 1e-4 && (t.length() - 1.0).abs() < 1e-4);
     }
 }
+
+#[test]
+fn a_tube_passes_through_its_points_with_their_radii() {
+    use spreadlight_render::geometry::{Sweep, spline};
+    let renderer = test_renderer();
+    let points = [
+        Vec3::ZERO,
+        Vec3::new(1.0, 0.5, 0.0),
+        Vec3::new(2.0, 0.0, 1.0),
+        Vec3::new(2.5, 1.0, 2.0),
+    ];
+    let radii = [0.1, 0.2, 0.15, 0.3];
+    let (segments, sides) = (5usize, 8usize);
+    let tube = spline(
+        &renderer,
+        &points,
+        &radii,
+        segments as u32,
+        Sweep::Tube {
+            sides: sides as u32,
+        },
+        None,
+    )
+    .expect("tube");
+    let (vertices, indices) = read_mesh(&renderer, &tube).unwrap();
+    let rings = 3 * segments + 1;
+    assert_eq!(vertices.len(), rings * (sides + 1));
+    assert_eq!(indices.len(), (rings - 1) * sides * 6);
+    for (k, (p, r)) in points.iter().zip(radii).enumerate() {
+        let ring = &vertices[k * segments * (sides + 1)..][..sides];
+        let centre = ring
+            .iter()
+            .map(|v| Vec3::from_slice(&v.position_u))
+            .sum::<Vec3>()
+            / sides as f32;
+        assert!(
+            (centre - *p).length() < 1e-5,
+            "point {k}: ring centred at {centre}"
+        );
+        for v in ring {
+            let offset = Vec3::from_slice(&v.position_u) - *p;
+            assert!((offset.length() - r).abs() < 1e-5, "radius at point {k}");
+            let n = Vec3::from_slice(&v.normal_v);
+            assert!((n - offset / r).length() < 1e-4, "radial normals");
+            assert!(n.dot(Vec3::from_slice(&v.tangent)).abs() < 1e-4);
+        }
+    }
+    // Outward winding: each triangle's geometric normal agrees with its vertices' normals.
+    for t in indices.chunks(3) {
+        let p = |i: u32| Vec3::from_slice(&vertices[i as usize].position_u);
+        let face = (p(t[1]) - p(t[0])).cross(p(t[2]) - p(t[0]));
+        let n = Vec3::from_slice(&vertices[t[0] as usize].normal_v);
+        assert!(face.dot(n) >= 0.0, "triangle {t:?} faces inwards");
+    }
+    let ribbon = spline(&renderer, &points, &radii, 4, Sweep::Ribbon, None).expect("ribbon");
+    let (vertices, _) = read_mesh(&renderer, &ribbon).unwrap();
+    for (k, p) in points.iter().enumerate() {
+        let pair = &vertices[k * 4 * 2..][..2];
+        let mid =
+            (Vec3::from_slice(&pair[0].position_u) + Vec3::from_slice(&pair[1].position_u)) / 2.0;
+        assert!((mid - *p).length() < 1e-5, "ribbon through point {k}");
+    }
+}

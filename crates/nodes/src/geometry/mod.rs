@@ -1,6 +1,6 @@
 //! Geometry nodes (category "Geometry"): primitives and glTF files, each
 //! output a spread of meshes uploaded to the renderer's mesh arena, and GPU
-//! geometry (Emeshe's GeomFX list: `Spherize`, `Extrude`), mesh in, mesh out,
+//! geometry (Emeshe's GeomFX list: `Spherize`, `Extrude`, `Tube`, `Ribbon`), mesh in, mesh out,
 //! computed in the arena without a readback.
 
 mod continuity;
@@ -8,6 +8,7 @@ pub mod extrude;
 pub mod gltf;
 pub mod primitives;
 pub mod spherize;
+pub mod spline;
 
 use spreadlight_graph::{PinType, Registry, ResourceKind};
 
@@ -19,6 +20,7 @@ pub fn register(r: &mut Registry) {
     gltf::register(r);
     spherize::register(r);
     extrude::register(r);
+    spline::register(r);
 }
 
 #[cfg(test)]

@@ -107,3 +107,29 @@ fn extrude_reruns_only_when_its_amounts_change() {
         "a box's 12 faces, 7 triangles each"
     );
 }
+
+#[test]
+fn tube_and_ribbon_run_once_and_refuse_too_few_points() {
+    for name in ["Tube", "Ribbon"] {
+        let mut patch = Patch::default();
+        patch.add(NodeDoc::new(2, name));
+        patch.add(NodeDoc::new(3, "Probe"));
+        patch.link(2, "Mesh", 3, "Input");
+        let mut run = Run::new(&patch);
+        assert_eq!(run.frame(0, 2), (NodeRun::Evaluated, 1));
+        run.frame(1, 2);
+        assert_eq!(run.frame(2, 2), (NodeRun::Reused, 0), "{name}");
+        assert!(run.mesh(2).has_uvs);
+
+        let mut patch = Patch::default();
+        patch.add(NodeDoc::new(2, name).with("Points", vec![glam::Vec3::ZERO]));
+        patch.add(NodeDoc::new(3, "Probe"));
+        patch.link(2, "Mesh", 3, "Input");
+        let mut run = Run::new(&patch);
+        run.runtime.evaluate(FrameClock::fixed(0, 60.0));
+        assert!(
+            matches!(run.runtime.node_error(NodeId(2)), Some(spreadlight_graph::NodeError::Input { pin, .. }) if pin == "Points"),
+            "{name}"
+        );
+    }
+}

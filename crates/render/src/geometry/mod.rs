@@ -12,6 +12,7 @@
 pub mod extrude;
 pub mod readback;
 pub mod spherize;
+pub mod spline;
 
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
@@ -27,6 +28,7 @@ use crate::shaders::ShaderKey;
 pub use extrude::extrude;
 pub use readback::{read_mesh, read_storage};
 pub use spherize::{SpherizeParams, spherize};
+pub use spline::{Sweep, spline};
 
 /// Matches `Job` in shaders/lib/geometry.wgsl.
 #[repr(C)]
