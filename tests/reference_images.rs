@@ -100,6 +100,11 @@ fn showcase_all_three_light_types() {
 }
 
 #[test]
+fn matcaps_beside_pbr_materials() {
+    check("matcap", "patches/matcap.ron", "matcap", (160, 90), 0);
+}
+
+#[test]
 fn shadows_of_all_three_light_types() {
     check("shadows", "patches/shadows.ron", "showcase", (160, 90), 0);
 }

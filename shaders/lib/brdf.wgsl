@@ -86,7 +86,8 @@ fn energy_compensation(f0: vec3<f32>, n_dot_v: f32, roughness: f32) -> vec3<f32>
     return vec3<f32>(1.0) + f0 * (1.0 / specular_albedo(n_dot_v, roughness) - 1.0);
 }
 
-// Unit n (normal), v (to the eye), l (to the light); metalness workflow.
+// Unit n (normal), v (to the eye), l (to the light); metalness workflow
+// with the common dielectric F0 of 0.04.
 fn cook_torrance(
     n: vec3<f32>,
     v: vec3<f32>,
@@ -94,6 +95,21 @@ fn cook_torrance(
     albedo_in: vec3<f32>,
     roughness_in: f32,
     metallic_in: f32,
+    compensate: bool,
+) -> Brdf {
+    return cook_torrance_f0(n, v, l, albedo_in, roughness_in, metallic_in, DIELECTRIC_F0, compensate);
+}
+
+// `cook_torrance` with the dielectric part's F0 given (a material's
+// Reflectance, 0..1): F0 = mix(reflectance, albedo, metallic).
+fn cook_torrance_f0(
+    n: vec3<f32>,
+    v: vec3<f32>,
+    l: vec3<f32>,
+    albedo_in: vec3<f32>,
+    roughness_in: f32,
+    metallic_in: f32,
+    reflectance_in: f32,
     compensate: bool,
 ) -> Brdf {
     let n_dot_l_raw = dot(n, l);
@@ -106,7 +122,7 @@ fn cook_torrance(
     let roughness = clamp(roughness_in, 0.0, 1.0);
     let metallic = clamp(metallic_in, 0.0, 1.0);
     let albedo = max(albedo_in, vec3<f32>(0.0));
-    let f0 = mix(vec3<f32>(DIELECTRIC_F0), albedo, metallic);
+    let f0 = mix(vec3<f32>(clamp(reflectance_in, 0.0, 1.0)), albedo, metallic);
     let f = f_schlick(f0, dot(v, h));
     let lobe = d_ggx(dot(n, h), roughness) * v_smith_ggx_correlated(n_dot_v, n_dot_l, roughness);
     var specular = f * (lobe * n_dot_l);

@@ -6,9 +6,13 @@
 // darkened by AO; GI (indirect diffuse radiance: SSGI, image-based diffuse
 // light) is times albedo too, not darkened again (SSGI occludes its own). REFLECTION adds specular reflection
 // radiance times each material's Reflection strength (0 without it).
-// MATERIALS: the material library is bound (emission, per-material AO or
-// reflection need it). Clamped below half-float overflow.
-#import spreadlight::camera::Camera
+// MATCAP adds each MatCap material's matcap, looked up by the G-buffer's
+// view-space normal (or the reflected view vector), times albedo or as light,
+// times its strength; MATCAP_TEXTURE binds the material texture array its
+// images are layers of (else the built-in matcap).
+// MATERIALS: the material library is bound (emission, per-material AO,
+// reflection or matcap need it). Clamped below half-float overflow.
+#import spreadlight::camera::{Camera, pixel_to_ndc}
 
 struct Params {
     // rgb ambient radiance, w unused
@@ -60,6 +64,15 @@ struct Params {
 #endif
 #ifdef REFLECTION
 @group(0) @binding(19) var reflection: texture_2d<f32>;
+#endif
+#ifdef MATCAP
+#import spreadlight::material::{feature_texture, FEATURE_MATCAP}
+#import spreadlight::matcap::{matcap_uv, default_matcap}
+@group(0) @binding(22) var normals: texture_2d<f32>;
+#ifdef MATCAP_TEXTURE
+@group(0) @binding(20) var matcap_images: texture_2d_array<f32>;
+@group(0) @binding(21) var matcap_sampler: sampler;
+#endif
 #endif
 
 // A texel from an effect's output: negative or non-finite values add nothing.
@@ -133,6 +146,38 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         let emission = feature_param_at(channel_to_id(textureLoad(color, p, 0).a), FEATURE_EMISSION, 0u, vec4<f32>(0.0), p);
         lit += max(emission.rgb, vec3<f32>(0.0)) * max(emission.a, 0.0);
 #endif
+#ifdef MATCAP
+        lit += matcap_light(p, albedo);
+#endif
     }
     textureStore(output, p, vec4<f32>(min(lit, vec3<f32>(65000.0)), 1.0));
 }
+
+#ifdef MATCAP
+// What pixel `p`'s MatCap adds: nothing on materials without the feature or
+// at strength 0, so they stay exactly as without MATCAP.
+fn matcap_light(p: vec2<u32>, albedo: vec3<f32>) -> vec3<f32> {
+    let id = channel_to_id(textureLoad(color, p, 0).a);
+    // x strength, y mode (1: add as light), z mapping (1: reflected).
+    let settings = feature_param(id, FEATURE_MATCAP, 0u, vec4<f32>(0.0));
+    if (!(settings.x > 0.0)) {
+        return vec3<f32>(0.0);
+    }
+    let raw = textureLoad(normals, p, 0).xyz;
+    let n = select(vec3<f32>(0.0, 0.0, 1.0), normalize(raw), dot(raw, raw) > 1e-12);
+    let clip = camera.projection_inverse * vec4<f32>(pixel_to_ndc(p, camera.size), textureLoad(depth, p, 0).r, 1.0);
+    let position = clip.xyz / clip.w;
+    let v = select(vec3<f32>(0.0, 0.0, -1.0), normalize(position), dot(position, position) > 1e-20);
+    let uv = matcap_uv(n, v, settings.z > 0.5);
+    var image = default_matcap(uv);
+#ifdef MATCAP_TEXTURE
+    let texture = feature_texture(id, FEATURE_MATCAP);
+    if (texture > 0u) {
+        let layer = (texture - 1u) % max(textureNumLayers(matcap_images), 1u);
+        image = textureSampleLevel(matcap_images, matcap_sampler, uv, layer, 0.0).rgb;
+    }
+#endif
+    let tint = select(albedo, vec3<f32>(1.0), settings.y > 0.5);
+    return clean(image * tint * settings.x);
+}
+#endif

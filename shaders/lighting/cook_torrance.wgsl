@@ -10,7 +10,7 @@
 // subsurface term for materials with the FakeSSS feature), clamped below half-float
 // overflow so no infinity reaches a target.
 #import spreadlight::camera::Camera
-#import spreadlight::brdf::cook_torrance
+#import spreadlight::brdf::{cook_torrance_f0, DIELECTRIC_F0}
 #import spreadlight::lights::{point_attenuation, spot_attenuation}
 #import spreadlight::packing::{channel_to_id, safe_normalize}
 // The material library, imported once: MATERIALS reads CookTorrance
@@ -105,10 +105,10 @@ fn spot_mask(light: u32, record: Light, pw: vec3<f32>) -> vec3<f32> {
 
 const HALF_MAX: f32 = 65000.0;
 
-fn shade(light: u32, p: vec3<f32>, pw: vec3<f32>, n: vec3<f32>, v: vec3<f32>, albedo: vec3<f32>, rm: vec2<f32>,
+fn shade(light: u32, p: vec3<f32>, pw: vec3<f32>, n: vec3<f32>, v: vec3<f32>, albedo: vec3<f32>, rm: vec3<f32>,
          diffuse: ptr<function, vec3<f32>>, specular: ptr<function, vec3<f32>>) {
-    let record = lights[light];
 #ifdef LIGHT_SUN
+    let record = lights[light];
     let travel = safe_normalize((camera.view * vec4<f32>(record.direction.xyz, 0.0)).xyz, vec3<f32>(0.0, 0.0, -1.0));
     let l = -travel;
     var radiance = record.intensity.rgb;
@@ -126,6 +126,11 @@ fn shade(light: u32, p: vec3<f32>, pw: vec3<f32>, n: vec3<f32>, v: vec3<f32>, al
     if (attenuation <= 0.0) {
         return;
     }
+    // The 64-byte record only for lights that reach the pixel: most of a
+    // froxel's list does not (its 64-pixel tile is wider than a light's reach
+    // seen from any one pixel), and at 100,000 lights these loads were the
+    // shading pass's bandwidth.
+    let record = lights[light];
 #ifdef LIGHT_SPOT
     let mask = spot_mask(light, record, pw);
     if (all(mask <= vec3<f32>(0.0))) {
@@ -142,7 +147,8 @@ fn shade(light: u32, p: vec3<f32>, pw: vec3<f32>, n: vec3<f32>, v: vec3<f32>, al
     }
 #endif
 #endif
-    let brdf = cook_torrance(n, v, l, albedo, rm.x, rm.y, ENERGY);
+    // rm: roughness, metallic, reflectance (the dielectric F0).
+    let brdf = cook_torrance_f0(n, v, l, albedo, rm.x, rm.y, rm.z, ENERGY);
 #ifdef FAKE_SSS
     // Light that wraps past the terminator (wrap 0.5), beyond what Lambert gives.
     let n_dot_l = dot(n, l);
@@ -191,9 +197,9 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let material = channel_to_id(texel.a);
 #ifdef MATERIALS
     // A texture scales (roughness, metallic, reflectance); kept within 0..1.
-    let rm = clamp(feature_param_at(material, FEATURE_COOK_TORRANCE, 0u, vec4<f32>(0.5, 0.0, 0.04, 0.0), pixel).xy, vec2<f32>(0.0), vec2<f32>(1.0));
+    let rm = clamp(feature_param_at(material, FEATURE_COOK_TORRANCE, 0u, vec4<f32>(0.5, 0.0, 0.04, 0.0), pixel).xyz, vec3<f32>(0.0), vec3<f32>(1.0));
 #else
-    let rm = surfaces[material % arrayLength(&surfaces)].roughness_metallic;
+    let rm = vec3<f32>(surfaces[material % arrayLength(&surfaces)].roughness_metallic, DIELECTRIC_F0);
 #endif
 
     var diffuse = vec3<f32>(0.0);

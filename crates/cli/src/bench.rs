@@ -3,8 +3,15 @@
 //! GPU times come from timestamp queries, medians over the timed frames, and
 //! the adapter is named beside every figure. Prints one JSON line with
 //! `--json` (the keys of shared/bench/README.md).
+//!
+//! What it reports: the GPU frame span and every pass in frame order (names
+//! may repeat), the idle time between them (span minus the passes' sum),
+//! CPU per frame split into patch evaluation and frame recording, and with
+//! `--wall` the wall-clock time per frame with frames in flight (no
+//! timestamps, nothing read back: what an interactive host gets).
 
-use std::collections::BTreeMap;
+use spreadlight_render::renderer::{Recording, Timing};
+
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -30,6 +37,24 @@ pub struct Args {
     /// Print one JSON line instead of a table.
     #[arg(long)]
     json: bool,
+    /// Also time the frames back to back with no timestamps and no readback,
+    /// up to two frames in flight: the wall-clock frame time of a host.
+    #[arg(long)]
+    wall: bool,
+    /// Timestamps around every pass (`pass`) or only the frame's first and last (`frame`).
+    #[arg(long, default_value = "pass", value_parser = ["pass", "frame"])]
+    timing: String,
+    /// Record the frame in one command encoder (`batched`, as the CLI and editor do) or each pass in its own (`isolated`).
+    #[arg(long, default_value = "batched", value_parser = ["isolated", "batched"])]
+    recording: String,
+}
+
+/// One pass of the frame, in order, with its median.
+#[derive(serde::Serialize)]
+struct PassFigure {
+    name: String,
+    owner: Option<u32>,
+    gpu_ms: Option<f64>,
 }
 
 fn median(mut v: Vec<f64>) -> Option<f64> {
@@ -87,6 +112,65 @@ fn apply_set(patch: &mut spreadlight_graph::Patch, set: &str) -> anyhow::Result<
     Ok(())
 }
 
+/// The passes as a map of name to median (shared/bench/README.md's key), a
+/// name that repeats (the three SSSS passes of one node) numbered from its
+/// second time on, so no pass is lost.
+fn unique_names(passes: &[PassFigure]) -> serde_json::Map<String, serde_json::Value> {
+    let mut seen = std::collections::HashMap::<&str, u32>::new();
+    let mut map = serde_json::Map::new();
+    for p in passes {
+        let n = seen.entry(p.name.as_str()).or_default();
+        *n += 1;
+        let key = if *n == 1 {
+            p.name.clone()
+        } else {
+            format!("{} ({n})", p.name)
+        };
+        map.insert(key, serde_json::json!(p.gpu_ms));
+    }
+    map
+}
+
+/// Per-frame figures of the timed frames.
+#[derive(Default)]
+struct Series {
+    gpu: Vec<f64>,
+    idle: Vec<f64>,
+    cpu: Vec<f64>,
+    eval: Vec<f64>,
+    record: Vec<f64>,
+}
+
+/// Milliseconds a frame over `args.frames` frames run back to back with
+/// timing off (frames in flight), after `args.warmup` more to settle.
+fn wall_clock(
+    session: &mut Session,
+    args: &Args,
+    renderer: &spreadlight_render::Renderer,
+    reported: &mut std::collections::BTreeSet<String>,
+) -> anyhow::Result<f64> {
+    let before = renderer.settings().0;
+    renderer.set_timing(Timing::Off);
+    let start_frame = args.warmup + args.frames.max(1);
+    let mut started = std::time::Instant::now();
+    for k in 0..args.warmup + args.frames.max(1) {
+        if k == args.warmup {
+            // Waiting here drains the warm-up frames out of the timed span.
+            renderer.wait_idle()?;
+            started = std::time::Instant::now();
+        }
+        let frame = start_frame + k;
+        session.runtime.invalidate_sinks();
+        if session.step(frame, 60.0, &args.patch, reported) {
+            bail!("frame {frame} failed (errors above)");
+        }
+    }
+    renderer.wait_idle()?;
+    let ms = started.elapsed().as_secs_f64() * 1e3 / args.frames.max(1) as f64;
+    renderer.set_timing(before);
+    Ok(ms)
+}
+
 pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
     let mut patch = format::load(&args.patch)?;
     for set in &args.sets {
@@ -97,12 +181,23 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
         bail!("the patch has errors (above); fix them before timing it");
     }
     let renderer = session.renderer.clone().context("no renderer")?;
+    renderer.set_timing(if args.timing == "frame" {
+        Timing::Frame
+    } else {
+        Timing::PerPass
+    });
+    renderer.set_recording(if args.recording == "batched" {
+        Recording::Batched
+    } else {
+        Recording::Isolated
+    });
     // Geometry and particle passes run as their nodes evaluate: time them too.
     let geometry = spreadlight_render::geometry::GeometryStats::of(&renderer);
     geometry.set_timing(true);
     let mut reported = Default::default();
-    let (mut gpu, mut cpu) = (Vec::new(), Vec::new());
-    let mut passes: BTreeMap<String, Vec<f64>> = BTreeMap::new();
+    let mut series = Series::default();
+    // Per pass position (frames render the same passes in the same order).
+    let mut passes: Vec<(String, Option<u32>, Vec<f64>)> = Vec::new();
     let total = args.warmup + args.frames.max(1);
     for frame in 0..total {
         session.runtime.invalidate_sinks();
@@ -116,28 +211,53 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
             continue;
         }
         let report = renderer.last_report();
-        if let Some(ms) = report.gpu_frame_ms {
-            gpu.push(ms + geometry_ms);
+        // CPU: evaluating the patch and recording the frame, without the wait for the GPU.
+        let cpu = (wall_ms - report.wait_ms).max(0.0);
+        series.cpu.push(cpu);
+        series.record.push(report.record_ms);
+        series.eval.push((cpu - report.record_ms).max(0.0));
+        if let Some(span) = report.gpu_frame_ms {
+            series.gpu.push(span + geometry_ms);
+            if let Some(sum) = report.gpu_ms {
+                series.idle.push((span - sum).max(0.0));
+            }
+        }
+        for (k, p) in report.passes.iter().enumerate() {
+            if passes.len() <= k {
+                passes.push((p.name.clone(), p.owner, Vec::new()));
+            }
+            if let Some(ms) = p.gpu_ms {
+                passes[k].2.push(ms);
+            }
         }
         if renderer.gpu.has_timestamps() {
-            passes
-                .entry("geometry and particles (compute)".to_owned())
-                .or_default()
-                .push(geometry_ms);
-        }
-        // CPU: evaluating the patch and recording the frame, without the wait for the GPU.
-        cpu.push((wall_ms - report.wait_ms).max(0.0));
-        for p in &report.passes {
-            if let Some(ms) = p.gpu_ms {
-                passes.entry(p.name.clone()).or_default().push(ms);
+            const GEOMETRY: &str = "geometry and particles (compute)";
+            match passes.iter_mut().find(|p| p.0 == GEOMETRY) {
+                Some(p) => p.2.push(geometry_ms),
+                None => passes.push((GEOMETRY.to_owned(), None, vec![geometry_ms])),
             }
         }
     }
+    let wall = if args.wall {
+        Some(wall_clock(&mut session, args, &renderer, &mut reported)?)
+    } else {
+        None
+    };
     let adapter = renderer.gpu.adapter_name();
-    let gpu_median = median(gpu);
-    let cpu_median = median(cpu);
-    let pass_medians: BTreeMap<String, Option<f64>> =
-        passes.into_iter().map(|(k, v)| (k, median(v))).collect();
+    let passes: Vec<PassFigure> = passes
+        .into_iter()
+        .map(|(name, owner, times)| PassFigure {
+            name,
+            owner,
+            gpu_ms: median(times),
+        })
+        .collect();
+    let (gpu, cpu) = (median(series.gpu), median(series.cpu));
+    let (idle, eval, record) = (
+        median(series.idle),
+        median(series.eval),
+        median(series.record),
+    );
     if args.json {
         let line = serde_json::json!({
             "patch": args.patch.display().to_string(),
@@ -145,25 +265,40 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
             "sets": args.sets,
             "adapter": adapter,
             "frames": args.frames,
-            "gpu_ms_median": gpu_median,
-            "cpu_ms_median": cpu_median,
-            "passes": pass_medians,
+            "timing": args.timing,
+            "recording": args.recording,
+            "gpu_ms_median": gpu,
+            "gpu_idle_ms_median": idle,
+            "cpu_ms_median": cpu,
+            "cpu_eval_ms_median": eval,
+            "cpu_record_ms_median": record,
+            "wall_ms_per_frame": wall,
+            "passes": unique_names(&passes),
+            "pass_order": passes,
         });
         println!("{line}");
     } else {
         println!(
-            "{} at {}x{} on {adapter}, median of {} frames",
+            "{} at {}x{} on {adapter}, median of {} frames ({} timing, {} recording)",
             args.patch.display(),
             args.size.0,
             args.size.1,
-            args.frames
+            args.frames,
+            args.timing,
+            args.recording
         );
         let show =
             |v: Option<f64>| v.map_or("n/a (no timestamps)".to_owned(), |ms| format!("{ms:.3} ms"));
-        println!("  GPU frame  {}", show(gpu_median));
-        println!("  CPU frame  {}", show(cpu_median));
-        for (name, ms) in &pass_medians {
-            println!("  {name:<40} {}", show(*ms));
+        println!("  GPU frame              {}", show(gpu));
+        println!("  GPU idle between passes {}", show(idle));
+        println!("  CPU frame              {}", show(cpu));
+        println!("    evaluating the patch {}", show(eval));
+        println!("    recording the frame  {}", show(record));
+        if let Some(ms) = wall {
+            println!("  wall clock, frames in flight {ms:.3} ms a frame");
+        }
+        for p in &passes {
+            println!("  {:<44} {}", p.name, show(p.gpu_ms));
         }
     }
     Ok(ExitCode::SUCCESS)

@@ -323,6 +323,44 @@ fn bench_prints_one_json_line_with_the_adapter() {
     assert!(json["adapter"].as_str().is_some_and(|a| !a.is_empty()));
     assert!(json["passes"].as_object().is_some());
 
+    // Every pass of the frame is kept, in order, and named in the map.
+    let order = json["pass_order"].as_array().expect("pass_order");
+    assert!(!order.is_empty());
+    assert_eq!(
+        order.len(),
+        json["passes"].as_object().map_or(0, |m| m.len())
+    );
+    assert!(json["cpu_eval_ms_median"].as_f64().is_some());
+    assert!(json["cpu_record_ms_median"].as_f64().is_some());
+    assert!(json["wall_ms_per_frame"].is_null(), "only with --wall");
+
+    // --wall times frames in flight, batched recording and frame timing
+    // leave the figures' shape alone.
+    let o = spreadlight(&[
+        "bench",
+        "patches/bench-gbuffer.ron",
+        "--size",
+        "32x18",
+        "--warmup",
+        "1",
+        "--frames",
+        "2",
+        "--wall",
+        "--recording",
+        "batched",
+        "--timing",
+        "frame",
+        "--json",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+    let json: serde_json::Value = serde_json::from_str(&text(&o.stdout)).expect("JSON");
+    assert!(
+        json["wall_ms_per_frame"]
+            .as_f64()
+            .is_some_and(|ms| ms > 0.0)
+    );
+    assert_eq!(json["recording"], "batched");
+
     let o = spreadlight(&["bench", "patches/bench-gbuffer.ron", "--set", "2.Nope=5"]);
     assert_eq!(o.status.code(), Some(1));
     assert!(

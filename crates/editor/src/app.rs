@@ -218,6 +218,9 @@ impl EditorApp {
                 );
                 match Renderer::new(context) {
                     Ok(renderer) => {
+                        // One command encoder a frame (docs/benchmarks.md); a
+                        // failing frame falls back to a pass at a time.
+                        renderer.set_recording(spreadlight_render::renderer::Recording::Batched);
                         let renderer = Arc::new(renderer);
                         runtime.provide(renderer.clone());
                         let blitter = Blitter::new(&state.device);

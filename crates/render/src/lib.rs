@@ -22,11 +22,13 @@ pub mod readback;
 pub mod recipe;
 pub mod reference;
 pub mod renderer;
+pub mod report;
 pub mod scenes;
 pub mod shaders;
 pub mod shadows;
 pub mod temporal;
 pub mod texture;
+pub mod texture_pool;
 
 pub use context::GpuContext;
 pub use error::RenderError;

@@ -5,31 +5,47 @@
 //! Nodes hold it behind an `Arc` and call it from their evaluation; its
 //! interior state is behind mutexes so it is shared, not cloned.
 
-use std::collections::{HashMap, HashSet};
+use std::collections::HashMap;
 use std::sync::{Arc, Mutex};
 
 use crate::context::GpuContext;
 use crate::error::RenderError;
-use crate::frame_graph::{self, FrameGraph, FrameReport, Lifetime, PassReport, TextureKey};
 use crate::mesh_arena::MeshArena;
+use crate::report::FrameReport;
 use crate::shaders::{ShaderCache, ShaderComposer};
+use crate::texture_pool::TexturePool;
 
-const MAX_QUERIES: u32 = 512;
+pub(crate) const MAX_QUERIES: u32 = 512;
 
-struct Timestamps {
-    set: wgpu::QuerySet,
-    resolve: wgpu::Buffer,
-    readback: wgpu::Buffer,
+pub(crate) struct Timestamps {
+    pub set: wgpu::QuerySet,
+    pub resolve: wgpu::Buffer,
+    pub readback: wgpu::Buffer,
 }
 
-#[derive(Default)]
-struct Textures {
-    pool: HashMap<TextureKey, Vec<wgpu::Texture>>,
-    persistent: HashMap<String, (TextureKey, wgpu::Texture)>,
-    /// Per persistent texture: frame graphs run since a pass last wrote it.
-    idle: HashMap<String, u32>,
-    /// Last frame's requested outputs: handed to the caller, back to the pool next frame.
-    lent: Vec<(TextureKey, wgpu::Texture)>,
+/// How frames are timed (`FrameGraph::execute`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Timing {
+    /// Timestamps around every pass, read back after each frame: the
+    /// per-pass figures of `stats` and `bench`. The CPU waits for the GPU.
+    #[default]
+    PerPass,
+    /// Timestamps at the first and the last pass only: the frame's GPU span.
+    Frame,
+    /// No timestamps and no waiting: frames overlap (recorded while the GPU
+    /// works on the last), as an interactive host runs them.
+    Off,
+}
+
+/// How passes are recorded (`FrameGraph::execute`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Recording {
+    /// Each pass in its own command encoder and error scope: an error names its pass.
+    #[default]
+    Isolated,
+    /// The whole frame in one command encoder; an error drops the frame and
+    /// switches to `Isolated`.
+    Batched,
 }
 
 /// Frame graphs a persistent texture may go unwritten before it is dropped:
@@ -40,9 +56,12 @@ pub const PERSISTENT_IDLE_GRAPHS: u32 = 60;
 pub struct Renderer {
     pub gpu: GpuContext,
     shaders: Mutex<ShaderCache>,
-    textures: Mutex<Textures>,
+    textures: Mutex<TexturePool>,
     pub meshes: MeshArena,
     timestamps: Option<Timestamps>,
+    settings: Mutex<(Timing, Recording)>,
+    /// Submissions not yet known to be done, oldest first (`Timing::Off`).
+    in_flight: Mutex<std::collections::VecDeque<wgpu::SubmissionIndex>>,
     last_report: Mutex<FrameReport>,
     output_size: Mutex<(u32, u32)>,
     /// What recipes keep between frames (shadow maps), by type and key.
@@ -78,9 +97,11 @@ impl Renderer {
         Ok(Renderer {
             gpu,
             shaders: Mutex::new(shaders),
-            textures: Mutex::new(Textures::default()),
+            textures: Mutex::new(TexturePool::default()),
             meshes,
             timestamps,
+            settings: Mutex::new((Timing::default(), Recording::default())),
+            in_flight: Mutex::new(std::collections::VecDeque::new()),
             last_report: Mutex::new(FrameReport::default()),
             output_size: Mutex::new(DEFAULT_OUTPUT_SIZE),
             states: Mutex::new(HashMap::new()),
@@ -121,293 +142,72 @@ impl Renderer {
         }
     }
 
+    /// How frames are timed and recorded.
+    pub fn settings(&self) -> (Timing, Recording) {
+        *self.settings.lock().unwrap_or_else(|e| e.into_inner())
+    }
+
+    pub fn set_timing(&self, timing: Timing) {
+        self.settings.lock().unwrap_or_else(|e| e.into_inner()).0 = timing;
+    }
+
+    pub fn set_recording(&self, recording: Recording) {
+        self.settings.lock().unwrap_or_else(|e| e.into_inner()).1 = recording;
+    }
+
+    pub(crate) fn texture_pool(&self) -> std::sync::MutexGuard<'_, TexturePool> {
+        self.textures.lock().unwrap_or_else(|e| e.into_inner())
+    }
+
+    pub(crate) fn timestamps(&self) -> Option<&Timestamps> {
+        self.timestamps.as_ref()
+    }
+
+    pub(crate) fn set_last_report(&self, report: FrameReport) {
+        *self.last_report.lock().unwrap_or_else(|e| e.into_inner()) = report;
+    }
+
+    /// Remember `submission`; wait until no more than `frames` are unfinished.
+    pub(crate) fn throttle(
+        &self,
+        submission: wgpu::SubmissionIndex,
+        frames: usize,
+    ) -> Result<(), RenderError> {
+        let mut in_flight = self.in_flight.lock().unwrap_or_else(|e| e.into_inner());
+        in_flight.push_back(submission);
+        while in_flight.len() > frames {
+            if let Some(oldest) = in_flight.pop_front() {
+                self.gpu
+                    .device
+                    .poll(wgpu::PollType::Wait {
+                        submission_index: Some(oldest),
+                        timeout: None,
+                    })
+                    .map_err(|e| RenderError::Readback(e.to_string()))?;
+            }
+        }
+        Ok(())
+    }
+
+    /// Wait for every submission so far (frames in flight drained).
+    pub fn wait_idle(&self) -> Result<(), RenderError> {
+        self.in_flight
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .clear();
+        self.gpu
+            .device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map(|_| ())
+            .map_err(|e| RenderError::Readback(e.to_string()))
+    }
+
     /// The report of the last executed frame graph.
     pub fn last_report(&self) -> FrameReport {
         self.last_report
             .lock()
             .unwrap_or_else(|e| e.into_inner())
             .clone()
-    }
-
-    fn create_texture(&self, key: &TextureKey, label: &str) -> wgpu::Texture {
-        self.gpu.device.create_texture(&wgpu::TextureDescriptor {
-            label: Some(label),
-            size: wgpu::Extent3d {
-                width: key.width,
-                height: key.height,
-                depth_or_array_layers: 1,
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: key.format,
-            usage: key.usage,
-            view_formats: &[],
-        })
-    }
-
-    pub(crate) fn execute_graph(
-        &self,
-        graph: FrameGraph<'_>,
-    ) -> Result<(FrameReport, HashMap<String, wgpu::Texture>), RenderError> {
-        let started = std::time::Instant::now();
-        let output_size = graph.output_size();
-        let mut textures = self.textures.lock().unwrap_or_else(|e| e.into_inner());
-        let lent = std::mem::take(&mut textures.lent);
-        for (key, texture) in lent {
-            textures.pool.entry(key).or_default().push(texture);
-        }
-        let persistent_names: HashSet<String> = textures.persistent.keys().cloned().collect();
-        let mut parts = graph.into_parts(&persistent_names)?;
-
-        // Where each texture is last read, so temporaries go back to the pool after it.
-        let mut last_use: HashMap<&str, usize> = HashMap::new();
-        for (step, &p) in parts.order.iter().enumerate() {
-            for name in parts.reads[p]
-                .iter()
-                .chain(parts.writes[p].iter().map(|(n, _)| n))
-            {
-                last_use.insert(name.as_str(), step);
-            }
-        }
-        let requested: HashSet<&str> = parts.requested.iter().map(String::as_str).collect();
-
-        let mut live: HashMap<String, wgpu::Texture> = parts.imports.clone();
-        for (name, (_, texture)) in &textures.persistent {
-            live.insert(name.clone(), texture.clone());
-        }
-        let mut fresh = HashSet::new();
-        let mut report = FrameReport {
-            adapter: self.gpu.adapter_name(),
-            ..Default::default()
-        };
-        for (name, n) in std::mem::take(&mut parts.counters) {
-            *report.counters.entry(name.to_owned()).or_default() += n;
-        }
-        let mut owned: Vec<(String, TextureKey, Lifetime)> = Vec::new();
-        let mut commands = Vec::new();
-        let mut pass_queries: Vec<(usize, Vec<(u32, u32)>)> = Vec::new();
-        let mut next_query = 0u32;
-        let mut shaders = self.shaders();
-        let compiled_before = shaders.pipelines_compiled;
-
-        for (step, &p) in parts.order.clone().iter().enumerate() {
-            for ((name, desc), key) in parts.writes[p].iter().zip(&parts.keys[p]) {
-                let texture = match desc.lifetime {
-                    Lifetime::Persistent => match textures.persistent.get(name) {
-                        Some((k, t)) if k == key => t.clone(),
-                        _ => {
-                            let t = self.create_texture(key, name);
-                            report.textures_created += 1;
-                            textures.persistent.insert(name.clone(), (*key, t.clone()));
-                            fresh.insert(name.clone());
-                            t
-                        }
-                    },
-                    Lifetime::Temporary | Lifetime::Permanent => {
-                        match textures.pool.get_mut(key).and_then(Vec::pop) {
-                            Some(t) => t,
-                            None => {
-                                report.textures_created += 1;
-                                self.create_texture(key, name)
-                            }
-                        }
-                    }
-                };
-                if desc.lifetime == Lifetime::Persistent {
-                    textures.idle.insert(name.clone(), 0);
-                } else {
-                    owned.push((name.clone(), *key, desc.lifetime));
-                }
-                live.insert(name.clone(), texture);
-            }
-
-            let encoder = self
-                .gpu
-                .device
-                .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                    label: Some(&parts.names[p]),
-                });
-            let scope = self
-                .gpu
-                .device
-                .push_error_scope(wgpu::ErrorFilter::Validation);
-            let capacity = if self.timestamps.is_some() {
-                MAX_QUERIES
-            } else {
-                0
-            };
-            let mut cx = frame_graph::PassContext {
-                gpu: &self.gpu,
-                encoder,
-                shaders: &mut shaders,
-                textures: &live,
-                fresh: &fresh,
-                timestamps: self.timestamps.as_ref().map(|t| &t.set),
-                queries: Vec::new(),
-                next_query: &mut next_query,
-                query_capacity: capacity,
-                draws: 0,
-                output_size,
-                counters: Default::default(),
-            };
-            let run = parts.runs[p].take();
-            let result = match run {
-                Some(run) => run(&mut cx),
-                None => Ok(()),
-            };
-            let frame_graph::Recorded {
-                commands: buffer,
-                queries,
-                draws,
-                counters,
-            } = cx.finish();
-            for (name, n) in counters {
-                *report.counters.entry(name.to_owned()).or_default() += n;
-            }
-            let validation = pollster::block_on(scope.pop());
-            let error = match (result, validation) {
-                (Err(e), _) => Some(e.to_string()),
-                (Ok(()), Some(e)) => Some(
-                    RenderError::Validation {
-                        pass: parts.names[p].clone(),
-                        message: e.to_string(),
-                    }
-                    .to_string(),
-                ),
-                (Ok(()), None) => None,
-            };
-            match error {
-                Some(message) => report.errors.push((
-                    parts.owners[p],
-                    format!("pass `{}`: {message}", parts.names[p]),
-                )),
-                None => {
-                    commands.push(buffer);
-                    pass_queries.push((report.passes.len(), queries));
-                }
-            }
-            report.draws += draws;
-            report.passes.push(PassReport {
-                name: parts.names[p].clone(),
-                owner: parts.owners[p],
-                gpu_ms: None,
-                draws,
-            });
-
-            // Temporaries whose last reader has recorded go back to the pool.
-            owned.retain(|(name, key, lifetime)| {
-                let done = *lifetime == Lifetime::Temporary
-                    && last_use.get(name.as_str()).is_some_and(|&s| s <= step)
-                    && !requested.contains(name.as_str());
-                if done && let Some(t) = live.get(name) {
-                    textures.pool.entry(*key).or_default().push(t.clone());
-                }
-                !done
-            });
-        }
-        report.culled = parts
-            .culled
-            .iter()
-            .map(|&p| parts.names[p].clone())
-            .collect();
-        report.pipelines_compiled = shaders.pipelines_compiled - compiled_before;
-        drop(shaders);
-
-        if let (Some(ts), true) = (&self.timestamps, next_query > 0) {
-            let mut encoder = self.gpu.device.create_command_encoder(&Default::default());
-            encoder.resolve_query_set(&ts.set, 0..next_query, &ts.resolve, 0);
-            encoder.copy_buffer_to_buffer(
-                &ts.resolve,
-                0,
-                &ts.readback,
-                0,
-                u64::from(next_query) * 8,
-            );
-            commands.push(encoder.finish());
-        }
-        self.gpu.queue.submit(commands);
-        report.record_ms = started.elapsed().as_secs_f64() * 1e3;
-
-        if let (Some(ts), true) = (&self.timestamps, next_query > 0) {
-            let ticks = read_buffer(&self.gpu, &ts.readback, u64::from(next_query) * 8)?;
-            let ticks: Vec<u64> = ticks
-                .chunks_exact(8)
-                .map(|c| u64::from_le_bytes(c.try_into().unwrap_or([0; 8])))
-                .collect();
-            let period_ns = f64::from(self.gpu.queue.get_timestamp_period());
-            let written: Vec<u64> = pass_queries
-                .iter()
-                .flat_map(|(_, q)| {
-                    q.iter()
-                        .flat_map(|&(b, e)| [ticks[b as usize], ticks[e as usize]])
-                })
-                .collect();
-            if let (Some(first), Some(last)) = (written.iter().min(), written.iter().max()) {
-                report.gpu_frame_ms = Some(last.saturating_sub(*first) as f64 * period_ns / 1e6);
-            }
-            let mut total = 0.0;
-            for (index, queries) in pass_queries {
-                let ms: f64 = queries
-                    .iter()
-                    .map(|&(b, e)| {
-                        ticks[e as usize].saturating_sub(ticks[b as usize]) as f64 * period_ns / 1e6
-                    })
-                    .sum();
-                report.passes[index].gpu_ms = Some(ms);
-                total += ms;
-            }
-            report.gpu_ms = Some(total);
-        }
-
-        // History exists only for effects that run: a persistent texture no pass
-        // has written for a while (its node deleted, culled, or switched to
-        // another mode) is dropped.
-        let textures = &mut *textures;
-        let mut dropped = 0;
-        for name in textures.persistent.keys().cloned().collect::<Vec<_>>() {
-            let idle = textures.idle.entry(name.clone()).or_insert(0);
-            if parts
-                .order
-                .iter()
-                .any(|&p| parts.writes[p].iter().any(|(n, _)| *n == name))
-            {
-                continue;
-            }
-            *idle += 1;
-            if *idle > PERSISTENT_IDLE_GRAPHS {
-                textures.persistent.remove(&name);
-                textures.idle.remove(&name);
-                dropped += 1;
-            }
-        }
-        if dropped > 0 {
-            *report
-                .counters
-                .entry("histories dropped".to_owned())
-                .or_default() += dropped;
-        }
-
-        // Requested outputs go to the caller and come back to the pool next frame;
-        // other permanent textures return now.
-        let mut outputs = HashMap::new();
-        for (name, key, _) in owned {
-            if let Some(texture) = live.get(&name) {
-                if requested.contains(name.as_str()) {
-                    textures.lent.push((key, texture.clone()));
-                } else {
-                    textures.pool.entry(key).or_default().push(texture.clone());
-                }
-            }
-        }
-        for name in &parts.requested {
-            if let Some(t) = live.get(name) {
-                outputs.insert(name.clone(), t.clone());
-            }
-        }
-        report.wait_ms = (started.elapsed().as_secs_f64() * 1e3 - report.record_ms).max(0.0);
-        *self.last_report.lock().unwrap_or_else(|e| e.into_inner()) = report.clone();
-        Ok((report, outputs))
     }
 
     /// A persistent texture by its name (temporal history), if a frame made it:

@@ -106,6 +106,7 @@ pub const SHADERS: &[ShaderFile] = &[
     shader!("lib/lights.wgsl", library),
     shader!("lib/tonemap.wgsl", library),
     shader!("lib/material.wgsl", library),
+    shader!("lib/matcap.wgsl", library),
     shader!("lib/screen.wgsl", library),
     shader!("lib/sky.wgsl", library),
     shader!("lib/ibl.wgsl", library),
@@ -181,7 +182,9 @@ pub const SHADERS: &[ShaderFile] = &[
             "MATERIAL_TEXTURES",
             "MATERIALS",
             "GI",
-            "REFLECTION"
+            "REFLECTION",
+            "MATCAP",
+            "MATCAP_TEXTURE"
         ],
         // Light pairs are cumulative, a subsurface term comes with its pair,
         // and per-material AO weights only AO.
@@ -195,7 +198,9 @@ pub const SHADERS: &[ShaderFile] = &[
         // What reads the material library binds it.
         Rule::Requires("EMISSION", "MATERIALS"),
         Rule::Requires("AO_PER_MATERIAL", "MATERIALS"),
-        Rule::Requires("REFLECTION", "MATERIALS")
+        Rule::Requires("REFLECTION", "MATERIALS"),
+        Rule::Requires("MATCAP", "MATERIALS"),
+        Rule::Requires("MATCAP_TEXTURE", "MATCAP")
     ),
     shader!(
         "lighting/ssgi.wgsl",
@@ -408,9 +413,46 @@ pub struct ShaderCache {
     compute: HashMap<(ShaderKey, &'static str), wgpu::ComputePipeline>,
     render: HashMap<(ShaderKey, String), wgpu::RenderPipeline>,
     samplers: HashMap<Sampling, wgpu::Sampler>,
+    /// Bind groups by pipeline, group and what they bind (by identity), with
+    /// the frame they were last used in: a pass that binds what it bound
+    /// last frame reuses its group instead of making one.
+    bind_groups: HashMap<BindGroupKey, (wgpu::BindGroup, u64)>,
+    frame: u64,
     /// Pipelines compiled since the cache was made.
     pub pipelines_compiled: u64,
+    /// Bind groups made and reused since the cache was made.
+    pub bind_groups_created: u64,
+    pub bind_groups_reused: u64,
 }
+
+/// A resource a bind group binds, by identity (wgpu handles compare by the object).
+#[derive(Clone, PartialEq, Eq, Hash)]
+enum Bound {
+    Buffer(wgpu::Buffer, u64, Option<wgpu::BufferSize>),
+    View(wgpu::TextureView),
+    Sampler(wgpu::Sampler),
+}
+
+impl Bound {
+    /// None for resources the cache does not key (arrays of them).
+    fn of(resource: &wgpu::BindingResource<'_>) -> Option<Bound> {
+        match resource {
+            wgpu::BindingResource::Buffer(b) => {
+                Some(Bound::Buffer(b.buffer.clone(), b.offset, b.size))
+            }
+            wgpu::BindingResource::TextureView(v) => Some(Bound::View((*v).clone())),
+            wgpu::BindingResource::Sampler(s) => Some(Bound::Sampler((*s).clone())),
+            _ => None,
+        }
+    }
+}
+
+type BindGroupKey = (wgpu::ComputePipeline, u32, Vec<(u32, Bound)>);
+
+/// Frames a cached bind group may go unused before it is dropped (with the
+/// buffers and views it keeps alive): recipes re-made each frame make new
+/// buffers, whose groups are never hit again.
+const BIND_GROUP_IDLE_FRAMES: u64 = 2;
 
 impl ShaderCache {
     pub fn new(composer: ShaderComposer) -> Self {
@@ -421,8 +463,20 @@ impl ShaderCache {
             compute: HashMap::new(),
             render: HashMap::new(),
             samplers: HashMap::new(),
+            bind_groups: HashMap::new(),
+            frame: 0,
             pipelines_compiled: 0,
+            bind_groups_created: 0,
+            bind_groups_reused: 0,
         }
+    }
+
+    /// A new frame begins: bind groups unused for a while are dropped.
+    pub(crate) fn begin_frame(&mut self) {
+        self.frame += 1;
+        let frame = self.frame;
+        self.bind_groups
+            .retain(|_, (_, last)| frame - *last <= BIND_GROUP_IDLE_FRAMES);
     }
 
     /// Swap in new sources (live shader editing); everything compiled is dropped.
@@ -511,11 +565,28 @@ impl ShaderCache {
                 resource: resource.clone(),
             })
             .collect();
-        Ok(device.create_bind_group(&wgpu::BindGroupDescriptor {
+        let bound: Option<Vec<(u32, Bound)>> = entries
+            .iter()
+            .map(|e| Bound::of(&e.resource).map(|b| (e.binding, b)))
+            .collect();
+        let cache_key = bound.map(|b| (pipeline.clone(), group, b));
+        if let Some(k) = &cache_key
+            && let Some((cached, last)) = self.bind_groups.get_mut(k)
+        {
+            *last = self.frame;
+            self.bind_groups_reused += 1;
+            return Ok(cached.clone());
+        }
+        let made = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some(key.path),
             layout: &pipeline.get_bind_group_layout(group),
             entries: &entries,
-        }))
+        });
+        self.bind_groups_created += 1;
+        if let Some(k) = cache_key {
+            self.bind_groups.insert(k, (made.clone(), self.frame));
+        }
+        Ok(made)
     }
 
     /// A sampler, made once per device rather than once per pass or frame.
@@ -540,6 +611,11 @@ impl ShaderCache {
                 })
             })
             .clone()
+    }
+
+    /// The permutations compiled so far (tests check a feature no scene uses never is).
+    pub fn compiled_keys(&self) -> impl Iterator<Item = &ShaderKey> {
+        self.modules.keys()
     }
 
     /// The compute pipeline of `entry` in a permutation (bind group layouts derived from the shader).
@@ -665,11 +741,11 @@ mod tests {
             .filter(|k| k.path == "lighting/composite.wgsl")
             .collect();
         // Light pairs with the SSS terms they allow (2 + 4 + 8 + 16), times
-        // GI (2), times the 20 ways of AO (none, AO, per material), emission
-        // (none, flat, textured), reflection (2) and the material library
-        // (forced on when one of them reads it, free otherwise: 16 + 2 x 2):
-        // 1,200 of the 2^15 subsets.
-        assert_eq!(composite.len(), 30 * 2 * 20);
+        // GI (2), times the 56 ways of AO (none, AO, per material), emission
+        // (none, flat, textured), reflection (2), matcap (none, built-in,
+        // textured) and the material library (forced on when one of them
+        // reads it, free otherwise: 52 + 2 x 2): 3,360 of the 2^17 subsets.
+        assert_eq!(composite.len(), 30 * 2 * 56);
     }
 
     #[test]

@@ -207,3 +207,178 @@ fn a_pass_with_a_validation_error_is_reported_on_its_node_and_the_rest_renders()
     assert_eq!(ran_after.load(Ordering::SeqCst), 1);
     assert!(outputs.contains_key("healthy"));
 }
+
+/// A frame of three dependent compute passes that fill, add to and scale an
+/// image, so recording and timing modes can be compared on real work.
+fn arithmetic_frame(renderer: &spreadlight_render::Renderer) -> Vec<[f32; 4]> {
+    use spreadlight_render::readback::render_and_read;
+    use spreadlight_render::shaders::ShaderKey;
+    struct Chain;
+    impl spreadlight_render::Recipe for Chain {
+        fn declare<'a>(&'a self, _: &'a spreadlight_render::Renderer, fg: &mut FrameGraph<'a>) {
+            // A seeded image, then two hops of post/copy.wgsl.
+            let mut seeded = target();
+            seeded.usage |= wgpu::TextureUsages::COPY_DST;
+            fg.add_pass("seed", None, &[], &[("s0", seeded)], |cx| {
+                let t = cx.texture("s0")?.clone();
+                let data: Vec<u8> = (0..8 * 8)
+                    .flat_map(|i| {
+                        let v = half::f16::from_f32(i as f32 / 64.0).to_le_bytes();
+                        [v, v, v, half::f16::ONE.to_le_bytes()].concat()
+                    })
+                    .collect();
+                cx.gpu.queue.write_texture(
+                    t.as_image_copy(),
+                    &data,
+                    wgpu::TexelCopyBufferLayout {
+                        offset: 0,
+                        bytes_per_row: Some(8 * 8),
+                        rows_per_image: None,
+                    },
+                    t.size(),
+                );
+                Ok(())
+            });
+            for (from, to) in [("s0", "s1"), ("s1", "s2")] {
+                fg.add_pass(
+                    format!("copy {to}"),
+                    None,
+                    &[from],
+                    &[(to, target())],
+                    move |cx| {
+                        let input = cx.view(from)?;
+                        let output = cx.view(to)?;
+                        cx.dispatch_image(
+                            "copy",
+                            &ShaderKey::new("post/copy.wgsl", []),
+                            &[
+                                (0, wgpu::BindingResource::TextureView(&input)),
+                                (1, wgpu::BindingResource::TextureView(&output)),
+                            ],
+                            (8, 8),
+                        )
+                    },
+                );
+            }
+        }
+    }
+    let (report, images) = render_and_read(renderer, &Chain, (8, 8), &["s2"]).expect("renders");
+    assert!(report.errors.is_empty(), "{:?}", report.errors);
+    images[0].pixels.clone()
+}
+
+#[test]
+fn batched_recording_and_every_timing_render_the_same_frame() {
+    use spreadlight_render::renderer::{Recording, Timing};
+    let renderer = test_renderer();
+    let reference = arithmetic_frame(&renderer);
+    assert!(
+        reference.iter().any(|p| p[0] > 0.5),
+        "the chain carried the seed"
+    );
+    let timed = renderer.last_report();
+    for (timing, recording) in [
+        (Timing::PerPass, Recording::Batched),
+        (Timing::Frame, Recording::Isolated),
+        (Timing::Frame, Recording::Batched),
+        (Timing::Off, Recording::Batched),
+        (Timing::Off, Recording::Isolated),
+    ] {
+        renderer.set_timing(timing);
+        renderer.set_recording(recording);
+        assert_eq!(
+            arithmetic_frame(&renderer),
+            reference,
+            "{timing:?} {recording:?}"
+        );
+        let report = renderer.last_report();
+        assert_eq!(report.passes.len(), 3);
+        if timing == Timing::Off {
+            assert!(report.passes.iter().all(|p| p.gpu_ms.is_none()));
+            assert_eq!(report.gpu_frame_ms, None);
+        }
+        if timing == Timing::Frame && timed.gpu_frame_ms.is_some() {
+            // First and last pass only; the span is still measured.
+            assert!(report.passes[1].gpu_ms.is_none());
+            assert!(report.gpu_frame_ms.is_some() && report.gpu_ms.is_none());
+        }
+    }
+    renderer.wait_idle().expect("drains");
+}
+
+#[test]
+fn a_batched_frame_that_fails_validation_is_dropped_and_the_next_names_the_pass() {
+    use spreadlight_render::renderer::Recording;
+    let renderer = test_renderer();
+    renderer.set_recording(Recording::Batched);
+    let frame = || {
+        let mut fg = FrameGraph::new((8, 8));
+        fg.add_pass("broken", Some(42), &[], &[("broken", target())], |cx| {
+            let _ = cx.gpu.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("invalid"),
+                size: 16,
+                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::MAP_WRITE,
+                mapped_at_creation: false,
+            });
+            Ok(())
+        });
+        fg.add_pass(
+            "healthy",
+            Some(7),
+            &[],
+            &[("healthy", target())],
+            |_| Ok(()),
+        );
+        fg.request("broken");
+        fg.request("healthy");
+        fg.execute(&renderer).expect("the frame still executes").0
+    };
+    let first = frame();
+    assert_eq!(first.errors.len(), 1, "{:?}", first.errors);
+    assert!(
+        first.errors[0].1.contains("dropped"),
+        "{}",
+        first.errors[0].1
+    );
+    assert_eq!(renderer.settings().1, Recording::Isolated);
+    let second = frame();
+    assert_eq!(second.errors.len(), 1);
+    assert_eq!(second.errors[0].0, Some(42));
+}
+
+#[test]
+fn a_repeated_frame_reuses_its_bind_groups_and_texture_views() {
+    let renderer = test_renderer();
+    let first = arithmetic_frame(&renderer);
+    let report = renderer.last_report();
+    assert!(
+        report.counter("bind groups created") >= 2,
+        "{:?}",
+        report.counters
+    );
+    assert!(
+        report.counter("texture views created") >= 3,
+        "{:?}",
+        report.counters
+    );
+    // Pooled textures may trade places once (a lent output comes back);
+    // from then on the frame binds what it bound before.
+    for _ in 0..3 {
+        assert_eq!(arithmetic_frame(&renderer), first);
+    }
+    let report = renderer.last_report();
+    assert_eq!(
+        report.counter("bind groups created"),
+        0,
+        "{:?}",
+        report.counters
+    );
+    assert_eq!(
+        report.counter("texture views created"),
+        0,
+        "{:?}",
+        report.counters
+    );
+    assert!(report.counter("bind groups reused") >= 2);
+    assert!(report.counter("texture views reused") >= 3);
+}

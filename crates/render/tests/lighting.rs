@@ -489,6 +489,23 @@ fn the_material_buffer_drives_shading_and_unused_features_cost_nothing() {
     let metal_world = MaterialWorld::new(&renderer, vec![metal]);
     let shiny = shade_with(Surfaces::Materials(metal_world));
     assert_ne!(shiny.pixels, pins.pixels);
+    // Reflectance is the dielectric F0 of direct light too: 0.5 instead of
+    // 0.04 brightens every lit specular pixel (it was read by Reflection and
+    // SSR only).
+    let glossy = Material::new()
+        .with(Feature::CookTorrance, &[[0.5, 0.0, 0.5, 0.0]])
+        .expect("valid");
+    let glossy = shade_with(Surfaces::Materials(MaterialWorld::new(
+        &renderer,
+        vec![glossy],
+    )));
+    let sum = |image: &ImageF32| image.pixels.iter().map(|p| p[0] as f64).sum::<f64>();
+    assert!(
+        sum(&glossy) > 5.0 * sum(&pins),
+        "reflectance 0.5 vs 0.04: {} vs {}",
+        sum(&glossy),
+        sum(&pins)
+    );
 
     // Emission: compiled in only for a world where some material has it.
     let composite = |world: Option<std::sync::Arc<MaterialWorld>>| {

@@ -43,9 +43,10 @@ pub fn register(r: &mut Registry) {
             "Draws a spread of meshes with a spread of transforms into a layer for MRE. Slice i uses mesh i and \
              transform i (wrapping); instances of one mesh are one draw. The switches choose what the G-buffer \
              receives; each is a shader feature compiled only when used. Color Texture scales Color (albedo) at the \
-             surface's UV (needs Texture Coordinates or Triplanar). Velocity Geometry reads the meshes' previous positions \
-             (GPU geometry and particles make them); Instance from GeomFX adds each triangle's geometry id \
-             (a particle's index, say) to its Object ID.",
+             surface's UV (needs Texture Coordinates or Triplanar). Color's alpha is opacity for Transparency only: \
+             the G-buffer keeps the material id there. Normal Mapping reads the mesh's UVs unless Triplanar is on. \
+             Velocity Geometry reads the meshes' previous positions (GPU geometry and particles make them); Instance \
+             from GeomFX adds each triangle's geometry id (a particle's index, say) to its Object ID.",
         )
         .input_spread("Mesh", PinType::Resource(ResourceKind::Mesh), Spread::Resource(ResourceKind::Mesh, vec![]))
         .input("Transform", Mat4::IDENTITY)

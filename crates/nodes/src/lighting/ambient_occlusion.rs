@@ -103,8 +103,8 @@ pub fn register(r: &mut Registry) {
                     "Wide-range ambient occlusion: visibility 0..1 (1 = open) for CompositeLight's AO. Mode: Stochastic ",
                     "(Emeshe's: Samples rays in a cosine-weighted hemisphere, each marched Steps times; blocked where it ",
                     "passes behind a surface within Radius — what ray-cast AO computes) or SAO (McGuire's scalable ",
-                    "obscurance: a spiral of Samples taps over a depth mip chain; cheap at large radii, darker). Radius in ",
-                    "world units.",
+                    "obscurance: a spiral of Samples taps over a depth mip chain; cheap at large radii, darker; it takes no ",
+                    "Steps). Radius in world units.",
                     temporal_help!(),
                 ),
             ))

@@ -6,10 +6,12 @@
 //! in order, a Float giving one component and a Color three (rgb); then
 //! Texture ID, the layer of the MaterialBuffer's texture array that scales
 //! that vec4 at each pixel's UV (-1: none), on the features a shader maps
-//! (CookTorrance, Emission, FakeSSS; not yet Reflection, MatCap, AO).
+//! (CookTorrance, Emission, FakeSSS; not Reflection or AO). `AddMatCap` has
+//! its own pins: Strength, Mode and Mapping, and MatCap Texture ID, the layer
+//! that is the matcap image itself.
 
-use spreadlight_graph::{Color, EvalContext, NodeDef, NodeError, Registry, Spread};
-use spreadlight_render::material::Feature;
+use spreadlight_graph::{Color, EnumDef, EvalContext, NodeDef, NodeError, Registry, Spread};
+use spreadlight_render::material::{Feature, MatCapMapping, MatCapMode, matcap_params};
 
 use super::{
     CATEGORY, MATERIAL, TEXTURE_ID, no_materials, not_finite, set_feature,
@@ -47,20 +49,73 @@ pub fn register(r: &mut Registry) {
     );
     let strength = |name, help| node(name, help).input("Strength", 1.0f32);
     r.add(
-        strength("AddReflection", "Sets environment reflection on each material, with a strength >= 0. No material in: new ones.")
+        strength("AddReflection", "Sets environment reflection on each material: how much of CompositeLight's Reflection input it takes, 0..1. No material in: new ones.")
             .evaluate(|cx| add(cx, Feature::Reflection, 1)),
     );
     r.add(
-        strength(
+        node(
             "AddMatCap",
-            "Sets matcap shading on each material, with a strength >= 0. No material in: new ones.",
+            "Sets matcap (ZBrush MatCap) shading on each material: CompositeLight looks up a matcap image by each \
+             pixel's view-space normal and adds it, times Strength (>= 0). Mode Multiply tints it by the surface's \
+             albedo, Add adds it as light. Mapping Normal uses the normal (the image stays put on screen); Reflected \
+             uses the view vector reflected about the normal (sphere mapping: the image slides like a reflection). \
+             MatCap Texture ID: the layer of the MaterialBuffer's texture array that is the matcap image (-1: a \
+             neutral built-in clay matcap). No material in: new ones.",
         )
-        .evaluate(|cx| add(cx, Feature::MatCap, 1)),
+        .input("Strength", 1.0f32)
+        .input_enum("Mode", &MATCAP_MODE, "Multiply")
+        .input_enum("Mapping", &MATCAP_MAPPING, "Normal")
+        .input(MATCAP_TEXTURE_ID, -1i64)
+        .evaluate(add_matcap),
     );
     r.add(
-        strength("AddAmbientOcclusion", "Sets ambient occlusion on each material, with a strength >= 0. No material in: new ones.")
+        strength("AddAmbientOcclusion", "Sets ambient occlusion on each material: how much CompositeLight's AO input darkens its ambient light, 0..1 (0: unaffected). No material in: new ones.")
             .evaluate(|cx| add(cx, Feature::AmbientOcclusion, 1)),
     );
+}
+
+pub static MATCAP_MODE: EnumDef = EnumDef {
+    name: "MatCap Mode",
+    options: &["Multiply", "Add"],
+};
+
+pub static MATCAP_MAPPING: EnumDef = EnumDef {
+    name: "MatCap Mapping",
+    options: &["Normal", "Reflected"],
+};
+
+/// AddMatCap's layer pin: the matcap image, not a scale of a parameter.
+pub const MATCAP_TEXTURE_ID: &str = "MatCap Texture ID";
+
+/// `AddMatCap`: Material, Strength, Mode, Mapping, MatCap Texture ID.
+fn add_matcap(cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
+    let strength = cx.slices::<f32>(1)?;
+    let modes = cx.enum_slices(2)?;
+    let mappings = cx.enum_slices(3)?;
+    let layers = cx.slices::<i64>(4)?;
+    let n = slice_count_with_materials(
+        cx.input(0).len(),
+        [strength.len(), modes.len(), mappings.len(), layers.len()],
+    );
+    let mut params = Vec::with_capacity(n);
+    for slice in 0..n {
+        let s = strength[slice % strength.len()];
+        if !s.is_finite() {
+            return Err(not_finite(cx, 1, slice));
+        }
+        let mode = match modes[slice % modes.len()].as_str() {
+            "Add" => MatCapMode::Add,
+            _ => MatCapMode::Multiply,
+        };
+        let mapping = match mappings[slice % mappings.len()].as_str() {
+            "Reflected" => MatCapMapping::Reflected,
+            _ => MatCapMapping::Normal,
+        };
+        params.push(matcap_params(s, mode, mapping));
+    }
+    set_feature(cx, 0, n, 1, Some(4), |_, slice| {
+        Ok((Feature::MatCap, vec![params[slice]]))
+    })
 }
 
 /// The value pins of a helper as per-slice components.

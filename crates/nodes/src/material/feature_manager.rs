@@ -27,7 +27,8 @@ pub fn register(r: &mut Registry) {
              (rgb, strength), 3 Reflection, 4 MatCap, 5 AmbientOcclusion (strength); 16..31 custom. Each \
              material takes Bin Size slices of Parameters (built-ins take 1; 0 sets a custom flag alone). \
              Values are clamped to their physical ranges. Texture ID: the layer of the MaterialBuffer's \
-             texture array that scales the first parameter at each pixel's UV (-1: none).",
+             texture array that scales the first parameter at each pixel's UV (-1: none; MatCap: the matcap \
+             image; Reflection and AmbientOcclusion read none).",
         )
         .input_spread("Material", MATERIAL, no_materials())
         .input("Feature ID", 0i64)
@@ -37,6 +38,7 @@ pub fn register(r: &mut Registry) {
         .output_typed("Material", MATERIAL)
         .evaluate(|cx| {
             let ids = cx.slices::<i64>(FEATURE_ID)?.to_vec();
+            let layers = cx.slices::<i64>(TEXTURE)?.to_vec();
             let params = cx.slices::<Vec4>(PARAMETERS)?.to_vec();
             let bin = match cx.slices::<i64>(BIN_SIZE)?.first().copied().unwrap_or(1) {
                 b if b < 0 => return Err(cx.input_error(BIN_SIZE, format!("is {b}; it must be 0 or more"))),
@@ -55,6 +57,12 @@ pub fn register(r: &mut Registry) {
                     return Err(cx.input_error(
                         BIN_SIZE,
                         format!("is {bin}, but feature {feature} (slice {slice}) takes exactly one parameter vec4"),
+                    ));
+                }
+                if !feature.reads_texture() && layers.get(slice % layers.len().max(1)).is_some_and(|l| *l >= 0) {
+                    return Err(cx.input_error(
+                        TEXTURE,
+                        format!("slice {slice}: feature {feature} reads no texture; set -1"),
                     ));
                 }
                 let values = (0..bin).map(|k| params[(slice * bin + k) % params.len()].to_array()).collect();

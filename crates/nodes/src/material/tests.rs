@@ -72,9 +72,11 @@ fn helpers_make_new_materials_one_per_slice() {
         let m = materials(name, &[("Strength", floats(&[-2.0, 3.0]))]);
         assert_eq!(m.len(), 2);
         assert_eq!(m[0].params(feature), Some(&[[0.0; 4]][..]), "{name}");
+        // Reflection and AO weigh an input 0..1; a matcap may be brighter.
+        let top = if name == "AddMatCap" { 3.0 } else { 1.0 };
         assert_eq!(
             m[1].params(feature),
-            Some(&[[3.0, 0.0, 0.0, 0.0]][..]),
+            Some(&[[top, 0.0, 0.0, 0.0]][..]),
             "{name}"
         );
         assert_eq!(m[1].flags(), feature.flag());
@@ -346,4 +348,75 @@ fn material_managers_place_materials_at_their_ids_and_later_ones_win() {
         &[("Material ID", ints(&[-1]))],
         "Material ID",
     );
+}
+
+#[test]
+fn add_matcap_keeps_mode_mapping_and_its_image_layer() {
+    use spreadlight_render::material::{MatCapMapping, MatCapMode, matcap_params};
+    let out = materials(
+        "AddMatCap",
+        &[
+            ("Strength", floats(&[0.5, 2.0])),
+            (
+                "Mode",
+                Spread::Enum(vec!["Multiply".to_owned(), "Add".to_owned()]),
+            ),
+            ("Mapping", Spread::Enum(vec!["Reflected".to_owned()])),
+            ("MatCap Texture ID", ints(&[3, -1])),
+        ],
+    );
+    assert_eq!(out.len(), 2);
+    assert_eq!(
+        out[0].params(Feature::MatCap),
+        Some(
+            &[matcap_params(
+                0.5,
+                MatCapMode::Multiply,
+                MatCapMapping::Reflected
+            )][..]
+        )
+    );
+    assert_eq!(
+        out[1].params(Feature::MatCap),
+        Some(&[[2.0, 1.0, 1.0, 0.0]][..])
+    );
+    assert_eq!(out[0].texture(Feature::MatCap), Some(3));
+    assert_eq!(
+        out[1].texture(Feature::MatCap),
+        None,
+        "-1: the built-in matcap"
+    );
+    for bad in [f32::NAN, f32::INFINITY, f32::NEG_INFINITY] {
+        let e = eval_err(
+            "AddMatCap",
+            &[("Strength", floats(&[1.0, bad]))],
+            "Strength",
+        );
+        assert!(e.to_string().contains("slice 1"), "{e}");
+    }
+}
+
+#[test]
+fn feature_manager_refuses_a_texture_on_features_that_read_none() {
+    for id in [3, 5] {
+        let e = eval_err(
+            "FeatureManager",
+            &[
+                ("Feature ID", ints(&[id])),
+                ("Parameters", Spread::Vec4(vec![Vec4::ONE])),
+                ("Texture ID", ints(&[0])),
+            ],
+            "Texture ID",
+        );
+        assert!(e.to_string().contains("reads no texture"), "{e}");
+    }
+    let matcap = materials(
+        "FeatureManager",
+        &[
+            ("Feature ID", ints(&[4])),
+            ("Parameters", Spread::Vec4(vec![Vec4::ONE])),
+            ("Texture ID", ints(&[1])),
+        ],
+    );
+    assert_eq!(matcap[0].texture(Feature::MatCap), Some(1));
 }

@@ -45,7 +45,10 @@ impl LayerFeatures {
         let mut d = Vec::new();
         if self.normal_map {
             d.push("NORMAL_MAP");
-            d.extend(self.uv_define());
+            // A normal map needs coordinates even with both switches off:
+            // the mesh's own UVs (`Layer::new` checked it has them), never
+            // one texel for the whole surface.
+            d.push(self.uv_define().unwrap_or("TEXCOORDS"));
         }
         d
     }
@@ -189,5 +192,24 @@ impl Layer {
             .iter()
             .filter(|_| self.features.normal_map)
             .chain(&self.color_map)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::LayerFeatures;
+
+    #[test]
+    fn a_normal_map_reads_the_meshes_uvs_even_with_the_uv_switches_off() {
+        let features = LayerFeatures {
+            normal_map: true,
+            ..LayerFeatures::default()
+        };
+        assert_eq!(features.surface_defines(), ["NORMAL_MAP", "TEXCOORDS"]);
+        let triplanar = LayerFeatures {
+            triplanar: true,
+            ..features
+        };
+        assert_eq!(triplanar.surface_defines(), ["NORMAL_MAP", "TRIPLANAR"]);
     }
 }

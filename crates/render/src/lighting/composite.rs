@@ -2,8 +2,11 @@
 //! ambient occlusion, indirect diffuse light (GI) and reflections into one
 //! HDR image, each weighted per material: AO by the AmbientOcclusion
 //! feature's strength, GI by albedo, reflections by the Reflection
-//! feature's strength. A reflection input is not even rendered when no
-//! material reflects ("reflection culled: no reflective material").
+//! feature's strength, and a matcap on materials with MatCap (looked up by
+//! the G-buffer normal, `shaders/lib/matcap.wgsl`). A reflection input is not
+//! even rendered when no material reflects ("reflection culled: no reflective
+//! material"); the matcap code is compiled in only when some material has
+//! MatCap ("matcap shaded").
 
 use std::sync::Arc;
 
@@ -13,7 +16,7 @@ use crate::error::RenderError;
 use crate::frame_graph::{FrameGraph, PassContext, TextureDesc};
 use crate::gbuffer::GBuffer;
 use crate::material::{
-    FEATURE_AMBIENT_OCCLUSION, FEATURE_EMISSION, FEATURE_REFLECTION, MaterialWorld,
+    FEATURE_AMBIENT_OCCLUSION, FEATURE_EMISSION, FEATURE_MATCAP, FEATURE_REFLECTION, MaterialWorld,
 };
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
@@ -70,6 +73,8 @@ pub struct CompositeLight {
     reflection: Option<TextureRef>,
     /// A reflection input was wired, and dropped: no material reflects.
     reflection_culled: bool,
+    /// Some material has MatCap: the matcap code is compiled in.
+    matcap: bool,
     params: wgpu::Buffer,
     pub output: String,
 }
@@ -99,9 +104,11 @@ impl CompositeLight {
         let ao_per_material = occlusion.is_some() && has(FEATURE_AMBIENT_OCCLUSION);
         let reflection_culled = reflection.is_some() && !has(FEATURE_REFLECTION);
         let reflection = reflection.filter(|_| has(FEATURE_REFLECTION));
+        let matcap = has(FEATURE_MATCAP);
         // GI reads each material's metallic: metals take no diffuse light.
-        let materials = materials
-            .filter(|_| emission || ao_per_material || reflection.is_some() || gi.is_some());
+        let materials = materials.filter(|_| {
+            emission || ao_per_material || reflection.is_some() || gi.is_some() || matcap
+        });
         if components.is_empty() || components.len() > MAX_COMPONENTS {
             return Err(RenderError::Pass {
                 pass: "CompositeLight".to_owned(),
@@ -139,6 +146,7 @@ impl CompositeLight {
             gi,
             reflection,
             reflection_culled,
+            matcap,
             params,
             output: format!("composite{id}"),
         }))
@@ -151,6 +159,15 @@ impl CompositeLight {
                 .materials
                 .as_ref()
                 .is_some_and(|w| w.textured(1 << FEATURE_EMISSION))
+    }
+
+    /// The texture array a matcap reads its images from, when some MatCap
+    /// material names a layer (else only the built-in matcap is used).
+    fn matcap_images(&self) -> Option<&TextureRef> {
+        self.materials
+            .as_ref()
+            .filter(|w| self.matcap && w.textured(1 << FEATURE_MATCAP))
+            .and_then(|w| w.textures())
     }
 
     pub fn texture(self: &Arc<Self>) -> TextureRef {
@@ -189,6 +206,13 @@ impl CompositeLight {
         }
         if self.reflection_culled {
             cx.count("reflection culled: no reflective material", 1);
+        }
+        if self.matcap {
+            features.push("MATCAP");
+            cx.count("matcap shaded", 1);
+        }
+        if self.matcap_images().is_some() {
+            features.push("MATCAP_TEXTURE");
         }
         for (k, c) in self.components.iter().enumerate() {
             if c.sss.is_some() {
@@ -252,6 +276,31 @@ impl CompositeLight {
         for (binding, view) in &subsurface {
             all.push((*binding, wgpu::BindingResource::TextureView(view)));
         }
+        let normals = if self.matcap {
+            Some(cx.view(&g.normals)?)
+        } else {
+            None
+        };
+        if let Some(view) = &normals {
+            all.push((22, wgpu::BindingResource::TextureView(view)));
+        }
+        let matcap_images = match self.matcap_images() {
+            Some(t) => Some((
+                cx.texture(&t.name)?
+                    .create_view(&wgpu::TextureViewDescriptor {
+                        dimension: Some(wgpu::TextureViewDimension::D2Array),
+                        ..Default::default()
+                    }),
+                // Clamped: the rim of a matcap must not wrap to the far side.
+                cx.shaders
+                    .sampler(&device, crate::shaders::Sampling::LinearClamp),
+            )),
+            None => None,
+        };
+        if let Some((images, sampler)) = &matcap_images {
+            all.push((20, wgpu::BindingResource::TextureView(images)));
+            all.push((21, wgpu::BindingResource::Sampler(sampler)));
+        }
         let group = cx
             .shaders
             .bind_group(&device, &key, "main", &pipeline, 0, &all)?;
@@ -310,6 +359,13 @@ impl Recipe for CompositeLight {
         );
         if let Some(world) = &self.materials {
             reads.extend(world.declare_textures(renderer, fg, self.textured(), &g.velocity_uv));
+        }
+        if self.matcap {
+            reads.push(&g.normals);
+        }
+        if let Some(images) = self.matcap_images() {
+            images.recipe.declare(renderer, fg);
+            reads.push(&images.name);
         }
         for c in &self.components {
             reads.extend(

@@ -59,11 +59,51 @@ const FAKE_SSS: ParamLayout = ParamLayout {
     ranges: COLOR_STRENGTH,
     default: [1.0, 0.2, 0.1, 1.0],
 };
+/// A weight of a screen-space input, 0..1 (CompositeLight mixes by it).
 const STRENGTH: ParamLayout = ParamLayout {
     names: ["strength", "", "", ""],
-    ranges: [NonNegative, Unused, Unused, Unused],
+    ranges: [Unit, Unused, Unused, Unused],
     default: [1.0, 0.0, 0.0, 0.0],
 };
+/// Strength, then two switches kept as 0 or 1 ([`MatCapMode`], [`MatCapMapping`]).
+const MATCAP: ParamLayout = ParamLayout {
+    names: ["strength", "mode", "mapping", ""],
+    ranges: [NonNegative, Unit, Unit, Unused],
+    default: [1.0, 0.0, 0.0, 0.0],
+};
+
+/// What a matcap does with the colour it looks up.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum MatCapMode {
+    /// The matcap is light tinted by the surface: matcap x albedo.
+    #[default]
+    Multiply,
+    /// The matcap's colour is added as light, untinted.
+    Add,
+}
+
+/// How a pixel finds its place on the matcap image.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum MatCapMapping {
+    /// By the view-space normal (ZBrush's matcaps).
+    #[default]
+    Normal,
+    /// By the view vector reflected about the normal (classic sphere mapping):
+    /// the image slides over the surface as the camera moves, like a reflection.
+    Reflected,
+}
+
+/// The MatCap feature's one vec4: strength, mode and mapping as the shader reads them
+/// (`shaders/lib/matcap.wgsl`).
+pub fn matcap_params(strength: f32, mode: MatCapMode, mapping: MatCapMapping) -> [f32; 4] {
+    let switch = |on: bool| if on { 1.0 } else { 0.0 };
+    [
+        strength,
+        switch(mode == MatCapMode::Add),
+        switch(mapping == MatCapMapping::Reflected),
+        0.0,
+    ]
+}
 
 /// A feature a material can have.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -76,7 +116,9 @@ pub enum Feature {
     FakeSss,
     /// Environment reflection: strength.
     Reflection,
-    /// Matcap shading: strength.
+    /// Matcap shading: strength, mode, mapping ([`matcap_params`]). Its
+    /// texture layer is the matcap image itself, looked up by the normal;
+    /// without one, a neutral built-in matcap.
     MatCap,
     /// Screen-space ambient occlusion: strength.
     AmbientOcclusion,
@@ -141,9 +183,18 @@ impl Feature {
             Feature::CookTorrance => Some(&COOK_TORRANCE),
             Feature::Emission => Some(&EMISSION),
             Feature::FakeSss => Some(&FAKE_SSS),
-            Feature::Reflection | Feature::MatCap | Feature::AmbientOcclusion => Some(&STRENGTH),
+            Feature::Reflection | Feature::AmbientOcclusion => Some(&STRENGTH),
+            Feature::MatCap => Some(&MATCAP),
             Feature::Custom(_) => None,
         }
+    }
+
+    /// Whether a shader reads this feature's texture layer: CookTorrance,
+    /// Emission and FakeSSS scale their parameter by it, MatCap looks its
+    /// image up in it, custom features' own shaders decide. Reflection and
+    /// AmbientOcclusion weight screen-space inputs and read none.
+    pub fn reads_texture(self) -> bool {
+        !matches!(self, Feature::Reflection | Feature::AmbientOcclusion)
     }
 
     /// How many vec4 parameters the feature takes; `None`: any number (custom).

@@ -26,8 +26,8 @@ use wgpu::util::DeviceExt;
 
 pub use feature::{
     FEATURE_AMBIENT_OCCLUSION, FEATURE_COOK_TORRANCE, FEATURE_EMISSION, FEATURE_FAKE_SSS,
-    FEATURE_MATCAP, FEATURE_REFLECTION, FIRST_CUSTOM_FEATURE, Feature, MAX_FEATURES, ParamLayout,
-    Range,
+    FEATURE_MATCAP, FEATURE_REFLECTION, FIRST_CUSTOM_FEATURE, Feature, MAX_FEATURES, MatCapMapping,
+    MatCapMode, ParamLayout, Range, matcap_params,
 };
 
 use crate::recipe::TextureRef;
@@ -120,7 +120,8 @@ impl Material {
 
     /// Let layer `layer` of the world's texture array scale `feature`'s first
     /// parameter, component by component, at each pixel's UV (None: no texture).
-    /// It takes effect only while the material has the feature.
+    /// MatCap is the exception: its layer is the matcap image, looked up by
+    /// the pixel's normal. It takes effect only while the material has the feature.
     pub fn set_texture(&mut self, feature: Feature, layer: Option<u32>) {
         match layer {
             Some(layer) => self.textures.insert(feature.id(), layer),

@@ -148,6 +148,31 @@ pub fn cook_torrance(
     metallic: f32,
     compensate: bool,
 ) -> Brdf {
+    cook_torrance_f0(
+        n,
+        v,
+        l,
+        albedo,
+        roughness,
+        metallic,
+        DIELECTRIC_F0,
+        compensate,
+    )
+}
+
+/// [`cook_torrance`] with the dielectric part's F0 given (a material's
+/// Reflectance, 0..1): F0 = mix(reflectance, albedo, metallic).
+#[allow(clippy::too_many_arguments)]
+pub fn cook_torrance_f0(
+    n: Vec3,
+    v: Vec3,
+    l: Vec3,
+    albedo: Vec3,
+    roughness: f32,
+    metallic: f32,
+    reflectance: f32,
+    compensate: bool,
+) -> Brdf {
     let n_dot_l = n.dot(l);
     if n_dot_l <= 0.0 {
         return Brdf::default();
@@ -158,7 +183,7 @@ pub fn cook_torrance(
     let roughness = roughness.clamp(0.0, 1.0);
     let metallic = metallic.clamp(0.0, 1.0);
     let albedo = albedo.max(Vec3::ZERO);
-    let f0 = Vec3::splat(DIELECTRIC_F0).lerp(albedo, metallic);
+    let f0 = Vec3::splat(reflectance.clamp(0.0, 1.0)).lerp(albedo, metallic);
     let f = f_schlick(f0, v.dot(h));
     let lobe = d_ggx(n.dot(h), roughness) * v_smith_ggx_correlated(n_dot_v, n_dot_l, roughness);
     let mut specular = f * (lobe * n_dot_l);

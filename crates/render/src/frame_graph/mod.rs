@@ -5,16 +5,21 @@
 //! the frame) or persistent (kept across frames under its name: history,
 //! adapted luminance). Sizes are absolute or a scale of the frame's output.
 //!
-//! Each pass records into its own command encoder inside a validation error
+//! How passes are recorded, timed and submitted is `execute.rs`: by default
+//! each pass records into its own command encoder inside a validation error
 //! scope, so a wgpu validation error is reported against the pass (and the
 //! node that declared it) and the rest of the frame still renders.
 
 use std::collections::{BTreeMap, HashMap, HashSet};
 
+mod execute;
+
 use crate::context::GpuContext;
 use crate::error::RenderError;
-use crate::renderer::Renderer;
 use crate::shaders::ShaderCache;
+
+pub use crate::report::{FrameReport, PassReport};
+pub use crate::texture_pool::TextureKey;
 
 /// How big a texture is.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -135,15 +140,6 @@ impl TextureDesc {
     }
 }
 
-/// The concrete size and format a [`TextureDesc`] resolves to in one frame: the pool's key.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub struct TextureKey {
-    pub format: wgpu::TextureFormat,
-    pub width: u32,
-    pub height: u32,
-    pub usage: wgpu::TextureUsages,
-}
-
 type PassFn<'a> = Box<dyn FnOnce(&mut PassContext<'_>) -> Result<(), RenderError> + 'a>;
 
 struct PassEntry<'a> {
@@ -161,6 +157,7 @@ pub struct PassContext<'f> {
     pub encoder: wgpu::CommandEncoder,
     pub shaders: &'f mut ShaderCache,
     pub(crate) textures: &'f HashMap<String, wgpu::Texture>,
+    pub(crate) views: &'f std::cell::RefCell<crate::texture_pool::ViewCache>,
     pub(crate) fresh: &'f HashSet<String>,
     pub(crate) timestamps: Option<&'f wgpu::QuerySet>,
     pub(crate) queries: Vec<(u32, u32)>,
@@ -180,10 +177,10 @@ impl<'f> PassContext<'f> {
             .ok_or_else(|| RenderError::Graph(format!("texture `{name}` is not available here")))
     }
 
+    /// The texture's default view, made once per texture and kept while frames use it.
     pub fn view(&self, name: &str) -> Result<wgpu::TextureView, RenderError> {
-        Ok(self
-            .texture(name)?
-            .create_view(&wgpu::TextureViewDescriptor::default()))
+        let texture = self.texture(name)?;
+        Ok(self.views.borrow_mut().view(texture))
     }
 
     /// Add `n` to the frame report's counter `name`: how passes show the work
@@ -288,46 +285,6 @@ impl<'f> PassContext<'f> {
                 beginning_of_pass_write_index: Some(i),
                 end_of_pass_write_index: Some(i + 1),
             })
-    }
-}
-
-/// One executed pass in the frame report.
-#[derive(Clone, Debug, serde::Serialize)]
-pub struct PassReport {
-    pub name: String,
-    pub owner: Option<u32>,
-    /// GPU time from timestamp queries, when the adapter has them.
-    pub gpu_ms: Option<f64>,
-    pub draws: u64,
-}
-
-/// What a frame did: the frame graph's statistics.
-#[derive(Clone, Debug, Default, serde::Serialize)]
-pub struct FrameReport {
-    pub adapter: String,
-    pub passes: Vec<PassReport>,
-    pub culled: Vec<String>,
-    pub pipelines_compiled: u64,
-    pub draws: u64,
-    pub textures_created: u64,
-    /// Errors of passes that failed (validation or their own); those passes' work was dropped.
-    pub errors: Vec<(Option<u32>, String)>,
-    /// Sum of the passes' GPU times.
-    pub gpu_ms: Option<f64>,
-    /// GPU time from the first pass's start to the last pass's end.
-    pub gpu_frame_ms: Option<f64>,
-    /// CPU time spent recording and submitting the frame.
-    pub record_ms: f64,
-    /// Time spent waiting for the GPU to finish (to read the timestamps).
-    pub wait_ms: f64,
-    /// Decisions passes counted (`PassContext::count`), e.g. "shadow maps reused".
-    pub counters: BTreeMap<String, u64>,
-}
-
-impl FrameReport {
-    /// A counter's value; 0 when no pass counted it.
-    pub fn counter(&self, name: &str) -> u64 {
-        self.counters.get(name).copied().unwrap_or(0)
     }
 }
 
@@ -481,14 +438,6 @@ impl<'a> FrameGraph<'a> {
         let culled = (0..self.passes.len()).filter(|&i| !live[i]).collect();
         Ok((order, culled))
     }
-
-    /// Cull, allocate, record and submit the frame. Returns its report and the requested textures.
-    pub fn execute(
-        self,
-        renderer: &Renderer,
-    ) -> Result<(FrameReport, HashMap<String, wgpu::Texture>), RenderError> {
-        renderer.execute_graph(self)
-    }
 }
 
 /// The parts of a frame graph the renderer's executor needs, taken apart.
@@ -541,9 +490,10 @@ impl<'a> FrameGraph<'a> {
     }
 }
 
-/// What a pass recorded, for the executor.
+/// What a pass recorded, for the executor (which finishes the encoder: a
+/// batched frame shares one between passes).
 pub(crate) struct Recorded {
-    pub commands: wgpu::CommandBuffer,
+    pub encoder: wgpu::CommandEncoder,
     pub queries: Vec<(u32, u32)>,
     pub draws: u64,
     pub counters: BTreeMap<&'static str, u64>,
@@ -552,7 +502,7 @@ pub(crate) struct Recorded {
 impl PassContext<'_> {
     pub(crate) fn finish(self) -> Recorded {
         Recorded {
-            commands: self.encoder.finish(),
+            encoder: self.encoder,
             queries: self.queries,
             draws: self.draws,
             counters: self.counters,

@@ -1,0 +1,355 @@
+//! Executing a frame graph on the renderer: allocate each pass's textures
+//! (pooled temporaries, persistent histories), record the passes in order,
+//! time them, submit, and hand the requested textures back.
+//!
+//! Two choices are the renderer's settings ([`Recording`], [`Timing`]):
+//! - `Recording::Isolated` records each pass into its own command encoder
+//!   inside a validation error scope, so an error names its pass and the
+//!   rest of the frame still renders. `Batched` records the whole frame into
+//!   one encoder under one scope (fewer command buffers and transitions for
+//!   wgpu to stitch); an error there drops that frame and switches the
+//!   renderer to `Isolated` for good, which then names the failing pass.
+//! - `Timing::PerPass` writes timestamps around every pass and waits for
+//!   them (the per-pass figures of `stats` and `bench`); `Frame` only around
+//!   the first and the last pass; `Off` writes none and never waits, so the
+//!   CPU records the next frame while the GPU works on this one (at most
+//!   [`FRAMES_IN_FLIGHT`] frames ahead).
+
+use std::collections::{HashMap, HashSet};
+
+use super::{FrameGraph, Lifetime, PassContext, Recorded};
+use crate::error::RenderError;
+use crate::renderer::{MAX_QUERIES, PERSISTENT_IDLE_GRAPHS, Recording, Renderer, Timing};
+use crate::report::{FrameReport, PassReport};
+use crate::texture_pool::create_texture;
+
+/// Frames the CPU may run ahead of the GPU when nothing is read back.
+pub const FRAMES_IN_FLIGHT: usize = 2;
+
+impl FrameGraph<'_> {
+    /// Cull, allocate, record and submit the frame. Returns its report and the requested textures.
+    pub fn execute(
+        self,
+        renderer: &Renderer,
+    ) -> Result<(FrameReport, HashMap<String, wgpu::Texture>), RenderError> {
+        execute(renderer, self)
+    }
+}
+
+fn execute(
+    renderer: &Renderer,
+    graph: FrameGraph<'_>,
+) -> Result<(FrameReport, HashMap<String, wgpu::Texture>), RenderError> {
+    let started = std::time::Instant::now();
+    let (timing, recording) = renderer.settings();
+    let output_size = graph.output_size();
+    let device = &renderer.gpu.device;
+    let mut textures = renderer.texture_pool();
+    let lent = std::mem::take(&mut textures.lent);
+    for (key, texture) in lent {
+        textures.give_back(key, texture);
+    }
+    let persistent_names: HashSet<String> = textures.persistent.keys().cloned().collect();
+    let mut parts = graph.into_parts(&persistent_names)?;
+
+    // Where each texture is last read, so temporaries go back to the pool after it.
+    let mut last_use: HashMap<&str, usize> = HashMap::new();
+    for (step, &p) in parts.order.iter().enumerate() {
+        for name in parts.reads[p]
+            .iter()
+            .chain(parts.writes[p].iter().map(|(n, _)| n))
+        {
+            last_use.insert(name.as_str(), step);
+        }
+    }
+    let requested: HashSet<&str> = parts.requested.iter().map(String::as_str).collect();
+
+    let mut live: HashMap<String, wgpu::Texture> = parts.imports.clone();
+    for (name, (_, texture)) in &textures.persistent {
+        live.insert(name.clone(), texture.clone());
+    }
+    let mut fresh = HashSet::new();
+    let mut report = FrameReport {
+        adapter: renderer.gpu.adapter_name(),
+        ..Default::default()
+    };
+    for (name, n) in std::mem::take(&mut parts.counters) {
+        *report.counters.entry(name.to_owned()).or_default() += n;
+    }
+    let mut owned = Vec::new();
+    let mut commands = Vec::new();
+    let mut pass_queries: Vec<(usize, Vec<(u32, u32)>)> = Vec::new();
+    let mut next_query = 0u32;
+    let timestamps = renderer.timestamps().filter(|_| timing != Timing::Off);
+    let capacity = if timestamps.is_some() { MAX_QUERIES } else { 0 };
+    let mut shaders = renderer.shaders();
+    shaders.begin_frame();
+    let compiled_before = shaders.pipelines_compiled;
+    let groups_before = (shaders.bind_groups_created, shaders.bind_groups_reused);
+    let views = std::cell::RefCell::new(std::mem::take(&mut textures.views));
+    let views_before = {
+        let v = views.borrow();
+        (v.created, v.reused)
+    };
+    let batched = recording == Recording::Batched;
+    let label = |p: usize| if batched { "frame" } else { &parts.names[p] };
+    let new_encoder = |label: &str| {
+        device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some(label) })
+    };
+    let frame_scope = batched.then(|| device.push_error_scope(wgpu::ErrorFilter::Validation));
+    let mut shared = batched.then(|| new_encoder("frame"));
+    let steps = parts.order.len();
+
+    for (step, &p) in parts.order.clone().iter().enumerate() {
+        for ((name, desc), key) in parts.writes[p].iter().zip(&parts.keys[p]) {
+            let texture = match desc.lifetime {
+                Lifetime::Persistent => match textures.persistent.get(name) {
+                    Some((k, t)) if k == key => t.clone(),
+                    _ => {
+                        let t = create_texture(device, key, name);
+                        report.textures_created += 1;
+                        textures.persistent.insert(name.clone(), (*key, t.clone()));
+                        fresh.insert(name.clone());
+                        t
+                    }
+                },
+                Lifetime::Temporary | Lifetime::Permanent => {
+                    textures.take(device, key, name, &mut report.textures_created)
+                }
+            };
+            if desc.lifetime == Lifetime::Persistent {
+                textures.idle.insert(name.clone(), 0);
+            } else {
+                owned.push((name.clone(), *key, desc.lifetime));
+            }
+            live.insert(name.clone(), texture);
+        }
+
+        let encoder = shared.take().unwrap_or_else(|| new_encoder(label(p)));
+        let scope = (!batched).then(|| device.push_error_scope(wgpu::ErrorFilter::Validation));
+        // Timing::Frame times the first and the last pass: the frame's span.
+        let timed = match timing {
+            Timing::PerPass => true,
+            Timing::Frame => step == 0 || step + 1 == steps,
+            Timing::Off => false,
+        };
+        let mut cx = PassContext {
+            gpu: &renderer.gpu,
+            encoder,
+            shaders: &mut shaders,
+            textures: &live,
+            views: &views,
+            fresh: &fresh,
+            timestamps: timestamps.filter(|_| timed).map(|t| &t.set),
+            queries: Vec::new(),
+            next_query: &mut next_query,
+            query_capacity: capacity,
+            draws: 0,
+            output_size,
+            counters: Default::default(),
+        };
+        let result = match parts.runs[p].take() {
+            Some(run) => run(&mut cx),
+            None => Ok(()),
+        };
+        let Recorded {
+            encoder,
+            queries,
+            draws,
+            counters,
+        } = cx.finish();
+        for (name, n) in counters {
+            *report.counters.entry(name.to_owned()).or_default() += n;
+        }
+        let error = if batched {
+            shared = Some(encoder);
+            result.err().map(|e| e.to_string())
+        } else {
+            let buffer = encoder.finish();
+            let validation = scope.map(|s| pollster::block_on(s.pop())).flatten();
+            match (result, validation) {
+                (Err(e), _) => Some(e.to_string()),
+                (Ok(()), Some(e)) => Some(
+                    RenderError::Validation {
+                        pass: parts.names[p].clone(),
+                        message: e.to_string(),
+                    }
+                    .to_string(),
+                ),
+                (Ok(()), None) => {
+                    commands.push(buffer);
+                    None
+                }
+            }
+        };
+        match error {
+            Some(message) => report.errors.push((
+                parts.owners[p],
+                format!("pass `{}`: {message}", parts.names[p]),
+            )),
+            None => pass_queries.push((report.passes.len(), queries)),
+        }
+        report.draws += draws;
+        report.passes.push(PassReport {
+            name: parts.names[p].clone(),
+            owner: parts.owners[p],
+            gpu_ms: None,
+            draws,
+        });
+
+        // Temporaries whose last reader has recorded go back to the pool.
+        owned.retain(|(name, key, lifetime)| {
+            let done = *lifetime == Lifetime::Temporary
+                && last_use.get(name.as_str()).is_some_and(|&s| s <= step)
+                && !requested.contains(name.as_str());
+            if done && let Some(t) = live.get(name) {
+                textures.give_back(*key, t.clone());
+            }
+            !done
+        });
+    }
+    report.culled = parts
+        .culled
+        .iter()
+        .map(|&p| parts.names[p].clone())
+        .collect();
+    report.pipelines_compiled = shaders.pipelines_compiled - compiled_before;
+    let mut views = views.into_inner();
+    for (name, n) in [
+        (
+            "bind groups created",
+            shaders.bind_groups_created - groups_before.0,
+        ),
+        (
+            "bind groups reused",
+            shaders.bind_groups_reused - groups_before.1,
+        ),
+        ("texture views created", views.created - views_before.0),
+        ("texture views reused", views.reused - views_before.1),
+    ] {
+        if n > 0 {
+            *report.counters.entry(name.to_owned()).or_default() += n;
+        }
+    }
+    views.end_frame();
+    textures.views = views;
+    drop(shaders);
+
+    if let (Some(ts), true) = (timestamps, next_query > 0) {
+        let mut encoder = shared.take().unwrap_or_else(|| new_encoder("timestamps"));
+        encoder.resolve_query_set(&ts.set, 0..next_query, &ts.resolve, 0);
+        encoder.copy_buffer_to_buffer(&ts.resolve, 0, &ts.readback, 0, u64::from(next_query) * 8);
+        if batched {
+            shared = Some(encoder);
+        } else {
+            commands.push(encoder.finish());
+        }
+    }
+    if let (Some(encoder), Some(scope)) = (shared, frame_scope) {
+        let buffer = encoder.finish();
+        match pollster::block_on(scope.pop()) {
+            // A batched frame that fails validation is dropped whole; from
+            // now on passes record apart, so the next frame names the pass.
+            Some(e) => {
+                renderer.set_recording(Recording::Isolated);
+                report.errors.push((
+                    None,
+                    format!(
+                        "the frame failed validation and was dropped; passes record separately from now on: {e}"
+                    ),
+                ));
+                pass_queries.clear();
+                next_query = 0;
+            }
+            None => commands.push(buffer),
+        }
+    }
+    let submission = renderer.gpu.queue.submit(commands);
+    report.record_ms = started.elapsed().as_secs_f64() * 1e3;
+
+    if let (Some(ts), true) = (timestamps, next_query > 0) {
+        let ticks =
+            crate::renderer::read_buffer(&renderer.gpu, &ts.readback, u64::from(next_query) * 8)?;
+        let ticks: Vec<u64> = ticks
+            .chunks_exact(8)
+            .map(|c| u64::from_le_bytes(c.try_into().unwrap_or([0; 8])))
+            .collect();
+        let period_ns = f64::from(renderer.gpu.queue.get_timestamp_period());
+        let written: Vec<u64> = pass_queries
+            .iter()
+            .flat_map(|(_, q)| {
+                q.iter()
+                    .flat_map(|&(b, e)| [ticks[b as usize], ticks[e as usize]])
+            })
+            .collect();
+        if let (Some(first), Some(last)) = (written.iter().min(), written.iter().max()) {
+            report.gpu_frame_ms = Some(last.saturating_sub(*first) as f64 * period_ns / 1e6);
+        }
+        let mut total = 0.0;
+        for (index, queries) in pass_queries {
+            if queries.is_empty() {
+                continue;
+            }
+            let ms: f64 = queries
+                .iter()
+                .map(|&(b, e)| {
+                    ticks[e as usize].saturating_sub(ticks[b as usize]) as f64 * period_ns / 1e6
+                })
+                .sum();
+            report.passes[index].gpu_ms = Some(ms);
+            total += ms;
+        }
+        // Timing::Frame measures the span only: a sum of two passes means nothing.
+        report.gpu_ms = (timing == Timing::PerPass).then_some(total);
+    } else {
+        renderer.throttle(submission, FRAMES_IN_FLIGHT)?;
+    }
+
+    // History exists only for effects that run: a persistent texture no pass
+    // has written for a while (its node deleted, culled, or switched to
+    // another mode) is dropped.
+    let mut dropped = 0;
+    for name in textures.persistent.keys().cloned().collect::<Vec<_>>() {
+        let idle = textures.idle.entry(name.clone()).or_insert(0);
+        if parts
+            .order
+            .iter()
+            .any(|&p| parts.writes[p].iter().any(|(n, _)| *n == name))
+        {
+            continue;
+        }
+        *idle += 1;
+        if *idle > PERSISTENT_IDLE_GRAPHS {
+            textures.persistent.remove(&name);
+            textures.idle.remove(&name);
+            dropped += 1;
+        }
+    }
+    if dropped > 0 {
+        *report
+            .counters
+            .entry("histories dropped".to_owned())
+            .or_default() += dropped;
+    }
+
+    // Requested outputs go to the caller and come back to the pool next frame;
+    // other permanent textures return now.
+    let mut outputs = HashMap::new();
+    for (name, key, _) in owned {
+        if let Some(texture) = live.get(&name) {
+            if requested.contains(name.as_str()) {
+                textures.lent.push((key, texture.clone()));
+            } else {
+                textures.give_back(key, texture.clone());
+            }
+        }
+    }
+    for name in &parts.requested {
+        if let Some(t) = live.get(name) {
+            outputs.insert(name.clone(), t.clone());
+        }
+    }
+    report.wait_ms = (started.elapsed().as_secs_f64() * 1e3 - report.record_ms).max(0.0);
+    renderer.set_last_report(report.clone());
+    Ok((report, outputs))
+}

@@ -1,0 +1,99 @@
+//! The textures the renderer keeps between frame graphs: temporaries pooled
+//! by [`TextureKey`] (format, size, usage) for reuse, persistent textures by
+//! name (histories), and last frame's outputs lent to the caller.
+
+use std::collections::HashMap;
+
+/// The concrete size and format a [`TextureDesc`] resolves to in one frame: the pool's key.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct TextureKey {
+    pub format: wgpu::TextureFormat,
+    pub width: u32,
+    pub height: u32,
+    pub usage: wgpu::TextureUsages,
+}
+
+/// Each texture's default view, made once: views are what passes bind, and
+/// making one per pass per frame was most of a frame's recording time on the
+/// H100's driver. A view not asked for in a frame is dropped (with the
+/// texture it keeps alive).
+#[derive(Default)]
+pub(crate) struct ViewCache {
+    views: HashMap<wgpu::Texture, (wgpu::TextureView, bool)>,
+    pub created: u64,
+    pub reused: u64,
+}
+
+impl ViewCache {
+    pub fn view(&mut self, texture: &wgpu::Texture) -> wgpu::TextureView {
+        if let Some((view, used)) = self.views.get_mut(texture) {
+            *used = true;
+            self.reused += 1;
+            return view.clone();
+        }
+        let view = texture.create_view(&wgpu::TextureViewDescriptor::default());
+        self.created += 1;
+        self.views.insert(texture.clone(), (view.clone(), true));
+        view
+    }
+
+    /// Drop what this frame did not use; the rest waits for the next frame.
+    pub fn end_frame(&mut self) {
+        self.views.retain(|_, (_, used)| std::mem::take(used));
+    }
+}
+
+#[derive(Default)]
+pub(crate) struct TexturePool {
+    pub pool: HashMap<TextureKey, Vec<wgpu::Texture>>,
+    pub persistent: HashMap<String, (TextureKey, wgpu::Texture)>,
+    /// Per persistent texture: frame graphs run since a pass last wrote it.
+    pub idle: HashMap<String, u32>,
+    /// Last frame's requested outputs: handed to the caller, back to the pool next frame.
+    pub lent: Vec<(TextureKey, wgpu::Texture)>,
+    pub views: ViewCache,
+}
+
+impl TexturePool {
+    /// A pooled texture of `key`, or a new one (`created` counts it).
+    pub fn take(
+        &mut self,
+        device: &wgpu::Device,
+        key: &TextureKey,
+        label: &str,
+        created: &mut u64,
+    ) -> wgpu::Texture {
+        match self.pool.get_mut(key).and_then(Vec::pop) {
+            Some(t) => t,
+            None => {
+                *created += 1;
+                create_texture(device, key, label)
+            }
+        }
+    }
+
+    pub fn give_back(&mut self, key: TextureKey, texture: wgpu::Texture) {
+        self.pool.entry(key).or_default().push(texture);
+    }
+}
+
+pub(crate) fn create_texture(
+    device: &wgpu::Device,
+    key: &TextureKey,
+    label: &str,
+) -> wgpu::Texture {
+    device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(label),
+        size: wgpu::Extent3d {
+            width: key.width,
+            height: key.height,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: key.format,
+        usage: key.usage,
+        view_formats: &[],
+    })
+}
