@@ -166,7 +166,7 @@ fn execute(
             result.err().map(|e| e.to_string())
         } else {
             let buffer = encoder.finish();
-            let validation = scope.map(|s| pollster::block_on(s.pop())).flatten();
+            let validation = scope.and_then(|s| pollster::block_on(s.pop()));
             match (result, validation) {
                 (Err(e), _) => Some(e.to_string()),
                 (Ok(()), Some(e)) => Some(
