@@ -115,6 +115,7 @@ pub const SHADERS: &[ShaderFile] = &[
     shader!("gbuffer/visibility.wgsl", []),
     shader!("geometry/spherize.wgsl", []),
     shader!("geometry/extrude.wgsl", []),
+    shader!("geometry/pn_triangles.wgsl", ["FLAT"]),
     shader!("geometry/spline.wgsl", ["RIBBON"]),
     shader!(
         "particles/simulate.wgsl",

@@ -391,3 +391,77 @@ fn a_tube_passes_through_its_points_with_their_radii() {
         assert!((mid - *p).length() < 1e-5, "ribbon through point {k}");
     }
 }
+
+/// A unit icosahedron with shared vertices and exact sphere normals.
+fn icosahedron() -> spreadlight_render::mesh::MeshData {
+    let t = (1.0 + 5f32.sqrt()) / 2.0;
+    let raw = [
+        [-1.0, t, 0.0],
+        [1.0, t, 0.0],
+        [-1.0, -t, 0.0],
+        [1.0, -t, 0.0],
+        [0.0, -1.0, t],
+        [0.0, 1.0, t],
+        [0.0, -1.0, -t],
+        [0.0, 1.0, -t],
+        [t, 0.0, -1.0],
+        [t, 0.0, 1.0],
+        [-t, 0.0, -1.0],
+        [-t, 0.0, 1.0],
+    ];
+    let positions: Vec<[f32; 3]> = raw
+        .iter()
+        .map(|p| Vec3::from(*p).normalize().into())
+        .collect();
+    let indices = vec![
+        0, 11, 5, 0, 5, 1, 0, 1, 7, 0, 7, 10, 0, 10, 11, 1, 5, 9, 5, 11, 4, 11, 10, 2, 10, 7, 6, 7,
+        1, 8, 3, 9, 4, 3, 4, 2, 3, 2, 6, 3, 6, 8, 3, 8, 9, 4, 9, 5, 2, 4, 11, 6, 2, 10, 8, 6, 7, 9,
+        8, 1,
+    ];
+    spreadlight_render::mesh::MeshData::new(positions.clone(), positions, None, None, indices)
+        .expect("icosahedron")
+}
+
+#[test]
+fn pn_triangles_bound_the_error_to_the_sphere_and_stay_closed() {
+    use spreadlight_render::geometry::pn_triangles;
+    let renderer = test_renderer();
+    let ico = renderer
+        .meshes
+        .upload(&renderer.gpu, &icosahedron())
+        .expect("upload");
+    let (v0, i0) = read_mesh(&renderer, &ico).unwrap();
+    assert_eq!(open_edges(&v0, &i0), 0);
+    // Largest distance from the unit sphere over vertices and triangle centroids.
+    let error = |curved: bool, level: u32| {
+        let mesh = pn_triangles(&renderer, &ico, None, level, curved).expect("tessellate");
+        let (v, i) = read_mesh(&renderer, &mesh).unwrap();
+        assert_eq!(
+            i.len(),
+            20 * 3 * (level * level) as usize,
+            "level² triangles a face"
+        );
+        assert_eq!(
+            open_edges(&v, &i),
+            0,
+            "no cracks (curved {curved}, level {level})"
+        );
+        let p = |k: u32| Vec3::from_slice(&v[k as usize].position_u);
+        i.chunks(3)
+            .map(|t| (p(t[0]) + p(t[1]) + p(t[2])) / 3.0)
+            .chain(v.iter().map(|x| Vec3::from_slice(&x.position_u)))
+            .map(|q| (q.length() - 1.0).abs())
+            .fold(0.0f32, f32::max)
+    };
+    let flat = [1, 2, 4, 8].map(|l| error(false, l));
+    let curved = [1, 2, 4, 8].map(|l| error(true, l));
+    // Flat subdivision never leaves the icosahedron: its error does not vanish.
+    assert!(flat.iter().all(|e| *e > 0.05), "{flat:?}");
+    // PN's error falls with the level towards its cubic patch's own error:
+    // within 6.5% of the radius from level 8 on, a third of flat's.
+    for w in curved.windows(2) {
+        assert!(w[1] < w[0], "{curved:?}");
+    }
+    assert!(curved[3] < 0.065, "{curved:?}");
+    assert!(curved[3] < flat[3] / 3.0, "{curved:?} vs {flat:?}");
+}

@@ -1,11 +1,12 @@
 //! Geometry nodes (category "Geometry"): primitives and glTF files, each
 //! output a spread of meshes uploaded to the renderer's mesh arena, and GPU
-//! geometry (Emeshe's GeomFX list: `Spherize`, `Extrude`, `Tube`, `Ribbon`), mesh in, mesh out,
+//! geometry (Emeshe's GeomFX list: `Spherize`, `Extrude`, `Tube`, `Ribbon`, `PN Triangles`, `Subdivide`), mesh in, mesh out,
 //! computed in the arena without a readback.
 
 mod continuity;
 pub mod extrude;
 pub mod gltf;
+pub mod pn_triangles;
 pub mod primitives;
 pub mod spherize;
 pub mod spline;
@@ -21,6 +22,7 @@ pub fn register(r: &mut Registry) {
     spherize::register(r);
     extrude::register(r);
     spline::register(r);
+    pn_triangles::register(r);
 }
 
 #[cfg(test)]

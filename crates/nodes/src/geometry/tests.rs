@@ -133,3 +133,14 @@ fn tube_and_ribbon_run_once_and_refuse_too_few_points() {
         );
     }
 }
+
+#[test]
+fn pn_triangles_and_subdivide_make_level_squared_triangles_once() {
+    for name in ["PN Triangles", "Subdivide"] {
+        let mut run = Run::new(&box_into(NodeDoc::new(2, name).with("Level", vec![4i64])));
+        assert_eq!(run.frame(0, 2), (NodeRun::Evaluated, 1));
+        run.frame(1, 2);
+        assert_eq!(run.frame(2, 2), (NodeRun::Reused, 0), "{name}");
+        assert_eq!(run.mesh(2).indices.len(), 12 * 16 * 3, "{name}");
+    }
+}

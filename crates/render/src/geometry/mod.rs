@@ -10,6 +10,7 @@
 //! the dispatches so tests can prove nothing reran.
 
 pub mod extrude;
+pub mod pn_triangles;
 pub mod readback;
 pub mod spherize;
 pub mod spline;
@@ -26,6 +27,7 @@ use crate::renderer::Renderer;
 use crate::shaders::ShaderKey;
 
 pub use extrude::extrude;
+pub use pn_triangles::pn_triangles;
 pub use readback::{read_mesh, read_storage};
 pub use spherize::{SpherizeParams, spherize};
 pub use spline::{Sweep, spline};
