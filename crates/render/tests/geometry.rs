@@ -392,43 +392,16 @@ fn a_tube_passes_through_its_points_with_their_radii() {
     }
 }
 
-/// A unit icosahedron with shared vertices and exact sphere normals.
-fn icosahedron() -> spreadlight_render::mesh::MeshData {
-    let t = (1.0 + 5f32.sqrt()) / 2.0;
-    let raw = [
-        [-1.0, t, 0.0],
-        [1.0, t, 0.0],
-        [-1.0, -t, 0.0],
-        [1.0, -t, 0.0],
-        [0.0, -1.0, t],
-        [0.0, 1.0, t],
-        [0.0, -1.0, -t],
-        [0.0, 1.0, -t],
-        [t, 0.0, -1.0],
-        [t, 0.0, 1.0],
-        [-t, 0.0, -1.0],
-        [-t, 0.0, 1.0],
-    ];
-    let positions: Vec<[f32; 3]> = raw
-        .iter()
-        .map(|p| Vec3::from(*p).normalize().into())
-        .collect();
-    let indices = vec![
-        0, 11, 5, 0, 5, 1, 0, 1, 7, 0, 7, 10, 0, 10, 11, 1, 5, 9, 5, 11, 4, 11, 10, 2, 10, 7, 6, 7,
-        1, 8, 3, 9, 4, 3, 4, 2, 3, 2, 6, 3, 6, 8, 3, 8, 9, 4, 9, 5, 2, 4, 11, 6, 2, 10, 8, 6, 7, 9,
-        8, 1,
-    ];
-    spreadlight_render::mesh::MeshData::new(positions.clone(), positions, None, None, indices)
-        .expect("icosahedron")
-}
-
 #[test]
 fn pn_triangles_bound_the_error_to_the_sphere_and_stay_closed() {
     use spreadlight_render::geometry::pn_triangles;
     let renderer = test_renderer();
     let ico = renderer
         .meshes
-        .upload(&renderer.gpu, &icosahedron())
+        .upload(
+            &renderer.gpu,
+            &spreadlight_render::geometry::analytic::icosahedron(),
+        )
         .expect("upload");
     let (v0, i0) = read_mesh(&renderer, &ico).unwrap();
     assert_eq!(open_edges(&v0, &i0), 0);

@@ -6,6 +6,7 @@
 //!
 
 mod ao;
+mod geometry;
 pub(crate) mod metrics;
 mod particles;
 pub(crate) mod plot;
@@ -60,6 +61,8 @@ enum What {
     Post(post::PostArgs),
     /// Particle integrators (explicit Euler vs exponential) per time step: error against a small-step reference, GPU ms a step.
     Particles(particles::ParticleArgs),
+    /// Tessellation (Subdivide, PN Triangles) by level: error against the analytic sphere and torus, GPU ms on a 100k-triangle mesh.
+    Geometry(geometry::GeometryArgs),
 }
 
 pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
@@ -69,6 +72,7 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
         What::Reflection(a) => reflection::run(a),
         What::Post(a) => post::run_post(a),
         What::Particles(a) => particles::run_particles(a),
+        What::Geometry(a) => geometry::run_geometry(a),
     }
 }
 

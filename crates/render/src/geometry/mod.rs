@@ -9,6 +9,7 @@
 //! reuses a node whose inputs did not change, and [`GeometryStats`] counts
 //! the dispatches so tests can prove nothing reran.
 
+pub mod analytic;
 pub mod extrude;
 pub mod pn_triangles;
 pub mod readback;
