@@ -139,10 +139,10 @@ fn particles_in_a_curl_noise_field() {
     );
 }
 
-/// The GPU geometry nodes (issue 17): a sphere's faces extruded by a spread
-/// of amounts, then spherized by an LFO (so it deforms, with velocity from
-/// geometry into MotionBlur), and a tube along a spline, lit and shadowed;
-/// frame 20.
+/// The GPU geometry nodes (issue 17): a sphere PN-tessellated, its faces
+/// extruded by a spread of amounts, then spherized by an LFO (so it deforms,
+/// with velocity from geometry into MotionBlur), a tube and a subdivided
+/// ribbon along splines, lit and shadowed; frame 20.
 #[test]
 fn geometry_nodes_extrude_and_spherize() {
     check(
