@@ -160,6 +160,27 @@ fn the_shadows_example_renders_only_the_shadow_maps_that_changed() {
     assert_eq!(counts[2], (1, 4));
 }
 
+/// `patch` (loaded from `path`) evaluated for frame 0 on a fresh renderer at `size`.
+fn first_frame(
+    patch: &spreadlight_graph::Patch,
+    path: &std::path::Path,
+    size: (u32, u32),
+) -> (Runtime, std::sync::Arc<spreadlight_render::Renderer>) {
+    let mut rt = Runtime::new(spreadlight_nodes::registry());
+    rt.provide(patch_dir(path));
+    let renderer = std::sync::Arc::new(
+        spreadlight_render::Renderer::headless().expect("a GPU adapter (lavapipe in CI)"),
+    );
+    renderer.set_output_size(size);
+    rt.provide(renderer.clone());
+    rt.provide(std::sync::Arc::new(
+        spreadlight_nodes::output::RenderedImages::default(),
+    ));
+    assert!(rt.load(patch).is_empty());
+    rt.evaluate(FrameClock::fixed(0, 60.0));
+    (rt, renderer)
+}
+
 /// The showcase without its reflective and subsurface materials (the
 /// AddReflection and AddFakeSSS nodes taken out of the material chain) runs
 /// no Reflection, SSR or SSSS pass, though those nodes are still wired: the
@@ -168,18 +189,7 @@ fn the_shadows_example_renders_only_the_shadow_maps_that_changed() {
 fn a_scene_without_reflective_or_subsurface_materials_runs_no_reflection_or_sss_pass() {
     let path = spreadlight_tests::root().join("patches/showcase.ron");
     let passes = |patch: &spreadlight_graph::Patch| {
-        let mut rt = Runtime::new(spreadlight_nodes::registry());
-        rt.provide(patch_dir(&path));
-        let renderer = std::sync::Arc::new(
-            spreadlight_render::Renderer::headless().expect("a GPU adapter (lavapipe in CI)"),
-        );
-        renderer.set_output_size((64, 36));
-        rt.provide(renderer.clone());
-        rt.provide(std::sync::Arc::new(
-            spreadlight_nodes::output::RenderedImages::default(),
-        ));
-        assert!(rt.load(patch).is_empty());
-        rt.evaluate(FrameClock::fixed(0, 60.0));
+        let (rt, renderer) = first_frame(patch, &path, (64, 36));
         let errors: Vec<_> = rt
             .node_errors()
             .map(|(id, e)| format!("#{}: {e}", id.0))
@@ -229,18 +239,7 @@ fn a_scene_without_reflective_or_subsurface_materials_runs_no_reflection_or_sss_
 fn the_matcap_example_compiles_matcap_only_while_a_material_has_it() {
     let path = spreadlight_tests::root().join("patches/matcap.ron");
     let run = |patch: &spreadlight_graph::Patch| {
-        let mut rt = Runtime::new(spreadlight_nodes::registry());
-        rt.provide(patch_dir(&path));
-        let renderer = std::sync::Arc::new(
-            spreadlight_render::Renderer::headless().expect("a GPU adapter (lavapipe in CI)"),
-        );
-        renderer.set_output_size((32, 18));
-        rt.provide(renderer.clone());
-        rt.provide(std::sync::Arc::new(
-            spreadlight_nodes::output::RenderedImages::default(),
-        ));
-        assert!(rt.load(patch).is_empty());
-        rt.evaluate(FrameClock::fixed(0, 60.0));
+        let (rt, renderer) = first_frame(patch, &path, (32, 18));
         assert_eq!(rt.node_errors().count(), 0);
         let compiled = renderer
             .shaders()

@@ -1,6 +1,7 @@
 //! `spreadlight`: the command-line edge of Spreadlight. It loads patches,
 //! reports their problems with file and node, and evaluates them headless.
-//! Exit codes: 0 clean, 1 the patch has errors, 2 usage errors (clap's own).
+//! Exit codes: 0 clean, 1 the patch has errors (for `render`: some frames
+//! failed), 2 usage errors (clap's own; for `render`: any bad input).
 
 mod accuracy;
 mod bench;
@@ -8,7 +9,8 @@ mod check;
 mod edit;
 mod eval;
 mod fmt;
-mod render;
+mod nodes;
+mod sequence;
 mod session;
 mod stats;
 mod view;
@@ -37,8 +39,8 @@ enum Command {
     Check(check::Args),
     /// Evaluate a patch headless for a number of frames and print what its probes recorded.
     Eval(eval::Args),
-    /// Render a patch headless to an image (PNG, or EXR by extension).
-    Render(render::Args),
+    /// Render a patch headless: one image, a frame sequence (PNG/EXR, resumable, in chunks) or a video.
+    Render(sequence::Args),
     /// Render a glTF file with a camera framing it (the G-buffer albedo until lighting lands).
     View(view::Args),
     /// Print a frame's statistics: runtime counts, passes executed and culled, compiles, draws, GPU times.
@@ -49,8 +51,8 @@ enum Command {
     Accuracy(accuracy::Args),
     /// Rewrite patches in the canonical layout (what saving writes).
     Fmt(fmt::Args),
-    /// List the node types this build knows, by category.
-    Nodes,
+    /// List the node types this build knows, by category (`--help NAME` documents one).
+    Nodes(nodes::Args),
 }
 
 fn main() -> ExitCode {
@@ -75,39 +77,11 @@ fn run_command(command: Command) -> anyhow::Result<ExitCode> {
         Command::Check(args) => check::run(&args),
         Command::Eval(args) => eval::run(&args),
         Command::Fmt(args) => fmt::run(&args),
-        Command::Render(args) => render::run(&args),
+        Command::Render(args) => sequence::run(&args),
         Command::View(args) => view::run(&args),
         Command::Stats(args) => stats::run(&args),
         Command::Bench(args) => bench::run(&args),
         Command::Accuracy(args) => accuracy::run(&args),
-        Command::Nodes => {
-            list_nodes();
-            Ok(ExitCode::SUCCESS)
-        }
-    }
-}
-
-fn list_nodes() {
-    let registry = spreadlight_nodes::registry();
-    let mut defs: Vec<_> = registry.iter().collect();
-    defs.sort_by_key(|d| (d.category, d.name));
-    let mut category = "";
-    for def in defs {
-        if def.category != category {
-            category = def.category;
-            println!("{category}");
-        }
-        let pins = |pins: &[spreadlight_graph::PinDef]| {
-            pins.iter()
-                .map(|p| format!("{}: {}", p.name, p.ty))
-                .collect::<Vec<_>>()
-                .join(", ")
-        };
-        println!(
-            "  {:<28} ({}) -> ({})",
-            def.name,
-            pins(&def.inputs),
-            pins(&def.outputs)
-        );
+        Command::Nodes(args) => nodes::run(&args),
     }
 }

@@ -97,25 +97,29 @@ impl Session {
         reported: &mut std::collections::BTreeSet<String>,
     ) -> bool {
         self.runtime.evaluate(FrameClock::fixed(frame, fps));
-        let mut failed = false;
-        for (node, error) in self.runtime.node_errors() {
-            let line = format!("error: {}: node {node}: {error}", path.display());
-            failed = true;
+        let errors = self.frame_errors(path);
+        for line in &errors {
             if reported.insert(line.clone()) {
                 eprintln!("{line} (frame {frame})");
             }
         }
+        !errors.is_empty()
+    }
+
+    /// The errors of the frame just evaluated: failed nodes and failed GPU
+    /// passes, each with the node it belongs to.
+    pub fn frame_errors(&self, path: &Path) -> Vec<String> {
+        let mut errors = Vec::new();
+        for (node, error) in self.runtime.node_errors() {
+            errors.push(format!("error: {}: node {node}: {error}", path.display()));
+        }
         if let Some(renderer) = &self.renderer {
             for (owner, error) in renderer.last_report().errors {
                 let node = owner.map_or("the renderer".to_owned(), |n| format!("node #{n}"));
-                let line = format!("error: {}: {node}: {error}", path.display());
-                failed = true;
-                if reported.insert(line.clone()) {
-                    eprintln!("{line} (frame {frame})");
-                }
+                errors.push(format!("error: {}: {node}: {error}", path.display()));
             }
         }
-        failed
+        errors
     }
 }
 

@@ -153,6 +153,32 @@ fn eval_names_a_probe_that_does_not_exist() {
 }
 
 #[test]
+fn nodes_help_documents_one_node_type() {
+    let out = spreadlight(&["nodes", "--help", "getslice (spreads)"]);
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    let stdout = text(&out.stdout);
+    assert!(
+        stdout.starts_with("GetSlice (Spreads)  [Spreads]"),
+        "{stdout}"
+    );
+    assert!(stdout.contains("Bin Size: Int = 1"), "{stdout}");
+    let out = spreadlight(&["nodes", "--help", "GetSlice"]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(text(&out.stderr).contains("GetSlice (Color)"));
+    let out = spreadlight(&["nodes", "--help", "NoSuchNode"]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(text(&out.stderr).contains("no node type named `NoSuchNode`"));
+}
+
+#[test]
+fn nodes_markdown_is_docs_nodes_md() {
+    let out = spreadlight(&["nodes", "--markdown"]);
+    assert_eq!(out.status.code(), Some(0));
+    let file = std::fs::read_to_string(root().join("docs/nodes.md")).expect("docs/nodes.md");
+    assert!(text(&out.stdout) == file, "docs/nodes.md is out of date");
+}
+
+#[test]
 fn nodes_lists_the_registry() {
     let out = spreadlight(&["nodes"]);
     assert_eq!(out.status.code(), Some(0));

@@ -1,15 +1,25 @@
-//! Nodes that move with time: `LFO`. They depend on the frame clock, so the
-//! runtime evaluates them every frame.
+//! Nodes that move with time: `LFO` here; easing and keyframes
+//! (`animation/easing.rs`), noise (`animation/noise.rs`) and the clock as
+//! nodes (`animation/time.rs`) beside it. The LFO depends on the frame clock,
+//! so the runtime evaluates it every frame.
 
 use spreadlight_graph::{EvalContext, Node, NodeDef, NodeError, Registry, spread};
 
+pub mod easing;
+pub mod noise;
+pub mod time;
+
 pub fn register(r: &mut Registry) {
+    easing::register(r);
+    noise::register(r);
+    time::register(r);
     r.add(
         NodeDef::new(
             "LFO",
             "Animation",
             "Low-frequency oscillator: a phase running from 0 to 1 once per Period seconds, per slice. \
-             Pause holds it, Reset sets it to 0. A Period of zero or less holds the phase (no NaN).",
+             Pause holds it, Reset sets it to 0. A new LFO starts at the phase \
+             one running since time 0 would have (so a render of frames 100.. sees what a full run sees). A Period of zero or less holds the phase (no NaN).",
         )
         .input("Period", 1.0f32)
         .input("Pause", false)
@@ -35,13 +45,26 @@ impl Node for Lfo {
             cx.slices::<bool>(2)?,
         );
         let n = spread::slice_count([period.len(), pause.len(), reset.len()]);
-        self.phases.resize(n, 0.0);
         let delta = cx.clock.delta;
+        // A new slice starts where one running since time 0 would be: a render
+        // that begins at frame N (a farm's chunk) sees the phase a full run does.
+        let fresh = self.phases.len();
+        self.phases.resize(n, (cx.clock.time - delta).max(0.0));
         let pins = spread::cycled(period, n)
             .zip(spread::cycled(pause, n))
             .zip(spread::cycled(reset, n));
-        for (phase, ((&period, &pause), &reset)) in self.phases.iter_mut().zip(pins) {
+        for (i, (phase, ((&period, &pause), &reset))) in
+            self.phases.iter_mut().zip(pins).enumerate()
+        {
             let p = f64::from(period);
+            if i >= fresh {
+                // Seeded with the time before this frame: in cycles of this period, or held.
+                *phase = if pause || !(p > 0.0 && p.is_finite()) {
+                    0.0
+                } else {
+                    *phase / p
+                };
+            }
             if reset {
                 *phase = 0.0;
             } else if !pause && p > 0.0 && p.is_finite() {

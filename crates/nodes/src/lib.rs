@@ -11,23 +11,46 @@
 //! buffers, `ShadowMap`s, `CookTorrance` and `CompositeLight` in `lighting/`, `Sky` and
 //! `Fog` in `environment/`, `Tonemap`, `EyeAdaptation` and `FXAA` in `post/`, the material nodes
 //! in `material/`, `Perspective (Transform)` in `transform.rs`, `BenchLights` in `bench.rs`.
+//!
+//! The core library vvvv patchers reach for: spread operations (`GetSlice`,
+//! `Queue`, `Stallone`, bin sizes, ...) in `spreads/`, comparisons and boolean
+//! logic in `logic.rs`, `Counter`, `FlipFlop`, `TogEdge` and friends in
+//! `logic/signals.rs`, `Damper`, `LinearFilter`, `Oscillator`, `Decay` in
+//! `filters.rs`, easing and `Keyframes`, Perlin noise and `Time` in
+//! `animation/`, colour in `color.rs`, strings in `strings/`, `Expr` in
+//! `expr/`, more value and vector maths in `value/` and `vector/`, `Mouse`,
+//! `Keyboard` and `WindowSize` (over the host's [`input::HostInput`]) in
+//! `input/`, OSC in `osc.rs`. Variants per slice type come from `typed.rs`.
+//! `docs.rs` turns the registry into `spreadlight nodes --help NAME` and
+//! `docs/nodes.md`.
 
 use spreadlight_graph::Registry;
+
+#[macro_use]
+mod typed;
 
 pub mod animation;
 pub mod bench;
 pub mod camera;
+pub mod color;
 pub mod deferred;
+pub mod docs;
 pub mod environment;
+pub mod expr;
+pub mod filters;
 pub mod geometry;
 pub mod gpu;
+pub mod input;
 pub mod io;
 pub mod lighting;
+pub mod logic;
 pub mod material;
+pub mod osc;
 pub mod output;
 pub mod particles;
 pub mod post;
 pub mod spreads;
+pub mod strings;
 pub mod texture;
 pub mod transform;
 pub mod value;
@@ -42,6 +65,13 @@ pub fn registry() -> Registry {
     value::register(&mut r);
     vector::register(&mut r);
     spreads::register(&mut r);
+    logic::register(&mut r);
+    filters::register(&mut r);
+    color::register(&mut r);
+    strings::register(&mut r);
+    input::register(&mut r);
+    osc::register(&mut r);
+    expr::register(&mut r);
     animation::register(&mut r);
     transform::register(&mut r);
     camera::register(&mut r);

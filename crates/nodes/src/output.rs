@@ -59,13 +59,16 @@ pub fn register(r: &mut Registry) {
             "Output",
             "Output",
             "Renders its texture at the output size and writes it to Filename (PNG 8-bit, or 32-bit float EXR when \
-             the name ends in .exr) when Write is on. Only the passes its texture depends on run.",
+             the name ends in .exr) when Write is on. Only the passes its texture depends on run. Name names \
+             the sequence `spreadlight render` writes for it; Preroll declares how many frames its temporal \
+             effects and simulations need to settle, which a render of a chunk of frames evaluates first.",
         )
         .input_spread("Texture", PinType::Resource(ResourceKind::Texture), Spread::Resource(ResourceKind::Texture, vec![]))
         .input("Filename", String::new())
         .input("Name", "output".to_owned())
         .input_enum("Encoding", &ENCODING, "sRGB")
         .input("Write", true)
+        .input("Preroll", 0i64)
         .sink()
         .evaluate(|cx| {
             let renderer = renderer(cx)?;

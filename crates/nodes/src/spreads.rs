@@ -8,6 +8,10 @@
 //! sub-spread per bin and outputs the bins one after the other. With
 //! one-slice parameters, as usual, that is simply one spread.
 //!
+//! Operations on whole spreads live beside this file, in `spreads/`: reading
+//! and writing slices (`slices`), joining and splitting (`combine`), memory
+//! over frames (`memory`), whole-spread maths (`reduce`), bin sizes (`bins`).
+//!
 //! A negative Spread Count is an input error, and so is a request for more
 //! than [`MAX_SLICES`] slices in all, so a typo cannot exhaust memory.
 
@@ -17,6 +21,12 @@ use rand_core::{Rng, SeedableRng};
 use rand_pcg::Pcg32;
 use spreadlight_graph::spread::{slice_count, wrapped};
 use spreadlight_graph::{EnumDef, EvalContext, NodeDef, NodeError, Registry};
+
+pub(crate) mod bins;
+pub mod combine;
+pub mod memory;
+pub mod reduce;
+pub mod slices;
 
 const CATEGORY: &str = "Spreads";
 
@@ -30,6 +40,15 @@ pub static ALIGNMENT: EnumDef = EnumDef {
 };
 
 pub fn register(r: &mut Registry) {
+    slices::register(r);
+    combine::register(r);
+    memory::register(r);
+    reduce::register(r);
+    register_generators(r);
+}
+
+/// The generators alone (this file's nodes).
+pub fn register_generators(r: &mut Registry) {
     r.add(cross_2d());
     r.add(
         NodeDef::new(

@@ -2,6 +2,9 @@
 //! `Divide`, `Pow`), trigonometry in cycles (`Sin`, `Cos`) and ranges
 //! (`Clamp`, `Map`), all in the "Value" category.
 //!
+//! More one-function nodes (`Abs`, `Min`, `Modulo`, `Lerp`, ...) are in
+//! `value/functions.rs`.
+//!
 //! Every node here is pure and spreads slice by slice with the runtime's rule
 //! (output count = the largest input count, 0 when any input is empty,
 //! shorter inputs wrap). Where the maths has no finite answer (division by
@@ -21,7 +24,15 @@ pub static MAPPING: EnumDef = EnumDef {
     options: &["Float", "Clamp", "Wrap", "Mirror"],
 };
 
+pub mod functions;
+
 pub fn register(r: &mut Registry) {
+    functions::register(r);
+    register_basics(r);
+}
+
+/// This file's nodes alone.
+pub fn register_basics(r: &mut Registry) {
     r.add(
         NodeDef::new(
             "Add (Value)",

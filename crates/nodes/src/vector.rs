@@ -2,6 +2,9 @@
 //! Vec2/Vec3/Vec4 spreads from Float components, `Vector (2d Split)` ..
 //! `Vector (4d Split)` take them apart again; all in the "Vector" category.
 //!
+//! Vector arithmetic (`Add (Vector 3d)`, `Cross (Vector 3d)`, `Normalize`, ...) is in
+//! `vector/maths.rs`.
+//!
 //! Joins spread like every per-slice node (the longest component decides the
 //! count, shorter ones wrap); splits output one slice per input vector.
 
@@ -11,7 +14,15 @@ use spreadlight_graph::{EvalContext, NodeDef, NodeError, Registry};
 
 const CATEGORY: &str = "Vector";
 
+pub mod maths;
+
 pub fn register(r: &mut Registry) {
+    maths::register(r);
+    register_join_split(r);
+}
+
+/// This file's nodes alone.
+pub fn register_join_split(r: &mut Registry) {
     r.add(
         NodeDef::new(
             "Vector (2d Join)",

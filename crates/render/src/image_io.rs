@@ -22,34 +22,50 @@ pub fn write_image(image: &ImageF32, path: &Path, encoding: Encoding) -> Result<
         path: path.display().to_string(),
         message,
     };
-    let is_exr = path
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("exr"));
+    let is_exr = is_exr(path);
     let tmp = path.with_extension(if is_exr { "tmp.exr" } else { "tmp.png" });
-    let result = if is_exr {
-        let data: Vec<f32> = image.pixels.iter().flatten().copied().collect();
-        image::Rgba32FImage::from_raw(image.width, image.height, data)
-            .ok_or_else(|| err("pixel count does not match the size".into()))?
-            .save_with_format(&tmp, image::ImageFormat::OpenExr)
-    } else {
-        let data: Vec<u8> = image
-            .pixels
-            .iter()
-            .flat_map(|p| {
-                let c = |v: f32| match encoding {
-                    Encoding::Srgb => linear_to_srgb(v),
-                    Encoding::Linear => v.clamp(0.0, 1.0),
-                };
-                [c(p[0]), c(p[1]), c(p[2]), p[3].clamp(0.0, 1.0)].map(|v| (v * 255.0 + 0.5) as u8)
-            })
-            .collect();
-        image::RgbaImage::from_raw(image.width, image.height, data)
-            .ok_or_else(|| err("pixel count does not match the size".into()))?
-            .save_with_format(&tmp, image::ImageFormat::Png)
-    };
-    result.map_err(|e| err(e.to_string()))?;
+    let bytes = encode_image(image, encoding, is_exr).map_err(err)?;
+    std::fs::write(&tmp, bytes).map_err(|e| err(e.to_string()))?;
     std::fs::rename(&tmp, path).map_err(|e| {
         let _ = std::fs::remove_file(&tmp);
         err(e.to_string())
     })
+}
+
+/// Whether `path` names an OpenEXR file (by extension, any case).
+pub fn is_exr(path: &Path) -> bool {
+    path.extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("exr"))
+}
+
+/// `image` as the bytes of a file: 32-bit float OpenEXR when `exr`, else 8-bit PNG.
+pub fn encode_image(image: &ImageF32, encoding: Encoding, exr: bool) -> Result<Vec<u8>, String> {
+    let mut bytes = std::io::Cursor::new(Vec::new());
+    let result = if exr {
+        let data: Vec<f32> = image.pixels.iter().flatten().copied().collect();
+        image::Rgba32FImage::from_raw(image.width, image.height, data)
+            .ok_or("pixel count does not match the size")?
+            .write_to(&mut bytes, image::ImageFormat::OpenExr)
+    } else {
+        image::RgbaImage::from_raw(image.width, image.height, to_rgba8(image, encoding))
+            .ok_or("pixel count does not match the size")?
+            .write_to(&mut bytes, image::ImageFormat::Png)
+    };
+    result.map_err(|e| e.to_string())?;
+    Ok(bytes.into_inner())
+}
+
+/// `image` as 8-bit RGBA, row by row: colour encoded as asked, alpha as it is (clamped).
+pub fn to_rgba8(image: &ImageF32, encoding: Encoding) -> Vec<u8> {
+    image
+        .pixels
+        .iter()
+        .flat_map(|p| {
+            let c = |v: f32| match encoding {
+                Encoding::Srgb => linear_to_srgb(v),
+                Encoding::Linear => v.clamp(0.0, 1.0),
+            };
+            [c(p[0]), c(p[1]), c(p[2]), p[3].clamp(0.0, 1.0)].map(|v| (v * 255.0 + 0.5) as u8)
+        })
+        .collect()
 }

@@ -17,6 +17,12 @@ use crate::texture_pool::TexturePool;
 
 pub(crate) const MAX_QUERIES: u32 = 512;
 
+struct KeptBuffer {
+    buffer: wgpu::Buffer,
+    usage: wgpu::BufferUsages,
+    contents: Vec<u8>,
+}
+
 pub(crate) struct Timestamps {
     pub set: wgpu::QuerySet,
     pub resolve: wgpu::Buffer,
@@ -64,6 +70,11 @@ pub struct Renderer {
     in_flight: Mutex<std::collections::VecDeque<wgpu::SubmissionIndex>>,
     last_report: Mutex<FrameReport>,
     output_size: Mutex<(u32, u32)>,
+    /// Buffers recipes keep across their re-creation, by owner node and label
+    /// (`Renderer::uniform`, `Renderer::kept_buffer`), with a uniform's last contents.
+    kept: Mutex<HashMap<(u32, &'static str), KeptBuffer>>,
+    /// Uploads `uniform` made and skipped since the last frame graph ran.
+    uploads: Mutex<(u64, u64)>,
     /// What recipes keep between frames (shadow maps), by type and key.
     states: Mutex<HashMap<(std::any::TypeId, u64), Arc<dyn std::any::Any + Send + Sync>>>,
 }
@@ -105,6 +116,8 @@ impl Renderer {
             last_report: Mutex::new(FrameReport::default()),
             output_size: Mutex::new(DEFAULT_OUTPUT_SIZE),
             states: Mutex::new(HashMap::new()),
+            kept: Mutex::new(HashMap::new()),
+            uploads: Mutex::new((0, 0)),
         })
     }
 
@@ -140,6 +153,118 @@ impl Renderer {
             // Keyed by the type's id: another type cannot be under it.
             Err(_) => unreachable!("state keyed by its TypeId"),
         }
+    }
+
+    /// A uniform buffer holding `bytes` for node `owner`'s `label`: the same
+    /// buffer each time the node's recipe is made again, written only when
+    /// the bytes changed (counted: "uniform uploads", "uniform uploads
+    /// skipped"), so bind groups over it are reused from frame to frame.
+    /// One (owner, label) must name one buffer per frame: a node making
+    /// several recipes gives each its own label. Without an owner, a new buffer.
+    pub fn uniform(&self, owner: Option<u32>, label: &'static str, bytes: &[u8]) -> wgpu::Buffer {
+        self.kept_init(
+            owner,
+            label,
+            bytes,
+            wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        )
+    }
+
+    /// [`Renderer::uniform`] for any usage (COPY_DST is added): storage
+    /// buffers such as a G-buffer's instances, kept and written on change.
+    pub fn kept_init(
+        &self,
+        owner: Option<u32>,
+        label: &'static str,
+        bytes: &[u8],
+        usage: wgpu::BufferUsages,
+    ) -> wgpu::Buffer {
+        let usage = usage | wgpu::BufferUsages::COPY_DST;
+        let fresh = || {
+            wgpu::util::DeviceExt::create_buffer_init(
+                &self.gpu.device,
+                &wgpu::util::BufferInitDescriptor {
+                    label: Some(label),
+                    contents: bytes,
+                    usage,
+                },
+            )
+        };
+        let Some(owner) = owner else {
+            return fresh();
+        };
+        let mut kept = self.kept.lock().unwrap_or_else(|e| e.into_inner());
+        let mut uploads = self.uploads.lock().unwrap_or_else(|e| e.into_inner());
+        match kept.get_mut(&(owner, label)) {
+            Some(k) if k.usage == usage && k.contents.len() == bytes.len() => {
+                if k.contents == bytes {
+                    uploads.1 += 1;
+                } else {
+                    self.gpu.queue.write_buffer(&k.buffer, 0, bytes);
+                    k.contents.copy_from_slice(bytes);
+                    uploads.0 += 1;
+                }
+                k.buffer.clone()
+            }
+            _ => {
+                let buffer = fresh();
+                uploads.0 += 1;
+                kept.insert(
+                    (owner, label),
+                    KeptBuffer {
+                        buffer: buffer.clone(),
+                        usage,
+                        contents: bytes.to_vec(),
+                    },
+                );
+                buffer
+            }
+        }
+    }
+
+    /// A buffer of `size` bytes and `usage` that node `owner`'s recipes keep
+    /// under `label` across their re-creation (scratch a pass fills each
+    /// frame, such as the compute rasterizer's 64-bit visibility buffer).
+    /// Its contents are whatever the last frame left. Without an owner, a new one.
+    pub fn kept_buffer(
+        &self,
+        owner: Option<u32>,
+        label: &'static str,
+        size: u64,
+        usage: wgpu::BufferUsages,
+    ) -> wgpu::Buffer {
+        let fresh = || {
+            self.gpu.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size,
+                usage,
+                mapped_at_creation: false,
+            })
+        };
+        let Some(owner) = owner else {
+            return fresh();
+        };
+        let mut kept = self.kept.lock().unwrap_or_else(|e| e.into_inner());
+        match kept.get(&(owner, label)) {
+            Some(k) if k.usage == usage && k.buffer.size() == size => k.buffer.clone(),
+            _ => {
+                let buffer = fresh();
+                kept.insert(
+                    (owner, label),
+                    KeptBuffer {
+                        buffer: buffer.clone(),
+                        usage,
+                        contents: Vec::new(),
+                    },
+                );
+                buffer
+            }
+        }
+    }
+
+    /// Uniform uploads made and skipped since the last call (the frame report's counters).
+    pub(crate) fn take_uploads(&self) -> (u64, u64) {
+        std::mem::take(&mut *self.uploads.lock().unwrap_or_else(|e| e.into_inner()))
     }
 
     /// How frames are timed and recorded.

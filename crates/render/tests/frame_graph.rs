@@ -164,21 +164,31 @@ fn relative_sizes_follow_the_output() {
     assert_eq!((tiny.width, tiny.height), (1, 1), "never zero-sized");
 }
 
+/// A pass that makes a validation error: a buffer both MAP_READ and MAP_WRITE.
+fn invalid_buffer(
+    cx: &mut spreadlight_render::frame_graph::PassContext<'_>,
+) -> Result<(), spreadlight_render::RenderError> {
+    let _ = cx.gpu.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("invalid"),
+        size: 16,
+        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::MAP_WRITE,
+        mapped_at_creation: false,
+    });
+    Ok(())
+}
+
 #[test]
 fn a_pass_with_a_validation_error_is_reported_on_its_node_and_the_rest_renders() {
     let renderer = test_renderer();
     let ran_after = Arc::new(AtomicUsize::new(0));
     let mut fg = FrameGraph::new((8, 8));
-    fg.add_pass("broken", Some(42), &[], &[("broken", target())], |cx| {
-        // A buffer with no usage flags at all is a validation error.
-        let _ = cx.gpu.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("invalid"),
-            size: 16,
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::MAP_WRITE,
-            mapped_at_creation: false,
-        });
-        Ok(())
-    });
+    fg.add_pass(
+        "broken",
+        Some(42),
+        &[],
+        &[("broken", target())],
+        invalid_buffer,
+    );
     let after = ran_after.clone();
     fg.add_pass(
         "healthy",
@@ -313,15 +323,13 @@ fn a_batched_frame_that_fails_validation_is_dropped_and_the_next_names_the_pass(
     renderer.set_recording(Recording::Batched);
     let frame = || {
         let mut fg = FrameGraph::new((8, 8));
-        fg.add_pass("broken", Some(42), &[], &[("broken", target())], |cx| {
-            let _ = cx.gpu.device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("invalid"),
-                size: 16,
-                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::MAP_WRITE,
-                mapped_at_creation: false,
-            });
-            Ok(())
-        });
+        fg.add_pass(
+            "broken",
+            Some(42),
+            &[],
+            &[("broken", target())],
+            invalid_buffer,
+        );
         fg.add_pass(
             "healthy",
             Some(7),

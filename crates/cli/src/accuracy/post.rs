@@ -32,6 +32,7 @@ use spreadlight_render::{FrameGraph, Recipe, Renderer, SizeRule, TextureRef};
 use super::metrics::{self, Plane};
 use super::plot::{Series, write_svg};
 use super::{median, ms, pass_ms};
+use crate::sequence::accumulate::{Average, shutter_offset};
 use crate::session::parse_size;
 
 #[derive(clap::Args)]
@@ -231,43 +232,6 @@ fn run(
     Ok((report, image))
 }
 
-/// The running average of `images`, as they come.
-struct Average {
-    sum: Vec<[f64; 3]>,
-    n: u32,
-}
-
-impl Average {
-    fn new(len: usize) -> Self {
-        Average {
-            sum: vec![[0.0; 3]; len],
-            n: 0,
-        }
-    }
-
-    fn add(&mut self, image: &ImageF32) {
-        for (s, p) in self.sum.iter_mut().zip(&image.pixels) {
-            for c in 0..3 {
-                s[c] += f64::from(p[c]);
-            }
-        }
-        self.n += 1;
-    }
-
-    fn image(&self, size: (u32, u32)) -> ImageF32 {
-        let n = f64::from(self.n.max(1));
-        ImageF32 {
-            width: size.0,
-            height: size.1,
-            pixels: self
-                .sum
-                .iter()
-                .map(|s| [(s[0] / n) as f32, (s[1] / n) as f32, (s[2] / n) as f32, 1.0])
-                .collect(),
-        }
-    }
-}
-
 /// Points spread evenly over the unit disk (a golden-angle spiral).
 fn disk(n: u32) -> Vec<Vec2> {
     (0..n)
@@ -422,7 +386,7 @@ fn measure_motion_blur(
     let open = SHUTTER / 360.0;
     for i in 0..args.views {
         // The shutter is open for `open` of a frame, centred on the frame.
-        let t = ((i as f32 + 0.5) / args.views as f32 - 0.5) * open;
+        let t = shutter_offset(i, args.views, f64::from(open)) as f32;
         let g = gbuffer(renderer, scene(renderer, t, false)?, cam, None);
         let (_, image) = run(renderer, g.as_ref(), &g.targets.color, size, true)?;
         average.add(&image.context("image")?);
@@ -462,16 +426,8 @@ fn supersampled(
     let big = (size.0 * 8, size.1 * 8);
     let g = gbuffer(renderer, layer.clone(), camera(size), None);
     let (_, image) = run(renderer, g.as_ref(), &g.targets.color, big, true)?;
-    let image = image.context("image")?;
     let mut average = Average::new((size.0 * size.1) as usize);
-    average.n = 64;
-    for (i, p) in image.pixels.iter().enumerate() {
-        let (x, y) = (i as u32 % big.0 / 8, i as u32 / big.0 / 8);
-        let s = &mut average.sum[(y * size.0 + x) as usize];
-        for c in 0..3 {
-            s[c] += f64::from(p[c]);
-        }
-    }
+    average.add_downsampled(&image.context("image")?, 8);
     Ok(average.image(size))
 }
 

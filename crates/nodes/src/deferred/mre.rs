@@ -1,12 +1,14 @@
 //! `MRE`: writes layers into Emeshe's G-buffer and outputs it with the
 //! camera it was seen through.
 
-use glam::Mat4;
+use std::sync::Mutex;
+
+use glam::{Mat4, Vec2};
 use spreadlight_graph::{
     EnumDef, EvalContext, Node, NodeDef, NodeError, PinType, Registry, ResourceKind, Spread,
 };
 use spreadlight_render::SizeRule;
-use spreadlight_render::camera::CameraInput;
+use spreadlight_render::camera::{CameraInput, jittered};
 use spreadlight_render::gbuffer::{GBuffer, Layer, RasterChoice};
 
 use crate::gpu::{renderer, resource_spread, resources};
@@ -36,6 +38,23 @@ pub fn register(r: &mut Registry) {
         .output_typed("G-Buffer", PinType::Resource(ResourceKind::GBuffer))
         .construct(Mre::default),
     );
+}
+
+/// A sub-pixel offset, in pixels of the G-buffer, that every MRE moves its
+/// projection by. A host that accumulates sub-frame renders (`spreadlight
+/// render --samples`) provides it and sets a new offset before each render;
+/// while it is provided, MRE runs every frame (the offset changes though no pin does).
+#[derive(Debug, Default)]
+pub struct SubPixelOffset(Mutex<Vec2>);
+
+impl SubPixelOffset {
+    pub fn set(&self, pixels: Vec2) {
+        *self.0.lock().unwrap_or_else(|e| e.into_inner()) = pixels;
+    }
+
+    pub fn get(&self) -> Vec2 {
+        *self.0.lock().unwrap_or_else(|e| e.into_inner())
+    }
 }
 
 /// Keeps last frame's view-projection, for velocity.
@@ -73,6 +92,23 @@ impl Node for Mre {
             SizeRule::Relative(1.0)
         } else {
             SizeRule::Absolute { width, height }
+        };
+        let projection = match cx.service::<SubPixelOffset>() {
+            Some(offset) => {
+                cx.reevaluate_next_frame();
+                let (w, h) = match size {
+                    SizeRule::Absolute { width, height } => (width, height),
+                    _ => renderer.output_size(),
+                };
+                let pixels = offset.get();
+                // NDC spans 2 over the target; +y is up in NDC and down in pixels.
+                let ndc = Vec2::new(
+                    pixels.x * 2.0 / w.max(1) as f32,
+                    -pixels.y * 2.0 / h.max(1) as f32,
+                );
+                jittered(projection, ndc)
+            }
+            None => projection,
         };
         let camera = CameraInput { view, projection };
         let previous = self

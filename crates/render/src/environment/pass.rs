@@ -4,8 +4,6 @@
 
 use std::sync::Arc;
 
-use wgpu::util::DeviceExt;
-
 use super::environment_map::{Environment, EnvironmentMaps};
 use crate::error::RenderError;
 use crate::frame_graph::{FrameGraph, PassContext, TextureDesc};
@@ -40,14 +38,7 @@ impl ImagePass {
         params: &[u8],
     ) -> Arc<Self> {
         let id = next_recipe_id();
-        let params = renderer
-            .gpu
-            .device
-            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some(name),
-                contents: params,
-                usage: wgpu::BufferUsages::UNIFORM,
-            });
+        let params = renderer.uniform(owner, name, params);
         Arc::new(ImagePass {
             id,
             owner,

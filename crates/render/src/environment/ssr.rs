@@ -141,13 +141,14 @@ impl Ssr {
             Some(node) => renderer.state::<SsrStore>(u64::from(node)),
             None => Arc::new(SsrStore::default()),
         };
+        // Written each frame; kept under the node so its bind groups are reused.
         let uniform = |label| {
-            renderer.gpu.device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some(label),
-                size: std::mem::size_of::<Params>() as u64,
-                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            })
+            renderer.kept_buffer(
+                owner,
+                label,
+                std::mem::size_of::<Params>() as u64,
+                wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            )
         };
         let key = owner.map_or(format!("recipe{id}"), |n| format!("node{n}"));
         Arc::new(Ssr {

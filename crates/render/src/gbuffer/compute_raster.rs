@@ -51,15 +51,27 @@ pub(crate) struct RasterView<'b> {
     pub two_sided: bool,
 }
 
+/// The rasterizer's buffers, kept by the renderer under the owning node
+/// (`Renderer::state`), so a recipe made again each frame (a moving camera)
+/// reuses them instead of allocating 16 MB at 1080p every frame.
+#[derive(Default)]
+pub(crate) struct RasterTargets(Mutex<Option<Targets>>);
+
 pub(crate) struct ComputeRaster {
     /// Per draw: its uniform and how many triangles it rasterizes.
     batches: Vec<(wgpu::Buffer, u32)>,
     pub first_triangle: wgpu::Buffer,
-    targets: Mutex<Option<Targets>>,
+    targets: std::sync::Arc<RasterTargets>,
 }
 
 impl ComputeRaster {
-    pub(crate) fn new(renderer: &Renderer, draws: &[Draw], instance_count: usize) -> Self {
+    /// `owner`: the node whose recipes share the raster buffers across frames.
+    pub(crate) fn new(
+        renderer: &Renderer,
+        owner: Option<u32>,
+        draws: &[Draw],
+        instance_count: usize,
+    ) -> Self {
         let device = &renderer.gpu.device;
         let mut first_triangle = vec![0u32; instance_count.max(1)];
         let mut global = 0u32;
@@ -93,13 +105,17 @@ impl ComputeRaster {
         ComputeRaster {
             batches,
             first_triangle,
-            targets: Mutex::new(None),
+            targets: match owner {
+                Some(owner) => renderer.state::<RasterTargets>(u64::from(owner)),
+                None => std::sync::Arc::default(),
+            },
         }
     }
 
     /// The visibility buffer of the last frame this G-buffer rasterized.
     pub fn visibility(&self) -> Option<wgpu::Buffer> {
         self.targets
+            .0
             .lock()
             .unwrap_or_else(|e| e.into_inner())
             .as_ref()
@@ -132,7 +148,7 @@ impl ComputeRaster {
     ) -> Result<wgpu::Buffer, RenderError> {
         let device = cx.gpu.device.clone();
         let size = view.size;
-        let mut guard = self.targets.lock().unwrap_or_else(|e| e.into_inner());
+        let mut guard = self.targets.0.lock().unwrap_or_else(|e| e.into_inner());
         if guard.as_ref().is_none_or(|t| t.size != size) {
             let storage = |label: &str, bytes: u64| {
                 device.create_buffer(&wgpu::BufferDescriptor {

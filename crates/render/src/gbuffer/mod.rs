@@ -229,17 +229,20 @@ impl GBuffer {
             gpu_instances.push(bytemuck::Zeroable::zeroed());
         }
         let device = &renderer.gpu.device;
-        let instances = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("mre instances"),
-            contents: bytemuck::cast_slice(&gpu_instances),
-            usage: wgpu::BufferUsages::STORAGE,
-        });
-        let camera_buffer = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("mre camera"),
-            size: std::mem::size_of::<GpuCamera>() as u64,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
+        // Kept under the MRE node across its recipes, so the bind groups of
+        // every pass that reads the camera are reused from frame to frame.
+        let instances = renderer.kept_init(
+            owner,
+            "mre instances",
+            bytemuck::cast_slice(&gpu_instances),
+            wgpu::BufferUsages::STORAGE,
+        );
+        let camera_buffer = renderer.kept_buffer(
+            owner,
+            "mre camera",
+            std::mem::size_of::<GpuCamera>() as u64,
+            wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        );
         let layer_buffers = layer_ranges
             .iter()
             .enumerate()
@@ -262,8 +265,9 @@ impl GBuffer {
             _ if !renderer.gpu.has_compute_raster() => RasterMode::Hardware,
             _ => RasterMode::Compute,
         };
-        let compute = (raster == RasterMode::Compute)
-            .then(|| compute_raster::ComputeRaster::new(renderer, &draws, gpu_instances.len()));
+        let compute = (raster == RasterMode::Compute).then(|| {
+            compute_raster::ComputeRaster::new(renderer, owner, &draws, gpu_instances.len())
+        });
         Arc::new(GBuffer {
             id,
             owner,

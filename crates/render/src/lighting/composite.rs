@@ -10,8 +10,6 @@
 
 use std::sync::Arc;
 
-use wgpu::util::DeviceExt;
-
 use crate::error::RenderError;
 use crate::frame_graph::{FrameGraph, PassContext, TextureDesc};
 use crate::gbuffer::GBuffer;
@@ -126,14 +124,11 @@ impl CompositeLight {
                 0.0
             }
         });
-        let params = renderer
-            .gpu
-            .device
-            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some("composite params"),
-                contents: bytemuck::cast_slice(&[ambient[0], ambient[1], ambient[2], 0.0]),
-                usage: wgpu::BufferUsages::UNIFORM,
-            });
+        let params = renderer.uniform(
+            owner,
+            "composite params",
+            bytemuck::cast_slice(&[ambient[0], ambient[1], ambient[2], 0.0]),
+        );
         Ok(Arc::new(CompositeLight {
             id,
             owner,

@@ -116,12 +116,13 @@ impl CookTorrance {
             contents: bytemuck::cast_slice(&packed),
             usage: wgpu::BufferUsages::STORAGE,
         });
-        let grid = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("cluster grid"),
-            size: 32,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
+        // Written each frame; kept under the node so its bind groups are reused.
+        let grid = renderer.kept_buffer(
+            owner,
+            "cluster grid",
+            32,
+            wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        );
         let sss = materials
             .as_ref()
             .filter(|w| w.union_flags() & (1 << FEATURE_FAKE_SSS) != 0)

@@ -93,12 +93,13 @@ impl Ssgi {
         let id = next_recipe_id();
         let key = owner.map_or(id, u64::from);
         let device = &renderer.gpu.device;
-        let params = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("ssgi params"),
-            size: 64,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
+        // Written each frame; kept under the node so its bind groups are reused.
+        let params = renderer.kept_buffer(
+            owner,
+            "ssgi params",
+            64,
+            wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        );
         let axis = |a: [i32; 4]| {
             device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                 label: Some("ssgi axis"),

@@ -155,12 +155,13 @@ impl AmbientOcclusion {
         // The history outlives recipes: a node makes a new one whenever a pin
         // changes, and its history must carry over. Without a node, per recipe.
         let key = owner.map_or(id, u64::from);
-        let params = renderer.gpu.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("ao params"),
-            size: 64,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
+        // Written each frame; kept under the node so its bind groups are reused.
+        let params = renderer.kept_buffer(
+            owner,
+            "ao params",
+            64,
+            wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        );
         let prefix = format!("ao{id}");
         Arc::new(AmbientOcclusion {
             id,

@@ -76,7 +76,7 @@ impl Autofocus {
             gbuffer,
             point,
             rate: AdaptationSettings::rate(speed, delta),
-            params: super::uniform(&renderer.gpu.device, "autofocus", &[0; 4]),
+            params: super::uniform(renderer, owner, "autofocus", &[0; 4]),
             previous: format!("autofocus{id} previous"),
             output: history,
         })

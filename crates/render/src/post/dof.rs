@@ -171,7 +171,7 @@ impl Dof {
         settings: DofSettings,
     ) -> Arc<Self> {
         let id = next_recipe_id();
-        let params = super::uniform(&renderer.gpu.device, "dof", &[0; 8]);
+        let params = super::uniform(renderer, owner, "dof", &[0; 8]);
         Arc::new(Dof {
             id,
             owner,

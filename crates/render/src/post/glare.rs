@@ -81,7 +81,8 @@ impl Glare {
         let s = settings.clean();
         let norm: f32 = (0..s.levels).map(|i| s.spread.powi(i as i32)).sum();
         let params = super::uniform(
-            &renderer.gpu.device,
+            renderer,
+            owner,
             "glare",
             &super::words(&[
                 s.threshold,

@@ -20,8 +20,6 @@ pub use taa::{Taa, TaaQuality, TaaSettings, is_cut};
 pub use tonemap::{AdaptedExposure, Tonemap};
 pub use transparency::{Transparency, TransparencySettings};
 
-use wgpu::util::DeviceExt;
-
 use crate::error::RenderError;
 use crate::frame_graph::PassContext;
 use crate::shaders::ShaderKey;
@@ -29,13 +27,15 @@ use crate::shaders::ShaderKey;
 /// The largest value the half-float targets are clamped to (65504 overflows).
 pub const HALF_MAX: f32 = 65000.0;
 
-/// A uniform buffer holding `words` (f32 or u32 bits, 16-byte aligned by the caller).
-pub(crate) fn uniform(device: &wgpu::Device, label: &str, words: &[u32]) -> wgpu::Buffer {
-    device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-        label: Some(label),
-        contents: bytemuck::cast_slice(words),
-        usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-    })
+/// A uniform buffer holding `words` (f32 or u32 bits, 16-byte aligned by
+/// the caller), kept for node `owner` across frames ([`Renderer::uniform`]).
+pub(crate) fn uniform(
+    renderer: &crate::renderer::Renderer,
+    owner: Option<u32>,
+    label: &'static str,
+    words: &[u32],
+) -> wgpu::Buffer {
+    renderer.uniform(owner, label, bytemuck::cast_slice(words))
 }
 
 /// One compute entry point of `key` over `size` pixels in 8x8 groups, with

@@ -78,7 +78,8 @@ impl MotionBlur {
         let id = next_recipe_id();
         let s = settings.clean();
         let params = super::uniform(
-            &renderer.gpu.device,
+            renderer,
+            owner,
             "motion blur",
             &super::words(&[
                 s.shutter_angle / 360.0,

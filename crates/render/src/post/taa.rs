@@ -122,7 +122,8 @@ impl Taa {
         // NDC to UV: half the size, y flipped.
         let delta = (settings.jitter - settings.previous_jitter) * Vec2::new(0.5, -0.5);
         let params = super::uniform(
-            &renderer.gpu.device,
+            renderer,
+            owner,
             "taa",
             &super::words(&[
                 delta.x,

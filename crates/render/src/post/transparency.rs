@@ -93,7 +93,8 @@ impl Transparency {
         let direction = settings.light_direction.normalize_or(Vec3::Y);
         let (a, l) = (clean(settings.ambient), clean(settings.light_color));
         let params = super::uniform(
-            device,
+            renderer,
+            owner,
             "transparency",
             &super::words(&[
                 a.x,

@@ -430,7 +430,7 @@ impl ShadowMaps {
                 })
                 .collect();
             (
-                ComputeRaster::new(renderer, &draws, instance_count),
+                ComputeRaster::new(renderer, owner, &draws, instance_count),
                 cameras,
             )
         });

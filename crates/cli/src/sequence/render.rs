@@ -1,0 +1,386 @@
+//! The `render` command: plans which frames to render (skipping complete
+//! ones), evaluates them in order with the preroll each needs, and writes
+//! each output's files atomically or streams them to ffmpeg.
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use anyhow::Context;
+use serde_json::json;
+use spreadlight_graph::format;
+use spreadlight_render::image_io::{encode_image, is_exr};
+
+use super::BadInput;
+use super::evaluate::{Evaluator, Timing};
+use super::files::{is_complete, sweep_partials, write_atomic};
+use super::frames::{FrameRange, Span};
+use super::names::{Target, VideoKind};
+use super::outputs::{Declared, declared};
+use super::progress::{Progress, Status};
+use super::video::Video;
+use crate::session::{Session, parse_size};
+
+#[derive(clap::Args)]
+pub struct Args {
+    /// The patch to render; it needs an `Output` node.
+    pub patch: PathBuf,
+    /// Where frames go: `out/shot_####.exr` (the `#`s pad the frame number; or `{frame}`), PNG or
+    /// EXR (32-bit float) by extension; `out.png` for one frame; `out.mp4` or `out.mov` (ProRes) for
+    /// a video through ffmpeg. `{name}` is the Output's Name; with several Outputs and no `{name}`,
+    /// each sequence goes in a folder named for its Output.
+    #[arg(short, long)]
+    pub output: PathBuf,
+    /// Output size.
+    #[arg(long, default_value = "640x360", value_parser = parse_size)]
+    pub size: (u32, u32),
+    /// The frames to render: FIRST-LAST (inclusive, e.g. 0-239) or one frame.
+    #[arg(long, default_value = "0")]
+    pub frames: Span,
+    /// Render every STEP-th frame of the range (the clock moves STEP frames at a time).
+    #[arg(long, default_value_t = 1)]
+    pub step: u64,
+    /// Frames per second of the clock.
+    #[arg(long, default_value_t = 60.0)]
+    pub fps: f64,
+    /// Frames evaluated, not written, before the first frame rendered, so temporal effects and
+    /// simulations settle as in a run from frame 0 (default: the largest Preroll of the patch's Outputs).
+    #[arg(long)]
+    pub preroll: Option<u64>,
+    /// Sub-frame renders averaged per frame: each at its own instant across the shutter (motion
+    /// blur) with its own sub-pixel camera offset (anti-aliasing).
+    #[arg(long, default_value_t = 1)]
+    pub samples: u32,
+    /// How long the shutter is open with --samples, as a fraction of a frame (0.5: 180 degrees).
+    #[arg(long, default_value_t = 0.5)]
+    pub shutter: f64,
+    /// Render frames of a sequence whose files are complete already (they are skipped
+    /// otherwise; one image and a video are always rendered).
+    #[arg(long)]
+    pub overwrite: bool,
+    /// Render nothing: list which frames are complete and which would be rendered.
+    #[arg(long)]
+    pub dry_run: bool,
+    /// JSON lines on stdout (start, one per frame, errors, done) instead of the progress bar.
+    #[arg(long)]
+    pub json: bool,
+    /// Only the `Output` node of this Name.
+    #[arg(long = "output-name")]
+    pub output_name: Option<String>,
+}
+
+/// Exit codes: 0 every frame written or complete, 1 some frames failed (or
+/// no GPU), 2 bad input (nothing rendered).
+pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
+    match render(args) {
+        Ok(false) => Ok(ExitCode::SUCCESS),
+        Ok(true) => Ok(ExitCode::from(1)),
+        Err(e) if e.downcast_ref::<BadInput>().is_some() => {
+            eprintln!("error: {e:#}");
+            if args.json {
+                println!(
+                    "{}",
+                    json!({"event": "error", "frame": null, "message": format!("{e:#}"), "bad_input": true})
+                );
+            }
+            Ok(ExitCode::from(2))
+        }
+        Err(e) => Err(e),
+    }
+}
+
+fn bad(message: impl Into<String>) -> anyhow::Error {
+    BadInput(message.into()).into()
+}
+
+/// What to render: the checked arguments and the patch's outputs.
+struct Plan {
+    range: FrameRange,
+    target: Target,
+    outputs: Vec<Declared>,
+    preroll: u64,
+    timing: Timing,
+}
+
+impl Plan {
+    fn new(args: &Args) -> anyhow::Result<Plan> {
+        if !(args.fps.is_finite() && args.fps > 0.0) {
+            return Err(bad("--fps must be a positive number"));
+        }
+        if !(0.0..=1.0).contains(&args.shutter) {
+            return Err(bad("--shutter is a fraction of a frame, from 0 to 1"));
+        }
+        if args.samples == 0 {
+            return Err(bad("--samples must be at least 1"));
+        }
+        let range = FrameRange::new(args.frames, args.step).map_err(bad)?;
+        let target = Target::parse(&args.output).map_err(bad)?;
+        if matches!(target, Target::Image(_)) && range.len() > 1 {
+            return Err(bad(format!(
+                "`{}` names one image but --frames {range} is {} frames: add `####` or `{{frame}}` to the name",
+                args.output.display(),
+                range.len()
+            )));
+        }
+        let patch = format::load(&args.patch).map_err(|e| bad(format!("{e:#}")))?;
+        let mut outputs =
+            declared(&patch).map_err(|e| bad(format!("{}: {e}", args.patch.display())))?;
+        let all: Vec<String> = outputs.iter().map(|o| o.name.clone()).collect();
+        if let Some(only) = &args.output_name {
+            outputs.retain(|o| &o.name == only);
+            if outputs.is_empty() {
+                return Err(bad(format!(
+                    "no Output node is named `{only}` (outputs: {})",
+                    all.join(", ")
+                )));
+            }
+        }
+        if outputs.is_empty() {
+            return Err(bad(format!(
+                "{}: the patch has no `Output` node: nothing to render",
+                args.patch.display()
+            )));
+        }
+        let preroll = args
+            .preroll
+            .unwrap_or_else(|| outputs.iter().map(|o| o.preroll).max().unwrap_or(0));
+        let timing = Timing {
+            fps: args.fps,
+            step: args.step,
+            samples: args.samples,
+            shutter: args.shutter,
+        };
+        Ok(Plan {
+            range,
+            target,
+            outputs,
+            preroll,
+            timing,
+        })
+    }
+
+    /// Each output's file of `frame` (the video, for a video).
+    fn files(&self, frame: u64) -> Vec<(String, PathBuf)> {
+        let several = self.outputs.len() > 1;
+        self.outputs
+            .iter()
+            .map(|o| {
+                (
+                    o.name.clone(),
+                    self.target.template().path(&o.name, several, frame),
+                )
+            })
+            .collect()
+    }
+
+    fn names(&self) -> Vec<String> {
+        self.outputs.iter().map(|o| o.name.clone()).collect()
+    }
+
+    fn start_info(&self, args: &Args, todo: usize) -> serde_json::Value {
+        json!({
+            "patch": args.patch.display().to_string(),
+            "first": self.range.first, "last": self.range.last, "step": self.range.step,
+            "size": format!("{}x{}", args.size.0, args.size.1),
+            "fps": args.fps, "samples": args.samples, "preroll": self.preroll,
+            "outputs": self.names(), "to_render": todo,
+        })
+    }
+}
+
+fn shown(files: &[(String, PathBuf)]) -> Vec<(String, String)> {
+    files
+        .iter()
+        .map(|(n, p)| (n.clone(), p.display().to_string()))
+        .collect()
+}
+
+/// Returns whether some frames failed.
+fn render(args: &Args) -> anyhow::Result<bool> {
+    let plan = Plan::new(args)?;
+    match plan.target {
+        Target::Video(_, kind) => render_video(args, &plan, kind),
+        Target::Frames(_) | Target::Image(_) => render_frames(args, &plan),
+    }
+}
+
+/// Open the patch on a GPU; a patch that loads with errors is bad input.
+fn open(args: &Args, plan: &Plan) -> anyhow::Result<Evaluator> {
+    let session = Session::open(&args.patch, true, Some(args.size))?;
+    if session.load_errors {
+        return Err(bad(format!(
+            "{}: the patch has errors (above); fix them first (`spreadlight check`)",
+            args.patch.display()
+        )));
+    }
+    Ok(Evaluator::new(
+        session,
+        plan.timing,
+        plan.names(),
+        args.size,
+        args.patch.clone(),
+    ))
+}
+
+fn render_frames(args: &Args, plan: &Plan) -> anyhow::Result<bool> {
+    let frames: Vec<u64> = plan.range.frames().collect();
+    let targets: Vec<PathBuf> = frames
+        .iter()
+        .flat_map(|&f| plan.files(f).into_iter().map(|(_, p)| p))
+        .collect();
+    let swept = sweep_partials(&targets);
+    // One image is always rendered anew: only a sequence resumes.
+    let overwrite = args.overwrite || matches!(plan.target, Target::Image(_));
+    let (todo, done): (Vec<u64>, Vec<u64>) = frames.iter().partition(|&&f| {
+        overwrite
+            || plan
+                .files(f)
+                .iter()
+                .any(|(_, p)| !is_complete(p, args.size))
+    });
+    let progress = Progress::new(args.json, todo.len() as u64);
+    progress.start(plan.start_info(args, todo.len()));
+    if swept > 0 {
+        progress.note(&format!(
+            "removed {swept} partial file(s) left by killed runs"
+        ));
+    }
+    for &f in &done {
+        progress.frame(f, Status::Skipped, 0.0, &shown(&plan.files(f)));
+    }
+    if args.dry_run || todo.is_empty() {
+        for &f in &todo {
+            progress.frame(f, Status::Missing, 0.0, &shown(&plan.files(f)));
+        }
+        progress
+            .finish(json!({"written": 0, "skipped": done.len(), "failed": [], "missing": todo}));
+        return Ok(false);
+    }
+    let mut evaluator = open(args, plan)?;
+    progress.note(&format!(
+        "rendering {} frame(s) of {} at {}x{} on {}",
+        todo.len(),
+        args.patch.display(),
+        args.size.0,
+        args.size.1,
+        evaluator.adapter()
+    ));
+    let mut failed = Vec::new();
+    let mut next: Option<u64> = None;
+    for &frame in &todo {
+        preroll(&mut evaluator, plan, &mut next, frame);
+        let started = std::time::Instant::now();
+        let files = plan.files(frame);
+        let result = evaluator.frame(frame).and_then(|images| {
+            for (rendered, (_, path)) in images.iter().zip(&files) {
+                let bytes = encode_image(&rendered.image, rendered.encoding, is_exr(path))
+                    .map_err(|e| vec![format!("cannot encode {}: {e}", path.display())])?;
+                write_atomic(path, &bytes)
+                    .map_err(|e| vec![format!("cannot write {}: {e}", path.display())])?;
+            }
+            Ok(())
+        });
+        let seconds = started.elapsed().as_secs_f64();
+        if let Err(errors) = result {
+            for e in &errors {
+                progress.error(
+                    Some(frame),
+                    &format!("frame {frame}: {}", e.trim_start_matches("error: ")),
+                );
+            }
+            failed.push(frame);
+            progress.frame(frame, Status::Failed, seconds, &shown(&files));
+        } else {
+            progress.frame(frame, Status::Written, seconds, &shown(&files));
+        }
+    }
+    let written = todo.len() - failed.len();
+    progress.finish(json!({"written": written, "skipped": done.len(), "failed": failed}));
+    Ok(!failed.is_empty())
+}
+
+/// Evaluate, without writing, the frames `frame` needs before it: its
+/// preroll, or the frames since the last one rendered when that is nearer
+/// (the run stays continuous, as a full run would be).
+fn preroll(evaluator: &mut Evaluator, plan: &Plan, next: &mut Option<u64>, frame: u64) {
+    let start = plan.range.start_for(frame, plan.preroll);
+    let from = match *next {
+        Some(n) if n >= start && n <= frame => n,
+        _ => start,
+    };
+    let mut f = from;
+    while f < frame {
+        // A preroll frame that fails is not this frame's failure: its own evaluation says.
+        let _ = evaluator.frame(f);
+        f += plan.range.step;
+    }
+    *next = Some(frame + plan.range.step);
+}
+
+fn render_video(args: &Args, plan: &Plan, kind: VideoKind) -> anyhow::Result<bool> {
+    // A video is one file, made in one go: it is always rendered anew.
+    let files = plan.files(plan.range.first);
+    let frames: Vec<u64> = plan.range.frames().collect();
+    let progress = Progress::new(args.json, frames.len() as u64);
+    progress.start(plan.start_info(args, frames.len()));
+    if args.dry_run {
+        for &f in &frames {
+            progress.frame(f, Status::Missing, 0.0, &shown(&files));
+        }
+        progress.finish(json!({"written": 0, "skipped": 0, "failed": []}));
+        return Ok(false);
+    }
+    let rate = args.fps / plan.range.step as f64;
+    let mut videos = Vec::new();
+    for (_, path) in &files {
+        match Video::open(path, kind, args.size, rate) {
+            Ok(v) => videos.push(v),
+            Err(e) => {
+                videos.into_iter().for_each(Video::abort);
+                return Err(bad(format!("{e:#}")));
+            }
+        }
+    }
+    let mut evaluator = match open(args, plan) {
+        Ok(e) => e,
+        Err(e) => {
+            videos.into_iter().for_each(Video::abort);
+            return Err(e);
+        }
+    };
+    let mut next = None;
+    for &frame in &frames {
+        preroll(&mut evaluator, plan, &mut next, frame);
+        let started = std::time::Instant::now();
+        let pushed = evaluator.frame(frame).and_then(|images| {
+            for (rendered, video) in images.iter().zip(videos.iter_mut()) {
+                video
+                    .push(&rendered.image, rendered.encoding)
+                    .map_err(|e| vec![format!("{e:#}")])?;
+            }
+            Ok(())
+        });
+        let seconds = started.elapsed().as_secs_f64();
+        if let Err(errors) = pushed {
+            for e in &errors {
+                progress.error(
+                    Some(frame),
+                    &format!("frame {frame}: {}", e.trim_start_matches("error: ")),
+                );
+            }
+            progress.error(
+                Some(frame),
+                "a video cannot skip a frame: the video was not written",
+            );
+            videos.into_iter().for_each(Video::abort);
+            progress.frame(frame, Status::Failed, seconds, &shown(&files));
+            progress.finish(json!({"written": 0, "skipped": 0, "failed": [frame]}));
+            return Ok(true);
+        }
+        progress.frame(frame, Status::Written, seconds, &shown(&files));
+    }
+    for video in videos {
+        video.finish().context("the video")?;
+    }
+    progress.finish(json!({"written": frames.len(), "skipped": 0, "failed": []}));
+    Ok(false)
+}

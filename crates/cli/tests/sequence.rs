@@ -1,0 +1,373 @@
+//! `spreadlight render` as a sequence renderer: frame ranges and name
+//! templates, resuming, atomic files, failing frames, several outputs,
+//! bad input and progress. Renders are 64x36 (lavapipe in CI is slow).
+
+mod support;
+
+use std::path::Path;
+
+use support::*;
+
+const SPHERES: &str = "patches/gbuffer-spheres.ron";
+
+fn render(patch: &str, out: &Path, extra: &[&str]) -> std::process::Output {
+    let mut args = vec![
+        "render",
+        patch,
+        "-o",
+        path(out),
+        "--size",
+        "64x36",
+        "--json",
+    ];
+    args.extend_from_slice(extra);
+    spreadlight(&args)
+}
+
+#[test]
+fn a_range_writes_one_padded_file_per_frame_in_steps() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let out = render(
+        SPHERES,
+        &dir.path().join("shot_####.png"),
+        &["--frames", "2-8", "--step", "3"],
+    );
+    ok(&out);
+    assert_eq!(
+        listing(dir.path()),
+        ["shot_0002.png", "shot_0005.png", "shot_0008.png"]
+    );
+    let written: Vec<(u64, String)> = [2, 5, 8].map(|f| (f, "written".to_owned())).to_vec();
+    assert_eq!(statuses(&out), written);
+    let events = events(&out);
+    assert_eq!(events[0]["event"], "start");
+    assert_eq!(events[0]["outputs"], serde_json::json!(["normals"]));
+    assert_eq!(done(&out)["written"], 3);
+    // Frames move: an animated camera.
+    assert_ne!(
+        std::fs::read(dir.path().join("shot_0002.png")).expect("read"),
+        std::fs::read(dir.path().join("shot_0008.png")).expect("read")
+    );
+
+    let out = render(
+        SPHERES,
+        &dir.path().join("exr/f_{frame}.exr"),
+        &["--frames", "4"],
+    );
+    ok(&out);
+    let image = image::open(dir.path().join("exr/f_00004.exr")).expect("an EXR");
+    assert_eq!((image.width(), image.height()), (64, 36));
+
+    // One image (no frame number in the name) is rendered anew every time.
+    for _ in 0..2 {
+        let out = render(SPHERES, &dir.path().join("one.png"), &["--frames", "4"]);
+        ok(&out);
+        assert_eq!(done(&out)["written"], 1);
+    }
+}
+
+#[test]
+fn a_resumed_run_skips_complete_frames_and_redoes_broken_ones() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let template = dir.path().join("shot_####.png");
+    ok(&render(SPHERES, &template, &["--frames", "0-3"]));
+    let first: Vec<Vec<u8>> = (0..4)
+        .map(|f| std::fs::read(dir.path().join(format!("shot_{f:04}.png"))).expect("read"))
+        .collect();
+
+    // Frame 1 gone, frame 2 cut short, and a killed writer's partial file of frame 3.
+    std::fs::remove_file(dir.path().join("shot_0001.png")).expect("rm");
+    std::fs::write(
+        dir.path().join("shot_0002.png"),
+        &first[2][..first[2].len() / 2],
+    )
+    .expect("cut");
+    let host = std::fs::read_to_string("/proc/sys/kernel/hostname").expect("hostname");
+    let partial = dir
+        .path()
+        .join(format!(".shot_0003.png.{}-4294967295.partial", host.trim()));
+    std::fs::write(&partial, b"half a frame").expect("write");
+
+    let dry = render(SPHERES, &template, &["--frames", "0-3", "--dry-run"]);
+    ok(&dry);
+    let expect = |s: [&str; 4]| -> Vec<(u64, String)> {
+        let mut v: Vec<(u64, String)> = (0..4).map(|f| (f, s[f as usize].to_owned())).collect();
+        v.sort_by_key(|(f, s)| (s != "skipped", *f));
+        v
+    };
+    assert_eq!(
+        statuses(&dry),
+        expect(["skipped", "missing", "missing", "skipped"])
+    );
+
+    let out = render(SPHERES, &template, &["--frames", "0-3"]);
+    ok(&out);
+    assert_eq!(
+        statuses(&out),
+        expect(["skipped", "written", "written", "skipped"])
+    );
+    assert!(!partial.exists(), "the dead writer's partial file is swept");
+    for (f, bytes) in first.iter().enumerate() {
+        let now = std::fs::read(dir.path().join(format!("shot_{f:04}.png"))).expect("read");
+        assert!(&now == bytes, "frame {f} equals the first run's");
+    }
+
+    let out = render(SPHERES, &template, &["--frames", "0-3", "--overwrite"]);
+    ok(&out);
+    assert_eq!(done(&out)["written"], 4);
+}
+
+#[test]
+fn a_killed_run_leaves_only_whole_frames_and_resumes() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let template = dir.path().join("shot_####.png");
+    let mut child = command(&[
+        "render",
+        SPHERES,
+        "-o",
+        path(&template),
+        "--size",
+        "64x36",
+        "--frames",
+        "0-100000",
+    ])
+    .stderr(std::process::Stdio::null())
+    .spawn()
+    .expect("spawn");
+    let started = std::time::Instant::now();
+    while listing(dir.path())
+        .iter()
+        .filter(|n| n.ends_with(".png"))
+        .count()
+        < 4
+    {
+        assert!(started.elapsed().as_secs() < 120, "no frames written");
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    }
+    child.kill().expect("SIGKILL");
+    child.wait().expect("wait");
+    let names = listing(dir.path());
+    let frames: Vec<&String> = names.iter().filter(|n| !n.starts_with('.')).collect();
+    for name in &frames {
+        let image =
+            image::open(dir.path().join(name)).unwrap_or_else(|e| panic!("{name} is whole: {e}"));
+        assert_eq!((image.width(), image.height()), (64, 36));
+    }
+    // Everything else is a partial file, never a frame's own name.
+    assert!(
+        names
+            .iter()
+            .filter(|n| n.starts_with('.'))
+            .all(|n| n.ends_with(".partial")),
+        "{names:?}"
+    );
+
+    let last = frames.len() as u64 + 1;
+    let out = render(SPHERES, &template, &["--frames", &format!("0-{last}")]);
+    ok(&out);
+    assert_eq!(done(&out)["skipped"], frames.len());
+    assert_eq!(done(&out)["written"], 2);
+    for name in listing(dir.path()) {
+        // `.shot_NNNN.png.HOST-PID.partial`
+        let frame: u64 = name.get(6..10).and_then(|f| f.parse().ok()).unwrap_or(0);
+        assert!(
+            !name.starts_with('.') || frame > last,
+            "a partial file of a rendered frame is left: {name}"
+        );
+    }
+}
+
+#[test]
+fn a_failing_frame_is_reported_and_the_rest_go_on() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    // The LFO drives the camera's FOV: from frame 5 on (phase 0.5 at 10 fps) it is out of range.
+    let patch = spheres_variant(
+        dir.path(),
+        "fov.ron",
+        &[
+            ("\"Period\": Float([10.0])", "\"Period\": Float([1.0])"),
+            ("to: (6, \"Yaw\")", "to: (6, \"FOV\")"),
+        ],
+    );
+    let out = render(
+        path(&patch),
+        &dir.path().join("out/f_##.png"),
+        &["--frames", "1-6", "--fps", "10"],
+    );
+    assert_eq!(out.status.code(), Some(1), "{}", text(&out.stderr));
+    assert_eq!(
+        listing(&dir.path().join("out")),
+        ["f_01.png", "f_02.png", "f_03.png", "f_04.png"]
+    );
+    assert_eq!(done(&out)["failed"], serde_json::json!([5, 6]));
+    let errors: Vec<serde_json::Value> = events(&out)
+        .into_iter()
+        .filter(|e| e["event"] == "error")
+        .collect();
+    assert!(
+        errors.iter().any(|e| e["frame"] == 5
+            && e["message"]
+                .as_str()
+                .is_some_and(|m| m.contains("#6") && m.contains("FOV"))),
+        "{errors:?}"
+    );
+    assert!(
+        text(&out.stderr).contains("frame 5:"),
+        "{}",
+        text(&out.stderr)
+    );
+}
+
+#[test]
+fn several_outputs_write_several_sequences_named_by_their_name_pin() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let patch = two_outputs(dir.path());
+    ok(&render(
+        path(&patch),
+        &dir.path().join("a/shot_####.png"),
+        &["--frames", "0-1"],
+    ));
+    assert_eq!(listing(&dir.path().join("a")), ["copy", "normals"]);
+    for name in ["copy", "normals"] {
+        assert_eq!(
+            listing(&dir.path().join("a").join(name)),
+            ["shot_0000.png", "shot_0001.png"]
+        );
+    }
+    ok(&render(
+        path(&patch),
+        &dir.path().join("b/{name}_##.png"),
+        &["--frames", "3"],
+    ));
+    assert_eq!(
+        listing(&dir.path().join("b")),
+        ["copy_03.png", "normals_03.png"]
+    );
+    ok(&render(
+        path(&patch),
+        &dir.path().join("c/s_#.png"),
+        &["--frames", "3", "--output-name", "copy"],
+    ));
+    assert_eq!(listing(&dir.path().join("c")), ["s_3.png"]);
+}
+
+#[test]
+fn bad_input_exits_2_naming_what_is_wrong() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let o = |name: &str| dir.path().join(name).to_string_lossy().into_owned();
+    let cases: [(Vec<String>, &str); 7] = [
+        (vec![SPHERES.into(), "-o".into(), o("x.jpg")], ".png, .exr"),
+        (
+            vec![
+                SPHERES.into(),
+                "-o".into(),
+                o("x.png"),
+                "--frames".into(),
+                "0-3".into(),
+            ],
+            "add `####`",
+        ),
+        (
+            vec![
+                SPHERES.into(),
+                "-o".into(),
+                o("x_#.png"),
+                "--frames".into(),
+                "5-2".into(),
+            ],
+            "before the first",
+        ),
+        (
+            vec!["patches/no-such.ron".into(), "-o".into(), o("x.png")],
+            "no-such.ron",
+        ),
+        (
+            vec!["patches/lfo-sine.ron".into(), "-o".into(), o("x.png")],
+            "no `Output` node",
+        ),
+        (
+            vec![
+                "patches/bad/01-malformed-ron.ron".into(),
+                "-o".into(),
+                o("x.png"),
+            ],
+            "01-malformed-ron.ron",
+        ),
+        (
+            vec![
+                SPHERES.into(),
+                "-o".into(),
+                o("x.png"),
+                "--output-name".into(),
+                "nope".into(),
+            ],
+            "`nope`",
+        ),
+    ];
+    for (args, says) in cases {
+        let mut all = vec!["render".to_owned()];
+        all.extend(args);
+        let all: Vec<&str> = all.iter().map(String::as_str).collect();
+        let out = spreadlight(&all);
+        assert_eq!(out.status.code(), Some(2), "{all:?}: {}", text(&out.stderr));
+        assert!(
+            text(&out.stderr).contains(says),
+            "{all:?} should say {says}: {}",
+            text(&out.stderr)
+        );
+    }
+    // A patch that loads with errors renders nothing.
+    let broken = spheres_variant(
+        dir.path(),
+        "broken.ron",
+        &[("to: (9, \"Texture\")", "to: (9, \"Nope\")")],
+    );
+    let out = spreadlight(&["render", path(&broken), "-o", &o("y.png")]);
+    assert_eq!(out.status.code(), Some(2), "{}", text(&out.stderr));
+    assert!(
+        text(&out.stderr).contains("Nope") && text(&out.stderr).contains("the patch has errors"),
+        "{}",
+        text(&out.stderr)
+    );
+    assert_eq!(
+        listing(dir.path()),
+        ["broken.ron"],
+        "bad input writes nothing"
+    );
+}
+
+#[test]
+fn a_terminal_gets_a_progress_bar_and_a_pipe_gets_lines() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let out = spreadlight(&[
+        "render",
+        SPHERES,
+        "-o",
+        path(&dir.path().join("p_#.png")),
+        "--size",
+        "64x36",
+        "--frames",
+        "0-2",
+    ]);
+    ok(&out);
+    let err = text(&out.stderr);
+    assert!(
+        err.contains("frame 2: wrote") && err.contains("3 written, 0 skipped"),
+        "{err}"
+    );
+
+    // `script` gives the command a terminal: indicatif draws its bar there.
+    let render = format!(
+        "{} render {SPHERES} -o {} --size 64x36 --frames 0-2 --overwrite",
+        env!("CARGO_BIN_EXE_spreadlight"),
+        path(&dir.path().join("p_#.png"))
+    );
+    let out = std::process::Command::new("script")
+        .args(["-qec", &render, "/dev/null"])
+        .current_dir(root())
+        .output()
+        .expect("script (util-linux) runs");
+    ok(&out);
+    let tty = text(&out.stdout);
+    assert!(tty.contains("frames") && tty.contains("ETA"), "{tty}");
+}

@@ -1,0 +1,455 @@
+//! Nodes that watch a signal over frames: `Change`, `TogEdge`, `FlipFlop`,
+//! `Toggle`, `Counter`, `MonoFlop`.
+//!
+//! They are state-correct under the runtime's reuse rule: they react to
+//! edges (a slice that changed since their last evaluation), which only
+//! happen when an input changed, so being reused is right; a one-frame pulse
+//! (`Change`, `TogEdge`, Counter's Overflow) or a timed state (`MonoFlop`)
+//! asks to run again next frame to end itself.
+
+use spreadlight_graph::spread::{slice_count, wrapped};
+use spreadlight_graph::{EnumDef, EvalContext, Node, NodeDef, NodeError, Registry, SliceValue};
+
+const ANIMATION: &str = "Animation";
+
+/// What `Counter` does at its range's ends.
+pub static COUNTER_MODE: EnumDef = EnumDef {
+    name: "Counter Mode",
+    options: &["Wrap", "Clamp", "Unlimited"],
+};
+
+pub fn register(r: &mut Registry) {
+    r.add(change::<f32>("Change (Animation)", 0.0));
+    r.add(change::<String>("Change (String)", String::new()));
+    r.add(
+        NodeDef::new(
+            "TogEdge (Animation)",
+            ANIMATION,
+            "Up Edge is true for the one frame in which a slice of Input turns on, Down Edge \
+             for the one in which it turns off. A slice starts off.",
+        )
+        .input("Input", false)
+        .output::<bool>("Up Edge")
+        .output::<bool>("Down Edge")
+        .construct(|| TogEdge { last: Vec::new() }),
+    );
+    r.add(
+        NodeDef::new(
+            "FlipFlop (Animation)",
+            ANIMATION,
+            "Per slice, Output turns on while Set is on and off while Reset is on, and keeps its \
+             state otherwise (Reset wins when both are on). Inverse Output is its opposite.",
+        )
+        .input("Set", false)
+        .input("Reset", false)
+        .output::<bool>("Output")
+        .output::<bool>("Inverse Output")
+        .construct(|| FlipFlop { state: Vec::new() }),
+    );
+    r.add(
+        NodeDef::new(
+            "Toggle (Animation)",
+            ANIMATION,
+            "Per slice, Output flips each time Input turns on (a held Input flips once). Reset \
+             turns it off.",
+        )
+        .input("Input", false)
+        .input("Reset", false)
+        .output::<bool>("Output")
+        .construct(|| Toggle {
+            state: Vec::new(),
+            last: Vec::new(),
+        }),
+    );
+    r.add(
+        NodeDef::new(
+            "Counter (Animation)",
+            ANIMATION,
+            "Per slice, counts up by Increment each time Up turns on and down each time Down \
+             turns on (a held pin counts once: a bang or a key press counts one). Mode says what \
+             happens past [Minimum, Maximum]: Wrap starts again at the other end, Clamp stops, \
+             Unlimited ignores the range. Overflow is true in the frame the count wrapped or hit \
+             an end. Reset sets the count to Default.",
+        )
+        .input("Up", false)
+        .input("Down", false)
+        .input("Increment", 1i64)
+        .input("Minimum", 0i64)
+        .input("Maximum", 10i64)
+        .input("Default", 0i64)
+        .input_enum("Mode", &COUNTER_MODE, "Wrap")
+        .input("Reset", false)
+        .output::<i64>("Output")
+        .output::<bool>("Overflow")
+        .construct(Counter::default),
+    );
+    r.add(
+        NodeDef::new(
+            "MonoFlop (Animation)",
+            ANIMATION,
+            "Per slice, Output turns on when Set turns on and off again Time seconds later. \
+             Retriggerable: a new Set while on starts the time again; otherwise it is ignored.",
+        )
+        .input("Set", false)
+        .input("Time", 1.0f32)
+        .input("Retriggerable", false)
+        .output::<bool>("Output")
+        .construct(|| MonoFlop {
+            until: Vec::new(),
+            last: Vec::new(),
+        }),
+    );
+}
+
+/// Per slice: whether `now` turned on since `last` (a new slice starts off). Updates `last`.
+fn rising_edges(last: &mut Vec<bool>, now: &[bool], n: usize) -> Vec<bool> {
+    last.resize(n, false);
+    last.iter_mut()
+        .enumerate()
+        .map(|(i, was)| {
+            let is = *wrapped(now, i);
+            std::mem::replace(was, is) != is && is
+        })
+        .collect()
+}
+
+fn change<T: SliceValue + PartialEq>(name: &'static str, default: T) -> NodeDef {
+    NodeDef::new(
+        name,
+        ANIMATION,
+        "True, per slice, for the one frame in which Input's slice differs from what it was \
+         the frame before (a slice that appears counts as changed; the first frame does not).",
+    )
+    .input("Input", default)
+    .output::<bool>("Output")
+    .construct(|| Change::<T> { last: None })
+}
+
+struct Change<T> {
+    last: Option<Vec<T>>,
+}
+
+impl<T: SliceValue + PartialEq> Node for Change<T> {
+    fn evaluate(&mut self, cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
+        let input = cx.slices::<T>(0)?;
+        let out: Vec<bool> = match &self.last {
+            None => vec![false; input.len()],
+            Some(last) => input
+                .iter()
+                .enumerate()
+                .map(|(i, v)| last.get(i) != Some(v))
+                .collect(),
+        };
+        self.last = Some(input.to_vec());
+        if out.contains(&true) {
+            // The pulse lasts one frame: run again to end it even if nothing changes.
+            cx.reevaluate_next_frame();
+        }
+        cx.set(0, out);
+        Ok(())
+    }
+}
+
+struct TogEdge {
+    last: Vec<bool>,
+}
+
+impl Node for TogEdge {
+    fn evaluate(&mut self, cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
+        let input = cx.slices::<bool>(0)?;
+        let before = {
+            let mut b = self.last.clone();
+            b.resize(input.len(), false);
+            b
+        };
+        let up = rising_edges(&mut self.last, input, input.len());
+        let down: Vec<bool> = before.iter().zip(input).map(|(&b, &i)| b && !i).collect();
+        if up.contains(&true) || down.contains(&true) {
+            cx.reevaluate_next_frame();
+        }
+        cx.set(0, up);
+        cx.set(1, down);
+        Ok(())
+    }
+}
+
+struct FlipFlop {
+    state: Vec<bool>,
+}
+
+impl Node for FlipFlop {
+    fn evaluate(&mut self, cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
+        let (set, reset) = (cx.slices::<bool>(0)?, cx.slices::<bool>(1)?);
+        let n = slice_count([set.len(), reset.len()]);
+        self.state.resize(n, false);
+        for (i, s) in self.state.iter_mut().enumerate() {
+            if *wrapped(reset, i) {
+                *s = false;
+            } else if *wrapped(set, i) {
+                *s = true;
+            }
+        }
+        cx.set(0, self.state.clone());
+        cx.set(1, self.state.iter().map(|s| !s).collect());
+        Ok(())
+    }
+}
+
+struct Toggle {
+    state: Vec<bool>,
+    last: Vec<bool>,
+}
+
+impl Node for Toggle {
+    fn evaluate(&mut self, cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
+        let (input, reset) = (cx.slices::<bool>(0)?, cx.slices::<bool>(1)?);
+        let n = slice_count([input.len(), reset.len()]);
+        let edges = rising_edges(&mut self.last, input, n);
+        self.state.resize(n, false);
+        for (i, s) in self.state.iter_mut().enumerate() {
+            if *wrapped(reset, i) {
+                *s = false;
+            } else if edges[i] {
+                *s = !*s;
+            }
+        }
+        cx.set(0, self.state.clone());
+        Ok(())
+    }
+}
+
+#[derive(Default)]
+struct Counter {
+    counts: Vec<i64>,
+    up: Vec<bool>,
+    down: Vec<bool>,
+    overflowed: bool,
+}
+
+/// One counting step: `count + step` with the range rule; returns the new count and whether it overflowed.
+fn count_step(count: i64, step: i64, min: i64, max: i64, mode: &str) -> (i64, bool) {
+    let (lo, hi) = (min.min(max), min.max(max));
+    let next = count.saturating_add(step);
+    match mode {
+        "Unlimited" => (next, false),
+        "Clamp" => (next.clamp(lo, hi), next < lo || next > hi),
+        _ => {
+            let span = i128::from(hi) - i128::from(lo) + 1;
+            let wrapped = (i128::from(next) - i128::from(lo)).rem_euclid(span) + i128::from(lo);
+            (wrapped as i64, next < lo || next > hi)
+        }
+    }
+}
+
+impl Node for Counter {
+    fn evaluate(&mut self, cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
+        let (up, down) = (cx.slices::<bool>(0)?, cx.slices::<bool>(1)?);
+        let ints: [&[i64]; 4] = [
+            cx.slices::<i64>(2)?,
+            cx.slices::<i64>(3)?,
+            cx.slices::<i64>(4)?,
+            cx.slices::<i64>(5)?,
+        ];
+        let modes = cx.enum_slices(6)?;
+        if let Some(bad) = modes.iter().find(|m| COUNTER_MODE.index_of(m).is_none()) {
+            return Err(cx.input_error(6, format!("`{bad}` is not a counter mode")));
+        }
+        let reset = cx.slices::<bool>(7)?;
+        let n = slice_count(
+            [up.len(), down.len(), modes.len(), reset.len()]
+                .into_iter()
+                .chain(ints.iter().map(|s| s.len())),
+        );
+        let ups = rising_edges(&mut self.up, up, n);
+        let downs = rising_edges(&mut self.down, down, n);
+        let mut overflow = vec![false; n];
+        let old = self.counts.len();
+        for i in 0..n {
+            let [inc, min, max, default] = ints.map(|s| *wrapped(s, i));
+            if i >= old {
+                self.counts.push(default);
+            }
+            if *wrapped(reset, i) {
+                self.counts[i] = default;
+                continue;
+            }
+            let mode = wrapped(modes, i).as_str();
+            for (edge, step) in [(ups[i], inc), (downs[i], inc.saturating_neg())] {
+                if edge {
+                    let (c, o) = count_step(self.counts[i], step, min, max, mode);
+                    self.counts[i] = c;
+                    overflow[i] |= o;
+                }
+            }
+        }
+        self.counts.truncate(n);
+        // Overflow is a one-frame pulse; run again to clear it.
+        self.overflowed = overflow.contains(&true);
+        if self.overflowed {
+            cx.reevaluate_next_frame();
+        }
+        cx.set(0, self.counts.clone());
+        cx.set(1, overflow);
+        Ok(())
+    }
+}
+
+struct MonoFlop {
+    /// Per slice, the clock time at which it turns off (None: off).
+    until: Vec<Option<f64>>,
+    last: Vec<bool>,
+}
+
+impl Node for MonoFlop {
+    fn evaluate(&mut self, cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
+        let (set, time, retrigger) = (
+            cx.slices::<bool>(0)?,
+            cx.slices::<f32>(1)?,
+            cx.slices::<bool>(2)?,
+        );
+        let n = slice_count([set.len(), time.len(), retrigger.len()]);
+        let edges = rising_edges(&mut self.last, set, n);
+        self.until.resize(n, None);
+        let now = cx.clock.time;
+        let mut out = Vec::with_capacity(n);
+        for (i, until) in self.until.iter_mut().enumerate() {
+            // A microsecond of slack, so that frame times summed in floating point end on time.
+            if until.is_some_and(|t| now + 1e-6 >= t) {
+                *until = None;
+            }
+            if edges[i] && (until.is_none() || *wrapped(retrigger, i)) {
+                let duration = f64::from(*wrapped(time, i)).max(0.0);
+                *until = Some(now + duration).filter(|_| duration > 0.0);
+            }
+            out.push(until.is_some());
+        }
+        if out.contains(&true) {
+            // Turning off is a matter of time, not of inputs.
+            cx.reevaluate_next_frame();
+        }
+        cx.set(0, out);
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use spreadlight_graph::NodeRun;
+
+    use crate::testing::{Harness, floats, ints, option};
+
+    #[test]
+    fn change_pulses_for_one_frame() {
+        let mut h = Harness::new("Change (Animation)");
+        h.set("Input", floats(&[1.0, 2.0]));
+        assert_eq!(h.next::<bool>("Output"), [false, false]);
+        h.set("Input", floats(&[1.0, 3.0]));
+        assert_eq!(h.next::<bool>("Output"), [false, true]);
+        // Nothing changes upstream, but the pulse must end.
+        assert_eq!(h.next::<bool>("Output"), [false, false]);
+        assert_eq!(h.step(), NodeRun::Reused);
+    }
+
+    #[test]
+    fn togedge_and_toggle_see_edges_once() {
+        let mut edge = Harness::new("TogEdge (Animation)");
+        let mut toggle = Harness::new("Toggle (Animation)");
+        let mut frames = Vec::new();
+        for input in [false, true, true, true, false, false, true] {
+            edge.set("Input", vec![input]);
+            toggle.set("Input", vec![input]);
+            edge.step();
+            frames.push((
+                edge.out::<bool>("Up Edge")[0],
+                edge.out::<bool>("Down Edge")[0],
+                toggle.next::<bool>("Output")[0],
+            ));
+        }
+        assert_eq!(
+            frames,
+            [
+                (false, false, false),
+                (true, false, true),
+                (false, false, true),
+                (false, false, true),
+                (false, true, true),
+                (false, false, true),
+                (true, false, false),
+            ]
+        );
+    }
+
+    #[test]
+    fn flipflop_holds_between_set_and_reset() {
+        let mut h = Harness::new("FlipFlop (Animation)");
+        let mut seen = Vec::new();
+        for (set, reset) in [
+            (false, false),
+            (true, false),
+            (false, false),
+            (false, true),
+            (true, true),
+            (false, false),
+        ] {
+            h.set("Set", vec![set]).set("Reset", vec![reset]);
+            seen.push(h.next::<bool>("Output")[0]);
+        }
+        assert_eq!(seen, [false, true, true, false, false, false]);
+        assert_eq!(h.step(), NodeRun::Reused);
+        assert_eq!(h.out::<bool>("Inverse Output"), [true]);
+    }
+
+    #[test]
+    fn counter_counts_edges_and_wraps() {
+        let mut h = Harness::new("Counter (Animation)");
+        h.set("Maximum", ints(&[2]));
+        let mut seen = Vec::new();
+        for up in [true, false, true, true, false, true, false, true] {
+            h.set("Up", vec![up]);
+            h.step();
+            seen.push((h.out::<i64>("Output")[0], h.out::<bool>("Overflow")[0]));
+        }
+        // Edges at frames 0, 2, 5, 7: 1, 2, wrap to 0, 1. A held Up (frame 3) counts once.
+        assert_eq!(
+            seen,
+            [
+                (1, false),
+                (1, false),
+                (2, false),
+                (2, false),
+                (2, false),
+                (0, true),
+                (0, false),
+                (1, false)
+            ]
+        );
+        h.set("Mode", option("Clamp")).set("Up", vec![false]);
+        h.step();
+        for _ in 0..3 {
+            h.set("Up", vec![true]);
+            h.step();
+            h.set("Up", vec![false]);
+            h.step();
+        }
+        assert_eq!(h.out::<i64>("Output"), [2]);
+        h.set("Down", vec![true]);
+        assert_eq!(h.next::<i64>("Output"), [1]);
+        h.set("Reset", vec![true]);
+        assert_eq!(h.next::<i64>("Output"), [0]);
+    }
+
+    #[test]
+    fn monoflop_turns_itself_off_in_time() {
+        let mut h = Harness::new("MonoFlop (Animation)");
+        // 60 fps: 0.05 s is three frames.
+        h.set("Time", floats(&[0.05]));
+        assert_eq!(h.next::<bool>("Output"), [false]);
+        h.set("Set", vec![true]);
+        let mut seen = Vec::new();
+        for _ in 0..6 {
+            seen.push(h.next::<bool>("Output")[0]);
+        }
+        assert_eq!(seen, [true, true, true, false, false, false]);
+        assert_eq!(h.step(), NodeRun::Reused);
+    }
+}
