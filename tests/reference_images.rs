@@ -148,3 +148,32 @@ fn shader_node_examples() {
         );
     }
 }
+
+/// Particles in a curl-noise field (issue 17): lit by the sun, casting its
+/// shadow, motion-blurred through Velocity From Geometry; frame 30 of a
+/// fixed seed at 60 fps, so the same particles every run.
+#[test]
+fn particles_in_a_curl_noise_field() {
+    check(
+        "particles",
+        "patches/particles.ron",
+        "particles",
+        (160, 90),
+        30,
+    );
+}
+
+/// The GPU geometry nodes (issue 17): a sphere PN-tessellated, its faces
+/// extruded by a spread of amounts, then spherized by an LFO (so it deforms,
+/// with velocity from geometry into MotionBlur), a tube and a subdivided
+/// ribbon along splines, lit and shadowed; frame 20.
+#[test]
+fn geometry_nodes_extrude_and_spherize() {
+    check(
+        "geometry",
+        "patches/geometry.ron",
+        "geometry",
+        (160, 90),
+        20,
+    );
+}

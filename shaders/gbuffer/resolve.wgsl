@@ -28,7 +28,8 @@ struct Layer {
     end_instance: u32,
     // 1 for the first layer: it also clears the pixels no layer covers.
     write_background: u32,
-    _pad: u32,
+    // 1: add the triangle's geometry id (its first vertex's previous_position.w) to the object id.
+    geometry_ids: u32,
 }
 
 @group(0) @binding(0) var<uniform> camera: Camera;
@@ -281,7 +282,8 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     albedo *= max(sample_map(material, MAP_BASE_COLOR, coords, vec4<f32>(1.0)).rgb, vec3<f32>(0.0));
 #endif
     textureStore(out_color, pixel, vec4<f32>(albedo, id_to_channel(instance.info.z)));
-    textureStore(out_normal, pixel, vec4<f32>(normal_view, id_to_channel(instance.info.w)));
+    let geometry_id = select(0u, u32(max(v0.previous_position.w, 0.0)), layer.geometry_ids == 1u);
+    textureStore(out_normal, pixel, vec4<f32>(normal_view, id_to_channel(instance.info.w + geometry_id)));
     textureStore(out_depth, pixel, vec4<f32>(bitcast<f32>(hit.z), 0.0, 0.0, 0.0));
 #endif
 }

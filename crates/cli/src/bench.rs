@@ -191,6 +191,9 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
     } else {
         Recording::Isolated
     });
+    // Geometry and particle passes run as their nodes evaluate: time them too.
+    let geometry = spreadlight_render::geometry::GeometryStats::of(&renderer);
+    geometry.set_timing(true);
     let mut reported = Default::default();
     let mut series = Series::default();
     // Per pass position (frames render the same passes in the same order).
@@ -203,6 +206,7 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
             bail!("frame {frame} failed (errors above)");
         }
         let wall_ms = started.elapsed().as_secs_f64() * 1e3;
+        let geometry_ms = geometry.take_gpu_ms();
         if frame < args.warmup {
             continue;
         }
@@ -213,7 +217,7 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
         series.record.push(report.record_ms);
         series.eval.push((cpu - report.record_ms).max(0.0));
         if let Some(span) = report.gpu_frame_ms {
-            series.gpu.push(span);
+            series.gpu.push(span + geometry_ms);
             if let Some(sum) = report.gpu_ms {
                 series.idle.push((span - sum).max(0.0));
             }
@@ -224,6 +228,13 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
             }
             if let Some(ms) = p.gpu_ms {
                 passes[k].2.push(ms);
+            }
+        }
+        if renderer.gpu.has_timestamps() {
+            const GEOMETRY: &str = "geometry and particles (compute)";
+            match passes.iter_mut().find(|p| p.0 == GEOMETRY) {
+                Some(p) => p.2.push(geometry_ms),
+                None => passes.push((GEOMETRY.to_owned(), None, vec![geometry_ms])),
             }
         }
     }

@@ -16,6 +16,7 @@ pub const GPU_CATEGORIES: &[&str] = &[
     "Post",
     "Material",
     "Environment",
+    "Particles",
 ];
 
 /// The renderer the host provided, or an error that says how to get one.

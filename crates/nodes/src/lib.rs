@@ -48,6 +48,7 @@ pub mod logic;
 pub mod material;
 pub mod osc;
 pub mod output;
+pub mod particles;
 pub mod post;
 pub mod shader_nodes;
 pub mod spreads;
@@ -89,5 +90,6 @@ pub fn registry() -> Registry {
     shader_nodes::register(&mut r);
     // The IOBoxes that make a subpatch's pins (spreadlight_graph::subpatch).
     spreadlight_graph::subpatch::register(&mut r);
+    particles::register(&mut r);
     r
 }

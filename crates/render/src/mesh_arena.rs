@@ -14,7 +14,9 @@ use crate::context::GpuContext;
 use crate::error::RenderError;
 use crate::mesh::{Aabb, MeshData};
 
-/// 64 bytes; matches `Vertex` in shaders/lib/mesh.wgsl.
+/// 64 bytes; matches `Vertex` in shaders/lib/mesh.wgsl. `previous_position`
+/// holds last frame's object-space position (xyz) and a geometry id (w, an
+/// integer as a float: Emeshe's "Instance from GeomFX", 0 for uploaded meshes).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub struct GpuVertex {
@@ -50,6 +52,17 @@ pub struct GpuMesh {
     pub has_uvs: bool,
     pub has_tangents: bool,
     pub has_previous_positions: bool,
+    /// The ranges the allocator handed out (an empty mesh still holds one element of each).
+    allocated: (Range<u32>, Range<u32>),
+}
+
+/// What a mesh made on the GPU carries, known before its pass runs.
+#[derive(Clone, Copy, Debug)]
+pub struct MeshLayout {
+    /// Conservative bounds (shadow maps fit their views to them).
+    pub bounds: Aabb,
+    pub has_uvs: bool,
+    pub has_tangents: bool,
 }
 
 impl std::fmt::Debug for GpuMesh {
@@ -66,8 +79,8 @@ impl std::fmt::Debug for GpuMesh {
 impl Drop for GpuMesh {
     fn drop(&mut self) {
         let mut inner = self.arena.lock().unwrap_or_else(|e| e.into_inner());
-        inner.vertex_alloc.free_range(self.vertices.clone());
-        inner.index_alloc.free_range(self.indices.clone());
+        inner.vertex_alloc.free_range(self.allocated.0.clone());
+        inner.index_alloc.free_range(self.allocated.1.clone());
     }
 }
 
@@ -111,6 +124,69 @@ impl MeshArena {
     }
 
     pub fn upload(&self, gpu: &GpuContext, mesh: &MeshData) -> Result<Arc<GpuMesh>, RenderError> {
+        self.upload_inner(gpu, mesh, None)
+    }
+
+    /// Uploads an animated mesh: `previous` holds each vertex's position last
+    /// frame (xyz) and its geometry id (w, a whole number), so `Velocity: From
+    /// Geometry` sees its deformation and "Instance from GeomFX" its ids.
+    pub fn upload_with_previous(
+        &self,
+        gpu: &GpuContext,
+        mesh: &MeshData,
+        previous: &[[f32; 4]],
+    ) -> Result<Arc<GpuMesh>, RenderError> {
+        if previous.len() != mesh.positions.len()
+            || !previous.iter().flatten().all(|x| x.is_finite())
+        {
+            return Err(RenderError::Pass {
+                pass: "mesh upload".to_owned(),
+                message: format!(
+                    "previous positions must be {} finite points, one per vertex (got {})",
+                    mesh.positions.len(),
+                    previous.len()
+                ),
+            });
+        }
+        self.upload_inner(gpu, mesh, Some(previous))
+    }
+
+    /// Reserves room for a mesh that a compute pass will write (GPU geometry):
+    /// nothing is uploaded. The caller writes every vertex and index in range.
+    pub fn allocate(
+        &self,
+        gpu: &GpuContext,
+        vertex_count: u32,
+        index_count: u32,
+        layout: MeshLayout,
+    ) -> Result<Arc<GpuMesh>, RenderError> {
+        let mut inner = self.inner.lock().unwrap_or_else(|e| e.into_inner());
+        let vertex_range = allocate(gpu, &mut inner, vertex_count.max(1), Stream::Vertices)?;
+        let index_range = match allocate(gpu, &mut inner, index_count.max(1), Stream::Indices) {
+            Ok(r) => r,
+            Err(e) => {
+                inner.vertex_alloc.free_range(vertex_range);
+                return Err(e);
+            }
+        };
+        Ok(Arc::new(GpuMesh {
+            arena: self.inner.clone(),
+            vertices: vertex_range.start..vertex_range.start + vertex_count,
+            indices: index_range.start..index_range.start + index_count,
+            allocated: (vertex_range, index_range),
+            bounds: layout.bounds,
+            has_uvs: layout.has_uvs,
+            has_tangents: layout.has_tangents,
+            has_previous_positions: true,
+        }))
+    }
+
+    fn upload_inner(
+        &self,
+        gpu: &GpuContext,
+        mesh: &MeshData,
+        previous: Option<&[[f32; 4]]>,
+    ) -> Result<Arc<GpuMesh>, RenderError> {
         mesh.validate().map_err(|e| RenderError::Pass {
             pass: "mesh upload".to_owned(),
             message: e.to_string(),
@@ -128,7 +204,10 @@ impl MeshArena {
                     position_u: [p[0], p[1], p[2], uv[0]],
                     normal_v: [n[0], n[1], n[2], uv[1]],
                     tangent: t,
-                    previous_position: [p[0], p[1], p[2], 1.0],
+                    previous_position: match previous {
+                        Some(before) => before[i],
+                        None => [p[0], p[1], p[2], 0.0],
+                    },
                 }
             })
             .collect();
@@ -161,12 +240,13 @@ impl MeshArena {
         }
         Ok(Arc::new(GpuMesh {
             arena: self.inner.clone(),
-            vertices: vertex_range,
+            vertices: vertex_range.clone(),
             indices: index_range.start..index_range.start + index_count,
+            allocated: (vertex_range, index_range),
             bounds: mesh.bounds,
             has_uvs: mesh.uvs.is_some(),
             has_tangents: mesh.tangents.is_some(),
-            has_previous_positions: false,
+            has_previous_positions: previous.is_some(),
         }))
     }
 }

@@ -101,6 +101,7 @@ pub const SHADERS: &[ShaderFile] = &[
     shader!("lib/packing.wgsl", library),
     shader!("lib/camera.wgsl", library),
     shader!("lib/mesh.wgsl", library),
+    shader!("lib/geometry.wgsl", library),
     shader!("lib/brdf.wgsl", library),
     shader!("lib/lights.wgsl", library),
     shader!("lib/tonemap.wgsl", library),
@@ -113,6 +114,15 @@ pub const SHADERS: &[ShaderFile] = &[
     shader!("lib/post.wgsl", library),
     shader!("lighting/shadow_sampling.wgsl", library),
     shader!("gbuffer/visibility.wgsl", ["ALPHA_MASK"]),
+    shader!("geometry/spherize.wgsl", []),
+    shader!("geometry/extrude.wgsl", []),
+    shader!("geometry/pn_triangles.wgsl", ["FLAT"]),
+    shader!("geometry/spline.wgsl", ["RIBBON"]),
+    shader!(
+        "particles/simulate.wgsl",
+        ["FIELD_TEXTURE", "MESH_EMITTER", "DEPTH_COLLISION"]
+    ),
+    shader!("particles/draw.wgsl", ["SPRITES"]),
     shader!("gbuffer/raster.wgsl", ["TWO_SIDED"]),
     shader!(
         "gbuffer/resolve.wgsl",

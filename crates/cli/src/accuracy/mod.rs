@@ -6,7 +6,9 @@
 //!
 
 mod ao;
+mod geometry;
 pub(crate) mod metrics;
+mod particles;
 pub(crate) mod plot;
 mod post;
 mod reflection;
@@ -57,6 +59,10 @@ enum What {
     Reflection(reflection::ReflectionArgs),
     /// Post effects (DOF, MotionBlur, TAA, FXAA) by quality: GPU time against error versus brute-force references.
     Post(post::PostArgs),
+    /// Particle integrators (explicit Euler vs exponential) per time step: error against a small-step reference, GPU ms a step.
+    Particles(particles::ParticleArgs),
+    /// Tessellation (Subdivide, PN Triangles) by level: error against the analytic sphere and torus, GPU ms on a 100k-triangle mesh.
+    Geometry(geometry::GeometryArgs),
 }
 
 pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
@@ -65,6 +71,8 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
         What::Ao(a) => ao::run(a),
         What::Reflection(a) => reflection::run(a),
         What::Post(a) => post::run_post(a),
+        What::Particles(a) => particles::run_particles(a),
+        What::Geometry(a) => geometry::run_geometry(a),
     }
 }
 

@@ -35,6 +35,7 @@ const VELOCITY_PIN: usize = 9;
 const IDS: usize = 10;
 const COLOR_TEXTURE: usize = 11;
 const MATERIAL_WORLD: usize = 12;
+const GEOMETRY_IDS: usize = 13;
 
 pub fn register(r: &mut Registry) {
     r.add(
@@ -47,7 +48,9 @@ pub fn register(r: &mut Registry) {
              surface's UV (needs Texture Coordinates or Triplanar). Color's alpha is opacity for Transparency only: \
              the G-buffer keeps the material id there. Normal Mapping reads the mesh's UVs unless Triplanar is on. \
              Material World: the MaterialBuffer the Material IDs index, needed where materials have surface maps (glTF \
-             textures, alpha modes, double-sided): the G-buffer samples them per pixel, trilinear and anisotropic.",
+             textures, alpha modes, double-sided): the G-buffer samples them per pixel, trilinear and anisotropic. \
+             Velocity Geometry reads the meshes' previous positions (GPU geometry and particles make them); Instance \
+             from GeomFX adds each triangle's geometry id (a particle's index, say) to its Object ID.",
         )
         .input_spread("Mesh", PinType::Resource(ResourceKind::Mesh), Spread::Resource(ResourceKind::Mesh, vec![]))
         .input("Transform", Mat4::IDENTITY)
@@ -74,6 +77,7 @@ pub fn register(r: &mut Registry) {
             PinType::Resource(ResourceKind::MaterialWorld),
             Spread::Resource(ResourceKind::MaterialWorld, vec![]),
         )
+        .input("Instance from GeomFX", false)
         .output_typed("Layer", PinType::Resource(ResourceKind::Layer))
         .construct(DeferredBase::default),
     );
@@ -106,6 +110,7 @@ impl Node for DeferredBase {
             triplanar: flag(TRIPLANAR)?,
             velocity,
             ids: flag(IDS)?,
+            geometry_ids: flag(GEOMETRY_IDS)?,
         };
         let first_texture = |pin: usize| -> Result<Option<TextureRef>, NodeError> {
             Ok(match cx.input(pin) {

@@ -1,14 +1,31 @@
 //! Geometry nodes (category "Geometry"): primitives and glTF files, each
-//! output a spread of meshes uploaded to the renderer's mesh arena.
+//! output a spread of meshes uploaded to the renderer's mesh arena, and GPU
+//! geometry (Emeshe's GeomFX list: `Spherize`, `Extrude`, `Tube`, `Ribbon`, `PN Triangles`, `Subdivide`), mesh in, mesh out,
+//! computed in the arena without a readback.
 
+mod continuity;
+pub mod extrude;
 pub mod gltf;
 #[cfg(test)]
 mod gltf_tests;
+pub mod pn_triangles;
 pub mod primitives;
+pub mod spherize;
+pub mod spline;
 
-use spreadlight_graph::Registry;
+use spreadlight_graph::{PinType, Registry, ResourceKind};
+
+const CATEGORY: &str = "Geometry";
+const MESH: PinType = PinType::Resource(ResourceKind::Mesh);
 
 pub fn register(r: &mut Registry) {
     primitives::register(r);
     gltf::register(r);
+    spherize::register(r);
+    extrude::register(r);
+    spline::register(r);
+    pn_triangles::register(r);
 }
+
+#[cfg(test)]
+pub(crate) mod tests;

@@ -34,6 +34,10 @@ pub struct LayerFeatures {
     pub velocity: VelocitySource,
     /// Write object and material ids (otherwise 0).
     pub ids: bool,
+    /// Emeshe's "Instance from GeomFX": add each triangle's geometry id (its
+    /// first vertex's `previous_position.w`, written by GPU geometry and
+    /// particles) to the object id, for per-virtual-instance parameters.
+    pub geometry_ids: bool,
 }
 
 impl LayerFeatures {

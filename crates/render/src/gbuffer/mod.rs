@@ -49,7 +49,8 @@ struct GpuLayer {
     first_instance: u32,
     end_instance: u32,
     write_background: u32,
-    _pad: u32,
+    /// 1: add the vertices' geometry ids to the object id ("Instance from GeomFX").
+    geometry_ids: u32,
 }
 
 /// One instanced draw: a mesh and a range of the instance buffer.
@@ -249,14 +250,15 @@ impl GBuffer {
         let layer_buffers = layer_ranges
             .iter()
             .enumerate()
-            .map(|(i, &(first, end))| {
+            .zip(&layers)
+            .map(|((i, &(first, end)), layer)| {
                 device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                     label: Some("mre layer"),
                     contents: bytemuck::bytes_of(&GpuLayer {
                         first_instance: first,
                         end_instance: end,
                         write_background: u32::from(i == 0),
-                        _pad: 0,
+                        geometry_ids: u32::from(layer.features.ids && layer.features.geometry_ids),
                     }),
                     usage: wgpu::BufferUsages::UNIFORM,
                 })

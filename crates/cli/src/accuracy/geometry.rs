@@ -1,0 +1,122 @@
+//! `spreadlight accuracy geometry`: what tessellation costs against how far
+//! it stays from the surface it approximates. Per level, `Subdivide` (flat)
+//! and `PN Triangles` (curved) of a unit icosahedron against the unit sphere
+//! and of a coarse torus against the analytic torus: largest and RMS
+//! distance over the output's vertices and triangle centroids. Cost: GPU ms
+//! of the pass on a sphere of about `--time-triangles` triangles (median of
+//! `--frames` runs after `--warmup`), and the triangles it makes.
+
+use std::process::ExitCode;
+
+use anyhow::Context;
+use glam::Vec3;
+use spreadlight_render::Renderer;
+use spreadlight_render::geometry::analytic::{icosahedron, sphere_distance, torus_distance};
+use spreadlight_render::geometry::{GeometryStats, pn_triangles, read_mesh};
+use spreadlight_render::mesh::MeshData;
+use spreadlight_render::mesh::primitives::{SphereParams, TorusParams, sphere, torus};
+
+use super::{median, ms};
+
+#[derive(clap::Args)]
+pub struct GeometryArgs {
+    /// Levels (segments an edge), comma-separated.
+    #[arg(long, default_value = "1,2,3,4,8,16", value_delimiter = ',')]
+    levels: Vec<u32>,
+    /// Triangles of the sphere the GPU time is taken on.
+    #[arg(long, default_value_t = 100_000)]
+    time_triangles: u32,
+    #[arg(long, default_value_t = 5)]
+    warmup: usize,
+    #[arg(long, default_value_t = 9)]
+    frames: usize,
+    /// Also write the table to this Markdown file.
+    #[arg(long)]
+    out: Option<std::path::PathBuf>,
+}
+
+const MAJOR: f32 = 1.0;
+const MINOR: f32 = 0.35;
+
+/// (max, RMS) distance of a tessellation of `mesh` from the surface `distance` measures.
+fn error(
+    renderer: &Renderer,
+    mesh: &MeshData,
+    level: u32,
+    curved: bool,
+    distance: impl Fn(Vec3) -> f32,
+) -> anyhow::Result<(f32, f32)> {
+    let input = renderer.meshes.upload(&renderer.gpu, mesh)?;
+    let out = pn_triangles(renderer, &input, None, level, curved)?;
+    let (vertices, indices) = read_mesh(renderer, &out)?;
+    let p = |k: u32| Vec3::from_slice(&vertices[k as usize].position_u);
+    let samples: Vec<f32> = indices
+        .chunks(3)
+        .map(|t| (p(t[0]) + p(t[1]) + p(t[2])) / 3.0)
+        .chain(vertices.iter().map(|v| Vec3::from_slice(&v.position_u)))
+        .map(distance)
+        .collect();
+    let max = samples.iter().copied().fold(0.0f32, f32::max);
+    let rms = (samples.iter().map(|d| d * d).sum::<f32>() / samples.len().max(1) as f32).sqrt();
+    Ok((max, rms))
+}
+
+pub fn run_geometry(args: &GeometryArgs) -> anyhow::Result<ExitCode> {
+    let renderer = Renderer::headless().context("cannot open a GPU")?;
+    let adapter = renderer.gpu.adapter_name();
+    let stats = GeometryStats::of(&renderer);
+    stats.set_timing(true);
+    // A UV sphere has 2 x sectors x (stacks - 1) triangles; sectors = 2 x stacks.
+    let stacks = ((f64::from(args.time_triangles) / 4.0).sqrt().ceil() as u32).max(3);
+    let big = sphere(SphereParams {
+        radius: 1.0,
+        sectors: stacks * 2,
+        stacks,
+    });
+    let big_input = renderer.meshes.upload(&renderer.gpu, &big)?;
+    let ring = torus(TorusParams {
+        major_radius: MAJOR,
+        minor_radius: MINOR,
+        major_segments: 16,
+        minor_segments: 8,
+    });
+    let ico = icosahedron();
+    let mut table = format!(
+        "Tessellation on {adapter}: error (largest and RMS distance over vertices and triangle centroids) of a unit \
+         icosahedron against the unit sphere and of a 16x8 torus (R {MAJOR}, r {MINOR}) against the analytic \
+         torus; GPU ms of the pass on a {}-triangle sphere (median of {} after {}).\n\n\
+         | method | level | sphere max | sphere RMS | torus max | torus RMS | triangles out | GPU ms |\n\
+         |---|---|---|---|---|---|---|---|\n",
+        big.triangle_count(),
+        args.frames,
+        args.warmup
+    );
+    for (name, curved) in [("Subdivide (flat)", false), ("PN Triangles", true)] {
+        for &level in &args.levels {
+            let (smax, srms) = error(&renderer, &ico, level, curved, sphere_distance)?;
+            let (tmax, trms) = error(&renderer, &ring, level, curved, |p| {
+                torus_distance(p, MAJOR, MINOR)
+            })?;
+            let mut times = Vec::new();
+            let mut made = 0;
+            for k in 0..args.warmup + args.frames.max(1) {
+                stats.take_gpu_ms();
+                let out = pn_triangles(&renderer, &big_input, None, level, curved)?;
+                made = out.indices.len() / 3;
+                let ms = stats.take_gpu_ms();
+                if k >= args.warmup && renderer.gpu.has_timestamps() {
+                    times.push(ms);
+                }
+            }
+            table.push_str(&format!(
+                "| {name} | {level} | {smax:.5} | {srms:.5} | {tmax:.5} | {trms:.5} | {made} | {} |\n",
+                ms(median(times))
+            ));
+        }
+    }
+    print!("{table}");
+    if let Some(file) = &args.out {
+        std::fs::write(file, &table).with_context(|| format!("writing {}", file.display()))?;
+    }
+    Ok(ExitCode::SUCCESS)
+}
