@@ -120,7 +120,13 @@ fn shade(light: u32, p: vec3<f32>, pw: vec3<f32>, n: vec3<f32>, v: vec3<f32>, al
 #else
     let lv = view_lights[light];
     let to_light = lv.xyz - p;
-    let distance = length(to_light);
+    let distance2 = dot(to_light, to_light);
+    // Most of a froxel's list does not reach this pixel: leave before any
+    // square root or division (point_attenuation is 0 from the range on).
+    if (!(distance2 < lv.w * lv.w)) {
+        return;
+    }
+    let distance = sqrt(distance2);
     let attenuation = point_attenuation(distance, lv.w);
     let l = safe_normalize(to_light, n);
     if (attenuation <= 0.0) {
