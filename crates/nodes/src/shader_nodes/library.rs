@@ -17,7 +17,8 @@ use std::time::SystemTime;
 use spreadlight_graph::Registry;
 use spreadlight_render::shader_nodes::ShaderNodeError;
 
-use super::shader_type::{ShaderType, broken_def, type_name};
+use super::def::broken_def;
+use super::shader_type::{ShaderType, type_name};
 
 /// One file as last seen.
 struct Seen {

@@ -5,6 +5,7 @@
 //! in the repository's `shaders/nodes/` are built in.
 
 pub mod builtin_blur;
+pub mod def;
 pub mod library;
 pub mod node;
 pub mod shader_type;
@@ -45,7 +46,7 @@ pub fn register(r: &mut Registry) {
         let name = type_name(stem);
         match ShaderType::load(&name, path, source) {
             Ok(ty) => r.add(ty.node_def(None)),
-            Err(e) => r.add(shader_type::broken_def(&name, &e)),
+            Err(e) => r.add(def::broken_def(&name, &e)),
         }
     }
 }
