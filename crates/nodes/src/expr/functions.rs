@@ -4,7 +4,7 @@
 use glam::{Mat4, Vec3, Vec4};
 
 use super::parse::{ExprError, error};
-use super::typed::{Ty, Value, map, unify};
+use super::values::{Ty, Value, map, unify};
 
 /// Built-in functions.
 #[derive(Clone, Copy, Debug)]

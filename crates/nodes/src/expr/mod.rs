@@ -13,6 +13,7 @@
 mod functions;
 mod parse;
 mod typed;
+mod values;
 
 use glam::{Mat4, Vec2, Vec3, Vec4};
 use spreadlight_graph::spread::{slice_count, wrapped};
