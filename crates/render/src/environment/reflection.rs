@@ -170,7 +170,7 @@ impl Reflection {
                 &key,
                 &pipeline,
                 self.textured(),
-                &self.gbuffer.targets,
+                self.gbuffer.targets.surface_targets(),
             )?)
         } else {
             None
@@ -261,10 +261,12 @@ impl Recipe for Reflection {
             g.normals.as_str(),
             g.depth.as_str(),
         ];
-        reads.extend(
-            self.materials
-                .declare_textures(renderer, fg, self.textured(), g),
-        );
+        reads.extend(self.materials.declare_textures(
+            renderer,
+            fg,
+            self.textured(),
+            g.surface_targets(),
+        ));
         fg.add_pass(
             crate::recipe::pass_name("Reflection", self.owner, Some("specular")),
             self.owner,

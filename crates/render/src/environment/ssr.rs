@@ -349,9 +349,13 @@ impl Ssr {
         let group = cx
             .shaders
             .bind_group(&device, &key, "main", &pipeline, 0, &all)?;
-        let materials =
-            self.materials
-                .bind_group(cx, &key, &pipeline, self.textured(), &g.targets)?;
+        let materials = self.materials.bind_group(
+            cx,
+            &key,
+            &pipeline,
+            self.textured(),
+            g.targets.surface_targets(),
+        )?;
         let (w, h) = g.pixel_size(cx.output_size);
         cx.dispatch(
             "ssr trace",
@@ -488,10 +492,12 @@ impl Recipe for Ssr {
             self.lit.name.as_str(),
             self.fallback.name.as_str(),
         ];
-        reads.extend(
-            self.materials
-                .declare_textures(renderer, fg, self.textured(), g),
-        );
+        reads.extend(self.materials.declare_textures(
+            renderer,
+            fg,
+            self.textured(),
+            g.surface_targets(),
+        ));
         let target = if self.settings.temporal {
             &self.current
         } else {

@@ -162,6 +162,16 @@ pub struct GBufferTargets {
     pub surface: Option<String>,
 }
 
+impl GBufferTargets {
+    /// What material lookups read at a pixel: the UV and the surface target.
+    pub fn surface_targets(&self) -> crate::material::SurfaceTargets<'_> {
+        crate::material::SurfaceTargets {
+            uv: &self.velocity_uv,
+            surface: self.surface.as_deref(),
+        }
+    }
+}
+
 /// An MRE: its layers uploaded, ready to declare its passes. Nodes pass it on
 /// as a resource; the sink that reaches it decides which of its targets are needed.
 pub struct GBuffer {

@@ -393,7 +393,7 @@ fn resolve(
         let (world_group, maps_group) = match layer.and_then(|l| l.map_world()).filter(|_| !motion)
         {
             Some(world) => (
-                Some(world.bind_group(cx, &key, &pipeline, false, &g.targets)?),
+                Some(world.bind_group(cx, &key, &pipeline, false, g.targets.surface_targets())?),
                 world.maps_bind_group(&device, &pipeline.get_bind_group_layout(3)),
             ),
             None => (None, None),

@@ -303,7 +303,7 @@ impl CompositeLight {
                 &key,
                 &pipeline,
                 self.textured(),
-                &self.gbuffer.targets,
+                self.gbuffer.targets.surface_targets(),
             )?),
             None => None,
         };
@@ -351,7 +351,12 @@ impl Recipe for CompositeLight {
                 .map(|t| t.name.as_str()),
         );
         if let Some(world) = &self.materials {
-            reads.extend(world.declare_textures(renderer, fg, self.textured(), g));
+            reads.extend(world.declare_textures(
+                renderer,
+                fg,
+                self.textured(),
+                g.surface_targets(),
+            ));
         }
         if self.matcap {
             reads.push(&g.normals);

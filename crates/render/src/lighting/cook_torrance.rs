@@ -359,9 +359,13 @@ impl CookTorrance {
             .shaders
             .bind_group(&device, &key, "main", &pipeline, 0, &all)?;
         let material_group = match &self.materials {
-            Some(world) => {
-                Some(world.bind_group(cx, &key, &pipeline, self.textured(), &g.targets)?)
-            }
+            Some(world) => Some(world.bind_group(
+                cx,
+                &key,
+                &pipeline,
+                self.textured(),
+                g.targets.surface_targets(),
+            )?),
             None => None,
         };
         let (w, h) = g.pixel_size(cx.output_size);
@@ -430,7 +434,12 @@ impl Recipe for CookTorrance {
             reads.push(&textures.name);
         }
         if let Some(world) = &self.materials {
-            reads.extend(world.declare_textures(renderer, fg, self.textured(), g));
+            reads.extend(world.declare_textures(
+                renderer,
+                fg,
+                self.textured(),
+                g.surface_targets(),
+            ));
         }
         if let Some(shadows) = &self.shadows {
             shadows.declare(renderer, fg);

@@ -144,7 +144,9 @@ impl Ssss {
         let group = cx
             .shaders
             .bind_group(&device, &key, "main", &pipeline, 0, &all)?;
-        let materials = self.materials.bind_group(cx, &key, &pipeline, false, g)?;
+        let materials =
+            self.materials
+                .bind_group(cx, &key, &pipeline, false, g.surface_targets())?;
         let (w, h) = self.gbuffer.pixel_size(cx.output_size);
         cx.dispatch(
             if vertical { "ssss y" } else { "ssss x" },

@@ -85,6 +85,16 @@ impl FeatureError {
     }
 }
 
+/// The G-buffer targets material lookups read at a pixel, by name: the UV
+/// (zw of the velocity/UV target) and, where materials have surface maps, the
+/// resolved surface target. The G-buffer hands them out
+/// (`GBufferTargets::surface_targets`), so materials need not know it.
+#[derive(Clone, Copy, Debug)]
+pub struct SurfaceTargets<'a> {
+    pub uv: &'a str,
+    pub surface: Option<&'a str>,
+}
+
 /// A material in patch space: features and their (checked, clamped) parameters.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Material {
@@ -472,7 +482,7 @@ impl MaterialWorld {
         key: &crate::shaders::ShaderKey,
         pipeline: &wgpu::ComputePipeline,
         textured: bool,
-        targets: &crate::gbuffer::GBufferTargets,
+        targets: SurfaceTargets<'_>,
     ) -> Result<wgpu::BindGroup, crate::error::RenderError> {
         let device = cx.gpu.device.clone();
         let views = if textured {
@@ -489,14 +499,14 @@ impl MaterialWorld {
             let sampler = cx
                 .shaders
                 .sampler(&device, crate::shaders::Sampling::LinearRepeat);
-            let surface = match (&targets.surface, self.has_maps()) {
+            let surface = match (targets.surface, self.has_maps()) {
                 (Some(name), true) => cx.view(name)?,
                 _ => self.dummies.surface.clone(),
             };
             // Only a texture array is mapped by the G-buffer's UV: surface
             // maps alone leave the motion resolve to be culled.
             let uv = match &self.textures {
-                Some(_) => cx.view(&targets.velocity_uv)?,
+                Some(_) => cx.view(targets.uv)?,
                 None => self.dummies.uv.clone(),
             };
             Some((array, sampler, uv, surface))
@@ -526,7 +536,7 @@ impl MaterialWorld {
         renderer: &'a Renderer,
         fg: &mut crate::frame_graph::FrameGraph<'a>,
         textured: bool,
-        targets: &'a crate::gbuffer::GBufferTargets,
+        targets: SurfaceTargets<'a>,
     ) -> Vec<&'a str> {
         if !textured {
             return Vec::new();
@@ -534,10 +544,10 @@ impl MaterialWorld {
         let mut reads = Vec::new();
         if let Some(t) = &self.textures {
             t.recipe.declare(renderer, fg);
-            reads.extend([t.name.as_str(), targets.velocity_uv.as_str()]);
+            reads.extend([t.name.as_str(), targets.uv]);
         }
-        if let (Some(surface), true) = (&targets.surface, self.has_maps()) {
-            reads.push(surface.as_str());
+        if let (Some(surface), true) = (targets.surface, self.has_maps()) {
+            reads.push(surface);
         }
         reads
     }
