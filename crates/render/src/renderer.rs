@@ -19,8 +19,36 @@ pub(crate) const MAX_QUERIES: u32 = 512;
 
 struct KeptBuffer {
     buffer: wgpu::Buffer,
-    usage: wgpu::BufferUsages,
+    /// What `Renderer::kept_init` last wrote (empty for scratch buffers).
     contents: Vec<u8>,
+}
+
+/// The buffer kept under `key` if it `fits`, else `make()` kept in its
+/// place; true when it was made now.
+fn kept_entry<'k>(
+    kept: &'k mut HashMap<(u32, &'static str), KeptBuffer>,
+    key: (u32, &'static str),
+    fits: impl Fn(&KeptBuffer) -> bool,
+    make: impl FnOnce() -> wgpu::Buffer,
+) -> (&'k mut KeptBuffer, bool) {
+    use std::collections::hash_map::Entry;
+    match kept.entry(key) {
+        Entry::Occupied(o) if fits(o.get()) => (o.into_mut(), false),
+        Entry::Occupied(mut o) => {
+            o.insert(KeptBuffer {
+                buffer: make(),
+                contents: Vec::new(),
+            });
+            (o.into_mut(), true)
+        }
+        Entry::Vacant(v) => (
+            v.insert(KeptBuffer {
+                buffer: make(),
+                contents: Vec::new(),
+            }),
+            true,
+        ),
+    }
 }
 
 pub(crate) struct Timestamps {
@@ -194,32 +222,23 @@ impl Renderer {
             return fresh();
         };
         let mut kept = self.kept.lock().unwrap_or_else(|e| e.into_inner());
+        let (k, made) = kept_entry(
+            &mut kept,
+            (owner, label),
+            |k| k.buffer.usage() == usage && k.contents.len() == bytes.len(),
+            fresh,
+        );
         let mut uploads = self.uploads.lock().unwrap_or_else(|e| e.into_inner());
-        match kept.get_mut(&(owner, label)) {
-            Some(k) if k.usage == usage && k.contents.len() == bytes.len() => {
-                if k.contents == bytes {
-                    uploads.1 += 1;
-                } else {
-                    self.gpu.queue.write_buffer(&k.buffer, 0, bytes);
-                    k.contents.copy_from_slice(bytes);
-                    uploads.0 += 1;
-                }
-                k.buffer.clone()
+        if made || k.contents != bytes {
+            if !made {
+                self.gpu.queue.write_buffer(&k.buffer, 0, bytes);
             }
-            _ => {
-                let buffer = fresh();
-                uploads.0 += 1;
-                kept.insert(
-                    (owner, label),
-                    KeptBuffer {
-                        buffer: buffer.clone(),
-                        usage,
-                        contents: bytes.to_vec(),
-                    },
-                );
-                buffer
-            }
+            k.contents = bytes.to_vec();
+            uploads.0 += 1;
+        } else {
+            uploads.1 += 1;
         }
+        k.buffer.clone()
     }
 
     /// A buffer of `size` bytes and `usage` that node `owner`'s recipes keep
@@ -245,21 +264,11 @@ impl Renderer {
             return fresh();
         };
         let mut kept = self.kept.lock().unwrap_or_else(|e| e.into_inner());
-        match kept.get(&(owner, label)) {
-            Some(k) if k.usage == usage && k.buffer.size() == size => k.buffer.clone(),
-            _ => {
-                let buffer = fresh();
-                kept.insert(
-                    (owner, label),
-                    KeptBuffer {
-                        buffer: buffer.clone(),
-                        usage,
-                        contents: Vec::new(),
-                    },
-                );
-                buffer
-            }
-        }
+        let fits = |k: &KeptBuffer| k.buffer.usage() == usage && k.buffer.size() == size;
+        kept_entry(&mut kept, (owner, label), fits, fresh)
+            .0
+            .buffer
+            .clone()
     }
 
     /// Uniform uploads made and skipped since the last call (the frame report's counters).
