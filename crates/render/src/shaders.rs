@@ -404,6 +404,23 @@ pub fn all_permutations() -> Vec<ShaderKey> {
     keys
 }
 
+/// A compute pipeline of `entry` in `module`, its bind group layouts derived from the shader.
+fn compute_pipeline_of(
+    device: &wgpu::Device,
+    module: &wgpu::ShaderModule,
+    label: &str,
+    entry: &str,
+) -> wgpu::ComputePipeline {
+    device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+        label: Some(label),
+        layout: None,
+        module,
+        entry_point: Some(entry),
+        compilation_options: Default::default(),
+        cache: None,
+    })
+}
+
 /// How a pass samples a texture.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Sampling {
@@ -643,14 +660,7 @@ impl ShaderCache {
         }
         let module = self.module(device, key)?;
         let label = format!("{}{}::{entry}", key.path, key.describe_defs());
-        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some(&label),
-            layout: None,
-            module: &module,
-            entry_point: Some(entry),
-            compilation_options: Default::default(),
-            cache: None,
-        });
+        let pipeline = compute_pipeline_of(device, &module, &label, entry);
         self.pipelines_compiled += 1;
         self.compute.insert((key.clone(), entry), pipeline.clone());
         Ok(pipeline)
@@ -675,14 +685,7 @@ impl ShaderCache {
             label: Some(label),
             source: wgpu::ShaderSource::Naga(Cow::Owned(module())),
         });
-        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some(&format!("{label}::{entry}")),
-            layout: None,
-            module: &module,
-            entry_point: Some(entry),
-            compilation_options: Default::default(),
-            cache: None,
-        });
+        let pipeline = compute_pipeline_of(device, &module, &format!("{label}::{entry}"), entry);
         self.pipelines_compiled += 1;
         self.external.insert(cache_key, pipeline.clone());
         pipeline

@@ -452,7 +452,7 @@ fn a_spot_with_a_singular_projection_is_an_error_naming_it() {
 
 #[test]
 fn the_material_buffer_drives_shading_and_unused_features_cost_nothing() {
-    use spreadlight_render::lighting::{CompositeInputs, CompositeLight, LightComponents};
+    use spreadlight_render::lighting::{CompositeInputs, CompositeLight};
     use spreadlight_render::material::{Feature, Material, MaterialWorld};
     let renderer = test_renderer();
     let g = scene(&renderer);
@@ -524,11 +524,7 @@ fn the_material_buffer_drives_shading_and_unused_features_cost_nothing() {
             None,
             g.clone(),
             CompositeInputs {
-                components: vec![LightComponents {
-                    diffuse: ct.diffuse_texture(),
-                    specular: ct.specular_texture(),
-                    sss: ct.sss_texture(),
-                }],
+                components: vec![ct.components()],
                 ambient: [0.0; 3],
                 materials: world,
                 occlusion: None,
@@ -571,7 +567,7 @@ fn the_material_buffer_drives_shading_and_unused_features_cost_nothing() {
 
 #[test]
 fn material_textures_scale_parameters_at_the_gbuffer_uv_and_compile_only_when_read() {
-    use spreadlight_render::lighting::{CompositeInputs, CompositeLight, LightComponents};
+    use spreadlight_render::lighting::{CompositeInputs, CompositeLight};
     use spreadlight_render::material::{Feature, Material, MaterialWorld};
     use spreadlight_render::texture::{GpuTexture, StaticTexture};
     let renderer = test_renderer();
@@ -619,11 +615,7 @@ fn material_textures_scale_parameters_at_the_gbuffer_uv_and_compile_only_when_re
             None,
             g.clone(),
             CompositeInputs {
-                components: vec![LightComponents {
-                    diffuse: ct.diffuse_texture(),
-                    specular: ct.specular_texture(),
-                    sss: ct.sss_texture(),
-                }],
+                components: vec![ct.components()],
                 ambient: [0.0; 3],
                 materials: Some(world),
                 occlusion: None,

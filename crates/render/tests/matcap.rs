@@ -10,8 +10,7 @@ use glam::{Mat4, Vec2, Vec3};
 use spreadlight_render::camera::CameraInput;
 use spreadlight_render::gbuffer::{DrawBatch, GBuffer, InstanceInput, Layer, LayerFeatures};
 use spreadlight_render::lighting::{
-    CompositeInputs, CompositeLight, CookTorrance, LightBuffer, LightComponents, LightLoop,
-    Surfaces,
+    CompositeInputs, CompositeLight, CookTorrance, LightBuffer, LightLoop, Surfaces,
 };
 use spreadlight_render::material::{
     Feature, MatCapMapping, MatCapMode, Material, MaterialWorld, matcap_params,
@@ -121,11 +120,7 @@ fn composite(
         None,
         g.clone(),
         CompositeInputs {
-            components: vec![LightComponents {
-                diffuse: ct.diffuse_texture(),
-                specular: ct.specular_texture(),
-                sss: ct.sss_texture(),
-            }],
+            components: vec![ct.components()],
             ambient: [ambient; 3],
             materials: Some(world),
             occlusion: None,

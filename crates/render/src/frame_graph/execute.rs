@@ -92,7 +92,6 @@ fn execute(
         (v.created, v.reused)
     };
     let batched = recording == Recording::Batched;
-    let label = |p: usize| if batched { "frame" } else { &parts.names[p] };
     let new_encoder = |label: &str| {
         device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some(label) })
     };
@@ -125,7 +124,10 @@ fn execute(
             live.insert(name.clone(), texture);
         }
 
-        let encoder = shared.take().unwrap_or_else(|| new_encoder(label(p)));
+        // Batched: the frame's one encoder; isolated: one named for the pass.
+        let encoder = shared
+            .take()
+            .unwrap_or_else(|| new_encoder(&parts.names[p]));
         let scope = (!batched).then(|| device.push_error_scope(wgpu::ErrorFilter::Validation));
         // Timing::Frame times the first and the last pass: the frame's span.
         let timed = match timing {

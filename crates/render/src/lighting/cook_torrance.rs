@@ -174,6 +174,15 @@ impl CookTorrance {
         })
     }
 
+    /// Diffuse, specular and (with FakeSSS) subsurface: one input of a CompositeLight.
+    pub fn components(self: &Arc<Self>) -> super::LightComponents {
+        super::LightComponents {
+            diffuse: self.diffuse_texture(),
+            specular: self.specular_texture(),
+            sss: self.sss_texture(),
+        }
+    }
+
     pub fn gbuffer(&self) -> &Arc<GBuffer> {
         &self.gbuffer
     }
