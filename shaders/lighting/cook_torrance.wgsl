@@ -105,7 +105,8 @@ fn spot_mask(light: u32, record: Light, pw: vec3<f32>) -> vec3<f32> {
 
 const HALF_MAX: f32 = 65000.0;
 
-fn shade(light: u32, p: vec3<f32>, pw: vec3<f32>, n: vec3<f32>, v: vec3<f32>, albedo: vec3<f32>, rm: vec3<f32>,
+// `lv`: the light's view-space position and range (unused for suns).
+fn shade(light: u32, lv: vec4<f32>, p: vec3<f32>, pw: vec3<f32>, n: vec3<f32>, v: vec3<f32>, albedo: vec3<f32>, rm: vec3<f32>,
          diffuse: ptr<function, vec3<f32>>, specular: ptr<function, vec3<f32>>) {
 #ifdef LIGHT_SUN
     let record = lights[light];
@@ -118,7 +119,6 @@ fn shade(light: u32, p: vec3<f32>, pw: vec3<f32>, n: vec3<f32>, v: vec3<f32>, al
     }
 #endif
 #else
-    let lv = view_lights[light];
     let to_light = lv.xyz - p;
     let distance2 = dot(to_light, to_light);
     // Most of a froxel's list does not reach this pixel: leave before any
@@ -171,66 +171,186 @@ const ENERGY: bool = true;
 const ENERGY: bool = false;
 #endif
 
-@compute @workgroup_size(8, 8)
-fn main(@builtin(global_invocation_id) id: vec3<u32>) {
+// A 16x16 workgroup shades a block of pixels. With CLUSTERED it reads its
+// froxels' light lists together: each batch of 256 list entries is loaded
+// once for the block (not once per pixel), and only the lights whose sphere
+// touches the box around the block's surface points (depth-bounded, much
+// tighter than the 64-pixel froxel) are kept, in a bit mask, so every pixel
+// walks the survivors in list order: the sums, and so the pictures, are the
+// same bit for bit as a pixel walking its whole list (a light that misses the
+// box misses every pixel in it), at a fraction of the loads and tests.
+const GROUP: u32 = 16u;
+const BATCH: u32 = 256u;
+const MASK_WORDS: u32 = 8u;
+
+#ifdef CLUSTERED
+var<workgroup> box_lo: array<atomic<u32>, 3>;
+var<workgroup> box_hi: array<atomic<u32>, 3>;
+var<workgroup> slice_span: array<atomic<u32>, 2>;
+var<workgroup> span_read: vec2<u32>;
+var<workgroup> froxel_read: vec2<u32>;
+// Two masks, alternating by batch, so one can be cleared while the other is read.
+var<workgroup> batch_mask: array<array<atomic<u32>, MASK_WORDS>, 2>;
+var<workgroup> batch_view: array<vec4<f32>, BATCH>;
+var<workgroup> batch_light: array<u32, BATCH>;
+
+// Floats to unsigned integers in the same order, for atomicMin/Max.
+fn ordered(f: f32) -> u32 {
+    let b = bitcast<u32>(f);
+    return select(b | 0x80000000u, ~b, (b & 0x80000000u) != 0u);
+}
+
+fn unordered(u: u32) -> f32 {
+    return bitcast<f32>(select(~u, u & 0x7fffffffu, (u & 0x80000000u) != 0u));
+}
+#endif
+
+@compute @workgroup_size(16, 16)
+fn main(@builtin(global_invocation_id) id: vec3<u32>, @builtin(local_invocation_index) lane: u32,
+        @builtin(workgroup_id) wid: vec3<u32>) {
     let size = vec2<u32>(camera.size.xy);
-    if (id.x >= size.x || id.y >= size.y) {
-        return;
-    }
     let pixel = id.xy;
-    let d = textureLoad(depth, pixel, 0).r;
-    if (d <= 0.0) {
+    let inside = id.x < size.x && id.y < size.y;
+    var d = 0.0;
+    if (inside) {
+        d = textureLoad(depth, pixel, 0).r;
+    }
+    // No early return: with CLUSTERED every lane takes part in the barriers.
+    let covered = inside && d > 0.0;
+    if (inside && !covered) {
         textureStore(out_diffuse, pixel, vec4<f32>(0.0));
         textureStore(out_specular, pixel, vec4<f32>(0.0));
 #ifdef FAKE_SSS
         textureStore(out_sss, pixel, vec4<f32>(0.0));
 #endif
-        return;
     }
     let uv = (vec2<f32>(pixel) + 0.5) * camera.size.zw;
     let ndc = vec2<f32>(uv.x * 2.0 - 1.0, 1.0 - uv.y * 2.0);
     let view_h = camera.projection_inverse * vec4<f32>(ndc, d, 1.0);
     let p = view_h.xyz / view_h.w;
     let pw = (camera.view_inverse * vec4<f32>(p, 1.0)).xyz;
-    let n = safe_normalize(textureLoad(normals, pixel, 0).xyz, vec3<f32>(0.0, 0.0, 1.0));
+    var n = vec3<f32>(0.0, 0.0, 1.0);
+    var texel = vec4<f32>(0.0);
+    if (inside) {
+        n = safe_normalize(textureLoad(normals, pixel, 0).xyz, vec3<f32>(0.0, 0.0, 1.0));
+        texel = textureLoad(color, pixel, 0);
+    }
     let v = safe_normalize(-p, vec3<f32>(0.0, 0.0, 1.0));
 #ifdef SHADOWS
     normal_world = safe_normalize((camera.view_inverse * vec4<f32>(n, 0.0)).xyz, vec3<f32>(0.0, 1.0, 0.0));
     view_depth = -p.z;
 #endif
-    let texel = textureLoad(color, pixel, 0);
     let albedo = texel.rgb;
     let material = channel_to_id(texel.a);
+    var rm = vec3<f32>(0.5, 0.0, DIELECTRIC_F0);
+    if (covered) {
 #ifdef MATERIALS
-    // A texture scales (roughness, metallic, reflectance); kept within 0..1.
-    let rm = clamp(feature_param_at(material, FEATURE_COOK_TORRANCE, 0u, vec4<f32>(0.5, 0.0, 0.04, 0.0), pixel).xyz, vec3<f32>(0.0), vec3<f32>(1.0));
+        // A texture scales (roughness, metallic, reflectance); kept within 0..1.
+        rm = clamp(feature_param_at(material, FEATURE_COOK_TORRANCE, 0u, vec4<f32>(0.5, 0.0, 0.04, 0.0), pixel).xyz, vec3<f32>(0.0), vec3<f32>(1.0));
 #else
-    let rm = vec3<f32>(surfaces[material % arrayLength(&surfaces)].roughness_metallic, DIELECTRIC_F0);
+        rm = vec3<f32>(surfaces[material % arrayLength(&surfaces)].roughness_metallic, DIELECTRIC_F0);
 #endif
+    }
 
     var diffuse = vec3<f32>(0.0);
     var specular = vec3<f32>(0.0);
 #ifdef FAKE_SSS
-    let sss = feature_param_at(material, FEATURE_FAKE_SSS, 0u, vec4<f32>(0.0), pixel);
-    sss_tint = max(sss.rgb, vec3<f32>(0.0)) * max(sss.a, 0.0) * albedo;
+    sss_tint = vec3<f32>(0.0);
+    if (covered) {
+        let sss = feature_param_at(material, FEATURE_FAKE_SSS, 0u, vec4<f32>(0.0), pixel);
+        sss_tint = max(sss.rgb, vec3<f32>(0.0)) * max(sss.a, 0.0) * albedo;
+    }
     sss_sum = vec3<f32>(0.0);
 #endif
 #ifdef CLUSTERED
-    let tile = min(pixel / u32(grid.depth.w), grid.dims.xy - 1u);
-    let slice = u32(clamp(floor(log(max(-p.z, grid.depth.x) / grid.depth.x) / grid.depth.z * f32(grid.dims.z)), 0.0, f32(grid.dims.z - 1u)));
-    let cluster = (slice * grid.dims.y + tile.y) * grid.dims.x + tile.x;
-    let first = offsets[cluster];
-    // A list that overflowed the index buffer (sized for every light in 256
-    // froxels, see clusters.rs) is cut at its end; never read past it.
-    let count = min(counts[cluster], arrayLength(&indices) - min(first, arrayLength(&indices)));
-    for (var k = 0u; k < count; k++) {
-        shade(indices[first + k], p, pw, n, v, albedo, rm, &diffuse, &specular);
+    if (lane == 0u) {
+        for (var i = 0u; i < 3u; i++) {
+            atomicStore(&box_lo[i], 0xffffffffu);
+            atomicStore(&box_hi[i], 0u);
+        }
+        atomicStore(&slice_span[0], 0xffffffffu);
+        atomicStore(&slice_span[1], 0u);
+    }
+    if (lane < MASK_WORDS) {
+        atomicStore(&batch_mask[0][lane], 0u);
+        atomicStore(&batch_mask[1][lane], 0u);
+    }
+    workgroupBarrier();
+    var slice = 0u;
+    if (covered) {
+        slice = u32(clamp(floor(log(max(-p.z, grid.depth.x) / grid.depth.x) / grid.depth.z * f32(grid.dims.z)), 0.0, f32(grid.dims.z - 1u)));
+        atomicMin(&box_lo[0], ordered(p.x));
+        atomicMin(&box_lo[1], ordered(p.y));
+        atomicMin(&box_lo[2], ordered(p.z));
+        atomicMax(&box_hi[0], ordered(p.x));
+        atomicMax(&box_hi[1], ordered(p.y));
+        atomicMax(&box_hi[2], ordered(p.z));
+        atomicMin(&slice_span[0], slice);
+        atomicMax(&slice_span[1], slice);
+    }
+    workgroupBarrier();
+    if (lane == 0u) {
+        span_read = vec2<u32>(atomicLoad(&slice_span[0]), atomicLoad(&slice_span[1]));
+    }
+    // A block of only background has an empty span (first > last).
+    let span = workgroupUniformLoad(&span_read);
+    let lo = vec3<f32>(unordered(atomicLoad(&box_lo[0])), unordered(atomicLoad(&box_lo[1])), unordered(atomicLoad(&box_lo[2])));
+    let hi = vec3<f32>(unordered(atomicLoad(&box_hi[0])), unordered(atomicLoad(&box_hi[1])), unordered(atomicLoad(&box_hi[2])));
+    // The block lies in one froxel column: tiles are a multiple of GROUP pixels (clusters.rs).
+    let tile = min(wid.xy * GROUP / u32(grid.depth.w), grid.dims.xy - 1u);
+    var round = 0u;
+    for (var z = span.x; z <= span.y && z < grid.dims.z; z++) {
+        if (lane == 0u) {
+            let cluster = (z * grid.dims.y + tile.y) * grid.dims.x + tile.x;
+            let first = offsets[cluster];
+            // A list that overflowed the index buffer (sized for every light in
+            // 256 froxels, see clusters.rs) is cut at its end; never read past it.
+            let count = min(counts[cluster], arrayLength(&indices) - min(first, arrayLength(&indices)));
+            froxel_read = vec2<u32>(first, count);
+        }
+        let froxel = workgroupUniformLoad(&froxel_read);
+        for (var start = 0u; start < froxel.y; start += BATCH) {
+            let parity = round & 1u;
+            let k = start + lane;
+            if (k < froxel.y) {
+                let light = indices[froxel.x + k];
+                let lv = view_lights[light];
+                let offset = lv.xyz - clamp(lv.xyz, lo, hi);
+                if (dot(offset, offset) < lv.w * lv.w) {
+                    batch_view[lane] = lv;
+                    batch_light[lane] = light;
+                    atomicOr(&batch_mask[parity][lane / 32u], 1u << (lane % 32u));
+                }
+            }
+            // The other mask was last read before the previous batch's closing barrier.
+            if (lane < MASK_WORDS) {
+                atomicStore(&batch_mask[1u - parity][lane], 0u);
+            }
+            workgroupBarrier();
+            if (covered && slice == z) {
+                for (var w = 0u; w < MASK_WORDS; w++) {
+                    var bits = atomicLoad(&batch_mask[parity][w]);
+                    while (bits != 0u) {
+                        let slot = w * 32u + countTrailingZeros(bits);
+                        bits &= bits - 1u;
+                        shade(batch_light[slot], batch_view[slot], p, pw, n, v, albedo, rm, &diffuse, &specular);
+                    }
+                }
+            }
+            workgroupBarrier();
+            round++;
+        }
     }
 #else
-    for (var i = 0u; i < grid.dims.w; i++) {
-        shade(i, p, pw, n, v, albedo, rm, &diffuse, &specular);
+    if (covered) {
+        for (var i = 0u; i < grid.dims.w; i++) {
+            shade(i, view_lights[i], p, pw, n, v, albedo, rm, &diffuse, &specular);
+        }
     }
 #endif
+    if (!covered) {
+        return;
+    }
     textureStore(out_diffuse, pixel, vec4<f32>(min(diffuse, vec3<f32>(HALF_MAX)), 1.0));
     textureStore(out_specular, pixel, vec4<f32>(min(specular, vec3<f32>(HALF_MAX)), 1.0));
 #ifdef FAKE_SSS

@@ -16,6 +16,9 @@ pub struct ClusterGrid {
     pub far: f32,
 }
 
+// CookTorrance shades 16x16 blocks that must each lie in one tile.
+const _: () = assert!(ClusterGrid::TILE % 16 == 0);
+
 impl ClusterGrid {
     pub const TILE: u32 = 64;
     pub const SLICES: u32 = 32;

@@ -385,7 +385,8 @@ impl CookTorrance {
             "cook torrance",
             &pipeline,
             &groups,
-            (w.div_ceil(8), h.div_ceil(8), 1),
+            // 16x16 blocks: shaders/lighting/cook_torrance.wgsl's GROUP.
+            (w.div_ceil(16), h.div_ceil(16), 1),
         );
         Ok(())
     }
