@@ -17,6 +17,10 @@ use crate::texture_pool::TexturePool;
 
 pub(crate) const MAX_QUERIES: u32 = 512;
 
+/// A kept buffer's name: the node that owns it, what it is, and which one
+/// of several of the same kind (a G-buffer's layers, a rasterizer's batches).
+type KeptKey = (u32, &'static str, u32);
+
 struct KeptBuffer {
     buffer: wgpu::Buffer,
     /// What `Renderer::kept_init` last wrote (empty for scratch buffers).
@@ -26,8 +30,8 @@ struct KeptBuffer {
 /// The buffer kept under `key` if it `fits`, else `make()` kept in its
 /// place; true when it was made now.
 fn kept_entry<'k>(
-    kept: &'k mut HashMap<(u32, &'static str), KeptBuffer>,
-    key: (u32, &'static str),
+    kept: &'k mut HashMap<KeptKey, KeptBuffer>,
+    key: KeptKey,
     fits: impl Fn(&KeptBuffer) -> bool,
     make: impl FnOnce() -> wgpu::Buffer,
 ) -> (&'k mut KeptBuffer, bool) {
@@ -100,7 +104,7 @@ pub struct Renderer {
     output_size: Mutex<(u32, u32)>,
     /// Buffers recipes keep across their re-creation, by owner node and label
     /// (`Renderer::uniform`, `Renderer::kept_buffer`), with a uniform's last contents.
-    kept: Mutex<HashMap<(u32, &'static str), KeptBuffer>>,
+    kept: Mutex<HashMap<KeptKey, KeptBuffer>>,
     /// Uploads `uniform` made and skipped since the last frame graph ran.
     uploads: Mutex<(u64, u64)>,
     /// What recipes keep between frames (shadow maps), by type and key.
@@ -207,6 +211,20 @@ impl Renderer {
         bytes: &[u8],
         usage: wgpu::BufferUsages,
     ) -> wgpu::Buffer {
+        self.kept_init_at(owner, label, 0, bytes, usage)
+    }
+
+    /// [`Renderer::kept_init`] for the `index`th of several buffers of one
+    /// kind that one recipe keeps (a G-buffer's layer records, a rasterizer's
+    /// batches): each keeps its own buffer, so none overwrites another.
+    pub fn kept_init_at(
+        &self,
+        owner: Option<u32>,
+        label: &'static str,
+        index: u32,
+        bytes: &[u8],
+        usage: wgpu::BufferUsages,
+    ) -> wgpu::Buffer {
         let usage = usage | wgpu::BufferUsages::COPY_DST;
         let fresh = || {
             wgpu::util::DeviceExt::create_buffer_init(
@@ -224,7 +242,7 @@ impl Renderer {
         let mut kept = self.kept.lock().unwrap_or_else(|e| e.into_inner());
         let (k, made) = kept_entry(
             &mut kept,
-            (owner, label),
+            (owner, label, index),
             |k| k.buffer.usage() == usage && k.contents.len() == bytes.len(),
             fresh,
         );
@@ -265,7 +283,7 @@ impl Renderer {
         };
         let mut kept = self.kept.lock().unwrap_or_else(|e| e.into_inner());
         let fits = |k: &KeptBuffer| k.buffer.usage() == usage && k.buffer.size() == size;
-        kept_entry(&mut kept, (owner, label), fits, fresh)
+        kept_entry(&mut kept, (owner, label, 0), fits, fresh)
             .0
             .buffer
             .clone()

@@ -13,36 +13,53 @@ pub struct TextureKey {
     pub usage: wgpu::TextureUsages,
 }
 
-/// Each texture's default view, made once: views are what passes bind, and
-/// making one per pass per frame was most of a frame's recording time on the
-/// H100's driver. A view not asked for in a frame is dropped (with the
-/// texture it keeps alive).
-#[derive(Default)]
-pub(crate) struct ViewCache {
-    views: HashMap<wgpu::Texture, (wgpu::TextureView, bool)>,
-    pub created: u64,
-    pub reused: u64,
+/// Which view of a texture a pass binds: the default view, or one mip level,
+/// one layer, an array over the layers, one aspect.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct ViewSpec {
+    pub dimension: Option<wgpu::TextureViewDimension>,
+    pub aspect: wgpu::TextureAspect,
+    pub base_mip_level: u32,
+    pub mip_level_count: Option<u32>,
+    pub base_array_layer: u32,
+    pub array_layer_count: Option<u32>,
 }
 
-impl ViewCache {
-    pub fn view(&mut self, texture: &wgpu::Texture) -> wgpu::TextureView {
-        if let Some((view, used)) = self.views.get_mut(texture) {
-            *used = true;
-            self.reused += 1;
-            return view.clone();
+impl ViewSpec {
+    /// Mip level `level` alone (a down-sampling chain's steps).
+    pub fn mip(level: u32) -> Self {
+        ViewSpec {
+            base_mip_level: level,
+            mip_level_count: Some(1),
+            ..Default::default()
         }
-        let view = texture.create_view(&wgpu::TextureViewDescriptor::default());
-        self.created += 1;
-        self.views.insert(texture.clone(), (view.clone(), true));
-        view
     }
 
-    /// Drop what this frame did not use; the rest waits for the next frame.
-    pub fn end_frame(&mut self) {
-        self.views.retain(|_, (_, used)| std::mem::take(used));
+    /// Every layer as a 2D array (shadow maps, texture arrays).
+    pub fn array() -> Self {
+        ViewSpec {
+            dimension: Some(wgpu::TextureViewDimension::D2Array),
+            ..Default::default()
+        }
+    }
+
+    fn descriptor(&self) -> wgpu::TextureViewDescriptor<'static> {
+        wgpu::TextureViewDescriptor {
+            dimension: self.dimension,
+            aspect: self.aspect,
+            base_mip_level: self.base_mip_level,
+            mip_level_count: self.mip_level_count,
+            base_array_layer: self.base_array_layer,
+            array_layer_count: self.array_layer_count,
+            ..Default::default()
+        }
     }
 }
 
+/// Each texture's views, made once: views are what passes bind, and making
+/// one per pass per frame was most of a frame's recording time on the H100's
+/// driver (and a new view is a new bind group). A view not asked for in a
+/// frame is dropped (with the texture it keeps alive).
 #[derive(Default)]
 pub(crate) struct TexturePool {
     pub pool: HashMap<TextureKey, Vec<wgpu::Texture>>,

@@ -26,7 +26,7 @@ pub fn register(r: &mut Registry) {
         .evaluate(|cx| {
             let renderer = renderer(cx)?;
             let list = LightList::<PointLight>::gather(cx, 0)?;
-            let buffer = LightBuffer::points(&renderer, &list.lights);
+            let buffer = LightBuffer::points_of(&renderer, Some(cx.node_id.0), &list.lights);
             cx.set_output(0, resource_spread(ResourceKind::LightWorld, vec![buffer]));
             cx.set_output(1, Spread::Int(vec![list.lights.len() as i64]));
             Ok(())

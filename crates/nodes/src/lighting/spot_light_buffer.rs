@@ -38,7 +38,7 @@ pub fn register(r: &mut Registry) {
                 ));
             }
             let textures = textures.first().map(|t| (**t).clone());
-            let buffer = LightBuffer::spots(&renderer, &list.lights, textures).map_err(|e| {
+            let buffer = LightBuffer::spots_of(&renderer, Some(cx.node_id.0), &list.lights, textures).map_err(|e| {
                 // Name the light by its ID, as the patch does.
                 let id = match &e {
                     spreadlight_render::lighting::SpotError::View { index }

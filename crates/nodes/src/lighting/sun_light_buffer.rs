@@ -20,7 +20,7 @@ pub fn register(r: &mut Registry) {
         .evaluate(|cx| {
             let renderer = renderer(cx)?;
             let list = LightList::<SunLight>::gather(cx, 0)?;
-            let buffer = LightBuffer::suns(&renderer, &list.lights);
+            let buffer = LightBuffer::suns_of(&renderer, Some(cx.node_id.0), &list.lights);
             cx.set_output(0, resource_spread(ResourceKind::LightWorld, vec![buffer]));
             cx.set_output(1, Spread::Int(vec![list.lights.len() as i64]));
             Ok(())

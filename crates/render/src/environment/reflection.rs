@@ -79,14 +79,7 @@ impl Reflection {
         let id = next_recipe_id();
         let (mode_id, ior) = mode.params();
         let levels = environment.quality.levels();
-        let params = renderer
-            .gpu
-            .device
-            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some("reflection params"),
-                contents: bytemuck::cast_slice(&[mode_id, levels, ior.to_bits(), 0]),
-                usage: wgpu::BufferUsages::UNIFORM,
-            });
+        let params = renderer.kept_init(owner, "reflection params", bytemuck::cast_slice(&[mode_id, levels, ior.to_bits(), 0]), wgpu::BufferUsages::UNIFORM);
         Arc::new(Reflection {
             id,
             owner,

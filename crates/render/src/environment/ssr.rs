@@ -240,16 +240,13 @@ impl Ssr {
         split_sum_table(cx, &self.table)?;
         let device = cx.gpu.device.clone();
         let key = ShaderKey::new(SHADER, []);
-        let mip = |m: u32| {
-            hiz.create_view(&wgpu::TextureViewDescriptor {
-                base_mip_level: m,
-                mip_level_count: Some(1),
-                ..Default::default()
-            })
-        };
+        // Each level's view, kept across frames (so are the bind groups over them).
+        let mips: Vec<wgpu::TextureView> = (0..hiz.mip_level_count())
+            .map(|m| cx.view_of(&hiz, crate::texture_pool::ViewSpec::mip(m)))
+            .collect();
         let depth = cx.view(&self.gbuffer.targets.depth)?;
         let mut steps = Vec::new();
-        let first = mip(0);
+        let first = &mips[0];
         let pipeline = cx.shaders.compute_pipeline(&device, &key, "hiz_copy")?;
         let group = cx.shaders.bind_group(
             &device,
@@ -259,12 +256,12 @@ impl Ssr {
             0,
             &[
                 (4, wgpu::BindingResource::TextureView(&depth)),
-                (11, wgpu::BindingResource::TextureView(&first)),
+                (11, wgpu::BindingResource::TextureView(first)),
             ],
         )?;
         steps.push((pipeline, group, (size.0.div_ceil(8), size.1.div_ceil(8))));
         for m in 1..hiz.mip_level_count() {
-            let (src, dst) = (mip(m - 1), mip(m));
+            let (src, dst) = (&mips[m as usize - 1], &mips[m as usize]);
             let pipeline = cx.shaders.compute_pipeline(&device, &key, "hiz_down")?;
             let group = cx.shaders.bind_group(
                 &device,
@@ -273,8 +270,8 @@ impl Ssr {
                 &pipeline,
                 0,
                 &[
-                    (11, wgpu::BindingResource::TextureView(&dst)),
-                    (12, wgpu::BindingResource::TextureView(&src)),
+                    (11, wgpu::BindingResource::TextureView(dst)),
+                    (12, wgpu::BindingResource::TextureView(src)),
                 ],
             )?;
             let (w, h) = ((size.0 >> m).max(1), (size.1 >> m).max(1));
@@ -327,8 +324,8 @@ impl Ssr {
             cx.view(&self.fallback.name)?,
             cx.view(target)?,
         );
-        let hiz_view = hiz.create_view(&Default::default());
-        let lut_view = lut.create_view(&Default::default());
+        let hiz_view = cx.view_of(&hiz, Default::default());
+        let lut_view = cx.view_of(&lut, Default::default());
         let device = cx.gpu.device.clone();
         let sampler = cx.shaders.sampler(&device, Sampling::LinearClamp);
         let key = self.key();

@@ -183,6 +183,16 @@ impl<'f> PassContext<'f> {
         Ok(self.views.borrow_mut().view(texture))
     }
 
+    /// A view of any texture (one the frame graph does not manage too, such
+    /// as a node's shadow maps), made once and kept while frames use it.
+    pub fn view_of(
+        &self,
+        texture: &wgpu::Texture,
+        spec: crate::texture_pool::ViewSpec,
+    ) -> wgpu::TextureView {
+        self.views.borrow_mut().view_of(texture, spec)
+    }
+
     /// Add `n` to the frame report's counter `name`: how passes show the work
     /// they did and the work they saved.
     pub fn count(&mut self, name: &'static str, n: u64) {

@@ -72,7 +72,6 @@ impl ComputeRaster {
         draws: &[Draw],
         instance_count: usize,
     ) -> Self {
-        let device = &renderer.gpu.device;
         let mut first_triangle = vec![0u32; instance_count.max(1)];
         let mut global = 0u32;
         let mut batches = Vec::new();
@@ -83,25 +82,30 @@ impl ComputeRaster {
             }
             let total = triangles.saturating_mul(draw.instance_count);
             if total > 0 {
-                let uniform = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                    label: Some("raster batch"),
-                    contents: bytemuck::bytes_of(&GpuBatch {
+                // Kept under the node, one per batch: the same buffers (and
+                // bind groups) every frame the draws stay the same.
+                let uniform = renderer.kept_init_at(
+                    owner,
+                    "raster batch",
+                    batches.len() as u32,
+                    bytemuck::bytes_of(&GpuBatch {
                         first_instance: draw.first_instance,
                         triangles,
                         instance_count: draw.instance_count,
                         first_global: global,
                     }),
-                    usage: wgpu::BufferUsages::UNIFORM,
-                });
+                    wgpu::BufferUsages::UNIFORM,
+                );
                 batches.push((uniform, total));
             }
             global = global.saturating_add(total);
         }
-        let first_triangle = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("first triangle per instance"),
-            contents: bytemuck::cast_slice(&first_triangle),
-            usage: wgpu::BufferUsages::STORAGE,
-        });
+        let first_triangle = renderer.kept_init(
+            owner,
+            "first triangle per instance",
+            bytemuck::cast_slice(&first_triangle),
+            wgpu::BufferUsages::STORAGE,
+        );
         ComputeRaster {
             batches,
             first_triangle,

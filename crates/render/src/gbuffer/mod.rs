@@ -262,16 +262,18 @@ impl GBuffer {
             .enumerate()
             .zip(&layers)
             .map(|((i, &(first, end)), layer)| {
-                device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                    label: Some("mre layer"),
-                    contents: bytemuck::bytes_of(&GpuLayer {
+                renderer.kept_init_at(
+                    owner,
+                    "mre layer",
+                    i as u32,
+                    bytemuck::bytes_of(&GpuLayer {
                         first_instance: first,
                         end_instance: end,
                         write_background: u32::from(i == 0),
                         geometry_ids: u32::from(layer.features.ids && layer.features.geometry_ids),
                     }),
-                    usage: wgpu::BufferUsages::UNIFORM,
-                })
+                    wgpu::BufferUsages::UNIFORM,
+                )
             })
             .collect();
         let raster = match choice {

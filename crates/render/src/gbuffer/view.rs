@@ -88,14 +88,7 @@ impl GBufferView {
         velocity_scale: f32,
     ) -> Arc<Self> {
         let id = next_recipe_id();
-        let params = renderer
-            .gpu
-            .device
-            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some("gbuffer view params"),
-                contents: bytemuck::cast_slice(&[velocity_scale, 0.0, 0.0, 0.0]),
-                usage: wgpu::BufferUsages::UNIFORM,
-            });
+        let params = renderer.kept_init(owner, "gbuffer view params", bytemuck::cast_slice(&[velocity_scale, 0.0, 0.0, 0.0]), wgpu::BufferUsages::UNIFORM);
         Arc::new(GBufferView {
             id,
             owner,

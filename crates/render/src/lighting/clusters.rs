@@ -76,13 +76,13 @@ pub(crate) struct ClusterBuffers {
     pub totals: wgpu::Buffer,
 }
 
+/// Kept per node across its recipes (`Renderer::state`): a CookTorrance
+/// whose G-buffer changes every frame (a moving or jittered camera) makes a
+/// new recipe every frame, and must not make new buffers (and bind groups) too.
+#[derive(Default)]
 pub(crate) struct ClusterStore(Mutex<Option<ClusterBuffers>>);
 
 impl ClusterStore {
-    pub fn new() -> Self {
-        ClusterStore(Mutex::new(None))
-    }
-
     /// Buffers for `clusters` froxels and `lights` lights, reusing last frame's when big enough.
     pub fn get(
         &self,

@@ -279,11 +279,10 @@ impl CompositeLight {
         }
         let matcap_images = match self.matcap_images() {
             Some(t) => Some((
-                cx.texture(&t.name)?
-                    .create_view(&wgpu::TextureViewDescriptor {
-                        dimension: Some(wgpu::TextureViewDimension::D2Array),
-                        ..Default::default()
-                    }),
+                cx.view_of(
+                    &cx.texture(&t.name)?.clone(),
+                    crate::texture_pool::ViewSpec::array(),
+                ),
                 // Clamped: the rim of a matcap must not wrap to the far side.
                 cx.shaders
                     .sampler(&device, crate::shaders::Sampling::LinearClamp),

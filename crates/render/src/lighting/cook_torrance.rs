@@ -45,7 +45,7 @@ pub struct CookTorrance {
     /// Roughness and metallic per material from the material buffer, when given (else `surfaces`).
     materials: Option<Arc<MaterialWorld>>,
     grid: wgpu::Buffer,
-    clusters: ClusterStore,
+    clusters: Arc<ClusterStore>,
     token: String,
     pub diffuse: String,
     pub specular: String,
@@ -111,11 +111,12 @@ impl CookTorrance {
         if packed.is_empty() {
             packed.push([0.5, 0.0]);
         }
-        let surfaces = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("cook torrance surfaces"),
-            contents: bytemuck::cast_slice(&packed),
-            usage: wgpu::BufferUsages::STORAGE,
-        });
+        let surfaces = renderer.kept_init(
+            owner,
+            "cook torrance surfaces",
+            bytemuck::cast_slice(&packed),
+            wgpu::BufferUsages::STORAGE,
+        );
         // Written each frame; kept under the node so its bind groups are reused.
         let grid = renderer.kept_buffer(
             owner,
@@ -143,7 +144,10 @@ impl CookTorrance {
             surfaces,
             materials,
             grid,
-            clusters: ClusterStore::new(),
+            clusters: match owner {
+                Some(node) => renderer.state::<ClusterStore>(u64::from(node)),
+                None => Arc::default(),
+            },
             token: format!("cooktorrance{id}/lights"),
             diffuse: format!("cooktorrance{id}/diffuse"),
             specular: format!("cooktorrance{id}/specular"),
@@ -323,12 +327,8 @@ impl CookTorrance {
         }
         let spot_textures = match self.lights.textures() {
             Some(t) => {
-                let view = cx
-                    .texture(&t.name)?
-                    .create_view(&wgpu::TextureViewDescriptor {
-                        dimension: Some(wgpu::TextureViewDimension::D2Array),
-                        ..Default::default()
-                    });
+                let texture = cx.texture(&t.name)?.clone();
+                let view = cx.view_of(&texture, crate::texture_pool::ViewSpec::array());
                 Some((view, cx.shaders.sampler(&device, Sampling::LinearClamp)))
             }
             None => None,
@@ -343,15 +343,9 @@ impl CookTorrance {
                     pass: "cook torrance".to_owned(),
                     message: "the shadow maps were not rendered this frame".to_owned(),
                 })?;
-                let array = |t: &wgpu::Texture, aspect| {
-                    t.create_view(&wgpu::TextureViewDescriptor {
-                        dimension: Some(wgpu::TextureViewDimension::D2Array),
-                        aspect,
-                        ..Default::default()
-                    })
-                };
-                let depth = array(&depth, wgpu::TextureAspect::All);
-                let moments = moments.map(|m| array(&m, wgpu::TextureAspect::All));
+                let array = |t: &wgpu::Texture| cx.view_of(t, crate::texture_pool::ViewSpec::array());
+                let depth = array(&depth);
+                let moments = moments.map(|m| array(&m));
                 Some((shadows, depth, moments))
             }
             None => None,

@@ -227,6 +227,13 @@ fn radiant(color: Vec3, intensity: f32) -> [f32; 4] {
 
 impl LightBuffer {
     pub fn points(renderer: &Renderer, lights: &[PointLight]) -> Arc<Self> {
+        Self::points_of(renderer, None, lights)
+    }
+
+    /// As [`LightBuffer::points`], kept under node `owner` across its
+    /// re-evaluations: the same buffer (written only when the lights
+    /// change), so the bind groups over it are reused from frame to frame.
+    pub fn points_of(renderer: &Renderer, owner: Option<u32>, lights: &[PointLight]) -> Arc<Self> {
         let gpu = lights
             .iter()
             .map(|l| GpuLight {
@@ -236,7 +243,7 @@ impl LightBuffer {
                 cone: [-1.0, 0.0, shadow_slice(l.shadow), 0.0],
             })
             .collect();
-        Self::upload(renderer, LightKind::Point, gpu)
+        Self::upload(renderer, owner, LightKind::Point, gpu)
     }
 
     /// Spots projecting layers of `textures` (a 2D texture, or an array of
@@ -244,6 +251,16 @@ impl LightBuffer {
     /// layer past the array's end wraps, as vvvv's slices do.
     pub fn spots(
         renderer: &Renderer,
+        lights: &[SpotLight],
+        textures: Option<TextureRef>,
+    ) -> Result<Arc<Self>, SpotError> {
+        Self::spots_of(renderer, None, lights, textures)
+    }
+
+    /// As [`LightBuffer::spots`], kept under node `owner` ([`LightBuffer::points_of`]).
+    pub fn spots_of(
+        renderer: &Renderer,
+        owner: Option<u32>,
         lights: &[SpotLight],
         textures: Option<TextureRef>,
     ) -> Result<Arc<Self>, SpotError> {
@@ -272,16 +289,13 @@ impl LightBuffer {
         if projections.is_empty() {
             projections.push(Mat4::ZERO.to_cols_array());
         }
-        let projections =
-            renderer
-                .gpu
-                .device
-                .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                    label: Some("spot projections"),
-                    contents: bytemuck::cast_slice(&projections),
-                    usage: wgpu::BufferUsages::STORAGE,
-                });
-        let mut buffer = Self::upload(renderer, LightKind::Spot, gpu);
+        let projections = renderer.kept_init(
+            owner,
+            "spot projections",
+            bytemuck::cast_slice(&projections),
+            wgpu::BufferUsages::STORAGE,
+        );
+        let mut buffer = Self::upload(renderer, owner, LightKind::Spot, gpu);
         let b = Arc::get_mut(&mut buffer).expect("just made");
         b.projections = Some(projections);
         b.textures = textures.filter(|_| lights.iter().any(|l| l.texture.is_some()));
@@ -289,6 +303,11 @@ impl LightBuffer {
     }
 
     pub fn suns(renderer: &Renderer, lights: &[SunLight]) -> Arc<Self> {
+        Self::suns_of(renderer, None, lights)
+    }
+
+    /// As [`LightBuffer::suns`], kept under node `owner` ([`LightBuffer::points_of`]).
+    pub fn suns_of(renderer: &Renderer, owner: Option<u32>, lights: &[SunLight]) -> Arc<Self> {
         let gpu = lights
             .iter()
             .map(|l| GpuLight {
@@ -298,23 +317,26 @@ impl LightBuffer {
                 cone: [-1.0, 0.0, shadow_slice(l.shadow), 0.0],
             })
             .collect();
-        Self::upload(renderer, LightKind::Sun, gpu)
+        Self::upload(renderer, owner, LightKind::Sun, gpu)
     }
 
-    fn upload(renderer: &Renderer, kind: LightKind, mut gpu: Vec<GpuLight>) -> Arc<Self> {
+    fn upload(
+        renderer: &Renderer,
+        owner: Option<u32>,
+        kind: LightKind,
+        mut gpu: Vec<GpuLight>,
+    ) -> Arc<Self> {
         let count = gpu.len() as u32;
         if gpu.is_empty() {
             // A storage binding cannot be empty; the count says there are none.
             gpu.push(bytemuck::Zeroable::zeroed());
         }
-        let buffer = renderer
-            .gpu
-            .device
-            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some("lights"),
-                contents: bytemuck::cast_slice(&gpu),
-                usage: wgpu::BufferUsages::STORAGE,
-            });
+        let buffer = renderer.kept_init(
+            owner,
+            "lights",
+            bytemuck::cast_slice(&gpu),
+            wgpu::BufferUsages::STORAGE,
+        );
         Arc::new(LightBuffer {
             kind,
             count,

@@ -74,6 +74,8 @@ pub struct Ssgi {
     params: wgpu::Buffer,
     /// The blur's direction per pass: x, then y.
     axes: [wgpu::Buffer; 2],
+    /// The temporal pass's `fresh` flag: [history kept, history reset].
+    fresh: [wgpu::Buffer; 2],
     state: Arc<TemporalState>,
     prefix: String,
     pub output: String,
@@ -92,7 +94,6 @@ impl Ssgi {
     ) -> Arc<Self> {
         let id = next_recipe_id();
         let key = owner.map_or(id, u64::from);
-        let device = &renderer.gpu.device;
         // Written each frame; kept under the node so its bind groups are reused.
         let params = renderer.kept_buffer(
             owner,
@@ -100,12 +101,15 @@ impl Ssgi {
             64,
             wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
         );
-        let axis = |a: [i32; 4]| {
-            device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some("ssgi axis"),
-                contents: bytemuck::cast_slice(&a),
-                usage: wgpu::BufferUsages::UNIFORM,
-            })
+        // Constant per node: kept, so the blur's bind groups are reused.
+        let kept = |label: &'static str, index: u32, words: [i32; 4]| {
+            renderer.kept_init_at(
+                owner,
+                label,
+                index,
+                bytemuck::cast_slice(&words),
+                wgpu::BufferUsages::UNIFORM,
+            )
         };
         let prefix = format!("ssgi{id}");
         Arc::new(Ssgi {
@@ -117,7 +121,8 @@ impl Ssgi {
             settings: settings.clamped(),
             key,
             params,
-            axes: [axis([1, 0, 0, 0]), axis([0, 1, 0, 0])],
+            axes: [kept("ssgi axis", 0, [1, 0, 0, 0]), kept("ssgi axis", 1, [0, 1, 0, 0])],
+            fresh: [kept("ssgi fresh", 0, [0; 4]), kept("ssgi fresh", 1, [1, 0, 0, 0])],
             state: renderer.state::<TemporalState>(key),
             output: format!("{prefix}/out"),
             prefix,
@@ -234,14 +239,7 @@ impl Ssgi {
         if fresh {
             cx.count("SSGI history reset", 1);
         }
-        let fresh = cx
-            .gpu
-            .device
-            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some("ssgi fresh"),
-                contents: bytemuck::cast_slice(&[u32::from(fresh), 0, 0, 0]),
-                usage: wgpu::BufferUsages::UNIFORM,
-            });
+        let fresh = self.fresh[usize::from(fresh)].clone();
         let (raw, velocity) = (self.name("raw"), self.gbuffer.targets.velocity_uv.clone());
         self.dispatch(
             cx,

@@ -90,14 +90,7 @@ impl Ssss {
                 name,
             };
         };
-        let params = renderer
-            .gpu
-            .device
-            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some("ssss params"),
-                contents: bytemuck::cast_slice(&[width.to_bits(), quality.taps(), 0, 0]),
-                usage: wgpu::BufferUsages::UNIFORM,
-            });
+        let params = renderer.kept_init(owner, "ssss params", bytemuck::cast_slice(&[width.to_bits(), quality.taps(), 0, 0]), wgpu::BufferUsages::UNIFORM);
         let prefix = format!("ssss{id}");
         let recipe = Arc::new(Ssss {
             id,

@@ -136,6 +136,8 @@ pub struct AmbientOcclusion {
     /// Key of the per-node state and the history's name.
     key: u64,
     params: wgpu::Buffer,
+    /// The temporal pass's `fresh` flag: [history kept, history reset].
+    fresh: [wgpu::Buffer; 2],
     state: Arc<TemporalState>,
     prefix: String,
     pub output: String,
@@ -163,6 +165,17 @@ impl AmbientOcclusion {
             wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
         );
         let prefix = format!("ao{id}");
+        // The temporal pass's flag, [history kept, history reset]: kept, so
+        // its bind groups are reused.
+        let fresh = [0u32, 1].map(|f| {
+            renderer.kept_init_at(
+                owner,
+                "ao temporal",
+                f,
+                bytemuck::cast_slice(&[f, 0, 0, 0]),
+                wgpu::BufferUsages::UNIFORM,
+            )
+        });
         Arc::new(AmbientOcclusion {
             id,
             owner,
@@ -171,6 +184,7 @@ impl AmbientOcclusion {
             combine,
             key,
             params,
+            fresh,
             state: renderer.state::<TemporalState>(key),
             output: format!("{prefix}/out"),
             prefix,
@@ -321,15 +335,7 @@ impl AmbientOcclusion {
         if fresh {
             cx.count("AO history reset", 1);
         }
-        let fresh = u32::from(fresh);
-        let fresh_buffer = cx
-            .gpu
-            .device
-            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some("ao temporal"),
-                contents: bytemuck::cast_slice(&[fresh, 0u32, 0, 0]),
-                usage: wgpu::BufferUsages::UNIFORM,
-            });
+        let fresh_buffer = &self.fresh[usize::from(fresh)];
         let g = &self.gbuffer.targets;
         let views = [
             cx.view(&self.name("raw"))?,

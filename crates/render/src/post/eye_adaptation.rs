@@ -128,8 +128,8 @@ pub struct EyeAdaptation {
     owner: Option<u32>,
     source: TextureRef,
     settings: AdaptationSettings,
-    rate_up: f32,
-    rate_down: f32,
+    /// The `Params` uniform of eye_adaptation.wgsl: [history kept, no history yet].
+    params: [wgpu::Buffer; 2],
     /// The copy of last frame's adapted luminance the blend reads.
     previous: String,
     /// The persistent 1x1 adapted luminance: the recipe's output.
@@ -157,7 +157,7 @@ impl EyeAdaptation {
 
     /// As [`EyeAdaptation::new`], with the persistent target's name given.
     pub fn with_history(
-        _renderer: &Renderer,
+        renderer: &Renderer,
         owner: Option<u32>,
         source: TextureRef,
         settings: AdaptationSettings,
@@ -165,13 +165,34 @@ impl EyeAdaptation {
         history: String,
     ) -> Arc<Self> {
         let id = next_recipe_id();
+        let rate_up = AdaptationSettings::rate(settings.speed_up, delta);
+        let rate_down = AdaptationSettings::rate(settings.speed_down, delta);
+        let (min, max) = settings.pins();
+        // Kept under the node: the same buffers (and bind groups) every frame.
+        let params = [0u32, 1].map(|fresh| {
+            renderer.kept_init_at(
+                owner,
+                "eye adaptation params",
+                fresh,
+                bytemuck::cast_slice(&[
+                    rate_up.to_bits(),
+                    rate_down.to_bits(),
+                    min.to_bits(),
+                    max.to_bits(),
+                    fresh,
+                    0,
+                    0,
+                    0,
+                ]),
+                wgpu::BufferUsages::UNIFORM,
+            )
+        });
         Arc::new(EyeAdaptation {
             id,
             owner,
             source,
             settings,
-            rate_up: AdaptationSettings::rate(settings.speed_up, delta),
-            rate_down: AdaptationSettings::rate(settings.speed_down, delta),
+            params,
             previous: format!("eye adaptation{id} previous"),
             output: history,
         })
@@ -223,37 +244,16 @@ impl EyeAdaptation {
         ];
         // Only the first level reads the parameters (it floors pixels at the
         // Minimum pin); the halving levels need no uniform made for them.
-        let params = (entry == "log_luminance").then(|| self.params(cx, false));
+        let params = (entry == "log_luminance").then(|| self.params[0].clone());
         if let Some(params) = &params {
             all.push((0, params.as_entire_binding()));
         }
         Self::dispatch(cx, entry, &all, (w.div_ceil(8), h.div_ceil(8)))
     }
 
-    /// The `Params` uniform of eye_adaptation.wgsl; `fresh`: the target holds no history.
-    fn params(&self, cx: &PassContext<'_>, fresh: bool) -> wgpu::Buffer {
-        let (min, max) = self.settings.pins();
-        cx.gpu
-            .device
-            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some("eye adaptation params"),
-                contents: bytemuck::cast_slice(&[
-                    self.rate_up.to_bits(),
-                    self.rate_down.to_bits(),
-                    min.to_bits(),
-                    max.to_bits(),
-                    u32::from(fresh),
-                    0,
-                    0,
-                    0,
-                ]),
-                usage: wgpu::BufferUsages::UNIFORM,
-            })
-    }
-
     fn adapt(&self, cx: &mut PassContext<'_>, measured: &str) -> Result<(), RenderError> {
         let fresh = cx.is_fresh(&self.output);
-        let params = self.params(cx, fresh);
+        let params = self.params[usize::from(fresh)].clone();
         // The blend reads last frame's value from a copy: a texture cannot be
         // read and written in one dispatch without read-write storage.
         let (last, copy) = (

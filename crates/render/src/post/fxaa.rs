@@ -57,14 +57,7 @@ impl Fxaa {
         } else {
             0.75
         };
-        let params = renderer
-            .gpu
-            .device
-            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some("fxaa"),
-                contents: bytemuck::cast_slice(&[steps, threshold, minimum, subpixel]),
-                usage: wgpu::BufferUsages::UNIFORM,
-            });
+        let params = renderer.kept_init(owner, "fxaa", bytemuck::cast_slice(&[steps, threshold, minimum, subpixel]), wgpu::BufferUsages::UNIFORM);
         Arc::new(Fxaa {
             id,
             owner,

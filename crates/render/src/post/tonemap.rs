@@ -72,19 +72,12 @@ impl Tonemap {
         let key = adaptation
             .as_ref()
             .map_or(DEFAULT_KEY, |a| finite(a.key, DEFAULT_KEY).clamp(0.0, 1e3));
-        let params = renderer
-            .gpu
-            .device
-            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some("tonemap params"),
-                contents: bytemuck::cast_slice(&[
+        let params = renderer.kept_init(owner, "tonemap params", bytemuck::cast_slice(&[
                     operator,
                     finite(exposure, 1.0).max(0.0).to_bits(),
                     finite(param, 1.0).to_bits(),
                     key.to_bits(),
-                ]),
-                usage: wgpu::BufferUsages::UNIFORM,
-            });
+                ]), wgpu::BufferUsages::UNIFORM);
         Arc::new(Tonemap {
             id,
             owner,

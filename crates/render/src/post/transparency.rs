@@ -78,11 +78,12 @@ impl Transparency {
             gpu_instances.push(bytemuck::Zeroable::zeroed());
         }
         let device = &renderer.gpu.device;
-        let instances = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("transparent instances"),
-            contents: bytemuck::cast_slice(&gpu_instances),
-            usage: wgpu::BufferUsages::STORAGE,
-        });
+        let instances = renderer.kept_init(
+            owner,
+            "transparent instances",
+            bytemuck::cast_slice(&gpu_instances),
+            wgpu::BufferUsages::STORAGE,
+        );
         let clean = |v: Vec3| {
             if v.is_finite() {
                 v.clamp(Vec3::ZERO, Vec3::splat(super::HALF_MAX))
