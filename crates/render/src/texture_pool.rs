@@ -61,6 +61,37 @@ impl ViewSpec {
 /// driver (and a new view is a new bind group). A view not asked for in a
 /// frame is dropped (with the texture it keeps alive).
 #[derive(Default)]
+pub(crate) struct ViewCache {
+    views: HashMap<(wgpu::Texture, ViewSpec), (wgpu::TextureView, bool)>,
+    pub created: u64,
+    pub reused: u64,
+}
+
+impl ViewCache {
+    pub fn view(&mut self, texture: &wgpu::Texture) -> wgpu::TextureView {
+        self.view_of(texture, ViewSpec::default())
+    }
+
+    pub fn view_of(&mut self, texture: &wgpu::Texture, spec: ViewSpec) -> wgpu::TextureView {
+        let key = (texture.clone(), spec);
+        if let Some((view, used)) = self.views.get_mut(&key) {
+            *used = true;
+            self.reused += 1;
+            return view.clone();
+        }
+        let view = texture.create_view(&spec.descriptor());
+        self.created += 1;
+        self.views.insert(key, (view.clone(), true));
+        view
+    }
+
+    /// Drop what this frame did not use; the rest waits for the next frame.
+    pub fn end_frame(&mut self) {
+        self.views.retain(|_, (_, used)| std::mem::take(used));
+    }
+}
+
+#[derive(Default)]
 pub(crate) struct TexturePool {
     pub pool: HashMap<TextureKey, Vec<wgpu::Texture>>,
     pub persistent: HashMap<String, (TextureKey, wgpu::Texture)>,

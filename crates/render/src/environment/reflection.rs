@@ -12,7 +12,6 @@
 
 use std::sync::Arc;
 
-use wgpu::util::DeviceExt;
 
 use super::environment_map::{Environment, EnvironmentMaps};
 use crate::error::RenderError;

@@ -20,7 +20,6 @@ mod view;
 use std::sync::Arc;
 
 use glam::Mat4;
-use wgpu::util::DeviceExt;
 
 pub use layer::{DrawBatch, InstanceInput, Layer, LayerError, LayerFeatures, VelocitySource};
 pub use view::{Channel, GBufferView};
@@ -242,7 +241,6 @@ impl GBuffer {
             // A storage binding cannot be empty.
             gpu_instances.push(bytemuck::Zeroable::zeroed());
         }
-        let device = &renderer.gpu.device;
         // Kept under the MRE node across its recipes, so the bind groups of
         // every pass that reads the camera are reused from frame to frame.
         let instances = renderer.kept_init(

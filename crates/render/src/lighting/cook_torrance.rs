@@ -3,7 +3,6 @@
 
 use std::sync::Arc;
 
-use wgpu::util::DeviceExt;
 
 use super::clusters::{ClusterGrid, ClusterStore};
 use super::{LightBuffer, LightKind};
@@ -103,7 +102,6 @@ impl CookTorrance {
             Surfaces::Materials(world) => (Vec::new(), Some(world)),
         };
         let id = next_recipe_id();
-        let device = &renderer.gpu.device;
         let mut packed: Vec<[f32; 2]> = surfaces
             .iter()
             .map(|&(r, m)| [sanitize(r), sanitize(m)])

@@ -11,7 +11,6 @@ mod ssss;
 use std::sync::Arc;
 
 use glam::{Mat4, Vec3};
-use wgpu::util::DeviceExt;
 
 pub use clusters::ClusterGrid;
 pub use composite::{CompositeInputs, CompositeLight, LightComponents, MAX_COMPONENTS};

@@ -15,7 +15,6 @@ use crate::recipe::{Recipe, TextureRef, next_recipe_id, pass_name};
 use crate::renderer::Renderer;
 use crate::shaders::ShaderKey;
 use crate::temporal::{RayParams, TemporalState};
-use wgpu::util::DeviceExt;
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SsgiSettings {

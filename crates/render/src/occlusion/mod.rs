@@ -19,7 +19,6 @@
 //! empty), what `CompositeLight`'s Occlusion input reads.
 
 use std::sync::Arc;
-use wgpu::util::DeviceExt;
 
 use crate::error::RenderError;
 use crate::frame_graph::{FrameGraph, PassContext, SizeRule, TextureDesc};

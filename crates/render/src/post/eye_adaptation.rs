@@ -11,7 +11,6 @@
 
 use std::sync::Arc;
 
-use wgpu::util::DeviceExt;
 
 use crate::error::RenderError;
 use crate::frame_graph::{FrameGraph, Lifetime, PassContext, SizeRule, TextureDesc};

@@ -6,7 +6,6 @@
 
 use std::sync::Arc;
 
-use wgpu::util::DeviceExt;
 
 use crate::error::RenderError;
 use crate::frame_graph::{FrameGraph, PassContext, SizeRule, TextureDesc};

@@ -10,7 +10,6 @@
 use std::sync::Arc;
 
 use glam::Vec3;
-use wgpu::util::DeviceExt;
 
 use crate::error::RenderError;
 use crate::frame_graph::{FrameGraph, PassContext, TextureDesc};
@@ -77,7 +76,6 @@ impl Transparency {
             // A storage binding cannot be empty.
             gpu_instances.push(bytemuck::Zeroable::zeroed());
         }
-        let device = &renderer.gpu.device;
         let instances = renderer.kept_init(
             owner,
             "transparent instances",
