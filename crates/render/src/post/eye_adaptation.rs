@@ -126,7 +126,6 @@ pub struct EyeAdaptation {
     id: u64,
     owner: Option<u32>,
     source: TextureRef,
-    settings: AdaptationSettings,
     /// The `Params` uniform of eye_adaptation.wgsl: [history kept, no history yet].
     params: [wgpu::Buffer; 2],
     /// The copy of last frame's adapted luminance the blend reads.
@@ -190,7 +189,6 @@ impl EyeAdaptation {
             id,
             owner,
             source,
-            settings,
             params,
             previous: format!("eye adaptation{id} previous"),
             output: history,
