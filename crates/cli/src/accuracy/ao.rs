@@ -118,6 +118,7 @@ fn settings(mode: AoMode, samples: u32, temporal: bool, radius: f32) -> AoSettin
         temporal_blend: if temporal { 0.9 } else { 0.0 },
         blur_radius: 4,
         reset: false,
+        ..Default::default()
     }
 }
 

@@ -297,6 +297,7 @@ fn dof_settings(samples: u32) -> DofSettings {
         f_stop: F_STOP,
         samples,
         max_radius: 32.0,
+        ..Default::default()
     }
 }
 
