@@ -19,7 +19,8 @@
 // DETAIL (depth of field): the half result is a blur; where p is in focus
 // (its circle of confusion under a pixel) the detail the half grid cannot
 // hold comes back from the full image: image(p) minus the same weighted
-// mix of the image at the texels' pixels, faded out as p's circle grows.
+// mix of the image at the texels' pixels, faded out as p's circle grows
+// (gone at DETAIL_FADE pixels).
 #import spreadlight::camera::Camera
 #import spreadlight::packing::safe_normalize
 #import spreadlight::screen::view_position
@@ -42,6 +43,8 @@
 const HALF_MAX: f32 = 65000.0;
 // Relative view-distance difference that lowers a texel's weight by e.
 const DEPTH_FALLOFF: f32 = 0.02;
+// DETAIL: the circle-of-confusion radius (pixels) where no detail comes back.
+const DETAIL_FADE: f32 = 3.0;
 // The gap of a depth-empty pixel against a surface: never alike.
 const NO_MATCH: f32 = 1e30;
 
@@ -128,7 +131,10 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     }
 #ifdef DETAIL
     let radius = abs(textureLoad(coc, pixel, 0).x);
-    let sharp = 1.0 - clamp(2.0 * select(0.0, radius, radius == radius) - 1.0, 0.0, 1.0);
+    // All the detail at a circle under half a pixel, none from DETAIL_FADE
+    // pixels on: a small blur still keeps much of the detail, which the half
+    // grid cannot hold.
+    let sharp = clamp((DETAIL_FADE - select(0.0, radius, radius == radius)) / (DETAIL_FADE - 0.5), 0.0, 1.0);
     v += sharp * (clean(textureLoad(image, pixel, 0)) - mixed);
 #endif
     v = clean(v);

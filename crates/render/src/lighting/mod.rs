@@ -18,6 +18,7 @@ pub use composite::{CompositeInputs, CompositeLight, LightComponents, MAX_COMPON
 pub use cook_torrance::{CookTorrance, LightLoop, Surfaces};
 pub use ssgi::{Ssgi, SsgiSettings};
 pub use ssss::{Ssss, SsssQuality};
+pub use ssgi::HALF_RESOLUTION as SSGI_HALF_RESOLUTION;
 
 use crate::recipe::TextureRef;
 use crate::renderer::Renderer;
