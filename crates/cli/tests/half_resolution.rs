@@ -12,7 +12,10 @@ const POST: [&str; 5] = ["52", "53", "57", "61", "81"];
 const EMESHE_FRAME: [&str; 3] = ["34", "38", "43"];
 
 fn bench_half(patch: &str, ids: &[&str]) -> Vec<String> {
-    let sets: Vec<String> = ids.iter().map(|id| format!("{id}.Resolution=Half")).collect();
+    let sets: Vec<String> = ids
+        .iter()
+        .map(|id| format!("{id}.Resolution=Half"))
+        .collect();
     let mut args = vec![
         "bench", patch, "--size", "48x27", "--warmup", "0", "--frames", "1", "--json",
     ];
@@ -47,7 +50,10 @@ fn every_effect_of_post_ron_runs_at_half_resolution() {
         ("DOF #81", "blur (half)"),
     ] {
         assert!(has(&passes, node, what), "{node}: {what} in {passes:?}");
-        assert!(has(&passes, node, "upsample"), "{node} upsamples: {passes:?}");
+        assert!(
+            has(&passes, node, "upsample"),
+            "{node} upsamples: {passes:?}"
+        );
     }
 }
 
@@ -60,6 +66,9 @@ fn every_effect_of_the_emeshe_frame_runs_at_half_resolution() {
         ("DOF #43", "blur (half)"),
     ] {
         assert!(has(&passes, node, what), "{node}: {what} in {passes:?}");
-        assert!(has(&passes, node, "upsample"), "{node} upsamples: {passes:?}");
+        assert!(
+            has(&passes, node, "upsample"),
+            "{node} upsamples: {passes:?}"
+        );
     }
 }

@@ -27,7 +27,10 @@ pub fn read(cx: &EvalContext<'_>, index: usize) -> Result<Resolution, NodeError>
     match cx.enum_slices(index)?.first() {
         None => Ok(Resolution::Full),
         Some(name) => Resolution::parse(name).ok_or_else(|| {
-            cx.input_error(index, format!("`{name}` is not one of {}", Resolution::NAMES.join(", ")))
+            cx.input_error(
+                index,
+                format!("`{name}` is not one of {}", Resolution::NAMES.join(", ")),
+            )
         }),
     }
 }

@@ -137,7 +137,11 @@ pub struct Upsample<'s> {
 }
 
 /// Record the depth-aware upsample of `u.source` into `u.output`.
-pub fn upsample(cx: &mut PassContext<'_>, label: &str, u: &Upsample<'_>) -> Result<(), RenderError> {
+pub fn upsample(
+    cx: &mut PassContext<'_>,
+    label: &str,
+    u: &Upsample<'_>,
+) -> Result<(), RenderError> {
     let g = &u.gbuffer.targets;
     let mut features = Vec::new();
     if u.format == UpsampleFormat::R32 {

@@ -18,8 +18,8 @@ use spreadlight_render::material::{Feature, Material, MaterialWorld};
 use spreadlight_render::occlusion::{AmbientOcclusion, AoMode, AoSettings};
 use spreadlight_render::post::{Dof, DofSettings, Focus};
 use spreadlight_render::readback::{ImageF32, render_and_read};
-use spreadlight_render::resolution::{Resolution, Upsample, UpsampleFormat, upsample};
 use spreadlight_render::renderer::test_renderer;
+use spreadlight_render::resolution::{Resolution, Upsample, UpsampleFormat, upsample};
 use spreadlight_render::scenes::{balls_on_floor, with_materials};
 use spreadlight_render::texture::{GpuTexture, StaticTexture};
 use spreadlight_render::{Recipe, Renderer, SizeRule};
@@ -202,7 +202,14 @@ fn ssgi_frame(
         ..Default::default()
     };
     // One node: each frame turns the rays, so two Full frames differ by the estimator's noise.
-    let gi = Ssgi::new(renderer, Some(5), g.clone(), source.texture_ref(), None, settings);
+    let gi = Ssgi::new(
+        renderer,
+        Some(5),
+        g.clone(),
+        source.texture_ref(),
+        None,
+        settings,
+    );
     let (report, mut images) =
         render_and_read(renderer, gi.as_ref(), SIZE, &[&gi.output]).expect("renders");
     (report, images.remove(0))
@@ -291,7 +298,10 @@ fn ssr_at_half_resolution_stays_within_its_stated_error_of_full() {
     );
     assert!(half.all_finite());
     let reflected = full.pixels.iter().filter(|p| p[0] > 0.3).count();
-    assert!(reflected > 20, "the mirror floor shows the ball: {reflected}");
+    assert!(
+        reflected > 20,
+        "the mirror floor shows the ball: {reflected}"
+    );
     let e = rmse(&full, &half, 3);
     // The stated bound: 0.05 RMSE on a scene whose reflections reach 0.8.
     assert!(e < 0.05, "RMSE of Half against Full: {e}");
@@ -361,7 +371,10 @@ fn dof_at_half_resolution_stays_near_full_and_keeps_in_focus_detail() {
         }
     }
     assert!(ball > 50, "{ball} sharp ball pixels");
-    assert!(kept as f32 >= 0.95 * ball as f32, "{kept} of {ball} stay sharp");
+    assert!(
+        kept as f32 >= 0.95 * ball as f32,
+        "{kept} of {ball} stay sharp"
+    );
 }
 
 /// Only an upsample: a half-size image in, the full-size result out.
@@ -413,7 +426,13 @@ fn the_upsample_does_not_bleed_across_a_silhouette() {
     let surfaces = surfaces(&renderer, &g);
     let at = |x: u32, y: u32| surfaces[(y.min(SIZE.1 - 1) * SIZE.0 + x.min(SIZE.0 - 1)) as usize];
     // Each side's own value: 1 on the ball, 0 on the floor and the sky.
-    let value = |s: Option<(f32, bool)>| if matches!(s, Some((_, true))) { 1.0 } else { 0.0 };
+    let value = |s: Option<(f32, bool)>| {
+        if matches!(s, Some((_, true))) {
+            1.0
+        } else {
+            0.0
+        }
+    };
     let half_size = (SIZE.0.div_ceil(2), SIZE.1.div_ceil(2));
     let half_pixels: Vec<[f32; 4]> = (0..half_size.0 * half_size.1)
         .map(|i| {
@@ -461,14 +480,17 @@ fn the_upsample_does_not_bleed_across_a_silhouette() {
                 .flat_map(|&ty| xs.iter().map(move |&tx| (tx, ty)))
                 .map(|(tx, ty)| at(tx, ty))
                 .collect();
-            let across = texels.iter().any(|t| apart(here, *t) && value(*t) != value(here));
-            let same_side = texels.iter().any(|t| !apart(here, *t) && value(*t) == value(here));
+            let across = texels
+                .iter()
+                .any(|t| apart(here, *t) && value(*t) != value(here));
+            let same_side = texels
+                .iter()
+                .any(|t| !apart(here, *t) && value(*t) == value(here));
             if !(across && same_side) {
                 continue;
             }
             beside += 1;
-            let bilinear: f32 =
-                texels.iter().map(|t| value(*t)).sum::<f32>() / texels.len() as f32;
+            let bilinear: f32 = texels.iter().map(|t| value(*t)).sum::<f32>() / texels.len() as f32;
             bilinear_bleeds += usize::from((bilinear - value(here)).abs() > 0.2);
             let got = out.pixel(x, y)[0];
             assert!(
@@ -478,7 +500,10 @@ fn the_upsample_does_not_bleed_across_a_silhouette() {
             );
         }
     }
-    assert!(beside > 20, "{beside} pixels beside the silhouette were checked");
+    assert!(
+        beside > 20,
+        "{beside} pixels beside the silhouette were checked"
+    );
     assert!(
         bilinear_bleeds > 20,
         "a plain bilinear upsample would bleed at {bilinear_bleeds} of them"

@@ -372,7 +372,11 @@ fn measure_dof(renderer: &Renderer, args: &PostArgs, rows: &mut Vec<Row>) -> any
             effect: Effect::Dof,
             setting: format!(
                 "{samples} samples{}",
-                if resolution.is_half() { HALF_SUFFIX } else { "" }
+                if resolution.is_half() {
+                    HALF_SUFFIX
+                } else {
+                    ""
+                }
             ),
             ms,
             rmse,

@@ -16,9 +16,9 @@ use wgpu::util::DeviceExt;
 pub use clusters::ClusterGrid;
 pub use composite::{CompositeInputs, CompositeLight, LightComponents, MAX_COMPONENTS};
 pub use cook_torrance::{CookTorrance, LightLoop, Surfaces};
+pub use ssgi::HALF_RESOLUTION as SSGI_HALF_RESOLUTION;
 pub use ssgi::{Ssgi, SsgiSettings};
 pub use ssss::{Ssss, SsssQuality};
-pub use ssgi::HALF_RESOLUTION as SSGI_HALF_RESOLUTION;
 
 use crate::recipe::TextureRef;
 use crate::renderer::Renderer;
