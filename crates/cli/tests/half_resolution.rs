@@ -29,7 +29,7 @@ fn bench_half(patch: &str, ids: &[&str]) -> Vec<String> {
         .as_array()
         .expect("pass_order")
         .iter()
-        .filter_map(|p| p.as_str().map(str::to_owned))
+        .filter_map(|p| p["name"].as_str().map(str::to_owned))
         .collect()
 }
 
