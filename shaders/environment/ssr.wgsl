@@ -21,6 +21,9 @@
 // where fallback is Reflection's specular: the same quantity from the
 // environment, so the two are interchangeable.
 //
+// HALF (trace only): one pixel per 2x2 block, into a half-size output that
+// crates/render/src/resolution.rs upsamples with depth awareness.
+//
 // resolve (TEMPORAL): blend with last frame's output reprojected by the
 // G-buffer velocity; history that is off screen, not finite, or fresh
 // (camera cut, resize) is not used.
@@ -196,17 +199,32 @@ fn trace(origin: vec3<f32>, dir: vec3<f32>) -> Trace {
     return miss;
 }
 
+// Where a full pixel's result goes: itself, or under HALF its 2x2 block's texel.
 fn store(pixel: vec2<u32>, c: vec3<f32>) {
+#ifdef HALF
+    textureStore(output, pixel / 2u, vec4<f32>(clean(c), 1.0));
+#else
     textureStore(output, pixel, vec4<f32>(clean(c), 1.0));
+#endif
 }
 
 @compute @workgroup_size(8, 8)
 fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let size = vec2<u32>(camera.size.xy);
+#ifdef HALF
+    // The trace at half resolution: this thread is the 2x2 block's top-left
+    // pixel, traced as at full resolution into the half-size output
+    // (crates/render/src/resolution.rs upsamples it).
+    if (id.x >= (size.x + 1u) / 2u || id.y >= (size.y + 1u) / 2u) {
+        return;
+    }
+    let pixel = id.xy * 2u;
+#else
     if (id.x >= size.x || id.y >= size.y) {
         return;
     }
     let pixel = id.xy;
+#endif
     let d = textureLoad(depth, pixel, 0).r;
     let texel = textureLoad(color, pixel, 0);
     let material = channel_to_id(texel.a);

@@ -146,10 +146,21 @@ fn resolve(pixel: vec2<u32>, size: vec2<u32>, p: vec3<f32>) -> vec4<f32> {
 @compute @workgroup_size(8, 8)
 fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let size = vec2<u32>(camera.size.xy);
+#ifdef HALF
+    // The gather at half resolution: this thread is the 2x2 block's top-left
+    // pixel, computed as at full resolution and stored in the half-size output
+    // (crates/render/src/resolution.rs upsamples it).
+    if (id.x >= (size.x + 1u) / 2u || id.y >= (size.y + 1u) / 2u) {
+        return;
+    }
+    let pixel = id.xy * 2u;
+#else
     if (id.x >= size.x || id.y >= size.y) {
         return;
     }
-    let d = textureLoad(depth, id.xy, 0).r;
+    let pixel = id.xy;
+#endif
+    let d = textureLoad(depth, pixel, 0).r;
     if (d <= 0.0 || params.radius <= 0.0) {
 #ifdef AMBIENT
         textureStore(output, id.xy, vec4<f32>(clean(textureLoad(ambient, id.xy, 0).rgb), 1.0));
@@ -163,5 +174,5 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
 #endif
         return;
     }
-    textureStore(output, id.xy, resolve(id.xy, size, view_position(camera, id.xy, d)));
+    textureStore(output, id.xy, resolve(pixel, size, view_position(camera, pixel, d)));
 }

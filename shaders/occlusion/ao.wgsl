@@ -11,6 +11,7 @@
 // the cosine-weighted occluded share of that slice.
 // The rotation (interleaved gradient noise) changes every frame, so the
 // temporal pass converges to many more samples than one frame takes.
+// HALF: one pixel per 2x2 block (see main), for the depth-aware upsample.
 #import spreadlight::camera::Camera
 #import spreadlight::packing::safe_normalize
 #import spreadlight::screen::{RayParams, view_position, interleaved_gradient_noise}
@@ -154,10 +155,20 @@ fn occlusion(pixel: vec2<u32>, p: vec3<f32>, n: vec3<f32>) -> f32 {
 @compute @workgroup_size(8, 8)
 fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let size = vec2<u32>(camera.size.xy);
+#ifdef HALF
+    // Half resolution: this thread is the 2x2 block's top-left pixel, computed
+    // as at full resolution and stored in the half-size output
+    // (crates/render/src/resolution.rs upsamples it).
+    if (id.x >= (size.x + 1u) / 2u || id.y >= (size.y + 1u) / 2u) {
+        return;
+    }
+    let pixel = id.xy * 2u;
+#else
     if (id.x >= size.x || id.y >= size.y) {
         return;
     }
     let pixel = id.xy;
+#endif
     let d = textureLoad(depth, pixel, 0).r;
     var visibility = 1.0;
     if (d > 0.0 && params.radius > 0.0) {
@@ -174,5 +185,5 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     if (!(visibility >= 0.0 && visibility <= 1.0)) {
         visibility = 1.0;
     }
-    textureStore(output, pixel, vec4<f32>(visibility, 0.0, 0.0, 0.0));
+    textureStore(output, id.xy, vec4<f32>(visibility, 0.0, 0.0, 0.0));
 }

@@ -120,7 +120,14 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     if (id.x >= size.x || id.y >= size.y) {
         return;
     }
+#ifdef HALF
+    // Half resolution: the output is half size; this thread blurs its 2x2
+    // block's top-left pixel exactly as at full resolution
+    // (crates/render/src/resolution.rs upsamples it, keeping in-focus detail).
+    let p = vec2<i32>(id.xy * 2u);
+#else
     let p = vec2<i32>(id.xy);
+#endif
     let here = textureLoad(coc_in, p, 0).rg;
     let c0 = abs(here.x);
     let center = sanitize(load_clamped(source, p));
@@ -130,7 +137,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     var weight = coverage(c0, vec2<f32>(0.0), 0.0);
     // Each sample stands for radius^2 * pi / n pixels of the disk.
     let area = 3.14159265 * radius * radius / f32(max(n, 1u));
-    let turn = hash2(id.xy) * 6.2831853;
+    let turn = hash2(vec2<u32>(p)) * 6.2831853;
     for (var i = 0u; i < n; i++) {
         // Golden-angle spiral, areas equal: r ~ sqrt((i + 0.5) / n).
         let t = (f32(i) + 0.5) / f32(n);

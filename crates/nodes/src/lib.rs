@@ -50,6 +50,7 @@ pub mod osc;
 pub mod output;
 pub mod particles;
 pub mod post;
+pub mod resolution;
 pub mod shader_nodes;
 pub mod spreads;
 pub mod strings;

@@ -23,6 +23,7 @@ pub mod recipe;
 pub mod reference;
 pub mod renderer;
 pub mod report;
+pub mod resolution;
 pub mod scenes;
 pub mod shader_nodes;
 pub mod shaders;

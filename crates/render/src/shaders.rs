@@ -212,16 +212,23 @@ pub const SHADERS: &[ShaderFile] = &[
     ),
     shader!(
         "lighting/ssgi.wgsl",
-        ["TEMPORAL", "BLUR", "AMBIENT"],
+        ["TEMPORAL", "BLUR", "AMBIENT", "HALF"],
         Rule::AtMostOne(&["TEMPORAL", "BLUR"]),
-        Rule::Requires("AMBIENT", "BLUR")
+        Rule::Requires("AMBIENT", "BLUR"),
+        // Only the gather runs at half resolution.
+        Rule::AtMostOne(&["HALF", "TEMPORAL"]),
+        Rule::AtMostOne(&["HALF", "BLUR"])
     ),
     shader!("lighting/ssss.wgsl", ["VERTICAL"]),
     shader!("shadows/depth.wgsl", []),
     shader!("shadows/moments.wgsl", []),
     shader!("shadows/resolve.wgsl", []),
     shader!("occlusion/linear_depth.wgsl", ["DOWNSAMPLE"]),
-    shader!("occlusion/ao.wgsl", one_of ["SAO", "HBAO"]),
+    shader!(
+        "occlusion/ao.wgsl",
+        ["SAO", "HBAO", "HALF"],
+        Rule::AtMostOne(&["SAO", "HBAO"])
+    ),
     shader!("occlusion/temporal.wgsl", []),
     shader!(
         "occlusion/blur.wgsl",
@@ -231,13 +238,13 @@ pub const SHADERS: &[ShaderFile] = &[
     shader!("environment/sky.wgsl", ["ENVIRONMENT"]),
     shader!("environment/prefilter.wgsl", []),
     shader!("environment/reflection.wgsl", ["MATERIAL_TEXTURES"]),
-    shader!("environment/ssr.wgsl", ["MATERIAL_TEXTURES"]),
+    shader!("environment/ssr.wgsl", ["MATERIAL_TEXTURES", "HALF"]),
     shader!("environment/fog.wgsl", []),
     shader!("post/tonemap.wgsl", ["EYE_ADAPTATION"]),
     shader!("post/eye_adaptation.wgsl", []),
     shader!("post/fxaa.wgsl", []),
     shader!("post/copy.wgsl", []),
-    shader!("post/dof.wgsl", ["AUTOFOCUS", "BOKEH"]),
+    shader!("post/dof.wgsl", ["AUTOFOCUS", "BOKEH", "HALF"]),
     shader!("post/autofocus.wgsl", []),
     shader!("post/motion_blur.wgsl", []),
     shader!("post/glare.wgsl", []),
@@ -249,6 +256,11 @@ pub const SHADERS: &[ShaderFile] = &[
     ),
     // The shader-node example blur, run as a built-in pass (the baseline its node is benchmarked against).
     shader!("nodes/blur.wgsl", []),
+    shader!(
+        "resolution/upsample.wgsl",
+        ["R32", "DETAIL"],
+        Rule::AtMostOne(&["R32", "DETAIL"])
+    ),
     shader!("gbuffer/view.wgsl", one_of ["ALBEDO", "NORMALS", "VELOCITY", "UV", "DEPTH", "MATERIAL_ID", "OBJECT_ID"]),
 ];
 

@@ -57,6 +57,7 @@ fn telephoto() -> DofSettings {
         f_stop: 2.0,
         samples: 64,
         max_radius: 16.0,
+        ..Default::default()
     }
 }
 

@@ -189,6 +189,7 @@ fn focus_at_zero_and_infinity_and_the_widest_aperture_stay_finite() {
                 f_stop,
                 samples: 8,
                 max_radius: 128.0,
+                ..Default::default()
             };
             let dof = Dof::new(
                 &renderer,

@@ -4,7 +4,10 @@
 //! (render::reference::occlusion: `--rays` cosine-weighted rays of the
 //! same radius from every pixel's true surface point). Four balls over a
 //! floor, a still camera; temporal settings are measured after `--settle`
-//! frames, as a viewer would see them.
+//! frames, as a viewer would see them. Each setting at every
+//! `--resolutions` (Full, and Half: the raw estimate for one pixel in four,
+//! upsampled with depth awareness), so the table shows what half
+//! resolution saves and what it costs in error.
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -18,6 +21,7 @@ use spreadlight_render::occlusion::{AmbientOcclusion, AoMode, AoSettings};
 use spreadlight_render::readback::{ImageF32, render_and_read};
 use spreadlight_render::reference::occlusion::{Occluders, visibility_image};
 use spreadlight_render::reference::shadows::Sphere;
+use spreadlight_render::resolution::Resolution;
 use spreadlight_render::scenes::balls_on_floor;
 use spreadlight_render::{FrameGraph, Recipe, Renderer, SizeRule};
 
@@ -48,6 +52,9 @@ pub struct AoArgs {
     /// Write the reference and each setting's AO (white = open) as PNGs into this folder.
     #[arg(long)]
     images: Option<PathBuf>,
+    /// Resolutions of the raw estimate measured (Full, Half), comma-separated.
+    #[arg(long, default_value = "full,half", value_delimiter = ',', value_parser = super::parse_resolution)]
+    resolutions: Vec<Resolution>,
 }
 
 /// Visibility as a grey PNG (`None`: the sky, dark blue).
@@ -104,6 +111,7 @@ struct Row {
     mode: AoMode,
     samples: u32,
     temporal: bool,
+    resolution: Resolution,
     ms: Option<f64>,
     error: metrics::Error,
 }
@@ -118,6 +126,7 @@ fn settings(mode: AoMode, samples: u32, temporal: bool, radius: f32) -> AoSettin
         temporal_blend: if temporal { 0.9 } else { 0.0 },
         blur_radius: 4,
         reset: false,
+        ..Default::default()
     }
 }
 
@@ -270,21 +279,28 @@ pub fn run(args: &AoArgs) -> anyhow::Result<ExitCode> {
         args.error_size,
     );
     let modes = [AoMode::Stochastic, AoMode::Sao, AoMode::Hbao];
-    let total = modes.len() * args.samples.len() * 2;
+    let total = modes.len() * args.samples.len() * 2 * args.resolutions.len();
     let mut rows = Vec::new();
     // A node id per setting: each its own history.
     let mut owner = 100;
     for mode in modes {
         for temporal in [false, true] {
-            for &samples in &args.samples {
+            for (&samples, &resolution) in args
+                .samples
+                .iter()
+                .flat_map(|s| args.resolutions.iter().map(move |r| (s, r)))
+            {
                 owner += 1;
                 eprintln!(
-                    "[{}/{total}] {} {samples}{}",
+                    "[{}/{total}] {} {samples}{} {resolution}",
                     rows.len() + 1,
                     mode_name(mode),
                     if temporal { " temporal" } else { "" }
                 );
-                let s = settings(mode, samples, temporal, args.radius);
+                let s = AoSettings {
+                    resolution,
+                    ..settings(mode, samples, temporal, args.radius)
+                };
                 let frames = if temporal { args.settle } else { 1 };
                 let (ao, _) = measure(&renderer, &layer, args.error_size, s, frames, owner)?;
                 let error = error(&ao, &truth, args.error_size);
@@ -296,7 +312,7 @@ pub fn run(args: &AoArgs) -> anyhow::Result<ExitCode> {
                         .map(|(p, t)| t.map(|_| p[0]))
                         .collect();
                     let name = format!(
-                        "{} {samples}{}",
+                        "{} {samples}{} {resolution}",
                         mode_name(mode),
                         if temporal { " temporal" } else { "" }
                     );
@@ -307,6 +323,7 @@ pub fn run(args: &AoArgs) -> anyhow::Result<ExitCode> {
                     mode,
                     samples,
                     temporal,
+                    resolution,
                     ms,
                     error,
                 });
@@ -321,6 +338,7 @@ pub fn run(args: &AoArgs) -> anyhow::Result<ExitCode> {
                 "{}",
                 serde_json::json!({
                     "effect": "ao", "mode": mode_name(r.mode), "samples": r.samples, "temporal": r.temporal,
+                    "resolution": r.resolution.name(),
                     "adapter": adapter, "time_size": format!("{tw}x{th}"), "error_size": format!("{ew}x{eh}"),
                     "ms": r.ms, "rmse": r.error.rmse, "ssim": r.error.ssim,
                 })
@@ -332,8 +350,9 @@ pub fn run(args: &AoArgs) -> anyhow::Result<ExitCode> {
         "Ambient occlusion on {adapter}: GPU ms of all AO passes at {tw}x{th} (median of {} frames after {}, back to back), \
          error at {ew}x{eh} against ray-cast AO ({} cosine-weighted rays per pixel, radius {}): RMSE and SSIM of visibility \
          over the pixels with geometry. Steps 8, blur radius 4; temporal: blend 0.9, error after {} frames of a still \
-         camera. No AO at all: RMSE {:.4}, SSIM {:.4}.\n\n\
-         | estimator | samples | temporal | GPU ms | RMSE | SSIM |\n|---|---|---|---|---|---|\n",
+         camera. Resolution Half: the raw estimate for one pixel in four, upsampled with depth awareness. \
+         No AO at all: RMSE {:.4}, SSIM {:.4}.\n\n\
+         | estimator | samples | temporal | resolution | GPU ms | RMSE | SSIM |\n|---|---|---|---|---|---|---|\n",
         args.common.frames,
         args.common.warmup,
         args.rays,
@@ -344,10 +363,11 @@ pub fn run(args: &AoArgs) -> anyhow::Result<ExitCode> {
     );
     for r in &rows {
         table.push_str(&format!(
-            "| {} | {} | {} | {} | {:.4} | {:.4} |\n",
+            "| {} | {} | {} | {} | {} | {:.4} | {:.4} |\n",
             mode_name(r.mode),
             r.samples,
             if r.temporal { "on" } else { "off" },
+            r.resolution,
             ms(r.ms),
             r.error.rmse,
             r.error.ssim
@@ -357,9 +377,10 @@ pub fn run(args: &AoArgs) -> anyhow::Result<ExitCode> {
     if let Some(file) = &args.common.plot {
         let series = Series::group(rows.iter().map(|r| {
             let name = format!(
-                "{}{}",
+                "{}{}{}",
                 mode_name(r.mode),
-                if r.temporal { " temporal" } else { "" }
+                if r.temporal { " temporal" } else { "" },
+                if r.resolution.is_half() { " half" } else { "" }
             );
             (
                 name,

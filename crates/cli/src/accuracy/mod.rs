@@ -95,6 +95,14 @@ pub(crate) fn median(mut v: Vec<f64>) -> Option<f64> {
     Some(v[v.len() / 2])
 }
 
+/// A `--resolutions` value: Full or Half (any case).
+pub(crate) fn parse_resolution(
+    s: &str,
+) -> Result<spreadlight_render::resolution::Resolution, String> {
+    spreadlight_render::resolution::Resolution::parse(s)
+        .ok_or_else(|| format!("`{s}` is not a resolution: full or half"))
+}
+
 pub(crate) fn ms(v: Option<f64>) -> String {
     v.map_or("-".to_owned(), |v| format!("{v:.3}"))
 }

@@ -12,7 +12,9 @@
 //!   frames of the still scene.
 //!
 //! Error: RMSE and SSIM over RGB (metrics.rs); time: the effect's passes at
-//! `--time-size` (median of `--frames` after `--warmup`).
+//! `--time-size` (median of `--frames` after `--warmup`). DOF is measured at
+//! every `--resolutions` (Half: the blur for one pixel in four, upsampled
+//! with depth awareness; its rows' setting ends in ", half").
 
 use std::process::ExitCode;
 use std::sync::Arc;
@@ -27,6 +29,7 @@ use spreadlight_render::post::{
     TaaSettings,
 };
 use spreadlight_render::readback::{ImageF32, read_texture};
+use spreadlight_render::resolution::Resolution;
 use spreadlight_render::{FrameGraph, Recipe, Renderer, SizeRule, TextureRef};
 
 use super::metrics::{self, Plane};
@@ -55,7 +58,13 @@ pub struct PostArgs {
     /// Jittered frames TAA accumulates before its error is measured.
     #[arg(long, default_value_t = 32)]
     taa_frames: u64,
+    /// Resolutions DOF blurs at (Full, Half), comma-separated.
+    #[arg(long, default_value = "full,half", value_delimiter = ',', value_parser = super::parse_resolution)]
+    resolutions: Vec<Resolution>,
 }
+
+/// How a half-resolution row's setting ends (and its plot line is named).
+const HALF_SUFFIX: &str = ", half";
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 enum Effect {
@@ -291,12 +300,13 @@ fn time(
     Ok(median(times))
 }
 
-fn dof_settings(samples: u32) -> DofSettings {
+fn dof_settings(samples: u32, resolution: Resolution) -> DofSettings {
     DofSettings {
         focal_length_mm: FOCAL_MM,
         f_stop: F_STOP,
         samples,
         max_radius: 32.0,
+        resolution,
     }
 }
 
@@ -304,7 +314,7 @@ fn measure_dof(renderer: &Renderer, args: &PostArgs, rows: &mut Vec<Row>) -> any
     let size = args.error_size;
     let layer = scene(renderer, 0.0, false)?;
     let base = camera(size);
-    let aperture = dof_settings(1).aperture();
+    let aperture = dof_settings(1, Resolution::Full).aperture();
     eprintln!(
         "DOF reference: {} views over a {aperture:.4} aperture ...",
         args.views
@@ -326,8 +336,11 @@ fn measure_dof(renderer: &Renderer, args: &PostArgs, rows: &mut Vec<Row>) -> any
         average.add(&image.context("image")?);
     }
     let truth = average.image(size);
-    for samples in [8, 16, 32, 64] {
-        eprintln!("DOF {samples} samples");
+    let settings = [8, 16, 32, 64]
+        .into_iter()
+        .flat_map(|s| args.resolutions.iter().map(move |r| (s, *r)));
+    for (samples, resolution) in settings {
+        eprintln!("DOF {samples} samples {resolution}");
         let g = gbuffer(renderer, layer.clone(), base, None);
         let dof = Dof::new(
             renderer,
@@ -336,7 +349,7 @@ fn measure_dof(renderer: &Renderer, args: &PostArgs, rows: &mut Vec<Row>) -> any
             g,
             Focus::Distance(FOCUS),
             None,
-            dof_settings(samples),
+            dof_settings(samples, resolution),
         );
         let (_, image) = run(renderer, dof.as_ref(), &dof.output, size, true)?;
         let (rmse, ssim) = error(&image.context("image")?, &truth);
@@ -350,14 +363,21 @@ fn measure_dof(renderer: &Renderer, args: &PostArgs, rows: &mut Vec<Row>) -> any
                 g,
                 Focus::Distance(FOCUS),
                 None,
-                dof_settings(samples),
+                dof_settings(samples, resolution),
             );
             let name = dof.output.clone();
             Ok((dof as Arc<dyn Recipe>, name))
         })?;
         rows.push(Row {
             effect: Effect::Dof,
-            setting: format!("{samples} samples"),
+            setting: format!(
+                "{samples} samples{}",
+                if resolution.is_half() {
+                    HALF_SUFFIX
+                } else {
+                    ""
+                }
+            ),
             ms,
             rmse,
             ssim,
@@ -623,8 +643,9 @@ pub fn run_post(args: &PostArgs) -> anyhow::Result<ExitCode> {
     print!("{table}");
     if let Some(file) = &args.common.plot {
         let series = Series::group(rows.iter().filter(|r| r.ms.is_some()).map(|r| {
+            let half = r.setting.ends_with(HALF_SUFFIX);
             (
-                r.effect.name().to_owned(),
+                format!("{}{}", r.effect.name(), if half { " half" } else { "" }),
                 (r.ms.unwrap_or(0.0), r.rmse, r.setting.clone()),
             )
         }));

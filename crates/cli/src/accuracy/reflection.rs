@@ -13,7 +13,9 @@
 //!
 //! Measured: the environment at each cube size x samples (its one-off build
 //! time and the per-frame Reflection pass), and SSR at each max steps x rays
-//! with temporal accumulation off and on (after --temporal-frames frames).
+//! with temporal accumulation off and on (after --temporal-frames frames),
+//! at every `--resolutions` (Half: rays traced for one pixel in four,
+//! upsampled with depth awareness; the "SSR half" rows).
 //! Error: RMSE of the specular term (linear RGB) and SSIM, over the surface pixels.
 
 use std::process::ExitCode;
@@ -70,6 +72,9 @@ pub struct ReflectionArgs {
     /// Rays per pixel in the reference.
     #[arg(long, default_value_t = 256)]
     rays: u32,
+    /// Resolutions SSR traces at (Full, Half), comma-separated.
+    #[arg(long, default_value = "full,half", value_delimiter = ',', value_parser = super::parse_resolution)]
+    resolutions: Vec<spreadlight_render::resolution::Resolution>,
 }
 
 const BALL_ROUGHNESS: f32 = 0.05;
@@ -234,8 +239,11 @@ impl Method {
     fn family(&self) -> String {
         match self {
             Method::Environment(_) => "Environment".to_owned(),
-            Method::Ssr(s) if s.temporal => "SSR temporal".to_owned(),
-            Method::Ssr(_) => "SSR".to_owned(),
+            Method::Ssr(s) => format!(
+                "SSR{}{}",
+                if s.resolution.is_half() { " half" } else { "" },
+                if s.temporal { " temporal" } else { "" }
+            ),
         }
     }
 
@@ -383,14 +391,17 @@ fn methods(args: &ReflectionArgs) -> Vec<Method> {
         }
     }
     for temporal in [false, true] {
-        for &max_steps in &args.steps {
-            for &rays in &args.ssr_rays {
-                m.push(Method::Ssr(SsrSettings {
-                    max_steps,
-                    rays,
-                    temporal,
-                    ..Default::default()
-                }));
+        for &resolution in &args.resolutions {
+            for &max_steps in &args.steps {
+                for &rays in &args.ssr_rays {
+                    m.push(Method::Ssr(SsrSettings {
+                        max_steps,
+                        rays,
+                        temporal,
+                        resolution,
+                        ..Default::default()
+                    }));
+                }
             }
         }
     }
@@ -494,7 +505,7 @@ pub fn run(args: &ReflectionArgs) -> anyhow::Result<ExitCode> {
          prefilter, frame: the Reflection pass, or SSR's hi-z + trace (+ resolve) with its fallback environment already \
          built), error at {ew}x{eh} against {} ray-traced GGX samples per pixel (RMSE of the linear specular term over the \
          surface pixels; SSIM). Balls: roughness {BALL_ROUGHNESS}, floor: {}, all metals of F0 {ALBEDO}. SSR temporal: \
-         after {} frames.\n\n| method | setting | build ms | frame ms | RMSE | SSIM |\n|---|---|---|---|---|---|\n",
+         after {} frames. SSR half: rays traced for one pixel in four, upsampled with depth awareness (+ upsample).\n\n| method | setting | build ms | frame ms | RMSE | SSIM |\n|---|---|---|---|---|---|\n",
         args.common.frames,
         args.common.warmup,
         args.rays,

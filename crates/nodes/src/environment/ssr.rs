@@ -14,7 +14,7 @@ use crate::gpu::{renderer, resource_spread, resources};
 pub fn register(r: &mut Registry) {
     let d = SsrSettings::default();
     r.add(
-        NodeDef::new(
+        crate::resolution::pin(NodeDef::new(
             "SSR",
             super::CATEGORY,
             "Screen-space reflection for materials with the Reflection feature (others get zero): per pixel, Rays rays \
@@ -40,7 +40,7 @@ pub fn register(r: &mut Registry) {
         .input("Temporal", d.temporal)
         .input("Blend", d.blend)
         .input("Thickness", d.thickness)
-        .input("Reset", false)
+        .input("Reset", false))
         .output_typed("Texture", PinType::Resource(ResourceKind::Texture))
         .evaluate(|cx| {
             let d = SsrSettings::default();
@@ -63,6 +63,7 @@ pub fn register(r: &mut Registry) {
                 blend: cx.slices::<f32>(7)?.first().copied().unwrap_or(d.blend),
                 thickness: cx.slices::<f32>(8)?.first().copied().unwrap_or(d.thickness),
                 reset: cx.slices::<bool>(9)?.first().copied().unwrap_or(false),
+                resolution: crate::resolution::read(cx, 10)?,
             };
             let renderer = renderer(cx)?;
             let gbuffer = resources::<GBuffer>(cx, 0)?.into_iter().next().ok_or_else(|| cx.input_error(0, "no G-buffer connected"))?;

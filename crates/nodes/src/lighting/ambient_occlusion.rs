@@ -37,18 +37,21 @@ fn gbuffer_pin(def: NodeDef) -> NodeDef {
 }
 
 /// The pins both nodes share, after their own: Radius, (Samples or Directions), Steps, Intensity,
-/// Temporal Blend, Blur Radius, Reset.
+/// Temporal Blend, Blur Radius, Reset, Resolution.
 fn common(def: NodeDef, count_name: &'static str, radius: f32, count: i64) -> NodeDef {
-    def.input("Radius", radius)
+    let def = def
+        .input("Radius", radius)
         .input(count_name, count)
         .input("Steps", 4i64)
         .input("Intensity", 1.0f32)
         .input("Temporal Blend", 0.9f32)
         .input("Blur Radius", 4i64)
-        .input("Reset", false)
+        .input("Reset", false);
+    crate::resolution::pin(def)
 }
 
-/// Settings from the common pins starting at `first` (Radius).
+/// Settings from the common pins starting at `first` (Radius), and the
+/// Resolution pin after them.
 fn settings(cx: &EvalContext<'_>, first: usize, mode: AoMode) -> Result<AoSettings, NodeError> {
     super::require_finite(cx, first..first + 6)?;
     let float = |pin: usize, fallback: f32| -> Result<f32, NodeError> {
@@ -83,6 +86,7 @@ fn settings(cx: &EvalContext<'_>, first: usize, mode: AoMode) -> Result<AoSettin
             .first()
             .copied()
             .unwrap_or(false),
+        resolution: crate::resolution::read(cx, first + 7)?,
     })
 }
 

@@ -12,7 +12,7 @@ pub fn register(r: &mut Registry) {
     let texture = || Spread::Resource(ResourceKind::Texture, vec![]);
     let d = SsgiSettings::default();
     r.add(
-        NodeDef::new(
+        crate::resolution::pin(NodeDef::new(
             "SSGI",
             super::CATEGORY,
             "Screen-space global illumination: one bounce of diffuse light, colour bleeding between nearby surfaces. \
@@ -31,7 +31,7 @@ pub fn register(r: &mut Registry) {
         .input("Intensity", d.intensity)
         .input("Temporal Blend", d.temporal_blend)
         .input("Blur Radius", i64::from(d.blur_radius))
-        .input("Reset", false)
+        .input("Reset", false))
         .output_typed("Texture", PinType::Resource(ResourceKind::Texture))
         .evaluate(|cx| {
             let renderer = renderer(cx)?;
@@ -59,6 +59,7 @@ pub fn register(r: &mut Registry) {
                 temporal_blend: blend,
                 blur_radius: int(8, d.blur_radius)?,
                 reset: cx.slices::<bool>(9)?.first().copied().unwrap_or(false),
+                resolution: crate::resolution::read(cx, 10)?,
             };
             let g = resources::<GBuffer>(cx, 0)?
                 .into_iter()

@@ -10,7 +10,7 @@ use crate::gpu::renderer;
 pub fn register(r: &mut Registry) {
     let d = DofSettings::default();
     r.add(
-        NodeDef::new(
+        crate::resolution::pin(NodeDef::new(
             "DOF",
             "Post",
             "Depth of field from a thin lens: Focal Length (mm, the scene in metres), F-Stop (0.5 and up; larger is \
@@ -29,7 +29,7 @@ pub fn register(r: &mut Registry) {
         .input("F-Stop", d.f_stop)
         .input("Focus Distance", 5.0f32)
         .input("Samples", i64::from(d.samples))
-        .input("Max Radius", d.max_radius)
+        .input("Max Radius", d.max_radius))
         .output_typed("Texture", PinType::Resource(ResourceKind::Texture))
         .evaluate(|cx| {
             let d = DofSettings::default();
@@ -52,7 +52,8 @@ pub fn register(r: &mut Registry) {
                 None => Focus::Distance(distance),
             };
             let bokeh = optional_texture(cx, 3)?;
-            let settings = DofSettings { focal_length_mm, f_stop, samples, max_radius };
+            let resolution = crate::resolution::read(cx, 9)?;
+            let settings = DofSettings { focal_length_mm, f_stop, samples, max_radius, resolution };
             let dof = Dof::new(&renderer, Some(cx.node_id.0), source, g, focus, bokeh, settings);
             set_texture(cx, dof.texture());
             Ok(())

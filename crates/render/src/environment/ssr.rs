@@ -6,7 +6,10 @@
 //!
 //! The output is reflected radiance times the split-sum factor, as
 //! Reflection's specular, so the two are interchangeable. Passes: "hi-z",
-//! "trace", and with temporal accumulation "resolve".
+//! "trace", and with temporal accumulation "resolve". At
+//! [`Resolution::Half`] the trace runs for one pixel in four ("trace
+//! (half)") and an "upsample" pass (crate::resolution) fills the full-size
+//! target with depth awareness before the resolve.
 
 use std::sync::atomic::{AtomicU32, Ordering};
 use std::sync::{Arc, Mutex};
@@ -18,6 +21,7 @@ use crate::gbuffer::GBuffer;
 use crate::material::{FEATURE_COOK_TORRANCE, FEATURE_REFLECTION, MaterialWorld};
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
+use crate::resolution::{Resolution, Upsample, UpsampleFormat, upsample};
 use crate::shaders::{Sampling, ShaderKey};
 use crate::temporal::TemporalState;
 
@@ -38,7 +42,12 @@ pub struct SsrSettings {
     pub thickness: f32,
     /// Drop the history this frame (a camera cut).
     pub reset: bool,
+    /// Where rays are traced: every pixel, or one in four upsampled.
+    pub resolution: Resolution,
 }
+
+/// Counted when an SSR traced at half resolution.
+pub const HALF_RESOLUTION: &str = "SSR at half resolution";
 
 impl Default for SsrSettings {
     fn default() -> Self {
@@ -49,6 +58,7 @@ impl Default for SsrSettings {
             blend: 0.2,
             thickness: 0.5,
             reset: false,
+            resolution: Resolution::Full,
         }
     }
 }
@@ -69,6 +79,7 @@ impl SsrSettings {
             blend: finite(self.blend, 0.01, 1.0, 0.2),
             thickness: finite(self.thickness, 1e-3, 1e3, 0.5),
             reset: self.reset,
+            resolution: self.resolution,
         }
     }
 }
@@ -109,6 +120,8 @@ pub struct Ssr {
     trace_params: wgpu::Buffer,
     resolve_params: wgpu::Buffer,
     token: String,
+    /// The half-size trace (Half only).
+    traced_half: String,
     current: String,
     /// The persistent history (temporal only).
     pub history: String,
@@ -165,6 +178,7 @@ impl Ssr {
             trace_params: uniform("ssr trace params"),
             resolve_params: uniform("ssr resolve params"),
             token: format!("ssr{id}/hiz"),
+            traced_half: format!("ssr{id}/trace half"),
             current: format!("ssr{id}/current"),
             history: format!("ssr/{key}/history"),
             output: format!("ssr{id}/reflection"),
@@ -311,11 +325,7 @@ impl Ssr {
             bytemuck::bytes_of(&self.params(frame, 0, max_level)),
         );
         let g = &self.gbuffer;
-        let target = if self.settings.temporal {
-            &self.current
-        } else {
-            &self.output
-        };
+        let target = self.trace_target();
         let (color, normals, depth, lit, fallback, out) = (
             cx.view(&g.targets.color)?,
             cx.view(&g.targets.normals)?,
@@ -328,7 +338,9 @@ impl Ssr {
         let lut_view = cx.view_of(&lut, Default::default());
         let device = cx.gpu.device.clone();
         let sampler = cx.shaders.sampler(&device, Sampling::LinearClamp);
-        let key = self.key();
+        let resolution = self.settings.resolution;
+        let mut key = self.key();
+        key.features.extend(resolution.feature());
         let pipeline = cx.shaders.compute_pipeline(&device, &key, "main")?;
         let all = [
             (0, g.camera_buffer().as_entire_binding()),
@@ -353,7 +365,7 @@ impl Ssr {
             self.textured(),
             g.targets.surface_targets(),
         )?;
-        let (w, h) = g.pixel_size(cx.output_size);
+        let (w, h) = resolution.pixels(g.pixel_size(cx.output_size));
         cx.dispatch(
             "ssr trace",
             &pipeline,
@@ -361,6 +373,40 @@ impl Ssr {
             (w.div_ceil(8), h.div_ceil(8), 1),
         );
         Ok(())
+    }
+
+    /// The full-size texture the trace's result lands in: the temporal
+    /// resolve's input, or the output itself.
+    fn full_target(&self) -> &str {
+        if self.settings.temporal {
+            &self.current
+        } else {
+            &self.output
+        }
+    }
+
+    /// Where the trace writes: the full-size target, or its half-size twin.
+    fn trace_target(&self) -> &str {
+        if self.settings.resolution.is_half() {
+            &self.traced_half
+        } else {
+            self.full_target()
+        }
+    }
+
+    fn upsample_trace(&self, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
+        cx.count(HALF_RESOLUTION, 1);
+        upsample(
+            cx,
+            "ssr upsample",
+            &Upsample {
+                gbuffer: &self.gbuffer,
+                source: &self.traced_half,
+                output: self.full_target(),
+                format: UpsampleFormat::Rgba16,
+                detail: None,
+            },
+        )
     }
 
     fn resolve(&self, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
@@ -495,18 +541,31 @@ impl Recipe for Ssr {
             self.textured(),
             g.surface_targets(),
         ));
-        let target = if self.settings.temporal {
-            &self.current
-        } else {
-            &self.output
-        };
+        let resolution = self.settings.resolution;
+        let pixels = self.gbuffer.pixel_size(fg.output_size());
         fg.add_pass(
-            self.label("trace"),
+            self.label(&format!("trace{}", resolution.pass_suffix())),
             self.owner,
             &reads,
-            &[(target, hdr)],
+            &[(
+                self.trace_target(),
+                hdr.size(resolution.size_rule(self.gbuffer.size, pixels)),
+            )],
             move |cx| self.trace(cx),
         );
+        if resolution.is_half() {
+            fg.add_pass(
+                self.label("upsample"),
+                self.owner,
+                &[
+                    self.traced_half.as_str(),
+                    g.depth.as_str(),
+                    g.normals.as_str(),
+                ],
+                &[(self.full_target(), hdr)],
+                move |cx| self.upsample_trace(cx),
+            );
+        }
         if self.settings.temporal {
             let history = TextureDesc {
                 format: wgpu::TextureFormat::Rgba16Float,

@@ -5,6 +5,8 @@
 //! awareness. The output is indirect radiance per unit albedo, for
 //! CompositeLight's GI input; an optional ambient texture (an
 //! environment's diffuse light) is added so one texture carries both.
+//! At [`Resolution::Half`] the gather runs for one pixel in four and is
+//! upsampled with depth awareness (crate::resolution) before the rest.
 
 use std::sync::Arc;
 
@@ -13,6 +15,7 @@ use crate::frame_graph::{FrameGraph, PassContext, TextureDesc};
 use crate::gbuffer::GBuffer;
 use crate::recipe::{Recipe, TextureRef, next_recipe_id, pass_name};
 use crate::renderer::Renderer;
+use crate::resolution::{Resolution, Upsample, UpsampleFormat, upsample};
 use crate::shaders::ShaderKey;
 use crate::temporal::{RayParams, TemporalState};
 
@@ -31,7 +34,12 @@ pub struct SsgiSettings {
     /// Blur half-width in pixels, 0..=16.
     pub blur_radius: u32,
     pub reset: bool,
+    /// Where the gather runs: every pixel, or one in four upsampled.
+    pub resolution: Resolution,
 }
+
+/// Counted when an SSGI's gather ran at half resolution.
+pub const HALF_RESOLUTION: &str = "SSGI at half resolution";
 
 impl Default for SsgiSettings {
     fn default() -> Self {
@@ -43,6 +51,7 @@ impl Default for SsgiSettings {
             temporal_blend: 0.9,
             blur_radius: 4,
             reset: false,
+            resolution: Resolution::Full,
         }
     }
 }
@@ -58,6 +67,7 @@ impl SsgiSettings {
             temporal_blend: clean(self.temporal_blend, 0.0, 0.98),
             blur_radius: self.blur_radius.min(16),
             reset: self.reset,
+            resolution: self.resolution,
         }
     }
 }
@@ -204,7 +214,10 @@ impl Ssgi {
                 .iter()
                 .map(|(b, v)| (*b, wgpu::BindingResource::TextureView(v))),
         );
-        let size = self.gbuffer.pixel_size(cx.output_size);
+        let mut size = self.gbuffer.pixel_size(cx.output_size);
+        if features.contains(&crate::resolution::HALF_FEATURE) {
+            size = Resolution::Half.pixels(size);
+        }
         cx.dispatch_image(
             label,
             &ShaderKey::new("lighting/ssgi.wgsl", features),
@@ -220,13 +233,38 @@ impl Ssgi {
             cx.count("SSGI history reset", 1);
         }
         self.write_params(cx, frame, reset);
-        let raw = self.name("raw");
+        let raw = self.raw_target();
         self.dispatch(
             cx,
             "ssgi",
-            vec![],
+            self.settings.resolution.feature().into_iter().collect(),
             &[(4, &self.source.name), (5, &raw)],
             &[],
+        )
+    }
+
+    /// Where the gather writes: `raw`, or its half-size twin.
+    fn raw_target(&self) -> String {
+        if self.settings.resolution.is_half() {
+            self.name("raw half")
+        } else {
+            self.name("raw")
+        }
+    }
+
+    fn upsample_raw(&self, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
+        cx.count(HALF_RESOLUTION, 1);
+        let (source, output) = (self.name("raw half"), self.name("raw"));
+        upsample(
+            cx,
+            "ssgi upsample",
+            &Upsample {
+                gbuffer: &self.gbuffer,
+                source: &source,
+                output: &output,
+                format: UpsampleFormat::Rgba16,
+                detail: None,
+            },
         )
     }
 
@@ -301,13 +339,32 @@ impl Recipe for Ssgi {
         let g = &self.gbuffer.targets;
         let rgba = TextureDesc::storage(wgpu::TextureFormat::Rgba16Float).size(self.gbuffer.size);
         let raw = self.name("raw");
+        let resolution = self.settings.resolution;
+        let raw_target = self.raw_target();
+        let pixels = self.gbuffer.pixel_size(fg.output_size());
         fg.add_pass(
-            pass_name("SSGI", self.owner, Some("gather")),
+            pass_name(
+                "SSGI",
+                self.owner,
+                Some(&format!("gather{}", resolution.pass_suffix())),
+            ),
             self.owner,
             &[&g.depth, &g.normals, &self.source.name],
-            &[(&raw, rgba)],
+            &[(
+                &raw_target,
+                rgba.size(resolution.size_rule(self.gbuffer.size, pixels)),
+            )],
             move |cx| self.raw(cx),
         );
+        if resolution.is_half() {
+            fg.add_pass(
+                pass_name("SSGI", self.owner, Some("upsample")),
+                self.owner,
+                &[&raw_target, &g.depth, &g.normals],
+                &[(&raw, rgba)],
+                move |cx| self.upsample_raw(cx),
+            );
+        }
         let mut source = raw.clone();
         if self.temporal() {
             let (history, previous) = (self.history_name(), self.name("previous"));

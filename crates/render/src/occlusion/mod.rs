@@ -15,6 +15,10 @@
 //!    whose last pass also multiplies in another AO (`combine`: wide-range
 //!    times local, as Emeshe pairs them).
 //!
+//! At [`Resolution::Half`] step 2 runs for one pixel in four and is
+//! upsampled with depth awareness (crate::resolution) before step 3; the
+//! rest is unchanged.
+//!
 //! Output: visibility 0..1 in RGB of an RGBA16F texture (1 where depth is
 //! empty), what `CompositeLight`'s Occlusion input reads.
 
@@ -25,6 +29,7 @@ use crate::frame_graph::{FrameGraph, PassContext, SizeRule, TextureDesc};
 use crate::gbuffer::GBuffer;
 use crate::recipe::{Recipe, TextureRef, next_recipe_id, pass_name};
 use crate::renderer::Renderer;
+use crate::resolution::{Resolution, Upsample, UpsampleFormat, upsample};
 use crate::shaders::ShaderKey;
 use crate::temporal::{RayParams, TemporalState};
 
@@ -83,7 +88,12 @@ pub struct AoSettings {
     pub blur_radius: u32,
     /// Drop the history this frame (a camera cut).
     pub reset: bool,
+    /// Where the raw estimate runs: every pixel, or one in four upsampled.
+    pub resolution: Resolution,
 }
+
+/// Counted when an AO's raw estimate ran at half resolution.
+pub const HALF_RESOLUTION: &str = "AO at half resolution";
 
 impl Default for AoSettings {
     fn default() -> Self {
@@ -96,6 +106,7 @@ impl Default for AoSettings {
             temporal_blend: 0.9,
             blur_radius: 4,
             reset: false,
+            resolution: Resolution::Full,
         }
     }
 }
@@ -302,7 +313,7 @@ impl AmbientOcclusion {
         let mut views = vec![
             cx.view(&g.depth)?,
             cx.view(&g.normals)?,
-            cx.view(&self.name("raw"))?,
+            cx.view(&self.raw_target())?,
         ];
         if self.sao() {
             for k in 0..DEPTH_LEVELS {
@@ -322,9 +333,38 @@ impl AmbientOcclusion {
         } else {
             self.settings.mode.feature()
         };
-        let key = ShaderKey::new("occlusion/ao.wgsl", feature);
-        let size = self.gbuffer.pixel_size(cx.output_size);
+        let resolution = self.settings.resolution;
+        let key = ShaderKey::new(
+            "occlusion/ao.wgsl",
+            feature.into_iter().chain(resolution.feature()),
+        );
+        let size = resolution.pixels(self.gbuffer.pixel_size(cx.output_size));
         cx.dispatch_image(self.settings.mode.name(), &key, &all, size)
+    }
+
+    /// Where the raw estimate is written: `raw`, or its half-size twin.
+    fn raw_target(&self) -> String {
+        if self.settings.resolution.is_half() {
+            self.name("raw half")
+        } else {
+            self.name("raw")
+        }
+    }
+
+    fn upsample_raw(&self, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
+        cx.count(HALF_RESOLUTION, 1);
+        let (source, output) = (self.name("raw half"), self.name("raw"));
+        upsample(
+            cx,
+            "ao upsample",
+            &Upsample {
+                gbuffer: &self.gbuffer,
+                source: &source,
+                output: &output,
+                format: UpsampleFormat::R32,
+                detail: None,
+            },
+        )
     }
 
     fn temporal_pass(&self, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
@@ -450,13 +490,33 @@ impl Recipe for AmbientOcclusion {
         if self.sao() {
             reads.extend(levels.iter().map(String::as_str));
         }
+        let resolution = self.settings.resolution;
+        let pixels = self.gbuffer.pixel_size(fg.output_size());
+        let raw_target = self.raw_target();
         fg.add_pass(
-            pass_name(kind, self.owner, Some("raw")),
+            pass_name(
+                kind,
+                self.owner,
+                Some(&format!("raw{}", resolution.pass_suffix())),
+            ),
             self.owner,
             &reads,
-            &[(&raw, full(wgpu::TextureFormat::R32Float))],
+            &[(
+                &raw_target,
+                full(wgpu::TextureFormat::R32Float)
+                    .size(resolution.size_rule(self.gbuffer.size, pixels)),
+            )],
             move |cx| self.raw(cx),
         );
+        if resolution.is_half() {
+            fg.add_pass(
+                pass_name(kind, self.owner, Some("upsample")),
+                self.owner,
+                &[&raw_target, &g.depth, &g.normals],
+                &[(&raw, full(wgpu::TextureFormat::R32Float))],
+                move |cx| self.upsample_raw(cx),
+            );
+        }
         let mut source = raw.clone();
         if self.temporal() {
             let history = self.history_name();

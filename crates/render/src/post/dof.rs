@@ -4,6 +4,11 @@
 //! bokeh texture. When the lens cannot blur anything by half a pixel
 //! anywhere between the near plane and infinity (a huge f-stop, a tiny focal
 //! length) the CPU knows it before the frame and the node costs one copy.
+//!
+//! At [`Resolution::Half`] the blur (the expensive pass; the circle of
+//! confusion and tiles stay full size) runs for one pixel in four, and an
+//! upsample (crate::resolution) fills the output with depth awareness,
+//! bringing back the full image's detail where a pixel is in focus.
 
 use std::sync::Arc;
 
@@ -14,6 +19,7 @@ use crate::frame_graph::{FrameGraph, PassContext, TextureDesc};
 use crate::gbuffer::GBuffer;
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
+use crate::resolution::{Resolution, Upsample, UpsampleFormat, upsample};
 use crate::shaders::ShaderKey;
 
 const SHADER: &str = "post/dof.wgsl";
@@ -22,6 +28,8 @@ const SHADER: &str = "post/dof.wgsl";
 pub const SKIPPED: &str = "dof skipped (circle under half a pixel)";
 /// Counted when a DOF blurred.
 pub const BLURRED: &str = "dof blurred";
+/// Counted when a DOF blurred at half resolution.
+pub const HALF_RESOLUTION: &str = "DOF at half resolution";
 
 /// The lens. Distances are in scene units (metres), the focal length in millimetres.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -32,6 +40,8 @@ pub struct DofSettings {
     pub samples: u32,
     /// The largest blur radius gathered, in pixels: the cost's bound.
     pub max_radius: f32,
+    /// Where the blur runs: every pixel, or one in four upsampled.
+    pub resolution: Resolution,
 }
 
 impl Default for DofSettings {
@@ -41,6 +51,7 @@ impl Default for DofSettings {
             f_stop: 2.8,
             samples: 32,
             max_radius: 16.0,
+            resolution: Resolution::Full,
         }
     }
 }
@@ -77,6 +88,7 @@ impl DofSettings {
             },
             samples: self.samples.clamp(1, 512),
             max_radius: pick(self.max_radius, 0.0, 128.0, 16.0),
+            resolution: self.resolution,
         }
     }
 
@@ -157,6 +169,8 @@ pub struct Dof {
     params: wgpu::Buffer,
     coc: String,
     tiles: String,
+    /// The half-size blur (Half only).
+    blurred_half: String,
     pub output: String,
 }
 
@@ -183,6 +197,7 @@ impl Dof {
             params,
             coc: format!("dof{id} coc"),
             tiles: format!("dof{id} tiles"),
+            blurred_half: format!("dof{id} half"),
             output: format!("dof{id}"),
         })
     }
@@ -195,7 +210,8 @@ impl Dof {
     }
 
     fn key(&self) -> ShaderKey {
-        let mut features = Vec::new();
+        let mut features: Vec<&'static str> =
+            self.settings.resolution.feature().into_iter().collect();
         if matches!(self.focus, Focus::Texture(_)) {
             features.push("AUTOFOCUS");
         }
@@ -222,7 +238,7 @@ impl Dof {
             views.push((2, cx.view(&self.source.name)?));
             views.push((5, coc));
             views.push((10, cx.view(&self.tiles)?));
-            views.push((6, cx.view(&self.output)?));
+            views.push((6, cx.view(self.blur_target())?));
             if let Some(t) = &self.bokeh {
                 views.push((8, cx.view(&t.name)?));
             }
@@ -238,10 +254,10 @@ impl Dof {
         );
         let size = super::size_of(
             cx,
-            if entry == "tiles" {
-                &self.tiles
-            } else {
-                &self.coc
+            match entry {
+                "tiles" => &self.tiles,
+                "main" => self.blur_target(),
+                _ => &self.coc,
             },
         )?;
         super::dispatch_entry(cx, entry, &self.key(), entry, &all, size)?;
@@ -249,6 +265,30 @@ impl Dof {
             cx.count(BLURRED, 1);
         }
         Ok(())
+    }
+
+    /// Where the blur writes: the output, or its half-size twin.
+    fn blur_target(&self) -> &str {
+        if self.settings.resolution.is_half() {
+            &self.blurred_half
+        } else {
+            &self.output
+        }
+    }
+
+    fn upsample_blur(&self, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
+        cx.count(HALF_RESOLUTION, 1);
+        upsample(
+            cx,
+            "dof upsample",
+            &Upsample {
+                gbuffer: &self.gbuffer,
+                source: &self.blurred_half,
+                output: &self.output,
+                format: UpsampleFormat::Rgba16,
+                detail: Some((&self.source.name, &self.coc)),
+            },
+        )
     }
 }
 
@@ -340,13 +380,37 @@ impl Recipe for Dof {
         if let Some(b) = &self.bokeh {
             reads.push(&b.name);
         }
+        let resolution = s.resolution;
         fg.add_pass(
-            crate::recipe::pass_name("DOF", self.owner, Some("blur")),
+            crate::recipe::pass_name(
+                "DOF",
+                self.owner,
+                Some(&format!("blur{}", resolution.pass_suffix())),
+            ),
             self.owner,
             &reads,
-            &[(&self.output, desc)],
+            &[(
+                self.blur_target(),
+                desc.size(resolution.size_rule(self.gbuffer.size, size)),
+            )],
             move |cx| self.run(cx, "main"),
         );
+        if resolution.is_half() {
+            let g = &self.gbuffer.targets;
+            fg.add_pass(
+                crate::recipe::pass_name("DOF", self.owner, Some("upsample")),
+                self.owner,
+                &[
+                    &self.blurred_half,
+                    &self.source.name,
+                    &self.coc,
+                    &g.depth,
+                    &g.normals,
+                ],
+                &[(&self.output, desc)],
+                move |cx| self.upsample_blur(cx),
+            );
+        }
     }
 }
 

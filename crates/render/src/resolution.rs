@@ -1,0 +1,207 @@
+//! Resolution choices for the expensive screen-space passes (SSAO/HBAO,
+//! SSGI's gather, SSR's trace, DOF's blur): a quality setting an artist
+//! trades against accuracy, measured by `spreadlight accuracy ao|reflection|post`.
+//!
+//! At [`Resolution::Half`] the pass runs its shader's `HALF` permutation:
+//! one thread per 2x2 block, computing exactly what the full pass computes
+//! for the block's top-left pixel (same camera, same full-size inputs) and
+//! writing it to a half-size texture. [`upsample`] then fills the full-size
+//! target with a depth- and normal-aware bilinear mix of the half texels
+//! around each pixel, falling back to the texel of the nearest depth
+//! (shaders/resolution/upsample.wgsl). Because each half texel stands at a
+//! known full pixel, the upsample compares real depths and normals rather
+//! than a downsampled guess, and a quarter of the pixels come out exactly
+//! as at full resolution.
+//!
+//! [`Resolution::Full`] changes nothing: the same shaders and passes as
+//! before the setting existed, so full-resolution images are bit-identical.
+
+use crate::error::RenderError;
+use crate::frame_graph::{PassContext, SizeRule, TextureDesc};
+use crate::gbuffer::GBuffer;
+use crate::shaders::ShaderKey;
+
+/// The shader feature of a pass's half-resolution permutation.
+pub const HALF_FEATURE: &str = "HALF";
+
+/// At which resolution an effect's expensive pass runs.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Resolution {
+    /// Every pixel: the reference.
+    #[default]
+    Full,
+    /// One pixel in four, upsampled with depth awareness: about a quarter
+    /// of the pass's cost, with the error `spreadlight accuracy` reports.
+    Half,
+}
+
+impl Resolution {
+    /// The pin's option names, in order.
+    pub const NAMES: [&'static str; 2] = ["Full", "Half"];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Resolution::Full => "Full",
+            Resolution::Half => "Half",
+        }
+    }
+
+    /// Parse a pin or command-line value (case-insensitive).
+    pub fn parse(name: &str) -> Option<Self> {
+        match name.to_ascii_lowercase().as_str() {
+            "full" => Some(Resolution::Full),
+            "half" => Some(Resolution::Half),
+            _ => None,
+        }
+    }
+
+    pub fn is_half(self) -> bool {
+        self == Resolution::Half
+    }
+
+    /// The shader feature the expensive pass takes (none at full resolution).
+    pub fn feature(self) -> Option<&'static str> {
+        self.is_half().then_some(HALF_FEATURE)
+    }
+
+    /// The pixels the expensive pass writes for a full size of `full`.
+    pub fn pixels(self, full: (u32, u32)) -> (u32, u32) {
+        match self {
+            Resolution::Full => full,
+            Resolution::Half => (full.0.div_ceil(2).max(1), full.1.div_ceil(2).max(1)),
+        }
+    }
+
+    /// The size rule of the expensive pass's target, for a G-buffer of
+    /// `full` pixels: exactly `pixels` (a relative half would round odd
+    /// sizes the other way).
+    pub fn size_rule(self, full_rule: SizeRule, full: (u32, u32)) -> SizeRule {
+        match self {
+            Resolution::Full => full_rule,
+            Resolution::Half => {
+                let (width, height) = self.pixels(full);
+                SizeRule::Absolute { width, height }
+            }
+        }
+    }
+
+    /// A suffix for pass names, so the frame report says which resolution ran.
+    pub fn pass_suffix(self) -> &'static str {
+        match self {
+            Resolution::Full => "",
+            Resolution::Half => " (half)",
+        }
+    }
+}
+
+impl std::fmt::Display for Resolution {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// The full-size target's format.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum UpsampleFormat {
+    /// R32Float (AO's raw visibility).
+    R32,
+    /// RGBA16Float (radiance).
+    Rgba16,
+}
+
+impl UpsampleFormat {
+    pub fn texture_format(self) -> wgpu::TextureFormat {
+        match self {
+            UpsampleFormat::R32 => wgpu::TextureFormat::R32Float,
+            UpsampleFormat::Rgba16 => wgpu::TextureFormat::Rgba16Float,
+        }
+    }
+
+    /// A full-size target of this format for a G-buffer of `size`.
+    pub fn full(self, size: SizeRule) -> TextureDesc {
+        TextureDesc::storage(self.texture_format()).size(size)
+    }
+}
+
+/// What an upsample reads and writes (frame-graph texture names).
+pub struct Upsample<'s> {
+    pub gbuffer: &'s GBuffer,
+    /// The half-size result.
+    pub source: &'s str,
+    /// The full-size target.
+    pub output: &'s str,
+    pub format: UpsampleFormat,
+    /// Depth of field: the full-size sharp image and the circle of
+    /// confusion, so in-focus pixels keep their full-resolution detail.
+    pub detail: Option<(&'s str, &'s str)>,
+}
+
+/// Record the depth-aware upsample of `u.source` into `u.output`.
+pub fn upsample(
+    cx: &mut PassContext<'_>,
+    label: &str,
+    u: &Upsample<'_>,
+) -> Result<(), RenderError> {
+    let g = &u.gbuffer.targets;
+    let mut features = Vec::new();
+    if u.format == UpsampleFormat::R32 {
+        features.push("R32");
+    }
+    let mut views = vec![
+        (1, cx.view(&g.depth)?),
+        (2, cx.view(&g.normals)?),
+        (3, cx.view(u.source)?),
+        (4, cx.view(u.output)?),
+    ];
+    if let Some((image, coc)) = u.detail {
+        features.push("DETAIL");
+        views.push((5, cx.view(image)?));
+        views.push((6, cx.view(coc)?));
+    }
+    let mut all = vec![(0, u.gbuffer.camera_buffer().as_entire_binding())];
+    all.extend(
+        views
+            .iter()
+            .map(|(b, v)| (*b, wgpu::BindingResource::TextureView(v))),
+    );
+    let size = u.gbuffer.pixel_size(cx.output_size);
+    cx.dispatch_image(
+        label,
+        &ShaderKey::new("resolution/upsample.wgsl", features),
+        &all,
+        size,
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn half_covers_odd_sizes_and_full_is_unchanged() {
+        assert_eq!(Resolution::Half.pixels((1921, 1081)), (961, 541));
+        assert_eq!(Resolution::Half.pixels((1, 1)), (1, 1));
+        assert_eq!(Resolution::Full.pixels((7, 5)), (7, 5));
+        assert_eq!(
+            Resolution::Full.size_rule(SizeRule::Relative(1.0), (7, 5)),
+            SizeRule::Relative(1.0)
+        );
+        assert_eq!(
+            Resolution::Half.size_rule(SizeRule::Relative(1.0), (7, 5)),
+            SizeRule::Absolute {
+                width: 4,
+                height: 3
+            }
+        );
+    }
+
+    #[test]
+    fn names_round_trip() {
+        for r in [Resolution::Full, Resolution::Half] {
+            assert_eq!(Resolution::parse(r.name()), Some(r));
+        }
+        assert_eq!(Resolution::parse("HALF"), Some(Resolution::Half));
+        assert_eq!(Resolution::parse("quarter"), None);
+        assert_eq!(Resolution::default(), Resolution::Full);
+    }
+}
