@@ -83,10 +83,11 @@ pub fn undecorate(message: &str) -> String {
             .find(|c: char| !(c.is_ascii_uppercase() || c.is_ascii_digit()))
             .unwrap_or(after.len());
         // The encoded module name ends with an `X` (itself a base32 digit).
-        rest = &after[encoded..];
-        if encoded == after.len() || !after[..encoded].ends_with('X') {
-            rest = after;
-        }
+        rest = if after[..encoded].ends_with('X') {
+            &after[encoded..]
+        } else {
+            after
+        };
     }
     out.push_str(rest);
     out
@@ -97,8 +98,22 @@ fn place(file: &str, text: &str, e: &ComposerError) -> ShaderNodeError {
     let shift = e.source.offset();
     let unshift = |start: usize| (start & ((1 << SPAN_BITS) - 1)).saturating_sub(shift);
     let (offset, message) = match &e.inner {
+        // At the `#import` line that names it (naga_oil says where it is used).
         ComposerErrorInner::ImportNotFound(name, pos) => (
-            Some(*pos),
+            match import_line(text, name) {
+                Some(offset) => {
+                    return ShaderNodeError::at_offset(
+                        file,
+                        text,
+                        offset,
+                        format!(
+                            "`#import {name}`: no such library (the libraries are \
+                             shaders/lib/*.wgsl, imported as spreadlight::NAME)"
+                        ),
+                    );
+                }
+                None => Some(*pos),
+            },
             format!(
                 "`#import {name}`: no such library (the libraries are shaders/lib/*.wgsl, \
                  imported as spreadlight::NAME)"
@@ -148,8 +163,10 @@ fn place(file: &str, text: &str, e: &ComposerError) -> ShaderNodeError {
     let message = undecorate(&message);
     match (&e.source, offset) {
         // In the file itself: its lines are the text's (naga_oil keeps them).
-        (ErrSource::Constructing { .. }, Some(offset)) => {
-            ShaderNodeError::at_offset(file, text, offset, message)
+        // Offsets are into naga_oil's text, whose lines are the file's but
+        // whose imported names are longer: the line is exact, the column close.
+        (ErrSource::Constructing { source, .. }, Some(offset)) => {
+            ShaderNodeError::at(file, span_of(source, offset), message)
         }
         // A material composed in place of the custom surface library: the file itself.
         (ErrSource::Module { name, .. }, Some(offset))
@@ -165,6 +182,19 @@ fn place(file: &str, text: &str, e: &ComposerError) -> ShaderNodeError {
         ),
         _ => ShaderNodeError::at(file, first_import(text), message),
     }
+}
+
+/// The offset of the `#import` line that names `module`.
+fn import_line(text: &str, module: &str) -> Option<usize> {
+    let mut offset = 0;
+    for line in text.split_inclusive('\n') {
+        let trimmed = line.trim_start();
+        if trimmed.starts_with("#import") && trimmed.contains(module) {
+            return Some(offset + line.len() - trimmed.len());
+        }
+        offset += line.len();
+    }
+    None
 }
 
 fn first_import(text: &str) -> Span {
@@ -218,6 +248,7 @@ mod tests {
             undecorate(&format!("call to `{decorated}` failed")),
             "call to `safe_normalize` failed"
         );
+        assert_eq!(undecorate(&decorated), "safe_normalize");
     }
 
     #[test]

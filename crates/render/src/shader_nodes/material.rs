@@ -59,6 +59,14 @@ pub fn check(
     module: &naga::Module,
 ) -> Result<(), ShaderNodeError> {
     let at_material = notes.material.unwrap_or(Span { line: 1, column: 1 });
+    // Its own structs of the same names would not be the resolve's.
+    if !super::compose::imports(text) || !text.contains("spreadlight::surface") {
+        return Err(ShaderNodeError::at(
+            file,
+            at_material,
+            "a material imports the resolve's structs:              `#import spreadlight::surface::{SurfaceInput, SurfaceOutput}`",
+        ));
+    }
     if let Some(entry) = module.entry_points.first() {
         let at = text
             .find(&format!("fn {}", entry.name))
@@ -108,7 +116,7 @@ pub fn check(
             at,
             format!(
                 "`{SURFACE_FUNCTION}` must be `fn {SURFACE_FUNCTION}(in: SurfaceInput) -> SurfaceOutput` \
-                 with the structs of spreadlight::surface"
+                 with the structs of spreadlight::surface (found ({argument}) -> {result})"
             ),
         ));
     }
