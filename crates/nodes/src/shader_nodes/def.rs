@@ -45,7 +45,11 @@ impl ShaderType {
         let mut def = NodeDef::new(self.name.clone(), format!("Shader/{category}"), help);
         let layer = PinType::Resource(ResourceKind::Layer);
         if self.is_material() {
-            def = def.input_spread("Layer", layer, Spread::Resource(ResourceKind::Layer, vec![]));
+            def = def.input_spread(
+                "Layer",
+                layer,
+                Spread::Resource(ResourceKind::Layer, vec![]),
+            );
         }
         for (_, pin, _) in &self.notes.inputs {
             def = def.input_spread(
@@ -111,10 +115,7 @@ impl ShaderType {
 fn enum_def(name: &str, options: &[&str]) -> &'static EnumDef {
     static DEFS: Mutex<Vec<&'static EnumDef>> = Mutex::new(Vec::new());
     let mut defs = DEFS.lock().unwrap_or_else(|e| e.into_inner());
-    if let Some(found) = defs
-        .iter()
-        .find(|d| d.name == name && d.options == options)
-    {
+    if let Some(found) = defs.iter().find(|d| d.name == name && d.options == options) {
         return found;
     }
     let options: Vec<&'static str> = options

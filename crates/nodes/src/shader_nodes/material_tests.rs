@@ -44,7 +44,9 @@ fn a_material_shades_its_layer_in_the_g_buffer_and_its_pins_change_the_picture()
 
     // Without the material the spheres are DeferredBase's plain white.
     let mut plain_patch = example_patch();
-    plain_patch.links.retain(|l| l.from.0.0 != MATERIAL && l.to.0.0 != MATERIAL);
+    plain_patch
+        .links
+        .retain(|l| l.from.0.0 != MATERIAL && l.to.0.0 != MATERIAL);
     plain_patch.link(3, "Layer", 7, "Layer 1");
     let mut plain = Rig::new(crate::registry(), &plain_patch);
     plain.step();
@@ -71,7 +73,13 @@ fn a_material_shades_its_layer_in_the_g_buffer_and_its_pins_change_the_picture()
     );
 
     // Scale: a finer pattern moves the veins.
-    set(&mut rig, &mut patch, MATERIAL, "Scale", Spread::Float(vec![9.0]));
+    set(
+        &mut rig,
+        &mut patch,
+        MATERIAL,
+        "Scale",
+        Spread::Float(vec![9.0]),
+    );
     rig.step();
     let finer = rig.image("albedo");
     assert!(
@@ -104,10 +112,7 @@ fn the_material_pattern_enum_compiles_each_used_option_once_and_counts_it() {
     assert!(differing(&marble, &rig.image("albedo"), 0.05) > 0.02);
     // The same option again compiles nothing.
     rig.rt.invalidate_all();
-    assert_eq!(
-        rig.step().counter("shader node permutations compiled"),
-        0
-    );
+    assert_eq!(rig.step().counter("shader node permutations compiled"), 0);
 }
 
 const MODES: &str = "// @category Source
@@ -136,7 +141,11 @@ fn fill(@builtin(global_invocation_id) id: vec3<u32>) {
 fn an_enum_pin_selects_a_permutation_compiled_once_per_used_option() {
     let ty = ShaderType::load("Modes (Shader)", "modes.wgsl", MODES).expect("compiles");
     let def = ty.node_def(None);
-    let pin = def.inputs.iter().find(|p| p.name == "Mode").expect("Mode pin");
+    let pin = def
+        .inputs
+        .iter()
+        .find(|p| p.name == "Mode")
+        .expect("Mode pin");
     match pin.ty {
         PinType::Enum(e) => assert_eq!(e.options, ["Red", "Green", "Blue"]),
         other => panic!("Mode is {other}"),
@@ -237,14 +246,14 @@ fn broken_imports_and_materials_name_their_file_line_and_column() {
             "no such library",
         ),
         (
-            &*material("fn shade(in: SurfaceInput) -> SurfaceOutput { return surface_default(in); }\n"),
+            &*material(
+                "fn shade(in: SurfaceInput) -> SurfaceOutput { return surface_default(in); }\n",
+            ),
             "m.wgsl:1:4:",
             "defines `fn surface",
         ),
         (
-            &*material(
-                "fn surface(in: SurfaceInput) -> vec4<f32> { return vec4<f32>(1.0); }\n",
-            ),
+            &*material("fn surface(in: SurfaceInput) -> vec4<f32> { return vec4<f32>(1.0); }\n"),
             "m.wgsl:4:1:",
             "must be `fn surface(in: SurfaceInput) -> SurfaceOutput`",
         ),
@@ -257,7 +266,9 @@ fn broken_imports_and_materials_name_their_file_line_and_column() {
             "a material binds everything in group 1",
         ),
         (
-            &*material("fn surface(in: SurfaceInput) -> SurfaceOutput { return surface_default(in) }\n"),
+            &*material(
+                "fn surface(in: SurfaceInput) -> SurfaceOutput { return surface_default(in) }\n",
+            ),
             "m.wgsl:4:",
             "WGSL syntax",
         ),
@@ -275,4 +286,60 @@ fn broken_imports_and_materials_name_their_file_line_and_column() {
         assert!(err.starts_with(place), "{err}\nwanted {place}");
         assert!(err.contains(what), "{err}\nwanted {what}");
     }
+}
+
+#[test]
+fn a_material_samples_its_texture_inputs_at_the_surfaces_uv() {
+    let textured = "// @material
+// @input tex \"Texture\"
+// @sampler smp repeat
+#import spreadlight::surface::{SurfaceInput, SurfaceOutput, surface_default}
+@group(1) @binding(0) var tex: texture_2d<f32>;
+@group(1) @binding(1) var smp: sampler;
+fn surface(in: SurfaceInput) -> SurfaceOutput {
+    var o = surface_default(in);
+    o.albedo = textureSampleLevel(tex, smp, in.uv, 0.0).rgb;
+    return o;
+}
+";
+    let dir = tempfile::tempdir().expect("tempdir");
+    std::fs::write(dir.path().join("textured.wgsl"), textured).expect("write");
+    std::fs::write(dir.path().join("modes.wgsl"), MODES).expect("write");
+    let mut registry = crate::registry();
+    let mut library = ShaderLibrary::new(vec![dir.path().to_owned()]);
+    library.poll(&mut registry);
+    assert!(library.errors().is_empty(), "{:?}", library.errors());
+    let mut patch = example_patch();
+    patch.nodes.retain(|n| n.id.0 != 15);
+    patch.links.retain(|l| l.to.0.0 != 15);
+    for node in &mut patch.nodes {
+        match node.id.0 {
+            3 => {
+                node.values
+                    .insert("Texture Coordinates".into(), Spread::Bool(vec![true]));
+            }
+            MATERIAL => {
+                node.type_name = "Textured (Shader)".into();
+                node.values.clear();
+            }
+            _ => {}
+        }
+    }
+    patch.add(NodeDoc::new(30, "Modes (Shader)").with("Mode", Spread::Enum(vec!["Blue".into()])));
+    patch.link(30, "Texture", MATERIAL, "Texture");
+    let mut rig = Rig::new(registry, &patch);
+    let report = rig.step();
+    assert!(rig.errors().is_empty(), "{:?}", rig.errors());
+    assert!(report.errors.is_empty(), "{:?}", report.errors);
+    // The spheres take the texture's blue; nothing else in the scene is blue.
+    let image = rig.image("albedo");
+    let blue = image
+        .pixels
+        .iter()
+        .filter(|p| p[2] > 0.5 && p[0] < 0.05 && p[1] < 0.05)
+        .count();
+    assert!(
+        blue as f64 > 0.05 * image.pixels.len() as f64,
+        "{blue} blue pixels"
+    );
 }

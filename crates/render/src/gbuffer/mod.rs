@@ -282,11 +282,13 @@ impl GBuffer {
             .iter()
             .map(|l| {
                 let s = l.surface.as_ref().filter(|s| !s.params.is_empty())?;
-                Some(device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                    label: Some("mre material pins"),
-                    contents: &s.params,
-                    usage: wgpu::BufferUsages::UNIFORM,
-                }))
+                Some(
+                    device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                        label: Some("mre material pins"),
+                        contents: &s.params,
+                        usage: wgpu::BufferUsages::UNIFORM,
+                    }),
+                )
             })
             .collect();
         let raster = match choice {

@@ -549,10 +549,12 @@ fn surface_group(
                 Some((_, view)) => wgpu::BindingResource::TextureView(view),
                 None => continue,
             },
-            SurfaceBinding::Sampler { repeat } => match samplers.iter().find(|(r, _)| r == repeat) {
-                Some((_, sampler)) => wgpu::BindingResource::Sampler(sampler),
-                None => continue,
-            },
+            SurfaceBinding::Sampler { repeat } => {
+                match samplers.iter().find(|(r, _)| r == repeat) {
+                    Some((_, sampler)) => wgpu::BindingResource::Sampler(sampler),
+                    None => continue,
+                }
+            }
         };
         entries.push(wgpu::BindGroupEntry {
             binding: *binding,

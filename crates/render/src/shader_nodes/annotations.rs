@@ -424,7 +424,10 @@ fn parse_enum(rest: &str, at: At) -> Result<EnumDecl, String> {
             Some(_) => return Err(format!("unknown enum setting `{word}` (default=)")),
             None => {
                 for option in word.split('|').filter(|o| !o.is_empty()) {
-                    if !option.chars().all(|c| c.is_ascii_alphanumeric() || c == '_') {
+                    if !option
+                        .chars()
+                        .all(|c| c.is_ascii_alphanumeric() || c == '_')
+                    {
                         return Err(format!(
                             "enum option `{option}` is not a name (letters, digits, _): it becomes a define"
                         ));
@@ -441,10 +444,12 @@ fn parse_enum(rest: &str, at: At) -> Result<EnumDecl, String> {
         return Err("`@enum` lists two or more options: `@enum NAME A|B|C`".into());
     }
     let default = match default {
-        Some(d) => options
-            .iter()
-            .position(|o| *o == d)
-            .ok_or_else(|| format!("default `{d}` is not one of the options {}", options.join("|")))?,
+        Some(d) => options.iter().position(|o| *o == d).ok_or_else(|| {
+            format!(
+                "default `{d}` is not one of the options {}",
+                options.join("|")
+            )
+        })?,
         None => 0,
     };
     Ok(EnumDecl {
@@ -525,7 +530,10 @@ mod tests {
         assert_eq!(e.define(2).as_deref(), Some("PATTERN_WOOD"));
         let err = Annotations::parse("e.wgsl", "\n// @enum MODE A|B default=C\n")
             .expect_err("bad default");
-        assert!(err.to_string().starts_with("e.wgsl:2:4: default `C`"), "{err}");
+        assert!(
+            err.to_string().starts_with("e.wgsl:2:4: default `C`"),
+            "{err}"
+        );
     }
 
     #[test]

@@ -61,10 +61,12 @@ pub fn check_material(file: &str, text: &str) -> Result<(), ShaderNodeError> {
             "gbuffer/resolve.wgsl",
             ["SURFACE_OUT", "CUSTOM_SURFACE"],
         );
-        composer
-            .compose(&key)
-            .map(|_| ())
-            .map_err(|e| first(format!("in the G-buffer resolve: {}", undecorate(&e.to_string()))))
+        composer.compose(&key).map(|_| ()).map_err(|e| {
+            first(format!(
+                "in the G-buffer resolve: {}",
+                undecorate(&e.to_string())
+            ))
+        })
     });
     let restored = composer
         .restore_library(module)
@@ -229,9 +231,9 @@ pub fn var_offset(text: &str, name: &str) -> Option<usize> {
 
 /// Where `struct NAME` is declared in `text`.
 pub fn struct_offset(text: &str, name: &str) -> Option<usize> {
-    text.match_indices(name).map(|(i, _)| i).find(|&i| {
-        word_at(text, i, name) && text[..i].trim_end().ends_with("struct")
-    })
+    text.match_indices(name)
+        .map(|(i, _)| i)
+        .find(|&i| word_at(text, i, name) && text[..i].trim_end().ends_with("struct"))
 }
 
 #[cfg(test)]

@@ -107,9 +107,10 @@ pub fn check(
         .as_ref()
         .map(|r| type_name(module, r.ty))
         .unwrap_or_default();
-    let structs = function.arguments.iter().all(|a| {
-        matches!(module.types[a.ty].inner, TypeInner::Struct { .. })
-    });
+    let structs = function
+        .arguments
+        .iter()
+        .all(|a| matches!(module.types[a.ty].inner, TypeInner::Struct { .. }));
     if argument != "SurfaceInput" || result != "SurfaceOutput" || !structs {
         return Err(ShaderNodeError::at(
             file,

@@ -442,7 +442,10 @@ impl Program {
         };
         let place = |handle: naga::Handle<naga::GlobalVariable>| -> usize {
             if composed {
-                let name = module.global_variables[handle].name.as_deref().unwrap_or("");
+                let name = module.global_variables[handle]
+                    .name
+                    .as_deref()
+                    .unwrap_or("");
                 super::compose::var_offset(&text, name).unwrap_or(0)
             } else {
                 module
@@ -645,7 +648,9 @@ impl Program {
             if binding.group != group {
                 let what = match kind {
                     Kind::Effect => "shader nodes bind everything in group 0",
-                    Kind::Material => "a material binds everything in group 1 (group 0 is the G-buffer's)",
+                    Kind::Material => {
+                        "a material binds everything in group 1 (group 0 is the G-buffer's)"
+                    }
                 };
                 return Err(fail(format!(
                     "`{name}` is in group {}: {what}",
