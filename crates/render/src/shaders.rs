@@ -401,13 +401,15 @@ impl ShaderComposer {
         &mut self,
         file_path: &str,
         source: &str,
-    ) -> Result<naga::Module, naga_oil::compose::ComposerError> {
-        self.composer.make_naga_module(NagaModuleDescriptor {
-            source,
-            file_path,
-            shader_type: ShaderType::Wgsl,
-            ..Default::default()
-        })
+    ) -> Result<naga::Module, Box<naga_oil::compose::ComposerError>> {
+        self.composer
+            .make_naga_module(NagaModuleDescriptor {
+                source,
+                file_path,
+                shader_type: ShaderType::Wgsl,
+                ..Default::default()
+            })
+            .map_err(Box::new)
     }
 
     /// The naga_oil composer (to format and undecorate its errors).
@@ -423,7 +425,7 @@ impl ShaderComposer {
         module: &str,
         file_path: &str,
         source: &str,
-    ) -> Result<(), naga_oil::compose::ComposerError> {
+    ) -> Result<(), Box<naga_oil::compose::ComposerError>> {
         self.composer
             .add_composable_module(ComposableModuleDescriptor {
                 source,
@@ -433,6 +435,7 @@ impl ShaderComposer {
                 ..Default::default()
             })
             .map(|_| ())
+            .map_err(Box::new)
     }
 
     /// Put library `module` back as [`SHADERS`] has it.
@@ -580,7 +583,7 @@ pub struct ShaderCache {
     /// Pipelines of shaders not in [`SHADERS`] (shader node files), by the caller's key and entry.
     external: HashMap<(u64, String), wgpu::ComputePipeline>,
     /// Resolve permutations composed with a shader node material, by its source key.
-    surfaces: HashMap<(ShaderKey, u64), (wgpu::ComputePipeline, Vec<(u32, u32)>)>,
+    surfaces: HashMap<(ShaderKey, u64), SplicedPipeline>,
     /// Bind groups by pipeline, group and what they bind (by identity), with
     /// the frame they were last used in: a pass that binds what it bound
     /// last frame reuses its group instead of making one.
@@ -592,6 +595,9 @@ pub struct ShaderCache {
     pub bind_groups_created: u64,
     pub bind_groups_reused: u64,
 }
+
+/// A pipeline composed with a shader node material, and the (group, binding)s it uses.
+type SplicedPipeline = (wgpu::ComputePipeline, Vec<(u32, u32)>);
 
 /// A resource a bind group binds, by identity (wgpu handles compare by the object).
 #[derive(Clone, PartialEq, Eq, Hash)]
@@ -823,7 +829,7 @@ impl ShaderCache {
         key: &ShaderKey,
         splice: &Splice<'_>,
         entry: &str,
-    ) -> Result<(wgpu::ComputePipeline, Vec<(u32, u32)>), RenderError> {
+    ) -> Result<SplicedPipeline, RenderError> {
         let Splice {
             key: source_key,
             module,

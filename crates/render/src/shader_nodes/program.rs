@@ -290,7 +290,6 @@ fn uniform_layout(
     source: &str,
     notes: &Annotations,
     module: &naga::Module,
-    binding: u32,
     ty: naga::Handle<naga::Type>,
     var_at: usize,
     composed: bool,
@@ -313,7 +312,6 @@ fn uniform_layout(
         module.types.get_span(ty).to_range().map_or(0, |r| r.start)
     };
     let mut layout = UniformLayout {
-        binding,
         size: *span,
         ..Default::default()
     };
@@ -459,16 +457,18 @@ impl Program {
         let uniform = match bindings.iter().find(|(_, _, r)| *r == Role::Uniform) {
             Some((binding, handle, _)) => {
                 let var = &module.global_variables[*handle];
-                Some(uniform_layout(
-                    file,
-                    &text,
-                    notes,
-                    &module,
-                    *binding,
-                    var.ty,
-                    place(*handle),
-                    composed,
-                )?)
+                Some(UniformLayout {
+                    binding: *binding,
+                    ..uniform_layout(
+                        file,
+                        &text,
+                        notes,
+                        &module,
+                        var.ty,
+                        place(*handle),
+                        composed,
+                    )?
+                })
             }
             None => None,
         };
