@@ -149,6 +149,19 @@ fn shader_node_examples() {
     }
 }
 
+/// The material shader node example (patches/shader-material.ron): three
+/// spheres shaded by `ProceduralMaterial (Shader)`'s surface function in
+/// the G-buffer resolve, lit by a sun, and the G-buffer's albedo.
+#[test]
+fn shader_material_example() {
+    for (name, output) in [
+        ("shader-material", "material"),
+        ("shader-material-albedo", "albedo"),
+    ] {
+        check(name, "patches/shader-material.ron", output, (160, 90), 0);
+    }
+}
+
 /// Particles in a curl-noise field (issue 17): lit by the sun, casting its
 /// shadow, motion-blurred through Velocity From Geometry; frame 30 of a
 /// fixed seed at 60 fps, so the same particles every run.

@@ -15,12 +15,21 @@
 //                 normal (mapped, flipped on back faces of double-sided
 //                 materials), roughness, metallic, occlusion and emission per
 //                 pixel (see shaders/lib/material_maps.wgsl).
+// CUSTOM_SURFACE: this layer has a shader node material: its
+//                 `surface` function (spreadlight::custom_surface, swapped
+//                 for the material's file) shades each pixel; its bindings
+//                 are group 1 (see shaders/lib/surface.wgsl).
 #import spreadlight::camera::{Camera, pixel_to_ndc}
 #import spreadlight::mesh::{Vertex, Instance}
 #import spreadlight::packing::{id_to_channel, safe_normalize}
 #ifdef MATERIAL_MAPS
 #import spreadlight::material::{feature_param, pack_rgb9e5, FEATURE_COOK_TORRANCE, FEATURE_EMISSION}
 #import spreadlight::material_maps::{MapCoords, sample_map, has_map, map_settings, MAP_BASE_COLOR, MAP_METALLIC_ROUGHNESS, MAP_NORMAL, MAP_OCCLUSION, MAP_EMISSIVE}
+#endif
+#ifdef CUSTOM_SURFACE
+#import spreadlight::surface::{SurfaceInput, surface_finite}
+#import spreadlight::custom_surface::surface
+#import spreadlight::material::pack_rgb9e5
 #endif
 
 struct Layer {
@@ -259,7 +268,9 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     ));
 #else
 #ifdef SURFACE_OUT
+#ifndef CUSTOM_SURFACE
     textureStore(out_surface, pixel, vec4<u32>(0u));
+#endif
 #endif
 #endif
 #ifdef NORMAL_MAP
@@ -273,7 +284,6 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         normal_world,
     );
 #endif
-    let normal_view = safe_normalize((camera.view * vec4<f32>(normal_world, 0.0)).xyz, vec3<f32>(0.0, 0.0, 1.0));
     var albedo = instance.color.rgb;
 #ifdef COLOR_MAP
     albedo *= max(textureSampleLevel(color_map, color_sampler, uv, 0.0).rgb, vec3<f32>(0.0));
@@ -281,6 +291,30 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
 #ifdef MATERIAL_MAPS
     albedo *= max(sample_map(material, MAP_BASE_COLOR, coords, vec4<f32>(1.0)).rgb, vec3<f32>(0.0));
 #endif
+#ifdef CUSTOM_SURFACE
+    var surface_in: SurfaceInput;
+    let object_position = interpolate3(b, v0.position_u.xyz, v1.position_u.xyz, v2.position_u.xyz);
+    surface_in.position = (instance.model * vec4<f32>(object_position, 1.0)).xyz;
+    surface_in.object_position = object_position;
+    surface_in.normal = normal_world;
+    surface_in.uv = uv;
+    surface_in.color = vec4<f32>(albedo, instance.color.a);
+    surface_in.view = safe_normalize(-view_ray(pixel_to_ndc(pixel, camera.size)), vec3<f32>(0.0, 0.0, 1.0));
+    surface_in.pixel = pixel;
+    surface_in.material_id = instance.info.z;
+    surface_in.object_id = instance.info.w;
+    // Whatever the material returns, no NaN or infinity reaches a target.
+    let shaded = surface_finite(surface(surface_in), normal_world);
+    albedo = shaded.albedo;
+    normal_world = shaded.normal;
+    textureStore(out_surface, pixel, vec4<u32>(
+        pack2x16unorm(vec2<f32>(shaded.roughness, shaded.metallic)),
+        pack2x16unorm(vec2<f32>(shaded.occlusion, 1.0)),
+        pack_rgb9e5(shaded.emission),
+        0u,
+    ));
+#endif
+    let normal_view = safe_normalize((camera.view * vec4<f32>(normal_world, 0.0)).xyz, vec3<f32>(0.0, 0.0, 1.0));
     textureStore(out_color, pixel, vec4<f32>(albedo, id_to_channel(instance.info.z)));
     let geometry_id = select(0u, u32(max(v0.previous_position.w, 0.0)), layer.geometry_ids == 1u);
     textureStore(out_normal, pixel, vec4<f32>(normal_view, id_to_channel(instance.info.w + geometry_id)));

@@ -359,9 +359,15 @@ impl SnarlViewer<CanvasNode> for Canvas<'_> {
             && values::editable(ty)
             && let Some(mut value) = self.doc.input_value(self.registry, id, name)
         {
+            let range = self
+                .doc
+                .node(id)
+                .and_then(|n| self.registry.get(&n.type_name))
+                .and_then(|d| d.inputs.iter().find(|p| p.name == name))
+                .and_then(|p| p.range);
             let edited = ui
                 .push_id((id, name), |ui| {
-                    values::edit_first(ui, ty, &mut value, Some(label_id))
+                    values::edit_first(ui, ty, range, &mut value, Some(label_id))
                 })
                 .inner;
             if edited.changed {

@@ -52,7 +52,7 @@ pub fn rows(
     };
     let edited = ui
         .push_id(("iobox", id), |ui| {
-            values::edit_spread(ui, pin.ty, &mut value, &pin.name, None)
+            values::edit_spread(ui, pin.ty, pin.range, &mut value, &pin.name, None)
         })
         .inner;
     if edited.changed {

@@ -51,10 +51,30 @@ pub fn is_path_pin(name: &str) -> bool {
         .any(|w| lower.contains(w))
 }
 
+/// A pin's range (its `PinDef::range`), which number editors stay within.
+pub type Range = Option<(f64, f64)>;
+
+/// Hold slice `i`'s numbers to `range` (what was typed past an end, say).
+pub fn clamp_slice(spread: &mut Spread, i: usize, range: Range) {
+    let Some((lo, hi)) = range else {
+        return;
+    };
+    let f = |v: &mut f32| *v = (f64::from(*v)).clamp(lo, hi) as f32;
+    match spread {
+        Spread::Float(v) => f(&mut v[i]),
+        Spread::Int(v) => v[i] = (v[i] as f64).clamp(lo, hi) as i64,
+        Spread::Vec2(v) => v[i].as_mut().iter_mut().for_each(f),
+        Spread::Vec3(v) => v[i].as_mut().iter_mut().for_each(f),
+        Spread::Vec4(v) => v[i].as_mut().iter_mut().for_each(f),
+        _ => {}
+    }
+}
+
 /// A compact editor for slice 0, for use on the node itself.
 pub fn edit_first(
     ui: &mut Ui,
     ty: PinType,
+    range: Range,
     spread: &mut Spread,
     label: Option<egui::Id>,
 ) -> Edited {
@@ -66,13 +86,14 @@ pub fn edit_first(
         ui.weak("empty");
         return Edited::default();
     }
-    edit_slice(ui, ty, spread, 0, true, label)
+    edit_slice(ui, ty, range, spread, 0, true, label)
 }
 
 /// The inspector's editor: every slice, with add and remove.
 pub fn edit_spread(
     ui: &mut Ui,
     ty: PinType,
+    range: Range,
     spread: &mut Spread,
     pin_name: &str,
     label: Option<egui::Id>,
@@ -82,7 +103,7 @@ pub fn edit_spread(
     for i in 0..spread.len() {
         ui.horizontal(|ui| {
             ui.weak(format!("{i}"));
-            edited = edited.or(edit_slice(ui, ty, spread, i, false, label));
+            edited = edited.or(edit_slice(ui, ty, range, spread, i, false, label));
             if matches!(spread, Spread::String(_))
                 && is_path_pin(pin_name)
                 && ui.small_button("Browse…").clicked()
@@ -118,19 +139,34 @@ pub fn edit_spread(
     edited
 }
 
-fn edit_f32(ui: &mut Ui, v: &mut f32, compact: bool, label: Option<egui::Id>) -> Edited {
+fn edit_f32(
+    ui: &mut Ui,
+    v: &mut f32,
+    range: Range,
+    compact: bool,
+    label: Option<egui::Id>,
+) -> Edited {
     let speed = (v.abs() * 0.01).max(0.001);
     let mut dv = DragValue::new(v).speed(speed).max_decimals(4);
+    if let Some((lo, hi)) = range {
+        dv = dv.range(lo..=hi);
+    }
     if compact {
         dv = dv.min_decimals(2);
     }
     track(ui.add(dv), label)
 }
 
-fn edit_vec(ui: &mut Ui, v: &mut [f32], compact: bool, label: Option<egui::Id>) -> Edited {
+fn edit_vec(
+    ui: &mut Ui,
+    v: &mut [f32],
+    range: Range,
+    compact: bool,
+    label: Option<egui::Id>,
+) -> Edited {
     let mut e = Edited::default();
     for x in v.iter_mut() {
-        e = e.or(edit_f32(ui, x, compact, label));
+        e = e.or(edit_f32(ui, x, range, compact, label));
     }
     e
 }
@@ -138,14 +174,37 @@ fn edit_vec(ui: &mut Ui, v: &mut [f32], compact: bool, label: Option<egui::Id>) 
 fn edit_slice(
     ui: &mut Ui,
     ty: PinType,
+    range: Range,
+    spread: &mut Spread,
+    i: usize,
+    compact: bool,
+    label: Option<egui::Id>,
+) -> Edited {
+    let edited = edit_slice_unclamped(ui, ty, range, spread, i, compact, label);
+    if edited.changed {
+        clamp_slice(spread, i, range);
+    }
+    edited
+}
+
+fn edit_slice_unclamped(
+    ui: &mut Ui,
+    ty: PinType,
+    range: Range,
     spread: &mut Spread,
     i: usize,
     compact: bool,
     label: Option<egui::Id>,
 ) -> Edited {
     match spread {
-        Spread::Float(v) => edit_f32(ui, &mut v[i], compact, label),
-        Spread::Int(v) => track(ui.add(DragValue::new(&mut v[i]).speed(0.1)), label),
+        Spread::Float(v) => edit_f32(ui, &mut v[i], range, compact, label),
+        Spread::Int(v) => {
+            let mut dv = DragValue::new(&mut v[i]).speed(0.1);
+            if let Some((lo, hi)) = range {
+                dv = dv.range(lo..=hi);
+            }
+            track(ui.add(dv), label)
+        }
         Spread::Bool(v) => track(ui.checkbox(&mut v[i], ""), label),
         Spread::String(v) => {
             let width = if compact { 90.0 } else { 160.0 };
@@ -156,19 +215,19 @@ fn edit_slice(
         }
         Spread::Vec2(v) => {
             let mut a = v[i].to_array();
-            let e = edit_vec(ui, &mut a, compact, label);
+            let e = edit_vec(ui, &mut a, range, compact, label);
             v[i] = Vec2::from_array(a);
             e
         }
         Spread::Vec3(v) => {
             let mut a = v[i].to_array();
-            let e = edit_vec(ui, &mut a, compact, label);
+            let e = edit_vec(ui, &mut a, range, compact, label);
             v[i] = Vec3::from_array(a);
             e
         }
         Spread::Vec4(v) => {
             let mut a = v[i].to_array();
-            let e = edit_vec(ui, &mut a, compact, label);
+            let e = edit_vec(ui, &mut a, range, compact, label);
             v[i] = Vec4::from_array(a);
             e
         }
@@ -191,7 +250,7 @@ fn edit_slice(
                 for row in 0..4 {
                     ui.horizontal(|ui| {
                         for col in 0..4 {
-                            e = e.or(edit_f32(ui, &mut a[col * 4 + row], false, label));
+                            e = e.or(edit_f32(ui, &mut a[col * 4 + row], None, false, label));
                         }
                     });
                 }
@@ -302,5 +361,28 @@ mod tests {
         assert!(is_path_pin("Filename"));
         assert!(is_path_pin("File Path"));
         assert!(!is_path_pin("Name"));
+    }
+}
+
+#[cfg(test)]
+mod range_tests {
+    use super::clamp_slice;
+    use spreadlight_graph::Spread;
+
+    #[test]
+    fn an_edited_slice_is_held_to_its_pins_range() {
+        let mut floats = Spread::Float(vec![-3.0, 40.0]);
+        clamp_slice(&mut floats, 1, Some((0.0, 32.0)));
+        clamp_slice(&mut floats, 0, Some((0.0, 32.0)));
+        assert_eq!(floats, Spread::Float(vec![0.0, 32.0]));
+        let mut ints = Spread::Int(vec![12]);
+        clamp_slice(&mut ints, 0, Some((1.0, 8.0)));
+        assert_eq!(ints, Spread::Int(vec![8]));
+        let mut open = Spread::Vec2(vec![glam::Vec2::new(-5.0, 1e9)]);
+        clamp_slice(&mut open, 0, Some((0.0, f64::INFINITY)));
+        assert_eq!(open, Spread::Vec2(vec![glam::Vec2::new(0.0, 1e9)]));
+        let mut free = Spread::Float(vec![1e9]);
+        clamp_slice(&mut free, 0, None);
+        assert_eq!(free, Spread::Float(vec![1e9]));
     }
 }

@@ -25,6 +25,9 @@ pub struct PinDef {
     pub ty: PinType,
     /// The spread an unlinked input holds when the patch sets no value (empty for outputs).
     pub default: Spread,
+    /// Where a number pin's values make sense (an infinite end: open): the
+    /// editor's drag values stop there and the node holds values to it.
+    pub range: Option<(f64, f64)>,
 }
 
 type Constructor = Arc<dyn Fn() -> Box<dyn Node> + Send + Sync>;
@@ -96,7 +99,21 @@ impl NodeDef {
             "{}: default of `{name}` does not fit {ty}",
             self.name
         );
-        self.inputs.push(PinDef { name, ty, default });
+        self.inputs.push(PinDef {
+            name,
+            ty,
+            default,
+            range: None,
+        });
+        self
+    }
+
+    /// Limit the last input's numbers to `min..=max` (either end may be
+    /// infinite): the editor drags within it; the node clamps what it reads.
+    pub fn range(mut self, min: f64, max: f64) -> Self {
+        if let Some(pin) = self.inputs.last_mut() {
+            pin.range = Some((min, max));
+        }
         self
     }
 
@@ -124,6 +141,7 @@ impl NodeDef {
             name: name.into(),
             ty,
             default: Spread::empty(ty),
+            range: None,
         });
         self
     }

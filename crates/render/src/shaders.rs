@@ -113,6 +113,8 @@ pub const SHADERS: &[ShaderFile] = &[
     shader!("lib/ibl.wgsl", library),
     shader!("lib/post.wgsl", library),
     shader!("lighting/shadow_sampling.wgsl", library),
+    shader!("lib/surface.wgsl", library),
+    shader!("lib/custom_surface.wgsl", library),
     shader!("gbuffer/visibility.wgsl", ["ALPHA_MASK"]),
     shader!("geometry/spherize.wgsl", []),
     shader!("geometry/extrude.wgsl", []),
@@ -135,14 +137,19 @@ pub const SHADERS: &[ShaderFile] = &[
             "VELOCITY_FROM_GEOMETRY",
             "COLOR_MAP",
             "SURFACE_OUT",
-            "MATERIAL_MAPS"
+            "MATERIAL_MAPS",
+            "CUSTOM_SURFACE"
         ],
         // The colour map is the surface pass's; it reads UVs.
         Rule::AtMostOne(&["COLOR_MAP", "MOTION"]),
         Rule::AtMostOne(&["TEXCOORDS", "TRIPLANAR"]),
         // Surface maps are the surface pass's, and write the surface target.
         Rule::AtMostOne(&["SURFACE_OUT", "MOTION"]),
-        Rule::Requires("MATERIAL_MAPS", "SURFACE_OUT")
+        Rule::Requires("MATERIAL_MAPS", "SURFACE_OUT"),
+        // A shader node material writes the surface target and binds group 1,
+        // where surface maps would put the material world.
+        Rule::Requires("CUSTOM_SURFACE", "SURFACE_OUT"),
+        Rule::AtMostOne(&["CUSTOM_SURFACE", "MATERIAL_MAPS"])
     ),
     shader!("lighting/clusters.wgsl", []),
     shader!(
@@ -397,6 +404,139 @@ impl ShaderComposer {
     }
 }
 
+impl ShaderComposer {
+    /// Compose a WGSL file that is not one of [`SHADERS`] (a shader node's)
+    /// as a top-level module: it may `#import` every library. Its own
+    /// `#ifdef`s must already be resolved. The error is naga_oil's, for the
+    /// caller to place in the file ([`ShaderComposer::composer`] undecorates it).
+    pub fn compose_external(
+        &mut self,
+        file_path: &str,
+        source: &str,
+    ) -> Result<naga::Module, Box<naga_oil::compose::ComposerError>> {
+        self.composer
+            .make_naga_module(NagaModuleDescriptor {
+                source,
+                file_path,
+                shader_type: ShaderType::Wgsl,
+                ..Default::default()
+            })
+            .map_err(Box::new)
+    }
+
+    /// The naga_oil composer (to format and undecorate its errors).
+    pub fn composer(&self) -> &Composer {
+        &self.composer
+    }
+
+    /// Put `source` (a shader node material's file, named `file_path`) in
+    /// the place of library `module` (an import path such as
+    /// `spreadlight::custom_surface`) until [`ShaderComposer::restore_library`].
+    pub fn replace_library(
+        &mut self,
+        module: &str,
+        file_path: &str,
+        source: &str,
+    ) -> Result<(), Box<naga_oil::compose::ComposerError>> {
+        self.composer
+            .add_composable_module(ComposableModuleDescriptor {
+                source,
+                file_path,
+                language: ShaderLanguage::Wgsl,
+                as_name: Some(module.to_owned()),
+                ..Default::default()
+            })
+            .map(|_| ())
+            .map_err(Box::new)
+    }
+
+    /// Put library `module` back as [`SHADERS`] has it.
+    pub fn restore_library(&mut self, module: &str) -> Result<(), RenderError> {
+        let library = SHADERS
+            .iter()
+            .find(|f| f.library && f.source.contains(&format!("#define_import_path {module}")))
+            .ok_or_else(|| RenderError::Shader {
+                shader: module.to_owned(),
+                defs: String::new(),
+                message: "no such library".to_owned(),
+            })?;
+        let restored = self
+            .composer
+            .add_composable_module(ComposableModuleDescriptor {
+                source: &self.sources[library.path],
+                file_path: library.path,
+                language: ShaderLanguage::Wgsl,
+                ..Default::default()
+            })
+            .map(|_| ())
+            .map_err(|e| e.emit_to_string(&self.composer));
+        restored.map_err(|message| RenderError::Shader {
+            shader: library.path.to_owned(),
+            defs: String::new(),
+            message,
+        })
+    }
+
+    /// Compose permutation `key` with library `module` replaced, for this
+    /// composition only, by a shader node material's `source`.
+    pub fn compose_with_module(
+        &mut self,
+        key: &ShaderKey,
+        module: &str,
+        file_path: &str,
+        source: &str,
+    ) -> Result<naga::Module, RenderError> {
+        let replaced = self
+            .replace_library(module, file_path, source)
+            .map_err(|e| e.emit_to_string(&self.composer));
+        let composed = match replaced {
+            Ok(()) => self.compose(key),
+            Err(message) => Err(RenderError::Shader {
+                shader: file_path.to_owned(),
+                defs: String::new(),
+                message,
+            }),
+        };
+        // Put the library back, so built-in permutations compose as before.
+        self.restore_library(module)?;
+        composed
+    }
+}
+
+/// A shader node material's file, composed into a permutation in place of a library.
+#[derive(Clone, Copy, Debug)]
+pub struct Splice<'a> {
+    /// Changes with the source (pipelines are cached under it).
+    pub key: u64,
+    /// The library it replaces, e.g. `spreadlight::custom_surface`.
+    pub module: &'a str,
+    pub file_path: &'a str,
+    /// Its text, `#ifdef`s resolved.
+    pub source: &'a str,
+}
+
+/// The (group, binding)s entry point `entry` of `module` uses (naga's reflection).
+fn used_bindings_of(module: &naga::Module, entry: &str) -> Result<Vec<(u32, u32)>, String> {
+    let info = naga::valid::Validator::new(
+        naga::valid::ValidationFlags::all(),
+        naga::valid::Capabilities::all(),
+    )
+    .validate(module)
+    .map_err(|e| e.to_string())?;
+    let index = module
+        .entry_points
+        .iter()
+        .position(|e| e.name == entry)
+        .ok_or_else(|| format!("no entry point `{entry}`"))?;
+    let function = info.get_entry_point(index);
+    Ok(module
+        .global_variables
+        .iter()
+        .filter(|(handle, _)| !function[*handle].is_empty())
+        .filter_map(|(_, var)| var.binding.as_ref().map(|b| (b.group, b.binding)))
+        .collect())
+}
+
 /// Every permutation the shader set allows: each entry shader with every
 /// subset of its features that keeps its rules.
 pub fn all_permutations() -> Vec<ShaderKey> {
@@ -454,6 +594,8 @@ pub struct ShaderCache {
     samplers: HashMap<Sampling, wgpu::Sampler>,
     /// Pipelines of shaders not in [`SHADERS`] (shader node files), by the caller's key and entry.
     external: HashMap<(u64, String), wgpu::ComputePipeline>,
+    /// Resolve permutations composed with a shader node material, by its source key.
+    surfaces: HashMap<(ShaderKey, u64), SplicedPipeline>,
     /// Bind groups by pipeline, group and what they bind (by identity), with
     /// the frame they were last used in: a pass that binds what it bound
     /// last frame reuses its group instead of making one.
@@ -465,6 +607,9 @@ pub struct ShaderCache {
     pub bind_groups_created: u64,
     pub bind_groups_reused: u64,
 }
+
+/// A pipeline composed with a shader node material, and the (group, binding)s it uses.
+type SplicedPipeline = (wgpu::ComputePipeline, Vec<(u32, u32)>);
 
 /// A resource a bind group binds, by identity (wgpu handles compare by the object).
 #[derive(Clone, PartialEq, Eq, Hash)]
@@ -505,6 +650,7 @@ impl ShaderCache {
             render: HashMap::new(),
             samplers: HashMap::new(),
             external: HashMap::new(),
+            surfaces: HashMap::new(),
             bind_groups: HashMap::new(),
             frame: 0,
             pipelines_compiled: 0,
@@ -559,29 +705,11 @@ impl ShaderCache {
             return Ok(used.clone());
         }
         let module = self.composer.compose(key)?;
-        let error = |message: String| RenderError::Shader {
+        let used = used_bindings_of(&module, entry).map_err(|message| RenderError::Shader {
             shader: key.path.to_owned(),
             defs: key.describe_defs(),
             message,
-        };
-        let info = naga::valid::Validator::new(
-            naga::valid::ValidationFlags::all(),
-            naga::valid::Capabilities::all(),
-        )
-        .validate(&module)
-        .map_err(|e| error(e.to_string()))?;
-        let index = module
-            .entry_points
-            .iter()
-            .position(|e| e.name == entry)
-            .ok_or_else(|| error(format!("no entry point `{entry}`")))?;
-        let function = info.get_entry_point(index);
-        let used: Vec<(u32, u32)> = module
-            .global_variables
-            .iter()
-            .filter(|(handle, _)| !function[*handle].is_empty())
-            .filter_map(|(_, var)| var.binding.as_ref().map(|b| (b.group, b.binding)))
-            .collect();
+        })?;
         self.used.insert(cache_key, used.clone());
         Ok(used)
     }
@@ -701,6 +829,47 @@ impl ShaderCache {
         self.pipelines_compiled += 1;
         self.external.insert(cache_key, pipeline.clone());
         pipeline
+    }
+
+    /// The compute pipeline of `entry` in permutation `key` composed with
+    /// library `module` replaced by a shader node material's `source`
+    /// (identified by `source_key`, which must change with it), and the
+    /// (group, binding)s the entry point uses, to build its bind groups by.
+    pub fn surface_pipeline(
+        &mut self,
+        device: &wgpu::Device,
+        key: &ShaderKey,
+        splice: &Splice<'_>,
+        entry: &str,
+    ) -> Result<SplicedPipeline, RenderError> {
+        let Splice {
+            key: source_key,
+            module,
+            file_path,
+            source,
+        } = *splice;
+        let cache_key = (key.clone(), source_key);
+        if let Some(found) = self.surfaces.get(&cache_key) {
+            return Ok(found.clone());
+        }
+        let composed = self
+            .composer
+            .compose_with_module(key, module, file_path, source)?;
+        let used = used_bindings_of(&composed, entry).map_err(|message| RenderError::Shader {
+            shader: file_path.to_owned(),
+            defs: key.describe_defs(),
+            message,
+        })?;
+        let label = format!("{}{} + {file_path}", key.path, key.describe_defs());
+        let shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some(&label),
+            source: wgpu::ShaderSource::Naga(Cow::Owned(composed)),
+        });
+        let pipeline = compute_pipeline_of(device, &shader, &format!("{label}::{entry}"), entry);
+        self.pipelines_compiled += 1;
+        self.surfaces
+            .insert(cache_key, (pipeline.clone(), used.clone()));
+        Ok((pipeline, used))
     }
 
     /// A render pipeline for a permutation; `variant` names what else the

@@ -51,8 +51,14 @@ impl EditorApp {
                             .get(&*pin.name)
                             .cloned()
                             .unwrap_or_else(|| pin.default.clone());
-                        let edited =
-                            values::edit_spread(ui, pin.ty, &mut value, &pin.name, Some(label));
+                        let edited = values::edit_spread(
+                            ui,
+                            pin.ty,
+                            pin.range,
+                            &mut value,
+                            &pin.name,
+                            Some(label),
+                        );
                         if edited.changed {
                             self.doc
                                 .set_value(id, &pin.name, Some(value), edited.continuing);

@@ -3,9 +3,9 @@
 //! a file declares) and `node.rs` (how a node of it evaluates), so neither
 //! of those needs the other's insides.
 
-use std::sync::Arc;
+use std::sync::{Arc, Mutex};
 
-use spreadlight_graph::{Color, NodeDef, NodeError, PinType, ResourceKind, Spread};
+use spreadlight_graph::{Color, EnumDef, NodeDef, NodeError, PinType, ResourceKind, Spread};
 use spreadlight_render::shader_nodes::{ParamKind, ParamPin, ShaderNodeError};
 
 use super::node::{Broken, ShaderNode};
@@ -33,9 +33,24 @@ impl ShaderType {
         if !ranges.is_empty() {
             help.push_str(&format!(" Ranges: {}.", ranges.join(", ")));
         }
+        if self.is_material() {
+            help.push_str(
+                " A material: wire a DeferredBase's Layer through it into MRE; its surface function \
+                 shades the layer's pixels in the G-buffer (albedo, normal, roughness, metallic, \
+                 occlusion, emission).",
+            );
+        }
         help.push_str(&format!(" (Shader node: {}.)", self.file));
         let texture = PinType::Resource(ResourceKind::Texture);
         let mut def = NodeDef::new(self.name.clone(), format!("Shader/{category}"), help);
+        let layer = PinType::Resource(ResourceKind::Layer);
+        if self.is_material() {
+            def = def.input_spread(
+                "Layer",
+                layer,
+                Spread::Resource(ResourceKind::Layer, vec![]),
+            );
+        }
         for (_, pin, _) in &self.notes.inputs {
             def = def.input_spread(
                 pin.clone(),
@@ -53,11 +68,32 @@ impl ShaderType {
         for p in self.params() {
             let (ty, default) = pin_default(p);
             def = def.input_spread(p.display.clone(), ty, default);
+            // Colours and matrices are not ranges (write_param holds the rest to it).
+            if (p.min.is_some() || p.max.is_some())
+                && !matches!(p.kind, ParamKind::Color | ParamKind::Mat4 | ParamKind::Bool)
+            {
+                def = def.range(
+                    p.min.map_or(f64::NEG_INFINITY, f64::from),
+                    p.max.map_or(f64::INFINITY, f64::from),
+                );
+            }
         }
         for s in &self.notes.switches {
             def = def.input(s.display.clone(), s.default);
         }
-        def = def.output_typed("Texture", texture);
+        for e in &self.notes.enums {
+            let options: Vec<&str> = e.options.iter().map(String::as_str).collect();
+            def = def.input_enum(
+                e.display.clone(),
+                enum_def(&e.display, &options),
+                &e.options[e.default],
+            );
+        }
+        def = if self.is_material() {
+            def.output_typed("Layer", layer)
+        } else {
+            def.output_typed("Texture", texture)
+        };
         for (target, _) in &self.notes.outputs {
             def = def.output_typed(
                 spreadlight_render::shader_nodes::annotations::title(target),
@@ -71,6 +107,27 @@ impl ShaderType {
         let error = error.map(|e| NodeError::Other(e.to_string()));
         def.construct(move || ShaderNode::new(ty.clone(), error.clone()))
     }
+}
+
+/// The `EnumDef` of a shader file's `@enum` pin. Pin types name enums by
+/// `&'static`, so each distinct (name, options) is made once and kept:
+/// reloading a file that did not change its options makes none.
+fn enum_def(name: &str, options: &[&str]) -> &'static EnumDef {
+    static DEFS: Mutex<Vec<&'static EnumDef>> = Mutex::new(Vec::new());
+    let mut defs = DEFS.lock().unwrap_or_else(|e| e.into_inner());
+    if let Some(found) = defs.iter().find(|d| d.name == name && d.options == options) {
+        return found;
+    }
+    let options: Vec<&'static str> = options
+        .iter()
+        .map(|o| &*Box::leak(o.to_string().into_boxed_str()))
+        .collect();
+    let made: &'static EnumDef = Box::leak(Box::new(EnumDef {
+        name: Box::leak(name.to_owned().into_boxed_str()),
+        options: Box::leak(options.into_boxed_slice()),
+    }));
+    defs.push(made);
+    made
 }
 
 /// A field's pin type and its default as a one-slice spread.

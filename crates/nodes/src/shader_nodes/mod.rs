@@ -7,6 +7,7 @@
 pub mod builtin_blur;
 pub mod def;
 pub mod library;
+pub mod material;
 pub mod node;
 pub mod shader_type;
 
@@ -36,6 +37,7 @@ pub const EXAMPLES: &[(&str, &str, &str)] = &[
     example!("noise"),
     example!("feedback"),
     example!("eye_adaptation_chain"),
+    example!("procedural_material"),
 ];
 
 /// Register the shipped examples. One that does not compile (a bug a test
@@ -51,5 +53,7 @@ pub fn register(r: &mut Registry) {
     }
 }
 
+#[cfg(test)]
+mod material_tests;
 #[cfg(test)]
 mod tests;

@@ -36,7 +36,7 @@ impl Node for Broken {
 }
 
 /// Slice `i` of a spread as numbers (wrapping), for the uniform block.
-fn numbers(spread: &Spread, i: usize) -> Vec<f32> {
+pub(super) fn numbers(spread: &Spread, i: usize) -> Vec<f32> {
     fn at<T: Clone>(v: &[T], i: usize) -> Option<T> {
         (!v.is_empty()).then(|| v[i % v.len()].clone())
     }
@@ -54,8 +54,25 @@ fn numbers(spread: &Spread, i: usize) -> Vec<f32> {
     .unwrap_or_default()
 }
 
+/// The defines slice `slice` selects with the switch and enum pins from input `first_switch`.
+pub(super) fn slice_defines(
+    ty: &ShaderType,
+    cx: &EvalContext<'_>,
+    first_switch: usize,
+    slice: usize,
+) -> BTreeSet<String> {
+    ty.defines(
+        first_switch,
+        &|pin| numbers(cx.input(pin), slice),
+        &|pin| match cx.input(pin) {
+            Spread::Enum(v) if !v.is_empty() => Some(v[slice % v.len()].clone()),
+            _ => None,
+        },
+    )
+}
+
 /// Write one pin's value into the uniform block, held to its range.
-fn write_param(bytes: &mut [u8], pin: &ParamPin, values: &[f32]) {
+pub(super) fn write_param(bytes: &mut [u8], pin: &ParamPin, values: &[f32]) {
     let clamp = |v: f32| {
         let v = if v.is_finite() { v } else { 0.0 };
         let v = pin.min.map_or(v, |m| v.max(m));
@@ -81,8 +98,15 @@ fn write_param(bytes: &mut [u8], pin: &ParamPin, values: &[f32]) {
 
 impl Node for ShaderNode {
     fn evaluate(&mut self, cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
-        let renderer = renderer(cx)?;
         let ty = self.ty.clone();
+        if ty.is_material() {
+            super::material::evaluate(&ty, cx)?;
+            if let Some(error) = &self.error {
+                cx.report(error.clone());
+            }
+            return Ok(());
+        }
+        let renderer = renderer(cx)?;
         let inputs = ty.notes.inputs.len();
         let mut textures = Vec::with_capacity(inputs);
         for pin in 0..inputs {
@@ -103,7 +127,6 @@ impl Node for ShaderNode {
         };
         let first = ty.first_param();
         let params = ty.params();
-        let switches = &ty.notes.switches;
         // vvvv's rule: as many slices as the longest input, none if one is empty.
         let mut lens: Vec<usize> = textures.iter().map(Vec::len).collect();
         if ty.reads_gbuffer() {
@@ -122,12 +145,7 @@ impl Node for ShaderNode {
         let mut programs = Vec::with_capacity(count);
         let mut compiled = 0;
         for slice in 0..count {
-            let defines: BTreeSet<String> = switches
-                .iter()
-                .enumerate()
-                .filter(|(i, _)| numbers(cx.input(first + params.len() + i), slice) == [1.0])
-                .map(|(_, s)| s.define.clone())
-                .collect();
+            let defines = slice_defines(&ty, cx, first + params.len(), slice);
             let (program, fresh) = ty
                 .program(&defines)
                 .map_err(|e| NodeError::Other(e.to_string()))?;

@@ -8,7 +8,7 @@ use std::sync::{Arc, Mutex};
 
 use spreadlight_render::frame_graph::Lifetime;
 use spreadlight_render::shader_nodes::{
-    Annotations, Builtin, ParamKind, ParamPin, Program, ShaderNodeError,
+    Annotations, Builtin, Kind, ParamKind, ParamPin, Program, ShaderNodeError,
 };
 
 /// A loaded shader node file.
@@ -50,6 +50,7 @@ impl ShaderType {
             .iter()
             .filter(|s| s.default)
             .map(|s| s.define.clone())
+            .chain(notes.enums.iter().filter_map(|e| e.define(e.default)))
             .collect();
         let base = Arc::new(Program::compile(file, source, &notes, &defaults)?);
         let ty = ShaderType {
@@ -101,9 +102,44 @@ impl ShaderType {
             .map(|i| self.first_param() + params.len() + i)
     }
 
-    /// Input pins: textures, then the G-buffer (if read), then the fields, then the switches.
+    /// Input pins: a material's Layer, textures, then the G-buffer (if
+    /// read), then the fields, then the switches.
     pub fn first_param(&self) -> usize {
-        self.notes.inputs.len() + usize::from(self.reads_gbuffer())
+        self.first_texture() + self.notes.inputs.len() + usize::from(self.reads_gbuffer())
+    }
+
+    /// The first texture input pin: after a material's Layer.
+    pub fn first_texture(&self) -> usize {
+        usize::from(self.is_material())
+    }
+
+    /// A DeferredBase material (`// @material`) rather than an image effect.
+    pub fn is_material(&self) -> bool {
+        self.base.kind == Kind::Material
+    }
+
+    /// The permutation's defines for slice `slice` of the switch pins
+    /// (Bool switches, then Enum choices) starting at input `first_switch`.
+    pub fn defines(
+        &self,
+        first_switch: usize,
+        input: &dyn Fn(usize) -> Vec<f32>,
+        choice: &dyn Fn(usize) -> Option<String>,
+    ) -> BTreeSet<String> {
+        let switches = &self.notes.switches;
+        let mut defines: BTreeSet<String> = switches
+            .iter()
+            .enumerate()
+            .filter(|(i, _)| input(first_switch + i) == [1.0])
+            .map(|(_, s)| s.define.clone())
+            .collect();
+        for (k, e) in self.notes.enums.iter().enumerate() {
+            let chosen = choice(first_switch + switches.len() + k)
+                .and_then(|o| e.options.iter().position(|x| *x == o))
+                .unwrap_or(e.default);
+            defines.extend(e.define(chosen));
+        }
+        defines
     }
 
     pub fn reads_gbuffer(&self) -> bool {

@@ -16,15 +16,15 @@ use crate::output::RenderedImages;
 
 const SIZE: (u32, u32) = (32, 18);
 
-struct Rig {
-    rt: Runtime,
+pub(super) struct Rig {
+    pub(super) rt: Runtime,
     images: Arc<RenderedImages>,
     renderer: Arc<Renderer>,
     frame: u64,
 }
 
 impl Rig {
-    fn new(registry: Registry, patch: &Patch) -> Rig {
+    pub(super) fn new(registry: Registry, patch: &Patch) -> Rig {
         let mut rt = Runtime::new(registry);
         let renderer = test_renderer();
         renderer.set_output_size(SIZE);
@@ -42,20 +42,20 @@ impl Rig {
     }
 
     /// Evaluate one frame; the report of the last frame graph it ran.
-    fn step(&mut self) -> FrameReport {
+    pub(super) fn step(&mut self) -> FrameReport {
         self.rt.evaluate(FrameClock::fixed(self.frame, 60.0));
         self.frame += 1;
         self.renderer.last_report()
     }
 
-    fn image(&self, name: &str) -> ImageF32 {
+    pub(super) fn image(&self, name: &str) -> ImageF32 {
         self.images
             .get(name)
             .unwrap_or_else(|| panic!("no image `{name}`"))
             .0
     }
 
-    fn errors(&self) -> Vec<String> {
+    pub(super) fn errors(&self) -> Vec<String> {
         self.rt
             .node_errors()
             .map(|(id, e)| format!("{id}: {e}"))
@@ -63,17 +63,17 @@ impl Rig {
     }
 }
 
-fn output(id: u32, name: &str) -> NodeDoc {
+pub(super) fn output(id: u32, name: &str) -> NodeDoc {
     NodeDoc::new(id, "Output")
         .with("Name", vec![name.to_owned()])
         .with("Write", vec![false])
 }
 
-fn noise_into(patch: &mut Patch, id: u32) {
+pub(super) fn noise_into(patch: &mut Patch, id: u32) {
     patch.add(NodeDoc::new(id, "Noise (Shader)").with("Speed", vec![0.0f32]));
 }
 
-fn mean(image: &ImageF32) -> [f32; 4] {
+pub(super) fn mean(image: &ImageF32) -> [f32; 4] {
     let n = image.pixels.len() as f32;
     let mut m = [0.0; 4];
     for p in &image.pixels {
@@ -323,17 +323,34 @@ fn every_example_compiles_in_every_permutation() {
     for (stem, path, source) in EXAMPLES {
         let ty = ShaderType::load(&type_name(stem), path, source).unwrap_or_else(|e| panic!("{e}"));
         let switches: Vec<String> = ty.notes.switches.iter().map(|s| s.define.clone()).collect();
-        for mask in 0..(1u32 << switches.len()) {
-            let defines = (0..switches.len())
-                .filter(|i| mask & (1 << i) != 0)
-                .map(|i| switches[i].clone())
+        // Every option of every enum, with every set of switches.
+        let mut choices: Vec<Vec<String>> = vec![Vec::new()];
+        for e in &ty.notes.enums {
+            choices = choices
+                .iter()
+                .flat_map(|c| {
+                    (0..e.options.len()).map(move |i| {
+                        let mut c = c.clone();
+                        c.extend(e.define(i));
+                        c
+                    })
+                })
                 .collect();
-            ty.program(&defines).unwrap_or_else(|e| panic!("{e}"));
+        }
+        for chosen in &choices {
+            for mask in 0..(1u32 << switches.len()) {
+                let defines = (0..switches.len())
+                    .filter(|i| mask & (1 << i) != 0)
+                    .map(|i| switches[i].clone())
+                    .chain(chosen.iter().cloned())
+                    .collect();
+                ty.program(&defines).unwrap_or_else(|e| panic!("{e}"));
+            }
         }
     }
 }
 
-fn set(rig: &mut Rig, patch: &mut Patch, node: u32, pin: &str, value: Spread) {
+pub(super) fn set(rig: &mut Rig, patch: &mut Patch, node: u32, pin: &str, value: Spread) {
     let doc = patch
         .nodes
         .iter_mut()

@@ -6,6 +6,7 @@ use std::sync::Arc;
 use glam::Mat4;
 use thiserror::Error;
 
+use super::surface_shader::SurfaceShader;
 use crate::material::MaterialWorld;
 use crate::mesh_arena::GpuMesh;
 use crate::recipe::TextureRef;
@@ -126,6 +127,9 @@ pub struct Layer {
     /// The material world the instances' material ids index, when the
     /// resolve must read it: glTF surface maps (MATERIAL_MAPS).
     pub materials: Option<Arc<MaterialWorld>>,
+    /// A shader node material: its `surface` function shades the layer's
+    /// pixels in the resolve (CUSTOM_SURFACE), in place of surface maps.
+    pub surface: Option<Arc<SurfaceShader>>,
 }
 
 impl Layer {
@@ -166,6 +170,7 @@ impl Layer {
             normal_map,
             color_map: None,
             materials: None,
+            surface: None,
         })
     }
 
@@ -176,9 +181,19 @@ impl Layer {
         self
     }
 
-    /// The world, when its surface maps are sampled by this layer.
+    /// The layer shaded by a shader node material's `surface` function
+    /// (which then replaces the world's surface maps).
+    pub fn with_surface(mut self, surface: Option<Arc<SurfaceShader>>) -> Self {
+        self.surface = surface;
+        self
+    }
+
+    /// The world, when its surface maps are sampled by this layer (never
+    /// under a shader node material, which shades the surface itself).
     pub(crate) fn map_world(&self) -> Option<&Arc<MaterialWorld>> {
-        self.materials.as_ref().filter(|w| w.has_maps())
+        self.materials
+            .as_ref()
+            .filter(|w| w.has_maps() && self.surface.is_none())
     }
 
     /// Whether some instance's material is alpha-tested (MASK): the
@@ -226,7 +241,15 @@ impl Layer {
         if self.map_world().is_some() {
             d.push("MATERIAL_MAPS");
         }
+        if self.surface.is_some() {
+            d.push("CUSTOM_SURFACE");
+        }
         d
+    }
+
+    /// The textures its shader node material reads.
+    pub(crate) fn surface_textures(&self) -> impl Iterator<Item = &TextureRef> {
+        self.surface.iter().flat_map(|s| &s.textures)
     }
 
     /// The textures its surface pass samples (a normal texture only while Normal Mapping is on).

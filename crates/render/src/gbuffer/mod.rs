@@ -15,6 +15,7 @@
 pub(crate) mod compute_raster;
 mod layer;
 mod passes;
+mod surface_shader;
 mod view;
 
 use std::sync::Arc;
@@ -22,6 +23,7 @@ use std::sync::Arc;
 use glam::Mat4;
 
 pub use layer::{DrawBatch, InstanceInput, Layer, LayerError, LayerFeatures, VelocitySource};
+pub use surface_shader::{SURFACE_MODULE, SurfaceBinding, SurfaceShader};
 pub use view::{Channel, GBufferView};
 
 use crate::camera::{CameraInput, GpuCamera};
@@ -187,6 +189,8 @@ pub struct GBuffer {
     instances: wgpu::Buffer,
     camera_buffer: wgpu::Buffer,
     layer_buffers: Vec<wgpu::Buffer>,
+    /// Per layer with a shader node material that has pins: its uniform block.
+    surface_buffers: Vec<Option<wgpu::Buffer>>,
     pub raster: RasterMode,
     compute: Option<compute_raster::ComputeRaster>,
 }
@@ -274,6 +278,19 @@ impl GBuffer {
                 )
             })
             .collect();
+        let surface_buffers = layers
+            .iter()
+            .map(|l| {
+                let s = l.surface.as_ref().filter(|s| !s.params.is_empty())?;
+                Some(
+                    device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                        label: Some("mre material pins"),
+                        contents: &s.params,
+                        usage: wgpu::BufferUsages::UNIFORM,
+                    }),
+                )
+            })
+            .collect();
         let raster = match choice {
             RasterChoice::Hardware => RasterMode::Hardware,
             // Alpha tests discard per pixel, which the raster hardware does.
@@ -299,7 +316,7 @@ impl GBuffer {
                 velocity_uv: format!("{prefix}/velocity_uv"),
                 surface: layers
                     .iter()
-                    .any(|l| l.map_world().is_some())
+                    .any(|l| l.map_world().is_some() || l.surface.is_some())
                     .then(|| format!("{prefix}/surface")),
             },
             layers,
@@ -308,6 +325,7 @@ impl GBuffer {
             instances,
             camera_buffer,
             layer_buffers,
+            surface_buffers,
             raster,
             compute,
         })
@@ -394,6 +412,16 @@ impl Recipe for GBuffer {
             .write_buffer(&self.camera_buffer, 0, bytemuck::bytes_of(&camera));
         for map in self.layers.iter().flat_map(|l| l.maps()) {
             map.recipe.declare(renderer, fg);
+        }
+        for layer in &self.layers {
+            for texture in layer.surface_textures() {
+                texture.recipe.declare(renderer, fg);
+            }
+            if let Some(compiled) = layer.surface.as_ref().map(|s| s.take_compiled())
+                && compiled > 0
+            {
+                fg.count("shader node permutations compiled", compiled);
+            }
         }
         passes::declare(self, renderer, fg);
     }

@@ -60,7 +60,7 @@ pub(super) fn declare<'a>(g: &'a GBuffer, renderer: &'a Renderer, fg: &mut Frame
     surface_reads.extend(
         g.layers
             .iter()
-            .flat_map(|l| l.maps())
+            .flat_map(|l| l.maps().chain(l.surface_textures()))
             .map(|n| n.name.as_str()),
     );
     let mut surface_writes = vec![
@@ -339,7 +339,30 @@ fn resolve(
             defines.push("SURFACE_OUT");
         }
         let key = ShaderKey::new("gbuffer/resolve.wgsl", defines);
-        let pipeline = cx.shaders.compute_pipeline(&device, &key, "main")?;
+        // A shader node material: the resolve composed with its file.
+        let custom = layer.and_then(|l| l.surface.as_ref()).filter(|_| !motion);
+        let (pipeline, custom_used) = match custom {
+            Some(s) => {
+                let splice = crate::shaders::Splice {
+                    key: s.key,
+                    module: super::SURFACE_MODULE,
+                    file_path: &s.file,
+                    source: &s.text,
+                };
+                let (p, used) = cx
+                    .shaders
+                    .surface_pipeline(&device, &key, &splice, "main")
+                    .map_err(|e| RenderError::Pass {
+                        pass: format!("{}: resolve surface", s.label),
+                        message: e.to_string(),
+                    })?;
+                (p, used)
+            }
+            None => (
+                cx.shaders.compute_pipeline(&device, &key, "main")?,
+                Vec::new(),
+            ),
+        };
         let layer_buffer = match g.layer_buffers.get(i) {
             Some(b) => b.clone(),
             None => background_layer(&device),
@@ -389,14 +412,27 @@ fn resolve(
             layout: &pipeline.get_bind_group_layout(0),
             entries: &entries,
         });
-        // Groups 1 and 3: the material world and its surface maps' arrays.
-        let (world_group, maps_group) = match layer.and_then(|l| l.map_world()).filter(|_| !motion)
-        {
-            Some(world) => (
+        // Groups 1 and 3: the material world and its surface maps' arrays,
+        // or group 1 alone: a shader node material's bindings.
+        let (world_group, maps_group) = match (
+            layer.and_then(|l| l.map_world()).filter(|_| !motion),
+            custom,
+        ) {
+            (_, Some(s)) => (
+                surface_group(
+                    cx,
+                    &pipeline,
+                    s,
+                    g.surface_buffers.get(i).and_then(Option::as_ref),
+                    &custom_used,
+                )?,
+                None,
+            ),
+            (Some(world), None) => (
                 Some(world.bind_group(cx, &key, &pipeline, false, g.targets.surface_targets())?),
                 world.maps_bind_group(&device, &pipeline.get_bind_group_layout(3)),
             ),
-            None => (None, None),
+            (None, None) => (None, None),
         };
         // Group 2: the layer's maps, bound where its permutation samples them.
         let group2 = match layer.filter(|l| !motion && l.maps().next().is_some()) {
@@ -461,6 +497,75 @@ fn resolve(
         pass.dispatch_workgroups(w.div_ceil(8), h.div_ceil(8), 1);
     }
     Ok(())
+}
+
+/// Group 1 of a resolve composed with a shader node material: its pins'
+/// uniform block, texture inputs and samplers, those the permutation uses.
+fn surface_group(
+    cx: &mut PassContext<'_>,
+    pipeline: &wgpu::ComputePipeline,
+    surface: &super::SurfaceShader,
+    params: Option<&wgpu::Buffer>,
+    used: &[(u32, u32)],
+) -> Result<Option<wgpu::BindGroup>, RenderError> {
+    use super::SurfaceBinding;
+    // A derived layout has groups up to the last one used: none past 0, no group 1.
+    if !used.iter().any(|(group, _)| *group >= 1) {
+        return Ok(None);
+    }
+    let device = cx.gpu.device.clone();
+    let mut views = Vec::new();
+    for (_, binding) in &surface.bindings {
+        if let SurfaceBinding::Texture(t) = binding {
+            let texture = surface.textures.get(*t).ok_or_else(|| RenderError::Pass {
+                pass: format!("{}: resolve surface", surface.label),
+                message: format!("texture input {t} is not connected"),
+            })?;
+            views.push((*t, cx.view(&texture.name)?));
+        }
+    }
+    let mut samplers = Vec::new();
+    for (_, binding) in &surface.bindings {
+        if let SurfaceBinding::Sampler { repeat } = binding {
+            let sampling = if *repeat {
+                crate::shaders::Sampling::LinearRepeat
+            } else {
+                crate::shaders::Sampling::LinearClamp
+            };
+            samplers.push((*repeat, cx.shaders.sampler(&device, sampling)));
+        }
+    }
+    let mut entries = Vec::new();
+    for (binding, role) in &surface.bindings {
+        if !used.contains(&(1, *binding)) {
+            continue;
+        }
+        let resource = match role {
+            SurfaceBinding::Uniform => match params {
+                Some(buffer) => buffer.as_entire_binding(),
+                None => continue,
+            },
+            SurfaceBinding::Texture(t) => match views.iter().find(|(i, _)| i == t) {
+                Some((_, view)) => wgpu::BindingResource::TextureView(view),
+                None => continue,
+            },
+            SurfaceBinding::Sampler { repeat } => {
+                match samplers.iter().find(|(r, _)| r == repeat) {
+                    Some((_, sampler)) => wgpu::BindingResource::Sampler(sampler),
+                    None => continue,
+                }
+            }
+        };
+        entries.push(wgpu::BindGroupEntry {
+            binding: *binding,
+            resource,
+        });
+    }
+    Ok(Some(device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("resolve: shader node material"),
+        layout: &pipeline.get_bind_group_layout(1),
+        entries: &entries,
+    })))
 }
 
 /// The layer record of a G-buffer with no layers: covers nothing, clears everything.

@@ -71,6 +71,28 @@ pub struct SwitchDecl {
     pub at: At,
 }
 
+/// A `#ifdef` choice with an Enum pin:
+/// `// @enum NAME ["Display"] Option|Option|... [default=Option]`. The
+/// selected option `#define`s `NAME_OPTION` (upper case), one permutation
+/// per option used.
+#[derive(Clone, Debug, PartialEq)]
+pub struct EnumDecl {
+    pub name: String,
+    pub display: String,
+    pub options: Vec<String>,
+    /// Index of the default option.
+    pub default: usize,
+    pub at: At,
+}
+
+impl EnumDecl {
+    /// What option `index` defines: `PATTERN_CHECKER` for option `Checker` of `PATTERN`.
+    pub fn define(&self, index: usize) -> Option<String> {
+        let option = self.options.get(index)?;
+        Some(format!("{}_{}", self.name, option.to_uppercase()))
+    }
+}
+
 /// How a declared sampler addresses past the edge (it always filters linearly).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct SamplerDecl {
@@ -90,10 +112,14 @@ pub struct Annotations {
     pub targets: Vec<TargetDecl>,
     pub passes: Vec<PassDecl>,
     pub switches: Vec<SwitchDecl>,
+    /// Enum choices (`// @enum`), after the Bool switches among the pins.
+    pub enums: Vec<EnumDecl>,
     /// Extra targets shown as output pins (`// @output TARGET`).
     pub outputs: Vec<(String, At)>,
     /// Per source line (1-based): the `@pin` annotation there, for the field on it or below it.
     pub pins: BTreeMap<u32, PinDecl>,
+    /// `// @material`: the file is a DeferredBase material (its `surface` function), not an effect.
+    pub material: Option<At>,
 }
 
 /// The G-buffer names a shader may bind: its textures and its camera uniform.
@@ -176,6 +202,8 @@ impl Annotations {
                         .ok_or_else(|| fail("`@output` needs a target name".into()))?;
                     a.outputs.push((target.to_owned(), at));
                 }
+                "material" => a.material = Some(at),
+                "enum" => a.enums.push(parse_enum(rest, at).map_err(fail)?),
                 "pin" => {
                     let decl = parse_pin(rest, at).map_err(fail)?;
                     a.pins.insert(at.line, decl);
@@ -183,7 +211,7 @@ impl Annotations {
                 other => {
                     return Err(fail(format!(
                         "unknown annotation `@{other}` (category, help, input, gbuffer, sampler, target, \
-                         pass, switch, output, pin)"
+                         pass, switch, enum, output, pin, material)"
                     )));
                 }
             }
@@ -380,6 +408,59 @@ fn parse_pass(rest: &str, at: At) -> Result<PassDecl, String> {
     Ok(pass)
 }
 
+fn parse_enum(rest: &str, at: At) -> Result<EnumDecl, String> {
+    let (name, display) = name_and_display(rest);
+    let name = name.ok_or("`@enum` needs a define name")?;
+    // Settings are the words outside the quoted name, after the define name.
+    let unquoted = match (rest.find('"'), rest.rfind('"')) {
+        (Some(a), Some(b)) if b > a => format!("{} {}", &rest[..a], &rest[b + 1..]),
+        _ => rest.to_owned(),
+    };
+    let mut options: Vec<String> = Vec::new();
+    let mut default = None;
+    for word in unquoted.split_whitespace().skip(1) {
+        match word.split_once('=') {
+            Some(("default", v)) => default = Some(v.to_owned()),
+            Some(_) => return Err(format!("unknown enum setting `{word}` (default=)")),
+            None => {
+                for option in word.split('|').filter(|o| !o.is_empty()) {
+                    if !option
+                        .chars()
+                        .all(|c| c.is_ascii_alphanumeric() || c == '_')
+                    {
+                        return Err(format!(
+                            "enum option `{option}` is not a name (letters, digits, _): it becomes a define"
+                        ));
+                    }
+                    if options.iter().any(|o| o.eq_ignore_ascii_case(option)) {
+                        return Err(format!("enum option `{option}` is listed twice"));
+                    }
+                    options.push(option.to_owned());
+                }
+            }
+        }
+    }
+    if options.len() < 2 {
+        return Err("`@enum` lists two or more options: `@enum NAME A|B|C`".into());
+    }
+    let default = match default {
+        Some(d) => options.iter().position(|o| *o == d).ok_or_else(|| {
+            format!(
+                "default `{d}` is not one of the options {}",
+                options.join("|")
+            )
+        })?,
+        None => 0,
+    };
+    Ok(EnumDecl {
+        display: display.unwrap_or_else(|| title(&name.to_lowercase())),
+        name,
+        options,
+        default,
+        at,
+    })
+}
+
 fn parse_pin(rest: &str, at: At) -> Result<PinDecl, String> {
     let mut pin = PinDecl {
         display: quoted(rest),
@@ -434,6 +515,25 @@ mod tests {
         let pin = &a.pins[&6];
         assert_eq!(pin.display.as_deref(), Some("Blur Radius"));
         assert_eq!((pin.min, pin.max), (Some(0.0), Some(16.0)));
+    }
+
+    #[test]
+    fn an_enum_lists_its_options_and_defines_one_per_option() {
+        let a = Annotations::parse(
+            "e.wgsl",
+            "// @enum PATTERN \"Pattern\" Marble|Checker|Wood default=Checker\n",
+        )
+        .expect("parses");
+        let e = &a.enums[0];
+        assert_eq!((e.display.as_str(), e.default), ("Pattern", 1));
+        assert_eq!(e.options, ["Marble", "Checker", "Wood"]);
+        assert_eq!(e.define(2).as_deref(), Some("PATTERN_WOOD"));
+        let err = Annotations::parse("e.wgsl", "\n// @enum MODE A|B default=C\n")
+            .expect_err("bad default");
+        assert!(
+            err.to_string().starts_with("e.wgsl:2:4: default `C`"),
+            "{err}"
+        );
     }
 
     #[test]

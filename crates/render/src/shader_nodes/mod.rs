@@ -8,12 +8,14 @@
 
 pub mod annotations;
 pub mod builtin_blur;
+pub mod compose;
 pub mod error;
+pub mod material;
 pub mod program;
 pub mod recipe;
 mod utility;
 
 pub use annotations::Annotations;
 pub use error::{ShaderNodeError, Span};
-pub use program::{Builtin, ParamKind, ParamPin, Program, Role, UniformLayout};
+pub use program::{Builtin, Kind, ParamKind, ParamPin, Program, Role, UniformLayout};
 pub use recipe::{ShaderNodeInputs, ShaderNodeRecipe};

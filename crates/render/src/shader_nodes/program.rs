@@ -133,7 +133,26 @@ pub struct Program {
     pub targets: Vec<TargetDecl>,
     /// The texture input pins' names, in `@input` order.
     pub input_names: Vec<String>,
+    pub kind: Kind,
+    /// Every binding of the file and what it is.
+    pub bindings: Vec<(u32, Role)>,
+    /// The file's text with this permutation's switches resolved (lines
+    /// kept): what a material splices into the G-buffer resolve.
+    pub text: String,
 }
+
+/// What a shader node file is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Kind {
+    /// An image effect (TextureFX): compute passes writing targets.
+    Effect,
+    /// A DeferredBase layer's material (`// @material`): a `surface` function
+    /// the G-buffer resolve calls per pixel; bindings in group 1.
+    Material,
+}
+
+/// The function a material file defines.
+pub const SURFACE_FUNCTION: &str = "surface";
 
 /// Replace `#ifdef NAME` / `#ifndef NAME` / `#else` / `#endif` by what the
 /// switches select, keeping every line (excluded ones become empty) so naga's
@@ -271,21 +290,28 @@ fn uniform_layout(
     source: &str,
     notes: &Annotations,
     module: &naga::Module,
-    binding: u32,
     ty: naga::Handle<naga::Type>,
-    var_span: naga::Span,
+    var_at: usize,
+    composed: bool,
 ) -> Result<UniformLayout, ShaderNodeError> {
     let TypeInner::Struct { members, span } = &module.types[ty].inner else {
-        return Err(location(
+        return Err(ShaderNodeError::at_offset(
             file,
             source,
-            var_span,
-            "the uniform block must be a struct (its fields become pins)".into(),
+            var_at,
+            "the uniform block must be a struct (its fields become pins)",
         ));
     };
-    let struct_offset = module.types.get_span(ty).to_range().map_or(0, |r| r.start);
+    let struct_offset = if composed {
+        module.types[ty]
+            .name
+            .as_deref()
+            .and_then(|n| super::compose::struct_offset(source, n))
+            .unwrap_or(0)
+    } else {
+        module.types.get_span(ty).to_range().map_or(0, |r| r.start)
+    };
     let mut layout = UniformLayout {
-        binding,
         size: *span,
         ..Default::default()
     };
@@ -385,23 +411,89 @@ impl Program {
         defines: &BTreeSet<String>,
     ) -> Result<Program, ShaderNodeError> {
         let text = preprocess(file, source, defines)?;
-        let (module, info) = parse_and_validate(file, &text)?;
-        let bindings = Self::roles(file, &text, notes, &module)?;
+        let kind = if notes.material.is_some() {
+            super::material::check_annotations(file, notes)?;
+            Kind::Material
+        } else {
+            Kind::Effect
+        };
+        // Files that import libraries (every material imports
+        // spreadlight::surface) are composed by naga_oil; others parsed as they are.
+        let composed = super::compose::imports(&text);
+        let (module, info) = if composed {
+            let module = super::compose::compose(file, &text)?;
+            let info = naga::valid::Validator::new(
+                naga::valid::ValidationFlags::all(),
+                naga::valid::Capabilities::default(),
+            )
+            .validate(&module)
+            .map_err(|e| {
+                ShaderNodeError::at(
+                    file,
+                    Span { line: 1, column: 1 },
+                    format!("validation: {}", super::compose::undecorate(&e.to_string())),
+                )
+            })?;
+            (module, info)
+        } else {
+            parse_and_validate(file, &text)?
+        };
+        let place = |handle: naga::Handle<naga::GlobalVariable>| -> usize {
+            if composed {
+                let name = module.global_variables[handle]
+                    .name
+                    .as_deref()
+                    .unwrap_or("");
+                super::compose::var_offset(&text, name).unwrap_or(0)
+            } else {
+                module
+                    .global_variables
+                    .get_span(handle)
+                    .to_range()
+                    .map_or(0, |r| r.start)
+            }
+        };
+        let bindings = Self::roles(file, &text, notes, &module, kind, &place)?;
         let uniform = match bindings.iter().find(|(_, _, r)| *r == Role::Uniform) {
             Some((binding, handle, _)) => {
                 let var = &module.global_variables[*handle];
-                Some(uniform_layout(
-                    file,
-                    &text,
-                    notes,
-                    &module,
-                    *binding,
-                    var.ty,
-                    module.global_variables.get_span(*handle),
-                )?)
+                Some(UniformLayout {
+                    binding: *binding,
+                    ..uniform_layout(
+                        file,
+                        &text,
+                        notes,
+                        &module,
+                        var.ty,
+                        place(*handle),
+                        composed,
+                    )?
+                })
             }
             None => None,
         };
+        let key = {
+            use std::hash::{Hash, Hasher};
+            let mut hasher = std::collections::hash_map::DefaultHasher::new();
+            (file, source, defines).hash(&mut hasher);
+            hasher.finish()
+        };
+        if kind == Kind::Material {
+            super::material::check(file, &text, notes, &module)?;
+            super::compose::check_material(file, &text)?;
+            return Ok(Program {
+                file: file.to_owned(),
+                module,
+                key,
+                uniform,
+                passes: Vec::new(),
+                targets: Vec::new(),
+                input_names: notes.inputs.iter().map(|(_, pin, _)| pin.clone()).collect(),
+                kind,
+                bindings: bindings.iter().map(|(b, _, r)| (*b, r.clone())).collect(),
+                text,
+            });
+        }
         for (target, at) in &notes.outputs {
             if notes.target(target).is_none() {
                 return Err(ShaderNodeError::at(
@@ -450,11 +542,10 @@ impl Program {
                 if let Role::Write(t) = role
                     && !decl.targets.contains(t)
                 {
-                    let span = module.global_variables.get_span(*handle);
-                    return Err(location(
+                    return Err(ShaderNodeError::at_offset(
                         file,
                         &text,
-                        span,
+                        place(*handle),
                         format!(
                             "entry point `{}` writes `{t}`, which is not a destination of its `@pass`",
                             decl.entry
@@ -516,17 +607,17 @@ impl Program {
                 "no `// @pass ENTRY -> TARGET` annotation: a shader node needs at least one pass",
             ));
         }
-        use std::hash::{Hash, Hasher};
-        let mut hasher = std::collections::hash_map::DefaultHasher::new();
-        (file, source, defines).hash(&mut hasher);
         Ok(Program {
             file: file.to_owned(),
             module,
-            key: hasher.finish(),
+            key,
             uniform,
             passes,
             targets: notes.targets.clone(),
             input_names: notes.inputs.iter().map(|(_, pin, _)| pin.clone()).collect(),
+            kind,
+            bindings: bindings.iter().map(|(b, _, r)| (*b, r.clone())).collect(),
+            text,
         })
     }
 
@@ -537,19 +628,32 @@ impl Program {
         text: &str,
         notes: &Annotations,
         module: &naga::Module,
+        kind: Kind,
+        place: &dyn Fn(naga::Handle<naga::GlobalVariable>) -> usize,
     ) -> Result<Vec<(u32, naga::Handle<naga::GlobalVariable>, Role)>, ShaderNodeError> {
         let mut roles = Vec::new();
         let mut uniforms = 0;
+        // A material's bindings are group 1: group 0 is the G-buffer resolve's.
+        let group = match kind {
+            Kind::Effect => 0,
+            Kind::Material => 1,
+        };
         for (handle, var) in module.global_variables.iter() {
             let Some(binding) = &var.binding else {
                 continue;
             };
             let name = var.name.clone().unwrap_or_default();
-            let span = module.global_variables.get_span(handle);
-            let fail = |m: String| location(file, text, span, m);
-            if binding.group != 0 {
+            let at = place(handle);
+            let fail = |m: String| ShaderNodeError::at_offset(file, text, at, m);
+            if binding.group != group {
+                let what = match kind {
+                    Kind::Effect => "shader nodes bind everything in group 0",
+                    Kind::Material => {
+                        "a material binds everything in group 1 (group 0 is the G-buffer's)"
+                    }
+                };
                 return Err(fail(format!(
-                    "`{name}` is in group {}: shader nodes bind everything in group 0",
+                    "`{name}` is in group {}: {what}",
                     binding.group
                 )));
             }

@@ -1,0 +1,107 @@
+//! Evaluating a material shader node (`// @material`): per slice, the
+//! incoming DeferredBase layer with the file's `surface` function attached,
+//! its pins written into the uniform block, so the G-buffer resolve shades
+//! the layer's pixels with it. A spread of pin values gives a spread of
+//! layers (one per slice, layers wrapping), as vvvv's DrawFX do.
+
+use std::sync::Arc;
+
+use spreadlight_graph::{EvalContext, NodeError, ResourceKind};
+use spreadlight_render::TextureRef;
+use spreadlight_render::gbuffer::{Layer, SurfaceBinding, SurfaceShader};
+use spreadlight_render::shader_nodes::{Builtin, Role};
+
+use super::node::{numbers, slice_defines, write_param};
+use super::shader_type::ShaderType;
+use crate::gpu::{resource_spread, resources};
+
+/// The Layer input pin.
+const LAYER: usize = 0;
+
+pub(super) fn evaluate(ty: &Arc<ShaderType>, cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
+    let layers = resources::<Layer>(cx, LAYER)?;
+    let first_texture = ty.first_texture();
+    let mut textures = Vec::with_capacity(ty.notes.inputs.len());
+    for k in 0..ty.notes.inputs.len() {
+        let pin = first_texture + k;
+        let t = resources::<TextureRef>(cx, pin)?;
+        if t.is_empty() {
+            return Err(cx.input_error(pin, "no texture connected"));
+        }
+        textures.push(t);
+    }
+    let first = ty.first_param();
+    let params = ty.params();
+    // vvvv's rule: as many slices as the longest input, none if one is empty.
+    let mut lens = vec![layers.len()];
+    lens.extend(textures.iter().map(Vec::len));
+    lens.extend((first..cx.input_count()).map(|pin| cx.input(pin).len()));
+    let count = if lens.contains(&0) {
+        0
+    } else {
+        lens.into_iter().max().unwrap_or(1)
+    };
+    let mut programs = Vec::with_capacity(count);
+    let mut compiled = 0;
+    for slice in 0..count {
+        let defines = slice_defines(ty, cx, first + params.len(), slice);
+        let (program, fresh) = ty
+            .program(&defines)
+            .map_err(|e| NodeError::Other(e.to_string()))?;
+        compiled += u64::from(fresh);
+        programs.push(program);
+    }
+    let mut out = Vec::with_capacity(count);
+    for (slice, program) in programs.into_iter().enumerate() {
+        let mut bytes = vec![0u8; program.uniform.as_ref().map_or(0, |u| u.size as usize)];
+        for (i, pin) in params.iter().enumerate() {
+            write_param(&mut bytes, pin, &numbers(cx.input(first + i), slice));
+        }
+        // The built-ins a material has: the clock and its slice (the rest are 0).
+        for (builtin, offset) in program.uniform.iter().flat_map(|u| &u.builtins) {
+            let word = match builtin {
+                Builtin::Time => (cx.clock.time as f32).to_bits(),
+                Builtin::Delta => (cx.clock.delta as f32).to_bits(),
+                Builtin::Slice => slice as u32,
+                _ => continue,
+            };
+            let at = *offset as usize;
+            if let Some(slot) = bytes.get_mut(at..at + 4) {
+                slot.copy_from_slice(&word.to_le_bytes());
+            }
+        }
+        let bindings = program
+            .bindings
+            .iter()
+            .filter_map(|(binding, role)| {
+                let what = match role {
+                    Role::Uniform => SurfaceBinding::Uniform,
+                    Role::Input(i) => SurfaceBinding::Texture(*i),
+                    Role::Sampler(d) => SurfaceBinding::Sampler { repeat: d.repeat },
+                    // Refused for materials when the file compiled.
+                    _ => return None,
+                };
+                Some((*binding, what))
+            })
+            .collect();
+        let surface = SurfaceShader::new(
+            format!("{} #{}", ty.name, cx.node_id.0),
+            program.file.clone(),
+            program.text.clone(),
+            program.key,
+            bindings,
+            bytes,
+            textures
+                .iter()
+                .map(|t| (*t[slice % t.len()]).clone())
+                .collect(),
+            if slice == 0 { compiled } else { 0 },
+        );
+        let layer = (*layers[slice % layers.len()])
+            .clone()
+            .with_surface(Some(Arc::new(surface)));
+        out.push(Arc::new(layer));
+    }
+    cx.set_output(0, resource_spread(ResourceKind::Layer, out));
+    Ok(())
+}
