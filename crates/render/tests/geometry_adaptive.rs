@@ -402,3 +402,36 @@ fn bezier_tubes_pass_through_their_anchors() {
     );
     assert!(bad.unwrap_err().to_string().contains("3 k + 1"));
 }
+
+#[test]
+fn extrude_scales_each_face_by_the_texture_at_its_centroid() {
+    use spreadlight_render::geometry::extrude;
+    let renderer = test_renderer();
+    let data = grid(GridParams {
+        size: Vec2::splat(2.0),
+        resolution_x: 8,
+        resolution_y: 8,
+    });
+    let input = renderer.meshes.upload(&renderer.gpu, &data).unwrap();
+    let texture = ramp(&renderer, 256);
+    let out = extrude(&renderer, &input, None, &[0.4], Some(&texture)).unwrap();
+    let (v, i) = read_mesh(&renderer, &out).unwrap();
+    assert_eq!(i.len(), data.indices.len() * 7, "a prism a face");
+    let height = |u: f32| (256.0 * u - 0.5) / 255.0;
+    let uvs = data.uvs.as_ref().unwrap();
+    let mut checked = 0;
+    for (f, t) in data.indices.chunks(3).enumerate() {
+        let centroid_u = t.iter().map(|&k| uvs[k as usize][0]).sum::<f32>() / 3.0;
+        let normal = Vec3::from(data.normals[t[0] as usize]);
+        for (k, &corner) in t.iter().enumerate() {
+            let cap = position(&v[f * 15 + k]);
+            let lift = (cap - Vec3::from(data.positions[corner as usize])).dot(normal);
+            assert!(
+                (lift - 0.4 * height(centroid_u)).abs() < 2e-3,
+                "face {f}: lifted {lift}, centroid u {centroid_u}"
+            );
+            checked += 1;
+        }
+    }
+    assert_eq!(checked, data.indices.len());
+}

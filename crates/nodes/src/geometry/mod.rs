@@ -37,3 +37,5 @@ pub fn register(r: &mut Registry) {
 
 #[cfg(test)]
 pub(crate) mod tests;
+#[cfg(test)]
+mod adaptive_tests;
