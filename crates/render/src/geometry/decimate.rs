@@ -24,7 +24,7 @@ use meshopt::{SimplifyOptions, VertexDataAdapter};
 use super::read_mesh;
 use crate::error::RenderError;
 use crate::mesh::{Aabb, MeshData};
-use crate::mesh_arena::{GpuMesh, MeshLayout};
+use crate::mesh_arena::{GpuMesh, GpuVertex, MeshLayout};
 use crate::renderer::Renderer;
 
 /// What to keep.
@@ -102,7 +102,7 @@ pub fn decimate(
             })
         })
         .collect();
-    let pick = |f: &dyn Fn(&super::super::mesh_arena::GpuVertex) -> [f32; 4]| -> Vec<[f32; 4]> {
+    let pick = |f: &dyn Fn(&GpuVertex) -> [f32; 4]| -> Vec<[f32; 4]> {
         order.iter().map(|&i| f(&vertices[i])).collect()
     };
     let xyz = |v: [f32; 4]| [v[0], v[1], v[2]];
