@@ -9,7 +9,11 @@ use super::tests::{Run, box_into};
 use crate::testing::eval;
 
 fn tiles() -> String {
-    concat!(env!("CARGO_MANIFEST_DIR"), "/../../patches/assets/tiles.png").to_owned()
+    concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../patches/assets/tiles.png"
+    )
+    .to_owned()
 }
 
 /// `patch` with a FileTexture of tiles.png (linear) as node 5, into `pin` of node 2.
@@ -28,7 +32,11 @@ fn tessellate_runs_its_three_passes_once_then_nothing() {
     let mut run = Run::new(&box_into(
         NodeDoc::new(2, "Tessellate").with("Max Area", vec![0.02f32]),
     ));
-    assert_eq!(run.frame(0, 2), (NodeRun::Evaluated, 3), "count, sums, write");
+    assert_eq!(
+        run.frame(0, 2),
+        (NodeRun::Evaluated, 3),
+        "count, sums, write"
+    );
     assert_eq!(run.frame(1, 2), (NodeRun::Evaluated, 3), "settles velocity");
     assert_eq!(run.frame(2, 2), (NodeRun::Reused, 0));
     // A unit box's faces are 0.5 each: at 0.02 every one splits.
@@ -46,7 +54,11 @@ fn tessellate_runs_its_three_passes_once_then_nothing() {
 #[test]
 fn displace_and_extrude_read_a_file_texture() {
     let mut run = Run::new(&with_texture(box_into(NodeDoc::new(2, "Displace"))));
-    assert_eq!(run.frame(0, 2), (NodeRun::Evaluated, 3), "move, accumulate, normals");
+    assert_eq!(
+        run.frame(0, 2),
+        (NodeRun::Evaluated, 3),
+        "move, accumulate, normals"
+    );
     run.frame(1, 2);
     assert_eq!(run.frame(2, 2), (NodeRun::Reused, 0));
     assert_eq!(run.mesh(2).indices.len(), 36);

@@ -36,6 +36,6 @@ pub fn register(r: &mut Registry) {
 }
 
 #[cfg(test)]
-pub(crate) mod tests;
-#[cfg(test)]
 mod adaptive_tests;
+#[cfg(test)]
+pub(crate) mod tests;

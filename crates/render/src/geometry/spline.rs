@@ -44,7 +44,7 @@ impl Curve {
                     "a Catmull-Rom spline needs at least 2 points, got {points}"
                 ));
             }
-            Curve::Bezier if points >= 4 && (points - 1) % 3 == 0 => (points - 1) / 3,
+            Curve::Bezier if points >= 4 && (points - 1).is_multiple_of(3) => (points - 1) / 3,
             Curve::Bezier => {
                 return Err(format!(
                     "a Bezier spline needs 3 k + 1 points (anchor, handle, handle, anchor, ...), got {points}"
