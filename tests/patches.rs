@@ -386,3 +386,30 @@ fn shipped_modules_are_canonical_and_used_by_an_example() {
         );
     }
 }
+
+/// The tessellation benchmark at test scale: a 24x24 sphere (1,104
+/// triangles) tessellated to about ten times as many, the ratio it keeps at
+/// full scale (`--set 1.Input=224`: 99,904 to about 986,000), because the
+/// sphere's radius grows with its segments; nothing cracks into NaN.
+#[test]
+fn the_tessellation_benchmark_makes_about_ten_times_the_triangles() {
+    use spreadlight_render::mesh_arena::GpuMesh;
+    let path = spreadlight_tests::root().join("patches/bench-tessellation.ron");
+    let patch = format::load(&path).expect("loads");
+    let mut rt = Runtime::new(spreadlight_nodes::registry());
+    rt.provide(patch_dir(&path));
+    rt.provide(spreadlight_render::renderer::test_renderer());
+    assert!(rt.load(&patch).is_empty());
+    rt.evaluate(FrameClock::fixed(0, 60.0));
+    assert_eq!(rt.node_errors().count(), 0);
+    let triangles = |id: u32| match rt
+        .output(spreadlight_graph::NodeId(id), "Mesh")
+        .map(|s| s.as_ref())
+    {
+        Some(Spread::Resource(_, h)) => h[0].downcast_arc::<GpuMesh>().unwrap().indices.len() / 3,
+        other => panic!("node {id}: {other:?}"),
+    };
+    assert_eq!(triangles(3), 2 * 24 * 23);
+    let ratio = triangles(6) as f64 / triangles(3) as f64;
+    assert!((8.0..=12.0).contains(&ratio), "{ratio}x");
+}

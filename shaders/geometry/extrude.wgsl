@@ -3,11 +3,16 @@
 // vertices, 7 triangles a face; the original face is replaced by the
 // prism, so a closed mesh stays closed). Amount per face: `amounts`,
 // cycled. Caps keep the input's UVs and tangents; walls take the edge's
-// UVs at both heights and a tangent along the edge.
+// UVs at both heights and a tangent along the edge. With TEXTURE, a face's
+// amount is also scaled by the texture's red channel at its centroid's UV.
 #import spreadlight::geometry::{job, invocation, indices, source_vertex, write_vertex, unit_or}
 #import spreadlight::mesh::Vertex
 
 @group(0) @binding(4) var<storage, read> amounts: array<f32>;
+#ifdef TEXTURE
+@group(0) @binding(5) var height: texture_2d<f32>;
+@group(0) @binding(6) var height_sampler: sampler;
+#endif
 
 // Local indices of one prism: the cap, then two triangles per wall.
 const LOCAL: array<u32, 21> = array<u32, 21>(
@@ -38,6 +43,11 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) g
     let p2 = v[2].position_u.xyz;
     let n = unit_or(cross(p1 - p0, p2 - p0), unit_or(v[0].normal_v.xyz, vec3<f32>(0.0, 1.0, 0.0)));
     var h = amounts[face % arrayLength(&amounts)];
+#ifdef TEXTURE
+    let centroid_uv = (vec2<f32>(v[0].position_u.w, v[0].normal_v.w) + vec2<f32>(v[1].position_u.w, v[1].normal_v.w)
+        + vec2<f32>(v[2].position_u.w, v[2].normal_v.w)) / 3.0;
+    h *= textureSampleLevel(height, height_sampler, centroid_uv, 0.0).r;
+#endif
     if (!(abs(h) < 3.0e38)) {
         h = 0.0;
     }

@@ -34,6 +34,13 @@ pub fn pass_name(kind: &str, owner: Option<u32>, what: Option<&str>) -> String {
 pub trait Recipe: Send + Sync {
     /// Declare this recipe's passes, after its inputs'. Must call `fg.include(id)` first and stop when it returns false.
     fn declare<'a>(&'a self, renderer: &'a Renderer, fg: &mut FrameGraph<'a>);
+
+    /// The texture itself when it exists before any frame (an image file): GPU
+    /// geometry runs as its node evaluates, outside the frame graph, and can
+    /// read only such textures.
+    fn static_texture(&self) -> Option<&crate::texture::GpuTexture> {
+        None
+    }
 }
 
 /// A texture some recipe produces, by its frame-graph name.

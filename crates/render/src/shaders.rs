@@ -117,9 +117,11 @@ pub const SHADERS: &[ShaderFile] = &[
     shader!("lib/custom_surface.wgsl", library),
     shader!("gbuffer/visibility.wgsl", ["ALPHA_MASK"]),
     shader!("geometry/spherize.wgsl", []),
-    shader!("geometry/extrude.wgsl", []),
+    shader!("geometry/extrude.wgsl", ["TEXTURE"]),
     shader!("geometry/pn_triangles.wgsl", ["FLAT"]),
-    shader!("geometry/spline.wgsl", ["RIBBON"]),
+    shader!("geometry/spline.wgsl", ["RIBBON", "BEZIER"]),
+    shader!("geometry/tessellate.wgsl", one_of["COUNT", "SUMS"]),
+    shader!("geometry/displace.wgsl", one_of["ACCUMULATE", "NORMALS"]),
     shader!(
         "particles/simulate.wgsl",
         ["FIELD_TEXTURE", "MESH_EMITTER", "DEPTH_COLLISION"]

@@ -265,4 +265,8 @@ impl crate::recipe::Recipe for StaticTexture {
             fg.import(&self.name, self.texture.texture.clone());
         }
     }
+
+    fn static_texture(&self) -> Option<&GpuTexture> {
+        Some(&self.texture)
+    }
 }

@@ -2,6 +2,8 @@
 //! G-buffer's velocity as the analytic motion predicts, geometry ids reach
 //! its object-id channel, and each geometry pass keeps its shape properties.
 
+mod common;
+
 use std::sync::Arc;
 
 use glam::{Mat4, Vec2, Vec3};
@@ -15,6 +17,8 @@ use spreadlight_render::mesh_arena::GpuMesh;
 use spreadlight_render::readback::{ImageF32, render_and_read};
 use spreadlight_render::renderer::test_renderer;
 use spreadlight_render::{Renderer, SizeRule};
+
+use common::open_edges;
 
 const SIZE: (u32, u32) = (32, 32);
 
@@ -261,28 +265,6 @@ fn a_rerun_with_new_pins_keeps_last_frames_positions_as_previous() {
     assert!(frame1.has_previous_positions);
 }
 
-/// Directed edges by quantized end positions: a closed oriented surface
-/// has every edge once in each direction (as many times a→b as b→a).
-fn open_edges(vertices: &[spreadlight_render::mesh_arena::GpuVertex], indices: &[u32]) -> usize {
-    use std::collections::HashMap;
-    let key = |i: u32| {
-        let p = vertices[i as usize].position_u;
-        [p[0], p[1], p[2]].map(|x| (x * 1e4).round() as i64)
-    };
-    let mut edges: HashMap<([i64; 3], [i64; 3]), i64> = HashMap::new();
-    for t in indices.chunks(3) {
-        for k in 0..3 {
-            let (a, b) = (key(t[k]), key(t[(k + 1) % 3]));
-            if a == b {
-                continue;
-            }
-            let (lo, hi, d) = if a < b { (a, b, 1) } else { (b, a, -1) };
-            *edges.entry((lo, hi)).or_default() += d;
-        }
-    }
-    edges.values().filter(|&&n| n != 0).count()
-}
-
 #[test]
 fn extrude_adds_seven_triangles_a_face_and_a_closed_mesh_stays_closed() {
     use spreadlight_render::geometry::extrude;
@@ -297,7 +279,7 @@ fn extrude_adds_seven_triangles_a_face_and_a_closed_mesh_stays_closed() {
         .expect("upload");
     let (v_in, i_in) = read_mesh(&renderer, &input).unwrap();
     assert_eq!(open_edges(&v_in, &i_in), 0, "the box is closed");
-    let out = extrude(&renderer, &input, None, &[0.1, 0.3]).expect("extrude");
+    let out = extrude(&renderer, &input, None, &[0.1, 0.3], None).expect("extrude");
     let (vertices, indices) = read_mesh(&renderer, &out).unwrap();
     let faces = data.indices.len() / 3;
     assert_eq!(
@@ -331,7 +313,7 @@ fn extrude_adds_seven_triangles_a_face_and_a_closed_mesh_stays_closed() {
 
 #[test]
 fn a_tube_passes_through_its_points_with_their_radii() {
-    use spreadlight_render::geometry::{Sweep, spline};
+    use spreadlight_render::geometry::{Curve, Sweep, spline};
     let renderer = test_renderer();
     let points = [
         Vec3::ZERO,
@@ -345,6 +327,7 @@ fn a_tube_passes_through_its_points_with_their_radii() {
         &renderer,
         &points,
         &radii,
+        Curve::CatmullRom,
         segments as u32,
         Sweep::Tube {
             sides: sides as u32,
@@ -382,7 +365,16 @@ fn a_tube_passes_through_its_points_with_their_radii() {
         let n = Vec3::from_slice(&vertices[t[0] as usize].normal_v);
         assert!(face.dot(n) >= 0.0, "triangle {t:?} faces inwards");
     }
-    let ribbon = spline(&renderer, &points, &radii, 4, Sweep::Ribbon, None).expect("ribbon");
+    let ribbon = spline(
+        &renderer,
+        &points,
+        &radii,
+        Curve::CatmullRom,
+        4,
+        Sweep::Ribbon,
+        None,
+    )
+    .expect("ribbon");
     let (vertices, _) = read_mesh(&renderer, &ribbon).unwrap();
     for (k, p) in points.iter().enumerate() {
         let pair = &vertices[k * 4 * 2..][..2];

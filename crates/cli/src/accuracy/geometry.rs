@@ -5,6 +5,13 @@
 //! distance over the output's vertices and triangle centroids. Cost: GPU ms
 //! of the pass on a sphere of about `--time-triangles` triangles (median of
 //! `--frames` runs after `--warmup`), and the triangles it makes.
+//!
+//! Adaptive `Tessellate` is flat, so on its own it never leaves the
+//! icosahedron; its rows measure it followed by `Spherize` at 1 (every vertex
+//! onto the sphere): the distance left is then the flat triangles' sag,
+//! which Max Area bounds. Max Area is given as the input's mean triangle
+//! area over a factor, so the icosahedron and the timing sphere are cut
+//! alike.
 
 use std::process::ExitCode;
 
@@ -12,7 +19,9 @@ use anyhow::Context;
 use glam::Vec3;
 use spreadlight_render::Renderer;
 use spreadlight_render::geometry::analytic::{icosahedron, sphere_distance, torus_distance};
-use spreadlight_render::geometry::{GeometryStats, pn_triangles, read_mesh};
+use spreadlight_render::geometry::{
+    GeometryStats, SpherizeParams, pn_triangles, read_mesh, spherize, tessellate,
+};
 use spreadlight_render::mesh::MeshData;
 use spreadlight_render::mesh::primitives::{SphereParams, TorusParams, sphere, torus};
 
@@ -30,6 +39,9 @@ pub struct GeometryArgs {
     warmup: usize,
     #[arg(long, default_value_t = 9)]
     frames: usize,
+    /// Adaptive Tessellate: Max Area = the mean triangle area over each of these.
+    #[arg(long, default_value = "2,4,8,16,32", value_delimiter = ',')]
+    area_factors: Vec<u32>,
     /// Also write the table to this Markdown file.
     #[arg(long)]
     out: Option<std::path::PathBuf>,
@@ -37,6 +49,36 @@ pub struct GeometryArgs {
 
 const MAJOR: f32 = 1.0;
 const MINOR: f32 = 0.35;
+
+/// Largest and RMS of `distance` over the vertices and triangle centroids of `out`.
+fn spread(
+    renderer: &Renderer,
+    out: &spreadlight_render::mesh_arena::GpuMesh,
+    distance: impl Fn(Vec3) -> f32,
+) -> anyhow::Result<(f32, f32)> {
+    let (vertices, indices) = read_mesh(renderer, out)?;
+    let p = |k: u32| Vec3::from_slice(&vertices[k as usize].position_u);
+    let samples: Vec<f32> = indices
+        .chunks(3)
+        .map(|t| (p(t[0]) + p(t[1]) + p(t[2])) / 3.0)
+        .chain(vertices.iter().map(|v| Vec3::from_slice(&v.position_u)))
+        .map(distance)
+        .collect();
+    let max = samples.iter().copied().fold(0.0f32, f32::max);
+    let rms = (samples.iter().map(|d| d * d).sum::<f32>() / samples.len().max(1) as f32).sqrt();
+    Ok((max, rms))
+}
+
+/// The mean triangle area of `mesh`.
+fn mean_area(mesh: &MeshData) -> f32 {
+    let p = |k: u32| Vec3::from(mesh.positions[k as usize]);
+    let total: f32 = mesh
+        .indices
+        .chunks(3)
+        .map(|t| 0.5 * (p(t[1]) - p(t[0])).cross(p(t[2]) - p(t[0])).length())
+        .sum();
+    total / mesh.triangle_count().max(1) as f32
+}
 
 /// (max, RMS) distance of a tessellation of `mesh` from the surface `distance` measures.
 fn error(
@@ -48,17 +90,7 @@ fn error(
 ) -> anyhow::Result<(f32, f32)> {
     let input = renderer.meshes.upload(&renderer.gpu, mesh)?;
     let out = pn_triangles(renderer, &input, None, level, curved)?;
-    let (vertices, indices) = read_mesh(renderer, &out)?;
-    let p = |k: u32| Vec3::from_slice(&vertices[k as usize].position_u);
-    let samples: Vec<f32> = indices
-        .chunks(3)
-        .map(|t| (p(t[0]) + p(t[1]) + p(t[2])) / 3.0)
-        .chain(vertices.iter().map(|v| Vec3::from_slice(&v.position_u)))
-        .map(distance)
-        .collect();
-    let max = samples.iter().copied().fold(0.0f32, f32::max);
-    let rms = (samples.iter().map(|d| d * d).sum::<f32>() / samples.len().max(1) as f32).sqrt();
-    Ok((max, rms))
+    spread(renderer, &out, distance)
 }
 
 pub fn run_geometry(args: &GeometryArgs) -> anyhow::Result<ExitCode> {
@@ -113,6 +145,33 @@ pub fn run_geometry(args: &GeometryArgs) -> anyhow::Result<ExitCode> {
                 ms(median(times))
             ));
         }
+    }
+    let onto_sphere = SpherizeParams {
+        center: Vec3::ZERO,
+        radius: 1.0,
+        amount: 1.0,
+    };
+    let ico_input = renderer.meshes.upload(&renderer.gpu, &ico)?;
+    for &factor in &args.area_factors {
+        let factor = factor.max(1) as f32;
+        let fine = tessellate(&renderer, &ico_input, None, mean_area(&ico) / factor, 64)?;
+        let round = spherize(&renderer, &fine, None, onto_sphere)?;
+        let (smax, srms) = spread(&renderer, &round, sphere_distance)?;
+        let mut times = Vec::new();
+        let mut made = 0;
+        for k in 0..args.warmup + args.frames.max(1) {
+            stats.take_gpu_ms();
+            let out = tessellate(&renderer, &big_input, None, mean_area(&big) / factor, 64)?;
+            made = out.indices.len() / 3;
+            let ms = stats.take_gpu_ms();
+            if k >= args.warmup && renderer.gpu.has_timestamps() {
+                times.push(ms);
+            }
+        }
+        table.push_str(&format!(
+            "| Tessellate (adaptive) + Spherize | mean area / {factor} | {smax:.5} | {srms:.5} | - | - | {made} | {} |\n",
+            ms(median(times))
+        ));
     }
     print!("{table}");
     if let Some(file) = &args.out {

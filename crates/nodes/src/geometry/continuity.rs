@@ -28,6 +28,13 @@ pub(crate) fn signature(mesh: Option<&Arc<GpuMesh>>, values: &[f32]) -> u64 {
     h.finish()
 }
 
+/// `signature` folded with another input's identity (a texture's address).
+pub(crate) fn with_identity(signature: u64, identity: usize) -> u64 {
+    let mut h = DefaultHasher::new();
+    (signature, identity).hash(&mut h);
+    h.finish()
+}
+
 impl Continuity {
     /// Makes `n` slices with `make(slice, last output)`, given each slice's
     /// signature, and asks for a settling run next frame when any moved.

@@ -1,17 +1,22 @@
 //! Geometry nodes (category "Geometry"): primitives and glTF files, each
 //! output a spread of meshes uploaded to the renderer's mesh arena, and GPU
-//! geometry (Emeshe's GeomFX list: `Spherize`, `Extrude`, `Tube`, `Ribbon`, `PN Triangles`, `Subdivide`), mesh in, mesh out,
+//! geometry (Emeshe's GeomFX list: `Spherize`, `Extrude`, `Tube`, `Ribbon`, `Spline`, `PN Triangles`, `Subdivide`,
+//! `Tessellate`, `Displace`, `Decimate`), mesh in, mesh out,
 //! computed in the arena without a readback.
 
 mod continuity;
+pub mod decimate;
+pub mod displace;
 pub mod extrude;
 pub mod gltf;
 #[cfg(test)]
 mod gltf_tests;
+mod height;
 pub mod pn_triangles;
 pub mod primitives;
 pub mod spherize;
 pub mod spline;
+pub mod tessellate;
 
 use spreadlight_graph::{PinType, Registry, ResourceKind};
 
@@ -25,7 +30,12 @@ pub fn register(r: &mut Registry) {
     extrude::register(r);
     spline::register(r);
     pn_triangles::register(r);
+    tessellate::register(r);
+    displace::register(r);
+    decimate::register(r);
 }
 
+#[cfg(test)]
+mod adaptive_tests;
 #[cfg(test)]
 pub(crate) mod tests;

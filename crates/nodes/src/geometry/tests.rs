@@ -45,7 +45,7 @@ impl Run {
     }
 }
 
-fn box_into(node: NodeDoc) -> Patch {
+pub(crate) fn box_into(node: NodeDoc) -> Patch {
     let mut patch = Patch::default();
     patch.add(NodeDoc::new(1, "Box"));
     patch.add(node);

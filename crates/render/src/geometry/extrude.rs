@@ -6,23 +6,27 @@ use std::sync::Arc;
 use glam::Vec3;
 use wgpu::util::DeviceExt;
 
+use super::displace::height_sampler;
 use super::{Op, run};
 use crate::error::RenderError;
 use crate::mesh::Aabb;
 use crate::mesh_arena::{GpuMesh, MeshLayout};
 use crate::renderer::Renderer;
 use crate::shaders::ShaderKey;
+use crate::texture::GpuTexture;
 
 /// Vertices and triangles an input triangle becomes.
 pub const VERTICES_PER_FACE: u32 = 15;
 pub const TRIANGLES_PER_FACE: u32 = 7;
 
-/// `input` with each face `amounts[face % len]` out along its normal (non-finite amounts: 0).
+/// `input` with each face `amounts[face % len]` out along its normal (non-finite amounts: 0),
+/// times `texture`'s red channel at the face's centroid UV when there is one.
 pub fn extrude(
     renderer: &Renderer,
     input: &GpuMesh,
     previous: Option<&GpuMesh>,
     amounts: &[f32],
+    texture: Option<&GpuTexture>,
 ) -> Result<Arc<GpuMesh>, RenderError> {
     let faces = (input.indices.len() / 3) as u32;
     let too_big = || RenderError::Pass {
@@ -41,6 +45,7 @@ pub fn extrude(
             .map(|a| if a.is_finite() { *a } else { 0.0 })
             .collect()
     };
+    // A normalized texture scales the amounts by 0..1.
     let reach = amounts.iter().fold(0.0f32, |m, a| m.max(a.abs()));
     let buffer = renderer
         .gpu
@@ -50,17 +55,24 @@ pub fn extrude(
             contents: bytemuck::cast_slice(&amounts),
             usage: wgpu::BufferUsages::STORAGE,
         });
+    let sampler = texture.map(|_| height_sampler(renderer));
+    let mut extra = vec![(4, buffer.as_entire_binding())];
+    if let (Some(t), Some(s)) = (texture, &sampler) {
+        extra.push((5, wgpu::BindingResource::TextureView(&t.view)));
+        extra.push((6, wgpu::BindingResource::Sampler(s)));
+    }
+    let features = texture.map(|_| "TEXTURE");
     run(
         renderer,
         Op {
-            key: ShaderKey::new("geometry/extrude.wgsl", []),
+            key: ShaderKey::new("geometry/extrude.wgsl", features),
             input: Some(input),
             previous,
             vertex_count,
             index_count,
             threads: vertex_count.max(index_count),
             params: &[0u8; 16],
-            extra: vec![(4, buffer.as_entire_binding())],
+            extra,
             // Every point moves at most the largest amount.
             layout: MeshLayout {
                 bounds: Aabb {

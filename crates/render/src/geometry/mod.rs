@@ -10,11 +10,14 @@
 //! the dispatches so tests can prove nothing reran.
 
 pub mod analytic;
+pub mod decimate;
+pub mod displace;
 pub mod extrude;
 pub mod pn_triangles;
 pub mod readback;
 pub mod spherize;
 pub mod spline;
+pub mod tessellate;
 
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
@@ -27,11 +30,14 @@ use crate::mesh_arena::{GpuMesh, MeshLayout};
 use crate::renderer::Renderer;
 use crate::shaders::ShaderKey;
 
+pub use decimate::{DecimateParams, decimate};
+pub use displace::{DisplaceParams, displace};
 pub use extrude::extrude;
 pub use pn_triangles::pn_triangles;
 pub use readback::{read_mesh, read_storage};
 pub use spherize::{SpherizeParams, spherize};
-pub use spline::{Sweep, spline};
+pub use spline::{Curve, Sweep, curve_point, spline};
+pub use tessellate::tessellate;
 
 /// Matches `Job` in shaders/lib/geometry.wgsl.
 #[repr(C)]

@@ -1,0 +1,37 @@
+//! The texture pin of `Displace` and `Extrude`: heights come from a texture
+//! that exists before the frame (a `FileTexture`), because GPU geometry runs
+//! as its node evaluates, before any frame renders.
+
+use std::sync::Arc;
+
+use spreadlight_graph::{EvalContext, NodeError};
+use spreadlight_render::TextureRef;
+
+use crate::gpu::resources;
+
+/// The first texture on `pin`, if any; one rendered by the frame (a
+/// post-processing output, say) is an error that says so.
+pub(crate) fn height_texture(
+    cx: &EvalContext<'_>,
+    pin: usize,
+) -> Result<Option<Arc<TextureRef>>, NodeError> {
+    let Some(texture) = resources::<TextureRef>(cx, pin)?.into_iter().next() else {
+        return Ok(None);
+    };
+    if texture.recipe.static_texture().is_none() {
+        return Err(cx.input_error(
+            pin,
+            format!(
+                "`{}` is rendered by the frame; geometry runs before the frame and needs a texture that exists \
+                 already (a FileTexture)",
+                texture.name
+            ),
+        ));
+    }
+    Ok(Some(texture))
+}
+
+/// The texture's identity (its recipe's address), for slice signatures.
+pub(crate) fn identity(texture: Option<&Arc<TextureRef>>) -> usize {
+    texture.map_or(0, |t| Arc::as_ptr(&t.recipe) as *const u8 as usize)
+}
