@@ -46,12 +46,12 @@ struct Sim {
     inverse_view_projection: mat4x4<f32>,
     depth_size: vec4<f32>,
     // x: the arena index of slot 0's record.
-    layout: vec4<u32>,
+    records_at: vec4<u32>,
     // Attractors: position (xyz), strength (w).
     attractors: array<vec4<f32>, 8>,
 }
 
-// The mesh arena: particle records (from sim.layout.x on) and the emitter mesh's vertices.
+// The mesh arena: particle records (from sim.records_at.x on) and the emitter mesh's vertices.
 @group(0) @binding(0) var<storage, read_write> records: array<Vertex>;
 @group(0) @binding(1) var<uniform> sim: Sim;
 #ifdef FIELD_TEXTURE
@@ -302,7 +302,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) g
     if (i >= capacity) {
         return;
     }
-    let record = sim.layout.x + i;
+    let record = sim.records_at.x + i;
     var p = unpack_particle(records[record]);
     let dt = sim.life.z;
     let slot = (i + capacity - sim.counts.y) % capacity;

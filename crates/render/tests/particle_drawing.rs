@@ -82,7 +82,7 @@ fn gbuffer(renderer: &Renderer, mesh: Arc<GpuMesh>, raster: RasterChoice) -> Vec
     images
 }
 
-/// 64 particles thrown from a box, three steps in: moving, so they have velocity.
+/// 64 particles thrown from a box, two steps after their birth: moving, so they have velocity.
 fn thrown(renderer: &Renderer) -> ParticleSystem {
     let settings = ParticleSettings {
         shape: EmitterShape::Box(Vec3::new(1.2, 1.2, 0.5)),
@@ -93,8 +93,13 @@ fn thrown(renderer: &Renderer) -> ParticleSystem {
         ..Default::default()
     };
     let mut system = ParticleSystem::new(renderer, 64, 3).expect("system");
-    for _ in 0..3 {
-        system.step(renderer, &settings, DT).expect("step");
+    system.step(renderer, &settings, DT).expect("step");
+    let quiet = ParticleSettings {
+        rate: 0.0,
+        ..settings
+    };
+    for _ in 0..2 {
+        system.step(renderer, &quiet, DT).expect("step");
     }
     system
 }
