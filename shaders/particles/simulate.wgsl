@@ -258,7 +258,13 @@ fn collide_depth(p: ptr<function, Particle>) {
     }
     let size = vec2<i32>(sim.depth_size.xy);
     let z = textureLoad(depth, clamp(pixel, vec2<i32>(0), size - 1), 0).x;
-    if (ndc.z >= z || distance(centre.xyz, (*p).position) > sim.depth_size.z) {
+    if (ndc.z >= z) {
+        return;
+    }
+    // How far behind the surface, along the particle's own view ray (not
+    // to the pixel's centre: a far pixel spans metres of a grazing floor).
+    let behind = sim.inverse_view_projection * vec4<f32>(ndc.xy, z, 1.0);
+    if (!(abs(behind.w) > 1e-20) || distance(behind.xyz / behind.w, (*p).position) > sim.depth_size.z) {
         return;
     }
     // Normal from the neighbours (the nearer side's difference on each axis, so edges stay sharp).

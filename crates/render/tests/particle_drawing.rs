@@ -141,12 +141,11 @@ fn drawn_from_records_the_g_buffer_is_the_expanded_meshs() {
         let a = gbuffer(&renderer, procedural.clone(), raster);
         let b = gbuffer(&renderer, expanded.clone(), raster);
         let velocity = &a[2];
-        let moving = velocity
-            .pixels
-            .iter()
-            .filter(|p| p[0].abs() > 1e-3)
-            .count();
-        assert!(moving > 50, "{raster:?}: particles cover and move: {moving}");
+        let moving = velocity.pixels.iter().filter(|p| p[0].abs() > 1e-3).count();
+        assert!(
+            moving > 50,
+            "{raster:?}: particles cover and move: {moving}"
+        );
         for (name, (x, y)) in ["color", "normals", "velocity+uv", "depth"]
             .iter()
             .zip(a.iter().zip(&b))

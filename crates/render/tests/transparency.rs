@@ -251,7 +251,14 @@ fn alpha_blended_particles_blend_unsorted_through_transparency() {
     // Four red particles 6 m from the eye and four blue ones 5 m from it,
     // in both orders: weighted blended OIT needs no sorting.
     let run = |layers: Vec<Arc<Layer>>| {
-        let pass = Transparency::new(&renderer, None, lit.texture_ref(), g.clone(), layers, unlit());
+        let pass = Transparency::new(
+            &renderer,
+            None,
+            lit.texture_ref(),
+            g.clone(),
+            layers,
+            unlit(),
+        );
         let (report, out) = render(&renderer, pass.as_ref(), &pass.output, SIZE);
         assert_eq!(report.counter(DRAWN), 2);
         out
@@ -261,7 +268,10 @@ fn alpha_blended_particles_blend_unsorted_through_transparency() {
     let forwards = run(vec![a.clone(), b.clone()]);
     let backwards = run(vec![b, a]);
     for (p, q) in forwards.pixels.iter().zip(&backwards.pixels) {
-        assert!(p.iter().zip(q).all(|(s, t)| (s - t).abs() < 1e-3), "{p:?} vs {q:?}");
+        assert!(
+            p.iter().zip(q).all(|(s, t)| (s - t).abs() < 1e-3),
+            "{p:?} vs {q:?}"
+        );
     }
     // Eight layers of alpha 0.5 reveal 1/256 of the green; the rest is the
     // weighted average of red and blue.
@@ -274,7 +284,10 @@ fn alpha_blended_particles_blend_unsorted_through_transparency() {
     ];
     let c = at(&forwards, 24, 24);
     for k in 0..3 {
-        assert!((c[k] - expected[k]).abs() < 0.02, "{c:?}, expected {expected:?}");
+        assert!(
+            (c[k] - expected[k]).abs() < 0.02,
+            "{c:?}, expected {expected:?}"
+        );
     }
     // Coverage: the blue sprites (the larger on screen) cover a square of
     // 2 x 0.5 m at 5 m; everything else is the green image exactly.

@@ -11,12 +11,12 @@ use glam::{Mat4, Vec3, Vec4};
 use spreadlight_graph::{
     EnumDef, EvalContext, Node, NodeDef, NodeError, PinType, Registry, ResourceKind, Spread,
 };
+use spreadlight_render::gbuffer::PublishedDepths;
 use spreadlight_render::mesh_arena::GpuMesh;
 use spreadlight_render::particles::{
     DepthCollision, DrawShape, EmitterShape, Field, FieldTexture, Integrator, ParticleSettings,
     ParticleSystem, Plane, draw,
 };
-use spreadlight_render::gbuffer::PublishedDepths;
 
 use crate::gpu::{renderer, resource_spread, resources};
 

@@ -261,13 +261,19 @@ impl ComputeRaster {
                 raster_batches(cx, pipelines, &all);
             }
             Some(between) => {
-                let (particles, meshes): (Vec<_>, Vec<_>) =
-                    batch_groups.iter().partition(|(_, _, procedural)| *procedural);
+                let (particles, meshes): (Vec<_>, Vec<_>) = batch_groups
+                    .iter()
+                    .partition(|(_, _, procedural)| *procedural);
                 raster_batches(cx, pipelines, &meshes);
                 between(cx, &targets.visibility)?;
                 if !particles.is_empty() {
-                    cx.encoder
-                        .copy_buffer_to_buffer(&targets.tile_reset, 0, &targets.tile_count, 0, 16);
+                    cx.encoder.copy_buffer_to_buffer(
+                        &targets.tile_reset,
+                        0,
+                        &targets.tile_count,
+                        0,
+                        16,
+                    );
                     raster_batches(cx, pipelines, &particles);
                 }
             }

@@ -67,12 +67,14 @@ impl PublishedDepths {
     /// The texture to write `name` into this frame at `size` (kept while the size holds).
     fn target(&self, device: &wgpu::Device, name: &str, size: (u32, u32)) -> wgpu::Texture {
         let mut map = self.0.lock().unwrap_or_else(|e| e.into_inner());
-        let entry = map.entry(name.to_owned()).or_insert_with(|| PublishedDepth {
-            texture: make(device, size),
-            view_projection: Mat4::IDENTITY,
-            size,
-            writes: 0,
-        });
+        let entry = map
+            .entry(name.to_owned())
+            .or_insert_with(|| PublishedDepth {
+                texture: make(device, size),
+                view_projection: Mat4::IDENTITY,
+                size,
+                writes: 0,
+            });
         if entry.size != size {
             *entry = PublishedDepth {
                 texture: make(device, size),

@@ -34,8 +34,9 @@ pub fn read_mesh(
     if mesh.is_procedural() {
         return Err(RenderError::Pass {
             pass: "mesh readback".to_owned(),
-            message: "the mesh is drawn procedurally (particles): read it with particles::read_drawn"
-                .to_owned(),
+            message:
+                "the mesh is drawn procedurally (particles): read it with particles::read_drawn"
+                    .to_owned(),
         });
     }
     let (vertices, indices, _) = renderer.meshes.buffers();

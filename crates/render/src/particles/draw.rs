@@ -66,16 +66,17 @@ pub fn draw(
             )
         }
     };
-    let triangles = system
-        .capacity()
-        .checked_mul(per_particle)
-        .ok_or_else(|| RenderError::Pass {
-            pass: "particles draw".to_owned(),
-            message: format!(
-                "{} particles of {per_particle} triangles are too many for one draw",
-                system.capacity()
-            ),
-        })?;
+    let triangles =
+        system
+            .capacity()
+            .checked_mul(per_particle)
+            .ok_or_else(|| RenderError::Pass {
+                pass: "particles draw".to_owned(),
+                message: format!(
+                    "{} particles of {per_particle} triangles are too many for one draw",
+                    system.capacity()
+                ),
+            })?;
     let header = Header {
         shape: header,
         size: [size, if shrink { 1.0 } else { 0.0 }, 0.0, 0.0],
