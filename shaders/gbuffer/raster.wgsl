@@ -7,7 +7,7 @@
 // many pixels, or cross the near plane, are split into 32x32-pixel tiles and
 // rasterized by a second kernel, a workgroup per tile.
 #import spreadlight::camera::Camera
-#import spreadlight::mesh::{Vertex, Instance}
+#import spreadlight::mesh_fetch::{instances, triangle_vertex, view_right, view_up}
 
 // One draw: a mesh's triangles for a run of instances.
 struct Batch {
@@ -26,9 +26,6 @@ struct TileEntry {
 }
 
 @group(0) @binding(0) var<uniform> camera: Camera;
-@group(0) @binding(1) var<storage, read> vertices: array<Vertex>;
-@group(0) @binding(2) var<storage, read> indices: array<u32>;
-@group(0) @binding(3) var<storage, read> instances: array<Instance>;
 @group(0) @binding(4) var<storage, read_write> visibility: array<atomic<u64>>;
 @group(0) @binding(5) var<storage, read_write> tiles: array<TileEntry>;
 // x: entries written, y: capacity, z/w unused.
@@ -48,9 +45,8 @@ struct Setup {
 }
 
 fn clip_position(instance: u32, triangle: u32, corner: u32) -> vec4<f32> {
-    let info = instances[instance].info;
-    let index = indices[info.x + triangle * 3u + corner] + info.y;
-    return camera.view_projection * instances[instance].model * vec4<f32>(vertices[index].position_u.xyz, 1.0);
+    let v = triangle_vertex(instance, triangle, corner, view_right(camera.view), view_up(camera.view));
+    return camera.view_projection * instances[instance].model * vec4<f32>(v.position_u.xyz, 1.0);
 }
 
 fn to_screen(c: vec4<f32>) -> vec3<f32> {

@@ -20,7 +20,7 @@
 //                 for the material's file) shades each pixel; its bindings
 //                 are group 1 (see shaders/lib/surface.wgsl).
 #import spreadlight::camera::{Camera, pixel_to_ndc}
-#import spreadlight::mesh::{Vertex, Instance}
+#import spreadlight::mesh_fetch::{instances, triangle_vertex, view_right, view_up}
 #import spreadlight::packing::{id_to_channel, safe_normalize}
 #ifdef MATERIAL_MAPS
 #import spreadlight::material::{feature_param, pack_rgb9e5, FEATURE_COOK_TORRANCE, FEATURE_EMISSION}
@@ -42,9 +42,6 @@ struct Layer {
 }
 
 @group(0) @binding(0) var<uniform> camera: Camera;
-@group(0) @binding(1) var<storage, read> vertices: array<Vertex>;
-@group(0) @binding(2) var<storage, read> indices: array<u32>;
-@group(0) @binding(3) var<storage, read> instances: array<Instance>;
 #ifdef COMPUTE_RASTER
 // The compute rasterizer's 64-bit words, read as (id + 1, depth bits).
 @group(0) @binding(4) var<storage, read> visibility: array<vec2<u32>>;
@@ -171,10 +168,11 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let instance = instances[hit.x];
-    let first = instance.info.x + hit.y * 3u;
-    let v0 = vertices[indices[first] + instance.info.y];
-    let v1 = vertices[indices[first + 1u] + instance.info.y];
-    let v2 = vertices[indices[first + 2u] + instance.info.y];
+    let right = view_right(camera.view);
+    let up = view_up(camera.view);
+    let v0 = triangle_vertex(hit.x, hit.y, 0u, right, up);
+    let v1 = triangle_vertex(hit.x, hit.y, 1u, right, up);
+    let v2 = triangle_vertex(hit.x, hit.y, 2u, right, up);
     let w0 = (instance.model * vec4<f32>(v0.position_u.xyz, 1.0)).xyz;
     let w1 = (instance.model * vec4<f32>(v1.position_u.xyz, 1.0)).xyz;
     let w2 = (instance.model * vec4<f32>(v2.position_u.xyz, 1.0)).xyz;

@@ -7,15 +7,12 @@
 // their pixels whose alpha (instance colour x base colour map) is below the
 // cutoff are discarded (group 1: the world, group 3: its map arrays).
 #import spreadlight::camera::Camera
-#import spreadlight::mesh::{Vertex, Instance}
+#import spreadlight::mesh_fetch::{instances, triangle_vertex, view_right, view_up}
 #ifdef ALPHA_MASK
 #import spreadlight::material_maps::{MapCoords, sample_map, map_settings, MAP_BASE_COLOR}
 #endif
 
 @group(0) @binding(0) var<uniform> camera: Camera;
-@group(0) @binding(1) var<storage, read> vertices: array<Vertex>;
-@group(0) @binding(2) var<storage, read> indices: array<u32>;
-@group(0) @binding(3) var<storage, read> instances: array<Instance>;
 
 struct VertexOut {
     @builtin(position) clip: vec4<f32>,
@@ -38,13 +35,12 @@ fn vs(@builtin(vertex_index) vertex: u32, @builtin(instance_index) instance_inde
     let mirrored = determinant(mat3x3<f32>(m[0].xyz, m[1].xyz, m[2].xyz)) < 0.0;
     let corner = vertex % 3u;
     let corner_used = select(corner, (3u - corner) % 3u, mirrored);
-    let index = indices[info.x + vertex - corner + corner_used] + info.y;
-    let position = vertices[index].position_u.xyz;
+    let v = triangle_vertex(instance_index, vertex / 3u, corner_used, view_right(camera.view), view_up(camera.view));
+    let position = v.position_u.xyz;
     var out: VertexOut;
     out.clip = camera.view_projection * instances[instance_index].model * vec4<f32>(position, 1.0);
     out.ids = vec2<u32>(instance_index + 1u, vertex / 3u);
 #ifdef ALPHA_MASK
-    let v = vertices[index];
     out.uv = vec2<f32>(v.position_u.w, v.normal_v.w);
     out.material = vec2<u32>(info.z, bitcast<u32>(instances[instance_index].color.a));
 #endif

@@ -1,5 +1,6 @@
 // Particles, simulation: one invocation per slot of a ring of `capacity`
-// particles. This step's emission is the `emit` slots from `head` on, each
+// particles, kept as records in the mesh arena (shaders/lib/particle.wgsl)
+// so that every drawing pass reads them straight from there. This step's emission is the `emit` slots from `head` on, each
 // seeded by its global emission index, so the result depends only on the
 // seed and the sequence of time steps (not on thread order): deterministic.
 //
@@ -8,17 +9,12 @@
 // the step solved exactly for the acceleration at its start under linear
 // drag (v' = v e^(-k dt) + a g, x' = x + v g + a (dt - g) / k, with
 // g = (1 - e^(-k dt)) / k), stable for any drag and step. Collisions:
-// a plane, and the previous frame's depth buffer (screen space).
+// a plane, and the previous frame's depth buffer (screen space), bouncing
+// off the surface normal the depth gives.
 // Nothing non-finite survives a step: such a particle dies.
 
-struct Particle {
-    position: vec3<f32>,
-    age: f32,
-    velocity: vec3<f32>,
-    lifetime: f32,
-    previous: vec3<f32>,
-    alive: u32,
-}
+#import spreadlight::mesh::Vertex
+#import spreadlight::particle::{Particle, pack_particle, unpack_particle}
 
 // Matches `GpuSim` in crates/render/src/particles/simulate.rs.
 struct Sim {
@@ -44,20 +40,24 @@ struct Sim {
     counts: vec4<u32>,
     // x: integrator (0 explicit Euler, 1 exponential), y: attractor count, z: seed, w: mesh triangles.
     misc: vec4<u32>,
-    // Depth collision: last frame's view-projection (reversed Z) and the depth target's size.
+    // Depth collision: last frame's view-projection (reversed Z) and its
+    // inverse, the depth target's size (xy) and the thickness in metres (z).
     view_projection: mat4x4<f32>,
+    inverse_view_projection: mat4x4<f32>,
     depth_size: vec4<f32>,
+    // x: the arena index of slot 0's record.
+    records_at: vec4<u32>,
     // Attractors: position (xyz), strength (w).
     attractors: array<vec4<f32>, 8>,
 }
 
-@group(0) @binding(0) var<storage, read_write> particles: array<Particle>;
+// The mesh arena: particle records (from sim.records_at.x on) and the emitter mesh's vertices.
+@group(0) @binding(0) var<storage, read_write> records: array<Vertex>;
 @group(0) @binding(1) var<uniform> sim: Sim;
 #ifdef FIELD_TEXTURE
 @group(0) @binding(2) var field_texture: texture_3d<f32>;
 #endif
 #ifdef MESH_EMITTER
-@group(0) @binding(3) var<storage, read> mesh_vertices: array<vec4<f32>>;
 @group(0) @binding(4) var<storage, read> mesh_indices: array<u32>;
 // x: first index, y: base vertex.
 @group(0) @binding(5) var<uniform> mesh_range: vec4<u32>;
@@ -105,10 +105,9 @@ fn emit_position(rng: ptr<function, Rng>) -> vec3<f32> {
         // A triangle picked uniformly (not by area), a point uniform on it.
         let t = min(u32(next(rng) * f32(sim.misc.w)), sim.misc.w - 1u);
         let first = mesh_range.x + t * 3u;
-        // Vertices are 4 vec4s (64 bytes): position is the first.
-        let a = mesh_vertices[(mesh_indices[first] + mesh_range.y) * 4u].xyz;
-        let b = mesh_vertices[(mesh_indices[first + 1u] + mesh_range.y) * 4u].xyz;
-        let c = mesh_vertices[(mesh_indices[first + 2u] + mesh_range.y) * 4u].xyz;
+        let a = records[mesh_indices[first] + mesh_range.y].position_u.xyz;
+        let b = records[mesh_indices[first + 1u] + mesh_range.y].position_u.xyz;
+        let c = records[mesh_indices[first + 2u] + mesh_range.y].position_u.xyz;
         var u = next(rng);
         var v = next(rng);
         if (u + v > 1.0) {
@@ -223,9 +222,26 @@ fn collide_plane(p: ptr<function, Particle>) {
 }
 
 #ifdef DEPTH_COLLISION
+// The world point of last frame's depth at `pixel` (None: no surface there).
+fn surface_point(pixel: vec2<i32>) -> vec4<f32> {
+    let size = vec2<i32>(sim.depth_size.xy);
+    let p = clamp(pixel, vec2<i32>(0), size - 1);
+    let z = textureLoad(depth, p, 0).x;
+    if (!(z > 0.0)) {
+        return vec4<f32>(0.0);
+    }
+    let ndc = vec2<f32>((f32(p.x) + 0.5) / sim.depth_size.x * 2.0 - 1.0, 1.0 - (f32(p.y) + 0.5) / sim.depth_size.y * 2.0);
+    let world = sim.inverse_view_projection * vec4<f32>(ndc, z, 1.0);
+    if (abs(world.w) < 1e-20) {
+        return vec4<f32>(0.0);
+    }
+    return vec4<f32>(world.xyz / world.w, 1.0);
+}
+
 // Screen-space collision with last frame's depth (reversed Z: larger is
-// nearer): a particle that went behind the visible surface, within a
-// thickness, is put back on the pixel's surface along its path and bounces.
+// nearer): a particle that went behind the visible surface, by less than
+// the thickness (metres), goes back to where it was and bounces off the
+// surface's normal (from the neighbouring pixels' depths, facing the eye).
 fn collide_depth(p: ptr<function, Particle>) {
     let clip = sim.view_projection * vec4<f32>((*p).position, 1.0);
     if (clip.w <= 1e-6) {
@@ -236,13 +252,51 @@ fn collide_depth(p: ptr<function, Particle>) {
         return;
     }
     let pixel = vec2<i32>((ndc.xy * vec2<f32>(0.5, -0.5) + 0.5) * sim.depth_size.xy);
+    let centre = surface_point(pixel);
+    if (centre.w == 0.0) {
+        return;
+    }
     let size = vec2<i32>(sim.depth_size.xy);
-    let surface = textureLoad(depth, clamp(pixel, vec2<i32>(0), size - 1), 0).x;
-    // Behind the surface (smaller reversed-Z) but not far behind it (thickness in NDC depth).
-    if (surface > 0.0 && ndc.z < surface && ndc.z > surface - sim.depth_size.z) {
-        let v = (*p).velocity;
-        (*p).position = (*p).previous;
-        (*p).velocity = -v * sim.collide.y;
+    let z = textureLoad(depth, clamp(pixel, vec2<i32>(0), size - 1), 0).x;
+    if (ndc.z >= z) {
+        return;
+    }
+    // How far behind the surface, along the particle's own view ray (not
+    // to the pixel's centre: a far pixel spans metres of a grazing floor).
+    let behind = sim.inverse_view_projection * vec4<f32>(ndc.xy, z, 1.0);
+    if (!(abs(behind.w) > 1e-20) || distance(behind.xyz / behind.w, (*p).position) > sim.depth_size.z) {
+        return;
+    }
+    // Normal from the neighbours (the nearer side's difference on each axis, so edges stay sharp).
+    let right = surface_point(pixel + vec2<i32>(1, 0));
+    let left = surface_point(pixel - vec2<i32>(1, 0));
+    let down = surface_point(pixel + vec2<i32>(0, 1));
+    let up = surface_point(pixel - vec2<i32>(0, 1));
+    var dx = right.xyz - centre.xyz;
+    if (right.w == 0.0 || (left.w != 0.0 && distance(left.xyz, centre.xyz) < length(dx))) {
+        dx = centre.xyz - left.xyz;
+    }
+    var dy = centre.xyz - up.xyz;
+    if (up.w == 0.0 || (down.w != 0.0 && distance(down.xyz, centre.xyz) < length(dy))) {
+        dy = down.xyz - centre.xyz;
+    }
+    let eye = sim.inverse_view_projection * vec4<f32>(ndc.xy, 1.0, 1.0);
+    let towards_eye = eye.xyz / eye.w - centre.xyz;
+    var n = cross(dx, dy);
+    let len = length(n);
+    if (!(len > 1e-12)) {
+        n = towards_eye;
+    }
+    n = n / max(length(n), 1e-20);
+    if (dot(n, towards_eye) < 0.0) {
+        n = -n;
+    }
+    let v = (*p).velocity;
+    let vn = dot(v, n);
+    (*p).position = (*p).previous;
+    if (vn < 0.0) {
+        let tangential = v - n * vn;
+        (*p).velocity = tangential * (1.0 - sim.collide.z) - n * vn * sim.collide.y;
     }
 }
 #endif
@@ -254,7 +308,8 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) g
     if (i >= capacity) {
         return;
     }
-    var p = particles[i];
+    let record = sim.records_at.x + i;
+    var p = unpack_particle(records[record]);
     let dt = sim.life.z;
     let slot = (i + capacity - sim.counts.y) % capacity;
     if (slot < sim.counts.z) {
@@ -307,5 +362,5 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) g
         p.previous = vec3<f32>(0.0);
         p.velocity = vec3<f32>(0.0);
     }
-    particles[i] = p;
+    records[record] = pack_particle(p);
 }

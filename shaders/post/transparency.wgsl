@@ -18,7 +18,7 @@
 // G-buffer): the layer's colour times an ambient term plus one directional
 // key light, lit from both sides (a thin glass-like shell), all in `params`.
 #import spreadlight::camera::Camera
-#import spreadlight::mesh::{Vertex, Instance}
+#import spreadlight::mesh_fetch::{instances, triangle_vertex, view_right, view_up}
 #import spreadlight::post::{sanitize, HALF_MAX}
 
 struct Params {
@@ -31,9 +31,6 @@ struct Params {
 }
 
 @group(0) @binding(0) var<uniform> camera: Camera;
-@group(0) @binding(1) var<storage, read> vertices: array<Vertex>;
-@group(0) @binding(2) var<storage, read> indices: array<u32>;
-@group(0) @binding(3) var<storage, read> instances: array<Instance>;
 @group(0) @binding(4) var opaque_depth: texture_2d<f32>;
 @group(0) @binding(5) var<uniform> params: Params;
 @group(0) @binding(6) var opaque: texture_2d<f32>;
@@ -50,9 +47,7 @@ struct VertexOut {
 
 @vertex
 fn vs(@builtin(vertex_index) vertex: u32, @builtin(instance_index) instance_index: u32) -> VertexOut {
-    let info = instances[instance_index].info;
-    let index = indices[info.x + vertex] + info.y;
-    let v = vertices[index];
+    let v = triangle_vertex(instance_index, vertex / 3u, vertex % 3u, view_right(camera.view), view_up(camera.view));
     let world = instances[instance_index].model * vec4<f32>(v.position_u.xyz, 1.0);
     var out: VertexOut;
     out.clip = camera.view_projection * world;

@@ -52,9 +52,28 @@ pub struct GpuMesh {
     pub has_uvs: bool,
     pub has_tangents: bool,
     pub has_previous_positions: bool,
-    /// The ranges the allocator handed out (an empty mesh still holds one element of each).
-    allocated: (Range<u32>, Range<u32>),
+    /// The ranges the allocator handed out (an empty mesh still holds one
+    /// element of each); None for a procedural mesh, which owns nothing.
+    allocated: Option<(Range<u32>, Range<u32>)>,
+    /// Triangles made in the shaders from records (particles), see [`Procedural`].
+    procedural: Option<Procedural>,
 }
+
+/// A mesh whose triangles every mesh-pulling shader makes on the fly
+/// (shaders/lib/mesh_fetch.wgsl) from the records in `vertices`: a header
+/// then one record a particle. Nothing is expanded into the arena, so a
+/// particle system costs its records only (O(particles), not O(triangles)).
+#[derive(Debug)]
+struct Procedural {
+    triangles: u32,
+    /// The records' owner and, for copies of a shape, the shape: kept alive while drawn.
+    _records: Arc<GpuMesh>,
+    _shape: Option<Arc<GpuMesh>>,
+}
+
+/// Set in an instance's first-index word (`GpuInstance::info.x`) for a
+/// procedural mesh; matches `PROCEDURAL` in shaders/lib/mesh_fetch.wgsl.
+pub const PROCEDURAL_FLAG: u32 = 0x8000_0000;
 
 /// What a mesh made on the GPU carries, known before its pass runs.
 #[derive(Clone, Copy, Debug)]
@@ -78,9 +97,36 @@ impl std::fmt::Debug for GpuMesh {
 
 impl Drop for GpuMesh {
     fn drop(&mut self) {
+        let Some((vertices, indices)) = self.allocated.take() else {
+            return;
+        };
         let mut inner = self.arena.lock().unwrap_or_else(|e| e.into_inner());
-        inner.vertex_alloc.free_range(self.allocated.0.clone());
-        inner.index_alloc.free_range(self.allocated.1.clone());
+        inner.vertex_alloc.free_range(vertices);
+        inner.index_alloc.free_range(indices);
+    }
+}
+
+impl GpuMesh {
+    /// How many indices a draw of this mesh runs (three a triangle).
+    pub fn index_count(&self) -> u32 {
+        match &self.procedural {
+            Some(p) => p.triangles.saturating_mul(3),
+            None => self.indices.len() as u32,
+        }
+    }
+
+    /// The word an instance carries as its first index: the index range's
+    /// start, or [`PROCEDURAL_FLAG`] for a procedural mesh.
+    pub fn first_index_word(&self) -> u32 {
+        match self.procedural {
+            Some(_) => PROCEDURAL_FLAG,
+            None => self.indices.start,
+        }
+    }
+
+    /// True for triangles made in the shaders from records (particles).
+    pub fn is_procedural(&self) -> bool {
+        self.procedural.is_some()
     }
 }
 
@@ -121,6 +167,13 @@ impl MeshArena {
             inner.indices.clone(),
             inner.generation,
         )
+    }
+
+    /// The bytes the shared vertex and index buffers hold now (tests prove
+    /// what a mesh costs by them).
+    pub fn buffer_sizes(&self) -> (u64, u64) {
+        let inner = self.inner.lock().unwrap_or_else(|e| e.into_inner());
+        (inner.vertices.size(), inner.indices.size())
     }
 
     pub fn upload(&self, gpu: &GpuContext, mesh: &MeshData) -> Result<Arc<GpuMesh>, RenderError> {
@@ -173,12 +226,40 @@ impl MeshArena {
             arena: self.inner.clone(),
             vertices: vertex_range.start..vertex_range.start + vertex_count,
             indices: index_range.start..index_range.start + index_count,
-            allocated: (vertex_range, index_range),
+            allocated: Some((vertex_range, index_range)),
             bounds: layout.bounds,
             has_uvs: layout.has_uvs,
             has_tangents: layout.has_tangents,
             has_previous_positions: true,
+            procedural: None,
         }))
+    }
+
+    /// A procedural mesh of `triangles` over the records of `records` (a
+    /// header, then one record a particle: see shaders/lib/mesh_fetch.wgsl),
+    /// keeping `records` and `shape` alive while it is drawn.
+    pub fn procedural(
+        &self,
+        records: &Arc<GpuMesh>,
+        shape: Option<Arc<GpuMesh>>,
+        triangles: u32,
+        layout: MeshLayout,
+    ) -> Arc<GpuMesh> {
+        Arc::new(GpuMesh {
+            arena: self.inner.clone(),
+            vertices: records.vertices.clone(),
+            indices: 0..0,
+            allocated: None,
+            bounds: layout.bounds,
+            has_uvs: layout.has_uvs,
+            has_tangents: layout.has_tangents,
+            has_previous_positions: true,
+            procedural: Some(Procedural {
+                triangles,
+                _records: records.clone(),
+                _shape: shape,
+            }),
+        })
     }
 
     fn upload_inner(
@@ -242,11 +323,12 @@ impl MeshArena {
             arena: self.inner.clone(),
             vertices: vertex_range.clone(),
             indices: index_range.start..index_range.start + index_count,
-            allocated: (vertex_range, index_range),
+            allocated: Some((vertex_range, index_range)),
             bounds: mesh.bounds,
             has_uvs: mesh.uvs.is_some(),
             has_tangents: mesh.tangents.is_some(),
             has_previous_positions: previous.is_some(),
+            procedural: None,
         }))
     }
 }

@@ -102,6 +102,8 @@ pub const SHADERS: &[ShaderFile] = &[
     shader!("lib/camera.wgsl", library),
     shader!("lib/mesh.wgsl", library),
     shader!("lib/geometry.wgsl", library),
+    shader!("lib/particle.wgsl", library),
+    shader!("lib/mesh_fetch.wgsl", library),
     shader!("lib/brdf.wgsl", library),
     shader!("lib/lights.wgsl", library),
     shader!("lib/tonemap.wgsl", library),
@@ -126,8 +128,9 @@ pub const SHADERS: &[ShaderFile] = &[
         "particles/simulate.wgsl",
         ["FIELD_TEXTURE", "MESH_EMITTER", "DEPTH_COLLISION"]
     ),
-    shader!("particles/draw.wgsl", ["SPRITES"]),
+    shader!("particles/expand.wgsl", []),
     shader!("gbuffer/raster.wgsl", ["TWO_SIDED"]),
+    shader!("gbuffer/published_depth.wgsl", ["COMPUTE_RASTER"]),
     shader!(
         "gbuffer/resolve.wgsl",
         [

@@ -8,10 +8,9 @@ use std::sync::Arc;
 
 use glam::{Vec3, Vec4};
 use spreadlight_render::Renderer;
-use spreadlight_render::geometry::read_mesh;
 use spreadlight_render::particles::{
     DrawShape, EmitterShape, Field, FieldTexture, Integrator, Particle, ParticleSettings,
-    ParticleSystem, Plane, draw,
+    ParticleSystem, Plane, draw, read_drawn,
 };
 use spreadlight_render::renderer::test_renderer;
 
@@ -219,17 +218,13 @@ fn hard_cases_leave_no_nan_in_buffers_or_meshes() {
         let mesh = draw(
             &renderer,
             &system,
-            DrawShape::Sprites {
-                right: Vec3::X,
-                up: Vec3::Y,
-            },
+            DrawShape::Sprites,
             0.05,
             true,
             settings.world_radius,
-            None,
         )
         .expect(name);
-        let (vertices, _) = read_mesh(&renderer, &mesh).unwrap();
+        let (vertices, _) = read_drawn(&renderer, &mesh, Vec3::X, Vec3::Y).unwrap();
         assert!(
             vertices
                 .iter()
@@ -291,36 +286,23 @@ fn sprites_carry_previous_positions_and_slot_ids() {
         )
         .unwrap();
     let particles = system.read(&renderer).unwrap();
-    let mesh = draw(
-        &renderer,
-        &system,
-        DrawShape::Sprites {
-            right: Vec3::X,
-            up: Vec3::Y,
-        },
-        0.1,
-        false,
-        100.0,
-        None,
-    )
-    .unwrap();
-    let (vertices, indices) = read_mesh(&renderer, &mesh).unwrap();
-    assert_eq!((vertices.len(), indices.len()), (64, 96));
-    assert!(mesh.has_previous_positions);
+    let mesh = draw(&renderer, &system, DrawShape::Sprites, 0.1, false, 100.0).unwrap();
+    // Two triangles a particle, three corners each, made from the records.
+    let (vertices, _) = read_drawn(&renderer, &mesh, Vec3::X, Vec3::Y).unwrap();
+    assert_eq!((vertices.len(), mesh.index_count()), (96, 96));
+    assert!(mesh.has_previous_positions && mesh.is_procedural());
     for (i, v) in vertices.iter().enumerate() {
-        let p = &particles[i / 4];
+        let p = &particles[i / 6];
         let moved = Vec3::from_slice(&v.position_u) - Vec3::from_slice(&v.previous_position);
         let expected = Vec3::from(p.position) - Vec3::from(p.previous);
         assert!((moved - expected).length() < 1e-6);
         assert!((moved.x - DT).abs() < 1e-4, "one step at 1 m/s: {moved}");
-        assert_eq!(v.previous_position[3], (i / 4) as f32, "geometry id = slot");
+        assert_eq!(v.previous_position[3], (i / 6) as f32, "geometry id = slot");
+        // A quad of half size 0.1 facing +Z around the particle.
+        let offset = Vec3::from_slice(&v.position_u) - Vec3::from(p.position);
+        assert!((offset.x.abs() - 0.1).abs() < 1e-5 && (offset.y.abs() - 0.1).abs() < 1e-5);
+        assert!(offset.z.abs() < 1e-6 && (v.normal_v[2] - 1.0).abs() < 1e-6);
     }
-    assert!(
-        indices
-            .chunks(6)
-            .enumerate()
-            .all(|(q, c)| c.iter().all(|&k| (k as usize) / 4 == q))
-    );
 }
 
 #[test]

@@ -191,3 +191,116 @@ fn a_hundred_layers_and_the_near_and_far_planes_stay_finite() {
     let (lo, hi) = range(&out);
     assert!(lo >= 0.0 && hi <= 65000.0, "{lo}..{hi}");
 }
+
+/// Particles drawn from their records through a layer, as `Particles` into
+/// `DeferredBase` into `Transparency`'s Layer pin: `count` sprites of half
+/// size 0.5 all at `at`, in `color` (alpha in w).
+fn particles(renderer: &Renderer, at: Vec3, count: u32, color: [f32; 4]) -> Arc<Layer> {
+    use spreadlight_render::particles::{DrawShape, ParticleSettings, ParticleSystem, draw};
+    let mut system = ParticleSystem::new(renderer, count, 1).expect("system");
+    let settings = ParticleSettings {
+        emitter: Mat4::from_translation(at),
+        rate: 1e6,
+        lifetime: 10.0,
+        velocity: Vec3::ZERO,
+        gravity: Vec3::ZERO,
+        ..Default::default()
+    };
+    system.step(renderer, &settings, 1.0 / 60.0).expect("step");
+    let mesh = draw(renderer, &system, DrawShape::Sprites, 0.5, false, 100.0).expect("draw");
+    Arc::new(
+        Layer::new(
+            None,
+            vec![DrawBatch {
+                mesh,
+                instances: vec![InstanceInput {
+                    transform: Mat4::IDENTITY,
+                    previous_transform: Mat4::IDENTITY,
+                    color,
+                    material_id: 0,
+                    object_id: 0,
+                }],
+            }],
+            LayerFeatures::default(),
+            None,
+        )
+        .expect("layer"),
+    )
+}
+
+/// The paper's weight (shaders/post/transparency.wgsl) at view distance `d`.
+fn weight(d: f32, alpha: f32) -> f32 {
+    let w = 10.0 / (1e-5 + (d / 5.0).powi(2) + (d / 200.0).powi(6));
+    alpha * w.clamp(1e-2, 3e3) / 3e3
+}
+
+#[test]
+fn alpha_blended_particles_blend_unsorted_through_transparency() {
+    let renderer = test_renderer();
+    let fov = 0.6f32;
+    let opaque = balls(&renderer, &[Ball::still(Vec3::ZERO, 0.5)]);
+    let g = gbuffer(
+        &renderer,
+        opaque,
+        look(Vec3::new(0.0, 0.0, 8.0), Vec3::ZERO, fov, 1.0),
+        None,
+    );
+    let lit = image(&renderer, SIZE, |_, _| GREEN);
+    let red = [1.0, 0.0, 0.0, 0.5];
+    let blue = [0.0, 0.0, 1.0, 0.5];
+    // Four red particles 6 m from the eye and four blue ones 5 m from it,
+    // in both orders: weighted blended OIT needs no sorting.
+    let run = |layers: Vec<Arc<Layer>>| {
+        let pass = Transparency::new(
+            &renderer,
+            None,
+            lit.texture_ref(),
+            g.clone(),
+            layers,
+            unlit(),
+        );
+        let (report, out) = render(&renderer, pass.as_ref(), &pass.output, SIZE);
+        assert_eq!(report.counter(DRAWN), 2);
+        out
+    };
+    let a = particles(&renderer, Vec3::new(0.0, 0.0, 2.0), 4, red);
+    let b = particles(&renderer, Vec3::new(0.0, 0.0, 3.0), 4, blue);
+    let forwards = run(vec![a.clone(), b.clone()]);
+    let backwards = run(vec![b, a]);
+    for (p, q) in forwards.pixels.iter().zip(&backwards.pixels) {
+        assert!(
+            p.iter().zip(q).all(|(s, t)| (s - t).abs() < 1e-3),
+            "{p:?} vs {q:?}"
+        );
+    }
+    // Eight layers of alpha 0.5 reveal 1/256 of the green; the rest is the
+    // weighted average of red and blue.
+    let (wr, wb) = (4.0 * weight(6.0, 0.5), 4.0 * weight(5.0, 0.5));
+    let revealed = 0.5f32.powi(8);
+    let expected = [
+        wr / (wr + wb) * (1.0 - revealed),
+        revealed,
+        wb / (wr + wb) * (1.0 - revealed),
+    ];
+    let c = at(&forwards, 24, 24);
+    for k in 0..3 {
+        assert!(
+            (c[k] - expected[k]).abs() < 0.02,
+            "{c:?}, expected {expected:?}"
+        );
+    }
+    // Coverage: the blue sprites (the larger on screen) cover a square of
+    // 2 x 0.5 m at 5 m; everything else is the green image exactly.
+    let half_pixels = 0.5 / (5.0 * (fov / 2.0).tan()) * SIZE.0 as f32 / 2.0;
+    let expected_covered = (2.0 * half_pixels).powi(2);
+    let covered = forwards
+        .pixels
+        .iter()
+        .filter(|p| p[..3] != GREEN[..3])
+        .count() as f32;
+    assert!(
+        (covered - expected_covered).abs() < 0.15 * expected_covered,
+        "{covered} pixels covered, expected about {expected_covered}"
+    );
+    assert_eq!(at(&forwards, 1, 1)[..3], GREEN[..3]);
+}

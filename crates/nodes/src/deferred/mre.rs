@@ -27,7 +27,9 @@ pub fn register(r: &mut Registry) {
              id, velocity + UV, reversed-Z depth). Width and Height of 0 follow the renderer's output size. Raster: Compute rasterizes in compute \
              shaders with 64-bit atomics (fast where raster hardware is scarce, as on the H100), Hardware uses the \
              raster units, Auto picks Compute where the adapter supports it. \
-             Only the targets something reads are rendered.",
+             Only the targets something reads are rendered. Publish Depth (a name, empty: none) keeps the depth of \
+             its meshes (not its particles) each frame for the next frame's `Particles` with that Collide Depth: \
+             particles collide with what this G-buffer shows without a link back into their own G-buffer.",
         )
         .input_spread("Layer", PinType::Resource(ResourceKind::Layer), Spread::Resource(ResourceKind::Layer, vec![]))
         .input("View", glam::camera::rh::view::look_at_mat4(glam::Vec3::new(0.0, 0.0, 5.0), glam::Vec3::ZERO, glam::Vec3::Y))
@@ -35,6 +37,7 @@ pub fn register(r: &mut Registry) {
         .input("Width", 0i64)
         .input("Height", 0i64)
         .input_enum("Raster", &RASTER, "Auto")
+        .input("Publish Depth", String::new())
         .output_typed("G-Buffer", PinType::Resource(ResourceKind::GBuffer))
         .construct(Mre::default),
     );
@@ -123,7 +126,8 @@ impl Node for Mre {
             Some("Hardware") => RasterChoice::Hardware,
             _ => RasterChoice::Auto,
         };
-        let gbuffer = GBuffer::with_raster(
+        let publish = cx.slices::<String>(6)?.first().cloned().unwrap_or_default();
+        let gbuffer = GBuffer::publishing_depth(
             &renderer,
             Some(cx.node_id.0),
             layers,
@@ -131,6 +135,7 @@ impl Node for Mre {
             previous,
             size,
             raster,
+            publish,
         );
         cx.set_output(0, resource_spread(ResourceKind::GBuffer, vec![gbuffer]));
         Ok(())

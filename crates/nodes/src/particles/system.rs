@@ -1,6 +1,9 @@
 //! `Particles`: one particle system, simulated every frame on the GPU with
 //! the clock's time step, its state kept in the node between frames (Reset,
-//! a new Count or Seed start it over), drawn as a mesh with previous positions.
+//! a new Count or Seed start it over), drawn as a procedural mesh (straight
+//! from the particle records) with previous positions. Depth collision reads
+//! the depth an MRE published last frame under a name (no link: the MRE is
+//! downstream of the particles).
 
 use std::sync::Arc;
 
@@ -8,10 +11,11 @@ use glam::{Mat4, Vec3, Vec4};
 use spreadlight_graph::{
     EnumDef, EvalContext, Node, NodeDef, NodeError, PinType, Registry, ResourceKind, Spread,
 };
+use spreadlight_render::gbuffer::PublishedDepths;
 use spreadlight_render::mesh_arena::GpuMesh;
 use spreadlight_render::particles::{
-    DrawShape, EmitterShape, Field, FieldTexture, Integrator, ParticleSettings, ParticleSystem,
-    Plane, draw,
+    DepthCollision, DrawShape, EmitterShape, Field, FieldTexture, Integrator, ParticleSettings,
+    ParticleSystem, Plane, draw,
 };
 
 use crate::gpu::{renderer, resource_spread, resources};
@@ -67,10 +71,12 @@ mod pin {
     pub const SHAPE: usize = 29;
     pub const SIZE: usize = 30;
     pub const SHRINK: usize = 31;
-    pub const VIEW: usize = 32;
+    pub const COLLIDE_DEPTH: usize = 32;
+    pub const DEPTH_THICKNESS: usize = 33;
 }
 
-/// The most slots one system may have (the arena's vertex count caps drawing too).
+/// The most slots one system may have (64 bytes each in the mesh arena,
+/// which the GPU's storage buffer limit caps too).
 const MAX_COUNT: i64 = 1 << 25;
 
 pub fn register(r: &mut Registry) {
@@ -85,10 +91,14 @@ pub fn register(r: &mut Registry) {
              Lifetime ± Lifetime Spread seconds, starts at Velocity plus a random vector up to Velocity Spread long, \
              and is pushed by Gravity, Drag (per second), a Field (curl noise of Curl Frequency, or a VectorField \
              texture over Field Min..Field Max) times Field Strength, and Attractors (xyz position, w strength). \
-             Collides with a plane (Bounce, Friction); dies beyond World Radius. Fixed Seed and frame rate: the same \
-             particles every run; Reset starts over. Output: a mesh (camera-facing sprites for View, or copies of \
-             Shape) with previous positions and each particle's slot as geometry id: DeferredBase with Velocity \
-             Geometry blurs them, Instance from GeomFX numbers them.",
+             Collides with a plane (Bounce, Friction) and, when Collide Depth names the depth an MRE publishes \
+             (its Publish Depth pin), with last frame's depth of that MRE's meshes (not its particles): a particle \
+             that went behind the visible surface by less than Depth Thickness metres steps back and bounces off \
+             the surface's normal. Dies beyond World Radius. Fixed Seed and frame rate: the same \
+             particles every run; Reset starts over. Output: a mesh drawn straight from the particle state (quads \
+             facing whichever view draws them, or copies of Shape; 64 bytes a particle, so ten million fit) with \
+             previous positions and each particle's slot as geometry id: DeferredBase with Velocity \
+             Geometry blurs them, Instance from GeomFX numbers them; into Transparency they blend unsorted.",
         )
         .input("Count", 10_000i64)
         .input("Seed", 1i64)
@@ -126,7 +136,8 @@ pub fn register(r: &mut Registry) {
         .input_spread("Shape", PinType::Resource(ResourceKind::Mesh), mesh())
         .input("Size", 0.02f32)
         .input("Shrink", true)
-        .input("View", Mat4::IDENTITY)
+        .input("Collide Depth", String::new())
+        .input("Depth Thickness", 0.5f32)
         .output_typed("Mesh", PinType::Resource(ResourceKind::Mesh))
         .time_dependent()
         .construct(Particles::default),
@@ -136,8 +147,6 @@ pub fn register(r: &mut Registry) {
 #[derive(Default)]
 struct Particles {
     system: Option<ParticleSystem>,
-    /// Last frame's mesh, redrawn in place when it fits.
-    mesh: Option<Arc<GpuMesh>>,
 }
 
 fn first<T: spreadlight_graph::SliceValue + Copy>(
@@ -160,6 +169,35 @@ fn first_mesh(cx: &EvalContext<'_>, pin: usize, what: &str) -> Result<Arc<GpuMes
 }
 
 impl Particles {
+    /// The depth published under Collide Depth's name (None: off, or not
+    /// published yet: the first frame, before the MRE has rendered once).
+    fn depth(cx: &EvalContext<'_>) -> Result<Option<DepthCollision>, NodeError> {
+        let name = cx
+            .slices::<String>(pin::COLLIDE_DEPTH)?
+            .first()
+            .cloned()
+            .unwrap_or_default();
+        if name.is_empty() {
+            return Ok(None);
+        }
+        let renderer = renderer(cx)?;
+        let thickness = first(cx, pin::DEPTH_THICKNESS, 0.5f32)?;
+        if !(thickness.is_finite() && thickness >= 0.0) {
+            return Err(cx.input_error(
+                pin::DEPTH_THICKNESS,
+                format!("{thickness} is not a distance (0 or more metres)"),
+            ));
+        }
+        Ok(PublishedDepths::of(&renderer)
+            .get(&name)
+            .map(|d| DepthCollision {
+                depth: d.texture.create_view(&Default::default()),
+                view_projection: d.view_projection,
+                size: d.size,
+                thickness,
+            }))
+    }
+
     fn settings(cx: &EvalContext<'_>, count: i64) -> Result<ParticleSettings, NodeError> {
         let size = first(cx, pin::EMITTER_SIZE, Vec3::ONE)?;
         let shape = match choice(cx, pin::EMITTER)? {
@@ -217,7 +255,7 @@ impl Particles {
             plane,
             bounce: first(cx, pin::BOUNCE, 0.5f32)?,
             friction: first(cx, pin::FRICTION, 0.1f32)?,
-            depth: None,
+            depth: Self::depth(cx)?,
             world_radius: first(cx, pin::WORLD_RADIUS, 100.0f32)?,
             integrator: match choice(cx, pin::INTEGRATOR)? {
                 "Explicit Euler" => Integrator::ExplicitEuler,
@@ -256,18 +294,13 @@ impl Node for Particles {
         system
             .step(&renderer, &settings, cx.clock.delta as f32)
             .map_err(other)?;
-        let view = first(cx, pin::VIEW, Mat4::IDENTITY)?;
         let shape_mesh;
         let shape = match choice(cx, pin::DRAW)? {
             "Mesh" => {
                 shape_mesh = first_mesh(cx, pin::SHAPE, "Draw Mesh")?;
                 DrawShape::Mesh(&shape_mesh)
             }
-            // The view's rows are the camera's axes in world space.
-            _ => DrawShape::Sprites {
-                right: view.row(0).truncate(),
-                up: view.row(1).truncate(),
-            },
+            _ => DrawShape::Sprites,
         };
         let mesh = draw(
             &renderer,
@@ -276,10 +309,8 @@ impl Node for Particles {
             first(cx, pin::SIZE, 0.02f32)?,
             first(cx, pin::SHRINK, true)?,
             settings.world_radius,
-            self.mesh.as_ref(),
         )
-        .map_err(other)?;
-        self.mesh = Some(mesh.clone());
+        .map_err(|e| cx.input_error(pin::SHAPE, e.to_string()))?;
         cx.set_output(0, resource_spread(ResourceKind::Mesh, vec![mesh]));
         Ok(())
     }

@@ -58,8 +58,9 @@ pub(crate) struct RasterView<'b> {
 pub(crate) struct RasterTargets(Mutex<Option<Targets>>);
 
 pub(crate) struct ComputeRaster {
-    /// Per draw: its uniform and how many triangles it rasterizes.
-    batches: Vec<(wgpu::Buffer, u32)>,
+    /// Per draw: its uniform, how many triangles it rasterizes, and whether
+    /// they are particles (procedural).
+    batches: Vec<(wgpu::Buffer, u32, bool)>,
     pub first_triangle: wgpu::Buffer,
     targets: std::sync::Arc<RasterTargets>,
 }
@@ -96,7 +97,7 @@ impl ComputeRaster {
                     }),
                     wgpu::BufferUsages::UNIFORM,
                 );
-                batches.push((uniform, total));
+                batches.push((uniform, total, draw.procedural));
             }
             global = global.saturating_add(total);
         }
@@ -132,23 +133,45 @@ impl ComputeRaster {
         renderer: &Renderer,
         cx: &mut PassContext<'_>,
     ) -> Result<(), RenderError> {
+        let size = g.pixel_size(cx.output_size);
         let view = RasterView {
             camera: g.camera_buffer(),
             instances: &g.instances,
-            size: g.pixel_size(cx.output_size),
+            size,
             two_sided: g.two_sided(),
         };
-        self.record_view(&view, renderer, cx)?;
+        match g.published_depth() {
+            Some(name) => {
+                let view_projection = g.camera.view_projection();
+                let mut publish = |cx: &mut PassContext<'_>, visibility: &wgpu::Buffer| {
+                    super::published_depth::publish(
+                        renderer,
+                        cx,
+                        name,
+                        super::published_depth::DepthSource::Compute(visibility),
+                        size,
+                        view_projection,
+                    )
+                };
+                self.record_view(&view, renderer, cx, Some(&mut publish))?;
+            }
+            None => {
+                self.record_view(&view, renderer, cx, None)?;
+            }
+        }
         Ok(())
     }
 
     /// Rasterize into the 64-bit buffer for `view`, which this returns (a
     /// caller may record several views in a row: each clears it first).
+    /// `between`: run after the meshes and before the particles (procedural
+    /// draws), given the buffer: what publishes a depth without particles.
     pub(crate) fn record_view(
         &self,
         view: &RasterView<'_>,
         renderer: &Renderer,
         cx: &mut PassContext<'_>,
+        between: Option<Between<'_>>,
     ) -> Result<wgpu::Buffer, RenderError> {
         let device = cx.gpu.device.clone();
         let size = view.size;
@@ -227,33 +250,74 @@ impl ComputeRaster {
             })
         };
         let triangle_layout = triangles_pipeline.get_bind_group_layout(0);
-        let batch_groups: Vec<(wgpu::BindGroup, u32)> = self
+        let batch_groups: Vec<(wgpu::BindGroup, u32, bool)> = self
             .batches
             .iter()
-            .map(|(uniform, total)| (shared(&triangle_layout, Some(uniform)), *total))
+            .map(|(uniform, total, procedural)| {
+                (shared(&triangle_layout, Some(uniform)), *total, *procedural)
+            })
             .collect();
         let tiles_group = shared(&tiles_pipeline.get_bind_group_layout(0), None);
-
-        let timestamps = cx.compute_timestamps();
-        let mut pass = cx.encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some("compute raster"),
-            timestamp_writes: timestamps,
-        });
-        pass.set_pipeline(&triangles_pipeline);
-        let mut dispatches = 0;
-        for (group, total) in &batch_groups {
-            let workgroups = total.div_ceil(WORKGROUP);
-            // Over 65,535 workgroups spill into y; the shader folds y back into one index.
-            let x = workgroups.min(65_535);
-            pass.set_bind_group(0, group, &[]);
-            pass.dispatch_workgroups(x, workgroups.div_ceil(x), 1);
-            dispatches += 1;
+        let pipelines = (&triangles_pipeline, &tiles_pipeline, &tiles_group);
+        match between {
+            None => {
+                let all: Vec<_> = batch_groups.iter().collect();
+                raster_batches(cx, pipelines, &all);
+            }
+            Some(between) => {
+                let (particles, meshes): (Vec<_>, Vec<_>) = batch_groups
+                    .iter()
+                    .partition(|(_, _, procedural)| *procedural);
+                raster_batches(cx, pipelines, &meshes);
+                between(cx, &targets.visibility)?;
+                if !particles.is_empty() {
+                    cx.encoder.copy_buffer_to_buffer(
+                        &targets.tile_reset,
+                        0,
+                        &targets.tile_count,
+                        0,
+                        16,
+                    );
+                    raster_batches(cx, pipelines, &particles);
+                }
+            }
         }
-        pass.set_pipeline(&tiles_pipeline);
-        pass.set_bind_group(0, &tiles_group, &[]);
-        pass.dispatch_workgroups(TILE_WORKGROUPS, 1, 1);
-        drop(pass);
-        cx.draws += dispatches;
         Ok(targets.visibility.clone())
     }
+}
+
+/// What runs between a raster's meshes and its particles.
+pub(crate) type Between<'b> =
+    &'b mut dyn FnMut(&mut PassContext<'_>, &wgpu::Buffer) -> Result<(), RenderError>;
+
+/// One timed compute pass: `batches`' triangles, then the big triangles' tiles.
+fn raster_batches(
+    cx: &mut PassContext<'_>,
+    (triangles, tiles, tiles_group): (
+        &wgpu::ComputePipeline,
+        &wgpu::ComputePipeline,
+        &wgpu::BindGroup,
+    ),
+    batches: &[&(wgpu::BindGroup, u32, bool)],
+) {
+    let timestamps = cx.compute_timestamps();
+    let mut pass = cx.encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+        label: Some("compute raster"),
+        timestamp_writes: timestamps,
+    });
+    pass.set_pipeline(triangles);
+    let mut dispatches = 0;
+    for (group, total, _) in batches {
+        let workgroups = total.div_ceil(WORKGROUP);
+        // Over 65,535 workgroups spill into y; the shader folds y back into one index.
+        let x = workgroups.min(65_535);
+        pass.set_bind_group(0, group, &[]);
+        pass.dispatch_workgroups(x, workgroups.div_ceil(x), 1);
+        dispatches += 1;
+    }
+    pass.set_pipeline(tiles);
+    pass.set_bind_group(0, tiles_group, &[]);
+    pass.dispatch_workgroups(TILE_WORKGROUPS, 1, 1);
+    drop(pass);
+    cx.draws += dispatches;
 }

@@ -16,6 +16,7 @@ pub(crate) mod compute_raster;
 mod layer;
 mod passes;
 mod surface_shader;
+mod published_depth;
 mod view;
 
 use std::sync::Arc;
@@ -24,6 +25,7 @@ use glam::Mat4;
 
 pub use layer::{DrawBatch, InstanceInput, Layer, LayerError, LayerFeatures, VelocitySource};
 pub use surface_shader::{SURFACE_MODULE, SurfaceBinding, SurfaceShader};
+pub use published_depth::{PublishedDepth, PublishedDepths};
 pub use view::{Channel, GBufferView};
 
 use crate::camera::{CameraInput, GpuCamera};
@@ -59,6 +61,9 @@ pub(crate) struct Draw {
     pub index_count: u32,
     pub first_instance: u32,
     pub instance_count: u32,
+    /// Particles, drawn from their records (after the meshes, so the depth
+    /// a G-buffer publishes for their collisions holds no particles).
+    pub procedural: bool,
 }
 
 /// Bindings 0 to 3 of every shader that pulls instanced meshes (the
@@ -107,7 +112,7 @@ pub(crate) fn pack_instances(
                         .to_cols_array_2d(),
                     color: inst.color,
                     info: [
-                        batch.mesh.indices.start,
+                        batch.mesh.first_index_word(),
                         batch.mesh.vertices.start,
                         inst.material_id,
                         inst.object_id,
@@ -115,9 +120,10 @@ pub(crate) fn pack_instances(
                 });
             }
             draws.push(Draw {
-                index_count: batch.mesh.indices.len() as u32,
+                index_count: batch.mesh.index_count(),
                 first_instance,
                 instance_count: batch.instances.len() as u32,
+                procedural: batch.mesh.is_procedural(),
             });
         }
         layer_ranges.push((first, gpu_instances.len() as u32));
@@ -193,6 +199,9 @@ pub struct GBuffer {
     surface_buffers: Vec<Option<wgpu::Buffer>>,
     pub raster: RasterMode,
     compute: Option<compute_raster::ComputeRaster>,
+    /// The name its depth (before particles) is published under for next
+    /// frame's particle collisions ([`PublishedDepths`]).
+    publish_depth: Option<String>,
 }
 
 impl std::fmt::Debug for GBuffer {
@@ -328,7 +337,42 @@ impl GBuffer {
             surface_buffers,
             raster,
             compute,
+            publish_depth: None,
         })
+    }
+
+    /// As [`GBuffer::with_raster`], publishing its depth (meshes only, not
+    /// particles) under `name` each frame it renders, for the next frame's
+    /// particle depth collisions ([`PublishedDepths`]).
+    #[allow(clippy::too_many_arguments)]
+    pub fn publishing_depth(
+        renderer: &Renderer,
+        owner: Option<u32>,
+        layers: Vec<Arc<Layer>>,
+        camera: CameraInput,
+        previous_view_projection: Option<Mat4>,
+        size: SizeRule,
+        choice: RasterChoice,
+        name: String,
+    ) -> Arc<Self> {
+        let mut g = Self::with_raster(
+            renderer,
+            owner,
+            layers,
+            camera,
+            previous_view_projection,
+            size,
+            choice,
+        );
+        if let Some(g) = Arc::get_mut(&mut g) {
+            g.publish_depth = Some(name).filter(|n| !n.is_empty());
+        }
+        g
+    }
+
+    /// The name its depth is published under, if any.
+    pub fn published_depth(&self) -> Option<&str> {
+        self.publish_depth.as_deref()
     }
 
     /// The G-buffer's size in pixels for a frame of `output` size.

@@ -162,60 +162,84 @@ fn visibility(
     }
     let vis = cx.view(&g.targets.visibility)?;
     let depth = cx.view(&g.targets.hardware_depth)?;
-    let timestamps = cx.render_timestamps();
-    let mut pass = cx.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-        label: Some("visibility"),
-        color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-            view: &vis,
-            depth_slice: None,
-            resolve_target: None,
-            ops: wgpu::Operations {
-                load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
-                store: wgpu::StoreOp::Store,
-            },
-        })],
-        depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-            view: &depth,
-            depth_ops: Some(wgpu::Operations {
-                load: wgpu::LoadOp::Clear(0.0),
-                store: wgpu::StoreOp::Store,
-            }),
-            stencil_ops: None,
-        }),
-        timestamp_writes: timestamps,
-        occlusion_query_set: None,
-        multiview_mask: None,
-    });
+    // Publishing a depth for particle collisions: the meshes in a first
+    // pass, the depth copied, then the particles (procedural draws).
+    let phases: &[Option<bool>] = match g.published_depth() {
+        Some(_) => &[Some(false), Some(true)],
+        None => &[None],
+    };
     let mut draws = 0;
-    for draw in g
-        .draws
-        .iter()
-        .filter(|d| d.instance_count > 0 && d.index_count > 0)
-    {
-        let mask = masked
-            .iter()
-            .find(|((first, end), _, _)| (*first..*end).contains(&draw.first_instance));
-        match mask {
-            Some((_, pipeline, groups)) => {
-                pass.set_pipeline(pipeline);
-                for (i, group) in groups.iter().enumerate() {
-                    if let Some(group) = group {
-                        pass.set_bind_group(i as u32, group, &[]);
+    for (k, phase) in phases.iter().enumerate() {
+        if let (1, Some(name)) = (k, g.published_depth()) {
+            super::published_depth::publish(
+                renderer,
+                cx,
+                name,
+                super::published_depth::DepthSource::Hardware(&depth),
+                g.pixel_size(cx.output_size),
+                g.camera.view_projection(),
+            )?;
+        }
+        let (color_load, depth_load) = match k {
+            0 => (
+                wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                wgpu::LoadOp::Clear(0.0),
+            ),
+            _ => (wgpu::LoadOp::Load, wgpu::LoadOp::Load),
+        };
+        let timestamps = cx.render_timestamps();
+        let mut pass = cx.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("visibility"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: &vis,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: color_load,
+                    store: wgpu::StoreOp::Store,
+                },
+            })],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: &depth,
+                depth_ops: Some(wgpu::Operations {
+                    load: depth_load,
+                    store: wgpu::StoreOp::Store,
+                }),
+                stencil_ops: None,
+            }),
+            timestamp_writes: timestamps,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        for draw in g.draws.iter().filter(|d| {
+            d.instance_count > 0
+                && d.index_count > 0
+                && phase.is_none_or(|procedural| d.procedural == procedural)
+        }) {
+            let mask = masked
+                .iter()
+                .find(|((first, end), _, _)| (*first..*end).contains(&draw.first_instance));
+            match mask {
+                Some((_, pipeline, groups)) => {
+                    pass.set_pipeline(pipeline);
+                    for (i, group) in groups.iter().enumerate() {
+                        if let Some(group) = group {
+                            pass.set_bind_group(i as u32, group, &[]);
+                        }
                     }
                 }
+                None => {
+                    pass.set_pipeline(&plain);
+                    pass.set_bind_group(0, &bind_group, &[]);
+                }
             }
-            None => {
-                pass.set_pipeline(&plain);
-                pass.set_bind_group(0, &bind_group, &[]);
-            }
+            pass.draw(
+                0..draw.index_count,
+                draw.first_instance..draw.first_instance + draw.instance_count,
+            );
+            draws += 1;
         }
-        pass.draw(
-            0..draw.index_count,
-            draw.first_instance..draw.first_instance + draw.instance_count,
-        );
-        draws += 1;
     }
-    drop(pass);
     cx.draws += draws;
     Ok(())
 }

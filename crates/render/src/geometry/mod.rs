@@ -169,6 +169,12 @@ pub fn run_into(
     op: Op<'_>,
     reuse: Option<&Arc<GpuMesh>>,
 ) -> Result<Arc<GpuMesh>, RenderError> {
+    if op.input.is_some_and(|m| m.is_procedural()) {
+        return Err(RenderError::Pass {
+            pass: op.key.path.to_owned(),
+            message: "particles are drawn procedurally, not stored as a mesh: a geometry pass cannot take them".to_owned(),
+        });
+    }
     let fits = |m: &&Arc<GpuMesh>| {
         m.vertices.len() == op.vertex_count as usize
             && m.indices.len() == op.index_count as usize

@@ -31,6 +31,14 @@ pub fn read_mesh(
     renderer: &Renderer,
     mesh: &GpuMesh,
 ) -> Result<(Vec<GpuVertex>, Vec<u32>), RenderError> {
+    if mesh.is_procedural() {
+        return Err(RenderError::Pass {
+            pass: "mesh readback".to_owned(),
+            message:
+                "the mesh is drawn procedurally (particles): read it with particles::read_drawn"
+                    .to_owned(),
+        });
+    }
     let (vertices, indices, _) = renderer.meshes.buffers();
     let vertex_size = std::mem::size_of::<GpuVertex>() as u64;
     let v = read_storage(

@@ -1,9 +1,13 @@
 //! Particles (Dagon's particles in vector fields): a ring of particle slots
-//! in a persistent GPU buffer ([`ParticleSystem`]), stepped by a compute
-//! pass (shaders/particles/simulate.wgsl: emitters, forces, collisions) and
-//! drawn by expanding every slot into geometry in the mesh arena
-//! (shaders/particles/draw.wgsl), so particles enter the G-buffer, shadow
-//! maps and the post chain as an ordinary mesh with previous positions.
+//! kept as records in the mesh arena ([`ParticleSystem`]), stepped by a
+//! compute pass (shaders/particles/simulate.wgsl: emitters, forces,
+//! collisions) and drawn straight from those records: [`draw`] hands out a
+//! procedural mesh whose triangles (a camera-facing quad or a copy of a
+//! shape a particle) every mesh-pulling pass makes on the fly
+//! (shaders/lib/mesh_fetch.wgsl). So particles enter the G-buffer, shadow
+//! maps, Transparency and the post chain as a mesh with previous positions,
+//! and cost 64 bytes a particle: ten million fit where their expanded
+//! quads (2.5 GB) did not.
 //!
 //! Determinism: emission is counted on the CPU in f64 (`rate * dt` plus the
 //! carried fraction) and each emitted particle is seeded by its global
@@ -11,10 +15,12 @@
 //! buffer bit for bit on one device.
 
 mod draw;
+mod expand;
 mod field;
 mod simulate;
 
 pub use draw::{DrawShape, draw};
+pub use expand::read_drawn;
 pub use field::FieldTexture;
 pub use simulate::{
     DepthCollision, EmitterShape, Field, Integrator, MAX_ATTRACTORS, MAX_STEP, ParticleSettings,
@@ -23,10 +29,17 @@ pub use simulate::{
 
 use bytemuck::{Pod, Zeroable};
 
+use std::sync::Arc;
+
+use glam::Vec3;
+
 use crate::error::RenderError;
+use crate::mesh::Aabb;
+use crate::mesh_arena::{GpuMesh, MeshLayout};
 use crate::renderer::Renderer;
 
-/// 48 bytes; matches `Particle` in shaders/particles/*.wgsl.
+/// 64 bytes, one mesh-arena vertex; matches `Particle` as packed by
+/// shaders/lib/particle.wgsl.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct Particle {
@@ -36,13 +49,16 @@ pub struct Particle {
     pub lifetime: f32,
     pub previous: [f32; 3],
     pub alive: u32,
+    pub reserved: [f32; 4],
 }
 
 const PARTICLE_SIZE: u64 = std::mem::size_of::<Particle>() as u64;
 
 /// The persistent state of one particle system: its slots and its clock.
 pub struct ParticleSystem {
-    buffer: wgpu::Buffer,
+    /// A header record (the draw's shape, see shaders/lib/particle.wgsl)
+    /// then `capacity` particle records, in the mesh arena.
+    records: Arc<GpuMesh>,
     capacity: u32,
     seed: u32,
     /// The next slot to emit into.
@@ -62,40 +78,45 @@ impl std::fmt::Debug for ParticleSystem {
 }
 
 impl ParticleSystem {
-    /// `capacity` slots, all dead. Fails when the buffer would exceed the GPU's limits.
+    /// `capacity` slots, all dead: 64 bytes each (and one header) in the
+    /// mesh arena. Fails when the arena cannot hold them (the GPU's storage
+    /// buffer limit), naming how many bytes they need.
     pub fn new(renderer: &Renderer, capacity: u32, seed: u32) -> Result<Self, RenderError> {
         let capacity = capacity.max(1);
-        let size = u64::from(capacity) * PARTICLE_SIZE;
-        let limits = renderer.gpu.device.limits();
-        let max = limits
-            .max_storage_buffer_binding_size
-            .min(limits.max_buffer_size);
-        if size > max {
-            return Err(RenderError::Pass {
+        let records = capacity.checked_add(1).ok_or_else(|| RenderError::Pass {
+            pass: "particles".to_owned(),
+            message: format!("{capacity} particles are too many"),
+        })?;
+        let layout = MeshLayout {
+            bounds: Aabb {
+                min: Vec3::ZERO,
+                max: Vec3::ZERO,
+            },
+            has_uvs: false,
+            has_tangents: false,
+        };
+        let records = renderer
+            .meshes
+            .allocate(&renderer.gpu, records, 0, layout)
+            .map_err(|e| RenderError::Pass {
                 pass: "particles".to_owned(),
                 message: format!(
-                    "{capacity} particles need {size} bytes, over the GPU's storage buffer limit of {max}"
+                    "{capacity} particles need {} bytes: {e}",
+                    u64::from(records) * PARTICLE_SIZE
                 ),
-            });
-        }
-        let buffer = renderer.gpu.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("particles"),
-            size,
-            usage: wgpu::BufferUsages::STORAGE
-                | wgpu::BufferUsages::COPY_DST
-                | wgpu::BufferUsages::COPY_SRC,
-            // Zeroed by wgpu: every slot starts dead.
-            mapped_at_creation: false,
-        });
-        Ok(ParticleSystem {
-            buffer,
+            })?;
+        let mut system = ParticleSystem {
+            records,
             capacity,
             seed,
             head: 0,
             emitted: 0,
             carry: 0.0,
             time: 0.0,
-        })
+        };
+        // The arena's range may hold a freed mesh's vertices: start dead.
+        system.reset(renderer);
+        Ok(system)
     }
 
     pub fn capacity(&self) -> u32 {
@@ -112,7 +133,12 @@ impl ParticleSystem {
             .gpu
             .device
             .create_command_encoder(&Default::default());
-        encoder.clear_buffer(&self.buffer, 0, None);
+        let (vertices, _, _) = renderer.meshes.buffers();
+        encoder.clear_buffer(
+            &vertices,
+            u64::from(self.records.vertices.start) * PARTICLE_SIZE,
+            Some(self.records.vertices.len() as u64 * PARTICLE_SIZE),
+        );
         renderer.gpu.queue.submit([encoder.finish()]);
         self.head = 0;
         self.emitted = 0;
@@ -120,17 +146,23 @@ impl ParticleSystem {
         self.time = 0.0;
     }
 
-    /// The particle buffer (for the draw pass and readback).
-    pub fn buffer(&self) -> &wgpu::Buffer {
-        &self.buffer
+    /// The arena range of the header and the particle records.
+    pub fn records(&self) -> &Arc<GpuMesh> {
+        &self.records
+    }
+
+    /// The arena index of slot 0's record (the header is just before it).
+    fn first_record(&self) -> u32 {
+        self.records.vertices.start + 1
     }
 
     /// Every slot, read back (tests and tables).
     pub fn read(&self, renderer: &Renderer) -> Result<Vec<Particle>, RenderError> {
+        let (vertices, _, _) = renderer.meshes.buffers();
         let bytes = crate::geometry::read_storage(
             renderer,
-            &self.buffer,
-            0,
+            &vertices,
+            u64::from(self.first_record()) * PARTICLE_SIZE,
             u64::from(self.capacity) * PARTICLE_SIZE,
         )?;
         Ok(bytemuck::pod_collect_to_vec(

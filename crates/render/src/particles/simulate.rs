@@ -65,13 +65,16 @@ pub struct Plane {
     pub offset: f32,
 }
 
-/// Screen-space collision with a depth target (reversed Z, R32Float).
+/// Screen-space collision with a depth target (reversed Z, R32Float, 0
+/// where nothing was drawn): usually last frame's, published by a G-buffer
+/// ([`crate::gbuffer::PublishedDepths`]).
 #[derive(Clone, Debug)]
 pub struct DepthCollision {
     pub depth: wgpu::TextureView,
     pub view_projection: Mat4,
     pub size: (u32, u32),
-    /// How far behind the surface (in NDC depth) still counts as inside.
+    /// How far behind the visible surface (metres) a particle still counts
+    /// as inside it; farther behind, it passes (it is behind the object).
     pub thickness: f32,
 }
 
@@ -143,7 +146,9 @@ struct GpuSim {
     counts: [u32; 4],
     misc: [u32; 4],
     view_projection: [[f32; 4]; 4],
+    inverse_view_projection: [[f32; 4]; 4],
     depth_size: [f32; 4],
+    layout: [u32; 4],
     attractors: [[f32; 4]; MAX_ATTRACTORS],
 }
 
@@ -220,6 +225,12 @@ impl ParticleSystem {
             EmitterShape::MeshSurface(m) => ((m.indices.len() / 3) as u32, Some(m.clone())),
             _ => (0, None),
         };
+        let depth_view_projection = s
+            .depth
+            .as_ref()
+            .map(|d| d.view_projection)
+            .filter(|m| m.is_finite())
+            .unwrap_or(Mat4::IDENTITY);
         let gpu_sim = GpuSim {
             emitter: emitter.to_cols_array_2d(),
             emitter_size: size.extend(shape).into(),
@@ -252,10 +263,8 @@ impl ParticleSystem {
                 self.seed,
                 triangles,
             ],
-            view_projection: s
-                .depth
-                .as_ref()
-                .map_or(Mat4::IDENTITY, |d| d.view_projection)
+            view_projection: depth_view_projection.to_cols_array_2d(),
+            inverse_view_projection: crate::camera::safe_inverse(depth_view_projection)
                 .to_cols_array_2d(),
             depth_size: s.depth.as_ref().map_or([1.0, 1.0, 0.0, 0.0], |d| {
                 [
@@ -265,6 +274,7 @@ impl ParticleSystem {
                     0.0,
                 ]
             }),
+            layout: [self.first_record(), 0, 0, 0],
             attractors,
         };
         let mut features = Vec::new();
@@ -290,9 +300,8 @@ impl ParticleSystem {
             ),
         );
         let mut resources = vec![
-            (0, self.buffer.as_entire_binding()),
+            (0, vertices.as_entire_binding()),
             (1, sim.as_entire_binding()),
-            (3, vertices.as_entire_binding()),
             (4, indices.as_entire_binding()),
             (5, mesh_range.as_entire_binding()),
         ];

@@ -559,7 +559,7 @@ impl ShadowMaps {
                 size: (res, res),
                 two_sided: true,
             };
-            let visibility = raster.record_view(&view, renderer, cx)?;
+            let visibility = raster.record_view(&view, renderer, cx, None)?;
             let out = layer_view(&maps.depth, layer);
             let all = [
                 (0, visibility.as_entire_binding()),
