@@ -12,7 +12,6 @@
 
 use std::sync::Arc;
 
-
 use super::environment_map::{Environment, EnvironmentMaps};
 use crate::error::RenderError;
 use crate::frame_graph::{FrameGraph, PassContext, TextureDesc};
@@ -78,7 +77,12 @@ impl Reflection {
         let id = next_recipe_id();
         let (mode_id, ior) = mode.params();
         let levels = environment.quality.levels();
-        let params = renderer.kept_init(owner, "reflection params", bytemuck::cast_slice(&[mode_id, levels, ior.to_bits(), 0]), wgpu::BufferUsages::UNIFORM);
+        let params = renderer.kept_init(
+            owner,
+            "reflection params",
+            bytemuck::cast_slice(&[mode_id, levels, ior.to_bits(), 0]),
+            wgpu::BufferUsages::UNIFORM,
+        );
         Arc::new(Reflection {
             id,
             owner,

@@ -15,8 +15,8 @@
 pub(crate) mod compute_raster;
 mod layer;
 mod passes;
-mod surface_shader;
 mod published_depth;
+mod surface_shader;
 mod view;
 
 use std::sync::Arc;
@@ -24,8 +24,8 @@ use std::sync::Arc;
 use glam::Mat4;
 
 pub use layer::{DrawBatch, InstanceInput, Layer, LayerError, LayerFeatures, VelocitySource};
-pub use surface_shader::{SURFACE_MODULE, SurfaceBinding, SurfaceShader};
 pub use published_depth::{PublishedDepth, PublishedDepths};
+pub use surface_shader::{SURFACE_MODULE, SurfaceBinding, SurfaceShader};
 pub use view::{Channel, GBufferView};
 
 use crate::camera::{CameraInput, GpuCamera};

@@ -3,7 +3,6 @@
 
 use std::sync::Arc;
 
-
 use crate::error::RenderError;
 use crate::frame_graph::{FrameGraph, PassContext, TextureDesc};
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
@@ -87,7 +86,12 @@ impl GBufferView {
         velocity_scale: f32,
     ) -> Arc<Self> {
         let id = next_recipe_id();
-        let params = renderer.kept_init(owner, "gbuffer view params", bytemuck::cast_slice(&[velocity_scale, 0.0, 0.0, 0.0]), wgpu::BufferUsages::UNIFORM);
+        let params = renderer.kept_init(
+            owner,
+            "gbuffer view params",
+            bytemuck::cast_slice(&[velocity_scale, 0.0, 0.0, 0.0]),
+            wgpu::BufferUsages::UNIFORM,
+        );
         Arc::new(GBufferView {
             id,
             owner,

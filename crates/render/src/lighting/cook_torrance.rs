@@ -3,7 +3,6 @@
 
 use std::sync::Arc;
 
-
 use super::clusters::{ClusterGrid, ClusterStore};
 use super::{LightBuffer, LightKind};
 use crate::error::RenderError;
@@ -341,7 +340,8 @@ impl CookTorrance {
                     pass: "cook torrance".to_owned(),
                     message: "the shadow maps were not rendered this frame".to_owned(),
                 })?;
-                let array = |t: &wgpu::Texture| cx.view_of(t, crate::texture_pool::ViewSpec::array());
+                let array =
+                    |t: &wgpu::Texture| cx.view_of(t, crate::texture_pool::ViewSpec::array());
                 let depth = array(&depth);
                 let moments = moments.map(|m| array(&m));
                 Some((shadows, depth, moments))

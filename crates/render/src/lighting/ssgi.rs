@@ -130,8 +130,14 @@ impl Ssgi {
             settings: settings.clamped(),
             key,
             params,
-            axes: [kept("ssgi axis", 0, [1, 0, 0, 0]), kept("ssgi axis", 1, [0, 1, 0, 0])],
-            fresh: [kept("ssgi fresh", 0, [0; 4]), kept("ssgi fresh", 1, [1, 0, 0, 0])],
+            axes: [
+                kept("ssgi axis", 0, [1, 0, 0, 0]),
+                kept("ssgi axis", 1, [0, 1, 0, 0]),
+            ],
+            fresh: [
+                kept("ssgi fresh", 0, [0; 4]),
+                kept("ssgi fresh", 1, [1, 0, 0, 0]),
+            ],
             state: renderer.state::<TemporalState>(key),
             output: format!("{prefix}/out"),
             prefix,

@@ -6,7 +6,6 @@
 
 use std::sync::Arc;
 
-
 use crate::error::RenderError;
 use crate::frame_graph::{FrameGraph, PassContext, TextureDesc};
 use crate::gbuffer::GBuffer;
@@ -89,7 +88,12 @@ impl Ssss {
                 name,
             };
         };
-        let params = renderer.kept_init(owner, "ssss params", bytemuck::cast_slice(&[width.to_bits(), quality.taps(), 0, 0]), wgpu::BufferUsages::UNIFORM);
+        let params = renderer.kept_init(
+            owner,
+            "ssss params",
+            bytemuck::cast_slice(&[width.to_bits(), quality.taps(), 0, 0]),
+            wgpu::BufferUsages::UNIFORM,
+        );
         let prefix = format!("ssss{id}");
         let recipe = Arc::new(Ssss {
             id,

@@ -11,7 +11,6 @@
 
 use std::sync::Arc;
 
-
 use crate::error::RenderError;
 use crate::frame_graph::{FrameGraph, Lifetime, PassContext, SizeRule, TextureDesc};
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};

@@ -3,7 +3,6 @@
 
 use std::sync::Arc;
 
-
 use crate::error::RenderError;
 use crate::frame_graph::{FrameGraph, PassContext, SizeRule, TextureDesc};
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
@@ -56,7 +55,12 @@ impl Fxaa {
         } else {
             0.75
         };
-        let params = renderer.kept_init(owner, "fxaa", bytemuck::cast_slice(&[steps, threshold, minimum, subpixel]), wgpu::BufferUsages::UNIFORM);
+        let params = renderer.kept_init(
+            owner,
+            "fxaa",
+            bytemuck::cast_slice(&[steps, threshold, minimum, subpixel]),
+            wgpu::BufferUsages::UNIFORM,
+        );
         Arc::new(Fxaa {
             id,
             owner,

@@ -6,7 +6,6 @@
 
 use std::sync::Arc;
 
-
 use crate::error::RenderError;
 use crate::frame_graph::{FrameGraph, PassContext, SizeRule, TextureDesc};
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
@@ -71,12 +70,17 @@ impl Tonemap {
         let key = adaptation
             .as_ref()
             .map_or(DEFAULT_KEY, |a| finite(a.key, DEFAULT_KEY).clamp(0.0, 1e3));
-        let params = renderer.kept_init(owner, "tonemap params", bytemuck::cast_slice(&[
-                    operator,
-                    finite(exposure, 1.0).max(0.0).to_bits(),
-                    finite(param, 1.0).to_bits(),
-                    key.to_bits(),
-                ]), wgpu::BufferUsages::UNIFORM);
+        let params = renderer.kept_init(
+            owner,
+            "tonemap params",
+            bytemuck::cast_slice(&[
+                operator,
+                finite(exposure, 1.0).max(0.0).to_bits(),
+                finite(param, 1.0).to_bits(),
+                key.to_bits(),
+            ]),
+            wgpu::BufferUsages::UNIFORM,
+        );
         Arc::new(Tonemap {
             id,
             owner,

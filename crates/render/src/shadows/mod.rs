@@ -349,8 +349,18 @@ impl ShadowMaps {
                     .copy_from_slice(bytemuck::cast_slice(&v.view_projection.to_cols_array()));
             }
         }
-        let views_buffer = renderer.kept_init(owner, "shadow views", bytemuck::cast_slice(&all), wgpu::BufferUsages::STORAGE);
-        let view_uniforms = renderer.kept_init(owner, "shadow view uniforms", &uniforms, wgpu::BufferUsages::UNIFORM);
+        let views_buffer = renderer.kept_init(
+            owner,
+            "shadow views",
+            bytemuck::cast_slice(&all),
+            wgpu::BufferUsages::STORAGE,
+        );
+        let view_uniforms = renderer.kept_init(
+            owner,
+            "shadow view uniforms",
+            &uniforms,
+            wgpu::BufferUsages::UNIFORM,
+        );
         let (radius, light_size, samples, bleeding) = match settings.filter {
             ShadowFilter::Raw => (0.0, 0.0, 0.0, 0.0),
             ShadowFilter::Pcf { kernel } => ((kernel.clamp(1, 9) / 2) as f32, 0.0, 0.0, 0.0),
@@ -380,13 +390,23 @@ impl ShadowMaps {
             ],
             filter: [samples, bleeding, res as f32, per as f32],
         };
-        let params = renderer.kept_init(owner, "shadow params", bytemuck::bytes_of(&params), wgpu::BufferUsages::UNIFORM);
+        let params = renderer.kept_init(
+            owner,
+            "shadow params",
+            bytemuck::bytes_of(&params),
+            wgpu::BufferUsages::UNIFORM,
+        );
         let (mut gpu_instances, draws, _) = pack_instances(&casters);
         let instance_count = gpu_instances.len();
         if gpu_instances.is_empty() {
             gpu_instances.push(bytemuck::Zeroable::zeroed());
         }
-        let instances = renderer.kept_init(owner, "shadow casters", bytemuck::cast_slice(&gpu_instances), wgpu::BufferUsages::STORAGE);
+        let instances = renderer.kept_init(
+            owner,
+            "shadow casters",
+            bytemuck::cast_slice(&gpu_instances),
+            wgpu::BufferUsages::STORAGE,
+        );
         // Which rasterizer: measured on the H100 (docs/shadows.md), compute
         // is faster up to 1024 texels a side and the hardware beyond, where
         // 4 bytes a texel of depth is all the raster writes.
@@ -406,7 +426,13 @@ impl ShadowMaps {
                         projection: vp,
                     }
                     .to_gpu(None, (res, res));
-                    renderer.kept_init_at(owner, "shadow layer camera", layer, bytemuck::bytes_of(&camera), wgpu::BufferUsages::UNIFORM)
+                    renderer.kept_init_at(
+                        owner,
+                        "shadow layer camera",
+                        layer,
+                        bytemuck::bytes_of(&camera),
+                        wgpu::BufferUsages::UNIFORM,
+                    )
                 })
                 .collect();
             (
