@@ -29,12 +29,12 @@ struct KeptBuffer {
 
 /// The buffer kept under `key` if it `fits`, else `make()` kept in its
 /// place; true when it was made now.
-fn kept_entry<'k>(
-    kept: &'k mut HashMap<KeptKey, KeptBuffer>,
+fn kept_entry(
+    kept: &mut HashMap<KeptKey, KeptBuffer>,
     key: KeptKey,
     fits: impl Fn(&KeptBuffer) -> bool,
     make: impl FnOnce() -> wgpu::Buffer,
-) -> (&'k mut KeptBuffer, bool) {
+) -> (&mut KeptBuffer, bool) {
     use std::collections::hash_map::Entry;
     match kept.entry(key) {
         Entry::Occupied(o) if fits(o.get()) => (o.into_mut(), false),

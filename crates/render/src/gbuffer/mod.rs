@@ -289,15 +289,16 @@ impl GBuffer {
             .collect();
         let surface_buffers = layers
             .iter()
-            .map(|l| {
+            .enumerate()
+            .map(|(i, l)| {
                 let s = l.surface.as_ref().filter(|s| !s.params.is_empty())?;
-                Some(
-                    device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                        label: Some("mre material pins"),
-                        contents: &s.params,
-                        usage: wgpu::BufferUsages::UNIFORM,
-                    }),
-                )
+                Some(renderer.kept_init_at(
+                    owner,
+                    "mre material pins",
+                    i as u32,
+                    &s.params,
+                    wgpu::BufferUsages::UNIFORM,
+                ))
             })
             .collect();
         let raster = match choice {

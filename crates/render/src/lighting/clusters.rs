@@ -17,7 +17,7 @@ pub struct ClusterGrid {
 }
 
 // CookTorrance shades 16x16 blocks that must each lie in one tile.
-const _: () = assert!(ClusterGrid::TILE % 16 == 0);
+const _: () = assert!(ClusterGrid::TILE.is_multiple_of(16));
 
 impl ClusterGrid {
     pub const TILE: u32 = 64;
