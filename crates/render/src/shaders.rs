@@ -118,6 +118,7 @@ pub const SHADERS: &[ShaderFile] = &[
     shader!("geometry/extrude.wgsl", []),
     shader!("geometry/pn_triangles.wgsl", ["FLAT"]),
     shader!("geometry/spline.wgsl", ["RIBBON"]),
+    shader!("geometry/skinning.wgsl", []),
     shader!(
         "particles/simulate.wgsl",
         ["FIELD_TEXTURE", "MESH_EMITTER", "DEPTH_COLLISION"]

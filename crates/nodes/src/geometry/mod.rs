@@ -6,6 +6,7 @@
 mod continuity;
 pub mod extrude;
 pub mod gltf;
+mod gltf_deform;
 #[cfg(test)]
 mod gltf_tests;
 pub mod pn_triangles;
@@ -29,3 +30,5 @@ pub fn register(r: &mut Registry) {
 
 #[cfg(test)]
 pub(crate) mod tests;
+#[cfg(test)]
+mod gltf_deform_tests;
