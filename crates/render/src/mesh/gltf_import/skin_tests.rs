@@ -214,3 +214,27 @@ fn mesh_weights_set_the_rest_morph_and_node_weights_override_them() {
     assert_eq!(scene.instances[0].weights, vec![0.5], "fitted to one target");
     assert!(scene.warnings.iter().any(|w| w.contains("2 morph weights for 1 morph targets")));
 }
+
+#[test]
+fn the_skinning_benchmark_model_is_what_the_generator_makes() {
+    // patches/assets/bench-skinning.gltf is a committed output of `bench_herd`.
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../patches/assets/bench-skinning.gltf");
+    let made = super::skinned_models::bench_herd();
+    if std::env::var_os("SPREADLIGHT_BLESS").is_some() {
+        std::fs::write(&path, &made).unwrap();
+    }
+    let committed = std::fs::read(&path).unwrap();
+    assert!(
+        committed == made,
+        "bench-skinning.gltf is stale: regenerate with SPREADLIGHT_BLESS=1"
+    );
+    let scene = load(&made).unwrap();
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    assert_eq!(scene.meshes.len(), 1, "one mesh, shared");
+    assert_eq!(scene.meshes[0].positions.len(), 3232);
+    assert_eq!(scene.instances.len(), 100);
+    assert_eq!(scene.skins.len(), 100, "a skeleton each");
+    assert!(scene.skins.iter().all(|s| s.joints.len() == 20));
+    assert!(scene.instances.iter().all(|i| scene.is_deformed(i)));
+}

@@ -214,8 +214,8 @@ pub struct TubeSpec {
     pub joints: usize,
     /// Joint influences per vertex: 4 (JOINTS_0 only) or 8 (and JOINTS_1).
     pub influences: usize,
-    /// Copies of the rig on a grid (x and z spaced by `length` * 1.2), each
-    /// with its own skeleton, animated out of phase.
+    /// Copies of the rig on a grid around the origin (x spaced by `length`
+    /// * 1.2, z by half that), each with its own skeleton, out of phase.
     pub copies: usize,
 }
 
@@ -309,10 +309,12 @@ pub fn tube(spec: TubeSpec) -> Vec<u8> {
     let (mut samplers, mut channels, mut roots) = (Vec::new(), Vec::new(), Vec::new());
     use json::animation::Property;
     for copy in 0..spec.copies.max(1) {
+        // Centred on the origin (the tube runs along +X from its root).
+        let middle = (side - 1) as f32 * 0.5;
         let at = Vec3::new(
-            (copy % side) as f32 * spacing,
+            ((copy % side) as f32 - middle) * spacing - spec.length * 0.5,
             0.0,
-            (copy / side) as f32 * spacing * 0.5,
+            ((copy / side) as f32 - middle) * spacing * 0.5,
         );
         // The chain, tip first so each joint's child exists when it is made.
         let mut chain = Vec::new();
