@@ -121,6 +121,26 @@ impl GltfScene {
         }
     }
 
+    /// World bounds of every instance at a pose (deformed instances by
+    /// their posed bounds), [`Aabb::ZERO`] when there are none.
+    pub fn bounds_at(&self, world: &[Mat4], weights: &[Option<Vec<f32>>]) -> Aabb {
+        self.instances
+            .iter()
+            .filter_map(|i| {
+                let mesh = self.meshes.get(i.mesh)?;
+                Some(if self.is_deformed(i) {
+                    let pose = self.deform_pose(i, world, weights);
+                    pose.bounds.transformed(pose.transform)
+                } else {
+                    let at = world.get(i.node).copied().unwrap_or(i.transform);
+                    mesh.bounds.transformed(at)
+                })
+            })
+            .filter(|b| b.is_finite())
+            .reduce(Aabb::union)
+            .unwrap_or(Aabb::ZERO)
+    }
+
     /// The CPU reference of the GPU pass: mesh `mesh`'s positions deformed
     /// by `pose` (morph targets, then the skin).
     pub fn deformed_positions(&self, mesh: usize, pose: &DeformPose) -> Vec<Vec3> {

@@ -130,7 +130,7 @@ impl Importer<'_> {
             order: nodes.iter().map(|(n, _, p)| (n.index(), *p)).collect(),
             rest: document.nodes().map(|n| animation::rest_of(&n)).collect(),
         };
-        Ok(GltfScene {
+        let mut scene = GltfScene {
             meshes,
             deforms,
             skins,
@@ -143,7 +143,14 @@ impl Importer<'_> {
             graph,
             animations,
             warnings: std::mem::take(&mut self.warnings),
-        })
+        };
+        // Skinned meshes lie where their joints put them, not where their
+        // node is: the bounds (what `view` frames) follow the rest pose.
+        if scene.instances.iter().any(|i| scene.is_deformed(i)) {
+            let world = scene.node_worlds(None, 0.0);
+            scene.bounds = scene.bounds_at(&world, &[]);
+        }
+        Ok(scene)
     }
 
     /// The skin that deforms a primitive of `node`'s mesh: its node's, when

@@ -59,6 +59,13 @@ fn the_bar_bends_about_its_joint_as_its_animation_says() {
 fn posed_bounds_hold_every_deformed_vertex() {
     let scene = load(&swaying_tube()).unwrap();
     assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    // The skeleton centres the tube (its mesh at rest runs from x = 0 to
+    // 2.4): the scene's bounds are where the joints put it.
+    assert!(
+        (scene.bounds.min.x + 1.2).abs() < 0.01 && (scene.bounds.max.x - 1.2).abs() < 0.01,
+        "{:?}",
+        scene.bounds
+    );
     let influences = scene.deforms[0].influences.as_ref().unwrap();
     // Six joints, eight influences: the second set (JOINTS_1) carries weight.
     assert!(influences.weights.iter().any(|w| w[4] > 0.0));
