@@ -219,8 +219,8 @@ pub struct TubeSpec {
     pub copies: usize,
 }
 
-/// Tubes swaying on chains of joints (each joint turns about Z and Y by up
-/// to 0.35 rad, period 2 s), with a morph target that swells the far half
+/// Tubes swaying on chains of joints (each joint turns about Z by up to
+/// 1.2 rad / joints and about Y by half that, period 2 s), with a morph target that swells the far half
 /// (its weight |sin(pi t)|: 1 at 0.5 s and 1.5 s, 0 at whole seconds). The mesh is
 /// shared by every copy; each copy has its own skin and joints.
 pub fn tube(spec: TubeSpec) -> Vec<u8> {
@@ -294,8 +294,11 @@ pub fn tube(spec: TubeSpec) -> Vec<u8> {
                 .iter()
                 .map(|t| {
                     let a = (t / 2.0 + p as f32 / phases as f32) * TAU;
-                    (Quat::from_rotation_z(0.35 * a.sin()) * Quat::from_rotation_y(0.2 * a.cos()))
-                        .to_array()
+                    // Split over the chain: the whole tube bends up to 1.2 rad.
+                    let bend = 1.2 / joints_n as f32;
+                    (Quat::from_rotation_z(bend * a.sin())
+                        * Quat::from_rotation_y(0.5 * bend * a.cos()))
+                    .to_array()
                 })
                 .collect();
             doc.floats(&turns)
