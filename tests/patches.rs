@@ -406,7 +406,10 @@ fn the_skinning_benchmark_deforms_100_instances_in_one_dispatch_a_frame() {
     rt.provide(renderer.clone());
     assert!(rt.load(&patch).is_empty());
     let stats = GeometryStats::of(&renderer);
-    let meshes = |rt: &Runtime| match rt.output(spreadlight_graph::NodeId(1), "Mesh").map(|s| s.as_ref()) {
+    let meshes = |rt: &Runtime| match rt
+        .output(spreadlight_graph::NodeId(1), "Mesh")
+        .map(|s| s.as_ref())
+    {
         Some(Spread::Resource(_, handles)) => handles
             .iter()
             .map(|h| h.downcast_arc::<GpuMesh>().expect("a mesh"))
@@ -416,16 +419,25 @@ fn the_skinning_benchmark_deforms_100_instances_in_one_dispatch_a_frame() {
     for frame in 0..3 {
         let before = stats.skinning_dispatches();
         rt.evaluate(FrameClock::fixed(frame, 60.0));
-        let errors: Vec<_> = rt.node_errors().map(|(id, e)| format!("{id}: {e}")).collect();
+        let errors: Vec<_> = rt
+            .node_errors()
+            .map(|(id, e)| format!("{id}: {e}"))
+            .collect();
         assert!(errors.is_empty(), "frame {frame}: {errors:?}");
         assert_eq!(stats.skinning_dispatches(), before + 1, "frame {frame}");
     }
     let meshes = meshes(&rt);
     assert_eq!(meshes.len(), 100);
-    assert!(meshes.iter().all(|m| m.has_previous_positions && m.vertices.len() == 3232));
+    assert!(
+        meshes
+            .iter()
+            .all(|m| m.has_previous_positions && m.vertices.len() == 3232)
+    );
     let (vertices, _) = read_mesh(&renderer, &meshes[0]).expect("readback");
     assert!(
-        vertices.iter().any(|v| v.previous_position[..3] != v.position_u[..3]),
+        vertices
+            .iter()
+            .any(|v| v.previous_position[..3] != v.position_u[..3]),
         "the sway moved the tube since last frame"
     );
 }

@@ -49,7 +49,10 @@ fn deformed(
 fn gpu_skinning_and_morphing_match_the_cpu_reference() {
     let renderer = test_renderer();
     let scene = load_gltf_slice(&swaying_tube(), None).unwrap();
-    let rest = renderer.meshes.upload(&renderer.gpu, &scene.meshes[0]).unwrap();
+    let rest = renderer
+        .meshes
+        .upload(&renderer.gpu, &scene.meshes[0])
+        .unwrap();
     let source = DeformSource::upload(&renderer, &scene.deforms).unwrap();
     let first = deformed(&renderer, &scene, &source, &rest, 0.4, None);
     let second = deformed(&renderer, &scene, &source, &rest, 0.55, Some(&first));
@@ -109,7 +112,10 @@ fn bend(t: f32) -> Mat4 {
 fn velocity_is_the_analytic_motion_of_a_bending_bar() {
     let renderer = test_renderer();
     let scene = load_gltf_slice(&two_bone_bar(), None).unwrap();
-    let rest = renderer.meshes.upload(&renderer.gpu, &scene.meshes[0]).unwrap();
+    let rest = renderer
+        .meshes
+        .upload(&renderer.gpu, &scene.meshes[0])
+        .unwrap();
     let source = DeformSource::upload(&renderer, &scene.deforms).unwrap();
     let (t0, t1) = (0.2f32, 0.35f32);
     let before = deformed(&renderer, &scene, &source, &rest, t0, None);
@@ -173,9 +179,7 @@ fn velocity_is_the_analytic_motion_of_a_bending_bar() {
             let p = on_plane(x, y);
             // Where this point of the tip bone sits in the rest pose.
             let r = bend(t1).inverse().transform_point3(p);
-            let inside = |q: Vec3, from: f32, to: f32| {
-                q.x > from && q.x < to && q.y.abs() < 0.07
-            };
+            let inside = |q: Vec3, from: f32, to: f32| q.x > from && q.x < to && q.y.abs() < 0.07;
             let expected = if inside(r, 1.3, 1.95) {
                 tip += 1;
                 let earlier = bend(t0).transform_point3(r);
@@ -192,5 +196,8 @@ fn velocity_is_the_analytic_motion_of_a_bending_bar() {
             );
         }
     }
-    assert!(tip > 30 && root > 30, "pixels checked: tip {tip}, root {root}");
+    assert!(
+        tip > 30 && root > 30,
+        "pixels checked: tip {tip}, root {root}"
+    );
 }

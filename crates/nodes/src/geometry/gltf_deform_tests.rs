@@ -70,7 +70,11 @@ fn a_moving_time_deforms_every_frame_from_last_frames_positions() {
     let (before, _) = read_mesh(&run.renderer, &run.mesh(2)).unwrap();
     for frame in 1..3 {
         let skinned = skinning(&run);
-        assert_eq!(run.frame(frame, 2), (NodeRun::Evaluated, 1), "frame {frame}");
+        assert_eq!(
+            run.frame(frame, 2),
+            (NodeRun::Evaluated, 1),
+            "frame {frame}"
+        );
         assert_eq!(skinning(&run), skinned + 1);
     }
     let (last, _) = read_mesh(&run.renderer, &run.mesh(2)).unwrap();
@@ -89,8 +93,14 @@ fn a_moving_time_deforms_every_frame_from_last_frames_positions() {
     let rest = Vec3::new(2.0, 0.1, 0.0);
     let previous = Vec3::from_slice(&last[17].previous_position[..3]);
     let now = Vec3::from_slice(&last[17].position_u[..3]);
-    assert!((previous - turn(1.0 / 60.0).transform_point3(rest)).length() < 1e-5, "{previous}");
-    assert!((now - turn(2.0 / 60.0).transform_point3(rest)).length() < 1e-5, "{now}");
+    assert!(
+        (previous - turn(1.0 / 60.0).transform_point3(rest)).length() < 1e-5,
+        "{previous}"
+    );
+    assert!(
+        (now - turn(2.0 / 60.0).transform_point3(rest)).length() < 1e-5,
+        "{now}"
+    );
 }
 
 #[test]

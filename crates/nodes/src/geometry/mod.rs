@@ -29,6 +29,6 @@ pub fn register(r: &mut Registry) {
 }
 
 #[cfg(test)]
-pub(crate) mod tests;
-#[cfg(test)]
 mod gltf_deform_tests;
+#[cfg(test)]
+pub(crate) mod tests;

@@ -123,7 +123,13 @@ impl DeformSource {
                 Some(i) => {
                     let at = u32::try_from(influences.len()).map_err(|_| too_many())?;
                     influences.extend(i.joints.iter().zip(&i.weights).map(|(j, w)| {
-                        let id = |k: usize| if j[k] == UNSKINNED { 0xFFFF } else { j[k] & 0xFFFF };
+                        let id = |k: usize| {
+                            if j[k] == UNSKINNED {
+                                0xFFFF
+                            } else {
+                                j[k] & 0xFFFF
+                            }
+                        };
                         GpuInfluence {
                             joints: std::array::from_fn(|p| id(2 * p) | (id(2 * p + 1) << 16)),
                             weights: *w,
@@ -153,7 +159,11 @@ impl DeformSource {
         }
         u32::try_from(targets.len()).map_err(|_| too_many())?;
         Ok(DeformSource {
-            influences: storage(renderer, "skin influences", bytemuck::cast_slice(&influences)),
+            influences: storage(
+                renderer,
+                "skin influences",
+                bytemuck::cast_slice(&influences),
+            ),
             targets: storage(renderer, "morph targets", bytemuck::cast_slice(&targets)),
             slots,
         })
@@ -187,7 +197,10 @@ pub fn deform(
     let mut threads: u32 = 0;
     for (k, job) in jobs.iter().enumerate() {
         let slot = source.slots.get(job.mesh).copied().ok_or_else(|| {
-            error(format!("job {k}: mesh {} has no deformation data", job.mesh))
+            error(format!(
+                "job {k}: mesh {} has no deformation data",
+                job.mesh
+            ))
         })?;
         let rest = job.rest;
         let (vertex_count, index_count) = (rest.vertices.len() as u32, rest.indices.len() as u32);

@@ -99,7 +99,7 @@ impl Importer<'_> {
         let mut out = Vec::new();
         for (t, target) in primitive.morph_targets().enumerate() {
             let read = |accessor: Option<gltf::Accessor>,
-                            what: &str|
+                        what: &str|
              -> Result<Vec<[f32; 3]>, GltfError> {
                 let Some(accessor) = accessor else {
                     return Ok(Vec::new());

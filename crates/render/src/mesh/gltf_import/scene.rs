@@ -94,7 +94,13 @@ impl Importer<'_> {
             let Some(mesh) = node.mesh() else { continue };
             for primitive in mesh.primitives() {
                 if let Some(&index) = loaded.get(&(mesh.index(), primitive.index())) {
-                    let skin = self.instance_skin(node, &mesh, primitive.index(), &deforms[index], &skins)?;
+                    let skin = self.instance_skin(
+                        node,
+                        &mesh,
+                        primitive.index(),
+                        &deforms[index],
+                        &skins,
+                    )?;
                     let targets = deforms[index].targets.len();
                     instances.push(MeshInstance {
                         mesh: index,

@@ -268,10 +268,22 @@ impl Importer<'_> {
         }
         influences.joint_bounds = bounds.into_iter().collect();
         let warnings = [
-            (repairs.unnormalized, "weights do not sum to 1; they are normalized"),
-            (repairs.unweighted, "no joint weight; they follow the mesh's node"),
-            (repairs.bad, "negative or non-finite weights; those count as 0"),
-            (repairs.dropped, "more than 8 joint influences; the weakest are dropped"),
+            (
+                repairs.unnormalized,
+                "weights do not sum to 1; they are normalized",
+            ),
+            (
+                repairs.unweighted,
+                "no joint weight; they follow the mesh's node",
+            ),
+            (
+                repairs.bad,
+                "negative or non-finite weights; those count as 0",
+            ),
+            (
+                repairs.dropped,
+                "more than 8 joint influences; the weakest are dropped",
+            ),
         ];
         for (count, what) in warnings {
             if count > 0 {

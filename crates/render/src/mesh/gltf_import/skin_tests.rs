@@ -50,7 +50,10 @@ fn the_bar_bends_about_its_joint_as_its_animation_says() {
                 // Half and half: the midpoint of the two joints' placements.
                 (r + turn.transform_point3(r)) * 0.5
             };
-            assert!((*p - want).length() < 1e-5, "t {time}: {r} -> {p}, want {want}");
+            assert!(
+                (*p - want).length() < 1e-5,
+                "t {time}: {r} -> {p}, want {want}"
+            );
         }
     }
 }
@@ -80,7 +83,11 @@ fn posed_bounds_hold_every_deformed_vertex() {
         let key = |k: f32| (k * 0.25 * std::f32::consts::PI).sin().abs();
         let (k, frac) = ((time / 0.25).floor(), (time / 0.25).fract());
         let swell = key(k) + (key(k + 1.0) - key(k)) * frac;
-        assert!((pose.weights[0] - swell).abs() < 1e-5, "t {time}: {:?}", pose.weights);
+        assert!(
+            (pose.weights[0] - swell).abs() < 1e-5,
+            "t {time}: {:?}",
+            pose.weights
+        );
         let slack = Vec3::splat(1e-4);
         for p in scene.deformed_positions(0, &pose) {
             assert!(
@@ -159,13 +166,22 @@ fn weights_off_one_are_normalized_and_weightless_vertices_follow_the_node() {
     let scene = load(&bar_with(None, Some(&weights))).unwrap();
     let warned = |part: &str| scene.warnings.iter().any(|w| w.contains(part));
     assert!(
-        warned("mesh 0 `Bar`, primitive 0: 1 vertices have weights do not sum to 1; they are normalized")
-            || warned("1 vertices have weights do not sum to 1"),
+        warned(
+            "mesh 0 `Bar`, primitive 0: 1 vertices have weights do not sum to 1; they are normalized"
+        ) || warned("1 vertices have weights do not sum to 1"),
         "{:?}",
         scene.warnings
     );
-    assert!(warned("no joint weight; they follow the mesh's node"), "{:?}", scene.warnings);
-    assert!(warned("negative or non-finite weights"), "{:?}", scene.warnings);
+    assert!(
+        warned("no joint weight; they follow the mesh's node"),
+        "{:?}",
+        scene.warnings
+    );
+    assert!(
+        warned("negative or non-finite weights"),
+        "{:?}",
+        scene.warnings
+    );
     let influences = scene.deforms[0].influences.as_ref().unwrap();
     assert_eq!(influences.weights[2][..2], [2.0 / 3.0, 1.0 / 3.0]);
     assert_eq!(influences.joints[3][0], UNSKINNED);
@@ -218,8 +234,17 @@ fn mesh_weights_set_the_rest_morph_and_node_weights_override_them() {
     doc.root.meshes[0].weights = Some(vec![0.25]);
     doc.root.nodes[2].weights = Some(vec![0.5, 7.0]);
     let scene = load(&doc.gltf_data_uri()).unwrap();
-    assert_eq!(scene.instances[0].weights, vec![0.5], "fitted to one target");
-    assert!(scene.warnings.iter().any(|w| w.contains("2 morph weights for 1 morph targets")));
+    assert_eq!(
+        scene.instances[0].weights,
+        vec![0.5],
+        "fitted to one target"
+    );
+    assert!(
+        scene
+            .warnings
+            .iter()
+            .any(|w| w.contains("2 morph weights for 1 morph targets"))
+    );
 }
 
 #[test]

@@ -154,7 +154,10 @@ pub fn two_bone_bar_doc() -> Doc {
     let attributes = vec![
         (json::mesh::Semantic::Positions, doc.positions(&positions)),
         (json::mesh::Semantic::Normals, doc.floats(&normals)),
-        (json::mesh::Semantic::Joints(0), joints(&mut doc, &joint_ids)),
+        (
+            json::mesh::Semantic::Joints(0),
+            joints(&mut doc, &joint_ids),
+        ),
         (json::mesh::Semantic::Weights(0), doc.floats(&weights)),
     ];
     let indices = doc.indices(&indices);
