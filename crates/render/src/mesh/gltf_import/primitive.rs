@@ -11,6 +11,10 @@ use super::deform::Deform;
 use super::{GltfError, Importer};
 use crate::mesh::{Aabb, MeshData, Shading};
 
+/// A primitive's mesh and, when its vertices were unwelded, each output
+/// vertex's vertex in the file.
+type Unwelded = (MeshData, Option<Vec<u32>>);
+
 /// "mesh 2 `Wheel`, primitive 1": how messages name a primitive.
 pub(super) fn primitive_name(mesh: &gltf::Mesh, primitive: usize) -> String {
     match mesh.name() {
@@ -55,7 +59,7 @@ impl Importer<'_> {
         &mut self,
         mesh: &gltf::Mesh,
         primitive: &gltf::Primitive,
-    ) -> Result<Option<(MeshData, Option<Vec<u32>>)>, GltfError> {
+    ) -> Result<Option<Unwelded>, GltfError> {
         let name = primitive_name(mesh, primitive.index());
         let mode = primitive.mode();
         if !matches!(

@@ -114,6 +114,9 @@ impl Influences {
     }
 }
 
+/// One JOINTS_n/WEIGHTS_n pair as read: per file vertex, four of each.
+type InfluenceSet = (Vec<[u32; 4]>, Vec<[f32; 4]>);
+
 /// Counts of vertices whose weights were repaired, for one warning each.
 #[derive(Default)]
 struct Repairs {
@@ -195,7 +198,7 @@ impl Importer<'_> {
         origin: Option<&[u32]>,
         positions: &[[f32; 3]],
     ) -> Result<Option<Influences>, GltfError> {
-        let mut sets: Vec<(Vec<[u32; 4]>, Vec<[f32; 4]>)> = Vec::new();
+        let mut sets: Vec<InfluenceSet> = Vec::new();
         for set in 0u32.. {
             let joints = primitive.get(&Semantic::Joints(set));
             let weights = primitive.get(&Semantic::Weights(set));
@@ -296,7 +299,7 @@ impl Importer<'_> {
 
 /// Vertex `v`'s strongest influences over every set, normalized.
 fn vertex_influences(
-    sets: &[(Vec<[u32; 4]>, Vec<[f32; 4]>)],
+    sets: &[InfluenceSet],
     v: usize,
     repairs: &mut Repairs,
 ) -> ([u32; MAX_INFLUENCES], [f32; MAX_INFLUENCES]) {
