@@ -56,7 +56,9 @@ fn examples_evaluate_cleanly_for_120_frames() {
         // The Emeshe frame is the speed benchmark at full scale (1,000 lights,
         // six 1024 shadow maps re-rendered as its ball moves): seconds a frame
         // on lavapipe, so it runs the frames that cover its moving parts.
-        let frames = if path.ends_with("emeshe-frame.ron") {
+        // The skinning benchmark deforms 100 skinned tubes a frame: a few
+        // frames cover its motion (its own test below counts what it does).
+        let frames = if path.ends_with("emeshe-frame.ron") || path.ends_with("bench-skinning.ron") {
             4
         } else {
             120
@@ -412,4 +414,57 @@ fn the_tessellation_benchmark_makes_about_ten_times_the_triangles() {
     assert_eq!(triangles(3), 2 * 24 * 23);
     let ratio = triangles(6) as f64 / triangles(3) as f64;
     assert!((8.0..=12.0).contains(&ratio), "{ratio}x");
+}
+
+/// The skinning benchmark deforms its 100 skinned, morphed tubes on the GPU
+/// in one dispatch a frame (its Time moves every frame), and each deformed
+/// mesh carries last frame's positions, so DeferredBase's Velocity Geometry
+/// sees the motion.
+#[test]
+fn the_skinning_benchmark_deforms_100_instances_in_one_dispatch_a_frame() {
+    use spreadlight_render::geometry::{GeometryStats, read_mesh};
+    use spreadlight_render::mesh_arena::GpuMesh;
+    let path = spreadlight_tests::root().join("patches/bench-skinning.ron");
+    let patch = format::load(&path).expect("loads");
+    let mut rt = Runtime::new(spreadlight_nodes::registry());
+    rt.provide(patch_dir(&path));
+    let renderer = spreadlight_render::renderer::test_renderer();
+    renderer.set_output_size((64, 36));
+    rt.provide(renderer.clone());
+    assert!(rt.load(&patch).is_empty());
+    let stats = GeometryStats::of(&renderer);
+    let meshes = |rt: &Runtime| match rt
+        .output(spreadlight_graph::NodeId(1), "Mesh")
+        .map(|s| s.as_ref())
+    {
+        Some(Spread::Resource(_, handles)) => handles
+            .iter()
+            .map(|h| h.downcast_arc::<GpuMesh>().expect("a mesh"))
+            .collect::<Vec<_>>(),
+        other => panic!("glTF Mesh: {other:?}"),
+    };
+    for frame in 0..3 {
+        let before = stats.skinning_dispatches();
+        rt.evaluate(FrameClock::fixed(frame, 60.0));
+        let errors: Vec<_> = rt
+            .node_errors()
+            .map(|(id, e)| format!("{id}: {e}"))
+            .collect();
+        assert!(errors.is_empty(), "frame {frame}: {errors:?}");
+        assert_eq!(stats.skinning_dispatches(), before + 1, "frame {frame}");
+    }
+    let meshes = meshes(&rt);
+    assert_eq!(meshes.len(), 100);
+    assert!(
+        meshes
+            .iter()
+            .all(|m| m.has_previous_positions && m.vertices.len() == 3232)
+    );
+    let (vertices, _) = read_mesh(&renderer, &meshes[0]).expect("readback");
+    assert!(
+        vertices
+            .iter()
+            .any(|v| v.previous_position[..3] != v.position_u[..3]),
+        "the sway moved the tube since last frame"
+    );
 }

@@ -207,6 +207,8 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
         }
         let wall_ms = started.elapsed().as_secs_f64() * 1e3;
         let geometry_ms = geometry.take_gpu_ms();
+        // Skinning (glTF skins and morph targets) is a part of the above, named apart.
+        let skinning_ms = geometry.take_skinning_gpu_ms();
         if frame < args.warmup {
             continue;
         }
@@ -232,9 +234,18 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
         }
         if renderer.gpu.has_timestamps() {
             const GEOMETRY: &str = "geometry and particles (compute)";
-            match passes.iter_mut().find(|p| p.0 == GEOMETRY) {
-                Some(p) => p.2.push(geometry_ms),
-                None => passes.push((GEOMETRY.to_owned(), None, vec![geometry_ms])),
+            const SKINNING: &str = "skinning (compute)";
+            // The skinning line appears once a patch has skinned something.
+            let skinned = geometry.skinning_dispatches() > 0;
+            let lines = [
+                (GEOMETRY, (geometry_ms - skinning_ms).max(0.0)),
+                (SKINNING, skinning_ms),
+            ];
+            for (name, ms) in lines.into_iter().take(if skinned { 2 } else { 1 }) {
+                match passes.iter_mut().find(|p| p.0 == name) {
+                    Some(p) => p.2.push(ms),
+                    None => passes.push((name.to_owned(), None, vec![ms])),
+                }
             }
         }
     }

@@ -34,7 +34,8 @@ pub struct Args {
     /// instead of the procedural sky.
     #[arg(long)]
     environment: Option<PathBuf>,
-    /// Pose the model at this time (seconds) of its first animation (node TRS channels).
+    /// Pose the model at this time (seconds) of its first animation (node TRS channels, skins and
+    /// morph target weights).
     #[arg(long, default_value_t = 0.0)]
     time: f32,
     /// Also save the patch this command built, to open and change it.

@@ -124,6 +124,7 @@ pub const SHADERS: &[ShaderFile] = &[
     shader!("geometry/spline.wgsl", ["RIBBON", "BEZIER"]),
     shader!("geometry/tessellate.wgsl", one_of["COUNT", "SUMS"]),
     shader!("geometry/displace.wgsl", one_of["ACCUMULATE", "NORMALS"]),
+    shader!("geometry/skinning.wgsl", []),
     shader!(
         "particles/simulate.wgsl",
         ["FIELD_TEXTURE", "MESH_EMITTER", "DEPTH_COLLISION"]

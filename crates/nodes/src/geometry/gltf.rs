@@ -5,8 +5,10 @@
 //! chains and `MaterialBuffer` uploads), with their names so a patch can
 //! pick one (`MaterialByName`) and change it; its `KHR_lights_punctual`
 //! lights as light lists that start `AddLight` chains; its cameras as View
-//! and Projection. Time and Animation pose the scene (node TRS animations);
-//! the files are loaded and uploaded once and kept while Filename stays.
+//! and Projection. Time and Animation pose the scene (node TRS animations,
+//! skins and morph weights: skinned and morphed instances are deformed on
+//! the GPU, see `gltf_deform`); the files are loaded and uploaded once and
+//! kept while Filename stays.
 //! A broken or unsupported file is an error on the node that names the
 //! file and what is wrong.
 
@@ -24,6 +26,7 @@ use spreadlight_render::mesh::MaterialData;
 use spreadlight_render::mesh::gltf_import::load_gltf;
 use spreadlight_render::mesh_arena::GpuMesh;
 
+use super::gltf_deform::{Deformer, Ran};
 use crate::gpu::{renderer, resource_spread};
 use crate::lighting::add_light::LightList;
 
@@ -69,7 +72,10 @@ pub fn register(r: &mut Registry) {
              World pin has them. Material Names: each id's name (empty where none). Point, Spot and Sun Lights: the \
              file's KHR_lights_punctual lights (candela, lux), to wire into an AddLight chain's Lights or a light buffer. \
              View and Projection: one slice per camera of the scene. Time (seconds) and Animation (index; -1: none) pose \
-             the nodes with the file's TRS animations, looping. Instances: All, Opaque (OPAQUE and MASK materials, for the \
+             the nodes with the file's animations, looping: node TRS channels, skins (up to 8 joint influences per \
+             vertex, JOINTS_0/1) and morph target weights. Skinned and morphed instances are deformed on the GPU (one \
+             compute dispatch per file and pose change) into meshes that carry last frame's positions, for DeferredBase's \
+             Velocity Geometry; skinned instances come out in world space with an identity Transform. Instances: All, Opaque (OPAQUE and MASK materials, for the \
              G-buffer) or Blend (BLEND materials, for a DeferredBase layer drawn by Transparency: Base Color's alpha is \
              their opacity). A relative Filename is relative to the patch's folder.",
         )
@@ -93,11 +99,13 @@ pub fn register(r: &mut Registry) {
     );
 }
 
-/// A loaded file: the scene and its meshes on the GPU.
+/// A loaded file: the scene, its meshes on the GPU (at rest), and what
+/// deforms its skinned and morphed instances.
 struct Loaded {
     file: String,
     scene: GltfScene,
     meshes: Vec<Arc<GpuMesh>>,
+    deformer: Option<Deformer>,
 }
 
 /// Keeps the loaded files while Filename is unchanged, so posing at a new
@@ -131,10 +139,13 @@ impl GltfNode {
                 .map(|m| renderer.meshes.upload(&renderer.gpu, m))
                 .collect::<Result<_, _>>()
                 .map_err(|e| NodeError::Other(format!("{file}: {e}")))?;
+            let deformer = Deformer::new(&renderer, &scene)
+                .map_err(|e| NodeError::Other(format!("{file}: {e}")))?;
             loaded.push(Loaded {
                 file: file.clone(),
                 scene,
                 meshes,
+                deformer,
             });
         }
         self.loaded = loaded;
@@ -163,11 +174,13 @@ impl Node for GltfNode {
         let mut names = vec![String::new(); first as usize];
         let (mut points, mut spots, mut suns) = (empty(), empty(), empty());
         let (mut views, mut projections) = (Vec::new(), Vec::new());
+        let mut settle = false;
         for Loaded {
             file,
             scene,
             meshes: uploaded,
-        } in &self.loaded
+            deformer,
+        } in &mut self.loaded
         {
             // This file's default material, then its materials.
             let base = materials.len() as i64;
@@ -178,7 +191,19 @@ impl Node for GltfNode {
                 names.push(m.name.clone().unwrap_or_default());
             }
             // Instances, lights and cameras follow their (animated) nodes.
-            let world = scene.node_worlds(usize::try_from(animation).ok(), time);
+            let animation = usize::try_from(animation).ok();
+            let world = scene.node_worlds(animation, time);
+            if let Some(d) = deformer.as_mut() {
+                let weights = scene.morph_weights(animation, time);
+                let renderer = renderer(cx)?;
+                match d
+                    .pose(&renderer, scene, uploaded, &world, &weights)
+                    .map_err(|e| NodeError::Other(format!("{file}: {e}")))?
+                {
+                    Ran::Deformed { settle: true } => settle = true,
+                    Ran::Deformed { settle: false } | Ran::Nothing => {}
+                }
+            }
             let (lights, cameras) = scene.posed_content(&world);
             extend(&mut points, &lights.points, file);
             extend(&mut spots, &lights.spots, file);
@@ -187,7 +212,7 @@ impl Node for GltfNode {
                 views.push(camera.view);
                 projections.push(camera.projection);
             }
-            for instance in &scene.instances {
+            for (k, instance) in scene.instances.iter().enumerate() {
                 let material = instance.material.and_then(|m| scene.materials.get(m));
                 let blend = material.is_some_and(|m| m.alpha_mode == AlphaMode::Blend);
                 match which.as_str() {
@@ -195,13 +220,21 @@ impl Node for GltfNode {
                     "Blend" if !blend => continue,
                     _ => {}
                 }
-                meshes.push(uploaded[instance.mesh].clone());
-                transforms.push(
-                    world
-                        .get(instance.node)
-                        .copied()
-                        .unwrap_or(instance.transform),
-                );
+                match deformer.as_ref().and_then(|d| d.mesh(k)) {
+                    Some((mesh, transform)) => {
+                        meshes.push(mesh.clone());
+                        transforms.push(transform);
+                    }
+                    None => {
+                        meshes.push(uploaded[instance.mesh].clone());
+                        transforms.push(
+                            world
+                                .get(instance.node)
+                                .copied()
+                                .unwrap_or(instance.transform),
+                        );
+                    }
+                }
                 let c = material.map_or([1.0; 4], |m| m.base_color);
                 colors.push(Color::rgba(c[0], c[1], c[2], c[3]));
                 ids.push(base + instance.material.map_or(0, |m| m as i64 + 1));
@@ -227,6 +260,9 @@ impl Node for GltfNode {
         );
         cx.set(9, views);
         cx.set(10, projections);
+        if settle {
+            cx.reevaluate_next_frame();
+        }
         Ok(())
     }
 }

@@ -9,6 +9,7 @@ pub mod decimate;
 pub mod displace;
 pub mod extrude;
 pub mod gltf;
+mod gltf_deform;
 #[cfg(test)]
 mod gltf_tests;
 mod height;
@@ -37,5 +38,7 @@ pub fn register(r: &mut Registry) {
 
 #[cfg(test)]
 mod adaptive_tests;
+#[cfg(test)]
+mod gltf_deform_tests;
 #[cfg(test)]
 pub(crate) mod tests;

@@ -18,9 +18,12 @@
 //! - missing normals are made flat (what the glTF spec asks), and then any
 //!   tangents in the file are dropped (ditto); missing tangents are made
 //!   with MikkTSpace when there are texture coordinates;
-//! - only `TEXCOORD_0` is read; textures using another set, skins and
-//!   morph targets are reported as warnings and ignored; node animations
-//!   (TRS) load, and [`GltfScene::pose`] poses the scene at a time;
+//! - only `TEXCOORD_0` is read; textures using another set are reported
+//!   as warnings; node animations (TRS and morph weights) load, and
+//!   [`GltfScene::pose`] poses the scene at a time;
+//! - skins (up to 8 joint influences per vertex) and morph targets load
+//!   beside each mesh ([`deform::Deform`]), and [`GltfScene::deform_pose`]
+//!   gives what the GPU skinning pass needs for a pose;
 //! - materials carry every texture with its sampler and
 //!   `KHR_texture_transform`, and `KHR_materials_emissive_strength`
 //!   ([`MaterialData::to_material`] makes them materials of the one world);
@@ -32,12 +35,18 @@ mod accessor;
 pub mod animation;
 pub mod builder;
 mod content;
+pub mod deform;
 #[cfg(test)]
 mod hard_cases;
 mod material;
 pub mod models;
+pub mod morph;
 mod primitive;
 mod scene;
+pub mod skin;
+#[cfg(test)]
+mod skin_tests;
+pub mod skinned_models;
 mod source;
 #[cfg(test)]
 mod tests;
@@ -60,6 +69,11 @@ use accessor::Buffers;
 pub struct GltfScene {
     /// One per triangle primitive of the file, in file order (mesh, then primitive).
     pub meshes: Vec<MeshData>,
+    /// What deforms each of `meshes` (same index): joint influences and
+    /// morph targets; empty for rigid meshes.
+    pub deforms: Vec<deform::Deform>,
+    /// The file's skins, in file order.
+    pub skins: Vec<skin::Skin>,
     /// Every material of the file, in file order (so glTF material indices hold).
     pub materials: Vec<MaterialData>,
     /// One per (node, primitive) of the loaded scene.
@@ -91,6 +105,10 @@ pub struct MeshInstance {
     pub material: Option<usize>,
     /// The glTF node that places it (what animations move).
     pub node: usize,
+    /// Index into [`GltfScene::skins`] when the instance is skinned.
+    pub skin: Option<usize>,
+    /// Its morph weights at rest (the node's, else the mesh's; one per target).
+    pub weights: Vec<f32>,
 }
 
 pub use crate::material::maps::AlphaMode;
@@ -215,6 +233,12 @@ pub enum GltfError {
     Primitive {
         path: PathBuf,
         primitive: String,
+        reason: String,
+    },
+    #[error("{path}: {skin}: {reason}")]
+    Skin {
+        path: PathBuf,
+        skin: String,
         reason: String,
     },
     #[error("{path}: {primitive}: {source}")]

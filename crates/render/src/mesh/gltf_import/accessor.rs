@@ -29,7 +29,10 @@ fn component_count(d: Dimensions) -> Option<usize> {
         Dimensions::Vec2 => Some(2),
         Dimensions::Vec3 => Some(3),
         Dimensions::Vec4 => Some(4),
-        Dimensions::Mat2 | Dimensions::Mat3 | Dimensions::Mat4 => None,
+        // Columns of 4 components never need padding (MAT2 and MAT3 of
+        // bytes and shorts do), so MAT4 reads as 16 packed components.
+        Dimensions::Mat4 => Some(16),
+        Dimensions::Mat2 | Dimensions::Mat3 => None,
     }
 }
 
@@ -228,6 +231,31 @@ impl Buffers {
         // Every unsigned value up to u32::MAX is exact in f64.
         let read = self.read::<u32, 1>(accessor, |x| x as u32)?;
         Ok(read.into_iter().map(|[i]| i).collect())
+    }
+}
+
+impl Buffers {
+    /// Joint indices (JOINTS_n): VEC4 of UNSIGNED_BYTE or UNSIGNED_SHORT.
+    pub(super) fn read_joints(&self, accessor: &gltf::Accessor) -> Result<Vec<[u32; 4]>, String> {
+        let t = accessor.data_type();
+        if !matches!(t, DataType::U8 | DataType::U16) {
+            return Err(format!(
+                "joints must be UNSIGNED_BYTE or UNSIGNED_SHORT, not {}",
+                type_name(t)
+            ));
+        }
+        self.read::<u32, 4>(accessor, |x| x as u32)
+    }
+
+    /// Column-major 4x4 float matrices (inverse bind matrices).
+    pub(super) fn read_mat4(&self, accessor: &gltf::Accessor) -> Result<Vec<[f32; 16]>, String> {
+        if accessor.data_type() != DataType::F32 {
+            return Err(format!(
+                "matrices must be FLOAT, not {}",
+                type_name(accessor.data_type())
+            ));
+        }
+        self.read::<f32, 16>(accessor, |x| x as f32)
     }
 }
 

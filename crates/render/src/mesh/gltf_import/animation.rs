@@ -1,7 +1,7 @@
 //! Node animations: glTF's translation, rotation and scale channels (step,
 //! linear with quaternion slerp, cubic spline), read through the checked
 //! accessor reader, and the scene posed at a time ([`GltfScene::pose`]).
-//! Morph target weights and skins are not animated (one warning each).
+//! Morph target `weights` channels load beside them ([`super::morph`]).
 
 use glam::{Mat4, Quat, Vec3, Vec4};
 use gltf::Document;
@@ -59,6 +59,8 @@ pub struct Channel {
 pub struct Animation {
     pub name: String,
     pub channels: Vec<Channel>,
+    /// Morph weight channels.
+    pub weights: Vec<super::morph::WeightsChannel>,
     /// The last keyframe time over all channels.
     pub duration: f32,
 }
@@ -71,19 +73,22 @@ impl Importer<'_> {
                 .name()
                 .map_or_else(|| format!("animation {}", animation.index()), str::to_owned);
             let mut channels = Vec::new();
+            let mut weights = Vec::new();
             for channel in animation.channels() {
+                let sampler = channel.sampler();
+                let what = format!("{name}, channel {}", channel.index());
+                let times: Vec<[f32; 1]> = self.animation_floats(&what, &sampler.input())?;
                 let path = match channel.target().property() {
                     Property::Translation => Path::Translation,
                     Property::Rotation => Path::Rotation,
                     Property::Scale => Path::Scale,
                     Property::MorphTargetWeights => {
-                        self.warn("morph target weights are not animated".into());
+                        let times = times.into_iter().map(|[t]| t).collect();
+                        let node = channel.target().node();
+                        weights.extend(self.weights_channel(&what, &node, &sampler, times)?);
                         continue;
                     }
                 };
-                let sampler = channel.sampler();
-                let what = format!("{name}, channel {}", channel.index());
-                let times: Vec<[f32; 1]> = self.animation_floats(&what, &sampler.input())?;
                 let values: Vec<Vec4> = match path {
                     Path::Rotation => self
                         .animation_floats::<4>(&what, &sampler.output())?
@@ -120,12 +125,15 @@ impl Importer<'_> {
             }
             let duration = channels
                 .iter()
-                .filter_map(|c| c.times.last().copied())
+                .map(|c| &c.times)
+                .chain(weights.iter().map(|w| &w.times))
+                .filter_map(|times| times.last().copied())
                 .filter(|t| t.is_finite())
                 .fold(0.0, f32::max);
             out.push(Animation {
                 name,
                 channels,
+                weights,
                 duration,
             });
         }
@@ -158,6 +166,17 @@ pub(super) fn rest_of(node: &gltf::Node) -> (Mat4, Trs) {
         scale: Vec3::from(s),
     };
     (matrix, trs)
+}
+
+impl Animation {
+    /// `time` wrapped into the animation's duration (0 when it has none).
+    pub fn looped(&self, time: f32) -> f32 {
+        if self.duration > 0.0 && time.is_finite() {
+            time.rem_euclid(self.duration)
+        } else {
+            0.0
+        }
+    }
 }
 
 impl Channel {
@@ -249,11 +268,7 @@ impl GltfScene {
         let graph = &self.graph;
         let mut local: Vec<Option<Trs>> = vec![None; graph.rest.len()];
         if let Some(a) = animation.and_then(|a| self.animations.get(a)) {
-            let time = if a.duration > 0.0 && time.is_finite() {
-                time.rem_euclid(a.duration)
-            } else {
-                0.0
-            };
+            let time = a.looped(time);
             for c in &a.channels {
                 let Some(rest) = graph.rest.get(c.node) else {
                     continue;

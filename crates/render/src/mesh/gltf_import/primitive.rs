@@ -1,13 +1,19 @@
 //! One glTF primitive to one [`MeshData`]: attributes read through the
 //! checked accessor reader, strips and fans unrolled, normals and tangents
-//! made where the file has none.
+//! made where the file has none; joint influences and morph targets
+//! beside it ([`Deform`]).
 
 use glam::Vec3;
 use gltf::Semantic;
 use gltf::mesh::Mode;
 
+use super::deform::Deform;
 use super::{GltfError, Importer};
 use crate::mesh::{Aabb, MeshData, Shading};
+
+/// A primitive's mesh and, when its vertices were unwelded, each output
+/// vertex's vertex in the file.
+type Unwelded = (MeshData, Option<Vec<u32>>);
 
 /// "mesh 2 `Wheel`, primitive 1": how messages name a primitive.
 pub(super) fn primitive_name(mesh: &gltf::Mesh, primitive: usize) -> String {
@@ -18,12 +24,42 @@ pub(super) fn primitive_name(mesh: &gltf::Mesh, primitive: usize) -> String {
 }
 
 impl Importer<'_> {
-    /// One primitive as a mesh, or `None` (with a warning) for points and lines.
+    /// One primitive as a mesh and what deforms it, or `None` (with a
+    /// warning) for points and lines.
     pub(super) fn primitive(
         &mut self,
         mesh: &gltf::Mesh,
         primitive: &gltf::Primitive,
-    ) -> Result<Option<MeshData>, GltfError> {
+    ) -> Result<Option<(MeshData, Deform)>, GltfError> {
+        let Some((data, origin)) = self.primitive_mesh(mesh, primitive)? else {
+            return Ok(None);
+        };
+        let name = primitive_name(mesh, primitive.index());
+        // Attributes are per vertex of the file (POSITION's count, which
+        // `primitive_mesh` read); `origin` maps unwelded ones back.
+        let file_vertices = primitive
+            .get(&Semantic::Positions)
+            .map_or(data.positions.len(), |a| a.count());
+        let origin = origin.as_deref();
+        let influences =
+            self.influences(&name, primitive, file_vertices, origin, &data.positions)?;
+        let targets = self.morph_targets(&name, primitive, file_vertices, origin)?;
+        Ok(Some((
+            data,
+            Deform {
+                influences,
+                targets,
+            },
+        )))
+    }
+
+    /// The primitive's mesh and, when its vertices were unwelded (flat
+    /// normals), each output vertex's vertex in the file.
+    fn primitive_mesh(
+        &mut self,
+        mesh: &gltf::Mesh,
+        primitive: &gltf::Primitive,
+    ) -> Result<Option<Unwelded>, GltfError> {
         let name = primitive_name(mesh, primitive.index());
         let mode = primitive.mode();
         if !matches!(
@@ -33,10 +69,6 @@ impl Importer<'_> {
             self.warnings
                 .push(format!("{name}: {mode:?} are not drawn; skipped"));
             return Ok(None);
-        }
-        if primitive.morph_targets().next().is_some() {
-            self.warnings
-                .push(format!("{name}: morph targets are ignored"));
         }
         let read = |semantic: Semantic| primitive.get(&semantic).map(|a| (semantic, a));
         let Some(positions) = read(Semantic::Positions) else {
@@ -76,8 +108,9 @@ impl Importer<'_> {
         };
         let Some(normals) = normals else {
             // glTF: flat normals, and tangents in the file are ignored.
+            let origin = indices.clone();
             return MeshData::from_triangles(positions, uvs, indices, Shading::Flat)
-                .map(Some)
+                .map(|m| Some((m, Some(origin))))
                 .map_err(mesh_error);
         };
         let normals = normals
@@ -102,7 +135,7 @@ impl Importer<'_> {
             data.generate_tangents().map_err(mesh_error)?;
         }
         data.validate().map_err(mesh_error)?;
-        Ok(Some(data))
+        Ok(Some((data, None)))
     }
 
     /// Triangle strips and fans unrolled into a list (glTF's vertex order,
@@ -154,7 +187,7 @@ impl Importer<'_> {
             .map_err(|reason| self.accessor_error(&accessor, "indices", primitive, reason))
     }
 
-    fn accessor_error(
+    pub(super) fn accessor_error(
         &self,
         accessor: &gltf::Accessor,
         usage: &str,

@@ -68,16 +68,19 @@ impl Importer<'_> {
             message,
         })?;
         let mut meshes = Vec::new();
+        let mut deforms = Vec::new();
         // (glTF mesh, primitive) -> index in `meshes`; skipped ones are absent.
         let mut loaded: HashMap<(usize, usize), usize> = HashMap::new();
         for mesh in document.meshes() {
             for primitive in mesh.primitives() {
-                if let Some(data) = self.primitive(&mesh, &primitive)? {
+                if let Some((data, deform)) = self.primitive(&mesh, &primitive)? {
                     loaded.insert((mesh.index(), primitive.index()), meshes.len());
                     meshes.push(data);
+                    deforms.push(deform);
                 }
             }
         }
+        let skins = self.skins(document)?;
         let materials = document
             .materials()
             .map(|m| self.material(document, &m))
@@ -89,19 +92,23 @@ impl Importer<'_> {
         for (node, world, _) in &nodes {
             let (node, world) = (node, *world);
             let Some(mesh) = node.mesh() else { continue };
-            if node.skin().is_some() {
-                self.warnings.push(format!(
-                    "node {}: skinning is ignored; the mesh is placed by the node alone",
-                    node.index()
-                ));
-            }
             for primitive in mesh.primitives() {
                 if let Some(&index) = loaded.get(&(mesh.index(), primitive.index())) {
+                    let skin = self.instance_skin(
+                        node,
+                        &mesh,
+                        primitive.index(),
+                        &deforms[index],
+                        &skins,
+                    )?;
+                    let targets = deforms[index].targets.len();
                     instances.push(MeshInstance {
                         mesh: index,
                         transform: world,
                         material: primitive.material().index(),
                         node: node.index(),
+                        skin,
+                        weights: self.rest_weights(node, &mesh, targets),
                     });
                 }
             }
@@ -129,8 +136,10 @@ impl Importer<'_> {
             order: nodes.iter().map(|(n, _, p)| (n.index(), *p)).collect(),
             rest: document.nodes().map(|n| animation::rest_of(&n)).collect(),
         };
-        Ok(GltfScene {
+        let mut scene = GltfScene {
             meshes,
+            deforms,
+            skins,
             materials,
             instances,
             bounds,
@@ -140,7 +149,85 @@ impl Importer<'_> {
             graph,
             animations,
             warnings: std::mem::take(&mut self.warnings),
-        })
+        };
+        // Skinned meshes lie where their joints put them, not where their
+        // node is: the bounds (what `view` frames) follow the rest pose.
+        if scene.instances.iter().any(|i| scene.is_deformed(i)) {
+            let world = scene.node_worlds(None, 0.0);
+            scene.bounds = scene.bounds_at(&world, &[]);
+        }
+        Ok(scene)
+    }
+
+    /// The skin that deforms a primitive of `node`'s mesh: its node's, when
+    /// the primitive has joint influences. A joint index beyond the skin's
+    /// joints refuses the file; a skin without influences (or influences
+    /// without a skin) is drawn rigid, with a warning.
+    fn instance_skin(
+        &mut self,
+        node: &gltf::Node,
+        mesh: &gltf::Mesh,
+        primitive: usize,
+        deform: &super::deform::Deform,
+        skins: &[super::skin::Skin],
+    ) -> Result<Option<usize>, GltfError> {
+        let name = super::primitive::primitive_name(mesh, primitive);
+        let node_name = match node.name() {
+            Some(n) => format!("node {} `{n}`", node.index()),
+            None => format!("node {}", node.index()),
+        };
+        match (node.skin(), &deform.influences) {
+            (None, None) => Ok(None),
+            (None, Some(_)) => {
+                self.warn(format!(
+                    "{node_name}: {name} has joint weights but the node has no skin; drawn unskinned"
+                ));
+                Ok(None)
+            }
+            (Some(_), None) => {
+                self.warn(format!(
+                    "{node_name}: {name} has no JOINTS_0/WEIGHTS_0; the skin is ignored for it"
+                ));
+                Ok(None)
+            }
+            (Some(skin), Some(influences)) => {
+                let Some(s) = skins.get(skin.index()) else {
+                    return Ok(None);
+                };
+                if let Some((joint, vertex)) = influences.max_joint
+                    && joint as usize >= s.joints.len()
+                {
+                    return Err(GltfError::Skin {
+                        path: self.path.to_owned(),
+                        skin: format!("{node_name}, {}", s.name),
+                        reason: format!(
+                            "{name}: vertex {vertex} uses joint {joint}, but the skin has {} joints",
+                            s.joints.len()
+                        ),
+                    });
+                }
+                Ok(Some(skin.index()))
+            }
+        }
+    }
+
+    /// Morph weights at rest: the node's, else the mesh's, else zeros; one
+    /// per target (a list of another length is fitted, with a warning).
+    fn rest_weights(&mut self, node: &gltf::Node, mesh: &gltf::Mesh, targets: usize) -> Vec<f32> {
+        let mut weights: Vec<f32> = node
+            .weights()
+            .or_else(|| mesh.weights())
+            .map(<[f32]>::to_vec)
+            .unwrap_or_default();
+        if !weights.is_empty() && weights.len() != targets {
+            self.warn(format!(
+                "node {}: {} morph weights for {targets} morph targets; the list is fitted",
+                node.index(),
+                weights.len()
+            ));
+        }
+        weights.resize(targets, 0.0);
+        weights
     }
 
     /// Every node of the scene to show, with its world transform. A node

@@ -48,6 +48,8 @@ fn cube_with_data_uri_buffer() {
             transform: Mat4::IDENTITY,
             material: None,
             node: 0,
+            skin: None,
+            weights: Vec::new(),
         }]
     );
     assert_eq!(scene.bounds, cube.bounds);

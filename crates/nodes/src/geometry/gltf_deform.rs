@@ -1,0 +1,136 @@
+//! The `glTF` node's skinned and morphed instances: deformed on the GPU
+//! (`render::geometry::skinning`) in one dispatch per file whenever the pose
+//! changes, each new mesh carrying the last one's positions as previous
+//! positions. Like GPU geometry nodes, a pose change asks for one more
+//! evaluation next frame, which writes the same pose over itself so the
+//! velocity settles to zero; after that an unchanged pose runs nothing.
+
+use std::hash::{DefaultHasher, Hash, Hasher};
+use std::sync::Arc;
+
+use glam::Mat4;
+use spreadlight_render::RenderError;
+use spreadlight_render::Renderer;
+use spreadlight_render::geometry::skinning::{DeformJob, DeformSource, deform};
+use spreadlight_render::mesh::GltfScene;
+use spreadlight_render::mesh::gltf_import::deform::DeformPose;
+use spreadlight_render::mesh_arena::GpuMesh;
+
+/// One file's deformed instances and what they showed last.
+pub(super) struct Deformer {
+    source: DeformSource,
+    /// Per instance of the scene: its last deformed mesh (`None` for rigid
+    /// instances and before the first run).
+    last: Vec<Option<Arc<GpuMesh>>>,
+    /// Per instance: where its deformed mesh is drawn at the latest pose
+    /// (a morph-only instance moves with its node without deforming anew).
+    transforms: Vec<Mat4>,
+    /// A signature of the pose `last` shows.
+    shown: Option<u64>,
+    /// `last` was written over a different pose: its previous positions still move.
+    moving: bool,
+}
+
+/// What one evaluation did.
+pub(super) enum Ran {
+    /// Nothing changed: the last meshes stand.
+    Nothing,
+    /// Deformed; `settle` asks for one more run next frame.
+    Deformed { settle: bool },
+}
+
+impl Deformer {
+    /// A deformer for `scene`, or `None` when no instance deforms.
+    pub(super) fn new(
+        renderer: &Renderer,
+        scene: &GltfScene,
+    ) -> Result<Option<Deformer>, RenderError> {
+        if !scene.instances.iter().any(|i| scene.is_deformed(i)) {
+            return Ok(None);
+        }
+        Ok(Some(Deformer {
+            source: DeformSource::upload(renderer, &scene.deforms)?,
+            last: vec![None; scene.instances.len()],
+            transforms: vec![Mat4::IDENTITY; scene.instances.len()],
+            shown: None,
+            moving: false,
+        }))
+    }
+
+    /// Deforms the scene's instances at the pose `world` (node world
+    /// transforms) and `weights` (animated morph weights) when that differs
+    /// from what is shown, or when the last run still moves.
+    pub(super) fn pose(
+        &mut self,
+        renderer: &Renderer,
+        scene: &GltfScene,
+        uploaded: &[Arc<GpuMesh>],
+        world: &[Mat4],
+        weights: &[Option<Vec<f32>>],
+    ) -> Result<Ran, RenderError> {
+        let poses: Vec<Option<DeformPose>> = scene
+            .instances
+            .iter()
+            .map(|i| {
+                scene
+                    .is_deformed(i)
+                    .then(|| scene.deform_pose(i, world, weights))
+            })
+            .collect();
+        for (k, pose) in poses.iter().enumerate() {
+            if let Some(pose) = pose {
+                self.transforms[k] = pose.transform;
+            }
+        }
+        let signature = signature(&poses);
+        if self.shown == Some(signature) && !self.moving {
+            return Ok(Ran::Nothing);
+        }
+        let jobs: Vec<DeformJob<'_>> = poses
+            .iter()
+            .enumerate()
+            .filter_map(|(k, pose)| {
+                let instance = &scene.instances[k];
+                Some(DeformJob {
+                    rest: uploaded.get(instance.mesh)?,
+                    mesh: instance.mesh,
+                    pose: pose.as_ref()?,
+                    previous: self.last[k].as_deref(),
+                })
+            })
+            .collect();
+        let mut made = deform(renderer, &self.source, &jobs)?.into_iter();
+        for (k, pose) in poses.iter().enumerate() {
+            if pose.is_some()
+                && let Some(mesh) = made.next()
+            {
+                self.last[k] = Some(mesh);
+            }
+        }
+        // A first run has nothing to move from; a new pose moved from the last.
+        let settle = self.shown.is_some_and(|s| s != signature);
+        self.shown = Some(signature);
+        self.moving = settle;
+        Ok(Ran::Deformed { settle })
+    }
+
+    /// Instance `k`'s deformed mesh and transform, when it deforms.
+    pub(super) fn mesh(&self, k: usize) -> Option<(&Arc<GpuMesh>, Mat4)> {
+        Some((self.last.get(k)?.as_ref()?, self.transforms[k]))
+    }
+}
+
+/// The bits of every pose's joint matrices and weights: equal signatures,
+/// equal deformations.
+fn signature(poses: &[Option<DeformPose>]) -> u64 {
+    let mut h = DefaultHasher::new();
+    for pose in poses.iter().flatten() {
+        for m in &pose.palette {
+            m.to_cols_array().map(f32::to_bits).hash(&mut h);
+        }
+        for w in &pose.weights {
+            w.to_bits().hash(&mut h);
+        }
+    }
+    h.finish()
+}

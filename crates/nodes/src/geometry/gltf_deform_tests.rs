@@ -1,0 +1,123 @@
+//! The `glTF` node's skinned instances in a runtime with a renderer: a
+//! moving Time deforms every frame (one skinning dispatch) with last frame's
+//! positions as previous positions; a still pose settles once and then
+//! reruns nothing.
+
+use glam::{Mat4, Quat, Vec3};
+use spreadlight_graph::{NodeDoc, NodeRun, Patch};
+use spreadlight_render::geometry::{GeometryStats, read_mesh};
+use spreadlight_render::mesh::gltf_import::skinned_models::{BAR_BEND_RATE, two_bone_bar};
+
+use super::tests::Run;
+
+/// glTF (#2) of the bar at `time` into a Probe, its Time from node #4 when `timed`.
+fn bar_at(dir: &std::path::Path, time: f32, timed: bool) -> Patch {
+    std::fs::write(dir.join("bar.gltf"), two_bone_bar()).unwrap();
+    let mut patch = Patch::default();
+    patch.add(
+        NodeDoc::new(2, "glTF")
+            .with("Filename", vec![dir.join("bar.gltf").display().to_string()])
+            .with("Time", vec![time]),
+    );
+    patch.add(NodeDoc::new(3, "Probe"));
+    patch.link(2, "Mesh", 3, "Input");
+    if timed {
+        patch.add(NodeDoc::new(4, "Time (Animation)"));
+        patch.link(4, "Time", 2, "Time");
+    }
+    patch
+}
+
+fn bar_patch(dir: &std::path::Path, timed: bool) -> Patch {
+    bar_at(dir, 0.25, timed)
+}
+
+fn skinning(run: &Run) -> u64 {
+    GeometryStats::of(&run.renderer).skinning_dispatches()
+}
+
+#[test]
+fn a_still_pose_deforms_once_and_then_reruns_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut run = Run::new(&bar_patch(dir.path(), false));
+    assert_eq!(run.frame(0, 2), (NodeRun::Evaluated, 1));
+    assert_eq!(skinning(&run), 1, "the dispatch is skinning's");
+    // The first pose moved from nothing: no settling run is needed.
+    for frame in 1..4 {
+        assert_eq!(run.frame(frame, 2), (NodeRun::Reused, 0), "frame {frame}");
+    }
+    let (vertices, indices) = read_mesh(&run.renderer, &run.mesh(2)).unwrap();
+    assert_eq!(indices.len(), 8 * 6, "the bar's indices are copied");
+    assert!(
+        vertices
+            .iter()
+            .all(|v| v.previous_position[..3] == v.position_u[..3])
+    );
+    // The tip end (rest (2, +-0.1)) turned by a quarter of the bend rate's second.
+    let turn = Mat4::from_translation(Vec3::X)
+        * Mat4::from_quat(Quat::from_rotation_z(BAR_BEND_RATE * 0.25))
+        * Mat4::from_translation(-Vec3::X);
+    let want = turn.transform_point3(Vec3::new(2.0, 0.1, 0.0));
+    let got = Vec3::from_slice(&vertices[17].position_u[..3]);
+    assert!((got - want).length() < 1e-5, "{got} vs {want}");
+}
+
+#[test]
+fn a_moving_time_deforms_every_frame_from_last_frames_positions() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut run = Run::new(&bar_patch(dir.path(), true));
+    run.frame(0, 2);
+    let (before, _) = read_mesh(&run.renderer, &run.mesh(2)).unwrap();
+    for frame in 1..3 {
+        let skinned = skinning(&run);
+        assert_eq!(
+            run.frame(frame, 2),
+            (NodeRun::Evaluated, 1),
+            "frame {frame}"
+        );
+        assert_eq!(skinning(&run), skinned + 1);
+    }
+    let (last, _) = read_mesh(&run.renderer, &run.mesh(2)).unwrap();
+    let moved = last
+        .iter()
+        .filter(|v| v.previous_position[..3] != v.position_u[..3])
+        .count();
+    assert!(moved >= 8, "the tip half moves: {moved}");
+    assert_ne!(before[17].position_u, last[17].position_u);
+    // The previous positions are frame 1's: the analytic pose at 1/60 s.
+    let turn = |t: f32| {
+        Mat4::from_translation(Vec3::X)
+            * Mat4::from_quat(Quat::from_rotation_z(BAR_BEND_RATE * t))
+            * Mat4::from_translation(-Vec3::X)
+    };
+    let rest = Vec3::new(2.0, 0.1, 0.0);
+    let previous = Vec3::from_slice(&last[17].previous_position[..3]);
+    let now = Vec3::from_slice(&last[17].position_u[..3]);
+    assert!(
+        (previous - turn(1.0 / 60.0).transform_point3(rest)).length() < 1e-5,
+        "{previous}"
+    );
+    assert!(
+        (now - turn(2.0 / 60.0).transform_point3(rest)).length() < 1e-5,
+        "{now}"
+    );
+}
+
+#[test]
+fn a_pose_change_settles_in_one_more_frame() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut run = Run::new(&bar_patch(dir.path(), false));
+    run.frame(0, 2);
+    // The same patch with another Time: the node keeps its state.
+    let problems = run.runtime.load(&bar_at(dir.path(), 0.5, false));
+    assert!(problems.is_empty(), "{problems:?}");
+    assert_eq!(run.frame(1, 2), (NodeRun::Evaluated, 1), "the new pose");
+    assert_eq!(run.frame(2, 2), (NodeRun::Evaluated, 1), "its settling run");
+    assert_eq!(run.frame(3, 2), (NodeRun::Reused, 0));
+    let (vertices, _) = read_mesh(&run.renderer, &run.mesh(2)).unwrap();
+    assert!(
+        vertices
+            .iter()
+            .all(|v| v.previous_position[..3] == v.position_u[..3])
+    );
+}
