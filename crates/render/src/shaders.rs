@@ -135,14 +135,17 @@ pub const SHADERS: &[ShaderFile] = &[
             "VELOCITY_FROM_GEOMETRY",
             "COLOR_MAP",
             "SURFACE_OUT",
-            "MATERIAL_MAPS"
+            "MATERIAL_MAPS",
+            "VERTEX_EXTRAS"
         ],
         // The colour map is the surface pass's; it reads UVs.
         Rule::AtMostOne(&["COLOR_MAP", "MOTION"]),
         Rule::AtMostOne(&["TEXCOORDS", "TRIPLANAR"]),
         // Surface maps are the surface pass's, and write the surface target.
         Rule::AtMostOne(&["SURFACE_OUT", "MOTION"]),
-        Rule::Requires("MATERIAL_MAPS", "SURFACE_OUT")
+        Rule::Requires("MATERIAL_MAPS", "SURFACE_OUT"),
+        // Vertex colours and the second UV set are the surface pass's.
+        Rule::AtMostOne(&["VERTEX_EXTRAS", "MOTION"])
     ),
     shader!("lighting/clusters.wgsl", []),
     shader!(

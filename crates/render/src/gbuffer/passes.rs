@@ -112,6 +112,7 @@ fn visibility(
     let device = cx.gpu.device.clone();
     let plain = visibility_pipeline(g, cx, false)?;
     let (vertices, indices, _) = renderer.meshes.buffers();
+    let extras = renderer.meshes.extras();
     let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
         label: Some("visibility"),
         layout: &plain.get_bind_group_layout(0),
@@ -124,10 +125,15 @@ fn visibility(
             continue;
         };
         let pipeline = visibility_pipeline(g, cx, true)?;
+        let mut entries = g.geometry_entries(&vertices, &indices);
+        entries.push(wgpu::BindGroupEntry {
+            binding: 12,
+            resource: extras.as_entire_binding(),
+        });
         let group0 = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("visibility, alpha mask"),
             layout: &pipeline.get_bind_group_layout(0),
-            entries: &g.geometry_entries(&vertices, &indices),
+            entries: &entries,
         });
         let (meta, offsets, data) = world.buffers();
         let group1 = device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -288,6 +294,7 @@ fn resolve(
 ) -> Result<(), RenderError> {
     let device = cx.gpu.device.clone();
     let (vertices, indices, _) = renderer.meshes.buffers();
+    let extras = renderer.meshes.extras();
     let compute = g
         .compute
         .as_ref()
@@ -338,6 +345,7 @@ fn resolve(
         if surface.is_some() {
             defines.push("SURFACE_OUT");
         }
+        let vertex_extras = defines.contains(&"VERTEX_EXTRAS");
         let key = ShaderKey::new("gbuffer/resolve.wgsl", defines);
         let pipeline = cx.shaders.compute_pipeline(&device, &key, "main")?;
         let layer_buffer = match g.layer_buffers.get(i) {
@@ -345,6 +353,12 @@ fn resolve(
             None => background_layer(&device),
         };
         let mut entries = g.geometry_entries(&vertices, &indices);
+        if vertex_extras {
+            entries.push(wgpu::BindGroupEntry {
+                binding: 12,
+                resource: extras.as_entire_binding(),
+            });
+        }
         entries.push(wgpu::BindGroupEntry {
             binding: 5,
             resource: layer_buffer.as_entire_binding(),
