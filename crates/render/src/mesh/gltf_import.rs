@@ -18,8 +18,9 @@
 //! - missing normals are made flat (what the glTF spec asks), and then any
 //!   tangents in the file are dropped (ditto); missing tangents are made
 //!   with MikkTSpace when there are texture coordinates;
-//! - only `TEXCOORD_0` is read; textures using another set, skins and
-//!   morph targets are reported as warnings and ignored; node animations
+//! - `TEXCOORD_0`, `TEXCOORD_1` and `COLOR_0` are read; textures using a
+//!   later set, skins and morph targets are reported as warnings (and
+//!   mapped with set 0, or ignored); node animations
 //!   (TRS) load, and [`GltfScene::pose`] poses the scene at a time;
 //! - materials carry every texture with its sampler and
 //!   `KHR_texture_transform`, and `KHR_materials_emissive_strength`

@@ -9,6 +9,20 @@ use gltf::mesh::Mode;
 use super::{GltfError, Importer};
 use crate::mesh::{Aabb, MeshData, Shading};
 
+/// Whether some texture of `material` names TEXCOORD_1 (in its texture
+/// info; a `KHR_texture_transform` override is not looked at here).
+fn uses_second_uv_set(material: &gltf::Material) -> bool {
+    let pbr = material.pbr_metallic_roughness();
+    [
+        pbr.base_color_texture().map(|t| t.tex_coord()),
+        pbr.metallic_roughness_texture().map(|t| t.tex_coord()),
+        material.normal_texture().map(|t| t.tex_coord()),
+        material.occlusion_texture().map(|t| t.tex_coord()),
+        material.emissive_texture().map(|t| t.tex_coord()),
+    ]
+    .contains(&Some(1))
+}
+
 /// `stream[indices[k]]` for every k (indices already checked against the stream).
 fn unweld_by<T: Copy>(stream: &[T], indices: &[u32]) -> Vec<T> {
     indices.iter().map(|&i| stream[i as usize]).collect()
@@ -65,6 +79,11 @@ impl Importer<'_> {
         let uvs1: Option<Vec<[f32; 2]>> = read(Semantic::TexCoords(1))
             .map(|a| self.floats(&name, a))
             .transpose()?;
+        if uvs1.is_none() && uses_second_uv_set(&primitive.material()) {
+            self.warn(format!(
+                "{name}: its material maps a texture with TEXCOORD_1, which it lacks; TEXCOORD_0 stands in"
+            ));
+        }
         let colors = read(Semantic::Colors(0))
             .map(|a| self.colors(&name, a))
             .transpose()?;
