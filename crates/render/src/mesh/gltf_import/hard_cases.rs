@@ -513,8 +513,8 @@ fn texture_sets_the_mesh_lacks_warn_once_and_fall_back_to_texcoord_0() {
     assert_eq!(
         scene.warnings,
         vec![
-            "material 0, emissive texture uses TEXCOORD_3; meshes carry TEXCOORD_0 and TEXCOORD_1, so it is mapped with TEXCOORD_0".to_owned(),
             "mesh 0 `Cube`, primitive 0: its material maps a texture with TEXCOORD_1, which it lacks; TEXCOORD_0 stands in".to_owned(),
+            "material 0, emissive texture uses TEXCOORD_3; meshes carry TEXCOORD_0 and TEXCOORD_1, so it is mapped with TEXCOORD_0".to_owned(),
         ]
     );
 }
