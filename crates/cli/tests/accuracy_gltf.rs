@@ -64,10 +64,7 @@ fn filtering_reduces_aliasing_and_point_sampling_matches_the_reference() {
             .1
     };
     for (name, numbers) in &rows {
-        assert!(
-            numbers.iter().all(|v| v.is_finite()),
-            "{name}: {numbers:?}"
-        );
+        assert!(numbers.iter().all(|v| v.is_finite()), "{name}: {numbers:?}");
     }
     let (point, trilinear, anisotropic) = (
         row("point (mip 0)"),

@@ -245,7 +245,11 @@ fn without_color_0_the_texture_is_unscaled() {
 fn color_0_alpha_takes_part_in_the_alpha_test() {
     // Alpha from 0 (left edge) to 1 (right edge), cutoff 0.5: the left half is cut.
     let (pixels, raster) = albedo(&model(true, true), RasterChoice::Auto);
-    assert_eq!(raster, RasterMode::Hardware, "alpha tests use the raster hardware");
+    assert_eq!(
+        raster,
+        RasterMode::Hardware,
+        "alpha tests use the raster hardware"
+    );
     let mut seen = [0usize; 2];
     for (px, py, t, _) in inner_pixels() {
         let covered = pixels[(py * SIZE.0 + px) as usize][..3]

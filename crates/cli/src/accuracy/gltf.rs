@@ -293,8 +293,8 @@ struct Row {
 pub fn run(args: &GltfArgs) -> anyhow::Result<ExitCode> {
     let renderer = Renderer::headless().context("cannot open a GPU")?;
     let adapter = renderer.gpu.adapter_name();
-    let scene = load_gltf_slice(&models::textured_floor(), None)
-        .context("the generated floor loads")?;
+    let scene =
+        load_gltf_slice(&models::textured_floor(), None).context("the generated floor loads")?;
     let material = scene.materials.first().context("the floor's material")?;
     let gpu = gpu_scene(&renderer, &scene)?;
     let n = (args.supersamples.max(1) as f32).sqrt().round().max(1.0) as u32;
@@ -309,7 +309,12 @@ pub fn run(args: &GltfArgs) -> anyhow::Result<ExitCode> {
     let supersampled_truth = reference(material, size, n);
     let mut rows = Vec::new();
     for (k, filtering) in MapFiltering::ALL.into_iter().enumerate() {
-        eprintln!("[{}/{}] {}", k + 1, MapFiltering::ALL.len(), filtering.name());
+        eprintln!(
+            "[{}/{}] {}",
+            k + 1,
+            MapFiltering::ALL.len(),
+            filtering.name()
+        );
         let world = MaterialWorld::with_map_filtering(&renderer, gpu.materials.clone(), filtering);
         let layer = Arc::new(
             Layer::new(None, gpu.batches.clone(), LayerFeatures::default(), None)?
@@ -392,7 +397,10 @@ fn report(args: &GltfArgs, adapter: &str, rays: u32, rows: &[Row]) -> anyhow::Re
         };
         let series = Series::group(rows.iter().flat_map(|r| {
             [
-                (format!("vs {rays} rays (aliasing)"), point(r, &r.supersampled)),
+                (
+                    format!("vs {rays} rays (aliasing)"),
+                    point(r, &r.supersampled),
+                ),
                 ("vs 1 ray (point-sampled)".to_owned(), point(r, &r.point)),
             ]
         }));

@@ -58,8 +58,9 @@ pub(crate) struct RasterView<'b> {
 pub(crate) struct RasterTargets(Mutex<Option<Targets>>);
 
 pub(crate) struct ComputeRaster {
-    /// Per draw: its uniform and how many triangles it rasterizes.
-    batches: Vec<(wgpu::Buffer, u32)>,
+    /// Per draw: its uniform, how many triangles it rasterizes, and
+    /// whether it keeps back faces (a double-sided material).
+    batches: Vec<(wgpu::Buffer, u32, bool)>,
     pub first_triangle: wgpu::Buffer,
     targets: std::sync::Arc<RasterTargets>,
 }
@@ -93,7 +94,7 @@ impl ComputeRaster {
                     }),
                     usage: wgpu::BufferUsages::UNIFORM,
                 });
-                batches.push((uniform, total));
+                batches.push((uniform, total, draw.two_sided));
             }
             global = global.saturating_add(total);
         }
@@ -132,7 +133,8 @@ impl ComputeRaster {
             camera: g.camera_buffer(),
             instances: &g.instances,
             size: g.pixel_size(cx.output_size),
-            two_sided: g.two_sided(),
+            // Per draw: each keeps its back faces only if its material asks.
+            two_sided: false,
         };
         self.record_view(&view, renderer, cx)?;
         Ok(())
@@ -183,11 +185,28 @@ impl ComputeRaster {
         cx.encoder
             .copy_buffer_to_buffer(&targets.tile_reset, 0, &targets.tile_count, 0, 16);
 
-        let key = ShaderKey::new("gbuffer/raster.wgsl", view.two_sided.then_some("TWO_SIDED"));
-        let triangles_pipeline = cx
-            .shaders
-            .compute_pipeline(&device, &key, "raster_triangles")?;
-        let tiles_pipeline = cx.shaders.compute_pipeline(&device, &key, "raster_tiles")?;
+        // Back faces kept per draw (double-sided materials) or for all (shadow maps).
+        let key = |two_sided: bool| {
+            ShaderKey::new("gbuffer/raster.wgsl", two_sided.then_some("TWO_SIDED"))
+        };
+        let mut triangle_pipelines: [Option<wgpu::ComputePipeline>; 2] = [None, None];
+        for (_, _, two_sided) in &self.batches {
+            let sided = view.two_sided || *two_sided;
+            if triangle_pipelines[usize::from(sided)].is_none() {
+                triangle_pipelines[usize::from(sided)] = Some(cx.shaders.compute_pipeline(
+                    &device,
+                    &key(sided),
+                    "raster_triangles",
+                )?);
+            }
+        }
+        // Big triangles queued as tiles are set up again there: with back
+        // faces turned around when any draw queued some (a front face is
+        // rasterized the same either way).
+        let any_two_sided = triangle_pipelines[1].is_some() || view.two_sided;
+        let tiles_pipeline =
+            cx.shaders
+                .compute_pipeline(&device, &key(any_two_sided), "raster_tiles")?;
         let (vertices, indices, _) = renderer.meshes.buffers();
         let shared = |layout: &wgpu::BindGroupLayout, batch: Option<&wgpu::Buffer>| {
             let mut entries = super::geometry_entries(
@@ -222,11 +241,15 @@ impl ComputeRaster {
                 entries: &entries,
             })
         };
-        let triangle_layout = triangles_pipeline.get_bind_group_layout(0);
-        let batch_groups: Vec<(wgpu::BindGroup, u32)> = self
+        let batch_groups: Vec<(&wgpu::ComputePipeline, wgpu::BindGroup, u32)> = self
             .batches
             .iter()
-            .map(|(uniform, total)| (shared(&triangle_layout, Some(uniform)), *total))
+            .filter_map(|(uniform, total, two_sided)| {
+                let pipeline =
+                    triangle_pipelines[usize::from(view.two_sided || *two_sided)].as_ref()?;
+                let group = shared(&pipeline.get_bind_group_layout(0), Some(uniform));
+                Some((pipeline, group, *total))
+            })
             .collect();
         let tiles_group = shared(&tiles_pipeline.get_bind_group_layout(0), None);
 
@@ -235,9 +258,9 @@ impl ComputeRaster {
             label: Some("compute raster"),
             timestamp_writes: timestamps,
         });
-        pass.set_pipeline(&triangles_pipeline);
         let mut dispatches = 0;
-        for (group, total) in &batch_groups {
+        for (pipeline, group, total) in &batch_groups {
+            pass.set_pipeline(pipeline);
             let workgroups = total.div_ceil(WORKGROUP);
             // Over 65,535 workgroups spill into y; the shader folds y back into one index.
             let x = workgroups.min(65_535);

@@ -125,11 +125,17 @@ mod tests {
         assert_eq!(point_sample(&second, [[0.25; 2], [0.75; 2]]).x, 1.0);
         let mut clamped = texture(false, 0);
         clamped.wrap = [Wrap::Clamp; 2];
-        assert_eq!(point_sample(&clamped, [[5.0, -3.0], [0.0; 2]]).x, 64.0 / 255.0);
+        assert_eq!(
+            point_sample(&clamped, [[5.0, -3.0], [0.0; 2]]).x,
+            64.0 / 255.0
+        );
         let mut mirrored = texture(false, 0);
         mirrored.wrap = [Wrap::Mirror; 2];
         // 1.25 mirrors to 0.75.
-        assert_eq!(point_sample(&mirrored, [[1.25, 0.25], [0.0; 2]]).x, 64.0 / 255.0);
+        assert_eq!(
+            point_sample(&mirrored, [[1.25, 0.25], [0.0; 2]]).x,
+            64.0 / 255.0
+        );
     }
 
     #[test]

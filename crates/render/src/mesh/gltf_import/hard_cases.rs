@@ -383,7 +383,9 @@ fn with_attribute(
 fn color_0_and_texcoord_1_load_from_every_allowed_format() {
     let n = box_mesh(BoxParams::default()).positions.len();
     // VEC3 float colours get alpha 1.
-    let rgb: Vec<f32> = (0..n).flat_map(|i| [i as f32 / n as f32, 0.5, 1.0]).collect();
+    let rgb: Vec<f32> = (0..n)
+        .flat_map(|i| [i as f32 / n as f32, 0.5, 1.0])
+        .collect();
     let doc = with_attribute(
         Semantic::Colors(0),
         &bytes(&rgb),
@@ -452,7 +454,10 @@ fn a_vertex_stream_of_the_wrong_length_is_refused_naming_the_primitive() {
     // Colours outside 0..1 are data, not an error: clamped on upload.
     let doc = with_attribute(
         Semantic::Colors(0),
-        &bytes(&vec![2.0f32; 4 * box_mesh(BoxParams::default()).positions.len()]),
+        &bytes(&vec![
+            2.0f32;
+            4 * box_mesh(BoxParams::default()).positions.len()
+        ]),
         box_mesh(BoxParams::default()).positions.len(),
         ComponentType::F32,
         Type::Vec4,
@@ -465,7 +470,11 @@ fn a_vertex_stream_of_the_wrong_length_is_refused_naming_the_primitive() {
 fn vertex_colours_of_a_primitive_without_normals_follow_its_flat_corners() {
     let mut doc = Doc::new();
     let positions = doc.positions(&[[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]);
-    let colors = doc.floats(&[[1.0, 0.0, 0.0, 1.0], [0.0, 1.0, 0.0, 1.0], [0.0, 0.0, 1.0, 1.0]]);
+    let colors = doc.floats(&[
+        [1.0, 0.0, 0.0, 1.0],
+        [0.0, 1.0, 0.0, 1.0],
+        [0.0, 0.0, 1.0, 1.0],
+    ]);
     let uv1 = doc.floats(&[[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]);
     let indices = doc.indices(&[2, 0, 1]);
     let mesh = doc.mesh(
