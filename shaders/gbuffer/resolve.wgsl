@@ -19,8 +19,15 @@
 //                 `surface` function (spreadlight::custom_surface, swapped
 //                 for the material's file) shades each pixel; its bindings
 //                 are group 1 (see shaders/lib/surface.wgsl).
+// VERTEX_EXTRAS:  some mesh of this layer has vertex colours (COLOR_0, they
+//                 multiply albedo) or a second UV set (TEXCOORD_1, for maps
+//                 whose texCoord is 1): read the arena's extra stream.
 #import spreadlight::camera::{Camera, pixel_to_ndc}
 #import spreadlight::mesh_fetch::{instances, triangle_vertex, view_right, view_up}
+#ifdef VERTEX_EXTRAS
+#import spreadlight::mesh::{Vertex, VertexExtra, vertex_color, default_extra}
+#import spreadlight::mesh_fetch::{triangle_vertex_index, NO_VERTEX}
+#endif
 #import spreadlight::packing::{id_to_channel, safe_normalize}
 #ifdef MATERIAL_MAPS
 #import spreadlight::material::{feature_param, pack_rgb9e5, FEATURE_COOK_TORRANCE, FEATURE_EMISSION}
@@ -51,6 +58,18 @@ struct Layer {
 @group(0) @binding(4) var visibility: texture_2d<u32>;
 #endif
 @group(0) @binding(5) var<uniform> layer: Layer;
+#ifdef VERTEX_EXTRAS
+@group(0) @binding(12) var<storage, read> extras: array<VertexExtra>;
+
+// The second UV set and colour of a triangle's corner `v`.
+fn corner_extra(instance: u32, triangle: u32, corner: u32, v: Vertex) -> VertexExtra {
+    let index = triangle_vertex_index(instance, triangle, corner);
+    if (index == NO_VERTEX) {
+        return default_extra(v);
+    }
+    return extras[index];
+}
+#endif
 #ifdef MOTION
 @group(0) @binding(6) var out_velocity_uv: texture_storage_2d<rgba16float, write>;
 #else
@@ -173,6 +192,11 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let v0 = triangle_vertex(hit.x, hit.y, 0u, right, up);
     let v1 = triangle_vertex(hit.x, hit.y, 1u, right, up);
     let v2 = triangle_vertex(hit.x, hit.y, 2u, right, up);
+#ifdef VERTEX_EXTRAS
+    let e0 = corner_extra(hit.x, hit.y, 0u, v0);
+    let e1 = corner_extra(hit.x, hit.y, 1u, v1);
+    let e2 = corner_extra(hit.x, hit.y, 2u, v2);
+#endif
     let w0 = (instance.model * vec4<f32>(v0.position_u.xyz, 1.0)).xyz;
     let w1 = (instance.model * vec4<f32>(v1.position_u.xyz, 1.0)).xyz;
     let w2 = (instance.model * vec4<f32>(v2.position_u.xyz, 1.0)).xyz;
@@ -240,6 +264,17 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     coords.uv = vec2<f32>(dot(b, us), dot(b, vs));
     coords.dx = vec2<f32>(dot(b_dx, us), dot(b_dx, vs)) - coords.uv;
     coords.dy = vec2<f32>(dot(b_dy, us), dot(b_dy, vs)) - coords.uv;
+#ifdef VERTEX_EXTRAS
+    let us1 = vec3<f32>(e0.second_uv.x, e1.second_uv.x, e2.second_uv.x);
+    let vs1 = vec3<f32>(e0.second_uv.y, e1.second_uv.y, e2.second_uv.y);
+    coords.second_uv = vec2<f32>(dot(b, us1), dot(b, vs1));
+    coords.second_dx = vec2<f32>(dot(b_dx, us1), dot(b_dx, vs1)) - coords.second_uv;
+    coords.second_dy = vec2<f32>(dot(b_dy, us1), dot(b_dy, vs1)) - coords.second_uv;
+#else
+    coords.second_uv = coords.uv;
+    coords.second_dx = coords.dx;
+    coords.second_dy = coords.dy;
+#endif
     if (has_map(material, MAP_NORMAL)) {
         let t4 = v0.tangent * b.x + v1.tangent * b.y + v2.tangent * b.z;
         let t = safe_normalize((instance.model * vec4<f32>(t4.xyz, 0.0)).xyz, vec3<f32>(1.0, 0.0, 0.0));
@@ -288,6 +323,10 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
 #endif
 #ifdef MATERIAL_MAPS
     albedo *= max(sample_map(material, MAP_BASE_COLOR, coords, vec4<f32>(1.0)).rgb, vec3<f32>(0.0));
+#endif
+#ifdef VERTEX_EXTRAS
+    // glTF: base colour = factor x texture x COLOR_0.
+    albedo *= vertex_color(e0).rgb * b.x + vertex_color(e1).rgb * b.y + vertex_color(e2).rgb * b.z;
 #endif
 #ifdef CUSTOM_SURFACE
     var surface_in: SurfaceInput;

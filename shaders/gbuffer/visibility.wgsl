@@ -5,14 +5,28 @@
 // vertex_index / 3 and no primitive_index feature is needed.
 // ALPHA_MASK: the layer's material world has glTF materials in MASK mode;
 // their pixels whose alpha (instance colour x base colour map) is below the
-// cutoff are discarded (group 1: the world, group 3: its map arrays).
+// cutoff are discarded (group 1: the world, group 3: its map arrays); the
+// alpha is instance colour x base colour map (on its UV set) x COLOR_0.
 #import spreadlight::camera::Camera
-#import spreadlight::mesh_fetch::{instances, triangle_vertex, view_right, view_up}
+#import spreadlight::mesh_fetch::{instances, triangle_vertex, triangle_vertex_index, view_right, view_up, NO_VERTEX}
 #ifdef ALPHA_MASK
 #import spreadlight::material_maps::{MapCoords, sample_map, map_settings, MAP_BASE_COLOR}
+#import spreadlight::mesh::{Vertex, VertexExtra, vertex_color, default_extra}
 #endif
 
 @group(0) @binding(0) var<uniform> camera: Camera;
+#ifdef ALPHA_MASK
+@group(0) @binding(12) var<storage, read> extras: array<VertexExtra>;
+
+// The second UV set and colour of a triangle's corner `v`.
+fn corner_extra(instance: u32, triangle: u32, corner: u32, v: Vertex) -> VertexExtra {
+    let index = triangle_vertex_index(instance, triangle, corner);
+    if (index == NO_VERTEX) {
+        return default_extra(v);
+    }
+    return extras[index];
+}
+#endif
 
 struct VertexOut {
     @builtin(position) clip: vec4<f32>,
@@ -21,6 +35,9 @@ struct VertexOut {
     @location(1) uv: vec2<f32>,
     // Material id, and the instance colour's alpha as bits.
     @location(2) @interpolate(flat) material: vec2<u32>,
+    @location(3) second_uv: vec2<f32>,
+    // COLOR_0's alpha.
+    @location(4) alpha: f32,
 #endif
 }
 
@@ -43,6 +60,9 @@ fn vs(@builtin(vertex_index) vertex: u32, @builtin(instance_index) instance_inde
 #ifdef ALPHA_MASK
     out.uv = vec2<f32>(v.position_u.w, v.normal_v.w);
     out.material = vec2<u32>(info.z, bitcast<u32>(instances[instance_index].color.a));
+    let extra = corner_extra(instance_index, vertex / 3u, corner_used, v);
+    out.second_uv = extra.second_uv;
+    out.alpha = vertex_color(extra).a;
 #endif
     return out;
 }
@@ -55,9 +75,12 @@ fn fs(in: VertexOut) -> @location(0) vec2<u32> {
     coords.uv = in.uv;
     coords.dx = dpdx(in.uv);
     coords.dy = dpdy(in.uv);
+    coords.second_uv = in.second_uv;
+    coords.second_dx = dpdx(in.second_uv);
+    coords.second_dy = dpdy(in.second_uv);
     let settings = map_settings(in.material.x);
     if ((u32(settings.x) & 3u) == 1u) {
-        let alpha = bitcast<f32>(in.material.y) * sample_map(in.material.x, MAP_BASE_COLOR, coords, vec4<f32>(1.0)).a;
+        let alpha = bitcast<f32>(in.material.y) * in.alpha * sample_map(in.material.x, MAP_BASE_COLOR, coords, vec4<f32>(1.0)).a;
         if (alpha < settings.y) {
             discard;
         }

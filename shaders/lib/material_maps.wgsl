@@ -28,12 +28,16 @@ const MAP_EMISSIVE: u32 = 4u;
 @group(3) @binding(12) var maps_linear: sampler;
 @group(3) @binding(13) var maps_nearest: sampler;
 
-// Texture coordinates (TEXCOORD_0) at a pixel and their change one pixel
-// right (dx) and one pixel down (dy).
+// Texture coordinates at a pixel and their change one pixel right (dx)
+// and one pixel down (dy): TEXCOORD_0 (uv) and TEXCOORD_1 (second_uv); a map
+// reads the set its `texCoord` names.
 struct MapCoords {
     uv: vec2<f32>,
     dx: vec2<f32>,
     dy: vec2<f32>,
+    second_uv: vec2<f32>,
+    second_dx: vec2<f32>,
+    second_dy: vec2<f32>,
 }
 
 // (alpha mode 0 opaque / 1 mask / 2 blend, + 4 when double-sided;
@@ -92,9 +96,13 @@ fn sample_map(material: u32, slot: u32, coords: MapCoords, fallback: vec4<f32>) 
     let s = sin(a.w);
     let row0 = vec2<f32>(c * b.z, s * b.w);
     let row1 = vec2<f32>(-s * b.z, c * b.w);
-    let uv = vec2<f32>(dot(row0, coords.uv), dot(row1, coords.uv)) + b.xy;
-    let dx = vec2<f32>(dot(row0, coords.dx), dot(row1, coords.dx));
-    let dy = vec2<f32>(dot(row0, coords.dy), dot(row1, coords.dy));
+    let second = a.y >= 0.5;
+    let chosen_uv = select(coords.uv, coords.second_uv, second);
+    let chosen_dx = select(coords.dx, coords.second_dx, second);
+    let chosen_dy = select(coords.dy, coords.second_dy, second);
+    let uv = vec2<f32>(dot(row0, chosen_uv), dot(row1, chosen_uv)) + b.xy;
+    let dx = vec2<f32>(dot(row0, chosen_dx), dot(row1, chosen_dx));
+    let dy = vec2<f32>(dot(row0, chosen_dy), dot(row1, chosen_dy));
     let wrapped = vec2<f32>(map_wrap(uv.x, bits & 3u), map_wrap(uv.y, (bits >> 2u) & 3u));
     if ((bits & 16u) != 0u) {
         return sample_array(maps_nearest, place >> 16u, wrapped, place & 0xffffu, dx, dy);

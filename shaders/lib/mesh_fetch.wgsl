@@ -52,6 +52,19 @@ fn triangle_vertex(instance: u32, triangle: u32, corner: u32, right: vec3<f32>, 
     return particle_vertex(instance, info.y, triangle, corner, right, up);
 }
 
+// The arena index of a triangle's corner, for streams kept beside the
+// vertices (the extras of shaders/lib/mesh.wgsl), or NO_VERTEX for a
+// procedural mesh, whose corners are made here, not stored.
+const NO_VERTEX: u32 = 0xffffffffu;
+
+fn triangle_vertex_index(instance: u32, triangle: u32, corner: u32) -> u32 {
+    let info = instances[instance].info;
+    if ((info.x & PROCEDURAL) != 0u) {
+        return NO_VERTEX;
+    }
+    return indices[info.x + triangle * 3u + corner] + info.y;
+}
+
 fn particle_vertex(instance: u32, base: u32, triangle: u32, corner: u32, right_world: vec3<f32>, up_world: vec3<f32>) -> Vertex {
     let h = unpack_header(vertices[base]);
     if (h.shape == 0u) {

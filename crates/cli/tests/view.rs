@@ -167,6 +167,8 @@ fn quad_with(
         normals: vec![[0.0, 0.0, 1.0]; 4],
         uvs: Some(vec![[0.0, 1.0], [1.0, 1.0], [1.0, 0.0], [0.0, 0.0]]),
         tangents: None,
+        uvs1: None,
+        colors: None,
         indices: vec![0, 1, 2, 0, 2, 3],
         bounds: spreadlight_render::mesh::Aabb::ZERO,
     };

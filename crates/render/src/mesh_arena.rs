@@ -28,8 +28,51 @@ pub struct GpuVertex {
 
 const VERTEX_SIZE: u64 = std::mem::size_of::<GpuVertex>() as u64;
 
+/// 16 bytes a vertex, in a stream of its own beside [`GpuVertex`] (same
+/// index): the second UV set and the vertex colour (RGBA as four unorm16,
+/// linear). Only the surface resolve and the alpha test read it; the
+/// rasterizers (compute and hardware) and the GPU geometry passes never
+/// do, so their 64-byte vertex reads stay as they were. Matches
+/// `VertexExtra` in shaders/lib/mesh.wgsl.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
+pub struct GpuVertexExtra {
+    pub second_uv: [f32; 2],
+    pub color: [u32; 2],
+}
+
+const EXTRA_SIZE: u64 = std::mem::size_of::<GpuVertexExtra>() as u64;
+
+impl GpuVertexExtra {
+    /// What a vertex without the streams gets: its first UV set as the
+    /// second, and white.
+    pub fn new(second_uv: [f32; 2], color: [f32; 4]) -> Self {
+        let unorm = |c: f32| (c.clamp(0.0, 1.0) * 65535.0).round() as u32;
+        GpuVertexExtra {
+            second_uv,
+            color: [
+                unorm(color[0]) | unorm(color[1]) << 16,
+                unorm(color[2]) | unorm(color[3]) << 16,
+            ],
+        }
+    }
+
+    /// The colour as stored (linear RGBA).
+    pub fn rgba(&self) -> [f32; 4] {
+        let c = |word: u32, shift: u32| ((word >> shift) & 0xffff) as f32 / 65535.0;
+        [
+            c(self.color[0], 0),
+            c(self.color[0], 16),
+            c(self.color[1], 0),
+            c(self.color[1], 16),
+        ]
+    }
+}
+
 struct Inner {
     vertices: wgpu::Buffer,
+    /// [`GpuVertexExtra`] per vertex, allocated with `vertices`.
+    extras: wgpu::Buffer,
     indices: wgpu::Buffer,
     vertex_alloc: RangeAllocator<u32>,
     index_alloc: RangeAllocator<u32>,
@@ -52,6 +95,10 @@ pub struct GpuMesh {
     pub has_uvs: bool,
     pub has_tangents: bool,
     pub has_previous_positions: bool,
+    /// The mesh has a second UV set of its own (TEXCOORD_1).
+    pub has_uvs1: bool,
+    /// The mesh has vertex colours (COLOR_0).
+    pub has_colors: bool,
     /// The ranges the allocator handed out (an empty mesh still holds one
     /// element of each); None for a procedural mesh, which owns nothing.
     allocated: Option<(Range<u32>, Range<u32>)>,
@@ -151,6 +198,11 @@ impl MeshArena {
                     "mesh arena vertices",
                     u64::from(vertex_capacity) * VERTEX_SIZE,
                 ),
+                extras: storage_buffer(
+                    gpu,
+                    "mesh arena vertex extras",
+                    u64::from(vertex_capacity) * EXTRA_SIZE,
+                ),
                 indices: storage_buffer(gpu, "mesh arena indices", u64::from(index_capacity) * 4),
                 vertex_alloc: RangeAllocator::new(0..vertex_capacity),
                 index_alloc: RangeAllocator::new(0..index_capacity),
@@ -178,6 +230,14 @@ impl MeshArena {
 
     pub fn upload(&self, gpu: &GpuContext, mesh: &MeshData) -> Result<Arc<GpuMesh>, RenderError> {
         self.upload_inner(gpu, mesh, None)
+    }
+
+    /// The second UV set and colour of every vertex ([`GpuVertexExtra`]),
+    /// indexed as the vertices of [`MeshArena::buffers`]. Replaced together
+    /// with them when the arena grows (same generation).
+    pub fn extras(&self) -> wgpu::Buffer {
+        let inner = self.inner.lock().unwrap_or_else(|e| e.into_inner());
+        inner.extras.clone()
     }
 
     /// Uploads an animated mesh: `previous` holds each vertex's position last
@@ -222,6 +282,16 @@ impl MeshArena {
                 return Err(e);
             }
         };
+        // The extras of GPU-written meshes are never written by their
+        // passes: no second UV set, white.
+        if vertex_count > 0 {
+            let defaults = vec![GpuVertexExtra::new([0.0; 2], [1.0; 4]); vertex_count as usize];
+            gpu.queue.write_buffer(
+                &inner.extras,
+                u64::from(vertex_range.start) * EXTRA_SIZE,
+                bytemuck::cast_slice(&defaults),
+            );
+        }
         Ok(Arc::new(GpuMesh {
             arena: self.inner.clone(),
             vertices: vertex_range.start..vertex_range.start + vertex_count,
@@ -232,6 +302,8 @@ impl MeshArena {
             has_tangents: layout.has_tangents,
             has_previous_positions: true,
             procedural: None,
+            has_uvs1: false,
+            has_colors: false,
         }))
     }
 
@@ -292,6 +364,19 @@ impl MeshArena {
                 }
             })
             .collect();
+        let extras: Vec<GpuVertexExtra> = (0..mesh.positions.len())
+            .map(|i| {
+                // Without a second set, the first stands in: a map on
+                // TEXCOORD_1 of such a mesh reads TEXCOORD_0.
+                let uv1 = match (&mesh.uvs1, &mesh.uvs) {
+                    (Some(uv1), _) => uv1[i],
+                    (None, Some(uv)) => uv[i],
+                    (None, None) => [0.0; 2],
+                };
+                let color = mesh.colors.as_ref().map_or([1.0; 4], |c| c[i]);
+                GpuVertexExtra::new(uv1, color)
+            })
+            .collect();
         let too_big = |what: &str| RenderError::Pass {
             pass: "mesh upload".to_owned(),
             message: format!("the mesh has too many {what} for one draw (over 2^31)"),
@@ -312,6 +397,11 @@ impl MeshArena {
             u64::from(vertex_range.start) * VERTEX_SIZE,
             bytemuck::cast_slice(&vertices),
         );
+        gpu.queue.write_buffer(
+            &inner.extras,
+            u64::from(vertex_range.start) * EXTRA_SIZE,
+            bytemuck::cast_slice(&extras),
+        );
         if !mesh.indices.is_empty() {
             gpu.queue.write_buffer(
                 &inner.indices,
@@ -329,6 +419,8 @@ impl MeshArena {
             has_tangents: mesh.tangents.is_some(),
             has_previous_positions: previous.is_some(),
             procedural: None,
+            has_uvs1: mesh.uvs1.is_some(),
+            has_colors: mesh.colors.is_some(),
         }))
     }
 }
@@ -371,17 +463,19 @@ fn allocate(
         });
     }
     alloc.grow_to(new_end);
-    let old = match stream {
-        Stream::Vertices => &inner.vertices,
-        Stream::Indices => &inner.indices,
+    let grown = |old: &wgpu::Buffer, element: u64| {
+        let bigger = storage_buffer(gpu, "mesh arena", u64::from(new_end) * element);
+        let mut encoder = gpu.device.create_command_encoder(&Default::default());
+        encoder.copy_buffer_to_buffer(old, 0, &bigger, 0, u64::from(old_end) * element);
+        gpu.queue.submit([encoder.finish()]);
+        bigger
     };
-    let bigger = storage_buffer(gpu, "mesh arena", u64::from(new_end) * element);
-    let mut encoder = gpu.device.create_command_encoder(&Default::default());
-    encoder.copy_buffer_to_buffer(old, 0, &bigger, 0, u64::from(old_end) * element);
-    gpu.queue.submit([encoder.finish()]);
     match stream {
-        Stream::Vertices => inner.vertices = bigger,
-        Stream::Indices => inner.indices = bigger,
+        Stream::Vertices => {
+            inner.vertices = grown(&inner.vertices, VERTEX_SIZE);
+            inner.extras = grown(&inner.extras, EXTRA_SIZE);
+        }
+        Stream::Indices => inner.indices = grown(&inner.indices, 4),
     }
     inner.generation += 1;
     let alloc = match stream {

@@ -144,7 +144,8 @@ pub const SHADERS: &[ShaderFile] = &[
             "COLOR_MAP",
             "SURFACE_OUT",
             "MATERIAL_MAPS",
-            "CUSTOM_SURFACE"
+            "CUSTOM_SURFACE",
+            "VERTEX_EXTRAS"
         ],
         // The colour map is the surface pass's; it reads UVs.
         Rule::AtMostOne(&["COLOR_MAP", "MOTION"]),
@@ -155,7 +156,9 @@ pub const SHADERS: &[ShaderFile] = &[
         // A shader node material writes the surface target and binds group 1,
         // where surface maps would put the material world.
         Rule::Requires("CUSTOM_SURFACE", "SURFACE_OUT"),
-        Rule::AtMostOne(&["CUSTOM_SURFACE", "MATERIAL_MAPS"])
+        Rule::AtMostOne(&["CUSTOM_SURFACE", "MATERIAL_MAPS"]),
+        // Vertex colours and the second UV set are the surface pass's.
+        Rule::AtMostOne(&["VERTEX_EXTRAS", "MOTION"])
     ),
     shader!("lighting/clusters.wgsl", []),
     shader!(

@@ -129,3 +129,40 @@ fn lights_start_light_lists_and_instances_of_one_mesh_are_one_batch() {
     assert_eq!(meshes.len(), 2000);
     assert!(meshes.iter().all(|m| Arc::ptr_eq(m, &meshes[0])));
 }
+
+#[test]
+fn five_thousand_nodes_load_and_draw_as_one_batch_per_mesh() {
+    // 5,000 nodes over 5 meshes (one per material of the generated grid):
+    // all instances arrive, and DeferredBase merges them into one draw per mesh.
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(
+        dir.path().join("nodes.gltf"),
+        models::bench_grid(5000, 5, 0, false),
+    )
+    .unwrap();
+    let mut patch = Patch::default();
+    patch.add(NodeDoc::new(1, "glTF").with("Filename", vec!["nodes.gltf".to_owned()]));
+    patch.add(NodeDoc::new(2, "DeferredBase"));
+    patch.add(NodeDoc::new(3, "Probe"));
+    for pin in ["Mesh", "Transform", "Material ID"] {
+        patch.link(1, pin, 2, pin);
+    }
+    patch.link(1, "Base Color", 2, "Color");
+    patch.link(2, "Layer", 3, "Input");
+    let rt = run(&patch, dir.path());
+    let meshes = resource::<spreadlight_render::mesh_arena::GpuMesh>(&rt, 1, "Mesh");
+    assert_eq!(meshes.len(), 5000, "one slice per instance");
+    let layer = resource::<spreadlight_render::gbuffer::Layer>(&rt, 2, "Layer").remove(0);
+    assert_eq!(layer.batches.len(), 5, "one draw per mesh");
+    for batch in &layer.batches {
+        assert_eq!(batch.instances.len(), 1000);
+    }
+    // Every instance keeps its own place.
+    let places: std::collections::HashSet<[u32; 3]> = layer
+        .batches
+        .iter()
+        .flat_map(|b| &b.instances)
+        .map(|i| i.transform.w_axis.truncate().to_array().map(f32::to_bits))
+        .collect();
+    assert_eq!(places.len(), 5000);
+}

@@ -57,10 +57,27 @@ pub(crate) struct RasterView<'b> {
 #[derive(Default)]
 pub(crate) struct RasterTargets(Mutex<Option<Targets>>);
 
+/// One draw's share of the raster: its uniform ([`GpuBatch`]), how many
+/// triangles it rasterizes (all instances), whether they are particles
+/// (procedural) and whether it keeps back faces (a double-sided material).
+struct Batch {
+    uniform: wgpu::Buffer,
+    total: u32,
+    procedural: bool,
+    two_sided: bool,
+}
+
+/// A [`Batch`] ready to dispatch this frame.
+struct BatchGroup<'p> {
+    pipeline: &'p wgpu::ComputePipeline,
+    group: wgpu::BindGroup,
+    total: u32,
+    procedural: bool,
+}
+
 pub(crate) struct ComputeRaster {
-    /// Per draw: its uniform, how many triangles it rasterizes, and whether
-    /// they are particles (procedural).
-    batches: Vec<(wgpu::Buffer, u32, bool)>,
+    /// Per draw with triangles: its uniform and what it rasterizes.
+    batches: Vec<Batch>,
     pub first_triangle: wgpu::Buffer,
     targets: std::sync::Arc<RasterTargets>,
 }
@@ -97,7 +114,12 @@ impl ComputeRaster {
                     }),
                     wgpu::BufferUsages::UNIFORM,
                 );
-                batches.push((uniform, total, draw.procedural));
+                batches.push(Batch {
+                    uniform,
+                    total,
+                    procedural: draw.procedural,
+                    two_sided: draw.two_sided,
+                });
             }
             global = global.saturating_add(total);
         }
@@ -138,7 +160,8 @@ impl ComputeRaster {
             camera: g.camera_buffer(),
             instances: &g.instances,
             size,
-            two_sided: g.two_sided(),
+            // Per draw: each keeps its back faces only if its material asks.
+            two_sided: false,
         };
         match g.published_depth() {
             Some(name) => {
@@ -210,11 +233,28 @@ impl ComputeRaster {
         cx.encoder
             .copy_buffer_to_buffer(&targets.tile_reset, 0, &targets.tile_count, 0, 16);
 
-        let key = ShaderKey::new("gbuffer/raster.wgsl", view.two_sided.then_some("TWO_SIDED"));
-        let triangles_pipeline = cx
-            .shaders
-            .compute_pipeline(&device, &key, "raster_triangles")?;
-        let tiles_pipeline = cx.shaders.compute_pipeline(&device, &key, "raster_tiles")?;
+        // Back faces kept per draw (double-sided materials) or for all (shadow maps).
+        let key = |two_sided: bool| {
+            ShaderKey::new("gbuffer/raster.wgsl", two_sided.then_some("TWO_SIDED"))
+        };
+        let mut triangle_pipelines: [Option<wgpu::ComputePipeline>; 2] = [None, None];
+        for batch in &self.batches {
+            let sided = view.two_sided || batch.two_sided;
+            if triangle_pipelines[usize::from(sided)].is_none() {
+                triangle_pipelines[usize::from(sided)] = Some(cx.shaders.compute_pipeline(
+                    &device,
+                    &key(sided),
+                    "raster_triangles",
+                )?);
+            }
+        }
+        // Big triangles queued as tiles are set up again there: with back
+        // faces turned around when any draw queued some (a front face is
+        // rasterized the same either way).
+        let any_two_sided = triangle_pipelines[1].is_some() || view.two_sided;
+        let tiles_pipeline =
+            cx.shaders
+                .compute_pipeline(&device, &key(any_two_sided), "raster_tiles")?;
         let (vertices, indices, _) = renderer.meshes.buffers();
         let shared = |layout: &wgpu::BindGroupLayout, batch: Option<&wgpu::Buffer>| {
             let mut entries = super::geometry_entries(
@@ -249,26 +289,31 @@ impl ComputeRaster {
                 entries: &entries,
             })
         };
-        let triangle_layout = triangles_pipeline.get_bind_group_layout(0);
-        let batch_groups: Vec<(wgpu::BindGroup, u32, bool)> = self
+        let batch_groups: Vec<BatchGroup<'_>> = self
             .batches
             .iter()
-            .map(|(uniform, total, procedural)| {
-                (shared(&triangle_layout, Some(uniform)), *total, *procedural)
+            .filter_map(|b| {
+                let pipeline = triangle_pipelines[usize::from(view.two_sided || b.two_sided)].as_ref()?;
+                let group = shared(&pipeline.get_bind_group_layout(0), Some(&b.uniform));
+                Some(BatchGroup {
+                    pipeline,
+                    group,
+                    total: b.total,
+                    procedural: b.procedural,
+                })
             })
             .collect();
         let tiles_group = shared(&tiles_pipeline.get_bind_group_layout(0), None);
-        let pipelines = (&triangles_pipeline, &tiles_pipeline, &tiles_group);
+        let tiles = (&tiles_pipeline, &tiles_group);
         match between {
             None => {
                 let all: Vec<_> = batch_groups.iter().collect();
-                raster_batches(cx, pipelines, &all);
+                raster_batches(cx, tiles, &all);
             }
             Some(between) => {
-                let (particles, meshes): (Vec<_>, Vec<_>) = batch_groups
-                    .iter()
-                    .partition(|(_, _, procedural)| *procedural);
-                raster_batches(cx, pipelines, &meshes);
+                let (particles, meshes): (Vec<_>, Vec<_>) =
+                    batch_groups.iter().partition(|b| b.procedural);
+                raster_batches(cx, tiles, &meshes);
                 between(cx, &targets.visibility)?;
                 if !particles.is_empty() {
                     cx.encoder.copy_buffer_to_buffer(
@@ -278,7 +323,7 @@ impl ComputeRaster {
                         0,
                         16,
                     );
-                    raster_batches(cx, pipelines, &particles);
+                    raster_batches(cx, tiles, &particles);
                 }
             }
         }
@@ -293,25 +338,21 @@ pub(crate) type Between<'b> =
 /// One timed compute pass: `batches`' triangles, then the big triangles' tiles.
 fn raster_batches(
     cx: &mut PassContext<'_>,
-    (triangles, tiles, tiles_group): (
-        &wgpu::ComputePipeline,
-        &wgpu::ComputePipeline,
-        &wgpu::BindGroup,
-    ),
-    batches: &[&(wgpu::BindGroup, u32, bool)],
+    (tiles, tiles_group): (&wgpu::ComputePipeline, &wgpu::BindGroup),
+    batches: &[&BatchGroup<'_>],
 ) {
     let timestamps = cx.compute_timestamps();
     let mut pass = cx.encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
         label: Some("compute raster"),
         timestamp_writes: timestamps,
     });
-    pass.set_pipeline(triangles);
     let mut dispatches = 0;
-    for (group, total, _) in batches {
-        let workgroups = total.div_ceil(WORKGROUP);
+    for b in batches {
+        pass.set_pipeline(b.pipeline);
+        let workgroups = b.total.div_ceil(WORKGROUP);
         // Over 65,535 workgroups spill into y; the shader folds y back into one index.
         let x = workgroups.min(65_535);
-        pass.set_bind_group(0, group, &[]);
+        pass.set_bind_group(0, &b.group, &[]);
         pass.dispatch_workgroups(x, workgroups.div_ceil(x), 1);
         dispatches += 1;
     }

@@ -244,12 +244,24 @@ impl Layer {
         if self.surface.is_some() {
             d.push("CUSTOM_SURFACE");
         }
+        if self.vertex_extras() {
+            d.push("VERTEX_EXTRAS");
+        }
         d
     }
 
     /// The textures its shader node material reads.
     pub(crate) fn surface_textures(&self) -> impl Iterator<Item = &TextureRef> {
         self.surface.iter().flat_map(|s| &s.textures)
+    }
+
+    /// Whether the surface pass reads the arena's extra stream: some mesh
+    /// has vertex colours, or a second UV set that surface maps may read.
+    pub(crate) fn vertex_extras(&self) -> bool {
+        let maps = self.map_world().is_some();
+        self.batches
+            .iter()
+            .any(|b| b.mesh.has_colors || (maps && b.mesh.has_uvs1))
     }
 
     /// The textures its surface pass samples (a normal texture only while Normal Mapping is on).

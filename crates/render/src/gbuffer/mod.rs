@@ -64,6 +64,9 @@ pub(crate) struct Draw {
     /// Particles, drawn from their records (after the meshes, so the depth
     /// a G-buffer publishes for their collisions holds no particles).
     pub procedural: bool,
+    /// Some instance's material is double-sided: this draw keeps its back
+    /// faces (the others of the G-buffer are still culled).
+    pub two_sided: bool,
 }
 
 /// Bindings 0 to 3 of every shader that pulls instanced meshes (the
@@ -101,6 +104,7 @@ pub(crate) fn pack_instances(
     let mut layer_ranges = Vec::new();
     for layer in layers {
         let first = gpu_instances.len() as u32;
+        let world = layer.map_world();
         for batch in &layer.batches {
             let first_instance = gpu_instances.len() as u32;
             for inst in &batch.instances {
@@ -124,6 +128,12 @@ pub(crate) fn pack_instances(
                 first_instance,
                 instance_count: batch.instances.len() as u32,
                 procedural: batch.mesh.is_procedural(),
+                two_sided: world.is_some_and(|w| {
+                    batch
+                        .instances
+                        .iter()
+                        .any(|i| w.double_sided(i.material_id))
+                }),
             });
         }
         layer_ranges.push((first, gpu_instances.len() as u32));
@@ -429,9 +439,15 @@ impl GBuffer {
             })
     }
 
-    /// Whether back faces are drawn: some layer draws a double-sided material.
+    /// Whether some draw keeps its back faces (a double-sided material);
+    /// the other draws are still culled.
     pub fn two_sided(&self) -> bool {
-        self.layers.iter().any(|l| l.double_sided())
+        self.draws.iter().any(|d| d.two_sided)
+    }
+
+    /// How many draws keep their back faces.
+    pub fn two_sided_draws(&self) -> usize {
+        self.draws.iter().filter(|d| d.two_sided).count()
     }
 
     pub fn instance_count(&self) -> u32 {

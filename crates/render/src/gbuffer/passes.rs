@@ -110,55 +110,80 @@ fn visibility(
     cx: &mut PassContext<'_>,
 ) -> Result<(), RenderError> {
     let device = cx.gpu.device.clone();
-    let plain = visibility_pipeline(g, cx, false)?;
     let (vertices, indices, _) = renderer.meshes.buffers();
-    let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some("visibility"),
-        layout: &plain.get_bind_group_layout(0),
-        entries: &g.geometry_entries(&vertices, &indices),
-    });
+    let extras = renderer.meshes.extras();
+    // Culling back faces, and (for draws of double-sided materials) not.
+    let mut plain: [Option<(wgpu::RenderPipeline, wgpu::BindGroup)>; 2] = [None, None];
+    for sided in [false, true] {
+        if g.draws.iter().any(|d| d.two_sided == sided) {
+            let pipeline = visibility_pipeline(cx, false, sided)?;
+            let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("visibility"),
+                layout: &pipeline.get_bind_group_layout(0),
+                entries: &g.geometry_entries(&vertices, &indices),
+            });
+            plain[usize::from(sided)] = Some((pipeline, group));
+        }
+    }
     // Per layer with alpha-tested materials: the ALPHA_MASK pipeline and its world's groups.
     let mut masked = Vec::new();
     for (layer, range) in g.layers.iter().zip(&g.layer_ranges) {
         let Some(world) = layer.map_world().filter(|_| layer.alpha_masked()) else {
             continue;
         };
-        let pipeline = visibility_pipeline(g, cx, true)?;
-        let group0 = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("visibility, alpha mask"),
-            layout: &pipeline.get_bind_group_layout(0),
-            entries: &g.geometry_entries(&vertices, &indices),
-        });
-        let (meta, offsets, data) = world.buffers();
-        let group1 = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("visibility: material world"),
-            layout: &pipeline.get_bind_group_layout(1),
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: meta.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: offsets.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 2,
-                    resource: data.as_entire_binding(),
-                },
-            ],
-        });
-        let group2 = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("visibility: unused group"),
-            layout: &pipeline.get_bind_group_layout(2),
-            entries: &[],
-        });
-        let group3 = world.maps_bind_group(&device, &pipeline.get_bind_group_layout(3));
-        masked.push((
-            *range,
-            pipeline,
-            [Some(group0), Some(group1), Some(group2), group3],
-        ));
+        for sided in [false, true] {
+            let in_layer = |d: &&super::Draw| (range.0..range.1).contains(&d.first_instance);
+            if !g
+                .draws
+                .iter()
+                .filter(in_layer)
+                .any(|d| d.two_sided == sided)
+            {
+                continue;
+            }
+            let pipeline = visibility_pipeline(cx, true, sided)?;
+            let mut entries = g.geometry_entries(&vertices, &indices);
+            entries.push(wgpu::BindGroupEntry {
+                binding: 12,
+                resource: extras.as_entire_binding(),
+            });
+            let group0 = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("visibility, alpha mask"),
+                layout: &pipeline.get_bind_group_layout(0),
+                entries: &entries,
+            });
+            let (meta, offsets, data) = world.buffers();
+            let group1 = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("visibility: material world"),
+                layout: &pipeline.get_bind_group_layout(1),
+                entries: &[
+                    wgpu::BindGroupEntry {
+                        binding: 0,
+                        resource: meta.as_entire_binding(),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 1,
+                        resource: offsets.as_entire_binding(),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 2,
+                        resource: data.as_entire_binding(),
+                    },
+                ],
+            });
+            let group2 = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("visibility: unused group"),
+                layout: &pipeline.get_bind_group_layout(2),
+                entries: &[],
+            });
+            let group3 = world.maps_bind_group(&device, &pipeline.get_bind_group_layout(3));
+            masked.push((
+                *range,
+                sided,
+                pipeline,
+                [Some(group0), Some(group1), Some(group2), group3],
+            ));
+        }
     }
     let vis = cx.view(&g.targets.visibility)?;
     let depth = cx.view(&g.targets.hardware_depth)?;
@@ -216,11 +241,11 @@ fn visibility(
                 && d.index_count > 0
                 && phase.is_none_or(|procedural| d.procedural == procedural)
         }) {
-            let mask = masked
-                .iter()
-                .find(|((first, end), _, _)| (*first..*end).contains(&draw.first_instance));
+            let mask = masked.iter().find(|((first, end), sided, _, _)| {
+                (*first..*end).contains(&draw.first_instance) && *sided == draw.two_sided
+            });
             match mask {
-                Some((_, pipeline, groups)) => {
+                Some((_, _, pipeline, groups)) => {
                     pass.set_pipeline(pipeline);
                     for (i, group) in groups.iter().enumerate() {
                         if let Some(group) = group {
@@ -229,8 +254,11 @@ fn visibility(
                     }
                 }
                 None => {
-                    pass.set_pipeline(&plain);
-                    pass.set_bind_group(0, &bind_group, &[]);
+                    let Some((pipeline, group)) = &plain[usize::from(draw.two_sided)] else {
+                        continue;
+                    };
+                    pass.set_pipeline(pipeline);
+                    pass.set_bind_group(0, group, &[]);
                 }
             }
             pass.draw(
@@ -244,12 +272,12 @@ fn visibility(
     Ok(())
 }
 
-/// The visibility pipeline: culling back faces unless the G-buffer draws
-/// a double-sided material, with `alpha_mask` testing MASK materials.
+/// The visibility pipeline: culling back faces unless `two_sided` (a draw
+/// of a double-sided material), with `alpha_mask` testing MASK materials.
 fn visibility_pipeline(
-    g: &GBuffer,
     cx: &mut PassContext<'_>,
     alpha_mask: bool,
+    two_sided: bool,
 ) -> Result<wgpu::RenderPipeline, RenderError> {
     let device = cx.gpu.device.clone();
     let key = ShaderKey::new(
@@ -257,7 +285,6 @@ fn visibility_pipeline(
         alpha_mask.then_some("ALPHA_MASK"),
     );
     // Double-sided materials: every face is drawn (the resolve flips their back faces' normals).
-    let two_sided = g.two_sided();
     let variant = if two_sided {
         "rg32uint+depth32f, two-sided"
     } else {
@@ -312,6 +339,7 @@ fn resolve(
 ) -> Result<(), RenderError> {
     let device = cx.gpu.device.clone();
     let (vertices, indices, _) = renderer.meshes.buffers();
+    let extras = renderer.meshes.extras();
     let compute = g
         .compute
         .as_ref()
@@ -362,6 +390,7 @@ fn resolve(
         if surface.is_some() {
             defines.push("SURFACE_OUT");
         }
+        let vertex_extras = defines.contains(&"VERTEX_EXTRAS");
         let key = ShaderKey::new("gbuffer/resolve.wgsl", defines);
         // A shader node material: the resolve composed with its file.
         let custom = layer.and_then(|l| l.surface.as_ref()).filter(|_| !motion);
@@ -392,6 +421,12 @@ fn resolve(
             None => background_layer(&device),
         };
         let mut entries = g.geometry_entries(&vertices, &indices);
+        if vertex_extras {
+            entries.push(wgpu::BindGroupEntry {
+                binding: 12,
+                resource: extras.as_entire_binding(),
+            });
+        }
         entries.push(wgpu::BindGroupEntry {
             binding: 5,
             resource: layer_buffer.as_entire_binding(),

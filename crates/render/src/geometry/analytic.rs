@@ -37,6 +37,8 @@ pub fn icosahedron() -> MeshData {
         positions,
         uvs: None,
         tangents: None,
+        uvs1: None,
+        colors: None,
         indices,
         bounds: crate::mesh::Aabb::ZERO,
     };

@@ -180,10 +180,14 @@ pub struct WorldMaps {
 }
 
 impl WorldMaps {
-    pub(crate) fn new(renderer: &crate::renderer::Renderer, layout: &MapLayout) -> Self {
+    pub(crate) fn new(
+        renderer: &crate::renderer::Renderer,
+        layout: &MapLayout,
+        filtering: MapFiltering,
+    ) -> Self {
         WorldMaps {
             textures: layout.upload_cached(renderer),
-            samplers: samplers(&renderer.gpu.device),
+            samplers: samplers(&renderer.gpu.device, filtering),
             dropped: layout.dropped,
         }
     }
@@ -219,16 +223,81 @@ impl WorldMaps {
     }
 }
 
-/// The samplers maps are read with: trilinear + 16x anisotropic, and nearest.
-pub fn samplers(device: &wgpu::Device) -> [wgpu::Sampler; 2] {
+/// How a world's maps are filtered. Every world renders with the default;
+/// the others exist so `spreadlight accuracy gltf` can show what filtering
+/// costs against the aliasing it removes.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum MapFiltering {
+    /// The nearest texel of the full-size image: no mips, no anisotropy
+    /// (what a CPU reference point-sampling the image sees; aliases when
+    /// a texel is smaller than a pixel).
+    Point,
+    /// Bilinear on the full-size image (no mips).
+    Bilinear,
+    /// Trilinear through the mip chain, no anisotropy.
+    Trilinear,
+    /// Trilinear + 16x anisotropic.
+    #[default]
+    Anisotropic,
+}
+
+impl MapFiltering {
+    pub const ALL: [MapFiltering; 4] = [
+        MapFiltering::Point,
+        MapFiltering::Bilinear,
+        MapFiltering::Trilinear,
+        MapFiltering::Anisotropic,
+    ];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            MapFiltering::Point => "point (mip 0)",
+            MapFiltering::Bilinear => "bilinear (mip 0)",
+            MapFiltering::Trilinear => "trilinear",
+            MapFiltering::Anisotropic => "trilinear + 16x anisotropic",
+        }
+    }
+}
+
+/// The samplers maps are read with: `filtering` (the default: trilinear +
+/// 16x anisotropic), and nearest (glTF's NEAREST magnification filter).
+/// Without mips, the level of detail is clamped to 0.
+pub fn samplers(device: &wgpu::Device, filtering: MapFiltering) -> [wgpu::Sampler; 2] {
+    let (filter, mipmap_filter, anisotropy_clamp, lod_max_clamp) = match filtering {
+        MapFiltering::Point => (
+            wgpu::FilterMode::Nearest,
+            wgpu::MipmapFilterMode::Nearest,
+            1,
+            0.0,
+        ),
+        MapFiltering::Bilinear => (
+            wgpu::FilterMode::Linear,
+            wgpu::MipmapFilterMode::Nearest,
+            1,
+            0.0,
+        ),
+        MapFiltering::Trilinear => (
+            wgpu::FilterMode::Linear,
+            wgpu::MipmapFilterMode::Linear,
+            1,
+            32.0,
+        ),
+        MapFiltering::Anisotropic => (
+            wgpu::FilterMode::Linear,
+            wgpu::MipmapFilterMode::Linear,
+            16,
+            32.0,
+        ),
+    };
     let linear = device.create_sampler(&wgpu::SamplerDescriptor {
-        label: Some("material maps: trilinear anisotropic"),
+        label: Some("material maps: filtered"),
         address_mode_u: wgpu::AddressMode::Repeat,
         address_mode_v: wgpu::AddressMode::Repeat,
-        mag_filter: wgpu::FilterMode::Linear,
-        min_filter: wgpu::FilterMode::Linear,
-        mipmap_filter: wgpu::MipmapFilterMode::Linear,
-        anisotropy_clamp: 16,
+        mag_filter: filter,
+        min_filter: filter,
+        mipmap_filter,
+        anisotropy_clamp,
+        lod_max_clamp,
         ..Default::default()
     });
     let nearest = device.create_sampler(&wgpu::SamplerDescriptor {
@@ -238,6 +307,7 @@ pub fn samplers(device: &wgpu::Device) -> [wgpu::Sampler; 2] {
         mag_filter: wgpu::FilterMode::Nearest,
         min_filter: wgpu::FilterMode::Nearest,
         mipmap_filter: wgpu::MipmapFilterMode::Nearest,
+        lod_max_clamp: if lod_max_clamp == 0.0 { 0.0 } else { 32.0 },
         ..Default::default()
     });
     [linear, nearest]

@@ -91,8 +91,8 @@ impl UvTransform {
 #[derive(Clone, Debug, PartialEq)]
 pub struct MapRef {
     pub image: Arc<MapImage>,
-    /// Which TEXCOORD_n maps it. Meshes carry one UV set, so n > 0 reads
-    /// TEXCOORD_0 (the importer warns).
+    /// Which UV set maps it: 0 (TEXCOORD_0) or 1 (TEXCOORD_1; a mesh without
+    /// a second set carries its first there). Larger values read set 0.
     pub tex_coord: u32,
     pub transform: UvTransform,
     pub wrap: [Wrap; 2],
@@ -174,7 +174,7 @@ impl SurfaceMaps {
 
     /// The parameters the shader reads, with each map's location from `locate`:
     /// 0: (alpha mode 0/1/2 + 4 x double-sided, cutoff, normal scale, occlusion strength);
-    /// per slot: (location, texcoord, wrap s + 4 x wrap t + 16 x nearest, rotation),
+    /// per slot: (location, UV set 0/1, wrap s + 4 x wrap t + 16 x nearest, rotation),
     /// (offset u, offset v, scale u, scale v).
     pub fn pack(&self, locate: &dyn Fn(&MapRef, MapSlot) -> Option<MapLocation>) -> Vec<[f32; 4]> {
         let (mode, cutoff) = match self.alpha {
@@ -199,7 +199,7 @@ impl SurfaceMaps {
                         m.wrap[0] as u32 + 4 * m.wrap[1] as u32 + if m.nearest { 16 } else { 0 };
                     params.push([
                         (at.array * 65536 + at.layer + 1) as f32,
-                        m.tex_coord as f32,
+                        if m.tex_coord == 1 { 1.0 } else { 0.0 },
                         sampler as f32,
                         finite(t.rotation, 0.0),
                     ]);

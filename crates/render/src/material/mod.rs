@@ -40,7 +40,7 @@ pub use feature::{
     MAX_FEATURES, MatCapMapping, MatCapMode, ParamLayout, Range, matcap_params,
 };
 use map_textures::MapLayout;
-pub use map_textures::WorldMaps;
+pub use map_textures::{MapFiltering, WorldMaps};
 use maps::{MapSlot, SurfaceMaps};
 
 use crate::recipe::TextureRef;
@@ -322,8 +322,27 @@ impl MaterialWorld {
     /// material reads a texture, shading compiles no texture code.
     pub fn with_textures(
         renderer: &Renderer,
+        materials: Vec<Material>,
+        textures: Option<TextureRef>,
+    ) -> Arc<Self> {
+        Self::build(renderer, materials, textures, MapFiltering::default())
+    }
+
+    /// A world whose surface maps are filtered as `filtering` says, not
+    /// trilinear + anisotropic (the accuracy command's comparison).
+    pub fn with_map_filtering(
+        renderer: &Renderer,
+        materials: Vec<Material>,
+        filtering: MapFiltering,
+    ) -> Arc<Self> {
+        Self::build(renderer, materials, None, filtering)
+    }
+
+    fn build(
+        renderer: &Renderer,
         mut materials: Vec<Material>,
         textures: Option<TextureRef>,
+        filtering: MapFiltering,
     ) -> Arc<Self> {
         if materials.is_empty() {
             materials.push(Material::default_material());
@@ -376,7 +395,7 @@ impl MaterialWorld {
                 | 1 << FEATURE_AMBIENT_OCCLUSION
                 | 1 << FEATURE_SURFACE_MAPS;
         }
-        let maps = has_maps.then(|| WorldMaps::new(renderer, &layout));
+        let maps = has_maps.then(|| WorldMaps::new(renderer, &layout, filtering));
         Arc::new(MaterialWorld {
             materials,
             union_flags,

@@ -83,6 +83,8 @@ impl MeshData {
             positions,
             uvs,
             tangents: None,
+            uvs1: None,
+            colors: None,
             indices,
             bounds: super::Aabb::ZERO,
         };
@@ -94,6 +96,8 @@ impl MeshData {
                 mesh.normals = normals.iter().flat_map(|&n| [n; 3]).collect();
                 mesh.positions = unweld(&mesh.positions, &mesh.indices);
                 mesh.uvs = mesh.uvs.as_deref().map(|uvs| unweld(uvs, &mesh.indices));
+                mesh.uvs1 = mesh.uvs1.as_deref().map(|uvs| unweld(uvs, &mesh.indices));
+                mesh.colors = mesh.colors.as_deref().map(|c| unweld(c, &mesh.indices));
                 mesh.indices = (0..mesh.indices.len() as u32).collect();
             }
         }

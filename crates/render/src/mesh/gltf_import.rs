@@ -18,9 +18,10 @@
 //! - missing normals are made flat (what the glTF spec asks), and then any
 //!   tangents in the file are dropped (ditto); missing tangents are made
 //!   with MikkTSpace when there are texture coordinates;
-//! - only `TEXCOORD_0` is read; textures using another set are reported
-//!   as warnings; node animations (TRS and morph weights) load, and
-//!   [`GltfScene::pose`] poses the scene at a time;
+//! - `TEXCOORD_0`, `TEXCOORD_1` and `COLOR_0` are read; textures using a
+//!   later set are reported as warnings (and mapped with set 0); node
+//!   animations (TRS and morph weights) load, and [`GltfScene::pose`]
+//!   poses the scene at a time;
 //! - skins (up to 8 joint influences per vertex) and morph targets load
 //!   beside each mesh ([`deform::Deform`]), and [`GltfScene::deform_pose`]
 //!   gives what the GPU skinning pass needs for a pose;

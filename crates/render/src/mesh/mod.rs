@@ -145,6 +145,10 @@ pub struct MeshData {
     /// xyz and handedness `w` = ±1 (bitangent = `cross(normal, xyz) * w`).
     /// Generated with MikkTSpace when there are UVs and the source has none.
     pub tangents: Option<Vec<[f32; 4]>>,
+    /// A second UV set (glTF's TEXCOORD_1), for maps whose `texCoord` is 1.
+    pub uvs1: Option<Vec<[f32; 2]>>,
+    /// Linear RGBA vertex colours (glTF's COLOR_0), multiplying the base colour.
+    pub colors: Option<Vec<[f32; 4]>>,
     /// Triangle list, counter-clockwise front faces.
     pub indices: Vec<u32>,
     /// Min/max of `positions`.
@@ -165,6 +169,8 @@ impl MeshData {
             normals,
             uvs,
             tangents,
+            uvs1: None,
+            colors: None,
             indices,
             bounds: Aabb::ZERO,
         };
@@ -199,6 +205,12 @@ impl MeshData {
         if let Some(tangents) = &self.tangents {
             check_finite("tangents", tangents.iter().map(|v| v.as_slice()))?;
         }
+        if let Some(uvs1) = &self.uvs1 {
+            check_finite("uvs1", uvs1.iter().map(|v| v.as_slice()))?;
+        }
+        if let Some(colors) = &self.colors {
+            check_finite("colors", colors.iter().map(|v| v.as_slice()))?;
+        }
         if !self.bounds.is_finite() {
             return Err(MeshError::NotFinite {
                 stream: "bounds",
@@ -223,6 +235,8 @@ impl MeshData {
             ("normals", Some(self.normals.len())),
             ("uvs", self.uvs.as_ref().map(Vec::len)),
             ("tangents", self.tangents.as_ref().map(Vec::len)),
+            ("uvs1", self.uvs1.as_ref().map(Vec::len)),
+            ("colors", self.colors.as_ref().map(Vec::len)),
         ];
         for (stream, len) in lengths {
             if let Some(len) = len

@@ -188,6 +188,8 @@ impl Builder {
             normals: self.normals,
             uvs: Some(self.uvs),
             tangents: Some(tangents),
+            uvs1: None,
+            colors: None,
             indices: self.indices,
             bounds,
         }

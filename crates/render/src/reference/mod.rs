@@ -1,6 +1,7 @@
 //! The CPU reference of the renderer's pure maths: BRDF terms
 //! ([`brdf`]), light falloff ([`lights`]) and tone operators ([`tonemap`]),
-//! the matcap lookup ([`matcap`]), and ray-cast soft shadows ([`shadows`]) to measure the shadow filters by.
+//! the matcap lookup ([`matcap`]), glTF materials point-sampled
+//! ([`material`]), and ray-cast soft shadows ([`shadows`]) to measure the shadow filters by.
 //!
 //! Each function is written twice, here in Rust and in a WGSL library under
 //! `shaders/lib/` with the same name and signature (`spreadlight::brdf`,
@@ -13,6 +14,7 @@
 pub mod brdf;
 pub mod lights;
 pub mod matcap;
+pub mod material;
 pub mod occlusion;
 pub mod reflection;
 pub mod shadows;

@@ -140,7 +140,8 @@ impl Doc {
     }
 
     /// A mesh from a finished [`MeshData`](crate::mesh::MeshData): positions,
-    /// normals, UVs (no tangents) and u16 indices.
+    /// normals, UVs, a second UV set and vertex colours when it has them (no
+    /// tangents) and u16 indices.
     pub fn mesh_data(&mut self, name: &str, m: &crate::mesh::MeshData) -> Index<json::Mesh> {
         let mut attributes = vec![
             (Semantic::Positions, self.positions(&m.positions)),
@@ -148,6 +149,12 @@ impl Doc {
         ];
         if let Some(uvs) = &m.uvs {
             attributes.push((Semantic::TexCoords(0), self.floats(uvs)));
+        }
+        if let Some(uvs) = &m.uvs1 {
+            attributes.push((Semantic::TexCoords(1), self.floats(uvs)));
+        }
+        if let Some(colors) = &m.colors {
+            attributes.push((Semantic::Colors(0), self.floats(colors)));
         }
         let indices: Vec<u16> = m.indices.iter().map(|&i| i as u16).collect();
         let indices = self.indices(&indices);

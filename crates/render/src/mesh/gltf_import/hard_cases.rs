@@ -358,3 +358,172 @@ fn the_benchmark_models_are_what_the_generator_makes() {
         assert_eq!(textured_materials.count(), if textured { 100 } else { 0 });
     }
 }
+
+/// `cube_doc` with `attribute` added to its primitive from `data` as
+/// `count` elements of `type_` in `component` (normalised when asked).
+fn with_attribute(
+    semantic: Semantic,
+    data: &[u8],
+    count: usize,
+    component: ComponentType,
+    type_: Type,
+    normalized: bool,
+) -> Doc {
+    let mut doc = cube_doc();
+    let view = doc.view(data);
+    let a = doc.accessor(Some(view), count, component, type_);
+    doc.root.accessors[a.value()].normalized = normalized;
+    doc.root.meshes[0].primitives[0]
+        .attributes
+        .insert(Valid(semantic), a);
+    doc
+}
+
+#[test]
+fn color_0_and_texcoord_1_load_from_every_allowed_format() {
+    let n = box_mesh(BoxParams::default()).positions.len();
+    // VEC3 float colours get alpha 1.
+    let rgb: Vec<f32> = (0..n)
+        .flat_map(|i| [i as f32 / n as f32, 0.5, 1.0])
+        .collect();
+    let doc = with_attribute(
+        Semantic::Colors(0),
+        &bytes(&rgb),
+        n,
+        ComponentType::F32,
+        Type::Vec3,
+        false,
+    );
+    let m = &load(&doc.gltf_data_uri()).unwrap().meshes[0];
+    let colors = m.colors.as_ref().unwrap();
+    assert_eq!(colors[3], [3.0 / n as f32, 0.5, 1.0, 1.0]);
+    // Normalised unsigned bytes and shorts (VEC4) are divided by their maximum.
+    let rgba8: Vec<u8> = (0..n).flat_map(|_| [255u8, 51, 0, 102]).collect();
+    let doc = with_attribute(
+        Semantic::Colors(0),
+        &rgba8,
+        n,
+        ComponentType::U8,
+        Type::Vec4,
+        true,
+    );
+    let m = &load(&doc.gltf_data_uri()).unwrap().meshes[0];
+    assert_eq!(m.colors.as_ref().unwrap()[0], [1.0, 0.2, 0.0, 0.4]);
+    let rgba16: Vec<u16> = (0..n).flat_map(|_| [0u16, 65535, 13107, 65535]).collect();
+    let doc = with_attribute(
+        Semantic::Colors(0),
+        &bytes(&rgba16),
+        n,
+        ComponentType::U16,
+        Type::Vec4,
+        true,
+    );
+    let m = &load(&doc.gltf_data_uri()).unwrap().meshes[0];
+    assert_eq!(m.colors.as_ref().unwrap()[n - 1], [0.0, 1.0, 0.2, 1.0]);
+    // TEXCOORD_1 as normalised unsigned shorts.
+    let uv16: Vec<u16> = (0..n).flat_map(|_| [65535u16, 0]).collect();
+    let doc = with_attribute(
+        Semantic::TexCoords(1),
+        &bytes(&uv16),
+        n,
+        ComponentType::U16,
+        Type::Vec2,
+        true,
+    );
+    let scene = load(&doc.gltf_data_uri()).unwrap();
+    assert_eq!(scene.meshes[0].uvs1.as_ref().unwrap()[5], [1.0, 0.0]);
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+}
+
+#[test]
+fn a_vertex_stream_of_the_wrong_length_is_refused_naming_the_primitive() {
+    let doc = with_attribute(
+        Semantic::Colors(0),
+        &bytes(&[1.0f32; 12]),
+        3,
+        ComponentType::F32,
+        Type::Vec4,
+        false,
+    );
+    let err = load(&doc.gltf_data_uri()).unwrap_err().to_string();
+    assert!(
+        err.starts_with("<memory>") && err.contains("mesh 0 `Cube`, primitive 0"),
+        "{err}"
+    );
+    assert!(err.contains("colors stream has 3 entries"), "{err}");
+    // Colours outside 0..1 are data, not an error: clamped on upload.
+    let doc = with_attribute(
+        Semantic::Colors(0),
+        &bytes(&vec![
+            2.0f32;
+            4 * box_mesh(BoxParams::default()).positions.len()
+        ]),
+        box_mesh(BoxParams::default()).positions.len(),
+        ComponentType::F32,
+        Type::Vec4,
+        false,
+    );
+    assert!(load(&doc.gltf_data_uri()).is_ok());
+}
+
+#[test]
+fn vertex_colours_of_a_primitive_without_normals_follow_its_flat_corners() {
+    let mut doc = Doc::new();
+    let positions = doc.positions(&[[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]);
+    let colors = doc.floats(&[
+        [1.0, 0.0, 0.0, 1.0],
+        [0.0, 1.0, 0.0, 1.0],
+        [0.0, 0.0, 1.0, 1.0],
+    ]);
+    let uv1 = doc.floats(&[[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]);
+    let indices = doc.indices(&[2, 0, 1]);
+    let mesh = doc.mesh(
+        "Tri",
+        vec![primitive(
+            &[
+                (Semantic::Positions, positions),
+                (Semantic::Colors(0), colors),
+                (Semantic::TexCoords(1), uv1),
+            ],
+            Some(indices),
+            Mode::Triangles,
+        )],
+    );
+    let node = doc.node(mesh_node(Some(mesh), [0.0; 3], 1.0));
+    doc.scene(vec![node]);
+    let m = &load(&doc.gltf_data_uri()).unwrap().meshes[0];
+    // Flat shading gave each corner its own vertex, in index order (2, 0, 1).
+    assert_eq!(m.positions[0], [0.0, 1.0, 0.0]);
+    assert_eq!(m.colors.as_ref().unwrap()[0], [0.0, 0.0, 1.0, 1.0]);
+    assert_eq!(m.uvs1.as_ref().unwrap()[1], [0.0, 0.0]);
+    assert_eq!(m.normals[0], [0.0, 0.0, 1.0]);
+}
+
+#[test]
+fn texture_sets_the_mesh_lacks_warn_once_and_fall_back_to_texcoord_0() {
+    let mut doc = cube_doc();
+    let png = doc.png_image(&png_2x2());
+    let texture = doc.texture(png);
+    let mut material = json::Material::default();
+    material.pbr_metallic_roughness.base_color_texture = Some(json::texture::Info {
+        tex_coord: 1,
+        ..info(texture)
+    });
+    material.emissive_texture = Some(json::texture::Info {
+        tex_coord: 3,
+        ..info(texture)
+    });
+    let material = doc.material(material);
+    doc.root.meshes[0].primitives[0].material = Some(material);
+    let scene = load(&doc.gltf_data_uri()).unwrap();
+    let m = &scene.materials[0];
+    assert_eq!(m.base_color_texture.as_ref().unwrap().tex_coord, 1);
+    assert_eq!(m.emissive_texture.as_ref().unwrap().tex_coord, 0);
+    assert_eq!(
+        scene.warnings,
+        vec![
+            "mesh 0 `Cube`, primitive 0: its material maps a texture with TEXCOORD_1, which it lacks; TEXCOORD_0 stands in".to_owned(),
+            "material 0, emissive texture uses TEXCOORD_3; meshes carry TEXCOORD_0 and TEXCOORD_1, so it is mapped with TEXCOORD_0".to_owned(),
+        ]
+    );
+}

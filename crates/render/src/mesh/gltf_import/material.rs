@@ -106,11 +106,15 @@ impl Importer<'_> {
             Some((t, over)) => (finite_transform(t), over.unwrap_or(slot.tex_coord)),
             None => (UvTransform::default(), slot.tex_coord),
         };
-        if tex_coord != 0 {
+        // Meshes carry two UV sets (TEXCOORD_0 and TEXCOORD_1).
+        let tex_coord = if tex_coord > 1 {
             self.warn(format!(
-                "{what} uses TEXCOORD_{tex_coord}; meshes carry one UV set, so it is mapped with TEXCOORD_0"
+                "{what} uses TEXCOORD_{tex_coord}; meshes carry TEXCOORD_0 and TEXCOORD_1, so it is mapped with TEXCOORD_0"
             ));
-        }
+            0
+        } else {
+            tex_coord
+        };
         let index = slot.texture.source().index();
         let image = match self.images.get(&index) {
             Some(image) => image.clone(),

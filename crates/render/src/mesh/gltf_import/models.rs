@@ -338,3 +338,60 @@ pub fn sliding_cube() -> Vec<u8> {
     });
     doc.gltf_data_uri()
 }
+
+/// Half the side of [`textured_floor`]'s square.
+pub const FLOOR_HALF: f32 = 20.0;
+/// How many times [`textured_floor`]'s textures repeat across it.
+pub const FLOOR_REPEAT: f32 = 8.0;
+
+/// The material accuracy scene (`spreadlight accuracy gltf`): a floor
+/// 2 x [`FLOOR_HALF`] square at y = 0 facing +Y, its textures repeating
+/// [`FLOOR_REPEAT`] times (u along +x, v along +z, from the -x -z corner):
+/// a fine checker base colour (4-texel cells, sRGB) and [`metal_rough`]
+/// (roughness rising with u, metal in the top half), both 64². Seen at a
+/// grazing angle its far part minifies the checker far past a texel per
+/// pixel: where unfiltered maps alias.
+pub fn textured_floor() -> Vec<u8> {
+    let mut doc = Doc::new();
+    let fine = image::RgbaImage::from_fn(TEXTURE_SIZE, TEXTURE_SIZE, |x, y| {
+        image::Rgba(if (x / 4 + y / 4).is_multiple_of(2) {
+            [220, 200, 160, 255]
+        } else {
+            [40, 60, 90, 255]
+        })
+    });
+    let [base, rough] = [fine, metal_rough()].map(|image| {
+        let image = doc.png_image(&png(&image));
+        doc.texture(image)
+    });
+    let mut material = json::Material {
+        name: Some("Floor".into()),
+        ..Default::default()
+    };
+    material.pbr_metallic_roughness.base_color_texture = Some(info(base));
+    material.pbr_metallic_roughness.metallic_roughness_texture = Some(info(rough));
+    let material = doc.material(material);
+    let (h, r) = (FLOOR_HALF, FLOOR_REPEAT);
+    let corners = [[-h, h], [h, h], [h, -h], [-h, -h]];
+    let mut floor = crate::mesh::MeshData {
+        positions: corners.iter().map(|&[x, z]| [x, 0.0, z]).collect(),
+        normals: vec![[0.0, 1.0, 0.0]; 4],
+        uvs: Some(
+            corners
+                .iter()
+                .map(|&[x, z]| [(x + h) / (2.0 * h) * r, (z + h) / (2.0 * h) * r])
+                .collect(),
+        ),
+        tangents: None,
+        uvs1: None,
+        colors: None,
+        indices: vec![0, 1, 2, 0, 2, 3],
+        bounds: crate::mesh::Aabb::ZERO,
+    };
+    floor.recompute_bounds();
+    let mesh = doc.mesh_data("Floor", &floor);
+    doc.root.meshes[mesh.value()].primitives[0].material = Some(material);
+    let node = doc.node(mesh_node(Some(mesh), [0.0; 3], 1.0));
+    doc.scene(vec![node]);
+    doc.gltf_data_uri()
+}

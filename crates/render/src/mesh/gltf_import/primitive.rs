@@ -15,6 +15,25 @@ use crate::mesh::{Aabb, MeshData, Shading};
 /// vertex's vertex in the file.
 type Unwelded = (MeshData, Option<Vec<u32>>);
 
+/// Whether some texture of `material` names TEXCOORD_1 (in its texture
+/// info; a `KHR_texture_transform` override is not looked at here).
+fn uses_second_uv_set(material: &gltf::Material) -> bool {
+    let pbr = material.pbr_metallic_roughness();
+    [
+        pbr.base_color_texture().map(|t| t.tex_coord()),
+        pbr.metallic_roughness_texture().map(|t| t.tex_coord()),
+        material.normal_texture().map(|t| t.tex_coord()),
+        material.occlusion_texture().map(|t| t.tex_coord()),
+        material.emissive_texture().map(|t| t.tex_coord()),
+    ]
+    .contains(&Some(1))
+}
+
+/// `stream[indices[k]]` for every k (indices already checked against the stream).
+fn unweld_by<T: Copy>(stream: &[T], indices: &[u32]) -> Vec<T> {
+    indices.iter().map(|&i| stream[i as usize]).collect()
+}
+
 /// "mesh 2 `Wheel`, primitive 1": how messages name a primitive.
 pub(super) fn primitive_name(mesh: &gltf::Mesh, primitive: usize) -> String {
     match mesh.name() {
@@ -89,6 +108,17 @@ impl Importer<'_> {
         let tangents: Option<Vec<[f32; 4]>> = read(Semantic::Tangents)
             .map(|a| self.floats(&name, a))
             .transpose()?;
+        let uvs1: Option<Vec<[f32; 2]>> = read(Semantic::TexCoords(1))
+            .map(|a| self.floats(&name, a))
+            .transpose()?;
+        if uvs1.is_none() && uses_second_uv_set(&primitive.material()) {
+            self.warn(format!(
+                "{name}: its material maps a texture with TEXCOORD_1, which it lacks; TEXCOORD_0 stands in"
+            ));
+        }
+        let colors = read(Semantic::Colors(0))
+            .map(|a| self.colors(&name, a))
+            .transpose()?;
 
         let indices = match primitive.indices() {
             Some(a) => self.indices(&name, a)?,
@@ -108,10 +138,33 @@ impl Importer<'_> {
         };
         let Some(normals) = normals else {
             // glTF: flat normals, and tangents in the file are ignored.
-            let origin = indices.clone();
-            return MeshData::from_triangles(positions, uvs, indices, Shading::Flat)
-                .map(|m| Some((m, Some(origin))))
-                .map_err(mesh_error);
+            // Streams are checked against the positions before unwelding.
+            let mut data = MeshData {
+                normals: vec![[0.0, 1.0, 0.0]; positions.len()],
+                positions,
+                uvs: None,
+                tangents: None,
+                uvs1,
+                colors,
+                indices,
+                bounds: Aabb::ZERO,
+            };
+            data.recompute_bounds();
+            data.validate().map_err(&mesh_error)?;
+            let flat = MeshData::from_triangles(
+                std::mem::take(&mut data.positions),
+                uvs,
+                data.indices.clone(),
+                Shading::Flat,
+            )
+            .map_err(&mesh_error)?;
+            // from_triangles gave each triangle corner its own vertex, in index order.
+            let mesh = MeshData {
+                uvs1: data.uvs1.as_deref().map(|s| unweld_by(s, &data.indices)),
+                colors: data.colors.as_deref().map(|s| unweld_by(s, &data.indices)),
+                ..flat
+            };
+            return Ok(Some((mesh, Some(data.indices))));
         };
         let normals = normals
             .into_iter()
@@ -127,6 +180,8 @@ impl Importer<'_> {
             normals,
             uvs,
             tangents,
+            uvs1,
+            colors,
             indices,
             bounds: Aabb::ZERO,
         };
@@ -177,6 +232,25 @@ impl Importer<'_> {
         (semantic, accessor): (Semantic, gltf::Accessor),
     ) -> Result<Vec<[f32; N]>, GltfError> {
         self.buffers.read_floats::<N>(&accessor).map_err(|reason| {
+            self.accessor_error(&accessor, &semantic.to_string(), primitive, reason)
+        })
+    }
+
+    /// COLOR_0 as linear RGBA: VEC3 gets alpha 1; unsigned byte and short
+    /// components are normalised (glTF requires them to be).
+    fn colors(
+        &self,
+        primitive: &str,
+        (semantic, accessor): (Semantic, gltf::Accessor),
+    ) -> Result<Vec<[f32; 4]>, GltfError> {
+        let read = match accessor.dimensions() {
+            gltf::accessor::Dimensions::Vec3 => self
+                .buffers
+                .read_floats::<3>(&accessor)
+                .map(|v| v.into_iter().map(|[r, g, b]| [r, g, b, 1.0]).collect()),
+            _ => self.buffers.read_floats::<4>(&accessor),
+        };
+        read.map_err(|reason| {
             self.accessor_error(&accessor, &semantic.to_string(), primitive, reason)
         })
     }
