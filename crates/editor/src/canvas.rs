@@ -10,7 +10,7 @@ use std::rc::Rc;
 use egui::{Color32, Pos2, Rect, Stroke, Ui};
 use egui_snarl::ui::{PinInfo, PinShape, PinWireInfo, SnarlPin, SnarlStyle, SnarlViewer};
 use egui_snarl::{InPin, InPinId, OutPin, OutPinId, Snarl};
-use spreadlight_graph::{NodeId, PinRef, PinType, Registry, Runtime, Severity, Spread};
+use spreadlight_graph::{NodeId, PinRef, PinType, Registry, RuntimeSnapshot, Severity, Spread};
 
 use crate::model::EditorDoc;
 use crate::values;
@@ -111,7 +111,7 @@ impl SnarlPin for RecordedPin {
 pub struct Canvas<'a> {
     pub doc: &'a mut EditorDoc,
     pub registry: &'a Registry,
-    pub runtime: &'a Runtime,
+    pub runtime: &'a RuntimeSnapshot,
     pub selected: &'a BTreeSet<NodeId>,
     /// Each node's rectangle on screen, in drawing order (the last is on top).
     pub node_rects: &'a mut Vec<(NodeId, Rect)>,

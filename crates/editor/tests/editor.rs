@@ -31,6 +31,8 @@ impl Env {
             config_dir: self.config(),
             autosave_secs: 0.0,
             automation: None,
+            // Each frame shows the patch as of that frame (deterministic); the patch still runs on its worker thread.
+            frame_wait: spreadlight_editor::FrameWait::Always,
         }
     }
 
