@@ -451,6 +451,12 @@ impl EditorApp {
         self.viewport_rects.get(index).copied().flatten()
     }
 
+    /// The area the patch's Mouse and WindowSize nodes measure: the first
+    /// viewport's (the whole window in the show window), in points.
+    pub fn patch_window_rect(&self) -> Option<egui::Rect> {
+        self.view_area
+    }
+
     /// The pixel size a viewport renders at (the first one's is the patch's window size).
     pub fn viewport_pixels(&self, index: usize) -> Option<(u32, u32)> {
         self.viewports.get(index).map(|v| v.size)

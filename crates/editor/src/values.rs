@@ -148,7 +148,7 @@ fn edit_slice(
         Spread::Int(v) => track(ui.add(DragValue::new(&mut v[i]).speed(0.1)), label),
         Spread::Bool(v) => track(ui.checkbox(&mut v[i], ""), label),
         Spread::String(v) => {
-            let width = if compact { 90.0 } else { 160.0 };
+            let width = if compact { 64.0 } else { 160.0 };
             track(
                 ui.add(egui::TextEdit::singleline(&mut v[i]).desired_width(width)),
                 label,

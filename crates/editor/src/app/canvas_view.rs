@@ -103,6 +103,7 @@ impl EditorApp {
                 now,
                 instance: &self.instance,
             };
+            canvas::compact_spacing(ui);
             SnarlWidget::new()
                 .id(Id::new(CANVAS_ID))
                 .style(canvas::style())
