@@ -150,7 +150,10 @@ struct Viewport {
 
 impl Viewport {
     fn new(source: Source) -> Self {
-        Viewport { source, size: (1, 1) }
+        Viewport {
+            source,
+            size: (1, 1),
+        }
     }
 }
 

@@ -12,12 +12,32 @@ use spreadlight_graph::{NodeDoc, NodeId, Patch, Spread, format};
 fn patch() -> Patch {
     let mut p = Patch::default();
     p.add(NodeDoc::new(1, "Mouse (Window)"));
-    p.add(NodeDoc::new(2, "Probe").at(80.0, 0.0).with("Name", "x".to_owned()));
+    p.add(
+        NodeDoc::new(2, "Probe")
+            .at(80.0, 0.0)
+            .with("Name", "x".to_owned()),
+    );
     p.add(NodeDoc::new(3, "WindowSize (Window)").at(0.0, 60.0));
-    p.add(NodeDoc::new(4, "Probe").at(80.0, 60.0).with("Name", "w".to_owned()));
-    p.add(NodeDoc::new(5, "KeyMatch (Keyboard)").at(0.0, 120.0).with("Key Match", "A".to_owned()));
-    p.add(NodeDoc::new(6, "Probe").at(80.0, 120.0).with("Name", "a".to_owned()));
-    p.add(NodeDoc::new(7, "Probe").at(80.0, 180.0).with("Name", "inside".to_owned()));
+    p.add(
+        NodeDoc::new(4, "Probe")
+            .at(80.0, 60.0)
+            .with("Name", "w".to_owned()),
+    );
+    p.add(
+        NodeDoc::new(5, "KeyMatch (Keyboard)")
+            .at(0.0, 120.0)
+            .with("Key Match", "A".to_owned()),
+    );
+    p.add(
+        NodeDoc::new(6, "Probe")
+            .at(80.0, 120.0)
+            .with("Name", "a".to_owned()),
+    );
+    p.add(
+        NodeDoc::new(7, "Probe")
+            .at(80.0, 180.0)
+            .with("Name", "inside".to_owned()),
+    );
     p.link(1, "X", 2, "Input");
     p.link(3, "Width", 4, "Input");
     p.link(5, "Output", 6, "Input");

@@ -28,7 +28,11 @@ fn harness(dir: &tempfile::TempDir, patch: &Patch) -> Harness<'static, EditorApp
     harness_sized(dir, patch, Vec2::new(800.0, 500.0))
 }
 
-fn harness_sized(dir: &tempfile::TempDir, patch: &Patch, size: Vec2) -> Harness<'static, EditorApp> {
+fn harness_sized(
+    dir: &tempfile::TempDir,
+    patch: &Patch,
+    size: Vec2,
+) -> Harness<'static, EditorApp> {
     let path = dir.path().join("wide.ron");
     format::save(patch, &path).expect("save");
     let options = EditorOptions {
@@ -154,7 +158,12 @@ fn nodes_are_as_narrow_as_their_title_and_pins_need() {
     assert_eq!(rects.len(), p.nodes.len(), "every node drawn");
     for (id, rect) in rects {
         let node = p.node(id).expect("node");
-        let def = h.state().registry().get(&node.type_name).expect("type").clone();
+        let def = h
+            .state()
+            .registry()
+            .get(&node.type_name)
+            .expect("type")
+            .clone();
         let widest = |names: Vec<&str>| names.into_iter().map(&width_of).fold(0.0, f32::max);
         let inputs = widest(def.inputs.iter().map(|p| &*p.name).collect());
         let outputs = widest(def.outputs.iter().map(|p| &*p.name).collect());

@@ -14,8 +14,8 @@ use crate::document::{NodeId, Patch};
 use crate::network::{InputSource, Network, NetworkNode};
 use crate::node::{EvalContext, Node, NodeError, PatchDir, ProbeLog, Services};
 use crate::registry::Registry;
-use crate::spread::Spread;
 use crate::snapshot::RuntimeSnapshot;
+use crate::spread::Spread;
 use crate::stats::{FrameStats, NodeRun, NodeStat};
 use crate::subpatch::Library;
 

@@ -139,7 +139,9 @@ mod tests {
         assert_eq!(snap.path_of(NodeId(2)), Some(&[NodeId(2)][..]));
 
         // The runtime moves on; the snapshot still shows its own frame.
-        p.nodes[0].values.insert("In".into(), Spread::Float(vec![5.0]));
+        p.nodes[0]
+            .values
+            .insert("In".into(), Spread::Float(vec![5.0]));
         rt.load(&p);
         rt.evaluate(FrameClock::default());
         assert_eq!(

@@ -26,7 +26,8 @@ impl EditorApp {
         if !self.wake_set && !matches!(self.options.frame_wait, FrameWait::Always) {
             // An idle UI (paused patch, no input) repaints when a frame is finished.
             let ctx = ctx.clone();
-            self.worker.set_wake(Box::new(move || ctx.request_repaint()));
+            self.worker
+                .set_wake(Box::new(move || ctx.request_repaint()));
             self.wake_set = true;
         }
         let mut request = Request::default();

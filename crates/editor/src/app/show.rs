@@ -47,10 +47,7 @@ impl EditorApp {
             .nodes
             .iter()
             .find(|n| n.type_name == "Output")?;
-        match self
-            .doc
-            .input_value(&self.registry, output.id, "Monitor")?
-        {
+        match self.doc.input_value(&self.registry, output.id, "Monitor")? {
             Spread::Int(v) => v.first().and_then(|&m| usize::try_from(m).ok()),
             _ => None,
         }
