@@ -15,28 +15,28 @@ fn patch() -> Patch {
     p.add(
         NodeDoc::new(2, "Probe")
             .at(80.0, 0.0)
-            .with("Name", "x".to_owned()),
+            .with("Name", vec!["x".to_owned()]),
     );
     p.add(NodeDoc::new(3, "WindowSize (Window)").at(0.0, 60.0));
     p.add(
         NodeDoc::new(4, "Probe")
             .at(80.0, 60.0)
-            .with("Name", "w".to_owned()),
+            .with("Name", vec!["w".to_owned()]),
     );
     p.add(
         NodeDoc::new(5, "KeyMatch (Keyboard)")
             .at(0.0, 120.0)
-            .with("Key Match", "A".to_owned()),
+            .with("Key Match", vec!["A".to_owned()]),
     );
     p.add(
         NodeDoc::new(6, "Probe")
             .at(80.0, 120.0)
-            .with("Name", "a".to_owned()),
+            .with("Name", vec!["a".to_owned()]),
     );
     p.add(
         NodeDoc::new(7, "Probe")
             .at(80.0, 180.0)
-            .with("Name", "inside".to_owned()),
+            .with("Name", vec!["inside".to_owned()]),
     );
     p.link(1, "X", 2, "Input");
     p.link(3, "Width", 4, "Input");
