@@ -16,6 +16,10 @@ pub struct Args {
     /// Fill the monitor the window opens on.
     #[arg(long)]
     fullscreen: bool,
+    /// Open on this monitor (0, 1, ... as the window system lists them); by
+    /// default the `Monitor` pin of the patch's Output decides.
+    #[arg(long, value_name = "N")]
+    monitor: Option<usize>,
     /// Run this many frames, print the frame times as JSON, and quit (as `edit` does).
     #[arg(long, value_name = "FRAMES")]
     measure_frames: Option<u32>,
@@ -40,6 +44,7 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
     let window = ShowWindow {
         size: args.size,
         fullscreen: args.fullscreen,
+        monitor: args.monitor,
     };
     spreadlight_editor::play(options, window)?;
     Ok(ExitCode::SUCCESS)

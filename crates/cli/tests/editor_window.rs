@@ -421,3 +421,63 @@ fn play_shows_the_output_alone_filling_its_window() {
         colours.len()
     );
 }
+
+/// `spreadlight play --monitor N` opens on monitor N, centred on it (Xvfb has
+/// one, 1920x1080 at the origin); a monitor that does not exist is a clear
+/// error naming the ones there are, and no window stays open.
+#[test]
+fn play_opens_on_the_chosen_monitor_and_refuses_one_that_does_not_exist() {
+    let x = Xvfb::start();
+    let dir = tempfile::tempdir().expect("tempdir");
+    let play = |monitor: &str, frames: &str| {
+        let mut c = Command::new(env!("CARGO_BIN_EXE_spreadlight"));
+        c.args(["play", "patches/lfo-sine.ron", "--size", "320x180"])
+            .args(["--monitor", monitor, "--measure-frames", frames])
+            .current_dir(root())
+            .env("DISPLAY", &x.display)
+            .env_remove("WAYLAND_DISPLAY")
+            .env("XDG_RUNTIME_DIR", std::env::temp_dir())
+            .env("SPREADLIGHT_CONFIG_DIR", dir.path())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped());
+        c
+    };
+
+    let mut child = play("0", "400").spawn().expect("play runs");
+    let input = Input::connect(&x);
+    let mut seen = None;
+    for _ in 0..600 {
+        use x11rb::protocol::xproto::ConnectionExt;
+        if let Some(win) = input.shown_window(320, 180) {
+            let g = input
+                .conn
+                .get_geometry(win)
+                .expect("request")
+                .reply()
+                .expect("geometry");
+            seen = Some((g.x, g.y, g.width, g.height));
+            if (g.x, g.y) == (800, 450) {
+                break;
+            }
+        }
+        if child.try_wait().expect("wait").is_some() {
+            break;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    }
+    let _ = child.kill();
+    let _ = child.wait();
+    assert_eq!(
+        seen,
+        Some((800, 450, 320, 180)),
+        "the window is centred on monitor 0"
+    );
+
+    let out = play("7", "5").output().expect("play runs");
+    assert!(!out.status.success(), "monitor 7 does not exist");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("monitor 7 does not exist") && stderr.contains("0: "),
+        "{stderr}"
+    );
+}

@@ -10,14 +10,15 @@ use egui_snarl::Snarl;
 use egui_snarl::ui::SnarlWidget;
 use spreadlight_graph::registry::Name;
 use spreadlight_graph::{
-    FrameClock, NodeId, PinRef, PinType, Registry, ResourceKind, Runtime, Spread, format,
+    FrameClock, NodeId, PinRef, PinType, Registry, ResourceKind, RuntimeSnapshot, Spread, format,
 };
-use spreadlight_render::{GpuContext, Renderer, TextureRef};
+use spreadlight_render::{GpuContext, Renderer};
 
 mod automation;
 mod canvas_view;
 mod dialogs;
 mod document;
+mod host_input;
 mod inspector;
 mod menus;
 mod running;
@@ -30,7 +31,8 @@ use crate::canvas::{self, Canvas, CanvasNode, PinPositions, Refusal, SCALE};
 use crate::files;
 use crate::model::{Clip, EditorDoc};
 use crate::values;
-use crate::viewport::{self, Blitter, ViewTarget, ViewportError};
+use crate::viewport::{Blitter, ViewportError};
+use crate::worker::{Frame, FrameWait, Request, ViewRequest, Worker, WorkerGpu};
 
 /// How the editor starts.
 #[derive(Clone, Debug)]
@@ -41,6 +43,9 @@ pub struct EditorOptions {
     /// in the recovery file at most this long after it is made.
     pub autosave_secs: f64,
     pub automation: Option<Automation>,
+    /// How long a UI frame waits for the patch frame it asked for (the patch
+    /// runs on its own thread, `worker.rs`).
+    pub frame_wait: FrameWait,
 }
 
 /// A scripted run of the real window: repaint for `frames` frames, then
@@ -58,6 +63,9 @@ struct AutoRun {
     intervals: Vec<f64>,
     ui: Vec<f64>,
     cpu: Vec<f64>,
+    /// The worker's seconds per finished patch frame, one entry per new frame.
+    patch: Vec<f64>,
+    last_evaluations: u64,
     screenshot_sent: bool,
 }
 
@@ -80,6 +88,7 @@ impl EditorOptions {
             config_dir: files::config_dir(),
             autosave_secs: AUTOSAVE_SECS,
             automation: None,
+            frame_wait: FrameWait::default(),
         }
     }
 }
@@ -133,30 +142,19 @@ enum Source {
     Pin(NodeId, String),
 }
 
+/// A viewport's wish (what and how big); what it shows comes from the worker's frame.
 struct Viewport {
     source: Source,
-    target: Option<ViewTarget>,
     size: (u32, u32),
-    error: Option<ViewportError>,
-    rendered_size: (u32, u32),
 }
 
 impl Viewport {
     fn new(source: Source) -> Self {
         Viewport {
             source,
-            target: None,
             size: (1, 1),
-            error: None,
-            rendered_size: (0, 0),
         }
     }
-}
-
-struct Gpu {
-    state: egui_wgpu::RenderState,
-    renderer: Arc<Renderer>,
-    blitter: Blitter,
 }
 
 pub struct EditorApp {
@@ -165,15 +163,23 @@ pub struct EditorApp {
     path: Option<PathBuf>,
     options: EditorOptions,
     recent: Vec<PathBuf>,
-    runtime: Runtime,
-    loaded_generation: Option<u64>,
-    gpu: Option<Gpu>,
+    /// Evaluates the patch and renders the viewports on its own thread.
+    worker: Worker,
+    /// The latest finished patch frame: live values, errors, the viewports' images.
+    frame: Arc<Frame>,
+    /// The document generation last sent to the worker.
+    sent_generation: Option<u64>,
+    /// The viewports' wishes last sent.
+    sent_views: Vec<ViewRequest>,
+    /// Whether the worker's repaint call is installed (on the first frame, when there is a context).
+    wake_set: bool,
     gpu_error: Option<String>,
     viewports: [Viewport; 2],
     viewport_rects: [Option<egui::Rect>; 2],
-    gpu_ms: HashMap<u32, f64>,
-    /// Errors of the viewport's passes, by the node that declared them.
-    gpu_errors: HashMap<u32, String>,
+    /// The first viewport's whole area, in points: the patch's window (`host_input.rs`).
+    view_area: Option<egui::Rect>,
+    /// Wheel notches summed over the patch's window.
+    wheel: f32,
     snarl: Snarl<CanvasNode>,
     snarl_ids: HashMap<NodeId, egui_snarl::NodeId>,
     selected: BTreeSet<NodeId>,
@@ -208,7 +214,6 @@ pub struct EditorApp {
     last_pointer: Pos2,
     title: String,
     ui_times: std::collections::VecDeque<f64>,
-    evaluations: u64,
     auto: AutoRun,
     /// The shader files beside the patch and in the user library, polled for saves.
     shaders: crate::shader_watch::ShaderWatch,
@@ -222,6 +227,8 @@ pub struct EditorApp {
     parents: Vec<PathBuf>,
     /// Outputs pinned as watched values (`watches.rs`).
     watches: Vec<watches::Watch>,
+    /// Where the show window goes, until its first frame placed it (`show.rs`).
+    placement: Option<show::Placement>,
 }
 
 impl EditorApp {
@@ -236,7 +243,6 @@ impl EditorApp {
         options: EditorOptions,
     ) -> Self {
         let registry = crate::nodes::registry();
-        let mut runtime = Runtime::new(registry.clone());
         let (gpu, gpu_error) = match render_state {
             Some(state) => {
                 let context = GpuContext::from_parts(
@@ -250,10 +256,9 @@ impl EditorApp {
                         // failing frame falls back to a pass at a time.
                         renderer.set_recording(spreadlight_render::renderer::Recording::Batched);
                         let renderer = Arc::new(renderer);
-                        runtime.provide(renderer.clone());
                         let blitter = Blitter::new(&state.device);
                         (
-                            Some(Gpu {
+                            Some(WorkerGpu {
                                 state,
                                 renderer,
                                 blitter,
@@ -270,20 +275,23 @@ impl EditorApp {
             ),
         };
         let recent = files::load_recent(&options.config_dir);
+        let worker = Worker::new(registry.clone(), gpu);
         let mut app = EditorApp {
             registry,
             doc: EditorDoc::default(),
             path: None,
             options: options.clone(),
             recent,
-            runtime,
-            loaded_generation: None,
-            gpu,
+            worker,
+            frame: Arc::default(),
+            sent_generation: None,
+            sent_views: Vec::new(),
+            wake_set: false,
             gpu_error,
             viewports: [Viewport::new(Source::Output), Viewport::new(Source::None)],
             viewport_rects: [None; 2],
-            gpu_ms: HashMap::new(),
-            gpu_errors: HashMap::new(),
+            view_area: None,
+            wheel: 0.0,
             snarl: Snarl::new(),
             snarl_ids: HashMap::new(),
             selected: BTreeSet::new(),
@@ -314,7 +322,6 @@ impl EditorApp {
             last_pointer: Pos2::ZERO,
             title: String::new(),
             ui_times: std::collections::VecDeque::new(),
-            evaluations: 0,
             auto: AutoRun::default(),
             shaders: crate::shader_watch::ShaderWatch::new(None),
             subpatch_types: Vec::new(),
@@ -322,6 +329,7 @@ impl EditorApp {
             show_mode: false,
             parents: Vec::new(),
             watches: Vec::new(),
+            placement: None,
         };
         match options.path {
             // `spreadlight edit new.ron` starts that patch, as text editors do.
@@ -350,8 +358,10 @@ impl EditorApp {
         self.path.as_deref()
     }
 
-    pub fn runtime(&self) -> &Runtime {
-        &self.runtime
+    /// The runtime as of the latest finished patch frame (the runtime itself
+    /// lives on the worker thread).
+    pub fn runtime(&self) -> &RuntimeSnapshot {
+        &self.frame.runtime
     }
 
     pub fn registry(&self) -> &Registry {
@@ -426,12 +436,13 @@ impl EditorApp {
 
     /// How many times the patch was evaluated: it runs only on change or while playing.
     pub fn evaluations(&self) -> u64 {
-        self.evaluations
+        self.frame.evaluations
     }
 
     /// The egui texture a viewport shows, once something was rendered into it.
     pub fn viewport_texture(&self, index: usize) -> Option<&wgpu::Texture> {
-        self.viewports
+        self.frame
+            .views
             .get(index)?
             .target
             .as_ref()
@@ -443,8 +454,20 @@ impl EditorApp {
         self.viewport_rects.get(index).copied().flatten()
     }
 
+    /// The area the patch's Mouse and WindowSize nodes measure: the first
+    /// viewport's (the whole window in the show window), in points.
+    pub fn patch_window_rect(&self) -> Option<egui::Rect> {
+        self.view_area
+    }
+
+    /// The pixel size a viewport renders at (the first one's is the patch's window size).
+    pub fn viewport_pixels(&self, index: usize) -> Option<(u32, u32)> {
+        self.viewports.get(index).map(|v| v.size)
+    }
+
     pub fn viewport_error(&self, index: usize) -> Option<String> {
-        self.viewports
+        self.frame
+            .views
             .get(index)?
             .error
             .as_ref()
@@ -561,7 +584,7 @@ impl EditorApp {
             ));
         }
         self.shortcuts(&ctx);
-        self.evaluate_if_needed(Some(dt));
+        self.evaluate_if_needed(&ctx, Some(dt), true);
 
         egui::Panel::top("menu").show(ui, |ui| self.menu_bar(ui));
         egui::Panel::bottom("status").show(ui, |ui| self.status_bar(ui));
@@ -588,8 +611,7 @@ impl EditorApp {
         self.dialogs(&ctx);
 
         // Edits made while drawing are evaluated at once, so the viewport never shows a stale frame.
-        self.evaluate_if_needed(None);
-        self.render_viewports();
+        self.evaluate_if_needed(&ctx, None, false);
         self.autosave(now, &ctx);
 
         let title = self.title();

@@ -10,7 +10,7 @@ use std::rc::Rc;
 use egui::{Color32, Pos2, Rect, Stroke, Ui};
 use egui_snarl::ui::{PinInfo, PinShape, PinWireInfo, SnarlPin, SnarlStyle, SnarlViewer};
 use egui_snarl::{InPin, InPinId, OutPin, OutPinId, Snarl};
-use spreadlight_graph::{NodeId, PinRef, PinType, Registry, Runtime, Severity, Spread};
+use spreadlight_graph::{NodeId, PinRef, PinType, Registry, RuntimeSnapshot, Severity, Spread};
 
 use crate::model::EditorDoc;
 use crate::values;
@@ -46,8 +46,38 @@ pub struct Refusal {
     pub since: f64,
 }
 
+/// Spacing inside nodes: rows close together, as vvvv's nodes are (the text size is unchanged).
+pub fn compact_spacing(ui: &mut Ui) {
+    let s = ui.spacing_mut();
+    s.item_spacing = egui::vec2(4.0, 1.0);
+    s.interact_size = egui::vec2(28.0, 16.0);
+    s.button_padding = egui::vec2(3.0, 0.0);
+    s.combo_width = 64.0;
+    s.icon_width = 12.0;
+    s.icon_spacing = 2.0;
+}
+
 pub fn style() -> SnarlStyle {
+    let window = egui::Style::default();
     SnarlStyle {
+        // A tight frame and no collapse button: a node is as wide as its
+        // title and its widest row need (vvvv's nodes are small).
+        node_frame: Some(egui::Frame {
+            inner_margin: egui::Margin::symmetric(4, 2),
+            fill: window.visuals.window_fill,
+            stroke: window.visuals.window_stroke,
+            corner_radius: egui::CornerRadius::same(2),
+            ..egui::Frame::NONE
+        }),
+        header_frame: Some(egui::Frame {
+            inner_margin: egui::Margin::symmetric(4, 1),
+            fill: Color32::TRANSPARENT,
+            corner_radius: egui::CornerRadius::same(2),
+            ..egui::Frame::NONE
+        }),
+        collapsible: Some(false),
+        header_drag_space: Some(egui::vec2(2.0, 0.0)),
+        pin_size: Some(8.0),
         // Double-click on the canvas opens the node browser, as in vvvv.
         centering: Some(false),
         // A patch opens at its real size, or smaller to fit; never blown up.
@@ -111,7 +141,7 @@ impl SnarlPin for RecordedPin {
 pub struct Canvas<'a> {
     pub doc: &'a mut EditorDoc,
     pub registry: &'a Registry,
-    pub runtime: &'a Runtime,
+    pub runtime: &'a RuntimeSnapshot,
     pub selected: &'a BTreeSet<NodeId>,
     /// Each node's rectangle on screen, in drawing order (the last is on top).
     pub node_rects: &'a mut Vec<(NodeId, Rect)>,

@@ -4,7 +4,7 @@
 //! updating as the patch runs.
 
 use egui::Ui;
-use spreadlight_graph::{NodeId, PinRef, Registry, Runtime, Spread};
+use spreadlight_graph::{NodeId, PinRef, Registry, RuntimeSnapshot, Spread};
 
 use crate::model::EditorDoc;
 use crate::values;
@@ -22,7 +22,7 @@ pub fn rows(
     ui: &mut Ui,
     doc: &mut EditorDoc,
     registry: &Registry,
-    runtime: &Runtime,
+    runtime: &RuntimeSnapshot,
     path: &[NodeId],
 ) {
     let Some(&id) = path.last() else {

@@ -11,15 +11,20 @@ pub mod files;
 pub mod gpu;
 pub mod iobox;
 pub mod model;
+pub mod monitors;
 pub mod nodes;
 pub mod shader_watch;
 pub mod subpatch;
 pub mod values;
 pub mod viewport;
+pub mod worker;
 pub mod zoom;
 
 pub use app::{EditorApp, EditorOptions};
 pub use model::{Clip, Command, EditorDoc, LinkError};
+pub use worker::FrameWait;
+
+use std::sync::{Arc, Mutex};
 
 use thiserror::Error;
 
@@ -27,6 +32,8 @@ use thiserror::Error;
 pub enum EditorError {
     #[error("cannot open the editor window: {0}")]
     Window(String),
+    #[error("{0}")]
+    Monitor(String),
 }
 
 /// Open the editor window and run until it closes.
@@ -34,7 +41,7 @@ pub fn run(options: EditorOptions) -> Result<(), EditorError> {
     let viewport = egui::ViewportBuilder::default()
         .with_inner_size([1600.0, 900.0])
         .with_title("Spreadlight");
-    run_window(viewport, options, false)
+    run_window(viewport, options)
 }
 
 /// How the show window opens.
@@ -44,25 +51,50 @@ pub struct ShowWindow {
     pub size: Option<(u32, u32)>,
     /// Fullscreen on the monitor the window opens on.
     pub fullscreen: bool,
+    /// The monitor to open on (as `spreadlight play --monitor` numbers them);
+    /// without it, the `Monitor` pin of the patch's `Output` decides.
+    pub monitor: Option<usize>,
 }
 
 /// Run a patch in a borderless show window alone (no editor) until it closes.
+/// The window moves to its monitor on its first frame (`monitors.rs`).
 pub fn play(options: EditorOptions, window: ShowWindow) -> Result<(), EditorError> {
     let (w, h) = window.size.unwrap_or((1280, 720));
     let viewport = egui::ViewportBuilder::default()
         .with_inner_size([w as f32, h as f32])
         .with_decorations(false)
-        .with_fullscreen(window.fullscreen)
+        .with_fullscreen(window.fullscreen && window.monitor.is_none())
         .with_title("Spreadlight show");
-    run_window(viewport, options, true)
+    let native = native_options(viewport);
+    let event_loop = winit::event_loop::EventLoop::<eframe::UserEvent>::with_user_event()
+        .build()
+        .map_err(|e| EditorError::Window(e.to_string()))?;
+    let found = monitors::Found::default();
+    let failure = Arc::new(Mutex::new(None));
+    let (app_found, app_failure) = (found.clone(), failure.clone());
+    let app = eframe::create_native(
+        "Spreadlight",
+        native,
+        Box::new(move |cc| {
+            let mut app = EditorApp::new(cc, options);
+            app.set_show_mode(true);
+            app.set_show_window(window, app_found, app_failure);
+            Ok(Box::new(app))
+        }),
+        &event_loop,
+    );
+    let mut handler = monitors::Listing::new(app, found);
+    event_loop
+        .run_app(&mut handler)
+        .map_err(|e| EditorError::Window(e.to_string()))?;
+    match failure.lock().unwrap_or_else(|e| e.into_inner()).take() {
+        Some(message) => Err(EditorError::Monitor(message)),
+        None => Ok(()),
+    }
 }
 
-fn run_window(
-    viewport: egui::ViewportBuilder,
-    options: EditorOptions,
-    show: bool,
-) -> Result<(), EditorError> {
-    let native = eframe::NativeOptions {
+fn native_options(viewport: egui::ViewportBuilder) -> eframe::NativeOptions {
+    eframe::NativeOptions {
         viewport,
         renderer: eframe::Renderer::Wgpu,
         wgpu_options: egui_wgpu::WgpuConfiguration {
@@ -70,15 +102,14 @@ fn run_window(
             ..Default::default()
         },
         ..Default::default()
-    };
+    }
+}
+
+fn run_window(viewport: egui::ViewportBuilder, options: EditorOptions) -> Result<(), EditorError> {
     eframe::run_native(
         "Spreadlight",
-        native,
-        Box::new(move |cc| {
-            let mut app = EditorApp::new(cc, options);
-            app.set_show_mode(show);
-            Ok(Box::new(app))
-        }),
+        native_options(viewport),
+        Box::new(move |cc| Ok(Box::new(EditorApp::new(cc, options)))),
     )
     .map_err(|e| EditorError::Window(e.to_string()))
 }

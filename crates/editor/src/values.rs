@@ -207,7 +207,7 @@ fn edit_slice_unclamped(
         }
         Spread::Bool(v) => track(ui.checkbox(&mut v[i], ""), label),
         Spread::String(v) => {
-            let width = if compact { 90.0 } else { 160.0 };
+            let width = if compact { 64.0 } else { 160.0 };
             track(
                 ui.add(egui::TextEdit::singleline(&mut v[i]).desired_width(width)),
                 label,

@@ -149,6 +149,7 @@ impl Blitter {
 }
 
 /// One viewport's texture, registered with egui.
+#[derive(Clone)]
 pub struct ViewTarget {
     pub texture: wgpu::Texture,
     pub id: egui::TextureId,

@@ -31,6 +31,8 @@ impl Env {
             config_dir: self.config(),
             autosave_secs: 0.0,
             automation: None,
+            // Each frame shows the patch as of that frame (deterministic); the patch still runs on its worker thread.
+            frame_wait: spreadlight_editor::FrameWait::Always,
         }
     }
 
@@ -463,7 +465,8 @@ fn a_failing_node_is_red_with_its_message_and_the_rest_runs() {
     let title = on_canvas(&h, top);
     let ppp = h.ctx.pixels_per_point();
     let px = image.get_pixel(
-        ((title.left() - 20.0) * ppp) as u32,
+        // Just left of the title, inside the header's margin (nodes are compact: no collapse button).
+        ((title.left() - 3.0) * ppp) as u32,
         (title.center().y * ppp) as u32,
     );
     assert!(px[0] > 100 && px[1] < 60, "red header, got {px:?}");

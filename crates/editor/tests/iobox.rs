@@ -24,6 +24,8 @@ fn harness_sized(
         config_dir: dir.path().join("config"),
         autosave_secs: 0.0,
         automation: None,
+        // Each frame shows the patch as of that frame (deterministic); the patch still runs on its worker thread.
+        frame_wait: spreadlight_editor::FrameWait::Always,
     };
     let mut h = Harness::builder()
         .with_size(size)

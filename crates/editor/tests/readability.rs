@@ -25,6 +25,14 @@ fn wide_patch() -> Patch {
 }
 
 fn harness(dir: &tempfile::TempDir, patch: &Patch) -> Harness<'static, EditorApp> {
+    harness_sized(dir, patch, Vec2::new(800.0, 500.0))
+}
+
+fn harness_sized(
+    dir: &tempfile::TempDir,
+    patch: &Patch,
+    size: Vec2,
+) -> Harness<'static, EditorApp> {
     let path = dir.path().join("wide.ron");
     format::save(patch, &path).expect("save");
     let options = EditorOptions {
@@ -32,9 +40,11 @@ fn harness(dir: &tempfile::TempDir, patch: &Patch) -> Harness<'static, EditorApp
         config_dir: dir.path().join("config"),
         autosave_secs: 0.0,
         automation: None,
+        // Each frame shows the patch as of that frame (deterministic); the patch still runs on its worker thread.
+        frame_wait: spreadlight_editor::FrameWait::Always,
     };
     let mut h = Harness::builder()
-        .with_size(Vec2::new(800.0, 500.0))
+        .with_size(size)
         .with_max_steps(60)
         .wgpu_setup(spreadlight_editor::gpu::wgpu_setup(true))
         .build_eframe(move |cc| {
@@ -96,4 +106,75 @@ fn fitting_a_big_patch_keeps_titles_readable_and_the_wheel_zooms_around_the_poin
         moved.length() < 2.0,
         "the point under the pointer moved by {moved:?}"
     );
+}
+
+/// The widest value editor a node row has (a vector's three drag values), in points.
+const EDITOR_ALLOWANCE: f32 = 110.0;
+/// Pins, the frame's margins and the gaps between a row's parts, in points.
+const FRAME_ALLOWANCE: f32 = 40.0;
+
+/// Nodes are as narrow as their title and pins need, as vvvv's: at real
+/// size, no node is wider than its title, or its widest input name with a
+/// value editor beside its widest output name, plus the frame. Measured from
+/// the layout: text widths from egui's fonts, node widths as drawn.
+#[test]
+fn nodes_are_as_narrow_as_their_title_and_pins_need() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let mut p = Patch::default();
+    for (k, name) in [
+        "DeferredBase",
+        "Transform (Transform 3d)",
+        "LFO",
+        "Probe",
+        "MRE",
+        "FileTexture",
+        "SSAO",
+        "Torus",
+    ]
+    .iter()
+    .enumerate()
+    {
+        let k = k as u32;
+        p.add(NodeDoc::new(k + 1, name).at((k % 4) as f32 * 130.0, (k / 4) as f32 * 120.0));
+    }
+    let mut h = harness_sized(&dir, &p, Vec2::new(1800.0, 1100.0));
+    h.run();
+    let zoom = h.state().canvas_zoom(&h.ctx).expect("canvas drawn");
+    let font = h
+        .ctx
+        .global_style()
+        .text_styles
+        .get(&egui::TextStyle::Body)
+        .cloned()
+        .expect("body font");
+    let width_of = |text: &str| {
+        h.ctx.fonts_mut(|f| {
+            f.layout_no_wrap(text.to_owned(), font.clone(), egui::Color32::WHITE)
+                .size()
+                .x
+        })
+    };
+    let rects = h.state().node_screen_rects().to_vec();
+    assert_eq!(rects.len(), p.nodes.len(), "every node drawn");
+    for (id, rect) in rects {
+        let node = p.node(id).expect("node");
+        let def = h
+            .state()
+            .registry()
+            .get(&node.type_name)
+            .expect("type")
+            .clone();
+        let widest = |names: Vec<&str>| names.into_iter().map(&width_of).fold(0.0, f32::max);
+        let inputs = widest(def.inputs.iter().map(|p| &*p.name).collect());
+        let outputs = widest(def.outputs.iter().map(|p| &*p.name).collect());
+        // The title is drawn strong; allow a tenth more for it.
+        let title = width_of(&node.type_name) * 1.1;
+        let need = title.max(inputs + EDITOR_ALLOWANCE + outputs) + FRAME_ALLOWANCE;
+        let width = rect.width() / zoom;
+        assert!(
+            width <= need,
+            "{} is {width:.0} points wide; its title and pins need {need:.0}",
+            node.type_name
+        );
+    }
 }

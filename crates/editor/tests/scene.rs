@@ -101,6 +101,8 @@ fn a_lit_scene_is_built_from_scratch_saved_and_reopened_unchanged() {
         config_dir: dir.path().join("config"),
         autosave_secs: 0.0,
         automation: None,
+        // Each frame shows the patch as of that frame (deterministic); the patch still runs on its worker thread.
+        frame_wait: spreadlight_editor::FrameWait::Always,
     };
     let mut h = harness(options(None));
 

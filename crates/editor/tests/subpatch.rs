@@ -17,6 +17,8 @@ fn harness(dir: &tempfile::TempDir, patch: &Patch) -> Harness<'static, EditorApp
         config_dir: dir.path().join("config"),
         autosave_secs: 0.0,
         automation: None,
+        // Each frame shows the patch as of that frame (deterministic); the patch still runs on its worker thread.
+        frame_wait: spreadlight_editor::FrameWait::Always,
     };
     let mut h = Harness::builder()
         .with_size(Vec2::new(900.0, 560.0))

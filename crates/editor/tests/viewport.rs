@@ -19,6 +19,8 @@ fn harness(dir: &tempfile::TempDir) -> Harness<'static, EditorApp> {
         config_dir: dir.path().to_owned(),
         autosave_secs: 0.0,
         automation: None,
+        // Each frame shows the patch as of that frame (deterministic); the patch still runs on its worker thread.
+        frame_wait: spreadlight_editor::FrameWait::Always,
     };
     let mut h = Harness::builder()
         .with_size(Vec2::new(1400.0, 800.0))

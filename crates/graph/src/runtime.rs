@@ -14,6 +14,7 @@ use crate::document::{NodeId, Patch};
 use crate::network::{InputSource, Network, NetworkNode};
 use crate::node::{EvalContext, Node, NodeError, PatchDir, ProbeLog, Services};
 use crate::registry::Registry;
+use crate::snapshot::RuntimeSnapshot;
 use crate::spread::Spread;
 use crate::stats::{FrameStats, NodeRun, NodeStat};
 use crate::subpatch::Library;
@@ -38,7 +39,8 @@ const UNSEEN: u64 = u64::MAX;
 /// [`Runtime::evaluate`] once per frame.
 pub struct Runtime {
     registry: Registry,
-    network: Network,
+    /// Shared with the [`RuntimeSnapshot`]s taken since the last load.
+    network: Arc<Network>,
     states: Vec<NodeState>,
     probes: ProbeLog,
     stats: FrameStats,
@@ -54,7 +56,7 @@ impl Runtime {
     pub fn new(registry: Registry) -> Self {
         Runtime {
             registry,
-            network: Network::default(),
+            network: Arc::default(),
             states: Vec::new(),
             probes: ProbeLog::new(),
             stats: FrameStats::default(),
@@ -179,7 +181,7 @@ impl Runtime {
             })
             .collect();
         self.states = states;
-        self.network = network;
+        self.network = Arc::new(network);
         self.network.problems()
     }
 
@@ -339,6 +341,20 @@ impl Runtime {
             .iter()
             .enumerate()
             .filter_map(|(i, s)| s.error.as_ref().map(|e| (self.network.path(i), e)))
+    }
+
+    /// A read-only picture of the last frame (outputs, errors, statistics),
+    /// cheap to take (spreads and the network are shared, not copied): a host
+    /// that evaluates on another thread hands this to its UI.
+    pub fn snapshot(&self) -> RuntimeSnapshot {
+        RuntimeSnapshot {
+            network: self.network.clone(),
+            outputs: self.states.iter().map(|s| s.outputs.clone()).collect(),
+            errors: self.states.iter().map(|s| s.error.clone()).collect(),
+            stats: self.stats.clone(),
+            probes: self.probes.clone(),
+            library: self.library.clone(),
+        }
     }
 
     /// The path of the node with flat id `id` (what GPU passes name as their owner).

@@ -61,7 +61,9 @@ pub fn register(r: &mut Registry) {
             "Renders its texture at the output size and writes it to Filename (PNG 8-bit, or 32-bit float EXR when \
              the name ends in .exr) when Write is on. Only the passes its texture depends on run. Name names \
              the sequence `spreadlight render` writes for it; Preroll declares how many frames its temporal \
-             effects and simulations need to settle, which a render of a chunk of frames evaluates first.",
+             effects and simulations need to settle, which a render of a chunk of frames evaluates first. \
+             Monitor (-1 or 0 and up) picks the monitor `spreadlight play` opens its show window on; -1 \
+             leaves it to the window system.",
         )
         .input_spread("Texture", PinType::Resource(ResourceKind::Texture), Spread::Resource(ResourceKind::Texture, vec![]))
         .input("Filename", String::new())
@@ -69,6 +71,7 @@ pub fn register(r: &mut Registry) {
         .input_enum("Encoding", &ENCODING, "sRGB")
         .input("Write", true)
         .input("Preroll", 0i64)
+        .input("Monitor", -1i64)
         .sink()
         .evaluate(|cx| {
             let renderer = renderer(cx)?;

@@ -19,7 +19,13 @@ impl EditorApp {
         let recovery_offered = self.recovery_offered();
         let canvas_text_px = self.canvas_text_points(ctx).unwrap_or(0.0) * ctx.pixels_per_point();
         let viewport_error = self.viewport_error(0).unwrap_or_default();
+        let patch_frame = (self.frame.evaluations, self.frame.seconds);
         let a = &mut self.auto;
+        // Each new patch frame once: how long the worker took for it.
+        if patch_frame.0 != a.last_evaluations {
+            a.last_evaluations = patch_frame.0;
+            a.patch.push(patch_frame.1);
+        }
         if let Some(last) = a.last_start {
             a.intervals.push(started.duration_since(last).as_secs_f64());
         }
@@ -53,11 +59,12 @@ impl EditorApp {
             let (ui_med, ui_p95) = median_and_p95(&a.ui);
             let (frame_med, frame_p95) = median_and_p95(&a.intervals);
             let (cpu_med, _) = median_and_p95(&a.cpu);
+            let (patch_med, _) = median_and_p95(&a.patch);
             let ppp = ctx.pixels_per_point();
             let rect = self.viewport_rects[0]
                 .map(|r| [r.min.x * ppp, r.min.y * ppp, r.max.x * ppp, r.max.y * ppp]);
             println!(
-                "{{\"frames\": {}, \"nodes\": {}, \"ui_ms_median\": {:.3}, \"ui_ms_p95\": {:.3}, \"frame_ms_median\": {:.3}, \"frame_ms_p95\": {:.3}, \"eframe_cpu_ms_median\": {:.3}, \"viewport_px\": {}, \"viewport_error\": {:?}, \"canvas_zoom\": {:.3}, \"canvas_text_px\": {:.2}, \"recovery_offered\": {}}}",
+                "{{\"frames\": {}, \"nodes\": {}, \"ui_ms_median\": {:.3}, \"ui_ms_p95\": {:.3}, \"frame_ms_median\": {:.3}, \"frame_ms_p95\": {:.3}, \"eframe_cpu_ms_median\": {:.3}, \"patch_frames\": {}, \"patch_ms_median\": {:.3}, \"viewport_px\": {}, \"viewport_error\": {:?}, \"canvas_zoom\": {:.3}, \"canvas_text_px\": {:.2}, \"recovery_offered\": {}}}",
                 a.frames,
                 nodes,
                 ui_med * 1e3,
@@ -65,6 +72,8 @@ impl EditorApp {
                 frame_med * 1e3,
                 frame_p95 * 1e3,
                 cpu_med * 1e3,
+                a.patch.len(),
+                patch_med * 1e3,
                 rect.map_or_else(
                     || "null".to_owned(),
                     |r| format!("[{}, {}, {}, {}]", r[0], r[1], r[2], r[3])

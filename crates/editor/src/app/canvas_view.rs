@@ -90,12 +90,12 @@ impl EditorApp {
             let mut viewer = Canvas {
                 doc: &mut self.doc,
                 registry: &self.registry,
-                runtime: &self.runtime,
+                runtime: &self.frame.runtime,
                 selected: &self.selected,
                 node_rects: &mut node_rects,
                 show_timings: self.show_timings,
-                gpu_ms: &self.gpu_ms,
-                gpu_errors: &self.gpu_errors,
+                gpu_ms: &self.frame.gpu_ms,
+                gpu_errors: &self.frame.gpu_errors,
                 refusal: &mut self.refusal,
                 pins: self.pins.clone(),
                 pointer: self.last_pointer,
@@ -103,6 +103,7 @@ impl EditorApp {
                 now,
                 instance: &self.instance,
             };
+            canvas::compact_spacing(ui);
             SnarlWidget::new()
                 .id(Id::new(CANVAS_ID))
                 .style(canvas::style())
@@ -185,6 +186,7 @@ impl EditorApp {
             && let Some(link) = canvas::wire_under(&self.doc, &self.pins, p, 5.0)
         {
             let value = self
+                .frame
                 .runtime
                 .output(link.from.node(), link.from.pin())
                 .map_or_else(|| "not evaluated".to_owned(), |s| canvas::preview(s));

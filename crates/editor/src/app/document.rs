@@ -28,13 +28,13 @@ impl EditorApp {
         // The patch's own shader folder: its node types join the registry.
         self.shaders = crate::shader_watch::ShaderWatch::new(self.path.as_deref());
         self.shaders.poll_now(&mut self.registry);
-        self.runtime = Runtime::new(self.registry.clone());
-        if let Some(gpu) = &self.gpu {
-            self.runtime.provide(gpu.renderer.clone());
-            gpu.renderer.reset_history();
-        }
+        self.worker.submit(Request {
+            reset: Some(self.registry.clone()),
+            ..Default::default()
+        });
         self.provide_patch_dir();
-        self.loaded_generation = None;
+        self.sent_generation = None;
+        self.sent_views.clear();
         self.status = match &self.path {
             Some(p) => format!("opened {}", p.display()),
             None => "new patch".to_owned(),
@@ -45,8 +45,10 @@ impl EditorApp {
     /// patch, as the CLI resolves them; an untitled patch has none.
     pub(super) fn provide_patch_dir(&mut self) {
         if let Some(dir) = self.path.as_deref().and_then(Path::parent) {
-            self.runtime
-                .provide(Arc::new(spreadlight_graph::PatchDir(dir.to_path_buf())));
+            self.worker.submit(Request {
+                patch_dir: Some(dir.to_path_buf()),
+                ..Default::default()
+            });
         }
     }
 

@@ -23,7 +23,7 @@ impl EditorApp {
         ui.weak(&*def.help);
         let mut at = self.instance.clone();
         at.push(id);
-        if let Some(e) = self.runtime.node_error_at(&at) {
+        if let Some(e) = self.frame.runtime.node_error_at(&at) {
             ui.colored_label(egui::Color32::LIGHT_RED, e.to_string());
         }
         ui.separator();
@@ -77,6 +77,7 @@ impl EditorApp {
             path.push(id);
             for pin in &def.outputs {
                 let value = self
+                    .frame
                     .runtime
                     .output_at(&path, &pin.name)
                     .map_or_else(|| "not evaluated".to_owned(), |s| canvas::preview(s));
@@ -138,7 +139,6 @@ impl EditorApp {
                         .clicked()
                     {
                         self.viewports[1].source = Source::Output;
-                        self.viewports[1].rendered_size = (0, 0);
                     }
                     for (node, pin, label) in pins {
                         let source = Source::Pin(node, pin.to_string());
@@ -147,7 +147,6 @@ impl EditorApp {
                             .clicked()
                         {
                             self.viewports[1].source = source;
-                            self.viewports[1].rendered_size = (0, 0);
                         }
                     }
                 });
@@ -156,14 +155,17 @@ impl EditorApp {
             }
         }
         let avail = ui.available_size();
+        if k == 0 {
+            self.view_area = Some(egui::Rect::from_min_size(ui.cursor().min, avail));
+        }
         let ppp = ui.ctx().pixels_per_point();
         let size = (
             ((avail.x * ppp) as u32).clamp(16, 4096),
             ((avail.y * ppp) as u32).clamp(16, 4096),
         );
         self.viewports[k].size = size;
-        let v = &self.viewports[k];
-        match (&v.target, &v.error) {
+        let shown = self.frame.views.get(k).cloned().unwrap_or_default();
+        match (&shown.target, &shown.error) {
             (_, Some(e)) => {
                 ui.weak(e.to_string());
             }

@@ -207,7 +207,7 @@ impl EditorApp {
 
     pub(super) fn status_bar(&mut self, ui: &mut Ui) {
         ui.horizontal(|ui| {
-            let stats = self.runtime.stats();
+            let stats = self.frame.runtime.stats();
             ui.label(format!(
                 "{} nodes · evaluated {} · reused {} · failed {} · cpu {:.3} ms",
                 self.doc.patch().nodes.len(),

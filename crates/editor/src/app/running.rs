@@ -1,4 +1,6 @@
-//! Running the patch: reloading the runtime on edits, advancing time, rendering the viewports' textures.
+//! Running the patch: the UI's side of the worker (`worker.rs`). Each frame
+//! sends what changed (the document, the clock, the viewports' wishes) and
+//! takes the latest finished frame, waiting for it at most `frame_wait`.
 
 use super::*;
 
@@ -7,45 +9,83 @@ impl EditorApp {
     /// patch recompiled, keeping links and values; errors go to the status bar.
     pub(super) fn poll_shaders(&mut self, now: f64) {
         if let Some(changes) = self.shaders.poll(now, &mut self.registry) {
-            self.runtime.set_registry(self.registry.clone());
-            self.loaded_generation = None;
+            self.worker.submit(Request {
+                registry: Some(self.registry.clone()),
+                ..Default::default()
+            });
+            self.sent_generation = None;
             self.synced_generation = None;
             self.status = self.shaders.describe(&changes);
         }
     }
 
-    /// Reload on change; with `dt`, also advance time when playing or stepping.
-    pub(super) fn evaluate_if_needed(&mut self, dt: Option<f64>) {
-        let mut run = false;
-        if self.loaded_generation != Some(self.doc.generation()) {
-            self.runtime.load(self.doc.top());
-            self.loaded_generation = Some(self.doc.generation());
-            run = true;
+    /// Send the worker what changed; with `dt`, also advance time when
+    /// playing or stepping. With `wait`, wait for the result as `frame_wait`
+    /// allows (always, in `FrameWait::Always`); then take the latest frame.
+    pub(super) fn evaluate_if_needed(&mut self, ctx: &egui::Context, dt: Option<f64>, wait: bool) {
+        if !self.wake_set && !matches!(self.options.frame_wait, FrameWait::Always) {
+            // An idle UI (paused patch, no input) repaints when a frame is finished.
+            let ctx = ctx.clone();
+            self.worker
+                .set_wake(Box::new(move || ctx.request_repaint()));
+            self.wake_set = true;
+        }
+        let mut request = Request::default();
+        let generation = self.doc.generation();
+        if self.sent_generation != Some(generation) {
+            request.patch = Some((generation, Arc::new(self.doc.top().clone())));
+            self.sent_generation = Some(generation);
+        }
+        if dt.is_some() && self.feed_host_input(ctx) && !self.playing {
+            // The patch reads the pointer or keys: a paused patch follows them too.
+            request.clock = Some(self.clock);
         }
         if let Some(dt) = dt {
             if self.playing {
                 self.clock.advance(dt);
-                run = true;
+                request.clock = Some(self.clock);
             } else if self.step {
                 self.clock.advance(1.0 / 60.0);
-                run = true;
+                request.clock = Some(self.clock);
             }
             self.step = false;
         }
-        if run {
-            self.runtime.evaluate(self.clock);
-            self.evaluations += 1;
-            for v in &mut self.viewports {
-                v.rendered_size = (0, 0);
+        let views: Vec<ViewRequest> = self
+            .viewports
+            .iter()
+            .map(|v| ViewRequest {
+                texture: self.texture_of(&v.source),
+                size: v.size,
+            })
+            .collect();
+        if views != self.sent_views {
+            request.views = Some(views.clone());
+            self.sent_views = views;
+        }
+        if !request.is_empty() {
+            let seq = self.worker.submit(request);
+            let wait = match self.options.frame_wait {
+                FrameWait::Always => FrameWait::Always,
+                _ if !wait => FrameWait::AtMost(std::time::Duration::ZERO),
+                w => w,
+            };
+            self.worker.wait(seq, wait);
+        }
+        if let Some(frame) = self.worker.latest()
+            && !Arc::ptr_eq(&frame, &self.frame)
+        {
+            if let Some(failure) = &frame.failure {
+                self.status = failure.clone();
             }
+            self.frame = frame;
         }
     }
 
-    /// The texture a viewport's source points at, if the runtime has one.
-    pub(super) fn texture_of(&self, source: &Source) -> Result<TextureRef, ViewportError> {
-        let (node, pin) = match source {
-            Source::None => return Err(ViewportError::NoTexture),
-            Source::Pin(node, pin) => (*node, pin.clone()),
+    /// The output pin a viewport's source points at (the worker checks that it was evaluated).
+    pub(super) fn texture_of(&self, source: &Source) -> Result<(NodeId, String), ViewportError> {
+        match source {
+            Source::None => Err(ViewportError::NoTexture),
+            Source::Pin(node, pin) => Ok((*node, pin.clone())),
             Source::Output => {
                 // Viewports show the top patch, whichever document is open.
                 let patch = self.doc.top();
@@ -64,68 +104,7 @@ impl EditorApp {
                     .iter()
                     .find(|l| l.to == into)
                     .ok_or(ViewportError::NoTexture)?;
-                (link.from.node(), link.from.pin().to_owned())
-            }
-        };
-        let network = self.runtime.network();
-        let needed = network
-            .index_at(&[node])
-            .or_else(|| network.instance_output(&[node], &pin))
-            .is_some_and(|i| network.is_needed(i));
-        if !needed {
-            return Err(ViewportError::NotEvaluated(format!("{node}.{pin}")));
-        }
-        match self.runtime.output(node, &pin).map(|s| &**s) {
-            Some(Spread::Resource(ResourceKind::Texture, handles)) => handles
-                .first()
-                .and_then(|h| h.downcast_arc::<TextureRef>())
-                .map(|t| (*t).clone())
-                .ok_or(ViewportError::NoTexture),
-            _ => Err(ViewportError::NoTexture),
-        }
-    }
-
-    pub(super) fn render_viewports(&mut self) {
-        let Some(gpu) = &self.gpu else {
-            return;
-        };
-        for k in 0..self.viewports.len() {
-            let size = self.viewports[k].size;
-            if self.viewports[k].rendered_size == size {
-                continue;
-            }
-            let texture = self.texture_of(&self.viewports[k].source);
-            let v = &mut self.viewports[k];
-            v.rendered_size = size;
-            let result = texture.and_then(|t| {
-                viewport::render_into(
-                    &gpu.state,
-                    &gpu.renderer,
-                    &gpu.blitter,
-                    &t,
-                    size,
-                    &mut v.target,
-                )
-            });
-            match result {
-                Ok(report) => {
-                    v.error = None;
-                    if k == 0 {
-                        self.gpu_ms.clear();
-                        for pass in report.passes {
-                            if let (Some(owner), Some(ms)) = (pass.owner, pass.gpu_ms) {
-                                *self.gpu_ms.entry(owner).or_default() += ms;
-                            }
-                        }
-                        self.gpu_errors.clear();
-                        for (owner, message) in report.errors {
-                            if let Some(owner) = owner {
-                                self.gpu_errors.insert(owner, message);
-                            }
-                        }
-                    }
-                }
-                Err(e) => v.error = Some(e),
+                Ok((link.from.node(), link.from.pin().to_owned()))
             }
         }
     }

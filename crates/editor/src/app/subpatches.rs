@@ -14,7 +14,7 @@ impl EditorApp {
     /// inline definition seen from the open document and every library file,
     /// with pins from their IOBoxes.
     pub(super) fn refresh_subpatch_types(&mut self) {
-        let library = self.runtime.library().cloned().unwrap_or_default();
+        let library = self.frame.runtime.library().cloned().unwrap_or_default();
         let scope = self.doc.scope().to_vec();
         let mut found: Vec<(String, spreadlight_graph::Patch, String)> = Vec::new();
         // Inner definitions shadow outer ones, inline ones shadow files.
@@ -104,7 +104,7 @@ impl EditorApp {
     /// A subpatch from a file opens that file, with the breadcrumb back to this one.
     fn open_module_file(&mut self, id: NodeId) -> bool {
         let Some(file) = self.doc.node(id).and_then(|n| {
-            let library: &Library = self.runtime.library()?;
+            let library: &Library = self.frame.runtime.library()?;
             Some(library.get(&n.type_name)?.path.clone())
         }) else {
             return false;

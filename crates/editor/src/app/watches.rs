@@ -33,6 +33,7 @@ impl EditorApp {
         let mut unpin = None;
         for (k, (path, pin)) in self.watches.iter().enumerate() {
             let value = self
+                .frame
                 .runtime
                 .output_at(path, pin)
                 .map_or_else(|| "not evaluated".to_owned(), |s| canvas::preview(s));

@@ -18,6 +18,15 @@ use glam::Vec2;
 
 pub use nodes::register;
 
+/// The node types that read the [`HostInput`]: a host evaluates a patch
+/// holding one again when the input changes, even while time stands still.
+pub const HOST_INPUT_NODES: &[&str] = &[
+    "Mouse (Window)",
+    "Keyboard (Window)",
+    "KeyMatch (Keyboard)",
+    "WindowSize (Window)",
+];
+
 /// The state of the pointer, keys and window in one frame.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct InputSnapshot {
