@@ -331,6 +331,9 @@ impl MeshArena {
                 _records: records.clone(),
                 _shape: shape,
             }),
+            // Corners are made from the records: no extras stored.
+            has_uvs1: false,
+            has_colors: false,
         })
     }
 

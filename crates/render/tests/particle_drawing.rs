@@ -129,6 +129,8 @@ fn drawn_from_records_the_g_buffer_is_the_expanded_meshs() {
                 .collect(),
         ),
         tangents: Some(vertices.iter().map(|v| v.tangent).collect()),
+        uvs1: None,
+        colors: None,
         positions,
         indices,
     };

@@ -116,6 +116,10 @@ pub fn decimate(
                 .collect()
         }),
         tangents: input.has_tangents.then(|| pick(&|v| v.tangent)),
+        // The arena's extra stream (TEXCOORD_1, COLOR_0) is not read back:
+        // a decimated mesh maps every texture with its first UV set, white.
+        uvs1: None,
+        colors: None,
         indices,
         bounds: Aabb::ZERO,
     };
