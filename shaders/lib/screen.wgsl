@@ -112,3 +112,12 @@ fn march(camera: Camera, depth: texture_2d<f32>, origin: vec3<f32>, dir: vec3<f3
     }
     return vec2<i32>(-1);
 }
+
+// How alike a neighbour is to a pixel for a depth- and normal-aware filter
+// (the AO blur, the half-resolution upsample): 1 at the same view distance
+// and facing, falling off with the depth gap relative to the pixel's
+// distance `z0` (to 1/e at a gap of `falloff` x z0) and with the angle
+// between the normals (cosine to the 8th).
+fn surface_similarity(z: f32, z0: f32, n: vec3<f32>, n0: vec3<f32>, falloff: f32) -> f32 {
+    return exp(-abs(z - z0) / (falloff * z0 + 1e-6)) * pow(max(dot(n0, n), 0.0), 8.0);
+}

@@ -6,7 +6,7 @@
 // multiplies another AO in. Half-width 0 is a copy.
 #import spreadlight::camera::Camera
 #import spreadlight::packing::safe_normalize
-#import spreadlight::screen::{RayParams, view_position}
+#import spreadlight::screen::{RayParams, view_position, surface_similarity}
 
 @group(0) @binding(0) var<uniform> camera: Camera;
 @group(0) @binding(1) var<uniform> params: RayParams;
@@ -60,8 +60,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
                 continue;
             }
             let w = exp(-f32(o * o) / (2.0 * sigma * sigma))
-                * exp(-abs(zq - z0) / (0.03 * z0 + 1e-6))
-                * pow(max(dot(n0, nq), 0.0), 8.0);
+                * surface_similarity(zq, z0, nq, n0, 0.03);
             sum += w * clamp(s, 0.0, 1.0);
             weights += w;
         }

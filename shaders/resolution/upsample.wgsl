@@ -23,7 +23,7 @@
 // (gone at DETAIL_FADE pixels).
 #import spreadlight::camera::Camera
 #import spreadlight::packing::safe_normalize
-#import spreadlight::screen::view_position
+#import spreadlight::screen::{view_position, surface_similarity}
 
 @group(0) @binding(0) var<uniform> camera: Camera;
 @group(0) @binding(1) var depth: texture_2d<f32>;
@@ -99,7 +99,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         } else {
             gap = abs(z - z0) / z0;
             let n = safe_normalize(textureLoad(normals, at, 0).xyz, n0);
-            alike = exp(-gap / DEPTH_FALLOFF) * pow(max(dot(n0, n), 0.0), 8.0);
+            alike = surface_similarity(z, z0, n, n0, DEPTH_FALLOFF);
         }
         if (gap < nearest_gap) {
             nearest_gap = gap;

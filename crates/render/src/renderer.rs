@@ -214,6 +214,22 @@ impl Renderer {
         self.kept_init_at(owner, label, 0, bytes, usage)
     }
 
+    /// A temporal pass's "history was reset" flag as two kept uniforms
+    /// (`vec4<u32>` with x = 0, then x = 1), so a pass binds
+    /// `flags[usize::from(fresh)]` and its bind groups stay the same
+    /// buffers from frame to frame whichever it is.
+    pub fn kept_flags(&self, owner: Option<u32>, label: &'static str) -> [wgpu::Buffer; 2] {
+        [0u32, 1].map(|flag| {
+            self.kept_init_at(
+                owner,
+                label,
+                flag,
+                bytemuck::cast_slice(&[flag, 0, 0, 0]),
+                wgpu::BufferUsages::UNIFORM,
+            )
+        })
+    }
+
     /// [`Renderer::kept_init`] for the `index`th of several buffers of one
     /// kind that one recipe keeps (a G-buffer's layer records, a rasterizer's
     /// batches): each keeps its own buffer, so none overwrites another.

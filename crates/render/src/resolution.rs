@@ -17,7 +17,7 @@
 //! before the setting existed, so full-resolution images are bit-identical.
 
 use crate::error::RenderError;
-use crate::frame_graph::{PassContext, SizeRule, TextureDesc};
+use crate::frame_graph::{FrameGraph, PassContext, SizeRule, TextureDesc};
 use crate::gbuffer::GBuffer;
 use crate::shaders::ShaderKey;
 
@@ -171,6 +171,62 @@ pub fn upsample(
         &all,
         size,
     )
+}
+
+/// Where a pass at `resolution` writes the estimate whose full-size target
+/// is `full`: `full` itself, or at Half its half-size twin, which
+/// [`declare_upsample`] turns into `full`.
+pub fn written_target(full: &str, resolution: Resolution) -> String {
+    if resolution.is_half() {
+        format!("{full} half")
+    } else {
+        full.to_owned()
+    }
+}
+
+/// A half-resolution estimate's way back to full size: the pass name, the
+/// full-size target and its description, and the statistic that counts it.
+pub struct UpsamplePass<'s, 'g> {
+    pub name: String,
+    pub owner: Option<u32>,
+    pub gbuffer: &'g GBuffer,
+    pub full: &'s str,
+    pub desc: TextureDesc,
+    pub format: UpsampleFormat,
+    pub counter: &'static str,
+    /// The dispatch's debug label.
+    pub label: &'static str,
+}
+
+/// At Half, declare the depth-aware upsample of `written_target(full)`
+/// into `full` (nothing at Full, where the pass wrote `full` itself).
+pub fn declare_upsample<'a>(
+    fg: &mut FrameGraph<'a>,
+    resolution: Resolution,
+    u: UpsamplePass<'_, 'a>,
+) {
+    if !resolution.is_half() {
+        return;
+    }
+    let source = written_target(u.full, resolution);
+    let g = &u.gbuffer.targets;
+    let reads = [source.as_str(), &g.depth, &g.normals];
+    let writes = [(u.full, u.desc)];
+    let (source, full) = (source.clone(), u.full.to_owned());
+    fg.add_pass(u.name, u.owner, &reads, &writes, move |cx| {
+        cx.count(u.counter, 1);
+        upsample(
+            cx,
+            u.label,
+            &Upsample {
+                gbuffer: u.gbuffer,
+                source: &source,
+                output: &full,
+                format: u.format,
+                detail: None,
+            },
+        )
+    });
 }
 
 #[cfg(test)]

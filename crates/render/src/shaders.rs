@@ -312,6 +312,22 @@ impl ShaderKey {
 pub struct ShaderComposer {
     composer: Composer,
     sources: HashMap<&'static str, Cow<'static, str>>,
+    /// Over the embedded sources, with no library replaced: what it composes
+    /// is the same in every composer of the process (see [`embedded_modules`]).
+    embedded: bool,
+    /// A library is replaced ([`ShaderComposer::replace_library`]).
+    replaced: bool,
+}
+
+/// Permutations of the embedded sources composed so far in this process.
+/// Composing (naga_oil's preprocessing, naga's parse and validation) is
+/// most of what opening a renderer costs the CPU, and every renderer of a
+/// process (each test, each CLI run's renderers) composes the same
+/// permutations from the same compiled-in text: they are made once.
+fn embedded_modules() -> &'static std::sync::Mutex<HashMap<ShaderKey, naga::Module>> {
+    static MODULES: std::sync::OnceLock<std::sync::Mutex<HashMap<ShaderKey, naga::Module>>> =
+        std::sync::OnceLock::new();
+    MODULES.get_or_init(Default::default)
 }
 
 impl ShaderComposer {
@@ -321,7 +337,9 @@ impl ShaderComposer {
             .iter()
             .map(|s| (s.path, Cow::Borrowed(s.source)))
             .collect();
-        Self::with_sources(sources)
+        let mut composer = Self::with_sources(sources)?;
+        composer.embedded = true;
+        Ok(composer)
     }
 
     /// A composer over the sources in a `shaders/` folder on disk (for live
@@ -362,7 +380,12 @@ impl ShaderComposer {
                 message,
             })?;
         }
-        Ok(ShaderComposer { composer, sources })
+        Ok(ShaderComposer {
+            composer,
+            sources,
+            embedded: false,
+            replaced: false,
+        })
     }
 
     /// Compose and validate one permutation.
@@ -393,6 +416,15 @@ impl ShaderComposer {
                 ),
             });
         }
+        let shared = self.embedded && !self.replaced;
+        if shared
+            && let Some(module) = embedded_modules()
+                .lock()
+                .unwrap_or_else(|e| e.into_inner())
+                .get(key)
+        {
+            return Ok(module.clone());
+        }
         let shader_defs = key
             .features
             .iter()
@@ -405,11 +437,18 @@ impl ShaderComposer {
             shader_defs,
             additional_imports: &[],
         });
-        result.map_err(|e| RenderError::Shader {
+        let module = result.map_err(|e| RenderError::Shader {
             shader: key.path.to_owned(),
             defs: key.describe_defs(),
             message: e.emit_to_string(&self.composer),
-        })
+        })?;
+        if shared {
+            embedded_modules()
+                .lock()
+                .unwrap_or_else(|e| e.into_inner())
+                .insert(key.clone(), module.clone());
+        }
+        Ok(module)
     }
 }
 
@@ -447,6 +486,8 @@ impl ShaderComposer {
         file_path: &str,
         source: &str,
     ) -> Result<(), Box<naga_oil::compose::ComposerError>> {
+        // Even a failed replacement may leave the library half-replaced.
+        self.replaced = true;
         self.composer
             .add_composable_module(ComposableModuleDescriptor {
                 source,
@@ -483,7 +524,9 @@ impl ShaderComposer {
             shader: library.path.to_owned(),
             defs: String::new(),
             message,
-        })
+        })?;
+        self.replaced = false;
+        Ok(())
     }
 
     /// Compose permutation `key` with library `module` replaced, for this

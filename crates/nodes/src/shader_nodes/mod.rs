@@ -16,6 +16,8 @@ pub use node::ShaderNode;
 pub use shader_type::{ShaderType, type_name};
 
 use spreadlight_graph::Registry;
+use spreadlight_render::shader_nodes::ShaderNodeError;
+use std::sync::Arc;
 
 macro_rules! example {
     ($stem:literal) => {
@@ -44,13 +46,31 @@ pub const EXAMPLES: &[(&str, &str, &str)] = &[
 /// catches) is registered as a node that shows its error.
 pub fn register(r: &mut Registry) {
     builtin_blur::register(r);
-    for (stem, path, source) in EXAMPLES {
-        let name = type_name(stem);
-        match ShaderType::load(&name, path, source) {
+    for (name, loaded) in examples() {
+        match loaded {
             Ok(ty) => r.add(ty.node_def(None)),
-            Err(e) => r.add(def::broken_def(&name, &e)),
+            Err(e) => r.add(def::broken_def(name, e)),
         }
     }
+}
+
+/// The shipped examples, parsed and validated once per process: their
+/// sources are compiled in, so every registry (each CLI command, runtime
+/// and test builds one) would otherwise run naga over the same files again.
+fn examples() -> &'static [(String, Result<Arc<ShaderType>, ShaderNodeError>)] {
+    static EXAMPLES_LOADED: std::sync::OnceLock<
+        Vec<(String, Result<Arc<ShaderType>, ShaderNodeError>)>,
+    > = std::sync::OnceLock::new();
+    EXAMPLES_LOADED.get_or_init(|| {
+        EXAMPLES
+            .iter()
+            .map(|(stem, path, source)| {
+                let name = type_name(stem);
+                let loaded = ShaderType::load(&name, path, source);
+                (name, loaded)
+            })
+            .collect()
+    })
 }
 
 #[cfg(test)]

@@ -8,7 +8,7 @@ use std::sync::Arc;
 use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
 
-use super::{GpuJob, Op, dispatch, run, uniform};
+use super::{GpuJob, Op, dispatch_steps, run, uniform};
 use crate::error::RenderError;
 use crate::mesh::Aabb;
 use crate::mesh_arena::{GpuMesh, MeshLayout};
@@ -113,21 +113,11 @@ pub fn displace(
     };
     let job = uniform(renderer, "displace job", bytemuck::bytes_of(&job));
     let params = uniform(renderer, "displace params", bytemuck::bytes_of(&gpu));
-    let (vertices, indices, _) = renderer.meshes.buffers();
-    for (feature, threads) in [("ACCUMULATE", index_count / 3), ("NORMALS", vertex_count)] {
-        let resources = vec![
-            (0, vertices.as_entire_binding()),
-            (1, indices.as_entire_binding()),
-            (2, job.as_entire_binding()),
-            (3, params.as_entire_binding()),
-            (6, sums.as_entire_binding()),
-        ];
-        dispatch(
-            renderer,
-            &ShaderKey::new(SHADER, [feature]),
-            resources,
-            threads,
-        )?;
-    }
+    dispatch_steps(
+        renderer,
+        SHADER,
+        &[("ACCUMULATE", index_count / 3), ("NORMALS", vertex_count)],
+        &[(2, &job), (3, &params), (6, &sums)],
+    )?;
     Ok(output)
 }

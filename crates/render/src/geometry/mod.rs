@@ -269,6 +269,36 @@ pub(crate) fn dispatch(
     dispatch_as(renderer, key, resources, threads, Work::Geometry)
 }
 
+/// The steps of a multi-pass operation, in order: one [`dispatch`] of
+/// `shader` per (feature, threads), each binding the arena's vertices and
+/// indices (0, 1) and `bindings`.
+pub(crate) fn dispatch_steps(
+    renderer: &Renderer,
+    shader: &'static str,
+    steps: &[(&'static str, u32)],
+    bindings: &[(u32, &wgpu::Buffer)],
+) -> Result<(), RenderError> {
+    let (vertices, indices, _) = renderer.meshes.buffers();
+    for &(feature, threads) in steps {
+        let mut resources = vec![
+            (0, vertices.as_entire_binding()),
+            (1, indices.as_entire_binding()),
+        ];
+        resources.extend(
+            bindings
+                .iter()
+                .map(|(b, buf)| (*b, buf.as_entire_binding())),
+        );
+        dispatch(
+            renderer,
+            &ShaderKey::new(shader, [feature]),
+            resources,
+            threads,
+        )?;
+    }
+    Ok(())
+}
+
 /// [`dispatch`], counted and timed as `work`.
 pub(crate) fn dispatch_as(
     renderer: &Renderer,

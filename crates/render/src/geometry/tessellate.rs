@@ -14,7 +14,7 @@ use std::sync::Arc;
 
 use bytemuck::{Pod, Zeroable};
 
-use super::{GpuJob, Op, dispatch, read_storage, run, uniform};
+use super::{GpuJob, Op, dispatch_steps, read_storage, run, uniform};
 use crate::error::RenderError;
 use crate::mesh_arena::{GpuMesh, MeshLayout};
 use crate::renderer::Renderer;
@@ -95,7 +95,6 @@ pub fn tessellate(
     let levels = storage("tessellate levels", u64::from(faces) * 4);
     let offsets = storage("tessellate offsets", u64::from(faces) * 8);
     let totals = storage("tessellate totals", u64::from(blocks + 1) * 8);
-    let (vertices, indices, _) = renderer.meshes.buffers();
     let job = GpuJob {
         src_vertex: input.vertices.start,
         src_index: input.indices.start,
@@ -105,23 +104,18 @@ pub fn tessellate(
     };
     let job = uniform(renderer, "tessellate job", bytemuck::bytes_of(&job));
     let params_buffer = uniform(renderer, "tessellate params", bytemuck::bytes_of(&params));
-    for (feature, threads) in [("COUNT", faces), ("SUMS", 64)] {
-        let resources = vec![
-            (0, vertices.as_entire_binding()),
-            (1, indices.as_entire_binding()),
-            (2, job.as_entire_binding()),
-            (3, params_buffer.as_entire_binding()),
-            (4, levels.as_entire_binding()),
-            (5, offsets.as_entire_binding()),
-            (6, totals.as_entire_binding()),
-        ];
-        dispatch(
-            renderer,
-            &ShaderKey::new(SHADER, [feature]),
-            resources,
-            threads,
-        )?;
-    }
+    dispatch_steps(
+        renderer,
+        SHADER,
+        &[("COUNT", faces), ("SUMS", 64)],
+        &[
+            (2, &job),
+            (3, &params_buffer),
+            (4, &levels),
+            (5, &offsets),
+            (6, &totals),
+        ],
+    )?;
     let total = read_storage(renderer, &totals, u64::from(blocks) * 8, 8)?;
     let [vertex_count, triangle_count]: [u32; 2] = bytemuck::pod_read_unaligned(&total[..8]);
     let index_count = triangle_count

@@ -15,7 +15,9 @@ use crate::frame_graph::{FrameGraph, PassContext, TextureDesc};
 use crate::gbuffer::GBuffer;
 use crate::recipe::{Recipe, TextureRef, next_recipe_id, pass_name};
 use crate::renderer::Renderer;
-use crate::resolution::{Resolution, Upsample, UpsampleFormat, upsample};
+use crate::resolution::{
+    Resolution, UpsampleFormat, UpsamplePass, declare_upsample, written_target,
+};
 use crate::shaders::ShaderKey;
 use crate::temporal::{RayParams, TemporalState};
 
@@ -134,10 +136,7 @@ impl Ssgi {
                 kept("ssgi axis", 0, [1, 0, 0, 0]),
                 kept("ssgi axis", 1, [0, 1, 0, 0]),
             ],
-            fresh: [
-                kept("ssgi fresh", 0, [0; 4]),
-                kept("ssgi fresh", 1, [1, 0, 0, 0]),
-            ],
+            fresh: renderer.kept_flags(owner, "ssgi fresh"),
             state: renderer.state::<TemporalState>(key),
             output: format!("{prefix}/out"),
             prefix,
@@ -239,38 +238,13 @@ impl Ssgi {
             cx.count("SSGI history reset", 1);
         }
         self.write_params(cx, frame, reset);
-        let raw = self.raw_target();
+        let raw = written_target(&self.name("raw"), self.settings.resolution);
         self.dispatch(
             cx,
             "ssgi",
             self.settings.resolution.feature().into_iter().collect(),
             &[(4, &self.source.name), (5, &raw)],
             &[],
-        )
-    }
-
-    /// Where the gather writes: `raw`, or its half-size twin.
-    fn raw_target(&self) -> String {
-        if self.settings.resolution.is_half() {
-            self.name("raw half")
-        } else {
-            self.name("raw")
-        }
-    }
-
-    fn upsample_raw(&self, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
-        cx.count(HALF_RESOLUTION, 1);
-        let (source, output) = (self.name("raw half"), self.name("raw"));
-        upsample(
-            cx,
-            "ssgi upsample",
-            &Upsample {
-                gbuffer: &self.gbuffer,
-                source: &source,
-                output: &output,
-                format: UpsampleFormat::Rgba16,
-                detail: None,
-            },
         )
     }
 
@@ -346,7 +320,7 @@ impl Recipe for Ssgi {
         let rgba = TextureDesc::storage(wgpu::TextureFormat::Rgba16Float).size(self.gbuffer.size);
         let raw = self.name("raw");
         let resolution = self.settings.resolution;
-        let raw_target = self.raw_target();
+        let raw_target = written_target(&self.name("raw"), self.settings.resolution);
         let pixels = self.gbuffer.pixel_size(fg.output_size());
         fg.add_pass(
             pass_name(
@@ -362,15 +336,20 @@ impl Recipe for Ssgi {
             )],
             move |cx| self.raw(cx),
         );
-        if resolution.is_half() {
-            fg.add_pass(
-                pass_name("SSGI", self.owner, Some("upsample")),
-                self.owner,
-                &[&raw_target, &g.depth, &g.normals],
-                &[(&raw, rgba)],
-                move |cx| self.upsample_raw(cx),
-            );
-        }
+        declare_upsample(
+            fg,
+            resolution,
+            UpsamplePass {
+                name: pass_name("SSGI", self.owner, Some("upsample")),
+                owner: self.owner,
+                gbuffer: &self.gbuffer,
+                full: &raw,
+                desc: rgba,
+                format: UpsampleFormat::Rgba16,
+                counter: HALF_RESOLUTION,
+                label: "ssgi upsample",
+            },
+        );
         let mut source = raw.clone();
         if self.temporal() {
             let (history, previous) = (self.history_name(), self.name("previous"));

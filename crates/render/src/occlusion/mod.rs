@@ -29,7 +29,9 @@ use crate::frame_graph::{FrameGraph, PassContext, SizeRule, TextureDesc};
 use crate::gbuffer::GBuffer;
 use crate::recipe::{Recipe, TextureRef, next_recipe_id, pass_name};
 use crate::renderer::Renderer;
-use crate::resolution::{Resolution, Upsample, UpsampleFormat, upsample};
+use crate::resolution::{
+    Resolution, UpsampleFormat, UpsamplePass, declare_upsample, written_target,
+};
 use crate::shaders::ShaderKey;
 use crate::temporal::{RayParams, TemporalState};
 
@@ -175,17 +177,8 @@ impl AmbientOcclusion {
             wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
         );
         let prefix = format!("ao{id}");
-        // The temporal pass's flag, [history kept, history reset]: kept, so
-        // its bind groups are reused.
-        let fresh = [0u32, 1].map(|f| {
-            renderer.kept_init_at(
-                owner,
-                "ao temporal",
-                f,
-                bytemuck::cast_slice(&[f, 0, 0, 0]),
-                wgpu::BufferUsages::UNIFORM,
-            )
-        });
+        // The temporal pass's flag, [history kept, history reset].
+        let fresh = renderer.kept_flags(owner, "ao temporal");
         Arc::new(AmbientOcclusion {
             id,
             owner,
@@ -313,7 +306,7 @@ impl AmbientOcclusion {
         let mut views = vec![
             cx.view(&g.depth)?,
             cx.view(&g.normals)?,
-            cx.view(&self.raw_target())?,
+            cx.view(&written_target(&self.name("raw"), self.settings.resolution))?,
         ];
         if self.sao() {
             for k in 0..DEPTH_LEVELS {
@@ -340,31 +333,6 @@ impl AmbientOcclusion {
         );
         let size = resolution.pixels(self.gbuffer.pixel_size(cx.output_size));
         cx.dispatch_image(self.settings.mode.name(), &key, &all, size)
-    }
-
-    /// Where the raw estimate is written: `raw`, or its half-size twin.
-    fn raw_target(&self) -> String {
-        if self.settings.resolution.is_half() {
-            self.name("raw half")
-        } else {
-            self.name("raw")
-        }
-    }
-
-    fn upsample_raw(&self, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
-        cx.count(HALF_RESOLUTION, 1);
-        let (source, output) = (self.name("raw half"), self.name("raw"));
-        upsample(
-            cx,
-            "ao upsample",
-            &Upsample {
-                gbuffer: &self.gbuffer,
-                source: &source,
-                output: &output,
-                format: UpsampleFormat::R32,
-                detail: None,
-            },
-        )
     }
 
     fn temporal_pass(&self, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
@@ -492,7 +460,7 @@ impl Recipe for AmbientOcclusion {
         }
         let resolution = self.settings.resolution;
         let pixels = self.gbuffer.pixel_size(fg.output_size());
-        let raw_target = self.raw_target();
+        let raw_target = written_target(&self.name("raw"), self.settings.resolution);
         fg.add_pass(
             pass_name(
                 kind,
@@ -508,15 +476,20 @@ impl Recipe for AmbientOcclusion {
             )],
             move |cx| self.raw(cx),
         );
-        if resolution.is_half() {
-            fg.add_pass(
-                pass_name(kind, self.owner, Some("upsample")),
-                self.owner,
-                &[&raw_target, &g.depth, &g.normals],
-                &[(&raw, full(wgpu::TextureFormat::R32Float))],
-                move |cx| self.upsample_raw(cx),
-            );
-        }
+        declare_upsample(
+            fg,
+            resolution,
+            UpsamplePass {
+                name: pass_name(kind, self.owner, Some("upsample")),
+                owner: self.owner,
+                gbuffer: &self.gbuffer,
+                full: &raw,
+                desc: full(wgpu::TextureFormat::R32Float),
+                format: UpsampleFormat::R32,
+                counter: HALF_RESOLUTION,
+                label: "ao upsample",
+            },
+        );
         let mut source = raw.clone();
         if self.temporal() {
             let history = self.history_name();

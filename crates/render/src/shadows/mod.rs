@@ -17,7 +17,6 @@ pub mod views;
 use std::sync::{Arc, Mutex};
 
 use glam::{Mat4, Vec3};
-use wgpu::util::DeviceExt;
 
 use crate::camera::CameraInput;
 use crate::error::RenderError;
@@ -220,6 +219,9 @@ pub struct ShadowMaps {
     compute: Option<(ComputeRaster, Vec<wgpu::Buffer>)>,
     store: Arc<ShadowStore>,
     layers: u32,
+    /// Per layer, what its resolve and moments dispatches read: (layer, VSM
+    /// blur radius); kept under the node so their bind groups are reused.
+    layer_info: Vec<wgpu::Buffer>,
     /// What readers wait for: the maps (and for VSM their moments) are ready.
     token: String,
     /// VSM: the depth layers are drawn (the moments pass waits for it).
@@ -450,6 +452,21 @@ impl ShadowMaps {
             ShadowLights::Point(_) => crate::lighting::LightKind::Point,
             ShadowLights::Sun { .. } => crate::lighting::LightKind::Sun,
         };
+        let blur = match settings.filter {
+            ShadowFilter::Vsm { blur, .. } => blur.min(8),
+            _ => 0,
+        };
+        let layer_info = (0..layers)
+            .map(|layer| {
+                renderer.kept_init_at(
+                    owner,
+                    "shadow layer",
+                    layer,
+                    bytemuck::cast_slice(&[layer, blur, 0, 0]),
+                    wgpu::BufferUsages::UNIFORM,
+                )
+            })
+            .collect();
         Ok(Arc::new(ShadowMaps {
             id,
             kind,
@@ -466,6 +483,7 @@ impl ShadowMaps {
             compute,
             store,
             layers,
+            layer_info,
             token: format!("shadows{id}/maps"),
             depth_token: format!("shadows{id}/depth"),
         }))
@@ -730,11 +748,7 @@ impl ShadowMaps {
             ..Default::default()
         });
         for &layer in layers {
-            let info = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some("shadow layer"),
-                contents: bytemuck::cast_slice(&[layer, 0, 0, 0]),
-                usage: wgpu::BufferUsages::UNIFORM,
-            });
+            let info = &self.layer_info[layer as usize];
             let out = layer_view(&maps.depth, layer);
             let all = [
                 (1, wgpu::BindingResource::TextureView(&depth)),
@@ -756,16 +770,16 @@ impl ShadowMaps {
 
     /// VSM's second pass: moments of the layers the render pass just drew.
     fn moments_pass(&self, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
-        let ShadowFilter::Vsm { blur, .. } = self.settings.filter else {
+        if !matches!(self.settings.filter, ShadowFilter::Vsm { .. }) {
             return Ok(());
-        };
+        }
         let mut guard = self.store.0.lock().unwrap_or_else(|e| e.into_inner());
         let Some(maps) = guard.as_mut() else {
             return Ok(());
         };
         let layers = std::mem::take(&mut maps.pending_moments);
         match (&maps.moments, layers.is_empty()) {
-            (Some(moments), false) => self.moments(cx, &maps.depth, moments, &layers, blur),
+            (Some(moments), false) => self.moments(cx, &maps.depth, moments, &layers),
             _ => Ok(()),
         }
     }
@@ -777,7 +791,6 @@ impl ShadowMaps {
         depth: &wgpu::Texture,
         moments: &wgpu::Texture,
         layers: &[u32],
-        blur: u32,
     ) -> Result<(), RenderError> {
         let device = cx.gpu.device.clone();
         let key = ShaderKey::new("shadows/moments.wgsl", []);
@@ -795,11 +808,7 @@ impl ShadowMaps {
                 array_layer_count: Some(1),
                 ..Default::default()
             });
-            let info = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some("moments layer"),
-                contents: bytemuck::cast_slice(&[layer, blur.min(8), 0, 0]),
-                usage: wgpu::BufferUsages::UNIFORM,
-            });
+            let info = &self.layer_info[layer as usize];
             let all = [
                 (0, wgpu::BindingResource::TextureView(&depth_view)),
                 (1, self.views.as_entire_binding()),
