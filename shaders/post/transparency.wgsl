@@ -17,6 +17,8 @@
 // Lighting is deliberately simple (the transparent surfaces are not in the
 // G-buffer): the layer's colour times an ambient term plus one directional
 // key light, lit from both sides (a thin glass-like shell), all in `params`.
+// Both faces are drawn, except for one-sided glTF materials (layers with a
+// material world), whose back faces the pipeline culls.
 //
 // The colour and coverage are glTF's base colour: the instance colour
 // (factor) x the base colour map (MATERIAL_MAPS: the layer's material world
@@ -77,7 +79,12 @@ struct VertexOut {
 
 @vertex
 fn vs(@builtin(vertex_index) vertex: u32, @builtin(instance_index) instance_index: u32) -> VertexOut {
-    let v = triangle_vertex(instance_index, vertex / 3u, vertex % 3u, view_right(camera.view), view_up(camera.view));
+    // A mirroring transform turns the winding around: corners taken in the
+    // other order, so culling (one-sided glTF materials) culls back faces.
+    let m = instances[instance_index].model;
+    let mirrored = determinant(mat3x3<f32>(m[0].xyz, m[1].xyz, m[2].xyz)) < 0.0;
+    let corner = select(vertex % 3u, (3u - vertex % 3u) % 3u, mirrored);
+    let v = triangle_vertex(instance_index, vertex / 3u, corner, view_right(camera.view), view_up(camera.view));
     let world = instances[instance_index].model * vec4<f32>(v.position_u.xyz, 1.0);
     var out: VertexOut;
     out.clip = camera.view_projection * world;
@@ -88,7 +95,7 @@ fn vs(@builtin(vertex_index) vertex: u32, @builtin(instance_index) instance_inde
     out.second_uv = out.uv;
     out.material = instances[instance_index].info.z;
 #ifdef VERTEX_EXTRAS
-    let extra = corner_extra(instance_index, vertex / 3u, vertex % 3u, v);
+    let extra = corner_extra(instance_index, vertex / 3u, corner, v);
     out.second_uv = extra.second_uv;
     // glTF: base colour = factor x texture x COLOR_0 (alpha too).
     out.color *= vertex_color(extra);

@@ -4,7 +4,8 @@
 //! colour factor with alpha, composited over a green background. Every
 //! inner pixel is checked against glTF's colour and coverage:
 //! c = factor x texel x COLOR_0, a = the three alphas' product, and the
-//! result background x (1 - a) + c x a.
+//! result background x (1 - a) + c x a. Turned away, the quad shows only
+//! when its material is double-sided.
 
 mod post_common;
 
@@ -47,7 +48,7 @@ fn halves_png() -> Vec<u8> {
 
 /// The quad x, y in [-1, 1] at z = 0, facing +Z. `tex_coord`: which UV set
 /// maps the texture across the quad (the other is one point of its left half).
-fn model(tex_coord: u32) -> Vec<u8> {
+fn model(tex_coord: u32, double_sided: bool) -> Vec<u8> {
     let mut doc = Doc::new();
     let spanning = vec![[0.0, 1.0], [1.0, 1.0], [1.0, 0.0], [0.0, 0.0]];
     let constant = vec![[0.25, 0.5]; 4];
@@ -89,6 +90,7 @@ fn model(tex_coord: u32) -> Vec<u8> {
         ..info(texture)
     });
     material.alpha_mode = json::validation::Checked::Valid(json::material::AlphaMode::Blend);
+    material.double_sided = double_sided;
     let material = doc.material(material);
     doc.root.meshes[mesh.value()].primitives[0].material = Some(material);
     let node = doc.node(json::Node {
@@ -113,7 +115,7 @@ fn hit(x: u32, y: u32) -> (f32, f32) {
 
 /// The file's quad with its material (id 1 of the world: glTF's default
 /// material, then the file's), coloured by its factor as the glTF node does.
-fn layer(renderer: &Renderer, scene: &GltfScene) -> Arc<Layer> {
+fn layer(renderer: &Renderer, scene: &GltfScene, transform: Mat4) -> Arc<Layer> {
     let mesh = renderer
         .meshes
         .upload(&renderer.gpu, &scene.meshes[0])
@@ -124,8 +126,8 @@ fn layer(renderer: &Renderer, scene: &GltfScene) -> Arc<Layer> {
         .collect();
     let world = MaterialWorld::new(renderer, materials);
     let instance = InstanceInput {
-        transform: Mat4::IDENTITY,
-        previous_transform: Mat4::IDENTITY,
+        transform,
+        previous_transform: transform,
         color: scene.materials[0].base_color,
         material_id: 1,
         object_id: 1,
@@ -145,8 +147,9 @@ fn layer(renderer: &Renderer, scene: &GltfScene) -> Arc<Layer> {
     )
 }
 
-/// The quad composited over the background, unlit (ambient 1, no key light).
-fn composite(model: &[u8]) -> Vec<[f32; 4]> {
+/// The quad placed by `transform`, composited over the background, unlit
+/// (ambient 1, no key light).
+fn composite(model: &[u8], transform: Mat4) -> Vec<[f32; 4]> {
     let renderer = test_renderer();
     let scene = load_gltf_slice(model, None).expect("loads");
     assert_eq!(scene.materials[0].alpha_mode, AlphaMode::Blend);
@@ -171,7 +174,7 @@ fn composite(model: &[u8]) -> Vec<[f32; 4]> {
         None,
         background.texture_ref(),
         g,
-        vec![layer(&renderer, &scene)],
+        vec![layer(&renderer, &scene, transform)],
         settings,
     );
     let (_, out) = render(&renderer, pass.as_ref(), &pass.output, SIZE);
@@ -179,7 +182,7 @@ fn composite(model: &[u8]) -> Vec<[f32; 4]> {
 }
 
 fn check(tex_coord: u32) {
-    let pixels = composite(&model(tex_coord));
+    let pixels = composite(&model(tex_coord, false), Mat4::IDENTITY);
     let mut checked = [0; 2];
     for py in 0..SIZE.1 {
         for px in 0..SIZE.0 {
@@ -220,4 +223,27 @@ fn blend_composites_factor_times_texture_times_color_0_with_their_alphas() {
 #[test]
 fn blend_reads_the_texture_through_its_second_uv_set() {
     check(1);
+}
+
+#[test]
+fn blend_culls_back_faces_unless_double_sided() {
+    let turned = Mat4::from_rotation_y(std::f32::consts::PI);
+    let differing = |pixels: &[[f32; 4]]| {
+        pixels
+            .iter()
+            .filter(|p| (0..3).any(|c| (p[c] - BACKGROUND[c]).abs() > 0.05))
+            .count()
+    };
+    let one_sided = composite(&model(0, false), turned);
+    assert_eq!(
+        differing(&one_sided),
+        0,
+        "a one-sided quad's back is culled"
+    );
+    let double_sided = composite(&model(0, true), turned);
+    assert!(
+        differing(&double_sided) > 1500,
+        "a double-sided quad's back shows: {} pixels",
+        differing(&double_sided)
+    );
 }

@@ -112,7 +112,13 @@ pub(crate) fn pack_instances(
             // drawn twice, so only the double-sided ones keep their back faces.
             let double_sided =
                 |i: &InstanceInput| world.is_some_and(|w| w.double_sided(i.material_id));
-            for two_sided in [false, true] {
+            // Without surface maps nothing is double-sided: one pass.
+            let sides: &[bool] = if world.is_some() {
+                &[false, true]
+            } else {
+                &[false]
+            };
+            for &two_sided in sides {
                 let first_instance = gpu_instances.len() as u32;
                 for inst in batch
                     .instances

@@ -156,62 +156,77 @@ impl Transparency {
                 world.is_some().then_some("MATERIAL_MAPS"),
                 vertex_extras.then_some("VERTEX_EXTRAS"),
             ];
-            let pipeline =
-                accumulate_pipeline(cx, ShaderKey::new(SHADER, defines.into_iter().flatten()))?;
-            let mut entries = geometry_entries(
-                self.gbuffer.camera_buffer().as_entire_binding(),
-                &vertices,
-                &indices,
-                &self.instances,
-            );
-            entries.push(wgpu::BindGroupEntry {
-                binding: 4,
-                resource: wgpu::BindingResource::TextureView(&depth),
-            });
-            entries.push(wgpu::BindGroupEntry {
-                binding: 5,
-                resource: self.params.as_entire_binding(),
-            });
-            if vertex_extras {
+            let key = ShaderKey::new(SHADER, defines.into_iter().flatten());
+            // glTF materials (a world with maps): back faces culled unless
+            // double-sided, as other viewers draw them; patch-built layers
+            // show both faces (a glass shell's back through its front).
+            for culled in [true, false] {
+                let in_layer = |d: &&Draw| (range.0..range.1).contains(&d.first_instance);
+                let culls = |d: &Draw| world.is_some() && !d.two_sided;
+                if !self
+                    .draws
+                    .iter()
+                    .filter(in_layer)
+                    .any(|d| culls(d) == culled)
+                {
+                    continue;
+                }
+                let pipeline = accumulate_pipeline(cx, key.clone(), culled)?;
+                let mut entries = geometry_entries(
+                    self.gbuffer.camera_buffer().as_entire_binding(),
+                    &vertices,
+                    &indices,
+                    &self.instances,
+                );
                 entries.push(wgpu::BindGroupEntry {
-                    binding: 12,
-                    resource: extras.as_entire_binding(),
+                    binding: 4,
+                    resource: wgpu::BindingResource::TextureView(&depth),
                 });
+                entries.push(wgpu::BindGroupEntry {
+                    binding: 5,
+                    resource: self.params.as_entire_binding(),
+                });
+                if vertex_extras {
+                    entries.push(wgpu::BindGroupEntry {
+                        binding: 12,
+                        resource: extras.as_entire_binding(),
+                    });
+                }
+                let group0 = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                    label: Some("transparency accumulate"),
+                    layout: &pipeline.get_bind_group_layout(0),
+                    entries: &entries,
+                });
+                let mut groups = vec![Some(group0)];
+                if let Some(world) = world {
+                    let (meta, offsets, data) = world.buffers();
+                    groups.push(Some(device.create_bind_group(&wgpu::BindGroupDescriptor {
+                        label: Some("transparency: material world"),
+                        layout: &pipeline.get_bind_group_layout(1),
+                        entries: &[
+                            wgpu::BindGroupEntry {
+                                binding: 0,
+                                resource: meta.as_entire_binding(),
+                            },
+                            wgpu::BindGroupEntry {
+                                binding: 1,
+                                resource: offsets.as_entire_binding(),
+                            },
+                            wgpu::BindGroupEntry {
+                                binding: 2,
+                                resource: data.as_entire_binding(),
+                            },
+                        ],
+                    })));
+                    groups.push(Some(device.create_bind_group(&wgpu::BindGroupDescriptor {
+                        label: Some("transparency: unused group"),
+                        layout: &pipeline.get_bind_group_layout(2),
+                        entries: &[],
+                    })));
+                    groups.push(world.maps_bind_group(&device, &pipeline.get_bind_group_layout(3)));
+                }
+                work.push((*range, culled, world.is_some(), pipeline, groups));
             }
-            let group0 = device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("transparency accumulate"),
-                layout: &pipeline.get_bind_group_layout(0),
-                entries: &entries,
-            });
-            let mut groups = vec![Some(group0)];
-            if let Some(world) = world {
-                let (meta, offsets, data) = world.buffers();
-                groups.push(Some(device.create_bind_group(&wgpu::BindGroupDescriptor {
-                    label: Some("transparency: material world"),
-                    layout: &pipeline.get_bind_group_layout(1),
-                    entries: &[
-                        wgpu::BindGroupEntry {
-                            binding: 0,
-                            resource: meta.as_entire_binding(),
-                        },
-                        wgpu::BindGroupEntry {
-                            binding: 1,
-                            resource: offsets.as_entire_binding(),
-                        },
-                        wgpu::BindGroupEntry {
-                            binding: 2,
-                            resource: data.as_entire_binding(),
-                        },
-                    ],
-                })));
-                groups.push(Some(device.create_bind_group(&wgpu::BindGroupDescriptor {
-                    label: Some("transparency: unused group"),
-                    layout: &pipeline.get_bind_group_layout(2),
-                    entries: &[],
-                })));
-                groups.push(world.maps_bind_group(&device, &pipeline.get_bind_group_layout(3)));
-            }
-            work.push((*range, pipeline, groups));
         }
         let (accumulation, revealage) = (cx.view(&self.accumulation)?, cx.view(&self.revealage)?);
         let timestamps = cx.render_timestamps();
@@ -238,7 +253,7 @@ impl Transparency {
             multiview_mask: None,
         });
         let mut draws = 0;
-        for ((first, end), pipeline, groups) in &work {
+        for ((first, end), culled, maps, pipeline, groups) in &work {
             pass.set_pipeline(pipeline);
             for (i, group) in groups.iter().enumerate() {
                 if let Some(group) = group {
@@ -249,6 +264,7 @@ impl Transparency {
                 d.instance_count > 0
                     && d.index_count > 0
                     && (*first..*end).contains(&d.first_instance)
+                    && (*maps && !d.two_sided) == *culled
             }) {
                 pass.draw(
                     0..draw.index_count,
@@ -289,14 +305,16 @@ impl Transparency {
 }
 
 /// The accumulation pipeline of one permutation: additive accumulation,
-/// multiplicative revealage, both faces drawn.
+/// multiplicative revealage; back faces culled when `culled`.
 fn accumulate_pipeline(
     cx: &mut PassContext<'_>,
     key: ShaderKey,
+    culled: bool,
 ) -> Result<wgpu::RenderPipeline, RenderError> {
     let device = cx.gpu.device.clone();
+    let variant = if culled { "wboit, culled" } else { "wboit" };
     cx.shaders
-        .render_pipeline(&device, &key, "wboit", |module| {
+        .render_pipeline(&device, &key, variant, |module| {
             let additive = wgpu::BlendComponent {
                 src_factor: wgpu::BlendFactor::One,
                 dst_factor: wgpu::BlendFactor::One,
@@ -318,8 +336,8 @@ fn accumulate_pipeline(
                 },
                 primitive: wgpu::PrimitiveState {
                     topology: wgpu::PrimitiveTopology::TriangleList,
-                    // Both faces: a transparent shell shows its back through its front.
-                    cull_mode: None,
+                    front_face: wgpu::FrontFace::Ccw,
+                    cull_mode: culled.then_some(wgpu::Face::Back),
                     ..Default::default()
                 },
                 depth_stencil: None,

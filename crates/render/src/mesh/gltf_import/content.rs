@@ -42,6 +42,10 @@ fn default_range(intensity: f32, reach: f32) -> f32 {
     (intensity.abs() * 1000.0).sqrt().max(reach).max(1e-3)
 }
 
+/// The largest light range kept: a spot light's shadow projection spans
+/// range x 1e-4 to range, and their product must stay a finite f32.
+const MAX_RANGE: f32 = 1e20;
+
 /// A light as its node holds it, to place at any pose of the node.
 #[derive(Debug, Clone, PartialEq)]
 pub struct LightSource {
@@ -74,7 +78,8 @@ impl LightSource {
         let range = light
             .range()
             .filter(|r| r.is_finite() && *r > 0.0)
-            .unwrap_or_else(|| default_range(intensity, reach));
+            .unwrap_or_else(|| default_range(intensity, reach))
+            .min(MAX_RANGE);
         let kind = match light.kind() {
             Kind::Point => SourceKind::Point,
             Kind::Spot {

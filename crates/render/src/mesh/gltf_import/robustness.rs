@@ -328,3 +328,36 @@ fn a_node_light_without_the_files_lights_is_refused() {
     });
     assert_names(&error(&bytes), &["nodes[0]", "light"]);
 }
+
+#[test]
+fn lights_of_extreme_range_and_intensity_stay_finite() {
+    let bytes = edited(cube_doc(), |v| {
+        v["extensionsUsed"] = value(r#"["KHR_lights_punctual"]"#);
+        v["extensions"] = value(
+            r#"{"KHR_lights_punctual": {"lights": [
+                {"type": "spot", "range": 3e38, "intensity": 3e38, "spot": {"innerConeAngle": 2.0, "outerConeAngle": 0.0}},
+                {"type": "spot", "intensity": 3e38, "spot": {}},
+                {"type": "point", "range": 3e38, "intensity": -5}
+            ]}}"#,
+        );
+        v["nodes"].as_array_mut().expect("nodes").extend([
+            value(r#"{"extensions": {"KHR_lights_punctual": {"light": 0}}}"#),
+            value(r#"{"extensions": {"KHR_lights_punctual": {"light": 1}}}"#),
+            value(r#"{"extensions": {"KHR_lights_punctual": {"light": 2}}}"#),
+        ]);
+        v["scenes"][0]["nodes"] = value("[0, 1, 2, 3]");
+    });
+    let scene = load_gltf_slice(&bytes, None).expect("loads");
+    assert_eq!(scene.lights.spots.len(), 2);
+    for (name, spot) in &scene.lights.spots {
+        assert!(
+            spot.projection.is_finite() && spot.view.is_finite(),
+            "{name}: {spot:?}"
+        );
+    }
+    let (_, point) = &scene.lights.points[0];
+    assert!(
+        point.range.is_finite() && point.intensity == 0.0,
+        "{point:?}"
+    );
+}
