@@ -56,7 +56,8 @@ fn layer(renderer: &Renderer) -> Arc<Layer> {
     let batches = [(-1.2f32, 0u32), (1.2, 1)]
         .into_iter()
         .map(|(x, material_id)| {
-            let transform = Mat4::from_translation(Vec3::X * x) * Mat4::from_rotation_y(3.1416);
+            let transform =
+                Mat4::from_translation(Vec3::X * x) * Mat4::from_rotation_y(std::f32::consts::PI);
             DrawBatch {
                 mesh: renderer
                     .meshes
@@ -147,7 +148,8 @@ fn shared_mesh_layer(renderer: &Renderer) -> Arc<Layer> {
         material_id,
         object_id: 1,
     };
-    let turned = |x: f32| Mat4::from_translation(Vec3::X * x) * Mat4::from_rotation_y(3.1416);
+    let turned =
+        |x: f32| Mat4::from_translation(Vec3::X * x) * Mat4::from_rotation_y(std::f32::consts::PI);
     let wall = Mat4::from_translation(Vec3::Z * -2.0) * Mat4::from_scale(Vec3::splat(8.0));
     let batches = vec![
         DrawBatch {

@@ -148,9 +148,10 @@ fn textures_of_missing_images_or_samplers_are_refused() {
     let mut doc = cube_doc();
     let png = doc.png_image(b"not a png at all");
     let texture = doc.texture(png);
-    let mut material = json::Material::default();
-    material.emissive_texture = Some(info(texture));
-    let material = doc.material(material);
+    let material = doc.material(json::Material {
+        emissive_texture: Some(info(texture)),
+        ..Default::default()
+    });
     doc.root.meshes[0].primitives[0].material = Some(material);
     assert_names(&error(&doc.gltf_data_uri()), &["image 0", "cannot decode"]);
 }
