@@ -17,9 +17,25 @@
 // Lighting is deliberately simple (the transparent surfaces are not in the
 // G-buffer): the layer's colour times an ambient term plus one directional
 // key light, lit from both sides (a thin glass-like shell), all in `params`.
+// Both faces are drawn, except for one-sided glTF materials (layers with a
+// material world), whose back faces the pipeline culls.
+//
+// The colour and coverage are glTF's base colour: the instance colour
+// (factor) x the base colour map (MATERIAL_MAPS: the layer's material world
+// has surface maps; group 1 the world, group 3 its map arrays, sampled as
+// the G-buffer resolve does, with the map's UV set, sampler and
+// KHR_texture_transform) x COLOR_0 (VERTEX_EXTRAS: the arena's extra
+// stream, binding 12), alpha included.
 #import spreadlight::camera::Camera
 #import spreadlight::mesh_fetch::{instances, triangle_vertex, view_right, view_up}
 #import spreadlight::post::{sanitize, HALF_MAX}
+#ifdef MATERIAL_MAPS
+#import spreadlight::material_maps::{MapCoords, sample_map, MAP_BASE_COLOR}
+#endif
+#ifdef VERTEX_EXTRAS
+#import spreadlight::mesh::{Vertex, VertexExtra, vertex_color, default_extra}
+#import spreadlight::mesh_fetch::{triangle_vertex_index, NO_VERTEX}
+#endif
 
 struct Params {
     // rgb: ambient radiance
@@ -37,23 +53,53 @@ struct Params {
 @group(0) @binding(7) var accumulation: texture_2d<f32>;
 @group(0) @binding(8) var revealage: texture_2d<f32>;
 @group(0) @binding(9) var output: texture_storage_2d<rgba16float, write>;
+#ifdef VERTEX_EXTRAS
+@group(0) @binding(12) var<storage, read> extras: array<VertexExtra>;
+
+// The second UV set and colour of a triangle's corner `v` (procedural
+// meshes, particles, store none: white, their first set).
+fn corner_extra(instance: u32, triangle: u32, corner: u32, v: Vertex) -> VertexExtra {
+    let index = triangle_vertex_index(instance, triangle, corner);
+    if (index == NO_VERTEX) {
+        return default_extra(v);
+    }
+    return extras[index];
+}
+#endif
 
 struct VertexOut {
     @builtin(position) clip: vec4<f32>,
     @location(0) normal: vec3<f32>,
     @location(1) color: vec4<f32>,
     @location(2) distance: f32,
+    @location(3) uv: vec2<f32>,
+    @location(4) second_uv: vec2<f32>,
+    @location(5) @interpolate(flat) material: u32,
 }
 
 @vertex
 fn vs(@builtin(vertex_index) vertex: u32, @builtin(instance_index) instance_index: u32) -> VertexOut {
-    let v = triangle_vertex(instance_index, vertex / 3u, vertex % 3u, view_right(camera.view), view_up(camera.view));
+    // A mirroring transform turns the winding around: corners taken in the
+    // other order, so culling (one-sided glTF materials) culls back faces.
+    let m = instances[instance_index].model;
+    let mirrored = determinant(mat3x3<f32>(m[0].xyz, m[1].xyz, m[2].xyz)) < 0.0;
+    let corner = select(vertex % 3u, (3u - vertex % 3u) % 3u, mirrored);
+    let v = triangle_vertex(instance_index, vertex / 3u, corner, view_right(camera.view), view_up(camera.view));
     let world = instances[instance_index].model * vec4<f32>(v.position_u.xyz, 1.0);
     var out: VertexOut;
     out.clip = camera.view_projection * world;
     out.normal = (instances[instance_index].normal_matrix * vec4<f32>(v.normal_v.xyz, 0.0)).xyz;
     out.color = instances[instance_index].color;
     out.distance = -(camera.view * world).z;
+    out.uv = vec2<f32>(v.position_u.w, v.normal_v.w);
+    out.second_uv = out.uv;
+    out.material = instances[instance_index].info.z;
+#ifdef VERTEX_EXTRAS
+    let extra = corner_extra(instance_index, vertex / 3u, corner, v);
+    out.second_uv = extra.second_uv;
+    // glTF: base colour = factor x texture x COLOR_0 (alpha too).
+    out.color *= vertex_color(extra);
+#endif
     return out;
 }
 
@@ -70,16 +116,28 @@ fn weight(z: f32, alpha: f32) -> f32 {
 
 @fragment
 fn fs(in: VertexOut) -> Accumulated {
+    var base = in.color;
+#ifdef MATERIAL_MAPS
+    // Derivatives first, in uniform control flow.
+    var coords: MapCoords;
+    coords.uv = in.uv;
+    coords.dx = dpdx(in.uv);
+    coords.dy = dpdy(in.uv);
+    coords.second_uv = in.second_uv;
+    coords.second_dx = dpdx(in.second_uv);
+    coords.second_dy = dpdy(in.second_uv);
+    base *= max(sample_map(in.material, MAP_BASE_COLOR, coords, vec4<f32>(1.0)), vec4<f32>(0.0));
+#endif
     // Behind the opaque surface (reversed-Z: a smaller depth is further): hidden.
     let opaque_z = textureLoad(opaque_depth, vec2<i32>(in.clip.xy), 0).r;
-    let alpha = clamp(sanitize(in.color).a, 0.0, 1.0);
+    let alpha = clamp(sanitize(base).a, 0.0, 1.0);
     if (in.clip.z < opaque_z || alpha < 1e-4) {
         discard;
     }
     let n = normalize(in.normal + vec3<f32>(0.0, 0.0, 1e-12));
     let lambert = abs(dot(n, params.light_direction.xyz));
     let radiance = params.ambient.rgb + params.light_color.rgb * lambert;
-    let color = clamp(sanitize(vec4<f32>(in.color.rgb * radiance, 0.0)).rgb, vec3<f32>(0.0), vec3<f32>(600.0));
+    let color = clamp(sanitize(vec4<f32>(base.rgb * radiance, 0.0)).rgb, vec3<f32>(0.0), vec3<f32>(600.0));
     let w = weight(in.distance, alpha);
     var out: Accumulated;
     out.accumulation = vec4<f32>(color * alpha, alpha) * w;

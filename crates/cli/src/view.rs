@@ -149,7 +149,8 @@ pub fn build_patch(
 }
 
 /// BLEND materials: a second glTF node giving only them, their layer drawn
-/// by Transparency over the lit image before tonemapping.
+/// by Transparency over the lit image before tonemapping, with their base
+/// colour textures and vertex colours (the layer carries the material world).
 fn transparent(patch: &mut Patch, file: String, time: f32) {
     patch.add(
         NodeDoc::new(40, "glTF")
@@ -170,6 +171,10 @@ fn transparent(patch: &mut Patch, file: String, time: f32) {
     patch.link(40, "Mesh", 41, "Mesh");
     patch.link(40, "Transform", 41, "Transform");
     patch.link(40, "Base Color", 41, "Color");
+    // The same world as the opaque layer's (same file, same first id): the
+    // Transparency pass samples the base colour texture from it.
+    patch.link(40, "Material ID", 41, "Material ID");
+    patch.link(3, "Material World", 41, "Material World");
     patch.link(14, "Texture", 42, "Texture");
     patch.link(5, "G-Buffer", 42, "G-Buffer");
     patch.link(41, "Layer", 42, "Layer");

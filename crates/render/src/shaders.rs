@@ -264,7 +264,7 @@ pub const SHADERS: &[ShaderFile] = &[
     shader!("post/autofocus.wgsl", []),
     shader!("post/motion_blur.wgsl", []),
     shader!("post/glare.wgsl", []),
-    shader!("post/transparency.wgsl", []),
+    shader!("post/transparency.wgsl", ["MATERIAL_MAPS", "VERTEX_EXTRAS"]),
     shader!(
         "post/taa.wgsl",
         ["VARIANCE_CLIP", "CATMULL_ROM"],

@@ -2,7 +2,9 @@
 //! of its own draw only. Two quads turned away from the camera in one
 //! layer, one of a double-sided material and one of a one-sided material:
 //! the first shows (its back face), the second is culled, on both
-//! rasterizers.
+//! rasterizers. And per instance: two instances of one mesh (one batch),
+//! one of each material, in front of a wall: the one-sided instance's back
+//! is culled, so the wall shows where it stands.
 
 use std::sync::Arc;
 
@@ -54,7 +56,8 @@ fn layer(renderer: &Renderer) -> Arc<Layer> {
     let batches = [(-1.2f32, 0u32), (1.2, 1)]
         .into_iter()
         .map(|(x, material_id)| {
-            let transform = Mat4::from_translation(Vec3::X * x) * Mat4::from_rotation_y(3.1416);
+            let transform =
+                Mat4::from_translation(Vec3::X * x) * Mat4::from_rotation_y(std::f32::consts::PI);
             DrawBatch {
                 mesh: renderer
                     .meshes
@@ -124,4 +127,104 @@ fn a_double_sided_material_keeps_only_its_own_back_faces_compute_raster() {
 #[test]
 fn a_double_sided_material_keeps_only_its_own_back_faces_hardware_raster() {
     check(RasterChoice::Hardware, RasterMode::Hardware);
+}
+
+/// One mesh, two instances turned away from the camera (the double-sided
+/// one listed first, left at x = -1.2; the one-sided one right at x = +1.2)
+/// and a wall facing the camera at z = -2 behind both (one-sided, its own
+/// mesh).
+fn shared_mesh_layer(renderer: &Renderer) -> Arc<Layer> {
+    let world = MaterialWorld::new(renderer, vec![material(true), material(false)]);
+    let upload = || {
+        renderer
+            .meshes
+            .upload(&renderer.gpu, &quad())
+            .expect("upload")
+    };
+    let instance = |transform: Mat4, material_id: u32| InstanceInput {
+        transform,
+        previous_transform: transform,
+        color: [1.0; 4],
+        material_id,
+        object_id: 1,
+    };
+    let turned =
+        |x: f32| Mat4::from_translation(Vec3::X * x) * Mat4::from_rotation_y(std::f32::consts::PI);
+    let wall = Mat4::from_translation(Vec3::Z * -2.0) * Mat4::from_scale(Vec3::splat(8.0));
+    let batches = vec![
+        DrawBatch {
+            mesh: upload(),
+            instances: vec![instance(turned(-1.2), 0), instance(turned(1.2), 1)],
+        },
+        DrawBatch {
+            mesh: upload(),
+            instances: vec![instance(wall, 1)],
+        },
+    ];
+    Arc::new(
+        Layer::new(Some(1), batches, LayerFeatures::default(), None)
+            .expect("layer")
+            .with_materials(Some(world)),
+    )
+}
+
+fn check_shared_mesh(choice: RasterChoice, expected: RasterMode) {
+    let renderer = test_renderer();
+    let camera = CameraInput {
+        view: glam::camera::rh::view::look_at_mat4(Vec3::Z * 4.0, Vec3::ZERO, Vec3::Y),
+        projection: glam::camera::rh::proj::directx::perspective(0.9, 2.0, 0.1, 100.0),
+    };
+    let g = GBuffer::with_raster(
+        &renderer,
+        Some(2),
+        vec![shared_mesh_layer(&renderer)],
+        camera,
+        None,
+        SizeRule::Relative(1.0),
+        choice,
+    );
+    assert_eq!(g.raster, expected);
+    assert_eq!(
+        g.two_sided_draws(),
+        1,
+        "the shared mesh's batch is split: its double-sided instance alone keeps back faces"
+    );
+    let (report, images) =
+        render_and_read(&renderer, g.as_ref(), SIZE, &[&g.targets.depth]).expect("renders");
+    assert!(report.errors.is_empty(), "{:?}", report.errors);
+    let depth = |x: u32, y: u32| images[0].pixels[(y * SIZE.0 + x) as usize][0];
+    // Row 0 is above both quads (they reach y = 1, the view 1.93 at z = 0): the wall.
+    let wall = depth(SIZE.0 / 2, 0);
+    assert!(wall > 0.0, "the wall covers the view");
+    // Inside each quad: the pixel centres of rows 10..22, and a quarter in from each side.
+    let (left, right) = (
+        SIZE.0 / 4 - 2..SIZE.0 / 4 + 2,
+        3 * SIZE.0 / 4 - 2..3 * SIZE.0 / 4 + 2,
+    );
+    for y in 10..22 {
+        for x in left.clone() {
+            assert!(
+                depth(x, y) > wall * 1.2,
+                "({x}, {y}): the double-sided instance's back shows ({} against the wall's {wall})",
+                depth(x, y)
+            );
+        }
+        for x in right.clone() {
+            assert!(
+                (depth(x, y) - wall).abs() <= wall * 1e-4,
+                "({x}, {y}): the one-sided instance's back is culled, the wall shows ({} against {wall})",
+                depth(x, y)
+            );
+        }
+    }
+}
+
+#[test]
+fn a_one_sided_instance_sharing_a_mesh_with_a_double_sided_one_is_culled_compute_raster() {
+    check_shared_mesh(RasterChoice::Compute, RasterMode::Compute);
+}
+
+#[test]
+fn a_one_sided_instance_sharing_a_mesh_with_a_double_sided_one_is_culled_hardware_raster() {
+    check_shared_mesh(RasterChoice::Hardware, RasterMode::Hardware);
 }

@@ -64,8 +64,8 @@ pub(crate) struct Draw {
     /// Particles, drawn from their records (after the meshes, so the depth
     /// a G-buffer publishes for their collisions holds no particles).
     pub procedural: bool,
-    /// Some instance's material is double-sided: this draw keeps its back
-    /// faces (the others of the G-buffer are still culled).
+    /// Its instances' materials are double-sided: this draw keeps its back
+    /// faces (a batch mixing sides is split in two draws, see [`pack_instances`]).
     pub two_sided: bool,
 }
 
@@ -94,8 +94,9 @@ pub(crate) fn geometry_entries<'b>(
     .collect()
 }
 
-/// The GPU instances of `layers` in order, one draw per batch, and each
-/// layer's range of instances.
+/// The GPU instances of `layers` in order, one draw per batch (two where a
+/// batch mixes one- and double-sided materials: its one-sided instances
+/// first), and each layer's range of instances.
 pub(crate) fn pack_instances(
     layers: &[Arc<Layer>],
 ) -> (Vec<GpuInstance>, Vec<Draw>, Vec<(u32, u32)>) {
@@ -106,35 +107,52 @@ pub(crate) fn pack_instances(
         let first = gpu_instances.len() as u32;
         let world = layer.map_world();
         for batch in &layer.batches {
-            let first_instance = gpu_instances.len() as u32;
-            for inst in &batch.instances {
-                gpu_instances.push(GpuInstance {
-                    model: inst.transform.to_cols_array_2d(),
-                    previous_model: inst.previous_transform.to_cols_array_2d(),
-                    normal_matrix: crate::camera::safe_inverse(inst.transform)
-                        .transpose()
-                        .to_cols_array_2d(),
-                    color: inst.color,
-                    info: [
-                        batch.mesh.first_index_word(),
-                        batch.mesh.vertices.start,
-                        inst.material_id,
-                        inst.object_id,
-                    ],
+            // Culling is per draw: a batch whose instances mix one- and
+            // double-sided materials is packed one-sided instances first and
+            // drawn twice, so only the double-sided ones keep their back faces.
+            let double_sided =
+                |i: &InstanceInput| world.is_some_and(|w| w.double_sided(i.material_id));
+            // Without surface maps nothing is double-sided: one pass.
+            let sides: &[bool] = if world.is_some() {
+                &[false, true]
+            } else {
+                &[false]
+            };
+            for &two_sided in sides {
+                let first_instance = gpu_instances.len() as u32;
+                for inst in batch
+                    .instances
+                    .iter()
+                    .filter(|i| double_sided(i) == two_sided)
+                {
+                    gpu_instances.push(GpuInstance {
+                        model: inst.transform.to_cols_array_2d(),
+                        previous_model: inst.previous_transform.to_cols_array_2d(),
+                        normal_matrix: crate::camera::safe_inverse(inst.transform)
+                            .transpose()
+                            .to_cols_array_2d(),
+                        color: inst.color,
+                        info: [
+                            batch.mesh.first_index_word(),
+                            batch.mesh.vertices.start,
+                            inst.material_id,
+                            inst.object_id,
+                        ],
+                    });
+                }
+                let instance_count = gpu_instances.len() as u32 - first_instance;
+                // An empty batch keeps its (empty) one-sided draw, as before.
+                if instance_count == 0 && (two_sided || !batch.instances.is_empty()) {
+                    continue;
+                }
+                draws.push(Draw {
+                    index_count: batch.mesh.index_count(),
+                    first_instance,
+                    instance_count,
+                    procedural: batch.mesh.is_procedural(),
+                    two_sided,
                 });
             }
-            draws.push(Draw {
-                index_count: batch.mesh.index_count(),
-                first_instance,
-                instance_count: batch.instances.len() as u32,
-                procedural: batch.mesh.is_procedural(),
-                two_sided: world.is_some_and(|w| {
-                    batch
-                        .instances
-                        .iter()
-                        .any(|i| w.double_sided(i.material_id))
-                }),
-            });
         }
         layer_ranges.push((first, gpu_instances.len() as u32));
     }

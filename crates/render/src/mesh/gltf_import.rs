@@ -43,6 +43,8 @@ mod material;
 pub mod models;
 pub mod morph;
 mod primitive;
+#[cfg(test)]
+mod robustness;
 mod scene;
 pub mod skin;
 #[cfg(test)]
@@ -305,6 +307,7 @@ fn load(bytes: &[u8], base_dir: Option<&Path>, path: &Path) -> Result<GltfScene,
         .map(|e| format!("extension `{e}` is not supported; what it adds is ignored"))
         .collect();
     check_position_indices(&root, path)?;
+    check_camera_projections(&root, path)?;
     let document = Document::from_json(root).map_err(|e| GltfError::Invalid {
         path: path.to_owned(),
         message: validation_message(e),
@@ -341,6 +344,32 @@ fn check_position_indices(root: &gltf::json::Root, path: &Path) -> Result<(), Gl
                 });
             }
         }
+    }
+    Ok(())
+}
+
+/// gltf-json's validation accepts a camera whose `type` names a projection
+/// object it lacks (a perspective camera with only `orthographic`), and
+/// the gltf crate unwraps that object when asked for the projection.
+fn check_camera_projections(root: &gltf::json::Root, path: &Path) -> Result<(), GltfError> {
+    use gltf::json::camera::Type;
+    use gltf::json::validation::Checked;
+    for (c, camera) in root.cameras.iter().enumerate() {
+        let missing = match camera.type_ {
+            Checked::Valid(Type::Perspective) if camera.perspective.is_none() => "perspective",
+            Checked::Valid(Type::Orthographic) if camera.orthographic.is_none() => "orthographic",
+            _ => continue,
+        };
+        let name = camera
+            .name
+            .as_deref()
+            .map_or_else(String::new, |n| format!(" `{n}`"));
+        return Err(GltfError::Invalid {
+            path: path.to_owned(),
+            message: format!(
+                "cameras[{c}]{name}: its type is {missing} but it has no `{missing}` object"
+            ),
+        });
     }
     Ok(())
 }

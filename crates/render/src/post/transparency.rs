@@ -4,7 +4,10 @@
 //! RGBA16F accumulation and an R16F revealage target, depth-tested by hand
 //! against the G-buffer's depth, then a compute pass composites them over
 //! the opaque lit image. Lighting is simple: the layer's colour times an
-//! ambient term plus one two-sided directional key light. Without
+//! ambient term plus one two-sided directional key light. The colour and
+//! opacity are glTF's base colour: instance colour x the base colour map of
+//! a layer whose material world has surface maps x COLOR_0, each layer drawn
+//! with its own permutation (MATERIAL_MAPS, VERTEX_EXTRAS). Without
 //! transparent instances the node costs a copy.
 
 use std::sync::Arc;
@@ -52,6 +55,8 @@ pub struct Transparency {
     gbuffer: Arc<GBuffer>,
     layers: Vec<Arc<Layer>>,
     draws: Vec<Draw>,
+    /// Per layer: its instance range.
+    layer_ranges: Vec<(u32, u32)>,
     instances: wgpu::Buffer,
     instance_count: u32,
     params: wgpu::Buffer,
@@ -70,7 +75,7 @@ impl Transparency {
         settings: TransparencySettings,
     ) -> Arc<Self> {
         let id = next_recipe_id();
-        let (mut gpu_instances, draws, _) = pack_instances(&layers);
+        let (mut gpu_instances, draws, layer_ranges) = pack_instances(&layers);
         let instance_count = gpu_instances.len() as u32;
         if gpu_instances.is_empty() {
             // A storage binding cannot be empty.
@@ -117,6 +122,7 @@ impl Transparency {
             gbuffer,
             layers,
             draws,
+            layer_ranges,
             instances,
             instance_count,
             params,
@@ -135,85 +141,93 @@ impl Transparency {
 
     fn accumulate(&self, renderer: &Renderer, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
         let device = cx.gpu.device.clone();
-        let key = ShaderKey::new(SHADER, []);
-        let pipeline = cx
-            .shaders
-            .render_pipeline(&device, &key, "wboit", |module| {
-                let additive = wgpu::BlendComponent {
-                    src_factor: wgpu::BlendFactor::One,
-                    dst_factor: wgpu::BlendFactor::One,
-                    operation: wgpu::BlendOperation::Add,
-                };
-                let reveal = wgpu::BlendComponent {
-                    src_factor: wgpu::BlendFactor::Zero,
-                    dst_factor: wgpu::BlendFactor::OneMinusSrc,
-                    operation: wgpu::BlendOperation::Add,
-                };
-                device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                    label: Some("transparency accumulate"),
-                    layout: None,
-                    vertex: wgpu::VertexState {
-                        module,
-                        entry_point: Some("vs"),
-                        compilation_options: Default::default(),
-                        buffers: &[],
-                    },
-                    primitive: wgpu::PrimitiveState {
-                        topology: wgpu::PrimitiveTopology::TriangleList,
-                        // Both faces: a transparent shell shows its back through its front.
-                        cull_mode: None,
-                        ..Default::default()
-                    },
-                    depth_stencil: None,
-                    multisample: Default::default(),
-                    fragment: Some(wgpu::FragmentState {
-                        module,
-                        entry_point: Some("fs"),
-                        compilation_options: Default::default(),
-                        targets: &[
-                            Some(wgpu::ColorTargetState {
-                                format: ACCUMULATION,
-                                blend: Some(wgpu::BlendState {
-                                    color: additive,
-                                    alpha: additive,
-                                }),
-                                write_mask: wgpu::ColorWrites::ALL,
-                            }),
-                            Some(wgpu::ColorTargetState {
-                                format: REVEALAGE,
-                                blend: Some(wgpu::BlendState {
-                                    color: reveal,
-                                    alpha: reveal,
-                                }),
-                                write_mask: wgpu::ColorWrites::ALL,
-                            }),
-                        ],
-                    }),
-                    multiview_mask: None,
-                    cache: None,
-                })
-            })?;
         let (vertices, indices, _) = renderer.meshes.buffers();
+        let extras = renderer.meshes.extras();
         let depth = cx.view(&self.gbuffer.targets.depth)?;
-        let mut entries = geometry_entries(
-            self.gbuffer.camera_buffer().as_entire_binding(),
-            &vertices,
-            &indices,
-            &self.instances,
-        );
-        entries.push(wgpu::BindGroupEntry {
-            binding: 4,
-            resource: wgpu::BindingResource::TextureView(&depth),
-        });
-        entries.push(wgpu::BindGroupEntry {
-            binding: 5,
-            resource: self.params.as_entire_binding(),
-        });
-        let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("transparency accumulate"),
-            layout: &pipeline.get_bind_group_layout(0),
-            entries: &entries,
-        });
+        // Per layer: its permutation and bind groups (0, and 1 to 3 with maps).
+        let mut work = Vec::with_capacity(self.layers.len());
+        for (layer, range) in self.layers.iter().zip(&self.layer_ranges) {
+            if range.0 == range.1 {
+                continue;
+            }
+            let world = layer.map_world();
+            let vertex_extras = layer.vertex_extras();
+            let defines = [
+                world.is_some().then_some("MATERIAL_MAPS"),
+                vertex_extras.then_some("VERTEX_EXTRAS"),
+            ];
+            let key = ShaderKey::new(SHADER, defines.into_iter().flatten());
+            // glTF materials (a world with maps): back faces culled unless
+            // double-sided, as other viewers draw them; patch-built layers
+            // show both faces (a glass shell's back through its front).
+            for culled in [true, false] {
+                let in_layer = |d: &&Draw| (range.0..range.1).contains(&d.first_instance);
+                let culls = |d: &Draw| world.is_some() && !d.two_sided;
+                if !self
+                    .draws
+                    .iter()
+                    .filter(in_layer)
+                    .any(|d| culls(d) == culled)
+                {
+                    continue;
+                }
+                let pipeline = accumulate_pipeline(cx, key.clone(), culled)?;
+                let mut entries = geometry_entries(
+                    self.gbuffer.camera_buffer().as_entire_binding(),
+                    &vertices,
+                    &indices,
+                    &self.instances,
+                );
+                entries.push(wgpu::BindGroupEntry {
+                    binding: 4,
+                    resource: wgpu::BindingResource::TextureView(&depth),
+                });
+                entries.push(wgpu::BindGroupEntry {
+                    binding: 5,
+                    resource: self.params.as_entire_binding(),
+                });
+                if vertex_extras {
+                    entries.push(wgpu::BindGroupEntry {
+                        binding: 12,
+                        resource: extras.as_entire_binding(),
+                    });
+                }
+                let group0 = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                    label: Some("transparency accumulate"),
+                    layout: &pipeline.get_bind_group_layout(0),
+                    entries: &entries,
+                });
+                let mut groups = vec![Some(group0)];
+                if let Some(world) = world {
+                    let (meta, offsets, data) = world.buffers();
+                    groups.push(Some(device.create_bind_group(&wgpu::BindGroupDescriptor {
+                        label: Some("transparency: material world"),
+                        layout: &pipeline.get_bind_group_layout(1),
+                        entries: &[
+                            wgpu::BindGroupEntry {
+                                binding: 0,
+                                resource: meta.as_entire_binding(),
+                            },
+                            wgpu::BindGroupEntry {
+                                binding: 1,
+                                resource: offsets.as_entire_binding(),
+                            },
+                            wgpu::BindGroupEntry {
+                                binding: 2,
+                                resource: data.as_entire_binding(),
+                            },
+                        ],
+                    })));
+                    groups.push(Some(device.create_bind_group(&wgpu::BindGroupDescriptor {
+                        label: Some("transparency: unused group"),
+                        layout: &pipeline.get_bind_group_layout(2),
+                        entries: &[],
+                    })));
+                    groups.push(world.maps_bind_group(&device, &pipeline.get_bind_group_layout(3)));
+                }
+                work.push((*range, culled, world.is_some(), pipeline, groups));
+            }
+        }
         let (accumulation, revealage) = (cx.view(&self.accumulation)?, cx.view(&self.revealage)?);
         let timestamps = cx.render_timestamps();
         let attachment = |view, clear| {
@@ -238,19 +252,26 @@ impl Transparency {
             occlusion_query_set: None,
             multiview_mask: None,
         });
-        pass.set_pipeline(&pipeline);
-        pass.set_bind_group(0, &group, &[]);
         let mut draws = 0;
-        for draw in self
-            .draws
-            .iter()
-            .filter(|d| d.instance_count > 0 && d.index_count > 0)
-        {
-            pass.draw(
-                0..draw.index_count,
-                draw.first_instance..draw.first_instance + draw.instance_count,
-            );
-            draws += 1;
+        for ((first, end), culled, maps, pipeline, groups) in &work {
+            pass.set_pipeline(pipeline);
+            for (i, group) in groups.iter().enumerate() {
+                if let Some(group) = group {
+                    pass.set_bind_group(i as u32, group, &[]);
+                }
+            }
+            for draw in self.draws.iter().filter(|d| {
+                d.instance_count > 0
+                    && d.index_count > 0
+                    && (*first..*end).contains(&d.first_instance)
+                    && (*maps && !d.two_sided) == *culled
+            }) {
+                pass.draw(
+                    0..draw.index_count,
+                    draw.first_instance..draw.first_instance + draw.instance_count,
+                );
+                draws += 1;
+            }
         }
         drop(pass);
         cx.draws += draws;
@@ -281,6 +302,73 @@ impl Transparency {
             size,
         )
     }
+}
+
+/// The accumulation pipeline of one permutation: additive accumulation,
+/// multiplicative revealage; back faces culled when `culled`.
+fn accumulate_pipeline(
+    cx: &mut PassContext<'_>,
+    key: ShaderKey,
+    culled: bool,
+) -> Result<wgpu::RenderPipeline, RenderError> {
+    let device = cx.gpu.device.clone();
+    let variant = if culled { "wboit, culled" } else { "wboit" };
+    cx.shaders
+        .render_pipeline(&device, &key, variant, |module| {
+            let additive = wgpu::BlendComponent {
+                src_factor: wgpu::BlendFactor::One,
+                dst_factor: wgpu::BlendFactor::One,
+                operation: wgpu::BlendOperation::Add,
+            };
+            let reveal = wgpu::BlendComponent {
+                src_factor: wgpu::BlendFactor::Zero,
+                dst_factor: wgpu::BlendFactor::OneMinusSrc,
+                operation: wgpu::BlendOperation::Add,
+            };
+            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some("transparency accumulate"),
+                layout: None,
+                vertex: wgpu::VertexState {
+                    module,
+                    entry_point: Some("vs"),
+                    compilation_options: Default::default(),
+                    buffers: &[],
+                },
+                primitive: wgpu::PrimitiveState {
+                    topology: wgpu::PrimitiveTopology::TriangleList,
+                    front_face: wgpu::FrontFace::Ccw,
+                    cull_mode: culled.then_some(wgpu::Face::Back),
+                    ..Default::default()
+                },
+                depth_stencil: None,
+                multisample: Default::default(),
+                fragment: Some(wgpu::FragmentState {
+                    module,
+                    entry_point: Some("fs"),
+                    compilation_options: Default::default(),
+                    targets: &[
+                        Some(wgpu::ColorTargetState {
+                            format: ACCUMULATION,
+                            blend: Some(wgpu::BlendState {
+                                color: additive,
+                                alpha: additive,
+                            }),
+                            write_mask: wgpu::ColorWrites::ALL,
+                        }),
+                        Some(wgpu::ColorTargetState {
+                            format: REVEALAGE,
+                            blend: Some(wgpu::BlendState {
+                                color: reveal,
+                                alpha: reveal,
+                            }),
+                            write_mask: wgpu::ColorWrites::ALL,
+                        }),
+                    ],
+                }),
+                multiview_mask: None,
+                cache: None,
+            })
+        })
 }
 
 impl Recipe for Transparency {

@@ -42,6 +42,10 @@ fn default_range(intensity: f32, reach: f32) -> f32 {
     (intensity.abs() * 1000.0).sqrt().max(reach).max(1e-3)
 }
 
+/// The largest light range kept: a spot light's shadow projection spans
+/// range x 1e-4 to range, and their product must stay a finite f32.
+const MAX_RANGE: f32 = 1e20;
+
 /// A light as its node holds it, to place at any pose of the node.
 #[derive(Debug, Clone, PartialEq)]
 pub struct LightSource {
@@ -74,7 +78,8 @@ impl LightSource {
         let range = light
             .range()
             .filter(|r| r.is_finite() && *r > 0.0)
-            .unwrap_or_else(|| default_range(intensity, reach));
+            .unwrap_or_else(|| default_range(intensity, reach))
+            .min(MAX_RANGE);
         let kind = match light.kind() {
             Kind::Point => SourceKind::Point,
             Kind::Spot {
@@ -144,17 +149,21 @@ pub(super) fn camera(camera: &gltf::Camera, node: usize, world: Mat4) -> SceneCa
     let positive = |v: f32, or: f32| if v.is_finite() && v > 0.0 { v } else { or };
     let (projection, aspect_ratio) = match camera.projection() {
         Projection::Perspective(p) => {
-            let near = positive(p.znear(), 0.01);
+            // Planes beyond 1e30 are no real scene's; capped so the matrix stays finite.
+            let near = positive(p.znear(), 0.01).min(1e30);
             let far = p
                 .zfar()
                 .filter(|f| f.is_finite() && *f > near)
-                .unwrap_or(near * 1e6);
+                .unwrap_or(near * 1e6)
+                .max(near * 1.001);
             let aspect = p.aspect_ratio().filter(|a| a.is_finite() && *a > 0.0);
             let fov = positive(p.yfov(), 0.8).min(3.1);
-            (
-                glam::camera::rh::proj::directx::perspective(fov, aspect.unwrap_or(1.0), near, far),
-                aspect,
-            )
+            let mut projection =
+                glam::camera::rh::proj::directx::perspective(fov, aspect.unwrap_or(1.0), near, far);
+            // glam forms near x far in f32, which overflows for large planes.
+            let (n, f) = (f64::from(near), f64::from(far));
+            projection.w_axis.z = (n * f / (n - f)) as f32;
+            (projection, aspect)
         }
         Projection::Orthographic(o) => {
             let (x, y) = (positive(o.xmag().abs(), 1.0), positive(o.ymag().abs(), 1.0));
@@ -182,6 +191,17 @@ pub(super) fn camera(camera: &gltf::Camera, node: usize, world: Mat4) -> SceneCa
 /// The view matrix of a camera node: the inverse of its rigid placement (scale dropped).
 fn view_of(world: Mat4) -> Mat4 {
     let (_, rotation, translation) = world.to_scale_rotation_translation();
+    // A node of scale 0 has no orientation (NaN here): it looks down -Z.
+    let rotation = if rotation.is_finite() {
+        rotation.normalize()
+    } else {
+        glam::Quat::IDENTITY
+    };
+    let translation = if translation.is_finite() {
+        translation
+    } else {
+        Vec3::ZERO
+    };
     Mat4::from_rotation_translation(rotation, translation).inverse()
 }
 

@@ -102,6 +102,17 @@ impl Importer<'_> {
         let Some(slot) = slot else {
             return Ok(None);
         };
+        // glTF allows a texture without `source` when an extension (a
+        // compressed or WebP image) supplies it; without one read here the
+        // material is drawn without that texture, as other viewers do.
+        let Some(source_image) = slot.texture.source() else {
+            self.warn(format!(
+                "{what}: texture {} has no image this loader reads (no `source`); drawn without it",
+                slot.texture.index()
+            ));
+            return Ok(None);
+        };
+        let index = source_image.index();
         let (transform, tex_coord) = match slot.transform {
             Some((t, over)) => (finite_transform(t), over.unwrap_or(slot.tex_coord)),
             None => (UvTransform::default(), slot.tex_coord),
@@ -115,7 +126,6 @@ impl Importer<'_> {
         } else {
             tex_coord
         };
-        let index = slot.texture.source().index();
         let image = match self.images.get(&index) {
             Some(image) => image.clone(),
             None => {
@@ -166,7 +176,7 @@ fn info_slot(i: gltf::texture::Info<'_>) -> Slot<'_> {
 
 /// `KHR_texture_transform` from its extension object (offset, rotation,
 /// scale, texCoord override); absent or malformed fields keep their defaults.
-fn parse_transform(v: &gltf::json::Value) -> (UvTransform, Option<u32>) {
+pub(super) fn parse_transform(v: &gltf::json::Value) -> (UvTransform, Option<u32>) {
     let d = UvTransform::default();
     let pair = |key: &str, default: [f32; 2]| {
         v.get(key)

@@ -15,16 +15,32 @@ use crate::mesh::{Aabb, MeshData, Shading};
 /// vertex's vertex in the file.
 type Unwelded = (MeshData, Option<Vec<u32>>);
 
-/// Whether some texture of `material` names TEXCOORD_1 (in its texture
-/// info; a `KHR_texture_transform` override is not looked at here).
+/// Whether some texture of `material` reads TEXCOORD_1: its texture info's
+/// `texCoord`, or the `KHR_texture_transform` override that replaces it.
 fn uses_second_uv_set(material: &gltf::Material) -> bool {
     let pbr = material.pbr_metallic_roughness();
+    let info = |t: gltf::texture::Info| {
+        t.texture_transform()
+            .and_then(|x| x.tex_coord())
+            .unwrap_or(t.tex_coord())
+    };
+    let overridden = |v: Option<&gltf::json::Value>, set: u32| {
+        v.map(super::material::parse_transform)
+            .and_then(|(_, over)| over)
+            .unwrap_or(set)
+    };
+    let normal = material.normal_texture();
+    let occlusion = material.occlusion_texture();
     [
-        pbr.base_color_texture().map(|t| t.tex_coord()),
-        pbr.metallic_roughness_texture().map(|t| t.tex_coord()),
-        material.normal_texture().map(|t| t.tex_coord()),
-        material.occlusion_texture().map(|t| t.tex_coord()),
-        material.emissive_texture().map(|t| t.tex_coord()),
+        pbr.base_color_texture().map(info),
+        pbr.metallic_roughness_texture().map(info),
+        normal
+            .as_ref()
+            .map(|t| overridden(t.extension_value("KHR_texture_transform"), t.tex_coord())),
+        occlusion
+            .as_ref()
+            .map(|t| overridden(t.extension_value("KHR_texture_transform"), t.tex_coord())),
+        material.emissive_texture().map(info),
     ]
     .contains(&Some(1))
 }

@@ -1,0 +1,249 @@
+//! glTF BLEND materials through Transparency: a generated quad whose base
+//! colour texture has two halves of different colour and alpha, with vertex
+//! colours (COLOR_0, alpha too) running from left to right and a base
+//! colour factor with alpha, composited over a green background. Every
+//! inner pixel is checked against glTF's colour and coverage:
+//! c = factor x texel x COLOR_0, a = the three alphas' product, and the
+//! result background x (1 - a) + c x a. Turned away, the quad shows only
+//! when its material is double-sided.
+
+mod post_common;
+
+use std::sync::Arc;
+
+use glam::{Mat4, Vec3};
+use gltf_json as json;
+use post_common::*;
+use spreadlight_render::camera::CameraInput;
+use spreadlight_render::gbuffer::{DrawBatch, GBuffer, InstanceInput, Layer, LayerFeatures};
+use spreadlight_render::material::MaterialWorld;
+use spreadlight_render::mesh::gltf_import::builder::{Doc, info, png};
+use spreadlight_render::mesh::{
+    Aabb, AlphaMode, GltfScene, MaterialData, MeshData, load_gltf_slice,
+};
+use spreadlight_render::post::{Transparency, TransparencySettings};
+use spreadlight_render::renderer::test_renderer;
+use spreadlight_render::{Renderer, SizeRule};
+
+const SIZE: (u32, u32) = (64, 64);
+const DISTANCE: f32 = 3.0;
+const FOV_Y: f32 = 0.8;
+const BACKGROUND: [f32; 4] = [0.0, 1.0, 0.0, 1.0];
+/// The texture's left and right halves (linear RGB, alpha); 0 and 255
+/// decode exactly, and alpha is stored linear.
+const HALVES: [[f32; 4]; 2] = [[1.0, 0.0, 1.0, 1.0], [1.0, 1.0, 1.0, 0.6]];
+/// COLOR_0 at the quad's left (x = -1) and right (x = +1) edges.
+const LEFT: [f32; 4] = [1.0, 0.5, 0.25, 1.0];
+const RIGHT: [f32; 4] = [0.25, 0.5, 1.0, 0.5];
+/// The material's base colour factor.
+const FACTOR: [f32; 4] = [1.0, 1.0, 0.5, 0.8];
+
+fn halves_png() -> Vec<u8> {
+    let image = image::RgbaImage::from_fn(16, 16, |x, _| {
+        let h = HALVES[usize::from(x >= 8)];
+        image::Rgba(h.map(|c| (c * 255.0).round() as u8))
+    });
+    png(&image)
+}
+
+/// The quad x, y in [-1, 1] at z = 0, facing +Z. `tex_coord`: which UV set
+/// maps the texture across the quad (the other is one point of its left half).
+fn model(tex_coord: u32, double_sided: bool) -> Vec<u8> {
+    let mut doc = Doc::new();
+    let spanning = vec![[0.0, 1.0], [1.0, 1.0], [1.0, 0.0], [0.0, 0.0]];
+    let constant = vec![[0.25, 0.5]; 4];
+    let (uvs, uvs1) = if tex_coord == 1 {
+        (constant, spanning)
+    } else {
+        (spanning, constant)
+    };
+    let mut quad = MeshData {
+        positions: vec![
+            [-1.0, -1.0, 0.0],
+            [1.0, -1.0, 0.0],
+            [1.0, 1.0, 0.0],
+            [-1.0, 1.0, 0.0],
+        ],
+        normals: vec![[0.0, 0.0, 1.0]; 4],
+        uvs: Some(uvs),
+        tangents: None,
+        uvs1: Some(uvs1),
+        colors: Some(vec![LEFT, RIGHT, RIGHT, LEFT]),
+        indices: vec![0, 1, 2, 0, 2, 3],
+        bounds: Aabb::ZERO,
+    };
+    quad.recompute_bounds();
+    let mesh = doc.mesh_data("Quad", &quad);
+    let image = doc.png_image(&halves_png());
+    let texture = doc.texture(image);
+    let sampler = doc.root.push(json::texture::Sampler {
+        mag_filter: Some(json::validation::Checked::Valid(
+            json::texture::MagFilter::Nearest,
+        )),
+        ..Default::default()
+    });
+    doc.root.textures[texture.value()].sampler = Some(sampler);
+    let mut material = json::Material::default();
+    material.pbr_metallic_roughness.base_color_factor = json::material::PbrBaseColorFactor(FACTOR);
+    material.pbr_metallic_roughness.base_color_texture = Some(json::texture::Info {
+        tex_coord,
+        ..info(texture)
+    });
+    material.alpha_mode = json::validation::Checked::Valid(json::material::AlphaMode::Blend);
+    material.double_sided = double_sided;
+    let material = doc.material(material);
+    doc.root.meshes[mesh.value()].primitives[0].material = Some(material);
+    let node = doc.node(json::Node {
+        mesh: Some(mesh),
+        ..Default::default()
+    });
+    doc.scene(vec![node]);
+    doc.gltf_data_uri()
+}
+
+fn camera() -> CameraInput {
+    look(Vec3::Z * DISTANCE, Vec3::ZERO, FOV_Y, 1.0)
+}
+
+/// Where the ray through pixel (x, y)'s centre meets the plane z = 0.
+fn hit(x: u32, y: u32) -> (f32, f32) {
+    let half = DISTANCE * (FOV_Y / 2.0).tan();
+    let ndc_x = (x as f32 + 0.5) / SIZE.0 as f32 * 2.0 - 1.0;
+    let ndc_y = 1.0 - (y as f32 + 0.5) / SIZE.1 as f32 * 2.0;
+    (ndc_x * half, ndc_y * half)
+}
+
+/// The file's quad with its material (id 1 of the world: glTF's default
+/// material, then the file's), coloured by its factor as the glTF node does.
+fn layer(renderer: &Renderer, scene: &GltfScene, transform: Mat4) -> Arc<Layer> {
+    let mesh = renderer
+        .meshes
+        .upload(&renderer.gpu, &scene.meshes[0])
+        .expect("upload");
+    let materials = std::iter::once(MaterialData::default())
+        .chain(scene.materials.iter().cloned())
+        .map(|m| m.to_material())
+        .collect();
+    let world = MaterialWorld::new(renderer, materials);
+    let instance = InstanceInput {
+        transform,
+        previous_transform: transform,
+        color: scene.materials[0].base_color,
+        material_id: 1,
+        object_id: 1,
+    };
+    Arc::new(
+        Layer::new(
+            Some(1),
+            vec![DrawBatch {
+                mesh,
+                instances: vec![instance],
+            }],
+            LayerFeatures::default(),
+            None,
+        )
+        .expect("layer")
+        .with_materials(Some(world)),
+    )
+}
+
+/// The quad placed by `transform`, composited over the background, unlit
+/// (ambient 1, no key light).
+fn composite(model: &[u8], transform: Mat4) -> Vec<[f32; 4]> {
+    let renderer = test_renderer();
+    let scene = load_gltf_slice(model, None).expect("loads");
+    assert_eq!(scene.materials[0].alpha_mode, AlphaMode::Blend);
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    // Nothing opaque: the G-buffer's depth is the far plane everywhere.
+    let g = GBuffer::new(
+        &renderer,
+        None,
+        vec![],
+        camera(),
+        None,
+        SizeRule::Relative(1.0),
+    );
+    let background = image(&renderer, SIZE, |_, _| BACKGROUND);
+    let settings = TransparencySettings {
+        ambient: Vec3::ONE,
+        light_color: Vec3::ZERO,
+        ..Default::default()
+    };
+    let pass = Transparency::new(
+        &renderer,
+        None,
+        background.texture_ref(),
+        g,
+        vec![layer(&renderer, &scene, transform)],
+        settings,
+    );
+    let (_, out) = render(&renderer, pass.as_ref(), &pass.output, SIZE);
+    out.pixels
+}
+
+fn check(tex_coord: u32) {
+    let pixels = composite(&model(tex_coord, false), Mat4::IDENTITY);
+    let mut checked = [0; 2];
+    for py in 0..SIZE.1 {
+        for px in 0..SIZE.0 {
+            let (x, y) = hit(px, py);
+            let got = pixels[(py * SIZE.0 + px) as usize];
+            if x.abs() > 1.03 || y.abs() > 1.03 {
+                assert_eq!(got[..3], BACKGROUND[..3], "pixel ({px}, {py}) off the quad");
+                continue;
+            }
+            let t = (x + 1.0) / 2.0;
+            // Well inside a half of the texture, and of the quad.
+            if x.abs() > 0.95 || y.abs() > 0.95 || (t - 0.5).abs() < 0.04 {
+                continue;
+            }
+            let half = usize::from(t >= 0.5);
+            let vertex = |c: usize| LEFT[c] + (RIGHT[c] - LEFT[c]) * t;
+            let base = |c: usize| FACTOR[c] * HALVES[half][c] * vertex(c);
+            let alpha = base(3);
+            for c in 0..3 {
+                let want = BACKGROUND[c] * (1.0 - alpha) + base(c) * alpha;
+                assert!(
+                    (got[c] - want).abs() < 0.01,
+                    "pixel ({px}, {py}), channel {c}: {} instead of {want} (half {half}, t {t}, alpha {alpha})",
+                    got[c]
+                );
+            }
+            checked[half] += 1;
+        }
+    }
+    assert!(checked[0] > 600 && checked[1] > 600, "{checked:?}");
+}
+
+#[test]
+fn blend_composites_factor_times_texture_times_color_0_with_their_alphas() {
+    check(0);
+}
+
+#[test]
+fn blend_reads_the_texture_through_its_second_uv_set() {
+    check(1);
+}
+
+#[test]
+fn blend_culls_back_faces_unless_double_sided() {
+    let turned = Mat4::from_rotation_y(std::f32::consts::PI);
+    let differing = |pixels: &[[f32; 4]]| {
+        pixels
+            .iter()
+            .filter(|p| (0..3).any(|c| (p[c] - BACKGROUND[c]).abs() > 0.05))
+            .count()
+    };
+    let one_sided = composite(&model(0, false), turned);
+    assert_eq!(
+        differing(&one_sided),
+        0,
+        "a one-sided quad's back is culled"
+    );
+    let double_sided = composite(&model(0, true), turned);
+    assert!(
+        differing(&double_sided) > 1500,
+        "a double-sided quad's back shows: {} pixels",
+        differing(&double_sided)
+    );
+}
