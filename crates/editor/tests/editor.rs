@@ -761,6 +761,14 @@ fn patches_open_through_the_dialog_and_the_recent_list() {
     cmd(&h, Key::O);
     h.run();
     // The dialog opens in the patch's folder; entries are "icon name".
+    // `SPREADLIGHT_DOC_PICTURES=1` keeps a picture of it for docs/editor.md.
+    if std::env::var_os("SPREADLIGHT_DOC_PICTURES").is_some() {
+        let image = h.render().expect("render");
+        let docs = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../docs");
+        image
+            .save(docs.join("editor-file-dialog.png"))
+            .expect("write the picture");
+    }
     h.get_by_label_contains("second.ron").click();
     h.run();
     h.get_by_label("Open").click();
