@@ -68,6 +68,8 @@ struct AutoRun {
     patch: Vec<f64>,
     last_evaluations: u64,
     screenshot_sent: bool,
+    /// When the frames were done and the screenshot began waiting for the patch.
+    wait_started: Option<Instant>,
 }
 
 fn median_and_p95(v: &[f64]) -> (f64, f64) {

@@ -210,7 +210,10 @@ mod tests {
         assert_eq!(doc.scope(), ["Scale".to_owned()]);
         assert_eq!(doc.patch(), &edited);
 
-        assert_eq!(doc.save_module_files().expect("written"), vec![file.clone()]);
+        assert_eq!(
+            doc.save_module_files().expect("written"),
+            vec![file.clone()]
+        );
         assert_eq!(format::load(&file).expect("reads"), edited);
         assert!(
             doc.runtime_patch().subpatches.is_empty(),
