@@ -178,6 +178,61 @@ fn a_500_node_patch_runs_in_the_window_and_reports_its_frame_times() {
     assert!(median > 0.0, "frames were timed: {report}");
 }
 
+/// A patch that keeps the worker busy: `LFO -> LinearSpread (slices, Phase
+/// from the LFO, so every frame is new) -> Sin -> Sort -> Sum -> Probe`.
+fn heavy_patch(slices: i64) -> spreadlight_graph::Patch {
+    use spreadlight_graph::{NodeDoc, Patch};
+    let mut p = Patch::default();
+    p.add(NodeDoc::new(1, "LFO").at(0.0, 0.0));
+    p.add(
+        NodeDoc::new(2, "LinearSpread")
+            .at(0.0, 60.0)
+            .with("Spread Count", vec![slices]),
+    );
+    p.add(NodeDoc::new(3, "Sin (Value)").at(0.0, 120.0));
+    p.add(NodeDoc::new(4, "Sort (Spreads)").at(0.0, 180.0));
+    p.add(NodeDoc::new(5, "Sum (Spreads)").at(0.0, 240.0));
+    p.add(NodeDoc::new(6, "Probe").at(0.0, 300.0));
+    p.link(1, "Output", 2, "Phase");
+    p.link(2, "Output", 3, "Input");
+    p.link(3, "Output", 4, "Input");
+    p.link(4, "Output", 5, "Input");
+    p.link(5, "Output", 6, "Input");
+    p
+}
+
+/// The measurement of docs/editor.md (Performance): the UI's frame times
+/// while a patch that takes ~200 ms a frame plays on the worker thread.
+/// Ignored by default (it measures, it asserts no time): run it with
+/// `cargo test -p spreadlight-cli --test editor_window -- --ignored --nocapture
+/// ui_frame_times_while_a_heavy_patch_plays`; `SPREADLIGHT_HEAVY_SLICES` sets the
+/// patch's size (pick it so `patch_ms_median` is ~200), `SPREADLIGHT_EDITOR_FRAMES`
+/// the frame count. It prints the editor's JSON report.
+#[test]
+#[ignore = "a measurement, run by hand (docs/editor.md, Performance)"]
+fn ui_frame_times_while_a_heavy_patch_plays() {
+    let x = Xvfb::start();
+    let dir = tempfile::tempdir().expect("tempdir");
+    let path = dir.path().join("heavy.ron");
+    let slices: i64 = std::env::var("SPREADLIGHT_HEAVY_SLICES")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(100_000);
+    spreadlight_graph::format::save(&heavy_patch(slices), &path).expect("save");
+    let frames = std::env::var("SPREADLIGHT_EDITOR_FRAMES").unwrap_or_else(|_| "120".into());
+    let report = run_editor(
+        &x,
+        dir.path(),
+        &[path.to_str().expect("utf-8"), "--measure-frames", &frames],
+    );
+    println!("{slices} slices: {report}");
+    assert_eq!(report["nodes"], 6, "{report}");
+    assert!(
+        report["patch_frames"].as_u64().expect("patch frames") > 1,
+        "the patch kept running while the UI drew: {report}"
+    );
+}
+
 /// A user's mouse and keyboard on the virtual display, through XTEST.
 struct Input {
     conn: x11rb::rust_connection::RustConnection,

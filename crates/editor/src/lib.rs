@@ -11,6 +11,7 @@ pub mod files;
 pub mod gpu;
 pub mod iobox;
 pub mod model;
+pub mod module_file;
 pub mod monitors;
 pub mod nodes;
 pub mod shader_watch;

@@ -182,6 +182,8 @@ pub struct EditorDoc {
     top: Patch,
     /// The inline subpatch being edited, by the chain of definition names from the top (empty: the top).
     pub(crate) scope: Vec<String>,
+    /// Subpatch files opened in place (`module_file.rs`): their edits are part of this document.
+    pub(crate) files: crate::module_file::Modules,
     undo: VecDeque<Entry>,
     redo: Vec<Entry>,
     next_serial: u64,
@@ -206,6 +208,7 @@ impl EditorDoc {
         let mut doc = EditorDoc {
             top: patch,
             scope: Vec::new(),
+            files: Default::default(),
             undo: VecDeque::new(),
             redo: Vec::new(),
             next_serial: 1,
@@ -221,10 +224,13 @@ impl EditorDoc {
     pub(crate) fn reindex(&mut self) {
         self.generation += 1;
         // An undo can take away the subpatch being shown: show the deepest one left.
-        self.scope
-            .truncate(crate::subpatch::existing_depth(&self.top, &self.scope));
+        self.scope.truncate(crate::module_file::existing_depth(
+            &self.top,
+            &self.files,
+            &self.scope,
+        ));
         self.node_index.clear();
-        let patch = crate::subpatch::doc_at(&self.top, &self.scope);
+        let patch = crate::module_file::doc_at(&self.top, &self.files, &self.scope);
         for (i, n) in patch.nodes.iter().enumerate() {
             // The first of duplicate ids wins, as in the network compiler.
             self.node_index.entry(n.id).or_insert(i);
@@ -250,11 +256,11 @@ impl EditorDoc {
     /// The document the canvas shows: the top patch, or the inline subpatch
     /// opened in it ([`EditorDoc::scope`]).
     pub fn patch(&self) -> &Patch {
-        crate::subpatch::doc_at(&self.top, &self.scope)
+        crate::module_file::doc_at(&self.top, &self.files, &self.scope)
     }
 
     pub(crate) fn viewed_mut(&mut self) -> &mut Patch {
-        crate::subpatch::doc_at_mut(&mut self.top, &self.scope)
+        crate::module_file::doc_at_mut(&mut self.top, &mut self.files, &self.scope)
     }
 
     /// The whole patch, as saved and run.
@@ -327,6 +333,8 @@ impl EditorDoc {
         let Some(entry) = self.redo.pop() else {
             return false;
         };
+        // Like undo, redo changes the document the command was made in.
+        self.scope = entry.scope.clone();
         entry.command.apply(self.viewed_mut());
         self.reindex();
         self.undo.push_back(entry);
@@ -548,8 +556,10 @@ impl EditorDoc {
                         new,
                         ..
                     },
+                scope,
                 ..
             }) = self.undo.back_mut()
+            && *scope == self.scope
             && *last_node == node
             && last_pin == pin
         {

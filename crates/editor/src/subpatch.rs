@@ -10,42 +10,6 @@ use spreadlight_graph::{LinkDoc, NodeDoc, NodeId, Patch, PinRef, Registry, Sprea
 
 use crate::model::{Command, EditorDoc};
 
-/// The document at `scope` (a chain of inline definition names), or the
-/// deepest one that still exists on the way.
-pub fn doc_at<'p>(top: &'p Patch, scope: &[String]) -> &'p Patch {
-    let mut doc = top;
-    for name in scope {
-        match doc.subpatches.get(name) {
-            Some(inner) => doc = inner,
-            None => break,
-        }
-    }
-    doc
-}
-
-/// How many names of `scope` still lead to a definition, from the top.
-pub fn existing_depth(top: &Patch, scope: &[String]) -> usize {
-    let mut doc = top;
-    for (depth, name) in scope.iter().enumerate() {
-        match doc.subpatches.get(name) {
-            Some(inner) => doc = inner,
-            None => return depth,
-        }
-    }
-    scope.len()
-}
-
-pub fn doc_at_mut<'p>(top: &'p mut Patch, scope: &[String]) -> &'p mut Patch {
-    let mut doc = top;
-    for name in scope {
-        if !doc.subpatches.contains_key(name) {
-            break;
-        }
-        doc = doc.subpatches.get_mut(name).expect("checked above");
-    }
-    doc
-}
-
 /// How far from the top an IOBox sits from the nodes it serves, in canvas units.
 const IOBOX_GAP: f32 = 40.0;
 
@@ -58,7 +22,7 @@ impl EditorDoc {
     /// The scope where the inline definition of `type_name` is, seen from the open document.
     fn definition_scope(&self, type_name: &str) -> Option<Vec<String>> {
         (0..=self.scope.len()).rev().find_map(|depth| {
-            let doc = doc_at(self.top(), &self.scope[..depth]);
+            let doc = self.doc_at(&self.scope[..depth]);
             doc.subpatches.get(type_name).map(|_| {
                 let mut scope = self.scope[..depth].to_vec();
                 scope.push(type_name.to_owned());
@@ -98,11 +62,8 @@ impl EditorDoc {
     fn free_name(&self, registry: &Registry) -> String {
         let taken = |name: &str| {
             registry.get(name).is_some()
-                || (0..=self.scope.len()).any(|d| {
-                    doc_at(self.top(), &self.scope[..d])
-                        .subpatches
-                        .contains_key(name)
-                })
+                || (0..=self.scope.len())
+                    .any(|d| self.doc_at(&self.scope[..d]).subpatches.contains_key(name))
         };
         (1..)
             .map(|k| match k {
@@ -244,7 +205,7 @@ impl EditorDoc {
         let Some(scope) = self.definition_scope(&node.type_name) else {
             return Vec::new();
         };
-        let def = doc_at(self.top(), &scope).clone();
+        let def = self.doc_at(&scope).clone();
         let patch = self.patch();
         let first = patch.next_id().0;
         let plain: Vec<&NodeDoc> = def

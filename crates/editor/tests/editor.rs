@@ -572,9 +572,9 @@ fn save_as_goes_through_the_file_dialog_and_is_remembered() {
     h.run();
     h.key_press_modifiers(Modifiers::COMMAND | Modifiers::SHIFT, Key::S);
     h.run();
+    // The dialog opens in the patch's folder (here the working directory, as
+    // the patch is untitled) with the name field focused: type a whole path.
     let target = env.dir.path().join("scene.ron");
-    h.get_by_role_and_label(Role::TextInput, "File:").focus();
-    h.run();
     h.key_press_modifiers(Modifiers::COMMAND, Key::A);
     h.event(Event::Text(target.display().to_string()));
     h.run();
@@ -760,11 +760,21 @@ fn patches_open_through_the_dialog_and_the_recent_list() {
 
     cmd(&h, Key::O);
     h.run();
-    h.get_by_label("second.ron").click();
+    // The dialog opens in the patch's folder; entries are "icon name".
+    // `SPREADLIGHT_DOC_PICTURES=1` keeps a picture of it for docs/editor.md.
+    if std::env::var_os("SPREADLIGHT_DOC_PICTURES").is_some() {
+        let image = h.render().expect("render");
+        let docs = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../docs");
+        image
+            .save(docs.join("editor-file-dialog.png"))
+            .expect("write the picture");
+    }
+    h.get_by_label_contains("second.ron").click();
     h.run();
     h.get_by_label("Open").click();
     h.run();
-    assert_eq!(h.state().path(), Some(second.as_path()));
+    let canonical = |p: &Path| std::fs::canonicalize(p).expect("canonical");
+    assert_eq!(h.state().path().map(canonical), Some(canonical(&second)));
     assert_eq!(h.state().doc().patch(), &other);
     assert!(h.state().title().starts_with("second.ron"));
 
@@ -890,13 +900,19 @@ fn a_file_pin_is_set_with_the_file_picker() {
     let path = env.patch_file("p.ron", &p);
     let mut h = harness(env.options(Some(path)));
     click_on_canvas(&mut h, "FileTexture", Modifiers::NONE);
+    std::fs::write(env.dir.path().join("notes.txt"), b"not an image").expect("write");
     h.get_by_label("Browse…").click();
     h.run();
-    h.get_by_label("bricks.png").click();
+    // Filtered to what the node reads: the text file is not listed.
+    assert!(h.query_by_label_contains("notes.txt").is_none());
+    h.get_by_label_contains("bricks.png").click();
     h.run();
-    h.get_by_label("Pick").click();
+    h.get_by_label("Choose").click();
     h.run();
-    let picked = env.dir.path().join("bricks.png").display().to_string();
+    let picked = std::fs::canonicalize(env.dir.path().join("bricks.png"))
+        .expect("canonical")
+        .display()
+        .to_string();
     assert_eq!(
         h.state()
             .doc()

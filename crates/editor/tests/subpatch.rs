@@ -1,13 +1,15 @@
 //! Subpatches in the real editor, driven through egui_kittest at a small
 //! window size: making one from the selection (Ctrl+G), opening it by
 //! double-click, editing inside, the breadcrumb back, unmaking it
-//! (Ctrl+Shift+G), each undone and redone.
+//! (Ctrl+Shift+G), each undone and redone; a subpatch file opened in place
+//! and its edit saved to it.
 
+use egui::accesskit::Role;
 use egui::{Event, Key, Modifiers, PointerButton, Pos2, Vec2};
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
 use spreadlight_editor::{EditorApp, EditorOptions};
-use spreadlight_graph::{NodeDoc, NodeId, Patch, format};
+use spreadlight_graph::{NodeDoc, NodeId, Patch, Spread, format};
 
 fn harness(dir: &tempfile::TempDir, patch: &Patch) -> Harness<'static, EditorApp> {
     let path = dir.path().join("chain.ron");
@@ -138,6 +140,11 @@ fn a_subpatch_opens_by_double_click_is_edited_inside_and_unmade() {
     h.run();
     assert!(h.state().doc().scope().is_empty());
     assert_eq!(types(&h), ["LFO", "Probe", "Subpatch"]);
+    assert_eq!(
+        h.state().doc().undo_label(),
+        Some("make subpatch Subpatch"),
+        "going back is no edit (the nodes left behind are not moved ones)"
+    );
     let at = node_center(&h, made);
     click(&mut h, at, 1);
     keys(&mut h, Modifiers::COMMAND | Modifiers::SHIFT, Key::G);
@@ -147,8 +154,31 @@ fn a_subpatch_opens_by_double_click_is_edited_inside_and_unmade() {
     assert_eq!(types(&h), ["LFO", "Probe", "Subpatch"]);
 }
 
+/// The inspector's editor of `pin` (the rightmost of the editors named after it).
+fn inspector_editor(h: &Harness<'_, EditorApp>, pin: &str) -> Pos2 {
+    h.get_all_by_role_and_label(Role::SpinButton, pin)
+        .map(|e| e.rect())
+        .max_by(|a, b| a.left().total_cmp(&b.left()))
+        .unwrap_or_else(|| panic!("no editor for {pin}"))
+        .center()
+}
+
+fn drag(h: &mut Harness<'_, EditorApp>, from: Pos2, to: Pos2) {
+    h.hover_at(from);
+    h.step();
+    h.drag_at(from);
+    h.step();
+    for k in 1..=6 {
+        let t = k as f32 / 6.0;
+        h.hover_at(from + (to - from) * t);
+        h.step();
+    }
+    h.drop_at(to);
+    h.run();
+}
+
 #[test]
-fn a_subpatch_file_opens_by_double_click_with_the_breadcrumb_back() {
+fn a_subpatch_file_opens_in_place_and_its_edits_are_saved_to_it() {
     let dir = tempfile::tempdir().expect("tempdir");
     let mut module = Patch::default();
     module.add(NodeDoc::new(1, "Inlet").with("Name", vec!["In".to_owned()]));
@@ -170,6 +200,7 @@ fn a_subpatch_file_opens_by_double_click_with_the_breadcrumb_back() {
     p.link(1, "Output", 2, "In");
     p.link(2, "Out", 3, "Input");
     let mut h = harness(&dir, &p);
+    let top = dir.path().join("chain.ron");
     assert!(
         h.state().runtime().problems().is_empty(),
         "{:?}",
@@ -179,15 +210,64 @@ fn a_subpatch_file_opens_by_double_click_with_the_breadcrumb_back() {
         h.state().pin_pos(NodeId(2), "In", true).is_some(),
         "its pins from the file"
     );
+
+    // Double-click opens the file's inside in the patch's own canvas.
     let at = node_center(&h, NodeId(2));
     click(&mut h, at, 2);
-    assert_eq!(h.state().path(), Some(file.as_path()));
-    assert_eq!(types(&h), ["Inlet", "Multiply (Value)", "Outlet"]);
-    h.get_by_label("⏶ chain").click();
-    h.run();
     assert_eq!(
         h.state().path(),
-        Some(dir.path().join("chain.ron").as_path())
+        Some(top.as_path()),
+        "the patch stays open"
     );
+    assert_eq!(h.state().doc().scope(), ["Scale".to_owned()]);
+    assert_eq!(h.state().instance(), [NodeId(2)]);
+    assert_eq!(types(&h), ["Inlet", "Multiply (Value)", "Outlet"]);
+
+    // Edit a value inside, in the inspector.
+    let inner = node_center(&h, NodeId(2));
+    click(&mut h, inner, 1);
+    let editor = inspector_editor(&h, "Input 2");
+    drag(&mut h, editor, editor + Vec2::new(60.0, 0.0));
+    let factor = |h: &Harness<'_, EditorApp>| {
+        h.state()
+            .doc()
+            .patch()
+            .node(NodeId(2))
+            .and_then(|n| n.values.get("Input 2").cloned())
+    };
+    let Some(Spread::Float(v)) = factor(&h) else {
+        panic!("Input 2 was not set: {:?}", factor(&h));
+    };
+    assert!(
+        v[0] > 1.0,
+        "dragging right increased the default 1.0: {v:?}"
+    );
+    assert!(h.state().doc().is_dirty());
+    assert!(
+        h.state().runtime().problems().is_empty(),
+        "the edited file runs"
+    );
+
+    // The breadcrumb goes back to the patch; undo opens the file again.
+    h.get_by_label("⏶ chain").click();
+    h.run();
+    assert!(h.state().doc().scope().is_empty());
     assert_eq!(types(&h), ["LFO", "Probe", "Scale"]);
+    keys(&mut h, Modifiers::COMMAND, Key::Z);
+    assert_eq!(h.state().doc().scope(), ["Scale".to_owned()]);
+    assert_eq!(factor(&h), None, "undone inside the file");
+    keys(&mut h, Modifiers::COMMAND, Key::Y);
+    assert_eq!(factor(&h), Some(Spread::Float(v.clone())));
+
+    // Saving the patch writes the file; the patch itself still uses it by name.
+    keys(&mut h, Modifiers::COMMAND, Key::S);
+    assert!(!h.state().doc().is_dirty());
+    let saved = format::load(&file).expect("module");
+    assert_eq!(
+        saved.node(NodeId(2)).and_then(|n| n.values.get("Input 2")),
+        Some(&Spread::Float(v))
+    );
+    let parent = format::load(&top).expect("patch");
+    assert!(parent.subpatches.is_empty(), "not copied into the patch");
+    assert_eq!(parent, p);
 }

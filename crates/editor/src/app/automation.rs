@@ -2,6 +2,9 @@
 
 use super::*;
 
+/// How long a scripted screenshot waits for the patch's first finished frame.
+const SCREENSHOT_WAIT_SECS: f64 = 300.0;
+
 impl EditorApp {
     /// The scripted run: count frames, then screenshot, report and quit.
     pub(super) fn automate(
@@ -20,6 +23,14 @@ impl EditorApp {
         let canvas_text_px = self.canvas_text_points(ctx).unwrap_or(0.0) * ctx.pixels_per_point();
         let viewport_error = self.viewport_error(0).unwrap_or_default();
         let patch_frame = (self.frame.evaluations, self.frame.seconds);
+        // The patch has been drawn as the window shows it: a finished frame,
+        // its first viewport (if it has one) rendered at the viewport's size.
+        let drawn = patch_frame.0 > 0
+            && self.frame.views.first().is_none_or(|v| {
+                v.target.as_ref().is_none_or(|t| {
+                    (t.texture.width(), t.texture.height()) == self.viewports[0].size
+                })
+            });
         let a = &mut self.auto;
         // Each new patch frame once: how long the worker took for it.
         if patch_frame.0 != a.last_evaluations {
@@ -51,7 +62,15 @@ impl EditorApp {
                 None => eprintln!("error: the screenshot has the wrong size"),
             }
             done = true;
-        } else if auto.screenshot.is_some() && a.frames >= auto.frames && !a.screenshot_sent {
+        } else if auto.screenshot.is_some()
+            && a.frames >= auto.frames
+            && !a.screenshot_sent
+            // A screenshot shows the patch: wait for its first finished frame
+            // (the worker may still be compiling pipelines), within reason.
+            && (drawn
+                || a.wait_started.get_or_insert(started).elapsed().as_secs_f64()
+                    > SCREENSHOT_WAIT_SECS)
+        {
             a.screenshot_sent = true;
             ctx.send_viewport_cmd(ViewportCommand::Screenshot(egui::UserData::default()));
         }

@@ -53,11 +53,14 @@ impl EditorApp {
 
     pub(super) fn canvas(&mut self, ui: &mut Ui) {
         let dragging = ui.input(|i| i.pointer.any_down());
+        // The breadcrumb first: going back up changes the document the canvas
+        // shows, and the canvas must be synced to it in this very frame, or
+        // the nodes of the document left behind would read as moved ones.
+        self.breadcrumb(ui);
         let changed = self.synced_generation != Some(self.doc.generation());
         if changed {
             self.refresh_subpatch_types();
         }
-        self.breadcrumb(ui);
         canvas::sync(
             &mut self.snarl,
             &mut self.snarl_ids,

@@ -1,4 +1,5 @@
-//! Modal dialogs: unsaved changes, recovery, and the file dialog.
+//! Modal dialogs: unsaved changes, recovery, and the file dialog
+//! (egui-file-dialog: folders, places, filters, a typed path, overwrite check).
 
 use super::*;
 
@@ -68,113 +69,121 @@ impl EditorApp {
         self.file_dialog(ctx);
     }
 
+    /// Open the file dialog for `mode`: patches filter to `.ron`, file pins
+    /// to what their node reads (glTF scenes, images), always with "All Files".
+    pub(super) fn open_dialog(&mut self, mode: DialogMode) {
+        let dir = self
+            .path
+            .as_ref()
+            .and_then(|p| p.parent().map(Path::to_path_buf))
+            .filter(|p| !p.as_os_str().is_empty())
+            .or_else(|| std::env::current_dir().ok())
+            .unwrap_or_default();
+        let (title, ok) = match &mode {
+            DialogMode::Open => ("Open patch", "Open"),
+            DialogMode::SaveAs => ("Save patch as", "Save"),
+            DialogMode::PickValue { .. } => ("Choose a file", "Choose"),
+        };
+        let mut dialog = egui_file_dialog::FileDialog::new()
+            .title(title)
+            .id(Id::new("file-dialog"))
+            // Where the patch is, each time (the last picked folder is often a module or texture folder).
+            .opening_mode(egui_file_dialog::OpeningMode::AlwaysInitialDir)
+            .initial_directory(dir);
+        {
+            let labels = dialog.labels_mut();
+            labels.open_button = ok.to_owned();
+            labels.save_button = ok.to_owned();
+            labels.cancel_button = "Cancel".to_owned();
+        }
+        match &mode {
+            DialogMode::Open | DialogMode::SaveAs => {
+                dialog = dialog
+                    .add_file_filter_extensions(PATCHES, vec!["ron"])
+                    .default_file_filter(PATCHES)
+                    .add_save_extension(PATCHES, "ron")
+                    .default_save_extension(PATCHES);
+            }
+            DialogMode::PickValue { node, .. } => {
+                let reads_gltf = self
+                    .doc
+                    .node(*node)
+                    .is_some_and(|n| n.type_name.to_lowercase().contains("gltf"));
+                dialog = dialog
+                    .add_file_filter_extensions(GLTF, vec!["gltf", "glb"])
+                    .add_file_filter_extensions(IMAGES, IMAGE_EXTENSIONS.to_vec())
+                    .default_file_filter(if reads_gltf { GLTF } else { IMAGES });
+            }
+        }
+        match &mode {
+            DialogMode::SaveAs => {
+                let name = self.path.as_ref().and_then(|p| p.file_name()).map_or_else(
+                    || "untitled.ron".to_owned(),
+                    |n| n.to_string_lossy().into_owned(),
+                );
+                dialog = dialog.default_file_name(&name);
+                dialog.save_file();
+            }
+            // An `Output`'s Filename is where it writes: a name to save to.
+            DialogMode::PickValue { node, .. }
+                if self
+                    .doc
+                    .node(*node)
+                    .is_some_and(|n| n.type_name == "Output") =>
+            {
+                dialog.save_file();
+            }
+            _ => dialog.pick_file(),
+        }
+        self.dialog = Some(FilePicker { mode, dialog });
+    }
+
+    /// Show the file dialog while it is open and act on what it picked.
     pub(super) fn file_dialog(&mut self, ctx: &egui::Context) {
-        let Some(d) = &mut self.dialog else {
+        let Some(picker) = &mut self.dialog else {
             return;
         };
-        let title = match d.mode {
-            DialogMode::Open => "Open patch",
-            DialogMode::SaveAs => "Save patch as",
-            DialogMode::PickValue { .. } => "Pick a file",
+        picker.dialog.update(ctx);
+        let path = match picker.dialog.state() {
+            egui_file_dialog::DialogState::Open => return,
+            egui_file_dialog::DialogState::Picked(path) => Some(path.clone()),
+            _ => None,
         };
-        let mut chosen: Option<PathBuf> = None;
-        let mut close = false;
-        egui::Window::new(title).collapsible(false).show(ctx, |ui| {
-            ui.horizontal(|ui| {
-                if ui
-                    .small_button("⬆")
-                    .on_hover_text("parent folder")
-                    .clicked()
-                    && let Some(parent) = d.dir.parent()
+        let mode = picker.mode.clone();
+        self.dialog = None;
+        let Some(mut path) = path else {
+            return;
+        };
+        if mode == DialogMode::SaveAs && path.extension().is_none() {
+            // A name typed without one gets the patch extension, as the filter says.
+            path.set_extension("ron");
+        }
+        match mode {
+            DialogMode::Open => self.request_open(path),
+            DialogMode::SaveAs => {
+                if self.save_as(&path)
+                    && let Some(p) = self.pending.take()
                 {
-                    d.dir = parent.to_owned();
-                }
-                ui.label(d.dir.display().to_string());
-            });
-            let mut entries: Vec<(bool, PathBuf)> = std::fs::read_dir(&d.dir)
-                .map(|rd| {
-                    rd.filter_map(Result::ok)
-                        .map(|e| (e.path().is_dir(), e.path()))
-                        .filter(|(dir, p)| {
-                            let hidden = p
-                                .file_name()
-                                .is_some_and(|n| n.to_string_lossy().starts_with('.'));
-                            !hidden
-                                && (*dir
-                                    || !matches!(d.mode, DialogMode::Open)
-                                    || p.extension().is_some_and(|e| e == "ron"))
-                        })
-                        .collect()
-                })
-                .unwrap_or_default();
-            entries.sort_by(|a, b| b.0.cmp(&a.0).then(a.1.cmp(&b.1)));
-            egui::ScrollArea::vertical()
-                .max_height(240.0)
-                .show(ui, |ui| {
-                    for (is_dir, p) in entries {
-                        let name = p
-                            .file_name()
-                            .map(|n| n.to_string_lossy().into_owned())
-                            .unwrap_or_default();
-                        let label = if is_dir {
-                            format!("📁 {name}")
-                        } else {
-                            name.clone()
-                        };
-                        if ui.selectable_label(d.name == name, label).clicked() {
-                            if is_dir {
-                                d.dir = p;
-                            } else {
-                                d.name = name;
-                            }
-                        }
-                    }
-                });
-            ui.horizontal(|ui| {
-                let label = ui.label("File:").id;
-                let edit = ui
-                    .add(egui::TextEdit::singleline(&mut d.name).id(Id::new("file-dialog-name")))
-                    .labelled_by(label);
-                let enter = edit.lost_focus() && ui.input(|i| i.key_pressed(Key::Enter));
-                let ok = match d.mode {
-                    DialogMode::Open => "Open",
-                    DialogMode::SaveAs => "Save",
-                    DialogMode::PickValue { .. } => "Pick",
-                };
-                if (ui.button(ok).clicked() || enter) && !d.name.is_empty() {
-                    chosen = Some(d.dir.join(&d.name));
-                }
-                if ui.button("Cancel").clicked() {
-                    close = true;
-                }
-            });
-        });
-        if let Some(path) = chosen {
-            let mode = d.mode.clone();
-            self.dialog = None;
-            match mode {
-                DialogMode::Open => self.request_open(path),
-                DialogMode::SaveAs => {
-                    if self.save_as(&path)
-                        && let Some(p) = self.pending.take()
-                    {
-                        self.perform(p, ctx);
-                    }
-                }
-                DialogMode::PickValue { node, pin, slice } => {
-                    if let Some(Spread::String(mut v)) =
-                        self.doc.input_value(&self.registry, node, &pin)
-                    {
-                        if slice < v.len() {
-                            v[slice] = path.display().to_string();
-                        }
-                        self.doc
-                            .set_value(node, &pin, Some(Spread::String(v)), false);
-                    }
+                    self.perform(p, ctx);
                 }
             }
-        } else if close {
-            self.dialog = None;
+            DialogMode::PickValue { node, pin, slice } => {
+                if let Some(Spread::String(mut v)) =
+                    self.doc.input_value(&self.registry, node, &pin)
+                {
+                    if slice < v.len() {
+                        v[slice] = path.display().to_string();
+                    }
+                    self.doc
+                        .set_value(node, &pin, Some(Spread::String(v)), false);
+                }
+            }
         }
     }
 }
+
+const PATCHES: &str = "Patches (.ron)";
+const GLTF: &str = "glTF scenes (.gltf, .glb)";
+const IMAGES: &str = "Images";
+/// What the image loaders read: the `image` crate's formats this workspace enables.
+const IMAGE_EXTENSIONS: [&str; 3] = ["png", "hdr", "exr"];

@@ -64,7 +64,15 @@ impl EditorApp {
         self.save_as(&path)
     }
 
+    /// Save the patch to `path`, and every subpatch file edited in place to its own file.
     pub fn save_as(&mut self, path: &Path) -> bool {
+        let modules = match self.doc.save_module_files() {
+            Ok(written) => written,
+            Err(e) => {
+                self.status = e.to_string();
+                return false;
+            }
+        };
         match format::save(self.doc.top(), path) {
             Ok(()) => {
                 let old_recovery = self.recovery_file();
@@ -75,7 +83,10 @@ impl EditorApp {
                 files::remove_recovery(&self.recovery_file());
                 self.recovery_written = false;
                 files::remember_recent(&self.options.config_dir, &mut self.recent, path);
-                self.status = format!("saved {}", path.display());
+                self.status = match modules.len() {
+                    0 => format!("saved {}", path.display()),
+                    n => format!("saved {} and {n} subpatch file(s)", path.display()),
+                };
                 true
             }
             Err(e) => {

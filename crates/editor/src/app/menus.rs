@@ -4,6 +4,10 @@ use super::*;
 
 impl EditorApp {
     pub(super) fn shortcuts(&mut self, ctx: &egui::Context) {
+        if self.dialog.is_some() {
+            // The file dialog has the keyboard (Esc, Enter, arrows are its own).
+            return;
+        }
         let typing = ctx.egui_wants_keyboard_input();
         let cmd = |key| KeyboardShortcut::new(Modifiers::COMMAND, key);
         let cmd_shift = |key| KeyboardShortcut::new(Modifiers::COMMAND | Modifiers::SHIFT, key);
@@ -75,24 +79,6 @@ impl EditorApp {
         if ctx.input_mut(|i| i.consume_key(Modifiers::NONE, Key::F)) {
             self.fit = FIT_FROM_SCRATCH;
         }
-    }
-
-    pub(super) fn open_dialog(&mut self, mode: DialogMode) {
-        let dir = self
-            .path
-            .as_ref()
-            .and_then(|p| p.parent().map(Path::to_path_buf))
-            .filter(|p| !p.as_os_str().is_empty())
-            .or_else(|| std::env::current_dir().ok())
-            .unwrap_or_default();
-        let name = match &mode {
-            DialogMode::SaveAs => self.path.as_ref().and_then(|p| p.file_name()).map_or_else(
-                || "untitled.ron".to_owned(),
-                |n| n.to_string_lossy().into_owned(),
-            ),
-            _ => String::new(),
-        };
-        self.dialog = Some(FileDialog { mode, dir, name });
     }
 
     pub(super) fn menu_bar(&mut self, ui: &mut Ui) {

@@ -33,7 +33,7 @@ impl EditorApp {
         let mut request = Request::default();
         let generation = self.doc.generation();
         if self.sent_generation != Some(generation) {
-            request.patch = Some((generation, Arc::new(self.doc.top().clone())));
+            request.patch = Some((generation, Arc::new(self.doc.runtime_patch())));
             self.sent_generation = Some(generation);
         }
         if dt.is_some() && self.feed_host_input(ctx) && !self.playing {

@@ -7,22 +7,28 @@ use spreadlight_graph::NodeId;
 use spreadlight_graph::subpatch::{self, Library};
 
 use super::{EditorApp, FIT_FROM_SCRATCH};
-use crate::subpatch::doc_at;
 
 impl EditorApp {
     /// Keep the registry's subpatch types in step with the document: every
-    /// inline definition seen from the open document and every library file,
-    /// with pins from their IOBoxes.
+    /// inline definition seen from the open document, every subpatch file
+    /// opened in place (as edited) and every library file, with pins from
+    /// their IOBoxes.
     pub(super) fn refresh_subpatch_types(&mut self) {
         let library = self.frame.runtime.library().cloned().unwrap_or_default();
         let scope = self.doc.scope().to_vec();
         let mut found: Vec<(String, spreadlight_graph::Patch, String)> = Vec::new();
         // Inner definitions shadow outer ones, inline ones shadow files.
         for depth in (0..=scope.len()).rev() {
-            for (name, def) in &doc_at(self.doc.top(), &scope[..depth]).subpatches {
+            for (name, def) in &self.doc.doc_at(&scope[..depth]).subpatches {
                 if !found.iter().any(|(n, ..)| n == name) {
                     found.push((name.clone(), def.clone(), "inline".to_owned()));
                 }
+            }
+        }
+        for (name, file) in self.doc.module_files() {
+            if !found.iter().any(|(n, ..)| n == name) {
+                let source = file.path.display().to_string();
+                found.push((name.clone(), file.patch.clone(), source));
             }
         }
         for (name, entry) in library.entries() {
@@ -60,26 +66,32 @@ impl EditorApp {
     /// may open another document): keep the remembered one while it fits.
     fn sync_instance(&mut self) {
         let scope = self.doc.scope();
-        let fits = self.instance.len() == scope.len() && {
-            let mut doc = self.doc.top();
-            self.instance.iter().zip(scope).all(|(id, name)| {
-                let ok = doc.node(*id).is_some_and(|n| &n.type_name == name);
-                doc = doc.subpatches.get(name).unwrap_or(doc);
-                ok
-            })
-        };
+        let fits = self.instance.len() == scope.len()
+            && self
+                .instance
+                .iter()
+                .zip(scope)
+                .enumerate()
+                .all(|(k, (id, name))| {
+                    let doc = self.doc.doc_at(&scope[..k]);
+                    doc.node(*id).is_some_and(|n| &n.type_name == name)
+                });
         if fits {
             return;
         }
         // Otherwise the first instance of each definition on the way down.
         let mut path = Vec::new();
-        let mut doc = self.doc.top();
-        for name in scope {
-            match doc.nodes.iter().find(|n| &n.type_name == name) {
+        for (k, name) in scope.iter().enumerate() {
+            match self
+                .doc
+                .doc_at(&scope[..k])
+                .nodes
+                .iter()
+                .find(|n| &n.type_name == name)
+            {
                 Some(n) => path.push(n.id),
                 None => break,
             }
-            doc = doc.subpatches.get(name).unwrap_or(doc);
         }
         self.instance = path;
     }
@@ -89,11 +101,12 @@ impl EditorApp {
         &self.instance
     }
 
-    /// Open the inline subpatch node `id` is an instance of, in place.
+    /// Open the subpatch node `id` is an instance of, in place: an inline
+    /// one, or a subpatch file (read into the document; saving writes it).
     pub fn open_subpatch(&mut self, id: NodeId) -> bool {
         let mut instance = self.instance.clone();
-        if !self.doc.enter(id) {
-            return self.open_module_file(id);
+        if !self.doc.enter(id) && !self.enter_module_file(id) {
+            return false;
         }
         instance.push(id);
         self.instance = instance;
@@ -101,23 +114,20 @@ impl EditorApp {
         true
     }
 
-    /// A subpatch from a file opens that file, with the breadcrumb back to this one.
-    fn open_module_file(&mut self, id: NodeId) -> bool {
+    fn enter_module_file(&mut self, id: NodeId) -> bool {
         let Some(file) = self.doc.node(id).and_then(|n| {
             let library: &Library = self.frame.runtime.library()?;
             Some(library.get(&n.type_name)?.path.clone())
         }) else {
             return false;
         };
-        if self.doc.is_dirty() {
-            self.status = "save the patch before opening a subpatch file".to_owned();
-            return false;
+        match self.doc.enter_file(id, &file) {
+            Ok(()) => true,
+            Err(e) => {
+                self.status = format!("cannot open {}: {e}", file.display());
+                false
+            }
         }
-        if let Some(here) = self.path.clone() {
-            self.parents.push(here);
-        }
-        self.open_now(&file);
-        true
     }
 
     /// Go back to the document at `depth` of the breadcrumb (0: the top patch).
@@ -158,30 +168,10 @@ impl EditorApp {
     /// "Patch › Subpatch › …": where the open document is; a click goes back up.
     pub(super) fn breadcrumb(&mut self, ui: &mut Ui) {
         let scope = self.doc.scope().to_vec();
-        if scope.is_empty() && self.parents.is_empty() {
+        if scope.is_empty() {
             return;
         }
         ui.horizontal(|ui| {
-            // Subpatch files opened from a patch: a click goes back to that file.
-            let stem = |p: &std::path::Path| {
-                p.file_stem()
-                    .map_or_else(String::new, |s| s.to_string_lossy().into_owned())
-            };
-            for (k, parent) in self.parents.clone().iter().enumerate() {
-                if ui.button(format!("⏶ {}", stem(parent))).clicked() {
-                    if self.doc.is_dirty() {
-                        self.status = "save the subpatch before going back".to_owned();
-                    } else {
-                        self.parents.truncate(k);
-                        self.open_now(parent);
-                    }
-                }
-                ui.label("›");
-            }
-            if scope.is_empty() {
-                ui.label(self.path.as_deref().map(stem).unwrap_or_default());
-                return;
-            }
             let top = self
                 .path
                 .as_ref()
@@ -193,7 +183,19 @@ impl EditorApp {
             for (depth, name) in scope.iter().enumerate() {
                 ui.label("›");
                 let last = depth + 1 == scope.len();
-                if ui.add_enabled(!last, egui::Button::new(name)).clicked() {
+                let mut button = ui.add_enabled(!last, egui::Button::new(name));
+                // A subpatch file says which file its edits are saved to.
+                let file = self.doc.module_files().get(name).filter(|_| {
+                    !self
+                        .doc
+                        .doc_at(&scope[..depth])
+                        .subpatches
+                        .contains_key(name)
+                });
+                if let Some(file) = file {
+                    button = button.on_hover_text(format!("saved to {}", file.path.display()));
+                }
+                if button.clicked() {
                     self.leave_subpatch(depth + 1);
                 }
             }
