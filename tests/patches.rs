@@ -35,12 +35,37 @@ fn examples_round_trip_exactly() {
     }
 }
 
+/// Every example, evaluated for 120 frames: no node error, no failed pass,
+/// and every output and probe finite and not black. The examples run on as
+/// many threads as the machine has (each with its own renderer): the
+/// longest test of the suite otherwise.
 #[test]
 fn examples_evaluate_cleanly_for_120_frames() {
-    for path in example_patches() {
-        let patch = format::load(&path).unwrap_or_else(|e| panic!("{e}"));
+    let queue = std::sync::Mutex::new(example_patches());
+    let workers = std::thread::available_parallelism().map_or(2, |n| n.get());
+    std::thread::scope(|scope| {
+        let handles: Vec<_> = (0..workers)
+            .map(|_| {
+                scope.spawn(|| {
+                    while let Some(path) = queue.lock().unwrap_or_else(|e| e.into_inner()).pop() {
+                        evaluates_cleanly_for_120_frames(&path);
+                    }
+                })
+            })
+            .collect();
+        for handle in handles {
+            if let Err(panic) = handle.join() {
+                std::panic::resume_unwind(panic);
+            }
+        }
+    });
+}
+
+fn evaluates_cleanly_for_120_frames(path: &std::path::Path) {
+    {
+        let patch = format::load(path).unwrap_or_else(|e| panic!("{e}"));
         let mut rt = Runtime::new(spreadlight_nodes::registry());
-        rt.provide(patch_dir(&path));
+        rt.provide(patch_dir(path));
         // Patches with GPU nodes render at a small size on the test GPU (lavapipe in CI).
         let renderer = spreadlight_render::renderer::test_renderer();
         renderer.set_output_size((64, 36));

@@ -25,8 +25,8 @@
 #import spreadlight::camera::{Camera, pixel_to_ndc}
 #import spreadlight::mesh_fetch::{instances, triangle_vertex, view_right, view_up}
 #ifdef VERTEX_EXTRAS
-#import spreadlight::mesh::{Vertex, VertexExtra, vertex_color, default_extra}
-#import spreadlight::mesh_fetch::{triangle_vertex_index, NO_VERTEX}
+#import spreadlight::mesh::vertex_color
+#import spreadlight::vertex_extras::corner_extra
 #endif
 #import spreadlight::packing::{id_to_channel, safe_normalize}
 #ifdef MATERIAL_MAPS
@@ -58,18 +58,6 @@ struct Layer {
 @group(0) @binding(4) var visibility: texture_2d<u32>;
 #endif
 @group(0) @binding(5) var<uniform> layer: Layer;
-#ifdef VERTEX_EXTRAS
-@group(0) @binding(12) var<storage, read> extras: array<VertexExtra>;
-
-// The second UV set and colour of a triangle's corner `v`.
-fn corner_extra(instance: u32, triangle: u32, corner: u32, v: Vertex) -> VertexExtra {
-    let index = triangle_vertex_index(instance, triangle, corner);
-    if (index == NO_VERTEX) {
-        return default_extra(v);
-    }
-    return extras[index];
-}
-#endif
 #ifdef MOTION
 @group(0) @binding(6) var out_velocity_uv: texture_storage_2d<rgba16float, write>;
 #else

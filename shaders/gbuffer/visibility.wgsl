@@ -8,25 +8,14 @@
 // cutoff are discarded (group 1: the world, group 3: its map arrays); the
 // alpha is instance colour x base colour map (on its UV set) x COLOR_0.
 #import spreadlight::camera::Camera
-#import spreadlight::mesh_fetch::{instances, triangle_vertex, triangle_vertex_index, view_right, view_up, NO_VERTEX}
+#import spreadlight::mesh_fetch::{instances, triangle_vertex, view_right, view_up}
 #ifdef ALPHA_MASK
 #import spreadlight::material_maps::{MapCoords, sample_map, map_settings, MAP_BASE_COLOR}
-#import spreadlight::mesh::{Vertex, VertexExtra, vertex_color, default_extra}
+#import spreadlight::mesh::vertex_color
+#import spreadlight::vertex_extras::corner_extra
 #endif
 
 @group(0) @binding(0) var<uniform> camera: Camera;
-#ifdef ALPHA_MASK
-@group(0) @binding(12) var<storage, read> extras: array<VertexExtra>;
-
-// The second UV set and colour of a triangle's corner `v`.
-fn corner_extra(instance: u32, triangle: u32, corner: u32, v: Vertex) -> VertexExtra {
-    let index = triangle_vertex_index(instance, triangle, corner);
-    if (index == NO_VERTEX) {
-        return default_extra(v);
-    }
-    return extras[index];
-}
-#endif
 
 struct VertexOut {
     @builtin(position) clip: vec4<f32>,

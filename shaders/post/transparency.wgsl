@@ -33,8 +33,8 @@
 #import spreadlight::material_maps::{MapCoords, sample_map, MAP_BASE_COLOR}
 #endif
 #ifdef VERTEX_EXTRAS
-#import spreadlight::mesh::{Vertex, VertexExtra, vertex_color, default_extra}
-#import spreadlight::mesh_fetch::{triangle_vertex_index, NO_VERTEX}
+#import spreadlight::mesh::vertex_color
+#import spreadlight::vertex_extras::corner_extra
 #endif
 
 struct Params {
@@ -53,19 +53,6 @@ struct Params {
 @group(0) @binding(7) var accumulation: texture_2d<f32>;
 @group(0) @binding(8) var revealage: texture_2d<f32>;
 @group(0) @binding(9) var output: texture_storage_2d<rgba16float, write>;
-#ifdef VERTEX_EXTRAS
-@group(0) @binding(12) var<storage, read> extras: array<VertexExtra>;
-
-// The second UV set and colour of a triangle's corner `v` (procedural
-// meshes, particles, store none: white, their first set).
-fn corner_extra(instance: u32, triangle: u32, corner: u32, v: Vertex) -> VertexExtra {
-    let index = triangle_vertex_index(instance, triangle, corner);
-    if (index == NO_VERTEX) {
-        return default_extra(v);
-    }
-    return extras[index];
-}
-#endif
 
 struct VertexOut {
     @builtin(position) clip: vec4<f32>,

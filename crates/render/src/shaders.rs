@@ -104,6 +104,7 @@ pub const SHADERS: &[ShaderFile] = &[
     shader!("lib/geometry.wgsl", library),
     shader!("lib/particle.wgsl", library),
     shader!("lib/mesh_fetch.wgsl", library),
+    shader!("lib/vertex_extras.wgsl", library),
     shader!("lib/brdf.wgsl", library),
     shader!("lib/lights.wgsl", library),
     shader!("lib/tonemap.wgsl", library),
