@@ -37,11 +37,9 @@ fn material(name: &str, body: &str) -> Arc<SurfaceShader> {
          fn surface(in: SurfaceInput) -> SurfaceOutput {{\n    var out = surface_default(in);\n\
          {body}\n    return out;\n}}\n"
     );
-    let key = text
-        .bytes()
-        .fold(0xcbf2_9ce4_8422_2325u64, |h, b| {
-            (h ^ u64::from(b)).wrapping_mul(0x100_0000_01b3)
-        });
+    let key = text.bytes().fold(0xcbf2_9ce4_8422_2325u64, |h, b| {
+        (h ^ u64::from(b)).wrapping_mul(0x100_0000_01b3)
+    });
     Arc::new(SurfaceShader::new(
         format!("{name} (test)"),
         format!("tests/{name}.wgsl"),
@@ -275,7 +273,10 @@ fn roughness_a_material_writes_sharpens_or_widens_the_highlight() {
     let pins = specular_of(None);
     let same = specular_of(Some(material("half", "out.roughness = 0.5;")));
     for (a, b) in same.pixels.iter().zip(&pins.pixels) {
-        assert!((a[0] - b[0]).abs() <= 1e-3 * b[0].abs() + 1e-6, "{a:?} vs {b:?}");
+        assert!(
+            (a[0] - b[0]).abs() <= 1e-3 * b[0].abs() + 1e-6,
+            "{a:?} vs {b:?}"
+        );
     }
 }
 
@@ -309,7 +310,12 @@ fn metallic_a_material_writes_scales_the_diffuse_term_as_the_brdf_says() {
             Some(w) => Surfaces::Materials(w),
             None => Surfaces::PerMaterialId(vec![(0.9, 0.0)]),
         };
-        let (diffuse, _) = shade(&renderer, &g, LightBuffer::suns(&renderer, &[SUN]), surfaces);
+        let (diffuse, _) = shade(
+            &renderer,
+            &g,
+            LightBuffer::suns(&renderer, &[SUN]),
+            surfaces,
+        );
         let mut checked = 0;
         for (pixel, seen) in diffuse.pixels.iter().zip(&points) {
             let Some((_, v)) = seen else { continue };
@@ -326,7 +332,10 @@ fn metallic_a_material_writes_scales_the_diffuse_term_as_the_brdf_says() {
             }
             checked += 1;
         }
-        assert!(checked > (SIZE.0 * SIZE.1 / 2) as usize, "{checked} floor pixels");
+        assert!(
+            checked > (SIZE.0 * SIZE.1 / 2) as usize,
+            "{checked} floor pixels"
+        );
     }
 }
 
@@ -364,7 +373,10 @@ fn occlusion_a_material_writes_darkens_ambient_and_indirect_light() {
                 let want_both = want_ambient + 0.5 * albedo * (1.0 - metallic) * occlusion;
                 // Albedo and the output are half floats: 11 significant bits.
                 let close = |got: f32, want: f32| (got - want).abs() <= 2e-3 * want.max(0.5);
-                assert!(close(a[c], want_ambient), "ambient {a:?}, want {want_ambient}");
+                assert!(
+                    close(a[c], want_ambient),
+                    "ambient {a:?}, want {want_ambient}"
+                );
                 assert!(close(b[c], want_both), "with GI {b:?}, want {want_both}");
             }
             if occlusion == 0.0 {
@@ -414,7 +426,10 @@ fn emission_a_material_writes_shows_where_no_light_reaches() {
     let floor = floor_points();
     for (i, p) in both.pixels.iter().enumerate() {
         if glowing.contains(&i) {
-            assert_eq!(p, &dark.pixels[i], "the resolved emission replaces the world's");
+            assert_eq!(
+                p, &dark.pixels[i],
+                "the resolved emission replaces the world's"
+            );
         } else if floor[i].is_some() {
             assert!((p[0] - 5.0).abs() < 1e-3, "{p:?}");
         }
@@ -436,10 +451,17 @@ fn extreme_surface_values_reach_no_target_as_nan_or_infinity() {
     for body in bodies {
         let g = scene(&renderer, Some(material("extreme", body)), Some(None));
         for lights in [point_light(&renderer), LightBuffer::suns(&renderer, &[SUN])] {
-            shade(&renderer, &g, lights.clone(), Surfaces::PerMaterialId(vec![(0.5, 0.0)]));
+            shade(
+                &renderer,
+                &g,
+                lights.clone(),
+                Surfaces::PerMaterialId(vec![(0.5, 0.0)]),
+            );
             let lit = composite(&renderer, &g, lights, 1.0, None, None);
             assert!(
-                lit.pixels.iter().all(|p| p[..3].iter().all(|c| (0.0..=65000.0).contains(c))),
+                lit.pixels
+                    .iter()
+                    .all(|p| p[..3].iter().all(|c| (0.0..=65000.0).contains(c))),
                 "{body}: composite stays within half-float range"
             );
         }
@@ -451,7 +473,10 @@ fn pixels_without_a_resolved_surface_shade_bit_for_bit_as_before() {
     let renderer = test_renderer();
     // The floor has no material in either; the ball has one in the first
     // G-buffer only, which therefore has a surface target.
-    let shiny = material("shiny", "out.roughness = 0.15;\n    out.metallic = 1.0;\n    out.occlusion = 0.3;\n    out.emission = vec3<f32>(2.0);");
+    let shiny = material(
+        "shiny",
+        "out.roughness = 0.15;\n    out.metallic = 1.0;\n    out.occlusion = 0.3;\n    out.emission = vec3<f32>(2.0);",
+    );
     let with = scene(&renderer, None, Some(Some(shiny)));
     let without = scene(&renderer, None, Some(None));
     let ball = composite(&renderer, &with, no_lights(&renderer), 0.0, None, None);
@@ -469,8 +494,18 @@ fn pixels_without_a_resolved_surface_shade_bit_for_bit_as_before() {
     };
     for lights in [point_light(&renderer), LightBuffer::suns(&renderer, &[SUN])] {
         let mut compared = 0;
-        let a = shade(&renderer, &with, lights.clone(), Surfaces::PerMaterialId(vec![(0.3, 0.2)]));
-        let b = shade(&renderer, &without, lights.clone(), Surfaces::PerMaterialId(vec![(0.3, 0.2)]));
+        let a = shade(
+            &renderer,
+            &with,
+            lights.clone(),
+            Surfaces::PerMaterialId(vec![(0.3, 0.2)]),
+        );
+        let b = shade(
+            &renderer,
+            &without,
+            lights.clone(),
+            Surfaces::PerMaterialId(vec![(0.3, 0.2)]),
+        );
         let c = composite(&renderer, &with, lights.clone(), 0.2, world(), None);
         let d = composite(&renderer, &without, lights.clone(), 0.2, world(), None);
         for i in (0..ball.pixels.len()).filter(|&i| !on_ball(i)) {
@@ -497,13 +532,29 @@ fn only_gbuffers_with_a_surface_target_compile_the_permutations_that_read_it() {
     };
     let renderer = test_renderer();
     let plain = scene(&renderer, None, Some(None));
-    shade(&renderer, &plain, point_light(&renderer), Surfaces::PerMaterialId(vec![(0.5, 0.0)]));
+    shade(
+        &renderer,
+        &plain,
+        point_light(&renderer),
+        Surfaces::PerMaterialId(vec![(0.5, 0.0)]),
+    );
     composite(&renderer, &plain, point_light(&renderer), 0.1, None, None);
     assert!(plain.targets.surface.is_none());
-    assert!(reads_surface(&renderer).is_empty(), "{:?}", reads_surface(&renderer));
+    assert!(
+        reads_surface(&renderer).is_empty(),
+        "{:?}",
+        reads_surface(&renderer)
+    );
     let textured = scene(&renderer, None, Some(Some(material("any", ""))));
     assert!(textured.targets.surface.is_some());
-    composite(&renderer, &textured, point_light(&renderer), 0.1, None, None);
+    composite(
+        &renderer,
+        &textured,
+        point_light(&renderer),
+        0.1,
+        None,
+        None,
+    );
     assert_eq!(
         reads_surface(&renderer).into_iter().collect::<Vec<_>>(),
         ["lighting/composite.wgsl", "lighting/cook_torrance.wgsl"]

@@ -293,7 +293,8 @@ impl ComputeRaster {
             .batches
             .iter()
             .filter_map(|b| {
-                let pipeline = triangle_pipelines[usize::from(view.two_sided || b.two_sided)].as_ref()?;
+                let pipeline =
+                    triangle_pipelines[usize::from(view.two_sided || b.two_sided)].as_ref()?;
                 let group = shared(&pipeline.get_bind_group_layout(0), Some(&b.uniform));
                 Some(BatchGroup {
                     pipeline,

@@ -440,7 +440,10 @@ impl MaterialWorld {
         let textured = self.textured(1 << FEATURE_COOK_TORRANCE);
         crate::shaders::ShaderKey::new(
             path,
-            textured.then_some("MATERIAL_TEXTURES").into_iter().chain(surface),
+            textured
+                .then_some("MATERIAL_TEXTURES")
+                .into_iter()
+                .chain(surface),
         )
     }
 
