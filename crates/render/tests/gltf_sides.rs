@@ -54,7 +54,8 @@ fn layer(renderer: &Renderer) -> Arc<Layer> {
     let batches = [(-1.2f32, 0u32), (1.2, 1)]
         .into_iter()
         .map(|(x, material_id)| {
-            let transform = Mat4::from_translation(Vec3::X * x) * Mat4::from_rotation_y(3.1416);
+            let transform =
+                Mat4::from_translation(Vec3::X * x) * Mat4::from_rotation_y(std::f32::consts::PI);
             DrawBatch {
                 mesh: renderer
                     .meshes

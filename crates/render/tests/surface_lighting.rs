@@ -560,3 +560,76 @@ fn only_gbuffers_with_a_surface_target_compile_the_permutations_that_read_it() {
         ["lighting/composite.wgsl", "lighting/cook_torrance.wgsl"]
     );
 }
+
+#[test]
+fn reflection_takes_roughness_and_metallic_from_the_resolved_surface() {
+    use spreadlight_render::environment::{
+        Environment, EnvironmentQuality, EnvironmentSource, Reflection, ReflectionMode, SkySettings,
+    };
+    let renderer = test_renderer();
+    let environment = Environment::new(
+        &renderer,
+        None,
+        EnvironmentSource::Sky(SkySettings::default()),
+        EnvironmentQuality {
+            cube_size: 32,
+            samples: 16,
+        },
+    );
+    let reflective = |roughness: f32, metallic: f32| {
+        MaterialWorld::new(
+            &renderer,
+            vec![
+                Material::new()
+                    .with(Feature::CookTorrance, &[[roughness, metallic, 0.04, 0.0]])
+                    .and_then(|m| m.with(Feature::Reflection, &[[1.0, 0.0, 0.0, 0.0]]))
+                    .expect("valid"),
+            ],
+        )
+    };
+    let specular = |g: &Arc<GBuffer>, world: Arc<MaterialWorld>| {
+        let r = Reflection::new(
+            &renderer,
+            None,
+            g.clone(),
+            world,
+            environment.clone(),
+            ReflectionMode::Reflect,
+        );
+        let [image] = frame(&renderer, r.as_ref(), [&r.specular]);
+        assert!(image.all_finite());
+        image
+    };
+    // The world says rough and dielectric; the floor's material says a mirror metal.
+    let mirror = scene(
+        &renderer,
+        Some(material(
+            "mirror",
+            "out.roughness = 0.0;\n    out.metallic = 1.0;",
+        )),
+        None,
+    );
+    let plain = scene(&renderer, None, None);
+    let resolved = specular(&mirror, reflective(0.9, 0.0));
+    let as_mirror = specular(&plain, reflective(0.0, 1.0));
+    let as_world = specular(&plain, reflective(0.9, 0.0));
+    let mut differs = 0;
+    for ((a, b), c) in resolved
+        .pixels
+        .iter()
+        .zip(&as_mirror.pixels)
+        .zip(&as_world.pixels)
+    {
+        for k in 0..3 {
+            assert!(
+                (a[k] - b[k]).abs() <= 2e-3 * b[k].max(1.0),
+                "{a:?} vs {b:?}"
+            );
+        }
+        differs += usize::from((a[0] - c[0]).abs() > 0.05);
+    }
+    assert!(
+        differs > (SIZE.0 * SIZE.1 / 4) as usize,
+        "a rough dielectric reflects otherwise ({differs} pixels differ)"
+    );
+}
