@@ -9,8 +9,10 @@
 // With MOTION:    velocity in UV units per frame (RG) + texture coordinates (BA).
 // COMPUTE_RASTER: read the compute rasterizer's 64-bit buffer instead of the
 //                 raster hardware's visibility and depth textures.
-// SURFACE_OUT:    the G-buffer has a surface target (some layer's materials
-//                 have surface maps); layers without maps mark it unwritten.
+// SURFACE_OUT:    the G-buffer has a surface target (some layer has surface
+//                 maps or a shader node material); other layers, and
+//                 materials without maps, mark it unwritten (lighting then
+//                 reads their material's parameters).
 // MATERIAL_MAPS:  this layer's material world has glTF surface maps: albedo,
 //                 normal (mapped, flipped on back faces of double-sided
 //                 materials), roughness, metallic, occlusion and emission per
@@ -30,13 +32,14 @@
 #endif
 #import spreadlight::packing::{id_to_channel, safe_normalize}
 #ifdef MATERIAL_MAPS
-#import spreadlight::material::{feature_param, pack_rgb9e5, FEATURE_COOK_TORRANCE, FEATURE_EMISSION}
+#import spreadlight::material::{feature_param, has_feature, FEATURE_COOK_TORRANCE, FEATURE_EMISSION, FEATURE_SURFACE_MAPS}
+#import spreadlight::surface_target::pack_surface
 #import spreadlight::material_maps::{MapCoords, sample_map, has_map, map_settings, MAP_BASE_COLOR, MAP_METALLIC_ROUGHNESS, MAP_NORMAL, MAP_OCCLUSION, MAP_EMISSIVE}
 #endif
 #ifdef CUSTOM_SURFACE
 #import spreadlight::surface::{SurfaceInput, surface_finite}
 #import spreadlight::custom_surface::surface
-#import spreadlight::material::pack_rgb9e5
+#import spreadlight::surface_target::pack_surface
 #endif
 
 struct Layer {
@@ -281,12 +284,14 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         max(em.rgb, vec3<f32>(0.0)) * max(em.a, 0.0) * sample_map(material, MAP_EMISSIVE, coords, vec4<f32>(1.0)).rgb,
         vec3<f32>(0.0), vec3<f32>(65000.0),
     );
-    textureStore(out_surface, pixel, vec4<u32>(
-        pack2x16unorm(vec2<f32>(roughness, metallic)),
-        pack2x16unorm(vec2<f32>(occlusion, 1.0)),
-        pack_rgb9e5(emission),
-        0u,
-    ));
+    // Written (and so read by lighting in place of the material's
+    // parameters) only for materials with maps: the others of the world
+    // shade from their parameters, unquantized.
+    var surface_texel = vec4<u32>(0u);
+    if (has_feature(material, FEATURE_SURFACE_MAPS)) {
+        surface_texel = pack_surface(roughness, metallic, occlusion, emission);
+    }
+    textureStore(out_surface, pixel, surface_texel);
 #else
 #ifdef SURFACE_OUT
 #ifndef CUSTOM_SURFACE
@@ -332,12 +337,9 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let shaded = surface_finite(surface(surface_in), normal_world);
     albedo = shaded.albedo;
     normal_world = shaded.normal;
-    textureStore(out_surface, pixel, vec4<u32>(
-        pack2x16unorm(vec2<f32>(shaded.roughness, shaded.metallic)),
-        pack2x16unorm(vec2<f32>(shaded.occlusion, 1.0)),
-        pack_rgb9e5(shaded.emission),
-        0u,
-    ));
+    // Lighting reads these in place of the material world's (or its pins')
+    // roughness, metallic, occlusion and emission (shaders/lib/surface_target.wgsl).
+    textureStore(out_surface, pixel, pack_surface(shaded.roughness, shaded.metallic, shaded.occlusion, shaded.emission));
 #endif
     let normal_view = safe_normalize((camera.view * vec4<f32>(normal_world, 0.0)).xyz, vec3<f32>(0.0, 0.0, 1.0));
     textureStore(out_color, pixel, vec4<f32>(albedo, id_to_channel(instance.info.z)));

@@ -4,6 +4,9 @@
 // Built by crates/render/src/material (MaterialWorld), whose FEATURE_*
 // constants these mirror; crates/render/tests/material.rs ties them together.
 #define_import_path spreadlight::material
+#ifdef SURFACE_TARGET
+#import spreadlight::surface_target::surface_at
+#endif
 
 const FEATURE_COOK_TORRANCE: u32 = 0u;
 const FEATURE_EMISSION: u32 = 1u;
@@ -12,7 +15,7 @@ const FEATURE_REFLECTION: u32 = 3u;
 const FEATURE_MATCAP: u32 = 4u;
 const FEATURE_AMBIENT_OCCLUSION: u32 = 5u;
 // A glTF material's maps (shaders/lib/material_maps.wgsl); what the G-buffer
-// resolve made of them is in the surface target.
+// resolve made of them is in the surface target (shaders/lib/surface_target.wgsl).
 const FEATURE_SURFACE_MAPS: u32 = 6u;
 const FIRST_CUSTOM_FEATURE: u32 = 16u;
 const MAX_FEATURES: u32 = 32u;
@@ -41,15 +44,13 @@ struct FeatureOffset {
 @group(1) @binding(2) var<storage, read> material_data: array<vec4<f32>>;
 // MATERIAL_TEXTURES: the world's texture array, and the G-buffer's
 // velocity_uv target (UV in zw) to map it by. Compiled only when some
-// material of the world reads a texture.
+// material of the world reads a texture. (What the G-buffer resolved per
+// pixel, surface maps or a shader node material, is the surface target:
+// spreadlight::surface_target, SURFACE_TARGET.)
 #ifdef MATERIAL_TEXTURES
 @group(1) @binding(3) var material_textures: texture_2d_array<f32>;
 @group(1) @binding(4) var material_sampler: sampler;
 @group(1) @binding(5) var material_uv: texture_2d<f32>;
-// The G-buffer's surface target: per pixel of a material with surface maps,
-// pack2x16unorm (roughness, metallic), (occlusion, written), emission as
-// RGB9E5, 0. Zero where nothing was written.
-@group(1) @binding(6) var material_surface: texture_2d<u32>;
 #endif
 
 // An id the world does not have reads material 0 (every world has one).
@@ -90,24 +91,28 @@ fn feature_texture(id: u32, feature: u32) -> u32 {
     return feature_offsets[m.address + countOneBits(below)].texture;
 }
 
-// `feature_param` at a pixel: with MATERIAL_TEXTURES, the first parameter
-// of a feature with a texture is scaled by it at the pixel's G-buffer UV.
+// `feature_param` at a pixel. Where the G-buffer resolved the pixel's
+// surface (SURFACE_TARGET, written: glTF surface maps or a shader node
+// material), CookTorrance's roughness and metallic and Emission's colour
+// are what it wrote, whatever features the material has (CookTorrance keeps
+// the material's reflectance, zw; Emission's strength is 1: the resolve
+// applied it). Otherwise, with MATERIAL_TEXTURES, the first parameter of a
+// feature with a texture is scaled by it at the pixel's G-buffer UV.
 // Layers past the array's end wrap; a texture never makes a value negative.
 fn feature_param_at(id: u32, feature: u32, index: u32, fallback: vec4<f32>, pixel: vec2<u32>) -> vec4<f32> {
     let value = feature_param(id, feature, index, fallback);
-#ifdef MATERIAL_TEXTURES
-    // Surface maps: the resolve already multiplied the factors by the maps.
-    if (index == 0u && has_feature(id, FEATURE_SURFACE_MAPS) && has_feature(id, feature)) {
-        let s = textureLoad(material_surface, pixel, 0);
-        if (unpack2x16unorm(s.y).y > 0.5) {
+#ifdef SURFACE_TARGET
+    if (index == 0u && (feature == FEATURE_COOK_TORRANCE || feature == FEATURE_EMISSION)) {
+        let s = surface_at(pixel);
+        if (s.written) {
             if (feature == FEATURE_COOK_TORRANCE) {
-                return vec4<f32>(unpack2x16unorm(s.x), value.zw);
+                return vec4<f32>(s.roughness, s.metallic, value.zw);
             }
-            if (feature == FEATURE_EMISSION) {
-                return vec4<f32>(unpack_rgb9e5(s.z), 1.0);
-            }
+            return vec4<f32>(s.emission, 1.0);
         }
     }
+#endif
+#ifdef MATERIAL_TEXTURES
     let texture = feature_texture(id, feature);
     if (index == 0u && texture > 0u) {
         let uv = textureLoad(material_uv, pixel, 0).zw;
@@ -117,37 +122,4 @@ fn feature_param_at(id: u32, feature: u32, index: u32, fallback: vec4<f32>, pixe
     }
 #endif
     return value;
-}
-
-// A material's surface-map occlusion at a pixel (1: none; also without MATERIAL_TEXTURES).
-fn surface_occlusion(id: u32, pixel: vec2<u32>) -> f32 {
-#ifdef MATERIAL_TEXTURES
-    if (has_feature(id, FEATURE_SURFACE_MAPS)) {
-        let o = unpack2x16unorm(textureLoad(material_surface, pixel, 0).y);
-        if (o.y > 0.5) {
-            return clamp(o.x, 0.0, 1.0);
-        }
-    }
-#endif
-    return 1.0;
-}
-
-// Non-negative HDR colour in one u32, shared-exponent 9-9-9-5 (the
-// RGB9E5 layout): 9-bit mantissas, exponent bias 15. Up to 65408.
-fn pack_rgb9e5(rgb: vec3<f32>) -> u32 {
-    let c = clamp(rgb, vec3<f32>(0.0), vec3<f32>(65408.0));
-    let top = max(c.r, max(c.g, c.b));
-    var exponent = i32(max(-16.0, floor(log2(max(top, 1e-30))))) + 16;
-    var unit = exp2(f32(exponent - 24));
-    if (floor(top / unit + 0.5) >= 512.0) {
-        exponent += 1;
-        unit *= 2.0;
-    }
-    let m = vec3<u32>(min(floor(c / unit + 0.5), vec3<f32>(511.0)));
-    return m.r | (m.g << 9u) | (m.b << 18u) | (u32(exponent) << 27u);
-}
-
-fn unpack_rgb9e5(bits: u32) -> vec3<f32> {
-    let unit = exp2(f32(i32(bits >> 27u) - 24));
-    return vec3<f32>(f32(bits & 511u), f32((bits >> 9u) & 511u), f32((bits >> 18u) & 511u)) * unit;
 }

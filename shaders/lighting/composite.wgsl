@@ -11,7 +11,8 @@
 // times its strength; MATCAP_TEXTURE binds the material texture array its
 // images are layers of (else the built-in matcap).
 // MATERIALS: the material library is bound (emission, per-material AO,
-// reflection or matcap need it). Clamped below half-float overflow.
+// reflection or matcap need it). SURFACE_TARGET: what the G-buffer resolved
+// per pixel (below). Clamped below half-float overflow.
 #import spreadlight::camera::{Camera, pixel_to_ndc}
 
 struct Params {
@@ -59,9 +60,13 @@ struct Params {
 #import spreadlight::material::{feature_param, feature_param_at, FEATURE_COOK_TORRANCE, FEATURE_EMISSION, FEATURE_AMBIENT_OCCLUSION, FEATURE_REFLECTION}
 #import spreadlight::packing::channel_to_id
 #endif
-// MATERIAL_TEXTURES with surface maps: a glTF occlusion texture's term.
-#ifdef MATERIAL_TEXTURES
-#import spreadlight::material::surface_occlusion
+// SURFACE_TARGET: the G-buffer has a surface target. Where the resolve
+// wrote a pixel's surface (glTF surface maps, a shader node material), its
+// occlusion darkens the ambient term and indirect diffuse light, its
+// metallic takes its share of indirect diffuse light and its emission is
+// added, with or without a material world (shaders/lib/surface_target.wgsl).
+#ifdef SURFACE_TARGET
+#import spreadlight::surface_target::surface_at
 #endif
 #ifdef GI
 @group(0) @binding(18) var gi: texture_2d<f32>;
@@ -100,10 +105,11 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     if (textureLoad(depth, p, 0).r > 0.0) {
         let albedo = textureLoad(color, p, 0).rgb;
         var ambient = params.ambient.rgb * albedo;
-#ifdef MATERIAL_TEXTURES
-        // A surface map's occlusion darkens ambient and indirect diffuse light.
-        let map_occlusion = surface_occlusion(channel_to_id(textureLoad(color, p, 0).a), p);
-        ambient *= map_occlusion;
+#ifdef SURFACE_TARGET
+        let resolved = surface_at(p);
+        if (resolved.written) {
+            ambient *= resolved.occlusion;
+        }
 #endif
 #ifdef AO
         var strength = 1.0;
@@ -123,8 +129,10 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         let ct = feature_param(channel_to_id(textureLoad(color, p, 0).a), FEATURE_COOK_TORRANCE, 0u, vec4<f32>(0.5, 0.0, 0.04, 0.0));
         diffuse_share = 1.0 - clamp(ct.y, 0.0, 1.0);
 #endif
-#ifdef MATERIAL_TEXTURES
-        diffuse_share *= map_occlusion;
+#ifdef SURFACE_TARGET
+        if (resolved.written) {
+            diffuse_share = (1.0 - resolved.metallic) * resolved.occlusion;
+        }
 #endif
         lit += clean(textureLoad(gi, p, 0).rgb) * albedo * diffuse_share;
 #endif
@@ -154,9 +162,17 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         lit += clean(textureLoad(reflection, p, 0).rgb) * clamp(reflective, 0.0, 1.0);
 #endif
 #ifdef EMISSION
-        // A texture scales the emission colour and strength (MATERIAL_TEXTURES).
+        // A texture scales the emission colour and strength (MATERIAL_TEXTURES);
+        // a resolved surface's emission replaces it (feature_param_at).
         let emission = feature_param_at(channel_to_id(textureLoad(color, p, 0).a), FEATURE_EMISSION, 0u, vec4<f32>(0.0), p);
         lit += max(emission.rgb, vec3<f32>(0.0)) * max(emission.a, 0.0);
+#else
+#ifdef SURFACE_TARGET
+        // No material emits (or there is no material world): only resolved surfaces do.
+        if (resolved.written) {
+            lit += resolved.emission;
+        }
+#endif
 #endif
 #ifdef MATCAP
         lit += matcap_light(p, albedo);

@@ -14,12 +14,20 @@
 #import spreadlight::lights::{point_attenuation, spot_attenuation}
 #import spreadlight::packing::{channel_to_id, safe_normalize}
 // The material library, imported once: MATERIALS reads CookTorrance
-// parameters from it, FAKE_SSS the FakeSSS tint.
+// parameters from it, FAKE_SSS the FakeSSS tint. SURFACE_TARGET: the
+// G-buffer has a surface target (shaders/lib/surface_target.wgsl); where a
+// pixel's is written, its roughness and metallic replace the material's
+// (or the node's pins').
 #ifdef MATERIALS
 #import spreadlight::material::{feature_param_at, FEATURE_COOK_TORRANCE, FEATURE_FAKE_SSS}
 #else
 #ifdef FAKE_SSS
 #import spreadlight::material::{feature_param_at, FEATURE_FAKE_SSS}
+#endif
+// SURFACE_TARGET without the material library: roughness and metallic
+// where the G-buffer resolved them (with it, feature_param_at reads them).
+#ifdef SURFACE_TARGET
+#import spreadlight::surface_target::surface_at
 #endif
 #endif
 #ifdef SHADOWS
@@ -249,6 +257,14 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>, @builtin(local_invocation_
         rm = clamp(feature_param_at(material, FEATURE_COOK_TORRANCE, 0u, vec4<f32>(0.5, 0.0, 0.04, 0.0), pixel).xyz, vec3<f32>(0.0), vec3<f32>(1.0));
 #else
         rm = vec3<f32>(surfaces[material % arrayLength(&surfaces)].roughness_metallic, DIELECTRIC_F0);
+#ifdef SURFACE_TARGET
+        // A surface the G-buffer resolved (surface maps, a shader node
+        // material) brings its own roughness and metallic.
+        let resolved = surface_at(pixel);
+        if (resolved.written) {
+            rm = vec3<f32>(resolved.roughness, resolved.metallic, DIELECTRIC_F0);
+        }
+#endif
 #endif
     }
 

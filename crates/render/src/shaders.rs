@@ -108,6 +108,7 @@ pub const SHADERS: &[ShaderFile] = &[
     shader!("lib/brdf.wgsl", library),
     shader!("lib/lights.wgsl", library),
     shader!("lib/tonemap.wgsl", library),
+    shader!("lib/surface_target.wgsl", library),
     shader!("lib/material.wgsl", library),
     shader!("lib/material_maps.wgsl", library),
     shader!("lib/matcap.wgsl", library),
@@ -176,7 +177,8 @@ pub const SHADERS: &[ShaderFile] = &[
             "SHADOWS",
             "SHADOW_PCF",
             "SHADOW_PCSS",
-            "SHADOW_VSM"
+            "SHADOW_VSM",
+            "SURFACE_TARGET"
         ],
         Rule::AtMostOne(&["LIGHT_SPOT", "LIGHT_SUN"]),
         // SHADOWS alone samples raw; the others choose a filter.
@@ -208,7 +210,8 @@ pub const SHADERS: &[ShaderFile] = &[
             "GI",
             "REFLECTION",
             "MATCAP",
-            "MATCAP_TEXTURE"
+            "MATCAP_TEXTURE",
+            "SURFACE_TARGET"
         ],
         // Light pairs are cumulative, a subsurface term comes with its pair,
         // and per-material AO weights only AO.
@@ -218,7 +221,9 @@ pub const SHADERS: &[ShaderFile] = &[
         Rule::Requires("SSS_3", "LIGHTS_3"),
         Rule::Requires("SSS_4", "LIGHTS_4"),
         Rule::Requires("AO_PER_MATERIAL", "AO"),
-        // Textured emission, or surface maps' occlusion and emission.
+        // Textured emission (surface maps' occlusion and emission come
+        // through SURFACE_TARGET, with or without materials).
+        Rule::Requires("MATERIAL_TEXTURES", "EMISSION"),
         Rule::Requires("MATERIAL_TEXTURES", "MATERIALS"),
         // What reads the material library binds it.
         Rule::Requires("EMISSION", "MATERIALS"),
@@ -254,8 +259,14 @@ pub const SHADERS: &[ShaderFile] = &[
     ),
     shader!("environment/sky.wgsl", ["ENVIRONMENT"]),
     shader!("environment/prefilter.wgsl", []),
-    shader!("environment/reflection.wgsl", ["MATERIAL_TEXTURES"]),
-    shader!("environment/ssr.wgsl", ["MATERIAL_TEXTURES", "HALF"]),
+    shader!(
+        "environment/reflection.wgsl",
+        ["MATERIAL_TEXTURES", "SURFACE_TARGET"]
+    ),
+    shader!(
+        "environment/ssr.wgsl",
+        ["MATERIAL_TEXTURES", "HALF", "SURFACE_TARGET"]
+    ),
     shader!("environment/fog.wgsl", []),
     shader!("post/tonemap.wgsl", ["EYE_ADAPTATION"]),
     shader!("post/eye_adaptation.wgsl", []),
@@ -1023,12 +1034,12 @@ mod tests {
             .filter(|k| k.path == "lighting/composite.wgsl")
             .collect();
         // Light pairs with the SSS terms they allow (2 + 4 + 8 + 16), times
-        // GI (2), times the 74 ways of AO (none, AO, per material), emission
-        // (2), material textures (textured emission or surface maps: 2),
+        // GI (2), times the surface target (2), times the 56 ways of AO
+        // (none, AO, per material), emission (none, plain, textured),
         // reflection (2), matcap (none, built-in, textured) and the material
         // library (forced on when one of them reads it, free otherwise:
-        // 70 + 2 x 2): 4,440 of the 2^17 subsets.
-        assert_eq!(composite.len(), 30 * 2 * 74);
+        // 52 + 2 x 2): 6,720 of the 2^17 subsets.
+        assert_eq!(composite.len(), 30 * 2 * 2 * 56);
     }
 
     #[test]

@@ -46,18 +46,22 @@ const FALLBACK: [f32; 4] = [-1.0, -2.0, -3.0, -4.0];
 
 fn compose_entry() -> naga::Module {
     let mut composer = Composer::default();
-    let file = SHADERS
-        .iter()
-        .find(|f| f.path == LIBRARY)
-        .expect("lib/material.wgsl is in SHADERS");
-    assert!(file.library, "{LIBRARY} is registered as a library");
-    if let Err(e) = composer.add_composable_module(ComposableModuleDescriptor {
-        source: file.source,
-        file_path: file.path,
-        language: ShaderLanguage::Wgsl,
-        ..Default::default()
-    }) {
-        panic!("{}: {}", file.path, e.emit_to_string(&composer));
+    // The material library, after the one it imports (the G-buffer's
+    // surface target, which feature_param_at reads under SURFACE_TARGET).
+    for path in ["lib/surface_target.wgsl", LIBRARY] {
+        let file = SHADERS
+            .iter()
+            .find(|f| f.path == path)
+            .unwrap_or_else(|| panic!("{path} is in SHADERS"));
+        assert!(file.library, "{path} is registered as a library");
+        if let Err(e) = composer.add_composable_module(ComposableModuleDescriptor {
+            source: file.source,
+            file_path: file.path,
+            language: ShaderLanguage::Wgsl,
+            ..Default::default()
+        }) {
+            panic!("{}: {}", file.path, e.emit_to_string(&composer));
+        }
     }
     let module = composer.make_naga_module(NagaModuleDescriptor {
         source: ENTRY,

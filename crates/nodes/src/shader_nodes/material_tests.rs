@@ -90,6 +90,44 @@ fn a_material_shades_its_layer_in_the_g_buffer_and_its_pins_change_the_picture()
 }
 
 #[test]
+fn the_material_roughness_pin_changes_the_lit_picture_and_not_the_albedo() {
+    // CookTorrance's own Roughness pin (0.3) gives way to what the material
+    // writes on its spheres (shaders/lib/surface_target.wgsl).
+    let mut patch = example_patch();
+    let mut rig = Rig::new(crate::registry(), &patch);
+    // The example's size: the spheres' highlights are a few pixels there.
+    rig.resize((160, 90));
+    let mut lit = Vec::new();
+    let mut albedo = Vec::new();
+    for roughness in [0.12, 0.6] {
+        set(
+            &mut rig,
+            &mut patch,
+            MATERIAL,
+            "Roughness",
+            Spread::Float(vec![roughness]),
+        );
+        rig.step();
+        assert!(rig.errors().is_empty(), "{:?}", rig.errors());
+        lit.push(rig.image("material"));
+        albedo.push(rig.image("albedo"));
+    }
+    assert!(finite(&lit[0]) && finite(&lit[1]));
+    assert_eq!(differing(&albedo[0], &albedo[1], 0.0), 0.0);
+    let largest = lit[0]
+        .pixels
+        .iter()
+        .zip(&lit[1].pixels)
+        .flat_map(|(p, q)| (0..3).map(move |c| (p[c] - q[c]).abs()))
+        .fold(0.0, f32::max);
+    assert!(
+        largest > 0.1 && differing(&lit[0], &lit[1], 0.02) > 0.001,
+        "Roughness changed too few lit pixels: {} (largest change {largest})",
+        differing(&lit[0], &lit[1], 0.02)
+    );
+}
+
+#[test]
 fn the_material_pattern_enum_compiles_each_used_option_once_and_counts_it() {
     // One sink (the albedo), so the frame's one report holds the count.
     let mut patch = example_patch();

@@ -48,6 +48,11 @@ impl Rig {
         self.renderer.last_report()
     }
 
+    /// Render at `size` from the next step on (the default is tiny).
+    pub(super) fn resize(&self, size: (u32, u32)) {
+        self.renderer.set_output_size(size);
+    }
+
     pub(super) fn image(&self, name: &str) -> ImageF32 {
         self.images
             .get(name)

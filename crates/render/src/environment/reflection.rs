@@ -132,7 +132,8 @@ impl Reflection {
     }
 
     fn key(&self) -> ShaderKey {
-        self.materials.surface_key(SHADER)
+        self.materials
+            .surface_key(SHADER, self.gbuffer.targets.surface_feature())
     }
 
     fn clear(&self, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
@@ -213,6 +214,18 @@ impl Reflection {
                 wgpu::BindingResource::TextureView(&output),
             ),
         ];
+        // Roughness and metallic where the G-buffer resolved them (only `main` reads it).
+        let surface = match (&g.targets.surface, specular) {
+            (Some(name), true) => Some(cx.view(name)?),
+            _ => None,
+        };
+        let mut all = all.to_vec();
+        if let Some(view) = &surface {
+            all.push((
+                crate::gbuffer::SURFACE_TARGET_BINDING,
+                wgpu::BindingResource::TextureView(view),
+            ));
+        }
         if specular {
             self.dispatch(cx, "main", "reflection", &all, true)
         } else {
@@ -257,6 +270,7 @@ impl Recipe for Reflection {
             g.normals.as_str(),
             g.depth.as_str(),
         ];
+        reads.extend(g.surface.as_deref());
         reads.extend(self.materials.declare_textures(
             renderer,
             fg,

@@ -202,7 +202,8 @@ impl Ssr {
     }
 
     fn key(&self) -> ShaderKey {
-        self.materials.surface_key(SHADER)
+        self.materials
+            .surface_key(SHADER, self.gbuffer.targets.surface_feature())
     }
 
     fn label(&self, what: &str) -> String {
@@ -355,6 +356,18 @@ impl Ssr {
             (9, wgpu::BindingResource::Sampler(&sampler)),
             (10, wgpu::BindingResource::TextureView(&out)),
         ];
+        // Roughness and metallic where the G-buffer resolved them.
+        let surface = match &g.targets.surface {
+            Some(name) => Some(cx.view(name)?),
+            None => None,
+        };
+        let mut all = all.to_vec();
+        if let Some(view) = &surface {
+            all.push((
+                crate::gbuffer::SURFACE_TARGET_BINDING,
+                wgpu::BindingResource::TextureView(view),
+            ));
+        }
         let group = cx
             .shaders
             .bind_group(&device, &key, "main", &pipeline, 0, &all)?;
@@ -535,6 +548,7 @@ impl Recipe for Ssr {
             self.lit.name.as_str(),
             self.fallback.name.as_str(),
         ];
+        reads.extend(g.surface.as_deref());
         reads.extend(self.materials.declare_textures(
             renderer,
             fg,

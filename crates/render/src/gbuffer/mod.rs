@@ -191,19 +191,31 @@ pub struct GBufferTargets {
     pub color: String,
     pub normals: String,
     pub velocity_uv: String,
-    /// Per pixel of surface-mapped materials: roughness, metallic,
-    /// occlusion, emission (Rgba32Uint, see shaders/lib/material.wgsl).
-    /// Only when some layer's material world has surface maps.
+    /// Per pixel of surface-mapped materials and shader node materials:
+    /// roughness, metallic, occlusion, emission and a written flag
+    /// (Rgba32Uint, see shaders/lib/surface_target.wgsl), which lighting
+    /// reads in place of the material's parameters. Only when some layer
+    /// has surface maps or a shader node material.
     pub surface: Option<String>,
 }
 
+/// Where lighting passes bind the G-buffer's surface target (group 0): the
+/// binding `shaders/lib/surface_target.wgsl` declares under SURFACE_TARGET.
+pub const SURFACE_TARGET_BINDING: u32 = 30;
+
 impl GBufferTargets {
-    /// What material lookups read at a pixel: the UV and the surface target.
+    /// What material lookups read at a pixel: the UV.
     pub fn surface_targets(&self) -> crate::material::SurfaceTargets<'_> {
         crate::material::SurfaceTargets {
             uv: &self.velocity_uv,
-            surface: self.surface.as_deref(),
         }
+    }
+
+    /// The feature a lighting pass over this G-buffer compiles to read the
+    /// surface target (`SURFACE_TARGET`): only when there is one, so passes
+    /// over G-buffers without one compile what they always did.
+    pub fn surface_feature(&self) -> Option<&'static str> {
+        self.surface.as_ref().map(|_| "SURFACE_TARGET")
     }
 }
 

@@ -3,7 +3,10 @@
 //! HDR image, each weighted per material: AO by the AmbientOcclusion
 //! feature's strength, GI by albedo, reflections by the Reflection
 //! feature's strength, and a matcap on materials with MatCap (looked up by
-//! the G-buffer normal, `shaders/lib/matcap.wgsl`). A reflection input is not
+//! the G-buffer normal, `shaders/lib/matcap.wgsl`). Where the G-buffer's
+//! surface target is written (glTF surface maps, a shader node material),
+//! its occlusion, metallic and emission count, with or without a material
+//! world (`shaders/lib/surface_target.wgsl`). A reflection input is not
 //! even rendered when no material reflects ("reflection culled: no reflective
 //! material"); the matcap code is compiled in only when some material has
 //! MatCap ("matcap shaded").
@@ -147,11 +150,12 @@ impl CompositeLight {
         }))
     }
 
-    /// Whether emission reads a texture, or surface maps give emission and occlusion.
+    /// Whether emission reads a texture (surface maps' emission and
+    /// occlusion come through the G-buffer's surface target instead).
     fn textured(&self) -> bool {
         self.materials
             .as_ref()
-            .is_some_and(|w| (self.emission && w.textured(1 << FEATURE_EMISSION)) || w.has_maps())
+            .is_some_and(|w| self.emission && w.textured(1 << FEATURE_EMISSION))
     }
 
     /// The texture array a matcap reads its images from, when some MatCap
@@ -191,6 +195,8 @@ impl CompositeLight {
         if self.materials.is_some() {
             features.push("MATERIALS");
         }
+        // Occlusion, metallic and emission where the G-buffer resolved them.
+        features.extend(self.gbuffer.targets.surface_feature());
         if self.gi.is_some() {
             features.push("GI");
         }
@@ -244,6 +250,16 @@ impl CompositeLight {
             };
             all.push((d, wgpu::BindingResource::TextureView(diffuse)));
             all.push((s, wgpu::BindingResource::TextureView(specular)));
+        }
+        let surface = match &g.surface {
+            Some(name) => Some(cx.view(name)?),
+            None => None,
+        };
+        if let Some(view) = &surface {
+            all.push((
+                crate::gbuffer::SURFACE_TARGET_BINDING,
+                wgpu::BindingResource::TextureView(view),
+            ));
         }
         let occlusion = match &self.occlusion {
             Some(ao) => Some(cx.view(&ao.name)?),
@@ -343,6 +359,7 @@ impl Recipe for CompositeLight {
         let name = crate::recipe::pass_name("CompositeLight", self.owner, None);
         let g = &self.gbuffer.targets;
         let mut reads: Vec<&str> = vec![&g.color, &g.depth];
+        reads.extend(g.surface.as_deref());
         reads.extend(
             [&self.occlusion, &self.gi, &self.reflection]
                 .into_iter()

@@ -40,7 +40,9 @@ pub struct CookTorrance {
     pub mode: LightLoop,
     energy_compensation: bool,
     surfaces: wgpu::Buffer,
-    /// Roughness and metallic per material from the material buffer, when given (else `surfaces`).
+    /// Roughness and metallic per material from the material buffer, when
+    /// given (else `surfaces`); either way, where the G-buffer's surface
+    /// target is written (surface maps, a shader node material), its own.
     materials: Option<Arc<MaterialWorld>>,
     grid: wgpu::Buffer,
     clusters: Arc<ClusterStore>,
@@ -276,6 +278,8 @@ impl CookTorrance {
         if self.textured() {
             features.push("MATERIAL_TEXTURES");
         }
+        // Roughness and metallic where the G-buffer resolved them, with or without materials.
+        features.extend(self.gbuffer.targets.surface_feature());
         if let Some(shadows) = &self.shadows {
             features.push("SHADOWS");
             match shadows.filter() {
@@ -316,6 +320,16 @@ impl CookTorrance {
             (12, wgpu::BindingResource::TextureView(&specular)),
         ];
         let mut all = all.to_vec();
+        let surface = match &g.targets.surface {
+            Some(name) => Some(cx.view(name)?),
+            None => None,
+        };
+        if let Some(surface) = &surface {
+            all.push((
+                crate::gbuffer::SURFACE_TARGET_BINDING,
+                wgpu::BindingResource::TextureView(surface),
+            ));
+        }
         if let Some(sss) = &sss {
             all.push((13, wgpu::BindingResource::TextureView(sss)));
         }
@@ -435,6 +449,7 @@ impl Recipe for CookTorrance {
             textures.recipe.declare(renderer, fg);
             reads.push(&textures.name);
         }
+        reads.extend(g.surface.as_deref());
         if let Some(world) = &self.materials {
             reads.extend(world.declare_textures(
                 renderer,

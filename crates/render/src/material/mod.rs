@@ -20,9 +20,10 @@
 //! SurfaceMaps feature ([`maps`]), whose textures the world uploads in size
 //! classes ([`map_textures`]). The G-buffer resolve samples them and writes
 //! each pixel's roughness, metallic, occlusion and emission to the
-//! G-buffer's `surface` target, which `feature_param_at` reads for
-//! materials with that feature: every shading pass sees mapped values
-//! without knowing glTF.
+//! G-buffer's `surface` target (as it does for a shader node material's
+//! `surface` function), which lighting reads wherever it was written
+//! (`shaders/lib/surface_target.wgsl`; `feature_param_at` too): every
+//! shading pass sees mapped values without knowing glTF.
 
 mod feature;
 pub mod map_textures;
@@ -86,13 +87,14 @@ impl FeatureError {
 }
 
 /// The G-buffer targets material lookups read at a pixel, by name: the UV
-/// (zw of the velocity/UV target) and, where materials have surface maps, the
-/// resolved surface target. The G-buffer hands them out
-/// (`GBufferTargets::surface_targets`), so materials need not know it.
+/// (zw of the velocity/UV target) that texture layers are mapped by. The
+/// G-buffer hands them out (`GBufferTargets::surface_targets`), so materials
+/// need not know it. (Its surface target is bound by the lighting passes
+/// themselves, group 0 under SURFACE_TARGET, with or without a material
+/// world: `GBufferTargets::surface_feature`.)
 #[derive(Clone, Copy, Debug)]
 pub struct SurfaceTargets<'a> {
     pub uv: &'a str,
-    pub surface: Option<&'a str>,
 }
 
 /// A material in patch space: features and their (checked, clamped) parameters.
@@ -278,7 +280,6 @@ impl PackedMaterials {
 struct Dummies {
     array: wgpu::TextureView,
     uv: wgpu::TextureView,
-    surface: wgpu::TextureView,
 }
 
 /// A material world on the GPU: what a `MaterialBuffer` node outputs,
@@ -376,7 +377,7 @@ impl MaterialWorld {
         let offsets = upload("feature offsets", bytemuck::cast_slice(&packed.offsets));
         let data = upload("material data", bytemuck::cast_slice(&packed.data));
         let union_flags = materials.iter().fold(0, |acc, m| acc | m.flags());
-        let mut textured_flags = match &textures {
+        let textured_flags = match &textures {
             Some(_) => materials.iter().fold(0, |acc, m| {
                 m.textures
                     .keys()
@@ -386,15 +387,10 @@ impl MaterialWorld {
             None => 0,
         };
         let textures = textures.filter(|_| textured_flags != 0);
+        // Mapped roughness, metallic, emission and occlusion reach shading
+        // through the G-buffer's surface target (SURFACE_TARGET), not
+        // through MATERIAL_TEXTURES: maps alone compile no texture code.
         let has_maps = union_flags & (1 << FEATURE_SURFACE_MAPS) != 0;
-        if has_maps {
-            // Mapped roughness, metallic, emission and occlusion reach
-            // shading through the MATERIAL_TEXTURES path (the surface target).
-            textured_flags |= 1 << FEATURE_COOK_TORRANCE
-                | 1 << FEATURE_EMISSION
-                | 1 << FEATURE_AMBIENT_OCCLUSION
-                | 1 << FEATURE_SURFACE_MAPS;
-        }
         let maps = has_maps.then(|| WorldMaps::new(renderer, &layout, filtering));
         Arc::new(MaterialWorld {
             materials,
@@ -433,10 +429,22 @@ impl MaterialWorld {
     }
 
     /// The key of `path` for a pass that reads surfaces' CookTorrance
-    /// parameters: with MATERIAL_TEXTURES when some material maps them.
-    pub fn surface_key(&self, path: &'static str) -> crate::shaders::ShaderKey {
+    /// parameters: with MATERIAL_TEXTURES when some material's reads a
+    /// texture, and `surface` (the G-buffer's surface feature,
+    /// `GBufferTargets::surface_feature`) when the G-buffer resolved some.
+    pub fn surface_key(
+        &self,
+        path: &'static str,
+        surface: Option<&'static str>,
+    ) -> crate::shaders::ShaderKey {
         let textured = self.textured(1 << FEATURE_COOK_TORRANCE);
-        crate::shaders::ShaderKey::new(path, textured.then_some("MATERIAL_TEXTURES"))
+        crate::shaders::ShaderKey::new(
+            path,
+            textured
+                .then_some("MATERIAL_TEXTURES")
+                .into_iter()
+                .chain(surface),
+        )
     }
 
     /// Material `id`'s flags; an id out of range reads material 0, as the shader does.
@@ -492,9 +500,8 @@ impl MaterialWorld {
     }
 
     /// Group 1 of a pass that imports `spreadlight::material`: the three
-    /// buffers, and with `textured`, the texture array, its sampler, the
-    /// G-buffer's UV target and its surface target (stand-ins where the
-    /// world or the G-buffer has none).
+    /// buffers, and with `textured`, the texture array, its sampler and the
+    /// G-buffer's UV target (stand-ins where the world has none).
     pub(crate) fn bind_group(
         &self,
         cx: &mut crate::frame_graph::PassContext<'_>,
@@ -518,17 +525,13 @@ impl MaterialWorld {
             let sampler = cx
                 .shaders
                 .sampler(&device, crate::shaders::Sampling::LinearRepeat);
-            let surface = match (targets.surface, self.has_maps()) {
-                (Some(name), true) => cx.view(name)?,
-                _ => self.dummies.surface.clone(),
-            };
             // Only a texture array is mapped by the G-buffer's UV: surface
             // maps alone leave the motion resolve to be culled.
             let uv = match &self.textures {
                 Some(_) => cx.view(targets.uv)?,
                 None => self.dummies.uv.clone(),
             };
-            Some((array, sampler, uv, surface))
+            Some((array, sampler, uv))
         } else {
             None
         };
@@ -537,19 +540,17 @@ impl MaterialWorld {
             (1, self.offsets.as_entire_binding()),
             (2, self.data.as_entire_binding()),
         ];
-        if let Some((array, sampler, uv, surface)) = &views {
+        if let Some((array, sampler, uv)) = &views {
             all.push((3, wgpu::BindingResource::TextureView(array)));
             all.push((4, wgpu::BindingResource::Sampler(sampler)));
             all.push((5, wgpu::BindingResource::TextureView(uv)));
-            all.push((6, wgpu::BindingResource::TextureView(surface)));
         }
         cx.shaders
             .bind_group(&device, key, "main", pipeline, 1, &all)
     }
 
     /// Declare the texture array for a pass that reads it (`textured`), and
-    /// return what that pass must list as reads: the array, the UV target
-    /// and (for maps) the surface target.
+    /// return what that pass must list as reads: the array and the UV target.
     pub(crate) fn declare_textures<'a>(
         &'a self,
         renderer: &'a Renderer,
@@ -564,9 +565,6 @@ impl MaterialWorld {
         if let Some(t) = &self.textures {
             t.recipe.declare(renderer, fg);
             reads.extend([t.name.as_str(), targets.uv]);
-        }
-        if let (Some(surface), true) = (targets.surface, self.has_maps()) {
-            reads.push(surface);
         }
         reads
     }
@@ -603,26 +601,7 @@ impl Dummies {
             dimension: Some(wgpu::TextureViewDimension::D2Array),
             ..Default::default()
         });
-        // A zero surface texel says "not written": shading falls back to parameters.
-        let surface = gpu.device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("no surface target"),
-            size: wgpu::Extent3d {
-                width: 1,
-                height: 1,
-                depth_or_array_layers: 1,
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: wgpu::TextureFormat::Rgba32Uint,
-            usage: wgpu::TextureUsages::TEXTURE_BINDING,
-            view_formats: &[],
-        });
         let uv = crate::texture::GpuTexture::from_rgba8(gpu, 1, 1, &[0; 4], false, "no UV target");
-        Dummies {
-            array,
-            uv: uv.view,
-            surface: surface.create_view(&Default::default()),
-        }
+        Dummies { array, uv: uv.view }
     }
 }

@@ -1,0 +1,89 @@
+// The G-buffer's surface target as lighting reads it. Whatever resolved a
+// pixel's surface in the G-buffer (a glTF material's surface maps, a shader
+// node material's `surface` function; shaders/gbuffer/resolve.wgsl) wrote
+// there, per pixel (Rgba32Uint):
+//   x: pack2x16unorm(roughness, metallic)
+//   y: pack2x16unorm(occlusion, written: 1)
+//   z: emission, RGB9E5 (pack_rgb9e5)
+//   w: 0
+// Zero where nothing was written: such a pixel is shaded from its material
+// (or the lighting node's pins) exactly as without a surface target.
+//
+// SURFACE_TARGET: the G-buffer has a surface target, bound at group 0,
+// binding 30 (SURFACE_TARGET_BINDING in crates/render/src/gbuffer/mod.rs;
+// no pass that imports this library uses that binding for anything else).
+// Without it `surface_at` reads nothing and says "not written", so passes
+// over G-buffers without one compile exactly what they did before.
+#define_import_path spreadlight::surface_target
+
+#ifdef SURFACE_TARGET
+@group(0) @binding(30) var surface_target: texture_2d<u32>;
+#endif
+
+struct SurfaceSample {
+    // Whether the G-buffer resolve wrote this pixel's surface; the rest is
+    // meaningful only then.
+    written: bool,
+    roughness: f32,
+    metallic: f32,
+    // Ambient occlusion, 1: none.
+    occlusion: f32,
+    // Emitted radiance, linear RGB, not negative.
+    emission: vec3<f32>,
+}
+
+// Non-negative HDR colour in one u32, shared-exponent 9-9-9-5 (the
+// RGB9E5 layout): 9-bit mantissas, exponent bias 15. Up to 65408.
+fn pack_rgb9e5(rgb: vec3<f32>) -> u32 {
+    let c = clamp(rgb, vec3<f32>(0.0), vec3<f32>(65408.0));
+    let top = max(c.r, max(c.g, c.b));
+    var exponent = i32(max(-16.0, floor(log2(max(top, 1e-30))))) + 16;
+    var unit = exp2(f32(exponent - 24));
+    if (floor(top / unit + 0.5) >= 512.0) {
+        exponent += 1;
+        unit *= 2.0;
+    }
+    let m = vec3<u32>(min(floor(c / unit + 0.5), vec3<f32>(511.0)));
+    return m.r | (m.g << 9u) | (m.b << 18u) | (u32(exponent) << 27u);
+}
+
+fn unpack_rgb9e5(bits: u32) -> vec3<f32> {
+    let unit = exp2(f32(i32(bits >> 27u) - 24));
+    return vec3<f32>(f32(bits & 511u), f32((bits >> 9u) & 511u), f32((bits >> 18u) & 511u)) * unit;
+}
+
+// The texel the resolve writes for a resolved surface (values already
+// finite and in range: roughness, metallic, occlusion 0..1, emission 0..65000).
+fn pack_surface(roughness: f32, metallic: f32, occlusion: f32, emission: vec3<f32>) -> vec4<u32> {
+    return vec4<u32>(
+        pack2x16unorm(vec2<f32>(roughness, metallic)),
+        pack2x16unorm(vec2<f32>(occlusion, 1.0)),
+        pack_rgb9e5(emission),
+        0u,
+    );
+}
+
+// The surface the G-buffer resolved at `pixel` (full-resolution G-buffer coordinates).
+fn surface_at(pixel: vec2<u32>) -> SurfaceSample {
+    var s: SurfaceSample;
+    s.written = false;
+    s.roughness = 0.5;
+    s.metallic = 0.0;
+    s.occlusion = 1.0;
+    s.emission = vec3<f32>(0.0);
+#ifdef SURFACE_TARGET
+    let bits = textureLoad(surface_target, pixel, 0);
+    let ao = unpack2x16unorm(bits.y);
+    if (ao.y > 0.5) {
+        let rm = unpack2x16unorm(bits.x);
+        s.written = true;
+        s.roughness = clamp(rm.x, 0.0, 1.0);
+        s.metallic = clamp(rm.y, 0.0, 1.0);
+        s.occlusion = clamp(ao.x, 0.0, 1.0);
+        // The resolve stores at most 65000; an RGB9E5 word it did not write
+        // (exponent 31) can read up to 65408: hold it below half-float overflow.
+        s.emission = min(unpack_rgb9e5(bits.z), vec3<f32>(65000.0));
+    }
+#endif
+    return s;
+}
