@@ -54,13 +54,14 @@ pub fn register(r: &mut Registry) {
     }
 }
 
+/// A shipped example's node type name and what loading it gave.
+type LoadedExample = (String, Result<Arc<ShaderType>, ShaderNodeError>);
+
 /// The shipped examples, parsed and validated once per process: their
 /// sources are compiled in, so every registry (each CLI command, runtime
 /// and test builds one) would otherwise run naga over the same files again.
-fn examples() -> &'static [(String, Result<Arc<ShaderType>, ShaderNodeError>)] {
-    static EXAMPLES_LOADED: std::sync::OnceLock<
-        Vec<(String, Result<Arc<ShaderType>, ShaderNodeError>)>,
-    > = std::sync::OnceLock::new();
+fn examples() -> &'static [LoadedExample] {
+    static EXAMPLES_LOADED: std::sync::OnceLock<Vec<LoadedExample>> = std::sync::OnceLock::new();
     EXAMPLES_LOADED.get_or_init(|| {
         EXAMPLES
             .iter()
