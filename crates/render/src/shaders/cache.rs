@@ -1,0 +1,346 @@
+//! The permutation cache: shader modules, pipelines, samplers and bind
+//! groups, each made once and counted.
+
+use std::borrow::Cow;
+use std::collections::HashMap;
+
+use super::composer::used_bindings_of;
+use super::{ShaderComposer, ShaderKey, Splice};
+use crate::error::RenderError;
+
+/// A compute pipeline of `entry` in `module`, its bind group layouts derived from the shader.
+fn compute_pipeline_of(
+    device: &wgpu::Device,
+    module: &wgpu::ShaderModule,
+    label: &str,
+    entry: &str,
+) -> wgpu::ComputePipeline {
+    device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+        label: Some(label),
+        layout: None,
+        module,
+        entry_point: Some(entry),
+        compilation_options: Default::default(),
+        cache: None,
+    })
+}
+
+/// How a pass samples a texture.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Sampling {
+    /// Bilinear, tiling past 0..1 (surface textures mapped by UV).
+    LinearRepeat,
+    /// Bilinear, held at the edges (projected textures).
+    LinearClamp,
+}
+
+/// Compiled shader modules and pipelines, keyed by permutation. Counts what it
+/// compiles, so the frame statistics show when a frame had to compile.
+pub struct ShaderCache {
+    composer: ShaderComposer,
+    modules: HashMap<ShaderKey, wgpu::ShaderModule>,
+    /// Per permutation and entry point: the (group, binding)s it uses.
+    used: HashMap<(ShaderKey, String), Vec<(u32, u32)>>,
+    compute: HashMap<(ShaderKey, &'static str), wgpu::ComputePipeline>,
+    render: HashMap<(ShaderKey, String), wgpu::RenderPipeline>,
+    samplers: HashMap<Sampling, wgpu::Sampler>,
+    /// Pipelines of shaders not in [`SHADERS`] (shader node files), by the caller's key and entry.
+    external: HashMap<(u64, String), wgpu::ComputePipeline>,
+    /// Resolve permutations composed with a shader node material, by its source key.
+    surfaces: HashMap<(ShaderKey, u64), SplicedPipeline>,
+    /// Bind groups by pipeline, group and what they bind (by identity), with
+    /// the frame they were last used in: a pass that binds what it bound
+    /// last frame reuses its group instead of making one.
+    bind_groups: HashMap<BindGroupKey, (wgpu::BindGroup, u64)>,
+    frame: u64,
+    /// Pipelines compiled since the cache was made.
+    pub pipelines_compiled: u64,
+    /// Bind groups made and reused since the cache was made.
+    pub bind_groups_created: u64,
+    pub bind_groups_reused: u64,
+}
+
+/// A pipeline composed with a shader node material, and the (group, binding)s it uses.
+type SplicedPipeline = (wgpu::ComputePipeline, Vec<(u32, u32)>);
+
+/// A resource a bind group binds, by identity (wgpu handles compare by the object).
+#[derive(Clone, PartialEq, Eq, Hash)]
+enum Bound {
+    Buffer(wgpu::Buffer, u64, Option<wgpu::BufferSize>),
+    View(wgpu::TextureView),
+    Sampler(wgpu::Sampler),
+}
+
+impl Bound {
+    /// None for resources the cache does not key (arrays of them).
+    fn of(resource: &wgpu::BindingResource<'_>) -> Option<Bound> {
+        match resource {
+            wgpu::BindingResource::Buffer(b) => {
+                Some(Bound::Buffer(b.buffer.clone(), b.offset, b.size))
+            }
+            wgpu::BindingResource::TextureView(v) => Some(Bound::View((*v).clone())),
+            wgpu::BindingResource::Sampler(s) => Some(Bound::Sampler((*s).clone())),
+            _ => None,
+        }
+    }
+}
+
+type BindGroupKey = (wgpu::ComputePipeline, u32, Vec<(u32, Bound)>);
+
+/// Frames a cached bind group may go unused before it is dropped (with the
+/// buffers and views it keeps alive): recipes re-made each frame make new
+/// buffers, whose groups are never hit again.
+const BIND_GROUP_IDLE_FRAMES: u64 = 2;
+
+impl ShaderCache {
+    pub fn new(composer: ShaderComposer) -> Self {
+        ShaderCache {
+            composer,
+            modules: HashMap::new(),
+            used: HashMap::new(),
+            compute: HashMap::new(),
+            render: HashMap::new(),
+            samplers: HashMap::new(),
+            external: HashMap::new(),
+            surfaces: HashMap::new(),
+            bind_groups: HashMap::new(),
+            frame: 0,
+            pipelines_compiled: 0,
+            bind_groups_created: 0,
+            bind_groups_reused: 0,
+        }
+    }
+
+    /// A new frame begins: bind groups unused for a while are dropped.
+    pub(crate) fn begin_frame(&mut self) {
+        self.frame += 1;
+        let frame = self.frame;
+        self.bind_groups
+            .retain(|_, (_, last)| frame - *last <= BIND_GROUP_IDLE_FRAMES);
+    }
+
+    /// Swap in new sources (live shader editing); everything compiled is dropped.
+    pub fn replace_sources(&mut self, composer: ShaderComposer) {
+        *self = ShaderCache {
+            pipelines_compiled: self.pipelines_compiled,
+            ..ShaderCache::new(composer)
+        };
+    }
+
+    pub fn module(
+        &mut self,
+        device: &wgpu::Device,
+        key: &ShaderKey,
+    ) -> Result<wgpu::ShaderModule, RenderError> {
+        if let Some(m) = self.modules.get(key) {
+            return Ok(m.clone());
+        }
+        let module = self.composer.compose(key)?;
+        let label = format!("{}{}", key.path, key.describe_defs());
+        let m = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some(&label),
+            source: wgpu::ShaderSource::Naga(Cow::Owned(module)),
+        });
+        self.modules.insert(key.clone(), m.clone());
+        Ok(m)
+    }
+
+    /// The bindings `entry` of a permutation uses (naga's reflection): a
+    /// derived bind group layout has exactly these, so a bind group must too.
+    pub fn used_bindings(
+        &mut self,
+        key: &ShaderKey,
+        entry: &str,
+    ) -> Result<Vec<(u32, u32)>, RenderError> {
+        let cache_key = (key.clone(), entry.to_owned());
+        if let Some(used) = self.used.get(&cache_key) {
+            return Ok(used.clone());
+        }
+        let module = self.composer.compose(key)?;
+        let used = used_bindings_of(&module, entry).map_err(|message| RenderError::Shader {
+            shader: key.path.to_owned(),
+            defs: key.describe_defs(),
+            message,
+        })?;
+        self.used.insert(cache_key, used.clone());
+        Ok(used)
+    }
+
+    /// A bind group for group `group` of a compute pipeline made from
+    /// `key`/`entry`, given every resource a caller might bind: those the
+    /// permutation compiled out are left out.
+    pub fn bind_group(
+        &mut self,
+        device: &wgpu::Device,
+        key: &ShaderKey,
+        entry: &str,
+        pipeline: &wgpu::ComputePipeline,
+        group: u32,
+        resources: &[(u32, wgpu::BindingResource<'_>)],
+    ) -> Result<wgpu::BindGroup, RenderError> {
+        let used = self.used_bindings(key, entry)?;
+        let entries: Vec<wgpu::BindGroupEntry<'_>> = resources
+            .iter()
+            .filter(|(binding, _)| used.contains(&(group, *binding)))
+            .map(|(binding, resource)| wgpu::BindGroupEntry {
+                binding: *binding,
+                resource: resource.clone(),
+            })
+            .collect();
+        let bound: Option<Vec<(u32, Bound)>> = entries
+            .iter()
+            .map(|e| Bound::of(&e.resource).map(|b| (e.binding, b)))
+            .collect();
+        let cache_key = bound.map(|b| (pipeline.clone(), group, b));
+        if let Some(k) = &cache_key
+            && let Some((cached, last)) = self.bind_groups.get_mut(k)
+        {
+            *last = self.frame;
+            self.bind_groups_reused += 1;
+            return Ok(cached.clone());
+        }
+        let made = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some(key.path),
+            layout: &pipeline.get_bind_group_layout(group),
+            entries: &entries,
+        });
+        self.bind_groups_created += 1;
+        if let Some(k) = cache_key {
+            self.bind_groups.insert(k, (made.clone(), self.frame));
+        }
+        Ok(made)
+    }
+
+    /// A sampler, made once per device rather than once per pass or frame.
+    pub fn sampler(&mut self, device: &wgpu::Device, sampling: Sampling) -> wgpu::Sampler {
+        self.samplers
+            .entry(sampling)
+            .or_insert_with(|| {
+                let address = match sampling {
+                    Sampling::LinearRepeat => wgpu::AddressMode::Repeat,
+                    Sampling::LinearClamp => wgpu::AddressMode::ClampToEdge,
+                };
+                device.create_sampler(&wgpu::SamplerDescriptor {
+                    label: Some(match sampling {
+                        Sampling::LinearRepeat => "linear repeat",
+                        Sampling::LinearClamp => "linear clamp",
+                    }),
+                    address_mode_u: address,
+                    address_mode_v: address,
+                    mag_filter: wgpu::FilterMode::Linear,
+                    min_filter: wgpu::FilterMode::Linear,
+                    ..Default::default()
+                })
+            })
+            .clone()
+    }
+
+    /// The permutations compiled so far (tests check a feature no scene uses never is).
+    pub fn compiled_keys(&self) -> impl Iterator<Item = &ShaderKey> {
+        self.modules.keys()
+    }
+
+    /// The compute pipeline of `entry` in a permutation (bind group layouts derived from the shader).
+    pub fn compute_pipeline(
+        &mut self,
+        device: &wgpu::Device,
+        key: &ShaderKey,
+        entry: &'static str,
+    ) -> Result<wgpu::ComputePipeline, RenderError> {
+        if let Some(p) = self.compute.get(&(key.clone(), entry)) {
+            return Ok(p.clone());
+        }
+        let module = self.module(device, key)?;
+        let label = format!("{}{}::{entry}", key.path, key.describe_defs());
+        let pipeline = compute_pipeline_of(device, &module, &label, entry);
+        self.pipelines_compiled += 1;
+        self.compute.insert((key.clone(), entry), pipeline.clone());
+        Ok(pipeline)
+    }
+
+    /// The compute pipeline of `entry` in a module validated elsewhere (a
+    /// shader node file), cached under `key`, which must change with the
+    /// source: `module` is called only the first time.
+    pub fn external_compute_pipeline(
+        &mut self,
+        device: &wgpu::Device,
+        key: u64,
+        label: &str,
+        module: impl FnOnce() -> naga::Module,
+        entry: &str,
+    ) -> wgpu::ComputePipeline {
+        let cache_key = (key, entry.to_owned());
+        if let Some(p) = self.external.get(&cache_key) {
+            return p.clone();
+        }
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some(label),
+            source: wgpu::ShaderSource::Naga(Cow::Owned(module())),
+        });
+        let pipeline = compute_pipeline_of(device, &module, &format!("{label}::{entry}"), entry);
+        self.pipelines_compiled += 1;
+        self.external.insert(cache_key, pipeline.clone());
+        pipeline
+    }
+
+    /// The compute pipeline of `entry` in permutation `key` composed with
+    /// library `module` replaced by a shader node material's `source`
+    /// (identified by `source_key`, which must change with it), and the
+    /// (group, binding)s the entry point uses, to build its bind groups by.
+    pub fn surface_pipeline(
+        &mut self,
+        device: &wgpu::Device,
+        key: &ShaderKey,
+        splice: &Splice<'_>,
+        entry: &str,
+    ) -> Result<SplicedPipeline, RenderError> {
+        let Splice {
+            key: source_key,
+            module,
+            file_path,
+            source,
+        } = *splice;
+        let cache_key = (key.clone(), source_key);
+        if let Some(found) = self.surfaces.get(&cache_key) {
+            return Ok(found.clone());
+        }
+        let composed = self
+            .composer
+            .compose_with_module(key, module, file_path, source)?;
+        let used = used_bindings_of(&composed, entry).map_err(|message| RenderError::Shader {
+            shader: file_path.to_owned(),
+            defs: key.describe_defs(),
+            message,
+        })?;
+        let label = format!("{}{} + {file_path}", key.path, key.describe_defs());
+        let shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some(&label),
+            source: wgpu::ShaderSource::Naga(Cow::Owned(composed)),
+        });
+        let pipeline = compute_pipeline_of(device, &shader, &format!("{label}::{entry}"), entry);
+        self.pipelines_compiled += 1;
+        self.surfaces
+            .insert(cache_key, (pipeline.clone(), used.clone()));
+        Ok((pipeline, used))
+    }
+
+    /// A render pipeline for a permutation; `variant` names what else the
+    /// caller's descriptor depends on (target formats, blend), and `build` makes it.
+    pub fn render_pipeline(
+        &mut self,
+        device: &wgpu::Device,
+        key: &ShaderKey,
+        variant: &str,
+        build: impl FnOnce(&wgpu::ShaderModule) -> wgpu::RenderPipeline,
+    ) -> Result<wgpu::RenderPipeline, RenderError> {
+        let cache_key = (key.clone(), variant.to_owned());
+        if let Some(p) = self.render.get(&cache_key) {
+            return Ok(p.clone());
+        }
+        let module = self.module(device, key)?;
+        let pipeline = build(&module);
+        self.pipelines_compiled += 1;
+        self.render.insert(cache_key, pipeline.clone());
+        Ok(pipeline)
+    }
+}

@@ -1,0 +1,299 @@
+//! Composing a permutation: naga_oil over the embedded (or on-disk) sources,
+//! with a library swapped for a shader node material where asked.
+
+use std::borrow::Cow;
+use std::collections::HashMap;
+use std::path::Path;
+
+use naga_oil::compose::{
+    ComposableModuleDescriptor, Composer, NagaModuleDescriptor, ShaderDefValue, ShaderLanguage,
+    ShaderType,
+};
+
+use super::{SHADERS, ShaderKey};
+use crate::error::RenderError;
+
+/// Composes shader permutations into validated naga modules. No GPU needed,
+/// so tests can validate every permutation anywhere.
+pub struct ShaderComposer {
+    composer: Composer,
+    sources: HashMap<&'static str, Cow<'static, str>>,
+    /// Over the embedded sources, with no library replaced: what it composes
+    /// is the same in every composer of the process (see [`embedded_modules`]).
+    embedded: bool,
+    /// A library is replaced ([`ShaderComposer::replace_library`]).
+    replaced: bool,
+}
+
+/// Permutations of the embedded sources composed so far in this process.
+/// Composing (naga_oil's preprocessing, naga's parse and validation) is
+/// most of what opening a renderer costs the CPU, and every renderer of a
+/// process (each test, each CLI run's renderers) composes the same
+/// permutations from the same compiled-in text: they are made once.
+fn embedded_modules() -> &'static std::sync::Mutex<HashMap<ShaderKey, naga::Module>> {
+    static MODULES: std::sync::OnceLock<std::sync::Mutex<HashMap<ShaderKey, naga::Module>>> =
+        std::sync::OnceLock::new();
+    MODULES.get_or_init(Default::default)
+}
+
+impl ShaderComposer {
+    /// A composer over the embedded sources.
+    pub fn new() -> Result<Self, RenderError> {
+        let sources = SHADERS
+            .iter()
+            .map(|s| (s.path, Cow::Borrowed(s.source)))
+            .collect();
+        let mut composer = Self::with_sources(sources)?;
+        composer.embedded = true;
+        Ok(composer)
+    }
+
+    /// A composer over the sources in a `shaders/` folder on disk (for live
+    /// editing); files missing there fall back to the embedded ones.
+    pub fn from_dir(dir: &Path) -> Result<Self, RenderError> {
+        let mut sources = HashMap::new();
+        for file in SHADERS {
+            let text = std::fs::read_to_string(dir.join(file.path))
+                .map(Cow::Owned)
+                .unwrap_or(Cow::Borrowed(file.source));
+            sources.insert(file.path, text);
+        }
+        Self::with_sources(sources)
+    }
+
+    fn with_sources(
+        sources: HashMap<&'static str, Cow<'static, str>>,
+    ) -> Result<Self, RenderError> {
+        // Validate with what the compute rasterizer needs; devices without it never compile that shader.
+        let mut composer = Composer::default().with_capabilities(
+            naga::valid::Capabilities::SHADER_INT64
+                | naga::valid::Capabilities::SHADER_INT64_ATOMIC_MIN_MAX,
+        );
+        for file in SHADERS.iter().filter(|f| f.library) {
+            let source = &sources[file.path];
+            let result = composer
+                .add_composable_module(ComposableModuleDescriptor {
+                    source,
+                    file_path: file.path,
+                    language: ShaderLanguage::Wgsl,
+                    ..Default::default()
+                })
+                .map(|_| ())
+                .map_err(|e| e.emit_to_string(&composer));
+            result.map_err(|message| RenderError::Shader {
+                shader: file.path.to_owned(),
+                defs: String::new(),
+                message,
+            })?;
+        }
+        Ok(ShaderComposer {
+            composer,
+            sources,
+            embedded: false,
+            replaced: false,
+        })
+    }
+
+    /// Compose and validate one permutation.
+    pub fn compose(&mut self, key: &ShaderKey) -> Result<naga::Module, RenderError> {
+        let file =
+            SHADERS
+                .iter()
+                .find(|f| f.path == key.path)
+                .ok_or_else(|| RenderError::Shader {
+                    shader: key.path.to_owned(),
+                    defs: String::new(),
+                    message: "no such shader".to_owned(),
+                })?;
+        if let Err(message) = file.check(&key.features) {
+            return Err(RenderError::Shader {
+                shader: key.path.to_owned(),
+                defs: key.describe_defs(),
+                message,
+            });
+        }
+        if let Some(unknown) = key.features.iter().find(|f| !file.features.contains(f)) {
+            return Err(RenderError::Shader {
+                shader: key.path.to_owned(),
+                defs: key.describe_defs(),
+                message: format!(
+                    "`{unknown}` is not a feature of this shader (features: {})",
+                    file.features.join(", ")
+                ),
+            });
+        }
+        let shared = self.embedded && !self.replaced;
+        if shared
+            && let Some(module) = embedded_modules()
+                .lock()
+                .unwrap_or_else(|e| e.into_inner())
+                .get(key)
+        {
+            return Ok(module.clone());
+        }
+        let shader_defs = key
+            .features
+            .iter()
+            .map(|f| ((*f).to_owned(), ShaderDefValue::Bool(true)))
+            .collect();
+        let result = self.composer.make_naga_module(NagaModuleDescriptor {
+            source: &self.sources[key.path],
+            file_path: key.path,
+            shader_type: ShaderType::Wgsl,
+            shader_defs,
+            additional_imports: &[],
+        });
+        let module = result.map_err(|e| RenderError::Shader {
+            shader: key.path.to_owned(),
+            defs: key.describe_defs(),
+            message: e.emit_to_string(&self.composer),
+        })?;
+        if shared {
+            embedded_modules()
+                .lock()
+                .unwrap_or_else(|e| e.into_inner())
+                .insert(key.clone(), module.clone());
+        }
+        Ok(module)
+    }
+}
+
+impl ShaderComposer {
+    /// Compose a WGSL file that is not one of [`SHADERS`] (a shader node's)
+    /// as a top-level module: it may `#import` every library. Its own
+    /// `#ifdef`s must already be resolved. The error is naga_oil's, for the
+    /// caller to place in the file ([`ShaderComposer::composer`] undecorates it).
+    pub fn compose_external(
+        &mut self,
+        file_path: &str,
+        source: &str,
+    ) -> Result<naga::Module, Box<naga_oil::compose::ComposerError>> {
+        self.composer
+            .make_naga_module(NagaModuleDescriptor {
+                source,
+                file_path,
+                shader_type: ShaderType::Wgsl,
+                ..Default::default()
+            })
+            .map_err(Box::new)
+    }
+
+    /// The naga_oil composer (to format and undecorate its errors).
+    pub fn composer(&self) -> &Composer {
+        &self.composer
+    }
+
+    /// Put `source` (a shader node material's file, named `file_path`) in
+    /// the place of library `module` (an import path such as
+    /// `spreadlight::custom_surface`) until [`ShaderComposer::restore_library`].
+    pub fn replace_library(
+        &mut self,
+        module: &str,
+        file_path: &str,
+        source: &str,
+    ) -> Result<(), Box<naga_oil::compose::ComposerError>> {
+        // Even a failed replacement may leave the library half-replaced.
+        self.replaced = true;
+        self.composer
+            .add_composable_module(ComposableModuleDescriptor {
+                source,
+                file_path,
+                language: ShaderLanguage::Wgsl,
+                as_name: Some(module.to_owned()),
+                ..Default::default()
+            })
+            .map(|_| ())
+            .map_err(Box::new)
+    }
+
+    /// Put library `module` back as [`SHADERS`] has it.
+    pub fn restore_library(&mut self, module: &str) -> Result<(), RenderError> {
+        let library = SHADERS
+            .iter()
+            .find(|f| f.library && f.source.contains(&format!("#define_import_path {module}")))
+            .ok_or_else(|| RenderError::Shader {
+                shader: module.to_owned(),
+                defs: String::new(),
+                message: "no such library".to_owned(),
+            })?;
+        let restored = self
+            .composer
+            .add_composable_module(ComposableModuleDescriptor {
+                source: &self.sources[library.path],
+                file_path: library.path,
+                language: ShaderLanguage::Wgsl,
+                ..Default::default()
+            })
+            .map(|_| ())
+            .map_err(|e| e.emit_to_string(&self.composer));
+        restored.map_err(|message| RenderError::Shader {
+            shader: library.path.to_owned(),
+            defs: String::new(),
+            message,
+        })?;
+        self.replaced = false;
+        Ok(())
+    }
+
+    /// Compose permutation `key` with library `module` replaced, for this
+    /// composition only, by a shader node material's `source`.
+    pub fn compose_with_module(
+        &mut self,
+        key: &ShaderKey,
+        module: &str,
+        file_path: &str,
+        source: &str,
+    ) -> Result<naga::Module, RenderError> {
+        let replaced = self
+            .replace_library(module, file_path, source)
+            .map_err(|e| e.emit_to_string(&self.composer));
+        let composed = match replaced {
+            Ok(()) => self.compose(key),
+            Err(message) => Err(RenderError::Shader {
+                shader: file_path.to_owned(),
+                defs: String::new(),
+                message,
+            }),
+        };
+        // Put the library back, so built-in permutations compose as before.
+        self.restore_library(module)?;
+        composed
+    }
+}
+
+/// A shader node material's file, composed into a permutation in place of a library.
+#[derive(Clone, Copy, Debug)]
+pub struct Splice<'a> {
+    /// Changes with the source (pipelines are cached under it).
+    pub key: u64,
+    /// The library it replaces, e.g. `spreadlight::custom_surface`.
+    pub module: &'a str,
+    pub file_path: &'a str,
+    /// Its text, `#ifdef`s resolved.
+    pub source: &'a str,
+}
+
+/// The (group, binding)s entry point `entry` of `module` uses (naga's reflection).
+pub(super) fn used_bindings_of(
+    module: &naga::Module,
+    entry: &str,
+) -> Result<Vec<(u32, u32)>, String> {
+    let info = naga::valid::Validator::new(
+        naga::valid::ValidationFlags::all(),
+        naga::valid::Capabilities::all(),
+    )
+    .validate(module)
+    .map_err(|e| e.to_string())?;
+    let index = module
+        .entry_points
+        .iter()
+        .position(|e| e.name == entry)
+        .ok_or_else(|| format!("no entry point `{entry}`"))?;
+    let function = info.get_entry_point(index);
+    Ok(module
+        .global_variables
+        .iter()
+        .filter(|(handle, _)| !function[*handle].is_empty())
+        .filter_map(|(_, var)| var.binding.as_ref().map(|b| (b.group, b.binding)))
+        .collect())
+}
