@@ -12,6 +12,7 @@ pub mod gpu;
 pub mod iobox;
 pub mod model;
 pub mod module_file;
+pub mod module_scope;
 pub mod monitors;
 pub mod nodes;
 pub mod shader_watch;

@@ -183,7 +183,7 @@ pub struct EditorDoc {
     /// The inline subpatch being edited, by the chain of definition names from the top (empty: the top).
     pub(crate) scope: Vec<String>,
     /// Subpatch files opened in place (`module_file.rs`): their edits are part of this document.
-    pub(crate) files: crate::module_file::Modules,
+    pub(crate) files: crate::module_scope::Modules,
     undo: VecDeque<Entry>,
     redo: Vec<Entry>,
     next_serial: u64,
@@ -224,13 +224,13 @@ impl EditorDoc {
     pub(crate) fn reindex(&mut self) {
         self.generation += 1;
         // An undo can take away the subpatch being shown: show the deepest one left.
-        self.scope.truncate(crate::module_file::existing_depth(
+        self.scope.truncate(crate::module_scope::existing_depth(
             &self.top,
             &self.files,
             &self.scope,
         ));
         self.node_index.clear();
-        let patch = crate::module_file::doc_at(&self.top, &self.files, &self.scope);
+        let patch = crate::module_scope::doc_at(&self.top, &self.files, &self.scope);
         for (i, n) in patch.nodes.iter().enumerate() {
             // The first of duplicate ids wins, as in the network compiler.
             self.node_index.entry(n.id).or_insert(i);
@@ -256,11 +256,11 @@ impl EditorDoc {
     /// The document the canvas shows: the top patch, or the inline subpatch
     /// opened in it ([`EditorDoc::scope`]).
     pub fn patch(&self) -> &Patch {
-        crate::module_file::doc_at(&self.top, &self.files, &self.scope)
+        crate::module_scope::doc_at(&self.top, &self.files, &self.scope)
     }
 
     pub(crate) fn viewed_mut(&mut self) -> &mut Patch {
-        crate::module_file::doc_at_mut(&mut self.top, &mut self.files, &self.scope)
+        crate::module_scope::doc_at_mut(&mut self.top, &mut self.files, &self.scope)
     }
 
     /// The whole patch, as saved and run.

@@ -9,6 +9,7 @@ pub mod document;
 pub mod format;
 pub mod network;
 pub mod node;
+pub mod pin;
 pub mod registry;
 pub mod runtime;
 pub mod snapshot;

@@ -7,7 +7,7 @@ use std::sync::Arc;
 use thiserror::Error;
 
 use crate::clock::FrameClock;
-use crate::registry::PinDef;
+use crate::pin::PinDef;
 use crate::spread::{SliceValue, Spread};
 
 /// An error of one node's evaluation. The node outputs nothing that frame;

@@ -6,29 +6,13 @@
 //! Types made at run time (shader files, subpatches) have owned names and are
 //! swapped in place with [`Registry::replace`] when their source changes.
 
-use std::borrow::Cow;
 use std::collections::BTreeMap;
 use std::sync::Arc;
 
 use crate::node::{EvalContext, Node, NodeError};
+pub use crate::pin::{Name, PinDef};
 use crate::spread::{SliceValue, Spread, map1, map2, map3, map4};
 use crate::value::{EnumDef, PinType};
-
-/// A name, category or help text: `&'static str` for node types built into
-/// the binary, owned for those made at run time (no leaking on every reload).
-pub type Name = Cow<'static, str>;
-
-/// One input or output pin of a node type.
-#[derive(Clone, Debug)]
-pub struct PinDef {
-    pub name: Name,
-    pub ty: PinType,
-    /// The spread an unlinked input holds when the patch sets no value (empty for outputs).
-    pub default: Spread,
-    /// Where a number pin's values make sense (an infinite end: open): the
-    /// editor's drag values stop there and the node holds values to it.
-    pub range: Option<(f64, f64)>,
-}
 
 type Constructor = Arc<dyn Fn() -> Box<dyn Node> + Send + Sync>;
 
