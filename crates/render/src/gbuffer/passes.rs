@@ -152,25 +152,11 @@ fn visibility(
                 layout: &pipeline.get_bind_group_layout(0),
                 entries: &entries,
             });
-            let (meta, offsets, data) = world.buffers();
-            let group1 = device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("visibility: material world"),
-                layout: &pipeline.get_bind_group_layout(1),
-                entries: &[
-                    wgpu::BindGroupEntry {
-                        binding: 0,
-                        resource: meta.as_entire_binding(),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 1,
-                        resource: offsets.as_entire_binding(),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 2,
-                        resource: data.as_entire_binding(),
-                    },
-                ],
-            });
+            let group1 = world.world_bind_group(
+                &device,
+                &pipeline.get_bind_group_layout(1),
+                "visibility: material world",
+            );
             let group2 = device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("visibility: unused group"),
                 layout: &pipeline.get_bind_group_layout(2),

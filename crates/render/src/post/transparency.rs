@@ -199,25 +199,11 @@ impl Transparency {
                 });
                 let mut groups = vec![Some(group0)];
                 if let Some(world) = world {
-                    let (meta, offsets, data) = world.buffers();
-                    groups.push(Some(device.create_bind_group(&wgpu::BindGroupDescriptor {
-                        label: Some("transparency: material world"),
-                        layout: &pipeline.get_bind_group_layout(1),
-                        entries: &[
-                            wgpu::BindGroupEntry {
-                                binding: 0,
-                                resource: meta.as_entire_binding(),
-                            },
-                            wgpu::BindGroupEntry {
-                                binding: 1,
-                                resource: offsets.as_entire_binding(),
-                            },
-                            wgpu::BindGroupEntry {
-                                binding: 2,
-                                resource: data.as_entire_binding(),
-                            },
-                        ],
-                    })));
+                    groups.push(Some(world.world_bind_group(
+                        &device,
+                        &pipeline.get_bind_group_layout(1),
+                        "transparency: material world",
+                    )));
                     groups.push(Some(device.create_bind_group(&wgpu::BindGroupDescriptor {
                         label: Some("transparency: unused group"),
                         layout: &pipeline.get_bind_group_layout(2),
