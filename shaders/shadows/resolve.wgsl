@@ -2,7 +2,9 @@
 // 0 at the near plane, 1 at the far plane and where nothing was drawn).
 // from_visibility: the compute rasterizer's 64-bit words (id + 1, reversed-Z
 // depth bits), so 1 - depth. from_depth: the raster hardware's Depth32F
-// attachments, copied.
+// attachments, copied. OVER_STILL: the nearer of that and the still
+// casters' cached map (a node caches what did not move, and draws only what
+// moved over it each frame).
 #import spreadlight::camera::Camera
 
 struct Info {
@@ -15,6 +17,17 @@ struct Info {
 @group(0) @binding(2) var<uniform> camera: Camera;
 @group(0) @binding(3) var out_depth: texture_storage_2d<r32float, write>;
 @group(0) @binding(4) var<uniform> info: Info;
+#ifdef OVER_STILL
+@group(0) @binding(5) var still: texture_2d<f32>;
+#endif
+
+fn store_depth(at: vec2<u32>, drawn: f32) {
+    var d = drawn;
+#ifdef OVER_STILL
+    d = min(d, textureLoad(still, vec2<i32>(at), 0).x);
+#endif
+    textureStore(out_depth, at, vec4<f32>(d, 0.0, 0.0, 0.0));
+}
 
 @compute @workgroup_size(8, 8)
 fn from_visibility(@builtin(global_invocation_id) id: vec3<u32>) {
@@ -27,7 +40,7 @@ fn from_visibility(@builtin(global_invocation_id) id: vec3<u32>) {
     if (word.x != 0u) {
         d = clamp(1.0 - bitcast<f32>(word.y), 0.0, 1.0);
     }
-    textureStore(out_depth, id.xy, vec4<f32>(d, 0.0, 0.0, 0.0));
+    store_depth(id.xy, d);
 }
 
 @compute @workgroup_size(8, 8)
@@ -36,6 +49,5 @@ fn from_depth(@builtin(global_invocation_id) id: vec3<u32>) {
     if (id.x >= size.x || id.y >= size.y) {
         return;
     }
-    let d = textureLoad(depth, vec2<i32>(id.xy), i32(info.layer.x), 0);
-    textureStore(out_depth, id.xy, vec4<f32>(d, 0.0, 0.0, 0.0));
+    store_depth(id.xy, textureLoad(depth, vec2<i32>(id.xy), i32(info.layer.x), 0));
 }

@@ -698,3 +698,117 @@ fn a_node_changing_its_cascades_or_slices_never_reuses_a_store_of_another_layout
     .expect_err("refused");
     assert!(err.to_string().contains("too high"), "{err}");
 }
+
+#[test]
+fn still_casters_are_cached_and_only_moving_ones_drawn_over_them_with_the_same_image() {
+    let renderer = test_renderer();
+    let spot = SpotLight {
+        shadow: Some(0),
+        ..SpotLight::cone(Vec3::new(0.0, 6.0, 0.0), Vec3::NEG_Y, 12.0, 0.7, 0.8)
+            .with_light(Vec3::ONE, 300.0)
+    };
+    let lights = LightBuffer::spots(&renderer, &[spot], None).expect("valid");
+    let casting = ShadowLights::Spot(vec![(0, spot.view, spot.projection)]);
+    // The floor and a ball stay; a second ball, half over the first in the
+    // light's view, moves each frame (a layer of its own, new every frame, as
+    // a node upstream of it makes it).
+    let still = casters(&renderer, Vec3::new(0.0, 1.5, 0.0));
+    let moving = |x: f32| {
+        balls_on_floor(&renderer, &[(Vec3::new(x, 1.2, 0.3), 0.4)], 0.01, 16).expect("upload")
+    };
+    for raster in [RasterChoice::Compute, RasterChoice::Hardware] {
+        let owner = match raster {
+            RasterChoice::Compute => 21,
+            _ => 22,
+        };
+        let maps = |layers: &[Arc<Layer>], owner| {
+            ShadowMaps::new(
+                &renderer,
+                owner,
+                &casting,
+                layers.to_vec(),
+                &camera(),
+                ShadowSettings {
+                    raster,
+                    ..settings(ShadowFilter::Pcf { kernel: 3 })
+                },
+            )
+            .expect("valid")
+        };
+        let expected = [
+            // Every caster is new: all drawn together.
+            ("shadow maps rendered", 1, "shadow maps reused", 0),
+            // The ball moved: the rest is cached, the ball drawn over it.
+            (
+                "shadow maps still casters cached",
+                1,
+                "shadow maps reused",
+                0,
+            ),
+            // Again: the cache serves, only the ball is drawn.
+            (
+                "shadow maps drawn over cached still casters",
+                1,
+                "shadow maps still casters cached",
+                0,
+            ),
+            (
+                "shadow maps drawn over cached still casters",
+                1,
+                "shadow maps still casters cached",
+                0,
+            ),
+        ];
+        for (frame, (counter, count, other, other_count)) in expected.into_iter().enumerate() {
+            let layers = [still[0].clone(), moving(0.5 + 0.1 * frame as f32)];
+            let (image, report) = shade(
+                &renderer,
+                &layers,
+                lights.clone(),
+                Some(maps(&layers, Some(owner))),
+            );
+            assert_eq!(
+                (report.counter(counter), report.counter(other)),
+                (count, other_count),
+                "{raster:?}, frame {frame}: {:?}",
+                report.counters
+            );
+            // The same frame drawn whole, by a recipe with no node (nothing cached).
+            let (whole, _) = shade(
+                &renderer,
+                &layers,
+                lights.clone(),
+                Some(maps(&layers, None)),
+            );
+            assert!(
+                image.pixels == whole.pixels,
+                "{raster:?}, frame {frame}: the cached still casters change nothing"
+            );
+            let (cx, cy) = (SIZE.0 / 2, SIZE.1 / 2);
+            assert!(
+                luminance(&image, cx, cy) < luminance(&image, cx + SIZE.0 / 3, cy),
+                "{raster:?}, frame {frame}: the balls still shade the floor under them"
+            );
+        }
+        // Nothing moves any more: the whole map is reused, as before.
+        let layers = [still[0].clone(), moving(0.9)];
+        shade(
+            &renderer,
+            &layers,
+            lights.clone(),
+            Some(maps(&layers, Some(owner))),
+        );
+        let (_, report) = shade(
+            &renderer,
+            &layers,
+            lights.clone(),
+            Some(maps(&layers, Some(owner))),
+        );
+        assert_eq!(
+            report.counter("shadow maps reused"),
+            1,
+            "{raster:?}: {:?}",
+            report.counters
+        );
+    }
+}

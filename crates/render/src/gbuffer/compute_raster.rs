@@ -75,6 +75,22 @@ struct BatchGroup<'p> {
     procedural: bool,
 }
 
+/// The names a rasterizer's kept buffers go by under its node: a node with
+/// several rasterizers (a shadow node's caster sets) gives each its own, so
+/// one does not overwrite another's in the same frame.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct RasterLabels {
+    pub batch: &'static str,
+    pub first_triangle: &'static str,
+}
+
+impl RasterLabels {
+    pub const G_BUFFER: RasterLabels = RasterLabels {
+        batch: "raster batch",
+        first_triangle: "first triangle per instance",
+    };
+}
+
 pub(crate) struct ComputeRaster {
     /// Per draw with triangles: its uniform and what it rasterizes.
     batches: Vec<Batch>,
@@ -83,10 +99,12 @@ pub(crate) struct ComputeRaster {
 }
 
 impl ComputeRaster {
-    /// `owner`: the node whose recipes share the raster buffers across frames.
+    /// `owner`: the node whose recipes share the raster buffers across
+    /// frames, under `labels`.
     pub(crate) fn new(
         renderer: &Renderer,
         owner: Option<u32>,
+        labels: RasterLabels,
         draws: &[Draw],
         instance_count: usize,
     ) -> Self {
@@ -104,7 +122,7 @@ impl ComputeRaster {
                 // bind groups) every frame the draws stay the same.
                 let uniform = renderer.kept_init_at(
                     owner,
-                    "raster batch",
+                    labels.batch,
                     batches.len() as u32,
                     bytemuck::bytes_of(&GpuBatch {
                         first_instance: draw.first_instance,
@@ -125,7 +143,7 @@ impl ComputeRaster {
         }
         let first_triangle = renderer.kept_init(
             owner,
-            "first triangle per instance",
+            labels.first_triangle,
             bytemuck::cast_slice(&first_triangle),
             wgpu::BufferUsages::STORAGE,
         );

@@ -349,7 +349,13 @@ impl GBuffer {
             _ => RasterMode::Compute,
         };
         let compute = (raster == RasterMode::Compute).then(|| {
-            compute_raster::ComputeRaster::new(renderer, owner, &draws, gpu_instances.len())
+            compute_raster::ComputeRaster::new(
+                renderer,
+                owner,
+                compute_raster::RasterLabels::G_BUFFER,
+                &draws,
+                gpu_instances.len(),
+            )
         });
         Arc::new(GBuffer {
             id,

@@ -235,7 +235,7 @@ pub const SHADERS: &[ShaderFile] = &[
     shader!("lighting/ssss.wgsl", ["VERTICAL"]),
     shader!("shadows/depth.wgsl", []),
     shader!("shadows/moments.wgsl", []),
-    shader!("shadows/resolve.wgsl", []),
+    shader!("shadows/resolve.wgsl", ["OVER_STILL"]),
     shader!("occlusion/linear_depth.wgsl", ["DOWNSAMPLE"]),
     shader!(
         "occlusion/ao.wgsl",

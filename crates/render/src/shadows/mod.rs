@@ -12,20 +12,23 @@
 //! the node's id). The frame report counts each decision
 //! ("shadow maps rendered", "shadow maps reused", "shadow maps culled").
 
+mod raster;
+mod store;
 pub mod views;
 
-use std::sync::{Arc, Mutex};
+use std::sync::Arc;
 
 use glam::{Mat4, Vec3};
 
 use crate::camera::CameraInput;
 use crate::error::RenderError;
 use crate::frame_graph::{FrameGraph, PassContext, TextureDesc};
-use crate::gbuffer::compute_raster::{ComputeRaster, RasterView};
-use crate::gbuffer::{Draw, Layer, RasterChoice, geometry_entries, pack_instances};
+use crate::gbuffer::{Layer, RasterChoice};
 use crate::recipe::{Recipe, next_recipe_id};
 use crate::renderer::Renderer;
-use crate::shaders::ShaderKey;
+
+use raster::{CasterSet, Job, SetKind, Target};
+use store::{MapLayout, ShadowStore, SliceContent, StoredMaps};
 
 pub use views::{Cascades, LayerView};
 
@@ -137,47 +140,6 @@ struct SlicePlan {
     culled: bool,
 }
 
-/// The maps themselves, kept by the renderer between frames.
-#[derive(Default)]
-pub(crate) struct ShadowStore(Mutex<Option<StoredMaps>>);
-
-pub(crate) struct StoredMaps {
-    layers: u32,
-    /// Layers per slice: a store laid out for other cascade counts does not fit.
-    per_slice: u32,
-    resolution: u32,
-    /// Conventional depth (0 near, 1 far) per layer, R32F: what shading samples.
-    depth: wgpu::Texture,
-    /// The hardware path's Depth32Float attachments, copied into `depth`.
-    attachments: Option<wgpu::Texture>,
-    moments: Option<wgpu::Texture>,
-    /// Per slice: what it holds (its views and casters), to reuse it.
-    contents: Vec<Option<SliceContent>>,
-    /// VSM: layers rendered this frame whose moments are still to compute.
-    pending_moments: Vec<u32>,
-}
-
-/// What a rendered slice shows: reusable while both are the same.
-#[derive(Clone)]
-struct SliceContent {
-    views: Vec<[f32; 16]>,
-    casters: Vec<Arc<Layer>>,
-    filter: ShadowFilter,
-}
-
-impl SliceContent {
-    fn same(&self, other: &SliceContent) -> bool {
-        self.views == other.views
-            && self.filter == other.filter
-            && self.casters.len() == other.casters.len()
-            && self
-                .casters
-                .iter()
-                .zip(&other.casters)
-                .all(|(a, b)| Arc::ptr_eq(a, b))
-    }
-}
-
 /// Matches `ShadowParams` in shaders/lighting/shadow_sampling.wgsl.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
@@ -188,10 +150,6 @@ struct GpuShadowParams {
     filter: [f32; 4],
 }
 
-const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
-/// What shading samples: depth as a float any pass can write.
-const MAP_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
-const MOMENTS_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg32Float;
 /// Room for one view matrix per uniform slot, at the usual offset alignment.
 const VIEW_STRIDE: u64 = 256;
 
@@ -211,12 +169,12 @@ pub struct ShadowMaps {
     /// One view matrix per uniform slot, for the depth pass.
     view_uniforms: wgpu::Buffer,
     casters: Vec<Arc<Layer>>,
-    /// The casters as the G-buffer's instances (both rasterizers read them).
-    instances: wgpu::Buffer,
-    draws: Vec<Draw>,
-    /// The compute rasterizer (where the adapter has 64-bit atomics and the
-    /// map fits one storage binding), with a camera uniform per layer.
-    compute: Option<(ComputeRaster, Vec<wgpu::Buffer>)>,
+    /// What the layers are drawn from (both rasterizers read the sets).
+    sets: Sets,
+    /// The compute rasterizer's camera uniform per layer, where it draws
+    /// the maps (the adapter has 64-bit atomics and a map fits one storage
+    /// binding); the raster hardware draws them otherwise.
+    cameras: Option<Vec<wgpu::Buffer>>,
     store: Arc<ShadowStore>,
     layers: u32,
     /// Per layer, what its resolve and moments dispatches read: (layer, VSM
@@ -237,6 +195,16 @@ impl std::fmt::Debug for ShadowMaps {
             self.per_slice
         )
     }
+}
+
+/// The casters of a recipe, as the rasterizers draw them.
+enum Sets {
+    /// All together: every caster is new, or none changed since the node's last recipe.
+    One(CasterSet),
+    /// Some casters are the node's last recipe's (still) and some are not
+    /// (moving): a slice whose views hold caches the still ones and draws
+    /// only the moving ones over them each frame.
+    Split { still: CasterSet, moving: CasterSet },
 }
 
 /// The largest map side the nodes allow.
@@ -398,17 +366,6 @@ impl ShadowMaps {
             bytemuck::bytes_of(&params),
             wgpu::BufferUsages::UNIFORM,
         );
-        let (mut gpu_instances, draws, _) = pack_instances(&casters);
-        let instance_count = gpu_instances.len();
-        if gpu_instances.is_empty() {
-            gpu_instances.push(bytemuck::Zeroable::zeroed());
-        }
-        let instances = renderer.kept_init(
-            owner,
-            "shadow casters",
-            bytemuck::cast_slice(&gpu_instances),
-            wgpu::BufferUsages::STORAGE,
-        );
         // Which rasterizer: measured on the H100 (docs/shadows.md), compute
         // is faster up to 1024 texels a side and the hardware beyond, where
         // 4 bytes a texel of depth is all the raster writes.
@@ -419,8 +376,9 @@ impl ShadowMaps {
             RasterChoice::Hardware => false,
             RasterChoice::Auto => res <= 1024,
         };
-        let compute = (renderer.gpu.has_compute_raster() && fits && wants_compute).then(|| {
-            let cameras = (0..layers)
+        let compute = renderer.gpu.has_compute_raster() && fits && wants_compute;
+        let cameras = compute.then(|| {
+            (0..layers)
                 .map(|layer| {
                     let vp = all_views(&plans, per, layer);
                     let camera = CameraInput {
@@ -436,16 +394,25 @@ impl ShadowMaps {
                         wgpu::BufferUsages::UNIFORM,
                     )
                 })
-                .collect();
-            (
-                ComputeRaster::new(renderer, owner, &draws, instance_count),
-                cameras,
-            )
+                .collect()
         });
         // A node's maps outlive its recipes; a recipe without a node keeps its own.
         let store = match owner {
             Some(node) => renderer.state::<ShadowStore>(u64::from(node)),
             None => Arc::new(ShadowStore::default()),
+        };
+        let sets = match store.split(&casters) {
+            Some((still, moving)) => Sets::Split {
+                still: CasterSet::new(renderer, owner, SetKind::Still, still, compute),
+                moving: CasterSet::new(renderer, owner, SetKind::Moving, moving, compute),
+            },
+            None => Sets::One(CasterSet::new(
+                renderer,
+                owner,
+                SetKind::All,
+                casters.clone(),
+                compute,
+            )),
         };
         let kind = match lights {
             ShadowLights::Spot(_) => crate::lighting::LightKind::Spot,
@@ -478,9 +445,8 @@ impl ShadowMaps {
             params,
             view_uniforms,
             casters,
-            instances,
-            draws,
-            compute,
+            sets,
+            cameras,
             store,
             layers,
             layer_info,
@@ -509,7 +475,7 @@ impl ShadowMaps {
 
     /// The stored depth array (and VSM moments), once the pass has run.
     pub(crate) fn textures(&self) -> Option<(wgpu::Texture, Option<wgpu::Texture>)> {
-        let guard = self.store.0.lock().unwrap_or_else(|e| e.into_inner());
+        let guard = self.store.maps.lock().unwrap_or_else(|e| e.into_inner());
         guard.as_ref().map(|m| (m.depth.clone(), m.moments.clone()))
     }
 
@@ -521,21 +487,24 @@ impl ShadowMaps {
     fn render(&self, cx: &mut PassContext<'_>, renderer: &Renderer) -> Result<(), RenderError> {
         let device = cx.gpu.device.clone();
         let vsm = matches!(self.settings.filter, ShadowFilter::Vsm { .. });
-        let mut guard = self.store.0.lock().unwrap_or_else(|e| e.into_inner());
-        let fits = guard.as_ref().is_some_and(|m| {
-            m.layers == self.layers
-                && m.per_slice == self.per_slice
-                && m.resolution == self.settings.resolution
-                && m.moments.is_some() == vsm
-                && m.attachments.is_some() == self.compute.is_none()
-        });
-        if !fits {
-            *guard = Some(self.allocate(&device, vsm));
+        let layout = MapLayout {
+            layers: self.layers,
+            per_slice: self.per_slice,
+            resolution: self.settings.resolution,
+            vsm,
+            hardware: self.cameras.is_none(),
+        };
+        let mut guard = self.store.maps.lock().unwrap_or_else(|e| e.into_inner());
+        if guard.as_ref().is_none_or(|m| m.layout != layout) {
+            *guard = Some(StoredMaps::allocate(&device, layout));
         }
         let Some(maps) = guard.as_mut() else {
             return Ok(());
         };
-        let mut rendered = Vec::new();
+        // Layers drawn from every caster; layers whose still casters are
+        // cached this frame; layers drawn from the moving casters over them.
+        let (mut full, mut still, mut over) = (Vec::new(), Vec::new(), Vec::new());
+        let mut rendered = 0;
         for plan in &self.plans {
             if plan.culled {
                 cx.count("shadow maps culled", 1);
@@ -550,340 +519,94 @@ impl ShadowMaps {
                 casters: self.casters.clone(),
                 filter: self.settings.filter,
             };
-            let Some(slot) = maps.contents.get_mut(plan.slice as usize) else {
+            let slice = plan.slice as usize;
+            let Some(slot) = maps.contents.get(slice) else {
                 continue;
             };
             if slot.as_ref().is_some_and(|c| c.same(&content)) {
                 cx.count("shadow maps reused", 1);
                 continue;
             }
-            *slot = Some(content);
-            rendered.push(plan);
+            let layers = (0..plan.views.len() as u32).map(|k| plan.slice * self.per_slice + k);
+            match &self.sets {
+                Sets::Split { still: set, .. } => {
+                    let still_content = SliceContent {
+                        casters: set.casters.clone(),
+                        ..content.clone()
+                    };
+                    let cached = maps.still_contents[slice]
+                        .as_ref()
+                        .is_some_and(|c| c.same(&still_content));
+                    // Views that held since the slice was last drawn are
+                    // likely to hold on: worth caching the still casters for.
+                    // Views that move (a sun's cascades following a moving
+                    // camera) would only pay for a second raster.
+                    let steady = slot.as_ref().is_some_and(|c| c.same_views(&content));
+                    if cached {
+                        cx.count("shadow maps drawn over cached still casters", 1);
+                        over.extend(layers);
+                    } else if steady {
+                        cx.count("shadow maps still casters cached", 1);
+                        maps.still_contents[slice] = Some(still_content);
+                        still.extend(layers.clone());
+                        over.extend(layers);
+                    } else {
+                        full.extend(layers);
+                    }
+                }
+                Sets::One(_) => full.extend(layers),
+            }
+            maps.contents[slice] = Some(content);
+            rendered += 1;
         }
-        if rendered.is_empty() {
+        if rendered == 0 {
             return Ok(());
         }
-        cx.count("shadow maps rendered", rendered.len() as u64);
-        let layers: Vec<u32> = rendered
-            .iter()
-            .flat_map(|plan| (0..plan.views.len() as u32).map(|k| plan.slice * self.per_slice + k))
-            .collect();
-        match &self.compute {
-            Some((raster, cameras)) => {
-                self.raster_compute(cx, renderer, maps, raster, cameras, &layers)?
-            }
-            None => self.raster_hardware(cx, renderer, maps, &layers)?,
+        cx.count("shadow maps rendered", rendered);
+        // Every caster together, made here only where split sets must draw a whole slice.
+        let all_set;
+        let mut jobs = Vec::new();
+        if !full.is_empty() {
+            let set = match &self.sets {
+                Sets::One(set) => set,
+                Sets::Split { .. } => {
+                    all_set = CasterSet::new(
+                        renderer,
+                        self.owner,
+                        SetKind::All,
+                        self.casters.clone(),
+                        self.cameras.is_some(),
+                    );
+                    &all_set
+                }
+            };
+            jobs.extend(full.iter().map(|&layer| Job {
+                set,
+                layer,
+                target: Target::Map,
+            }));
+        }
+        if let Sets::Split { still: s, moving } = &self.sets {
+            // The still caches first: the layers drawn over them read them.
+            jobs.extend(still.iter().map(|&layer| Job {
+                set: s,
+                layer,
+                target: Target::Still,
+            }));
+            jobs.extend(over.iter().map(|&layer| Job {
+                set: moving,
+                layer,
+                target: Target::MapOverStill,
+            }));
+        }
+        match &self.cameras {
+            Some(cameras) => self.raster_compute(cx, renderer, maps, cameras, &jobs)?,
+            None => self.raster_hardware(cx, renderer, maps, &jobs)?,
         }
         if vsm {
-            maps.pending_moments = layers;
+            maps.pending_moments = full.into_iter().chain(over).collect();
         }
         Ok(())
-    }
-
-    /// Each layer through the compute rasterizer, then its depth into the map.
-    fn raster_compute(
-        &self,
-        cx: &mut PassContext<'_>,
-        renderer: &Renderer,
-        maps: &StoredMaps,
-        raster: &ComputeRaster,
-        cameras: &[wgpu::Buffer],
-        layers: &[u32],
-    ) -> Result<(), RenderError> {
-        let device = cx.gpu.device.clone();
-        let res = self.settings.resolution;
-        let key = ShaderKey::new("shadows/resolve.wgsl", []);
-        let pipeline = cx
-            .shaders
-            .compute_pipeline(&device, &key, "from_visibility")?;
-        for &layer in layers {
-            let view = RasterView {
-                camera: &cameras[layer as usize],
-                instances: &self.instances,
-                size: (res, res),
-                two_sided: true,
-            };
-            let visibility = raster.record_view(&view, renderer, cx, None)?;
-            let out = layer_view(&maps.depth, layer);
-            let all = [
-                (0, visibility.as_entire_binding()),
-                (2, cameras[layer as usize].as_entire_binding()),
-                (3, wgpu::BindingResource::TextureView(&out)),
-            ];
-            let group =
-                cx.shaders
-                    .bind_group(&device, &key, "from_visibility", &pipeline, 0, &all)?;
-            cx.dispatch(
-                "shadow depth from visibility",
-                &pipeline,
-                &[&group],
-                (res.div_ceil(8), res.div_ceil(8), 1),
-            );
-        }
-        Ok(())
-    }
-
-    /// Each layer through the raster hardware into a depth attachment, then into the map.
-    fn raster_hardware(
-        &self,
-        cx: &mut PassContext<'_>,
-        renderer: &Renderer,
-        maps: &StoredMaps,
-        layers: &[u32],
-    ) -> Result<(), RenderError> {
-        let device = cx.gpu.device.clone();
-        let Some(attachments) = &maps.attachments else {
-            return Err(RenderError::Pass {
-                pass: "shadow depth".to_owned(),
-                message: "no depth attachments for the raster hardware".to_owned(),
-            });
-        };
-        let key = ShaderKey::new("shadows/depth.wgsl", []);
-        let pipeline = cx
-            .shaders
-            .render_pipeline(&device, &key, "depth32f", |module| {
-                device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                    label: Some("shadow depth"),
-                    layout: None,
-                    vertex: wgpu::VertexState {
-                        module,
-                        entry_point: Some("vs"),
-                        compilation_options: Default::default(),
-                        buffers: &[],
-                    },
-                    // Both faces: open meshes (a plane) must cast too.
-                    primitive: wgpu::PrimitiveState::default(),
-                    depth_stencil: Some(wgpu::DepthStencilState {
-                        format: DEPTH_FORMAT,
-                        depth_write_enabled: Some(true),
-                        depth_compare: Some(wgpu::CompareFunction::Less),
-                        stencil: Default::default(),
-                        // Slope-scaled bias against acne on surfaces at grazing angles.
-                        bias: wgpu::DepthBiasState {
-                            constant: 0,
-                            slope_scale: 1.5,
-                            clamp: 0.0,
-                        },
-                    }),
-                    multisample: Default::default(),
-                    fragment: None,
-                    multiview_mask: None,
-                    cache: None,
-                })
-            })?;
-        let (vertices, indices, _) = renderer.meshes.buffers();
-        let mut work = Vec::new();
-        for &layer in layers {
-            let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("shadow depth"),
-                layout: &pipeline.get_bind_group_layout(0),
-                entries: &geometry_entries(
-                    wgpu::BindingResource::Buffer(wgpu::BufferBinding {
-                        buffer: &self.view_uniforms,
-                        offset: u64::from(layer) * VIEW_STRIDE,
-                        size: std::num::NonZeroU64::new(64),
-                    }),
-                    &vertices,
-                    &indices,
-                    &self.instances,
-                ),
-            });
-            work.push((group, layer_view(attachments, layer)));
-        }
-        let mut draws = 0;
-        // Time the whole set as one: the first pass writes the beginning, the last the end.
-        let pair = cx.render_timestamps();
-        let last = work.len().saturating_sub(1);
-        for (index, (group, view)) in work.iter().enumerate() {
-            let timestamps = pair.as_ref().and_then(|p| {
-                let begin = (index == 0)
-                    .then_some(p.beginning_of_pass_write_index)
-                    .flatten();
-                let end = (index == last)
-                    .then_some(p.end_of_pass_write_index)
-                    .flatten();
-                (begin.is_some() || end.is_some()).then_some(wgpu::RenderPassTimestampWrites {
-                    query_set: p.query_set,
-                    beginning_of_pass_write_index: begin,
-                    end_of_pass_write_index: end,
-                })
-            });
-            let mut pass = cx.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("shadow depth"),
-                color_attachments: &[],
-                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                    view,
-                    depth_ops: Some(wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(1.0),
-                        store: wgpu::StoreOp::Store,
-                    }),
-                    stencil_ops: None,
-                }),
-                timestamp_writes: timestamps,
-                occlusion_query_set: None,
-                multiview_mask: None,
-            });
-            pass.set_pipeline(&pipeline);
-            pass.set_bind_group(0, group, &[]);
-            for draw in self
-                .draws
-                .iter()
-                .filter(|d| d.instance_count > 0 && d.index_count > 0)
-            {
-                pass.draw(
-                    0..draw.index_count,
-                    draw.first_instance..draw.first_instance + draw.instance_count,
-                );
-                draws += 1;
-            }
-        }
-        cx.draws += draws;
-        // Into the sampled map, a dispatch per layer.
-        let key = ShaderKey::new("shadows/resolve.wgsl", []);
-        let pipeline = cx.shaders.compute_pipeline(&device, &key, "from_depth")?;
-        let res = self.settings.resolution;
-        let depth = attachments.create_view(&wgpu::TextureViewDescriptor {
-            dimension: Some(wgpu::TextureViewDimension::D2Array),
-            aspect: wgpu::TextureAspect::DepthOnly,
-            ..Default::default()
-        });
-        for &layer in layers {
-            let info = &self.layer_info[layer as usize];
-            let out = layer_view(&maps.depth, layer);
-            let all = [
-                (1, wgpu::BindingResource::TextureView(&depth)),
-                (3, wgpu::BindingResource::TextureView(&out)),
-                (4, info.as_entire_binding()),
-            ];
-            let group = cx
-                .shaders
-                .bind_group(&device, &key, "from_depth", &pipeline, 0, &all)?;
-            cx.dispatch(
-                "shadow depth copy",
-                &pipeline,
-                &[&group],
-                (res.div_ceil(8), res.div_ceil(8), 1),
-            );
-        }
-        Ok(())
-    }
-
-    /// VSM's second pass: moments of the layers the render pass just drew.
-    fn moments_pass(&self, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
-        if !matches!(self.settings.filter, ShadowFilter::Vsm { .. }) {
-            return Ok(());
-        }
-        let mut guard = self.store.0.lock().unwrap_or_else(|e| e.into_inner());
-        let Some(maps) = guard.as_mut() else {
-            return Ok(());
-        };
-        let layers = std::mem::take(&mut maps.pending_moments);
-        match (&maps.moments, layers.is_empty()) {
-            (Some(moments), false) => self.moments(cx, &maps.depth, moments, &layers),
-            _ => Ok(()),
-        }
-    }
-
-    /// VSM: the depth layers just rendered as blurred moments of linear depth.
-    fn moments(
-        &self,
-        cx: &mut PassContext<'_>,
-        depth: &wgpu::Texture,
-        moments: &wgpu::Texture,
-        layers: &[u32],
-    ) -> Result<(), RenderError> {
-        let device = cx.gpu.device.clone();
-        let key = ShaderKey::new("shadows/moments.wgsl", []);
-        let pipeline = cx.shaders.compute_pipeline(&device, &key, "main")?;
-        let depth_view = depth.create_view(&wgpu::TextureViewDescriptor {
-            dimension: Some(wgpu::TextureViewDimension::D2Array),
-            ..Default::default()
-        });
-        let res = self.settings.resolution;
-        let mut groups = Vec::new();
-        for &layer in layers {
-            let out = moments.create_view(&wgpu::TextureViewDescriptor {
-                dimension: Some(wgpu::TextureViewDimension::D2),
-                base_array_layer: layer,
-                array_layer_count: Some(1),
-                ..Default::default()
-            });
-            let info = &self.layer_info[layer as usize];
-            let all = [
-                (0, wgpu::BindingResource::TextureView(&depth_view)),
-                (1, self.views.as_entire_binding()),
-                (2, info.as_entire_binding()),
-                (3, wgpu::BindingResource::TextureView(&out)),
-            ];
-            groups.push(
-                cx.shaders
-                    .bind_group(&device, &key, "main", &pipeline, 0, &all)?,
-            );
-        }
-        let timestamps = cx.compute_timestamps();
-        let mut pass = cx.encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some("shadow moments"),
-            timestamp_writes: timestamps,
-        });
-        pass.set_pipeline(&pipeline);
-        for group in &groups {
-            pass.set_bind_group(0, group, &[]);
-            pass.dispatch_workgroups(res.div_ceil(8), res.div_ceil(8), 1);
-        }
-        Ok(())
-    }
-
-    fn allocate(&self, device: &wgpu::Device, vsm: bool) -> StoredMaps {
-        let size = wgpu::Extent3d {
-            width: self.settings.resolution,
-            height: self.settings.resolution,
-            depth_or_array_layers: self.layers,
-        };
-        let depth = device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("shadow maps"),
-            size,
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: MAP_FORMAT,
-            usage: wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::TEXTURE_BINDING,
-            view_formats: &[],
-        });
-        let attachments = self.compute.is_none().then(|| {
-            device.create_texture(&wgpu::TextureDescriptor {
-                label: Some("shadow depth attachments"),
-                size,
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
-                format: DEPTH_FORMAT,
-                usage: wgpu::TextureUsages::RENDER_ATTACHMENT
-                    | wgpu::TextureUsages::TEXTURE_BINDING,
-                view_formats: &[],
-            })
-        });
-        let moments = vsm.then(|| {
-            device.create_texture(&wgpu::TextureDescriptor {
-                label: Some("shadow moments"),
-                size,
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
-                format: MOMENTS_FORMAT,
-                usage: wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::TEXTURE_BINDING,
-                view_formats: &[],
-            })
-        });
-        StoredMaps {
-            layers: self.layers,
-            per_slice: self.per_slice,
-            resolution: self.settings.resolution,
-            depth,
-            attachments,
-            moments,
-            contents: vec![None; (self.layers / self.per_slice) as usize],
-            pending_moments: Vec::new(),
-        }
     }
 }
 

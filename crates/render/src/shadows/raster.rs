@@ -1,0 +1,419 @@
+//! Drawing shadow-map layers: a set of casters through the compute
+//! rasterizer or the raster hardware, then its depth into the map shading
+//! samples (or into the still casters' cache, or over it), and VSM's moments.
+
+use std::sync::Arc;
+
+use crate::error::RenderError;
+use crate::frame_graph::PassContext;
+use crate::gbuffer::compute_raster::{ComputeRaster, RasterLabels, RasterView};
+use crate::gbuffer::{Draw, Layer, geometry_entries, pack_instances};
+use crate::renderer::Renderer;
+use crate::shaders::ShaderKey;
+
+use super::store::{DEPTH_FORMAT, StoredMaps};
+use super::{ShadowFilter, ShadowMaps, VIEW_STRIDE, layer_view};
+
+/// Casters drawn together: their instances, their draws and, where the
+/// compute rasterizer draws the maps, its batches over them.
+pub(super) struct CasterSet {
+    pub casters: Vec<Arc<Layer>>,
+    instances: wgpu::Buffer,
+    draws: Vec<Draw>,
+    compute: Option<ComputeRaster>,
+}
+
+/// Which of a node's caster sets: each keeps its buffers under its own names.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) enum SetKind {
+    /// Every caster: what a slice is drawn from when nothing is cached.
+    All,
+    /// The casters unchanged since the node's last recipe.
+    Still,
+    /// The casters new or changed since then.
+    Moving,
+}
+
+impl SetKind {
+    fn instances_label(self) -> &'static str {
+        match self {
+            SetKind::All => "shadow casters",
+            SetKind::Still => "shadow casters (still)",
+            SetKind::Moving => "shadow casters (moving)",
+        }
+    }
+
+    fn raster_labels(self) -> RasterLabels {
+        match self {
+            SetKind::All => RasterLabels {
+                batch: "shadow raster batch",
+                first_triangle: "shadow first triangle",
+            },
+            SetKind::Still => RasterLabels {
+                batch: "shadow raster batch (still)",
+                first_triangle: "shadow first triangle (still)",
+            },
+            SetKind::Moving => RasterLabels {
+                batch: "shadow raster batch (moving)",
+                first_triangle: "shadow first triangle (moving)",
+            },
+        }
+    }
+}
+
+impl CasterSet {
+    /// `compute`: the compute rasterizer draws the maps.
+    pub fn new(
+        renderer: &Renderer,
+        owner: Option<u32>,
+        kind: SetKind,
+        casters: Vec<Arc<Layer>>,
+        compute: bool,
+    ) -> CasterSet {
+        let (mut gpu_instances, draws, _) = pack_instances(&casters);
+        let instance_count = gpu_instances.len();
+        if gpu_instances.is_empty() {
+            gpu_instances.push(bytemuck::Zeroable::zeroed());
+        }
+        let instances = renderer.kept_init(
+            owner,
+            kind.instances_label(),
+            bytemuck::cast_slice(&gpu_instances),
+            wgpu::BufferUsages::STORAGE,
+        );
+        let compute = compute.then(|| {
+            ComputeRaster::new(
+                renderer,
+                owner,
+                kind.raster_labels(),
+                &draws,
+                instance_count,
+            )
+        });
+        CasterSet {
+            casters,
+            instances,
+            draws,
+            compute,
+        }
+    }
+}
+
+/// Where a layer's depth goes.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) enum Target {
+    /// The map shading samples.
+    Map,
+    /// The still casters' cache.
+    Still,
+    /// The map: the nearer of what is drawn and the still casters' cache.
+    MapOverStill,
+}
+
+/// One layer to draw from one set of casters.
+pub(super) struct Job<'s> {
+    pub set: &'s CasterSet,
+    pub layer: u32,
+    pub target: Target,
+}
+
+impl ShadowMaps {
+    fn resolve_key(target: Target) -> ShaderKey {
+        ShaderKey::new(
+            "shadows/resolve.wgsl",
+            (target == Target::MapOverStill).then_some("OVER_STILL"),
+        )
+    }
+
+    /// The texture a job writes and, over the still cache, the one it reads.
+    fn outputs(
+        maps: &mut StoredMaps,
+        device: &wgpu::Device,
+        target: Target,
+    ) -> (wgpu::Texture, Option<wgpu::Texture>) {
+        match target {
+            Target::Map => (maps.depth.clone(), None),
+            Target::Still => (maps.still(device), None),
+            Target::MapOverStill => (maps.depth.clone(), Some(maps.still(device))),
+        }
+    }
+
+    /// Each job's layer through the compute rasterizer, then its depth into its target.
+    pub(super) fn raster_compute(
+        &self,
+        cx: &mut PassContext<'_>,
+        renderer: &Renderer,
+        maps: &mut StoredMaps,
+        cameras: &[wgpu::Buffer],
+        jobs: &[Job<'_>],
+    ) -> Result<(), RenderError> {
+        let device = cx.gpu.device.clone();
+        let res = self.settings.resolution;
+        for job in jobs {
+            let Some(raster) = &job.set.compute else {
+                continue;
+            };
+            let camera = &cameras[job.layer as usize];
+            let view = RasterView {
+                camera,
+                instances: &job.set.instances,
+                size: (res, res),
+                two_sided: true,
+            };
+            let visibility = raster.record_view(&view, renderer, cx, None)?;
+            let key = Self::resolve_key(job.target);
+            let pipeline = cx
+                .shaders
+                .compute_pipeline(&device, &key, "from_visibility")?;
+            let (out, under) = Self::outputs(maps, &device, job.target);
+            let out = layer_view(&out, job.layer);
+            let under = under.map(|t| layer_view(&t, job.layer));
+            let mut all = vec![
+                (0, visibility.as_entire_binding()),
+                (2, camera.as_entire_binding()),
+                (3, wgpu::BindingResource::TextureView(&out)),
+            ];
+            if let Some(under) = &under {
+                all.push((5, wgpu::BindingResource::TextureView(under)));
+            }
+            let group =
+                cx.shaders
+                    .bind_group(&device, &key, "from_visibility", &pipeline, 0, &all)?;
+            cx.dispatch(
+                "shadow depth from visibility",
+                &pipeline,
+                &[&group],
+                (res.div_ceil(8), res.div_ceil(8), 1),
+            );
+        }
+        Ok(())
+    }
+
+    /// The jobs through the raster hardware into depth attachments, then
+    /// into their targets. A job drawing the still cache must come first:
+    /// a layer's attachment is drawn again by its moving casters after.
+    pub(super) fn raster_hardware(
+        &self,
+        cx: &mut PassContext<'_>,
+        renderer: &Renderer,
+        maps: &mut StoredMaps,
+        jobs: &[Job<'_>],
+    ) -> Result<(), RenderError> {
+        let (still, rest): (Vec<&Job<'_>>, Vec<&Job<'_>>) =
+            jobs.iter().partition(|j| j.target == Target::Still);
+        for phase in [still, rest] {
+            if !phase.is_empty() {
+                self.raster_hardware_phase(cx, renderer, maps, &phase)?;
+            }
+        }
+        Ok(())
+    }
+
+    fn raster_hardware_phase(
+        &self,
+        cx: &mut PassContext<'_>,
+        renderer: &Renderer,
+        maps: &mut StoredMaps,
+        jobs: &[&Job<'_>],
+    ) -> Result<(), RenderError> {
+        let device = cx.gpu.device.clone();
+        let Some(attachments) = maps.attachments.clone() else {
+            return Err(RenderError::Pass {
+                pass: "shadow depth".to_owned(),
+                message: "no depth attachments for the raster hardware".to_owned(),
+            });
+        };
+        let key = ShaderKey::new("shadows/depth.wgsl", []);
+        let pipeline = cx
+            .shaders
+            .render_pipeline(&device, &key, "depth32f", |module| {
+                device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                    label: Some("shadow depth"),
+                    layout: None,
+                    vertex: wgpu::VertexState {
+                        module,
+                        entry_point: Some("vs"),
+                        compilation_options: Default::default(),
+                        buffers: &[],
+                    },
+                    // Both faces: open meshes (a plane) must cast too.
+                    primitive: wgpu::PrimitiveState::default(),
+                    depth_stencil: Some(wgpu::DepthStencilState {
+                        format: DEPTH_FORMAT,
+                        depth_write_enabled: Some(true),
+                        depth_compare: Some(wgpu::CompareFunction::Less),
+                        stencil: Default::default(),
+                        // Slope-scaled bias against acne on surfaces at grazing angles.
+                        bias: wgpu::DepthBiasState {
+                            constant: 0,
+                            slope_scale: 1.5,
+                            clamp: 0.0,
+                        },
+                    }),
+                    multisample: Default::default(),
+                    fragment: None,
+                    multiview_mask: None,
+                    cache: None,
+                })
+            })?;
+        let (vertices, indices, _) = renderer.meshes.buffers();
+        let mut work = Vec::new();
+        for job in jobs {
+            let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("shadow depth"),
+                layout: &pipeline.get_bind_group_layout(0),
+                entries: &geometry_entries(
+                    wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                        buffer: &self.view_uniforms,
+                        offset: u64::from(job.layer) * VIEW_STRIDE,
+                        size: std::num::NonZeroU64::new(64),
+                    }),
+                    &vertices,
+                    &indices,
+                    &job.set.instances,
+                ),
+            });
+            work.push((group, layer_view(&attachments, job.layer), &job.set.draws));
+        }
+        let mut draws = 0;
+        // Time the whole set as one: the first pass writes the beginning, the last the end.
+        let pair = cx.render_timestamps();
+        let last = work.len().saturating_sub(1);
+        for (index, (group, view, set_draws)) in work.iter().enumerate() {
+            let timestamps = pair.as_ref().and_then(|p| {
+                let begin = (index == 0)
+                    .then_some(p.beginning_of_pass_write_index)
+                    .flatten();
+                let end = (index == last)
+                    .then_some(p.end_of_pass_write_index)
+                    .flatten();
+                (begin.is_some() || end.is_some()).then_some(wgpu::RenderPassTimestampWrites {
+                    query_set: p.query_set,
+                    beginning_of_pass_write_index: begin,
+                    end_of_pass_write_index: end,
+                })
+            });
+            let mut pass = cx.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("shadow depth"),
+                color_attachments: &[],
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                    view,
+                    depth_ops: Some(wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(1.0),
+                        store: wgpu::StoreOp::Store,
+                    }),
+                    stencil_ops: None,
+                }),
+                timestamp_writes: timestamps,
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            pass.set_pipeline(&pipeline);
+            pass.set_bind_group(0, group, &[]);
+            for draw in set_draws
+                .iter()
+                .filter(|d| d.instance_count > 0 && d.index_count > 0)
+            {
+                pass.draw(
+                    0..draw.index_count,
+                    draw.first_instance..draw.first_instance + draw.instance_count,
+                );
+                draws += 1;
+            }
+        }
+        cx.draws += draws;
+        // Into the targets, a dispatch per layer.
+        let res = self.settings.resolution;
+        let depth = attachments.create_view(&wgpu::TextureViewDescriptor {
+            dimension: Some(wgpu::TextureViewDimension::D2Array),
+            aspect: wgpu::TextureAspect::DepthOnly,
+            ..Default::default()
+        });
+        for job in jobs {
+            let key = Self::resolve_key(job.target);
+            let pipeline = cx.shaders.compute_pipeline(&device, &key, "from_depth")?;
+            let info = &self.layer_info[job.layer as usize];
+            let (out, under) = Self::outputs(maps, &device, job.target);
+            let out = layer_view(&out, job.layer);
+            let under = under.map(|t| layer_view(&t, job.layer));
+            let mut all = vec![
+                (1, wgpu::BindingResource::TextureView(&depth)),
+                (3, wgpu::BindingResource::TextureView(&out)),
+                (4, info.as_entire_binding()),
+            ];
+            if let Some(under) = &under {
+                all.push((5, wgpu::BindingResource::TextureView(under)));
+            }
+            let group = cx
+                .shaders
+                .bind_group(&device, &key, "from_depth", &pipeline, 0, &all)?;
+            cx.dispatch(
+                "shadow depth copy",
+                &pipeline,
+                &[&group],
+                (res.div_ceil(8), res.div_ceil(8), 1),
+            );
+        }
+        Ok(())
+    }
+
+    /// VSM's second pass: moments of the layers the render pass just drew.
+    pub(super) fn moments_pass(&self, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
+        if !matches!(self.settings.filter, ShadowFilter::Vsm { .. }) {
+            return Ok(());
+        }
+        let mut guard = self.store.maps.lock().unwrap_or_else(|e| e.into_inner());
+        let Some(maps) = guard.as_mut() else {
+            return Ok(());
+        };
+        let layers = std::mem::take(&mut maps.pending_moments);
+        match (&maps.moments, layers.is_empty()) {
+            (Some(moments), false) => self.moments(cx, &maps.depth, moments, &layers),
+            _ => Ok(()),
+        }
+    }
+
+    /// VSM: the depth layers just rendered as blurred moments of linear depth.
+    fn moments(
+        &self,
+        cx: &mut PassContext<'_>,
+        depth: &wgpu::Texture,
+        moments: &wgpu::Texture,
+        layers: &[u32],
+    ) -> Result<(), RenderError> {
+        let device = cx.gpu.device.clone();
+        let key = ShaderKey::new("shadows/moments.wgsl", []);
+        let pipeline = cx.shaders.compute_pipeline(&device, &key, "main")?;
+        let depth_view = depth.create_view(&wgpu::TextureViewDescriptor {
+            dimension: Some(wgpu::TextureViewDimension::D2Array),
+            ..Default::default()
+        });
+        let res = self.settings.resolution;
+        let mut groups = Vec::new();
+        for &layer in layers {
+            let out = layer_view(moments, layer);
+            let info = &self.layer_info[layer as usize];
+            let all = [
+                (0, wgpu::BindingResource::TextureView(&depth_view)),
+                (1, self.views.as_entire_binding()),
+                (2, info.as_entire_binding()),
+                (3, wgpu::BindingResource::TextureView(&out)),
+            ];
+            groups.push(
+                cx.shaders
+                    .bind_group(&device, &key, "main", &pipeline, 0, &all)?,
+            );
+        }
+        let timestamps = cx.compute_timestamps();
+        let mut pass = cx.encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("shadow moments"),
+            timestamp_writes: timestamps,
+        });
+        pass.set_pipeline(&pipeline);
+        for group in &groups {
+            pass.set_bind_group(0, group, &[]);
+            pass.dispatch_workgroups(res.div_ceil(8), res.div_ceil(8), 1);
+        }
+        Ok(())
+    }
+}
