@@ -124,8 +124,11 @@ fn transform(@builtin(global_invocation_id) id: vec3<u32>) {
     view_lights[id.x] = vec4<f32>(view.xyz, light.position_range.w);
 }
 
-// A light's froxels are shared among a workgroup's 64 lanes: a big light
-// near the camera can touch thousands, and one thread each would serialize them.
+// A light's froxels are shared among the 64 lanes of each of its workgroups
+// (z: how many a light gets): a big light near the camera can touch
+// thousands, and one thread each would serialize them. A frame with few
+// lights gives each many workgroups, so a handful of big spots does not
+// leave the GPU idle while 64 lanes walk 16,000 froxels each.
 const LANES: u32 = 64u;
 
 fn light_of(wid: vec3<u32>) -> u32 {
@@ -133,7 +136,11 @@ fn light_of(wid: vec3<u32>) -> u32 {
 }
 
 @compute @workgroup_size(64)
-fn count(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation_index) lane: u32) {
+fn count(
+    @builtin(workgroup_id) wid: vec3<u32>,
+    @builtin(num_workgroups) groups: vec3<u32>,
+    @builtin(local_invocation_index) lane: u32,
+) {
     let index = light_of(wid);
     if (index >= grid.dims.w) {
         return;
@@ -142,7 +149,7 @@ fn count(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation_index)
     let range = froxels(light);
     let extent = max(range[1] - range[0] + 1, vec3<i32>(0));
     let total = u32(extent.x * extent.y * extent.z);
-    for (var k = lane; k < total; k += LANES) {
+    for (var k = lane + wid.z * LANES; k < total; k += LANES * groups.z) {
         let x = range[0].x + i32(k % u32(extent.x));
         let y = range[0].y + i32((k / u32(extent.x)) % u32(extent.y));
         let z = range[0].z + i32(k / u32(extent.x * extent.y));
@@ -193,7 +200,11 @@ fn scan(@builtin(local_invocation_index) lane: u32) {
 }
 
 @compute @workgroup_size(64)
-fn fill(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation_index) lane: u32) {
+fn fill(
+    @builtin(workgroup_id) wid: vec3<u32>,
+    @builtin(num_workgroups) groups: vec3<u32>,
+    @builtin(local_invocation_index) lane: u32,
+) {
     let index = light_of(wid);
     if (index >= grid.dims.w) {
         return;
@@ -203,7 +214,7 @@ fn fill(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation_index) 
     let range = froxels(light);
     let extent = max(range[1] - range[0] + 1, vec3<i32>(0));
     let total = u32(extent.x * extent.y * extent.z);
-    for (var k = lane; k < total; k += LANES) {
+    for (var k = lane + wid.z * LANES; k < total; k += LANES * groups.z) {
         let x = range[0].x + i32(k % u32(extent.x));
         let y = range[0].y + i32((k / u32(extent.x)) % u32(extent.y));
         let z = range[0].z + i32(k / u32(extent.x * extent.y));

@@ -235,12 +235,17 @@ impl CookTorrance {
             let group = cx
                 .shaders
                 .bind_group(&device, &key, step, &pipeline, 0, &all)?;
-            // transform: a thread per light; count and fill: a workgroup per light
-            // (x up to 65,535, then y); scan: one workgroup.
+            // transform: a thread per light; count and fill: workgroups per
+            // light (x up to 65,535, then y; z splits a light's froxels);
+            // scan: one workgroup.
             let groups = match *step {
-                "scan" => (1, 1),
-                "transform" => (count.div_ceil(64).max(1), 1),
-                _ => (count.clamp(1, 65_535), count.div_ceil(65_535).max(1)),
+                "scan" => (1, 1, 1),
+                "transform" => (count.div_ceil(64).max(1), 1, 1),
+                _ => (
+                    count.clamp(1, 65_535),
+                    count.div_ceil(65_535).max(1),
+                    workgroups_per_light(count),
+                ),
             };
             work.push((pipeline, group, groups));
         }
@@ -252,7 +257,7 @@ impl CookTorrance {
         for (pipeline, group, groups) in &work {
             pass.set_pipeline(pipeline);
             pass.set_bind_group(0, group, &[]);
-            pass.dispatch_workgroups(groups.0, groups.1, 1);
+            pass.dispatch_workgroups(groups.0, groups.1, groups.2);
         }
         Ok(())
     }
@@ -470,4 +475,12 @@ impl Recipe for CookTorrance {
             move |cx| self.shade(cx),
         );
     }
+}
+
+/// How many workgroups share each light's froxels when `lights` are
+/// assigned: enough that a few lights still fill the GPU (three big spots
+/// took 0.22 ms at one workgroup each on the H100, walking 16,000 froxels
+/// 64 at a time), one where lights alone are plenty.
+fn workgroups_per_light(lights: u32) -> u32 {
+    (16_384 / lights.max(1)).clamp(1, 64)
 }
