@@ -74,23 +74,37 @@ fn coc(@builtin(global_invocation_id) id: vec3<u32>) {
     textureStore(coc_out, id.xy, vec4<f32>(clamp(0.5 * c, -radius, radius), inv_z, 0.0, 0.0));
 }
 
+var<workgroup> partial_max: array<f32, 64>;
+
+// One 8x8 workgroup per tile (dispatched per tile, not per pixel): its 64
+// lanes stride over the pixels of the tile and its neighbours, then reduce in
+// workgroup memory. A thread per tile walking up to 3k x 3k pixels alone left
+// the GPU nearly idle (0.29 ms at 1080p on the H100).
 @compute @workgroup_size(8, 8)
-fn tiles(@builtin(global_invocation_id) id: vec3<u32>) {
-    let size = textureDimensions(tiles_out);
-    if (id.x >= size.x || id.y >= size.y) {
-        return;
-    }
+fn tiles(@builtin(workgroup_id) tile: vec3<u32>, @builtin(local_invocation_index) lane: u32) {
     let k = i32(params.limits.z);
     let full = vec2<i32>(textureDimensions(coc_in));
-    let lo = max((vec2<i32>(id.xy) - 1) * k, vec2<i32>(0));
-    let hi = min((vec2<i32>(id.xy) + 2) * k, full);
+    let lo = max((vec2<i32>(tile.xy) - 1) * k, vec2<i32>(0));
+    let hi = min((vec2<i32>(tile.xy) + 2) * k, full);
+    let local = vec2<i32>(i32(lane % 8u), i32(lane / 8u));
     var m = 0.0;
-    for (var y = lo.y; y < hi.y; y++) {
-        for (var x = lo.x; x < hi.x; x++) {
+    for (var y = lo.y + local.y; y < hi.y; y += 8) {
+        for (var x = lo.x + local.x; x < hi.x; x += 8) {
             m = max(m, abs(textureLoad(coc_in, vec2<i32>(x, y), 0).r));
         }
     }
-    textureStore(tiles_out, id.xy, vec4<f32>(m, 0.0, 0.0, 0.0));
+    partial_max[lane] = m;
+    workgroupBarrier();
+    for (var step = 32u; step > 0u; step = step / 2u) {
+        if (lane < step) {
+            partial_max[lane] = max(partial_max[lane], partial_max[lane + step]);
+        }
+        workgroupBarrier();
+    }
+    let size = textureDimensions(tiles_out);
+    if (lane == 0u && tile.x < size.x && tile.y < size.y) {
+        textureStore(tiles_out, tile.xy, vec4<f32>(partial_max[0], 0.0, 0.0, 0.0));
+    }
 }
 
 fn shape(offset: vec2<f32>) -> f32 {

@@ -47,25 +47,50 @@ fn longest(a: vec2<f32>, b: vec2<f32>) -> vec2<f32> {
     return select(a, b, dot(b, b) > dot(a, a));
 }
 
+// Per lane: the longest velocity it saw (xy) and the first pixel (row-major
+// index, z) where it saw it, so ties go to the first pixel as a serial walk would.
+var<workgroup> partial_longest: array<vec3<f32>, 64>;
+
+fn longest_first(a: vec3<f32>, b: vec3<f32>) -> vec3<f32> {
+    let la = dot(a.xy, a.xy);
+    let lb = dot(b.xy, b.xy);
+    return select(a, b, lb > la || (lb == la && b.z < a.z));
+}
+
+// One 8x8 workgroup per tile (dispatched per tile, not per pixel): its 64
+// lanes stride over the tile, then reduce in workgroup memory (a thread per
+// tile walking K x K pixels alone left the GPU nearly idle).
 @compute @workgroup_size(8, 8)
-fn tile_max(@builtin(global_invocation_id) id: vec3<u32>) {
-    let size = textureDimensions(tiles_out);
-    if (id.x >= size.x || id.y >= size.y) {
-        return;
-    }
+fn tile_max(@builtin(workgroup_id) tile: vec3<u32>, @builtin(local_invocation_index) lane: u32) {
     let k = i32(params.settings.y);
     let full = vec2<i32>(textureDimensions(velocity_uv));
-    let origin = vec2<i32>(id.xy) * k;
-    var m = vec2<f32>(0.0);
-    for (var y = 0; y < k; y++) {
-        for (var x = 0; x < k; x++) {
-            let p = origin + vec2<i32>(x, y);
-            if (p.x < full.x && p.y < full.y) {
-                m = longest(m, velocity_at(p));
+    let origin = vec2<i32>(tile.xy) * k;
+    let hi = min(origin + k, full);
+    let local = vec2<i32>(i32(lane % 8u), i32(lane / 8u));
+    // Row-major index within the tile; pixels past the edge are never read.
+    var m = vec3<f32>(0.0, 0.0, f32(k * k));
+    for (var y = origin.y + local.y; y < hi.y; y += 8) {
+        for (var x = origin.x + local.x; x < hi.x; x += 8) {
+            let at = f32((y - origin.y) * k + (x - origin.x));
+            let v = velocity_at(vec2<i32>(x, y));
+            // Within a lane, pixels come in row-major order: keep the first of ties.
+            if (dot(v, v) > dot(m.xy, m.xy) || (at < m.z && dot(v, v) == dot(m.xy, m.xy))) {
+                m = vec3<f32>(v, at);
             }
         }
     }
-    textureStore(tiles_out, id.xy, vec4<f32>(m, 0.0, 0.0));
+    partial_longest[lane] = m;
+    workgroupBarrier();
+    for (var step = 32u; step > 0u; step = step / 2u) {
+        if (lane < step) {
+            partial_longest[lane] = longest_first(partial_longest[lane], partial_longest[lane + step]);
+        }
+        workgroupBarrier();
+    }
+    let size = textureDimensions(tiles_out);
+    if (lane == 0u && tile.x < size.x && tile.y < size.y) {
+        textureStore(tiles_out, tile.xy, vec4<f32>(partial_longest[0].xy, 0.0, 0.0));
+    }
 }
 
 @compute @workgroup_size(8, 8)

@@ -260,7 +260,12 @@ impl Dof {
                 _ => &self.coc,
             },
         )?;
-        super::dispatch_entry(cx, entry, &self.key(), entry, &all, size)?;
+        if entry == "tiles" {
+            // A workgroup per tile: its lanes share the tile's pixels.
+            super::dispatch_groups(cx, entry, &self.key(), entry, &all, size)?;
+        } else {
+            super::dispatch_entry(cx, entry, &self.key(), entry, &all, size)?;
+        }
         if entry == "main" {
             cx.count(BLURRED, 1);
         }

@@ -48,17 +48,32 @@ pub(crate) fn dispatch_entry(
     bindings: &[(u32, wgpu::BindingResource<'_>)],
     size: (u32, u32),
 ) -> Result<(), RenderError> {
+    dispatch_groups(
+        cx,
+        label,
+        key,
+        entry,
+        bindings,
+        (size.0.div_ceil(8), size.1.div_ceil(8)),
+    )
+}
+
+/// `entry` in `groups` workgroups: [`dispatch_entry`]'s one per 8x8
+/// texels, or a tile pass's one per tile (whose lanes share the tile's pixels).
+pub(crate) fn dispatch_groups(
+    cx: &mut PassContext<'_>,
+    label: &str,
+    key: &ShaderKey,
+    entry: &'static str,
+    bindings: &[(u32, wgpu::BindingResource<'_>)],
+    groups: (u32, u32),
+) -> Result<(), RenderError> {
     let device = cx.gpu.device.clone();
     let pipeline = cx.shaders.compute_pipeline(&device, key, entry)?;
     let group = cx
         .shaders
         .bind_group(&device, key, entry, &pipeline, 0, bindings)?;
-    cx.dispatch(
-        label,
-        &pipeline,
-        &[&group],
-        (size.0.div_ceil(8), size.1.div_ceil(8), 1),
-    );
+    cx.dispatch(label, &pipeline, &[&group], (groups.0, groups.1, 1));
     Ok(())
 }
 

@@ -129,7 +129,13 @@ impl MotionBlur {
                 .map(|(b, v)| (*b, wgpu::BindingResource::TextureView(v))),
         );
         let size = super::size_of(cx, write.1)?;
-        super::dispatch_entry(cx, entry, &ShaderKey::new(SHADER, []), entry, &all, size)
+        let key = ShaderKey::new(SHADER, []);
+        if entry == "tile_max" {
+            // A workgroup per tile: its lanes share the tile's pixels.
+            super::dispatch_groups(cx, entry, &key, entry, &all, size)
+        } else {
+            super::dispatch_entry(cx, entry, &key, entry, &all, size)
+        }
     }
 }
 
