@@ -162,40 +162,52 @@ fn count(
 var<workgroup> partial: array<u32, 256>;
 
 // Exclusive prefix sum of the counts into offsets, then counts are reset to
-// serve as fill cursors. One workgroup: each thread sums a contiguous run of
-// froxels, the 256 run totals are scanned in shared memory (8 steps), and
-// each thread writes its run's offsets. Two passes over the counts and a
-// handful of barriers, whatever the froxel count.
+// serve as fill cursors. One workgroup walks the froxels 1,024 at a time:
+// each thread takes four neighbours (so the workgroup's loads are
+// contiguous), the 256 sums are scanned in shared memory (8 steps), and the
+// total carries on to the next 1,024. Each thread walking a run of its own
+// (64 froxels at 1080p) made every load of a warp touch 32 cache lines, one
+// after another: 0.07 ms on the H100 whatever the light count.
 @compute @workgroup_size(256)
 fn scan(@builtin(local_invocation_index) lane: u32) {
     let n = grid.dims.x * grid.dims.y * grid.dims.z;
-    let per = (n + 255u) / 256u;
-    let start = min(lane * per, n);
-    let end = min(start + per, n);
-    var sum = 0u;
-    for (var i = start; i < end; i++) {
-        sum += atomicLoad(&counts[i]);
-    }
-    partial[lane] = sum;
-    workgroupBarrier();
-    for (var step = 1u; step < 256u; step *= 2u) {
-        var add = 0u;
-        if (lane >= step) {
-            add = partial[lane - step];
+    var carry = 0u;
+    for (var base = 0u; base < n; base += 1024u) {
+        var mine = array<u32, 4>(0u, 0u, 0u, 0u);
+        var sum = 0u;
+        for (var j = 0u; j < 4u; j++) {
+            let i = base + lane * 4u + j;
+            if (i < n) {
+                mine[j] = atomicLoad(&counts[i]);
+                sum += mine[j];
+            }
         }
+        partial[lane] = sum;
         workgroupBarrier();
-        partial[lane] += add;
+        for (var step = 1u; step < 256u; step *= 2u) {
+            var add = 0u;
+            if (lane >= step) {
+                add = partial[lane - step];
+            }
+            workgroupBarrier();
+            partial[lane] += add;
+            workgroupBarrier();
+        }
+        var running = carry + partial[lane] - sum;
+        for (var j = 0u; j < 4u; j++) {
+            let i = base + lane * 4u + j;
+            if (i < n) {
+                offsets[i] = running;
+                running += mine[j];
+                atomicStore(&counts[i], 0u);
+            }
+        }
+        carry += partial[255];
+        // Every thread has read partial[255] before the next round writes it.
         workgroupBarrier();
-    }
-    var running = partial[lane] - sum;
-    for (var i = start; i < end; i++) {
-        let c = atomicLoad(&counts[i]);
-        offsets[i] = running;
-        running += c;
-        atomicStore(&counts[i], 0u);
     }
     if (lane == 255u) {
-        atomicStore(&totals[0], partial[255]);
+        atomicStore(&totals[0], carry);
     }
 }
 

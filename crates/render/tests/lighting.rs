@@ -104,6 +104,17 @@ fn shade_buffer(
     lights: Arc<LightBuffer>,
     mode: LightLoop,
 ) -> ImageF32 {
+    shade_buffer_at(renderer, g, lights, mode, SIZE)
+}
+
+/// [`shade_buffer`] at `size`.
+fn shade_buffer_at(
+    renderer: &Renderer,
+    g: &Arc<GBuffer>,
+    lights: Arc<LightBuffer>,
+    mode: LightLoop,
+    size: (u32, u32),
+) -> ImageF32 {
     let ct = CookTorrance::new(
         renderer,
         Some(1),
@@ -113,7 +124,7 @@ fn shade_buffer(
         true,
         Surfaces::PerMaterialId(vec![(0.5, 0.0)]),
     );
-    let [d, s] = frame(renderer, ct.as_ref(), SIZE, [&ct.diffuse, &ct.specular]);
+    let [d, s] = frame(renderer, ct.as_ref(), size, [&ct.diffuse, &ct.specular]);
     assert!(
         d.all_finite() && s.all_finite(),
         "no NaN or infinity in the HDR targets"
@@ -189,6 +200,40 @@ fn clustered_shading_matches_the_naive_reference() {
     assert!(
         naive.pixels.iter().any(|p| p[0] > 0.01),
         "the lights light something"
+    );
+}
+
+#[test]
+fn clustered_shading_matches_the_naive_reference_past_one_round_of_the_froxel_scan() {
+    // 704 x 256: 11 x 4 tiles x 32 slices = 1,408 froxels; the scan sums
+    // 1,024 a round and carries the total into the next.
+    let size = (704, 256);
+    let renderer = test_renderer();
+    let g = scene(&renderer);
+    let lights = scattered(60);
+    let shade = |mode| {
+        shade_buffer_at(
+            &renderer,
+            &g,
+            LightBuffer::points(&renderer, &lights),
+            mode,
+            size,
+        )
+    };
+    let (naive, clustered) = (shade(LightLoop::Naive), shade(LightLoop::Clustered));
+    let worst = max_relative_difference(&clustered, &naive);
+    assert!(
+        worst < 1e-3,
+        "clustered differs from naive by up to {worst}"
+    );
+    // Not a dark frame that would match anything: the lights reach across the screen.
+    let lit_right = (0..size.1)
+        .flat_map(|y| (size.0 / 2..size.0).map(move |x| (x, y)))
+        .filter(|&(x, y)| naive.pixels[(y * size.0 + x) as usize][0] > 0.01)
+        .count();
+    assert!(
+        lit_right > 100,
+        "the lights light the right half ({lit_right} pixels)"
     );
 }
 
