@@ -208,6 +208,8 @@ pub struct EditorApp {
     last_autosave: f64,
     recovery_written: bool,
     recovery_offer: Option<PathBuf>,
+    /// The subpatch files whose autosaved edits the offer restores too.
+    recovery_offer_modules: Vec<PathBuf>,
     pending: Option<Pending>,
     allow_close: bool,
     dialog: Option<FilePicker>,
@@ -314,6 +316,7 @@ impl EditorApp {
             last_autosave: 0.0,
             recovery_written: false,
             recovery_offer: None,
+            recovery_offer_modules: Vec::new(),
             pending: None,
             allow_close: false,
             dialog: None,
@@ -341,6 +344,12 @@ impl EditorApp {
             None => {}
         }
         app.recovery_offer = files::pending_recovery(app.path.as_deref(), &app.options.config_dir);
+        if let Some(recovery) = &app.recovery_offer {
+            // What cannot be read is said when restoring; the offer lists what can.
+            app.recovery_offer_modules = files::load_module_recovery(recovery)
+                .map(|m| m.edits.into_iter().map(|e| e.path).collect())
+                .unwrap_or_default();
+        }
         app
     }
 
