@@ -284,6 +284,25 @@ impl Input {
         })
     }
 
+    /// Where `window` is on the screen, and its size: (x, y, width, height).
+    fn geometry(&self, window: u32) -> (i16, i16, i16, i16) {
+        use x11rb::protocol::xproto::ConnectionExt;
+        let size = self
+            .conn
+            .get_geometry(window)
+            .expect("request")
+            .reply()
+            .expect("geometry");
+        let at = self
+            .conn
+            .translate_coordinates(window, self.root, 0, 0)
+            .expect("request")
+            .reply()
+            .expect("position");
+        let side = |v: u16| i16::try_from(v).expect("on screen");
+        (at.dst_x, at.dst_y, side(size.width), side(size.height))
+    }
+
     /// Give `window` the keyboard, as a window manager would on a click.
     fn focus(&self, window: u32) {
         use x11rb::connection::Connection;
@@ -420,6 +439,112 @@ fn an_edit_survives_killing_the_editor_and_is_offered_back() {
         &[patch.to_str().expect("utf-8"), "--measure-frames", "3"],
     );
     assert_eq!(report["recovery_offered"], true, "{report}");
+}
+
+/// The same inside a subpatch file opened in place: double-click the module
+/// node, make the edit inside it; once the subpatch files' autosave holds it,
+/// SIGKILL. The module file is untouched and the next start offers its edits.
+#[test]
+fn an_edit_inside_an_opened_module_file_survives_killing_the_editor() {
+    use spreadlight_graph::{NodeDoc, Patch, format};
+    let x = Xvfb::start();
+    let dir = tempfile::tempdir().expect("tempdir");
+    // A long type name makes a node wide enough to hit at the canvas's centre,
+    // where the fitted view puts a lone node.
+    let name = "CrashTestModuleWithAWideTitle";
+    let mut module = Patch::default();
+    module.add(NodeDoc::new(1, "Inlet").with("Name", vec!["In".to_owned()]));
+    module.add(
+        NodeDoc::new(2, "Outlet")
+            .at(0.0, 60.0)
+            .with("Name", vec!["Out".to_owned()]),
+    );
+    module.link(1, "Output", 2, "Input");
+    std::fs::create_dir(dir.path().join("modules")).expect("mkdir");
+    let module_file = dir.path().join(format!("modules/{name}.ron"));
+    format::save(&module, &module_file).expect("save");
+    let mut top = Patch::default();
+    top.add(NodeDoc::new(1, name));
+    let patch = dir.path().join("crash.ron");
+    format::save(&top, &patch).expect("save");
+    let modules_autosave = dir.path().join(".crash.ron.modules.autosave");
+    let mut editor = Command::new(env!("CARGO_BIN_EXE_spreadlight"))
+        .arg("edit")
+        .arg(&patch)
+        .env("DISPLAY", &x.display)
+        .env_remove("WAYLAND_DISPLAY")
+        .env("XDG_RUNTIME_DIR", std::env::temp_dir())
+        .env("SPREADLIGHT_CONFIG_DIR", dir.path().join("config"))
+        .env("SPREADLIGHT_LIBRARY", dir.path().join("library"))
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .expect("the editor starts");
+    let input = Input::connect(&x);
+    let waited = std::time::Instant::now();
+    let window = loop {
+        if let Some(window) = input.shown_window(400, 300) {
+            break window;
+        }
+        assert!(
+            waited.elapsed().as_secs() < 60,
+            "no editor window after a minute"
+        );
+        std::thread::sleep(std::time::Duration::from_millis(200));
+    };
+    std::thread::sleep(std::time::Duration::from_secs(3));
+    input.focus(window);
+    // The canvas is the window less the side panel (360 points and its
+    // margins) on the right; the lone node sits at its centre.
+    let (x0, y0, w, h) = input.geometry(window);
+    input.double_click(x0 + (w - 376) / 2, y0 + h / 2);
+    std::thread::sleep(std::time::Duration::from_secs(1));
+    // Inside the module (fitted at the centre too), an empty spot: a new LFO.
+    input.double_click(x0 + 200, y0 + 200);
+    std::thread::sleep(std::time::Duration::from_millis(500));
+    for key in [u32::from(b'l'), u32::from(b'f'), u32::from(b'o')] {
+        input.key(key);
+    }
+    const RETURN: u32 = 0xff0d;
+    input.key(RETURN);
+    let edited = std::time::Instant::now();
+    while !modules_autosave.exists() {
+        if edited.elapsed().as_secs() >= 20 {
+            let shot = std::env::temp_dir().join("spreadlight-module-crash-test.png");
+            input.shot(&shot);
+            panic!(
+                "no autosave of the module's edit 20 s after it; the screen: {}",
+                shot.display()
+            );
+        }
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    }
+    // The patch's own recovery file is written right after (a restart looks for it).
+    std::thread::sleep(std::time::Duration::from_millis(500));
+    editor.kill().expect("SIGKILL");
+    editor.wait().expect("reaped");
+    let text = std::fs::read_to_string(&modules_autosave).expect("readable");
+    assert!(
+        text.contains(name) && text.contains("\"LFO\""),
+        "the module's edit is in its autosave: {text}"
+    );
+    assert_eq!(
+        format::load(&module_file).expect("the module file"),
+        module,
+        "the module file itself is not written before a save"
+    );
+    let recovery = format::load(&dir.path().join(".crash.ron.autosave")).expect("a whole patch");
+    assert_eq!(
+        recovery, top,
+        "the edit was inside the module, not in the patch"
+    );
+    let report = run_editor(
+        &x,
+        dir.path(),
+        &[patch.to_str().expect("utf-8"), "--measure-frames", "3"],
+    );
+    assert_eq!(report["recovery_offered"], true, "{report}");
+    assert_eq!(report["recovery_module_files"], 1, "{report}");
 }
 
 /// `spreadlight play` shows the patch's Output alone: a borderless window the
