@@ -1,5 +1,6 @@
 //! The document model's commands, each with its undo.
 use super::*;
+use spreadlight_graph::PinType;
 
 fn registry() -> Registry {
     spreadlight_nodes::registry()
