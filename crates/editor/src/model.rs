@@ -11,12 +11,10 @@ use std::collections::{HashMap, VecDeque};
 use spreadlight_graph::{LinkDoc, NodeDoc, NodeId, Patch, PinRef, Registry, Spread};
 
 mod command;
-mod edits;
-mod links;
+pub mod edits;
+pub mod links;
 
 pub use command::{Command, NodeMove};
-pub use edits::Clip;
-pub use links::LinkError;
 
 struct Entry {
     label: String,

@@ -1,4 +1,5 @@
 //! The document model's commands, each with its undo.
+use super::links::LinkError;
 use super::*;
 use spreadlight_graph::PinType;
 
