@@ -294,7 +294,7 @@ mod tests {
         set_modified(&b, SystemTime::now() + std::time::Duration::from_secs(60));
         let loaded = load_module_recovery(&rec).expect("reads");
         assert_eq!(loaded.edits, edits[..1]);
-        assert_eq!(loaded.stale, [b.clone()]);
+        assert_eq!(loaded.stale, [b]);
 
         // No edits left: the file goes; so does it with the patch's recovery.
         write_module_recovery(&[], &rec).expect("removes");

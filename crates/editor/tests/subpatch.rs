@@ -342,7 +342,10 @@ fn unsaved_edits_inside_a_subpatch_file_are_recovered_after_a_crash_unsaved() {
 
     let mut h = reopen(&dir);
     assert!(h.state().recovery_offered());
-    assert_eq!(h.state().recovery_offered_modules(), [file.clone()]);
+    assert_eq!(
+        h.state().recovery_offered_modules(),
+        std::slice::from_ref(&file)
+    );
     assert!(
         h.state().doc().module_files().is_empty(),
         "nothing restored before the answer"
@@ -400,7 +403,10 @@ fn discarding_the_recovery_drops_the_subpatch_files_edits_too() {
         assert!(modules.exists());
     }
     let mut h = reopen(&dir);
-    assert_eq!(h.state().recovery_offered_modules(), [file.clone()]);
+    assert_eq!(
+        h.state().recovery_offered_modules(),
+        std::slice::from_ref(&file)
+    );
     h.get_by_label("Discard").click();
     h.run();
     assert!(!recovery.exists() && !modules.exists(), "both autosaves go");
