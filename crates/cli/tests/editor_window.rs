@@ -3,52 +3,15 @@
 //! CI). Like the GPU tests, these fail rather than skip when the machine lacks
 //! what they need: install Xvfb with `apt-get install xvfb` (`.ci/run` does).
 
-use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
-use std::process::{Child, Command, Stdio};
+use std::process::{Command, Stdio};
+
+mod xwindow;
+
+use xwindow::{Input, Xvfb};
 
 fn root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
-
-/// A private X server on a free display, stopped when dropped.
-struct Xvfb {
-    child: Child,
-    display: String,
-}
-
-impl Xvfb {
-    fn start() -> Xvfb {
-        let mut child = Command::new("Xvfb")
-            .args([
-                "-displayfd",
-                "1",
-                "-screen",
-                "0",
-                "1920x1080x24",
-                "-nolisten",
-                "tcp",
-            ])
-            .stdout(Stdio::piped())
-            .stderr(Stdio::null())
-            .spawn()
-            .expect("Xvfb runs (install it: apt-get install xvfb)");
-        // With -displayfd, Xvfb picks a free display and writes its number once it is ready.
-        let mut line = String::new();
-        BufReader::new(child.stdout.take().expect("stdout"))
-            .read_line(&mut line)
-            .expect("Xvfb reports its display");
-        let display = format!(":{}", line.trim());
-        assert!(display.len() > 1, "Xvfb gave no display number");
-        Xvfb { child, display }
-    }
-}
-
-impl Drop for Xvfb {
-    fn drop(&mut self) {
-        let _ = self.child.kill();
-        let _ = self.child.wait();
-    }
 }
 
 /// Run the editor on `patch` in the virtual display; returns its JSON report.
@@ -233,141 +196,6 @@ fn ui_frame_times_while_a_heavy_patch_plays() {
     );
 }
 
-/// A user's mouse and keyboard on the virtual display, through XTEST.
-struct Input {
-    conn: x11rb::rust_connection::RustConnection,
-    root: u32,
-    keysyms: Vec<u32>,
-    per_keycode: usize,
-    min_keycode: u8,
-}
-
-impl Input {
-    fn connect(x: &Xvfb) -> Input {
-        use x11rb::connection::Connection;
-        use x11rb::protocol::xproto::ConnectionExt;
-        let (conn, screen) = x11rb::connect(Some(&x.display)).expect("connects to Xvfb");
-        let root = conn.setup().roots[screen].root;
-        let (min, max) = (conn.setup().min_keycode, conn.setup().max_keycode);
-        let map = conn
-            .get_keyboard_mapping(min, max - min + 1)
-            .expect("request")
-            .reply()
-            .expect("keyboard mapping");
-        Input {
-            conn,
-            root,
-            keysyms: map.keysyms,
-            per_keycode: usize::from(map.keysyms_per_keycode),
-            min_keycode: min,
-        }
-    }
-
-    /// A mapped window of at least `w` x `h` (the editor, once it is up).
-    fn shown_window(&self, w: u16, h: u16) -> Option<u32> {
-        use x11rb::protocol::xproto::{ConnectionExt, MapState};
-        let tree = self.conn.query_tree(self.root).ok()?.reply().ok()?;
-        tree.children.iter().copied().find(|&win| {
-            let mapped = self
-                .conn
-                .get_window_attributes(win)
-                .ok()
-                .and_then(|c| c.reply().ok())
-                .is_some_and(|a| a.map_state == MapState::VIEWABLE);
-            let big = self
-                .conn
-                .get_geometry(win)
-                .ok()
-                .and_then(|c| c.reply().ok())
-                .is_some_and(|g| g.width >= w && g.height >= h);
-            mapped && big
-        })
-    }
-
-    /// Where `window` is on the screen, and its size: (x, y, width, height).
-    fn geometry(&self, window: u32) -> (i16, i16, i16, i16) {
-        use x11rb::protocol::xproto::ConnectionExt;
-        let size = self
-            .conn
-            .get_geometry(window)
-            .expect("request")
-            .reply()
-            .expect("geometry");
-        let at = self
-            .conn
-            .translate_coordinates(window, self.root, 0, 0)
-            .expect("request")
-            .reply()
-            .expect("position");
-        let side = |v: u16| i16::try_from(v).expect("on screen");
-        (at.dst_x, at.dst_y, side(size.width), side(size.height))
-    }
-
-    /// Give `window` the keyboard, as a window manager would on a click.
-    fn focus(&self, window: u32) {
-        use x11rb::connection::Connection;
-        use x11rb::protocol::xproto::{ConnectionExt, InputFocus};
-        self.conn
-            .set_input_focus(InputFocus::POINTER_ROOT, window, x11rb::CURRENT_TIME)
-            .expect("focus");
-        self.conn.flush().expect("flush");
-    }
-
-    /// The whole screen as a PNG (Xvfb's 24-bit screen comes as BGRX).
-    fn shot(&self, path: &Path) {
-        use x11rb::protocol::xproto::{ConnectionExt, ImageFormat};
-        let img = self
-            .conn
-            .get_image(ImageFormat::Z_PIXMAP, self.root, 0, 0, 1920, 1080, !0)
-            .expect("request")
-            .reply()
-            .expect("image");
-        let rgba: Vec<u8> = img
-            .data
-            .chunks(4)
-            .flat_map(|p| [p[2], p[1], p[0], 255])
-            .collect();
-        if let Some(image) = image::RgbaImage::from_raw(1920, 1080, rgba) {
-            let _ = image.save(path);
-        }
-    }
-
-    fn fake(&self, kind: u8, detail: u8, x: i16, y: i16) {
-        use x11rb::connection::Connection;
-        use x11rb::protocol::xtest::ConnectionExt;
-        self.conn
-            .xtest_fake_input(kind, detail, 0, self.root, x, y, 0)
-            .expect("XTEST");
-        self.conn.flush().expect("flush");
-        std::thread::sleep(std::time::Duration::from_millis(40));
-    }
-
-    fn double_click(&self, x: i16, y: i16) {
-        const MOTION: u8 = 6;
-        const PRESS: u8 = 4;
-        const RELEASE: u8 = 5;
-        self.fake(MOTION, 0, x, y);
-        for _ in 0..2 {
-            self.fake(PRESS, 1, x, y);
-            self.fake(RELEASE, 1, x, y);
-        }
-    }
-
-    /// Type a key by its X keysym (lowercase letters are their ASCII code).
-    fn key(&self, keysym: u32) {
-        const PRESS: u8 = 2;
-        const RELEASE: u8 = 3;
-        let index = self
-            .keysyms
-            .chunks(self.per_keycode)
-            .position(|syms| syms.first() == Some(&keysym))
-            .unwrap_or_else(|| panic!("no key for keysym {keysym:#x}"));
-        let code = self.min_keycode + u8::try_from(index).expect("a keycode");
-        self.fake(PRESS, code, 0, 0);
-        self.fake(RELEASE, code, 0, 0);
-    }
-}
-
 /// An edit made in the real window (double-click the canvas, type `lfo`,
 /// Enter) is in the recovery file soon after; the process killed mid-session
 /// (SIGKILL, no chance to clean up), the next start offers the recovery.
@@ -404,8 +232,11 @@ fn an_edit_survives_killing_the_editor_and_is_offered_back() {
     // Its first frames (the GPU starts) come after the window shows.
     std::thread::sleep(std::time::Duration::from_secs(3));
     input.focus(window);
+    // The node browser opens where the canvas was double-clicked.
+    let browser = (200, 200, 200, 100);
+    let before = input.region(browser.0, browser.1, browser.2, browser.3);
     input.double_click(200, 200);
-    std::thread::sleep(std::time::Duration::from_millis(500));
+    input.wait_for_change(browser, &before, "the node browser opens");
     for key in [u32::from(b'l'), u32::from(b'f'), u32::from(b'o')] {
         input.key(key);
     }
@@ -497,11 +328,18 @@ fn an_edit_inside_an_opened_module_file_survives_killing_the_editor() {
     // The canvas is the window less the side panel (360 points and its
     // margins) on the right; the lone node sits at its centre.
     let (x0, y0, w, h) = input.geometry(window);
-    input.double_click(x0 + (w - 376) / 2, y0 + h / 2);
-    std::thread::sleep(std::time::Duration::from_secs(1));
+    let (cx, cy) = (x0 + (w - 376) / 2, y0 + h / 2);
+    let node = (cx - 100, cy - 40, 200, 80);
+    // Hovering may redraw the node: only what the double-click does counts.
+    input.hover(cx, cy);
+    let before = input.region(node.0, node.1, node.2, node.3);
+    input.double_click(cx, cy);
+    input.wait_for_change(node, &before, "the module opens in place");
     // Inside the module (fitted at the centre too), an empty spot: a new LFO.
+    let browser = (x0 + 200, y0 + 200, 200, 100);
+    let before = input.region(browser.0, browser.1, browser.2, browser.3);
     input.double_click(x0 + 200, y0 + 200);
-    std::thread::sleep(std::time::Duration::from_millis(500));
+    input.wait_for_change(browser, &before, "the node browser opens");
     for key in [u32::from(b'l'), u32::from(b'f'), u32::from(b'o')] {
         input.key(key);
     }
