@@ -3,52 +3,15 @@
 //! CI). Like the GPU tests, these fail rather than skip when the machine lacks
 //! what they need: install Xvfb with `apt-get install xvfb` (`.ci/run` does).
 
-use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
-use std::process::{Child, Command, Stdio};
+use std::process::{Command, Stdio};
+
+mod xwindow;
+
+use xwindow::{Input, Xvfb};
 
 fn root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
-
-/// A private X server on a free display, stopped when dropped.
-struct Xvfb {
-    child: Child,
-    display: String,
-}
-
-impl Xvfb {
-    fn start() -> Xvfb {
-        let mut child = Command::new("Xvfb")
-            .args([
-                "-displayfd",
-                "1",
-                "-screen",
-                "0",
-                "1920x1080x24",
-                "-nolisten",
-                "tcp",
-            ])
-            .stdout(Stdio::piped())
-            .stderr(Stdio::null())
-            .spawn()
-            .expect("Xvfb runs (install it: apt-get install xvfb)");
-        // With -displayfd, Xvfb picks a free display and writes its number once it is ready.
-        let mut line = String::new();
-        BufReader::new(child.stdout.take().expect("stdout"))
-            .read_line(&mut line)
-            .expect("Xvfb reports its display");
-        let display = format!(":{}", line.trim());
-        assert!(display.len() > 1, "Xvfb gave no display number");
-        Xvfb { child, display }
-    }
-}
-
-impl Drop for Xvfb {
-    fn drop(&mut self) {
-        let _ = self.child.kill();
-        let _ = self.child.wait();
-    }
 }
 
 /// Run the editor on `patch` in the virtual display; returns its JSON report.
@@ -233,122 +196,6 @@ fn ui_frame_times_while_a_heavy_patch_plays() {
     );
 }
 
-/// A user's mouse and keyboard on the virtual display, through XTEST.
-struct Input {
-    conn: x11rb::rust_connection::RustConnection,
-    root: u32,
-    keysyms: Vec<u32>,
-    per_keycode: usize,
-    min_keycode: u8,
-}
-
-impl Input {
-    fn connect(x: &Xvfb) -> Input {
-        use x11rb::connection::Connection;
-        use x11rb::protocol::xproto::ConnectionExt;
-        let (conn, screen) = x11rb::connect(Some(&x.display)).expect("connects to Xvfb");
-        let root = conn.setup().roots[screen].root;
-        let (min, max) = (conn.setup().min_keycode, conn.setup().max_keycode);
-        let map = conn
-            .get_keyboard_mapping(min, max - min + 1)
-            .expect("request")
-            .reply()
-            .expect("keyboard mapping");
-        Input {
-            conn,
-            root,
-            keysyms: map.keysyms,
-            per_keycode: usize::from(map.keysyms_per_keycode),
-            min_keycode: min,
-        }
-    }
-
-    /// A mapped window of at least `w` x `h` (the editor, once it is up).
-    fn shown_window(&self, w: u16, h: u16) -> Option<u32> {
-        use x11rb::protocol::xproto::{ConnectionExt, MapState};
-        let tree = self.conn.query_tree(self.root).ok()?.reply().ok()?;
-        tree.children.iter().copied().find(|&win| {
-            let mapped = self
-                .conn
-                .get_window_attributes(win)
-                .ok()
-                .and_then(|c| c.reply().ok())
-                .is_some_and(|a| a.map_state == MapState::VIEWABLE);
-            let big = self
-                .conn
-                .get_geometry(win)
-                .ok()
-                .and_then(|c| c.reply().ok())
-                .is_some_and(|g| g.width >= w && g.height >= h);
-            mapped && big
-        })
-    }
-
-    /// Give `window` the keyboard, as a window manager would on a click.
-    fn focus(&self, window: u32) {
-        use x11rb::connection::Connection;
-        use x11rb::protocol::xproto::{ConnectionExt, InputFocus};
-        self.conn
-            .set_input_focus(InputFocus::POINTER_ROOT, window, x11rb::CURRENT_TIME)
-            .expect("focus");
-        self.conn.flush().expect("flush");
-    }
-
-    /// The whole screen as a PNG (Xvfb's 24-bit screen comes as BGRX).
-    fn shot(&self, path: &Path) {
-        use x11rb::protocol::xproto::{ConnectionExt, ImageFormat};
-        let img = self
-            .conn
-            .get_image(ImageFormat::Z_PIXMAP, self.root, 0, 0, 1920, 1080, !0)
-            .expect("request")
-            .reply()
-            .expect("image");
-        let rgba: Vec<u8> = img
-            .data
-            .chunks(4)
-            .flat_map(|p| [p[2], p[1], p[0], 255])
-            .collect();
-        if let Some(image) = image::RgbaImage::from_raw(1920, 1080, rgba) {
-            let _ = image.save(path);
-        }
-    }
-
-    fn fake(&self, kind: u8, detail: u8, x: i16, y: i16) {
-        use x11rb::connection::Connection;
-        use x11rb::protocol::xtest::ConnectionExt;
-        self.conn
-            .xtest_fake_input(kind, detail, 0, self.root, x, y, 0)
-            .expect("XTEST");
-        self.conn.flush().expect("flush");
-        std::thread::sleep(std::time::Duration::from_millis(40));
-    }
-
-    fn double_click(&self, x: i16, y: i16) {
-        const MOTION: u8 = 6;
-        const PRESS: u8 = 4;
-        const RELEASE: u8 = 5;
-        self.fake(MOTION, 0, x, y);
-        for _ in 0..2 {
-            self.fake(PRESS, 1, x, y);
-            self.fake(RELEASE, 1, x, y);
-        }
-    }
-
-    /// Type a key by its X keysym (lowercase letters are their ASCII code).
-    fn key(&self, keysym: u32) {
-        const PRESS: u8 = 2;
-        const RELEASE: u8 = 3;
-        let index = self
-            .keysyms
-            .chunks(self.per_keycode)
-            .position(|syms| syms.first() == Some(&keysym))
-            .unwrap_or_else(|| panic!("no key for keysym {keysym:#x}"));
-        let code = self.min_keycode + u8::try_from(index).expect("a keycode");
-        self.fake(PRESS, code, 0, 0);
-        self.fake(RELEASE, code, 0, 0);
-    }
-}
-
 /// An edit made in the real window (double-click the canvas, type `lfo`,
 /// Enter) is in the recovery file soon after; the process killed mid-session
 /// (SIGKILL, no chance to clean up), the next start offers the recovery.
@@ -385,8 +232,11 @@ fn an_edit_survives_killing_the_editor_and_is_offered_back() {
     // Its first frames (the GPU starts) come after the window shows.
     std::thread::sleep(std::time::Duration::from_secs(3));
     input.focus(window);
+    // The node browser opens where the canvas was double-clicked.
+    let browser = (200, 200, 200, 100);
+    let before = input.region(browser.0, browser.1, browser.2, browser.3);
     input.double_click(200, 200);
-    std::thread::sleep(std::time::Duration::from_millis(500));
+    input.wait_for_change(browser, &before, "the node browser opens");
     for key in [u32::from(b'l'), u32::from(b'f'), u32::from(b'o')] {
         input.key(key);
     }
@@ -420,6 +270,119 @@ fn an_edit_survives_killing_the_editor_and_is_offered_back() {
         &[patch.to_str().expect("utf-8"), "--measure-frames", "3"],
     );
     assert_eq!(report["recovery_offered"], true, "{report}");
+}
+
+/// The same inside a subpatch file opened in place: double-click the module
+/// node, make the edit inside it; once the subpatch files' autosave holds it,
+/// SIGKILL. The module file is untouched and the next start offers its edits.
+#[test]
+fn an_edit_inside_an_opened_module_file_survives_killing_the_editor() {
+    use spreadlight_graph::{NodeDoc, Patch, format};
+    let x = Xvfb::start();
+    let dir = tempfile::tempdir().expect("tempdir");
+    // A long type name makes a node wide enough to hit at the canvas's centre,
+    // where the fitted view puts a lone node.
+    let name = "CrashTestModuleWithAWideTitle";
+    let mut module = Patch::default();
+    module.add(NodeDoc::new(1, "Inlet").with("Name", vec!["In".to_owned()]));
+    module.add(
+        NodeDoc::new(2, "Outlet")
+            .at(0.0, 60.0)
+            .with("Name", vec!["Out".to_owned()]),
+    );
+    module.link(1, "Output", 2, "Input");
+    std::fs::create_dir(dir.path().join("modules")).expect("mkdir");
+    let module_file = dir.path().join(format!("modules/{name}.ron"));
+    format::save(&module, &module_file).expect("save");
+    let mut top = Patch::default();
+    top.add(NodeDoc::new(1, name));
+    let patch = dir.path().join("crash.ron");
+    format::save(&top, &patch).expect("save");
+    let modules_autosave = dir.path().join(".crash.ron.modules.autosave");
+    let mut editor = Command::new(env!("CARGO_BIN_EXE_spreadlight"))
+        .arg("edit")
+        .arg(&patch)
+        .env("DISPLAY", &x.display)
+        .env_remove("WAYLAND_DISPLAY")
+        .env("XDG_RUNTIME_DIR", std::env::temp_dir())
+        .env("SPREADLIGHT_CONFIG_DIR", dir.path().join("config"))
+        .env("SPREADLIGHT_LIBRARY", dir.path().join("library"))
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .expect("the editor starts");
+    let input = Input::connect(&x);
+    let waited = std::time::Instant::now();
+    let window = loop {
+        if let Some(window) = input.shown_window(400, 300) {
+            break window;
+        }
+        assert!(
+            waited.elapsed().as_secs() < 60,
+            "no editor window after a minute"
+        );
+        std::thread::sleep(std::time::Duration::from_millis(200));
+    };
+    std::thread::sleep(std::time::Duration::from_secs(3));
+    input.focus(window);
+    // The canvas is the window less the side panel (360 points and its
+    // margins) on the right; the lone node sits at its centre.
+    let (x0, y0, w, h) = input.geometry(window);
+    let (cx, cy) = (x0 + (w - 376) / 2, y0 + h / 2);
+    let node = (cx - 100, cy - 40, 200, 80);
+    // Hovering may redraw the node: only what the double-click does counts.
+    input.hover(cx, cy);
+    let before = input.region(node.0, node.1, node.2, node.3);
+    input.double_click(cx, cy);
+    input.wait_for_change(node, &before, "the module opens in place");
+    // Inside the module (fitted at the centre too), an empty spot: a new LFO.
+    let browser = (x0 + 200, y0 + 200, 200, 100);
+    let before = input.region(browser.0, browser.1, browser.2, browser.3);
+    input.double_click(x0 + 200, y0 + 200);
+    input.wait_for_change(browser, &before, "the node browser opens");
+    for key in [u32::from(b'l'), u32::from(b'f'), u32::from(b'o')] {
+        input.key(key);
+    }
+    const RETURN: u32 = 0xff0d;
+    input.key(RETURN);
+    let edited = std::time::Instant::now();
+    while !modules_autosave.exists() {
+        if edited.elapsed().as_secs() >= 20 {
+            let shot = std::env::temp_dir().join("spreadlight-module-crash-test.png");
+            input.shot(&shot);
+            panic!(
+                "no autosave of the module's edit 20 s after it; the screen: {}",
+                shot.display()
+            );
+        }
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    }
+    // The patch's own recovery file is written right after (a restart looks for it).
+    std::thread::sleep(std::time::Duration::from_millis(500));
+    editor.kill().expect("SIGKILL");
+    editor.wait().expect("reaped");
+    let text = std::fs::read_to_string(&modules_autosave).expect("readable");
+    assert!(
+        text.contains(name) && text.contains("\"LFO\""),
+        "the module's edit is in its autosave: {text}"
+    );
+    assert_eq!(
+        format::load(&module_file).expect("the module file"),
+        module,
+        "the module file itself is not written before a save"
+    );
+    let recovery = format::load(&dir.path().join(".crash.ron.autosave")).expect("a whole patch");
+    assert_eq!(
+        recovery, top,
+        "the edit was inside the module, not in the patch"
+    );
+    let report = run_editor(
+        &x,
+        dir.path(),
+        &[patch.to_str().expect("utf-8"), "--measure-frames", "3"],
+    );
+    assert_eq!(report["recovery_offered"], true, "{report}");
+    assert_eq!(report["recovery_module_files"], 1, "{report}");
 }
 
 /// `spreadlight play` shows the patch's Output alone: a borderless window the

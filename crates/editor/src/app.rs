@@ -30,7 +30,8 @@ mod watches;
 use crate::browser;
 use crate::canvas::{self, Canvas, CanvasNode, PinPositions, Refusal, SCALE};
 use crate::files;
-use crate::model::{Clip, EditorDoc};
+use crate::model::EditorDoc;
+use crate::model::edits::Clip;
 use crate::values;
 use crate::viewport::{Blitter, ViewportError};
 use crate::worker::{Frame, FrameWait, Request, ViewRequest, Worker, WorkerGpu};
@@ -208,6 +209,8 @@ pub struct EditorApp {
     last_autosave: f64,
     recovery_written: bool,
     recovery_offer: Option<PathBuf>,
+    /// The subpatch files whose autosaved edits the offer restores too.
+    recovery_offer_modules: Vec<PathBuf>,
     pending: Option<Pending>,
     allow_close: bool,
     dialog: Option<FilePicker>,
@@ -314,6 +317,7 @@ impl EditorApp {
             last_autosave: 0.0,
             recovery_written: false,
             recovery_offer: None,
+            recovery_offer_modules: Vec::new(),
             pending: None,
             allow_close: false,
             dialog: None,
@@ -341,6 +345,12 @@ impl EditorApp {
             None => {}
         }
         app.recovery_offer = files::pending_recovery(app.path.as_deref(), &app.options.config_dir);
+        if let Some(recovery) = &app.recovery_offer {
+            // What cannot be read is said when restoring; the offer lists what can.
+            app.recovery_offer_modules = files::load_module_recovery(recovery)
+                .map(|m| m.edits.into_iter().map(|e| e.path).collect())
+                .unwrap_or_default();
+        }
         app
     }
 

@@ -2,25 +2,30 @@
 //! each node's document id; pins, values, errors and timings are read from
 //! the document, the registry and the runtime while drawing, and every
 //! action the canvas takes goes back through [`EditorDoc`] so it is undoable.
+//!
+//! Split by concern: how it looks and where pins were drawn (`style.rs`),
+//! keeping snarl in step with the document (`sync.rs`), the wire under the
+//! pointer (`wires.rs`); here the viewer that draws and edits nodes.
 
-use std::cell::RefCell;
 use std::collections::{BTreeSet, HashMap};
-use std::rc::Rc;
 
 use egui::{Color32, Pos2, Rect, Stroke, Ui};
-use egui_snarl::ui::{PinInfo, PinShape, PinWireInfo, SnarlPin, SnarlStyle, SnarlViewer};
+use egui_snarl::ui::{PinInfo, PinShape, SnarlPin, SnarlViewer};
 use egui_snarl::{InPin, InPinId, OutPin, OutPinId, Snarl};
 use spreadlight_graph::{NodeId, PinRef, PinType, Registry, RuntimeSnapshot, Severity, Spread};
 
 use crate::model::EditorDoc;
 use crate::values;
 
-/// Canvas pixels per patch canvas unit: patches are laid out on a coarse grid
-/// (vvvv's nodes are small); snarl's nodes are larger.
-pub const SCALE: f32 = 3.0;
+mod style;
+mod sync;
+mod wires;
 
-use crate::zoom::ZOOM_RANGE;
 pub use crate::zoom::{READABLE_ZOOM, fit_view, zoom_around};
+pub use style::{PinKey, PinPositions, compact_spacing, style};
+use style::{RecordedPin, pin_color};
+pub use sync::{CanvasNode, SCALE, moved_nodes, sync};
+pub use wires::wire_under;
 
 /// Room between an output's name and its pin, which snarl draws over the row's end.
 const OUTPUT_PIN_GAP: f32 = 6.0;
@@ -28,113 +33,12 @@ const OUTPUT_PIN_GAP: f32 = 6.0;
 /// Below this zoom the canvas shows pins without their value editors (the inspector still edits).
 pub const EDITOR_MIN_ZOOM: f32 = 0.5;
 
-/// What snarl stores per node: which document node it shows.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct CanvasNode(pub NodeId);
-
-/// A pin on the canvas, by node and name: `true` for inputs.
-pub type PinKey = (NodeId, String, bool);
-
-/// Where each pin was drawn this frame, in screen points (tests drag between them).
-pub type PinPositions = Rc<RefCell<HashMap<PinKey, Pos2>>>;
-
 /// A refused link, shown where it was dropped.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Refusal {
     pub message: String,
     pub at: Pos2,
     pub since: f64,
-}
-
-/// Spacing inside nodes: rows close together, as vvvv's nodes are (the text size is unchanged).
-pub fn compact_spacing(ui: &mut Ui) {
-    let s = ui.spacing_mut();
-    s.item_spacing = egui::vec2(4.0, 1.0);
-    s.interact_size = egui::vec2(28.0, 16.0);
-    s.button_padding = egui::vec2(3.0, 0.0);
-    s.combo_width = 64.0;
-    s.icon_width = 12.0;
-    s.icon_spacing = 2.0;
-}
-
-pub fn style() -> SnarlStyle {
-    let window = egui::Style::default();
-    SnarlStyle {
-        // A tight frame and no collapse button: a node is as wide as its
-        // title and its widest row need (vvvv's nodes are small).
-        node_frame: Some(egui::Frame {
-            inner_margin: egui::Margin::symmetric(4, 2),
-            fill: window.visuals.window_fill,
-            stroke: window.visuals.window_stroke,
-            corner_radius: egui::CornerRadius::same(2),
-            ..egui::Frame::NONE
-        }),
-        header_frame: Some(egui::Frame {
-            inner_margin: egui::Margin::symmetric(4, 1),
-            fill: Color32::TRANSPARENT,
-            corner_radius: egui::CornerRadius::same(2),
-            ..egui::Frame::NONE
-        }),
-        collapsible: Some(false),
-        header_drag_space: Some(egui::vec2(2.0, 0.0)),
-        pin_size: Some(8.0),
-        // Double-click on the canvas opens the node browser, as in vvvv.
-        centering: Some(false),
-        // A patch opens at its real size, or smaller to fit; never blown up.
-        max_scale: Some(*ZOOM_RANGE.end()),
-        min_scale: Some(*ZOOM_RANGE.start()),
-        // Straight wires, as vvvv draws them; also what `wire_under` hit-tests.
-        wire_style: Some(egui_snarl::ui::WireStyle::Line),
-        // The editor keeps its own selection (click, shift-click) and draws it
-        // on the node frame; snarl's would be a second, different one.
-        select_style: Some(egui_snarl::ui::SelectionStyle {
-            margin: egui::Margin::ZERO,
-            rounding: egui::CornerRadius::ZERO,
-            fill: Color32::TRANSPARENT,
-            stroke: Stroke::NONE,
-        }),
-        ..SnarlStyle::new()
-    }
-}
-
-fn pin_color(ty: PinType) -> Color32 {
-    match ty {
-        PinType::Float | PinType::Int => Color32::from_rgb(160, 160, 160),
-        PinType::Bool => Color32::from_rgb(220, 120, 120),
-        PinType::String => Color32::from_rgb(200, 180, 120),
-        PinType::Vec2 | PinType::Vec3 | PinType::Vec4 => Color32::from_rgb(120, 180, 220),
-        PinType::Color => Color32::from_rgb(230, 140, 220),
-        PinType::Mat4 => Color32::from_rgb(120, 220, 160),
-        PinType::Enum(_) => Color32::from_rgb(200, 200, 120),
-        PinType::Resource(_) => Color32::from_rgb(240, 160, 60),
-        PinType::Any => Color32::WHITE,
-    }
-}
-
-/// A pin that remembers where it was drawn.
-pub struct RecordedPin {
-    info: PinInfo,
-    key: PinKey,
-    sink: PinPositions,
-}
-
-impl SnarlPin for RecordedPin {
-    fn draw(
-        self,
-        snarl_style: &SnarlStyle,
-        style: &egui::Style,
-        rect: Rect,
-        painter: &egui::Painter,
-    ) -> PinWireInfo {
-        let to_global = painter
-            .ctx()
-            .layer_transform_to_global(painter.layer_id())
-            .unwrap_or_default();
-        self.sink
-            .borrow_mut()
-            .insert(self.key, to_global * rect.center());
-        self.info.draw(snarl_style, style, rect, painter)
-    }
 }
 
 /// Everything the canvas reads or changes while it draws.
@@ -527,143 +431,5 @@ impl SnarlViewer<CanvasNode> for Canvas<'_> {
         if let Some((id, name, _)) = self.output_pin(snarl, pin.id) {
             self.doc.unlink_output(&PinRef(id, name.to_owned()));
         }
-    }
-}
-
-/// Bring snarl in line with the document after it changed: nodes added or
-/// removed, positions changed by undo, and wires. Between changes the canvas
-/// positions are the newer ones (a drag in progress). Keeps snarl's ids for nodes that stay, so
-/// selection and layout survive edits.
-pub fn sync(
-    snarl: &mut Snarl<CanvasNode>,
-    ids: &mut HashMap<NodeId, egui_snarl::NodeId>,
-    doc: &EditorDoc,
-    registry: &Registry,
-    doc_changed: bool,
-) {
-    if !doc_changed {
-        return;
-    }
-    let patch = doc.patch();
-    let present: HashMap<NodeId, (f32, f32)> = patch.nodes.iter().map(|n| (n.id, n.pos)).collect();
-    ids.retain(|id, sid| {
-        let keep = present.contains_key(id);
-        if !keep {
-            snarl.remove_node(*sid);
-        }
-        keep
-    });
-    for n in &patch.nodes {
-        let want = Pos2::new(n.pos.0 * SCALE, n.pos.1 * SCALE);
-        match ids.get(&n.id) {
-            Some(&sid) => {
-                // The document changed (an undone move, say): it wins.
-                if let Some(info) = snarl.get_node_info_mut(sid)
-                    && (info.pos - want).length() > 0.5 * SCALE
-                {
-                    info.pos = want;
-                }
-            }
-            None => {
-                let sid = snarl.insert_node(want, CanvasNode(n.id));
-                ids.insert(n.id, sid);
-            }
-        }
-    }
-    let mut wanted = std::collections::HashSet::new();
-    for l in &patch.links {
-        let (Some(&a), Some(&b)) = (ids.get(&l.from.node()), ids.get(&l.to.node())) else {
-            continue;
-        };
-        let def = |id: NodeId| doc.node(id).and_then(|n| registry.get(&n.type_name));
-        let (Some(da), Some(db)) = (def(l.from.node()), def(l.to.node())) else {
-            continue;
-        };
-        let (Some(o), Some(i)) = (da.output_index(l.from.pin()), db.input_index(l.to.pin())) else {
-            continue;
-        };
-        wanted.insert((
-            OutPinId { node: a, output: o },
-            InPinId { node: b, input: i },
-        ));
-    }
-    let existing: Vec<(OutPinId, InPinId)> = snarl.wires().collect();
-    for w in &existing {
-        if !wanted.contains(w) {
-            snarl.disconnect(w.0, w.1);
-        }
-    }
-    for w in wanted {
-        snarl.connect(w.0, w.1);
-    }
-}
-
-/// Moves finished on the canvas, in patch units (rounded to whole units so saved files stay clean).
-pub fn moved_nodes(snarl: &Snarl<CanvasNode>, doc: &EditorDoc) -> Vec<(NodeId, (f32, f32))> {
-    snarl
-        .nodes_pos_ids()
-        .filter_map(|(_, pos, node)| {
-            let n = doc.node(node.0)?;
-            let want = Pos2::new(n.pos.0 * SCALE, n.pos.1 * SCALE);
-            ((pos - want).length() > 0.5 * SCALE)
-                .then(|| (node.0, ((pos.x / SCALE).round(), (pos.y / SCALE).round())))
-        })
-        .collect()
-}
-
-/// The link under `pointer`, if one passes within `threshold` points of it:
-/// wires are straight lines between the pins' drawn positions.
-pub fn wire_under(
-    doc: &EditorDoc,
-    pins: &PinPositions,
-    pointer: Pos2,
-    threshold: f32,
-) -> Option<spreadlight_graph::LinkDoc> {
-    let pins = pins.borrow();
-    doc.patch()
-        .links
-        .iter()
-        .filter_map(|l| {
-            let a = *pins.get(&(l.from.node(), l.from.pin().to_owned(), false))?;
-            let b = *pins.get(&(l.to.node(), l.to.pin().to_owned(), true))?;
-            let ab = b - a;
-            let t = ((pointer - a).dot(ab) / ab.length_sq().max(1e-6)).clamp(0.0, 1.0);
-            let d = (a + ab * t - pointer).length();
-            (d < threshold).then(|| (d, l.clone()))
-        })
-        .min_by(|x, y| x.0.total_cmp(&y.0))
-        .map(|(_, l)| l)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use spreadlight_graph::{NodeDoc, Patch};
-
-    #[test]
-    fn the_wire_under_the_pointer_is_the_nearest_within_reach() {
-        let mut p = Patch::default();
-        p.add(NodeDoc::new(1, "LFO"));
-        p.add(NodeDoc::new(2, "Probe"));
-        p.add(NodeDoc::new(3, "Probe"));
-        p.link(1, "Output", 2, "Input");
-        p.link(1, "Output", 3, "Input");
-        let doc = EditorDoc::new(p);
-        let pins = PinPositions::default();
-        pins.borrow_mut()
-            .insert((NodeId(1), "Output".into(), false), Pos2::new(0.0, 0.0));
-        pins.borrow_mut()
-            .insert((NodeId(2), "Input".into(), true), Pos2::new(100.0, 0.0));
-        pins.borrow_mut()
-            .insert((NodeId(3), "Input".into(), true), Pos2::new(100.0, 100.0));
-        let hit = wire_under(&doc, &pins, Pos2::new(50.0, 3.0), 5.0).expect("a wire");
-        assert_eq!(hit.to.node(), NodeId(2));
-        let hit = wire_under(&doc, &pins, Pos2::new(50.0, 48.0), 5.0).expect("a wire");
-        assert_eq!(hit.to.node(), NodeId(3));
-        assert!(wire_under(&doc, &pins, Pos2::new(50.0, 20.0), 5.0).is_none());
-        assert!(
-            wire_under(&doc, &pins, Pos2::new(130.0, 0.0), 5.0).is_none(),
-            "not past the pin"
-        );
     }
 }

@@ -23,7 +23,9 @@ pub mod worker;
 pub mod zoom;
 
 pub use app::{EditorApp, EditorOptions};
-pub use model::{Clip, Command, EditorDoc, LinkError};
+pub use model::edits::Clip;
+pub use model::links::LinkError;
+pub use model::{Command, EditorDoc};
 pub use worker::FrameWait;
 
 use std::sync::{Arc, Mutex};

@@ -12,6 +12,7 @@ use std::path::{Path, PathBuf};
 
 use spreadlight_graph::{NodeId, Patch, format};
 
+use crate::files::ModuleEdit;
 use crate::model::EditorDoc;
 use crate::module_scope::doc_at;
 pub use crate::module_scope::{ModuleFile, Modules};
@@ -87,6 +88,43 @@ impl EditorDoc {
             }
         }
         Ok(written)
+    }
+
+    /// The subpatch files edited and not saved: what autosave keeps.
+    pub fn unsaved_module_files(&self) -> Vec<ModuleEdit> {
+        self.files
+            .iter()
+            .filter(|(_, file)| file.patch != file.saved)
+            .map(|(name, file)| ModuleEdit {
+                name: name.clone(),
+                path: file.path.clone(),
+                patch: file.patch.clone(),
+            })
+            .collect()
+    }
+
+    /// Put autosaved edits of subpatch files back, unsaved: each file as on
+    /// disk now is what saving compares against, so the file is written only
+    /// when the user saves. A file that cannot be read any more is written
+    /// again on save; its reason is returned, by path.
+    pub fn restore_module_files(&mut self, edits: Vec<ModuleEdit>) -> Vec<(PathBuf, String)> {
+        let mut unreadable = Vec::new();
+        for edit in edits {
+            let saved = format::load(&edit.path).unwrap_or_else(|e| {
+                unreadable.push((edit.path.clone(), e.to_string()));
+                Patch::default()
+            });
+            self.files.insert(
+                edit.name,
+                ModuleFile {
+                    path: edit.path,
+                    patch: edit.patch,
+                    saved,
+                },
+            );
+        }
+        self.reindex();
+        unreadable
     }
 }
 

@@ -2,7 +2,7 @@
 //! window size: making one from the selection (Ctrl+G), opening it by
 //! double-click, editing inside, the breadcrumb back, unmaking it
 //! (Ctrl+Shift+G), each undone and redone; a subpatch file opened in place
-//! and its edit saved to it.
+//! and its edit saved to it, or recovered after a crash.
 
 use egui::accesskit::Role;
 use egui::{Event, Key, Modifiers, PointerButton, Pos2, Vec2};
@@ -12,8 +12,13 @@ use spreadlight_editor::{EditorApp, EditorOptions};
 use spreadlight_graph::{NodeDoc, NodeId, Patch, Spread, format};
 
 fn harness(dir: &tempfile::TempDir, patch: &Patch) -> Harness<'static, EditorApp> {
+    format::save(patch, &dir.path().join("chain.ron")).expect("save");
+    reopen(dir)
+}
+
+/// The editor started on `chain.ron` as it is on disk.
+fn reopen(dir: &tempfile::TempDir) -> Harness<'static, EditorApp> {
     let path = dir.path().join("chain.ron");
-    format::save(patch, &path).expect("save");
     let options = EditorOptions {
         path: Some(path),
         config_dir: dir.path().join("config"),
@@ -177,9 +182,8 @@ fn drag(h: &mut Harness<'_, EditorApp>, from: Pos2, to: Pos2) {
     h.run();
 }
 
-#[test]
-fn a_subpatch_file_opens_in_place_and_its_edits_are_saved_to_it() {
-    let dir = tempfile::tempdir().expect("tempdir");
+/// Inlet -> Multiply (Value) -> Outlet.
+fn scale_module() -> Patch {
     let mut module = Patch::default();
     module.add(NodeDoc::new(1, "Inlet").with("Name", vec!["In".to_owned()]));
     module.add(NodeDoc::new(2, "Multiply (Value)").at(0.0, 40.0));
@@ -190,15 +194,33 @@ fn a_subpatch_file_opens_in_place_and_its_edits_are_saved_to_it() {
     );
     module.link(1, "Output", 2, "Input 1");
     module.link(2, "Output", 3, "Input");
-    std::fs::create_dir(dir.path().join("modules")).expect("mkdir");
-    let file = dir.path().join("modules/Scale.ron");
-    format::save(&module, &file).expect("save");
+    module
+}
+
+/// LFO -> Scale (the module file) -> Probe.
+fn uses_scale() -> Patch {
     let mut p = Patch::default();
     p.add(NodeDoc::new(1, "LFO").at(10.0, 10.0));
     p.add(NodeDoc::new(2, "Scale").at(10.0, 60.0));
     p.add(NodeDoc::new(3, "Probe").at(10.0, 110.0));
     p.link(1, "Output", 2, "In");
     p.link(2, "Out", 3, "Input");
+    p
+}
+
+/// `modules/Scale.ron` beside the patch; returns its path.
+fn write_scale_module(dir: &tempfile::TempDir) -> std::path::PathBuf {
+    std::fs::create_dir(dir.path().join("modules")).expect("mkdir");
+    let file = dir.path().join("modules/Scale.ron");
+    format::save(&scale_module(), &file).expect("save");
+    file
+}
+
+#[test]
+fn a_subpatch_file_opens_in_place_and_its_edits_are_saved_to_it() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let file = write_scale_module(&dir);
+    let p = uses_scale();
     let mut h = harness(&dir, &p);
     let top = dir.path().join("chain.ron");
     assert!(
@@ -270,4 +292,125 @@ fn a_subpatch_file_opens_in_place_and_its_edits_are_saved_to_it() {
     let parent = format::load(&top).expect("patch");
     assert!(parent.subpatches.is_empty(), "not copied into the patch");
     assert_eq!(parent, p);
+}
+
+/// Set a file's modification time a minute back, as it is when edits follow
+/// a save (file times are coarse on some file systems).
+fn age(path: &std::path::Path) {
+    let old = std::time::SystemTime::now() - std::time::Duration::from_secs(60);
+    std::fs::File::options()
+        .write(true)
+        .open(path)
+        .and_then(|f| f.set_modified(old))
+        .expect("touch");
+}
+
+#[test]
+fn unsaved_edits_inside_a_subpatch_file_are_recovered_after_a_crash_unsaved() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let file = write_scale_module(&dir);
+    let p = uses_scale();
+    format::save(&p, &dir.path().join("chain.ron")).expect("save");
+    let top = dir.path().join("chain.ron");
+    age(&top);
+    age(&file);
+    let recovery = spreadlight_editor::files::recovery_path(Some(&top), dir.path());
+    let modules = spreadlight_editor::files::module_recovery_path(&recovery);
+    let edited = {
+        let mut h = reopen(&dir);
+        let at = node_center(&h, NodeId(2));
+        click(&mut h, at, 2);
+        assert_eq!(h.state().doc().scope(), ["Scale".to_owned()]);
+        h.state_mut().doc_mut().set_value(
+            NodeId(2),
+            "Input 2",
+            Some(Spread::Float(vec![3.0])),
+            false,
+        );
+        h.run();
+        assert!(modules.exists(), "the file's edit is autosaved");
+        assert!(recovery.exists(), "and so is the patch");
+        assert_eq!(
+            format::load(&file).expect("module"),
+            scale_module(),
+            "the module file itself is untouched until saved"
+        );
+        h.state().doc().module_files()["Scale"].patch.clone()
+        // Dropped unsaved: a crash, as far as the files know.
+    };
+    assert_ne!(edited, scale_module());
+
+    let mut h = reopen(&dir);
+    assert!(h.state().recovery_offered());
+    assert_eq!(
+        h.state().recovery_offered_modules(),
+        std::slice::from_ref(&file)
+    );
+    assert!(
+        h.state().doc().module_files().is_empty(),
+        "nothing restored before the answer"
+    );
+    h.get_by_label("Restore").click();
+    h.run();
+    assert!(h.state().doc().is_dirty(), "restored edits are unsaved");
+    assert_eq!(h.state().doc().module_files()["Scale"].patch, edited);
+    assert_eq!(
+        h.state().doc().runtime_patch().subpatches["Scale"],
+        edited,
+        "the restored edits run before they are saved"
+    );
+    assert_eq!(
+        format::load(&file).expect("module"),
+        scale_module(),
+        "restoring does not write the module file"
+    );
+    assert!(
+        h.state().runtime().problems().is_empty(),
+        "{:?}",
+        h.state().runtime().problems()
+    );
+    // Opening the node shows the file as edited.
+    let at = node_center(&h, NodeId(2));
+    click(&mut h, at, 2);
+    assert_eq!(h.state().doc().patch(), &edited);
+
+    keys(&mut h, Modifiers::COMMAND, Key::S);
+    assert!(!h.state().doc().is_dirty());
+    assert_eq!(format::load(&file).expect("module"), edited, "saved to it");
+    assert_eq!(format::load(&top).expect("patch"), p);
+    assert!(
+        !recovery.exists() && !modules.exists(),
+        "saving removes both"
+    );
+}
+
+#[test]
+fn discarding_the_recovery_drops_the_subpatch_files_edits_too() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let file = write_scale_module(&dir);
+    format::save(&uses_scale(), &dir.path().join("chain.ron")).expect("save");
+    let top = dir.path().join("chain.ron");
+    age(&top);
+    age(&file);
+    let recovery = spreadlight_editor::files::recovery_path(Some(&top), dir.path());
+    let modules = spreadlight_editor::files::module_recovery_path(&recovery);
+    {
+        let mut h = reopen(&dir);
+        let at = node_center(&h, NodeId(2));
+        click(&mut h, at, 2);
+        h.state_mut().doc_mut().add_node("Probe", (0.0, 120.0));
+        h.run();
+        assert!(modules.exists());
+    }
+    let mut h = reopen(&dir);
+    assert_eq!(
+        h.state().recovery_offered_modules(),
+        std::slice::from_ref(&file)
+    );
+    h.get_by_label("Discard").click();
+    h.run();
+    assert!(!recovery.exists() && !modules.exists(), "both autosaves go");
+    assert!(!h.state().doc().is_dirty());
+    assert_eq!(format::load(&file).expect("module"), scale_module());
+    assert!(!reopen(&dir).state().recovery_offered());
 }

@@ -20,6 +20,7 @@ impl EditorApp {
         let nodes = self.doc.patch().nodes.len();
         let canvas_zoom = self.canvas_zoom(ctx).unwrap_or(0.0);
         let recovery_offered = self.recovery_offered();
+        let recovery_modules = self.recovery_offered_modules().len();
         let canvas_text_px = self.canvas_text_points(ctx).unwrap_or(0.0) * ctx.pixels_per_point();
         let viewport_error = self.viewport_error(0).unwrap_or_default();
         let patch_frame = (self.frame.evaluations, self.frame.seconds);
@@ -83,7 +84,7 @@ impl EditorApp {
             let rect = self.viewport_rects[0]
                 .map(|r| [r.min.x * ppp, r.min.y * ppp, r.max.x * ppp, r.max.y * ppp]);
             println!(
-                "{{\"frames\": {}, \"nodes\": {}, \"ui_ms_median\": {:.3}, \"ui_ms_p95\": {:.3}, \"frame_ms_median\": {:.3}, \"frame_ms_p95\": {:.3}, \"eframe_cpu_ms_median\": {:.3}, \"patch_frames\": {}, \"patch_ms_median\": {:.3}, \"viewport_px\": {}, \"viewport_error\": {:?}, \"canvas_zoom\": {:.3}, \"canvas_text_px\": {:.2}, \"recovery_offered\": {}}}",
+                "{{\"frames\": {}, \"nodes\": {}, \"ui_ms_median\": {:.3}, \"ui_ms_p95\": {:.3}, \"frame_ms_median\": {:.3}, \"frame_ms_p95\": {:.3}, \"eframe_cpu_ms_median\": {:.3}, \"patch_frames\": {}, \"patch_ms_median\": {:.3}, \"viewport_px\": {}, \"viewport_error\": {:?}, \"canvas_zoom\": {:.3}, \"canvas_text_px\": {:.2}, \"recovery_offered\": {}, \"recovery_module_files\": {}}}",
                 a.frames,
                 nodes,
                 ui_med * 1e3,
@@ -101,6 +102,7 @@ impl EditorApp {
                 canvas_zoom,
                 canvas_text_px,
                 recovery_offered,
+                recovery_modules,
             );
             self.allow_close = true;
             ctx.send_viewport_cmd(ViewportCommand::Close);

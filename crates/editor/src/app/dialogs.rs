@@ -12,6 +12,17 @@ impl EditorApp {
                     "An autosave from a session that did not end normally exists:\n{}",
                     recovery.display()
                 ));
+                if !self.recovery_offer_modules.is_empty() {
+                    let list: Vec<String> = self
+                        .recovery_offer_modules
+                        .iter()
+                        .map(|p| p.display().to_string())
+                        .collect();
+                    ui.label(format!(
+                        "with unsaved edits of subpatch files (written to them only when you save):\n{}",
+                        list.join("\n")
+                    ));
+                }
                 ui.horizontal(|ui| {
                     if ui.button("Restore").clicked() {
                         self.recovery_offer = None;

@@ -136,7 +136,12 @@ impl EditorApp {
             return;
         }
         self.last_autosave = now;
-        match files::write_recovery(self.doc.top(), &self.recovery_file()) {
+        let recovery = self.recovery_file();
+        // The subpatch files' edits first: a restart looks for the patch's
+        // recovery file, so once that is written both hold this edit.
+        let written = files::write_module_recovery(&self.doc.unsaved_module_files(), &recovery)
+            .and_then(|()| files::write_recovery(self.doc.top(), &recovery));
+        match written {
             Ok(()) => {
                 self.autosaved_generation = Some(self.doc.generation());
                 self.recovery_written = true;
@@ -145,14 +150,38 @@ impl EditorApp {
         }
     }
 
+    /// Restore the patch's autosave and its subpatch files' edits, all
+    /// unsaved: nothing on disk changes until the user saves.
     pub(super) fn restore_recovery(&mut self, recovery: &Path) {
-        match format::load(recovery) {
-            Ok(patch) => {
-                let path = self.path.clone();
-                self.replace_document(EditorDoc::recovered(patch), path);
-                self.status = "restored unsaved changes from the autosave".to_owned();
+        let patch = match format::load(recovery) {
+            Ok(patch) => patch,
+            Err(e) => {
+                self.status = format!("cannot restore the autosave: {e}");
+                return;
             }
-            Err(e) => self.status = format!("cannot restore the autosave: {e}"),
+        };
+        let modules = files::load_module_recovery(recovery);
+        let path = self.path.clone();
+        self.replace_document(EditorDoc::recovered(patch), path);
+        let mut status = "restored unsaved changes from the autosave".to_owned();
+        match modules {
+            Ok(modules) => {
+                if !modules.edits.is_empty() {
+                    let names: Vec<&str> = modules.edits.iter().map(|e| e.name.as_str()).collect();
+                    status += &format!(" and of subpatch files {}", names.join(", "));
+                }
+                for stale in &modules.stale {
+                    status += &format!(
+                        "; not restored: {} was saved after the autosave",
+                        stale.display()
+                    );
+                }
+                for (file, why) in self.doc.restore_module_files(modules.edits) {
+                    status += &format!("; {why} (saving writes {} again)", file.display());
+                }
+            }
+            Err(e) => status += &format!("; the subpatch files' edits cannot be restored: {e}"),
         }
+        self.status = status;
     }
 }

@@ -79,6 +79,15 @@ impl EditorApp {
         self.recovery_offer.is_some()
     }
 
+    /// The subpatch files whose unsaved edits the recovery offer restores too.
+    pub fn recovery_offered_modules(&self) -> &[PathBuf] {
+        if self.recovery_offer.is_some() {
+            &self.recovery_offer_modules
+        } else {
+            &[]
+        }
+    }
+
     pub fn is_playing(&self) -> bool {
         self.playing
     }

@@ -1,5 +1,7 @@
 //! The document model's commands, each with its undo.
+use super::links::LinkError;
 use super::*;
+use spreadlight_graph::PinType;
 
 fn registry() -> Registry {
     spreadlight_nodes::registry()

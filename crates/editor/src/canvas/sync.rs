@@ -1,0 +1,100 @@
+//! Snarl in step with the document: which document node each snarl node
+//! shows, nodes and wires added or removed after an edit, and moves made on
+//! the canvas back in patch units.
+
+use std::collections::HashMap;
+
+use egui::Pos2;
+use egui_snarl::{InPinId, OutPinId, Snarl};
+use spreadlight_graph::{NodeId, Registry};
+
+use crate::model::EditorDoc;
+
+/// Canvas pixels per patch canvas unit: patches are laid out on a coarse grid
+/// (vvvv's nodes are small); snarl's nodes are larger.
+pub const SCALE: f32 = 3.0;
+
+/// What snarl stores per node: which document node it shows.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct CanvasNode(pub NodeId);
+
+/// Bring snarl in line with the document after it changed: nodes added or
+/// removed, positions changed by undo, and wires. Between changes the canvas
+/// positions are the newer ones (a drag in progress). Keeps snarl's ids for nodes that stay, so
+/// selection and layout survive edits.
+pub fn sync(
+    snarl: &mut Snarl<CanvasNode>,
+    ids: &mut HashMap<NodeId, egui_snarl::NodeId>,
+    doc: &EditorDoc,
+    registry: &Registry,
+    doc_changed: bool,
+) {
+    if !doc_changed {
+        return;
+    }
+    let patch = doc.patch();
+    let present: HashMap<NodeId, (f32, f32)> = patch.nodes.iter().map(|n| (n.id, n.pos)).collect();
+    ids.retain(|id, sid| {
+        let keep = present.contains_key(id);
+        if !keep {
+            snarl.remove_node(*sid);
+        }
+        keep
+    });
+    for n in &patch.nodes {
+        let want = Pos2::new(n.pos.0 * SCALE, n.pos.1 * SCALE);
+        match ids.get(&n.id) {
+            Some(&sid) => {
+                // The document changed (an undone move, say): it wins.
+                if let Some(info) = snarl.get_node_info_mut(sid)
+                    && (info.pos - want).length() > 0.5 * SCALE
+                {
+                    info.pos = want;
+                }
+            }
+            None => {
+                let sid = snarl.insert_node(want, CanvasNode(n.id));
+                ids.insert(n.id, sid);
+            }
+        }
+    }
+    let mut wanted = std::collections::HashSet::new();
+    for l in &patch.links {
+        let (Some(&a), Some(&b)) = (ids.get(&l.from.node()), ids.get(&l.to.node())) else {
+            continue;
+        };
+        let def = |id: NodeId| doc.node(id).and_then(|n| registry.get(&n.type_name));
+        let (Some(da), Some(db)) = (def(l.from.node()), def(l.to.node())) else {
+            continue;
+        };
+        let (Some(o), Some(i)) = (da.output_index(l.from.pin()), db.input_index(l.to.pin())) else {
+            continue;
+        };
+        wanted.insert((
+            OutPinId { node: a, output: o },
+            InPinId { node: b, input: i },
+        ));
+    }
+    let existing: Vec<(OutPinId, InPinId)> = snarl.wires().collect();
+    for w in &existing {
+        if !wanted.contains(w) {
+            snarl.disconnect(w.0, w.1);
+        }
+    }
+    for w in wanted {
+        snarl.connect(w.0, w.1);
+    }
+}
+
+/// Moves finished on the canvas, in patch units (rounded to whole units so saved files stay clean).
+pub fn moved_nodes(snarl: &Snarl<CanvasNode>, doc: &EditorDoc) -> Vec<(NodeId, (f32, f32))> {
+    snarl
+        .nodes_pos_ids()
+        .filter_map(|(_, pos, node)| {
+            let n = doc.node(node.0)?;
+            let want = Pos2::new(n.pos.0 * SCALE, n.pos.1 * SCALE);
+            ((pos - want).length() > 0.5 * SCALE)
+                .then(|| (node.0, ((pos.x / SCALE).round(), (pos.y / SCALE).round())))
+        })
+        .collect()
+}
