@@ -664,3 +664,90 @@ fn a_color_texture_scales_albedo_at_the_uv_and_needs_uvs() {
         "{err}"
     );
 }
+
+#[test]
+fn adjacent_layers_alike_share_one_motion_dispatch_and_keep_their_velocities() {
+    let renderer = test_renderer();
+    let camera = camera_at(Vec3::new(0.0, 0.0, 5.0));
+    // Three small spheres, each in its own layer, each moved its own way
+    // since last frame: right, up, left.
+    let spheres = [
+        (Vec3::new(-1.5, 0.0, 0.0), Vec3::new(0.2, 0.0, 0.0)),
+        (Vec3::new(0.0, 0.0, 0.0), Vec3::new(0.0, 0.2, 0.0)),
+        (Vec3::new(1.5, 0.0, 0.0), Vec3::new(-0.2, 0.0, 0.0)),
+    ];
+    let layers_with = |middle: LayerFeatures| -> Vec<Arc<Layer>> {
+        spheres
+            .iter()
+            .enumerate()
+            .map(|(k, &(at, moved))| {
+                let scale = Mat4::from_scale(Vec3::splat(0.4));
+                let now = Mat4::from_translation(at) * scale;
+                let before = Mat4::from_translation(at - moved) * scale;
+                let features = if k == 1 {
+                    middle
+                } else {
+                    LayerFeatures::default()
+                };
+                sphere_layer(&renderer, vec![instance(now, before)], features)
+            })
+            .collect()
+    };
+    let vp = camera.view_projection();
+    let project = |p: Vec3| {
+        let c = vp * p.extend(1.0);
+        (c.truncate() / c.w).truncate()
+    };
+    let alike = layers_with(LayerFeatures::default());
+    // The middle layer with texture coordinates: another motion permutation.
+    let unlike = layers_with(LayerFeatures {
+        texcoords: true,
+        ..LayerFeatures::default()
+    });
+    let mut velocities = Vec::new();
+    for (layers, motion_dispatches) in [(alike, 1), (unlike, 3)] {
+        let g = GBuffer::new(
+            &renderer,
+            Some(40),
+            layers,
+            camera,
+            Some(vp),
+            SizeRule::Relative(1.0),
+        );
+        let (report, mut images) =
+            render(&renderer, &g, &[&g.targets.velocity_uv, &g.targets.color]);
+        assert_eq!(
+            (
+                report.counter("motion resolve dispatches"),
+                report.counter("surface resolve dispatches")
+            ),
+            (motion_dispatches, 3),
+            "{:?}",
+            report.counters
+        );
+        for &(at, moved) in &spheres {
+            let pole = at + Vec3::new(0.0, 0.0, 0.4);
+            let expected = (project(pole) - project(pole - moved)) * glam::Vec2::new(0.5, -0.5);
+            let ndc = project(pole);
+            let px = (((ndc.x + 1.0) * 0.5) * SIZE.0 as f32) as u32;
+            let py = (((1.0 - ndc.y) * 0.5) * SIZE.1 as f32) as u32;
+            let v = images[0].pixel(px, py);
+            assert!(
+                (v[0] - expected.x).abs() < 2e-3 && (v[1] - expected.y).abs() < 2e-3,
+                "sphere at {at}: velocity {v:?}, expected {expected:?}"
+            );
+        }
+        // Nothing moves where no sphere is.
+        assert_eq!(images[0].pixel(1, 1)[..2], [0.0, 0.0]);
+        velocities.push(images.remove(0));
+    }
+    // Whether one dispatch or three wrote them, the velocities are the same.
+    let (a, b) = (&velocities[0], &velocities[1]);
+    assert!(
+        a.pixels
+            .iter()
+            .zip(&b.pixels)
+            .all(|(p, q)| p[0] == q[0] && p[1] == q[1]),
+        "one motion dispatch or one per layer: the same velocities"
+    );
+}

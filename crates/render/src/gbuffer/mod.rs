@@ -56,6 +56,36 @@ struct GpuLayer {
     geometry_ids: u32,
 }
 
+/// Runs of adjacent layers the motion resolve can serve in one dispatch:
+/// the same motion permutation and geometry ids (instances are packed layer
+/// after layer, so a run's instances are one range). Per run: its first
+/// layer's index and its uniform.
+fn motion_runs(layers: &[Arc<Layer>], ranges: &[(u32, u32)]) -> Vec<(usize, GpuLayer)> {
+    let geometry_ids = |l: &Layer| u32::from(l.features.ids && l.features.geometry_ids);
+    let mut runs: Vec<(usize, GpuLayer)> = Vec::new();
+    for (i, (layer, &(first, end))) in layers.iter().zip(ranges).enumerate() {
+        if let Some((start, run)) = runs.last_mut() {
+            let same = layers[*start].features.motion_defines() == layer.features.motion_defines()
+                && run.geometry_ids == geometry_ids(layer)
+                && run.end_instance == first;
+            if same {
+                run.end_instance = end;
+                continue;
+            }
+        }
+        runs.push((
+            i,
+            GpuLayer {
+                first_instance: first,
+                end_instance: end,
+                write_background: u32::from(i == 0),
+                geometry_ids: geometry_ids(layer),
+            },
+        ));
+    }
+    runs
+}
+
 /// One instanced draw: a mesh and a range of the instance buffer.
 pub(crate) struct Draw {
     pub index_count: u32,
@@ -235,6 +265,11 @@ pub struct GBuffer {
     instances: wgpu::Buffer,
     camera_buffer: wgpu::Buffer,
     layer_buffers: Vec<wgpu::Buffer>,
+    /// The motion resolve's dispatches: runs of adjacent layers whose motion
+    /// permutation is the same, as (a layer of the run, the run's instance
+    /// range as a layer uniform). One dispatch serves a run: each is a pass
+    /// over every pixel, most of which belong to other layers.
+    motion_runs: Vec<(usize, wgpu::Buffer)>,
     /// Per layer with a shader node material that has pins: its uniform block.
     surface_buffers: Vec<Option<wgpu::Buffer>>,
     pub raster: RasterMode,
@@ -327,6 +362,20 @@ impl GBuffer {
                 )
             })
             .collect();
+        let motion_runs = motion_runs(&layers, &layer_ranges)
+            .into_iter()
+            .enumerate()
+            .map(|(k, (layer, gpu))| {
+                let buffer = renderer.kept_init_at(
+                    owner,
+                    "mre motion run",
+                    k as u32,
+                    bytemuck::bytes_of(&gpu),
+                    wgpu::BufferUsages::UNIFORM,
+                );
+                (layer, buffer)
+            })
+            .collect();
         let surface_buffers = layers
             .iter()
             .enumerate()
@@ -381,6 +430,7 @@ impl GBuffer {
             instances,
             camera_buffer,
             layer_buffers,
+            motion_runs,
             surface_buffers,
             raster,
             compute,

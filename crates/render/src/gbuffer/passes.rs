@@ -359,11 +359,33 @@ fn resolve(
         _ => None,
     };
     let (w, h) = g.pixel_size(cx.output_size);
-    // With no layers, the first (background) dispatch still clears the targets.
-    let layer_count = g.layers.len().max(1);
-    let mut work = Vec::with_capacity(layer_count);
-    for i in 0..layer_count {
-        let layer = g.layers.get(i);
+    // Per dispatch: its layer and its layer uniform. With no layers, one
+    // (background) dispatch still clears the targets. Motion: a dispatch per
+    // run of layers with the same motion permutation.
+    let dispatches: Vec<(Option<usize>, Option<&wgpu::Buffer>)> = if g.layers.is_empty() {
+        vec![(None, None)]
+    } else if motion {
+        g.motion_runs
+            .iter()
+            .map(|(i, b)| (Some(*i), Some(b)))
+            .collect()
+    } else {
+        (0..g.layers.len())
+            .map(|i| (Some(i), g.layer_buffers.get(i)))
+            .collect()
+    };
+    cx.count(
+        if motion {
+            "motion resolve dispatches"
+        } else {
+            "surface resolve dispatches"
+        },
+        dispatches.len() as u64,
+    );
+    let mut work = Vec::with_capacity(dispatches.len());
+    for (index, layer_buffer) in dispatches {
+        let i = index.unwrap_or(0);
+        let layer = index.and_then(|i| g.layers.get(i));
         let mut defines = match layer {
             Some(l) if motion => l.features.motion_defines(),
             Some(l) => l.surface_defines(),
@@ -402,7 +424,7 @@ fn resolve(
                 Vec::new(),
             ),
         };
-        let layer_buffer = match g.layer_buffers.get(i) {
+        let layer_buffer = match layer_buffer {
             Some(b) => b.clone(),
             None => background_layer(&device),
         };
