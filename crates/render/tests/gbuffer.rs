@@ -666,7 +666,7 @@ fn a_color_texture_scales_albedo_at_the_uv_and_needs_uvs() {
 }
 
 #[test]
-fn adjacent_layers_alike_share_one_motion_dispatch_and_keep_their_velocities() {
+fn adjacent_layers_alike_share_one_resolve_dispatch_and_keep_their_pixels() {
     let renderer = test_renderer();
     let camera = camera_at(Vec3::new(0.0, 0.0, 5.0));
     // Three small spheres, each in its own layer, each moved its own way
@@ -699,13 +699,18 @@ fn adjacent_layers_alike_share_one_motion_dispatch_and_keep_their_velocities() {
         (c.truncate() / c.w).truncate()
     };
     let alike = layers_with(LayerFeatures::default());
-    // The middle layer with texture coordinates: another motion permutation.
+    // The middle layer adding its geometry ids to the object ids (a
+    // uniform of its own), with texture coordinates (another motion
+    // permutation): it resolves alone.
     let unlike = layers_with(LayerFeatures {
         texcoords: true,
+        ids: true,
+        geometry_ids: true,
         ..LayerFeatures::default()
     });
     let mut velocities = Vec::new();
-    for (layers, motion_dispatches) in [(alike, 1), (unlike, 3)] {
+    let mut colors = Vec::new();
+    for (layers, dispatches) in [(alike, 1), (unlike, 3)] {
         let g = GBuffer::new(
             &renderer,
             Some(40),
@@ -721,7 +726,7 @@ fn adjacent_layers_alike_share_one_motion_dispatch_and_keep_their_velocities() {
                 report.counter("motion resolve dispatches"),
                 report.counter("surface resolve dispatches")
             ),
-            (motion_dispatches, 3),
+            (dispatches, dispatches),
             "{:?}",
             report.counters
         );
@@ -739,8 +744,13 @@ fn adjacent_layers_alike_share_one_motion_dispatch_and_keep_their_velocities() {
         }
         // Nothing moves where no sphere is.
         assert_eq!(images[0].pixel(1, 1)[..2], [0.0, 0.0]);
+        colors.push(images.remove(1));
         velocities.push(images.remove(0));
     }
+    assert!(
+        colors[0].pixels == colors[1].pixels,
+        "one surface dispatch or one per layer: the same colours"
+    );
     // Whether one dispatch or three wrote them, the velocities are the same.
     let (a, b) = (&velocities[0], &velocities[1]);
     assert!(

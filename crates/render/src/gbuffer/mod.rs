@@ -56,34 +56,38 @@ struct GpuLayer {
     geometry_ids: u32,
 }
 
-/// Runs of adjacent layers the motion resolve can serve in one dispatch:
-/// the same motion permutation and geometry ids (instances are packed layer
-/// after layer, so a run's instances are one range). Per run: its first
-/// layer's index and its uniform.
-fn motion_runs(layers: &[Arc<Layer>], ranges: &[(u32, u32)]) -> Vec<(usize, GpuLayer)> {
-    let geometry_ids = |l: &Layer| u32::from(l.features.ids && l.features.geometry_ids);
-    let mut runs: Vec<(usize, GpuLayer)> = Vec::new();
+/// Runs of adjacent layers a resolve can serve in one dispatch: those whose
+/// `alike` key is the same (None: the layer resolves alone). Instances are
+/// packed layer after layer, so a run's instances are one range. Per run:
+/// its first layer's index and its uniform.
+fn runs<K: PartialEq>(
+    layers: &[Arc<Layer>],
+    ranges: &[(u32, u32)],
+    alike: impl Fn(&Layer) -> Option<K>,
+) -> Vec<(usize, GpuLayer)> {
+    let mut runs: Vec<(usize, Option<K>, GpuLayer)> = Vec::new();
     for (i, (layer, &(first, end))) in layers.iter().zip(ranges).enumerate() {
-        if let Some((start, run)) = runs.last_mut() {
-            let same = layers[*start].features.motion_defines() == layer.features.motion_defines()
-                && run.geometry_ids == geometry_ids(layer)
-                && run.end_instance == first;
-            if same {
-                run.end_instance = end;
-                continue;
-            }
+        let key = alike(layer);
+        if let Some((_, Some(run_key), run)) = runs.last_mut()
+            && key.as_ref() == Some(&*run_key)
+            && run.end_instance == first
+        {
+            run.end_instance = end;
+            continue;
         }
+        let geometry_ids = u32::from(layer.features.ids && layer.features.geometry_ids);
         runs.push((
             i,
+            key,
             GpuLayer {
                 first_instance: first,
                 end_instance: end,
                 write_background: u32::from(i == 0),
-                geometry_ids: geometry_ids(layer),
+                geometry_ids,
             },
         ));
     }
-    runs
+    runs.into_iter().map(|(i, _, gpu)| (i, gpu)).collect()
 }
 
 /// One instanced draw: a mesh and a range of the instance buffer.
@@ -264,11 +268,11 @@ pub struct GBuffer {
     layer_ranges: Vec<(u32, u32)>,
     instances: wgpu::Buffer,
     camera_buffer: wgpu::Buffer,
-    layer_buffers: Vec<wgpu::Buffer>,
-    /// The motion resolve's dispatches: runs of adjacent layers whose motion
-    /// permutation is the same, as (a layer of the run, the run's instance
+    /// The resolves' dispatches: runs of adjacent layers the same
+    /// permutation serves, as (the run's first layer, the run's instance
     /// range as a layer uniform). One dispatch serves a run: each is a pass
     /// over every pixel, most of which belong to other layers.
+    surface_runs: Vec<(usize, wgpu::Buffer)>,
     motion_runs: Vec<(usize, wgpu::Buffer)>,
     /// Per layer with a shader node material that has pins: its uniform block.
     surface_buffers: Vec<Option<wgpu::Buffer>>,
@@ -343,39 +347,38 @@ impl GBuffer {
             std::mem::size_of::<GpuCamera>() as u64,
             wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
         );
-        let layer_buffers = layer_ranges
-            .iter()
-            .enumerate()
-            .zip(&layers)
-            .map(|((i, &(first, end)), layer)| {
-                renderer.kept_init_at(
-                    owner,
-                    "mre layer",
-                    i as u32,
-                    bytemuck::bytes_of(&GpuLayer {
-                        first_instance: first,
-                        end_instance: end,
-                        write_background: u32::from(i == 0),
-                        geometry_ids: u32::from(layer.features.ids && layer.features.geometry_ids),
-                    }),
-                    wgpu::BufferUsages::UNIFORM,
-                )
-            })
-            .collect();
-        let motion_runs = motion_runs(&layers, &layer_ranges)
-            .into_iter()
-            .enumerate()
-            .map(|(k, (layer, gpu))| {
-                let buffer = renderer.kept_init_at(
-                    owner,
-                    "mre motion run",
-                    k as u32,
-                    bytemuck::bytes_of(&gpu),
-                    wgpu::BufferUsages::UNIFORM,
-                );
-                (layer, buffer)
-            })
-            .collect();
+        let kept =
+            |label: &'static str, runs: Vec<(usize, GpuLayer)>| -> Vec<(usize, wgpu::Buffer)> {
+                runs.into_iter()
+                    .enumerate()
+                    .map(|(k, (layer, gpu))| {
+                        let buffer = renderer.kept_init_at(
+                            owner,
+                            label,
+                            k as u32,
+                            bytemuck::bytes_of(&gpu),
+                            wgpu::BufferUsages::UNIFORM,
+                        );
+                        (layer, buffer)
+                    })
+                    .collect()
+            };
+        let geometry_ids = |l: &Layer| l.features.ids && l.features.geometry_ids;
+        // A layer with maps, a material world or a shader material binds
+        // its own: it resolves alone.
+        let surface_runs = kept(
+            "mre surface run",
+            runs(&layers, &layer_ranges, |l| {
+                (l.surface.is_none() && l.maps().next().is_none() && l.map_world().is_none())
+                    .then(|| (l.surface_defines(), geometry_ids(l)))
+            }),
+        );
+        let motion_runs = kept(
+            "mre motion run",
+            runs(&layers, &layer_ranges, |l| {
+                Some((l.features.motion_defines(), geometry_ids(l)))
+            }),
+        );
         let surface_buffers = layers
             .iter()
             .enumerate()
@@ -429,7 +432,7 @@ impl GBuffer {
             layer_ranges,
             instances,
             camera_buffer,
-            layer_buffers,
+            surface_runs,
             motion_runs,
             surface_buffers,
             raster,

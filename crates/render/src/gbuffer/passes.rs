@@ -360,19 +360,17 @@ fn resolve(
     };
     let (w, h) = g.pixel_size(cx.output_size);
     // Per dispatch: its layer and its layer uniform. With no layers, one
-    // (background) dispatch still clears the targets. Motion: a dispatch per
-    // run of layers with the same motion permutation.
+    // (background) dispatch still clears the targets; otherwise one per run
+    // of adjacent layers the same permutation serves.
     let dispatches: Vec<(Option<usize>, Option<&wgpu::Buffer>)> = if g.layers.is_empty() {
         vec![(None, None)]
-    } else if motion {
-        g.motion_runs
-            .iter()
-            .map(|(i, b)| (Some(*i), Some(b)))
-            .collect()
     } else {
-        (0..g.layers.len())
-            .map(|i| (Some(i), g.layer_buffers.get(i)))
-            .collect()
+        let runs = if motion {
+            &g.motion_runs
+        } else {
+            &g.surface_runs
+        };
+        runs.iter().map(|(i, b)| (Some(*i), Some(b))).collect()
     };
     cx.count(
         if motion {
