@@ -10,7 +10,7 @@ use glam::{Mat4, Vec3};
 use spreadlight_render::camera::CameraInput;
 use spreadlight_render::gbuffer::{DrawBatch, GBuffer, InstanceInput, Layer, LayerFeatures};
 use spreadlight_render::lighting::{
-    CookTorrance, LightBuffer, LightLoop, PointLight, SpotLight, SunLight, Surfaces,
+    CookTorrance, FEW_LIGHTS, LightBuffer, LightLoop, PointLight, SpotLight, SunLight, Surfaces,
 };
 use spreadlight_render::mesh::primitives::{GridParams, SphereParams, grid, sphere};
 use spreadlight_render::readback::{ImageF32, render_and_read};
@@ -235,6 +235,56 @@ fn clustered_shading_matches_the_naive_reference_past_one_round_of_the_froxel_sc
         lit_right > 100,
         "the lights light the right half ({lit_right} pixels)"
     );
+}
+
+#[test]
+fn auto_walks_a_handful_of_lights_and_clusters_more() {
+    let renderer = test_renderer();
+    let g = scene(&renderer);
+    let few = FEW_LIGHTS as usize;
+    for (count, clustered) in [(3, false), (few, false), (few + 1, true)] {
+        let lights = scattered(count);
+        let ct = CookTorrance::new(
+            &renderer,
+            Some(1),
+            g.clone(),
+            LightBuffer::points(&renderer, &lights),
+            LightLoop::Auto,
+            true,
+            Surfaces::PerMaterialId(vec![(0.5, 0.0)]),
+        );
+        let (report, images) = spreadlight_render::readback::render_and_read(
+            &renderer,
+            ct.as_ref(),
+            SIZE,
+            &[&ct.diffuse],
+        )
+        .expect("the frame renders");
+        let assigned = report
+            .passes
+            .iter()
+            .any(|p| p.name.contains("clustered light assignment"));
+        assert_eq!(
+            assigned,
+            clustered,
+            "{count} lights: {:?}",
+            report.passes.iter().map(|p| &p.name).collect::<Vec<_>>()
+        );
+        drop(images);
+        // The walk it picked, lighting as that walk does.
+        let auto = shade(&renderer, &g, lights.clone(), LightLoop::Auto);
+        let picked = if clustered {
+            LightLoop::Clustered
+        } else {
+            LightLoop::Naive
+        };
+        let reference = shade(&renderer, &g, lights, picked);
+        let worst = max_relative_difference(&auto, &reference);
+        assert!(
+            worst < 1e-3,
+            "{count} lights: Auto differs from {picked:?} by {worst}"
+        );
+    }
 }
 
 #[test]

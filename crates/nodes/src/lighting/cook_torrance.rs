@@ -14,7 +14,7 @@ use crate::gpu::{renderer, resource_spread, resources};
 
 pub static LIGHT_LOOP: EnumDef = EnumDef {
     name: "Light Loop",
-    options: &["Clustered", "Naive"],
+    options: &["Auto", "Clustered", "Naive"],
 };
 
 pub fn register(r: &mut Registry) {
@@ -23,7 +23,8 @@ pub fn register(r: &mut Registry) {
             "CookTorrance",
             super::CATEGORY,
             "Shades the G-buffer with one light buffer (point, spot or sun: one permutation per type): GGX, height-correlated Smith, Schlick Fresnel. Clustered \
-             loops over the lights of each pixel's froxel, Naive over all (the reference). Energy Compensation \
+             loops over the lights of each pixel's froxel, Naive over all (the reference); Auto (the default) is Naive for 16 lights \
+             or fewer, where assigning them to froxels costs more than it saves, and Clustered beyond. Energy Compensation \
              adds multiple scattering. Roughness and Metallic slice i apply to material id i (wrapping), unless a Material World is \
              connected: then each material's CookTorrance feature decides. \
              Diffuse includes albedo. SSS carries a wrap-lighting subsurface term when some material has \
@@ -34,7 +35,7 @@ pub fn register(r: &mut Registry) {
         .input_spread("Lights", PinType::Resource(ResourceKind::LightWorld), Spread::Resource(ResourceKind::LightWorld, vec![]))
         .input("Roughness", 0.5f32)
         .input("Metallic", 0.0f32)
-        .input_enum("Light Loop", &LIGHT_LOOP, "Clustered")
+        .input_enum("Light Loop", &LIGHT_LOOP, "Auto")
         .input("Energy Compensation", true)
         .input_spread(
             "Material World",
@@ -60,7 +61,8 @@ pub fn register(r: &mut Registry) {
             }
             let mode = match cx.enum_slices(4)?.first().map(String::as_str) {
                 Some("Naive") => LightLoop::Naive,
-                _ => LightLoop::Clustered,
+                Some("Clustered") => LightLoop::Clustered,
+                _ => LightLoop::Auto,
             };
             let energy = cx.slices::<bool>(5)?.first().copied().unwrap_or(true);
             let surfaces = match resources::<MaterialWorld>(cx, 6)?.into_iter().next() {
