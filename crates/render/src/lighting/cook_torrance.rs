@@ -442,30 +442,30 @@ impl Recipe for CookTorrance {
             0,
             bytemuck::cast_slice(&grid.uniform(self.lights.count())),
         );
-        let token = TextureDesc::token();
-        let assign = match self.walk {
-            Walk::Clustered => "clustered light assignment",
-            Walk::Naive => "lights to view space",
-        };
-        fg.add_pass(
-            self.label(assign),
-            self.owner,
-            &[],
-            &[(&self.token, token)],
-            move |cx| self.assign(grid, cx),
-        );
+        // Clustered: assignment is a pass of its own, timed apart. Naive:
+        // moving the lights to view space is one tiny dispatch, recorded at
+        // the start of the shade pass instead (on the H100 a boundary between
+        // graph passes idles the GPU longer than that dispatch takes).
+        let clustered = self.walk == Walk::Clustered;
+        if clustered {
+            fg.add_pass(
+                self.label("clustered light assignment"),
+                self.owner,
+                &[],
+                &[(&self.token, TextureDesc::token())],
+                move |cx| self.assign(grid, cx),
+            );
+        }
         let g = &self.gbuffer.targets;
         let hdr = TextureDesc::storage(wgpu::TextureFormat::Rgba16Float).size(self.gbuffer.size);
         let mut outputs = vec![(self.diffuse.as_str(), hdr), (self.specular.as_str(), hdr)];
         if let Some(sss) = &self.sss {
             outputs.push((sss.as_str(), hdr));
         }
-        let mut reads = vec![
-            self.token.as_str(),
-            g.color.as_str(),
-            g.normals.as_str(),
-            g.depth.as_str(),
-        ];
+        let mut reads = vec![g.color.as_str(), g.normals.as_str(), g.depth.as_str()];
+        if clustered {
+            reads.push(self.token.as_str());
+        }
         if let Some(textures) = self.lights.textures() {
             textures.recipe.declare(renderer, fg);
             reads.push(&textures.name);
@@ -488,7 +488,12 @@ impl Recipe for CookTorrance {
             self.owner,
             &reads,
             &outputs,
-            move |cx| self.shade(cx),
+            move |cx| {
+                if !clustered {
+                    self.assign(grid, cx)?;
+                }
+                self.shade(cx)
+            },
         );
     }
 }
