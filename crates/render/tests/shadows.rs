@@ -713,8 +713,33 @@ fn still_casters_are_cached_and_only_moving_ones_drawn_over_them_with_the_same_i
     // light's view, moves each frame (a layer of its own, new every frame, as
     // a node upstream of it makes it).
     let still = casters(&renderer, Vec3::new(0.0, 1.5, 0.0));
+    let ball = renderer
+        .meshes
+        .upload(
+            &renderer.gpu,
+            &spreadlight_render::mesh::primitives::sphere(
+                spreadlight_render::mesh::primitives::SphereParams {
+                    radius: 0.4,
+                    sectors: 16,
+                    stacks: 8,
+                },
+            ),
+        )
+        .expect("upload");
     let moving = |x: f32| {
-        balls_on_floor(&renderer, &[(Vec3::new(x, 1.2, 0.3), 0.4)], 0.01, 16).expect("upload")
+        use spreadlight_render::gbuffer::{DrawBatch, InstanceInput, LayerFeatures};
+        let t = glam::Mat4::from_translation(Vec3::new(x, 1.2, 0.3));
+        let batch = DrawBatch {
+            mesh: ball.clone(),
+            instances: vec![InstanceInput {
+                transform: t,
+                previous_transform: t,
+                color: [0.8; 4],
+                material_id: 0,
+                object_id: 0,
+            }],
+        };
+        Arc::new(Layer::new(None, vec![batch], LayerFeatures::default(), None).expect("valid"))
     };
     for raster in [RasterChoice::Compute, RasterChoice::Hardware] {
         let owner = match raster {
@@ -788,6 +813,40 @@ fn still_casters_are_cached_and_only_moving_ones_drawn_over_them_with_the_same_i
             assert!(
                 luminance(&image, cx, cy) < luminance(&image, cx + SIZE.0 / 3, cy),
                 "{raster:?}, frame {frame}: the balls still shade the floor under them"
+            );
+        }
+        // The ball leaves the spot's view: drawn over the cache once more
+        // (its shadow must go), then the map is its cache and is reused
+        // while the ball moves elsewhere; back in view, drawn over again.
+        let away = [
+            (40.0, "shadow maps drawn over cached still casters"),
+            (41.0, "shadow maps reused, moving casters elsewhere"),
+            (42.0, "shadow maps reused, moving casters elsewhere"),
+            (0.5, "shadow maps drawn over cached still casters"),
+        ];
+        for (x, counter) in away {
+            let layers = [still[0].clone(), moving(x)];
+            let (image, report) = shade(
+                &renderer,
+                &layers,
+                lights.clone(),
+                Some(maps(&layers, Some(owner))),
+            );
+            assert_eq!(
+                report.counter(counter),
+                1,
+                "{raster:?}, ball at x = {x}: {:?}",
+                report.counters
+            );
+            let (whole, _) = shade(
+                &renderer,
+                &layers,
+                lights.clone(),
+                Some(maps(&layers, None)),
+            );
+            assert!(
+                image.pixels == whole.pixels,
+                "{raster:?}, ball at x = {x}: the same image as drawing everything"
             );
         }
         // Nothing moves any more: the whole map is reused, as before.

@@ -504,6 +504,18 @@ impl ShadowMaps {
         // Layers drawn from every caster; layers whose still casters are
         // cached this frame; layers drawn from the moving casters over them.
         let (mut full, mut still, mut over) = (Vec::new(), Vec::new(), Vec::new());
+        // Where the moving casters are, when the CPU knows: meshes it
+        // uploaded, placed by their instances. (GPU-written meshes, skinned
+        // or made by geometry nodes or particles, are wherever the GPU put them.)
+        let moving_bounds = match &self.sets {
+            Sets::Split { moving, .. } => moving
+                .casters
+                .iter()
+                .flat_map(|l| &l.batches)
+                .all(|b| !b.mesh.has_previous_positions)
+                .then(|| caster_bounds(&moving.casters)),
+            Sets::One(_) => None,
+        };
         let mut rendered = 0;
         for plan in &self.plans {
             if plan.culled {
@@ -542,6 +554,20 @@ impl ShadowMaps {
                     // Views that move (a sun's cascades following a moving
                     // camera) would only pay for a second raster.
                     let steady = slot.as_ref().is_some_and(|c| c.same_views(&content));
+                    // The moving casters miss every view of the slice: they
+                    // draw nothing in it.
+                    let elsewhere = moving_bounds.is_some_and(|(center, radius)| {
+                        plan.views
+                            .iter()
+                            .all(|v| !views::sphere_in_frustum(v.view_projection, center, radius))
+                    });
+                    if cached && elsewhere && maps.bare[slice] {
+                        // The map is its still cache, and stays so.
+                        cx.count("shadow maps reused, moving casters elsewhere", 1);
+                        maps.contents[slice] = Some(content);
+                        continue;
+                    }
+                    maps.bare[slice] = elsewhere;
                     if cached {
                         cx.count("shadow maps drawn over cached still casters", 1);
                         over.extend(layers);
@@ -551,10 +577,14 @@ impl ShadowMaps {
                         still.extend(layers.clone());
                         over.extend(layers);
                     } else {
+                        maps.bare[slice] = false;
                         full.extend(layers);
                     }
                 }
-                Sets::One(_) => full.extend(layers),
+                Sets::One(_) => {
+                    maps.bare[slice] = false;
+                    full.extend(layers);
+                }
             }
             maps.contents[slice] = Some(content);
             rendered += 1;

@@ -63,6 +63,9 @@ pub(super) struct StoredMaps {
     pub contents: Vec<Option<SliceContent>>,
     /// Per slice: what `still` holds.
     pub still_contents: Vec<Option<SliceContent>>,
+    /// Per slice: the map holds what its still cache holds and nothing
+    /// more (the moving casters were outside its views when it was drawn).
+    pub bare: Vec<bool>,
     /// VSM: layers rendered this frame whose moments are still to compute.
     pub pending_moments: Vec<u32>,
 }
@@ -137,6 +140,7 @@ impl StoredMaps {
                 .then(|| array(device, "shadow moments", layout, MOMENTS_FORMAT, sampled)),
             contents: vec![None; slices],
             still_contents: vec![None; slices],
+            bare: vec![false; slices],
             pending_moments: Vec::new(),
         }
     }
