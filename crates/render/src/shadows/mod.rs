@@ -204,7 +204,11 @@ enum Sets {
     /// Some casters are the node's last recipe's (still) and some are not
     /// (moving): a slice whose views hold caches the still ones and draws
     /// only the moving ones over them each frame.
-    Split { still: CasterSet, moving: CasterSet },
+    /// The still set is the store's, kept while its casters stay.
+    Split {
+        still: Arc<CasterSet>,
+        moving: CasterSet,
+    },
 }
 
 /// The largest map side the nodes allow.
@@ -403,7 +407,9 @@ impl ShadowMaps {
         };
         let sets = match store.split(&casters) {
             Some((still, moving)) => Sets::Split {
-                still: CasterSet::new(renderer, owner, SetKind::Still, still, compute),
+                still: store.still_set(still, compute, |still| {
+                    CasterSet::new(renderer, owner, SetKind::Still, still, compute)
+                }),
                 moving: CasterSet::new(renderer, owner, SetKind::Moving, moving, compute),
             },
             None => Sets::One(CasterSet::new(

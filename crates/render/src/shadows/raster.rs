@@ -62,6 +62,11 @@ impl SetKind {
 }
 
 impl CasterSet {
+    /// The compute rasterizer draws this set (the raster hardware otherwise).
+    pub fn compute_raster(&self) -> bool {
+        self.compute.is_some()
+    }
+
     /// `compute`: the compute rasterizer draws the maps.
     pub fn new(
         renderer: &Renderer,
