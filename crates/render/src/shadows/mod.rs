@@ -27,7 +27,7 @@ use crate::gbuffer::{Layer, RasterChoice};
 use crate::recipe::{Recipe, next_recipe_id};
 use crate::renderer::Renderer;
 
-use raster::{CasterSet, SetKind};
+use raster::{CasterSet, SetKind, StillSets};
 use store::ShadowStore;
 
 pub use views::{Cascades, LayerView};
@@ -407,7 +407,11 @@ impl ShadowMaps {
         };
         let sets = match store.split(&casters) {
             Some((still, moving)) => Sets::Split {
-                still: store.still_set(still, compute, |still| {
+                still: match owner {
+                    Some(node) => renderer.state::<StillSets>(u64::from(node)),
+                    None => Arc::default(),
+                }
+                .get(still, compute, |still| {
                     CasterSet::new(renderer, owner, SetKind::Still, still, compute)
                 }),
                 moving: CasterSet::new(renderer, owner, SetKind::Moving, moving, compute),

@@ -2,7 +2,7 @@
 //! rasterizer or the raster hardware, then its depth into the map shading
 //! samples (or into the still casters' cache, or over it), and VSM's moments.
 
-use std::sync::Arc;
+use std::sync::{Arc, Mutex};
 
 use crate::error::RenderError;
 use crate::frame_graph::PassContext;
@@ -101,6 +101,39 @@ impl CasterSet {
             draws,
             compute,
         }
+    }
+}
+
+/// The still casters' set as last packed, kept by the renderer under the
+/// node: a thousand still instances are not packed and compared again every
+/// frame something else moves.
+#[derive(Default)]
+pub(super) struct StillSets(Mutex<Option<Arc<CasterSet>>>);
+
+impl StillSets {
+    /// The set of `still` casters: the kept one while they are the same
+    /// layers (and drawn by the same rasterizer), else one `make` packs.
+    pub fn get(
+        &self,
+        still: Vec<Arc<Layer>>,
+        compute: bool,
+        make: impl FnOnce(Vec<Arc<Layer>>) -> CasterSet,
+    ) -> Arc<CasterSet> {
+        let mut kept = self.0.lock().unwrap_or_else(|e| e.into_inner());
+        if let Some(set) = kept.as_ref()
+            && set.compute_raster() == compute
+            && set.casters.len() == still.len()
+            && set
+                .casters
+                .iter()
+                .zip(&still)
+                .all(|(a, b)| Arc::ptr_eq(a, b))
+        {
+            return set.clone();
+        }
+        let set = Arc::new(make(still));
+        *kept = Some(set.clone());
+        set
     }
 }
 

@@ -6,7 +6,6 @@ use std::sync::{Arc, Mutex};
 use crate::gbuffer::Layer;
 
 use super::ShadowFilter;
-use super::raster::CasterSet;
 
 /// Conventional depth (0 near, 1 far) per layer: what shading samples.
 pub(super) const MAP_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
@@ -20,40 +19,12 @@ pub(crate) struct ShadowStore {
     /// The casters of the node's last recipe: those a new recipe shares with
     /// it (the same layers) are still; the others moved or changed.
     pub(super) last_casters: Mutex<Vec<Arc<Layer>>>,
-    /// The still casters as last packed: a thousand still instances are
-    /// not packed and compared again every frame something else moves.
-    still_set: Mutex<Option<Arc<CasterSet>>>,
 }
 
 /// Casters split into (still, moving).
 pub(super) type StillAndMoving = (Vec<Arc<Layer>>, Vec<Arc<Layer>>);
 
 impl ShadowStore {
-    /// The set of `still` casters: the kept one while they are the same
-    /// layers (and drawn by the same rasterizer), else one `make` packs.
-    pub fn still_set(
-        &self,
-        still: Vec<Arc<Layer>>,
-        compute: bool,
-        make: impl FnOnce(Vec<Arc<Layer>>) -> CasterSet,
-    ) -> Arc<CasterSet> {
-        let mut kept = self.still_set.lock().unwrap_or_else(|e| e.into_inner());
-        if let Some(set) = kept.as_ref()
-            && set.compute_raster() == compute
-            && set.casters.len() == still.len()
-            && set
-                .casters
-                .iter()
-                .zip(&still)
-                .all(|(a, b)| Arc::ptr_eq(a, b))
-        {
-            return set.clone();
-        }
-        let set = Arc::new(make(still));
-        *kept = Some(set.clone());
-        set
-    }
-
     /// `casters` as (still, moving) against the node's last recipe's, which
     /// they then replace; None where they are all one or the other.
     pub fn split(&self, casters: &[Arc<Layer>]) -> Option<StillAndMoving> {
