@@ -147,7 +147,11 @@ pub fn markdown(registry: &Registry) -> String {
          docs/nodes.md` (a test fails when this file is out of date); `spreadlight nodes --help \
          NAME` prints one of them.\n\nEvery pin carries a spread. Unless a node says otherwise it \
          spreads slice by slice: its output has as many slices as its longest input, shorter \
-         inputs wrap around, and an empty input gives an empty output.\n",
+         inputs wrap around, and an empty input gives an empty output.\n\n\
+         ![Nodes in the editor: titles, named pins with their values edited in place, and the \
+         live viewport](editor.png)\n\n\
+         ![A subpatch (a module in its own file) opened in place, with the breadcrumb back to its \
+         patch](editor-subpatch.png)\n",
         defs.len()
     );
     let mut categories: Vec<&str> = defs.iter().map(|d| &*d.category).collect();
