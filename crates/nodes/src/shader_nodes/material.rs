@@ -11,7 +11,7 @@ use spreadlight_render::TextureRef;
 use spreadlight_render::gbuffer::{Layer, SurfaceBinding, SurfaceShader};
 use spreadlight_render::shader_nodes::{Builtin, Role};
 
-use super::node::{numbers, slice_defines, write_param};
+use super::params::{numbers, slice_defines, write_param};
 use super::shader_type::ShaderType;
 use crate::gpu::{resource_spread, resources};
 

@@ -9,6 +9,7 @@ pub mod def;
 pub mod library;
 pub mod material;
 pub mod node;
+mod params;
 pub mod shader_type;
 
 pub use library::{Changes, ShaderLibrary};

@@ -10,10 +10,12 @@ use naga::TypeInner;
 
 use super::annotations::Annotations;
 use super::error::{ShaderNodeError, Span};
-use super::program::SURFACE_FUNCTION;
 
 /// The library a material's file takes the place of in the resolve.
 pub use crate::gbuffer::SURFACE_MODULE;
+
+/// The function a material file defines.
+pub const SURFACE_FUNCTION: &str = "surface";
 
 /// Annotations that make no sense for a material, at their place.
 pub fn check_annotations(file: &str, notes: &Annotations) -> Result<(), ShaderNodeError> {

@@ -151,9 +151,6 @@ pub enum Kind {
     Material,
 }
 
-/// The function a material file defines.
-pub const SURFACE_FUNCTION: &str = "surface";
-
 /// Replace `#ifdef NAME` / `#ifndef NAME` / `#else` / `#endif` by what the
 /// switches select, keeping every line (excluded ones become empty) so naga's
 /// lines and columns are the file's.
