@@ -40,7 +40,7 @@ impl EditorApp {
     }
 
     /// The monitor the patch's first `Output` asks for with its `Monitor` pin.
-    fn output_monitor(&self) -> Option<usize> {
+    pub(super) fn output_monitor(&self) -> Option<usize> {
         let output = self
             .doc
             .top()
