@@ -499,3 +499,65 @@ fn play_opens_on_the_chosen_monitor_and_refuses_one_that_does_not_exist() {
         "{stderr}"
     );
 }
+
+/// F11 in the editor opens the show window: a second top-level window, of
+/// the show window's default size (640x360 points, 1 pixel a point here),
+/// beside the editor's; Esc in it closes it and the editor stays.
+#[test]
+fn f11_opens_a_second_window_for_the_output_and_esc_closes_it() {
+    const F11: u32 = 0xffc8;
+    const ESCAPE: u32 = 0xff1b;
+    let x = Xvfb::start();
+    let dir = tempfile::tempdir().expect("tempdir");
+    let mut editor = Command::new(env!("CARGO_BIN_EXE_spreadlight"))
+        .arg("edit")
+        .arg(root().join("patches/showcase.ron"))
+        .env("DISPLAY", &x.display)
+        .env_remove("WAYLAND_DISPLAY")
+        .env("XDG_RUNTIME_DIR", std::env::temp_dir())
+        .env("SPREADLIGHT_CONFIG_DIR", dir.path().join("config"))
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .expect("the editor starts");
+    let input = Input::connect(&x);
+    let wait_until = |what: &str, found: &dyn Fn() -> bool| {
+        let waited = std::time::Instant::now();
+        while !found() {
+            if waited.elapsed().as_secs() >= 60 {
+                let shot = std::env::temp_dir().join("spreadlight-show-window-test.png");
+                input.shot(&shot);
+                panic!("{what} not within a minute; the screen: {}", shot.display());
+            }
+            std::thread::sleep(std::time::Duration::from_millis(200));
+        }
+    };
+    wait_until("the editor window", &|| {
+        input.shown_window(400, 300).is_some()
+    });
+    let window = input.shown_window(400, 300).expect("the editor");
+    // Its first frames (the GPU starts) come after the window shows.
+    std::thread::sleep(std::time::Duration::from_secs(3));
+    input.focus(window);
+    input.hover(200, 200);
+    input.key(F11);
+    wait_until("a second window", &|| {
+        !input.other_windows(window).is_empty()
+    });
+    let shown = input.other_windows(window);
+    assert_eq!(shown.len(), 1, "one show window: {shown:?}");
+    let (show, size) = shown[0];
+    assert_eq!(size, (640, 360), "the show window's size");
+    input.focus(show);
+    input.key(ESCAPE);
+    wait_until("the show window closing", &|| {
+        input.other_windows(window).is_empty()
+    });
+    assert_eq!(
+        editor.try_wait().expect("status"),
+        None,
+        "the editor is still running"
+    );
+    editor.kill().expect("SIGKILL");
+    editor.wait().expect("reaped");
+}
