@@ -561,3 +561,70 @@ fn f11_opens_a_second_window_for_the_output_and_esc_closes_it() {
     editor.kill().expect("SIGKILL");
     editor.wait().expect("reaped");
 }
+
+/// `spreadlight play --native`: the window takes the Output texture's own
+/// pixel size (a 200x120 image file) instead of its 320x180, and the
+/// screenshot is the image itself, pixel for pixel.
+#[test]
+fn play_native_sizes_the_window_to_the_texture_one_to_one() {
+    let x = Xvfb::start();
+    let dir = tempfile::tempdir().expect("tempdir");
+    let png = dir.path().join("native.png");
+    // Only 0 and 255, which any colour transfer keeps, in a pattern that any
+    // scaling or shift by a pixel would break.
+    let on = |b: bool| if b { 255 } else { 0 };
+    let source = image::RgbaImage::from_fn(200, 120, |x, y| {
+        image::Rgba([
+            on((x * 7 + y * 3) % 5 < 2),
+            on(x % 2 == 0),
+            on((x / 3 + y) % 2 == 0),
+            255,
+        ])
+    });
+    source.save(&png).expect("png");
+    let mut p = spreadlight_graph::Patch::default();
+    p.add(
+        spreadlight_graph::NodeDoc::new(1, "FileTexture")
+            .with("Filename", vec!["native.png".to_owned()]),
+    );
+    p.add(spreadlight_graph::NodeDoc::new(2, "Output").with("Write", vec![false]));
+    p.link(1, "Texture", 2, "Texture");
+    let patch = dir.path().join("native.ron");
+    spreadlight_graph::format::save(&p, &patch).expect("save");
+    let shot = dir.path().join("shot.png");
+    let out = Command::new(env!("CARGO_BIN_EXE_spreadlight"))
+        .arg("play")
+        .arg(&patch)
+        .args(["--size", "320x180", "--native", "--measure-frames", "5"])
+        .arg("--screenshot")
+        .arg(&shot)
+        .env("DISPLAY", &x.display)
+        .env_remove("WAYLAND_DISPLAY")
+        .env("XDG_RUNTIME_DIR", std::env::temp_dir())
+        .env("SPREADLIGHT_CONFIG_DIR", dir.path())
+        .output()
+        .expect("play runs");
+    assert!(
+        out.status.success(),
+        "{}{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let image = image::open(&shot).expect("a PNG").to_rgba8();
+    assert_eq!(image.dimensions(), (200, 120), "the texture's own size");
+    // 1:1: each pixel comes back.
+    let off = image
+        .pixels()
+        .zip(source.pixels())
+        .filter(|(a, b)| (0..3).any(|c| a[c].abs_diff(b[c]) > 2))
+        .count();
+    assert_eq!(
+        off,
+        0,
+        "pixels that differ from the image, e.g. at (10, 10) {:?} for {:?}, at (150, 100) {:?} for {:?}",
+        image.get_pixel(10, 10),
+        source.get_pixel(10, 10),
+        image.get_pixel(150, 100),
+        source.get_pixel(150, 100)
+    );
+}

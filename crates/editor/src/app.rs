@@ -182,7 +182,7 @@ pub struct EditorApp {
     gpu_error: Option<String>,
     /// The two side-panel viewports, then the show window's (`show_window.rs`).
     viewports: [Viewport; 3],
-    viewport_rects: [Option<egui::Rect>; 2],
+    viewport_rects: [Option<egui::Rect>; 3],
     /// The first viewport's whole area, in points: the patch's window (`host_input.rs`).
     view_area: Option<egui::Rect>,
     /// Wheel notches summed over the patch's window.
@@ -243,6 +243,8 @@ pub struct EditorApp {
     /// The show window's pointer, keys and size, read while it is open.
     show_input: Option<spreadlight_nodes::input::InputSnapshot>,
     show_image_rect: Option<egui::Rect>,
+    /// `play --native`: the window takes the texture's size (`show.rs`).
+    play_native: bool,
 }
 
 impl EditorApp {
@@ -307,7 +309,7 @@ impl EditorApp {
                 Viewport::new(Source::None),
                 Viewport::new(Source::None),
             ],
-            viewport_rects: [None; 2],
+            viewport_rects: [None; 3],
             view_area: None,
             wheel: 0.0,
             snarl: Snarl::new(),
@@ -355,6 +357,7 @@ impl EditorApp {
             },
             show_input: None,
             show_image_rect: None,
+            play_native: false,
         };
         match options.path {
             // `spreadlight edit new.ron` starts that patch, as text editors do.

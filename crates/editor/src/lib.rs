@@ -58,6 +58,8 @@ pub struct ShowWindow {
     /// The monitor to open on (as `spreadlight play --monitor` numbers them);
     /// without it, the `Monitor` pin of the patch's `Output` decides.
     pub monitor: Option<usize>,
+    /// The window takes the Output texture's own pixel size and shows it 1:1.
+    pub native: bool,
 }
 
 /// Run a patch in a borderless show window alone (no editor) until it closes.

@@ -88,13 +88,13 @@ impl EditorApp {
                 // No native windows (a test harness): it draws as an egui
                 // window of the default size in the editor's.
                 let (area, _) = ui.allocate_exact_size(DEFAULT_SIZE, egui::Sense::hover());
-                self.show_window_image(ui, area, options.native);
+                self.show_window_image(ui, SHOW_VIEW, area, options.native);
             } else {
                 egui::CentralPanel::default()
                     .frame(egui::Frame::NONE.fill(egui::Color32::BLACK))
                     .show(ui, |ui| {
                         let area = ui.available_rect_before_wrap();
-                        self.show_window_image(ui, area, options.native);
+                        self.show_window_image(ui, SHOW_VIEW, area, options.native);
                     });
             }
             close
@@ -104,19 +104,28 @@ impl EditorApp {
         }
     }
 
-    /// Draw the texture into `area` (the window's inside, in points).
-    fn show_window_image(&mut self, ui: &mut Ui, area: egui::Rect, native: bool) {
+    /// Draw view `k`'s texture into `area` (the window's inside, in points):
+    /// the editor's show window, or `play`'s window at native size.
+    pub(super) fn show_window_image(
+        &mut self,
+        ui: &mut Ui,
+        k: usize,
+        area: egui::Rect,
+        native: bool,
+    ) {
         let avail = area.size();
         let ppp = ui.ctx().pixels_per_point();
         let size = (
             ((avail.x * ppp) as u32).clamp(16, 8192),
             ((avail.y * ppp) as u32).clamp(16, 8192),
         );
-        self.viewports[SHOW_VIEW].size = size;
-        let mut wheel = self.wheel;
-        self.show_input = Some(read_input(ui.ctx(), area, size, true, &mut wheel));
-        self.wheel = wheel;
-        let shown = self.frame.views.get(SHOW_VIEW).cloned().unwrap_or_default();
+        self.viewports[k].size = size;
+        if k == SHOW_VIEW {
+            let mut wheel = self.wheel;
+            self.show_input = Some(read_input(ui.ctx(), area, size, true, &mut wheel));
+            self.wheel = wheel;
+        }
+        let shown = self.frame.views.get(k).cloned().unwrap_or_default();
         match (&shown.target, &shown.error) {
             (_, Some(e)) => {
                 ui.put(area, egui::Label::new(e.to_string()));
@@ -135,9 +144,11 @@ impl EditorApp {
                     let rect = egui::Rect::from_center_size(area.center(), tex_size);
                     paint(&painter, t.id, rect);
                     self.show_image_rect = Some(rect);
+                    self.viewport_rects[k] = Some(rect);
                 } else {
                     paint(&painter, t.id, area);
                     self.show_image_rect = Some(area);
+                    self.viewport_rects[k] = Some(area);
                 }
             }
             (None, None) => {
