@@ -20,6 +20,10 @@ pub struct Args {
     /// default the `Monitor` pin of the patch's Output decides.
     #[arg(long, value_name = "N")]
     monitor: Option<usize>,
+    /// Size the window to the Output texture's own pixel size and show it
+    /// 1:1 (a texture that follows the window's size keeps the window's).
+    #[arg(long)]
+    native: bool,
     /// Run this many frames, print the frame times as JSON, and quit (as `edit` does).
     #[arg(long, value_name = "FRAMES")]
     measure_frames: Option<u32>,
@@ -45,6 +49,7 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
         size: args.size,
         fullscreen: args.fullscreen,
         monitor: args.monitor,
+        native: args.native,
     };
     spreadlight_editor::play(options, window)?;
     Ok(ExitCode::SUCCESS)

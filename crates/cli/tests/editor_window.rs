@@ -6,6 +6,8 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 
+// Shared with show_window.rs, which uses helpers this file does not.
+#[allow(dead_code)]
 mod xwindow;
 
 use xwindow::{Input, Xvfb};

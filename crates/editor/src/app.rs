@@ -24,6 +24,7 @@ mod menus;
 mod queries;
 mod running;
 mod show;
+mod show_window;
 mod subpatches;
 mod watches;
 
@@ -35,6 +36,7 @@ use crate::model::edits::Clip;
 use crate::values;
 use crate::viewport::{Blitter, ViewportError};
 use crate::worker::{Frame, FrameWait, Request, ViewRequest, Worker, WorkerGpu};
+pub use show_window::ShowWindowOptions;
 
 /// How the editor starts.
 #[derive(Clone, Debug)]
@@ -178,8 +180,9 @@ pub struct EditorApp {
     /// Whether the worker's repaint call is installed (on the first frame, when there is a context).
     wake_set: bool,
     gpu_error: Option<String>,
-    viewports: [Viewport; 2],
-    viewport_rects: [Option<egui::Rect>; 2],
+    /// The two side-panel viewports, then the show window's (`show_window.rs`).
+    viewports: [Viewport; 3],
+    viewport_rects: [Option<egui::Rect>; 3],
     /// The first viewport's whole area, in points: the patch's window (`host_input.rs`).
     view_area: Option<egui::Rect>,
     /// Wheel notches summed over the patch's window.
@@ -233,6 +236,15 @@ pub struct EditorApp {
     watches: Vec<watches::Watch>,
     /// Where the show window goes, until its first frame placed it (`show.rs`).
     placement: Option<show::Placement>,
+    /// The editor's show window, while it is open (`show_window.rs`).
+    show_window: Option<ShowWindowOptions>,
+    /// What the toolbar's show window choices are set to.
+    show_window_choice: ShowWindowOptions,
+    /// The show window's pointer, keys and size, read while it is open.
+    show_input: Option<spreadlight_nodes::input::InputSnapshot>,
+    show_image_rect: Option<egui::Rect>,
+    /// `play --native`: the window takes the texture's size (`show.rs`).
+    play_native: bool,
 }
 
 impl EditorApp {
@@ -292,8 +304,12 @@ impl EditorApp {
             sent_views: Vec::new(),
             wake_set: false,
             gpu_error,
-            viewports: [Viewport::new(Source::Output), Viewport::new(Source::None)],
-            viewport_rects: [None; 2],
+            viewports: [
+                Viewport::new(Source::Output),
+                Viewport::new(Source::None),
+                Viewport::new(Source::None),
+            ],
+            viewport_rects: [None; 3],
             view_area: None,
             wheel: 0.0,
             snarl: Snarl::new(),
@@ -334,6 +350,14 @@ impl EditorApp {
             show_mode: false,
             watches: Vec::new(),
             placement: None,
+            show_window: None,
+            show_window_choice: ShowWindowOptions {
+                fullscreen: false,
+                native: false,
+            },
+            show_input: None,
+            show_image_rect: None,
+            play_native: false,
         };
         match options.path {
             // `spreadlight edit new.ron` starts that patch, as text editors do.
@@ -475,6 +499,7 @@ impl EditorApp {
         egui::CentralPanel::default().show(ui, |ui| self.canvas(ui));
         self.node_browser(&ctx);
         self.dialogs(&ctx);
+        self.show_window_ui(&ctx);
 
         // Edits made while drawing are evaluated at once, so the viewport never shows a stale frame.
         self.evaluate_if_needed(&ctx, None, false);

@@ -22,7 +22,7 @@ pub mod viewport;
 pub mod worker;
 pub mod zoom;
 
-pub use app::{EditorApp, EditorOptions};
+pub use app::{EditorApp, EditorOptions, ShowWindowOptions};
 pub use model::edits::Clip;
 pub use model::links::LinkError;
 pub use model::{Command, EditorDoc};
@@ -58,6 +58,8 @@ pub struct ShowWindow {
     /// The monitor to open on (as `spreadlight play --monitor` numbers them);
     /// without it, the `Monitor` pin of the patch's `Output` decides.
     pub monitor: Option<usize>,
+    /// The window takes the Output texture's own pixel size and shows it 1:1.
+    pub native: bool,
 }
 
 /// Run a patch in a borderless show window alone (no editor) until it closes.

@@ -96,6 +96,35 @@ impl Input {
         })
     }
 
+    /// Every mapped top-level window but `except`, with its size.
+    pub fn other_windows(&self, except: u32) -> Vec<(u32, (u16, u16))> {
+        use x11rb::protocol::xproto::{ConnectionExt, MapState};
+        let Some(tree) = self
+            .conn
+            .query_tree(self.root)
+            .ok()
+            .and_then(|c| c.reply().ok())
+        else {
+            return Vec::new();
+        };
+        tree.children
+            .iter()
+            .copied()
+            .filter(|&win| win != except)
+            .filter(|&win| {
+                self.conn
+                    .get_window_attributes(win)
+                    .ok()
+                    .and_then(|c| c.reply().ok())
+                    .is_some_and(|a| a.map_state == MapState::VIEWABLE)
+            })
+            .filter_map(|win| {
+                let g = self.conn.get_geometry(win).ok()?.reply().ok()?;
+                Some((win, (g.width, g.height)))
+            })
+            .collect()
+    }
+
     /// Where `window` is on the screen, and its size: (x, y, width, height).
     pub fn geometry(&self, window: u32) -> (i16, i16, i16, i16) {
         use x11rb::protocol::xproto::ConnectionExt;

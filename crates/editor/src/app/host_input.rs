@@ -3,15 +3,16 @@
 //! patch's window (in the show window, the whole window), so its pixel size is
 //! the window size, the pointer is measured across it, and keys reach the
 //! patch while the pointer is over it and no text field has the keyboard (in
-//! the show window, always). Written into the worker's `HostInput` each frame.
+//! the show window, always). While the editor's show window is open, it is
+//! the patch's window (`show_window.rs`). Written into the worker's
+//! `HostInput` each frame.
 
-use glam::Vec2;
-use spreadlight_nodes::input::{HOST_INPUT_NODES, InputSnapshot};
+use spreadlight_nodes::input::HOST_INPUT_NODES;
 
 use super::*;
 
 /// Points of smooth scrolling per wheel notch (egui's line scroll speed on native).
-const POINTS_PER_NOTCH: f32 = 40.0;
+pub(super) const POINTS_PER_NOTCH: f32 = 40.0;
 
 impl EditorApp {
     /// Read this frame's pointer, keys and window size; whether they changed
@@ -20,50 +21,22 @@ impl EditorApp {
         let Some(area) = self.view_area else {
             return false;
         };
-        let (w, h) = self.viewports[0].size;
-        let show = self.show_mode;
-        let typing = ctx.egui_wants_keyboard_input();
-        let mut wheel = self.wheel;
-        let snapshot = ctx.input(|i| {
-            let pointer = i.pointer.latest_pos().filter(|p| area.contains(*p));
-            let inside = pointer.is_some();
-            if inside {
-                for e in &i.raw.events {
-                    if let egui::Event::MouseWheel { unit, delta, .. } = e {
-                        wheel += match unit {
-                            egui::MouseWheelUnit::Point => delta.y / POINTS_PER_NOTCH,
-                            egui::MouseWheelUnit::Line | egui::MouseWheelUnit::Page => delta.y,
-                        };
-                    }
-                }
+        let snapshot = match &self.show_input {
+            // The show window is open: the patch's window is that one.
+            Some(s) => s.clone(),
+            None => {
+                let mut wheel = self.wheel;
+                let s = show_window::read_input(
+                    ctx,
+                    area,
+                    self.viewports[0].size,
+                    self.show_mode,
+                    &mut wheel,
+                );
+                self.wheel = wheel;
+                s
             }
-            let keys = (show || inside) && !typing;
-            InputSnapshot {
-                mouse_position: pointer.map(|p| {
-                    InputSnapshot::normalized_position(
-                        Vec2::new(p.x - area.min.x, p.y - area.min.y),
-                        Vec2::new(area.width(), area.height()),
-                    )
-                }),
-                mouse_buttons: if inside {
-                    [
-                        i.pointer.primary_down(),
-                        i.pointer.middle_down(),
-                        i.pointer.secondary_down(),
-                    ]
-                } else {
-                    [false; 3]
-                },
-                mouse_wheel: wheel,
-                keys_down: if keys {
-                    i.keys_down.iter().map(|k| k.name().to_owned()).collect()
-                } else {
-                    Default::default()
-                },
-                window_size: Some((w, h)),
-            }
-        });
-        self.wheel = wheel;
+        };
         let host = self.worker.host_input();
         if host.snapshot() == snapshot {
             return false;

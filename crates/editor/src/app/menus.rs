@@ -37,6 +37,9 @@ impl EditorApp {
         if consume(cmd(Key::Z)) {
             self.doc.undo();
         }
+        if consume(KeyboardShortcut::new(Modifiers::NONE, Key::F11)) {
+            self.toggle_show_window();
+        }
         if consume(cmd(Key::D)) {
             self.duplicate_selected();
         }
@@ -74,7 +77,13 @@ impl EditorApp {
             self.delete_selected();
         }
         if ctx.input_mut(|i| i.consume_key(Modifiers::NONE, Key::Escape)) {
-            self.selected.clear();
+            if self.show_window.is_some() && ctx.embed_viewports() {
+                // The show window is drawn inside the editor (no native
+                // windows), so it shares the editor's keyboard: Esc closes it.
+                self.close_show_window();
+            } else {
+                self.selected.clear();
+            }
         }
         if ctx.input_mut(|i| i.consume_key(Modifiers::NONE, Key::F)) {
             self.fit = FIT_FROM_SCRATCH;
@@ -188,6 +197,21 @@ impl EditorApp {
             }
             ui.toggle_value(&mut self.show_timings, "⏱ Timings")
                 .on_hover_text("CPU time per node, GPU time per render node");
+            ui.separator();
+            let open = self.show_window.is_some();
+            if ui
+                .selectable_label(open, "🖵 Show window")
+                .on_hover_text("the Output in its own borderless window (F11); Esc in it closes it")
+                .clicked()
+            {
+                self.toggle_show_window();
+            }
+            ui.add_enabled_ui(!open, |ui| {
+                ui.checkbox(&mut self.show_window_choice.fullscreen, "Fullscreen")
+                    .on_hover_text("on the monitor the Output's Monitor pin names");
+                ui.checkbox(&mut self.show_window_choice.native, "Native size")
+                    .on_hover_text("the window takes the texture's pixel size, 1:1");
+            });
         });
     }
 

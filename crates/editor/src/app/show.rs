@@ -2,7 +2,8 @@
 //! filling a borderless window at the window's own pixel size, playing; no
 //! menus, canvas or inspector. Esc closes it. On its first frame it moves to
 //! its monitor: `--monitor N`, else the `Monitor` pin of the patch's first
-//! `Output` (-1 leaves the window where the window system put it).
+//! `Output` (-1 leaves the window where the window system put it). With
+//! `--native` the window takes the texture's pixel size (`show_window.rs`).
 
 use std::sync::Mutex;
 
@@ -32,6 +33,7 @@ impl EditorApp {
         found: Found,
         failure: Arc<Mutex<Option<String>>>,
     ) {
+        self.play_native = window.native;
         self.placement = Some(Placement {
             window,
             found,
@@ -40,7 +42,7 @@ impl EditorApp {
     }
 
     /// The monitor the patch's first `Output` asks for with its `Monitor` pin.
-    fn output_monitor(&self) -> Option<usize> {
+    pub(super) fn output_monitor(&self) -> Option<usize> {
         let output = self
             .doc
             .top()
@@ -110,7 +112,15 @@ impl EditorApp {
         self.evaluate_if_needed(&ctx, Some(dt), true);
         egui::CentralPanel::default()
             .frame(egui::Frame::NONE)
-            .show(ui, |ui| self.viewport_ui(ui, 0, None));
+            .show(ui, |ui| {
+                if self.play_native {
+                    let area = ui.available_rect_before_wrap();
+                    self.view_area = Some(area);
+                    self.show_window_image(ui, 0, area, true);
+                } else {
+                    self.viewport_ui(ui, 0, None);
+                }
+            });
         self.evaluate_if_needed(&ctx, None, false);
         if self.playing {
             ctx.request_repaint();

@@ -1,0 +1,144 @@
+//! The show window in a real X window under Xvfb (see editor_window.rs):
+//! opened from the editor with F11, and `spreadlight play --native`.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+
+// Shared with editor_window.rs, which uses the helpers this file does not.
+#[allow(dead_code)]
+mod xwindow;
+
+use xwindow::{Input, Xvfb};
+
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+/// F11 in the editor opens the show window: a second top-level window, of
+/// the show window's default size (640x360 points, 1 pixel a point here),
+/// beside the editor's; Esc in it closes it and the editor stays.
+#[test]
+fn f11_opens_a_second_window_for_the_output_and_esc_closes_it() {
+    const F11: u32 = 0xffc8;
+    const ESCAPE: u32 = 0xff1b;
+    let x = Xvfb::start();
+    let dir = tempfile::tempdir().expect("tempdir");
+    let mut editor = Command::new(env!("CARGO_BIN_EXE_spreadlight"))
+        .arg("edit")
+        .arg(root().join("patches/showcase.ron"))
+        .env("DISPLAY", &x.display)
+        .env_remove("WAYLAND_DISPLAY")
+        .env("XDG_RUNTIME_DIR", std::env::temp_dir())
+        .env("SPREADLIGHT_CONFIG_DIR", dir.path().join("config"))
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .expect("the editor starts");
+    let input = Input::connect(&x);
+    let wait_until = |what: &str, found: &dyn Fn() -> bool| {
+        let waited = std::time::Instant::now();
+        while !found() {
+            if waited.elapsed().as_secs() >= 60 {
+                let shot = std::env::temp_dir().join("spreadlight-show-window-test.png");
+                input.shot(&shot);
+                panic!("{what} not within a minute; the screen: {}", shot.display());
+            }
+            std::thread::sleep(std::time::Duration::from_millis(200));
+        }
+    };
+    wait_until("the editor window", &|| {
+        input.shown_window(400, 300).is_some()
+    });
+    let window = input.shown_window(400, 300).expect("the editor");
+    // Its first frames (the GPU starts) come after the window shows.
+    std::thread::sleep(std::time::Duration::from_secs(3));
+    input.focus(window);
+    input.hover(200, 200);
+    input.key(F11);
+    wait_until("a second window", &|| {
+        !input.other_windows(window).is_empty()
+    });
+    let shown = input.other_windows(window);
+    assert_eq!(shown.len(), 1, "one show window: {shown:?}");
+    let (show, size) = shown[0];
+    assert_eq!(size, (640, 360), "the show window's size");
+    input.focus(show);
+    input.key(ESCAPE);
+    wait_until("the show window closing", &|| {
+        input.other_windows(window).is_empty()
+    });
+    assert_eq!(
+        editor.try_wait().expect("status"),
+        None,
+        "the editor is still running"
+    );
+    editor.kill().expect("SIGKILL");
+    editor.wait().expect("reaped");
+}
+
+/// `spreadlight play --native`: the window takes the Output texture's own
+/// pixel size (a 200x120 image file) instead of its 320x180, and the
+/// screenshot is the image itself, pixel for pixel.
+#[test]
+fn play_native_sizes_the_window_to_the_texture_one_to_one() {
+    let x = Xvfb::start();
+    let dir = tempfile::tempdir().expect("tempdir");
+    let png = dir.path().join("native.png");
+    // Only 0 and 255, which any colour transfer keeps, in a pattern that any
+    // scaling or shift by a pixel would break.
+    let on = |b: bool| if b { 255 } else { 0 };
+    let source = image::RgbaImage::from_fn(200, 120, |x, y| {
+        image::Rgba([
+            on((x * 7 + y * 3) % 5 < 2),
+            on(x % 2 == 0),
+            on((x / 3 + y) % 2 == 0),
+            255,
+        ])
+    });
+    source.save(&png).expect("png");
+    let mut p = spreadlight_graph::Patch::default();
+    p.add(
+        spreadlight_graph::NodeDoc::new(1, "FileTexture")
+            .with("Filename", vec!["native.png".to_owned()]),
+    );
+    p.add(spreadlight_graph::NodeDoc::new(2, "Output").with("Write", vec![false]));
+    p.link(1, "Texture", 2, "Texture");
+    let patch = dir.path().join("native.ron");
+    spreadlight_graph::format::save(&p, &patch).expect("save");
+    let shot = dir.path().join("shot.png");
+    let out = Command::new(env!("CARGO_BIN_EXE_spreadlight"))
+        .arg("play")
+        .arg(&patch)
+        .args(["--size", "320x180", "--native", "--measure-frames", "5"])
+        .arg("--screenshot")
+        .arg(&shot)
+        .env("DISPLAY", &x.display)
+        .env_remove("WAYLAND_DISPLAY")
+        .env("XDG_RUNTIME_DIR", std::env::temp_dir())
+        .env("SPREADLIGHT_CONFIG_DIR", dir.path())
+        .output()
+        .expect("play runs");
+    assert!(
+        out.status.success(),
+        "{}{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let image = image::open(&shot).expect("a PNG").to_rgba8();
+    assert_eq!(image.dimensions(), (200, 120), "the texture's own size");
+    // 1:1: each pixel comes back.
+    let off = image
+        .pixels()
+        .zip(source.pixels())
+        .filter(|(a, b)| (0..3).any(|c| a[c].abs_diff(b[c]) > 2))
+        .count();
+    assert_eq!(
+        off,
+        0,
+        "pixels that differ from the image, e.g. at (10, 10) {:?} for {:?}, at (150, 100) {:?} for {:?}",
+        image.get_pixel(10, 10),
+        source.get_pixel(10, 10),
+        image.get_pixel(150, 100),
+        source.get_pixel(150, 100)
+    );
+}
