@@ -62,8 +62,8 @@ pub fn register(r: &mut Registry) {
              the name ends in .exr) when Write is on. Only the passes its texture depends on run. Name names \
              the sequence `spreadlight render` writes for it; Preroll declares how many frames its temporal \
              effects and simulations need to settle, which a render of a chunk of frames evaluates first. \
-             Monitor (-1 or 0 and up) picks the monitor `spreadlight play` opens its show window on; -1 \
-             leaves it to the window system.",
+             Monitor (-1 or 0 and up) picks the monitor its show window opens on: `spreadlight play`, and \
+             in the editor (F11 or the toolbar's Show window) when fullscreen; -1 leaves it to the window system.",
         )
         .input_spread("Texture", PinType::Resource(ResourceKind::Texture), Spread::Resource(ResourceKind::Texture, vec![]))
         .input("Filename", String::new())
