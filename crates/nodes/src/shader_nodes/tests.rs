@@ -29,6 +29,10 @@ impl Rig {
         let renderer = test_renderer();
         renderer.set_output_size(SIZE);
         rt.provide(renderer.clone());
+        // The example patches' folder, so their modules (patches/modules/) resolve.
+        rt.provide(Arc::new(spreadlight_graph::PatchDir(
+            Path::new(env!("CARGO_MANIFEST_DIR")).join("../../patches"),
+        )));
         let images = Arc::new(RenderedImages::default());
         rt.provide(images.clone());
         let problems = rt.load(patch).to_vec();
