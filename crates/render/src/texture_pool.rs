@@ -43,6 +43,14 @@ impl ViewSpec {
         }
     }
 
+    /// Six layers as a cube (environment maps).
+    pub fn cube() -> Self {
+        ViewSpec {
+            dimension: Some(wgpu::TextureViewDimension::Cube),
+            ..Default::default()
+        }
+    }
+
     fn descriptor(&self) -> wgpu::TextureViewDescriptor<'static> {
         wgpu::TextureViewDescriptor {
             dimension: self.dimension,
@@ -100,29 +108,67 @@ pub(crate) struct TexturePool {
     /// Last frame's requested outputs: handed to the caller, back to the pool next frame.
     pub lent: Vec<(TextureKey, wgpu::Texture)>,
     pub views: ViewCache,
+    /// The texture each pass output ([`slot`]) was given last, and whether
+    /// it was asked for this frame. An output gets the same texture again
+    /// while it is free: a stack alone hands textures of one key out in a
+    /// different order each frame (those returned last are taken first), and
+    /// a pass that binds other textures than last frame makes new bind groups.
+    last: HashMap<u64, (wgpu::Texture, bool)>,
 }
 
 impl TexturePool {
-    /// A pooled texture of `key`, or a new one (`created` counts it).
+    /// A pooled texture of `key` for output `slot` ([`slot`]) named `name`
+    /// (the texture the slot had last frame if that is free), or a new one
+    /// (`created` counts it).
     pub fn take(
         &mut self,
         device: &wgpu::Device,
         key: &TextureKey,
-        label: &str,
+        (slot, name): (u64, &str),
         created: &mut u64,
     ) -> wgpu::Texture {
-        match self.pool.get_mut(key).and_then(Vec::pop) {
-            Some(t) => t,
+        let last = self.last.get_mut(&slot);
+        let free = self.pool.get_mut(key).and_then(|free| {
+            let i = last
+                .as_ref()
+                .and_then(|(t, _)| free.iter().position(|f| f == t))
+                .or_else(|| free.len().checked_sub(1))?;
+            Some(free.swap_remove(i))
+        });
+        let texture = free.unwrap_or_else(|| {
+            *created += 1;
+            create_texture(device, key, name)
+        });
+        match last {
+            Some(last) => *last = (texture.clone(), true),
             None => {
-                *created += 1;
-                create_texture(device, key, label)
+                self.last.insert(slot, (texture.clone(), true));
             }
         }
+        texture
     }
 
     pub fn give_back(&mut self, key: TextureKey, texture: wgpu::Texture) {
         self.pool.entry(key).or_default().push(texture);
     }
+
+    /// Forget the names this frame did not use (a node deleted, an effect
+    /// switched off): their textures stay pooled, unclaimed.
+    pub fn end_frame(&mut self) {
+        self.last.retain(|_, (_, used)| std::mem::take(used));
+    }
+}
+
+/// What names a pass output from frame to frame: its pass's name (the node
+/// type and id, "Tonemap #12: blur"), which of the passes of that name it is
+/// in declaration order, and which of its outputs. Texture names cannot: a
+/// recipe made again (a jittered camera re-makes most each frame) names its
+/// outputs after its new recipe id. Hashed: a collision costs only a preference.
+pub(crate) fn slot(pass: &str, occurrence: u32, output: usize) -> u64 {
+    use std::hash::{Hash, Hasher};
+    let mut hasher = std::collections::hash_map::DefaultHasher::new();
+    (pass, occurrence, output).hash(&mut hasher);
+    hasher.finish()
 }
 
 pub(crate) fn create_texture(

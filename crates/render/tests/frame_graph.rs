@@ -390,3 +390,82 @@ fn a_repeated_frame_reuses_its_bind_groups_and_texture_views() {
     assert!(report.counter("bind groups reused") >= 2);
     assert!(report.counter("texture views reused") >= 3);
 }
+
+/// [`arithmetic_frame`] as a re-made recipe declares it: its textures named
+/// after a new id each frame (`frame`), its passes named as before.
+fn renamed_frame(renderer: &spreadlight_render::Renderer, frame: u32) -> Vec<[f32; 4]> {
+    use spreadlight_render::readback::render_and_read;
+    use spreadlight_render::shaders::ShaderKey;
+    struct Chain([String; 3]);
+    impl spreadlight_render::Recipe for Chain {
+        fn declare<'a>(&'a self, _: &'a spreadlight_render::Renderer, fg: &mut FrameGraph<'a>) {
+            let [s0, s1, s2] = &self.0;
+            let mut seeded = target();
+            seeded.usage |= wgpu::TextureUsages::COPY_DST;
+            fg.add_pass("seed", Some(7), &[], &[(s0, seeded)], move |cx| {
+                let t = cx.texture(s0)?.clone();
+                let data: Vec<u8> = (0..8 * 8)
+                    .flat_map(|i| {
+                        let v = half::f16::from_f32(i as f32 / 64.0).to_le_bytes();
+                        [v, v, v, half::f16::ONE.to_le_bytes()].concat()
+                    })
+                    .collect();
+                cx.gpu.queue.write_texture(
+                    t.as_image_copy(),
+                    &data,
+                    wgpu::TexelCopyBufferLayout {
+                        offset: 0,
+                        bytes_per_row: Some(8 * 8),
+                        rows_per_image: None,
+                    },
+                    t.size(),
+                );
+                Ok(())
+            });
+            // Two passes of one name (as SSSS declares its three blurs).
+            for (from, to) in [(s0, s1), (s1, s2)] {
+                fg.add_pass("copy", Some(7), &[from], &[(to, target())], move |cx| {
+                    let (input, output) = (cx.view(from)?, cx.view(to)?);
+                    cx.dispatch_image(
+                        "copy",
+                        &ShaderKey::new("post/copy.wgsl", []),
+                        &[
+                            (0, wgpu::BindingResource::TextureView(&input)),
+                            (1, wgpu::BindingResource::TextureView(&output)),
+                        ],
+                        (8, 8),
+                    )
+                });
+            }
+        }
+    }
+    let chain = Chain([0, 1, 2].map(|i| format!("s{i} of recipe {frame}")));
+    let requested = chain.0[2].clone();
+    let (report, images) =
+        render_and_read(renderer, &chain, (8, 8), &[requested.as_str()]).expect("renders");
+    assert!(report.errors.is_empty(), "{:?}", report.errors);
+    images[0].pixels.clone()
+}
+
+#[test]
+fn a_re_made_recipe_binds_the_textures_its_passes_had_last_frame() {
+    let renderer = test_renderer();
+    let first = renamed_frame(&renderer, 0);
+    assert!(renderer.last_report().counter("bind groups created") >= 2);
+    // Each frame names its textures anew; the passes (by name and order)
+    // get last frame's textures back, so nothing new is bound from frame 2 on.
+    for frame in 1..5 {
+        assert_eq!(renamed_frame(&renderer, frame), first);
+        let report = renderer.last_report();
+        if frame >= 2 {
+            assert_eq!(
+                report.counter("bind groups created"),
+                0,
+                "frame {frame}: {:?}",
+                report.counters
+            );
+            assert_eq!(report.counter("texture views created"), 0);
+            assert!(report.counter("bind groups reused") >= 2);
+        }
+    }
+}

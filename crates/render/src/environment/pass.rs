@@ -4,13 +4,14 @@
 
 use std::sync::Arc;
 
-use super::environment_map::{Environment, EnvironmentMaps};
+use super::environment_map::Environment;
 use crate::error::RenderError;
 use crate::frame_graph::{FrameGraph, PassContext, TextureDesc};
 use crate::gbuffer::GBuffer;
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
 use crate::shaders::ShaderKey;
+use crate::texture_pool::ViewSpec;
 
 /// A pass over the lit image: bindings 0 camera, 1 `params`, 2 the image,
 /// 3 depth, 4 the output (shaders/environment/*.wgsl).
@@ -88,7 +89,7 @@ impl ImagePass {
             Some(e) => Some(e.maps_for(self.name)?),
             None => None,
         };
-        let cube = maps.as_ref().map(|m| EnvironmentMaps::cube_view(&m.base));
+        let cube = maps.as_ref().map(|m| cx.view_of(&m.base, ViewSpec::cube()));
         if let (Some(maps), Some(cube)) = (&maps, &cube) {
             all.push((5, wgpu::BindingResource::TextureView(cube)));
             all.push((6, wgpu::BindingResource::Sampler(&maps.sampler)));

@@ -12,7 +12,7 @@
 
 use std::sync::Arc;
 
-use super::environment_map::{Environment, EnvironmentMaps};
+use super::environment_map::Environment;
 use crate::error::RenderError;
 use crate::frame_graph::{FrameGraph, PassContext, TextureDesc};
 use crate::gbuffer::GBuffer;
@@ -20,6 +20,7 @@ use crate::material::{FEATURE_COOK_TORRANCE, FEATURE_REFLECTION, MaterialWorld};
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
 use crate::shaders::ShaderKey;
+use crate::texture_pool::ViewSpec;
 
 const SHADER: &str = "environment/reflection.wgsl";
 
@@ -196,9 +197,10 @@ impl Reflection {
         } else {
             &self.diffuse
         })?;
-        let prefiltered = EnvironmentMaps::cube_view(&maps.prefiltered);
-        let irradiance = EnvironmentMaps::cube_view(&maps.irradiance);
-        let lut = maps.lut.create_view(&Default::default());
+        // Cached views: new ones each frame would make new bind groups.
+        let prefiltered = cx.view_of(&maps.prefiltered, ViewSpec::cube());
+        let irradiance = cx.view_of(&maps.irradiance, ViewSpec::cube());
+        let lut = cx.view_of(&maps.lut, ViewSpec::default());
         let all = [
             (0, g.camera_buffer().as_entire_binding()),
             (1, self.params.as_entire_binding()),

@@ -21,7 +21,7 @@ use super::{FrameGraph, Lifetime, PassContext, Recorded};
 use crate::error::RenderError;
 use crate::renderer::{MAX_QUERIES, PERSISTENT_IDLE_GRAPHS, Recording, Renderer, Timing};
 use crate::report::{FrameReport, PassReport};
-use crate::texture_pool::create_texture;
+use crate::texture_pool::{create_texture, slot};
 
 /// Frames the CPU may run ahead of the GPU when nothing is read back.
 pub const FRAMES_IN_FLIGHT: usize = 2;
@@ -63,6 +63,18 @@ fn execute(
         }
     }
     let requested: HashSet<&str> = parts.requested.iter().map(String::as_str).collect();
+    // Which of the passes of its name each pass is, in declaration order:
+    // with the pass name, what keeps an output's texture from frame to frame.
+    let mut seen: HashMap<&str, u32> = HashMap::new();
+    let occurrence: Vec<u32> = parts
+        .names
+        .iter()
+        .map(|name| {
+            let n = seen.entry(name.as_str()).or_default();
+            *n += 1;
+            *n - 1
+        })
+        .collect();
 
     let mut live: HashMap<String, wgpu::Texture> = parts.imports.clone();
     for (name, (_, texture)) in &textures.persistent {
@@ -100,7 +112,8 @@ fn execute(
     let steps = parts.order.len();
 
     for (step, &p) in parts.order.clone().iter().enumerate() {
-        for ((name, desc), key) in parts.writes[p].iter().zip(&parts.keys[p]) {
+        for (output, ((name, desc), key)) in parts.writes[p].iter().zip(&parts.keys[p]).enumerate()
+        {
             let texture = match desc.lifetime {
                 Lifetime::Persistent => match textures.persistent.get(name) {
                     Some((k, t)) if k == key => t.clone(),
@@ -113,7 +126,8 @@ fn execute(
                     }
                 },
                 Lifetime::Temporary | Lifetime::Permanent => {
-                    textures.take(device, key, name, &mut report.textures_created)
+                    let slot = slot(&parts.names[p], occurrence[p], output);
+                    textures.take(device, key, (slot, name), &mut report.textures_created)
                 }
             };
             if desc.lifetime == Lifetime::Persistent {
@@ -237,6 +251,7 @@ fn execute(
         }
     }
     views.end_frame();
+    textures.end_frame();
     textures.views = views;
     drop(shaders);
 

@@ -513,12 +513,11 @@ impl MaterialWorld {
         let device = cx.gpu.device.clone();
         let views = if textured {
             let array = match &self.textures {
-                Some(t) => cx
-                    .texture(&t.name)?
-                    .create_view(&wgpu::TextureViewDescriptor {
-                        dimension: Some(wgpu::TextureViewDimension::D2Array),
-                        ..Default::default()
-                    }),
+                // The cached view: a new one each frame would make a new bind group.
+                Some(t) => {
+                    let texture = cx.texture(&t.name)?.clone();
+                    cx.view_of(&texture, crate::texture_pool::ViewSpec::array())
+                }
                 None => self.dummies.array.clone(),
             };
             // Repeat: UVs beyond 0..1 tile.
