@@ -261,6 +261,13 @@ impl EditorApp {
         let registry = crate::nodes::registry();
         let (gpu, gpu_error) = match render_state {
             Some(state) => {
+                // A device error no scope catches (wgpu gives up waiting for
+                // the GPU when a window's surface is configured while the
+                // worker's frame still runs on a slow adapter) is reported,
+                // not a panic that takes the editor and the patch down.
+                state.device.on_uncaptured_error(Arc::new(|e: wgpu::Error| {
+                    eprintln!("warning: GPU: {e}");
+                }));
                 let context = GpuContext::from_parts(
                     state.device.clone(),
                     state.queue.clone(),
