@@ -16,6 +16,7 @@ pub(crate) mod compute_raster;
 mod layer;
 mod passes;
 mod published_depth;
+mod resolve;
 mod surface_shader;
 mod view;
 
