@@ -42,6 +42,12 @@ pub struct LayerFeatures {
 }
 
 impl LayerFeatures {
+    /// The resolve adds each triangle's geometry id to the object id (a
+    /// uniform flag, not a permutation: the runs of alike layers compare it).
+    pub(crate) fn adds_geometry_ids(&self) -> bool {
+        self.ids && self.geometry_ids
+    }
+
     /// The resolve shader's features for the surface (color, normals) pass, from the switches alone.
     fn surface_defines(&self) -> Vec<&'static str> {
         let mut d = Vec::new();

@@ -76,7 +76,6 @@ fn runs<K: PartialEq>(
             run.end_instance = end;
             continue;
         }
-        let geometry_ids = u32::from(layer.features.ids && layer.features.geometry_ids);
         runs.push((
             i,
             key,
@@ -84,7 +83,7 @@ fn runs<K: PartialEq>(
                 first_instance: first,
                 end_instance: end,
                 write_background: u32::from(i == 0),
-                geometry_ids,
+                geometry_ids: u32::from(layer.features.adds_geometry_ids()),
             },
         ));
     }
@@ -364,20 +363,19 @@ impl GBuffer {
                     })
                     .collect()
             };
-        let geometry_ids = |l: &Layer| l.features.ids && l.features.geometry_ids;
         // A layer with maps, a material world or a shader material binds
         // its own: it resolves alone.
         let surface_runs = kept(
             "mre surface run",
             runs(&layers, &layer_ranges, |l| {
                 (l.surface.is_none() && l.maps().next().is_none() && l.map_world().is_none())
-                    .then(|| (l.surface_defines(), geometry_ids(l)))
+                    .then(|| (l.surface_defines(), l.features.adds_geometry_ids()))
             }),
         );
         let motion_runs = kept(
             "mre motion run",
             runs(&layers, &layer_ranges, |l| {
-                Some((l.features.motion_defines(), geometry_ids(l)))
+                Some((l.features.motion_defines(), l.features.adds_geometry_ids()))
             }),
         );
         let surface_buffers = layers
