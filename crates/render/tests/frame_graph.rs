@@ -230,23 +230,7 @@ fn arithmetic_frame(renderer: &spreadlight_render::Renderer) -> Vec<[f32; 4]> {
             let mut seeded = target();
             seeded.usage |= wgpu::TextureUsages::COPY_DST;
             fg.add_pass("seed", None, &[], &[("s0", seeded)], |cx| {
-                let t = cx.texture("s0")?.clone();
-                let data: Vec<u8> = (0..8 * 8)
-                    .flat_map(|i| {
-                        let v = half::f16::from_f32(i as f32 / 64.0).to_le_bytes();
-                        [v, v, v, half::f16::ONE.to_le_bytes()].concat()
-                    })
-                    .collect();
-                cx.gpu.queue.write_texture(
-                    t.as_image_copy(),
-                    &data,
-                    wgpu::TexelCopyBufferLayout {
-                        offset: 0,
-                        bytes_per_row: Some(8 * 8),
-                        rows_per_image: None,
-                    },
-                    t.size(),
-                );
+                seed_ramp(cx, &cx.texture("s0")?.clone());
                 Ok(())
             });
             for (from, to) in [("s0", "s1"), ("s1", "s2")] {
@@ -403,23 +387,7 @@ fn renamed_frame(renderer: &spreadlight_render::Renderer, frame: u32) -> Vec<[f3
             let mut seeded = target();
             seeded.usage |= wgpu::TextureUsages::COPY_DST;
             fg.add_pass("seed", Some(7), &[], &[(s0, seeded)], move |cx| {
-                let t = cx.texture(s0)?.clone();
-                let data: Vec<u8> = (0..8 * 8)
-                    .flat_map(|i| {
-                        let v = half::f16::from_f32(i as f32 / 64.0).to_le_bytes();
-                        [v, v, v, half::f16::ONE.to_le_bytes()].concat()
-                    })
-                    .collect();
-                cx.gpu.queue.write_texture(
-                    t.as_image_copy(),
-                    &data,
-                    wgpu::TexelCopyBufferLayout {
-                        offset: 0,
-                        bytes_per_row: Some(8 * 8),
-                        rows_per_image: None,
-                    },
-                    t.size(),
-                );
+                seed_ramp(cx, &cx.texture(s0)?.clone());
                 Ok(())
             });
             // Two passes of one name (as SSSS declares its three blurs).
@@ -468,4 +436,24 @@ fn a_re_made_recipe_binds_the_textures_its_passes_had_last_frame() {
             assert!(report.counter("bind groups reused") >= 2);
         }
     }
+}
+
+/// Write an 8x8 grey ramp (0, 1/64, ... 63/64; alpha 1) into the seed texture.
+fn seed_ramp(cx: &spreadlight_render::frame_graph::PassContext<'_>, t: &wgpu::Texture) {
+    let data: Vec<u8> = (0..8 * 8)
+        .flat_map(|i| {
+            let v = half::f16::from_f32(i as f32 / 64.0).to_le_bytes();
+            [v, v, v, half::f16::ONE.to_le_bytes()].concat()
+        })
+        .collect();
+    cx.gpu.queue.write_texture(
+        t.as_image_copy(),
+        &data,
+        wgpu::TexelCopyBufferLayout {
+            offset: 0,
+            bytes_per_row: Some(8 * 8),
+            rows_per_image: None,
+        },
+        t.size(),
+    );
 }
