@@ -220,17 +220,7 @@ fn an_edit_survives_killing_the_editor_and_is_offered_back() {
         .spawn()
         .expect("the editor starts");
     let input = Input::connect(&x);
-    let waited = std::time::Instant::now();
-    let window = loop {
-        if let Some(window) = input.shown_window(400, 300) {
-            break window;
-        }
-        assert!(
-            waited.elapsed().as_secs() < 60,
-            "no editor window after a minute"
-        );
-        std::thread::sleep(std::time::Duration::from_millis(200));
-    };
+    let window = input.wait_for_window(400, 300);
     // Its first frames (the GPU starts) come after the window shows.
     std::thread::sleep(std::time::Duration::from_secs(3));
     input.focus(window);
@@ -314,17 +304,7 @@ fn an_edit_inside_an_opened_module_file_survives_killing_the_editor() {
         .spawn()
         .expect("the editor starts");
     let input = Input::connect(&x);
-    let waited = std::time::Instant::now();
-    let window = loop {
-        if let Some(window) = input.shown_window(400, 300) {
-            break window;
-        }
-        assert!(
-            waited.elapsed().as_secs() < 60,
-            "no editor window after a minute"
-        );
-        std::thread::sleep(std::time::Duration::from_millis(200));
-    };
+    let window = input.wait_for_window(400, 300);
     std::thread::sleep(std::time::Duration::from_secs(3));
     input.focus(window);
     // The canvas is the window less the side panel (360 points and its

@@ -96,6 +96,21 @@ impl Input {
         })
     }
 
+    /// Wait for [`Input::shown_window`] (the editor starting); after a minute, fail.
+    pub fn wait_for_window(&self, w: u16, h: u16) -> u32 {
+        let waited = std::time::Instant::now();
+        loop {
+            if let Some(window) = self.shown_window(w, h) {
+                return window;
+            }
+            assert!(
+                waited.elapsed().as_secs() < 60,
+                "no editor window after a minute"
+            );
+            std::thread::sleep(std::time::Duration::from_millis(200));
+        }
+    }
+
     /// Every mapped top-level window but `except`, with its size.
     pub fn other_windows(&self, except: u32) -> Vec<(u32, (u16, u16))> {
         use x11rb::protocol::xproto::{ConnectionExt, MapState};
