@@ -55,6 +55,8 @@ struct PassFigure {
     name: String,
     owner: Option<u32>,
     gpu_ms: Option<f64>,
+    /// Median GPU idle time before the pass (after the previous one ended).
+    idle_ms: Option<f64>,
 }
 
 fn median(mut v: Vec<f64>) -> Option<f64> {
@@ -131,6 +133,15 @@ fn unique_names(passes: &[PassFigure]) -> serde_json::Map<String, serde_json::Va
     map
 }
 
+/// One pass's figures over the timed frames.
+#[derive(Default)]
+struct PassSeries {
+    name: String,
+    owner: Option<u32>,
+    gpu: Vec<f64>,
+    idle: Vec<f64>,
+}
+
 /// Per-frame figures of the timed frames.
 #[derive(Default)]
 struct Series {
@@ -197,7 +208,7 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
     let mut reported = Default::default();
     let mut series = Series::default();
     // Per pass position (frames render the same passes in the same order).
-    let mut passes: Vec<(String, Option<u32>, Vec<f64>)> = Vec::new();
+    let mut passes: Vec<PassSeries> = Vec::new();
     let total = args.warmup + args.frames.max(1);
     for frame in 0..total {
         session.runtime.invalidate_sinks();
@@ -226,11 +237,14 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
         }
         for (k, p) in report.passes.iter().enumerate() {
             if passes.len() <= k {
-                passes.push((p.name.clone(), p.owner, Vec::new()));
+                passes.push(PassSeries {
+                    name: p.name.clone(),
+                    owner: p.owner,
+                    ..Default::default()
+                });
             }
-            if let Some(ms) = p.gpu_ms {
-                passes[k].2.push(ms);
-            }
+            passes[k].gpu.extend(p.gpu_ms);
+            passes[k].idle.extend(p.idle_ms);
         }
         if renderer.gpu.has_timestamps() {
             const GEOMETRY: &str = "geometry and particles (compute)";
@@ -242,9 +256,13 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
                 (SKINNING, skinning_ms),
             ];
             for (name, ms) in lines.into_iter().take(if skinned { 2 } else { 1 }) {
-                match passes.iter_mut().find(|p| p.0 == name) {
-                    Some(p) => p.2.push(ms),
-                    None => passes.push((name.to_owned(), None, vec![ms])),
+                match passes.iter_mut().find(|p| p.name == name) {
+                    Some(p) => p.gpu.push(ms),
+                    None => passes.push(PassSeries {
+                        name: name.to_owned(),
+                        gpu: vec![ms],
+                        ..Default::default()
+                    }),
                 }
             }
         }
@@ -257,10 +275,11 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
     let adapter = renderer.gpu.adapter_name();
     let passes: Vec<PassFigure> = passes
         .into_iter()
-        .map(|(name, owner, times)| PassFigure {
-            name,
-            owner,
-            gpu_ms: median(times),
+        .map(|p| PassFigure {
+            name: p.name,
+            owner: p.owner,
+            gpu_ms: median(p.gpu),
+            idle_ms: median(p.idle),
         })
         .collect();
     let (gpu, cpu) = (median(series.gpu), median(series.cpu));
@@ -309,7 +328,12 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
             println!("  wall clock, frames in flight {ms:.3} ms a frame");
         }
         for p in &passes {
-            println!("  {:<44} {}", p.name, show(p.gpu_ms));
+            // The idle time before a pass, where it is worth a look.
+            let idle = p
+                .idle_ms
+                .filter(|&ms| ms >= 0.0005)
+                .map_or(String::new(), |ms| format!("  (idle before {ms:.3} ms)"));
+            println!("  {:<44} {}{idle}", p.name, show(p.gpu_ms));
         }
     }
     Ok(ExitCode::SUCCESS)

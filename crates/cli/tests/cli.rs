@@ -387,6 +387,16 @@ fn bench_prints_one_json_line_with_the_adapter() {
     assert!(json["cpu_eval_ms_median"].as_f64().is_some());
     assert!(json["cpu_record_ms_median"].as_f64().is_some());
     assert!(json["wall_ms_per_frame"].is_null(), "only with --wall");
+    // Each timed pass of the frame says how long the GPU idled before it;
+    // the first has nothing before it. (The geometry line is timed apart.)
+    let idle: Vec<f64> = order
+        .iter()
+        .filter(|p| !p["gpu_ms"].is_null() && p["name"] != "geometry and particles (compute)")
+        .map(|p| p["idle_ms"].as_f64().expect("idle_ms beside gpu_ms"))
+        .collect();
+    assert!(!idle.is_empty());
+    assert_eq!(idle[0], 0.0);
+    assert!(idle.iter().all(|&ms| ms >= 0.0), "{idle:?}");
 
     // --wall times frames in flight, batched recording and frame timing
     // leave the figures' shape alone.

@@ -10,6 +10,12 @@ pub struct PassReport {
     pub owner: Option<u32>,
     /// GPU time from timestamp queries, when the adapter has them.
     pub gpu_ms: Option<f64>,
+    /// GPU time idle before this pass: from the end of the previous timed
+    /// pass to this one's start, plus any gaps between its own timed parts.
+    /// Over a frame these add up to the span minus the passes' sum, so a
+    /// boundary that costs more than others (a barrier, an uncovered copy)
+    /// shows where it is.
+    pub idle_ms: Option<f64>,
     pub draws: u64,
 }
 

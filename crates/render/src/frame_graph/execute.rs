@@ -210,6 +210,7 @@ fn execute(
             name: parts.names[p].clone(),
             owner: parts.owners[p],
             gpu_ms: None,
+            idle_ms: None,
             draws,
         });
 
@@ -305,18 +306,27 @@ fn execute(
         if let (Some(first), Some(last)) = (written.iter().min(), written.iter().max()) {
             report.gpu_frame_ms = Some(last.saturating_sub(*first) as f64 * period_ns / 1e6);
         }
+        let to_ms = |ticks: u64| ticks as f64 * period_ns / 1e6;
         let mut total = 0.0;
+        // The end of the previous timed part, to measure the idle gap before each.
+        let mut previous_end: Option<u64> = None;
         for (index, queries) in pass_queries {
             if queries.is_empty() {
                 continue;
             }
-            let ms: f64 = queries
-                .iter()
-                .map(|&(b, e)| {
-                    ticks[e as usize].saturating_sub(ticks[b as usize]) as f64 * period_ns / 1e6
-                })
-                .sum();
+            let (mut ms, mut idle) = (0.0, 0.0);
+            for &(b, e) in &queries {
+                let (begin, end) = (ticks[b as usize], ticks[e as usize]);
+                ms += to_ms(end.saturating_sub(begin));
+                if let Some(previous) = previous_end {
+                    idle += to_ms(begin.saturating_sub(previous));
+                }
+                previous_end = Some(end);
+            }
             report.passes[index].gpu_ms = Some(ms);
+            if timing == Timing::PerPass {
+                report.passes[index].idle_ms = Some(idle);
+            }
             total += ms;
         }
         // Timing::Frame measures the span only: a sum of two passes means nothing.
