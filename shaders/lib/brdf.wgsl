@@ -27,22 +27,36 @@ fn roughness_to_alpha(roughness: f32) -> f32 {
 
 fn d_ggx(n_dot_h: f32, roughness: f32) -> f32 {
     let a = roughness_to_alpha(roughness);
-    let a2 = a * a;
+    return d_ggx_a2(n_dot_h, a * a);
+}
+
+// `d_ggx` with alpha^2 given (the light loops compute it once per pixel).
+fn d_ggx_a2(n_dot_h: f32, a2: f32) -> f32 {
     let nh = clamp(n_dot_h, 0.0, 1.0);
     // 1 - nh^2 as (1 - nh)(1 + nh): keeps its digits next to a sharp peak.
     let f = (1.0 - nh) * (1.0 + nh) + nh * nh * a2;
     return a2 / (PI * f * f);
 }
 
+// sqrt(cos^2 (1 - a^2) + a^2), with cos clamped to MIN_COS..1: one
+// direction's half of the height-correlated Smith term.
+fn smith_lambda(cos_theta: f32, a2: f32) -> f32 {
+    let c = clamp(cos_theta, MIN_COS, 1.0);
+    return sqrt(c * c * (1.0 - a2) + a2);
+}
+
 // G2 / (4 N.L N.V), so the specular lobe is D * V * F.
 fn v_smith_ggx_correlated(n_dot_v: f32, n_dot_l: f32, roughness: f32) -> f32 {
     let a = roughness_to_alpha(roughness);
     let a2 = a * a;
+    return v_smith_lambdas(n_dot_v, n_dot_l, smith_lambda(n_dot_v, a2), smith_lambda(n_dot_l, a2));
+}
+
+// `v_smith_ggx_correlated` from the two directions' `smith_lambda`.
+fn v_smith_lambdas(n_dot_v: f32, n_dot_l: f32, lambda_of_v: f32, lambda_of_l: f32) -> f32 {
     let nv = clamp(n_dot_v, MIN_COS, 1.0);
     let nl = clamp(n_dot_l, MIN_COS, 1.0);
-    let lambda_v = nl * sqrt(nv * nv * (1.0 - a2) + a2);
-    let lambda_l = nv * sqrt(nl * nl * (1.0 - a2) + a2);
-    return 0.5 / (lambda_v + lambda_l);
+    return 0.5 / (nl * lambda_of_v + nv * lambda_of_l);
 }
 
 fn f_schlick(f0: vec3<f32>, v_dot_h: f32) -> vec3<f32> {
@@ -112,23 +126,78 @@ fn cook_torrance_f0(
     reflectance_in: f32,
     compensate: bool,
 ) -> Brdf {
-    let n_dot_l_raw = dot(n, l);
+    let surface = brdf_surface(n, v, albedo_in, roughness_in, metallic_in, reflectance_in);
+    var brdf = cook_torrance_light(surface, l);
+    if (compensate) {
+        brdf.specular *= surface_energy_compensation(surface);
+    }
+    return brdf;
+}
+
+// What `cook_torrance_f0` needs of a surface point that no light changes.
+// A light loop makes it once per pixel and calls `cook_torrance_light` per
+// light: at hundreds of lights a pixel, this part was most of the work.
+struct BrdfSurface {
+    n: vec3<f32>,
+    v: vec3<f32>,
+    // N.V clamped to MIN_COS..1.
+    n_dot_v: f32,
+    roughness: f32,
+    // alpha^2.
+    alpha_squared: f32,
+    // smith_lambda(N.V, alpha^2).
+    lambda_of_v: f32,
+    // F0, the Fresnel reflectance at normal incidence (`f0` would break
+    // naga_oil's names: an identifier may not end in a digit).
+    normal_fresnel: vec3<f32>,
+    // (1 - metallic) albedo / PI: Lambert before (1 - F) and N.L.
+    diffuse: vec3<f32>,
+}
+
+fn brdf_surface(
+    n: vec3<f32>,
+    v: vec3<f32>,
+    albedo_in: vec3<f32>,
+    roughness_in: f32,
+    metallic_in: f32,
+    reflectance_in: f32,
+) -> BrdfSurface {
+    let n_dot_v = clamp(dot(n, v), MIN_COS, 1.0);
+    let roughness = clamp(roughness_in, 0.0, 1.0);
+    let metallic = clamp(metallic_in, 0.0, 1.0);
+    let albedo = max(albedo_in, vec3<f32>(0.0));
+    let a = roughness_to_alpha(roughness);
+    let a2 = a * a;
+    return BrdfSurface(
+        n,
+        v,
+        n_dot_v,
+        roughness,
+        a2,
+        smith_lambda(n_dot_v, a2),
+        mix(vec3<f32>(clamp(reflectance_in, 0.0, 1.0)), albedo, metallic),
+        (1.0 - metallic) * albedo * diffuse_lambert(),
+    );
+}
+
+// The energy compensation depends on the surface alone: a light loop
+// multiplies its summed specular by it once.
+fn surface_energy_compensation(s: BrdfSurface) -> vec3<f32> {
+    return energy_compensation(s.normal_fresnel, s.n_dot_v, s.roughness);
+}
+
+// One light's share for a prepared surface, without the energy compensation.
+fn cook_torrance_light(s: BrdfSurface, l: vec3<f32>) -> Brdf {
+    let n_dot_l_raw = dot(s.n, l);
     if (n_dot_l_raw <= 0.0) {
         return Brdf(vec3<f32>(0.0), vec3<f32>(0.0));
     }
     let n_dot_l = min(n_dot_l_raw, 1.0);
-    let n_dot_v = clamp(dot(n, v), MIN_COS, 1.0);
-    let h = safe_normalize(v + l, n);
-    let roughness = clamp(roughness_in, 0.0, 1.0);
-    let metallic = clamp(metallic_in, 0.0, 1.0);
-    let albedo = max(albedo_in, vec3<f32>(0.0));
-    let f0 = mix(vec3<f32>(clamp(reflectance_in, 0.0, 1.0)), albedo, metallic);
-    let f = f_schlick(f0, dot(v, h));
-    let lobe = d_ggx(dot(n, h), roughness) * v_smith_ggx_correlated(n_dot_v, n_dot_l, roughness);
-    var specular = f * (lobe * n_dot_l);
-    if (compensate) {
-        specular *= energy_compensation(f0, n_dot_v, roughness);
-    }
-    let diffuse = (vec3<f32>(1.0) - f) * (1.0 - metallic) * albedo * (diffuse_lambert() * n_dot_l);
+    let h = safe_normalize(s.v + l, s.n);
+    let f = f_schlick(s.normal_fresnel, dot(s.v, h));
+    let visibility = v_smith_lambdas(s.n_dot_v, n_dot_l, s.lambda_of_v, smith_lambda(n_dot_l, s.alpha_squared));
+    let lobe = d_ggx_a2(dot(s.n, h), s.alpha_squared) * visibility;
+    let specular = f * (lobe * n_dot_l);
+    let diffuse = (vec3<f32>(1.0) - f) * s.diffuse * n_dot_l;
     return Brdf(diffuse, specular);
 }

@@ -10,7 +10,7 @@
 // subsurface term for materials with the FakeSSS feature), clamped below half-float
 // overflow so no infinity reaches a target.
 #import spreadlight::camera::Camera
-#import spreadlight::brdf::{cook_torrance_f0, DIELECTRIC_F0}
+#import spreadlight::brdf::{BrdfSurface, brdf_surface, cook_torrance_light, surface_energy_compensation, DIELECTRIC_F0}
 #import spreadlight::lights::{point_attenuation, spot_attenuation}
 #import spreadlight::packing::{channel_to_id, safe_normalize}
 // The material library, imported once: MATERIALS reads CookTorrance
@@ -113,14 +113,19 @@ fn spot_mask(light: u32, record: Light, pw: vec3<f32>) -> vec3<f32> {
 
 const HALF_MAX: f32 = 65000.0;
 
-// `lv`: the light's view-space position and range (unused for suns).
-fn shade(light: u32, lv: vec4<f32>, p: vec3<f32>, pw: vec3<f32>, n: vec3<f32>, v: vec3<f32>, albedo: vec3<f32>, rm: vec3<f32>,
+// `lv`: the light's view-space position and range (unused for suns);
+// `intensity`: its record's (the clustered loop keeps it beside `lv` in
+// workgroup memory, so a pixel reads no record for a plain point light).
+// The specular sum leaves out the energy compensation, a factor of the
+// surface alone that the caller applies once.
+fn shade(light: u32, lv: vec4<f32>, intensity: vec3<f32>, p: vec3<f32>, pw: vec3<f32>, surface: BrdfSurface,
          diffuse: ptr<function, vec3<f32>>, specular: ptr<function, vec3<f32>>) {
+    let n = surface.n;
 #ifdef LIGHT_SUN
     let record = lights[light];
     let travel = safe_normalize((camera.view * vec4<f32>(record.direction.xyz, 0.0)).xyz, vec3<f32>(0.0, 0.0, -1.0));
     let l = -travel;
-    var radiance = record.intensity.rgb;
+    var radiance = intensity;
 #ifdef SHADOWS
     if (record.cone.z >= 0.0) {
         radiance *= light_shadow(u32(record.cone.z), pw, normal_world, record.direction.xyz, view_depth, dot(n, l));
@@ -140,29 +145,28 @@ fn shade(light: u32, lv: vec4<f32>, p: vec3<f32>, pw: vec3<f32>, n: vec3<f32>, v
     if (attenuation <= 0.0) {
         return;
     }
+#ifdef LIGHT_SPOT
     // The 64-byte record only for lights that reach the pixel: most of a
     // froxel's list does not (its 64-pixel tile is wider than a light's reach
-    // seen from any one pixel), and at 100,000 lights these loads were the
-    // shading pass's bandwidth.
+    // seen from any one pixel).
     let record = lights[light];
-#ifdef LIGHT_SPOT
     let mask = spot_mask(light, record, pw);
     if (all(mask <= vec3<f32>(0.0))) {
         return;
     }
-    var radiance = record.intensity.rgb * attenuation * mask;
+    var radiance = intensity * attenuation * mask;
 #else
-    var radiance = record.intensity.rgb * attenuation;
+    var radiance = intensity * attenuation;
 #endif
 #ifdef SHADOWS
     // A light's own shadow slice (cone.z; -1: casts none).
-    if (record.cone.z >= 0.0) {
-        radiance *= light_shadow(u32(record.cone.z), pw, normal_world, pw - record.position_range.xyz, view_depth, dot(n, l));
+    let caster = lights[light];
+    if (caster.cone.z >= 0.0) {
+        radiance *= light_shadow(u32(caster.cone.z), pw, normal_world, pw - caster.position_range.xyz, view_depth, dot(n, l));
     }
 #endif
 #endif
-    // rm: roughness, metallic, reflectance (the dielectric F0).
-    let brdf = cook_torrance_f0(n, v, l, albedo, rm.x, rm.y, rm.z, ENERGY);
+    let brdf = cook_torrance_light(surface, l);
 #ifdef FAKE_SSS
     // Light that wraps past the terminator (wrap 0.5), beyond what Lambert gives.
     let n_dot_l = dot(n, l);
@@ -172,12 +176,6 @@ fn shade(light: u32, lv: vec4<f32>, p: vec3<f32>, pw: vec3<f32>, n: vec3<f32>, v
     *diffuse += brdf.diffuse * radiance;
     *specular += brdf.specular * radiance;
 }
-
-#ifdef ENERGY_COMPENSATION
-const ENERGY: bool = true;
-#else
-const ENERGY: bool = false;
-#endif
 
 // A 16x16 workgroup shades a block of pixels. With CLUSTERED it reads its
 // froxels' light lists together: each batch of 256 list entries is loaded
@@ -200,6 +198,8 @@ var<workgroup> froxel_read: vec2<u32>;
 // Two masks, alternating by batch, so one can be cleared while the other is read.
 var<workgroup> batch_mask: array<array<atomic<u32>, MASK_WORDS>, 2>;
 var<workgroup> batch_view: array<vec4<f32>, BATCH>;
+// The lights' intensities (their records' `intensity`), read once per block.
+var<workgroup> batch_intensity: array<vec4<f32>, BATCH>;
 var<workgroup> batch_light: array<u32, BATCH>;
 
 // Floats to unsigned integers in the same order, for atomicMin/Max.
@@ -268,6 +268,8 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>, @builtin(local_invocation_
 #endif
     }
 
+    // rm: roughness, metallic, reflectance (the dielectric F0).
+    let surface = brdf_surface(n, v, albedo, rm.x, rm.y, rm.z);
     var diffuse = vec3<f32>(0.0);
     var specular = vec3<f32>(0.0);
 #ifdef FAKE_SSS
@@ -334,6 +336,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>, @builtin(local_invocation_
                 let offset = lv.xyz - clamp(lv.xyz, lo, hi);
                 if (dot(offset, offset) < lv.w * lv.w) {
                     batch_view[lane] = lv;
+                    batch_intensity[lane] = lights[light].intensity;
                     batch_light[lane] = light;
                     atomicOr(&batch_mask[parity][lane / 32u], 1u << (lane % 32u));
                 }
@@ -349,7 +352,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>, @builtin(local_invocation_
                     while (bits != 0u) {
                         let slot = w * 32u + countTrailingZeros(bits);
                         bits &= bits - 1u;
-                        shade(batch_light[slot], batch_view[slot], p, pw, n, v, albedo, rm, &diffuse, &specular);
+                        shade(batch_light[slot], batch_view[slot], batch_intensity[slot].rgb, p, pw, surface, &diffuse, &specular);
                     }
                 }
             }
@@ -360,13 +363,16 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>, @builtin(local_invocation_
 #else
     if (covered) {
         for (var i = 0u; i < grid.dims.w; i++) {
-            shade(i, view_lights[i], p, pw, n, v, albedo, rm, &diffuse, &specular);
+            shade(i, view_lights[i], lights[i].intensity.rgb, p, pw, surface, &diffuse, &specular);
         }
     }
 #endif
     if (!covered) {
         return;
     }
+#ifdef ENERGY_COMPENSATION
+    specular *= surface_energy_compensation(surface);
+#endif
     textureStore(out_diffuse, pixel, vec4<f32>(min(diffuse, vec3<f32>(HALF_MAX)), 1.0));
     textureStore(out_specular, pixel, vec4<f32>(min(specular, vec3<f32>(HALF_MAX)), 1.0));
 #ifdef FAKE_SSS
