@@ -10,14 +10,21 @@ const MIN_CONE_SOFTNESS: f32 = 1e-4;
 // Inverse-square times Karis' window: exactly 0 at `range`, finite at the
 // light's centre, 0 for a light with no range.
 fn point_attenuation(distance: f32, range: f32) -> f32 {
+    let d = max(distance, 0.0);
+    return point_attenuation_squared(d * d, range);
+}
+
+// `point_attenuation` from the squared distance: the light loops have it
+// from their range test, and the window needs no square root.
+fn point_attenuation_squared(distance2: f32, range: f32) -> f32 {
     if (range <= 0.0) {
         return 0.0;
     }
-    let d = max(distance, 0.0);
-    let ratio = d / range;
-    let ratio2 = ratio * ratio;
+    let d2 = max(distance2, 0.0);
+    // (d / range)^2; the floor keeps a range whose square underflows finite.
+    let ratio2 = d2 / max(range * range, 1e-30);
     let window = clamp(1.0 - ratio2 * ratio2, 0.0, 1.0);
-    return window * window / max(d * d, MIN_DISTANCE_SQUARED);
+    return window * window / max(d2, MIN_DISTANCE_SQUARED);
 }
 
 // Cosines from the spot's axis: 1 inside the inner cone, 0 outside the outer,

@@ -11,7 +11,7 @@
 // overflow so no infinity reaches a target.
 #import spreadlight::camera::Camera
 #import spreadlight::brdf::{BrdfSurface, brdf_surface, cook_torrance_light, surface_energy_compensation, DIELECTRIC_F0}
-#import spreadlight::lights::{point_attenuation, spot_attenuation}
+#import spreadlight::lights::{point_attenuation_squared, spot_attenuation}
 #import spreadlight::packing::{channel_to_id, safe_normalize}
 // The material library, imported once: MATERIALS reads CookTorrance
 // parameters from it, FAKE_SSS the FakeSSS tint. SURFACE_TARGET: the
@@ -139,12 +139,11 @@ fn shade(light: u32, lv: vec4<f32>, intensity: vec3<f32>, p: vec3<f32>, pw: vec3
     if (!(distance2 < lv.w * lv.w)) {
         return;
     }
-    let distance = sqrt(distance2);
-    let attenuation = point_attenuation(distance, lv.w);
-    let l = safe_normalize(to_light, n);
+    let attenuation = point_attenuation_squared(distance2, lv.w);
     if (attenuation <= 0.0) {
         return;
     }
+    let l = safe_normalize(to_light, n);
 #ifdef LIGHT_SPOT
     // The 64-byte record only for lights that reach the pixel: most of a
     // froxel's list does not (its 64-pixel tile is wider than a light's reach

@@ -30,7 +30,7 @@ use wgpu::util::DeviceExt;
 /// each case writes `ROWS` vec4s (the layout `expected` mirrors).
 const ENTRY: &str = r#"
 #import spreadlight::brdf::{Brdf, cook_torrance, d_ggx, v_smith_ggx_correlated, f_schlick, diffuse_lambert, specular_albedo, energy_compensation}
-#import spreadlight::lights::{point_attenuation, spot_attenuation, luminous_intensity_from_power}
+#import spreadlight::lights::{point_attenuation, point_attenuation_squared, spot_attenuation, luminous_intensity_from_power}
 #import spreadlight::tonemap::{luminance, ev100_to_exposure, tonemap, tonemap_linear, tonemap_reinhard, tonemap_reinhard_modified, tonemap_filmic_uncharted2, tonemap_filmic_alu, tonemap_drago, tonemap_logarithmic, tonemap_exponential, tonemap_aces, tonemap_agx}
 #import spreadlight::tonemap::{TONEMAP_LINEAR, TONEMAP_REINHARD, TONEMAP_REINHARD_MODIFIED, TONEMAP_UNCHARTED2, TONEMAP_FILMIC_ALU, TONEMAP_DRAGO, TONEMAP_LOGARITHMIC, TONEMAP_EXPONENTIAL, TONEMAP_ACES, TONEMAP_AGX}
 
@@ -64,7 +64,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     results[o + 3u] = vec4<f32>(plain.diffuse, luminance(c.albedo.xyz));
     results[o + 4u] = vec4<f32>(plain.specular, luminous_intensity_from_power(c.p.z));
     results[o + 5u] = vec4<f32>(compensated.diffuse, ev100_to_exposure(c.p.y * 20.0 - 5.0));
-    results[o + 6u] = vec4<f32>(compensated.specular, 0.0);
+    results[o + 6u] = vec4<f32>(compensated.specular, point_attenuation_squared(max(c.p.z, 0.0) * max(c.p.z, 0.0), c.p.w));
     let hdr = c.albedo.xyz * c.albedo.w;
     for (var op = 0u; op < 10u; op++) {
         results[o + 7u + op] = vec4<f32>(tonemap(hdr, op, c.q.z, c.q.w), 0.0);
@@ -149,7 +149,8 @@ impl Case {
         rows[5] = compensated
             .diffuse
             .extend(ev100_to_exposure(p.y * 20.0 - 5.0));
-        rows[6] = compensated.specular.extend(0.0);
+        // The squared-distance form must agree with the distance form.
+        rows[6] = compensated.specular.extend(point_attenuation(p.z, p.w));
         let hdr = self.albedo * self.hdr_scale;
         for op in 0..10u32 {
             let mapped = tonemap(hdr, op, q.z, q.w);
