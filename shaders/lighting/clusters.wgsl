@@ -124,77 +124,15 @@ fn transform(@builtin(global_invocation_id) id: vec3<u32>) {
     view_lights[id.x] = vec4<f32>(view.xyz, light.position_range.w);
 }
 
-// A workgroup takes 64 lights, one a lane, and its lanes share their
-// froxels: they walk the lights' froxel boxes as one list (an inclusive sum
-// of the boxes' sizes in workgroup memory, searched for the light of each
-// entry), so 64 small lights keep 64 lanes busy and one big light near the
-// camera (thousands of froxels) is spread over all of them. With few lights,
-// z splits the list among many workgroups, so a handful of big spots still
-// fills the GPU. (One workgroup per light left most lanes idle at 100,000
-// small lights, about 20 froxels each.)
+// A light's froxels are shared among the 64 lanes of each of its workgroups
+// (z: how many a light gets): a big light near the camera can touch
+// thousands, and one thread each would serialize them. A frame with few
+// lights gives each many workgroups, so a handful of big spots does not
+// leave the GPU idle while 64 lanes walk 16,000 froxels each.
 const LANES: u32 = 64u;
 
-var<workgroup> group_light: array<vec4<f32>, LANES>;
-// A light's first froxel (x, y, z) and its box's size in froxels per axis.
-var<workgroup> group_first: array<vec4<i32>, LANES>;
-var<workgroup> group_extent: array<vec4<i32>, LANES>;
-// Inclusive prefix sum of the boxes' froxel counts.
-var<workgroup> group_end: array<u32, LANES>;
-
-fn group_of(wid: vec3<u32>) -> u32 {
+fn light_of(wid: vec3<u32>) -> u32 {
     return wid.x + wid.y * 65535u;
-}
-
-// Loads the group's lights and froxel boxes, one a lane, and sums their
-// sizes. Every lane calls it (barriers); returns the froxels in all boxes.
-fn prepare_group(group: u32, lane: u32) -> u32 {
-    let index = group * LANES + lane;
-    var light = vec4<f32>(0.0);
-    var range = array<vec3<i32>, 2>(vec3<i32>(1), vec3<i32>(0));
-    if (index < grid.dims.w) {
-        light = view_lights[index];
-        range = froxels(light);
-    }
-    let extent = max(range[1] - range[0] + 1, vec3<i32>(0));
-    group_light[lane] = light;
-    group_first[lane] = vec4<i32>(range[0], 0);
-    group_extent[lane] = vec4<i32>(extent, 0);
-    group_end[lane] = u32(extent.x * extent.y * extent.z);
-    workgroupBarrier();
-    for (var step = 1u; step < LANES; step *= 2u) {
-        var add = 0u;
-        if (lane >= step) {
-            add = group_end[lane - step];
-        }
-        workgroupBarrier();
-        group_end[lane] += add;
-        workgroupBarrier();
-    }
-    return group_end[LANES - 1u];
-}
-
-// Entry `k` of the group's list: the light (lane) it belongs to and its
-// froxel (x, y, z in .xyz, the lane in .w).
-fn group_entry(k: u32) -> vec4<i32> {
-    // The first light whose boxes end past k.
-    var lo = 0u;
-    var hi = LANES - 1u;
-    while (lo < hi) {
-        let mid = (lo + hi) / 2u;
-        if (group_end[mid] > k) {
-            hi = mid;
-        } else {
-            lo = mid + 1u;
-        }
-    }
-    let start = select(0u, group_end[max(lo, 1u) - 1u], lo > 0u);
-    let local = k - start;
-    let extent = vec3<u32>(group_extent[lo].xyz);
-    let first = group_first[lo].xyz;
-    let x = first.x + i32(local % extent.x);
-    let y = first.y + i32((local / extent.x) % extent.y);
-    let z = first.z + i32(local / (extent.x * extent.y));
-    return vec4<i32>(x, y, z, i32(lo));
 }
 
 @compute @workgroup_size(64)
@@ -203,11 +141,20 @@ fn count(
     @builtin(num_workgroups) groups: vec3<u32>,
     @builtin(local_invocation_index) lane: u32,
 ) {
-    let total = prepare_group(group_of(wid), lane);
+    let index = light_of(wid);
+    if (index >= grid.dims.w) {
+        return;
+    }
+    let light = view_lights[index];
+    let range = froxels(light);
+    let extent = max(range[1] - range[0] + 1, vec3<i32>(0));
+    let total = u32(extent.x * extent.y * extent.z);
     for (var k = lane + wid.z * LANES; k < total; k += LANES * groups.z) {
-        let e = group_entry(k);
-        if (touches(group_light[e.w], e.x, e.y, e.z)) {
-            atomicAdd(&counts[cluster_index(e.x, e.y, e.z)], 1u);
+        let x = range[0].x + i32(k % u32(extent.x));
+        let y = range[0].y + i32((k / u32(extent.x)) % u32(extent.y));
+        let z = range[0].z + i32(k / u32(extent.x * extent.y));
+        if (touches(light, x, y, z)) {
+            atomicAdd(&counts[cluster_index(x, y, z)], 1u);
         }
     }
 }
@@ -270,18 +217,26 @@ fn fill(
     @builtin(num_workgroups) groups: vec3<u32>,
     @builtin(local_invocation_index) lane: u32,
 ) {
-    let group = group_of(wid);
-    let total = prepare_group(group, lane);
+    let index = light_of(wid);
+    if (index >= grid.dims.w) {
+        return;
+    }
     let capacity = atomicLoad(&totals[1]);
+    let light = view_lights[index];
+    let range = froxels(light);
+    let extent = max(range[1] - range[0] + 1, vec3<i32>(0));
+    let total = u32(extent.x * extent.y * extent.z);
     for (var k = lane + wid.z * LANES; k < total; k += LANES * groups.z) {
-        let e = group_entry(k);
-        if (!touches(group_light[e.w], e.x, e.y, e.z)) {
+        let x = range[0].x + i32(k % u32(extent.x));
+        let y = range[0].y + i32((k / u32(extent.x)) % u32(extent.y));
+        let z = range[0].z + i32(k / u32(extent.x * extent.y));
+        if (!touches(light, x, y, z)) {
             continue;
         }
-        let c = cluster_index(e.x, e.y, e.z);
+        let c = cluster_index(x, y, z);
         let slot = offsets[c] + atomicAdd(&counts[c], 1u);
         if (slot < capacity) {
-            indices[slot] = group * LANES + u32(e.w);
+            indices[slot] = index;
         } else {
             atomicAdd(&totals[2], 1u);
         }

@@ -251,17 +251,16 @@ impl CookTorrance {
             let group = cx
                 .shaders
                 .bind_group(&device, &key, step, &pipeline, 0, &all)?;
-            // transform: a thread per light; count and fill: a workgroup per
-            // 64 lights (x up to 65,535, then y; z splits their froxels);
+            // transform: a thread per light; count and fill: workgroups per
+            // light (x up to 65,535, then y; z splits a light's froxels);
             // scan: one workgroup.
-            let light_groups = count.div_ceil(64).max(1);
             let groups = match *step {
                 "scan" => (1, 1, 1),
-                "transform" => (light_groups, 1, 1),
+                "transform" => (count.div_ceil(64).max(1), 1, 1),
                 _ => (
-                    light_groups.min(65_535),
-                    light_groups.div_ceil(65_535),
-                    workgroups_per_group(light_groups),
+                    count.clamp(1, 65_535),
+                    count.div_ceil(65_535).max(1),
+                    workgroups_per_light(count),
                 ),
             };
             work.push((pipeline, group, groups));
@@ -501,10 +500,10 @@ impl Recipe for CookTorrance {
     }
 }
 
-/// How many workgroups share each group of 64 lights' froxels when
-/// `groups` of them are assigned: enough that a few lights still fill the
-/// GPU (three big spots took 0.22 ms on the H100 with 64 lanes walking
-/// 16,000 froxels each), one where lights alone are plenty.
-fn workgroups_per_group(groups: u32) -> u32 {
-    (4_096 / groups.max(1)).clamp(1, 256)
+/// How many workgroups share each light's froxels when `lights` are
+/// assigned: enough that a few lights still fill the GPU (three big spots
+/// took 0.22 ms at one workgroup each on the H100, walking 16,000 froxels
+/// 64 at a time), one where lights alone are plenty.
+fn workgroups_per_light(lights: u32) -> u32 {
+    (16_384 / lights.max(1)).clamp(1, 64)
 }
