@@ -114,6 +114,8 @@ pub(crate) struct TexturePool {
     /// different order each frame (those returned last are taken first), and
     /// a pass that binds other textures than last frame makes new bind groups.
     last: HashMap<u64, (wgpu::Texture, bool)>,
+    /// Textures kept out of the pool until the frame ends (see [`Self::hold_for`]).
+    held: Vec<(TextureKey, wgpu::Texture)>,
 }
 
 impl TexturePool {
@@ -148,6 +150,20 @@ impl TexturePool {
         texture
     }
 
+    /// Output `slot` gives `texture` back instead of the one it took (a
+    /// history took that one), and takes it again next frame: it stays out
+    /// of the pool until the frame ends, so no later pass of this frame
+    /// takes it. Then a history and its twin alternate between the same two
+    /// textures, and the passes between the same two bind groups, however
+    /// many histories share a format and size (three sharing one pool would
+    /// otherwise rotate through three textures, past the bind-group cache).
+    pub fn hold_for(&mut self, slot: u64, key: TextureKey, texture: wgpu::Texture) {
+        if let Some(last) = self.last.get_mut(&slot) {
+            last.0 = texture.clone();
+        }
+        self.held.push((key, texture));
+    }
+
     pub fn give_back(&mut self, key: TextureKey, texture: wgpu::Texture) {
         self.pool.entry(key).or_default().push(texture);
     }
@@ -155,6 +171,9 @@ impl TexturePool {
     /// Forget the names this frame did not use (a node deleted, an effect
     /// switched off): their textures stay pooled, unclaimed.
     pub fn end_frame(&mut self) {
+        for (key, texture) in std::mem::take(&mut self.held) {
+            self.give_back(key, texture);
+        }
         self.last.retain(|_, (_, used)| std::mem::take(used));
     }
 }

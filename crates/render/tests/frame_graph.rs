@@ -457,3 +457,137 @@ fn seed_ramp(cx: &spreadlight_render::frame_graph::PassContext<'_>, t: &wgpu::Te
         t.size(),
     );
 }
+
+/// A frame of two temporal passes as the built-in effects declare them,
+/// seeded with `value`: "previous" (copy_history, as AO and SSGI do) and
+/// "kept" (keep_as_history, as TAA and SSR do). Returns what the frame read
+/// as last frame's history through each, then this frame's result.
+fn temporal_frame(renderer: &spreadlight_render::Renderer, value: f32) -> [f32; 3] {
+    use spreadlight_render::readback::render_and_read;
+    use spreadlight_render::shaders::ShaderKey;
+    fn copy(
+        cx: &mut spreadlight_render::frame_graph::PassContext<'_>,
+        from: &str,
+        to: &str,
+    ) -> Result<(), spreadlight_render::RenderError> {
+        let (input, output) = (cx.view(from)?, cx.view(to)?);
+        cx.dispatch_image(
+            "copy",
+            &ShaderKey::new("post/copy.wgsl", []),
+            &[
+                (0, wgpu::BindingResource::TextureView(&input)),
+                (1, wgpu::BindingResource::TextureView(&output)),
+            ],
+            (8, 8),
+        )
+    }
+    struct Temporal(f32);
+    impl spreadlight_render::Recipe for Temporal {
+        fn declare<'a>(&'a self, _: &'a spreadlight_render::Renderer, fg: &mut FrameGraph<'a>) {
+            let rgba = wgpu::TextureFormat::Rgba16Float;
+            let mut seeded = target();
+            seeded.usage |= wgpu::TextureUsages::COPY_DST;
+            let value = self.0;
+            fg.add_pass("seed", None, &[], &[("now", seeded)], move |cx| {
+                let texel = [half::f16::from_f32(value).to_le_bytes(); 4].concat();
+                let t = cx.texture("now")?.clone();
+                cx.gpu.queue.write_texture(
+                    t.as_image_copy(),
+                    &texel.repeat(64),
+                    wgpu::TexelCopyBufferLayout {
+                        offset: 0,
+                        bytes_per_row: Some(8 * 8),
+                        rows_per_image: None,
+                    },
+                    t.size(),
+                );
+                Ok(())
+            });
+            // AO's shape: last frame's history into "previous", then the
+            // history written anew.
+            fg.add_pass(
+                "ao-like",
+                None,
+                &["now"],
+                &[
+                    ("history", TextureDesc::history(rgba)),
+                    ("previous", TextureDesc::history_twin(rgba)),
+                    ("read previous", target()),
+                ],
+                |cx| {
+                    cx.copy_history("history", "previous")?;
+                    copy(cx, "previous", "read previous")?;
+                    copy(cx, "now", "history")
+                },
+            );
+            // TAA's shape: the history read, the output written, and the
+            // output kept as next frame's history; a later pass reads it.
+            fg.add_pass(
+                "taa-like",
+                None,
+                &["now"],
+                &[
+                    ("output", TextureDesc::history_twin(rgba)),
+                    ("kept", TextureDesc::history(rgba)),
+                    ("read kept", target()),
+                ],
+                |cx| {
+                    copy(cx, "kept", "read kept")?;
+                    copy(cx, "now", "output")?;
+                    cx.keep_as_history("output", "kept")
+                },
+            );
+            fg.add_pass("after", None, &["output"], &[("shown", target())], |cx| {
+                copy(cx, "output", "shown")
+            });
+        }
+    }
+    let (report, images) = render_and_read(
+        renderer,
+        &Temporal(value),
+        (8, 8),
+        &["read previous", "read kept", "shown"],
+    )
+    .expect("renders");
+    assert!(report.errors.is_empty(), "{:?}", report.errors);
+    let at = |k: usize| {
+        let p = &images[k].pixels;
+        assert!(p.iter().all(|t| *t == p[0]), "one value in every texel");
+        p[0][0]
+    };
+    [at(0), at(1), at(2)]
+}
+
+#[test]
+fn temporal_histories_trade_textures_instead_of_copying_and_read_last_frames_result() {
+    use spreadlight_render::frame_graph::{HISTORIES_COPIED, HISTORIES_HANDED_OVER};
+    let renderer = test_renderer();
+    temporal_frame(&renderer, 0.25);
+    for (frame, value) in [0.5f32, 0.75, 1.0, 1.25, 1.5, 1.75].into_iter().enumerate() {
+        let last = 0.25 * (frame + 1) as f32;
+        // Both shapes read exactly last frame's result, and later passes
+        // this frame's, though no texture was copied.
+        assert_eq!(temporal_frame(&renderer, value), [last, last, value]);
+        let report = renderer.last_report();
+        assert_eq!(
+            report.counter(HISTORIES_HANDED_OVER),
+            2,
+            "{:?}",
+            report.counters
+        );
+        assert_eq!(report.counter(HISTORIES_COPIED), 0);
+        // The two textures of each history alternate (the two histories
+        // share a format and size, and so a pool): nothing new is made or
+        // bound once both have been seen.
+        if frame >= 2 {
+            assert_eq!(report.textures_created, 0, "frame {frame}");
+            assert_eq!(
+                report.counter("bind groups created"),
+                0,
+                "frame {frame}: {:?}",
+                report.counters
+            );
+            assert_eq!(report.counter("texture views created"), 0);
+        }
+    }
+}

@@ -503,7 +503,7 @@ fn the_sky_node_draws_an_environment_where_depth_is_empty() {
 // ---- SSR ----
 
 use spreadlight_render::environment::{Ssr, SsrSettings};
-use spreadlight_render::frame_graph::{Lifetime, TextureDesc};
+use spreadlight_render::frame_graph::TextureDesc;
 use spreadlight_render::reference::reflection::{BallsScene, Surface};
 use spreadlight_render::reference::shadows::Sphere;
 
@@ -726,16 +726,10 @@ fn ssr_history_survives_a_nan_a_camera_cut_and_a_resize() {
     let (second, _, ssr) = ssr_frame(&renderer, &g, world(), [0.1; 4], settings, owner, SIZE);
     assert_eq!(second.counter("ssr history used"), 1);
 
-    // Poison the history: a pass writing NaN into it under its name.
+    // Poison the history: a pass writing NaN into it under its name (and
+    // the desc SSR gives it, or the graph would make a new one).
     let history = ssr.history.clone();
-    let desc = TextureDesc {
-        format: wgpu::TextureFormat::Rgba16Float,
-        size: SizeRule::Relative(1.0),
-        lifetime: Lifetime::Persistent,
-        usage: wgpu::TextureUsages::TEXTURE_BINDING
-            | wgpu::TextureUsages::COPY_DST
-            | wgpu::TextureUsages::COPY_SRC,
-    };
+    let desc = TextureDesc::history(wgpu::TextureFormat::Rgba16Float);
     let mut graph = spreadlight_render::FrameGraph::new(SIZE);
     let name = history.clone();
     graph.add_pass("poison", None, &[], &[(&history, desc)], move |cx| {

@@ -16,7 +16,7 @@ use std::sync::{Arc, Mutex};
 
 use super::prefilter::{SplitSumStore, split_sum_table};
 use crate::error::RenderError;
-use crate::frame_graph::{FrameGraph, Lifetime, PassContext, TextureDesc};
+use crate::frame_graph::{FrameGraph, PassContext, TextureDesc};
 use crate::gbuffer::GBuffer;
 use crate::material::{FEATURE_COOK_TORRANCE, FEATURE_REFLECTION, MaterialWorld};
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
@@ -473,19 +473,7 @@ impl Ssr {
             (size.0.div_ceil(8), size.1.div_ceil(8), 1),
         );
         // This frame's result is next frame's history.
-        let (output, history) = (
-            cx.texture(&self.output)?.clone(),
-            cx.texture(&self.history)?.clone(),
-        );
-        cx.encoder.copy_texture_to_texture(
-            output.as_image_copy(),
-            history.as_image_copy(),
-            wgpu::Extent3d {
-                width: size.0.min(history.width()),
-                height: size.1.min(history.height()),
-                depth_or_array_layers: 1,
-            },
-        );
+        cx.keep_as_history(&self.output, &self.history)?;
         Ok(())
     }
 
@@ -581,14 +569,10 @@ impl Recipe for Ssr {
             );
         }
         if self.settings.temporal {
-            let history = TextureDesc {
-                format: wgpu::TextureFormat::Rgba16Float,
-                size: self.gbuffer.size,
-                lifetime: Lifetime::Persistent,
-                usage: wgpu::TextureUsages::TEXTURE_BINDING
-                    | wgpu::TextureUsages::COPY_DST
-                    | wgpu::TextureUsages::COPY_SRC,
-            };
+            // Alike, so the output becomes the history without a copy.
+            let rgba = wgpu::TextureFormat::Rgba16Float;
+            let output = TextureDesc::history_twin(rgba).size(self.gbuffer.size);
+            let history = TextureDesc::history(rgba).size(self.gbuffer.size);
             fg.add_pass(
                 self.label("resolve"),
                 self.owner,
@@ -597,7 +581,7 @@ impl Recipe for Ssr {
                     g.velocity_uv.as_str(),
                     g.depth.as_str(),
                 ],
-                &[(&self.output, hdr), (&self.history, history)],
+                &[(&self.output, output), (&self.history, history)],
                 move |cx| self.resolve(cx),
             );
         }

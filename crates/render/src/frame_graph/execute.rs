@@ -63,6 +63,18 @@ fn execute(
         }
     }
     let requested: HashSet<&str> = parts.requested.iter().map(String::as_str).collect();
+    // Temporaries a history may trade textures with (history.rs).
+    let tradable: HashSet<&str> = parts
+        .writes
+        .iter()
+        .flatten()
+        .filter(|(name, desc)| {
+            desc.lifetime == Lifetime::Temporary && !requested.contains(name.as_str())
+        })
+        .map(|(name, _)| name.as_str())
+        .collect();
+    // A temporary whose history took its texture gives back the one the history had.
+    let mut release_instead: HashMap<String, wgpu::Texture> = HashMap::new();
     // Which of the passes of its name each pass is, in declaration order:
     // with the pass name, what keeps an output's texture from frame to frame.
     let mut seen: HashMap<&str, u32> = HashMap::new();
@@ -127,13 +139,12 @@ fn execute(
                 },
                 Lifetime::Temporary | Lifetime::Permanent => {
                     let slot = slot(&parts.names[p], occurrence[p], output);
+                    owned.push((name.clone(), *key, desc.lifetime, slot));
                     textures.take(device, key, (slot, name), &mut report.textures_created)
                 }
             };
             if desc.lifetime == Lifetime::Persistent {
                 textures.idle.insert(name.clone(), 0);
-            } else {
-                owned.push((name.clone(), *key, desc.lifetime));
             }
             live.insert(name.clone(), texture);
         }
@@ -153,7 +164,9 @@ fn execute(
             gpu: &renderer.gpu,
             encoder,
             shaders: &mut shaders,
-            textures: &live,
+            textures: &mut live,
+            tradable: &tradable,
+            handovers: Vec::new(),
             views: &views,
             fresh: &fresh,
             timestamps: timestamps.filter(|_| timed).map(|t| &t.set),
@@ -173,7 +186,17 @@ fn execute(
             queries,
             draws,
             counters,
+            handovers,
         } = cx.finish();
+        for handover in handovers {
+            if let (Some((_, kept)), Some(texture)) = (
+                textures.persistent.get_mut(&handover.persistent),
+                live.get(&handover.persistent),
+            ) {
+                *kept = texture.clone();
+            }
+            release_instead.insert(handover.temporary, handover.release);
+        }
         for (name, n) in counters {
             *report.counters.entry(name.to_owned()).or_default() += n;
         }
@@ -215,12 +238,20 @@ fn execute(
         });
 
         // Temporaries whose last reader has recorded go back to the pool.
-        owned.retain(|(name, key, lifetime)| {
+        owned.retain(|(name, key, lifetime, slot)| {
             let done = *lifetime == Lifetime::Temporary
                 && last_use.get(name.as_str()).is_some_and(|&s| s <= step)
                 && !requested.contains(name.as_str());
-            if done && let Some(t) = live.get(name) {
-                textures.give_back(*key, t.clone());
+            if done {
+                match release_instead.remove(name) {
+                    // Next frame the output takes the texture it gives back now.
+                    Some(t) => textures.hold_for(*slot, *key, t),
+                    None => {
+                        if let Some(t) = live.get(name) {
+                            textures.give_back(*key, t.clone());
+                        }
+                    }
+                }
             }
             !done
         });
@@ -365,12 +396,15 @@ fn execute(
     // Requested outputs go to the caller and come back to the pool next frame;
     // other permanent textures return now.
     let mut outputs = HashMap::new();
-    for (name, key, _) in owned {
-        if let Some(texture) = live.get(&name) {
+    for (name, key, _, _) in owned {
+        let texture = release_instead
+            .remove(&name)
+            .or_else(|| live.get(&name).cloned());
+        if let Some(texture) = texture {
             if requested.contains(name.as_str()) {
-                textures.lent.push((key, texture.clone()));
+                textures.lent.push((key, texture));
             } else {
-                textures.give_back(key, texture.clone());
+                textures.give_back(key, texture);
             }
         }
     }

@@ -13,6 +13,7 @@
 use std::collections::{BTreeMap, HashMap, HashSet};
 
 mod execute;
+mod history;
 
 use crate::context::GpuContext;
 use crate::error::RenderError;
@@ -20,6 +21,7 @@ use crate::shaders::ShaderCache;
 
 pub use crate::report::{FrameReport, PassReport};
 pub use crate::texture_pool::TextureKey;
+pub use history::{COPIED as HISTORIES_COPIED, HANDED_OVER as HISTORIES_HANDED_OVER};
 
 /// How big a texture is.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -111,7 +113,7 @@ impl TextureDesc {
     }
 
     /// A temporal history: persistent, written by compute, readable, and
-    /// copied into its "previous" twin ([`TextureDesc::history_copy`]) before
+    /// handed to its "previous" twin ([`TextureDesc::history_twin`]) before
     /// each update ([`PassContext::copy_history`]); COPY_DST so tools and
     /// tests can seed it.
     pub fn history(format: wgpu::TextureFormat) -> Self {
@@ -120,8 +122,19 @@ impl TextureDesc {
         desc
     }
 
-    /// Last frame's history, copied for reading while the history is written
-    /// (a texture cannot be read and written in one dispatch without read-write storage).
+    /// A temporary alike to [`TextureDesc::history`], so the two trade
+    /// textures each frame instead of copying (`history.rs`): last frame's
+    /// history, read while the history is written
+    /// ([`PassContext::copy_history`]; a texture cannot be read and written
+    /// in one dispatch without read-write storage), or this frame's result
+    /// that becomes the history ([`PassContext::keep_as_history`]).
+    pub fn history_twin(format: wgpu::TextureFormat) -> Self {
+        TextureDesc::history(format).lifetime(Lifetime::Temporary)
+    }
+
+    /// Last frame's history, always copied (its usage differs from the
+    /// history's, so they never trade): for a pass that may leave texels of
+    /// the history unwritten and expects them kept, such as a user's shader.
     pub fn history_copy(format: wgpu::TextureFormat) -> Self {
         TextureDesc {
             usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
@@ -156,7 +169,11 @@ pub struct PassContext<'f> {
     pub gpu: &'f GpuContext,
     pub encoder: wgpu::CommandEncoder,
     pub shaders: &'f mut ShaderCache,
-    pub(crate) textures: &'f HashMap<String, wgpu::Texture>,
+    pub(crate) textures: &'f mut HashMap<String, wgpu::Texture>,
+    /// This frame's temporaries a history may trade textures with (not
+    /// handed to the caller, not permanent): see `history.rs`.
+    pub(crate) tradable: &'f HashSet<&'f str>,
+    pub(crate) handovers: Vec<history::Handover>,
     pub(crate) views: &'f std::cell::RefCell<crate::texture_pool::ViewCache>,
     pub(crate) fresh: &'f HashSet<String>,
     pub(crate) timestamps: Option<&'f wgpu::QuerySet>,
@@ -197,21 +214,6 @@ impl<'f> PassContext<'f> {
     /// they did and the work they saved.
     pub fn count(&mut self, name: &'static str, n: u64) {
         *self.counters.entry(name).or_default() += n;
-    }
-
-    /// Copy `history` into `previous` (see [`TextureDesc::history`]) and say
-    /// whether the history is fresh (created this frame: it holds nothing).
-    pub fn copy_history(&mut self, history: &str, previous: &str) -> Result<bool, RenderError> {
-        let (last, copy) = (
-            self.texture(history)?.clone(),
-            self.texture(previous)?.clone(),
-        );
-        self.encoder.copy_texture_to_texture(
-            last.as_image_copy(),
-            copy.as_image_copy(),
-            last.size(),
-        );
-        Ok(self.is_fresh(history))
     }
 
     /// A persistent texture created this frame: it holds no history yet.
@@ -507,6 +509,7 @@ pub(crate) struct Recorded {
     pub queries: Vec<(u32, u32)>,
     pub draws: u64,
     pub counters: BTreeMap<&'static str, u64>,
+    pub handovers: Vec<history::Handover>,
 }
 
 impl PassContext<'_> {
@@ -516,6 +519,7 @@ impl PassContext<'_> {
             queries: self.queries,
             draws: self.draws,
             counters: self.counters,
+            handovers: self.handovers,
         }
     }
 }

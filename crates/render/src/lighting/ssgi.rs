@@ -366,11 +366,11 @@ impl Recipe for Ssgi {
                 &[&raw, &g.depth, &g.normals, &g.velocity_uv],
                 &[
                     (&history, TextureDesc::history(rgba).size(size)),
-                    (&previous, TextureDesc::history_copy(rgba).size(size)),
+                    (&previous, TextureDesc::history_twin(rgba).size(size)),
                     (&distance, TextureDesc::history(r32).size(size)),
                     (
                         &previous_distance,
-                        TextureDesc::history_copy(r32).size(size),
+                        TextureDesc::history_twin(r32).size(size),
                     ),
                 ],
                 move |cx| self.temporal_pass(cx),

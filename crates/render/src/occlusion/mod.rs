@@ -497,7 +497,7 @@ impl Recipe for AmbientOcclusion {
             let persistent =
                 TextureDesc::history(wgpu::TextureFormat::Rgba16Float).size(self.gbuffer.size);
             let copy =
-                TextureDesc::history_copy(wgpu::TextureFormat::Rgba16Float).size(self.gbuffer.size);
+                TextureDesc::history_twin(wgpu::TextureFormat::Rgba16Float).size(self.gbuffer.size);
             fg.add_pass(
                 pass_name(kind, self.owner, Some("temporal")),
                 self.owner,

@@ -11,7 +11,7 @@ use std::sync::Arc;
 use glam::{Mat4, Vec2};
 
 use crate::error::RenderError;
-use crate::frame_graph::{FrameGraph, Lifetime, PassContext, TextureDesc};
+use crate::frame_graph::{FrameGraph, PassContext, TextureDesc};
 use crate::gbuffer::GBuffer;
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
@@ -192,19 +192,7 @@ impl Taa {
         let size = super::size_of(cx, &self.output)?;
         super::dispatch_entry(cx, "taa", &self.key(), "main", &all, size)?;
         // The result is next frame's history.
-        let (output, history) = (
-            cx.texture(&self.output)?.clone(),
-            cx.texture(&self.history)?.clone(),
-        );
-        cx.encoder.copy_texture_to_texture(
-            output.as_image_copy(),
-            history.as_image_copy(),
-            wgpu::Extent3d {
-                width: size.0,
-                height: size.1,
-                depth_or_array_layers: 1,
-            },
-        );
+        cx.keep_as_history(&self.output, &self.history)?;
         Ok(())
     }
 }
@@ -216,15 +204,11 @@ impl Recipe for Taa {
         }
         self.source.recipe.declare(renderer, fg);
         self.gbuffer.declare(renderer, fg);
-        let output = TextureDesc::storage(wgpu::TextureFormat::Rgba16Float).size(self.gbuffer.size);
-        let history = TextureDesc {
-            format: wgpu::TextureFormat::Rgba16Float,
-            size: self.gbuffer.size,
-            lifetime: Lifetime::Persistent,
-            usage: wgpu::TextureUsages::TEXTURE_BINDING
-                | wgpu::TextureUsages::COPY_DST
-                | wgpu::TextureUsages::COPY_SRC,
-        };
+        // Alike, so the output becomes the history without a copy.
+        let output =
+            TextureDesc::history_twin(wgpu::TextureFormat::Rgba16Float).size(self.gbuffer.size);
+        let history =
+            TextureDesc::history(wgpu::TextureFormat::Rgba16Float).size(self.gbuffer.size);
         let t = &self.gbuffer.targets;
         fg.add_pass(
             crate::recipe::pass_name("TAA", self.owner, None),

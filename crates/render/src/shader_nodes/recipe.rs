@@ -483,6 +483,8 @@ impl Recipe for ShaderNodeRecipe {
                             step.dests[pass.decl.targets.iter().position(|x| x == t).unwrap_or(0)];
                         writes.push((
                             copy.clone(),
+                            // Copied, not traded: a user's shader may leave
+                            // texels unwritten and expect last frame's there.
                             TextureDesc::history_copy(decl.format)
                                 .size(SizeRule::Absolute { width, height }),
                         ));
