@@ -22,9 +22,21 @@ fn point_attenuation_squared(distance2: f32, range: f32) -> f32 {
     }
     let d2 = max(distance2, 0.0);
     // (d / range)^2; the floor keeps a range whose square underflows finite.
-    let ratio2 = d2 / max(range * range, 1e-30);
+    return range_window(d2 / max(range * range, 1e-30)) / max(d2, MIN_DISTANCE_SQUARED);
+}
+
+// Karis' window of `point_attenuation` from (distance / range)^2: 1 at the
+// light, 0 from the range on. The light loops combine it with an inverse
+// square of their own (one reciprocal square root serves that and the
+// light's direction).
+fn range_window(ratio2: f32) -> f32 {
     let window = clamp(1.0 - ratio2 * ratio2, 0.0, 1.0);
-    return window * window / max(d2, MIN_DISTANCE_SQUARED);
+    return window * window;
+}
+
+// 1 / max(distance^2, MIN_DISTANCE_SQUARED), from 1 / distance.
+fn inverse_square(inverse_distance: f32) -> f32 {
+    return min(inverse_distance * inverse_distance, 1.0 / MIN_DISTANCE_SQUARED);
 }
 
 // Cosines from the spot's axis: 1 inside the inner cone, 0 outside the outer,

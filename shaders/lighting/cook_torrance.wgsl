@@ -11,7 +11,7 @@
 // overflow so no infinity reaches a target.
 #import spreadlight::camera::Camera
 #import spreadlight::brdf::{BrdfSurface, brdf_surface, cook_torrance_light, surface_energy_compensation, DIELECTRIC_F0}
-#import spreadlight::lights::{point_attenuation_squared, spot_attenuation}
+#import spreadlight::lights::{range_window, inverse_square, spot_attenuation}
 #import spreadlight::packing::{channel_to_id, safe_normalize}
 // The material library, imported once: MATERIALS reads CookTorrance
 // parameters from it, FAKE_SSS the FakeSSS tint. SURFACE_TARGET: the
@@ -113,19 +113,26 @@ fn spot_mask(light: u32, record: Light, pw: vec3<f32>) -> vec3<f32> {
 
 const HALF_MAX: f32 = 65000.0;
 
+// A light's intensity (rgb) with 1 / range^2 (w), as `shade` takes it; the
+// floor keeps a range whose square underflows finite.
+fn with_inverse_range(intensity: vec4<f32>, range: f32) -> vec4<f32> {
+    return vec4<f32>(intensity.rgb, 1.0 / max(range * range, 1e-30));
+}
+
 // `lv`: the light's view-space position and range (unused for suns);
-// `intensity`: its record's (the clustered loop keeps it beside `lv` in
-// workgroup memory, so a pixel reads no record for a plain point light).
+// `intensity`: its record's, and 1 / range^2 in w (the clustered loop keeps
+// it beside `lv` in workgroup memory, so a pixel reads no record for a plain
+// point light and divides by no range).
 // The specular sum leaves out the energy compensation, a factor of the
 // surface alone that the caller applies once.
-fn shade(light: u32, lv: vec4<f32>, intensity: vec3<f32>, p: vec3<f32>, pw: vec3<f32>, surface: BrdfSurface,
+fn shade(light: u32, lv: vec4<f32>, intensity: vec4<f32>, p: vec3<f32>, pw: vec3<f32>, surface: BrdfSurface,
          diffuse: ptr<function, vec3<f32>>, specular: ptr<function, vec3<f32>>) {
     let n = surface.n;
 #ifdef LIGHT_SUN
     let record = lights[light];
     let travel = safe_normalize((camera.view * vec4<f32>(record.direction.xyz, 0.0)).xyz, vec3<f32>(0.0, 0.0, -1.0));
     let l = -travel;
-    var radiance = intensity;
+    var radiance = intensity.rgb;
 #ifdef SHADOWS
     if (record.cone.z >= 0.0) {
         radiance *= light_shadow(u32(record.cone.z), pw, normal_world, record.direction.xyz, view_depth, dot(n, l));
@@ -135,15 +142,19 @@ fn shade(light: u32, lv: vec4<f32>, intensity: vec3<f32>, p: vec3<f32>, pw: vec3
     let to_light = lv.xyz - p;
     let distance2 = dot(to_light, to_light);
     // Most of a froxel's list does not reach this pixel: leave before any
-    // square root or division (point_attenuation is 0 from the range on).
-    if (!(distance2 < lv.w * lv.w)) {
+    // square root or division (point_attenuation is 0 from the range on,
+    // and for a light without one).
+    if (!(distance2 < lv.w * lv.w) || lv.w <= 0.0) {
         return;
     }
-    let attenuation = point_attenuation_squared(distance2, lv.w);
+    // point_attenuation_squared, with one reciprocal square root for both
+    // the inverse square and the direction to the light.
+    let inverse_distance = inverseSqrt(max(distance2, 1e-20));
+    let attenuation = range_window(distance2 * intensity.w) * inverse_square(inverse_distance);
     if (attenuation <= 0.0) {
         return;
     }
-    let l = safe_normalize(to_light, n);
+    let l = select(n, to_light * inverse_distance, distance2 > 1e-20);
 #ifdef LIGHT_SPOT
     // The 64-byte record only for lights that reach the pixel: most of a
     // froxel's list does not (its 64-pixel tile is wider than a light's reach
@@ -153,9 +164,9 @@ fn shade(light: u32, lv: vec4<f32>, intensity: vec3<f32>, p: vec3<f32>, pw: vec3
     if (all(mask <= vec3<f32>(0.0))) {
         return;
     }
-    var radiance = intensity * attenuation * mask;
+    var radiance = intensity.rgb * attenuation * mask;
 #else
-    var radiance = intensity * attenuation;
+    var radiance = intensity.rgb * attenuation;
 #endif
 #ifdef SHADOWS
     // A light's own shadow slice (cone.z; -1: casts none).
@@ -213,11 +224,17 @@ fn unordered(u: u32) -> f32 {
 #endif
 
 @compute @workgroup_size(16, 16)
-fn main(@builtin(global_invocation_id) id: vec3<u32>, @builtin(local_invocation_index) lane: u32,
-        @builtin(workgroup_id) wid: vec3<u32>) {
+fn main(@builtin(local_invocation_index) lane: u32, @builtin(workgroup_id) wid: vec3<u32>) {
     let size = vec2<u32>(camera.size.xy);
-    let pixel = id.xy;
-    let inside = id.x < size.x && id.y < size.y;
+    // Each 32 lanes (a warp on NVIDIA, half a wave elsewhere) shade an 8x4
+    // block of the 16x16, not two rows of 16: a light's sphere edge or a
+    // depth slice boundary crosses fewer of them, so fewer lanes idle while
+    // their neighbours shade a light only they reach. Which pixel a lane
+    // shades changes nothing in its sums.
+    let warp = lane / 32u;
+    let local = vec2<u32>((warp & 1u) * 8u + (lane & 7u), (warp >> 1u) * 4u + ((lane >> 3u) & 3u));
+    let pixel = wid.xy * GROUP + local;
+    let inside = pixel.x < size.x && pixel.y < size.y;
     var d = 0.0;
     if (inside) {
         d = textureLoad(depth, pixel, 0).r;
@@ -335,7 +352,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>, @builtin(local_invocation_
                 let offset = lv.xyz - clamp(lv.xyz, lo, hi);
                 if (dot(offset, offset) < lv.w * lv.w) {
                     batch_view[lane] = lv;
-                    batch_intensity[lane] = lights[light].intensity;
+                    batch_intensity[lane] = with_inverse_range(lights[light].intensity, lv.w);
                     batch_light[lane] = light;
                     atomicOr(&batch_mask[parity][lane / 32u], 1u << (lane % 32u));
                 }
@@ -351,7 +368,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>, @builtin(local_invocation_
                     while (bits != 0u) {
                         let slot = w * 32u + countTrailingZeros(bits);
                         bits &= bits - 1u;
-                        shade(batch_light[slot], batch_view[slot], batch_intensity[slot].rgb, p, pw, surface, &diffuse, &specular);
+                        shade(batch_light[slot], batch_view[slot], batch_intensity[slot], p, pw, surface, &diffuse, &specular);
                     }
                 }
             }
@@ -362,7 +379,8 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>, @builtin(local_invocation_
 #else
     if (covered) {
         for (var i = 0u; i < grid.dims.w; i++) {
-            shade(i, view_lights[i], lights[i].intensity.rgb, p, pw, surface, &diffuse, &specular);
+            let lv = view_lights[i];
+            shade(i, lv, with_inverse_range(lights[i].intensity, lv.w), p, pw, surface, &diffuse, &specular);
         }
     }
 #endif
