@@ -18,6 +18,8 @@ pub struct ClusterGrid {
 
 // CookTorrance shades 16x16 blocks that must each lie in one tile.
 const _: () = assert!(ClusterGrid::TILE.is_multiple_of(16));
+// clusters.wgsl keeps the slices' depths in a table of MAX_SLICES + 1.
+const _: () = assert!(ClusterGrid::SLICES <= 64);
 
 impl ClusterGrid {
     pub const TILE: u32 = 64;
