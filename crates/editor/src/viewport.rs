@@ -21,9 +21,14 @@ pub enum ViewportError {
     Format(wgpu::TextureFormat),
 }
 
-/// The format the viewport shows: what egui samples natively, with sRGB
-/// encoding done by the hardware on write.
+/// The format the viewport's texture is written in: the frame graph's
+/// linear values, sRGB-encoded by the hardware on write.
 pub const VIEW_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
+/// The format egui reads it through. egui treats what it samples as
+/// gamma-encoded (`tex_gamma` in egui-wgpu's shader), so it must get the
+/// encoded bytes: through an sRGB view it got linear values back and showed
+/// them as if encoded (a linear grey of 0.305, sRGB 150, shown as 78).
+pub const EGUI_VIEW_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
 
 const BLIT_WGSL: &str = r"
 @group(0) @binding(0) var src: texture_2d<f32>;
@@ -197,9 +202,12 @@ pub fn render_into(
             usage: wgpu::TextureUsages::RENDER_ATTACHMENT
                 | wgpu::TextureUsages::TEXTURE_BINDING
                 | wgpu::TextureUsages::COPY_SRC,
-            view_formats: &[],
+            view_formats: &[EGUI_VIEW_FORMAT],
         });
-        let view = new.create_view(&Default::default());
+        let view = new.create_view(&wgpu::TextureViewDescriptor {
+            format: Some(EGUI_VIEW_FORMAT),
+            ..Default::default()
+        });
         let mut egui_renderer = render_state.renderer.write();
         let id = match target.take() {
             Some(old) => {

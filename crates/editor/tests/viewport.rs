@@ -148,3 +148,62 @@ fn an_opened_patch_is_fitted_into_the_canvas_and_f_fits_again() {
     h.run();
     assert_eq!(inside(&h), fitted);
 }
+
+/// The window's pixels at the centre of the first viewport, showing a patch
+/// whose Output is a flat PNG of `grey` (sRGB-encoded, as files are).
+fn viewport_centre_showing_a_flat_png(grey: u8) -> image::Rgba<u8> {
+    use spreadlight_graph::{NodeDoc, Patch, format};
+    let dir = tempfile::tempdir().expect("tempdir");
+    image::RgbaImage::from_pixel(16, 16, image::Rgba([grey, grey, grey, 255]))
+        .save(dir.path().join("grey.png"))
+        .expect("png");
+    let mut p = Patch::default();
+    p.add(NodeDoc::new(1, "FileTexture").with("Filename", vec!["grey.png".to_owned()]));
+    p.add(
+        NodeDoc::new(2, "Output")
+            .at(120.0, 0.0)
+            .with("Write", vec![false]),
+    );
+    p.link(1, "Texture", 2, "Texture");
+    let path = dir.path().join("grey.ron");
+    format::save(&p, &path).expect("save");
+    let options = EditorOptions {
+        path: Some(path),
+        config_dir: dir.path().join("config"),
+        autosave_secs: 0.0,
+        automation: None,
+        frame_wait: spreadlight_editor::FrameWait::Always,
+    };
+    let mut h = Harness::builder()
+        .with_size(Vec2::new(1100.0, 700.0))
+        .with_max_steps(40)
+        .wgpu_setup(spreadlight_editor::gpu::wgpu_setup(true))
+        .build_eframe(move |cc| {
+            let mut app = EditorApp::new(cc, options);
+            app.set_playing(false);
+            app
+        });
+    h.run_steps(4);
+    assert_eq!(h.state().viewport_error(0), None);
+    let rect = h.state().viewport_rect(0).expect("the viewport was drawn");
+    let ppp = h.ctx.pixels_per_point();
+    let image = h.render().expect("render the window");
+    let centre = rect.center() * ppp;
+    *image.get_pixel(centre.x as u32, centre.y as u32)
+}
+
+#[test]
+fn a_texture_shows_in_the_viewport_as_its_file_has_it() {
+    // The renderer holds linear values; the viewport must show them encoded
+    // for the display, as a saved frame or another viewer would (it showed
+    // linear 0.305, sRGB 150, as 78).
+    for grey in [40u8, 150, 230] {
+        let p = viewport_centre_showing_a_flat_png(grey);
+        for c in &p.0[..3] {
+            assert!(
+                (i32::from(*c) - i32::from(grey)).abs() <= 3,
+                "sRGB {grey} shows as {p:?}"
+            );
+        }
+    }
+}
