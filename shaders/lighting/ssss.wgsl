@@ -10,6 +10,9 @@
 // weight (Jimenez's stencil), and taps across a depth step are pulled back
 // toward the centre ("follow surface"), so light does not bleed between
 // objects. Pixels without FakeSSS pass through.
+// SOURCES_2 / SOURCES_3 (with SOURCES_2): two or three sources blurred
+// alike in one pass (CookTorrance gives a subsurface term per light type):
+// the taps' depths, materials and weights are found once for all of them.
 #import spreadlight::camera::Camera
 #import spreadlight::packing::channel_to_id
 #import spreadlight::material::{feature_param, has_feature, FEATURE_FAKE_SSS}
@@ -30,6 +33,51 @@ struct Params {
 @group(0) @binding(3) var depth: texture_2d<f32>;
 @group(0) @binding(4) var color: texture_2d<f32>;
 @group(0) @binding(5) var output: texture_storage_2d<rgba16float, write>;
+#ifdef SOURCES_2
+@group(0) @binding(6) var source_b: texture_2d<f32>;
+@group(0) @binding(7) var output_b: texture_storage_2d<rgba16float, write>;
+#ifdef SOURCES_3
+@group(0) @binding(8) var source_c: texture_2d<f32>;
+@group(0) @binding(9) var output_c: texture_storage_2d<rgba16float, write>;
+const SOURCES: u32 = 3u;
+#else
+const SOURCES: u32 = 2u;
+#endif
+#else
+const SOURCES: u32 = 1u;
+#endif
+
+// Source `k`'s texel, cleaned.
+fn load_source(k: u32, q: vec2<u32>) -> vec3<f32> {
+#ifdef SOURCES_2
+    if (k == 1u) {
+        return clean(textureLoad(source_b, q, 0).rgb);
+    }
+#ifdef SOURCES_3
+    if (k == 2u) {
+        return clean(textureLoad(source_c, q, 0).rgb);
+    }
+#endif
+#endif
+    return clean(textureLoad(source, q, 0).rgb);
+}
+
+fn store(k: u32, pixel: vec2<u32>, value: vec3<f32>) {
+    let v = vec4<f32>(value, 1.0);
+#ifdef SOURCES_2
+    if (k == 1u) {
+        textureStore(output_b, pixel, v);
+        return;
+    }
+#ifdef SOURCES_3
+    if (k == 2u) {
+        textureStore(output_c, pixel, v);
+        return;
+    }
+#endif
+#endif
+    textureStore(output, pixel, v);
+}
 
 fn clean(v: vec3<f32>) -> vec3<f32> {
     return select(vec3<f32>(0.0), min(v, vec3<f32>(65000.0)), v >= vec3<f32>(0.0) & v <= vec3<f32>(3e38));
@@ -42,11 +90,16 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let pixel = id.xy;
-    let center = clean(textureLoad(source, pixel, 0).rgb);
+    var center: array<vec3<f32>, SOURCES>;
+    for (var k = 0u; k < SOURCES; k++) {
+        center[k] = load_source(k, pixel);
+    }
     let d = textureLoad(depth, pixel, 0).r;
     let material = channel_to_id(textureLoad(color, pixel, 0).a);
     if (d <= 0.0 || !has_feature(material, FEATURE_FAKE_SSS) || params.width <= 0.0 || params.taps == 0u) {
-        textureStore(output, pixel, vec4<f32>(center, 1.0));
+        for (var k = 0u; k < SOURCES; k++) {
+            store(k, pixel, center[k]);
+        }
         return;
     }
     let z = max(-view_position(camera, pixel, d).z, 1e-6);
@@ -79,16 +132,18 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
             if (dq <= 0.0 || channel_to_id(textureLoad(color, qu, 0).a) != material) {
                 continue;
             }
-            var s = clean(textureLoad(source, qu, 0).rgb);
             // Follow the surface: across a depth step of the reach, fall back to the centre.
             let zq = -view_position(camera, qu, dq).z;
             let step = clamp(abs(zq - z) / max(params.width, 1e-6), 0.0, 1.0);
-            s = mix(s, center, step);
             // Each tap stands for the band of offsets around it (spacing grows as t).
             let w = g * (2.0 * t / n) * extent;
-            sum += s * w;
+            for (var k = 0u; k < SOURCES; k++) {
+                sum[k] += mix(load_source(k, qu), center[k], step) * w;
+            }
             weights += w;
         }
     }
-    textureStore(output, pixel, vec4<f32>(min(sum / weights, vec3<f32>(65000.0)), 1.0));
+    for (var k = 0u; k < SOURCES; k++) {
+        store(k, pixel, min(sum[k] / weights, vec3<f32>(65000.0)));
+    }
 }

@@ -762,3 +762,80 @@ fn a_history_no_pass_writes_any_more_is_dropped() {
     assert_eq!(dropped, 1);
     assert!(renderer.persistent_texture(&name).is_none());
 }
+
+#[test]
+fn ssss_blurs_up_to_three_terms_in_one_pass_pair_with_the_images_of_one_each() {
+    let renderer = test_renderer();
+    let skin = MaterialWorld::new(
+        &renderer,
+        vec![
+            Material::default_material()
+                .with(Feature::FakeSss, &[[1.0, 0.3, 0.1, 1.0]])
+                .expect("valid"),
+        ],
+    );
+    let g = gbuffer(&renderer, eye(), None, SIZE);
+    // Three terms (as CookTorrance gives one per light type) and a fourth,
+    // which starts a second pass pair.
+    let terms: Vec<_> = [1.0, 0.5, 3.0, 0.25]
+        .into_iter()
+        .map(|v| half_lit(&renderer, v))
+        .collect();
+    let refs: Vec<_> = terms.iter().map(|t| t.texture_ref()).collect();
+    let run = |outs: &[spreadlight_render::TextureRef]| {
+        let mut graph = spreadlight_render::FrameGraph::new(SIZE);
+        for out in outs {
+            out.recipe.declare(&renderer, &mut graph);
+            graph.request(&out.name);
+        }
+        let (report, outputs) = graph.execute(&renderer).expect("renders");
+        assert!(report.errors.is_empty(), "{:?}", report.errors);
+        let images: Vec<ImageF32> = outs
+            .iter()
+            .map(|o| {
+                spreadlight_render::readback::read_texture(&renderer.gpu, &outputs[&o.name])
+                    .expect("reads")
+            })
+            .collect();
+        (report, images)
+    };
+    let together = Ssss::textures(
+        &renderer,
+        Some(5),
+        g.clone(),
+        refs.clone(),
+        Some(skin.clone()),
+        0.5,
+        SsssQuality::High,
+    );
+    let (report, images) = run(&together);
+    let ssss_passes = report
+        .passes
+        .iter()
+        .filter(|p| p.name.starts_with("SSSS"))
+        .count();
+    assert_eq!(
+        ssss_passes, 4,
+        "two pass pairs for four terms, not eight passes"
+    );
+    for (k, r) in refs.iter().enumerate() {
+        let alone = Ssss::texture(
+            &renderer,
+            Some(5),
+            g.clone(),
+            r.clone(),
+            Some(skin.clone()),
+            0.5,
+            SsssQuality::High,
+        );
+        let (_, image) = run(std::slice::from_ref(&alone));
+        assert_eq!(images[k].pixels, image[0].pixels, "term {k} blurred alone");
+    }
+    // And the blur did something: light crept past the lit half's edge.
+    let (x, y) = (SIZE.0 / 2 + 1, SIZE.1 - 4);
+    assert!(
+        images[2].pixel(x, y)[0] > 0.05,
+        "{:?}",
+        images[2].pixel(x, y)
+    );
+}

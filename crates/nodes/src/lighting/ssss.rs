@@ -54,20 +54,19 @@ pub fn register(r: &mut Registry) {
             // One slice per light type, as CookTorrance gives them.
             let sss = resources::<TextureRef>(cx, 1)?;
             let materials = resources::<MaterialWorld>(cx, 2)?.into_iter().next();
-            let out = sss
-                .iter()
-                .map(|t| {
-                    std::sync::Arc::new(Ssss::texture(
-                        &renderer,
-                        Some(cx.node_id.0),
-                        g.clone(),
-                        (**t).clone(),
-                        materials.clone(),
-                        width,
-                        quality,
-                    ))
-                })
-                .collect();
+            // One blur pass pair for up to three slices: they share their taps.
+            let out = Ssss::textures(
+                &renderer,
+                Some(cx.node_id.0),
+                g.clone(),
+                sss.iter().map(|t| (**t).clone()).collect(),
+                materials,
+                width,
+                quality,
+            )
+            .into_iter()
+            .map(std::sync::Arc::new)
+            .collect();
             cx.set_output(0, resource_spread::<TextureRef>(ResourceKind::Texture, out));
             Ok(())
         }),

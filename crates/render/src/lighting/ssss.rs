@@ -32,15 +32,21 @@ impl SsssQuality {
     }
 }
 
+/// Sources one pass pair blurs together (shaders/lighting/ssss.wgsl,
+/// SOURCES_2 and SOURCES_3): the taps' depths, materials and weights are
+/// the same for each, so three light types' terms cost little more than one.
+pub const SOURCES_PER_PASS: usize = 3;
+
 pub struct Ssss {
     id: u64,
     owner: Option<u32>,
     gbuffer: Arc<GBuffer>,
-    source: TextureRef,
+    /// One to SOURCES_PER_PASS, each blurred into the output of its index.
+    sources: Vec<TextureRef>,
     materials: Arc<MaterialWorld>,
     params: wgpu::Buffer,
     prefix: String,
-    pub output: String,
+    pub outputs: Vec<String>,
 }
 
 /// When no material scatters: the input, unchanged, and the decision counted.
@@ -71,22 +77,52 @@ impl Ssss {
         width: f32,
         quality: SsssQuality,
     ) -> TextureRef {
-        let id = next_recipe_id();
+        let mut out = Self::textures(
+            renderer,
+            owner,
+            gbuffer,
+            vec![source],
+            materials,
+            width,
+            quality,
+        );
+        out.remove(0)
+    }
+
+    /// [`Ssss::texture`] for each of `sources` (a spread, one term per
+    /// light type), up to [`SOURCES_PER_PASS`] blurred in one pass pair.
+    pub fn textures(
+        renderer: &Renderer,
+        owner: Option<u32>,
+        gbuffer: Arc<GBuffer>,
+        sources: Vec<TextureRef>,
+        materials: Option<Arc<MaterialWorld>>,
+        width: f32,
+        quality: SsssQuality,
+    ) -> Vec<TextureRef> {
         let width = if width.is_finite() {
             width.clamp(0.0, 1e3)
         } else {
             0.0
         };
-        // No material scatters, or nothing to scatter over: the input as it is.
+        // No material scatters, or nothing to scatter over: the inputs as they are.
         let materials = materials
             .filter(|w| w.union_flags() & (1 << FEATURE_FAKE_SSS) != 0)
             .filter(|_| width > 0.0);
         let Some(materials) = materials else {
-            let name = source.name.clone();
-            return TextureRef {
-                recipe: Arc::new(Skipped { id, source }),
-                name,
-            };
+            return sources
+                .into_iter()
+                .map(|source| {
+                    let name = source.name.clone();
+                    TextureRef {
+                        recipe: Arc::new(Skipped {
+                            id: next_recipe_id(),
+                            source,
+                        }),
+                        name,
+                    }
+                })
+                .collect();
         };
         let params = renderer.kept_init(
             owner,
@@ -94,49 +130,80 @@ impl Ssss {
             bytemuck::cast_slice(&[width.to_bits(), quality.taps(), 0, 0]),
             wgpu::BufferUsages::UNIFORM,
         );
-        let prefix = format!("ssss{id}");
-        let recipe = Arc::new(Ssss {
-            id,
-            owner,
-            gbuffer,
-            source,
-            materials,
-            params,
-            output: format!("{prefix}/out"),
-            prefix,
-        });
-        TextureRef {
-            name: recipe.output.clone(),
-            recipe,
+        let mut out = Vec::with_capacity(sources.len());
+        for chunk in sources.chunks(SOURCES_PER_PASS) {
+            let id = next_recipe_id();
+            let prefix = format!("ssss{id}");
+            let recipe = Arc::new(Ssss {
+                id,
+                owner,
+                gbuffer: gbuffer.clone(),
+                sources: chunk.to_vec(),
+                materials: materials.clone(),
+                params: params.clone(),
+                outputs: (0..chunk.len())
+                    .map(|k| format!("{prefix}/out{k}"))
+                    .collect(),
+                prefix,
+            });
+            for name in &recipe.outputs {
+                out.push(TextureRef {
+                    name: name.clone(),
+                    recipe: recipe.clone(),
+                });
+            }
         }
+        out
+    }
+
+    /// The first pass's output for source `k`.
+    fn across(&self, k: usize) -> String {
+        format!("{}/x{k}", self.prefix)
+    }
+
+    /// The source permutation: one, two or three sources a pass.
+    fn key(&self, vertical: bool) -> ShaderKey {
+        let n = self.sources.len();
+        let features = [
+            vertical.then_some("VERTICAL"),
+            (n >= 2).then_some("SOURCES_2"),
+            (n >= 3).then_some("SOURCES_3"),
+        ];
+        ShaderKey::new("lighting/ssss.wgsl", features.into_iter().flatten())
     }
 
     fn pass(&self, cx: &mut PassContext<'_>, vertical: bool) -> Result<(), RenderError> {
         let device = cx.gpu.device.clone();
-        let (source, target) = if vertical {
-            (format!("{}/x", self.prefix), self.output.clone())
-        } else {
-            (self.source.name.clone(), format!("{}/x", self.prefix))
-        };
-        let key = ShaderKey::new("lighting/ssss.wgsl", vertical.then_some("VERTICAL"));
+        let key = self.key(vertical);
         let pipeline = cx.shaders.compute_pipeline(&device, &key, "main")?;
         let g = &self.gbuffer.targets;
-        let views = [
-            cx.view(&source)?,
-            cx.view(&g.depth)?,
-            cx.view(&g.color)?,
-            cx.view(&target)?,
-        ];
+        // (source, target) per source: its input then the x pass's output,
+        // or the x pass's output then the final one.
+        let mut pairs = Vec::with_capacity(self.sources.len());
+        for (k, source) in self.sources.iter().enumerate() {
+            pairs.push(if vertical {
+                (cx.view(&self.across(k))?, cx.view(&self.outputs[k])?)
+            } else {
+                (cx.view(&source.name)?, cx.view(&self.across(k))?)
+            });
+        }
+        let (depth, color) = (cx.view(&g.depth)?, cx.view(&g.color)?);
         let mut all = vec![
             (0, self.gbuffer.camera_buffer().as_entire_binding()),
             (1, self.params.as_entire_binding()),
+            (3, wgpu::BindingResource::TextureView(&depth)),
+            (4, wgpu::BindingResource::TextureView(&color)),
         ];
-        all.extend(
-            views
-                .iter()
-                .enumerate()
-                .map(|(k, v)| (2 + k as u32, wgpu::BindingResource::TextureView(v))),
-        );
+        // Bindings 2 and 5, then 6 and 7, then 8 and 9 (ssss.wgsl).
+        for (k, (source, target)) in pairs.iter().enumerate() {
+            let (read, write) = if k == 0 {
+                (2, 5)
+            } else {
+                (4 + 2 * k as u32, 5 + 2 * k as u32)
+            };
+            all.push((read, wgpu::BindingResource::TextureView(source)));
+            all.push((write, wgpu::BindingResource::TextureView(target)));
+        }
         let group = cx
             .shaders
             .bind_group(&device, &key, "main", &pipeline, 0, &all)?;
@@ -160,22 +227,31 @@ impl Recipe for Ssss {
             return;
         }
         self.gbuffer.declare(renderer, fg);
-        self.source.recipe.declare(renderer, fg);
+        for source in &self.sources {
+            source.recipe.declare(renderer, fg);
+        }
         let g = &self.gbuffer.targets;
         let rgba = TextureDesc::storage(wgpu::TextureFormat::Rgba16Float).size(self.gbuffer.size);
-        let x = format!("{}/x", self.prefix);
+        let across: Vec<String> = (0..self.sources.len()).map(|k| self.across(k)).collect();
+        let mut reads: Vec<&str> = self.sources.iter().map(|s| s.name.as_str()).collect();
+        reads.extend([g.depth.as_str(), g.color.as_str()]);
+        let writes: Vec<(&str, TextureDesc)> = across.iter().map(|x| (x.as_str(), rgba)).collect();
         fg.add_pass(
             pass_name("SSSS", self.owner, Some("x")),
             self.owner,
-            &[&self.source.name, &g.depth, &g.color],
-            &[(&x, rgba)],
+            &reads,
+            &writes,
             move |cx| self.pass(cx, false),
         );
+        let mut reads: Vec<&str> = across.iter().map(String::as_str).collect();
+        reads.extend([g.depth.as_str(), g.color.as_str()]);
+        let writes: Vec<(&str, TextureDesc)> =
+            self.outputs.iter().map(|o| (o.as_str(), rgba)).collect();
         fg.add_pass(
             pass_name("SSSS", self.owner, Some("y")),
             self.owner,
-            &[&x, &g.depth, &g.color],
-            &[(&self.output, rgba)],
+            &reads,
+            &writes,
             move |cx| self.pass(cx, true),
         );
     }

@@ -232,7 +232,7 @@ pub const SHADERS: &[ShaderFile] = &[
         Rule::AtMostOne(&["HALF", "TEMPORAL"]),
         Rule::AtMostOne(&["HALF", "BLUR"])
     ),
-    shader!("lighting/ssss.wgsl", ["VERTICAL"]),
+    shader!("lighting/ssss.wgsl", ["VERTICAL", "SOURCES_2", "SOURCES_3"]),
     shader!("shadows/depth.wgsl", []),
     shader!("shadows/moments.wgsl", []),
     shader!("shadows/resolve.wgsl", ["OVER_STILL"]),
