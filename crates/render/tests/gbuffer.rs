@@ -467,16 +467,43 @@ fn both_rasterizers_see_the_same_scene() {
             instances: spheres,
         },
         DrawBatch {
-            mesh: plane,
+            mesh: plane.clone(),
             instances: vec![instance(Mat4::IDENTITY, Mat4::IDENTITY)],
         },
     ];
     let layer = Arc::new(Layer::new(None, batches, LayerFeatures::default(), None).expect("valid"));
     let camera = camera_at(Vec3::new(0.0, 3.0, 6.0));
+    // At 64x64 the plane's triangles are queued tile by tile; at 320x288
+    // (90 tiles of 32 pixels) they are giants, whose tiles every workgroup
+    // shares (raster.wgsl, GIANT_TILES).
+    for size in [SIZE, (320, 288)] {
+        both_rasterizers_agree(&renderer, &layer, camera, size);
+    }
+    // More giants than their queue holds (40 planes a step apart, 80
+    // triangles): the rest go tile by tile, and the nearest plane still wins.
+    let planes = vec![DrawBatch {
+        mesh: plane,
+        instances: (0..40)
+            .map(|i| {
+                let t = Mat4::from_translation(Vec3::new(0.0, -0.02 * i as f32, 0.0));
+                instance(t, t)
+            })
+            .collect(),
+    }];
+    let stack = Arc::new(Layer::new(None, planes, LayerFeatures::default(), None).expect("valid"));
+    both_rasterizers_agree(&renderer, &stack, camera, (320, 288));
+}
+
+fn both_rasterizers_agree(
+    renderer: &Renderer,
+    layer: &Arc<Layer>,
+    camera: CameraInput,
+    size: (u32, u32),
+) {
     let mut images = Vec::new();
     for choice in [RasterChoice::Hardware, RasterChoice::Compute] {
         let g = GBuffer::with_raster(
-            &renderer,
+            renderer,
             None,
             vec![layer.clone()],
             camera,
@@ -484,8 +511,14 @@ fn both_rasterizers_see_the_same_scene() {
             SizeRule::Relative(1.0),
             choice,
         );
-        let (report, mut out) = render(&renderer, &g, &[&g.targets.normals, &g.targets.depth]);
-        assert!(report.errors.is_empty());
+        let (report, mut out) = spreadlight_render::readback::render_and_read(
+            renderer,
+            g.as_ref(),
+            size,
+            &[&g.targets.normals, &g.targets.depth],
+        )
+        .expect("frame executes");
+        assert!(report.errors.is_empty(), "{:?}", report.errors);
         images.push((out.remove(0), out.remove(0)));
     }
     let (hw, cs) = (&images[0], &images[1]);
@@ -499,7 +532,7 @@ fn both_rasterizers_see_the_same_scene() {
     // Rasterizers may disagree on pixels exactly on silhouette edges, nowhere else.
     assert!(
         differing * 100 < total * 3,
-        "{differing} of {total} pixels differ"
+        "{size:?}: {differing} of {total} pixels differ"
     );
     let depth_close =
         hw.1.pixels
@@ -509,7 +542,7 @@ fn both_rasterizers_see_the_same_scene() {
             .count();
     assert!(
         depth_close * 100 > total * 97,
-        "depth agrees on {depth_close} of {total} pixels"
+        "{size:?}: depth agrees on {depth_close} of {total} pixels"
     );
     assert!(cs.0.all_finite() && cs.1.all_finite());
 }
