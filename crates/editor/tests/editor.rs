@@ -1,6 +1,8 @@
 //! The real editor, driven through egui_kittest: clicks, drags, keys and text
 //! go through egui's input like a user's, on a wgpu device (lavapipe in CI).
 
+mod common;
+
 use std::path::{Path, PathBuf};
 
 use egui::accesskit::Role;
@@ -26,14 +28,7 @@ impl Env {
     }
 
     fn options(&self, path: Option<PathBuf>) -> EditorOptions {
-        EditorOptions {
-            path,
-            config_dir: self.config(),
-            autosave_secs: 0.0,
-            automation: None,
-            // Each frame shows the patch as of that frame (deterministic); the patch still runs on its worker thread.
-            frame_wait: spreadlight_editor::FrameWait::Always,
-        }
+        common::options(path, self.config())
     }
 
     fn patch_file(&self, name: &str, patch: &Patch) -> PathBuf {
@@ -44,16 +39,7 @@ impl Env {
 }
 
 fn harness(options: EditorOptions) -> Harness<'static, EditorApp> {
-    let mut h = Harness::builder()
-        .with_size(Vec2::new(1400.0, 800.0))
-        .with_max_steps(40)
-        .wgpu_setup(spreadlight_editor::gpu::wgpu_setup(true))
-        .build_eframe(move |cc| {
-            let mut app = EditorApp::new(cc, options);
-            // A paused patch settles, so `run` returns; tests that need time step it.
-            app.set_playing(false);
-            app
-        });
+    let mut h = common::editor(options, Vec2::new(1400.0, 800.0));
     h.run_steps(2);
     h
 }

@@ -4,9 +4,11 @@
 //! is over it. Driven through egui's input, on a paused patch (input alone
 //! re-evaluates a patch that reads it).
 
+mod common;
+
 use egui::{Event, Key, Modifiers, Vec2};
 use egui_kittest::Harness;
-use spreadlight_editor::{EditorApp, EditorOptions, FrameWait};
+use spreadlight_editor::EditorApp;
 use spreadlight_graph::{NodeDoc, NodeId, Patch, Spread, format};
 
 fn patch() -> Patch {
@@ -48,23 +50,10 @@ fn patch() -> Patch {
 fn harness(dir: &tempfile::TempDir, show: bool) -> Harness<'static, EditorApp> {
     let path = dir.path().join("input.ron");
     format::save(&patch(), &path).expect("save");
-    let options = EditorOptions {
-        path: Some(path),
-        config_dir: dir.path().join("config"),
-        autosave_secs: 0.0,
-        automation: None,
-        frame_wait: FrameWait::Always,
-    };
-    let mut h = Harness::builder()
-        .with_size(Vec2::new(900.0, 600.0))
-        .with_max_steps(40)
-        .wgpu_setup(spreadlight_editor::gpu::wgpu_setup(true))
-        .build_eframe(move |cc| {
-            let mut app = EditorApp::new(cc, options);
-            app.set_show_mode(show);
-            app.set_playing(false);
-            app
-        });
+    let options = common::options(Some(path), dir.path().join("config"));
+    let mut h = common::editor_with(options, Vec2::new(900.0, 600.0), 40, move |app| {
+        app.set_show_mode(show);
+    });
     h.run_steps(4);
     h
 }

@@ -2,10 +2,12 @@
 //! place, slices added and undone; a linked IOBox shows its live value,
 //! updating as time runs. At a small window size.
 
+mod common;
+
 use egui::Vec2;
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
-use spreadlight_editor::{EditorApp, EditorOptions};
+use spreadlight_editor::EditorApp;
 use spreadlight_graph::{NodeDoc, NodeId, Patch, Spread, format};
 
 fn harness(dir: &tempfile::TempDir, patch: &Patch) -> Harness<'static, EditorApp> {
@@ -19,23 +21,8 @@ fn harness_sized(
 ) -> Harness<'static, EditorApp> {
     let path = dir.path().join("iobox.ron");
     format::save(patch, &path).expect("save");
-    let options = EditorOptions {
-        path: Some(path),
-        config_dir: dir.path().join("config"),
-        autosave_secs: 0.0,
-        automation: None,
-        // Each frame shows the patch as of that frame (deterministic); the patch still runs on its worker thread.
-        frame_wait: spreadlight_editor::FrameWait::Always,
-    };
-    let mut h = Harness::builder()
-        .with_size(size)
-        .with_max_steps(40)
-        .wgpu_setup(spreadlight_editor::gpu::wgpu_setup(true))
-        .build_eframe(move |cc| {
-            let mut app = EditorApp::new(cc, options);
-            app.set_playing(false);
-            app
-        });
+    let options = common::options(Some(path), dir.path().join("config"));
+    let mut h = common::editor(options, size);
     h.run();
     h
 }

@@ -3,10 +3,12 @@
 //! layout) and pans to the patch's top left instead; the mouse wheel zooms
 //! around the pointer rather than panning. At a small window size.
 
+mod common;
+
 use egui::{Event, Modifiers, MouseWheelUnit, Pos2, TouchPhase, Vec2};
 use egui_kittest::Harness;
+use spreadlight_editor::EditorApp;
 use spreadlight_editor::canvas::READABLE_ZOOM;
-use spreadlight_editor::{EditorApp, EditorOptions};
 use spreadlight_graph::{NodeDoc, Patch, format};
 
 /// The smallest text, in points, a node title may have on screen after fitting.
@@ -35,23 +37,8 @@ fn harness_sized(
 ) -> Harness<'static, EditorApp> {
     let path = dir.path().join("wide.ron");
     format::save(patch, &path).expect("save");
-    let options = EditorOptions {
-        path: Some(path),
-        config_dir: dir.path().join("config"),
-        autosave_secs: 0.0,
-        automation: None,
-        // Each frame shows the patch as of that frame (deterministic); the patch still runs on its worker thread.
-        frame_wait: spreadlight_editor::FrameWait::Always,
-    };
-    let mut h = Harness::builder()
-        .with_size(size)
-        .with_max_steps(60)
-        .wgpu_setup(spreadlight_editor::gpu::wgpu_setup(true))
-        .build_eframe(move |cc| {
-            let mut app = EditorApp::new(cc, options);
-            app.set_playing(false);
-            app
-        });
+    let options = common::options(Some(path), dir.path().join("config"));
+    let mut h = common::editor_with(options, size, 60, |_| {});
     h.run();
     h
 }

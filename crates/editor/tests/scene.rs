@@ -2,6 +2,8 @@
 //! the node browser, wires dragged between pins and the inspector only; saved
 //! through the Save-as dialog; reopened unchanged, and rendering.
 
+mod common;
+
 use egui::accesskit::Role;
 use egui::{Event, Key, Modifiers, PointerButton, Pos2, Vec2};
 use egui_kittest::Harness;
@@ -10,15 +12,7 @@ use spreadlight_editor::{EditorApp, EditorOptions};
 use spreadlight_graph::{NodeId, format};
 
 fn harness(options: EditorOptions) -> Harness<'static, EditorApp> {
-    let mut h = Harness::builder()
-        .with_size(Vec2::new(2400.0, 1700.0))
-        .with_max_steps(40)
-        .wgpu_setup(spreadlight_editor::gpu::wgpu_setup(true))
-        .build_eframe(move |cc| {
-            let mut app = EditorApp::new(cc, options);
-            app.set_playing(false);
-            app
-        });
+    let mut h = common::editor(options, Vec2::new(2400.0, 1700.0));
     h.run();
     h
 }
@@ -96,14 +90,7 @@ fn colours_in_viewport(h: &mut Harness<'_, EditorApp>) -> usize {
 #[test]
 fn a_lit_scene_is_built_from_scratch_saved_and_reopened_unchanged() {
     let dir = tempfile::tempdir().expect("tempdir");
-    let options = |path| EditorOptions {
-        path,
-        config_dir: dir.path().join("config"),
-        autosave_secs: 0.0,
-        automation: None,
-        // Each frame shows the patch as of that frame (deterministic); the patch still runs on its worker thread.
-        frame_wait: spreadlight_editor::FrameWait::Always,
-    };
+    let options = |path| common::options(path, dir.path().join("config"));
     let mut h = harness(options(None));
 
     // A grid of empty places on the canvas, far enough apart that no node covers another's pins.

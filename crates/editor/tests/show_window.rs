@@ -5,9 +5,11 @@
 //! editor's (egui's embedded viewport); the real window is tested under Xvfb
 //! in crates/cli/tests/editor_window.rs.
 
+mod common;
+
 use egui::{Event, Key, Modifiers, Vec2};
 use egui_kittest::Harness;
-use spreadlight_editor::{EditorApp, EditorOptions, FrameWait, ShowWindowOptions};
+use spreadlight_editor::{EditorApp, ShowWindowOptions};
 use spreadlight_graph::{NodeDoc, NodeId, Patch, Spread, format};
 
 /// The texture's own size, unlike any window's.
@@ -37,22 +39,8 @@ fn harness(dir: &tempfile::TempDir) -> Harness<'static, EditorApp> {
     p.link(3, "Width", 4, "Input");
     let path = dir.path().join("show.ron");
     format::save(&p, &path).expect("save");
-    let options = EditorOptions {
-        path: Some(path),
-        config_dir: dir.path().join("config"),
-        autosave_secs: 0.0,
-        automation: None,
-        frame_wait: FrameWait::Always,
-    };
-    let mut h = Harness::builder()
-        .with_size(Vec2::new(1100.0, 700.0))
-        .with_max_steps(40)
-        .wgpu_setup(spreadlight_editor::gpu::wgpu_setup(true))
-        .build_eframe(move |cc| {
-            let mut app = EditorApp::new(cc, options);
-            app.set_playing(false);
-            app
-        });
+    let options = common::options(Some(path), dir.path().join("config"));
+    let mut h = common::editor(options, Vec2::new(1100.0, 700.0));
     h.run_steps(4);
     h
 }

@@ -4,11 +4,13 @@
 //! (Ctrl+Shift+G), each undone and redone; a subpatch file opened in place
 //! and its edit saved to it, or recovered after a crash.
 
+mod common;
+
 use egui::accesskit::Role;
 use egui::{Event, Key, Modifiers, PointerButton, Pos2, Vec2};
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
-use spreadlight_editor::{EditorApp, EditorOptions};
+use spreadlight_editor::EditorApp;
 use spreadlight_graph::{NodeDoc, NodeId, Patch, Spread, format};
 
 fn harness(dir: &tempfile::TempDir, patch: &Patch) -> Harness<'static, EditorApp> {
@@ -19,23 +21,8 @@ fn harness(dir: &tempfile::TempDir, patch: &Patch) -> Harness<'static, EditorApp
 /// The editor started on `chain.ron` as it is on disk.
 fn reopen(dir: &tempfile::TempDir) -> Harness<'static, EditorApp> {
     let path = dir.path().join("chain.ron");
-    let options = EditorOptions {
-        path: Some(path),
-        config_dir: dir.path().join("config"),
-        autosave_secs: 0.0,
-        automation: None,
-        // Each frame shows the patch as of that frame (deterministic); the patch still runs on its worker thread.
-        frame_wait: spreadlight_editor::FrameWait::Always,
-    };
-    let mut h = Harness::builder()
-        .with_size(Vec2::new(900.0, 560.0))
-        .with_max_steps(40)
-        .wgpu_setup(spreadlight_editor::gpu::wgpu_setup(true))
-        .build_eframe(move |cc| {
-            let mut app = EditorApp::new(cc, options);
-            app.set_playing(false);
-            app
-        });
+    let options = common::options(Some(path), dir.path().join("config"));
+    let mut h = common::editor(options, Vec2::new(900.0, 560.0));
     h.run();
     h
 }

@@ -1,36 +1,23 @@
 //! The viewports and the GPU timings, on the showcase patch: rendered by the
 //! shared renderer on the device the harness's egui draws with.
 
+mod common;
+
 use std::path::PathBuf;
 
 use egui::Vec2;
 use egui::accesskit::Role;
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
-use spreadlight_editor::{EditorApp, EditorOptions};
+use spreadlight_editor::EditorApp;
 
 fn showcase() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../patches/showcase.ron")
 }
 
 fn harness(dir: &tempfile::TempDir) -> Harness<'static, EditorApp> {
-    let options = EditorOptions {
-        path: Some(showcase()),
-        config_dir: dir.path().to_owned(),
-        autosave_secs: 0.0,
-        automation: None,
-        // Each frame shows the patch as of that frame (deterministic); the patch still runs on its worker thread.
-        frame_wait: spreadlight_editor::FrameWait::Always,
-    };
-    let mut h = Harness::builder()
-        .with_size(Vec2::new(1400.0, 800.0))
-        .with_max_steps(40)
-        .wgpu_setup(spreadlight_editor::gpu::wgpu_setup(true))
-        .build_eframe(move |cc| {
-            let mut app = EditorApp::new(cc, options);
-            app.set_playing(false);
-            app
-        });
+    let options = common::options(Some(showcase()), dir.path().to_owned());
+    let mut h = common::editor(options, Vec2::new(1400.0, 800.0));
     h.run();
     h
 }
@@ -167,22 +154,8 @@ fn viewport_centre_showing_a_flat_png(grey: u8) -> image::Rgba<u8> {
     p.link(1, "Texture", 2, "Texture");
     let path = dir.path().join("grey.ron");
     format::save(&p, &path).expect("save");
-    let options = EditorOptions {
-        path: Some(path),
-        config_dir: dir.path().join("config"),
-        autosave_secs: 0.0,
-        automation: None,
-        frame_wait: spreadlight_editor::FrameWait::Always,
-    };
-    let mut h = Harness::builder()
-        .with_size(Vec2::new(1100.0, 700.0))
-        .with_max_steps(40)
-        .wgpu_setup(spreadlight_editor::gpu::wgpu_setup(true))
-        .build_eframe(move |cc| {
-            let mut app = EditorApp::new(cc, options);
-            app.set_playing(false);
-            app
-        });
+    let options = common::options(Some(path), dir.path().join("config"));
+    let mut h = common::editor(options, Vec2::new(1100.0, 700.0));
     h.run_steps(4);
     assert_eq!(h.state().viewport_error(0), None);
     let rect = h.state().viewport_rect(0).expect("the viewport was drawn");
