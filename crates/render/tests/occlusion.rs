@@ -638,17 +638,22 @@ fn scatter(
     (report, read(&out.name), read(&g.targets.depth))
 }
 
-#[test]
-fn ssss_scatters_red_farthest_and_only_where_a_material_has_fake_sss() {
-    let renderer = test_renderer();
-    let skin = MaterialWorld::new(
-        &renderer,
+/// One material with FakeSSS, red scattering farthest (as skin does).
+fn skin(renderer: &Renderer) -> Arc<MaterialWorld> {
+    MaterialWorld::new(
+        renderer,
         vec![
             Material::default_material()
                 .with(Feature::FakeSss, &[[1.0, 0.3, 0.1, 1.0]])
                 .expect("valid"),
         ],
-    );
+    )
+}
+
+#[test]
+fn ssss_scatters_red_farthest_and_only_where_a_material_has_fake_sss() {
+    let renderer = test_renderer();
+    let skin = skin(&renderer);
     let (report, image, depth) = scatter(&renderer, skin.clone(), 1.0);
     assert!(image.all_finite());
     assert!(report.passes.iter().any(|p| p.name.starts_with("SSSS")));
@@ -766,14 +771,7 @@ fn a_history_no_pass_writes_any_more_is_dropped() {
 #[test]
 fn ssss_blurs_up_to_three_terms_in_one_pass_pair_with_the_images_of_one_each() {
     let renderer = test_renderer();
-    let skin = MaterialWorld::new(
-        &renderer,
-        vec![
-            Material::default_material()
-                .with(Feature::FakeSss, &[[1.0, 0.3, 0.1, 1.0]])
-                .expect("valid"),
-        ],
-    );
+    let skin = skin(&renderer);
     let g = gbuffer(&renderer, eye(), None, SIZE);
     // Three terms (as CookTorrance gives one per light type) and a fourth,
     // which starts a second pass pair.
