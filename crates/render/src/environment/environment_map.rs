@@ -9,146 +9,13 @@
 //! Readers order themselves after the build by reading [`Environment::token`].
 
 use std::hash::{Hash, Hasher};
-use std::path::Path;
 use std::sync::{Arc, Mutex};
 
-use thiserror::Error;
-
-use super::sky::{GpuSky, SkySettings};
+use super::source::{EnvironmentMaps, EnvironmentQuality, EnvironmentSource};
 use crate::error::RenderError;
 use crate::frame_graph::{FrameGraph, PassContext, TextureDesc};
 use crate::recipe::{Recipe, next_recipe_id};
 use crate::renderer::Renderer;
-
-/// Why an environment image was refused; names the file.
-#[derive(Debug, Error)]
-pub enum EnvironmentError {
-    #[error("{path}: cannot read the environment image: {message}")]
-    Read { path: String, message: String },
-    #[error("{path}: the environment image is empty")]
-    Empty { path: String },
-}
-
-/// An equirectangular image: u = 0.5 looks along -z, v = 0 straight up
-/// (`equirect_uv` in shaders/lib/ibl.wgsl). Linear radiance.
-#[derive(Clone, Debug, PartialEq)]
-pub struct EquirectImage {
-    pub width: u32,
-    pub height: u32,
-    pub pixels: Vec<[f32; 4]>,
-}
-
-impl EquirectImage {
-    /// Load a .hdr or .exr file (or any format the image crate reads, as linear).
-    pub fn load(path: &Path) -> Result<Self, EnvironmentError> {
-        let shown = path.display().to_string();
-        let image = image::open(path).map_err(|e| EnvironmentError::Read {
-            path: shown.clone(),
-            message: e.to_string(),
-        })?;
-        let image = image.to_rgba32f();
-        if image.width() == 0 || image.height() == 0 {
-            return Err(EnvironmentError::Empty { path: shown });
-        }
-        Ok(EquirectImage {
-            width: image.width(),
-            height: image.height(),
-            pixels: image.pixels().map(|p| p.0).collect(),
-        })
-    }
-
-    /// Radiance as it is uploaded (half floats): NaN is 0, the rest within 0..=65000.
-    pub fn sanitized(c: f32) -> f32 {
-        if c.is_nan() {
-            0.0
-        } else {
-            c.clamp(0.0, HALF_MAX)
-        }
-    }
-}
-
-/// The largest value a half-float target holds with margin: every stored texel is below it.
-pub const HALF_MAX: f32 = 65000.0;
-
-/// What an environment is made from.
-#[derive(Clone, Debug, PartialEq)]
-pub enum EnvironmentSource {
-    Equirect(Arc<EquirectImage>),
-    Sky(SkySettings),
-}
-
-/// The quality pins: the base cube's face size and the GGX samples per prefiltered texel.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub struct EnvironmentQuality {
-    /// Face size in texels, rounded up to a power of two within 8..=1024.
-    pub cube_size: u32,
-    /// Samples per texel of each rough level, 1..=4096.
-    pub samples: u32,
-}
-
-impl Default for EnvironmentQuality {
-    fn default() -> Self {
-        EnvironmentQuality {
-            cube_size: 128,
-            samples: 64,
-        }
-    }
-}
-
-impl EnvironmentQuality {
-    pub fn sanitized(self) -> Self {
-        EnvironmentQuality {
-            cube_size: self.cube_size.clamp(8, 1024).next_power_of_two(),
-            samples: self.samples.clamp(1, 4096),
-        }
-    }
-
-    /// Mips of the base cube: down to 1x1.
-    pub fn base_mips(self) -> u32 {
-        self.cube_size.max(1).ilog2() + 1
-    }
-
-    /// Prefiltered levels: roughness 0, 1/(n-1), ..., 1; at most 6, each half the size of the last.
-    pub fn levels(self) -> u32 {
-        self.base_mips().min(MAX_LEVELS)
-    }
-}
-
-pub const MAX_LEVELS: u32 = 6;
-/// The diffuse irradiance cube's face size: irradiance is smooth, 16 texels resolve it.
-pub const IRRADIANCE_SIZE: u32 = 16;
-/// The split-sum table's size (N.V by roughness) and its samples per texel.
-pub const LUT_SIZE: u32 = 64;
-pub const LUT_SAMPLES: u32 = 512;
-
-/// The built maps, kept between frames.
-pub struct EnvironmentMaps {
-    pub(crate) key: u64,
-    pub quality: EnvironmentQuality,
-    /// The source as a cube with its mip chain (mip 0: the unfiltered environment).
-    pub base: wgpu::Texture,
-    /// Roughness level m (0..levels) in mip m.
-    pub prefiltered: wgpu::Texture,
-    /// What a white Lambertian surface facing each direction reflects (E / pi).
-    pub irradiance: wgpu::Texture,
-    /// The split-sum table: (A, B) in RG, N.V along x, roughness along y.
-    pub lut: wgpu::Texture,
-    /// Trilinear, clamped: for the cubes and the table.
-    pub sampler: wgpu::Sampler,
-}
-
-impl EnvironmentMaps {
-    pub fn levels(&self) -> u32 {
-        self.prefiltered.mip_level_count()
-    }
-
-    pub(crate) fn cube_view(texture: &wgpu::Texture) -> wgpu::TextureView {
-        texture.create_view(&wgpu::TextureViewDescriptor {
-            dimension: Some(wgpu::TextureViewDimension::Cube),
-            ..Default::default()
-        })
-    }
-}
 
 /// Where a node's maps are kept across frames.
 #[derive(Default)]
@@ -249,20 +116,13 @@ impl Environment {
         })
     }
 
-    pub(crate) fn gpu_sky(&self) -> Option<GpuSky> {
-        match &self.source {
-            EnvironmentSource::Sky(s) => Some(GpuSky::from_settings(s)),
-            EnvironmentSource::Equirect(_) => None,
-        }
-    }
-
     fn run(&self, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
         let mut guard = self.store.0.lock().unwrap_or_else(|e| e.into_inner());
         if guard.as_ref().is_some_and(|m| m.key == self.key) {
             cx.count("environment reused", 1);
             return Ok(());
         }
-        let maps = super::prefilter::build(cx, self, self.key)?;
+        let maps = super::prefilter::build(cx, &self.source, self.quality, self.key)?;
         *guard = Some(Arc::new(maps));
         cx.count("environment prefiltered", 1);
         Ok(())

@@ -10,14 +10,16 @@ mod pass;
 mod prefilter;
 pub mod reflection;
 pub mod sky;
+mod source;
 pub mod ssr;
 
-pub use environment_map::{
-    Environment, EnvironmentError, EnvironmentMaps, EnvironmentQuality, EnvironmentSource,
-    EquirectImage,
-};
+pub use environment_map::Environment;
 pub use fog::{Fog, FogSettings};
 pub use pass::ImagePass;
 pub use reflection::{Reflection, ReflectionMode};
-pub use sky::{Sky, SkySettings};
+pub use sky::Sky;
+pub use source::{
+    EnvironmentError, EnvironmentMaps, EnvironmentQuality, EnvironmentSource, EquirectImage,
+    SkySettings,
+};
 pub use ssr::{Ssr, SsrSettings};

@@ -6,9 +6,9 @@
 
 use wgpu::util::DeviceExt;
 
-use super::environment_map::{
-    Environment, EnvironmentMaps, EnvironmentSource, EquirectImage, IRRADIANCE_SIZE, LUT_SAMPLES,
-    LUT_SIZE,
+use super::source::{
+    EnvironmentMaps, EnvironmentQuality, EnvironmentSource, EquirectImage, IRRADIANCE_SIZE,
+    LUT_SAMPLES, LUT_SIZE,
 };
 use crate::error::RenderError;
 use crate::frame_graph::PassContext;
@@ -90,11 +90,11 @@ fn upload_equirect(cx: &PassContext<'_>, image: &EquirectImage) -> wgpu::Texture
 /// Record every step and return the maps (valid once the frame is submitted).
 pub(crate) fn build(
     cx: &mut PassContext<'_>,
-    environment: &Environment,
+    source: &EnvironmentSource,
+    quality: EnvironmentQuality,
     key: u64,
 ) -> Result<EnvironmentMaps, RenderError> {
     let device = cx.gpu.device.clone();
-    let quality = environment.quality;
     let n = quality.cube_size;
     let base_mips = quality.base_mips();
     let levels = quality.levels();
@@ -147,7 +147,7 @@ pub(crate) fn build(
 
     // The base cube's level 0.
     let out0 = faces(&base, 0);
-    match &environment.source {
+    match source {
         EnvironmentSource::Equirect(image) => {
             let equirect = upload_equirect(cx, image);
             let view = equirect.create_view(&Default::default());
@@ -170,7 +170,7 @@ pub(crate) fn build(
             )?;
         }
         EnvironmentSource::Sky(_) => {
-            let sky = environment.gpu_sky().unwrap_or_default();
+            let sky = source.gpu_sky().unwrap_or_default();
             let sky = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                 label: Some("environment sky"),
                 contents: bytemuck::bytes_of(&sky),
