@@ -28,6 +28,7 @@ pub mod scenes;
 pub mod shader_nodes;
 pub mod shaders;
 pub mod shadows;
+pub mod static_texture;
 pub mod temporal;
 pub mod texture;
 pub mod texture_pool;

@@ -13,7 +13,8 @@ use spreadlight_render::gbuffer::GBuffer;
 use spreadlight_render::readback::{ImageF32, render_and_read};
 use spreadlight_render::renderer::test_renderer;
 use spreadlight_render::scenes::balls_on_floor;
-use spreadlight_render::texture::{GpuTexture, StaticTexture};
+use spreadlight_render::static_texture::StaticTexture;
+use spreadlight_render::texture::GpuTexture;
 use spreadlight_render::{Renderer, SizeRule};
 
 const SIZE: (u32, u32) = (64, 64);

@@ -8,7 +8,8 @@ use spreadlight_render::post::{AdaptationSettings, AdaptedExposure, EyeAdaptatio
 use spreadlight_render::readback::render_and_read;
 use spreadlight_render::reference::tonemap::TONEMAP_NAMES;
 use spreadlight_render::renderer::{Renderer, test_renderer};
-use spreadlight_render::texture::{GpuTexture, StaticTexture};
+use spreadlight_render::static_texture::StaticTexture;
+use spreadlight_render::texture::GpuTexture;
 
 const SETTINGS: AdaptationSettings = AdaptationSettings {
     speed_up: 3.0,

@@ -4,7 +4,8 @@
 use spreadlight_render::post::{Fxaa, FxaaQuality};
 use spreadlight_render::readback::{ImageF32, render_and_read};
 use spreadlight_render::renderer::test_renderer;
-use spreadlight_render::texture::{GpuTexture, StaticTexture};
+use spreadlight_render::static_texture::StaticTexture;
+use spreadlight_render::texture::GpuTexture;
 
 const N: u32 = 32;
 

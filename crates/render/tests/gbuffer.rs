@@ -302,7 +302,8 @@ fn ten_thousand_instances_are_one_draw() {
 #[test]
 fn normal_mapping_bends_normals_along_the_tangent() {
     use spreadlight_render::mesh::primitives::{GridParams, grid};
-    use spreadlight_render::texture::{GpuTexture, StaticTexture};
+    use spreadlight_render::static_texture::StaticTexture;
+    use spreadlight_render::texture::GpuTexture;
     let renderer = test_renderer();
     let mesh = renderer
         .meshes
@@ -614,7 +615,8 @@ fn reversed_z_keeps_depth_precise_from_near_1e_minus_4_to_far_1e6() {
 
 #[test]
 fn a_color_texture_scales_albedo_at_the_uv_and_needs_uvs() {
-    use spreadlight_render::texture::{GpuTexture, StaticTexture};
+    use spreadlight_render::static_texture::StaticTexture;
+    use spreadlight_render::texture::GpuTexture;
     let renderer = test_renderer();
     // Left half of UV space red, right half green, on a sphere seen from +z.
     // 64 texels wide, so bilinear blending is a thin seam.

@@ -21,7 +21,8 @@ use spreadlight_render::readback::{ImageF32, render_and_read};
 use spreadlight_render::renderer::test_renderer;
 use spreadlight_render::resolution::{Resolution, Upsample, UpsampleFormat, upsample};
 use spreadlight_render::scenes::{balls_on_floor, with_materials};
-use spreadlight_render::texture::{GpuTexture, StaticTexture};
+use spreadlight_render::static_texture::StaticTexture;
+use spreadlight_render::texture::GpuTexture;
 use spreadlight_render::{Recipe, Renderer, SizeRule};
 
 /// Odd on purpose: the half grid's last row and column cover one pixel.

@@ -470,7 +470,8 @@ fn spot_cones_from_zero_to_nearly_a_hemisphere_stay_finite_and_bounded() {
 
 #[test]
 fn a_spot_projects_the_layer_of_its_texture_array_and_wraps_past_its_end() {
-    use spreadlight_render::texture::{GpuTexture, StaticTexture};
+    use spreadlight_render::static_texture::StaticTexture;
+    use spreadlight_render::texture::GpuTexture;
     let renderer = test_renderer();
     let g = scene(&renderer);
     // Layer 0 black, layer 1 pure red, layer 2 green on the left half only.
@@ -664,7 +665,8 @@ fn the_material_buffer_drives_shading_and_unused_features_cost_nothing() {
 fn material_textures_scale_parameters_at_the_gbuffer_uv_and_compile_only_when_read() {
     use spreadlight_render::lighting::{CompositeInputs, CompositeLight};
     use spreadlight_render::material::{Feature, Material, MaterialWorld};
-    use spreadlight_render::texture::{GpuTexture, StaticTexture};
+    use spreadlight_render::static_texture::StaticTexture;
+    use spreadlight_render::texture::GpuTexture;
     let renderer = test_renderer();
     let g = scene_with(
         &renderer,
@@ -819,7 +821,8 @@ fn fake_sss_adds_light_past_the_terminator_only_for_materials_that_have_it() {
 fn ambient_occlusion_darkens_the_ambient_term_as_each_material_says() {
     use spreadlight_render::lighting::{CompositeInputs, CompositeLight, LightComponents};
     use spreadlight_render::material::{Feature, Material, MaterialWorld};
-    use spreadlight_render::texture::{GpuTexture, StaticTexture};
+    use spreadlight_render::static_texture::StaticTexture;
+    use spreadlight_render::texture::GpuTexture;
     let renderer = test_renderer();
     let g = scene(&renderer);
     let half = vec![[0.5f32, 0.5, 0.5, 1.0]; (SIZE.0 * SIZE.1) as usize];
@@ -906,7 +909,8 @@ fn gi_and_reflection_are_weighted_per_material_and_unreflective_scenes_render_no
     use spreadlight_render::lighting::{CompositeInputs, CompositeLight, LightComponents};
     use spreadlight_render::material::{Feature, Material, MaterialWorld};
     use spreadlight_render::occlusion::{AmbientOcclusion, AoSettings};
-    use spreadlight_render::texture::{GpuTexture, StaticTexture};
+    use spreadlight_render::static_texture::StaticTexture;
+    use spreadlight_render::texture::GpuTexture;
     let renderer = test_renderer();
     let g = scene(&renderer);
     let constant = |v: f32, name: &str| {

@@ -19,7 +19,8 @@ use spreadlight_render::mesh::primitives::{SphereParams, sphere};
 use spreadlight_render::readback::{ImageF32, render_and_read};
 use spreadlight_render::reference::matcap::{default_matcap, matcap_uv};
 use spreadlight_render::renderer::test_renderer;
-use spreadlight_render::texture::{GpuTexture, StaticTexture};
+use spreadlight_render::static_texture::StaticTexture;
+use spreadlight_render::texture::GpuTexture;
 use spreadlight_render::{Renderer, SizeRule};
 
 const SIZE: (u32, u32) = (64, 48);

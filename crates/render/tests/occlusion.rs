@@ -434,8 +434,8 @@ fn constant(
     rgb: [f32; 3],
     size: (u32, u32),
     name: &str,
-) -> std::sync::Arc<spreadlight_render::texture::StaticTexture> {
-    spreadlight_render::texture::StaticTexture::new(
+) -> std::sync::Arc<spreadlight_render::static_texture::StaticTexture> {
+    spreadlight_render::static_texture::StaticTexture::new(
         spreadlight_render::texture::GpuTexture::from_rgba32f(
             &renderer.gpu,
             size.0,
@@ -573,7 +573,10 @@ fn ssgi_accumulates_and_survives_a_nan_history_and_hard_settings() {
 }
 
 /// A texture lit 1 on the left half of the screen and 0 on the right (the SSS term to scatter).
-fn half_lit(renderer: &Renderer, value: f32) -> Arc<spreadlight_render::texture::StaticTexture> {
+fn half_lit(
+    renderer: &Renderer,
+    value: f32,
+) -> Arc<spreadlight_render::static_texture::StaticTexture> {
     let pixels: Vec<[f32; 4]> = (0..SIZE.0 * SIZE.1)
         .map(|i| {
             if i % SIZE.0 < SIZE.0 / 2 {
@@ -583,7 +586,7 @@ fn half_lit(renderer: &Renderer, value: f32) -> Arc<spreadlight_render::texture:
             }
         })
         .collect();
-    spreadlight_render::texture::StaticTexture::new(
+    spreadlight_render::static_texture::StaticTexture::new(
         spreadlight_render::texture::GpuTexture::from_rgba32f(
             &renderer.gpu,
             SIZE.0,

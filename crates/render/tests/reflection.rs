@@ -19,7 +19,8 @@ use spreadlight_render::reference::brdf::f_schlick;
 use spreadlight_render::reference::reflection::CpuSky;
 use spreadlight_render::renderer::test_renderer;
 use spreadlight_render::scenes::{balls_on_floor, with_materials};
-use spreadlight_render::texture::{GpuTexture, StaticTexture};
+use spreadlight_render::static_texture::StaticTexture;
+use spreadlight_render::texture::GpuTexture;
 use spreadlight_render::{Renderer, SizeRule};
 
 const SIZE: (u32, u32) = (64, 48);

@@ -22,7 +22,8 @@ use spreadlight_render::readback::{ImageF32, render_and_read};
 use spreadlight_render::recipe::TextureRef;
 use spreadlight_render::reference::brdf::cook_torrance_f0;
 use spreadlight_render::renderer::test_renderer;
-use spreadlight_render::texture::{GpuTexture, StaticTexture};
+use spreadlight_render::static_texture::StaticTexture;
+use spreadlight_render::texture::GpuTexture;
 use spreadlight_render::{Renderer, SizeRule};
 
 const SIZE: (u32, u32) = (96, 54);

@@ -7,7 +7,8 @@ use spreadlight_render::post::Tonemap;
 use spreadlight_render::readback::render_and_read;
 use spreadlight_render::reference::tonemap::{TONEMAP_NAMES, tonemap};
 use spreadlight_render::renderer::test_renderer;
-use spreadlight_render::texture::{GpuTexture, StaticTexture};
+use spreadlight_render::static_texture::StaticTexture;
+use spreadlight_render::texture::GpuTexture;
 
 #[test]
 fn every_operator_keeps_extreme_frames_finite_and_matches_the_reference() {

@@ -36,7 +36,8 @@ use spreadlight_render::reference::reflection::{
 };
 use spreadlight_render::reference::shadows::Sphere;
 use spreadlight_render::scenes::{balls_on_floor, with_materials};
-use spreadlight_render::texture::{GpuTexture, StaticTexture};
+use spreadlight_render::static_texture::StaticTexture;
+use spreadlight_render::texture::GpuTexture;
 use spreadlight_render::{FrameGraph, Recipe, Renderer, SizeRule};
 
 use super::metrics::{self, Plane};

@@ -5,7 +5,8 @@ use std::sync::Arc;
 
 use spreadlight_graph::{NodeDef, PinType, Registry, ResourceKind};
 use spreadlight_render::TextureRef;
-use spreadlight_render::texture::{GpuTexture, StaticTexture};
+use spreadlight_render::static_texture::StaticTexture;
+use spreadlight_render::texture::GpuTexture;
 
 use crate::gpu::{renderer, resource_spread};
 

@@ -6,7 +6,8 @@ use std::sync::Arc;
 
 use spreadlight_graph::{NodeDef, PinType, Registry, ResourceKind, Spread};
 use spreadlight_render::TextureRef;
-use spreadlight_render::texture::{GpuTexture, StaticTexture};
+use spreadlight_render::static_texture::StaticTexture;
+use spreadlight_render::texture::GpuTexture;
 
 use crate::gpu::{renderer, resource_spread};
 

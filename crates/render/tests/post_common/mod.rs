@@ -12,7 +12,8 @@ use spreadlight_render::gbuffer::{DrawBatch, GBuffer, InstanceInput, Layer, Laye
 use spreadlight_render::mesh::primitives::{SphereParams, sphere};
 use spreadlight_render::readback::{ImageF32, render_and_read};
 use spreadlight_render::recipe::Recipe;
-use spreadlight_render::texture::{GpuTexture, StaticTexture};
+use spreadlight_render::static_texture::StaticTexture;
+use spreadlight_render::texture::GpuTexture;
 use spreadlight_render::{Renderer, SizeRule};
 
 /// A ball: centre now, centre last frame, radius.
