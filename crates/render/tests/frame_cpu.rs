@@ -161,16 +161,18 @@ fn a_re_made_g_buffer_packs_uploads_and_binds_only_what_its_moving_layer_changed
     }
 }
 
-/// The sun-lit diffuse + specular of `layers` with `shadows`, and the frame's report.
+/// The sun-lit diffuse of `layers` with `shadows`, and the frame's report;
+/// the G-buffer and the lighting are `owner`'s (None: they keep nothing).
 fn shade(
     renderer: &Renderer,
+    owner: Option<u32>,
     layers: &[Arc<Layer>],
     sun: &Arc<LightBuffer>,
     shadows: Arc<ShadowMaps>,
 ) -> (ImageF32, FrameReport) {
     let g = GBuffer::new(
         renderer,
-        None,
+        owner,
         layers.to_vec(),
         camera(),
         None,
@@ -178,7 +180,7 @@ fn shade(
     );
     let ct = CookTorrance::with_shadows(
         renderer,
-        Some(1),
+        owner.map(|o| o + 1),
         g,
         sun.clone(),
         LightLoop::Naive,
@@ -196,6 +198,10 @@ fn shade(
 fn a_re_made_sun_shadow_keeps_the_bounds_of_its_still_casters() {
     let renderer = test_renderer();
     let scene = Scene::new(&renderer);
+    // The same frames drawn whole, on a renderer of their own: frames drawn
+    // in between would take the pooled textures the cached frames bind.
+    let whole_renderer = test_renderer();
+    let whole_scene = Scene::new(&whole_renderer);
     let sun = SunLight {
         direction: Vec3::new(0.3, -1.0, 0.2).normalize(),
         color: Vec3::ONE,
@@ -203,6 +209,7 @@ fn a_re_made_sun_shadow_keeps_the_bounds_of_its_still_casters() {
         shadow: Some(0),
     };
     let lights = LightBuffer::suns(&renderer, &[sun]);
+    let whole_lights = LightBuffer::suns(&whole_renderer, &[sun]);
     let casting = ShadowLights::Sun {
         lights: vec![(0, sun.direction)],
         cascades: Cascades {
@@ -211,9 +218,9 @@ fn a_re_made_sun_shadow_keeps_the_bounds_of_its_still_casters() {
             distance: 20.0,
         },
     };
-    let maps = |layers: &[Arc<Layer>], owner| {
+    let maps = |renderer: &Renderer, layers: &[Arc<Layer>], owner| {
         ShadowMaps::new(
-            &renderer,
+            renderer,
             owner,
             &casting,
             layers.to_vec(),
@@ -226,17 +233,31 @@ fn a_re_made_sun_shadow_keeps_the_bounds_of_its_still_casters() {
         )
         .expect("valid shadows")
     };
-    for (frame, x) in [-1.0, 0.0, 1.0].into_iter().enumerate() {
+    for (frame, x) in [-1.0, 0.0, 1.0, 1.5, 2.0].into_iter().enumerate() {
         let layers = scene.layers(x);
-        let (image, report) = shade(&renderer, &layers, &lights, maps(&layers, Some(81)));
+        let maps_now = maps(&renderer, &layers, Some(81));
+        let (image, report) = shade(&renderer, Some(82), &layers, &lights, maps_now);
         let counted = (
             report.counter("caster bounds computed"),
             report.counter("caster bounds kept"),
         );
         let expected = if frame == 0 { (2, 0) } else { (1, 1) };
         assert_eq!(counted, expected, "frame {frame}: {:?}", report.counters);
+        // Once the still casters are cached (frames 0-2: all drawn, the
+        // cache drawn, the ball drawn over it), the frame makes no bind
+        // group: the maps' layer views are kept, not made each frame.
+        if frame >= 3 {
+            assert_eq!(
+                report.counter("bind groups created"),
+                0,
+                "frame {frame}: {:?}",
+                report.counters
+            );
+        }
         // Maps whose bounds were all computed anew shade the same.
-        let (whole, _) = shade(&renderer, &layers, &lights, maps(&layers, None));
+        let layers = whole_scene.layers(x);
+        let whole_maps = maps(&whole_renderer, &layers, None);
+        let (whole, _) = shade(&whole_renderer, None, &layers, &whole_lights, whole_maps);
         assert!(
             image.pixels == whole.pixels,
             "frame {frame}: the same image"

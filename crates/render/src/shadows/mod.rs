@@ -520,13 +520,14 @@ fn all_views(plans: &[SlicePlan], per: u32, layer: u32) -> Mat4 {
 }
 
 /// One layer of an array texture, as a 2D view.
-fn layer_view(texture: &wgpu::Texture, layer: u32) -> wgpu::TextureView {
-    texture.create_view(&wgpu::TextureViewDescriptor {
-        dimension: Some(wgpu::TextureViewDimension::D2),
-        base_array_layer: layer,
-        array_layer_count: Some(1),
-        ..Default::default()
-    })
+/// One layer of the maps as a 2D view, made once and kept while frames use
+/// it: a new view each frame would make the passes' bind groups anew.
+fn layer_view(
+    cx: &crate::frame_graph::PassContext<'_>,
+    texture: &wgpu::Texture,
+    layer: u32,
+) -> wgpu::TextureView {
+    cx.view_of(texture, crate::texture_pool::ViewSpec::layer(layer))
 }
 
 fn finite_non_negative(v: f32) -> f32 {
