@@ -9,6 +9,10 @@ use std::sync::{Arc, Mutex};
 
 use super::{Draw, GpuInstance, InstanceInput, Layer};
 
+/// Layers packed one after another: the GPU instances, the draws and each
+/// layer's range of instances.
+pub(crate) type Packed = (Vec<GpuInstance>, Vec<Draw>, Vec<(u32, u32)>);
+
 /// One layer's GPU instances and draws, its draws' `first_instance` counted
 /// from the layer's first instance.
 pub(crate) struct PackedLayer {
@@ -72,11 +76,8 @@ pub(crate) fn pack_layer(layer: &Layer) -> PackedLayer {
     PackedLayer { instances, draws }
 }
 
-/// The packed layers one after another: the GPU instances, the draws and
-/// each layer's range of instances.
-fn concatenate<'p>(
-    packed: impl IntoIterator<Item = &'p PackedLayer>,
-) -> (Vec<GpuInstance>, Vec<Draw>, Vec<(u32, u32)>) {
+/// The packed layers one after another.
+fn concatenate<'p>(packed: impl IntoIterator<Item = &'p PackedLayer>) -> Packed {
     let mut instances = Vec::new();
     let mut draws = Vec::new();
     let mut ranges = Vec::new();
@@ -94,9 +95,7 @@ fn concatenate<'p>(
 
 /// The GPU instances of `layers` in order (see [`pack_layer`]), the draws,
 /// and each layer's range of instances.
-pub(crate) fn pack_instances(
-    layers: &[Arc<Layer>],
-) -> (Vec<GpuInstance>, Vec<Draw>, Vec<(u32, u32)>) {
+pub(crate) fn pack_instances(layers: &[Arc<Layer>]) -> Packed {
     let packed: Vec<PackedLayer> = layers.iter().map(|l| pack_layer(l)).collect();
     concatenate(&packed)
 }
@@ -106,7 +105,7 @@ pub(crate) fn pack_instances(
 pub(crate) fn pack_instances_kept(
     layers: &[Arc<Layer>],
     memo: &LayerMemo<PackedLayer>,
-) -> ((Vec<GpuInstance>, Vec<Draw>, Vec<(u32, u32)>), u64) {
+) -> (Packed, u64) {
     let (packed, made) = memo.get(layers, pack_layer);
     (concatenate(packed.iter().map(Arc::as_ref)), made)
 }
@@ -115,7 +114,10 @@ pub(crate) fn pack_instances_kept(
 /// (layers are immutable once shared). Holds the layers of the last call
 /// only, so a layer no longer drawn is let go, and holding them keeps a new
 /// layer from ever being mistaken for an old one at the same address.
-pub(crate) struct LayerMemo<T>(Mutex<HashMap<usize, (Arc<Layer>, Arc<T>)>>);
+pub(crate) struct LayerMemo<T>(Mutex<HashMap<usize, Kept<T>>>);
+
+/// A layer (held, so its address stays its own) and what was computed from it.
+type Kept<T> = (Arc<Layer>, Arc<T>);
 
 impl<T> Default for LayerMemo<T> {
     fn default() -> Self {
