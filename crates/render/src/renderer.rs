@@ -55,6 +55,40 @@ fn kept_entry(
     }
 }
 
+/// The range of `new` that differs from `old` (of the same length), widened
+/// to 4-byte boundaries as buffer writes must be; None if nothing differs.
+fn changed_span(old: &[u8], new: &[u8]) -> Option<(usize, usize)> {
+    // Chunks compare as slices (memcmp), then bytes within the chunk found.
+    const CHUNK: usize = 256;
+    let chunk = old
+        .chunks(CHUNK)
+        .zip(new.chunks(CHUNK))
+        .position(|(a, b)| a != b)?;
+    let from = chunk * CHUNK;
+    let first = from
+        + old[from..]
+            .iter()
+            .zip(&new[from..])
+            .position(|(a, b)| a != b)?;
+    let chunk = old
+        .rchunks(CHUNK)
+        .zip(new.rchunks(CHUNK))
+        .position(|(a, b)| a != b)?;
+    let to = old.len() - chunk * CHUNK;
+    let last = old[..to]
+        .iter()
+        .zip(&new[..to])
+        .rposition(|(a, b)| a != b)?;
+    let align = wgpu::COPY_BUFFER_ALIGNMENT as usize;
+    let start = first / align * align;
+    let end = (last + 1).div_ceil(align) * align;
+    // A length off the alignment (not made here) is written whole, as before.
+    if end > new.len() {
+        return Some((0, new.len()));
+    }
+    Some((start, end))
+}
+
 pub(crate) struct Timestamps {
     pub set: wgpu::QuerySet,
     pub resolve: wgpu::Buffer,
@@ -106,7 +140,8 @@ pub struct Renderer {
     /// (`Renderer::uniform`, `Renderer::kept_buffer`), with a uniform's last contents.
     kept: Mutex<HashMap<KeptKey, KeptBuffer>>,
     /// Uploads `uniform` made and skipped since the last frame graph ran.
-    uploads: Mutex<(u64, u64)>,
+    /// Kept-buffer writes made and skipped, and the bytes written.
+    uploads: Mutex<(u64, u64, u64)>,
     /// What recipes keep between frames (shadow maps), by type and key.
     states: Mutex<HashMap<(std::any::TypeId, u64), Arc<dyn std::any::Any + Send + Sync>>>,
 }
@@ -149,7 +184,7 @@ impl Renderer {
             output_size: Mutex::new(DEFAULT_OUTPUT_SIZE),
             states: Mutex::new(HashMap::new()),
             kept: Mutex::new(HashMap::new()),
-            uploads: Mutex::new((0, 0)),
+            uploads: Mutex::new((0, 0, 0)),
         })
     }
 
@@ -263,12 +298,19 @@ impl Renderer {
             fresh,
         );
         let mut uploads = self.uploads.lock().unwrap_or_else(|e| e.into_inner());
-        if made || k.contents != bytes {
-            if !made {
-                self.gpu.queue.write_buffer(&k.buffer, 0, bytes);
-            }
+        if made {
             k.contents = bytes.to_vec();
             uploads.0 += 1;
+            uploads.2 += bytes.len() as u64;
+        } else if let Some((start, end)) = changed_span(&k.contents, bytes) {
+            // Only the bytes that changed: one moving instance among a
+            // thousand still ones writes its 224 bytes, not the buffer.
+            self.gpu
+                .queue
+                .write_buffer(&k.buffer, start as u64, &bytes[start..end]);
+            k.contents[start..end].copy_from_slice(&bytes[start..end]);
+            uploads.0 += 1;
+            uploads.2 += (end - start) as u64;
         } else {
             uploads.1 += 1;
         }
@@ -305,8 +347,9 @@ impl Renderer {
             .clone()
     }
 
-    /// Uniform uploads made and skipped since the last call (the frame report's counters).
-    pub(crate) fn take_uploads(&self) -> (u64, u64) {
+    /// Uniform uploads made and skipped, and the bytes written, since the
+    /// last call (the frame report's counters).
+    pub(crate) fn take_uploads(&self) -> (u64, u64, u64) {
         std::mem::take(&mut *self.uploads.lock().unwrap_or_else(|e| e.into_inner()))
     }
 
@@ -430,5 +473,25 @@ pub fn test_renderer() -> std::sync::Arc<Renderer> {
     match Renderer::headless() {
         Ok(r) => std::sync::Arc::new(r),
         Err(e) => panic!("GPU tests need a GPU adapter: {e}"),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::changed_span;
+
+    #[test]
+    fn only_the_changed_bytes_are_written_on_4_byte_boundaries() {
+        let old = vec![0u8; 1000];
+        let mut new = old.clone();
+        assert_eq!(changed_span(&old, &new), None);
+        new[517] = 1;
+        new[600] = 2;
+        assert_eq!(changed_span(&old, &new), Some((516, 604)));
+        new[0] = 3;
+        new[999] = 4;
+        assert_eq!(changed_span(&old, &new), Some((0, 1000)));
+        // A length off the alignment is written whole.
+        assert_eq!(changed_span(&[0; 6], &[0, 0, 0, 0, 0, 1]), Some((0, 6)));
     }
 }

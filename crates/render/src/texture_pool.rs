@@ -35,6 +35,16 @@ impl ViewSpec {
         }
     }
 
+    /// Layer `layer` of an array alone, as a 2D texture (a shadow map's slice).
+    pub fn layer(layer: u32) -> Self {
+        ViewSpec {
+            dimension: Some(wgpu::TextureViewDimension::D2),
+            base_array_layer: layer,
+            array_layer_count: Some(1),
+            ..Default::default()
+        }
+    }
+
     /// Every layer as a 2D array (shadow maps, texture arrays).
     pub fn array() -> Self {
         ViewSpec {

@@ -263,10 +263,11 @@ fn execute(
         .collect();
     report.pipelines_compiled = shaders.pipelines_compiled - compiled_before;
     let mut views = views.into_inner();
-    let (uploaded, skipped) = renderer.take_uploads();
+    let (uploaded, skipped, bytes) = renderer.take_uploads();
     for (name, n) in [
         ("uniform uploads", uploaded),
         ("uniform uploads skipped", skipped),
+        ("uniform bytes uploaded", bytes),
         (
             "bind groups created",
             shaders.bind_groups_created - groups_before.0,

@@ -11,7 +11,7 @@ use wgpu::util::DeviceExt;
 use crate::error::RenderError;
 use crate::frame_graph::PassContext;
 use crate::renderer::Renderer;
-use crate::shaders::ShaderKey;
+use crate::shaders::{PipelineRef, ShaderKey};
 
 use super::{Draw, GBuffer};
 
@@ -274,7 +274,8 @@ impl ComputeRaster {
             cx.shaders
                 .compute_pipeline(&device, &key(any_two_sided), "raster_tiles")?;
         let (vertices, indices, _) = renderer.meshes.buffers();
-        let shared = |layout: &wgpu::BindGroupLayout, batch: Option<&wgpu::Buffer>| {
+        // The same buffers every frame (kept under the node): the groups are cached.
+        let mut group_of = |pipeline: &wgpu::ComputePipeline, batch: Option<&wgpu::Buffer>| {
             let mut entries = super::geometry_entries(
                 view.camera.as_entire_binding(),
                 &vertices,
@@ -301,11 +302,13 @@ impl ComputeRaster {
                     resource: b.as_entire_binding(),
                 });
             }
-            device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("raster"),
-                layout,
-                entries: &entries,
-            })
+            cx.shaders.group(
+                &device,
+                &PipelineRef::Compute(pipeline.clone()),
+                0,
+                "raster",
+                &entries,
+            )
         };
         let batch_groups: Vec<BatchGroup<'_>> = self
             .batches
@@ -313,7 +316,7 @@ impl ComputeRaster {
             .filter_map(|b| {
                 let pipeline =
                     triangle_pipelines[usize::from(view.two_sided || b.two_sided)].as_ref()?;
-                let group = shared(&pipeline.get_bind_group_layout(0), Some(&b.uniform));
+                let group = group_of(pipeline, Some(&b.uniform));
                 Some(BatchGroup {
                     pipeline,
                     group,
@@ -322,7 +325,7 @@ impl ComputeRaster {
                 })
             })
             .collect();
-        let tiles_group = shared(&tiles_pipeline.get_bind_group_layout(0), None);
+        let tiles_group = group_of(&tiles_pipeline, None);
         let tiles = (&tiles_pipeline, &tiles_group);
         match between {
             None => {

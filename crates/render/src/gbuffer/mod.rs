@@ -13,6 +13,7 @@
 //! (velocity, UV), so a frame that reads no velocity culls the second.
 
 pub(crate) mod compute_raster;
+mod instances;
 mod layer;
 mod passes;
 mod published_depth;
@@ -28,6 +29,8 @@ pub use layer::{DrawBatch, InstanceInput, Layer, LayerError, LayerFeatures, Velo
 pub use published_depth::{PublishedDepth, PublishedDepths};
 pub use surface_shader::{SURFACE_MODULE, SurfaceBinding, SurfaceShader};
 pub use view::{Channel, GBufferView};
+
+pub(crate) use instances::{LayerMemo, pack_instances};
 
 use crate::camera::{CameraInput, GpuCamera};
 use crate::frame_graph::{FrameGraph, SizeRule};
@@ -91,6 +94,7 @@ fn runs<K: PartialEq>(
 }
 
 /// One instanced draw: a mesh and a range of the instance buffer.
+#[derive(Clone, Copy, Debug)]
 pub(crate) struct Draw {
     pub index_count: u32,
     pub first_instance: u32,
@@ -126,71 +130,6 @@ pub(crate) fn geometry_entries<'b>(
         resource,
     })
     .collect()
-}
-
-/// The GPU instances of `layers` in order, one draw per batch (two where a
-/// batch mixes one- and double-sided materials: its one-sided instances
-/// first), and each layer's range of instances.
-pub(crate) fn pack_instances(
-    layers: &[Arc<Layer>],
-) -> (Vec<GpuInstance>, Vec<Draw>, Vec<(u32, u32)>) {
-    let mut gpu_instances = Vec::new();
-    let mut draws = Vec::new();
-    let mut layer_ranges = Vec::new();
-    for layer in layers {
-        let first = gpu_instances.len() as u32;
-        let world = layer.map_world();
-        for batch in &layer.batches {
-            // Culling is per draw: a batch whose instances mix one- and
-            // double-sided materials is packed one-sided instances first and
-            // drawn twice, so only the double-sided ones keep their back faces.
-            let double_sided =
-                |i: &InstanceInput| world.is_some_and(|w| w.double_sided(i.material_id));
-            // Without surface maps nothing is double-sided: one pass.
-            let sides: &[bool] = if world.is_some() {
-                &[false, true]
-            } else {
-                &[false]
-            };
-            for &two_sided in sides {
-                let first_instance = gpu_instances.len() as u32;
-                for inst in batch
-                    .instances
-                    .iter()
-                    .filter(|i| double_sided(i) == two_sided)
-                {
-                    gpu_instances.push(GpuInstance {
-                        model: inst.transform.to_cols_array_2d(),
-                        previous_model: inst.previous_transform.to_cols_array_2d(),
-                        normal_matrix: crate::camera::safe_inverse(inst.transform)
-                            .transpose()
-                            .to_cols_array_2d(),
-                        color: inst.color,
-                        info: [
-                            batch.mesh.first_index_word(),
-                            batch.mesh.vertices.start,
-                            inst.material_id,
-                            inst.object_id,
-                        ],
-                    });
-                }
-                let instance_count = gpu_instances.len() as u32 - first_instance;
-                // An empty batch keeps its (empty) one-sided draw, as before.
-                if instance_count == 0 && (two_sided || !batch.instances.is_empty()) {
-                    continue;
-                }
-                draws.push(Draw {
-                    index_count: batch.mesh.index_count(),
-                    first_instance,
-                    instance_count,
-                    procedural: batch.mesh.is_procedural(),
-                    two_sided,
-                });
-            }
-        }
-        layer_ranges.push((first, gpu_instances.len() as u32));
-    }
-    (gpu_instances, draws, layer_ranges)
 }
 
 /// How the visibility buffer is rasterized.
@@ -281,6 +220,8 @@ pub struct GBuffer {
     /// The name its depth (before particles) is published under for next
     /// frame's particle collisions ([`PublishedDepths`]).
     publish_depth: Option<String>,
+    /// Layers packed anew and layers whose packing was kept (see [`LayerMemo`]).
+    packed: (u64, u64),
 }
 
 impl std::fmt::Debug for GBuffer {
@@ -328,7 +269,16 @@ impl GBuffer {
     ) -> Arc<Self> {
         let id = next_recipe_id();
         let prefix = format!("mre{id}");
-        let (mut gpu_instances, draws, layer_ranges) = pack_instances(&layers);
+        // A node's layers that did not change since its last recipe keep
+        // their packing (one ball moving among a thousand still spheres).
+        let ((mut gpu_instances, draws, layer_ranges), packed) = match owner {
+            Some(node) => instances::pack_instances_kept(
+                &layers,
+                &renderer.state::<LayerMemo<instances::PackedLayer>>(u64::from(node)),
+            ),
+            None => (pack_instances(&layers), layers.len() as u64),
+        };
+        let packed = (packed, layers.len() as u64 - packed);
         if gpu_instances.is_empty() {
             // A storage binding cannot be empty.
             gpu_instances.push(bytemuck::Zeroable::zeroed());
@@ -437,6 +387,7 @@ impl GBuffer {
             raster,
             compute,
             publish_depth: None,
+            packed,
         })
     }
 
@@ -570,6 +521,14 @@ impl Recipe for GBuffer {
                 && compiled > 0
             {
                 fg.count("shader node permutations compiled", compiled);
+            }
+        }
+        for (name, n) in [
+            ("instance layers packed", self.packed.0),
+            ("instance layers kept", self.packed.1),
+        ] {
+            if n > 0 {
+                fg.count(name, n);
             }
         }
         passes::declare(self, renderer, fg);

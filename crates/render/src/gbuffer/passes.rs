@@ -5,7 +5,7 @@
 use crate::error::RenderError;
 use crate::frame_graph::{FrameGraph, Lifetime, PassContext, TextureDesc};
 use crate::renderer::Renderer;
-use crate::shaders::ShaderKey;
+use crate::shaders::{PipelineRef, ShaderKey};
 
 use super::resolve::resolve;
 use super::{GBuffer, RasterMode};
@@ -118,11 +118,13 @@ fn visibility(
     for sided in [false, true] {
         if g.draws.iter().any(|d| d.two_sided == sided) {
             let pipeline = visibility_pipeline(cx, false, sided)?;
-            let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("visibility"),
-                layout: &pipeline.get_bind_group_layout(0),
-                entries: &g.geometry_entries(&vertices, &indices),
-            });
+            let group = cx.shaders.group(
+                &device,
+                &PipelineRef::Render(pipeline.clone()),
+                0,
+                "visibility",
+                &g.geometry_entries(&vertices, &indices),
+            );
             plain[usize::from(sided)] = Some((pipeline, group));
         }
     }

@@ -5,7 +5,7 @@
 use crate::error::RenderError;
 use crate::frame_graph::PassContext;
 use crate::renderer::Renderer;
-use crate::shaders::ShaderKey;
+use crate::shaders::{PipelineRef, ShaderKey};
 
 use super::{GBuffer, RasterMode};
 
@@ -164,11 +164,10 @@ pub(super) fn resolve(
                 resource: wgpu::BindingResource::TextureView(view),
             });
         }
-        let group0 = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("resolve"),
-            layout: &pipeline.get_bind_group_layout(0),
-            entries: &entries,
-        });
+        let pipeline_ref = PipelineRef::Compute(pipeline.clone());
+        let group0 = cx
+            .shaders
+            .group(&device, &pipeline_ref, 0, "resolve", &entries);
         // Groups 1 and 3: the material world and its surface maps' arrays,
         // or group 1 alone: a shader node material's bindings.
         let (world_group, maps_group) = match (
@@ -225,11 +224,13 @@ pub(super) fn resolve(
         let last = groups.iter().rposition(Option::is_some).unwrap_or(0);
         for (i, group) in groups.iter_mut().enumerate().take(last) {
             if group.is_none() {
-                *group = Some(device.create_bind_group(&wgpu::BindGroupDescriptor {
-                    label: Some("resolve: unused group"),
-                    layout: &pipeline.get_bind_group_layout(i as u32 + 1),
-                    entries: &[],
-                }));
+                *group = Some(cx.shaders.group(
+                    &device,
+                    &pipeline_ref,
+                    i as u32 + 1,
+                    "resolve: unused group",
+                    &[],
+                ));
             }
         }
         work.push((pipeline, group0, groups));

@@ -40,8 +40,10 @@ pub struct ShaderCache {
     composer: ShaderComposer,
     modules: HashMap<ShaderKey, wgpu::ShaderModule>,
     /// Per permutation and entry point: the (group, binding)s it uses.
-    used: HashMap<(ShaderKey, String), Vec<(u32, u32)>>,
-    compute: HashMap<(ShaderKey, &'static str), wgpu::ComputePipeline>,
+    /// (Keyed by permutation, then entry: a look-up borrows the key, as
+    /// every pass makes several a frame.)
+    used: HashMap<ShaderKey, HashMap<String, Vec<(u32, u32)>>>,
+    compute: HashMap<ShaderKey, HashMap<&'static str, wgpu::ComputePipeline>>,
     render: HashMap<(ShaderKey, String), wgpu::RenderPipeline>,
     samplers: HashMap<Sampling, wgpu::Sampler>,
     /// Pipelines of shaders not in [`SHADERS`] (shader node files), by the caller's key and entry.
@@ -85,7 +87,23 @@ impl Bound {
     }
 }
 
-type BindGroupKey = (wgpu::ComputePipeline, u32, Vec<(u32, Bound)>);
+/// The pipeline whose derived layout a cached bind group was made for.
+#[derive(Clone, PartialEq, Eq, Hash)]
+pub enum PipelineRef {
+    Compute(wgpu::ComputePipeline),
+    Render(wgpu::RenderPipeline),
+}
+
+impl PipelineRef {
+    fn layout(&self, group: u32) -> wgpu::BindGroupLayout {
+        match self {
+            PipelineRef::Compute(p) => p.get_bind_group_layout(group),
+            PipelineRef::Render(p) => p.get_bind_group_layout(group),
+        }
+    }
+}
+
+type BindGroupKey = (PipelineRef, u32, Vec<(u32, Bound)>);
 
 /// Frames a cached bind group may go unused before it is dropped (with the
 /// buffers and views it keeps alive): recipes re-made each frame make new
@@ -152,18 +170,31 @@ impl ShaderCache {
         key: &ShaderKey,
         entry: &str,
     ) -> Result<Vec<(u32, u32)>, RenderError> {
-        let cache_key = (key.clone(), entry.to_owned());
-        if let Some(used) = self.used.get(&cache_key) {
-            return Ok(used.clone());
+        self.used_by(key, entry).map(<[_]>::to_vec)
+    }
+
+    fn used_by(&mut self, key: &ShaderKey, entry: &str) -> Result<&[(u32, u32)], RenderError> {
+        if !self
+            .used
+            .get(key)
+            .is_some_and(|by_entry| by_entry.contains_key(entry))
+        {
+            let module = self.composer.compose(key)?;
+            let used = used_bindings_of(&module, entry).map_err(|message| RenderError::Shader {
+                shader: key.path.to_owned(),
+                defs: key.describe_defs(),
+                message,
+            })?;
+            self.used
+                .entry(key.clone())
+                .or_default()
+                .insert(entry.to_owned(), used);
         }
-        let module = self.composer.compose(key)?;
-        let used = used_bindings_of(&module, entry).map_err(|message| RenderError::Shader {
-            shader: key.path.to_owned(),
-            defs: key.describe_defs(),
-            message,
-        })?;
-        self.used.insert(cache_key, used.clone());
-        Ok(used)
+        Ok(self
+            .used
+            .get(key)
+            .and_then(|by_entry| by_entry.get(entry))
+            .map_or(&[], Vec::as_slice))
     }
 
     /// A bind group for group `group` of a compute pipeline made from
@@ -178,7 +209,7 @@ impl ShaderCache {
         group: u32,
         resources: &[(u32, wgpu::BindingResource<'_>)],
     ) -> Result<wgpu::BindGroup, RenderError> {
-        let used = self.used_bindings(key, entry)?;
+        let used = self.used_by(key, entry)?;
         let entries: Vec<wgpu::BindGroupEntry<'_>> = resources
             .iter()
             .filter(|(binding, _)| used.contains(&(group, *binding)))
@@ -187,6 +218,27 @@ impl ShaderCache {
                 resource: resource.clone(),
             })
             .collect();
+        Ok(self.group(
+            device,
+            &PipelineRef::Compute(pipeline.clone()),
+            group,
+            key.path,
+            &entries,
+        ))
+    }
+
+    /// A bind group of exactly `entries` for group `group` of `pipeline`'s
+    /// derived layout, made once and reused while a pass binds the same
+    /// resources (counted with [`ShaderCache::bind_group`]'s): for passes
+    /// that choose their entries themselves, and for render pipelines.
+    pub fn group(
+        &mut self,
+        device: &wgpu::Device,
+        pipeline: &PipelineRef,
+        group: u32,
+        label: &str,
+        entries: &[wgpu::BindGroupEntry<'_>],
+    ) -> wgpu::BindGroup {
         let bound: Option<Vec<(u32, Bound)>> = entries
             .iter()
             .map(|e| Bound::of(&e.resource).map(|b| (e.binding, b)))
@@ -197,18 +249,18 @@ impl ShaderCache {
         {
             *last = self.frame;
             self.bind_groups_reused += 1;
-            return Ok(cached.clone());
+            return cached.clone();
         }
         let made = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some(key.path),
-            layout: &pipeline.get_bind_group_layout(group),
-            entries: &entries,
+            label: Some(label),
+            layout: &pipeline.layout(group),
+            entries,
         });
         self.bind_groups_created += 1;
         if let Some(k) = cache_key {
             self.bind_groups.insert(k, (made.clone(), self.frame));
         }
-        Ok(made)
+        made
     }
 
     /// A sampler, made once per device rather than once per pass or frame.
@@ -247,14 +299,21 @@ impl ShaderCache {
         key: &ShaderKey,
         entry: &'static str,
     ) -> Result<wgpu::ComputePipeline, RenderError> {
-        if let Some(p) = self.compute.get(&(key.clone(), entry)) {
+        if let Some(p) = self
+            .compute
+            .get(key)
+            .and_then(|by_entry| by_entry.get(entry))
+        {
             return Ok(p.clone());
         }
         let module = self.module(device, key)?;
         let label = format!("{}{}::{entry}", key.path, key.describe_defs());
         let pipeline = compute_pipeline_of(device, &module, &label, entry);
         self.pipelines_compiled += 1;
-        self.compute.insert((key.clone(), entry), pipeline.clone());
+        self.compute
+            .entry(key.clone())
+            .or_default()
+            .insert(entry, pipeline.clone());
         Ok(pipeline)
     }
 

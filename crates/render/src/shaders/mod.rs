@@ -332,7 +332,7 @@ pub fn all_permutations() -> Vec<ShaderKey> {
 mod cache;
 mod composer;
 
-pub use cache::{Sampling, ShaderCache};
+pub use cache::{PipelineRef, Sampling, ShaderCache};
 pub use composer::{ShaderComposer, Splice};
 
 #[cfg(test)]

@@ -23,7 +23,7 @@ use glam::{Mat4, Vec3};
 
 use crate::camera::CameraInput;
 use crate::frame_graph::{FrameGraph, TextureDesc};
-use crate::gbuffer::{Layer, RasterChoice};
+use crate::gbuffer::{Layer, LayerMemo, RasterChoice};
 use crate::recipe::{Recipe, next_recipe_id};
 use crate::renderer::Renderer;
 
@@ -184,6 +184,8 @@ pub struct ShadowMaps {
     token: String,
     /// VSM: the depth layers are drawn (the moments pass waits for it).
     depth_token: String,
+    /// Suns: casters' bounds computed anew and kept from the last recipe.
+    bounds_made: (u64, u64),
 }
 
 impl std::fmt::Debug for ShadowMaps {
@@ -259,7 +261,20 @@ impl ShadowMaps {
         let layers = (slices * per).max(1);
         let res = settings.resolution;
         let camera_vp = camera.projection * camera.view;
-        let (bounds_center, bounds_radius) = caster_bounds(&casters);
+        // Only a sun's cascades fit the casters' bounds; a node's casters
+        // that did not change keep theirs (see `LayerMemo`).
+        let mut bounds_made = (0, 0);
+        let (bounds_center, bounds_radius) = match (lights, owner) {
+            (ShadowLights::Sun { .. }, Some(node)) => {
+                let (boxes, made) = renderer
+                    .state::<LayerMemo<Option<(Vec3, Vec3)>>>(u64::from(node))
+                    .get(&casters, layer_box);
+                bounds_made = (made, casters.len() as u64 - made);
+                sphere_around(boxes.iter().map(|b| **b))
+            }
+            (ShadowLights::Sun { .. }, None) => caster_bounds(&casters),
+            _ => (Vec3::ZERO, 1.0),
+        };
         let plans: Vec<SlicePlan> = match lights {
             ShadowLights::Spot(list) => list
                 .iter()
@@ -462,6 +477,7 @@ impl ShadowMaps {
             layer_info,
             token: format!("shadows{id}/maps"),
             depth_token: format!("shadows{id}/depth"),
+            bounds_made,
         }))
     }
 
@@ -504,13 +520,14 @@ fn all_views(plans: &[SlicePlan], per: u32, layer: u32) -> Mat4 {
 }
 
 /// One layer of an array texture, as a 2D view.
-fn layer_view(texture: &wgpu::Texture, layer: u32) -> wgpu::TextureView {
-    texture.create_view(&wgpu::TextureViewDescriptor {
-        dimension: Some(wgpu::TextureViewDimension::D2),
-        base_array_layer: layer,
-        array_layer_count: Some(1),
-        ..Default::default()
-    })
+/// One layer of the maps as a 2D view, made once and kept while frames use
+/// it: a new view each frame would make the passes' bind groups anew.
+fn layer_view(
+    cx: &crate::frame_graph::PassContext<'_>,
+    texture: &wgpu::Texture,
+    layer: u32,
+) -> wgpu::TextureView {
+    cx.view_of(texture, crate::texture_pool::ViewSpec::layer(layer))
 }
 
 fn finite_non_negative(v: f32) -> f32 {
@@ -519,9 +536,27 @@ fn finite_non_negative(v: f32) -> f32 {
 
 /// A sphere around every caster (their meshes' boxes, transformed).
 fn caster_bounds(layers: &[Arc<Layer>]) -> (Vec3, f32) {
+    sphere_around(layers.iter().map(|l| layer_box(l)))
+}
+
+/// The sphere around boxes (min, max); a unit sphere at the origin around none.
+fn sphere_around(boxes: impl Iterator<Item = Option<(Vec3, Vec3)>>) -> (Vec3, f32) {
+    let (min, max) = boxes.flatten().fold(
+        (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
+        |(min, max), (lo, hi)| (min.min(lo), max.max(hi)),
+    );
+    if min.x > max.x {
+        return (Vec3::ZERO, 1.0);
+    }
+    ((min + max) * 0.5, (max - min).length() * 0.5)
+}
+
+/// The box around a layer's instances (their meshes' boxes, transformed;
+/// corners that are not finite left out), None if it has none.
+fn layer_box(layer: &Layer) -> Option<(Vec3, Vec3)> {
     let mut min = Vec3::splat(f32::INFINITY);
     let mut max = Vec3::splat(f32::NEG_INFINITY);
-    for batch in layers.iter().flat_map(|l| &l.batches) {
+    for batch in &layer.batches {
         let b = batch.mesh.bounds;
         for instance in &batch.instances {
             for i in 0..8 {
@@ -538,16 +573,21 @@ fn caster_bounds(layers: &[Arc<Layer>]) -> (Vec3, f32) {
             }
         }
     }
-    if min.x > max.x {
-        return (Vec3::ZERO, 1.0);
-    }
-    ((min + max) * 0.5, (max - min).length() * 0.5)
+    (min.x <= max.x).then_some((min, max))
 }
 
 impl Recipe for ShadowMaps {
     fn declare<'a>(&'a self, renderer: &'a Renderer, fg: &mut FrameGraph<'a>) {
         if !fg.include(self.id) {
             return;
+        }
+        for (name, n) in [
+            ("caster bounds computed", self.bounds_made.0),
+            ("caster bounds kept", self.bounds_made.1),
+        ] {
+            if n > 0 {
+                fg.count(name, n);
+            }
         }
         // The maps live in the store; this token orders their pass before readers.
         let token = TextureDesc::token();

@@ -204,8 +204,8 @@ impl ShadowMaps {
                 .shaders
                 .compute_pipeline(&device, &key, "from_visibility")?;
             let (out, under) = Self::outputs(maps, &device, job.target);
-            let out = layer_view(&out, job.layer);
-            let under = under.map(|t| layer_view(&t, job.layer));
+            let out = layer_view(cx, &out, job.layer);
+            let under = under.map(|t| layer_view(cx, &t, job.layer));
             let mut all = vec![
                 (0, visibility.as_entire_binding()),
                 (2, camera.as_entire_binding()),
@@ -311,7 +311,11 @@ impl ShadowMaps {
                     &job.set.instances,
                 ),
             });
-            work.push((group, layer_view(&attachments, job.layer), &job.set.draws));
+            work.push((
+                group,
+                layer_view(cx, &attachments, job.layer),
+                &job.set.draws,
+            ));
         }
         let mut draws = 0;
         // Time the whole set as one: the first pass writes the beginning, the last the end.
@@ -372,8 +376,8 @@ impl ShadowMaps {
             let pipeline = cx.shaders.compute_pipeline(&device, &key, "from_depth")?;
             let info = &self.layer_info[job.layer as usize];
             let (out, under) = Self::outputs(maps, &device, job.target);
-            let out = layer_view(&out, job.layer);
-            let under = under.map(|t| layer_view(&t, job.layer));
+            let out = layer_view(cx, &out, job.layer);
+            let under = under.map(|t| layer_view(cx, &t, job.layer));
             let mut all = vec![
                 (1, wgpu::BindingResource::TextureView(&depth)),
                 (3, wgpu::BindingResource::TextureView(&out)),
@@ -429,7 +433,7 @@ impl ShadowMaps {
         let res = self.settings.resolution;
         let mut groups = Vec::new();
         for &layer in layers {
-            let out = layer_view(moments, layer);
+            let out = layer_view(cx, moments, layer);
             let info = &self.layer_info[layer as usize];
             let all = [
                 (0, wgpu::BindingResource::TextureView(&depth_view)),

@@ -1,0 +1,266 @@
+//! What a frame re-made from mostly unchanged inputs does not do again on
+//! the CPU: a node re-makes its recipe when one input changes (one ball
+//! moves among still spheres), but the still layers keep their packed
+//! instances and bounds, only the changed bytes are uploaded, and the
+//! passes bind the bind groups they made before. The frame report's
+//! counters prove it, and the images are those of a recipe that caches
+//! nothing. Small sizes; runs on lavapipe.
+
+use std::sync::Arc;
+
+use glam::{Mat4, Vec3};
+use spreadlight_render::camera::CameraInput;
+use spreadlight_render::gbuffer::{DrawBatch, GBuffer, InstanceInput, Layer, LayerFeatures};
+use spreadlight_render::lighting::{CookTorrance, LightBuffer, LightLoop, SunLight, Surfaces};
+use spreadlight_render::mesh::primitives::{SphereParams, sphere};
+use spreadlight_render::readback::{ImageF32, render_and_read};
+use spreadlight_render::renderer::test_renderer;
+use spreadlight_render::shadows::{
+    Cascades, ShadowFilter, ShadowLights, ShadowMaps, ShadowSettings,
+};
+use spreadlight_render::{FrameReport, Renderer, SizeRule};
+
+const SIZE: (u32, u32) = (48, 48);
+/// Bytes of one GPU instance (`GpuInstance`).
+const INSTANCE_BYTES: u64 = 224;
+
+fn camera() -> CameraInput {
+    CameraInput {
+        view: glam::camera::rh::view::look_at_mat4(Vec3::new(0.0, 6.0, 8.0), Vec3::ZERO, Vec3::Y),
+        projection: glam::camera::rh::proj::directx::perspective(1.0, 1.0, 0.1, 50.0),
+    }
+}
+
+/// Twenty still spheres in a row, and a ball at `x` (a layer of its own,
+/// new each frame as the node upstream of it makes it).
+struct Scene {
+    still: Arc<Layer>,
+    ball: Arc<spreadlight_render::mesh_arena::GpuMesh>,
+}
+
+impl Scene {
+    fn new(renderer: &Renderer) -> Scene {
+        let ball = renderer
+            .meshes
+            .upload(
+                &renderer.gpu,
+                &sphere(SphereParams {
+                    radius: 0.4,
+                    sectors: 16,
+                    stacks: 8,
+                }),
+            )
+            .expect("upload");
+        let instances = (0..20)
+            .map(|k| instance(Vec3::new(k as f32 * 0.5 - 5.0, 0.4, -1.0), Vec3::ZERO))
+            .collect();
+        Scene {
+            still: layer(ball.clone(), instances),
+            ball,
+        }
+    }
+
+    fn layers(&self, x: f32) -> Vec<Arc<Layer>> {
+        let moving = instance(Vec3::new(x, 1.0, 1.0), Vec3::new(0.1, 0.0, 0.0));
+        vec![self.still.clone(), layer(self.ball.clone(), vec![moving])]
+    }
+}
+
+fn instance(at: Vec3, moved: Vec3) -> InstanceInput {
+    InstanceInput {
+        transform: Mat4::from_translation(at),
+        previous_transform: Mat4::from_translation(at - moved),
+        color: [0.8, 0.6, 0.4, 1.0],
+        material_id: 0,
+        object_id: 1,
+    }
+}
+
+fn layer(
+    mesh: Arc<spreadlight_render::mesh_arena::GpuMesh>,
+    instances: Vec<InstanceInput>,
+) -> Arc<Layer> {
+    Arc::new(
+        Layer::new(
+            None,
+            vec![DrawBatch { mesh, instances }],
+            LayerFeatures::default(),
+            None,
+        )
+        .expect("valid layer"),
+    )
+}
+
+#[test]
+fn a_re_made_g_buffer_packs_uploads_and_binds_only_what_its_moving_layer_changed() {
+    let renderer = test_renderer();
+    let scene = Scene::new(&renderer);
+    let vp = camera().view_projection();
+    let gbuffer = |layers: Vec<Arc<Layer>>, owner| {
+        GBuffer::new(
+            &renderer,
+            owner,
+            layers,
+            camera(),
+            Some(vp),
+            SizeRule::Relative(1.0),
+        )
+    };
+    for (frame, x) in [-1.0, -0.5, 0.0, 0.5].into_iter().enumerate() {
+        let g = gbuffer(scene.layers(x), Some(80));
+        let t = &g.targets;
+        let names = [&t.color, &t.normals, &t.depth, &t.velocity_uv].map(String::as_str);
+        let (report, images) =
+            render_and_read(&renderer, g.as_ref(), SIZE, &names).expect("renders");
+        assert!(report.errors.is_empty(), "{:?}", report.errors);
+        let counters = |names: &[&str]| names.iter().map(|n| report.counter(n)).collect::<Vec<_>>();
+        if frame == 0 {
+            assert_eq!(
+                counters(&["instance layers packed", "instance layers kept"]),
+                [2, 0]
+            );
+        } else {
+            // Only the ball's layer is packed; the still spheres' packing is kept.
+            assert_eq!(
+                counters(&["instance layers packed", "instance layers kept"]),
+                [1, 1],
+                "frame {frame}: {:?}",
+                report.counters
+            );
+            // Of 21 instances only the ball's bytes change, and only they are written.
+            let bytes = report.counter("uniform bytes uploaded");
+            assert!(
+                bytes > 0 && bytes <= INSTANCE_BYTES,
+                "frame {frame}: {bytes} bytes uploaded: {:?}",
+                report.counters
+            );
+            // The raster's and the resolves' groups bind the same buffers and views.
+            assert_eq!(
+                report.counter("bind groups created"),
+                0,
+                "frame {frame}: {:?}",
+                report.counters
+            );
+            assert!(
+                report.counter("bind groups reused") >= 4,
+                "{:?}",
+                report.counters
+            );
+        }
+        // The same frame from a G-buffer with no node: nothing kept, everything made.
+        let fresh = gbuffer(scene.layers(x), None);
+        let t = &fresh.targets;
+        let names = [&t.color, &t.normals, &t.depth, &t.velocity_uv].map(String::as_str);
+        let (_, whole) = render_and_read(&renderer, fresh.as_ref(), SIZE, &names).expect("renders");
+        for (k, (a, b)) in images.iter().zip(&whole).enumerate() {
+            assert!(
+                a.pixels == b.pixels,
+                "frame {frame}, target {k}: the same image"
+            );
+        }
+    }
+}
+
+/// The sun-lit diffuse of `layers` with `shadows`, and the frame's report;
+/// the G-buffer and the lighting are `owner`'s (None: they keep nothing).
+fn shade(
+    renderer: &Renderer,
+    owner: Option<u32>,
+    layers: &[Arc<Layer>],
+    sun: &Arc<LightBuffer>,
+    shadows: Arc<ShadowMaps>,
+) -> (ImageF32, FrameReport) {
+    let g = GBuffer::new(
+        renderer,
+        owner,
+        layers.to_vec(),
+        camera(),
+        None,
+        SizeRule::Relative(1.0),
+    );
+    let ct = CookTorrance::with_shadows(
+        renderer,
+        owner.map(|o| o + 1),
+        g,
+        sun.clone(),
+        LightLoop::Naive,
+        true,
+        Surfaces::PerMaterialId(vec![(0.7, 0.0)]),
+        Some(shadows),
+    );
+    let (report, mut images) =
+        render_and_read(renderer, ct.as_ref(), SIZE, &[&ct.diffuse]).expect("renders");
+    assert!(report.errors.is_empty(), "{:?}", report.errors);
+    (images.remove(0), report)
+}
+
+#[test]
+fn a_re_made_sun_shadow_keeps_the_bounds_of_its_still_casters() {
+    let renderer = test_renderer();
+    let scene = Scene::new(&renderer);
+    // The same frames drawn whole, on a renderer of their own: frames drawn
+    // in between would take the pooled textures the cached frames bind.
+    let whole_renderer = test_renderer();
+    let whole_scene = Scene::new(&whole_renderer);
+    let sun = SunLight {
+        direction: Vec3::new(0.3, -1.0, 0.2).normalize(),
+        color: Vec3::ONE,
+        illuminance: 5.0,
+        shadow: Some(0),
+    };
+    let lights = LightBuffer::suns(&renderer, &[sun]);
+    let whole_lights = LightBuffer::suns(&whole_renderer, &[sun]);
+    let casting = ShadowLights::Sun {
+        lights: vec![(0, sun.direction)],
+        cascades: Cascades {
+            count: 2,
+            split_lambda: 0.6,
+            distance: 20.0,
+        },
+    };
+    let maps = |renderer: &Renderer, layers: &[Arc<Layer>], owner| {
+        ShadowMaps::new(
+            renderer,
+            owner,
+            &casting,
+            layers.to_vec(),
+            &camera(),
+            ShadowSettings {
+                resolution: 128,
+                filter: ShadowFilter::Pcf { kernel: 3 },
+                ..Default::default()
+            },
+        )
+        .expect("valid shadows")
+    };
+    for (frame, x) in [-1.0, 0.0, 1.0, 1.5, 2.0].into_iter().enumerate() {
+        let layers = scene.layers(x);
+        let maps_now = maps(&renderer, &layers, Some(81));
+        let (image, report) = shade(&renderer, Some(82), &layers, &lights, maps_now);
+        let counted = (
+            report.counter("caster bounds computed"),
+            report.counter("caster bounds kept"),
+        );
+        let expected = if frame == 0 { (2, 0) } else { (1, 1) };
+        assert_eq!(counted, expected, "frame {frame}: {:?}", report.counters);
+        // Once the still casters are cached (frames 0-2: all drawn, the
+        // cache drawn, the ball drawn over it), the frame makes no bind
+        // group: the maps' layer views are kept, not made each frame.
+        if frame >= 3 {
+            assert_eq!(
+                report.counter("bind groups created"),
+                0,
+                "frame {frame}: {:?}",
+                report.counters
+            );
+        }
+        // Maps whose bounds were all computed anew shade the same.
+        let layers = whole_scene.layers(x);
+        let whole_maps = maps(&whole_renderer, &layers, None);
+        let (whole, _) = shade(&whole_renderer, None, &layers, &whole_lights, whole_maps);
+        assert!(
+            image.pixels == whole.pixels,
+            "frame {frame}: the same image"
+        );
+    }
+}
