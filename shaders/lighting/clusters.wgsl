@@ -94,7 +94,7 @@ var<workgroup> slice_depths: array<f32, 65>;
 
 // Every lane calls it, before any returns (a barrier).
 fn load_slice_depths(lane: u32) {
-    for (var z = lane; z <= min(grid.dims.z, MAX_SLICES); z += TEAM * TEAMS) {
+    for (var z = lane; z <= min(grid.dims.z, MAX_SLICES); z += 64u) {
         slice_depths[z] = slice_depth(i32(z));
     }
     workgroupBarrier();
@@ -149,30 +149,25 @@ fn transform(@builtin(global_invocation_id) id: vec3<u32>) {
     view_lights[id.x] = vec4<f32>(view.xyz, light.position_range.w);
 }
 
-// A light's froxels are shared among a team of 32 lanes in each of its
-// workgroups (z: how many a light gets): a big light near the camera can
-// touch thousands, and one thread each would serialize them. A frame with
-// few lights gives each many workgroups, so a handful of big spots does not
-// leave the GPU idle while 32 lanes walk 16,000 froxels each. A workgroup
-// holds 8 teams, 8 lights: at 100,000 small lights (about 20 froxels each)
-// a workgroup per light was mostly the cost of starting workgroups.
-const TEAM: u32 = 32u;
-const TEAMS: u32 = 8u;
+// A light's froxels are shared among the 64 lanes of each of its workgroups
+// (z: how many a light gets): a big light near the camera can touch
+// thousands, and one thread each would serialize them. A frame with few
+// lights gives each many workgroups, so a handful of big spots does not
+// leave the GPU idle while 64 lanes walk 16,000 froxels each.
+const LANES: u32 = 64u;
 
-// The light of `lane`'s team, and the lane's place in its team.
-fn light_of(wid: vec3<u32>, lane: u32) -> vec2<u32> {
-    return vec2<u32>((wid.x + wid.y * 65535u) * TEAMS + lane / TEAM, lane % TEAM);
+fn light_of(wid: vec3<u32>) -> u32 {
+    return wid.x + wid.y * 65535u;
 }
 
-@compute @workgroup_size(256)
+@compute @workgroup_size(64)
 fn count(
     @builtin(workgroup_id) wid: vec3<u32>,
     @builtin(num_workgroups) groups: vec3<u32>,
     @builtin(local_invocation_index) lane: u32,
 ) {
     load_slice_depths(lane);
-    let team = light_of(wid, lane);
-    let index = team.x;
+    let index = light_of(wid);
     if (index >= grid.dims.w) {
         return;
     }
@@ -180,7 +175,7 @@ fn count(
     let range = froxels(light);
     let extent = max(range[1] - range[0] + 1, vec3<i32>(0));
     let total = u32(extent.x * extent.y * extent.z);
-    for (var k = team.y + wid.z * TEAM; k < total; k += TEAM * groups.z) {
+    for (var k = lane + wid.z * LANES; k < total; k += LANES * groups.z) {
         let f = froxel_at(range[0], extent, k);
         if (touches(light, f.x, f.y, f.z)) {
             atomicAdd(&counts[cluster_index(f.x, f.y, f.z)], 1u);
@@ -240,15 +235,14 @@ fn scan(@builtin(local_invocation_index) lane: u32) {
     }
 }
 
-@compute @workgroup_size(256)
+@compute @workgroup_size(64)
 fn fill(
     @builtin(workgroup_id) wid: vec3<u32>,
     @builtin(num_workgroups) groups: vec3<u32>,
     @builtin(local_invocation_index) lane: u32,
 ) {
     load_slice_depths(lane);
-    let team = light_of(wid, lane);
-    let index = team.x;
+    let index = light_of(wid);
     if (index >= grid.dims.w) {
         return;
     }
@@ -257,7 +251,7 @@ fn fill(
     let range = froxels(light);
     let extent = max(range[1] - range[0] + 1, vec3<i32>(0));
     let total = u32(extent.x * extent.y * extent.z);
-    for (var k = team.y + wid.z * TEAM; k < total; k += TEAM * groups.z) {
+    for (var k = lane + wid.z * LANES; k < total; k += LANES * groups.z) {
         let f = froxel_at(range[0], extent, k);
         if (!touches(light, f.x, f.y, f.z)) {
             continue;

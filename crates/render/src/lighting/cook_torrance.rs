@@ -251,16 +251,15 @@ impl CookTorrance {
             let group = cx
                 .shaders
                 .bind_group(&device, &key, step, &pipeline, 0, &all)?;
-            // transform: a thread per light; count and fill: workgroups of
-            // 8 lights (x up to 65,535, then y; z splits a light's froxels);
+            // transform: a thread per light; count and fill: workgroups per
+            // light (x up to 65,535, then y; z splits a light's froxels);
             // scan: one workgroup.
-            let teams = count.div_ceil(LIGHTS_PER_WORKGROUP);
             let groups = match *step {
                 "scan" => (1, 1, 1),
                 "transform" => (count.div_ceil(64).max(1), 1, 1),
                 _ => (
-                    teams.clamp(1, 65_535),
-                    teams.div_ceil(65_535).max(1),
+                    count.clamp(1, 65_535),
+                    count.div_ceil(65_535).max(1),
                     workgroups_per_light(count),
                 ),
             };
@@ -501,14 +500,10 @@ impl Recipe for CookTorrance {
     }
 }
 
-/// Lights a count or fill workgroup takes, a team of 32 lanes each
-/// (`TEAMS` in shaders/lighting/clusters.wgsl).
-const LIGHTS_PER_WORKGROUP: u32 = 8;
-
 /// How many workgroups share each light's froxels when `lights` are
 /// assigned: enough that a few lights still fill the GPU (three big spots
-/// took 0.22 ms on the H100 with one team walking 16,000 froxels each),
-/// one where lights alone are plenty.
+/// took 0.22 ms at one workgroup each on the H100, walking 16,000 froxels
+/// 64 at a time), one where lights alone are plenty.
 fn workgroups_per_light(lights: u32) -> u32 {
-    (32_768 / lights.max(1)).clamp(1, 128)
+    (16_384 / lights.max(1)).clamp(1, 64)
 }
