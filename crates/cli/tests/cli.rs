@@ -423,6 +423,16 @@ fn bench_prints_one_json_line_with_the_adapter() {
             .as_f64()
             .is_some_and(|ms| ms > 0.0)
     );
+    // The CPU per frame with frames in flight, split as with timestamps.
+    let cpu = json["wall_cpu_ms_median"].as_f64().expect("wall CPU");
+    let eval = json["wall_cpu_eval_ms_median"].as_f64().expect("wall eval");
+    let record = json["wall_cpu_record_ms_median"]
+        .as_f64()
+        .expect("wall record");
+    assert!(
+        cpu > 0.0 && record > 0.0 && eval >= 0.0,
+        "{cpu} {eval} {record}"
+    );
     assert_eq!(json["recording"], "batched");
 
     let o = spreadlight(&["bench", "patches/bench-gbuffer.ron", "--set", "2.Nope=5"]);
