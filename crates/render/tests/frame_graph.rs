@@ -463,6 +463,15 @@ fn seed_ramp(cx: &spreadlight_render::frame_graph::PassContext<'_>, t: &wgpu::Te
 /// "kept" (keep_as_history, as TAA and SSR do). Returns what the frame read
 /// as last frame's history through each, then this frame's result.
 fn temporal_frame(renderer: &spreadlight_render::Renderer, value: f32) -> [f32; 3] {
+    temporal_frame_requesting(renderer, value, &[])
+}
+
+/// [`temporal_frame`], also handing `more` textures to the caller.
+fn temporal_frame_requesting(
+    renderer: &spreadlight_render::Renderer,
+    value: f32,
+    more: &[&str],
+) -> [f32; 3] {
     use spreadlight_render::readback::render_and_read;
     use spreadlight_render::shaders::ShaderKey;
     fn copy(
@@ -542,13 +551,10 @@ fn temporal_frame(renderer: &spreadlight_render::Renderer, value: f32) -> [f32; 
             });
         }
     }
-    let (report, images) = render_and_read(
-        renderer,
-        &Temporal(value),
-        (8, 8),
-        &["read previous", "read kept", "shown"],
-    )
-    .expect("renders");
+    let mut requested = vec!["read previous", "read kept", "shown"];
+    requested.extend(more);
+    let (report, images) =
+        render_and_read(renderer, &Temporal(value), (8, 8), &requested).expect("renders");
     assert!(report.errors.is_empty(), "{:?}", report.errors);
     let at = |k: usize| {
         let p = &images[k].pixels;
@@ -589,5 +595,25 @@ fn temporal_histories_trade_textures_instead_of_copying_and_read_last_frames_res
             );
             assert_eq!(report.counter("texture views created"), 0);
         }
+    }
+}
+
+#[test]
+fn a_history_whose_twin_the_caller_takes_is_copied_and_still_right() {
+    use spreadlight_render::frame_graph::{HISTORIES_COPIED, HISTORIES_HANDED_OVER};
+    // TAA's output as the frame's final image: it goes to the caller (a
+    // viewport shows it), so it cannot become the history; the history is
+    // copied from it, and AO's pair still trades.
+    let renderer = test_renderer();
+    temporal_frame_requesting(&renderer, 0.25, &["output"]);
+    for (frame, value) in [0.5f32, 0.75, 1.0].into_iter().enumerate() {
+        let last = 0.25 * (frame + 1) as f32;
+        assert_eq!(
+            temporal_frame_requesting(&renderer, value, &["output"]),
+            [last, last, value]
+        );
+        let report = renderer.last_report();
+        assert_eq!(report.counter(HISTORIES_COPIED), 1, "{:?}", report.counters);
+        assert_eq!(report.counter(HISTORIES_HANDED_OVER), 1);
     }
 }
