@@ -56,10 +56,12 @@ pub struct Network {
 }
 
 /// What flattening adds to a compile: typed IOBoxes and the links' own texts.
-#[derive(Default)]
 pub(crate) struct CompileExtras<'a> {
     pub defs: HashMap<NodeId, Arc<NodeDef>>,
     pub link_labels: &'a [String],
+    /// Definitions that compiling expands (subpatches): one still in the
+    /// flat patch could not be expanded and never runs.
+    pub expanded: fn(&NodeDef) -> bool,
 }
 
 struct Edge {
@@ -71,22 +73,9 @@ struct Edge {
     link: usize,
 }
 
+// `Network::compile` and `compile_with` (a patch with subpatches) are in
+// subpatch/mod.rs: they flatten first, then come here.
 impl Network {
-    /// Compile a patch whose subpatches are all inline (or absent); see
-    /// [`Network::compile_with`] for subpatch files.
-    pub fn compile(patch: &Patch, registry: &Registry) -> Network {
-        Self::compile_with(patch, registry, &crate::subpatch::Library::default())
-    }
-
-    /// Compile a patch, expanding its subpatches (inline, or files from `library`).
-    pub fn compile_with(
-        patch: &Patch,
-        registry: &Registry,
-        library: &crate::subpatch::Library,
-    ) -> Network {
-        crate::subpatch::compile(patch, registry, library)
-    }
-
     /// Compile an already flat patch (no subpatch nodes left).
     pub(crate) fn compile_flat(
         patch: &Patch,
@@ -238,7 +227,7 @@ impl Compiler<'_> {
                 None => self
                     .registry
                     .get(&node.type_name)
-                    .filter(|d| !crate::subpatch::is_subpatch_def(d)),
+                    .filter(|d| !(self.extras.expanded)(d)),
             };
             match def {
                 Some(def) => {

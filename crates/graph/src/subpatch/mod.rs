@@ -28,13 +28,27 @@ use crate::network::{CompileExtras, Network};
 use crate::registry::{NodeDef, Registry};
 use crate::value::PinType;
 
+impl Network {
+    /// Compile a patch whose subpatches are all inline (or absent); see
+    /// [`Network::compile_with`] for subpatch files.
+    pub fn compile(patch: &Patch, registry: &Registry) -> Network {
+        Self::compile_with(patch, registry, &Library::default())
+    }
+
+    /// Compile a patch, expanding its subpatches (inline, or files from `library`).
+    pub fn compile_with(patch: &Patch, registry: &Registry, library: &Library) -> Network {
+        compile(patch, registry, library)
+    }
+}
+
 /// Flatten and compile a patch; problems are placed in the documents they concern.
-pub(crate) fn compile(patch: &Patch, registry: &Registry, library: &Library) -> Network {
+fn compile(patch: &Patch, registry: &Registry, library: &Library) -> Network {
     let mut flat = flatten::flatten(patch, registry, library);
     let typed = pins::type_ioboxes(&flat.patch, registry);
     let extras = CompileExtras {
         defs: pins::iobox_defs(&mut flat.patch, &typed),
         link_labels: &flat.link_labels,
+        expanded: is_subpatch_def,
     };
     let mut network = Network::compile_flat(&flat.patch, registry, &extras);
     let located = |id: NodeId| flat.paths.get(&id).cloned().unwrap_or_else(|| vec![id]);
