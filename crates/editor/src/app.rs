@@ -182,6 +182,9 @@ pub struct EditorApp {
     gpu_error: Option<String>,
     /// The two side-panel viewports, then the show window's (`show_window.rs`).
     viewports: [Viewport; 3],
+    /// Held while the show window draws: its surface is configured then,
+    /// and the worker must not submit meanwhile (`GpuContext::submission_gate`).
+    submission_gate: Option<Arc<std::sync::Mutex<()>>>,
     viewport_rects: [Option<egui::Rect>; 3],
     /// The first viewport's whole area, in points: the patch's window (`host_input.rs`).
     view_area: Option<egui::Rect>,
@@ -259,6 +262,7 @@ impl EditorApp {
         options: EditorOptions,
     ) -> Self {
         let registry = crate::nodes::registry();
+        let mut submission_gate = None;
         let (gpu, gpu_error) = match render_state {
             Some(state) => {
                 // A device error no scope catches (wgpu gives up waiting for
@@ -273,6 +277,7 @@ impl EditorApp {
                     state.queue.clone(),
                     state.adapter.get_info(),
                 );
+                submission_gate = Some(context.submission_gate());
                 match Renderer::new(context) {
                     Ok(renderer) => {
                         // One command encoder a frame (docs/benchmarks.md); a
@@ -317,6 +322,7 @@ impl EditorApp {
                 Viewport::new(Source::None),
             ],
             viewport_rects: [None; 3],
+            submission_gate,
             view_area: None,
             wheel: 0.0,
             snarl: Snarl::new(),

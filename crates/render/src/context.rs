@@ -25,6 +25,9 @@ pub struct GpuContext {
     pub device: wgpu::Device,
     pub queue: wgpu::Queue,
     pub adapter_info: Arc<wgpu::AdapterInfo>,
+    /// Held around every submission the renderer makes ([`GpuContext::submit`]),
+    /// so a host can keep them out for a moment ([`GpuContext::hold_submissions`]).
+    submissions: Arc<std::sync::Mutex<()>>,
 }
 
 impl std::fmt::Debug for GpuContext {
@@ -103,7 +106,27 @@ impl GpuContext {
             device,
             queue,
             adapter_info: Arc::new(adapter_info),
+            submissions: Arc::default(),
         }
+    }
+
+    /// Submit `commands` to the queue, unless a host holds submissions (then
+    /// wait until it lets go).
+    pub fn submit<I: IntoIterator<Item = wgpu::CommandBuffer>>(
+        &self,
+        commands: I,
+    ) -> wgpu::SubmissionIndex {
+        let _held = self.submissions.lock().unwrap_or_else(|e| e.into_inner());
+        self.queue.submit(commands)
+    }
+
+    /// What keeps the renderer's submissions out while it is locked: a host
+    /// configuring a window's surface on this device holds it, because wgpu
+    /// refuses to configure a surface when another thread submits while it
+    /// waits for the GPU to go idle (the editor's worker renders on its own
+    /// thread). Submissions the host makes itself on the queue are not held.
+    pub fn submission_gate(&self) -> Arc<std::sync::Mutex<()>> {
+        self.submissions.clone()
     }
 
     /// The adapter's name and backend, as every figure must be labelled.

@@ -470,7 +470,7 @@ fn allocate(
         let bigger = storage_buffer(gpu, "mesh arena", u64::from(new_end) * element);
         let mut encoder = gpu.device.create_command_encoder(&Default::default());
         encoder.copy_buffer_to_buffer(old, 0, &bigger, 0, u64::from(old_end) * element);
-        gpu.queue.submit([encoder.finish()]);
+        gpu.submit([encoder.finish()]);
         bigger
     };
     match stream {

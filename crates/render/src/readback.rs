@@ -94,7 +94,7 @@ pub fn read_texture_layer(
             depth_or_array_layers: 1,
         },
     );
-    gpu.queue.submit([encoder.finish()]);
+    gpu.submit([encoder.finish()]);
     let data = read_buffer(gpu, &buffer, size)?;
     let mut pixels = Vec::with_capacity((width * height) as usize);
     for y in 0..height {

@@ -80,6 +80,13 @@ impl EditorApp {
             builder = builder.with_monitor(monitor);
         }
         let id = egui::ViewportId::from_hash_of("spreadlight-show-window");
+        // The window's surface is configured while it draws (first frame,
+        // resize); wgpu refuses when the worker submits meanwhile, and the
+        // next frame then panics in egui-wgpu on the unconfigured surface.
+        let gate = self.submission_gate.clone();
+        let _held = gate
+            .as_ref()
+            .map(|g| g.lock().unwrap_or_else(|e| e.into_inner()));
         let close = ctx.show_viewport_immediate(id, builder, |ui, class| {
             let ctx = ui.ctx().clone();
             let close = ctx.input_mut(|i| i.consume_key(Modifiers::NONE, Key::Escape))

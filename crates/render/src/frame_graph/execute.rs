@@ -317,7 +317,7 @@ fn execute(
             None => commands.push(buffer),
         }
     }
-    let submission = renderer.gpu.queue.submit(commands);
+    let submission = renderer.gpu.submit(commands);
     report.record_ms = started.elapsed().as_secs_f64() * 1e3;
 
     if let (Some(ts), true) = (timestamps, next_query > 0) {

@@ -349,7 +349,7 @@ pub(crate) fn dispatch_as(
             message: e.to_string(),
         }),
         (Ok(commands), None) => {
-            gpu.queue.submit([commands]);
+            gpu.submit([commands]);
             stats.count();
             if work == Work::Skinning {
                 stats.skinning.fetch_add(1, Ordering::Relaxed);

@@ -22,7 +22,7 @@ pub fn read_storage(
     });
     let mut encoder = gpu.device.create_command_encoder(&Default::default());
     encoder.copy_buffer_to_buffer(buffer, offset, &staging, 0, size);
-    gpu.queue.submit([encoder.finish()]);
+    gpu.submit([encoder.finish()]);
     crate::renderer::read_buffer(gpu, &staging, size)
 }
 

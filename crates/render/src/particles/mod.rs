@@ -139,7 +139,7 @@ impl ParticleSystem {
             u64::from(self.records.vertices.start) * PARTICLE_SIZE,
             Some(self.records.vertices.len() as u64 * PARTICLE_SIZE),
         );
-        renderer.gpu.queue.submit([encoder.finish()]);
+        renderer.gpu.submit([encoder.finish()]);
         self.head = 0;
         self.emitted = 0;
         self.carry = 0.0;
