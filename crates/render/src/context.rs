@@ -26,7 +26,7 @@ pub struct GpuContext {
     pub queue: wgpu::Queue,
     pub adapter_info: Arc<wgpu::AdapterInfo>,
     /// Held around every submission the renderer makes ([`GpuContext::submit`]),
-    /// so a host can keep them out for a moment ([`GpuContext::hold_submissions`]).
+    /// so a host can keep them out for a moment ([`GpuContext::submission_gate`]).
     submissions: Arc<std::sync::Mutex<()>>,
 }
 

@@ -38,13 +38,7 @@ impl PassContext<'_> {
         );
         if self.can_trade(previous, &last, &spare) {
             self.textures.insert(previous.to_owned(), last.clone());
-            self.textures.insert(history.to_owned(), spare);
-            self.handovers.push(Handover {
-                persistent: history.to_owned(),
-                temporary: previous.to_owned(),
-                release: last,
-            });
-            self.count(HANDED_OVER, 1);
+            self.hand_over(history, spare, previous, last);
         } else {
             self.encoder.copy_texture_to_texture(
                 last.as_image_copy(),
@@ -65,13 +59,7 @@ impl PassContext<'_> {
             self.texture(history)?.clone(),
         );
         if self.can_trade(output, &written, &last) {
-            self.textures.insert(history.to_owned(), written);
-            self.handovers.push(Handover {
-                persistent: history.to_owned(),
-                temporary: output.to_owned(),
-                release: last,
-            });
-            self.count(HANDED_OVER, 1);
+            self.hand_over(history, written, output, last);
         } else {
             let size = wgpu::Extent3d {
                 width: written.width().min(last.width()),
@@ -86,6 +74,24 @@ impl PassContext<'_> {
             self.count(COPIED, 1);
         }
         Ok(())
+    }
+
+    /// `history` names `takes` from now on, and `temporary`'s output slot
+    /// gives `release` (the texture the history had) back to the pool.
+    fn hand_over(
+        &mut self,
+        history: &str,
+        takes: wgpu::Texture,
+        temporary: &str,
+        release: wgpu::Texture,
+    ) {
+        self.textures.insert(history.to_owned(), takes);
+        self.handovers.push(Handover {
+            persistent: history.to_owned(),
+            temporary: temporary.to_owned(),
+            release,
+        });
+        self.count(HANDED_OVER, 1);
     }
 
     /// Whether `temporary` (texture `a`) and a persistent texture `b` may
