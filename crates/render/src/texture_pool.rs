@@ -61,7 +61,7 @@ impl ViewSpec {
         }
     }
 
-    fn descriptor(&self) -> wgpu::TextureViewDescriptor<'static> {
+    pub(crate) fn descriptor(&self) -> wgpu::TextureViewDescriptor<'static> {
         wgpu::TextureViewDescriptor {
             dimension: self.dimension,
             aspect: self.aspect,

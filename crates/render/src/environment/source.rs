@@ -132,10 +132,7 @@ impl EnvironmentMaps {
     }
 
     pub(crate) fn cube_view(texture: &wgpu::Texture) -> wgpu::TextureView {
-        texture.create_view(&wgpu::TextureViewDescriptor {
-            dimension: Some(wgpu::TextureViewDimension::Cube),
-            ..Default::default()
-        })
+        texture.create_view(&crate::texture_pool::ViewSpec::cube().descriptor())
     }
 }
 
