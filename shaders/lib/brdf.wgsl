@@ -27,15 +27,17 @@ fn roughness_to_alpha(roughness: f32) -> f32 {
 
 fn d_ggx(n_dot_h: f32, roughness: f32) -> f32 {
     let a = roughness_to_alpha(roughness);
-    return d_ggx_a2(n_dot_h, a * a);
+    let a2 = a * a;
+    return a2 / ggx_denominator(n_dot_h, a2);
 }
 
-// `d_ggx` with alpha^2 given (the light loops compute it once per pixel).
-fn d_ggx_a2(n_dot_h: f32, a2: f32) -> f32 {
+// PI ((1 - nh^2) + nh^2 a^2)^2: D is alpha^2 over it. Apart, so the light
+// loop divides once for D and V together.
+fn ggx_denominator(n_dot_h: f32, a2: f32) -> f32 {
     let nh = clamp(n_dot_h, 0.0, 1.0);
     // 1 - nh^2 as (1 - nh)(1 + nh): keeps its digits next to a sharp peak.
     let f = (1.0 - nh) * (1.0 + nh) + nh * nh * a2;
-    return a2 / (PI * f * f);
+    return PI * f * f;
 }
 
 // sqrt(cos^2 (1 - a^2) + a^2), with cos clamped to MIN_COS..1: one
@@ -49,14 +51,15 @@ fn smith_lambda(cos_theta: f32, a2: f32) -> f32 {
 fn v_smith_ggx_correlated(n_dot_v: f32, n_dot_l: f32, roughness: f32) -> f32 {
     let a = roughness_to_alpha(roughness);
     let a2 = a * a;
-    return v_smith_lambdas(n_dot_v, n_dot_l, smith_lambda(n_dot_v, a2), smith_lambda(n_dot_l, a2));
+    return 1.0 / smith_denominator(n_dot_v, n_dot_l, smith_lambda(n_dot_v, a2), smith_lambda(n_dot_l, a2));
 }
 
-// `v_smith_ggx_correlated` from the two directions' `smith_lambda`.
-fn v_smith_lambdas(n_dot_v: f32, n_dot_l: f32, lambda_of_v: f32, lambda_of_l: f32) -> f32 {
+// 2 (N.L lambda(V) + N.V lambda(L)), cosines clamped to MIN_COS..1: V is
+// one over it, from the two directions' `smith_lambda`.
+fn smith_denominator(n_dot_v: f32, n_dot_l: f32, lambda_of_v: f32, lambda_of_l: f32) -> f32 {
     let nv = clamp(n_dot_v, MIN_COS, 1.0);
     let nl = clamp(n_dot_l, MIN_COS, 1.0);
-    return 0.5 / (nl * lambda_of_v + nv * lambda_of_l);
+    return 2.0 * (nl * lambda_of_v + nv * lambda_of_l);
 }
 
 fn f_schlick(f0: vec3<f32>, v_dot_h: f32) -> vec3<f32> {
@@ -195,15 +198,12 @@ fn cook_torrance_light(s: BrdfSurface, l: vec3<f32>) -> Brdf {
     let n_dot_l = min(n_dot_l_raw, 1.0);
     let h = safe_normalize(s.v + l, s.n);
     let f = f_schlick(s.normal_fresnel, dot(s.v, h));
-    // D * V as d_ggx_a2 and v_smith_lambdas give them, over one division:
-    // at hundreds of lights a pixel, reciprocals (a quarter of the rate of
-    // other arithmetic) were a good part of the light loop.
+    // D * V over one division: at hundreds of lights a pixel, reciprocals
+    // (a quarter of the rate of other arithmetic) were a good part of the
+    // light loop.
     let a2 = s.alpha_squared;
-    let nh = clamp(dot(s.n, h), 0.0, 1.0);
-    let f_d = (1.0 - nh) * (1.0 + nh) + nh * nh * a2;
-    let nl = clamp(n_dot_l, MIN_COS, 1.0);
-    let lambdas = nl * s.lambda_of_v + s.n_dot_v * smith_lambda(n_dot_l, a2);
-    let lobe = a2 * 0.5 / (PI * f_d * f_d * lambdas);
+    let v_denominator = smith_denominator(s.n_dot_v, n_dot_l, s.lambda_of_v, smith_lambda(n_dot_l, a2));
+    let lobe = a2 / (ggx_denominator(dot(s.n, h), a2) * v_denominator);
     let specular = f * (lobe * n_dot_l);
     let diffuse = (vec3<f32>(1.0) - f) * s.diffuse * n_dot_l;
     return Brdf(diffuse, specular);
