@@ -208,9 +208,8 @@ fn raster_triangles(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_
         return;
     }
     // Big: hand its tiles to raster_tiles.
-    let t_lo = lo / TILE;
-    let t_hi = (hi + TILE - 1u) / TILE;
-    let count = (t_hi.x - t_lo.x) * (t_hi.y - t_lo.y);
+    let span = tile_span(bounds);
+    let count = span[1].x * span[1].y;
     let capacity = atomicLoad(&tile_count[1]);
     if (count > GIANT_TILES) {
         let giant = atomicAdd(&tile_count[2], 1u);
@@ -222,9 +221,31 @@ fn raster_triangles(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_
     let entries = capacity - min(GIANTS, capacity);
     let first = atomicAdd(&tile_count[0], count);
     for (var k = 0u; k < count && first + k < entries; k++) {
-        let tx = t_lo.x + k % (t_hi.x - t_lo.x);
-        let ty = t_lo.y + k / (t_hi.x - t_lo.x);
-        tiles[first + k] = TileEntry(instance, triangle, id, tx | (ty << 16u));
+        let t = tile_at(span, k);
+        tiles[first + k] = TileEntry(instance, triangle, id, t.x | (t.y << 16u));
+    }
+}
+
+// The tiles a pixel rectangle (`pixel_bounds`) touches: the first, and how
+// many across and down.
+fn tile_span(bounds: array<vec2<u32>, 2>) -> array<vec2<u32>, 2> {
+    let first = bounds[0] / TILE;
+    return array<vec2<u32>, 2>(first, (bounds[1] + TILE - 1u) / TILE - first);
+}
+
+// Tile `k` of a span, row by row.
+fn tile_at(span: array<vec2<u32>, 2>, k: u32) -> vec2<u32> {
+    return span[0] + vec2<u32>(k % span[1].x, k / span[1].x);
+}
+
+// The part of a setup's `bounds` in tile `tile` (in tiles), shared by the
+// workgroup's lanes.
+fn shade_tile(s: Setup, id: u32, bounds: array<vec2<u32>, 2>, tile: vec2<u32>, lane: u32) {
+    let corner = tile * TILE;
+    let lo = max(bounds[0], corner);
+    let hi = min(bounds[1], corner + TILE);
+    if (lo.x < hi.x && lo.y < hi.y) {
+        shade_rect(s, id, lo, hi, lane, 64u);
     }
 }
 
@@ -241,17 +262,9 @@ fn raster_tiles(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation
             continue;
         }
         let bounds = pixel_bounds(s);
-        let t_lo = bounds[0] / TILE;
-        let t_hi = (bounds[1] + TILE - 1u) / TILE;
-        let across = t_hi.x - t_lo.x;
-        let count = across * (t_hi.y - t_lo.y);
-        for (var t = wid.x; t < count; t += groups.x) {
-            let tile = (t_lo + vec2<u32>(t % across, t / across)) * TILE;
-            let lo = max(bounds[0], tile);
-            let hi = min(bounds[1], tile + TILE);
-            if (lo.x < hi.x && lo.y < hi.y) {
-                shade_rect(s, entry.global_id, lo, hi, lane, 64u);
-            }
+        let span = tile_span(bounds);
+        for (var t = wid.x; t < span[1].x * span[1].y; t += groups.x) {
+            shade_tile(s, entry.global_id, bounds, tile_at(span, t), lane);
         }
     }
     let count = min(atomicLoad(&tile_count[0]), capacity - min(GIANTS, capacity));
@@ -261,12 +274,7 @@ fn raster_tiles(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation
         if (s.count == 0u) {
             continue;
         }
-        let tile = vec2<u32>(entry.tile & 0xffffu, entry.tile >> 16u) * TILE;
-        let bounds = pixel_bounds(s);
-        let lo = max(bounds[0], tile);
-        let hi = min(bounds[1], tile + TILE);
-        if (lo.x < hi.x && lo.y < hi.y) {
-            shade_rect(s, entry.global_id, lo, hi, lane, 64u);
-        }
+        let tile = vec2<u32>(entry.tile & 0xffffu, entry.tile >> 16u);
+        shade_tile(s, entry.global_id, pixel_bounds(s), tile, lane);
     }
 }
