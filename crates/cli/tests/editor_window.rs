@@ -4,7 +4,7 @@
 //! what they need: install Xvfb with `apt-get install xvfb` (`.ci/run` does).
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Stdio};
+use std::process::Stdio;
 
 // Shared with show_window.rs, which uses helpers this file does not.
 #[allow(dead_code)]
@@ -18,14 +18,11 @@ fn root() -> PathBuf {
 
 /// Run the editor on `patch` in the virtual display; returns its JSON report.
 fn run_editor(x: &Xvfb, config: &Path, args: &[&str]) -> serde_json::Value {
-    let out = Command::new(env!("CARGO_BIN_EXE_spreadlight"))
+    let out = x
+        .spreadlight(config)
         .arg("edit")
         .args(args)
         .current_dir(root())
-        .env("DISPLAY", &x.display)
-        .env_remove("WAYLAND_DISPLAY")
-        .env("XDG_RUNTIME_DIR", std::env::temp_dir())
-        .env("SPREADLIGHT_CONFIG_DIR", config)
         .output()
         .expect("the editor runs");
     let stdout = String::from_utf8_lossy(&out.stdout);
@@ -208,13 +205,10 @@ fn an_edit_survives_killing_the_editor_and_is_offered_back() {
     let patch = dir.path().join("crash.ron");
     spreadlight_graph::format::save(&spreadlight_graph::Patch::default(), &patch).expect("save");
     let recovery = dir.path().join(".crash.ron.autosave");
-    let mut editor = Command::new(env!("CARGO_BIN_EXE_spreadlight"))
+    let mut editor = x
+        .spreadlight(&dir.path().join("config"))
         .arg("edit")
         .arg(&patch)
-        .env("DISPLAY", &x.display)
-        .env_remove("WAYLAND_DISPLAY")
-        .env("XDG_RUNTIME_DIR", std::env::temp_dir())
-        .env("SPREADLIGHT_CONFIG_DIR", dir.path().join("config"))
         .stdout(Stdio::null())
         .stderr(Stdio::null())
         .spawn()
@@ -291,13 +285,10 @@ fn an_edit_inside_an_opened_module_file_survives_killing_the_editor() {
     let patch = dir.path().join("crash.ron");
     format::save(&top, &patch).expect("save");
     let modules_autosave = dir.path().join(".crash.ron.modules.autosave");
-    let mut editor = Command::new(env!("CARGO_BIN_EXE_spreadlight"))
+    let mut editor = x
+        .spreadlight(&dir.path().join("config"))
         .arg("edit")
         .arg(&patch)
-        .env("DISPLAY", &x.display)
-        .env_remove("WAYLAND_DISPLAY")
-        .env("XDG_RUNTIME_DIR", std::env::temp_dir())
-        .env("SPREADLIGHT_CONFIG_DIR", dir.path().join("config"))
         .env("SPREADLIGHT_LIBRARY", dir.path().join("library"))
         .stdout(Stdio::null())
         .stderr(Stdio::null())
@@ -374,15 +365,12 @@ fn play_shows_the_output_alone_filling_its_window() {
     let x = Xvfb::start();
     let dir = tempfile::tempdir().expect("tempdir");
     let shot = dir.path().join("show.png");
-    let out = Command::new(env!("CARGO_BIN_EXE_spreadlight"))
+    let out = x
+        .spreadlight(dir.path())
         .args(["play", "patches/showcase.ron", "--size", "320x180"])
         .args(["--measure-frames", "5", "--screenshot"])
         .arg(&shot)
         .current_dir(root())
-        .env("DISPLAY", &x.display)
-        .env_remove("WAYLAND_DISPLAY")
-        .env("XDG_RUNTIME_DIR", std::env::temp_dir())
-        .env("SPREADLIGHT_CONFIG_DIR", dir.path())
         .output()
         .expect("play runs");
     let stdout = String::from_utf8_lossy(&out.stdout);
@@ -430,14 +418,10 @@ fn play_opens_on_the_chosen_monitor_and_refuses_one_that_does_not_exist() {
     let x = Xvfb::start();
     let dir = tempfile::tempdir().expect("tempdir");
     let play = |monitor: &str, frames: &str| {
-        let mut c = Command::new(env!("CARGO_BIN_EXE_spreadlight"));
+        let mut c = x.spreadlight(dir.path());
         c.args(["play", "patches/lfo-sine.ron", "--size", "320x180"])
             .args(["--monitor", monitor, "--measure-frames", frames])
             .current_dir(root())
-            .env("DISPLAY", &x.display)
-            .env_remove("WAYLAND_DISPLAY")
-            .env("XDG_RUNTIME_DIR", std::env::temp_dir())
-            .env("SPREADLIGHT_CONFIG_DIR", dir.path())
             .stdout(Stdio::piped())
             .stderr(Stdio::piped());
         c

@@ -2,7 +2,7 @@
 //! opened from the editor with F11, and `spreadlight play --native`.
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Stdio};
+use std::process::Stdio;
 
 // Shared with editor_window.rs, which uses the helpers this file does not.
 #[allow(dead_code)]
@@ -26,13 +26,10 @@ fn f11_opens_a_second_window_for_the_output_and_esc_closes_it() {
     // What the editor prints, shown with any failure below.
     let log = dir.path().join("editor-stderr.txt");
     let printed = || std::fs::read_to_string(&log).unwrap_or_default();
-    let mut editor = Command::new(env!("CARGO_BIN_EXE_spreadlight"))
+    let mut editor = x
+        .spreadlight(&dir.path().join("config"))
         .arg("edit")
         .arg(root().join("patches/showcase.ron"))
-        .env("DISPLAY", &x.display)
-        .env_remove("WAYLAND_DISPLAY")
-        .env("XDG_RUNTIME_DIR", std::env::temp_dir())
-        .env("SPREADLIGHT_CONFIG_DIR", dir.path().join("config"))
         .stdout(Stdio::null())
         .stderr(std::fs::File::create(&log).expect("the editor's log"))
         .spawn()
@@ -129,16 +126,13 @@ fn play_native_sizes_the_window_to_the_texture_one_to_one() {
     let patch = dir.path().join("native.ron");
     spreadlight_graph::format::save(&p, &patch).expect("save");
     let shot = dir.path().join("shot.png");
-    let out = Command::new(env!("CARGO_BIN_EXE_spreadlight"))
+    let out = x
+        .spreadlight(dir.path())
         .arg("play")
         .arg(&patch)
         .args(["--size", "320x180", "--native", "--measure-frames", "5"])
         .arg("--screenshot")
         .arg(&shot)
-        .env("DISPLAY", &x.display)
-        .env_remove("WAYLAND_DISPLAY")
-        .env("XDG_RUNTIME_DIR", std::env::temp_dir())
-        .env("SPREADLIGHT_CONFIG_DIR", dir.path())
         .output()
         .expect("play runs");
     assert!(

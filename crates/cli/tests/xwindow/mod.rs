@@ -12,6 +12,18 @@ pub struct Xvfb {
 }
 
 impl Xvfb {
+    /// The `spreadlight` binary set to open its windows on this display
+    /// (X11, not a Wayland the test machine may have), with its settings
+    /// under `config`.
+    pub fn spreadlight(&self, config: &Path) -> Command {
+        let mut c = Command::new(env!("CARGO_BIN_EXE_spreadlight"));
+        c.env("DISPLAY", &self.display)
+            .env_remove("WAYLAND_DISPLAY")
+            .env("XDG_RUNTIME_DIR", std::env::temp_dir())
+            .env("SPREADLIGHT_CONFIG_DIR", config);
+        c
+    }
+
     pub fn start() -> Xvfb {
         let mut child = Command::new("Xvfb")
             .args([
