@@ -6,7 +6,7 @@
 
 mod common;
 
-use egui::{Event, Key, Modifiers, Vec2};
+use egui::{Key, Vec2};
 use egui_kittest::Harness;
 use spreadlight_editor::EditorApp;
 use spreadlight_graph::{NodeDoc, NodeId, Patch, Spread, format};
@@ -67,13 +67,7 @@ fn out(h: &Harness<'_, EditorApp>, node: u32, pin: &str) -> Spread {
 }
 
 fn key(h: &mut Harness<'_, EditorApp>, key: Key, pressed: bool) {
-    h.event(Event::Key {
-        key,
-        physical_key: None,
-        pressed,
-        repeat: false,
-        modifiers: Modifiers::NONE,
-    });
+    common::key_event(h, key, pressed);
     h.run_steps(3);
 }
 

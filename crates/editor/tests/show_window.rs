@@ -7,7 +7,7 @@
 
 mod common;
 
-use egui::{Event, Key, Modifiers, Vec2};
+use egui::{Key, Vec2};
 use egui_kittest::Harness;
 use spreadlight_editor::{EditorApp, ShowWindowOptions};
 use spreadlight_graph::{NodeDoc, NodeId, Patch, Spread, format};
@@ -55,13 +55,7 @@ fn width(h: &Harness<'_, EditorApp>) -> Spread {
 
 fn press(h: &mut Harness<'_, EditorApp>, key: Key) {
     for pressed in [true, false] {
-        h.event(Event::Key {
-            key,
-            physical_key: None,
-            pressed,
-            repeat: false,
-            modifiers: Modifiers::NONE,
-        });
+        common::key_event(h, key, pressed);
     }
     h.run_steps(4);
 }

@@ -28,6 +28,17 @@ pub fn editor(options: EditorOptions, size: Vec2) -> Harness<'static, EditorApp>
     editor_with(options, size, 40, |_| {})
 }
 
+/// `key` pressed (or let go), with no modifiers; no frame run.
+pub fn key_event(h: &mut Harness<'_, EditorApp>, key: egui::Key, pressed: bool) {
+    h.event(egui::Event::Key {
+        key,
+        physical_key: None,
+        pressed,
+        repeat: false,
+        modifiers: egui::Modifiers::NONE,
+    });
+}
+
 /// [`editor`] with `max_steps` for `run` and `setup` applied to the app.
 pub fn editor_with(
     options: EditorOptions,
