@@ -145,6 +145,8 @@ struct BrdfSurface {
     v: vec3<f32>,
     // N.V clamped to MIN_COS..1.
     n_dot_v: f32,
+    // N.V as it is (half_vector_cosines).
+    view_cosine: f32,
     roughness: f32,
     // alpha^2.
     alpha_squared: f32,
@@ -165,7 +167,8 @@ fn brdf_surface(
     metallic_in: f32,
     reflectance_in: f32,
 ) -> BrdfSurface {
-    let n_dot_v = clamp(dot(n, v), MIN_COS, 1.0);
+    let view_cosine = dot(n, v);
+    let n_dot_v = clamp(view_cosine, MIN_COS, 1.0);
     let roughness = clamp(roughness_in, 0.0, 1.0);
     let metallic = clamp(metallic_in, 0.0, 1.0);
     let albedo = max(albedo_in, vec3<f32>(0.0));
@@ -175,6 +178,7 @@ fn brdf_surface(
         n,
         v,
         n_dot_v,
+        view_cosine,
         roughness,
         a2,
         smith_lambda(n_dot_v, a2),
@@ -191,20 +195,75 @@ fn surface_energy_compensation(s: BrdfSurface) -> vec3<f32> {
 
 // One light's share for a prepared surface, without the energy compensation.
 fn cook_torrance_light(s: BrdfSurface, l: vec3<f32>) -> Brdf {
-    let n_dot_l_raw = dot(s.n, l);
+    let n_dot_l = dot(s.n, l);
+    let h = safe_normalize(s.v + l, s.n);
+    let w = cook_torrance_weights(s, n_dot_l, dot(s.n, h), dot(s.v, h));
+    return light_sums_brdf(s, LightSums(vec3<f32>(w.x), vec3<f32>(w.y), vec3<f32>(w.z)));
+}
+
+// What a light loop sums: each light's radiance times its three
+// `cook_torrance_weights`. F = F0 + (1 - F0) w (w: Schlick's weight), so a
+// light's specular is D V N.L (F0 + (1 - F0) w) and its diffuse
+// (1 - F0) (1 - w) N.L times the surface's Lambert term: F0 and the surface
+// are applied once to the sums (`light_sums_brdf`), not per light and
+// channel. At hundreds of lights a pixel that halves the per-light
+// arithmetic after the BRDF's scalars.
+struct LightSums {
+    // Sum of radiance D V N.L.
+    specular: vec3<f32>,
+    // Sum of radiance D V N.L w.
+    grazing: vec3<f32>,
+    // Sum of radiance N.L (1 - w).
+    diffuse: vec3<f32>,
+}
+
+fn no_light_sums() -> LightSums {
+    return LightSums(vec3<f32>(0.0), vec3<f32>(0.0), vec3<f32>(0.0));
+}
+
+// Adds one light: `radiance` (rgb), `weights` from `cook_torrance_weights`.
+fn add_light(sums: ptr<function, LightSums>, radiance: vec3<f32>, weights: vec3<f32>) {
+    (*sums).specular += radiance * weights.x;
+    (*sums).grazing += radiance * weights.y;
+    (*sums).diffuse += radiance * weights.z;
+}
+
+// The diffuse and specular radiance of summed lights, without the energy
+// compensation.
+fn light_sums_brdf(s: BrdfSurface, sums: LightSums) -> Brdf {
+    let f0 = s.normal_fresnel;
+    let specular = f0 * sums.specular + (vec3<f32>(1.0) - f0) * sums.grazing;
+    let diffuse = (vec3<f32>(1.0) - f0) * s.diffuse * sums.diffuse;
+    return Brdf(diffuse, specular);
+}
+
+// One light's scalar weights (D V N.L, D V N.L w, N.L (1 - w)) from its
+// cosines: N.L unclamped (<= 0: no light), N.H and V.H of the half vector.
+fn cook_torrance_weights(s: BrdfSurface, n_dot_l_raw: f32, n_dot_h: f32, v_dot_h: f32) -> vec3<f32> {
     if (n_dot_l_raw <= 0.0) {
-        return Brdf(vec3<f32>(0.0), vec3<f32>(0.0));
+        return vec3<f32>(0.0);
     }
     let n_dot_l = min(n_dot_l_raw, 1.0);
-    let h = safe_normalize(s.v + l, s.n);
-    let f = f_schlick(s.normal_fresnel, dot(s.v, h));
+    let x = 1.0 - clamp(v_dot_h, 0.0, 1.0);
+    let x2 = x * x;
+    let w = x2 * x2 * x;
     // D * V over one division: at hundreds of lights a pixel, reciprocals
     // (a quarter of the rate of other arithmetic) were a good part of the
     // light loop.
     let a2 = s.alpha_squared;
     let v_denominator = smith_denominator(s.n_dot_v, n_dot_l, s.lambda_of_v, smith_lambda(n_dot_l, a2));
-    let lobe = a2 / (ggx_denominator(dot(s.n, h), a2) * v_denominator);
-    let specular = f * (lobe * n_dot_l);
-    let diffuse = (vec3<f32>(1.0) - f) * s.diffuse * n_dot_l;
-    return Brdf(diffuse, specular);
+    let specular = a2 / (ggx_denominator(n_dot_h, a2) * v_denominator) * n_dot_l;
+    return vec3<f32>(specular, specular * w, n_dot_l - n_dot_l * w);
+}
+
+// N.H and V.H for unit `v` and `l` from N.L and V.L, without the half vector:
+// |v + l|^2 = 2 + 2 V.L (Karis). Where v + l has no direction the half vector
+// is the normal, as `safe_normalize` makes it.
+fn half_vector_cosines(s: BrdfSurface, n_dot_l: f32, v_dot_l: f32) -> vec2<f32> {
+    let length2 = 2.0 + 2.0 * v_dot_l;
+    if (length2 <= 1e-20) {
+        return vec2<f32>(1.0, s.view_cosine);
+    }
+    let inverse_length = inverseSqrt(length2);
+    return vec2<f32>((s.view_cosine + n_dot_l) * inverse_length, (1.0 + v_dot_l) * inverse_length);
 }

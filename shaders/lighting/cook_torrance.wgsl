@@ -10,7 +10,7 @@
 // subsurface term for materials with the FakeSSS feature), clamped below half-float
 // overflow so no infinity reaches a target.
 #import spreadlight::camera::Camera
-#import spreadlight::brdf::{BrdfSurface, brdf_surface, cook_torrance_light, surface_energy_compensation, DIELECTRIC_F0}
+#import spreadlight::brdf::{BrdfSurface, LightSums, brdf_surface, no_light_sums, add_light, light_sums_brdf, cook_torrance_weights, half_vector_cosines, surface_energy_compensation, DIELECTRIC_F0}
 #import spreadlight::lights::{range_window, inverse_square, spot_attenuation}
 #import spreadlight::packing::{channel_to_id, safe_normalize}
 // The material library, imported once: MATERIALS reads CookTorrance
@@ -119,42 +119,52 @@ fn with_inverse_range(intensity: vec4<f32>, range: f32) -> vec4<f32> {
     return vec4<f32>(intensity.rgb, 1.0 / max(range * range, 1e-30));
 }
 
-// `lv`: the light's view-space position and range (unused for suns);
-// `intensity`: its record's, and 1 / range^2 in w (the clustered loop keeps
-// it beside `lv` in workgroup memory, so a pixel reads no record for a plain
-// point light and divides by no range).
-// The specular sum leaves out the energy compensation, a factor of the
-// surface alone that the caller applies once.
+// `lv`: the light's view-space position (its range, w, is unused: the
+// callers leave out lights without one); `intensity`: its record's, and
+// 1 / range^2 in w (the clustered loop keeps it beside `lv` in workgroup
+// memory, so a pixel reads no record for a plain point light and divides by
+// no range). Adds the light's radiance times its BRDF weights to `sums`
+// (brdf.wgsl's `LightSums`: F0, the surface's albedo and the energy
+// compensation are applied once, after the loop).
 fn shade(light: u32, lv: vec4<f32>, intensity: vec4<f32>, p: vec3<f32>, pw: vec3<f32>, surface: BrdfSurface,
-         diffuse: ptr<function, vec3<f32>>, specular: ptr<function, vec3<f32>>) {
+         sums: ptr<function, LightSums>) {
     let n = surface.n;
 #ifdef LIGHT_SUN
     let record = lights[light];
     let travel = safe_normalize((camera.view * vec4<f32>(record.direction.xyz, 0.0)).xyz, vec3<f32>(0.0, 0.0, -1.0));
     let l = -travel;
+    let n_dot_l = dot(n, l);
+    let v_dot_l = dot(surface.v, l);
     var radiance = intensity.rgb;
 #ifdef SHADOWS
     if (record.cone.z >= 0.0) {
-        radiance *= light_shadow(u32(record.cone.z), pw, normal_world, record.direction.xyz, view_depth, dot(n, l));
+        radiance *= light_shadow(u32(record.cone.z), pw, normal_world, record.direction.xyz, view_depth, n_dot_l);
     }
 #endif
+    let attenuation = 1.0;
 #else
     let to_light = lv.xyz - p;
     let distance2 = dot(to_light, to_light);
-    // Most of a froxel's list does not reach this pixel: leave before any
-    // square root or division (point_attenuation is 0 from the range on,
-    // and for a light without one).
-    if (!(distance2 < lv.w * lv.w) || lv.w <= 0.0) {
+    // (distance / range)^2. Most of a froxel's list does not reach this
+    // pixel: leave before any square root (point_attenuation is 0 from the
+    // range on).
+    let ratio2 = distance2 * intensity.w;
+    if (!(ratio2 < 1.0)) {
         return;
     }
     // point_attenuation_squared, with one reciprocal square root for both
-    // the inverse square and the direction to the light.
+    // the inverse square and the direction to the light. The cosines come
+    // from `to_light` scaled once, not from a normalised vector.
     let inverse_distance = inverseSqrt(max(distance2, 1e-20));
-    let attenuation = range_window(distance2 * intensity.w) * inverse_square(inverse_distance);
-    if (attenuation <= 0.0) {
-        return;
+    let attenuation = range_window(ratio2) * inverse_square(inverse_distance);
+    var n_dot_l = dot(n, to_light) * inverse_distance;
+    var v_dot_l = dot(surface.v, to_light) * inverse_distance;
+    if (!(distance2 > 1e-20)) {
+        // A light at the surface point: from along the normal, as
+        // safe_normalize makes its direction.
+        n_dot_l = 1.0;
+        v_dot_l = surface.view_cosine;
     }
-    let l = select(n, to_light * inverse_distance, distance2 > 1e-20);
 #ifdef LIGHT_SPOT
     // The 64-byte record only for lights that reach the pixel: most of a
     // froxel's list does not (its 64-pixel tile is wider than a light's reach
@@ -164,27 +174,25 @@ fn shade(light: u32, lv: vec4<f32>, intensity: vec4<f32>, p: vec3<f32>, pw: vec3
     if (all(mask <= vec3<f32>(0.0))) {
         return;
     }
-    var radiance = intensity.rgb * attenuation * mask;
+    var radiance = intensity.rgb * mask;
 #else
-    var radiance = intensity.rgb * attenuation;
+    var radiance = intensity.rgb;
 #endif
 #ifdef SHADOWS
     // A light's own shadow slice (cone.z; -1: casts none).
     let caster = lights[light];
     if (caster.cone.z >= 0.0) {
-        radiance *= light_shadow(u32(caster.cone.z), pw, normal_world, pw - caster.position_range.xyz, view_depth, dot(n, l));
+        radiance *= light_shadow(u32(caster.cone.z), pw, normal_world, pw - caster.position_range.xyz, view_depth, n_dot_l);
     }
 #endif
 #endif
-    let brdf = cook_torrance_light(surface, l);
+    let cosines = half_vector_cosines(surface, n_dot_l, v_dot_l);
+    add_light(sums, radiance, cook_torrance_weights(surface, n_dot_l, cosines.x, cosines.y) * attenuation);
 #ifdef FAKE_SSS
     // Light that wraps past the terminator (wrap 0.5), beyond what Lambert gives.
-    let n_dot_l = dot(n, l);
     let wrapped = max((n_dot_l + 0.5) / 1.5, 0.0) - max(n_dot_l, 0.0);
-    sss_sum += sss_tint * radiance * max(wrapped, 0.0) * 0.31830988;
+    sss_sum += sss_tint * radiance * attenuation * max(wrapped, 0.0) * 0.31830988;
 #endif
-    *diffuse += brdf.diffuse * radiance;
-    *specular += brdf.specular * radiance;
 }
 
 // A 16x16 workgroup shades a block of pixels. With CLUSTERED it reads its
@@ -286,8 +294,7 @@ fn main(@builtin(local_invocation_index) lane: u32, @builtin(workgroup_id) wid: 
 
     // rm: roughness, metallic, reflectance (the dielectric F0).
     let surface = brdf_surface(n, v, albedo, rm.x, rm.y, rm.z);
-    var diffuse = vec3<f32>(0.0);
-    var specular = vec3<f32>(0.0);
+    var sums = no_light_sums();
 #ifdef FAKE_SSS
     sss_tint = vec3<f32>(0.0);
     if (covered) {
@@ -350,7 +357,8 @@ fn main(@builtin(local_invocation_index) lane: u32, @builtin(workgroup_id) wid: 
                 let light = indices[froxel.x + k];
                 let lv = view_lights[light];
                 let offset = lv.xyz - clamp(lv.xyz, lo, hi);
-                if (dot(offset, offset) < lv.w * lv.w) {
+                // A light without a range lights nothing (shade leaves it to this test).
+                if (lv.w > 0.0 && dot(offset, offset) < lv.w * lv.w) {
                     batch_view[lane] = lv;
                     batch_intensity[lane] = with_inverse_range(lights[light].intensity, lv.w);
                     batch_light[lane] = light;
@@ -368,7 +376,7 @@ fn main(@builtin(local_invocation_index) lane: u32, @builtin(workgroup_id) wid: 
                     while (bits != 0u) {
                         let slot = w * 32u + countTrailingZeros(bits);
                         bits &= bits - 1u;
-                        shade(batch_light[slot], batch_view[slot], batch_intensity[slot], p, pw, surface, &diffuse, &specular);
+                        shade(batch_light[slot], batch_view[slot], batch_intensity[slot], p, pw, surface, &sums);
                     }
                 }
             }
@@ -380,13 +388,22 @@ fn main(@builtin(local_invocation_index) lane: u32, @builtin(workgroup_id) wid: 
     if (covered) {
         for (var i = 0u; i < grid.dims.w; i++) {
             let lv = view_lights[i];
-            shade(i, lv, with_inverse_range(lights[i].intensity, lv.w), p, pw, surface, &diffuse, &specular);
+#ifndef LIGHT_SUN
+            // A light without a range lights nothing (shade leaves it to this test).
+            if (!(lv.w > 0.0)) {
+                continue;
+            }
+#endif
+            shade(i, lv, with_inverse_range(lights[i].intensity, lv.w), p, pw, surface, &sums);
         }
     }
 #endif
     if (!covered) {
         return;
     }
+    let lit = light_sums_brdf(surface, sums);
+    let diffuse = lit.diffuse;
+    var specular = lit.specular;
 #ifdef ENERGY_COMPENSATION
     specular *= surface_energy_compensation(surface);
 #endif

@@ -5,10 +5,12 @@
 //! written shade bit for bit as before, and G-buffers without a surface
 //! target compile no surface-reading permutation.
 
+mod floor_view;
+
 use std::sync::Arc;
 
-use glam::{Mat4, Vec3, Vec4Swizzles};
-use spreadlight_render::camera::CameraInput;
+use floor_view::{SIZE, camera, floor_points};
+use glam::{Mat4, Vec3};
 use spreadlight_render::gbuffer::{
     DrawBatch, GBuffer, InstanceInput, Layer, LayerFeatures, SurfaceShader,
 };
@@ -26,10 +28,8 @@ use spreadlight_render::static_texture::StaticTexture;
 use spreadlight_render::texture::GpuTexture;
 use spreadlight_render::{Renderer, SizeRule};
 
-const SIZE: (u32, u32) = (96, 54);
 const FLOOR_ALBEDO: [f32; 3] = [0.8, 0.7, 0.6];
 const BALL_ALBEDO: [f32; 3] = [0.5, 0.6, 0.7];
-const EYE: Vec3 = Vec3::new(0.0, 4.0, 6.0);
 
 /// A material whose `surface` function runs `body` on `out` (the layer's own surface).
 fn material(name: &str, body: &str) -> Arc<SurfaceShader> {
@@ -51,18 +51,6 @@ fn material(name: &str, body: &str) -> Arc<SurfaceShader> {
         Vec::new(),
         1,
     ))
-}
-
-fn camera() -> CameraInput {
-    CameraInput {
-        view: glam::camera::rh::view::look_at_mat4(EYE, Vec3::ZERO, Vec3::Y),
-        projection: glam::camera::rh::proj::directx::perspective(
-            1.0,
-            SIZE.0 as f32 / SIZE.1 as f32,
-            0.1,
-            100.0,
-        ),
-    }
 }
 
 /// A 20x20 floor (material `floor`) and, with `ball`, a ball on it (material
@@ -215,27 +203,6 @@ const SUN: SunLight = SunLight {
     illuminance: 3.0,
     shadow: None,
 };
-
-/// Per pixel, the floor point the pixel sees and the unit vector to the eye
-/// (None where it sees past the floor's edge).
-fn floor_points() -> Vec<Option<(Vec3, Vec3)>> {
-    let c = camera();
-    let inverse = (c.projection * c.view).inverse();
-    (0..SIZE.1)
-        .flat_map(|y| (0..SIZE.0).map(move |x| (x, y)))
-        .map(|(x, y)| {
-            let ndc_x = (x as f32 + 0.5) / SIZE.0 as f32 * 2.0 - 1.0;
-            let ndc_y = 1.0 - (y as f32 + 0.5) / SIZE.1 as f32 * 2.0;
-            let h = inverse * glam::Vec4::new(ndc_x, ndc_y, 0.5, 1.0);
-            let ray = (h.xyz() / h.w - EYE).normalize();
-            if ray.y >= -1e-3 {
-                return None;
-            }
-            let p = EYE + ray * (-EYE.y / ray.y);
-            (p.x.abs() < 9.5 && p.z.abs() < 9.5).then_some((p, -ray))
-        })
-        .collect()
-}
 
 /// The largest value of the red channel, and how many pixels reach half of it.
 fn peak_and_spread(image: &ImageF32) -> (f32, usize) {
