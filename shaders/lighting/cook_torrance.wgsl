@@ -113,29 +113,31 @@ fn spot_mask(light: u32, record: Light, pw: vec3<f32>) -> vec3<f32> {
 
 const HALF_MAX: f32 = 65000.0;
 
-// A light's intensity (rgb) with 1 / range^2 (w), as `shade` takes it; the
-// floor keeps a range whose square underflows finite.
-fn with_inverse_range(intensity: vec4<f32>, range: f32) -> vec4<f32> {
-    return vec4<f32>(intensity.rgb, 1.0 / max(range * range, 1e-30));
+// A light's view-space position with 1 / range^2 (w), as `shade` takes it;
+// the floor keeps a range whose square underflows finite.
+fn with_inverse_range(lv: vec4<f32>) -> vec4<f32> {
+    return vec4<f32>(lv.xyz, 1.0 / max(lv.w * lv.w, 1e-30));
 }
 
-// `lv`: the light's view-space position (its range, w, is unused: the
-// callers leave out lights without one); `intensity`: its record's, and
-// 1 / range^2 in w (the clustered loop keeps it beside `lv` in workgroup
-// memory, so a pixel reads no record for a plain point light and divides by
-// no range). Adds the light's radiance times its BRDF weights to `sums`
-// (brdf.wgsl's `LightSums`: F0, the surface's albedo and the energy
-// compensation are applied once, after the loop).
-fn shade(light: u32, lv: vec4<f32>, intensity: vec4<f32>, p: vec3<f32>, pw: vec3<f32>, surface: BrdfSurface,
+// `slot`: the light's place in the clustered loop's batch (light_index,
+// light_radiance), or its index for the naive loop; `lv`: its view-space
+// position and 1 / range^2 (callers leave out lights without a range; the
+// clustered loop keeps both in workgroup memory, so a pixel divides by no
+// range, and reads the intensity only for a light that reaches it). Adds
+// the light's radiance times its BRDF weights to `sums` (brdf.wgsl's
+// `LightSums`: F0, the surface's albedo and the energy compensation are
+// applied once, after the loop).
+fn shade(slot: u32, lv: vec4<f32>, p: vec3<f32>, pw: vec3<f32>, surface: BrdfSurface,
          sums: ptr<function, LightSums>) {
     let n = surface.n;
 #ifdef LIGHT_SUN
+    let light = light_index(slot);
     let record = lights[light];
     let travel = safe_normalize((camera.view * vec4<f32>(record.direction.xyz, 0.0)).xyz, vec3<f32>(0.0, 0.0, -1.0));
     let l = -travel;
     let n_dot_l = dot(n, l);
     let v_dot_l = dot(surface.v, l);
-    var radiance = intensity.rgb;
+    var radiance = light_radiance(slot);
 #ifdef SHADOWS
     if (record.cone.z >= 0.0) {
         radiance *= light_shadow(u32(record.cone.z), pw, normal_world, record.direction.xyz, view_depth, n_dot_l);
@@ -148,7 +150,7 @@ fn shade(light: u32, lv: vec4<f32>, intensity: vec4<f32>, p: vec3<f32>, pw: vec3
     // (distance / range)^2. Most of a froxel's list does not reach this
     // pixel: leave before any square root (point_attenuation is 0 from the
     // range on).
-    let ratio2 = distance2 * intensity.w;
+    let ratio2 = distance2 * lv.w;
     if (!(ratio2 < 1.0)) {
         return;
     }
@@ -167,20 +169,21 @@ fn shade(light: u32, lv: vec4<f32>, intensity: vec4<f32>, p: vec3<f32>, pw: vec3
     }
 #ifdef LIGHT_SPOT
     // The 64-byte record only for lights that reach the pixel: most of a
-    // froxel's list does not (its 64-pixel tile is wider than a light's reach
+    // froxel's list does not (its 256-pixel tile is wider than a light's reach
     // seen from any one pixel).
+    let light = light_index(slot);
     let record = lights[light];
     let mask = spot_mask(light, record, pw);
     if (all(mask <= vec3<f32>(0.0))) {
         return;
     }
-    var radiance = intensity.rgb * mask;
+    var radiance = light_radiance(slot) * mask;
 #else
-    var radiance = intensity.rgb;
+    var radiance = light_radiance(slot);
 #endif
 #ifdef SHADOWS
     // A light's own shadow slice (cone.z; -1: casts none).
-    let caster = lights[light];
+    let caster = lights[light_index(slot)];
     if (caster.cone.z >= 0.0) {
         radiance *= light_shadow(u32(caster.cone.z), pw, normal_world, pw - caster.position_range.xyz, view_depth, n_dot_l);
     }
@@ -199,8 +202,8 @@ fn shade(light: u32, lv: vec4<f32>, intensity: vec4<f32>, p: vec3<f32>, pw: vec3
 // froxels' light lists together: each batch of 256 list entries is loaded
 // once for the block (not once per pixel), and only the lights whose sphere
 // touches the box around the block's surface points (depth-bounded, much
-// tighter than the 64-pixel froxel) are kept, in a bit mask, so every pixel
-// walks the survivors in list order: the sums, and so the pictures, are the
+// tighter than the 256-pixel froxel) are kept, packed in list order, so every
+// pixel walks the survivors in list order: the sums, and so the pictures, are the
 // same bit for bit as a pixel walking its whole list (a light that misses the
 // box misses every pixel in it), at a fraction of the loads and tests.
 const GROUP: u32 = 16u;
@@ -213,12 +216,22 @@ var<workgroup> box_hi: array<atomic<u32>, 3>;
 var<workgroup> slice_span: array<atomic<u32>, 2>;
 var<workgroup> span_read: vec2<u32>;
 var<workgroup> froxel_read: vec2<u32>;
-// Two masks, alternating by batch, so one can be cleared while the other is read.
+// Which lanes' lights survived, to pack them. Two masks, alternating by
+// batch, so one can be cleared while the other is read.
 var<workgroup> batch_mask: array<array<atomic<u32>, MASK_WORDS>, 2>;
+// View-space position and 1 / range^2 (with_inverse_range).
 var<workgroup> batch_view: array<vec4<f32>, BATCH>;
 // The lights' intensities (their records' `intensity`), read once per block.
 var<workgroup> batch_intensity: array<vec4<f32>, BATCH>;
 var<workgroup> batch_light: array<u32, BATCH>;
+
+fn light_index(slot: u32) -> u32 {
+    return batch_light[slot];
+}
+
+fn light_radiance(slot: u32) -> vec3<f32> {
+    return batch_intensity[slot].rgb;
+}
 
 // Floats to unsigned integers in the same order, for atomicMin/Max.
 fn ordered(f: f32) -> u32 {
@@ -228,6 +241,14 @@ fn ordered(f: f32) -> u32 {
 
 fn unordered(u: u32) -> f32 {
     return bitcast<f32>(select(~u, u & 0x7fffffffu, (u & 0x80000000u) != 0u));
+}
+#else
+fn light_index(slot: u32) -> u32 {
+    return slot;
+}
+
+fn light_radiance(slot: u32) -> vec3<f32> {
+    return lights[slot].intensity.rgb;
 }
 #endif
 
@@ -353,34 +374,48 @@ fn main(@builtin(local_invocation_index) lane: u32, @builtin(workgroup_id) wid: 
         for (var start = 0u; start < froxel.y; start += BATCH) {
             let parity = round & 1u;
             let k = start + lane;
+            var survives = false;
+            var light = 0u;
+            var lv = vec4<f32>(0.0);
             if (k < froxel.y) {
-                let light = indices[froxel.x + k];
-                let lv = view_lights[light];
+                light = indices[froxel.x + k];
+                lv = view_lights[light];
                 let offset = lv.xyz - clamp(lv.xyz, lo, hi);
                 // A light without a range lights nothing (shade leaves it to this test).
-                if (lv.w > 0.0 && dot(offset, offset) < lv.w * lv.w) {
-                    batch_view[lane] = lv;
-                    batch_intensity[lane] = with_inverse_range(lights[light].intensity, lv.w);
-                    batch_light[lane] = light;
+                survives = lv.w > 0.0 && dot(offset, offset) < lv.w * lv.w;
+                if (survives) {
                     atomicOr(&batch_mask[parity][lane / 32u], 1u << (lane % 32u));
                 }
             }
-            // The other mask was last read before the previous batch's closing barrier.
+            // The other mask was last read before the previous batch's second barrier.
             if (lane < MASK_WORDS) {
                 atomicStore(&batch_mask[1u - parity][lane], 0u);
             }
             workgroupBarrier();
-            if (covered && slice == z) {
-                for (var w = 0u; w < MASK_WORDS; w++) {
-                    var bits = atomicLoad(&batch_mask[parity][w]);
-                    while (bits != 0u) {
-                        let slot = w * 32u + countTrailingZeros(bits);
-                        bits &= bits - 1u;
-                        shade(batch_light[slot], batch_view[slot], batch_intensity[slot], p, pw, surface, &sums);
-                    }
-                }
+            // The survivors, packed in list order: each one's place is the
+            // count of survivors before it. The walk is then a counted loop
+            // with no bit arithmetic per light, and the sums keep their order.
+            var survivors = 0u;
+            var place = 0u;
+            for (var w = 0u; w < MASK_WORDS; w++) {
+                let word = atomicLoad(&batch_mask[parity][w]);
+                let before = select(0u, select(word, word & ((1u << (lane % 32u)) - 1u), w == lane / 32u), w <= lane / 32u);
+                place += countOneBits(before);
+                survivors += countOneBits(word);
+            }
+            // The packed arrays were last read by the previous batch's walk,
+            // which every lane left before the barrier above.
+            if (survives) {
+                batch_view[place] = with_inverse_range(lv);
+                batch_intensity[place] = lights[light].intensity;
+                batch_light[place] = light;
             }
             workgroupBarrier();
+            if (covered && slice == z) {
+                for (var slot = 0u; slot < survivors; slot++) {
+                    shade(slot, batch_view[slot], p, pw, surface, &sums);
+                }
+            }
             round++;
         }
     }
@@ -394,7 +429,7 @@ fn main(@builtin(local_invocation_index) lane: u32, @builtin(workgroup_id) wid: 
                 continue;
             }
 #endif
-            shade(i, lv, with_inverse_range(lights[i].intensity, lv.w), p, pw, surface, &sums);
+            shade(i, with_inverse_range(lv), p, pw, surface, &sums);
         }
     }
 #endif
