@@ -412,7 +412,16 @@ fn main(@builtin(local_invocation_index) lane: u32, @builtin(workgroup_id) wid: 
             }
             workgroupBarrier();
             if (covered && slice == z) {
-                for (var slot = 0u; slot < survivors; slot++) {
+                // Two lights a step, their positions loaded together: the
+                // second's load and range test overlap the first's.
+                var slot = 0u;
+                for (; slot + 1u < survivors; slot += 2u) {
+                    let first = batch_view[slot];
+                    let second = batch_view[slot + 1u];
+                    shade(slot, first, p, pw, surface, &sums);
+                    shade(slot + 1u, second, p, pw, surface, &sums);
+                }
+                if (slot < survivors) {
                     shade(slot, batch_view[slot], p, pw, surface, &sums);
                 }
             }
