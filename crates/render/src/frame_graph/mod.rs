@@ -275,19 +275,6 @@ impl<'f> PassContext<'f> {
         bindings: &[(u32, wgpu::BindingResource<'_>)],
         size: (u32, u32),
     ) -> Result<(), RenderError> {
-        self.dispatch_tiles(label, key, bindings, size, (8, 8))
-    }
-
-    /// `dispatch_image` for a shader whose workgroups cover `tile` pixels
-    /// (its workgroup size) instead of 8x8.
-    pub fn dispatch_tiles(
-        &mut self,
-        label: &str,
-        key: &crate::shaders::ShaderKey,
-        bindings: &[(u32, wgpu::BindingResource<'_>)],
-        size: (u32, u32),
-        tile: (u32, u32),
-    ) -> Result<(), RenderError> {
         let device = self.gpu.device.clone();
         let pipeline = self.shaders.compute_pipeline(&device, key, "main")?;
         let group = self
@@ -297,7 +284,7 @@ impl<'f> PassContext<'f> {
             label,
             &pipeline,
             &[&group],
-            (size.0.div_ceil(tile.0), size.1.div_ceil(tile.1), 1),
+            (size.0.div_ceil(8), size.1.div_ceil(8), 1),
         );
         Ok(())
     }

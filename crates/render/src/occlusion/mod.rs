@@ -409,13 +409,11 @@ impl AmbientOcclusion {
             all.push((6, wgpu::BindingResource::TextureView(c)));
         }
         let size = self.gbuffer.pixel_size(cx.output_size);
-        // Runs of 64 pixels along the blur's axis, 4 across (blur.wgsl).
-        cx.dispatch_tiles(
+        cx.dispatch_image(
             if vertical { "ao blur y" } else { "ao blur x" },
             &ShaderKey::new("occlusion/blur.wgsl", features),
             &all,
             size,
-            if vertical { (4, 64) } else { (64, 4) },
         )
     }
 }
