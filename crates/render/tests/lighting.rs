@@ -10,7 +10,8 @@ use glam::{Mat4, Vec3};
 use spreadlight_render::camera::CameraInput;
 use spreadlight_render::gbuffer::{DrawBatch, GBuffer, InstanceInput, Layer, LayerFeatures};
 use spreadlight_render::lighting::{
-    CookTorrance, FEW_LIGHTS, LightBuffer, LightLoop, PointLight, SpotLight, SunLight, Surfaces,
+    ClusterGrid, CookTorrance, FEW_LIGHTS, LightBuffer, LightLoop, PointLight, SpotLight, SunLight,
+    Surfaces,
 };
 use spreadlight_render::mesh::primitives::{GridParams, SphereParams, grid, sphere};
 use spreadlight_render::readback::{ImageF32, render_and_read};
@@ -204,10 +205,30 @@ fn clustered_shading_matches_the_naive_reference() {
 }
 
 #[test]
+fn clustered_shading_matches_the_naive_reference_with_lights_packed_into_workgroups() {
+    // Past 8,192 lights the assignment packs eight lights into a workgroup
+    // (cook_torrance.rs, PACKED_LIGHTS): the lists must be the same.
+    let renderer = test_renderer();
+    let g = scene(&renderer);
+    let lights = scattered(10_000);
+    let naive = shade(&renderer, &g, lights.clone(), LightLoop::Naive);
+    let clustered = shade(&renderer, &g, lights, LightLoop::Clustered);
+    let worst = max_relative_difference(&clustered, &naive);
+    assert!(
+        worst < 1e-3,
+        "clustered differs from naive by up to {worst}"
+    );
+    let lit = naive.pixels.iter().filter(|p| p[0] > 0.01).count();
+    assert!(lit > naive.pixels.len() / 2, "{lit} pixels lit");
+}
+
+#[test]
 fn clustered_shading_matches_the_naive_reference_past_one_round_of_the_froxel_scan() {
-    // 704 x 256: 11 x 4 tiles x 32 slices = 1,408 froxels; the scan sums
-    // 1,024 a round and carries the total into the next.
-    let size = (704, 256);
+    // 11 x 3 tiles x 32 slices = 1,056 froxels; the scan sums 1,024 a
+    // round and carries the total into the next.
+    let (tiles, tile) = ((11, 3), ClusterGrid::TILE);
+    assert!(tiles.0 * tiles.1 * ClusterGrid::SLICES > 1024);
+    let size = (tiles.0 * tile, tiles.1 * tile);
     let renderer = test_renderer();
     let g = scene(&renderer);
     let lights = scattered(60);
