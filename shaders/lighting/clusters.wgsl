@@ -153,33 +153,11 @@ fn transform(@builtin(global_invocation_id) id: vec3<u32>) {
 // (z: how many a light gets): a big light near the camera can touch
 // thousands, and one thread each would serialize them. A frame with few
 // lights gives each many workgroups, so a handful of big spots does not
-// leave the GPU idle while 64 lanes walk 16,000 froxels each. A frame with
-// many lights packs PACKED of them into a workgroup (`count_packed`,
-// `fill_packed`), LANES / PACKED lanes each: at 100,000 lights of a few
-// froxels each, 64 lanes a light left most lanes idle.
+// leave the GPU idle while 64 lanes walk 16,000 froxels each.
 const LANES: u32 = 64u;
-const PACKED: u32 = 8u;
 
 fn light_of(wid: vec3<u32>) -> u32 {
     return wid.x + wid.y * 65535u;
-}
-
-// Counts light `index` into its froxels, the lanes taking froxels
-// `first`, `first + stride`, ...
-fn count_light(index: u32, first: u32, stride: u32) {
-    if (index >= grid.dims.w) {
-        return;
-    }
-    let light = view_lights[index];
-    let range = froxels(light);
-    let extent = max(range[1] - range[0] + 1, vec3<i32>(0));
-    let total = u32(extent.x * extent.y * extent.z);
-    for (var k = first; k < total; k += stride) {
-        let f = froxel_at(range[0], extent, k);
-        if (touches(light, f.x, f.y, f.z)) {
-            atomicAdd(&counts[cluster_index(f.x, f.y, f.z)], 1u);
-        }
-    }
 }
 
 @compute @workgroup_size(64)
@@ -189,14 +167,20 @@ fn count(
     @builtin(local_invocation_index) lane: u32,
 ) {
     load_slice_depths(lane);
-    count_light(light_of(wid), lane + wid.z * LANES, LANES * groups.z);
-}
-
-@compute @workgroup_size(64)
-fn count_packed(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation_index) lane: u32) {
-    load_slice_depths(lane);
-    let lanes = LANES / PACKED;
-    count_light(light_of(wid) * PACKED + lane / lanes, lane % lanes, lanes);
+    let index = light_of(wid);
+    if (index >= grid.dims.w) {
+        return;
+    }
+    let light = view_lights[index];
+    let range = froxels(light);
+    let extent = max(range[1] - range[0] + 1, vec3<i32>(0));
+    let total = u32(extent.x * extent.y * extent.z);
+    for (var k = lane + wid.z * LANES; k < total; k += LANES * groups.z) {
+        let f = froxel_at(range[0], extent, k);
+        if (touches(light, f.x, f.y, f.z)) {
+            atomicAdd(&counts[cluster_index(f.x, f.y, f.z)], 1u);
+        }
+    }
 }
 
 var<workgroup> partial: array<u32, 256>;
@@ -251,9 +235,14 @@ fn scan(@builtin(local_invocation_index) lane: u32) {
     }
 }
 
-// Lists light `index` in its froxels, the lanes taking froxels `first`,
-// `first + stride`, ...
-fn fill_light(index: u32, first: u32, stride: u32) {
+@compute @workgroup_size(64)
+fn fill(
+    @builtin(workgroup_id) wid: vec3<u32>,
+    @builtin(num_workgroups) groups: vec3<u32>,
+    @builtin(local_invocation_index) lane: u32,
+) {
+    load_slice_depths(lane);
+    let index = light_of(wid);
     if (index >= grid.dims.w) {
         return;
     }
@@ -262,7 +251,7 @@ fn fill_light(index: u32, first: u32, stride: u32) {
     let range = froxels(light);
     let extent = max(range[1] - range[0] + 1, vec3<i32>(0));
     let total = u32(extent.x * extent.y * extent.z);
-    for (var k = first; k < total; k += stride) {
+    for (var k = lane + wid.z * LANES; k < total; k += LANES * groups.z) {
         let f = froxel_at(range[0], extent, k);
         if (!touches(light, f.x, f.y, f.z)) {
             continue;
@@ -275,21 +264,4 @@ fn fill_light(index: u32, first: u32, stride: u32) {
             atomicAdd(&totals[2], 1u);
         }
     }
-}
-
-@compute @workgroup_size(64)
-fn fill(
-    @builtin(workgroup_id) wid: vec3<u32>,
-    @builtin(num_workgroups) groups: vec3<u32>,
-    @builtin(local_invocation_index) lane: u32,
-) {
-    load_slice_depths(lane);
-    fill_light(light_of(wid), lane + wid.z * LANES, LANES * groups.z);
-}
-
-@compute @workgroup_size(64)
-fn fill_packed(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation_index) lane: u32) {
-    load_slice_depths(lane);
-    let lanes = LANES / PACKED;
-    fill_light(light_of(wid) * PACKED + lane / lanes, lane % lanes, lanes);
 }

@@ -205,24 +205,6 @@ fn clustered_shading_matches_the_naive_reference() {
 }
 
 #[test]
-fn clustered_shading_matches_the_naive_reference_with_lights_packed_into_workgroups() {
-    // Past 8,192 lights the assignment packs eight lights into a workgroup
-    // (cook_torrance.rs, PACKED_LIGHTS): the lists must be the same.
-    let renderer = test_renderer();
-    let g = scene(&renderer);
-    let lights = scattered(10_000);
-    let naive = shade(&renderer, &g, lights.clone(), LightLoop::Naive);
-    let clustered = shade(&renderer, &g, lights, LightLoop::Clustered);
-    let worst = max_relative_difference(&clustered, &naive);
-    assert!(
-        worst < 1e-3,
-        "clustered differs from naive by up to {worst}"
-    );
-    let lit = naive.pixels.iter().filter(|p| p[0] > 0.01).count();
-    assert!(lit > naive.pixels.len() / 2, "{lit} pixels lit");
-}
-
-#[test]
 fn clustered_shading_matches_the_naive_reference_past_one_round_of_the_froxel_scan() {
     // 11 x 3 tiles x 32 slices = 1,056 froxels; the scan sums 1,024 a
     // round and carries the total into the next.

@@ -241,12 +241,9 @@ impl CookTorrance {
             (6, b.indices.as_entire_binding()),
             (7, b.totals.as_entire_binding()),
         ];
-        // Many lights: PACKED_LIGHTS of them share a workgroup (clusters.wgsl).
-        let packed = workgroups_per_light(count) == 1;
-        let steps: &[&'static str] = match (self.walk, packed) {
-            (Walk::Clustered, false) => &["transform", "count", "scan", "fill"],
-            (Walk::Clustered, true) => &["transform", "count_packed", "scan", "fill_packed"],
-            (Walk::Naive, _) => &["transform"],
+        let steps: &[&'static str] = match self.walk {
+            Walk::Clustered => &["transform", "count", "scan", "fill"],
+            Walk::Naive => &["transform"],
         };
         let mut work = Vec::new();
         for step in steps {
@@ -260,10 +257,6 @@ impl CookTorrance {
             let groups = match *step {
                 "scan" => (1, 1, 1),
                 "transform" => (count.div_ceil(64).max(1), 1, 1),
-                "count_packed" | "fill_packed" => {
-                    let groups = count.div_ceil(PACKED_LIGHTS).max(1);
-                    (groups.min(65_535), groups.div_ceil(65_535), 1)
-                }
                 _ => (
                     count.clamp(1, 65_535),
                     count.div_ceil(65_535).max(1),
@@ -506,11 +499,6 @@ impl Recipe for CookTorrance {
         );
     }
 }
-
-/// Lights a workgroup assigns together where each has a workgroup or less
-/// (`PACKED` in clusters.wgsl): at 100,000 lights a light touches a few
-/// froxels, and 64 lanes a light left most of them idle.
-const PACKED_LIGHTS: u32 = 8;
 
 /// How many workgroups share each light's froxels when `lights` are
 /// assigned: enough that a few lights still fill the GPU (three big spots
