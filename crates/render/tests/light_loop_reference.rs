@@ -9,11 +9,10 @@ mod floor_view;
 
 use std::sync::Arc;
 
-use floor_view::{SIZE, camera, floor_points};
+use floor_view::{SIZE, camera, floor_mesh, floor_points};
 use glam::{Mat4, Vec3};
 use spreadlight_render::gbuffer::{DrawBatch, GBuffer, InstanceInput, Layer, LayerFeatures};
 use spreadlight_render::lighting::{CookTorrance, LightBuffer, LightLoop, PointLight, Surfaces};
-use spreadlight_render::mesh::primitives::{GridParams, grid};
 use spreadlight_render::readback::{ImageF32, render_and_read};
 use spreadlight_render::reference::brdf::cook_torrance_f0;
 use spreadlight_render::reference::lights::point_attenuation;
@@ -24,17 +23,7 @@ use spreadlight_render::{Renderer, SizeRule};
 const ALBEDO: Vec3 = Vec3::new(0.8, 0.6, 0.4);
 
 fn floor(renderer: &Renderer) -> Arc<GBuffer> {
-    let plane = renderer
-        .meshes
-        .upload(
-            &renderer.gpu,
-            &grid(GridParams {
-                size: glam::Vec2::splat(20.0),
-                resolution_x: 1,
-                resolution_y: 1,
-            }),
-        )
-        .expect("upload");
+    let plane = floor_mesh(renderer);
     let batches = vec![DrawBatch {
         mesh: plane,
         instances: vec![InstanceInput {

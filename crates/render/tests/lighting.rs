@@ -2,10 +2,13 @@
 //! reference, and the hard cases of the stability suite that are in place
 //! so far (no NaN or infinity in any HDR target).
 
+mod floor_view;
+
 use std::sync::Arc;
 
 use std::f32::consts::PI;
 
+use floor_view::floor_mesh;
 use glam::{Mat4, Vec3};
 use spreadlight_render::camera::CameraInput;
 use spreadlight_render::gbuffer::{DrawBatch, GBuffer, InstanceInput, Layer, LayerFeatures};
@@ -13,7 +16,7 @@ use spreadlight_render::lighting::{
     ClusterGrid, CookTorrance, FEW_LIGHTS, LightBuffer, LightLoop, PointLight, SpotLight, SunLight,
     Surfaces,
 };
-use spreadlight_render::mesh::primitives::{GridParams, SphereParams, grid, sphere};
+use spreadlight_render::mesh::primitives::{SphereParams, sphere};
 use spreadlight_render::readback::{ImageF32, render_and_read};
 use spreadlight_render::renderer::test_renderer;
 use spreadlight_render::{Renderer, SizeRule};
@@ -31,17 +34,7 @@ fn scene_with(renderer: &Renderer, features: LayerFeatures) -> Arc<GBuffer> {
         .meshes
         .upload(&renderer.gpu, &sphere(SphereParams::default()))
         .expect("upload");
-    let floor = renderer
-        .meshes
-        .upload(
-            &renderer.gpu,
-            &grid(GridParams {
-                size: glam::Vec2::splat(20.0),
-                resolution_x: 1,
-                resolution_y: 1,
-            }),
-        )
-        .expect("upload");
+    let floor = floor_mesh(renderer);
     let instance = |t: Mat4| InstanceInput {
         transform: t,
         previous_transform: t,

@@ -9,7 +9,7 @@ mod floor_view;
 
 use std::sync::Arc;
 
-use floor_view::{SIZE, camera, floor_points};
+use floor_view::{SIZE, camera, floor_mesh, floor_points};
 use glam::{Mat4, Vec3};
 use spreadlight_render::gbuffer::{
     DrawBatch, GBuffer, InstanceInput, Layer, LayerFeatures, SurfaceShader,
@@ -19,7 +19,7 @@ use spreadlight_render::lighting::{
     Surfaces,
 };
 use spreadlight_render::material::{Feature, Material, MaterialWorld};
-use spreadlight_render::mesh::primitives::{GridParams, SphereParams, grid, sphere};
+use spreadlight_render::mesh::primitives::{SphereParams, sphere};
 use spreadlight_render::readback::{ImageF32, render_and_read};
 use spreadlight_render::recipe::TextureRef;
 use spreadlight_render::reference::brdf::cook_torrance_f0;
@@ -67,17 +67,7 @@ fn scene(
         material_id: 0,
         object_id: 0,
     };
-    let plane = renderer
-        .meshes
-        .upload(
-            &renderer.gpu,
-            &grid(GridParams {
-                size: glam::Vec2::splat(20.0),
-                resolution_x: 1,
-                resolution_y: 1,
-            }),
-        )
-        .expect("upload");
+    let plane = floor_mesh(renderer);
     let layer = |mesh, t, albedo, surface| {
         let batches = vec![DrawBatch {
             mesh,

@@ -1,9 +1,16 @@
 //! A camera over a 20x20 floor at y = 0, and per pixel the floor point it
 //! sees: tests that shade the floor compare each pixel with the CPU
 //! reference at that point (`surface_lighting.rs`, `light_loop_reference.rs`).
+// Each test file uses a part of it.
+#![allow(dead_code)]
+
+use std::sync::Arc;
 
 use glam::{Vec3, Vec4Swizzles};
+use spreadlight_render::Renderer;
 use spreadlight_render::camera::CameraInput;
+use spreadlight_render::mesh::primitives::{GridParams, grid};
+use spreadlight_render::mesh_arena::GpuMesh;
 
 pub const SIZE: (u32, u32) = (96, 54);
 pub const EYE: Vec3 = Vec3::new(0.0, 4.0, 6.0);
@@ -39,4 +46,19 @@ pub fn floor_points() -> Vec<Option<(Vec3, Vec3)>> {
             (p.x.abs() < 9.5 && p.z.abs() < 9.5).then_some((p, -ray))
         })
         .collect()
+}
+
+/// The 20x20 floor, one quad, uploaded.
+pub fn floor_mesh(renderer: &Renderer) -> Arc<GpuMesh> {
+    renderer
+        .meshes
+        .upload(
+            &renderer.gpu,
+            &grid(GridParams {
+                size: glam::Vec2::splat(20.0),
+                resolution_x: 1,
+                resolution_y: 1,
+            }),
+        )
+        .expect("upload")
 }
