@@ -377,6 +377,7 @@ fn main(@builtin(local_invocation_index) lane: u32, @builtin(workgroup_id) wid: 
             var survives = false;
             var light = 0u;
             var lv = vec4<f32>(0.0);
+            var intensity = vec4<f32>(0.0);
             if (k < froxel.y) {
                 light = indices[froxel.x + k];
                 lv = view_lights[light];
@@ -385,6 +386,8 @@ fn main(@builtin(local_invocation_index) lane: u32, @builtin(workgroup_id) wid: 
                 survives = lv.w > 0.0 && dot(offset, offset) < lv.w * lv.w;
                 if (survives) {
                     atomicOr(&batch_mask[parity][lane / 32u], 1u << (lane % 32u));
+                    // Read before the barrier, so the wait for it overlaps the other lanes'.
+                    intensity = lights[light].intensity;
                 }
             }
             // The other mask was last read before the previous batch's second barrier.
@@ -407,7 +410,7 @@ fn main(@builtin(local_invocation_index) lane: u32, @builtin(workgroup_id) wid: 
             // which every lane left before the barrier above.
             if (survives) {
                 batch_view[place] = with_inverse_range(lv);
-                batch_intensity[place] = lights[light].intensity;
+                batch_intensity[place] = intensity;
                 batch_light[place] = light;
             }
             workgroupBarrier();
