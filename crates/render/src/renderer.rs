@@ -347,6 +347,50 @@ impl Renderer {
             .clone()
     }
 
+    /// Write `bytes` at the start of the buffer kept under node `owner`'s
+    /// `label` ([`Renderer::kept_buffer`]), only the bytes that differ from
+    /// what this last wrote there (counted as [`Renderer::uniform`]'s
+    /// uploads): a recipe that fills its kept buffer as it declares, such as
+    /// the G-buffer's camera, skips the write when nothing moved. A buffer
+    /// that is not the one kept there (no owner, or replaced) is written whole.
+    pub fn write_kept(
+        &self,
+        owner: Option<u32>,
+        label: &'static str,
+        buffer: &wgpu::Buffer,
+        bytes: &[u8],
+    ) {
+        let mut uploads = self.uploads.lock().unwrap_or_else(|e| e.into_inner());
+        let mut kept = self.kept.lock().unwrap_or_else(|e| e.into_inner());
+        let entry = owner
+            .and_then(|owner| kept.get_mut(&(owner, label, 0)))
+            .filter(|k| k.buffer == *buffer);
+        let span = match entry {
+            Some(k) if k.contents.len() == bytes.len() => {
+                let span = changed_span(&k.contents, bytes);
+                if let Some((start, end)) = span {
+                    k.contents[start..end].copy_from_slice(&bytes[start..end]);
+                }
+                span
+            }
+            Some(k) => {
+                k.contents = bytes.to_vec();
+                Some((0, bytes.len()))
+            }
+            None => Some((0, bytes.len())),
+        };
+        match span {
+            Some((start, end)) => {
+                self.gpu
+                    .queue
+                    .write_buffer(buffer, start as u64, &bytes[start..end]);
+                uploads.0 += 1;
+                uploads.2 += (end - start) as u64;
+            }
+            None => uploads.1 += 1,
+        }
+    }
+
     /// Uniform uploads made and skipped, and the bytes written, since the
     /// last call (the frame report's counters).
     pub(crate) fn take_uploads(&self) -> (u64, u64, u64) {

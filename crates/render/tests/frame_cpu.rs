@@ -264,3 +264,63 @@ fn a_re_made_sun_shadow_keeps_the_bounds_of_its_still_casters() {
         );
     }
 }
+
+#[test]
+fn a_re_made_g_buffer_writes_its_camera_only_when_the_camera_moved() {
+    let renderer = test_renderer();
+    let scene = Scene::new(&renderer);
+    // The ball stands still: only the camera may change what is uploaded.
+    let layers = scene.layers(0.0);
+    let moved = |z: f32| CameraInput {
+        view: glam::camera::rh::view::look_at_mat4(Vec3::new(0.0, 6.0, z), Vec3::ZERO, Vec3::Y),
+        ..camera()
+    };
+    for (frame, z) in [8.0, 8.0, 8.0, 7.5, 7.5].into_iter().enumerate() {
+        let g = GBuffer::new(
+            &renderer,
+            Some(90),
+            layers.clone(),
+            moved(z),
+            None,
+            SizeRule::Relative(1.0),
+        );
+        let names = [g.targets.color.as_str(), g.targets.depth.as_str()];
+        let (report, images) =
+            render_and_read(&renderer, g.as_ref(), SIZE, &names).expect("renders");
+        assert!(report.errors.is_empty(), "{:?}", report.errors);
+        let bytes = report.counter("uniform bytes uploaded");
+        match frame {
+            0 => assert!(bytes > 0, "the first frame writes its camera"),
+            // Same camera, same instances: nothing is written.
+            1 | 2 | 4 => assert_eq!(
+                (bytes, report.counter("uniform uploads")),
+                (0, 0),
+                "frame {frame}: {:?}",
+                report.counters
+            ),
+            // The camera moved: its bytes, and no instance's, are written.
+            _ => assert!(
+                bytes > 0 && report.counter("uniform uploads") == 1,
+                "frame {frame}: {:?}",
+                report.counters
+            ),
+        }
+        // A G-buffer that keeps nothing draws the same.
+        let fresh = GBuffer::new(
+            &renderer,
+            None,
+            layers.clone(),
+            moved(z),
+            None,
+            SizeRule::Relative(1.0),
+        );
+        let names = [fresh.targets.color.as_str(), fresh.targets.depth.as_str()];
+        let (_, whole) = render_and_read(&renderer, fresh.as_ref(), SIZE, &names).expect("renders");
+        for (k, (a, b)) in images.iter().zip(&whole).enumerate() {
+            assert!(
+                a.pixels == b.pixels,
+                "frame {frame}, target {k}: the same image"
+            );
+        }
+    }
+}
