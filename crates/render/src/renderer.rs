@@ -5,7 +5,7 @@
 //! Nodes hold it behind an `Arc` and call it from their evaluation; its
 //! interior state is behind mutexes so it is shared, not cloned.
 
-use std::collections::HashMap;
+use rustc_hash::FxHashMap;
 use std::sync::{Arc, Mutex};
 
 use crate::context::GpuContext;
@@ -30,7 +30,7 @@ struct KeptBuffer {
 /// The buffer kept under `key` if it `fits`, else `make()` kept in its
 /// place; true when it was made now.
 fn kept_entry(
-    kept: &mut HashMap<KeptKey, KeptBuffer>,
+    kept: &mut FxHashMap<KeptKey, KeptBuffer>,
     key: KeptKey,
     fits: impl Fn(&KeptBuffer) -> bool,
     make: impl FnOnce() -> wgpu::Buffer,
@@ -138,12 +138,12 @@ pub struct Renderer {
     output_size: Mutex<(u32, u32)>,
     /// Buffers recipes keep across their re-creation, by owner node and label
     /// (`Renderer::uniform`, `Renderer::kept_buffer`), with a uniform's last contents.
-    kept: Mutex<HashMap<KeptKey, KeptBuffer>>,
+    kept: Mutex<FxHashMap<KeptKey, KeptBuffer>>,
     /// Uploads `uniform` made and skipped since the last frame graph ran.
     /// Kept-buffer writes made and skipped, and the bytes written.
     uploads: Mutex<(u64, u64, u64)>,
     /// What recipes keep between frames (shadow maps), by type and key.
-    states: Mutex<HashMap<(std::any::TypeId, u64), Arc<dyn std::any::Any + Send + Sync>>>,
+    states: Mutex<FxHashMap<(std::any::TypeId, u64), Arc<dyn std::any::Any + Send + Sync>>>,
 }
 
 /// The output size until a host sets one.
@@ -182,8 +182,8 @@ impl Renderer {
             in_flight: Mutex::new(std::collections::VecDeque::new()),
             last_report: Mutex::new(FrameReport::default()),
             output_size: Mutex::new(DEFAULT_OUTPUT_SIZE),
-            states: Mutex::new(HashMap::new()),
-            kept: Mutex::new(HashMap::new()),
+            states: Mutex::new(FxHashMap::default()),
+            kept: Mutex::new(FxHashMap::default()),
             uploads: Mutex::new((0, 0, 0)),
         })
     }
