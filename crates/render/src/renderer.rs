@@ -465,6 +465,17 @@ impl Renderer {
             .clone()
     }
 
+    /// The errors of the last executed frame graph, by owner: what a host
+    /// checks every frame, without copying the whole report (every pass's
+    /// name and the counters) as [`Renderer::last_report`] does.
+    pub fn last_errors(&self) -> Vec<(Option<u32>, String)> {
+        self.last_report
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .errors
+            .clone()
+    }
+
     /// A persistent texture by its name (temporal history), if a frame made it:
     /// for tests and tools that inspect or seed history.
     pub fn persistent_texture(&self, name: &str) -> Option<wgpu::Texture> {
