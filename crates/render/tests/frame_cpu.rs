@@ -324,3 +324,46 @@ fn a_re_made_g_buffer_writes_its_camera_only_when_the_camera_moved() {
         }
     }
 }
+
+#[test]
+fn a_re_made_g_buffer_publishes_its_depth_through_kept_bind_groups() {
+    use spreadlight_render::gbuffer::{PublishedDepths, RasterChoice};
+    let renderer = test_renderer();
+    let scene = Scene::new(&renderer);
+    let layers = scene.layers(0.0);
+    let make = |name: &str| {
+        GBuffer::publishing_depth(
+            &renderer,
+            Some(91),
+            layers.clone(),
+            camera(),
+            None,
+            SizeRule::Relative(1.0),
+            RasterChoice::Auto,
+            name.to_owned(),
+        )
+    };
+    let reused = |g: &GBuffer| {
+        let (report, _) =
+            render_and_read(&renderer, g, SIZE, &[g.targets.color.as_str()]).expect("renders");
+        assert!(report.errors.is_empty(), "{:?}", report.errors);
+        (
+            report.counter("bind groups created"),
+            report.counter("bind groups reused"),
+        )
+    };
+    // The same G-buffer without publishing, to count its own groups.
+    let (_, plain) = (0..2).map(|_| reused(&make(""))).last().unwrap_or_default();
+    for frame in 0..3 {
+        let (created, groups) = reused(&make("cpu3 depth"));
+        if frame > 0 {
+            // The publishing pass binds the same source and kept target: its
+            // group is the one made in the first frame.
+            assert_eq!((created, groups), (0, plain + 1), "frame {frame}");
+        }
+    }
+    let published = PublishedDepths::of(&renderer)
+        .get("cpu3 depth")
+        .expect("published");
+    assert_eq!(published.writes, 3);
+}
