@@ -139,7 +139,7 @@ impl Session {
             errors.push(format!("error: {}: node {node}: {error}", path.display()));
         }
         if let Some(renderer) = &self.renderer {
-            for (owner, error) in renderer.last_report().errors {
+            for (owner, error) in renderer.last_errors() {
                 let node = owner.map_or("the renderer".to_owned(), |n| {
                     let place = self.runtime.path_of(NodeId(n));
                     format!("node {}", place.map_or(format!("#{n}"), path_text))

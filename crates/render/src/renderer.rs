@@ -5,7 +5,7 @@
 //! Nodes hold it behind an `Arc` and call it from their evaluation; its
 //! interior state is behind mutexes so it is shared, not cloned.
 
-use std::collections::HashMap;
+use rustc_hash::FxHashMap;
 use std::sync::{Arc, Mutex};
 
 use crate::context::GpuContext;
@@ -30,7 +30,7 @@ struct KeptBuffer {
 /// The buffer kept under `key` if it `fits`, else `make()` kept in its
 /// place; true when it was made now.
 fn kept_entry(
-    kept: &mut HashMap<KeptKey, KeptBuffer>,
+    kept: &mut FxHashMap<KeptKey, KeptBuffer>,
     key: KeptKey,
     fits: impl Fn(&KeptBuffer) -> bool,
     make: impl FnOnce() -> wgpu::Buffer,
@@ -138,12 +138,12 @@ pub struct Renderer {
     output_size: Mutex<(u32, u32)>,
     /// Buffers recipes keep across their re-creation, by owner node and label
     /// (`Renderer::uniform`, `Renderer::kept_buffer`), with a uniform's last contents.
-    kept: Mutex<HashMap<KeptKey, KeptBuffer>>,
+    kept: Mutex<FxHashMap<KeptKey, KeptBuffer>>,
     /// Uploads `uniform` made and skipped since the last frame graph ran.
     /// Kept-buffer writes made and skipped, and the bytes written.
     uploads: Mutex<(u64, u64, u64)>,
     /// What recipes keep between frames (shadow maps), by type and key.
-    states: Mutex<HashMap<(std::any::TypeId, u64), Arc<dyn std::any::Any + Send + Sync>>>,
+    states: Mutex<FxHashMap<(std::any::TypeId, u64), Arc<dyn std::any::Any + Send + Sync>>>,
 }
 
 /// The output size until a host sets one.
@@ -182,8 +182,8 @@ impl Renderer {
             in_flight: Mutex::new(std::collections::VecDeque::new()),
             last_report: Mutex::new(FrameReport::default()),
             output_size: Mutex::new(DEFAULT_OUTPUT_SIZE),
-            states: Mutex::new(HashMap::new()),
-            kept: Mutex::new(HashMap::new()),
+            states: Mutex::new(FxHashMap::default()),
+            kept: Mutex::new(FxHashMap::default()),
             uploads: Mutex::new((0, 0, 0)),
         })
     }
@@ -347,6 +347,50 @@ impl Renderer {
             .clone()
     }
 
+    /// Write `bytes` at the start of the buffer kept under node `owner`'s
+    /// `label` ([`Renderer::kept_buffer`]), only the bytes that differ from
+    /// what this last wrote there (counted as [`Renderer::uniform`]'s
+    /// uploads): a recipe that fills its kept buffer as it declares, such as
+    /// the G-buffer's camera, skips the write when nothing moved. A buffer
+    /// that is not the one kept there (no owner, or replaced) is written whole.
+    pub fn write_kept(
+        &self,
+        owner: Option<u32>,
+        label: &'static str,
+        buffer: &wgpu::Buffer,
+        bytes: &[u8],
+    ) {
+        let mut uploads = self.uploads.lock().unwrap_or_else(|e| e.into_inner());
+        let mut kept = self.kept.lock().unwrap_or_else(|e| e.into_inner());
+        let entry = owner
+            .and_then(|owner| kept.get_mut(&(owner, label, 0)))
+            .filter(|k| k.buffer == *buffer);
+        let span = match entry {
+            Some(k) if k.contents.len() == bytes.len() => {
+                let span = changed_span(&k.contents, bytes);
+                if let Some((start, end)) = span {
+                    k.contents[start..end].copy_from_slice(&bytes[start..end]);
+                }
+                span
+            }
+            Some(k) => {
+                k.contents = bytes.to_vec();
+                Some((0, bytes.len()))
+            }
+            None => Some((0, bytes.len())),
+        };
+        match span {
+            Some((start, end)) => {
+                self.gpu
+                    .queue
+                    .write_buffer(buffer, start as u64, &bytes[start..end]);
+                uploads.0 += 1;
+                uploads.2 += (end - start) as u64;
+            }
+            None => uploads.1 += 1,
+        }
+    }
+
     /// Uniform uploads made and skipped, and the bytes written, since the
     /// last call (the frame report's counters).
     pub(crate) fn take_uploads(&self) -> (u64, u64, u64) {
@@ -418,6 +462,17 @@ impl Renderer {
         self.last_report
             .lock()
             .unwrap_or_else(|e| e.into_inner())
+            .clone()
+    }
+
+    /// The errors of the last executed frame graph, by owner: what a host
+    /// checks every frame, without copying the whole report (every pass's
+    /// name and the counters) as [`Renderer::last_report`] does.
+    pub fn last_errors(&self) -> Vec<(Option<u32>, String)> {
+        self.last_report
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .errors
             .clone()
     }
 

@@ -2,7 +2,7 @@
 //! by [`TextureKey`] (format, size, usage) for reuse, persistent textures by
 //! name (histories), and last frame's outputs lent to the caller.
 
-use std::collections::HashMap;
+use rustc_hash::FxHashMap;
 
 /// The concrete size and format a [`TextureDesc`] resolves to in one frame: the pool's key.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -80,7 +80,7 @@ impl ViewSpec {
 /// frame is dropped (with the texture it keeps alive).
 #[derive(Default)]
 pub(crate) struct ViewCache {
-    views: HashMap<(wgpu::Texture, ViewSpec), (wgpu::TextureView, bool)>,
+    views: FxHashMap<(wgpu::Texture, ViewSpec), (wgpu::TextureView, bool)>,
     pub created: u64,
     pub reused: u64,
 }
@@ -111,10 +111,10 @@ impl ViewCache {
 
 #[derive(Default)]
 pub(crate) struct TexturePool {
-    pub pool: HashMap<TextureKey, Vec<wgpu::Texture>>,
-    pub persistent: HashMap<String, (TextureKey, wgpu::Texture)>,
+    pub pool: FxHashMap<TextureKey, Vec<wgpu::Texture>>,
+    pub persistent: FxHashMap<String, (TextureKey, wgpu::Texture)>,
     /// Per persistent texture: frame graphs run since a pass last wrote it.
-    pub idle: HashMap<String, u32>,
+    pub idle: FxHashMap<String, u32>,
     /// Last frame's requested outputs: handed to the caller, back to the pool next frame.
     pub lent: Vec<(TextureKey, wgpu::Texture)>,
     pub views: ViewCache,
@@ -123,7 +123,7 @@ pub(crate) struct TexturePool {
     /// while it is free: a stack alone hands textures of one key out in a
     /// different order each frame (those returned last are taken first), and
     /// a pass that binds other textures than last frame makes new bind groups.
-    last: HashMap<u64, (wgpu::Texture, bool)>,
+    last: FxHashMap<u64, (wgpu::Texture, bool)>,
     /// Textures kept out of the pool until the frame ends (see [`Self::hold_for`]).
     held: Vec<(TextureKey, wgpu::Texture)>,
 }

@@ -264,3 +264,107 @@ fn a_re_made_sun_shadow_keeps_the_bounds_of_its_still_casters() {
         );
     }
 }
+
+#[test]
+fn a_re_made_g_buffer_writes_its_camera_only_when_the_camera_moved() {
+    let renderer = test_renderer();
+    let scene = Scene::new(&renderer);
+    // The ball stands still: only the camera may change what is uploaded.
+    let layers = scene.layers(0.0);
+    let moved = |z: f32| CameraInput {
+        view: glam::camera::rh::view::look_at_mat4(Vec3::new(0.0, 6.0, z), Vec3::ZERO, Vec3::Y),
+        ..camera()
+    };
+    for (frame, z) in [8.0, 8.0, 8.0, 7.5, 7.5].into_iter().enumerate() {
+        let g = GBuffer::new(
+            &renderer,
+            Some(90),
+            layers.clone(),
+            moved(z),
+            None,
+            SizeRule::Relative(1.0),
+        );
+        let names = [g.targets.color.as_str(), g.targets.depth.as_str()];
+        let (report, images) =
+            render_and_read(&renderer, g.as_ref(), SIZE, &names).expect("renders");
+        assert!(report.errors.is_empty(), "{:?}", report.errors);
+        let bytes = report.counter("uniform bytes uploaded");
+        match frame {
+            0 => assert!(bytes > 0, "the first frame writes its camera"),
+            // Same camera, same instances: nothing is written.
+            1 | 2 | 4 => assert_eq!(
+                (bytes, report.counter("uniform uploads")),
+                (0, 0),
+                "frame {frame}: {:?}",
+                report.counters
+            ),
+            // The camera moved: its bytes, and no instance's, are written.
+            _ => assert!(
+                bytes > 0 && report.counter("uniform uploads") == 1,
+                "frame {frame}: {:?}",
+                report.counters
+            ),
+        }
+        // A G-buffer that keeps nothing draws the same.
+        let fresh = GBuffer::new(
+            &renderer,
+            None,
+            layers.clone(),
+            moved(z),
+            None,
+            SizeRule::Relative(1.0),
+        );
+        let names = [fresh.targets.color.as_str(), fresh.targets.depth.as_str()];
+        let (_, whole) = render_and_read(&renderer, fresh.as_ref(), SIZE, &names).expect("renders");
+        for (k, (a, b)) in images.iter().zip(&whole).enumerate() {
+            assert!(
+                a.pixels == b.pixels,
+                "frame {frame}, target {k}: the same image"
+            );
+        }
+    }
+}
+
+#[test]
+fn a_re_made_g_buffer_publishes_its_depth_through_kept_bind_groups() {
+    use spreadlight_render::gbuffer::{PublishedDepths, RasterChoice};
+    let renderer = test_renderer();
+    let scene = Scene::new(&renderer);
+    let layers = scene.layers(0.0);
+    let make = |name: &str| {
+        GBuffer::publishing_depth(
+            &renderer,
+            Some(91),
+            layers.clone(),
+            camera(),
+            None,
+            SizeRule::Relative(1.0),
+            RasterChoice::Auto,
+            name.to_owned(),
+        )
+    };
+    let reused = |g: &GBuffer| {
+        let (report, _) =
+            render_and_read(&renderer, g, SIZE, &[g.targets.color.as_str()]).expect("renders");
+        assert!(report.errors.is_empty(), "{:?}", report.errors);
+        (
+            report.counter("bind groups created"),
+            report.counter("bind groups reused"),
+        )
+    };
+    // The same G-buffer without publishing, to count its own groups.
+    reused(&make(""));
+    let (_, plain) = reused(&make(""));
+    for frame in 0..3 {
+        let (created, groups) = reused(&make("cpu3 depth"));
+        if frame > 0 {
+            // The publishing pass binds the same source and kept target: its
+            // group is the one made in the first frame.
+            assert_eq!((created, groups), (0, plain + 1), "frame {frame}");
+        }
+    }
+    let published = PublishedDepths::of(&renderer)
+        .get("cpu3 depth")
+        .expect("published");
+    assert_eq!(published.writes, 3);
+}

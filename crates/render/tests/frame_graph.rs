@@ -336,6 +336,8 @@ fn a_batched_frame_that_fails_validation_is_dropped_and_the_next_names_the_pass(
     let second = frame();
     assert_eq!(second.errors.len(), 1);
     assert_eq!(second.errors[0].0, Some(42));
+    // What hosts check each frame: the report's errors, without the report.
+    assert_eq!(renderer.last_errors(), second.errors);
 }
 
 #[test]

@@ -304,3 +304,61 @@ fn alpha_blended_particles_blend_unsorted_through_transparency() {
     );
     assert_eq!(at(&forwards, 1, 1)[..3], GREEN[..3]);
 }
+
+#[test]
+fn a_re_made_transparency_binds_the_groups_it_made_before() {
+    let renderer = test_renderer();
+    let opaque = balls(&renderer, &[Ball::still(Vec3::ZERO, 0.5)]);
+    let g = gbuffer(
+        &renderer,
+        opaque,
+        look(Vec3::new(0.0, 0.0, 8.0), Vec3::ZERO, 0.6, 1.0),
+        None,
+    );
+    let lit = image(&renderer, SIZE, |_, _| GREEN);
+    let layers = vec![glass(
+        &renderer,
+        &[(Vec3::new(0.0, 0.0, 2.0), 1.0, [1.0, 0.0, 0.0, 0.5])],
+    )];
+    // The opaque frame alone, twice: the groups its own passes reuse.
+    render(&renderer, g.as_ref(), &g.targets.color, SIZE);
+    let opaque_reused = render(&renderer, g.as_ref(), &g.targets.color, SIZE)
+        .0
+        .counter("bind groups reused");
+    let mut first = None;
+    for frame in 0..3 {
+        // The node makes its recipe again each frame from the same inputs.
+        let pass = Transparency::new(
+            &renderer,
+            Some(70),
+            lit.texture_ref(),
+            g.clone(),
+            layers.clone(),
+            unlit(),
+        );
+        let (report, out) = render(&renderer, pass.as_ref(), &pass.output, SIZE);
+        assert!(report.errors.is_empty(), "{:?}", report.errors);
+        assert_eq!(report.counter(DRAWN), 1);
+        if frame > 0 {
+            // The accumulation's group binds the same camera, meshes, kept
+            // instances and parameters: reused, not made again.
+            assert_eq!(
+                report.counter("bind groups created"),
+                0,
+                "frame {frame}: {:?}",
+                report.counters
+            );
+            // Beyond the opaque frame's: the accumulation's and the resolve's.
+            assert_eq!(
+                report.counter("bind groups reused") - opaque_reused,
+                2,
+                "frame {frame}: {:?}",
+                report.counters
+            );
+        }
+        match &first {
+            None => first = Some(out),
+            Some(image) => assert!(image.pixels == out.pixels, "frame {frame}: the same image"),
+        }
+    }
+}

@@ -15,7 +15,9 @@
 //!   CPU records the next frame while the GPU works on this one (at most
 //!   [`FRAMES_IN_FLIGHT`] frames ahead).
 
-use std::collections::{HashMap, HashSet};
+use std::collections::HashMap;
+
+use rustc_hash::{FxHashMap, FxHashSet};
 
 use super::{FrameGraph, Lifetime, PassContext, Recorded};
 use crate::error::RenderError;
@@ -49,11 +51,11 @@ fn execute(
     for (key, texture) in lent {
         textures.give_back(key, texture);
     }
-    let persistent_names: HashSet<String> = textures.persistent.keys().cloned().collect();
-    let mut parts = graph.into_parts(&persistent_names)?;
+    // Which names have a persistent texture (asked, not collected: no names cloned a frame).
+    let mut parts = graph.into_parts(&|name| textures.persistent.contains_key(name))?;
 
     // Where each texture is last read, so temporaries go back to the pool after it.
-    let mut last_use: HashMap<&str, usize> = HashMap::new();
+    let mut last_use: FxHashMap<&str, usize> = FxHashMap::default();
     for (step, &p) in parts.order.iter().enumerate() {
         for name in parts.reads[p]
             .iter()
@@ -62,9 +64,9 @@ fn execute(
             last_use.insert(name.as_str(), step);
         }
     }
-    let requested: HashSet<&str> = parts.requested.iter().map(String::as_str).collect();
+    let requested: FxHashSet<&str> = parts.requested.iter().map(String::as_str).collect();
     // Temporaries a history may trade textures with (history.rs).
-    let tradable: HashSet<&str> = parts
+    let tradable: FxHashSet<&str> = parts
         .writes
         .iter()
         .flatten()
@@ -74,10 +76,10 @@ fn execute(
         .map(|(name, _)| name.as_str())
         .collect();
     // A temporary whose history took its texture gives back the one the history had.
-    let mut release_instead: HashMap<String, wgpu::Texture> = HashMap::new();
+    let mut release_instead: FxHashMap<String, wgpu::Texture> = FxHashMap::default();
     // Which of the passes of its name each pass is, in declaration order:
     // with the pass name, what keeps an output's texture from frame to frame.
-    let mut seen: HashMap<&str, u32> = HashMap::new();
+    let mut seen: FxHashMap<&str, u32> = FxHashMap::default();
     let occurrence: Vec<u32> = parts
         .names
         .iter()
@@ -88,11 +90,11 @@ fn execute(
         })
         .collect();
 
-    let mut live: HashMap<String, wgpu::Texture> = parts.imports.clone();
+    let mut live: FxHashMap<String, wgpu::Texture> = parts.imports.clone();
     for (name, (_, texture)) in &textures.persistent {
         live.insert(name.clone(), texture.clone());
     }
-    let mut fresh = HashSet::new();
+    let mut fresh = FxHashSet::default();
     let mut report = FrameReport {
         adapter: renderer.gpu.adapter_name(),
         ..Default::default()

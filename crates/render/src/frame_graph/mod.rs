@@ -10,7 +10,9 @@
 //! scope, so a wgpu validation error is reported against the pass (and the
 //! node that declared it) and the rest of the frame still renders.
 
-use std::collections::{BTreeMap, HashMap, HashSet};
+use std::collections::BTreeMap;
+
+use rustc_hash::{FxHashMap, FxHashSet};
 
 mod execute;
 mod history;
@@ -169,13 +171,13 @@ pub struct PassContext<'f> {
     pub gpu: &'f GpuContext,
     pub encoder: wgpu::CommandEncoder,
     pub shaders: &'f mut ShaderCache,
-    pub(crate) textures: &'f mut HashMap<String, wgpu::Texture>,
+    pub(crate) textures: &'f mut FxHashMap<String, wgpu::Texture>,
     /// This frame's temporaries a history may trade textures with (not
     /// handed to the caller, not permanent): see `history.rs`.
-    pub(crate) tradable: &'f HashSet<&'f str>,
+    pub(crate) tradable: &'f FxHashSet<&'f str>,
     pub(crate) handovers: Vec<history::Handover>,
     pub(crate) views: &'f std::cell::RefCell<crate::texture_pool::ViewCache>,
-    pub(crate) fresh: &'f HashSet<String>,
+    pub(crate) fresh: &'f FxHashSet<String>,
     pub(crate) timestamps: Option<&'f wgpu::QuerySet>,
     pub(crate) queries: Vec<(u32, u32)>,
     pub(crate) next_query: &'f mut u32,
@@ -305,8 +307,8 @@ pub struct FrameGraph<'a> {
     output_size: (u32, u32),
     passes: Vec<PassEntry<'a>>,
     requested: Vec<String>,
-    imports: HashMap<String, wgpu::Texture>,
-    included: HashSet<u64>,
+    imports: FxHashMap<String, wgpu::Texture>,
+    included: FxHashSet<u64>,
     counters: BTreeMap<&'static str, u64>,
 }
 
@@ -316,8 +318,8 @@ impl<'a> FrameGraph<'a> {
             output_size: (output_size.0.max(1), output_size.1.max(1)),
             passes: Vec::new(),
             requested: Vec::new(),
-            imports: HashMap::new(),
-            included: HashSet::new(),
+            imports: FxHashMap::default(),
+            included: FxHashSet::default(),
             counters: BTreeMap::new(),
         }
     }
@@ -379,9 +381,9 @@ impl<'a> FrameGraph<'a> {
     /// Which passes run, in order, and which are culled.
     fn schedule(
         &self,
-        persistent: &HashSet<String>,
+        persistent: &dyn Fn(&str) -> bool,
     ) -> Result<(Vec<usize>, Vec<usize>), RenderError> {
-        let mut producer: HashMap<&str, usize> = HashMap::new();
+        let mut producer: FxHashMap<&str, usize> = FxHashMap::default();
         for (i, pass) in self.passes.iter().enumerate() {
             for (name, _) in &pass.writes {
                 if let Some(other) = producer.insert(name, i) {
@@ -392,7 +394,7 @@ impl<'a> FrameGraph<'a> {
                 }
             }
         }
-        let available = |name: &str| self.imports.contains_key(name) || persistent.contains(name);
+        let available = |name: &str| self.imports.contains_key(name) || persistent(name);
         let mut live = vec![false; self.passes.len()];
         let mut stack: Vec<(&str, Option<&str>)> =
             self.requested.iter().map(|n| (n.as_str(), None)).collect();
@@ -462,7 +464,7 @@ pub(crate) struct GraphParts<'a> {
     pub order: Vec<usize>,
     pub culled: Vec<usize>,
     pub requested: Vec<String>,
-    pub imports: HashMap<String, wgpu::Texture>,
+    pub imports: FxHashMap<String, wgpu::Texture>,
     pub keys: Vec<Vec<TextureKey>>,
     pub counters: BTreeMap<&'static str, u64>,
 }
@@ -470,7 +472,7 @@ pub(crate) struct GraphParts<'a> {
 impl<'a> FrameGraph<'a> {
     pub(crate) fn into_parts(
         self,
-        persistent: &HashSet<String>,
+        persistent: &dyn Fn(&str) -> bool,
     ) -> Result<GraphParts<'a>, RenderError> {
         let (order, culled) = self.schedule(persistent)?;
         let keys = self

@@ -506,10 +506,13 @@ impl Recipe for GBuffer {
         let camera = self
             .camera
             .to_gpu(self.previous_view_projection, (key.width, key.height));
-        renderer
-            .gpu
-            .queue
-            .write_buffer(&self.camera_buffer, 0, bytemuck::bytes_of(&camera));
+        // Written only where it changed: a still camera writes nothing.
+        renderer.write_kept(
+            self.owner,
+            "mre camera",
+            &self.camera_buffer,
+            bytemuck::bytes_of(&camera),
+        );
         for map in self.layers.iter().flat_map(|l| l.maps()) {
             map.recipe.declare(renderer, fg);
         }

@@ -17,7 +17,7 @@ use glam::Mat4;
 use crate::error::RenderError;
 use crate::frame_graph::PassContext;
 use crate::renderer::Renderer;
-use crate::shaders::ShaderKey;
+use crate::shaders::{PipelineRef, ShaderKey};
 
 /// A published depth: reversed-Z R32Float, 0 where no mesh was drawn.
 #[derive(Clone, Debug)]
@@ -136,7 +136,9 @@ pub(crate) fn publish(
     let device = cx.gpu.device.clone();
     let depths = PublishedDepths::of(renderer);
     let target = depths.target(&device, name, size);
-    let out = target.create_view(&Default::default());
+    // A kept view and a cached group: the target lives across frames, so
+    // the group binding it (and the same source) is made once.
+    let out = cx.view_of(&target, crate::texture_pool::ViewSpec::default());
     let compute = matches!(source, DepthSource::Compute(_));
     let key = ShaderKey::new(
         "gbuffer/published_depth.wgsl",
@@ -147,10 +149,12 @@ pub(crate) fn publish(
         DepthSource::Compute(buffer) => buffer.as_entire_binding(),
         DepthSource::Hardware(view) => wgpu::BindingResource::TextureView(view),
     };
-    let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some("published depth"),
-        layout: &pipeline.get_bind_group_layout(0),
-        entries: &[
+    let group = cx.shaders.group(
+        &device,
+        &PipelineRef::Compute(pipeline.clone()),
+        0,
+        "published depth",
+        &[
             wgpu::BindGroupEntry {
                 binding: 0,
                 resource: input,
@@ -160,7 +164,7 @@ pub(crate) fn publish(
                 resource: wgpu::BindingResource::TextureView(&out),
             },
         ],
-    });
+    );
     cx.dispatch(
         "published depth",
         &pipeline,

@@ -19,7 +19,7 @@ use crate::frame_graph::{FrameGraph, PassContext, TextureDesc};
 use crate::gbuffer::{Draw, GBuffer, Layer, geometry_entries, pack_instances};
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
-use crate::shaders::ShaderKey;
+use crate::shaders::{PipelineRef, ShaderKey};
 
 const SHADER: &str = "post/transparency.wgsl";
 const ACCUMULATION: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
@@ -192,11 +192,16 @@ impl Transparency {
                         resource: extras.as_entire_binding(),
                     });
                 }
-                let group0 = device.create_bind_group(&wgpu::BindGroupDescriptor {
-                    label: Some("transparency accumulate"),
-                    layout: &pipeline.get_bind_group_layout(0),
-                    entries: &entries,
-                });
+                // Through the cache: the camera, meshes, kept instances and
+                // parameters are the same buffers from frame to frame.
+                let pipeline_ref = PipelineRef::Render(pipeline.clone());
+                let group0 = cx.shaders.group(
+                    &device,
+                    &pipeline_ref,
+                    0,
+                    "transparency accumulate",
+                    &entries,
+                );
                 let mut groups = vec![Some(group0)];
                 if let Some(world) = world {
                     groups.push(Some(world.world_bind_group(
@@ -204,11 +209,13 @@ impl Transparency {
                         &pipeline.get_bind_group_layout(1),
                         "transparency: material world",
                     )));
-                    groups.push(Some(device.create_bind_group(&wgpu::BindGroupDescriptor {
-                        label: Some("transparency: unused group"),
-                        layout: &pipeline.get_bind_group_layout(2),
-                        entries: &[],
-                    })));
+                    groups.push(Some(cx.shaders.group(
+                        &device,
+                        &pipeline_ref,
+                        2,
+                        "transparency: unused group",
+                        &[],
+                    )));
                     groups.push(world.maps_bind_group(&device, &pipeline.get_bind_group_layout(3)));
                 }
                 work.push((*range, culled, world.is_some(), pipeline, groups));

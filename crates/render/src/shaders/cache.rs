@@ -1,8 +1,8 @@
 //! The permutation cache: shader modules, pipelines, samplers and bind
 //! groups, each made once and counted.
 
+use rustc_hash::FxHashMap;
 use std::borrow::Cow;
-use std::collections::HashMap;
 
 use super::composer::used_bindings_of;
 use super::{ShaderComposer, ShaderKey, Splice};
@@ -38,22 +38,22 @@ pub enum Sampling {
 /// compiles, so the frame statistics show when a frame had to compile.
 pub struct ShaderCache {
     composer: ShaderComposer,
-    modules: HashMap<ShaderKey, wgpu::ShaderModule>,
+    modules: FxHashMap<ShaderKey, wgpu::ShaderModule>,
     /// Per permutation and entry point: the (group, binding)s it uses.
     /// (Keyed by permutation, then entry: a look-up borrows the key, as
     /// every pass makes several a frame.)
-    used: HashMap<ShaderKey, HashMap<String, Vec<(u32, u32)>>>,
-    compute: HashMap<ShaderKey, HashMap<&'static str, wgpu::ComputePipeline>>,
-    render: HashMap<(ShaderKey, String), wgpu::RenderPipeline>,
-    samplers: HashMap<Sampling, wgpu::Sampler>,
+    used: FxHashMap<ShaderKey, FxHashMap<String, Vec<(u32, u32)>>>,
+    compute: FxHashMap<ShaderKey, FxHashMap<&'static str, wgpu::ComputePipeline>>,
+    render: FxHashMap<(ShaderKey, String), wgpu::RenderPipeline>,
+    samplers: FxHashMap<Sampling, wgpu::Sampler>,
     /// Pipelines of shaders not in [`SHADERS`] (shader node files), by the caller's key and entry.
-    external: HashMap<(u64, String), wgpu::ComputePipeline>,
+    external: FxHashMap<(u64, String), wgpu::ComputePipeline>,
     /// Resolve permutations composed with a shader node material, by its source key.
-    surfaces: HashMap<(ShaderKey, u64), SplicedPipeline>,
+    surfaces: FxHashMap<(ShaderKey, u64), SplicedPipeline>,
     /// Bind groups by pipeline, group and what they bind (by identity), with
     /// the frame they were last used in: a pass that binds what it bound
     /// last frame reuses its group instead of making one.
-    bind_groups: HashMap<BindGroupKey, (wgpu::BindGroup, u64)>,
+    bind_groups: FxHashMap<BindGroupKey, (wgpu::BindGroup, u64)>,
     frame: u64,
     /// Pipelines compiled since the cache was made.
     pub pipelines_compiled: u64,
@@ -114,14 +114,14 @@ impl ShaderCache {
     pub fn new(composer: ShaderComposer) -> Self {
         ShaderCache {
             composer,
-            modules: HashMap::new(),
-            used: HashMap::new(),
-            compute: HashMap::new(),
-            render: HashMap::new(),
-            samplers: HashMap::new(),
-            external: HashMap::new(),
-            surfaces: HashMap::new(),
-            bind_groups: HashMap::new(),
+            modules: FxHashMap::default(),
+            used: FxHashMap::default(),
+            compute: FxHashMap::default(),
+            render: FxHashMap::default(),
+            samplers: FxHashMap::default(),
+            external: FxHashMap::default(),
+            surfaces: FxHashMap::default(),
+            bind_groups: FxHashMap::default(),
             frame: 0,
             pipelines_compiled: 0,
             bind_groups_created: 0,
