@@ -10,12 +10,13 @@ use std::sync::Arc;
 use glam::{Mat4, Vec3};
 use post_common::*;
 use spreadlight_render::Renderer;
-use spreadlight_render::gbuffer::{DrawBatch, InstanceInput, Layer, LayerFeatures};
+use spreadlight_render::gbuffer::{DrawBatch, GBuffer, InstanceInput, Layer, LayerFeatures};
 use spreadlight_render::mesh::primitives::{SphereParams, sphere};
 use spreadlight_render::post::transparency::{DRAWN, SKIPPED};
 use spreadlight_render::post::{Transparency, TransparencySettings};
 use spreadlight_render::readback::ImageF32;
 use spreadlight_render::renderer::test_renderer;
+use spreadlight_render::static_texture::StaticTexture;
 
 const SIZE: (u32, u32) = (48, 48);
 const GREEN: [f32; 4] = [0.0, 1.0, 0.0, 1.0];
@@ -66,20 +67,25 @@ fn unlit() -> TransparencySettings {
     }
 }
 
-/// An opaque ball (radius 0.5 at the origin, seen from z = 8) under a green "lit" image, with `spheres` over it.
+/// An opaque ball (radius 0.5 at the origin, seen from z = 8), and a green "lit" image.
+fn ball_under_green(renderer: &Renderer) -> (Arc<GBuffer>, Arc<StaticTexture>) {
+    let opaque = balls(renderer, &[Ball::still(Vec3::ZERO, 0.5)]);
+    let g = gbuffer(
+        renderer,
+        opaque,
+        look(Vec3::new(0.0, 0.0, 8.0), Vec3::ZERO, 0.6, 1.0),
+        None,
+    );
+    (g, image(renderer, SIZE, |_, _| GREEN))
+}
+
+/// The ball under the green image, with `spheres` over it.
 fn composite(
     spheres: &[(Vec3, f32, [f32; 4])],
     settings: TransparencySettings,
 ) -> (ImageF32, u64, u64) {
     let renderer = test_renderer();
-    let opaque = balls(&renderer, &[Ball::still(Vec3::ZERO, 0.5)]);
-    let g = gbuffer(
-        &renderer,
-        opaque,
-        look(Vec3::new(0.0, 0.0, 8.0), Vec3::ZERO, 0.6, 1.0),
-        None,
-    );
-    let lit = image(&renderer, SIZE, |_, _| GREEN);
+    let (g, lit) = ball_under_green(&renderer);
     let layers = if spheres.is_empty() {
         vec![]
     } else {
@@ -308,14 +314,7 @@ fn alpha_blended_particles_blend_unsorted_through_transparency() {
 #[test]
 fn a_re_made_transparency_binds_the_groups_it_made_before() {
     let renderer = test_renderer();
-    let opaque = balls(&renderer, &[Ball::still(Vec3::ZERO, 0.5)]);
-    let g = gbuffer(
-        &renderer,
-        opaque,
-        look(Vec3::new(0.0, 0.0, 8.0), Vec3::ZERO, 0.6, 1.0),
-        None,
-    );
-    let lit = image(&renderer, SIZE, |_, _| GREEN);
+    let (g, lit) = ball_under_green(&renderer);
     let layers = vec![glass(
         &renderer,
         &[(Vec3::new(0.0, 0.0, 2.0), 1.0, [1.0, 0.0, 0.0, 0.5])],
