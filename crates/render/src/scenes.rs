@@ -7,7 +7,7 @@ use std::sync::Arc;
 use glam::{Mat4, Vec2, Vec3};
 
 use crate::error::RenderError;
-use crate::gbuffer::{DrawBatch, InstanceInput, Layer, LayerFeatures};
+use crate::gbuffer::{DrawBatch, InstanceInput, Layer};
 use crate::mesh::primitives::{GridParams, SphereParams, grid, sphere};
 use crate::renderer::Renderer;
 
@@ -57,13 +57,7 @@ pub fn balls_on_floor(
             instances: vec![instance(Mat4::IDENTITY)],
         },
     ];
-    let layer = Layer::new(None, batches, LayerFeatures::default(), None).map_err(|e| {
-        RenderError::Pass {
-            pass: "test scene".to_owned(),
-            message: e.to_string(),
-        }
-    })?;
-    Ok(Arc::new(layer))
+    Ok(Arc::new(Layer::plain(batches)))
 }
 
 /// `layer` from [`balls_on_floor`] with the balls given material `ball` and

@@ -10,7 +10,7 @@ use std::sync::Arc;
 
 use glam::{Mat4, Vec3};
 use spreadlight_render::camera::CameraInput;
-use spreadlight_render::gbuffer::{DrawBatch, GBuffer, InstanceInput, Layer, LayerFeatures};
+use spreadlight_render::gbuffer::{DrawBatch, GBuffer, InstanceInput, Layer};
 use spreadlight_render::lighting::{CookTorrance, LightBuffer, LightLoop, SunLight, Surfaces};
 use spreadlight_render::mesh::primitives::{SphereParams, sphere};
 use spreadlight_render::readback::{ImageF32, render_and_read};
@@ -80,15 +80,7 @@ fn layer(
     mesh: Arc<spreadlight_render::mesh_arena::GpuMesh>,
     instances: Vec<InstanceInput>,
 ) -> Arc<Layer> {
-    Arc::new(
-        Layer::new(
-            None,
-            vec![DrawBatch { mesh, instances }],
-            LayerFeatures::default(),
-            None,
-        )
-        .expect("valid layer"),
-    )
+    Arc::new(Layer::plain(vec![DrawBatch { mesh, instances }]))
 }
 
 #[test]

@@ -472,7 +472,7 @@ fn both_rasterizers_see_the_same_scene() {
             instances: vec![instance(Mat4::IDENTITY, Mat4::IDENTITY)],
         },
     ];
-    let layer = Arc::new(Layer::new(None, batches, LayerFeatures::default(), None).expect("valid"));
+    let layer = Arc::new(Layer::plain(batches));
     let camera = camera_at(Vec3::new(0.0, 3.0, 6.0));
     // At 64x64 the plane's triangles are queued tile by tile; at 320x288
     // (90 tiles of 32 pixels) they are giants, whose tiles every workgroup
@@ -491,7 +491,7 @@ fn both_rasterizers_see_the_same_scene() {
             })
             .collect(),
     }];
-    let stack = Arc::new(Layer::new(None, planes, LayerFeatures::default(), None).expect("valid"));
+    let stack = Arc::new(Layer::plain(planes));
     both_rasterizers_agree(&renderer, &stack, camera, (320, 288));
 }
 

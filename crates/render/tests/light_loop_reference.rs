@@ -11,7 +11,7 @@ use std::sync::Arc;
 
 use floor_view::{SIZE, camera, floor_mesh, floor_points};
 use glam::{Mat4, Vec3};
-use spreadlight_render::gbuffer::{DrawBatch, GBuffer, InstanceInput, Layer, LayerFeatures};
+use spreadlight_render::gbuffer::{DrawBatch, GBuffer, InstanceInput, Layer};
 use spreadlight_render::lighting::{CookTorrance, LightBuffer, LightLoop, PointLight, Surfaces};
 use spreadlight_render::readback::{ImageF32, render_and_read};
 use spreadlight_render::reference::brdf::cook_torrance_f0;
@@ -34,7 +34,7 @@ fn floor(renderer: &Renderer) -> Arc<GBuffer> {
             object_id: 0,
         }],
     }];
-    let layer = Arc::new(Layer::new(None, batches, LayerFeatures::default(), None).expect("valid"));
+    let layer = Arc::new(Layer::plain(batches));
     GBuffer::new(
         renderer,
         None,

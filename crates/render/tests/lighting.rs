@@ -1061,18 +1061,10 @@ fn white_furnace_returns_at_most_the_incoming_energy() {
         material_id: 0,
         object_id: 0,
     };
-    let layer = Arc::new(
-        Layer::new(
-            None,
-            vec![DrawBatch {
-                mesh,
-                instances: vec![white],
-            }],
-            LayerFeatures::default(),
-            None,
-        )
-        .expect("valid"),
-    );
+    let layer = Arc::new(Layer::plain(vec![DrawBatch {
+        mesh,
+        instances: vec![white],
+    }]));
     let camera = CameraInput {
         view: glam::camera::rh::view::look_at_mat4(Vec3::new(0.0, 0.0, 4.0), Vec3::ZERO, Vec3::Y),
         projection: glam::camera::rh::proj::directx::perspective(0.7, 1.0, 0.1, 100.0),

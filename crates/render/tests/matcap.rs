@@ -8,7 +8,7 @@ use std::sync::Arc;
 
 use glam::{Mat4, Vec2, Vec3};
 use spreadlight_render::camera::CameraInput;
-use spreadlight_render::gbuffer::{DrawBatch, GBuffer, InstanceInput, Layer, LayerFeatures};
+use spreadlight_render::gbuffer::{DrawBatch, GBuffer, InstanceInput, Layer};
 use spreadlight_render::lighting::{
     CompositeInputs, CompositeLight, CookTorrance, LightBuffer, LightLoop, Surfaces,
 };
@@ -64,13 +64,7 @@ fn scene(renderer: &Renderer, spheres: &[(Vec3, u32)], albedo: f32) -> Arc<GBuff
             object_id: 0,
         })
         .collect();
-    let layer = Layer::new(
-        None,
-        vec![DrawBatch { mesh, instances }],
-        LayerFeatures::default(),
-        None,
-    )
-    .expect("valid");
+    let layer = Layer::plain(vec![DrawBatch { mesh, instances }]);
     GBuffer::new(
         renderer,
         None,

@@ -581,7 +581,7 @@ fn a_ball_resting_on_the_floor_keeps_its_contact_shadow() {
 
 #[test]
 fn a_one_sided_plane_facing_away_from_the_light_still_casts_on_either_rasterizer() {
-    use spreadlight_render::gbuffer::{DrawBatch, InstanceInput, LayerFeatures};
+    use spreadlight_render::gbuffer::{DrawBatch, InstanceInput};
     use spreadlight_render::mesh::primitives::{GridParams, grid};
     let renderer = test_renderer();
     let mut layers = casters(&renderer, Vec3::new(0.0, -50.0, 0.0));
@@ -609,9 +609,7 @@ fn a_one_sided_plane_facing_away_from_the_light_still_casts_on_either_rasterizer
             object_id: 0,
         }],
     };
-    layers.push(Arc::new(
-        Layer::new(None, vec![batch], LayerFeatures::default(), None).expect("valid"),
-    ));
+    layers.push(Arc::new(Layer::plain(vec![batch])));
     let spot = SpotLight {
         shadow: Some(0),
         ..SpotLight::cone(Vec3::new(0.0, 6.0, 0.0), Vec3::NEG_Y, 12.0, 0.5, 0.7)
@@ -727,7 +725,7 @@ fn still_casters_are_cached_and_only_moving_ones_drawn_over_them_with_the_same_i
         )
         .expect("upload");
     let moving = |x: f32| {
-        use spreadlight_render::gbuffer::{DrawBatch, InstanceInput, LayerFeatures};
+        use spreadlight_render::gbuffer::{DrawBatch, InstanceInput};
         let t = glam::Mat4::from_translation(Vec3::new(x, 1.2, 0.3));
         let batch = DrawBatch {
             mesh: ball.clone(),
@@ -739,7 +737,7 @@ fn still_casters_are_cached_and_only_moving_ones_drawn_over_them_with_the_same_i
                 object_id: 0,
             }],
         };
-        Arc::new(Layer::new(None, vec![batch], LayerFeatures::default(), None).expect("valid"))
+        Arc::new(Layer::plain(vec![batch]))
     };
     for raster in [RasterChoice::Compute, RasterChoice::Hardware] {
         let owner = match raster {

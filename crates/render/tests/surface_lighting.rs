@@ -11,9 +11,7 @@ use std::sync::Arc;
 
 use floor_view::{SIZE, camera, floor_mesh, floor_points};
 use glam::{Mat4, Vec3};
-use spreadlight_render::gbuffer::{
-    DrawBatch, GBuffer, InstanceInput, Layer, LayerFeatures, SurfaceShader,
-};
+use spreadlight_render::gbuffer::{DrawBatch, GBuffer, InstanceInput, Layer, SurfaceShader};
 use spreadlight_render::lighting::{
     CompositeInputs, CompositeLight, CookTorrance, LightBuffer, LightLoop, PointLight, SunLight,
     Surfaces,
@@ -73,11 +71,7 @@ fn scene(
             mesh,
             instances: vec![instance(t, albedo)],
         }];
-        Arc::new(
-            Layer::new(None, batches, LayerFeatures::default(), None)
-                .expect("valid")
-                .with_surface(surface),
-        )
+        Arc::new(Layer::plain(batches).with_surface(surface))
     };
     let mut layers = vec![layer(plane, Mat4::IDENTITY, FLOOR_ALBEDO, floor)];
     if let Some(surface) = ball {

@@ -10,7 +10,7 @@ use std::sync::Arc;
 use glam::{Mat4, Vec3};
 use post_common::*;
 use spreadlight_render::Renderer;
-use spreadlight_render::gbuffer::{DrawBatch, GBuffer, InstanceInput, Layer, LayerFeatures};
+use spreadlight_render::gbuffer::{DrawBatch, GBuffer, InstanceInput, Layer};
 use spreadlight_render::mesh::primitives::{SphereParams, sphere};
 use spreadlight_render::post::transparency::{DRAWN, SKIPPED};
 use spreadlight_render::post::{Transparency, TransparencySettings};
@@ -47,15 +47,7 @@ fn glass(renderer: &Renderer, spheres: &[(Vec3, f32, [f32; 4])]) -> Arc<Layer> {
             }
         })
         .collect();
-    Arc::new(
-        Layer::new(
-            None,
-            vec![DrawBatch { mesh, instances }],
-            LayerFeatures::default(),
-            None,
-        )
-        .expect("layer"),
-    )
+    Arc::new(Layer::plain(vec![DrawBatch { mesh, instances }]))
 }
 
 /// Unlit: ambient 1, no key light, so a layer shows exactly its colour.
@@ -214,24 +206,16 @@ fn particles(renderer: &Renderer, at: Vec3, count: u32, color: [f32; 4]) -> Arc<
     };
     system.step(renderer, &settings, 1.0 / 60.0).expect("step");
     let mesh = draw(renderer, &system, DrawShape::Sprites, 0.5, false, 100.0).expect("draw");
-    Arc::new(
-        Layer::new(
-            None,
-            vec![DrawBatch {
-                mesh,
-                instances: vec![InstanceInput {
-                    transform: Mat4::IDENTITY,
-                    previous_transform: Mat4::IDENTITY,
-                    color,
-                    material_id: 0,
-                    object_id: 0,
-                }],
-            }],
-            LayerFeatures::default(),
-            None,
-        )
-        .expect("layer"),
-    )
+    Arc::new(Layer::plain(vec![DrawBatch {
+        mesh,
+        instances: vec![InstanceInput {
+            transform: Mat4::IDENTITY,
+            previous_transform: Mat4::IDENTITY,
+            color,
+            material_id: 0,
+            object_id: 0,
+        }],
+    }]))
 }
 
 /// The paper's weight (shaders/post/transparency.wgsl) at view distance `d`.

@@ -171,13 +171,24 @@ impl Layer {
         }
         Ok(Layer {
             owner,
-            batches,
             features,
             normal_map,
+            ..Layer::plain(batches)
+        })
+    }
+
+    /// A layer with no feature switches and no owner: it asks nothing of
+    /// its meshes, so unlike `new` it cannot fail.
+    pub fn plain(batches: Vec<DrawBatch>) -> Self {
+        Layer {
+            owner: None,
+            batches,
+            features: LayerFeatures::default(),
+            normal_map: None,
             color_map: None,
             materials: None,
             surface: None,
-        })
+        }
     }
 
     /// The layer with the material world its ids index: with surface maps,

@@ -8,7 +8,7 @@ use std::sync::Arc;
 use glam::{Mat4, Vec3};
 use spreadlight_render::camera::CameraInput;
 use spreadlight_render::frame_graph::FrameReport;
-use spreadlight_render::gbuffer::{DrawBatch, GBuffer, InstanceInput, Layer, LayerFeatures};
+use spreadlight_render::gbuffer::{DrawBatch, GBuffer, InstanceInput, Layer};
 use spreadlight_render::mesh::primitives::{SphereParams, sphere};
 use spreadlight_render::readback::{ImageF32, render_and_read};
 use spreadlight_render::recipe::Recipe;
@@ -64,15 +64,7 @@ pub fn balls(renderer: &Renderer, balls: &[Ball]) -> Arc<Layer> {
             object_id: 0,
         })
         .collect();
-    Arc::new(
-        Layer::new(
-            None,
-            vec![DrawBatch { mesh, instances }],
-            LayerFeatures::default(),
-            None,
-        )
-        .expect("layer"),
-    )
+    Arc::new(Layer::plain(vec![DrawBatch { mesh, instances }]))
 }
 
 pub fn gbuffer(
