@@ -63,9 +63,14 @@ fn smith_denominator(n_dot_v: f32, n_dot_l: f32, lambda_of_v: f32, lambda_of_l: 
 }
 
 fn f_schlick(f0: vec3<f32>, v_dot_h: f32) -> vec3<f32> {
+    return f0 + (vec3<f32>(1.0) - f0) * schlick_weight(v_dot_h);
+}
+
+// (1 - V.H)^5, V.H clamped to 0..1: Schlick's F is F0 + (1 - F0) times it.
+fn schlick_weight(v_dot_h: f32) -> f32 {
     let x = 1.0 - clamp(v_dot_h, 0.0, 1.0);
     let x2 = x * x;
-    return f0 + (vec3<f32>(1.0) - f0) * (x2 * x2 * x);
+    return x2 * x2 * x;
 }
 
 fn diffuse_lambert() -> f32 {
@@ -244,9 +249,7 @@ fn cook_torrance_weights(s: BrdfSurface, n_dot_l_raw: f32, n_dot_h: f32, v_dot_h
         return vec3<f32>(0.0);
     }
     let n_dot_l = min(n_dot_l_raw, 1.0);
-    let x = 1.0 - clamp(v_dot_h, 0.0, 1.0);
-    let x2 = x * x;
-    let w = x2 * x2 * x;
+    let w = schlick_weight(v_dot_h);
     // D * V over one division: at hundreds of lights a pixel, reciprocals
     // (a quarter of the rate of other arithmetic) were a good part of the
     // light loop.
