@@ -9,13 +9,14 @@
 // tone scatters red farthest. Taps on other materials or the sky take no
 // weight (Jimenez's stencil), and taps across a depth step are pulled back
 // toward the centre ("follow surface"), so light does not bleed between
-// objects. Pixels without FakeSSS pass through.
+// objects. Pixels without FakeSSS, or whose FakeSSS has strength or colour
+// 0, pass through.
 // SOURCES_2 / SOURCES_3 (with SOURCES_2): two or three sources blurred
 // alike in one pass (CookTorrance gives a subsurface term per light type):
 // the taps' depths, materials and weights are found once for all of them.
 #import spreadlight::camera::Camera
 #import spreadlight::packing::channel_to_id
-#import spreadlight::material::{feature_param, has_feature, FEATURE_FAKE_SSS}
+#import spreadlight::material::{feature_param, FEATURE_FAKE_SSS}
 #import spreadlight::screen::view_position
 
 struct Params {
@@ -96,15 +97,21 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     let d = textureLoad(depth, pixel, 0).r;
     let material = channel_to_id(textureLoad(color, pixel, 0).a);
-    if (d <= 0.0 || !has_feature(material, FEATURE_FAKE_SSS) || params.width <= 0.0 || params.taps == 0u) {
+    // FakeSSS's colour and strength; zero without the feature. A material
+    // that scatters nothing (strength or colour 0: its subsurface term is
+    // zero) passes through, as one without the feature does: on a frame
+    // whose floor carries FakeSSS at strength 0 that skips most taps.
+    let scatter = feature_param(material, FEATURE_FAKE_SSS, 0u, vec4<f32>(0.0));
+    let tint = max(scatter.rgb, vec3<f32>(0.0));
+    let widest = max(tint.r, max(tint.g, tint.b));
+    if (d <= 0.0 || scatter.a <= 0.0 || widest <= 0.0 || params.width <= 0.0 || params.taps == 0u) {
         for (var k = 0u; k < SOURCES; k++) {
             store(k, pixel, center[k]);
         }
         return;
     }
     let z = max(-view_position(camera, pixel, d).z, 1e-6);
-    let tint = max(feature_param(material, FEATURE_FAKE_SSS, 0u, vec4<f32>(1.0)).rgb, vec3<f32>(0.0));
-    let reach = tint / max(max(tint.r, max(tint.g, tint.b)), 1e-6);
+    let reach = tint / widest;
     // Standard deviation per channel in pixels; the taps cover 3 of the widest.
     let pixels_per_unit = camera.projection[1][1] * camera.size.y * 0.5 / z;
     let sigma = max(reach * params.width / 3.0 * pixels_per_unit, vec3<f32>(1e-3));

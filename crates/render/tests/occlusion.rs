@@ -693,6 +693,41 @@ fn ssss_scatters_red_farthest_and_only_where_a_material_has_fake_sss() {
     assert!(image.pixels.is_empty(), "the input is passed on as it is");
 }
 
+/// FakeSSS at strength 0 makes no subsurface term: a world of only such
+/// materials gets no SSSS passes, and a pixel of one passes through while
+/// another material scatters.
+#[test]
+fn fake_sss_of_strength_zero_scatters_nothing_and_costs_no_taps() {
+    let renderer = test_renderer();
+    let still = |strength: f32| {
+        Material::default_material()
+            .with(Feature::FakeSss, &[[1.0, 0.3, 0.1, strength]])
+            .expect("valid")
+    };
+    let only_still = MaterialWorld::new(&renderer, vec![still(0.0)]);
+    assert!(!only_still.scatters_subsurface());
+    let (report, image, _) = scatter(&renderer, only_still, 1.0);
+    assert_eq!(
+        report.counter("SSSS culled: no subsurface material or width 0"),
+        1
+    );
+    assert!(image.pixels.is_empty(), "the input is passed on as it is");
+
+    // The scene is material 0; material 1 scatters, so the passes run, and
+    // material 0's pixels keep the input exactly: no light creeps past the edge.
+    let mixed = MaterialWorld::new(&renderer, vec![still(0.0), still(1.0)]);
+    assert!(mixed.scatters_subsurface());
+    let (report, image, depth) = scatter(&renderer, mixed, 1.0);
+    assert!(report.passes.iter().any(|p| p.name.starts_with("SSSS")));
+    let mut covered = 0;
+    for (i, (p, d)) in image.pixels.iter().zip(&depth.pixels).enumerate() {
+        let lit = (i as u32 % SIZE.0) < SIZE.0 / 2;
+        assert_eq!(p[0], if lit { 1.0 } else { 0.0 }, "pixel {i}");
+        covered += usize::from(d[0] > 0.0);
+    }
+    assert!(covered > image.pixels.len() / 2, "the floor and ball cover the frame");
+}
+
 #[test]
 fn ssgi_temporal_accumulation_beats_one_frame_and_hdr_input_stays_finite() {
     let few = SsgiSettings {

@@ -140,7 +140,7 @@ impl CookTorrance {
         );
         let sss = materials
             .as_ref()
-            .filter(|w| w.union_flags() & (1 << FEATURE_FAKE_SSS) != 0)
+            .filter(|w| w.scatters_subsurface())
             .map(|_| format!("cooktorrance{id}/sss"));
         let walk = match mode {
             // Suns have no range to cluster by: every pixel sees every sun.

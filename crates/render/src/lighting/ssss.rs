@@ -9,7 +9,7 @@ use std::sync::Arc;
 use crate::error::RenderError;
 use crate::frame_graph::{FrameGraph, PassContext, TextureDesc};
 use crate::gbuffer::GBuffer;
-use crate::material::{FEATURE_FAKE_SSS, MaterialWorld};
+use crate::material::MaterialWorld;
 use crate::recipe::{Recipe, TextureRef, next_recipe_id, pass_name};
 use crate::renderer::Renderer;
 use crate::shaders::ShaderKey;
@@ -107,7 +107,7 @@ impl Ssss {
         };
         // No material scatters, or nothing to scatter over: the inputs as they are.
         let materials = materials
-            .filter(|w| w.union_flags() & (1 << FEATURE_FAKE_SSS) != 0)
+            .filter(|w| w.scatters_subsurface())
             .filter(|_| width > 0.0);
         let Some(materials) = materials else {
             return sources

@@ -423,6 +423,18 @@ impl MaterialWorld {
         self.union_flags
     }
 
+    /// Whether some material scatters light under its surface: has FakeSSS
+    /// with a colour and a strength above zero. A FakeSSS of strength 0 makes
+    /// no subsurface term (CookTorrance multiplies by both), so it asks for
+    /// no SSSS passes; maps only scale the strength, they cannot raise a zero.
+    pub fn scatters_subsurface(&self) -> bool {
+        self.materials.iter().any(|m| {
+            m.params(Feature::FakeSss)
+                .and_then(|p| p.first())
+                .is_some_and(|p| p[3] > 0.0 && p[0].max(p[1]).max(p[2]) > 0.0)
+        })
+    }
+
     /// Whether some material has `feature` (a `FEATURE_*` id).
     pub fn any_has(&self, feature: u32) -> bool {
         feature < MAX_FEATURES && self.union_flags & (1 << feature) != 0
