@@ -1,7 +1,8 @@
 // Weighted blended order-independent transparency (McGuire and Bavoil,
 // "Weighted Blended Order-Independent Transparency", JCGT 2013), as
 // Castor3D's transparent pass does it: transparent meshes are rasterized in
-// any order into two targets with fixed-function blending,
+// any order into two targets (cleared in compute first: see `clear`) with
+// fixed-function blending,
 //   accumulation += (premultiplied colour, alpha) * w(z, alpha)   (One, One)
 //   revealage    *= 1 - alpha                                     (Zero, 1 - src)
 // each fragment depth-tested by hand against the G-buffer's (opaque) depth,
@@ -53,6 +54,8 @@ struct Params {
 @group(0) @binding(7) var accumulation: texture_2d<f32>;
 @group(0) @binding(8) var revealage: texture_2d<f32>;
 @group(0) @binding(9) var output: texture_storage_2d<rgba16float, write>;
+@group(0) @binding(10) var clear_accumulation: texture_storage_2d<rgba16float, write>;
+@group(0) @binding(11) var clear_revealage: texture_storage_2d<rgba16float, write>;
 
 struct VertexOut {
     @builtin(position) clip: vec4<f32>,
@@ -150,4 +153,17 @@ fn resolve(@builtin(global_invocation_id) id: vec3<u32>) {
     let average = sum.rgb / clamp(sum.a, 1e-7, HALF_MAX);
     let color = base.rgb * r + average * (1.0 - r);
     textureStore(output, id.xy, vec4<f32>(clamp(color, vec3<f32>(0.0), vec3<f32>(HALF_MAX)), base.a));
+}
+
+// The targets' starting values (nothing accumulated, everything revealed),
+// written in compute before the accumulation loads them: a render pass's
+// clear costs raster output bandwidth.
+@compute @workgroup_size(8, 8)
+fn clear(@builtin(global_invocation_id) id: vec3<u32>) {
+    let size = textureDimensions(clear_accumulation);
+    if (id.x >= size.x || id.y >= size.y) {
+        return;
+    }
+    textureStore(clear_accumulation, id.xy, vec4<f32>(0.0));
+    textureStore(clear_revealage, id.xy, vec4<f32>(1.0));
 }

@@ -725,7 +725,10 @@ fn fake_sss_of_strength_zero_scatters_nothing_and_costs_no_taps() {
         assert_eq!(p[0], if lit { 1.0 } else { 0.0 }, "pixel {i}");
         covered += usize::from(d[0] > 0.0);
     }
-    assert!(covered > image.pixels.len() / 2, "the floor and ball cover the frame");
+    assert!(
+        covered > image.pixels.len() / 2,
+        "the floor and ball cover the frame"
+    );
 }
 
 #[test]

@@ -23,7 +23,9 @@ use crate::shaders::{PipelineRef, ShaderKey};
 
 const SHADER: &str = "post/transparency.wgsl";
 const ACCUMULATION: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
-const REVEALAGE: wgpu::TextureFormat = wgpu::TextureFormat::R16Float;
+// Rgba16Float, not R16Float (only red is read): the targets are cleared by
+// a compute pass, and half-float storage is only core in four channels.
+const REVEALAGE: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 
 /// Counted when there was nothing transparent to draw and the node only copied.
 pub const SKIPPED: &str = "transparency skipped (nothing transparent)";
@@ -222,24 +224,37 @@ impl Transparency {
             }
         }
         let (accumulation, revealage) = (cx.view(&self.accumulation)?, cx.view(&self.revealage)?);
+        // Cleared in compute, then loaded: a render pass's clear goes through
+        // the raster output, which on the H100 took 0.28 of this pass's
+        // 0.41 ms at 1080p (docs/benchmarks.md, session 10); compute writes
+        // the same bytes about a hundred times faster.
+        let size = super::size_of(cx, &self.accumulation)?;
+        super::dispatch_entry(
+            cx,
+            "transparency clear",
+            &ShaderKey::new(SHADER, []),
+            "clear",
+            &[
+                (10, wgpu::BindingResource::TextureView(&accumulation)),
+                (11, wgpu::BindingResource::TextureView(&revealage)),
+            ],
+            size,
+        )?;
         let timestamps = cx.render_timestamps();
-        let attachment = |view, clear| {
+        let attachment = |view| {
             Some(wgpu::RenderPassColorAttachment {
                 view,
                 depth_slice: None,
                 resolve_target: None,
                 ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(clear),
+                    load: wgpu::LoadOp::Load,
                     store: wgpu::StoreOp::Store,
                 },
             })
         };
         let mut pass = cx.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("transparency accumulate"),
-            color_attachments: &[
-                attachment(&accumulation, wgpu::Color::TRANSPARENT),
-                attachment(&revealage, wgpu::Color::WHITE),
-            ],
+            color_attachments: &[attachment(&accumulation), attachment(&revealage)],
             depth_stencil_attachment: None,
             timestamp_writes: timestamps,
             occlusion_query_set: None,
@@ -354,7 +369,8 @@ fn accumulate_pipeline(
                                 color: reveal,
                                 alpha: reveal,
                             }),
-                            write_mask: wgpu::ColorWrites::ALL,
+                            // Only red is read.
+                            write_mask: wgpu::ColorWrites::RED,
                         }),
                     ],
                 }),
@@ -389,19 +405,19 @@ impl Recipe for Transparency {
         for map in self.layers.iter().flat_map(|l| l.maps()) {
             map.recipe.declare(renderer, fg);
         }
+        // Drawn into, and cleared by a compute pass first.
+        let target = |format| {
+            let mut desc = TextureDesc::attachment(format).size(self.gbuffer.size);
+            desc.usage |= wgpu::TextureUsages::STORAGE_BINDING;
+            desc
+        };
         fg.add_pass(
             name("accumulate"),
             self.owner,
             &[&self.gbuffer.targets.depth],
             &[
-                (
-                    &self.accumulation,
-                    TextureDesc::attachment(ACCUMULATION).size(self.gbuffer.size),
-                ),
-                (
-                    &self.revealage,
-                    TextureDesc::attachment(REVEALAGE).size(self.gbuffer.size),
-                ),
+                (&self.accumulation, target(ACCUMULATION)),
+                (&self.revealage, target(REVEALAGE)),
             ],
             move |cx| self.accumulate(renderer, cx),
         );
