@@ -12,15 +12,15 @@
 // TEMPORAL: last frame's result (RGBA: bounce, escaped share) reprojected
 // with the G-buffer velocity and blended in where the stored view distance
 // (a second history, `distance`) matches within 5%; non-finite history is
-// never used. BLUR: a depth-aware separable blur of all four channels along
+// never used. Alone it blends `source` (an upsampled half-resolution
+// gather); with GATHER it gathers this pixel first, in the same pass, so a
+// full-resolution gather writes no raw target and costs no second pass. BLUR: a depth-aware separable blur of all four channels along
 // `axis`; with AMBIENT (the last pass) the ambient is added.
 #import spreadlight::camera::Camera
 #import spreadlight::packing::safe_normalize
 #import spreadlight::screen::{RayParams, view_position}
-#ifndef TEMPORAL
 #ifndef BLUR
 #import spreadlight::screen::{tangent_frame, interleaved_gradient_noise, cosine_direction, march}
-#endif
 #endif
 
 // Per pass: which way the blur runs.
@@ -61,8 +61,9 @@ fn clean_gi(v: vec4<f32>) -> vec4<f32> {
 }
 
 #ifdef TEMPORAL
-fn resolve(pixel: vec2<u32>, size: vec2<u32>, p: vec3<f32>) -> vec4<f32> {
-    var gi = clean_gi(textureLoad(source, pixel, 0));
+// `raw` blended with last frame's result where that saw the same surface.
+fn accumulate(raw: vec4<f32>, pixel: vec2<u32>, size: vec2<u32>, p: vec3<f32>) -> vec4<f32> {
+    var gi = raw;
     let uv = (vec2<f32>(pixel) + 0.5) * camera.size.zw;
     let before = uv - textureLoad(velocity_uv, pixel, 0).xy;
     if (params.reset == 0u && fresh.x == 0u && all(before >= vec2<f32>(0.0)) && all(before < vec2<f32>(1.0))) {
@@ -77,6 +78,14 @@ fn resolve(pixel: vec2<u32>, size: vec2<u32>, p: vec3<f32>) -> vec4<f32> {
     }
     textureStore(distance, pixel, vec4<f32>(min(-p.z, 1e30), 0.0, 0.0, 0.0));
     return gi;
+}
+
+fn resolve(pixel: vec2<u32>, size: vec2<u32>, p: vec3<f32>) -> vec4<f32> {
+#ifdef GATHER
+    return accumulate(gather(pixel, p), pixel, size, p);
+#else
+    return accumulate(clean_gi(textureLoad(source, pixel, 0)), pixel, size, p);
+#endif
 }
 #else
 #ifdef BLUR
@@ -118,6 +127,15 @@ fn resolve(pixel: vec2<u32>, size: vec2<u32>, p: vec3<f32>) -> vec4<f32> {
 }
 #else
 fn resolve(pixel: vec2<u32>, size: vec2<u32>, p: vec3<f32>) -> vec4<f32> {
+    return gather(pixel, p);
+}
+#endif
+#endif
+
+#ifndef BLUR
+// The bounce at this pixel: `samples` cosine-weighted rays marched over the
+// depth, with the share of rays that escaped.
+fn gather(pixel: vec2<u32>, p: vec3<f32>) -> vec4<f32> {
     var n = safe_normalize(textureLoad(normals, pixel, 0).xyz, vec3<f32>(0.0, 0.0, 1.0));
     if (dot(n, -p) < 0.0) {
         n = -n;
@@ -140,7 +158,6 @@ fn resolve(pixel: vec2<u32>, size: vec2<u32>, p: vec3<f32>) -> vec4<f32> {
     let n_samples = f32(params.samples);
     return vec4<f32>(min(gathered * params.intensity / n_samples, vec3<f32>(65000.0)), f32(escaped) / n_samples);
 }
-#endif
 #endif
 
 @compute @workgroup_size(8, 8)

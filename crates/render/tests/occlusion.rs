@@ -13,7 +13,7 @@ use std::sync::Arc;
 use glam::{Mat4, Vec3};
 use spreadlight_render::camera::{CameraInput, reverse_z};
 use spreadlight_render::gbuffer::GBuffer;
-use spreadlight_render::lighting::{Ssgi, SsgiSettings, Ssss, SsssQuality};
+use spreadlight_render::lighting::{SSGI_GATHER_TEMPORAL, Ssgi, SsgiSettings, Ssss, SsssQuality};
 use spreadlight_render::material::{Feature, Material, MaterialWorld};
 use spreadlight_render::occlusion::{AmbientOcclusion, AoMode, AoSettings};
 use spreadlight_render::readback::{ImageF32, render_and_read};
@@ -728,6 +728,45 @@ fn fake_sss_of_strength_zero_scatters_nothing_and_costs_no_taps() {
     assert!(
         covered > image.pixels.len() / 2,
         "the floor and ball cover the frame"
+    );
+}
+
+/// At full resolution the gather blends its history in the same pass: no
+/// raw target, no temporal pass. On a fresh history the blend keeps the
+/// gather as it is, so the first frame is the image without accumulation.
+#[test]
+fn ssgi_gathers_and_accumulates_in_one_pass_with_the_image_of_the_gather_alone() {
+    let renderer = test_renderer();
+    let settings = |temporal_blend| SsgiSettings {
+        radius: 1.0,
+        samples: 8,
+        steps: 8,
+        temporal_blend,
+        blur_radius: 2,
+        ..Default::default()
+    };
+    let (fused, image, _) = ssgi(&renderer, settings(0.9), true, 1);
+    // A renderer of its own: the node's frame count (its noise) starts alike.
+    let (alone, reference, _) = ssgi(&test_renderer(), settings(0.0), true, 1);
+    assert_eq!(fused.counter(SSGI_GATHER_TEMPORAL), 1);
+    assert_eq!(alone.counter(SSGI_GATHER_TEMPORAL), 0);
+    // Its own passes (the temporal blend also makes the G-buffer resolve motion).
+    let ssgi_passes = |r: &FrameReport| -> Vec<String> {
+        r.passes
+            .iter()
+            .filter(|p| p.name.starts_with("SSGI"))
+            .map(|p| p.name.clone())
+            .collect()
+    };
+    assert_eq!(
+        ssgi_passes(&fused),
+        ssgi_passes(&alone),
+        "a temporal SSGI costs no pass more than one without"
+    );
+    assert!(image.all_finite());
+    assert!(
+        image.pixels == reference.pixels,
+        "the first frame is the gather's"
     );
 }
 

@@ -15,6 +15,7 @@ use glam::{Mat4, Vec3};
 pub use clusters::ClusterGrid;
 pub use composite::{CompositeInputs, CompositeLight, LightComponents, MAX_COMPONENTS};
 pub use cook_torrance::{CookTorrance, FEW_LIGHTS, LightLoop, Surfaces};
+pub use ssgi::GATHER_TEMPORAL as SSGI_GATHER_TEMPORAL;
 pub use ssgi::HALF_RESOLUTION as SSGI_HALF_RESOLUTION;
 pub use ssgi::{Ssgi, SsgiSettings};
 pub use ssss::{Ssss, SsssQuality};

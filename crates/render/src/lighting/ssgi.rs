@@ -42,6 +42,9 @@ pub struct SsgiSettings {
 
 /// Counted when an SSGI's gather ran at half resolution.
 pub const HALF_RESOLUTION: &str = "SSGI at half resolution";
+/// Statistic: SSGI gathers that blended their history in the same pass
+/// (full resolution with temporal accumulation), writing no raw target.
+pub const GATHER_TEMPORAL: &str = "SSGI gathered and accumulated in one pass";
 
 impl Default for SsgiSettings {
     fn default() -> Self {
@@ -248,7 +251,26 @@ impl Ssgi {
         )
     }
 
-    fn temporal_pass(&self, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
+    /// Full resolution: the gather and the temporal blend in one pass
+    /// (GATHER), writing the history with no raw target between.
+    fn fused(&self) -> bool {
+        self.temporal() && !self.settings.resolution.is_half()
+    }
+
+    /// The gather and the temporal blend in one dispatch ([`Ssgi::fused`]).
+    fn gather_temporal(&self, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
+        let (frame, stale) = self.state.advance(&self.gbuffer, self.settings.reset);
+        if stale {
+            cx.count("SSGI history reset", 1);
+        }
+        self.write_params(cx, frame, stale);
+        cx.count(GATHER_TEMPORAL, 1);
+        self.temporal_pass(cx, true)
+    }
+
+    /// The temporal blend: of the raw target, or with `gather` of the
+    /// bounce gathered in the same dispatch.
+    fn temporal_pass(&self, cx: &mut PassContext<'_>, gather: bool) -> Result<(), RenderError> {
         let (history, previous) = (self.history_name(), self.name("previous"));
         let (distance, previous_distance) = (self.distance_name(), self.name("previous distance"));
         let fresh = cx.copy_history(&history, &previous)?
@@ -257,11 +279,16 @@ impl Ssgi {
             cx.count("SSGI history reset", 1);
         }
         let fresh = self.fresh[usize::from(fresh)].clone();
-        let (raw, velocity) = (self.name("raw"), self.gbuffer.targets.velocity_uv.clone());
+        let velocity = self.gbuffer.targets.velocity_uv.clone();
+        let (raw, features, label) = if gather {
+            (self.source.name.clone(), vec!["TEMPORAL", "GATHER"], "ssgi")
+        } else {
+            (self.name("raw"), vec!["TEMPORAL"], "ssgi temporal")
+        };
         self.dispatch(
             cx,
-            "ssgi temporal",
-            vec!["TEMPORAL"],
+            label,
+            features,
             &[
                 (4, &raw),
                 (5, &history),
@@ -306,21 +333,23 @@ impl Ssgi {
     }
 }
 
-impl Recipe for Ssgi {
-    fn declare<'a>(&'a self, renderer: &'a Renderer, fg: &mut FrameGraph<'a>) {
-        if !fg.include(self.id) {
-            return;
-        }
-        self.gbuffer.declare(renderer, fg);
-        self.source.recipe.declare(renderer, fg);
-        if let Some(a) = &self.ambient {
-            a.recipe.declare(renderer, fg);
-        }
+/// `add_pass`'s outputs, borrowed from owned names.
+fn writes(outputs: &[(String, TextureDesc)]) -> Vec<(&str, TextureDesc)> {
+    outputs
+        .iter()
+        .map(|(n, d)| (n.as_str(), d.clone()))
+        .collect()
+}
+
+impl Ssgi {
+    /// The gather (full or half resolution, upsampled), then the temporal
+    /// blend in its own pass when there is one; returns what the blur reads.
+    fn declare_unfused<'a>(&'a self, fg: &mut FrameGraph<'a>) -> String {
         let g = &self.gbuffer.targets;
         let rgba = TextureDesc::storage(wgpu::TextureFormat::Rgba16Float).size(self.gbuffer.size);
         let raw = self.name("raw");
         let resolution = self.settings.resolution;
-        let raw_target = written_target(&self.name("raw"), self.settings.resolution);
+        let raw_target = written_target(&raw, resolution);
         let pixels = self.gbuffer.pixel_size(fg.output_size());
         fg.add_pass(
             pass_name(
@@ -350,33 +379,68 @@ impl Recipe for Ssgi {
                 label: "ssgi upsample",
             },
         );
-        let mut source = raw.clone();
-        if self.temporal() {
-            let (history, previous) = (self.history_name(), self.name("previous"));
-            let (distance, previous_distance) =
-                (self.distance_name(), self.name("previous distance"));
-            let (rgba, r32) = (
-                wgpu::TextureFormat::Rgba16Float,
-                wgpu::TextureFormat::R32Float,
-            );
-            let size = self.gbuffer.size;
-            fg.add_pass(
-                pass_name("SSGI", self.owner, Some("temporal")),
-                self.owner,
-                &[&raw, &g.depth, &g.normals, &g.velocity_uv],
-                &[
-                    (&history, TextureDesc::history(rgba).size(size)),
-                    (&previous, TextureDesc::history_twin(rgba).size(size)),
-                    (&distance, TextureDesc::history(r32).size(size)),
-                    (
-                        &previous_distance,
-                        TextureDesc::history_twin(r32).size(size),
-                    ),
-                ],
-                move |cx| self.temporal_pass(cx),
-            );
-            source = history;
+        if !self.temporal() {
+            return raw;
         }
+        let mut reads = vec![raw.as_str()];
+        reads.extend([g.depth.as_str(), &g.normals, &g.velocity_uv]);
+        fg.add_pass(
+            pass_name("SSGI", self.owner, Some("temporal")),
+            self.owner,
+            &reads,
+            &writes(&self.histories()),
+            move |cx| self.temporal_pass(cx, false),
+        );
+        self.history_name()
+    }
+
+    /// The temporal pass's outputs: the bounce history and the view distance
+    /// under it, each with its twin holding last frame's.
+    fn histories(&self) -> [(String, TextureDesc); 4] {
+        let (rgba16, r32) = (
+            wgpu::TextureFormat::Rgba16Float,
+            wgpu::TextureFormat::R32Float,
+        );
+        let size = self.gbuffer.size;
+        [
+            (self.history_name(), TextureDesc::history(rgba16).size(size)),
+            (
+                self.name("previous"),
+                TextureDesc::history_twin(rgba16).size(size),
+            ),
+            (self.distance_name(), TextureDesc::history(r32).size(size)),
+            (
+                self.name("previous distance"),
+                TextureDesc::history_twin(r32).size(size),
+            ),
+        ]
+    }
+}
+
+impl Recipe for Ssgi {
+    fn declare<'a>(&'a self, renderer: &'a Renderer, fg: &mut FrameGraph<'a>) {
+        if !fg.include(self.id) {
+            return;
+        }
+        self.gbuffer.declare(renderer, fg);
+        self.source.recipe.declare(renderer, fg);
+        if let Some(a) = &self.ambient {
+            a.recipe.declare(renderer, fg);
+        }
+        let g = &self.gbuffer.targets;
+        let rgba = TextureDesc::storage(wgpu::TextureFormat::Rgba16Float).size(self.gbuffer.size);
+        let source = if self.fused() {
+            fg.add_pass(
+                pass_name("SSGI", self.owner, Some("gather")),
+                self.owner,
+                &[&g.depth, &g.normals, &self.source.name, &g.velocity_uv],
+                &writes(&self.histories()),
+                move |cx| self.gather_temporal(cx),
+            );
+            self.history_name()
+        } else {
+            self.declare_unfused(fg)
+        };
         let blurred = self.name("blurred");
         let mut last = source.clone();
         if self.off() {

@@ -225,9 +225,11 @@ pub const SHADERS: &[ShaderFile] = &[
     ),
     shader!(
         "lighting/ssgi.wgsl",
-        ["TEMPORAL", "BLUR", "AMBIENT", "HALF"],
+        ["TEMPORAL", "GATHER", "BLUR", "AMBIENT", "HALF"],
         Rule::AtMostOne(&["TEMPORAL", "BLUR"]),
         Rule::Requires("AMBIENT", "BLUR"),
+        // The gather fused into the temporal pass (full resolution only).
+        Rule::Requires("GATHER", "TEMPORAL"),
         // Only the gather runs at half resolution.
         Rule::AtMostOne(&["HALF", "TEMPORAL"]),
         Rule::AtMostOne(&["HALF", "BLUR"])
