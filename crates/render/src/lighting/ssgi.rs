@@ -337,7 +337,7 @@ impl Ssgi {
 fn writes(outputs: &[(String, TextureDesc)]) -> Vec<(&str, TextureDesc)> {
     outputs
         .iter()
-        .map(|(n, d)| (n.as_str(), d.clone()))
+        .map(|(n, d)| (n.as_str(), *d))
         .collect()
 }
 
