@@ -12,9 +12,15 @@
 // The rotation (interleaved gradient noise) changes every frame, so the
 // temporal pass converges to many more samples than one frame takes.
 // HALF: one pixel per 2x2 block (see main), for the depth-aware upsample.
+// TEMPORAL (full resolution): the estimate is blended with last frame's
+// here (shaders/lib/ao_history.wgsl) and the history texel written, so
+// accumulation costs no pass of its own.
 #import spreadlight::camera::Camera
 #import spreadlight::packing::safe_normalize
 #import spreadlight::screen::{RayParams, view_position, interleaved_gradient_noise}
+#ifdef TEMPORAL
+#import spreadlight::ao_history::{accumulate, SKY}
+#endif
 #ifdef SAO
 #import spreadlight::screen::view_position_at_distance
 #else
@@ -27,7 +33,17 @@
 @group(0) @binding(1) var<uniform> params: RayParams;
 @group(0) @binding(2) var depth: texture_2d<f32>;
 @group(0) @binding(3) var normals: texture_2d<f32>;
+#ifdef TEMPORAL
+// The estimate blended with last frame's in this pass (full resolution):
+// the history texel (shaders/lib/ao_history.wgsl), not the raw visibility.
+@group(0) @binding(4) var history: texture_storage_2d<rgba16float, write>;
+@group(0) @binding(10) var velocity_uv: texture_2d<f32>;
+@group(0) @binding(11) var previous: texture_2d<f32>;
+// x: 1 when the history was created this frame and holds nothing.
+@group(0) @binding(12) var<uniform> fresh: vec4<u32>;
+#else
 @group(0) @binding(4) var output: texture_storage_2d<r32float, write>;
+#endif
 #ifdef SAO
 @group(0) @binding(5) var z0: texture_2d<f32>;
 @group(0) @binding(6) var z1: texture_2d<f32>;
@@ -171,9 +187,10 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
 #endif
     let d = textureLoad(depth, pixel, 0).r;
     var visibility = 1.0;
+    let p = view_position(camera, pixel, d);
+    let n_view = safe_normalize(textureLoad(normals, pixel, 0).xyz, vec3<f32>(0.0, 0.0, 1.0));
     if (d > 0.0 && params.radius > 0.0) {
-        let p = view_position(camera, pixel, d);
-        var n = safe_normalize(textureLoad(normals, pixel, 0).xyz, vec3<f32>(0.0, 0.0, 1.0));
+        var n = n_view;
         // A normal facing away from the eye (a back face, or a bad normal):
         // its hemisphere would lie behind the surface seen; turn it round.
         if (dot(n, -p) < 0.0) {
@@ -185,5 +202,14 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     if (!(visibility >= 0.0 && visibility <= 1.0)) {
         visibility = 1.0;
     }
+#ifdef TEMPORAL
+    if (d <= 0.0) {
+        textureStore(history, pixel, SKY);
+        return;
+    }
+    let reuse = params.reset == 0u && fresh.x == 0u;
+    textureStore(history, pixel, accumulate(camera, visibility, pixel, p, n_view, velocity_uv, previous, reuse, params.blend));
+#else
     textureStore(output, id.xy, vec4<f32>(visibility, 0.0, 0.0, 0.0));
+#endif
 }

@@ -15,11 +15,12 @@ use spreadlight_render::camera::{CameraInput, reverse_z};
 use spreadlight_render::gbuffer::GBuffer;
 use spreadlight_render::lighting::{SSGI_GATHER_TEMPORAL, Ssgi, SsgiSettings, Ssss, SsssQuality};
 use spreadlight_render::material::{Feature, Material, MaterialWorld};
-use spreadlight_render::occlusion::{AmbientOcclusion, AoMode, AoSettings};
+use spreadlight_render::occlusion::{AmbientOcclusion, AoMode, AoSettings, ESTIMATE_TEMPORAL};
 use spreadlight_render::readback::{ImageF32, render_and_read};
 use spreadlight_render::reference::occlusion::{Occluders, visibility_image};
 use spreadlight_render::reference::shadows::Sphere;
 use spreadlight_render::renderer::test_renderer;
+use spreadlight_render::resolution::Resolution;
 use spreadlight_render::scenes::balls_on_floor;
 use spreadlight_render::{FrameReport, Recipe, Renderer, SizeRule};
 
@@ -227,6 +228,52 @@ fn temporal_accumulation_beats_one_frame_of_few_samples() {
         e24 < e1 * 0.7,
         "24 accumulated frames ({e24}) against one ({e1})"
     );
+}
+
+/// At full resolution the estimate blends its history in its own pass (no
+/// raw target, no temporal pass); at half resolution the blend follows the
+/// upsample in a pass of its own. Either way a fresh history keeps the
+/// estimate: the first frame is the image without accumulation, to the
+/// history's half-float precision.
+#[test]
+fn ao_accumulates_in_the_estimate_at_full_resolution_and_after_the_upsample_at_half() {
+    for resolution in [Resolution::Full, Resolution::Half] {
+        let settings = |temporal_blend| AoSettings {
+            temporal_blend,
+            resolution,
+            blur_radius: 2,
+            ..single_frame(AoMode::Hbao, 8)
+        };
+        // A renderer each: the node's frame count (its noise) starts alike.
+        let run = |temporal_blend| {
+            let renderer = test_renderer();
+            let g = gbuffer(&renderer, eye(), None, SIZE);
+            ao(&renderer, g, settings(temporal_blend), SIZE)
+        };
+        let (accumulated, image, _) = run(0.9);
+        let (alone, reference, _) = run(0.0);
+        let temporal_passes = accumulated
+            .passes
+            .iter()
+            .filter(|p| p.name.contains("temporal"))
+            .count();
+        let fused = resolution == Resolution::Full;
+        assert_eq!(
+            accumulated.counter(ESTIMATE_TEMPORAL),
+            u64::from(fused),
+            "{resolution:?}"
+        );
+        assert_eq!(temporal_passes, usize::from(!fused), "{resolution:?}");
+        assert_eq!(alone.counter(ESTIMATE_TEMPORAL), 0);
+        assert!(image.all_finite());
+        let worst = image
+            .pixels
+            .iter()
+            .zip(&reference.pixels)
+            .map(|(a, b)| (a[0] - b[0]).abs())
+            .fold(0.0f32, f32::max);
+        assert!(worst <= 1e-3, "{resolution:?}: {worst}");
+    }
 }
 
 #[test]

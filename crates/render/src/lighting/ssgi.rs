@@ -335,10 +335,7 @@ impl Ssgi {
 
 /// `add_pass`'s outputs, borrowed from owned names.
 fn writes(outputs: &[(String, TextureDesc)]) -> Vec<(&str, TextureDesc)> {
-    outputs
-        .iter()
-        .map(|(n, d)| (n.as_str(), *d))
-        .collect()
+    outputs.iter().map(|(n, d)| (n.as_str(), *d)).collect()
 }
 
 impl Ssgi {

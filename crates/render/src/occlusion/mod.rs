@@ -96,6 +96,9 @@ pub struct AoSettings {
 
 /// Counted when an AO's raw estimate ran at half resolution.
 pub const HALF_RESOLUTION: &str = "AO at half resolution";
+/// Statistic: AO estimates that blended their history in the same pass
+/// (full resolution with temporal accumulation), writing no raw target.
+pub const ESTIMATE_TEMPORAL: &str = "AO estimated and accumulated in one pass";
 
 impl Default for AoSettings {
     fn default() -> Self {
@@ -295,6 +298,12 @@ impl AmbientOcclusion {
         )
     }
 
+    /// Full resolution with accumulation: the estimate blends its history
+    /// in the raw pass (ao.wgsl's TEMPORAL), with no raw target between.
+    fn fused(&self) -> bool {
+        self.temporal() && !self.settings.resolution.is_half()
+    }
+
     fn raw(&self, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
         let g = &self.gbuffer.targets;
         let (frame, stale) = self.state.advance(&self.gbuffer, self.settings.reset);
@@ -303,11 +312,23 @@ impl AmbientOcclusion {
             cx.count("AO history reset", 1);
         }
         self.write_params(cx, frame, reset);
-        let mut views = vec![
-            cx.view(&g.depth)?,
-            cx.view(&g.normals)?,
-            cx.view(&written_target(&self.name("raw"), self.settings.resolution))?,
-        ];
+        let fused = self.fused();
+        // Fused: last frame's history handed to `previous` before any view
+        // of the history is taken (the two may trade textures).
+        let (target, fresh) = if fused {
+            let fresh = cx.copy_history(&self.history_name(), &self.name("previous"))?;
+            if fresh {
+                cx.count("AO history reset", 1);
+            }
+            cx.count(ESTIMATE_TEMPORAL, 1);
+            (self.history_name(), fresh)
+        } else {
+            (
+                written_target(&self.name("raw"), self.settings.resolution),
+                false,
+            )
+        };
+        let mut views = vec![cx.view(&g.depth)?, cx.view(&g.normals)?, cx.view(&target)?];
         if self.sao() {
             for k in 0..DEPTH_LEVELS {
                 views.push(cx.view(&self.name(&format!("z{k}")))?);
@@ -320,6 +341,17 @@ impl AmbientOcclusion {
         for (k, v) in views.iter().enumerate() {
             all.push((2 + k as u32, wgpu::BindingResource::TextureView(v)));
         }
+        let history_views = if fused {
+            Some([cx.view(&g.velocity_uv)?, cx.view(&self.name("previous"))?])
+        } else {
+            None
+        };
+        if let Some([velocity, previous]) = &history_views {
+            let fresh = &self.fresh[usize::from(fresh)];
+            all.push((10, wgpu::BindingResource::TextureView(velocity)));
+            all.push((11, wgpu::BindingResource::TextureView(previous)));
+            all.push((12, fresh.as_entire_binding()));
+        }
         // Off: the plain estimator's early exit writes 1 (no SAO chain to bind).
         let feature = if self.off() {
             None
@@ -329,7 +361,10 @@ impl AmbientOcclusion {
         let resolution = self.settings.resolution;
         let key = ShaderKey::new(
             "occlusion/ao.wgsl",
-            feature.into_iter().chain(resolution.feature()),
+            feature
+                .into_iter()
+                .chain(resolution.feature())
+                .chain(fused.then_some("TEMPORAL")),
         );
         let size = resolution.pixels(self.gbuffer.pixel_size(cx.output_size));
         cx.dispatch_image(self.settings.mode.name(), &key, &all, size)
@@ -461,12 +496,34 @@ impl Recipe for AmbientOcclusion {
         let resolution = self.settings.resolution;
         let pixels = self.gbuffer.pixel_size(fg.output_size());
         let raw_target = written_target(&self.name("raw"), self.settings.resolution);
-        fg.add_pass(
-            pass_name(
-                kind,
-                self.owner,
-                Some(&format!("raw{}", resolution.pass_suffix())),
+        let history = self.history_name();
+        let previous = self.name("previous");
+        let histories = [
+            (
+                history.as_str(),
+                TextureDesc::history(wgpu::TextureFormat::Rgba16Float).size(self.gbuffer.size),
             ),
+            (
+                previous.as_str(),
+                TextureDesc::history_twin(wgpu::TextureFormat::Rgba16Float).size(self.gbuffer.size),
+            ),
+        ];
+        let raw_name = pass_name(
+            kind,
+            self.owner,
+            Some(&format!("raw{}", resolution.pass_suffix())),
+        );
+        if self.fused() {
+            // The estimate and its accumulation in one pass: straight to the blur.
+            reads.push(&g.velocity_uv);
+            fg.add_pass(raw_name, self.owner, &reads, &histories, move |cx| {
+                self.raw(cx)
+            });
+            self.declare_blur(fg, history);
+            return;
+        }
+        fg.add_pass(
+            raw_name,
             self.owner,
             &reads,
             &[(
@@ -492,21 +549,26 @@ impl Recipe for AmbientOcclusion {
         );
         let mut source = raw.clone();
         if self.temporal() {
-            let history = self.history_name();
-            let previous = self.name("previous");
-            let persistent =
-                TextureDesc::history(wgpu::TextureFormat::Rgba16Float).size(self.gbuffer.size);
-            let copy =
-                TextureDesc::history_twin(wgpu::TextureFormat::Rgba16Float).size(self.gbuffer.size);
             fg.add_pass(
                 pass_name(kind, self.owner, Some("temporal")),
                 self.owner,
                 &[&raw, &g.depth, &g.normals, &g.velocity_uv],
-                &[(&history, persistent), (&previous, copy)],
+                &histories,
                 move |cx| self.temporal_pass(cx),
             );
             source = history;
         }
+        self.declare_blur(fg, source);
+    }
+}
+
+impl AmbientOcclusion {
+    /// The depth-aware blur of `source` (x then y), or with no blur the
+    /// resolve; the last pass writes the output (and multiplies `combine` in).
+    fn declare_blur<'a>(&'a self, fg: &mut FrameGraph<'a>, source: String) {
+        let kind = self.settings.mode.name();
+        let g = &self.gbuffer.targets;
+        let full = |format| TextureDesc::storage(format).size(self.gbuffer.size);
         let blurred = self.name("blurred");
         let mut last_reads: Vec<&str> = vec![&g.depth, &g.normals];
         last_reads.extend(self.combine.as_ref().map(|c| c.name.as_str()));

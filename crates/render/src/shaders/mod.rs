@@ -104,6 +104,7 @@ pub const SHADERS: &[ShaderFile] = &[
     shader!("lib/material_maps.wgsl", library),
     shader!("lib/matcap.wgsl", library),
     shader!("lib/screen.wgsl", library),
+    shader!("lib/ao_history.wgsl", library),
     shader!("lib/sky.wgsl", library),
     shader!("lib/ibl.wgsl", library),
     shader!("lib/post.wgsl", library),
@@ -241,8 +242,10 @@ pub const SHADERS: &[ShaderFile] = &[
     shader!("occlusion/linear_depth.wgsl", ["DOWNSAMPLE"]),
     shader!(
         "occlusion/ao.wgsl",
-        ["SAO", "HBAO", "HALF"],
-        Rule::AtMostOne(&["SAO", "HBAO"])
+        ["SAO", "HBAO", "HALF", "TEMPORAL"],
+        Rule::AtMostOne(&["SAO", "HBAO"]),
+        // Half resolution blends after the upsample (occlusion/temporal.wgsl).
+        Rule::AtMostOne(&["HALF", "TEMPORAL"])
     ),
     shader!("occlusion/temporal.wgsl", []),
     shader!(
