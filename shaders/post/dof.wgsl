@@ -145,7 +145,15 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let here = textureLoad(coc_in, p, 0).rg;
     let c0 = abs(here.x);
     let center = sanitize(load_clamped(source, p));
-    let radius = max(load_clamped(tiles_in, p / i32(params.limits.z)).r, 0.5);
+    let tile_radius = load_clamped(tiles_in, p / i32(params.limits.z)).r;
+    // In focus across the tile and its neighbours: no circle that could
+    // cover this pixel reaches past it (every sample would round to this
+    // pixel), so the gather would give the centre back. Skip it.
+    if (!(tile_radius > 0.5)) {
+        textureStore(output, id.xy, vec4<f32>(clamp(center.rgb, vec3<f32>(0.0), vec3<f32>(65000.0)), center.a));
+        return;
+    }
+    let radius = tile_radius;
     let n = u32(params.lens.w);
     var sum = center.rgb * coverage(c0, vec2<f32>(0.0), 0.0);
     var weight = coverage(c0, vec2<f32>(0.0), 0.0);
