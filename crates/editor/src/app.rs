@@ -12,7 +12,7 @@ use spreadlight_graph::registry::Name;
 use spreadlight_graph::{
     FrameClock, NodeId, PinRef, PinType, Registry, ResourceKind, RuntimeSnapshot, Spread, format,
 };
-use spreadlight_render::{GpuContext, Renderer};
+use spreadlight_render::{GpuContext, Renderer, SubmissionGate};
 
 mod automation;
 mod canvas_view;
@@ -182,9 +182,13 @@ pub struct EditorApp {
     gpu_error: Option<String>,
     /// The two side-panel viewports, then the show window's (`show_window.rs`).
     viewports: [Viewport; 3],
-    /// Held while the show window draws: its surface is configured then,
-    /// and the worker must not submit meanwhile (`GpuContext::submission_gate`).
-    submission_gate: Option<Arc<std::sync::Mutex<()>>>,
+    /// The renderer's submissions (the worker's): closed except while this
+    /// app's own frame runs, minus the show window's drawing, because eframe
+    /// may configure a window's surface anywhere else and wgpu refuses that
+    /// while another thread submits (`SubmissionGate`, docs/editor.md).
+    submission_gate: Option<SubmissionGate>,
+    /// Whether the gate asks for a repaint when the worker waits at it.
+    gate_waker_set: bool,
     viewport_rects: [Option<egui::Rect>; 3],
     /// The first viewport's whole area, in points: the patch's window (`host_input.rs`).
     view_area: Option<egui::Rect>,
@@ -265,10 +269,9 @@ impl EditorApp {
         let mut submission_gate = None;
         let (gpu, gpu_error) = match render_state {
             Some(state) => {
-                // A device error no scope catches (wgpu gives up waiting for
-                // the GPU when a window's surface is configured while the
-                // worker's frame still runs on a slow adapter) is reported,
-                // not a panic that takes the editor and the patch down.
+                // A device error no scope catches (say a window's surface
+                // that cannot be configured) is reported, not a panic that
+                // takes the editor and the patch down.
                 state.device.on_uncaptured_error(Arc::new(|e: wgpu::Error| {
                     eprintln!("warning: GPU: {e}");
                 }));
@@ -277,7 +280,7 @@ impl EditorApp {
                     state.queue.clone(),
                     state.adapter.get_info(),
                 );
-                submission_gate = Some(context.submission_gate());
+                submission_gate = Some(context.submission_gate().clone());
                 match Renderer::new(context) {
                     Ok(renderer) => {
                         // One command encoder a frame (docs/benchmarks.md); a
@@ -303,6 +306,11 @@ impl EditorApp {
             ),
         };
         let recent = files::load_recent(&options.config_dir);
+        // Closed from before eframe's first event (a window's first
+        // `Resized` configures its surface); only `show_frame` opens it.
+        if let Some(gate) = &submission_gate {
+            gate.close();
+        }
         let worker = Worker::new(registry.clone(), gpu);
         let mut app = EditorApp {
             registry,
@@ -323,6 +331,7 @@ impl EditorApp {
             ],
             viewport_rects: [None; 3],
             submission_gate,
+            gate_waker_set: false,
             view_area: None,
             wheel: 0.0,
             snarl: Snarl::new(),
@@ -472,6 +481,23 @@ impl EditorApp {
     }
 
     fn show_frame(&mut self, ui: &mut Ui, frame: Option<&eframe::Frame>) {
+        // The worker submits while this frame runs: eframe configures no
+        // surface inside an app's update but in the immediate viewports it
+        // draws there (closed again around them, `show_window.rs`).
+        let gate = self.submission_gate.clone();
+        let _open = gate.as_ref().map(|gate| {
+            if !self.gate_waker_set {
+                // A submit that waits asks for this frame soon.
+                let ctx = ui.ctx().clone();
+                gate.set_waker(move || ctx.request_repaint());
+                self.gate_waker_set = true;
+            }
+            gate.open_scope()
+        });
+        self.draw_frame(ui, frame);
+    }
+
+    fn draw_frame(&mut self, ui: &mut Ui, frame: Option<&eframe::Frame>) {
         let started = Instant::now();
         if self.show_mode {
             self.show_only(ui, frame, started);

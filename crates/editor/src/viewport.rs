@@ -4,7 +4,7 @@
 
 use std::sync::Arc;
 
-use spreadlight_render::{FrameGraph, Renderer, TextureRef};
+use spreadlight_render::{FrameGraph, GpuContext, Renderer, TextureRef};
 use thiserror::Error;
 
 #[derive(Debug, Error, Clone, PartialEq)]
@@ -105,8 +105,7 @@ impl Blitter {
 
     fn blit(
         &self,
-        device: &wgpu::Device,
-        queue: &wgpu::Queue,
+        gpu: &GpuContext,
         src: &wgpu::Texture,
         dst: &wgpu::TextureView,
     ) -> Result<(), ViewportError> {
@@ -118,7 +117,7 @@ impl Blitter {
             return Err(ViewportError::Format(src.format()));
         }
         let view = src.create_view(&wgpu::TextureViewDescriptor::default());
-        let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
+        let bind = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("viewport blit"),
             layout: &self.layout,
             entries: &[wgpu::BindGroupEntry {
@@ -126,7 +125,7 @@ impl Blitter {
                 resource: wgpu::BindingResource::TextureView(&view),
             }],
         });
-        let mut encoder = device.create_command_encoder(&Default::default());
+        let mut encoder = gpu.device.create_command_encoder(&Default::default());
         {
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("viewport blit"),
@@ -148,7 +147,9 @@ impl Blitter {
             pass.set_bind_group(0, &bind, &[]);
             pass.draw(0..3, 0..1);
         }
-        queue.submit([encoder.finish()]);
+        // Through the renderer's gate like its own frames: a window's surface
+        // may be configured on the UI thread meanwhile (`GpuContext::submit`).
+        gpu.submit([encoder.finish()]);
         Ok(())
     }
 }
@@ -227,6 +228,6 @@ pub fn render_into(
         return Err(ViewportError::NoTexture);
     };
     let dst = t.texture.create_view(&Default::default());
-    blitter.blit(device, &render_state.queue, src, &dst)?;
+    blitter.blit(&renderer.gpu, src, &dst)?;
     Ok(report)
 }

@@ -28,7 +28,7 @@ use spreadlight_graph::{
     FrameClock, NodeId, Patch, PatchDir, Registry, ResourceKind, Runtime, RuntimeSnapshot, Spread,
 };
 use spreadlight_nodes::input::HostInput;
-use spreadlight_render::{Renderer, TextureRef};
+use spreadlight_render::{Renderer, SubmissionGate, TextureRef};
 
 use crate::viewport::{self, Blitter, ViewTarget, ViewportError};
 
@@ -173,12 +173,18 @@ pub struct Worker {
     shared: Arc<Shared>,
     thread: Option<JoinHandle<()>>,
     host: Arc<HostInput>,
+    /// The renderer's submission gate, opened for good before the thread is
+    /// joined: it may be waiting there for a frame the UI no longer runs.
+    gate: Option<SubmissionGate>,
 }
 
 impl Worker {
     pub fn new(registry: Registry, gpu: Option<WorkerGpu>) -> Self {
         let shared = Arc::new(Shared::default());
         let host = Arc::new(HostInput::default());
+        let gate = gpu
+            .as_ref()
+            .map(|g| g.renderer.gpu.submission_gate().clone());
         let mut engine = Engine::new(registry, gpu, host.clone());
         let inner = shared.clone();
         let thread = std::thread::Builder::new()
@@ -189,6 +195,7 @@ impl Worker {
             shared,
             thread,
             host,
+            gate,
         }
     }
 
@@ -254,6 +261,9 @@ impl Drop for Worker {
     fn drop(&mut self) {
         self.shared.lock().stop = true;
         self.shared.work.notify_all();
+        if let Some(gate) = &self.gate {
+            gate.open_for_good();
+        }
         if let Some(t) = self.thread.take() {
             let _ = t.join();
         }

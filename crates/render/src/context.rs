@@ -9,6 +9,7 @@
 use std::sync::Arc;
 
 use crate::error::RenderError;
+use crate::submission_gate::SubmissionGate;
 
 /// Features the renderer cannot work without (none yet beyond WebGPU's baseline).
 pub const REQUIRED_FEATURES: wgpu::Features = wgpu::Features::empty();
@@ -25,9 +26,9 @@ pub struct GpuContext {
     pub device: wgpu::Device,
     pub queue: wgpu::Queue,
     pub adapter_info: Arc<wgpu::AdapterInfo>,
-    /// Held around every submission the renderer makes ([`GpuContext::submit`]),
-    /// so a host can keep them out for a moment ([`GpuContext::submission_gate`]).
-    submissions: Arc<std::sync::Mutex<()>>,
+    /// What every submission the renderer makes passes ([`GpuContext::submit`]);
+    /// open unless a host that configures window surfaces closes it.
+    gate: SubmissionGate,
 }
 
 impl std::fmt::Debug for GpuContext {
@@ -106,27 +107,25 @@ impl GpuContext {
             device,
             queue,
             adapter_info: Arc::new(adapter_info),
-            submissions: Arc::default(),
+            gate: SubmissionGate::default(),
         }
     }
 
-    /// Submit `commands` to the queue, unless a host holds submissions (then
-    /// wait until it lets go).
+    /// Submit `commands` to the queue once the [`SubmissionGate`] lets them
+    /// through (at once, unless a host closed it). Every submission of the
+    /// renderer's, and of whatever renders beside it on another thread, goes
+    /// through here; a host's own submissions on its own thread do not.
     pub fn submit<I: IntoIterator<Item = wgpu::CommandBuffer>>(
         &self,
         commands: I,
     ) -> wgpu::SubmissionIndex {
-        let _held = self.submissions.lock().unwrap_or_else(|e| e.into_inner());
-        self.queue.submit(commands)
+        self.gate.pass(|| self.queue.submit(commands))
     }
 
-    /// What keeps the renderer's submissions out while it is locked: a host
-    /// configuring a window's surface on this device holds it, because wgpu
-    /// refuses to configure a surface when another thread submits while it
-    /// waits for the GPU to go idle (the editor's worker renders on its own
-    /// thread). Submissions the host makes itself on the queue are not held.
-    pub fn submission_gate(&self) -> Arc<std::sync::Mutex<()>> {
-        self.submissions.clone()
+    /// The gate [`GpuContext::submit`] passes, for a host that configures
+    /// window surfaces on this device (see [`SubmissionGate`] for why).
+    pub fn submission_gate(&self) -> &SubmissionGate {
+        &self.gate
     }
 
     /// The adapter's name and backend, as every figure must be labelled.

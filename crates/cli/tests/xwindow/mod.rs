@@ -171,6 +171,17 @@ impl Input {
         (at.dst_x, at.dst_y, side(size.width), side(size.height))
     }
 
+    /// Resize `window` to `w` x `h` pixels, as a user dragging its corner would.
+    pub fn resize(&self, window: u32, w: u16, h: u16) {
+        use x11rb::connection::Connection;
+        use x11rb::protocol::xproto::{ConfigureWindowAux, ConnectionExt};
+        let size = ConfigureWindowAux::new()
+            .width(u32::from(w))
+            .height(u32::from(h));
+        self.conn.configure_window(window, &size).expect("resize");
+        self.conn.flush().expect("flush");
+    }
+
     /// Give `window` the keyboard, as a window manager would on a click.
     pub fn focus(&self, window: u32) {
         use x11rb::connection::Connection;

@@ -80,13 +80,12 @@ impl EditorApp {
             builder = builder.with_monitor(monitor);
         }
         let id = egui::ViewportId::from_hash_of("spreadlight-show-window");
-        // The window's surface is configured while it draws (first frame,
-        // resize); wgpu refuses when the worker submits meanwhile, and the
-        // next frame then panics in egui-wgpu on the unconfigured surface.
+        // eframe creates, resizes and paints the window inside this call,
+        // configuring its surface (first frame, resize, viewport commands);
+        // wgpu refuses that while the worker submits, and the next paint then
+        // panics on the unconfigured surface. Closed while it runs.
         let gate = self.submission_gate.clone();
-        let _held = gate
-            .as_ref()
-            .map(|g| g.lock().unwrap_or_else(|e| e.into_inner()));
+        let _closed = gate.as_ref().map(SubmissionGate::closed_scope);
         let close = ctx.show_viewport_immediate(id, builder, |ui, class| {
             let ctx = ui.ctx().clone();
             let close = ctx.input_mut(|i| i.consume_key(Modifiers::NONE, Key::Escape))
