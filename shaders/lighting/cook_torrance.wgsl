@@ -66,8 +66,9 @@ struct Surface {
 @group(0) @binding(0) var<uniform> camera: Camera;
 @group(0) @binding(1) var<uniform> grid: Grid;
 @group(0) @binding(2) var<storage, read> lights: array<Light>;
-@group(0) @binding(3) var<storage, read> view_lights: array<vec4<f32>>;
 #ifdef CLUSTERED
+// The lights in view space (position, range), written by the assignment.
+@group(0) @binding(3) var<storage, read> view_lights: array<vec4<f32>>;
 @group(0) @binding(4) var<storage, read> counts: array<u32>;
 @group(0) @binding(5) var<storage, read> offsets: array<u32>;
 @group(0) @binding(6) var<storage, read> indices: array<u32>;
@@ -434,7 +435,10 @@ fn main(@builtin(local_invocation_index) lane: u32, @builtin(workgroup_id) wid: 
 #else
     if (covered) {
         for (var i = 0u; i < grid.dims.w; i++) {
-            let lv = view_lights[i];
+            // Few lights: each moved to view space here, which costs less
+            // than a dispatch of its own and the barrier after it.
+            let record = lights[i];
+            let lv = vec4<f32>((camera.view * vec4<f32>(record.position_range.xyz, 1.0)).xyz, record.position_range.w);
 #ifndef LIGHT_SUN
             // A light without a range lights nothing (shade leaves it to this test).
             if (!(lv.w > 0.0)) {
