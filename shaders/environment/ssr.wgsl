@@ -1,7 +1,12 @@
 // SSR: screen-space reflection with roughness (crates/render/src/environment/ssr.rs).
 //
-// hiz_copy / hiz_down build a hierarchical depth: mip 0 the G-buffer's
-// reversed-Z depth, each further mip the MAX of the texels under it. In
+// hiz_first / hiz_down2 / hiz_down build a hierarchical depth: mip 0 the
+// G-buffer's reversed-Z depth, each further mip the MAX of the texels under
+// it (its 2x2, and at the last row or column what an odd level leaves).
+// Two levels a dispatch (hiz_first: the copy and mip 1; hiz_down2: the next
+// two from the one before), so the 11 levels of 1080p take 6 dispatches:
+// most levels are too small to fill the GPU, and each dispatch costs a
+// barrier. hiz_copy alone serves a 1x1 image; hiz_down an odd last level. In
 // reversed-Z the max is the NEAREST surface of the cell (the farthest is
 // the min): a ray nearer than a cell's max is in front of everything in it
 // and may skip the whole cell; with the min it could skip past a near
@@ -59,6 +64,8 @@ struct Params {
 @group(0) @binding(10) var output: texture_storage_2d<rgba16float, write>;
 @group(0) @binding(11) var out_hiz: texture_storage_2d<r32float, write>;
 @group(0) @binding(12) var hiz_source: texture_2d<f32>;
+// The level after out_hiz's (hiz_first, hiz_down2).
+@group(0) @binding(16) var out_hiz_next: texture_storage_2d<r32float, write>;
 @group(0) @binding(13) var current: texture_2d<f32>;
 @group(0) @binding(14) var history: texture_2d<f32>;
 @group(0) @binding(15) var velocity_uv: texture_2d<f32>;
@@ -80,6 +87,72 @@ fn hiz_copy(@builtin(global_invocation_id) id: vec3<u32>) {
     textureStore(out_hiz, id.xy, vec4<f32>(select(0.0, d, d == d), 0.0, 0.0, 0.0));
 }
 
+// Along one axis: the first and last texel of the level below (`src`
+// wide) under texel `k` of a level `out` wide: its two, and at the last
+// texel the rest of an odd level.
+fn footprint(k: u32, out: u32, src: u32) -> vec2<u32> {
+    let lo = k * 2u;
+    var hi = min(lo + 1u, src - 1u);
+    if (k + 1u == out) {
+        hi = src - 1u;
+    }
+    return vec2<u32>(lo, hi);
+}
+
+// Mip 0 (the depth, NaN as 0) and mip 1: a thread per mip 1 texel copies
+// the depth texels under it. The footprints tile mip 0, so each is
+// written once.
+@compute @workgroup_size(8, 8)
+fn hiz_first(@builtin(global_invocation_id) id: vec3<u32>) {
+    let out_size = textureDimensions(out_hiz_next);
+    if (id.x >= out_size.x || id.y >= out_size.y) {
+        return;
+    }
+    let src_size = textureDimensions(depth);
+    let fx = footprint(id.x, out_size.x, src_size.x);
+    let fy = footprint(id.y, out_size.y, src_size.y);
+    var nearest = 0.0;
+    for (var y = fy.x; y <= fy.y; y++) {
+        for (var x = fx.x; x <= fx.y; x++) {
+            let d = textureLoad(depth, vec2<u32>(x, y), 0).r;
+            let clean = select(0.0, d, d == d);
+            textureStore(out_hiz, vec2<u32>(x, y), vec4<f32>(clean, 0.0, 0.0, 0.0));
+            nearest = max(nearest, clean);
+        }
+    }
+    textureStore(out_hiz_next, id.xy, vec4<f32>(nearest, 0.0, 0.0, 0.0));
+}
+
+// Two levels from `hiz_source`: a thread per texel of the second
+// (out_hiz_next) makes the texels of the first (out_hiz) under it.
+@compute @workgroup_size(8, 8)
+fn hiz_down2(@builtin(global_invocation_id) id: vec3<u32>) {
+    let out_size = textureDimensions(out_hiz_next);
+    if (id.x >= out_size.x || id.y >= out_size.y) {
+        return;
+    }
+    let mid_size = textureDimensions(out_hiz);
+    let src_size = textureDimensions(hiz_source);
+    let mx = footprint(id.x, out_size.x, mid_size.x);
+    let my = footprint(id.y, out_size.y, mid_size.y);
+    var nearest = 0.0;
+    for (var y1 = my.x; y1 <= my.y; y1++) {
+        for (var x1 = mx.x; x1 <= mx.y; x1++) {
+            let fx = footprint(x1, mid_size.x, src_size.x);
+            let fy = footprint(y1, mid_size.y, src_size.y);
+            var cell = 0.0;
+            for (var y = fy.x; y <= fy.y; y++) {
+                for (var x = fx.x; x <= fx.y; x++) {
+                    cell = max(cell, textureLoad(hiz_source, vec2<u32>(x, y), 0).r);
+                }
+            }
+            textureStore(out_hiz, vec2<u32>(x1, y1), vec4<f32>(cell, 0.0, 0.0, 0.0));
+            nearest = max(nearest, cell);
+        }
+    }
+    textureStore(out_hiz_next, id.xy, vec4<f32>(nearest, 0.0, 0.0, 0.0));
+}
+
 @compute @workgroup_size(8, 8)
 fn hiz_down(@builtin(global_invocation_id) id: vec3<u32>) {
     let out_size = textureDimensions(out_hiz);
@@ -87,18 +160,11 @@ fn hiz_down(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let src_size = textureDimensions(hiz_source);
-    // The 2x2 texels under this one, and a third row or column where the source is odd.
-    let lo = id.xy * 2u;
-    var hi = min(lo + 1u, src_size - 1u);
-    if (id.x == out_size.x - 1u) {
-        hi.x = src_size.x - 1u;
-    }
-    if (id.y == out_size.y - 1u) {
-        hi.y = src_size.y - 1u;
-    }
+    let fx = footprint(id.x, out_size.x, src_size.x);
+    let fy = footprint(id.y, out_size.y, src_size.y);
     var nearest = 0.0;
-    for (var y = lo.y; y <= hi.y; y++) {
-        for (var x = lo.x; x <= hi.x; x++) {
+    for (var y = fy.x; y <= fy.y; y++) {
+        for (var x = fx.x; x <= fx.y; x++) {
             nearest = max(nearest, textureLoad(hiz_source, vec2<u32>(x, y), 0).r);
         }
     }

@@ -98,6 +98,14 @@ struct Params {
     max_level: u32,
 }
 
+/// One dispatch of the hierarchical depth: its entry point, its bindings,
+/// and the level over whose texels it runs.
+type HizStep<'v> = (&'static str, Vec<(u32, wgpu::BindingResource<'v>)>, usize);
+
+/// Statistic: the dispatches that built the hierarchical depth (two levels
+/// each where they can).
+pub const HIZ_DISPATCHES: &str = "SSR hi-z dispatches";
+
 /// What an SSR node keeps between frames: its Hi-Z texture and frame count.
 #[derive(Default)]
 pub struct SsrStore {
@@ -193,6 +201,16 @@ impl Ssr {
     }
 
     /// Whether some material reflects: otherwise nothing is traced.
+    /// The hierarchical depth the last frame built (R32Float, every mip),
+    /// if one ran: for tests and tools.
+    pub fn hi_z(&self) -> Option<wgpu::Texture> {
+        self.store
+            .hiz
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .clone()
+    }
+
     pub fn active(&self) -> bool {
         self.materials.any_has(FEATURE_REFLECTION)
     }
@@ -242,7 +260,10 @@ impl Ssr {
             sample_count: 1,
             dimension: wgpu::TextureDimension::D2,
             format: wgpu::TextureFormat::R32Float,
-            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::STORAGE_BINDING,
+            // COPY_SRC: tests read its levels back ([`Ssr::hi_z`]).
+            usage: wgpu::TextureUsages::TEXTURE_BINDING
+                | wgpu::TextureUsages::STORAGE_BINDING
+                | wgpu::TextureUsages::COPY_SRC,
             view_formats: &[],
         });
         *guard = Some(t.clone());
@@ -260,38 +281,45 @@ impl Ssr {
             .map(|m| cx.view_of(&hiz, crate::texture_pool::ViewSpec::mip(m)))
             .collect();
         let depth = cx.view(&self.gbuffer.targets.depth)?;
-        let mut steps = Vec::new();
-        let first = &mips[0];
-        let pipeline = cx.shaders.compute_pipeline(&device, &key, "hiz_copy")?;
-        let group = cx.shaders.bind_group(
-            &device,
-            &key,
-            "hiz_copy",
-            &pipeline,
-            0,
-            &[
-                (4, wgpu::BindingResource::TextureView(&depth)),
-                (11, wgpu::BindingResource::TextureView(first)),
-            ],
-        )?;
-        steps.push((pipeline, group, (size.0.div_ceil(8), size.1.div_ceil(8))));
-        for m in 1..hiz.mip_level_count() {
-            let (src, dst) = (&mips[m as usize - 1], &mips[m as usize]);
-            let pipeline = cx.shaders.compute_pipeline(&device, &key, "hiz_down")?;
-            let group = cx.shaders.bind_group(
-                &device,
-                &key,
-                "hiz_down",
-                &pipeline,
-                0,
-                &[
-                    (11, wgpu::BindingResource::TextureView(dst)),
-                    (12, wgpu::BindingResource::TextureView(src)),
-                ],
-            )?;
-            let (w, h) = ((size.0 >> m).max(1), (size.1 >> m).max(1));
+        let view = wgpu::BindingResource::TextureView;
+        let levels = mips.len();
+        // Two levels a dispatch where it can (shaders/environment/ssr.wgsl).
+        let mut plan: Vec<HizStep<'_>> = Vec::new();
+        let mut made = 0;
+        if levels == 1 {
+            plan.push(("hiz_copy", vec![(4, view(&depth)), (11, view(&mips[0]))], 0));
+        } else {
+            let bindings = vec![
+                (4, view(&depth)),
+                (11, view(&mips[0])),
+                (16, view(&mips[1])),
+            ];
+            plan.push(("hiz_first", bindings, 1));
+            made = 1;
+        }
+        while made + 2 < levels {
+            let bindings = vec![
+                (12, view(&mips[made])),
+                (11, view(&mips[made + 1])),
+                (16, view(&mips[made + 2])),
+            ];
+            plan.push(("hiz_down2", bindings, made + 2));
+            made += 2;
+        }
+        if made + 1 < levels {
+            let bindings = vec![(12, view(&mips[made])), (11, view(&mips[made + 1]))];
+            plan.push(("hiz_down", bindings, made + 1));
+        }
+        let mut steps = Vec::with_capacity(plan.len());
+        for (entry, bindings, level) in &plan {
+            let pipeline = cx.shaders.compute_pipeline(&device, &key, entry)?;
+            let group = cx
+                .shaders
+                .bind_group(&device, &key, entry, &pipeline, 0, bindings)?;
+            let (w, h) = ((size.0 >> level).max(1), (size.1 >> level).max(1));
             steps.push((pipeline, group, (w.div_ceil(8), h.div_ceil(8))));
         }
+        cx.count(HIZ_DISPATCHES, steps.len() as u64);
         let timestamps = cx.compute_timestamps();
         let mut pass = cx.encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("ssr hi-z"),
