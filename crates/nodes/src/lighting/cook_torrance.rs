@@ -28,7 +28,7 @@ pub fn register(r: &mut Registry) {
              adds multiple scattering. Roughness and Metallic slice i apply to material id i (wrapping), unless a Material World is \
              connected: then each material's CookTorrance feature decides. \
              Diffuse includes albedo. SSS carries a wrap-lighting subsurface term when some material has \
-             FakeSSS, and is empty otherwise. Shadows: the ShadowMap node of the same light type; each light whose \
+             FakeSSS with a colour and a strength above 0, and is empty otherwise. Shadows: the ShadowMap node of the same light type; each light whose \
              AddLight has a Shadow Slice is shadowed by that slice.",
         )
         .input_spread("G-Buffer", PinType::Resource(ResourceKind::GBuffer), Spread::Resource(ResourceKind::GBuffer, vec![]))
@@ -78,7 +78,7 @@ pub fn register(r: &mut Registry) {
             let recipe = CookTorrance::with_shadows(&renderer, Some(cx.node_id.0), gbuffer, lights, mode, energy, surfaces, shadows);
             cx.set_output(0, resource_spread::<TextureRef>(ResourceKind::Texture, vec![std::sync::Arc::new(recipe.diffuse_texture())]));
             cx.set_output(1, resource_spread::<TextureRef>(ResourceKind::Texture, vec![std::sync::Arc::new(recipe.specular_texture())]));
-            // Only when some material has FakeSSS: otherwise there is no subsurface term to pass on.
+            // Only when some material scatters (FakeSSS above 0): otherwise there is no subsurface term to pass on.
             let sss: Vec<std::sync::Arc<TextureRef>> = recipe.sss_texture().map(std::sync::Arc::new).into_iter().collect();
             cx.set_output(2, resource_spread::<TextureRef>(ResourceKind::Texture, sss));
             Ok(())

@@ -22,8 +22,9 @@ pub fn register(r: &mut Registry) {
             "Screen-space subsurface scattering (a separable kernel as Jimenez et al.'s, one Gaussian per channel): blurs CookTorrance's SSS term (Texture) \
              over the surface, Width world units for the widest channel; each material's FakeSSS colour sets how far \
              each channel reaches (skin: red farthest). Taps stay on the same material and follow the surface across \
-             depth steps. Quality: Low (4 taps a side), Medium (8), High (16). Without a material that has FakeSSS it \
-             runs nothing and passes the Texture on. Wire the result to CompositeLight's SSS.",
+             depth steps. Quality: Low (4 taps a side), Medium (8), High (16). Without a material whose FakeSSS has a \
+             colour and a strength above 0 it runs nothing and passes the Texture on; pixels of materials that \
+             scatter nothing pass through. Wire the result to CompositeLight's SSS.",
         )
         .input_spread("G-Buffer", PinType::Resource(ResourceKind::GBuffer), Spread::Resource(ResourceKind::GBuffer, vec![]))
         .input_spread("Texture", PinType::Resource(ResourceKind::Texture), Spread::Resource(ResourceKind::Texture, vec![]))
