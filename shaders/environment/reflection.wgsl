@@ -1,5 +1,6 @@
 // Reflection: image-based light from a prefiltered environment over the
-// G-buffer (crates/render/src/environment/reflection.rs), two entry points:
+// G-buffer (crates/render/src/environment/reflection.rs), in `main` and
+// `diffuse`, or `both` in one pass when a frame reads both outputs:
 // `main`, for each pixel whose material has the Reflection feature:
 //   specular = prefiltered(R, roughness) * (F0 A + B)   (split-sum)
 // `diffuse`, for every pixel with geometry (diffuse light does not depend
@@ -46,19 +47,14 @@ fn clean(v: vec3<f32>) -> vec4<f32> {
     return vec4<f32>(select(vec3<f32>(0.0), c, c == c), 1.0);
 }
 
-@compute @workgroup_size(8, 8)
-fn main(@builtin(global_invocation_id) id: vec3<u32>) {
-    let size = vec2<u32>(camera.size.xy);
-    if (id.x >= size.x || id.y >= size.y) {
-        return;
-    }
-    let pixel = id.xy;
+// The reflected (or refracted) environment at `pixel`, times the split-sum
+// factor; zero where depth is empty or the material does not reflect.
+fn specular_at(pixel: vec2<u32>) -> vec4<f32> {
     let d = textureLoad(depth, pixel, 0).r;
     let texel = textureLoad(color, pixel, 0);
     let material = channel_to_id(texel.a);
     if (d <= 0.0 || !has_feature(material, FEATURE_REFLECTION)) {
-        textureStore(out_specular, pixel, vec4<f32>(0.0, 0.0, 0.0, 1.0));
-        return;
+        return vec4<f32>(0.0, 0.0, 0.0, 1.0);
     }
     let h = camera.projection_inverse * vec4<f32>(pixel_to_ndc(pixel, camera.size), d, 1.0);
     let p = h.xyz / h.w;
@@ -82,27 +78,51 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let world_dir = safe_normalize((camera.view_inverse * vec4<f32>(dir, 0.0)).xyz, vec3<f32>(0.0, 1.0, 0.0));
     let lod = roughness * f32(max(params.levels, 1u) - 1u);
     let radiance = textureSampleLevel(prefiltered, cube_sampler, world_dir, lod).rgb;
-    textureStore(out_specular, pixel, clean(radiance * weight));
+    return clean(radiance * weight);
 }
 
-// The environment's diffuse light on every surface (zero where depth is empty).
+// The environment's diffuse light at `pixel` (zero where depth is empty).
+fn diffuse_at(pixel: vec2<u32>) -> vec4<f32> {
+    let d = textureLoad(depth, pixel, 0).r;
+    if (d <= 0.0) {
+        return vec4<f32>(0.0, 0.0, 0.0, 1.0);
+    }
+    let h = camera.projection_inverse * vec4<f32>(pixel_to_ndc(pixel, camera.size), d, 1.0);
+    let v = safe_normalize(-h.xyz / h.w, vec3<f32>(0.0, 0.0, 1.0));
+    let n = facing_normal(safe_normalize(textureLoad(normals, pixel, 0).xyz, v), v);
+    let world_n = safe_normalize((camera.view_inverse * vec4<f32>(n, 0.0)).xyz, vec3<f32>(0.0, 1.0, 0.0));
+    return clean(textureSampleLevel(irradiance, cube_sampler, world_n, 0.0).rgb);
+}
+
+@compute @workgroup_size(8, 8)
+fn main(@builtin(global_invocation_id) id: vec3<u32>) {
+    let size = vec2<u32>(camera.size.xy);
+    if (id.x >= size.x || id.y >= size.y) {
+        return;
+    }
+    textureStore(out_specular, id.xy, specular_at(id.xy));
+}
+
+// The environment's diffuse light on every surface.
 @compute @workgroup_size(8, 8)
 fn diffuse(@builtin(global_invocation_id) id: vec3<u32>) {
     let size = vec2<u32>(camera.size.xy);
     if (id.x >= size.x || id.y >= size.y) {
         return;
     }
-    let pixel = id.xy;
-    let d = textureLoad(depth, pixel, 0).r;
-    if (d <= 0.0) {
-        textureStore(out_diffuse, pixel, vec4<f32>(0.0, 0.0, 0.0, 1.0));
+    textureStore(out_diffuse, id.xy, diffuse_at(id.xy));
+}
+
+// Both outputs in one pass, when the frame reads both: one full-screen
+// pass less than `main` and `diffuse` apart.
+@compute @workgroup_size(8, 8)
+fn both(@builtin(global_invocation_id) id: vec3<u32>) {
+    let size = vec2<u32>(camera.size.xy);
+    if (id.x >= size.x || id.y >= size.y) {
         return;
     }
-    let h = camera.projection_inverse * vec4<f32>(pixel_to_ndc(pixel, camera.size), d, 1.0);
-    let v = safe_normalize(-h.xyz / h.w, vec3<f32>(0.0, 0.0, 1.0));
-    let n = facing_normal(safe_normalize(textureLoad(normals, pixel, 0).xyz, v), v);
-    let world_n = safe_normalize((camera.view_inverse * vec4<f32>(n, 0.0)).xyz, vec3<f32>(0.0, 1.0, 0.0));
-    textureStore(out_diffuse, pixel, clean(textureSampleLevel(irradiance, cube_sampler, world_n, 0.0).rgb));
+    textureStore(out_diffuse, id.xy, diffuse_at(id.xy));
+    textureStore(out_specular, id.xy, specular_at(id.xy));
 }
 
 // No material reflects: the specular output is zero.

@@ -2,7 +2,7 @@
 //! impossible graphs, persistent textures across frames, and a failing pass
 //! reported against its node while the rest of the frame renders.
 
-use std::sync::Arc;
+use std::sync::{Arc, Mutex};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 use spreadlight_render::renderer::test_renderer;
@@ -54,6 +54,45 @@ fn only_passes_leading_to_a_request_run() {
     assert_eq!(report.culled, ["unused c", "unused d"]);
     assert_eq!(ran.load(Ordering::SeqCst), 2, "culled passes never record");
     assert!(outputs.contains_key("b") && !outputs.contains_key("a"));
+}
+
+/// A pass runs when any of its outputs is read, and can ask which are: an
+/// output no live pass reads (nor the caller) is not read this frame.
+#[test]
+fn a_pass_with_two_outputs_knows_which_the_frame_reads() {
+    let renderer = test_renderer();
+    let seen = Arc::new(Mutex::new(Vec::new()));
+    for wanted in [vec!["left"], vec!["right user"], vec!["left", "right user"]] {
+        let mut fg = FrameGraph::new((4, 4));
+        let s = seen.clone();
+        fg.add_pass(
+            "two",
+            None,
+            &[],
+            &[("left", target()), ("right", target())],
+            move |cx| {
+                s.lock()
+                    .expect("lock")
+                    .push((cx.is_read("left"), cx.is_read("right")));
+                Ok(())
+            },
+        );
+        fg.add_pass(
+            "user",
+            None,
+            &["right"],
+            &[("right user", target())],
+            |_| Ok(()),
+        );
+        for name in &wanted {
+            fg.request(name);
+        }
+        fg.execute(&renderer).expect("executes");
+    }
+    assert_eq!(
+        *seen.lock().expect("lock"),
+        [(true, false), (false, true), (true, true)]
+    );
 }
 
 #[test]

@@ -9,8 +9,8 @@ use std::sync::Arc;
 use glam::{Vec3, Vec4};
 use spreadlight_render::camera::{CameraInput, reverse_z};
 use spreadlight_render::environment::{
-    Environment, EnvironmentQuality, EnvironmentSource, EquirectImage, Reflection, ReflectionMode,
-    Sky, SkySettings,
+    Environment, EnvironmentQuality, EnvironmentSource, EquirectImage, REFLECTION_BOTH_IN_ONE_PASS,
+    Reflection, ReflectionMode, Sky, SkySettings,
 };
 use spreadlight_render::gbuffer::GBuffer;
 use spreadlight_render::material::{Feature, Material, MaterialWorld};
@@ -113,6 +113,54 @@ fn reflect(
         images.next().expect("depth"),
     );
     (report, s, d, z)
+}
+
+/// A frame that reads both outputs gets both from one pass ("both"); one
+/// that reads only one runs only that one's entry point. The images are
+/// the same either way.
+#[test]
+fn reflection_writes_what_the_frame_reads_both_in_one_pass() {
+    let renderer = test_renderer();
+    let g = gbuffer(&renderer);
+    let environment = sky_environment(&renderer, None, calm_sky());
+    let world = vec![reflective(0.5, 0.0), reflective(0.0, 1.0)];
+    let r = Reflection::new(
+        &renderer,
+        None,
+        g.clone(),
+        MaterialWorld::new(&renderer, world),
+        environment,
+        ReflectionMode::Reflect,
+    );
+    let frame = |wanted: &[&str]| {
+        let (report, images) =
+            render_and_read(&renderer, r.as_ref(), SIZE, wanted).expect("renders");
+        assert!(report.errors.is_empty(), "{:?}", report.errors);
+        let passes = report
+            .passes
+            .iter()
+            .filter(|p| p.name.starts_with("Reflection"))
+            .count();
+        (report, passes, images)
+    };
+    let (both, passes, images) = frame(&[&r.specular, &r.diffuse]);
+    assert_eq!((both.counter(REFLECTION_BOTH_IN_ONE_PASS), passes), (1, 1));
+    assert_eq!(both.counter("reflection shaded"), 1);
+    let (alone, passes, specular) = frame(&[&r.specular]);
+    assert_eq!((alone.counter(REFLECTION_BOTH_IN_ONE_PASS), passes), (0, 1));
+    assert_eq!(alone.counter("reflection shaded"), 1);
+    let (alone, passes, diffuse) = frame(&[&r.diffuse]);
+    assert_eq!((alone.counter(REFLECTION_BOTH_IN_ONE_PASS), passes), (0, 1));
+    assert_eq!(
+        alone.counter("reflection shaded"),
+        0,
+        "no specular when only diffuse is read"
+    );
+    assert!(images[0].pixels == specular[0].pixels);
+    assert!(images[1].pixels == diffuse[0].pixels);
+    assert!(
+        images[0].pixels.iter().any(|p| p[0] > 0.0) && images[1].pixels.iter().any(|p| p[0] > 0.0)
+    );
 }
 
 /// The world position of pixel (x, y) at reversed-Z depth `d`.

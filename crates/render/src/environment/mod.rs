@@ -16,7 +16,7 @@ pub mod ssr;
 pub use environment_map::Environment;
 pub use fog::{Fog, FogSettings};
 pub use pass::ImagePass;
-pub use reflection::{Reflection, ReflectionMode};
+pub use reflection::{BOTH_IN_ONE_PASS as REFLECTION_BOTH_IN_ONE_PASS, Reflection, ReflectionMode};
 pub use sky::Sky;
 pub use source::{
     EnvironmentError, EnvironmentMaps, EnvironmentQuality, EnvironmentSource, EquirectImage,

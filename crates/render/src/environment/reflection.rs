@@ -23,6 +23,9 @@ use crate::shaders::ShaderKey;
 use crate::texture_pool::ViewSpec;
 
 const SHADER: &str = "environment/reflection.wgsl";
+/// Statistic: Reflection passes that wrote the diffuse light and the
+/// specular in one dispatch (the frame read both).
+pub const BOTH_IN_ONE_PASS: &str = "reflection diffuse and specular in one pass";
 
 /// What the specular output shows.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -181,9 +184,14 @@ impl Reflection {
         Ok(())
     }
 
-    fn run(&self, cx: &mut PassContext<'_>, specular: bool) -> Result<(), RenderError> {
+    /// The diffuse light, the specular, or both in one dispatch.
+    fn run(&self, cx: &mut PassContext<'_>, outputs: Outputs) -> Result<(), RenderError> {
+        let specular = outputs != Outputs::Diffuse;
         if specular {
             cx.count("reflection shaded", 1);
+        }
+        if outputs == Outputs::Both {
+            cx.count(BOTH_IN_ONE_PASS, 1);
         }
         let maps = self.environment.maps_for("reflection")?;
         let g = &self.gbuffer;
@@ -192,11 +200,15 @@ impl Reflection {
             cx.view(&g.targets.normals)?,
             cx.view(&g.targets.depth)?,
         );
-        let output = cx.view(if specular {
-            &self.specular
-        } else {
-            &self.diffuse
-        })?;
+        // Only the outputs this pass writes (a diffuse-only pass has no specular).
+        let diffuse = match outputs {
+            Outputs::Specular => None,
+            _ => Some(cx.view(&self.diffuse)?),
+        };
+        let specular_out = match outputs {
+            Outputs::Diffuse => None,
+            _ => Some(cx.view(&self.specular)?),
+        };
         // Cached views: new ones each frame would make new bind groups.
         let prefiltered = cx.view_of(&maps.prefiltered, ViewSpec::cube());
         let irradiance = cx.view_of(&maps.irradiance, ViewSpec::cube());
@@ -211,10 +223,6 @@ impl Reflection {
             (6, wgpu::BindingResource::TextureView(&irradiance)),
             (7, wgpu::BindingResource::TextureView(&lut)),
             (8, wgpu::BindingResource::Sampler(&maps.sampler)),
-            (
-                if specular { 9 } else { 10 },
-                wgpu::BindingResource::TextureView(&output),
-            ),
         ];
         // Roughness and metallic where the G-buffer resolved them (only `main` reads it).
         let surface = match (&g.targets.surface, specular) {
@@ -222,18 +230,32 @@ impl Reflection {
             _ => None,
         };
         let mut all = all.to_vec();
+        if let Some(view) = &specular_out {
+            all.push((9, wgpu::BindingResource::TextureView(view)));
+        }
+        if let Some(view) = &diffuse {
+            all.push((10, wgpu::BindingResource::TextureView(view)));
+        }
         if let Some(view) = &surface {
             all.push((
                 crate::gbuffer::SURFACE_TARGET_BINDING,
                 wgpu::BindingResource::TextureView(view),
             ));
         }
-        if specular {
-            self.dispatch(cx, "main", "reflection", &all, true)
-        } else {
-            self.dispatch(cx, "diffuse", "reflection diffuse", &all, false)
+        match outputs {
+            Outputs::Both => self.dispatch(cx, "both", "reflection", &all, true),
+            Outputs::Specular => self.dispatch(cx, "main", "reflection", &all, true),
+            Outputs::Diffuse => self.dispatch(cx, "diffuse", "reflection diffuse", &all, false),
         }
     }
+}
+
+/// Which of a Reflection's outputs a pass writes.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+enum Outputs {
+    Diffuse,
+    Specular,
+    Both,
 }
 
 impl Recipe for Reflection {
@@ -245,18 +267,18 @@ impl Recipe for Reflection {
         let hdr = TextureDesc::storage(wgpu::TextureFormat::Rgba16Float).size(self.gbuffer.size);
         let g = &self.gbuffer.targets;
         self.environment.declare(renderer, fg);
-        fg.add_pass(
-            crate::recipe::pass_name("Reflection", self.owner, Some("diffuse")),
-            self.owner,
-            &[
-                self.environment.token(),
-                g.normals.as_str(),
-                g.depth.as_str(),
-            ],
-            &[(self.diffuse.as_str(), hdr)],
-            move |cx| self.run(cx, false),
-        );
         if !self.active() {
+            fg.add_pass(
+                crate::recipe::pass_name("Reflection", self.owner, Some("diffuse")),
+                self.owner,
+                &[
+                    self.environment.token(),
+                    g.normals.as_str(),
+                    g.depth.as_str(),
+                ],
+                &[(self.diffuse.as_str(), hdr)],
+                move |cx| self.run(cx, Outputs::Diffuse),
+            );
             fg.add_pass(
                 crate::recipe::pass_name("Reflection", self.owner, Some("none reflective")),
                 self.owner,
@@ -279,12 +301,21 @@ impl Recipe for Reflection {
             self.textured(),
             g.surface_targets(),
         ));
+        // One pass for both outputs: it runs when either is read, and
+        // writes only what the frame reads.
         fg.add_pass(
-            crate::recipe::pass_name("Reflection", self.owner, Some("specular")),
+            crate::recipe::pass_name("Reflection", self.owner, Some("diffuse and specular")),
             self.owner,
             &reads,
-            &[(self.specular.as_str(), hdr)],
-            move |cx| self.run(cx, true),
+            &[(self.diffuse.as_str(), hdr), (self.specular.as_str(), hdr)],
+            move |cx| {
+                let outputs = match (cx.is_read(&self.diffuse), cx.is_read(&self.specular)) {
+                    (true, true) => Outputs::Both,
+                    (true, false) => Outputs::Diffuse,
+                    _ => Outputs::Specular,
+                };
+                self.run(cx, outputs)
+            },
         );
     }
 }

@@ -175,6 +175,8 @@ pub struct PassContext<'f> {
     /// This frame's temporaries a history may trade textures with (not
     /// handed to the caller, not permanent): see `history.rs`.
     pub(crate) tradable: &'f FxHashSet<&'f str>,
+    /// Every texture a live pass of this frame reads, or the caller asked for.
+    pub(crate) read: &'f FxHashSet<&'f str>,
     pub(crate) handovers: Vec<history::Handover>,
     pub(crate) views: &'f std::cell::RefCell<crate::texture_pool::ViewCache>,
     pub(crate) fresh: &'f FxHashSet<String>,
@@ -216,6 +218,14 @@ impl<'f> PassContext<'f> {
     /// they did and the work they saved.
     pub fn count(&mut self, name: &'static str, n: u64) {
         *self.counters.entry(name).or_default() += n;
+    }
+
+    /// Whether some pass of this frame reads `name` (or the caller asked
+    /// for it). A pass runs when any of its outputs is read; one with
+    /// several can leave out the work of an output nobody reads (its
+    /// texture is still allocated, and left unwritten).
+    pub fn is_read(&self, name: &str) -> bool {
+        self.read.contains(name)
     }
 
     /// A persistent texture created this frame: it holds no history yet.
