@@ -2,8 +2,8 @@
 //! impossible graphs, persistent textures across frames, and a failing pass
 //! reported against its node while the rest of the frame renders.
 
-use std::sync::{Arc, Mutex};
 use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::{Arc, Mutex};
 
 use spreadlight_render::renderer::test_renderer;
 use spreadlight_render::{FrameGraph, Lifetime, SizeRule, TextureDesc};
