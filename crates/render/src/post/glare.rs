@@ -15,8 +15,6 @@ const SHADER: &str = "post/glare.wgsl";
 
 /// Counted when a Glare had nothing to add (intensity and aberration 0) and only copied.
 pub const SKIPPED: &str = "glare skipped (nothing to add)";
-/// Statistic: passes that made two levels of the chain in one dispatch.
-pub const TWO_LEVEL_PASSES: &str = "glare passes of two levels";
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct GlareSettings {
@@ -122,20 +120,19 @@ impl Glare {
         format!("glare{} up{level}", self.id)
     }
 
-    /// `entry` from `source` (and `lower`) into `output`; the two-level
-    /// entries (bright_down, down2) write `middle` too.
     fn run(
         &self,
         cx: &mut PassContext<'_>,
         entry: &'static str,
         source: &str,
         lower: Option<&str>,
-        middle: Option<&str>,
         output: &str,
     ) -> Result<(), RenderError> {
         let (s, o) = (cx.view(source)?, cx.view(output)?);
-        let view = |name: Option<&str>| name.map(|n| cx.view(n)).transpose();
-        let (l, m) = (view(lower)?, view(middle)?);
+        let l = match lower {
+            Some(name) => Some(cx.view(name)?),
+            None => None,
+        };
         let mut all = vec![
             (0, self.params.as_entire_binding()),
             (1, wgpu::BindingResource::TextureView(&s)),
@@ -143,9 +140,6 @@ impl Glare {
         ];
         if let Some(l) = &l {
             all.push((2, wgpu::BindingResource::TextureView(l)));
-        }
-        if let Some(m) = &m {
-            all.push((4, wgpu::BindingResource::TextureView(m)));
         }
         let size = super::size_of(cx, output)?;
         super::dispatch_entry(cx, entry, &ShaderKey::new(SHADER, []), entry, &all, size)
@@ -182,61 +176,21 @@ impl Recipe for Glare {
         let level = |l: usize| full.size(SizeRule::Relative(0.5f32.powi(l as i32 + 1)));
         let downs: Vec<String> = (0..levels).map(|l| self.down(l)).collect();
         let ups: Vec<String> = (0..levels).map(|l| self.up(l)).collect();
-        // Two levels a pass where two are left: the small levels barely
-        // fill the GPU, and each pass costs a barrier.
-        if levels >= 2 {
+        fg.add_pass(
+            name("bright pass"),
+            self.owner,
+            &[&self.source.name],
+            &[(&downs[0], level(0))],
+            move |cx| self.run(cx, "bright", &self.source.name, None, &self.down(0)),
+        );
+        for l in 1..levels {
             fg.add_pass(
-                name("bright pass and down 1"),
+                name(&format!("down {l}")),
                 self.owner,
-                &[&self.source.name],
-                &[(&downs[0], level(0)), (&downs[1], level(1))],
-                move |cx| {
-                    let (bright, down) = (self.down(0), self.down(1));
-                    cx.count(TWO_LEVEL_PASSES, 1);
-                    self.run(
-                        cx,
-                        "bright_down",
-                        &self.source.name,
-                        None,
-                        Some(&bright),
-                        &down,
-                    )
-                },
+                &[&downs[l - 1]],
+                &[(&downs[l], level(l))],
+                move |cx| self.run(cx, "down", &self.down(l - 1), None, &self.down(l)),
             );
-        } else {
-            fg.add_pass(
-                name("bright pass"),
-                self.owner,
-                &[&self.source.name],
-                &[(&downs[0], level(0))],
-                move |cx| self.run(cx, "bright", &self.source.name, None, None, &self.down(0)),
-            );
-        }
-        let mut l = 2;
-        while l < levels {
-            if l + 1 < levels {
-                fg.add_pass(
-                    name(&format!("down {l} and {}", l + 1)),
-                    self.owner,
-                    &[&downs[l - 1]],
-                    &[(&downs[l], level(l)), (&downs[l + 1], level(l + 1))],
-                    move |cx| {
-                        cx.count(TWO_LEVEL_PASSES, 1);
-                        let (from, mid, to) = (self.down(l - 1), self.down(l), self.down(l + 1));
-                        self.run(cx, "down2", &from, None, Some(&mid), &to)
-                    },
-                );
-                l += 2;
-            } else {
-                fg.add_pass(
-                    name(&format!("down {l}")),
-                    self.owner,
-                    &[&downs[l - 1]],
-                    &[(&downs[l], level(l))],
-                    move |cx| self.run(cx, "down", &self.down(l - 1), None, None, &self.down(l)),
-                );
-                l += 1;
-            }
         }
         // The smallest level is its own "up"; each larger one adds the one below.
         let lower_of = |l: usize| -> String {
@@ -254,7 +208,7 @@ impl Recipe for Glare {
                 self.owner,
                 &[&downs[l], &read],
                 &[(&ups[l], level(l))],
-                move |cx| self.run(cx, "up", &self.down(l), Some(&lower), None, &self.up(l)),
+                move |cx| self.run(cx, "up", &self.down(l), Some(&lower), &self.up(l)),
             );
         }
         let top = lower_of(0);
@@ -264,16 +218,7 @@ impl Recipe for Glare {
             self.owner,
             &[&self.source.name, &read],
             &[(&self.output, full)],
-            move |cx| {
-                self.run(
-                    cx,
-                    "composite",
-                    &self.source.name,
-                    Some(&top),
-                    None,
-                    &self.output,
-                )
-            },
+            move |cx| self.run(cx, "composite", &self.source.name, Some(&top), &self.output),
         );
     }
 }
