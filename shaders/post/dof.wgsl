@@ -1,6 +1,8 @@
 // Depth of field from a thin lens, in two passes.
 //
-// `coc`: per pixel, the signed circle of confusion in pixels (negative in
+// `coc`: per pixel (a pass of its own at half resolution; at full
+// resolution, INLINE_COC, made where `tiles` and `main` read it), the
+// signed circle of confusion in pixels (negative in
 // front of the focus plane, the near field; positive behind, the far field)
 // and the inverse view depth. For a lens of aperture A = f / N focused at s,
 // with the field of view held (the sensor where the focus plane's image
@@ -60,18 +62,43 @@ fn inverse_focus() -> f32 {
     return clamp(inv, 0.0, params.limits.y);
 }
 
+// Pixel `p`'s signed blur radius and inverse view depth, from the depth.
+fn coc_at(p: vec2<i32>) -> vec2<f32> {
+    let inv_z = inverse_view_depth(camera.projection_inverse, load_clamped(depth, p).r);
+    let inv_s = inverse_focus();
+    let c = params.lens.x * (inv_s - inv_z);
+    let radius = params.lens.z;
+    // Half the diameter: the blur radius, within the largest the pass gathers.
+    return vec2<f32>(clamp(0.5 * c, -radius, radius), inv_z);
+}
+
+// What `tiles` and `main` read of pixel `p`: with INLINE_COC (full
+// resolution) made from the depth where it is read, a few operations, so
+// no pass writes and reads back a full-size CoC target; otherwise the
+// `coc` pass's target (the half-resolution upsample reads it too).
+fn coc_value(p: vec2<i32>) -> vec2<f32> {
+#ifdef INLINE_COC
+    return coc_at(p);
+#else
+    return load_clamped(coc_in, p).rg;
+#endif
+}
+
+fn coc_size() -> vec2<i32> {
+#ifdef INLINE_COC
+    return vec2<i32>(textureDimensions(depth));
+#else
+    return vec2<i32>(textureDimensions(coc_in));
+#endif
+}
+
 @compute @workgroup_size(8, 8)
 fn coc(@builtin(global_invocation_id) id: vec3<u32>) {
     let size = textureDimensions(coc_out);
     if (id.x >= size.x || id.y >= size.y) {
         return;
     }
-    let inv_z = inverse_view_depth(camera.projection_inverse, textureLoad(depth, id.xy, 0).r);
-    let inv_s = inverse_focus();
-    let c = params.lens.x * (inv_s - inv_z);
-    let radius = params.lens.z;
-    // Half the diameter: the blur radius, within the largest the pass gathers.
-    textureStore(coc_out, id.xy, vec4<f32>(clamp(0.5 * c, -radius, radius), inv_z, 0.0, 0.0));
+    textureStore(coc_out, id.xy, vec4<f32>(coc_at(vec2<i32>(id.xy)), 0.0, 0.0));
 }
 
 var<workgroup> partial_max: array<f32, 64>;
@@ -83,14 +110,14 @@ var<workgroup> partial_max: array<f32, 64>;
 @compute @workgroup_size(8, 8)
 fn tiles(@builtin(workgroup_id) tile: vec3<u32>, @builtin(local_invocation_index) lane: u32) {
     let k = i32(params.limits.z);
-    let full = vec2<i32>(textureDimensions(coc_in));
+    let full = coc_size();
     let lo = max((vec2<i32>(tile.xy) - 1) * k, vec2<i32>(0));
     let hi = min((vec2<i32>(tile.xy) + 2) * k, full);
     let local = vec2<i32>(i32(lane % 8u), i32(lane / 8u));
     var m = 0.0;
     for (var y = lo.y + local.y; y < hi.y; y += 8) {
         for (var x = lo.x + local.x; x < hi.x; x += 8) {
-            m = max(m, abs(textureLoad(coc_in, vec2<i32>(x, y), 0).r));
+            m = max(m, abs(coc_value(vec2<i32>(x, y)).x));
         }
     }
     partial_max[lane] = m;
@@ -142,7 +169,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
 #else
     let p = vec2<i32>(id.xy);
 #endif
-    let here = textureLoad(coc_in, p, 0).rg;
+    let here = coc_value(p);
     let c0 = abs(here.x);
     let center = sanitize(load_clamped(source, p));
     let tile_radius = load_clamped(tiles_in, p / i32(params.limits.z)).r;
@@ -173,7 +200,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         if (reach < 0.5) {
             continue;
         }
-        let there = load_clamped(coc_in, q).rg;
+        let there = coc_value(q);
         var c = abs(there.x);
         // Behind this pixel (smaller inverse depth): spreads no further than this pixel's own circle.
         if (there.y < here.y) {

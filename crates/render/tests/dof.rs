@@ -12,6 +12,7 @@ use spreadlight_render::post::dof::{BLURRED, SKIPPED};
 use spreadlight_render::post::{Autofocus, Dof, DofSettings, Focus};
 use spreadlight_render::readback::ImageF32;
 use spreadlight_render::renderer::test_renderer;
+use spreadlight_render::resolution::Resolution;
 use spreadlight_render::{Renderer, TextureRef};
 
 const SIZE: (u32, u32) = (64, 64);
@@ -111,6 +112,46 @@ fn focused_on_the_ball_the_ball_stays_sharp_and_the_sky_blurs_without_a_red_halo
                 }
             }
         }
+    }
+}
+
+/// At full resolution the tiles and the blur make each pixel's circle of
+/// confusion from the depth where they read it: no pass writes a CoC
+/// target. At half resolution the upsample reads that target, so a pass
+/// makes it. (The images are the tests above.)
+#[test]
+fn only_half_resolution_writes_a_circle_of_confusion_target() {
+    let renderer = test_renderer();
+    for (resolution, coc_passes) in [(Resolution::Full, 0), (Resolution::Half, 1)] {
+        let (input, _) = source(&renderer);
+        let g = ball_scene(&renderer);
+        let settings = DofSettings {
+            resolution,
+            ..telephoto()
+        };
+        let pass = Dof::new(
+            &renderer,
+            None,
+            input,
+            g,
+            Focus::Distance(7.7),
+            None,
+            settings,
+        );
+        let (report, _) = render(&renderer, pass.as_ref(), &pass.output, SIZE);
+        let named = |what: &str| {
+            report
+                .passes
+                .iter()
+                .filter(|p| p.name.contains(what))
+                .count()
+        };
+        assert_eq!(named("circle of confusion"), coc_passes, "{resolution:?}");
+        assert_eq!(
+            (named("tiles"), report.counter(BLURRED)),
+            (1, 1),
+            "{resolution:?}"
+        );
     }
 }
 

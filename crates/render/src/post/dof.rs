@@ -218,25 +218,44 @@ impl Dof {
         if self.bokeh.is_some() {
             features.push("BOKEH");
         }
+        if self.inline_coc() {
+            features.push("INLINE_COC");
+        }
         ShaderKey::new(SHADER, features)
+    }
+
+    /// Full resolution: the tiles and the blur make each pixel's circle of
+    /// confusion from the depth where they read it (a few operations) and
+    /// no pass writes a CoC target. At half resolution the upsample reads
+    /// that target, so the `coc` pass makes it.
+    fn inline_coc(&self) -> bool {
+        !self.settings.resolution.is_half()
     }
 
     /// `coc`: the circle of confusion from depth (and the focus texture); `main`: the blur.
     fn run(&self, cx: &mut PassContext<'_>, entry: &'static str) -> Result<(), RenderError> {
-        let coc = cx.view(&self.coc)?;
         let mut views = Vec::new();
-        if entry == "coc" {
+        // What makes the circles of confusion: the depth (and focus) for the
+        // `coc` pass and, inlined, for the tiles and the blur; else its target.
+        if entry == "coc" || self.inline_coc() {
             views.push((3, cx.view(&self.gbuffer.targets.depth)?));
-            views.push((4, coc));
             if let Focus::Texture(t) = &self.focus {
                 views.push((7, cx.view(&t.name)?));
             }
+        }
+        let coc = cx.view(&self.coc);
+        if entry == "coc" {
+            views.push((4, coc?));
         } else if entry == "tiles" {
-            views.push((5, coc));
+            if !self.inline_coc() {
+                views.push((5, coc?));
+            }
             views.push((9, cx.view(&self.tiles)?));
         } else {
             views.push((2, cx.view(&self.source.name)?));
-            views.push((5, coc));
+            if !self.inline_coc() {
+                views.push((5, coc?));
+            }
             views.push((10, cx.view(&self.tiles)?));
             views.push((6, cx.view(self.blur_target())?));
             if let Some(t) = &self.bokeh {
@@ -356,20 +375,26 @@ impl Recipe for Dof {
             .gpu
             .queue
             .write_buffer(&self.params, 0, bytemuck::cast_slice(&params));
-        fg.add_pass(
-            crate::recipe::pass_name("DOF", self.owner, Some("circle of confusion")),
-            self.owner,
-            &reads,
-            &[(
-                &self.coc,
-                TextureDesc::storage(wgpu::TextureFormat::Rg32Float).size(self.gbuffer.size),
-            )],
-            move |cx| self.run(cx, "coc"),
-        );
+        // What the circles of confusion come from: the CoC target, or inlined the depth (and focus).
+        let coc_reads = if self.inline_coc() {
+            reads
+        } else {
+            fg.add_pass(
+                crate::recipe::pass_name("DOF", self.owner, Some("circle of confusion")),
+                self.owner,
+                &reads,
+                &[(
+                    &self.coc,
+                    TextureDesc::storage(wgpu::TextureFormat::Rg32Float).size(self.gbuffer.size),
+                )],
+                move |cx| self.run(cx, "coc"),
+            );
+            vec![self.coc.as_str()]
+        };
         fg.add_pass(
             crate::recipe::pass_name("DOF", self.owner, Some("tiles")),
             self.owner,
-            &[&self.coc],
+            &coc_reads,
             &[(
                 &self.tiles,
                 TextureDesc::storage(wgpu::TextureFormat::R32Float).size(
@@ -381,7 +406,8 @@ impl Recipe for Dof {
             )],
             move |cx| self.run(cx, "tiles"),
         );
-        let mut reads = vec![self.source.name.as_str(), &self.coc, &self.tiles];
+        let mut reads = vec![self.source.name.as_str(), &self.tiles];
+        reads.extend(coc_reads.iter().copied());
         if let Some(b) = &self.bokeh {
             reads.push(&b.name);
         }

@@ -268,7 +268,12 @@ pub const SHADERS: &[ShaderFile] = &[
     shader!("post/eye_adaptation.wgsl", []),
     shader!("post/fxaa.wgsl", []),
     shader!("post/copy.wgsl", []),
-    shader!("post/dof.wgsl", ["AUTOFOCUS", "BOKEH", "HALF"]),
+    shader!(
+        "post/dof.wgsl",
+        ["AUTOFOCUS", "BOKEH", "HALF", "INLINE_COC"],
+        // At half resolution the upsample reads the CoC target: a pass makes it.
+        Rule::AtMostOne(&["HALF", "INLINE_COC"])
+    ),
     shader!("post/autofocus.wgsl", []),
     shader!("post/motion_blur.wgsl", []),
     shader!("post/glare.wgsl", []),
