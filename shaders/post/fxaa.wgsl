@@ -47,6 +47,14 @@ fn luma_at(uv: vec2<f32>) -> f32 {
     return luma(sample(uv).rgb);
 }
 
+// The luma of the texel `offset` from `p` (edges clamped): the 3x3
+// neighbourhood lies on texel centres, where the bilinear `sample` is the
+// texel itself, so one load does instead of four.
+fn luma_near(p: vec2<i32>, offset: vec2<i32>) -> f32 {
+    let hi = vec2<i32>(textureDimensions(source)) - 1;
+    return luma(textureLoad(source, clamp(p + offset, vec2<i32>(0), hi), 0).rgb);
+}
+
 @compute @workgroup_size(8, 8)
 fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let size = textureDimensions(source);
@@ -57,10 +65,11 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let uv = (vec2<f32>(id.xy) + 0.5) * texel;
     let center = textureLoad(source, vec2<i32>(id.xy), 0);
     let m = luma(center.rgb);
-    let n = luma_at(uv + vec2<f32>(0.0, -texel.y));
-    let s = luma_at(uv + vec2<f32>(0.0, texel.y));
-    let e = luma_at(uv + vec2<f32>(texel.x, 0.0));
-    let w = luma_at(uv + vec2<f32>(-texel.x, 0.0));
+    let at = vec2<i32>(id.xy);
+    let n = luma_near(at, vec2<i32>(0, -1));
+    let s = luma_near(at, vec2<i32>(0, 1));
+    let e = luma_near(at, vec2<i32>(1, 0));
+    let w = luma_near(at, vec2<i32>(-1, 0));
     let highest = max(max(max(n, s), max(e, w)), m);
     let lowest = min(min(min(n, s), min(e, w)), m);
     let contrast = highest - lowest;
@@ -68,10 +77,10 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         textureStore(output, id.xy, vec4<f32>(clamp_half(center.rgb), center.a));
         return;
     }
-    let nw = luma_at(uv + vec2<f32>(-texel.x, -texel.y));
-    let ne = luma_at(uv + vec2<f32>(texel.x, -texel.y));
-    let sw = luma_at(uv + vec2<f32>(-texel.x, texel.y));
-    let se = luma_at(uv + vec2<f32>(texel.x, texel.y));
+    let nw = luma_near(at, vec2<i32>(-1, -1));
+    let ne = luma_near(at, vec2<i32>(1, -1));
+    let sw = luma_near(at, vec2<i32>(-1, 1));
+    let se = luma_near(at, vec2<i32>(1, 1));
 
     // Sub-pixel blend: how far the centre is from its neighbourhood's average.
     let average = (2.0 * (n + s + e + w) + nw + ne + sw + se) / 12.0;
