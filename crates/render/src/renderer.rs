@@ -89,6 +89,19 @@ fn changed_span(old: &[u8], new: &[u8]) -> Option<(usize, usize)> {
     Some((start, end))
 }
 
+/// Kept-buffer writes since the last frame graph ran (the frame report's counters).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub(crate) struct Uploads {
+    /// Writes made ("uniform uploads").
+    pub made: u64,
+    /// Writes skipped: nothing had changed ("uniform uploads skipped").
+    pub skipped: u64,
+    /// Bytes written ("uniform bytes uploaded").
+    pub bytes: u64,
+    /// Bytes compared with what was written before ("kept bytes compared").
+    pub compared: u64,
+}
+
 pub(crate) struct Timestamps {
     pub set: wgpu::QuerySet,
     pub resolve: wgpu::Buffer,
@@ -139,9 +152,8 @@ pub struct Renderer {
     /// Buffers recipes keep across their re-creation, by owner node and label
     /// (`Renderer::uniform`, `Renderer::kept_buffer`), with a uniform's last contents.
     kept: Mutex<FxHashMap<KeptKey, KeptBuffer>>,
-    /// Uploads `uniform` made and skipped since the last frame graph ran.
-    /// Kept-buffer writes made and skipped, and the bytes written.
-    uploads: Mutex<(u64, u64, u64)>,
+    /// Kept-buffer writes made and skipped since the last frame graph ran.
+    uploads: Mutex<Uploads>,
     /// What recipes keep between frames (shadow maps), by type and key.
     states: Mutex<FxHashMap<(std::any::TypeId, u64), Arc<dyn std::any::Any + Send + Sync>>>,
 }
@@ -184,7 +196,7 @@ impl Renderer {
             output_size: Mutex::new(DEFAULT_OUTPUT_SIZE),
             states: Mutex::new(FxHashMap::default()),
             kept: Mutex::new(FxHashMap::default()),
-            uploads: Mutex::new((0, 0, 0)),
+            uploads: Mutex::new(Uploads::default()),
         })
     }
 
@@ -300,19 +312,82 @@ impl Renderer {
         let mut uploads = self.uploads.lock().unwrap_or_else(|e| e.into_inner());
         if made {
             k.contents = bytes.to_vec();
-            uploads.0 += 1;
-            uploads.2 += bytes.len() as u64;
-        } else if let Some((start, end)) = changed_span(&k.contents, bytes) {
+            uploads.made += 1;
+            uploads.bytes += bytes.len() as u64;
+        } else if let Some((start, end)) = {
+            uploads.compared += bytes.len() as u64;
+            changed_span(&k.contents, bytes)
+        } {
             // Only the bytes that changed: one moving instance among a
             // thousand still ones writes its 224 bytes, not the buffer.
             self.gpu
                 .queue
                 .write_buffer(&k.buffer, start as u64, &bytes[start..end]);
             k.contents[start..end].copy_from_slice(&bytes[start..end]);
-            uploads.0 += 1;
-            uploads.2 += (end - start) as u64;
+            uploads.made += 1;
+            uploads.bytes += (end - start) as u64;
         } else {
-            uploads.1 += 1;
+            uploads.skipped += 1;
+        }
+        k.buffer.clone()
+    }
+
+    /// [`Renderer::kept_init`] for contents laid out as `parts` one after
+    /// another (a G-buffer's layers), where `unchanged[i]` says that part `i`
+    /// holds the bytes this wrote at the same offset last time: those are
+    /// neither compared nor written, so one moving layer among a thousand
+    /// still instances compares its own bytes, not ~230 KB. A buffer made
+    /// now (new, or another length) is written whole.
+    pub fn kept_init_parts(
+        &self,
+        owner: Option<u32>,
+        label: &'static str,
+        parts: &[&[u8]],
+        unchanged: &[bool],
+        usage: wgpu::BufferUsages,
+    ) -> wgpu::Buffer {
+        let len = parts.iter().map(|p| p.len()).sum::<usize>();
+        let usage = usage | wgpu::BufferUsages::COPY_DST;
+        let mut kept = self.kept.lock().unwrap_or_else(|e| e.into_inner());
+        let Some(k) = owner
+            .and_then(|owner| kept.get_mut(&(owner, label, 0)))
+            .filter(|k| k.buffer.usage() == usage && k.contents.len() == len)
+        else {
+            drop(kept);
+            return self.kept_init(owner, label, &parts.concat(), usage);
+        };
+        let mut uploads = self.uploads.lock().unwrap_or_else(|e| e.into_inner());
+        let align = wgpu::COPY_BUFFER_ALIGNMENT as usize;
+        let (mut offset, mut wrote) = (0, false);
+        for (i, part) in parts.iter().enumerate() {
+            let at = offset;
+            offset += part.len();
+            if unchanged.get(i).copied().unwrap_or(false) {
+                continue;
+            }
+            uploads.compared += part.len() as u64;
+            let Some((start, end)) = changed_span(&k.contents[at..offset], part) else {
+                continue;
+            };
+            wrote = true;
+            uploads.made += 1;
+            if at % align != 0 || end % align != 0 {
+                // Parts off the 4-byte grid (not made here): all of it, once.
+                let all = parts.concat();
+                self.gpu.queue.write_buffer(&k.buffer, 0, &all);
+                uploads.bytes += all.len() as u64;
+                k.contents = all;
+                break;
+            }
+            let bytes = &part[start..end];
+            self.gpu
+                .queue
+                .write_buffer(&k.buffer, (at + start) as u64, bytes);
+            k.contents[at + start..at + end].copy_from_slice(bytes);
+            uploads.bytes += bytes.len() as u64;
+        }
+        if !wrote {
+            uploads.skipped += 1;
         }
         k.buffer.clone()
     }
@@ -367,6 +442,7 @@ impl Renderer {
             .filter(|k| k.buffer == *buffer);
         let span = match entry {
             Some(k) if k.contents.len() == bytes.len() => {
+                uploads.compared += bytes.len() as u64;
                 let span = changed_span(&k.contents, bytes);
                 if let Some((start, end)) = span {
                     k.contents[start..end].copy_from_slice(&bytes[start..end]);
@@ -384,16 +460,16 @@ impl Renderer {
                 self.gpu
                     .queue
                     .write_buffer(buffer, start as u64, &bytes[start..end]);
-                uploads.0 += 1;
-                uploads.2 += (end - start) as u64;
+                uploads.made += 1;
+                uploads.bytes += (end - start) as u64;
             }
-            None => uploads.1 += 1,
+            None => uploads.skipped += 1,
         }
     }
 
-    /// Uniform uploads made and skipped, and the bytes written, since the
-    /// last call (the frame report's counters).
-    pub(crate) fn take_uploads(&self) -> (u64, u64, u64) {
+    /// Kept-buffer writes made and skipped, the bytes written and compared,
+    /// since the last call (the frame report's counters).
+    pub(crate) fn take_uploads(&self) -> Uploads {
         std::mem::take(&mut *self.uploads.lock().unwrap_or_else(|e| e.into_inner()))
     }
 

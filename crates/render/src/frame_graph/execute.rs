@@ -265,11 +265,12 @@ fn execute(
         .collect();
     report.pipelines_compiled = shaders.pipelines_compiled - compiled_before;
     let mut views = views.into_inner();
-    let (uploaded, skipped, bytes) = renderer.take_uploads();
+    let uploads = renderer.take_uploads();
     for (name, n) in [
-        ("uniform uploads", uploaded),
-        ("uniform uploads skipped", skipped),
-        ("uniform bytes uploaded", bytes),
+        ("uniform uploads", uploads.made),
+        ("uniform uploads skipped", uploads.skipped),
+        ("uniform bytes uploaded", uploads.bytes),
+        ("kept bytes compared", uploads.compared),
         (
             "bind groups created",
             shaders.bind_groups_created - groups_before.0,
