@@ -18,6 +18,12 @@ mod view;
 
 use std::process::ExitCode;
 
+/// A frame allocates and frees many small blocks (recipes, maps, wgpu's
+/// command encoding); with glibc's allocator malloc and free were a sixth of
+/// a frame's CPU on the main thread (docs/benchmarks.md, "Session 10: CPU").
+#[global_allocator]
+static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
 use clap::{Parser, Subcommand};
 
 #[derive(Parser)]

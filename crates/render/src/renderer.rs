@@ -15,79 +15,11 @@ use crate::report::FrameReport;
 use crate::shaders::{ShaderCache, ShaderComposer};
 use crate::texture_pool::TexturePool;
 
+mod kept;
+
+use kept::{KeptBuffer, KeptKey, Uploads};
+
 pub(crate) const MAX_QUERIES: u32 = 512;
-
-/// A kept buffer's name: the node that owns it, what it is, and which one
-/// of several of the same kind (a G-buffer's layers, a rasterizer's batches).
-type KeptKey = (u32, &'static str, u32);
-
-struct KeptBuffer {
-    buffer: wgpu::Buffer,
-    /// What `Renderer::kept_init` last wrote (empty for scratch buffers).
-    contents: Vec<u8>,
-}
-
-/// The buffer kept under `key` if it `fits`, else `make()` kept in its
-/// place; true when it was made now.
-fn kept_entry(
-    kept: &mut FxHashMap<KeptKey, KeptBuffer>,
-    key: KeptKey,
-    fits: impl Fn(&KeptBuffer) -> bool,
-    make: impl FnOnce() -> wgpu::Buffer,
-) -> (&mut KeptBuffer, bool) {
-    use std::collections::hash_map::Entry;
-    match kept.entry(key) {
-        Entry::Occupied(o) if fits(o.get()) => (o.into_mut(), false),
-        Entry::Occupied(mut o) => {
-            o.insert(KeptBuffer {
-                buffer: make(),
-                contents: Vec::new(),
-            });
-            (o.into_mut(), true)
-        }
-        Entry::Vacant(v) => (
-            v.insert(KeptBuffer {
-                buffer: make(),
-                contents: Vec::new(),
-            }),
-            true,
-        ),
-    }
-}
-
-/// The range of `new` that differs from `old` (of the same length), widened
-/// to 4-byte boundaries as buffer writes must be; None if nothing differs.
-fn changed_span(old: &[u8], new: &[u8]) -> Option<(usize, usize)> {
-    // Chunks compare as slices (memcmp), then bytes within the chunk found.
-    const CHUNK: usize = 256;
-    let chunk = old
-        .chunks(CHUNK)
-        .zip(new.chunks(CHUNK))
-        .position(|(a, b)| a != b)?;
-    let from = chunk * CHUNK;
-    let first = from
-        + old[from..]
-            .iter()
-            .zip(&new[from..])
-            .position(|(a, b)| a != b)?;
-    let chunk = old
-        .rchunks(CHUNK)
-        .zip(new.rchunks(CHUNK))
-        .position(|(a, b)| a != b)?;
-    let to = old.len() - chunk * CHUNK;
-    let last = old[..to]
-        .iter()
-        .zip(&new[..to])
-        .rposition(|(a, b)| a != b)?;
-    let align = wgpu::COPY_BUFFER_ALIGNMENT as usize;
-    let start = first / align * align;
-    let end = (last + 1).div_ceil(align) * align;
-    // A length off the alignment (not made here) is written whole, as before.
-    if end > new.len() {
-        return Some((0, new.len()));
-    }
-    Some((start, end))
-}
 
 pub(crate) struct Timestamps {
     pub set: wgpu::QuerySet,
@@ -139,9 +71,8 @@ pub struct Renderer {
     /// Buffers recipes keep across their re-creation, by owner node and label
     /// (`Renderer::uniform`, `Renderer::kept_buffer`), with a uniform's last contents.
     kept: Mutex<FxHashMap<KeptKey, KeptBuffer>>,
-    /// Uploads `uniform` made and skipped since the last frame graph ran.
-    /// Kept-buffer writes made and skipped, and the bytes written.
-    uploads: Mutex<(u64, u64, u64)>,
+    /// Kept-buffer writes made and skipped since the last frame graph ran.
+    uploads: Mutex<Uploads>,
     /// What recipes keep between frames (shadow maps), by type and key.
     states: Mutex<FxHashMap<(std::any::TypeId, u64), Arc<dyn std::any::Any + Send + Sync>>>,
 }
@@ -184,7 +115,7 @@ impl Renderer {
             output_size: Mutex::new(DEFAULT_OUTPUT_SIZE),
             states: Mutex::new(FxHashMap::default()),
             kept: Mutex::new(FxHashMap::default()),
-            uploads: Mutex::new((0, 0, 0)),
+            uploads: Mutex::new(Uploads::default()),
         })
     }
 
@@ -220,181 +151,6 @@ impl Renderer {
             // Keyed by the type's id: another type cannot be under it.
             Err(_) => unreachable!("state keyed by its TypeId"),
         }
-    }
-
-    /// A uniform buffer holding `bytes` for node `owner`'s `label`: the same
-    /// buffer each time the node's recipe is made again, written only when
-    /// the bytes changed (counted: "uniform uploads", "uniform uploads
-    /// skipped"), so bind groups over it are reused from frame to frame.
-    /// One (owner, label) must name one buffer per frame: a node making
-    /// several recipes gives each its own label. Without an owner, a new buffer.
-    pub fn uniform(&self, owner: Option<u32>, label: &'static str, bytes: &[u8]) -> wgpu::Buffer {
-        self.kept_init(
-            owner,
-            label,
-            bytes,
-            wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-        )
-    }
-
-    /// [`Renderer::uniform`] for any usage (COPY_DST is added): storage
-    /// buffers such as a G-buffer's instances, kept and written on change.
-    pub fn kept_init(
-        &self,
-        owner: Option<u32>,
-        label: &'static str,
-        bytes: &[u8],
-        usage: wgpu::BufferUsages,
-    ) -> wgpu::Buffer {
-        self.kept_init_at(owner, label, 0, bytes, usage)
-    }
-
-    /// A temporal pass's "history was reset" flag as two kept uniforms
-    /// (`vec4<u32>` with x = 0, then x = 1), so a pass binds
-    /// `flags[usize::from(fresh)]` and its bind groups stay the same
-    /// buffers from frame to frame whichever it is.
-    pub fn kept_flags(&self, owner: Option<u32>, label: &'static str) -> [wgpu::Buffer; 2] {
-        [0u32, 1].map(|flag| {
-            self.kept_init_at(
-                owner,
-                label,
-                flag,
-                bytemuck::cast_slice(&[flag, 0, 0, 0]),
-                wgpu::BufferUsages::UNIFORM,
-            )
-        })
-    }
-
-    /// [`Renderer::kept_init`] for the `index`th of several buffers of one
-    /// kind that one recipe keeps (a G-buffer's layer records, a rasterizer's
-    /// batches): each keeps its own buffer, so none overwrites another.
-    pub fn kept_init_at(
-        &self,
-        owner: Option<u32>,
-        label: &'static str,
-        index: u32,
-        bytes: &[u8],
-        usage: wgpu::BufferUsages,
-    ) -> wgpu::Buffer {
-        let usage = usage | wgpu::BufferUsages::COPY_DST;
-        let fresh = || {
-            wgpu::util::DeviceExt::create_buffer_init(
-                &self.gpu.device,
-                &wgpu::util::BufferInitDescriptor {
-                    label: Some(label),
-                    contents: bytes,
-                    usage,
-                },
-            )
-        };
-        let Some(owner) = owner else {
-            return fresh();
-        };
-        let mut kept = self.kept.lock().unwrap_or_else(|e| e.into_inner());
-        let (k, made) = kept_entry(
-            &mut kept,
-            (owner, label, index),
-            |k| k.buffer.usage() == usage && k.contents.len() == bytes.len(),
-            fresh,
-        );
-        let mut uploads = self.uploads.lock().unwrap_or_else(|e| e.into_inner());
-        if made {
-            k.contents = bytes.to_vec();
-            uploads.0 += 1;
-            uploads.2 += bytes.len() as u64;
-        } else if let Some((start, end)) = changed_span(&k.contents, bytes) {
-            // Only the bytes that changed: one moving instance among a
-            // thousand still ones writes its 224 bytes, not the buffer.
-            self.gpu
-                .queue
-                .write_buffer(&k.buffer, start as u64, &bytes[start..end]);
-            k.contents[start..end].copy_from_slice(&bytes[start..end]);
-            uploads.0 += 1;
-            uploads.2 += (end - start) as u64;
-        } else {
-            uploads.1 += 1;
-        }
-        k.buffer.clone()
-    }
-
-    /// A buffer of `size` bytes and `usage` that node `owner`'s recipes keep
-    /// under `label` across their re-creation (scratch a pass fills each
-    /// frame, such as the compute rasterizer's 64-bit visibility buffer).
-    /// Its contents are whatever the last frame left. Without an owner, a new one.
-    pub fn kept_buffer(
-        &self,
-        owner: Option<u32>,
-        label: &'static str,
-        size: u64,
-        usage: wgpu::BufferUsages,
-    ) -> wgpu::Buffer {
-        let fresh = || {
-            self.gpu.device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some(label),
-                size,
-                usage,
-                mapped_at_creation: false,
-            })
-        };
-        let Some(owner) = owner else {
-            return fresh();
-        };
-        let mut kept = self.kept.lock().unwrap_or_else(|e| e.into_inner());
-        let fits = |k: &KeptBuffer| k.buffer.usage() == usage && k.buffer.size() == size;
-        kept_entry(&mut kept, (owner, label, 0), fits, fresh)
-            .0
-            .buffer
-            .clone()
-    }
-
-    /// Write `bytes` at the start of the buffer kept under node `owner`'s
-    /// `label` ([`Renderer::kept_buffer`]), only the bytes that differ from
-    /// what this last wrote there (counted as [`Renderer::uniform`]'s
-    /// uploads): a recipe that fills its kept buffer as it declares, such as
-    /// the G-buffer's camera, skips the write when nothing moved. A buffer
-    /// that is not the one kept there (no owner, or replaced) is written whole.
-    pub fn write_kept(
-        &self,
-        owner: Option<u32>,
-        label: &'static str,
-        buffer: &wgpu::Buffer,
-        bytes: &[u8],
-    ) {
-        let mut uploads = self.uploads.lock().unwrap_or_else(|e| e.into_inner());
-        let mut kept = self.kept.lock().unwrap_or_else(|e| e.into_inner());
-        let entry = owner
-            .and_then(|owner| kept.get_mut(&(owner, label, 0)))
-            .filter(|k| k.buffer == *buffer);
-        let span = match entry {
-            Some(k) if k.contents.len() == bytes.len() => {
-                let span = changed_span(&k.contents, bytes);
-                if let Some((start, end)) = span {
-                    k.contents[start..end].copy_from_slice(&bytes[start..end]);
-                }
-                span
-            }
-            Some(k) => {
-                k.contents = bytes.to_vec();
-                Some((0, bytes.len()))
-            }
-            None => Some((0, bytes.len())),
-        };
-        match span {
-            Some((start, end)) => {
-                self.gpu
-                    .queue
-                    .write_buffer(buffer, start as u64, &bytes[start..end]);
-                uploads.0 += 1;
-                uploads.2 += (end - start) as u64;
-            }
-            None => uploads.1 += 1,
-        }
-    }
-
-    /// Uniform uploads made and skipped, and the bytes written, since the
-    /// last call (the frame report's counters).
-    pub(crate) fn take_uploads(&self) -> (u64, u64, u64) {
-        std::mem::take(&mut *self.uploads.lock().unwrap_or_else(|e| e.into_inner()))
     }
 
     /// How frames are timed and recorded.
@@ -528,25 +284,5 @@ pub fn test_renderer() -> std::sync::Arc<Renderer> {
     match Renderer::headless() {
         Ok(r) => std::sync::Arc::new(r),
         Err(e) => panic!("GPU tests need a GPU adapter: {e}"),
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::changed_span;
-
-    #[test]
-    fn only_the_changed_bytes_are_written_on_4_byte_boundaries() {
-        let old = vec![0u8; 1000];
-        let mut new = old.clone();
-        assert_eq!(changed_span(&old, &new), None);
-        new[517] = 1;
-        new[600] = 2;
-        assert_eq!(changed_span(&old, &new), Some((516, 604)));
-        new[0] = 3;
-        new[999] = 4;
-        assert_eq!(changed_span(&old, &new), Some((0, 1000)));
-        // A length off the alignment is written whole.
-        assert_eq!(changed_span(&[0; 6], &[0, 0, 0, 0, 0, 1]), Some((0, 6)));
     }
 }

@@ -153,6 +153,81 @@ fn a_re_made_g_buffer_packs_uploads_and_binds_only_what_its_moving_layer_changed
     }
 }
 
+#[test]
+fn a_re_made_g_buffer_compares_only_the_instances_of_layers_that_changed_or_moved() {
+    let renderer = test_renderer();
+    let scene = Scene::new(&renderer);
+    let still_bytes = 20 * INSTANCE_BYTES;
+    let ball = |x: f32| {
+        layer(
+            scene.ball.clone(),
+            vec![instance(Vec3::new(x, 1.0, 1.0), Vec3::X)],
+        )
+    };
+    // The ball after the still spheres, moving; then a new ball layer in
+    // front of them, so the still layer's instances lie one place later
+    // (the buffer keeps its length) and must be compared and written; then
+    // moving there.
+    let frames: [(Vec<Arc<Layer>>, bool); 5] = [
+        (scene.layers(-1.0), true),
+        (scene.layers(-0.5), false),
+        (scene.layers(0.0), false),
+        (vec![ball(0.5), scene.still.clone()], true),
+        (vec![ball(1.0), scene.still.clone()], false),
+    ];
+    for (frame, (layers, still_compared)) in frames.into_iter().enumerate() {
+        let g = GBuffer::new(
+            &renderer,
+            Some(90),
+            layers.clone(),
+            camera(),
+            None,
+            SizeRule::Relative(1.0),
+        );
+        let t = &g.targets;
+        let names = [&t.color, &t.normals, &t.depth].map(String::as_str);
+        let (report, images) =
+            render_and_read(&renderer, g.as_ref(), SIZE, &names).expect("renders");
+        assert!(report.errors.is_empty(), "{:?}", report.errors);
+        let compared = report.counter("kept bytes compared");
+        if frame == 0 {
+            // Made: nothing to compare the instances with.
+            assert!(compared < still_bytes, "{:?}", report.counters);
+        } else if still_compared {
+            assert!(
+                compared >= still_bytes,
+                "frame {frame}: {:?}",
+                report.counters
+            );
+        } else {
+            // The ball's 224 bytes and the small uniforms, not the still spheres'.
+            assert!(
+                compared < still_bytes,
+                "frame {frame}: {:?}",
+                report.counters
+            );
+            assert!(report.counter("uniform bytes uploaded") <= INSTANCE_BYTES + 64);
+        }
+        let fresh = GBuffer::new(
+            &renderer,
+            None,
+            layers,
+            camera(),
+            None,
+            SizeRule::Relative(1.0),
+        );
+        let t = &fresh.targets;
+        let names = [&t.color, &t.normals, &t.depth].map(String::as_str);
+        let (_, whole) = render_and_read(&renderer, fresh.as_ref(), SIZE, &names).expect("renders");
+        for (k, (a, b)) in images.iter().zip(&whole).enumerate() {
+            assert!(
+                a.pixels == b.pixels,
+                "frame {frame}, target {k}: the same image"
+            );
+        }
+    }
+}
+
 /// The sun-lit diffuse of `layers` with `shadows`, and the frame's report;
 /// the G-buffer and the lighting are `owner`'s (None: they keep nothing).
 fn shade(

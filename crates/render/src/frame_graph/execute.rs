@@ -98,7 +98,8 @@ fn execute(
         })
         .collect();
 
-    let mut live: FxHashMap<String, wgpu::Texture> = parts.imports.clone();
+    let mut live: FxHashMap<String, wgpu::Texture> = std::mem::take(&mut parts.imports);
+    live.reserve(textures.persistent.len() + parts.writes.iter().map(Vec::len).sum::<usize>());
     for (name, (_, texture)) in &textures.persistent {
         live.insert(name.clone(), texture.clone());
     }
@@ -108,7 +109,7 @@ fn execute(
         ..Default::default()
     };
     for (name, n) in std::mem::take(&mut parts.counters) {
-        *report.counters.entry(name.to_owned()).or_default() += n;
+        add_counter(&mut report, name, n);
     }
     let mut owned = Vec::new();
     let mut commands = Vec::new();
@@ -154,7 +155,12 @@ fn execute(
                 }
             };
             if desc.lifetime == Lifetime::Persistent {
-                textures.idle.insert(name.clone(), 0);
+                match textures.idle.get_mut(name.as_str()) {
+                    Some(idle) => *idle = 0,
+                    None => {
+                        textures.idle.insert(name.clone(), 0);
+                    }
+                }
             }
             live.insert(name.clone(), texture);
         }
@@ -209,7 +215,7 @@ fn execute(
             release_instead.insert(handover.temporary, handover.release);
         }
         for (name, n) in counters {
-            *report.counters.entry(name.to_owned()).or_default() += n;
+            add_counter(&mut report, name, n);
         }
         let error = if batched {
             shared = Some(encoder);
@@ -274,11 +280,12 @@ fn execute(
         .collect();
     report.pipelines_compiled = shaders.pipelines_compiled - compiled_before;
     let mut views = views.into_inner();
-    let (uploaded, skipped, bytes) = renderer.take_uploads();
+    let uploads = renderer.take_uploads();
     for (name, n) in [
-        ("uniform uploads", uploaded),
-        ("uniform uploads skipped", skipped),
-        ("uniform bytes uploaded", bytes),
+        ("uniform uploads", uploads.made),
+        ("uniform uploads skipped", uploads.skipped),
+        ("uniform bytes uploaded", uploads.bytes),
+        ("kept bytes compared", uploads.compared),
         (
             "bind groups created",
             shaders.bind_groups_created - groups_before.0,
@@ -291,7 +298,7 @@ fn execute(
         ("texture views reused", views.reused - views_before.1),
     ] {
         if n > 0 {
-            *report.counters.entry(name.to_owned()).or_default() += n;
+            add_counter(&mut report, name, n);
         }
     }
     views.end_frame();
@@ -428,4 +435,15 @@ fn execute(
     report.wait_ms = (started.elapsed().as_secs_f64() * 1e3 - report.record_ms).max(0.0);
     renderer.set_last_report(report.clone());
     Ok((report, outputs))
+}
+
+/// Add `n` to the report's counter `name`, naming it (an allocation) only the
+/// first time in the frame: passes count under a few names many times.
+fn add_counter(report: &mut FrameReport, name: &str, n: u64) {
+    match report.counters.get_mut(name) {
+        Some(count) => *count += n,
+        None => {
+            report.counters.insert(name.to_owned(), n);
+        }
+    }
 }

@@ -76,24 +76,33 @@ pub(crate) fn pack_layer(layer: &Layer) -> PackedLayer {
     PackedLayer { instances, draws }
 }
 
-/// The packed layers one after another.
-fn concatenate<'p>(packed: impl IntoIterator<Item = &'p PackedLayer> + Clone) -> Packed {
-    // Sized once: a thousand instances are ~230 KB, which grown by doubling
-    // were copied and allocated again several times a frame.
-    let (count, draw_count) = packed.clone().into_iter().fold((0, 0), |(i, d), l| {
-        (i + l.instances.len(), d + l.draws.len())
-    });
-    let mut instances = Vec::with_capacity(count);
-    let mut draws = Vec::with_capacity(draw_count);
-    let mut ranges = Vec::new();
+/// Where the packed layers lie one after another: the draws (their
+/// `first_instance` counted from the first layer's), each layer's range of
+/// instances, and the instance count.
+fn lay_out<'p>(
+    packed: impl IntoIterator<Item = &'p PackedLayer>,
+) -> (Vec<Draw>, Vec<(u32, u32)>, u32) {
+    let (mut draws, mut ranges, mut count) = (Vec::new(), Vec::new(), 0u32);
     for layer in packed {
-        let first = instances.len() as u32;
-        instances.extend_from_slice(&layer.instances);
         draws.extend(layer.draws.iter().map(|d| Draw {
-            first_instance: first + d.first_instance,
+            first_instance: count + d.first_instance,
             ..*d
         }));
-        ranges.push((first, instances.len() as u32));
+        let first = count;
+        count += layer.instances.len() as u32;
+        ranges.push((first, count));
+    }
+    (draws, ranges, count)
+}
+
+/// The packed layers one after another.
+fn concatenate<'p>(packed: impl IntoIterator<Item = &'p PackedLayer> + Clone) -> Packed {
+    let (draws, ranges, count) = lay_out(packed.clone());
+    // Sized once: a thousand instances are ~230 KB, which grown by doubling
+    // were copied and allocated again several times a frame.
+    let mut instances = Vec::with_capacity(count as usize);
+    for layer in packed {
+        instances.extend_from_slice(&layer.instances);
     }
     (instances, draws, ranges)
 }
@@ -105,14 +114,77 @@ pub(crate) fn pack_instances(layers: &[Arc<Layer>]) -> Packed {
     concatenate(&packed)
 }
 
+/// Layers packed for a kept instance buffer, not concatenated: each layer's
+/// instances apart, so a layer lying where it lay last frame is neither
+/// copied nor compared ([`crate::Renderer::kept_init_parts`]).
+pub(crate) struct KeptPacking {
+    pub layers: Vec<Arc<PackedLayer>>,
+    /// Per layer: the same packing at the same place as last time.
+    pub unchanged: Vec<bool>,
+    pub draws: Vec<Draw>,
+    pub ranges: Vec<(u32, u32)>,
+    pub count: u32,
+    /// Layers packed anew (the others' packing was kept).
+    pub made: u64,
+}
+
+impl KeptPacking {
+    /// Each layer's instances as bytes, in order.
+    pub(crate) fn parts(&self) -> Vec<&[u8]> {
+        self.layers
+            .iter()
+            .map(|l| bytemuck::cast_slice(&l.instances))
+            .collect()
+    }
+}
+
 /// As [`pack_instances`], taking the packing of each layer that `memo` saw
-/// last time from there; also says how many layers were packed anew.
+/// last time from there, and telling which layers lie where they lay in
+/// `placement`'s last call with the same packing.
 pub(crate) fn pack_instances_kept(
     layers: &[Arc<Layer>],
     memo: &LayerMemo<PackedLayer>,
-) -> (Packed, u64) {
+    placement: &Placement,
+) -> KeptPacking {
     let (packed, made) = memo.get(layers, pack_layer);
-    (concatenate(packed.iter().map(Arc::as_ref)), made)
+    let (draws, ranges, count) = lay_out(packed.iter().map(Arc::as_ref));
+    let unchanged = placement.place(&packed, &ranges);
+    KeptPacking {
+        layers: packed,
+        unchanged,
+        draws,
+        ranges,
+        count,
+        made,
+    }
+}
+
+/// Where each layer's packing was laid last time (by the first instance),
+/// held so that an address is never mistaken for a new packing's.
+#[derive(Default)]
+pub(crate) struct Placement(Mutex<Vec<(u32, Arc<PackedLayer>)>>);
+
+impl Placement {
+    /// Per layer, whether the same packing lay at the same first instance
+    /// last time; then this call's layout is remembered.
+    pub(crate) fn place(&self, packed: &[Arc<PackedLayer>], ranges: &[(u32, u32)]) -> Vec<bool> {
+        let mut last = self.0.lock().unwrap_or_else(|e| e.into_inner());
+        let now: Vec<(u32, Arc<PackedLayer>)> = ranges
+            .iter()
+            .zip(packed)
+            .map(|(&(first, _), p)| (first, p.clone()))
+            .collect();
+        let unchanged = now
+            .iter()
+            .enumerate()
+            .map(|(i, (first, p))| {
+                last.get(i)
+                    .is_some_and(|(f, q)| f == first && Arc::ptr_eq(p, q))
+            })
+            .collect();
+        *last = now;
+        unchanged
+    }
 }
 
 /// Something computed from a layer, kept while the layer is the same `Arc`

@@ -271,26 +271,50 @@ impl GBuffer {
         let prefix = format!("mre{id}");
         // A node's layers that did not change since its last recipe keep
         // their packing (one ball moving among a thousand still spheres).
-        let ((mut gpu_instances, draws, layer_ranges), packed) = match owner {
-            Some(node) => instances::pack_instances_kept(
+        let kept = owner.map(|node| {
+            instances::pack_instances_kept(
                 &layers,
                 &renderer.state::<LayerMemo<instances::PackedLayer>>(u64::from(node)),
-            ),
-            None => (pack_instances(&layers), layers.len() as u64),
+                &renderer.state::<instances::Placement>(u64::from(node)),
+            )
+        });
+        // A storage binding cannot be empty: one zeroed instance then.
+        let empty: [GpuInstance; 1] = [bytemuck::Zeroable::zeroed()];
+        // Kept under the MRE node across its recipes, so the bind groups of
+        // every pass that reads the camera are reused from frame to frame;
+        // a layer lying where it lay last frame is not compared again.
+        let (instances, draws, layer_ranges, instance_count, packed) = match kept {
+            Some(kept) => {
+                let (mut parts, mut unchanged) = (kept.parts(), kept.unchanged.clone());
+                if kept.count == 0 {
+                    (parts, unchanged) = (vec![bytemuck::cast_slice(&empty)], vec![false]);
+                }
+                let buffer = renderer.kept_init_parts(
+                    owner,
+                    "mre instances",
+                    &parts,
+                    &unchanged,
+                    wgpu::BufferUsages::STORAGE,
+                );
+                let count = (kept.count as usize).max(1);
+                (buffer, kept.draws, kept.ranges, count, kept.made)
+            }
+            None => {
+                let (mut gpu_instances, draws, ranges) = pack_instances(&layers);
+                if gpu_instances.is_empty() {
+                    gpu_instances.push(bytemuck::Zeroable::zeroed());
+                }
+                let buffer = renderer.kept_init(
+                    owner,
+                    "mre instances",
+                    bytemuck::cast_slice(&gpu_instances),
+                    wgpu::BufferUsages::STORAGE,
+                );
+                let count = gpu_instances.len();
+                (buffer, draws, ranges, count, layers.len() as u64)
+            }
         };
         let packed = (packed, layers.len() as u64 - packed);
-        if gpu_instances.is_empty() {
-            // A storage binding cannot be empty.
-            gpu_instances.push(bytemuck::Zeroable::zeroed());
-        }
-        // Kept under the MRE node across its recipes, so the bind groups of
-        // every pass that reads the camera are reused from frame to frame.
-        let instances = renderer.kept_init(
-            owner,
-            "mre instances",
-            bytemuck::cast_slice(&gpu_instances),
-            wgpu::BufferUsages::STORAGE,
-        );
         let camera_buffer = renderer.kept_buffer(
             owner,
             "mre camera",
@@ -355,7 +379,7 @@ impl GBuffer {
                 owner,
                 compute_raster::RasterLabels::G_BUFFER,
                 &draws,
-                gpu_instances.len(),
+                instance_count,
             )
         });
         Arc::new(GBuffer {

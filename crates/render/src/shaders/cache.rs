@@ -44,7 +44,8 @@ pub struct ShaderCache {
     /// every pass makes several a frame.)
     used: FxHashMap<ShaderKey, FxHashMap<String, Vec<(u32, u32)>>>,
     compute: FxHashMap<ShaderKey, FxHashMap<&'static str, wgpu::ComputePipeline>>,
-    render: FxHashMap<(ShaderKey, String), wgpu::RenderPipeline>,
+    /// Per permutation, then variant (looked up by borrowing both).
+    render: FxHashMap<ShaderKey, FxHashMap<String, wgpu::RenderPipeline>>,
     samplers: FxHashMap<Sampling, wgpu::Sampler>,
     /// Pipelines of shaders not in [`SHADERS`] (shader node files), by the caller's key and entry.
     external: FxHashMap<(u64, String), wgpu::ComputePipeline>,
@@ -52,8 +53,10 @@ pub struct ShaderCache {
     surfaces: FxHashMap<(ShaderKey, u64), SplicedPipeline>,
     /// Bind groups by pipeline, group and what they bind (by identity), with
     /// the frame they were last used in: a pass that binds what it bound
-    /// last frame reuses its group instead of making one.
-    bind_groups: FxHashMap<BindGroupKey, (wgpu::BindGroup, u64)>,
+    /// last frame reuses its group instead of making one. Under the hash of
+    /// that key, so a look-up hashes the resources it is given and compares
+    /// them in place, without building (allocating, cloning) a key.
+    bind_groups: FxHashMap<u64, Vec<CachedGroup>>,
     frame: u64,
     /// Pipelines compiled since the cache was made.
     pub pipelines_compiled: u64,
@@ -105,6 +108,60 @@ impl PipelineRef {
 
 type BindGroupKey = (PipelineRef, u32, Vec<(u32, Bound)>);
 
+struct CachedGroup {
+    key: BindGroupKey,
+    group: wgpu::BindGroup,
+    /// The frame it was last bound in.
+    last: u64,
+}
+
+/// The hash a bind group is cached under: its pipeline, group index and
+/// the resources of `entries` by identity; None where one is not keyed
+/// (arrays of resources), so the group is made each time.
+fn group_hash(
+    pipeline: &PipelineRef,
+    group: u32,
+    entries: &[wgpu::BindGroupEntry<'_>],
+) -> Option<u64> {
+    use std::hash::{Hash, Hasher};
+    let mut hasher = rustc_hash::FxHasher::default();
+    (pipeline, group).hash(&mut hasher);
+    for e in entries {
+        e.binding.hash(&mut hasher);
+        match &e.resource {
+            wgpu::BindingResource::Buffer(b) => (0u8, b.buffer, b.offset, b.size).hash(&mut hasher),
+            wgpu::BindingResource::TextureView(v) => (1u8, *v).hash(&mut hasher),
+            wgpu::BindingResource::Sampler(v) => (2u8, *v).hash(&mut hasher),
+            _ => return None,
+        }
+    }
+    Some(hasher.finish())
+}
+
+/// Whether a cached group's key is `pipeline`'s group `group` over exactly
+/// the resources of `entries`.
+fn same_group(
+    key: &BindGroupKey,
+    pipeline: &PipelineRef,
+    group: u32,
+    entries: &[wgpu::BindGroupEntry<'_>],
+) -> bool {
+    key.0 == *pipeline
+        && key.1 == group
+        && key.2.len() == entries.len()
+        && key.2.iter().zip(entries).all(|((binding, bound), e)| {
+            *binding == e.binding
+                && match (bound, &e.resource) {
+                    (Bound::Buffer(buffer, offset, size), wgpu::BindingResource::Buffer(b)) => {
+                        buffer == b.buffer && *offset == b.offset && *size == b.size
+                    }
+                    (Bound::View(view), wgpu::BindingResource::TextureView(v)) => view == *v,
+                    (Bound::Sampler(sampler), wgpu::BindingResource::Sampler(v)) => sampler == *v,
+                    _ => false,
+                }
+        })
+}
+
 /// Frames a cached bind group may go unused before it is dropped (with the
 /// buffers and views it keeps alive): recipes re-made each frame make new
 /// buffers, whose groups are never hit again.
@@ -133,8 +190,10 @@ impl ShaderCache {
     pub(crate) fn begin_frame(&mut self) {
         self.frame += 1;
         let frame = self.frame;
-        self.bind_groups
-            .retain(|_, (_, last)| frame - *last <= BIND_GROUP_IDLE_FRAMES);
+        self.bind_groups.retain(|_, groups| {
+            groups.retain(|g| frame - g.last <= BIND_GROUP_IDLE_FRAMES);
+            !groups.is_empty()
+        });
     }
 
     /// Swap in new sources (live shader editing); everything compiled is dropped.
@@ -239,17 +298,18 @@ impl ShaderCache {
         label: &str,
         entries: &[wgpu::BindGroupEntry<'_>],
     ) -> wgpu::BindGroup {
-        let bound: Option<Vec<(u32, Bound)>> = entries
-            .iter()
-            .map(|e| Bound::of(&e.resource).map(|b| (e.binding, b)))
-            .collect();
-        let cache_key = bound.map(|b| (pipeline.clone(), group, b));
-        if let Some(k) = &cache_key
-            && let Some((cached, last)) = self.bind_groups.get_mut(k)
+        let hash = group_hash(pipeline, group, entries);
+        if let Some(cached) = hash
+            .and_then(|h| self.bind_groups.get_mut(&h))
+            .and_then(|groups| {
+                groups
+                    .iter_mut()
+                    .find(|g| same_group(&g.key, pipeline, group, entries))
+            })
         {
-            *last = self.frame;
+            cached.last = self.frame;
             self.bind_groups_reused += 1;
-            return cached.clone();
+            return cached.group.clone();
         }
         let made = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some(label),
@@ -257,8 +317,16 @@ impl ShaderCache {
             entries,
         });
         self.bind_groups_created += 1;
-        if let Some(k) = cache_key {
-            self.bind_groups.insert(k, (made.clone(), self.frame));
+        let bound: Option<Vec<(u32, Bound)>> = entries
+            .iter()
+            .map(|e| Bound::of(&e.resource).map(|b| (e.binding, b)))
+            .collect();
+        if let (Some(hash), Some(bound)) = (hash, bound) {
+            self.bind_groups.entry(hash).or_default().push(CachedGroup {
+                key: (pipeline.clone(), group, bound),
+                group: made.clone(),
+                last: self.frame,
+            });
         }
         made
     }
@@ -392,14 +460,16 @@ impl ShaderCache {
         variant: &str,
         build: impl FnOnce(&wgpu::ShaderModule) -> wgpu::RenderPipeline,
     ) -> Result<wgpu::RenderPipeline, RenderError> {
-        let cache_key = (key.clone(), variant.to_owned());
-        if let Some(p) = self.render.get(&cache_key) {
+        if let Some(p) = self.render.get(key).and_then(|by| by.get(variant)) {
             return Ok(p.clone());
         }
         let module = self.module(device, key)?;
         let pipeline = build(&module);
         self.pipelines_compiled += 1;
-        self.render.insert(cache_key, pipeline.clone());
+        self.render
+            .entry(key.clone())
+            .or_default()
+            .insert(variant.to_owned(), pipeline.clone());
         Ok(pipeline)
     }
 }

@@ -92,3 +92,55 @@ fn an_unknown_feature_is_refused_by_name() {
         "{err}"
     );
 }
+
+#[test]
+fn a_cached_bind_group_is_found_by_what_it_binds() {
+    let renderer = crate::renderer::test_renderer();
+    let device = &renderer.gpu.device;
+    let wgsl = "@group(0) @binding(0) var<storage, read_write> data: array<u32>;
+        @compute @workgroup_size(1) fn main() { data[0] = 1u; }";
+    let mut cache = renderer.shaders();
+    let pipeline = cache.external_compute_pipeline(
+        device,
+        1,
+        "bind group cache test",
+        || naga::front::wgsl::parse_str(wgsl).expect("parses"),
+        "main",
+    );
+    let pipeline = PipelineRef::Compute(pipeline);
+    let buffer = |label| {
+        device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some(label),
+            size: 512,
+            usage: wgpu::BufferUsages::STORAGE,
+            mapped_at_creation: false,
+        })
+    };
+    let (a, b) = (buffer("a"), buffer("b"));
+    let mut group = |buffer: &wgpu::Buffer, offset: u64| {
+        let entries = [wgpu::BindGroupEntry {
+            binding: 0,
+            resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                buffer,
+                offset,
+                size: wgpu::BufferSize::new(256),
+            }),
+        }];
+        let before = (cache.bind_groups_created, cache.bind_groups_reused);
+        let group = cache.group(device, &pipeline, 0, "test", &entries);
+        let made = cache.bind_groups_created - before.0;
+        assert_eq!(made + cache.bind_groups_reused - before.1, 1);
+        (group, made == 1)
+    };
+    let (first, made) = group(&a, 0);
+    assert!(made);
+    // The same buffer and range: the same group, none made.
+    let (again, made) = group(&a, 0);
+    assert!(!made && again == first);
+    // Another buffer, or another range of the same one: groups of their own.
+    let (other, made) = group(&b, 0);
+    assert!(made && other != first);
+    let (offset, made) = group(&a, 256);
+    assert!(made && offset != first);
+    assert!(!group(&b, 0).1 && !group(&a, 256).1 && !group(&a, 0).1);
+}
