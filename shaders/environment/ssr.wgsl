@@ -99,6 +99,20 @@ fn footprint(k: u32, out: u32, src: u32) -> vec2<u32> {
     return vec2<u32>(lo, hi);
 }
 
+// The nearest depth of `hiz_source` under texel `k` of a level `out` big.
+fn nearest_under(k: vec2<u32>, out: vec2<u32>) -> f32 {
+    let src = textureDimensions(hiz_source);
+    let fx = footprint(k.x, out.x, src.x);
+    let fy = footprint(k.y, out.y, src.y);
+    var nearest = 0.0;
+    for (var y = fy.x; y <= fy.y; y++) {
+        for (var x = fx.x; x <= fx.y; x++) {
+            nearest = max(nearest, textureLoad(hiz_source, vec2<u32>(x, y), 0).r);
+        }
+    }
+    return nearest;
+}
+
 // Mip 0 (the depth, NaN as 0) and mip 1: a thread per mip 1 texel copies
 // the depth texels under it. The footprints tile mip 0, so each is
 // written once.
@@ -132,20 +146,12 @@ fn hiz_down2(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let mid_size = textureDimensions(out_hiz);
-    let src_size = textureDimensions(hiz_source);
     let mx = footprint(id.x, out_size.x, mid_size.x);
     let my = footprint(id.y, out_size.y, mid_size.y);
     var nearest = 0.0;
     for (var y1 = my.x; y1 <= my.y; y1++) {
         for (var x1 = mx.x; x1 <= mx.y; x1++) {
-            let fx = footprint(x1, mid_size.x, src_size.x);
-            let fy = footprint(y1, mid_size.y, src_size.y);
-            var cell = 0.0;
-            for (var y = fy.x; y <= fy.y; y++) {
-                for (var x = fx.x; x <= fx.y; x++) {
-                    cell = max(cell, textureLoad(hiz_source, vec2<u32>(x, y), 0).r);
-                }
-            }
+            let cell = nearest_under(vec2<u32>(x1, y1), mid_size);
             textureStore(out_hiz, vec2<u32>(x1, y1), vec4<f32>(cell, 0.0, 0.0, 0.0));
             nearest = max(nearest, cell);
         }
@@ -159,16 +165,7 @@ fn hiz_down(@builtin(global_invocation_id) id: vec3<u32>) {
     if (id.x >= out_size.x || id.y >= out_size.y) {
         return;
     }
-    let src_size = textureDimensions(hiz_source);
-    let fx = footprint(id.x, out_size.x, src_size.x);
-    let fy = footprint(id.y, out_size.y, src_size.y);
-    var nearest = 0.0;
-    for (var y = fy.x; y <= fy.y; y++) {
-        for (var x = fx.x; x <= fx.y; x++) {
-            nearest = max(nearest, textureLoad(hiz_source, vec2<u32>(x, y), 0).r);
-        }
-    }
-    textureStore(out_hiz, id.xy, vec4<f32>(nearest, 0.0, 0.0, 0.0));
+    textureStore(out_hiz, id.xy, vec4<f32>(nearest_under(id.xy, out_size), 0.0, 0.0, 0.0));
 }
 
 fn view_position(uv: vec2<f32>, d: f32) -> vec3<f32> {
