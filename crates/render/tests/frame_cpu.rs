@@ -435,3 +435,89 @@ fn a_re_made_g_buffer_publishes_its_depth_through_kept_bind_groups() {
         .expect("published");
     assert_eq!(published.writes, 3);
 }
+
+/// A re-made CookTorrance over a still G-buffer writes its cluster grid
+/// only when the grid changed: with the camera, the size and the lights
+/// the same, a frame after the first uploads nothing at all.
+#[test]
+fn a_re_made_light_pass_writes_its_grid_only_when_it_changed() {
+    let renderer = test_renderer();
+    let scene = Scene::new(&renderer);
+    let layers = scene.layers(0.0);
+    let sun = SunLight {
+        direction: Vec3::new(0.3, -1.0, 0.2).normalize(),
+        color: Vec3::ONE,
+        illuminance: 5.0,
+        shadow: None,
+    };
+    let lights = LightBuffer::suns(&renderer, &[sun]);
+    let mut first = None;
+    for frame in 0..3 {
+        let g = GBuffer::new(
+            &renderer,
+            Some(70),
+            layers.clone(),
+            camera(),
+            None,
+            SizeRule::Relative(1.0),
+        );
+        let ct = CookTorrance::with_shadows(
+            &renderer,
+            Some(71),
+            g,
+            lights.clone(),
+            LightLoop::Naive,
+            true,
+            Surfaces::PerMaterialId(vec![(0.7, 0.0)]),
+            None,
+        );
+        let (report, mut images) =
+            render_and_read(&renderer, ct.as_ref(), SIZE, &[&ct.diffuse]).expect("renders");
+        assert!(report.errors.is_empty(), "{:?}", report.errors);
+        let image = images.remove(0);
+        if frame > 0 {
+            assert_eq!(
+                report.counter("uniform uploads"),
+                0,
+                "frame {frame}: {:?}",
+                report.counters
+            );
+            assert!(report.counter("uniform uploads skipped") > 0);
+        }
+        match &first {
+            None => first = Some(image),
+            Some(before) => assert!(
+                before.pixels == image.pixels,
+                "frame {frame}: the same image"
+            ),
+        }
+    }
+    // A light pass that keeps nothing writes its grid whole, and says so.
+    let g = GBuffer::new(
+        &renderer,
+        Some(70),
+        layers.clone(),
+        camera(),
+        None,
+        SizeRule::Relative(1.0),
+    );
+    let ct = CookTorrance::with_shadows(
+        &renderer,
+        None,
+        g,
+        lights.clone(),
+        LightLoop::Naive,
+        true,
+        Surfaces::PerMaterialId(vec![(0.7, 0.0)]),
+        None,
+    );
+    let (report, images) =
+        render_and_read(&renderer, ct.as_ref(), SIZE, &[&ct.diffuse]).expect("renders");
+    assert_eq!(
+        report.counter("uniform uploads"),
+        1,
+        "{:?}",
+        report.counters
+    );
+    assert!(first.expect("a frame").pixels == images[0].pixels);
+}

@@ -436,9 +436,11 @@ impl Recipe for CookTorrance {
         let size = self.gbuffer.pixel_size(fg.output_size());
         let (near, far) = near_far(self.gbuffer.camera.projection).unwrap_or((0.1, 1000.0));
         let grid = ClusterGrid::new(size, near, far);
-        renderer.gpu.queue.write_buffer(
+        // Only when it changed (size, near and far, light count): most frames it did not.
+        renderer.write_kept(
+            self.owner,
+            "cluster grid",
             &self.grid,
-            0,
             bytemuck::cast_slice(&grid.uniform(self.lights.count())),
         );
         // Clustered: assignment is a pass of its own, timed apart. Naive:

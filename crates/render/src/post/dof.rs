@@ -185,7 +185,14 @@ impl Dof {
         settings: DofSettings,
     ) -> Arc<Self> {
         let id = next_recipe_id();
-        let params = super::uniform(renderer, owner, "dof", &[0; 8]);
+        // Kept under the node, filled as the recipe declares (write_kept): a
+        // recipe made again each frame (a jittered camera) writes only a change.
+        let params = renderer.kept_buffer(
+            owner,
+            "dof",
+            32,
+            wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        );
         Arc::new(Dof {
             id,
             owner,
@@ -371,10 +378,13 @@ impl Recipe for Dof {
             tile as f32,
             0.0,
         ]);
-        renderer
-            .gpu
-            .queue
-            .write_buffer(&self.params, 0, bytemuck::cast_slice(&params));
+        // Only when the lens, the focus or the projection changed.
+        renderer.write_kept(
+            self.owner,
+            "dof",
+            &self.params,
+            bytemuck::cast_slice(&params),
+        );
         // What the circles of confusion come from: the CoC target, or inlined the depth (and focus).
         let coc_reads = if self.inline_coc() {
             reads
