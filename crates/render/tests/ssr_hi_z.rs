@@ -3,9 +3,12 @@
 //! the last row or column whatever an odd level leaves, checked level by
 //! level against the same rule on the CPU, at a size whose levels are odd.
 
+mod post_common;
+
 use std::sync::Arc;
 
 use glam::Vec3;
+use post_common::image;
 use spreadlight_render::camera::CameraInput;
 use spreadlight_render::environment::{SSR_HIZ_DISPATCHES, Ssr, SsrSettings};
 use spreadlight_render::gbuffer::GBuffer;
@@ -13,8 +16,6 @@ use spreadlight_render::material::{Feature, Material, MaterialWorld};
 use spreadlight_render::readback::{ImageF32, read_texture, read_texture_layer, render_and_read};
 use spreadlight_render::renderer::test_renderer;
 use spreadlight_render::scenes::{balls_on_floor, with_materials};
-use spreadlight_render::static_texture::StaticTexture;
-use spreadlight_render::texture::GpuTexture;
 use spreadlight_render::{Renderer, SizeRule};
 
 /// 99 x 61: levels of 49 x 30, 24 x 15, 12 x 7, 6 x 3, 3 x 1, 1 x 1 (seven
@@ -88,13 +89,7 @@ fn downsample(level: &ImageF32) -> ImageF32 {
 fn every_hi_z_level_is_the_nearest_depth_under_it_at_odd_sizes() {
     let renderer = test_renderer();
     let g = gbuffer(&renderer);
-    let lit = StaticTexture::new(GpuTexture::from_rgba32f(
-        &renderer.gpu,
-        SIZE.0,
-        SIZE.1,
-        &vec![[0.5, 0.5, 0.5, 1.0]; (SIZE.0 * SIZE.1) as usize],
-        "lit",
-    ));
+    let lit = image(&renderer, SIZE, |_, _| [0.5, 0.5, 0.5, 1.0]);
     let mirror = Material::new()
         .with(Feature::CookTorrance, &[[0.0, 1.0, 0.04, 0.0]])
         .and_then(|m| m.with(Feature::Reflection, &[[1.0, 0.0, 0.0, 0.0]]))
