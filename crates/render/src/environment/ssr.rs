@@ -200,7 +200,6 @@ impl Ssr {
         }
     }
 
-    /// Whether some material reflects: otherwise nothing is traced.
     /// The hierarchical depth the last frame built (R32Float, every mip),
     /// if one ran: for tests and tools.
     pub fn hi_z(&self) -> Option<wgpu::Texture> {
@@ -211,6 +210,7 @@ impl Ssr {
             .clone()
     }
 
+    /// Whether some material reflects: otherwise nothing is traced.
     pub fn active(&self) -> bool {
         self.materials.any_has(FEATURE_REFLECTION)
     }
