@@ -65,14 +65,6 @@ fn execute(
         }
     }
     let requested: FxHashSet<&str> = parts.requested.iter().map(String::as_str).collect();
-    // What this frame reads: the live passes' inputs and the requested
-    // textures (a pass with several outputs skips work on one nobody reads).
-    let read: FxHashSet<&str> = parts
-        .order
-        .iter()
-        .flat_map(|&p| parts.reads[p].iter().map(String::as_str))
-        .chain(requested.iter().copied())
-        .collect();
     // Temporaries a history may trade textures with (history.rs).
     let tradable: FxHashSet<&str> = parts
         .writes
@@ -182,7 +174,9 @@ fn execute(
             shaders: &mut shaders,
             textures: &mut live,
             tradable: &tradable,
-            read: &read,
+            last_use: &last_use,
+            requested: &requested,
+            step,
             handovers: Vec::new(),
             views: &views,
             fresh: &fresh,

@@ -175,8 +175,12 @@ pub struct PassContext<'f> {
     /// This frame's temporaries a history may trade textures with (not
     /// handed to the caller, not permanent): see `history.rs`.
     pub(crate) tradable: &'f FxHashSet<&'f str>,
-    /// Every texture a live pass of this frame reads, or the caller asked for.
-    pub(crate) read: &'f FxHashSet<&'f str>,
+    /// The step at which each texture is last read or written, the names
+    /// the caller asked for, and this pass's step: whether its outputs are
+    /// read ([`PassContext::is_read`]).
+    pub(crate) last_use: &'f FxHashMap<&'f str, usize>,
+    pub(crate) requested: &'f FxHashSet<&'f str>,
+    pub(crate) step: usize,
     pub(crate) handovers: Vec<history::Handover>,
     pub(crate) views: &'f std::cell::RefCell<crate::texture_pool::ViewCache>,
     pub(crate) fresh: &'f FxHashSet<String>,
@@ -220,12 +224,13 @@ impl<'f> PassContext<'f> {
         *self.counters.entry(name).or_default() += n;
     }
 
-    /// Whether some pass of this frame reads `name` (or the caller asked
-    /// for it). A pass runs when any of its outputs is read; one with
-    /// several can leave out the work of an output nobody reads (its
-    /// texture is still allocated, and left unwritten).
+    /// Whether this pass's output `name` is read: by a later pass of this
+    /// frame (its last use comes after this pass's write), or by the caller.
+    /// A pass runs when any of its outputs is read; one with several can
+    /// leave out the work of an output nobody reads (its texture is still
+    /// allocated, and left unwritten).
     pub fn is_read(&self, name: &str) -> bool {
-        self.read.contains(name)
+        self.requested.contains(name) || self.last_use.get(name).is_some_and(|&s| s > self.step)
     }
 
     /// A persistent texture created this frame: it holds no history yet.
