@@ -287,6 +287,9 @@ struct Dummies {
 pub struct MaterialWorld {
     materials: Vec<Material>,
     union_flags: u32,
+    /// Some material's FakeSSS has a colour and a strength above zero
+    /// ([`MaterialWorld::scatters_subsurface`]), found once when built.
+    scatters: bool,
     /// The array material textures index; only when some material reads it.
     textures: Option<TextureRef>,
     /// Bit n: some material's feature n reads a texture.
@@ -377,6 +380,11 @@ impl MaterialWorld {
         let offsets = upload("feature offsets", bytemuck::cast_slice(&packed.offsets));
         let data = upload("material data", bytemuck::cast_slice(&packed.data));
         let union_flags = materials.iter().fold(0, |acc, m| acc | m.flags());
+        let scatters = materials.iter().any(|m| {
+            m.params(Feature::FakeSss)
+                .and_then(|p| p.first())
+                .is_some_and(|p| p[3] > 0.0 && p[0].max(p[1]).max(p[2]) > 0.0)
+        });
         let textured_flags = match &textures {
             Some(_) => materials.iter().fold(0, |acc, m| {
                 m.textures
@@ -395,6 +403,7 @@ impl MaterialWorld {
         Arc::new(MaterialWorld {
             materials,
             union_flags,
+            scatters,
             textures,
             textured_flags,
             maps,
@@ -427,12 +436,9 @@ impl MaterialWorld {
     /// with a colour and a strength above zero. A FakeSSS of strength 0 makes
     /// no subsurface term (CookTorrance multiplies by both), so it asks for
     /// no SSSS passes; maps only scale the strength, they cannot raise a zero.
+    /// Recipes made again each frame ask it, so it is found when the world is built.
     pub fn scatters_subsurface(&self) -> bool {
-        self.materials.iter().any(|m| {
-            m.params(Feature::FakeSss)
-                .and_then(|p| p.first())
-                .is_some_and(|p| p[3] > 0.0 && p[0].max(p[1]).max(p[2]) > 0.0)
-        })
+        self.scatters
     }
 
     /// Whether some material has `feature` (a `FEATURE_*` id).
