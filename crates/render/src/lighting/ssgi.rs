@@ -234,13 +234,20 @@ impl Ssgi {
         )
     }
 
-    fn raw(&self, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
+    /// The frame's start, in the pass that gathers: the node's frame count
+    /// advanced (it turns the rays), a stale history counted as reset, and
+    /// the parameters written.
+    fn begin_frame(&self, cx: &mut PassContext<'_>) {
         let (frame, stale) = self.state.advance(&self.gbuffer, self.settings.reset);
         let reset = stale && self.temporal();
         if reset {
             cx.count("SSGI history reset", 1);
         }
         self.write_params(cx, frame, reset);
+    }
+
+    fn raw(&self, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
+        self.begin_frame(cx);
         let raw = written_target(&self.name("raw"), self.settings.resolution);
         self.dispatch(
             cx,
@@ -259,11 +266,7 @@ impl Ssgi {
 
     /// The gather and the temporal blend in one dispatch ([`Ssgi::fused`]).
     fn gather_temporal(&self, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
-        let (frame, stale) = self.state.advance(&self.gbuffer, self.settings.reset);
-        if stale {
-            cx.count("SSGI history reset", 1);
-        }
-        self.write_params(cx, frame, stale);
+        self.begin_frame(cx);
         cx.count(GATHER_TEMPORAL, 1);
         self.temporal_pass(cx, true)
     }

@@ -316,10 +316,7 @@ impl AmbientOcclusion {
         // Fused: last frame's history handed to `previous` before any view
         // of the history is taken (the two may trade textures).
         let (target, fresh) = if fused {
-            let fresh = cx.copy_history(&self.history_name(), &self.name("previous"))?;
-            if fresh {
-                cx.count("AO history reset", 1);
-            }
+            let fresh = self.hand_over_history(cx)?;
             cx.count(ESTIMATE_TEMPORAL, 1);
             (self.history_name(), fresh)
         } else {
@@ -370,13 +367,19 @@ impl AmbientOcclusion {
         cx.dispatch_image(self.settings.mode.name(), &key, &all, size)
     }
 
-    fn temporal_pass(&self, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
-        let history = self.history_name();
-        let previous = self.name("previous");
-        let fresh = cx.copy_history(&history, &previous)?;
+    /// Last frame's history handed to `previous` before the history is
+    /// written again; whether it is fresh (then counted as a reset).
+    fn hand_over_history(&self, cx: &mut PassContext<'_>) -> Result<bool, RenderError> {
+        let fresh = cx.copy_history(&self.history_name(), &self.name("previous"))?;
         if fresh {
             cx.count("AO history reset", 1);
         }
+        Ok(fresh)
+    }
+
+    fn temporal_pass(&self, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
+        let fresh = self.hand_over_history(cx)?;
+        let (history, previous) = (self.history_name(), self.name("previous"));
         let fresh_buffer = &self.fresh[usize::from(fresh)];
         let g = &self.gbuffer.targets;
         let views = [
