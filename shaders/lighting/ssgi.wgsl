@@ -14,8 +14,9 @@
 // (a second history, `distance`) matches within 5%; non-finite history is
 // never used. Alone it blends `source` (an upsampled half-resolution
 // gather); with GATHER it gathers this pixel first, in the same pass, so a
-// full-resolution gather writes no raw target and costs no second pass. BLUR: a depth-aware separable blur of all four channels along
-// `axis`; with AMBIENT (the last pass) the ambient is added.
+// full-resolution gather writes no raw target and costs no second pass.
+// BLUR: a depth-aware separable blur of all four channels along `axis`;
+// with AMBIENT (the last pass) the ambient is added.
 #import spreadlight::camera::Camera
 #import spreadlight::packing::safe_normalize
 #import spreadlight::screen::{RayParams, view_position}

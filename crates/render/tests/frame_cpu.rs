@@ -83,6 +83,24 @@ fn layer(
     Arc::new(Layer::plain(vec![DrawBatch { mesh, instances }]))
 }
 
+/// `images` (frame `frame` of a G-buffer that keeps what it can) are what
+/// `fresh`, a G-buffer that keeps nothing, draws of the targets `names`.
+fn same_as_fresh(
+    renderer: &Renderer,
+    fresh: &GBuffer,
+    names: &[&str],
+    images: &[ImageF32],
+    frame: usize,
+) {
+    let (_, whole) = render_and_read(renderer, fresh, SIZE, names).expect("renders");
+    for (k, (a, b)) in images.iter().zip(&whole).enumerate() {
+        assert!(
+            a.pixels == b.pixels,
+            "frame {frame}, target {k}: the same image"
+        );
+    }
+}
+
 #[test]
 fn a_re_made_g_buffer_packs_uploads_and_binds_only_what_its_moving_layer_changed() {
     let renderer = test_renderer();
@@ -143,13 +161,7 @@ fn a_re_made_g_buffer_packs_uploads_and_binds_only_what_its_moving_layer_changed
         let fresh = gbuffer(scene.layers(x), None);
         let t = &fresh.targets;
         let names = [&t.color, &t.normals, &t.depth, &t.velocity_uv].map(String::as_str);
-        let (_, whole) = render_and_read(&renderer, fresh.as_ref(), SIZE, &names).expect("renders");
-        for (k, (a, b)) in images.iter().zip(&whole).enumerate() {
-            assert!(
-                a.pixels == b.pixels,
-                "frame {frame}, target {k}: the same image"
-            );
-        }
+        same_as_fresh(&renderer, fresh.as_ref(), &names, &images, frame);
     }
 }
 
@@ -218,13 +230,7 @@ fn a_re_made_g_buffer_compares_only_the_instances_of_layers_that_changed_or_move
         );
         let t = &fresh.targets;
         let names = [&t.color, &t.normals, &t.depth].map(String::as_str);
-        let (_, whole) = render_and_read(&renderer, fresh.as_ref(), SIZE, &names).expect("renders");
-        for (k, (a, b)) in images.iter().zip(&whole).enumerate() {
-            assert!(
-                a.pixels == b.pixels,
-                "frame {frame}, target {k}: the same image"
-            );
-        }
+        same_as_fresh(&renderer, fresh.as_ref(), &names, &images, frame);
     }
 }
 
@@ -382,13 +388,7 @@ fn a_re_made_g_buffer_writes_its_camera_only_when_the_camera_moved() {
             SizeRule::Relative(1.0),
         );
         let names = [fresh.targets.color.as_str(), fresh.targets.depth.as_str()];
-        let (_, whole) = render_and_read(&renderer, fresh.as_ref(), SIZE, &names).expect("renders");
-        for (k, (a, b)) in images.iter().zip(&whole).enumerate() {
-            assert!(
-                a.pixels == b.pixels,
-                "frame {frame}, target {k}: the same image"
-            );
-        }
+        same_as_fresh(&renderer, fresh.as_ref(), &names, &images, frame);
     }
 }
 
