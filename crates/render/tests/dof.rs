@@ -139,13 +139,7 @@ fn only_half_resolution_writes_a_circle_of_confusion_target() {
             settings,
         );
         let (report, _) = render(&renderer, pass.as_ref(), &pass.output, SIZE);
-        let named = |what: &str| {
-            report
-                .passes
-                .iter()
-                .filter(|p| p.name.contains(what))
-                .count()
-        };
+        let named = |what: &str| passes_named(&report, what);
         assert_eq!(named("circle of confusion"), coc_passes, "{resolution:?}");
         assert_eq!(
             (named("tiles"), report.counter(BLURRED)),

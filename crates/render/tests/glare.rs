@@ -262,13 +262,7 @@ fn the_chain_gives_the_glare_the_cpu_gives_at_odd_sizes() {
     let (report, out) = render(&renderer, pass.as_ref(), &pass.output, ODD);
     // 35x23, 18x12, 9x6, 4x3: four levels (none whose short side would be
     // under 2 pixels); the bright pass, three downs and three ups.
-    let passes = |what: &str| {
-        report
-            .passes
-            .iter()
-            .filter(|p| p.name.contains(what))
-            .count()
-    };
+    let passes = |what: &str| passes_named(&report, what);
     assert_eq!((passes("down"), passes("up")), (3, 3));
     let source = reference::Level {
         w: ODD.0,

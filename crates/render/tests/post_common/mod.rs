@@ -130,3 +130,12 @@ pub fn range(image: &ImageF32) -> (f32, f32) {
 pub fn checker(x: u32, y: u32, a: [f32; 4], b: [f32; 4]) -> [f32; 4] {
     if (x + y).is_multiple_of(2) { a } else { b }
 }
+
+/// How many of the frame's passes have `what` in their name.
+pub fn passes_named(report: &FrameReport, what: &str) -> usize {
+    report
+        .passes
+        .iter()
+        .filter(|p| p.name.contains(what))
+        .count()
+}
