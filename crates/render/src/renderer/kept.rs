@@ -172,22 +172,44 @@ impl Renderer {
             k.contents = bytes.to_vec();
             uploads.made += 1;
             uploads.bytes += bytes.len() as u64;
-        } else if let Some((start, end)) = {
-            uploads.compared += bytes.len() as u64;
-            changed_span(&k.contents, bytes)
-        } {
-            // Only the bytes that changed: one moving instance among a
-            // thousand still ones writes its 224 bytes, not the buffer.
-            self.gpu
-                .queue
-                .write_buffer(&k.buffer, start as u64, &bytes[start..end]);
-            k.contents[start..end].copy_from_slice(&bytes[start..end]);
-            uploads.made += 1;
-            uploads.bytes += (end - start) as u64;
-        } else {
+        } else if !self.write_changed(&mut uploads, &k.buffer, 0, &mut k.contents, bytes) {
             uploads.skipped += 1;
         }
         k.buffer.clone()
+    }
+
+    /// Compare `bytes` with `contents`, what this last wrote at `offset` in
+    /// `buffer`, and write only the span that changed (one moving instance
+    /// among a thousand still ones writes its 224 bytes, not the buffer),
+    /// keeping `contents` up to date; counted. Whether anything was written.
+    fn write_changed(
+        &self,
+        uploads: &mut Uploads,
+        buffer: &wgpu::Buffer,
+        offset: usize,
+        contents: &mut [u8],
+        bytes: &[u8],
+    ) -> bool {
+        uploads.compared += bytes.len() as u64;
+        let Some((start, end)) = changed_span(contents, bytes) else {
+            return false;
+        };
+        self.write_whole(uploads, buffer, offset + start, &bytes[start..end]);
+        contents[start..end].copy_from_slice(&bytes[start..end]);
+        true
+    }
+
+    /// Write `bytes` at `offset` in `buffer`, counted as one upload.
+    fn write_whole(
+        &self,
+        uploads: &mut Uploads,
+        buffer: &wgpu::Buffer,
+        offset: usize,
+        bytes: &[u8],
+    ) {
+        self.gpu.queue.write_buffer(buffer, offset as u64, bytes);
+        uploads.made += 1;
+        uploads.bytes += bytes.len() as u64;
     }
 
     /// [`Renderer::kept_init`] for contents laid out as `parts` one after
@@ -223,26 +245,26 @@ impl Renderer {
             if unchanged.get(i).copied().unwrap_or(false) {
                 continue;
             }
-            uploads.compared += part.len() as u64;
-            let Some((start, end)) = changed_span(&k.contents[at..offset], part) else {
-                continue;
-            };
-            wrote = true;
-            uploads.made += 1;
-            if at % align != 0 || end % align != 0 {
-                // Parts off the 4-byte grid (not made here): all of it, once.
+            if at % align != 0 || part.len() % align != 0 {
+                // Parts off the 4-byte grid (not made here): when one
+                // changed, all of it, once.
+                uploads.compared += part.len() as u64;
+                if k.contents[at..offset] == **part {
+                    continue;
+                }
                 let all = parts.concat();
-                self.gpu.queue.write_buffer(&k.buffer, 0, &all);
-                uploads.bytes += all.len() as u64;
+                self.write_whole(&mut uploads, &k.buffer, 0, &all);
                 k.contents = all;
+                wrote = true;
                 break;
             }
-            let bytes = &part[start..end];
-            self.gpu
-                .queue
-                .write_buffer(&k.buffer, (at + start) as u64, bytes);
-            k.contents[at + start..at + end].copy_from_slice(bytes);
-            uploads.bytes += bytes.len() as u64;
+            wrote |= self.write_changed(
+                &mut uploads,
+                &k.buffer,
+                at,
+                &mut k.contents[at..offset],
+                part,
+            );
         }
         if !wrote {
             uploads.skipped += 1;
@@ -298,30 +320,17 @@ impl Renderer {
         let entry = owner
             .and_then(|owner| kept.get_mut(&(owner, label, 0)))
             .filter(|k| k.buffer == *buffer);
-        let span = match entry {
+        match entry {
             Some(k) if k.contents.len() == bytes.len() => {
-                uploads.compared += bytes.len() as u64;
-                let span = changed_span(&k.contents, bytes);
-                if let Some((start, end)) = span {
-                    k.contents[start..end].copy_from_slice(&bytes[start..end]);
+                if !self.write_changed(&mut uploads, buffer, 0, &mut k.contents, bytes) {
+                    uploads.skipped += 1;
                 }
-                span
             }
             Some(k) => {
                 k.contents = bytes.to_vec();
-                Some((0, bytes.len()))
+                self.write_whole(&mut uploads, buffer, 0, bytes);
             }
-            None => Some((0, bytes.len())),
-        };
-        match span {
-            Some((start, end)) => {
-                self.gpu
-                    .queue
-                    .write_buffer(buffer, start as u64, &bytes[start..end]);
-                uploads.made += 1;
-                uploads.bytes += (end - start) as u64;
-            }
-            None => uploads.skipped += 1,
+            None => self.write_whole(&mut uploads, buffer, 0, bytes),
         }
     }
 
