@@ -300,17 +300,10 @@ impl GBuffer {
                 (buffer, kept.draws, kept.ranges, count, kept.made)
             }
             None => {
-                let (mut gpu_instances, draws, ranges) = pack_instances(&layers);
-                if gpu_instances.is_empty() {
-                    gpu_instances.push(bytemuck::Zeroable::zeroed());
-                }
-                let buffer = renderer.kept_init(
-                    owner,
-                    "mre instances",
-                    bytemuck::cast_slice(&gpu_instances),
-                    wgpu::BufferUsages::STORAGE,
-                );
-                let count = gpu_instances.len();
+                let (gpu_instances, draws, ranges) = pack_instances(&layers);
+                let buffer = renderer.kept_storage(owner, "mre instances", &gpu_instances);
+                // As the buffer holds: one zeroed instance when there are none.
+                let count = gpu_instances.len().max(1);
                 (buffer, draws, ranges, count, layers.len() as u64)
             }
         };

@@ -325,19 +325,10 @@ impl LightBuffer {
         renderer: &Renderer,
         owner: Option<u32>,
         kind: LightKind,
-        mut gpu: Vec<GpuLight>,
+        gpu: Vec<GpuLight>,
     ) -> Arc<Self> {
         let count = gpu.len() as u32;
-        if gpu.is_empty() {
-            // A storage binding cannot be empty; the count says there are none.
-            gpu.push(bytemuck::Zeroable::zeroed());
-        }
-        let buffer = renderer.kept_init(
-            owner,
-            "lights",
-            bytemuck::cast_slice(&gpu),
-            wgpu::BufferUsages::STORAGE,
-        );
+        let buffer = renderer.kept_storage(owner, "lights", &gpu);
         Arc::new(LightBuffer {
             kind,
             count,

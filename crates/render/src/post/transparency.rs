@@ -77,18 +77,9 @@ impl Transparency {
         settings: TransparencySettings,
     ) -> Arc<Self> {
         let id = next_recipe_id();
-        let (mut gpu_instances, draws, layer_ranges) = pack_instances(&layers);
+        let (gpu_instances, draws, layer_ranges) = pack_instances(&layers);
         let instance_count = gpu_instances.len() as u32;
-        if gpu_instances.is_empty() {
-            // A storage binding cannot be empty.
-            gpu_instances.push(bytemuck::Zeroable::zeroed());
-        }
-        let instances = renderer.kept_init(
-            owner,
-            "transparent instances",
-            bytemuck::cast_slice(&gpu_instances),
-            wgpu::BufferUsages::STORAGE,
-        );
+        let instances = renderer.kept_storage(owner, "transparent instances", &gpu_instances);
         let clean = |v: Vec3| {
             if v.is_finite() {
                 v.clamp(Vec3::ZERO, Vec3::splat(super::HALF_MAX))

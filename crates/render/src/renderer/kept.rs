@@ -107,6 +107,25 @@ impl Renderer {
         )
     }
 
+    /// A kept storage buffer of `items` ([`Renderer::kept_init`]); one
+    /// zeroed item when there are none, as a storage binding cannot be
+    /// empty (the caller's count says there are none).
+    pub fn kept_storage<T: bytemuck::Pod>(
+        &self,
+        owner: Option<u32>,
+        label: &'static str,
+        items: &[T],
+    ) -> wgpu::Buffer {
+        let none = [T::zeroed()];
+        let items = if items.is_empty() { &none[..] } else { items };
+        self.kept_init(
+            owner,
+            label,
+            bytemuck::cast_slice(items),
+            wgpu::BufferUsages::STORAGE,
+        )
+    }
+
     /// [`Renderer::uniform`] for any usage (COPY_DST is added): storage
     /// buffers such as a G-buffer's instances, kept and written on change.
     pub fn kept_init(

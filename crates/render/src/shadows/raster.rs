@@ -75,17 +75,9 @@ impl CasterSet {
         casters: Vec<Arc<Layer>>,
         compute: bool,
     ) -> CasterSet {
-        let (mut gpu_instances, draws, _) = pack_instances(&casters);
+        let (gpu_instances, draws, _) = pack_instances(&casters);
         let instance_count = gpu_instances.len();
-        if gpu_instances.is_empty() {
-            gpu_instances.push(bytemuck::Zeroable::zeroed());
-        }
-        let instances = renderer.kept_init(
-            owner,
-            kind.instances_label(),
-            bytemuck::cast_slice(&gpu_instances),
-            wgpu::BufferUsages::STORAGE,
-        );
+        let instances = renderer.kept_storage(owner, kind.instances_label(), &gpu_instances);
         let compute = compute.then(|| {
             ComputeRaster::new(
                 renderer,
