@@ -8,10 +8,12 @@
 //! a uniformly lit scene gathers that light exactly where ray-cast AO says
 //! rays are blocked.
 
+mod occlusion_scene;
+
 use std::sync::Arc;
 
-use glam::{Mat4, Vec3};
-use spreadlight_render::camera::{CameraInput, reverse_z};
+use glam::Vec3;
+use spreadlight_render::camera::reverse_z;
 use spreadlight_render::gbuffer::GBuffer;
 use spreadlight_render::lighting::{SSGI_GATHER_TEMPORAL, Ssgi, SsgiSettings, Ssss, SsssQuality};
 use spreadlight_render::material::{Feature, Material, MaterialWorld};
@@ -21,41 +23,11 @@ use spreadlight_render::reference::occlusion::{Occluders, visibility_image};
 use spreadlight_render::reference::shadows::Sphere;
 use spreadlight_render::renderer::test_renderer;
 use spreadlight_render::resolution::Resolution;
-use spreadlight_render::scenes::balls_on_floor;
-use spreadlight_render::{FrameReport, Recipe, Renderer, SizeRule};
+use spreadlight_render::{FrameReport, Recipe, Renderer};
+
+use occlusion_scene::{BALL, FLOOR, camera, constant, eye, gbuffer};
 
 const SIZE: (u32, u32) = (96, 64);
-const BALL: (Vec3, f32) = (Vec3::new(0.0, 1.0, 0.0), 1.0);
-const FLOOR: f32 = 12.0;
-
-fn camera(eye: Vec3, aspect: f32) -> CameraInput {
-    CameraInput {
-        view: glam::camera::rh::view::look_at_mat4(eye, Vec3::new(0.0, 0.6, 0.0), Vec3::Y),
-        projection: glam::camera::rh::proj::directx::perspective(0.9, aspect, 0.1, 100.0),
-    }
-}
-
-fn eye() -> Vec3 {
-    Vec3::new(0.0, 2.5, 5.0)
-}
-
-fn gbuffer(
-    renderer: &Renderer,
-    eye: Vec3,
-    previous: Option<Mat4>,
-    size: (u32, u32),
-) -> Arc<GBuffer> {
-    let layer = balls_on_floor(renderer, &[BALL], FLOOR, 48).expect("upload");
-    GBuffer::new(
-        renderer,
-        None,
-        vec![layer],
-        camera(eye, size.0 as f32 / size.1 as f32),
-        previous,
-        SizeRule::Relative(1.0),
-    )
-}
-
 fn ao(
     renderer: &Renderer,
     g: Arc<GBuffer>,
@@ -474,23 +446,6 @@ fn back_facing_normals_and_depth_edges_stay_finite() {
         let (_, image, _) = ao(&renderer, g, settings, SIZE);
         assert!(image.all_finite(), "{mode:?}");
     }
-}
-
-fn constant(
-    renderer: &Renderer,
-    rgb: [f32; 3],
-    size: (u32, u32),
-    name: &str,
-) -> std::sync::Arc<spreadlight_render::static_texture::StaticTexture> {
-    spreadlight_render::static_texture::StaticTexture::new(
-        spreadlight_render::texture::GpuTexture::from_rgba32f(
-            &renderer.gpu,
-            size.0,
-            size.1,
-            &vec![[rgb[0], rgb[1], rgb[2], 1.0]; (size.0 * size.1) as usize],
-            name,
-        ),
-    )
 }
 
 fn ssgi(
@@ -963,119 +918,4 @@ fn ssss_blurs_up_to_three_terms_in_one_pass_pair_with_the_images_of_one_each() {
         "{:?}",
         images[2].pixel(x, y)
     );
-}
-
-/// The blur of blur.wgsl on the CPU: the x pass over `sharp`, then the y pass
-/// over its result, with the same depth- and normal-aware Gaussian.
-fn reference_blur(
-    sharp: &ImageF32,
-    depth: &ImageF32,
-    normals: &ImageF32,
-    size: (u32, u32),
-    radius: i32,
-) -> Vec<f32> {
-    let c = camera(eye(), size.0 as f32 / size.1 as f32);
-    let inverse = reverse_z(c.projection).inverse();
-    let (w, h) = (size.0 as i32, size.1 as i32);
-    let at = |x: i32, y: i32| (y * w + x) as usize;
-    let distance = |x: i32, y: i32| {
-        let d = depth.pixels[at(x, y)][0];
-        let ndc = glam::Vec2::new(
-            (x as f32 + 0.5) / size.0 as f32 * 2.0 - 1.0,
-            1.0 - (y as f32 + 0.5) / size.1 as f32 * 2.0,
-        );
-        let p = inverse * glam::Vec4::new(ndc.x, ndc.y, d, 1.0);
-        -p.z / p.w
-    };
-    let normal = |x: i32, y: i32, fallback: Vec3| {
-        let n = Vec3::from_slice(&normals.pixels[at(x, y)][..3]);
-        if n.length_squared() > 1e-20 {
-            n.normalize()
-        } else {
-            fallback
-        }
-    };
-    let sigma = (radius.max(1) as f32) * 0.5;
-    let pass = |values: &[f32], axis: (i32, i32)| -> Vec<f32> {
-        let mut out = vec![1.0; values.len()];
-        for y in 0..h {
-            for x in 0..w {
-                if depth.pixels[at(x, y)][0] <= 0.0 {
-                    continue;
-                }
-                let (z0, n0) = (distance(x, y), normal(x, y, Vec3::Z));
-                let (mut sum, mut weights) = (0.0f32, 0.0f32);
-                for o in -radius..=radius {
-                    let (qx, qy) = (x + axis.0 * o, y + axis.1 * o);
-                    if qx < 0 || qy < 0 || qx >= w || qy >= h || depth.pixels[at(qx, qy)][0] <= 0.0
-                    {
-                        continue;
-                    }
-                    let (zq, nq) = (distance(qx, qy), normal(qx, qy, n0));
-                    let similarity =
-                        (-(zq - z0).abs() / (0.03 * z0 + 1e-6)).exp() * n0.dot(nq).max(0.0).powi(8);
-                    let weight = (-((o * o) as f32) / (2.0 * sigma * sigma)).exp() * similarity;
-                    sum += weight * values[at(qx, qy)].clamp(0.0, 1.0);
-                    weights += weight;
-                }
-                out[at(x, y)] = if weights > 1e-6 {
-                    (sum / weights).clamp(0.0, 1.0)
-                } else {
-                    values[at(x, y)].clamp(0.0, 1.0)
-                };
-            }
-        }
-        out
-    };
-    let values: Vec<f32> = sharp.pixels.iter().map(|p| p[0]).collect();
-    pass(&pass(&values, (1, 0)), (0, 1))
-}
-
-#[test]
-fn the_blur_is_the_depth_aware_gaussian_of_its_input_across_workgroup_edges() {
-    // Not a multiple of the blur's 64-pixel runs either way, so runs end at
-    // the image's edge, and the apron crosses from one run to the next.
-    let size = (150, 90);
-    // The same node id on a new renderer: the same frame index, the same noise.
-    let frame = |blur_radius: u32| {
-        let renderer = test_renderer();
-        let g = gbuffer(&renderer, eye(), None, size);
-        let settings = AoSettings {
-            blur_radius,
-            ..single_frame(AoMode::Stochastic, 8)
-        };
-        let ao = AmbientOcclusion::new(&renderer, Some(7), g.clone(), settings, None);
-        let (report, images) = render_and_read(
-            &renderer,
-            ao.as_ref(),
-            size,
-            &[&ao.output, &g.targets.depth, &g.targets.normals],
-        )
-        .expect("renders");
-        assert!(report.errors.is_empty(), "{:?}", report.errors);
-        let [image, depth, normals]: [ImageF32; 3] = images
-            .try_into()
-            .unwrap_or_else(|_| unreachable!("three images"));
-        (image, depth, normals)
-    };
-    let (sharp, depth, normals) = frame(0);
-    for radius in [1, 6, 16] {
-        let (blurred, _, _) = frame(radius);
-        let expected = reference_blur(&sharp, &depth, &normals, size, radius as i32);
-        let mut changed = 0;
-        for (i, (got, want)) in blurred.pixels.iter().zip(&expected).enumerate() {
-            assert!(
-                (got[0] - want).abs() < 2e-3,
-                "radius {radius}, pixel ({}, {}): {} against {want}",
-                i % size.0 as usize,
-                i / size.0 as usize,
-                got[0]
-            );
-            changed += usize::from((sharp.pixels[i][0] - want).abs() > 1e-2);
-        }
-        assert!(
-            changed > 500,
-            "radius {radius}: the blur changed {changed} pixels"
-        );
-    }
 }

@@ -10,6 +10,7 @@
 
 use std::sync::Arc;
 
+use crate::bilateral_tile::{self, Blur};
 use crate::error::RenderError;
 use crate::frame_graph::{FrameGraph, PassContext, TextureDesc};
 use crate::gbuffer::GBuffer;
@@ -226,11 +227,17 @@ impl Ssgi {
         if features.contains(&crate::resolution::HALF_FEATURE) {
             size = Resolution::Half.pixels(size);
         }
-        cx.dispatch_image(
+        let tile = if features.contains(&"TILE") {
+            bilateral_tile::TILE
+        } else {
+            8
+        };
+        cx.dispatch_tiles(
             label,
             &ShaderKey::new("lighting/ssgi.wgsl", features),
             &all,
             size,
+            tile,
         )
     }
 
@@ -304,12 +311,10 @@ impl Ssgi {
         )
     }
 
-    fn blur(
-        &self,
-        cx: &mut PassContext<'_>,
-        source: &str,
-        vertical: bool,
-    ) -> Result<(), RenderError> {
+    /// One blur pass: x (`Blur::X`), y (`Blur::Y`, writing the output with
+    /// the ambient added), or both directions in one dispatch (`Blur::Both`).
+    fn blur(&self, cx: &mut PassContext<'_>, source: &str, blur: Blur) -> Result<(), RenderError> {
+        let vertical = blur != Blur::X;
         let target = if vertical {
             self.output.clone()
         } else {
@@ -321,10 +326,14 @@ impl Ssgi {
             features.push("AMBIENT");
             textures.push((7, ambient.name.as_str()));
         }
-        let label = if vertical {
-            "ssgi blur y"
-        } else {
-            "ssgi blur x"
+        let label = match blur {
+            Blur::X => "ssgi blur x",
+            Blur::Y => "ssgi blur y",
+            Blur::Both => {
+                features.push("TILE");
+                cx.count(bilateral_tile::ONE_DISPATCH, 1);
+                "ssgi blur"
+            }
         };
         self.dispatch(
             cx,
@@ -446,6 +455,20 @@ impl Recipe for Ssgi {
         if self.off() {
             fg.count("SSGI off: radius 0", 1);
         }
+        let mut reads = vec![g.depth.as_str(), &g.normals];
+        reads.extend(self.ambient.as_ref().map(|a| a.name.as_str()));
+        if bilateral_tile::one_dispatch(self.settings.blur_radius) && !self.off() {
+            reads.push(&source);
+            let src = source.clone();
+            fg.add_pass(
+                pass_name("SSGI", self.owner, Some("blur")),
+                self.owner,
+                &reads,
+                &[(&self.output, rgba)],
+                move |cx| self.blur(cx, &src, Blur::Both),
+            );
+            return;
+        }
         if self.settings.blur_radius > 0 && !self.off() {
             let src = source.clone();
             fg.add_pass(
@@ -453,19 +476,18 @@ impl Recipe for Ssgi {
                 self.owner,
                 &[&source, &g.depth, &g.normals],
                 &[(&blurred, rgba)],
-                move |cx| self.blur(cx, &src, false),
+                move |cx| self.blur(cx, &src, Blur::X),
             );
             last = blurred;
         }
-        let mut reads = vec![last.as_str(), &g.depth, &g.normals];
-        reads.extend(self.ambient.as_ref().map(|a| a.name.as_str()));
+        reads.push(&last);
         let src = last.clone();
         fg.add_pass(
             pass_name("SSGI", self.owner, Some("blur y")),
             self.owner,
             &reads,
             &[(&self.output, rgba)],
-            move |cx| self.blur(cx, &src, true),
+            move |cx| self.blur(cx, &src, Blur::Y),
         );
     }
 }
