@@ -16,12 +16,13 @@
 // gather); with GATHER it gathers this pixel first, in the same pass, so a
 // full-resolution gather writes no raw target and costs no second pass.
 // BLUR: a depth-aware separable blur of all four channels along `axis`;
-// with AMBIENT (the last pass) the ambient is added. BLUR with TILE: both
-// directions in one dispatch of 16x16 workgroups, for half-widths up to 4
-// (shaders/lib/bilateral_tile.wgsl), writing what the last pass writes.
+// with AMBIENT (the last pass) the ambient is added.
 #import spreadlight::camera::Camera
 #import spreadlight::packing::safe_normalize
 #import spreadlight::screen::{RayParams, view_position}
+#ifdef BLUR
+#import spreadlight::screen::tap_weight
+#endif
 #ifndef BLUR
 #import spreadlight::screen::{tangent_frame, interleaved_gradient_noise, cosine_direction, march}
 #endif
@@ -45,9 +46,6 @@ struct Axis {
 @group(0) @binding(10) var distance: texture_storage_2d<r32float, write>;
 // x: 1 when the history was created this frame and holds nothing.
 @group(0) @binding(8) var<uniform> fresh: vec4<u32>;
-#endif
-#ifdef TILE
-#import spreadlight::bilateral_tile::{load_tile, blur_tile}
 #endif
 #ifdef BLUR
 @group(0) @binding(6) var<uniform> axis: Axis;
@@ -95,21 +93,13 @@ fn resolve(pixel: vec2<u32>, size: vec2<u32>, p: vec3<f32>) -> vec4<f32> {
 }
 #else
 #ifdef BLUR
-// The blurred light made final: with AMBIENT, the environment's light
-// arrives only along the rays that escaped.
-fn finish(pixel: vec2<u32>, gi: vec4<f32>) -> vec4<f32> {
-#ifdef AMBIENT
-    return vec4<f32>(min(gi.rgb + clean(textureLoad(ambient, pixel, 0).rgb) * gi.a, vec3<f32>(65000.0)), 1.0);
-#else
-    return gi;
-#endif
-}
-
 fn resolve(pixel: vec2<u32>, size: vec2<u32>, p: vec3<f32>) -> vec4<f32> {
     let z0 = -p.z;
     let n0 = safe_normalize(textureLoad(normals, pixel, 0).xyz, vec3<f32>(0.0, 0.0, 1.0));
     let r = i32(params.blur_radius);
     let sigma = max(f32(r), 1.0) * 0.5;
+    let spread = 1.0 / (2.0 * sigma * sigma);
+    let reach = 1.0 / (0.03 * z0 + 1e-6);
     var sum = vec4<f32>(0.0);
     var weights = 0.0;
     for (var o = -r; o <= r; o++) {
@@ -124,9 +114,7 @@ fn resolve(pixel: vec2<u32>, size: vec2<u32>, p: vec3<f32>) -> vec4<f32> {
         }
         let zq = -view_position(camera, qu, dq).z;
         let nq = safe_normalize(textureLoad(normals, qu, 0).xyz, n0);
-        let w = exp(-f32(o * o) / (2.0 * sigma * sigma))
-            * exp(-abs(zq - z0) / (0.03 * z0 + 1e-6))
-            * pow(max(dot(n0, nq), 0.0), 8.0);
+        let w = tap_weight(o, spread, zq - z0, reach, dot(n0, nq));
         sum += w * clean_gi(textureLoad(source, qu, 0));
         weights += w;
     }
@@ -134,7 +122,12 @@ fn resolve(pixel: vec2<u32>, size: vec2<u32>, p: vec3<f32>) -> vec4<f32> {
     if (weights > 1e-6) {
         gi = sum / weights;
     }
-    return finish(pixel, gi);
+#ifdef AMBIENT
+    // The environment's light arrives only along the rays that escaped.
+    return vec4<f32>(min(gi.rgb + clean(textureLoad(ambient, pixel, 0).rgb) * gi.a, vec3<f32>(65000.0)), 1.0);
+#else
+    return gi;
+#endif
 }
 #else
 fn resolve(pixel: vec2<u32>, size: vec2<u32>, p: vec3<f32>) -> vec4<f32> {
@@ -171,36 +164,6 @@ fn gather(pixel: vec2<u32>, p: vec3<f32>) -> vec4<f32> {
 }
 #endif
 
-// A pixel with no surface or no reach: no bounce, every ray escaped.
-fn nothing(pixel: vec2<u32>) -> vec4<f32> {
-#ifdef AMBIENT
-    return vec4<f32>(clean(textureLoad(ambient, pixel, 0).rgb), 1.0);
-#else
-    return vec4<f32>(0.0, 0.0, 0.0, 1.0);
-#endif
-}
-
-#ifdef TILE
-@compute @workgroup_size(16, 16)
-fn main(
-    @builtin(workgroup_id) group: vec3<u32>,
-    @builtin(local_invocation_id) local: vec3<u32>,
-    @builtin(local_invocation_index) thread: u32,
-) {
-    load_tile(camera, depth, normals, source, vec2<i32>(group.xy * 16u), thread);
-    let gi = blur_tile(local.xy, thread, i32(params.blur_radius));
-    let pixel = group.xy * 16u + local.xy;
-    if (any(pixel >= vec2<u32>(camera.size.xy))) {
-        return;
-    }
-    let d = textureLoad(depth, pixel, 0).r;
-    if (d <= 0.0 || params.radius <= 0.0) {
-        textureStore(output, pixel, nothing(pixel));
-        return;
-    }
-    textureStore(output, pixel, finish(pixel, gi));
-}
-#else
 @compute @workgroup_size(8, 8)
 fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let size = vec2<u32>(camera.size.xy);
@@ -220,7 +183,12 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
 #endif
     let d = textureLoad(depth, pixel, 0).r;
     if (d <= 0.0 || params.radius <= 0.0) {
-        textureStore(output, id.xy, nothing(id.xy));
+#ifdef AMBIENT
+        textureStore(output, id.xy, vec4<f32>(clean(textureLoad(ambient, id.xy, 0).rgb), 1.0));
+#else
+        // No bounce; every ray escapes.
+        textureStore(output, id.xy, vec4<f32>(0.0, 0.0, 0.0, 1.0));
+#endif
 #ifdef TEMPORAL
         // No distance: never reused.
         textureStore(distance, id.xy, vec4<f32>(0.0));
@@ -229,4 +197,3 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     textureStore(output, id.xy, resolve(pixel, size, view_position(camera, pixel, d)));
 }
-#endif

@@ -4,21 +4,15 @@
 // not bleed across silhouettes. Horizontal by default, VERTICAL the second
 // pass; the vertical pass writes the RGBA result and, with COMBINE,
 // multiplies another AO in. Half-width 0 is a copy.
-// TILE (with VERTICAL and BILATERAL_SCALAR): both directions in one
-// dispatch of 16x16 workgroups, for half-widths up to 4
-// (shaders/lib/bilateral_tile.wgsl), writing what VERTICAL writes.
 #import spreadlight::camera::Camera
 #import spreadlight::packing::safe_normalize
-#import spreadlight::screen::{RayParams, view_position, surface_similarity}
+#import spreadlight::screen::{RayParams, view_position, tap_weight}
 
 @group(0) @binding(0) var<uniform> camera: Camera;
 @group(0) @binding(1) var<uniform> params: RayParams;
 @group(0) @binding(2) var source: texture_2d<f32>;
 @group(0) @binding(3) var depth: texture_2d<f32>;
 @group(0) @binding(4) var normals: texture_2d<f32>;
-#ifdef TILE
-#import spreadlight::bilateral_tile::{load_tile, blur_tile}
-#endif
 #ifdef VERTICAL
 @group(0) @binding(5) var output: texture_storage_2d<rgba16float, write>;
 #else
@@ -28,36 +22,6 @@
 @group(0) @binding(6) var combine: texture_2d<f32>;
 #endif
 
-// This pixel's occlusion made final: COMBINE's other AO multiplied in.
-fn finish(pixel: vec2<u32>, blurred: f32) -> vec4<f32> {
-    var v = blurred;
-#ifdef COMBINE
-    let other = textureLoad(combine, pixel, 0).r;
-    v *= select(1.0, clamp(other, 0.0, 1.0), abs(other) <= 1e30);
-#endif
-    v = clamp(v, 0.0, 1.0);
-    return vec4<f32>(v, v, v, 1.0);
-}
-
-#ifdef TILE
-@compute @workgroup_size(16, 16)
-fn main(
-    @builtin(workgroup_id) group: vec3<u32>,
-    @builtin(local_invocation_id) local: vec3<u32>,
-    @builtin(local_invocation_index) thread: u32,
-) {
-    let origin = vec2<i32>(group.xy * 16u);
-    load_tile(camera, depth, normals, source, origin, thread);
-    let blurred = blur_tile(local.xy, thread, i32(params.blur_radius)).x;
-    let pixel = group.xy * 16u + local.xy;
-    if (any(pixel >= vec2<u32>(camera.size.xy))) {
-        return;
-    }
-    // No surface: no occlusion, as the two passes leave it.
-    let v = select(1.0, blurred, textureLoad(depth, pixel, 0).r > 0.0);
-    textureStore(output, pixel, finish(pixel, v));
-}
-#else
 @compute @workgroup_size(8, 8)
 fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let size = vec2<u32>(camera.size.xy);
@@ -77,6 +41,8 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
 #endif
         let r = i32(params.blur_radius);
         let sigma = max(f32(r), 1.0) * 0.5;
+        let spread = 1.0 / (2.0 * sigma * sigma);
+        let reach = 1.0 / (0.03 * z0 + 1e-6);
         var sum = 0.0;
         var weights = 0.0;
         for (var o = -r; o <= r; o++) {
@@ -95,8 +61,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
             if (!(abs(s) <= 1e30)) {
                 continue;
             }
-            let w = exp(-f32(o * o) / (2.0 * sigma * sigma))
-                * surface_similarity(zq, z0, nq, n0, 0.03);
+            let w = tap_weight(o, spread, zq - z0, reach, dot(n0, nq));
             sum += w * clamp(s, 0.0, 1.0);
             weights += w;
         }
@@ -107,10 +72,14 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
             v = select(1.0, clamp(s, 0.0, 1.0), abs(s) <= 1e30);
         }
     }
+#ifdef COMBINE
+    let other = textureLoad(combine, pixel, 0).r;
+    v *= select(1.0, clamp(other, 0.0, 1.0), abs(other) <= 1e30);
+#endif
+    v = clamp(v, 0.0, 1.0);
 #ifdef VERTICAL
-    textureStore(output, pixel, finish(pixel, v));
+    textureStore(output, pixel, vec4<f32>(v, v, v, 1.0));
 #else
-    textureStore(output, pixel, vec4<f32>(clamp(v, 0.0, 1.0), 0.0, 0.0, 0.0));
+    textureStore(output, pixel, vec4<f32>(v, 0.0, 0.0, 0.0));
 #endif
 }
-#endif

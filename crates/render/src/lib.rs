@@ -3,7 +3,6 @@
 //! meshes (primitives and glTF), and the deferred passes. No UI: the editor
 //! and the CLI only host it.
 
-pub mod bilateral_tile;
 pub mod camera;
 pub mod context;
 pub mod environment;

@@ -292,19 +292,6 @@ impl<'f> PassContext<'f> {
         bindings: &[(u32, wgpu::BindingResource<'_>)],
         size: (u32, u32),
     ) -> Result<(), RenderError> {
-        self.dispatch_tiles(label, key, bindings, size, 8)
-    }
-
-    /// [`PassContext::dispatch_image`] for an entry whose workgroup is
-    /// `tile` x `tile` threads, one per pixel.
-    pub fn dispatch_tiles(
-        &mut self,
-        label: &str,
-        key: &crate::shaders::ShaderKey,
-        bindings: &[(u32, wgpu::BindingResource<'_>)],
-        size: (u32, u32),
-        tile: u32,
-    ) -> Result<(), RenderError> {
         let device = self.gpu.device.clone();
         let pipeline = self.shaders.compute_pipeline(&device, key, "main")?;
         let group = self
@@ -314,7 +301,7 @@ impl<'f> PassContext<'f> {
             label,
             &pipeline,
             &[&group],
-            (size.0.div_ceil(tile), size.1.div_ceil(tile), 1),
+            (size.0.div_ceil(8), size.1.div_ceil(8), 1),
         );
         Ok(())
     }

@@ -10,7 +10,6 @@
 
 use std::sync::Arc;
 
-use crate::bilateral_tile::{self, Blur};
 use crate::error::RenderError;
 use crate::frame_graph::{FrameGraph, PassContext, TextureDesc};
 use crate::gbuffer::GBuffer;
@@ -227,17 +226,11 @@ impl Ssgi {
         if features.contains(&crate::resolution::HALF_FEATURE) {
             size = Resolution::Half.pixels(size);
         }
-        let tile = if features.contains(&"TILE") {
-            bilateral_tile::TILE
-        } else {
-            8
-        };
-        cx.dispatch_tiles(
+        cx.dispatch_image(
             label,
             &ShaderKey::new("lighting/ssgi.wgsl", features),
             &all,
             size,
-            tile,
         )
     }
 
@@ -311,10 +304,12 @@ impl Ssgi {
         )
     }
 
-    /// One blur pass: x (`Blur::X`), y (`Blur::Y`, writing the output with
-    /// the ambient added), or both directions in one dispatch (`Blur::Both`).
-    fn blur(&self, cx: &mut PassContext<'_>, source: &str, blur: Blur) -> Result<(), RenderError> {
-        let vertical = blur != Blur::X;
+    fn blur(
+        &self,
+        cx: &mut PassContext<'_>,
+        source: &str,
+        vertical: bool,
+    ) -> Result<(), RenderError> {
         let target = if vertical {
             self.output.clone()
         } else {
@@ -326,14 +321,10 @@ impl Ssgi {
             features.push("AMBIENT");
             textures.push((7, ambient.name.as_str()));
         }
-        let label = match blur {
-            Blur::X => "ssgi blur x",
-            Blur::Y => "ssgi blur y",
-            Blur::Both => {
-                features.push("TILE");
-                cx.count(bilateral_tile::ONE_DISPATCH, 1);
-                "ssgi blur"
-            }
+        let label = if vertical {
+            "ssgi blur y"
+        } else {
+            "ssgi blur x"
         };
         self.dispatch(
             cx,
@@ -455,20 +446,6 @@ impl Recipe for Ssgi {
         if self.off() {
             fg.count("SSGI off: radius 0", 1);
         }
-        let mut reads = vec![g.depth.as_str(), &g.normals];
-        reads.extend(self.ambient.as_ref().map(|a| a.name.as_str()));
-        if bilateral_tile::one_dispatch(self.settings.blur_radius) && !self.off() {
-            reads.push(&source);
-            let src = source.clone();
-            fg.add_pass(
-                pass_name("SSGI", self.owner, Some("blur")),
-                self.owner,
-                &reads,
-                &[(&self.output, rgba)],
-                move |cx| self.blur(cx, &src, Blur::Both),
-            );
-            return;
-        }
         if self.settings.blur_radius > 0 && !self.off() {
             let src = source.clone();
             fg.add_pass(
@@ -476,18 +453,19 @@ impl Recipe for Ssgi {
                 self.owner,
                 &[&source, &g.depth, &g.normals],
                 &[(&blurred, rgba)],
-                move |cx| self.blur(cx, &src, Blur::X),
+                move |cx| self.blur(cx, &src, false),
             );
             last = blurred;
         }
-        reads.push(&last);
+        let mut reads = vec![last.as_str(), &g.depth, &g.normals];
+        reads.extend(self.ambient.as_ref().map(|a| a.name.as_str()));
         let src = last.clone();
         fg.add_pass(
             pass_name("SSGI", self.owner, Some("blur y")),
             self.owner,
             &reads,
             &[(&self.output, rgba)],
-            move |cx| self.blur(cx, &src, Blur::Y),
+            move |cx| self.blur(cx, &src, true),
         );
     }
 }

@@ -24,7 +24,6 @@
 
 use std::sync::Arc;
 
-use crate::bilateral_tile::{self, Blur};
 use crate::error::RenderError;
 use crate::frame_graph::{FrameGraph, PassContext, SizeRule, TextureDesc};
 use crate::gbuffer::GBuffer;
@@ -408,10 +407,12 @@ impl AmbientOcclusion {
         )
     }
 
-    /// One blur pass: x (`Blur::X`), y or the copy (`Blur::Y`, writing the
-    /// output), or both directions in one dispatch (`Blur::Both`).
-    fn blur(&self, cx: &mut PassContext<'_>, source: &str, blur: Blur) -> Result<(), RenderError> {
-        let vertical = blur != Blur::X;
+    fn blur(
+        &self,
+        cx: &mut PassContext<'_>,
+        source: &str,
+        vertical: bool,
+    ) -> Result<(), RenderError> {
         let target = if vertical {
             self.output.clone()
         } else {
@@ -421,10 +422,6 @@ impl AmbientOcclusion {
         let mut features = Vec::new();
         if vertical {
             features.push("VERTICAL");
-        }
-        if blur == Blur::Both {
-            features.extend(["TILE", "BILATERAL_SCALAR"]);
-            cx.count(bilateral_tile::ONE_DISPATCH, 1);
         }
         let combine = match (&self.combine, vertical) {
             (Some(c), true) => {
@@ -450,12 +447,12 @@ impl AmbientOcclusion {
             all.push((6, wgpu::BindingResource::TextureView(c)));
         }
         let size = self.gbuffer.pixel_size(cx.output_size);
-        let key = ShaderKey::new("occlusion/blur.wgsl", features);
-        match blur {
-            Blur::X => cx.dispatch_image("ao blur x", &key, &all, size),
-            Blur::Y => cx.dispatch_image("ao blur y", &key, &all, size),
-            Blur::Both => cx.dispatch_tiles("ao blur", &key, &all, size, bilateral_tile::TILE),
-        }
+        cx.dispatch_image(
+            if vertical { "ao blur y" } else { "ao blur x" },
+            &ShaderKey::new("occlusion/blur.wgsl", features),
+            &all,
+            size,
+        )
     }
 }
 
@@ -581,24 +578,14 @@ impl AmbientOcclusion {
         if self.off() {
             fg.count("AO off: radius 0", 1);
         }
-        if bilateral_tile::one_dispatch(self.settings.blur_radius) && !self.off() {
-            let src = source.clone();
-            last_reads.push(&source);
-            fg.add_pass(
-                pass_name(kind, self.owner, Some("blur")),
-                self.owner,
-                &last_reads,
-                &[(&self.output, full(wgpu::TextureFormat::Rgba16Float))],
-                move |cx| self.blur(cx, &src, Blur::Both),
-            );
-        } else if self.settings.blur_radius > 0 && !self.off() {
+        if self.settings.blur_radius > 0 && !self.off() {
             let src = source.clone();
             fg.add_pass(
                 pass_name(kind, self.owner, Some("blur x")),
                 self.owner,
                 &[&source, &g.depth, &g.normals],
                 &[(&blurred, full(wgpu::TextureFormat::R32Float))],
-                move |cx| self.blur(cx, &src, Blur::X),
+                move |cx| self.blur(cx, &src, false),
             );
             last_reads.push(&blurred);
             fg.add_pass(
@@ -606,7 +593,7 @@ impl AmbientOcclusion {
                 self.owner,
                 &last_reads,
                 &[(&self.output, full(wgpu::TextureFormat::Rgba16Float))],
-                move |cx| self.blur(cx, &self.name("blurred"), Blur::Y),
+                move |cx| self.blur(cx, &self.name("blurred"), true),
             );
         } else {
             let src = source.clone();
@@ -616,7 +603,7 @@ impl AmbientOcclusion {
                 self.owner,
                 &last_reads,
                 &[(&self.output, full(wgpu::TextureFormat::Rgba16Float))],
-                move |cx| self.blur(cx, &src, Blur::Y),
+                move |cx| self.blur(cx, &src, true),
             );
         }
     }

@@ -65,12 +65,9 @@ impl ShaderComposer {
         sources: HashMap<&'static str, Cow<'static, str>>,
     ) -> Result<Self, RenderError> {
         // Validate with what the compute rasterizer needs; devices without it never compile that shader.
-        // pack2x16float (shaders/lib/bilateral_tile.wgsl) needs SHADER_FLOAT16_IN_FLOAT32, which wgpu
-        // grants every Vulkan, Metal and DX12 adapter (DownlevelFlags::SHADER_F16_IN_F32).
         let mut composer = Composer::default().with_capabilities(
             naga::valid::Capabilities::SHADER_INT64
-                | naga::valid::Capabilities::SHADER_INT64_ATOMIC_MIN_MAX
-                | naga::valid::Capabilities::SHADER_FLOAT16_IN_FLOAT32,
+                | naga::valid::Capabilities::SHADER_INT64_ATOMIC_MIN_MAX,
         );
         for file in SHADERS.iter().filter(|f| f.library) {
             let source = &sources[file.path];

@@ -105,7 +105,6 @@ pub const SHADERS: &[ShaderFile] = &[
     shader!("lib/matcap.wgsl", library),
     shader!("lib/screen.wgsl", library),
     shader!("lib/ao_history.wgsl", library),
-    shader!("lib/bilateral_tile.wgsl", library),
     shader!("lib/sky.wgsl", library),
     shader!("lib/ibl.wgsl", library),
     shader!("lib/post.wgsl", library),
@@ -227,11 +226,9 @@ pub const SHADERS: &[ShaderFile] = &[
     ),
     shader!(
         "lighting/ssgi.wgsl",
-        ["TEMPORAL", "GATHER", "BLUR", "AMBIENT", "HALF", "TILE"],
+        ["TEMPORAL", "GATHER", "BLUR", "AMBIENT", "HALF"],
         Rule::AtMostOne(&["TEMPORAL", "BLUR"]),
         Rule::Requires("AMBIENT", "BLUR"),
-        // Both blur directions in one dispatch (shaders/lib/bilateral_tile.wgsl).
-        Rule::Requires("TILE", "BLUR"),
         // The gather fused into the temporal pass (full resolution only).
         Rule::Requires("GATHER", "TEMPORAL"),
         // Only the gather runs at half resolution.
@@ -253,13 +250,8 @@ pub const SHADERS: &[ShaderFile] = &[
     shader!("occlusion/temporal.wgsl", []),
     shader!(
         "occlusion/blur.wgsl",
-        ["VERTICAL", "COMBINE", "TILE", "BILATERAL_SCALAR"],
-        Rule::Requires("COMBINE", "VERTICAL"),
-        // Both directions in one dispatch write what the vertical pass writes,
-        // one channel (shaders/lib/bilateral_tile.wgsl).
-        Rule::Requires("TILE", "VERTICAL"),
-        Rule::Requires("TILE", "BILATERAL_SCALAR"),
-        Rule::Requires("BILATERAL_SCALAR", "TILE")
+        ["VERTICAL", "COMBINE"],
+        Rule::Requires("COMBINE", "VERTICAL")
     ),
     shader!("environment/sky.wgsl", ["ENVIRONMENT"]),
     shader!("environment/prefilter.wgsl", []),
