@@ -10,6 +10,9 @@
 //                `aberration` (a fraction of the distance to the centre).
 // Every level is clamped below half-float overflow, so 1e6 in is 65000 at
 // worst, never infinity, however many levels add up.
+// The chain's own levels (Rgba16Float, filterable) are read through the
+// bilinear sampler, one fetch a tap; the source, whose format is the
+// input's, by four loads (`bilinear`).
 #import spreadlight::post::{sanitize, load_clamped, bilinear, luminance, HALF_MAX}
 
 struct Params {
@@ -23,6 +26,12 @@ struct Params {
 @group(0) @binding(1) var source: texture_2d<f32>;
 @group(0) @binding(2) var lower: texture_2d<f32>;
 @group(0) @binding(3) var output: texture_storage_2d<rgba16float, write>;
+@group(0) @binding(4) var linear: sampler;
+
+// A chain level at `uv`, bilinear, held at the edges.
+fn level_at(t: texture_2d<f32>, uv: vec2<f32>) -> vec4<f32> {
+    return textureSampleLevel(t, linear, uv, 0.0);
+}
 
 fn clamp_half(c: vec3<f32>) -> vec4<f32> {
     return vec4<f32>(clamp(c, vec3<f32>(0.0), vec3<f32>(HALF_MAX)), 1.0);
@@ -56,10 +65,10 @@ fn down(@builtin(global_invocation_id) id: vec3<u32>) {
     let texel = 1.0 / vec2<f32>(textureDimensions(source));
     let uv = (vec2<f32>(id.xy) + 0.5) / vec2<f32>(size);
     var c = vec3<f32>(0.0);
-    c += bilinear(source, uv + vec2<f32>(-1.0, -1.0) * texel).rgb;
-    c += bilinear(source, uv + vec2<f32>(1.0, -1.0) * texel).rgb;
-    c += bilinear(source, uv + vec2<f32>(-1.0, 1.0) * texel).rgb;
-    c += bilinear(source, uv + vec2<f32>(1.0, 1.0) * texel).rgb;
+    c += level_at(source, uv + vec2<f32>(-1.0, -1.0) * texel).rgb;
+    c += level_at(source, uv + vec2<f32>(1.0, -1.0) * texel).rgb;
+    c += level_at(source, uv + vec2<f32>(-1.0, 1.0) * texel).rgb;
+    c += level_at(source, uv + vec2<f32>(1.0, 1.0) * texel).rgb;
     textureStore(output, id.xy, clamp_half(c * 0.25));
 }
 
@@ -72,26 +81,35 @@ fn up(@builtin(global_invocation_id) id: vec3<u32>) {
     let texel = 1.0 / vec2<f32>(textureDimensions(lower));
     let uv = (vec2<f32>(id.xy) + 0.5) / vec2<f32>(size);
     // A 3x3 tent over the smaller level.
-    var c = bilinear(lower, uv).rgb * 4.0;
-    c += (bilinear(lower, uv + vec2<f32>(-texel.x, 0.0)).rgb + bilinear(lower, uv + vec2<f32>(texel.x, 0.0)).rgb
-        + bilinear(lower, uv + vec2<f32>(0.0, -texel.y)).rgb + bilinear(lower, uv + vec2<f32>(0.0, texel.y)).rgb) * 2.0;
-    c += bilinear(lower, uv - texel).rgb + bilinear(lower, uv + texel).rgb
-        + bilinear(lower, uv + vec2<f32>(texel.x, -texel.y)).rgb + bilinear(lower, uv + vec2<f32>(-texel.x, texel.y)).rgb;
+    var c = level_at(lower, uv).rgb * 4.0;
+    c += (level_at(lower, uv + vec2<f32>(-texel.x, 0.0)).rgb + level_at(lower, uv + vec2<f32>(texel.x, 0.0)).rgb
+        + level_at(lower, uv + vec2<f32>(0.0, -texel.y)).rgb + level_at(lower, uv + vec2<f32>(0.0, texel.y)).rgb) * 2.0;
+    c += level_at(lower, uv - texel).rgb + level_at(lower, uv + texel).rgb
+        + level_at(lower, uv + vec2<f32>(texel.x, -texel.y)).rgb + level_at(lower, uv + vec2<f32>(-texel.x, texel.y)).rgb;
     let here = textureLoad(source, vec2<i32>(id.xy), 0).rgb;
     textureStore(output, id.xy, clamp_half(here + params.settings.z * c / 16.0));
 }
 
-// `t` sampled with red and blue moved radially by the aberration.
-fn aberrated(t: texture_2d<f32>, uv: vec2<f32>) -> vec3<f32> {
+// Where red and blue are read for `uv`: moved radially by the aberration.
+fn aberration_uvs(uv: vec2<f32>) -> array<vec2<f32>, 2> {
     let a = params.settings.w;
-    if (a == 0.0) {
-        return bilinear(t, uv).rgb;
-    }
     let from_center = uv - 0.5;
-    let r = bilinear(t, 0.5 + from_center * (1.0 + a)).r;
-    let g = bilinear(t, uv).g;
-    let b = bilinear(t, 0.5 + from_center * (1.0 - a)).b;
-    return vec3<f32>(r, g, b);
+    return array<vec2<f32>, 2>(0.5 + from_center * (1.0 + a), 0.5 + from_center * (1.0 - a));
+}
+
+// The source with red and blue moved by the aberration.
+fn aberrated_source(uv: vec2<f32>) -> vec3<f32> {
+    let at = aberration_uvs(uv);
+    return vec3<f32>(bilinear(source, at[0]).r, bilinear(source, uv).g, bilinear(source, at[1]).b);
+}
+
+// The glow (the chain's top level) with red and blue moved by the aberration.
+fn aberrated_glow(uv: vec2<f32>) -> vec3<f32> {
+    if (params.settings.w == 0.0) {
+        return level_at(lower, uv).rgb;
+    }
+    let at = aberration_uvs(uv);
+    return vec3<f32>(level_at(lower, at[0]).r, level_at(lower, uv).g, level_at(lower, at[1]).b);
 }
 
 @compute @workgroup_size(8, 8)
@@ -104,9 +122,9 @@ fn composite(@builtin(global_invocation_id) id: vec3<u32>) {
     let center = sanitize(load_clamped(source, vec2<i32>(id.xy)));
     var base = center.rgb;
     if (params.settings.w != 0.0) {
-        base = sanitize(vec4<f32>(aberrated(source, uv), 0.0)).rgb;
+        base = sanitize(vec4<f32>(aberrated_source(uv), 0.0)).rgb;
     }
-    let glow = aberrated(lower, uv) * params.norm.x;
+    let glow = aberrated_glow(uv) * params.norm.x;
     let c = base + params.settings.y * glow;
     textureStore(output, id.xy, vec4<f32>(clamp(c, vec3<f32>(0.0), vec3<f32>(HALF_MAX)), center.a));
 }

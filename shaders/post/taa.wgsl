@@ -14,7 +14,7 @@
 // sharp under motion. History is sanitized on read: NaN or infinity there
 // (or a pixel reprojected from off screen, or a fresh target) is replaced by
 // the current colour, so it never spreads.
-#import spreadlight::post::{sanitize, load_clamped, bilinear}
+#import spreadlight::post::{sanitize, load_clamped}
 
 struct Params {
     // xy: jitter difference in UV (this frame's minus last frame's), z: history weight, w: sharpen
@@ -29,6 +29,9 @@ struct Params {
 @group(0) @binding(3) var depth: texture_2d<f32>;
 @group(0) @binding(4) var history: texture_2d<f32>;
 @group(0) @binding(5) var output: texture_storage_2d<rgba16float, write>;
+// The history is this pass's own Rgba16Float: filterable, so read through
+// the bilinear sampler, one fetch a tap.
+@group(0) @binding(6) var linear: sampler;
 
 fn to_ycocg(c: vec3<f32>) -> vec3<f32> {
     return vec3<f32>(
@@ -49,6 +52,10 @@ fn tonemap_weight(c: vec3<f32>) -> f32 {
 
 fn history_at(uv: vec2<f32>) -> vec4<f32> {
 #ifdef CATMULL_ROM
+    // The 4x4 Catmull-Rom filter in 9 bilinear fetches (Jimenez 2016, as
+    // MJP's "Bicubic Catmull-Rom in 9 taps"): per axis, the middle two taps
+    // have weights of one sign, so one bilinear fetch between them at
+    // w2 / (w1 + w2) weighs both; the outer two are fetched on their texels.
     let size = vec2<f32>(textureDimensions(history));
     let p = uv * size - 0.5;
     let base = floor(p);
@@ -58,18 +65,25 @@ fn history_at(uv: vec2<f32>) -> vec4<f32> {
     let w1 = 1.0 + f * f * (-2.5 + 1.5 * f);
     let w2 = f * (0.5 + f * (2.0 - 1.5 * f));
     let w3 = f * f * (-0.5 + 0.5 * f);
-    var wx = array<f32, 4>(w0.x, w1.x, w2.x, w3.x);
-    var wy = array<f32, 4>(w0.y, w1.y, w2.y, w3.y);
+    let w12 = w1 + w2;
+    // Texel centres in UV: the first tap, the middle pair's blend, the last.
+    let t0 = (base - 0.5) / size;
+    let t12 = (base + 0.5 + w2 / w12) / size;
+    let t3 = (base + 2.5) / size;
+    var wx = array<f32, 3>(w0.x, w12.x, w3.x);
+    var wy = array<f32, 3>(w0.y, w12.y, w3.y);
+    var ux = array<f32, 3>(t0.x, t12.x, t3.x);
+    var uy = array<f32, 3>(t0.y, t12.y, t3.y);
     var sum = vec4<f32>(0.0);
-    for (var y = 0; y < 4; y++) {
-        for (var x = 0; x < 4; x++) {
-            let tap = load_clamped(history, vec2<i32>(base) + vec2<i32>(x - 1, y - 1));
+    for (var y = 0; y < 3; y++) {
+        for (var x = 0; x < 3; x++) {
+            let tap = textureSampleLevel(history, linear, vec2<f32>(ux[x], uy[y]), 0.0);
             sum += tap * wx[x] * wy[y];
         }
     }
     return sum;
 #else
-    return bilinear(history, uv);
+    return textureSampleLevel(history, linear, uv, 0.0);
 #endif
 }
 

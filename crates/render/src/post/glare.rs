@@ -141,6 +141,12 @@ impl Glare {
         if let Some(l) = &l {
             all.push((2, wgpu::BindingResource::TextureView(l)));
         }
+        // The chain's levels are read through it (bright and copy bind none).
+        let device = cx.gpu.device.clone();
+        let linear = cx
+            .shaders
+            .sampler(&device, crate::shaders::Sampling::LinearClamp);
+        all.push((4, wgpu::BindingResource::Sampler(&linear)));
         let size = super::size_of(cx, output)?;
         super::dispatch_entry(cx, entry, &ShaderKey::new(SHADER, []), entry, &all, size)
     }
