@@ -29,9 +29,11 @@
 // HALF (trace only): one pixel per 2x2 block, into a half-size output that
 // crates/render/src/resolution.rs upsamples with depth awareness.
 //
-// resolve (TEMPORAL): blend with last frame's output reprojected by the
-// G-buffer velocity; history that is off screen, not finite, or fresh
-// (camera cut, resize) is not used.
+// resolve: blend with last frame's output reprojected by the G-buffer
+// velocity; history that is off screen, not finite, or fresh (camera cut,
+// resize) is not used. Its own pass after a half-resolution trace's
+// upsample; at full resolution TEMPORAL blends in the trace's own pass
+// (`store`), so no raw target is written and read back.
 #import spreadlight::camera::{Camera, pixel_to_ndc}
 #import spreadlight::packing::{channel_to_id, safe_normalize}
 #import spreadlight::ibl::{split_sum, facing_normal, importance_sample_ggx, hammersley}
@@ -267,7 +269,11 @@ fn store(pixel: vec2<u32>, c: vec3<f32>) {
 #ifdef HALF
     textureStore(output, pixel / 2u, vec4<f32>(clean(c), 1.0));
 #else
+#ifdef TEMPORAL
+    textureStore(output, pixel, blended(pixel, c));
+#else
     textureStore(output, pixel, vec4<f32>(clean(c), 1.0));
+#endif
 #endif
 }
 
@@ -337,23 +343,17 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     store(pixel, sum / weight * factor + (1.0 - c) * fall);
 }
 
-@compute @workgroup_size(8, 8)
-fn resolve(@builtin(global_invocation_id) id: vec3<u32>) {
-    let size = vec2<u32>(camera.size.xy);
-    if (id.x >= size.x || id.y >= size.y) {
-        return;
-    }
-    let pixel = id.xy;
-    let now = clean(textureLoad(current, pixel, 0).rgb);
+// This frame's reflection `c` at `pixel` blended with last frame's, with
+// the view distance in alpha (the resolve, or TEMPORAL's trace).
+fn blended(pixel: vec2<u32>, c: vec3<f32>) -> vec4<f32> {
+    let now = clean(c);
     if ((params.flags & 1u) == 0u) {
-        store(pixel, now);
-        return;
+        return vec4<f32>(now, 1.0);
     }
     // Alpha keeps the view distance, so next frame can tell the same surface.
     let d = textureLoad(depth, pixel, 0).r;
     if (d <= 0.0) {
-        textureStore(output, pixel, vec4<f32>(clean(now), 0.0));
-        return;
+        return vec4<f32>(now, 0.0);
     }
     let h = camera.projection_inverse * vec4<f32>(pixel_to_ndc(pixel, camera.size), d, 1.0);
     let p = h.xyz / h.w;
@@ -361,8 +361,7 @@ fn resolve(@builtin(global_invocation_id) id: vec3<u32>) {
     let uv = (vec2<f32>(pixel) + 0.5) * camera.size.zw;
     let before = uv - textureLoad(velocity_uv, pixel, 0).xy;
     if (any(before < vec2<f32>(0.0)) || any(before >= vec2<f32>(1.0)) || any(before != before)) {
-        textureStore(output, pixel, vec4<f32>(clean(now), distance));
-        return;
+        return vec4<f32>(now, distance);
     }
     let old = textureLoad(history, vec2<u32>(before * camera.size.xy), 0);
     // Sanitized on read: a NaN or infinity in the history never spreads; and
@@ -374,10 +373,18 @@ fn resolve(@builtin(global_invocation_id) id: vec3<u32>) {
     let expected = (camera.previous_view_projection * world).w;
     let same = old.a > 0.0 && old.a < 65000.0 && abs(old.a - expected) <= 0.05 * expected + 1e-3;
     if (!finite || !same) {
-        textureStore(output, pixel, vec4<f32>(clean(now), distance));
+        return vec4<f32>(now, distance);
+    }
+    return vec4<f32>(clean(mix(old.rgb, now, clamp(params.blend, 0.0, 1.0))), distance);
+}
+
+@compute @workgroup_size(8, 8)
+fn resolve(@builtin(global_invocation_id) id: vec3<u32>) {
+    let size = vec2<u32>(camera.size.xy);
+    if (id.x >= size.x || id.y >= size.y) {
         return;
     }
-    textureStore(output, pixel, vec4<f32>(clean(mix(old.rgb, now, clamp(params.blend, 0.0, 1.0))), distance));
+    textureStore(output, id.xy, blended(id.xy, textureLoad(current, id.xy, 0).rgb));
 }
 
 // No material reflects: zero, nothing traced.

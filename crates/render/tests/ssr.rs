@@ -335,3 +335,88 @@ fn ssr_runs_only_when_a_material_reflects_and_its_output_is_wanted() {
     assert!(!report.passes.iter().any(|p| p.name.contains("SSR")));
     assert_eq!(report.counter("ssr traced"), 0);
 }
+
+#[test]
+fn at_full_resolution_the_trace_blends_its_history_in_as_a_resolve_pass_would() {
+    use spreadlight_render::environment::TRACE_TEMPORAL;
+    use spreadlight_render::resolution::Resolution;
+    // The same owner on two renderers: the same frame counts, the same jitter.
+    let owner = Some(902);
+    let frames = |temporal: bool| {
+        let renderer = test_renderer();
+        let g = gbuffer(&renderer);
+        let settings = SsrSettings {
+            temporal,
+            rays: 2,
+            ..Default::default()
+        };
+        let world = || vec![reflective(0.3, 1.0), reflective(0.1, 1.0)];
+        (0..3)
+            .map(|_| ssr_frame(&renderer, &g, world(), [0.1; 4], settings, owner, SIZE))
+            .map(|(report, image, _)| (report, image))
+            .collect::<Vec<_>>()
+    };
+    let blended = frames(true);
+    let traced = frames(false);
+    for (report, _) in &blended {
+        assert_eq!(report.counter(TRACE_TEMPORAL), 1);
+        assert!(
+            report.passes.iter().all(|p| !p.name.ends_with("resolve")),
+            "{:?}",
+            report.passes
+        );
+    }
+    let blend = SsrSettings::default().blend;
+    let close = |a: f32, b: f32| (a - b).abs() <= 2e-3 * b.abs().max(1.0);
+    let (first, second, third) = (&blended[0].1, &blended[1].1, &blended[2].1);
+    let mut mixed = 0;
+    for i in 0..first.pixels.len() {
+        // Frame 1 has no history: the trace alone. Frame 2's history holds no
+        // distances yet (a fresh one stores 1): the trace alone, with its distance.
+        for k in 0..3 {
+            assert!(
+                close(first.pixels[i][k], traced[0].1.pixels[i][k]),
+                "pixel {i}"
+            );
+            assert!(
+                close(second.pixels[i][k], traced[1].1.pixels[i][k]),
+                "pixel {i}"
+            );
+        }
+        assert_eq!(first.pixels[i][3], 1.0);
+        // Frame 3: last frame's result blended with the trace where the
+        // surface is the same (a still camera: every surface pixel), alone on the sky.
+        let now = &traced[2].1.pixels[i];
+        let last = &second.pixels[i];
+        let sky = last[3] == 0.0;
+        for k in 0..3 {
+            let want = if sky {
+                now[k]
+            } else {
+                last[k] + (now[k] - last[k]) * blend
+            };
+            assert!(
+                close(third.pixels[i][k], want),
+                "pixel {i}, channel {k}: {} against {want}",
+                third.pixels[i][k]
+            );
+        }
+        assert_eq!(third.pixels[i][3], last[3], "the view distance stays");
+        mixed += usize::from(!sky && (now[0] - last[0]).abs() > 1e-3);
+    }
+    assert!(mixed > 20, "the jitter moves {mixed} pixels between frames");
+
+    // At half resolution the blend follows the upsample, in its own pass.
+    let renderer = test_renderer();
+    let g = gbuffer(&renderer);
+    let half = SsrSettings {
+        temporal: true,
+        resolution: Resolution::Half,
+        ..Default::default()
+    };
+    let world = vec![reflective(0.3, 1.0), reflective(0.1, 1.0)];
+    let (report, image, _) = ssr_frame(&renderer, &g, world, [0.1; 4], half, owner, SIZE);
+    assert_eq!(report.counter(TRACE_TEMPORAL), 0);
+    assert!(report.passes.iter().any(|p| p.name.ends_with("resolve")));
+    assert!(image.all_finite());
+}

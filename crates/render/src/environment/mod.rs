@@ -22,4 +22,4 @@ pub use source::{
     EnvironmentError, EnvironmentMaps, EnvironmentQuality, EnvironmentSource, EquirectImage,
     SkySettings,
 };
-pub use ssr::{HIZ_DISPATCHES as SSR_HIZ_DISPATCHES, Ssr, SsrSettings};
+pub use ssr::{HIZ_DISPATCHES as SSR_HIZ_DISPATCHES, Ssr, SsrSettings, TRACE_TEMPORAL};

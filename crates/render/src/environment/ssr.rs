@@ -5,11 +5,12 @@
 //! screen, and optionally a temporal blend with a persistent history.
 //!
 //! The output is reflected radiance times the split-sum factor, as
-//! Reflection's specular, so the two are interchangeable. Passes: "hi-z",
-//! "trace", and with temporal accumulation "resolve". At
-//! [`Resolution::Half`] the trace runs for one pixel in four ("trace
-//! (half)") and an "upsample" pass (crate::resolution) fills the full-size
-//! target with depth awareness before the resolve.
+//! Reflection's specular, so the two are interchangeable. Passes: "hi-z"
+//! and "trace", which at full resolution also blends in the history when
+//! accumulating ([`TRACE_TEMPORAL`]). At [`Resolution::Half`] the trace runs
+//! for one pixel in four ("trace (half)"), an "upsample" pass
+//! (crate::resolution) fills the full-size target with depth awareness, and
+//! with temporal accumulation a "resolve" pass blends it.
 
 use std::sync::atomic::{AtomicU32, Ordering};
 use std::sync::{Arc, Mutex};
@@ -105,6 +106,10 @@ type HizStep<'v> = (&'static str, Vec<(u32, wgpu::BindingResource<'v>)>, usize);
 /// Statistic: the dispatches that built the hierarchical depth (two levels
 /// each where they can).
 pub const HIZ_DISPATCHES: &str = "SSR hi-z dispatches";
+
+/// Statistic: traces that blended the history in the same pass (full
+/// resolution with temporal accumulation), writing no raw target.
+pub const TRACE_TEMPORAL: &str = "SSR traced and blended in one pass";
 
 /// What an SSR node keeps between frames: its Hi-Z texture and frame count.
 #[derive(Default)]
@@ -333,8 +338,39 @@ impl Ssr {
         Ok(())
     }
 
+    /// Full resolution with temporal accumulation: the trace blends in the
+    /// history itself, and there is no resolve pass.
+    fn fused(&self) -> bool {
+        self.settings.temporal && !self.settings.resolution.is_half()
+    }
+
+    /// The blend's flags for this frame: bit 0 when the history holds a
+    /// previous frame (not fresh, not reset, no camera cut).
+    fn history_flags(&self, cx: &mut PassContext<'_>) -> u32 {
+        let (_, stale) = self
+            .temporal_state
+            .advance(&self.gbuffer, self.settings.reset);
+        let fresh = cx.is_fresh(&self.history) || stale;
+        cx.count(
+            if fresh {
+                "ssr history reset"
+            } else {
+                "ssr history used"
+            },
+            1,
+        );
+        u32::from(!fresh)
+    }
+
     fn trace(&self, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
         cx.count("ssr traced", 1);
+        let fused = self.fused();
+        let flags = if fused {
+            cx.count(TRACE_TEMPORAL, 1);
+            self.history_flags(cx)
+        } else {
+            0
+        };
         let frame = self.store.frame.fetch_add(1, Ordering::Relaxed);
         let hiz = self
             .store
@@ -351,7 +387,7 @@ impl Ssr {
         cx.gpu.queue.write_buffer(
             &self.trace_params,
             0,
-            bytemuck::bytes_of(&self.params(frame, 0, max_level)),
+            bytemuck::bytes_of(&self.params(frame, flags, max_level)),
         );
         let g = &self.gbuffer;
         let target = self.trace_target();
@@ -370,6 +406,13 @@ impl Ssr {
         let resolution = self.settings.resolution;
         let mut key = self.key();
         key.features.extend(resolution.feature());
+        let history = match fused {
+            true => {
+                key.features.insert("TEMPORAL");
+                Some((cx.view(&self.history)?, cx.view(&g.targets.velocity_uv)?))
+            }
+            false => None,
+        };
         let pipeline = cx.shaders.compute_pipeline(&device, &key, "main")?;
         let all = [
             (0, g.camera_buffer().as_entire_binding()),
@@ -390,6 +433,10 @@ impl Ssr {
             None => None,
         };
         let mut all = all.to_vec();
+        if let Some((history, velocity)) = &history {
+            all.push((14, wgpu::BindingResource::TextureView(history)));
+            all.push((15, wgpu::BindingResource::TextureView(velocity)));
+        }
         if let Some(view) = &surface {
             all.push((
                 crate::gbuffer::SURFACE_TARGET_BINDING,
@@ -413,13 +460,17 @@ impl Ssr {
             &[&group, &materials],
             (w.div_ceil(8), h.div_ceil(8), 1),
         );
+        if fused {
+            // This frame's result is next frame's history.
+            cx.keep_as_history(&self.output, &self.history)?;
+        }
         Ok(())
     }
 
     /// The full-size texture the trace's result lands in: the temporal
-    /// resolve's input, or the output itself.
+    /// resolve's input (after a half-resolution trace), or the output itself.
     fn full_target(&self) -> &str {
-        if self.settings.temporal {
+        if self.settings.temporal && !self.fused() {
             &self.current
         } else {
             &self.output
@@ -452,23 +503,12 @@ impl Ssr {
 
     fn resolve(&self, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
         // Fresh (first frame, resize), asked to reset, or a camera cut: no history.
-        let (_, stale) = self
-            .temporal_state
-            .advance(&self.gbuffer, self.settings.reset);
-        let fresh = cx.is_fresh(&self.history) || stale;
-        cx.count(
-            if fresh {
-                "ssr history reset"
-            } else {
-                "ssr history used"
-            },
-            1,
-        );
+        let flags = self.history_flags(cx);
         let frame = self.store.frame.load(Ordering::Relaxed);
         cx.gpu.queue.write_buffer(
             &self.resolve_params,
             0,
-            bytemuck::bytes_of(&self.params(frame, u32::from(!fresh), 0)),
+            bytemuck::bytes_of(&self.params(frame, flags, 0)),
         );
         let g = &self.gbuffer;
         let (current, history, velocity, out, depth) = (
@@ -573,14 +613,33 @@ impl Recipe for Ssr {
         ));
         let resolution = self.settings.resolution;
         let pixels = self.gbuffer.pixel_size(fg.output_size());
+        // Alike, so the output becomes the history without a copy.
+        let rgba = wgpu::TextureFormat::Rgba16Float;
+        let histories = [
+            (
+                self.output.as_str(),
+                TextureDesc::history_twin(rgba).size(self.gbuffer.size),
+            ),
+            (
+                self.history.as_str(),
+                TextureDesc::history(rgba).size(self.gbuffer.size),
+            ),
+        ];
+        let traced = [(
+            self.trace_target(),
+            hdr.size(resolution.size_rule(self.gbuffer.size, pixels)),
+        )];
+        let writes: &[(&str, TextureDesc)] = if self.fused() {
+            reads.push(&g.velocity_uv);
+            &histories
+        } else {
+            &traced
+        };
         fg.add_pass(
             self.label(&format!("trace{}", resolution.pass_suffix())),
             self.owner,
             &reads,
-            &[(
-                self.trace_target(),
-                hdr.size(resolution.size_rule(self.gbuffer.size, pixels)),
-            )],
+            writes,
             move |cx| self.trace(cx),
         );
         if resolution.is_half() {
@@ -596,11 +655,7 @@ impl Recipe for Ssr {
                 move |cx| self.upsample_trace(cx),
             );
         }
-        if self.settings.temporal {
-            // Alike, so the output becomes the history without a copy.
-            let rgba = wgpu::TextureFormat::Rgba16Float;
-            let output = TextureDesc::history_twin(rgba).size(self.gbuffer.size);
-            let history = TextureDesc::history(rgba).size(self.gbuffer.size);
+        if self.settings.temporal && !self.fused() {
             fg.add_pass(
                 self.label("resolve"),
                 self.owner,
@@ -609,7 +664,7 @@ impl Recipe for Ssr {
                     g.velocity_uv.as_str(),
                     g.depth.as_str(),
                 ],
-                &[(&self.output, output), (&self.history, history)],
+                &histories,
                 move |cx| self.resolve(cx),
             );
         }

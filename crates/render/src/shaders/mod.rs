@@ -261,7 +261,9 @@ pub const SHADERS: &[ShaderFile] = &[
     ),
     shader!(
         "environment/ssr.wgsl",
-        ["MATERIAL_TEXTURES", "HALF", "SURFACE_TARGET"]
+        ["MATERIAL_TEXTURES", "HALF", "SURFACE_TARGET", "TEMPORAL"],
+        // The trace blends the history in its own pass at full resolution only.
+        Rule::AtMostOne(&["HALF", "TEMPORAL"])
     ),
     shader!("environment/fog.wgsl", []),
     shader!("post/tonemap.wgsl", ["EYE_ADAPTATION"]),
