@@ -21,10 +21,14 @@
 //                 `surface` function (spreadlight::custom_surface, swapped
 //                 for the material's file) shades each pixel; its bindings
 //                 are group 1 (see shaders/lib/surface.wgsl).
+// VELOCITY_OUT:   (without MOTION) also what MOTION writes, into binding 13:
+//                 the surface and motion resolves in one dispatch when the
+//                 frame reads both (crates/render/src/gbuffer/resolve.rs).
 // VERTEX_EXTRAS:  some mesh of this layer has vertex colours (COLOR_0, they
 //                 multiply albedo) or a second UV set (TEXCOORD_1, for maps
 //                 whose texCoord is 1): read the arena's extra stream.
 #import spreadlight::camera::{Camera, pixel_to_ndc}
+#import spreadlight::mesh::{Vertex, Instance}
 #import spreadlight::mesh_fetch::{instances, triangle_vertex, view_right, view_up}
 #ifdef VERTEX_EXTRAS
 #import spreadlight::mesh::vertex_color
@@ -72,6 +76,9 @@ struct Layer {
 #endif
 #ifdef SURFACE_OUT
 @group(0) @binding(11) var out_surface: texture_storage_2d<rgba32uint, write>;
+#endif
+#ifdef VELOCITY_OUT
+@group(0) @binding(13) var out_velocity_uv: texture_storage_2d<rgba16float, write>;
 #endif
 #endif
 // Group 1 is the material world (MATERIAL_MAPS), group 3 its map arrays.
@@ -153,6 +160,24 @@ fn view_ray(ndc: vec2<f32>) -> vec3<f32> {
     return mid.xyz / mid.w - near.xyz / near.w;
 }
 
+// The pixel's motion since last frame in UV units: its point on the
+// triangle now and (VELOCITY_FROM_GEOMETRY: where the geometry was; else
+// the same point) under last frame's camera and transform.
+fn velocity(instance: Instance, b: vec3<f32>, v0: Vertex, v1: Vertex, v2: Vertex) -> vec2<f32> {
+    let object_now = interpolate3(b, v0.position_u.xyz, v1.position_u.xyz, v2.position_u.xyz);
+#ifdef VELOCITY_FROM_GEOMETRY
+    let object_before = interpolate3(b, v0.previous_position.xyz, v1.previous_position.xyz, v2.previous_position.xyz);
+#else
+    let object_before = object_now;
+#endif
+    let now = camera.view_projection * instance.model * vec4<f32>(object_now, 1.0);
+    let before = camera.previous_view_projection * instance.previous_model * vec4<f32>(object_before, 1.0);
+    if (now.w > 1e-6 && before.w > 1e-6) {
+        return (now.xy / now.w - before.xy / before.w) * vec2<f32>(0.5, -0.5);
+    }
+    return vec2<f32>(0.0);
+}
+
 @compute @workgroup_size(8, 8)
 fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let size = vec2<u32>(camera.size.xy);
@@ -172,6 +197,9 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
             textureStore(out_depth, pixel, vec4<f32>(0.0));
 #ifdef SURFACE_OUT
             textureStore(out_surface, pixel, vec4<u32>(0u));
+#endif
+#ifdef VELOCITY_OUT
+            textureStore(out_velocity_uv, pixel, vec4<f32>(0.0));
 #endif
 #endif
         }
@@ -216,20 +244,11 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
 #endif
 
 #ifdef MOTION
-    let object_now = interpolate3(b, v0.position_u.xyz, v1.position_u.xyz, v2.position_u.xyz);
-#ifdef VELOCITY_FROM_GEOMETRY
-    let object_before = interpolate3(b, v0.previous_position.xyz, v1.previous_position.xyz, v2.previous_position.xyz);
+    textureStore(out_velocity_uv, pixel, vec4<f32>(velocity(instance, b, v0, v1, v2), uv));
 #else
-    let object_before = object_now;
+#ifdef VELOCITY_OUT
+    textureStore(out_velocity_uv, pixel, vec4<f32>(velocity(instance, b, v0, v1, v2), uv));
 #endif
-    let now = camera.view_projection * instance.model * vec4<f32>(object_now, 1.0);
-    let before = camera.previous_view_projection * instance.previous_model * vec4<f32>(object_before, 1.0);
-    var velocity = vec2<f32>(0.0);
-    if (now.w > 1e-6 && before.w > 1e-6) {
-        velocity = (now.xy / now.w - before.xy / before.w) * vec2<f32>(0.5, -0.5);
-    }
-    textureStore(out_velocity_uv, pixel, vec4<f32>(velocity, uv));
-#else
     let normal_object = interpolate3(b, v0.normal_v.xyz, v1.normal_v.xyz, v2.normal_v.xyz);
     var normal_world = safe_normalize((instance.normal_matrix * vec4<f32>(normal_object, 0.0)).xyz, vec3<f32>(0.0, 1.0, 0.0));
 #ifdef MATERIAL_MAPS

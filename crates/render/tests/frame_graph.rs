@@ -95,6 +95,59 @@ fn a_pass_with_two_outputs_knows_which_the_frame_reads() {
     );
 }
 
+/// Two passes declared to run together: one pass when the frame needs both,
+/// each alone when it needs one, and never merged when the second reads
+/// what the first makes.
+#[test]
+fn a_pair_that_runs_together_is_one_pass_only_when_both_are_needed() {
+    let renderer = test_renderer();
+    let log = Arc::new(Mutex::new(Vec::new()));
+    let frame = |requests: &[&str], second_reads_first: bool| {
+        let mut fg = FrameGraph::new((16, 16));
+        let run = |what: &'static str| {
+            let log = log.clone();
+            move |_: &mut spreadlight_render::frame_graph::PassContext<'_>| {
+                log.lock().expect("log").push(what);
+                Ok(())
+            }
+        };
+        fg.add_pass("source", None, &[], &[("source", target())], run("source"));
+        fg.add_pass("first", None, &["source"], &[("a", target())], run("first"));
+        let reads: &[&str] = if second_reads_first {
+            &["source", "a"]
+        } else {
+            &["source"]
+        };
+        fg.add_pass("second", None, reads, &[("b", target())], run("second"));
+        fg.runs_together("both", run("both"));
+        for r in requests {
+            fg.request(r);
+        }
+        log.lock().expect("log").clear();
+        let (report, outputs) = fg.execute(&renderer).expect("executes");
+        assert!(report.errors.is_empty(), "{:?}", report.errors);
+        for r in requests {
+            assert!(outputs.contains_key(*r), "{r} is handed back");
+        }
+        let names: Vec<String> = report.passes.iter().map(|p| p.name.clone()).collect();
+        (names, report.culled, log.lock().expect("log").clone())
+    };
+    let (names, culled, ran) = frame(&["a", "b"], false);
+    assert_eq!(names, ["source", "both"]);
+    assert!(culled.is_empty());
+    assert_eq!(ran, ["source", "both"]);
+    let (names, culled, ran) = frame(&["b"], false);
+    assert_eq!(names, ["source", "second"]);
+    assert_eq!(culled, ["first"]);
+    assert_eq!(ran, ["source", "second"]);
+    let (names, _, ran) = frame(&["a"], false);
+    assert_eq!(names, ["source", "first"]);
+    assert_eq!(ran, ["source", "first"]);
+    let (names, _, ran) = frame(&["a", "b"], true);
+    assert_eq!(names, ["source", "first", "second"]);
+    assert_eq!(ran, ["source", "first", "second"]);
+}
+
 #[test]
 fn passes_run_in_dependency_order_whatever_the_declaration_order() {
     let renderer = test_renderer();

@@ -8,7 +8,7 @@ use glam::{Mat4, Vec3, Vec4};
 use spreadlight_render::camera::CameraInput;
 use spreadlight_render::gbuffer::{
     Channel, DrawBatch, GBuffer, GBufferView, InstanceInput, Layer, LayerFeatures, RasterChoice,
-    RasterMode,
+    RasterMode, SURFACE_AND_MOTION_DISPATCHES,
 };
 use spreadlight_render::mesh::primitives::{SphereParams, sphere};
 use spreadlight_render::readback::{ImageF32, read_texture};
@@ -754,16 +754,36 @@ fn adjacent_layers_alike_share_one_resolve_dispatch_and_keep_their_pixels() {
             Some(vp),
             SizeRule::Relative(1.0),
         );
+        // Read together, the surface and motion resolves are one pass.
         let (report, mut images) =
             render(&renderer, &g, &[&g.targets.velocity_uv, &g.targets.color]);
         assert_eq!(
-            (
-                report.counter("motion resolve dispatches"),
-                report.counter("surface resolve dispatches")
-            ),
-            (dispatches, dispatches),
+            report.counter(SURFACE_AND_MOTION_DISPATCHES),
+            dispatches,
             "{:?}",
             report.counters
+        );
+        assert!(
+            report
+                .passes
+                .iter()
+                .any(|p| p.name == "MRE #40: resolve surface and motion")
+                && !report
+                    .passes
+                    .iter()
+                    .any(|p| p.name.ends_with("resolve motion")),
+            "{:?}",
+            report.passes
+        );
+        // Read apart, each resolve runs alone, with its own runs; the same images.
+        let (motion, alone) = render(&renderer, &g, &[&g.targets.velocity_uv]);
+        let (surface, alone_color) = render(&renderer, &g, &[&g.targets.color]);
+        assert_eq!(motion.counter("motion resolve dispatches"), dispatches);
+        assert_eq!(surface.counter("surface resolve dispatches"), dispatches);
+        assert!(alone[0].pixels == images[0].pixels, "the same velocities");
+        assert!(
+            alone_color[0].pixels == images[1].pixels,
+            "the same colours"
         );
         for &(at, moved) in &spheres {
             let pole = at + Vec3::new(0.0, 0.0, 0.4);

@@ -585,3 +585,68 @@ fn reflection_takes_roughness_and_metallic_from_the_resolved_surface() {
         "a rough dielectric reflects otherwise ({differs} pixels differ)"
     );
 }
+
+/// A material's `uv` is the layer's texture coordinates whenever the layer
+/// has them (docs/shader-nodes.md), with no colour or normal map besides;
+/// and read with the velocity (the surface and motion resolves in one
+/// dispatch) the G-buffer is the one each resolve writes alone.
+#[test]
+fn a_material_reads_the_layers_texture_coordinates_without_maps() {
+    use spreadlight_render::gbuffer::{LayerFeatures, SURFACE_AND_MOTION_DISPATCHES};
+    let renderer = test_renderer();
+    let uv_albedo = material("uv", "    out.albedo = vec3<f32>(in.uv, 0.25);");
+    let t = Mat4::IDENTITY;
+    let batches = vec![DrawBatch {
+        mesh: floor_mesh(&renderer),
+        instances: vec![InstanceInput {
+            transform: t,
+            previous_transform: t,
+            color: [1.0; 4],
+            material_id: 0,
+            object_id: 0,
+        }],
+    }];
+    let features = LayerFeatures {
+        texcoords: true,
+        ..LayerFeatures::default()
+    };
+    let layer = Layer::new(None, batches, features, None)
+        .expect("a plain layer")
+        .with_surface(Some(uv_albedo));
+    let g = GBuffer::new(
+        &renderer,
+        None,
+        vec![Arc::new(layer)],
+        camera(),
+        None,
+        SizeRule::Relative(1.0),
+    );
+    let [alone] = frame(&renderer, g.as_ref(), [&g.targets.color]);
+    let (report, both) = render_and_read(
+        &renderer,
+        g.as_ref(),
+        SIZE,
+        &[&g.targets.color, &g.targets.velocity_uv],
+    )
+    .expect("the frame renders");
+    assert!(report.errors.is_empty(), "{:?}", report.errors);
+    assert_eq!(report.counter(SURFACE_AND_MOTION_DISPATCHES), 1);
+    assert!(
+        alone.pixels == both[0].pixels,
+        "one dispatch or two: the same colours"
+    );
+    // The floor's colour is its UV: it spans the texture across the view,
+    // and the motion target's texture coordinates (BA) are the same UVs.
+    let (mut lo, mut hi) = (f32::MAX, f32::MIN);
+    for (c, v) in alone.pixels.iter().zip(&both[1].pixels) {
+        if c[2] == 0.25 {
+            lo = lo.min(c[0]);
+            hi = hi.max(c[0]);
+            assert!(
+                (c[0] - v[2]).abs() < 1e-3 && (c[1] - v[3]).abs() < 1e-3,
+                "{c:?} {v:?}"
+            );
+        }
+    }
+    assert!(hi - lo > 0.2, "u spans {lo}..{hi} across the floor");
+}

@@ -16,6 +16,7 @@ use rustc_hash::{FxHashMap, FxHashSet};
 
 mod execute;
 mod history;
+mod merge;
 
 use crate::context::GpuContext;
 use crate::error::RenderError;
@@ -325,6 +326,8 @@ pub struct FrameGraph<'a> {
     imports: FxHashMap<String, wgpu::Texture>,
     included: FxHashSet<u64>,
     counters: BTreeMap<&'static str, u64>,
+    /// Pairs of passes that run as one when both are needed (merge.rs).
+    merges: Vec<merge::Merge<'a>>,
 }
 
 impl<'a> FrameGraph<'a> {
@@ -336,6 +339,7 @@ impl<'a> FrameGraph<'a> {
             imports: FxHashMap::default(),
             included: FxHashSet::default(),
             counters: BTreeMap::new(),
+            merges: Vec::new(),
         }
     }
 
@@ -515,6 +519,7 @@ impl<'a> FrameGraph<'a> {
             parts.writes.push(pass.writes);
             parts.runs.push(Some(pass.run));
         }
+        merge::apply(&mut parts, self.merges);
         Ok(parts)
     }
 }

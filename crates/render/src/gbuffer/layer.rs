@@ -260,10 +260,32 @@ impl Layer {
         }
         if self.surface.is_some() {
             d.push("CUSTOM_SURFACE");
+            // Its `uv` is the layer's texture coordinates (docs/shader-nodes.md),
+            // maps or not.
+            if let Some(uv) = self.features.uv_define()
+                && !d.contains(&uv)
+            {
+                d.push(uv);
+            }
         }
         if self.vertex_extras() {
             d.push("VERTEX_EXTRAS");
         }
+        d
+    }
+
+    /// The resolve's features for the surface and motion passes in one
+    /// dispatch: the surface's, the texture coordinates the motion pass
+    /// writes (which only maps and shader materials otherwise read), and
+    /// VELOCITY_OUT in place of MOTION.
+    pub(crate) fn fused_defines(&self) -> Vec<&'static str> {
+        let mut d = self.surface_defines();
+        for motion in self.features.motion_defines() {
+            if motion != "MOTION" && !d.contains(&motion) {
+                d.push(motion);
+            }
+        }
+        d.push("VELOCITY_OUT");
         d
     }
 

@@ -27,6 +27,7 @@ use glam::Mat4;
 
 pub use layer::{DrawBatch, InstanceInput, Layer, LayerError, LayerFeatures, VelocitySource};
 pub use published_depth::{PublishedDepth, PublishedDepths};
+pub use resolve::SURFACE_AND_MOTION_DISPATCHES;
 pub use surface_shader::{SURFACE_MODULE, SurfaceBinding, SurfaceShader};
 pub use view::{Channel, GBufferView};
 
@@ -213,6 +214,8 @@ pub struct GBuffer {
     /// over every pixel, most of which belong to other layers.
     surface_runs: Vec<(usize, wgpu::Buffer)>,
     motion_runs: Vec<(usize, wgpu::Buffer)>,
+    /// The runs of both in one dispatch: layers alike in both.
+    fused_runs: Vec<(usize, wgpu::Buffer)>,
     /// Per layer with a shader node material that has pins: its uniform block.
     surface_buffers: Vec<Option<wgpu::Buffer>>,
     pub raster: RasterMode,
@@ -345,6 +348,13 @@ impl GBuffer {
                 Some((l.features.motion_defines(), l.features.adds_geometry_ids()))
             }),
         );
+        let fused_runs = kept(
+            "mre fused run",
+            runs(&layers, &layer_ranges, |l| {
+                (l.surface.is_none() && l.maps().next().is_none() && l.map_world().is_none())
+                    .then(|| (l.fused_defines(), l.features.adds_geometry_ids()))
+            }),
+        );
         let surface_buffers = layers
             .iter()
             .enumerate()
@@ -400,6 +410,7 @@ impl GBuffer {
             camera_buffer,
             surface_runs,
             motion_runs,
+            fused_runs,
             surface_buffers,
             raster,
             compute,

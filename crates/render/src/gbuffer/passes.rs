@@ -7,7 +7,7 @@ use crate::frame_graph::{FrameGraph, Lifetime, PassContext, TextureDesc};
 use crate::renderer::Renderer;
 use crate::shaders::{PipelineRef, ShaderKey};
 
-use super::resolve::resolve;
+use super::resolve::{Targets, resolve};
 use super::{GBuffer, RasterMode};
 
 const VISIBILITY_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg32Uint;
@@ -91,7 +91,7 @@ pub(super) fn declare<'a>(g: &'a GBuffer, renderer: &'a Renderer, fg: &mut Frame
         g.owner,
         &surface_reads,
         &surface_writes,
-        move |cx| resolve(g, renderer, cx, false),
+        move |cx| resolve(g, renderer, cx, Targets::Surface),
     );
     fg.add_pass(
         label("resolve motion"),
@@ -101,8 +101,12 @@ pub(super) fn declare<'a>(g: &'a GBuffer, renderer: &'a Renderer, fg: &mut Frame
             &t.velocity_uv,
             TextureDesc::storage(TARGET_FORMAT).size(g.size),
         )],
-        move |cx| resolve(g, renderer, cx, true),
+        move |cx| resolve(g, renderer, cx, Targets::Motion),
     );
+    // Both read the visibility: one dispatch per run when the frame reads both.
+    fg.runs_together(label("resolve surface and motion"), move |cx| {
+        resolve(g, renderer, cx, Targets::Both)
+    });
 }
 
 fn visibility(

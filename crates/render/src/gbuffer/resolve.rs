@@ -9,12 +9,29 @@ use crate::shaders::{PipelineRef, ShaderKey};
 
 use super::{GBuffer, RasterMode};
 
+/// Statistic: resolve dispatches that wrote the surface and the motion
+/// targets at once (the frame read both).
+pub const SURFACE_AND_MOTION_DISPATCHES: &str = "surface and motion resolve dispatches";
+
+/// Which targets a resolve dispatch writes.
+#[derive(Clone, Copy, PartialEq, Eq)]
+pub(super) enum Targets {
+    /// Colour, normals, depth (and the surface target).
+    Surface,
+    /// Velocity and texture coordinates.
+    Motion,
+    /// Both, in one dispatch per run of layers alike in both.
+    Both,
+}
+
 pub(super) fn resolve(
     g: &GBuffer,
     renderer: &Renderer,
     cx: &mut PassContext<'_>,
-    motion: bool,
+    targets: Targets,
 ) -> Result<(), RenderError> {
+    let motion = targets == Targets::Motion;
+    let velocity_out = targets == Targets::Both;
     let device = cx.gpu.device.clone();
     let (vertices, indices, _) = renderer.meshes.buffers();
     let extras = renderer.meshes.extras();
@@ -46,6 +63,10 @@ pub(super) fn resolve(
             cx.view(&g.targets.depth)?,
         ]
     };
+    let velocity = match velocity_out {
+        true => Some(cx.view(&g.targets.velocity_uv)?),
+        false => None,
+    };
     let surface = match (&g.targets.surface, motion) {
         (Some(name), false) => Some(cx.view(name)?),
         _ => None,
@@ -57,18 +78,18 @@ pub(super) fn resolve(
     let dispatches: Vec<(Option<usize>, Option<&wgpu::Buffer>)> = if g.layers.is_empty() {
         vec![(None, None)]
     } else {
-        let runs = if motion {
-            &g.motion_runs
-        } else {
-            &g.surface_runs
+        let runs = match targets {
+            Targets::Surface => &g.surface_runs,
+            Targets::Motion => &g.motion_runs,
+            Targets::Both => &g.fused_runs,
         };
         runs.iter().map(|(i, b)| (Some(*i), Some(b))).collect()
     };
     cx.count(
-        if motion {
-            "motion resolve dispatches"
-        } else {
-            "surface resolve dispatches"
+        match targets {
+            Targets::Surface => "surface resolve dispatches",
+            Targets::Motion => "motion resolve dispatches",
+            Targets::Both => SURFACE_AND_MOTION_DISPATCHES,
         },
         dispatches.len() as u64,
     );
@@ -76,11 +97,13 @@ pub(super) fn resolve(
     for (index, layer_buffer) in dispatches {
         let i = index.unwrap_or(0);
         let layer = index.and_then(|i| g.layers.get(i));
-        let mut defines = match layer {
-            Some(l) if motion => l.features.motion_defines(),
-            Some(l) => l.surface_defines(),
-            None if motion => vec!["MOTION"],
-            None => vec![],
+        let mut defines = match (layer, targets) {
+            (Some(l), Targets::Motion) => l.features.motion_defines(),
+            (Some(l), Targets::Surface) => l.surface_defines(),
+            (Some(l), Targets::Both) => l.fused_defines(),
+            (None, Targets::Motion) => vec!["MOTION"],
+            (None, Targets::Surface) => vec![],
+            (None, Targets::Both) => vec!["VELOCITY_OUT"],
         };
         if compute.is_some() {
             defines.push("COMPUTE_RASTER");
@@ -164,6 +187,12 @@ pub(super) fn resolve(
                 resource: wgpu::BindingResource::TextureView(view),
             });
         }
+        if let Some(view) = &velocity {
+            entries.push(wgpu::BindGroupEntry {
+                binding: 13,
+                resource: wgpu::BindingResource::TextureView(view),
+            });
+        }
         let pipeline_ref = PipelineRef::Compute(pipeline.clone());
         let group0 = cx
             .shaders
@@ -237,10 +266,10 @@ pub(super) fn resolve(
     }
     let timestamps = cx.compute_timestamps();
     let mut pass = cx.encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-        label: Some(if motion {
-            "resolve motion"
-        } else {
-            "resolve surface"
+        label: Some(match targets {
+            Targets::Surface => "resolve surface",
+            Targets::Motion => "resolve motion",
+            Targets::Both => "resolve surface and motion",
         }),
         timestamp_writes: timestamps,
     });

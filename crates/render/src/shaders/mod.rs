@@ -139,10 +139,13 @@ pub const SHADERS: &[ShaderFile] = &[
             "SURFACE_OUT",
             "MATERIAL_MAPS",
             "CUSTOM_SURFACE",
-            "VERTEX_EXTRAS"
+            "VERTEX_EXTRAS",
+            "VELOCITY_OUT"
         ],
         // The colour map is the surface pass's; it reads UVs.
         Rule::AtMostOne(&["COLOR_MAP", "MOTION"]),
+        // The surface pass writing what the motion pass writes, too.
+        Rule::AtMostOne(&["VELOCITY_OUT", "MOTION"]),
         Rule::AtMostOne(&["TEXCOORDS", "TRIPLANAR"]),
         // Surface maps are the surface pass's, and write the surface target.
         Rule::AtMostOne(&["SURFACE_OUT", "MOTION"]),
