@@ -12,7 +12,8 @@
 // worst, never infinity, however many levels add up.
 // The chain's own levels (Rgba16Float, filterable) are read through the
 // bilinear sampler, one fetch a tap; the source, whose format is the
-// input's, by four loads (`bilinear`).
+// input's, too when it is filterable (FILTERED_SOURCE), else by four loads
+// (`bilinear`).
 #import spreadlight::post::{sanitize, load_clamped, bilinear, luminance, HALF_MAX}
 
 struct Params {
@@ -100,7 +101,11 @@ fn aberration_uvs(uv: vec2<f32>) -> array<vec2<f32>, 2> {
 // The source with red and blue moved by the aberration.
 fn aberrated_source(uv: vec2<f32>) -> vec3<f32> {
     let at = aberration_uvs(uv);
+#ifdef FILTERED_SOURCE
+    return vec3<f32>(level_at(source, at[0]).r, level_at(source, uv).g, level_at(source, at[1]).b);
+#else
     return vec3<f32>(bilinear(source, at[0]).r, bilinear(source, uv).g, bilinear(source, at[1]).b);
+#endif
 }
 
 // The glow (the chain's top level) with red and blue moved by the aberration.

@@ -88,6 +88,54 @@ fn aberration_parts_red_from_blue_radially() {
     assert!(r > g + 1.0 && b < g - 1.0, "r {r} g {g} b {b}");
 }
 
+/// A source in a filterable format (another node's Rgba16Float output) is
+/// read through the sampler, one fetch a tap; one that is not (Rgba32Float)
+/// by four loads: the same aberrated image.
+#[test]
+fn an_aberrated_source_reads_the_same_through_the_sampler_as_by_four_loads() {
+    let settings = GlareSettings {
+        threshold: 1.0,
+        intensity: 0.5,
+        aberration: 0.1,
+        ..Default::default()
+    };
+    let ramp = |x: u32, y: u32| {
+        let v = (x as f32 * 0.3).sin().abs() * 4.0 + y as f32 * 0.05;
+        [v, v * 0.5 + 0.25, 2.0 - v * 0.25, 1.0]
+    };
+    let renderer = test_renderer();
+    let input = image(&renderer, SIZE, ramp);
+    let loads = Glare::new(&renderer, None, input.texture_ref(), settings);
+    let (_, by_loads) = render(&renderer, loads.as_ref(), &loads.output, SIZE);
+    // The same image as Rgba16Float: a Glare that adds nothing copies it.
+    let copy = Glare::new(
+        &renderer,
+        None,
+        input.texture_ref(),
+        GlareSettings {
+            intensity: 0.0,
+            aberration: 0.0,
+            ..settings
+        },
+    );
+    let filtered = Glare::new(&renderer, None, copy.texture(), settings);
+    let (_, by_sampler) = render(&renderer, filtered.as_ref(), &filtered.output, SIZE);
+    let mut moved = 0;
+    for (i, (a, b)) in by_loads.pixels.iter().zip(&by_sampler.pixels).enumerate() {
+        for k in 0..3 {
+            assert!(
+                (a[k] - b[k]).abs() <= 4e-3 * a[k].abs().max(1.0),
+                "pixel {i}, channel {k}: {} by loads, {} by the sampler",
+                a[k],
+                b[k]
+            );
+        }
+        let (x, y) = (i as u32 % SIZE.0, i as u32 / SIZE.0);
+        moved += usize::from((a[0] - ramp(x, y)[0]).abs() > 0.05);
+    }
+    assert!(moved > 500, "the aberration moved {moved} pixels' red");
+}
+
 #[test]
 fn nothing_to_add_costs_a_copy() {
     let (out, skipped) = glare(GlareSettings {

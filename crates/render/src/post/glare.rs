@@ -147,8 +147,16 @@ impl Glare {
             .shaders
             .sampler(&device, crate::shaders::Sampling::LinearClamp);
         all.push((4, wgpu::BindingResource::Sampler(&linear)));
+        // The source through the sampler too where its format filters.
+        let format = cx.texture(source)?.format();
+        let filterable = matches!(
+            format.sample_type(None, Some(device.features())),
+            Some(wgpu::TextureSampleType::Float { filterable: true })
+        );
+        let features = filterable.then_some("FILTERED_SOURCE");
         let size = super::size_of(cx, output)?;
-        super::dispatch_entry(cx, entry, &ShaderKey::new(SHADER, []), entry, &all, size)
+        let key = ShaderKey::new(SHADER, features);
+        super::dispatch_entry(cx, entry, &key, entry, &all, size)
     }
 }
 

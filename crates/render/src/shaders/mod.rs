@@ -281,7 +281,7 @@ pub const SHADERS: &[ShaderFile] = &[
     ),
     shader!("post/autofocus.wgsl", []),
     shader!("post/motion_blur.wgsl", []),
-    shader!("post/glare.wgsl", []),
+    shader!("post/glare.wgsl", ["FILTERED_SOURCE"]),
     shader!("post/transparency.wgsl", ["MATERIAL_MAPS", "VERTEX_EXTRAS"]),
     shader!(
         "post/taa.wgsl",
