@@ -3,9 +3,8 @@
 // with ENVIRONMENT an environment cube (a file's or a baked sky's, level 0:
 // unblurred). Elsewhere the input passes through. Radiance is clamped below
 // half-float overflow; a zero direction falls back to straight up.
-#import spreadlight::camera::{Camera, pixel_to_ndc}
-#import spreadlight::packing::safe_normalize
-#import spreadlight::sky::{Sky, sky_radiance}
+#import spreadlight::camera::Camera
+#import spreadlight::sky::{Sky, sky_radiance, view_direction}
 
 @group(0) @binding(0) var<uniform> camera: Camera;
 @group(0) @binding(1) var<uniform> sky: Sky;
@@ -29,11 +28,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     // The view ray through the pixel, in world space.
-    let ndc = pixel_to_ndc(pixel, camera.size);
-    let far = camera.projection_inverse * vec4<f32>(ndc, 0.5, 1.0);
-    let view_dir = far.xyz / far.w;
-    let world = (camera.view_inverse * vec4<f32>(view_dir, 0.0)).xyz;
-    let d = safe_normalize(world, vec3<f32>(0.0, 1.0, 0.0));
+    let d = view_direction(camera, pixel);
 #ifdef ENVIRONMENT
     let color = min(max(textureSampleLevel(environment, environment_sampler, d, 0.0).rgb, vec3<f32>(0.0)), vec3<f32>(65000.0));
 #else

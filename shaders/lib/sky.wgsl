@@ -3,6 +3,8 @@
 // reflection sees the same sky the background shows). Its CPU twin is
 // `sky_radiance` in crates/render/src/reference/reflection.rs.
 #define_import_path spreadlight::sky
+#import spreadlight::camera::{Camera, pixel_to_ndc}
+#import spreadlight::packing::safe_normalize
 
 struct Sky {
     zenith: vec4<f32>,
@@ -36,4 +38,14 @@ fn sky_radiance(sky: Sky, d: vec3<f32>) -> vec3<f32> {
     let glow = pow(max(c, 0.0), 64.0) * sky.sun_color.w;
     color += sky.sun_color.rgb * (disk + glow * 0.01);
     return min(max(color, vec3<f32>(0.0)), vec3<f32>(SKY_HALF_MAX));
+}
+
+// The unit world direction of the view ray through `pixel` (straight up
+// when degenerate): where the background is seen.
+fn view_direction(camera: Camera, pixel: vec2<u32>) -> vec3<f32> {
+    let ndc = pixel_to_ndc(pixel, camera.size);
+    let far = camera.projection_inverse * vec4<f32>(ndc, 0.5, 1.0);
+    let view_dir = far.xyz / far.w;
+    let world = (camera.view_inverse * vec4<f32>(view_dir, 0.0)).xyz;
+    return safe_normalize(world, vec3<f32>(0.0, 1.0, 0.0));
 }

@@ -31,7 +31,20 @@ pub fn pass_name(kind: &str, owner: Option<u32>, what: Option<&str>) -> String {
     }
 }
 
-pub trait Recipe: Send + Sync {
+/// What kind of recipe another is, for one that can work with its input
+/// recipe's passes (an [`crate::environment::ImagePass`] over another runs
+/// as one pass): `<dyn Recipe as AsAny>::as_any(&*recipe).downcast_ref()`.
+pub trait AsAny {
+    fn as_any(&self) -> &dyn std::any::Any;
+}
+
+impl<T: std::any::Any> AsAny for T {
+    fn as_any(&self) -> &dyn std::any::Any {
+        self
+    }
+}
+
+pub trait Recipe: AsAny + Send + Sync {
     /// Declare this recipe's passes, after its inputs'. Must call `fg.include(id)` first and stop when it returns false.
     fn declare<'a>(&'a self, renderer: &'a Renderer, fg: &mut FrameGraph<'a>);
 

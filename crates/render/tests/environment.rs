@@ -278,3 +278,80 @@ fn fog_hard_cases_stay_finite_and_in_range() {
         }
     }
 }
+
+/// Fog and a Sky over it, in either order, run as one pass when nothing else
+/// reads the inner one's image, with the image of the two passes (read
+/// together with the inner image, they stay two).
+#[test]
+fn fog_and_sky_over_each_other_are_one_pass_with_the_image_of_two() {
+    use spreadlight_render::environment::FOG_AND_SKY;
+    let renderer = test_renderer();
+    let g = gbuffer(&renderer);
+    let lit = StaticTexture::new(GpuTexture::from_rgba32f(
+        &renderer.gpu,
+        SIZE.0,
+        SIZE.1,
+        &(0..SIZE.0 * SIZE.1)
+            // Half-float values: what a pass between would have stored.
+            .map(|i| [(i % 7) as f32 * 0.25, 0.5, (i % 5) as f32 * 0.125, 1.0])
+            .collect::<Vec<_>>(),
+        "lit",
+    ));
+    let fog_settings = FogSettings {
+        density: 0.2,
+        ..Default::default()
+    };
+    for sky_over_fog in [true, false] {
+        let (outer, inner_output) = if sky_over_fog {
+            let fog = Fog::pass(
+                &renderer,
+                Some(1),
+                g.clone(),
+                lit.texture_ref(),
+                fog_settings,
+            );
+            let sky = Sky::pass(
+                &renderer,
+                Some(2),
+                g.clone(),
+                fog.texture(),
+                SkySettings::default(),
+            );
+            (sky, fog.output.clone())
+        } else {
+            let sky = Sky::pass(
+                &renderer,
+                Some(2),
+                g.clone(),
+                lit.texture_ref(),
+                SkySettings::default(),
+            );
+            let fog = Fog::pass(&renderer, Some(1), g.clone(), sky.texture(), fog_settings);
+            (fog, sky.output.clone())
+        };
+        let (one, images) =
+            render_and_read(&renderer, outer.as_ref(), SIZE, &[&outer.output]).expect("renders");
+        assert!(one.errors.is_empty(), "{:?}", one.errors);
+        assert_eq!(one.counter(FOG_AND_SKY), 1);
+        let names: Vec<&str> = one.passes.iter().map(|p| p.name.as_str()).collect();
+        assert!(
+            names.contains(&"Fog #1 and Sky #2") || names.contains(&"Sky #2 and Fog #1"),
+            "{names:?}"
+        );
+        let (two, apart) = render_and_read(
+            &renderer,
+            outer.as_ref(),
+            SIZE,
+            &[&outer.output, &inner_output],
+        )
+        .expect("renders");
+        assert_eq!(two.counter(FOG_AND_SKY), 0, "the inner image is read too");
+        assert!(
+            images[0].pixels == apart[0].pixels,
+            "sky over fog {sky_over_fog}: one pass or two, the same image"
+        );
+        // Fog reached the surfaces and the sky the background.
+        let sky_pixel = images[0].pixel(SIZE.0 / 2, 2);
+        assert!(sky_pixel[1] != 0.5, "{sky_pixel:?}");
+    }
+}

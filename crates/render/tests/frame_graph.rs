@@ -148,6 +148,66 @@ fn a_pair_that_runs_together_is_one_pass_only_when_both_are_needed() {
     assert_eq!(ran, ["source", "first", "second"]);
 }
 
+/// A pass chained into the one whose output it reads: one pass that never
+/// makes the inner output, unless something else reads that output.
+#[test]
+fn a_chain_is_one_pass_only_when_nothing_else_reads_the_inner_output() {
+    let renderer = test_renderer();
+    let log = Arc::new(Mutex::new(Vec::new()));
+    let frame = |requests: &[&str], third_reads_inner: bool| {
+        let mut fg = FrameGraph::new((16, 16));
+        let run = |what: &'static str| {
+            let log = log.clone();
+            move |_: &mut spreadlight_render::frame_graph::PassContext<'_>| {
+                log.lock().expect("log").push(what);
+                Ok(())
+            }
+        };
+        fg.add_pass("source", None, &[], &[("source", target())], run("source"));
+        fg.add_pass(
+            "inner",
+            None,
+            &["source"],
+            &[("inner", target())],
+            run("inner"),
+        );
+        fg.add_pass(
+            "outer",
+            None,
+            &["inner"],
+            &[("outer", target())],
+            run("outer"),
+        );
+        fg.chains_into("inner", "inner and outer", run("both"));
+        if third_reads_inner {
+            fg.add_pass(
+                "third",
+                None,
+                &["inner"],
+                &[("third", target())],
+                run("third"),
+            );
+        }
+        for r in requests {
+            fg.request(r);
+        }
+        log.lock().expect("log").clear();
+        let (report, outputs) = fg.execute(&renderer).expect("executes");
+        assert!(report.errors.is_empty(), "{:?}", report.errors);
+        let names: Vec<String> = report.passes.iter().map(|p| p.name.clone()).collect();
+        (names, log.lock().expect("log").clone(), outputs.len())
+    };
+    let (names, ran, outputs) = frame(&["outer"], false);
+    assert_eq!(names, ["source", "inner and outer"]);
+    assert_eq!(ran, ["source", "both"]);
+    assert_eq!(outputs, 1);
+    let (names, ran, ..) = frame(&["outer", "inner"], false);
+    assert_eq!(names, ["source", "inner", "outer"]);
+    assert_eq!(ran, ["source", "inner", "outer"]);
+    let (names, ..) = frame(&["outer", "third"], true);
+    assert_eq!(names, ["source", "inner", "outer", "third"]);
+}
+
 #[test]
 fn passes_run_in_dependency_order_whatever_the_declaration_order() {
     let renderer = test_renderer();

@@ -3,7 +3,7 @@
 
 use std::sync::Arc;
 
-use super::ImagePass;
+use super::{ImageKind, ImagePass};
 use crate::gbuffer::GBuffer;
 use crate::recipe::TextureRef;
 use crate::renderer::Renderer;
@@ -59,7 +59,7 @@ impl Fog {
         ImagePass::new(
             renderer,
             owner,
-            ("Fog", "environment/fog.wgsl"),
+            ImageKind::Fog,
             gbuffer,
             source,
             bytemuck::cast_slice(&params),

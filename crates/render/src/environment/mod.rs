@@ -15,7 +15,7 @@ pub mod ssr;
 
 pub use environment_map::Environment;
 pub use fog::{Fog, FogSettings};
-pub use pass::ImagePass;
+pub use pass::{FOG_AND_SKY, ImageKind, ImagePass};
 pub use reflection::{BOTH_IN_ONE_PASS as REFLECTION_BOTH_IN_ONE_PASS, Reflection, ReflectionMode};
 pub use sky::Sky;
 pub use source::{

@@ -1,6 +1,12 @@
 //! What the environment passes share: one compute dispatch per pixel that
 //! reads the lit image, the G-buffer's depth and camera, and a uniform of
 //! its own, and writes a new image of the G-buffer's size.
+//!
+//! Fog and Sky touch disjoint pixels (surfaces, the empty background), so
+//! one over the other is one pass (shaders/environment/fog_and_sky.wgsl):
+//! the outer declares its pass and asks the frame graph to chain it into
+//! the inner's ([`FrameGraph::chains_into`]), which it does when nothing
+//! else reads the inner's image.
 
 use std::sync::Arc;
 
@@ -8,19 +14,44 @@ use super::environment_map::Environment;
 use crate::error::RenderError;
 use crate::frame_graph::{FrameGraph, PassContext, TextureDesc};
 use crate::gbuffer::GBuffer;
-use crate::recipe::{Recipe, TextureRef, next_recipe_id};
+use crate::recipe::{AsAny, Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
 use crate::shaders::ShaderKey;
 use crate::texture_pool::ViewSpec;
+
+/// Which environment pass an [`ImagePass`] is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ImageKind {
+    Fog,
+    Sky,
+}
+
+impl ImageKind {
+    /// The node type, for pass names ("Sky #12").
+    fn name(self) -> &'static str {
+        match self {
+            ImageKind::Fog => "Fog",
+            ImageKind::Sky => "Sky",
+        }
+    }
+
+    fn shader(self) -> &'static str {
+        match self {
+            ImageKind::Fog => "environment/fog.wgsl",
+            ImageKind::Sky => "environment/sky.wgsl",
+        }
+    }
+}
+
+/// Counted when a Fog and a Sky over it (or under it) ran as one pass.
+pub const FOG_AND_SKY: &str = "fog and sky in one pass";
 
 /// A pass over the lit image: bindings 0 camera, 1 `params`, 2 the image,
 /// 3 depth, 4 the output (shaders/environment/*.wgsl).
 pub struct ImagePass {
     id: u64,
     owner: Option<u32>,
-    /// The node type, for pass names ("Sky #12").
-    name: &'static str,
-    shader: &'static str,
+    kind: ImageKind,
     gbuffer: Arc<GBuffer>,
     source: TextureRef,
     params: wgpu::Buffer,
@@ -33,18 +64,18 @@ impl ImagePass {
     pub(crate) fn new(
         renderer: &Renderer,
         owner: Option<u32>,
-        (name, shader): (&'static str, &'static str),
+        kind: ImageKind,
         gbuffer: Arc<GBuffer>,
         source: TextureRef,
         params: &[u8],
     ) -> Arc<Self> {
         let id = next_recipe_id();
+        let name = kind.name();
         let params = renderer.uniform(owner, name, params);
         Arc::new(ImagePass {
             id,
             owner,
-            name,
-            shader,
+            kind,
             gbuffer,
             source,
             params,
@@ -86,7 +117,7 @@ impl ImagePass {
             (4, wgpu::BindingResource::TextureView(&output)),
         ];
         let maps = match &self.environment {
-            Some(e) => Some(e.maps_for(self.name)?),
+            Some(e) => Some(e.maps_for(self.kind.name())?),
             None => None,
         };
         let cube = maps.as_ref().map(|m| cx.view_of(&m.base, ViewSpec::cube()));
@@ -101,8 +132,55 @@ impl ImagePass {
         };
         let size = self.gbuffer.pixel_size(cx.output_size);
         cx.dispatch_image(
-            self.name,
-            &ShaderKey::new(self.shader, features.iter().copied()),
+            self.kind.name(),
+            &ShaderKey::new(self.kind.shader(), features.iter().copied()),
+            &all,
+            size,
+        )
+    }
+
+    /// The pass under this one when the two can be one: a Fog under a Sky
+    /// or a Sky under a Fog, over the same G-buffer.
+    fn over(&self) -> Option<&ImagePass> {
+        let inner =
+            <dyn Recipe as AsAny>::as_any(&*self.source.recipe).downcast_ref::<ImagePass>()?;
+        (inner.kind != self.kind && Arc::ptr_eq(&inner.gbuffer, &self.gbuffer)).then_some(inner)
+    }
+
+    /// This pass and `inner` (the pass under it) in one dispatch.
+    fn run_over(&self, inner: &ImagePass, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
+        cx.count(FOG_AND_SKY, 1);
+        let (fog, sky) = match self.kind {
+            ImageKind::Fog => (self, inner),
+            ImageKind::Sky => (inner, self),
+        };
+        let (source, depth, output) = (
+            cx.view(&inner.source.name)?,
+            cx.view(&self.gbuffer.targets.depth)?,
+            cx.view(&self.output)?,
+        );
+        let mut all = vec![
+            (0, self.gbuffer.camera_buffer().as_entire_binding()),
+            (1, fog.params.as_entire_binding()),
+            (2, wgpu::BindingResource::TextureView(&source)),
+            (3, wgpu::BindingResource::TextureView(&depth)),
+            (4, wgpu::BindingResource::TextureView(&output)),
+            (7, sky.params.as_entire_binding()),
+        ];
+        let maps = match &sky.environment {
+            Some(e) => Some(e.maps_for(sky.kind.name())?),
+            None => None,
+        };
+        let cube = maps.as_ref().map(|m| cx.view_of(&m.base, ViewSpec::cube()));
+        if let (Some(maps), Some(cube)) = (&maps, &cube) {
+            all.push((5, wgpu::BindingResource::TextureView(cube)));
+            all.push((6, wgpu::BindingResource::Sampler(&maps.sampler)));
+        }
+        let features = maps.is_some().then_some("ENVIRONMENT");
+        let size = self.gbuffer.pixel_size(cx.output_size);
+        cx.dispatch_image(
+            "fog and sky",
+            &ShaderKey::new("environment/fog_and_sky.wgsl", features),
             &all,
             size,
         )
@@ -115,23 +193,32 @@ impl Recipe for ImagePass {
             return;
         }
         self.gbuffer.declare(renderer, fg);
+        // The environment before the source: its passes then come before
+        // the source's, so a chain with the pass under this one can form.
+        if let Some(environment) = &self.environment {
+            environment.declare(renderer, fg);
+        }
         self.source.recipe.declare(renderer, fg);
         let mut reads = vec![
             self.source.name.as_str(),
             self.gbuffer.targets.depth.as_str(),
         ];
-        if let Some(environment) = &self.environment {
-            environment.declare(renderer, fg);
-            reads.push(environment.token());
-        }
-        let name = crate::recipe::pass_name(self.name, self.owner, None);
+        reads.extend(self.environment.as_ref().map(|e| e.token()));
+        let name = crate::recipe::pass_name(self.kind.name(), self.owner, None);
         let desc = TextureDesc::storage(wgpu::TextureFormat::Rgba16Float).size(self.gbuffer.size);
         fg.add_pass(
-            name,
+            name.clone(),
             self.owner,
             &reads,
             &[(&self.output, desc)],
             move |cx| self.run(cx),
         );
+        if let Some(inner) = self.over() {
+            let both = format!(
+                "{} and {name}",
+                crate::recipe::pass_name(inner.kind.name(), inner.owner, None)
+            );
+            fg.chains_into(&self.source.name, both, move |cx| self.run_over(inner, cx));
+        }
     }
 }

@@ -4,9 +4,9 @@
 
 use std::sync::Arc;
 
-use super::ImagePass;
 use super::environment_map::Environment;
 use super::source::{GpuSky, SkySettings};
+use super::{ImageKind, ImagePass};
 use crate::gbuffer::GBuffer;
 use crate::recipe::TextureRef;
 use crate::renderer::Renderer;
@@ -39,7 +39,7 @@ impl Sky {
         let pass = ImagePass::new(
             renderer,
             owner,
-            ("Sky", "environment/sky.wgsl"),
+            ImageKind::Sky,
             gbuffer,
             source,
             bytemuck::bytes_of(&gpu),

@@ -1,21 +1,42 @@
-//! Pairs of passes the graph runs as one when the frame needs both.
+//! Pairs of passes the graph runs as one when it can.
 //!
-//! A recipe whose two passes could share one dispatch (the G-buffer's
-//! surface and motion resolves read the same visibility) declares them as
-//! usual, so either can be culled on its own, and adds a run for both
-//! ([`FrameGraph::runs_together`]). When both survive culling and the
-//! second reads nothing made at or after the first (so it could run in the
-//! first's place), the first pass takes the second's reads, writes and the
-//! joint run, and the second leaves the order: one pass boundary fewer, and
-//! what both read is read once. Otherwise each runs alone.
+//! A recipe whose two passes could share one dispatch declares them as
+//! usual, so each is culled, ordered and run on its own when it must be,
+//! and adds a run for both:
+//! - [`FrameGraph::runs_together`]: two passes that share their reads (the
+//!   G-buffer's surface and motion resolves read the same visibility). When
+//!   both survive culling and the second reads nothing made at or after the
+//!   first, the first pass takes the second's reads, writes and the joint
+//!   run, and the second leaves the order.
+//! - [`FrameGraph::chains_into`]: the second reads the first's output at each
+//!   pixel (Fog, then Sky over it). When nothing else reads the first's
+//!   outputs (no other pass, not the caller), the joint run reads what both
+//!   read and writes the second's outputs only: the first's are never made.
+//!
+//! Either way: one pass boundary fewer, and what both read is read once.
+//! Otherwise each runs alone.
 
-use super::{FrameGraph, GraphParts, PassContext, PassFn};
+use super::{FrameGraph, GraphParts, Lifetime, PassContext, PassFn};
 use crate::error::RenderError;
 
-/// The last two passes declared, and what runs them together.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Kind {
+    Pair,
+    Chain,
+}
+
+/// Which pass comes first: the one declared before the second, or the one
+/// that writes a texture (found when the graph is complete).
+enum First {
+    Before,
+    Writing(String),
+}
+
+/// Two passes, and what runs them together.
 pub(super) struct Merge<'a> {
-    first: usize,
+    first: First,
     second: usize,
+    kind: Kind,
     name: String,
     both: PassFn<'a>,
 }
@@ -28,45 +49,110 @@ impl<'a> FrameGraph<'a> {
         name: impl Into<String>,
         both: impl FnOnce(&mut PassContext<'_>) -> Result<(), RenderError> + 'a,
     ) {
+        self.merge_last(First::Before, Kind::Pair, name.into(), Box::new(both));
+    }
+
+    /// The last pass declared reads `source` pixel by pixel: `both` runs it
+    /// and the pass that writes `source` as one pass `name`, writing only
+    /// the last one's outputs, when nothing else reads the first's.
+    pub fn chains_into(
+        &mut self,
+        source: &str,
+        name: impl Into<String>,
+        both: impl FnOnce(&mut PassContext<'_>) -> Result<(), RenderError> + 'a,
+    ) {
+        let first = First::Writing(source.to_owned());
+        self.merge_last(first, Kind::Chain, name.into(), Box::new(both));
+    }
+
+    fn merge_last(&mut self, first: First, kind: Kind, name: String, both: PassFn<'a>) {
         let n = self.passes.len();
         if n < 2 {
             return;
         }
         self.merges.push(Merge {
-            first: n - 2,
+            first,
             second: n - 1,
-            name: name.into(),
-            both: Box::new(both),
+            kind,
+            name,
+            both,
         });
     }
 }
 
-/// Folds each pair whose passes both run into its first pass (see the module).
+/// Folds each pair that can be one pass into its first pass (see the module).
 pub(super) fn apply<'a>(parts: &mut GraphParts<'a>, merges: Vec<Merge<'a>>) {
+    // A pass folds into at most one other.
+    let mut merged = vec![false; parts.names.len()];
     for merge in merges {
-        let position = |pass: usize| parts.order.iter().position(|&p| p == pass);
-        let (Some(first_at), Some(second_at)) = (position(merge.first), position(merge.second))
-        else {
+        let second = merge.second;
+        let first = match &merge.first {
+            First::Before => second.checked_sub(1),
+            First::Writing(name) => {
+                (0..second).find(|&p| parts.writes[p].iter().any(|(w, _)| w == name))
+            }
+        };
+        let Some(first) = first.filter(|&f| !merged[f] && !merged[second]) else {
             continue;
         };
-        // Every input of the second must exist before the first runs.
+        let position = |pass: usize| parts.order.iter().position(|&p| p == pass);
+        let (Some(first_at), Some(second_at)) = (position(first), position(second)) else {
+            continue;
+        };
+        let made_by_first = |name: &String| parts.writes[first].iter().any(|(w, _)| w == name);
+        // What the second reads besides the first's outputs must exist
+        // before the first runs.
         let made_after_first = |name: &String| {
             parts.order[first_at..]
                 .iter()
                 .any(|&p| parts.writes[p].iter().any(|(w, _)| w == name))
         };
-        if first_at > second_at || parts.reads[merge.second].iter().any(made_after_first) {
+        let in_place = parts.reads[second]
+            .iter()
+            .filter(|r| merge.kind == Kind::Chain && made_by_first(r))
+            .count();
+        let outside = parts.reads[second]
+            .iter()
+            .filter(|r| !(merge.kind == Kind::Chain && made_by_first(r)))
+            .any(made_after_first);
+        if first_at > second_at || outside {
             continue;
         }
+        if merge.kind == Kind::Chain {
+            // The first's outputs: temporaries read by the second alone.
+            let read_elsewhere = parts.writes[first].iter().any(|(w, d)| {
+                d.lifetime != Lifetime::Temporary
+                    || parts.requested.contains(w)
+                    || parts
+                        .order
+                        .iter()
+                        .any(|&p| p != second && parts.reads[p].contains(w))
+            });
+            if in_place == 0 || read_elsewhere {
+                continue;
+            }
+            let dropped = std::mem::take(&mut parts.writes[first]);
+            parts.keys[first].clear();
+            parts.reads[first].retain(|r| !dropped.iter().any(|(w, _)| w == r));
+            let reads = std::mem::take(&mut parts.reads[second]);
+            for r in reads {
+                if !dropped.iter().any(|(w, _)| *w == r) && !parts.reads[first].contains(&r) {
+                    parts.reads[first].push(r);
+                }
+            }
+        } else {
+            let reads = std::mem::take(&mut parts.reads[second]);
+            parts.reads[first].extend(reads);
+        }
         parts.order.remove(second_at);
-        let reads = std::mem::take(&mut parts.reads[merge.second]);
-        let writes = std::mem::take(&mut parts.writes[merge.second]);
-        let keys = std::mem::take(&mut parts.keys[merge.second]);
-        parts.reads[merge.first].extend(reads);
-        parts.writes[merge.first].extend(writes);
-        parts.keys[merge.first].extend(keys);
-        parts.names[merge.first] = merge.name;
-        parts.runs[merge.first] = Some(merge.both);
-        parts.runs[merge.second] = None;
+        let writes = std::mem::take(&mut parts.writes[second]);
+        let keys = std::mem::take(&mut parts.keys[second]);
+        parts.writes[first].extend(writes);
+        parts.keys[first].extend(keys);
+        parts.names[first] = merge.name;
+        parts.runs[first] = Some(merge.both);
+        parts.runs[second] = None;
+        merged[first] = true;
+        merged[second] = true;
     }
 }

@@ -106,6 +106,7 @@ pub const SHADERS: &[ShaderFile] = &[
     shader!("lib/screen.wgsl", library),
     shader!("lib/ao_history.wgsl", library),
     shader!("lib/sky.wgsl", library),
+    shader!("lib/fog.wgsl", library),
     shader!("lib/ibl.wgsl", library),
     shader!("lib/post.wgsl", library),
     shader!("lighting/shadow_sampling.wgsl", library),
@@ -269,6 +270,7 @@ pub const SHADERS: &[ShaderFile] = &[
         Rule::AtMostOne(&["HALF", "TEMPORAL"])
     ),
     shader!("environment/fog.wgsl", []),
+    shader!("environment/fog_and_sky.wgsl", ["ENVIRONMENT"]),
     shader!("post/tonemap.wgsl", ["EYE_ADAPTATION"]),
     shader!("post/eye_adaptation.wgsl", []),
     shader!("post/fxaa.wgsl", []),
