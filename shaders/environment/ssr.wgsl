@@ -1,4 +1,4 @@
-// SSR: screen-space reflection with roughness (crates/render/src/environment/ssr.rs).
+// SSR: screen-space reflection with roughness (crates/render/src/environment/ssr/).
 //
 // hiz_first / hiz_down2 / hiz_down build a hierarchical depth: mip 0 the
 // G-buffer's reversed-Z depth, each further mip the MAX of the texels under
