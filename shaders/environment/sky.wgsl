@@ -3,8 +3,19 @@
 // with ENVIRONMENT an environment cube (a file's or a baked sky's, level 0:
 // unblurred). Elsewhere the input passes through. Radiance is clamped below
 // half-float overflow; a zero direction falls back to straight up.
+//
+// FOG: a Fog under or over this Sky, in this one pass. The two touch
+// disjoint pixels (the fog only surfaces, the sky only the empty
+// background), so in either order each pixel is the fog's
+// (spreadlight::fog, its parameters at binding 7) or the sky's, as the two
+// passes would leave it. The frame graph runs this in their place when
+// nothing else reads the inner pass's image
+// (crates/render/src/environment/pass.rs).
 #import spreadlight::camera::Camera
 #import spreadlight::sky::{Sky, sky_radiance, view_direction}
+#ifdef FOG
+#import spreadlight::fog::{Fog, fogged}
+#endif
 
 @group(0) @binding(0) var<uniform> camera: Camera;
 @group(0) @binding(1) var<uniform> sky: Sky;
@@ -15,6 +26,9 @@
 @group(0) @binding(5) var environment: texture_cube<f32>;
 @group(0) @binding(6) var environment_sampler: sampler;
 #endif
+#ifdef FOG
+@group(0) @binding(7) var<uniform> fog: Fog;
+#endif
 
 @compute @workgroup_size(8, 8)
 fn main(@builtin(global_invocation_id) id: vec3<u32>) {
@@ -23,8 +37,14 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let pixel = id.xy;
-    if (textureLoad(depth, pixel, 0).r > 0.0) {
-        textureStore(output, pixel, textureLoad(source, pixel, 0));
+    let surface = textureLoad(depth, pixel, 0).r;
+    if (surface > 0.0) {
+        let lit = textureLoad(source, pixel, 0);
+#ifdef FOG
+        textureStore(output, pixel, fogged(camera, fog, lit, pixel, surface));
+#else
+        textureStore(output, pixel, lit);
+#endif
         return;
     }
     // The view ray through the pixel, in world space.

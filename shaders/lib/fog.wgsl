@@ -1,6 +1,6 @@
 // Distance and height fog over a lit pixel, shared by the Fog pass
 // (environment/fog.wgsl) and Fog with a Sky over it in one pass
-// (environment/fog_and_sky.wgsl). Along the view ray from the camera to the
+// (environment/sky.wgsl with FOG). Along the view ray from the camera to the
 // pixel's surface, fog density is `density * exp(-falloff * (y - base))`
 // (thinning with height; falloff 0 is uniform fog), starting `start` units
 // from the camera. Its optical depth has a closed form (the integral of an

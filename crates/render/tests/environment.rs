@@ -41,16 +41,24 @@ fn gbuffer(renderer: &Renderer) -> Arc<GBuffer> {
     )
 }
 
-fn sky(renderer: &Renderer, settings: SkySettings) -> (ImageF32, ImageF32) {
-    let g = gbuffer(renderer);
-    // The "lit image": constant magenta, to see what passes through.
-    let lit = StaticTexture::new(GpuTexture::from_rgba32f(
+/// The "lit image" the environment passes run over, at `SIZE`.
+fn lit_image(renderer: &Renderer, pixels: Vec<[f32; 4]>) -> Arc<StaticTexture> {
+    StaticTexture::new(GpuTexture::from_rgba32f(
         &renderer.gpu,
         SIZE.0,
         SIZE.1,
-        &vec![[1.0, 0.0, 1.0, 1.0]; (SIZE.0 * SIZE.1) as usize],
+        &pixels,
         "lit",
-    ));
+    ))
+}
+
+fn sky(renderer: &Renderer, settings: SkySettings) -> (ImageF32, ImageF32) {
+    let g = gbuffer(renderer);
+    // The "lit image": constant magenta, to see what passes through.
+    let lit = lit_image(
+        renderer,
+        vec![[1.0, 0.0, 1.0, 1.0]; (SIZE.0 * SIZE.1) as usize],
+    );
     let sky = Sky::pass(renderer, None, g.clone(), lit.texture_ref(), settings);
     let (report, images) = render_and_read(
         renderer,
@@ -139,13 +147,10 @@ fn fog_over_white(
     settings: FogSettings,
 ) -> (ImageF32, ImageF32, Arc<GBuffer>) {
     let g = gbuffer(renderer);
-    let lit = StaticTexture::new(GpuTexture::from_rgba32f(
-        &renderer.gpu,
-        SIZE.0,
-        SIZE.1,
-        &vec![[1.0, 1.0, 1.0, 1.0]; (SIZE.0 * SIZE.1) as usize],
-        "lit",
-    ));
+    let lit = lit_image(
+        renderer,
+        vec![[1.0, 1.0, 1.0, 1.0]; (SIZE.0 * SIZE.1) as usize],
+    );
     let fog = Fog::pass(renderer, None, g.clone(), lit.texture_ref(), settings);
     let (report, images) = render_and_read(
         renderer,
@@ -287,16 +292,13 @@ fn fog_and_sky_over_each_other_are_one_pass_with_the_image_of_two() {
     use spreadlight_render::environment::FOG_AND_SKY;
     let renderer = test_renderer();
     let g = gbuffer(&renderer);
-    let lit = StaticTexture::new(GpuTexture::from_rgba32f(
-        &renderer.gpu,
-        SIZE.0,
-        SIZE.1,
-        &(0..SIZE.0 * SIZE.1)
+    let lit = lit_image(
+        &renderer,
+        (0..SIZE.0 * SIZE.1)
             // Half-float values: what a pass between would have stored.
             .map(|i| [(i % 7) as f32 * 0.25, 0.5, (i % 5) as f32 * 0.125, 1.0])
             .collect::<Vec<_>>(),
-        "lit",
-    ));
+    );
     let fog_settings = FogSettings {
         density: 0.2,
         ..Default::default()

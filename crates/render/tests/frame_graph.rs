@@ -95,22 +95,34 @@ fn a_pass_with_two_outputs_knows_which_the_frame_reads() {
     );
 }
 
+/// What the passes of a merging test ran, in order.
+type Log = Arc<Mutex<Vec<&'static str>>>;
+
+/// A pass that adds `what` to `log` when it runs.
+fn logs(
+    log: &Log,
+    what: &'static str,
+) -> impl FnOnce(
+    &mut spreadlight_render::frame_graph::PassContext<'_>,
+) -> Result<(), spreadlight_render::RenderError>
++ 'static {
+    let log = log.clone();
+    move |_| {
+        log.lock().expect("log").push(what);
+        Ok(())
+    }
+}
+
 /// Two passes declared to run together: one pass when the frame needs both,
 /// each alone when it needs one, and never merged when the second reads
 /// what the first makes.
 #[test]
 fn a_pair_that_runs_together_is_one_pass_only_when_both_are_needed() {
     let renderer = test_renderer();
-    let log = Arc::new(Mutex::new(Vec::new()));
+    let log: Log = Arc::default();
     let frame = |requests: &[&str], second_reads_first: bool| {
         let mut fg = FrameGraph::new((16, 16));
-        let run = |what: &'static str| {
-            let log = log.clone();
-            move |_: &mut spreadlight_render::frame_graph::PassContext<'_>| {
-                log.lock().expect("log").push(what);
-                Ok(())
-            }
-        };
+        let run = |what: &'static str| logs(&log, what);
         fg.add_pass("source", None, &[], &[("source", target())], run("source"));
         fg.add_pass("first", None, &["source"], &[("a", target())], run("first"));
         let reads: &[&str] = if second_reads_first {
@@ -153,16 +165,10 @@ fn a_pair_that_runs_together_is_one_pass_only_when_both_are_needed() {
 #[test]
 fn a_chain_is_one_pass_only_when_nothing_else_reads_the_inner_output() {
     let renderer = test_renderer();
-    let log = Arc::new(Mutex::new(Vec::new()));
+    let log: Log = Arc::default();
     let frame = |requests: &[&str], third_reads_inner: bool| {
         let mut fg = FrameGraph::new((16, 16));
-        let run = |what: &'static str| {
-            let log = log.clone();
-            move |_: &mut spreadlight_render::frame_graph::PassContext<'_>| {
-                log.lock().expect("log").push(what);
-                Ok(())
-            }
-        };
+        let run = |what: &'static str| logs(&log, what);
         fg.add_pass("source", None, &[], &[("source", target())], run("source"));
         fg.add_pass(
             "inner",

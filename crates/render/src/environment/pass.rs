@@ -3,7 +3,7 @@
 //! its own, and writes a new image of the G-buffer's size.
 //!
 //! Fog and Sky touch disjoint pixels (surfaces, the empty background), so
-//! one over the other is one pass (shaders/environment/fog_and_sky.wgsl):
+//! one over the other is one pass (shaders/environment/sky.wgsl's FOG):
 //! the outer declares its pass and asks the frame graph to chain it into
 //! the inner's ([`FrameGraph::chains_into`]), which it does when nothing
 //! else reads the inner's image.
@@ -161,11 +161,11 @@ impl ImagePass {
         );
         let mut all = vec![
             (0, self.gbuffer.camera_buffer().as_entire_binding()),
-            (1, fog.params.as_entire_binding()),
+            (1, sky.params.as_entire_binding()),
             (2, wgpu::BindingResource::TextureView(&source)),
             (3, wgpu::BindingResource::TextureView(&depth)),
             (4, wgpu::BindingResource::TextureView(&output)),
-            (7, sky.params.as_entire_binding()),
+            (7, fog.params.as_entire_binding()),
         ];
         let maps = match &sky.environment {
             Some(e) => Some(e.maps_for(sky.kind.name())?),
@@ -176,11 +176,15 @@ impl ImagePass {
             all.push((5, wgpu::BindingResource::TextureView(cube)));
             all.push((6, wgpu::BindingResource::Sampler(&maps.sampler)));
         }
-        let features = maps.is_some().then_some("ENVIRONMENT");
+        let features = maps
+            .is_some()
+            .then_some("ENVIRONMENT")
+            .into_iter()
+            .chain(["FOG"]);
         let size = self.gbuffer.pixel_size(cx.output_size);
         cx.dispatch_image(
             "fog and sky",
-            &ShaderKey::new("environment/fog_and_sky.wgsl", features),
+            &ShaderKey::new(ImageKind::Sky.shader(), features),
             &all,
             size,
         )

@@ -257,7 +257,7 @@ pub const SHADERS: &[ShaderFile] = &[
         ["VERTICAL", "COMBINE"],
         Rule::Requires("COMBINE", "VERTICAL")
     ),
-    shader!("environment/sky.wgsl", ["ENVIRONMENT"]),
+    shader!("environment/sky.wgsl", ["ENVIRONMENT", "FOG"]),
     shader!("environment/prefilter.wgsl", []),
     shader!(
         "environment/reflection.wgsl",
@@ -270,7 +270,6 @@ pub const SHADERS: &[ShaderFile] = &[
         Rule::AtMostOne(&["HALF", "TEMPORAL"])
     ),
     shader!("environment/fog.wgsl", []),
-    shader!("environment/fog_and_sky.wgsl", ["ENVIRONMENT"]),
     shader!("post/tonemap.wgsl", ["EYE_ADAPTATION"]),
     shader!("post/eye_adaptation.wgsl", []),
     shader!("post/fxaa.wgsl", []),
