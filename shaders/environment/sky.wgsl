@@ -8,8 +8,9 @@
 // disjoint pixels (the fog only surfaces, the sky only the empty
 // background), so in either order each pixel is the fog's
 // (spreadlight::fog, its parameters at binding 7) or the sky's, as the two
-// passes would leave it. The frame graph runs this in their place when
-// nothing else reads the inner pass's image
+// passes would leave it (but for the half-float rounding of the image
+// between them, when the input is finer). The frame graph runs this in
+// their place when nothing else reads the inner pass's image
 // (crates/render/src/environment/pass.rs).
 #import spreadlight::camera::Camera
 #import spreadlight::sky::{Sky, sky_radiance, view_direction}

@@ -451,8 +451,13 @@ impl Engine {
                 if k == 0 {
                     self.gpu_ms.clear();
                     for pass in report.passes {
-                        if let (Some(owner), Some(ms)) = (pass.owner, pass.gpu_ms) {
-                            *self.gpu_ms.entry(owner).or_default() += ms;
+                        // A pass two nodes share (the frame graph merged
+                        // theirs) counts half to each.
+                        let share = if pass.partner.is_some() { 0.5 } else { 1.0 };
+                        for owner in [pass.owner, pass.partner].into_iter().flatten() {
+                            if let Some(ms) = pass.gpu_ms {
+                                *self.gpu_ms.entry(owner).or_default() += ms * share;
+                            }
                         }
                     }
                     self.gpu_errors.clear();

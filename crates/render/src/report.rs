@@ -8,6 +8,10 @@ use std::collections::BTreeMap;
 pub struct PassReport {
     pub name: String,
     pub owner: Option<u32>,
+    /// Another node whose pass the frame graph ran inside this one
+    /// (frame_graph/merge.rs: Fog and a Sky over it): the pass is both
+    /// nodes' work, and its errors are reported to each.
+    pub partner: Option<u32>,
     /// GPU time from timestamp queries, when the adapter has them.
     pub gpu_ms: Option<f64>,
     /// GPU time idle before this pass: from the end of the previous timed

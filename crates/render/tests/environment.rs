@@ -340,6 +340,15 @@ fn fog_and_sky_over_each_other_are_one_pass_with_the_image_of_two() {
             names.contains(&"Fog #1 and Sky #2") || names.contains(&"Sky #2 and Fog #1"),
             "{names:?}"
         );
+        // The pass is both nodes' work.
+        let merged = one
+            .passes
+            .iter()
+            .find(|p| p.name.contains(" and "))
+            .expect("merged");
+        let mut owners = [merged.owner, merged.partner];
+        owners.sort();
+        assert_eq!(owners, [Some(1), Some(2)]);
         let (two, apart) = render_and_read(
             &renderer,
             outer.as_ref(),

@@ -212,6 +212,44 @@ fn a_chain_is_one_pass_only_when_nothing_else_reads_the_inner_output() {
     assert_eq!(ran, ["source", "inner", "outer"]);
     let (names, ..) = frame(&["outer", "third"], true);
     assert_eq!(names, ["source", "inner", "outer", "third"]);
+
+    // A merged pass of two nodes that fails is reported to both.
+    let mut fg = FrameGraph::new((16, 16));
+    fg.add_pass(
+        "source",
+        None,
+        &[],
+        &[("source", target())],
+        logs(&log, "source"),
+    );
+    fg.add_pass(
+        "inner",
+        Some(7),
+        &["source"],
+        &[("inner", target())],
+        logs(&log, "inner"),
+    );
+    fg.add_pass(
+        "outer",
+        Some(8),
+        &["inner"],
+        &[("outer", target())],
+        logs(&log, "outer"),
+    );
+    fg.chains_into("inner", "inner and outer", |_| {
+        Err(spreadlight_render::RenderError::Graph("broken".to_owned()))
+    });
+    fg.request("outer");
+    let (report, _) = fg.execute(&renderer).expect("executes");
+    let mut blamed: Vec<Option<u32>> = report.errors.iter().map(|(owner, _)| *owner).collect();
+    blamed.sort();
+    assert_eq!(blamed, [Some(7), Some(8)], "{:?}", report.errors);
+    let merged = report
+        .passes
+        .iter()
+        .find(|p| p.name == "inner and outer")
+        .expect("ran");
+    assert_eq!((merged.owner, merged.partner), (Some(7), Some(8)));
 }
 
 #[test]

@@ -233,16 +233,21 @@ fn execute(
             }
         };
         match error {
-            Some(message) => report.errors.push((
-                parts.owners[p],
-                format!("pass `{}`: {message}", parts.names[p]),
-            )),
+            Some(message) => {
+                let message = format!("pass `{}`: {message}", parts.names[p]);
+                // A merged pass's error is both nodes' (merge.rs).
+                if let Some(partner) = parts.partners[p] {
+                    report.errors.push((Some(partner), message.clone()));
+                }
+                report.errors.push((parts.owners[p], message));
+            }
             None => pass_queries.push((report.passes.len(), queries)),
         }
         report.draws += draws;
         report.passes.push(PassReport {
             name: parts.names[p].clone(),
             owner: parts.owners[p],
+            partner: parts.partners[p],
             gpu_ms: None,
             idle_ms: None,
             draws,

@@ -14,7 +14,8 @@
 //!   read and writes the second's outputs only: the first's are never made.
 //!
 //! Either way: one pass boundary fewer, and what both read is read once.
-//! Otherwise each runs alone.
+//! Otherwise each runs alone. A merged pass of two nodes names the second's
+//! as its partner (`PassReport::partner`): its errors go to both.
 
 use super::{FrameGraph, GraphParts, Lifetime, PassContext, PassFn};
 use crate::error::RenderError;
@@ -149,6 +150,9 @@ pub(super) fn apply<'a>(parts: &mut GraphParts<'a>, merges: Vec<Merge<'a>>) {
         let keys = std::mem::take(&mut parts.keys[second]);
         parts.writes[first].extend(writes);
         parts.keys[first].extend(keys);
+        if parts.owners[second] != parts.owners[first] {
+            parts.partners[first] = parts.owners[second];
+        }
         parts.names[first] = merge.name;
         parts.runs[first] = Some(merge.both);
         parts.runs[second] = None;

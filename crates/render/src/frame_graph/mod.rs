@@ -477,6 +477,8 @@ impl<'a> FrameGraph<'a> {
 pub(crate) struct GraphParts<'a> {
     pub names: Vec<String>,
     pub owners: Vec<Option<u32>>,
+    /// Per pass: the owner of another node's pass merged into it (merge.rs).
+    pub partners: Vec<Option<u32>>,
     pub reads: Vec<Vec<String>>,
     pub writes: Vec<Vec<(String, TextureDesc)>>,
     pub runs: Vec<Option<PassFn<'a>>>,
@@ -502,6 +504,7 @@ impl<'a> FrameGraph<'a> {
         let mut parts = GraphParts {
             names: Vec::new(),
             owners: Vec::new(),
+            partners: Vec::new(),
             reads: Vec::new(),
             writes: Vec::new(),
             runs: Vec::new(),
@@ -515,6 +518,7 @@ impl<'a> FrameGraph<'a> {
         for pass in self.passes {
             parts.names.push(pass.name);
             parts.owners.push(pass.owner);
+            parts.partners.push(None);
             parts.reads.push(pass.reads);
             parts.writes.push(pass.writes);
             parts.runs.push(Some(pass.run));

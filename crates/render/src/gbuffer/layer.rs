@@ -64,7 +64,9 @@ impl LayerFeatures {
     /// The resolve shader's features for the motion (velocity, UV) pass.
     pub(crate) fn motion_defines(&self) -> Vec<&'static str> {
         let mut d = vec!["MOTION"];
-        d.extend(self.uv_define());
+        // The UVs the surface pass reads (a normal map reads the mesh's even
+        // with both switches off), so one dispatch for both writes the same.
+        d.extend(self.uv_define().or(self.normal_map.then_some("TEXCOORDS")));
         if self.velocity == VelocitySource::Geometry {
             d.push("VELOCITY_FROM_GEOMETRY");
         }
@@ -275,9 +277,9 @@ impl Layer {
     }
 
     /// The resolve's features for the surface and motion passes in one
-    /// dispatch: the surface's, the texture coordinates the motion pass
-    /// writes (which only maps and shader materials otherwise read), and
-    /// VELOCITY_OUT in place of MOTION.
+    /// dispatch: the surface's, the motion pass's (its texture coordinates,
+    /// which the surface's equal where the surface reads any, and velocity
+    /// from geometry), and VELOCITY_OUT in place of MOTION.
     pub(crate) fn fused_defines(&self) -> Vec<&'static str> {
         let mut d = self.surface_defines();
         for motion in self.features.motion_defines() {
@@ -328,5 +330,10 @@ mod tests {
             ..features
         };
         assert_eq!(triplanar.surface_defines(), ["NORMAL_MAP", "TRIPLANAR"]);
+        // The motion pass writes the UVs the surface pass read, so the two in
+        // one dispatch write what each writes alone.
+        assert_eq!(features.motion_defines(), ["MOTION", "TEXCOORDS"]);
+        assert_eq!(triplanar.motion_defines(), ["MOTION", "TRIPLANAR"]);
+        assert_eq!(LayerFeatures::default().motion_defines(), ["MOTION"]);
     }
 }

@@ -103,10 +103,19 @@ pub(super) fn declare<'a>(g: &'a GBuffer, renderer: &'a Renderer, fg: &mut Frame
         )],
         move |cx| resolve(g, renderer, cx, Targets::Motion),
     );
-    // Both read the visibility: one dispatch per run when the frame reads both.
-    fg.runs_together(label("resolve surface and motion"), move |cx| {
-        resolve(g, renderer, cx, Targets::Both)
-    });
+    // Both read the visibility: one dispatch per run when the frame reads both,
+    // where the device binds the five storage textures that takes with a
+    // surface target (WebGPU's minimum is four).
+    let storage = renderer
+        .gpu
+        .device
+        .limits()
+        .max_storage_textures_per_shader_stage;
+    if t.surface.is_none() || storage >= 5 {
+        fg.runs_together(label("resolve surface and motion"), move |cx| {
+            resolve(g, renderer, cx, Targets::Both)
+        });
+    }
 }
 
 fn visibility(

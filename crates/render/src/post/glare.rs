@@ -147,12 +147,15 @@ impl Glare {
             .shaders
             .sampler(&device, crate::shaders::Sampling::LinearClamp);
         all.push((4, wgpu::BindingResource::Sampler(&linear)));
-        // The source through the sampler too where its format filters.
-        let format = cx.texture(source)?.format();
-        let filterable = matches!(
-            format.sample_type(None, Some(device.features())),
-            Some(wgpu::TextureSampleType::Float { filterable: true })
-        );
+        // The composite reads the source through the sampler too where its
+        // format filters (the other entries read their source by texel).
+        let filterable = entry == "composite"
+            && matches!(
+                cx.texture(source)?
+                    .format()
+                    .sample_type(None, Some(device.features())),
+                Some(wgpu::TextureSampleType::Float { filterable: true })
+            );
         let features = filterable.then_some("FILTERED_SOURCE");
         let size = super::size_of(cx, output)?;
         let key = ShaderKey::new(SHADER, features);
