@@ -347,10 +347,8 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
 // the view distance in alpha (the resolve, or TEMPORAL's trace).
 fn blended(pixel: vec2<u32>, c: vec3<f32>) -> vec4<f32> {
     let now = clean(c);
-    if ((params.flags & 1u) == 0u) {
-        return vec4<f32>(now, 1.0);
-    }
-    // Alpha keeps the view distance, so next frame can tell the same surface.
+    // Alpha keeps the view distance, so next frame can tell the same
+    // surface: also on a frame with no history, which the next can blend.
     let d = textureLoad(depth, pixel, 0).r;
     if (d <= 0.0) {
         return vec4<f32>(now, 0.0);
@@ -358,6 +356,9 @@ fn blended(pixel: vec2<u32>, c: vec3<f32>) -> vec4<f32> {
     let h = camera.projection_inverse * vec4<f32>(pixel_to_ndc(pixel, camera.size), d, 1.0);
     let p = h.xyz / h.w;
     let distance = min(-p.z, 65000.0);
+    if ((params.flags & 1u) == 0u) {
+        return vec4<f32>(now, distance);
+    }
     let uv = (vec2<f32>(pixel) + 0.5) * camera.size.zw;
     let before = uv - textureLoad(velocity_uv, pixel, 0).xy;
     if (any(before < vec2<f32>(0.0)) || any(before >= vec2<f32>(1.0)) || any(before != before)) {

@@ -368,41 +368,35 @@ fn at_full_resolution_the_trace_blends_its_history_in_as_a_resolve_pass_would() 
     }
     let blend = SsrSettings::default().blend;
     let close = |a: f32, b: f32| (a - b).abs() <= 2e-3 * b.abs().max(1.0);
-    let (first, second, third) = (&blended[0].1, &blended[1].1, &blended[2].1);
     let mut mixed = 0;
-    for i in 0..first.pixels.len() {
-        // Frame 1 has no history: the trace alone. Frame 2's history holds no
-        // distances yet (a fresh one stores 1): the trace alone, with its distance.
+    // Frame 1 has no history: the trace alone, with the view distance in
+    // alpha (0 on the sky). Frames 2 and 3: last frame's result blended with
+    // the trace where the surface is the same (a still camera: every
+    // surface pixel), the trace alone on the sky.
+    for i in 0..blended[0].1.pixels.len() {
+        let first = &blended[0].1.pixels[i];
         for k in 0..3 {
-            assert!(
-                close(first.pixels[i][k], traced[0].1.pixels[i][k]),
-                "pixel {i}"
-            );
-            assert!(
-                close(second.pixels[i][k], traced[1].1.pixels[i][k]),
-                "pixel {i}"
-            );
+            assert!(close(first[k], traced[0].1.pixels[i][k]), "pixel {i}");
         }
-        assert_eq!(first.pixels[i][3], 1.0);
-        // Frame 3: last frame's result blended with the trace where the
-        // surface is the same (a still camera: every surface pixel), alone on the sky.
-        let now = &traced[2].1.pixels[i];
-        let last = &second.pixels[i];
-        let sky = last[3] == 0.0;
-        for k in 0..3 {
-            let want = if sky {
-                now[k]
-            } else {
-                last[k] + (now[k] - last[k]) * blend
-            };
-            assert!(
-                close(third.pixels[i][k], want),
-                "pixel {i}, channel {k}: {} against {want}",
-                third.pixels[i][k]
-            );
+        for frame in 1..3 {
+            let (got, last) = (&blended[frame].1.pixels[i], &blended[frame - 1].1.pixels[i]);
+            let now = &traced[frame].1.pixels[i];
+            let sky = last[3] == 0.0;
+            for k in 0..3 {
+                let want = if sky {
+                    now[k]
+                } else {
+                    last[k] + (now[k] - last[k]) * blend
+                };
+                assert!(
+                    close(got[k], want),
+                    "frame {frame}, pixel {i}, channel {k}: {} against {want}",
+                    got[k]
+                );
+            }
+            assert_eq!(got[3], first[3], "the view distance stays");
+            mixed += usize::from(!sky && (now[0] - last[0]).abs() > 1e-3);
         }
-        assert_eq!(third.pixels[i][3], last[3], "the view distance stays");
-        mixed += usize::from(!sky && (now[0] - last[0]).abs() > 1e-3);
     }
     assert!(mixed > 20, "the jitter moves {mixed} pixels between frames");
 
