@@ -375,8 +375,8 @@ fn at_full_resolution_the_trace_blends_its_history_in_as_a_resolve_pass_would() 
     // surface pixel), the trace alone on the sky.
     for i in 0..blended[0].1.pixels.len() {
         let first = &blended[0].1.pixels[i];
-        for k in 0..3 {
-            assert!(close(first[k], traced[0].1.pixels[i][k]), "pixel {i}");
+        for (got, want) in first[..3].iter().zip(&traced[0].1.pixels[i]) {
+            assert!(close(*got, *want), "pixel {i}");
         }
         for frame in 1..3 {
             let (got, last) = (&blended[frame].1.pixels[i], &blended[frame - 1].1.pixels[i]);
