@@ -366,3 +366,41 @@ fn fog_and_sky_over_each_other_are_one_pass_with_the_image_of_two() {
         assert!(sky_pixel[1] != 0.5, "{sky_pixel:?}");
     }
 }
+
+/// Only a Fog and a Sky on the same G-buffer run as one: a Sky over a Sky,
+/// or a Fog over a Sky of another G-buffer, stay two passes.
+#[test]
+fn only_fog_and_sky_of_one_gbuffer_run_as_one_pass() {
+    use spreadlight_render::environment::FOG_AND_SKY;
+    let renderer = test_renderer();
+    let (g, other) = (gbuffer(&renderer), gbuffer(&renderer));
+    let lit = lit_image(
+        &renderer,
+        vec![[0.5, 0.5, 0.5, 1.0]; (SIZE.0 * SIZE.1) as usize],
+    );
+    let sky = || SkySettings::default();
+    let under = Sky::pass(&renderer, Some(1), g.clone(), lit.texture_ref(), sky());
+    let sky_over_sky = Sky::pass(&renderer, Some(2), g.clone(), under.texture(), sky());
+    let elsewhere = Sky::pass(&renderer, Some(3), other, lit.texture_ref(), sky());
+    let fog_over_other = Fog::pass(
+        &renderer,
+        Some(4),
+        g,
+        elsewhere.texture(),
+        FogSettings::default(),
+    );
+    for outer in [sky_over_sky, fog_over_other] {
+        let (report, images) =
+            render_and_read(&renderer, outer.as_ref(), SIZE, &[&outer.output]).expect("renders");
+        assert!(report.errors.is_empty(), "{:?}", report.errors);
+        assert_eq!(report.counter(FOG_AND_SKY), 0);
+        let apart = report
+            .passes
+            .iter()
+            .filter(|p| p.name.starts_with("Sky #") || p.name.starts_with("Fog #"))
+            .filter(|p| !p.name.contains(" and "))
+            .count();
+        assert_eq!(apart, 2, "{:?}", report.passes);
+        assert!(images[0].all_finite());
+    }
+}
