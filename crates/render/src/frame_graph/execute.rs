@@ -9,6 +9,8 @@
 //!   one encoder under one scope (fewer command buffers and transitions for
 //!   wgpu to stitch); an error there drops that frame and switches the
 //!   renderer to `Isolated` for good, which then names the failing pass.
+//!   "One encoder" is a few ([`FRAME_CHUNKS`](super::FRAME_CHUNKS)): each run of passes is
+//!   finished on another thread while the next records (finisher.rs).
 //! - `Timing::PerPass` writes timestamps around every pass and waits for
 //!   them (the per-pass figures of `stats` and `bench`); `Frame` only around
 //!   the first and the last pass; `Off` writes none and never waits, so the
@@ -19,6 +21,7 @@ use std::collections::HashMap;
 
 use rustc_hash::{FxHashMap, FxHashSet};
 
+use super::finisher::chunk_of;
 use super::{FrameGraph, Lifetime, PassContext, Recorded};
 use crate::error::RenderError;
 use crate::renderer::{MAX_QUERIES, PERSISTENT_IDLE_GRAPHS, Recording, Renderer, Timing};
@@ -124,6 +127,7 @@ fn execute(
     };
     let frame_scope = batched.then(|| device.push_error_scope(wgpu::ErrorFilter::Validation));
     let mut shared = batched.then(|| new_encoder("frame"));
+    let mut finishing = batched.then(|| renderer.finisher().begin());
     let steps = parts.order.len();
 
     for (step, &p) in parts.order.clone().iter().enumerate() {
@@ -212,7 +216,16 @@ fn execute(
             add_counter(&mut report, name, n);
         }
         let error = if batched {
-            shared = Some(encoder);
+            // The end of a run of passes: wgpu encodes it beside the next.
+            match &mut finishing {
+                Some(finishing)
+                    if step + 1 < steps && chunk_of(step + 1, steps) != chunk_of(step, steps) =>
+                {
+                    finishing.send(encoder);
+                    shared = Some(new_encoder("frame"));
+                }
+                _ => shared = Some(encoder),
+            }
             result.err().map(|e| e.to_string())
         } else {
             let buffer = encoder.finish();
@@ -310,24 +323,48 @@ fn execute(
             commands.push(encoder.finish());
         }
     }
-    if let (Some(encoder), Some(scope)) = (shared, frame_scope) {
-        let buffer = encoder.finish();
-        match pollster::block_on(scope.pop()) {
-            // A batched frame that fails validation is dropped whole; from
-            // now on passes record apart, so the next frame names the pass.
-            Some(e) => {
-                renderer.set_recording(Recording::Isolated);
-                report.errors.push((
-                    None,
+    if let (Some(encoder), Some(scope), Some(finishing)) = (shared, frame_scope, finishing) {
+        let last = encoder.finish();
+        let here = pollster::block_on(scope.pop());
+        if finishing.sent() > 0 {
+            add_counter(
+                &mut report,
+                "command buffers finished aside",
+                finishing.sent() as u64,
+            );
+        }
+        // The runs finished aside come first: their errors are the earlier.
+        let dropped = match finishing.collect() {
+            Some(finished) => {
+                let mut first = None;
+                for (buffer, error) in finished {
+                    commands.push(buffer);
+                    first = first.or(error);
+                }
+                commands.push(last);
+                first.or(here).map(|e| {
+                    // From now on passes record apart, so the next frame names the pass.
+                    renderer.set_recording(Recording::Isolated);
                     format!(
                         "the frame failed validation and was dropped; passes record separately from now on: {e}"
-                    ),
-                ));
-                pass_queries.clear();
-                next_query = 0;
+                    )
+                })
             }
-            None => commands.push(buffer),
+            None => Some(
+                "the thread finishing the frame's command encoders stopped; the frame was dropped"
+                    .to_owned(),
+            ),
+        };
+        // A batched frame that fails is dropped whole.
+        if let Some(message) = dropped {
+            report.errors.push((None, message));
+            commands.clear();
+            pass_queries.clear();
+            next_query = 0;
         }
+    }
+    if !commands.is_empty() {
+        add_counter(&mut report, "command buffers", commands.len() as u64);
     }
     let submission = renderer.gpu.submit(commands);
     report.record_ms = started.elapsed().as_secs_f64() * 1e3;

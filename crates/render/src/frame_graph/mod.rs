@@ -15,6 +15,7 @@ use std::collections::BTreeMap;
 use rustc_hash::{FxHashMap, FxHashSet};
 
 mod execute;
+mod finisher;
 mod history;
 
 use crate::context::GpuContext;
@@ -23,6 +24,8 @@ use crate::shaders::ShaderCache;
 
 pub use crate::report::{FrameReport, PassReport};
 pub use crate::texture_pool::TextureKey;
+pub use finisher::FRAME_CHUNKS;
+pub(crate) use finisher::Finisher;
 pub use history::{COPIED as HISTORIES_COPIED, HANDED_OVER as HISTORIES_HANDED_OVER};
 
 /// How big a texture is.
