@@ -62,7 +62,7 @@ fn a_batched_frame_submits_a_few_command_buffers_finished_beside_its_recording()
         report.counter("command buffers finished aside"),
         FRAME_CHUNKS as u64 - 1
     );
-    // A frame of fewer passes than runs has one encoder a pass.
+    // A frame of one or two passes has one encoder a pass.
     let small = frame(&renderer, 2, None);
     assert_eq!(small.counter("command buffers"), 2);
     assert_eq!(small.counter("command buffers finished aside"), 1);
