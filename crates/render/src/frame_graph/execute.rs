@@ -58,7 +58,11 @@ fn execute(
     let mut parts = graph.into_parts(&|name| textures.persistent.contains_key(name))?;
 
     // Where each texture is last read, so temporaries go back to the pool after it.
-    let mut last_use: FxHashMap<&str, usize> = FxHashMap::default();
+    // Maps and vectors sized once (they grew pass by pass).
+    let mut last_use: FxHashMap<&str, usize> = FxHashMap::with_capacity_and_hasher(
+        parts.writes.iter().map(Vec::len).sum(),
+        Default::default(),
+    );
     for (step, &p) in parts.order.iter().enumerate() {
         for name in parts.reads[p]
             .iter()
@@ -82,7 +86,8 @@ fn execute(
     let mut release_instead: FxHashMap<String, wgpu::Texture> = FxHashMap::default();
     // Which of the passes of its name each pass is, in declaration order:
     // with the pass name, what keeps an output's texture from frame to frame.
-    let mut seen: FxHashMap<&str, u32> = FxHashMap::default();
+    let mut seen: FxHashMap<&str, u32> =
+        FxHashMap::with_capacity_and_hasher(parts.names.len(), Default::default());
     let occurrence: Vec<u32> = parts
         .names
         .iter()
@@ -106,9 +111,10 @@ fn execute(
     for (name, n) in std::mem::take(&mut parts.counters) {
         add_counter(&mut report, name, n);
     }
+    report.passes.reserve(parts.order.len());
     let mut owned = Vec::new();
     let mut commands = Vec::new();
-    let mut pass_queries: Vec<(usize, Vec<(u32, u32)>)> = Vec::new();
+    let mut pass_queries: Vec<(usize, Vec<(u32, u32)>)> = Vec::with_capacity(parts.order.len());
     let mut next_query = 0u32;
     let timestamps = renderer.timestamps().filter(|_| timing != Timing::Off);
     let capacity = if timestamps.is_some() { MAX_QUERIES } else { 0 };

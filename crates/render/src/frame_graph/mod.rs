@@ -401,7 +401,12 @@ impl<'a> FrameGraph<'a> {
         &self,
         persistent: &dyn Fn(&str) -> bool,
     ) -> Result<(Vec<usize>, Vec<usize>), RenderError> {
-        let mut producer: FxHashMap<&str, usize> = FxHashMap::default();
+        // Sized once: a frame of ~50 passes grew these maps and vectors
+        // step by step (1% of the recording thread in session 11's profile).
+        let mut producer: FxHashMap<&str, usize> = FxHashMap::with_capacity_and_hasher(
+            self.passes.iter().map(|p| p.writes.len()).sum(),
+            Default::default(),
+        );
         for (i, pass) in self.passes.iter().enumerate() {
             for (name, _) in &pass.writes {
                 if let Some(other) = producer.insert(name, i) {
@@ -449,7 +454,7 @@ impl<'a> FrameGraph<'a> {
                 }
             }
         }
-        let mut order = Vec::new();
+        let mut order = Vec::with_capacity(self.passes.len());
         let mut ready: std::collections::BTreeSet<usize> = (0..self.passes.len())
             .filter(|&i| live[i] && indegree[i] == 0)
             .collect();
@@ -498,12 +503,13 @@ impl<'a> FrameGraph<'a> {
             .iter()
             .map(|p| p.writes.iter().map(|(_, d)| self.resolve(d)).collect())
             .collect();
+        let n = self.passes.len();
         let mut parts = GraphParts {
-            names: Vec::new(),
-            owners: Vec::new(),
-            reads: Vec::new(),
-            writes: Vec::new(),
-            runs: Vec::new(),
+            names: Vec::with_capacity(n),
+            owners: Vec::with_capacity(n),
+            reads: Vec::with_capacity(n),
+            writes: Vec::with_capacity(n),
+            runs: Vec::with_capacity(n),
             order,
             culled,
             requested: self.requested,
