@@ -332,15 +332,18 @@ fn execute(
     if let (Some(encoder), Some(scope), Some(finishing)) = (shared, frame_scope, finishing) {
         let last = encoder.finish();
         let here = pollster::block_on(scope.pop());
-        if finishing.sent() > 0 {
-            add_counter(
-                &mut report,
-                "command buffers finished aside",
-                finishing.sent() as u64,
-            );
+        let sent = finishing.sent() as u64;
+        let collected = finishing.collect();
+        for (name, n) in [
+            ("command encoders handed over", sent),
+            ("command encoders taken back", collected.taken_back as u64),
+        ] {
+            if n > 0 {
+                add_counter(&mut report, name, n);
+            }
         }
-        // The runs finished aside come first: their errors are the earlier.
-        let dropped = match finishing.collect() {
+        // The runs handed over come first: their errors are the earlier.
+        let dropped = match collected.finished {
             Some(finished) => {
                 let mut first = None;
                 for (buffer, error) in finished {
@@ -357,7 +360,7 @@ fn execute(
                 })
             }
             None => Some(
-                "the thread finishing the frame's command encoders stopped; the frame was dropped"
+                "finishing a command encoder of the frame panicked; the frame was dropped"
                     .to_owned(),
             ),
         };

@@ -4,16 +4,19 @@
 //! backend only at `CommandEncoder::finish`: a fifth to a quarter of the
 //! recording thread in the profiles of docs/benchmarks.md. A batched frame is
 //! therefore recorded into [`FRAME_CHUNKS`] encoders, each holding a run of
-//! consecutive passes; every one but the last is finished here, on one thread
-//! the renderer keeps, while the recording thread records the next run.
+//! consecutive passes; every one but the last is handed to one thread the
+//! renderer keeps, which finishes it while the recording thread records the
+//! next run. One the thread has not begun when the recording is done (it got
+//! no core in time: a loaded machine) is taken back and finished where it was
+//! recorded, so the frame is never later than with no thread.
 //!
 //! Error scopes are per thread in wgpu 30 (an error is caught by the scopes
 //! of the thread that raised it), and recording errors surface at `finish`:
 //! the finishing thread opens its own scope around each `finish` and hands
 //! back what it caught, so a frame that fails validation is still dropped.
 
-use std::sync::mpsc::{Receiver, Sender, channel};
-use std::sync::{Mutex, MutexGuard};
+use std::collections::VecDeque;
+use std::sync::{Arc, Condvar, Mutex, MutexGuard};
 use std::thread::JoinHandle;
 
 /// Encoders a batched frame is recorded into (at most: a frame of fewer
@@ -44,9 +47,40 @@ pub(crate) struct Finisher {
 }
 
 struct Worker {
-    jobs: Sender<wgpu::CommandEncoder>,
-    finished: Receiver<Finished>,
+    shared: Arc<Shared>,
     thread: JoinHandle<()>,
+}
+
+/// What the recording thread and the finishing thread share.
+#[derive(Default)]
+struct Shared {
+    state: Mutex<State>,
+    /// Jobs queued, or the queue closed: for the finishing thread.
+    queued: Condvar,
+    /// A job finished: for the recording thread.
+    finished: Condvar,
+}
+
+#[derive(Default)]
+struct State {
+    /// Encoders not yet begun, with their place in the frame.
+    jobs: VecDeque<(usize, wgpu::CommandEncoder)>,
+    /// This frame's results by place.
+    results: Vec<Slot>,
+    /// Jobs the finishing thread is on.
+    busy: usize,
+    closed: bool,
+}
+
+enum Slot {
+    Pending,
+    Done(Finished),
+    /// `finish` panicked (inside wgpu): the buffer is lost.
+    Lost,
+}
+
+fn lock(shared: &Shared) -> MutexGuard<'_, State> {
+    shared.state.lock().unwrap_or_else(|e| e.into_inner())
 }
 
 impl Finisher {
@@ -76,32 +110,47 @@ impl Finisher {
 impl Drop for Finisher {
     fn drop(&mut self) {
         let worker = self.worker.get_mut().unwrap_or_else(|e| e.into_inner());
-        if let Some(Worker { jobs, thread, .. }) = worker.take() {
-            // With its queue closed the thread ends after the encoder it finishes.
-            drop(jobs);
+        if let Some(Worker { shared, thread }) = worker.take() {
+            lock(&shared).closed = true;
+            shared.queued.notify_one();
             let _ = thread.join();
         }
     }
 }
 
 fn spawn(device: wgpu::Device) -> Option<Worker> {
-    let (jobs, queue) = channel::<wgpu::CommandEncoder>();
-    let (done, finished) = channel();
+    let shared = Arc::new(Shared::default());
+    let theirs = shared.clone();
     let thread = std::thread::Builder::new()
         .name("spreadlight encoder finish".into())
-        .spawn(move || {
-            for encoder in queue {
-                if done.send(finish(&device, encoder)).is_err() {
-                    break;
-                }
-            }
-        })
+        .spawn(move || work(&device, &theirs))
         .ok()?;
-    Some(Worker {
-        jobs,
-        finished,
-        thread,
-    })
+    Some(Worker { shared, thread })
+}
+
+/// The finishing thread: take the oldest job, finish it, hand it back.
+fn work(device: &wgpu::Device, shared: &Shared) {
+    let mut state = lock(shared);
+    loop {
+        if let Some((place, encoder)) = state.jobs.pop_front() {
+            state.busy += 1;
+            drop(state);
+            let slot = match std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+                finish(device, encoder)
+            })) {
+                Ok(done) => Slot::Done(done),
+                Err(_) => Slot::Lost,
+            };
+            state = lock(shared);
+            state.results[place] = slot;
+            state.busy -= 1;
+            shared.finished.notify_one();
+        } else if state.closed {
+            return;
+        } else {
+            state = shared.queued.wait(state).unwrap_or_else(|e| e.into_inner());
+        }
+    }
 }
 
 /// Finish `encoder` inside a validation scope of the calling thread.
@@ -111,55 +160,84 @@ fn finish(device: &wgpu::Device, encoder: wgpu::CommandEncoder) -> Finished {
     (buffer, pollster::block_on(scope.pop()))
 }
 
-/// One frame's use of the finishing thread: encoders sent, in order.
+/// One frame's use of the finishing thread: encoders handed over, in order.
 pub(crate) struct Finishing<'a> {
     device: &'a wgpu::Device,
     worker: MutexGuard<'a, Option<Worker>>,
     sent: usize,
-    /// Encoders finished on this thread (no finishing thread, or it died).
+    /// Encoders finished on this thread (no finishing thread could start).
     here: Vec<Finished>,
 }
 
+/// What [`Finishing::collect`] hands back.
+pub(crate) struct Collected {
+    /// Every encoder handed over, finished, in the order handed over; `None`
+    /// if one was lost (a panic inside wgpu): the frame cannot be submitted.
+    pub finished: Option<Vec<Finished>>,
+    /// Encoders handed over that the finishing thread had not begun when the
+    /// recording thread was done: it finished them itself.
+    pub taken_back: usize,
+}
+
 impl Finishing<'_> {
-    /// Finish `encoder` on the finishing thread while the caller records on.
+    /// Hand `encoder` to the finishing thread while the caller records on.
     pub fn send(&mut self, encoder: wgpu::CommandEncoder) {
+        self.sent += 1;
         let Some(worker) = self.worker.as_ref() else {
             self.here.push(finish(self.device, encoder));
             return;
         };
-        match worker.jobs.send(encoder) {
-            Ok(()) => self.sent += 1,
-            // The thread is gone (a panic inside wgpu): finish here.
-            Err(returned) => self.here.push(finish(self.device, returned.0)),
-        }
+        let mut state = lock(&worker.shared);
+        let place = state.results.len();
+        state.results.push(Slot::Pending);
+        state.jobs.push_back((place, encoder));
+        drop(state);
+        worker.shared.queued.notify_one();
     }
 
-    /// How many encoders went to the finishing thread this frame.
+    /// How many encoders were handed over this frame.
     pub fn sent(&self) -> usize {
         self.sent
     }
 
-    /// Every encoder sent, finished, in the order sent; `None` if the
-    /// finishing thread died before handing them all back (its buffers are
-    /// lost, so the frame cannot be submitted).
-    pub fn collect(mut self) -> Option<Vec<Finished>> {
-        let mut all = Vec::with_capacity(self.sent + self.here.len());
-        if let Some(worker) = self.worker.as_ref() {
-            for _ in 0..self.sent {
-                match worker.finished.recv() {
-                    Ok(finished) => all.push(finished),
-                    Err(_) => {
-                        // The next frame starts another thread.
-                        *self.worker = None;
-                        return None;
-                    }
-                }
-            }
+    /// Every encoder handed over, finished. Those the finishing thread has
+    /// not begun (it did not get a core in time) are finished here rather
+    /// than waited for, so a frame never takes longer than finishing all on
+    /// the recording thread would, beyond waiting for the one in progress.
+    pub fn collect(self) -> Collected {
+        let Some(worker) = self.worker.as_ref() else {
+            return Collected {
+                taken_back: self.here.len(),
+                finished: Some(self.here),
+            };
+        };
+        let shared = &worker.shared;
+        let mut taken_back = 0;
+        let mut state = lock(shared);
+        while let Some((place, encoder)) = state.jobs.pop_front() {
+            drop(state);
+            let done = finish(self.device, encoder);
+            taken_back += 1;
+            state = lock(shared);
+            state.results[place] = Slot::Done(done);
         }
-        // Finished here only where no thread took them: all of the frame, or
-        // (the thread gone) none sent before them is left.
-        all.append(&mut self.here);
-        Some(all)
+        while state.busy > 0 {
+            state = shared
+                .finished
+                .wait(state)
+                .unwrap_or_else(|e| e.into_inner());
+        }
+        let finished = std::mem::take(&mut state.results)
+            .into_iter()
+            .map(|slot| match slot {
+                Slot::Done(done) => Some(done),
+                Slot::Pending | Slot::Lost => None,
+            })
+            .collect();
+        Collected {
+            finished,
+            taken_back,
+        }
     }
 }
 
