@@ -70,6 +70,10 @@ struct State {
     /// Jobs the finishing thread is on.
     busy: usize,
     closed: bool,
+    /// Who is asleep on a condition variable: a wake is a system call
+    /// (about 15 us on the development machine), made only for a sleeper.
+    worker_asleep: bool,
+    recorder_asleep: bool,
 }
 
 enum Slot {
@@ -112,6 +116,7 @@ impl Drop for Finisher {
         let worker = self.worker.get_mut().unwrap_or_else(|e| e.into_inner());
         if let Some(Worker { shared, thread }) = worker.take() {
             lock(&shared).closed = true;
+            // Asleep or about to look at the queue (under the lock): either way it sees `closed`.
             shared.queued.notify_one();
             let _ = thread.join();
         }
@@ -144,11 +149,15 @@ fn work(device: &wgpu::Device, shared: &Shared) {
             state = lock(shared);
             state.results[place] = slot;
             state.busy -= 1;
-            shared.finished.notify_one();
+            if state.recorder_asleep {
+                shared.finished.notify_one();
+            }
         } else if state.closed {
             return;
         } else {
+            state.worker_asleep = true;
             state = shared.queued.wait(state).unwrap_or_else(|e| e.into_inner());
+            state.worker_asleep = false;
         }
     }
 }
@@ -191,8 +200,11 @@ impl Finishing<'_> {
         let place = state.results.len();
         state.results.push(Slot::Pending);
         state.jobs.push_back((place, encoder));
+        let asleep = state.worker_asleep;
         drop(state);
-        worker.shared.queued.notify_one();
+        if asleep {
+            worker.shared.queued.notify_one();
+        }
     }
 
     /// How many encoders were handed over this frame.
@@ -222,10 +234,12 @@ impl Finishing<'_> {
             state.results[place] = Slot::Done(done);
         }
         while state.busy > 0 {
+            state.recorder_asleep = true;
             state = shared
                 .finished
                 .wait(state)
                 .unwrap_or_else(|e| e.into_inner());
+            state.recorder_asleep = false;
         }
         let finished = std::mem::take(&mut state.results)
             .into_iter()
