@@ -260,6 +260,36 @@ mod tests {
     use super::*;
 
     #[test]
+    fn encoders_the_thread_has_not_begun_are_finished_by_the_recording_thread() {
+        let renderer = crate::renderer::test_renderer();
+        let device = renderer.gpu.device.clone();
+        // A finishing thread that never takes a job (it ends at once): as
+        // one that gets no core before the recording is done.
+        let finisher = Finisher::new(device.clone());
+        *finisher.worker.lock().expect("unpoisoned") = Some(Worker {
+            shared: Arc::new(Shared::default()),
+            thread: std::thread::spawn(|| {}),
+        });
+        let mut finishing = finisher.begin();
+        for label in ["first run", "second run"] {
+            finishing.send(
+                device
+                    .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some(label) }),
+            );
+        }
+        assert_eq!(finishing.sent(), 2);
+        let collected = finishing.collect();
+        assert_eq!(collected.taken_back, 2);
+        let finished = collected.finished.expect("nothing lost");
+        assert_eq!(finished.len(), 2);
+        assert!(finished.iter().all(|(_, error)| error.is_none()));
+        renderer
+            .gpu
+            .submit(finished.into_iter().map(|(buffer, _)| buffer));
+        renderer.wait_idle().expect("drains");
+    }
+
+    #[test]
     fn runs_are_in_order_and_the_last_is_the_shortest() {
         for steps in 1..40 {
             let chunks: Vec<usize> = (0..steps).map(|s| chunk_of(s, steps)).collect();
