@@ -121,3 +121,35 @@ fn an_encoding_error_in_any_run_of_a_batched_frame_drops_it_and_the_next_names_t
     }
     renderer.wait_idle().expect("drains");
 }
+
+#[test]
+fn a_frame_that_panicked_while_recording_leaves_nothing_for_the_next() {
+    let renderer = test_renderer();
+    renderer.set_timing(Timing::Off);
+    renderer.set_recording(Recording::Batched);
+    let passes = 2 * FRAME_CHUNKS + 1;
+    // The last pass panics after the runs before it were handed over.
+    let panicked = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+        let mut fg = FrameGraph::new((4, 4));
+        let names: Vec<String> = (0..passes).map(|i| format!("pass {i}")).collect();
+        for (i, name) in names.iter().enumerate() {
+            fg.add_pass(
+                name.clone(),
+                Some(i as u32),
+                &[],
+                &[(name.as_str(), target())],
+                move |_| match i + 1 == passes {
+                    true => panic!("a pass that panics"),
+                    false => Ok(()),
+                },
+            );
+            fg.request(name);
+        }
+        fg.execute(&renderer)
+    }));
+    assert!(panicked.is_err());
+    let report = frame(&renderer, passes, None);
+    assert!(report.errors.is_empty(), "{:?}", report.errors);
+    assert_eq!(report.counter("command buffers"), FRAME_CHUNKS as u64);
+    renderer.wait_idle().expect("drains");
+}

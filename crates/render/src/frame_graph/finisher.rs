@@ -99,8 +99,15 @@ impl Finisher {
     /// Where no thread can be started, encoders are finished where they are sent.
     pub fn begin(&self) -> Finishing<'_> {
         let mut worker = self.worker.lock().unwrap_or_else(|e| e.into_inner());
-        if worker.is_none() {
-            *worker = spawn(self.device.clone());
+        match worker.as_ref() {
+            None => *worker = spawn(self.device.clone()),
+            // A frame that panicked while recording never collected: what it
+            // handed over is not this frame's.
+            Some(Worker { shared, .. }) => {
+                let mut state = lock(shared);
+                state.jobs.clear();
+                until_idle(shared, state).results.clear();
+            }
         }
         Finishing {
             device: &self.device,
@@ -160,6 +167,19 @@ fn work(device: &wgpu::Device, shared: &Shared) {
             state.worker_asleep = false;
         }
     }
+}
+
+/// Wait (asleep) until the finishing thread is on no job.
+fn until_idle<'a>(shared: &'a Shared, mut state: MutexGuard<'a, State>) -> MutexGuard<'a, State> {
+    while state.busy > 0 {
+        state.recorder_asleep = true;
+        state = shared
+            .finished
+            .wait(state)
+            .unwrap_or_else(|e| e.into_inner());
+        state.recorder_asleep = false;
+    }
+    state
 }
 
 /// Finish `encoder` inside a validation scope of the calling thread.
@@ -233,14 +253,7 @@ impl Finishing<'_> {
             state = lock(shared);
             state.results[place] = Slot::Done(done);
         }
-        while state.busy > 0 {
-            state.recorder_asleep = true;
-            state = shared
-                .finished
-                .wait(state)
-                .unwrap_or_else(|e| e.into_inner());
-            state.recorder_asleep = false;
-        }
+        let mut state = until_idle(shared, state);
         let finished = std::mem::take(&mut state.results)
             .into_iter()
             .map(|slot| match slot {
