@@ -48,7 +48,8 @@ pub enum Recording {
     /// Each pass in its own command encoder and error scope: an error names its pass.
     #[default]
     Isolated,
-    /// The whole frame in one command encoder; an error drops the frame and
+    /// The whole frame in a few command encoders (`FRAME_CHUNKS` runs of
+    /// passes, finished beside the recording); an error drops the frame and
     /// switches to `Isolated`.
     Batched,
 }

@@ -6,11 +6,12 @@
 //! - `Recording::Isolated` records each pass into its own command encoder
 //!   inside a validation error scope, so an error names its pass and the
 //!   rest of the frame still renders. `Batched` records the whole frame into
-//!   one encoder under one scope (fewer command buffers and transitions for
-//!   wgpu to stitch); an error there drops that frame and switches the
-//!   renderer to `Isolated` for good, which then names the failing pass.
-//!   "One encoder" is a few ([`FRAME_CHUNKS`](super::FRAME_CHUNKS)): each run of passes is
-//!   finished on another thread while the next records (finisher.rs).
+//!   a few encoders ([`FRAME_CHUNKS`](super::FRAME_CHUNKS), each a run of
+//!   passes, all but the last finished on another thread while the next
+//!   records: finisher.rs) under one scope a thread (fewer command buffers
+//!   and transitions for wgpu to stitch than one a pass); an error there
+//!   drops that frame and switches the renderer to `Isolated` for good,
+//!   which then names the failing pass.
 //! - `Timing::PerPass` writes timestamps around every pass and waits for
 //!   them (the per-pass figures of `stats` and `bench`); `Frame` only around
 //!   the first and the last pass; `Off` writes none and never waits, so the
@@ -167,7 +168,7 @@ fn execute(
             live.insert(name.clone(), texture);
         }
 
-        // Batched: the frame's one encoder; isolated: one named for the pass.
+        // Batched: the encoder of the pass's run; isolated: one named for the pass.
         let encoder = shared
             .take()
             .unwrap_or_else(|| new_encoder(&parts.names[p]));
