@@ -86,8 +86,8 @@ impl Session {
         let renderer = if gpu {
             let renderer =
                 Arc::new(Renderer::headless().context("cannot open the GPU this patch needs")?);
-            // One command encoder a frame: 1.2 ms less CPU on post.ron on the
-            // H100 (docs/benchmarks.md); a failing frame falls back to
+            // A few command encoders a frame, not one a pass: 1.2 ms less CPU
+            // on post.ron on the H100 (docs/benchmarks.md); a failing frame falls back to
             // recording pass by pass, which names the pass.
             renderer.set_recording(spreadlight_render::renderer::Recording::Batched);
             if let Some(size) = size {

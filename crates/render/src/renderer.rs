@@ -10,6 +10,7 @@ use std::sync::{Arc, Mutex};
 
 use crate::context::GpuContext;
 use crate::error::RenderError;
+use crate::frame_graph::Finisher;
 use crate::mesh_arena::MeshArena;
 use crate::report::FrameReport;
 use crate::shaders::{ShaderCache, ShaderComposer};
@@ -47,7 +48,8 @@ pub enum Recording {
     /// Each pass in its own command encoder and error scope: an error names its pass.
     #[default]
     Isolated,
-    /// The whole frame in one command encoder; an error drops the frame and
+    /// The whole frame in a few command encoders (`FRAME_CHUNKS` runs of
+    /// passes, finished beside the recording); an error drops the frame and
     /// switches to `Isolated`.
     Batched,
 }
@@ -75,6 +77,8 @@ pub struct Renderer {
     uploads: Mutex<Uploads>,
     /// What recipes keep between frames (shadow maps), by type and key.
     states: Mutex<FxHashMap<(std::any::TypeId, u64), Arc<dyn std::any::Any + Send + Sync>>>,
+    /// The thread that finishes a batched frame's encoders beside its recording.
+    finisher: Finisher,
 }
 
 /// The output size until a host sets one.
@@ -103,6 +107,7 @@ impl Renderer {
             }),
         });
         let meshes = MeshArena::new(&gpu);
+        let finisher = Finisher::new(gpu.device.clone());
         Ok(Renderer {
             gpu,
             shaders: Mutex::new(shaders),
@@ -116,6 +121,7 @@ impl Renderer {
             states: Mutex::new(FxHashMap::default()),
             kept: Mutex::new(FxHashMap::default()),
             uploads: Mutex::new(Uploads::default()),
+            finisher,
         })
     }
 
@@ -168,6 +174,10 @@ impl Renderer {
 
     pub(crate) fn texture_pool(&self) -> std::sync::MutexGuard<'_, TexturePool> {
         self.textures.lock().unwrap_or_else(|e| e.into_inner())
+    }
+
+    pub(crate) fn finisher(&self) -> &Finisher {
+        &self.finisher
     }
 
     pub(crate) fn timestamps(&self) -> Option<&Timestamps> {

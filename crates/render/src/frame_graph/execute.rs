@@ -6,9 +6,12 @@
 //! - `Recording::Isolated` records each pass into its own command encoder
 //!   inside a validation error scope, so an error names its pass and the
 //!   rest of the frame still renders. `Batched` records the whole frame into
-//!   one encoder under one scope (fewer command buffers and transitions for
-//!   wgpu to stitch); an error there drops that frame and switches the
-//!   renderer to `Isolated` for good, which then names the failing pass.
+//!   a few encoders ([`FRAME_CHUNKS`](super::FRAME_CHUNKS), each a run of
+//!   passes, all but the last finished on another thread while the next
+//!   records: finisher.rs) under one scope a thread (fewer command buffers
+//!   and transitions for wgpu to stitch than one a pass); an error there
+//!   drops that frame and switches the renderer to `Isolated` for good,
+//!   which then names the failing pass.
 //! - `Timing::PerPass` writes timestamps around every pass and waits for
 //!   them (the per-pass figures of `stats` and `bench`); `Frame` only around
 //!   the first and the last pass; `Off` writes none and never waits, so the
@@ -19,6 +22,7 @@ use std::collections::HashMap;
 
 use rustc_hash::{FxHashMap, FxHashSet};
 
+use super::finisher::chunk_of;
 use super::{FrameGraph, Lifetime, PassContext, Recorded};
 use crate::error::RenderError;
 use crate::renderer::{MAX_QUERIES, PERSISTENT_IDLE_GRAPHS, Recording, Renderer, Timing};
@@ -55,7 +59,11 @@ fn execute(
     let mut parts = graph.into_parts(&|name| textures.persistent.contains_key(name))?;
 
     // Where each texture is last read, so temporaries go back to the pool after it.
-    let mut last_use: FxHashMap<&str, usize> = FxHashMap::default();
+    // Maps and vectors sized once (they grew pass by pass).
+    let mut last_use: FxHashMap<&str, usize> = FxHashMap::with_capacity_and_hasher(
+        parts.writes.iter().map(Vec::len).sum(),
+        Default::default(),
+    );
     for (step, &p) in parts.order.iter().enumerate() {
         for name in parts.reads[p]
             .iter()
@@ -79,7 +87,8 @@ fn execute(
     let mut release_instead: FxHashMap<String, wgpu::Texture> = FxHashMap::default();
     // Which of the passes of its name each pass is, in declaration order:
     // with the pass name, what keeps an output's texture from frame to frame.
-    let mut seen: FxHashMap<&str, u32> = FxHashMap::default();
+    let mut seen: FxHashMap<&str, u32> =
+        FxHashMap::with_capacity_and_hasher(parts.names.len(), Default::default());
     let occurrence: Vec<u32> = parts
         .names
         .iter()
@@ -103,9 +112,10 @@ fn execute(
     for (name, n) in std::mem::take(&mut parts.counters) {
         add_counter(&mut report, name, n);
     }
+    report.passes.reserve(parts.order.len());
     let mut owned = Vec::new();
     let mut commands = Vec::new();
-    let mut pass_queries: Vec<(usize, Vec<(u32, u32)>)> = Vec::new();
+    let mut pass_queries: Vec<(usize, Vec<(u32, u32)>)> = Vec::with_capacity(parts.order.len());
     let mut next_query = 0u32;
     let timestamps = renderer.timestamps().filter(|_| timing != Timing::Off);
     let capacity = if timestamps.is_some() { MAX_QUERIES } else { 0 };
@@ -124,6 +134,7 @@ fn execute(
     };
     let frame_scope = batched.then(|| device.push_error_scope(wgpu::ErrorFilter::Validation));
     let mut shared = batched.then(|| new_encoder("frame"));
+    let mut finishing = batched.then(|| renderer.finisher().begin());
     let steps = parts.order.len();
 
     for (step, &p) in parts.order.clone().iter().enumerate() {
@@ -157,7 +168,7 @@ fn execute(
             live.insert(name.clone(), texture);
         }
 
-        // Batched: the frame's one encoder; isolated: one named for the pass.
+        // Batched: the encoder of the pass's run; isolated: one named for the pass.
         let encoder = shared
             .take()
             .unwrap_or_else(|| new_encoder(&parts.names[p]));
@@ -212,7 +223,16 @@ fn execute(
             add_counter(&mut report, name, n);
         }
         let error = if batched {
-            shared = Some(encoder);
+            // The end of a run of passes: wgpu encodes it beside the next.
+            match &mut finishing {
+                Some(finishing)
+                    if step + 1 < steps && chunk_of(step + 1, steps) != chunk_of(step, steps) =>
+                {
+                    finishing.send(encoder);
+                    shared = Some(new_encoder("frame"));
+                }
+                _ => shared = Some(encoder),
+            }
             result.err().map(|e| e.to_string())
         } else {
             let buffer = encoder.finish();
@@ -315,24 +335,51 @@ fn execute(
             commands.push(encoder.finish());
         }
     }
-    if let (Some(encoder), Some(scope)) = (shared, frame_scope) {
-        let buffer = encoder.finish();
-        match pollster::block_on(scope.pop()) {
-            // A batched frame that fails validation is dropped whole; from
-            // now on passes record apart, so the next frame names the pass.
-            Some(e) => {
-                renderer.set_recording(Recording::Isolated);
-                report.errors.push((
-                    None,
+    if let (Some(encoder), Some(scope), Some(finishing)) = (shared, frame_scope, finishing) {
+        let last = encoder.finish();
+        let here = pollster::block_on(scope.pop());
+        let sent = finishing.sent() as u64;
+        let collected = finishing.collect();
+        for (name, n) in [
+            ("command encoders handed over", sent),
+            ("command encoders taken back", collected.taken_back as u64),
+        ] {
+            if n > 0 {
+                add_counter(&mut report, name, n);
+            }
+        }
+        // The runs handed over come first: their errors are the earlier.
+        let dropped = match collected.finished {
+            Some(finished) => {
+                let mut first = None;
+                for (buffer, error) in finished {
+                    commands.push(buffer);
+                    first = first.or(error);
+                }
+                commands.push(last);
+                first.or(here).map(|e| {
+                    // From now on passes record apart, so the next frame names the pass.
+                    renderer.set_recording(Recording::Isolated);
                     format!(
                         "the frame failed validation and was dropped; passes record separately from now on: {e}"
-                    ),
-                ));
-                pass_queries.clear();
-                next_query = 0;
+                    )
+                })
             }
-            None => commands.push(buffer),
+            None => Some(
+                "finishing a command encoder of the frame panicked; the frame was dropped"
+                    .to_owned(),
+            ),
+        };
+        // A batched frame that fails is dropped whole.
+        if let Some(message) = dropped {
+            report.errors.push((None, message));
+            commands.clear();
+            pass_queries.clear();
+            next_query = 0;
         }
+    }
+    if !commands.is_empty() {
+        add_counter(&mut report, "command buffers", commands.len() as u64);
     }
     let submission = renderer.gpu.submit(commands);
     report.record_ms = started.elapsed().as_secs_f64() * 1e3;
