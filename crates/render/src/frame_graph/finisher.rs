@@ -161,47 +161,12 @@ fn work(device: &wgpu::Device, shared: &Shared) {
             }
         } else if state.closed {
             return;
-        } else if let Some(awake) = stay_awake() {
-            // A frame hands its runs over a few hundred microseconds apart,
-            // and waking a sleeper (a system call, a reschedule) can take
-            // longer than the rest of the recording: then the run is taken
-            // back (on the H100's host, one run of two a frame). Where cores
-            // are to spare, look for the next run awake for a while first.
-            drop(state);
-            let until = std::time::Instant::now() + awake;
-            state = loop {
-                for _ in 0..64 {
-                    std::hint::spin_loop();
-                }
-                let state = lock(shared);
-                if !state.jobs.is_empty() || state.closed || std::time::Instant::now() >= until {
-                    break state;
-                }
-            };
-            if state.jobs.is_empty() && !state.closed {
-                state = sleep(shared, state);
-            }
         } else {
-            state = sleep(shared, state);
+            state.worker_asleep = true;
+            state = shared.queued.wait(state).unwrap_or_else(|e| e.into_inner());
+            state.worker_asleep = false;
         }
     }
-}
-
-/// The finishing thread asleep until a job comes or the queue closes.
-fn sleep<'a>(shared: &'a Shared, mut state: MutexGuard<'a, State>) -> MutexGuard<'a, State> {
-    state.worker_asleep = true;
-    state = shared.queued.wait(state).unwrap_or_else(|e| e.into_inner());
-    state.worker_asleep = false;
-    state
-}
-
-/// How long the finishing thread looks for the next run before it sleeps:
-/// a while on a machine with cores to spare (four or more), not at all
-/// where it would take a core the recording or the GPU driver needs.
-fn stay_awake() -> Option<std::time::Duration> {
-    static CORES: std::sync::OnceLock<usize> = std::sync::OnceLock::new();
-    let cores = *CORES.get_or_init(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
-    (cores >= 4).then_some(std::time::Duration::from_micros(300))
 }
 
 /// Wait (asleep) until the finishing thread is on no job.
