@@ -283,7 +283,8 @@ impl EditorApp {
                 submission_gate = Some(context.submission_gate().clone());
                 match Renderer::new(context) {
                     Ok(renderer) => {
-                        // One command encoder a frame (docs/benchmarks.md); a
+                        // A few command encoders a frame, finished beside the
+                        // recording (docs/benchmarks.md, "Session 11: CPU"); a
                         // failing frame falls back to a pass at a time.
                         renderer.set_recording(spreadlight_render::renderer::Recording::Batched);
                         let renderer = Arc::new(renderer);
