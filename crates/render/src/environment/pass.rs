@@ -104,10 +104,23 @@ impl ImagePass {
     }
 
     fn run(&self, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
+        self.record(cx, &self.source.name, &self.output, None)
+    }
+
+    /// This pass from `source` into `output`: its shader and parameters
+    /// (binding 1), its environment's cube (5, 6), and with `fog` that
+    /// pass's parameters (7) in the Sky's `FOG` permutation.
+    fn record(
+        &self,
+        cx: &mut PassContext<'_>,
+        source: &str,
+        output: &str,
+        fog: Option<&ImagePass>,
+    ) -> Result<(), RenderError> {
         let (source, depth, output) = (
-            cx.view(&self.source.name)?,
+            cx.view(source)?,
             cx.view(&self.gbuffer.targets.depth)?,
-            cx.view(&self.output)?,
+            cx.view(output)?,
         );
         let mut all = vec![
             (0, self.gbuffer.camera_buffer().as_entire_binding()),
@@ -125,15 +138,17 @@ impl ImagePass {
             all.push((5, wgpu::BindingResource::TextureView(cube)));
             all.push((6, wgpu::BindingResource::Sampler(&maps.sampler)));
         }
-        let features: &[&'static str] = if maps.is_some() {
-            &["ENVIRONMENT"]
-        } else {
-            &[]
-        };
+        if let Some(fog) = fog {
+            all.push((7, fog.params.as_entire_binding()));
+        }
+        let features = [
+            maps.is_some().then_some("ENVIRONMENT"),
+            fog.is_some().then_some("FOG"),
+        ];
         let size = self.gbuffer.pixel_size(cx.output_size);
         cx.dispatch_image(
             self.kind.name(),
-            &ShaderKey::new(self.kind.shader(), features.iter().copied()),
+            &ShaderKey::new(self.kind.shader(), features.into_iter().flatten()),
             &all,
             size,
         )
@@ -147,47 +162,16 @@ impl ImagePass {
         (inner.kind != self.kind && Arc::ptr_eq(&inner.gbuffer, &self.gbuffer)).then_some(inner)
     }
 
-    /// This pass and `inner` (the pass under it) in one dispatch.
+    /// This pass and `inner` (the pass under it) in one dispatch: the Sky's
+    /// over the inner pass's source, with the Fog's parameters.
     fn run_over(&self, inner: &ImagePass, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
         cx.count(FOG_AND_SKY, 1);
         let (fog, sky) = match self.kind {
             ImageKind::Fog => (self, inner),
             ImageKind::Sky => (inner, self),
         };
-        let (source, depth, output) = (
-            cx.view(&inner.source.name)?,
-            cx.view(&self.gbuffer.targets.depth)?,
-            cx.view(&self.output)?,
-        );
-        let mut all = vec![
-            (0, self.gbuffer.camera_buffer().as_entire_binding()),
-            (1, sky.params.as_entire_binding()),
-            (2, wgpu::BindingResource::TextureView(&source)),
-            (3, wgpu::BindingResource::TextureView(&depth)),
-            (4, wgpu::BindingResource::TextureView(&output)),
-            (7, fog.params.as_entire_binding()),
-        ];
-        let maps = match &sky.environment {
-            Some(e) => Some(e.maps_for(sky.kind.name())?),
-            None => None,
-        };
-        let cube = maps.as_ref().map(|m| cx.view_of(&m.base, ViewSpec::cube()));
-        if let (Some(maps), Some(cube)) = (&maps, &cube) {
-            all.push((5, wgpu::BindingResource::TextureView(cube)));
-            all.push((6, wgpu::BindingResource::Sampler(&maps.sampler)));
-        }
-        let features = maps
-            .is_some()
-            .then_some("ENVIRONMENT")
-            .into_iter()
-            .chain(["FOG"]);
-        let size = self.gbuffer.pixel_size(cx.output_size);
-        cx.dispatch_image(
-            "fog and sky",
-            &ShaderKey::new(ImageKind::Sky.shader(), features),
-            &all,
-            size,
-        )
+        // The Sky's shader and cube, whichever is outer; the outer's output.
+        sky.record(cx, &inner.source.name, &self.output, Some(fog))
     }
 }
 
