@@ -20,17 +20,18 @@ use std::sync::{Arc, Condvar, Mutex, MutexGuard};
 use std::thread::JoinHandle;
 
 /// Encoders a batched frame is recorded into (at most: a frame of fewer
-/// than `2 * FRAME_CHUNKS - 1` passes may have fewer). Each one more lets wgpu encode another part of the
-/// frame beside the recording, and costs a command buffer at submit, where
-/// wgpu may put a transition buffer before it.
+/// than `2 * FRAME_CHUNKS - 1` passes may have fewer). Each one more lets
+/// wgpu encode another part of the frame beside the recording, and costs a
+/// command buffer at submit, where wgpu may put a transition buffer before
+/// it, and a hand-over to the finishing thread.
 pub const FRAME_CHUNKS: usize = 3;
 
 /// Which of the frame's encoders the pass recorded at `step` of `steps` goes
 /// into. The last run, finished on the recording thread after it has
 /// recorded everything, holds half as many passes as each run before it:
 /// with three, the finishing thread encodes four fifths of the frame. (It
-/// keeps up: encoding a run took about a fifth of the time recording it
-/// took in the profile.)
+/// keeps up: encoding a run took about half the time recording it took in
+/// session 11's profile and timers, docs/benchmarks.md.)
 pub(crate) fn chunk_of(step: usize, steps: usize) -> usize {
     // Two units a run before the last, one for the last.
     let units = 2 * FRAME_CHUNKS - 1;
