@@ -816,3 +816,57 @@ fn adjacent_layers_alike_share_one_resolve_dispatch_and_keep_their_pixels() {
         "one motion dispatch or one per layer: the same velocities"
     );
 }
+
+/// The surface and motion resolves in one dispatch write what each writes
+/// alone, with either rasterizer, with no layer at all (the background
+/// dispatch), and for a triplanar layer (UVs the surface pass computes).
+#[test]
+fn one_resolve_dispatch_for_both_writes_what_each_writes_alone() {
+    let renderer = test_renderer();
+    let camera = camera_at(Vec3::new(0.0, 0.0, 5.0));
+    let moved = Mat4::from_translation(Vec3::new(0.1, 0.0, 0.0));
+    let triplanar = LayerFeatures {
+        triplanar: true,
+        ..LayerFeatures::default()
+    };
+    let scenes = [
+        Vec::new(),
+        vec![sphere_layer(
+            &renderer,
+            vec![instance(Mat4::IDENTITY, moved)],
+            triplanar,
+        )],
+    ];
+    for choice in [RasterChoice::Hardware, RasterChoice::Compute] {
+        for layers in &scenes {
+            let g = GBuffer::with_raster(
+                &renderer,
+                Some(41),
+                layers.clone(),
+                camera,
+                Some(camera.view_projection()),
+                SizeRule::Relative(1.0),
+                choice,
+            );
+            let t = &g.targets;
+            let (both, merged) = render(&renderer, &g, &[&t.velocity_uv, &t.color, &t.normals]);
+            assert_eq!(
+                both.counter(SURFACE_AND_MOTION_DISPATCHES),
+                layers.len().max(1) as u64
+            );
+            let (_, motion) = render(&renderer, &g, &[&t.velocity_uv]);
+            let (_, surface) = render(&renderer, &g, &[&t.color, &t.normals]);
+            let what = format!("{choice:?}, {} layers", layers.len());
+            assert!(
+                motion[0].pixels == merged[0].pixels,
+                "{what}: velocity and UV"
+            );
+            assert!(surface[0].pixels == merged[1].pixels, "{what}: colour");
+            assert!(surface[1].pixels == merged[2].pixels, "{what}: normals");
+            if !layers.is_empty() {
+                let moving = merged[0].pixels.iter().filter(|p| p[0] != 0.0).count();
+                assert!(moving > 100, "{what}: {moving} pixels move");
+            }
+        }
+    }
+}
