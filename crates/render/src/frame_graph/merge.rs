@@ -100,22 +100,24 @@ pub(super) fn apply<'a>(parts: &mut GraphParts<'a>, merges: Vec<Merge<'a>>) {
         let (Some(first_at), Some(second_at)) = (position(first), position(second)) else {
             continue;
         };
-        let made_by_first = |name: &String| parts.writes[first].iter().any(|(w, _)| w == name);
-        // What the second reads besides the first's outputs must exist
-        // before the first runs.
+        // A chain's second reads the first's outputs in place; whatever
+        // else it reads must exist before the first runs.
+        let in_place = |name: &String| {
+            merge.kind == Kind::Chain && parts.writes[first].iter().any(|(w, _)| w == name)
+        };
         let made_after_first = |name: &String| {
             parts.order[first_at..]
                 .iter()
                 .any(|&p| parts.writes[p].iter().any(|(w, _)| w == name))
         };
-        let in_place = parts.reads[second]
-            .iter()
-            .filter(|r| merge.kind == Kind::Chain && made_by_first(r))
-            .count();
-        let outside = parts.reads[second]
-            .iter()
-            .filter(|r| !(merge.kind == Kind::Chain && made_by_first(r)))
-            .any(made_after_first);
+        let (mut chained, mut outside) = (false, false);
+        for read in &parts.reads[second] {
+            if in_place(read) {
+                chained = true;
+            } else {
+                outside |= made_after_first(read);
+            }
+        }
         if first_at > second_at || outside {
             continue;
         }
@@ -129,12 +131,11 @@ pub(super) fn apply<'a>(parts: &mut GraphParts<'a>, merges: Vec<Merge<'a>>) {
                         .iter()
                         .any(|&p| p != second && parts.reads[p].contains(w))
             });
-            if in_place == 0 || read_elsewhere {
+            if !chained || read_elsewhere {
                 continue;
             }
             let dropped = std::mem::take(&mut parts.writes[first]);
             parts.keys[first].clear();
-            parts.reads[first].retain(|r| !dropped.iter().any(|(w, _)| w == r));
             let reads = std::mem::take(&mut parts.reads[second]);
             for r in reads {
                 if !dropped.iter().any(|(w, _)| *w == r) && !parts.reads[first].contains(&r) {
