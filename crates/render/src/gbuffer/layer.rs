@@ -207,6 +207,13 @@ impl Layer {
         self
     }
 
+    /// Whether the surface resolve shares a dispatch with alike layers
+    /// beside it: not with maps, a material world or a shader material,
+    /// which bind their own.
+    pub(crate) fn resolves_with_others(&self) -> bool {
+        self.surface.is_none() && self.maps().next().is_none() && self.map_world().is_none()
+    }
+
     /// The world, when its surface maps are sampled by this layer (never
     /// under a shader node material, which shades the surface itself).
     pub(crate) fn map_world(&self) -> Option<&Arc<MaterialWorld>> {

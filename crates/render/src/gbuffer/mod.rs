@@ -334,11 +334,11 @@ impl GBuffer {
                     .collect()
             };
         // A layer with maps, a material world or a shader material binds
-        // its own: it resolves alone.
+        // its own: it resolves alone (alone too with the motion resolve).
         let surface_runs = kept(
             "mre surface run",
             runs(&layers, &layer_ranges, |l| {
-                (l.surface.is_none() && l.maps().next().is_none() && l.map_world().is_none())
+                l.resolves_with_others()
                     .then(|| (l.surface_defines(), l.features.adds_geometry_ids()))
             }),
         );
@@ -351,7 +351,7 @@ impl GBuffer {
         let fused_runs = kept(
             "mre fused run",
             runs(&layers, &layer_ranges, |l| {
-                (l.surface.is_none() && l.maps().next().is_none() && l.map_world().is_none())
+                l.resolves_with_others()
                     .then(|| (l.fused_defines(), l.features.adds_geometry_ids()))
             }),
         );
