@@ -60,10 +60,9 @@ fn execute(
 
     // Where each texture is last read, so temporaries go back to the pool after it.
     // Maps and vectors sized once (they grew pass by pass).
-    let mut last_use: FxHashMap<&str, usize> = FxHashMap::with_capacity_and_hasher(
-        parts.writes.iter().map(Vec::len).sum(),
-        Default::default(),
-    );
+    let outputs_declared: usize = parts.writes.iter().map(Vec::len).sum();
+    let mut last_use: FxHashMap<&str, usize> =
+        FxHashMap::with_capacity_and_hasher(outputs_declared, Default::default());
     for (step, &p) in parts.order.iter().enumerate() {
         for name in parts.reads[p]
             .iter()
@@ -100,7 +99,7 @@ fn execute(
         .collect();
 
     let mut live: FxHashMap<String, wgpu::Texture> = std::mem::take(&mut parts.imports);
-    live.reserve(textures.persistent.len() + parts.writes.iter().map(Vec::len).sum::<usize>());
+    live.reserve(textures.persistent.len() + outputs_declared);
     for (name, (_, texture)) in &textures.persistent {
         live.insert(name.clone(), texture.clone());
     }
