@@ -98,7 +98,10 @@ fn aberration_uvs(uv: vec2<f32>) -> array<vec2<f32>, 2> {
     return array<vec2<f32>, 2>(0.5 + from_center * (1.0 + a), 0.5 + from_center * (1.0 - a));
 }
 
-// The source with red and blue moved by the aberration.
+// The source with red and blue moved by the aberration. Apart from
+// `aberrated_glow` on purpose: without FILTERED_SOURCE the source must not
+// meet the sampler anywhere in the shader, or the derived bind group layout
+// asks for a filterable texture and an Rgba32Float source fails to bind.
 fn aberrated_source(uv: vec2<f32>) -> vec3<f32> {
     let at = aberration_uvs(uv);
 #ifdef FILTERED_SOURCE
