@@ -13,10 +13,12 @@ use crate::submission_gate::SubmissionGate;
 
 /// Features the renderer cannot work without (none yet beyond WebGPU's baseline).
 pub const REQUIRED_FEATURES: wgpu::Features = wgpu::Features::empty();
-/// Features used when the adapter has them: timestamps for GPU times, and
+/// Features used when the adapter has them: timestamps for GPU times (inside
+/// passes too, so that timed passes can share a compute pass), and
 /// 64-bit atomics for the compute rasterizer (the G-buffer falls back to the
 /// raster hardware without them).
 pub const OPTIONAL_FEATURES: wgpu::Features = wgpu::Features::TIMESTAMP_QUERY
+    .union(wgpu::Features::TIMESTAMP_QUERY_INSIDE_PASSES)
     .union(wgpu::Features::SHADER_INT64)
     .union(wgpu::Features::SHADER_INT64_ATOMIC_MIN_MAX);
 

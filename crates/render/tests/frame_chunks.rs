@@ -24,7 +24,7 @@ fn misaligned_copy(cx: &mut PassContext<'_>) -> Result<(), RenderError> {
         })
     };
     let (from, to) = (buffer("from"), buffer("to"));
-    cx.encoder.copy_buffer_to_buffer(&from, 0, &to, 0, 3);
+    cx.encoder().copy_buffer_to_buffer(&from, 0, &to, 0, 3);
     Ok(())
 }
 

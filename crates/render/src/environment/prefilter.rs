@@ -259,17 +259,12 @@ pub(crate) fn build(
         1,
     )?;
 
-    let timestamps = cx.compute_timestamps();
-    let mut pass = cx.encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-        label: Some("environment prefilter"),
-        timestamp_writes: timestamps,
-    });
+    let pass = cx.compute_pass("environment prefilter");
     for (pipeline, group, (x, y, z)) in &steps {
         pass.set_pipeline(pipeline);
         pass.set_bind_group(0, group, &[]);
         pass.dispatch_workgroups(*x, *y, *z);
     }
-    drop(pass);
     Ok(EnvironmentMaps {
         key,
         quality,

@@ -11,7 +11,8 @@
 //!   records: finisher.rs) under one scope a thread (fewer command buffers
 //!   and transitions for wgpu to stitch than one a pass); an error there
 //!   drops that frame and switches the renderer to `Isolated` for good,
-//!   which then names the failing pass.
+//!   which then names the failing pass. In both, consecutive dispatches of
+//!   one encoder share a compute pass (compute_pass.rs).
 //! - `Timing::PerPass` writes timestamps around every pass and waits for
 //!   them (the per-pass figures of `stats` and `bench`); `Frame` only around
 //!   the first and the last pass; `Off` writes none and never waits, so the
@@ -133,6 +134,11 @@ fn execute(
     };
     let frame_scope = batched.then(|| device.push_error_scope(wgpu::ErrorFilter::Validation));
     let mut shared = batched.then(|| new_encoder("frame"));
+    // The compute pass open on `shared`, which the next pass's dispatches join (compute_pass.rs).
+    let mut open_compute = None;
+    let inside_passes = device
+        .features()
+        .contains(wgpu::Features::TIMESTAMP_QUERY_INSIDE_PASSES);
     let mut finishing = batched.then(|| renderer.finisher().begin());
     let steps = parts.order.len();
 
@@ -181,6 +187,8 @@ fn execute(
         let mut cx = PassContext {
             gpu: &renderer.gpu,
             encoder,
+            compute: open_compute.take(),
+            timestamps_inside_passes: inside_passes,
             shaders: &mut shaders,
             textures: &mut live,
             tradable: &tradable,
@@ -204,6 +212,7 @@ fn execute(
         };
         let Recorded {
             encoder,
+            compute,
             queries,
             draws,
             counters,
@@ -227,13 +236,19 @@ fn execute(
                 Some(finishing)
                     if step + 1 < steps && chunk_of(step + 1, steps) != chunk_of(step, steps) =>
                 {
+                    // A finished encoder holds no open pass.
+                    drop(compute);
                     finishing.send(encoder);
                     shared = Some(new_encoder("frame"));
                 }
-                _ => shared = Some(encoder),
+                _ => {
+                    shared = Some(encoder);
+                    open_compute = compute;
+                }
             }
             result.err().map(|e| e.to_string())
         } else {
+            drop(compute);
             let buffer = encoder.finish();
             let validation = scope.and_then(|s| pollster::block_on(s.pop()));
             match (result, validation) {
@@ -324,6 +339,8 @@ fn execute(
     textures.views = views;
     drop(shaders);
 
+    // The last run's compute pass ends before its encoder resolves the timestamps and finishes.
+    drop(open_compute);
     if let (Some(ts), true) = (timestamps, next_query > 0) {
         let mut encoder = shared.take().unwrap_or_else(|| new_encoder("timestamps"));
         encoder.resolve_query_set(&ts.set, 0..next_query, &ts.resolve, 0);

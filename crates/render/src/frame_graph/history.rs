@@ -40,7 +40,7 @@ impl PassContext<'_> {
             self.textures.insert(previous.to_owned(), last.clone());
             self.hand_over(history, spare, previous, last);
         } else {
-            self.encoder.copy_texture_to_texture(
+            self.encoder().copy_texture_to_texture(
                 last.as_image_copy(),
                 spare.as_image_copy(),
                 last.size(),
@@ -66,7 +66,7 @@ impl PassContext<'_> {
                 height: written.height().min(last.height()),
                 depth_or_array_layers: 1,
             };
-            self.encoder.copy_texture_to_texture(
+            self.encoder().copy_texture_to_texture(
                 written.as_image_copy(),
                 last.as_image_copy(),
                 size,

@@ -14,6 +14,7 @@ use std::collections::BTreeMap;
 
 use rustc_hash::{FxHashMap, FxHashSet};
 
+mod compute_pass;
 mod execute;
 mod finisher;
 mod history;
@@ -25,6 +26,7 @@ use crate::shaders::ShaderCache;
 
 pub use crate::report::{FrameReport, PassReport};
 pub use crate::texture_pool::TextureKey;
+pub use compute_pass::COMPUTE_PASSES;
 pub use finisher::FRAME_CHUNKS;
 pub(crate) use finisher::Finisher;
 pub use history::{COPIED as HISTORIES_COPIED, HANDED_OVER as HISTORIES_HANDED_OVER};
@@ -173,7 +175,14 @@ struct PassEntry<'a> {
 /// What a pass sees while it records.
 pub struct PassContext<'f> {
     pub gpu: &'f GpuContext,
-    pub encoder: wgpu::CommandEncoder,
+    /// Used through [`PassContext::encoder`], which first ends the open compute pass.
+    pub(crate) encoder: wgpu::CommandEncoder,
+    /// The compute pass dispatches go into, open across graph passes of one
+    /// encoder (compute_pass.rs).
+    pub(crate) compute: Option<compute_pass::OpenCompute>,
+    /// Whether timestamps can be written inside a compute pass, so that a
+    /// timed graph pass can share one.
+    pub(crate) timestamps_inside_passes: bool,
     pub shaders: &'f mut ShaderCache,
     pub(crate) textures: &'f mut FxHashMap<String, wgpu::Texture>,
     /// This frame's temporaries a history may trade textures with (not
@@ -253,18 +262,8 @@ impl<'f> PassContext<'f> {
         Some((set, begin))
     }
 
-    /// Timestamp writes for a compute pass of this graph pass (None without timestamp support).
-    pub fn compute_timestamps(&mut self) -> Option<wgpu::ComputePassTimestampWrites<'f>> {
-        self.next_pair()
-            .map(|(query_set, i)| wgpu::ComputePassTimestampWrites {
-                query_set,
-                beginning_of_pass_write_index: Some(i),
-                end_of_pass_write_index: Some(i + 1),
-            })
-    }
-
-    /// One compute dispatch in its own timed compute pass: the shape of most
-    /// full-screen passes. `groups[i]` is bound at group i.
+    /// One compute dispatch, in the open compute pass ([`PassContext::compute_pass`]):
+    /// the shape of most full-screen passes. `groups[i]` is bound at group i.
     pub fn dispatch(
         &mut self,
         label: &str,
@@ -272,13 +271,7 @@ impl<'f> PassContext<'f> {
         groups: &[&wgpu::BindGroup],
         workgroups: (u32, u32, u32),
     ) {
-        let timestamps = self.compute_timestamps();
-        let mut pass = self
-            .encoder
-            .begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some(label),
-                timestamp_writes: timestamps,
-            });
+        let pass = self.compute_pass(label);
         pass.set_pipeline(pipeline);
         for (index, group) in groups.iter().enumerate() {
             pass.set_bind_group(index as u32, *group, &[]);
@@ -541,6 +534,8 @@ impl<'a> FrameGraph<'a> {
 /// batched frame shares one between passes).
 pub(crate) struct Recorded {
     pub encoder: wgpu::CommandEncoder,
+    /// The compute pass left open for the next graph pass on this encoder.
+    pub compute: Option<compute_pass::OpenCompute>,
     pub queries: Vec<(u32, u32)>,
     pub draws: u64,
     pub counters: BTreeMap<&'static str, u64>,
@@ -548,9 +543,11 @@ pub(crate) struct Recorded {
 }
 
 impl PassContext<'_> {
-    pub(crate) fn finish(self) -> Recorded {
+    pub(crate) fn finish(mut self) -> Recorded {
+        self.close_graph_pass();
         Recorded {
             encoder: self.encoder,
+            compute: self.compute,
             queries: self.queries,
             draws: self.draws,
             counters: self.counters,

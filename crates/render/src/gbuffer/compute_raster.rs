@@ -247,8 +247,8 @@ impl ComputeRaster {
                 message: "no visibility buffer".to_owned(),
             });
         };
-        cx.encoder.clear_buffer(&targets.visibility, 0, None);
-        cx.encoder
+        cx.encoder().clear_buffer(&targets.visibility, 0, None);
+        cx.encoder()
             .copy_buffer_to_buffer(&targets.tile_reset, 0, &targets.tile_count, 0, 16);
 
         // Back faces kept per draw (double-sided materials) or for all (shadow maps).
@@ -338,7 +338,7 @@ impl ComputeRaster {
                 raster_batches(cx, tiles, &meshes);
                 between(cx, &targets.visibility)?;
                 if !particles.is_empty() {
-                    cx.encoder.copy_buffer_to_buffer(
+                    cx.encoder().copy_buffer_to_buffer(
                         &targets.tile_reset,
                         0,
                         &targets.tile_count,
@@ -363,11 +363,7 @@ fn raster_batches(
     (tiles, tiles_group): (&wgpu::ComputePipeline, &wgpu::BindGroup),
     batches: &[&BatchGroup<'_>],
 ) {
-    let timestamps = cx.compute_timestamps();
-    let mut pass = cx.encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-        label: Some("compute raster"),
-        timestamp_writes: timestamps,
-    });
+    let pass = cx.compute_pass("compute raster");
     let mut dispatches = 0;
     for b in batches {
         pass.set_pipeline(b.pipeline);
@@ -381,6 +377,5 @@ fn raster_batches(
     pass.set_pipeline(tiles);
     pass.set_bind_group(0, tiles_group, &[]);
     pass.dispatch_workgroups(TILE_WORKGROUPS, 1, 1);
-    drop(pass);
     cx.draws += dispatches;
 }

@@ -215,7 +215,7 @@ fn visibility(
             _ => (wgpu::LoadOp::Load, wgpu::LoadOp::Load),
         };
         let timestamps = cx.render_timestamps();
-        let mut pass = cx.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+        let mut pass = cx.encoder().begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("visibility"),
             color_attachments: &[Some(wgpu::RenderPassColorAttachment {
                 view: &vis,

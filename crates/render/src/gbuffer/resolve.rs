@@ -264,15 +264,12 @@ pub(super) fn resolve(
         }
         work.push((pipeline, group0, groups));
     }
-    let timestamps = cx.compute_timestamps();
-    let mut pass = cx.encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-        label: Some(match targets {
-            Targets::Surface => "resolve surface",
-            Targets::Motion => "resolve motion",
-            Targets::Both => "resolve surface and motion",
-        }),
-        timestamp_writes: timestamps,
-    });
+    let label = match targets {
+        Targets::Surface => "resolve surface",
+        Targets::Motion => "resolve motion",
+        Targets::Both => "resolve surface and motion",
+    };
+    let pass = cx.compute_pass(label);
     for (pipeline, group0, groups) in &work {
         pass.set_pipeline(pipeline);
         pass.set_bind_group(0, group0, &[]);

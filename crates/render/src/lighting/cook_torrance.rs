@@ -224,7 +224,7 @@ impl CookTorrance {
         let Some(b) = guard.as_ref() else {
             return Ok(());
         };
-        cx.encoder.clear_buffer(&b.counts, 0, None);
+        cx.encoder().clear_buffer(&b.counts, 0, None);
         cx.gpu.queue.write_buffer(
             &b.totals,
             0,
@@ -264,11 +264,7 @@ impl CookTorrance {
             };
             work.push((pipeline, group, groups));
         }
-        let timestamps = cx.compute_timestamps();
-        let mut pass = cx.encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some("light assignment"),
-            timestamp_writes: timestamps,
-        });
+        let pass = cx.compute_pass("light assignment");
         for (pipeline, group, groups) in &work {
             pass.set_pipeline(pipeline);
             pass.set_bind_group(0, group, &[]);

@@ -256,7 +256,7 @@ impl EyeAdaptation {
             cx.texture(&self.output)?.clone(),
             cx.texture(&self.previous)?.clone(),
         );
-        cx.encoder.copy_texture_to_texture(
+        cx.encoder().copy_texture_to_texture(
             last.as_image_copy(),
             copy.as_image_copy(),
             wgpu::Extent3d {

@@ -243,7 +243,7 @@ impl Transparency {
                 },
             })
         };
-        let mut pass = cx.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+        let mut pass = cx.encoder().begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("transparency accumulate"),
             color_attachments: &[attachment(&accumulation), attachment(&revealage)],
             depth_stencil_attachment: None,

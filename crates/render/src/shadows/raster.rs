@@ -327,7 +327,7 @@ impl ShadowMaps {
                     end_of_pass_write_index: end,
                 })
             });
-            let mut pass = cx.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            let mut pass = cx.encoder().begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("shadow depth"),
                 color_attachments: &[],
                 depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
@@ -438,11 +438,7 @@ impl ShadowMaps {
                     .bind_group(&device, &key, "main", &pipeline, 0, &all)?,
             );
         }
-        let timestamps = cx.compute_timestamps();
-        let mut pass = cx.encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some("shadow moments"),
-            timestamp_writes: timestamps,
-        });
+        let pass = cx.compute_pass("shadow moments");
         pass.set_pipeline(&pipeline);
         for group in &groups {
             pass.set_bind_group(0, group, &[]);

@@ -96,11 +96,7 @@ impl Ssr {
             steps.push((pipeline, group, (w.div_ceil(8), h.div_ceil(8))));
         }
         cx.count(HIZ_DISPATCHES, steps.len() as u64);
-        let timestamps = cx.compute_timestamps();
-        let mut pass = cx.encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some("ssr hi-z"),
-            timestamp_writes: timestamps,
-        });
+        let pass = cx.compute_pass("ssr hi-z");
         for (pipeline, group, (x, y)) in &steps {
             pass.set_pipeline(pipeline);
             pass.set_bind_group(0, group, &[]);

@@ -1,0 +1,261 @@
+//! Consecutive dispatches share one wgpu compute pass (frame_graph/compute_pass.rs):
+//! wgpu encodes every compute pass into command buffers of its own, so a
+//! batched frame opens one a run of dispatching passes instead of one a pass.
+//! What they render, and how each pass is timed, stays as with a pass each.
+
+use spreadlight_render::frame_graph::{COMPUTE_PASSES, FRAME_CHUNKS, PassContext};
+use spreadlight_render::readback::render_and_read;
+use spreadlight_render::renderer::{Recording, Timing, test_renderer};
+use spreadlight_render::shaders::ShaderKey;
+use spreadlight_render::{FrameGraph, FrameReport, GpuContext, Renderer, TextureDesc};
+
+const SIZE: (u32, u32) = (8, 8);
+
+fn target() -> TextureDesc {
+    let mut desc = TextureDesc::storage(wgpu::TextureFormat::Rgba16Float);
+    desc.usage |= wgpu::TextureUsages::COPY_DST | wgpu::TextureUsages::COPY_SRC;
+    desc
+}
+
+/// A ramp written from the CPU (no GPU command), the chain's start.
+fn seed(cx: &mut PassContext<'_>) -> Result<(), spreadlight_render::RenderError> {
+    let t = cx.texture("h0")?.clone();
+    let data: Vec<u8> = (0..SIZE.0 * SIZE.1)
+        .flat_map(|i| {
+            let v = half::f16::from_f32(i as f32 / 64.0).to_le_bytes();
+            [v, v, v, half::f16::ONE.to_le_bytes()].concat()
+        })
+        .collect();
+    cx.gpu.queue.write_texture(
+        t.as_image_copy(),
+        &data,
+        wgpu::TexelCopyBufferLayout {
+            offset: 0,
+            bytes_per_row: Some(SIZE.0 * 8),
+            rows_per_image: None,
+        },
+        t.size(),
+    );
+    Ok(())
+}
+
+/// The seed, then `hops` passes that each copy the one before through a
+/// dispatch (post/copy.wgsl: the last image is the seed only if every hop saw
+/// the one before it), with a texture copy through the encoder before the
+/// hop after `copy_after` when asked.
+struct Chain {
+    hops: usize,
+    copy_after: Option<usize>,
+}
+
+impl Chain {
+    fn last(&self) -> String {
+        format!("h{}", self.hops)
+    }
+}
+
+impl spreadlight_render::Recipe for Chain {
+    fn declare<'a>(&'a self, _: &'a Renderer, fg: &mut FrameGraph<'a>) {
+        fg.add_pass("seed", None, &[], &[("h0", target())], seed);
+        for hop in 1..=self.hops {
+            let (from, to) = (format!("h{}", hop - 1), format!("h{hop}"));
+            let copied = self.copy_after == Some(hop - 1);
+            let (input, output) = (from.clone(), to.clone());
+            fg.add_pass(
+                format!("hop {hop}"),
+                Some(hop as u32),
+                &[from.as_str()],
+                &[(to.as_str(), target())],
+                move |cx| {
+                    let source = if copied {
+                        // Through the encoder: the open compute pass must end first,
+                        // or the copy would come before the dispatch that wrote `from`.
+                        let from = cx.texture(&input)?.clone();
+                        let scratch = cx.gpu.device.create_texture(&wgpu::TextureDescriptor {
+                            label: Some("copy"),
+                            size: from.size(),
+                            mip_level_count: 1,
+                            sample_count: 1,
+                            dimension: wgpu::TextureDimension::D2,
+                            format: from.format(),
+                            usage: wgpu::TextureUsages::COPY_DST
+                                | wgpu::TextureUsages::TEXTURE_BINDING,
+                            view_formats: &[],
+                        });
+                        cx.encoder().copy_texture_to_texture(
+                            from.as_image_copy(),
+                            scratch.as_image_copy(),
+                            from.size(),
+                        );
+                        scratch.create_view(&Default::default())
+                    } else {
+                        cx.view(&input)?
+                    };
+                    let output = cx.view(&output)?;
+                    cx.dispatch_image(
+                        "hop",
+                        &ShaderKey::new("post/copy.wgsl", []),
+                        &[
+                            (0, wgpu::BindingResource::TextureView(&source)),
+                            (1, wgpu::BindingResource::TextureView(&output)),
+                        ],
+                        SIZE,
+                    )
+                },
+            );
+        }
+    }
+}
+
+fn render(renderer: &Renderer, chain: &Chain) -> (FrameReport, Vec<[f32; 4]>) {
+    let last = chain.last();
+    let (report, images) = render_and_read(renderer, chain, SIZE, &[&last]).expect("renders");
+    assert!(report.errors.is_empty(), "{:?}", report.errors);
+    (report, images[0].pixels.clone())
+}
+
+/// A renderer on a device opened without timestamps inside passes (as a host
+/// that opened its own device may hand over: `GpuContext::from_parts`).
+fn renderer_without_timestamps_inside_passes() -> Renderer {
+    pollster::block_on(async {
+        let instance =
+            wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
+        let adapter = instance
+            .request_adapter(&wgpu::RequestAdapterOptions::default())
+            .await
+            .expect("GPU tests need a GPU adapter");
+        let features = adapter.features()
+            & (wgpu::Features::TIMESTAMP_QUERY
+                | wgpu::Features::SHADER_INT64
+                | wgpu::Features::SHADER_INT64_ATOMIC_MIN_MAX);
+        let (device, queue) = adapter
+            .request_device(&wgpu::DeviceDescriptor {
+                required_features: features,
+                required_limits: adapter.limits(),
+                ..Default::default()
+            })
+            .await
+            .expect("a device");
+        assert!(
+            !device
+                .features()
+                .contains(wgpu::Features::TIMESTAMP_QUERY_INSIDE_PASSES)
+        );
+        Renderer::new(GpuContext::from_parts(device, queue, adapter.get_info())).expect("renderer")
+    })
+}
+
+#[test]
+fn a_batched_frame_opens_one_compute_pass_a_run_and_renders_what_a_pass_each_renders() {
+    let renderer = test_renderer();
+    let hops = 12;
+    let plain = Chain {
+        hops,
+        copy_after: None,
+    };
+    // Isolated: an encoder a pass, so a compute pass a dispatching pass.
+    renderer.set_recording(Recording::Isolated);
+    let (report, reference) = render(&renderer, &plain);
+    assert_eq!(report.counter(COMPUTE_PASSES), hops as u64);
+    assert!(
+        reference.iter().any(|p| p[0] > 0.5),
+        "the ramp went through every hop"
+    );
+
+    renderer.set_recording(Recording::Batched);
+    for timing in [Timing::PerPass, Timing::Frame, Timing::Off] {
+        renderer.set_timing(timing);
+        let (report, image) = render(&renderer, &plain);
+        assert_eq!(image, reference, "{timing:?}");
+        // One a run of the frame: every run of 13 passes holds hops.
+        assert_eq!(
+            report.counter(COMPUTE_PASSES),
+            FRAME_CHUNKS as u64,
+            "{timing:?}"
+        );
+    }
+
+    // A copy through the encoder ends the open compute pass, and the copy
+    // reads what the dispatch before it wrote.
+    let copied = Chain {
+        hops,
+        copy_after: Some(2),
+    };
+    let (report, image) = render(&renderer, &copied);
+    assert_eq!(image, reference);
+    assert_eq!(report.counter(COMPUTE_PASSES), FRAME_CHUNKS as u64 + 1);
+    renderer.set_recording(Recording::Isolated);
+    let (_, image) = render(&renderer, &copied);
+    assert_eq!(image, reference);
+    renderer.wait_idle().expect("drains");
+}
+
+#[test]
+fn passes_sharing_a_compute_pass_are_each_timed() {
+    let renderer = test_renderer();
+    assert!(
+        renderer.gpu.has_timestamps(),
+        "the test adapter times passes"
+    );
+    renderer.set_recording(Recording::Batched);
+    renderer.set_timing(Timing::PerPass);
+    let chain = Chain {
+        hops: 12,
+        copy_after: Some(5),
+    };
+    let (report, _) = render(&renderer, &chain);
+    assert!(report.counter(COMPUTE_PASSES) < 12);
+    let hops: Vec<_> = report
+        .passes
+        .iter()
+        .filter(|p| p.name.starts_with("hop"))
+        .collect();
+    assert_eq!(hops.len(), 12);
+    // Each hop's own two timestamps, written inside the shared pass.
+    for pass in &hops {
+        let ms = pass
+            .gpu_ms
+            .unwrap_or_else(|| panic!("{} untimed", pass.name));
+        assert!(ms.is_finite() && ms >= 0.0, "{}: {ms}", pass.name);
+    }
+    let (span, sum) = (
+        report.gpu_frame_ms.expect("a span"),
+        report.gpu_ms.expect("a sum"),
+    );
+    // The passes follow each other, so their times fit in the frame's span.
+    assert!(sum <= span * 1.001 + 1e-6, "sum {sum} > span {span}");
+    renderer.wait_idle().expect("drains");
+}
+
+#[test]
+fn without_timestamps_inside_passes_a_timed_pass_gets_a_compute_pass_of_its_own() {
+    let renderer = renderer_without_timestamps_inside_passes();
+    let chain = Chain {
+        hops: 12,
+        copy_after: Some(2),
+    };
+    renderer.set_recording(Recording::Isolated);
+    renderer.set_timing(Timing::Off);
+    let (_, reference) = render(&renderer, &chain);
+    renderer.set_recording(Recording::Batched);
+
+    renderer.set_timing(Timing::PerPass);
+    let (report, image) = render(&renderer, &chain);
+    assert_eq!(image, reference);
+    if renderer.gpu.has_timestamps() {
+        assert_eq!(report.counter(COMPUTE_PASSES), 12);
+        assert!(
+            report
+                .passes
+                .iter()
+                .filter(|p| p.name.starts_with("hop"))
+                .all(|p| p.gpu_ms.is_some())
+        );
+    }
+    // Untimed passes still share.
+    renderer.set_timing(Timing::Off);
+    let (report, image) = render(&renderer, &chain);
+    assert_eq!(image, reference);
+    assert_eq!(report.counter(COMPUTE_PASSES), FRAME_CHUNKS as u64 + 1);
+    renderer.wait_idle().expect("drains");
+}
