@@ -24,6 +24,20 @@ impl StaticTexture {
         })
     }
 
+    /// A texture of linear RGBA 32-bit float `pixels` (row by row) at
+    /// `width` x `height`, ready to import into a frame graph: the one way a
+    /// made-up image (a test's lit image or source) is handed to a pass, so
+    /// callers do not each spell out the upload and the wrapping.
+    pub fn from_rgba32f(
+        gpu: &crate::context::GpuContext,
+        width: u32,
+        height: u32,
+        pixels: &[[f32; 4]],
+        label: &str,
+    ) -> std::sync::Arc<Self> {
+        Self::new(GpuTexture::from_rgba32f(gpu, width, height, pixels, label))
+    }
+
     pub fn texture_ref(self: &std::sync::Arc<Self>) -> crate::recipe::TextureRef {
         crate::recipe::TextureRef {
             recipe: self.clone(),

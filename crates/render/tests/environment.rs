@@ -14,7 +14,6 @@ use spreadlight_render::readback::{ImageF32, render_and_read};
 use spreadlight_render::renderer::test_renderer;
 use spreadlight_render::scenes::balls_on_floor;
 use spreadlight_render::static_texture::StaticTexture;
-use spreadlight_render::texture::GpuTexture;
 use spreadlight_render::{Renderer, SizeRule};
 
 const SIZE: (u32, u32) = (64, 64);
@@ -43,13 +42,7 @@ fn gbuffer(renderer: &Renderer) -> Arc<GBuffer> {
 
 /// The "lit image" the environment passes run over, at `SIZE`.
 fn lit_image(renderer: &Renderer, pixels: Vec<[f32; 4]>) -> Arc<StaticTexture> {
-    StaticTexture::new(GpuTexture::from_rgba32f(
-        &renderer.gpu,
-        SIZE.0,
-        SIZE.1,
-        &pixels,
-        "lit",
-    ))
+    StaticTexture::from_rgba32f(&renderer.gpu, SIZE.0, SIZE.1, &pixels, "lit")
 }
 
 fn sky(renderer: &Renderer, settings: SkySettings) -> (ImageF32, ImageF32) {

@@ -19,18 +19,17 @@ use spreadlight_render::reference::reflection::{BallsScene, Surface};
 use spreadlight_render::reference::shadows::Sphere;
 use spreadlight_render::renderer::test_renderer;
 use spreadlight_render::static_texture::StaticTexture;
-use spreadlight_render::texture::GpuTexture;
 
 const BALL: (Vec3, f32) = (Vec3::new(0.0, 0.6, 0.0), 0.6);
 
 fn constant(renderer: &Renderer, size: (u32, u32), c: [f32; 4]) -> Arc<StaticTexture> {
-    StaticTexture::new(GpuTexture::from_rgba32f(
+    StaticTexture::from_rgba32f(
         &renderer.gpu,
         size.0,
         size.1,
         &vec![c; (size.0 * size.1) as usize],
         "constant",
-    ))
+    )
 }
 
 /// The lit image a test gives SSR: the ball red, the floor dark blue, the sky black.
@@ -51,13 +50,7 @@ fn lit_image(renderer: &Renderer, g: &Arc<GBuffer>) -> Arc<StaticTexture> {
             });
         }
     }
-    StaticTexture::new(GpuTexture::from_rgba32f(
-        &renderer.gpu,
-        SIZE.0,
-        SIZE.1,
-        &pixels,
-        "lit",
-    ))
+    StaticTexture::from_rgba32f(&renderer.gpu, SIZE.0, SIZE.1, &pixels, "lit")
 }
 
 fn ssr_frame(

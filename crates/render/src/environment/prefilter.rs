@@ -112,7 +112,7 @@ pub(crate) fn build(
         mipmap_filter: wgpu::MipmapFilterMode::Linear,
         ..Default::default()
     });
-    let repeat = cx.shaders.sampler(&device, Sampling::LinearRepeat);
+    let repeat = cx.sampler(Sampling::LinearRepeat);
     let params = |size: u32, samples: u32, roughness: f32| {
         device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("environment params"),

@@ -231,6 +231,13 @@ impl<'f> PassContext<'f> {
         self.views.borrow_mut().view_of(texture, spec)
     }
 
+    /// A sampler of kind `sampling`, made once per kind and kept by the
+    /// shader cache, so passes neither make one each frame nor clone the
+    /// device to ask the cache for it.
+    pub fn sampler(&mut self, sampling: crate::shaders::Sampling) -> wgpu::Sampler {
+        self.shaders.sampler(&self.gpu.device, sampling)
+    }
+
     /// Add `n` to the frame report's counter `name`: how passes show the work
     /// they did and the work they saved.
     pub fn count(&mut self, name: &'static str, n: u64) {

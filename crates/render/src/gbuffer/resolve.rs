@@ -222,9 +222,7 @@ pub(super) fn resolve(
         // Group 2: the layer's maps, bound where its permutation samples them.
         let group2 = match layer.filter(|l| !motion && l.maps().next().is_some()) {
             Some(l) => {
-                let sampler = cx
-                    .shaders
-                    .sampler(&device, crate::shaders::Sampling::LinearRepeat);
+                let sampler = cx.sampler(crate::shaders::Sampling::LinearRepeat);
                 let normal = l
                     .normal_map
                     .as_ref()
@@ -297,7 +295,6 @@ fn surface_group(
     if !used.iter().any(|(group, _)| *group >= 1) {
         return Ok(None);
     }
-    let device = cx.gpu.device.clone();
     let mut views = Vec::new();
     for (_, binding) in &surface.bindings {
         if let SurfaceBinding::Texture(t) = binding {
@@ -316,7 +313,7 @@ fn surface_group(
             } else {
                 crate::shaders::Sampling::LinearClamp
             };
-            samplers.push((*repeat, cx.shaders.sampler(&device, sampling)));
+            samplers.push((*repeat, cx.sampler(sampling)));
         }
     }
     let mut entries = Vec::new();
@@ -345,11 +342,13 @@ fn surface_group(
             resource,
         });
     }
-    Ok(Some(device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some("resolve: shader node material"),
-        layout: &pipeline.get_bind_group_layout(1),
-        entries: &entries,
-    })))
+    Ok(Some(cx.gpu.device.create_bind_group(
+        &wgpu::BindGroupDescriptor {
+            label: Some("resolve: shader node material"),
+            layout: &pipeline.get_bind_group_layout(1),
+            entries: &entries,
+        },
+    )))
 }
 
 /// The layer record of a G-buffer with no layers: covers nothing, clears everything.

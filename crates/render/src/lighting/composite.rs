@@ -300,8 +300,7 @@ impl CompositeLight {
                     crate::texture_pool::ViewSpec::array(),
                 ),
                 // Clamped: the rim of a matcap must not wrap to the far side.
-                cx.shaders
-                    .sampler(&device, crate::shaders::Sampling::LinearClamp),
+                cx.sampler(crate::shaders::Sampling::LinearClamp),
             )),
             None => None,
         };

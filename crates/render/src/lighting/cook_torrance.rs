@@ -356,7 +356,7 @@ impl CookTorrance {
             Some(t) => {
                 let texture = cx.texture(&t.name)?.clone();
                 let view = cx.view_of(&texture, crate::texture_pool::ViewSpec::array());
-                Some((view, cx.shaders.sampler(&device, Sampling::LinearClamp)))
+                Some((view, cx.sampler(Sampling::LinearClamp)))
             }
             None => None,
         };

@@ -539,9 +539,7 @@ impl MaterialWorld {
                 None => self.dummies.array.clone(),
             };
             // Repeat: UVs beyond 0..1 tile.
-            let sampler = cx
-                .shaders
-                .sampler(&device, crate::shaders::Sampling::LinearRepeat);
+            let sampler = cx.sampler(crate::shaders::Sampling::LinearRepeat);
             // Only a texture array is mapped by the G-buffer's UV: surface
             // maps alone leave the motion resolve to be culled.
             let uv = match &self.textures {

@@ -142,10 +142,7 @@ impl Glare {
             all.push((2, wgpu::BindingResource::TextureView(l)));
         }
         // The chain's levels are read through it (bright and copy bind none).
-        let device = cx.gpu.device.clone();
-        let linear = cx
-            .shaders
-            .sampler(&device, crate::shaders::Sampling::LinearClamp);
+        let linear = cx.sampler(crate::shaders::Sampling::LinearClamp);
         all.push((4, wgpu::BindingResource::Sampler(&linear)));
         // The composite reads the source through the sampler too where its
         // format filters (the other entries read their source by texel).
@@ -153,7 +150,7 @@ impl Glare {
             && matches!(
                 cx.texture(source)?
                     .format()
-                    .sample_type(None, Some(device.features())),
+                    .sample_type(None, Some(cx.gpu.device.features())),
                 Some(wgpu::TextureSampleType::Float { filterable: true })
             );
         let features = filterable.then_some("FILTERED_SOURCE");

@@ -189,10 +189,7 @@ impl Taa {
                 .enumerate()
                 .map(|(i, v)| (i as u32 + 1, wgpu::BindingResource::TextureView(v))),
         );
-        let device = cx.gpu.device.clone();
-        let linear = cx
-            .shaders
-            .sampler(&device, crate::shaders::Sampling::LinearClamp);
+        let linear = cx.sampler(crate::shaders::Sampling::LinearClamp);
         all.push((6, wgpu::BindingResource::Sampler(&linear)));
         let size = super::size_of(cx, &self.output)?;
         super::dispatch_entry(cx, "taa", &self.key(), "main", &all, size)?;

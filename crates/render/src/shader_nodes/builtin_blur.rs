@@ -73,7 +73,7 @@ impl BuiltinBlur {
                 usage: wgpu::BufferUsages::UNIFORM,
             });
         let device = cx.gpu.device.clone();
-        let sampler = cx.shaders.sampler(&device, Sampling::LinearClamp);
+        let sampler = cx.sampler(Sampling::LinearClamp);
         let (source, target) = (cx.view(input)?, cx.view(output)?);
         let key = ShaderKey::new(SHADER, []);
         let pipeline = cx.shaders.compute_pipeline(&device, &key, entry)?;

@@ -325,14 +325,11 @@ impl ShaderNodeRecipe {
                     Some(g) => Bound::Buffer(g.camera_buffer().clone()),
                     None => return Err(missing(&self.type_name, "GBuffer")),
                 },
-                Role::Sampler(decl) => Bound::Sampler(cx.shaders.sampler(
-                    &device,
-                    if decl.repeat {
-                        Sampling::LinearRepeat
-                    } else {
-                        Sampling::LinearClamp
-                    },
-                )),
+                Role::Sampler(decl) => Bound::Sampler(cx.sampler(if decl.repeat {
+                    Sampling::LinearRepeat
+                } else {
+                    Sampling::LinearClamp
+                })),
                 Role::Write(t) => {
                     let i = pass.decl.targets.iter().position(|d| d == t).unwrap_or(0);
                     Bound::View(cx.view(&names.dests[i])?)

@@ -9,7 +9,6 @@ use spreadlight_render::camera::CameraInput;
 use spreadlight_render::gbuffer::GBuffer;
 use spreadlight_render::scenes::balls_on_floor;
 use spreadlight_render::static_texture::StaticTexture;
-use spreadlight_render::texture::GpuTexture;
 use spreadlight_render::{Renderer, SizeRule};
 
 pub const BALL: (Vec3, f32) = (Vec3::new(0.0, 1.0, 0.0), 1.0);
@@ -50,13 +49,7 @@ pub fn image(
     size: (u32, u32),
     name: &str,
 ) -> Arc<StaticTexture> {
-    StaticTexture::new(GpuTexture::from_rgba32f(
-        &renderer.gpu,
-        size.0,
-        size.1,
-        pixels,
-        name,
-    ))
+    StaticTexture::from_rgba32f(&renderer.gpu, size.0, size.1, pixels, name)
 }
 
 /// A texture of one colour at `size`.

@@ -13,7 +13,6 @@ use spreadlight_render::mesh::primitives::{SphereParams, sphere};
 use spreadlight_render::readback::{ImageF32, render_and_read};
 use spreadlight_render::recipe::Recipe;
 use spreadlight_render::static_texture::StaticTexture;
-use spreadlight_render::texture::GpuTexture;
 use spreadlight_render::{Renderer, SizeRule};
 
 /// A ball: centre now, centre last frame, radius.
@@ -89,13 +88,7 @@ pub fn image(
     f: impl Fn(u32, u32) -> [f32; 4],
 ) -> Arc<StaticTexture> {
     let pixels: Vec<[f32; 4]> = (0..w * h).map(|i| f(i % w, i / w)).collect();
-    StaticTexture::new(GpuTexture::from_rgba32f(
-        &renderer.gpu,
-        w,
-        h,
-        &pixels,
-        "test image",
-    ))
+    StaticTexture::from_rgba32f(&renderer.gpu, w, h, &pixels, "test image")
 }
 
 /// Render `name` from `recipe`; no pass may fail and every pixel must be finite.

@@ -306,7 +306,7 @@ impl Ssr {
         let hiz_view = cx.view_of(&hiz, Default::default());
         let lut_view = cx.view_of(&lut, Default::default());
         let device = cx.gpu.device.clone();
-        let sampler = cx.shaders.sampler(&device, Sampling::LinearClamp);
+        let sampler = cx.sampler(Sampling::LinearClamp);
         let resolution = self.settings.resolution;
         let mut key = self.key();
         key.features.extend(resolution.feature());
