@@ -5,7 +5,9 @@
 //! `--json` (the keys of shared/bench/README.md).
 //!
 //! What it reports: the GPU frame span and every pass in frame order (names
-//! may repeat), the idle time between them (span minus the passes' sum),
+//! may repeat), the idle time between them (span minus the passes' sum;
+//! inside a shared compute pass a dispatch's barriers count in its pass's
+//! time instead, `PassReport::idle_ms`),
 //! CPU per frame split into patch evaluation and frame recording, and with
 //! `--wall` the wall-clock time per frame with frames in flight (no
 //! timestamps, nothing read back: what an interactive host gets) and the

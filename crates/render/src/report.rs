@@ -16,9 +16,11 @@ pub struct PassReport {
     pub gpu_ms: Option<f64>,
     /// GPU time idle before this pass: from the end of the previous timed
     /// pass to this one's start, plus any gaps between its own timed parts.
-    /// Over a frame these add up to the span minus the passes' sum, so a
-    /// boundary that costs more than others (a barrier, an uncovered copy)
-    /// shows where it is.
+    /// Over a frame these add up to the span minus the passes' sum. Between
+    /// passes that share a compute pass (frame_graph/compute_pass.rs) the
+    /// barriers a dispatch needs fall after its pass's first timestamp, so
+    /// they count in `gpu_ms`, not here; a boundary that costs more than
+    /// others shows here where a compute pass ends (a render pass, a copy).
     pub idle_ms: Option<f64>,
     pub draws: u64,
 }

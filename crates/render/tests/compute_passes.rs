@@ -1,7 +1,10 @@
 //! Consecutive dispatches share one wgpu compute pass (frame_graph/compute_pass.rs):
 //! wgpu encodes every compute pass into command buffers of its own, so a
 //! batched frame opens one a run of dispatching passes instead of one a pass.
-//! What they render, and how each pass is timed, stays as with a pass each.
+//! What they render stays as with a pass each, and each pass is still timed.
+//! (Lavapipe runs dispatches in order, so a missing barrier would not show in
+//! these images: that wgpu places them inside a pass is read from its source,
+//! compute_pass.rs says where.)
 
 use spreadlight_render::frame_graph::{COMPUTE_PASSES, FRAME_CHUNKS, PassContext};
 use spreadlight_render::readback::render_and_read;
@@ -42,10 +45,12 @@ fn seed(cx: &mut PassContext<'_>) -> Result<(), spreadlight_render::RenderError>
 /// The seed, then `hops` passes that each copy the one before through a
 /// dispatch (post/copy.wgsl: the last image is the seed only if every hop saw
 /// the one before it), with a texture copy through the encoder before the
-/// hop after `copy_after` when asked.
+/// hop after `copy_after`, and hop `failing` returning an error after its
+/// dispatch, when asked.
 struct Chain {
     hops: usize,
     copy_after: Option<usize>,
+    failing: Option<usize>,
 }
 
 impl Chain {
@@ -60,6 +65,7 @@ impl spreadlight_render::Recipe for Chain {
         for hop in 1..=self.hops {
             let (from, to) = (format!("h{}", hop - 1), format!("h{hop}"));
             let copied = self.copy_after == Some(hop - 1);
+            let fails = self.failing == Some(hop);
             let (input, output) = (from.clone(), to.clone());
             fg.add_pass(
                 format!("hop {hop}"),
@@ -68,8 +74,8 @@ impl spreadlight_render::Recipe for Chain {
                 &[(to.as_str(), target())],
                 move |cx| {
                     let source = if copied {
-                        // Through the encoder: the open compute pass must end first,
-                        // or the copy would come before the dispatch that wrote `from`.
+                        // Through the encoder: the open compute pass must end first
+                        // (wgpu refuses an encoder with a pass open on it).
                         let from = cx.texture(&input)?.clone();
                         let scratch = cx.gpu.device.create_texture(&wgpu::TextureDescriptor {
                             label: Some("copy"),
@@ -100,7 +106,13 @@ impl spreadlight_render::Recipe for Chain {
                             (1, wgpu::BindingResource::TextureView(&output)),
                         ],
                         SIZE,
-                    )
+                    )?;
+                    match fails {
+                        true => Err(spreadlight_render::RenderError::Graph(
+                            "a deliberate error after the dispatch".into(),
+                        )),
+                        false => Ok(()),
+                    }
                 },
             );
         }
@@ -108,10 +120,33 @@ impl spreadlight_render::Recipe for Chain {
 }
 
 fn render(renderer: &Renderer, chain: &Chain) -> (FrameReport, Vec<[f32; 4]>) {
+    let (report, image) = render_with_errors(renderer, chain);
+    assert!(report.errors.is_empty(), "{:?}", report.errors);
+    (report, image)
+}
+
+fn render_with_errors(renderer: &Renderer, chain: &Chain) -> (FrameReport, Vec<[f32; 4]>) {
     let last = chain.last();
     let (report, images) = render_and_read(renderer, chain, SIZE, &[&last]).expect("renders");
-    assert!(report.errors.is_empty(), "{:?}", report.errors);
     (report, images[0].pixels.clone())
+}
+
+/// 12 hops, none failing.
+fn chain(copy_after: Option<usize>) -> Chain {
+    Chain {
+        hops: 12,
+        copy_after,
+        failing: None,
+    }
+}
+
+/// The hops' reports, in order.
+fn hops(report: &FrameReport) -> Vec<&spreadlight_render::frame_graph::PassReport> {
+    report
+        .passes
+        .iter()
+        .filter(|p| p.name.starts_with("hop"))
+        .collect()
 }
 
 /// A renderer on a device opened without timestamps inside passes (as a host
@@ -148,15 +183,11 @@ fn renderer_without_timestamps_inside_passes() -> Renderer {
 #[test]
 fn a_batched_frame_opens_one_compute_pass_a_run_and_renders_what_a_pass_each_renders() {
     let renderer = test_renderer();
-    let hops = 12;
-    let plain = Chain {
-        hops,
-        copy_after: None,
-    };
+    let plain = chain(None);
     // Isolated: an encoder a pass, so a compute pass a dispatching pass.
     renderer.set_recording(Recording::Isolated);
     let (report, reference) = render(&renderer, &plain);
-    assert_eq!(report.counter(COMPUTE_PASSES), hops as u64);
+    assert_eq!(report.counter(COMPUTE_PASSES), 12);
     assert!(
         reference.iter().any(|p| p[0] > 0.5),
         "the ramp went through every hop"
@@ -173,14 +204,19 @@ fn a_batched_frame_opens_one_compute_pass_a_run_and_renders_what_a_pass_each_ren
             FRAME_CHUNKS as u64,
             "{timing:?}"
         );
+        if timing == Timing::Frame {
+            // The first pass (the seed) dispatches nothing: only the last hop is timed.
+            let timed: Vec<bool> = hops(&report).iter().map(|p| p.gpu_ms.is_some()).collect();
+            let mut last_only = vec![false; 12];
+            last_only[11] = true;
+            assert_eq!(timed, last_only);
+            assert!(report.gpu_frame_ms.is_some());
+        }
     }
 
     // A copy through the encoder ends the open compute pass, and the copy
     // reads what the dispatch before it wrote.
-    let copied = Chain {
-        hops,
-        copy_after: Some(2),
-    };
+    let copied = chain(Some(2));
     let (report, image) = render(&renderer, &copied);
     assert_eq!(image, reference);
     assert_eq!(report.counter(COMPUTE_PASSES), FRAME_CHUNKS as u64 + 1);
@@ -199,24 +235,17 @@ fn passes_sharing_a_compute_pass_are_each_timed() {
     );
     renderer.set_recording(Recording::Batched);
     renderer.set_timing(Timing::PerPass);
-    let chain = Chain {
-        hops: 12,
-        copy_after: Some(5),
-    };
-    let (report, _) = render(&renderer, &chain);
+    let (report, _) = render(&renderer, &chain(Some(5)));
     assert!(report.counter(COMPUTE_PASSES) < 12);
-    let hops: Vec<_> = report
-        .passes
-        .iter()
-        .filter(|p| p.name.starts_with("hop"))
-        .collect();
+    let hops = hops(&report);
     assert_eq!(hops.len(), 12);
-    // Each hop's own two timestamps, written inside the shared pass.
+    // Each hop's own two timestamps, written inside the shared pass, around its dispatch.
     for pass in &hops {
         let ms = pass
             .gpu_ms
             .unwrap_or_else(|| panic!("{} untimed", pass.name));
-        assert!(ms.is_finite() && ms >= 0.0, "{}: {ms}", pass.name);
+        assert!(ms > 0.0, "{}: {ms}", pass.name);
+        assert!(pass.idle_ms.is_some(), "{}", pass.name);
     }
     let (span, sum) = (
         report.gpu_frame_ms.expect("a span"),
@@ -230,10 +259,11 @@ fn passes_sharing_a_compute_pass_are_each_timed() {
 #[test]
 fn without_timestamps_inside_passes_a_timed_pass_gets_a_compute_pass_of_its_own() {
     let renderer = renderer_without_timestamps_inside_passes();
-    let chain = Chain {
-        hops: 12,
-        copy_after: Some(2),
-    };
+    assert!(
+        renderer.gpu.has_timestamps(),
+        "the test adapter times passes"
+    );
+    let chain = chain(Some(2));
     renderer.set_recording(Recording::Isolated);
     renderer.set_timing(Timing::Off);
     let (_, reference) = render(&renderer, &chain);
@@ -242,20 +272,40 @@ fn without_timestamps_inside_passes_a_timed_pass_gets_a_compute_pass_of_its_own(
     renderer.set_timing(Timing::PerPass);
     let (report, image) = render(&renderer, &chain);
     assert_eq!(image, reference);
-    if renderer.gpu.has_timestamps() {
-        assert_eq!(report.counter(COMPUTE_PASSES), 12);
-        assert!(
-            report
-                .passes
-                .iter()
-                .filter(|p| p.name.starts_with("hop"))
-                .all(|p| p.gpu_ms.is_some())
-        );
-    }
+    assert_eq!(report.counter(COMPUTE_PASSES), 12);
+    assert!(hops(&report).iter().all(|p| p.gpu_ms.is_some()));
     // Untimed passes still share.
     renderer.set_timing(Timing::Off);
     let (report, image) = render(&renderer, &chain);
     assert_eq!(image, reference);
     assert_eq!(report.counter(COMPUTE_PASSES), FRAME_CHUNKS as u64 + 1);
+    renderer.wait_idle().expect("drains");
+}
+
+#[test]
+fn a_pass_that_fails_after_its_dispatch_is_reported_and_the_passes_after_it_still_run() {
+    let renderer = test_renderer();
+    renderer.set_recording(Recording::Isolated);
+    let (_, reference) = render(&renderer, &chain(None));
+    renderer.set_recording(Recording::Batched);
+    renderer.set_timing(Timing::PerPass);
+    let failing = Chain {
+        failing: Some(4),
+        ..chain(None)
+    };
+    let (report, image) = render_with_errors(&renderer, &failing);
+    assert_eq!(report.errors.len(), 1, "{:?}", report.errors);
+    let (owner, message) = &report.errors[0];
+    assert_eq!(*owner, Some(4));
+    assert!(message.contains("deliberate"), "{message}");
+    // Its dispatch was recorded, and the hops after it read it and are timed
+    // (a failed pass reports no time, as with a compute pass of its own).
+    assert_eq!(image, reference);
+    let timed: Vec<bool> = hops(&report).iter().map(|p| p.gpu_ms.is_some()).collect();
+    let mut all_but_the_failed = vec![true; 12];
+    all_but_the_failed[3] = false;
+    assert_eq!(timed, all_but_the_failed);
+    // A pass's own error is no validation error: the frame stays batched.
+    assert_eq!(renderer.settings().1, Recording::Batched);
     renderer.wait_idle().expect("drains");
 }

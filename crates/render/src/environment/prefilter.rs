@@ -1,5 +1,5 @@
 //! Building an environment's maps (shaders/environment/prefilter.wgsl), in
-//! one timed compute pass: the base cube from the source, its mip chain,
+//! the open compute pass: the base cube from the source, its mip chain,
 //! the prefiltered roughness levels, the irradiance cube and the split-sum
 //! table. Cost: cube_size^2 * 6 * (4/3) texels for the base, and
 //! samples per texel for the rough levels (each a quarter of the last).

@@ -14,44 +14,65 @@
 //! where the device can ([`wgpu::Features::TIMESTAMP_QUERY_INSIDE_PASSES`]);
 //! where it cannot, it gets a compute pass of its own, timed by the pass's
 //! own timestamp writes, as before.
+//!
+//! Two things differ from a pass each. A pipeline and bind groups set by one
+//! graph pass are still set for the next: a pass must set every group its
+//! pipeline uses (wgpu checks only that they are compatible). And a
+//! dispatch's barriers come after its graph pass's first timestamp, so they
+//! count in the pass's GPU time rather than as idle time before it; the
+//! first use of each resource in the whole run is prepared before the run,
+//! in the buffer wgpu puts before the compute pass.
+//!
+//! That the barriers between dispatches are there rests on wgpu-core 30:
+//! every dispatch is its own usage scope, and the state changes from the
+//! dispatch before are recorded right before it (`compute.rs`,
+//! `flush_bindings` and `drain_barriers`); storage writes are never treated
+//! as ordered, so two writes to one texture get a barrier too. The tests can
+//! only show the images are right where the device runs dispatches in order.
 
 use super::PassContext;
 
-/// The counter of compute passes begun (and so encoded by wgpu) in a frame.
+/// The counter of compute passes the frame graph began in a frame (each one
+/// wgpu encodes into command buffers of its own); geometry and particle
+/// nodes, which dispatch as they evaluate, have their own.
 pub const COMPUTE_PASSES: &str = "compute passes";
 
 /// The open compute pass and who may add to it.
 pub(crate) struct OpenCompute {
     pass: wgpu::ComputePass<'static>,
-    /// The timestamp the current graph pass writes when it ends, where it
-    /// wrote its first inside this pass.
-    end_query: Option<u32>,
-    /// Whether later graph passes may add to it: not a pass timed by its own
-    /// timestamp writes, which belong to the graph pass that began it.
+    /// The timestamp the current graph pass writes when it ends (and the
+    /// set it is in), where it wrote its first inside this pass.
+    end_query: Option<(wgpu::QuerySet, u32)>,
+    /// Whether later graph passes may add to it: not one that belongs to the
+    /// graph pass that began it (timed by its own timestamp writes, or meant
+    /// to be and out of queries).
     shared: bool,
 }
 
 impl OpenCompute {
     /// End the current graph pass's part: its closing timestamp.
-    fn close_part(&mut self, set: Option<&wgpu::QuerySet>) {
-        if let (Some(end), Some(set)) = (self.end_query.take(), set) {
-            self.pass.write_timestamp(set, end);
+    fn close_part(&mut self) {
+        if let Some((set, end)) = self.end_query.take() {
+            self.pass.write_timestamp(&set, end);
         }
     }
 }
 
 impl PassContext<'_> {
     /// The command encoder, for what a compute pass cannot hold: render
-    /// passes, copies, clears. The open compute pass ends first, so that what
-    /// is recorded here comes after the dispatches before it.
+    /// passes, copies, clears. The open compute pass ends first: wgpu refuses
+    /// an encoder while a pass on it is open ("Encoder is locked").
     pub fn encoder(&mut self) -> &mut wgpu::CommandEncoder {
         self.end_compute();
         &mut self.encoder
     }
 
     /// A compute pass to dispatch into: the one open on this encoder when
-    /// there is one, else a new one named `label`. Timed graph passes are
-    /// timed from their first dispatch to the end of the graph pass.
+    /// there is one, else a new one. Timed graph passes are timed from their
+    /// first dispatch to the end of the graph pass. `label` names a pass only
+    /// this graph pass uses (shared ones hold many: "dispatches"). Set every
+    /// bind group the pipeline uses: what an earlier graph pass set is still
+    /// set.
     pub fn compute_pass(&mut self, label: &str) -> &mut wgpu::ComputePass<'static> {
         let timed = self.timestamps.is_some();
         let inside = self.timestamps_inside_passes;
@@ -79,7 +100,7 @@ impl PassContext<'_> {
             let pass = self
                 .encoder
                 .begin_compute_pass(&wgpu::ComputePassDescriptor {
-                    label: Some(label),
+                    label: Some(if own { label } else { "dispatches" }),
                     timestamp_writes,
                 })
                 .forget_lifetime();
@@ -100,7 +121,7 @@ impl PassContext<'_> {
         if begins && let Some((set, begin)) = self.next_pair() {
             let open = self.compute.as_mut().expect("opened above");
             open.pass.write_timestamp(set, begin);
-            open.end_query = Some(begin + 1);
+            open.end_query = Some((set.clone(), begin + 1));
         }
         &mut self.compute.as_mut().expect("opened above").pass
     }
@@ -109,7 +130,7 @@ impl PassContext<'_> {
     /// timestamp): before the encoder is used directly or finished.
     pub(crate) fn end_compute(&mut self) {
         if let Some(mut open) = self.compute.take() {
-            open.close_part(self.timestamps);
+            open.close_part();
         }
     }
 
@@ -117,7 +138,7 @@ impl PassContext<'_> {
     /// pass only it may use. What stays open goes on to the next graph pass.
     pub(crate) fn close_graph_pass(&mut self) {
         match &mut self.compute {
-            Some(open) if open.shared => open.close_part(self.timestamps),
+            Some(open) if open.shared => open.close_part(),
             Some(_) => self.end_compute(),
             None => {}
         }

@@ -357,7 +357,7 @@ impl ComputeRaster {
 pub(crate) type Between<'b> =
     &'b mut dyn FnMut(&mut PassContext<'_>, &wgpu::Buffer) -> Result<(), RenderError>;
 
-/// One timed compute pass: `batches`' triangles, then the big triangles' tiles.
+/// `batches`' triangles, then the big triangles' tiles, in the open compute pass.
 fn raster_batches(
     cx: &mut PassContext<'_>,
     (tiles, tiles_group): (&wgpu::ComputePipeline, &wgpu::BindGroup),
