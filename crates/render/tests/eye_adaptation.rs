@@ -9,7 +9,6 @@ use spreadlight_render::readback::render_and_read;
 use spreadlight_render::reference::tonemap::TONEMAP_NAMES;
 use spreadlight_render::renderer::{Renderer, test_renderer};
 use spreadlight_render::static_texture::StaticTexture;
-use spreadlight_render::texture::GpuTexture;
 
 const SETTINGS: AdaptationSettings = AdaptationSettings {
     speed_up: 3.0,
@@ -19,14 +18,7 @@ const SETTINGS: AdaptationSettings = AdaptationSettings {
 };
 
 fn source(renderer: &Renderer, width: u32, height: u32, pixels: &[[f32; 4]]) -> TextureRef {
-    StaticTexture::new(GpuTexture::from_rgba32f(
-        &renderer.gpu,
-        width,
-        height,
-        pixels,
-        "hdr",
-    ))
-    .texture_ref()
+    StaticTexture::from_rgba32f(&renderer.gpu, width, height, pixels, "hdr").texture_ref()
 }
 
 fn grey(l: f32) -> [f32; 4] {

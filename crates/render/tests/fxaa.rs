@@ -5,19 +5,12 @@ use spreadlight_render::post::{Fxaa, FxaaQuality};
 use spreadlight_render::readback::{ImageF32, render_and_read};
 use spreadlight_render::renderer::test_renderer;
 use spreadlight_render::static_texture::StaticTexture;
-use spreadlight_render::texture::GpuTexture;
 
 const N: u32 = 32;
 
 fn fxaa(pixels: &[[f32; 4]], quality: FxaaQuality) -> ImageF32 {
     let renderer = test_renderer();
-    let input = StaticTexture::new(GpuTexture::from_rgba32f(
-        &renderer.gpu,
-        N,
-        N,
-        pixels,
-        "aliased",
-    ));
+    let input = StaticTexture::from_rgba32f(&renderer.gpu, N, N, pixels, "aliased");
     let pass = Fxaa::new(&renderer, None, input.texture_ref(), quality, 0.75);
     let (report, images) =
         render_and_read(&renderer, pass.as_ref(), (N, N), &[&pass.output]).expect("renders");

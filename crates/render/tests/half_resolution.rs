@@ -22,7 +22,6 @@ use spreadlight_render::renderer::test_renderer;
 use spreadlight_render::resolution::{Resolution, Upsample, UpsampleFormat, upsample};
 use spreadlight_render::scenes::{balls_on_floor, with_materials};
 use spreadlight_render::static_texture::StaticTexture;
-use spreadlight_render::texture::GpuTexture;
 use spreadlight_render::{Recipe, Renderer, SizeRule};
 
 /// Odd on purpose: the half grid's last row and column cover one pixel.
@@ -86,13 +85,7 @@ fn surfaces(renderer: &Renderer, g: &Arc<GBuffer>) -> Vec<Option<(f32, bool)>> {
 }
 
 fn texture(renderer: &Renderer, size: (u32, u32), pixels: &[[f32; 4]]) -> Arc<StaticTexture> {
-    StaticTexture::new(GpuTexture::from_rgba32f(
-        &renderer.gpu,
-        size.0,
-        size.1,
-        pixels,
-        "test image",
-    ))
+    StaticTexture::from_rgba32f(&renderer.gpu, size.0, size.1, pixels, "test image")
 }
 
 /// The lit image light comes from: the ball red, the floor a blue checker,

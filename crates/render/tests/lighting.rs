@@ -819,17 +819,10 @@ fn ambient_occlusion_darkens_the_ambient_term_as_each_material_says() {
     use spreadlight_render::lighting::{CompositeInputs, CompositeLight, LightComponents};
     use spreadlight_render::material::{Feature, Material, MaterialWorld};
     use spreadlight_render::static_texture::StaticTexture;
-    use spreadlight_render::texture::GpuTexture;
     let renderer = test_renderer();
     let g = scene(&renderer);
     let half = vec![[0.5f32, 0.5, 0.5, 1.0]; (SIZE.0 * SIZE.1) as usize];
-    let ao = StaticTexture::new(GpuTexture::from_rgba32f(
-        &renderer.gpu,
-        SIZE.0,
-        SIZE.1,
-        &half,
-        "ao",
-    ));
+    let ao = StaticTexture::from_rgba32f(&renderer.gpu, SIZE.0, SIZE.1, &half, "ao");
     let composite = |occlusion: bool, world: Option<std::sync::Arc<MaterialWorld>>| {
         let lights = LightBuffer::points(&renderer, &[]);
         let ct = CookTorrance::new(
@@ -907,17 +900,16 @@ fn gi_and_reflection_are_weighted_per_material_and_unreflective_scenes_render_no
     use spreadlight_render::material::{Feature, Material, MaterialWorld};
     use spreadlight_render::occlusion::{AmbientOcclusion, AoSettings};
     use spreadlight_render::static_texture::StaticTexture;
-    use spreadlight_render::texture::GpuTexture;
     let renderer = test_renderer();
     let g = scene(&renderer);
     let constant = |v: f32, name: &str| {
-        StaticTexture::new(GpuTexture::from_rgba32f(
+        StaticTexture::from_rgba32f(
             &renderer.gpu,
             SIZE.0,
             SIZE.1,
             &vec![[v, v, v, 1.0]; (SIZE.0 * SIZE.1) as usize],
             name,
-        ))
+        )
     };
     let (gi, reflection) = (constant(0.25, "gi"), constant(0.5, "reflection"));
     let world = |reflective: Option<f32>| {

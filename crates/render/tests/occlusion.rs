@@ -588,14 +588,12 @@ fn half_lit(
             }
         })
         .collect();
-    spreadlight_render::static_texture::StaticTexture::new(
-        spreadlight_render::texture::GpuTexture::from_rgba32f(
-            &renderer.gpu,
-            SIZE.0,
-            SIZE.1,
-            &pixels,
-            "sss",
-        ),
+    spreadlight_render::static_texture::StaticTexture::from_rgba32f(
+        &renderer.gpu,
+        SIZE.0,
+        SIZE.1,
+        &pixels,
+        "sss",
     )
 }
 

@@ -22,7 +22,6 @@ use spreadlight_render::reference::brdf::f_schlick;
 use spreadlight_render::reference::reflection::CpuSky;
 use spreadlight_render::renderer::test_renderer;
 use spreadlight_render::static_texture::StaticTexture;
-use spreadlight_render::texture::GpuTexture;
 
 /// The sun behind the camera and no glow: a smooth sky to compare against.
 fn calm_sky() -> SkySettings {
@@ -465,13 +464,13 @@ fn refraction_shows_the_environment_behind_the_surface() {
 fn the_sky_node_draws_an_environment_where_depth_is_empty() {
     let renderer = test_renderer();
     let g = gbuffer(&renderer);
-    let lit = StaticTexture::new(GpuTexture::from_rgba32f(
+    let lit = StaticTexture::from_rgba32f(
         &renderer.gpu,
         SIZE.0,
         SIZE.1,
         &vec![[1.0, 0.0, 1.0, 1.0]; (SIZE.0 * SIZE.1) as usize],
         "lit",
-    ));
+    );
     let procedural = Sky::pass(&renderer, None, g.clone(), lit.texture_ref(), calm_sky());
     let environment = sky_environment(&renderer, None, calm_sky());
     let baked = Sky::with_environment(

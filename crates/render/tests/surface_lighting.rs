@@ -23,7 +23,6 @@ use spreadlight_render::recipe::TextureRef;
 use spreadlight_render::reference::brdf::cook_torrance_f0;
 use spreadlight_render::renderer::test_renderer;
 use spreadlight_render::static_texture::StaticTexture;
-use spreadlight_render::texture::GpuTexture;
 use spreadlight_render::{Renderer, SizeRule};
 
 const FLOOR_ALBEDO: [f32; 3] = [0.8, 0.7, 0.6];
@@ -294,13 +293,13 @@ fn metallic_a_material_writes_scales_the_diffuse_term_as_the_brdf_says() {
 #[test]
 fn occlusion_a_material_writes_darkens_ambient_and_indirect_light() {
     let renderer = test_renderer();
-    let gi = StaticTexture::new(GpuTexture::from_rgba32f(
+    let gi = StaticTexture::from_rgba32f(
         &renderer.gpu,
         SIZE.0,
         SIZE.1,
         &vec![[0.5f32, 0.5, 0.5, 1.0]; (SIZE.0 * SIZE.1) as usize],
         "gi",
-    ));
+    );
     let points = floor_points();
     for (occlusion, metallic) in [(1.0, 0.0), (0.5, 0.0), (0.0, 0.0), (1.0, 1.0), (0.5, 1.0)] {
         let body = format!("out.occlusion = {occlusion:.1};\n    out.metallic = {metallic:.1};");

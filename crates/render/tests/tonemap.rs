@@ -8,7 +8,6 @@ use spreadlight_render::readback::render_and_read;
 use spreadlight_render::reference::tonemap::{TONEMAP_NAMES, tonemap};
 use spreadlight_render::renderer::test_renderer;
 use spreadlight_render::static_texture::StaticTexture;
-use spreadlight_render::texture::GpuTexture;
 
 #[test]
 fn every_operator_keeps_extreme_frames_finite_and_matches_the_reference() {
@@ -24,13 +23,7 @@ fn every_operator_keeps_extreme_frames_finite_and_matches_the_reference() {
         [-1.0, 0.5, 0.5, 1.0],
         [1e6, 0.0, 0.0, 1.0],
     ];
-    let source = StaticTexture::new(GpuTexture::from_rgba32f(
-        &renderer.gpu,
-        8,
-        1,
-        &row,
-        "extremes",
-    ));
+    let source = StaticTexture::from_rgba32f(&renderer.gpu, 8, 1, &row, "extremes");
     for (op, name) in TONEMAP_NAMES.iter().enumerate() {
         let t = Tonemap::new(&renderer, None, source.texture_ref(), op as u32, 1.0, 4.0);
         let (report, images) =

@@ -37,7 +37,6 @@ use spreadlight_render::reference::reflection::{
 use spreadlight_render::reference::shadows::Sphere;
 use spreadlight_render::scenes::{balls_on_floor, with_materials};
 use spreadlight_render::static_texture::StaticTexture;
-use spreadlight_render::texture::GpuTexture;
 use spreadlight_render::{FrameGraph, Recipe, Renderer, SizeRule};
 
 use super::metrics::{self, Plane};
@@ -344,13 +343,13 @@ fn frame(
 }
 
 fn upload_lit(renderer: &Renderer, size: (u32, u32)) -> Arc<StaticTexture> {
-    StaticTexture::new(GpuTexture::from_rgba32f(
+    StaticTexture::from_rgba32f(
         &renderer.gpu,
         size.0,
         size.1,
         &lit_image(size),
         "reference lit image",
-    ))
+    )
 }
 
 fn error(
