@@ -6,10 +6,13 @@
 //! these images: that wgpu places them inside a pass is read from its source,
 //! compute_pass.rs says where.)
 
-use spreadlight_render::frame_graph::{COMPUTE_PASSES, FRAME_CHUNKS, PassContext};
+use std::sync::Arc;
+
+use spreadlight_render::frame_graph::{COMPUTE_PASSES, FRAME_CHUNKS};
 use spreadlight_render::readback::render_and_read;
 use spreadlight_render::renderer::{Recording, Timing, test_renderer};
 use spreadlight_render::shaders::ShaderKey;
+use spreadlight_render::static_texture::StaticTexture;
 use spreadlight_render::{FrameGraph, FrameReport, GpuContext, Renderer, TextureDesc};
 
 const SIZE: (u32, u32) = (8, 8);
@@ -20,26 +23,15 @@ fn target() -> TextureDesc {
     desc
 }
 
-/// A ramp written from the CPU (no GPU command), the chain's start.
-fn seed(cx: &mut PassContext<'_>) -> Result<(), spreadlight_render::RenderError> {
-    let t = cx.texture("h0")?.clone();
-    let data: Vec<u8> = (0..SIZE.0 * SIZE.1)
-        .flat_map(|i| {
-            let v = half::f16::from_f32(i as f32 / 64.0).to_le_bytes();
-            [v, v, v, half::f16::ONE.to_le_bytes()].concat()
+/// A ramp, the chain's start (imported: no pass of its own).
+fn seed(renderer: &Renderer) -> Arc<StaticTexture> {
+    let pixels: Vec<[f32; 4]> = (0..SIZE.0 * SIZE.1)
+        .map(|i| {
+            let v = i as f32 / 64.0;
+            [v, v, v, 1.0]
         })
         .collect();
-    cx.gpu.queue.write_texture(
-        t.as_image_copy(),
-        &data,
-        wgpu::TexelCopyBufferLayout {
-            offset: 0,
-            bytes_per_row: Some(SIZE.0 * 8),
-            rows_per_image: None,
-        },
-        t.size(),
-    );
-    Ok(())
+    StaticTexture::from_rgba32f(&renderer.gpu, SIZE.0, SIZE.1, &pixels, "seed")
 }
 
 /// The seed, then `hops` passes that each copy the one before through a
@@ -48,6 +40,7 @@ fn seed(cx: &mut PassContext<'_>) -> Result<(), spreadlight_render::RenderError>
 /// hop after `copy_after`, and hop `failing` returning an error after its
 /// dispatch, when asked.
 struct Chain {
+    seed: Arc<StaticTexture>,
     hops: usize,
     copy_after: Option<usize>,
     failing: Option<usize>,
@@ -61,7 +54,7 @@ impl Chain {
 
 impl spreadlight_render::Recipe for Chain {
     fn declare<'a>(&'a self, _: &'a Renderer, fg: &mut FrameGraph<'a>) {
-        fg.add_pass("seed", None, &[], &[("h0", target())], seed);
+        fg.import("h0", self.seed.texture.texture.clone());
         for hop in 1..=self.hops {
             let (from, to) = (format!("h{}", hop - 1), format!("h{hop}"));
             let copied = self.copy_after == Some(hop - 1);
@@ -131,9 +124,10 @@ fn render_with_errors(renderer: &Renderer, chain: &Chain) -> (FrameReport, Vec<[
     (report, images[0].pixels.clone())
 }
 
-/// 12 hops, none failing.
-fn chain(copy_after: Option<usize>) -> Chain {
+/// 12 hops from the seed, none failing.
+fn chain(renderer: &Renderer, copy_after: Option<usize>) -> Chain {
     Chain {
+        seed: seed(renderer),
         hops: 12,
         copy_after,
         failing: None,
@@ -183,7 +177,7 @@ fn renderer_without_timestamps_inside_passes() -> Renderer {
 #[test]
 fn a_batched_frame_opens_one_compute_pass_a_run_and_renders_what_a_pass_each_renders() {
     let renderer = test_renderer();
-    let plain = chain(None);
+    let plain = chain(&renderer, None);
     // Isolated: an encoder a pass, so a compute pass a dispatching pass.
     renderer.set_recording(Recording::Isolated);
     let (report, reference) = render(&renderer, &plain);
@@ -198,25 +192,25 @@ fn a_batched_frame_opens_one_compute_pass_a_run_and_renders_what_a_pass_each_ren
         renderer.set_timing(timing);
         let (report, image) = render(&renderer, &plain);
         assert_eq!(image, reference, "{timing:?}");
-        // One a run of the frame: every run of 13 passes holds hops.
+        // One a run of the frame: every run of the 12 passes holds hops.
         assert_eq!(
             report.counter(COMPUTE_PASSES),
             FRAME_CHUNKS as u64,
             "{timing:?}"
         );
         if timing == Timing::Frame {
-            // The first pass (the seed) dispatches nothing: only the last hop is timed.
+            // The first and the last pass only.
             let timed: Vec<bool> = hops(&report).iter().map(|p| p.gpu_ms.is_some()).collect();
-            let mut last_only = vec![false; 12];
-            last_only[11] = true;
-            assert_eq!(timed, last_only);
+            let mut ends = vec![false; 12];
+            (ends[0], ends[11]) = (true, true);
+            assert_eq!(timed, ends);
             assert!(report.gpu_frame_ms.is_some());
         }
     }
 
     // A copy through the encoder ends the open compute pass, and the copy
     // reads what the dispatch before it wrote.
-    let copied = chain(Some(2));
+    let copied = chain(&renderer, Some(2));
     let (report, image) = render(&renderer, &copied);
     assert_eq!(image, reference);
     assert_eq!(report.counter(COMPUTE_PASSES), FRAME_CHUNKS as u64 + 1);
@@ -235,7 +229,7 @@ fn passes_sharing_a_compute_pass_are_each_timed() {
     );
     renderer.set_recording(Recording::Batched);
     renderer.set_timing(Timing::PerPass);
-    let (report, _) = render(&renderer, &chain(Some(5)));
+    let (report, _) = render(&renderer, &chain(&renderer, Some(5)));
     assert!(report.counter(COMPUTE_PASSES) < 12);
     let hops = hops(&report);
     assert_eq!(hops.len(), 12);
@@ -263,7 +257,7 @@ fn without_timestamps_inside_passes_a_timed_pass_gets_a_compute_pass_of_its_own(
         renderer.gpu.has_timestamps(),
         "the test adapter times passes"
     );
-    let chain = chain(Some(2));
+    let chain = chain(&renderer, Some(2));
     renderer.set_recording(Recording::Isolated);
     renderer.set_timing(Timing::Off);
     let (_, reference) = render(&renderer, &chain);
@@ -286,12 +280,12 @@ fn without_timestamps_inside_passes_a_timed_pass_gets_a_compute_pass_of_its_own(
 fn a_pass_that_fails_after_its_dispatch_is_reported_and_the_passes_after_it_still_run() {
     let renderer = test_renderer();
     renderer.set_recording(Recording::Isolated);
-    let (_, reference) = render(&renderer, &chain(None));
+    let (_, reference) = render(&renderer, &chain(&renderer, None));
     renderer.set_recording(Recording::Batched);
     renderer.set_timing(Timing::PerPass);
     let failing = Chain {
         failing: Some(4),
-        ..chain(None)
+        ..chain(&renderer, None)
     };
     let (report, image) = render_with_errors(&renderer, &failing);
     assert_eq!(report.errors.len(), 1, "{:?}", report.errors);
