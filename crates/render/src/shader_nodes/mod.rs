@@ -11,9 +11,12 @@ pub mod builtin_blur;
 pub mod compose;
 pub mod error;
 pub mod material;
+mod preprocess;
 pub mod program;
 pub mod recipe;
+mod uniform_layout;
 mod utility;
+mod validate;
 
 pub use annotations::Annotations;
 pub use error::{ShaderNodeError, Span};
