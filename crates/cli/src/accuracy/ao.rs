@@ -26,7 +26,7 @@ use spreadlight_render::scenes::balls_on_floor;
 use spreadlight_render::{FrameGraph, Recipe, Renderer, SizeRule};
 
 use super::metrics::{self, Plane};
-use super::plot::{Series, write_svg};
+use super::plot::Series;
 use super::{median, ms, pass_ms};
 use crate::session::parse_size;
 
@@ -91,19 +91,7 @@ const BALLS: [([f32; 3], f32); 4] = [
 const FLOOR: f32 = 30.0;
 
 fn camera(size: (u32, u32)) -> CameraInput {
-    CameraInput {
-        view: glam::camera::rh::view::look_at_mat4(
-            Vec3::new(0.0, 3.5, 6.0),
-            Vec3::new(0.0, 0.6, 0.0),
-            Vec3::Y,
-        ),
-        projection: glam::camera::rh::proj::directx::perspective(
-            0.8,
-            size.0 as f32 / size.1.max(1) as f32,
-            0.1,
-            100.0,
-        ),
-    }
+    super::camera_looking(Vec3::new(0.0, 3.5, 6.0), Vec3::new(0.0, 0.6, 0.0), size)
 }
 
 /// One measured setting.
@@ -373,33 +361,27 @@ pub fn run(args: &AoArgs) -> anyhow::Result<ExitCode> {
             r.error.ssim
         ));
     }
-    print!("{table}");
-    if let Some(file) = &args.common.plot {
-        let series = Series::group(rows.iter().map(|r| {
-            let name = format!(
-                "{}{}{}",
-                mode_name(r.mode),
-                if r.temporal { " temporal" } else { "" },
-                if r.resolution.is_half() { " half" } else { "" }
-            );
-            (
-                name,
+    args.common.publish(
+        &table,
+        &format!("Ambient occlusion on {adapter}: GPU ms at {tw}x{th} against RMSE"),
+        "RMSE of visibility",
+        || {
+            Series::group(rows.iter().map(|r| {
+                let name = format!(
+                    "{}{}{}",
+                    mode_name(r.mode),
+                    if r.temporal { " temporal" } else { "" },
+                    if r.resolution.is_half() { " half" } else { "" }
+                );
                 (
-                    r.ms.unwrap_or(f64::NAN),
-                    r.error.rmse,
-                    r.samples.to_string(),
-                ),
-            )
-        }));
-        write_svg(
-            file,
-            &format!("Ambient occlusion on {adapter}: GPU ms at {tw}x{th} against RMSE"),
-            "RMSE of visibility",
-            &series,
-        )?;
-    }
-    if let Some(out) = &args.common.out {
-        std::fs::write(out, &table).with_context(|| format!("cannot write {}", out.display()))?;
-    }
-    Ok(ExitCode::SUCCESS)
+                    name,
+                    (
+                        r.ms.unwrap_or(f64::NAN),
+                        r.error.rmse,
+                        r.samples.to_string(),
+                    ),
+                )
+            }))
+        },
+    )
 }

@@ -30,7 +30,7 @@ use spreadlight_render::reference::material::{sample_material, shade_sun};
 use spreadlight_render::{FrameGraph, Recipe, Renderer, SizeRule};
 
 use super::metrics::{self, Plane};
-use super::plot::{Series, write_svg};
+use super::plot::Series;
 use super::{median, ms, pass_ms};
 use crate::session::parse_size;
 
@@ -53,19 +53,7 @@ const SUN_ILLUMINANCE: f32 = 3.0;
 const COMPENSATE: bool = true;
 
 fn camera(size: (u32, u32)) -> CameraInput {
-    CameraInput {
-        view: glam::camera::rh::view::look_at_mat4(
-            Vec3::new(0.0, 1.2, 8.0),
-            Vec3::new(0.0, 0.0, -4.0),
-            Vec3::Y,
-        ),
-        projection: glam::camera::rh::proj::directx::perspective(
-            0.8,
-            size.0 as f32 / size.1.max(1) as f32,
-            0.1,
-            100.0,
-        ),
-    }
+    super::camera_looking(Vec3::new(0.0, 1.2, 8.0), Vec3::new(0.0, 0.0, -4.0), size)
 }
 
 /// The ray through (x, y) in pixels (0.5 is a pixel's centre): (eye, unit direction).
@@ -386,33 +374,27 @@ fn report(args: &GltfArgs, adapter: &str, rays: u32, rows: &[Row]) -> anyhow::Re
             r.supersampled.ssim
         ));
     }
-    print!("{table}");
-    if let Some(file) = &args.common.plot {
-        let point = |r: &Row, e: &metrics::Error| {
-            (
-                r.resolve_ms.unwrap_or(0.0),
-                e.rmse,
-                r.filtering.name().to_owned(),
-            )
-        };
-        let series = Series::group(rows.iter().flat_map(|r| {
-            [
+    args.common.publish(
+        &table,
+        &format!("glTF map filtering on {adapter}: resolve ms at {tw}x{th} against RMSE"),
+        "RMSE of the shaded floor",
+        || {
+            let point = |r: &Row, e: &metrics::Error| {
                 (
-                    format!("vs {rays} rays (aliasing)"),
-                    point(r, &r.supersampled),
-                ),
-                ("vs 1 ray (point-sampled)".to_owned(), point(r, &r.point)),
-            ]
-        }));
-        write_svg(
-            file,
-            &format!("glTF map filtering on {adapter}: resolve ms at {tw}x{th} against RMSE"),
-            "RMSE of the shaded floor",
-            &series,
-        )?;
-    }
-    if let Some(out) = &args.common.out {
-        std::fs::write(out, &table).with_context(|| format!("cannot write {}", out.display()))?;
-    }
-    Ok(ExitCode::SUCCESS)
+                    r.resolve_ms.unwrap_or(0.0),
+                    e.rmse,
+                    r.filtering.name().to_owned(),
+                )
+            };
+            Series::group(rows.iter().flat_map(|r| {
+                [
+                    (
+                        format!("vs {rays} rays (aliasing)"),
+                        point(r, &r.supersampled),
+                    ),
+                    ("vs 1 ray (point-sampled)".to_owned(), point(r, &r.point)),
+                ]
+            }))
+        },
+    )
 }

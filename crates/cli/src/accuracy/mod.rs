@@ -16,6 +16,8 @@ mod reflection;
 mod shadows;
 
 use std::path::PathBuf;
+
+use anyhow::Context;
 use std::process::ExitCode;
 
 use crate::session::parse_size;
@@ -42,6 +44,29 @@ pub struct Common {
     /// Print JSON lines instead of the table.
     #[arg(long)]
     pub json: bool,
+}
+
+impl Common {
+    /// Every effect's table ends the same way: printed, plotted (GPU time
+    /// against error, the series made only when `--plot` asks) and written
+    /// to `--out`.
+    pub(crate) fn publish(
+        &self,
+        table: &str,
+        title: &str,
+        y_label: &str,
+        series: impl FnOnce() -> Vec<plot::Series>,
+    ) -> anyhow::Result<ExitCode> {
+        print!("{table}");
+        if let Some(file) = &self.plot {
+            plot::write_svg(file, title, y_label, &series())?;
+        }
+        if let Some(out) = &self.out {
+            std::fs::write(out, table)
+                .with_context(|| format!("cannot write {}", out.display()))?;
+        }
+        Ok(ExitCode::SUCCESS)
+    }
 }
 
 #[derive(clap::Args)]
@@ -77,6 +102,24 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
         What::Particles(a) => particles::run_particles(a),
         What::Geometry(a) => geometry::run_geometry(a),
         What::Gltf(a) => gltf::run(a),
+    }
+}
+
+/// The accuracy scenes' camera: from `eye` towards `target`, a 0.8 rad
+/// vertical field of view at `size`'s aspect, near 0.1 and far 100.
+pub(crate) fn camera_looking(
+    eye: glam::Vec3,
+    target: glam::Vec3,
+    size: (u32, u32),
+) -> spreadlight_render::camera::CameraInput {
+    spreadlight_render::camera::CameraInput {
+        view: glam::camera::rh::view::look_at_mat4(eye, target, glam::Vec3::Y),
+        projection: glam::camera::rh::proj::directx::perspective(
+            0.8,
+            size.0 as f32 / size.1.max(1) as f32,
+            0.1,
+            100.0,
+        ),
     }
 }
 

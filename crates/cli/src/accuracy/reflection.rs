@@ -40,7 +40,7 @@ use spreadlight_render::static_texture::StaticTexture;
 use spreadlight_render::{FrameGraph, Recipe, Renderer, SizeRule};
 
 use super::metrics::{self, Plane};
-use super::plot::{Series, write_svg};
+use super::plot::Series;
 use super::{median, ms, pass_ms};
 use crate::session::parse_size;
 
@@ -105,19 +105,7 @@ fn sky() -> SkySettings {
 }
 
 fn camera(size: (u32, u32)) -> CameraInput {
-    CameraInput {
-        view: glam::camera::rh::view::look_at_mat4(
-            Vec3::new(0.0, 3.0, 8.0),
-            Vec3::new(0.0, 0.6, 0.0),
-            Vec3::Y,
-        ),
-        projection: glam::camera::rh::proj::directx::perspective(
-            0.8,
-            size.0 as f32 / size.1.max(1) as f32,
-            0.1,
-            100.0,
-        ),
-    }
+    super::camera_looking(Vec3::new(0.0, 3.0, 8.0), Vec3::new(0.0, 0.6, 0.0), size)
 }
 
 fn scene() -> BallsScene {
@@ -523,23 +511,17 @@ pub fn run(args: &ReflectionArgs) -> anyhow::Result<ExitCode> {
             e.ssim
         ));
     }
-    print!("{table}");
-    if let Some(file) = &args.common.plot {
-        let series = Series::group(rows.iter().map(|(method, _, time, e)| {
-            (
-                method.family(),
-                (time.unwrap_or(0.0), e.rmse, method.setting()),
-            )
-        }));
-        write_svg(
-            file,
-            &format!("Reflections on {adapter}: frame ms at {tw}x{th} against RMSE"),
-            "RMSE of the specular term",
-            &series,
-        )?;
-    }
-    if let Some(out) = &args.common.out {
-        std::fs::write(out, &table).with_context(|| format!("cannot write {}", out.display()))?;
-    }
-    Ok(ExitCode::SUCCESS)
+    args.common.publish(
+        &table,
+        &format!("Reflections on {adapter}: frame ms at {tw}x{th} against RMSE"),
+        "RMSE of the specular term",
+        || {
+            Series::group(rows.iter().map(|(method, _, time, e)| {
+                (
+                    method.family(),
+                    (time.unwrap_or(0.0), e.rmse, method.setting()),
+                )
+            }))
+        },
+    )
 }

@@ -22,7 +22,7 @@ use spreadlight_render::shadows::{ShadowFilter, ShadowLights, ShadowMaps, Shadow
 use spreadlight_render::{Recipe, Renderer, SizeRule};
 
 use super::metrics::{self, Plane};
-use super::plot::{Series, write_svg};
+use super::plot::Series;
 use super::{median, ms, pass_ms};
 use crate::session::parse_size;
 
@@ -91,19 +91,7 @@ fn spot() -> SpotLight {
 }
 
 fn camera(size: (u32, u32)) -> CameraInput {
-    CameraInput {
-        view: glam::camera::rh::view::look_at_mat4(
-            Vec3::new(0.0, 6.0, 9.0),
-            Vec3::new(0.0, 0.5, 0.0),
-            Vec3::Y,
-        ),
-        projection: glam::camera::rh::proj::directx::perspective(
-            0.8,
-            size.0 as f32 / size.1.max(1) as f32,
-            0.1,
-            100.0,
-        ),
-    }
+    super::camera_looking(Vec3::new(0.0, 6.0, 9.0), Vec3::new(0.0, 0.5, 0.0), size)
 }
 
 fn scene(renderer: &Renderer) -> anyhow::Result<Vec<Arc<Layer>>> {
@@ -474,28 +462,22 @@ pub fn run(args: &ShadowArgs) -> anyhow::Result<ExitCode> {
             off * 100.0
         ));
     }
-    print!("{table}");
-    if let Some(file) = &args.common.plot {
-        // One line per filter family and kernel: the points are map resolutions.
-        let series = Series::group(rows.iter().map(|(name, res, maps, shade, rmse, _, _)| {
-            (
-                name.clone(),
+    args.common.publish(
+        &table,
+        &format!("Shadow filters on {adapter}: map + shade ms at {tw}x{th} against RMSE"),
+        "RMSE of visibility",
+        || {
+            // One line per filter family and kernel: the points are map resolutions.
+            Series::group(rows.iter().map(|(name, res, maps, shade, rmse, _, _)| {
                 (
-                    maps.unwrap_or(0.0) + shade.unwrap_or(0.0),
-                    *rmse,
-                    res.to_string(),
-                ),
-            )
-        }));
-        write_svg(
-            file,
-            &format!("Shadow filters on {adapter}: map + shade ms at {tw}x{th} against RMSE"),
-            "RMSE of visibility",
-            &series,
-        )?;
-    }
-    if let Some(out) = &args.common.out {
-        std::fs::write(out, &table).with_context(|| format!("cannot write {}", out.display()))?;
-    }
-    Ok(ExitCode::SUCCESS)
+                    name.clone(),
+                    (
+                        maps.unwrap_or(0.0) + shade.unwrap_or(0.0),
+                        *rmse,
+                        res.to_string(),
+                    ),
+                )
+            }))
+        },
+    )
 }

@@ -35,7 +35,7 @@ use spreadlight_render::Renderer;
 use spreadlight_render::resolution::Resolution;
 
 use super::ms;
-use super::plot::{Series, write_svg};
+use super::plot::Series;
 use crate::session::parse_size;
 use dof::{F_STOP, FOCAL_MM, FOCUS};
 use motion_blur::SHUTTER;
@@ -150,24 +150,18 @@ pub fn run_post(args: &PostArgs) -> anyhow::Result<ExitCode> {
             r.ssim
         ));
     }
-    print!("{table}");
-    if let Some(file) = &args.common.plot {
-        let series = Series::group(rows.iter().filter(|r| r.ms.is_some()).map(|r| {
-            let half = r.setting.ends_with(HALF_SUFFIX);
-            (
-                format!("{}{}", r.effect.name(), if half { " half" } else { "" }),
-                (r.ms.unwrap_or(0.0), r.rmse, r.setting.clone()),
-            )
-        }));
-        write_svg(
-            file,
-            &format!("Post effects on {adapter}: ms at {tw}x{th} against RMSE"),
-            "RMSE (RGB)",
-            &series,
-        )?;
-    }
-    if let Some(out) = &args.common.out {
-        std::fs::write(out, &table).with_context(|| format!("cannot write {}", out.display()))?;
-    }
-    Ok(ExitCode::SUCCESS)
+    args.common.publish(
+        &table,
+        &format!("Post effects on {adapter}: ms at {tw}x{th} against RMSE"),
+        "RMSE (RGB)",
+        || {
+            Series::group(rows.iter().filter(|r| r.ms.is_some()).map(|r| {
+                let half = r.setting.ends_with(HALF_SUFFIX);
+                (
+                    format!("{}{}", r.effect.name(), if half { " half" } else { "" }),
+                    (r.ms.unwrap_or(0.0), r.rmse, r.setting.clone()),
+                )
+            }))
+        },
+    )
 }

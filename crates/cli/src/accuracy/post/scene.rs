@@ -87,19 +87,7 @@ pub(super) fn scene(renderer: &Renderer, at: f32, moving_ball: bool) -> anyhow::
 }
 
 pub(super) fn camera(size: (u32, u32)) -> CameraInput {
-    CameraInput {
-        view: glam::camera::rh::view::look_at_mat4(
-            Vec3::new(0.0, 2.0, 6.8),
-            Vec3::new(0.0, 0.8, 0.0),
-            Vec3::Y,
-        ),
-        projection: glam::camera::rh::proj::directx::perspective(
-            0.8,
-            size.0 as f32 / size.1.max(1) as f32,
-            0.1,
-            100.0,
-        ),
-    }
+    super::super::camera_looking(Vec3::new(0.0, 2.0, 6.8), Vec3::new(0.0, 0.8, 0.0), size)
 }
 
 pub(super) fn gbuffer(
