@@ -78,22 +78,10 @@ pub(super) fn measure(
         .flat_map(|s| args.resolutions.iter().map(move |r| (s, *r)));
     for (samples, resolution) in settings {
         eprintln!("DOF {samples} samples {resolution}");
-        let g = gbuffer(renderer, layer.clone(), base, None);
-        let dof = Dof::new(
-            renderer,
-            None,
-            albedo(&g),
-            g,
-            Focus::Distance(FOCUS),
-            None,
-            dof_settings(samples, resolution),
-        );
-        let (_, image) = run(renderer, dof.as_ref(), &dof.output, size, true)?;
-        let (rmse, ssim) = error(&image.context("image")?, &truth);
-        let timed = camera(args.common.time_size);
-        let ms = time(renderer, args, "DOF", |_| {
-            let g = gbuffer(renderer, layer.clone(), timed, None);
-            let dof = Dof::new(
+        // The same DOF over the scene seen by `camera`: measured, then timed.
+        let dof_of = |camera| {
+            let g = gbuffer(renderer, layer.clone(), camera, None);
+            Dof::new(
                 renderer,
                 None,
                 albedo(&g),
@@ -101,7 +89,14 @@ pub(super) fn measure(
                 Focus::Distance(FOCUS),
                 None,
                 dof_settings(samples, resolution),
-            );
+            )
+        };
+        let dof = dof_of(base);
+        let (_, image) = run(renderer, dof.as_ref(), &dof.output, size, true)?;
+        let (rmse, ssim) = error(&image.context("image")?, &truth);
+        let timed = camera(args.common.time_size);
+        let ms = time(renderer, args, "DOF", |_| {
+            let dof = dof_of(timed);
             let name = dof.output.clone();
             Ok((dof as Arc<dyn Recipe>, name))
         })?;
