@@ -24,6 +24,26 @@ pub(super) enum Targets {
     Both,
 }
 
+impl Targets {
+    /// The compute pass's name, for captures.
+    fn label(self) -> &'static str {
+        match self {
+            Targets::Surface => "resolve surface",
+            Targets::Motion => "resolve motion",
+            Targets::Both => "resolve surface and motion",
+        }
+    }
+
+    /// The counter of dispatches of this kind.
+    fn counter(self) -> &'static str {
+        match self {
+            Targets::Surface => "surface resolve dispatches",
+            Targets::Motion => "motion resolve dispatches",
+            Targets::Both => SURFACE_AND_MOTION_DISPATCHES,
+        }
+    }
+}
+
 pub(super) fn resolve(
     g: &GBuffer,
     renderer: &Renderer,
@@ -85,14 +105,7 @@ pub(super) fn resolve(
         };
         runs.iter().map(|(i, b)| (Some(*i), Some(b))).collect()
     };
-    cx.count(
-        match targets {
-            Targets::Surface => "surface resolve dispatches",
-            Targets::Motion => "motion resolve dispatches",
-            Targets::Both => SURFACE_AND_MOTION_DISPATCHES,
-        },
-        dispatches.len() as u64,
-    );
+    cx.count(targets.counter(), dispatches.len() as u64);
     let mut work = Vec::with_capacity(dispatches.len());
     for (index, layer_buffer) in dispatches {
         let i = index.unwrap_or(0);
@@ -262,12 +275,7 @@ pub(super) fn resolve(
         }
         work.push((pipeline, group0, groups));
     }
-    let label = match targets {
-        Targets::Surface => "resolve surface",
-        Targets::Motion => "resolve motion",
-        Targets::Both => "resolve surface and motion",
-    };
-    let pass = cx.compute_pass(label);
+    let pass = cx.compute_pass(targets.label());
     for (pipeline, group0, groups) in &work {
         pass.set_pipeline(pipeline);
         pass.set_bind_group(0, group0, &[]);
