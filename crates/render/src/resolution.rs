@@ -148,15 +148,15 @@ pub fn upsample(
         features.push("R32");
     }
     let mut views = vec![
-        (1, cx.view(&g.depth)?),
-        (2, cx.view(&g.normals)?),
-        (3, cx.view(u.source)?),
-        (4, cx.view(u.output)?),
+        (1, cx.view_named(&g.depth)?),
+        (2, cx.view_named(&g.normals)?),
+        (3, cx.view_named(u.source)?),
+        (4, cx.view_named(u.output)?),
     ];
     if let Some((image, coc)) = u.detail {
         features.push("DETAIL");
-        views.push((5, cx.view(image)?));
-        views.push((6, cx.view(coc)?));
+        views.push((5, cx.view_named(image)?));
+        views.push((6, cx.view_named(coc)?));
     }
     let mut all = vec![(0, u.gbuffer.camera_buffer().as_entire_binding())];
     all.extend(
@@ -165,7 +165,7 @@ pub fn upsample(
             .map(|(b, v)| (*b, wgpu::BindingResource::TextureView(v))),
     );
     let size = u.gbuffer.pixel_size(cx.output_size);
-    cx.dispatch_image(
+    cx.dispatch_image_numbered(
         label,
         &ShaderKey::new("resolution/upsample.wgsl", features),
         &all,

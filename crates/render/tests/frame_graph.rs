@@ -426,7 +426,7 @@ fn arithmetic_frame(renderer: &spreadlight_render::Renderer) -> Vec<[f32; 4]> {
             let mut seeded = target();
             seeded.usage |= wgpu::TextureUsages::COPY_DST;
             fg.add_pass("seed", None, &[], &[("s0", seeded)], |cx| {
-                seed_ramp(cx, &cx.texture("s0")?.clone());
+                seed_ramp(cx, &cx.texture_named("s0")?.clone());
                 Ok(())
             });
             for (from, to) in [("s0", "s1"), ("s1", "s2")] {
@@ -436,9 +436,9 @@ fn arithmetic_frame(renderer: &spreadlight_render::Renderer) -> Vec<[f32; 4]> {
                     &[from],
                     &[(to, target())],
                     move |cx| {
-                        let input = cx.view(from)?;
-                        let output = cx.view(to)?;
-                        cx.dispatch_image(
+                        let input = cx.view_named(from)?;
+                        let output = cx.view_named(to)?;
+                        cx.dispatch_image_numbered(
                             "copy",
                             &ShaderKey::new("post/copy.wgsl", []),
                             &[
@@ -585,14 +585,14 @@ fn renamed_frame(renderer: &spreadlight_render::Renderer, frame: u32) -> Vec<[f3
             let mut seeded = target();
             seeded.usage |= wgpu::TextureUsages::COPY_DST;
             fg.add_pass("seed", Some(7), &[], &[(s0, seeded)], move |cx| {
-                seed_ramp(cx, &cx.texture(s0)?.clone());
+                seed_ramp(cx, &cx.texture_named(s0)?.clone());
                 Ok(())
             });
             // Two passes of one name (as SSSS declares its three blurs).
             for (from, to) in [(s0, s1), (s1, s2)] {
                 fg.add_pass("copy", Some(7), &[from], &[(to, target())], move |cx| {
-                    let (input, output) = (cx.view(from)?, cx.view(to)?);
-                    cx.dispatch_image(
+                    let (input, output) = (cx.view_named(from)?, cx.view_named(to)?);
+                    cx.dispatch_image_numbered(
                         "copy",
                         &ShaderKey::new("post/copy.wgsl", []),
                         &[
@@ -677,8 +677,8 @@ fn temporal_frame_requesting(
         from: &str,
         to: &str,
     ) -> Result<(), spreadlight_render::RenderError> {
-        let (input, output) = (cx.view(from)?, cx.view(to)?);
-        cx.dispatch_image(
+        let (input, output) = (cx.view_named(from)?, cx.view_named(to)?);
+        cx.dispatch_image_numbered(
             "copy",
             &ShaderKey::new("post/copy.wgsl", []),
             &[
@@ -697,7 +697,7 @@ fn temporal_frame_requesting(
             let value = self.0;
             fg.add_pass("seed", None, &[], &[("now", seeded)], move |cx| {
                 let texel = [half::f16::from_f32(value).to_le_bytes(); 4].concat();
-                let t = cx.texture("now")?.clone();
+                let t = cx.texture_named("now")?.clone();
                 cx.gpu.queue.write_texture(
                     t.as_image_copy(),
                     &texel.repeat(64),

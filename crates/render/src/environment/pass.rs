@@ -118,9 +118,9 @@ impl ImagePass {
         fog: Option<&ImagePass>,
     ) -> Result<(), RenderError> {
         let (source, depth, output) = (
-            cx.view(source)?,
-            cx.view(&self.gbuffer.targets.depth)?,
-            cx.view(output)?,
+            cx.view_named(source)?,
+            cx.view_named(&self.gbuffer.targets.depth)?,
+            cx.view_named(output)?,
         );
         let mut all = vec![
             (0, self.gbuffer.camera_buffer().as_entire_binding()),
@@ -146,7 +146,7 @@ impl ImagePass {
             fog.is_some().then_some("FOG"),
         ];
         let size = self.gbuffer.pixel_size(cx.output_size);
-        cx.dispatch_image(
+        cx.dispatch_image_numbered(
             self.kind.name(),
             &ShaderKey::new(self.kind.shader(), features.into_iter().flatten()),
             &all,

@@ -142,7 +142,7 @@ impl Reflection {
 
     fn clear(&self, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
         cx.count("reflection skipped", 1);
-        let specular = cx.view(&self.specular)?;
+        let specular = cx.view_named(&self.specular)?;
         let all = [
             (0, self.gbuffer.camera_buffer().as_entire_binding()),
             (9, wgpu::BindingResource::TextureView(&specular)),
@@ -196,18 +196,18 @@ impl Reflection {
         let maps = self.environment.maps_for("reflection")?;
         let g = &self.gbuffer;
         let (color, normals, depth) = (
-            cx.view(&g.targets.color)?,
-            cx.view(&g.targets.normals)?,
-            cx.view(&g.targets.depth)?,
+            cx.view_named(&g.targets.color)?,
+            cx.view_named(&g.targets.normals)?,
+            cx.view_named(&g.targets.depth)?,
         );
         // Only the outputs this pass writes (a diffuse-only pass has no specular).
         let diffuse = match outputs {
             Outputs::Specular => None,
-            _ => Some(cx.view(&self.diffuse)?),
+            _ => Some(cx.view_named(&self.diffuse)?),
         };
         let specular_out = match outputs {
             Outputs::Diffuse => None,
-            _ => Some(cx.view(&self.specular)?),
+            _ => Some(cx.view_named(&self.specular)?),
         };
         // Cached views: new ones each frame would make new bind groups.
         let prefiltered = cx.view_of(&maps.prefiltered, ViewSpec::cube());
@@ -226,7 +226,7 @@ impl Reflection {
         ];
         // Roughness and metallic where the G-buffer resolved them (only `main` reads it).
         let surface = match (&g.targets.surface, specular) {
-            (Some(name), true) => Some(cx.view(name)?),
+            (Some(name), true) => Some(cx.view_named(name)?),
             _ => None,
         };
         let mut all = all.to_vec();

@@ -184,6 +184,7 @@ fn execute(
             Timing::Frame => step == 0 || step + 1 == steps,
             Timing::Off => false,
         };
+        let run = parts.runs[p].take();
         let mut cx = PassContext {
             gpu: &renderer.gpu,
             encoder,
@@ -191,6 +192,9 @@ fn execute(
             timestamps_inside_passes: inside_passes,
             shaders: &mut shaders,
             textures: &mut live,
+            texture_names: &parts.texture_names,
+            reads: &parts.reads[p],
+            writes: &parts.writes[p],
             tradable: &tradable,
             last_use: &last_use,
             requested: &requested,
@@ -206,7 +210,7 @@ fn execute(
             output_size,
             counters: Default::default(),
         };
-        let result = match parts.runs[p].take() {
+        let result = match run {
             Some(run) => run(&mut cx),
             None => Ok(()),
         };

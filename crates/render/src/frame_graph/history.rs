@@ -33,8 +33,8 @@ impl PassContext<'_> {
     /// trade, the texture it writes holds another frame's leftovers.
     pub fn copy_history(&mut self, history: &str, previous: &str) -> Result<bool, RenderError> {
         let (last, spare) = (
-            self.texture(history)?.clone(),
-            self.texture(previous)?.clone(),
+            self.texture_named(history)?.clone(),
+            self.texture_named(previous)?.clone(),
         );
         if self.can_trade(previous, &last, &spare) {
             self.textures.insert(previous.to_owned(), last.clone());
@@ -55,8 +55,8 @@ impl PassContext<'_> {
     /// it had goes back to the pool when the output's last reader is done.
     pub fn keep_as_history(&mut self, output: &str, history: &str) -> Result<(), RenderError> {
         let (written, last) = (
-            self.texture(output)?.clone(),
-            self.texture(history)?.clone(),
+            self.texture_named(output)?.clone(),
+            self.texture_named(history)?.clone(),
         );
         if self.can_trade(output, &written, &last) {
             self.hand_over(history, written, output, last);

@@ -7,7 +7,7 @@ use crate::frame_graph::{FrameGraph, Lifetime, PassContext, TextureDesc};
 use crate::renderer::Renderer;
 use crate::shaders::{PipelineRef, ShaderKey};
 
-use super::resolve::{Targets, resolve};
+use super::resolve::{LayerReads, ResolveIo, SurfaceOut, resolve};
 use super::{GBuffer, RasterMode};
 
 const VISIBILITY_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg32Uint;
@@ -22,8 +22,7 @@ pub(super) fn declare<'a>(g: &'a GBuffer, renderer: &'a Renderer, fg: &mut Frame
         Some(node) => format!("MRE #{node}: {what}"),
         None => format!("MRE: {what}"),
     };
-    let mut surface_reads: Vec<&str> = vec![&t.visibility];
-    match (g.raster, &g.compute) {
+    let hardware = match (g.raster, &g.compute) {
         (RasterMode::Compute, Some(compute)) => {
             // The 64-bit buffer belongs to the G-buffer; this 1x1 token
             // carries the dependency through the frame graph.
@@ -35,6 +34,7 @@ pub(super) fn declare<'a>(g: &'a GBuffer, renderer: &'a Renderer, fg: &mut Frame
                 &[(&t.visibility, token)],
                 move |cx| compute.record(g, renderer, cx),
             );
+            false
         }
         _ => {
             fg.add_pass(
@@ -53,56 +53,57 @@ pub(super) fn declare<'a>(g: &'a GBuffer, renderer: &'a Renderer, fg: &mut Frame
                 ],
                 move |cx| visibility(g, renderer, cx),
             );
-            surface_reads.push(&t.hardware_depth);
+            true
         }
-    }
-    // The surface resolve also reads the layers' normal maps. Its depth is
+    };
+    // The surface resolve also reads the layers' maps. Its depth is
     // Permanent: readers (lighting, GBufferView) come later in the frame.
-    surface_reads.extend(
-        g.layers
-            .iter()
-            .flat_map(|l| l.maps().chain(l.surface_textures()))
-            .map(|n| n.name.as_str()),
-    );
-    let mut surface_writes = vec![
-        (
-            t.color.as_str(),
-            TextureDesc::storage(TARGET_FORMAT).size(g.size),
-        ),
-        (
-            t.normals.as_str(),
-            TextureDesc::storage(TARGET_FORMAT).size(g.size),
-        ),
-        (
-            t.depth.as_str(),
-            TextureDesc::storage(DEPTH_FORMAT)
-                .size(g.size)
-                .lifetime(Lifetime::Permanent),
-        ),
-    ];
-    if let Some(surface) = &t.surface {
-        surface_writes.push((
-            surface.as_str(),
-            TextureDesc::storage(SURFACE_FORMAT).size(g.size),
-        ));
-    }
-    fg.add_pass(
-        label("resolve surface"),
-        g.owner,
-        &surface_reads,
-        &surface_writes,
-        move |cx| resolve(g, renderer, cx, Targets::Surface),
-    );
-    fg.add_pass(
-        label("resolve motion"),
-        g.owner,
-        &[&t.visibility],
-        &[(
-            &t.velocity_uv,
-            TextureDesc::storage(TARGET_FORMAT).size(g.size),
-        )],
-        move |cx| resolve(g, renderer, cx, Targets::Motion),
-    );
+    let mut pass = fg.pass(label("resolve surface"), g.owner);
+    let visibility_read = pass.read(&t.visibility);
+    let hardware_depth = hardware.then(|| pass.read(&t.hardware_depth));
+    let layers = g
+        .layers
+        .iter()
+        .map(|l| LayerReads {
+            normal_map: l
+                .normal_map
+                .as_ref()
+                .filter(|_| l.features.normal_map)
+                .map(|m| pass.read(&m.name)),
+            color_map: l.color_map.as_ref().map(|m| pass.read(&m.name)),
+            textures: l.surface_textures().map(|m| pass.read(&m.name)).collect(),
+        })
+        .collect();
+    let target = |format| TextureDesc::storage(format).size(g.size);
+    let surface = SurfaceOut {
+        color: pass.write(&t.color, target(TARGET_FORMAT)),
+        normals: pass.write(&t.normals, target(TARGET_FORMAT)),
+        depth: pass.write(&t.depth, target(DEPTH_FORMAT).lifetime(Lifetime::Permanent)),
+        surface: t
+            .surface
+            .as_ref()
+            .map(|name| pass.write(name, target(SURFACE_FORMAT))),
+    };
+    let surface_io = ResolveIo {
+        visibility: visibility_read,
+        hardware_depth,
+        surface: Some(surface),
+        velocity_uv: None,
+        layers,
+    };
+    let io = surface_io.clone();
+    pass.run(move |cx| resolve(g, renderer, cx, &io));
+    let mut pass = fg.pass(label("resolve motion"), g.owner);
+    pass.read(&t.visibility);
+    let velocity_uv = pass.write(&t.velocity_uv, target(TARGET_FORMAT));
+    let motion_io = ResolveIo {
+        visibility: visibility_read,
+        hardware_depth: None,
+        surface: None,
+        velocity_uv: Some(velocity_uv),
+        layers: Vec::new(),
+    };
+    pass.run(move |cx| resolve(g, renderer, cx, &motion_io));
     // Both read the visibility: one dispatch per run when the frame reads both,
     // where the device binds the five storage textures that takes with a
     // surface target (WebGPU's minimum is four).
@@ -112,8 +113,12 @@ pub(super) fn declare<'a>(g: &'a GBuffer, renderer: &'a Renderer, fg: &mut Frame
         .limits()
         .max_storage_textures_per_shader_stage;
     if t.surface.is_none() || storage >= 5 {
+        let both = ResolveIo {
+            velocity_uv: Some(velocity_uv),
+            ..surface_io
+        };
         fg.runs_together(label("resolve surface and motion"), move |cx| {
-            resolve(g, renderer, cx, Targets::Both)
+            resolve(g, renderer, cx, &both)
         });
     }
 }
@@ -187,8 +192,8 @@ fn visibility(
             ));
         }
     }
-    let vis = cx.view(&g.targets.visibility)?;
-    let depth = cx.view(&g.targets.hardware_depth)?;
+    let vis = cx.view_named(&g.targets.visibility)?;
+    let depth = cx.view_named(&g.targets.hardware_depth)?;
     // Publishing a depth for particle collisions: the meshes in a first
     // pass, the depth copied, then the particles (procedural draws).
     let phases: &[Option<bool>] = match g.published_depth() {

@@ -113,10 +113,10 @@ impl GBufferView {
         let device = cx.gpu.device.clone();
         let key = ShaderKey::new("gbuffer/view.wgsl", [self.channel.feature()]);
         let pipeline = cx.shaders.compute_pipeline(&device, &key, "main")?;
-        let source = cx.view(self.channel.source(&self.gbuffer))?;
-        let output = cx.view(&self.output)?;
+        let source = cx.view_named(self.channel.source(&self.gbuffer))?;
+        let output = cx.view_named(&self.output)?;
         let (w, h) = {
-            let t = cx.texture(&self.output)?;
+            let t = cx.texture_named(&self.output)?;
             (t.width(), t.height())
         };
         let mut entries = vec![

@@ -222,16 +222,19 @@ impl CompositeLight {
         let pipeline = cx.shaders.compute_pipeline(&device, &key, "main")?;
         let g = &self.gbuffer.targets;
         let fixed = [
-            cx.view(&g.color)?,
-            cx.view(&g.depth)?,
-            cx.view(&self.output)?,
+            cx.view_named(&g.color)?,
+            cx.view_named(&g.depth)?,
+            cx.view_named(&self.output)?,
         ];
         let mut lights = Vec::new();
         let mut subsurface = Vec::new();
         for (k, c) in self.components.iter().enumerate() {
-            lights.push((cx.view(&c.diffuse.name)?, cx.view(&c.specular.name)?));
+            lights.push((
+                cx.view_named(&c.diffuse.name)?,
+                cx.view_named(&c.specular.name)?,
+            ));
             if let Some(sss) = &c.sss {
-                subsurface.push((13 + k as u32, cx.view(&sss.name)?));
+                subsurface.push((13 + k as u32, cx.view_named(&sss.name)?));
             }
         }
         let mut all = vec![
@@ -252,7 +255,7 @@ impl CompositeLight {
             all.push((s, wgpu::BindingResource::TextureView(specular)));
         }
         let surface = match &g.surface {
-            Some(name) => Some(cx.view(name)?),
+            Some(name) => Some(cx.view_named(name)?),
             None => None,
         };
         if let Some(view) = &surface {
@@ -262,21 +265,21 @@ impl CompositeLight {
             ));
         }
         let occlusion = match &self.occlusion {
-            Some(ao) => Some(cx.view(&ao.name)?),
+            Some(ao) => Some(cx.view_named(&ao.name)?),
             None => None,
         };
         if let Some(view) = &occlusion {
             all.push((17, wgpu::BindingResource::TextureView(view)));
         }
         let gi = match &self.gi {
-            Some(t) => Some(cx.view(&t.name)?),
+            Some(t) => Some(cx.view_named(&t.name)?),
             None => None,
         };
         if let Some(view) = &gi {
             all.push((18, wgpu::BindingResource::TextureView(view)));
         }
         let reflection = match &self.reflection {
-            Some(t) => Some(cx.view(&t.name)?),
+            Some(t) => Some(cx.view_named(&t.name)?),
             None => None,
         };
         if let Some(view) = &reflection {
@@ -286,7 +289,7 @@ impl CompositeLight {
             all.push((*binding, wgpu::BindingResource::TextureView(view)));
         }
         let normals = if self.matcap {
-            Some(cx.view(&g.normals)?)
+            Some(cx.view_named(&g.normals)?)
         } else {
             None
         };
@@ -296,7 +299,7 @@ impl CompositeLight {
         let matcap_images = match self.matcap_images() {
             Some(t) => Some((
                 cx.view_of(
-                    &cx.texture(&t.name)?.clone(),
+                    &cx.texture_named(&t.name)?.clone(),
                     crate::texture_pool::ViewSpec::array(),
                 ),
                 // Clamped: the rim of a matcap must not wrap to the far side.

@@ -307,13 +307,16 @@ impl CookTorrance {
         let pipeline = cx.shaders.compute_pipeline(&device, &key, "main")?;
         let g = &self.gbuffer;
         let (color, normals, depth) = (
-            cx.view(&g.targets.color)?,
-            cx.view(&g.targets.normals)?,
-            cx.view(&g.targets.depth)?,
+            cx.view_named(&g.targets.color)?,
+            cx.view_named(&g.targets.normals)?,
+            cx.view_named(&g.targets.depth)?,
         );
-        let (diffuse, specular) = (cx.view(&self.diffuse)?, cx.view(&self.specular)?);
+        let (diffuse, specular) = (
+            cx.view_named(&self.diffuse)?,
+            cx.view_named(&self.specular)?,
+        );
         let sss = match &self.sss {
-            Some(name) => Some(cx.view(name)?),
+            Some(name) => Some(cx.view_named(name)?),
             None => None,
         };
         let guard = self.clusters.get(cx.gpu, 1, self.lights.count());
@@ -337,7 +340,7 @@ impl CookTorrance {
         ];
         let mut all = all.to_vec();
         let surface = match &g.targets.surface {
-            Some(name) => Some(cx.view(name)?),
+            Some(name) => Some(cx.view_named(name)?),
             None => None,
         };
         if let Some(surface) = &surface {
@@ -354,7 +357,7 @@ impl CookTorrance {
         }
         let spot_textures = match self.lights.textures() {
             Some(t) => {
-                let texture = cx.texture(&t.name)?.clone();
+                let texture = cx.texture_named(&t.name)?.clone();
                 let view = cx.view_of(&texture, crate::texture_pool::ViewSpec::array());
                 Some((view, cx.sampler(Sampling::LinearClamp)))
             }

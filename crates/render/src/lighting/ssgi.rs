@@ -204,9 +204,12 @@ impl Ssgi {
         buffers: &[(u32, &wgpu::Buffer)],
     ) -> Result<(), RenderError> {
         let g = &self.gbuffer.targets;
-        let mut views = vec![(2, cx.view(&g.depth)?), (3, cx.view(&g.normals)?)];
+        let mut views = vec![
+            (2, cx.view_named(&g.depth)?),
+            (3, cx.view_named(&g.normals)?),
+        ];
         for (binding, name) in textures {
-            views.push((*binding, cx.view(name)?));
+            views.push((*binding, cx.view_named(name)?));
         }
         let mut all = vec![
             (0, self.gbuffer.camera_buffer().as_entire_binding()),
@@ -226,7 +229,7 @@ impl Ssgi {
         if features.contains(&crate::resolution::HALF_FEATURE) {
             size = Resolution::Half.pixels(size);
         }
-        cx.dispatch_image(
+        cx.dispatch_image_numbered(
             label,
             &ShaderKey::new("lighting/ssgi.wgsl", features),
             &all,

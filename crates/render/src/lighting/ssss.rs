@@ -182,12 +182,18 @@ impl Ssss {
         let mut pairs = Vec::with_capacity(self.sources.len());
         for (k, source) in self.sources.iter().enumerate() {
             pairs.push(if vertical {
-                (cx.view(&self.across(k))?, cx.view(&self.outputs[k])?)
+                (
+                    cx.view_named(&self.across(k))?,
+                    cx.view_named(&self.outputs[k])?,
+                )
             } else {
-                (cx.view(&source.name)?, cx.view(&self.across(k))?)
+                (
+                    cx.view_named(&source.name)?,
+                    cx.view_named(&self.across(k))?,
+                )
             });
         }
-        let (depth, color) = (cx.view(&g.depth)?, cx.view(&g.color)?);
+        let (depth, color) = (cx.view_named(&g.depth)?, cx.view_named(&g.color)?);
         let mut all = vec![
             (0, self.gbuffer.camera_buffer().as_entire_binding()),
             (1, self.params.as_entire_binding()),

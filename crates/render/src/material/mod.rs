@@ -44,6 +44,7 @@ use map_textures::MapLayout;
 pub use map_textures::{MapFiltering, WorldMaps};
 use maps::{MapSlot, SurfaceMaps};
 
+use crate::frame_graph::Bindings;
 use crate::recipe::TextureRef;
 use crate::renderer::Renderer;
 
@@ -533,7 +534,7 @@ impl MaterialWorld {
             let array = match &self.textures {
                 // The cached view: a new one each frame would make a new bind group.
                 Some(t) => {
-                    let texture = cx.texture(&t.name)?.clone();
+                    let texture = cx.texture_named(&t.name)?.clone();
                     cx.view_of(&texture, crate::texture_pool::ViewSpec::array())
                 }
                 None => self.dummies.array.clone(),
@@ -543,7 +544,7 @@ impl MaterialWorld {
             // Only a texture array is mapped by the G-buffer's UV: surface
             // maps alone leave the motion resolve to be culled.
             let uv = match &self.textures {
-                Some(_) => cx.view(targets.uv)?,
+                Some(_) => cx.view_named(targets.uv)?,
                 None => self.dummies.uv.clone(),
             };
             Some((array, sampler, uv))
@@ -562,6 +563,63 @@ impl MaterialWorld {
         }
         cx.shaders
             .bind_group(&device, key, "main", pipeline, 1, &all)
+    }
+
+    /// What a pass that imports `spreadlight::material` binds, by name: the
+    /// three buffers and, with `textures` (a pass that reads the texture
+    /// array), the array, its sampler and the G-buffer's UV target
+    /// (stand-ins where the world has none).
+    pub(crate) fn bindings(&self, textures: Option<MaterialTextures>) -> Bindings<'_> {
+        let b = Bindings::new()
+            .buffer("material_meta", &self.meta)
+            .buffer("feature_offsets", &self.offsets)
+            .buffer("material_data", &self.data);
+        let Some(t) = textures else {
+            return b;
+        };
+        // Repeat: UVs beyond 0..1 tile.
+        let b = b.sampler("material_sampler", crate::shaders::Sampling::LinearRepeat);
+        // Only a texture array is mapped by the G-buffer's UV: surface maps
+        // alone leave the motion resolve to be culled.
+        match t.0 {
+            Some((array, uv)) => b
+                .array("material_textures", array)
+                .texture("material_uv", uv),
+            None => b
+                .view("material_textures", self.dummies.array.clone())
+                .view("material_uv", self.dummies.uv.clone()),
+        }
+    }
+
+    /// The recipe of the texture array, declared for a pass that reads it
+    /// (`textured`), before the pass is: see [`MaterialWorld::read_textures`].
+    pub(crate) fn declare_upstream<'a>(
+        &'a self,
+        renderer: &'a Renderer,
+        fg: &mut crate::frame_graph::FrameGraph<'a>,
+        textured: bool,
+    ) {
+        if let Some(t) = self.textures.as_ref().filter(|_| textured) {
+            t.recipe.declare(renderer, fg);
+        }
+    }
+
+    /// A pass's reads of the texture array and the UV target, when it reads
+    /// the array (`textured`): what [`MaterialWorld::bindings`] binds.
+    pub(crate) fn read_textures(
+        &self,
+        pass: &mut crate::frame_graph::PassBuilder<'_, '_>,
+        textured: bool,
+        targets: SurfaceTargets<'_>,
+    ) -> Option<MaterialTextures> {
+        if !textured {
+            return None;
+        }
+        Some(MaterialTextures(
+            self.textures
+                .as_ref()
+                .map(|t| (pass.read(&t.name), pass.read(targets.uv))),
+        ))
     }
 
     /// Declare the texture array for a pass that reads it (`textured`), and
@@ -614,6 +672,11 @@ impl MaterialWorld {
         })
     }
 
+    /// The maps' arrays and samplers by name, when some material has maps.
+    pub(crate) fn maps_bindings(&self) -> Option<Bindings<'static>> {
+        Some(self.maps.as_ref()?.bindings())
+    }
+
     /// Group 3 of the G-buffer resolve (and of the visibility pass with
     /// alpha masks): the map arrays and the two samplers, every one of
     /// which `material_maps.wgsl` uses. `None` without maps.
@@ -629,6 +692,11 @@ impl MaterialWorld {
         (&self.meta, &self.offsets, &self.data)
     }
 }
+
+/// The texture array and the UV target a pass declared it reads; None
+/// where the world has no array (stand-ins are bound).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct MaterialTextures(Option<(crate::frame_graph::Tex, crate::frame_graph::Tex)>);
 
 #[cfg(test)]
 mod tests;

@@ -265,15 +265,18 @@ impl AmbientOcclusion {
     fn linear_depth(&self, cx: &mut PassContext<'_>, level: usize) -> Result<(), RenderError> {
         let output = self.name(&format!("z{level}"));
         let (source, target) = if level == 0 {
-            (cx.view(&self.gbuffer.targets.depth)?, cx.view(&output)?)
+            (
+                cx.view_named(&self.gbuffer.targets.depth)?,
+                cx.view_named(&output)?,
+            )
         } else {
             (
-                cx.view(&self.name(&format!("z{}", level - 1)))?,
-                cx.view(&output)?,
+                cx.view_named(&self.name(&format!("z{}", level - 1)))?,
+                cx.view_named(&output)?,
             )
         };
         let size = {
-            let t = cx.texture(&output)?;
+            let t = cx.texture_named(&output)?;
             (t.width(), t.height())
         };
         let all = [
@@ -286,7 +289,7 @@ impl AmbientOcclusion {
         } else {
             vec!["DOWNSAMPLE"]
         };
-        cx.dispatch_image(
+        cx.dispatch_image_numbered(
             if level == 0 {
                 "ao view depth"
             } else {
@@ -325,10 +328,14 @@ impl AmbientOcclusion {
                 false,
             )
         };
-        let mut views = vec![cx.view(&g.depth)?, cx.view(&g.normals)?, cx.view(&target)?];
+        let mut views = vec![
+            cx.view_named(&g.depth)?,
+            cx.view_named(&g.normals)?,
+            cx.view_named(&target)?,
+        ];
         if self.sao() {
             for k in 0..DEPTH_LEVELS {
-                views.push(cx.view(&self.name(&format!("z{k}")))?);
+                views.push(cx.view_named(&self.name(&format!("z{k}")))?);
             }
         }
         let mut all = vec![
@@ -339,7 +346,10 @@ impl AmbientOcclusion {
             all.push((2 + k as u32, wgpu::BindingResource::TextureView(v)));
         }
         let history_views = if fused {
-            Some([cx.view(&g.velocity_uv)?, cx.view(&self.name("previous"))?])
+            Some([
+                cx.view_named(&g.velocity_uv)?,
+                cx.view_named(&self.name("previous"))?,
+            ])
         } else {
             None
         };
@@ -364,7 +374,7 @@ impl AmbientOcclusion {
                 .chain(fused.then_some("TEMPORAL")),
         );
         let size = resolution.pixels(self.gbuffer.pixel_size(cx.output_size));
-        cx.dispatch_image(self.settings.mode.name(), &key, &all, size)
+        cx.dispatch_image_numbered(self.settings.mode.name(), &key, &all, size)
     }
 
     /// Last frame's history handed to `previous` before the history is
@@ -383,12 +393,12 @@ impl AmbientOcclusion {
         let fresh_buffer = &self.fresh[usize::from(fresh)];
         let g = &self.gbuffer.targets;
         let views = [
-            cx.view(&self.name("raw"))?,
-            cx.view(&g.depth)?,
-            cx.view(&g.normals)?,
-            cx.view(&g.velocity_uv)?,
-            cx.view(&previous)?,
-            cx.view(&history)?,
+            cx.view_named(&self.name("raw"))?,
+            cx.view_named(&g.depth)?,
+            cx.view_named(&g.normals)?,
+            cx.view_named(&g.velocity_uv)?,
+            cx.view_named(&previous)?,
+            cx.view_named(&history)?,
         ];
         let mut all = vec![
             (0, self.gbuffer.camera_buffer().as_entire_binding()),
@@ -399,7 +409,7 @@ impl AmbientOcclusion {
             all.push((2 + k as u32, wgpu::BindingResource::TextureView(v)));
         }
         let size = self.gbuffer.pixel_size(cx.output_size);
-        cx.dispatch_image(
+        cx.dispatch_image_numbered(
             "ao temporal",
             &ShaderKey::new("occlusion/temporal.wgsl", []),
             &all,
@@ -426,15 +436,15 @@ impl AmbientOcclusion {
         let combine = match (&self.combine, vertical) {
             (Some(c), true) => {
                 features.push("COMBINE");
-                Some(cx.view(&c.name)?)
+                Some(cx.view_named(&c.name)?)
             }
             _ => None,
         };
         let views = [
-            cx.view(source)?,
-            cx.view(&g.depth)?,
-            cx.view(&g.normals)?,
-            cx.view(&target)?,
+            cx.view_named(source)?,
+            cx.view_named(&g.depth)?,
+            cx.view_named(&g.normals)?,
+            cx.view_named(&target)?,
         ];
         let mut all = vec![
             (0, self.gbuffer.camera_buffer().as_entire_binding()),
@@ -447,7 +457,7 @@ impl AmbientOcclusion {
             all.push((6, wgpu::BindingResource::TextureView(c)));
         }
         let size = self.gbuffer.pixel_size(cx.output_size);
-        cx.dispatch_image(
+        cx.dispatch_image_numbered(
             if vertical { "ao blur y" } else { "ao blur x" },
             &ShaderKey::new("occlusion/blur.wgsl", features),
             &all,

@@ -103,8 +103,8 @@ impl Autofocus {
         );
         // Last frame's value through a copy: one dispatch cannot read and write a texture.
         let (last, copy) = (
-            cx.texture(&self.output)?.clone(),
-            cx.texture(&self.previous)?.clone(),
+            cx.texture_named(&self.output)?.clone(),
+            cx.texture_named(&self.previous)?.clone(),
         );
         cx.encoder().copy_texture_to_texture(
             last.as_image_copy(),
@@ -116,9 +116,9 @@ impl Autofocus {
             },
         );
         let views = [
-            cx.view(&self.gbuffer.targets.depth)?,
-            cx.view(&self.previous)?,
-            cx.view(&self.output)?,
+            cx.view_named(&self.gbuffer.targets.depth)?,
+            cx.view_named(&self.previous)?,
+            cx.view_named(&self.output)?,
         ];
         let all = [
             (0, self.gbuffer.camera_buffer().as_entire_binding()),

@@ -245,28 +245,28 @@ impl Dof {
         // What makes the circles of confusion: the depth (and focus) for the
         // `coc` pass and, inlined, for the tiles and the blur; else its target.
         if entry == "coc" || self.inline_coc() {
-            views.push((3, cx.view(&self.gbuffer.targets.depth)?));
+            views.push((3, cx.view_named(&self.gbuffer.targets.depth)?));
             if let Focus::Texture(t) = &self.focus {
-                views.push((7, cx.view(&t.name)?));
+                views.push((7, cx.view_named(&t.name)?));
             }
         }
-        let coc = cx.view(&self.coc);
+        let coc = cx.view_named(&self.coc);
         if entry == "coc" {
             views.push((4, coc?));
         } else if entry == "tiles" {
             if !self.inline_coc() {
                 views.push((5, coc?));
             }
-            views.push((9, cx.view(&self.tiles)?));
+            views.push((9, cx.view_named(&self.tiles)?));
         } else {
-            views.push((2, cx.view(&self.source.name)?));
+            views.push((2, cx.view_named(&self.source.name)?));
             if !self.inline_coc() {
                 views.push((5, coc?));
             }
-            views.push((10, cx.view(&self.tiles)?));
-            views.push((6, cx.view(self.blur_target())?));
+            views.push((10, cx.view_named(&self.tiles)?));
+            views.push((6, cx.view_named(self.blur_target())?));
             if let Some(t) = &self.bokeh {
-                views.push((8, cx.view(&t.name)?));
+                views.push((8, cx.view_named(&t.name)?));
             }
         }
         let mut all = vec![

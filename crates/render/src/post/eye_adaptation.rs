@@ -229,9 +229,9 @@ impl EyeAdaptation {
         input: &str,
         output: &str,
     ) -> Result<(), RenderError> {
-        let (source, target) = (cx.view(input)?, cx.view(output)?);
+        let (source, target) = (cx.view_named(input)?, cx.view_named(output)?);
         let (w, h) = {
-            let t = cx.texture(output)?;
+            let t = cx.texture_named(output)?;
             (t.width(), t.height())
         };
         let mut all = vec![
@@ -253,8 +253,8 @@ impl EyeAdaptation {
         // The blend reads last frame's value from a copy: a texture cannot be
         // read and written in one dispatch without read-write storage.
         let (last, copy) = (
-            cx.texture(&self.output)?.clone(),
-            cx.texture(&self.previous)?.clone(),
+            cx.texture_named(&self.output)?.clone(),
+            cx.texture_named(&self.previous)?.clone(),
         );
         cx.encoder().copy_texture_to_texture(
             last.as_image_copy(),
@@ -266,9 +266,9 @@ impl EyeAdaptation {
             },
         );
         let views = [
-            cx.view(measured)?,
-            cx.view(&self.previous)?,
-            cx.view(&self.output)?,
+            cx.view_named(measured)?,
+            cx.view_named(&self.previous)?,
+            cx.view_named(&self.output)?,
         ];
         let all = [
             (0, params.as_entire_binding()),

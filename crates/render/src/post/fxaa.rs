@@ -78,9 +78,12 @@ impl Fxaa {
     }
 
     fn run(&self, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
-        let (source, output) = (cx.view(&self.source.name)?, cx.view(&self.output)?);
+        let (source, output) = (
+            cx.view_named(&self.source.name)?,
+            cx.view_named(&self.output)?,
+        );
         let size = {
-            let t = cx.texture(&self.output)?;
+            let t = cx.texture_named(&self.output)?;
             (t.width(), t.height())
         };
         let all = [
@@ -88,7 +91,7 @@ impl Fxaa {
             (1, wgpu::BindingResource::TextureView(&source)),
             (3, wgpu::BindingResource::TextureView(&output)),
         ];
-        cx.dispatch_image("fxaa", &ShaderKey::new("post/fxaa.wgsl", []), &all, size)
+        cx.dispatch_image_numbered("fxaa", &ShaderKey::new("post/fxaa.wgsl", []), &all, size)
     }
 }
 

@@ -128,9 +128,9 @@ impl Glare {
         lower: Option<&str>,
         output: &str,
     ) -> Result<(), RenderError> {
-        let (s, o) = (cx.view(source)?, cx.view(output)?);
+        let (s, o) = (cx.view_named(source)?, cx.view_named(output)?);
         let l = match lower {
-            Some(name) => Some(cx.view(name)?),
+            Some(name) => Some(cx.view_named(name)?),
             None => None,
         };
         let mut all = vec![
@@ -148,7 +148,7 @@ impl Glare {
         // format filters (the other entries read their source by texel).
         let filterable = entry == "composite"
             && matches!(
-                cx.texture(source)?
+                cx.texture_named(source)?
                     .format()
                     .sample_type(None, Some(cx.gpu.device.features())),
                 Some(wgpu::TextureSampleType::Float { filterable: true })

@@ -85,21 +85,21 @@ pub(crate) fn copy(
     source: &str,
     output: &str,
 ) -> Result<(), RenderError> {
-    let (from, to) = (cx.view(source)?, cx.view(output)?);
+    let (from, to) = (cx.view_named(source)?, cx.view_named(output)?);
     let size = {
-        let t = cx.texture(output)?;
+        let t = cx.texture_named(output)?;
         (t.width(), t.height())
     };
     let all = [
         (0, wgpu::BindingResource::TextureView(&from)),
         (1, wgpu::BindingResource::TextureView(&to)),
     ];
-    cx.dispatch_image("copy", &ShaderKey::new("post/copy.wgsl", []), &all, size)
+    cx.dispatch_image_numbered("copy", &ShaderKey::new("post/copy.wgsl", []), &all, size)
 }
 
 /// The size of a texture in the frame.
 pub(crate) fn size_of(cx: &PassContext<'_>, name: &str) -> Result<(u32, u32), RenderError> {
-    let t = cx.texture(name)?;
+    let t = cx.texture_named(name)?;
     Ok((t.width(), t.height()))
 }
 

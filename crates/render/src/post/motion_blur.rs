@@ -117,7 +117,7 @@ impl MotionBlur {
     ) -> Result<(), RenderError> {
         let mut views = Vec::new();
         for (binding, name) in reads.iter().chain([&write]) {
-            views.push((*binding, cx.view(name)?));
+            views.push((*binding, cx.view_named(name)?));
         }
         let mut all = vec![
             (0, self.gbuffer.camera_buffer().as_entire_binding()),

@@ -176,11 +176,11 @@ impl Taa {
         );
         let t = &self.gbuffer.targets;
         let views = [
-            cx.view(&self.source.name)?,
-            cx.view(&t.velocity_uv)?,
-            cx.view(&t.depth)?,
-            cx.view(&self.history)?,
-            cx.view(&self.output)?,
+            cx.view_named(&self.source.name)?,
+            cx.view_named(&t.velocity_uv)?,
+            cx.view_named(&t.depth)?,
+            cx.view_named(&self.history)?,
+            cx.view_named(&self.output)?,
         ];
         let mut all = vec![(0, self.params.as_entire_binding())];
         all.extend(

@@ -101,13 +101,16 @@ impl Tonemap {
     fn run(&self, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
         let features = self.adaptation.as_ref().map(|_| "EYE_ADAPTATION");
         let key = ShaderKey::new("post/tonemap.wgsl", features);
-        let (source, output) = (cx.view(&self.source.name)?, cx.view(&self.output)?);
+        let (source, output) = (
+            cx.view_named(&self.source.name)?,
+            cx.view_named(&self.output)?,
+        );
         let adaptation = match &self.adaptation {
-            Some(a) => Some(cx.view(&a.name)?),
+            Some(a) => Some(cx.view_named(&a.name)?),
             None => None,
         };
         let (w, h) = {
-            let t = cx.texture(&self.output)?;
+            let t = cx.texture_named(&self.output)?;
             (t.width(), t.height())
         };
         let mut all = vec![
@@ -118,7 +121,7 @@ impl Tonemap {
         if let Some(view) = &adaptation {
             all.push((3, wgpu::BindingResource::TextureView(view)));
         }
-        cx.dispatch_image("tonemap", &key, &all, (w, h))
+        cx.dispatch_image_numbered("tonemap", &key, &all, (w, h))
     }
 }
 

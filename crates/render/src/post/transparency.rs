@@ -136,7 +136,7 @@ impl Transparency {
         let device = cx.gpu.device.clone();
         let (vertices, indices, _) = renderer.meshes.buffers();
         let extras = renderer.meshes.extras();
-        let depth = cx.view(&self.gbuffer.targets.depth)?;
+        let depth = cx.view_named(&self.gbuffer.targets.depth)?;
         // Per layer: its permutation and bind groups (0, and 1 to 3 with maps).
         let mut work = Vec::with_capacity(self.layers.len());
         for (layer, range) in self.layers.iter().zip(&self.layer_ranges) {
@@ -214,7 +214,10 @@ impl Transparency {
                 work.push((*range, culled, world.is_some(), pipeline, groups));
             }
         }
-        let (accumulation, revealage) = (cx.view(&self.accumulation)?, cx.view(&self.revealage)?);
+        let (accumulation, revealage) = (
+            cx.view_named(&self.accumulation)?,
+            cx.view_named(&self.revealage)?,
+        );
         // Cleared in compute, then loaded: a render pass's clear goes through
         // the raster output, which on the H100 took 0.28 of this pass's
         // 0.41 ms at 1080p (docs/benchmarks.md, session 10); compute writes
@@ -280,10 +283,10 @@ impl Transparency {
 
     fn resolve(&self, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
         let views = [
-            cx.view(&self.source.name)?,
-            cx.view(&self.accumulation)?,
-            cx.view(&self.revealage)?,
-            cx.view(&self.output)?,
+            cx.view_named(&self.source.name)?,
+            cx.view_named(&self.accumulation)?,
+            cx.view_named(&self.revealage)?,
+            cx.view_named(&self.output)?,
         ];
         let all = [
             (6, wgpu::BindingResource::TextureView(&views[0])),

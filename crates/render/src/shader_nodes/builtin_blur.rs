@@ -59,7 +59,7 @@ impl BuiltinBlur {
         output: &str,
     ) -> Result<(), RenderError> {
         let (w, h) = {
-            let t = cx.texture(output)?;
+            let t = cx.texture_named(output)?;
             (t.width(), t.height())
         };
         let (w_f, h_f) = (w as f32, h as f32);
@@ -74,7 +74,7 @@ impl BuiltinBlur {
             });
         let device = cx.gpu.device.clone();
         let sampler = cx.sampler(Sampling::LinearClamp);
-        let (source, target) = (cx.view(input)?, cx.view(output)?);
+        let (source, target) = (cx.view_named(input)?, cx.view_named(output)?);
         let key = ShaderKey::new(SHADER, []);
         let pipeline = cx.shaders.compute_pipeline(&device, &key, entry)?;
         let (read, write) = if entry == "horizontal" {

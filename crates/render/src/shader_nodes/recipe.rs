@@ -332,13 +332,13 @@ impl ShaderNodeRecipe {
                 })),
                 Role::Write(t) => {
                     let i = pass.decl.targets.iter().position(|d| d == t).unwrap_or(0);
-                    Bound::View(cx.view(&names.dests[i])?)
+                    Bound::View(cx.view_named(&names.dests[i])?)
                 }
                 Role::Read(_) => {
                     let name = names.reads.get(binding).ok_or_else(|| {
                         missing(&self.type_name, "a target read before it is written")
                     })?;
-                    Bound::View(cx.view(name)?)
+                    Bound::View(cx.view_named(name)?)
                 }
                 other => {
                     let name = self.outside(other).ok_or_else(|| {
@@ -355,7 +355,7 @@ impl ShaderNodeRecipe {
                             },
                         )
                     })?;
-                    Bound::View(cx.view(&name)?)
+                    Bound::View(cx.view_named(&name)?)
                 }
             };
             bound.push((*binding, resource));

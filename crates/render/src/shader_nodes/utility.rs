@@ -65,9 +65,9 @@ fn run(
         move || module,
         entry,
     );
-    let view = cx.view(target)?;
+    let view = cx.view_named(target)?;
     let size = {
-        let t = cx.texture(target)?;
+        let t = cx.texture_named(target)?;
         (t.width(), t.height())
     };
     let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -118,7 +118,7 @@ pub fn copy(
     target: &str,
     format: wgpu::TextureFormat,
 ) -> Result<(), RenderError> {
-    let view = cx.view(source)?;
+    let view = cx.view_named(source)?;
     run(
         cx,
         "copy",

@@ -347,9 +347,11 @@ pub fn all_permutations() -> Vec<ShaderKey> {
 
 mod cache;
 mod composer;
+mod reflection;
 
 pub use cache::{PipelineRef, Sampling, ShaderCache};
 pub use composer::{ShaderComposer, Splice};
+pub use reflection::{Reflection, ShaderVar};
 
 #[cfg(test)]
 mod tests;

@@ -56,7 +56,7 @@ impl Ssr {
         let mips: Vec<wgpu::TextureView> = (0..hiz.mip_level_count())
             .map(|m| cx.view_of(&hiz, crate::texture_pool::ViewSpec::mip(m)))
             .collect();
-        let depth = cx.view(&self.gbuffer.targets.depth)?;
+        let depth = cx.view_named(&self.gbuffer.targets.depth)?;
         let view = wgpu::BindingResource::TextureView;
         let levels = mips.len();
         // Two levels a dispatch where it can (shaders/environment/ssr.wgsl).

@@ -296,12 +296,12 @@ impl Ssr {
         let g = &self.gbuffer;
         let target = self.trace_target();
         let (color, normals, depth, lit, fallback, out) = (
-            cx.view(&g.targets.color)?,
-            cx.view(&g.targets.normals)?,
-            cx.view(&g.targets.depth)?,
-            cx.view(&self.lit.name)?,
-            cx.view(&self.fallback.name)?,
-            cx.view(target)?,
+            cx.view_named(&g.targets.color)?,
+            cx.view_named(&g.targets.normals)?,
+            cx.view_named(&g.targets.depth)?,
+            cx.view_named(&self.lit.name)?,
+            cx.view_named(&self.fallback.name)?,
+            cx.view_named(target)?,
         );
         let hiz_view = cx.view_of(&hiz, Default::default());
         let lut_view = cx.view_of(&lut, Default::default());
@@ -313,7 +313,10 @@ impl Ssr {
         let history = match fused {
             true => {
                 key.features.insert("TEMPORAL");
-                Some((cx.view(&self.history)?, cx.view(&g.targets.velocity_uv)?))
+                Some((
+                    cx.view_named(&self.history)?,
+                    cx.view_named(&g.targets.velocity_uv)?,
+                ))
             }
             false => None,
         };
@@ -333,7 +336,7 @@ impl Ssr {
         ];
         // Roughness and metallic where the G-buffer resolved them.
         let surface = match &g.targets.surface {
-            Some(name) => Some(cx.view(name)?),
+            Some(name) => Some(cx.view_named(name)?),
             None => None,
         };
         let mut all = all.to_vec();
@@ -416,11 +419,11 @@ impl Ssr {
         );
         let g = &self.gbuffer;
         let (current, history, velocity, out, depth) = (
-            cx.view(&self.current)?,
-            cx.view(&self.history)?,
-            cx.view(&g.targets.velocity_uv)?,
-            cx.view(&self.output)?,
-            cx.view(&g.targets.depth)?,
+            cx.view_named(&self.current)?,
+            cx.view_named(&self.history)?,
+            cx.view_named(&g.targets.velocity_uv)?,
+            cx.view_named(&self.output)?,
+            cx.view_named(&g.targets.depth)?,
         );
         let all = [
             (0, g.camera_buffer().as_entire_binding()),
@@ -451,7 +454,7 @@ impl Ssr {
 
     fn clear(&self, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
         cx.count("ssr skipped", 1);
-        let out = cx.view(&self.output)?;
+        let out = cx.view_named(&self.output)?;
         let all = [
             (0, self.gbuffer.camera_buffer().as_entire_binding()),
             (10, wgpu::BindingResource::TextureView(&out)),
