@@ -291,18 +291,21 @@ fn execute(
             draws,
         });
 
-        // Temporaries whose last reader has recorded go back to the pool.
+        // Temporaries whose last reader has recorded go back to the pool, and
+        // leave the live textures: no later pass can reach memory the pool
+        // may hand to another.
         owned.retain(|(name, key, lifetime, slot)| {
             let done = *lifetime == Lifetime::Temporary
                 && last_use.get(name.as_str()).is_some_and(|&s| s <= step)
                 && !requested.contains(name.as_str());
             if done {
+                let texture = live.remove(name);
                 match release_instead.remove(name) {
                     // Next frame the output takes the texture it gives back now.
                     Some(t) => textures.hold_for(*slot, *key, t),
                     None => {
-                        if let Some(t) = live.get(name) {
-                            textures.give_back(*key, t.clone());
+                        if let Some(t) = texture {
+                            textures.give_back(*key, t);
                         }
                     }
                 }
