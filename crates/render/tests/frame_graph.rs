@@ -73,7 +73,7 @@ fn a_pass_with_two_outputs_knows_which_the_frame_reads() {
             move |cx| {
                 s.lock()
                     .expect("lock")
-                    .push((cx.is_read("left"), cx.is_read("right")));
+                    .push((cx.is_read_named("left"), cx.is_read_named("right")));
                 Ok(())
             },
         );
@@ -332,7 +332,7 @@ fn persistent_textures_keep_their_history_across_frames() {
             &[],
             &[("history", target().lifetime(Lifetime::Persistent))],
             move |cx| {
-                *seen.lock().expect("lock") = Some(cx.is_fresh("history"));
+                *seen.lock().expect("lock") = Some(cx.is_fresh_named("history"));
                 Ok(())
             },
         );
@@ -718,7 +718,7 @@ fn temporal_frame_requesting(
                     ("read previous", target()),
                 ],
                 |cx| {
-                    cx.copy_history("history", "previous")?;
+                    cx.copy_history_named("history", "previous")?;
                     copy(cx, "previous", "read previous")?;
                     copy(cx, "now", "history")
                 },
@@ -737,7 +737,7 @@ fn temporal_frame_requesting(
                 |cx| {
                     copy(cx, "kept", "read kept")?;
                     copy(cx, "now", "output")?;
-                    cx.keep_as_history("output", "kept")
+                    cx.keep_as_history_named("output", "kept")
                 },
             );
             fg.add_pass("after", None, &["output"], &[("shown", target())], |cx| {

@@ -309,7 +309,10 @@ impl Recipe for Reflection {
             &reads,
             &[(self.diffuse.as_str(), hdr), (self.specular.as_str(), hdr)],
             move |cx| {
-                let outputs = match (cx.is_read(&self.diffuse), cx.is_read(&self.specular)) {
+                let outputs = match (
+                    cx.is_read_named(&self.diffuse),
+                    cx.is_read_named(&self.specular),
+                ) {
                     (true, true) => Outputs::Both,
                     (true, false) => Outputs::Diffuse,
                     _ => Outputs::Specular,

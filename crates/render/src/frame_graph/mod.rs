@@ -260,12 +260,24 @@ impl<'f> PassContext<'f> {
     /// A pass runs when any of its outputs is read; one with several can
     /// leave out the work of an output nobody reads (its texture is still
     /// allocated, and left unwritten).
-    pub fn is_read(&self, name: &str) -> bool {
+    pub fn is_read_named(&self, name: &str) -> bool {
         self.requested.contains(name) || self.last_use.get(name).is_some_and(|&s| s > self.step)
     }
 
-    /// A persistent texture created this frame: it holds no history yet.
-    pub fn is_fresh(&self, name: &str) -> bool {
+    /// Whether this pass's output `tex` is read (see [`PassContext::is_read_named`]).
+    pub fn is_read(&self, tex: Tex) -> bool {
+        self.declared(tex)
+            .is_ok_and(|name| self.is_read_named(name))
+    }
+
+    /// A persistent texture this pass declared, created this frame: it holds no history yet.
+    pub fn is_fresh(&self, tex: Tex) -> bool {
+        self.declared(tex)
+            .is_ok_and(|name| self.is_fresh_named(name))
+    }
+
+    /// [`PassContext::is_fresh`] by name.
+    pub fn is_fresh_named(&self, name: &str) -> bool {
         self.fresh.contains(name)
     }
 

@@ -279,8 +279,8 @@ impl Ssgi {
     fn temporal_pass(&self, cx: &mut PassContext<'_>, gather: bool) -> Result<(), RenderError> {
         let (history, previous) = (self.history_name(), self.name("previous"));
         let (distance, previous_distance) = (self.distance_name(), self.name("previous distance"));
-        let fresh = cx.copy_history(&history, &previous)?
-            | cx.copy_history(&distance, &previous_distance)?;
+        let fresh = cx.copy_history_named(&history, &previous)?
+            | cx.copy_history_named(&distance, &previous_distance)?;
         if fresh {
             cx.count("SSGI history reset", 1);
         }
@@ -375,11 +375,13 @@ impl Ssgi {
                 name: pass_name("SSGI", self.owner, Some("upsample")),
                 owner: self.owner,
                 gbuffer: &self.gbuffer,
+                half: &raw_target,
                 full: &raw,
                 desc: rgba,
                 format: UpsampleFormat::Rgba16,
                 counter: HALF_RESOLUTION,
                 label: "ssgi upsample",
+                detail: None,
             },
         );
         if !self.temporal() {

@@ -90,7 +90,7 @@ impl Autofocus {
     }
 
     fn run(&self, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
-        let fresh = cx.is_fresh(&self.output);
+        let fresh = cx.is_fresh_named(&self.output);
         cx.gpu.queue.write_buffer(
             &self.params,
             0,

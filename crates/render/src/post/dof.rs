@@ -19,7 +19,9 @@ use crate::frame_graph::{FrameGraph, PassContext, TextureDesc};
 use crate::gbuffer::GBuffer;
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
-use crate::resolution::{Resolution, Upsample, UpsampleFormat, upsample};
+use crate::resolution::{
+    Resolution, UpsampleFormat, UpsamplePass, declare_upsample, written_target,
+};
 use crate::shaders::ShaderKey;
 
 const SHADER: &str = "post/dof.wgsl";
@@ -170,7 +172,6 @@ pub struct Dof {
     coc: String,
     tiles: String,
     /// The half-size blur (Half only).
-    blurred_half: String,
     pub output: String,
 }
 
@@ -204,7 +205,6 @@ impl Dof {
             params,
             coc: format!("dof{id} coc"),
             tiles: format!("dof{id} tiles"),
-            blurred_half: format!("dof{id} half"),
             output: format!("dof{id}"),
         })
     }
@@ -264,7 +264,7 @@ impl Dof {
                 views.push((5, coc?));
             }
             views.push((10, cx.view_named(&self.tiles)?));
-            views.push((6, cx.view_named(self.blur_target())?));
+            views.push((6, cx.view_named(&self.blur_target())?));
             if let Some(t) = &self.bokeh {
                 views.push((8, cx.view_named(&t.name)?));
             }
@@ -278,11 +278,12 @@ impl Dof {
                 .iter()
                 .map(|(b, v)| (*b, wgpu::BindingResource::TextureView(v))),
         );
+        let blur_target = self.blur_target();
         let size = super::size_of(
             cx,
             match entry {
                 "tiles" => &self.tiles,
-                "main" => self.blur_target(),
+                "main" => &blur_target,
                 _ => &self.coc,
             },
         )?;
@@ -299,27 +300,8 @@ impl Dof {
     }
 
     /// Where the blur writes: the output, or its half-size twin.
-    fn blur_target(&self) -> &str {
-        if self.settings.resolution.is_half() {
-            &self.blurred_half
-        } else {
-            &self.output
-        }
-    }
-
-    fn upsample_blur(&self, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
-        cx.count(HALF_RESOLUTION, 1);
-        upsample(
-            cx,
-            "dof upsample",
-            &Upsample {
-                gbuffer: &self.gbuffer,
-                source: &self.blurred_half,
-                output: &self.output,
-                format: UpsampleFormat::Rgba16,
-                detail: Some((&self.source.name, &self.coc)),
-            },
-        )
+    fn blur_target(&self) -> String {
+        written_target(&self.output, self.settings.resolution)
     }
 }
 
@@ -431,27 +413,27 @@ impl Recipe for Dof {
             self.owner,
             &reads,
             &[(
-                self.blur_target(),
+                &self.blur_target(),
                 desc.size(resolution.size_rule(self.gbuffer.size, size)),
             )],
             move |cx| self.run(cx, "main"),
         );
-        if resolution.is_half() {
-            let g = &self.gbuffer.targets;
-            fg.add_pass(
-                crate::recipe::pass_name("DOF", self.owner, Some("upsample")),
-                self.owner,
-                &[
-                    &self.blurred_half,
-                    &self.source.name,
-                    &self.coc,
-                    &g.depth,
-                    &g.normals,
-                ],
-                &[(&self.output, desc)],
-                move |cx| self.upsample_blur(cx),
-            );
-        }
+        declare_upsample(
+            fg,
+            resolution,
+            UpsamplePass {
+                name: crate::recipe::pass_name("DOF", self.owner, Some("upsample")),
+                owner: self.owner,
+                gbuffer: &self.gbuffer,
+                half: &self.blur_target(),
+                full: &self.output,
+                desc,
+                format: UpsampleFormat::Rgba16,
+                counter: HALF_RESOLUTION,
+                label: "dof upsample",
+                detail: Some((&self.source.name, &self.coc)),
+            },
+        );
     }
 }
 

@@ -248,7 +248,7 @@ impl EyeAdaptation {
     }
 
     fn adapt(&self, cx: &mut PassContext<'_>, measured: &str) -> Result<(), RenderError> {
-        let fresh = cx.is_fresh(&self.output);
+        let fresh = cx.is_fresh_named(&self.output);
         let params = self.params[usize::from(fresh)].clone();
         // The blend reads last frame's value from a copy: a texture cannot be
         // read and written in one dispatch without read-write storage.

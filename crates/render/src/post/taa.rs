@@ -165,7 +165,7 @@ impl Taa {
     }
 
     fn run(&self, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
-        let fresh = cx.is_fresh(&self.history) || self.settings.reset;
+        let fresh = cx.is_fresh_named(&self.history) || self.settings.reset;
         if fresh {
             cx.count(RESET, 1);
         }
@@ -194,7 +194,7 @@ impl Taa {
         let size = super::size_of(cx, &self.output)?;
         super::dispatch_entry(cx, "taa", &self.key(), "main", &all, size)?;
         // The result is next frame's history.
-        cx.keep_as_history(&self.output, &self.history)?;
+        cx.keep_as_history_named(&self.output, &self.history)?;
         Ok(())
     }
 }

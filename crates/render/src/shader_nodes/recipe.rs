@@ -267,17 +267,17 @@ impl ShaderNodeRecipe {
             let decl = &self.program.targets[d];
             let name = &names.dests[i];
             let persistent = decl.lifetime == Lifetime::Persistent;
-            if persistent && cx.is_fresh(name) {
+            if persistent && cx.is_fresh_named(name) {
                 fresh = true;
             }
             if let Some(color) = decl.clear
-                && (!persistent || cx.is_fresh(name))
+                && (!persistent || cx.is_fresh_named(name))
             {
                 utility::fill(cx, name, decl.format, color)?;
             }
         }
         for (history, copy) in &names.histories {
-            cx.copy_history(history, copy)?;
+            cx.copy_history_named(history, copy)?;
         }
         if step.iteration > 0 {
             cx.count("shader node repeats", 1);

@@ -26,7 +26,9 @@ use crate::gbuffer::GBuffer;
 use crate::material::{FEATURE_COOK_TORRANCE, FEATURE_REFLECTION, MaterialWorld};
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
-use crate::resolution::{Resolution, Upsample, UpsampleFormat, upsample};
+use crate::resolution::{
+    Resolution, UpsampleFormat, UpsamplePass, declare_upsample, written_target,
+};
 use crate::shaders::{Sampling, ShaderKey};
 use crate::temporal::TemporalState;
 
@@ -130,7 +132,6 @@ pub struct Ssr {
     resolve_params: wgpu::Buffer,
     token: String,
     /// The half-size trace (Half only).
-    traced_half: String,
     current: String,
     /// The persistent history (temporal only).
     pub history: String,
@@ -187,7 +188,6 @@ impl Ssr {
             trace_params: uniform("ssr trace params"),
             resolve_params: uniform("ssr resolve params"),
             token: format!("ssr{id}/hiz"),
-            traced_half: format!("ssr{id}/trace half"),
             current: format!("ssr{id}/current"),
             history: format!("ssr/{key}/history"),
             output: format!("ssr{id}/reflection"),
@@ -254,7 +254,7 @@ impl Ssr {
         let (_, stale) = self
             .temporal_state
             .advance(&self.gbuffer, self.settings.reset);
-        let fresh = cx.is_fresh(&self.history) || stale;
+        let fresh = cx.is_fresh_named(&self.history) || stale;
         cx.count(
             if fresh {
                 "ssr history reset"
@@ -301,7 +301,7 @@ impl Ssr {
             cx.view_named(&g.targets.depth)?,
             cx.view_named(&self.lit.name)?,
             cx.view_named(&self.fallback.name)?,
-            cx.view_named(target)?,
+            cx.view_named(&target)?,
         );
         let hiz_view = cx.view_of(&hiz, Default::default());
         let lut_view = cx.view_of(&lut, Default::default());
@@ -369,7 +369,7 @@ impl Ssr {
         );
         if fused {
             // This frame's result is next frame's history.
-            cx.keep_as_history(&self.output, &self.history)?;
+            cx.keep_as_history_named(&self.output, &self.history)?;
         }
         Ok(())
     }
@@ -385,27 +385,8 @@ impl Ssr {
     }
 
     /// Where the trace writes: the full-size target, or its half-size twin.
-    fn trace_target(&self) -> &str {
-        if self.settings.resolution.is_half() {
-            &self.traced_half
-        } else {
-            self.full_target()
-        }
-    }
-
-    fn upsample_trace(&self, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
-        cx.count(HALF_RESOLUTION, 1);
-        upsample(
-            cx,
-            "ssr upsample",
-            &Upsample {
-                gbuffer: &self.gbuffer,
-                source: &self.traced_half,
-                output: self.full_target(),
-                format: UpsampleFormat::Rgba16,
-                detail: None,
-            },
-        )
+    fn trace_target(&self) -> String {
+        written_target(self.full_target(), self.settings.resolution)
     }
 
     fn resolve(&self, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
@@ -448,7 +429,7 @@ impl Ssr {
             (size.0.div_ceil(8), size.1.div_ceil(8), 1),
         );
         // This frame's result is next frame's history.
-        cx.keep_as_history(&self.output, &self.history)?;
+        cx.keep_as_history_named(&self.output, &self.history)?;
         Ok(())
     }
 
@@ -532,8 +513,9 @@ impl Recipe for Ssr {
                 TextureDesc::history(rgba).size(self.gbuffer.size),
             ),
         ];
+        let trace_target = self.trace_target();
         let traced = [(
-            self.trace_target(),
+            trace_target.as_str(),
             hdr.size(resolution.size_rule(self.gbuffer.size, pixels)),
         )];
         let writes: &[(&str, TextureDesc)] = if self.fused() {
@@ -549,19 +531,22 @@ impl Recipe for Ssr {
             writes,
             move |cx| self.trace(cx),
         );
-        if resolution.is_half() {
-            fg.add_pass(
-                self.label("upsample"),
-                self.owner,
-                &[
-                    self.traced_half.as_str(),
-                    g.depth.as_str(),
-                    g.normals.as_str(),
-                ],
-                &[(self.full_target(), hdr)],
-                move |cx| self.upsample_trace(cx),
-            );
-        }
+        declare_upsample(
+            fg,
+            resolution,
+            UpsamplePass {
+                name: self.label("upsample"),
+                owner: self.owner,
+                gbuffer: &self.gbuffer,
+                half: &trace_target,
+                full: self.full_target(),
+                desc: hdr,
+                format: UpsampleFormat::Rgba16,
+                counter: HALF_RESOLUTION,
+                label: "ssr upsample",
+                detail: None,
+            },
+        );
         if self.settings.temporal && !self.fused() {
             fg.add_pass(
                 self.label("resolve"),
