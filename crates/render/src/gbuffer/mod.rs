@@ -108,6 +108,21 @@ pub(crate) struct Draw {
     pub two_sided: bool,
 }
 
+/// What every shader that pulls instanced meshes binds beside its view (the
+/// G-buffer's, the compute rasterizer's, the shadow depth pass, transparency):
+/// the mesh arena's vertices and indices and the instances, by the names
+/// `shaders/lib/mesh_fetch.wgsl` gives them.
+pub(crate) fn mesh_bindings<'b>(
+    vertices: &'b wgpu::Buffer,
+    indices: &'b wgpu::Buffer,
+    instances: &'b wgpu::Buffer,
+) -> crate::frame_graph::Bindings<'b> {
+    crate::frame_graph::Bindings::new()
+        .buffer("vertices", vertices)
+        .buffer("indices", indices)
+        .buffer("instances", instances)
+}
+
 /// Bindings 0 to 3 of every shader that pulls instanced meshes (the
 /// G-buffer's, the compute rasterizer's, the shadow depth pass): the view
 /// (camera uniform or view matrix), the mesh arena's vertices and indices,
@@ -458,19 +473,14 @@ impl GBuffer {
         self.size.pixels(output)
     }
 
-    /// Bindings 0 to 3 every G-buffer shader shares: camera, the mesh
-    /// arena's vertices and indices, and the instances.
-    fn geometry_entries<'b>(
+    /// What every G-buffer shader binds: the camera, the mesh arena's
+    /// vertices and indices, and the instances.
+    fn geometry_bindings<'b>(
         &'b self,
         vertices: &'b wgpu::Buffer,
         indices: &'b wgpu::Buffer,
-    ) -> Vec<wgpu::BindGroupEntry<'b>> {
-        geometry_entries(
-            self.camera_buffer.as_entire_binding(),
-            vertices,
-            indices,
-            &self.instances,
-        )
+    ) -> crate::frame_graph::Bindings<'b> {
+        mesh_bindings(vertices, indices, &self.instances).buffer("camera", &self.camera_buffer)
     }
 
     pub fn owner(&self) -> Option<u32> {
