@@ -400,13 +400,10 @@ impl Recipe for CookTorrance {
         // naive shade against 7.6 before other passes, session 10.)
         let clustered = self.walk == Walk::Clustered;
         if clustered {
-            fg.add_pass(
-                self.label("clustered light assignment"),
-                self.owner,
-                &[],
-                &[(&self.token, TextureDesc::token())],
-                move |cx| self.assign(grid, cx),
-            );
+            let mut pass = fg.pass(self.label("clustered light assignment"), self.owner);
+            // The assignment's buffers live in the cluster store; the token orders the shade after it.
+            pass.write(&self.token, TextureDesc::token());
+            pass.run(move |cx| self.assign(grid, cx));
         }
         if let Some(textures) = self.lights.textures() {
             textures.recipe.declare(renderer, fg);
