@@ -88,6 +88,9 @@ fn upload_equirect(cx: &PassContext<'_>, image: &EquirectImage) -> wgpu::Texture
 }
 
 /// Record every step and return the maps (valid once the frame is submitted).
+/// One dispatch of the prefilter: its pipeline, bind groups and workgroups.
+type Step = (wgpu::ComputePipeline, Vec<wgpu::BindGroup>, (u32, u32, u32));
+
 pub(crate) fn build(
     cx: &mut PassContext<'_>,
     source: &EnvironmentSource,
@@ -127,8 +130,8 @@ pub(crate) fn build(
         })
     };
     let key_shader = ShaderKey::new(SHADER, []);
-    // (entry, bind groups, workgroups), recorded in order into one pass.
-    let mut steps: Vec<(wgpu::ComputePipeline, Vec<wgpu::BindGroup>, (u32, u32, u32))> = Vec::new();
+    // Recorded in order into one pass.
+    let mut steps: Vec<Step> = Vec::new();
     let mut step = |cx: &mut PassContext<'_>,
                     entry: &'static str,
                     bindings: Bindings<'_>,
@@ -327,4 +330,21 @@ fn split_sum_texture(device: &wgpu::Device, extra: wgpu::TextureUsages) -> wgpu:
         usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::STORAGE_BINDING | extra,
         view_formats: &[],
     })
+}
+
+/// The layout the shader sees (shaders/layout.rs).
+#[cfg(test)]
+mod wgsl_layout {
+    use super::*;
+
+    #[test]
+    fn params_matches_params_in_the_shader() {
+        crate::assert_wgsl_layout!(
+            Params,
+            "environment/prefilter.wgsl",
+            [],
+            "Params",
+            [size, samples, base_size, base_mips, roughness, pad]
+        );
+    }
 }

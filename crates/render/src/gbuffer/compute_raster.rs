@@ -359,3 +359,20 @@ fn raster_batches(
     pass.dispatch_workgroups(TILE_WORKGROUPS, 1, 1);
     cx.draws += dispatches;
 }
+
+/// The layout the shader sees (shaders/layout.rs).
+#[cfg(test)]
+mod wgsl_layout {
+    use super::*;
+
+    #[test]
+    fn gpu_batch_matches_batch_in_the_shader() {
+        crate::assert_wgsl_layout!(
+            GpuBatch,
+            "gbuffer/raster.wgsl",
+            [],
+            "Batch",
+            [first_instance, triangles, instance_count, first_global]
+        );
+    }
+}

@@ -575,3 +575,31 @@ impl Recipe for GBuffer {
         passes::declare(self, renderer, fg);
     }
 }
+
+/// The layout the shader sees (shaders/layout.rs).
+#[cfg(test)]
+mod wgsl_layout {
+    use super::*;
+
+    #[test]
+    fn gpu_instance_matches_instance_in_the_shader() {
+        crate::assert_wgsl_layout!(
+            GpuInstance,
+            "gbuffer/resolve.wgsl",
+            [],
+            "Instance",
+            [model, previous_model, normal_matrix, color, info]
+        );
+    }
+
+    #[test]
+    fn gpu_layer_matches_layer_in_the_shader() {
+        crate::assert_wgsl_layout!(
+            GpuLayer,
+            "gbuffer/resolve.wgsl",
+            [],
+            "Layer",
+            [first_instance, end_instance, write_background, geometry_ids]
+        );
+    }
+}

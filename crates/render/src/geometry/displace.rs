@@ -121,3 +121,20 @@ pub fn displace(
     )?;
     Ok(output)
 }
+
+/// The layout the shader sees (shaders/layout.rs).
+#[cfg(test)]
+mod wgsl_layout {
+    use super::*;
+
+    #[test]
+    fn gpu_matches_params_in_the_shader() {
+        crate::assert_wgsl_layout!(
+            Gpu,
+            "geometry/displace.wgsl",
+            [],
+            "Params",
+            [amount, midlevel, _pad]
+        );
+    }
+}

@@ -397,3 +397,32 @@ mod tests {
         }
     }
 }
+
+/// The layout the shader sees (shaders/layout.rs).
+#[cfg(test)]
+mod wgsl_layout {
+    use super::*;
+
+    #[test]
+    fn gpu_job_matches_job_in_the_shader() {
+        crate::assert_wgsl_layout!(
+            GpuJob,
+            "geometry/spherize.wgsl",
+            [],
+            "Job",
+            [
+                src_vertex,
+                src_index,
+                dst_vertex,
+                dst_index,
+                vertex_count,
+                index_count,
+                previous_vertex,
+                has_previous,
+                src_vertex_count,
+                src_index_count,
+                _pad
+            ]
+        );
+    }
+}

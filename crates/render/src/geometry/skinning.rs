@@ -290,3 +290,48 @@ pub fn deform(
     )?;
     Ok(outputs)
 }
+
+/// The layout the shader sees (shaders/layout.rs).
+#[cfg(test)]
+mod wgsl_layout {
+    use super::*;
+
+    #[test]
+    fn gpu_job_matches_job_in_the_shader() {
+        crate::assert_wgsl_layout!(
+            GpuJob,
+            "geometry/skinning.wgsl",
+            [],
+            "Job",
+            [
+                src_vertex,
+                src_index,
+                dst_vertex,
+                dst_index,
+                vertex_count,
+                index_count,
+                previous_vertex,
+                has_previous,
+                influence_offset,
+                target_offset,
+                target_count,
+                palette_offset,
+                joint_count,
+                weight_offset,
+                first_thread,
+                spare
+            ]
+        );
+    }
+
+    #[test]
+    fn gpu_influence_matches_influence_in_the_shader() {
+        crate::assert_wgsl_layout!(
+            GpuInfluence,
+            "geometry/skinning.wgsl",
+            [],
+            "Influence",
+            [joints, weights]
+        );
+    }
+}

@@ -140,3 +140,20 @@ pub fn tessellate(
         },
     )
 }
+
+/// The layout the shader sees (shaders/layout.rs).
+#[cfg(test)]
+mod wgsl_layout {
+    use super::*;
+
+    #[test]
+    fn gpu_matches_params_in_the_shader() {
+        crate::assert_wgsl_layout!(
+            Gpu,
+            "geometry/tessellate.wgsl",
+            [],
+            "Params",
+            [max_area, segment, max_level, blocks]
+        );
+    }
+}

@@ -651,3 +651,31 @@ impl Dummies {
         Dummies { array, uv: uv.view }
     }
 }
+
+/// The layout the shader sees (shaders/layout.rs).
+#[cfg(test)]
+mod wgsl_layout {
+    use super::*;
+
+    #[test]
+    fn gpu_material_meta_matches_materialmeta_in_the_shader() {
+        crate::assert_wgsl_layout!(
+            GpuMaterialMeta,
+            "lighting/cook_torrance.wgsl",
+            ["MATERIALS"],
+            "MaterialMeta",
+            [flags, address, size, pad]
+        );
+    }
+
+    #[test]
+    fn gpu_feature_offset_matches_featureoffset_in_the_shader() {
+        crate::assert_wgsl_layout!(
+            GpuFeatureOffset,
+            "lighting/cook_torrance.wgsl",
+            ["MATERIALS"],
+            "FeatureOffset",
+            [feature, offset, count, texture]
+        );
+    }
+}

@@ -321,3 +321,38 @@ impl ParticleSystem {
         Ok(())
     }
 }
+
+/// The layout the shader sees (shaders/layout.rs).
+#[cfg(test)]
+mod wgsl_layout {
+    use super::*;
+
+    #[test]
+    fn gpu_sim_matches_sim_in_the_shader() {
+        crate::assert_wgsl_layout!(
+            GpuSim,
+            "particles/simulate.wgsl",
+            [],
+            "Sim",
+            [
+                emitter,
+                emitter_size,
+                velocity,
+                gravity,
+                field,
+                field_min,
+                field_max,
+                plane,
+                collide,
+                life,
+                counts,
+                misc,
+                view_projection,
+                inverse_view_projection,
+                depth_size,
+                layout,
+                attractors
+            ]
+        );
+    }
+}

@@ -604,3 +604,20 @@ impl Recipe for ShadowMaps {
         }
     }
 }
+
+/// The layout the shader sees (shaders/layout.rs).
+#[cfg(test)]
+mod wgsl_layout {
+    use super::*;
+
+    #[test]
+    fn gpu_shadow_params_matches_shadowparams_in_the_shader() {
+        crate::assert_wgsl_layout!(
+            GpuShadowParams,
+            "lighting/cook_torrance.wgsl",
+            ["SHADOWS"],
+            "ShadowParams",
+            [bias, filter]
+        );
+    }
+}

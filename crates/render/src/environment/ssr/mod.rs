@@ -519,3 +519,22 @@ impl Recipe for Ssr {
         }
     }
 }
+
+/// The layout the shader sees (shaders/layout.rs).
+#[cfg(test)]
+mod wgsl_layout {
+    use super::*;
+
+    #[test]
+    fn params_matches_params_in_the_shader() {
+        crate::assert_wgsl_layout!(
+            Params,
+            "environment/ssr.wgsl",
+            [],
+            "Params",
+            [
+                max_steps, rays, frame, flags, near, thickness, blend, max_level
+            ]
+        );
+    }
+}
