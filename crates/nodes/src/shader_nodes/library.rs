@@ -164,15 +164,27 @@ impl ShaderLibrary {
         name: &str,
         loaded: Result<Arc<ShaderType>, ShaderNodeError>,
     ) {
+        // The last good version: this library's, else the shipped example
+        // the file overrides.
+        let good = self
+            .good
+            .get(name)
+            .cloned()
+            .or_else(|| super::shipped(name));
         match loaded {
             Ok(ty) => {
+                if let Some(good) = &good {
+                    ty.keep_previous(good);
+                }
                 registry.replace(ty.node_def(None));
                 self.errors.remove(name);
                 self.good.insert(name.to_owned(), ty);
             }
             Err(error) => {
-                let def = match self.good.get(name) {
+                let def = match good {
                     Some(good) => good.node_def(Some(error.clone())),
+                    // Never compiled: a pin-less node that shows the error
+                    // once and keeps its values and links for the fixed file.
                     None => broken_def(name, &error),
                 };
                 registry.replace(def);
