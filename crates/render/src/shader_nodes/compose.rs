@@ -142,16 +142,16 @@ fn place(file: &str, text: &str, e: &ComposerError) -> ShaderNodeError {
                 message.push_str(&format!(": {next}"));
                 source = next;
             }
-            // naga lists the failing expression's span first and the
-            // statement and function around it after; naga_oil names the
-            // module of the last. The first span in that module is the
-            // expression (or the nearest to it there).
+            // naga's spans are the function, statement and expression at
+            // fault, in no fixed order; naga_oil names the module of the
+            // last. The narrowest span in that module is the expression.
             let ranges: Vec<_> = v.spans().filter_map(|(s, _)| s.to_range()).collect();
             let module = ranges.last().map(|r| r.start >> SPAN_BITS);
             (
                 ranges
                     .iter()
-                    .find(|r| Some(r.start >> SPAN_BITS) == module)
+                    .filter(|r| Some(r.start >> SPAN_BITS) == module)
+                    .min_by_key(|r| r.len())
                     .map(|r| unshift(r.start)),
                 message,
             )

@@ -106,7 +106,14 @@ pub(super) fn parse_and_validate(
             message.push_str(&format!(": {next}"));
             source_error = next;
         }
-        let span = e.spans().next().map(|(s, _)| *s).unwrap_or_default();
+        // naga's spans are the function, statement and expression at fault,
+        // in no fixed order: the narrowest is the expression.
+        let span = e
+            .spans()
+            .map(|(s, _)| *s)
+            .filter(|s| s.to_range().is_some())
+            .min_by_key(|s| s.to_range().map_or(usize::MAX, |r| r.len()))
+            .unwrap_or_default();
         location(file, text, span, message)
     })?;
     Ok((module, info))
@@ -190,5 +197,13 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
             let e = error(body);
             assert!(e.starts_with(expected), "`{body}`: {e}");
         }
+        // In a function that is no entry point, naga lists the function's
+        // span before the expression's: still at the expression.
+        let text = "fn helper(a: f32, b: u32) -> f32 {\n    return 2.0 * (a + b);\n}\n";
+        let e = parse_and_validate("t.wgsl", text).expect_err("f32 + u32");
+        assert!(
+            e.to_string().starts_with("t.wgsl:2:19: validation: "),
+            "{e}"
+        );
     }
 }
