@@ -478,6 +478,14 @@ fn shader_nodes_are_listed_and_a_broken_one_beside_a_patch_is_named_by_check() {
     assert!(stdout.contains("glow.wgsl:3:"), "{stdout}");
     assert!(stdout.contains("WGSL syntax"), "{stdout}");
     // The cause, once: no error for each value and link the pin-less node keeps.
-    assert_eq!(stdout.lines().filter(|l| l.starts_with("error")).count(), 1, "{stdout}");
-    assert!(text(&out.stderr).contains("1 error(s)"), "{}", text(&out.stderr));
+    assert_eq!(
+        stdout.lines().filter(|l| l.starts_with("error")).count(),
+        1,
+        "{stdout}"
+    );
+    assert!(
+        text(&out.stderr).contains("1 error(s)"),
+        "{}",
+        text(&out.stderr)
+    );
 }

@@ -966,9 +966,12 @@ fn saved_shader_files_reload(show: bool) {
     let path = env.patch_file("shaded.ron", &p);
     // Polling keeps the editor awake: step it rather than `run` it.
     let mut h = if show {
-        let mut h = common::editor_with(env.options(Some(path)), Vec2::new(640.0, 360.0), 40, |app| {
-            app.set_show_mode(true)
-        });
+        let mut h = common::editor_with(
+            env.options(Some(path)),
+            Vec2::new(640.0, 360.0),
+            40,
+            |app| app.set_show_mode(true),
+        );
         h.run_steps(2);
         h
     } else {

@@ -247,7 +247,11 @@ fn broken_versions(good: &str) -> Vec<(String, &'static str, &'static str)> {
     };
     vec![
         // WGSL syntax, at the token.
-        (swap("let c = textureLoad", "let c = = textureLoad"), "19:13", "WGSL syntax"),
+        (
+            swap("let c = textureLoad", "let c = = textureLoad"),
+            "19:13",
+            "WGSL syntax",
+        ),
         // A type error, at the value whose type is wrong.
         (
             swap("let c = textureLoad", "let c: vec3<f32> = textureLoad"),
@@ -255,7 +259,11 @@ fn broken_versions(good: &str) -> Vec<(String, &'static str, &'static str)> {
             "WGSL type: the type of `c` is expected to be `vec3<f32>`",
         ),
         // naga's validation, at the expression (vec3 times vec2), not the statement.
-        (swap("c.rg * params.tint.rg", "c.rgb * params.tint.rg"), "20:53", "validation"),
+        (
+            swap("c.rg * params.tint.rg", "c.rgb * params.tint.rg"),
+            "20:53",
+            "validation",
+        ),
         // A binding the annotations do not describe, at its `var`.
         (
             swap(
@@ -266,8 +274,16 @@ fn broken_versions(good: &str) -> Vec<(String, &'static str, &'static str)> {
             "`stray` is not described by the annotations",
         ),
         // An unknown target, entry point or lifetime, at the annotation.
-        (swap("// @pass tint -> tinted", "// @pass tint -> nowhere"), "5:4", "unknown target `nowhere`"),
-        (swap("// @pass tint -> tinted", "// @pass tin -> tinted"), "5:4", "no entry point `tin`"),
+        (
+            swap("// @pass tint -> tinted", "// @pass tint -> nowhere"),
+            "5:4",
+            "unknown target `nowhere`",
+        ),
+        (
+            swap("// @pass tint -> tinted", "// @pass tin -> tinted"),
+            "5:4",
+            "no entry point `tin`",
+        ),
         (
             swap("temporary rgba16float", "forever rgba16float"),
             "4:4",
@@ -291,18 +307,27 @@ fn broken_versions(good: &str) -> Vec<(String, &'static str, &'static str)> {
         ),
         // A storage texture of another format than its target's, at its `var`.
         (
-            swap("tinted: texture_storage_2d<rgba16float", "tinted: texture_storage_2d<rgba32float"),
+            swap(
+                "tinted: texture_storage_2d<rgba16float",
+                "tinted: texture_storage_2d<rgba32float",
+            ),
             "15:23",
             "storage texture `tinted` is Rgba32Float but its `@target` says Rgba16Float",
         ),
         // A pin annotation that does not fit its field, or itself, at the annotation.
         (
-            swap("extra: f32, // @pin default", "extra: f32, // @pin color default"),
+            swap(
+                "extra: f32, // @pin default",
+                "extra: f32, // @pin color default",
+            ),
             "10:20",
             "field `extra` (f32): `color` is for vec4<f32>",
         ),
         (
-            swap("// @pin default=1 min=0 max=4", "// @pin default=1 min=4 max=0"),
+            swap(
+                "// @pin default=1 min=0 max=4",
+                "// @pin default=1 min=4 max=0",
+            ),
             "9:34",
             "`min=4` is above `max=0`",
         ),
@@ -363,7 +388,10 @@ fn a_file_that_never_compiled_reports_once_and_keeps_values_and_links_for_the_fi
     let pins: Vec<&str> = blur.inputs.iter().map(|p| &*p.name).collect();
     assert_eq!(pins, ["Texture", "Radius"], "the shipped version stays");
     let error = library.errors()["Blur (Shader)"].to_string();
-    assert!(error.contains("blur.wgsl:") && error.contains("WGSL syntax"), "{error}");
+    assert!(
+        error.contains("blur.wgsl:") && error.contains("WGSL syntax"),
+        "{error}"
+    );
 }
 
 /// noise -> `node` (its pin `from` read) -> Output "out": the first frame's report.
@@ -583,16 +611,25 @@ fn a_shader_beyond_each_device_limit_shows_it_and_keeps_its_last_good_version() 
     let vars: String = extra
         .clone()
         .map(|i| {
-            format!("@group(0) @binding({}) var t{i}: texture_storage_2d<rgba16float, write>;\n", 2 + i)
+            format!(
+                "@group(0) @binding({}) var t{i}: texture_storage_2d<rgba16float, write>;\n",
+                2 + i
+            )
         })
         .collect();
     let stores: String = extra
         .map(|i| format!("    textureStore(t{i}, id.xy, vec4<f32>(0.0));\n"))
         .collect();
     let storage = TINT_V1
-        .replace("// @pass tint -> tinted", &format!("{targets}// @pass tint -> tinted{names}"))
+        .replace(
+            "// @pass tint -> tinted",
+            &format!("{targets}// @pass tint -> tinted{names}"),
+        )
         .replace("@compute", &format!("{vars}@compute"))
-        .replace("    let c = textureLoad", &format!("{stores}    let c = textureLoad"));
+        .replace(
+            "    let c = textureLoad",
+            &format!("{stores}    let c = textureLoad"),
+        );
     let pass_line = 5 + writes - 1;
     // A uniform block one 64-byte matrix bigger than a binding may be (`_`
     // fields are padding, not pins).
@@ -600,7 +637,10 @@ fn a_shader_beyond_each_device_limit_shows_it_and_keeps_its_last_good_version() 
     let padding: String = (0..matrices)
         .map(|i| format!("    _m{i}: mat4x4<f32>,\n"))
         .collect();
-    let uniform = TINT_V1.replace("    size: vec2<f32>,", &format!("{padding}    size: vec2<f32>,"));
+    let uniform = TINT_V1.replace(
+        "    size: vec2<f32>,",
+        &format!("{padding}    size: vec2<f32>,"),
+    );
     let var_line = 12 + matrices;
     let side = limits.max_texture_dimension_2d + 1;
     let cases = [

@@ -568,7 +568,10 @@ fn parse_pin(rest: &str, at: At, rest_column: u32) -> Result<PinDecl, (At, Strin
     if let (Some(min), Some(max)) = (pin.min, pin.max)
         && min > max
     {
-        return Err((min_at.unwrap_or(at), format!("`min={min}` is above `max={max}`")));
+        return Err((
+            min_at.unwrap_or(at),
+            format!("`min={min}` is above `max={max}`"),
+        ));
     }
     if let Some(default) = &pin.default
         && let Some(v) = default
@@ -577,7 +580,10 @@ fn parse_pin(rest: &str, at: At, rest_column: u32) -> Result<PinDecl, (At, Strin
     {
         return Err((
             default_at,
-            format!("default {v} is outside the pin's range {}", range_text(&pin)),
+            format!(
+                "default {v} is outside the pin's range {}",
+                range_text(&pin)
+            ),
         ));
     }
     Ok(pin)
@@ -641,7 +647,10 @@ mod tests {
     #[test]
     fn a_pin_range_that_makes_no_sense_is_an_error_at_its_setting() {
         let cases = [
-            ("  x: f32, // @pin min=4 max=1\n", "p.wgsl:1:19: `min=4` is above `max=1`"),
+            (
+                "  x: f32, // @pin min=4 max=1\n",
+                "p.wgsl:1:19: `min=4` is above `max=1`",
+            ),
             (
                 "  x: f32, // @pin \"X\" default=9 min=0 max=4\n",
                 "p.wgsl:1:23: default 9 is outside the pin's range 0..4",
@@ -658,8 +667,14 @@ mod tests {
                 "  c: vec4<f32>, // @pin color min=0\n",
                 "p.wgsl:1:31: a `color` pin is a colour, not a range",
             ),
-            ("  x: f32, // @pin min=0,1\n", "p.wgsl:1:19: `min=` is one number"),
-            ("  x: f32, // @pin max=inf\n", "p.wgsl:1:19: `inf` is not a finite number"),
+            (
+                "  x: f32, // @pin min=0,1\n",
+                "p.wgsl:1:19: `min=` is one number",
+            ),
+            (
+                "  x: f32, // @pin max=inf\n",
+                "p.wgsl:1:19: `inf` is not a finite number",
+            ),
         ];
         for (src, expected) in cases {
             let err = Annotations::parse("p.wgsl", src).expect_err(src);

@@ -212,7 +212,9 @@ pub(super) fn uniform_layout(
             return Err(ShaderNodeError::at(
                 file,
                 range_at,
-                format!("field `{name}` (mat4x4<f32>) is a matrix, not a range: it takes no `min=` or `max=`"),
+                format!(
+                    "field `{name}` (mat4x4<f32>) is a matrix, not a range: it takes no `min=` or `max=`"
+                ),
             ));
         }
         if decl.default.is_none()
@@ -253,7 +255,11 @@ pub(super) fn uniform_layout(
             offset: member.offset,
         });
     }
-    if let Some(stray) = notes.pins.values().find(|d| !annotated.contains(&d.at.line)) {
+    if let Some(stray) = notes
+        .pins
+        .values()
+        .find(|d| !annotated.contains(&d.at.line))
+    {
         return Err(ShaderNodeError::at(
             file,
             stray.at,
