@@ -7,7 +7,11 @@
 //! [`ShaderLibrary::poll`] looks at the folders' files (their modification
 //! time and size: cheap enough to call a few times a second) and swaps every
 //! changed type in the registry. A file that breaks keeps its last good
-//! version registered, with the error shown on its nodes.
+//! version registered (this library's, else the shipped example it
+//! overrides), with the error shown on its nodes; one that never compiled is
+//! a node without pins that keeps its values and links for the fixed file. A
+//! version that compiles keeps the one it replaced, to run where it cannot
+//! (a device limit).
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
