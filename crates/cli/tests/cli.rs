@@ -458,10 +458,18 @@ fn shader_nodes_are_listed_and_a_broken_one_beside_a_patch_is_named_by_check() {
         "// @target out temporary rgba16float\n// @pass main -> out\nfn main( {\n",
     )
     .expect("write");
+    // The node has values and links for the pins the file will have once fixed.
     let patch = dir.path().join("uses-glow.ron");
     std::fs::write(
         &patch,
-        "(\n    version: 1,\n    nodes: [\n        (\n            id: 1,\n            type: \"Glow (Shader)\",\n            pos: (0.0, 0.0),\n        ),\n    ],\n    links: [],\n)\n",
+        r#"(version: 1, nodes: [
+            (id: 1, type: "Glow (Shader)", values: {"Radius": Float([2.0]), "Tint": Float([0.5])}),
+            (id: 2, type: "Noise (Shader)"),
+            (id: 3, type: "Output", values: {"Write": Bool([false])}),
+        ], links: [
+            (from: (2, "Texture"), to: (1, "Texture")),
+            (from: (1, "Texture"), to: (3, "Texture")),
+        ])"#,
     )
     .expect("write");
     let out = spreadlight(&["check", patch.to_str().expect("utf-8")]);
@@ -469,4 +477,15 @@ fn shader_nodes_are_listed_and_a_broken_one_beside_a_patch_is_named_by_check() {
     assert_eq!(out.status.code(), Some(1), "{stdout}");
     assert!(stdout.contains("glow.wgsl:3:"), "{stdout}");
     assert!(stdout.contains("WGSL syntax"), "{stdout}");
+    // The cause, once: no error for each value and link the pin-less node keeps.
+    assert_eq!(
+        stdout.lines().filter(|l| l.starts_with("error")).count(),
+        1,
+        "{stdout}"
+    );
+    assert!(
+        text(&out.stderr).contains("1 error(s)"),
+        "{}",
+        text(&out.stderr)
+    );
 }

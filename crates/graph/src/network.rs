@@ -296,6 +296,9 @@ impl Compiler<'_> {
             .collect();
         for (pin, value) in &node.values {
             let Some(k) = def.input_index(pin) else {
+                if def.pins_unknown {
+                    continue;
+                }
                 let available = def.inputs.iter().map(|p| p.name.to_string()).collect();
                 self.problem(
                     Severity::Error,
@@ -381,6 +384,7 @@ impl Compiler<'_> {
             let input = match &to_def {
                 Some(def) => match def.input_index(link.to.pin()) {
                     Some(k) => Some(k),
+                    None if def.pins_unknown => continue,
                     None => {
                         let available = def.inputs.iter().map(|p| p.name.to_string()).collect();
                         let kind = ProblemKind::MissingInputPin { available };
@@ -405,6 +409,14 @@ impl Compiler<'_> {
                 continue;
             };
             let Some(output) = from_def.output_index(link.from.pin()) else {
+                if from_def.pins_unknown {
+                    // As from a placeholder: the input it feeds gets an empty spread.
+                    if let (Some(def), Some(k)) = (&to_def, input) {
+                        inputs[to][k] =
+                            InputSource::Constant(Arc::new(Spread::empty(def.inputs[k].ty)));
+                    }
+                    continue;
+                }
                 let available = from_def
                     .outputs
                     .iter()

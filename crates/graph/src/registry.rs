@@ -29,6 +29,11 @@ pub struct NodeDef {
     pub time_dependent: bool,
     /// Evaluation starts from sinks: outputs, renderers, previews, probes.
     pub sink: bool,
+    /// Its pins are not known now (a shader file that has never compiled):
+    /// values and links for pins it lacks are left out quietly, as a
+    /// placeholder's are, for the type that has them again; the node's own
+    /// error says why.
+    pub pins_unknown: bool,
     constructor: Constructor,
 }
 
@@ -66,6 +71,7 @@ impl NodeDef {
             outputs: Vec::new(),
             time_dependent: false,
             sink: false,
+            pins_unknown: false,
             constructor: Arc::new(move || Box::new(Unimplemented(unimplemented.clone()))),
         }
     }
@@ -137,6 +143,12 @@ impl NodeDef {
 
     pub fn sink(mut self) -> Self {
         self.sink = true;
+        self
+    }
+
+    /// See [`NodeDef::pins_unknown`].
+    pub fn pins_unknown(mut self) -> Self {
+        self.pins_unknown = true;
         self
     }
 

@@ -341,6 +341,40 @@ fn an_unknown_node_type_is_a_placeholder_that_keeps_everything() {
     );
 }
 
+/// A type whose pins are not known now (a shader file that never compiled)
+/// leaves out its values and links quietly: its one error is its own, and
+/// the type that has the pins again takes them all back.
+#[test]
+fn a_type_with_unknown_pins_keeps_its_values_and_links_without_a_problem_each() {
+    let mut broken = registry();
+    broken.replace(
+        NodeDef::new("Add", "Test", "its file does not compile")
+            .output::<f32>("Output")
+            .pins_unknown()
+            .evaluate(|_| Err(NodeError::Other("add.wgsl:3:9: the cause".into()))),
+    );
+    let mut p = Patch::default();
+    p.add(NodeDoc::new(1, "Const").with("Value", vec![2.0f32]));
+    p.add(NodeDoc::new(2, "Add").with("B", vec![5.0f32]));
+    p.add(sink(3, "out"));
+    p.link(1, "Output", 2, "A");
+    p.link(2, "Output", 3, "Input");
+    let mut rt = Runtime::new(broken);
+    assert_eq!(rt.load(&p).to_vec(), [], "no problem per value or link");
+    rt.evaluate(FrameClock::default());
+    let errors: Vec<String> = rt
+        .node_errors()
+        .map(|(id, e)| format!("{id}: {e}"))
+        .collect();
+    assert_eq!(errors, ["#2: add.wgsl:3:9: the cause"]);
+
+    // Fixed: the same document, every value and link back.
+    rt.set_registry(registry());
+    assert_eq!(rt.load(&p).to_vec(), []);
+    rt.evaluate(FrameClock::default());
+    assert_eq!(probe(&rt, "out"), Spread::Float(vec![7.0]));
+}
+
 #[test]
 fn a_bad_value_falls_back_to_the_default_and_is_reported_on_its_pin() {
     let mut p = Patch::default();

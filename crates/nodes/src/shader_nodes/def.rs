@@ -177,5 +177,7 @@ pub fn broken_def(name: &str, error: &ShaderNodeError) -> NodeDef {
         format!("Shader node whose file does not compile: {message}"),
     )
     .output_typed("Texture", PinType::Resource(ResourceKind::Texture))
+    // Its values and links wait, without a problem each, for the file to compile.
+    .pins_unknown()
     .construct(move || Broken(message.clone()))
 }
