@@ -175,6 +175,53 @@ impl PassContext<'_> {
             })
     }
 
+    /// [`PassContext::bind_groups`] for a render pipeline of `key`: its
+    /// derived layout has what any of its `stages` (vertex and fragment
+    /// entry points) uses, so their reflections are merged. Errors name
+    /// the pass `label`.
+    pub fn render_bind_groups(
+        &mut self,
+        label: &str,
+        key: &ShaderKey,
+        stages: &[&str],
+        pipeline: &wgpu::RenderPipeline,
+        bindings: Bindings<'_>,
+    ) -> Result<Vec<wgpu::BindGroup>, RenderError> {
+        let mut merged = Reflection::default();
+        for stage in stages {
+            for var in &self.shaders.reflection(key, stage)?.vars {
+                match merged.vars.iter_mut().find(|v| v.name == var.name) {
+                    Some(v) => v.used |= var.used,
+                    None => merged.vars.push(var.clone()),
+                }
+            }
+        }
+        let error = |message: String| RenderError::Pass {
+            pass: label.to_owned(),
+            message,
+        };
+        let (owned, groups) = self.resolve_bindings(bindings)?;
+        let resources = as_resources(&owned);
+        for (name, _) in &resources {
+            if merged.var(name).is_none() && !self.shaders.declares(key.path, name) {
+                return Err(error(format!(
+                    "a pass binds `{name}`, which the shader does not declare"
+                )));
+            }
+        }
+        let device = self.gpu.device.clone();
+        self.shaders
+            .groups_by_name(
+                &device,
+                label,
+                &merged,
+                &PipelineRef::Render(pipeline.clone()),
+                &resources,
+                &groups,
+            )
+            .map_err(error)
+    }
+
     /// Handles to views, sampling kinds to samplers.
     #[allow(clippy::type_complexity)]
     fn resolve_bindings<'r>(
