@@ -217,7 +217,10 @@ impl Recipe for Taa {
         let history =
             TextureDesc::history(wgpu::TextureFormat::Rgba16Float).size(self.gbuffer.size);
         let t = &self.gbuffer.targets;
-        let mut pass = fg.pass(crate::recipe::pass_name("TAA", self.owner, None), self.owner);
+        let mut pass = fg.pass(
+            crate::recipe::pass_name("TAA", self.owner, None),
+            self.owner,
+        );
         let io = TaaIo {
             source: pass.read(&self.source.name),
             velocity_uv: pass.read(&t.velocity_uv),
