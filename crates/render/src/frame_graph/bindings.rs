@@ -20,6 +20,8 @@ enum Resource<'r> {
     /// A view made outside the frame graph (a node's shadow maps, a stand-in).
     View(wgpu::TextureView),
     Buffer(&'r wgpu::Buffer),
+    /// Part of a buffer: an offset and a size (one view's uniforms of many).
+    BufferRange(&'r wgpu::Buffer, u64, u64),
     Sampler(Sampling),
     /// A sampler the pass made itself (a material's filtering).
     SamplerObject(wgpu::Sampler),
@@ -71,6 +73,17 @@ impl<'r> Bindings<'r> {
         self.with(name, Resource::Buffer(buffer))
     }
 
+    /// `size` bytes of a buffer from `offset`.
+    pub fn buffer_range(
+        self,
+        name: &'r str,
+        buffer: &'r wgpu::Buffer,
+        offset: u64,
+        size: u64,
+    ) -> Self {
+        self.with(name, Resource::BufferRange(buffer, offset, size))
+    }
+
     pub fn buffer_opt(self, name: &'r str, buffer: Option<&'r wgpu::Buffer>) -> Self {
         match buffer {
             Some(buffer) => self.buffer(name, buffer),
@@ -111,6 +124,13 @@ fn as_resources<'a>(
             let resource = match r {
                 Owned::View(view) => wgpu::BindingResource::TextureView(view),
                 Owned::Buffer(buffer) => buffer.as_entire_binding(),
+                Owned::BufferRange(buffer, offset, size) => {
+                    wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                        buffer,
+                        offset: *offset,
+                        size: wgpu::BufferSize::new(*size),
+                    })
+                }
                 Owned::Sampler(sampler) => wgpu::BindingResource::Sampler(sampler),
             };
             (*name, resource)
@@ -122,6 +142,7 @@ fn as_resources<'a>(
 enum Owned<'r> {
     View(wgpu::TextureView),
     Buffer(&'r wgpu::Buffer),
+    BufferRange(&'r wgpu::Buffer, u64, u64),
     Sampler(wgpu::Sampler),
 }
 
@@ -141,8 +162,29 @@ impl PassContext<'_> {
         self.shaders.named_groups(
             &device,
             key,
-            entry,
+            &[entry],
             &PipelineRef::Compute(pipeline.clone()),
+            &resources,
+            &groups,
+        )
+    }
+
+    /// [`PassContext::bind_groups`] for a render pipeline of `key`'s stages `entries`.
+    pub fn render_bind_groups(
+        &mut self,
+        key: &ShaderKey,
+        entries: &[&str],
+        pipeline: &wgpu::RenderPipeline,
+        bindings: Bindings<'_>,
+    ) -> Result<Vec<wgpu::BindGroup>, RenderError> {
+        let (owned, groups) = self.resolve_bindings(bindings)?;
+        let resources = as_resources(&owned);
+        let device = self.gpu.device.clone();
+        self.shaders.named_groups(
+            &device,
+            key,
+            entries,
+            &PipelineRef::Render(pipeline.clone()),
             &resources,
             &groups,
         )
@@ -175,53 +217,6 @@ impl PassContext<'_> {
             })
     }
 
-    /// [`PassContext::bind_groups`] for a render pipeline of `key`: its
-    /// derived layout has what any of its `stages` (vertex and fragment
-    /// entry points) uses, so their reflections are merged. Errors name
-    /// the pass `label`.
-    pub fn render_bind_groups(
-        &mut self,
-        label: &str,
-        key: &ShaderKey,
-        stages: &[&str],
-        pipeline: &wgpu::RenderPipeline,
-        bindings: Bindings<'_>,
-    ) -> Result<Vec<wgpu::BindGroup>, RenderError> {
-        let mut merged = Reflection::default();
-        for stage in stages {
-            for var in &self.shaders.reflection(key, stage)?.vars {
-                match merged.vars.iter_mut().find(|v| v.name == var.name) {
-                    Some(v) => v.used |= var.used,
-                    None => merged.vars.push(var.clone()),
-                }
-            }
-        }
-        let error = |message: String| RenderError::Pass {
-            pass: label.to_owned(),
-            message,
-        };
-        let (owned, groups) = self.resolve_bindings(bindings)?;
-        let resources = as_resources(&owned);
-        for (name, _) in &resources {
-            if merged.var(name).is_none() && !self.shaders.declares(key.path, name) {
-                return Err(error(format!(
-                    "a pass binds `{name}`, which the shader does not declare"
-                )));
-            }
-        }
-        let device = self.gpu.device.clone();
-        self.shaders
-            .groups_by_name(
-                &device,
-                label,
-                &merged,
-                &PipelineRef::Render(pipeline.clone()),
-                &resources,
-                &groups,
-            )
-            .map_err(error)
-    }
-
     /// Handles to views, sampling kinds to samplers.
     #[allow(clippy::type_complexity)]
     fn resolve_bindings<'r>(
@@ -238,6 +233,9 @@ impl PassContext<'_> {
                 }
                 Resource::View(view) => Owned::View(view),
                 Resource::Buffer(buffer) => Owned::Buffer(buffer),
+                Resource::BufferRange(buffer, offset, size) => {
+                    Owned::BufferRange(buffer, offset, size)
+                }
                 Resource::Sampler(sampling) => Owned::Sampler(self.sampler(sampling)),
                 Resource::SamplerObject(sampler) => Owned::Sampler(sampler),
             };

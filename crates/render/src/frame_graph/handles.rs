@@ -50,7 +50,10 @@ impl<'a> FrameGraph<'a> {
     }
 
     /// The handle of texture `name`, the same for every pass of this frame.
-    pub(super) fn handle(&mut self, name: &str) -> Tex {
+    /// A run resolves it only where its pass declared `name`: for the joint
+    /// run of two passes ([`FrameGraph::chains_into`]), which holds the
+    /// reads and writes of both, where each was declared by its own recipe.
+    pub fn handle(&mut self, name: &str) -> Tex {
         if let Some(&id) = self.handles.get(name) {
             return Tex(id);
         }

@@ -518,53 +518,6 @@ impl MaterialWorld {
         self.textured_flags & features != 0
     }
 
-    /// Group 1 of a pass that imports `spreadlight::material`: the three
-    /// buffers, and with `textured`, the texture array, its sampler and the
-    /// G-buffer's UV target (stand-ins where the world has none).
-    pub(crate) fn bind_group(
-        &self,
-        cx: &mut crate::frame_graph::PassContext<'_>,
-        key: &crate::shaders::ShaderKey,
-        pipeline: &wgpu::ComputePipeline,
-        textured: bool,
-        targets: SurfaceTargets<'_>,
-    ) -> Result<wgpu::BindGroup, crate::error::RenderError> {
-        let device = cx.gpu.device.clone();
-        let views = if textured {
-            let array = match &self.textures {
-                // The cached view: a new one each frame would make a new bind group.
-                Some(t) => {
-                    let texture = cx.texture_named(&t.name)?.clone();
-                    cx.view_of(&texture, crate::texture_pool::ViewSpec::array())
-                }
-                None => self.dummies.array.clone(),
-            };
-            // Repeat: UVs beyond 0..1 tile.
-            let sampler = cx.sampler(crate::shaders::Sampling::LinearRepeat);
-            // Only a texture array is mapped by the G-buffer's UV: surface
-            // maps alone leave the motion resolve to be culled.
-            let uv = match &self.textures {
-                Some(_) => cx.view_named(targets.uv)?,
-                None => self.dummies.uv.clone(),
-            };
-            Some((array, sampler, uv))
-        } else {
-            None
-        };
-        let mut all = vec![
-            (0, self.meta.as_entire_binding()),
-            (1, self.offsets.as_entire_binding()),
-            (2, self.data.as_entire_binding()),
-        ];
-        if let Some((array, sampler, uv)) = &views {
-            all.push((3, wgpu::BindingResource::TextureView(array)));
-            all.push((4, wgpu::BindingResource::Sampler(sampler)));
-            all.push((5, wgpu::BindingResource::TextureView(uv)));
-        }
-        cx.shaders
-            .bind_group(&device, key, "main", pipeline, 1, &all)
-    }
-
     /// What a pass that imports `spreadlight::material` binds, by name: the
     /// three buffers and, with `textures` (a pass that reads the texture
     /// array), the array, its sampler and the G-buffer's UV target
@@ -620,26 +573,6 @@ impl MaterialWorld {
                 .as_ref()
                 .map(|t| (pass.read(&t.name), pass.read(targets.uv))),
         ))
-    }
-
-    /// Declare the texture array for a pass that reads it (`textured`), and
-    /// return what that pass must list as reads: the array and the UV target.
-    pub(crate) fn declare_textures<'a>(
-        &'a self,
-        renderer: &'a Renderer,
-        fg: &mut crate::frame_graph::FrameGraph<'a>,
-        textured: bool,
-        targets: SurfaceTargets<'a>,
-    ) -> Vec<&'a str> {
-        if !textured {
-            return Vec::new();
-        }
-        let mut reads = Vec::new();
-        if let Some(t) = &self.textures {
-            t.recipe.declare(renderer, fg);
-            reads.extend([t.name.as_str(), targets.uv]);
-        }
-        reads
     }
 
     /// Group 1 of the passes that read materials per pixel (the visibility
@@ -716,5 +649,33 @@ impl Dummies {
         });
         let uv = crate::texture::GpuTexture::from_rgba8(gpu, 1, 1, &[0; 4], false, "no UV target");
         Dummies { array, uv: uv.view }
+    }
+}
+
+/// The layout the shader sees (shaders/layout.rs).
+#[cfg(test)]
+mod wgsl_layout {
+    use super::*;
+
+    #[test]
+    fn gpu_material_meta_matches_materialmeta_in_the_shader() {
+        crate::assert_wgsl_layout!(
+            GpuMaterialMeta,
+            "lighting/cook_torrance.wgsl",
+            ["MATERIALS"],
+            "MaterialMeta",
+            [flags, address, size, pad]
+        );
+    }
+
+    #[test]
+    fn gpu_feature_offset_matches_featureoffset_in_the_shader() {
+        crate::assert_wgsl_layout!(
+            GpuFeatureOffset,
+            "lighting/cook_torrance.wgsl",
+            ["MATERIALS"],
+            "FeatureOffset",
+            [feature, offset, count, texture]
+        );
     }
 }

@@ -16,7 +16,7 @@ use glam::Vec3;
 
 use crate::error::RenderError;
 use crate::frame_graph::{Bindings, FrameGraph, PassContext, Tex, TextureDesc};
-use crate::gbuffer::{Draw, GBuffer, Layer, pack_instances};
+use crate::gbuffer::{Draw, GBuffer, Layer, mesh_bindings, pack_instances};
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
 use crate::shaders::ShaderKey;
@@ -168,11 +168,8 @@ impl Transparency {
                     continue;
                 }
                 let pipeline = accumulate_pipeline(cx, key.clone(), culled)?;
-                let mut b = Bindings::new()
+                let mut b = mesh_bindings(&vertices, &indices, &self.instances)
                     .buffer("camera", self.gbuffer.camera_buffer())
-                    .buffer("vertices", &vertices)
-                    .buffer("indices", &indices)
-                    .buffer("instances", &self.instances)
                     .texture("opaque_depth", io.depth)
                     .buffer("params", &self.params)
                     .buffer_opt("extras", vertex_extras.then_some(&extras));
@@ -186,13 +183,7 @@ impl Transparency {
                 }
                 // Through the cache: the camera, meshes, kept instances and
                 // parameters are the same buffers from frame to frame.
-                let groups = cx.render_bind_groups(
-                    "transparency accumulate",
-                    &key,
-                    &["vs", "fs"],
-                    &pipeline,
-                    b,
-                )?;
+                let groups = cx.render_bind_groups(&key, &["vs", "fs"], &pipeline, b)?;
                 work.push((*range, culled, world.is_some(), pipeline, groups));
             }
         }

@@ -264,7 +264,8 @@ impl ShaderCache {
             .contains(name)
     }
 
-    /// Bind groups 0..=last for a compute pipeline of `key`/`entry`, from
+    /// Bind groups 0..=last for a pipeline of `key`'s `entries` (one for
+    /// compute, the stages of a render pipeline), from
     /// resources named by the WGSL variables they fill: what the
     /// permutation compiled out or leaves unused is dropped, a group the
     /// entry point skips is bound empty, and a name the shader never
@@ -273,12 +274,27 @@ impl ShaderCache {
         &mut self,
         device: &wgpu::Device,
         key: &ShaderKey,
-        entry: &str,
+        entries: &[&str],
         pipeline: &PipelineRef,
         resources: &[(&str, wgpu::BindingResource<'_>)],
         prebuilt: &[(u32, wgpu::BindGroup)],
     ) -> Result<Vec<wgpu::BindGroup>, RenderError> {
-        let reflection = self.reflection(key, entry)?;
+        let reflection = match entries {
+            [entry] => self.reflection(key, entry)?,
+            // A render pipeline's stages: a variable is used where any stage uses it.
+            _ => {
+                let mut merged = Reflection::default();
+                for entry in entries {
+                    for var in &self.reflection(key, entry)?.vars {
+                        match merged.vars.iter_mut().find(|v| v.name == var.name) {
+                            Some(v) => v.used |= var.used,
+                            None => merged.vars.push(var.clone()),
+                        }
+                    }
+                }
+                Arc::new(merged)
+            }
+        };
         let path = key.path;
         let error = |message: String| RenderError::Shader {
             shader: path.to_owned(),

@@ -347,6 +347,7 @@ pub fn all_permutations() -> Vec<ShaderKey> {
 
 mod cache;
 mod composer;
+pub mod layout;
 mod reflection;
 
 pub use cache::{PipelineRef, Sampling, ShaderCache};
