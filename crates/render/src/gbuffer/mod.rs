@@ -123,31 +123,6 @@ pub(crate) fn mesh_bindings<'b>(
         .buffer("instances", instances)
 }
 
-/// Bindings 0 to 3 of every shader that pulls instanced meshes (the
-/// G-buffer's, the compute rasterizer's, the shadow depth pass): the view
-/// (camera uniform or view matrix), the mesh arena's vertices and indices,
-/// and the instances.
-pub(crate) fn geometry_entries<'b>(
-    view: wgpu::BindingResource<'b>,
-    vertices: &'b wgpu::Buffer,
-    indices: &'b wgpu::Buffer,
-    instances: &'b wgpu::Buffer,
-) -> Vec<wgpu::BindGroupEntry<'b>> {
-    [
-        view,
-        vertices.as_entire_binding(),
-        indices.as_entire_binding(),
-        instances.as_entire_binding(),
-    ]
-    .into_iter()
-    .enumerate()
-    .map(|(binding, resource)| wgpu::BindGroupEntry {
-        binding: binding as u32,
-        resource,
-    })
-    .collect()
-}
-
 /// How the visibility buffer is rasterized.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum RasterMode {

@@ -209,36 +209,6 @@ impl WorldMaps {
             .sampler_object("maps_linear", linear)
             .sampler_object("maps_nearest", nearest)
     }
-
-    /// The arrays and the two samplers as bound by `material_maps.wgsl`.
-    pub(crate) fn bind_group(
-        &self,
-        device: &wgpu::Device,
-        layout: &wgpu::BindGroupLayout,
-    ) -> wgpu::BindGroup {
-        let mut entries: Vec<wgpu::BindGroupEntry> = self
-            .textures
-            .arrays
-            .iter()
-            .enumerate()
-            .map(|(i, t)| wgpu::BindGroupEntry {
-                binding: i as u32,
-                resource: wgpu::BindingResource::TextureView(&t.view),
-            })
-            .collect();
-        let n = entries.len() as u32;
-        for (k, sampler) in self.samplers.iter().enumerate() {
-            entries.push(wgpu::BindGroupEntry {
-                binding: n + k as u32,
-                resource: wgpu::BindingResource::Sampler(sampler),
-            });
-        }
-        device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("material maps"),
-            layout,
-            entries: &entries,
-        })
-    }
 }
 
 /// How a world's maps are filtered. Every world renders with the default;

@@ -575,50 +575,9 @@ impl MaterialWorld {
         ))
     }
 
-    /// Group 1 of the passes that read materials per pixel (the visibility
-    /// pass's alpha test, Transparency): the world's meta, offsets and data
-    /// at bindings 0 to 2, as `material_maps.wgsl` declares them.
-    pub(crate) fn world_bind_group(
-        &self,
-        device: &wgpu::Device,
-        layout: &wgpu::BindGroupLayout,
-        label: &str,
-    ) -> wgpu::BindGroup {
-        let (meta, offsets, data) = self.buffers();
-        device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some(label),
-            layout,
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: meta.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: offsets.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 2,
-                    resource: data.as_entire_binding(),
-                },
-            ],
-        })
-    }
-
     /// The maps' arrays and samplers by name, when some material has maps.
     pub(crate) fn maps_bindings(&self) -> Option<Bindings<'static>> {
         Some(self.maps.as_ref()?.bindings())
-    }
-
-    /// Group 3 of the G-buffer resolve (and of the visibility pass with
-    /// alpha masks): the map arrays and the two samplers, every one of
-    /// which `material_maps.wgsl` uses. `None` without maps.
-    pub(crate) fn maps_bind_group(
-        &self,
-        device: &wgpu::Device,
-        layout: &wgpu::BindGroupLayout,
-    ) -> Option<wgpu::BindGroup> {
-        Some(self.maps.as_ref()?.bind_group(device, layout))
     }
 
     pub fn buffers(&self) -> (&wgpu::Buffer, &wgpu::Buffer, &wgpu::Buffer) {

@@ -15,7 +15,7 @@ use std::sync::Arc;
 use glam::Mat4;
 
 use crate::error::RenderError;
-use crate::frame_graph::{FrameGraph, PassContext, TextureDesc};
+use crate::frame_graph::{Bindings, FrameGraph, PassBuilder, PassContext, Tex, TextureDesc};
 use crate::gbuffer::GBuffer;
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
@@ -239,64 +239,29 @@ impl Dof {
         !self.settings.resolution.is_half()
     }
 
-    /// `coc`: the circle of confusion from depth (and the focus texture); `main`: the blur.
-    fn run(&self, cx: &mut PassContext<'_>, entry: &'static str) -> Result<(), RenderError> {
-        let mut views = Vec::new();
-        // What makes the circles of confusion: the depth (and focus) for the
-        // `coc` pass and, inlined, for the tiles and the blur; else its target.
-        if entry == "coc" || self.inline_coc() {
-            views.push((3, cx.view_named(&self.gbuffer.targets.depth)?));
-            if let Focus::Texture(t) = &self.focus {
-                views.push((7, cx.view_named(&t.name)?));
-            }
-        }
-        let coc = cx.view_named(&self.coc);
-        if entry == "coc" {
-            views.push((4, coc?));
-        } else if entry == "tiles" {
-            if !self.inline_coc() {
-                views.push((5, coc?));
-            }
-            views.push((9, cx.view_named(&self.tiles)?));
-        } else {
-            views.push((2, cx.view_named(&self.source.name)?));
-            if !self.inline_coc() {
-                views.push((5, coc?));
-            }
-            views.push((10, cx.view_named(&self.tiles)?));
-            views.push((6, cx.view_named(&self.blur_target())?));
-            if let Some(t) = &self.bokeh {
-                views.push((8, cx.view_named(&t.name)?));
-            }
-        }
-        let mut all = vec![
-            (0, self.gbuffer.camera_buffer().as_entire_binding()),
-            (1, self.params.as_entire_binding()),
-        ];
-        all.extend(
-            views
-                .iter()
-                .map(|(b, v)| (*b, wgpu::BindingResource::TextureView(v))),
-        );
-        let blur_target = self.blur_target();
-        let size = super::size_of(
-            cx,
-            match entry {
-                "tiles" => &self.tiles,
-                "main" => &blur_target,
-                _ => &self.coc,
-            },
-        )?;
-        if entry == "tiles" {
+    /// `entry` of dof.wgsl writing `output` (`coc`: the circle of
+    /// confusion, `tiles`: each tile's largest, `main`: the blur), with what
+    /// its pass declared in `bindings` and the camera and parameters every
+    /// entry binds.
+    fn run(
+        &self,
+        cx: &mut PassContext<'_>,
+        entry: &'static str,
+        bindings: Bindings<'_>,
+        output: Tex,
+    ) -> Result<(), RenderError> {
+        let size = cx.size_of(output)?;
+        let groups = if entry == "tiles" {
             // A workgroup per tile: its lanes share the tile's pixels.
-            super::dispatch_groups(cx, entry, &self.key(), entry, &all, size)?;
+            (size.0, size.1, 1)
         } else {
-            super::dispatch_entry(cx, entry, &self.key(), entry, &all, size)?;
-        }
-        if entry == "main" {
-            cx.count(BLURRED, 1);
-        }
-        Ok(())
+            super::per_pixel(size)
+        };
+        let bindings = Bindings::new()
+            .buffer("camera", self.gbuffer.camera_buffer())
+            .buffer("params", &self.params)
+            .extend(bindings);
+        cx.dispatch_shader(entry, &self.key(), entry, bindings, groups)
     }
 
     /// Where the blur writes: the output, or its half-size twin.
@@ -320,23 +285,19 @@ impl Recipe for Dof {
         let bound = max_coc_pixels(self.settings, fixed, projection, size.1);
         let desc = TextureDesc::storage(wgpu::TextureFormat::Rgba16Float).size(self.gbuffer.size);
         if bound.is_some_and(|b| b < 0.5) || self.settings.max_radius < 0.5 {
-            fg.add_pass(
+            super::declare_copy(
+                fg,
                 crate::recipe::pass_name("DOF", self.owner, Some("copy")),
                 self.owner,
-                &[&self.source.name],
-                &[(&self.output, desc)],
-                move |cx| {
-                    cx.count(SKIPPED, 1);
-                    super::copy(cx, &self.source.name, &self.output)
-                },
+                &self.source.name,
+                (&self.output, desc),
+                SKIPPED,
             );
             return;
         }
         self.gbuffer.declare(renderer, fg);
-        let mut reads = vec![self.gbuffer.targets.depth.as_str()];
         if let Focus::Texture(t) = &self.focus {
             t.recipe.declare(renderer, fg);
-            reads.push(&t.name);
         }
         if let Some(b) = &self.bokeh {
             b.recipe.declare(renderer, fg);
@@ -367,57 +328,85 @@ impl Recipe for Dof {
             &self.params,
             bytemuck::cast_slice(&params),
         );
-        // What the circles of confusion come from: the CoC target, or inlined the depth (and focus).
-        let coc_reads = if self.inline_coc() {
-            reads
-        } else {
-            fg.add_pass(
+        let coc_desc = TextureDesc::storage(wgpu::TextureFormat::Rg32Float).size(self.gbuffer.size);
+        let depth = self.gbuffer.targets.depth.as_str();
+        let focus = match &self.focus {
+            Focus::Texture(t) => Some(t.name.as_str()),
+            Focus::Distance(_) => None,
+        };
+        let inline = self.inline_coc();
+        if !inline {
+            let mut pass = fg.pass(
                 crate::recipe::pass_name("DOF", self.owner, Some("circle of confusion")),
                 self.owner,
-                &reads,
-                &[(
-                    &self.coc,
-                    TextureDesc::storage(wgpu::TextureFormat::Rg32Float).size(self.gbuffer.size),
-                )],
-                move |cx| self.run(cx, "coc"),
             );
-            vec![self.coc.as_str()]
+            let (depth, focus) = (pass.read(depth), pass.read_opt(focus));
+            let output = pass.write(&self.coc, coc_desc);
+            pass.run(move |cx| {
+                let b = Bindings::new()
+                    .texture("depth", depth)
+                    .texture_opt("focus", focus)
+                    .texture("coc_out", output);
+                self.run(cx, "coc", b, output)
+            });
+        }
+        // What the tiles and the blur make the circles of confusion from.
+        let read_coc = |pass: &mut PassBuilder<'_, 'a>| {
+            if inline {
+                CocIo::Depth {
+                    depth: pass.read(depth),
+                    focus: pass.read_opt(focus),
+                }
+            } else {
+                CocIo::Target(pass.read(&self.coc))
+            }
         };
-        fg.add_pass(
+        let mut pass = fg.pass(
             crate::recipe::pass_name("DOF", self.owner, Some("tiles")),
             self.owner,
-            &coc_reads,
-            &[(
-                &self.tiles,
-                TextureDesc::storage(wgpu::TextureFormat::R32Float).size(
-                    crate::frame_graph::SizeRule::Absolute {
-                        width: size.0.div_ceil(tile),
-                        height: size.1.div_ceil(tile),
-                    },
-                ),
-            )],
-            move |cx| self.run(cx, "tiles"),
         );
-        let mut reads = vec![self.source.name.as_str(), &self.tiles];
-        reads.extend(coc_reads.iter().copied());
-        if let Some(b) = &self.bokeh {
-            reads.push(&b.name);
-        }
+        let coc = read_coc(&mut pass);
+        let tiles = pass.write(
+            &self.tiles,
+            TextureDesc::storage(wgpu::TextureFormat::R32Float).size(
+                crate::frame_graph::SizeRule::Absolute {
+                    width: size.0.div_ceil(tile),
+                    height: size.1.div_ceil(tile),
+                },
+            ),
+        );
+        pass.run(move |cx| {
+            let b = coc.bind(Bindings::new()).texture("tiles_out", tiles);
+            self.run(cx, "tiles", b, tiles)
+        });
         let resolution = s.resolution;
-        fg.add_pass(
+        let mut pass = fg.pass(
             crate::recipe::pass_name(
                 "DOF",
                 self.owner,
                 Some(&format!("blur{}", resolution.pass_suffix())),
             ),
             self.owner,
-            &reads,
-            &[(
-                &self.blur_target(),
-                desc.size(resolution.size_rule(self.gbuffer.size, size)),
-            )],
-            move |cx| self.run(cx, "main"),
         );
+        let source = pass.read(&self.source.name);
+        let tiles = pass.read(&self.tiles);
+        let coc = read_coc(&mut pass);
+        let bokeh = pass.read_opt(self.bokeh.as_ref().map(|b| b.name.as_str()));
+        let output = pass.write(
+            &self.blur_target(),
+            desc.size(resolution.size_rule(self.gbuffer.size, size)),
+        );
+        pass.run(move |cx| {
+            let b = coc
+                .bind(Bindings::new())
+                .texture("source", source)
+                .texture("tiles_in", tiles)
+                .texture_opt("bokeh", bokeh)
+                .texture("output", output);
+            self.run(cx, "main", b, output)?;
+            cx.count(BLURRED, 1);
+            Ok(())
+        });
         declare_upsample(
             fg,
             resolution,
@@ -434,6 +423,25 @@ impl Recipe for Dof {
                 detail: Some((&self.source.name, &self.coc)),
             },
         );
+    }
+}
+
+/// What the circles of confusion come from, in a pass that needs them.
+#[derive(Clone, Copy)]
+enum CocIo {
+    /// Full resolution (INLINE_COC): made from the depth (and the focus
+    /// texture with autofocus) where they are read.
+    Depth { depth: Tex, focus: Option<Tex> },
+    /// Half resolution: the `coc` pass's target, which the upsample reads too.
+    Target(Tex),
+}
+
+impl CocIo {
+    fn bind(self, b: Bindings<'_>) -> Bindings<'_> {
+        match self {
+            CocIo::Depth { depth, focus } => b.texture("depth", depth).texture_opt("focus", focus),
+            CocIo::Target(coc) => b.texture("coc_in", coc),
+        }
     }
 }
 
