@@ -69,7 +69,7 @@ fn evaluates_cleanly_for_120_frames(path: &std::path::Path) {
         // Patches with GPU nodes render at a small size on the test GPU (lavapipe in CI).
         let renderer = spreadlight_render::renderer::test_renderer();
         renderer.set_output_size((64, 36));
-        rt.provide(renderer);
+        rt.provide(renderer.clone());
         let images = std::sync::Arc::new(spreadlight_nodes::output::RenderedImages::default());
         rt.provide(images.clone());
         let problems = rt.load(&patch).to_vec();
@@ -101,6 +101,16 @@ fn evaluates_cleanly_for_120_frames(path: &std::path::Path) {
             );
             assert_eq!(stats.failed, 0);
         }
+        // What the renderer carries from frame to frame (histories, feedback
+        // targets) is state some node must declare, or a render of frames N..
+        // would not preroll and would differ from a run from frame 0.
+        let kept = renderer.persistent_names();
+        let (memory, _) = rt.network().memory();
+        assert!(
+            kept.is_empty() || memory == spreadlight_graph::Memory::Unbounded,
+            "{}: the renderer keeps {kept:?} from frame to frame, but the nodes declare {memory:?}",
+            path.display()
+        );
         assert!(
             !rt.probes().is_empty() || !images.names().is_empty(),
             "{}: an example should probe or render something",

@@ -79,7 +79,8 @@ pub fn register(r: &mut Registry) {
              the name ends in .exr) when Write is on. A texture of another size (a 1x1 luminance, a half-resolution \
              buffer) is stretched to the output size with bilinear filtering, as the show window draws it. Only the passes its texture depends on run. Name names \
              the sequence `spreadlight render` writes for it; Preroll declares how many frames its temporal \
-             effects and simulations need to settle, which a render of a chunk of frames evaluates first. \
+             effects and simulations need to settle, which a render of a chunk of frames evaluates first (0: \
+             none declared; a render then prerolls from frame 0 when a node keeps state). \
              Monitor (-1 or 0 and up) picks the monitor its show window opens on: `spreadlight play`, and \
              in the editor (F11 or the toolbar's Show window) when fullscreen; -1 leaves it to the window system.",
         )

@@ -253,6 +253,22 @@ impl Renderer {
             .map(|(_, t)| t.clone())
     }
 
+    /// The names of the persistent textures (temporal histories) frames have
+    /// made and still keep, sorted: what the renderer carries from one frame to
+    /// the next.
+    pub fn persistent_names(&self) -> Vec<String> {
+        let mut names: Vec<String> = self
+            .textures
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .persistent
+            .keys()
+            .cloned()
+            .collect();
+        names.sort();
+        names
+    }
+
     /// Forget persistent textures (a camera cut or a resize resets history).
     pub fn reset_history(&self) {
         self.textures
