@@ -12,6 +12,7 @@ use spreadlight_render::image_io::{encode_image, is_exr};
 
 use super::BadInput;
 use super::evaluate::{Evaluator, Timing};
+use super::fault::KillAt;
 use super::files::{is_complete, sweep_partials, write_atomic};
 use super::frames::{FrameRange, Preroll, Span};
 use super::names::{Target, VideoKind};
@@ -245,6 +246,7 @@ fn render_frames(args: &Args, plan: &Plan) -> anyhow::Result<bool> {
         .iter()
         .flat_map(|&f| plan.files(f).into_iter().map(|(_, p)| p))
         .collect();
+    let kill = KillAt::from_env().map_err(bad)?;
     let swept = sweep_partials(&targets);
     // One image is always rendered anew: only a sequence resumes.
     let overwrite = args.overwrite || matches!(plan.target, Target::Image(_));
@@ -293,7 +295,7 @@ fn render_frames(args: &Args, plan: &Plan) -> anyhow::Result<bool> {
             for (rendered, (_, path)) in images.iter().zip(&files) {
                 let bytes = encode_image(&rendered.image, rendered.encoding, is_exr(path))
                     .map_err(|e| vec![format!("cannot encode {}: {e}", path.display())])?;
-                write_atomic(path, &bytes)
+                write_atomic(path, &bytes, || kill.after_write(frame))
                     .map_err(|e| vec![format!("cannot write {}: {e}", path.display())])?;
             }
             Ok(())
@@ -311,6 +313,7 @@ fn render_frames(args: &Args, plan: &Plan) -> anyhow::Result<bool> {
         } else {
             progress.frame(frame, Status::Written, seconds, &shown(&files));
         }
+        kill.between_frames(frame);
     }
     let written = todo.len() - failed.len();
     progress.finish(json!({"written": written, "skipped": done.len(), "failed": failed}));
