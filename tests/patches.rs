@@ -188,10 +188,10 @@ fn lit_pixels(image: &spreadlight_render::readback::ImageF32) -> usize {
 /// How many of `pixels` an output of the example at `path` must light.
 fn least_lit(path: &std::path::Path, pixels: usize) -> usize {
     let file = path.file_name().and_then(|f| f.to_str()).unwrap_or("");
-    SPARSE
-        .iter()
-        .find(|(name, _, _)| *name == file)
-        .map_or((pixels as f64 * MIN_LIT_SHARE).ceil() as usize, |&(_, least, _)| least)
+    SPARSE.iter().find(|(name, _, _)| *name == file).map_or(
+        (pixels as f64 * MIN_LIT_SHARE).ceil() as usize,
+        |&(_, least, _)| least,
+    )
 }
 
 #[test]
@@ -201,7 +201,13 @@ fn the_black_threshold_counts_lit_pixels_not_a_speck() {
         width: 64,
         height: 36,
         pixels: (0..64 * 36)
-            .map(|i| if i < lit { [0.01, 0.01, 0.01, 1.0] } else { [0.0004, 0.0004, 0.0004, 1.0] })
+            .map(|i| {
+                if i < lit {
+                    [0.01, 0.01, 0.01, 1.0]
+                } else {
+                    [0.0004, 0.0004, 0.0004, 1.0]
+                }
+            })
             .collect(),
     };
     // 0.0004 is above 0 (the old test's "not black") but below LIT.
@@ -210,7 +216,10 @@ fn the_black_threshold_counts_lit_pixels_not_a_speck() {
     let example = std::path::Path::new("patches/post.ron");
     assert_eq!(least_lit(example, 64 * 36), 24, "1% of 2304, rounded up");
     assert!(lit_pixels(&image(5)) < least_lit(example, 64 * 36));
-    assert_eq!(least_lit(std::path::Path::new("patches/bench-skinning.ron"), 64 * 36), 2);
+    assert_eq!(
+        least_lit(std::path::Path::new("patches/bench-skinning.ron"), 64 * 36),
+        2
+    );
 }
 
 /// The LFO example's numbers, worked out by hand: at frame 30 of 60 fps the

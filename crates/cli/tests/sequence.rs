@@ -221,7 +221,11 @@ fn a_run_killed_between_write_and_rename_or_between_frames_resumes_to_the_same_f
         let names = listing(&out);
         let (partials, files): (Vec<&String>, Vec<&String>) =
             names.iter().partition(|n| n.starts_with('.'));
-        assert_eq!(files, expected[..left].iter().collect::<Vec<_>>(), "{point}");
+        assert_eq!(
+            files,
+            expected[..left].iter().collect::<Vec<_>>(),
+            "{point}"
+        );
         if partial {
             assert_eq!(partials.len(), 1, "{point}: {names:?}");
             assert!(
@@ -230,7 +234,10 @@ fn a_run_killed_between_write_and_rename_or_between_frames_resumes_to_the_same_f
             );
             // Written and synced before the abort: the whole frame, under its temporary name.
             let bytes = std::fs::read(out.join(partials[0])).expect("read");
-            assert_eq!(bytes, std::fs::read(whole.join(&expected[3])).expect("read"));
+            assert_eq!(
+                bytes,
+                std::fs::read(whole.join(&expected[3])).expect("read")
+            );
         } else {
             assert!(partials.is_empty(), "{point}: {names:?}");
         }
@@ -239,17 +246,28 @@ fn a_run_killed_between_write_and_rename_or_between_frames_resumes_to_the_same_f
         ok(&resumed);
         assert_eq!(done(&resumed)["skipped"], left, "{point}");
         assert_eq!(done(&resumed)["written"], 6 - left, "{point}");
-        assert_eq!(listing(&out), expected, "{point}: the files of an uninterrupted run");
+        assert_eq!(
+            listing(&out),
+            expected,
+            "{point}: the files of an uninterrupted run"
+        );
         for name in &expected {
             let read = |d: &Path| std::fs::read(d.join(name)).expect("read");
-            assert!(read(&out) == read(&whole), "{point}: {name} differs from the uninterrupted run");
+            assert!(
+                read(&out) == read(&whole),
+                "{point}: {name} differs from the uninterrupted run"
+            );
         }
     }
     let bad = command(&["render", SPHERES, "-o", path(&dir.path().join("x_#.png"))])
         .env("SPREADLIGHT_TEST_KILL_AT", "sometime")
         .output()
         .expect("runs");
-    assert_eq!(bad.status.code(), Some(2), "a kill point it cannot read is bad input");
+    assert_eq!(
+        bad.status.code(),
+        Some(2),
+        "a kill point it cannot read is bad input"
+    );
 }
 
 #[test]

@@ -92,11 +92,23 @@ fn a_chunk_after_its_preroll_equals_the_full_run() {
             "frame {f}: the preroll matters ({cold} vs {mean})"
         );
     }
-    let all = exr("patches/post.ron", dir.path(), "33-34", &["--preroll", "all"]);
-    assert_eq!(files_under(&all), ["f_0033.exr", "f_0034.exr"].map(std::path::PathBuf::from));
+    let all = exr(
+        "patches/post.ron",
+        dir.path(),
+        "33-34",
+        &["--preroll", "all"],
+    );
+    assert_eq!(
+        files_under(&all),
+        ["f_0033.exr", "f_0034.exr"].map(std::path::PathBuf::from)
+    );
     for file in files_under(&all) {
         let same = std::fs::read(all.join(&file)).ok() == std::fs::read(full.join(&file)).ok();
-        assert!(same, "{}: the chunk from frame 0 differs from the full run", file.display());
+        assert!(
+            same,
+            "{}: the chunk from frame 0 differs from the full run",
+            file.display()
+        );
     }
     let full = exr(SPHERES, dir.path(), "0-5", &["--samples", "2"]);
     let chunk = exr(SPHERES, dir.path(), "4-5", &["--samples", "2"]);
@@ -137,7 +149,10 @@ fn a_chunk_of_a_stateful_patch_prerolls_from_frame_0_and_equals_the_full_run() {
         );
         let cold = exr(patch, &dir, part, &[extra, &["--preroll", "0"]].concat());
         let files = files_under(&chunk);
-        assert!(!files.is_empty() && files == files_under(&cold), "{patch}: {files:?}");
+        assert!(
+            !files.is_empty() && files == files_under(&cold),
+            "{patch}: {files:?}"
+        );
         let mut differ = 0;
         for file in &files {
             let read = |d: &std::path::Path| std::fs::read(d.join(file)).expect("read");
@@ -148,7 +163,10 @@ fn a_chunk_of_a_stateful_patch_prerolls_from_frame_0_and_equals_the_full_run() {
             );
             differ += usize::from(read(&cold) != read(&full));
         }
-        assert!(differ > 0, "{patch}: without the preroll nothing differs: the test shows nothing");
+        assert!(
+            differ > 0,
+            "{patch}: without the preroll nothing differs: the test shows nothing"
+        );
     }
 }
 

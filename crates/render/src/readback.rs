@@ -44,7 +44,8 @@ impl ImageF32 {
         // Where destination texel `i` of `to` samples a source of `from`
         // texels: the two neighbours and the weight of the second.
         let taps = |i: u32, from: u32, to: u32| {
-            let at = ((i as f32 + 0.5) * from as f32 / to as f32 - 0.5).clamp(0.0, (from - 1) as f32);
+            let at =
+                ((i as f32 + 0.5) * from as f32 / to as f32 - 0.5).clamp(0.0, (from - 1) as f32);
             let first = at.floor() as u32;
             (first, (first + 1).min(from - 1), at - first as f32)
         };

@@ -331,7 +331,11 @@ fn passes_whose_targets_nothing_reads_are_culled() {
         rig.images.source_size("out"),
         Some((SIZE.0 / 2, SIZE.1 / 2))
     );
-    assert_eq!(rig.image("out").width, SIZE.0, "stretched to the output size");
+    assert_eq!(
+        rig.image("out").width,
+        SIZE.0,
+        "stretched to the output size"
+    );
 }
 
 #[test]
