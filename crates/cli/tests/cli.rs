@@ -261,6 +261,78 @@ fn render_writes_png_and_exr() {
     }
 }
 
+/// The headline command, `spreadlight render PATCH -o out.png`, on every
+/// shipped example with an `Output` (found by listing `patches/`, so a new
+/// example is covered without touching this test), at 64x36: it exits 0 and
+/// writes one image of that size per Output, named by the Output's Name.
+#[test]
+fn render_succeeds_on_every_example_with_an_output() {
+    use spreadlight_graph::Spread;
+    let dir = tempfile::tempdir().expect("tempdir");
+    let mut examples: Vec<PathBuf> = std::fs::read_dir(root().join("patches"))
+        .expect("ls patches")
+        .map(|e| e.expect("entry").path())
+        .filter(|p| p.extension().is_some_and(|e| e == "ron"))
+        .collect();
+    examples.sort();
+    let mut rendered = Vec::new();
+    let mut failures = Vec::new();
+    for path in &examples {
+        let patch = spreadlight_graph::format::load(path).unwrap_or_else(|e| panic!("{e}"));
+        let names: Vec<String> = patch
+            .nodes
+            .iter()
+            .filter(|n| n.type_name == "Output")
+            .map(|n| match n.values.get("Name") {
+                Some(Spread::String(v)) => v.first().cloned().unwrap_or_default(),
+                _ => "output".to_owned(),
+            })
+            .collect();
+        if names.is_empty() {
+            continue;
+        }
+        let stem = path.file_stem().expect("stem").to_string_lossy();
+        let out = dir.path().join(format!("{stem}-{{name}}.png"));
+        let o = spreadlight(&[
+            "render",
+            path.to_str().expect("utf-8"),
+            "-o",
+            out.to_str().expect("utf-8"),
+            "--size",
+            "64x36",
+        ]);
+        if o.status.code() != Some(0) {
+            failures.push(format!(
+                "{}: exit {:?}\n{}",
+                path.display(),
+                o.status.code(),
+                text(&o.stderr)
+            ));
+            continue;
+        }
+        for name in &names {
+            let file = dir.path().join(format!("{stem}-{name}.png"));
+            match image::open(&file) {
+                Ok(i) if (i.width(), i.height()) == (64, 36) => {}
+                Ok(i) => failures.push(format!(
+                    "{}: {name} is {}x{}",
+                    file.display(),
+                    i.width(),
+                    i.height()
+                )),
+                Err(e) => failures.push(format!("{}: {e}", file.display())),
+            }
+        }
+        rendered.push(stem.into_owned());
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+    // The lister found the examples: shader-nodes.ron (seven Outputs, one of them 1x1) among them.
+    assert!(
+        rendered.iter().any(|s| s == "shader-nodes"),
+        "rendered only {rendered:?}"
+    );
+}
+
 #[test]
 fn render_without_an_adapter_says_how_to_get_one() {
     let dir = tempfile::tempdir().expect("tempdir");

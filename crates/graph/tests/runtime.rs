@@ -60,7 +60,15 @@ fn registry() -> Registry {
         NodeDef::new("Counter", "Test", "")
             .input("Input", 0.0f32)
             .output::<i64>("Runs")
+            .stateful()
             .construct(|| Counter(0)),
+    );
+    r.add(
+        NodeDef::new("Previous", "Test", "")
+            .input("Input", 0.0f32)
+            .output::<f32>("Output")
+            .remembers(1)
+            .per_slice1(|v: &f32| *v),
     );
     r.add(
         NodeDef::new("Sink", "Test", "")
@@ -110,6 +118,35 @@ fn probe(rt: &Runtime, name: &str) -> Spread {
         .get(name)
         .map(|s| (**s).clone())
         .unwrap_or_else(|| panic!("probe {name} recorded nothing"))
+}
+
+#[test]
+fn a_network_remembers_what_its_running_nodes_remember() {
+    use spreadlight_graph::{Memory, Network};
+    let memory = |p: &Patch| Network::compile(p, &registry()).memory();
+    let mut p = Patch::default();
+    p.add(NodeDoc::new(1, "Const"));
+    p.add(sink(2, "out"));
+    p.link(1, "Output", 2, "Input");
+    assert_eq!(memory(&p), (Memory::None, vec![]));
+    // A stateful node that reaches no sink never runs: it does not count.
+    p.add(NodeDoc::new(3, "Counter"));
+    assert_eq!(memory(&p), (Memory::None, vec![]));
+    p.add(NodeDoc::new(4, "Previous"));
+    p.add(sink(5, "previous"));
+    p.link(4, "Output", 5, "Input");
+    assert_eq!(memory(&p), (Memory::Frames(1), vec!["Previous".to_owned()]));
+    // Memories add up along a chain: the previous frame's previous frame.
+    p.add(NodeDoc::new(7, "Previous"));
+    p.add(sink(8, "previous previous"));
+    p.link(4, "Output", 7, "Input");
+    p.link(7, "Output", 8, "Input");
+    assert_eq!(memory(&p), (Memory::Frames(2), vec!["Previous".to_owned()]));
+    p.add(sink(6, "runs"));
+    p.link(3, "Runs", 6, "Input");
+    assert_eq!(memory(&p), (Memory::Unbounded, vec!["Counter".to_owned()]));
+    assert!(Memory::None < Memory::Frames(1) && Memory::Frames(1) < Memory::Frames(2));
+    assert!(Memory::Frames(u32::MAX) < Memory::Unbounded);
 }
 
 #[test]

@@ -121,6 +121,13 @@ impl Renderer {
         self.executor.persistent_texture(name)
     }
 
+    /// The names of the persistent textures (temporal histories) frames have
+    /// made and still keep, sorted: what the renderer carries from one frame to
+    /// the next.
+    pub fn persistent_names(&self) -> Vec<String> {
+        self.executor.persistent_names()
+    }
+
     /// Forget persistent textures (a camera cut or a resize resets history).
     pub fn reset_history(&self) {
         self.executor.reset_history();

@@ -103,6 +103,9 @@ impl ShaderType {
         if self.time_dependent() {
             def = def.time_dependent();
         }
+        if self.stateful() {
+            def = def.stateful();
+        }
         let ty = self.clone();
         let error = error.map(|e| NodeError::Other(e.to_string()));
         def.construct(move || ShaderNode::new(ty.clone(), error.clone()))

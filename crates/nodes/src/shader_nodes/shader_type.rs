@@ -257,11 +257,15 @@ impl ShaderType {
                 .iter()
                 .any(|(b, _)| matches!(b, Builtin::Time | Builtin::Delta))
         });
-        clock
-            || self
-                .base
-                .targets
-                .iter()
-                .any(|t| t.lifetime == Lifetime::Persistent)
+        clock || self.stateful()
+    }
+
+    /// Its image depends on every frame before: a persistent target carries
+    /// what earlier frames wrote (a feedback, an adapted luminance).
+    pub fn stateful(&self) -> bool {
+        self.base
+            .targets
+            .iter()
+            .any(|t| t.lifetime == Lifetime::Persistent)
     }
 }

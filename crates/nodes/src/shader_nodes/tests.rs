@@ -425,8 +425,11 @@ fn a_repeated_pass_runs_until_its_target_is_small_enough_and_is_counted() {
         .filter(|p| p.name.contains("downsample"))
         .count();
     assert_eq!(downsamples, 4);
+    // The chain's 1x1 result, which the Output stretches to the output size: one value everywhere.
+    assert_eq!(rig.images.source_size("out"), Some((1, 1)));
     let image = rig.image("out");
-    assert_eq!((image.width, image.height), (1, 1));
+    assert_eq!((image.width, image.height), SIZE);
+    assert!(image.pixels.iter().all(|p| *p == image.pixels[0]));
 }
 
 #[test]
@@ -472,7 +475,15 @@ fn passes_whose_targets_nothing_reads_are_culled() {
         "{:?}",
         report.culled
     );
-    assert_eq!(rig.image("out").width, SIZE.0 / 2);
+    assert_eq!(
+        rig.images.source_size("out"),
+        Some((SIZE.0 / 2, SIZE.1 / 2))
+    );
+    assert_eq!(
+        rig.image("out").width,
+        SIZE.0,
+        "stretched to the output size"
+    );
 }
 
 #[test]

@@ -195,6 +195,13 @@ impl Executor {
             .map(|(_, t)| t.clone())
     }
 
+    /// The names of the persistent textures frames have made and still keep, sorted.
+    pub fn persistent_names(&self) -> Vec<String> {
+        let mut names: Vec<String> = self.texture_pool().persistent.keys().cloned().collect();
+        names.sort();
+        names
+    }
+
     /// Forget persistent textures (a camera cut or a resize resets history).
     pub fn reset_history(&self) {
         self.texture_pool().persistent.clear();
