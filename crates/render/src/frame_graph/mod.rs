@@ -1,6 +1,8 @@
-//! The frame graph: passes declare the textures they read and write by name;
-//! before anything runs, every pass whose outputs do not reach a requested
-//! output is culled. As in breezEngine, a texture is temporary (pooled by
+//! The frame graph: passes declare the textures they read and write (a name
+//! is a texture's identity across recipes and frames) and get typed handles
+//! back (handles.rs), which are all their runs can resolve; they bind their
+//! shaders' variables by name (bindings.rs). Before anything runs, every pass
+//! whose outputs do not reach a requested output is culled. As in breezEngine, a texture is temporary (pooled by
 //! descriptor and reused within and across frames), permanent (lives through
 //! the frame) or persistent (kept across frames under its name: history,
 //! adapted luminance). Sizes are absolute or a scale of the frame's output.
