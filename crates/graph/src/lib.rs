@@ -13,13 +13,14 @@ pub mod pin;
 pub mod registry;
 pub mod runtime;
 pub mod snapshot;
+pub mod spelling;
 pub mod spread;
 pub mod stats;
 pub mod subpatch;
 pub mod value;
 
 pub use clock::FrameClock;
-pub use diagnostics::{Problem, ProblemKind, Severity};
+pub use diagnostics::{FedSink, Problem, ProblemKind, Severity};
 pub use document::{FORMAT_VERSION, LinkDoc, NodeDoc, NodeId, Patch, PinRef};
 pub use format::FormatError;
 pub use network::Network;

@@ -218,6 +218,8 @@ impl Compiler<'_> {
         }
 
         let mut defs: Vec<Option<Arc<NodeDef>>> = vec![None; patch.nodes.len()];
+        // (document index, index of its problem) of each unknown-type node.
+        let mut placeholders = Vec::new();
         let mut inputs: Vec<Vec<InputSource>> = vec![Vec::new(); patch.nodes.len()];
         for &i in &included {
             let node = &patch.nodes[i];
@@ -234,13 +236,27 @@ impl Compiler<'_> {
                     inputs[i] = self.constant_inputs(i, def);
                     defs[i] = Some(def.clone());
                 }
-                None => self.problem(
-                    Severity::Warning,
-                    Some(i),
-                    node.id,
-                    None,
-                    ProblemKind::UnknownNodeType,
-                ),
+                None => {
+                    placeholders.push((i, self.problems.len()));
+                    let suggestion = self.registry.nearest(&node.type_name).map(str::to_owned);
+                    self.problem(
+                        Severity::Warning,
+                        Some(i),
+                        node.id,
+                        None,
+                        ProblemKind::UnknownNodeType {
+                            suggestion,
+                            feeds: None,
+                        },
+                    );
+                }
+            }
+        }
+        // Which sink each placeholder's work was meant for (known once every type is).
+        for (i, problem) in placeholders {
+            let sink = fed_sink(patch, &by_id, &defs, i);
+            if let ProblemKind::UnknownNodeType { feeds, .. } = &mut self.problems[problem].kind {
+                *feeds = sink;
             }
         }
 
@@ -540,6 +556,38 @@ impl Compiler<'_> {
             .collect();
         (postorder, edges)
     }
+}
+
+/// The sink nearest downstream of the node at document index `start`,
+/// following the document's links (a placeholder's links never reach the
+/// network, which replaces them by empty inputs): where its work was going.
+fn fed_sink(
+    patch: &Patch,
+    by_id: &HashMap<NodeId, usize>,
+    defs: &[Option<Arc<NodeDef>>],
+    start: usize,
+) -> Option<crate::diagnostics::FedSink> {
+    let mut seen = HashSet::from([start]);
+    let mut queue = std::collections::VecDeque::from([start]);
+    while let Some(from) = queue.pop_front() {
+        let id = patch.nodes[from].id;
+        for link in patch.links.iter().filter(|l| l.from.node() == id) {
+            let Some(&to) = by_id.get(&link.to.node()) else {
+                continue;
+            };
+            if !seen.insert(to) {
+                continue;
+            }
+            if defs[to].as_ref().is_some_and(|d| d.sink) {
+                return Some(crate::diagnostics::FedSink {
+                    path: vec![patch.nodes[to].id],
+                    node_type: patch.nodes[to].type_name.clone(),
+                });
+            }
+            queue.push_back(to);
+        }
+    }
+    None
 }
 
 /// Demand: sinks are needed, and so is everything that feeds a needed node.

@@ -323,7 +323,17 @@ fn an_unknown_node_type_is_a_placeholder_that_keeps_everything() {
     let mut rt = Runtime::new(registry());
     let problems = rt.load(&patch).to_vec();
     assert_eq!(problems.len(), 1, "{problems:?}");
-    assert_eq!(problems[0].kind, ProblemKind::UnknownNodeType);
+    // Its work was meant for the Sink, through the Add.
+    assert_eq!(
+        problems[0].kind,
+        ProblemKind::UnknownNodeType {
+            suggestion: None,
+            feeds: Some(spreadlight_graph::FedSink {
+                path: vec![NodeId(3)],
+                node_type: "Sink".to_owned()
+            }),
+        }
+    );
     assert_eq!(problems[0].node_type, "FutureNode");
     let stats = rt.evaluate(FrameClock::default()).clone();
     assert_eq!(stats.node(NodeId(1)).map(|n| n.run), Some(NodeRun::Skipped));
