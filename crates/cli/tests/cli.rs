@@ -89,6 +89,103 @@ fn a_warning_alone_passes_unless_warnings_are_denied() {
     );
 }
 
+/// The G-buffer of a sphere, lit by a misspelled `CookTorance`, into an
+/// Output: the placeholder drops the lighting the Output was wired for.
+const MISSPELLED: &str = r#"(version: 1, nodes: [
+    (id: 1, type: "Sphere"),
+    (id: 2, type: "DeferredBase"),
+    (id: 3, type: "MRE"),
+    (id: 4, type: "CookTorance"),
+    (id: 5, type: "Output"),
+], links: [
+    (from: (1, "Mesh"), to: (2, "Mesh")),
+    (from: (2, "Layer"), to: (3, "Layer")),
+    (from: (3, "G-Buffer"), to: (4, "G-Buffer")),
+    (from: (4, "Diffuse"), to: (5, "Texture")),
+])"#;
+
+/// A misspelled type kept as a placeholder is fine in the editor, but
+/// headless it would render the frame without its work: `check` and
+/// `render` fail, suggesting the known name, unless `--allow-unknown`.
+#[test]
+fn a_misspelled_type_that_feeds_an_output_fails_check_and_render_unless_allowed() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let patch = dir.path().join("misspelled.ron");
+    std::fs::write(&patch, MISSPELLED).expect("write");
+    let patch = patch.to_str().expect("utf-8");
+    let image = dir.path().join("out.png");
+    let image = image.to_str().expect("utf-8");
+    let expected = "error: PATCH: node #4 `CookTorance`: unknown node type (did you mean `CookTorrance`?); \
+        kept as a placeholder with its values and links (saved back unchanged), outputs nothing, \
+        so `Output` #5, which it feeds, runs without its work (--allow-unknown runs the patch without it)"
+        .replace("PATCH", patch);
+
+    let out = spreadlight(&["check", patch]);
+    assert_eq!(out.status.code(), Some(1), "{}", text(&out.stderr));
+    assert!(text(&out.stdout).contains(&expected), "{}", text(&out.stdout));
+    let out = spreadlight(&["check", "--allow-unknown", patch]);
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stdout));
+    assert!(text(&out.stdout).starts_with("warning: "), "{}", text(&out.stdout));
+
+    // render: bad input, nothing rendered.
+    let out = spreadlight(&["render", patch, "-o", image, "--size", "32x18"]);
+    assert_eq!(out.status.code(), Some(2), "{}", text(&out.stderr));
+    assert!(text(&out.stderr).contains(&expected), "{}", text(&out.stderr));
+    assert!(!Path::new(image).exists());
+    // Allowed, it runs; the Output's error names the placeholder as the cause.
+    let out = spreadlight(&["render", "--allow-unknown", patch, "-o", image, "--size", "32x18"]);
+    let stderr = text(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains(
+            "node #5: input `Texture`: no texture connected (it is linked from node #4 `CookTorance`, \
+             an unknown node type that outputs nothing)"
+        ),
+        "{stderr}"
+    );
+
+    // A placeholder that feeds no sink drops nothing anyone asked for: a warning.
+    assert_eq!(
+        spreadlight(&["check", "patches/bad/21-unknown-node-type.ron"])
+            .status
+            .code(),
+        Some(0)
+    );
+}
+
+/// A shader node whose file is missing names the file that would make it
+/// and every folder searched, where the next node used to say only that no
+/// texture is connected.
+#[test]
+fn a_shader_node_without_its_file_names_the_file_and_the_folders_searched() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let library = tempfile::tempdir().expect("tempdir");
+    let patch = dir.path().join("shaded.ron");
+    std::fs::write(
+        &patch,
+        r#"(version: 1, nodes: [(id: 1, type: "WarpSpeed (Shader)"), (id: 2, type: "Output")],
+            links: [(from: (1, "Texture"), to: (2, "Texture"))])"#,
+    )
+    .expect("write");
+    let out = Command::new(env!("CARGO_BIN_EXE_spreadlight"))
+        .args(["check", patch.to_str().expect("utf-8")])
+        .env("SPREADLIGHT_SHADERS", library.path())
+        .output()
+        .expect("runs");
+    let stdout = text(&out.stdout);
+    assert_eq!(out.status.code(), Some(1), "{stdout}");
+    let folder = |p: &Path| format!("`{}`", p.display());
+    for part in [
+        "node #1 `WarpSpeed (Shader)`: unknown node type".to_owned(),
+        "no shader file makes it: `warp_speed.wgsl`".to_owned(),
+        folder(library.path()),
+        folder(&dir.path().join("shaders")),
+        "examples built in (shaders/nodes/)".to_owned(),
+    ] {
+        assert!(stdout.contains(&part), "`{part}` missing from: {stdout}");
+    }
+}
+
 #[test]
 fn a_missing_file_is_named() {
     let out = spreadlight(&["check", "patches/no-such-patch.ron"]);

@@ -53,6 +53,9 @@ pub struct Network {
     by_path: HashMap<Vec<NodeId>, usize>,
     /// The flat `Outlet` (by index) behind each output pin of each subpatch instance.
     instance_outputs: HashMap<(Vec<NodeId>, String), usize>,
+    /// The placeholder (by index) linked into (node index, input): that
+    /// input gets an empty spread, and an error about it says why.
+    fed_by_unknown: HashMap<(usize, usize), usize>,
 }
 
 /// What flattening adds to a compile: typed IOBoxes and the links' own texts.
@@ -87,6 +90,7 @@ impl Network {
             registry,
             extras,
             problems: Vec::new(),
+            placeholder_links: Vec::new(),
         }
         .run()
     }
@@ -153,6 +157,12 @@ impl Network {
         &self.problems
     }
 
+    /// The unknown-type node (by index) linked into input `input` of node
+    /// `index`, if one is: why that input is empty.
+    pub fn fed_by_unknown(&self, index: usize, input: usize) -> Option<usize> {
+        self.fed_by_unknown.get(&(index, input)).copied()
+    }
+
     pub fn has_errors(&self) -> bool {
         self.problems.iter().any(|p| p.severity == Severity::Error)
     }
@@ -163,6 +173,9 @@ struct Compiler<'a> {
     registry: &'a Registry,
     extras: &'a CompileExtras<'a>,
     problems: Vec<Problem>,
+    /// (node, input, placeholder) by document index: inputs linked from an
+    /// unknown type, which get an empty spread instead.
+    placeholder_links: Vec<(usize, usize, usize)>,
 }
 
 impl Compiler<'_> {
@@ -284,6 +297,12 @@ impl Compiler<'_> {
             })
             .collect();
         let index = nodes.iter().enumerate().map(|(k, n)| (n.id, k)).collect();
+        let fed_by_unknown = self
+            .placeholder_links
+            .iter()
+            .map(|&(to, k, from)| ((net_index[to], k), net_index[from]))
+            .filter(|&((to, _), from)| to != usize::MAX && from != usize::MAX)
+            .collect();
         let needed = needed_nodes(&nodes);
         let paths = nodes.iter().map(|n| vec![n.id]).collect();
         let by_path = nodes
@@ -299,6 +318,7 @@ impl Compiler<'_> {
             paths,
             by_path,
             instance_outputs: HashMap::new(),
+            fed_by_unknown,
         }
     }
 
@@ -417,6 +437,7 @@ impl Compiler<'_> {
                 if let (Some(def), Some(k)) = (&to_def, input) {
                     inputs[to][k] =
                         InputSource::Constant(Arc::new(Spread::empty(def.inputs[k].ty)));
+                    self.placeholder_links.push((to, k, from));
                 }
                 continue;
             };

@@ -13,7 +13,7 @@ use crate::diagnostics::Problem;
 use crate::document::{NodeId, Patch};
 use crate::network::{InputSource, Network, NetworkNode};
 use crate::node::{EvalContext, Node, NodeError, PatchDir, ProbeLog, Services};
-use crate::registry::Registry;
+use crate::registry::{NodeDef, Registry};
 use crate::snapshot::RuntimeSnapshot;
 use crate::spread::Spread;
 use crate::stats::{FrameStats, NodeRun, NodeStat};
@@ -279,7 +279,7 @@ impl Runtime {
                     for (slot, pin) in state.outputs.iter_mut().zip(&def.outputs) {
                         *slot = empty(pin.ty);
                     }
-                    state.error = Some(e);
+                    state.error = Some(explain_unknown_input(&self.network, i, def, e));
                     stat.run = NodeRun::Failed;
                     stats.failed += 1;
                 }
@@ -431,4 +431,36 @@ fn same_inputs(a_net: &Network, a: &NetworkNode, b_net: &Network, b: &NetworkNod
             ) => a_net.nodes()[*un].id == b_net.nodes()[*vn].id && uo == vo && uc == vc,
             _ => false,
         })
+}
+
+/// An input error on an input linked from an unknown node type ("no
+/// texture connected", where a texture is linked) says where the link
+/// comes from and why it brings nothing: a misspelled type or a missing
+/// shader file is the cause to fix, not this node.
+fn explain_unknown_input(
+    network: &Network,
+    index: usize,
+    def: &NodeDef,
+    error: NodeError,
+) -> NodeError {
+    let NodeError::Input { pin, message } = error else {
+        return error;
+    };
+    let source = def
+        .input_index(&pin)
+        .and_then(|k| network.fed_by_unknown(index, k));
+    match source {
+        Some(p) => {
+            let place: Vec<String> = network.path(p).iter().map(NodeId::to_string).collect();
+            NodeError::Input {
+                message: format!(
+                    "{message} (it is linked from node {} `{}`, an unknown node type that outputs nothing)",
+                    place.join(" > "),
+                    network.nodes()[p].type_name
+                ),
+                pin,
+            }
+        }
+        None => NodeError::Input { pin, message },
+    }
 }

@@ -33,10 +33,13 @@ pub fn edit_distance(a: &str, b: &str) -> usize {
 }
 
 /// The candidate nearest `name`, when it is near enough to be a slip of
-/// the keyboard rather than another word: at most a third of `name`'s
-/// length in edits (at least 1). Ties go to the first candidate.
+/// the keyboard rather than another word: at most a third of the name's
+/// length in edits (at least 1), the length counted without a category in
+/// brackets, which names share (`Teleporter (Spreads)` is no slip of
+/// `Reverse (Spreads)`). Ties go to the first candidate.
 pub fn nearest<'a>(name: &str, candidates: impl IntoIterator<Item = &'a str>) -> Option<&'a str> {
-    let allowed = (name.chars().count() / 3).max(1);
+    let base = name.split_once(" (").map_or(name, |(base, _)| base);
+    let allowed = (base.chars().count() / 3).max(1);
     let mut best: Option<(usize, &str)> = None;
     for candidate in candidates {
         let d = edit_distance(name, candidate);
@@ -67,10 +70,18 @@ mod tests {
 
     #[test]
     fn the_nearest_name_is_suggested_only_when_near() {
-        let names = ["CompositeLight", "CookTorrance", "Output", "Tonemap"];
+        let names = [
+            "CompositeLight",
+            "CookTorrance",
+            "Noise (Shader)",
+            "Output",
+            "Reverse (Spreads)",
+            "Tonemap",
+        ];
         assert_eq!(nearest("CookTorance", names), Some("CookTorrance"));
         assert_eq!(nearest("Ouptut", names), Some("Output"));
         assert_eq!(nearest("tonemap", names), Some("Tonemap"));
+        assert_eq!(nearest("Nosie (Shader)", names), Some("Noise (Shader)"));
         // Another word altogether is no slip.
         assert_eq!(nearest("Teleporter (Spreads)", names), None);
         assert_eq!(nearest("X", names), None);

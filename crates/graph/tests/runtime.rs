@@ -57,6 +57,19 @@ fn registry() -> Registry {
             }),
     );
     r.add(
+        NodeDef::new("Needs", "Test", "")
+            .input_spread("Input", PinType::Float, Spread::Float(vec![]))
+            .output::<f32>("Output")
+            .evaluate(|cx| {
+                let v = cx.slices::<f32>(0)?.to_vec();
+                if v.is_empty() {
+                    return Err(cx.input_error(0, "nothing connected"));
+                }
+                cx.set(0, v);
+                Ok(())
+            }),
+    );
+    r.add(
         NodeDef::new("Counter", "Test", "")
             .input("Input", 0.0f32)
             .output::<i64>("Runs")
@@ -306,6 +319,33 @@ fn a_cycle_is_reported_and_the_rest_of_the_patch_runs() {
     assert!(matches!(&problems[0].kind, ProblemKind::Cycle { path, .. } if path.len() == 3));
     rt.evaluate(FrameClock::default());
     assert_eq!(probe(&rt, "out"), Spread::Float(vec![1.0]));
+}
+
+/// A node that needs what an unknown type was linked to give it fails,
+/// and its error says the link comes from that unknown type (the cause to
+/// fix), not only that nothing is connected.
+#[test]
+fn an_input_fed_by_an_unknown_type_names_it_in_the_error() {
+    let mut p = Patch::default();
+    p.add(NodeDoc::new(1, "Cosnt"));
+    p.add(NodeDoc::new(2, "Needs"));
+    p.add(sink(3, "out"));
+    p.link(1, "Output", 2, "Input");
+    p.link(2, "Output", 3, "Input");
+    let mut rt = Runtime::new(registry());
+    let problems = rt.load(&p).to_vec();
+    assert_eq!(problems.len(), 1, "{problems:?}");
+    assert!(
+        matches!(&problems[0].kind, ProblemKind::UnknownNodeType { suggestion: Some(s), .. } if s == "Const"),
+        "{problems:?}"
+    );
+    rt.evaluate(FrameClock::default());
+    assert_eq!(
+        rt.node_error(NodeId(2)).map(ToString::to_string).as_deref(),
+        Some(
+            "input `Input`: nothing connected (it is linked from node #1 `Cosnt`, an unknown node type that outputs nothing)"
+        )
+    );
 }
 
 #[test]
