@@ -128,9 +128,19 @@ impl Session {
             // recording pass by pass, which names the pass.
             renderer.set_recording(spreadlight_render::renderer::Recording::Batched);
             if let Some(size) = size {
+                // Past the adapter's largest texture nothing could render: say so before any work.
+                let max = renderer.gpu.device.limits().max_texture_dimension_2d;
+                if size.0 > max || size.1 > max {
+                    anyhow::bail!(
+                        "--size {}x{} is past the adapter's limit max_texture_dimension_2d ({max}) on {}",
+                        size.0,
+                        size.1,
+                        renderer.gpu.adapter_name()
+                    );
+                }
                 renderer.set_output_size(size);
             }
-            runtime.provide(renderer.clone());
+            spreadlight_nodes::gpu::provide_renderer(&mut runtime, renderer.clone());
             Some(renderer)
         } else {
             None

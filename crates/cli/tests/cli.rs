@@ -186,6 +186,106 @@ fn a_shader_node_without_its_file_names_the_file_and_the_folders_searched() {
     }
 }
 
+/// Every size the CLI accepts renders or fails, fast and with a message
+/// naming the limit it exceeds, before allocating: 16384x16384 (the largest
+/// `--size` takes) on a patch of one shader node panicked in wgpu's default
+/// error handler. Its Rgba16Float image needs a readback buffer of exactly
+/// 2 GiB: one byte past lavapipe's largest, so in CI it fails fast; an
+/// adapter with larger buffers renders it. One past the CLI's own limit is
+/// a usage error naming the range.
+#[test]
+fn the_largest_accepted_size_renders_or_fails_fast_naming_the_limit() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let patch = dir.path().join("noise.ron");
+    std::fs::write(
+        &patch,
+        r#"(version: 1, nodes: [(id: 1, type: "Noise (Shader)"), (id: 2, type: "Output")],
+            links: [(from: (1, "Texture"), to: (2, "Texture"))])"#,
+    )
+    .expect("write");
+    let patch = patch.to_str().expect("utf-8");
+    let image = dir.path().join("big.png");
+    let image = image.to_str().expect("utf-8");
+    let out = spreadlight(&["render", patch, "-o", image, "--size", "16384x16384"]);
+    let stderr = text(&out.stderr);
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    let gpu = spreadlight_render::GpuContext::headless().expect("a GPU adapter");
+    let limits = gpu.device.limits();
+    let readback = 16384u64 * 8 * 16384;
+    if limits.max_texture_dimension_2d < 16384 {
+        assert_eq!(out.status.code(), Some(1), "{stderr}");
+        assert!(
+            stderr.contains(&format!(
+                "--size 16384x16384 is past the adapter's limit max_texture_dimension_2d ({})",
+                limits.max_texture_dimension_2d
+            )),
+            "{stderr}"
+        );
+    } else if readback > limits.max_buffer_size {
+        assert_eq!(out.status.code(), Some(1), "{stderr}");
+        assert!(
+            stderr.contains(&format!(
+                "node #2: the readback of the Output's texture (16384x16384 Rgba16Float: a \
+                 {readback}-byte buffer) is past the adapter's limit max_buffer_size ({})",
+                limits.max_buffer_size
+            )),
+            "{stderr}"
+        );
+        assert!(!Path::new(image).exists());
+    } else {
+        assert_eq!(out.status.code(), Some(0), "{stderr}");
+        let written = image::image_dimensions(image).expect("the image");
+        assert_eq!(written, (16384, 16384));
+    }
+
+    let out = spreadlight(&["render", patch, "-o", image, "--size", "16385x16384"]);
+    assert_eq!(out.status.code(), Some(2), "{}", text(&out.stderr));
+    assert!(
+        text(&out.stderr).contains("width and height must be whole numbers from 1 to 16384"),
+        "{}",
+        text(&out.stderr)
+    );
+}
+
+/// The issue's two-node patch: an image file straight into an Output.
+/// `render` and `stats` panicked on a wgpu validation error (the file's
+/// texture could not be copied for the readback); now it renders the file.
+#[test]
+fn an_image_file_straight_into_an_output_renders() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let tiles = root().join("patches/assets/tiles.png");
+    let patch = dir.path().join("file.ron");
+    std::fs::write(
+        &patch,
+        format!(
+            r#"(version: 1, nodes: [
+                (id: 1, type: "FileTexture", values: {{"Filename": String(["{}"])}}),
+                (id: 2, type: "Output")],
+                links: [(from: (1, "Texture"), to: (2, "Texture"))])"#,
+            tiles.display()
+        ),
+    )
+    .expect("write");
+    let patch = patch.to_str().expect("utf-8");
+    let out = dir.path().join("out.png");
+    let (width, height) = image::image_dimensions(&tiles).expect("tiles.png");
+    let size = format!("{width}x{height}");
+    let o = spreadlight(&["render", patch, "-o", out.to_str().expect("utf-8"), "--size", &size]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+    let want = image::open(&tiles).expect("tiles").to_rgba8();
+    let got = image::open(&out).expect("written").to_rgba8();
+    assert_eq!(got.dimensions(), want.dimensions());
+    // sRGB decoded on upload, encoded on write: the file's own pixels, within rounding.
+    let worst = want
+        .pixels()
+        .zip(got.pixels())
+        .flat_map(|(a, b)| (0..3).map(move |c| (i32::from(a[c]) - i32::from(b[c])).abs()))
+        .max();
+    assert!(worst.is_some_and(|w| w <= 1), "{worst:?}");
+    let o = spreadlight(&["stats", patch, "--size", &size]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+}
+
 #[test]
 fn a_missing_file_is_named() {
     let out = spreadlight(&["check", "patches/no-such-patch.ron"]);

@@ -307,7 +307,7 @@ impl Engine {
         self.runtime = Runtime::new(self.registry.clone());
         self.runtime.provide(self.host.clone());
         if let Some(gpu) = &self.gpu {
-            self.runtime.provide(gpu.renderer.clone());
+            spreadlight_nodes::gpu::provide_renderer(&mut self.runtime, gpu.renderer.clone());
             gpu.renderer.reset_history();
         }
         self.generation = None;

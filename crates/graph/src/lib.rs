@@ -24,7 +24,7 @@ pub use diagnostics::{FedSink, Problem, ProblemKind, Severity};
 pub use document::{FORMAT_VERSION, LinkDoc, NodeDoc, NodeId, Patch, PinRef};
 pub use format::FormatError;
 pub use network::Network;
-pub use node::{EvalContext, Node, NodeError, PatchDir, ProbeLog, Services};
+pub use node::{AfterEvaluate, EvalContext, Node, NodeError, PatchDir, ProbeLog, Services};
 pub use registry::{NodeDef, PinDef, Registry};
 pub use runtime::Runtime;
 pub use snapshot::RuntimeSnapshot;

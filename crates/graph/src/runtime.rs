@@ -12,7 +12,7 @@ use crate::clock::FrameClock;
 use crate::diagnostics::Problem;
 use crate::document::{NodeId, Patch};
 use crate::network::{InputSource, Network, NetworkNode};
-use crate::node::{EvalContext, Node, NodeError, PatchDir, ProbeLog, Services};
+use crate::node::{AfterEvaluate, EvalContext, Node, NodeError, PatchDir, ProbeLog, Services};
 use crate::registry::{NodeDef, Registry};
 use crate::snapshot::RuntimeSnapshot;
 use crate::spread::Spread;
@@ -206,6 +206,7 @@ impl Runtime {
             stats.cpu_ns,
         ) = (0, 0, 0, 0, 0);
 
+        let after = self.services.get::<AfterEvaluate>();
         for (i, node) in self.network.nodes().iter().enumerate() {
             let stat = &mut stats.nodes[i];
             stat.cpu_ns = 0;
@@ -266,6 +267,11 @@ impl Runtime {
                 );
                 let result = instance.evaluate(&mut cx);
                 (result, cx.wants_reevaluation(), cx.take_report())
+            };
+            let result = match (result, after.as_ref().and_then(|check| (check.0)())) {
+                (result, None) => result,
+                (Ok(()), Some(caused)) => Err(NodeError::Other(caused)),
+                (Err(e), Some(caused)) => Err(NodeError::Other(format!("{e}; and {caused}"))),
             };
             stat.cpu_ns = start.elapsed().as_nanos() as u64;
             stats.cpu_ns += stat.cpu_ns;
