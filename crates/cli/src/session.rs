@@ -34,7 +34,8 @@ pub fn headless_problem(problem: &Problem, path: &Path, allow_unknown: bool) -> 
     let mut severity = problem.severity;
     let mut note = String::new();
     if let ProblemKind::UnknownNodeType { feeds, .. } = &problem.kind {
-        if let Some(missing) = ShaderLibrary::for_patch(Some(path)).missing_file(&problem.node_type) {
+        if let Some(missing) = ShaderLibrary::for_patch(Some(path)).missing_file(&problem.node_type)
+        {
             note = format!("; {missing}");
         }
         if feeds.is_some() && !allow_unknown {

@@ -122,18 +122,38 @@ fn a_misspelled_type_that_feeds_an_output_fails_check_and_render_unless_allowed(
 
     let out = spreadlight(&["check", patch]);
     assert_eq!(out.status.code(), Some(1), "{}", text(&out.stderr));
-    assert!(text(&out.stdout).contains(&expected), "{}", text(&out.stdout));
+    assert!(
+        text(&out.stdout).contains(&expected),
+        "{}",
+        text(&out.stdout)
+    );
     let out = spreadlight(&["check", "--allow-unknown", patch]);
     assert_eq!(out.status.code(), Some(0), "{}", text(&out.stdout));
-    assert!(text(&out.stdout).starts_with("warning: "), "{}", text(&out.stdout));
+    assert!(
+        text(&out.stdout).starts_with("warning: "),
+        "{}",
+        text(&out.stdout)
+    );
 
     // render: bad input, nothing rendered.
     let out = spreadlight(&["render", patch, "-o", image, "--size", "32x18"]);
     assert_eq!(out.status.code(), Some(2), "{}", text(&out.stderr));
-    assert!(text(&out.stderr).contains(&expected), "{}", text(&out.stderr));
+    assert!(
+        text(&out.stderr).contains(&expected),
+        "{}",
+        text(&out.stderr)
+    );
     assert!(!Path::new(image).exists());
     // Allowed, it runs; the Output's error names the placeholder as the cause.
-    let out = spreadlight(&["render", "--allow-unknown", patch, "-o", image, "--size", "32x18"]);
+    let out = spreadlight(&[
+        "render",
+        "--allow-unknown",
+        patch,
+        "-o",
+        image,
+        "--size",
+        "32x18",
+    ]);
     let stderr = text(&out.stderr);
     assert_eq!(out.status.code(), Some(1), "{stderr}");
     assert!(
@@ -270,7 +290,14 @@ fn an_image_file_straight_into_an_output_renders() {
     let out = dir.path().join("out.png");
     let (width, height) = image::image_dimensions(&tiles).expect("tiles.png");
     let size = format!("{width}x{height}");
-    let o = spreadlight(&["render", patch, "-o", out.to_str().expect("utf-8"), "--size", &size]);
+    let o = spreadlight(&[
+        "render",
+        patch,
+        "-o",
+        out.to_str().expect("utf-8"),
+        "--size",
+        &size,
+    ]);
     assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
     let want = image::open(&tiles).expect("tiles").to_rgba8();
     let got = image::open(&out).expect("written").to_rgba8();

@@ -209,7 +209,11 @@ fn a_file_whose_only_primitive_is_refused_fails_and_writes_nothing() {
     let points = doc.positions(&[[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]);
     let mesh = doc.mesh(
         "Dots",
-        vec![primitive(&[(Semantic::Positions, points)], None, Mode::Points)],
+        vec![primitive(
+            &[(Semantic::Positions, points)],
+            None,
+            Mode::Points,
+        )],
     );
     let node = doc.node(mesh_node(Some(mesh), [0.0; 3], 1.0));
     doc.scene(vec![node]);

@@ -299,11 +299,12 @@ fn a_misspelled_type_inside_a_subpatch_names_the_sink_it_feeds() {
         assert_eq!(problem.kind, expect(sink));
     }
     assert!(
-        problems[0].to_string().contains(
-            "unknown node type (did you mean `Plus`?); kept as a placeholder"
-        ) && problems[0]
+        problems[0]
             .to_string()
-            .contains("so `Probe` #3, which it feeds, runs without its work"),
+            .contains("unknown node type (did you mean `Plus`?); kept as a placeholder")
+            && problems[0]
+                .to_string()
+                .contains("so `Probe` #3, which it feeds, runs without its work"),
         "{}",
         problems[0]
     );

@@ -481,7 +481,9 @@ fn an_error_outside_any_scope_is_reported_by_the_next_frame_not_a_panic() {
     assert_eq!(report.errors.len(), 1, "{:?}", report.errors);
     assert_eq!(report.errors[0].0, None);
     assert!(
-        report.errors[0].1.starts_with("GPU error outside any pass: ")
+        report.errors[0]
+            .1
+            .starts_with("GPU error outside any pass: ")
             && report.errors[0].1.contains("outside"),
         "{}",
         report.errors[0].1
@@ -508,11 +510,19 @@ fn requested_textures_can_be_copied_and_sampled() {
     fg.add_pass("bare", None, &[], &[("bare", bare)], |_| Ok(()));
     fg.request("bare");
     let planned = fg.planned("bare").expect("planned");
-    assert!(planned.usage.contains(spreadlight_render::frame_graph::READABLE));
+    assert!(
+        planned
+            .usage
+            .contains(spreadlight_render::frame_graph::READABLE)
+    );
     let (report, outputs) = fg.execute(&renderer).expect("executes");
     assert!(report.errors.is_empty(), "{:?}", report.errors);
     let texture = &outputs["bare"];
-    assert!(texture.usage().contains(spreadlight_render::frame_graph::READABLE));
+    assert!(
+        texture
+            .usage()
+            .contains(spreadlight_render::frame_graph::READABLE)
+    );
     let image = read_texture(&renderer.gpu, texture).expect("reads back");
     assert_eq!((image.width, image.height), (4, 4));
 }

@@ -85,7 +85,14 @@ impl ShaderLibrary {
         let mut places: Vec<String> = self
             .folders
             .iter()
-            .map(|f| format!("`{}`", std::path::absolute(f).unwrap_or_else(|_| f.clone()).display()))
+            .map(|f| {
+                format!(
+                    "`{}`",
+                    std::path::absolute(f)
+                        .unwrap_or_else(|_| f.clone())
+                        .display()
+                )
+            })
             .collect();
         places.push(format!(
             "the {} examples built in (shaders/nodes/)",
