@@ -313,6 +313,63 @@ fn an_image_file_straight_into_an_output_renders() {
     assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
 }
 
+/// Accuracy images go into a folder named for the effect, inside
+/// `accuracy-images/` (ignored by git) when `--images` names no folder:
+/// never loose in the current folder, as 85 of them once were in `1/`.
+#[test]
+fn accuracy_images_go_under_a_folder_named_for_the_effect() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let out = Command::new(env!("CARGO_BIN_EXE_spreadlight"))
+        .args([
+            "accuracy",
+            "ao",
+            "--time-size",
+            "16x16",
+            "--error-size",
+            "16x9",
+            "--warmup",
+            "0",
+            "--frames",
+            "1",
+            "--samples",
+            "4",
+            "--resolutions",
+            "full",
+            "--rays",
+            "4",
+            "--settle",
+            "1",
+            "--images",
+        ])
+        .current_dir(dir.path())
+        .output()
+        .expect("runs");
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    let listing = |path: &Path| -> Vec<String> {
+        let mut names: Vec<String> = std::fs::read_dir(path)
+            .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+            .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
+            .collect();
+        names.sort();
+        names
+    };
+    assert_eq!(listing(dir.path()), ["accuracy-images"]);
+    assert_eq!(listing(&dir.path().join("accuracy-images")), ["ao"]);
+    // The reference, and each estimator with temporal off and on.
+    assert_eq!(
+        listing(&dir.path().join("accuracy-images/ao")),
+        [
+            "HBAO-4-Full.png",
+            "HBAO-4-temporal-Full.png",
+            "SAO-4-Full.png",
+            "SAO-4-temporal-Full.png",
+            "Stochastic-4-Full.png",
+            "Stochastic-4-temporal-Full.png",
+            "reference.png",
+        ]
+    );
+}
+
 #[test]
 fn a_missing_file_is_named() {
     let out = spreadlight(&["check", "patches/no-such-patch.ron"]);
