@@ -69,7 +69,7 @@ fn evaluates_cleanly_for_120_frames(path: &std::path::Path) {
         // Patches with GPU nodes render at a small size on the test GPU (lavapipe in CI).
         let renderer = spreadlight_render::renderer::test_renderer();
         renderer.set_output_size((64, 36));
-        spreadlight_nodes::gpu::provide_renderer(&mut rt, renderer);
+        spreadlight_nodes::gpu::provide_renderer(&mut rt, renderer.clone());
         let images = std::sync::Arc::new(spreadlight_nodes::output::RenderedImages::default());
         rt.provide(images.clone());
         let problems = rt.load(&patch).to_vec();
@@ -101,6 +101,16 @@ fn evaluates_cleanly_for_120_frames(path: &std::path::Path) {
             );
             assert_eq!(stats.failed, 0);
         }
+        // What the renderer carries from frame to frame (histories, feedback
+        // targets) is state some node must declare, or a render of frames N..
+        // would not preroll and would differ from a run from frame 0.
+        let kept = renderer.persistent_names();
+        let (memory, _) = rt.network().memory();
+        assert!(
+            kept.is_empty() || memory == spreadlight_graph::Memory::Unbounded,
+            "{}: the renderer keeps {kept:?} from frame to frame, but the nodes declare {memory:?}",
+            path.display()
+        );
         assert!(
             !rt.probes().is_empty() || !images.names().is_empty(),
             "{}: an example should probe or render something",
@@ -113,10 +123,13 @@ fn evaluates_cleanly_for_120_frames(path: &std::path::Path) {
                 "{}: output {name} has NaN or infinity",
                 path.display()
             );
+            let lit = lit_pixels(&image);
+            let least = least_lit(path, image.pixels.len());
             assert!(
-                image.pixels.iter().any(|p| p[0] + p[1] + p[2] > 0.0),
-                "{}: output {name} is black",
-                path.display()
+                lit >= least,
+                "{}: output {name} is black: {lit} of {} pixels above luminance {LIT}, {least} needed",
+                path.display(),
+                image.pixels.len()
             );
         }
         for (name, value) in rt.probes() {
@@ -133,6 +146,80 @@ fn evaluates_cleanly_for_120_frames(path: &std::path::Path) {
             );
         }
     }
+}
+
+/// A pixel counts as lit above this linear luminance: about 8/255 once
+/// sRGB-encoded, plainly visible on a display, and far above what a clear
+/// colour's rounding or one stray filter tap leaves in an empty frame.
+const LIT: f32 = 1e-3;
+
+/// The least share of an output's pixels that must be lit for it not to be
+/// black: 1%, 24 pixels at 64x36. Every scene the examples draw covers far
+/// more (9% to 100% of the frame), so a broken pass that leaves a speck or
+/// a thin edge lit fails, where any one pixel above 0 passed before.
+const MIN_LIT_SHARE: f64 = 0.01;
+
+/// Examples whose image is sparse by design at the 64x36 of this test, so a
+/// share of the frame cannot be asked: the pixels they must still light,
+/// and why. Measured at 64x36: bench-particles lights 6 pixels at frame 119,
+/// bench-skinning 3 at frame 3.
+const SPARSE: &[(&str, usize, &str)] = &[
+    (
+        "bench-particles.ron",
+        4,
+        "a velocity view: only its moving particles show, each 0.02 units at 20 units' distance, sub-pixel",
+    ),
+    (
+        "bench-skinning.ron",
+        2,
+        "metallic tubes lit by one sun and no environment: only their highlights, a pixel wide",
+    ),
+];
+
+/// How many pixels of `image` are lit.
+fn lit_pixels(image: &spreadlight_render::readback::ImageF32) -> usize {
+    image
+        .pixels
+        .iter()
+        .filter(|p| 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2] > LIT)
+        .count()
+}
+
+/// How many of `pixels` an output of the example at `path` must light.
+fn least_lit(path: &std::path::Path, pixels: usize) -> usize {
+    let file = path.file_name().and_then(|f| f.to_str()).unwrap_or("");
+    SPARSE.iter().find(|(name, _, _)| *name == file).map_or(
+        (pixels as f64 * MIN_LIT_SHARE).ceil() as usize,
+        |&(_, least, _)| least,
+    )
+}
+
+#[test]
+fn the_black_threshold_counts_lit_pixels_not_a_speck() {
+    use spreadlight_render::readback::ImageF32;
+    let image = |lit: usize| ImageF32 {
+        width: 64,
+        height: 36,
+        pixels: (0..64 * 36)
+            .map(|i| {
+                if i < lit {
+                    [0.01, 0.01, 0.01, 1.0]
+                } else {
+                    [0.0004, 0.0004, 0.0004, 1.0]
+                }
+            })
+            .collect(),
+    };
+    // 0.0004 is above 0 (the old test's "not black") but below LIT.
+    assert_eq!(lit_pixels(&image(0)), 0);
+    assert_eq!(lit_pixels(&image(23)), 23);
+    let example = std::path::Path::new("patches/post.ron");
+    assert_eq!(least_lit(example, 64 * 36), 24, "1% of 2304, rounded up");
+    assert!(lit_pixels(&image(5)) < least_lit(example, 64 * 36));
+    assert_eq!(
+        least_lit(std::path::Path::new("patches/bench-skinning.ron"), 64 * 36),
+        2
+    );
 }
 
 /// The LFO example's numbers, worked out by hand: at frame 30 of 60 fps the

@@ -2,7 +2,7 @@
 //! sinks render again (the rest of the patch stays cached, as in real use);
 //! GPU times come from timestamp queries, medians over the timed frames, and
 //! the adapter is named beside every figure. Prints one JSON line with
-//! `--json` (the keys of shared/bench/README.md).
+//! `--json` (the keys docs/bench/scene.md names).
 //!
 //! What it reports: the GPU frame span and every pass in frame order (names
 //! may repeat), the idle time between them (span minus the passes' sum;
@@ -122,7 +122,7 @@ fn apply_set(patch: &mut spreadlight_graph::Patch, set: &str) -> anyhow::Result<
     Ok(())
 }
 
-/// The passes as a map of name to median (shared/bench/README.md's key), a
+/// The passes as a map of name to median (docs/bench/scene.md's `passes`), a
 /// name that repeats (the three SSSS passes of one node) numbered from its
 /// second time on, so no pass is lost.
 fn unique_names(passes: &[PassFigure]) -> serde_json::Map<String, serde_json::Value> {

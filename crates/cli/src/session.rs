@@ -7,7 +7,8 @@ use std::sync::Arc;
 use anyhow::Context;
 use spreadlight_graph::subpatch::Library;
 use spreadlight_graph::{
-    FrameClock, Network, NodeId, Patch, Problem, ProblemKind, Registry, Runtime, Severity, format,
+    FrameClock, Memory, Network, NodeId, Patch, Problem, ProblemKind, Registry, Runtime, Severity,
+    format,
 };
 use spreadlight_nodes::gpu::GPU_CATEGORIES;
 use spreadlight_nodes::output::RenderedImages;
@@ -61,6 +62,15 @@ pub fn needs_gpu(patch: &Patch, path: &Path, registry: &Registry) -> bool {
         .iter()
         .filter_map(|n| n.def.as_ref())
         .any(|def| GPU_CATEGORIES.contains(&&*def.category) || def.category.starts_with("Shader"))
+}
+
+/// How many earlier frames the nodes of the patch that run remember, and the
+/// node types that make it so ([`Network::memory`]): what a render that
+/// starts past frame 0 must evaluate first to match a run from frame 0.
+pub fn memory(patch: &Patch, path: &Path) -> (Memory, Vec<String>) {
+    let (registry, _) = registry_for(Some(path));
+    let library = Library::beside(path.parent().unwrap_or(Path::new("")));
+    Network::compile_with(patch, &registry, &library).memory()
 }
 
 /// The node types a patch can use: the built-in ones plus the shader nodes of

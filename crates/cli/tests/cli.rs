@@ -542,6 +542,78 @@ fn render_writes_png_and_exr() {
     }
 }
 
+/// The headline command, `spreadlight render PATCH -o out.png`, on every
+/// shipped example with an `Output` (found by listing `patches/`, so a new
+/// example is covered without touching this test), at 64x36: it exits 0 and
+/// writes one image of that size per Output, named by the Output's Name.
+#[test]
+fn render_succeeds_on_every_example_with_an_output() {
+    use spreadlight_graph::Spread;
+    let dir = tempfile::tempdir().expect("tempdir");
+    let mut examples: Vec<PathBuf> = std::fs::read_dir(root().join("patches"))
+        .expect("ls patches")
+        .map(|e| e.expect("entry").path())
+        .filter(|p| p.extension().is_some_and(|e| e == "ron"))
+        .collect();
+    examples.sort();
+    let mut rendered = Vec::new();
+    let mut failures = Vec::new();
+    for path in &examples {
+        let patch = spreadlight_graph::format::load(path).unwrap_or_else(|e| panic!("{e}"));
+        let names: Vec<String> = patch
+            .nodes
+            .iter()
+            .filter(|n| n.type_name == "Output")
+            .map(|n| match n.values.get("Name") {
+                Some(Spread::String(v)) => v.first().cloned().unwrap_or_default(),
+                _ => "output".to_owned(),
+            })
+            .collect();
+        if names.is_empty() {
+            continue;
+        }
+        let stem = path.file_stem().expect("stem").to_string_lossy();
+        let out = dir.path().join(format!("{stem}-{{name}}.png"));
+        let o = spreadlight(&[
+            "render",
+            path.to_str().expect("utf-8"),
+            "-o",
+            out.to_str().expect("utf-8"),
+            "--size",
+            "64x36",
+        ]);
+        if o.status.code() != Some(0) {
+            failures.push(format!(
+                "{}: exit {:?}\n{}",
+                path.display(),
+                o.status.code(),
+                text(&o.stderr)
+            ));
+            continue;
+        }
+        for name in &names {
+            let file = dir.path().join(format!("{stem}-{name}.png"));
+            match image::open(&file) {
+                Ok(i) if (i.width(), i.height()) == (64, 36) => {}
+                Ok(i) => failures.push(format!(
+                    "{}: {name} is {}x{}",
+                    file.display(),
+                    i.width(),
+                    i.height()
+                )),
+                Err(e) => failures.push(format!("{}: {e}", file.display())),
+            }
+        }
+        rendered.push(stem.into_owned());
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+    // The lister found the examples: shader-nodes.ron (seven Outputs, one of them 1x1) among them.
+    assert!(
+        rendered.iter().any(|s| s == "shader-nodes"),
+        "rendered only {rendered:?}"
+    );
+}
+
 #[test]
 fn render_without_an_adapter_says_how_to_get_one() {
     let dir = tempfile::tempdir().expect("tempdir");
@@ -739,10 +811,18 @@ fn shader_nodes_are_listed_and_a_broken_one_beside_a_patch_is_named_by_check() {
         "// @target out temporary rgba16float\n// @pass main -> out\nfn main( {\n",
     )
     .expect("write");
+    // The node has values and links for the pins the file will have once fixed.
     let patch = dir.path().join("uses-glow.ron");
     std::fs::write(
         &patch,
-        "(\n    version: 1,\n    nodes: [\n        (\n            id: 1,\n            type: \"Glow (Shader)\",\n            pos: (0.0, 0.0),\n        ),\n    ],\n    links: [],\n)\n",
+        r#"(version: 1, nodes: [
+            (id: 1, type: "Glow (Shader)", values: {"Radius": Float([2.0]), "Tint": Float([0.5])}),
+            (id: 2, type: "Noise (Shader)"),
+            (id: 3, type: "Output", values: {"Write": Bool([false])}),
+        ], links: [
+            (from: (2, "Texture"), to: (1, "Texture")),
+            (from: (1, "Texture"), to: (3, "Texture")),
+        ])"#,
     )
     .expect("write");
     let out = spreadlight(&["check", patch.to_str().expect("utf-8")]);
@@ -750,4 +830,15 @@ fn shader_nodes_are_listed_and_a_broken_one_beside_a_patch_is_named_by_check() {
     assert_eq!(out.status.code(), Some(1), "{stdout}");
     assert!(stdout.contains("glow.wgsl:3:"), "{stdout}");
     assert!(stdout.contains("WGSL syntax"), "{stdout}");
+    // The cause, once: no error for each value and link the pin-less node keeps.
+    assert_eq!(
+        stdout.lines().filter(|l| l.starts_with("error")).count(),
+        1,
+        "{stdout}"
+    );
+    assert!(
+        text(&out.stderr).contains("1 error(s)"),
+        "{}",
+        text(&out.stderr)
+    );
 }

@@ -177,6 +177,99 @@ fn a_killed_run_leaves_only_whole_frames_and_resumes() {
     }
 }
 
+/// Fault injection (`SPREADLIGHT_TEST_KILL_AT`, read by the writer alone):
+/// the run aborts, with no cleanup, between writing frame 3's temporary file
+/// and renaming it, and in another run between frames 3 and 4. What it left
+/// is whole frames and at most that temporary file; the resumed run removes
+/// the temporary file and ends with exactly the files of an uninterrupted
+/// run, byte for byte.
+#[test]
+fn a_run_killed_between_write_and_rename_or_between_frames_resumes_to_the_same_files() {
+    use std::os::unix::process::ExitStatusExt;
+    let dir = tempfile::tempdir().expect("tempdir");
+    let frames = ["--frames", "0-5"];
+    let whole = dir.path().join("whole");
+    ok(&render(SPHERES, &whole.join("shot_####.png"), &frames));
+    let expected = listing(&whole);
+    assert_eq!(expected.len(), 6, "{expected:?}");
+    for (point, left, partial) in [("after-write:3", 3, true), ("between-frames:3", 4, false)] {
+        let out = dir.path().join(point.replace(':', "-"));
+        let template = out.join("shot_####.png");
+        let patch = root().join(SPHERES);
+        let killed = command(&[
+            "render",
+            path(&patch),
+            "-o",
+            path(&template),
+            "--size",
+            "64x36",
+            "--frames",
+            "0-5",
+        ])
+        // Where a core dump of the abort would go, if the system writes one: not the repository.
+        .current_dir(dir.path())
+        .env("SPREADLIGHT_TEST_KILL_AT", point)
+        .output()
+        .expect("runs");
+        assert_eq!(
+            killed.status.signal(),
+            Some(6),
+            "{point}: not aborted (SIGABRT): {:?}\n{}",
+            killed.status,
+            text(&killed.stderr)
+        );
+        let names = listing(&out);
+        let (partials, files): (Vec<&String>, Vec<&String>) =
+            names.iter().partition(|n| n.starts_with('.'));
+        assert_eq!(
+            files,
+            expected[..left].iter().collect::<Vec<_>>(),
+            "{point}"
+        );
+        if partial {
+            assert_eq!(partials.len(), 1, "{point}: {names:?}");
+            assert!(
+                partials[0].starts_with(".shot_0003.png.") && partials[0].ends_with(".partial"),
+                "{point}: {names:?}"
+            );
+            // Written and synced before the abort: the whole frame, under its temporary name.
+            let bytes = std::fs::read(out.join(partials[0])).expect("read");
+            assert_eq!(
+                bytes,
+                std::fs::read(whole.join(&expected[3])).expect("read")
+            );
+        } else {
+            assert!(partials.is_empty(), "{point}: {names:?}");
+        }
+
+        let resumed = render(SPHERES, &template, &frames);
+        ok(&resumed);
+        assert_eq!(done(&resumed)["skipped"], left, "{point}");
+        assert_eq!(done(&resumed)["written"], 6 - left, "{point}");
+        assert_eq!(
+            listing(&out),
+            expected,
+            "{point}: the files of an uninterrupted run"
+        );
+        for name in &expected {
+            let read = |d: &Path| std::fs::read(d.join(name)).expect("read");
+            assert!(
+                read(&out) == read(&whole),
+                "{point}: {name} differs from the uninterrupted run"
+            );
+        }
+    }
+    let bad = command(&["render", SPHERES, "-o", path(&dir.path().join("x_#.png"))])
+        .env("SPREADLIGHT_TEST_KILL_AT", "sometime")
+        .output()
+        .expect("runs");
+    assert_eq!(
+        bad.status.code(),
+        Some(2),
+        "a kill point it cannot read is bad input"
+    );
+}
+
 #[test]
 fn a_failing_frame_is_reported_and_the_rest_go_on() {
     let dir = tempfile::tempdir().expect("tempdir");

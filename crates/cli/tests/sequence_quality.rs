@@ -10,6 +10,16 @@ const SPHERES: &str = "patches/gbuffer-spheres.ron";
 
 /// Renders `frames` of `patch` as EXR into `dir`; returns the folder.
 fn exr(patch: &str, dir: &std::path::Path, frames: &str, extra: &[&str]) -> std::path::PathBuf {
+    exr_told(patch, dir, frames, extra).0
+}
+
+/// [`exr`], and what the run said on stderr.
+fn exr_told(
+    patch: &str,
+    dir: &std::path::Path,
+    frames: &str,
+    extra: &[&str],
+) -> (std::path::PathBuf, String) {
     let out = dir.join(format!("{frames}{}", extra.join("")));
     let template = out.join("f_####.exr");
     let mut args = vec![
@@ -23,15 +33,36 @@ fn exr(patch: &str, dir: &std::path::Path, frames: &str, extra: &[&str]) -> std:
         frames,
     ];
     args.extend_from_slice(extra);
-    ok(&spreadlight(&args));
-    out
+    let run = spreadlight(&args);
+    ok(&run);
+    (out, text(&run.stderr))
+}
+
+/// The files under `dir` (in subfolders too), by their path relative to it, sorted.
+fn files_under(dir: &std::path::Path) -> Vec<std::path::PathBuf> {
+    let mut found = Vec::new();
+    let mut folders = vec![dir.to_path_buf()];
+    while let Some(folder) = folders.pop() {
+        for entry in std::fs::read_dir(&folder).expect("ls") {
+            let path = entry.expect("entry").path();
+            if path.is_dir() {
+                folders.push(path);
+            } else {
+                found.push(path.strip_prefix(dir).expect("under").to_path_buf());
+            }
+        }
+    }
+    found.sort();
+    found
 }
 
 /// patches/post.ron runs TAA, SSR and SSGI histories over moving balls; its
 /// Output declares a 32-frame preroll. A chunk starting at frame 68 (after
 /// that preroll) matches frames 68.. of a run from frame 0 within 0.03 in 99% of
 /// values and 0.002 on average (linear values; the histories converge
-/// geometrically); without the preroll it is over 3x further off. With no
+/// geometrically); without the preroll it is over 3x further off. With
+/// `--preroll all` a chunk past the declared preroll (frames 33-34) prerolls
+/// from frame 0 and its files are byte for byte the full run's. With no
 /// temporal node (gbuffer-spheres), a chunk is exact, sub-frames included.
 #[test]
 fn a_chunk_after_its_preroll_equals_the_full_run() {
@@ -61,11 +92,81 @@ fn a_chunk_after_its_preroll_equals_the_full_run() {
             "frame {f}: the preroll matters ({cold} vs {mean})"
         );
     }
+    let all = exr(
+        "patches/post.ron",
+        dir.path(),
+        "33-34",
+        &["--preroll", "all"],
+    );
+    assert_eq!(
+        files_under(&all),
+        ["f_0033.exr", "f_0034.exr"].map(std::path::PathBuf::from)
+    );
+    for file in files_under(&all) {
+        let same = std::fs::read(all.join(&file)).ok() == std::fs::read(full.join(&file)).ok();
+        assert!(
+            same,
+            "{}: the chunk from frame 0 differs from the full run",
+            file.display()
+        );
+    }
     let full = exr(SPHERES, dir.path(), "0-5", &["--samples", "2"]);
     let chunk = exr(SPHERES, dir.path(), "4-5", &["--samples", "2"]);
     for f in 4..6 {
         let name = format!("f_{f:04}.exr");
         assert_eq!(rgb(&full.join(&name)), rgb(&chunk.join(&name)), "frame {f}");
+    }
+}
+
+/// A patch whose nodes keep state from frame to frame (particles.ron's
+/// simulation; shader-nodes.ron's feedback trail and adapting luminance)
+/// and whose Outputs declare no Preroll: a chunk prerolls from frame 0 by
+/// default, says so, and writes byte for byte the files of a run from frame
+/// 0. `--preroll 0` opts out, and its frames differ: the preroll is what
+/// makes them equal. shader-nodes.ron runs at 2 frames a second so its noise
+/// drifts a few pixels a frame and the feedback's trail shows.
+#[test]
+fn a_chunk_of_a_stateful_patch_prerolls_from_frame_0_and_equals_the_full_run() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let cases: [(&str, &[&str], &str, &str, &str); 2] = [
+        ("patches/particles.ron", &[], "0-6", "5-6", "Particles"),
+        (
+            "patches/shader-nodes.ron",
+            &["--fps", "2"],
+            "0-4",
+            "3-4",
+            "Feedback (Shader)",
+        ),
+    ];
+    for (patch, extra, whole, part, stateful) in cases {
+        let dir = dir.path().join(patch.trim_start_matches("patches/"));
+        let full = exr(patch, &dir, whole, extra);
+        let (chunk, said) = exr_told(patch, &dir, part, extra);
+        let first = part.split('-').next().expect("first");
+        assert!(
+            said.contains("prerolling frames 0 to ") && said.contains(stateful),
+            "{patch}: no note of the preroll from frame 0 in:\n{said}"
+        );
+        let cold = exr(patch, &dir, part, &[extra, &["--preroll", "0"]].concat());
+        let files = files_under(&chunk);
+        assert!(
+            !files.is_empty() && files == files_under(&cold),
+            "{patch}: {files:?}"
+        );
+        let mut differ = 0;
+        for file in &files {
+            let read = |d: &std::path::Path| std::fs::read(d.join(file)).expect("read");
+            assert!(
+                read(&chunk) == read(&full),
+                "{patch}: {} of the chunk from frame {first} differs from the full run",
+                file.display()
+            );
+            differ += usize::from(read(&cold) != read(&full));
+        }
+        assert!(
+            differ > 0,
+            "{patch}: without the preroll nothing differs: the test shows nothing"
+        );
     }
 }
 

@@ -289,3 +289,72 @@ fn play_native_sizes_the_window_to_the_texture_one_to_one() {
         "{frames} frames before the screenshot: {stdout}"
     );
 }
+
+/// A source shader that fills its target with one colour.
+fn fill_shader(rgb: &str) -> String {
+    format!(
+        "// @target shown temporary rgba16float scale=1
+// @pass fill -> shown
+@group(0) @binding(0) var shown: texture_storage_2d<rgba16float, write>;
+@compute @workgroup_size(8, 8)
+fn fill(@builtin(global_invocation_id) id: vec3<u32>) {{
+    let size = textureDimensions(shown);
+    if (id.x >= size.x || id.y >= size.y) {{ return; }}
+    textureStore(shown, id.xy, vec4<f32>({rgb}, 1.0));
+}}
+"
+    )
+}
+
+/// `spreadlight play` reloads a shader file saved while the show runs, as the
+/// editor does: the window turns from the file's red to its green.
+#[test]
+fn play_shows_a_shader_file_saved_while_it_runs() {
+    let x = Xvfb::start();
+    let dir = tempfile::tempdir().expect("tempdir");
+    let shaders = dir.path().join("shaders");
+    std::fs::create_dir_all(&shaders).expect("mkdir");
+    let file = shaders.join("fill.wgsl");
+    std::fs::write(&file, fill_shader("1.0, 0.0, 0.0")).expect("write");
+    let mut p = spreadlight_graph::Patch::default();
+    p.add(spreadlight_graph::NodeDoc::new(1, "Fill (Shader)"));
+    p.add(spreadlight_graph::NodeDoc::new(2, "Output").with("Write", vec![false]));
+    p.link(1, "Texture", 2, "Texture");
+    let patch = dir.path().join("fill.ron");
+    spreadlight_graph::format::save(&p, &patch).expect("save");
+    let log = dir.path().join("play-stderr.txt");
+    let mut play = x
+        .spreadlight(&dir.path().join("config"))
+        .arg("play")
+        .arg(&patch)
+        .args(["--size", "160x90"])
+        .stdout(Stdio::null())
+        .stderr(std::fs::File::create(&log).expect("the log"))
+        .spawn()
+        .expect("play starts");
+    let input = Input::connect(&x);
+    wait_until(&input, &log, "the show window", &|| {
+        input.shown_window(160, 90).is_some()
+    });
+    let window = input.shown_window(160, 90).expect("the show window");
+    let (wx, wy, w, h) = input.geometry(window);
+    // The middle pixel as (r, g, b): the screen is 24-bit, 4 bytes a pixel, BGRX.
+    let middle = || {
+        let d = input.region(wx + w / 2, wy + h / 2, 1, 1);
+        (d[2], d[1], d[0])
+    };
+    wait_until(&input, &log, "the file's red", &|| middle() == (255, 0, 0));
+    // A different length, so the change shows within the file system's time resolution.
+    std::fs::write(&file, fill_shader("0.0, 1.0, 0.0") + "// saved again\n").expect("write");
+    wait_until(&input, &log, "the saved file's green", &|| {
+        middle() == (0, 255, 0)
+    });
+    assert_eq!(
+        play.try_wait().expect("status"),
+        None,
+        "play still runs; it printed: {}",
+        std::fs::read_to_string(&log).unwrap_or_default()
+    );
+    play.kill().expect("SIGKILL");
+    play.wait().expect("reaped");
+}

@@ -507,12 +507,7 @@ impl EditorApp {
         let ctx = ui.ctx().clone();
         self.handle_close(&ctx);
         let (now, dt) = ctx.input(|i| (i.time, f64::from(i.stable_dt)));
-        self.poll_shaders(now);
-        if self.shaders.is_watching() {
-            ctx.request_repaint_after(std::time::Duration::from_secs_f64(
-                crate::shader_watch::POLL_SECS,
-            ));
-        }
+        self.poll_shaders(&ctx);
         self.shortcuts(&ctx);
         self.evaluate_if_needed(&ctx, Some(dt), true);
 

@@ -1,7 +1,9 @@
-//! Hot reload of shader nodes in the editor: the shader folders of the open
-//! patch (its `shaders/` and the user library) are polled a few times a
-//! second; a saved file replaces its node type in the registry and the patch
-//! is recompiled, keeping links and values (docs/shader-nodes.md).
+//! Hot reload of shader nodes in the editor and in `spreadlight play` (the
+//! show window alone): the shader folders of the open patch (its `shaders/`
+//! and the user library) are polled a few times a second; a saved file
+//! replaces its node type in the registry and the patch is recompiled,
+//! keeping links and values (docs/shader-nodes.md). The polling and the
+//! reload are the nodes crate's [`ShaderLibrary`]; this adds the pace.
 
 use std::path::Path;
 

@@ -936,6 +936,19 @@ fn wait_for_poll(h: &mut Harness<'_, EditorApp>) {
 
 #[test]
 fn a_saved_shader_file_updates_its_node_keeping_links_and_values() {
+    saved_shader_files_reload(false);
+}
+
+/// `spreadlight play` runs the show window alone (the editor's app in show
+/// mode, no menus or status bar): it reloads a saved shader as the editor does.
+#[test]
+fn play_reloads_a_saved_shader_file_as_the_editor_does() {
+    saved_shader_files_reload(true);
+}
+
+/// A shader file saved three times (a new pin, then broken) while the patch
+/// runs, in the editor or in the show window (`show`).
+fn saved_shader_files_reload(show: bool) {
     let env = Env::new();
     let shaders = env.dir.path().join("shaders");
     std::fs::create_dir_all(&shaders).expect("mkdir");
@@ -952,7 +965,18 @@ fn a_saved_shader_file_updates_its_node_keeping_links_and_values() {
     p.link(2, "Texture", 3, "Texture");
     let path = env.patch_file("shaded.ron", &p);
     // Polling keeps the editor awake: step it rather than `run` it.
-    let mut h = harness(env.options(Some(path)));
+    let mut h = if show {
+        let mut h = common::editor_with(
+            env.options(Some(path)),
+            Vec2::new(640.0, 360.0),
+            40,
+            |app| app.set_show_mode(true),
+        );
+        h.run_steps(2);
+        h
+    } else {
+        harness(env.options(Some(path)))
+    };
     wait_for_poll(&mut h);
     let pins = |h: &Harness<'_, EditorApp>| -> Vec<String> {
         let def = h

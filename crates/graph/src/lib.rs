@@ -25,7 +25,7 @@ pub use document::{FORMAT_VERSION, LinkDoc, NodeDoc, NodeId, Patch, PinRef};
 pub use format::FormatError;
 pub use network::Network;
 pub use node::{AfterEvaluate, EvalContext, Node, NodeError, PatchDir, ProbeLog, Services};
-pub use registry::{NodeDef, PinDef, Registry};
+pub use registry::{Memory, NodeDef, PinDef, Registry};
 pub use runtime::Runtime;
 pub use snapshot::RuntimeSnapshot;
 pub use spread::{SliceValue, Spread};

@@ -12,7 +12,7 @@ use std::sync::Arc;
 
 use crate::diagnostics::{Problem, ProblemKind, Severity, link_text};
 use crate::document::{NodeId, Patch};
-use crate::registry::{NodeDef, Registry};
+use crate::registry::{Memory, NodeDef, Registry};
 use crate::spread::Spread;
 use crate::value::PinType;
 
@@ -165,6 +165,51 @@ impl Network {
 
     pub fn has_errors(&self) -> bool {
         self.problems.iter().any(|p| p.severity == Severity::Error)
+    }
+
+    /// How many earlier frames the outputs of the nodes that run depend on,
+    /// and the types of the nodes that make it so (sorted, once each): what
+    /// a render starting past frame 0 must evaluate first, and why. Memories
+    /// add up along a chain (a frame delay of a frame delay remembers two
+    /// frames); one unbounded node makes the whole network unbounded.
+    pub fn memory(&self) -> (Memory, Vec<String>) {
+        let add = |a: Memory, b: Memory| match (a, b) {
+            (Memory::Unbounded, _) | (_, Memory::Unbounded) => Memory::Unbounded,
+            (Memory::None, m) | (m, Memory::None) => m,
+            (Memory::Frames(x), Memory::Frames(y)) => Memory::Frames(x.saturating_add(y)),
+        };
+        // Nodes are in topological order: every link comes from an earlier node.
+        let mut upstream = vec![Memory::None; self.nodes.len()];
+        for (i, node) in self.nodes.iter().enumerate() {
+            let inputs = node
+                .inputs
+                .iter()
+                .filter_map(|input| match input {
+                    InputSource::Link { node, .. } => upstream.get(*node).copied(),
+                    InputSource::Constant(_) => None,
+                })
+                .max()
+                .unwrap_or(Memory::None);
+            let own = node.def.as_ref().map_or(Memory::None, |d| d.memory);
+            upstream[i] = add(own, inputs);
+        }
+        let running = |i: &usize| self.is_needed(*i);
+        let most = (0..self.nodes.len())
+            .filter(running)
+            .map(|i| upstream[i])
+            .max()
+            .unwrap_or(Memory::None);
+        let types: std::collections::BTreeSet<String> = (0..self.nodes.len())
+            .filter(running)
+            .filter_map(|i| self.nodes[i].def.as_ref())
+            .filter(|d| match most {
+                Memory::None => false,
+                Memory::Frames(_) => d.memory != Memory::None,
+                Memory::Unbounded => d.memory == Memory::Unbounded,
+            })
+            .map(|d| d.name.to_string())
+            .collect();
+        (most, types.into_iter().collect())
     }
 }
 
@@ -332,6 +377,9 @@ impl Compiler<'_> {
             .collect();
         for (pin, value) in &node.values {
             let Some(k) = def.input_index(pin) else {
+                if def.pins_unknown {
+                    continue;
+                }
                 let available = def.inputs.iter().map(|p| p.name.to_string()).collect();
                 self.problem(
                     Severity::Error,
@@ -417,6 +465,7 @@ impl Compiler<'_> {
             let input = match &to_def {
                 Some(def) => match def.input_index(link.to.pin()) {
                     Some(k) => Some(k),
+                    None if def.pins_unknown => continue,
                     None => {
                         let available = def.inputs.iter().map(|p| p.name.to_string()).collect();
                         let kind = ProblemKind::MissingInputPin { available };
@@ -442,6 +491,14 @@ impl Compiler<'_> {
                 continue;
             };
             let Some(output) = from_def.output_index(link.from.pin()) else {
+                if from_def.pins_unknown {
+                    // As from a placeholder: the input it feeds gets an empty spread.
+                    if let (Some(def), Some(k)) = (&to_def, input) {
+                        inputs[to][k] =
+                            InputSource::Constant(Arc::new(Spread::empty(def.inputs[k].ty)));
+                    }
+                    continue;
+                }
                 let available = from_def
                     .outputs
                     .iter()

@@ -16,6 +16,25 @@ use crate::value::{EnumDef, PinType};
 
 type Constructor = Arc<dyn Fn() -> Box<dyn Node> + Send + Sync>;
 
+/// How much of the past a node's outputs depend on beyond what the clock
+/// tells it: the frames evaluated before the current one. A render that
+/// starts at frame N must evaluate that much first (`spreadlight render`'s
+/// preroll) to give what a run from frame 0 gives. Ordered: `None` <
+/// `Frames(1)` < `Frames(2)` < ... < `Unbounded`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, PartialOrd, Ord)]
+pub enum Memory {
+    /// Its outputs follow from its inputs and the clock alone (a node that
+    /// reads the time, such as an LFO seeded from it, is here).
+    #[default]
+    None,
+    /// The last N frames: a frame delay, last frame's camera or transforms
+    /// for motion vectors.
+    Frames(u32),
+    /// Every frame since it started: a simulation, a filter, a history that
+    /// accumulates or adapts.
+    Unbounded,
+}
+
 /// A node type.
 #[derive(Clone)]
 pub struct NodeDef {
@@ -29,6 +48,13 @@ pub struct NodeDef {
     pub time_dependent: bool,
     /// Evaluation starts from sinks: outputs, renderers, previews, probes.
     pub sink: bool,
+    /// Its pins are not known now (a shader file that has never compiled):
+    /// values and links for pins it lacks are left out quietly, as a
+    /// placeholder's are, for the type that has them again; the node's own
+    /// error says why.
+    pub pins_unknown: bool,
+    /// How far back its outputs depend on earlier frames ([`Memory`]).
+    pub memory: Memory,
     constructor: Constructor,
 }
 
@@ -66,6 +92,8 @@ impl NodeDef {
             outputs: Vec::new(),
             time_dependent: false,
             sink: false,
+            pins_unknown: false,
+            memory: Memory::None,
             constructor: Arc::new(move || Box::new(Unimplemented(unimplemented.clone()))),
         }
     }
@@ -137,6 +165,24 @@ impl NodeDef {
 
     pub fn sink(mut self) -> Self {
         self.sink = true;
+        self
+    }
+
+    /// See [`NodeDef::pins_unknown`].
+    pub fn pins_unknown(mut self) -> Self {
+        self.pins_unknown = true;
+        self
+    }
+
+    /// Its outputs depend on every frame evaluated before ([`Memory::Unbounded`]).
+    pub fn stateful(mut self) -> Self {
+        self.memory = Memory::Unbounded;
+        self
+    }
+
+    /// Its outputs depend on the last `frames` frames evaluated ([`Memory::Frames`]).
+    pub fn remembers(mut self, frames: u32) -> Self {
+        self.memory = self.memory.max(Memory::Frames(frames));
         self
     }
 

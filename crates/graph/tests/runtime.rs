@@ -73,7 +73,15 @@ fn registry() -> Registry {
         NodeDef::new("Counter", "Test", "")
             .input("Input", 0.0f32)
             .output::<i64>("Runs")
+            .stateful()
             .construct(|| Counter(0)),
+    );
+    r.add(
+        NodeDef::new("Previous", "Test", "")
+            .input("Input", 0.0f32)
+            .output::<f32>("Output")
+            .remembers(1)
+            .per_slice1(|v: &f32| *v),
     );
     r.add(
         NodeDef::new("Sink", "Test", "")
@@ -123,6 +131,35 @@ fn probe(rt: &Runtime, name: &str) -> Spread {
         .get(name)
         .map(|s| (**s).clone())
         .unwrap_or_else(|| panic!("probe {name} recorded nothing"))
+}
+
+#[test]
+fn a_network_remembers_what_its_running_nodes_remember() {
+    use spreadlight_graph::{Memory, Network};
+    let memory = |p: &Patch| Network::compile(p, &registry()).memory();
+    let mut p = Patch::default();
+    p.add(NodeDoc::new(1, "Const"));
+    p.add(sink(2, "out"));
+    p.link(1, "Output", 2, "Input");
+    assert_eq!(memory(&p), (Memory::None, vec![]));
+    // A stateful node that reaches no sink never runs: it does not count.
+    p.add(NodeDoc::new(3, "Counter"));
+    assert_eq!(memory(&p), (Memory::None, vec![]));
+    p.add(NodeDoc::new(4, "Previous"));
+    p.add(sink(5, "previous"));
+    p.link(4, "Output", 5, "Input");
+    assert_eq!(memory(&p), (Memory::Frames(1), vec!["Previous".to_owned()]));
+    // Memories add up along a chain: the previous frame's previous frame.
+    p.add(NodeDoc::new(7, "Previous"));
+    p.add(sink(8, "previous previous"));
+    p.link(4, "Output", 7, "Input");
+    p.link(7, "Output", 8, "Input");
+    assert_eq!(memory(&p), (Memory::Frames(2), vec!["Previous".to_owned()]));
+    p.add(sink(6, "runs"));
+    p.link(3, "Runs", 6, "Input");
+    assert_eq!(memory(&p), (Memory::Unbounded, vec!["Counter".to_owned()]));
+    assert!(Memory::None < Memory::Frames(1) && Memory::Frames(1) < Memory::Frames(2));
+    assert!(Memory::Frames(u32::MAX) < Memory::Unbounded);
 }
 
 #[test]
@@ -389,6 +426,40 @@ fn an_unknown_node_type_is_a_placeholder_that_keeps_everything() {
     assert!(
         saved.contains("FutureNode") && saved.contains("\"Feedback\"") && saved.contains("Fast")
     );
+}
+
+/// A type whose pins are not known now (a shader file that never compiled)
+/// leaves out its values and links quietly: its one error is its own, and
+/// the type that has the pins again takes them all back.
+#[test]
+fn a_type_with_unknown_pins_keeps_its_values_and_links_without_a_problem_each() {
+    let mut broken = registry();
+    broken.replace(
+        NodeDef::new("Add", "Test", "its file does not compile")
+            .output::<f32>("Output")
+            .pins_unknown()
+            .evaluate(|_| Err(NodeError::Other("add.wgsl:3:9: the cause".into()))),
+    );
+    let mut p = Patch::default();
+    p.add(NodeDoc::new(1, "Const").with("Value", vec![2.0f32]));
+    p.add(NodeDoc::new(2, "Add").with("B", vec![5.0f32]));
+    p.add(sink(3, "out"));
+    p.link(1, "Output", 2, "A");
+    p.link(2, "Output", 3, "Input");
+    let mut rt = Runtime::new(broken);
+    assert_eq!(rt.load(&p).to_vec(), [], "no problem per value or link");
+    rt.evaluate(FrameClock::default());
+    let errors: Vec<String> = rt
+        .node_errors()
+        .map(|(id, e)| format!("{id}: {e}"))
+        .collect();
+    assert_eq!(errors, ["#2: add.wgsl:3:9: the cause"]);
+
+    // Fixed: the same document, every value and link back.
+    rt.set_registry(registry());
+    assert_eq!(rt.load(&p).to_vec(), []);
+    rt.evaluate(FrameClock::default());
+    assert_eq!(probe(&rt, "out"), Spread::Float(vec![7.0]));
 }
 
 #[test]

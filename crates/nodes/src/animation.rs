@@ -27,6 +27,8 @@ pub fn register(r: &mut Registry) {
         .output::<f32>("Output")
         .output::<i64>("Cycles")
         .time_dependent()
+        // Not `stateful`: a new LFO seeds its phase from the clock, so a render from frame N
+        // matches a run from 0 while Period, Pause and Reset are constant (patches/lfo-sine.ron).
         .construct(Lfo::default),
     );
 }

@@ -1,5 +1,5 @@
-//! `BenchLights` (category "Bench"): the light placement of the shared
-//! benchmark scene (shared/bench/README.md), exactly: xorshift64 from a seed,
+//! `BenchLights` (category "Bench"): the light placement of the benchmark
+//! scene (docs/bench/scene.md), exactly: xorshift64 from a seed,
 //! per light x, y, z, r, g, b in that order, so Spreadlight's picture and
 //! timings compare with Bevy's on the same lights.
 
@@ -59,7 +59,7 @@ pub fn register(r: &mut Registry) {
         NodeDef::new(
             "BenchLights",
             "Bench",
-            "The shared benchmark's point-light placement (shared/bench/README.md): Count lights from xorshift64 \
+            "The benchmark scene's point-light placement (docs/bench/scene.md): Count lights from xorshift64 \
              with Seed, x in -50..50, y in 0.5..3, z in -50..50, colour uniform in 0..1.",
         )
         .input("Count", 1000i64)
@@ -84,24 +84,70 @@ pub fn register(r: &mut Registry) {
 mod tests {
     use super::*;
 
+    /// The generator's first states from seed 1, worked from the scene's
+    /// definition (docs/bench/scene.md) outside this code: the first by hand,
+    /// s = 1; s ^= s << 13 (0x2001); s ^= s >> 7 (0x2041); s ^= s << 17
+    /// (0x4082_2041); the rest with the same three steps in another language.
+    const SEED_1_STATES: [u64; 12] = [
+        0x4082_2041,
+        0x1000_4106_0c01_1441,
+        0x9b1e_842f_6e86_2629,
+        0xf554_f503_555d_8025,
+        0x860c_1fb0_9059_9265,
+        0xf6b0_5302_e553_1801,
+        0xa246_0108_ebbd_9e71,
+        0xc62c_9fc1_14d9_590d,
+        0x7d3e_032e_9a79_08ff,
+        0x73a3_97e1_324c_252e,
+        0x1cca_c1c3_8a4c_36e4,
+        0xefad_64f8_379b_9789,
+    ];
+
     #[test]
-    fn the_sequence_is_the_benchmarks() {
-        // Seed 1: the first state after one step is 1 ^ 1<<13 ..., computed by hand once:
+    fn the_generator_follows_the_scene_definition() {
         let mut rng = Xorshift64::new(1);
-        let first = rng.next_u64();
-        let mut s: u64 = 1;
-        s ^= s << 13;
-        s ^= s >> 7;
-        s ^= s << 17;
-        assert_eq!(first, s);
+        let states: Vec<u64> = (0..12).map(|_| rng.next_u64()).collect();
+        assert_eq!(states, SEED_1_STATES);
+        // u = (s >> 11) / 2^53: the first state gives 0x4082_2041 >> 11 = 0x81044 = 528452.
+        let mut rng = Xorshift64::new(1);
+        assert_eq!(rng.next_unit(), 528_452.0 / 9_007_199_254_740_992.0);
+    }
+
+    #[test]
+    fn the_first_lights_are_the_scene_definitions() {
+        // Each light takes six u in the order x, y, z, r, g, b: x = -50 + 100u,
+        // y = 0.5 + 2.5u, z = -50 + 100u, r = g = b = u. From SEED_1_STATES,
+        // worked out outside this code in f64 and rounded to 8 or more digits:
+        let expected = [
+            (
+                [-49.999_999_994, 0.656_259_69, 10.593_439_25],
+                [0.958_327_59, 0.523_622_49, 0.963_628_0],
+            ),
+            (
+                [13.388_067_69, 2.435_296_02, -1.077_251_54],
+                [0.451_714_99, 0.112_468_82, 0.936_239_54],
+            ),
+        ];
+        let (positions, colors) = bench_lights(2, 1);
+        for (i, (position, color)) in expected.iter().enumerate() {
+            let got = [positions[i].x, positions[i].y, positions[i].z];
+            for (g, want) in got.iter().zip(position) {
+                // f32 near 50 is exact to about 4e-6.
+                assert!((f64::from(*g) - want).abs() < 1e-5, "light {i}: {got:?}");
+            }
+            let got = [colors[i].r, colors[i].g, colors[i].b, colors[i].a];
+            for (g, want) in got.iter().zip(color) {
+                assert!((f64::from(*g) - want).abs() < 1e-6, "light {i}: {got:?}");
+            }
+            assert_eq!(got[3], 1.0);
+        }
+        // 1,000 lights stay in the scene's ranges; another seed places them elsewhere.
         let (p, c) = bench_lights(1000, 1);
         assert_eq!(p.len(), 1000);
         assert!(p.iter().all(|p| (-50.0..50.0).contains(&p.x)
             && (0.5..3.0).contains(&p.y)
             && (-50.0..50.0).contains(&p.z)));
         assert!(c.iter().all(|c| (0.0..1.0).contains(&c.r)));
-        // Deterministic: the same seed gives the same lights.
-        assert_eq!(bench_lights(10, 1), bench_lights(10, 1));
         assert_ne!(bench_lights(10, 1).0, bench_lights(10, 2).0);
     }
 }

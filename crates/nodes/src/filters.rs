@@ -85,6 +85,7 @@ pub fn register(r: &mut Registry) {
         .input("Attack", 0.0f32)
         .input("Decay", 1.0f32)
         .output::<f32>("Output")
+        .stateful()
         .construct(|| Decay { state: Vec::new() }),
     );
 }
@@ -111,6 +112,7 @@ fn damper<T: Linear>(name: &'static str) -> NodeDef {
     .input("Filter Time", 1.0f32)
     .output::<T>("Position")
     .output::<T>("Velocity")
+    .stateful()
     .construct(|| Damper::<T> { state: Vec::new() })
 }
 
@@ -170,6 +172,7 @@ fn linear_filter<T: Linear>(name: &'static str) -> NodeDef {
     .input("Goal Position", T::ZERO)
     .input("Filter Time", 1.0f32)
     .output::<T>("Position")
+    .stateful()
     .construct(|| LinearFilter::<T> { state: Vec::new() })
 }
 
@@ -249,6 +252,7 @@ fn oscillator<T: Linear>(name: &'static str) -> NodeDef {
     .input("Damping", 0.2f32)
     .output::<T>("Position")
     .output::<T>("Velocity")
+    .stateful()
     .construct(|| Oscillator::<T> { state: Vec::new() })
 }
 

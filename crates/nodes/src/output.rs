@@ -1,8 +1,9 @@
 //! `Output`: the sink that renders. It builds the frame graph from the
 //! texture it is given (the graph culls every pass that does not lead to
-//! it), executes it at the renderer's output size, reads the image back, and
-//! writes it to its file (PNG, or EXR by extension) and to the host's
-//! [`RenderedImages`].
+//! it), executes it at the renderer's output size, reads the image back
+//! (stretched to the output size when the texture has another, as the show
+//! window draws it), and writes it to its file (PNG, or EXR by extension)
+//! and to the host's [`RenderedImages`].
 
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -24,6 +25,8 @@ pub static ENCODING: EnumDef = EnumDef {
 #[derive(Default)]
 pub struct RenderedImages {
     images: Mutex<BTreeMap<String, (ImageF32, Encoding)>>,
+    /// The size of the texture each Output was given, before it was stretched.
+    sources: Mutex<BTreeMap<String, (u32, u32)>>,
 }
 
 impl RenderedImages {
@@ -45,11 +48,25 @@ impl RenderedImages {
             .collect()
     }
 
-    fn put(&self, name: &str, image: ImageF32, encoding: Encoding) {
+    /// The size of the texture the `Output` named `name` was given (its
+    /// image is stretched to the output size when this differs).
+    pub fn source_size(&self, name: &str) -> Option<(u32, u32)> {
+        self.sources
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .get(name)
+            .copied()
+    }
+
+    fn put(&self, name: &str, image: ImageF32, encoding: Encoding, source: (u32, u32)) {
         self.images
             .lock()
             .unwrap_or_else(|e| e.into_inner())
             .insert(name.to_owned(), (image, encoding));
+        self.sources
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .insert(name.to_owned(), source);
     }
 }
 
@@ -59,9 +76,11 @@ pub fn register(r: &mut Registry) {
             "Output",
             "Output",
             "Renders its texture at the output size and writes it to Filename (PNG 8-bit, or 32-bit float EXR when \
-             the name ends in .exr) when Write is on. Only the passes its texture depends on run. Name names \
+             the name ends in .exr) when Write is on. A texture of another size (a 1x1 luminance, a half-resolution \
+             buffer) is stretched to the output size with bilinear filtering, as the show window draws it. Only the passes its texture depends on run. Name names \
              the sequence `spreadlight render` writes for it; Preroll declares how many frames its temporal \
-             effects and simulations need to settle, which a render of a chunk of frames evaluates first. \
+             effects and simulations need to settle, which a render of a chunk of frames evaluates first (0: \
+             none declared; a render then prerolls from frame 0 when a node keeps state). \
              Monitor (-1 or 0 and up) picks the monitor its show window opens on: `spreadlight play`, and \
              in the editor (F11 or the toolbar's Show window) when fullscreen; -1 leaves it to the window system.",
         )
@@ -107,11 +126,16 @@ pub fn register(r: &mut Registry) {
                 return Ok(());
             }
             let image = read_texture(&renderer.gpu, target).map_err(|e| NodeError::Other(e.to_string()))?;
+            // Hosts ask for an image of the output size (`render --size` writes files of that size and
+            // checks it): a texture of another size is drawn over it, as the show window draws it.
+            let source = (image.width, image.height);
+            let size = renderer.output_size();
+            let image = if source == size { image } else { image.resized(size) };
             if to_file {
                 write_image(&image, Path::new(&filename), encoding).map_err(|e| cx.input_error(1, e.to_string()))?;
             }
             if let Some(store) = store {
-                store.put(&name, image, encoding);
+                store.put(&name, image, encoding, source);
             }
             Ok(())
         }),

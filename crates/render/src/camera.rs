@@ -150,3 +150,29 @@ mod tests {
         assert_eq!(safe_inverse(Mat4::ZERO), Mat4::IDENTITY);
     }
 }
+
+/// The layout the shader sees (shaders/layout.rs).
+#[cfg(test)]
+mod wgsl_layout {
+    use super::*;
+
+    #[test]
+    fn gpu_camera_matches_camera_in_the_shader() {
+        crate::assert_wgsl_layout!(
+            GpuCamera,
+            "lighting/composite.wgsl",
+            [],
+            "Camera",
+            [
+                view,
+                view_inverse,
+                projection,
+                projection_inverse,
+                view_projection,
+                previous_view_projection,
+                position,
+                size
+            ]
+        );
+    }
+}

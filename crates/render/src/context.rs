@@ -206,3 +206,28 @@ fn required_limits(adapter: &wgpu::Limits, name: &str) -> Result<wgpu::Limits, R
         ..wgpu::Limits::default()
     })
 }
+
+/// Copy a mappable buffer's first `size` bytes to the CPU, waiting for the GPU.
+pub(crate) fn read_buffer(
+    gpu: &GpuContext,
+    buffer: &wgpu::Buffer,
+    size: u64,
+) -> Result<Vec<u8>, RenderError> {
+    let slice = buffer.slice(0..size);
+    let (tx, rx) = std::sync::mpsc::channel();
+    slice.map_async(wgpu::MapMode::Read, move |r| {
+        let _ = tx.send(r);
+    });
+    gpu.device
+        .poll(wgpu::PollType::wait_indefinitely())
+        .map_err(|e| RenderError::Readback(e.to_string()))?;
+    rx.recv()
+        .map_err(|e| RenderError::Readback(e.to_string()))?
+        .map_err(|e| RenderError::Readback(e.to_string()))?;
+    let data = slice
+        .get_mapped_range()
+        .map_err(|e| RenderError::Readback(e.to_string()))?
+        .to_vec();
+    buffer.unmap();
+    Ok(data)
+}

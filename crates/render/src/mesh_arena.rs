@@ -490,3 +490,31 @@ fn allocate(
         message: "the mesh arena could not grow".to_owned(),
     })
 }
+
+/// The layout the shader sees (shaders/layout.rs).
+#[cfg(test)]
+mod wgsl_layout {
+    use super::*;
+
+    #[test]
+    fn gpu_vertex_matches_vertex_in_the_shader() {
+        crate::assert_wgsl_layout!(
+            GpuVertex,
+            "gbuffer/resolve.wgsl",
+            [],
+            "Vertex",
+            [position_u, normal_v, tangent, previous_position]
+        );
+    }
+
+    #[test]
+    fn gpu_vertex_extra_matches_vertexextra_in_the_shader() {
+        crate::assert_wgsl_layout!(
+            GpuVertexExtra,
+            "gbuffer/resolve.wgsl",
+            ["VERTEX_EXTRAS"],
+            "VertexExtra",
+            [second_uv, color]
+        );
+    }
+}

@@ -21,6 +21,53 @@ impl ImageF32 {
     pub fn all_finite(&self) -> bool {
         self.pixels.iter().all(|p| p.iter().all(|c| c.is_finite()))
     }
+
+    /// This image stretched to `size` with bilinear filtering, as a GPU
+    /// sampler with clamp-to-edge addressing reads a texture drawn over a
+    /// target of `size` (texel centres at half-integers): what `Output`
+    /// hands on when its texture is not at the output size (a 1x1
+    /// luminance, a half-resolution buffer), so every host gets an image of
+    /// the size it asked for. The same size returns a copy.
+    pub fn resized(&self, size: (u32, u32)) -> ImageF32 {
+        let (width, height) = (size.0.max(1), size.1.max(1));
+        if (width, height) == (self.width, self.height) || self.pixels.is_empty() {
+            return ImageF32 {
+                width,
+                height,
+                pixels: if self.pixels.is_empty() {
+                    vec![[0.0; 4]; (width * height) as usize]
+                } else {
+                    self.pixels.clone()
+                },
+            };
+        }
+        // Where destination texel `i` of `to` samples a source of `from`
+        // texels: the two neighbours and the weight of the second.
+        let taps = |i: u32, from: u32, to: u32| {
+            let at =
+                ((i as f32 + 0.5) * from as f32 / to as f32 - 0.5).clamp(0.0, (from - 1) as f32);
+            let first = at.floor() as u32;
+            (first, (first + 1).min(from - 1), at - first as f32)
+        };
+        let xs: Vec<_> = (0..width).map(|x| taps(x, self.width, width)).collect();
+        let mut pixels = Vec::with_capacity((width * height) as usize);
+        for y in 0..height {
+            let (y0, y1, ty) = taps(y, self.height, height);
+            for &(x0, x1, tx) in &xs {
+                let lerp = |a: [f32; 4], b: [f32; 4], t: f32| {
+                    [0, 1, 2, 3].map(|c| a[c] + (b[c] - a[c]) * t)
+                };
+                let top = lerp(self.pixel(x0, y0), self.pixel(x1, y0), tx);
+                let bottom = lerp(self.pixel(x0, y1), self.pixel(x1, y1), tx);
+                pixels.push(lerp(top, bottom, ty));
+            }
+        }
+        ImageF32 {
+            width,
+            height,
+            pixels,
+        }
+    }
 }
 
 /// Copy `texture` (mip 0) to the CPU. Supports the formats the renderer writes:
@@ -227,4 +274,41 @@ pub fn render_and_read(
         })
         .collect::<Result<_, _>>()?;
     Ok((report, images))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn image(width: u32, height: u32, values: &[f32]) -> ImageF32 {
+        ImageF32 {
+            width,
+            height,
+            pixels: values.iter().map(|&v| [v, v, v, 1.0]).collect(),
+        }
+    }
+
+    fn reds(image: &ImageF32) -> Vec<f32> {
+        image.pixels.iter().map(|p| p[0]).collect()
+    }
+
+    #[test]
+    fn stretching_samples_texel_centres_with_clamped_edges() {
+        // 2 texels over 4: centres at 0.5, 1.5, 2.5, 3.5 of the target fall at
+        // -0.25 (clamped to 0), 0.25, 0.75 and 1.25 (clamped to 1) source texels.
+        let wide = image(2, 1, &[0.0, 1.0]).resized((4, 1));
+        assert_eq!((wide.width, wide.height), (4, 1));
+        assert_eq!(reds(&wide), [0.0, 0.25, 0.75, 1.0]);
+        // One texel is a constant of any size.
+        let flat = image(1, 1, &[0.3]).resized((3, 2));
+        assert_eq!(reds(&flat), [0.3; 6]);
+        // 4 texels over 2 (a shrink): each target texel lands between two sources.
+        let narrow = image(4, 1, &[0.0, 1.0, 3.0, 7.0]).resized((2, 1));
+        assert_eq!(reds(&narrow), [0.5, 5.0]);
+        // Vertical too: 1x2 over 1x4.
+        let tall = image(1, 2, &[2.0, 6.0]).resized((1, 4));
+        assert_eq!(reds(&tall), [2.0, 3.0, 5.0, 6.0]);
+        let same = image(2, 1, &[0.0, 1.0]);
+        assert_eq!(same.resized((2, 1)), same);
+    }
 }

@@ -17,7 +17,7 @@
 //! before the setting existed, so full-resolution images are bit-identical.
 
 use crate::error::RenderError;
-use crate::frame_graph::{FrameGraph, PassContext, SizeRule, TextureDesc};
+use crate::frame_graph::{Bindings, FrameGraph, PassContext, SizeRule, Tex, TextureDesc};
 use crate::gbuffer::GBuffer;
 use crate::shaders::ShaderKey;
 
@@ -123,52 +123,45 @@ impl UpsampleFormat {
     }
 }
 
-/// What an upsample reads and writes (frame-graph texture names).
-pub struct Upsample<'s> {
-    pub gbuffer: &'s GBuffer,
+/// What an upsample pass declared.
+struct UpsampleIo {
+    depth: Tex,
+    normals: Tex,
     /// The half-size result.
-    pub source: &'s str,
+    source: Tex,
     /// The full-size target.
-    pub output: &'s str,
-    pub format: UpsampleFormat,
+    output: Tex,
     /// Depth of field: the full-size sharp image and the circle of
     /// confusion, so in-focus pixels keep their full-resolution detail.
-    pub detail: Option<(&'s str, &'s str)>,
+    detail: Option<(Tex, Tex)>,
 }
 
-/// Record the depth-aware upsample of `u.source` into `u.output`.
-pub fn upsample(
+/// Record the depth-aware upsample of `io.source` into `io.output`.
+fn upsample(
     cx: &mut PassContext<'_>,
     label: &str,
-    u: &Upsample<'_>,
+    gbuffer: &GBuffer,
+    format: UpsampleFormat,
+    io: &UpsampleIo,
 ) -> Result<(), RenderError> {
-    let g = &u.gbuffer.targets;
-    let mut features = Vec::new();
-    if u.format == UpsampleFormat::R32 {
-        features.push("R32");
-    }
-    let mut views = vec![
-        (1, cx.view(&g.depth)?),
-        (2, cx.view(&g.normals)?),
-        (3, cx.view(u.source)?),
-        (4, cx.view(u.output)?),
+    let features = [
+        (format == UpsampleFormat::R32).then_some("R32"),
+        io.detail.map(|_| "DETAIL"),
     ];
-    if let Some((image, coc)) = u.detail {
-        features.push("DETAIL");
-        views.push((5, cx.view(image)?));
-        views.push((6, cx.view(coc)?));
+    let mut b = Bindings::new()
+        .buffer("camera", gbuffer.camera_buffer())
+        .texture("depth", io.depth)
+        .texture("normals", io.normals)
+        .texture("source", io.source)
+        .texture("output", io.output);
+    if let Some((image, coc)) = io.detail {
+        b = b.texture("image", image).texture("coc", coc);
     }
-    let mut all = vec![(0, u.gbuffer.camera_buffer().as_entire_binding())];
-    all.extend(
-        views
-            .iter()
-            .map(|(b, v)| (*b, wgpu::BindingResource::TextureView(v))),
-    );
-    let size = u.gbuffer.pixel_size(cx.output_size);
+    let size = gbuffer.pixel_size(cx.output_size);
     cx.dispatch_image(
         label,
-        &ShaderKey::new("resolution/upsample.wgsl", features),
-        &all,
+        &ShaderKey::new("resolution/upsample.wgsl", features.into_iter().flatten()),
+        b,
         size,
     )
 }
@@ -190,16 +183,21 @@ pub struct UpsamplePass<'s, 'g> {
     pub name: String,
     pub owner: Option<u32>,
     pub gbuffer: &'g GBuffer,
+    /// The half-size estimate (by convention [`written_target`] of `full`).
+    pub half: &'s str,
     pub full: &'s str,
     pub desc: TextureDesc,
     pub format: UpsampleFormat,
     pub counter: &'static str,
     /// The dispatch's debug label.
     pub label: &'static str,
+    /// Depth of field: the full-size sharp image and the circle of confusion
+    /// (frame-graph names), so in-focus pixels keep their full-resolution detail.
+    pub detail: Option<(&'s str, &'s str)>,
 }
 
-/// At Half, declare the depth-aware upsample of `written_target(full)`
-/// into `full` (nothing at Full, where the pass wrote `full` itself).
+/// At Half, declare the depth-aware upsample of `half` into `full`
+/// (nothing at Full, where the pass wrote `full` itself).
 pub fn declare_upsample<'a>(
     fg: &mut FrameGraph<'a>,
     resolution: Resolution,
@@ -208,24 +206,21 @@ pub fn declare_upsample<'a>(
     if !resolution.is_half() {
         return;
     }
-    let source = written_target(u.full, resolution);
     let g = &u.gbuffer.targets;
-    let reads = [source.as_str(), &g.depth, &g.normals];
-    let writes = [(u.full, u.desc)];
-    let (source, full) = (source.clone(), u.full.to_owned());
-    fg.add_pass(u.name, u.owner, &reads, &writes, move |cx| {
-        cx.count(u.counter, 1);
-        upsample(
-            cx,
-            u.label,
-            &Upsample {
-                gbuffer: u.gbuffer,
-                source: &source,
-                output: &full,
-                format: u.format,
-                detail: None,
-            },
-        )
+    let mut pass = fg.pass(u.name, u.owner);
+    let io = UpsampleIo {
+        source: pass.read(u.half),
+        depth: pass.read(&g.depth),
+        normals: pass.read(&g.normals),
+        detail: u
+            .detail
+            .map(|(image, coc)| (pass.read(image), pass.read(coc))),
+        output: pass.write(u.full, u.desc),
+    };
+    let (gbuffer, format, counter, label) = (u.gbuffer, u.format, u.counter, u.label);
+    pass.run(move |cx| {
+        cx.count(counter, 1);
+        upsample(cx, label, gbuffer, format, &io)
     });
 }
 

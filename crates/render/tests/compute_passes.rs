@@ -69,7 +69,7 @@ impl spreadlight_render::Recipe for Chain {
                     let source = if copied {
                         // Through the encoder: the open compute pass must end first
                         // (wgpu refuses an encoder with a pass open on it).
-                        let from = cx.texture(&input)?.clone();
+                        let from = cx.texture_named(&input)?.clone();
                         let scratch = cx.gpu.device.create_texture(&wgpu::TextureDescriptor {
                             label: Some("copy"),
                             size: from.size(),
@@ -88,10 +88,10 @@ impl spreadlight_render::Recipe for Chain {
                         );
                         scratch.create_view(&Default::default())
                     } else {
-                        cx.view(&input)?
+                        cx.view_named(&input)?
                     };
-                    let output = cx.view(&output)?;
-                    cx.dispatch_image(
+                    let output = cx.view_named(&output)?;
+                    cx.dispatch_image_numbered(
                         "hop",
                         &ShaderKey::new("post/copy.wgsl", []),
                         &[

@@ -73,7 +73,7 @@ fn a_pass_with_two_outputs_knows_which_the_frame_reads() {
             move |cx| {
                 s.lock()
                     .expect("lock")
-                    .push((cx.is_read("left"), cx.is_read("right")));
+                    .push((cx.is_read_named("left"), cx.is_read_named("right")));
                 Ok(())
             },
         );
@@ -332,7 +332,7 @@ fn persistent_textures_keep_their_history_across_frames() {
             &[],
             &[("history", target().lifetime(Lifetime::Persistent))],
             move |cx| {
-                *seen.lock().expect("lock") = Some(cx.is_fresh("history"));
+                *seen.lock().expect("lock") = Some(cx.is_fresh_named("history"));
                 Ok(())
             },
         );
@@ -573,6 +573,7 @@ fn a_readback_past_the_adapter_s_largest_buffer_is_refused_naming_the_limit() {
 /// A frame of three dependent compute passes that fill, add to and scale an
 /// image, so recording and timing modes can be compared on real work.
 fn arithmetic_frame(renderer: &spreadlight_render::Renderer) -> Vec<[f32; 4]> {
+    use spreadlight_render::frame_graph::Bindings;
     use spreadlight_render::readback::render_and_read;
     use spreadlight_render::shaders::ShaderKey;
     struct Chain;
@@ -581,30 +582,25 @@ fn arithmetic_frame(renderer: &spreadlight_render::Renderer) -> Vec<[f32; 4]> {
             // A seeded image, then two hops of post/copy.wgsl.
             let mut seeded = target();
             seeded.usage |= wgpu::TextureUsages::COPY_DST;
-            fg.add_pass("seed", None, &[], &[("s0", seeded)], |cx| {
-                seed_ramp(cx, &cx.texture("s0")?.clone());
+            let mut pass = fg.pass("seed", None);
+            let s0 = pass.write("s0", seeded);
+            pass.run(move |cx| {
+                seed_ramp(cx, &cx.texture(s0)?.clone());
                 Ok(())
             });
             for (from, to) in [("s0", "s1"), ("s1", "s2")] {
-                fg.add_pass(
-                    format!("copy {to}"),
-                    None,
-                    &[from],
-                    &[(to, target())],
-                    move |cx| {
-                        let input = cx.view(from)?;
-                        let output = cx.view(to)?;
-                        cx.dispatch_image(
-                            "copy",
-                            &ShaderKey::new("post/copy.wgsl", []),
-                            &[
-                                (0, wgpu::BindingResource::TextureView(&input)),
-                                (1, wgpu::BindingResource::TextureView(&output)),
-                            ],
-                            (8, 8),
-                        )
-                    },
-                );
+                let mut pass = fg.pass(format!("copy {to}"), None);
+                let (source, output) = (pass.read(from), pass.write(to, target()));
+                pass.run(move |cx| {
+                    cx.dispatch_image(
+                        "copy",
+                        &ShaderKey::new("post/copy.wgsl", []),
+                        Bindings::new()
+                            .texture("source", source)
+                            .texture("output", output),
+                        (8, 8),
+                    )
+                });
             }
         }
     }
@@ -741,14 +737,14 @@ fn renamed_frame(renderer: &spreadlight_render::Renderer, frame: u32) -> Vec<[f3
             let mut seeded = target();
             seeded.usage |= wgpu::TextureUsages::COPY_DST;
             fg.add_pass("seed", Some(7), &[], &[(s0, seeded)], move |cx| {
-                seed_ramp(cx, &cx.texture(s0)?.clone());
+                seed_ramp(cx, &cx.texture_named(s0)?.clone());
                 Ok(())
             });
             // Two passes of one name (as SSSS declares its three blurs).
             for (from, to) in [(s0, s1), (s1, s2)] {
                 fg.add_pass("copy", Some(7), &[from], &[(to, target())], move |cx| {
-                    let (input, output) = (cx.view(from)?, cx.view(to)?);
-                    cx.dispatch_image(
+                    let (input, output) = (cx.view_named(from)?, cx.view_named(to)?);
+                    cx.dispatch_image_numbered(
                         "copy",
                         &ShaderKey::new("post/copy.wgsl", []),
                         &[
@@ -833,8 +829,8 @@ fn temporal_frame_requesting(
         from: &str,
         to: &str,
     ) -> Result<(), spreadlight_render::RenderError> {
-        let (input, output) = (cx.view(from)?, cx.view(to)?);
-        cx.dispatch_image(
+        let (input, output) = (cx.view_named(from)?, cx.view_named(to)?);
+        cx.dispatch_image_numbered(
             "copy",
             &ShaderKey::new("post/copy.wgsl", []),
             &[
@@ -853,7 +849,7 @@ fn temporal_frame_requesting(
             let value = self.0;
             fg.add_pass("seed", None, &[], &[("now", seeded)], move |cx| {
                 let texel = [half::f16::from_f32(value).to_le_bytes(); 4].concat();
-                let t = cx.texture("now")?.clone();
+                let t = cx.texture_named("now")?.clone();
                 cx.gpu.queue.write_texture(
                     t.as_image_copy(),
                     &texel.repeat(64),
@@ -878,7 +874,7 @@ fn temporal_frame_requesting(
                     ("read previous", target()),
                 ],
                 |cx| {
-                    cx.copy_history("history", "previous")?;
+                    cx.copy_history_named("history", "previous")?;
                     copy(cx, "previous", "read previous")?;
                     copy(cx, "now", "history")
                 },
@@ -897,7 +893,7 @@ fn temporal_frame_requesting(
                 |cx| {
                     copy(cx, "kept", "read kept")?;
                     copy(cx, "now", "output")?;
-                    cx.keep_as_history("output", "kept")
+                    cx.keep_as_history_named("output", "kept")
                 },
             );
             fg.add_pass("after", None, &["output"], &[("shown", target())], |cx| {
@@ -970,4 +966,103 @@ fn a_history_whose_twin_the_caller_takes_is_copied_and_still_right() {
         assert_eq!(report.counter(HISTORIES_COPIED), 1, "{:?}", report.counters);
         assert_eq!(report.counter(HISTORIES_HANDED_OVER), 1);
     }
+}
+
+/// One pass's errors after a frame of `declare`, requesting `wanted`.
+fn frame_errors(declare: impl FnOnce(&mut FrameGraph<'_>), wanted: &str) -> Vec<String> {
+    let renderer = test_renderer();
+    let mut fg = FrameGraph::new((8, 8));
+    declare(&mut fg);
+    fg.request(wanted);
+    let (report, _) = fg.execute(&renderer).expect("executes");
+    report.errors.into_iter().map(|(_, e)| e).collect()
+}
+
+/// A pass resolves only the handles of what it declared: another pass's
+/// texture, even one alive at that moment, is an error naming it.
+#[test]
+fn a_pass_reaches_only_the_textures_it_declared() {
+    let errors = frame_errors(
+        |fg| {
+            let mut pass = fg.pass("a", None);
+            let a = pass.write("a", target());
+            pass.run(|_| Ok(()));
+            let mut pass = fg.pass("b", None);
+            pass.read("a");
+            pass.write("b", target());
+            pass.run(|_| Ok(()));
+            let mut pass = fg.pass("c", Some(3));
+            pass.read("b");
+            pass.write("c", target());
+            pass.run(move |cx| cx.view(a).map(|_| ()));
+        },
+        "c",
+    );
+    assert_eq!(errors.len(), 1, "{errors:?}");
+    assert!(
+        errors[0].contains("pass `c`") && errors[0].contains("`a`, which it did not declare"),
+        "{errors:?}"
+    );
+}
+
+/// A temporary whose last reader has recorded is back in the pool and gone
+/// from the frame: even a look-up by name cannot reach its memory.
+#[test]
+fn a_returned_temporary_leaves_the_frame() {
+    let errors = frame_errors(
+        |fg| {
+            fg.add_pass("a", None, &[], &[("t1", target())], |_| Ok(()));
+            fg.add_pass("b", None, &["t1"], &[("t2", target())], |_| Ok(()));
+            fg.add_pass("c", None, &["t2"], &[("t3", target())], |cx| {
+                cx.texture_named("t1").map(|_| ())
+            });
+        },
+        "t3",
+    );
+    assert_eq!(errors.len(), 1, "{errors:?}");
+    assert!(errors[0].contains("`t1` is not available"), "{errors:?}");
+}
+
+/// Bindings by name: a name the shader never declares (a typo) and a
+/// variable the shader uses that the pass left unbound are errors naming
+/// the variable, not a validation error about binding numbers.
+#[test]
+fn bindings_by_name_name_a_typo_and_a_missing_variable() {
+    use spreadlight_render::frame_graph::Bindings;
+    use spreadlight_render::shaders::ShaderKey;
+    let copy = |typo: bool| {
+        move |fg: &mut FrameGraph<'_>| {
+            let mut pass = fg.pass("source", None);
+            pass.write("s", target());
+            pass.run(|_| Ok(()));
+            let mut pass = fg.pass("copy", Some(5));
+            let (source, output) = (pass.read("s"), pass.write("o", target()));
+            pass.run(move |cx| {
+                let bindings = Bindings::new().texture("output", output);
+                let bindings = match typo {
+                    true => bindings.texture("sourc", source),
+                    false => bindings,
+                };
+                cx.dispatch_image(
+                    "copy",
+                    &ShaderKey::new("post/copy.wgsl", []),
+                    bindings,
+                    (8, 8),
+                )
+            });
+        }
+    };
+    let errors = frame_errors(copy(true), "o");
+    assert!(
+        errors.len() == 1 && errors[0].contains("binds `sourc`, which the shader does not declare"),
+        "{errors:?}"
+    );
+    let errors = frame_errors(copy(false), "o");
+    assert!(
+        errors.len() == 1
+            && errors[0].contains(
+                "`source` (group 0, binding 0) is used by the shader but no pass binds it"
+            ),
+        "{errors:?}"
+    );
 }

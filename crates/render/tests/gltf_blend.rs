@@ -5,7 +5,8 @@
 //! inner pixel is checked against glTF's colour and coverage:
 //! c = factor x texel x COLOR_0, a = the three alphas' product, and the
 //! result background x (1 - a) + c x a. Turned away, the quad shows only
-//! when its material is double-sided.
+//! when its material is double-sided. A second frame binds the material
+//! world's groups made in the first.
 
 mod post_common;
 
@@ -15,6 +16,7 @@ use glam::{Mat4, Vec3};
 use gltf_json as json;
 use post_common::*;
 use spreadlight_render::camera::CameraInput;
+use spreadlight_render::frame_graph::FrameReport;
 use spreadlight_render::gbuffer::{DrawBatch, GBuffer, InstanceInput, Layer, LayerFeatures};
 use spreadlight_render::material::MaterialWorld;
 use spreadlight_render::mesh::gltf_import::builder::{Doc, info, png};
@@ -151,34 +153,41 @@ fn layer(renderer: &Renderer, scene: &GltfScene, transform: Mat4) -> Arc<Layer> 
 /// (ambient 1, no key light).
 fn composite(model: &[u8], transform: Mat4) -> Vec<[f32; 4]> {
     let renderer = test_renderer();
+    let (_, pass) = scene(&renderer, model, transform);
+    render(&renderer, pass.as_ref(), &pass.output, SIZE)
+        .1
+        .pixels
+}
+
+/// [`composite`]'s recipe, and the G-buffer under it.
+fn scene(renderer: &Renderer, model: &[u8], transform: Mat4) -> (Arc<GBuffer>, Arc<Transparency>) {
     let scene = load_gltf_slice(model, None).expect("loads");
     assert_eq!(scene.materials[0].alpha_mode, AlphaMode::Blend);
     assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
     // Nothing opaque: the G-buffer's depth is the far plane everywhere.
     let g = GBuffer::new(
-        &renderer,
+        renderer,
         None,
         vec![],
         camera(),
         None,
         SizeRule::Relative(1.0),
     );
-    let background = image(&renderer, SIZE, |_, _| BACKGROUND);
+    let background = image(renderer, SIZE, |_, _| BACKGROUND);
     let settings = TransparencySettings {
         ambient: Vec3::ONE,
         light_color: Vec3::ZERO,
         ..Default::default()
     };
     let pass = Transparency::new(
-        &renderer,
+        renderer,
         None,
         background.texture_ref(),
-        g,
-        vec![layer(&renderer, &scene, transform)],
+        g.clone(),
+        vec![layer(renderer, &scene, transform)],
         settings,
     );
-    let (_, out) = render(&renderer, pass.as_ref(), &pass.output, SIZE);
-    out.pixels
+    (g, pass)
 }
 
 fn check(tex_coord: u32) {
@@ -246,4 +255,41 @@ fn blend_culls_back_faces_unless_double_sided() {
         "a double-sided quad's back shows: {} pixels",
         differing(&double_sided)
     );
+}
+
+#[test]
+fn blend_binds_the_material_groups_it_made_before() {
+    let renderer = test_renderer();
+    let (g, pass) = scene(&renderer, &model(0, false), Mat4::IDENTITY);
+    // The G-buffer's frame alone, twice: the groups its own passes make and reuse.
+    render(&renderer, g.as_ref(), &g.targets.depth, SIZE);
+    let (opaque, _) = render(&renderer, g.as_ref(), &g.targets.depth, SIZE);
+    let mut first = None;
+    for frame in 0..2 {
+        let (report, out) = render(&renderer, pass.as_ref(), &pass.output, SIZE);
+        if frame > 0 {
+            // The accumulation binds the camera, the mesh arena, the
+            // material world's buffers and its maps' arrays by name,
+            // through the cache: the same resources are the same groups.
+            let counter = |r: &FrameReport, name| r.counter(name);
+            assert_eq!(
+                counter(&report, "bind groups created"),
+                counter(&opaque, "bind groups created"),
+                "{:?}",
+                report.counters
+            );
+            // Beyond the G-buffer's: the accumulation's groups 0 to 3, the
+            // targets' clear's and the resolve's.
+            assert_eq!(
+                counter(&report, "bind groups reused") - counter(&opaque, "bind groups reused"),
+                6,
+                "{:?}",
+                report.counters
+            );
+        }
+        match &first {
+            None => first = Some(out),
+            Some(image) => assert!(image.pixels == out.pixels, "the same image"),
+        }
+    }
 }

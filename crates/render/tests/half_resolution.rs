@@ -19,7 +19,7 @@ use spreadlight_render::occlusion::{AmbientOcclusion, AoMode, AoSettings};
 use spreadlight_render::post::{Dof, DofSettings, Focus};
 use spreadlight_render::readback::{ImageF32, render_and_read};
 use spreadlight_render::renderer::test_renderer;
-use spreadlight_render::resolution::{Resolution, Upsample, UpsampleFormat, upsample};
+use spreadlight_render::resolution::{Resolution, UpsampleFormat, UpsamplePass, declare_upsample};
 use spreadlight_render::scenes::{balls_on_floor, with_materials};
 use spreadlight_render::static_texture::StaticTexture;
 use spreadlight_render::{Recipe, Renderer, SizeRule};
@@ -387,27 +387,20 @@ impl Recipe for UpsampleOnly {
         }
         self.g.declare(renderer, fg);
         self.half.declare(renderer, fg);
-        let t = &self.g.targets;
-        fg.add_pass(
-            "upsample",
-            None,
-            &[&self.half_name, &t.depth, &t.normals],
-            &[(
-                &self.output,
-                TextureDesc::storage(wgpu::TextureFormat::Rgba16Float),
-            )],
-            move |cx| {
-                upsample(
-                    cx,
-                    "upsample",
-                    &Upsample {
-                        gbuffer: &self.g,
-                        source: &self.half_name,
-                        output: &self.output,
-                        format: UpsampleFormat::Rgba16,
-                        detail: None,
-                    },
-                )
+        declare_upsample(
+            fg,
+            Resolution::Half,
+            UpsamplePass {
+                name: "upsample".to_owned(),
+                owner: None,
+                gbuffer: &self.g,
+                half: &self.half_name,
+                full: &self.output,
+                desc: TextureDesc::storage(wgpu::TextureFormat::Rgba16Float),
+                format: UpsampleFormat::Rgba16,
+                counter: "upsampled",
+                label: "upsample",
+                detail: None,
             },
         );
     }

@@ -33,8 +33,13 @@ pub fn partial_path(path: &Path) -> PathBuf {
     ))
 }
 
-/// Write `bytes` to `path` atomically: a temporary file, synced, renamed over `path`.
-pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+/// Write `bytes` to `path` atomically: a temporary file, synced, renamed over
+/// `path`. `before_rename` runs between the two (the fault-injection hook).
+pub fn write_atomic(
+    path: &Path,
+    bytes: &[u8],
+    before_rename: impl FnOnce(),
+) -> std::io::Result<()> {
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir)?;
     }
@@ -43,6 +48,7 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
         let mut file = std::fs::File::create(&partial)?;
         file.write_all(bytes)?;
         file.sync_all()?;
+        before_rename();
         std::fs::rename(&partial, path)
     })();
     if result.is_err() {
@@ -122,7 +128,7 @@ mod tests {
     fn atomic_writes_leave_only_the_file_and_sweeps_spare_live_writers() {
         let dir = tempfile::tempdir().expect("tempdir");
         let target = dir.path().join("a/shot_0001.png");
-        write_atomic(&target, b"whole").expect("write");
+        write_atomic(&target, b"whole", || {}).expect("write");
         assert_eq!(std::fs::read(&target).expect("read"), b"whole");
         let names: Vec<_> = std::fs::read_dir(target.parent().expect("dir"))
             .expect("ls")

@@ -37,6 +37,47 @@ impl FromStr for Span {
     }
 }
 
+/// `--preroll`: a number of frames, or `all` (from frame 0).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Preroll {
+    Frames(u64),
+    /// Every frame before, from frame 0: what a run from the start evaluates.
+    All,
+}
+
+impl Preroll {
+    /// As [`FrameRange::start_for`] takes it: `All` is more steps than any frame has before it.
+    pub fn frames(self) -> u64 {
+        match self {
+            Preroll::Frames(n) => n,
+            Preroll::All => u64::MAX,
+        }
+    }
+}
+
+impl FromStr for Preroll {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, String> {
+        if s.trim().eq_ignore_ascii_case("all") {
+            return Ok(Preroll::All);
+        }
+        s.trim()
+            .parse()
+            .map(Preroll::Frames)
+            .map_err(|_| format!("`{s}` is not a preroll: write a number of frames or `all`"))
+    }
+}
+
+impl fmt::Display for Preroll {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Preroll::Frames(n) => write!(f, "{n}"),
+            Preroll::All => f.write_str("all"),
+        }
+    }
+}
+
 impl fmt::Display for FrameRange {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         write!(f, "{}-{}", self.first, self.last)?;
@@ -103,5 +144,12 @@ mod tests {
         assert_eq!(range("0-100", 1).start_for(3, 8), 0);
         assert_eq!(range("0-100", 2).start_for(50, 4), 42);
         assert_eq!(range("10-100", 1).start_for(12, 0), 12);
+        // All: from frame 0, or the first frame of the step's grid.
+        let all = Preroll::All.frames();
+        assert_eq!(range("0-100", 1).start_for(50, all), 0);
+        assert_eq!(range("2-100", 3).start_for(50, all), 2);
+        assert_eq!("all".parse::<Preroll>(), Ok(Preroll::All));
+        assert_eq!("12".parse::<Preroll>(), Ok(Preroll::Frames(12)));
+        assert!("-1".parse::<Preroll>().is_err());
     }
 }

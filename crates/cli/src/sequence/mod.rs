@@ -1,13 +1,14 @@
 //! Sequences: `spreadlight render PATCH --frames 0-239 -o out/shot_####.exr`.
 //! A frame range at a fixed frame rate, one sequence per `Output` node,
 //! resumable (complete frames are skipped) and deterministic in chunks (a
-//! chunk first evaluates the preroll its patch declares or `--preroll`
-//! asks), each file written atomically, a failing frame reported while the
+//! chunk first evaluates the preroll `--preroll` asks or its patch declares,
+//! else from frame 0 when its nodes keep state), each file written atomically, a failing frame reported while the
 //! rest go on. Optional sub-frame accumulation (`--samples`) and video
 //! through ffmpeg. The farm (tools/farm) hands chunks of this command out.
 
 pub mod accumulate;
 mod evaluate;
+mod fault;
 mod files;
 pub mod frames;
 mod names;

@@ -7,13 +7,14 @@ use std::process::ExitCode;
 
 use anyhow::Context;
 use serde_json::json;
-use spreadlight_graph::format;
+use spreadlight_graph::{Memory, format};
 use spreadlight_render::image_io::{encode_image, is_exr};
 
 use super::BadInput;
 use super::evaluate::{Evaluator, Timing};
+use super::fault::KillAt;
 use super::files::{is_complete, sweep_partials, write_atomic};
-use super::frames::{FrameRange, Span};
+use super::frames::{FrameRange, Preroll, Span};
 use super::names::{Target, VideoKind};
 use super::outputs::{Declared, declared};
 use super::progress::{Progress, Status};
@@ -43,9 +44,11 @@ pub struct Args {
     #[arg(long, default_value_t = 60.0)]
     pub fps: f64,
     /// Frames evaluated, not written, before the first frame rendered, so temporal effects and
-    /// simulations settle as in a run from frame 0 (default: the largest Preroll of the patch's Outputs).
+    /// simulations are as in a run from frame 0: a number, or `all` (from frame 0). Default: the
+    /// largest Preroll of the patch's Outputs; without one, what its nodes remember (all, from
+    /// frame 0, when a node keeps state: particles, feedback, filters, TAA...). 0 skips it.
     #[arg(long)]
-    pub preroll: Option<u64>,
+    pub preroll: Option<Preroll>,
     /// Sub-frame renders averaged per frame: each at its own instant across the shutter (motion
     /// blur) with its own sub-pixel camera offset (anti-aliasing).
     #[arg(long, default_value_t = 1)]
@@ -102,7 +105,9 @@ struct Plan {
     range: FrameRange,
     target: Target,
     outputs: Vec<Declared>,
-    preroll: u64,
+    preroll: Preroll,
+    /// Why the preroll is from frame 0 when nothing asked for it: the nodes that keep state.
+    stateful: Option<String>,
     timing: Timing,
 }
 
@@ -145,9 +150,18 @@ impl Plan {
                 args.patch.display()
             )));
         }
-        let preroll = args
-            .preroll
-            .unwrap_or_else(|| outputs.iter().map(|o| o.preroll).max().unwrap_or(0));
+        let declared = outputs.iter().map(|o| o.preroll).max().unwrap_or(0);
+        let (preroll, stateful) = match args.preroll {
+            Some(preroll) => (preroll, None),
+            None if declared > 0 => (Preroll::Frames(declared), None),
+            // Nothing declared: what the nodes remember decides, so a chunk is what a run
+            // from frame 0 gives (a simulation, a feedback or a filter started late is not).
+            None => match crate::session::memory(&patch, &args.patch) {
+                (Memory::None, _) => (Preroll::Frames(0), None),
+                (Memory::Frames(n), _) => (Preroll::Frames(u64::from(n)), None),
+                (Memory::Unbounded, types) => (Preroll::All, Some(types.join(", "))),
+            },
+        };
         let timing = Timing {
             fps: args.fps,
             step: args.step,
@@ -159,6 +173,7 @@ impl Plan {
             target,
             outputs,
             preroll,
+            stateful,
             timing,
         })
     }
@@ -186,7 +201,11 @@ impl Plan {
             "patch": args.patch.display().to_string(),
             "first": self.range.first, "last": self.range.last, "step": self.range.step,
             "size": format!("{}x{}", args.size.0, args.size.1),
-            "fps": args.fps, "samples": args.samples, "preroll": self.preroll,
+            "fps": args.fps, "samples": args.samples,
+            "preroll": match self.preroll {
+                Preroll::Frames(n) => json!(n),
+                Preroll::All => json!("all"),
+            },
             "outputs": self.names(), "to_render": todo,
         })
     }
@@ -232,6 +251,7 @@ fn render_frames(args: &Args, plan: &Plan) -> anyhow::Result<bool> {
         .iter()
         .flat_map(|&f| plan.files(f).into_iter().map(|(_, p)| p))
         .collect();
+    let kill = KillAt::from_env().map_err(bad)?;
     let swept = sweep_partials(&targets);
     // One image is always rendered anew: only a sequence resumes.
     let overwrite = args.overwrite || matches!(plan.target, Target::Image(_));
@@ -269,6 +289,7 @@ fn render_frames(args: &Args, plan: &Plan) -> anyhow::Result<bool> {
         args.size.1,
         evaluator.adapter()
     ));
+    note_preroll(&progress, plan, &todo);
     let mut failed = Vec::new();
     let mut next: Option<u64> = None;
     for &frame in &todo {
@@ -279,7 +300,7 @@ fn render_frames(args: &Args, plan: &Plan) -> anyhow::Result<bool> {
             for (rendered, (_, path)) in images.iter().zip(&files) {
                 let bytes = encode_image(&rendered.image, rendered.encoding, is_exr(path))
                     .map_err(|e| vec![format!("cannot encode {}: {e}", path.display())])?;
-                write_atomic(path, &bytes)
+                write_atomic(path, &bytes, || kill.after_write(frame))
                     .map_err(|e| vec![format!("cannot write {}: {e}", path.display())])?;
             }
             Ok(())
@@ -297,17 +318,33 @@ fn render_frames(args: &Args, plan: &Plan) -> anyhow::Result<bool> {
         } else {
             progress.frame(frame, Status::Written, seconds, &shown(&files));
         }
+        kill.between_frames(frame);
     }
     let written = todo.len() - failed.len();
     progress.finish(json!({"written": written, "skipped": done.len(), "failed": failed}));
     Ok(!failed.is_empty())
 }
 
+/// Say why a render starts evaluating at frame 0 when nothing asked for it:
+/// it costs those frames, and `--preroll` bounds or skips them.
+fn note_preroll(progress: &Progress, plan: &Plan, todo: &[u64]) {
+    let Some(types) = &plan.stateful else { return };
+    let Some(&first) = todo.first() else { return };
+    let start = plan.range.start_for(first, plan.preroll.frames());
+    if start < first {
+        progress.note(&format!(
+            "prerolling frames {start} to {} before frame {first}: {types} keep state from frame to frame and no \
+             Output declares a Preroll (`--preroll N` or a Preroll pin bounds it, `--preroll 0` skips it)",
+            first - plan.range.step
+        ));
+    }
+}
+
 /// Evaluate, without writing, the frames `frame` needs before it: its
 /// preroll, or the frames since the last one rendered when that is nearer
 /// (the run stays continuous, as a full run would be).
 fn preroll(evaluator: &mut Evaluator, plan: &Plan, next: &mut Option<u64>, frame: u64) {
-    let start = plan.range.start_for(frame, plan.preroll);
+    let start = plan.range.start_for(frame, plan.preroll.frames());
     let from = match *next {
         Some(n) if n >= start && n <= frame => n,
         _ => start,
@@ -352,6 +389,7 @@ fn render_video(args: &Args, plan: &Plan, kind: VideoKind) -> anyhow::Result<boo
             return Err(e);
         }
     };
+    note_preroll(&progress, plan, &frames);
     let mut next = None;
     for &frame in &frames {
         preroll(&mut evaluator, plan, &mut next, frame);

@@ -6,8 +6,11 @@ use super::*;
 
 impl EditorApp {
     /// Pick up saved shader files: their node types are replaced and the
-    /// patch recompiled, keeping links and values; errors go to the status bar.
-    pub(super) fn poll_shaders(&mut self, now: f64) {
+    /// patch recompiled, keeping links and values; errors go to the status bar
+    /// (and, in the show window, which has none, to standard error). The editor
+    /// and `spreadlight play` both call it once a frame.
+    pub(super) fn poll_shaders(&mut self, ctx: &egui::Context) {
+        let now = ctx.input(|i| i.time);
         if let Some(changes) = self.shaders.poll(now, &mut self.registry) {
             self.worker.submit(Request {
                 registry: Some(self.registry.clone()),
@@ -16,6 +19,15 @@ impl EditorApp {
             self.sent_generation = None;
             self.synced_generation = None;
             self.status = self.shaders.describe(&changes);
+            if self.show_mode {
+                eprintln!("{}", self.status);
+            }
+        }
+        // A paused patch repaints only on input: wake up for the next look.
+        if self.shaders.is_watching() {
+            ctx.request_repaint_after(std::time::Duration::from_secs_f64(
+                crate::shader_watch::POLL_SECS,
+            ));
         }
     }
 

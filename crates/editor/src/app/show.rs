@@ -4,6 +4,7 @@
 //! its monitor: `--monitor N`, else the `Monitor` pin of the patch's first
 //! `Output` (-1 leaves the window where the window system put it). With
 //! `--native` the window takes the texture's pixel size (`show_window.rs`).
+//! Saved shader files reload here too, as in the editor (`shader_watch.rs`).
 
 use std::sync::Mutex;
 
@@ -108,6 +109,8 @@ impl EditorApp {
         if ctx.input_mut(|i| i.consume_key(Modifiers::NONE, Key::Escape)) {
             ctx.send_viewport_cmd(ViewportCommand::Close);
         }
+        // A show is tuned while it runs: saved shader files reload as in the editor.
+        self.poll_shaders(&ctx);
         let dt = ctx.input(|i| f64::from(i.stable_dt));
         self.evaluate_if_needed(&ctx, Some(dt), true);
         egui::CentralPanel::default()

@@ -39,6 +39,7 @@ pub fn register(r: &mut Registry) {
         .input("Run", false)
         .input("Reset", false)
         .output::<f32>("Time")
+        .stateful()
         .construct(|| Stopwatch {
             elapsed: Vec::new(),
         }),
@@ -65,6 +66,7 @@ fn timeliner() -> NodeDef {
     .input("Loop End", 10.0f32)
     .output::<f32>("Time")
     .output::<bool>("Playing")
+    .stateful()
     .construct(|| Timeliner { time: Vec::new() })
 }
 

@@ -79,6 +79,8 @@ pub fn register(r: &mut Registry) {
         )
         .input("Instance from GeomFX", false)
         .output_typed("Layer", PinType::Resource(ResourceKind::Layer))
+        // Last frame's transforms, for per-object velocity.
+        .remembers(1)
         .construct(DeferredBase::default),
     );
 }

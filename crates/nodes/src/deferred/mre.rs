@@ -39,6 +39,8 @@ pub fn register(r: &mut Registry) {
         .input_enum("Raster", &RASTER, "Auto")
         .input("Publish Depth", String::new())
         .output_typed("G-Buffer", PinType::Resource(ResourceKind::GBuffer))
+        // Last frame's camera, for the velocity buffer.
+        .remembers(1)
         .construct(Mre::default),
     );
 }

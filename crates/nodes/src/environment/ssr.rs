@@ -42,6 +42,8 @@ pub fn register(r: &mut Registry) {
         .input("Thickness", d.thickness)
         .input("Reset", false))
         .output_typed("Texture", PinType::Resource(ResourceKind::Texture))
+        // Temporal history (with Temporal on) and rays turned by a count of its own frames.
+        .stateful()
         .evaluate(|cx| {
             let d = SsrSettings::default();
             for pin in [7, 8] {

@@ -118,6 +118,8 @@ pub fn register(r: &mut Registry) {
             8,
         )
         .output_typed("Texture", PinType::Resource(ResourceKind::Texture))
+        // Temporal accumulation, and sample patterns turned by a count of its own frames.
+        .stateful()
         .evaluate(|cx| {
             let renderer = renderer(cx)?;
             let mode = match cx.enum_slices(1)?.first().map(String::as_str) {
@@ -150,6 +152,8 @@ pub fn register(r: &mut Registry) {
             8,
         )
         .output_typed("Texture", PinType::Resource(ResourceKind::Texture))
+        // Temporal accumulation, and sample patterns turned by a count of its own frames.
+        .stateful()
         .evaluate(|cx| {
             let renderer = renderer(cx)?;
             let s = settings(cx, 2, AoMode::Hbao)?;

@@ -33,6 +33,8 @@ pub fn register(r: &mut Registry) {
         .input("Blur Radius", i64::from(d.blur_radius))
         .input("Reset", false))
         .output_typed("Texture", PinType::Resource(ResourceKind::Texture))
+        // Temporal accumulation, and rays turned by a count of its own frames.
+        .stateful()
         .evaluate(|cx| {
             let renderer = renderer(cx)?;
             let d = SsgiSettings::default();

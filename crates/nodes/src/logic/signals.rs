@@ -31,6 +31,7 @@ pub fn register(r: &mut Registry) {
         .input("Input", false)
         .output::<bool>("Up Edge")
         .output::<bool>("Down Edge")
+        .remembers(1)
         .construct(|| TogEdge { last: Vec::new() }),
     );
     r.add(
@@ -44,6 +45,7 @@ pub fn register(r: &mut Registry) {
         .input("Reset", false)
         .output::<bool>("Output")
         .output::<bool>("Inverse Output")
+        .stateful()
         .construct(|| FlipFlop { state: Vec::new() }),
     );
     r.add(
@@ -56,6 +58,7 @@ pub fn register(r: &mut Registry) {
         .input("Input", false)
         .input("Reset", false)
         .output::<bool>("Output")
+        .stateful()
         .construct(|| Toggle {
             state: Vec::new(),
             last: Vec::new(),
@@ -81,6 +84,7 @@ pub fn register(r: &mut Registry) {
         .input("Reset", false)
         .output::<i64>("Output")
         .output::<bool>("Overflow")
+        .stateful()
         .construct(Counter::default),
     );
     r.add(
@@ -94,6 +98,7 @@ pub fn register(r: &mut Registry) {
         .input("Time", 1.0f32)
         .input("Retriggerable", false)
         .output::<bool>("Output")
+        .stateful()
         .construct(|| MonoFlop {
             until: Vec::new(),
             last: Vec::new(),
@@ -122,6 +127,7 @@ fn change<T: SliceValue + PartialEq>(name: &'static str, default: T) -> NodeDef 
     )
     .input("Input", default)
     .output::<bool>("Output")
+    .remembers(1)
     .construct(|| Change::<T> { last: None })
 }
 

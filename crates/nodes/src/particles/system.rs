@@ -140,6 +140,7 @@ pub fn register(r: &mut Registry) {
         .input("Depth Thickness", 0.5f32)
         .output_typed("Mesh", PinType::Resource(ResourceKind::Mesh))
         .time_dependent()
+        .stateful()
         .construct(Particles::default),
     );
 }

@@ -23,6 +23,7 @@ pub fn register(r: &mut Registry) {
         .input("Speed", 5.0f32)
         .output_typed("Focus", PinType::Resource(ResourceKind::Texture))
         .time_dependent()
+        .stateful()
         .evaluate(|cx| {
             let renderer = renderer(cx)?;
             let g = gbuffer(cx, 0, "autofocus reads the depth under its point")?;

@@ -25,6 +25,7 @@ pub fn register(r: &mut Registry) {
         .input("Maximum", defaults.max_luminance)
         .output_typed("Luminance", PinType::Resource(ResourceKind::Texture))
         .time_dependent()
+        .stateful()
         .evaluate(|cx| {
             let renderer = renderer(cx)?;
             let source = resources::<TextureRef>(cx, 0)?.into_iter().next().ok_or_else(|| cx.input_error(0, "no texture connected"))?;

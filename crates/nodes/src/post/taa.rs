@@ -39,6 +39,7 @@ pub fn register(r: &mut Registry) {
         .input("Reset", false)
         .input("Cut Distance", 1.0f32)
         .output_typed("Texture", PinType::Resource(ResourceKind::Texture))
+        .stateful()
         .construct(TaaNode::default),
     );
 }

@@ -103,6 +103,9 @@ impl ShaderType {
         if self.time_dependent() {
             def = def.time_dependent();
         }
+        if self.stateful() {
+            def = def.stateful();
+        }
         let ty = self.clone();
         let error = error.map(|e| NodeError::Other(e.to_string()));
         def.construct(move || ShaderNode::new(ty.clone(), error.clone()))
@@ -177,5 +180,7 @@ pub fn broken_def(name: &str, error: &ShaderNodeError) -> NodeDef {
         format!("Shader node whose file does not compile: {message}"),
     )
     .output_typed("Texture", PinType::Resource(ResourceKind::Texture))
+    // Its values and links wait, without a problem each, for the file to compile.
+    .pins_unknown()
     .construct(move || Broken(message.clone()))
 }

@@ -7,7 +7,11 @@
 //! [`ShaderLibrary::poll`] looks at the folders' files (their modification
 //! time and size: cheap enough to call a few times a second) and swaps every
 //! changed type in the registry. A file that breaks keeps its last good
-//! version registered, with the error shown on its nodes.
+//! version registered (this library's, else the shipped example it
+//! overrides), with the error shown on its nodes; one that never compiled is
+//! a node without pins that keeps its values and links for the fixed file. A
+//! version that compiles keeps the one it replaced, to run where it cannot
+//! (a device limit).
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -193,15 +197,27 @@ impl ShaderLibrary {
         name: &str,
         loaded: Result<Arc<ShaderType>, ShaderNodeError>,
     ) {
+        // The last good version: this library's, else the shipped example
+        // the file overrides.
+        let good = self
+            .good
+            .get(name)
+            .cloned()
+            .or_else(|| super::shipped(name));
         match loaded {
             Ok(ty) => {
+                if let Some(good) = &good {
+                    ty.keep_previous(good);
+                }
                 registry.replace(ty.node_def(None));
                 self.errors.remove(name);
                 self.good.insert(name.to_owned(), ty);
             }
             Err(error) => {
-                let def = match self.good.get(name) {
+                let def = match good {
                     Some(good) => good.node_def(Some(error.clone())),
+                    // Never compiled: a pin-less node that shows the error
+                    // once and keeps its values and links for the fixed file.
                     None => broken_def(name, &error),
                 };
                 registry.replace(def);

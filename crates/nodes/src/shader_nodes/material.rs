@@ -6,11 +6,12 @@
 
 use std::sync::Arc;
 
-use spreadlight_graph::{EvalContext, NodeError, ResourceKind};
+use spreadlight_graph::{EvalContext, ResourceKind};
 use spreadlight_render::TextureRef;
 use spreadlight_render::gbuffer::{Layer, SurfaceBinding, SurfaceShader};
 use spreadlight_render::shader_nodes::{Builtin, Role};
 
+use super::node::Failure;
 use super::params::{numbers, slice_defines, write_param};
 use super::shader_type::ShaderType;
 use crate::gpu::{resource_spread, resources};
@@ -18,7 +19,7 @@ use crate::gpu::{resource_spread, resources};
 /// The Layer input pin.
 const LAYER: usize = 0;
 
-pub(super) fn evaluate(ty: &Arc<ShaderType>, cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
+pub(super) fn evaluate(ty: &Arc<ShaderType>, cx: &mut EvalContext<'_>) -> Result<(), Failure> {
     let layers = resources::<Layer>(cx, LAYER)?;
     let first_texture = ty.first_texture();
     let mut textures = Vec::with_capacity(ty.notes.inputs.len());
@@ -26,7 +27,7 @@ pub(super) fn evaluate(ty: &Arc<ShaderType>, cx: &mut EvalContext<'_>) -> Result
         let pin = first_texture + k;
         let t = resources::<TextureRef>(cx, pin)?;
         if t.is_empty() {
-            return Err(cx.input_error(pin, "no texture connected"));
+            return Err(cx.input_error(pin, "no texture connected").into());
         }
         textures.push(t);
     }
@@ -45,9 +46,7 @@ pub(super) fn evaluate(ty: &Arc<ShaderType>, cx: &mut EvalContext<'_>) -> Result
     let mut compiled = 0;
     for slice in 0..count {
         let defines = slice_defines(ty, cx, first + params.len(), slice);
-        let (program, fresh) = ty
-            .program(&defines)
-            .map_err(|e| NodeError::Other(e.to_string()))?;
+        let (program, fresh) = ty.program(&defines).map_err(Failure::Shader)?;
         compiled += u64::from(fresh);
         programs.push(program);
     }

@@ -315,6 +315,25 @@ fn broken_imports_and_materials_name_their_file_line_and_column() {
             "m.wgsl:1:4:",
             "has no render targets",
         ),
+        // In a file composed with its imports too: a type error at the
+        // value, naga's validation at the expression (f32 + u32), not at the
+        // statement or function around it.
+        (
+            &*material(
+                "fn surface(in: SurfaceInput) -> SurfaceOutput {\n    var o = surface_default(in);\n    \
+                 let r: f32 = in.uv;\n    return o;\n}\n",
+            ),
+            "m.wgsl:6:18:",
+            "WGSL type: the type of `r` is expected to be `f32`",
+        ),
+        (
+            &*material(
+                "fn surface(in: SurfaceInput) -> SurfaceOutput {\n    var o = surface_default(in);\n    \
+                 o.roughness = 0.5 * (in.uv.x + in.pixel.x);\n    return o;\n}\n",
+            ),
+            "m.wgsl:6:26:",
+            "validation: ",
+        ),
     ];
     for (text, place, what) in cases {
         let err = match ShaderType::load("M (Shader)", "m.wgsl", text) {

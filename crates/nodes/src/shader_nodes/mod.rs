@@ -55,6 +55,14 @@ pub fn register(r: &mut Registry) {
     }
 }
 
+/// The shipped example named `name` (a type name), if it compiled.
+fn shipped(name: &str) -> Option<Arc<ShaderType>> {
+    examples()
+        .iter()
+        .find(|(n, _)| n == name)
+        .and_then(|(_, loaded)| loaded.as_ref().ok().cloned())
+}
+
 /// A shipped example's node type name and what loading it gave.
 type LoadedExample = (String, Result<Arc<ShaderType>, ShaderNodeError>);
 

@@ -4,7 +4,7 @@
 
 use std::collections::{BTreeSet, HashMap};
 use std::sync::atomic::{AtomicU64, Ordering};
-use std::sync::{Arc, Mutex};
+use std::sync::{Arc, Mutex, OnceLock};
 
 use spreadlight_render::frame_graph::Lifetime;
 use spreadlight_render::shader_nodes::{
@@ -24,6 +24,11 @@ pub struct ShaderType {
     permutations: Mutex<HashMap<BTreeSet<String>, Arc<Program>>>,
     /// Permutations compiled, the default one included (statistics).
     compiled: AtomicU64,
+    /// The version of the file this one replaced, when its node has the same
+    /// pins: it runs in this one's place where this one cannot (a permutation
+    /// that does not compile, a device limit), as a file that does not
+    /// compile keeps its last good version. One level only: it has none itself.
+    previous: OnceLock<Arc<ShaderType>>,
 }
 
 /// `edge_detect.wgsl` -> `EdgeDetect (Shader)`.
@@ -76,9 +81,63 @@ impl ShaderType {
             base: base.clone(),
             permutations: Mutex::new(HashMap::from([(defaults, base)])),
             compiled: AtomicU64::new(1),
+            previous: OnceLock::new(),
         };
         ty.check_skips()?;
         Ok(Arc::new(ty))
+    }
+
+    /// Run `previous` where this version cannot, if its node has the same
+    /// pins (so the node's inputs mean the same to both); whether it was kept.
+    pub fn keep_previous(&self, previous: &ShaderType) -> bool {
+        self.pin_signature() == previous.pin_signature()
+            && self.previous.set(Arc::new(previous.detached())).is_ok()
+    }
+
+    /// What the node's pins are made of (def.rs), in order: two versions
+    /// alike here make nodes with the same pins.
+    fn pin_signature(&self) -> Vec<String> {
+        let mut pins = vec![format!("material {}", self.is_material())];
+        pins.extend(self.notes.inputs.iter().map(|(_, pin, _)| pin.clone()));
+        pins.push(format!("gbuffer {}", self.reads_gbuffer()));
+        pins.extend(
+            self.params()
+                .iter()
+                .map(|p| format!("{} {:?}", p.display, p.kind)),
+        );
+        pins.extend(self.notes.switches.iter().map(|s| s.display.clone()));
+        pins.extend(
+            self.notes
+                .enums
+                .iter()
+                .map(|e| format!("{} {}", e.display, e.options.join("|"))),
+        );
+        pins.extend(self.notes.outputs.iter().map(|(t, _)| format!("out {t}")));
+        pins
+    }
+
+    /// The version that runs where this one cannot ([`ShaderType::keep_previous`]).
+    pub fn previous(&self) -> Option<&Arc<ShaderType>> {
+        self.previous.get()
+    }
+
+    /// A copy without its previous version, so versions never chain.
+    fn detached(&self) -> ShaderType {
+        ShaderType {
+            name: self.name.clone(),
+            file: self.file.clone(),
+            source: self.source.clone(),
+            notes: self.notes.clone(),
+            base: self.base.clone(),
+            permutations: Mutex::new(
+                self.permutations
+                    .lock()
+                    .unwrap_or_else(|e| e.into_inner())
+                    .clone(),
+            ),
+            compiled: AtomicU64::new(self.compiled.load(Ordering::Relaxed)),
+            previous: OnceLock::new(),
+        }
     }
 
     /// A skip pin must be a Bool pin (a switch or a `bool` field).
@@ -213,11 +272,15 @@ impl ShaderType {
                 .iter()
                 .any(|(b, _)| matches!(b, Builtin::Time | Builtin::Delta))
         });
-        clock
-            || self
-                .base
-                .targets
-                .iter()
-                .any(|t| t.lifetime == Lifetime::Persistent)
+        clock || self.stateful()
+    }
+
+    /// Its image depends on every frame before: a persistent target carries
+    /// what earlier frames wrote (a feedback, an adapted luminance).
+    pub fn stateful(&self) -> bool {
+        self.base
+            .targets
+            .iter()
+            .any(|t| t.lifetime == Lifetime::Persistent)
     }
 }

@@ -59,6 +59,7 @@ fn queue<T: SliceValue>(name: &'static str, default: T) -> NodeDef {
     .input("Reset", false)
     .output::<T>("Output")
     .output::<i64>("Output Bin Size")
+    .stateful()
     .construct(|| Queue::<T> {
         frames: VecDeque::new(),
     })
@@ -104,6 +105,7 @@ fn ring_buffer<T: SliceValue>(name: &'static str, default: T) -> NodeDef {
     .output::<T>("Output")
     .output::<i64>("Output Bin Size")
     .output::<i64>("Current Slot")
+    .stateful()
     .construct(|| RingBuffer::<T> {
         slots: Vec::new(),
         next: 0,
@@ -150,6 +152,7 @@ fn frame_delay<T: SliceValue + PartialEq>(name: &'static str, default: T) -> Nod
     .input("Input", default.clone())
     .input("Default", default)
     .output::<T>("Output")
+    .remembers(1)
     .construct(|| FrameDelay::<T> { previous: None })
 }
 
@@ -186,6 +189,7 @@ fn sample_hold<T: SliceValue>(name: &'static str, default: T) -> NodeDef {
     .input("Input", default)
     .input("Set", false)
     .output::<T>("Output")
+    .stateful()
     .construct(move || SampleHold::<T> {
         held: Vec::new(),
         initial: initial.clone(),

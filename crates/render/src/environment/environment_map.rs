@@ -135,12 +135,9 @@ impl Recipe for Environment {
             return;
         }
         let name = crate::recipe::pass_name("Environment", self.owner, Some("prefilter"));
-        fg.add_pass(
-            name,
-            self.owner,
-            &[],
-            &[(&self.token, TextureDesc::token())],
-            move |cx| self.run(cx),
-        );
+        let mut pass = fg.pass(name, self.owner);
+        // The maps live in the store; the token orders the passes that read them.
+        pass.write(&self.token, TextureDesc::token());
+        pass.run(move |cx| self.run(cx));
     }
 }

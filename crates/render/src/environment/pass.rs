@@ -12,7 +12,7 @@ use std::sync::Arc;
 
 use super::environment_map::Environment;
 use crate::error::RenderError;
-use crate::frame_graph::{FrameGraph, PassContext, TextureDesc};
+use crate::frame_graph::{Bindings, FrameGraph, PassContext, Tex, TextureDesc};
 use crate::gbuffer::GBuffer;
 use crate::recipe::{AsAny, Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
@@ -41,13 +41,21 @@ impl ImageKind {
             ImageKind::Sky => "environment/sky.wgsl",
         }
     }
+
+    /// The WGSL variable of its parameters (the Sky's `FOG` permutation binds the Fog's too).
+    fn params(self) -> &'static str {
+        match self {
+            ImageKind::Fog => "fog",
+            ImageKind::Sky => "sky",
+        }
+    }
 }
 
 /// Counted when a Fog and a Sky over it (or under it) ran as one pass.
 pub const FOG_AND_SKY: &str = "fog and sky in one pass";
 
-/// A pass over the lit image: bindings 0 camera, 1 `params`, 2 the image,
-/// 3 depth, 4 the output (shaders/environment/*.wgsl).
+/// A pass over the lit image: the camera, its parameters, the image, depth
+/// and the output (shaders/environment/*.wgsl).
 pub struct ImagePass {
     id: u64,
     owner: Option<u32>,
@@ -103,43 +111,30 @@ impl ImagePass {
         }
     }
 
-    fn run(&self, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
-        self.record(cx, &self.source.name, &self.output, None)
-    }
-
-    /// This pass from `source` into `output`: its shader and parameters
-    /// (binding 1), its environment's cube (5, 6), and with `fog` that
-    /// pass's parameters (7) in the Sky's `FOG` permutation.
+    /// This pass from `io.source` into `io.output`: its shader and
+    /// parameters, its environment's cube, and with `fog` that pass's
+    /// parameters in the Sky's `FOG` permutation.
     fn record(
         &self,
         cx: &mut PassContext<'_>,
-        source: &str,
-        output: &str,
+        io: &ImageIo,
         fog: Option<&ImagePass>,
     ) -> Result<(), RenderError> {
-        let (source, depth, output) = (
-            cx.view(source)?,
-            cx.view(&self.gbuffer.targets.depth)?,
-            cx.view(output)?,
-        );
-        let mut all = vec![
-            (0, self.gbuffer.camera_buffer().as_entire_binding()),
-            (1, self.params.as_entire_binding()),
-            (2, wgpu::BindingResource::TextureView(&source)),
-            (3, wgpu::BindingResource::TextureView(&depth)),
-            (4, wgpu::BindingResource::TextureView(&output)),
-        ];
+        let mut b = Bindings::new()
+            .buffer("camera", self.gbuffer.camera_buffer())
+            .buffer(self.kind.params(), &self.params)
+            .texture("source", io.source)
+            .texture("depth", io.depth)
+            .texture("output", io.output)
+            .buffer_opt("fog", fog.map(|f| &f.params));
         let maps = match &self.environment {
             Some(e) => Some(e.maps_for(self.kind.name())?),
             None => None,
         };
-        let cube = maps.as_ref().map(|m| cx.view_of(&m.base, ViewSpec::cube()));
-        if let (Some(maps), Some(cube)) = (&maps, &cube) {
-            all.push((5, wgpu::BindingResource::TextureView(cube)));
-            all.push((6, wgpu::BindingResource::Sampler(&maps.sampler)));
-        }
-        if let Some(fog) = fog {
-            all.push((7, fog.params.as_entire_binding()));
+        if let Some(maps) = &maps {
+            b = b
+                .view("environment", cx.view_of(&maps.base, ViewSpec::cube()))
+                .sampler_object("environment_sampler", maps.sampler.clone());
         }
         let features = [
             maps.is_some().then_some("ENVIRONMENT"),
@@ -149,7 +144,7 @@ impl ImagePass {
         cx.dispatch_image(
             self.kind.name(),
             &ShaderKey::new(self.kind.shader(), features.into_iter().flatten()),
-            &all,
+            b,
             size,
         )
     }
@@ -163,16 +158,29 @@ impl ImagePass {
     }
 
     /// This pass and `inner` (the pass under it) in one dispatch: the Sky's
-    /// over the inner pass's source, with the Fog's parameters.
-    fn run_over(&self, inner: &ImagePass, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
+    /// over the inner pass's source (`io`), with the Fog's parameters.
+    fn run_over(
+        &self,
+        inner: &ImagePass,
+        cx: &mut PassContext<'_>,
+        io: &ImageIo,
+    ) -> Result<(), RenderError> {
         cx.count(FOG_AND_SKY, 1);
         let (fog, sky) = match self.kind {
             ImageKind::Fog => (self, inner),
             ImageKind::Sky => (inner, self),
         };
         // The Sky's shader and cube, whichever is outer; the outer's output.
-        sky.record(cx, &inner.source.name, &self.output, Some(fog))
+        sky.record(cx, io, Some(fog))
     }
+}
+
+/// What an image pass declared (or, joint with the pass under it, what both did).
+#[derive(Clone, Copy)]
+struct ImageIo {
+    source: Tex,
+    depth: Tex,
+    output: Tex,
 }
 
 impl Recipe for ImagePass {
@@ -187,26 +195,31 @@ impl Recipe for ImagePass {
             environment.declare(renderer, fg);
         }
         self.source.recipe.declare(renderer, fg);
-        let mut reads = vec![
-            self.source.name.as_str(),
-            self.gbuffer.targets.depth.as_str(),
-        ];
-        reads.extend(self.environment.as_ref().map(|e| e.token()));
         let name = crate::recipe::pass_name(self.kind.name(), self.owner, None);
         let desc = TextureDesc::storage(wgpu::TextureFormat::Rgba16Float).size(self.gbuffer.size);
-        fg.add_pass(
-            name.clone(),
-            self.owner,
-            &reads,
-            &[(&self.output, desc)],
-            move |cx| self.run(cx),
-        );
+        let mut pass = fg.pass(name.clone(), self.owner);
+        if let Some(environment) = &self.environment {
+            pass.read(environment.token());
+        }
+        let io = ImageIo {
+            source: pass.read(&self.source.name),
+            depth: pass.read(&self.gbuffer.targets.depth),
+            output: pass.write(&self.output, desc),
+        };
+        pass.run(move |cx| self.record(cx, &io, None));
         if let Some(inner) = self.over() {
             let both = format!(
                 "{} and {name}",
                 crate::recipe::pass_name(inner.kind.name(), inner.owner, None)
             );
-            fg.chains_into(&self.source.name, both, move |cx| self.run_over(inner, cx));
+            // The joint pass reads what the inner pass read.
+            let io = ImageIo {
+                source: fg.handle(&inner.source.name),
+                ..io
+            };
+            fg.chains_into(&self.source.name, both, move |cx| {
+                self.run_over(inner, cx, &io)
+            });
         }
     }
 }

@@ -11,7 +11,7 @@ use super::source::{
     LUT_SAMPLES, LUT_SIZE,
 };
 use crate::error::RenderError;
-use crate::frame_graph::PassContext;
+use crate::frame_graph::{Bindings, PassContext};
 use crate::shaders::{Sampling, ShaderKey};
 
 const SHADER: &str = "environment/prefilter.wgsl";
@@ -88,6 +88,9 @@ fn upload_equirect(cx: &PassContext<'_>, image: &EquirectImage) -> wgpu::Texture
 }
 
 /// Record every step and return the maps (valid once the frame is submitted).
+/// One dispatch of the prefilter: its pipeline, bind groups and workgroups.
+type Step = (wgpu::ComputePipeline, Vec<wgpu::BindGroup>, (u32, u32, u32));
+
 pub(crate) fn build(
     cx: &mut PassContext<'_>,
     source: &EnvironmentSource,
@@ -112,7 +115,6 @@ pub(crate) fn build(
         mipmap_filter: wgpu::MipmapFilterMode::Linear,
         ..Default::default()
     });
-    let repeat = cx.sampler(Sampling::LinearRepeat);
     let params = |size: u32, samples: u32, roughness: f32| {
         device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("environment params"),
@@ -128,20 +130,18 @@ pub(crate) fn build(
         })
     };
     let key_shader = ShaderKey::new(SHADER, []);
-    // (entry, bind group, workgroups), recorded in order into one pass.
-    let mut steps: Vec<(wgpu::ComputePipeline, wgpu::BindGroup, (u32, u32, u32))> = Vec::new();
+    // Recorded in order into one pass.
+    let mut steps: Vec<Step> = Vec::new();
     let mut step = |cx: &mut PassContext<'_>,
                     entry: &'static str,
-                    resources: &[(u32, wgpu::BindingResource<'_>)],
+                    bindings: Bindings<'_>,
                     size: u32,
                     layers: u32|
      -> Result<(), RenderError> {
         let pipeline = cx.shaders.compute_pipeline(&device, &key_shader, entry)?;
-        let group = cx
-            .shaders
-            .bind_group(&device, &key_shader, entry, &pipeline, 0, resources)?;
-        let groups = size.div_ceil(8);
-        steps.push((pipeline, group, (groups, groups, layers)));
+        let groups = cx.bind_groups(&key_shader, entry, &pipeline, bindings)?;
+        let workgroups = size.div_ceil(8);
+        steps.push((pipeline, groups, (workgroups, workgroups, layers)));
         Ok(())
     };
 
@@ -159,12 +159,11 @@ pub(crate) fn build(
             step(
                 cx,
                 "from_equirect",
-                &[
-                    (0, p.as_entire_binding()),
-                    (1, wgpu::BindingResource::TextureView(&view)),
-                    (2, wgpu::BindingResource::Sampler(&repeat)),
-                    (3, wgpu::BindingResource::TextureView(&out0)),
-                ],
+                Bindings::new()
+                    .buffer("params", &p)
+                    .view("equirect", view)
+                    .sampler("linear_sampler", Sampling::LinearRepeat)
+                    .view("out_faces", out0.clone()),
                 n,
                 6,
             )?;
@@ -180,11 +179,10 @@ pub(crate) fn build(
             step(
                 cx,
                 "from_sky",
-                &[
-                    (0, p.as_entire_binding()),
-                    (3, wgpu::BindingResource::TextureView(&out0)),
-                    (4, sky.as_entire_binding()),
-                ],
+                Bindings::new()
+                    .buffer("params", &p)
+                    .view("out_faces", out0.clone())
+                    .buffer("sky", &sky),
                 n,
                 6,
             )?;
@@ -198,11 +196,10 @@ pub(crate) fn build(
         step(
             cx,
             "downsample",
-            &[
-                (0, p.as_entire_binding()),
-                (3, wgpu::BindingResource::TextureView(&dst)),
-                (5, wgpu::BindingResource::TextureView(&src)),
-            ],
+            Bindings::new()
+                .buffer("params", &p)
+                .view("out_faces", dst)
+                .view("source_faces", src),
             size,
             6,
         )?;
@@ -221,12 +218,11 @@ pub(crate) fn build(
         step(
             cx,
             "prefilter",
-            &[
-                (0, p.as_entire_binding()),
-                (2, wgpu::BindingResource::Sampler(&sampler)),
-                (3, wgpu::BindingResource::TextureView(&dst)),
-                (6, wgpu::BindingResource::TextureView(&base_cube)),
-            ],
+            Bindings::new()
+                .buffer("params", &p)
+                .sampler_object("linear_sampler", sampler.clone())
+                .view("out_faces", dst)
+                .view("base", base_cube.clone()),
             size,
             6,
         )?;
@@ -238,11 +234,10 @@ pub(crate) fn build(
     step(
         cx,
         "irradiance",
-        &[
-            (0, p.as_entire_binding()),
-            (3, wgpu::BindingResource::TextureView(&dst)),
-            (5, wgpu::BindingResource::TextureView(&src)),
-        ],
+        Bindings::new()
+            .buffer("params", &p)
+            .view("out_faces", dst)
+            .view("source_faces", src),
         IRRADIANCE_SIZE,
         6,
     )?;
@@ -251,18 +246,19 @@ pub(crate) fn build(
     step(
         cx,
         "brdf_lut",
-        &[
-            (0, p.as_entire_binding()),
-            (7, wgpu::BindingResource::TextureView(&lut_view)),
-        ],
+        Bindings::new()
+            .buffer("params", &p)
+            .view("out_lut", lut_view),
         LUT_SIZE,
         1,
     )?;
 
     let pass = cx.compute_pass("environment prefilter");
-    for (pipeline, group, (x, y, z)) in &steps {
+    for (pipeline, groups, (x, y, z)) in &steps {
         pass.set_pipeline(pipeline);
-        pass.set_bind_group(0, group, &[]);
+        for (i, group) in groups.iter().enumerate() {
+            pass.set_bind_group(i as u32, group, &[]);
+        }
         pass.dispatch_workgroups(*x, *y, *z);
     }
     Ok(EnvironmentMaps {
@@ -304,22 +300,16 @@ pub(crate) fn split_sum_table(
         }),
         usage: wgpu::BufferUsages::UNIFORM,
     });
-    let view = lut.create_view(&Default::default());
-    let key = ShaderKey::new(SHADER, []);
-    let pipeline = cx.shaders.compute_pipeline(&device, &key, "brdf_lut")?;
-    let group = cx.shaders.bind_group(
-        &device,
-        &key,
-        "brdf_lut",
-        &pipeline,
-        0,
-        &[
-            (0, params.as_entire_binding()),
-            (7, wgpu::BindingResource::TextureView(&view)),
-        ],
-    )?;
     let groups = LUT_SIZE.div_ceil(8);
-    cx.dispatch("split-sum table", &pipeline, &[&group], (groups, groups, 1));
+    cx.dispatch_shader(
+        "split-sum table",
+        &ShaderKey::new(SHADER, []),
+        "brdf_lut",
+        Bindings::new()
+            .buffer("params", &params)
+            .view("out_lut", lut.create_view(&Default::default())),
+        (groups, groups, 1),
+    )?;
     *guard = Some(lut.clone());
     Ok(lut)
 }
@@ -340,4 +330,21 @@ fn split_sum_texture(device: &wgpu::Device, extra: wgpu::TextureUsages) -> wgpu:
         usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::STORAGE_BINDING | extra,
         view_formats: &[],
     })
+}
+
+/// The layout the shader sees (shaders/layout.rs).
+#[cfg(test)]
+mod wgsl_layout {
+    use super::*;
+
+    #[test]
+    fn params_matches_params_in_the_shader() {
+        crate::assert_wgsl_layout!(
+            Params,
+            "environment/prefilter.wgsl",
+            [],
+            "Params",
+            [size, samples, base_size, base_mips, roughness, pad]
+        );
+    }
 }

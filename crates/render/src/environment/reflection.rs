@@ -14,9 +14,9 @@ use std::sync::Arc;
 
 use super::environment_map::Environment;
 use crate::error::RenderError;
-use crate::frame_graph::{FrameGraph, PassContext, TextureDesc};
+use crate::frame_graph::{Bindings, FrameGraph, PassContext, Tex, TextureDesc};
 use crate::gbuffer::GBuffer;
-use crate::material::{FEATURE_COOK_TORRANCE, FEATURE_REFLECTION, MaterialWorld};
+use crate::material::{FEATURE_COOK_TORRANCE, FEATURE_REFLECTION, MaterialTextures, MaterialWorld};
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
 use crate::shaders::ShaderKey;
@@ -140,52 +140,39 @@ impl Reflection {
             .surface_key(SHADER, self.gbuffer.targets.surface_feature())
     }
 
-    fn clear(&self, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
+    fn clear(&self, cx: &mut PassContext<'_>, specular: Tex) -> Result<(), RenderError> {
         cx.count("reflection skipped", 1);
-        let specular = cx.view(&self.specular)?;
-        let all = [
-            (0, self.gbuffer.camera_buffer().as_entire_binding()),
-            (9, wgpu::BindingResource::TextureView(&specular)),
-        ];
-        self.dispatch(cx, "clear", "reflection clear", &all, false)
+        let b = Bindings::new()
+            .buffer("camera", self.gbuffer.camera_buffer())
+            .texture("out_specular", specular);
+        self.dispatch(cx, "clear", "reflection clear", b)
     }
 
-    /// `entry` over the G-buffer with `all` at group 0 (and the material world at group 1 when `materials`).
+    /// `entry` over the G-buffer.
     fn dispatch(
         &self,
         cx: &mut PassContext<'_>,
         entry: &'static str,
         label: &str,
-        all: &[(u32, wgpu::BindingResource<'_>)],
-        materials: bool,
+        bindings: Bindings<'_>,
     ) -> Result<(), RenderError> {
-        let device = cx.gpu.device.clone();
-        let key = self.key();
-        let pipeline = cx.shaders.compute_pipeline(&device, &key, entry)?;
-        let group = cx
-            .shaders
-            .bind_group(&device, &key, entry, &pipeline, 0, all)?;
-        let material_group = if materials {
-            Some(self.materials.bind_group(
-                cx,
-                &key,
-                &pipeline,
-                self.textured(),
-                self.gbuffer.targets.surface_targets(),
-            )?)
-        } else {
-            None
-        };
-        let groups: Vec<&wgpu::BindGroup> = std::iter::once(&group)
-            .chain(material_group.as_ref())
-            .collect();
         let (w, h) = self.gbuffer.pixel_size(cx.output_size);
-        cx.dispatch(label, &pipeline, &groups, (w.div_ceil(8), h.div_ceil(8), 1));
-        Ok(())
+        cx.dispatch_shader(
+            label,
+            &self.key(),
+            entry,
+            bindings,
+            (w.div_ceil(8), h.div_ceil(8), 1),
+        )
     }
 
     /// The diffuse light, the specular, or both in one dispatch.
-    fn run(&self, cx: &mut PassContext<'_>, outputs: Outputs) -> Result<(), RenderError> {
+    fn run(
+        &self,
+        cx: &mut PassContext<'_>,
+        outputs: Outputs,
+        io: &ReflectionIo,
+    ) -> Result<(), RenderError> {
         let specular = outputs != Outputs::Diffuse;
         if specular {
             cx.count("reflection shaded", 1);
@@ -194,60 +181,51 @@ impl Reflection {
             cx.count(BOTH_IN_ONE_PASS, 1);
         }
         let maps = self.environment.maps_for("reflection")?;
-        let g = &self.gbuffer;
-        let (color, normals, depth) = (
-            cx.view(&g.targets.color)?,
-            cx.view(&g.targets.normals)?,
-            cx.view(&g.targets.depth)?,
-        );
-        // Only the outputs this pass writes (a diffuse-only pass has no specular).
-        let diffuse = match outputs {
-            Outputs::Specular => None,
-            _ => Some(cx.view(&self.diffuse)?),
-        };
-        let specular_out = match outputs {
-            Outputs::Diffuse => None,
-            _ => Some(cx.view(&self.specular)?),
-        };
         // Cached views: new ones each frame would make new bind groups.
-        let prefiltered = cx.view_of(&maps.prefiltered, ViewSpec::cube());
-        let irradiance = cx.view_of(&maps.irradiance, ViewSpec::cube());
-        let lut = cx.view_of(&maps.lut, ViewSpec::default());
-        let all = [
-            (0, g.camera_buffer().as_entire_binding()),
-            (1, self.params.as_entire_binding()),
-            (2, wgpu::BindingResource::TextureView(&color)),
-            (3, wgpu::BindingResource::TextureView(&normals)),
-            (4, wgpu::BindingResource::TextureView(&depth)),
-            (5, wgpu::BindingResource::TextureView(&prefiltered)),
-            (6, wgpu::BindingResource::TextureView(&irradiance)),
-            (7, wgpu::BindingResource::TextureView(&lut)),
-            (8, wgpu::BindingResource::Sampler(&maps.sampler)),
-        ];
-        // Roughness and metallic where the G-buffer resolved them (only `main` reads it).
-        let surface = match (&g.targets.surface, specular) {
-            (Some(name), true) => Some(cx.view(name)?),
-            _ => None,
-        };
-        let mut all = all.to_vec();
-        if let Some(view) = &specular_out {
-            all.push((9, wgpu::BindingResource::TextureView(view)));
+        let mut b = Bindings::new()
+            .buffer("camera", self.gbuffer.camera_buffer())
+            .buffer("params", &self.params)
+            .texture_opt("color", io.color)
+            .texture("normals", io.normals)
+            .texture("depth", io.depth)
+            .view(
+                "prefiltered",
+                cx.view_of(&maps.prefiltered, ViewSpec::cube()),
+            )
+            .view("irradiance", cx.view_of(&maps.irradiance, ViewSpec::cube()))
+            .view("lut", cx.view_of(&maps.lut, ViewSpec::default()))
+            .sampler_object("cube_sampler", maps.sampler.clone());
+        // Only the outputs this pass writes (a diffuse-only pass has no
+        // specular); roughness and metallic where the G-buffer resolved them
+        // (only the specular reads them), and the materials.
+        if outputs != Outputs::Specular {
+            b = b.texture("out_diffuse", io.diffuse);
         }
-        if let Some(view) = &diffuse {
-            all.push((10, wgpu::BindingResource::TextureView(view)));
-        }
-        if let Some(view) = &surface {
-            all.push((
-                crate::gbuffer::SURFACE_TARGET_BINDING,
-                wgpu::BindingResource::TextureView(view),
-            ));
+        if specular {
+            b = b
+                .texture_opt("out_specular", io.specular)
+                .texture_opt("surface_target", io.surface)
+                .extend(self.materials.bindings(io.material_textures));
         }
         match outputs {
-            Outputs::Both => self.dispatch(cx, "both", "reflection", &all, true),
-            Outputs::Specular => self.dispatch(cx, "main", "reflection", &all, true),
-            Outputs::Diffuse => self.dispatch(cx, "diffuse", "reflection diffuse", &all, false),
+            Outputs::Both => self.dispatch(cx, "both", "reflection", b),
+            Outputs::Specular => self.dispatch(cx, "main", "reflection", b),
+            Outputs::Diffuse => self.dispatch(cx, "diffuse", "reflection diffuse", b),
         }
     }
+}
+
+/// What a Reflection pass declared: the diffuse pass of a world that does
+/// not reflect reads no colour and no surface.
+struct ReflectionIo {
+    color: Option<Tex>,
+    normals: Tex,
+    depth: Tex,
+    surface: Option<Tex>,
+    diffuse: Tex,
+    /// Not in the diffuse pass of a world that does not reflect.
+    specular: Option<Tex>,
+    material_textures: Option<MaterialTextures>,
 }
 
 /// Which of a Reflection's outputs a pass writes.
@@ -268,54 +246,60 @@ impl Recipe for Reflection {
         let g = &self.gbuffer.targets;
         self.environment.declare(renderer, fg);
         if !self.active() {
-            fg.add_pass(
+            let mut pass = fg.pass(
                 crate::recipe::pass_name("Reflection", self.owner, Some("diffuse")),
                 self.owner,
-                &[
-                    self.environment.token(),
-                    g.normals.as_str(),
-                    g.depth.as_str(),
-                ],
-                &[(self.diffuse.as_str(), hdr)],
-                move |cx| self.run(cx, Outputs::Diffuse),
             );
-            fg.add_pass(
+            pass.read(self.environment.token());
+            let (normals, depth) = (pass.read(&g.normals), pass.read(&g.depth));
+            let io = ReflectionIo {
+                color: None,
+                normals,
+                depth,
+                surface: None,
+                diffuse: pass.write(&self.diffuse, hdr),
+                specular: None,
+                material_textures: None,
+            };
+            pass.run(move |cx| self.run(cx, Outputs::Diffuse, &io));
+            let mut pass = fg.pass(
                 crate::recipe::pass_name("Reflection", self.owner, Some("none reflective")),
                 self.owner,
-                &[],
-                &[(self.specular.as_str(), hdr)],
-                move |cx| self.clear(cx),
             );
+            let specular = pass.write(&self.specular, hdr);
+            pass.run(move |cx| self.clear(cx, specular));
             return;
         }
-        let mut reads = vec![
-            self.environment.token(),
-            g.color.as_str(),
-            g.normals.as_str(),
-            g.depth.as_str(),
-        ];
-        reads.extend(g.surface.as_deref());
-        reads.extend(self.materials.declare_textures(
-            renderer,
-            fg,
-            self.textured(),
-            g.surface_targets(),
-        ));
+        self.materials
+            .declare_upstream(renderer, fg, self.textured());
         // One pass for both outputs: it runs when either is read, and
         // writes only what the frame reads.
-        fg.add_pass(
+        let mut pass = fg.pass(
             crate::recipe::pass_name("Reflection", self.owner, Some("diffuse and specular")),
             self.owner,
-            &reads,
-            &[(self.diffuse.as_str(), hdr), (self.specular.as_str(), hdr)],
-            move |cx| {
-                let outputs = match (cx.is_read(&self.diffuse), cx.is_read(&self.specular)) {
-                    (true, true) => Outputs::Both,
-                    (true, false) => Outputs::Diffuse,
-                    _ => Outputs::Specular,
-                };
-                self.run(cx, outputs)
-            },
         );
+        pass.read(self.environment.token());
+        let io = ReflectionIo {
+            color: Some(pass.read(&g.color)),
+            normals: pass.read(&g.normals),
+            depth: pass.read(&g.depth),
+            surface: pass.read_opt(g.surface.as_deref()),
+            material_textures: self.materials.read_textures(
+                &mut pass,
+                self.textured(),
+                g.surface_targets(),
+            ),
+            diffuse: pass.write(&self.diffuse, hdr),
+            specular: Some(pass.write(&self.specular, hdr)),
+        };
+        pass.run(move |cx| {
+            let specular = io.specular.is_some_and(|s| cx.is_read(s));
+            let outputs = match (cx.is_read(io.diffuse), specular) {
+                (true, true) => Outputs::Both,
+                (true, false) => Outputs::Diffuse,
+                _ => Outputs::Specular,
+            };
+            self.run(cx, outputs, &io)
+        });
     }
 }

@@ -227,3 +227,20 @@ impl EnvironmentSource {
         }
     }
 }
+
+/// The layout the shader sees (shaders/layout.rs).
+#[cfg(test)]
+mod wgsl_layout {
+    use super::*;
+
+    #[test]
+    fn gpu_sky_matches_sky_in_the_shader() {
+        crate::assert_wgsl_layout!(
+            GpuSky,
+            "environment/prefilter.wgsl",
+            [],
+            "Sky",
+            [zenith, horizon, ground, sun, sun_color]
+        );
+    }
+}

@@ -23,10 +23,11 @@ use std::collections::HashMap;
 
 use rustc_hash::{FxHashMap, FxHashSet};
 
+use super::executor::{Executor, MAX_QUERIES, PERSISTENT_IDLE_GRAPHS, Recording, Timing};
 use super::finisher::chunk_of;
 use super::{FrameGraph, Lifetime, PassContext, Recorded};
+use crate::context::GpuContext;
 use crate::error::RenderError;
-use crate::renderer::{MAX_QUERIES, PERSISTENT_IDLE_GRAPHS, Recording, Renderer, Timing};
 use crate::report::{FrameReport, PassReport};
 use crate::texture_pool::{create_texture, slot};
 
@@ -34,24 +35,30 @@ use crate::texture_pool::{create_texture, slot};
 pub const FRAMES_IN_FLIGHT: usize = 2;
 
 impl FrameGraph<'_> {
-    /// Cull, allocate, record and submit the frame. Returns its report and the requested textures.
-    pub fn execute(
+    /// Cull, allocate, record and submit the frame on `executor`; `counters`
+    /// adds the host's own to the report once the passes have recorded.
+    /// Returns its report and the requested textures.
+    pub fn execute_on(
         self,
-        renderer: &Renderer,
+        executor: &Executor,
+        gpu: &GpuContext,
+        counters: impl FnOnce() -> Vec<(&'static str, u64)>,
     ) -> Result<(FrameReport, HashMap<String, wgpu::Texture>), RenderError> {
-        execute(renderer, self)
+        execute(executor, gpu, self, counters)
     }
 }
 
 fn execute(
-    renderer: &Renderer,
+    executor: &Executor,
+    gpu: &GpuContext,
     graph: FrameGraph<'_>,
+    counters: impl FnOnce() -> Vec<(&'static str, u64)>,
 ) -> Result<(FrameReport, HashMap<String, wgpu::Texture>), RenderError> {
     let started = std::time::Instant::now();
-    let (timing, recording) = renderer.settings();
+    let (timing, recording) = executor.settings();
     let output_size = graph.output_size();
-    let device = &renderer.gpu.device;
-    let mut textures = renderer.texture_pool();
+    let device = &gpu.device;
+    let mut textures = executor.texture_pool();
     let lent = std::mem::take(&mut textures.lent);
     for (key, texture) in lent {
         textures.give_back(key, texture);
@@ -106,7 +113,7 @@ fn execute(
     }
     let mut fresh = FxHashSet::default();
     let mut report = FrameReport {
-        adapter: renderer.gpu.adapter_name(),
+        adapter: gpu.adapter_name(),
         ..Default::default()
     };
     for (name, n) in std::mem::take(&mut parts.counters) {
@@ -117,9 +124,9 @@ fn execute(
     let mut commands = Vec::new();
     let mut pass_queries: Vec<(usize, Vec<(u32, u32)>)> = Vec::with_capacity(parts.order.len());
     let mut next_query = 0u32;
-    let timestamps = renderer.timestamps().filter(|_| timing != Timing::Off);
+    let timestamps = executor.timestamps().filter(|_| timing != Timing::Off);
     let capacity = if timestamps.is_some() { MAX_QUERIES } else { 0 };
-    let mut shaders = renderer.shaders();
+    let mut shaders = executor.shaders();
     shaders.begin_frame();
     let compiled_before = shaders.pipelines_compiled;
     let groups_before = (shaders.bind_groups_created, shaders.bind_groups_reused);
@@ -139,7 +146,7 @@ fn execute(
     let inside_passes = device
         .features()
         .contains(wgpu::Features::TIMESTAMP_QUERY_INSIDE_PASSES);
-    let mut finishing = batched.then(|| renderer.finisher().begin());
+    let mut finishing = batched.then(|| executor.finisher().begin());
     let steps = parts.order.len();
 
     let max_side = device.limits().max_texture_dimension_2d;
@@ -192,13 +199,17 @@ fn execute(
             Timing::Frame => step == 0 || step + 1 == steps,
             Timing::Off => false,
         };
+        let run = parts.runs[p].take();
         let mut cx = PassContext {
-            gpu: &renderer.gpu,
+            gpu,
             encoder,
             compute: open_compute.take(),
             timestamps_inside_passes: inside_passes,
             shaders: &mut shaders,
             textures: &mut live,
+            texture_names: &parts.texture_names,
+            reads: &parts.reads[p],
+            writes: &parts.writes[p],
             tradable: &tradable,
             last_use: &last_use,
             requested: &requested,
@@ -214,7 +225,7 @@ fn execute(
             output_size,
             counters: Default::default(),
         };
-        let result = match (too_large.take(), parts.runs[p].take()) {
+        let result = match (too_large.take(), run) {
             (Some(error), _) => Err(error),
             (None, Some(run)) => run(&mut cx),
             (None, None) => Ok(()),
@@ -296,18 +307,21 @@ fn execute(
             draws,
         });
 
-        // Temporaries whose last reader has recorded go back to the pool.
+        // Temporaries whose last reader has recorded go back to the pool, and
+        // leave the live textures: no later pass can reach memory the pool
+        // may hand to another.
         owned.retain(|(name, key, lifetime, slot)| {
             let done = *lifetime == Lifetime::Temporary
                 && last_use.get(name.as_str()).is_some_and(|&s| s <= step)
                 && !requested.contains(name.as_str());
             if done {
+                let texture = live.remove(name);
                 match release_instead.remove(name) {
                     // Next frame the output takes the texture it gives back now.
                     Some(t) => textures.hold_for(*slot, *key, t),
                     None => {
-                        if let Some(t) = live.get(name) {
-                            textures.give_back(*key, t.clone());
+                        if let Some(t) = texture {
+                            textures.give_back(*key, t);
                         }
                     }
                 }
@@ -322,12 +336,7 @@ fn execute(
         .collect();
     report.pipelines_compiled = shaders.pipelines_compiled - compiled_before;
     let mut views = views.into_inner();
-    let uploads = renderer.take_uploads();
-    for (name, n) in [
-        ("uniform uploads", uploads.made),
-        ("uniform uploads skipped", uploads.skipped),
-        ("uniform bytes uploaded", uploads.bytes),
-        ("kept bytes compared", uploads.compared),
+    for (name, n) in counters().into_iter().chain([
         (
             "bind groups created",
             shaders.bind_groups_created - groups_before.0,
@@ -338,7 +347,7 @@ fn execute(
         ),
         ("texture views created", views.created - views_before.0),
         ("texture views reused", views.reused - views_before.1),
-    ] {
+    ]) {
         if n > 0 {
             add_counter(&mut report, name, n);
         }
@@ -384,7 +393,7 @@ fn execute(
                 commands.push(last);
                 first.or(here).map(|e| {
                     // From now on passes record apart, so the next frame names the pass.
-                    renderer.set_recording(Recording::Isolated);
+                    executor.set_recording(Recording::Isolated);
                     format!(
                         "the frame failed validation and was dropped; passes record separately from now on: {e}"
                     )
@@ -406,17 +415,16 @@ fn execute(
     if !commands.is_empty() {
         add_counter(&mut report, "command buffers", commands.len() as u64);
     }
-    let submission = renderer.gpu.submit(commands);
+    let submission = gpu.submit(commands);
     report.record_ms = started.elapsed().as_secs_f64() * 1e3;
 
     if let (Some(ts), true) = (timestamps, next_query > 0) {
-        let ticks =
-            crate::renderer::read_buffer(&renderer.gpu, &ts.readback, u64::from(next_query) * 8)?;
+        let ticks = crate::context::read_buffer(gpu, &ts.readback, u64::from(next_query) * 8)?;
         let ticks: Vec<u64> = ticks
             .chunks_exact(8)
             .map(|c| u64::from_le_bytes(c.try_into().unwrap_or([0; 8])))
             .collect();
-        let period_ns = f64::from(renderer.gpu.queue.get_timestamp_period());
+        let period_ns = f64::from(gpu.queue.get_timestamp_period());
         let written: Vec<u64> = pass_queries
             .iter()
             .flat_map(|(_, q)| {
@@ -453,7 +461,7 @@ fn execute(
         // Timing::Frame measures the span only: a sum of two passes means nothing.
         report.gpu_ms = (timing == Timing::PerPass).then_some(total);
     } else {
-        renderer.throttle(submission, FRAMES_IN_FLIGHT)?;
+        executor.throttle(submission, FRAMES_IN_FLIGHT)?;
     }
 
     // History exists only for effects that run: a persistent texture no pass
@@ -506,12 +514,12 @@ fn execute(
     report.wait_ms = (started.elapsed().as_secs_f64() * 1e3 - report.record_ms).max(0.0);
     // Errors outside every pass's scope (allocating the frame's textures,
     // or work done before it that no host took): the frame's, not a panic.
-    for error in renderer.gpu.take_uncaptured_errors() {
+    for error in gpu.take_uncaptured_errors() {
         report
             .errors
             .push((None, format!("GPU error outside any pass: {error}")));
     }
-    renderer.set_last_report(report.clone());
+    executor.set_last_report(report.clone());
     Ok((report, outputs))
 }
 

@@ -14,9 +14,12 @@ use std::collections::BTreeMap;
 
 use rustc_hash::{FxHashMap, FxHashSet};
 
+mod bindings;
 mod compute_pass;
 mod execute;
+mod executor;
 mod finisher;
+mod handles;
 mod history;
 mod merge;
 
@@ -26,9 +29,12 @@ use crate::shaders::ShaderCache;
 
 pub use crate::report::{FrameReport, PassReport};
 pub use crate::texture_pool::TextureKey;
+pub use bindings::Bindings;
 pub use compute_pass::COMPUTE_PASSES;
+pub use executor::{Executor, PERSISTENT_IDLE_GRAPHS, Recording, Timing};
 pub use finisher::FRAME_CHUNKS;
 pub(crate) use finisher::Finisher;
+pub use handles::{PassBuilder, Tex};
 pub use history::{COPIED as HISTORIES_COPIED, HANDED_OVER as HISTORIES_HANDED_OVER};
 
 /// What every texture a frame hands back to its caller can do, so that any
@@ -191,6 +197,11 @@ pub struct PassContext<'f> {
     pub(crate) timestamps_inside_passes: bool,
     pub shaders: &'f mut ShaderCache,
     pub(crate) textures: &'f mut FxHashMap<String, wgpu::Texture>,
+    /// The frame's texture names by handle, and what this pass declared:
+    /// the only textures its handles resolve to (handles.rs).
+    pub(crate) texture_names: &'f [String],
+    pub(crate) reads: &'f [String],
+    pub(crate) writes: &'f [(String, TextureDesc)],
     /// This frame's temporaries a history may trade textures with (not
     /// handed to the caller, not permanent): see `history.rs`.
     pub(crate) tradable: &'f FxHashSet<&'f str>,
@@ -215,15 +226,17 @@ pub struct PassContext<'f> {
 }
 
 impl<'f> PassContext<'f> {
-    pub fn texture(&self, name: &str) -> Result<&wgpu::Texture, RenderError> {
+    /// A live texture by name, declared or not: being replaced by handles
+    /// ([`PassContext::texture`]), which reach only what the pass declared.
+    pub fn texture_named(&self, name: &str) -> Result<&wgpu::Texture, RenderError> {
         self.textures
             .get(name)
             .ok_or_else(|| RenderError::Graph(format!("texture `{name}` is not available here")))
     }
 
-    /// The texture's default view, made once per texture and kept while frames use it.
-    pub fn view(&self, name: &str) -> Result<wgpu::TextureView, RenderError> {
-        let texture = self.texture(name)?;
+    /// [`PassContext::texture_named`]'s default view (see [`PassContext::view`]).
+    pub fn view_named(&self, name: &str) -> Result<wgpu::TextureView, RenderError> {
+        let texture = self.texture_named(name)?;
         Ok(self.views.borrow_mut().view(texture))
     }
 
@@ -255,12 +268,24 @@ impl<'f> PassContext<'f> {
     /// A pass runs when any of its outputs is read; one with several can
     /// leave out the work of an output nobody reads (its texture is still
     /// allocated, and left unwritten).
-    pub fn is_read(&self, name: &str) -> bool {
+    pub fn is_read_named(&self, name: &str) -> bool {
         self.requested.contains(name) || self.last_use.get(name).is_some_and(|&s| s > self.step)
     }
 
-    /// A persistent texture created this frame: it holds no history yet.
-    pub fn is_fresh(&self, name: &str) -> bool {
+    /// Whether this pass's output `tex` is read (see [`PassContext::is_read_named`]).
+    pub fn is_read(&self, tex: Tex) -> bool {
+        self.declared(tex)
+            .is_ok_and(|name| self.is_read_named(name))
+    }
+
+    /// A persistent texture this pass declared, created this frame: it holds no history yet.
+    pub fn is_fresh(&self, tex: Tex) -> bool {
+        self.declared(tex)
+            .is_ok_and(|name| self.is_fresh_named(name))
+    }
+
+    /// [`PassContext::is_fresh`] by name.
+    pub fn is_fresh_named(&self, name: &str) -> bool {
         self.fresh.contains(name)
     }
 
@@ -292,10 +317,10 @@ impl<'f> PassContext<'f> {
         pass.dispatch_workgroups(workgroups.0, workgroups.1, workgroups.2);
     }
 
-    /// The most common pass: `key`'s `main` entry with `bindings` at group 0
-    /// (those the permutation does not use are dropped), one thread per pixel
-    /// of `size` in 8x8 workgroups, timed.
-    pub fn dispatch_image(
+    /// [`PassContext::dispatch_image`] with `bindings` numbered by hand at
+    /// group 0 (those the permutation does not use are dropped): being
+    /// replaced by bindings by name.
+    pub fn dispatch_image_numbered(
         &mut self,
         label: &str,
         key: &crate::shaders::ShaderKey,
@@ -334,6 +359,9 @@ pub struct FrameGraph<'a> {
     requested: Vec<String>,
     imports: FxHashMap<String, wgpu::Texture>,
     included: FxHashSet<u64>,
+    /// Texture names by handle ([`Tex`]), and handles by name.
+    texture_names: Vec<String>,
+    handles: FxHashMap<String, u32>,
     counters: BTreeMap<&'static str, u64>,
     /// Pairs of passes that run as one when both are needed (merge.rs).
     merges: Vec<merge::Merge<'a>>,
@@ -347,6 +375,8 @@ impl<'a> FrameGraph<'a> {
             requested: Vec::new(),
             imports: FxHashMap::default(),
             included: FxHashSet::default(),
+            texture_names: Vec::new(),
+            handles: FxHashMap::default(),
             counters: BTreeMap::new(),
             merges: Vec::new(),
         }
@@ -528,6 +558,8 @@ pub(crate) struct GraphParts<'a> {
     pub imports: FxHashMap<String, wgpu::Texture>,
     pub keys: Vec<Vec<TextureKey>>,
     pub counters: BTreeMap<&'static str, u64>,
+    /// Texture names by handle.
+    pub texture_names: Vec<String>,
 }
 
 impl<'a> FrameGraph<'a> {
@@ -568,6 +600,7 @@ impl<'a> FrameGraph<'a> {
             imports: self.imports,
             keys,
             counters: self.counters,
+            texture_names: self.texture_names,
         };
         for pass in self.passes {
             parts.names.push(pass.name);

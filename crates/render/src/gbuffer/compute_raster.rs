@@ -11,7 +11,7 @@ use wgpu::util::DeviceExt;
 use crate::error::RenderError;
 use crate::frame_graph::PassContext;
 use crate::renderer::Renderer;
-use crate::shaders::{PipelineRef, ShaderKey};
+use crate::shaders::ShaderKey;
 
 use super::{Draw, GBuffer};
 
@@ -70,7 +70,7 @@ struct Batch {
 /// A [`Batch`] ready to dispatch this frame.
 struct BatchGroup<'p> {
     pipeline: &'p wgpu::ComputePipeline,
-    group: wgpu::BindGroup,
+    groups: Vec<wgpu::BindGroup>,
     total: u32,
     procedural: bool,
 }
@@ -275,58 +275,34 @@ impl ComputeRaster {
                 .compute_pipeline(&device, &key(any_two_sided), "raster_tiles")?;
         let (vertices, indices, _) = renderer.meshes.buffers();
         // The same buffers every frame (kept under the node): the groups are cached.
-        let mut group_of = |pipeline: &wgpu::ComputePipeline, batch: Option<&wgpu::Buffer>| {
-            let mut entries = super::geometry_entries(
-                view.camera.as_entire_binding(),
-                &vertices,
-                &indices,
-                view.instances,
-            );
-            entries.extend([
-                wgpu::BindGroupEntry {
-                    binding: 4,
-                    resource: targets.visibility.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 5,
-                    resource: targets.tiles.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 6,
-                    resource: targets.tile_count.as_entire_binding(),
-                },
-            ]);
-            if let Some(b) = batch {
-                entries.push(wgpu::BindGroupEntry {
-                    binding: 7,
-                    resource: b.as_entire_binding(),
-                });
-            }
-            cx.shaders.group(
-                &device,
-                &PipelineRef::Compute(pipeline.clone()),
-                0,
-                "raster",
-                &entries,
-            )
+        let groups_of = |cx: &mut PassContext<'_>,
+                         sided: bool,
+                         entry: &str,
+                         pipeline: &wgpu::ComputePipeline,
+                         batch: Option<&wgpu::Buffer>| {
+            let b = super::mesh_bindings(&vertices, &indices, view.instances)
+                .buffer("camera", view.camera)
+                .buffer("visibility", &targets.visibility)
+                .buffer("tiles", &targets.tiles)
+                .buffer("tile_count", &targets.tile_count)
+                .buffer_opt("batch", batch);
+            cx.bind_groups(&key(sided), entry, pipeline, b)
         };
-        let batch_groups: Vec<BatchGroup<'_>> = self
-            .batches
-            .iter()
-            .filter_map(|b| {
-                let pipeline =
-                    triangle_pipelines[usize::from(view.two_sided || b.two_sided)].as_ref()?;
-                let group = group_of(pipeline, Some(&b.uniform));
-                Some(BatchGroup {
-                    pipeline,
-                    group,
-                    total: b.total,
-                    procedural: b.procedural,
-                })
-            })
-            .collect();
-        let tiles_group = group_of(&tiles_pipeline, None);
-        let tiles = (&tiles_pipeline, &tiles_group);
+        let mut batch_groups: Vec<BatchGroup<'_>> = Vec::with_capacity(self.batches.len());
+        for b in &self.batches {
+            let sided = view.two_sided || b.two_sided;
+            let Some(pipeline) = triangle_pipelines[usize::from(sided)].as_ref() else {
+                continue;
+            };
+            batch_groups.push(BatchGroup {
+                pipeline,
+                groups: groups_of(cx, sided, "raster_triangles", pipeline, Some(&b.uniform))?,
+                total: b.total,
+                procedural: b.procedural,
+            });
+        }
+        let tiles_groups = groups_of(cx, any_two_sided, "raster_tiles", &tiles_pipeline, None)?;
+        let tiles = (&tiles_pipeline, tiles_groups.as_slice());
         match between {
             None => {
                 let all: Vec<_> = batch_groups.iter().collect();
@@ -360,7 +336,7 @@ pub(crate) type Between<'b> =
 /// `batches`' triangles, then the big triangles' tiles, in the open compute pass.
 fn raster_batches(
     cx: &mut PassContext<'_>,
-    (tiles, tiles_group): (&wgpu::ComputePipeline, &wgpu::BindGroup),
+    (tiles, tiles_groups): (&wgpu::ComputePipeline, &[wgpu::BindGroup]),
     batches: &[&BatchGroup<'_>],
 ) {
     let pass = cx.compute_pass("compute raster");
@@ -370,12 +346,33 @@ fn raster_batches(
         let workgroups = b.total.div_ceil(WORKGROUP);
         // Over 65,535 workgroups spill into y; the shader folds y back into one index.
         let x = workgroups.min(65_535);
-        pass.set_bind_group(0, &b.group, &[]);
+        for (i, group) in b.groups.iter().enumerate() {
+            pass.set_bind_group(i as u32, group, &[]);
+        }
         pass.dispatch_workgroups(x, workgroups.div_ceil(x), 1);
         dispatches += 1;
     }
     pass.set_pipeline(tiles);
-    pass.set_bind_group(0, tiles_group, &[]);
+    for (i, group) in tiles_groups.iter().enumerate() {
+        pass.set_bind_group(i as u32, group, &[]);
+    }
     pass.dispatch_workgroups(TILE_WORKGROUPS, 1, 1);
     cx.draws += dispatches;
+}
+
+/// The layout the shader sees (shaders/layout.rs).
+#[cfg(test)]
+mod wgsl_layout {
+    use super::*;
+
+    #[test]
+    fn gpu_batch_matches_batch_in_the_shader() {
+        crate::assert_wgsl_layout!(
+            GpuBatch,
+            "gbuffer/raster.wgsl",
+            [],
+            "Batch",
+            [first_instance, triangles, instance_count, first_global]
+        );
+    }
 }

@@ -108,29 +108,19 @@ pub(crate) struct Draw {
     pub two_sided: bool,
 }
 
-/// Bindings 0 to 3 of every shader that pulls instanced meshes (the
-/// G-buffer's, the compute rasterizer's, the shadow depth pass): the view
-/// (camera uniform or view matrix), the mesh arena's vertices and indices,
-/// and the instances.
-pub(crate) fn geometry_entries<'b>(
-    view: wgpu::BindingResource<'b>,
+/// What every shader that pulls instanced meshes binds beside its view (the
+/// G-buffer's, the compute rasterizer's, the shadow depth pass, transparency):
+/// the mesh arena's vertices and indices and the instances, by the names
+/// `shaders/lib/mesh_fetch.wgsl` gives them.
+pub(crate) fn mesh_bindings<'b>(
     vertices: &'b wgpu::Buffer,
     indices: &'b wgpu::Buffer,
     instances: &'b wgpu::Buffer,
-) -> Vec<wgpu::BindGroupEntry<'b>> {
-    [
-        view,
-        vertices.as_entire_binding(),
-        indices.as_entire_binding(),
-        instances.as_entire_binding(),
-    ]
-    .into_iter()
-    .enumerate()
-    .map(|(binding, resource)| wgpu::BindGroupEntry {
-        binding: binding as u32,
-        resource,
-    })
-    .collect()
+) -> crate::frame_graph::Bindings<'b> {
+    crate::frame_graph::Bindings::new()
+        .buffer("vertices", vertices)
+        .buffer("indices", indices)
+        .buffer("instances", instances)
 }
 
 /// How the visibility buffer is rasterized.
@@ -458,19 +448,14 @@ impl GBuffer {
         self.size.pixels(output)
     }
 
-    /// Bindings 0 to 3 every G-buffer shader shares: camera, the mesh
-    /// arena's vertices and indices, and the instances.
-    fn geometry_entries<'b>(
+    /// What every G-buffer shader binds: the camera, the mesh arena's
+    /// vertices and indices, and the instances.
+    fn geometry_bindings<'b>(
         &'b self,
         vertices: &'b wgpu::Buffer,
         indices: &'b wgpu::Buffer,
-    ) -> Vec<wgpu::BindGroupEntry<'b>> {
-        geometry_entries(
-            self.camera_buffer.as_entire_binding(),
-            vertices,
-            indices,
-            &self.instances,
-        )
+    ) -> crate::frame_graph::Bindings<'b> {
+        mesh_bindings(vertices, indices, &self.instances).buffer("camera", &self.camera_buffer)
     }
 
     pub fn owner(&self) -> Option<u32> {
@@ -563,5 +548,33 @@ impl Recipe for GBuffer {
             }
         }
         passes::declare(self, renderer, fg);
+    }
+}
+
+/// The layout the shader sees (shaders/layout.rs).
+#[cfg(test)]
+mod wgsl_layout {
+    use super::*;
+
+    #[test]
+    fn gpu_instance_matches_instance_in_the_shader() {
+        crate::assert_wgsl_layout!(
+            GpuInstance,
+            "gbuffer/resolve.wgsl",
+            [],
+            "Instance",
+            [model, previous_model, normal_matrix, color, info]
+        );
+    }
+
+    #[test]
+    fn gpu_layer_matches_layer_in_the_shader() {
+        crate::assert_wgsl_layout!(
+            GpuLayer,
+            "gbuffer/resolve.wgsl",
+            [],
+            "Layer",
+            [first_instance, end_instance, write_background, geometry_ids]
+        );
     }
 }

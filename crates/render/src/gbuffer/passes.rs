@@ -3,11 +3,11 @@
 //! resolve.rs: one dispatch per run of alike layers with their permutation).
 
 use crate::error::RenderError;
-use crate::frame_graph::{FrameGraph, Lifetime, PassContext, TextureDesc};
+use crate::frame_graph::{FrameGraph, Lifetime, PassContext, Tex, TextureDesc};
 use crate::renderer::Renderer;
-use crate::shaders::{PipelineRef, ShaderKey};
+use crate::shaders::ShaderKey;
 
-use super::resolve::{Targets, resolve};
+use super::resolve::{LayerReads, ResolveIo, SurfaceOut, resolve};
 use super::{GBuffer, RasterMode};
 
 const VISIBILITY_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg32Uint;
@@ -22,87 +22,79 @@ pub(super) fn declare<'a>(g: &'a GBuffer, renderer: &'a Renderer, fg: &mut Frame
         Some(node) => format!("MRE #{node}: {what}"),
         None => format!("MRE: {what}"),
     };
-    let mut surface_reads: Vec<&str> = vec![&t.visibility];
-    match (g.raster, &g.compute) {
+    let hardware = match (g.raster, &g.compute) {
         (RasterMode::Compute, Some(compute)) => {
             // The 64-bit buffer belongs to the G-buffer; this 1x1 token
             // carries the dependency through the frame graph.
-            let token = TextureDesc::token();
-            fg.add_pass(
-                label("compute raster"),
-                g.owner,
-                &[],
-                &[(&t.visibility, token)],
-                move |cx| compute.record(g, renderer, cx),
-            );
+            let mut pass = fg.pass(label("compute raster"), g.owner);
+            pass.write(&t.visibility, TextureDesc::token());
+            pass.run(move |cx| compute.record(g, renderer, cx));
+            false
         }
         _ => {
-            fg.add_pass(
-                label("visibility"),
-                g.owner,
-                &[],
-                &[
-                    (
-                        &t.visibility,
-                        TextureDesc::attachment(VISIBILITY_FORMAT).size(g.size),
-                    ),
-                    (
-                        &t.hardware_depth,
-                        TextureDesc::attachment(HARDWARE_DEPTH_FORMAT).size(g.size),
-                    ),
-                ],
-                move |cx| visibility(g, renderer, cx),
-            );
-            surface_reads.push(&t.hardware_depth);
+            let mut pass = fg.pass(label("visibility"), g.owner);
+            let io = VisibilityIo {
+                visibility: pass.write(
+                    &t.visibility,
+                    TextureDesc::attachment(VISIBILITY_FORMAT).size(g.size),
+                ),
+                depth: pass.write(
+                    &t.hardware_depth,
+                    TextureDesc::attachment(HARDWARE_DEPTH_FORMAT).size(g.size),
+                ),
+            };
+            pass.run(move |cx| visibility(g, renderer, cx, io));
+            true
         }
-    }
-    // The surface resolve also reads the layers' normal maps. Its depth is
+    };
+    // The surface resolve also reads the layers' maps. Its depth is
     // Permanent: readers (lighting, GBufferView) come later in the frame.
-    surface_reads.extend(
-        g.layers
-            .iter()
-            .flat_map(|l| l.maps().chain(l.surface_textures()))
-            .map(|n| n.name.as_str()),
-    );
-    let mut surface_writes = vec![
-        (
-            t.color.as_str(),
-            TextureDesc::storage(TARGET_FORMAT).size(g.size),
-        ),
-        (
-            t.normals.as_str(),
-            TextureDesc::storage(TARGET_FORMAT).size(g.size),
-        ),
-        (
-            t.depth.as_str(),
-            TextureDesc::storage(DEPTH_FORMAT)
-                .size(g.size)
-                .lifetime(Lifetime::Permanent),
-        ),
-    ];
-    if let Some(surface) = &t.surface {
-        surface_writes.push((
-            surface.as_str(),
-            TextureDesc::storage(SURFACE_FORMAT).size(g.size),
-        ));
-    }
-    fg.add_pass(
-        label("resolve surface"),
-        g.owner,
-        &surface_reads,
-        &surface_writes,
-        move |cx| resolve(g, renderer, cx, Targets::Surface),
-    );
-    fg.add_pass(
-        label("resolve motion"),
-        g.owner,
-        &[&t.visibility],
-        &[(
-            &t.velocity_uv,
-            TextureDesc::storage(TARGET_FORMAT).size(g.size),
-        )],
-        move |cx| resolve(g, renderer, cx, Targets::Motion),
-    );
+    let mut pass = fg.pass(label("resolve surface"), g.owner);
+    let visibility_read = pass.read(&t.visibility);
+    let hardware_depth = hardware.then(|| pass.read(&t.hardware_depth));
+    let layers = g
+        .layers
+        .iter()
+        .map(|l| LayerReads {
+            normal_map: l
+                .normal_map
+                .as_ref()
+                .filter(|_| l.features.normal_map)
+                .map(|m| pass.read(&m.name)),
+            color_map: l.color_map.as_ref().map(|m| pass.read(&m.name)),
+            textures: l.surface_textures().map(|m| pass.read(&m.name)).collect(),
+        })
+        .collect();
+    let target = |format| TextureDesc::storage(format).size(g.size);
+    let surface = SurfaceOut {
+        color: pass.write(&t.color, target(TARGET_FORMAT)),
+        normals: pass.write(&t.normals, target(TARGET_FORMAT)),
+        depth: pass.write(&t.depth, target(DEPTH_FORMAT).lifetime(Lifetime::Permanent)),
+        surface: t
+            .surface
+            .as_ref()
+            .map(|name| pass.write(name, target(SURFACE_FORMAT))),
+    };
+    let surface_io = ResolveIo {
+        visibility: visibility_read,
+        hardware_depth,
+        surface: Some(surface),
+        velocity_uv: None,
+        layers,
+    };
+    let io = surface_io.clone();
+    pass.run(move |cx| resolve(g, renderer, cx, &io));
+    let mut pass = fg.pass(label("resolve motion"), g.owner);
+    pass.read(&t.visibility);
+    let velocity_uv = pass.write(&t.velocity_uv, target(TARGET_FORMAT));
+    let motion_io = ResolveIo {
+        visibility: visibility_read,
+        hardware_depth: None,
+        surface: None,
+        velocity_uv: Some(velocity_uv),
+        layers: Vec::new(),
+    };
+    pass.run(move |cx| resolve(g, renderer, cx, &motion_io));
     // Both read the visibility: one dispatch per run when the frame reads both,
     // where the device binds the five storage textures that takes with a
     // surface target (WebGPU's minimum is four).
@@ -112,33 +104,40 @@ pub(super) fn declare<'a>(g: &'a GBuffer, renderer: &'a Renderer, fg: &mut Frame
         .limits()
         .max_storage_textures_per_shader_stage;
     if t.surface.is_none() || storage >= 5 {
+        let both = ResolveIo {
+            velocity_uv: Some(velocity_uv),
+            ..surface_io
+        };
         fg.runs_together(label("resolve surface and motion"), move |cx| {
-            resolve(g, renderer, cx, Targets::Both)
+            resolve(g, renderer, cx, &both)
         });
     }
+}
+
+/// What the hardware raster's visibility pass writes.
+#[derive(Clone, Copy)]
+struct VisibilityIo {
+    visibility: Tex,
+    depth: Tex,
 }
 
 fn visibility(
     g: &GBuffer,
     renderer: &Renderer,
     cx: &mut PassContext<'_>,
+    io: VisibilityIo,
 ) -> Result<(), RenderError> {
-    let device = cx.gpu.device.clone();
     let (vertices, indices, _) = renderer.meshes.buffers();
     let extras = renderer.meshes.extras();
+    const STAGES: [&str; 2] = ["vs", "fs"];
     // Culling back faces, and (for draws of double-sided materials) not.
-    let mut plain: [Option<(wgpu::RenderPipeline, wgpu::BindGroup)>; 2] = [None, None];
+    let mut plain: [Option<(wgpu::RenderPipeline, Vec<wgpu::BindGroup>)>; 2] = [None, None];
     for sided in [false, true] {
         if g.draws.iter().any(|d| d.two_sided == sided) {
-            let pipeline = visibility_pipeline(cx, false, sided)?;
-            let group = cx.shaders.group(
-                &device,
-                &PipelineRef::Render(pipeline.clone()),
-                0,
-                "visibility",
-                &g.geometry_entries(&vertices, &indices),
-            );
-            plain[usize::from(sided)] = Some((pipeline, group));
+            let (pipeline, key) = visibility_pipeline(cx, false, sided)?;
+            let bindings = g.geometry_bindings(&vertices, &indices);
+            let groups = cx.render_bind_groups(&key, &STAGES, &pipeline, bindings)?;
+            plain[usize::from(sided)] = Some((pipeline, groups));
         }
     }
     // Per layer with alpha-tested materials: the ALPHA_MASK pipeline and its world's groups.
@@ -157,38 +156,20 @@ fn visibility(
             {
                 continue;
             }
-            let pipeline = visibility_pipeline(cx, true, sided)?;
-            let mut entries = g.geometry_entries(&vertices, &indices);
-            entries.push(wgpu::BindGroupEntry {
-                binding: 12,
-                resource: extras.as_entire_binding(),
-            });
-            let group0 = device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("visibility, alpha mask"),
-                layout: &pipeline.get_bind_group_layout(0),
-                entries: &entries,
-            });
-            let group1 = world.world_bind_group(
-                &device,
-                &pipeline.get_bind_group_layout(1),
-                "visibility: material world",
-            );
-            let group2 = device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("visibility: unused group"),
-                layout: &pipeline.get_bind_group_layout(2),
-                entries: &[],
-            });
-            let group3 = world.maps_bind_group(&device, &pipeline.get_bind_group_layout(3));
-            masked.push((
-                *range,
-                sided,
-                pipeline,
-                [Some(group0), Some(group1), Some(group2), group3],
-            ));
+            let (pipeline, key) = visibility_pipeline(cx, true, sided)?;
+            let mut bindings = g
+                .geometry_bindings(&vertices, &indices)
+                .buffer("extras", &extras)
+                .extend(world.bindings(None));
+            if let Some(maps) = world.maps_bindings() {
+                bindings = bindings.extend(maps);
+            }
+            let groups = cx.render_bind_groups(&key, &STAGES, &pipeline, bindings)?;
+            masked.push((*range, sided, pipeline, groups));
         }
     }
-    let vis = cx.view(&g.targets.visibility)?;
-    let depth = cx.view(&g.targets.hardware_depth)?;
+    let vis = cx.view(io.visibility)?;
+    let depth = cx.view(io.depth)?;
     // Publishing a depth for particle collisions: the meshes in a first
     // pass, the depth copied, then the particles (procedural draws).
     let phases: &[Option<bool>] = match g.published_depth() {
@@ -250,17 +231,17 @@ fn visibility(
                 Some((_, _, pipeline, groups)) => {
                     pass.set_pipeline(pipeline);
                     for (i, group) in groups.iter().enumerate() {
-                        if let Some(group) = group {
-                            pass.set_bind_group(i as u32, group, &[]);
-                        }
+                        pass.set_bind_group(i as u32, group, &[]);
                     }
                 }
                 None => {
-                    let Some((pipeline, group)) = &plain[usize::from(draw.two_sided)] else {
+                    let Some((pipeline, groups)) = &plain[usize::from(draw.two_sided)] else {
                         continue;
                     };
                     pass.set_pipeline(pipeline);
-                    pass.set_bind_group(0, group, &[]);
+                    for (i, group) in groups.iter().enumerate() {
+                        pass.set_bind_group(i as u32, group, &[]);
+                    }
                 }
             }
             pass.draw(
@@ -274,13 +255,14 @@ fn visibility(
     Ok(())
 }
 
-/// The visibility pipeline: culling back faces unless `two_sided` (a draw
-/// of a double-sided material), with `alpha_mask` testing MASK materials.
+/// The visibility pipeline and its permutation: culling back faces unless
+/// `two_sided` (a draw of a double-sided material), with `alpha_mask`
+/// testing MASK materials.
 fn visibility_pipeline(
     cx: &mut PassContext<'_>,
     alpha_mask: bool,
     two_sided: bool,
-) -> Result<wgpu::RenderPipeline, RenderError> {
+) -> Result<(wgpu::RenderPipeline, ShaderKey), RenderError> {
     let device = cx.gpu.device.clone();
     let key = ShaderKey::new(
         "gbuffer/visibility.wgsl",
@@ -292,7 +274,8 @@ fn visibility_pipeline(
     } else {
         "rg32uint+depth32f"
     };
-    cx.shaders
+    let pipeline = cx
+        .shaders
         .render_pipeline(&device, &key, variant, |module| {
             device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                 label: Some("visibility"),
@@ -330,5 +313,6 @@ fn visibility_pipeline(
                 multiview_mask: None,
                 cache: None,
             })
-        })
+        })?;
+    Ok((pipeline, key))
 }

@@ -15,9 +15,9 @@ use std::sync::{Arc, Mutex};
 use glam::Mat4;
 
 use crate::error::RenderError;
-use crate::frame_graph::PassContext;
+use crate::frame_graph::{Bindings, PassContext};
 use crate::renderer::Renderer;
-use crate::shaders::{PipelineRef, ShaderKey};
+use crate::shaders::ShaderKey;
 
 /// A published depth: reversed-Z R32Float, 0 where no mesh was drawn.
 #[derive(Clone, Debug)]
@@ -144,33 +144,17 @@ pub(crate) fn publish(
         "gbuffer/published_depth.wgsl",
         compute.then_some("COMPUTE_RASTER"),
     );
-    let pipeline = cx.shaders.compute_pipeline(&device, &key, "main")?;
-    let input = match &source {
-        DepthSource::Compute(buffer) => buffer.as_entire_binding(),
-        DepthSource::Hardware(view) => wgpu::BindingResource::TextureView(view),
+    let b = match source {
+        DepthSource::Compute(buffer) => Bindings::new().buffer("visibility", buffer),
+        DepthSource::Hardware(view) => Bindings::new().view("depth", view.clone()),
     };
-    let group = cx.shaders.group(
-        &device,
-        &PipelineRef::Compute(pipeline.clone()),
-        0,
+    cx.dispatch_shader(
         "published depth",
-        &[
-            wgpu::BindGroupEntry {
-                binding: 0,
-                resource: input,
-            },
-            wgpu::BindGroupEntry {
-                binding: 1,
-                resource: wgpu::BindingResource::TextureView(&out),
-            },
-        ],
-    );
-    cx.dispatch(
-        "published depth",
-        &pipeline,
-        &[&group],
+        &key,
+        "main",
+        b.view("out_depth", out),
         (size.0.div_ceil(8), size.1.div_ceil(8), 1),
-    );
+    )?;
     depths.written(name, view_projection);
     Ok(())
 }

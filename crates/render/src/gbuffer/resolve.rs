@@ -3,9 +3,9 @@
 //! run of adjacent layers that one permutation serves.
 
 use crate::error::RenderError;
-use crate::frame_graph::PassContext;
+use crate::frame_graph::{Bindings, PassContext, Tex};
 use crate::renderer::Renderer;
-use crate::shaders::{PipelineRef, ShaderKey};
+use crate::shaders::{Reflection, ShaderKey};
 
 use super::{GBuffer, RasterMode};
 
@@ -44,14 +44,57 @@ impl Targets {
     }
 }
 
+/// What the surface resolve writes.
+#[derive(Clone, Copy)]
+pub(super) struct SurfaceOut {
+    pub color: Tex,
+    pub normals: Tex,
+    pub depth: Tex,
+    /// Where some layer has surface maps or a shader node material.
+    pub surface: Option<Tex>,
+}
+
+/// What one layer's surface resolve reads beside the visibility.
+#[derive(Clone, Default)]
+pub(super) struct LayerReads {
+    pub normal_map: Option<Tex>,
+    pub color_map: Option<Tex>,
+    /// A shader node material's texture inputs, in `@input` order.
+    pub textures: Vec<Tex>,
+}
+
+/// What a resolve pass declared: it writes the surface targets, the motion
+/// target, or both (one dispatch per run of layers).
+#[derive(Clone)]
+pub(super) struct ResolveIo {
+    /// The hardware raster's ID texture, or the compute raster's ordering token.
+    pub visibility: Tex,
+    /// The hardware raster's depth (the surface resolve reads it).
+    pub hardware_depth: Option<Tex>,
+    pub surface: Option<SurfaceOut>,
+    pub velocity_uv: Option<Tex>,
+    /// Per layer (the surface resolve's reads).
+    pub layers: Vec<LayerReads>,
+}
+
+impl ResolveIo {
+    fn targets(&self) -> Targets {
+        match (self.surface.is_some(), self.velocity_uv.is_some()) {
+            (true, true) => Targets::Both,
+            (false, _) => Targets::Motion,
+            (true, false) => Targets::Surface,
+        }
+    }
+}
+
 pub(super) fn resolve(
     g: &GBuffer,
     renderer: &Renderer,
     cx: &mut PassContext<'_>,
-    targets: Targets,
+    io: &ResolveIo,
 ) -> Result<(), RenderError> {
+    let targets = io.targets();
     let motion = targets == Targets::Motion;
-    let velocity_out = targets == Targets::Both;
     let device = cx.gpu.device.clone();
     let (vertices, indices, _) = renderer.meshes.buffers();
     let extras = renderer.meshes.extras();
@@ -59,37 +102,16 @@ pub(super) fn resolve(
         .compute
         .as_ref()
         .filter(|_| g.raster == RasterMode::Compute);
-    // What binding 4 is: the compute raster's buffer, or the hardware raster's texture.
-    let (vis_view, vis_buffer) = match compute {
-        Some(c) => {
-            let buffer = c.visibility().ok_or_else(|| RenderError::Pass {
+    // The compute raster's 64-bit buffer, or the hardware raster's IDs.
+    let visibility = match compute {
+        Some(c) => Some((
+            c.visibility().ok_or_else(|| RenderError::Pass {
                 pass: "resolve".to_owned(),
                 message: "the compute raster has not run this frame".to_owned(),
-            })?;
-            (None, Some((buffer, c.first_triangle.clone())))
-        }
-        None => (Some(cx.view(&g.targets.visibility)?), None),
-    };
-    let hardware_depth = match (compute, motion) {
-        (None, false) => Some(cx.view(&g.targets.hardware_depth)?),
-        _ => None,
-    };
-    let outputs = if motion {
-        vec![cx.view(&g.targets.velocity_uv)?]
-    } else {
-        vec![
-            cx.view(&g.targets.color)?,
-            cx.view(&g.targets.normals)?,
-            cx.view(&g.targets.depth)?,
-        ]
-    };
-    let velocity = match velocity_out {
-        true => Some(cx.view(&g.targets.velocity_uv)?),
-        false => None,
-    };
-    let surface = match (&g.targets.surface, motion) {
-        (Some(name), false) => Some(cx.view(name)?),
-        _ => None,
+            })?,
+            &c.first_triangle,
+        )),
+        None => None,
     };
     let (w, h) = g.pixel_size(cx.output_size);
     // Per dispatch: its layer and its layer uniform. With no layers, one
@@ -110,6 +132,7 @@ pub(super) fn resolve(
     for (index, layer_buffer) in dispatches {
         let i = index.unwrap_or(0);
         let layer = index.and_then(|i| g.layers.get(i));
+        let reads = index.and_then(|i| io.layers.get(i)).filter(|_| !motion);
         let mut defines = match (layer, targets) {
             (Some(l), Targets::Motion) => l.features.motion_defines(),
             (Some(l), Targets::Surface) => l.surface_defines(),
@@ -121,14 +144,56 @@ pub(super) fn resolve(
         if compute.is_some() {
             defines.push("COMPUTE_RASTER");
         }
-        if surface.is_some() {
+        let surface_out = io.surface.and_then(|s| s.surface);
+        if surface_out.is_some() {
             defines.push("SURFACE_OUT");
         }
-        let vertex_extras = defines.contains(&"VERTEX_EXTRAS");
         let key = ShaderKey::new("gbuffer/resolve.wgsl", defines);
-        // A shader node material: the resolve composed with its file.
+        let layer_buffer = match layer_buffer {
+            Some(b) => b.clone(),
+            None => background_layer(&device),
+        };
+        let mut b = Bindings::new()
+            .buffer("camera", g.camera_buffer())
+            .buffer("vertices", &vertices)
+            .buffer("indices", &indices)
+            .buffer("instances", &g.instances)
+            .buffer("extras", &extras)
+            .buffer("layer", &layer_buffer)
+            .texture_opt("hardware_depth", io.hardware_depth.filter(|_| !motion))
+            .texture_opt("out_surface", surface_out)
+            .texture_opt("out_velocity_uv", io.velocity_uv);
+        b = match visibility.as_ref() {
+            Some((buffer, first_triangle)) => b
+                .buffer("visibility", buffer)
+                .buffer("first_triangle", first_triangle),
+            None => b.texture("visibility", io.visibility),
+        };
+        if let Some(out) = io.surface {
+            b = b
+                .texture("out_color", out.color)
+                .texture("out_normal", out.normals)
+                .texture("out_depth", out.depth);
+        }
+        // The layer's maps, where its permutation samples them.
+        if let Some(reads) = reads {
+            let sampling = crate::shaders::Sampling::LinearRepeat;
+            if let Some(map) = reads.normal_map {
+                b = b
+                    .texture("normal_map", map)
+                    .sampler("normal_sampler", sampling);
+            }
+            if let Some(map) = reads.color_map {
+                b = b
+                    .texture("color_map", map)
+                    .sampler("color_sampler", sampling);
+            }
+        }
+        // A shader node material: the resolve composed with its file, whose
+        // group 1 its own file lays out; else the material world and its
+        // surface maps' arrays.
         let custom = layer.and_then(|l| l.surface.as_ref()).filter(|_| !motion);
-        let (pipeline, custom_used) = match custom {
+        let groups = match custom {
             Some(s) => {
                 let splice = crate::shaders::Splice {
                     key: s.key,
@@ -136,153 +201,42 @@ pub(super) fn resolve(
                     file_path: &s.file,
                     source: &s.text,
                 };
-                let (p, used) = cx
+                let label = format!("{}: resolve surface", s.label);
+                let (pipeline, reflection) = cx
                     .shaders
                     .surface_pipeline(&device, &key, &splice, "main")
                     .map_err(|e| RenderError::Pass {
-                        pass: format!("{}: resolve surface", s.label),
+                        pass: label.clone(),
                         message: e.to_string(),
                     })?;
-                (p, used)
-            }
-            None => (
-                cx.shaders.compute_pipeline(&device, &key, "main")?,
-                Vec::new(),
-            ),
-        };
-        let layer_buffer = match layer_buffer {
-            Some(b) => b.clone(),
-            None => background_layer(&device),
-        };
-        let mut entries = g.geometry_entries(&vertices, &indices);
-        if vertex_extras {
-            entries.push(wgpu::BindGroupEntry {
-                binding: 12,
-                resource: extras.as_entire_binding(),
-            });
-        }
-        entries.push(wgpu::BindGroupEntry {
-            binding: 5,
-            resource: layer_buffer.as_entire_binding(),
-        });
-        match (&vis_view, &vis_buffer) {
-            (Some(view), _) => entries.push(wgpu::BindGroupEntry {
-                binding: 4,
-                resource: wgpu::BindingResource::TextureView(view),
-            }),
-            (None, Some((buffer, first_triangle))) => {
-                entries.push(wgpu::BindGroupEntry {
-                    binding: 4,
-                    resource: buffer.as_entire_binding(),
-                });
-                entries.push(wgpu::BindGroupEntry {
-                    binding: 10,
-                    resource: first_triangle.as_entire_binding(),
-                });
-            }
-            (None, None) => {}
-        }
-        if let Some(depth) = &hardware_depth {
-            entries.push(wgpu::BindGroupEntry {
-                binding: 9,
-                resource: wgpu::BindingResource::TextureView(depth),
-            });
-        }
-        for (k, view) in outputs.iter().enumerate() {
-            entries.push(wgpu::BindGroupEntry {
-                binding: 6 + k as u32,
-                resource: wgpu::BindingResource::TextureView(view),
-            });
-        }
-        if let Some(view) = &surface {
-            entries.push(wgpu::BindGroupEntry {
-                binding: 11,
-                resource: wgpu::BindingResource::TextureView(view),
-            });
-        }
-        if let Some(view) = &velocity {
-            entries.push(wgpu::BindGroupEntry {
-                binding: 13,
-                resource: wgpu::BindingResource::TextureView(view),
-            });
-        }
-        let pipeline_ref = PipelineRef::Compute(pipeline.clone());
-        let group0 = cx
-            .shaders
-            .group(&device, &pipeline_ref, 0, "resolve", &entries);
-        // Groups 1 and 3: the material world and its surface maps' arrays,
-        // or group 1 alone: a shader node material's bindings.
-        let (world_group, maps_group) = match (
-            layer.and_then(|l| l.map_world()).filter(|_| !motion),
-            custom,
-        ) {
-            (_, Some(s)) => (
-                surface_group(
-                    cx,
-                    &pipeline,
-                    s,
-                    g.surface_buffers.get(i).and_then(Option::as_ref),
-                    &custom_used,
-                )?,
-                None,
-            ),
-            (Some(world), None) => (
-                Some(world.bind_group(cx, &key, &pipeline, false, g.targets.surface_targets())?),
-                world.maps_bind_group(&device, &pipeline.get_bind_group_layout(3)),
-            ),
-            (None, None) => (None, None),
-        };
-        // Group 2: the layer's maps, bound where its permutation samples them.
-        let group2 = match layer.filter(|l| !motion && l.maps().next().is_some()) {
-            Some(l) => {
-                let sampler = cx.sampler(crate::shaders::Sampling::LinearRepeat);
-                let normal = l
-                    .normal_map
-                    .as_ref()
-                    .filter(|_| l.features.normal_map)
-                    .map(|m| cx.view(&m.name))
-                    .transpose()?;
-                let color = l.color_map.as_ref().map(|m| cx.view(&m.name)).transpose()?;
-                let mut all = Vec::new();
-                if let Some(v) = &normal {
-                    all.push((0, wgpu::BindingResource::TextureView(v)));
-                    all.push((1, wgpu::BindingResource::Sampler(&sampler)));
+                let params = g.surface_buffers.get(i).and_then(Option::as_ref);
+                let textures = reads.map_or(&[][..], |r| r.textures.as_slice());
+                if let Some(group) = surface_group(cx, &pipeline, s, params, textures, &reflection)?
+                {
+                    b = b.group(1, group);
                 }
-                if let Some(v) = &color {
-                    all.push((2, wgpu::BindingResource::TextureView(v)));
-                    all.push((3, wgpu::BindingResource::Sampler(&sampler)));
+                let groups = cx.bind_groups_reflected(&label, &reflection, &pipeline, b)?;
+                (pipeline, groups)
+            }
+            None => {
+                if let Some(world) = layer.and_then(|l| l.map_world()).filter(|_| !motion) {
+                    b = b.extend(world.bindings(None));
+                    if let Some(maps) = world.maps_bindings() {
+                        b = b.extend(maps);
+                    }
                 }
-                Some(
-                    cx.shaders
-                        .bind_group(&device, &key, "main", &pipeline, 2, &all)?,
-                )
+                let pipeline = cx.shaders.compute_pipeline(&device, &key, "main")?;
+                let groups = cx.bind_groups(&key, "main", &pipeline, b)?;
+                (pipeline, groups)
             }
-            None => None,
         };
-        let mut groups = [world_group, group2, maps_group];
-        // A derived layout has every group below the last used: fill the gaps empty.
-        let last = groups.iter().rposition(Option::is_some).unwrap_or(0);
-        for (i, group) in groups.iter_mut().enumerate().take(last) {
-            if group.is_none() {
-                *group = Some(cx.shaders.group(
-                    &device,
-                    &pipeline_ref,
-                    i as u32 + 1,
-                    "resolve: unused group",
-                    &[],
-                ));
-            }
-        }
-        work.push((pipeline, group0, groups));
+        work.push(groups);
     }
     let pass = cx.compute_pass(targets.label());
-    for (pipeline, group0, groups) in &work {
+    for (pipeline, groups) in &work {
         pass.set_pipeline(pipeline);
-        pass.set_bind_group(0, group0, &[]);
         for (i, group) in groups.iter().enumerate() {
-            if let Some(group) = group {
-                pass.set_bind_group(i as u32 + 1, group, &[]);
-            }
+            pass.set_bind_group(i as u32, group, &[]);
         }
         pass.dispatch_workgroups(w.div_ceil(8), h.div_ceil(8), 1);
     }
@@ -290,66 +244,57 @@ pub(super) fn resolve(
 }
 
 /// Group 1 of a resolve composed with a shader node material: its pins'
-/// uniform block, texture inputs and samplers, those the permutation uses.
+/// uniform block, texture inputs and samplers, numbered as the user's file
+/// numbers them, those the permutation uses. None where it uses no group 1.
 fn surface_group(
     cx: &mut PassContext<'_>,
     pipeline: &wgpu::ComputePipeline,
     surface: &super::SurfaceShader,
     params: Option<&wgpu::Buffer>,
-    used: &[(u32, u32)],
+    textures: &[Tex],
+    reflection: &Reflection,
 ) -> Result<Option<wgpu::BindGroup>, RenderError> {
     use super::SurfaceBinding;
     // A derived layout has groups up to the last one used: none past 0, no group 1.
-    if !used.iter().any(|(group, _)| *group >= 1) {
+    if reflection.last_group().is_none_or(|last| last < 1) {
         return Ok(None);
     }
-    let mut views = Vec::new();
-    for (_, binding) in &surface.bindings {
-        if let SurfaceBinding::Texture(t) = binding {
-            let texture = surface.textures.get(*t).ok_or_else(|| RenderError::Pass {
-                pass: format!("{}: resolve surface", surface.label),
-                message: format!("texture input {t} is not connected"),
-            })?;
-            views.push((*t, cx.view(&texture.name)?));
-        }
-    }
-    let mut samplers = Vec::new();
-    for (_, binding) in &surface.bindings {
-        if let SurfaceBinding::Sampler { repeat } = binding {
-            let sampling = if *repeat {
-                crate::shaders::Sampling::LinearRepeat
-            } else {
-                crate::shaders::Sampling::LinearClamp
-            };
-            samplers.push((*repeat, cx.sampler(sampling)));
-        }
-    }
-    let mut entries = Vec::new();
+    let mut resources = Vec::new();
     for (binding, role) in &surface.bindings {
-        if !used.contains(&(1, *binding)) {
+        if !reflection.used().any(|u| u == (1, *binding)) {
             continue;
         }
         let resource = match role {
             SurfaceBinding::Uniform => match params {
-                Some(buffer) => buffer.as_entire_binding(),
+                Some(buffer) => Bound::Buffer(buffer.clone()),
                 None => continue,
             },
-            SurfaceBinding::Texture(t) => match views.iter().find(|(i, _)| i == t) {
-                Some((_, view)) => wgpu::BindingResource::TextureView(view),
-                None => continue,
-            },
-            SurfaceBinding::Sampler { repeat } => {
-                match samplers.iter().find(|(r, _)| r == repeat) {
-                    Some((_, sampler)) => wgpu::BindingResource::Sampler(sampler),
-                    None => continue,
-                }
+            SurfaceBinding::Texture(t) => {
+                let tex = textures.get(*t).ok_or_else(|| RenderError::Pass {
+                    pass: format!("{}: resolve surface", surface.label),
+                    message: format!("texture input {t} is not connected"),
+                })?;
+                Bound::View(cx.view(*tex)?)
             }
+            SurfaceBinding::Sampler { repeat } => Bound::Sampler(cx.sampler(if *repeat {
+                crate::shaders::Sampling::LinearRepeat
+            } else {
+                crate::shaders::Sampling::LinearClamp
+            })),
         };
-        entries.push(wgpu::BindGroupEntry {
-            binding: *binding,
-            resource,
-        });
+        resources.push((*binding, resource));
     }
+    let entries: Vec<wgpu::BindGroupEntry<'_>> = resources
+        .iter()
+        .map(|(binding, bound)| wgpu::BindGroupEntry {
+            binding: *binding,
+            resource: match bound {
+                Bound::Buffer(b) => b.as_entire_binding(),
+                Bound::View(v) => wgpu::BindingResource::TextureView(v),
+                Bound::Sampler(s) => wgpu::BindingResource::Sampler(s),
+            },
+        })
+        .collect();
     Ok(Some(cx.gpu.device.create_bind_group(
         &wgpu::BindGroupDescriptor {
             label: Some("resolve: shader node material"),
@@ -357,6 +302,13 @@ fn surface_group(
             entries: &entries,
         },
     )))
+}
+
+/// A resource of a shader node material's group, resolved.
+enum Bound {
+    Buffer(wgpu::Buffer),
+    View(wgpu::TextureView),
+    Sampler(wgpu::Sampler),
 }
 
 /// The layer record of a G-buffer with no layers: covers nothing, clears everything.

@@ -4,7 +4,7 @@
 use std::sync::Arc;
 
 use crate::error::RenderError;
-use crate::frame_graph::{FrameGraph, PassContext, TextureDesc};
+use crate::frame_graph::{Bindings, FrameGraph, PassContext, Tex, TextureDesc};
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
 use crate::shaders::ShaderKey;
@@ -109,49 +109,21 @@ impl GBufferView {
         }
     }
 
-    fn run(&self, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
-        let device = cx.gpu.device.clone();
+    fn run(&self, cx: &mut PassContext<'_>, source: Tex, output: Tex) -> Result<(), RenderError> {
         let key = ShaderKey::new("gbuffer/view.wgsl", [self.channel.feature()]);
-        let pipeline = cx.shaders.compute_pipeline(&device, &key, "main")?;
-        let source = cx.view(self.channel.source(&self.gbuffer))?;
-        let output = cx.view(&self.output)?;
-        let (w, h) = {
-            let t = cx.texture(&self.output)?;
-            (t.width(), t.height())
-        };
-        let mut entries = vec![
-            wgpu::BindGroupEntry {
-                binding: 0,
-                resource: self.gbuffer.camera_buffer().as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 2,
-                resource: wgpu::BindingResource::TextureView(&output),
-            },
-            wgpu::BindGroupEntry {
-                binding: 3,
-                resource: wgpu::BindingResource::TextureView(&source),
-            },
-        ];
-        // The layout is derived from the permutation: only the velocity view reads its parameters.
-        if self.channel == Channel::Velocity {
-            entries.push(wgpu::BindGroupEntry {
-                binding: 1,
-                resource: self.params.as_entire_binding(),
-            });
-        }
-        let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("gbuffer view"),
-            layout: &pipeline.get_bind_group_layout(0),
-            entries: &entries,
-        });
-        cx.dispatch(
+        let size = cx.size_of(output)?;
+        // The layout is derived from the permutation: only the velocity view
+        // reads its parameters, the others leave them out.
+        cx.dispatch_image(
             "gbuffer view",
-            &pipeline,
-            &[&group],
-            (w.div_ceil(8), h.div_ceil(8), 1),
-        );
-        Ok(())
+            &key,
+            Bindings::new()
+                .buffer("camera", self.gbuffer.camera_buffer())
+                .buffer("params", &self.params)
+                .texture("source", source)
+                .texture("output", output),
+            size,
+        )
     }
 }
 
@@ -166,12 +138,9 @@ impl Recipe for GBufferView {
             None => format!("GBufferView ({})", self.channel.name()),
         };
         let desc = TextureDesc::storage(wgpu::TextureFormat::Rgba16Float).size(self.gbuffer.size);
-        fg.add_pass(
-            name,
-            self.owner,
-            &[self.channel.source(&self.gbuffer)],
-            &[(&self.output, desc)],
-            move |cx| self.run(cx),
-        );
+        let mut pass = fg.pass(name, self.owner);
+        let source = pass.read(self.channel.source(&self.gbuffer));
+        let output = pass.write(&self.output, desc);
+        pass.run(move |cx| self.run(cx, source, output));
     }
 }

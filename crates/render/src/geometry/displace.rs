@@ -84,8 +84,8 @@ pub fn displace(
             threads: vertex_count.max(index_count),
             params: bytemuck::bytes_of(&gpu),
             extra: vec![
-                (4, wgpu::BindingResource::TextureView(&height.view)),
-                (5, wgpu::BindingResource::Sampler(&sampler)),
+                ("height", wgpu::BindingResource::TextureView(&height.view)),
+                ("height_sampler", wgpu::BindingResource::Sampler(&sampler)),
             ],
             layout: MeshLayout {
                 bounds: Aabb {
@@ -117,7 +117,24 @@ pub fn displace(
         renderer,
         SHADER,
         &[("ACCUMULATE", index_count / 3), ("NORMALS", vertex_count)],
-        &[(2, &job), (3, &params), (6, &sums)],
+        &[("job", &job), ("params", &params), ("normal_sums", &sums)],
     )?;
     Ok(output)
+}
+
+/// The layout the shader sees (shaders/layout.rs).
+#[cfg(test)]
+mod wgsl_layout {
+    use super::*;
+
+    #[test]
+    fn gpu_matches_params_in_the_shader() {
+        crate::assert_wgsl_layout!(
+            Gpu,
+            "geometry/displace.wgsl",
+            [],
+            "Params",
+            [amount, midlevel, _pad]
+        );
+    }
 }

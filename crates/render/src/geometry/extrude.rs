@@ -56,10 +56,10 @@ pub fn extrude(
             usage: wgpu::BufferUsages::STORAGE,
         });
     let sampler = texture.map(|_| height_sampler(renderer));
-    let mut extra = vec![(4, buffer.as_entire_binding())];
+    let mut extra = vec![("amounts", buffer.as_entire_binding())];
     if let (Some(t), Some(s)) = (texture, &sampler) {
-        extra.push((5, wgpu::BindingResource::TextureView(&t.view)));
-        extra.push((6, wgpu::BindingResource::Sampler(s)));
+        extra.push(("height", wgpu::BindingResource::TextureView(&t.view)));
+        extra.push(("height_sampler", wgpu::BindingResource::Sampler(s)));
     }
     let features = texture.map(|_| "TEXTURE");
     run(
@@ -71,7 +71,7 @@ pub fn extrude(
             vertex_count,
             index_count,
             threads: vertex_count.max(index_count),
-            params: &[0u8; 16],
+            params: &[],
             extra,
             // Every point moves at most the largest amount.
             layout: MeshLayout {

@@ -173,10 +173,11 @@ pub struct Op<'a> {
     pub index_count: u32,
     /// Invocations (at least the larger of the two counts for one-to-one passes).
     pub threads: u32,
-    /// The pass's own uniform (binding 3); a multiple of 16 bytes.
+    /// The pass's own uniform `params`, a multiple of 16 bytes; empty where the shader has none.
     pub params: &'a [u8],
     /// More bindings of group 0 (4 and up): textures, samplers, buffers.
-    pub extra: Vec<(u32, wgpu::BindingResource<'a>)>,
+    /// The operation's own resources, by WGSL variable name.
+    pub extra: Vec<(&'static str, wgpu::BindingResource<'a>)>,
     pub layout: MeshLayout,
 }
 
@@ -232,13 +233,13 @@ pub fn run_into(
     };
     let (vertices, indices, _) = renderer.meshes.buffers();
     let job = uniform(renderer, "geometry job", bytemuck::bytes_of(&job));
-    let params = uniform(renderer, "geometry params", op.params);
+    let params = (!op.params.is_empty()).then(|| uniform(renderer, "geometry params", op.params));
     let mut resources = vec![
-        (0, vertices.as_entire_binding()),
-        (1, indices.as_entire_binding()),
-        (2, job.as_entire_binding()),
-        (3, params.as_entire_binding()),
+        ("vertices", vertices.as_entire_binding()),
+        ("indices", indices.as_entire_binding()),
+        ("job", job.as_entire_binding()),
     ];
+    resources.extend(params.as_ref().map(|p| ("params", p.as_entire_binding())));
     resources.extend(op.extra);
     dispatch(renderer, &op.key, resources, op.threads)?;
     Ok(output)
@@ -257,13 +258,13 @@ pub(crate) fn uniform(renderer: &Renderer, label: &str, bytes: &[u8]) -> wgpu::B
 }
 
 /// Records and submits one dispatch of `key`'s `main` over `threads`
-/// invocations with `resources` in group 0 (those the permutation compiled
-/// out are dropped), inside a validation scope: a broken pass is an error,
-/// not a broken frame. Counted in [`GeometryStats`].
+/// invocations with `resources` bound by WGSL variable name (those the
+/// permutation compiled out are dropped), inside a validation scope: a
+/// broken pass is an error, not a broken frame. Counted in [`GeometryStats`].
 pub(crate) fn dispatch(
     renderer: &Renderer,
     key: &ShaderKey,
-    resources: Vec<(u32, wgpu::BindingResource<'_>)>,
+    resources: Vec<(&str, wgpu::BindingResource<'_>)>,
     threads: u32,
 ) -> Result<(), RenderError> {
     dispatch_as(renderer, key, resources, threads, Work::Geometry)
@@ -271,18 +272,18 @@ pub(crate) fn dispatch(
 
 /// The steps of a multi-pass operation, in order: one [`dispatch`] of
 /// `shader` per (feature, threads), each binding the arena's vertices and
-/// indices (0, 1) and `bindings`.
+/// indices and `bindings`, by name.
 pub(crate) fn dispatch_steps(
     renderer: &Renderer,
     shader: &'static str,
     steps: &[(&'static str, u32)],
-    bindings: &[(u32, &wgpu::Buffer)],
+    bindings: &[(&str, &wgpu::Buffer)],
 ) -> Result<(), RenderError> {
     let (vertices, indices, _) = renderer.meshes.buffers();
     for &(feature, threads) in steps {
         let mut resources = vec![
-            (0, vertices.as_entire_binding()),
-            (1, indices.as_entire_binding()),
+            ("vertices", vertices.as_entire_binding()),
+            ("indices", indices.as_entire_binding()),
         ];
         resources.extend(
             bindings
@@ -303,7 +304,7 @@ pub(crate) fn dispatch_steps(
 pub(crate) fn dispatch_as(
     renderer: &Renderer,
     key: &ShaderKey,
-    resources: Vec<(u32, wgpu::BindingResource<'_>)>,
+    resources: Vec<(&str, wgpu::BindingResource<'_>)>,
     threads: u32,
     work: Work,
 ) -> Result<(), RenderError> {
@@ -316,7 +317,14 @@ pub(crate) fn dispatch_as(
     let recorded = (|| {
         let mut shaders = renderer.shaders();
         let pipeline = shaders.compute_pipeline(device, key, "main")?;
-        let group = shaders.bind_group(device, key, "main", &pipeline, 0, &resources)?;
+        let groups = shaders.named_groups(
+            device,
+            key,
+            &["main"],
+            &crate::shaders::PipelineRef::Compute(pipeline.clone()),
+            &resources,
+            &[],
+        )?;
         drop(shaders);
         let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
             label: Some(key.path),
@@ -331,7 +339,9 @@ pub(crate) fn dispatch_as(
                 }),
             });
             pass.set_pipeline(&pipeline);
-            pass.set_bind_group(0, &group, &[]);
+            for (i, group) in groups.iter().enumerate() {
+                pass.set_bind_group(i as u32, group, &[]);
+            }
             let (x, y) = workgroups(threads);
             pass.dispatch_workgroups(x, y, 1);
         }
@@ -385,5 +395,34 @@ mod tests {
             assert!(x <= 65_535 && y <= 65_535, "{threads}: {x} x {y}");
             assert!(u64::from(x) * u64::from(y) * 64 >= u64::from(threads));
         }
+    }
+}
+
+/// The layout the shader sees (shaders/layout.rs).
+#[cfg(test)]
+mod wgsl_layout {
+    use super::*;
+
+    #[test]
+    fn gpu_job_matches_job_in_the_shader() {
+        crate::assert_wgsl_layout!(
+            GpuJob,
+            "geometry/spherize.wgsl",
+            [],
+            "Job",
+            [
+                src_vertex,
+                src_index,
+                dst_vertex,
+                dst_index,
+                vertex_count,
+                index_count,
+                previous_vertex,
+                has_previous,
+                src_vertex_count,
+                src_index_count,
+                _pad
+            ]
+        );
     }
 }

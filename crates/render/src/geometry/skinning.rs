@@ -276,17 +276,62 @@ pub fn deform(
         renderer,
         &ShaderKey::new("geometry/skinning.wgsl", []),
         vec![
-            (0, vertices.as_entire_binding()),
-            (1, indices.as_entire_binding()),
-            (3, work.as_entire_binding()),
-            (4, jobs_buffer.as_entire_binding()),
-            (5, palette.as_entire_binding()),
-            (6, source.influences.as_entire_binding()),
-            (7, source.targets.as_entire_binding()),
-            (8, weights.as_entire_binding()),
+            ("vertices", vertices.as_entire_binding()),
+            ("indices", indices.as_entire_binding()),
+            ("work", work.as_entire_binding()),
+            ("jobs", jobs_buffer.as_entire_binding()),
+            ("palette", palette.as_entire_binding()),
+            ("influences", source.influences.as_entire_binding()),
+            ("targets", source.targets.as_entire_binding()),
+            ("morph_weights", weights.as_entire_binding()),
         ],
         threads,
         Work::Skinning,
     )?;
     Ok(outputs)
+}
+
+/// The layout the shader sees (shaders/layout.rs).
+#[cfg(test)]
+mod wgsl_layout {
+    use super::*;
+
+    #[test]
+    fn gpu_job_matches_job_in_the_shader() {
+        crate::assert_wgsl_layout!(
+            GpuJob,
+            "geometry/skinning.wgsl",
+            [],
+            "Job",
+            [
+                src_vertex,
+                src_index,
+                dst_vertex,
+                dst_index,
+                vertex_count,
+                index_count,
+                previous_vertex,
+                has_previous,
+                influence_offset,
+                target_offset,
+                target_count,
+                palette_offset,
+                joint_count,
+                weight_offset,
+                first_thread,
+                spare
+            ]
+        );
+    }
+
+    #[test]
+    fn gpu_influence_matches_influence_in_the_shader() {
+        crate::assert_wgsl_layout!(
+            GpuInfluence,
+            "geometry/skinning.wgsl",
+            [],
+            "Influence",
+            [joints, weights]
+        );
+    }
 }

@@ -76,3 +76,20 @@ pub fn spherize(
         },
     )
 }
+
+/// The layout the shader sees (shaders/layout.rs).
+#[cfg(test)]
+mod wgsl_layout {
+    use super::*;
+
+    #[test]
+    fn gpu_matches_params_in_the_shader() {
+        crate::assert_wgsl_layout!(
+            Gpu,
+            "geometry/spherize.wgsl",
+            [],
+            "Params",
+            [center, radius, amount, _pad]
+        );
+    }
+}

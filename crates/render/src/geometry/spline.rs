@@ -175,7 +175,7 @@ pub fn spline(
             index_count,
             threads: vertex_count.max(index_count),
             params: bytemuck::cast_slice(&params),
-            extra: vec![(4, buffer.as_entire_binding())],
+            extra: vec![("points", buffer.as_entire_binding())],
             layout: MeshLayout {
                 bounds: Aabb {
                     min: hull.min - Vec3::splat(reach),

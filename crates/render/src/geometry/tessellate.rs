@@ -109,11 +109,11 @@ pub fn tessellate(
         SHADER,
         &[("COUNT", faces), ("SUMS", 64)],
         &[
-            (2, &job),
-            (3, &params_buffer),
-            (4, &levels),
-            (5, &offsets),
-            (6, &totals),
+            ("job", &job),
+            ("params", &params_buffer),
+            ("levels", &levels),
+            ("offsets", &offsets),
+            ("blocks", &totals),
         ],
     )?;
     let total = read_storage(renderer, &totals, u64::from(blocks) * 8, 8)?;
@@ -132,11 +132,28 @@ pub fn tessellate(
             threads: faces,
             params: bytemuck::bytes_of(&params),
             extra: vec![
-                (4, levels.as_entire_binding()),
-                (5, offsets.as_entire_binding()),
-                (6, totals.as_entire_binding()),
+                ("levels", levels.as_entire_binding()),
+                ("offsets", offsets.as_entire_binding()),
+                ("blocks", totals.as_entire_binding()),
             ],
             layout,
         },
     )
+}
+
+/// The layout the shader sees (shaders/layout.rs).
+#[cfg(test)]
+mod wgsl_layout {
+    use super::*;
+
+    #[test]
+    fn gpu_matches_params_in_the_shader() {
+        crate::assert_wgsl_layout!(
+            Gpu,
+            "geometry/tessellate.wgsl",
+            [],
+            "Params",
+            [max_area, segment, max_level, blocks]
+        );
+    }
 }

@@ -14,14 +14,15 @@
 use std::sync::Arc;
 
 use crate::error::RenderError;
-use crate::frame_graph::{FrameGraph, PassContext, TextureDesc};
+use crate::frame_graph::{Bindings, FrameGraph, PassContext, Tex, TextureDesc};
 use crate::gbuffer::GBuffer;
 use crate::material::{
-    FEATURE_AMBIENT_OCCLUSION, FEATURE_EMISSION, FEATURE_MATCAP, FEATURE_REFLECTION, MaterialWorld,
+    FEATURE_AMBIENT_OCCLUSION, FEATURE_EMISSION, FEATURE_MATCAP, FEATURE_REFLECTION,
+    MaterialTextures, MaterialWorld,
 };
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
-use crate::shaders::ShaderKey;
+use crate::shaders::{Sampling, ShaderKey};
 
 /// What a CompositeLight combines.
 #[derive(Clone, Debug)]
@@ -174,165 +175,108 @@ impl CompositeLight {
         }
     }
 
-    fn run(&self, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
-        let device = cx.gpu.device.clone();
+    /// The permutation: a feature no material has is compiled out.
+    fn key(&self) -> ShaderKey {
         let mut features: Vec<&'static str> = ["LIGHTS_2", "LIGHTS_3", "LIGHTS_4"]
             .into_iter()
             .take(self.components.len().saturating_sub(1))
             .collect();
-        if self.emission {
-            features.push("EMISSION");
-        }
-        if self.occlusion.is_some() {
-            features.push("AO");
-        }
-        if self.ao_per_material {
-            features.push("AO_PER_MATERIAL");
-        }
-        if self.textured() {
-            features.push("MATERIAL_TEXTURES");
-        }
-        if self.materials.is_some() {
-            features.push("MATERIALS");
-        }
+        let flags = [
+            (self.emission, "EMISSION"),
+            (self.occlusion.is_some(), "AO"),
+            (self.ao_per_material, "AO_PER_MATERIAL"),
+            (self.textured(), "MATERIAL_TEXTURES"),
+            (self.materials.is_some(), "MATERIALS"),
+            (self.gi.is_some(), "GI"),
+            (self.reflection.is_some(), "REFLECTION"),
+            (self.matcap, "MATCAP"),
+            (self.matcap_images().is_some(), "MATCAP_TEXTURE"),
+        ];
+        features.extend(flags.into_iter().filter(|(on, _)| *on).map(|(_, f)| f));
         // Occlusion, metallic and emission where the G-buffer resolved them.
         features.extend(self.gbuffer.targets.surface_feature());
-        if self.gi.is_some() {
-            features.push("GI");
-        }
-        if self.reflection.is_some() {
-            features.push("REFLECTION");
-        }
-        if self.reflection_culled {
-            cx.count("reflection culled: no reflective material", 1);
-        }
-        if self.matcap {
-            features.push("MATCAP");
-            cx.count("matcap shaded", 1);
-        }
-        if self.matcap_images().is_some() {
-            features.push("MATCAP_TEXTURE");
-        }
         for (k, c) in self.components.iter().enumerate() {
             if c.sss.is_some() {
                 features.push(["SSS_1", "SSS_2", "SSS_3", "SSS_4"][k]);
             }
         }
-        let key = ShaderKey::new("lighting/composite.wgsl", features);
-        let pipeline = cx.shaders.compute_pipeline(&device, &key, "main")?;
-        let g = &self.gbuffer.targets;
-        let fixed = [
-            cx.view(&g.color)?,
-            cx.view(&g.depth)?,
-            cx.view(&self.output)?,
-        ];
-        let mut lights = Vec::new();
-        let mut subsurface = Vec::new();
-        for (k, c) in self.components.iter().enumerate() {
-            lights.push((cx.view(&c.diffuse.name)?, cx.view(&c.specular.name)?));
-            if let Some(sss) = &c.sss {
-                subsurface.push((13 + k as u32, cx.view(&sss.name)?));
-            }
-        }
-        let mut all = vec![
-            (0, self.gbuffer.camera_buffer().as_entire_binding()),
-            (1, self.params.as_entire_binding()),
-            (2, wgpu::BindingResource::TextureView(&fixed[0])),
-            (5, wgpu::BindingResource::TextureView(&fixed[1])),
-            (6, wgpu::BindingResource::TextureView(&fixed[2])),
-        ];
-        // Pair 0 at bindings 3 and 4, pairs 1..3 from binding 7 on.
-        for (k, (diffuse, specular)) in lights.iter().enumerate() {
-            let (d, s) = if k == 0 {
-                (3, 4)
-            } else {
-                (5 + 2 * k as u32, 6 + 2 * k as u32)
-            };
-            all.push((d, wgpu::BindingResource::TextureView(diffuse)));
-            all.push((s, wgpu::BindingResource::TextureView(specular)));
-        }
-        let surface = match &g.surface {
-            Some(name) => Some(cx.view(name)?),
-            None => None,
-        };
-        if let Some(view) = &surface {
-            all.push((
-                crate::gbuffer::SURFACE_TARGET_BINDING,
-                wgpu::BindingResource::TextureView(view),
-            ));
-        }
-        let occlusion = match &self.occlusion {
-            Some(ao) => Some(cx.view(&ao.name)?),
-            None => None,
-        };
-        if let Some(view) = &occlusion {
-            all.push((17, wgpu::BindingResource::TextureView(view)));
-        }
-        let gi = match &self.gi {
-            Some(t) => Some(cx.view(&t.name)?),
-            None => None,
-        };
-        if let Some(view) = &gi {
-            all.push((18, wgpu::BindingResource::TextureView(view)));
-        }
-        let reflection = match &self.reflection {
-            Some(t) => Some(cx.view(&t.name)?),
-            None => None,
-        };
-        if let Some(view) = &reflection {
-            all.push((19, wgpu::BindingResource::TextureView(view)));
-        }
-        for (binding, view) in &subsurface {
-            all.push((*binding, wgpu::BindingResource::TextureView(view)));
-        }
-        let normals = if self.matcap {
-            Some(cx.view(&g.normals)?)
-        } else {
-            None
-        };
-        if let Some(view) = &normals {
-            all.push((22, wgpu::BindingResource::TextureView(view)));
-        }
-        let matcap_images = match self.matcap_images() {
-            Some(t) => Some((
-                cx.view_of(
-                    &cx.texture(&t.name)?.clone(),
-                    crate::texture_pool::ViewSpec::array(),
-                ),
-                // Clamped: the rim of a matcap must not wrap to the far side.
-                cx.sampler(crate::shaders::Sampling::LinearClamp),
-            )),
-            None => None,
-        };
-        if let Some((images, sampler)) = &matcap_images {
-            all.push((20, wgpu::BindingResource::TextureView(images)));
-            all.push((21, wgpu::BindingResource::Sampler(sampler)));
-        }
-        let group = cx
-            .shaders
-            .bind_group(&device, &key, "main", &pipeline, 0, &all)?;
-        let material_group = match &self.materials {
-            Some(world) => Some(world.bind_group(
-                cx,
-                &key,
-                &pipeline,
-                self.textured(),
-                self.gbuffer.targets.surface_targets(),
-            )?),
-            None => None,
-        };
-        let (w, h) = self.gbuffer.pixel_size(cx.output_size);
-        let groups: Vec<&wgpu::BindGroup> = std::iter::once(&group)
-            .chain(material_group.as_ref())
-            .collect();
-        cx.dispatch(
-            "composite",
-            &pipeline,
-            &groups,
-            (w.div_ceil(8), h.div_ceil(8), 1),
-        );
-        Ok(())
+        ShaderKey::new("lighting/composite.wgsl", features)
     }
+
+    fn run(&self, cx: &mut PassContext<'_>, io: &CompositeIo) -> Result<(), RenderError> {
+        if self.reflection_culled {
+            cx.count("reflection culled: no reflective material", 1);
+        }
+        if self.matcap {
+            cx.count("matcap shaded", 1);
+        }
+        const DIFFUSE: [&str; MAX_COMPONENTS] = ["diffuse0", "diffuse1", "diffuse2", "diffuse3"];
+        const SPECULAR: [&str; MAX_COMPONENTS] =
+            ["specular0", "specular1", "specular2", "specular3"];
+        const SSS: [&str; MAX_COMPONENTS] = ["sss0", "sss1", "sss2", "sss3"];
+        let mut b = Bindings::new()
+            .buffer("camera", self.gbuffer.camera_buffer())
+            .buffer("params", &self.params)
+            .texture("color", io.color)
+            .texture("depth", io.depth)
+            .texture("output", io.output)
+            .texture_opt("surface_target", io.surface)
+            .texture_opt("occlusion", io.occlusion)
+            .texture_opt("gi", io.gi)
+            .texture_opt("reflection", io.reflection)
+            .texture_opt("normals", io.normals);
+        for (k, light) in io.lights.iter().enumerate() {
+            b = b
+                .texture(DIFFUSE[k], light.diffuse)
+                .texture(SPECULAR[k], light.specular)
+                .texture_opt(SSS[k], light.sss);
+        }
+        if let Some(images) = io.matcap_images {
+            // Clamped: the rim of a matcap must not wrap to the far side.
+            b = b
+                .array("matcap_images", images)
+                .sampler("matcap_sampler", Sampling::LinearClamp);
+        }
+        if let Some(world) = &self.materials {
+            b = b.extend(world.bindings(io.material_textures));
+        }
+        let (w, h) = self.gbuffer.pixel_size(cx.output_size);
+        cx.dispatch_shader(
+            "composite",
+            &self.key(),
+            "main",
+            b,
+            (w.div_ceil(8), h.div_ceil(8), 1),
+        )
+    }
+}
+
+/// What a CompositeLight pass declared.
+struct CompositeIo {
+    color: Tex,
+    depth: Tex,
+    output: Tex,
+    /// The G-buffer's surface target, where it has one.
+    surface: Option<Tex>,
+    lights: Vec<LightIo>,
+    occlusion: Option<Tex>,
+    gi: Option<Tex>,
+    reflection: Option<Tex>,
+    /// For MatCap: the normals, and the matcap images where a material names one.
+    normals: Option<Tex>,
+    matcap_images: Option<Tex>,
+    material_textures: Option<MaterialTextures>,
+}
+
+struct LightIo {
+    diffuse: Tex,
+    specular: Tex,
+    sss: Option<Tex>,
+}
+
+/// The name of an optional input.
+fn name(t: &Option<TextureRef>) -> Option<&str> {
+    t.as_ref().map(|t| t.name.as_str())
 }
 
 impl Recipe for CompositeLight {
@@ -341,62 +285,54 @@ impl Recipe for CompositeLight {
             return;
         }
         self.gbuffer.declare(renderer, fg);
+        let lights = self
+            .components
+            .iter()
+            .flat_map(|c| [Some(&c.diffuse), Some(&c.specular), c.sss.as_ref()]);
         for input in [&self.occlusion, &self.gi, &self.reflection]
+            .map(Option::as_ref)
             .into_iter()
+            .chain(lights)
+            .chain([self.matcap_images()])
             .flatten()
         {
             input.recipe.declare(renderer, fg);
         }
-        for c in &self.components {
-            for texture in [Some(&c.diffuse), Some(&c.specular), c.sss.as_ref()]
-                .into_iter()
-                .flatten()
-            {
-                texture.recipe.declare(renderer, fg);
-            }
-        }
-        let name = crate::recipe::pass_name("CompositeLight", self.owner, None);
-        let g = &self.gbuffer.targets;
-        let mut reads: Vec<&str> = vec![&g.color, &g.depth];
-        reads.extend(g.surface.as_deref());
-        reads.extend(
-            [&self.occlusion, &self.gi, &self.reflection]
-                .into_iter()
-                .flatten()
-                .map(|t| t.name.as_str()),
-        );
         if let Some(world) = &self.materials {
-            reads.extend(world.declare_textures(
-                renderer,
-                fg,
-                self.textured(),
-                g.surface_targets(),
-            ));
+            world.declare_upstream(renderer, fg, self.textured());
         }
-        if self.matcap {
-            reads.push(&g.normals);
-        }
-        if let Some(images) = self.matcap_images() {
-            images.recipe.declare(renderer, fg);
-            reads.push(&images.name);
-        }
-        for c in &self.components {
-            reads.extend(
-                [Some(&c.diffuse), Some(&c.specular), c.sss.as_ref()]
-                    .into_iter()
-                    .flatten()
-                    .map(|t| t.name.as_str()),
-            );
-        }
-        fg.add_pass(
-            name,
+        let g = &self.gbuffer.targets;
+        let mut pass = fg.pass(
+            crate::recipe::pass_name("CompositeLight", self.owner, None),
             self.owner,
-            &reads,
-            &[(
+        );
+        let io = CompositeIo {
+            color: pass.read(&g.color),
+            depth: pass.read(&g.depth),
+            surface: pass.read_opt(g.surface.as_deref()),
+            lights: self
+                .components
+                .iter()
+                .map(|c| LightIo {
+                    diffuse: pass.read(&c.diffuse.name),
+                    specular: pass.read(&c.specular.name),
+                    sss: pass.read_opt(name(&c.sss)),
+                })
+                .collect(),
+            occlusion: pass.read_opt(name(&self.occlusion)),
+            gi: pass.read_opt(name(&self.gi)),
+            reflection: pass.read_opt(name(&self.reflection)),
+            normals: self.matcap.then(|| pass.read(&g.normals)),
+            matcap_images: self.matcap_images().map(|t| pass.read(&t.name)),
+            material_textures: self
+                .materials
+                .as_ref()
+                .and_then(|w| w.read_textures(&mut pass, self.textured(), g.surface_targets())),
+            output: pass.write(
                 &self.output,
                 TextureDesc::storage(wgpu::TextureFormat::Rgba16Float).size(self.gbuffer.size),
-            )],
-            move |cx| self.run(cx),
-        );
+            ),
+        };
+        pass.run(move |cx| self.run(cx, &io));
     }
 }

@@ -6,9 +6,9 @@ use std::sync::Arc;
 use super::clusters::{ClusterGrid, ClusterStore};
 use super::{LightBuffer, LightKind};
 use crate::error::RenderError;
-use crate::frame_graph::{FrameGraph, PassContext, TextureDesc};
+use crate::frame_graph::{Bindings, FrameGraph, PassContext, Tex, TextureDesc};
 use crate::gbuffer::GBuffer;
-use crate::material::{FEATURE_FAKE_SSS, MaterialWorld};
+use crate::material::{FEATURE_FAKE_SSS, MaterialTextures, MaterialWorld};
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
 use crate::shaders::{Sampling, ShaderKey};
@@ -231,25 +231,22 @@ impl CookTorrance {
             bytemuck::cast_slice(&[0u32, b.capacity, 0, 0]),
         );
         let key = ShaderKey::new("lighting/clusters.wgsl", []);
-        let all = [
-            (0, self.gbuffer.camera_buffer().as_entire_binding()),
-            (1, self.grid.as_entire_binding()),
-            (2, self.lights.buffer().as_entire_binding()),
-            (3, b.view_lights.as_entire_binding()),
-            (4, b.counts.as_entire_binding()),
-            (5, b.offsets.as_entire_binding()),
-            (6, b.indices.as_entire_binding()),
-            (7, b.totals.as_entire_binding()),
-        ];
         // Only the clustered walk runs this pass; the naive loop moves its
         // few lights to view space itself.
         let steps = ["transform", "count", "scan", "fill"];
         let mut work = Vec::new();
         for step in steps {
             let pipeline = cx.shaders.compute_pipeline(&device, &key, step)?;
-            let group = cx
-                .shaders
-                .bind_group(&device, &key, step, &pipeline, 0, &all)?;
+            let bindings = Bindings::new()
+                .buffer("camera", self.gbuffer.camera_buffer())
+                .buffer("grid", &self.grid)
+                .buffer("lights", self.lights.buffer())
+                .buffer("view_lights", &b.view_lights)
+                .buffer("counts", &b.counts)
+                .buffer("offsets", &b.offsets)
+                .buffer("indices", &b.indices)
+                .buffer("totals", &b.totals);
+            let group = cx.bind_groups(&key, step, &pipeline, bindings)?;
             // transform: a thread per light; count and fill: workgroups per
             // light (x up to 65,535, then y; z splits a light's froxels);
             // scan: one workgroup.
@@ -265,35 +262,28 @@ impl CookTorrance {
             work.push((pipeline, group, groups));
         }
         let pass = cx.compute_pass("light assignment");
-        for (pipeline, group, groups) in &work {
+        for (pipeline, bind_groups, groups) in &work {
             pass.set_pipeline(pipeline);
-            pass.set_bind_group(0, group, &[]);
+            for (i, group) in bind_groups.iter().enumerate() {
+                pass.set_bind_group(i as u32, group, &[]);
+            }
             pass.dispatch_workgroups(groups.0, groups.1, groups.2);
         }
         Ok(())
     }
 
-    fn shade(&self, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
-        let device = cx.gpu.device.clone();
+    /// The permutation: what the lights, materials and shadows call for.
+    fn key(&self) -> ShaderKey {
         let mut features: Vec<&'static str> = self.lights.kind.feature().into_iter().collect();
-        if self.walk == Walk::Clustered {
-            features.push("CLUSTERED");
-        }
-        if self.energy_compensation {
-            features.push("ENERGY_COMPENSATION");
-        }
-        if self.materials.is_some() {
-            features.push("MATERIALS");
-        }
-        if self.sss.is_some() {
-            features.push("FAKE_SSS");
-        }
-        if self.lights.textures().is_some() {
-            features.push("SPOT_TEXTURE");
-        }
-        if self.textured() {
-            features.push("MATERIAL_TEXTURES");
-        }
+        let flags = [
+            (self.walk == Walk::Clustered, "CLUSTERED"),
+            (self.energy_compensation, "ENERGY_COMPENSATION"),
+            (self.materials.is_some(), "MATERIALS"),
+            (self.sss.is_some(), "FAKE_SSS"),
+            (self.lights.textures().is_some(), "SPOT_TEXTURE"),
+            (self.textured(), "MATERIAL_TEXTURES"),
+        ];
+        features.extend(flags.into_iter().filter(|(on, _)| *on).map(|(_, f)| f));
         // Roughness and metallic where the G-buffer resolved them, with or without materials.
         features.extend(self.gbuffer.targets.surface_feature());
         if let Some(shadows) = &self.shadows {
@@ -303,115 +293,79 @@ impl CookTorrance {
                 filter => features.push(filter.feature()),
             }
         }
-        let key = ShaderKey::new("lighting/cook_torrance.wgsl", features);
-        let pipeline = cx.shaders.compute_pipeline(&device, &key, "main")?;
+        ShaderKey::new("lighting/cook_torrance.wgsl", features)
+    }
+
+    fn shade(&self, cx: &mut PassContext<'_>, io: &ShadeIo) -> Result<(), RenderError> {
         let g = &self.gbuffer;
-        let (color, normals, depth) = (
-            cx.view(&g.targets.color)?,
-            cx.view(&g.targets.normals)?,
-            cx.view(&g.targets.depth)?,
-        );
-        let (diffuse, specular) = (cx.view(&self.diffuse)?, cx.view(&self.specular)?);
-        let sss = match &self.sss {
-            Some(name) => Some(cx.view(name)?),
-            None => None,
-        };
         let guard = self.clusters.get(cx.gpu, 1, self.lights.count());
-        let Some(b) = guard.as_ref() else {
+        let Some(clusters) = guard.as_ref() else {
             return Ok(());
         };
-        let all = [
-            (0, g.camera_buffer().as_entire_binding()),
-            (1, self.grid.as_entire_binding()),
-            (2, self.lights.buffer().as_entire_binding()),
-            (3, b.view_lights.as_entire_binding()),
-            (4, b.counts.as_entire_binding()),
-            (5, b.offsets.as_entire_binding()),
-            (6, b.indices.as_entire_binding()),
-            (7, self.surfaces.as_entire_binding()),
-            (8, wgpu::BindingResource::TextureView(&color)),
-            (9, wgpu::BindingResource::TextureView(&normals)),
-            (10, wgpu::BindingResource::TextureView(&depth)),
-            (11, wgpu::BindingResource::TextureView(&diffuse)),
-            (12, wgpu::BindingResource::TextureView(&specular)),
-        ];
-        let mut all = all.to_vec();
-        let surface = match &g.targets.surface {
-            Some(name) => Some(cx.view(name)?),
-            None => None,
-        };
-        if let Some(surface) = &surface {
-            all.push((
-                crate::gbuffer::SURFACE_TARGET_BINDING,
-                wgpu::BindingResource::TextureView(surface),
-            ));
+        let mut b = Bindings::new()
+            .buffer("camera", g.camera_buffer())
+            .buffer("grid", &self.grid)
+            .buffer("lights", self.lights.buffer())
+            .buffer("view_lights", &clusters.view_lights)
+            .buffer("counts", &clusters.counts)
+            .buffer("offsets", &clusters.offsets)
+            .buffer("indices", &clusters.indices)
+            .buffer("surfaces", &self.surfaces)
+            .texture("color", io.color)
+            .texture("normals", io.normals)
+            .texture("depth", io.depth)
+            .texture("out_diffuse", io.diffuse)
+            .texture("out_specular", io.specular)
+            .texture_opt("out_sss", io.sss)
+            .texture_opt("surface_target", io.surface)
+            .buffer_opt("spot_projections", self.lights.projections());
+        if let Some(textures) = io.spot_textures {
+            b = b
+                .array("spot_textures", textures)
+                .sampler("spot_sampler", Sampling::LinearClamp);
         }
-        if let Some(sss) = &sss {
-            all.push((13, wgpu::BindingResource::TextureView(sss)));
-        }
-        if let Some(projections) = self.lights.projections() {
-            all.push((14, projections.as_entire_binding()));
-        }
-        let spot_textures = match self.lights.textures() {
-            Some(t) => {
-                let texture = cx.texture(&t.name)?.clone();
-                let view = cx.view_of(&texture, crate::texture_pool::ViewSpec::array());
-                Some((view, cx.sampler(Sampling::LinearClamp)))
-            }
-            None => None,
-        };
-        if let Some((view, sampler)) = &spot_textures {
-            all.push((15, wgpu::BindingResource::TextureView(view)));
-            all.push((16, wgpu::BindingResource::Sampler(sampler)));
-        }
-        let shadow_views = match &self.shadows {
-            Some(shadows) => {
-                let (depth, moments) = shadows.textures().ok_or_else(|| RenderError::Pass {
-                    pass: "cook torrance".to_owned(),
-                    message: "the shadow maps were not rendered this frame".to_owned(),
-                })?;
-                let array =
-                    |t: &wgpu::Texture| cx.view_of(t, crate::texture_pool::ViewSpec::array());
-                let depth = array(&depth);
-                let moments = moments.map(|m| array(&m));
-                Some((shadows, depth, moments))
-            }
-            None => None,
-        };
-        if let Some((shadows, depth, moments)) = &shadow_views {
-            all.push((17, wgpu::BindingResource::TextureView(depth)));
-            all.push((19, shadows.views().as_entire_binding()));
-            all.push((20, shadows.params().as_entire_binding()));
+        if let Some(shadows) = &self.shadows {
+            let (depth, moments) = shadows.textures().ok_or_else(|| RenderError::Pass {
+                pass: "cook torrance".to_owned(),
+                message: "the shadow maps were not rendered this frame".to_owned(),
+            })?;
+            let array = |t: &wgpu::Texture| cx.view_of(t, crate::texture_pool::ViewSpec::array());
+            b = b
+                .view("shadow_maps", array(&depth))
+                .buffer("shadow_views", shadows.views())
+                .buffer("shadow_params", shadows.params());
             if let Some(moments) = moments {
-                all.push((21, wgpu::BindingResource::TextureView(moments)));
+                b = b.view("shadow_moments", array(&moments));
             }
         }
-        let group = cx
-            .shaders
-            .bind_group(&device, &key, "main", &pipeline, 0, &all)?;
-        let material_group = match &self.materials {
-            Some(world) => Some(world.bind_group(
-                cx,
-                &key,
-                &pipeline,
-                self.textured(),
-                g.targets.surface_targets(),
-            )?),
-            None => None,
-        };
+        if let Some(world) = &self.materials {
+            b = b.extend(world.bindings(io.material_textures));
+        }
         let (w, h) = g.pixel_size(cx.output_size);
-        let groups: Vec<&wgpu::BindGroup> = std::iter::once(&group)
-            .chain(material_group.as_ref())
-            .collect();
-        cx.dispatch(
+        // 16x16 blocks: shaders/lighting/cook_torrance.wgsl's GROUP.
+        cx.dispatch_shader(
             "cook torrance",
-            &pipeline,
-            &groups,
-            // 16x16 blocks: shaders/lighting/cook_torrance.wgsl's GROUP.
+            &self.key(),
+            "main",
+            b,
             (w.div_ceil(16), h.div_ceil(16), 1),
-        );
-        Ok(())
+        )
     }
+}
+
+/// What the shade pass declared.
+struct ShadeIo {
+    color: Tex,
+    normals: Tex,
+    depth: Tex,
+    diffuse: Tex,
+    specular: Tex,
+    /// Where some material has FakeSSS.
+    sss: Option<Tex>,
+    surface: Option<Tex>,
+    /// Textured spot lights' images.
+    spot_textures: Option<Tex>,
+    material_textures: Option<MaterialTextures>,
 }
 
 /// Roughness and metallic from a pin: finite and in 0..1.
@@ -446,48 +400,46 @@ impl Recipe for CookTorrance {
         // naive shade against 7.6 before other passes, session 10.)
         let clustered = self.walk == Walk::Clustered;
         if clustered {
-            fg.add_pass(
-                self.label("clustered light assignment"),
-                self.owner,
-                &[],
-                &[(&self.token, TextureDesc::token())],
-                move |cx| self.assign(grid, cx),
-            );
-        }
-        let g = &self.gbuffer.targets;
-        let hdr = TextureDesc::storage(wgpu::TextureFormat::Rgba16Float).size(self.gbuffer.size);
-        let mut outputs = vec![(self.diffuse.as_str(), hdr), (self.specular.as_str(), hdr)];
-        if let Some(sss) = &self.sss {
-            outputs.push((sss.as_str(), hdr));
-        }
-        let mut reads = vec![g.color.as_str(), g.normals.as_str(), g.depth.as_str()];
-        if clustered {
-            reads.push(self.token.as_str());
+            let mut pass = fg.pass(self.label("clustered light assignment"), self.owner);
+            // The assignment's buffers live in the cluster store; the token orders the shade after it.
+            pass.write(&self.token, TextureDesc::token());
+            pass.run(move |cx| self.assign(grid, cx));
         }
         if let Some(textures) = self.lights.textures() {
             textures.recipe.declare(renderer, fg);
-            reads.push(&textures.name);
         }
-        reads.extend(g.surface.as_deref());
         if let Some(world) = &self.materials {
-            reads.extend(world.declare_textures(
-                renderer,
-                fg,
-                self.textured(),
-                g.surface_targets(),
-            ));
+            world.declare_upstream(renderer, fg, self.textured());
         }
         if let Some(shadows) = &self.shadows {
             shadows.declare(renderer, fg);
-            reads.push(shadows.token());
         }
-        fg.add_pass(
-            self.label("shade"),
-            self.owner,
-            &reads,
-            &outputs,
-            move |cx| self.shade(cx),
-        );
+        let g = &self.gbuffer.targets;
+        let hdr = TextureDesc::storage(wgpu::TextureFormat::Rgba16Float).size(self.gbuffer.size);
+        let mut pass = fg.pass(self.label("shade"), self.owner);
+        // Ordering tokens: the light assignment's buffers and the shadow
+        // maps live outside the graph.
+        if clustered {
+            pass.read(&self.token);
+        }
+        if let Some(shadows) = &self.shadows {
+            pass.read(shadows.token());
+        }
+        let io = ShadeIo {
+            color: pass.read(&g.color),
+            normals: pass.read(&g.normals),
+            depth: pass.read(&g.depth),
+            surface: pass.read_opt(g.surface.as_deref()),
+            spot_textures: self.lights.textures().map(|t| pass.read(&t.name)),
+            material_textures: self
+                .materials
+                .as_ref()
+                .and_then(|w| w.read_textures(&mut pass, self.textured(), g.surface_targets())),
+            diffuse: pass.write(&self.diffuse, hdr),
+            specular: pass.write(&self.specular, hdr),
+            sss: self.sss.as_ref().map(|sss| pass.write(sss, hdr)),
+        };
+        pass.run(move |cx| self.shade(cx, &io));
     }
 }
 

@@ -369,3 +369,20 @@ fn sanitize_unit(v: f32) -> f32 {
         0.0
     }
 }
+
+/// The layout the shader sees (shaders/layout.rs).
+#[cfg(test)]
+mod wgsl_layout {
+    use super::*;
+
+    #[test]
+    fn gpu_light_matches_light_in_the_shader() {
+        crate::assert_wgsl_layout!(
+            GpuLight,
+            "lighting/cook_torrance.wgsl",
+            [],
+            "Light",
+            [position_range, intensity, direction, cone]
+        );
+    }
+}

@@ -11,7 +11,7 @@
 use std::sync::Arc;
 
 use crate::error::RenderError;
-use crate::frame_graph::{FrameGraph, PassContext, TextureDesc};
+use crate::frame_graph::{Bindings, FrameGraph, PassBuilder, PassContext, Tex, TextureDesc};
 use crate::gbuffer::GBuffer;
 use crate::recipe::{Recipe, TextureRef, next_recipe_id, pass_name};
 use crate::renderer::Renderer;
@@ -193,43 +193,32 @@ impl Ssgi {
         );
     }
 
-    /// One pass: bindings 0 camera, 1 params, 2 depth, 3 normals, then `textures`
-    /// (4 source, 5 output, 6.. the pass's own) and `buffers`.
+    /// One pass: the camera, the parameters, the G-buffer's depth and
+    /// normals, what it reads as `source` and writes as `output`, and `more`.
     fn dispatch(
         &self,
         cx: &mut PassContext<'_>,
         label: &str,
         features: Vec<&'static str>,
-        textures: &[(u32, &str)],
-        buffers: &[(u32, &wgpu::Buffer)],
+        io: &PassIo,
+        more: Bindings<'_>,
     ) -> Result<(), RenderError> {
-        let g = &self.gbuffer.targets;
-        let mut views = vec![(2, cx.view(&g.depth)?), (3, cx.view(&g.normals)?)];
-        for (binding, name) in textures {
-            views.push((*binding, cx.view(name)?));
-        }
-        let mut all = vec![
-            (0, self.gbuffer.camera_buffer().as_entire_binding()),
-            (1, self.params.as_entire_binding()),
-        ];
-        all.extend(
-            buffers
-                .iter()
-                .map(|(b, buffer)| (*b, buffer.as_entire_binding())),
-        );
-        all.extend(
-            views
-                .iter()
-                .map(|(b, v)| (*b, wgpu::BindingResource::TextureView(v))),
-        );
         let mut size = self.gbuffer.pixel_size(cx.output_size);
         if features.contains(&crate::resolution::HALF_FEATURE) {
             size = Resolution::Half.pixels(size);
         }
+        let b = Bindings::new()
+            .buffer("camera", self.gbuffer.camera_buffer())
+            .buffer("params", &self.params)
+            .texture("depth", io.depth)
+            .texture("normals", io.normals)
+            .texture("source", io.source)
+            .texture("output", io.output)
+            .extend(more);
         cx.dispatch_image(
             label,
             &ShaderKey::new("lighting/ssgi.wgsl", features),
-            &all,
+            b,
             size,
         )
     }
@@ -246,16 +235,10 @@ impl Ssgi {
         self.write_params(cx, frame, reset);
     }
 
-    fn raw(&self, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
+    fn raw(&self, cx: &mut PassContext<'_>, io: &PassIo) -> Result<(), RenderError> {
         self.begin_frame(cx);
-        let raw = written_target(&self.name("raw"), self.settings.resolution);
-        self.dispatch(
-            cx,
-            "ssgi",
-            self.settings.resolution.feature().into_iter().collect(),
-            &[(4, &self.source.name), (5, &raw)],
-            &[],
-        )
+        let features = self.settings.resolution.feature().into_iter().collect();
+        self.dispatch(cx, "ssgi", features, io, Bindings::new())
     }
 
     /// Full resolution: the gather and the temporal blend in one pass
@@ -265,106 +248,166 @@ impl Ssgi {
     }
 
     /// The gather and the temporal blend in one dispatch ([`Ssgi::fused`]).
-    fn gather_temporal(&self, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
+    fn gather_temporal(
+        &self,
+        cx: &mut PassContext<'_>,
+        io: &PassIo,
+        t: &TemporalIo,
+    ) -> Result<(), RenderError> {
         self.begin_frame(cx);
         cx.count(GATHER_TEMPORAL, 1);
-        self.temporal_pass(cx, true)
+        self.temporal_pass(cx, true, io, t)
     }
 
-    /// The temporal blend: of the raw target, or with `gather` of the
-    /// bounce gathered in the same dispatch.
-    fn temporal_pass(&self, cx: &mut PassContext<'_>, gather: bool) -> Result<(), RenderError> {
-        let (history, previous) = (self.history_name(), self.name("previous"));
-        let (distance, previous_distance) = (self.distance_name(), self.name("previous distance"));
-        let fresh = cx.copy_history(&history, &previous)?
-            | cx.copy_history(&distance, &previous_distance)?;
+    /// The temporal blend into the history (`io.output`): of the raw target,
+    /// or with `gather` of the bounce gathered in the same dispatch.
+    fn temporal_pass(
+        &self,
+        cx: &mut PassContext<'_>,
+        gather: bool,
+        io: &PassIo,
+        t: &TemporalIo,
+    ) -> Result<(), RenderError> {
+        let fresh = cx.copy_history(io.output, t.previous)?
+            | cx.copy_history(t.distance, t.previous_distance)?;
         if fresh {
             cx.count("SSGI history reset", 1);
         }
-        let fresh = self.fresh[usize::from(fresh)].clone();
-        let velocity = self.gbuffer.targets.velocity_uv.clone();
-        let (raw, features, label) = if gather {
-            (self.source.name.clone(), vec!["TEMPORAL", "GATHER"], "ssgi")
+        let (features, label) = if gather {
+            (vec!["TEMPORAL", "GATHER"], "ssgi")
         } else {
-            (self.name("raw"), vec!["TEMPORAL"], "ssgi temporal")
+            (vec!["TEMPORAL"], "ssgi temporal")
         };
-        self.dispatch(
-            cx,
-            label,
-            features,
-            &[
-                (4, &raw),
-                (5, &history),
-                (6, &velocity),
-                (7, &previous),
-                (9, &previous_distance),
-                (10, &distance),
-            ],
-            &[(8, &fresh)],
-        )
+        let more = Bindings::new()
+            .texture("velocity_uv", t.velocity_uv)
+            .texture("previous", t.previous)
+            .texture("previous_distance", t.previous_distance)
+            .texture("distance", t.distance)
+            .buffer("fresh", &self.fresh[usize::from(fresh)]);
+        self.dispatch(cx, label, features, io, more)
     }
 
     fn blur(
         &self,
         cx: &mut PassContext<'_>,
-        source: &str,
+        io: &PassIo,
         vertical: bool,
+        ambient: Option<Tex>,
     ) -> Result<(), RenderError> {
-        let target = if vertical {
-            self.output.clone()
-        } else {
-            self.name("blurred")
-        };
-        let mut features = vec!["BLUR"];
-        let mut textures = vec![(4, source), (5, target.as_str())];
-        if vertical && let Some(ambient) = &self.ambient {
-            features.push("AMBIENT");
-            textures.push((7, ambient.name.as_str()));
-        }
+        let features = [Some("BLUR"), ambient.map(|_| "AMBIENT")];
         let label = if vertical {
             "ssgi blur y"
         } else {
             "ssgi blur x"
         };
+        let more = Bindings::new()
+            .buffer("axis", &self.axes[usize::from(vertical)])
+            .texture_opt("ambient", ambient);
         self.dispatch(
             cx,
             label,
-            features,
-            &textures,
-            &[(6, &self.axes[usize::from(vertical)])],
+            features.into_iter().flatten().collect(),
+            io,
+            more,
         )
     }
 }
 
-/// `add_pass`'s outputs, borrowed from owned names.
-fn writes(outputs: &[(String, TextureDesc)]) -> Vec<(&str, TextureDesc)> {
-    outputs.iter().map(|(n, d)| (n.as_str(), *d)).collect()
+/// What an SSGI pass declared: the G-buffer's depth and normals, its
+/// source and its output (the history, for a temporal pass).
+#[derive(Clone, Copy)]
+struct PassIo {
+    depth: Tex,
+    normals: Tex,
+    source: Tex,
+    output: Tex,
+}
+
+/// A temporal pass's history twins and reprojection.
+#[derive(Clone, Copy)]
+struct TemporalIo {
+    velocity_uv: Tex,
+    previous: Tex,
+    distance: Tex,
+    previous_distance: Tex,
+}
+
+impl Ssgi {
+    /// A pass over the G-buffer reading `source` and writing `output` as `desc`.
+    fn declare_pass(
+        &self,
+        pass: &mut PassBuilder<'_, '_>,
+        source: &str,
+        output: &str,
+        desc: TextureDesc,
+    ) -> PassIo {
+        let g = &self.gbuffer.targets;
+        PassIo {
+            depth: pass.read(&g.depth),
+            normals: pass.read(&g.normals),
+            source: pass.read(source),
+            output: pass.write(output, desc),
+        }
+    }
+
+    /// A temporal pass: the bounce history (its output) and the view
+    /// distance under it, each with its twin holding last frame's.
+    fn declare_temporal(
+        &self,
+        pass: &mut PassBuilder<'_, '_>,
+        source: &str,
+    ) -> (PassIo, TemporalIo) {
+        let (rgba16, r32) = (
+            wgpu::TextureFormat::Rgba16Float,
+            wgpu::TextureFormat::R32Float,
+        );
+        let size = self.gbuffer.size;
+        let io = self.declare_pass(
+            pass,
+            source,
+            &self.history_name(),
+            TextureDesc::history(rgba16).size(size),
+        );
+        let t = TemporalIo {
+            velocity_uv: pass.read(&self.gbuffer.targets.velocity_uv),
+            previous: pass.write(
+                &self.name("previous"),
+                TextureDesc::history_twin(rgba16).size(size),
+            ),
+            distance: pass.write(&self.distance_name(), TextureDesc::history(r32).size(size)),
+            previous_distance: pass.write(
+                &self.name("previous distance"),
+                TextureDesc::history_twin(r32).size(size),
+            ),
+        };
+        (io, t)
+    }
 }
 
 impl Ssgi {
     /// The gather (full or half resolution, upsampled), then the temporal
     /// blend in its own pass when there is one; returns what the blur reads.
     fn declare_unfused<'a>(&'a self, fg: &mut FrameGraph<'a>) -> String {
-        let g = &self.gbuffer.targets;
         let rgba = TextureDesc::storage(wgpu::TextureFormat::Rgba16Float).size(self.gbuffer.size);
         let raw = self.name("raw");
         let resolution = self.settings.resolution;
         let raw_target = written_target(&raw, resolution);
         let pixels = self.gbuffer.pixel_size(fg.output_size());
-        fg.add_pass(
+        let mut pass = fg.pass(
             pass_name(
                 "SSGI",
                 self.owner,
                 Some(&format!("gather{}", resolution.pass_suffix())),
             ),
             self.owner,
-            &[&g.depth, &g.normals, &self.source.name],
-            &[(
-                &raw_target,
-                rgba.size(resolution.size_rule(self.gbuffer.size, pixels)),
-            )],
-            move |cx| self.raw(cx),
         );
+        let io = self.declare_pass(
+            &mut pass,
+            &self.source.name,
+            &raw_target,
+            rgba.size(resolution.size_rule(self.gbuffer.size, pixels)),
+        );
+        pass.run(move |cx| self.raw(cx, &io));
         declare_upsample(
             fg,
             resolution,
@@ -372,48 +415,22 @@ impl Ssgi {
                 name: pass_name("SSGI", self.owner, Some("upsample")),
                 owner: self.owner,
                 gbuffer: &self.gbuffer,
+                half: &raw_target,
                 full: &raw,
                 desc: rgba,
                 format: UpsampleFormat::Rgba16,
                 counter: HALF_RESOLUTION,
                 label: "ssgi upsample",
+                detail: None,
             },
         );
         if !self.temporal() {
             return raw;
         }
-        let mut reads = vec![raw.as_str()];
-        reads.extend([g.depth.as_str(), &g.normals, &g.velocity_uv]);
-        fg.add_pass(
-            pass_name("SSGI", self.owner, Some("temporal")),
-            self.owner,
-            &reads,
-            &writes(&self.histories()),
-            move |cx| self.temporal_pass(cx, false),
-        );
+        let mut pass = fg.pass(pass_name("SSGI", self.owner, Some("temporal")), self.owner);
+        let (io, t) = self.declare_temporal(&mut pass, &raw);
+        pass.run(move |cx| self.temporal_pass(cx, false, &io, &t));
         self.history_name()
-    }
-
-    /// The temporal pass's outputs: the bounce history and the view distance
-    /// under it, each with its twin holding last frame's.
-    fn histories(&self) -> [(String, TextureDesc); 4] {
-        let (rgba16, r32) = (
-            wgpu::TextureFormat::Rgba16Float,
-            wgpu::TextureFormat::R32Float,
-        );
-        let size = self.gbuffer.size;
-        [
-            (self.history_name(), TextureDesc::history(rgba16).size(size)),
-            (
-                self.name("previous"),
-                TextureDesc::history_twin(rgba16).size(size),
-            ),
-            (self.distance_name(), TextureDesc::history(r32).size(size)),
-            (
-                self.name("previous distance"),
-                TextureDesc::history_twin(r32).size(size),
-            ),
-        ]
     }
 }
 
@@ -427,45 +444,29 @@ impl Recipe for Ssgi {
         if let Some(a) = &self.ambient {
             a.recipe.declare(renderer, fg);
         }
-        let g = &self.gbuffer.targets;
         let rgba = TextureDesc::storage(wgpu::TextureFormat::Rgba16Float).size(self.gbuffer.size);
         let source = if self.fused() {
-            fg.add_pass(
-                pass_name("SSGI", self.owner, Some("gather")),
-                self.owner,
-                &[&g.depth, &g.normals, &self.source.name, &g.velocity_uv],
-                &writes(&self.histories()),
-                move |cx| self.gather_temporal(cx),
-            );
+            let mut pass = fg.pass(pass_name("SSGI", self.owner, Some("gather")), self.owner);
+            let (io, t) = self.declare_temporal(&mut pass, &self.source.name);
+            pass.run(move |cx| self.gather_temporal(cx, &io, &t));
             self.history_name()
         } else {
             self.declare_unfused(fg)
         };
-        let blurred = self.name("blurred");
-        let mut last = source.clone();
+        let mut last = source;
         if self.off() {
             fg.count("SSGI off: radius 0", 1);
         }
         if self.settings.blur_radius > 0 && !self.off() {
-            let src = source.clone();
-            fg.add_pass(
-                pass_name("SSGI", self.owner, Some("blur x")),
-                self.owner,
-                &[&source, &g.depth, &g.normals],
-                &[(&blurred, rgba)],
-                move |cx| self.blur(cx, &src, false),
-            );
+            let blurred = self.name("blurred");
+            let mut pass = fg.pass(pass_name("SSGI", self.owner, Some("blur x")), self.owner);
+            let io = self.declare_pass(&mut pass, &last, &blurred, rgba);
+            pass.run(move |cx| self.blur(cx, &io, false, None));
             last = blurred;
         }
-        let mut reads = vec![last.as_str(), &g.depth, &g.normals];
-        reads.extend(self.ambient.as_ref().map(|a| a.name.as_str()));
-        let src = last.clone();
-        fg.add_pass(
-            pass_name("SSGI", self.owner, Some("blur y")),
-            self.owner,
-            &reads,
-            &[(&self.output, rgba)],
-            move |cx| self.blur(cx, &src, true),
-        );
+        let mut pass = fg.pass(pass_name("SSGI", self.owner, Some("blur y")), self.owner);
+        let io = self.declare_pass(&mut pass, &last, &self.output, rgba);
+        let ambient = pass.read_opt(self.ambient.as_ref().map(|a| a.name.as_str()));
+        pass.run(move |cx| self.blur(cx, &io, true, ambient));
     }
 }

@@ -7,7 +7,7 @@
 use std::sync::Arc;
 
 use crate::error::RenderError;
-use crate::frame_graph::{FrameGraph, PassContext, TextureDesc};
+use crate::frame_graph::{Bindings, FrameGraph, PassContext, Tex, TextureDesc};
 use crate::gbuffer::GBuffer;
 use crate::material::MaterialWorld;
 use crate::recipe::{Recipe, TextureRef, next_recipe_id, pass_name};
@@ -172,53 +172,38 @@ impl Ssss {
         ShaderKey::new("lighting/ssss.wgsl", features.into_iter().flatten())
     }
 
-    fn pass(&self, cx: &mut PassContext<'_>, vertical: bool) -> Result<(), RenderError> {
-        let device = cx.gpu.device.clone();
-        let key = self.key(vertical);
-        let pipeline = cx.shaders.compute_pipeline(&device, &key, "main")?;
-        let g = &self.gbuffer.targets;
-        // (source, target) per source: its input then the x pass's output,
-        // or the x pass's output then the final one.
-        let mut pairs = Vec::with_capacity(self.sources.len());
-        for (k, source) in self.sources.iter().enumerate() {
-            pairs.push(if vertical {
-                (cx.view(&self.across(k))?, cx.view(&self.outputs[k])?)
-            } else {
-                (cx.view(&source.name)?, cx.view(&self.across(k))?)
-            });
+    fn pass(
+        &self,
+        cx: &mut PassContext<'_>,
+        vertical: bool,
+        io: &SsssIo,
+    ) -> Result<(), RenderError> {
+        const SOURCES: [&str; 3] = ["source", "source_b", "source_c"];
+        const OUTPUTS: [&str; 3] = ["output", "output_b", "output_c"];
+        let mut b = Bindings::new()
+            .buffer("camera", self.gbuffer.camera_buffer())
+            .buffer("params", &self.params)
+            .texture("depth", io.depth)
+            .texture("color", io.color)
+            .extend(self.materials.bindings(None));
+        for (k, (source, target)) in io.pairs.iter().enumerate() {
+            b = b.texture(SOURCES[k], *source).texture(OUTPUTS[k], *target);
         }
-        let (depth, color) = (cx.view(&g.depth)?, cx.view(&g.color)?);
-        let mut all = vec![
-            (0, self.gbuffer.camera_buffer().as_entire_binding()),
-            (1, self.params.as_entire_binding()),
-            (3, wgpu::BindingResource::TextureView(&depth)),
-            (4, wgpu::BindingResource::TextureView(&color)),
-        ];
-        // Bindings 2 and 5, then 6 and 7, then 8 and 9 (ssss.wgsl).
-        for (k, (source, target)) in pairs.iter().enumerate() {
-            let (read, write) = if k == 0 {
-                (2, 5)
-            } else {
-                (4 + 2 * k as u32, 5 + 2 * k as u32)
-            };
-            all.push((read, wgpu::BindingResource::TextureView(source)));
-            all.push((write, wgpu::BindingResource::TextureView(target)));
-        }
-        let group = cx
-            .shaders
-            .bind_group(&device, &key, "main", &pipeline, 0, &all)?;
-        let materials =
-            self.materials
-                .bind_group(cx, &key, &pipeline, false, g.surface_targets())?;
         let (w, h) = self.gbuffer.pixel_size(cx.output_size);
-        cx.dispatch(
+        cx.dispatch_image(
             if vertical { "ssss y" } else { "ssss x" },
-            &pipeline,
-            &[&group, &materials],
-            (w.div_ceil(8), h.div_ceil(8), 1),
-        );
-        Ok(())
+            &self.key(vertical),
+            b,
+            (w, h),
+        )
     }
+}
+
+/// What one SSSS pass declared: per source, what it reads and what it writes.
+struct SsssIo {
+    depth: Tex,
+    color: Tex,
+    pairs: Vec<(Tex, Tex)>,
 }
 
 impl Recipe for Ssss {
@@ -232,27 +217,25 @@ impl Recipe for Ssss {
         }
         let g = &self.gbuffer.targets;
         let rgba = TextureDesc::storage(wgpu::TextureFormat::Rgba16Float).size(self.gbuffer.size);
+        // Across (x), each source into its own target; then down (y) into the outputs.
         let across: Vec<String> = (0..self.sources.len()).map(|k| self.across(k)).collect();
-        let mut reads: Vec<&str> = self.sources.iter().map(|s| s.name.as_str()).collect();
-        reads.extend([g.depth.as_str(), g.color.as_str()]);
-        let writes: Vec<(&str, TextureDesc)> = across.iter().map(|x| (x.as_str(), rgba)).collect();
-        fg.add_pass(
-            pass_name("SSSS", self.owner, Some("x")),
-            self.owner,
-            &reads,
-            &writes,
-            move |cx| self.pass(cx, false),
-        );
-        let mut reads: Vec<&str> = across.iter().map(String::as_str).collect();
-        reads.extend([g.depth.as_str(), g.color.as_str()]);
-        let writes: Vec<(&str, TextureDesc)> =
-            self.outputs.iter().map(|o| (o.as_str(), rgba)).collect();
-        fg.add_pass(
-            pass_name("SSSS", self.owner, Some("y")),
-            self.owner,
-            &reads,
-            &writes,
-            move |cx| self.pass(cx, true),
-        );
+        let across: Vec<&str> = across.iter().map(String::as_str).collect();
+        let sources: Vec<&str> = self.sources.iter().map(|s| s.name.as_str()).collect();
+        let outputs: Vec<&str> = self.outputs.iter().map(String::as_str).collect();
+        for (vertical, from, to) in [(false, &sources, &across), (true, &across, &outputs)] {
+            let step = if vertical { "y" } else { "x" };
+            let mut pass = fg.pass(pass_name("SSSS", self.owner, Some(step)), self.owner);
+            let reads: Vec<Tex> = from.iter().map(|name| pass.read(name)).collect();
+            let io = SsssIo {
+                depth: pass.read(&g.depth),
+                color: pass.read(&g.color),
+                pairs: reads
+                    .into_iter()
+                    .zip(to.iter())
+                    .map(|(read, name)| (read, pass.write(name, rgba)))
+                    .collect(),
+            };
+            pass.run(move |cx| self.pass(cx, vertical, &io));
+        }
     }
 }

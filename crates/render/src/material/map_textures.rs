@@ -192,34 +192,22 @@ impl WorldMaps {
         }
     }
 
-    /// The arrays and the two samplers as bound by `material_maps.wgsl`.
-    pub(crate) fn bind_group(
-        &self,
-        device: &wgpu::Device,
-        layout: &wgpu::BindGroupLayout,
-    ) -> wgpu::BindGroup {
-        let mut entries: Vec<wgpu::BindGroupEntry> = self
-            .textures
+    /// The arrays and the two samplers, by the names `material_maps.wgsl` gives them.
+    pub(crate) fn bindings(&self) -> crate::frame_graph::Bindings<'static> {
+        const ARRAYS: [&str; 12] = [
+            "maps_0", "maps_1", "maps_2", "maps_3", "maps_4", "maps_5", "maps_6", "maps_7",
+            "maps_8", "maps_9", "maps_10", "maps_11",
+        ];
+        let [linear, nearest] = self.samplers.clone();
+        self.textures
             .arrays
             .iter()
-            .enumerate()
-            .map(|(i, t)| wgpu::BindGroupEntry {
-                binding: i as u32,
-                resource: wgpu::BindingResource::TextureView(&t.view),
+            .zip(ARRAYS)
+            .fold(crate::frame_graph::Bindings::new(), |b, (t, name)| {
+                b.view(name, t.view.clone())
             })
-            .collect();
-        let n = entries.len() as u32;
-        for (k, sampler) in self.samplers.iter().enumerate() {
-            entries.push(wgpu::BindGroupEntry {
-                binding: n + k as u32,
-                resource: wgpu::BindingResource::Sampler(sampler),
-            });
-        }
-        device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("material maps"),
-            layout,
-            entries: &entries,
-        })
+            .sampler_object("maps_linear", linear)
+            .sampler_object("maps_nearest", nearest)
     }
 }
 

@@ -44,6 +44,7 @@ use map_textures::MapLayout;
 pub use map_textures::{MapFiltering, WorldMaps};
 use maps::{MapSlot, SurfaceMaps};
 
+use crate::frame_graph::Bindings;
 use crate::recipe::TextureRef;
 use crate::renderer::Renderer;
 
@@ -517,118 +518,77 @@ impl MaterialWorld {
         self.textured_flags & features != 0
     }
 
-    /// Group 1 of a pass that imports `spreadlight::material`: the three
-    /// buffers, and with `textured`, the texture array, its sampler and the
-    /// G-buffer's UV target (stand-ins where the world has none).
-    pub(crate) fn bind_group(
-        &self,
-        cx: &mut crate::frame_graph::PassContext<'_>,
-        key: &crate::shaders::ShaderKey,
-        pipeline: &wgpu::ComputePipeline,
-        textured: bool,
-        targets: SurfaceTargets<'_>,
-    ) -> Result<wgpu::BindGroup, crate::error::RenderError> {
-        let device = cx.gpu.device.clone();
-        let views = if textured {
-            let array = match &self.textures {
-                // The cached view: a new one each frame would make a new bind group.
-                Some(t) => {
-                    let texture = cx.texture(&t.name)?.clone();
-                    cx.view_of(&texture, crate::texture_pool::ViewSpec::array())
-                }
-                None => self.dummies.array.clone(),
-            };
-            // Repeat: UVs beyond 0..1 tile.
-            let sampler = cx.sampler(crate::shaders::Sampling::LinearRepeat);
-            // Only a texture array is mapped by the G-buffer's UV: surface
-            // maps alone leave the motion resolve to be culled.
-            let uv = match &self.textures {
-                Some(_) => cx.view(targets.uv)?,
-                None => self.dummies.uv.clone(),
-            };
-            Some((array, sampler, uv))
-        } else {
-            None
+    /// What a pass that imports `spreadlight::material` binds, by name: the
+    /// three buffers and, with `textures` (a pass that reads the texture
+    /// array), the array, its sampler and the G-buffer's UV target
+    /// (stand-ins where the world has none).
+    pub(crate) fn bindings(&self, textures: Option<MaterialTextures>) -> Bindings<'_> {
+        let b = Bindings::new()
+            .buffer("material_meta", &self.meta)
+            .buffer("feature_offsets", &self.offsets)
+            .buffer("material_data", &self.data);
+        let Some(t) = textures else {
+            return b;
         };
-        let mut all = vec![
-            (0, self.meta.as_entire_binding()),
-            (1, self.offsets.as_entire_binding()),
-            (2, self.data.as_entire_binding()),
-        ];
-        if let Some((array, sampler, uv)) = &views {
-            all.push((3, wgpu::BindingResource::TextureView(array)));
-            all.push((4, wgpu::BindingResource::Sampler(sampler)));
-            all.push((5, wgpu::BindingResource::TextureView(uv)));
+        // Repeat: UVs beyond 0..1 tile.
+        let b = b.sampler("material_sampler", crate::shaders::Sampling::LinearRepeat);
+        // Only a texture array is mapped by the G-buffer's UV: surface maps
+        // alone leave the motion resolve to be culled.
+        match t.0 {
+            Some((array, uv)) => b
+                .array("material_textures", array)
+                .texture("material_uv", uv),
+            None => b
+                .view("material_textures", self.dummies.array.clone())
+                .view("material_uv", self.dummies.uv.clone()),
         }
-        cx.shaders
-            .bind_group(&device, key, "main", pipeline, 1, &all)
     }
 
-    /// Declare the texture array for a pass that reads it (`textured`), and
-    /// return what that pass must list as reads: the array and the UV target.
-    pub(crate) fn declare_textures<'a>(
+    /// The recipe of the texture array, declared for a pass that reads it
+    /// (`textured`), before the pass is: see [`MaterialWorld::read_textures`].
+    pub(crate) fn declare_upstream<'a>(
         &'a self,
         renderer: &'a Renderer,
         fg: &mut crate::frame_graph::FrameGraph<'a>,
         textured: bool,
-        targets: SurfaceTargets<'a>,
-    ) -> Vec<&'a str> {
-        if !textured {
-            return Vec::new();
-        }
-        let mut reads = Vec::new();
-        if let Some(t) = &self.textures {
+    ) {
+        if let Some(t) = self.textures.as_ref().filter(|_| textured) {
             t.recipe.declare(renderer, fg);
-            reads.extend([t.name.as_str(), targets.uv]);
         }
-        reads
     }
 
-    /// Group 1 of the passes that read materials per pixel (the visibility
-    /// pass's alpha test, Transparency): the world's meta, offsets and data
-    /// at bindings 0 to 2, as `material_maps.wgsl` declares them.
-    pub(crate) fn world_bind_group(
+    /// A pass's reads of the texture array and the UV target, when it reads
+    /// the array (`textured`): what [`MaterialWorld::bindings`] binds.
+    pub(crate) fn read_textures(
         &self,
-        device: &wgpu::Device,
-        layout: &wgpu::BindGroupLayout,
-        label: &str,
-    ) -> wgpu::BindGroup {
-        let (meta, offsets, data) = self.buffers();
-        device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some(label),
-            layout,
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: meta.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: offsets.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 2,
-                    resource: data.as_entire_binding(),
-                },
-            ],
-        })
+        pass: &mut crate::frame_graph::PassBuilder<'_, '_>,
+        textured: bool,
+        targets: SurfaceTargets<'_>,
+    ) -> Option<MaterialTextures> {
+        if !textured {
+            return None;
+        }
+        Some(MaterialTextures(
+            self.textures
+                .as_ref()
+                .map(|t| (pass.read(&t.name), pass.read(targets.uv))),
+        ))
     }
 
-    /// Group 3 of the G-buffer resolve (and of the visibility pass with
-    /// alpha masks): the map arrays and the two samplers, every one of
-    /// which `material_maps.wgsl` uses. `None` without maps.
-    pub(crate) fn maps_bind_group(
-        &self,
-        device: &wgpu::Device,
-        layout: &wgpu::BindGroupLayout,
-    ) -> Option<wgpu::BindGroup> {
-        Some(self.maps.as_ref()?.bind_group(device, layout))
+    /// The maps' arrays and samplers by name, when some material has maps.
+    pub(crate) fn maps_bindings(&self) -> Option<Bindings<'static>> {
+        Some(self.maps.as_ref()?.bindings())
     }
 
     pub fn buffers(&self) -> (&wgpu::Buffer, &wgpu::Buffer, &wgpu::Buffer) {
         (&self.meta, &self.offsets, &self.data)
     }
 }
+
+/// The texture array and the UV target a pass declared it reads; None
+/// where the world has no array (stand-ins are bound).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct MaterialTextures(Option<(crate::frame_graph::Tex, crate::frame_graph::Tex)>);
 
 #[cfg(test)]
 mod tests;
@@ -648,5 +608,33 @@ impl Dummies {
         });
         let uv = crate::texture::GpuTexture::from_rgba8(gpu, 1, 1, &[0; 4], false, "no UV target");
         Dummies { array, uv: uv.view }
+    }
+}
+
+/// The layout the shader sees (shaders/layout.rs).
+#[cfg(test)]
+mod wgsl_layout {
+    use super::*;
+
+    #[test]
+    fn gpu_material_meta_matches_materialmeta_in_the_shader() {
+        crate::assert_wgsl_layout!(
+            GpuMaterialMeta,
+            "lighting/cook_torrance.wgsl",
+            ["MATERIALS"],
+            "MaterialMeta",
+            [flags, address, size, pad]
+        );
+    }
+
+    #[test]
+    fn gpu_feature_offset_matches_featureoffset_in_the_shader() {
+        crate::assert_wgsl_layout!(
+            GpuFeatureOffset,
+            "lighting/cook_torrance.wgsl",
+            ["MATERIALS"],
+            "FeatureOffset",
+            [feature, offset, count, texture]
+        );
     }
 }

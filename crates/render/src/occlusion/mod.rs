@@ -25,7 +25,9 @@
 use std::sync::Arc;
 
 use crate::error::RenderError;
-use crate::frame_graph::{FrameGraph, PassContext, SizeRule, TextureDesc};
+use crate::frame_graph::{
+    Bindings, FrameGraph, PassBuilder, PassContext, SizeRule, Tex, TextureDesc,
+};
 use crate::gbuffer::GBuffer;
 use crate::recipe::{Recipe, TextureRef, next_recipe_id, pass_name};
 use crate::renderer::Renderer;
@@ -262,38 +264,26 @@ impl AmbientOcclusion {
         );
     }
 
-    fn linear_depth(&self, cx: &mut PassContext<'_>, level: usize) -> Result<(), RenderError> {
-        let output = self.name(&format!("z{level}"));
-        let (source, target) = if level == 0 {
-            (cx.view(&self.gbuffer.targets.depth)?, cx.view(&output)?)
-        } else {
-            (
-                cx.view(&self.name(&format!("z{}", level - 1)))?,
-                cx.view(&output)?,
-            )
-        };
-        let size = {
-            let t = cx.texture(&output)?;
-            (t.width(), t.height())
-        };
-        let all = [
-            (0, self.gbuffer.camera_buffer().as_entire_binding()),
-            (1, wgpu::BindingResource::TextureView(&source)),
-            (2, wgpu::BindingResource::TextureView(&target)),
-        ];
-        let features = if level == 0 {
-            vec![]
-        } else {
-            vec!["DOWNSAMPLE"]
+    /// SAO's view depth (level 0, from the G-buffer's depth) or one mip of it.
+    fn linear_depth(
+        &self,
+        cx: &mut PassContext<'_>,
+        level: usize,
+        source: Tex,
+        output: Tex,
+    ) -> Result<(), RenderError> {
+        let size = cx.size_of(output)?;
+        let (label, features) = match level {
+            0 => ("ao view depth", None),
+            _ => ("ao depth mip", Some("DOWNSAMPLE")),
         };
         cx.dispatch_image(
-            if level == 0 {
-                "ao view depth"
-            } else {
-                "ao depth mip"
-            },
+            label,
             &ShaderKey::new("occlusion/linear_depth.wgsl", features),
-            &all,
+            Bindings::new()
+                .buffer("camera", self.gbuffer.camera_buffer())
+                .texture("source", source)
+                .texture("output", output),
             size,
         )
     }
@@ -304,51 +294,39 @@ impl AmbientOcclusion {
         self.temporal() && !self.settings.resolution.is_half()
     }
 
-    fn raw(&self, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
-        let g = &self.gbuffer.targets;
+    /// The camera and parameters every AO pass binds, with the G-buffer's depth and normals.
+    fn common(&self, depth: Tex, normals: Tex) -> Bindings<'_> {
+        Bindings::new()
+            .buffer("camera", self.gbuffer.camera_buffer())
+            .buffer("params", &self.params)
+            .texture("depth", depth)
+            .texture("normals", normals)
+    }
+
+    fn raw(&self, cx: &mut PassContext<'_>, io: &RawIo) -> Result<(), RenderError> {
         let (frame, stale) = self.state.advance(&self.gbuffer, self.settings.reset);
         let reset = stale && self.temporal();
         if reset {
             cx.count("AO history reset", 1);
         }
         self.write_params(cx, frame, reset);
-        let fused = self.fused();
-        // Fused: last frame's history handed to `previous` before any view
-        // of the history is taken (the two may trade textures).
-        let (target, fresh) = if fused {
-            let fresh = self.hand_over_history(cx)?;
-            cx.count(ESTIMATE_TEMPORAL, 1);
-            (self.history_name(), fresh)
-        } else {
-            (
-                written_target(&self.name("raw"), self.settings.resolution),
-                false,
-            )
-        };
-        let mut views = vec![cx.view(&g.depth)?, cx.view(&g.normals)?, cx.view(&target)?];
-        if self.sao() {
-            for k in 0..DEPTH_LEVELS {
-                views.push(cx.view(&self.name(&format!("z{k}")))?);
+        let mut b = self.common(io.depth, io.normals);
+        for (name, level) in ["z0", "z1", "z2", "z3", "z4"].into_iter().zip(&io.levels) {
+            b = b.texture(name, *level);
+        }
+        b = match &io.target {
+            RawTarget::Raw(output) => b.texture("output", *output),
+            // Last frame's history handed to `previous` before the history
+            // is written (the two may trade textures).
+            RawTarget::Fused(h) => {
+                let fresh = self.hand_over_history(cx, h)?;
+                cx.count(ESTIMATE_TEMPORAL, 1);
+                b.texture("history", h.history)
+                    .texture("previous", h.previous)
+                    .texture("velocity_uv", h.velocity_uv)
+                    .buffer("fresh", &self.fresh[usize::from(fresh)])
             }
-        }
-        let mut all = vec![
-            (0, self.gbuffer.camera_buffer().as_entire_binding()),
-            (1, self.params.as_entire_binding()),
-        ];
-        for (k, v) in views.iter().enumerate() {
-            all.push((2 + k as u32, wgpu::BindingResource::TextureView(v)));
-        }
-        let history_views = if fused {
-            Some([cx.view(&g.velocity_uv)?, cx.view(&self.name("previous"))?])
-        } else {
-            None
         };
-        if let Some([velocity, previous]) = &history_views {
-            let fresh = &self.fresh[usize::from(fresh)];
-            all.push((10, wgpu::BindingResource::TextureView(velocity)));
-            all.push((11, wgpu::BindingResource::TextureView(previous)));
-            all.push((12, fresh.as_entire_binding()));
-        }
         // Off: the plain estimator's early exit writes 1 (no SAO chain to bind).
         let feature = if self.off() {
             None
@@ -356,6 +334,7 @@ impl AmbientOcclusion {
             self.settings.mode.feature()
         };
         let resolution = self.settings.resolution;
+        let fused = matches!(io.target, RawTarget::Fused(_));
         let key = ShaderKey::new(
             "occlusion/ao.wgsl",
             feature
@@ -364,96 +343,102 @@ impl AmbientOcclusion {
                 .chain(fused.then_some("TEMPORAL")),
         );
         let size = resolution.pixels(self.gbuffer.pixel_size(cx.output_size));
-        cx.dispatch_image(self.settings.mode.name(), &key, &all, size)
+        cx.dispatch_image(self.settings.mode.name(), &key, b, size)
     }
 
     /// Last frame's history handed to `previous` before the history is
     /// written again; whether it is fresh (then counted as a reset).
-    fn hand_over_history(&self, cx: &mut PassContext<'_>) -> Result<bool, RenderError> {
-        let fresh = cx.copy_history(&self.history_name(), &self.name("previous"))?;
+    fn hand_over_history(
+        &self,
+        cx: &mut PassContext<'_>,
+        h: &HistoryIo,
+    ) -> Result<bool, RenderError> {
+        let fresh = cx.copy_history(h.history, h.previous)?;
         if fresh {
             cx.count("AO history reset", 1);
         }
         Ok(fresh)
     }
 
-    fn temporal_pass(&self, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
-        let fresh = self.hand_over_history(cx)?;
-        let (history, previous) = (self.history_name(), self.name("previous"));
-        let fresh_buffer = &self.fresh[usize::from(fresh)];
-        let g = &self.gbuffer.targets;
-        let views = [
-            cx.view(&self.name("raw"))?,
-            cx.view(&g.depth)?,
-            cx.view(&g.normals)?,
-            cx.view(&g.velocity_uv)?,
-            cx.view(&previous)?,
-            cx.view(&history)?,
-        ];
-        let mut all = vec![
-            (0, self.gbuffer.camera_buffer().as_entire_binding()),
-            (1, self.params.as_entire_binding()),
-            (8, fresh_buffer.as_entire_binding()),
-        ];
-        for (k, v) in views.iter().enumerate() {
-            all.push((2 + k as u32, wgpu::BindingResource::TextureView(v)));
-        }
+    fn temporal_pass(
+        &self,
+        cx: &mut PassContext<'_>,
+        raw: Tex,
+        depth: Tex,
+        normals: Tex,
+        h: &HistoryIo,
+    ) -> Result<(), RenderError> {
+        let fresh = self.hand_over_history(cx, h)?;
         let size = self.gbuffer.pixel_size(cx.output_size);
         cx.dispatch_image(
             "ao temporal",
             &ShaderKey::new("occlusion/temporal.wgsl", []),
-            &all,
+            self.common(depth, normals)
+                .texture("raw", raw)
+                .texture("velocity_uv", h.velocity_uv)
+                .texture("previous", h.previous)
+                .texture("history", h.history)
+                .buffer("temporal", &self.fresh[usize::from(fresh)]),
             size,
         )
     }
 
+    /// One direction of the depth-aware blur; the last pass (`vertical`, or
+    /// the resolve without blur) writes the output and multiplies `combine` in.
     fn blur(
         &self,
         cx: &mut PassContext<'_>,
-        source: &str,
+        io: &BlurIo,
         vertical: bool,
     ) -> Result<(), RenderError> {
-        let target = if vertical {
-            self.output.clone()
-        } else {
-            self.name("blurred")
-        };
-        let g = &self.gbuffer.targets;
-        let mut features = Vec::new();
-        if vertical {
-            features.push("VERTICAL");
-        }
-        let combine = match (&self.combine, vertical) {
-            (Some(c), true) => {
-                features.push("COMBINE");
-                Some(cx.view(&c.name)?)
-            }
-            _ => None,
-        };
-        let views = [
-            cx.view(source)?,
-            cx.view(&g.depth)?,
-            cx.view(&g.normals)?,
-            cx.view(&target)?,
+        let features = [
+            vertical.then_some("VERTICAL"),
+            io.combine.filter(|_| vertical).map(|_| "COMBINE"),
         ];
-        let mut all = vec![
-            (0, self.gbuffer.camera_buffer().as_entire_binding()),
-            (1, self.params.as_entire_binding()),
-        ];
-        for (k, v) in views.iter().enumerate() {
-            all.push((2 + k as u32, wgpu::BindingResource::TextureView(v)));
-        }
-        if let Some(c) = &combine {
-            all.push((6, wgpu::BindingResource::TextureView(c)));
-        }
         let size = self.gbuffer.pixel_size(cx.output_size);
         cx.dispatch_image(
             if vertical { "ao blur y" } else { "ao blur x" },
-            &ShaderKey::new("occlusion/blur.wgsl", features),
-            &all,
+            &ShaderKey::new("occlusion/blur.wgsl", features.into_iter().flatten()),
+            self.common(io.depth, io.normals)
+                .texture("source", io.source)
+                .texture("output", io.output)
+                .texture_opt("combine", io.combine.filter(|_| vertical)),
             size,
         )
     }
+}
+
+/// The history a temporal AO pass hands over and writes, and the velocity it reprojects by.
+#[derive(Clone, Copy)]
+struct HistoryIo {
+    history: Tex,
+    previous: Tex,
+    velocity_uv: Tex,
+}
+
+/// Where the raw estimate goes: its own target, or (full resolution with
+/// accumulation) straight into the history.
+enum RawTarget {
+    Raw(Tex),
+    Fused(HistoryIo),
+}
+
+/// What the raw pass declared.
+struct RawIo {
+    depth: Tex,
+    normals: Tex,
+    /// SAO's view-depth chain (empty for the other estimators).
+    levels: Vec<Tex>,
+    target: RawTarget,
+}
+
+/// What a blur pass declared.
+struct BlurIo {
+    source: Tex,
+    depth: Tex,
+    normals: Tex,
+    output: Tex,
+    combine: Option<Tex>,
 }
 
 impl Recipe for AmbientOcclusion {
@@ -468,74 +453,75 @@ impl Recipe for AmbientOcclusion {
         let kind = self.settings.mode.name();
         let g = &self.gbuffer.targets;
         let full = |format| TextureDesc::storage(format).size(self.gbuffer.size);
-        let levels: Vec<String> = (0..DEPTH_LEVELS)
-            .map(|k| self.name(&format!("z{k}")))
-            .collect();
+        let mut levels = Vec::new();
         if self.sao() {
-            for (k, level) in levels.iter().enumerate() {
-                let reads: Vec<&str> = if k == 0 {
-                    vec![&g.depth]
-                } else {
-                    vec![&levels[k - 1]]
-                };
-                fg.add_pass(
+            for k in 0..DEPTH_LEVELS {
+                let mut pass = fg.pass(
                     pass_name(kind, self.owner, Some(&format!("view depth {k}"))),
                     self.owner,
-                    &reads,
-                    &[(
-                        level,
-                        TextureDesc::storage(wgpu::TextureFormat::R32Float)
-                            .size(self.level_size(k)),
-                    )],
-                    move |cx| self.linear_depth(cx, k),
                 );
+                let source = match k {
+                    0 => pass.read(&g.depth),
+                    _ => pass.read(&self.name(&format!("z{}", k - 1))),
+                };
+                let output = pass.write(
+                    &self.name(&format!("z{k}")),
+                    TextureDesc::storage(wgpu::TextureFormat::R32Float).size(self.level_size(k)),
+                );
+                pass.run(move |cx| self.linear_depth(cx, k, source, output));
+                levels.push(self.name(&format!("z{k}")));
             }
         }
         let raw = self.name("raw");
-        let mut reads: Vec<&str> = vec![&g.depth, &g.normals];
-        if self.sao() {
-            reads.extend(levels.iter().map(String::as_str));
-        }
         let resolution = self.settings.resolution;
         let pixels = self.gbuffer.pixel_size(fg.output_size());
-        let raw_target = written_target(&self.name("raw"), self.settings.resolution);
         let history = self.history_name();
-        let previous = self.name("previous");
-        let histories = [
-            (
-                history.as_str(),
+        // The history and its twin, last frame's (see TextureDesc::history).
+        let histories = |pass: &mut PassBuilder<'_, 'a>| HistoryIo {
+            velocity_uv: pass.read(&g.velocity_uv),
+            history: pass.write(
+                &history,
                 TextureDesc::history(wgpu::TextureFormat::Rgba16Float).size(self.gbuffer.size),
             ),
-            (
-                previous.as_str(),
+            previous: pass.write(
+                &self.name("previous"),
                 TextureDesc::history_twin(wgpu::TextureFormat::Rgba16Float).size(self.gbuffer.size),
             ),
-        ];
-        let raw_name = pass_name(
-            kind,
+        };
+        let mut pass = fg.pass(
+            pass_name(
+                kind,
+                self.owner,
+                Some(&format!("raw{}", resolution.pass_suffix())),
+            ),
             self.owner,
-            Some(&format!("raw{}", resolution.pass_suffix())),
         );
-        if self.fused() {
+        let (depth, normals) = (pass.read(&g.depth), pass.read(&g.normals));
+        let levels = levels.iter().map(|l| pass.read(l)).collect();
+        let target = if self.fused() {
+            RawTarget::Fused(histories(&mut pass))
+        } else {
+            RawTarget::Raw(
+                pass.write(
+                    &written_target(&raw, resolution),
+                    full(wgpu::TextureFormat::R32Float)
+                        .size(resolution.size_rule(self.gbuffer.size, pixels)),
+                ),
+            )
+        };
+        let fused = matches!(target, RawTarget::Fused(_));
+        let io = RawIo {
+            depth,
+            normals,
+            levels,
+            target,
+        };
+        pass.run(move |cx| self.raw(cx, &io));
+        if fused {
             // The estimate and its accumulation in one pass: straight to the blur.
-            reads.push(&g.velocity_uv);
-            fg.add_pass(raw_name, self.owner, &reads, &histories, move |cx| {
-                self.raw(cx)
-            });
             self.declare_blur(fg, history);
             return;
         }
-        fg.add_pass(
-            raw_name,
-            self.owner,
-            &reads,
-            &[(
-                &raw_target,
-                full(wgpu::TextureFormat::R32Float)
-                    .size(resolution.size_rule(self.gbuffer.size, pixels)),
-            )],
-            move |cx| self.raw(cx),
-        );
         declare_upsample(
             fg,
             resolution,
@@ -543,22 +529,22 @@ impl Recipe for AmbientOcclusion {
                 name: pass_name(kind, self.owner, Some("upsample")),
                 owner: self.owner,
                 gbuffer: &self.gbuffer,
+                half: &written_target(&raw, resolution),
                 full: &raw,
                 desc: full(wgpu::TextureFormat::R32Float),
                 format: UpsampleFormat::R32,
                 counter: HALF_RESOLUTION,
                 label: "ao upsample",
+                detail: None,
             },
         );
         let mut source = raw.clone();
         if self.temporal() {
-            fg.add_pass(
-                pass_name(kind, self.owner, Some("temporal")),
-                self.owner,
-                &[&raw, &g.depth, &g.normals, &g.velocity_uv],
-                &histories,
-                move |cx| self.temporal_pass(cx),
-            );
+            let mut pass = fg.pass(pass_name(kind, self.owner, Some("temporal")), self.owner);
+            let (raw, depth, normals) =
+                (pass.read(&raw), pass.read(&g.depth), pass.read(&g.normals));
+            let h = histories(&mut pass);
+            pass.run(move |cx| self.temporal_pass(cx, raw, depth, normals, &h));
             source = history;
         }
         self.declare_blur(fg, source);
@@ -572,39 +558,32 @@ impl AmbientOcclusion {
         let kind = self.settings.mode.name();
         let g = &self.gbuffer.targets;
         let full = |format| TextureDesc::storage(format).size(self.gbuffer.size);
-        let blurred = self.name("blurred");
-        let mut last_reads: Vec<&str> = vec![&g.depth, &g.normals];
-        last_reads.extend(self.combine.as_ref().map(|c| c.name.as_str()));
         if self.off() {
             fg.count("AO off: radius 0", 1);
         }
-        if self.settings.blur_radius > 0 && !self.off() {
-            let src = source.clone();
-            fg.add_pass(
-                pass_name(kind, self.owner, Some("blur x")),
-                self.owner,
-                &[&source, &g.depth, &g.normals],
-                &[(&blurred, full(wgpu::TextureFormat::R32Float))],
-                move |cx| self.blur(cx, &src, false),
-            );
-            last_reads.push(&blurred);
-            fg.add_pass(
-                pass_name(kind, self.owner, Some("blur y")),
-                self.owner,
-                &last_reads,
-                &[(&self.output, full(wgpu::TextureFormat::Rgba16Float))],
-                move |cx| self.blur(cx, &self.name("blurred"), true),
-            );
-        } else {
-            let src = source.clone();
-            last_reads.push(&source);
-            fg.add_pass(
-                pass_name(kind, self.owner, Some("resolve")),
-                self.owner,
-                &last_reads,
-                &[(&self.output, full(wgpu::TextureFormat::Rgba16Float))],
-                move |cx| self.blur(cx, &src, true),
-            );
+        let blur = self.settings.blur_radius > 0 && !self.off();
+        let mut source = source;
+        if blur {
+            let mut pass = fg.pass(pass_name(kind, self.owner, Some("blur x")), self.owner);
+            let io = BlurIo {
+                source: pass.read(&source),
+                depth: pass.read(&g.depth),
+                normals: pass.read(&g.normals),
+                output: pass.write(&self.name("blurred"), full(wgpu::TextureFormat::R32Float)),
+                combine: None,
+            };
+            pass.run(move |cx| self.blur(cx, &io, false));
+            source = self.name("blurred");
         }
+        let step = if blur { "blur y" } else { "resolve" };
+        let mut pass = fg.pass(pass_name(kind, self.owner, Some(step)), self.owner);
+        let io = BlurIo {
+            depth: pass.read(&g.depth),
+            normals: pass.read(&g.normals),
+            combine: pass.read_opt(self.combine.as_ref().map(|c| c.name.as_str())),
+            source: pass.read(&source),
+            output: pass.write(&self.output, full(wgpu::TextureFormat::Rgba16Float)),
+        };
+        pass.run(move |cx| self.blur(cx, &io, true));
     }
 }

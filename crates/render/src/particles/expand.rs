@@ -61,11 +61,11 @@ pub fn read_drawn(
         renderer,
         &ShaderKey::new("particles/expand.wgsl", []),
         vec![
-            (0, params.as_entire_binding()),
-            (1, vertices.as_entire_binding()),
-            (2, indices.as_entire_binding()),
-            (3, instances.as_entire_binding()),
-            (4, out.as_entire_binding()),
+            ("params", params.as_entire_binding()),
+            ("vertices", vertices.as_entire_binding()),
+            ("indices", indices.as_entire_binding()),
+            ("instances", instances.as_entire_binding()),
+            ("out", out.as_entire_binding()),
         ],
         count as u32,
     )?;

@@ -300,21 +300,59 @@ impl ParticleSystem {
             ),
         );
         let mut resources = vec![
-            (0, vertices.as_entire_binding()),
-            (1, sim.as_entire_binding()),
-            (4, indices.as_entire_binding()),
-            (5, mesh_range.as_entire_binding()),
+            ("records", vertices.as_entire_binding()),
+            ("sim", sim.as_entire_binding()),
+            ("mesh_indices", indices.as_entire_binding()),
+            ("mesh_range", mesh_range.as_entire_binding()),
         ];
         if let Field::Texture { texture, .. } = &s.field {
-            resources.push((2, wgpu::BindingResource::TextureView(&texture.view)));
+            resources.push((
+                "field_texture",
+                wgpu::BindingResource::TextureView(&texture.view),
+            ));
         }
         if let Some(d) = &s.depth {
-            resources.push((6, wgpu::BindingResource::TextureView(&d.depth)));
+            resources.push(("depth", wgpu::BindingResource::TextureView(&d.depth)));
         }
         dispatch(renderer, &key, resources, self.capacity)?;
         self.head = ((u64::from(self.head) + u64::from(emit)) % u64::from(self.capacity)) as u32;
         self.emitted += u64::from(emit);
         self.time += f64::from(dt);
         Ok(())
+    }
+}
+
+/// The layout the shader sees (shaders/layout.rs).
+#[cfg(test)]
+mod wgsl_layout {
+    use super::*;
+
+    #[test]
+    fn gpu_sim_matches_sim_in_the_shader() {
+        crate::assert_wgsl_layout!(
+            GpuSim,
+            "particles/simulate.wgsl",
+            [],
+            "Sim",
+            [
+                emitter,
+                emitter_size,
+                velocity,
+                gravity,
+                field,
+                field_min,
+                field_max,
+                plane,
+                collide,
+                life,
+                counts,
+                misc,
+                view_projection,
+                inverse_view_projection,
+                depth_size,
+                layout,
+                attractors
+            ]
+        );
     }
 }

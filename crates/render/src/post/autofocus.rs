@@ -11,7 +11,7 @@ use std::sync::Arc;
 use glam::Vec2;
 
 use crate::error::RenderError;
-use crate::frame_graph::{FrameGraph, Lifetime, PassContext, SizeRule, TextureDesc};
+use crate::frame_graph::{Bindings, FrameGraph, Lifetime, PassContext, SizeRule, Tex, TextureDesc};
 use crate::gbuffer::GBuffer;
 use crate::post::eye_adaptation::AdaptationSettings;
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
@@ -89,8 +89,8 @@ impl Autofocus {
         }
     }
 
-    fn run(&self, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
-        let fresh = cx.is_fresh(&self.output);
+    fn run(&self, cx: &mut PassContext<'_>, io: &AutofocusIo) -> Result<(), RenderError> {
+        let fresh = cx.is_fresh(io.output);
         cx.gpu.queue.write_buffer(
             &self.params,
             0,
@@ -103,8 +103,8 @@ impl Autofocus {
         );
         // Last frame's value through a copy: one dispatch cannot read and write a texture.
         let (last, copy) = (
-            cx.texture(&self.output)?.clone(),
-            cx.texture(&self.previous)?.clone(),
+            cx.texture(io.output)?.clone(),
+            cx.texture(io.previous)?.clone(),
         );
         cx.encoder().copy_texture_to_texture(
             last.as_image_copy(),
@@ -115,27 +115,26 @@ impl Autofocus {
                 depth_or_array_layers: 1,
             },
         );
-        let views = [
-            cx.view(&self.gbuffer.targets.depth)?,
-            cx.view(&self.previous)?,
-            cx.view(&self.output)?,
-        ];
-        let all = [
-            (0, self.gbuffer.camera_buffer().as_entire_binding()),
-            (1, self.params.as_entire_binding()),
-            (2, wgpu::BindingResource::TextureView(&views[0])),
-            (3, wgpu::BindingResource::TextureView(&views[1])),
-            (4, wgpu::BindingResource::TextureView(&views[2])),
-        ];
-        super::dispatch_entry(
-            cx,
+        cx.dispatch_image(
             "autofocus",
             &ShaderKey::new("post/autofocus.wgsl", []),
-            "main",
-            &all,
+            Bindings::new()
+                .buffer("camera", self.gbuffer.camera_buffer())
+                .buffer("params", &self.params)
+                .texture("depth", io.depth)
+                .texture("previous", io.previous)
+                .texture("output", io.output),
             (1, 1),
         )
     }
+}
+
+/// What the autofocus pass declared: the persistent output and the copy
+/// of last frame's value it reads.
+struct AutofocusIo {
+    depth: Tex,
+    previous: Tex,
+    output: Tex,
 }
 
 impl Recipe for Autofocus {
@@ -158,12 +157,15 @@ impl Recipe for Autofocus {
             lifetime: Lifetime::Temporary,
             usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
         };
-        fg.add_pass(
+        let mut pass = fg.pass(
             crate::recipe::pass_name("Autofocus", self.owner, None),
             self.owner,
-            &[&self.gbuffer.targets.depth],
-            &[(&self.output, target), (&self.previous, previous)],
-            move |cx| self.run(cx),
         );
+        let io = AutofocusIo {
+            depth: pass.read(&self.gbuffer.targets.depth),
+            output: pass.write(&self.output, target),
+            previous: pass.write(&self.previous, previous),
+        };
+        pass.run(move |cx| self.run(cx, &io));
     }
 }

@@ -15,11 +15,13 @@ use std::sync::Arc;
 use glam::Mat4;
 
 use crate::error::RenderError;
-use crate::frame_graph::{FrameGraph, PassContext, TextureDesc};
+use crate::frame_graph::{Bindings, FrameGraph, PassBuilder, PassContext, Tex, TextureDesc};
 use crate::gbuffer::GBuffer;
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
-use crate::resolution::{Resolution, Upsample, UpsampleFormat, upsample};
+use crate::resolution::{
+    Resolution, UpsampleFormat, UpsamplePass, declare_upsample, written_target,
+};
 use crate::shaders::ShaderKey;
 
 const SHADER: &str = "post/dof.wgsl";
@@ -170,7 +172,6 @@ pub struct Dof {
     coc: String,
     tiles: String,
     /// The half-size blur (Half only).
-    blurred_half: String,
     pub output: String,
 }
 
@@ -204,7 +205,6 @@ impl Dof {
             params,
             coc: format!("dof{id} coc"),
             tiles: format!("dof{id} tiles"),
-            blurred_half: format!("dof{id} half"),
             output: format!("dof{id}"),
         })
     }
@@ -239,87 +239,34 @@ impl Dof {
         !self.settings.resolution.is_half()
     }
 
-    /// `coc`: the circle of confusion from depth (and the focus texture); `main`: the blur.
-    fn run(&self, cx: &mut PassContext<'_>, entry: &'static str) -> Result<(), RenderError> {
-        let mut views = Vec::new();
-        // What makes the circles of confusion: the depth (and focus) for the
-        // `coc` pass and, inlined, for the tiles and the blur; else its target.
-        if entry == "coc" || self.inline_coc() {
-            views.push((3, cx.view(&self.gbuffer.targets.depth)?));
-            if let Focus::Texture(t) = &self.focus {
-                views.push((7, cx.view(&t.name)?));
-            }
-        }
-        let coc = cx.view(&self.coc);
-        if entry == "coc" {
-            views.push((4, coc?));
-        } else if entry == "tiles" {
-            if !self.inline_coc() {
-                views.push((5, coc?));
-            }
-            views.push((9, cx.view(&self.tiles)?));
-        } else {
-            views.push((2, cx.view(&self.source.name)?));
-            if !self.inline_coc() {
-                views.push((5, coc?));
-            }
-            views.push((10, cx.view(&self.tiles)?));
-            views.push((6, cx.view(self.blur_target())?));
-            if let Some(t) = &self.bokeh {
-                views.push((8, cx.view(&t.name)?));
-            }
-        }
-        let mut all = vec![
-            (0, self.gbuffer.camera_buffer().as_entire_binding()),
-            (1, self.params.as_entire_binding()),
-        ];
-        all.extend(
-            views
-                .iter()
-                .map(|(b, v)| (*b, wgpu::BindingResource::TextureView(v))),
-        );
-        let size = super::size_of(
-            cx,
-            match entry {
-                "tiles" => &self.tiles,
-                "main" => self.blur_target(),
-                _ => &self.coc,
-            },
-        )?;
-        if entry == "tiles" {
+    /// `entry` of dof.wgsl writing `output` (`coc`: the circle of
+    /// confusion, `tiles`: each tile's largest, `main`: the blur), with what
+    /// its pass declared in `bindings` and the camera and parameters every
+    /// entry binds.
+    fn run(
+        &self,
+        cx: &mut PassContext<'_>,
+        entry: &'static str,
+        bindings: Bindings<'_>,
+        output: Tex,
+    ) -> Result<(), RenderError> {
+        let size = cx.size_of(output)?;
+        let groups = if entry == "tiles" {
             // A workgroup per tile: its lanes share the tile's pixels.
-            super::dispatch_groups(cx, entry, &self.key(), entry, &all, size)?;
+            (size.0, size.1, 1)
         } else {
-            super::dispatch_entry(cx, entry, &self.key(), entry, &all, size)?;
-        }
-        if entry == "main" {
-            cx.count(BLURRED, 1);
-        }
-        Ok(())
+            super::per_pixel(size)
+        };
+        let bindings = Bindings::new()
+            .buffer("camera", self.gbuffer.camera_buffer())
+            .buffer("params", &self.params)
+            .extend(bindings);
+        cx.dispatch_shader(entry, &self.key(), entry, bindings, groups)
     }
 
     /// Where the blur writes: the output, or its half-size twin.
-    fn blur_target(&self) -> &str {
-        if self.settings.resolution.is_half() {
-            &self.blurred_half
-        } else {
-            &self.output
-        }
-    }
-
-    fn upsample_blur(&self, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
-        cx.count(HALF_RESOLUTION, 1);
-        upsample(
-            cx,
-            "dof upsample",
-            &Upsample {
-                gbuffer: &self.gbuffer,
-                source: &self.blurred_half,
-                output: &self.output,
-                format: UpsampleFormat::Rgba16,
-                detail: Some((&self.source.name, &self.coc)),
-            },
-        )
+    fn blur_target(&self) -> String {
+        written_target(&self.output, self.settings.resolution)
     }
 }
 
@@ -338,23 +285,19 @@ impl Recipe for Dof {
         let bound = max_coc_pixels(self.settings, fixed, projection, size.1);
         let desc = TextureDesc::storage(wgpu::TextureFormat::Rgba16Float).size(self.gbuffer.size);
         if bound.is_some_and(|b| b < 0.5) || self.settings.max_radius < 0.5 {
-            fg.add_pass(
+            super::declare_copy(
+                fg,
                 crate::recipe::pass_name("DOF", self.owner, Some("copy")),
                 self.owner,
-                &[&self.source.name],
-                &[(&self.output, desc)],
-                move |cx| {
-                    cx.count(SKIPPED, 1);
-                    super::copy(cx, &self.source.name, &self.output)
-                },
+                &self.source.name,
+                (&self.output, desc),
+                SKIPPED,
             );
             return;
         }
         self.gbuffer.declare(renderer, fg);
-        let mut reads = vec![self.gbuffer.targets.depth.as_str()];
         if let Focus::Texture(t) = &self.focus {
             t.recipe.declare(renderer, fg);
-            reads.push(&t.name);
         }
         if let Some(b) = &self.bokeh {
             b.recipe.declare(renderer, fg);
@@ -385,72 +328,119 @@ impl Recipe for Dof {
             &self.params,
             bytemuck::cast_slice(&params),
         );
-        // What the circles of confusion come from: the CoC target, or inlined the depth (and focus).
-        let coc_reads = if self.inline_coc() {
-            reads
-        } else {
-            fg.add_pass(
+        let coc_desc = TextureDesc::storage(wgpu::TextureFormat::Rg32Float).size(self.gbuffer.size);
+        let depth = self.gbuffer.targets.depth.as_str();
+        let focus = match &self.focus {
+            Focus::Texture(t) => Some(t.name.as_str()),
+            Focus::Distance(_) => None,
+        };
+        let inline = self.inline_coc();
+        if !inline {
+            let mut pass = fg.pass(
                 crate::recipe::pass_name("DOF", self.owner, Some("circle of confusion")),
                 self.owner,
-                &reads,
-                &[(
-                    &self.coc,
-                    TextureDesc::storage(wgpu::TextureFormat::Rg32Float).size(self.gbuffer.size),
-                )],
-                move |cx| self.run(cx, "coc"),
             );
-            vec![self.coc.as_str()]
+            let (depth, focus) = (pass.read(depth), pass.read_opt(focus));
+            let output = pass.write(&self.coc, coc_desc);
+            pass.run(move |cx| {
+                let b = Bindings::new()
+                    .texture("depth", depth)
+                    .texture_opt("focus", focus)
+                    .texture("coc_out", output);
+                self.run(cx, "coc", b, output)
+            });
+        }
+        // What the tiles and the blur make the circles of confusion from.
+        let read_coc = |pass: &mut PassBuilder<'_, 'a>| {
+            if inline {
+                CocIo::Depth {
+                    depth: pass.read(depth),
+                    focus: pass.read_opt(focus),
+                }
+            } else {
+                CocIo::Target(pass.read(&self.coc))
+            }
         };
-        fg.add_pass(
+        let mut pass = fg.pass(
             crate::recipe::pass_name("DOF", self.owner, Some("tiles")),
             self.owner,
-            &coc_reads,
-            &[(
-                &self.tiles,
-                TextureDesc::storage(wgpu::TextureFormat::R32Float).size(
-                    crate::frame_graph::SizeRule::Absolute {
-                        width: size.0.div_ceil(tile),
-                        height: size.1.div_ceil(tile),
-                    },
-                ),
-            )],
-            move |cx| self.run(cx, "tiles"),
         );
-        let mut reads = vec![self.source.name.as_str(), &self.tiles];
-        reads.extend(coc_reads.iter().copied());
-        if let Some(b) = &self.bokeh {
-            reads.push(&b.name);
-        }
+        let coc = read_coc(&mut pass);
+        let tiles = pass.write(
+            &self.tiles,
+            TextureDesc::storage(wgpu::TextureFormat::R32Float).size(
+                crate::frame_graph::SizeRule::Absolute {
+                    width: size.0.div_ceil(tile),
+                    height: size.1.div_ceil(tile),
+                },
+            ),
+        );
+        pass.run(move |cx| {
+            let b = coc.bind(Bindings::new()).texture("tiles_out", tiles);
+            self.run(cx, "tiles", b, tiles)
+        });
         let resolution = s.resolution;
-        fg.add_pass(
+        let mut pass = fg.pass(
             crate::recipe::pass_name(
                 "DOF",
                 self.owner,
                 Some(&format!("blur{}", resolution.pass_suffix())),
             ),
             self.owner,
-            &reads,
-            &[(
-                self.blur_target(),
-                desc.size(resolution.size_rule(self.gbuffer.size, size)),
-            )],
-            move |cx| self.run(cx, "main"),
         );
-        if resolution.is_half() {
-            let g = &self.gbuffer.targets;
-            fg.add_pass(
-                crate::recipe::pass_name("DOF", self.owner, Some("upsample")),
-                self.owner,
-                &[
-                    &self.blurred_half,
-                    &self.source.name,
-                    &self.coc,
-                    &g.depth,
-                    &g.normals,
-                ],
-                &[(&self.output, desc)],
-                move |cx| self.upsample_blur(cx),
-            );
+        let source = pass.read(&self.source.name);
+        let tiles = pass.read(&self.tiles);
+        let coc = read_coc(&mut pass);
+        let bokeh = pass.read_opt(self.bokeh.as_ref().map(|b| b.name.as_str()));
+        let output = pass.write(
+            &self.blur_target(),
+            desc.size(resolution.size_rule(self.gbuffer.size, size)),
+        );
+        pass.run(move |cx| {
+            let b = coc
+                .bind(Bindings::new())
+                .texture("source", source)
+                .texture("tiles_in", tiles)
+                .texture_opt("bokeh", bokeh)
+                .texture("output", output);
+            self.run(cx, "main", b, output)?;
+            cx.count(BLURRED, 1);
+            Ok(())
+        });
+        declare_upsample(
+            fg,
+            resolution,
+            UpsamplePass {
+                name: crate::recipe::pass_name("DOF", self.owner, Some("upsample")),
+                owner: self.owner,
+                gbuffer: &self.gbuffer,
+                half: &self.blur_target(),
+                full: &self.output,
+                desc,
+                format: UpsampleFormat::Rgba16,
+                counter: HALF_RESOLUTION,
+                label: "dof upsample",
+                detail: Some((&self.source.name, &self.coc)),
+            },
+        );
+    }
+}
+
+/// What the circles of confusion come from, in a pass that needs them.
+#[derive(Clone, Copy)]
+enum CocIo {
+    /// Full resolution (INLINE_COC): made from the depth (and the focus
+    /// texture with autofocus) where they are read.
+    Depth { depth: Tex, focus: Option<Tex> },
+    /// Half resolution: the `coc` pass's target, which the upsample reads too.
+    Target(Tex),
+}
+
+impl CocIo {
+    fn bind(self, b: Bindings<'_>) -> Bindings<'_> {
+        match self {
+            CocIo::Depth { depth, focus } => b.texture("depth", depth).texture_opt("focus", focus),
+            CocIo::Target(coc) => b.texture("coc_in", coc),
         }
     }
 }

@@ -12,7 +12,7 @@
 use std::sync::Arc;
 
 use crate::error::RenderError;
-use crate::frame_graph::{FrameGraph, Lifetime, PassContext, SizeRule, TextureDesc};
+use crate::frame_graph::{Bindings, FrameGraph, Lifetime, PassContext, SizeRule, Tex, TextureDesc};
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
 use crate::shaders::ShaderKey;
@@ -205,56 +205,37 @@ impl EyeAdaptation {
         format!("eye adaptation{} level{level}", self.id)
     }
 
-    fn dispatch(
-        cx: &mut PassContext<'_>,
-        entry: &'static str,
-        resources: &[(u32, wgpu::BindingResource<'_>)],
-        groups: (u32, u32),
-    ) -> Result<(), RenderError> {
-        let device = cx.gpu.device.clone();
-        let key = ShaderKey::new(SHADER, []);
-        let pipeline = cx.shaders.compute_pipeline(&device, &key, entry)?;
-        let group = cx
-            .shaders
-            .bind_group(&device, &key, entry, &pipeline, 0, resources)?;
-        cx.dispatch(entry, &pipeline, &[&group], (groups.0, groups.1, 1));
-        Ok(())
-    }
-
     /// One reduction step: `input` (the image or the last level) into `output`.
     fn reduce(
         &self,
         cx: &mut PassContext<'_>,
         entry: &'static str,
-        input: &str,
-        output: &str,
+        input: Tex,
+        output: Tex,
     ) -> Result<(), RenderError> {
-        let (source, target) = (cx.view(input)?, cx.view(output)?);
-        let (w, h) = {
-            let t = cx.texture(output)?;
-            (t.width(), t.height())
-        };
-        let mut all = vec![
-            (1, wgpu::BindingResource::TextureView(&source)),
-            (2, wgpu::BindingResource::TextureView(&target)),
-        ];
+        let size = cx.size_of(output)?;
         // Only the first level reads the parameters (it floors pixels at the
-        // Minimum pin); the halving levels need no uniform made for them.
-        let params = (entry == "log_luminance").then(|| self.params[0].clone());
-        if let Some(params) = &params {
-            all.push((0, params.as_entire_binding()));
-        }
-        Self::dispatch(cx, entry, &all, (w.div_ceil(8), h.div_ceil(8)))
+        // Minimum pin); `downsample` does not use them, so they are left out.
+        let bindings = Bindings::new()
+            .buffer("params", &self.params[0])
+            .texture("input", input)
+            .texture("reduced", output);
+        cx.dispatch_shader(
+            entry,
+            &ShaderKey::new(SHADER, []),
+            entry,
+            bindings,
+            super::per_pixel(size),
+        )
     }
 
-    fn adapt(&self, cx: &mut PassContext<'_>, measured: &str) -> Result<(), RenderError> {
-        let fresh = cx.is_fresh(&self.output);
-        let params = self.params[usize::from(fresh)].clone();
+    fn adapt(&self, cx: &mut PassContext<'_>, io: &AdaptIo) -> Result<(), RenderError> {
+        let fresh = cx.is_fresh(io.adapted);
         // The blend reads last frame's value from a copy: a texture cannot be
         // read and written in one dispatch without read-write storage.
         let (last, copy) = (
-            cx.texture(&self.output)?.clone(),
-            cx.texture(&self.previous)?.clone(),
+            cx.texture(io.adapted)?.clone(),
+            cx.texture(io.previous)?.clone(),
         );
         cx.encoder().copy_texture_to_texture(
             last.as_image_copy(),
@@ -265,19 +246,27 @@ impl EyeAdaptation {
                 depth_or_array_layers: 1,
             },
         );
-        let views = [
-            cx.view(measured)?,
-            cx.view(&self.previous)?,
-            cx.view(&self.output)?,
-        ];
-        let all = [
-            (0, params.as_entire_binding()),
-            (3, wgpu::BindingResource::TextureView(&views[0])),
-            (4, wgpu::BindingResource::TextureView(&views[1])),
-            (5, wgpu::BindingResource::TextureView(&views[2])),
-        ];
-        Self::dispatch(cx, "adapt", &all, (1, 1))
+        let bindings = Bindings::new()
+            .buffer("params", &self.params[usize::from(fresh)])
+            .texture("measured", io.measured)
+            .texture("previous", io.previous)
+            .texture("adapted", io.adapted);
+        cx.dispatch_shader(
+            "adapt",
+            &ShaderKey::new(SHADER, []),
+            "adapt",
+            bindings,
+            (1, 1, 1),
+        )
     }
+}
+
+/// What the adapt pass declared: the last level of the reduction, the
+/// persistent adapted luminance and the copy of last frame's it reads.
+struct AdaptIo {
+    measured: Tex,
+    previous: Tex,
+    adapted: Tex,
 }
 
 impl Recipe for EyeAdaptation {
@@ -291,35 +280,24 @@ impl Recipe for EyeAdaptation {
             None => String::new(),
         };
         let sizes = reduction_sizes(fg.output_size());
-        let names: Vec<String> = (0..sizes.len()).map(|l| self.level_name(l)).collect();
         let level = |(width, height): (u32, u32)| {
             TextureDesc::storage(REDUCED).size(SizeRule::Absolute { width, height })
         };
         // Level 0: log-luminance of the image at half the output size.
-        fg.add_pass(
-            format!("EyeAdaptation{node} log luminance"),
-            self.owner,
-            &[&self.source.name],
-            &[(&names[0], level(sizes[0]))],
-            move |cx| self.reduce(cx, "log_luminance", &self.source.name, &self.level_name(0)),
-        );
+        let mut pass = fg.pass(format!("EyeAdaptation{node} log luminance"), self.owner);
+        let input = pass.read(&self.source.name);
+        let output = pass.write(&self.level_name(0), level(sizes[0]));
+        pass.run(move |cx| self.reduce(cx, "log_luminance", input, output));
         for (l, size) in sizes.iter().enumerate().skip(1) {
-            fg.add_pass(
+            let mut pass = fg.pass(
                 format!("EyeAdaptation{node} reduce {}x{}", size.0, size.1),
                 self.owner,
-                &[&names[l - 1]],
-                &[(&names[l], level(*size))],
-                move |cx| {
-                    self.reduce(
-                        cx,
-                        "downsample",
-                        &self.level_name(l - 1),
-                        &self.level_name(l),
-                    )
-                },
             );
+            let input = pass.read(&self.level_name(l - 1));
+            let output = pass.write(&self.level_name(l), level(*size));
+            pass.run(move |cx| self.reduce(cx, "downsample", input, output));
         }
-        let last = names.len() - 1;
+        let last = sizes.len() - 1;
         let one = SizeRule::Absolute {
             width: 1,
             height: 1,
@@ -333,12 +311,12 @@ impl Recipe for EyeAdaptation {
             lifetime: Lifetime::Temporary,
             usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
         };
-        fg.add_pass(
-            format!("EyeAdaptation{node} adapt"),
-            self.owner,
-            &[&names[last]],
-            &[(&self.output, adapted), (&self.previous, previous)],
-            move |cx| self.adapt(cx, &self.level_name(last)),
-        );
+        let mut pass = fg.pass(format!("EyeAdaptation{node} adapt"), self.owner);
+        let io = AdaptIo {
+            measured: pass.read(&self.level_name(last)),
+            adapted: pass.write(&self.output, adapted),
+            previous: pass.write(&self.previous, previous),
+        };
+        pass.run(move |cx| self.adapt(cx, &io));
     }
 }

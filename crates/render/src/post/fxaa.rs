@@ -4,7 +4,7 @@
 use std::sync::Arc;
 
 use crate::error::RenderError;
-use crate::frame_graph::{FrameGraph, PassContext, SizeRule, TextureDesc};
+use crate::frame_graph::{Bindings, FrameGraph, PassContext, SizeRule, Tex, TextureDesc};
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
 use crate::shaders::ShaderKey;
@@ -77,18 +77,17 @@ impl Fxaa {
         }
     }
 
-    fn run(&self, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
-        let (source, output) = (cx.view(&self.source.name)?, cx.view(&self.output)?);
-        let size = {
-            let t = cx.texture(&self.output)?;
-            (t.width(), t.height())
-        };
-        let all = [
-            (0, self.params.as_entire_binding()),
-            (1, wgpu::BindingResource::TextureView(&source)),
-            (3, wgpu::BindingResource::TextureView(&output)),
-        ];
-        cx.dispatch_image("fxaa", &ShaderKey::new("post/fxaa.wgsl", []), &all, size)
+    fn run(&self, cx: &mut PassContext<'_>, source: Tex, output: Tex) -> Result<(), RenderError> {
+        let size = cx.size_of(output)?;
+        cx.dispatch_image(
+            "fxaa",
+            &ShaderKey::new("post/fxaa.wgsl", []),
+            Bindings::new()
+                .buffer("params", &self.params)
+                .texture("source", source)
+                .texture("output", output),
+            size,
+        )
     }
 }
 
@@ -101,12 +100,9 @@ impl Recipe for Fxaa {
         let name = crate::recipe::pass_name("FXAA", self.owner, None);
         let desc =
             TextureDesc::storage(wgpu::TextureFormat::Rgba16Float).size(SizeRule::Relative(1.0));
-        fg.add_pass(
-            name,
-            self.owner,
-            &[&self.source.name],
-            &[(&self.output, desc)],
-            move |cx| self.run(cx),
-        );
+        let mut pass = fg.pass(name, self.owner);
+        let source = pass.read(&self.source.name);
+        let output = pass.write(&self.output, desc);
+        pass.run(move |cx| self.run(cx, source, output));
     }
 }

@@ -6,10 +6,10 @@
 use std::sync::Arc;
 
 use crate::error::RenderError;
-use crate::frame_graph::{FrameGraph, PassContext, SizeRule, TextureDesc};
+use crate::frame_graph::{Bindings, FrameGraph, PassContext, SizeRule, Tex, TextureDesc};
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
-use crate::shaders::ShaderKey;
+use crate::shaders::{Sampling, ShaderKey};
 
 const SHADER: &str = "post/glare.wgsl";
 
@@ -120,30 +120,16 @@ impl Glare {
         format!("glare{} up{level}", self.id)
     }
 
+    /// One of glare.wgsl's entry points: `source` (and the `lower` level of
+    /// the chain) into `output`.
     fn run(
         &self,
         cx: &mut PassContext<'_>,
         entry: &'static str,
-        source: &str,
-        lower: Option<&str>,
-        output: &str,
+        source: Tex,
+        lower: Option<Tex>,
+        output: Tex,
     ) -> Result<(), RenderError> {
-        let (s, o) = (cx.view(source)?, cx.view(output)?);
-        let l = match lower {
-            Some(name) => Some(cx.view(name)?),
-            None => None,
-        };
-        let mut all = vec![
-            (0, self.params.as_entire_binding()),
-            (1, wgpu::BindingResource::TextureView(&s)),
-            (3, wgpu::BindingResource::TextureView(&o)),
-        ];
-        if let Some(l) = &l {
-            all.push((2, wgpu::BindingResource::TextureView(l)));
-        }
-        // The chain's levels are read through it (bright and copy bind none).
-        let linear = cx.sampler(crate::shaders::Sampling::LinearClamp);
-        all.push((4, wgpu::BindingResource::Sampler(&linear)));
         // The composite reads the source through the sampler too where its
         // format filters (the other entries read their source by texel).
         let filterable = entry == "composite"
@@ -154,9 +140,21 @@ impl Glare {
                 Some(wgpu::TextureSampleType::Float { filterable: true })
             );
         let features = filterable.then_some("FILTERED_SOURCE");
-        let size = super::size_of(cx, output)?;
-        let key = ShaderKey::new(SHADER, features);
-        super::dispatch_entry(cx, entry, &key, entry, &all, size)
+        let size = cx.size_of(output)?;
+        let bindings = Bindings::new()
+            .buffer("params", &self.params)
+            .texture("source", source)
+            .texture_opt("lower", lower)
+            .texture("output", output)
+            // The chain's levels are read through it (bright and copy bind none).
+            .sampler("linear", Sampling::LinearClamp);
+        cx.dispatch_shader(
+            entry,
+            &ShaderKey::new(SHADER, features),
+            entry,
+            bindings,
+            super::per_pixel(size),
+        )
     }
 }
 
@@ -169,15 +167,13 @@ impl Recipe for Glare {
         let full = TextureDesc::storage(wgpu::TextureFormat::Rgba16Float);
         let name = |what: &str| crate::recipe::pass_name("Glare", self.owner, Some(what));
         if self.settings.intensity == 0.0 && self.settings.aberration == 0.0 {
-            fg.add_pass(
+            super::declare_copy(
+                fg,
                 name("copy"),
                 self.owner,
-                &[&self.source.name],
-                &[(&self.output, full)],
-                move |cx| {
-                    cx.count(SKIPPED, 1);
-                    super::copy(cx, &self.source.name, &self.output)
-                },
+                &self.source.name,
+                (&self.output, full),
+                SKIPPED,
             );
             return;
         }
@@ -188,23 +184,15 @@ impl Recipe for Glare {
             levels += 1;
         }
         let level = |l: usize| full.size(SizeRule::Relative(0.5f32.powi(l as i32 + 1)));
-        let downs: Vec<String> = (0..levels).map(|l| self.down(l)).collect();
-        let ups: Vec<String> = (0..levels).map(|l| self.up(l)).collect();
-        fg.add_pass(
-            name("bright pass"),
-            self.owner,
-            &[&self.source.name],
-            &[(&downs[0], level(0))],
-            move |cx| self.run(cx, "bright", &self.source.name, None, &self.down(0)),
-        );
+        let mut pass = fg.pass(name("bright pass"), self.owner);
+        let source = pass.read(&self.source.name);
+        let output = pass.write(&self.down(0), level(0));
+        pass.run(move |cx| self.run(cx, "bright", source, None, output));
         for l in 1..levels {
-            fg.add_pass(
-                name(&format!("down {l}")),
-                self.owner,
-                &[&downs[l - 1]],
-                &[(&downs[l], level(l))],
-                move |cx| self.run(cx, "down", &self.down(l - 1), None, &self.down(l)),
-            );
+            let mut pass = fg.pass(name(&format!("down {l}")), self.owner);
+            let source = pass.read(&self.down(l - 1));
+            let output = pass.write(&self.down(l), level(l));
+            pass.run(move |cx| self.run(cx, "down", source, None, output));
         }
         // The smallest level is its own "up"; each larger one adds the one below.
         let lower_of = |l: usize| -> String {
@@ -215,24 +203,16 @@ impl Recipe for Glare {
             }
         };
         for l in (0..levels.saturating_sub(1)).rev() {
-            let lower = lower_of(l + 1);
-            let read = lower.clone();
-            fg.add_pass(
-                name(&format!("up {l}")),
-                self.owner,
-                &[&downs[l], &read],
-                &[(&ups[l], level(l))],
-                move |cx| self.run(cx, "up", &self.down(l), Some(&lower), &self.up(l)),
-            );
+            let mut pass = fg.pass(name(&format!("up {l}")), self.owner);
+            let source = pass.read(&self.down(l));
+            let lower = pass.read(&lower_of(l + 1));
+            let output = pass.write(&self.up(l), level(l));
+            pass.run(move |cx| self.run(cx, "up", source, Some(lower), output));
         }
-        let top = lower_of(0);
-        let read = top.clone();
-        fg.add_pass(
-            name("composite"),
-            self.owner,
-            &[&self.source.name, &read],
-            &[(&self.output, full)],
-            move |cx| self.run(cx, "composite", &self.source.name, Some(&top), &self.output),
-        );
+        let mut pass = fg.pass(name("composite"), self.owner);
+        let source = pass.read(&self.source.name);
+        let top = pass.read(&lower_of(0));
+        let output = pass.write(&self.output, full);
+        pass.run(move |cx| self.run(cx, "composite", source, Some(top), output));
     }
 }

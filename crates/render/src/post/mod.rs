@@ -20,8 +20,7 @@ pub use taa::{Taa, TaaQuality, TaaSettings, is_cut};
 pub use tonemap::{AdaptedExposure, Tonemap};
 pub use transparency::{Transparency, TransparencySettings};
 
-use crate::error::RenderError;
-use crate::frame_graph::PassContext;
+use crate::frame_graph::{Bindings, FrameGraph, TextureDesc};
 use crate::shaders::ShaderKey;
 
 /// The largest value the half-float targets are clamped to (65504 overflows).
@@ -38,69 +37,39 @@ pub(crate) fn uniform(
     renderer.uniform(owner, label, bytemuck::cast_slice(words))
 }
 
-/// One compute entry point of `key` over `size` pixels in 8x8 groups, with
-/// `bindings` at group 0 (those the entry does not use are dropped).
-pub(crate) fn dispatch_entry(
-    cx: &mut PassContext<'_>,
-    label: &str,
-    key: &ShaderKey,
-    entry: &'static str,
-    bindings: &[(u32, wgpu::BindingResource<'_>)],
-    size: (u32, u32),
-) -> Result<(), RenderError> {
-    dispatch_groups(
-        cx,
-        label,
-        key,
-        entry,
-        bindings,
-        (size.0.div_ceil(8), size.1.div_ceil(8)),
-    )
+/// Workgroups for one thread per pixel of `size` in 8x8 groups (what
+/// [`PassContext::dispatch_image`](crate::frame_graph::PassContext::dispatch_image)
+/// does for `main`), for other entry points.
+pub(crate) fn per_pixel(size: (u32, u32)) -> (u32, u32, u32) {
+    (size.0.div_ceil(8), size.1.div_ceil(8), 1)
 }
 
-/// `entry` in `groups` workgroups: [`dispatch_entry`]'s one per 8x8
-/// texels, or a tile pass's one per tile (whose lanes share the tile's pixels).
-pub(crate) fn dispatch_groups(
-    cx: &mut PassContext<'_>,
-    label: &str,
-    key: &ShaderKey,
-    entry: &'static str,
-    bindings: &[(u32, wgpu::BindingResource<'_>)],
-    groups: (u32, u32),
-) -> Result<(), RenderError> {
-    let device = cx.gpu.device.clone();
-    let pipeline = cx.shaders.compute_pipeline(&device, key, entry)?;
-    let group = cx
-        .shaders
-        .bind_group(&device, key, entry, &pipeline, 0, bindings)?;
-    cx.dispatch(label, &pipeline, &[&group], (groups.0, groups.1, 1));
-    Ok(())
-}
-
-/// The pass a node that has nothing to do runs instead of its effect: a
-/// copy of `source` into `output` (any float format to RGBA16F), with
-/// NaN made 0 and values clamped to the half-float range.
-pub(crate) fn copy(
-    cx: &mut PassContext<'_>,
+/// Declare the pass a node that has nothing to do runs instead of its
+/// effect: a copy of `source` into `output` (any float format to RGBA16F,
+/// NaN made 0, values clamped to the half-float range), counted as `counter`.
+pub(crate) fn declare_copy<'a>(
+    fg: &mut FrameGraph<'a>,
+    name: String,
+    owner: Option<u32>,
     source: &str,
-    output: &str,
-) -> Result<(), RenderError> {
-    let (from, to) = (cx.view(source)?, cx.view(output)?);
-    let size = {
-        let t = cx.texture(output)?;
-        (t.width(), t.height())
-    };
-    let all = [
-        (0, wgpu::BindingResource::TextureView(&from)),
-        (1, wgpu::BindingResource::TextureView(&to)),
-    ];
-    cx.dispatch_image("copy", &ShaderKey::new("post/copy.wgsl", []), &all, size)
-}
-
-/// The size of a texture in the frame.
-pub(crate) fn size_of(cx: &PassContext<'_>, name: &str) -> Result<(u32, u32), RenderError> {
-    let t = cx.texture(name)?;
-    Ok((t.width(), t.height()))
+    output: (&str, TextureDesc),
+    counter: &'static str,
+) {
+    let mut pass = fg.pass(name, owner);
+    let source = pass.read(source);
+    let output = pass.write(output.0, output.1);
+    pass.run(move |cx| {
+        cx.count(counter, 1);
+        let size = cx.size_of(output)?;
+        cx.dispatch_image(
+            "copy",
+            &ShaderKey::new("post/copy.wgsl", []),
+            Bindings::new()
+                .texture("source", source)
+                .texture("output", output),
+            size,
+        )
+    });
 }
 
 /// f32s as uniform words.

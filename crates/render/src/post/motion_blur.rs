@@ -8,7 +8,7 @@
 use std::sync::Arc;
 
 use crate::error::RenderError;
-use crate::frame_graph::{FrameGraph, PassContext, SizeRule, TextureDesc};
+use crate::frame_graph::{Bindings, FrameGraph, PassContext, SizeRule, Tex, TextureDesc};
 use crate::gbuffer::GBuffer;
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
@@ -108,34 +108,27 @@ impl MotionBlur {
         }
     }
 
+    /// One of motion_blur.wgsl's entry points writing `output`, with what
+    /// its pass declared in `bindings` and the camera and parameters every entry binds.
     fn run(
         &self,
         cx: &mut PassContext<'_>,
         entry: &'static str,
-        reads: &[(u32, &str)],
-        write: (u32, &str),
+        bindings: Bindings<'_>,
+        output: Tex,
     ) -> Result<(), RenderError> {
-        let mut views = Vec::new();
-        for (binding, name) in reads.iter().chain([&write]) {
-            views.push((*binding, cx.view(name)?));
-        }
-        let mut all = vec![
-            (0, self.gbuffer.camera_buffer().as_entire_binding()),
-            (1, self.params.as_entire_binding()),
-        ];
-        all.extend(
-            views
-                .iter()
-                .map(|(b, v)| (*b, wgpu::BindingResource::TextureView(v))),
-        );
-        let size = super::size_of(cx, write.1)?;
-        let key = ShaderKey::new(SHADER, []);
-        if entry == "tile_max" {
+        let size = cx.size_of(output)?;
+        let groups = if entry == "tile_max" {
             // A workgroup per tile: its lanes share the tile's pixels.
-            super::dispatch_groups(cx, entry, &key, entry, &all, size)
+            (size.0, size.1, 1)
         } else {
-            super::dispatch_entry(cx, entry, &key, entry, &all, size)
-        }
+            super::per_pixel(size)
+        };
+        let bindings = Bindings::new()
+            .buffer("camera", self.gbuffer.camera_buffer())
+            .buffer("params", &self.params)
+            .extend(bindings);
+        cx.dispatch_shader(entry, &ShaderKey::new(SHADER, []), entry, bindings, groups)
     }
 }
 
@@ -145,17 +138,16 @@ impl Recipe for MotionBlur {
             return;
         }
         self.source.recipe.declare(renderer, fg);
+        let name = |what| crate::recipe::pass_name("MotionBlur", self.owner, Some(what));
         let desc = TextureDesc::storage(wgpu::TextureFormat::Rgba16Float).size(self.gbuffer.size);
         if self.gbuffer.is_still() || self.settings.shutter_angle == 0.0 {
-            fg.add_pass(
-                crate::recipe::pass_name("MotionBlur", self.owner, Some("copy")),
+            super::declare_copy(
+                fg,
+                name("copy"),
                 self.owner,
-                &[&self.source.name],
-                &[(&self.output, desc)],
-                move |cx| {
-                    cx.count(SKIPPED, 1);
-                    super::copy(cx, &self.source.name, &self.output)
-                },
+                &self.source.name,
+                (&self.output, desc),
+                SKIPPED,
             );
             return;
         }
@@ -167,59 +159,39 @@ impl Recipe for MotionBlur {
             height: h.div_ceil(k),
         });
         let t = &self.gbuffer.targets;
-        fg.add_pass(
-            crate::recipe::pass_name("MotionBlur", self.owner, Some("tile max")),
-            self.owner,
-            &[&t.velocity_uv],
-            &[(&self.tile_max, tiles)],
-            move |cx| {
-                self.run(
-                    cx,
-                    "tile_max",
-                    &[(4, &self.gbuffer.targets.velocity_uv)],
-                    (6, &self.tile_max),
-                )
-            },
-        );
-        fg.add_pass(
-            crate::recipe::pass_name("MotionBlur", self.owner, Some("neighbour max")),
-            self.owner,
-            &[&self.tile_max],
-            &[(&self.neighbor_max, tiles)],
-            move |cx| {
-                self.run(
-                    cx,
-                    "neighbor_max",
-                    &[(5, &self.tile_max)],
-                    (6, &self.neighbor_max),
-                )
-            },
-        );
-        fg.add_pass(
-            crate::recipe::pass_name("MotionBlur", self.owner, Some("gather")),
-            self.owner,
-            &[
-                &self.source.name,
-                &t.depth,
-                &t.velocity_uv,
-                &self.neighbor_max,
-            ],
-            &[(&self.output, desc)],
-            move |cx| {
-                cx.count(BLURRED, 1);
-                let t = &self.gbuffer.targets;
-                self.run(
-                    cx,
-                    "main",
-                    &[
-                        (2, &self.source.name),
-                        (3, &t.depth),
-                        (4, &t.velocity_uv),
-                        (5, &self.neighbor_max),
-                    ],
-                    (7, &self.output),
-                )
-            },
-        );
+        let mut pass = fg.pass(name("tile max"), self.owner);
+        let velocity_uv = pass.read(&t.velocity_uv);
+        let tile_max = pass.write(&self.tile_max, tiles);
+        pass.run(move |cx| {
+            let b = Bindings::new()
+                .texture("velocity_uv", velocity_uv)
+                .texture("tiles_out", tile_max);
+            self.run(cx, "tile_max", b, tile_max)
+        });
+        let mut pass = fg.pass(name("neighbour max"), self.owner);
+        let tile_max = pass.read(&self.tile_max);
+        let neighbor_max = pass.write(&self.neighbor_max, tiles);
+        pass.run(move |cx| {
+            let b = Bindings::new()
+                .texture("tiles_in", tile_max)
+                .texture("tiles_out", neighbor_max);
+            self.run(cx, "neighbor_max", b, neighbor_max)
+        });
+        let mut pass = fg.pass(name("gather"), self.owner);
+        let source = pass.read(&self.source.name);
+        let depth = pass.read(&t.depth);
+        let velocity_uv = pass.read(&t.velocity_uv);
+        let neighbor_max = pass.read(&self.neighbor_max);
+        let output = pass.write(&self.output, desc);
+        pass.run(move |cx| {
+            cx.count(BLURRED, 1);
+            let b = Bindings::new()
+                .texture("source", source)
+                .texture("depth", depth)
+                .texture("velocity_uv", velocity_uv)
+                .texture("tiles_in", neighbor_max)
+                .texture("output", output);
+            self.run(cx, "main", b, output)
+        });
     }
 }

@@ -11,11 +11,11 @@ use std::sync::Arc;
 use glam::{Mat4, Vec2};
 
 use crate::error::RenderError;
-use crate::frame_graph::{FrameGraph, PassContext, TextureDesc};
+use crate::frame_graph::{Bindings, FrameGraph, PassContext, Tex, TextureDesc};
 use crate::gbuffer::GBuffer;
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
-use crate::shaders::ShaderKey;
+use crate::shaders::{Sampling, ShaderKey};
 
 /// Counted when the history was thrown away (fresh target or a cut).
 pub const RESET: &str = "taa history reset";
@@ -164,8 +164,8 @@ impl Taa {
         ShaderKey::new("post/taa.wgsl", features.iter().copied())
     }
 
-    fn run(&self, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
-        let fresh = cx.is_fresh(&self.history) || self.settings.reset;
+    fn run(&self, cx: &mut PassContext<'_>, io: &TaaIo) -> Result<(), RenderError> {
+        let fresh = cx.is_fresh(io.history) || self.settings.reset;
         if fresh {
             cx.count(RESET, 1);
         }
@@ -174,29 +174,34 @@ impl Taa {
             16,
             bytemuck::cast_slice(&[if fresh { 1.0f32 } else { 0.0 }, 0.0, 0.0, 0.0]),
         );
-        let t = &self.gbuffer.targets;
-        let views = [
-            cx.view(&self.source.name)?,
-            cx.view(&t.velocity_uv)?,
-            cx.view(&t.depth)?,
-            cx.view(&self.history)?,
-            cx.view(&self.output)?,
-        ];
-        let mut all = vec![(0, self.params.as_entire_binding())];
-        all.extend(
-            views
-                .iter()
-                .enumerate()
-                .map(|(i, v)| (i as u32 + 1, wgpu::BindingResource::TextureView(v))),
-        );
-        let linear = cx.sampler(crate::shaders::Sampling::LinearClamp);
-        all.push((6, wgpu::BindingResource::Sampler(&linear)));
-        let size = super::size_of(cx, &self.output)?;
-        super::dispatch_entry(cx, "taa", &self.key(), "main", &all, size)?;
+        let size = cx.size_of(io.output)?;
+        cx.dispatch_image(
+            "taa",
+            &self.key(),
+            Bindings::new()
+                .buffer("params", &self.params)
+                .texture("source", io.source)
+                .texture("velocity_uv", io.velocity_uv)
+                .texture("depth", io.depth)
+                .texture("history", io.history)
+                .texture("output", io.output)
+                .sampler("linear", Sampling::LinearClamp),
+            size,
+        )?;
         // The result is next frame's history.
-        cx.keep_as_history(&self.output, &self.history)?;
+        cx.keep_as_history(io.output, io.history)?;
         Ok(())
     }
+}
+
+/// What the TAA pass declared: it reads last frame's history and writes
+/// the output, which then becomes the history.
+struct TaaIo {
+    source: Tex,
+    velocity_uv: Tex,
+    depth: Tex,
+    history: Tex,
+    output: Tex,
 }
 
 impl Recipe for Taa {
@@ -212,13 +217,18 @@ impl Recipe for Taa {
         let history =
             TextureDesc::history(wgpu::TextureFormat::Rgba16Float).size(self.gbuffer.size);
         let t = &self.gbuffer.targets;
-        fg.add_pass(
+        let mut pass = fg.pass(
             crate::recipe::pass_name("TAA", self.owner, None),
             self.owner,
-            &[&self.source.name, &t.velocity_uv, &t.depth],
-            &[(&self.output, output), (&self.history, history)],
-            move |cx| self.run(cx),
         );
+        let io = TaaIo {
+            source: pass.read(&self.source.name),
+            velocity_uv: pass.read(&t.velocity_uv),
+            depth: pass.read(&t.depth),
+            output: pass.write(&self.output, output),
+            history: pass.write(&self.history, history),
+        };
+        pass.run(move |cx| self.run(cx, &io));
     }
 }
 

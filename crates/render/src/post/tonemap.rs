@@ -7,7 +7,7 @@
 use std::sync::Arc;
 
 use crate::error::RenderError;
-use crate::frame_graph::{FrameGraph, PassContext, SizeRule, TextureDesc};
+use crate::frame_graph::{Bindings, FrameGraph, PassContext, SizeRule, Tex, TextureDesc};
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
 use crate::shaders::ShaderKey;
@@ -98,28 +98,28 @@ impl Tonemap {
         }
     }
 
-    fn run(&self, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
-        let features = self.adaptation.as_ref().map(|_| "EYE_ADAPTATION");
-        let key = ShaderKey::new("post/tonemap.wgsl", features);
-        let (source, output) = (cx.view(&self.source.name)?, cx.view(&self.output)?);
-        let adaptation = match &self.adaptation {
-            Some(a) => Some(cx.view(&a.name)?),
-            None => None,
-        };
-        let (w, h) = {
-            let t = cx.texture(&self.output)?;
-            (t.width(), t.height())
-        };
-        let mut all = vec![
-            (0, self.params.as_entire_binding()),
-            (1, wgpu::BindingResource::TextureView(&source)),
-            (2, wgpu::BindingResource::TextureView(&output)),
-        ];
-        if let Some(view) = &adaptation {
-            all.push((3, wgpu::BindingResource::TextureView(view)));
-        }
-        cx.dispatch_image("tonemap", &key, &all, (w, h))
+    fn run(&self, cx: &mut PassContext<'_>, io: &TonemapIo) -> Result<(), RenderError> {
+        let features = io.adaptation.map(|_| "EYE_ADAPTATION");
+        let size = cx.size_of(io.output)?;
+        cx.dispatch_image(
+            "tonemap",
+            &ShaderKey::new("post/tonemap.wgsl", features),
+            Bindings::new()
+                .buffer("params", &self.params)
+                .texture("source", io.source)
+                .texture("output", io.output)
+                .texture_opt("adaptation", io.adaptation),
+            size,
+        )
     }
+}
+
+/// What the tonemap pass declared.
+struct TonemapIo {
+    source: Tex,
+    /// The adapted luminance, with eye adaptation.
+    adaptation: Option<Tex>,
+    output: Tex,
 }
 
 impl Recipe for Tonemap {
@@ -134,16 +134,12 @@ impl Recipe for Tonemap {
         let name = crate::recipe::pass_name("Tonemap", self.owner, None);
         let desc =
             TextureDesc::storage(wgpu::TextureFormat::Rgba16Float).size(SizeRule::Relative(1.0));
-        let mut reads = vec![self.source.name.as_str()];
-        if let Some(adaptation) = &self.adaptation {
-            reads.push(&adaptation.name);
-        }
-        fg.add_pass(
-            name,
-            self.owner,
-            &reads,
-            &[(&self.output, desc)],
-            move |cx| self.run(cx),
-        );
+        let mut pass = fg.pass(name, self.owner);
+        let io = TonemapIo {
+            source: pass.read(&self.source.name),
+            adaptation: pass.read_opt(self.adaptation.as_ref().map(|a| a.name.as_str())),
+            output: pass.write(&self.output, desc),
+        };
+        pass.run(move |cx| self.run(cx, &io));
     }
 }

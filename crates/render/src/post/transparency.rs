@@ -15,11 +15,11 @@ use std::sync::Arc;
 use glam::Vec3;
 
 use crate::error::RenderError;
-use crate::frame_graph::{FrameGraph, PassContext, TextureDesc};
-use crate::gbuffer::{Draw, GBuffer, Layer, geometry_entries, pack_instances};
+use crate::frame_graph::{Bindings, FrameGraph, PassContext, Tex, TextureDesc};
+use crate::gbuffer::{Draw, GBuffer, Layer, mesh_bindings, pack_instances};
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
-use crate::shaders::{PipelineRef, ShaderKey};
+use crate::shaders::ShaderKey;
 
 const SHADER: &str = "post/transparency.wgsl";
 const ACCUMULATION: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
@@ -132,11 +132,14 @@ impl Transparency {
         }
     }
 
-    fn accumulate(&self, renderer: &Renderer, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
-        let device = cx.gpu.device.clone();
+    fn accumulate(
+        &self,
+        renderer: &Renderer,
+        cx: &mut PassContext<'_>,
+        io: &AccumulateIo,
+    ) -> Result<(), RenderError> {
         let (vertices, indices, _) = renderer.meshes.buffers();
         let extras = renderer.meshes.extras();
-        let depth = cx.view(&self.gbuffer.targets.depth)?;
         // Per layer: its permutation and bind groups (0, and 1 to 3 with maps).
         let mut work = Vec::with_capacity(self.layers.len());
         for (layer, range) in self.layers.iter().zip(&self.layer_ranges) {
@@ -165,72 +168,40 @@ impl Transparency {
                     continue;
                 }
                 let pipeline = accumulate_pipeline(cx, key.clone(), culled)?;
-                let mut entries = geometry_entries(
-                    self.gbuffer.camera_buffer().as_entire_binding(),
-                    &vertices,
-                    &indices,
-                    &self.instances,
-                );
-                entries.push(wgpu::BindGroupEntry {
-                    binding: 4,
-                    resource: wgpu::BindingResource::TextureView(&depth),
-                });
-                entries.push(wgpu::BindGroupEntry {
-                    binding: 5,
-                    resource: self.params.as_entire_binding(),
-                });
-                if vertex_extras {
-                    entries.push(wgpu::BindGroupEntry {
-                        binding: 12,
-                        resource: extras.as_entire_binding(),
-                    });
+                let mut b = mesh_bindings(&vertices, &indices, &self.instances)
+                    .buffer("camera", self.gbuffer.camera_buffer())
+                    .texture("opaque_depth", io.depth)
+                    .buffer("params", &self.params)
+                    .buffer_opt("extras", vertex_extras.then_some(&extras));
+                // With maps: the material world (group 1) and its map arrays
+                // (group 3); group 2, unused, is bound empty.
+                if let Some(world) = world {
+                    b = b.extend(world.bindings(None));
+                    if let Some(maps) = world.maps_bindings() {
+                        b = b.extend(maps);
+                    }
                 }
                 // Through the cache: the camera, meshes, kept instances and
                 // parameters are the same buffers from frame to frame.
-                let pipeline_ref = PipelineRef::Render(pipeline.clone());
-                let group0 = cx.shaders.group(
-                    &device,
-                    &pipeline_ref,
-                    0,
-                    "transparency accumulate",
-                    &entries,
-                );
-                let mut groups = vec![Some(group0)];
-                if let Some(world) = world {
-                    groups.push(Some(world.world_bind_group(
-                        &device,
-                        &pipeline.get_bind_group_layout(1),
-                        "transparency: material world",
-                    )));
-                    groups.push(Some(cx.shaders.group(
-                        &device,
-                        &pipeline_ref,
-                        2,
-                        "transparency: unused group",
-                        &[],
-                    )));
-                    groups.push(world.maps_bind_group(&device, &pipeline.get_bind_group_layout(3)));
-                }
+                let groups = cx.render_bind_groups(&key, &["vs", "fs"], &pipeline, b)?;
                 work.push((*range, culled, world.is_some(), pipeline, groups));
             }
         }
-        let (accumulation, revealage) = (cx.view(&self.accumulation)?, cx.view(&self.revealage)?);
         // Cleared in compute, then loaded: a render pass's clear goes through
         // the raster output, which on the H100 took 0.28 of this pass's
         // 0.41 ms at 1080p (docs/benchmarks.md, session 10); compute writes
         // the same bytes about a hundred times faster.
-        let size = super::size_of(cx, &self.accumulation)?;
-        super::dispatch_entry(
-            cx,
+        let size = cx.size_of(io.accumulation)?;
+        cx.dispatch_shader(
             "transparency clear",
             &ShaderKey::new(SHADER, []),
             "clear",
-            &[
-                (10, wgpu::BindingResource::TextureView(&accumulation)),
-                (11, wgpu::BindingResource::TextureView(&revealage)),
-            ],
-            size,
+            Bindings::new()
+                .texture("clear_accumulation", io.accumulation)
+                .texture("clear_revealage", io.revealage),
+            super::per_pixel(size),
         )?;
+        let (accumulation, revealage) = (cx.view(io.accumulation)?, cx.view(io.revealage)?);
         let timestamps = cx.render_timestamps();
         let attachment = |view| {
             Some(wgpu::RenderPassColorAttachment {
@@ -255,9 +226,7 @@ impl Transparency {
         for ((first, end), culled, maps, pipeline, groups) in &work {
             pass.set_pipeline(pipeline);
             for (i, group) in groups.iter().enumerate() {
-                if let Some(group) = group {
-                    pass.set_bind_group(i as u32, group, &[]);
-                }
+                pass.set_bind_group(i as u32, group, &[]);
             }
             for draw in self.draws.iter().filter(|d| {
                 d.instance_count > 0
@@ -278,29 +247,36 @@ impl Transparency {
         Ok(())
     }
 
-    fn resolve(&self, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
-        let views = [
-            cx.view(&self.source.name)?,
-            cx.view(&self.accumulation)?,
-            cx.view(&self.revealage)?,
-            cx.view(&self.output)?,
-        ];
-        let all = [
-            (6, wgpu::BindingResource::TextureView(&views[0])),
-            (7, wgpu::BindingResource::TextureView(&views[1])),
-            (8, wgpu::BindingResource::TextureView(&views[2])),
-            (9, wgpu::BindingResource::TextureView(&views[3])),
-        ];
-        let size = super::size_of(cx, &self.output)?;
-        super::dispatch_entry(
-            cx,
+    fn resolve(&self, cx: &mut PassContext<'_>, io: &ResolveIo) -> Result<(), RenderError> {
+        let size = cx.size_of(io.output)?;
+        cx.dispatch_shader(
             "transparency resolve",
             &ShaderKey::new(SHADER, []),
             "resolve",
-            &all,
-            size,
+            Bindings::new()
+                .texture("opaque", io.opaque)
+                .texture("accumulation", io.accumulation)
+                .texture("revealage", io.revealage)
+                .texture("output", io.output),
+            super::per_pixel(size),
         )
     }
+}
+
+/// What the accumulation pass declared: the depth it tests against and the
+/// two targets it clears and draws into.
+struct AccumulateIo {
+    depth: Tex,
+    accumulation: Tex,
+    revealage: Tex,
+}
+
+/// What the resolve pass declared.
+struct ResolveIo {
+    opaque: Tex,
+    accumulation: Tex,
+    revealage: Tex,
+    output: Tex,
 }
 
 /// The accumulation pipeline of one permutation: additive accumulation,
@@ -380,15 +356,13 @@ impl Recipe for Transparency {
         let name = |what| crate::recipe::pass_name("Transparency", self.owner, Some(what));
         let output = TextureDesc::storage(wgpu::TextureFormat::Rgba16Float).size(self.gbuffer.size);
         if self.instance_count == 0 {
-            fg.add_pass(
+            super::declare_copy(
+                fg,
                 name("copy"),
                 self.owner,
-                &[&self.source.name],
-                &[(&self.output, output)],
-                move |cx| {
-                    cx.count(SKIPPED, 1);
-                    super::copy(cx, &self.source.name, &self.output)
-                },
+                &self.source.name,
+                (&self.output, output),
+                SKIPPED,
             );
             return;
         }
@@ -402,22 +376,20 @@ impl Recipe for Transparency {
             desc.usage |= wgpu::TextureUsages::STORAGE_BINDING;
             desc
         };
-        fg.add_pass(
-            name("accumulate"),
-            self.owner,
-            &[&self.gbuffer.targets.depth],
-            &[
-                (&self.accumulation, target(ACCUMULATION)),
-                (&self.revealage, target(REVEALAGE)),
-            ],
-            move |cx| self.accumulate(renderer, cx),
-        );
-        fg.add_pass(
-            name("resolve"),
-            self.owner,
-            &[&self.source.name, &self.accumulation, &self.revealage],
-            &[(&self.output, output)],
-            move |cx| self.resolve(cx),
-        );
+        let mut pass = fg.pass(name("accumulate"), self.owner);
+        let io = AccumulateIo {
+            depth: pass.read(&self.gbuffer.targets.depth),
+            accumulation: pass.write(&self.accumulation, target(ACCUMULATION)),
+            revealage: pass.write(&self.revealage, target(REVEALAGE)),
+        };
+        pass.run(move |cx| self.accumulate(renderer, cx, &io));
+        let mut pass = fg.pass(name("resolve"), self.owner);
+        let io = ResolveIo {
+            opaque: pass.read(&self.source.name),
+            accumulation: pass.read(&self.accumulation),
+            revealage: pass.read(&self.revealage),
+            output: pass.write(&self.output, output),
+        };
+        pass.run(move |cx| self.resolve(cx, &io));
     }
 }

@@ -51,6 +51,10 @@ pub struct PassDecl {
 }
 
 /// What a comment on a uniform field says: `// @pin "Name" default=.. min=.. max=.. color bool`.
+/// The settings are checked against each other here (a range whose `min` is
+/// above its `max`, a default outside the range, a range on a `bool` or
+/// `color` pin are errors at the setting); against the field's type in
+/// uniform_layout.rs.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct PinDecl {
     pub display: Option<String>,
@@ -60,6 +64,10 @@ pub struct PinDecl {
     pub color: bool,
     pub boolean: bool,
     pub at: At,
+    /// Where the range is written (its first `min=` or `max=`), for errors about it.
+    pub range_at: Option<At>,
+    /// Alone on its line (so it may annotate the field on the next line).
+    pub own_line: bool,
 }
 
 /// A `#ifdef` switch with a Bool pin: `// @switch NAME [default=true] ["Display"]`.
@@ -140,6 +148,8 @@ impl Annotations {
             let text = &line[start + 4..];
             let (word, rest) = text.split_once(char::is_whitespace).unwrap_or((text, ""));
             let rest = rest.trim();
+            // The 1-based column `rest` starts at, so a setting's error points at the setting.
+            let rest_column = (line.trim_end().len() - rest.len()) as u32 + 1;
             let fail = |message: String| ShaderNodeError::at(file, at, message);
             match word {
                 "category" => a.category = Some(rest.to_owned()),
@@ -205,7 +215,9 @@ impl Annotations {
                 "material" => a.material = Some(at),
                 "enum" => a.enums.push(parse_enum(rest, at).map_err(fail)?),
                 "pin" => {
-                    let decl = parse_pin(rest, at).map_err(fail)?;
+                    let mut decl = parse_pin(rest, at, rest_column)
+                        .map_err(|(place, message)| ShaderNodeError::at(file, place, message))?;
+                    decl.own_line = line[..start].trim().is_empty();
                     a.pins.insert(at.line, decl);
                 }
                 other => {
@@ -259,7 +271,10 @@ fn numbers(text: &str) -> Result<Vec<f32>, String> {
         .map(|n| {
             n.trim()
                 .parse::<f32>()
-                .map_err(|_| format!("`{n}` is not a number"))
+                .ok()
+                // `inf` and `NaN` parse, but no pin, range or clear value means them.
+                .filter(|v| v.is_finite())
+                .ok_or_else(|| format!("`{n}` is not a finite number"))
         })
         .collect()
 }
@@ -461,32 +476,123 @@ fn parse_enum(rest: &str, at: At) -> Result<EnumDecl, String> {
     })
 }
 
-fn parse_pin(rest: &str, at: At) -> Result<PinDecl, String> {
+/// The words of `rest` outside double quotes, with their byte offsets.
+fn settings(rest: &str) -> Vec<(usize, &str)> {
+    let mut words = Vec::new();
+    let mut start = None;
+    let mut quoted = false;
+    for (i, c) in rest.char_indices() {
+        let ends = c == '"' || (!quoted && c.is_whitespace());
+        if ends {
+            if let Some(s) = start.take() {
+                words.push((s, &rest[s..i]));
+            }
+            quoted ^= c == '"';
+        } else if !quoted && start.is_none() {
+            start = Some(i);
+        }
+    }
+    if let Some(s) = start {
+        words.push((s, &rest[s..]));
+    }
+    words
+}
+
+/// `// @pin` settings; an error comes with the place of the setting it is about.
+/// `rest_column` is the 1-based column where `rest` starts on line `at.line`.
+fn parse_pin(rest: &str, at: At, rest_column: u32) -> Result<PinDecl, (At, String)> {
     let mut pin = PinDecl {
         display: quoted(rest),
         at,
         ..Default::default()
     };
-    // Settings are the words outside the quoted name.
-    let unquoted = match (rest.find('"'), rest.rfind('"')) {
-        (Some(a), Some(b)) if b > a => format!("{} {}", &rest[..a], &rest[b + 1..]),
-        _ => rest.to_owned(),
+    let place = |offset: usize| Span {
+        line: at.line,
+        column: rest_column + offset as u32,
     };
-    for word in unquoted.split_whitespace() {
-        match word.split_once('=') {
-            Some(("default", v)) => pin.default = Some(numbers(v)?),
-            Some(("min", v)) => pin.min = Some(numbers(v)?[0]),
-            Some(("max", v)) => pin.max = Some(numbers(v)?[0]),
-            None if word == "color" => pin.color = true,
-            None if word == "bool" => pin.boolean = true,
-            _ => {
-                return Err(format!(
-                    "unknown pin setting `{word}` (\"Name\", default=, min=, max=, color, bool)"
-                ));
+    // A range bound is one number.
+    let bound = |name: &str, v: &str| -> Result<f32, String> {
+        match numbers(v)?.as_slice() {
+            [x] => Ok(*x),
+            _ => Err(format!("`{name}=` is one number, not `{v}`")),
+        }
+    };
+    let mut default_at = at;
+    let mut min_at = None;
+    let mut max_at = None;
+    for (offset, word) in settings(rest) {
+        let here = place(offset);
+        let parsed = match word.split_once('=') {
+            Some(("default", v)) => {
+                default_at = here;
+                numbers(v).map(|n| pin.default = Some(n))
             }
+            Some(("min", v)) => {
+                min_at = Some(here);
+                bound("min", v).map(|n| pin.min = Some(n))
+            }
+            Some(("max", v)) => {
+                max_at = Some(here);
+                bound("max", v).map(|n| pin.max = Some(n))
+            }
+            None if word == "color" => {
+                pin.color = true;
+                Ok(())
+            }
+            None if word == "bool" => {
+                pin.boolean = true;
+                Ok(())
+            }
+            _ => Err(format!(
+                "unknown pin setting `{word}` (\"Name\", default=, min=, max=, color, bool)"
+            )),
+        };
+        parsed.map_err(|m| (here, m))?;
+    }
+    pin.range_at = min_at.or(max_at);
+    if let Some(range_at) = pin.range_at {
+        // Values outside a range are held to it when the node writes them, so
+        // a range that cannot hold them, or a pin that is no range, would show
+        // one value in the editor and render another.
+        let what = if pin.boolean {
+            Some("a `bool` pin is off or on")
+        } else if pin.color {
+            Some("a `color` pin is a colour, not a range")
+        } else {
+            None
+        };
+        if let Some(what) = what {
+            return Err((range_at, format!("{what}: it takes no `min=` or `max=`")));
         }
     }
+    if let (Some(min), Some(max)) = (pin.min, pin.max)
+        && min > max
+    {
+        return Err((
+            min_at.unwrap_or(at),
+            format!("`min={min}` is above `max={max}`"),
+        ));
+    }
+    if let Some(default) = &pin.default
+        && let Some(v) = default
+            .iter()
+            .find(|v| pin.min.is_some_and(|m| **v < m) || pin.max.is_some_and(|m| **v > m))
+    {
+        return Err((
+            default_at,
+            format!(
+                "default {v} is outside the pin's range {}",
+                range_text(&pin)
+            ),
+        ));
+    }
     Ok(pin)
+}
+
+/// `min..max` as written (an open end left empty).
+pub fn range_text(pin: &PinDecl) -> String {
+    let end = |v: Option<f32>| v.map_or(String::new(), |v| v.to_string());
+    format!("{}..{}", end(pin.min), end(pin.max))
 }
 
 #[cfg(test)]
@@ -534,6 +640,54 @@ mod tests {
             err.to_string().starts_with("e.wgsl:2:4: default `C`"),
             "{err}"
         );
+    }
+
+    /// A pin whose settings contradict each other is refused at the setting:
+    /// its value would be held to a range the editor does not show.
+    #[test]
+    fn a_pin_range_that_makes_no_sense_is_an_error_at_its_setting() {
+        let cases = [
+            (
+                "  x: f32, // @pin min=4 max=1\n",
+                "p.wgsl:1:19: `min=4` is above `max=1`",
+            ),
+            (
+                "  x: f32, // @pin \"X\" default=9 min=0 max=4\n",
+                "p.wgsl:1:23: default 9 is outside the pin's range 0..4",
+            ),
+            (
+                "  // @pin default=0.5,-1 min=0\n  v: vec2<f32>,\n",
+                "p.wgsl:1:11: default -1 is outside the pin's range 0..",
+            ),
+            (
+                "  on: u32, // @pin bool default=1 max=1\n",
+                "p.wgsl:1:35: a `bool` pin is off or on: it takes no `min=` or `max=`",
+            ),
+            (
+                "  c: vec4<f32>, // @pin color min=0\n",
+                "p.wgsl:1:31: a `color` pin is a colour, not a range",
+            ),
+            (
+                "  x: f32, // @pin min=0,1\n",
+                "p.wgsl:1:19: `min=` is one number",
+            ),
+            (
+                "  x: f32, // @pin max=inf\n",
+                "p.wgsl:1:19: `inf` is not a finite number",
+            ),
+        ];
+        for (src, expected) in cases {
+            let err = Annotations::parse("p.wgsl", src).expect_err(src);
+            assert!(err.to_string().starts_with(expected), "{src}: {err}");
+        }
+        // Ranges that hold their defaults, open ends and equal ends are fine.
+        for src in [
+            "x: f32, // @pin default=2 min=0 max=4\n",
+            "x: f32, // @pin default=-3 max=0\n",
+            "x: f32, // @pin default=1 min=1 max=1\n",
+        ] {
+            Annotations::parse("p.wgsl", src).unwrap_or_else(|e| panic!("{src}: {e}"));
+        }
     }
 
     #[test]

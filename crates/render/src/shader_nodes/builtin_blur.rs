@@ -1,6 +1,6 @@
 //! The shader-node example blur (shaders/nodes/blur.wgsl) written as a
 //! built-in pass: the same WGSL composed by the [`ShaderCache`](crate::shaders::ShaderCache),
-//! its bindings and passes written out by hand. It is the baseline the
+//! its passes written out by hand (its bindings by the WGSL's names). It is the baseline the
 //! `Blur (Shader)` node is benchmarked against (`patches/bench-shader-blur.ron` against `patches/bench-builtin-blur.ron`):
 //! the two should cost the same on the GPU.
 
@@ -9,7 +9,7 @@ use std::sync::Arc;
 use wgpu::util::DeviceExt;
 
 use crate::error::RenderError;
-use crate::frame_graph::{FrameGraph, PassContext, SizeRule, TextureDesc};
+use crate::frame_graph::{Bindings, FrameGraph, PassContext, SizeRule, Tex, TextureDesc};
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
 use crate::shaders::{Sampling, ShaderKey};
@@ -50,18 +50,17 @@ impl BuiltinBlur {
         }
     }
 
-    /// One direction: `entry` reads `input`, writes `output` (the shader's Params: radius, size, texel).
+    /// One direction: `entry` reads `input`, writes `output` (the shader's
+    /// Params: radius, size, texel). The horizontal pass reads `source`
+    /// and writes `half_out`, the vertical one reads `half` and writes `blurred`.
     fn run(
         &self,
         cx: &mut PassContext<'_>,
         entry: &'static str,
-        input: &str,
-        output: &str,
+        input: Tex,
+        output: Tex,
     ) -> Result<(), RenderError> {
-        let (w, h) = {
-            let t = cx.texture(output)?;
-            (t.width(), t.height())
-        };
+        let (w, h) = cx.size_of(output)?;
         let (w_f, h_f) = (w as f32, h as f32);
         let words = [self.radius, 0.0, w_f, h_f, 1.0 / w_f, 1.0 / h_f];
         let params = cx
@@ -72,36 +71,22 @@ impl BuiltinBlur {
                 contents: bytemuck::cast_slice(&words),
                 usage: wgpu::BufferUsages::UNIFORM,
             });
-        let device = cx.gpu.device.clone();
-        let sampler = cx.sampler(Sampling::LinearClamp);
-        let (source, target) = (cx.view(input)?, cx.view(output)?);
-        let key = ShaderKey::new(SHADER, []);
-        let pipeline = cx.shaders.compute_pipeline(&device, &key, entry)?;
         let (read, write) = if entry == "horizontal" {
-            (1, 4)
+            ("source", "half_out")
         } else {
-            (3, 5)
+            ("half", "blurred")
         };
-        let group = cx.shaders.bind_group(
-            &device,
-            &key,
+        cx.dispatch_shader(
             entry,
-            &pipeline,
-            0,
-            &[
-                (0, params.as_entire_binding()),
-                (read, wgpu::BindingResource::TextureView(&source)),
-                (2, wgpu::BindingResource::Sampler(&sampler)),
-                (write, wgpu::BindingResource::TextureView(&target)),
-            ],
-        )?;
-        cx.dispatch(
+            &ShaderKey::new(SHADER, []),
             entry,
-            &pipeline,
-            &[&group],
+            Bindings::new()
+                .buffer("params", &params)
+                .texture(read, input)
+                .sampler("smp", Sampling::LinearClamp)
+                .texture(write, output),
             (w.div_ceil(8), h.div_ceil(8), 1),
-        );
-        Ok(())
+        )
     }
 }
 
@@ -112,22 +97,16 @@ impl Recipe for BuiltinBlur {
         }
         self.source.recipe.declare(renderer, fg);
         let name = |what| crate::recipe::pass_name("BlurBuiltin", self.owner, Some(what));
-        fg.add_pass(
-            name("horizontal"),
-            self.owner,
-            &[&self.source.name],
-            &[(
-                &self.half,
-                TextureDesc::storage(FORMAT).size(SizeRule::Relative(0.5)),
-            )],
-            move |cx| self.run(cx, "horizontal", &self.source.name, &self.half),
+        let mut pass = fg.pass(name("horizontal"), self.owner);
+        let source = pass.read(&self.source.name);
+        let half = pass.write(
+            &self.half,
+            TextureDesc::storage(FORMAT).size(SizeRule::Relative(0.5)),
         );
-        fg.add_pass(
-            name("vertical"),
-            self.owner,
-            &[&self.half],
-            &[(&self.output, TextureDesc::storage(FORMAT))],
-            move |cx| self.run(cx, "vertical", &self.half, &self.output),
-        );
+        pass.run(move |cx| self.run(cx, "horizontal", source, half));
+        let mut pass = fg.pass(name("vertical"), self.owner);
+        let half = pass.read(&self.half);
+        let output = pass.write(&self.output, TextureDesc::storage(FORMAT));
+        pass.run(move |cx| self.run(cx, "vertical", half, output));
     }
 }

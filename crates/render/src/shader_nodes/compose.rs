@@ -124,13 +124,16 @@ fn place(file: &str, text: &str, e: &ComposerError) -> ShaderNodeError {
         ComposerErrorInner::ImportParseError(message, pos) => {
             (Some(*pos), format!("`#import`: {message}"))
         }
-        ComposerErrorInner::WgslParseError(p) => (
-            p.labels()
-                .next()
-                .and_then(|(span, _)| span.to_range())
-                .map(|r| unshift(r.start)),
-            format!("WGSL syntax: {}", p.message()),
-        ),
+        ComposerErrorInner::WgslParseError(p) => {
+            // Offsets into the text naga_oil parsed: the file's, or the constructed source.
+            let parsed = match &e.source {
+                ErrSource::Constructing { source, .. } => source.as_str(),
+                ErrSource::Module { .. } => text,
+            };
+            super::validate::front_end_error(p, parsed, &|span| {
+                span.to_range().map(|r| unshift(r.start))
+            })
+        }
         ComposerErrorInner::ShaderValidationError(v)
         | ComposerErrorInner::HeaderValidationError(v) => {
             let mut message = format!("validation: {}", v.as_inner());
@@ -139,10 +142,16 @@ fn place(file: &str, text: &str, e: &ComposerError) -> ShaderNodeError {
                 message.push_str(&format!(": {next}"));
                 source = next;
             }
+            // naga's spans are the function, statement and expression at
+            // fault, in no fixed order; naga_oil names the module of the
+            // last. The narrowest span in that module is the expression.
+            let ranges: Vec<_> = v.spans().filter_map(|(s, _)| s.to_range()).collect();
+            let module = ranges.last().map(|r| r.start >> SPAN_BITS);
             (
-                v.spans()
-                    .last()
-                    .and_then(|(span, _)| span.to_range())
+                ranges
+                    .iter()
+                    .filter(|r| Some(r.start >> SPAN_BITS) == module)
+                    .min_by_key(|r| r.len())
                     .map(|r| unshift(r.start)),
                 message,
             )

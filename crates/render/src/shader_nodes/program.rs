@@ -67,6 +67,8 @@ pub struct Program {
     /// Identifies the source text and switch set (pipelines are cached under it).
     pub key: u64,
     pub uniform: Option<UniformLayout>,
+    /// Where the uniform block's `var` is (device-limit errors about its size point there).
+    pub uniform_at: Span,
     pub passes: Vec<PassPlan>,
     pub targets: Vec<TargetDecl>,
     /// The texture input pins' names, in `@input` order.
@@ -161,6 +163,21 @@ impl Program {
             }
             None => None,
         };
+        let uniform_at = bindings
+            .iter()
+            .find(|(_, _, r)| *r == Role::Uniform)
+            .map_or(Span { line: 1, column: 1 }, |(_, handle, _)| {
+                super::error::span_of(&text, place(*handle))
+            });
+        if uniform.is_none()
+            && let Some(stray) = notes.pins.values().next()
+        {
+            return Err(ShaderNodeError::at(
+                file,
+                stray.at,
+                "`@pin` annotates a uniform field, and the file has no uniform block",
+            ));
+        }
         let key = {
             use std::hash::{Hash, Hasher};
             let mut hasher = std::collections::hash_map::DefaultHasher::new();
@@ -175,6 +192,7 @@ impl Program {
                 module,
                 key,
                 uniform,
+                uniform_at,
                 passes: Vec::new(),
                 targets: Vec::new(),
                 input_names: notes.inputs.iter().map(|(_, pin, _)| pin.clone()).collect(),
@@ -301,6 +319,7 @@ impl Program {
             module,
             key,
             uniform,
+            uniform_at,
             passes,
             targets: notes.targets.clone(),
             input_names: notes.inputs.iter().map(|(_, pin, _)| pin.clone()).collect(),
@@ -435,7 +454,9 @@ impl Program {
             if x > limits.max_compute_workgroup_size_x
                 || y > limits.max_compute_workgroup_size_y
                 || z > limits.max_compute_workgroup_size_z
-                || x * y * z > limits.max_compute_invocations_per_workgroup
+                // In u64: a workgroup of 65536^3 must fail here, not overflow.
+                || u64::from(x) * u64::from(y) * u64::from(z)
+                    > u64::from(limits.max_compute_invocations_per_workgroup)
             {
                 return Err(fail(format!(
                     "entry point `{}`: workgroup size {x}x{y}x{z} exceeds the device's limits \
@@ -477,7 +498,7 @@ impl Program {
         {
             return Err(ShaderNodeError::at(
                 &self.file,
-                Span { line: 1, column: 1 },
+                self.uniform_at,
                 format!(
                     "the uniform block is {} bytes; the device allows {}",
                     u.size, limits.max_uniform_buffer_binding_size

@@ -18,7 +18,7 @@ use wgpu::util::DeviceExt;
 use super::program::{Builtin, PassPlan, Program, Role};
 use super::utility;
 use crate::error::RenderError;
-use crate::frame_graph::{FrameGraph, Lifetime, PassContext, SizeRule, TextureDesc};
+use crate::frame_graph::{FrameGraph, Lifetime, PassContext, SizeRule, Tex, TextureDesc};
 use crate::gbuffer::GBuffer;
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
@@ -254,29 +254,23 @@ impl ShaderNodeRecipe {
         })
     }
 
-    fn run(
-        &self,
-        cx: &mut PassContext<'_>,
-        step: &Step,
-        names: &StepNames,
-    ) -> Result<(), RenderError> {
+    fn run(&self, cx: &mut PassContext<'_>, step: &Step, io: &StepIo) -> Result<(), RenderError> {
         let pass = &self.program.passes[step.pass];
         let device = cx.gpu.device.clone();
         let mut fresh = false;
-        for (i, &(d, _, _)) in step.dests.iter().enumerate() {
+        for (&(d, _, _), &target) in step.dests.iter().zip(&io.dests) {
             let decl = &self.program.targets[d];
-            let name = &names.dests[i];
             let persistent = decl.lifetime == Lifetime::Persistent;
-            if persistent && cx.is_fresh(name) {
+            if persistent && cx.is_fresh(target) {
                 fresh = true;
             }
             if let Some(color) = decl.clear
-                && (!persistent || cx.is_fresh(name))
+                && (!persistent || cx.is_fresh(target))
             {
-                utility::fill(cx, name, decl.format, color)?;
+                utility::fill(cx, target, decl.format, color)?;
             }
         }
-        for (history, copy) in &names.histories {
+        for &(history, copy) in &io.histories {
             cx.copy_history(history, copy)?;
         }
         if step.iteration > 0 {
@@ -332,16 +326,19 @@ impl ShaderNodeRecipe {
                 })),
                 Role::Write(t) => {
                     let i = pass.decl.targets.iter().position(|d| d == t).unwrap_or(0);
-                    Bound::View(cx.view(&names.dests[i])?)
+                    let target = io.dests.get(i).ok_or_else(|| {
+                        RenderError::Graph(format!("{}: no target `{t}`", self.type_name))
+                    })?;
+                    Bound::View(cx.view(*target)?)
                 }
                 Role::Read(_) => {
-                    let name = names.reads.get(binding).ok_or_else(|| {
+                    let tex = io.reads.get(binding).ok_or_else(|| {
                         missing(&self.type_name, "a target read before it is written")
                     })?;
-                    Bound::View(cx.view(name)?)
+                    Bound::View(cx.view(*tex)?)
                 }
                 other => {
-                    let name = self.outside(other).ok_or_else(|| {
+                    let tex = io.outside.get(binding).ok_or_else(|| {
                         missing(
                             &self.type_name,
                             &match other {
@@ -355,7 +352,7 @@ impl ShaderNodeRecipe {
                             },
                         )
                     })?;
-                    Bound::View(cx.view(&name)?)
+                    Bound::View(cx.view(*tex)?)
                 }
             };
             bound.push((*binding, resource));
@@ -402,9 +399,48 @@ fn missing(node: &str, what: &str) -> RenderError {
 /// A step's frame-graph names, resolved once at declaration.
 struct StepNames {
     dests: Vec<String>,
+    /// Per `Role::Read` binding.
     reads: HashMap<u32, String>,
+    /// Per binding of a texture from outside the node (an input, a G-buffer target).
+    outside: HashMap<u32, String>,
     /// (persistent target, its copy) for persistent targets the pass also reads.
     histories: Vec<(String, String)>,
+}
+
+impl StepNames {
+    /// The handles of these names among what the step's pass `declared`
+    /// (each name is one of its writes or reads: a read of what the pass
+    /// writes is declared as the write).
+    fn io(&self, declared: &HashMap<&str, Tex>) -> Result<StepIo, String> {
+        let tex = |name: &String| {
+            declared
+                .get(name.as_str())
+                .copied()
+                .ok_or_else(|| format!("`{name}` was not declared"))
+        };
+        let by_binding = |names: &HashMap<u32, String>| {
+            names
+                .iter()
+                .map(|(binding, name)| Ok((*binding, tex(name)?)))
+                .collect::<Result<HashMap<u32, Tex>, String>>()
+        };
+        Ok(StepIo {
+            dests: self.dests.iter().map(tex).collect::<Result<_, _>>()?,
+            reads: by_binding(&self.reads)?,
+            outside: by_binding(&self.outside)?,
+            histories: (self.histories.iter())
+                .map(|(history, copy)| Ok((tex(history)?, tex(copy)?)))
+                .collect::<Result<_, String>>()?,
+        })
+    }
+}
+
+/// What a step's pass declared, as [`StepNames`] names it.
+struct StepIo {
+    dests: Vec<Tex>,
+    reads: HashMap<u32, Tex>,
+    outside: HashMap<u32, Tex>,
+    histories: Vec<(Tex, Tex)>,
 }
 
 impl Recipe for ShaderNodeRecipe {
@@ -448,10 +484,13 @@ impl Recipe for ShaderNodeRecipe {
             }
         }
         for step in steps {
-            let pass = &self.program.passes[step.pass];
+            let plan = &self.program.passes[step.pass];
             let mut names = StepNames {
                 dests: Vec::new(),
                 reads: HashMap::new(),
+                outside: (plan.bindings.iter())
+                    .filter_map(|(binding, role)| Some((*binding, self.outside(role)?)))
+                    .collect(),
                 histories: Vec::new(),
             };
             let mut writes: Vec<(String, TextureDesc)> = Vec::new();
@@ -468,16 +507,16 @@ impl Recipe for ShaderNodeRecipe {
                 writes.push((name.clone(), desc));
                 names.dests.push(name);
             }
-            for (binding, role) in &pass.bindings {
+            for (binding, role) in &plan.bindings {
                 let Role::Read(t) = role else { continue };
                 let d = self.target_index(t);
                 let decl = &self.program.targets[d];
                 let name = if decl.lifetime == Lifetime::Persistent {
                     let persistent = self.target_name(t);
-                    if pass.decl.targets.contains(t) {
+                    if plan.decl.targets.contains(t) {
                         let copy = format!("shader{}/{t} previous", self.id);
                         let (_, _, (width, height)) =
-                            step.dests[pass.decl.targets.iter().position(|x| x == t).unwrap_or(0)];
+                            step.dests[plan.decl.targets.iter().position(|x| x == t).unwrap_or(0)];
                         writes.push((
                             copy.clone(),
                             // Copied, not traded: a user's shader may leave
@@ -499,17 +538,13 @@ impl Recipe for ShaderNodeRecipe {
                 names.reads.insert(*binding, name);
             }
             let mut reads: Vec<String> = names.reads.values().cloned().collect();
-            reads.extend(
-                pass.bindings
-                    .iter()
-                    .filter_map(|(_, role)| self.outside(role)),
-            );
+            reads.extend(names.outside.values().cloned());
             // A pass does not read what it writes (its persistent target's copy holds last frame).
             reads.retain(|r| {
                 !writes.iter().any(|(w, _)| w == r) && !names.histories.iter().any(|(h, _)| h == r)
             });
             if let Some(g) = &self.inputs.gbuffer
-                && pass
+                && plan
                     .bindings
                     .iter()
                     .any(|(_, r)| *r == Role::GBuffer("camera".into()))
@@ -517,16 +552,22 @@ impl Recipe for ShaderNodeRecipe {
                 reads.push(g.targets.depth.clone());
             }
             let label = match step.iteration {
-                0 => pass.decl.entry.clone(),
-                i => format!("{} {i}", pass.decl.entry),
+                0 => plan.decl.entry.clone(),
+                i => format!("{} {i}", plan.decl.entry),
             };
             let pass_name = crate::recipe::pass_name(&self.type_name, self.owner, Some(&label));
-            let read_refs: Vec<&str> = reads.iter().map(String::as_str).collect();
-            let write_refs: Vec<(&str, TextureDesc)> =
-                writes.iter().map(|(n, d)| (n.as_str(), *d)).collect();
-            fg.add_pass(pass_name, self.owner, &read_refs, &write_refs, move |cx| {
-                self.run(cx, &step, &names)
-            });
+            let mut pass = fg.pass(pass_name, self.owner);
+            let mut declared: HashMap<&str, Tex> = HashMap::new();
+            for (name, desc) in &writes {
+                declared.insert(name, pass.write(name, *desc));
+            }
+            for name in &reads {
+                declared.insert(name, pass.read(name));
+            }
+            let io = names
+                .io(&declared)
+                .map_err(|e| RenderError::Graph(format!("{}: {e}", self.type_name)));
+            pass.run(move |cx| self.run(cx, &step, &io?));
         }
         // Targets whose final content is not their last write: copy it under the target's name.
         for (t, source) in finals.iter().enumerate() {
@@ -551,10 +592,9 @@ impl Recipe for ShaderNodeRecipe {
                 self.owner,
                 Some(&format!("pass {} on", decl.name)),
             );
-            let (f, t2) = (from.clone(), to.clone());
-            fg.add_pass(name, self.owner, &[&from], &[(&to, desc)], move |cx| {
-                utility::copy(cx, &f, &t2, format)
-            });
+            let mut pass = fg.pass(name, self.owner);
+            let (from, to) = (pass.read(&from), pass.write(&to, desc));
+            pass.run(move |cx| utility::copy(cx, from, to, format));
         }
     }
 }

@@ -6,7 +6,7 @@
 
 use naga::{TypeInner, VectorSize};
 
-use super::annotations::Annotations;
+use super::annotations::{Annotations, PinDecl};
 use super::error::{ShaderNodeError, Span, span_of};
 
 /// The type of a uniform field that is a pin.
@@ -149,6 +149,8 @@ pub(super) fn uniform_layout(
         size: *span,
         ..Default::default()
     };
+    // The lines of the `@pin` annotations a field took.
+    let mut annotated = Vec::new();
     for member in members {
         let name = member.name.clone().unwrap_or_default();
         let at = field_line(source, struct_offset, &name);
@@ -171,13 +173,23 @@ pub(super) fn uniform_layout(
         if name.starts_with('_') {
             continue;
         }
-        // The annotation sits on the field's line or the line above it.
-        let decl = notes
-            .pins
-            .get(&at.line)
-            .or_else(|| notes.pins.get(&(at.line.saturating_sub(1))))
-            .cloned()
-            .unwrap_or_default();
+        // The annotation sits on the field's line, or alone on the line above
+        // it (one after the field above belongs to that field).
+        let line = Some(at.line)
+            .filter(|l| notes.pins.contains_key(l))
+            .or_else(|| {
+                let above = at.line.saturating_sub(1);
+                notes.pins.get(&above).filter(|d| d.own_line).map(|_| above)
+            });
+        let decl = match line {
+            Some(line) => {
+                annotated.push(line);
+                notes.pins.get(&line).cloned().unwrap_or_default()
+            }
+            None => PinDecl::default(),
+        };
+        // An annotation's mistakes are at the annotation; a field's own at the field.
+        let fail_pin = |m: String| ShaderNodeError::at(file, line.map_or(at, |_| decl.at), m);
         let kind = match (wgsl, decl.color, decl.boolean) {
             ("f32", false, false) => ParamKind::Float,
             ("i32", false, false) => ParamKind::Int,
@@ -189,16 +201,39 @@ pub(super) fn uniform_layout(
             ("vec4<f32>", true, false) => ParamKind::Color,
             ("mat4x4<f32>", false, false) => ParamKind::Mat4,
             _ => {
-                return Err(fail(format!(
+                return Err(fail_pin(format!(
                     "field `{name}` ({wgsl}): `color` is for vec4<f32>, `bool` for u32"
                 )));
             }
         };
+        // The settings agree with each other (annotations.rs); here, with the field.
+        let range_at = decl.range_at.unwrap_or(decl.at);
+        if kind == ParamKind::Mat4 && decl.range_at.is_some() {
+            return Err(ShaderNodeError::at(
+                file,
+                range_at,
+                format!(
+                    "field `{name}` (mat4x4<f32>) is a matrix, not a range: it takes no `min=` or `max=`"
+                ),
+            ));
+        }
+        if decl.default.is_none()
+            && (decl.min.is_some_and(|m| m > 0.0) || decl.max.is_some_and(|m| m < 0.0))
+        {
+            return Err(ShaderNodeError::at(
+                file,
+                range_at,
+                format!(
+                    "field `{name}` has no `default=`, and its default 0 is outside its range {}",
+                    super::annotations::range_text(&decl)
+                ),
+            ));
+        }
         let default = match &decl.default {
             Some(values) if values.len() == count => values.clone(),
             Some(values) if values.len() == 1 && kind != ParamKind::Mat4 => vec![values[0]; count],
             Some(values) => {
-                return Err(fail(format!(
+                return Err(fail_pin(format!(
                     "field `{name}`: default has {} numbers, {wgsl} needs {count}",
                     values.len()
                 )));
@@ -219,6 +254,18 @@ pub(super) fn uniform_layout(
             max: decl.max,
             offset: member.offset,
         });
+    }
+    if let Some(stray) = notes
+        .pins
+        .values()
+        .find(|d| !annotated.contains(&d.at.line))
+    {
+        return Err(ShaderNodeError::at(
+            file,
+            stray.at,
+            "`@pin` annotates no pin: put it on a uniform field's line, or alone on the line \
+             above one (built-ins and `_` fields are not pins)",
+        ));
     }
     Ok(layout)
 }

@@ -7,7 +7,7 @@ use std::hash::{Hash, Hasher};
 use wgpu::util::DeviceExt;
 
 use crate::error::RenderError;
-use crate::frame_graph::PassContext;
+use crate::frame_graph::{PassContext, Tex};
 
 fn wgsl_format(format: wgpu::TextureFormat) -> &'static str {
     use wgpu::TextureFormat as F;
@@ -45,12 +45,26 @@ fn copy(@builtin(global_invocation_id) id: vec3<u32>) {{
     )
 }
 
+/// Group 0 binding of variable `name` in the generated `module`: the
+/// bind group follows the text above by name, numbered as naga parsed it.
+fn binding(module: &naga::Module, name: &str) -> Result<u32, RenderError> {
+    module
+        .global_variables
+        .iter()
+        .find(|(_, v)| v.name.as_deref() == Some(name))
+        .and_then(|(_, v)| v.binding.as_ref())
+        .map(|b| b.binding)
+        .ok_or_else(|| RenderError::Graph(format!("shader node utility: no variable `{name}`")))
+}
+
+/// `entry` writing `target` (variable `dst`), with one more resource: the
+/// variable `resource.0` of the generated shader.
 fn run(
     cx: &mut PassContext<'_>,
     entry: &str,
-    target: &str,
+    target: Tex,
     format: wgpu::TextureFormat,
-    resource: (u32, wgpu::BindingResource<'_>),
+    resource: (&str, wgpu::BindingResource<'_>),
 ) -> Result<(), RenderError> {
     let text = source(format);
     let mut hasher = std::collections::hash_map::DefaultHasher::new();
@@ -58,6 +72,7 @@ fn run(
     let device = cx.gpu.device.clone();
     let module = naga::front::wgsl::parse_str(&text)
         .map_err(|e| RenderError::Graph(format!("shader node utility: {}", e.message())))?;
+    let (dst, other) = (binding(&module, "dst")?, binding(&module, resource.0)?);
     let pipeline = cx.shaders.external_compute_pipeline(
         &device,
         hasher.finish(),
@@ -66,20 +81,17 @@ fn run(
         entry,
     );
     let view = cx.view(target)?;
-    let size = {
-        let t = cx.texture(target)?;
-        (t.width(), t.height())
-    };
+    let size = cx.size_of(target)?;
     let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
         label: Some(entry),
         layout: &pipeline.get_bind_group_layout(0),
         entries: &[
             wgpu::BindGroupEntry {
-                binding: 0,
+                binding: dst,
                 resource: wgpu::BindingResource::TextureView(&view),
             },
             wgpu::BindGroupEntry {
-                binding: resource.0,
+                binding: other,
                 resource: resource.1,
             },
         ],
@@ -96,7 +108,7 @@ fn run(
 /// Fill `target` with `color`.
 pub fn fill(
     cx: &mut PassContext<'_>,
-    target: &str,
+    target: Tex,
     format: wgpu::TextureFormat,
     color: [f32; 4],
 ) -> Result<(), RenderError> {
@@ -108,14 +120,20 @@ pub fn fill(
             contents: bytemuck::cast_slice(&color),
             usage: wgpu::BufferUsages::UNIFORM,
         });
-    run(cx, "fill", target, format, (1, buffer.as_entire_binding()))
+    run(
+        cx,
+        "fill",
+        target,
+        format,
+        ("value", buffer.as_entire_binding()),
+    )
 }
 
 /// Copy `source` into `target` (nearest texel when the sizes differ).
 pub fn copy(
     cx: &mut PassContext<'_>,
-    source: &str,
-    target: &str,
+    source: Tex,
+    target: Tex,
     format: wgpu::TextureFormat,
 ) -> Result<(), RenderError> {
     let view = cx.view(source)?;
@@ -124,6 +142,6 @@ pub fn copy(
         "copy",
         target,
         format,
-        (2, wgpu::BindingResource::TextureView(&view)),
+        ("src", wgpu::BindingResource::TextureView(&view)),
     )
 }

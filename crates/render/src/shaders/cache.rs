@@ -4,7 +4,9 @@
 use rustc_hash::FxHashMap;
 use std::borrow::Cow;
 
-use super::composer::used_bindings_of;
+use std::sync::Arc;
+
+use super::reflection::{Reflection, reflect};
 use super::{ShaderComposer, ShaderKey, Splice};
 use crate::error::RenderError;
 
@@ -39,10 +41,13 @@ pub enum Sampling {
 pub struct ShaderCache {
     composer: ShaderComposer,
     modules: FxHashMap<ShaderKey, wgpu::ShaderModule>,
-    /// Per permutation and entry point: the (group, binding)s it uses.
-    /// (Keyed by permutation, then entry: a look-up borrows the key, as
-    /// every pass makes several a frame.)
-    used: FxHashMap<ShaderKey, FxHashMap<String, Vec<(u32, u32)>>>,
+    /// Per permutation and entry point: its resource variables by name and
+    /// which it uses. (Keyed by permutation, then entry: a look-up borrows
+    /// the key, as every pass makes several a frame.)
+    reflections: FxHashMap<ShaderKey, FxHashMap<String, Arc<Reflection>>>,
+    /// Per shader file: every resource variable its source (or a library)
+    /// declares under any feature, to tell a compiled-out name from a typo.
+    declared: FxHashMap<&'static str, rustc_hash::FxHashSet<String>>,
     compute: FxHashMap<ShaderKey, FxHashMap<&'static str, wgpu::ComputePipeline>>,
     /// Per permutation, then variant (looked up by borrowing both).
     render: FxHashMap<ShaderKey, FxHashMap<String, wgpu::RenderPipeline>>,
@@ -65,8 +70,8 @@ pub struct ShaderCache {
     pub bind_groups_reused: u64,
 }
 
-/// A pipeline composed with a shader node material, and the (group, binding)s it uses.
-type SplicedPipeline = (wgpu::ComputePipeline, Vec<(u32, u32)>);
+/// A pipeline composed with a shader node material, and its reflection.
+type SplicedPipeline = (wgpu::ComputePipeline, Arc<Reflection>);
 
 /// A resource a bind group binds, by identity (wgpu handles compare by the object).
 #[derive(Clone, PartialEq, Eq, Hash)]
@@ -172,7 +177,8 @@ impl ShaderCache {
         ShaderCache {
             composer,
             modules: FxHashMap::default(),
-            used: FxHashMap::default(),
+            reflections: FxHashMap::default(),
+            declared: FxHashMap::default(),
             compute: FxHashMap::default(),
             render: FxHashMap::default(),
             samplers: FxHashMap::default(),
@@ -222,38 +228,134 @@ impl ShaderCache {
         Ok(m)
     }
 
-    /// The bindings `entry` of a permutation uses (naga's reflection): a
-    /// derived bind group layout has exactly these, so a bind group must too.
-    pub fn used_bindings(
+    /// `entry`'s resource variables in a permutation, by name, and which it
+    /// uses (naga's reflection of the composed module).
+    pub fn reflection(
         &mut self,
         key: &ShaderKey,
         entry: &str,
-    ) -> Result<Vec<(u32, u32)>, RenderError> {
-        self.used_by(key, entry).map(<[_]>::to_vec)
+    ) -> Result<Arc<Reflection>, RenderError> {
+        if let Some(found) = self.reflections.get(key).and_then(|by| by.get(entry)) {
+            return Ok(found.clone());
+        }
+        let module = self.composer.compose(key)?;
+        let reflection =
+            Arc::new(
+                reflect(&module, entry).map_err(|message| RenderError::Shader {
+                    shader: key.path.to_owned(),
+                    defs: key.describe_defs(),
+                    message,
+                })?,
+            );
+        self.reflections
+            .entry(key.clone())
+            .or_default()
+            .insert(entry.to_owned(), reflection.clone());
+        Ok(reflection)
     }
 
-    fn used_by(&mut self, key: &ShaderKey, entry: &str) -> Result<&[(u32, u32)], RenderError> {
-        if !self
-            .used
-            .get(key)
-            .is_some_and(|by_entry| by_entry.contains_key(entry))
-        {
-            let module = self.composer.compose(key)?;
-            let used = used_bindings_of(&module, entry).map_err(|message| RenderError::Shader {
-                shader: key.path.to_owned(),
-                defs: key.describe_defs(),
-                message,
-            })?;
-            self.used
-                .entry(key.clone())
-                .or_default()
-                .insert(entry.to_owned(), used);
+    /// Whether shader `path` (or a library) declares a resource variable
+    /// `name` under some feature: a name its permutation compiled out.
+    pub fn declares(&mut self, path: &'static str, name: &str) -> bool {
+        let composer = &self.composer;
+        self.declared
+            .entry(path)
+            .or_insert_with(|| composer.declared_names(path))
+            .contains(name)
+    }
+
+    /// Bind groups 0..=last for a pipeline of `key`'s `entries` (one for
+    /// compute, the stages of a render pipeline), from
+    /// resources named by the WGSL variables they fill: what the
+    /// permutation compiled out or leaves unused is dropped, a group the
+    /// entry point skips is bound empty, and a name the shader never
+    /// declares or a used variable left unbound is an error naming it.
+    pub fn named_groups(
+        &mut self,
+        device: &wgpu::Device,
+        key: &ShaderKey,
+        entries: &[&str],
+        pipeline: &PipelineRef,
+        resources: &[(&str, wgpu::BindingResource<'_>)],
+        prebuilt: &[(u32, wgpu::BindGroup)],
+    ) -> Result<Vec<wgpu::BindGroup>, RenderError> {
+        let reflection = match entries {
+            [entry] => self.reflection(key, entry)?,
+            // A render pipeline's stages: a variable is used where any stage uses it.
+            _ => {
+                let mut merged = Reflection::default();
+                for entry in entries {
+                    for var in &self.reflection(key, entry)?.vars {
+                        match merged.vars.iter_mut().find(|v| v.name == var.name) {
+                            Some(v) => v.used |= var.used,
+                            None => merged.vars.push(var.clone()),
+                        }
+                    }
+                }
+                Arc::new(merged)
+            }
+        };
+        let path = key.path;
+        let error = |message: String| RenderError::Shader {
+            shader: path.to_owned(),
+            defs: key.describe_defs(),
+            message,
+        };
+        for (name, _) in resources {
+            if reflection.var(name).is_none() && !self.declares(path, name) {
+                return Err(error(format!(
+                    "a pass binds `{name}`, which the shader does not declare"
+                )));
+            }
         }
-        Ok(self
-            .used
-            .get(key)
-            .and_then(|by_entry| by_entry.get(entry))
-            .map_or(&[], Vec::as_slice))
+        self.groups_by_name(device, path, &reflection, pipeline, resources, prebuilt)
+            .map_err(error)
+    }
+
+    /// [`ShaderCache::named_groups`] for a pipeline reflected elsewhere (a
+    /// resolve composed with a shader node material); every name must be
+    /// one the module has or a variable it compiled out, which the caller vouches for.
+    pub fn groups_by_name(
+        &mut self,
+        device: &wgpu::Device,
+        label: &str,
+        reflection: &Reflection,
+        pipeline: &PipelineRef,
+        resources: &[(&str, wgpu::BindingResource<'_>)],
+        prebuilt: &[(u32, wgpu::BindGroup)],
+    ) -> Result<Vec<wgpu::BindGroup>, String> {
+        let Some(last) = reflection.last_group() else {
+            return Ok(Vec::new());
+        };
+        let made_elsewhere = |group: u32| prebuilt.iter().any(|(g, _)| *g == group);
+        let mut groups: Vec<Vec<wgpu::BindGroupEntry<'_>>> = vec![Vec::new(); last as usize + 1];
+        for var in reflection
+            .vars
+            .iter()
+            .filter(|v| v.used && !made_elsewhere(v.group))
+        {
+            let Some((_, resource)) = resources.iter().find(|(name, _)| *name == var.name) else {
+                return Err(format!(
+                    "`{}` (group {}, binding {}) is used by the shader but no pass binds it",
+                    var.name, var.group, var.binding
+                ));
+            };
+            groups[var.group as usize].push(wgpu::BindGroupEntry {
+                binding: var.binding,
+                resource: resource.clone(),
+            });
+        }
+        Ok(groups
+            .iter()
+            .enumerate()
+            .map(|(group, entries)| {
+                let group = group as u32;
+                match prebuilt.iter().find(|(g, _)| *g == group) {
+                    Some((_, made)) => made.clone(),
+                    None => self.group(device, pipeline, group, label, entries),
+                }
+            })
+            .collect())
     }
 
     /// A bind group for group `group` of a compute pipeline made from
@@ -268,10 +370,10 @@ impl ShaderCache {
         group: u32,
         resources: &[(u32, wgpu::BindingResource<'_>)],
     ) -> Result<wgpu::BindGroup, RenderError> {
-        let used = self.used_by(key, entry)?;
+        let reflection = self.reflection(key, entry)?;
         let entries: Vec<wgpu::BindGroupEntry<'_>> = resources
             .iter()
-            .filter(|(binding, _)| used.contains(&(group, *binding)))
+            .filter(|(binding, _)| reflection.used().any(|u| u == (group, *binding)))
             .map(|(binding, resource)| wgpu::BindGroupEntry {
                 binding: *binding,
                 resource: resource.clone(),
@@ -413,7 +515,7 @@ impl ShaderCache {
     /// The compute pipeline of `entry` in permutation `key` composed with
     /// library `module` replaced by a shader node material's `source`
     /// (identified by `source_key`, which must change with it), and the
-    /// (group, binding)s the entry point uses, to build its bind groups by.
+    /// reflection of the composed module, to build its bind groups by.
     pub fn surface_pipeline(
         &mut self,
         device: &wgpu::Device,
@@ -434,11 +536,14 @@ impl ShaderCache {
         let composed = self
             .composer
             .compose_with_module(key, module, file_path, source)?;
-        let used = used_bindings_of(&composed, entry).map_err(|message| RenderError::Shader {
-            shader: file_path.to_owned(),
-            defs: key.describe_defs(),
-            message,
-        })?;
+        let reflection =
+            Arc::new(
+                reflect(&composed, entry).map_err(|message| RenderError::Shader {
+                    shader: file_path.to_owned(),
+                    defs: key.describe_defs(),
+                    message,
+                })?,
+            );
         let label = format!("{}{} + {file_path}", key.path, key.describe_defs());
         let shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some(&label),
@@ -447,8 +552,8 @@ impl ShaderCache {
         let pipeline = compute_pipeline_of(device, &shader, &format!("{label}::{entry}"), entry);
         self.pipelines_compiled += 1;
         self.surfaces
-            .insert(cache_key, (pipeline.clone(), used.clone()));
-        Ok((pipeline, used))
+            .insert(cache_key, (pipeline.clone(), reflection.clone()));
+        Ok((pipeline, reflection))
     }
 
     /// A render pipeline for a permutation; `variant` names what else the

@@ -37,6 +37,18 @@ fn embedded_modules() -> &'static std::sync::Mutex<HashMap<ShaderKey, naga::Modu
 }
 
 impl ShaderComposer {
+    /// The resource variables `path` and the libraries declare under any
+    /// feature (a pass may bind one its permutation compiled out).
+    pub(super) fn declared_names(&self, path: &str) -> rustc_hash::FxHashSet<String> {
+        SHADERS
+            .iter()
+            .filter(|f| f.path == path || f.library)
+            .filter_map(|f| self.sources.get(f.path))
+            .flat_map(|source| super::reflection::declared_names(source))
+            .map(str::to_owned)
+            .collect()
+    }
+
     /// A composer over the embedded sources.
     pub fn new() -> Result<Self, RenderError> {
         let sources = SHADERS
@@ -271,29 +283,4 @@ pub struct Splice<'a> {
     pub file_path: &'a str,
     /// Its text, `#ifdef`s resolved.
     pub source: &'a str,
-}
-
-/// The (group, binding)s entry point `entry` of `module` uses (naga's reflection).
-pub(super) fn used_bindings_of(
-    module: &naga::Module,
-    entry: &str,
-) -> Result<Vec<(u32, u32)>, String> {
-    let info = naga::valid::Validator::new(
-        naga::valid::ValidationFlags::all(),
-        naga::valid::Capabilities::all(),
-    )
-    .validate(module)
-    .map_err(|e| e.to_string())?;
-    let index = module
-        .entry_points
-        .iter()
-        .position(|e| e.name == entry)
-        .ok_or_else(|| format!("no entry point `{entry}`"))?;
-    let function = info.get_entry_point(index);
-    Ok(module
-        .global_variables
-        .iter()
-        .filter(|(handle, _)| !function[*handle].is_empty())
-        .filter_map(|(_, var)| var.binding.as_ref().map(|b| (b.group, b.binding)))
-        .collect())
 }

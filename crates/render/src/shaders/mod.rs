@@ -347,9 +347,12 @@ pub fn all_permutations() -> Vec<ShaderKey> {
 
 mod cache;
 mod composer;
+pub mod layout;
+mod reflection;
 
 pub use cache::{PipelineRef, Sampling, ShaderCache};
 pub use composer::{ShaderComposer, Splice};
+pub use reflection::{Reflection, ShaderVar};
 
 #[cfg(test)]
 mod tests;

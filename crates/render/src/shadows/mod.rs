@@ -591,31 +591,33 @@ impl Recipe for ShadowMaps {
         }
         // The maps live in the store; this token orders their pass before readers.
         let token = TextureDesc::token();
-        match self.settings.filter {
-            // VSM: the depth pass, then the moments pass, each timed on its own.
-            ShadowFilter::Vsm { .. } => {
-                fg.add_pass(
-                    self.label("render"),
-                    self.owner,
-                    &[],
-                    &[(&self.depth_token, token)],
-                    move |cx| self.render(cx, renderer),
-                );
-                fg.add_pass(
-                    self.label("moments"),
-                    self.owner,
-                    &[&self.depth_token],
-                    &[(&self.token, token)],
-                    move |cx| self.moments_pass(cx),
-                );
-            }
-            _ => fg.add_pass(
-                self.label("render"),
-                self.owner,
-                &[],
-                &[(&self.token, token)],
-                move |cx| self.render(cx, renderer),
-            ),
+        // VSM: the depth pass, then the moments pass, each timed on its own.
+        let vsm = matches!(self.settings.filter, ShadowFilter::Vsm { .. });
+        let mut pass = fg.pass(self.label("render"), self.owner);
+        pass.write(if vsm { &self.depth_token } else { &self.token }, token);
+        pass.run(move |cx| self.render(cx, renderer));
+        if vsm {
+            let mut pass = fg.pass(self.label("moments"), self.owner);
+            pass.read(&self.depth_token);
+            pass.write(&self.token, token);
+            pass.run(move |cx| self.moments_pass(cx));
         }
+    }
+}
+
+/// The layout the shader sees (shaders/layout.rs).
+#[cfg(test)]
+mod wgsl_layout {
+    use super::*;
+
+    #[test]
+    fn gpu_shadow_params_matches_shadowparams_in_the_shader() {
+        crate::assert_wgsl_layout!(
+            GpuShadowParams,
+            "lighting/cook_torrance.wgsl",
+            ["SHADOWS"],
+            "ShadowParams",
+            [bias, filter]
+        );
     }
 }

@@ -5,9 +5,9 @@
 use std::sync::{Arc, Mutex};
 
 use crate::error::RenderError;
-use crate::frame_graph::PassContext;
+use crate::frame_graph::{Bindings, PassContext};
 use crate::gbuffer::compute_raster::{ComputeRaster, RasterLabels, RasterView};
-use crate::gbuffer::{Draw, Layer, geometry_entries, pack_instances};
+use crate::gbuffer::{Draw, Layer, pack_instances};
 use crate::renderer::Renderer;
 use crate::shaders::ShaderKey;
 
@@ -191,30 +191,21 @@ impl ShadowMaps {
                 two_sided: true,
             };
             let visibility = raster.record_view(&view, renderer, cx, None)?;
-            let key = Self::resolve_key(job.target);
-            let pipeline = cx
-                .shaders
-                .compute_pipeline(&device, &key, "from_visibility")?;
             let (out, under) = Self::outputs(maps, &device, job.target);
-            let out = layer_view(cx, &out, job.layer);
-            let under = under.map(|t| layer_view(cx, &t, job.layer));
-            let mut all = vec![
-                (0, visibility.as_entire_binding()),
-                (2, camera.as_entire_binding()),
-                (3, wgpu::BindingResource::TextureView(&out)),
-            ];
-            if let Some(under) = &under {
-                all.push((5, wgpu::BindingResource::TextureView(under)));
+            let mut b = Bindings::new()
+                .buffer("visibility", &visibility)
+                .buffer("camera", camera)
+                .view("out_depth", layer_view(cx, &out, job.layer));
+            if let Some(under) = under {
+                b = b.view("still", layer_view(cx, &under, job.layer));
             }
-            let group =
-                cx.shaders
-                    .bind_group(&device, &key, "from_visibility", &pipeline, 0, &all)?;
-            cx.dispatch(
+            cx.dispatch_shader(
                 "shadow depth from visibility",
-                &pipeline,
-                &[&group],
+                &Self::resolve_key(job.target),
+                "from_visibility",
+                b,
                 (res.div_ceil(8), res.div_ceil(8), 1),
-            );
+            )?;
         }
         Ok(())
     }
@@ -289,22 +280,19 @@ impl ShadowMaps {
         let (vertices, indices, _) = renderer.meshes.buffers();
         let mut work = Vec::new();
         for job in jobs {
-            let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("shadow depth"),
-                layout: &pipeline.get_bind_group_layout(0),
-                entries: &geometry_entries(
-                    wgpu::BindingResource::Buffer(wgpu::BufferBinding {
-                        buffer: &self.view_uniforms,
-                        offset: u64::from(job.layer) * VIEW_STRIDE,
-                        size: std::num::NonZeroU64::new(64),
-                    }),
-                    &vertices,
-                    &indices,
-                    &job.set.instances,
-                ),
-            });
+            let b = Bindings::new()
+                .buffer_range(
+                    "view_projection",
+                    &self.view_uniforms,
+                    u64::from(job.layer) * VIEW_STRIDE,
+                    64,
+                )
+                .buffer("vertices", &vertices)
+                .buffer("indices", &indices)
+                .buffer("instances", &job.set.instances);
+            let groups = cx.render_bind_groups(&key, &["vs"], &pipeline, b)?;
             work.push((
-                group,
+                groups,
                 layer_view(cx, &attachments, job.layer),
                 &job.set.draws,
             ));
@@ -313,7 +301,7 @@ impl ShadowMaps {
         // Time the whole set as one: the first pass writes the beginning, the last the end.
         let pair = cx.render_timestamps();
         let last = work.len().saturating_sub(1);
-        for (index, (group, view, set_draws)) in work.iter().enumerate() {
+        for (index, (groups, view, set_draws)) in work.iter().enumerate() {
             let timestamps = pair.as_ref().and_then(|p| {
                 let begin = (index == 0)
                     .then_some(p.beginning_of_pass_write_index)
@@ -343,7 +331,9 @@ impl ShadowMaps {
                 multiview_mask: None,
             });
             pass.set_pipeline(&pipeline);
-            pass.set_bind_group(0, group, &[]);
+            for (i, group) in groups.iter().enumerate() {
+                pass.set_bind_group(i as u32, group, &[]);
+            }
             for draw in set_draws
                 .iter()
                 .filter(|d| d.instance_count > 0 && d.index_count > 0)
@@ -364,29 +354,21 @@ impl ShadowMaps {
             ..Default::default()
         });
         for job in jobs {
-            let key = Self::resolve_key(job.target);
-            let pipeline = cx.shaders.compute_pipeline(&device, &key, "from_depth")?;
-            let info = &self.layer_info[job.layer as usize];
             let (out, under) = Self::outputs(maps, &device, job.target);
-            let out = layer_view(cx, &out, job.layer);
-            let under = under.map(|t| layer_view(cx, &t, job.layer));
-            let mut all = vec![
-                (1, wgpu::BindingResource::TextureView(&depth)),
-                (3, wgpu::BindingResource::TextureView(&out)),
-                (4, info.as_entire_binding()),
-            ];
-            if let Some(under) = &under {
-                all.push((5, wgpu::BindingResource::TextureView(under)));
+            let mut b = Bindings::new()
+                .view("depth", depth.clone())
+                .view("out_depth", layer_view(cx, &out, job.layer))
+                .buffer("info", &self.layer_info[job.layer as usize]);
+            if let Some(under) = under {
+                b = b.view("still", layer_view(cx, &under, job.layer));
             }
-            let group = cx
-                .shaders
-                .bind_group(&device, &key, "from_depth", &pipeline, 0, &all)?;
-            cx.dispatch(
+            cx.dispatch_shader(
                 "shadow depth copy",
-                &pipeline,
-                &[&group],
+                &Self::resolve_key(job.target),
+                "from_depth",
+                b,
                 (res.div_ceil(8), res.div_ceil(8), 1),
-            );
+            )?;
         }
         Ok(())
     }
@@ -425,23 +407,19 @@ impl ShadowMaps {
         let res = self.settings.resolution;
         let mut groups = Vec::new();
         for &layer in layers {
-            let out = layer_view(cx, moments, layer);
-            let info = &self.layer_info[layer as usize];
-            let all = [
-                (0, wgpu::BindingResource::TextureView(&depth_view)),
-                (1, self.views.as_entire_binding()),
-                (2, info.as_entire_binding()),
-                (3, wgpu::BindingResource::TextureView(&out)),
-            ];
-            groups.push(
-                cx.shaders
-                    .bind_group(&device, &key, "main", &pipeline, 0, &all)?,
-            );
+            let b = Bindings::new()
+                .view("depth", depth_view.clone())
+                .buffer("views", &self.views)
+                .buffer("info", &self.layer_info[layer as usize])
+                .view("moments", layer_view(cx, moments, layer));
+            groups.push(cx.bind_groups(&key, "main", &pipeline, b)?);
         }
         let pass = cx.compute_pass("shadow moments");
         pass.set_pipeline(&pipeline);
-        for group in &groups {
-            pass.set_bind_group(0, group, &[]);
+        for layer_groups in &groups {
+            for (i, group) in layer_groups.iter().enumerate() {
+                pass.set_bind_group(i as u32, group, &[]);
+            }
             pass.dispatch_workgroups(res.div_ceil(8), res.div_ceil(8), 1);
         }
         Ok(())

@@ -355,3 +355,20 @@ mod tests {
         );
     }
 }
+
+/// The layout the shader sees (shaders/layout.rs).
+#[cfg(test)]
+mod wgsl_layout {
+    use super::*;
+
+    #[test]
+    fn gpu_layer_view_matches_shadowview_in_the_shader() {
+        crate::assert_wgsl_layout!(
+            GpuLayerView,
+            "lighting/cook_torrance.wgsl",
+            ["SHADOWS"],
+            "ShadowView",
+            [view_projection, depth, split]
+        );
+    }
+}

@@ -5,12 +5,8 @@
 use super::super::prefilter::split_sum_table;
 use super::{SHADER, Ssr};
 use crate::error::RenderError;
-use crate::frame_graph::PassContext;
+use crate::frame_graph::{Bindings, PassContext, Tex};
 use crate::shaders::ShaderKey;
-
-/// One dispatch of the hierarchical depth: its entry point, its bindings,
-/// and the level over whose texels it runs.
-type HizStep<'v> = (&'static str, Vec<(u32, wgpu::BindingResource<'v>)>, usize);
 
 /// Statistic: the dispatches that built the hierarchical depth (two levels
 /// each where they can).
@@ -46,7 +42,11 @@ impl Ssr {
         t
     }
 
-    pub(super) fn build_hiz(&self, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
+    pub(super) fn build_hiz(
+        &self,
+        cx: &mut PassContext<'_>,
+        depth: Tex,
+    ) -> Result<(), RenderError> {
         let size = self.gbuffer.pixel_size(cx.output_size);
         let hiz = self.hiz_texture(cx, size);
         split_sum_table(cx, &self.table)?;
@@ -56,50 +56,53 @@ impl Ssr {
         let mips: Vec<wgpu::TextureView> = (0..hiz.mip_level_count())
             .map(|m| cx.view_of(&hiz, crate::texture_pool::ViewSpec::mip(m)))
             .collect();
-        let depth = cx.view(&self.gbuffer.targets.depth)?;
-        let view = wgpu::BindingResource::TextureView;
         let levels = mips.len();
-        // Two levels a dispatch where it can (shaders/environment/ssr.wgsl).
-        let mut plan: Vec<HizStep<'_>> = Vec::new();
+        let mip = |m: usize| mips[m].clone();
+        // Two levels a dispatch where it can (shaders/environment/ssr.wgsl):
+        // each step's entry point, what it binds and the last level it writes.
+        let mut plan: Vec<(&str, Bindings<'_>, usize)> = Vec::new();
         let mut made = 0;
         if levels == 1 {
-            plan.push(("hiz_copy", vec![(4, view(&depth)), (11, view(&mips[0]))], 0));
+            let b = Bindings::new()
+                .texture("depth", depth)
+                .view("out_hiz", mip(0));
+            plan.push(("hiz_copy", b, 0));
         } else {
-            let bindings = vec![
-                (4, view(&depth)),
-                (11, view(&mips[0])),
-                (16, view(&mips[1])),
-            ];
-            plan.push(("hiz_first", bindings, 1));
+            let b = Bindings::new()
+                .texture("depth", depth)
+                .view("out_hiz", mip(0))
+                .view("out_hiz_next", mip(1));
+            plan.push(("hiz_first", b, 1));
             made = 1;
         }
         while made + 2 < levels {
-            let bindings = vec![
-                (12, view(&mips[made])),
-                (11, view(&mips[made + 1])),
-                (16, view(&mips[made + 2])),
-            ];
-            plan.push(("hiz_down2", bindings, made + 2));
+            let b = Bindings::new()
+                .view("hiz_source", mip(made))
+                .view("out_hiz", mip(made + 1))
+                .view("out_hiz_next", mip(made + 2));
+            plan.push(("hiz_down2", b, made + 2));
             made += 2;
         }
         if made + 1 < levels {
-            let bindings = vec![(12, view(&mips[made])), (11, view(&mips[made + 1]))];
-            plan.push(("hiz_down", bindings, made + 1));
+            let b = Bindings::new()
+                .view("hiz_source", mip(made))
+                .view("out_hiz", mip(made + 1));
+            plan.push(("hiz_down", b, made + 1));
         }
         let mut steps = Vec::with_capacity(plan.len());
-        for (entry, bindings, level) in &plan {
+        for (entry, bindings, level) in plan {
             let pipeline = cx.shaders.compute_pipeline(&device, &key, entry)?;
-            let group = cx
-                .shaders
-                .bind_group(&device, &key, entry, &pipeline, 0, bindings)?;
+            let groups = cx.bind_groups(&key, entry, &pipeline, bindings)?;
             let (w, h) = ((size.0 >> level).max(1), (size.1 >> level).max(1));
-            steps.push((pipeline, group, (w.div_ceil(8), h.div_ceil(8))));
+            steps.push((pipeline, groups, (w.div_ceil(8), h.div_ceil(8))));
         }
         cx.count(HIZ_DISPATCHES, steps.len() as u64);
         let pass = cx.compute_pass("ssr hi-z");
-        for (pipeline, group, (x, y)) in &steps {
+        for (pipeline, groups, (x, y)) in &steps {
             pass.set_pipeline(pipeline);
-            pass.set_bind_group(0, group, &[]);
+            for (i, group) in groups.iter().enumerate() {
+                pass.set_bind_group(i as u32, group, &[]);
+            }
             pass.dispatch_workgroups(*x, *y, 1);
         }
         Ok(())

@@ -21,12 +21,14 @@ pub use hi_z::HIZ_DISPATCHES;
 
 use super::prefilter::{SplitSumStore, split_sum_table};
 use crate::error::RenderError;
-use crate::frame_graph::{FrameGraph, PassContext, TextureDesc};
+use crate::frame_graph::{Bindings, FrameGraph, PassBuilder, PassContext, Tex, TextureDesc};
 use crate::gbuffer::GBuffer;
-use crate::material::{FEATURE_COOK_TORRANCE, FEATURE_REFLECTION, MaterialWorld};
+use crate::material::{FEATURE_COOK_TORRANCE, FEATURE_REFLECTION, MaterialTextures, MaterialWorld};
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
-use crate::resolution::{Resolution, Upsample, UpsampleFormat, upsample};
+use crate::resolution::{
+    Resolution, UpsampleFormat, UpsamplePass, declare_upsample, written_target,
+};
 use crate::shaders::{Sampling, ShaderKey};
 use crate::temporal::TemporalState;
 
@@ -130,7 +132,6 @@ pub struct Ssr {
     resolve_params: wgpu::Buffer,
     token: String,
     /// The half-size trace (Half only).
-    traced_half: String,
     current: String,
     /// The persistent history (temporal only).
     pub history: String,
@@ -187,7 +188,6 @@ impl Ssr {
             trace_params: uniform("ssr trace params"),
             resolve_params: uniform("ssr resolve params"),
             token: format!("ssr{id}/hiz"),
-            traced_half: format!("ssr{id}/trace half"),
             current: format!("ssr{id}/current"),
             history: format!("ssr/{key}/history"),
             output: format!("ssr{id}/reflection"),
@@ -250,11 +250,11 @@ impl Ssr {
 
     /// The blend's flags for this frame: bit 0 when the history holds a
     /// previous frame (not fresh, not reset, no camera cut).
-    fn history_flags(&self, cx: &mut PassContext<'_>) -> u32 {
+    fn history_flags(&self, cx: &mut PassContext<'_>, history: Tex) -> u32 {
         let (_, stale) = self
             .temporal_state
             .advance(&self.gbuffer, self.settings.reset);
-        let fresh = cx.is_fresh(&self.history) || stale;
+        let fresh = cx.is_fresh(history) || stale;
         cx.count(
             if fresh {
                 "ssr history reset"
@@ -266,14 +266,14 @@ impl Ssr {
         u32::from(!fresh)
     }
 
-    fn trace(&self, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
+    fn trace(&self, cx: &mut PassContext<'_>, io: &TraceIo) -> Result<(), RenderError> {
         cx.count("ssr traced", 1);
-        let fused = self.fused();
-        let flags = if fused {
-            cx.count(TRACE_TEMPORAL, 1);
-            self.history_flags(cx)
-        } else {
-            0
+        let flags = match io.history {
+            Some(h) => {
+                cx.count(TRACE_TEMPORAL, 1);
+                self.history_flags(cx, h.history)
+            }
+            None => 0,
         };
         let frame = self.store.frame.fetch_add(1, Ordering::Relaxed);
         let hiz = self
@@ -294,79 +294,40 @@ impl Ssr {
             bytemuck::bytes_of(&self.params(frame, flags, max_level)),
         );
         let g = &self.gbuffer;
-        let target = self.trace_target();
-        let (color, normals, depth, lit, fallback, out) = (
-            cx.view(&g.targets.color)?,
-            cx.view(&g.targets.normals)?,
-            cx.view(&g.targets.depth)?,
-            cx.view(&self.lit.name)?,
-            cx.view(&self.fallback.name)?,
-            cx.view(target)?,
-        );
-        let hiz_view = cx.view_of(&hiz, Default::default());
-        let lut_view = cx.view_of(&lut, Default::default());
-        let device = cx.gpu.device.clone();
-        let sampler = cx.sampler(Sampling::LinearClamp);
         let resolution = self.settings.resolution;
         let mut key = self.key();
         key.features.extend(resolution.feature());
-        let history = match fused {
-            true => {
-                key.features.insert("TEMPORAL");
-                Some((cx.view(&self.history)?, cx.view(&g.targets.velocity_uv)?))
-            }
-            false => None,
-        };
-        let pipeline = cx.shaders.compute_pipeline(&device, &key, "main")?;
-        let all = [
-            (0, g.camera_buffer().as_entire_binding()),
-            (1, self.trace_params.as_entire_binding()),
-            (2, wgpu::BindingResource::TextureView(&color)),
-            (3, wgpu::BindingResource::TextureView(&normals)),
-            (4, wgpu::BindingResource::TextureView(&depth)),
-            (5, wgpu::BindingResource::TextureView(&hiz_view)),
-            (6, wgpu::BindingResource::TextureView(&lit)),
-            (7, wgpu::BindingResource::TextureView(&fallback)),
-            (8, wgpu::BindingResource::TextureView(&lut_view)),
-            (9, wgpu::BindingResource::Sampler(&sampler)),
-            (10, wgpu::BindingResource::TextureView(&out)),
-        ];
-        // Roughness and metallic where the G-buffer resolved them.
-        let surface = match &g.targets.surface {
-            Some(name) => Some(cx.view(name)?),
-            None => None,
-        };
-        let mut all = all.to_vec();
-        if let Some((history, velocity)) = &history {
-            all.push((14, wgpu::BindingResource::TextureView(history)));
-            all.push((15, wgpu::BindingResource::TextureView(velocity)));
+        let mut b = Bindings::new()
+            .buffer("camera", g.camera_buffer())
+            .buffer("params", &self.trace_params)
+            .texture("color", io.color)
+            .texture("normals", io.normals)
+            .texture("depth", io.depth)
+            .view("hiz", cx.view_of(&hiz, Default::default()))
+            .texture("lit", io.lit)
+            .texture("fallback", io.fallback)
+            .view("lut", cx.view_of(&lut, Default::default()))
+            .sampler("lut_sampler", Sampling::LinearClamp)
+            .texture("output", io.output)
+            .texture_opt("surface_target", io.surface)
+            .extend(self.materials.bindings(io.material_textures));
+        if let Some(h) = io.history {
+            key.features.insert("TEMPORAL");
+            b = b
+                .texture("history", h.history)
+                .texture("velocity_uv", h.velocity_uv);
         }
-        if let Some(view) = &surface {
-            all.push((
-                crate::gbuffer::SURFACE_TARGET_BINDING,
-                wgpu::BindingResource::TextureView(view),
-            ));
-        }
-        let group = cx
-            .shaders
-            .bind_group(&device, &key, "main", &pipeline, 0, &all)?;
-        let materials = self.materials.bind_group(
-            cx,
-            &key,
-            &pipeline,
-            self.textured(),
-            g.targets.surface_targets(),
-        )?;
         let (w, h) = resolution.pixels(g.pixel_size(cx.output_size));
-        cx.dispatch(
+        cx.dispatch_shader(
             "ssr trace",
-            &pipeline,
-            &[&group, &materials],
+            &key,
+            "main",
+            b,
             (w.div_ceil(8), h.div_ceil(8), 1),
-        );
-        if fused {
+        )?;
+        if let Some(h) = io.history {
             // This frame's result is next frame's history.
-            cx.keep_as_history(&self.output, &self.history)?;
+            cx.keep_as_history(io.output, h.history)?;
         }
         Ok(())
     }
@@ -382,32 +343,13 @@ impl Ssr {
     }
 
     /// Where the trace writes: the full-size target, or its half-size twin.
-    fn trace_target(&self) -> &str {
-        if self.settings.resolution.is_half() {
-            &self.traced_half
-        } else {
-            self.full_target()
-        }
+    fn trace_target(&self) -> String {
+        written_target(self.full_target(), self.settings.resolution)
     }
 
-    fn upsample_trace(&self, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
-        cx.count(HALF_RESOLUTION, 1);
-        upsample(
-            cx,
-            "ssr upsample",
-            &Upsample {
-                gbuffer: &self.gbuffer,
-                source: &self.traced_half,
-                output: self.full_target(),
-                format: UpsampleFormat::Rgba16,
-                detail: None,
-            },
-        )
-    }
-
-    fn resolve(&self, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
+    fn resolve(&self, cx: &mut PassContext<'_>, io: &ResolveIo) -> Result<(), RenderError> {
         // Fresh (first frame, resize), asked to reset, or a camera cut: no history.
-        let flags = self.history_flags(cx);
+        let flags = self.history_flags(cx, io.history.history);
         let frame = self.store.frame.load(Ordering::Relaxed);
         cx.gpu.queue.write_buffer(
             &self.resolve_params,
@@ -415,62 +357,67 @@ impl Ssr {
             bytemuck::bytes_of(&self.params(frame, flags, 0)),
         );
         let g = &self.gbuffer;
-        let (current, history, velocity, out, depth) = (
-            cx.view(&self.current)?,
-            cx.view(&self.history)?,
-            cx.view(&g.targets.velocity_uv)?,
-            cx.view(&self.output)?,
-            cx.view(&g.targets.depth)?,
-        );
-        let all = [
-            (0, g.camera_buffer().as_entire_binding()),
-            (1, self.resolve_params.as_entire_binding()),
-            (4, wgpu::BindingResource::TextureView(&depth)),
-            (10, wgpu::BindingResource::TextureView(&out)),
-            (13, wgpu::BindingResource::TextureView(&current)),
-            (14, wgpu::BindingResource::TextureView(&history)),
-            (15, wgpu::BindingResource::TextureView(&velocity)),
-        ];
         let size = g.pixel_size(cx.output_size);
-        let device = cx.gpu.device.clone();
-        let key = ShaderKey::new(SHADER, []);
-        let pipeline = cx.shaders.compute_pipeline(&device, &key, "resolve")?;
-        let group = cx
-            .shaders
-            .bind_group(&device, &key, "resolve", &pipeline, 0, &all)?;
-        cx.dispatch(
+        cx.dispatch_shader(
             "ssr resolve",
-            &pipeline,
-            &[&group],
+            &ShaderKey::new(SHADER, []),
+            "resolve",
+            Bindings::new()
+                .buffer("camera", g.camera_buffer())
+                .buffer("params", &self.resolve_params)
+                .texture("depth", io.depth)
+                .texture("output", io.output)
+                .texture("current", io.current)
+                .texture("history", io.history.history)
+                .texture("velocity_uv", io.history.velocity_uv),
             (size.0.div_ceil(8), size.1.div_ceil(8), 1),
-        );
+        )?;
         // This frame's result is next frame's history.
-        cx.keep_as_history(&self.output, &self.history)?;
-        Ok(())
+        cx.keep_as_history(io.output, io.history.history)
     }
 
-    fn clear(&self, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
+    fn clear(&self, cx: &mut PassContext<'_>, output: Tex) -> Result<(), RenderError> {
         cx.count("ssr skipped", 1);
-        let out = cx.view(&self.output)?;
-        let all = [
-            (0, self.gbuffer.camera_buffer().as_entire_binding()),
-            (10, wgpu::BindingResource::TextureView(&out)),
-        ];
-        let device = cx.gpu.device.clone();
-        let key = ShaderKey::new(SHADER, []);
-        let pipeline = cx.shaders.compute_pipeline(&device, &key, "clear")?;
-        let group = cx
-            .shaders
-            .bind_group(&device, &key, "clear", &pipeline, 0, &all)?;
         let (w, h) = self.gbuffer.pixel_size(cx.output_size);
-        cx.dispatch(
+        cx.dispatch_shader(
             "ssr clear",
-            &pipeline,
-            &[&group],
+            &ShaderKey::new(SHADER, []),
+            "clear",
+            Bindings::new()
+                .buffer("camera", self.gbuffer.camera_buffer())
+                .texture("output", output),
             (w.div_ceil(8), h.div_ceil(8), 1),
-        );
-        Ok(())
+        )
     }
+}
+
+/// Last frame's reflection and the reprojection that reads it.
+#[derive(Clone, Copy)]
+struct HistoryIo {
+    history: Tex,
+    velocity_uv: Tex,
+}
+
+/// What the trace declared; with `history`, it blends into it (full
+/// resolution with temporal accumulation) and `output` becomes the history.
+struct TraceIo {
+    color: Tex,
+    normals: Tex,
+    depth: Tex,
+    lit: Tex,
+    fallback: Tex,
+    output: Tex,
+    surface: Option<Tex>,
+    history: Option<HistoryIo>,
+    material_textures: Option<MaterialTextures>,
+}
+
+/// What the temporal resolve (after a half-resolution trace) declared.
+struct ResolveIo {
+    current: Tex,
+    depth: Tex,
+    output: Tex,
+    history: HistoryIo,
 }
 
 impl Recipe for Ssr {
@@ -481,96 +428,113 @@ impl Recipe for Ssr {
         self.gbuffer.declare(renderer, fg);
         let hdr = TextureDesc::storage(wgpu::TextureFormat::Rgba16Float).size(self.gbuffer.size);
         if !self.active() {
-            fg.add_pass(
-                self.label("none reflective"),
-                self.owner,
-                &[],
-                &[(&self.output, hdr)],
-                move |cx| self.clear(cx),
-            );
+            let mut pass = fg.pass(self.label("none reflective"), self.owner);
+            let output = pass.write(&self.output, hdr);
+            pass.run(move |cx| self.clear(cx, output));
             return;
         }
         self.lit.recipe.declare(renderer, fg);
         self.fallback.recipe.declare(renderer, fg);
+        self.materials
+            .declare_upstream(renderer, fg, self.textured());
         let g = &self.gbuffer.targets;
-        fg.add_pass(
-            self.label("hi-z"),
-            self.owner,
-            &[g.depth.as_str()],
-            &[(&self.token, TextureDesc::token())],
-            move |cx| self.build_hiz(cx),
-        );
-        let mut reads = vec![
-            self.token.as_str(),
-            g.color.as_str(),
-            g.normals.as_str(),
-            g.depth.as_str(),
-            self.lit.name.as_str(),
-            self.fallback.name.as_str(),
-        ];
-        reads.extend(g.surface.as_deref());
-        reads.extend(self.materials.declare_textures(
-            renderer,
-            fg,
-            self.textured(),
-            g.surface_targets(),
-        ));
+        let mut pass = fg.pass(self.label("hi-z"), self.owner);
+        let depth = pass.read(&g.depth);
+        pass.write(&self.token, TextureDesc::token());
+        pass.run(move |cx| self.build_hiz(cx, depth));
         let resolution = self.settings.resolution;
         let pixels = self.gbuffer.pixel_size(fg.output_size());
         // Alike, so the output becomes the history without a copy.
         let rgba = wgpu::TextureFormat::Rgba16Float;
-        let histories = [
-            (
-                self.output.as_str(),
+        let histories = |pass: &mut PassBuilder<'_, '_>| {
+            let output = pass.write(
+                &self.output,
                 TextureDesc::history_twin(rgba).size(self.gbuffer.size),
-            ),
-            (
-                self.history.as_str(),
-                TextureDesc::history(rgba).size(self.gbuffer.size),
-            ),
-        ];
-        let traced = [(
-            self.trace_target(),
-            hdr.size(resolution.size_rule(self.gbuffer.size, pixels)),
-        )];
-        let writes: &[(&str, TextureDesc)] = if self.fused() {
-            reads.push(&g.velocity_uv);
-            &histories
-        } else {
-            &traced
+            );
+            let history = HistoryIo {
+                history: pass.write(
+                    &self.history,
+                    TextureDesc::history(rgba).size(self.gbuffer.size),
+                ),
+                velocity_uv: pass.read(&g.velocity_uv),
+            };
+            (output, history)
         };
-        fg.add_pass(
+        let trace_target = self.trace_target();
+        let mut pass = fg.pass(
             self.label(&format!("trace{}", resolution.pass_suffix())),
             self.owner,
-            &reads,
-            writes,
-            move |cx| self.trace(cx),
         );
-        if resolution.is_half() {
-            fg.add_pass(
-                self.label("upsample"),
-                self.owner,
-                &[
-                    self.traced_half.as_str(),
-                    g.depth.as_str(),
-                    g.normals.as_str(),
-                ],
-                &[(self.full_target(), hdr)],
-                move |cx| self.upsample_trace(cx),
-            );
-        }
+        pass.read(&self.token);
+        let (output, history) = if self.fused() {
+            let (output, history) = histories(&mut pass);
+            (output, Some(history))
+        } else {
+            let desc = hdr.size(resolution.size_rule(self.gbuffer.size, pixels));
+            (pass.write(&trace_target, desc), None)
+        };
+        let io = TraceIo {
+            color: pass.read(&g.color),
+            normals: pass.read(&g.normals),
+            depth: pass.read(&g.depth),
+            lit: pass.read(&self.lit.name),
+            fallback: pass.read(&self.fallback.name),
+            surface: pass.read_opt(g.surface.as_deref()),
+            material_textures: self.materials.read_textures(
+                &mut pass,
+                self.textured(),
+                g.surface_targets(),
+            ),
+            output,
+            history,
+        };
+        pass.run(move |cx| self.trace(cx, &io));
+        declare_upsample(
+            fg,
+            resolution,
+            UpsamplePass {
+                name: self.label("upsample"),
+                owner: self.owner,
+                gbuffer: &self.gbuffer,
+                half: &trace_target,
+                full: self.full_target(),
+                desc: hdr,
+                format: UpsampleFormat::Rgba16,
+                counter: HALF_RESOLUTION,
+                label: "ssr upsample",
+                detail: None,
+            },
+        );
         if self.settings.temporal && !self.fused() {
-            fg.add_pass(
-                self.label("resolve"),
-                self.owner,
-                &[
-                    self.current.as_str(),
-                    g.velocity_uv.as_str(),
-                    g.depth.as_str(),
-                ],
-                &histories,
-                move |cx| self.resolve(cx),
-            );
+            let mut pass = fg.pass(self.label("resolve"), self.owner);
+            let (current, depth) = (pass.read(&self.current), pass.read(&g.depth));
+            let (output, history) = histories(&mut pass);
+            let io = ResolveIo {
+                current,
+                depth,
+                output,
+                history,
+            };
+            pass.run(move |cx| self.resolve(cx, &io));
         }
+    }
+}
+
+/// The layout the shader sees (shaders/layout.rs).
+#[cfg(test)]
+mod wgsl_layout {
+    use super::*;
+
+    #[test]
+    fn params_matches_params_in_the_shader() {
+        crate::assert_wgsl_layout!(
+            Params,
+            "environment/ssr.wgsl",
+            [],
+            "Params",
+            [
+                max_steps, rays, frame, flags, near, thickness, blend, max_level
+            ]
+        );
     }
 }

@@ -1,0 +1,282 @@
+//! What a pass binds, by the WGSL variable each resource fills.
+//!
+//! The bind groups are laid out from naga's reflection of the composed
+//! permutation (`shaders::reflection`): no group or binding number is
+//! written in Rust, a variable the permutation compiled out is dropped, a
+//! name the shader never declares is an error, and so is a variable the
+//! shader uses that the pass left unbound, each naming the variable.
+
+use super::{PassContext, Tex};
+use crate::error::RenderError;
+use crate::shaders::{PipelineRef, Reflection, Sampling, ShaderKey};
+use crate::texture_pool::ViewSpec;
+
+/// One resource, before the pass resolves it.
+enum Resource<'r> {
+    /// A texture the pass declared, its default view.
+    Texture(Tex),
+    /// A texture the pass declared, viewed as an array.
+    Array(Tex),
+    /// A view made outside the frame graph (a node's shadow maps, a stand-in).
+    View(wgpu::TextureView),
+    Buffer(&'r wgpu::Buffer),
+    /// Part of a buffer: an offset and a size (one view's uniforms of many).
+    BufferRange(&'r wgpu::Buffer, u64, u64),
+    Sampler(Sampling),
+    /// A sampler the pass made itself (a material's filtering).
+    SamplerObject(wgpu::Sampler),
+}
+
+/// The resources of one dispatch, by WGSL variable name.
+#[derive(Default)]
+pub struct Bindings<'r> {
+    entries: Vec<(&'r str, Resource<'r>)>,
+    /// Whole groups laid out elsewhere (a user's shader file numbers its own bindings).
+    groups: Vec<(u32, wgpu::BindGroup)>,
+}
+
+impl<'r> Bindings<'r> {
+    pub fn new() -> Self {
+        Bindings::default()
+    }
+
+    fn with(mut self, name: &'r str, resource: Resource<'r>) -> Self {
+        self.entries.push((name, resource));
+        self
+    }
+
+    /// A declared texture's default view at variable `name`.
+    pub fn texture(self, name: &'r str, tex: Tex) -> Self {
+        self.with(name, Resource::Texture(tex))
+    }
+
+    /// An optional input: nothing is bound when it is `None`.
+    pub fn texture_opt(self, name: &'r str, tex: Option<Tex>) -> Self {
+        match tex {
+            Some(tex) => self.texture(name, tex),
+            None => self,
+        }
+    }
+
+    /// A declared texture viewed as a 2D array (a texture array input).
+    pub fn array(self, name: &'r str, tex: Tex) -> Self {
+        self.with(name, Resource::Array(tex))
+    }
+
+    /// A view the frame graph does not manage.
+    pub fn view(self, name: &'r str, view: wgpu::TextureView) -> Self {
+        self.with(name, Resource::View(view))
+    }
+
+    /// A whole buffer.
+    pub fn buffer(self, name: &'r str, buffer: &'r wgpu::Buffer) -> Self {
+        self.with(name, Resource::Buffer(buffer))
+    }
+
+    /// `size` bytes of a buffer from `offset`.
+    pub fn buffer_range(
+        self,
+        name: &'r str,
+        buffer: &'r wgpu::Buffer,
+        offset: u64,
+        size: u64,
+    ) -> Self {
+        self.with(name, Resource::BufferRange(buffer, offset, size))
+    }
+
+    pub fn buffer_opt(self, name: &'r str, buffer: Option<&'r wgpu::Buffer>) -> Self {
+        match buffer {
+            Some(buffer) => self.buffer(name, buffer),
+            None => self,
+        }
+    }
+
+    /// A cached sampler of kind `sampling`.
+    pub fn sampler(self, name: &'r str, sampling: Sampling) -> Self {
+        self.with(name, Resource::Sampler(sampling))
+    }
+
+    /// A sampler made elsewhere.
+    pub fn sampler_object(self, name: &'r str, sampler: wgpu::Sampler) -> Self {
+        self.with(name, Resource::SamplerObject(sampler))
+    }
+
+    /// Group `index` as made elsewhere: its variables are not bound by name.
+    pub fn group(mut self, index: u32, group: wgpu::BindGroup) -> Self {
+        self.groups.push((index, group));
+        self
+    }
+
+    /// Everything `other` binds too (a library's resources, such as the material world's).
+    pub fn extend(mut self, other: Bindings<'r>) -> Self {
+        self.entries.extend(other.entries);
+        self.groups.extend(other.groups);
+        self
+    }
+}
+
+fn as_resources<'a>(
+    owned: &'a [(&'a str, Owned<'a>)],
+) -> Vec<(&'a str, wgpu::BindingResource<'a>)> {
+    owned
+        .iter()
+        .map(|(name, r)| {
+            let resource = match r {
+                Owned::View(view) => wgpu::BindingResource::TextureView(view),
+                Owned::Buffer(buffer) => buffer.as_entire_binding(),
+                Owned::BufferRange(buffer, offset, size) => {
+                    wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                        buffer,
+                        offset: *offset,
+                        size: wgpu::BufferSize::new(*size),
+                    })
+                }
+                Owned::Sampler(sampler) => wgpu::BindingResource::Sampler(sampler),
+            };
+            (*name, resource)
+        })
+        .collect()
+}
+
+/// A binding resolved to what wgpu binds.
+enum Owned<'r> {
+    View(wgpu::TextureView),
+    Buffer(&'r wgpu::Buffer),
+    BufferRange(&'r wgpu::Buffer, u64, u64),
+    Sampler(wgpu::Sampler),
+}
+
+impl PassContext<'_> {
+    /// The bind groups (0 up to the last the entry point uses) of a compute
+    /// pipeline of `key`/`entry`, from `bindings` by name.
+    pub fn bind_groups(
+        &mut self,
+        key: &ShaderKey,
+        entry: &str,
+        pipeline: &wgpu::ComputePipeline,
+        bindings: Bindings<'_>,
+    ) -> Result<Vec<wgpu::BindGroup>, RenderError> {
+        let (owned, groups) = self.resolve_bindings(bindings)?;
+        let resources = as_resources(&owned);
+        let device = self.gpu.device.clone();
+        self.shaders.named_groups(
+            &device,
+            key,
+            &[entry],
+            &PipelineRef::Compute(pipeline.clone()),
+            &resources,
+            &groups,
+        )
+    }
+
+    /// [`PassContext::bind_groups`] for a render pipeline of `key`'s stages `entries`.
+    pub fn render_bind_groups(
+        &mut self,
+        key: &ShaderKey,
+        entries: &[&str],
+        pipeline: &wgpu::RenderPipeline,
+        bindings: Bindings<'_>,
+    ) -> Result<Vec<wgpu::BindGroup>, RenderError> {
+        let (owned, groups) = self.resolve_bindings(bindings)?;
+        let resources = as_resources(&owned);
+        let device = self.gpu.device.clone();
+        self.shaders.named_groups(
+            &device,
+            key,
+            entries,
+            &PipelineRef::Render(pipeline.clone()),
+            &resources,
+            &groups,
+        )
+    }
+
+    /// [`PassContext::bind_groups`] for a pipeline reflected elsewhere
+    /// (`reflection`: a resolve composed with a shader node material).
+    pub fn bind_groups_reflected(
+        &mut self,
+        label: &str,
+        reflection: &Reflection,
+        pipeline: &wgpu::ComputePipeline,
+        bindings: Bindings<'_>,
+    ) -> Result<Vec<wgpu::BindGroup>, RenderError> {
+        let (owned, groups) = self.resolve_bindings(bindings)?;
+        let resources = as_resources(&owned);
+        let device = self.gpu.device.clone();
+        self.shaders
+            .groups_by_name(
+                &device,
+                label,
+                reflection,
+                &PipelineRef::Compute(pipeline.clone()),
+                &resources,
+                &groups,
+            )
+            .map_err(|message| RenderError::Pass {
+                pass: label.to_owned(),
+                message,
+            })
+    }
+
+    /// Handles to views, sampling kinds to samplers.
+    #[allow(clippy::type_complexity)]
+    fn resolve_bindings<'r>(
+        &mut self,
+        bindings: Bindings<'r>,
+    ) -> Result<(Vec<(&'r str, Owned<'r>)>, Vec<(u32, wgpu::BindGroup)>), RenderError> {
+        let mut owned = Vec::with_capacity(bindings.entries.len());
+        for (name, resource) in bindings.entries {
+            let resolved = match resource {
+                Resource::Texture(tex) => Owned::View(self.view(tex)?),
+                Resource::Array(tex) => {
+                    let texture = self.texture(tex)?.clone();
+                    Owned::View(self.view_of(&texture, ViewSpec::array()))
+                }
+                Resource::View(view) => Owned::View(view),
+                Resource::Buffer(buffer) => Owned::Buffer(buffer),
+                Resource::BufferRange(buffer, offset, size) => {
+                    Owned::BufferRange(buffer, offset, size)
+                }
+                Resource::Sampler(sampling) => Owned::Sampler(self.sampler(sampling)),
+                Resource::SamplerObject(sampler) => Owned::Sampler(sampler),
+            };
+            owned.push((name, resolved));
+        }
+        Ok((owned, bindings.groups))
+    }
+
+    /// `key`'s `entry` dispatched as `workgroups`, its bind groups from
+    /// `bindings` by name: in the open compute pass ([`PassContext::compute_pass`]).
+    pub fn dispatch_shader(
+        &mut self,
+        label: &str,
+        key: &ShaderKey,
+        entry: &'static str,
+        bindings: Bindings<'_>,
+        workgroups: (u32, u32, u32),
+    ) -> Result<(), RenderError> {
+        let device = self.gpu.device.clone();
+        let pipeline = self.shaders.compute_pipeline(&device, key, entry)?;
+        let groups = self.bind_groups(key, entry, &pipeline, bindings)?;
+        let groups: Vec<&wgpu::BindGroup> = groups.iter().collect();
+        self.dispatch(label, &pipeline, &groups, workgroups);
+        Ok(())
+    }
+
+    /// The most common pass: `key`'s `main` entry, one thread per pixel of
+    /// `size` in 8x8 workgroups, bound by name.
+    pub fn dispatch_image(
+        &mut self,
+        label: &str,
+        key: &ShaderKey,
+        bindings: Bindings<'_>,
+        size: (u32, u32),
+    ) -> Result<(), RenderError> {
+        self.dispatch_shader(
+            label,
+            key,
+            "main",
+            bindings,
+            (size.0.div_ceil(8), size.1.div_ceil(8), 1),
+        )
+    }
+}

@@ -1,0 +1,209 @@
+//! The executor: what running frame graphs keeps between frames, below the
+//! renderer. It owns the shader permutation cache, the texture pool and the
+//! persistent textures, the timestamp queries, how frames are timed and
+//! recorded, the frames in flight and the last frame's report; the
+//! renderer holds one and adds what recipes share (the mesh arena, kept
+//! buffers, per-node state). `execute.rs` runs a graph on it, knowing
+//! nothing of the renderer.
+
+use std::collections::VecDeque;
+use std::sync::Mutex;
+
+use super::Finisher;
+use crate::context::GpuContext;
+use crate::error::RenderError;
+use crate::report::FrameReport;
+use crate::shaders::{ShaderCache, ShaderComposer};
+use crate::texture_pool::TexturePool;
+
+/// Timestamp queries a frame may write (two a timed pass).
+pub(crate) const MAX_QUERIES: u32 = 512;
+
+/// Frame graphs a persistent texture may go unwritten before it is dropped:
+/// about a second at 60 frames a second, so a node briefly culled (an editor
+/// viewport looking elsewhere) keeps its history.
+pub const PERSISTENT_IDLE_GRAPHS: u32 = 60;
+
+pub(crate) struct Timestamps {
+    pub set: wgpu::QuerySet,
+    pub resolve: wgpu::Buffer,
+    pub readback: wgpu::Buffer,
+}
+
+/// How frames are timed (`FrameGraph::execute`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Timing {
+    /// Timestamps around every pass, read back after each frame: the
+    /// per-pass figures of `stats` and `bench`. The CPU waits for the GPU.
+    #[default]
+    PerPass,
+    /// Timestamps at the first and the last pass only: the frame's GPU span.
+    Frame,
+    /// No timestamps and no waiting: frames overlap (recorded while the GPU
+    /// works on the last), as an interactive host runs them.
+    Off,
+}
+
+/// How passes are recorded (`FrameGraph::execute`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Recording {
+    /// Each pass in its own command encoder and error scope: an error names its pass.
+    #[default]
+    Isolated,
+    /// The whole frame in a few command encoders (`FRAME_CHUNKS` runs of
+    /// passes, finished beside the recording); an error drops the frame and
+    /// switches to `Isolated`.
+    Batched,
+}
+
+pub struct Executor {
+    device: wgpu::Device,
+    shaders: Mutex<ShaderCache>,
+    textures: Mutex<TexturePool>,
+    timestamps: Option<Timestamps>,
+    settings: Mutex<(Timing, Recording)>,
+    /// Submissions not yet known to be done, oldest first (`Timing::Off`).
+    in_flight: Mutex<VecDeque<wgpu::SubmissionIndex>>,
+    last_report: Mutex<FrameReport>,
+    /// The thread that finishes a batched frame's encoders beside its recording.
+    finisher: Finisher,
+}
+
+impl Executor {
+    pub(crate) fn new(gpu: &GpuContext) -> Result<Self, RenderError> {
+        let shaders = ShaderCache::new(ShaderComposer::new()?);
+        let timestamps = gpu.has_timestamps().then(|| Timestamps {
+            set: gpu.device.create_query_set(&wgpu::QuerySetDescriptor {
+                label: Some("pass timestamps"),
+                ty: wgpu::QueryType::Timestamp,
+                count: MAX_QUERIES,
+            }),
+            resolve: gpu.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("timestamp resolve"),
+                size: u64::from(MAX_QUERIES) * 8,
+                usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+                mapped_at_creation: false,
+            }),
+            readback: gpu.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("timestamp readback"),
+                size: u64::from(MAX_QUERIES) * 8,
+                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            }),
+        });
+        Ok(Executor {
+            device: gpu.device.clone(),
+            shaders: Mutex::new(shaders),
+            textures: Mutex::new(TexturePool::default()),
+            timestamps,
+            settings: Mutex::new((Timing::default(), Recording::default())),
+            in_flight: Mutex::new(VecDeque::new()),
+            last_report: Mutex::new(FrameReport::default()),
+            finisher: Finisher::new(gpu.device.clone()),
+        })
+    }
+
+    pub fn shaders(&self) -> std::sync::MutexGuard<'_, ShaderCache> {
+        self.shaders.lock().unwrap_or_else(|e| e.into_inner())
+    }
+
+    /// How frames are timed and recorded.
+    pub fn settings(&self) -> (Timing, Recording) {
+        *self.settings.lock().unwrap_or_else(|e| e.into_inner())
+    }
+
+    pub fn set_timing(&self, timing: Timing) {
+        self.settings.lock().unwrap_or_else(|e| e.into_inner()).0 = timing;
+    }
+
+    pub fn set_recording(&self, recording: Recording) {
+        self.settings.lock().unwrap_or_else(|e| e.into_inner()).1 = recording;
+    }
+
+    pub(crate) fn texture_pool(&self) -> std::sync::MutexGuard<'_, TexturePool> {
+        self.textures.lock().unwrap_or_else(|e| e.into_inner())
+    }
+
+    pub(crate) fn finisher(&self) -> &Finisher {
+        &self.finisher
+    }
+
+    pub(crate) fn timestamps(&self) -> Option<&Timestamps> {
+        self.timestamps.as_ref()
+    }
+
+    pub(crate) fn set_last_report(&self, report: FrameReport) {
+        *self.last_report.lock().unwrap_or_else(|e| e.into_inner()) = report;
+    }
+
+    /// Remember `submission`; wait until no more than `frames` are unfinished.
+    pub(crate) fn throttle(
+        &self,
+        submission: wgpu::SubmissionIndex,
+        frames: usize,
+    ) -> Result<(), RenderError> {
+        let mut in_flight = self.in_flight.lock().unwrap_or_else(|e| e.into_inner());
+        in_flight.push_back(submission);
+        while in_flight.len() > frames {
+            if let Some(oldest) = in_flight.pop_front() {
+                self.device
+                    .poll(wgpu::PollType::Wait {
+                        submission_index: Some(oldest),
+                        timeout: None,
+                    })
+                    .map_err(|e| RenderError::Readback(e.to_string()))?;
+            }
+        }
+        Ok(())
+    }
+
+    /// Wait for every submission so far (frames in flight drained).
+    pub fn wait_idle(&self) -> Result<(), RenderError> {
+        self.in_flight
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .clear();
+        self.device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map(|_| ())
+            .map_err(|e| RenderError::Readback(e.to_string()))
+    }
+
+    /// The report of the last executed frame graph.
+    pub fn last_report(&self) -> FrameReport {
+        self.last_report
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .clone()
+    }
+
+    /// The errors of the last executed frame graph, by owner (without
+    /// copying the whole report, as [`Executor::last_report`] does).
+    pub fn last_errors(&self) -> Vec<(Option<u32>, String)> {
+        self.last_report
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .errors
+            .clone()
+    }
+
+    /// A persistent texture by its name (temporal history), if a frame made it.
+    pub fn persistent_texture(&self, name: &str) -> Option<wgpu::Texture> {
+        self.texture_pool()
+            .persistent
+            .get(name)
+            .map(|(_, t)| t.clone())
+    }
+
+    /// The names of the persistent textures frames have made and still keep, sorted.
+    pub fn persistent_names(&self) -> Vec<String> {
+        let mut names: Vec<String> = self.texture_pool().persistent.keys().cloned().collect();
+        names.sort();
+        names
+    }
+
+    /// Forget persistent textures (a camera cut or a resize resets history).
+    pub fn reset_history(&self) {
+        self.texture_pool().persistent.clear();
+    }
+}

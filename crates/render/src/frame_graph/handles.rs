@@ -1,0 +1,141 @@
+//! Typed handles: a pass is declared once, and its run reaches only what it declared.
+//!
+//! As in Frostbite's FrameGraph, declaring a pass hands back a [`Tex`] for
+//! each texture it reads or writes, and the run resolves those handles
+//! (`PassContext::view`, `PassContext::texture`): a handle of a texture the
+//! pass did not declare is an error, never another pass's memory. Names
+//! stay the graph's identity of a texture across recipes and frames
+//! (a recipe's output, a persistent history); a pass writes each name once,
+//! in its declaration.
+//!
+//! ```ignore
+//! let mut pass = fg.pass(pass_name("SSAO", owner, Some("blur x")), owner);
+//! let source = pass.read(&raw);
+//! let depth = pass.read(&g.depth);
+//! let blurred = pass.write(&self.name("blurred"), desc);
+//! pass.run(move |cx| cx.dispatch_image("ao blur x", &key, Bindings::new()
+//!     .texture("source", source).texture("depth", depth).texture("output", blurred), size));
+//! ```
+
+use super::{FrameGraph, PassContext, PassEntry, TextureDesc};
+use crate::error::RenderError;
+
+/// A texture of the frame graph a pass declared. Copy, and only good in
+/// the runs of the passes that declared it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct Tex(pub(super) u32);
+
+/// A pass being declared: [`PassBuilder::read`] and [`PassBuilder::write`]
+/// give handles, [`PassBuilder::run`] adds it to the graph.
+#[must_use = "a pass is added to the graph by `run`"]
+pub struct PassBuilder<'g, 'a> {
+    graph: &'g mut FrameGraph<'a>,
+    name: String,
+    owner: Option<u32>,
+    reads: Vec<String>,
+    writes: Vec<(String, TextureDesc)>,
+}
+
+impl<'a> FrameGraph<'a> {
+    /// Begin declaring a pass named `name` (for reports and captures) of
+    /// node `owner` (whose errors it reports).
+    pub fn pass(&mut self, name: impl Into<String>, owner: Option<u32>) -> PassBuilder<'_, 'a> {
+        PassBuilder {
+            graph: self,
+            name: name.into(),
+            owner,
+            reads: Vec::new(),
+            writes: Vec::new(),
+        }
+    }
+
+    /// The handle of texture `name`, the same for every pass of this frame.
+    /// A run resolves it only where its pass declared `name`: for the joint
+    /// run of two passes ([`FrameGraph::chains_into`]), which holds the
+    /// reads and writes of both, where each was declared by its own recipe.
+    pub fn handle(&mut self, name: &str) -> Tex {
+        if let Some(&id) = self.handles.get(name) {
+            return Tex(id);
+        }
+        let id = self.texture_names.len() as u32;
+        self.texture_names.push(name.to_owned());
+        self.handles.insert(name.to_owned(), id);
+        Tex(id)
+    }
+}
+
+impl<'a> PassBuilder<'_, 'a> {
+    /// The pass reads `name`: another pass writes it, or it is imported or persistent.
+    pub fn read(&mut self, name: &str) -> Tex {
+        if !self.reads.iter().any(|r| r == name) {
+            self.reads.push(name.to_owned());
+        }
+        self.graph.handle(name)
+    }
+
+    /// Reads of an optional input: `None` stays `None`.
+    pub fn read_opt(&mut self, name: Option<&str>) -> Option<Tex> {
+        name.map(|n| self.read(n))
+    }
+
+    /// The pass writes `name`, which the graph creates as `desc` says.
+    pub fn write(&mut self, name: &str, desc: TextureDesc) -> Tex {
+        self.writes.push((name.to_owned(), desc));
+        self.graph.handle(name)
+    }
+
+    /// The graph the pass is declared in (its output size, counters).
+    pub fn graph(&self) -> &FrameGraph<'a> {
+        self.graph
+    }
+
+    /// Add the pass, with the code that records it.
+    pub fn run(self, run: impl FnOnce(&mut PassContext<'_>) -> Result<(), RenderError> + 'a) {
+        self.graph.passes.push(PassEntry {
+            name: self.name,
+            owner: self.owner,
+            reads: self.reads,
+            writes: self.writes,
+            run: Box::new(run),
+        });
+    }
+}
+
+impl PassContext<'_> {
+    /// The name of a texture this pass declared; an error for any other.
+    pub(super) fn declared(&self, tex: Tex) -> Result<&str, RenderError> {
+        let name = self
+            .texture_names
+            .get(tex.0 as usize)
+            .map(String::as_str)
+            .ok_or_else(|| RenderError::Graph(format!("{tex:?} is not of this frame")))?;
+        let declared =
+            self.reads.iter().any(|r| r == name) || self.writes.iter().any(|(w, _)| w == name);
+        if !declared {
+            return Err(RenderError::Graph(format!(
+                "a pass used `{name}`, which it did not declare"
+            )));
+        }
+        Ok(name)
+    }
+
+    /// A texture this pass declared.
+    pub fn texture(&self, tex: Tex) -> Result<&wgpu::Texture, RenderError> {
+        let name = self.declared(tex)?;
+        self.textures
+            .get(name)
+            .ok_or_else(|| RenderError::Graph(format!("texture `{name}` is not available here")))
+    }
+
+    /// Its default view, made once per texture and kept while frames use it.
+    pub fn view(&self, tex: Tex) -> Result<wgpu::TextureView, RenderError> {
+        let texture = self.texture(tex)?;
+        Ok(self.views.borrow_mut().view(texture))
+    }
+
+    /// Its size in pixels.
+    pub fn size_of(&self, tex: Tex) -> Result<(u32, u32), RenderError> {
+        let t = self.texture(tex)?;
+        Ok((t.width(), t.height()))
+    }
+}

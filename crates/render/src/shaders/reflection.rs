@@ -1,0 +1,136 @@
+//! What a composed shader binds, by name: naga's reflection of the module.
+//!
+//! A pass names its resources by the WGSL variable they fill (`color`,
+//! `camera`, `material_meta`), and the bind groups are laid out from here,
+//! so Rust never writes a group or binding number that must match the WGSL.
+//! naga_oil decorates a library's globals with their module's name
+//! (`material_metaX_naga_oil_mod_X…X`): the name here is the undecorated one,
+//! the name written in the library.
+
+/// One resource variable of a shader module.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct ShaderVar {
+    /// As written in the WGSL (library decoration removed).
+    pub name: String,
+    pub group: u32,
+    pub binding: u32,
+    /// Whether the entry point reflected reads or writes it: a derived bind
+    /// group layout has exactly the used ones, so a bind group must too.
+    pub used: bool,
+}
+
+/// The resource variables of one entry point's module, in declaration order.
+#[derive(Clone, Debug, Default)]
+pub struct Reflection {
+    pub vars: Vec<ShaderVar>,
+}
+
+impl Reflection {
+    /// The variable named `name`, if the permutation has it.
+    pub fn var(&self, name: &str) -> Option<&ShaderVar> {
+        self.vars.iter().find(|v| v.name == name)
+    }
+
+    /// The (group, binding)s the entry point uses.
+    pub fn used(&self) -> impl Iterator<Item = (u32, u32)> + '_ {
+        self.vars
+            .iter()
+            .filter(|v| v.used)
+            .map(|v| (v.group, v.binding))
+    }
+
+    /// The highest group the entry point uses (a derived layout has every group up to it).
+    pub fn last_group(&self) -> Option<u32> {
+        self.vars.iter().filter(|v| v.used).map(|v| v.group).max()
+    }
+}
+
+/// The name a WGSL author wrote, without naga_oil's module decoration.
+pub fn undecorated(name: &str) -> &str {
+    // naga_oil's decoration prefix (private there; the test below checks it
+    // against `Composer::decorated_name`).
+    const PREFIX: &str = "X_naga_oil_mod_X";
+    match name.find(PREFIX) {
+        Some(at) if at > 0 => &name[..at],
+        _ => name,
+    }
+}
+
+/// Reflect `module`'s resource variables and which of them `entry` uses.
+pub fn reflect(module: &naga::Module, entry: &str) -> Result<Reflection, String> {
+    let info = naga::valid::Validator::new(
+        naga::valid::ValidationFlags::all(),
+        naga::valid::Capabilities::all(),
+    )
+    .validate(module)
+    .map_err(|e| e.to_string())?;
+    let index = module
+        .entry_points
+        .iter()
+        .position(|e| e.name == entry)
+        .ok_or_else(|| format!("no entry point `{entry}`"))?;
+    let function = info.get_entry_point(index);
+    let vars = module
+        .global_variables
+        .iter()
+        .filter_map(|(handle, var)| {
+            let binding = var.binding.as_ref()?;
+            Some(ShaderVar {
+                name: undecorated(var.name.as_deref().unwrap_or_default()).to_owned(),
+                group: binding.group,
+                binding: binding.binding,
+                used: !function[handle].is_empty(),
+            })
+        })
+        .collect();
+    Ok(Reflection { vars })
+}
+
+/// The names of the resource variables declared anywhere in WGSL `source`,
+/// whatever `#ifdef` encloses them: a pass may name a variable its
+/// permutation compiled out, but not one the shader never had (a typo).
+pub fn declared_names(source: &str) -> impl Iterator<Item = &str> {
+    source.lines().filter_map(|line| {
+        let line = line.split("//").next()?;
+        if !line.contains("@binding") {
+            return None;
+        }
+        // `@group(0) @binding(1) var<uniform> name: Type;`
+        let after_var = line.split_once("var")?.1;
+        let after_space = match after_var.trim_start().strip_prefix('<') {
+            Some(rest) => rest.split_once('>')?.1,
+            None => after_var,
+        };
+        let name = after_space.split(':').next()?.trim();
+        (!name.is_empty()).then_some(name)
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use naga_oil::compose::Composer;
+
+    #[test]
+    fn decorated_library_names_lose_their_decoration() {
+        let decorated = Composer::decorated_name(Some("spreadlight::material"), "material_meta");
+        assert_ne!(decorated, "material_meta");
+        assert_eq!(undecorated(&decorated), "material_meta");
+        assert_eq!(undecorated("color"), "color");
+    }
+
+    #[test]
+    fn declared_names_are_found_behind_ifdefs_and_access_modes() {
+        let source = "
+@group(0) @binding(0) var<uniform> camera: Camera;
+#ifdef AO
+@group(0) @binding(17) var occlusion: texture_2d<f32>;
+#endif
+@group(1) @binding(0) var<storage, read> material_meta: array<MaterialMeta>;
+// @group(0) @binding(9) var commented: texture_2d<f32>;
+var<private> not_a_binding: f32;
+";
+        let names: Vec<&str> = declared_names(source).collect();
+        assert_eq!(names, ["camera", "occlusion", "material_meta"]);
+    }
+}
