@@ -414,6 +414,162 @@ fn a_pass_with_a_validation_error_is_reported_on_its_node_and_the_rest_renders()
     assert!(outputs.contains_key("healthy"));
 }
 
+/// A texture one past the adapter's largest 2D side fails its pass before
+/// anything is allocated (wgpu would refuse it outside any error scope: a
+/// panic in its default handler), with an error naming the pass, the
+/// texture, its size and the limit; the rest of the frame renders.
+#[test]
+fn a_texture_past_the_adapter_s_limit_fails_its_pass_naming_the_limit() {
+    let renderer = test_renderer();
+    let max = renderer.gpu.device.limits().max_texture_dimension_2d;
+    let ran = Arc::new(AtomicUsize::new(0));
+    let mut fg = FrameGraph::new((8, 8));
+    let counted = ran.clone();
+    fg.add_pass(
+        "huge",
+        Some(9),
+        &[],
+        &[(
+            "huge",
+            target().size(SizeRule::Absolute {
+                width: max + 1,
+                height: 1,
+            }),
+        )],
+        move |_| {
+            counted.fetch_add(1, Ordering::SeqCst);
+            Ok(())
+        },
+    );
+    fg.add_pass("fine", Some(7), &[], &[("fine", target())], |_| Ok(()));
+    fg.request("huge");
+    fg.request("fine");
+    let (report, outputs) = fg.execute(&renderer).expect("the frame still executes");
+    assert_eq!(
+        report.errors,
+        [(
+            Some(9),
+            format!(
+                "pass `huge`: texture `huge` ({}x1 for a 8x8 frame) is past the adapter's limit \
+                 max_texture_dimension_2d ({max})",
+                max + 1
+            )
+        )]
+    );
+    assert_eq!(ran.load(Ordering::SeqCst), 0, "the pass never recorded");
+    assert!(!outputs.contains_key("huge") && outputs.contains_key("fine"));
+    assert!(renderer.gpu.take_uncaptured_errors().is_empty());
+}
+
+/// A device error outside every error scope does not panic (wgpu's default
+/// handler would): it is kept, and the next frame reports it.
+#[test]
+fn an_error_outside_any_scope_is_reported_by_the_next_frame_not_a_panic() {
+    let renderer = test_renderer();
+    // A buffer both mapped for reading and for writing: invalid, and in no scope.
+    let _ = renderer.gpu.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("outside"),
+        size: 16,
+        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::MAP_WRITE,
+        mapped_at_creation: false,
+    });
+    let mut fg = FrameGraph::new((4, 4));
+    fg.add_pass("fine", None, &[], &[("fine", target())], |_| Ok(()));
+    fg.request("fine");
+    let (report, outputs) = fg.execute(&renderer).expect("executes");
+    assert!(outputs.contains_key("fine"));
+    assert_eq!(report.errors.len(), 1, "{:?}", report.errors);
+    assert_eq!(report.errors[0].0, None);
+    assert!(
+        report.errors[0]
+            .1
+            .starts_with("GPU error outside any pass: ")
+            && report.errors[0].1.contains("outside"),
+        "{}",
+        report.errors[0].1
+    );
+    // Taken once: the next frame is clean.
+    let mut fg = FrameGraph::new((4, 4));
+    fg.add_pass("fine", None, &[], &[("fine", target())], |_| Ok(()));
+    fg.request("fine");
+    let (report, _) = fg.execute(&renderer).expect("executes");
+    assert!(report.errors.is_empty(), "{:?}", report.errors);
+}
+
+/// What a frame hands back can be read by any sink, whatever usage its
+/// pass declared: copied (Output's readback) and sampled (the viewport).
+#[test]
+fn requested_textures_can_be_copied_and_sampled() {
+    use spreadlight_render::readback::read_texture;
+    let renderer = test_renderer();
+    let mut fg = FrameGraph::new((4, 4));
+    let bare = TextureDesc {
+        usage: wgpu::TextureUsages::STORAGE_BINDING,
+        ..target()
+    };
+    fg.add_pass("bare", None, &[], &[("bare", bare)], |_| Ok(()));
+    fg.request("bare");
+    let planned = fg.planned("bare").expect("planned");
+    assert!(
+        planned
+            .usage
+            .contains(spreadlight_render::frame_graph::READABLE)
+    );
+    let (report, outputs) = fg.execute(&renderer).expect("executes");
+    assert!(report.errors.is_empty(), "{:?}", report.errors);
+    let texture = &outputs["bare"];
+    assert!(
+        texture
+            .usage()
+            .contains(spreadlight_render::frame_graph::READABLE)
+    );
+    let image = read_texture(&renderer.gpu, texture).expect("reads back");
+    assert_eq!((image.width, image.height), (4, 4));
+}
+
+/// A readback whose buffer would be one byte past the adapter's largest is
+/// refused before anything is allocated, naming the size and the limit.
+#[test]
+fn a_readback_past_the_adapter_s_largest_buffer_is_refused_naming_the_limit() {
+    use spreadlight_render::readback::readback_layout;
+    use spreadlight_render::texture_pool::TextureKey;
+    let renderer = test_renderer();
+    let max = renderer.gpu.device.limits().max_buffer_size;
+    // R32Float rows of 16384 pixels are 64 KiB, aligned already: the
+    // largest whole number of rows that fits, and one row more.
+    let rows = u32::try_from(max / 65536).expect("a largest buffer under 256 TiB");
+    let key = |height: u32| TextureKey {
+        format: wgpu::TextureFormat::R32Float,
+        width: 16384,
+        height,
+        usage: wgpu::TextureUsages::COPY_SRC,
+    };
+    let (_, row, size) = readback_layout(&renderer.gpu, &key(rows), "it").expect("fits");
+    assert_eq!((row, size), (65536, u64::from(rows) * 65536));
+    let error = readback_layout(&renderer.gpu, &key(rows + 1), "the test's texture")
+        .expect_err("one row too many");
+    assert_eq!(
+        error.to_string(),
+        format!(
+            "the readback of the test's texture (16384x{} R32Float: a {}-byte buffer) is past the \
+             adapter's limit max_buffer_size ({max})",
+            rows + 1,
+            u64::from(rows + 1) * 65536
+        )
+    );
+    // And what cannot be copied from is said so, not left to wgpu.
+    let error = readback_layout(
+        &renderer.gpu,
+        &TextureKey {
+            usage: wgpu::TextureUsages::TEXTURE_BINDING,
+            ..key(1)
+        },
+        "it",
+    )
+    .expect_err("no COPY_SRC");
+    assert!(error.to_string().contains("without COPY_SRC"), "{error}");
+}
+
 /// A frame of three dependent compute passes that fill, add to and scale an
 /// image, so recording and timing modes can be compared on real work.
 fn arithmetic_frame(renderer: &spreadlight_render::Renderer) -> Vec<[f32; 4]> {

@@ -39,6 +39,12 @@ pub(crate) use finisher::Finisher;
 pub use handles::{PassBuilder, Tex};
 pub use history::{COPIED as HISTORIES_COPIED, HANDED_OVER as HISTORIES_HANDED_OVER};
 
+/// What every texture a frame hands back to its caller can do, so that any
+/// sink can read it: be copied (Output's readback) and sampled (the
+/// editor's viewport).
+pub const READABLE: wgpu::TextureUsages =
+    wgpu::TextureUsages::COPY_SRC.union(wgpu::TextureUsages::TEXTURE_BINDING);
+
 /// How big a texture is.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum SizeRule {
@@ -422,6 +428,32 @@ impl<'a> FrameGraph<'a> {
         self.included.insert(id)
     }
 
+    /// The texture `name` will be, before the frame runs: written by a pass
+    /// (its descriptor at this frame's size, readable if requested) or
+    /// imported. For a sink to refuse what it could not read back before
+    /// any work is done.
+    pub fn planned(&self, name: &str) -> Option<TextureKey> {
+        if let Some(texture) = self.imports.get(name) {
+            return Some(TextureKey {
+                format: texture.format(),
+                width: texture.width(),
+                height: texture.height(),
+                usage: texture.usage(),
+            });
+        }
+        let desc = self
+            .passes
+            .iter()
+            .flat_map(|p| &p.writes)
+            .find(|(n, _)| n == name)
+            .map(|(_, d)| d)?;
+        let mut key = self.resolve(desc);
+        if self.requested.iter().any(|r| r == name) {
+            key.usage |= READABLE;
+        }
+        Some(key)
+    }
+
     pub fn resolve(&self, desc: &TextureDesc) -> TextureKey {
         let (width, height) = desc.size.pixels(self.output_size);
         TextureKey {
@@ -538,10 +570,23 @@ impl<'a> FrameGraph<'a> {
         persistent: &dyn Fn(&str) -> bool,
     ) -> Result<GraphParts<'a>, RenderError> {
         let (order, culled) = self.schedule(persistent)?;
+        // What the caller gets back, any sink must be able to read: copy
+        // it (Output's readback) or sample it (the editor's viewport).
         let keys = self
             .passes
             .iter()
-            .map(|p| p.writes.iter().map(|(_, d)| self.resolve(d)).collect())
+            .map(|p| {
+                p.writes
+                    .iter()
+                    .map(|(name, d)| {
+                        let mut key = self.resolve(d);
+                        if self.requested.contains(name) {
+                            key.usage |= READABLE;
+                        }
+                        key
+                    })
+                    .collect()
+            })
             .collect();
         let n = self.passes.len();
         let mut parts = GraphParts {
