@@ -24,6 +24,8 @@ mod finisher;
 mod handles;
 mod history;
 mod merge;
+#[cfg(test)]
+mod tests;
 
 use crate::context::GpuContext;
 use crate::error::RenderError;
