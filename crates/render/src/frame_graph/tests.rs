@@ -7,6 +7,9 @@ use std::sync::{Arc, Mutex};
 
 use super::{FrameGraph, PassContext, TextureDesc};
 
+/// Each pass's name, and which of the three textures were live while it recorded.
+type Seen = Arc<Mutex<Vec<(&'static str, [bool; 3])>>>;
+
 /// Which of `names` are among the frame's live textures while a pass records.
 fn live(cx: &PassContext<'_>, names: [&str; 3]) -> [bool; 3] {
     names.map(|name| cx.textures.contains_key(name))
@@ -19,7 +22,7 @@ fn a_returned_temporary_leaves_the_frame() {
     let renderer = crate::renderer::test_renderer();
     let target = TextureDesc::storage(wgpu::TextureFormat::Rgba16Float);
     let names = ["t1", "t2", "t3"];
-    let seen: Arc<Mutex<Vec<(&str, [bool; 3])>>> = Arc::default();
+    let seen: Seen = Arc::default();
     let mut fg = FrameGraph::new((8, 8));
     // a writes t1, b reads t1 and writes t2, c reads t2 and writes t3.
     for (pass_name, read, write) in [
