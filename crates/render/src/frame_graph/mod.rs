@@ -24,6 +24,8 @@ mod finisher;
 mod handles;
 mod history;
 mod merge;
+#[cfg(test)]
+mod tests;
 
 use crate::context::GpuContext;
 use crate::error::RenderError;
@@ -228,20 +230,6 @@ pub struct PassContext<'f> {
 }
 
 impl<'f> PassContext<'f> {
-    /// A live texture by name, declared or not: being replaced by handles
-    /// ([`PassContext::texture`]), which reach only what the pass declared.
-    pub fn texture_named(&self, name: &str) -> Result<&wgpu::Texture, RenderError> {
-        self.textures
-            .get(name)
-            .ok_or_else(|| RenderError::Graph(format!("texture `{name}` is not available here")))
-    }
-
-    /// [`PassContext::texture_named`]'s default view (see [`PassContext::view`]).
-    pub fn view_named(&self, name: &str) -> Result<wgpu::TextureView, RenderError> {
-        let texture = self.texture_named(name)?;
-        Ok(self.views.borrow_mut().view(texture))
-    }
-
     /// A view of any texture (one the frame graph does not manage too, such
     /// as a node's shadow maps), made once and kept while frames use it.
     pub fn view_of(
@@ -265,30 +253,21 @@ impl<'f> PassContext<'f> {
         *self.counters.entry(name).or_default() += n;
     }
 
-    /// Whether this pass's output `name` is read: by a later pass of this
+    /// Whether this pass's output `tex` is read: by a later pass of this
     /// frame (its last use comes after this pass's write), or by the caller.
     /// A pass runs when any of its outputs is read; one with several can
     /// leave out the work of an output nobody reads (its texture is still
     /// allocated, and left unwritten).
-    pub fn is_read_named(&self, name: &str) -> bool {
-        self.requested.contains(name) || self.last_use.get(name).is_some_and(|&s| s > self.step)
-    }
-
-    /// Whether this pass's output `tex` is read (see [`PassContext::is_read_named`]).
     pub fn is_read(&self, tex: Tex) -> bool {
-        self.declared(tex)
-            .is_ok_and(|name| self.is_read_named(name))
+        self.declared(tex).is_ok_and(|name| {
+            self.requested.contains(name) || self.last_use.get(name).is_some_and(|&s| s > self.step)
+        })
     }
 
     /// A persistent texture this pass declared, created this frame: it holds no history yet.
     pub fn is_fresh(&self, tex: Tex) -> bool {
         self.declared(tex)
-            .is_ok_and(|name| self.is_fresh_named(name))
-    }
-
-    /// [`PassContext::is_fresh`] by name.
-    pub fn is_fresh_named(&self, name: &str) -> bool {
-        self.fresh.contains(name)
+            .is_ok_and(|name| self.fresh.contains(name))
     }
 
     fn next_pair(&mut self) -> Option<(&'f wgpu::QuerySet, u32)> {
@@ -317,30 +296,6 @@ impl<'f> PassContext<'f> {
             pass.set_bind_group(index as u32, *group, &[]);
         }
         pass.dispatch_workgroups(workgroups.0, workgroups.1, workgroups.2);
-    }
-
-    /// [`PassContext::dispatch_image`] with `bindings` numbered by hand at
-    /// group 0 (those the permutation does not use are dropped): being
-    /// replaced by bindings by name.
-    pub fn dispatch_image_numbered(
-        &mut self,
-        label: &str,
-        key: &crate::shaders::ShaderKey,
-        bindings: &[(u32, wgpu::BindingResource<'_>)],
-        size: (u32, u32),
-    ) -> Result<(), RenderError> {
-        let device = self.gpu.device.clone();
-        let pipeline = self.shaders.compute_pipeline(&device, key, "main")?;
-        let group = self
-            .shaders
-            .bind_group(&device, key, "main", &pipeline, 0, bindings)?;
-        self.dispatch(
-            label,
-            &pipeline,
-            &[&group],
-            (size.0.div_ceil(8), size.1.div_ceil(8), 1),
-        );
-        Ok(())
     }
 
     /// Timestamp writes for a render pass of this graph pass.
@@ -393,24 +348,6 @@ impl<'a> FrameGraph<'a> {
 
     pub fn output_size(&self) -> (u32, u32) {
         self.output_size
-    }
-
-    /// Declare a pass. `writes` are created by the graph; `reads` must be written by another pass or imported.
-    pub fn add_pass(
-        &mut self,
-        name: impl Into<String>,
-        owner: Option<u32>,
-        reads: &[&str],
-        writes: &[(&str, TextureDesc)],
-        run: impl FnOnce(&mut PassContext<'_>) -> Result<(), RenderError> + 'a,
-    ) {
-        self.passes.push(PassEntry {
-            name: name.into(),
-            owner,
-            reads: reads.iter().map(|s| (*s).to_owned()).collect(),
-            writes: writes.iter().map(|(n, d)| ((*n).to_owned(), *d)).collect(),
-            run: Box::new(run),
-        });
     }
 
     /// Ask for a texture: only the passes it depends on will run.
