@@ -499,7 +499,8 @@ fn a_texture_past_the_adapter_s_limit_fails_its_pass_naming_the_limit() {
     let ran = Arc::new(AtomicUsize::new(0));
     let mut fg = FrameGraph::new((8, 8));
     let counted = ran.clone();
-    fg.add_pass(
+    declare_pass(
+        &mut fg,
         "huge",
         Some(9),
         &[],
@@ -515,7 +516,9 @@ fn a_texture_past_the_adapter_s_limit_fails_its_pass_naming_the_limit() {
             Ok(())
         },
     );
-    fg.add_pass("fine", Some(7), &[], &[("fine", target())], |_| Ok(()));
+    declare_pass(&mut fg, "fine", Some(7), &[], &[("fine", target())], |_| {
+        Ok(())
+    });
     fg.request("huge");
     fg.request("fine");
     let (report, outputs) = fg.execute(&renderer).expect("the frame still executes");
@@ -548,7 +551,14 @@ fn an_error_outside_any_scope_is_reported_by_the_next_frame_not_a_panic() {
         mapped_at_creation: false,
     });
     let mut fg = FrameGraph::new((4, 4));
-    fg.add_pass("fine", None, &[], &[("fine", target())], |_| Ok(()));
+    declare_pass(
+        &mut fg,
+        "fine",
+        None,
+        &[],
+        &[("fine", target())],
+        |_| Ok(()),
+    );
     fg.request("fine");
     let (report, outputs) = fg.execute(&renderer).expect("executes");
     assert!(outputs.contains_key("fine"));
@@ -564,7 +574,14 @@ fn an_error_outside_any_scope_is_reported_by_the_next_frame_not_a_panic() {
     );
     // Taken once: the next frame is clean.
     let mut fg = FrameGraph::new((4, 4));
-    fg.add_pass("fine", None, &[], &[("fine", target())], |_| Ok(()));
+    declare_pass(
+        &mut fg,
+        "fine",
+        None,
+        &[],
+        &[("fine", target())],
+        |_| Ok(()),
+    );
     fg.request("fine");
     let (report, _) = fg.execute(&renderer).expect("executes");
     assert!(report.errors.is_empty(), "{:?}", report.errors);
@@ -581,7 +598,7 @@ fn requested_textures_can_be_copied_and_sampled() {
         usage: wgpu::TextureUsages::STORAGE_BINDING,
         ..target()
     };
-    fg.add_pass("bare", None, &[], &[("bare", bare)], |_| Ok(()));
+    declare_pass(&mut fg, "bare", None, &[], &[("bare", bare)], |_| Ok(()));
     fg.request("bare");
     let planned = fg.planned("bare").expect("planned");
     assert!(
