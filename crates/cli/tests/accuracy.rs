@@ -513,11 +513,20 @@ fn post_every_effect_is_timed_and_its_quality_trades_error_as_stated() {
             "rmse",
         )
     };
+    // FXAA at any quality is nearer the supersampled frame than none:
+    // 0.0270 / 0.0267 / 0.0254 against 0.0285.
     let off = rmse("FXAA", "off (one sample)");
     for quality in ["Low", "Medium", "High"] {
         assert!(rmse("FXAA", quality) < off, "FXAA {quality}");
     }
+    // 25 motion-blur samples against 5: 0.0072 against 0.0086 at this size,
+    // with 16 views as with 64. (At 160x90 docs/post.md measures it flat.)
     assert!(rmse("MotionBlur", "25 samples") < rmse("MotionBlur", "5 samples"));
+    // Half DOF is further from the many-views reference than Full: 0.0229
+    // against 0.0196 at every sample count. (DOF's own convergence with
+    // samples, 0.0133 -> 0.0112 at 160x90, is flat here, within 0.3%: the
+    // blur spans few pixels at 96x54. Not checked; neither is TAA's Low
+    // being nearest, 1% apart after 4 frames.)
     for samples in [8, 16, 32, 64] {
         let full = rmse("DOF", &format!("{samples} samples"));
         let half = rmse("DOF", &format!("{samples} samples, half"));
