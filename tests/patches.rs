@@ -69,7 +69,7 @@ fn evaluates_cleanly_for_120_frames(path: &std::path::Path) {
         // Patches with GPU nodes render at a small size on the test GPU (lavapipe in CI).
         let renderer = spreadlight_render::renderer::test_renderer();
         renderer.set_output_size((64, 36));
-        rt.provide(renderer.clone());
+        spreadlight_nodes::gpu::provide_renderer(&mut rt, renderer.clone());
         let images = std::sync::Arc::new(spreadlight_nodes::output::RenderedImages::default());
         rt.provide(images.clone());
         let problems = rt.load(&patch).to_vec();
@@ -579,4 +579,160 @@ fn the_skinning_benchmark_deforms_100_instances_in_one_dispatch_a_frame() {
             .any(|v| v.previous_position[..3] != v.position_u[..3]),
         "the sway moved the tube since last frame"
     );
+}
+
+/// An image file of the repository, as a pin value.
+fn tiles() -> Vec<String> {
+    vec![
+        spreadlight_tests::root()
+            .join("patches/assets/tiles.png")
+            .display()
+            .to_string(),
+    ]
+}
+
+/// The node type that makes a resource of `kind` for a node under test,
+/// when one is needed to give it something to work on: a sphere's G-buffer
+/// with a subsurface material, a lit point, the sky's environment, an image
+/// file. New node types are covered by the kinds of their inputs, not by name.
+fn provider(kind: spreadlight_graph::ResourceKind) -> Option<spreadlight_graph::NodeDoc> {
+    use spreadlight_graph::{NodeDoc, ResourceKind as K};
+    let node = |name: &str| Some(NodeDoc::new(0, name));
+    match kind {
+        K::Mesh => node("Sphere"),
+        K::Layer => node("DeferredBase"),
+        K::GBuffer => node("MRE"),
+        K::Texture => Some(NodeDoc::new(0, "FileTexture").with("Filename", tiles())),
+        K::Environment => node("Environment (Sky)"),
+        K::PointLights => node("AddLight (Point)"),
+        K::SpotLights => node("AddLight (Spot)"),
+        K::SunLights => node("AddLight (Sun)"),
+        K::LightWorld => node("PointLightBuffer"),
+        // Subsurface: so CookTorrance's SSS output is not empty.
+        K::Material => node("AddFakeSSS"),
+        K::MaterialWorld => node("MaterialBuffer"),
+        // Optional inputs whose absence the nodes handle.
+        K::Shadows | K::Buffer => None,
+    }
+}
+
+/// The node under test, with what it needs beyond its defaults to make a
+/// texture at all (an image file's name).
+fn under_test(name: &str) -> spreadlight_graph::NodeDoc {
+    let node = spreadlight_graph::NodeDoc::new(0, name);
+    match name {
+        "FileTexture" => node.with("Filename", tiles()),
+        "FileTexture (Array)" => node.with("Filenames", tiles()),
+        _ => node,
+    }
+}
+
+/// Add node `doc` to `patch` as the next id, with a provider linked into
+/// its resource inputs (and theirs, down to `depth`). The node under test
+/// (`provided` false) gets every resource input fed; a provider only what
+/// it cannot do without: not optional images (a DeferredBase's colour
+/// texture) and not the chain of its own kind (an AddLight's lights in).
+/// Returns its id.
+fn add_fed(
+    patch: &mut spreadlight_graph::Patch,
+    registry: &spreadlight_graph::Registry,
+    doc: spreadlight_graph::NodeDoc,
+    next: &mut u32,
+    (depth, provided): (u32, bool),
+) -> u32 {
+    use spreadlight_graph::{PinType, ResourceKind};
+    let id = *next;
+    *next += 1;
+    let def = registry
+        .get(&doc.type_name)
+        .unwrap_or_else(|| panic!("no node type `{}`", doc.type_name))
+        .clone();
+    patch.add(spreadlight_graph::NodeDoc {
+        id: spreadlight_graph::NodeId(id),
+        ..doc
+    });
+    if depth == 0 {
+        return id;
+    }
+    for input in &def.inputs {
+        let PinType::Resource(kind) = input.ty else {
+            continue;
+        };
+        let own_kind = def.outputs.iter().any(|o| o.ty == input.ty);
+        if provided && (kind == ResourceKind::Texture || own_kind) {
+            continue;
+        }
+        let Some(source) = provider(kind) else {
+            continue;
+        };
+        let source_def = registry.get(&source.type_name).expect("provider").clone();
+        let from = add_fed(patch, registry, source, next, (depth - 1, true));
+        let output = source_def
+            .outputs
+            .iter()
+            .find(|o| o.ty == input.ty)
+            .expect("a provider outputs its kind");
+        patch.link(from, &output.name, id, &input.name);
+    }
+    id
+}
+
+/// Every texture a node can output can be read by a sink: each texture
+/// output pin of every node type in the registry (enumerated by pin type,
+/// so new types are covered), linked straight into an `Output`, with its
+/// inputs fed, renders at a small size without a node error, a pass error
+/// or a GPU error (a `FileTexture` into an `Output` was a wgpu validation
+/// error, a panic: the file's texture could not be copied).
+#[test]
+fn every_texture_output_renders_straight_into_an_output() {
+    use spreadlight_graph::{PinType, ResourceKind};
+    let registry = spreadlight_nodes::registry();
+    let texture = PinType::Resource(ResourceKind::Texture);
+    let renderer = spreadlight_render::renderer::test_renderer();
+    renderer.set_output_size((32, 18));
+    let mut failures = Vec::new();
+    let mut tried = 0;
+    for def in registry.iter().filter(|d| !d.sink) {
+        for pin in def.outputs.iter().filter(|p| p.ty == texture) {
+            tried += 1;
+            let mut patch = spreadlight_graph::Patch::default();
+            let mut next = 1;
+            let id = add_fed(
+                &mut patch,
+                &registry,
+                under_test(&def.name),
+                &mut next,
+                (4, false),
+            );
+            patch.add(spreadlight_graph::NodeDoc::new(next, "Output"));
+            patch.link(id, &pin.name, next, "Texture");
+            let mut rt = Runtime::new(spreadlight_nodes::registry());
+            spreadlight_nodes::gpu::provide_renderer(&mut rt, renderer.clone());
+            let images = std::sync::Arc::new(spreadlight_nodes::output::RenderedImages::default());
+            rt.provide(images.clone());
+            let problems = rt.load(&patch).to_vec();
+            assert!(problems.is_empty(), "{}: {problems:?}", def.name);
+            let what = format!("`{}`.`{}`", def.name, pin.name);
+            // Two frames: temporal nodes read their history in the second.
+            for frame in 0..2 {
+                rt.evaluate(FrameClock::fixed(frame, 60.0));
+                let mut errors: Vec<String> = rt
+                    .node_errors()
+                    .map(|(id, e)| format!("node {id}: {e}"))
+                    .collect();
+                errors.extend(renderer.last_errors().into_iter().map(|(_, e)| e));
+                errors.extend(renderer.gpu.take_uncaptured_errors());
+                if !errors.is_empty() {
+                    failures.push(format!("{what} frame {frame}: {}", errors.join("; ")));
+                }
+            }
+            match images.get("output") {
+                Some((image, _)) if image.all_finite() && !image.pixels.is_empty() => {}
+                Some(_) => failures.push(format!("{what}: not finite")),
+                None => failures.push(format!("{what}: no image read back")),
+            }
+        }
+    }
+    assert!(tried >= 30, "only {tried} texture outputs found");
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
 }

@@ -51,7 +51,7 @@ pub fn render_patch(
     rt.provide(patch_dir(path));
     let renderer = spreadlight_render::renderer::test_renderer();
     renderer.set_output_size(size);
-    rt.provide(renderer);
+    spreadlight_nodes::gpu::provide_renderer(&mut rt, renderer);
     let images = std::sync::Arc::new(spreadlight_nodes::output::RenderedImages::default());
     rt.provide(images.clone());
     let problems = rt.load(&patch).to_vec();

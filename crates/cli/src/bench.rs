@@ -50,6 +50,11 @@ pub struct Args {
     /// Record the frame in one command encoder (`batched`, as the CLI and editor do) or each pass in its own (`isolated`).
     #[arg(long, default_value = "batched", value_parser = ["isolated", "batched"])]
     recording: String,
+    /// Run a patch even though an unknown node type (misspelled, or a shader
+    /// or subpatch file that is missing) feeds its Output or a Probe: that
+    /// node's work is left out. Without it such a patch is an error.
+    #[arg(long)]
+    pub allow_unknown: bool,
 }
 
 /// One pass of the frame, in order, with its median.
@@ -211,7 +216,14 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
     for set in &args.sets {
         apply_set(&mut patch, set)?;
     }
-    let mut session = Session::build(&patch, &args.patch, true, Some(args.size), false)?;
+    let mut session = Session::build(
+        &patch,
+        &args.patch,
+        true,
+        Some(args.size),
+        false,
+        args.allow_unknown,
+    )?;
     if session.load_errors {
         bail!("the patch has errors (above); fix them before timing it");
     }

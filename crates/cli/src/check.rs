@@ -15,6 +15,12 @@ pub struct Args {
     /// Count warnings (e.g. unknown node types kept as placeholders) as errors.
     #[arg(long)]
     deny_warnings: bool,
+    /// Pass a patch even though an unknown node type (misspelled, or a shader
+    /// or subpatch file that is missing) feeds its Output or a Probe: as a
+    /// warning, as the editor takes it. Without it such a patch is an error,
+    /// as `render` would refuse it.
+    #[arg(long)]
+    pub allow_unknown: bool,
 }
 
 pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
@@ -40,8 +46,10 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
                 let library = Library::beside(file.parent().unwrap_or(Path::new("")));
                 let network = Network::compile_with(&patch, &registry, &library);
                 for problem in network.problems() {
-                    println!("{}", problem.located(file));
-                    match problem.severity {
+                    let (severity, line) =
+                        crate::session::headless_problem(problem, file, args.allow_unknown);
+                    println!("{line}");
+                    match severity {
                         Severity::Error => errors += 1,
                         Severity::Warning => warnings += 1,
                     }

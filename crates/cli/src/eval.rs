@@ -29,6 +29,11 @@ pub struct Args {
     /// How many slices of each spread the text output shows.
     #[arg(long, default_value_t = 8)]
     slices: usize,
+    /// Run a patch even though an unknown node type (misspelled, or a shader
+    /// or subpatch file that is missing) feeds its Output or a Probe: that
+    /// node's work is left out. Without it such a patch is an error.
+    #[arg(long)]
+    pub allow_unknown: bool,
 }
 
 fn positive_fps(s: &str) -> Result<f64, String> {
@@ -47,7 +52,7 @@ struct FrameReport<'a> {
 }
 
 pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
-    let mut session = Session::open(&args.patch, false, None)?;
+    let mut session = Session::open(&args.patch, false, None, args.allow_unknown)?;
     let mut failed = session.load_errors;
     let wanted: BTreeSet<&str> = args.probes.iter().map(String::as_str).collect();
     // Errors are reported when they appear, not on every frame they persist.

@@ -7,7 +7,8 @@ use std::sync::Arc;
 use anyhow::Context;
 use spreadlight_graph::subpatch::Library;
 use spreadlight_graph::{
-    FrameClock, Memory, Network, NodeId, Patch, Registry, Runtime, Severity, format,
+    FrameClock, Memory, Network, NodeId, Patch, Problem, ProblemKind, Registry, Runtime, Severity,
+    format,
 };
 use spreadlight_nodes::gpu::GPU_CATEGORIES;
 use spreadlight_nodes::output::RenderedImages;
@@ -20,6 +21,35 @@ pub struct Session {
     pub images: Arc<RenderedImages>,
     /// Whether loading reported errors (they are printed already).
     pub load_errors: bool,
+}
+
+/// A load problem as a headless command reports it: its line, and its
+/// severity there. An unknown node type is kept as a placeholder that
+/// outputs nothing; one that feeds a sink (an Output, a Probe) would let the
+/// command succeed without that node's work (a misspelled `CookTorance`
+/// renders the frame unlit), so here it is an error unless `allow_unknown`.
+/// The editor keeps it a warning: there a type may be half written. For a
+/// shader node type the line names the file that would make it and the
+/// folders searched.
+pub fn headless_problem(problem: &Problem, path: &Path, allow_unknown: bool) -> (Severity, String) {
+    let mut severity = problem.severity;
+    let mut note = String::new();
+    if let ProblemKind::UnknownNodeType { feeds, .. } = &problem.kind {
+        if let Some(missing) = ShaderLibrary::for_patch(Some(path)).missing_file(&problem.node_type)
+        {
+            note = format!("; {missing}");
+        }
+        if feeds.is_some() && !allow_unknown {
+            severity = Severity::Error;
+            note.push_str(" (--allow-unknown runs the patch without it)");
+        }
+    }
+    let line = Problem {
+        severity,
+        ..problem.clone()
+    }
+    .located(path);
+    (severity, line + &note)
 }
 
 /// Whether any node of the patch, or of a subpatch in it, needs a GPU
@@ -60,9 +90,15 @@ pub fn registry_for(path: Option<&Path>) -> (Registry, Vec<String>) {
 
 impl Session {
     /// Load `path`; open a GPU if the patch needs one or `force_gpu` says so.
-    pub fn open(path: &Path, force_gpu: bool, size: Option<(u32, u32)>) -> anyhow::Result<Self> {
+    /// `allow_unknown`: see [`headless_problem`].
+    pub fn open(
+        path: &Path,
+        force_gpu: bool,
+        size: Option<(u32, u32)>,
+        allow_unknown: bool,
+    ) -> anyhow::Result<Self> {
         let patch = format::load(path)?;
-        Self::from_patch(&patch, path, force_gpu, size)
+        Self::build(&patch, path, force_gpu, size, true, allow_unknown)
     }
 
     pub fn from_patch(
@@ -71,7 +107,7 @@ impl Session {
         force_gpu: bool,
         size: Option<(u32, u32)>,
     ) -> anyhow::Result<Self> {
-        Self::build(patch, path, force_gpu, size, true)
+        Self::build(patch, path, force_gpu, size, true, false)
     }
 
     /// `capture`: whether Output nodes read their images back for the host (a benchmark does not).
@@ -81,6 +117,7 @@ impl Session {
         force_gpu: bool,
         size: Option<(u32, u32)>,
         capture: bool,
+        allow_unknown: bool,
     ) -> anyhow::Result<Self> {
         let (registry, shader_errors) = registry_for(Some(path));
         for error in &shader_errors {
@@ -102,17 +139,28 @@ impl Session {
             // recording pass by pass, which names the pass.
             renderer.set_recording(spreadlight_render::renderer::Recording::Batched);
             if let Some(size) = size {
+                // Past the adapter's largest texture nothing could render: say so before any work.
+                let max = renderer.gpu.device.limits().max_texture_dimension_2d;
+                if size.0 > max || size.1 > max {
+                    anyhow::bail!(
+                        "--size {}x{} is past the adapter's limit max_texture_dimension_2d ({max}) on {}",
+                        size.0,
+                        size.1,
+                        renderer.gpu.adapter_name()
+                    );
+                }
                 renderer.set_output_size(size);
             }
-            runtime.provide(renderer.clone());
+            spreadlight_nodes::gpu::provide_renderer(&mut runtime, renderer.clone());
             Some(renderer)
         } else {
             None
         };
         let mut load_errors = !shader_errors.is_empty();
         for problem in runtime.load(patch) {
-            eprintln!("{}", problem.located(path));
-            load_errors |= problem.severity == Severity::Error;
+            let (severity, line) = headless_problem(problem, path, allow_unknown);
+            eprintln!("{line}");
+            load_errors |= severity == Severity::Error;
         }
         Ok(Session {
             runtime,

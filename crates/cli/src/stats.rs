@@ -18,10 +18,15 @@ pub struct Args {
     /// Print JSON instead of text.
     #[arg(long)]
     json: bool,
+    /// Run a patch even though an unknown node type (misspelled, or a shader
+    /// or subpatch file that is missing) feeds its Output or a Probe: that
+    /// node's work is left out. Without it such a patch is an error.
+    #[arg(long)]
+    pub allow_unknown: bool,
 }
 
 pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
-    let mut session = Session::open(&args.patch, false, Some(args.size))?;
+    let mut session = Session::open(&args.patch, false, Some(args.size), args.allow_unknown)?;
     let mut reported = BTreeSet::new();
     let mut failed = session.load_errors;
     for frame in 0..args.frames.max(1) {

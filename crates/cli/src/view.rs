@@ -286,6 +286,21 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
     for warning in &scene.warnings {
         eprintln!("{}: {warning}", args.model.display());
     }
+    // An image of the sky alone would look like a result: a file none of
+    // whose primitives loaded (points and lines only, no triangles) is an
+    // error, with the warnings above saying what was skipped.
+    if scene.instances.is_empty() {
+        let why = if scene.meshes.is_empty() {
+            "no primitive of the file loaded as triangles (the warnings above say what was skipped)"
+                .to_owned()
+        } else {
+            format!(
+                "the loaded scene places none of its {} triangle mesh(es) (no node of it refers to one)",
+                scene.meshes.len()
+            )
+        };
+        anyhow::bail!("{}: nothing to show: {why}", args.model.display());
+    }
     let radius = scene.bounds.size().length() * 0.5;
     let aspect = args.size.0 as f32 / args.size.1 as f32;
     let (view, projection) = match scene.cameras.first() {

@@ -89,6 +89,287 @@ fn a_warning_alone_passes_unless_warnings_are_denied() {
     );
 }
 
+/// The G-buffer of a sphere, lit by a misspelled `CookTorance`, into an
+/// Output: the placeholder drops the lighting the Output was wired for.
+const MISSPELLED: &str = r#"(version: 1, nodes: [
+    (id: 1, type: "Sphere"),
+    (id: 2, type: "DeferredBase"),
+    (id: 3, type: "MRE"),
+    (id: 4, type: "CookTorance"),
+    (id: 5, type: "Output"),
+], links: [
+    (from: (1, "Mesh"), to: (2, "Mesh")),
+    (from: (2, "Layer"), to: (3, "Layer")),
+    (from: (3, "G-Buffer"), to: (4, "G-Buffer")),
+    (from: (4, "Diffuse"), to: (5, "Texture")),
+])"#;
+
+/// A misspelled type kept as a placeholder is fine in the editor, but
+/// headless it would render the frame without its work: `check` and
+/// `render` fail, suggesting the known name, unless `--allow-unknown`.
+#[test]
+fn a_misspelled_type_that_feeds_an_output_fails_check_and_render_unless_allowed() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let patch = dir.path().join("misspelled.ron");
+    std::fs::write(&patch, MISSPELLED).expect("write");
+    let patch = patch.to_str().expect("utf-8");
+    let image = dir.path().join("out.png");
+    let image = image.to_str().expect("utf-8");
+    let expected = "error: PATCH: node #4 `CookTorance`: unknown node type (did you mean `CookTorrance`?); \
+        kept as a placeholder with its values and links (saved back unchanged), outputs nothing, \
+        so `Output` #5, which it feeds, runs without its work (--allow-unknown runs the patch without it)"
+        .replace("PATCH", patch);
+
+    let out = spreadlight(&["check", patch]);
+    assert_eq!(out.status.code(), Some(1), "{}", text(&out.stderr));
+    assert!(
+        text(&out.stdout).contains(&expected),
+        "{}",
+        text(&out.stdout)
+    );
+    let out = spreadlight(&["check", "--allow-unknown", patch]);
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stdout));
+    assert!(
+        text(&out.stdout).starts_with("warning: "),
+        "{}",
+        text(&out.stdout)
+    );
+
+    // render: bad input, nothing rendered.
+    let out = spreadlight(&["render", patch, "-o", image, "--size", "32x18"]);
+    assert_eq!(out.status.code(), Some(2), "{}", text(&out.stderr));
+    assert!(
+        text(&out.stderr).contains(&expected),
+        "{}",
+        text(&out.stderr)
+    );
+    assert!(!Path::new(image).exists());
+    // Allowed, it runs; the Output's error names the placeholder as the cause.
+    let out = spreadlight(&[
+        "render",
+        "--allow-unknown",
+        patch,
+        "-o",
+        image,
+        "--size",
+        "32x18",
+    ]);
+    let stderr = text(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains(
+            "node #5: input `Texture`: no texture connected (it is linked from node #4 `CookTorance`, \
+             an unknown node type that outputs nothing)"
+        ),
+        "{stderr}"
+    );
+
+    // A placeholder that feeds no sink drops nothing anyone asked for: a warning.
+    assert_eq!(
+        spreadlight(&["check", "patches/bad/21-unknown-node-type.ron"])
+            .status
+            .code(),
+        Some(0)
+    );
+}
+
+/// A shader node whose file is missing names the file that would make it
+/// and every folder searched, where the next node used to say only that no
+/// texture is connected.
+#[test]
+fn a_shader_node_without_its_file_names_the_file_and_the_folders_searched() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let library = tempfile::tempdir().expect("tempdir");
+    let patch = dir.path().join("shaded.ron");
+    std::fs::write(
+        &patch,
+        r#"(version: 1, nodes: [(id: 1, type: "WarpSpeed (Shader)"), (id: 2, type: "Output")],
+            links: [(from: (1, "Texture"), to: (2, "Texture"))])"#,
+    )
+    .expect("write");
+    let out = Command::new(env!("CARGO_BIN_EXE_spreadlight"))
+        .args(["check", patch.to_str().expect("utf-8")])
+        .env("SPREADLIGHT_SHADERS", library.path())
+        .output()
+        .expect("runs");
+    let stdout = text(&out.stdout);
+    assert_eq!(out.status.code(), Some(1), "{stdout}");
+    let folder = |p: &Path| format!("`{}`", p.display());
+    for part in [
+        "node #1 `WarpSpeed (Shader)`: unknown node type".to_owned(),
+        "no shader file makes it: `warp_speed.wgsl`".to_owned(),
+        folder(library.path()),
+        folder(&dir.path().join("shaders")),
+        "examples built in (shaders/nodes/)".to_owned(),
+    ] {
+        assert!(stdout.contains(&part), "`{part}` missing from: {stdout}");
+    }
+}
+
+/// Every size the CLI accepts renders or fails, fast and with a message
+/// naming the limit it exceeds, before allocating: 16384x16384 (the largest
+/// `--size` takes) on a patch of one shader node panicked in wgpu's default
+/// error handler. Its Rgba16Float image needs a readback buffer of exactly
+/// 2 GiB: one byte past lavapipe's largest, so in CI it fails fast; an
+/// adapter with larger buffers renders it. One past the CLI's own limit is
+/// a usage error naming the range.
+#[test]
+fn the_largest_accepted_size_renders_or_fails_fast_naming_the_limit() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let patch = dir.path().join("noise.ron");
+    std::fs::write(
+        &patch,
+        r#"(version: 1, nodes: [(id: 1, type: "Noise (Shader)"), (id: 2, type: "Output")],
+            links: [(from: (1, "Texture"), to: (2, "Texture"))])"#,
+    )
+    .expect("write");
+    let patch = patch.to_str().expect("utf-8");
+    let image = dir.path().join("big.png");
+    let image = image.to_str().expect("utf-8");
+    let out = spreadlight(&["render", patch, "-o", image, "--size", "16384x16384"]);
+    let stderr = text(&out.stderr);
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    let gpu = spreadlight_render::GpuContext::headless().expect("a GPU adapter");
+    let limits = gpu.device.limits();
+    let readback = 16384u64 * 8 * 16384;
+    if limits.max_texture_dimension_2d < 16384 {
+        assert_eq!(out.status.code(), Some(1), "{stderr}");
+        assert!(
+            stderr.contains(&format!(
+                "--size 16384x16384 is past the adapter's limit max_texture_dimension_2d ({})",
+                limits.max_texture_dimension_2d
+            )),
+            "{stderr}"
+        );
+    } else if readback > limits.max_buffer_size {
+        assert_eq!(out.status.code(), Some(1), "{stderr}");
+        assert!(
+            stderr.contains(&format!(
+                "node #2: the readback of the Output's texture (16384x16384 Rgba16Float: a \
+                 {readback}-byte buffer) is past the adapter's limit max_buffer_size ({})",
+                limits.max_buffer_size
+            )),
+            "{stderr}"
+        );
+        assert!(!Path::new(image).exists());
+    } else {
+        assert_eq!(out.status.code(), Some(0), "{stderr}");
+        let written = image::image_dimensions(image).expect("the image");
+        assert_eq!(written, (16384, 16384));
+    }
+
+    let out = spreadlight(&["render", patch, "-o", image, "--size", "16385x16384"]);
+    assert_eq!(out.status.code(), Some(2), "{}", text(&out.stderr));
+    assert!(
+        text(&out.stderr).contains("width and height must be whole numbers from 1 to 16384"),
+        "{}",
+        text(&out.stderr)
+    );
+}
+
+/// The issue's two-node patch: an image file straight into an Output.
+/// `render` and `stats` panicked on a wgpu validation error (the file's
+/// texture could not be copied for the readback); now it renders the file.
+#[test]
+fn an_image_file_straight_into_an_output_renders() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let tiles = root().join("patches/assets/tiles.png");
+    let patch = dir.path().join("file.ron");
+    std::fs::write(
+        &patch,
+        format!(
+            r#"(version: 1, nodes: [
+                (id: 1, type: "FileTexture", values: {{"Filename": String(["{}"])}}),
+                (id: 2, type: "Output")],
+                links: [(from: (1, "Texture"), to: (2, "Texture"))])"#,
+            tiles.display()
+        ),
+    )
+    .expect("write");
+    let patch = patch.to_str().expect("utf-8");
+    let out = dir.path().join("out.png");
+    let (width, height) = image::image_dimensions(&tiles).expect("tiles.png");
+    let size = format!("{width}x{height}");
+    let o = spreadlight(&[
+        "render",
+        patch,
+        "-o",
+        out.to_str().expect("utf-8"),
+        "--size",
+        &size,
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+    let want = image::open(&tiles).expect("tiles").to_rgba8();
+    let got = image::open(&out).expect("written").to_rgba8();
+    assert_eq!(got.dimensions(), want.dimensions());
+    // sRGB decoded on upload, encoded on write: the file's own pixels, within rounding.
+    let worst = want
+        .pixels()
+        .zip(got.pixels())
+        .flat_map(|(a, b)| (0..3).map(move |c| (i32::from(a[c]) - i32::from(b[c])).abs()))
+        .max();
+    assert!(worst.is_some_and(|w| w <= 1), "{worst:?}");
+    let o = spreadlight(&["stats", patch, "--size", &size]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+}
+
+/// Accuracy images go into a folder named for the effect, inside
+/// `accuracy-images/` (ignored by git) when `--images` names no folder:
+/// never loose in the current folder, as 85 of them once were in `1/`.
+#[test]
+fn accuracy_images_go_under_a_folder_named_for_the_effect() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let out = Command::new(env!("CARGO_BIN_EXE_spreadlight"))
+        .args([
+            "accuracy",
+            "ao",
+            "--time-size",
+            "16x16",
+            "--error-size",
+            "16x9",
+            "--warmup",
+            "0",
+            "--frames",
+            "1",
+            "--samples",
+            "4",
+            "--resolutions",
+            "full",
+            "--rays",
+            "4",
+            "--settle",
+            "1",
+            "--images",
+        ])
+        .current_dir(dir.path())
+        .output()
+        .expect("runs");
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    let listing = |path: &Path| -> Vec<String> {
+        let mut names: Vec<String> = std::fs::read_dir(path)
+            .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+            .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
+            .collect();
+        names.sort();
+        names
+    };
+    assert_eq!(listing(dir.path()), ["accuracy-images"]);
+    assert_eq!(listing(&dir.path().join("accuracy-images")), ["ao"]);
+    // The reference, and each estimator with temporal off and on.
+    assert_eq!(
+        listing(&dir.path().join("accuracy-images/ao")),
+        [
+            "HBAO-4-Full.png",
+            "HBAO-4-temporal-Full.png",
+            "SAO-4-Full.png",
+            "SAO-4-temporal-Full.png",
+            "Stochastic-4-Full.png",
+            "Stochastic-4-temporal-Full.png",
+            "reference.png",
+        ]
+    );
+}
+
 #[test]
 fn a_missing_file_is_named() {
     let out = spreadlight(&["check", "patches/no-such-patch.ron"]);

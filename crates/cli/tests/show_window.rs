@@ -193,7 +193,8 @@ fn resizing_both_windows_while_the_showcase_plays_keeps_the_editor_running() {
 
 /// `spreadlight play --native`: the window takes the Output texture's own
 /// pixel size (a 200x120 image file) instead of its 320x180, and the
-/// screenshot is the image itself, pixel for pixel.
+/// screenshot is the image itself, pixel for pixel. Without `--native` the
+/// screenshot comes as soon as the image is shown.
 #[test]
 fn play_native_sizes_the_window_to_the_texture_one_to_one() {
     let x = Xvfb::start();
@@ -252,6 +253,40 @@ fn play_native_sizes_the_window_to_the_texture_one_to_one() {
         source.get_pixel(10, 10),
         image.get_pixel(150, 100),
         source.get_pixel(150, 100)
+    );
+
+    // Not native: the window keeps its size and shows the image in it. The
+    // screenshot waited for the image to be the viewport's size, which an
+    // image file's never is, until its 300 s timeout: thousands of frames.
+    let out = x
+        .spreadlight(dir.path())
+        .arg("play")
+        .arg(&patch)
+        .args(["--size", "320x180", "--measure-frames", "5"])
+        .arg("--screenshot")
+        .arg(&shot)
+        .output()
+        .expect("play runs");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{stdout}{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert_eq!(
+        image::image_dimensions(&shot).expect("a PNG"),
+        (320, 180),
+        "the window's size"
+    );
+    let frames: u64 = stdout
+        .split("\"frames\": ")
+        .nth(1)
+        .and_then(|rest| rest.split(',').next())
+        .and_then(|n| n.parse().ok())
+        .unwrap_or_else(|| panic!("no frame count in {stdout}"));
+    assert!(
+        frames < 500,
+        "{frames} frames before the screenshot: {stdout}"
     );
 }
 

@@ -197,6 +197,51 @@ fn coverage(image: &image::RgbaImage) -> f64 {
     covered as f64 / (image.width() * image.height()) as f64
 }
 
+/// A file whose only primitive is refused (points: no triangles) has
+/// nothing to show: `view` fails naming the file and why, and writes no
+/// image (it used to write the sky alone and exit 0).
+#[test]
+fn a_file_whose_only_primitive_is_refused_fails_and_writes_nothing() {
+    use gltf_json::mesh::{Mode, Semantic};
+    use spreadlight_render::mesh::gltf_import::builder::{mesh_node, primitive};
+    let dir = tempfile::tempdir().expect("tempdir");
+    let mut doc = Doc::new();
+    let points = doc.positions(&[[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]);
+    let mesh = doc.mesh(
+        "Dots",
+        vec![primitive(
+            &[(Semantic::Positions, points)],
+            None,
+            Mode::Points,
+        )],
+    );
+    let node = doc.node(mesh_node(Some(mesh), [0.0; 3], 1.0));
+    doc.scene(vec![node]);
+    let model = dir.path().join("dots.gltf");
+    std::fs::write(&model, doc.gltf_data_uri()).expect("write model");
+    let out = dir.path().join("dots.png");
+    let o = spreadlight(&[
+        "view",
+        model.to_str().expect("utf-8"),
+        "-o",
+        out.to_str().expect("utf-8"),
+        "--size",
+        SIZE,
+    ]);
+    let stderr = text(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains("dots.gltf: nothing to show: no primitive of the file loaded as triangles"),
+        "{stderr}"
+    );
+    // The warning that says which primitive was skipped, and why.
+    assert!(
+        stderr.contains("mesh 0 `Dots`, primitive 0") && stderr.contains("Points"),
+        "{stderr}"
+    );
+    assert!(!out.exists(), "an image was written");
+}
+
 #[test]
 fn mirrored_nodes_turn_their_winding_around() {
     let dir = tempfile::tempdir().expect("tempdir");

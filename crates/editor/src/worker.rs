@@ -112,6 +112,9 @@ impl Request {
 pub struct ViewOut {
     pub target: Option<ViewTarget>,
     pub error: Option<ViewportError>,
+    /// The viewport size it was rendered for. The image itself may have
+    /// another (an image file's texture keeps the file's size).
+    pub for_size: Option<(u32, u32)>,
 }
 
 /// A finished frame: what the UI shows until the next one.
@@ -307,7 +310,7 @@ impl Engine {
         self.runtime = Runtime::new(self.registry.clone());
         self.runtime.provide(self.host.clone());
         if let Some(gpu) = &self.gpu {
-            self.runtime.provide(gpu.renderer.clone());
+            spreadlight_nodes::gpu::provide_renderer(&mut self.runtime, gpu.renderer.clone());
             gpu.renderer.reset_history();
         }
         self.generation = None;
@@ -445,6 +448,7 @@ impl Engine {
                 &mut out.target,
             )
         });
+        out.for_size = Some(want.size);
         match result {
             Ok(report) => {
                 out.error = None;

@@ -139,7 +139,7 @@ fn an_opened_patch_is_fitted_into_the_canvas_and_f_fits_again() {
 /// The window's pixels at the centre of the first viewport, showing a patch
 /// whose Output is a flat PNG of `grey` (sRGB-encoded, as files are).
 fn viewport_centre_showing_a_flat_png(grey: u8) -> image::Rgba<u8> {
-    use spreadlight_graph::{NodeDoc, Patch, format};
+    use spreadlight_graph::{NodeDoc, Patch};
     let dir = tempfile::tempdir().expect("tempdir");
     image::RgbaImage::from_pixel(16, 16, image::Rgba([grey, grey, grey, 255]))
         .save(dir.path().join("grey.png"))
@@ -152,8 +152,14 @@ fn viewport_centre_showing_a_flat_png(grey: u8) -> image::Rgba<u8> {
             .with("Write", vec![false]),
     );
     p.link(1, "Texture", 2, "Texture");
-    let path = dir.path().join("grey.ron");
-    format::save(&p, &path).expect("save");
+    viewport_centre(&p, &dir)
+}
+
+/// The window's pixels at the centre of the first viewport of the editor
+/// on `patch`, saved in `dir`; the viewport must show it without an error.
+fn viewport_centre(patch: &spreadlight_graph::Patch, dir: &tempfile::TempDir) -> image::Rgba<u8> {
+    let path = dir.path().join("patch.ron");
+    spreadlight_graph::format::save(patch, &path).expect("save");
     let options = common::options(Some(path), dir.path().join("config"));
     let mut h = common::editor(options, Vec2::new(1100.0, 700.0));
     h.run_steps(4);
@@ -163,6 +169,38 @@ fn viewport_centre_showing_a_flat_png(grey: u8) -> image::Rgba<u8> {
     let image = h.render().expect("render the window");
     let centre = rect.center() * ppp;
     *image.get_pixel(centre.x as u32, centre.y as u32)
+}
+
+/// A texture array (two image files as layers) shows its first layer: the
+/// viewport's blit samples one 2D layer, where a default view of the array
+/// was an array view the blit could not bind (a GPU validation error).
+#[test]
+fn a_texture_array_shows_its_first_layer() {
+    use spreadlight_graph::{NodeDoc, Patch};
+    let dir = tempfile::tempdir().expect("tempdir");
+    for (name, grey) in [("dark.png", 40u8), ("light.png", 230)] {
+        image::RgbaImage::from_pixel(16, 16, image::Rgba([grey, grey, grey, 255]))
+            .save(dir.path().join(name))
+            .expect("png");
+    }
+    let mut p = Patch::default();
+    p.add(NodeDoc::new(1, "FileTexture (Array)").with(
+        "Filenames",
+        vec!["dark.png".to_owned(), "light.png".to_owned()],
+    ));
+    p.add(
+        NodeDoc::new(2, "Output")
+            .at(120.0, 0.0)
+            .with("Write", vec![false]),
+    );
+    p.link(1, "Texture", 2, "Texture");
+    let centre = viewport_centre(&p, &dir);
+    for c in &centre.0[..3] {
+        assert!(
+            (i32::from(*c) - 40).abs() <= 3,
+            "layer 0 shows as {centre:?}"
+        );
+    }
 }
 
 #[test]

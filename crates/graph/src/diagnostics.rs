@@ -19,7 +19,17 @@ pub enum Severity {
 
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub enum ProblemKind {
-    UnknownNodeType,
+    /// A type this build does not know: the node is kept as a placeholder
+    /// that outputs nothing (the editor needs it so while a type is being
+    /// written or a file is missing).
+    UnknownNodeType {
+        /// The known type whose name is nearest, when near enough to be a slip.
+        suggestion: Option<String>,
+        /// A sink the placeholder feeds, directly or through other nodes:
+        /// what it makes lacks the placeholder's work. Headless commands
+        /// refuse such a patch (`spreadlight render --allow-unknown` takes it).
+        feeds: Option<FedSink>,
+    },
     DuplicateNodeId,
     LinkFromMissingNode {
         link: String,
@@ -73,6 +83,22 @@ pub enum ProblemKind {
     },
 }
 
+/// The sink an unknown node's work was meant for.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct FedSink {
+    /// Where the sink sits: the subpatch nodes around it, then its own id.
+    pub path: Vec<NodeId>,
+    pub node_type: String,
+}
+
+impl fmt::Display for FedSink {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "`{}` ", self.node_type)?;
+        let parts: Vec<String> = self.path.iter().map(NodeId::to_string).collect();
+        f.write_str(&parts.join(" > "))
+    }
+}
+
 /// One problem, located on a node (and a pin where one is involved).
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Problem {
@@ -106,10 +132,19 @@ impl fmt::Display for ProblemKind {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         use ProblemKind::*;
         match self {
-            UnknownNodeType => write!(
-                f,
-                "unknown node type; kept as a placeholder with its values and links (saved back unchanged), outputs nothing"
-            ),
+            UnknownNodeType { suggestion, feeds } => {
+                f.write_str("unknown node type")?;
+                if let Some(known) = suggestion {
+                    write!(f, " (did you mean `{known}`?)")?;
+                }
+                f.write_str(
+                    "; kept as a placeholder with its values and links (saved back unchanged), outputs nothing",
+                )?;
+                if let Some(sink) = feeds {
+                    write!(f, ", so {sink}, which it feeds, runs without its work")?;
+                }
+                Ok(())
+            }
             DuplicateNodeId => write!(
                 f,
                 "another node already has this id; this one is left out of evaluation"

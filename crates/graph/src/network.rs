@@ -53,6 +53,9 @@ pub struct Network {
     by_path: HashMap<Vec<NodeId>, usize>,
     /// The flat `Outlet` (by index) behind each output pin of each subpatch instance.
     instance_outputs: HashMap<(Vec<NodeId>, String), usize>,
+    /// The placeholder (by index) linked into (node index, input): that
+    /// input gets an empty spread, and an error about it says why.
+    fed_by_unknown: HashMap<(usize, usize), usize>,
 }
 
 /// What flattening adds to a compile: typed IOBoxes and the links' own texts.
@@ -87,6 +90,7 @@ impl Network {
             registry,
             extras,
             problems: Vec::new(),
+            placeholder_links: Vec::new(),
         }
         .run()
     }
@@ -153,6 +157,12 @@ impl Network {
         &self.problems
     }
 
+    /// The unknown-type node (by index) linked into input `input` of node
+    /// `index`, if one is: why that input is empty.
+    pub fn fed_by_unknown(&self, index: usize, input: usize) -> Option<usize> {
+        self.fed_by_unknown.get(&(index, input)).copied()
+    }
+
     pub fn has_errors(&self) -> bool {
         self.problems.iter().any(|p| p.severity == Severity::Error)
     }
@@ -208,6 +218,9 @@ struct Compiler<'a> {
     registry: &'a Registry,
     extras: &'a CompileExtras<'a>,
     problems: Vec<Problem>,
+    /// (node, input, placeholder) by document index: inputs linked from an
+    /// unknown type, which get an empty spread instead.
+    placeholder_links: Vec<(usize, usize, usize)>,
 }
 
 impl Compiler<'_> {
@@ -263,6 +276,8 @@ impl Compiler<'_> {
         }
 
         let mut defs: Vec<Option<Arc<NodeDef>>> = vec![None; patch.nodes.len()];
+        // (document index, index of its problem) of each unknown-type node.
+        let mut placeholders = Vec::new();
         let mut inputs: Vec<Vec<InputSource>> = vec![Vec::new(); patch.nodes.len()];
         for &i in &included {
             let node = &patch.nodes[i];
@@ -279,13 +294,27 @@ impl Compiler<'_> {
                     inputs[i] = self.constant_inputs(i, def);
                     defs[i] = Some(def.clone());
                 }
-                None => self.problem(
-                    Severity::Warning,
-                    Some(i),
-                    node.id,
-                    None,
-                    ProblemKind::UnknownNodeType,
-                ),
+                None => {
+                    placeholders.push((i, self.problems.len()));
+                    let suggestion = self.registry.nearest(&node.type_name).map(str::to_owned);
+                    self.problem(
+                        Severity::Warning,
+                        Some(i),
+                        node.id,
+                        None,
+                        ProblemKind::UnknownNodeType {
+                            suggestion,
+                            feeds: None,
+                        },
+                    );
+                }
+            }
+        }
+        // Which sink each placeholder's work was meant for (known once every type is).
+        for (i, problem) in placeholders {
+            let sink = fed_sink(patch, &by_id, &defs, i);
+            if let ProblemKind::UnknownNodeType { feeds, .. } = &mut self.problems[problem].kind {
+                *feeds = sink;
             }
         }
 
@@ -313,6 +342,12 @@ impl Compiler<'_> {
             })
             .collect();
         let index = nodes.iter().enumerate().map(|(k, n)| (n.id, k)).collect();
+        let fed_by_unknown = self
+            .placeholder_links
+            .iter()
+            .map(|&(to, k, from)| ((net_index[to], k), net_index[from]))
+            .filter(|&((to, _), from)| to != usize::MAX && from != usize::MAX)
+            .collect();
         let needed = needed_nodes(&nodes);
         let paths = nodes.iter().map(|n| vec![n.id]).collect();
         let by_path = nodes
@@ -328,6 +363,7 @@ impl Compiler<'_> {
             paths,
             by_path,
             instance_outputs: HashMap::new(),
+            fed_by_unknown,
         }
     }
 
@@ -450,6 +486,7 @@ impl Compiler<'_> {
                 if let (Some(def), Some(k)) = (&to_def, input) {
                     inputs[to][k] =
                         InputSource::Constant(Arc::new(Spread::empty(def.inputs[k].ty)));
+                    self.placeholder_links.push((to, k, from));
                 }
                 continue;
             };
@@ -597,6 +634,38 @@ impl Compiler<'_> {
             .collect();
         (postorder, edges)
     }
+}
+
+/// The sink nearest downstream of the node at document index `start`,
+/// following the document's links (a placeholder's links never reach the
+/// network, which replaces them by empty inputs): where its work was going.
+fn fed_sink(
+    patch: &Patch,
+    by_id: &HashMap<NodeId, usize>,
+    defs: &[Option<Arc<NodeDef>>],
+    start: usize,
+) -> Option<crate::diagnostics::FedSink> {
+    let mut seen = HashSet::from([start]);
+    let mut queue = std::collections::VecDeque::from([start]);
+    while let Some(from) = queue.pop_front() {
+        let id = patch.nodes[from].id;
+        for link in patch.links.iter().filter(|l| l.from.node() == id) {
+            let Some(&to) = by_id.get(&link.to.node()) else {
+                continue;
+            };
+            if !seen.insert(to) {
+                continue;
+            }
+            if defs[to].as_ref().is_some_and(|d| d.sink) {
+                return Some(crate::diagnostics::FedSink {
+                    path: vec![patch.nodes[to].id],
+                    node_type: patch.nodes[to].type_name.clone(),
+                });
+            }
+            queue.push_back(to);
+        }
+    }
+    None
 }
 
 /// Demand: sinks are needed, and so is everything that feeds a needed node.

@@ -61,6 +61,13 @@ pub struct EvalContext<'a> {
     reported: Option<NodeError>,
 }
 
+/// A check a host runs after every node evaluates, whose message (when it
+/// returns one) fails that node: for what the node's work caused beyond its
+/// own code's sight. A GPU host reports here the device errors that no error
+/// scope caught while the node ran, so they name the node instead of
+/// panicking in wgpu's default handler or surfacing later elsewhere.
+pub struct AfterEvaluate(pub Box<dyn Fn() -> Option<String> + Send + Sync>);
+
 /// The folder of the patch being evaluated: a service hosts provide so that
 /// relative file names on pins resolve beside the patch.
 #[derive(Clone, Debug)]

@@ -366,6 +366,13 @@ impl Registry {
         self.defs.len()
     }
 
+    /// The registered type name nearest `name`, when near enough to be a
+    /// misspelling of it ([`crate::spelling::nearest`]): what an unknown
+    /// type's message suggests.
+    pub fn nearest(&self, name: &str) -> Option<&str> {
+        crate::spelling::nearest(name, self.defs.keys().map(|k| &**k))
+    }
+
     pub fn is_empty(&self) -> bool {
         self.defs.is_empty()
     }

@@ -12,8 +12,8 @@ use crate::clock::FrameClock;
 use crate::diagnostics::Problem;
 use crate::document::{NodeId, Patch};
 use crate::network::{InputSource, Network, NetworkNode};
-use crate::node::{EvalContext, Node, NodeError, PatchDir, ProbeLog, Services};
-use crate::registry::Registry;
+use crate::node::{AfterEvaluate, EvalContext, Node, NodeError, PatchDir, ProbeLog, Services};
+use crate::registry::{NodeDef, Registry};
 use crate::snapshot::RuntimeSnapshot;
 use crate::spread::Spread;
 use crate::stats::{FrameStats, NodeRun, NodeStat};
@@ -206,6 +206,7 @@ impl Runtime {
             stats.cpu_ns,
         ) = (0, 0, 0, 0, 0);
 
+        let after = self.services.get::<AfterEvaluate>();
         for (i, node) in self.network.nodes().iter().enumerate() {
             let stat = &mut stats.nodes[i];
             stat.cpu_ns = 0;
@@ -267,6 +268,11 @@ impl Runtime {
                 let result = instance.evaluate(&mut cx);
                 (result, cx.wants_reevaluation(), cx.take_report())
             };
+            let result = match (result, after.as_ref().and_then(|check| (check.0)())) {
+                (result, None) => result,
+                (Ok(()), Some(caused)) => Err(NodeError::Other(caused)),
+                (Err(e), Some(caused)) => Err(NodeError::Other(format!("{e}; and {caused}"))),
+            };
             stat.cpu_ns = start.elapsed().as_nanos() as u64;
             stats.cpu_ns += stat.cpu_ns;
             stats.evaluated += 1;
@@ -279,7 +285,7 @@ impl Runtime {
                     for (slot, pin) in state.outputs.iter_mut().zip(&def.outputs) {
                         *slot = empty(pin.ty);
                     }
-                    state.error = Some(e);
+                    state.error = Some(explain_unknown_input(&self.network, i, def, e));
                     stat.run = NodeRun::Failed;
                     stats.failed += 1;
                 }
@@ -431,4 +437,36 @@ fn same_inputs(a_net: &Network, a: &NetworkNode, b_net: &Network, b: &NetworkNod
             ) => a_net.nodes()[*un].id == b_net.nodes()[*vn].id && uo == vo && uc == vc,
             _ => false,
         })
+}
+
+/// An input error on an input linked from an unknown node type ("no
+/// texture connected", where a texture is linked) says where the link
+/// comes from and why it brings nothing: a misspelled type or a missing
+/// shader file is the cause to fix, not this node.
+fn explain_unknown_input(
+    network: &Network,
+    index: usize,
+    def: &NodeDef,
+    error: NodeError,
+) -> NodeError {
+    let NodeError::Input { pin, message } = error else {
+        return error;
+    };
+    let source = def
+        .input_index(&pin)
+        .and_then(|k| network.fed_by_unknown(index, k));
+    match source {
+        Some(p) => {
+            let place: Vec<String> = network.path(p).iter().map(NodeId::to_string).collect();
+            NodeError::Input {
+                message: format!(
+                    "{message} (it is linked from node {} `{}`, an unknown node type that outputs nothing)",
+                    place.join(" > "),
+                    network.nodes()[p].type_name
+                ),
+                pin,
+            }
+        }
+        None => NodeError::Input { pin, message },
+    }
 }

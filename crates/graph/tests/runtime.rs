@@ -57,6 +57,19 @@ fn registry() -> Registry {
             }),
     );
     r.add(
+        NodeDef::new("Needs", "Test", "")
+            .input_spread("Input", PinType::Float, Spread::Float(vec![]))
+            .output::<f32>("Output")
+            .evaluate(|cx| {
+                let v = cx.slices::<f32>(0)?.to_vec();
+                if v.is_empty() {
+                    return Err(cx.input_error(0, "nothing connected"));
+                }
+                cx.set(0, v);
+                Ok(())
+            }),
+    );
+    r.add(
         NodeDef::new("Counter", "Test", "")
             .input("Input", 0.0f32)
             .output::<i64>("Runs")
@@ -345,6 +358,33 @@ fn a_cycle_is_reported_and_the_rest_of_the_patch_runs() {
     assert_eq!(probe(&rt, "out"), Spread::Float(vec![1.0]));
 }
 
+/// A node that needs what an unknown type was linked to give it fails,
+/// and its error says the link comes from that unknown type (the cause to
+/// fix), not only that nothing is connected.
+#[test]
+fn an_input_fed_by_an_unknown_type_names_it_in_the_error() {
+    let mut p = Patch::default();
+    p.add(NodeDoc::new(1, "Cosnt"));
+    p.add(NodeDoc::new(2, "Needs"));
+    p.add(sink(3, "out"));
+    p.link(1, "Output", 2, "Input");
+    p.link(2, "Output", 3, "Input");
+    let mut rt = Runtime::new(registry());
+    let problems = rt.load(&p).to_vec();
+    assert_eq!(problems.len(), 1, "{problems:?}");
+    assert!(
+        matches!(&problems[0].kind, ProblemKind::UnknownNodeType { suggestion: Some(s), .. } if s == "Const"),
+        "{problems:?}"
+    );
+    rt.evaluate(FrameClock::default());
+    assert_eq!(
+        rt.node_error(NodeId(2)).map(ToString::to_string).as_deref(),
+        Some(
+            "input `Input`: nothing connected (it is linked from node #1 `Cosnt`, an unknown node type that outputs nothing)"
+        )
+    );
+}
+
 #[test]
 fn an_unknown_node_type_is_a_placeholder_that_keeps_everything() {
     let text = r#"(version: 1, nodes: [
@@ -360,7 +400,17 @@ fn an_unknown_node_type_is_a_placeholder_that_keeps_everything() {
     let mut rt = Runtime::new(registry());
     let problems = rt.load(&patch).to_vec();
     assert_eq!(problems.len(), 1, "{problems:?}");
-    assert_eq!(problems[0].kind, ProblemKind::UnknownNodeType);
+    // Its work was meant for the Sink, through the Add.
+    assert_eq!(
+        problems[0].kind,
+        ProblemKind::UnknownNodeType {
+            suggestion: None,
+            feeds: Some(spreadlight_graph::FedSink {
+                path: vec![NodeId(3)],
+                node_type: "Sink".to_owned()
+            }),
+        }
+    );
     assert_eq!(problems[0].node_type, "FutureNode");
     let stats = rt.evaluate(FrameClock::default()).clone();
     assert_eq!(stats.node(NodeId(1)).map(|n| n.run), Some(NodeRun::Skipped));

@@ -272,6 +272,44 @@ fn state_inside_is_per_instance_and_survives_edits_elsewhere() {
     assert_eq!(ints(&rt, "still"), [1]);
 }
 
+/// A misspelled type inside a subpatch: the message suggests the known
+/// name, and names the sink its work was for where the parent has it (the
+/// Probe #3 at the top, through the subpatch's Outlet), not by a flat id.
+#[test]
+fn a_misspelled_type_inside_a_subpatch_names_the_sink_it_feeds() {
+    let mut patch = parent();
+    let inner = patch.subpatches.get_mut("Twice").expect("inline");
+    if let Some(node) = inner.node_mut(NodeId(2)) {
+        node.type_name = "Pluss".to_owned();
+    }
+    let mut rt = Runtime::new(registry());
+    let problems = rt.load(&patch).to_vec();
+    // Both instances hold the misspelling: #2 feeds the Probe #3, #4 the Probe #5.
+    assert_eq!(problems.len(), 2, "{problems:?}");
+    let expect = |sink: u32| ProblemKind::UnknownNodeType {
+        suggestion: Some("Plus".to_owned()),
+        feeds: Some(spreadlight_graph::FedSink {
+            path: vec![NodeId(sink)],
+            node_type: "Probe".to_owned(),
+        }),
+    };
+    for (problem, (within, sink)) in problems.iter().zip([(2, 3), (4, 5)]) {
+        assert_eq!(problem.within, [NodeId(within)]);
+        assert_eq!(problem.node, NodeId(2));
+        assert_eq!(problem.kind, expect(sink));
+    }
+    assert!(
+        problems[0]
+            .to_string()
+            .contains("unknown node type (did you mean `Plus`?); kept as a placeholder")
+            && problems[0]
+                .to_string()
+                .contains("so `Probe` #3, which it feeds, runs without its work"),
+        "{}",
+        problems[0]
+    );
+}
+
 #[test]
 fn subpatch_files_come_from_modules_beside_the_patch() {
     let dir = tempfile::tempdir().expect("tempdir");
@@ -319,7 +357,14 @@ fn a_missing_subpatch_file_is_a_placeholder_that_keeps_links_and_values() {
     let mut rt = Runtime::new(registry());
     let problems = rt.load(&back).to_vec();
     assert_eq!(problems.len(), 1, "{problems:?}");
-    assert_eq!(problems[0].kind, ProblemKind::UnknownNodeType);
+    // Nothing downstream of it is a sink: it drops no sink's work.
+    assert_eq!(
+        problems[0].kind,
+        ProblemKind::UnknownNodeType {
+            suggestion: None,
+            feeds: None
+        }
+    );
     assert_eq!(problems[0].severity, Severity::Warning);
     rt.evaluate(FrameClock::fixed(0, 60.0));
     assert_eq!(floats(&rt, "linked"), [2.0, 4.0, 6.0], "the rest runs");

@@ -3,7 +3,9 @@
 
 use std::sync::Arc;
 
-use spreadlight_graph::{EvalContext, NodeError, Resource, ResourceKind, Spread};
+use spreadlight_graph::{
+    AfterEvaluate, EvalContext, NodeError, Resource, ResourceKind, Runtime, Spread,
+};
 use spreadlight_render::Renderer;
 
 /// The node categories whose nodes need a GPU; hosts provide a renderer when a patch has one.
@@ -18,6 +20,18 @@ pub const GPU_CATEGORIES: &[&str] = &[
     "Environment",
     "Particles",
 ];
+
+/// Give a running patch its renderer, and the check after each node that
+/// turns a device error no error scope caught while the node ran into that
+/// node's error (`render::uncaptured`): what every host should call.
+pub fn provide_renderer(runtime: &mut Runtime, renderer: Arc<Renderer>) {
+    let gpu = renderer.gpu.clone();
+    runtime.provide(Arc::new(AfterEvaluate(Box::new(move || {
+        let errors = gpu.take_uncaptured_errors();
+        (!errors.is_empty()).then(|| format!("GPU error: {}", errors.join("; ")))
+    }))));
+    runtime.provide(renderer);
+}
 
 /// The renderer the host provided, or an error that says how to get one.
 pub fn renderer(cx: &EvalContext<'_>) -> Result<Arc<Renderer>, NodeError> {

@@ -11,7 +11,7 @@ use std::sync::Mutex;
 
 use spreadlight_graph::{EnumDef, NodeDef, NodeError, PinType, Registry, ResourceKind, Spread};
 use spreadlight_render::image_io::{Encoding, write_image};
-use spreadlight_render::readback::{ImageF32, read_texture};
+use spreadlight_render::readback::{ImageF32, read_texture, readback_layout};
 use spreadlight_render::{FrameGraph, TextureRef};
 
 use crate::gpu::{renderer, resources};
@@ -109,13 +109,19 @@ pub fn register(r: &mut Registry) {
             let mut graph = FrameGraph::new(renderer.output_size());
             texture.recipe.declare(&renderer, &mut graph);
             graph.request(&texture.name);
+            // Read back only when someone takes the image: a benchmark renders without the copy.
+            let to_file = write && !filename.is_empty();
+            let store = cx.service::<RenderedImages>();
+            // An image that could not be read back (a buffer past the adapter's
+            // largest) is refused before a frame is rendered for it.
+            if let (true, Some(planned)) = (to_file || store.is_some(), graph.planned(&texture.name)) {
+                readback_layout(&renderer.gpu, &planned, "the Output's texture")
+                    .map_err(|e| NodeError::Other(e.to_string()))?;
+            }
             let (_, outputs) = graph.execute(&renderer).map_err(|e| NodeError::Other(e.to_string()))?;
             let target = outputs
                 .get(&texture.name)
                 .ok_or_else(|| NodeError::Other(format!("the frame produced no `{}`", texture.name)))?;
-            // Read back only when someone takes the image: a benchmark renders without the copy.
-            let to_file = write && !filename.is_empty();
-            let store = cx.service::<RenderedImages>();
             if !to_file && store.is_none() {
                 return Ok(());
             }

@@ -5,11 +5,14 @@
 //! limits the renderer needs are checked up front, so a missing one is an
 //! error naming it rather than a panic deep inside a pass. The editor builds a
 //! context from the device egui-wgpu already opened ([`GpuContext::from_parts`]).
+//! Every context records the device errors no error scope catches instead of
+//! letting wgpu's default handler panic (`uncaptured.rs`).
 
 use std::sync::Arc;
 
 use crate::error::RenderError;
 use crate::submission_gate::SubmissionGate;
+use crate::uncaptured::{UncapturedErrors, error_text};
 
 /// Features the renderer cannot work without (none yet beyond WebGPU's baseline).
 pub const REQUIRED_FEATURES: wgpu::Features = wgpu::Features::empty();
@@ -31,6 +34,8 @@ pub struct GpuContext {
     /// What every submission the renderer makes passes ([`GpuContext::submit`]);
     /// open unless a host that configures window surfaces closes it.
     gate: SubmissionGate,
+    /// Device errors no error scope caught, until a host takes them.
+    uncaptured: Arc<UncapturedErrors>,
 }
 
 impl std::fmt::Debug for GpuContext {
@@ -105,11 +110,37 @@ impl GpuContext {
         queue: wgpu::Queue,
         adapter_info: wgpu::AdapterInfo,
     ) -> Self {
+        let uncaptured = Arc::new(UncapturedErrors::default());
+        let recorder = uncaptured.clone();
+        device.on_uncaptured_error(Arc::new(move |error: wgpu::Error| recorder.record(&error)));
         GpuContext {
             device,
             queue,
             adapter_info: Arc::new(adapter_info),
             gate: SubmissionGate::default(),
+            uncaptured,
+        }
+    }
+
+    /// The device errors no error scope caught since the last call
+    /// (`uncaptured.rs`): a host reports them against what it was doing.
+    pub fn take_uncaptured_errors(&self) -> Vec<String> {
+        self.uncaptured.take()
+    }
+
+    /// Run `work` inside a validation and an out-of-memory error scope: an
+    /// error it causes comes back as `Err` with wgpu's message, for the
+    /// caller to say what it was doing, instead of reaching the device's
+    /// uncaptured-error handler.
+    pub fn scoped<T>(&self, work: impl FnOnce() -> T) -> Result<T, String> {
+        let memory = self.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
+        let validation = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let value = work();
+        let invalid = pollster::block_on(validation.pop());
+        let out_of_memory = pollster::block_on(memory.pop());
+        match invalid.or(out_of_memory) {
+            Some(error) => Err(error_text(&error)),
+            None => Ok(value),
         }
     }
 
@@ -153,7 +184,9 @@ impl GpuContext {
 }
 
 /// The limits we ask for: the adapter's own where they exceed WebGPU's
-/// defaults for what we use (storage buffers grow with light and instance counts).
+/// defaults for what we use (storage buffers grow with light and instance
+/// counts; textures with the output size, which the CLI takes up to 16384:
+/// WebGPU's default 8192 would refuse sizes the adapter can render).
 fn required_limits(adapter: &wgpu::Limits, name: &str) -> Result<wgpu::Limits, RenderError> {
     let needed_storage: u64 = 128 << 20;
     if adapter.max_storage_buffer_binding_size < needed_storage {
@@ -167,6 +200,7 @@ fn required_limits(adapter: &wgpu::Limits, name: &str) -> Result<wgpu::Limits, R
     Ok(wgpu::Limits {
         max_storage_buffer_binding_size: adapter.max_storage_buffer_binding_size,
         max_buffer_size: adapter.max_buffer_size,
+        max_texture_dimension_2d: adapter.max_texture_dimension_2d,
         max_storage_buffers_per_shader_stage: adapter.max_storage_buffers_per_shader_stage.min(16),
         max_storage_textures_per_shader_stage: adapter.max_storage_textures_per_shader_stage.min(8),
         ..wgpu::Limits::default()

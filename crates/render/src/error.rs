@@ -34,6 +34,14 @@ pub enum RenderError {
     Pass { pass: String, message: String },
     #[error("GPU validation error in pass `{pass}`: {message}")]
     Validation { pass: String, message: String },
+    /// Something the adapter cannot hold: caught before it is made, since
+    /// wgpu would refuse it with an error outside any pass.
+    #[error("{what} is past the adapter's limit {limit} ({max})")]
+    TooLarge {
+        what: String,
+        limit: &'static str,
+        max: u64,
+    },
     #[error("frame graph: {0}")]
     Graph(String),
     #[error("reading back from the GPU failed: {0}")]

@@ -33,6 +33,7 @@ pub mod submission_gate;
 pub mod temporal;
 pub mod texture;
 pub mod texture_pool;
+pub mod uncaptured;
 
 pub use context::GpuContext;
 pub use error::RenderError;

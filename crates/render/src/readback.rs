@@ -89,59 +89,58 @@ pub fn read_texture_layer(
         (texture.height() >> mip).max(1),
     );
     let format = texture.format();
-    let bytes_per_pixel: u32 = match format {
-        wgpu::TextureFormat::Rgba16Float | wgpu::TextureFormat::Rg32Uint => 8,
-        wgpu::TextureFormat::Rgba32Float => 16,
-        wgpu::TextureFormat::Rgba8Unorm
-        | wgpu::TextureFormat::Rgba8UnormSrgb
-        | wgpu::TextureFormat::Depth32Float
-        | wgpu::TextureFormat::R32Float => 4,
-        other => {
-            return Err(RenderError::Readback(format!(
-                "reading back {other:?} is not supported"
-            )));
-        }
+    let key = crate::texture_pool::TextureKey {
+        format,
+        width,
+        height,
+        usage: texture.usage(),
     };
-    let row = (width * bytes_per_pixel).next_multiple_of(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT);
-    let size = u64::from(row) * u64::from(height);
-    let buffer = gpu.device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("readback"),
-        size,
-        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-        mapped_at_creation: false,
-    });
-    let mut encoder = gpu.device.create_command_encoder(&Default::default());
+    let (bytes_per_pixel, row, size) = readback_layout(gpu, &key, "the texture")?;
     let aspect = if format == wgpu::TextureFormat::Depth32Float {
         wgpu::TextureAspect::DepthOnly
     } else {
         wgpu::TextureAspect::All
     };
-    encoder.copy_texture_to_buffer(
-        wgpu::TexelCopyTextureInfo {
-            texture,
-            mip_level: mip,
-            origin: wgpu::Origin3d {
-                x: 0,
-                y: 0,
-                z: layer,
-            },
-            aspect,
-        },
-        wgpu::TexelCopyBufferInfo {
-            buffer: &buffer,
-            layout: wgpu::TexelCopyBufferLayout {
-                offset: 0,
-                bytes_per_row: Some(row),
-                rows_per_image: Some(height),
-            },
-        },
-        wgpu::Extent3d {
-            width,
-            height,
-            depth_or_array_layers: 1,
-        },
-    );
-    gpu.submit([encoder.finish()]);
+    // In an error scope: whatever wgpu still refuses is this readback's error, not a panic.
+    let buffer = gpu
+        .scoped(|| {
+            let buffer = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("readback"),
+                size,
+                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            });
+            let mut encoder = gpu.device.create_command_encoder(&Default::default());
+            encoder.copy_texture_to_buffer(
+                wgpu::TexelCopyTextureInfo {
+                    texture,
+                    mip_level: mip,
+                    origin: wgpu::Origin3d {
+                        x: 0,
+                        y: 0,
+                        z: layer,
+                    },
+                    aspect,
+                },
+                wgpu::TexelCopyBufferInfo {
+                    buffer: &buffer,
+                    layout: wgpu::TexelCopyBufferLayout {
+                        offset: 0,
+                        bytes_per_row: Some(row),
+                        rows_per_image: Some(height),
+                    },
+                },
+                wgpu::Extent3d {
+                    width,
+                    height,
+                    depth_or_array_layers: 1,
+                },
+            );
+            (buffer, encoder.finish())
+        })
+        .map_err(RenderError::Readback)?;
+    let (buffer, commands) = buffer;
+    gpu.submit([commands]);
     let data = read_buffer(gpu, &buffer, size)?;
     let mut pixels = Vec::with_capacity((width * height) as usize);
     for y in 0..height {
@@ -156,6 +155,60 @@ pub fn read_texture_layer(
         height,
         pixels,
     })
+}
+
+/// Whether a texture like `key` (`name` in messages) can be read back,
+/// before anything is rendered or allocated: its format is one
+/// [`read_texture`] decodes, it can be copied from, and its buffer fits the
+/// adapter's largest. Returns (bytes per pixel, bytes per padded row,
+/// buffer bytes).
+pub fn readback_layout(
+    gpu: &GpuContext,
+    key: &crate::texture_pool::TextureKey,
+    name: &str,
+) -> Result<(u32, u32, u64), RenderError> {
+    let format = key.format;
+    let bytes_per_pixel: u32 = match format {
+        wgpu::TextureFormat::Rgba16Float | wgpu::TextureFormat::Rg32Uint => 8,
+        wgpu::TextureFormat::Rgba32Float => 16,
+        wgpu::TextureFormat::Rgba8Unorm
+        | wgpu::TextureFormat::Rgba8UnormSrgb
+        | wgpu::TextureFormat::Depth32Float
+        | wgpu::TextureFormat::R32Float => 4,
+        other => {
+            return Err(RenderError::Readback(format!(
+                "reading back {other:?} ({name}) is not supported"
+            )));
+        }
+    };
+    if !key.usage.contains(wgpu::TextureUsages::COPY_SRC) {
+        return Err(RenderError::Readback(format!(
+            "{name} was made without COPY_SRC, so it cannot be copied out"
+        )));
+    }
+    // In u64: a row of a wide texture does not fit u32's arithmetic.
+    let row = (u64::from(key.width) * u64::from(bytes_per_pixel))
+        .next_multiple_of(u64::from(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT));
+    let size = row * u64::from(key.height);
+    let max = gpu.device.limits().max_buffer_size;
+    let Ok(row) = u32::try_from(row) else {
+        return Err(RenderError::TooLarge {
+            what: format!("a row of the readback of {name} ({row} bytes)"),
+            limit: "bytes_per_row (u32)",
+            max: u64::from(u32::MAX),
+        });
+    };
+    if size > max {
+        return Err(RenderError::TooLarge {
+            what: format!(
+                "the readback of {name} ({}x{} {format:?}: a {size}-byte buffer)",
+                key.width, key.height
+            ),
+            limit: "max_buffer_size",
+            max,
+        });
+    }
+    Ok((bytes_per_pixel, row, size))
 }
 
 fn decode(format: wgpu::TextureFormat, px: &[u8]) -> [f32; 4] {

@@ -6,6 +6,14 @@ pub mod mips;
 
 use crate::context::GpuContext;
 
+/// What an uploaded texture can be used for: sampled, written once, and
+/// copied from, because a node may hand it straight to a sink that reads
+/// it back (`FileTexture` into `Output`: without COPY_SRC the readback was
+/// a wgpu validation error, a panic).
+pub const UPLOADED: wgpu::TextureUsages = wgpu::TextureUsages::TEXTURE_BINDING
+    .union(wgpu::TextureUsages::COPY_DST)
+    .union(wgpu::TextureUsages::COPY_SRC);
+
 #[derive(Debug)]
 pub struct GpuTexture {
     pub texture: wgpu::Texture,
@@ -81,7 +89,7 @@ impl GpuTexture {
             sample_count: 1,
             dimension: wgpu::TextureDimension::D2,
             format: rgba8_format(srgb),
-            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+            usage: UPLOADED,
             view_formats: &[],
         });
         for (layer, chain) in chains.iter().enumerate() {
@@ -183,7 +191,7 @@ impl GpuTexture {
             sample_count: 1,
             dimension: wgpu::TextureDimension::D2,
             format,
-            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+            usage: UPLOADED,
             view_formats: &[],
         });
         let mut data = bytes.to_vec();

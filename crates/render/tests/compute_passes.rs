@@ -8,7 +8,7 @@
 
 use std::sync::Arc;
 
-use spreadlight_render::frame_graph::{COMPUTE_PASSES, FRAME_CHUNKS};
+use spreadlight_render::frame_graph::{Bindings, COMPUTE_PASSES, FRAME_CHUNKS};
 use spreadlight_render::readback::render_and_read;
 use spreadlight_render::renderer::{Recording, Timing, test_renderer};
 use spreadlight_render::shaders::ShaderKey;
@@ -59,55 +59,41 @@ impl spreadlight_render::Recipe for Chain {
             let (from, to) = (format!("h{}", hop - 1), format!("h{hop}"));
             let copied = self.copy_after == Some(hop - 1);
             let fails = self.failing == Some(hop);
-            let (input, output) = (from.clone(), to.clone());
-            fg.add_pass(
-                format!("hop {hop}"),
-                Some(hop as u32),
-                &[from.as_str()],
-                &[(to.as_str(), target())],
-                move |cx| {
-                    let source = if copied {
-                        // Through the encoder: the open compute pass must end first
-                        // (wgpu refuses an encoder with a pass open on it).
-                        let from = cx.texture_named(&input)?.clone();
-                        let scratch = cx.gpu.device.create_texture(&wgpu::TextureDescriptor {
-                            label: Some("copy"),
-                            size: from.size(),
-                            mip_level_count: 1,
-                            sample_count: 1,
-                            dimension: wgpu::TextureDimension::D2,
-                            format: from.format(),
-                            usage: wgpu::TextureUsages::COPY_DST
-                                | wgpu::TextureUsages::TEXTURE_BINDING,
-                            view_formats: &[],
-                        });
-                        cx.encoder().copy_texture_to_texture(
-                            from.as_image_copy(),
-                            scratch.as_image_copy(),
-                            from.size(),
-                        );
-                        scratch.create_view(&Default::default())
-                    } else {
-                        cx.view_named(&input)?
-                    };
-                    let output = cx.view_named(&output)?;
-                    cx.dispatch_image_numbered(
-                        "hop",
-                        &ShaderKey::new("post/copy.wgsl", []),
-                        &[
-                            (0, wgpu::BindingResource::TextureView(&source)),
-                            (1, wgpu::BindingResource::TextureView(&output)),
-                        ],
-                        SIZE,
-                    )?;
-                    match fails {
-                        true => Err(spreadlight_render::RenderError::Graph(
-                            "a deliberate error after the dispatch".into(),
-                        )),
-                        false => Ok(()),
-                    }
-                },
-            );
+            let mut pass = fg.pass(format!("hop {hop}"), Some(hop as u32));
+            let (input, output) = (pass.read(&from), pass.write(&to, target()));
+            pass.run(move |cx| {
+                let bindings = Bindings::new().texture("output", output);
+                let bindings = if copied {
+                    // Through the encoder: the open compute pass must end first
+                    // (wgpu refuses an encoder with a pass open on it).
+                    let from = cx.texture(input)?.clone();
+                    let scratch = cx.gpu.device.create_texture(&wgpu::TextureDescriptor {
+                        label: Some("copy"),
+                        size: from.size(),
+                        mip_level_count: 1,
+                        sample_count: 1,
+                        dimension: wgpu::TextureDimension::D2,
+                        format: from.format(),
+                        usage: wgpu::TextureUsages::COPY_DST | wgpu::TextureUsages::TEXTURE_BINDING,
+                        view_formats: &[],
+                    });
+                    cx.encoder().copy_texture_to_texture(
+                        from.as_image_copy(),
+                        scratch.as_image_copy(),
+                        from.size(),
+                    );
+                    bindings.view("source", scratch.create_view(&Default::default()))
+                } else {
+                    bindings.texture("source", input)
+                };
+                cx.dispatch_image("hop", &ShaderKey::new("post/copy.wgsl", []), bindings, SIZE)?;
+                match fails {
+                    true => Err(spreadlight_render::RenderError::Graph(
+                        "a deliberate error after the dispatch".into(),
+                    )),
+                    false => Ok(()),
+                }
+            });
         }
     }
 }

@@ -38,13 +38,9 @@ fn frame(renderer: &Renderer, passes: usize, broken: Option<usize>) -> FrameRepo
             true => misaligned_copy(cx),
             false => Ok(()),
         };
-        fg.add_pass(
-            name.clone(),
-            Some(i as u32),
-            &[],
-            &[(name.as_str(), target())],
-            run,
-        );
+        let mut pass = fg.pass(name.clone(), Some(i as u32));
+        pass.write(name, target());
+        pass.run(run);
         fg.request(name);
     }
     fg.execute(renderer).expect("the frame executes").0
@@ -133,16 +129,12 @@ fn a_frame_that_panicked_while_recording_leaves_nothing_for_the_next() {
         let mut fg = FrameGraph::new((4, 4));
         let names: Vec<String> = (0..passes).map(|i| format!("pass {i}")).collect();
         for (i, name) in names.iter().enumerate() {
-            fg.add_pass(
-                name.clone(),
-                Some(i as u32),
-                &[],
-                &[(name.as_str(), target())],
-                move |_| match i + 1 == passes {
-                    true => panic!("a pass that panics"),
-                    false => Ok(()),
-                },
-            );
+            let mut pass = fg.pass(name.clone(), Some(i as u32));
+            pass.write(name, target());
+            pass.run(move |_| match i + 1 == passes {
+                true => panic!("a pass that panics"),
+                false => Ok(()),
+            });
             fg.request(name);
         }
         fg.execute(&renderer)

@@ -5,11 +5,33 @@
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
 
+use spreadlight_render::frame_graph::{Bindings, PassContext, Tex};
 use spreadlight_render::renderer::test_renderer;
-use spreadlight_render::{FrameGraph, Lifetime, SizeRule, TextureDesc};
+use spreadlight_render::{FrameGraph, Lifetime, RenderError, SizeRule, TextureDesc};
 
 fn target() -> TextureDesc {
     TextureDesc::storage(wgpu::TextureFormat::Rgba16Float)
+}
+
+/// Declare a pass by the names it reads and writes, for the tests of
+/// scheduling, culling, merging and errors, whose runs resolve no texture
+/// (a run that does takes the handles `FrameGraph::pass` gives).
+fn declare_pass<'a>(
+    fg: &mut FrameGraph<'a>,
+    name: &str,
+    owner: Option<u32>,
+    reads: &[&str],
+    writes: &[(&str, TextureDesc)],
+    run: impl FnOnce(&mut PassContext<'_>) -> Result<(), RenderError> + 'a,
+) {
+    let mut pass = fg.pass(name, owner);
+    for read in reads {
+        pass.read(read);
+    }
+    for (write, desc) in writes {
+        pass.write(write, *desc);
+    }
+    pass.run(run);
 }
 
 #[test]
@@ -19,22 +41,38 @@ fn only_passes_leading_to_a_request_run() {
     let mut fg = FrameGraph::new((16, 16));
     let counter = |ran: &Arc<AtomicUsize>| {
         let ran = ran.clone();
-        move |cx: &mut spreadlight_render::frame_graph::PassContext<'_>| {
+        move |cx: &mut PassContext<'_>| {
             ran.fetch_add(1, Ordering::SeqCst);
             let _ = cx.output_size;
             Ok(())
         }
     };
-    fg.add_pass("a", Some(1), &[], &[("a", target())], counter(&ran));
-    fg.add_pass("b", Some(2), &["a"], &[("b", target())], counter(&ran));
-    fg.add_pass(
+    declare_pass(
+        &mut fg,
+        "a",
+        Some(1),
+        &[],
+        &[("a", target())],
+        counter(&ran),
+    );
+    declare_pass(
+        &mut fg,
+        "b",
+        Some(2),
+        &["a"],
+        &[("b", target())],
+        counter(&ran),
+    );
+    declare_pass(
+        &mut fg,
         "unused c",
         Some(3),
         &["a"],
         &[("c", target())],
         counter(&ran),
     );
-    fg.add_pass(
+    declare_pass(
+        &mut fg,
         "unused d",
         Some(4),
         &["c"],
@@ -65,19 +103,16 @@ fn a_pass_with_two_outputs_knows_which_the_frame_reads() {
     for wanted in [vec!["left"], vec!["right user"], vec!["left", "right user"]] {
         let mut fg = FrameGraph::new((4, 4));
         let s = seen.clone();
-        fg.add_pass(
-            "two",
-            None,
-            &[],
-            &[("left", target()), ("right", target())],
-            move |cx| {
-                s.lock()
-                    .expect("lock")
-                    .push((cx.is_read_named("left"), cx.is_read_named("right")));
-                Ok(())
-            },
-        );
-        fg.add_pass(
+        let mut pass = fg.pass("two", None);
+        let (left, right) = (pass.write("left", target()), pass.write("right", target()));
+        pass.run(move |cx| {
+            s.lock()
+                .expect("lock")
+                .push((cx.is_read(left), cx.is_read(right)));
+            Ok(())
+        });
+        declare_pass(
+            &mut fg,
             "user",
             None,
             &["right"],
@@ -102,10 +137,7 @@ type Log = Arc<Mutex<Vec<&'static str>>>;
 fn logs(
     log: &Log,
     what: &'static str,
-) -> impl FnOnce(
-    &mut spreadlight_render::frame_graph::PassContext<'_>,
-) -> Result<(), spreadlight_render::RenderError>
-+ 'static {
+) -> impl FnOnce(&mut PassContext<'_>) -> Result<(), RenderError> + 'static {
     let log = log.clone();
     move |_| {
         log.lock().expect("log").push(what);
@@ -123,14 +155,35 @@ fn a_pair_that_runs_together_is_one_pass_only_when_both_are_needed() {
     let frame = |requests: &[&str], second_reads_first: bool| {
         let mut fg = FrameGraph::new((16, 16));
         let run = |what: &'static str| logs(&log, what);
-        fg.add_pass("source", None, &[], &[("source", target())], run("source"));
-        fg.add_pass("first", None, &["source"], &[("a", target())], run("first"));
+        declare_pass(
+            &mut fg,
+            "source",
+            None,
+            &[],
+            &[("source", target())],
+            run("source"),
+        );
+        declare_pass(
+            &mut fg,
+            "first",
+            None,
+            &["source"],
+            &[("a", target())],
+            run("first"),
+        );
         let reads: &[&str] = if second_reads_first {
             &["source", "a"]
         } else {
             &["source"]
         };
-        fg.add_pass("second", None, reads, &[("b", target())], run("second"));
+        declare_pass(
+            &mut fg,
+            "second",
+            None,
+            reads,
+            &[("b", target())],
+            run("second"),
+        );
         fg.runs_together("both", run("both"));
         for r in requests {
             fg.request(r);
@@ -169,15 +222,24 @@ fn a_chain_is_one_pass_only_when_nothing_else_reads_the_inner_output() {
     let frame = |requests: &[&str], third_reads_inner: bool| {
         let mut fg = FrameGraph::new((16, 16));
         let run = |what: &'static str| logs(&log, what);
-        fg.add_pass("source", None, &[], &[("source", target())], run("source"));
-        fg.add_pass(
+        declare_pass(
+            &mut fg,
+            "source",
+            None,
+            &[],
+            &[("source", target())],
+            run("source"),
+        );
+        declare_pass(
+            &mut fg,
             "inner",
             None,
             &["source"],
             &[("inner", target())],
             run("inner"),
         );
-        fg.add_pass(
+        declare_pass(
+            &mut fg,
             "outer",
             None,
             &["inner"],
@@ -186,7 +248,8 @@ fn a_chain_is_one_pass_only_when_nothing_else_reads_the_inner_output() {
         );
         fg.chains_into("inner", "inner and outer", run("both"));
         if third_reads_inner {
-            fg.add_pass(
+            declare_pass(
+                &mut fg,
                 "third",
                 None,
                 &["inner"],
@@ -215,21 +278,24 @@ fn a_chain_is_one_pass_only_when_nothing_else_reads_the_inner_output() {
 
     // A merged pass of two nodes that fails is reported to both.
     let mut fg = FrameGraph::new((16, 16));
-    fg.add_pass(
+    declare_pass(
+        &mut fg,
         "source",
         None,
         &[],
         &[("source", target())],
         logs(&log, "source"),
     );
-    fg.add_pass(
+    declare_pass(
+        &mut fg,
         "inner",
         Some(7),
         &["source"],
         &[("inner", target())],
         logs(&log, "inner"),
     );
-    fg.add_pass(
+    declare_pass(
+        &mut fg,
         "outer",
         Some(8),
         &["inner"],
@@ -237,7 +303,7 @@ fn a_chain_is_one_pass_only_when_nothing_else_reads_the_inner_output() {
         logs(&log, "outer"),
     );
     fg.chains_into("inner", "inner and outer", |_| {
-        Err(spreadlight_render::RenderError::Graph("broken".to_owned()))
+        Err(RenderError::Graph("broken".to_owned()))
     });
     fg.request("outer");
     let (report, _) = fg.execute(&renderer).expect("executes");
@@ -263,10 +329,17 @@ fn passes_run_in_dependency_order_whatever_the_declaration_order() {
         ("first", vec![]),
     ] {
         let order = order.clone();
-        fg.add_pass(name, None, &reads, &[(name, target())], move |_| {
-            order.lock().expect("lock").push(name);
-            Ok(())
-        });
+        declare_pass(
+            &mut fg,
+            name,
+            None,
+            &reads,
+            &[(name, target())],
+            move |_| {
+                order.lock().expect("lock").push(name);
+                Ok(())
+            },
+        );
     }
     fg.request("last");
     fg.execute(&renderer).expect("executes");
@@ -277,9 +350,14 @@ fn passes_run_in_dependency_order_whatever_the_declaration_order() {
 fn impossible_graphs_are_clear_errors() {
     let renderer = test_renderer();
     let mut fg = FrameGraph::new((8, 8));
-    fg.add_pass("reader", None, &["nowhere"], &[("out", target())], |_| {
-        Ok(())
-    });
+    declare_pass(
+        &mut fg,
+        "reader",
+        None,
+        &["nowhere"],
+        &[("out", target())],
+        |_| Ok(()),
+    );
     fg.request("out");
     let err = fg
         .execute(&renderer)
@@ -292,8 +370,8 @@ fn impossible_graphs_are_clear_errors() {
     );
 
     let mut fg = FrameGraph::new((8, 8));
-    fg.add_pass("one", None, &[], &[("x", target())], |_| Ok(()));
-    fg.add_pass("two", None, &[], &[("x", target())], |_| Ok(()));
+    declare_pass(&mut fg, "one", None, &[], &[("x", target())], |_| Ok(()));
+    declare_pass(&mut fg, "two", None, &[], &[("x", target())], |_| Ok(()));
     fg.request("x");
     let err = fg
         .execute(&renderer)
@@ -326,16 +404,12 @@ fn persistent_textures_keep_their_history_across_frames() {
         let fresh = Arc::new(std::sync::Mutex::new(None));
         let seen = fresh.clone();
         let mut fg = FrameGraph::new((8, 8));
-        fg.add_pass(
-            "history",
-            None,
-            &[],
-            &[("history", target().lifetime(Lifetime::Persistent))],
-            move |cx| {
-                *seen.lock().expect("lock") = Some(cx.is_fresh_named("history"));
-                Ok(())
-            },
-        );
+        let mut pass = fg.pass("history", None);
+        let history = pass.write("history", target().lifetime(Lifetime::Persistent));
+        pass.run(move |cx| {
+            *seen.lock().expect("lock") = Some(cx.is_fresh(history));
+            Ok(())
+        });
         fg.request("history");
         let (report, _) = fg.execute(&renderer).expect("executes");
         assert!(report.errors.is_empty());
@@ -361,9 +435,7 @@ fn relative_sizes_follow_the_output() {
 }
 
 /// A pass that makes a validation error: a buffer both MAP_READ and MAP_WRITE.
-fn invalid_buffer(
-    cx: &mut spreadlight_render::frame_graph::PassContext<'_>,
-) -> Result<(), spreadlight_render::RenderError> {
+fn invalid_buffer(cx: &mut PassContext<'_>) -> Result<(), RenderError> {
     let _ = cx.gpu.device.create_buffer(&wgpu::BufferDescriptor {
         label: Some("invalid"),
         size: 16,
@@ -378,7 +450,8 @@ fn a_pass_with_a_validation_error_is_reported_on_its_node_and_the_rest_renders()
     let renderer = test_renderer();
     let ran_after = Arc::new(AtomicUsize::new(0));
     let mut fg = FrameGraph::new((8, 8));
-    fg.add_pass(
+    declare_pass(
+        &mut fg,
         "broken",
         Some(42),
         &[],
@@ -386,7 +459,8 @@ fn a_pass_with_a_validation_error_is_reported_on_its_node_and_the_rest_renders()
         invalid_buffer,
     );
     let after = ran_after.clone();
-    fg.add_pass(
+    declare_pass(
+        &mut fg,
         "healthy",
         Some(7),
         &[],
@@ -414,10 +488,182 @@ fn a_pass_with_a_validation_error_is_reported_on_its_node_and_the_rest_renders()
     assert!(outputs.contains_key("healthy"));
 }
 
+/// A texture one past the adapter's largest 2D side fails its pass before
+/// anything is allocated (wgpu would refuse it outside any error scope: a
+/// panic in its default handler), with an error naming the pass, the
+/// texture, its size and the limit; the rest of the frame renders.
+#[test]
+fn a_texture_past_the_adapter_s_limit_fails_its_pass_naming_the_limit() {
+    let renderer = test_renderer();
+    let max = renderer.gpu.device.limits().max_texture_dimension_2d;
+    let ran = Arc::new(AtomicUsize::new(0));
+    let mut fg = FrameGraph::new((8, 8));
+    let counted = ran.clone();
+    declare_pass(
+        &mut fg,
+        "huge",
+        Some(9),
+        &[],
+        &[(
+            "huge",
+            target().size(SizeRule::Absolute {
+                width: max + 1,
+                height: 1,
+            }),
+        )],
+        move |_| {
+            counted.fetch_add(1, Ordering::SeqCst);
+            Ok(())
+        },
+    );
+    declare_pass(&mut fg, "fine", Some(7), &[], &[("fine", target())], |_| {
+        Ok(())
+    });
+    fg.request("huge");
+    fg.request("fine");
+    let (report, outputs) = fg.execute(&renderer).expect("the frame still executes");
+    assert_eq!(
+        report.errors,
+        [(
+            Some(9),
+            format!(
+                "pass `huge`: texture `huge` ({}x1 for a 8x8 frame) is past the adapter's limit \
+                 max_texture_dimension_2d ({max})",
+                max + 1
+            )
+        )]
+    );
+    assert_eq!(ran.load(Ordering::SeqCst), 0, "the pass never recorded");
+    assert!(!outputs.contains_key("huge") && outputs.contains_key("fine"));
+    assert!(renderer.gpu.take_uncaptured_errors().is_empty());
+}
+
+/// A device error outside every error scope does not panic (wgpu's default
+/// handler would): it is kept, and the next frame reports it.
+#[test]
+fn an_error_outside_any_scope_is_reported_by_the_next_frame_not_a_panic() {
+    let renderer = test_renderer();
+    // A buffer both mapped for reading and for writing: invalid, and in no scope.
+    let _ = renderer.gpu.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("outside"),
+        size: 16,
+        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::MAP_WRITE,
+        mapped_at_creation: false,
+    });
+    let mut fg = FrameGraph::new((4, 4));
+    declare_pass(
+        &mut fg,
+        "fine",
+        None,
+        &[],
+        &[("fine", target())],
+        |_| Ok(()),
+    );
+    fg.request("fine");
+    let (report, outputs) = fg.execute(&renderer).expect("executes");
+    assert!(outputs.contains_key("fine"));
+    assert_eq!(report.errors.len(), 1, "{:?}", report.errors);
+    assert_eq!(report.errors[0].0, None);
+    assert!(
+        report.errors[0]
+            .1
+            .starts_with("GPU error outside any pass: ")
+            && report.errors[0].1.contains("outside"),
+        "{}",
+        report.errors[0].1
+    );
+    // Taken once: the next frame is clean.
+    let mut fg = FrameGraph::new((4, 4));
+    declare_pass(
+        &mut fg,
+        "fine",
+        None,
+        &[],
+        &[("fine", target())],
+        |_| Ok(()),
+    );
+    fg.request("fine");
+    let (report, _) = fg.execute(&renderer).expect("executes");
+    assert!(report.errors.is_empty(), "{:?}", report.errors);
+}
+
+/// What a frame hands back can be read by any sink, whatever usage its
+/// pass declared: copied (Output's readback) and sampled (the viewport).
+#[test]
+fn requested_textures_can_be_copied_and_sampled() {
+    use spreadlight_render::readback::read_texture;
+    let renderer = test_renderer();
+    let mut fg = FrameGraph::new((4, 4));
+    let bare = TextureDesc {
+        usage: wgpu::TextureUsages::STORAGE_BINDING,
+        ..target()
+    };
+    declare_pass(&mut fg, "bare", None, &[], &[("bare", bare)], |_| Ok(()));
+    fg.request("bare");
+    let planned = fg.planned("bare").expect("planned");
+    assert!(
+        planned
+            .usage
+            .contains(spreadlight_render::frame_graph::READABLE)
+    );
+    let (report, outputs) = fg.execute(&renderer).expect("executes");
+    assert!(report.errors.is_empty(), "{:?}", report.errors);
+    let texture = &outputs["bare"];
+    assert!(
+        texture
+            .usage()
+            .contains(spreadlight_render::frame_graph::READABLE)
+    );
+    let image = read_texture(&renderer.gpu, texture).expect("reads back");
+    assert_eq!((image.width, image.height), (4, 4));
+}
+
+/// A readback whose buffer would be one byte past the adapter's largest is
+/// refused before anything is allocated, naming the size and the limit.
+#[test]
+fn a_readback_past_the_adapter_s_largest_buffer_is_refused_naming_the_limit() {
+    use spreadlight_render::readback::readback_layout;
+    use spreadlight_render::texture_pool::TextureKey;
+    let renderer = test_renderer();
+    let max = renderer.gpu.device.limits().max_buffer_size;
+    // R32Float rows of 16384 pixels are 64 KiB, aligned already: the
+    // largest whole number of rows that fits, and one row more.
+    let rows = u32::try_from(max / 65536).expect("a largest buffer under 256 TiB");
+    let key = |height: u32| TextureKey {
+        format: wgpu::TextureFormat::R32Float,
+        width: 16384,
+        height,
+        usage: wgpu::TextureUsages::COPY_SRC,
+    };
+    let (_, row, size) = readback_layout(&renderer.gpu, &key(rows), "it").expect("fits");
+    assert_eq!((row, size), (65536, u64::from(rows) * 65536));
+    let error = readback_layout(&renderer.gpu, &key(rows + 1), "the test's texture")
+        .expect_err("one row too many");
+    assert_eq!(
+        error.to_string(),
+        format!(
+            "the readback of the test's texture (16384x{} R32Float: a {}-byte buffer) is past the \
+             adapter's limit max_buffer_size ({max})",
+            rows + 1,
+            u64::from(rows + 1) * 65536
+        )
+    );
+    // And what cannot be copied from is said so, not left to wgpu.
+    let error = readback_layout(
+        &renderer.gpu,
+        &TextureKey {
+            usage: wgpu::TextureUsages::TEXTURE_BINDING,
+            ..key(1)
+        },
+        "it",
+    )
+    .expect_err("no COPY_SRC");
+    assert!(error.to_string().contains("without COPY_SRC"), "{error}");
+}
+
 /// A frame of three dependent compute passes that fill, add to and scale an
 /// image, so recording and timing modes can be compared on real work.
 fn arithmetic_frame(renderer: &spreadlight_render::Renderer) -> Vec<[f32; 4]> {
-    use spreadlight_render::frame_graph::Bindings;
     use spreadlight_render::readback::render_and_read;
     use spreadlight_render::shaders::ShaderKey;
     struct Chain;
@@ -499,14 +745,16 @@ fn a_batched_frame_that_fails_validation_is_dropped_and_the_next_names_the_pass(
     renderer.set_recording(Recording::Batched);
     let frame = || {
         let mut fg = FrameGraph::new((8, 8));
-        fg.add_pass(
+        declare_pass(
+            &mut fg,
             "broken",
             Some(42),
             &[],
             &[("broken", target())],
             invalid_buffer,
         );
-        fg.add_pass(
+        declare_pass(
+            &mut fg,
             "healthy",
             Some(7),
             &[],
@@ -580,21 +828,23 @@ fn renamed_frame(renderer: &spreadlight_render::Renderer, frame: u32) -> Vec<[f3
             let [s0, s1, s2] = &self.0;
             let mut seeded = target();
             seeded.usage |= wgpu::TextureUsages::COPY_DST;
-            fg.add_pass("seed", Some(7), &[], &[(s0, seeded)], move |cx| {
-                seed_ramp(cx, &cx.texture_named(s0)?.clone());
+            let mut pass = fg.pass("seed", Some(7));
+            let seed = pass.write(s0, seeded);
+            pass.run(move |cx| {
+                seed_ramp(cx, &cx.texture(seed)?.clone());
                 Ok(())
             });
             // Two passes of one name (as SSSS declares its three blurs).
             for (from, to) in [(s0, s1), (s1, s2)] {
-                fg.add_pass("copy", Some(7), &[from], &[(to, target())], move |cx| {
-                    let (input, output) = (cx.view_named(from)?, cx.view_named(to)?);
-                    cx.dispatch_image_numbered(
+                let mut pass = fg.pass("copy", Some(7));
+                let (source, output) = (pass.read(from), pass.write(to, target()));
+                pass.run(move |cx| {
+                    cx.dispatch_image(
                         "copy",
                         &ShaderKey::new("post/copy.wgsl", []),
-                        &[
-                            (0, wgpu::BindingResource::TextureView(&input)),
-                            (1, wgpu::BindingResource::TextureView(&output)),
-                        ],
+                        Bindings::new()
+                            .texture("source", source)
+                            .texture("output", output),
                         (8, 8),
                     )
                 });
@@ -633,7 +883,7 @@ fn a_re_made_recipe_binds_the_textures_its_passes_had_last_frame() {
 }
 
 /// Write an 8x8 grey ramp (0, 1/64, ... 63/64; alpha 1) into the seed texture.
-fn seed_ramp(cx: &spreadlight_render::frame_graph::PassContext<'_>, t: &wgpu::Texture) {
+fn seed_ramp(cx: &PassContext<'_>, t: &wgpu::Texture) {
     let data: Vec<u8> = (0..8 * 8)
         .flat_map(|i| {
             let v = half::f16::from_f32(i as f32 / 64.0).to_le_bytes();
@@ -668,19 +918,13 @@ fn temporal_frame_requesting(
 ) -> [f32; 3] {
     use spreadlight_render::readback::render_and_read;
     use spreadlight_render::shaders::ShaderKey;
-    fn copy(
-        cx: &mut spreadlight_render::frame_graph::PassContext<'_>,
-        from: &str,
-        to: &str,
-    ) -> Result<(), spreadlight_render::RenderError> {
-        let (input, output) = (cx.view_named(from)?, cx.view_named(to)?);
-        cx.dispatch_image_numbered(
+    fn copy(cx: &mut PassContext<'_>, from: Tex, to: Tex) -> Result<(), RenderError> {
+        cx.dispatch_image(
             "copy",
             &ShaderKey::new("post/copy.wgsl", []),
-            &[
-                (0, wgpu::BindingResource::TextureView(&input)),
-                (1, wgpu::BindingResource::TextureView(&output)),
-            ],
+            Bindings::new()
+                .texture("source", from)
+                .texture("output", to),
             (8, 8),
         )
     }
@@ -691,9 +935,11 @@ fn temporal_frame_requesting(
             let mut seeded = target();
             seeded.usage |= wgpu::TextureUsages::COPY_DST;
             let value = self.0;
-            fg.add_pass("seed", None, &[], &[("now", seeded)], move |cx| {
+            let mut pass = fg.pass("seed", None);
+            let now = pass.write("now", seeded);
+            pass.run(move |cx| {
                 let texel = [half::f16::from_f32(value).to_le_bytes(); 4].concat();
-                let t = cx.texture_named("now")?.clone();
+                let t = cx.texture(now)?.clone();
                 cx.gpu.queue.write_texture(
                     t.as_image_copy(),
                     &texel.repeat(64),
@@ -708,41 +954,31 @@ fn temporal_frame_requesting(
             });
             // AO's shape: last frame's history into "previous", then the
             // history written anew.
-            fg.add_pass(
-                "ao-like",
-                None,
-                &["now"],
-                &[
-                    ("history", TextureDesc::history(rgba)),
-                    ("previous", TextureDesc::history_twin(rgba)),
-                    ("read previous", target()),
-                ],
-                |cx| {
-                    cx.copy_history_named("history", "previous")?;
-                    copy(cx, "previous", "read previous")?;
-                    copy(cx, "now", "history")
-                },
-            );
+            let mut pass = fg.pass("ao-like", None);
+            let now = pass.read("now");
+            let history = pass.write("history", TextureDesc::history(rgba));
+            let previous = pass.write("previous", TextureDesc::history_twin(rgba));
+            let read_previous = pass.write("read previous", target());
+            pass.run(move |cx| {
+                cx.copy_history(history, previous)?;
+                copy(cx, previous, read_previous)?;
+                copy(cx, now, history)
+            });
             // TAA's shape: the history read, the output written, and the
             // output kept as next frame's history; a later pass reads it.
-            fg.add_pass(
-                "taa-like",
-                None,
-                &["now"],
-                &[
-                    ("output", TextureDesc::history_twin(rgba)),
-                    ("kept", TextureDesc::history(rgba)),
-                    ("read kept", target()),
-                ],
-                |cx| {
-                    copy(cx, "kept", "read kept")?;
-                    copy(cx, "now", "output")?;
-                    cx.keep_as_history_named("output", "kept")
-                },
-            );
-            fg.add_pass("after", None, &["output"], &[("shown", target())], |cx| {
-                copy(cx, "output", "shown")
+            let mut pass = fg.pass("taa-like", None);
+            let now = pass.read("now");
+            let output = pass.write("output", TextureDesc::history_twin(rgba));
+            let kept = pass.write("kept", TextureDesc::history(rgba));
+            let read_kept = pass.write("read kept", target());
+            pass.run(move |cx| {
+                copy(cx, kept, read_kept)?;
+                copy(cx, now, output)?;
+                cx.keep_as_history(output, kept)
             });
+            let mut pass = fg.pass("after", None);
+            let (output, shown) = (pass.read("output"), pass.write("shown", target()));
+            pass.run(move |cx| copy(cx, output, shown));
         }
     }
     let mut requested = vec!["read previous", "read kept", "shown"];
@@ -849,30 +1085,11 @@ fn a_pass_reaches_only_the_textures_it_declared() {
     );
 }
 
-/// A temporary whose last reader has recorded is back in the pool and gone
-/// from the frame: even a look-up by name cannot reach its memory.
-#[test]
-fn a_returned_temporary_leaves_the_frame() {
-    let errors = frame_errors(
-        |fg| {
-            fg.add_pass("a", None, &[], &[("t1", target())], |_| Ok(()));
-            fg.add_pass("b", None, &["t1"], &[("t2", target())], |_| Ok(()));
-            fg.add_pass("c", None, &["t2"], &[("t3", target())], |cx| {
-                cx.texture_named("t1").map(|_| ())
-            });
-        },
-        "t3",
-    );
-    assert_eq!(errors.len(), 1, "{errors:?}");
-    assert!(errors[0].contains("`t1` is not available"), "{errors:?}");
-}
-
 /// Bindings by name: a name the shader never declares (a typo) and a
 /// variable the shader uses that the pass left unbound are errors naming
 /// the variable, not a validation error about binding numbers.
 #[test]
 fn bindings_by_name_name_a_typo_and_a_missing_variable() {
-    use spreadlight_render::frame_graph::Bindings;
     use spreadlight_render::shaders::ShaderKey;
     let copy = |typo: bool| {
         move |fg: &mut FrameGraph<'_>| {

@@ -238,9 +238,10 @@ fn ssr_history_survives_a_nan_a_camera_cut_and_a_resize() {
     let history = ssr.history.clone();
     let desc = TextureDesc::history(wgpu::TextureFormat::Rgba16Float);
     let mut graph = spreadlight_render::FrameGraph::new(SIZE);
-    let name = history.clone();
-    graph.add_pass("poison", None, &[], &[(&history, desc)], move |cx| {
-        let texture = cx.texture_named(&name)?;
+    let mut pass = graph.pass("poison", None);
+    let poisoned = pass.write(&history, desc);
+    pass.run(move |cx| {
+        let texture = cx.texture(poisoned)?;
         let nan = half::f16::NAN.to_bits().to_le_bytes();
         let data: Vec<u8> = (0..SIZE.0 * SIZE.1 * 4).flat_map(|_| nan).collect();
         cx.gpu.queue.write_texture(

@@ -9,7 +9,6 @@
 //! upsampled with depth awareness), so the table shows what half
 //! resolution saves and what it costs in error.
 
-use std::path::PathBuf;
 use std::process::ExitCode;
 use std::sync::Arc;
 
@@ -49,37 +48,12 @@ pub struct AoArgs {
     /// Rays per pixel in the reference.
     #[arg(long, default_value_t = 256)]
     rays: u32,
-    /// Write the reference and each setting's AO (white = open) as PNGs into this folder.
-    #[arg(long)]
-    images: Option<PathBuf>,
+    /// The reference and each setting's AO (white = open) as PNGs, in DIR/ao/.
+    #[command(flatten)]
+    images: super::ImageArgs,
     /// Resolutions of the raw estimate measured (Full, Half), comma-separated.
     #[arg(long, default_value = "full,half", value_delimiter = ',', value_parser = super::parse_resolution)]
     resolutions: Vec<Resolution>,
-}
-
-/// Visibility as a grey PNG (`None`: the sky, dark blue).
-fn write_visibility(
-    dir: &std::path::Path,
-    name: &str,
-    values: &[Option<f32>],
-    size: (u32, u32),
-) -> anyhow::Result<()> {
-    std::fs::create_dir_all(dir)?;
-    let image = ImageF32 {
-        width: size.0,
-        height: size.1,
-        pixels: values
-            .iter()
-            .map(|v| v.map_or([0.0, 0.0, 0.05, 1.0], |v| [v, v, v, 1.0]))
-            .collect(),
-    };
-    let file = dir.join(format!("{}.png", name.replace(' ', "-")));
-    spreadlight_render::image_io::write_image(
-        &image,
-        &file,
-        spreadlight_render::image_io::Encoding::Linear,
-    )
-    .with_context(|| format!("cannot write {}", file.display()))
 }
 
 const BALLS: [([f32; 3], f32); 4] = [
@@ -255,8 +229,9 @@ pub fn run(args: &AoArgs) -> anyhow::Result<ExitCode> {
         1,
     )?;
     let truth = reference(&depth, args.error_size, args.radius, args.rays);
-    if let Some(dir) = &args.images {
-        write_visibility(dir, "reference", &truth, args.error_size)?;
+    let images = args.images.folder("ao");
+    if let Some(dir) = &images {
+        super::write_grey(dir, "reference", &truth, args.error_size)?;
     }
     let none = error(
         &ImageF32 {
@@ -292,7 +267,7 @@ pub fn run(args: &AoArgs) -> anyhow::Result<ExitCode> {
                 let frames = if temporal { args.settle } else { 1 };
                 let (ao, _) = measure(&renderer, &layer, args.error_size, s, frames, owner)?;
                 let error = error(&ao, &truth, args.error_size);
-                if let Some(dir) = &args.images {
+                if let Some(dir) = &images {
                     let values: Vec<Option<f32>> = ao
                         .pixels
                         .iter()
@@ -304,7 +279,7 @@ pub fn run(args: &AoArgs) -> anyhow::Result<ExitCode> {
                         mode_name(mode),
                         if temporal { " temporal" } else { "" }
                     );
-                    write_visibility(dir, &name, &values, args.error_size)?;
+                    super::write_grey(dir, &name, &values, args.error_size)?;
                 }
                 let ms = time(&renderer, &layer, args, s, owner + 10_000)?;
                 rows.push(Row {

@@ -69,6 +69,55 @@ impl Common {
     }
 }
 
+/// Where an effect writes its images (`--images`): always a folder named
+/// for the effect (`shadows/`, `ao/`) inside the one given, or inside
+/// `accuracy-images/` (ignored by git) when none is given, so images of two
+/// effects never mix and a stray value cannot scatter files at the root of
+/// the tree, as `--images 1` once did (85 images committed in `1/`).
+#[derive(clap::Args)]
+pub struct ImageArgs {
+    /// Write images into DIR/EFFECT/ (DIR: accuracy-images when left out).
+    #[arg(long, value_name = "DIR", num_args = 0..=1, default_missing_value = IMAGES_DIR, alias = "error-images")]
+    images: Option<PathBuf>,
+}
+
+/// Where `--images` without a folder writes (in .gitignore).
+pub const IMAGES_DIR: &str = "accuracy-images";
+
+impl ImageArgs {
+    /// The folder `effect`'s images go into, when images are asked for.
+    pub(crate) fn folder(&self, effect: &str) -> Option<PathBuf> {
+        self.images.as_ref().map(|dir| dir.join(effect))
+    }
+}
+
+/// Write `values` (row by row, `size`) as a grey PNG named `name` into
+/// `dir`: a value as its grey level, `None` (a pixel the measurement leaves
+/// out: the sky, what the light does not reach) dark blue.
+pub(crate) fn write_grey(
+    dir: &std::path::Path,
+    name: &str,
+    values: &[Option<f32>],
+    size: (u32, u32),
+) -> anyhow::Result<()> {
+    std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
+    let image = spreadlight_render::readback::ImageF32 {
+        width: size.0,
+        height: size.1,
+        pixels: values
+            .iter()
+            .map(|v| v.map_or([0.0, 0.0, 0.05, 1.0], |v| [v, v, v, 1.0]))
+            .collect(),
+    };
+    let file = dir.join(format!("{}.png", name.replace(' ', "-")));
+    spreadlight_render::image_io::write_image(
+        &image,
+        &file,
+        spreadlight_render::image_io::Encoding::Linear,
+    )
+    .with_context(|| format!("cannot write {}", file.display()))
+}
+
 #[derive(clap::Args)]
 pub struct Args {
     #[command(subcommand)]

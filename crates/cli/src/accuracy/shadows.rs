@@ -6,7 +6,6 @@
 //! visibility (shadowed over unshadowed lighting) over the pixels the spot
 //! lights, and the share of those pixels off by more than 0.1.
 
-use std::path::PathBuf;
 use std::process::ExitCode;
 use std::sync::Arc;
 
@@ -42,9 +41,9 @@ pub struct ShadowArgs {
     /// Rays per pixel in the reference.
     #[arg(long, default_value_t = 256)]
     rays: u32,
-    /// Write each setting's error image (|GPU - reference| visibility, white = 1) into this folder.
-    #[arg(long)]
-    error_images: Option<PathBuf>,
+    /// Each setting's error image (|GPU - reference| visibility, white = 1), in DIR/shadows/.
+    #[command(flatten)]
+    images: super::ImageArgs,
 }
 
 #[derive(Clone, Copy, clap::ValueEnum)]
@@ -337,40 +336,13 @@ fn error(shadowed: &Frame, lit: &Frame, truth: &[Option<f32>]) -> (f64, f64) {
     ((sum / n).sqrt(), off as f64 / n)
 }
 
-/// |GPU - reference| visibility as a grey image (pixels the spot does not light: dark blue).
-fn write_error_image(
-    dir: &std::path::Path,
-    name: &str,
-    shadowed: &Frame,
-    lit: &Frame,
-    truth: &[Option<f32>],
-    size: (u32, u32),
-) -> anyhow::Result<()> {
-    std::fs::create_dir_all(dir)?;
-    let pixels = truth
+/// |GPU - reference| visibility per pixel (`None` where the spot does not light).
+fn error_values(shadowed: &Frame, lit: &Frame, truth: &[Option<f32>]) -> Vec<Option<f32>> {
+    truth
         .iter()
         .enumerate()
-        .map(|(i, t)| match t {
-            Some(t) => {
-                let e = (gpu_visibility(shadowed, lit, i) - t).abs();
-                [e, e, e, 1.0]
-            }
-            None => [0.0, 0.0, 0.05, 1.0],
-        })
-        .collect();
-    let image = ImageF32 {
-        width: size.0,
-        height: size.1,
-        pixels,
-    };
-    let file = dir.join(format!("{}.png", name.replace(' ', "-")));
-    spreadlight_render::image_io::write_image(
-        &image,
-        &file,
-        spreadlight_render::image_io::Encoding::Linear,
-    )
-    .with_context(|| format!("cannot write {}", file.display()))?;
-    Ok(())
+        .map(|(i, t)| t.map(|t| (gpu_visibility(shadowed, lit, i) - t).abs()))
+        .collect()
 }
 
 pub fn run(args: &ShadowArgs) -> anyhow::Result<ExitCode> {
@@ -403,13 +375,11 @@ pub fn run(args: &ShadowArgs) -> anyhow::Result<ExitCode> {
             let shadowed = frame(&renderer, &layers, args.error_size, setting, true)?;
             let (rmse, off) = error(&shadowed, &lit, &truth);
             let ssim = ssim(&shadowed, &lit, &truth, args.error_size);
-            if let Some(dir) = &args.error_images {
-                write_error_image(
-                    dir,
+            if let Some(dir) = args.images.folder("shadows") {
+                super::write_grey(
+                    &dir,
                     &format!("{name} {res}"),
-                    &shadowed,
-                    &lit,
-                    &truth,
+                    &error_values(&shadowed, &lit, &truth),
                     args.error_size,
                 )?;
             }

@@ -69,6 +69,11 @@ pub struct Args {
     /// Only the `Output` node of this Name.
     #[arg(long = "output-name")]
     pub output_name: Option<String>,
+    /// Run a patch even though an unknown node type (misspelled, or a shader
+    /// or subpatch file that is missing) feeds its Output or a Probe: that
+    /// node's work is left out. Without it such a patch is an error.
+    #[arg(long)]
+    pub allow_unknown: bool,
 }
 
 /// Exit codes: 0 every frame written or complete, 1 some frames failed (or
@@ -224,7 +229,7 @@ fn render(args: &Args) -> anyhow::Result<bool> {
 
 /// Open the patch on a GPU; a patch that loads with errors is bad input.
 fn open(args: &Args, plan: &Plan) -> anyhow::Result<Evaluator> {
-    let session = Session::open(&args.patch, true, Some(args.size))?;
+    let session = Session::open(&args.patch, true, Some(args.size), args.allow_unknown)?;
     if session.load_errors {
         return Err(bad(format!(
             "{}: the patch has errors (above); fix them first (`spreadlight check`)",

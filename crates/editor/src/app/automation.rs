@@ -25,13 +25,14 @@ impl EditorApp {
         let viewport_error = self.viewport_error(0).unwrap_or_default();
         let patch_frame = (self.frame.evaluations, self.frame.seconds);
         // The patch has been drawn as the window shows it: a finished frame,
-        // its first viewport (if it has one) rendered at the viewport's size.
-        let drawn = patch_frame.0 > 0
-            && self.frame.views.first().is_none_or(|v| {
-                v.target.as_ref().is_none_or(|t| {
-                    (t.texture.width(), t.texture.height()) == self.viewports[0].size
-                })
-            });
+        // its first viewport (if it has one) rendered for the viewport's
+        // size. Not "at" it: an image file's texture keeps its own size, and
+        // waiting for it to match made the screenshot wait its whole timeout.
+        let drawn =
+            patch_frame.0 > 0
+                && self.frame.views.first().is_none_or(|v| {
+                    v.target.is_none() || v.for_size == Some(self.viewports[0].size)
+                });
         let a = &mut self.auto;
         // Each new patch frame once: how long the worker took for it.
         if patch_frame.0 != a.last_evaluations {

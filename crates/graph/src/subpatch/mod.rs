@@ -54,8 +54,18 @@ fn compile(patch: &Patch, registry: &Registry, library: &Library) -> Network {
     let located = |id: NodeId| flat.paths.get(&id).cloned().unwrap_or_else(|| vec![id]);
     let mut problems = flat.problems.clone();
     for mut problem in std::mem::take(network.problems_mut()) {
-        if problem.kind == ProblemKind::UnknownNodeType && flat.explained.contains(&problem.node) {
+        if matches!(problem.kind, ProblemKind::UnknownNodeType { .. })
+            && flat.explained.contains(&problem.node)
+        {
             continue;
+        }
+        // The fed sink as the documents know it, not by its flat id.
+        if let ProblemKind::UnknownNodeType {
+            feeds: Some(sink), ..
+        } = &mut problem.kind
+            && let [flat_id] = sink.path[..]
+        {
+            sink.path = located(flat_id);
         }
         let fed = flat.fed_inlets.get(&problem.node);
         let path = match (fed, problem.pin.as_deref()) {

@@ -80,6 +80,35 @@ impl ShaderLibrary {
         &self.folders
     }
 
+    /// For a shader node type that no file provides (`Nosie (Shader)`, or a
+    /// file since moved): which file would make it and where it was looked
+    /// for, so the message names the missing file instead of the next node
+    /// saying that nothing is connected. `None` for names of other types.
+    pub fn missing_file(&self, type_name: &str) -> Option<String> {
+        let stem = super::shader_type::file_stem(type_name)?;
+        let mut places: Vec<String> = self
+            .folders
+            .iter()
+            .map(|f| {
+                format!(
+                    "`{}`",
+                    std::path::absolute(f)
+                        .unwrap_or_else(|_| f.clone())
+                        .display()
+                )
+            })
+            .collect();
+        places.push(format!(
+            "the {} examples built in (shaders/nodes/)",
+            super::EXAMPLES.len()
+        ));
+        Some(format!(
+            "no shader file makes it: `{stem}.wgsl` (or another name that reads as `{type_name}`) \
+             is in none of {}",
+            places.join(", ")
+        ))
+    }
+
     /// Errors of files that do not compile now, by type name.
     pub fn errors(&self) -> &BTreeMap<String, ShaderNodeError> {
         &self.errors

@@ -46,6 +46,21 @@ pub fn type_name(stem: &str) -> String {
     format!("{camel} (Shader)")
 }
 
+/// The file stem that makes a shader node type name: `EdgeDetect (Shader)`
+/// from `edge_detect` ([`type_name`] read backwards; `edge-detect` makes it
+/// too). `None` for a name that is not a shader node's.
+pub fn file_stem(type_name: &str) -> Option<String> {
+    let camel = type_name.strip_suffix(" (Shader)")?;
+    let mut stem = String::new();
+    for (i, c) in camel.chars().enumerate() {
+        if c.is_uppercase() && i > 0 {
+            stem.push('_');
+        }
+        stem.extend(c.to_lowercase());
+    }
+    (!stem.is_empty()).then_some(stem)
+}
+
 impl ShaderType {
     /// Read and compile a file's default permutation.
     pub fn load(name: &str, file: &str, source: &str) -> Result<Arc<Self>, ShaderNodeError> {

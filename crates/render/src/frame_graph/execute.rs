@@ -149,9 +149,17 @@ fn execute(
     let mut finishing = batched.then(|| executor.finisher().begin());
     let steps = parts.order.len();
 
+    let max_side = device.limits().max_texture_dimension_2d;
     for (step, &p) in parts.order.clone().iter().enumerate() {
-        for (output, ((name, desc), key)) in parts.writes[p].iter().zip(&parts.keys[p]).enumerate()
-        {
+        // A texture past the adapter's limit fails its pass before anything
+        // is allocated (wgpu would refuse it with an error outside any scope).
+        let mut too_large = too_large(&parts.writes[p], &parts.keys[p], max_side, output_size);
+        let writes = if too_large.is_some() {
+            &[][..]
+        } else {
+            &parts.writes[p][..]
+        };
+        for (output, ((name, desc), key)) in writes.iter().zip(&parts.keys[p]).enumerate() {
             let texture = match desc.lifetime {
                 Lifetime::Persistent => match textures.persistent.get(name) {
                     Some((k, t)) if k == key => t.clone(),
@@ -217,9 +225,10 @@ fn execute(
             output_size,
             counters: Default::default(),
         };
-        let result = match run {
-            Some(run) => run(&mut cx),
-            None => Ok(()),
+        let result = match (too_large.take(), run) {
+            (Some(error), _) => Err(error),
+            (None, Some(run)) => run(&mut cx),
+            (None, None) => Ok(()),
         };
         let Recorded {
             encoder,
@@ -503,6 +512,13 @@ fn execute(
         }
     }
     report.wait_ms = (started.elapsed().as_secs_f64() * 1e3 - report.record_ms).max(0.0);
+    // Errors outside every pass's scope (allocating the frame's textures,
+    // or work done before it that no host took): the frame's, not a panic.
+    for error in gpu.take_uncaptured_errors() {
+        report
+            .errors
+            .push((None, format!("GPU error outside any pass: {error}")));
+    }
     executor.set_last_report(report.clone());
     Ok((report, outputs))
 }
@@ -516,4 +532,26 @@ fn add_counter(report: &mut FrameReport, name: &str, n: u64) {
             report.counters.insert(name.to_owned(), n);
         }
     }
+}
+
+/// The error of a pass whose output would be larger than the adapter's
+/// largest 2D texture, naming the texture, its size and the limit.
+fn too_large(
+    writes: &[(String, super::TextureDesc)],
+    keys: &[crate::texture_pool::TextureKey],
+    max_side: u32,
+    output_size: (u32, u32),
+) -> Option<RenderError> {
+    let ((name, _), key) = writes
+        .iter()
+        .zip(keys)
+        .find(|(_, key)| key.width > max_side || key.height > max_side)?;
+    Some(RenderError::TooLarge {
+        what: format!(
+            "texture `{name}` ({}x{} for a {}x{} frame)",
+            key.width, key.height, output_size.0, output_size.1
+        ),
+        limit: "max_texture_dimension_2d",
+        max: u64::from(max_side),
+    })
 }

@@ -121,7 +121,11 @@ impl PassContext<'_> {
 
     /// A texture this pass declared.
     pub fn texture(&self, tex: Tex) -> Result<&wgpu::Texture, RenderError> {
-        let name = self.declared(tex)?;
+        self.live(self.declared(tex)?)
+    }
+
+    /// The live texture of a name the caller checked this pass declared.
+    pub(super) fn live(&self, name: &str) -> Result<&wgpu::Texture, RenderError> {
         self.textures
             .get(name)
             .ok_or_else(|| RenderError::Graph(format!("texture `{name}` is not available here")))

@@ -26,38 +26,36 @@ pub const HANDED_OVER: &str = "histories handed over, not copied";
 pub const COPIED: &str = "histories copied";
 
 impl PassContext<'_> {
-    /// [`PassContext::copy_history_named`] of two textures this pass declared.
+    /// Make `previous` last frame's `history` before the history is written
+    /// again (see [`super::TextureDesc::history`]), and say whether the
+    /// history is fresh (created this frame: it holds nothing). The pass
+    /// must write every texel of the history it reads back later: after a
+    /// trade, the texture it writes holds another frame's leftovers. Both
+    /// are textures this pass declared.
     pub fn copy_history(&mut self, history: Tex, previous: Tex) -> Result<bool, RenderError> {
         let (history, previous) = (
             self.declared(history)?.to_owned(),
             self.declared(previous)?.to_owned(),
         );
-        self.copy_history_named(&history, &previous)
+        self.copy_history_by_name(&history, &previous)
     }
 
-    /// [`PassContext::keep_as_history_named`] of two textures this pass declared.
+    /// This frame's `output` (all of it written) is next frame's `history`:
+    /// from here on `history` names the output's texture, and the texture
+    /// it had goes back to the pool when the output's last reader is done.
+    /// Both are textures this pass declared.
     pub fn keep_as_history(&mut self, output: Tex, history: Tex) -> Result<(), RenderError> {
         let (output, history) = (
             self.declared(output)?.to_owned(),
             self.declared(history)?.to_owned(),
         );
-        self.keep_as_history_named(&output, &history)
+        self.keep_as_history_by_name(&output, &history)
     }
 
-    /// Make `previous` last frame's `history` before the history is written
-    /// again (see [`super::TextureDesc::history`]), and say whether the
-    /// history is fresh (created this frame: it holds nothing). The pass
-    /// must write every texel of the history it reads back later: after a
-    /// trade, the texture it writes holds another frame's leftovers.
-    pub fn copy_history_named(
-        &mut self,
-        history: &str,
-        previous: &str,
-    ) -> Result<bool, RenderError> {
-        let (last, spare) = (
-            self.texture_named(history)?.clone(),
-            self.texture_named(previous)?.clone(),
-        );
+    /// [`PassContext::copy_history`] by the declared names: a trade renames
+    /// textures, so it works on the names, not the handles.
+    fn copy_history_by_name(&mut self, history: &str, previous: &str) -> Result<bool, RenderError> {
+        let (last, spare) = (self.live(history)?.clone(), self.live(previous)?.clone());
         if self.can_trade(previous, &last, &spare) {
             self.textures.insert(previous.to_owned(), last.clone());
             self.hand_over(history, spare, previous, last);
@@ -69,21 +67,12 @@ impl PassContext<'_> {
             );
             self.count(COPIED, 1);
         }
-        Ok(self.is_fresh_named(history))
+        Ok(self.fresh.contains(history))
     }
 
-    /// This frame's `output` (all of it written) is next frame's `history`:
-    /// from here on `history` names the output's texture, and the texture
-    /// it had goes back to the pool when the output's last reader is done.
-    pub fn keep_as_history_named(
-        &mut self,
-        output: &str,
-        history: &str,
-    ) -> Result<(), RenderError> {
-        let (written, last) = (
-            self.texture_named(output)?.clone(),
-            self.texture_named(history)?.clone(),
-        );
+    /// [`PassContext::keep_as_history`] by the declared names.
+    fn keep_as_history_by_name(&mut self, output: &str, history: &str) -> Result<(), RenderError> {
+        let (written, last) = (self.live(output)?.clone(), self.live(history)?.clone());
         if self.can_trade(output, &written, &last) {
             self.hand_over(history, written, output, last);
         } else {

@@ -24,6 +24,8 @@ mod finisher;
 mod handles;
 mod history;
 mod merge;
+#[cfg(test)]
+mod tests;
 
 use crate::context::GpuContext;
 use crate::error::RenderError;
@@ -38,6 +40,12 @@ pub use finisher::FRAME_CHUNKS;
 pub(crate) use finisher::Finisher;
 pub use handles::{PassBuilder, Tex};
 pub use history::{COPIED as HISTORIES_COPIED, HANDED_OVER as HISTORIES_HANDED_OVER};
+
+/// What every texture a frame hands back to its caller can do, so that any
+/// sink can read it: be copied (Output's readback) and sampled (the
+/// editor's viewport).
+pub const READABLE: wgpu::TextureUsages =
+    wgpu::TextureUsages::COPY_SRC.union(wgpu::TextureUsages::TEXTURE_BINDING);
 
 /// How big a texture is.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -222,20 +230,6 @@ pub struct PassContext<'f> {
 }
 
 impl<'f> PassContext<'f> {
-    /// A live texture by name, declared or not: being replaced by handles
-    /// ([`PassContext::texture`]), which reach only what the pass declared.
-    pub fn texture_named(&self, name: &str) -> Result<&wgpu::Texture, RenderError> {
-        self.textures
-            .get(name)
-            .ok_or_else(|| RenderError::Graph(format!("texture `{name}` is not available here")))
-    }
-
-    /// [`PassContext::texture_named`]'s default view (see [`PassContext::view`]).
-    pub fn view_named(&self, name: &str) -> Result<wgpu::TextureView, RenderError> {
-        let texture = self.texture_named(name)?;
-        Ok(self.views.borrow_mut().view(texture))
-    }
-
     /// A view of any texture (one the frame graph does not manage too, such
     /// as a node's shadow maps), made once and kept while frames use it.
     pub fn view_of(
@@ -259,30 +253,21 @@ impl<'f> PassContext<'f> {
         *self.counters.entry(name).or_default() += n;
     }
 
-    /// Whether this pass's output `name` is read: by a later pass of this
+    /// Whether this pass's output `tex` is read: by a later pass of this
     /// frame (its last use comes after this pass's write), or by the caller.
     /// A pass runs when any of its outputs is read; one with several can
     /// leave out the work of an output nobody reads (its texture is still
     /// allocated, and left unwritten).
-    pub fn is_read_named(&self, name: &str) -> bool {
-        self.requested.contains(name) || self.last_use.get(name).is_some_and(|&s| s > self.step)
-    }
-
-    /// Whether this pass's output `tex` is read (see [`PassContext::is_read_named`]).
     pub fn is_read(&self, tex: Tex) -> bool {
-        self.declared(tex)
-            .is_ok_and(|name| self.is_read_named(name))
+        self.declared(tex).is_ok_and(|name| {
+            self.requested.contains(name) || self.last_use.get(name).is_some_and(|&s| s > self.step)
+        })
     }
 
     /// A persistent texture this pass declared, created this frame: it holds no history yet.
     pub fn is_fresh(&self, tex: Tex) -> bool {
         self.declared(tex)
-            .is_ok_and(|name| self.is_fresh_named(name))
-    }
-
-    /// [`PassContext::is_fresh`] by name.
-    pub fn is_fresh_named(&self, name: &str) -> bool {
-        self.fresh.contains(name)
+            .is_ok_and(|name| self.fresh.contains(name))
     }
 
     fn next_pair(&mut self) -> Option<(&'f wgpu::QuerySet, u32)> {
@@ -311,30 +296,6 @@ impl<'f> PassContext<'f> {
             pass.set_bind_group(index as u32, *group, &[]);
         }
         pass.dispatch_workgroups(workgroups.0, workgroups.1, workgroups.2);
-    }
-
-    /// [`PassContext::dispatch_image`] with `bindings` numbered by hand at
-    /// group 0 (those the permutation does not use are dropped): being
-    /// replaced by bindings by name.
-    pub fn dispatch_image_numbered(
-        &mut self,
-        label: &str,
-        key: &crate::shaders::ShaderKey,
-        bindings: &[(u32, wgpu::BindingResource<'_>)],
-        size: (u32, u32),
-    ) -> Result<(), RenderError> {
-        let device = self.gpu.device.clone();
-        let pipeline = self.shaders.compute_pipeline(&device, key, "main")?;
-        let group = self
-            .shaders
-            .bind_group(&device, key, "main", &pipeline, 0, bindings)?;
-        self.dispatch(
-            label,
-            &pipeline,
-            &[&group],
-            (size.0.div_ceil(8), size.1.div_ceil(8), 1),
-        );
-        Ok(())
     }
 
     /// Timestamp writes for a render pass of this graph pass.
@@ -389,24 +350,6 @@ impl<'a> FrameGraph<'a> {
         self.output_size
     }
 
-    /// Declare a pass. `writes` are created by the graph; `reads` must be written by another pass or imported.
-    pub fn add_pass(
-        &mut self,
-        name: impl Into<String>,
-        owner: Option<u32>,
-        reads: &[&str],
-        writes: &[(&str, TextureDesc)],
-        run: impl FnOnce(&mut PassContext<'_>) -> Result<(), RenderError> + 'a,
-    ) {
-        self.passes.push(PassEntry {
-            name: name.into(),
-            owner,
-            reads: reads.iter().map(|s| (*s).to_owned()).collect(),
-            writes: writes.iter().map(|(n, d)| ((*n).to_owned(), *d)).collect(),
-            run: Box::new(run),
-        });
-    }
-
     /// Ask for a texture: only the passes it depends on will run.
     pub fn request(&mut self, name: &str) {
         self.requested.push(name.to_owned());
@@ -420,6 +363,32 @@ impl<'a> FrameGraph<'a> {
     /// True the first time an id is included: a recipe declares its passes only once per frame.
     pub fn include(&mut self, id: u64) -> bool {
         self.included.insert(id)
+    }
+
+    /// The texture `name` will be, before the frame runs: written by a pass
+    /// (its descriptor at this frame's size, readable if requested) or
+    /// imported. For a sink to refuse what it could not read back before
+    /// any work is done.
+    pub fn planned(&self, name: &str) -> Option<TextureKey> {
+        if let Some(texture) = self.imports.get(name) {
+            return Some(TextureKey {
+                format: texture.format(),
+                width: texture.width(),
+                height: texture.height(),
+                usage: texture.usage(),
+            });
+        }
+        let desc = self
+            .passes
+            .iter()
+            .flat_map(|p| &p.writes)
+            .find(|(n, _)| n == name)
+            .map(|(_, d)| d)?;
+        let mut key = self.resolve(desc);
+        if self.requested.iter().any(|r| r == name) {
+            key.usage |= READABLE;
+        }
+        Some(key)
     }
 
     pub fn resolve(&self, desc: &TextureDesc) -> TextureKey {
@@ -538,10 +507,23 @@ impl<'a> FrameGraph<'a> {
         persistent: &dyn Fn(&str) -> bool,
     ) -> Result<GraphParts<'a>, RenderError> {
         let (order, culled) = self.schedule(persistent)?;
+        // What the caller gets back, any sink must be able to read: copy
+        // it (Output's readback) or sample it (the editor's viewport).
         let keys = self
             .passes
             .iter()
-            .map(|p| p.writes.iter().map(|(_, d)| self.resolve(d)).collect())
+            .map(|p| {
+                p.writes
+                    .iter()
+                    .map(|(name, d)| {
+                        let mut key = self.resolve(d);
+                        if self.requested.contains(name) {
+                            key.usage |= READABLE;
+                        }
+                        key
+                    })
+                    .collect()
+            })
             .collect();
         let n = self.passes.len();
         let mut parts = GraphParts {

@@ -358,39 +358,9 @@ impl ShaderCache {
             .collect())
     }
 
-    /// A bind group for group `group` of a compute pipeline made from
-    /// `key`/`entry`, given every resource a caller might bind: those the
-    /// permutation compiled out are left out.
-    pub fn bind_group(
-        &mut self,
-        device: &wgpu::Device,
-        key: &ShaderKey,
-        entry: &str,
-        pipeline: &wgpu::ComputePipeline,
-        group: u32,
-        resources: &[(u32, wgpu::BindingResource<'_>)],
-    ) -> Result<wgpu::BindGroup, RenderError> {
-        let reflection = self.reflection(key, entry)?;
-        let entries: Vec<wgpu::BindGroupEntry<'_>> = resources
-            .iter()
-            .filter(|(binding, _)| reflection.used().any(|u| u == (group, *binding)))
-            .map(|(binding, resource)| wgpu::BindGroupEntry {
-                binding: *binding,
-                resource: resource.clone(),
-            })
-            .collect();
-        Ok(self.group(
-            device,
-            &PipelineRef::Compute(pipeline.clone()),
-            group,
-            key.path,
-            &entries,
-        ))
-    }
-
     /// A bind group of exactly `entries` for group `group` of `pipeline`'s
     /// derived layout, made once and reused while a pass binds the same
-    /// resources (counted with [`ShaderCache::bind_group`]'s): for passes
+    /// resources (counted in `bind_groups_created` and `bind_groups_reused`): for passes
     /// that choose their entries themselves, and for render pipelines.
     pub fn group(
         &mut self,
