@@ -1,5 +1,6 @@
 //! Docs that cannot go stale: what docs/architecture.md says about the
-//! repository's files and crates is checked against the repository.
+//! repository's files and crates, and the files docs/testing.md names, are
+//! checked against the repository.
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
@@ -45,15 +46,13 @@ fn expand_braces(name: &str) -> Vec<String> {
     }
 }
 
-/// Every file the architecture names in backticks (`frame_graph/merge.rs`,
-/// `shaders/lib/brdf.wgsl`, `docs/post.md`) is a file of the repository: the
-/// name is the end of some file's path.
-#[test]
-fn the_architecture_names_only_files_that_exist() {
+/// The files `doc` names in backticks (`frame_graph/merge.rs`,
+/// `shaders/lib/brdf.wgsl`, `docs/post.md`) that the repository lacks: a
+/// name counts as present when it is the end of some file's path.
+fn missing_files(doc: &str) -> Vec<String> {
     let root = root();
     let mut all = Vec::new();
     files(&root, &root, &mut all);
-    let doc = architecture();
     let mut missing = Vec::new();
     for quoted in doc.split('`').skip(1).step_by(2) {
         let is_file = [".rs", ".wgsl", ".md", ".ron"]
@@ -73,9 +72,28 @@ fn the_architecture_names_only_files_that_exist() {
             }
         }
     }
+    missing
+}
+
+/// Every file the architecture names in backticks is a file of the repository.
+#[test]
+fn the_architecture_names_only_files_that_exist() {
+    let missing = missing_files(&architecture());
     assert!(
         missing.is_empty(),
         "docs/architecture.md names files the repository does not have: {missing:?}"
+    );
+}
+
+/// Every test file docs/testing.md names is there: a test moved or merged
+/// into another file takes the doc with it.
+#[test]
+fn the_testing_guide_names_only_files_that_exist() {
+    let doc = std::fs::read_to_string(root().join("docs/testing.md")).expect("docs/testing.md");
+    let missing = missing_files(&doc);
+    assert!(
+        missing.is_empty(),
+        "docs/testing.md names files the repository does not have: {missing:?}"
     );
 }
 

@@ -304,6 +304,7 @@ pub fn run(args: &AoArgs) -> anyhow::Result<ExitCode> {
                     "resolution": r.resolution.name(),
                     "adapter": adapter, "time_size": format!("{tw}x{th}"), "error_size": format!("{ew}x{eh}"),
                     "ms": r.ms, "rmse": r.error.rmse, "ssim": r.error.ssim,
+                    "no_ao_rmse": none.rmse, "no_ao_ssim": none.ssim,
                 })
             );
         }

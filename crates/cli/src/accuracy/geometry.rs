@@ -45,6 +45,9 @@ pub struct GeometryArgs {
     /// Also write the table to this Markdown file.
     #[arg(long)]
     out: Option<std::path::PathBuf>,
+    /// Print JSON lines instead of the table.
+    #[arg(long)]
+    json: bool,
 }
 
 const MAJOR: f32 = 1.0;
@@ -93,11 +96,49 @@ fn error(
     spread(renderer, &out, distance)
 }
 
+/// One measured setting: a uniform level, or adaptive at an area factor
+/// (measured on the sphere alone).
+struct Row {
+    method: &'static str,
+    setting: Setting,
+    sphere: (f32, f32),
+    torus: Option<(f32, f32)>,
+    triangles: usize,
+    ms: Option<f64>,
+}
+
+#[derive(Clone, Copy)]
+enum Setting {
+    Level(u32),
+    AreaFactor(f32),
+}
+
+/// The median GPU ms of `make` over `frames` runs after `warmup` (None
+/// without timestamps), and the triangles its last run made.
+fn time(
+    renderer: &Renderer,
+    (warmup, frames): (usize, usize),
+    mut make: impl FnMut() -> anyhow::Result<std::sync::Arc<spreadlight_render::mesh_arena::GpuMesh>>,
+) -> anyhow::Result<(Option<f64>, usize)> {
+    let stats = GeometryStats::of(renderer);
+    let mut times = Vec::new();
+    let mut made = 0;
+    for k in 0..warmup + frames.max(1) {
+        stats.take_gpu_ms();
+        made = make()?.indices.len() / 3;
+        let ms = stats.take_gpu_ms();
+        if k >= warmup && renderer.gpu.has_timestamps() {
+            times.push(ms);
+        }
+    }
+    Ok((median(times), made))
+}
+
 pub fn run_geometry(args: &GeometryArgs) -> anyhow::Result<ExitCode> {
     let renderer = Renderer::headless().context("cannot open a GPU")?;
     let adapter = renderer.gpu.adapter_name();
-    let stats = GeometryStats::of(&renderer);
-    stats.set_timing(true);
+    GeometryStats::of(&renderer).set_timing(true);
+    let runs = (args.warmup, args.frames);
     // A UV sphere has 2 x sectors x (stacks - 1) triangles; sectors = 2 x stacks.
     let stacks = ((f64::from(args.time_triangles) / 4.0).sqrt().ceil() as u32).max(3);
     let big = sphere(SphereParams {
@@ -113,37 +154,24 @@ pub fn run_geometry(args: &GeometryArgs) -> anyhow::Result<ExitCode> {
         minor_segments: 8,
     });
     let ico = icosahedron();
-    let mut table = format!(
-        "Tessellation on {adapter}: error (largest and RMS distance over vertices and triangle centroids) of a unit \
-         icosahedron against the unit sphere and of a 16x8 torus (R {MAJOR}, r {MINOR}) against the analytic \
-         torus; GPU ms of the pass on a {}-triangle sphere (median of {} after {}).\n\n\
-         | method | level | sphere max | sphere RMS | torus max | torus RMS | triangles out | GPU ms |\n\
-         |---|---|---|---|---|---|---|---|\n",
-        big.triangle_count(),
-        args.frames,
-        args.warmup
-    );
-    for (name, curved) in [("Subdivide (flat)", false), ("PN Triangles", true)] {
+    let mut rows = Vec::new();
+    for (method, curved) in [("Subdivide (flat)", false), ("PN Triangles", true)] {
         for &level in &args.levels {
-            let (smax, srms) = error(&renderer, &ico, level, curved, sphere_distance)?;
-            let (tmax, trms) = error(&renderer, &ring, level, curved, |p| {
+            let sphere = error(&renderer, &ico, level, curved, sphere_distance)?;
+            let torus = error(&renderer, &ring, level, curved, |p| {
                 torus_distance(p, MAJOR, MINOR)
             })?;
-            let mut times = Vec::new();
-            let mut made = 0;
-            for k in 0..args.warmup + args.frames.max(1) {
-                stats.take_gpu_ms();
-                let out = pn_triangles(&renderer, &big_input, None, level, curved)?;
-                made = out.indices.len() / 3;
-                let ms = stats.take_gpu_ms();
-                if k >= args.warmup && renderer.gpu.has_timestamps() {
-                    times.push(ms);
-                }
-            }
-            table.push_str(&format!(
-                "| {name} | {level} | {smax:.5} | {srms:.5} | {tmax:.5} | {trms:.5} | {made} | {} |\n",
-                ms(median(times))
-            ));
+            let (ms, triangles) = time(&renderer, runs, || {
+                Ok(pn_triangles(&renderer, &big_input, None, level, curved)?)
+            })?;
+            rows.push(Row {
+                method,
+                setting: Setting::Level(level),
+                sphere,
+                torus: Some(torus),
+                triangles,
+                ms,
+            });
         }
     }
     let onto_sphere = SpherizeParams {
@@ -156,21 +184,70 @@ pub fn run_geometry(args: &GeometryArgs) -> anyhow::Result<ExitCode> {
         let factor = factor.max(1) as f32;
         let fine = tessellate(&renderer, &ico_input, None, mean_area(&ico) / factor, 64)?;
         let round = spherize(&renderer, &fine, None, onto_sphere)?;
-        let (smax, srms) = spread(&renderer, &round, sphere_distance)?;
-        let mut times = Vec::new();
-        let mut made = 0;
-        for k in 0..args.warmup + args.frames.max(1) {
-            stats.take_gpu_ms();
-            let out = tessellate(&renderer, &big_input, None, mean_area(&big) / factor, 64)?;
-            made = out.indices.len() / 3;
-            let ms = stats.take_gpu_ms();
-            if k >= args.warmup && renderer.gpu.has_timestamps() {
-                times.push(ms);
-            }
+        let sphere = spread(&renderer, &round, sphere_distance)?;
+        let (ms, triangles) = time(&renderer, runs, || {
+            Ok(tessellate(
+                &renderer,
+                &big_input,
+                None,
+                mean_area(&big) / factor,
+                64,
+            )?)
+        })?;
+        rows.push(Row {
+            method: "Tessellate (adaptive) + Spherize",
+            setting: Setting::AreaFactor(factor),
+            sphere,
+            torus: None,
+            triangles,
+            ms,
+        });
+    }
+    if args.json {
+        for r in &rows {
+            let (level, area_factor) = match r.setting {
+                Setting::Level(l) => (Some(l), None),
+                Setting::AreaFactor(f) => (None, Some(f)),
+            };
+            println!(
+                "{}",
+                serde_json::json!({
+                    "effect": "geometry", "method": r.method, "level": level,
+                    "area_factor": area_factor, "adapter": adapter,
+                    "time_triangles": big.triangle_count(),
+                    "sphere_max": r.sphere.0, "sphere_rms": r.sphere.1,
+                    "torus_max": r.torus.map(|t| t.0), "torus_rms": r.torus.map(|t| t.1),
+                    "triangles": r.triangles, "ms": r.ms,
+                })
+            );
         }
+        return Ok(ExitCode::SUCCESS);
+    }
+    let mut table = format!(
+        "Tessellation on {adapter}: error (largest and RMS distance over vertices and triangle centroids) of a unit \
+         icosahedron against the unit sphere and of a 16x8 torus (R {MAJOR}, r {MINOR}) against the analytic \
+         torus; GPU ms of the pass on a {}-triangle sphere (median of {} after {}).\n\n\
+         | method | level | sphere max | sphere RMS | torus max | torus RMS | triangles out | GPU ms |\n\
+         |---|---|---|---|---|---|---|---|\n",
+        big.triangle_count(),
+        args.frames,
+        args.warmup
+    );
+    for r in &rows {
+        let (smax, srms) = r.sphere;
+        let setting = match r.setting {
+            Setting::Level(l) => l.to_string(),
+            Setting::AreaFactor(f) => format!("mean area / {f}"),
+        };
+        let torus = match r.torus {
+            Some((tmax, trms)) => format!("{tmax:.5} | {trms:.5}"),
+            None => "- | -".to_owned(),
+        };
         table.push_str(&format!(
-            "| Tessellate (adaptive) + Spherize | mean area / {factor} | {smax:.5} | {srms:.5} | - | - | {made} | {} |\n",
-            ms(median(times))
+            "| {} | {setting} | {smax:.5} | {srms:.5} | {torus} | {} | {} |\n",
+            r.method,
+            r.triangles,
+            ms(r.ms)
         ));
     }
     print!("{table}");
