@@ -283,16 +283,16 @@ impl ShaderCache {
             [entry] => self.reflection(key, entry)?,
             // A render pipeline's stages: a variable is used where any stage uses it.
             _ => {
-                let mut merged = Reflection::default();
+                let mut merged: Vec<super::ShaderVar> = Vec::new();
                 for entry in entries {
                     for var in &self.reflection(key, entry)?.vars {
-                        match merged.vars.iter_mut().find(|v| v.name == var.name) {
+                        match merged.iter_mut().find(|v| v.name == var.name) {
                             Some(v) => v.used |= var.used,
-                            None => merged.vars.push(var.clone()),
+                            None => merged.push(var.clone()),
                         }
                     }
                 }
-                Arc::new(merged)
+                Arc::new(Reflection::new(merged))
             }
         };
         let path = key.path;
@@ -302,7 +302,7 @@ impl ShaderCache {
             message,
         };
         for (name, _) in resources {
-            if reflection.var(name).is_none() && !self.declares(path, name) {
+            if reflection.position(name).is_none() && !self.declares(path, name) {
                 return Err(error(format!(
                     "a pass binds `{name}`, which the shader does not declare"
                 )));
@@ -329,21 +329,33 @@ impl ShaderCache {
         };
         let made_elsewhere = |group: u32| prebuilt.iter().any(|(g, _)| *g == group);
         let mut groups: Vec<Vec<wgpu::BindGroupEntry<'_>>> = vec![Vec::new(); last as usize + 1];
-        for var in reflection
+        // One pass over what the pass binds (a hash look-up each), then one
+        // over the variables for any the shader uses and nothing bound.
+        let mut bound = vec![false; reflection.vars.len()];
+        for (name, resource) in resources {
+            let Some(i) = reflection.position(name) else {
+                continue;
+            };
+            let var = &reflection.vars[i];
+            if var.used && !made_elsewhere(var.group) && !bound[i] {
+                bound[i] = true;
+                groups[var.group as usize].push(wgpu::BindGroupEntry {
+                    binding: var.binding,
+                    resource: resource.clone(),
+                });
+            }
+        }
+        if let Some(var) = reflection
             .vars
             .iter()
-            .filter(|v| v.used && !made_elsewhere(v.group))
+            .zip(&bound)
+            .find(|(v, bound)| v.used && !made_elsewhere(v.group) && !**bound)
+            .map(|(v, _)| v)
         {
-            let Some((_, resource)) = resources.iter().find(|(name, _)| *name == var.name) else {
-                return Err(format!(
-                    "`{}` (group {}, binding {}) is used by the shader but no pass binds it",
-                    var.name, var.group, var.binding
-                ));
-            };
-            groups[var.group as usize].push(wgpu::BindGroupEntry {
-                binding: var.binding,
-                resource: resource.clone(),
-            });
+            return Err(format!(
+                "`{}` (group {}, binding {}) is used by the shader but no pass binds it",
+                var.name, var.group, var.binding
+            ));
         }
         Ok(groups
             .iter()

@@ -23,12 +23,29 @@ pub struct ShaderVar {
 #[derive(Clone, Debug, Default)]
 pub struct Reflection {
     pub vars: Vec<ShaderVar>,
+    /// Each variable's index in `vars` by name: a pass's bindings are
+    /// matched to the variables once a dispatch, every frame.
+    index: rustc_hash::FxHashMap<String, usize>,
 }
 
 impl Reflection {
+    pub fn new(vars: Vec<ShaderVar>) -> Self {
+        let index = vars
+            .iter()
+            .enumerate()
+            .map(|(i, v)| (v.name.clone(), i))
+            .collect();
+        Reflection { vars, index }
+    }
+
+    /// The index in `vars` of the variable named `name`, if the permutation has it.
+    pub fn position(&self, name: &str) -> Option<usize> {
+        self.index.get(name).copied()
+    }
+
     /// The variable named `name`, if the permutation has it.
     pub fn var(&self, name: &str) -> Option<&ShaderVar> {
-        self.vars.iter().find(|v| v.name == name)
+        self.position(name).map(|i| &self.vars[i])
     }
 
     /// The (group, binding)s the entry point uses.
@@ -83,7 +100,7 @@ pub fn reflect(module: &naga::Module, entry: &str) -> Result<Reflection, String>
             })
         })
         .collect();
-    Ok(Reflection { vars })
+    Ok(Reflection::new(vars))
 }
 
 /// The names of the resource variables declared anywhere in WGSL `source`,
