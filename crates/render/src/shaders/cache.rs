@@ -167,6 +167,52 @@ fn same_group(
         })
 }
 
+/// `resources` matched to `reflection`'s variables by name, one hash look-up
+/// each, as the entries of groups 0..=last (those of `prebuilt` groups left
+/// empty). A name the permutation lacks goes to `unknown`, which says
+/// whether that is an error; a variable the entry point uses that nothing
+/// binds is one.
+fn match_bindings<'r>(
+    reflection: &Reflection,
+    resources: &[(&str, wgpu::BindingResource<'r>)],
+    prebuilt: &[(u32, wgpu::BindGroup)],
+    mut unknown: impl FnMut(&str) -> Result<(), String>,
+) -> Result<Vec<Vec<wgpu::BindGroupEntry<'r>>>, String> {
+    let vars = reflection.vars();
+    let made_elsewhere = |group: u32| prebuilt.iter().any(|(g, _)| *g == group);
+    let mut groups: Vec<Vec<wgpu::BindGroupEntry<'r>>> = match reflection.last_group() {
+        Some(last) => vec![Vec::new(); last as usize + 1],
+        None => Vec::new(),
+    };
+    let mut bound = vec![false; vars.len()];
+    for (name, resource) in resources {
+        let Some(i) = reflection.position(name) else {
+            unknown(name)?;
+            continue;
+        };
+        let var = &vars[i];
+        if var.used && !made_elsewhere(var.group) && !bound[i] {
+            bound[i] = true;
+            groups[var.group as usize].push(wgpu::BindGroupEntry {
+                binding: var.binding,
+                resource: resource.clone(),
+            });
+        }
+    }
+    if let Some(var) = vars
+        .iter()
+        .zip(&bound)
+        .find(|(v, bound)| v.used && !made_elsewhere(v.group) && !**bound)
+        .map(|(v, _)| v)
+    {
+        return Err(format!(
+            "`{}` (group {}, binding {}) is used by the shader but no pass binds it",
+            var.name, var.group, var.binding
+        ));
+    }
+    Ok(groups)
+}
+
 /// Frames a cached bind group may go unused before it is dropped (with the
 /// buffers and views it keeps alive): recipes re-made each frame make new
 /// buffers, whose groups are never hit again.
@@ -254,16 +300,6 @@ impl ShaderCache {
         Ok(reflection)
     }
 
-    /// Whether shader `path` (or a library) declares a resource variable
-    /// `name` under some feature: a name its permutation compiled out.
-    pub fn declares(&mut self, path: &'static str, name: &str) -> bool {
-        let composer = &self.composer;
-        self.declared
-            .entry(path)
-            .or_insert_with(|| composer.declared_names(path))
-            .contains(name)
-    }
-
     /// Bind groups 0..=last for a pipeline of `key`'s `entries` (one for
     /// compute, the stages of a render pipeline), from
     /// resources named by the WGSL variables they fill: what the
@@ -285,7 +321,7 @@ impl ShaderCache {
             _ => {
                 let mut merged: Vec<super::ShaderVar> = Vec::new();
                 for entry in entries {
-                    for var in &self.reflection(key, entry)?.vars {
+                    for var in self.reflection(key, entry)?.vars() {
                         match merged.iter_mut().find(|v| v.name == var.name) {
                             Some(v) => v.used |= var.used,
                             None => merged.push(var.clone()),
@@ -296,20 +332,25 @@ impl ShaderCache {
             }
         };
         let path = key.path;
-        let error = |message: String| RenderError::Shader {
+        // A name the permutation lacks must be one the shader (or a library)
+        // declares under some feature: compiled out, not a typo.
+        let composer = &self.composer;
+        let declared = self
+            .declared
+            .entry(path)
+            .or_insert_with(|| composer.declared_names(path));
+        let matched = match_bindings(&reflection, resources, prebuilt, |name| {
+            declared
+                .contains(name)
+                .then_some(())
+                .ok_or_else(|| format!("a pass binds `{name}`, which the shader does not declare"))
+        })
+        .map_err(|message| RenderError::Shader {
             shader: path.to_owned(),
             defs: key.describe_defs(),
             message,
-        };
-        for (name, _) in resources {
-            if reflection.position(name).is_none() && !self.declares(path, name) {
-                return Err(error(format!(
-                    "a pass binds `{name}`, which the shader does not declare"
-                )));
-            }
-        }
-        self.groups_by_name(device, path, &reflection, pipeline, resources, prebuilt)
-            .map_err(error)
+        })?;
+        Ok(self.groups_of(device, pipeline, path, &matched, prebuilt))
     }
 
     /// [`ShaderCache::named_groups`] for a pipeline reflected elsewhere (a
@@ -324,40 +365,20 @@ impl ShaderCache {
         resources: &[(&str, wgpu::BindingResource<'_>)],
         prebuilt: &[(u32, wgpu::BindGroup)],
     ) -> Result<Vec<wgpu::BindGroup>, String> {
-        let Some(last) = reflection.last_group() else {
-            return Ok(Vec::new());
-        };
-        let made_elsewhere = |group: u32| prebuilt.iter().any(|(g, _)| *g == group);
-        let mut groups: Vec<Vec<wgpu::BindGroupEntry<'_>>> = vec![Vec::new(); last as usize + 1];
-        // One pass over what the pass binds (a hash look-up each), then one
-        // over the variables for any the shader uses and nothing bound.
-        let mut bound = vec![false; reflection.vars.len()];
-        for (name, resource) in resources {
-            let Some(i) = reflection.position(name) else {
-                continue;
-            };
-            let var = &reflection.vars[i];
-            if var.used && !made_elsewhere(var.group) && !bound[i] {
-                bound[i] = true;
-                groups[var.group as usize].push(wgpu::BindGroupEntry {
-                    binding: var.binding,
-                    resource: resource.clone(),
-                });
-            }
-        }
-        if let Some(var) = reflection
-            .vars
-            .iter()
-            .zip(&bound)
-            .find(|(v, bound)| v.used && !made_elsewhere(v.group) && !**bound)
-            .map(|(v, _)| v)
-        {
-            return Err(format!(
-                "`{}` (group {}, binding {}) is used by the shader but no pass binds it",
-                var.name, var.group, var.binding
-            ));
-        }
-        Ok(groups
+        let matched = match_bindings(reflection, resources, prebuilt, |_| Ok(()))?;
+        Ok(self.groups_of(device, pipeline, label, &matched, prebuilt))
+    }
+
+    /// Each group's bind group: the one made elsewhere, or a cached one of its entries.
+    fn groups_of(
+        &mut self,
+        device: &wgpu::Device,
+        pipeline: &PipelineRef,
+        label: &str,
+        matched: &[Vec<wgpu::BindGroupEntry<'_>>],
+        prebuilt: &[(u32, wgpu::BindGroup)],
+    ) -> Vec<wgpu::BindGroup> {
+        matched
             .iter()
             .enumerate()
             .map(|(group, entries)| {
@@ -367,7 +388,7 @@ impl ShaderCache {
                     None => self.group(device, pipeline, group, label, entries),
                 }
             })
-            .collect())
+            .collect()
     }
 
     /// A bind group of exactly `entries` for group `group` of `pipeline`'s

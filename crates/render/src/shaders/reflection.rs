@@ -22,7 +22,8 @@ pub struct ShaderVar {
 /// The resource variables of one entry point's module, in declaration order.
 #[derive(Clone, Debug, Default)]
 pub struct Reflection {
-    pub vars: Vec<ShaderVar>,
+    /// Private with `index`, which is derived from it.
+    vars: Vec<ShaderVar>,
     /// Each variable's index in `vars` by name: a pass's bindings are
     /// matched to the variables once a dispatch, every frame.
     index: rustc_hash::FxHashMap<String, usize>,
@@ -38,14 +39,14 @@ impl Reflection {
         Reflection { vars, index }
     }
 
+    /// The variables, in declaration order.
+    pub fn vars(&self) -> &[ShaderVar] {
+        &self.vars
+    }
+
     /// The index in `vars` of the variable named `name`, if the permutation has it.
     pub fn position(&self, name: &str) -> Option<usize> {
         self.index.get(name).copied()
-    }
-
-    /// The variable named `name`, if the permutation has it.
-    pub fn var(&self, name: &str) -> Option<&ShaderVar> {
-        self.position(name).map(|i| &self.vars[i])
     }
 
     /// The (group, binding)s the entry point uses.
