@@ -550,17 +550,21 @@ fn an_error_outside_any_scope_is_reported_by_the_next_frame_not_a_panic() {
         usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::MAP_WRITE,
         mapped_at_creation: false,
     });
-    let mut fg = FrameGraph::new((4, 4));
-    declare_pass(
-        &mut fg,
-        "fine",
-        None,
-        &[],
-        &[("fine", target())],
-        |_| Ok(()),
-    );
-    fg.request("fine");
-    let (report, outputs) = fg.execute(&renderer).expect("executes");
+    // A frame of one pass that does nothing wrong.
+    let fine_frame = || {
+        let mut fg = FrameGraph::new((4, 4));
+        declare_pass(
+            &mut fg,
+            "fine",
+            None,
+            &[],
+            &[("fine", target())],
+            |_| Ok(()),
+        );
+        fg.request("fine");
+        fg.execute(&renderer).expect("executes")
+    };
+    let (report, outputs) = fine_frame();
     assert!(outputs.contains_key("fine"));
     assert_eq!(report.errors.len(), 1, "{:?}", report.errors);
     assert_eq!(report.errors[0].0, None);
@@ -573,17 +577,7 @@ fn an_error_outside_any_scope_is_reported_by_the_next_frame_not_a_panic() {
         report.errors[0].1
     );
     // Taken once: the next frame is clean.
-    let mut fg = FrameGraph::new((4, 4));
-    declare_pass(
-        &mut fg,
-        "fine",
-        None,
-        &[],
-        &[("fine", target())],
-        |_| Ok(()),
-    );
-    fg.request("fine");
-    let (report, _) = fg.execute(&renderer).expect("executes");
+    let (report, _) = fine_frame();
     assert!(report.errors.is_empty(), "{:?}", report.errors);
 }
 
