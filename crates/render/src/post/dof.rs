@@ -250,18 +250,16 @@ impl Dof {
         bindings: Bindings<'_>,
         output: Tex,
     ) -> Result<(), RenderError> {
-        let size = cx.size_of(output)?;
-        let groups = if entry == "tiles" {
-            // A workgroup per tile: its lanes share the tile's pixels.
-            (size.0, size.1, 1)
-        } else {
-            super::per_pixel(size)
-        };
-        let bindings = Bindings::new()
-            .buffer("camera", self.gbuffer.camera_buffer())
-            .buffer("params", &self.params)
-            .extend(bindings);
-        cx.dispatch_shader(entry, &self.key(), entry, bindings, groups)
+        super::dispatch_entry(
+            cx,
+            &self.key(),
+            entry,
+            entry == "tiles",
+            self.gbuffer.camera_buffer(),
+            &self.params,
+            bindings,
+            output,
+        )
     }
 
     /// Where the blur writes: the output, or its half-size twin.

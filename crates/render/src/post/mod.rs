@@ -20,7 +20,8 @@ pub use taa::{Taa, TaaQuality, TaaSettings, is_cut};
 pub use tonemap::{AdaptedExposure, Tonemap};
 pub use transparency::{Transparency, TransparencySettings};
 
-use crate::frame_graph::{Bindings, FrameGraph, TextureDesc};
+use crate::error::RenderError;
+use crate::frame_graph::{Bindings, FrameGraph, PassContext, Tex, TextureDesc};
 use crate::shaders::ShaderKey;
 
 /// The largest value the half-float targets are clamped to (65504 overflows).
@@ -42,6 +43,34 @@ pub(crate) fn uniform(
 /// does for `main`), for other entry points.
 pub(crate) fn per_pixel(size: (u32, u32)) -> (u32, u32, u32) {
     (size.0.div_ceil(8), size.1.div_ceil(8), 1)
+}
+
+/// Entry `entry` of `key` writing `output`, with the G-buffer's `camera`
+/// and the pass's `params` beside what it declared in `bindings`: one
+/// workgroup per texel of `output` for a `tiled` entry (its lanes share the
+/// tile's pixels), else one thread per pixel.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn dispatch_entry(
+    cx: &mut PassContext<'_>,
+    key: &ShaderKey,
+    entry: &'static str,
+    tiled: bool,
+    camera: &wgpu::Buffer,
+    params: &wgpu::Buffer,
+    bindings: Bindings<'_>,
+    output: Tex,
+) -> Result<(), RenderError> {
+    let size = cx.size_of(output)?;
+    let groups = if tiled {
+        (size.0, size.1, 1)
+    } else {
+        per_pixel(size)
+    };
+    let bindings = Bindings::new()
+        .buffer("camera", camera)
+        .buffer("params", params)
+        .extend(bindings);
+    cx.dispatch_shader(entry, key, entry, bindings, groups)
 }
 
 /// Declare the pass a node that has nothing to do runs instead of its

@@ -117,18 +117,16 @@ impl MotionBlur {
         bindings: Bindings<'_>,
         output: Tex,
     ) -> Result<(), RenderError> {
-        let size = cx.size_of(output)?;
-        let groups = if entry == "tile_max" {
-            // A workgroup per tile: its lanes share the tile's pixels.
-            (size.0, size.1, 1)
-        } else {
-            super::per_pixel(size)
-        };
-        let bindings = Bindings::new()
-            .buffer("camera", self.gbuffer.camera_buffer())
-            .buffer("params", &self.params)
-            .extend(bindings);
-        cx.dispatch_shader(entry, &ShaderKey::new(SHADER, []), entry, bindings, groups)
+        super::dispatch_entry(
+            cx,
+            &ShaderKey::new(SHADER, []),
+            entry,
+            entry == "tile_max",
+            self.gbuffer.camera_buffer(),
+            &self.params,
+            bindings,
+            output,
+        )
     }
 }
 
