@@ -18,23 +18,6 @@ pub fn next_recipe_id() -> u64 {
     NEXT_ID.fetch_add(1, Ordering::Relaxed)
 }
 
-/// A pass's name in reports: the node type, the node id when there is one
-/// ("Tonemap #12"), and what it does when a node has several passes.
-/// Built into one allocation: re-made recipes name their passes every frame.
-pub fn pass_name(kind: &str, owner: Option<u32>, what: Option<&str>) -> String {
-    use std::fmt::Write;
-    let mut name = String::with_capacity(kind.len() + 12 + what.map_or(0, |w| w.len() + 2));
-    name.push_str(kind);
-    if let Some(id) = owner {
-        let _ = write!(name, " #{id}");
-    }
-    if let Some(what) = what {
-        name.push_str(": ");
-        name.push_str(what);
-    }
-    name
-}
-
 /// What kind of recipe another is, for one that can work with its input
 /// recipe's passes (an [`crate::environment::ImagePass`] over another runs
 /// as one pass): `<dyn Recipe as AsAny>::as_any(&*recipe).downcast_ref()`.
@@ -70,18 +53,5 @@ pub struct TextureRef {
 impl std::fmt::Debug for TextureRef {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(f, "TextureRef({})", self.name)
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::pass_name;
-
-    #[test]
-    fn a_pass_is_named_by_its_node_and_what_it_does() {
-        assert_eq!(pass_name("Tonemap", Some(12), None), "Tonemap #12");
-        assert_eq!(pass_name("SSAO", Some(52), Some("raw")), "SSAO #52: raw");
-        assert_eq!(pass_name("Sky", None, None), "Sky");
-        assert_eq!(pass_name("Sky", None, Some("fog")), "Sky: fog");
     }
 }

@@ -1,12 +1,74 @@
 //! What a frame did: the frame graph's statistics, kept by the renderer as
 //! its last report and read by the CLI (`stats`, `bench`), the editor and tests.
 
+use std::borrow::Cow;
 use std::collections::BTreeMap;
+
+/// What a pass is, as fields: the effect it belongs to (`kind`, the node
+/// type: "SSAO", "CookTorrance") and, for an effect of several passes, which
+/// `step` ("blur x", "shade"). Reports, `stats`, `bench` and the accuracy
+/// commands match on these fields, never on the text: "SAO" is not a
+/// substring match away from "SSAO".
+#[derive(Clone, Debug, PartialEq, Eq, Hash, serde::Serialize)]
+pub struct PassName {
+    pub kind: Cow<'static, str>,
+    pub step: Option<Cow<'static, str>>,
+}
+
+impl PassName {
+    pub fn new(kind: impl Into<Cow<'static, str>>) -> Self {
+        PassName {
+            kind: kind.into(),
+            step: None,
+        }
+    }
+
+    /// One step of an effect of several passes.
+    pub fn step(mut self, step: impl Into<Cow<'static, str>>) -> Self {
+        self.step = Some(step.into());
+        self
+    }
+
+    /// Whether this is `kind`'s pass named `step` (any step when `None`).
+    pub fn is(&self, kind: &str, step: Option<&str>) -> bool {
+        self.kind == kind && step.is_none_or(|s| self.step.as_deref() == Some(s))
+    }
+
+    /// The pass's name in reports and captures: the kind, the node id when
+    /// there is one ("Tonemap #12") and the step ("SSAO #4: blur x"). Built
+    /// into one allocation: re-made recipes name their passes every frame.
+    pub fn text(&self, owner: Option<u32>) -> String {
+        use std::fmt::Write;
+        let step = self.step.as_deref();
+        let mut name =
+            String::with_capacity(self.kind.len() + 12 + step.map_or(0, |w| w.len() + 2));
+        name.push_str(&self.kind);
+        if let Some(id) = owner {
+            let _ = write!(name, " #{id}");
+        }
+        if let Some(step) = step {
+            name.push_str(": ");
+            name.push_str(step);
+        }
+        name
+    }
+}
+
+impl From<&'static str> for PassName {
+    fn from(kind: &'static str) -> Self {
+        PassName::new(kind)
+    }
+}
 
 /// One executed pass in the frame report.
 #[derive(Clone, Debug, serde::Serialize)]
 pub struct PassReport {
+    /// For people: [`PassName::text`] with the owner.
     pub name: String,
+    /// The effect: the node type that declared the pass ([`PassName::kind`]).
+    pub kind: Cow<'static, str>,
+    /// Which pass of the effect, for an effect of several ([`PassName::step`]).
+    pub step: Option<Cow<'static, str>>,
     pub owner: Option<u32>,
     /// Another node whose pass the frame graph ran inside this one
     /// (frame_graph/merge.rs: Fog and a Sky over it): the pass is both
@@ -48,9 +110,50 @@ pub struct FrameReport {
     pub counters: BTreeMap<String, u64>,
 }
 
+impl PassReport {
+    /// Whether this is `kind`'s pass named `step` (any step when `None`).
+    pub fn is(&self, kind: &str, step: Option<&str>) -> bool {
+        self.kind == kind && step.is_none_or(|s| self.step.as_deref() == Some(s))
+    }
+}
+
 impl FrameReport {
+    /// The passes of `kind` (of step `step`, when given).
+    pub fn passes_of<'r>(
+        &'r self,
+        kind: &'r str,
+        step: Option<&'r str>,
+    ) -> impl Iterator<Item = &'r PassReport> + 'r {
+        self.passes.iter().filter(move |p| p.is(kind, step))
+    }
+
     /// A counter's value; 0 when no pass counted it.
     pub fn counter(&self, name: &str) -> u64 {
         self.counters.get(name).copied().unwrap_or(0)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::PassName;
+
+    #[test]
+    fn a_pass_is_named_by_its_node_and_what_it_does() {
+        assert_eq!(PassName::new("Tonemap").text(Some(12)), "Tonemap #12");
+        assert_eq!(
+            PassName::new("SSAO").step("raw").text(Some(52)),
+            "SSAO #52: raw"
+        );
+        assert_eq!(PassName::new("Sky").text(None), "Sky");
+        assert_eq!(PassName::new("Sky").step("fog").text(None), "Sky: fog");
+    }
+
+    #[test]
+    fn a_pass_is_matched_by_its_fields_not_its_text() {
+        let sao = PassName::new("SAO").step("raw");
+        assert!(sao.is("SAO", None) && sao.is("SAO", Some("raw")));
+        assert!(!sao.is("SSAO", None), "SAO is not SSAO");
+        assert!(!PassName::new("SSAO").is("SAO", None), "SSAO is not SAO");
+        assert!(!sao.is("SAO", Some("blur x")));
     }
 }

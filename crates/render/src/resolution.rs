@@ -19,6 +19,7 @@
 use crate::error::RenderError;
 use crate::frame_graph::{Bindings, FrameGraph, PassContext, SizeRule, Tex, TextureDesc};
 use crate::gbuffer::GBuffer;
+use crate::report::PassName;
 use crate::shaders::ShaderKey;
 
 /// The shader feature of a pass's half-resolution permutation.
@@ -180,7 +181,7 @@ pub fn written_target(full: &str, resolution: Resolution) -> String {
 /// A half-resolution estimate's way back to full size: the pass name, the
 /// full-size target and its description, and the statistic that counts it.
 pub struct UpsamplePass<'s, 'g> {
-    pub name: String,
+    pub name: PassName,
     pub owner: Option<u32>,
     pub gbuffer: &'g GBuffer,
     /// The half-size estimate (by convention [`written_target`] of `full`).

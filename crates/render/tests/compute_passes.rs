@@ -8,7 +8,7 @@
 
 use std::sync::Arc;
 
-use spreadlight_render::frame_graph::{Bindings, COMPUTE_PASSES, FRAME_CHUNKS};
+use spreadlight_render::frame_graph::{Bindings, COMPUTE_PASSES, FRAME_CHUNKS, PassName};
 use spreadlight_render::readback::render_and_read;
 use spreadlight_render::renderer::{Recording, Timing, test_renderer};
 use spreadlight_render::shaders::ShaderKey;
@@ -59,7 +59,7 @@ impl spreadlight_render::Recipe for Chain {
             let (from, to) = (format!("h{}", hop - 1), format!("h{hop}"));
             let copied = self.copy_after == Some(hop - 1);
             let fails = self.failing == Some(hop);
-            let mut pass = fg.pass(format!("hop {hop}"), Some(hop as u32));
+            let mut pass = fg.pass(PassName::new("hop").step(hop.to_string()), Some(hop as u32));
             let (input, output) = (pass.read(&from), pass.write(&to, target()));
             pass.run(move |cx| {
                 let bindings = Bindings::new().texture("output", output);
@@ -122,11 +122,7 @@ fn chain(renderer: &Renderer, copy_after: Option<usize>) -> Chain {
 
 /// The hops' reports, in order.
 fn hops(report: &FrameReport) -> Vec<&spreadlight_render::frame_graph::PassReport> {
-    report
-        .passes
-        .iter()
-        .filter(|p| p.name.starts_with("hop"))
-        .collect()
+    report.passes.iter().filter(|p| p.kind == "hop").collect()
 }
 
 /// A renderer on a device opened without timestamps inside passes (as a host

@@ -166,7 +166,7 @@ fn assert_passes(report: &FrameReport, radius: u32, what: &str) {
         let named = report
             .passes
             .iter()
-            .filter(|p| p.name.ends_with(&format!(": blur {axis}")))
+            .filter(|p| p.step.as_deref() == Some(format!("blur {axis}").as_str()))
             .count();
         assert_eq!(named, 1, "{what}, radius {radius}: blur {axis}");
     }

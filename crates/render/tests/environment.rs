@@ -337,7 +337,7 @@ fn fog_and_sky_over_each_other_are_one_pass_with_the_image_of_two() {
         let merged = one
             .passes
             .iter()
-            .find(|p| p.name.contains(" and "))
+            .find(|p| p.partner.is_some())
             .expect("merged");
         let mut owners = [merged.owner, merged.partner];
         owners.sort();
@@ -390,8 +390,7 @@ fn only_fog_and_sky_of_one_gbuffer_run_as_one_pass() {
         let apart = report
             .passes
             .iter()
-            .filter(|p| p.name.starts_with("Sky #") || p.name.starts_with("Fog #"))
-            .filter(|p| !p.name.contains(" and "))
+            .filter(|p| (p.kind == "Sky" || p.kind == "Fog") && p.partner.is_none())
             .count();
         assert_eq!(apart, 2, "{:?}", report.passes);
         assert!(images[0].all_finite());

@@ -4,7 +4,7 @@
 //! raised while finishing (on either thread) still drops the frame and is
 //! named the frame after.
 
-use spreadlight_render::frame_graph::{FRAME_CHUNKS, PassContext};
+use spreadlight_render::frame_graph::{FRAME_CHUNKS, PassContext, PassName};
 use spreadlight_render::renderer::{Recording, Timing, test_renderer};
 use spreadlight_render::{FrameGraph, FrameReport, RenderError, Renderer, TextureDesc};
 
@@ -38,7 +38,7 @@ fn frame(renderer: &Renderer, passes: usize, broken: Option<usize>) -> FrameRepo
             true => misaligned_copy(cx),
             false => Ok(()),
         };
-        let mut pass = fg.pass(name.clone(), Some(i as u32));
+        let mut pass = fg.pass(PassName::new(name.clone()), Some(i as u32));
         pass.write(name, target());
         pass.run(run);
         fg.request(name);
@@ -108,7 +108,7 @@ fn an_encoding_error_in_any_run_of_a_batched_frame_drops_it_and_the_next_names_t
         assert!(
             second.errors[0]
                 .1
-                .contains(&format!("pass `pass {broken}`")),
+                .contains(&format!("pass `pass {broken} #{broken}`")),
             "{}",
             second.errors[0].1
         );
@@ -129,7 +129,7 @@ fn a_frame_that_panicked_while_recording_leaves_nothing_for_the_next() {
         let mut fg = FrameGraph::new((4, 4));
         let names: Vec<String> = (0..passes).map(|i| format!("pass {i}")).collect();
         for (i, name) in names.iter().enumerate() {
-            let mut pass = fg.pass(name.clone(), Some(i as u32));
+            let mut pass = fg.pass(PassName::new(name.clone()), Some(i as u32));
             pass.write(name, target());
             pass.run(move |_| match i + 1 == passes {
                 true => panic!("a pass that panics"),

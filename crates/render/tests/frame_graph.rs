@@ -5,7 +5,7 @@
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
 
-use spreadlight_render::frame_graph::{Bindings, PassContext, Tex};
+use spreadlight_render::frame_graph::{Bindings, PassContext, PassName, Tex};
 use spreadlight_render::renderer::test_renderer;
 use spreadlight_render::{FrameGraph, Lifetime, RenderError, SizeRule, TextureDesc};
 
@@ -18,7 +18,7 @@ fn target() -> TextureDesc {
 /// (a run that does takes the handles `FrameGraph::pass` gives).
 fn declare_pass<'a>(
     fg: &mut FrameGraph<'a>,
-    name: &str,
+    name: &'static str,
     owner: Option<u32>,
     reads: &[&str],
     writes: &[(&str, TextureDesc)],
@@ -85,11 +85,11 @@ fn only_passes_leading_to_a_request_run() {
         report
             .passes
             .iter()
-            .map(|p| p.name.as_str())
+            .map(|p| p.kind.as_ref())
             .collect::<Vec<_>>(),
         ["a", "b"]
     );
-    assert_eq!(report.culled, ["unused c", "unused d"]);
+    assert_eq!(report.culled, ["unused c #3", "unused d #4"]);
     assert_eq!(ran.load(Ordering::SeqCst), 2, "culled passes never record");
     assert!(outputs.contains_key("b") && !outputs.contains_key("a"));
 }
@@ -313,7 +313,7 @@ fn a_chain_is_one_pass_only_when_nothing_else_reads_the_inner_output() {
     let merged = report
         .passes
         .iter()
-        .find(|p| p.name == "inner and outer")
+        .find(|p| p.kind == "inner and outer")
         .expect("ran");
     assert_eq!((merged.owner, merged.partner), (Some(7), Some(8)));
 }
@@ -480,7 +480,7 @@ fn a_pass_with_a_validation_error_is_reported_on_its_node_and_the_rest_renders()
         "the error names the node whose pass caused it"
     );
     assert!(
-        report.errors[0].1.contains("pass `broken`"),
+        report.errors[0].1.contains("pass `broken #42`"),
         "{}",
         report.errors[0].1
     );
@@ -527,7 +527,7 @@ fn a_texture_past_the_adapter_s_limit_fails_its_pass_naming_the_limit() {
         [(
             Some(9),
             format!(
-                "pass `huge`: texture `huge` ({}x1 for a 8x8 frame) is past the adapter's limit \
+                "pass `huge #9`: texture `huge` ({}x1 for a 8x8 frame) is past the adapter's limit \
                  max_texture_dimension_2d ({max})",
                 max + 1
             )
@@ -673,7 +673,7 @@ fn arithmetic_frame(renderer: &spreadlight_render::Renderer) -> Vec<[f32; 4]> {
                 Ok(())
             });
             for (from, to) in [("s0", "s1"), ("s1", "s2")] {
-                let mut pass = fg.pass(format!("copy {to}"), None);
+                let mut pass = fg.pass(PassName::new("copy").step(to.to_string()), None);
                 let (source, output) = (pass.read(from), pass.write(to, target()));
                 pass.run(move |cx| {
                     cx.dispatch_image(
@@ -1074,7 +1074,7 @@ fn a_pass_reaches_only_the_textures_it_declared() {
     );
     assert_eq!(errors.len(), 1, "{errors:?}");
     assert!(
-        errors[0].contains("pass `c`") && errors[0].contains("`a`, which it did not declare"),
+        errors[0].contains("pass `c #3`") && errors[0].contains("`a`, which it did not declare"),
         "{errors:?}"
     );
 }

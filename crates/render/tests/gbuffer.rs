@@ -241,17 +241,21 @@ fn a_pass_chain_nobody_requests_is_culled() {
     fg.request(&texture.name);
     let (report, outputs) = fg.execute(&renderer).expect("frame executes");
     assert!(report.errors.is_empty(), "{:?}", report.errors);
-    let executed: Vec<&str> = report.passes.iter().map(|p| p.name.as_str()).collect();
+    let executed: Vec<(&str, Option<&str>, Option<u32>)> = report
+        .passes
+        .iter()
+        .map(|p| (p.kind.as_ref(), p.step.as_deref(), p.owner))
+        .collect();
     let raster = match g.raster {
-        RasterMode::Hardware => "MRE #2: visibility",
-        RasterMode::Compute => "MRE #2: compute raster",
+        RasterMode::Hardware => "visibility",
+        RasterMode::Compute => "compute raster",
     };
     assert_eq!(
         executed,
         [
-            raster,
-            "MRE #2: resolve surface",
-            "GBufferView #3 (Normals)"
+            ("MRE", Some(raster), Some(2)),
+            ("MRE", Some("resolve surface"), Some(2)),
+            ("GBufferView", Some("Normals"), Some(3))
         ]
     );
     assert_eq!(report.culled, ["MRE #2: resolve motion"]);
@@ -767,11 +771,8 @@ fn adjacent_layers_alike_share_one_resolve_dispatch_and_keep_their_pixels() {
             report
                 .passes
                 .iter()
-                .any(|p| p.name == "MRE #40: resolve surface and motion")
-                && !report
-                    .passes
-                    .iter()
-                    .any(|p| p.name.ends_with("resolve motion")),
+                .any(|p| p.is("MRE", Some("resolve surface and motion")) && p.owner == Some(40))
+                && report.passes_of("MRE", Some("resolve motion")).count() == 0,
             "{:?}",
             report.passes
         );

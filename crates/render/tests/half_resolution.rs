@@ -11,7 +11,7 @@ use std::sync::Arc;
 
 use glam::{Vec3, Vec4};
 use spreadlight_render::camera::{CameraInput, reverse_z};
-use spreadlight_render::frame_graph::{FrameGraph, FrameReport, TextureDesc};
+use spreadlight_render::frame_graph::{FrameGraph, FrameReport, PassName, TextureDesc};
 use spreadlight_render::gbuffer::GBuffer;
 use spreadlight_render::lighting::{Ssgi, SsgiSettings};
 use spreadlight_render::material::{Feature, Material, MaterialWorld};
@@ -123,8 +123,12 @@ fn rmse(a: &ImageF32, b: &ImageF32, channels: usize) -> f32 {
     (sum / (a.pixels.len() * channels) as f32).sqrt()
 }
 
-fn has_pass(report: &FrameReport, what: &str) -> bool {
-    report.passes.iter().any(|p| p.name.contains(what))
+/// Whether a pass of step `step` ran ("raw (half)", "upsample").
+fn has_pass(report: &FrameReport, step: &str) -> bool {
+    report
+        .passes
+        .iter()
+        .any(|p| p.step.as_deref() == Some(step))
 }
 
 /// The report of a Full and a Half frame: only Half runs a half pass, an
@@ -391,7 +395,7 @@ impl Recipe for UpsampleOnly {
             fg,
             Resolution::Half,
             UpsamplePass {
-                name: "upsample".to_owned(),
+                name: PassName::new("Upsample"),
                 owner: None,
                 gbuffer: &self.g,
                 half: &self.half_name,

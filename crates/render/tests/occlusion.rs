@@ -227,7 +227,7 @@ fn ao_accumulates_in_the_estimate_at_full_resolution_and_after_the_upsample_at_h
         let temporal_passes = accumulated
             .passes
             .iter()
-            .filter(|p| p.name.contains("temporal"))
+            .filter(|p| p.step.as_deref() == Some("temporal"))
             .count();
         let fused = resolution == Resolution::Full;
         assert_eq!(
@@ -659,7 +659,7 @@ fn ssss_scatters_red_farthest_and_only_where_a_material_has_fake_sss() {
     let skin = skin(&renderer);
     let (report, image, depth) = scatter(&renderer, skin.clone(), 1.0);
     assert!(image.all_finite());
-    assert!(report.passes.iter().any(|p| p.name.starts_with("SSSS")));
+    assert!(report.passes_of("SSSS", None).next().is_some());
     // Just right of the edge, on the floor: light has crept in, red farther than blue.
     let y = SIZE.1 - 4;
     let x = SIZE.0 / 2 + 1;
@@ -689,7 +689,7 @@ fn ssss_scatters_red_farthest_and_only_where_a_material_has_fake_sss() {
         report.counter("SSSS culled: no subsurface material or width 0"),
         1
     );
-    assert!(!report.passes.iter().any(|p| p.name.starts_with("SSSS")));
+    assert!(!report.passes_of("SSSS", None).next().is_some());
     assert!(image.pixels.is_empty(), "the input is passed on as it is");
 }
 
@@ -718,7 +718,7 @@ fn fake_sss_of_strength_zero_scatters_nothing_and_costs_no_taps() {
     let mixed = MaterialWorld::new(&renderer, vec![still(0.0), still(1.0)]);
     assert!(mixed.scatters_subsurface());
     let (report, image, depth) = scatter(&renderer, mixed, 1.0);
-    assert!(report.passes.iter().any(|p| p.name.starts_with("SSSS")));
+    assert!(report.passes_of("SSSS", None).next().is_some());
     let mut covered = 0;
     for (i, (p, d)) in image.pixels.iter().zip(&depth.pixels).enumerate() {
         let lit = (i as u32 % SIZE.0) < SIZE.0 / 2;
@@ -754,7 +754,7 @@ fn ssgi_gathers_and_accumulates_in_one_pass_with_the_image_of_the_gather_alone()
     let ssgi_passes = |r: &FrameReport| -> Vec<String> {
         r.passes
             .iter()
-            .filter(|p| p.name.starts_with("SSGI"))
+            .filter(|p| p.kind == "SSGI")
             .map(|p| p.name.clone())
             .collect()
     };
@@ -887,11 +887,7 @@ fn ssss_blurs_up_to_three_terms_in_one_pass_pair_with_the_images_of_one_each() {
         SsssQuality::High,
     );
     let (report, images) = run(&together);
-    let ssss_passes = report
-        .passes
-        .iter()
-        .filter(|p| p.name.starts_with("SSSS"))
-        .count();
+    let ssss_passes = report.passes.iter().filter(|p| p.kind == "SSSS").count();
     assert_eq!(
         ssss_passes, 4,
         "two pass pairs for four terms, not eight passes"

@@ -99,7 +99,7 @@ fn reflection_writes_what_the_frame_reads_both_in_one_pass() {
         let passes = report
             .passes
             .iter()
-            .filter(|p| p.name.starts_with("Reflection"))
+            .filter(|p| p.kind == "Reflection")
             .count();
         (report, passes, images)
     };
@@ -373,7 +373,7 @@ fn without_a_reflective_material_no_environment_is_built_and_reflection_only_cle
         !report
             .passes
             .iter()
-            .any(|p| p.name.contains("Reflection") || p.name.contains("Environment"))
+            .any(|p| p.kind == "Reflection" || p.kind == "Environment")
     );
     assert!(report.culled.iter().any(|p| p.contains("Reflection")));
 }

@@ -303,12 +303,12 @@ fn ssr_runs_only_when_a_material_reflects_and_its_output_is_wanted() {
     );
     assert_eq!(report.counter("ssr skipped"), 1);
     assert_eq!(report.counter("ssr traced"), 0);
-    assert!(
-        !report
-            .passes
-            .iter()
-            .any(|p| p.name.contains("trace") || p.name.contains("hi-z"))
-    );
+    assert!(!report.passes.iter().any(|p| {
+        p.kind == "SSR"
+            && p.step
+                .as_deref()
+                .is_some_and(|s| s.starts_with("trace") || s == "hi-z")
+    }));
     assert!(image.pixels.iter().all(|p| p[..3] == [0.0; 3]));
     // Wired, not requested: culled.
     let lit = constant(&renderer, SIZE, [1.0; 4]);
@@ -326,7 +326,7 @@ fn ssr_runs_only_when_a_material_reflects_and_its_output_is_wanted() {
     spreadlight_render::Recipe::declare(ssr.as_ref(), &renderer, &mut graph);
     graph.request(&g.targets.color);
     let (report, _) = graph.execute(&renderer).expect("runs");
-    assert!(!report.passes.iter().any(|p| p.name.contains("SSR")));
+    assert_eq!(report.passes_of("SSR", None).count(), 0);
     assert_eq!(report.counter("ssr traced"), 0);
 }
 
@@ -355,7 +355,7 @@ fn at_full_resolution_the_trace_blends_its_history_in_as_a_resolve_pass_would() 
     for (report, _) in &blended {
         assert_eq!(report.counter(TRACE_TEMPORAL), 1);
         assert!(
-            report.passes.iter().all(|p| !p.name.ends_with("resolve")),
+            report.passes_of("SSR", Some("resolve")).count() == 0,
             "{:?}",
             report.passes
         );
@@ -405,6 +405,6 @@ fn at_full_resolution_the_trace_blends_its_history_in_as_a_resolve_pass_would() 
     let world = vec![reflective(0.3, 1.0), reflective(0.1, 1.0)];
     let (report, image, _) = ssr_frame(&renderer, &g, world, [0.1; 4], half, owner, SIZE);
     assert_eq!(report.counter(TRACE_TEMPORAL), 0);
-    assert!(report.passes.iter().any(|p| p.name.ends_with("resolve")));
+    assert_eq!(report.passes_of("SSR", Some("resolve")).count(), 1);
     assert!(image.all_finite());
 }

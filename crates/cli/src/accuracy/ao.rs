@@ -168,13 +168,13 @@ fn time(
         }
         drop(g);
         if k >= args.common.warmup {
-            // Every AO pass is named for its estimator ("SSAO #n: raw", "SAO #n: blur x", ...).
-            let name = match settings.mode {
-                AoMode::Stochastic => "SSAO #",
-                AoMode::Sao => "SAO #",
-                AoMode::Hbao => "HBAO #",
+            // Every AO pass is of its estimator's kind ("SSAO", "SAO", "HBAO").
+            let kind = match settings.mode {
+                AoMode::Stochastic => "SSAO",
+                AoMode::Sao => "SAO",
+                AoMode::Hbao => "HBAO",
             };
-            times.extend(pass_ms(&report, name));
+            times.extend(pass_ms(&report, kind, None));
         }
     }
     Ok(median(times))

@@ -238,7 +238,9 @@ fn frame(
     };
     Ok(Frame {
         shaded,
-        resolve_ms: pass_ms(&report, "resolve surface"),
+        // The G-buffer's resolve, merged with its motion pass when a frame needs both.
+        resolve_ms: pass_ms(&report, "MRE", Some("resolve surface"))
+            .or_else(|| pass_ms(&report, "MRE", Some("resolve surface and motion"))),
     })
 }
 

@@ -172,12 +172,15 @@ pub(crate) fn camera_looking(
     }
 }
 
-/// The summed GPU time of the passes whose name contains `what`.
-pub(crate) fn pass_ms(report: &spreadlight_render::FrameReport, what: &str) -> Option<f64> {
+/// The summed GPU time of `kind`'s passes (only those of `step`, when given):
+/// matched by the report's fields, so "SAO" never counts an "SSAO" pass.
+pub(crate) fn pass_ms(
+    report: &spreadlight_render::FrameReport,
+    kind: &str,
+    step: Option<&str>,
+) -> Option<f64> {
     let times: Vec<f64> = report
-        .passes
-        .iter()
-        .filter(|p| p.name.contains(what))
+        .passes_of(kind, step)
         .filter_map(|p| p.gpu_ms)
         .collect();
     (!times.is_empty()).then(|| times.iter().sum())

@@ -318,14 +318,14 @@ fn frame(
         anyhow::bail!("the frame failed: {e}");
     }
     let frame_ms = match method {
-        Method::Environment(_) => pass_ms(&report, "Reflection"),
-        Method::Ssr(_) => pass_ms(&report, "SSR"),
+        Method::Environment(_) => pass_ms(&report, "Reflection", None),
+        Method::Ssr(_) => pass_ms(&report, "SSR", None),
     };
     let mut images = images.map(Vec::into_iter);
     Ok(Frame {
         image: images.as_mut().and_then(Iterator::next),
         depth: images.as_mut().and_then(Iterator::next),
-        build_ms: pass_ms(&report, "Environment"),
+        build_ms: pass_ms(&report, "Environment", None),
         frame_ms,
     })
 }

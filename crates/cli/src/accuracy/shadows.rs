@@ -200,8 +200,8 @@ fn frame(
         return Ok(Frame {
             diffuse: empty(),
             depth: empty(),
-            shadow_ms: pass_ms(&report, "ShadowMap"),
-            shade_ms: pass_ms(&report, "shade"),
+            shadow_ms: pass_ms(&report, "ShadowMap", None),
+            shade_ms: pass_ms(&report, "CookTorrance", Some("shade")),
         });
     }
     let (report, images) = render_and_read(
@@ -213,13 +213,13 @@ fn frame(
     if let Some((_, e)) = report.errors.first() {
         anyhow::bail!("the frame failed: {e}");
     }
-    let sum = |what: &str| pass_ms(&report, what);
+    let sum = |kind: &str, step| pass_ms(&report, kind, step);
     let mut images = images.into_iter();
     Ok(Frame {
         diffuse: images.next().context("diffuse")?,
         depth: images.next().context("depth")?,
-        shadow_ms: sum("ShadowMap"),
-        shade_ms: sum("shade"),
+        shadow_ms: sum("ShadowMap", None),
+        shade_ms: sum("CookTorrance", Some("shade")),
     })
 }
 

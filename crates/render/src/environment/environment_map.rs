@@ -16,6 +16,7 @@ use crate::error::RenderError;
 use crate::frame_graph::{FrameGraph, PassContext, TextureDesc};
 use crate::recipe::{Recipe, next_recipe_id};
 use crate::renderer::Renderer;
+use crate::report::PassName;
 
 /// Where a node's maps are kept across frames.
 #[derive(Default)]
@@ -134,7 +135,7 @@ impl Recipe for Environment {
         if !fg.include(self.id) {
             return;
         }
-        let name = crate::recipe::pass_name("Environment", self.owner, Some("prefilter"));
+        let name = PassName::new("Environment").step("prefilter");
         let mut pass = fg.pass(name, self.owner);
         // The maps live in the store; the token orders the passes that read them.
         pass.write(&self.token, TextureDesc::token());

@@ -16,6 +16,7 @@ use crate::frame_graph::{Bindings, FrameGraph, PassContext, Tex, TextureDesc};
 use crate::gbuffer::GBuffer;
 use crate::recipe::{AsAny, Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
+use crate::report::PassName;
 use crate::shaders::ShaderKey;
 use crate::texture_pool::ViewSpec;
 
@@ -195,9 +196,9 @@ impl Recipe for ImagePass {
             environment.declare(renderer, fg);
         }
         self.source.recipe.declare(renderer, fg);
-        let name = crate::recipe::pass_name(self.kind.name(), self.owner, None);
+        let name = PassName::new(self.kind.name());
         let desc = TextureDesc::storage(wgpu::TextureFormat::Rgba16Float).size(self.gbuffer.size);
-        let mut pass = fg.pass(name.clone(), self.owner);
+        let mut pass = fg.pass(name, self.owner);
         if let Some(environment) = &self.environment {
             pass.read(environment.token());
         }
@@ -208,10 +209,8 @@ impl Recipe for ImagePass {
         };
         pass.run(move |cx| self.record(cx, &io, None));
         if let Some(inner) = self.over() {
-            let both = format!(
-                "{} and {name}",
-                crate::recipe::pass_name(inner.kind.name(), inner.owner, None)
-            );
+            // Of both kinds; the report names both nodes (owner and partner).
+            let both = PassName::new(format!("{} and {}", inner.kind.name(), self.kind.name()));
             // The joint pass reads what the inner pass read.
             let io = ImageIo {
                 source: fg.handle(&inner.source.name),

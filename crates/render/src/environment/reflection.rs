@@ -19,6 +19,7 @@ use crate::gbuffer::GBuffer;
 use crate::material::{FEATURE_COOK_TORRANCE, FEATURE_REFLECTION, MaterialTextures, MaterialWorld};
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
+use crate::report::PassName;
 use crate::shaders::ShaderKey;
 use crate::texture_pool::ViewSpec;
 
@@ -246,10 +247,7 @@ impl Recipe for Reflection {
         let g = &self.gbuffer.targets;
         self.environment.declare(renderer, fg);
         if !self.active() {
-            let mut pass = fg.pass(
-                crate::recipe::pass_name("Reflection", self.owner, Some("diffuse")),
-                self.owner,
-            );
+            let mut pass = fg.pass(PassName::new("Reflection").step("diffuse"), self.owner);
             pass.read(self.environment.token());
             let (normals, depth) = (pass.read(&g.normals), pass.read(&g.depth));
             let io = ReflectionIo {
@@ -263,7 +261,7 @@ impl Recipe for Reflection {
             };
             pass.run(move |cx| self.run(cx, Outputs::Diffuse, &io));
             let mut pass = fg.pass(
-                crate::recipe::pass_name("Reflection", self.owner, Some("none reflective")),
+                PassName::new("Reflection").step("none reflective"),
                 self.owner,
             );
             let specular = pass.write(&self.specular, hdr);
@@ -275,7 +273,7 @@ impl Recipe for Reflection {
         // One pass for both outputs: it runs when either is read, and
         // writes only what the frame reads.
         let mut pass = fg.pass(
-            crate::recipe::pass_name("Reflection", self.owner, Some("diffuse and specular")),
+            PassName::new("Reflection").step("diffuse and specular"),
             self.owner,
         );
         pass.read(self.environment.token());

@@ -300,6 +300,8 @@ fn execute(
         report.draws += draws;
         report.passes.push(PassReport {
             name: parts.names[p].clone(),
+            kind: parts.labels[p].kind.clone(),
+            step: parts.labels[p].step.clone(),
             owner: parts.owners[p],
             partner: parts.partners[p],
             gpu_ms: None,

@@ -9,7 +9,7 @@
 //! in its declaration.
 //!
 //! ```ignore
-//! let mut pass = fg.pass(pass_name("SSAO", owner, Some("blur x")), owner);
+//! let mut pass = fg.pass(PassName::new("SSAO").step("blur x"), owner);
 //! let source = pass.read(&raw);
 //! let depth = pass.read(&g.depth);
 //! let blurred = pass.write(&self.name("blurred"), desc);
@@ -17,7 +17,7 @@
 //!     .texture("source", source).texture("depth", depth).texture("output", blurred), size));
 //! ```
 
-use super::{FrameGraph, PassContext, PassEntry, TextureDesc};
+use super::{FrameGraph, PassContext, PassEntry, PassName, TextureDesc};
 use crate::error::RenderError;
 
 /// A texture of the frame graph a pass declared. Copy, and only good in
@@ -30,16 +30,16 @@ pub struct Tex(pub(super) u32);
 #[must_use = "a pass is added to the graph by `run`"]
 pub struct PassBuilder<'g, 'a> {
     graph: &'g mut FrameGraph<'a>,
-    name: String,
+    name: PassName,
     owner: Option<u32>,
     reads: Vec<String>,
     writes: Vec<(String, TextureDesc)>,
 }
 
 impl<'a> FrameGraph<'a> {
-    /// Begin declaring a pass named `name` (for reports and captures) of
-    /// node `owner` (whose errors it reports).
-    pub fn pass(&mut self, name: impl Into<String>, owner: Option<u32>) -> PassBuilder<'_, 'a> {
+    /// Begin declaring a pass `name` (its effect and step, for reports and
+    /// captures) of node `owner` (whose errors it reports).
+    pub fn pass(&mut self, name: impl Into<PassName>, owner: Option<u32>) -> PassBuilder<'_, 'a> {
         PassBuilder {
             graph: self,
             name: name.into(),

@@ -17,7 +17,7 @@
 //! Otherwise each runs alone. A merged pass of two nodes names the second's
 //! as its partner (`PassReport::partner`): its errors go to both.
 
-use super::{FrameGraph, GraphParts, Lifetime, PassContext, PassFn};
+use super::{FrameGraph, GraphParts, Lifetime, PassContext, PassFn, PassName};
 use crate::error::RenderError;
 
 #[derive(Clone, Copy, PartialEq, Eq)]
@@ -38,7 +38,7 @@ pub(super) struct Merge<'a> {
     first: First,
     second: usize,
     kind: Kind,
-    name: String,
+    name: PassName,
     both: PassFn<'a>,
 }
 
@@ -47,7 +47,7 @@ impl<'a> FrameGraph<'a> {
     /// the frame needs both of them; when it needs one, that one runs alone.
     pub fn runs_together(
         &mut self,
-        name: impl Into<String>,
+        name: impl Into<PassName>,
         both: impl FnOnce(&mut PassContext<'_>) -> Result<(), RenderError> + 'a,
     ) {
         self.merge_last(First::Before, Kind::Pair, name.into(), Box::new(both));
@@ -59,14 +59,14 @@ impl<'a> FrameGraph<'a> {
     pub fn chains_into(
         &mut self,
         source: &str,
-        name: impl Into<String>,
+        name: impl Into<PassName>,
         both: impl FnOnce(&mut PassContext<'_>) -> Result<(), RenderError> + 'a,
     ) {
         let first = First::Writing(source.to_owned());
         self.merge_last(first, Kind::Chain, name.into(), Box::new(both));
     }
 
-    fn merge_last(&mut self, first: First, kind: Kind, name: String, both: PassFn<'a>) {
+    fn merge_last(&mut self, first: First, kind: Kind, name: PassName, both: PassFn<'a>) {
         let n = self.passes.len();
         if n < 2 {
             return;
@@ -154,7 +154,13 @@ pub(super) fn apply<'a>(parts: &mut GraphParts<'a>, merges: Vec<Merge<'a>>) {
         if parts.owners[second] != parts.owners[first] {
             parts.partners[first] = parts.owners[second];
         }
-        parts.names[first] = merge.name;
+        // Two nodes' passes chained read as both ("Fog #1 and Sky #2"); a
+        // pair of one node's passes as the step the merge names.
+        parts.names[first] = match merge.kind {
+            Kind::Chain => format!("{} and {}", parts.names[first], parts.names[second]),
+            Kind::Pair => merge.name.text(parts.owners[first]),
+        };
+        parts.labels[first] = merge.name;
         parts.runs[first] = Some(merge.both);
         parts.runs[second] = None;
         merged[first] = true;

@@ -31,7 +31,7 @@ use crate::context::GpuContext;
 use crate::error::RenderError;
 use crate::shaders::ShaderCache;
 
-pub use crate::report::{FrameReport, PassReport};
+pub use crate::report::{FrameReport, PassName, PassReport};
 pub use crate::texture_pool::TextureKey;
 pub use bindings::Bindings;
 pub use compute_pass::COMPUTE_PASSES;
@@ -180,7 +180,7 @@ impl TextureDesc {
 type PassFn<'a> = Box<dyn FnOnce(&mut PassContext<'_>) -> Result<(), RenderError> + 'a>;
 
 struct PassEntry<'a> {
-    name: String,
+    name: PassName,
     /// The patch node that declared the pass, for error reports.
     owner: Option<u32>,
     reads: Vec<String>,
@@ -417,32 +417,32 @@ impl<'a> FrameGraph<'a> {
                 if let Some(other) = producer.insert(name, i) {
                     return Err(RenderError::Graph(format!(
                         "`{name}` is written by two passes, `{}` and `{}`",
-                        self.passes[other].name, pass.name
+                        self.passes[other].name.text(self.passes[other].owner),
+                        pass.name.text(pass.owner)
                     )));
                 }
             }
         }
         let available = |name: &str| self.imports.contains_key(name) || persistent(name);
         let mut live = vec![false; self.passes.len()];
-        let mut stack: Vec<(&str, Option<&str>)> =
+        // What to keep, and which pass reads it (for the error when none writes it).
+        let mut stack: Vec<(&str, Option<usize>)> =
             self.requested.iter().map(|n| (n.as_str(), None)).collect();
         while let Some((name, reader)) = stack.pop() {
             match producer.get(name) {
                 Some(&p) => {
                     if !live[p] {
                         live[p] = true;
-                        stack.extend(
-                            self.passes[p]
-                                .reads
-                                .iter()
-                                .map(|r| (r.as_str(), Some(self.passes[p].name.as_str()))),
-                        );
+                        stack.extend(self.passes[p].reads.iter().map(|r| (r.as_str(), Some(p))));
                     }
                 }
                 None if available(name) => {}
                 None => {
                     return Err(RenderError::Graph(match reader {
-                        Some(pass) => format!("pass `{pass}` reads `{name}`, which no pass writes"),
+                        Some(p) => format!(
+                            "pass `{}` reads `{name}`, which no pass writes",
+                            self.passes[p].name.text(self.passes[p].owner)
+                        ),
                         None => format!("`{name}` was requested, but no pass writes it"),
                     }));
                 }
@@ -484,6 +484,8 @@ impl<'a> FrameGraph<'a> {
 
 /// The parts of a frame graph the renderer's executor needs, taken apart.
 pub(crate) struct GraphParts<'a> {
+    /// Per pass: its name as fields, and as text for people (with its owner).
+    pub labels: Vec<PassName>,
     pub names: Vec<String>,
     pub owners: Vec<Option<u32>>,
     /// Per pass: the owner of another node's pass merged into it (merge.rs).
@@ -527,6 +529,7 @@ impl<'a> FrameGraph<'a> {
             .collect();
         let n = self.passes.len();
         let mut parts = GraphParts {
+            labels: Vec::with_capacity(n),
             names: Vec::with_capacity(n),
             owners: Vec::with_capacity(n),
             partners: Vec::with_capacity(n),
@@ -542,7 +545,8 @@ impl<'a> FrameGraph<'a> {
             texture_names: self.texture_names,
         };
         for pass in self.passes {
-            parts.names.push(pass.name);
+            parts.names.push(pass.name.text(pass.owner));
+            parts.labels.push(pass.name);
             parts.owners.push(pass.owner);
             parts.partners.push(None);
             parts.reads.push(pass.reads);

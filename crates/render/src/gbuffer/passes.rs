@@ -5,6 +5,7 @@
 use crate::error::RenderError;
 use crate::frame_graph::{FrameGraph, Lifetime, PassContext, Tex, TextureDesc};
 use crate::renderer::Renderer;
+use crate::report::PassName;
 use crate::shaders::ShaderKey;
 
 use super::resolve::{LayerReads, ResolveIo, SurfaceOut, resolve};
@@ -18,10 +19,7 @@ const SURFACE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Uint;
 
 pub(super) fn declare<'a>(g: &'a GBuffer, renderer: &'a Renderer, fg: &mut FrameGraph<'a>) {
     let t = &g.targets;
-    let label = |what: &str| match g.owner {
-        Some(node) => format!("MRE #{node}: {what}"),
-        None => format!("MRE: {what}"),
-    };
+    let label = |what: &'static str| PassName::new("MRE").step(what);
     let hardware = match (g.raster, &g.compute) {
         (RasterMode::Compute, Some(compute)) => {
             // The 64-bit buffer belongs to the G-buffer; this 1x1 token

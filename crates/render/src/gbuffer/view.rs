@@ -7,6 +7,7 @@ use crate::error::RenderError;
 use crate::frame_graph::{Bindings, FrameGraph, PassContext, Tex, TextureDesc};
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
+use crate::report::PassName;
 use crate::shaders::ShaderKey;
 
 use super::GBuffer;
@@ -133,10 +134,7 @@ impl Recipe for GBufferView {
             return;
         }
         self.gbuffer.declare(renderer, fg);
-        let name = match self.owner {
-            Some(node) => format!("GBufferView #{node} ({})", self.channel.name()),
-            None => format!("GBufferView ({})", self.channel.name()),
-        };
+        let name = PassName::new("GBufferView").step(self.channel.name());
         let desc = TextureDesc::storage(wgpu::TextureFormat::Rgba16Float).size(self.gbuffer.size);
         let mut pass = fg.pass(name, self.owner);
         let source = pass.read(self.channel.source(&self.gbuffer));

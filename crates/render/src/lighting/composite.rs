@@ -22,6 +22,7 @@ use crate::material::{
 };
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
+use crate::report::PassName;
 use crate::shaders::{Sampling, ShaderKey};
 
 /// What a CompositeLight combines.
@@ -302,10 +303,7 @@ impl Recipe for CompositeLight {
             world.declare_upstream(renderer, fg, self.textured());
         }
         let g = &self.gbuffer.targets;
-        let mut pass = fg.pass(
-            crate::recipe::pass_name("CompositeLight", self.owner, None),
-            self.owner,
-        );
+        let mut pass = fg.pass(PassName::new("CompositeLight"), self.owner);
         let io = CompositeIo {
             color: pass.read(&g.color),
             depth: pass.read(&g.depth),

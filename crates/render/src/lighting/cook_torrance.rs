@@ -11,6 +11,7 @@ use crate::gbuffer::GBuffer;
 use crate::material::{FEATURE_FAKE_SSS, MaterialTextures, MaterialWorld};
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
+use crate::report::PassName;
 use crate::shaders::{Sampling, ShaderKey};
 use crate::shadows::{ShadowFilter, ShadowMaps};
 
@@ -213,8 +214,8 @@ impl CookTorrance {
         })
     }
 
-    fn label(&self, what: &str) -> String {
-        crate::recipe::pass_name("CookTorrance", self.owner, Some(what))
+    fn label(&self, what: impl Into<std::borrow::Cow<'static, str>>) -> PassName {
+        PassName::new("CookTorrance").step(what)
     }
 
     fn assign(&self, grid: ClusterGrid, cx: &mut PassContext<'_>) -> Result<(), RenderError> {

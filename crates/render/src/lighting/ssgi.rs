@@ -13,8 +13,9 @@ use std::sync::Arc;
 use crate::error::RenderError;
 use crate::frame_graph::{Bindings, FrameGraph, PassBuilder, PassContext, Tex, TextureDesc};
 use crate::gbuffer::GBuffer;
-use crate::recipe::{Recipe, TextureRef, next_recipe_id, pass_name};
+use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
+use crate::report::PassName;
 use crate::resolution::{
     Resolution, UpsampleFormat, UpsamplePass, declare_upsample, written_target,
 };
@@ -394,11 +395,7 @@ impl Ssgi {
         let raw_target = written_target(&raw, resolution);
         let pixels = self.gbuffer.pixel_size(fg.output_size());
         let mut pass = fg.pass(
-            pass_name(
-                "SSGI",
-                self.owner,
-                Some(&format!("gather{}", resolution.pass_suffix())),
-            ),
+            PassName::new("SSGI").step(format!("gather{}", resolution.pass_suffix())),
             self.owner,
         );
         let io = self.declare_pass(
@@ -412,7 +409,7 @@ impl Ssgi {
             fg,
             resolution,
             UpsamplePass {
-                name: pass_name("SSGI", self.owner, Some("upsample")),
+                name: PassName::new("SSGI").step("upsample"),
                 owner: self.owner,
                 gbuffer: &self.gbuffer,
                 half: &raw_target,
@@ -427,7 +424,7 @@ impl Ssgi {
         if !self.temporal() {
             return raw;
         }
-        let mut pass = fg.pass(pass_name("SSGI", self.owner, Some("temporal")), self.owner);
+        let mut pass = fg.pass(PassName::new("SSGI").step("temporal"), self.owner);
         let (io, t) = self.declare_temporal(&mut pass, &raw);
         pass.run(move |cx| self.temporal_pass(cx, false, &io, &t));
         self.history_name()
@@ -446,7 +443,7 @@ impl Recipe for Ssgi {
         }
         let rgba = TextureDesc::storage(wgpu::TextureFormat::Rgba16Float).size(self.gbuffer.size);
         let source = if self.fused() {
-            let mut pass = fg.pass(pass_name("SSGI", self.owner, Some("gather")), self.owner);
+            let mut pass = fg.pass(PassName::new("SSGI").step("gather"), self.owner);
             let (io, t) = self.declare_temporal(&mut pass, &self.source.name);
             pass.run(move |cx| self.gather_temporal(cx, &io, &t));
             self.history_name()
@@ -459,12 +456,12 @@ impl Recipe for Ssgi {
         }
         if self.settings.blur_radius > 0 && !self.off() {
             let blurred = self.name("blurred");
-            let mut pass = fg.pass(pass_name("SSGI", self.owner, Some("blur x")), self.owner);
+            let mut pass = fg.pass(PassName::new("SSGI").step("blur x"), self.owner);
             let io = self.declare_pass(&mut pass, &last, &blurred, rgba);
             pass.run(move |cx| self.blur(cx, &io, false, None));
             last = blurred;
         }
-        let mut pass = fg.pass(pass_name("SSGI", self.owner, Some("blur y")), self.owner);
+        let mut pass = fg.pass(PassName::new("SSGI").step("blur y"), self.owner);
         let io = self.declare_pass(&mut pass, &last, &self.output, rgba);
         let ambient = pass.read_opt(self.ambient.as_ref().map(|a| a.name.as_str()));
         pass.run(move |cx| self.blur(cx, &io, true, ambient));

@@ -10,8 +10,9 @@ use crate::error::RenderError;
 use crate::frame_graph::{Bindings, FrameGraph, PassContext, Tex, TextureDesc};
 use crate::gbuffer::GBuffer;
 use crate::material::MaterialWorld;
-use crate::recipe::{Recipe, TextureRef, next_recipe_id, pass_name};
+use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
+use crate::report::PassName;
 use crate::shaders::ShaderKey;
 
 /// Taps per side: Low 4, Medium 8, High 16.
@@ -224,7 +225,7 @@ impl Recipe for Ssss {
         let outputs: Vec<&str> = self.outputs.iter().map(String::as_str).collect();
         for (vertical, from, to) in [(false, &sources, &across), (true, &across, &outputs)] {
             let step = if vertical { "y" } else { "x" };
-            let mut pass = fg.pass(pass_name("SSSS", self.owner, Some(step)), self.owner);
+            let mut pass = fg.pass(PassName::new("SSSS").step(step), self.owner);
             let reads: Vec<Tex> = from.iter().map(|name| pass.read(name)).collect();
             let io = SsssIo {
                 depth: pass.read(&g.depth),

@@ -29,8 +29,9 @@ use crate::frame_graph::{
     Bindings, FrameGraph, PassBuilder, PassContext, SizeRule, Tex, TextureDesc,
 };
 use crate::gbuffer::GBuffer;
-use crate::recipe::{Recipe, TextureRef, next_recipe_id, pass_name};
+use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
+use crate::report::PassName;
 use crate::resolution::{
     Resolution, UpsampleFormat, UpsamplePass, declare_upsample, written_target,
 };
@@ -457,7 +458,7 @@ impl Recipe for AmbientOcclusion {
         if self.sao() {
             for k in 0..DEPTH_LEVELS {
                 let mut pass = fg.pass(
-                    pass_name(kind, self.owner, Some(&format!("view depth {k}"))),
+                    PassName::new(kind).step(format!("view depth {k}")),
                     self.owner,
                 );
                 let source = match k {
@@ -489,11 +490,7 @@ impl Recipe for AmbientOcclusion {
             ),
         };
         let mut pass = fg.pass(
-            pass_name(
-                kind,
-                self.owner,
-                Some(&format!("raw{}", resolution.pass_suffix())),
-            ),
+            PassName::new(kind).step(format!("raw{}", resolution.pass_suffix())),
             self.owner,
         );
         let (depth, normals) = (pass.read(&g.depth), pass.read(&g.normals));
@@ -526,7 +523,7 @@ impl Recipe for AmbientOcclusion {
             fg,
             resolution,
             UpsamplePass {
-                name: pass_name(kind, self.owner, Some("upsample")),
+                name: PassName::new(kind).step("upsample"),
                 owner: self.owner,
                 gbuffer: &self.gbuffer,
                 half: &written_target(&raw, resolution),
@@ -540,7 +537,7 @@ impl Recipe for AmbientOcclusion {
         );
         let mut source = raw.clone();
         if self.temporal() {
-            let mut pass = fg.pass(pass_name(kind, self.owner, Some("temporal")), self.owner);
+            let mut pass = fg.pass(PassName::new(kind).step("temporal"), self.owner);
             let (raw, depth, normals) =
                 (pass.read(&raw), pass.read(&g.depth), pass.read(&g.normals));
             let h = histories(&mut pass);
@@ -564,7 +561,7 @@ impl AmbientOcclusion {
         let blur = self.settings.blur_radius > 0 && !self.off();
         let mut source = source;
         if blur {
-            let mut pass = fg.pass(pass_name(kind, self.owner, Some("blur x")), self.owner);
+            let mut pass = fg.pass(PassName::new(kind).step("blur x"), self.owner);
             let io = BlurIo {
                 source: pass.read(&source),
                 depth: pass.read(&g.depth),
@@ -576,7 +573,7 @@ impl AmbientOcclusion {
             source = self.name("blurred");
         }
         let step = if blur { "blur y" } else { "resolve" };
-        let mut pass = fg.pass(pass_name(kind, self.owner, Some(step)), self.owner);
+        let mut pass = fg.pass(PassName::new(kind).step(step), self.owner);
         let io = BlurIo {
             depth: pass.read(&g.depth),
             normals: pass.read(&g.normals),

@@ -16,6 +16,7 @@ use crate::gbuffer::GBuffer;
 use crate::post::eye_adaptation::AdaptationSettings;
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
+use crate::report::PassName;
 use crate::shaders::ShaderKey;
 
 const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
@@ -157,10 +158,7 @@ impl Recipe for Autofocus {
             lifetime: Lifetime::Temporary,
             usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
         };
-        let mut pass = fg.pass(
-            crate::recipe::pass_name("Autofocus", self.owner, None),
-            self.owner,
-        );
+        let mut pass = fg.pass(PassName::new("Autofocus"), self.owner);
         let io = AutofocusIo {
             depth: pass.read(&self.gbuffer.targets.depth),
             output: pass.write(&self.output, target),

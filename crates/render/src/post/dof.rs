@@ -19,6 +19,7 @@ use crate::frame_graph::{Bindings, FrameGraph, PassBuilder, PassContext, Tex, Te
 use crate::gbuffer::GBuffer;
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
+use crate::report::PassName;
 use crate::resolution::{
     Resolution, UpsampleFormat, UpsamplePass, declare_upsample, written_target,
 };
@@ -285,7 +286,7 @@ impl Recipe for Dof {
         if bound.is_some_and(|b| b < 0.5) || self.settings.max_radius < 0.5 {
             super::declare_copy(
                 fg,
-                crate::recipe::pass_name("DOF", self.owner, Some("copy")),
+                PassName::new("DOF").step("copy"),
                 self.owner,
                 &self.source.name,
                 (&self.output, desc),
@@ -334,10 +335,7 @@ impl Recipe for Dof {
         };
         let inline = self.inline_coc();
         if !inline {
-            let mut pass = fg.pass(
-                crate::recipe::pass_name("DOF", self.owner, Some("circle of confusion")),
-                self.owner,
-            );
+            let mut pass = fg.pass(PassName::new("DOF").step("circle of confusion"), self.owner);
             let (depth, focus) = (pass.read(depth), pass.read_opt(focus));
             let output = pass.write(&self.coc, coc_desc);
             pass.run(move |cx| {
@@ -359,10 +357,7 @@ impl Recipe for Dof {
                 CocIo::Target(pass.read(&self.coc))
             }
         };
-        let mut pass = fg.pass(
-            crate::recipe::pass_name("DOF", self.owner, Some("tiles")),
-            self.owner,
-        );
+        let mut pass = fg.pass(PassName::new("DOF").step("tiles"), self.owner);
         let coc = read_coc(&mut pass);
         let tiles = pass.write(
             &self.tiles,
@@ -379,11 +374,7 @@ impl Recipe for Dof {
         });
         let resolution = s.resolution;
         let mut pass = fg.pass(
-            crate::recipe::pass_name(
-                "DOF",
-                self.owner,
-                Some(&format!("blur{}", resolution.pass_suffix())),
-            ),
+            PassName::new("DOF").step(format!("blur{}", resolution.pass_suffix())),
             self.owner,
         );
         let source = pass.read(&self.source.name);
@@ -409,7 +400,7 @@ impl Recipe for Dof {
             fg,
             resolution,
             UpsamplePass {
-                name: crate::recipe::pass_name("DOF", self.owner, Some("upsample")),
+                name: PassName::new("DOF").step("upsample"),
                 owner: self.owner,
                 gbuffer: &self.gbuffer,
                 half: &self.blur_target(),

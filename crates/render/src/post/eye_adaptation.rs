@@ -15,6 +15,7 @@ use crate::error::RenderError;
 use crate::frame_graph::{Bindings, FrameGraph, Lifetime, PassContext, SizeRule, Tex, TextureDesc};
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
+use crate::report::PassName;
 use crate::shaders::ShaderKey;
 
 const SHADER: &str = "post/eye_adaptation.wgsl";
@@ -275,22 +276,19 @@ impl Recipe for EyeAdaptation {
             return;
         }
         self.source.recipe.declare(renderer, fg);
-        let node = match self.owner {
-            Some(node) => format!(" #{node}"),
-            None => String::new(),
-        };
+        let name = |step: std::borrow::Cow<'static, str>| PassName::new("EyeAdaptation").step(step);
         let sizes = reduction_sizes(fg.output_size());
         let level = |(width, height): (u32, u32)| {
             TextureDesc::storage(REDUCED).size(SizeRule::Absolute { width, height })
         };
         // Level 0: log-luminance of the image at half the output size.
-        let mut pass = fg.pass(format!("EyeAdaptation{node} log luminance"), self.owner);
+        let mut pass = fg.pass(name("log luminance".into()), self.owner);
         let input = pass.read(&self.source.name);
         let output = pass.write(&self.level_name(0), level(sizes[0]));
         pass.run(move |cx| self.reduce(cx, "log_luminance", input, output));
         for (l, size) in sizes.iter().enumerate().skip(1) {
             let mut pass = fg.pass(
-                format!("EyeAdaptation{node} reduce {}x{}", size.0, size.1),
+                name(format!("reduce {}x{}", size.0, size.1).into()),
                 self.owner,
             );
             let input = pass.read(&self.level_name(l - 1));
@@ -311,7 +309,7 @@ impl Recipe for EyeAdaptation {
             lifetime: Lifetime::Temporary,
             usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
         };
-        let mut pass = fg.pass(format!("EyeAdaptation{node} adapt"), self.owner);
+        let mut pass = fg.pass(name("adapt".into()), self.owner);
         let io = AdaptIo {
             measured: pass.read(&self.level_name(last)),
             adapted: pass.write(&self.output, adapted),

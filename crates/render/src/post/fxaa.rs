@@ -7,6 +7,7 @@ use crate::error::RenderError;
 use crate::frame_graph::{Bindings, FrameGraph, PassContext, SizeRule, Tex, TextureDesc};
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
+use crate::report::PassName;
 use crate::shaders::ShaderKey;
 
 /// How hard FXAA looks: more edge-search steps follow longer, shallower edges.
@@ -97,7 +98,7 @@ impl Recipe for Fxaa {
             return;
         }
         self.source.recipe.declare(renderer, fg);
-        let name = crate::recipe::pass_name("FXAA", self.owner, None);
+        let name = PassName::new("FXAA");
         let desc =
             TextureDesc::storage(wgpu::TextureFormat::Rgba16Float).size(SizeRule::Relative(1.0));
         let mut pass = fg.pass(name, self.owner);

@@ -9,6 +9,7 @@ use crate::error::RenderError;
 use crate::frame_graph::{Bindings, FrameGraph, PassContext, SizeRule, Tex, TextureDesc};
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
+use crate::report::PassName;
 use crate::shaders::{Sampling, ShaderKey};
 
 const SHADER: &str = "post/glare.wgsl";
@@ -165,11 +166,11 @@ impl Recipe for Glare {
         }
         self.source.recipe.declare(renderer, fg);
         let full = TextureDesc::storage(wgpu::TextureFormat::Rgba16Float);
-        let name = |what: &str| crate::recipe::pass_name("Glare", self.owner, Some(what));
+        let name = |what: std::borrow::Cow<'static, str>| PassName::new("Glare").step(what);
         if self.settings.intensity == 0.0 && self.settings.aberration == 0.0 {
             super::declare_copy(
                 fg,
-                name("copy"),
+                name("copy".into()),
                 self.owner,
                 &self.source.name,
                 (&self.output, full),
@@ -184,12 +185,12 @@ impl Recipe for Glare {
             levels += 1;
         }
         let level = |l: usize| full.size(SizeRule::Relative(0.5f32.powi(l as i32 + 1)));
-        let mut pass = fg.pass(name("bright pass"), self.owner);
+        let mut pass = fg.pass(name("bright pass".into()), self.owner);
         let source = pass.read(&self.source.name);
         let output = pass.write(&self.down(0), level(0));
         pass.run(move |cx| self.run(cx, "bright", source, None, output));
         for l in 1..levels {
-            let mut pass = fg.pass(name(&format!("down {l}")), self.owner);
+            let mut pass = fg.pass(name(format!("down {l}").into()), self.owner);
             let source = pass.read(&self.down(l - 1));
             let output = pass.write(&self.down(l), level(l));
             pass.run(move |cx| self.run(cx, "down", source, None, output));
@@ -203,13 +204,13 @@ impl Recipe for Glare {
             }
         };
         for l in (0..levels.saturating_sub(1)).rev() {
-            let mut pass = fg.pass(name(&format!("up {l}")), self.owner);
+            let mut pass = fg.pass(name(format!("up {l}").into()), self.owner);
             let source = pass.read(&self.down(l));
             let lower = pass.read(&lower_of(l + 1));
             let output = pass.write(&self.up(l), level(l));
             pass.run(move |cx| self.run(cx, "up", source, Some(lower), output));
         }
-        let mut pass = fg.pass(name("composite"), self.owner);
+        let mut pass = fg.pass(name("composite".into()), self.owner);
         let source = pass.read(&self.source.name);
         let top = pass.read(&lower_of(0));
         let output = pass.write(&self.output, full);

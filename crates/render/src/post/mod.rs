@@ -22,6 +22,7 @@ pub use transparency::{Transparency, TransparencySettings};
 
 use crate::error::RenderError;
 use crate::frame_graph::{Bindings, FrameGraph, PassContext, Tex, TextureDesc};
+use crate::report::PassName;
 use crate::shaders::ShaderKey;
 
 /// The largest value the half-float targets are clamped to (65504 overflows).
@@ -78,7 +79,7 @@ pub(crate) fn dispatch_entry(
 /// NaN made 0, values clamped to the half-float range), counted as `counter`.
 pub(crate) fn declare_copy<'a>(
     fg: &mut FrameGraph<'a>,
-    name: String,
+    name: PassName,
     owner: Option<u32>,
     source: &str,
     output: (&str, TextureDesc),

@@ -12,6 +12,7 @@ use crate::frame_graph::{Bindings, FrameGraph, PassContext, SizeRule, Tex, Textu
 use crate::gbuffer::GBuffer;
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
+use crate::report::PassName;
 use crate::shaders::ShaderKey;
 
 const SHADER: &str = "post/motion_blur.wgsl";
@@ -136,7 +137,7 @@ impl Recipe for MotionBlur {
             return;
         }
         self.source.recipe.declare(renderer, fg);
-        let name = |what| crate::recipe::pass_name("MotionBlur", self.owner, Some(what));
+        let name = |what| PassName::new("MotionBlur").step(what);
         let desc = TextureDesc::storage(wgpu::TextureFormat::Rgba16Float).size(self.gbuffer.size);
         if self.gbuffer.is_still() || self.settings.shutter_angle == 0.0 {
             super::declare_copy(

@@ -15,6 +15,7 @@ use crate::frame_graph::{Bindings, FrameGraph, PassContext, Tex, TextureDesc};
 use crate::gbuffer::GBuffer;
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
+use crate::report::PassName;
 use crate::shaders::{Sampling, ShaderKey};
 
 /// Counted when the history was thrown away (fresh target or a cut).
@@ -217,10 +218,7 @@ impl Recipe for Taa {
         let history =
             TextureDesc::history(wgpu::TextureFormat::Rgba16Float).size(self.gbuffer.size);
         let t = &self.gbuffer.targets;
-        let mut pass = fg.pass(
-            crate::recipe::pass_name("TAA", self.owner, None),
-            self.owner,
-        );
+        let mut pass = fg.pass(PassName::new("TAA"), self.owner);
         let io = TaaIo {
             source: pass.read(&self.source.name),
             velocity_uv: pass.read(&t.velocity_uv),

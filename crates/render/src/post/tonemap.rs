@@ -10,6 +10,7 @@ use crate::error::RenderError;
 use crate::frame_graph::{Bindings, FrameGraph, PassContext, SizeRule, Tex, TextureDesc};
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
+use crate::report::PassName;
 use crate::shaders::ShaderKey;
 
 /// The key exposure maps an adapted luminance to: middle grey.
@@ -131,7 +132,7 @@ impl Recipe for Tonemap {
         if let Some(adaptation) = &self.adaptation {
             adaptation.recipe.declare(renderer, fg);
         }
-        let name = crate::recipe::pass_name("Tonemap", self.owner, None);
+        let name = PassName::new("Tonemap");
         let desc =
             TextureDesc::storage(wgpu::TextureFormat::Rgba16Float).size(SizeRule::Relative(1.0));
         let mut pass = fg.pass(name, self.owner);

@@ -19,6 +19,7 @@ use crate::frame_graph::{Bindings, FrameGraph, PassContext, Tex, TextureDesc};
 use crate::gbuffer::{Draw, GBuffer, Layer, mesh_bindings, pack_instances};
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
+use crate::report::PassName;
 use crate::shaders::ShaderKey;
 
 const SHADER: &str = "post/transparency.wgsl";
@@ -353,7 +354,7 @@ impl Recipe for Transparency {
             return;
         }
         self.source.recipe.declare(renderer, fg);
-        let name = |what| crate::recipe::pass_name("Transparency", self.owner, Some(what));
+        let name = |what| PassName::new("Transparency").step(what);
         let output = TextureDesc::storage(wgpu::TextureFormat::Rgba16Float).size(self.gbuffer.size);
         if self.instance_count == 0 {
             super::declare_copy(

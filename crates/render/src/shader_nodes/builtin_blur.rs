@@ -12,6 +12,7 @@ use crate::error::RenderError;
 use crate::frame_graph::{Bindings, FrameGraph, PassContext, SizeRule, Tex, TextureDesc};
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
+use crate::report::PassName;
 use crate::shaders::{Sampling, ShaderKey};
 
 const SHADER: &str = "nodes/blur.wgsl";
@@ -96,7 +97,7 @@ impl Recipe for BuiltinBlur {
             return;
         }
         self.source.recipe.declare(renderer, fg);
-        let name = |what| crate::recipe::pass_name("BlurBuiltin", self.owner, Some(what));
+        let name = |what| PassName::new("BlurBuiltin").step(what);
         let mut pass = fg.pass(name("horizontal"), self.owner);
         let source = pass.read(&self.source.name);
         let half = pass.write(

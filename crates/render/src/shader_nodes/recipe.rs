@@ -22,6 +22,7 @@ use crate::frame_graph::{FrameGraph, Lifetime, PassContext, SizeRule, Tex, Textu
 use crate::gbuffer::GBuffer;
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
+use crate::report::PassName;
 use crate::shaders::Sampling;
 
 /// What the node gives one slice's recipe.
@@ -555,7 +556,7 @@ impl Recipe for ShaderNodeRecipe {
                 0 => plan.decl.entry.clone(),
                 i => format!("{} {i}", plan.decl.entry),
             };
-            let pass_name = crate::recipe::pass_name(&self.type_name, self.owner, Some(&label));
+            let pass_name = PassName::new(self.type_name.clone()).step(label);
             let mut pass = fg.pass(pass_name, self.owner);
             let mut declared: HashMap<&str, Tex> = HashMap::new();
             for (name, desc) in &writes {
@@ -587,11 +588,7 @@ impl Recipe for ShaderNodeRecipe {
                 height: size.1,
             });
             let format = decl.format;
-            let name = crate::recipe::pass_name(
-                &self.type_name,
-                self.owner,
-                Some(&format!("pass {} on", decl.name)),
-            );
+            let name = PassName::new(self.type_name.clone()).step(format!("pass {} on", decl.name));
             let mut pass = fg.pass(name, self.owner);
             let (from, to) = (pass.read(&from), pass.write(&to, desc));
             pass.run(move |cx| utility::copy(cx, from, to, format));

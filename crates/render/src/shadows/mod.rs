@@ -26,6 +26,7 @@ use crate::frame_graph::{FrameGraph, TextureDesc};
 use crate::gbuffer::{Layer, LayerMemo, RasterChoice};
 use crate::recipe::{Recipe, next_recipe_id};
 use crate::renderer::Renderer;
+use crate::report::PassName;
 
 use raster::{CasterSet, SetKind, StillSets};
 use store::ShadowStore;
@@ -505,8 +506,8 @@ impl ShadowMaps {
         guard.as_ref().map(|m| (m.depth.clone(), m.moments.clone()))
     }
 
-    fn label(&self, what: &str) -> String {
-        crate::recipe::pass_name("ShadowMap", self.owner, Some(what))
+    fn label(&self, what: impl Into<std::borrow::Cow<'static, str>>) -> PassName {
+        PassName::new("ShadowMap").step(what)
     }
 }
 

@@ -124,11 +124,12 @@ pub fn checker(x: u32, y: u32, a: [f32; 4], b: [f32; 4]) -> [f32; 4] {
     if (x + y).is_multiple_of(2) { a } else { b }
 }
 
-/// How many of the frame's passes have `what` in their name.
+/// How many of the frame's passes are of a step that begins with `what`
+/// ("down" counts glare's "down 1", "down 2", ...).
 pub fn passes_named(report: &FrameReport, what: &str) -> usize {
     report
         .passes
         .iter()
-        .filter(|p| p.name.contains(what))
+        .filter(|p| p.step.as_deref().is_some_and(|s| s.starts_with(what)))
         .count()
 }

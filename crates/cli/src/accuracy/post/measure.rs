@@ -67,7 +67,7 @@ fn planes<'a>(channels: &'a [Vec<f32>], like: &ImageF32) -> Vec<Plane<'a>> {
         .collect()
 }
 
-/// Median GPU time of the passes named `what` over frames made by `make`.
+/// Median GPU time of the passes of kind `what` over frames made by `make`.
 pub(super) fn time(
     renderer: &Renderer,
     args: &PostArgs,
@@ -85,7 +85,7 @@ pub(super) fn time(
             false,
         )?;
         if i >= args.common.warmup {
-            times.extend(pass_ms(&report, what));
+            times.extend(pass_ms(&report, what, None));
         }
     }
     Ok(median(times))

@@ -26,6 +26,7 @@ use crate::gbuffer::GBuffer;
 use crate::material::{FEATURE_COOK_TORRANCE, FEATURE_REFLECTION, MaterialTextures, MaterialWorld};
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
+use crate::report::PassName;
 use crate::resolution::{
     Resolution, UpsampleFormat, UpsamplePass, declare_upsample, written_target,
 };
@@ -225,8 +226,8 @@ impl Ssr {
             .surface_key(SHADER, self.gbuffer.targets.surface_feature())
     }
 
-    fn label(&self, what: &str) -> String {
-        crate::recipe::pass_name("SSR", self.owner, Some(what))
+    fn label(&self, what: impl Into<std::borrow::Cow<'static, str>>) -> PassName {
+        PassName::new("SSR").step(what)
     }
 
     fn params(&self, frame: u32, flags: u32, max_level: u32) -> Params {
@@ -283,7 +284,7 @@ impl Ssr {
             .unwrap_or_else(|e| e.into_inner())
             .clone()
             .ok_or_else(|| RenderError::Pass {
-                pass: self.label("trace"),
+                pass: self.label("trace").text(self.owner),
                 message: "the hi-z was not built".to_owned(),
             })?;
         let lut = split_sum_table(cx, &self.table)?;
@@ -462,7 +463,7 @@ impl Recipe for Ssr {
         };
         let trace_target = self.trace_target();
         let mut pass = fg.pass(
-            self.label(&format!("trace{}", resolution.pass_suffix())),
+            self.label(format!("trace{}", resolution.pass_suffix())),
             self.owner,
         );
         pass.read(&self.token);
