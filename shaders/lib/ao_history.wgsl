@@ -1,5 +1,5 @@
-// AO's temporal accumulation, shared by occlusion/temporal.wgsl (after a
-// half-resolution estimate is upsampled) and occlusion/ao.wgsl's TEMPORAL
+// AO's temporal accumulation, shared by ssao/temporal.wgsl (after a
+// half-resolution estimate is upsampled) and ssao/ao.wgsl's TEMPORAL
 // (a full-resolution estimate blended in the pass that makes it, so no raw
 // target and no second pass). Each pixel looks up where it was last frame
 // (its G-buffer velocity, UV units per frame), and blends last frame's

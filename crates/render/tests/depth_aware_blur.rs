@@ -1,7 +1,7 @@
 //! AO's and SSGI's depth- and normal-aware blur against the CPU: the x pass
 //! over the unblurred image, then the y pass over its result, with the same
 //! Gaussian and the same weights for view-distance and normal difference
-//! (shaders/occlusion/blur.wgsl, shaders/lighting/ssgi.wgsl's BLUR). At a
+//! (shaders/ssao/blur.wgsl, shaders/lighting/ssgi.wgsl's BLUR). At a
 //! size that is a multiple of 8 neither way, workgroups end at the image's
 //! edge.
 
@@ -11,9 +11,9 @@ use glam::Vec3;
 use spreadlight_render::FrameReport;
 use spreadlight_render::camera::reverse_z;
 use spreadlight_render::lighting::{Ssgi, SsgiSettings};
-use spreadlight_render::occlusion::{AmbientOcclusion, AoMode, AoSettings};
 use spreadlight_render::readback::{ImageF32, render_and_read};
 use spreadlight_render::renderer::test_renderer;
+use spreadlight_render::ssao::{AmbientOcclusion, AoMode, AoSettings};
 
 use occlusion_scene::{camera, constant, eye, gbuffer, image};
 

@@ -15,12 +15,12 @@ use spreadlight_render::frame_graph::{FrameGraph, FrameReport, PassName, Texture
 use spreadlight_render::gbuffer::GBuffer;
 use spreadlight_render::lighting::{Ssgi, SsgiSettings};
 use spreadlight_render::material::{Feature, Material, MaterialWorld};
-use spreadlight_render::occlusion::{AmbientOcclusion, AoMode, AoSettings};
 use spreadlight_render::post::{Dof, DofSettings, Focus};
 use spreadlight_render::readback::{ImageF32, render_and_read};
 use spreadlight_render::renderer::test_renderer;
 use spreadlight_render::resolution::{Resolution, UpsampleFormat, UpsamplePass, declare_upsample};
 use spreadlight_render::scenes::{balls_on_floor, with_materials};
+use spreadlight_render::ssao::{AmbientOcclusion, AoMode, AoSettings};
 use spreadlight_render::static_texture::StaticTexture;
 use spreadlight_render::{Recipe, Renderer, SizeRule};
 
@@ -176,7 +176,7 @@ fn ao_at_half_resolution_stays_within_its_stated_error_of_full() {
             &full_report,
             &half_report,
             "raw",
-            spreadlight_render::occlusion::HALF_RESOLUTION,
+            spreadlight_render::ssao::HALF_RESOLUTION,
         );
         assert!(half.all_finite(), "{mode:?}");
         assert!(half.pixels.iter().all(|p| (0.0..=1.0).contains(&p[0])));

@@ -898,7 +898,7 @@ fn ambient_occlusion_darkens_the_ambient_term_as_each_material_says() {
 fn gi_and_reflection_are_weighted_per_material_and_unreflective_scenes_render_no_reflection() {
     use spreadlight_render::lighting::{CompositeInputs, CompositeLight, LightComponents};
     use spreadlight_render::material::{Feature, Material, MaterialWorld};
-    use spreadlight_render::occlusion::{AmbientOcclusion, AoSettings};
+    use spreadlight_render::ssao::{AmbientOcclusion, AoSettings};
     use spreadlight_render::static_texture::StaticTexture;
     let renderer = test_renderer();
     let g = scene(&renderer);

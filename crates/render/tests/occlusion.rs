@@ -17,12 +17,12 @@ use spreadlight_render::camera::reverse_z;
 use spreadlight_render::gbuffer::GBuffer;
 use spreadlight_render::lighting::{SSGI_GATHER_TEMPORAL, Ssgi, SsgiSettings, Ssss, SsssQuality};
 use spreadlight_render::material::{Feature, Material, MaterialWorld};
-use spreadlight_render::occlusion::{AmbientOcclusion, AoMode, AoSettings, ESTIMATE_TEMPORAL};
 use spreadlight_render::readback::{ImageF32, render_and_read};
-use spreadlight_render::reference::occlusion::{Occluders, visibility_image};
 use spreadlight_render::reference::shadows::Sphere;
+use spreadlight_render::reference::ssao::{Occluders, visibility_image};
 use spreadlight_render::renderer::test_renderer;
 use spreadlight_render::resolution::Resolution;
+use spreadlight_render::ssao::{AmbientOcclusion, AoMode, AoSettings, ESTIMATE_TEMPORAL};
 use spreadlight_render::{FrameReport, Recipe, Renderer};
 
 use occlusion_scene::{BALL, FLOOR, camera, constant, eye, gbuffer};
@@ -689,7 +689,7 @@ fn ssss_scatters_red_farthest_and_only_where_a_material_has_fake_sss() {
         report.counter("SSSS culled: no subsurface material or width 0"),
         1
     );
-    assert!(!report.passes_of("SSSS", None).next().is_some());
+    assert!(report.passes_of("SSSS", None).next().is_none());
     assert!(image.pixels.is_empty(), "the input is passed on as it is");
 }
 

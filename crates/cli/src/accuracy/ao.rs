@@ -16,12 +16,12 @@ use anyhow::Context;
 use glam::{Mat4, Vec3};
 use spreadlight_render::camera::{CameraInput, reverse_z};
 use spreadlight_render::gbuffer::{GBuffer, Layer};
-use spreadlight_render::occlusion::{AmbientOcclusion, AoMode, AoSettings};
 use spreadlight_render::readback::{ImageF32, render_and_read};
-use spreadlight_render::reference::occlusion::{Occluders, visibility_image};
 use spreadlight_render::reference::shadows::Sphere;
+use spreadlight_render::reference::ssao::{Occluders, visibility_image};
 use spreadlight_render::resolution::Resolution;
 use spreadlight_render::scenes::balls_on_floor;
+use spreadlight_render::ssao::{AmbientOcclusion, AoMode, AoSettings};
 use spreadlight_render::{FrameGraph, Recipe, Renderer, SizeRule};
 
 use super::metrics::{self, Plane};

@@ -4,12 +4,12 @@
 //! `ShadowMap (Sun)`, `CookTorrance`, `CompositeLight`, `SSAO`, `HBAO`, `SSGI`, `SSSS`.
 
 pub mod add_light;
-pub mod ambient_occlusion;
 pub mod composite_light;
 pub mod cook_torrance;
 pub mod point_light_buffer;
 pub mod shadow_map;
 pub mod spot_light_buffer;
+pub mod ssao;
 pub mod ssgi;
 pub mod ssss;
 pub mod sun_light_buffer;
@@ -40,7 +40,7 @@ pub fn register(r: &mut Registry) {
     shadow_map::register(r);
     cook_torrance::register(r);
     composite_light::register(r);
-    ambient_occlusion::register(r);
+    ssao::register(r);
     ssgi::register(r);
     ssss::register(r);
 }

@@ -15,7 +15,7 @@ pub mod brdf;
 pub mod lights;
 pub mod matcap;
 pub mod material;
-pub mod occlusion;
 pub mod reflection;
 pub mod shadows;
+pub mod ssao;
 pub mod tonemap;

@@ -22,6 +22,33 @@ pub struct ShaderFile {
     /// Which subsets make sense: a permutation that breaks a rule is refused
     /// and never compiled, and the permutation test skips it.
     pub rules: &'static [Rule],
+    /// For a shader with a typed key ([`Permutation`]): its permutations,
+    /// which replace the rules (every other subset is refused).
+    pub keyed: Option<fn() -> Vec<ShaderKey>>,
+}
+
+/// A shader's permutations as a Rust type, beside the effect that runs it
+/// (SSAO's `AoKey` in `ssao/key.rs`): each value is one permutation, and a
+/// combination the shader does not support cannot be written, so the
+/// effect's code says `AoKey { estimator, target }`, not a list of strings.
+pub trait Permutation: Copy + 'static {
+    /// The shader, below `shaders/`.
+    const PATH: &'static str;
+    /// Every feature switch the shader reacts to.
+    const FEATURES: &'static [&'static str];
+    /// The switches this permutation turns on.
+    fn features(self) -> impl Iterator<Item = &'static str>;
+    /// Every permutation the shader supports.
+    fn all() -> Vec<Self>;
+
+    fn key(self) -> ShaderKey {
+        ShaderKey::new(Self::PATH, self.features())
+    }
+
+    /// The keys of [`Permutation::all`], for `SHADERS`.
+    fn all_keys() -> Vec<ShaderKey> {
+        Self::all().into_iter().map(Self::key).collect()
+    }
 }
 
 /// A constraint between the features of one shader.
@@ -51,8 +78,18 @@ impl Rule {
 }
 
 impl ShaderFile {
-    /// Whether `features` is a permutation this file allows (every rule holds).
+    /// Whether `features` is a permutation this file allows (every rule
+    /// holds; for a keyed file, one of its typed key's values).
     pub fn check(&self, features: &BTreeSet<&'static str>) -> Result<(), String> {
+        if let Some(keys) = self.keyed {
+            return match keys().iter().any(|k| &k.features == features) {
+                true => Ok(()),
+                false => Err(format!(
+                    "no value of its typed key switches on exactly {}",
+                    features.iter().copied().collect::<Vec<_>>().join(", ")
+                )),
+            };
+        }
         self.rules.iter().try_for_each(|r| r.check(features))
     }
 }
@@ -65,6 +102,17 @@ macro_rules! shader {
             features: &[],
             library: true,
             rules: &[],
+            keyed: None,
+        }
+    };
+    ($path:literal, keyed $key:ty) => {
+        ShaderFile {
+            path: $path,
+            source: include_str!(concat!("../../../../shaders/", $path)),
+            features: <$key as Permutation>::FEATURES,
+            library: false,
+            rules: &[],
+            keyed: Some(<$key as Permutation>::all_keys),
         }
     };
     ($path:literal, [$($feature:literal),*] $(, $rule:expr)*) => {
@@ -74,6 +122,7 @@ macro_rules! shader {
             features: &[$($feature),*],
             library: false,
             rules: &[$($rule),*],
+            keyed: None,
         }
     };
     ($path:literal, one_of [$($feature:literal),*]) => {
@@ -83,6 +132,7 @@ macro_rules! shader {
             features: &[$($feature),*],
             library: false,
             rules: &[Rule::AtMostOne(&[$($feature),*])],
+            keyed: None,
         }
     };
 }
@@ -243,20 +293,10 @@ pub const SHADERS: &[ShaderFile] = &[
     shader!("shadows/depth.wgsl", []),
     shader!("shadows/moments.wgsl", []),
     shader!("shadows/resolve.wgsl", ["OVER_STILL"]),
-    shader!("occlusion/linear_depth.wgsl", ["DOWNSAMPLE"]),
-    shader!(
-        "occlusion/ao.wgsl",
-        ["SAO", "HBAO", "HALF", "TEMPORAL"],
-        Rule::AtMostOne(&["SAO", "HBAO"]),
-        // Half resolution blends after the upsample (occlusion/temporal.wgsl).
-        Rule::AtMostOne(&["HALF", "TEMPORAL"])
-    ),
-    shader!("occlusion/temporal.wgsl", []),
-    shader!(
-        "occlusion/blur.wgsl",
-        ["VERTICAL", "COMBINE"],
-        Rule::Requires("COMBINE", "VERTICAL")
-    ),
+    shader!("ssao/linear_depth.wgsl", keyed crate::ssao::DepthKey),
+    shader!("ssao/ao.wgsl", keyed crate::ssao::AoKey),
+    shader!("ssao/temporal.wgsl", keyed crate::ssao::TemporalKey),
+    shader!("ssao/blur.wgsl", keyed crate::ssao::BlurKey),
     shader!("environment/sky.wgsl", ["ENVIRONMENT", "FOG"]),
     shader!("environment/prefilter.wgsl", []),
     shader!(
@@ -331,6 +371,10 @@ impl ShaderKey {
 pub fn all_permutations() -> Vec<ShaderKey> {
     let mut keys = Vec::new();
     for file in SHADERS.iter().filter(|f| !f.library) {
+        if let Some(keyed) = file.keyed {
+            keys.extend(keyed());
+            continue;
+        }
         let n = file.features.len();
         for mask in 0u32..(1 << n) {
             let features = (0..n)

@@ -144,3 +144,59 @@ fn a_cached_bind_group_is_found_by_what_it_binds() {
     assert!(made && offset != first);
     assert!(!group(&b, 0).1 && !group(&a, 256).1 && !group(&a, 0).1);
 }
+
+#[test]
+fn a_typed_key_names_its_file_and_only_its_features() {
+    for file in SHADERS.iter() {
+        let Some(keyed) = file.keyed else { continue };
+        let keys = keyed();
+        assert!(!keys.is_empty(), "{}", file.path);
+        let mut seen = std::collections::BTreeSet::new();
+        for key in &keys {
+            assert_eq!(
+                key.path, file.path,
+                "a key of {} names another file",
+                file.path
+            );
+            assert!(
+                key.features.iter().all(|f| file.features.contains(f)),
+                "{}: {:?} outside {:?}",
+                file.path,
+                key.features,
+                file.features
+            );
+            assert!(
+                seen.insert(key.features.clone()),
+                "{}: {key:?} twice",
+                file.path
+            );
+            assert!(file.check(&key.features).is_ok());
+        }
+        // Every switch the file declares is used by some permutation.
+        for feature in file.features {
+            assert!(
+                keys.iter().any(|k| k.features.contains(feature)),
+                "{}: `{feature}` is in no permutation",
+                file.path
+            );
+        }
+    }
+}
+
+#[test]
+fn a_feature_set_no_typed_key_has_is_refused() {
+    use crate::ssao::{AoKey, AoTarget};
+    let ao = SHADERS
+        .iter()
+        .find(|f| f.path == <AoKey as super::Permutation>::PATH)
+        .expect("ssao/ao.wgsl is listed");
+    // Half resolution blends its history after the upsample: no AoTarget holds both.
+    let both: std::collections::BTreeSet<_> = ["HALF", "TEMPORAL"].into_iter().collect();
+    let err = ao.check(&both).expect_err("refused");
+    assert!(err.contains("typed key"), "{err}");
+    let half = AoKey {
+        estimator: crate::ssao::AoMode::Hbao,
+        target: AoTarget::Half,
+    };
+    assert!(ao.check(&super::Permutation::key(half).features).is_ok());
+}

@@ -1,6 +1,6 @@
 // AO's temporal accumulation as a pass of its own: for an estimate made at
 // half resolution and upsampled (a full-resolution estimate blends in its
-// own pass, occlusion/ao.wgsl's TEMPORAL). The blend is
+// own pass, ssao/ao.wgsl's TEMPORAL). The blend is
 // spreadlight::ao_history::accumulate (shaders/lib/ao_history.wgsl).
 #import spreadlight::camera::Camera
 #import spreadlight::packing::safe_normalize

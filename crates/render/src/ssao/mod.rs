@@ -1,9 +1,9 @@
 //! Screen-space ambient occlusion over the G-buffer: Emeshe's stochastic
 //! wide-range AO and its short-range "HBAO", and McGuire's SAO as Castor3D
-//! has it. One recipe, three estimators (shaders/occlusion/ao.wgsl), and
+//! has it. One recipe, three estimators (shaders/ssao/ao.wgsl), and
 //! the passes they share:
 //!
-//! 1. SAO only: view depth and a mip chain of it (shaders/occlusion/linear_depth.wgsl),
+//! 1. SAO only: view depth and a mip chain of it (shaders/ssao/linear_depth.wgsl),
 //!    so far taps read coarse levels and stay in cache.
 //! 2. Raw AO: per-pixel rotated samples, the rotation changing every frame.
 //! 3. Temporal (when the blend is above 0): last frame's result reprojected
@@ -11,7 +11,7 @@
 //!    (disocclusion), sanitized on read, blended in. The history is a
 //!    persistent texture named after the node; a resize, a `Reset` or
 //!    `Renderer::reset_history` starts it anew.
-//! 4. A depth- and normal-aware separable blur (shaders/occlusion/blur.wgsl),
+//! 4. A depth- and normal-aware separable blur (shaders/ssao/blur.wgsl),
 //!    whose last pass also multiplies in another AO (`combine`: wide-range
 //!    times local, as Emeshe pairs them).
 //!
@@ -35,8 +35,11 @@ use crate::report::PassName;
 use crate::resolution::{
     Resolution, UpsampleFormat, UpsamplePass, declare_upsample, written_target,
 };
-use crate::shaders::ShaderKey;
+use crate::shaders::Permutation;
 use crate::temporal::{RayParams, TemporalState};
+
+mod key;
+pub use key::{AoKey, AoTarget, BlurKey, DepthKey, TemporalKey};
 
 /// Which estimator.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -58,14 +61,6 @@ pub enum AoMode {
 }
 
 impl AoMode {
-    fn feature(self) -> Option<&'static str> {
-        match self {
-            AoMode::Stochastic => None,
-            AoMode::Sao => Some("SAO"),
-            AoMode::Hbao => Some("HBAO"),
-        }
-    }
-
     fn name(self) -> &'static str {
         match self {
             AoMode::Stochastic => "SSAO",
@@ -274,13 +269,13 @@ impl AmbientOcclusion {
         output: Tex,
     ) -> Result<(), RenderError> {
         let size = cx.size_of(output)?;
-        let (label, features) = match level {
-            0 => ("ao view depth", None),
-            _ => ("ao depth mip", Some("DOWNSAMPLE")),
+        let (label, key) = match level {
+            0 => ("ao view depth", DepthKey::FromGBuffer),
+            _ => ("ao depth mip", DepthKey::Downsample),
         };
         cx.dispatch_image(
             label,
-            &ShaderKey::new("occlusion/linear_depth.wgsl", features),
+            &key.key(),
             Bindings::new()
                 .buffer("camera", self.gbuffer.camera_buffer())
                 .texture("source", source)
@@ -328,23 +323,22 @@ impl AmbientOcclusion {
                     .buffer("fresh", &self.fresh[usize::from(fresh)])
             }
         };
-        // Off: the plain estimator's early exit writes 1 (no SAO chain to bind).
-        let feature = if self.off() {
-            None
-        } else {
-            self.settings.mode.feature()
-        };
         let resolution = self.settings.resolution;
-        let fused = matches!(io.target, RawTarget::Fused(_));
-        let key = ShaderKey::new(
-            "occlusion/ao.wgsl",
-            feature
-                .into_iter()
-                .chain(resolution.feature())
-                .chain(fused.then_some("TEMPORAL")),
-        );
+        let key = AoKey {
+            // Off: the plain estimator's early exit writes 1 (no SAO chain to bind).
+            estimator: if self.off() {
+                AoMode::Stochastic
+            } else {
+                self.settings.mode
+            },
+            target: match (resolution, &io.target) {
+                (Resolution::Half, _) => AoTarget::Half,
+                (Resolution::Full, RawTarget::Fused(_)) => AoTarget::FullTemporal,
+                (Resolution::Full, _) => AoTarget::Full,
+            },
+        };
         let size = resolution.pixels(self.gbuffer.pixel_size(cx.output_size));
-        cx.dispatch_image(self.settings.mode.name(), &key, b, size)
+        cx.dispatch_image(self.settings.mode.name(), &key.key(), b, size)
     }
 
     /// Last frame's history handed to `previous` before the history is
@@ -373,7 +367,7 @@ impl AmbientOcclusion {
         let size = self.gbuffer.pixel_size(cx.output_size);
         cx.dispatch_image(
             "ao temporal",
-            &ShaderKey::new("occlusion/temporal.wgsl", []),
+            &TemporalKey.key(),
             self.common(depth, normals)
                 .texture("raw", raw)
                 .texture("velocity_uv", h.velocity_uv)
@@ -392,14 +386,15 @@ impl AmbientOcclusion {
         io: &BlurIo,
         vertical: bool,
     ) -> Result<(), RenderError> {
-        let features = [
-            vertical.then_some("VERTICAL"),
-            io.combine.filter(|_| vertical).map(|_| "COMBINE"),
-        ];
+        let key = match (vertical, io.combine) {
+            (false, _) => BlurKey::Horizontal,
+            (true, None) => BlurKey::Vertical,
+            (true, Some(_)) => BlurKey::VerticalCombine,
+        };
         let size = self.gbuffer.pixel_size(cx.output_size);
         cx.dispatch_image(
             if vertical { "ao blur y" } else { "ao blur x" },
-            &ShaderKey::new("occlusion/blur.wgsl", features.into_iter().flatten()),
+            &key.key(),
             self.common(io.depth, io.normals)
                 .texture("source", io.source)
                 .texture("output", io.output)

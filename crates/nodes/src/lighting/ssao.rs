@@ -9,7 +9,7 @@ use spreadlight_graph::{
 };
 use spreadlight_render::TextureRef;
 use spreadlight_render::gbuffer::GBuffer;
-use spreadlight_render::occlusion::{AmbientOcclusion, AoMode, AoSettings};
+use spreadlight_render::ssao::{AmbientOcclusion, AoMode, AoSettings};
 
 use crate::gpu::{renderer, resource_spread, resources};
 

@@ -1,0 +1,131 @@
+//! SSAO's permutations as types. Each value is one permutation of its
+//! shader; a combination the shader does not support cannot be written
+//! (half resolution blends its history after the upsample, so `AoTarget`
+//! has no "half and temporal"; the combine comes with the vertical blur).
+//! These replace the string rules `shaders::SHADERS` held for these files.
+
+use super::AoMode;
+use crate::shaders::Permutation;
+
+/// `ssao/ao.wgsl`: which estimator, and where its result goes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct AoKey {
+    /// The plain estimator (`Stochastic`) also serves AO switched off, whose
+    /// early exit writes 1.
+    pub estimator: AoMode,
+    pub target: AoTarget,
+}
+
+/// Where the raw estimate goes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum AoTarget {
+    /// A full-resolution target the temporal pass or the blur reads.
+    Full,
+    /// Full resolution, with the history blended in the same pass.
+    FullTemporal,
+    /// Half resolution, upsampled (and blended) by later passes.
+    Half,
+}
+
+impl Permutation for AoKey {
+    const PATH: &'static str = "ssao/ao.wgsl";
+    const FEATURES: &'static [&'static str] = &["SAO", "HBAO", "HALF", "TEMPORAL"];
+
+    fn features(self) -> impl Iterator<Item = &'static str> {
+        let estimator = match self.estimator {
+            AoMode::Stochastic => None,
+            AoMode::Sao => Some("SAO"),
+            AoMode::Hbao => Some("HBAO"),
+        };
+        let target = match self.target {
+            AoTarget::Full => None,
+            AoTarget::FullTemporal => Some("TEMPORAL"),
+            AoTarget::Half => Some("HALF"),
+        };
+        estimator.into_iter().chain(target)
+    }
+
+    fn all() -> Vec<Self> {
+        let estimators = [AoMode::Stochastic, AoMode::Sao, AoMode::Hbao];
+        let targets = [AoTarget::Full, AoTarget::FullTemporal, AoTarget::Half];
+        estimators
+            .into_iter()
+            .flat_map(|estimator| targets.map(|target| AoKey { estimator, target }))
+            .collect()
+    }
+}
+
+/// `ssao/linear_depth.wgsl`: SAO's view depth from the G-buffer's depth
+/// (level 0), or one mip of it from the level above.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum DepthKey {
+    FromGBuffer,
+    Downsample,
+}
+
+impl Permutation for DepthKey {
+    const PATH: &'static str = "ssao/linear_depth.wgsl";
+    const FEATURES: &'static [&'static str] = &["DOWNSAMPLE"];
+
+    fn features(self) -> impl Iterator<Item = &'static str> {
+        (self == DepthKey::Downsample)
+            .then_some("DOWNSAMPLE")
+            .into_iter()
+    }
+
+    fn all() -> Vec<Self> {
+        vec![DepthKey::FromGBuffer, DepthKey::Downsample]
+    }
+}
+
+/// `ssao/blur.wgsl`: one direction of the depth-aware blur; the vertical
+/// one writes the output and may multiply another AO in.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum BlurKey {
+    Horizontal,
+    Vertical,
+    VerticalCombine,
+}
+
+impl Permutation for BlurKey {
+    const PATH: &'static str = "ssao/blur.wgsl";
+    const FEATURES: &'static [&'static str] = &["VERTICAL", "COMBINE"];
+
+    fn features(self) -> impl Iterator<Item = &'static str> {
+        let (vertical, combine) = match self {
+            BlurKey::Horizontal => (false, false),
+            BlurKey::Vertical => (true, false),
+            BlurKey::VerticalCombine => (true, true),
+        };
+        vertical
+            .then_some("VERTICAL")
+            .into_iter()
+            .chain(combine.then_some("COMBINE"))
+    }
+
+    fn all() -> Vec<Self> {
+        vec![
+            BlurKey::Horizontal,
+            BlurKey::Vertical,
+            BlurKey::VerticalCombine,
+        ]
+    }
+}
+
+/// `ssao/temporal.wgsl`: the history blend after a half-resolution upsample
+/// (one permutation).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct TemporalKey;
+
+impl Permutation for TemporalKey {
+    const PATH: &'static str = "ssao/temporal.wgsl";
+    const FEATURES: &'static [&'static str] = &[];
+
+    fn features(self) -> impl Iterator<Item = &'static str> {
+        std::iter::empty()
+    }
+
+    fn all() -> Vec<Self> {
+        vec![TemporalKey]
+    }
+}
