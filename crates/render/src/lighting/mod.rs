@@ -13,7 +13,10 @@ use std::sync::Arc;
 use glam::{Mat4, Vec3};
 
 pub use clusters::ClusterGrid;
-pub use composite::{CompositeInputs, CompositeLight, LightComponents, MAX_COMPONENTS};
+pub use composite::{
+    CompositeInputs, CompositeKey, CompositeLight, LightComponents, LightPairs, MAX_COMPONENTS,
+    MaterialAo, MaterialTerms, Shading, Textured,
+};
 pub use cook_torrance::{CookTorrance, FEW_LIGHTS, LightLoop, Surfaces};
 pub use ssgi::GATHER_TEMPORAL as SSGI_GATHER_TEMPORAL;
 pub use ssgi::HALF_RESOLUTION as SSGI_HALF_RESOLUTION;

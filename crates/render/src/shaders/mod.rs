@@ -8,7 +8,8 @@
 //! permutation once. A combination no pass asks for is never compiled.
 //! Shared libraries are imported by name (`#import spreadlight::packing`).
 
-use std::collections::BTreeSet;
+use std::collections::{BTreeSet, HashMap, HashSet};
+use std::sync::OnceLock;
 
 /// One WGSL file of `shaders/`.
 pub struct ShaderFile {
@@ -81,8 +82,8 @@ impl ShaderFile {
     /// Whether `features` is a permutation this file allows (every rule
     /// holds; for a keyed file, one of its typed key's values).
     pub fn check(&self, features: &BTreeSet<&'static str>) -> Result<(), String> {
-        if let Some(keys) = self.keyed {
-            return match keys().iter().any(|k| &k.features == features) {
+        if self.keyed.is_some() {
+            return match keyed_features(self.path).is_some_and(|set| set.contains(features)) {
                 true => Ok(()),
                 false => Err(format!(
                     "no value of its typed key switches on exactly {}",
@@ -238,46 +239,7 @@ pub const SHADERS: &[ShaderFile] = &[
         Rule::Requires("SPOT_TEXTURE", "LIGHT_SPOT"),
         Rule::Requires("MATERIAL_TEXTURES", "MATERIALS")
     ),
-    shader!(
-        "lighting/composite.wgsl",
-        [
-            "LIGHTS_2",
-            "LIGHTS_3",
-            "LIGHTS_4",
-            "EMISSION",
-            "SSS_1",
-            "SSS_2",
-            "SSS_3",
-            "SSS_4",
-            "AO",
-            "AO_PER_MATERIAL",
-            "MATERIAL_TEXTURES",
-            "MATERIALS",
-            "GI",
-            "REFLECTION",
-            "MATCAP",
-            "MATCAP_TEXTURE",
-            "SURFACE_TARGET"
-        ],
-        // Light pairs are cumulative, a subsurface term comes with its pair,
-        // and per-material AO weights only AO.
-        Rule::Requires("LIGHTS_3", "LIGHTS_2"),
-        Rule::Requires("LIGHTS_4", "LIGHTS_3"),
-        Rule::Requires("SSS_2", "LIGHTS_2"),
-        Rule::Requires("SSS_3", "LIGHTS_3"),
-        Rule::Requires("SSS_4", "LIGHTS_4"),
-        Rule::Requires("AO_PER_MATERIAL", "AO"),
-        // Textured emission (surface maps' occlusion and emission come
-        // through SURFACE_TARGET, with or without materials).
-        Rule::Requires("MATERIAL_TEXTURES", "EMISSION"),
-        Rule::Requires("MATERIAL_TEXTURES", "MATERIALS"),
-        // What reads the material library binds it.
-        Rule::Requires("EMISSION", "MATERIALS"),
-        Rule::Requires("AO_PER_MATERIAL", "MATERIALS"),
-        Rule::Requires("REFLECTION", "MATERIALS"),
-        Rule::Requires("MATCAP", "MATERIALS"),
-        Rule::Requires("MATCAP_TEXTURE", "MATCAP")
-    ),
+    shader!("lighting/composite.wgsl", keyed crate::lighting::CompositeKey),
     shader!(
         "lighting/ssgi.wgsl",
         ["TEMPORAL", "GATHER", "BLUR", "AMBIENT", "HALF"],
@@ -364,6 +326,19 @@ impl ShaderKey {
             )
         }
     }
+}
+
+/// The feature sets of each keyed file's typed key, made once: checking
+/// is a look-up (the exhaustive test checks the composite's 6,720 keys).
+fn keyed_features(path: &str) -> Option<&'static HashSet<BTreeSet<&'static str>>> {
+    static SETS: OnceLock<HashMap<&'static str, HashSet<BTreeSet<&'static str>>>> = OnceLock::new();
+    SETS.get_or_init(|| {
+        SHADERS
+            .iter()
+            .filter_map(|f| Some((f.path, f.keyed?().into_iter().map(|k| k.features).collect())))
+            .collect()
+    })
+    .get(path)
 }
 
 /// Every permutation the shader set allows: each entry shader with every

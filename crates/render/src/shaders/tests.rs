@@ -62,12 +62,21 @@ fn an_exclusive_choice_takes_one_feature() {
 fn a_feature_without_what_it_needs_is_refused_and_never_enumerated() {
     let mut composer = ShaderComposer::new().expect("libraries compose");
     let err = composer
-        .compose(&ShaderKey::new("lighting/composite.wgsl", ["LIGHTS_3"]))
+        .compose(&ShaderKey::new(
+            "lighting/cook_torrance.wgsl",
+            ["SHADOW_PCF"],
+        ))
         .expect_err("refused");
     assert!(
-        err.to_string().contains("`LIGHTS_3` needs `LIGHTS_2`"),
+        err.to_string().contains("`SHADOW_PCF` needs `SHADOWS`"),
         "{err}"
     );
+    // The composite's rules are its typed key's shape (CompositeKey): a
+    // third light pair without a second is no value of it.
+    let err = composer
+        .compose(&ShaderKey::new("lighting/composite.wgsl", ["LIGHTS_3"]))
+        .expect_err("refused");
+    assert!(err.to_string().contains("typed key"), "{err}");
     let composite: Vec<_> = all_permutations()
         .into_iter()
         .filter(|k| k.path == "lighting/composite.wgsl")
@@ -77,7 +86,8 @@ fn a_feature_without_what_it_needs_is_refused_and_never_enumerated() {
     // (none, AO, per material), emission (none, plain, textured),
     // reflection (2), matcap (none, built-in, textured) and the material
     // library (forced on when one of them reads it, free otherwise:
-    // 52 + 2 x 2): 6,720 of the 2^17 subsets.
+    // 52 + 2 x 2): 6,720 of the 2^17 subsets, the count the string rules
+    // allowed before CompositeKey replaced them.
     assert_eq!(composite.len(), 30 * 2 * 2 * 56);
 }
 

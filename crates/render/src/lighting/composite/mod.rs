@@ -23,7 +23,10 @@ use crate::material::{
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
 use crate::report::PassName;
-use crate::shaders::{Sampling, ShaderKey};
+use crate::shaders::{Permutation, Sampling, ShaderKey};
+
+mod key;
+pub use key::{CompositeKey, LightPairs, MaterialAo, MaterialTerms, Shading, Textured};
 
 /// What a CompositeLight combines.
 #[derive(Clone, Debug)]
@@ -177,31 +180,42 @@ impl CompositeLight {
     }
 
     /// The permutation: a feature no material has is compiled out.
-    fn key(&self) -> ShaderKey {
-        let mut features: Vec<&'static str> = ["LIGHTS_2", "LIGHTS_3", "LIGHTS_4"]
-            .into_iter()
-            .take(self.components.len().saturating_sub(1))
-            .collect();
-        let flags = [
-            (self.emission, "EMISSION"),
-            (self.occlusion.is_some(), "AO"),
-            (self.ao_per_material, "AO_PER_MATERIAL"),
-            (self.textured(), "MATERIAL_TEXTURES"),
-            (self.materials.is_some(), "MATERIALS"),
-            (self.gi.is_some(), "GI"),
-            (self.reflection.is_some(), "REFLECTION"),
-            (self.matcap, "MATCAP"),
-            (self.matcap_images().is_some(), "MATCAP_TEXTURE"),
-        ];
-        features.extend(flags.into_iter().filter(|(on, _)| *on).map(|(_, f)| f));
-        // Occlusion, metallic and emission where the G-buffer resolved them.
-        features.extend(self.gbuffer.targets.surface_feature());
-        for (k, c) in self.components.iter().enumerate() {
-            if c.sss.is_some() {
-                features.push(["SSS_1", "SSS_2", "SSS_3", "SSS_4"][k]);
-            }
+    fn key(&self) -> Result<ShaderKey, RenderError> {
+        let pairs =
+            LightPairs::new(self.components.iter().map(|c| c.sss.is_some())).ok_or_else(|| {
+                RenderError::Graph(format!(
+                    "CompositeLight takes 1 to {MAX_COMPONENTS} light components, not {}",
+                    self.components.len()
+                ))
+            })?;
+        let textured = |on: bool| match on {
+            true => Textured::Textured,
+            false => Textured::Flat,
+        };
+        let ao = self.occlusion.is_some();
+        let shading = match &self.materials {
+            None => Shading::Plain { ao },
+            Some(_) => Shading::Materials(MaterialTerms {
+                ao: match (ao, self.ao_per_material) {
+                    (false, _) => MaterialAo::Off,
+                    (true, false) => MaterialAo::On,
+                    (true, true) => MaterialAo::PerMaterial,
+                },
+                emission: self.emission.then(|| textured(self.textured())),
+                reflection: self.reflection.is_some(),
+                matcap: self
+                    .matcap
+                    .then(|| textured(self.matcap_images().is_some())),
+            }),
+        };
+        Ok(CompositeKey {
+            pairs,
+            shading,
+            gi: self.gi.is_some(),
+            // Occlusion, metallic and emission where the G-buffer resolved them.
+            surface_target: self.gbuffer.targets.surface_feature().is_some(),
         }
-        ShaderKey::new("lighting/composite.wgsl", features)
+        .key())
     }
 
     fn run(&self, cx: &mut PassContext<'_>, io: &CompositeIo) -> Result<(), RenderError> {
@@ -244,7 +258,7 @@ impl CompositeLight {
         let (w, h) = self.gbuffer.pixel_size(cx.output_size);
         cx.dispatch_shader(
             "composite",
-            &self.key(),
+            &self.key()?,
             "main",
             b,
             (w.div_ceil(8), h.div_ceil(8), 1),
