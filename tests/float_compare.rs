@@ -278,6 +278,21 @@ impl References {
             "{name}: a relative tolerance under 1e-3 is below a half float's rounding"
         );
         let got = to_half(image);
+        // A share of pixels free that is more than a quarter of what the
+        // image shows (pixels with a channel beyond the absolute slack)
+        // would let the content go and still pass.
+        let shown = got
+            .pixels
+            .iter()
+            .filter(|p| p[..3].iter().any(|v| v.abs() > tolerance.absolute))
+            .count();
+        let free = (tolerance.outliers * got.pixels.len() as f64).floor() as usize;
+        assert!(
+            free * 4 <= shown,
+            "{name}: the image shows {shown} of {} pixels, too few for {free} pixels free: \
+             make the content larger or the tolerance tighter",
+            got.pixels.len()
+        );
         let out = self.artifacts.join(name);
         let _ = std::fs::remove_dir_all(&out);
         std::fs::create_dir_all(&out).unwrap_or_else(|e| panic!("{}: {e}", out.display()));
