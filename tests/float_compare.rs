@@ -273,6 +273,20 @@ impl References {
     /// `difference.png`, red where a pixel is outside the tolerance).
     /// Panics with the report when the image is not within `tolerance`.
     pub fn check(&self, name: &str, image: &ImageF32, encoding: Encoding, tolerance: &Tolerance) {
+        if let Err(report) = self.try_check(name, image, encoding, tolerance) {
+            panic!("{report}");
+        }
+    }
+
+    /// [`References::check`], with the report of an image outside the
+    /// tolerance returned (a missing or unreadable reference still panics).
+    pub fn try_check(
+        &self,
+        name: &str,
+        image: &ImageF32,
+        encoding: Encoding,
+        tolerance: &Tolerance,
+    ) -> Result<(), String> {
         assert!(
             tolerance.relative >= 1e-3,
             "{name}: a relative tolerance under 1e-3 is below a half float's rounding"
@@ -311,7 +325,7 @@ impl References {
         if std::env::var_os(BLESS).is_some() {
             std::fs::create_dir_all(&self.folder).expect("the references' folder");
             write_exr(&got, &reference).unwrap_or_else(|e| panic!("bless {name}: {e}"));
-            return;
+            return Ok(());
         }
         let expected = read_exr(&reference).unwrap_or_else(|e| {
             panic!("{e}; make it with {BLESS}=1 (and look at it before committing it)")
@@ -330,13 +344,15 @@ impl References {
         save(&expected, "reference.png", encoding);
         save(&comparison.difference, "difference.exr", encoding);
         save(&excess_picture(&comparison), "difference.png", Encoding::Linear);
-        assert!(
-            comparison.passes(tolerance),
-            "{}\nThe rendered image, the reference and the difference are in {}; {} re-makes \
-             the reference after an intended change.",
+        if comparison.passes(tolerance) {
+            return Ok(());
+        }
+        Err(format!(
+            "{}\nThe rendered image, the reference and the difference are in {}; {}=1 \
+             re-makes the reference after an intended change.",
             report(name, &comparison, tolerance),
             out.display(),
             BLESS
-        );
+        ))
     }
 }
