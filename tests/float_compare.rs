@@ -343,7 +343,11 @@ impl References {
         let comparison = compare(&expected, &got, tolerance);
         save(&expected, "reference.png", encoding);
         save(&comparison.difference, "difference.exr", encoding);
-        save(&excess_picture(&comparison), "difference.png", Encoding::Linear);
+        save(
+            &excess_picture(&comparison),
+            "difference.png",
+            Encoding::Linear,
+        );
         if comparison.passes(tolerance) {
             return Ok(());
         }

@@ -124,7 +124,9 @@ fn skinned_normals(patch: &mut Patch) {
         .node(NodeId(5))
         .expect("bench-skinning.ron's MRE is node 5");
     assert_eq!(base.type_name, "MRE");
-    patch.add(NodeDoc::new(100, "GBufferView").with("Channel", Spread::Enum(vec!["Normals".to_owned()])));
+    patch.add(
+        NodeDoc::new(100, "GBufferView").with("Channel", Spread::Enum(vec!["Normals".to_owned()])),
+    );
     patch.add(NodeDoc::new(101, "Output").with("Name", Spread::String(vec!["normals".to_owned()])));
     patch.link(5, "G-Buffer", 100, "G-Buffer");
     patch.link(100, "Texture", 101, "Texture");
@@ -579,7 +581,9 @@ fn every_example_with_an_output_has_a_reference() {
         let patch = format::load(&path).unwrap_or_else(|e| panic!("{e}"));
         let relative = format!(
             "patches/{}",
-            path.file_name().and_then(|n| n.to_str()).unwrap_or_default()
+            path.file_name()
+                .and_then(|n| n.to_str())
+                .unwrap_or_default()
         );
         let has_output = patch.nodes.iter().any(|n| n.type_name == "Output");
         assert_eq!(
@@ -633,7 +637,10 @@ fn the_feedback_reference_shows_a_trail() {
         sum_gain += f64::from(gain);
     }
     let pixels = noise.pixels.len();
-    assert_eq!(below, 0, "the feedback is below its input at {below} pixels");
+    assert_eq!(
+        below, 0,
+        "the feedback is below its input at {below} pixels"
+    );
     assert!(
         trail * 5 >= pixels,
         "only {trail} of {pixels} feedback pixels are 0.1 brighter than the noise: no visible trail"
@@ -648,7 +655,9 @@ fn the_feedback_reference_shows_a_trail() {
 /// The comparison itself, on images made up here.
 mod comparison {
     use spreadlight_render::readback::ImageF32;
-    use spreadlight_tests::float_compare::{Tolerance, compare, read_exr, report, to_half, write_exr};
+    use spreadlight_tests::float_compare::{
+        Tolerance, compare, read_exr, report, to_half, write_exr,
+    };
 
     fn image(pixels: Vec<[f32; 4]>, width: u32) -> ImageF32 {
         ImageF32 {
@@ -677,9 +686,16 @@ mod comparison {
         assert_eq!((c.worst[0].x, c.worst[0].y), (1, 1));
         assert_eq!(c.worst[0].difference()[0], 1.0);
         // 1.0 against a slack of 0.01 + 0.01 * 4.0.
-        assert!((c.worst[0].excess - 20.0).abs() < 1e-3, "{}", c.worst[0].excess);
+        assert!(
+            (c.worst[0].excess - 20.0).abs() < 1e-3,
+            "{}",
+            c.worst[0].excess
+        );
         let text = report("t", &c, &TOLERANCE);
-        assert!(text.contains("1,   1: (4.0000, 2.0000, 0.5000, 1.0000) -> (5.0000"), "{text}");
+        assert!(
+            text.contains("1,   1: (4.0000, 2.0000, 0.5000, 1.0000) -> (5.0000"),
+            "{text}"
+        );
         // One of four pixels is within the 25% allowed; a second is not.
         assert!(c.passes(&TOLERANCE));
         got.pixels[0][1] = f32::NAN;
@@ -707,14 +723,23 @@ mod comparison {
         std::fs::create_dir_all(&dir).expect("mkdir");
         let path = dir.join("t.exr");
         let original = image(
-            vec![[0.0, 1e-3, 0.25, 1.0], [1.5, 37.0, 1000.0, 0.5], [0.2, 0.3, 0.4, 0.0]],
+            vec![
+                [0.0, 1e-3, 0.25, 1.0],
+                [1.5, 37.0, 1000.0, 0.5],
+                [0.2, 0.3, 0.4, 0.0],
+            ],
             3,
         );
         write_exr(&original, &path).expect("write");
         let read = read_exr(&path).expect("read");
         assert_eq!((read.width, read.height), (3, 1));
         assert_eq!(read, to_half(&original));
-        for (a, b) in read.pixels.iter().flatten().zip(original.pixels.iter().flatten()) {
+        for (a, b) in read
+            .pixels
+            .iter()
+            .flatten()
+            .zip(original.pixels.iter().flatten())
+        {
             assert!((a - b).abs() <= 5e-4 * b.abs() + 1e-7, "{a} vs {b}");
         }
         let _ = std::fs::remove_dir_all(&dir);
