@@ -1,6 +1,14 @@
 //! Shared helpers for the workspace tests: where the example and bad patches live.
 
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use spreadlight_graph::{FrameClock, Patch, Runtime, format};
+use spreadlight_nodes::output::RenderedImages;
+use spreadlight_render::image_io::Encoding;
+use spreadlight_render::readback::ImageF32;
+
+pub mod float_compare;
 
 /// The repository root (this crate lives in `tests/`).
 pub fn root() -> PathBuf {
@@ -31,41 +39,75 @@ pub fn bad_patches() -> Vec<PathBuf> {
     ron_files(&root().join("patches/bad"))
 }
 
-/// Render frame `frame` of a patch at `size` on the test GPU and return the
-/// image its Output named `output` produced.
 /// The host service that makes a patch's relative file names resolve beside it.
 pub fn patch_dir(path: &Path) -> std::sync::Arc<spreadlight_graph::PatchDir> {
     let dir = path.parent().unwrap_or(Path::new("")).to_path_buf();
     std::sync::Arc::new(spreadlight_graph::PatchDir(dir))
 }
 
-pub fn render_patch(
-    path: &Path,
-    size: (u32, u32),
-    frame: u64,
-    output: &str,
-) -> spreadlight_render::readback::ImageF32 {
-    use spreadlight_graph::{FrameClock, Runtime, format};
-    let patch = format::load(path).unwrap_or_else(|e| panic!("{e}"));
-    let mut rt = Runtime::new(spreadlight_nodes::registry());
-    rt.provide(patch_dir(path));
-    let renderer = spreadlight_render::renderer::test_renderer();
-    renderer.set_output_size(size);
-    spreadlight_nodes::gpu::provide_renderer(&mut rt, renderer);
-    let images = std::sync::Arc::new(spreadlight_nodes::output::RenderedImages::default());
-    rt.provide(images.clone());
-    let problems = rt.load(&patch).to_vec();
-    assert!(problems.is_empty(), "{}: {problems:?}", path.display());
-    for f in 0..=frame {
-        rt.evaluate(FrameClock::fixed(f, 60.0));
+/// Render frame `frame` of a patch at `size` on the test GPU and return the
+/// image its Output named `output` produced.
+pub fn render_patch(path: &Path, size: (u32, u32), frame: u64, output: &str) -> ImageF32 {
+    let mut run = PatchRun::new(path, size, |_| {});
+    run.run_to(frame);
+    run.image(output).0
+}
+
+/// A patch running on the test GPU at a fixed 60 fps, frame after frame,
+/// with the images its Outputs rendered at the last frame.
+pub struct PatchRun {
+    path: PathBuf,
+    rt: Runtime,
+    images: Arc<RenderedImages>,
+    next: u64,
+}
+
+impl PatchRun {
+    /// Load the patch at `path`, changed by `edit` (a test's pin values),
+    /// onto a renderer of output size `size`. Panics on any load problem.
+    pub fn new(path: &Path, size: (u32, u32), edit: impl FnOnce(&mut Patch)) -> Self {
+        let mut patch = format::load(path).unwrap_or_else(|e| panic!("{e}"));
+        edit(&mut patch);
+        let mut rt = Runtime::new(spreadlight_nodes::registry());
+        rt.provide(patch_dir(path));
+        let renderer = spreadlight_render::renderer::test_renderer();
+        renderer.set_output_size(size);
+        spreadlight_nodes::gpu::provide_renderer(&mut rt, renderer);
+        let images = Arc::new(RenderedImages::default());
+        rt.provide(images.clone());
+        let problems = rt.load(&patch).to_vec();
+        assert!(problems.is_empty(), "{}: {problems:?}", path.display());
+        PatchRun {
+            path: path.to_owned(),
+            rt,
+            images,
+            next: 0,
+        }
     }
-    let errors: Vec<String> = rt
-        .node_errors()
-        .map(|(id, e)| format!("{id}: {e}"))
-        .collect();
-    assert!(errors.is_empty(), "{}: {errors:?}", path.display());
-    images
-        .get(output)
-        .unwrap_or_else(|| panic!("{}: no output `{output}`", path.display()))
-        .0
+
+    /// Evaluate every frame from the next one to `frame`; panics on a node error.
+    pub fn run_to(&mut self, frame: u64) {
+        while self.next <= frame {
+            self.rt.evaluate(FrameClock::fixed(self.next, 60.0));
+            self.next += 1;
+        }
+        let errors: Vec<String> = self
+            .rt
+            .node_errors()
+            .map(|(id, e)| format!("{id}: {e}"))
+            .collect();
+        assert!(errors.is_empty(), "{}: {errors:?}", self.path.display());
+    }
+
+    /// The image the Output named `output` rendered last, and the encoding it asks for.
+    pub fn image(&self, output: &str) -> (ImageF32, Encoding) {
+        self.images
+            .get(output)
+            .unwrap_or_else(|| panic!("{}: no output `{output}`", self.path.display()))
+    }
+
+    /// The names of the Outputs that rendered.
+    pub fn outputs(&self) -> Vec<String> {
+        self.images.names()
+    }
 }

@@ -1,6 +1,8 @@
 //! `spreadlight view` on generated models (`render::mesh::gltf_import::models`),
-//! against reference images in `tests/reference/` with the tolerance of the
-//! workspace's reference tests: every channel within 4/255 on 99% of pixels.
+//! against reference images in `tests/reference/view-*.png`: every channel
+//! within 4/255 on 99% of pixels. These stay 8-bit where the workspace's
+//! references are float (`tests/float_compare.rs`): `view` writes a tonemapped,
+//! display-referred image, 0 to 1, and its PNG is what a user gets.
 //! Bless after an intended change with
 //! `SPREADLIGHT_BLESS=1 cargo test -p spreadlight-cli --test view`, and look
 //! at the images before committing them.
