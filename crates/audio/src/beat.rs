@@ -89,7 +89,9 @@ impl OnsetTracker {
     pub fn strengths(&mut self, window: &AudioWindow, seconds: f64) -> (i64, Vec<f32>) {
         let hop = self.hop() as i64;
         let last = (window.end() - self.frame as i64).div_euclid(hop);
-        let count = (seconds * f64::from(self.rate) / hop as f64).ceil().max(1.0) as i64;
+        let count = (seconds * f64::from(self.rate) / hop as f64)
+            .ceil()
+            .max(1.0) as i64;
         let first = last - count + 1;
         // Keep what overlaps; a jump (seek, loop) starts over.
         let cached_end = self.first + self.strengths.len() as i64;
@@ -123,7 +125,10 @@ impl OnsetTracker {
         }
         // The cache may hold frames past `last` after a jump back within it.
         let take = (last - self.first + 1).clamp(0, self.strengths.len() as i64) as usize;
-        (self.first, self.strengths.iter().take(take).copied().collect())
+        (
+            self.first,
+            self.strengths.iter().take(take).copied().collect(),
+        )
     }
 }
 
@@ -229,7 +234,8 @@ mod tests {
     fn the_tracker_reuses_frames_and_matches_a_fresh_computation() {
         let rate = 8000;
         let signal: Arc<[f32]> = Arc::from(clicks(100.0, rate, 3.0));
-        let at = |t: f64| AudioWindow::new(signal.clone(), rate, (t * f64::from(rate)) as i64, false);
+        let at =
+            |t: f64| AudioWindow::new(signal.clone(), rate, (t * f64::from(rate)) as i64, false);
         let mut stepped = OnsetTracker::new(rate);
         for k in 0..=30 {
             stepped.strengths(&at(1.0 + f64::from(k) / 30.0), 1.0);

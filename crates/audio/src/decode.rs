@@ -134,7 +134,7 @@ pub fn decode_file(path: &Path) -> Result<Clip, AudioError> {
     // shows only as fewer frames than its header announced. One packet of
     // slack allows for decoders that trim priming samples.
     if let Some(expected) = params.n_frames {
-        let slack = u64::from(params.max_frames_per_packet.unwrap_or(4096));
+        let slack = params.max_frames_per_packet.unwrap_or(4096);
         if frames + slack < expected {
             return Err(AudioError::Truncated {
                 path: path.to_path_buf(),
@@ -182,8 +182,11 @@ mod tests {
         assert!(e.to_string().contains("missing.wav"), "{e}");
 
         let garbage = dir.path().join("garbage.wav");
-        std::fs::write(&garbage, b"this is not a sound at all, only words".repeat(50))
-            .expect("write");
+        std::fs::write(
+            &garbage,
+            b"this is not a sound at all, only words".repeat(50),
+        )
+        .expect("write");
         let e = decode_file(&garbage).expect_err("garbage");
         assert!(matches!(e, AudioError::Format { .. }), "{e}");
         assert!(e.to_string().contains("garbage.wav"), "{e}");

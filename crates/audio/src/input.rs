@@ -11,7 +11,7 @@ use std::sync::{Arc, Mutex};
 use std::thread::JoinHandle;
 
 use cpal::traits::{DeviceTrait, HostTrait, StreamTrait};
-use cpal::{FromSample, Sample as _, SampleFormat};
+use cpal::{FromSample, SampleFormat};
 
 use crate::error::AudioError;
 use crate::window::AudioWindow;

@@ -51,9 +51,7 @@ impl Analyzer {
         let size = size.max(2);
         let fft = RealFftPlanner::<f32>::new().plan_fft_forward(size);
         let window: Vec<f32> = (0..size)
-            .map(|i| {
-                0.5 - 0.5 * (std::f32::consts::TAU * i as f32 / size as f32).cos()
-            })
+            .map(|i| 0.5 - 0.5 * (std::f32::consts::TAU * i as f32 / size as f32).cos())
             .collect();
         let sum: f32 = window.iter().sum();
         Analyzer {
@@ -95,7 +93,7 @@ impl Analyzer {
         }
         // DC and Nyquist have no mirror image to fold in.
         self.magnitudes[0] *= 0.5;
-        if let Some(last) = self.magnitudes.last_mut().filter(|_| n % 2 == 0) {
+        if let Some(last) = self.magnitudes.last_mut().filter(|_| n.is_multiple_of(2)) {
             *last *= 0.5;
         }
         &self.magnitudes
@@ -215,7 +213,10 @@ mod tests {
         // The instantaneous frequency at the middle of each 64 ms window.
         for (t, f) in [0.1f32, 0.4, 0.7, 1.0].iter().zip(&peaks) {
             let expected = 200.0 + 2800.0 * (t - 0.032);
-            assert!((f - expected).abs() < 40.0, "at {t}s: {f} Hz, want {expected}");
+            assert!(
+                (f - expected).abs() < 40.0,
+                "at {t}s: {f} Hz, want {expected}"
+            );
         }
         assert!(peaks.windows(2).all(|w| w[1] > w[0]), "{peaks:?}");
     }
@@ -238,7 +239,10 @@ mod tests {
             .max_by(|a, b| a.1.value.total_cmp(&b.1.value))
             .map(|(i, _)| i);
         assert_eq!(loudest, Some(0));
-        assert!(linear[0].value > 0.6 && linear[2].value < 0.01, "{linear:?}");
+        assert!(
+            linear[0].value > 0.6 && linear[2].value < 0.01,
+            "{linear:?}"
+        );
         // 440 Hz sits in the octave 250..500 Hz of these (the fourth).
         let log = bands(&m, 1024, 8000, 5, (31.25, 1000.0), BandScale::Logarithmic);
         assert!(log[3].low <= 440.0 && 440.0 < log[3].high, "{log:?}");

@@ -19,6 +19,9 @@ pub struct AudioWindow {
     /// the end of `samples` (silence there), or wrap when `looping`.
     end: i64,
     looping: bool,
+    /// How far "now" moved since the previous frame, in samples: what an
+    /// analysis counts as this frame's news (an onset in it).
+    step: i64,
 }
 
 impl AudioWindow {
@@ -31,7 +34,18 @@ impl AudioWindow {
             origin: 0,
             end,
             looping,
+            step: 0,
         }
+    }
+
+    /// The same window, saying that "now" moved `step` samples since the previous frame.
+    pub fn with_step(self, step: i64) -> Self {
+        AudioWindow { step, ..self }
+    }
+
+    /// How far "now" moved since the previous frame, in samples.
+    pub fn step(&self) -> i64 {
+        self.step
     }
 
     /// A live input's snapshot: `samples` are the latest, ending "now", and
@@ -76,13 +90,18 @@ impl AudioWindow {
         let len = self.samples.len() as i64;
         let end = start + n as i64;
         if self.looping && len > 0 {
-            out.extend((start..end).map(|i| self.samples[(i - self.origin).rem_euclid(len) as usize]));
+            out.extend(
+                (start..end).map(|i| self.samples[(i - self.origin).rem_euclid(len) as usize]),
+            );
             return;
         }
         // The part inside the signal is one copy; silence pads either side.
         let from = (start - self.origin).clamp(0, len);
         let to = (end - self.origin).clamp(0, len);
-        out.resize((from + self.origin - start).clamp(0, n as i64) as usize, 0.0);
+        out.resize(
+            (from + self.origin - start).clamp(0, n as i64) as usize,
+            0.0,
+        );
         if to > from {
             out.extend_from_slice(&self.samples[from as usize..to as usize]);
         }

@@ -4,10 +4,21 @@
 /// A channel or system real-time message the nodes act on.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Message {
-    NoteOn { channel: u8, note: u8, velocity: u8 },
+    NoteOn {
+        channel: u8,
+        note: u8,
+        velocity: u8,
+    },
     /// Also a note-on of velocity 0, as running-status senders write it.
-    NoteOff { channel: u8, note: u8 },
-    ControlChange { channel: u8, controller: u8, value: u8 },
+    NoteOff {
+        channel: u8,
+        note: u8,
+    },
+    ControlChange {
+        channel: u8,
+        controller: u8,
+        value: u8,
+    },
     /// A tick of the MIDI clock: 24 a quarter note.
     Clock,
     Start,

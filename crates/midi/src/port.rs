@@ -32,7 +32,9 @@ type Queue = Arc<Mutex<Vec<(u64, Vec<u8>)>>>;
 /// (case-insensitive; empty takes the first port).
 fn choose(names: &[String], wanted: &str) -> Option<usize> {
     let wanted = wanted.to_lowercase();
-    names.iter().position(|n| n.to_lowercase().contains(&wanted))
+    names
+        .iter()
+        .position(|n| n.to_lowercase().contains(&wanted))
 }
 
 fn no_port(direction: &'static str, wanted: &str, names: &[String]) -> MidiError {
@@ -63,8 +65,8 @@ impl std::fmt::Debug for MidiIn {
 impl MidiIn {
     /// Open the first input port whose name contains `wanted`.
     pub fn open(wanted: &str) -> Result<MidiIn, MidiError> {
-        let input = MidiInput::new("spreadlight")
-            .map_err(|e| MidiError::NoSequencer(e.to_string()))?;
+        let input =
+            MidiInput::new("spreadlight").map_err(|e| MidiError::NoSequencer(e.to_string()))?;
         let ports = input.ports();
         let names: Vec<String> = ports
             .iter()
@@ -123,8 +125,8 @@ impl std::fmt::Debug for MidiOut {
 impl MidiOut {
     /// Open the first output port whose name contains `wanted`.
     pub fn open(wanted: &str) -> Result<MidiOut, MidiError> {
-        let output = MidiOutput::new("spreadlight")
-            .map_err(|e| MidiError::NoSequencer(e.to_string()))?;
+        let output =
+            MidiOutput::new("spreadlight").map_err(|e| MidiError::NoSequencer(e.to_string()))?;
         let ports = output.ports();
         let names: Vec<String> = ports
             .iter()
@@ -132,12 +134,13 @@ impl MidiOut {
             .collect();
         let k = choose(&names, wanted).ok_or_else(|| no_port("output", wanted, &names))?;
         let name = names[k].clone();
-        let connection = output
-            .connect(&ports[k], "spreadlight out")
-            .map_err(|e| MidiError::Port {
-                port: name.clone(),
-                message: e.to_string(),
-            })?;
+        let connection =
+            output
+                .connect(&ports[k], "spreadlight out")
+                .map_err(|e| MidiError::Port {
+                    port: name.clone(),
+                    message: e.to_string(),
+                })?;
         Ok(MidiOut { name, connection })
     }
 
@@ -164,7 +167,10 @@ mod tests {
         assert_eq!(choose(&names, "kontrol"), Some(1));
         assert_eq!(choose(&names, "launchpad"), None);
         let e = no_port("input", "launchpad", &names);
-        assert!(e.to_string().contains("Midi Through:0, nanoKONTROL2:0"), "{e}");
+        assert!(
+            e.to_string().contains("Midi Through:0, nanoKONTROL2:0"),
+            "{e}"
+        );
     }
 
     /// Either the machine has a sequencer, or opening says it has none.
