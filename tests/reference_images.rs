@@ -176,6 +176,20 @@ fn particles_in_a_curl_noise_field() {
     );
 }
 
+/// Sound driving light and particles (issue 37): at 0.5 s, just after the
+/// second kick of the example's loop, the spectrum sets four point lights and
+/// the envelope a particle burst (the file is analysed at each frame's time).
+#[test]
+fn audio_reactive_lights_and_particles() {
+    check(
+        "audio-reactive",
+        "patches/audio-reactive.ron",
+        "audio-reactive",
+        (160, 90),
+        30,
+    );
+}
+
 /// The GPU geometry nodes (issue 17): a sphere PN-tessellated, its faces
 /// extruded by a spread of amounts, then spherized by an LFO (so it deforms,
 /// with velocity from geometry into MotionBlur), a tube and a subdivided
