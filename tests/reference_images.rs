@@ -176,8 +176,8 @@ fn particles_in_a_curl_noise_field() {
     );
 }
 
-/// Sound driving light and particles (issue 37): at 0.5 s, just after the
-/// second kick of the example's loop, the spectrum sets four point lights and
+/// Sound driving light and particles (issue 37): at 0.55 s, just after the
+/// second beat of the example's loop, the spectrum sets four point lights and
 /// the envelope a particle burst (the file is analysed at each frame's time).
 #[test]
 fn audio_reactive_lights_and_particles() {
@@ -186,7 +186,7 @@ fn audio_reactive_lights_and_particles() {
         "patches/audio-reactive.ron",
         "audio-reactive",
         (160, 90),
-        30,
+        33,
     );
 }
 
