@@ -612,6 +612,8 @@ fn provider(kind: spreadlight_graph::ResourceKind) -> Option<spreadlight_graph::
         K::MaterialWorld => node("MaterialBuffer"),
         // Optional inputs whose absence the nodes handle.
         K::Shadows | K::Buffer => None,
+        // No audio node makes a texture.
+        K::Audio => None,
     }
 }
 

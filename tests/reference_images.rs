@@ -438,6 +438,18 @@ static CASES: &[Case] = &[
     },
     // 100 skinned and morphed tubes, deformed on the GPU; frame 3, posed.
     Case {
+        patch: "patches/audio-reactive.ron",
+        size: SCENE,
+        edit: unchanged,
+        shots: &[Shot {
+            name: "audio-reactive",
+            output: "audio-reactive",
+            frame: 33,
+            // Lights set by the analysed sound, and a particle burst.
+            tolerance: SIMULATION,
+        }],
+    },
+    Case {
         patch: "patches/bench-skinning.ron",
         size: SCENE,
         edit: skinned_normals,
@@ -605,6 +617,14 @@ fn every_example_with_an_output_has_a_reference() {
         files, shots,
         "tests/reference/ holds exactly the shots' references (view-*.png are crates/cli/tests/view.rs')"
     );
+}
+
+/// Sound driving light and particles (issue 37): at 0.55 s, just after the
+/// second beat of the example's loop, the spectrum sets four point lights and
+/// the envelope a particle burst (the file is analysed at each frame's time).
+#[test]
+fn audio_reactive_lights_and_particles() {
+    check("patches/audio-reactive.ron");
 }
 
 /// The feedback reference shows the feedback: the Feedback node keeps the

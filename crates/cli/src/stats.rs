@@ -46,6 +46,21 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
             runtime.failed,
             runtime.cpu_ns as f64 / 1e6
         );
+        // Decoding and analysis are CPU work of their nodes: shown per node.
+        let registry = session.runtime.registry();
+        for n in runtime.nodes.iter().filter(|n| {
+            n.run != spreadlight_graph::NodeRun::Skipped
+                && registry
+                    .get(&n.type_name)
+                    .is_some_and(|d| &*d.category == "Media")
+        }) {
+            println!(
+                "  media: {} {}: {:.3} ms CPU",
+                n.type_name,
+                n.id,
+                n.cpu_ns as f64 / 1e6
+            );
+        }
         if let Some(r) = render {
             println!(
                 "render on {}: {} passes, {} culled, {} pipelines compiled, {} draws",

@@ -28,6 +28,7 @@ use spreadlight_graph::{
     FrameClock, NodeId, Patch, PatchDir, Registry, ResourceKind, Runtime, RuntimeSnapshot, Spread,
 };
 use spreadlight_nodes::input::HostInput;
+use spreadlight_nodes::media::midi_in::MidiLearn;
 use spreadlight_render::{Renderer, SubmissionGate, TextureRef};
 
 use crate::viewport::{self, Blitter, ViewTarget, ViewportError};
@@ -176,6 +177,8 @@ pub struct Worker {
     shared: Arc<Shared>,
     thread: Option<JoinHandle<()>>,
     host: Arc<HostInput>,
+    /// MIDI learn between the inspector and the patch's MidiIn nodes.
+    midi_learn: Arc<MidiLearn>,
     /// The renderer's submission gate, opened for good before the thread is
     /// joined: it may be waiting there for a frame the UI no longer runs.
     gate: Option<SubmissionGate>,
@@ -188,7 +191,8 @@ impl Worker {
         let gate = gpu
             .as_ref()
             .map(|g| g.renderer.gpu.submission_gate().clone());
-        let mut engine = Engine::new(registry, gpu, host.clone());
+        let midi_learn = Arc::new(MidiLearn::default());
+        let mut engine = Engine::new(registry, gpu, (host.clone(), midi_learn.clone()));
         let inner = shared.clone();
         let thread = std::thread::Builder::new()
             .name("spreadlight patch".to_owned())
@@ -198,8 +202,14 @@ impl Worker {
             shared,
             thread,
             host,
+            midi_learn,
             gate,
         }
+    }
+
+    /// The MIDI learn service the patch's MidiIn nodes feed.
+    pub fn midi_learn(&self) -> &Arc<MidiLearn> {
+        &self.midi_learn
     }
 
     /// The input service the patch's Mouse, Keyboard and WindowSize nodes read.
@@ -279,6 +289,7 @@ struct Engine {
     runtime: Runtime,
     gpu: Option<WorkerGpu>,
     host: Arc<HostInput>,
+    midi_learn: Arc<MidiLearn>,
     clock: FrameClock,
     generation: Option<u64>,
     evaluations: u64,
@@ -288,12 +299,17 @@ struct Engine {
 }
 
 impl Engine {
-    fn new(registry: Registry, gpu: Option<WorkerGpu>, host: Arc<HostInput>) -> Self {
+    fn new(
+        registry: Registry,
+        gpu: Option<WorkerGpu>,
+        (host, midi_learn): (Arc<HostInput>, Arc<MidiLearn>),
+    ) -> Self {
         let mut engine = Engine {
             runtime: Runtime::new(registry.clone()),
             registry,
             gpu,
             host,
+            midi_learn,
             clock: FrameClock::default(),
             generation: None,
             evaluations: 0,
@@ -309,6 +325,7 @@ impl Engine {
         self.registry = registry;
         self.runtime = Runtime::new(self.registry.clone());
         self.runtime.provide(self.host.clone());
+        self.runtime.provide(self.midi_learn.clone());
         if let Some(gpu) = &self.gpu {
             spreadlight_nodes::gpu::provide_renderer(&mut self.runtime, gpu.renderer.clone());
             gpu.renderer.reset_history();

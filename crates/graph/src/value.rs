@@ -81,6 +81,8 @@ pub enum ResourceKind {
     Layer,
     /// A prefiltered environment for image-based light (from an `Environment` node).
     Environment,
+    /// Sound up to the current frame (from `AudioFile` or `AudioIn`), for the analysis nodes.
+    Audio,
 }
 
 /// A shared, opaque resource handle. Equality is identity: two handles are the

@@ -21,7 +21,8 @@
 //! `animation/`, colour in `color.rs`, strings in `strings/`, `Expr` in
 //! `expr/`, more value and vector maths in `value/` and `vector/`, `Mouse`,
 //! `Keyboard` and `WindowSize` (over the host's [`input::HostInput`]) in
-//! `input/`, OSC in `osc.rs`. Variants per slice type come from `typed.rs`.
+//! `input/`, OSC in `osc.rs`, sound and MIDI (`AudioFile`, `Spectrum`, `MidiIn`, ...) in
+//! `media/`. Variants per slice type come from `typed.rs`.
 //! `docs.rs` turns the registry into `spreadlight nodes --help NAME` and
 //! `docs/nodes.md`.
 
@@ -46,6 +47,7 @@ pub mod io;
 pub mod lighting;
 pub mod logic;
 pub mod material;
+pub mod media;
 pub mod osc;
 pub mod output;
 pub mod particles;
@@ -92,5 +94,6 @@ pub fn registry() -> Registry {
     // The IOBoxes that make a subpatch's pins (spreadlight_graph::subpatch).
     spreadlight_graph::subpatch::register(&mut r);
     particles::register(&mut r);
+    media::register(&mut r);
     r
 }

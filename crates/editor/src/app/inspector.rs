@@ -68,6 +68,9 @@ impl EditorApp {
                         {
                             self.doc.set_value(id, &pin.name, None, false);
                         }
+                        if node.type_name == "MidiIn" && &*pin.name == "Controller" {
+                            self.midi_learn_ui(ui, id);
+                        }
                     }
                     ui.add_space(4.0);
                 });
@@ -102,6 +105,48 @@ impl EditorApp {
                 pin,
                 slice,
             });
+        }
+    }
+
+    /// MidiIn's `learn` button: armed, the next controller the node receives
+    /// sets its Controller and Channel (an edit like any other, undoable).
+    fn midi_learn_ui(&mut self, ui: &mut Ui, id: NodeId) {
+        let learn = self.worker.midi_learn().clone();
+        if let Some(b) = learn.take(id) {
+            self.doc.set_value(
+                id,
+                "Controller",
+                Some(Spread::Int(vec![i64::from(b.controller)])),
+                false,
+            );
+            self.doc.set_value(
+                id,
+                "Channel",
+                Some(Spread::Int(vec![i64::from(b.channel)])),
+                false,
+            );
+        }
+        let armed = learn.is_armed(id);
+        let text = if armed {
+            "learning: move a controller"
+        } else {
+            "learn"
+        };
+        if ui
+            .selectable_label(armed, text)
+            .on_hover_text("bind the next MIDI controller that moves")
+            .clicked()
+        {
+            if armed {
+                learn.cancel();
+            } else {
+                learn.arm(id);
+            }
+        }
+        if armed {
+            // The binding arrives from the patch thread: look again soon.
+            ui.ctx()
+                .request_repaint_after(std::time::Duration::from_millis(50));
         }
     }
 
