@@ -8,6 +8,7 @@ use std::sync::Mutex;
 
 use wgpu::util::DeviceExt;
 
+use crate::adapter_class::AdapterClass;
 use crate::error::RenderError;
 use crate::frame_graph::PassContext;
 use crate::renderer::Renderer;
@@ -252,9 +253,12 @@ impl ComputeRaster {
             .copy_buffer_to_buffer(&targets.tile_reset, 0, &targets.tile_count, 0, 16);
 
         // Back faces kept per draw (double-sided materials) or for all (shadow maps).
-        let key = |two_sided: bool| {
-            ShaderKey::new("gbuffer/raster.wgsl", two_sided.then_some("TWO_SIDED"))
-        };
+        // On a CPU adapter a raster with no particle system fetches its
+        // corners without the particle path (MESHES_ONLY, adapter_class.rs);
+        // a GPU keeps the one shader it always ran.
+        let meshes_only = cx.gpu.adapter_class() == AdapterClass::Cpu
+            && !self.batches.iter().any(|b| b.procedural);
+        let key = |two_sided: bool| raster_key(two_sided, meshes_only);
         let mut triangle_pipelines: [Option<wgpu::ComputePipeline>; 2] = [None, None];
         for batch in &self.batches {
             let sided = view.two_sided || batch.two_sided;
@@ -332,6 +336,16 @@ impl ComputeRaster {
 /// What runs between a raster's meshes and its particles.
 pub(crate) type Between<'b> =
     &'b mut dyn FnMut(&mut PassContext<'_>, &wgpu::Buffer) -> Result<(), RenderError>;
+
+/// The raster's permutation: back faces kept or not, and whether it may
+/// take every draw for a mesh (no particle system among them).
+fn raster_key(two_sided: bool, meshes_only: bool) -> ShaderKey {
+    let features = [(two_sided, "TWO_SIDED"), (meshes_only, "MESHES_ONLY")];
+    ShaderKey::new(
+        "gbuffer/raster.wgsl",
+        features.into_iter().filter(|(on, _)| *on).map(|(_, f)| f),
+    )
+}
 
 /// `batches`' triangles, then the big triangles' tiles, in the open compute pass.
 fn raster_batches(
