@@ -44,21 +44,23 @@ fn unit_or(v: vec3<f32>, fallback: vec3<f32>) -> vec3<f32> {
 // Corner `corner` (0 to 2) of triangle `triangle` of instance `instance`, in
 // object space. `right` and `up`: the drawing view's axes in world space,
 // which sprites face.
-//
-// MESHES_ONLY (a permutation for draws known to hold no particle system):
-// the arena's corner alone. A CPU adapter runs both sides of a branch its
-// lanes do not all take alike, so there every vertex paid for the particle
-// path too (adapter_class.rs); a GPU branches over it and keeps one shader.
 fn triangle_vertex(instance: u32, triangle: u32, corner: u32, right: vec3<f32>, up: vec3<f32>) -> Vertex {
     let info = instances[instance].info;
-#ifdef MESHES_ONLY
-    return vertices[indices[info.x + triangle * 3u + corner] + info.y];
-#else
     if ((info.x & PROCEDURAL) == 0u) {
         return vertices[indices[info.x + triangle * 3u + corner] + info.y];
     }
     return particle_vertex(instance, info.y, triangle, corner, right, up);
-#endif
+}
+
+// A mesh corner's object-space position alone, for a pass whose draws hold
+// no particle system (the compute raster's MESHES_ONLY, which CPU adapters
+// take: adapter_class.rs). A CPU adapter runs both sides of a branch its
+// lanes do not all take alike and loads a struct read whole member by
+// member, lane by lane: through triangle_vertex every corner paid for the
+// particle path and 16 loads where the raster needs 3.
+fn mesh_position(instance: u32, triangle: u32, corner: u32) -> vec3<f32> {
+    let info = instances[instance].info;
+    return vertices[indices[info.x + triangle * 3u + corner] + info.y].position_u.xyz;
 }
 
 // The arena index of a triangle's corner, for streams kept beside the

@@ -12,6 +12,16 @@
 //! lavapipe, 2 cores, bench-lights at 160x90 with 100 lights
 //! (docs/benchmarks.md, "lavapipe (development machine, no GPU)").
 //!
+//! What follows the class (each where it is decided, each tested both ways):
+//! - the clustered light assignment's workgroups per light
+//!   (`lighting/cook_torrance.rs`, `workgroups_per_light`): a GPU up to 64 a
+//!   light, a CPU adapter about 64 in all and never more than a light's
+//!   froxels fill;
+//! - the compute raster's permutation (`gbuffer/compute_raster.rs`,
+//!   `raster_key`): on a CPU adapter a raster without particle systems
+//!   fetches corner positions alone (MESHES_ONLY), not whole vertices
+//!   through the particle-aware `triangle_vertex`.
+//!
 //! The class comes from the adapter's own report (`AdapterInfo::device_type`),
 //! so the decision is made once per device, costs nothing per frame and is
 //! the same on every run; GPU adapters take exactly the paths they took

@@ -210,7 +210,8 @@ fn a_gpus_and_a_cpu_adapters_paths_draw_the_same_frame() {
             .with_adapter_class(class);
         let renderer = Renderer::new(gpu).expect("a renderer");
         let g = scene(&renderer);
-        let [depth, color] = frame(&renderer, g.as_ref(), SIZE, [&g.targets.depth, &g.targets.color]);
+        let names = [g.targets.depth.as_str(), g.targets.color.as_str()];
+        let [depth, color] = frame(&renderer, g.as_ref(), SIZE, names);
         let lit = shade(&renderer, &g, scattered(100), LightLoop::Clustered);
         (depth, color, lit)
     };

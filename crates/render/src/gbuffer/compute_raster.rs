@@ -256,9 +256,9 @@ impl ComputeRaster {
         // On a CPU adapter a raster with no particle system fetches its
         // corners without the particle path (MESHES_ONLY, adapter_class.rs);
         // a GPU keeps the one shader it always ran.
-        let meshes_only = cx.gpu.adapter_class() == AdapterClass::Cpu
-            && !self.batches.iter().any(|b| b.procedural);
-        let key = |two_sided: bool| raster_key(two_sided, meshes_only);
+        let particles = self.batches.iter().any(|b| b.procedural);
+        let class = cx.gpu.adapter_class();
+        let key = |two_sided: bool| raster_key(class, two_sided, particles);
         let mut triangle_pipelines: [Option<wgpu::ComputePipeline>; 2] = [None, None];
         for batch in &self.batches {
             let sided = view.two_sided || batch.two_sided;
@@ -337,9 +337,11 @@ impl ComputeRaster {
 pub(crate) type Between<'b> =
     &'b mut dyn FnMut(&mut PassContext<'_>, &wgpu::Buffer) -> Result<(), RenderError>;
 
-/// The raster's permutation: back faces kept or not, and whether it may
-/// take every draw for a mesh (no particle system among them).
-fn raster_key(two_sided: bool, meshes_only: bool) -> ShaderKey {
+/// The raster's permutation on a `class` adapter: back faces kept or not,
+/// and on a CPU adapter, where no draw is a particle system, corner
+/// positions fetched alone (MESHES_ONLY, adapter_class.rs).
+fn raster_key(class: AdapterClass, two_sided: bool, particles: bool) -> ShaderKey {
+    let meshes_only = class == AdapterClass::Cpu && !particles;
     let features = [(two_sided, "TWO_SIDED"), (meshes_only, "MESHES_ONLY")];
     ShaderKey::new(
         "gbuffer/raster.wgsl",
@@ -372,6 +374,31 @@ fn raster_batches(
     }
     pass.dispatch_workgroups(TILE_WORKGROUPS, 1, 1);
     cx.draws += dispatches;
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_cpu_adapter_fetches_positions_alone_where_no_draw_is_a_particle_system() {
+        let key = |features: &[&'static str]| {
+            ShaderKey::new("gbuffer/raster.wgsl", features.iter().copied())
+        };
+        for sided in [false, true] {
+            let base: &[&'static str] = if sided { &["TWO_SIDED"] } else { &[] };
+            let with = |f: &'static str| [base, &[f]].concat();
+            // A GPU keeps the shader it always ran, particles or not.
+            assert_eq!(raster_key(AdapterClass::Gpu, sided, false), key(base));
+            assert_eq!(raster_key(AdapterClass::Gpu, sided, true), key(base));
+            assert_eq!(
+                raster_key(AdapterClass::Cpu, sided, false),
+                key(&with("MESHES_ONLY"))
+            );
+            // Particles need the procedural path.
+            assert_eq!(raster_key(AdapterClass::Cpu, sided, true), key(base));
+        }
+    }
 }
 
 /// The layout the shader sees (shaders/layout.rs).
