@@ -55,19 +55,10 @@ mod tests {
     use super::*;
 
     /// An adapter report as wgpu would give it, of `device_type`.
-    pub(crate) fn fake_adapter(name: &str, device_type: wgpu::DeviceType) -> wgpu::AdapterInfo {
+    fn fake_adapter(name: &str, device_type: wgpu::DeviceType) -> wgpu::AdapterInfo {
         wgpu::AdapterInfo {
             name: name.to_owned(),
-            vendor: 0,
-            device: 0,
-            device_type,
-            device_pci_bus_id: String::new(),
-            driver: String::new(),
-            driver_info: String::new(),
-            backend: wgpu::Backend::Vulkan,
-            subgroup_min_size: 4,
-            subgroup_max_size: 128,
-            transient_saves_memory: None,
+            ..wgpu::AdapterInfo::new(device_type, wgpu::Backend::Vulkan)
         }
     }
 

@@ -4,8 +4,8 @@
 use std::sync::Arc;
 
 use super::clusters::{ClusterGrid, ClusterStore};
-use crate::adapter_class::AdapterClass;
 use super::{LightBuffer, LightKind};
+use crate::adapter_class::AdapterClass;
 use crate::error::RenderError;
 use crate::frame_graph::{Bindings, FrameGraph, PassContext, Tex, TextureDesc};
 use crate::gbuffer::GBuffer;
@@ -471,7 +471,10 @@ mod tests {
             assert_eq!(workgroups_per_light(1, clusters, AdapterClass::Gpu), 64);
             assert_eq!(workgroups_per_light(100, clusters, AdapterClass::Gpu), 64);
             assert_eq!(workgroups_per_light(1_000, clusters, AdapterClass::Gpu), 16);
-            assert_eq!(workgroups_per_light(100_000, clusters, AdapterClass::Gpu), 1);
+            assert_eq!(
+                workgroups_per_light(100_000, clusters, AdapterClass::Gpu),
+                1
+            );
         }
     }
 
