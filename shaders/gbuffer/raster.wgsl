@@ -11,7 +11,7 @@
 // its tiles: its thread writing thousands of tile entries alone, one after
 // another, took 0.3 ms on the H100 for a floor's two triangles.
 #import spreadlight::camera::Camera
-#import spreadlight::mesh_fetch::{instances, triangle_vertex, view_right, view_up}
+#import spreadlight::mesh_fetch::{instances, mesh_position, triangle_vertex, view_right, view_up}
 
 // One draw: a mesh's triangles for a run of instances.
 struct Batch {
@@ -53,8 +53,13 @@ struct Setup {
 }
 
 fn clip_position(instance: u32, triangle: u32, corner: u32) -> vec4<f32> {
+#ifdef MESHES_ONLY
+    let position = mesh_position(instance, triangle, corner);
+    return camera.view_projection * instances[instance].model * vec4<f32>(position, 1.0);
+#else
     let v = triangle_vertex(instance, triangle, corner, view_right(camera.view), view_up(camera.view));
     return camera.view_projection * instances[instance].model * vec4<f32>(v.position_u.xyz, 1.0);
+#endif
 }
 
 fn to_screen(c: vec4<f32>) -> vec3<f32> {

@@ -52,6 +52,17 @@ fn triangle_vertex(instance: u32, triangle: u32, corner: u32, right: vec3<f32>, 
     return particle_vertex(instance, info.y, triangle, corner, right, up);
 }
 
+// A mesh corner's object-space position alone, for a pass whose draws hold
+// no particle system (the compute raster's MESHES_ONLY, which CPU adapters
+// take: adapter_class.rs). A CPU adapter runs both sides of a branch its
+// lanes do not all take alike and loads a struct read whole member by
+// member, lane by lane: through triangle_vertex every corner paid for the
+// particle path and 16 loads where the raster needs 3.
+fn mesh_position(instance: u32, triangle: u32, corner: u32) -> vec3<f32> {
+    let info = instances[instance].info;
+    return vertices[indices[info.x + triangle * 3u + corner] + info.y].position_u.xyz;
+}
+
 // The arena index of a triangle's corner, for streams kept beside the
 // vertices (the extras of shaders/lib/mesh.wgsl), or NO_VERTEX for a
 // procedural mesh, whose corners are made here, not stored.

@@ -10,6 +10,7 @@
 
 use std::sync::Arc;
 
+use crate::adapter_class::AdapterClass;
 use crate::error::RenderError;
 use crate::submission_gate::SubmissionGate;
 use crate::uncaptured::{UncapturedErrors, error_text};
@@ -31,6 +32,9 @@ pub struct GpuContext {
     pub device: wgpu::Device,
     pub queue: wgpu::Queue,
     pub adapter_info: Arc<wgpu::AdapterInfo>,
+    /// GPU or CPU: the paths the adapter-dependent choices take (from
+    /// `adapter_info` unless [`GpuContext::with_adapter_class`] says otherwise).
+    class: AdapterClass,
     /// What every submission the renderer makes passes ([`GpuContext::submit`]);
     /// open unless a host that configures window surfaces closes it.
     gate: SubmissionGate,
@@ -116,6 +120,7 @@ impl GpuContext {
         GpuContext {
             device,
             queue,
+            class: AdapterClass::of(&adapter_info),
             adapter_info: Arc::new(adapter_info),
             gate: SubmissionGate::default(),
             uncaptured,
@@ -167,6 +172,19 @@ impl GpuContext {
             "{} ({:?})",
             self.adapter_info.name, self.adapter_info.backend
         )
+    }
+
+    /// A GPU or a CPU adapter: what the adapter-dependent `Auto` choices
+    /// follow (adapter_class.rs).
+    pub fn adapter_class(&self) -> AdapterClass {
+        self.class
+    }
+
+    /// Take `class`'s paths whatever the adapter is: a test renders a GPU's
+    /// and a CPU adapter's paths on one adapter to show they draw the same.
+    pub fn with_adapter_class(mut self, class: AdapterClass) -> Self {
+        self.class = class;
+        self
     }
 
     /// Whether the G-buffer can be rasterized in compute (64-bit atomicMax).

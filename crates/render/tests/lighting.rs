@@ -10,7 +10,9 @@ use std::f32::consts::PI;
 
 use floor_view::floor_mesh;
 use glam::{Mat4, Vec3};
+use spreadlight_render::adapter_class::AdapterClass;
 use spreadlight_render::camera::CameraInput;
+use spreadlight_render::context::GpuContext;
 use spreadlight_render::gbuffer::{DrawBatch, GBuffer, InstanceInput, Layer, LayerFeatures};
 use spreadlight_render::lighting::{
     ClusterGrid, CookTorrance, FEW_LIGHTS, LightBuffer, LightLoop, PointLight, SpotLight, SunLight,
@@ -193,6 +195,36 @@ fn clustered_shading_matches_the_naive_reference() {
     );
     assert!(
         naive.pixels.iter().any(|p| p[0] > 0.01),
+        "the lights light something"
+    );
+}
+
+#[test]
+fn a_gpus_and_a_cpu_adapters_paths_draw_the_same_frame() {
+    // One adapter (lavapipe in CI) made to take each class's paths: the
+    // compute raster with and without the particle path (MESHES_ONLY) and
+    // the light assignment spread over 64 workgroups a light or one.
+    let render = |class: AdapterClass| {
+        let gpu = GpuContext::headless()
+            .expect("GPU tests need a GPU adapter")
+            .with_adapter_class(class);
+        let renderer = Renderer::new(gpu).expect("a renderer");
+        let g = scene(&renderer);
+        let names = [g.targets.depth.as_str(), g.targets.color.as_str()];
+        let [depth, color] = frame(&renderer, g.as_ref(), SIZE, names);
+        let lit = shade(&renderer, &g, scattered(100), LightLoop::Clustered);
+        (depth, color, lit)
+    };
+    let (gpu_depth, gpu_color, gpu_lit) = render(AdapterClass::Gpu);
+    let (cpu_depth, cpu_color, cpu_lit) = render(AdapterClass::Cpu);
+    // The same triangles win every pixel: the G-buffer is bit for bit the same.
+    assert!(gpu_depth.pixels == cpu_depth.pixels, "depth differs");
+    assert!(gpu_color.pixels == cpu_color.pixels, "colour differs");
+    // Lists fill in another order: only the light sums' order may differ.
+    let worst = max_relative_difference(&cpu_lit, &gpu_lit);
+    assert!(worst < 1e-3, "the CPU path differs by up to {worst}");
+    assert!(
+        gpu_lit.pixels.iter().filter(|p| p[0] > 0.01).count() > 100,
         "the lights light something"
     );
 }

@@ -8,6 +8,7 @@ use std::sync::Mutex;
 
 use wgpu::util::DeviceExt;
 
+use crate::adapter_class::AdapterClass;
 use crate::error::RenderError;
 use crate::frame_graph::PassContext;
 use crate::renderer::Renderer;
@@ -252,9 +253,12 @@ impl ComputeRaster {
             .copy_buffer_to_buffer(&targets.tile_reset, 0, &targets.tile_count, 0, 16);
 
         // Back faces kept per draw (double-sided materials) or for all (shadow maps).
-        let key = |two_sided: bool| {
-            ShaderKey::new("gbuffer/raster.wgsl", two_sided.then_some("TWO_SIDED"))
-        };
+        // On a CPU adapter a raster with no particle system fetches its
+        // corners without the particle path (MESHES_ONLY, adapter_class.rs);
+        // a GPU keeps the one shader it always ran.
+        let particles = self.batches.iter().any(|b| b.procedural);
+        let class = cx.gpu.adapter_class();
+        let key = |two_sided: bool| raster_key(class, two_sided, particles);
         let mut triangle_pipelines: [Option<wgpu::ComputePipeline>; 2] = [None, None];
         for batch in &self.batches {
             let sided = view.two_sided || batch.two_sided;
@@ -333,6 +337,18 @@ impl ComputeRaster {
 pub(crate) type Between<'b> =
     &'b mut dyn FnMut(&mut PassContext<'_>, &wgpu::Buffer) -> Result<(), RenderError>;
 
+/// The raster's permutation on a `class` adapter: back faces kept or not,
+/// and on a CPU adapter, where no draw is a particle system, corner
+/// positions fetched alone (MESHES_ONLY, adapter_class.rs).
+fn raster_key(class: AdapterClass, two_sided: bool, particles: bool) -> ShaderKey {
+    let meshes_only = class == AdapterClass::Cpu && !particles;
+    let features = [(two_sided, "TWO_SIDED"), (meshes_only, "MESHES_ONLY")];
+    ShaderKey::new(
+        "gbuffer/raster.wgsl",
+        features.into_iter().filter(|(on, _)| *on).map(|(_, f)| f),
+    )
+}
+
 /// `batches`' triangles, then the big triangles' tiles, in the open compute pass.
 fn raster_batches(
     cx: &mut PassContext<'_>,
@@ -358,6 +374,31 @@ fn raster_batches(
     }
     pass.dispatch_workgroups(TILE_WORKGROUPS, 1, 1);
     cx.draws += dispatches;
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_cpu_adapter_fetches_positions_alone_where_no_draw_is_a_particle_system() {
+        let key = |features: &[&'static str]| {
+            ShaderKey::new("gbuffer/raster.wgsl", features.iter().copied())
+        };
+        for sided in [false, true] {
+            let base: &[&'static str] = if sided { &["TWO_SIDED"] } else { &[] };
+            let with = |f: &'static str| [base, &[f]].concat();
+            // A GPU keeps the shader it always ran, particles or not.
+            assert_eq!(raster_key(AdapterClass::Gpu, sided, false), key(base));
+            assert_eq!(raster_key(AdapterClass::Gpu, sided, true), key(base));
+            assert_eq!(
+                raster_key(AdapterClass::Cpu, sided, false),
+                key(&with("MESHES_ONLY"))
+            );
+            // Particles need the procedural path.
+            assert_eq!(raster_key(AdapterClass::Cpu, sided, true), key(base));
+        }
+    }
 }
 
 /// The layout the shader sees (shaders/layout.rs).
