@@ -36,7 +36,12 @@ impl EditorApp {
             |n| n.to_string_lossy().into_owned(),
         );
         let mark = if self.doc.is_dirty() { "*" } else { "" };
-        format!("{mark}{name} — Spreadlight")
+        let help = if self.options.read_only {
+            " (read-only help)"
+        } else {
+            ""
+        };
+        format!("{mark}{name}{help} — Spreadlight")
     }
 
     /// Where a pin was drawn last frame, in screen points.
