@@ -261,6 +261,8 @@ pub struct EditorApp {
     help_launch: HelpLaunch,
     help_opened: Vec<PathBuf>,
     refused_edits: u32,
+    /// The canvas draws the nodes near its view only (`canvas/cull.rs`).
+    culling: canvas::Culling,
 }
 
 impl EditorApp {
@@ -393,6 +395,7 @@ impl EditorApp {
             help_launch: HelpLaunch::default(),
             help_opened: Vec::new(),
             refused_edits: 0,
+            culling: canvas::Culling::default(),
         };
         match options.path {
             // `spreadlight edit new.ron` starts that patch, as text editors do.

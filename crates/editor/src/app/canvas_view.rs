@@ -61,23 +61,38 @@ impl EditorApp {
         if changed {
             self.refresh_subpatch_types();
         }
+        let layer = LayerId::new(ui.layer_id().order, Id::new(CANVAS_ID));
+        let canvas_rect = ui.max_rect().shrink(8.0);
+        // Snarl holds the nodes near the view only (`canvas/cull.rs`); fitting
+        // the view measures them all.
+        let kept_area = ui
+            .ctx()
+            .layer_transform_to_global(layer)
+            .filter(|_| self.fit == 0 && self.culling.enabled)
+            .map(|view| canvas::Culling::kept_area(view, canvas_rect));
+        let culling = &self.culling;
+        let keep = |n: &spreadlight_graph::NodeDoc| {
+            kept_area.is_none_or(|area| area.intersects(culling.rect(n)))
+        };
         canvas::sync(
             &mut self.snarl,
             &mut self.snarl_ids,
             &self.doc,
             &self.registry,
             changed,
+            &keep,
         );
         self.synced_generation = Some(self.doc.generation());
+        self.culling.laid_out = 0;
+        // Only this frame's pins: a pin of a node left out must not keep its old place.
+        self.pins.borrow_mut().clear();
         let now = ui.input(|i| i.time);
-        let layer = LayerId::new(ui.layer_id().order, Id::new(CANVAS_ID));
         self.canvas_layer = Some(layer);
         if let Some(p) = ui.input(|i| i.pointer.latest_pos()) {
             self.last_pointer = p;
         }
         // Labels that select text would take the drags that move nodes.
         ui.style_mut().interaction.selectable_labels = false;
-        let canvas_rect = ui.max_rect().shrink(8.0);
         self.canvas_rect = Some(canvas_rect);
         let set_view = match ui.ctx().layer_transform_to_global(layer) {
             Some(view) if !self.fit.is_multiple_of(2) => {
@@ -105,6 +120,7 @@ impl EditorApp {
                 set_view,
                 now,
                 instance: &self.instance,
+                culling: &mut self.culling,
             };
             canvas::compact_spacing(ui);
             SnarlWidget::new()
@@ -112,6 +128,7 @@ impl EditorApp {
                 .style(canvas::style())
                 .show(&mut self.snarl, &mut viewer, ui)
         };
+        self.wires_to_culled_nodes(ui, layer, canvas_rect);
         if !dragging {
             let moves = canvas::moved_nodes(&self.snarl, &self.doc);
             self.doc.move_nodes(&moves);
@@ -222,6 +239,64 @@ impl EditorApp {
                     });
                 ui.ctx().request_repaint();
             }
+        }
+    }
+
+    /// The wires snarl cannot draw: those to or from a node it does not hold
+    /// (off the view, `canvas/cull.rs`), from where their pins were last
+    /// drawn, under the nodes; their ends are recorded as drawn pins, so
+    /// hovering one shows its value as any wire does.
+    fn wires_to_culled_nodes(&self, ui: &Ui, layer: LayerId, canvas_rect: egui::Rect) {
+        let patch = self.doc.patch();
+        if self.snarl_ids.len() == patch.nodes.len() {
+            return;
+        }
+        let to_global = ui
+            .ctx()
+            .layer_transform_to_global(layer)
+            .unwrap_or_default();
+        let view = to_global.inverse() * canvas_rect;
+        let painter = ui.painter().with_clip_rect(canvas_rect);
+        let width = (0.8 * to_global.scaling).max(1.0);
+        let mut pins = self.pins.borrow_mut();
+        for l in &patch.links {
+            let (from, to) = (l.from.node(), l.to.node());
+            let (sa, sb) = (self.snarl_ids.get(&from), self.snarl_ids.get(&to));
+            if sa.is_some() && sb.is_some() {
+                continue;
+            }
+            let (Some(na), Some(nb)) = (self.doc.node(from), self.doc.node(to)) else {
+                continue;
+            };
+            // A wire lies within its two nodes' rectangles: most lie off the view.
+            if !self
+                .culling
+                .rect(na)
+                .union(self.culling.rect(nb))
+                .intersects(view)
+            {
+                continue;
+            }
+            // A node snarl holds is where snarl has it (a drag in progress).
+            let origin = |n: &spreadlight_graph::NodeDoc, sid: Option<&egui_snarl::NodeId>| {
+                sid.and_then(|s| self.snarl.get_node_info(*s))
+                    .map_or(Pos2::new(n.pos.0 * SCALE, n.pos.1 * SCALE), |i| i.pos)
+            };
+            let a = to_global
+                * self
+                    .culling
+                    .pin_at(&self.registry, na, origin(na, sa), l.from.pin(), false);
+            let b = to_global
+                * self
+                    .culling
+                    .pin_at(&self.registry, nb, origin(nb, sb), l.to.pin(), true);
+            if !egui::Rect::from_two_pos(a, b).intersects(canvas_rect) {
+                continue;
+            }
+            let color = canvas::wire_color(&self.registry, na, l.from.pin());
+            painter.line_segment([a, b], egui::Stroke::new(width, color));
+            pins.insert((from, l.from.pin().to_owned(), false), a);
+            pins.insert((to, l.to.pin().to_owned(), true), b);
         }
     }
 

@@ -59,6 +59,12 @@ impl EditorApp {
             .map_or(p, |t| t * p)
     }
 
+    /// How many nodes the canvas laid out (title, pins, values) in the last
+    /// frame: those near the view, not the whole patch (`canvas/cull.rs`).
+    pub fn nodes_laid_out(&self) -> usize {
+        self.culling.laid_out
+    }
+
     /// Each node's rectangle on screen last frame, and the canvas's.
     pub fn node_screen_rects(&self) -> &[(NodeId, egui::Rect)] {
         &self.node_rects

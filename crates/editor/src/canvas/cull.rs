@@ -32,8 +32,10 @@ const UNKNOWN_SIZE: Vec2 = Vec2::new(160.0, 90.0);
 pub type PinOffsets = Rc<RefCell<HashMap<NodeId, Vec<(String, bool, Vec2)>>>>;
 
 /// What the canvas remembers of nodes it drew, to leave them out later.
-#[derive(Default)]
 pub struct Culling {
+    /// Off (`SPREADLIGHT_EDITOR_CULLING=0`): snarl holds every node, as it
+    /// did before; for measuring what culling saves.
+    pub enabled: bool,
     /// Each node's size when last drawn (canvas px).
     sizes: HashMap<NodeId, Vec2>,
     /// Each drawn pin's offset from its node's position.
@@ -41,6 +43,17 @@ pub struct Culling {
     /// How many nodes the viewer laid out in the last frame (their titles
     /// and pins): what culling keeps down, read by the tests.
     pub laid_out: usize,
+}
+
+impl Default for Culling {
+    fn default() -> Self {
+        Culling {
+            enabled: std::env::var_os("SPREADLIGHT_EDITOR_CULLING").is_none_or(|v| v != "0"),
+            sizes: HashMap::new(),
+            offsets: PinOffsets::default(),
+            laid_out: 0,
+        }
+    }
 }
 
 impl Culling {
