@@ -129,6 +129,7 @@ impl EditorApp {
                 .show(&mut self.snarl, &mut viewer, ui)
         };
         self.wires_to_culled_nodes(ui, layer, canvas_rect);
+        let node_rects = self.with_culled_rects(ui, layer, node_rects);
         if !dragging {
             let moves = canvas::moved_nodes(&self.snarl, &self.doc);
             self.doc.move_nodes(&moves);
@@ -240,6 +241,33 @@ impl EditorApp {
                 ui.ctx().request_repaint();
             }
         }
+    }
+
+    /// `drawn` (the nodes snarl drew, in drawing order) after the nodes it
+    /// did not hold, where they were last drawn: every node has its
+    /// rectangle on screen (fitting, selecting, hit tests read them).
+    fn with_culled_rects(
+        &self,
+        ui: &Ui,
+        layer: LayerId,
+        drawn: Vec<(NodeId, egui::Rect)>,
+    ) -> Vec<(NodeId, egui::Rect)> {
+        let patch = self.doc.patch();
+        if self.snarl_ids.len() == patch.nodes.len() {
+            return drawn;
+        }
+        let to_global = ui
+            .ctx()
+            .layer_transform_to_global(layer)
+            .unwrap_or_default();
+        let mut all: Vec<(NodeId, egui::Rect)> = patch
+            .nodes
+            .iter()
+            .filter(|n| !self.snarl_ids.contains_key(&n.id))
+            .map(|n| (n.id, to_global * self.culling.rect(n)))
+            .collect();
+        all.extend(drawn);
+        all
     }
 
     /// The wires snarl cannot draw: those to or from a node it does not hold
