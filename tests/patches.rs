@@ -822,7 +822,13 @@ fn help_patch_evaluates(path: &std::path::Path) {
 #[test]
 fn the_most_used_node_types_have_help_patches() {
     use spreadlight_nodes::help::for_type;
-    const EMESHE: &[&str] = &["DeferredBase", "Lighting", "Material", "Environment", "Post"];
+    const EMESHE: &[&str] = &[
+        "DeferredBase",
+        "Lighting",
+        "Material",
+        "Environment",
+        "Post",
+    ];
     const CORE: &[&str] = &[
         "LFO",
         "Sin (Value)",

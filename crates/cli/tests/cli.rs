@@ -477,10 +477,12 @@ fn nodes_help_documents_one_node_type() {
     let file = root().join("patches/help/spreads.ron");
     let listed = stdout.lines().find_map(|l| {
         let l = l.trim();
-        l.ends_with("spreads.ron").then(|| std::path::PathBuf::from(l))
+        l.ends_with("spreads.ron")
+            .then(|| std::path::PathBuf::from(l))
     });
     assert!(
-        listed.is_some_and(|p| p.is_absolute() && p.canonicalize().ok() == file.canonicalize().ok()),
+        listed
+            .is_some_and(|p| p.is_absolute() && p.canonicalize().ok() == file.canonicalize().ok()),
         "the help patch's path: {stdout}"
     );
     let out = spreadlight(&["nodes", "--help", "DOF"]);

@@ -261,7 +261,9 @@ impl SnarlViewer<CanvasNode> for Canvas<'_> {
         ui: &mut Ui,
         snarl: &mut Snarl<CanvasNode>,
     ) -> impl SnarlPin + 'static {
-        let origin = snarl.get_node_info(pin.id.node).map_or(Pos2::ZERO, |n| n.pos);
+        let origin = snarl
+            .get_node_info(pin.id.node)
+            .map_or(Pos2::ZERO, |n| n.pos);
         let Some((id, name, ty)) = self.input_pin(snarl, pin.id) else {
             return self.recorded((NodeId(0), String::new(), true), None, origin);
         };
@@ -327,7 +329,9 @@ impl SnarlViewer<CanvasNode> for Canvas<'_> {
         ui: &mut Ui,
         snarl: &mut Snarl<CanvasNode>,
     ) -> impl SnarlPin + 'static {
-        let origin = snarl.get_node_info(pin.id.node).map_or(Pos2::ZERO, |n| n.pos);
+        let origin = snarl
+            .get_node_info(pin.id.node)
+            .map_or(Pos2::ZERO, |n| n.pos);
         let Some((id, name, ty)) = self.output_pin(snarl, pin.id) else {
             return self.recorded((NodeId(0), String::new(), false), None, origin);
         };

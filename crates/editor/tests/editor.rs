@@ -1064,7 +1064,11 @@ fn f1_opens_the_help_patch_of_the_node_under_the_pointer_or_selected() {
     assert!(opened[0].ends_with("patches/help/values.ron"), "{opened:?}");
     let help = format::load(&opened[0]).expect("the help patch loads");
     assert!(help.nodes.iter().any(|n| n.type_name == "LFO"));
-    assert!(h.state().status().contains("help for LFO"), "{}", h.state().status());
+    assert!(
+        h.state().status().contains("help for LFO"),
+        "{}",
+        h.state().status()
+    );
     // Away from every node, F1 takes the selected one.
     h.state_mut().select(&[NodeId(2)]);
     let canvas = h.state().canvas_rect().expect("canvas");
@@ -1074,7 +1078,10 @@ fn f1_opens_the_help_patch_of_the_node_under_the_pointer_or_selected() {
     h.run();
     let opened = h.state().help_opened().to_vec();
     assert_eq!(opened.len(), 2);
-    assert!(opened[1].ends_with("patches/help/spreads.ron"), "{opened:?}");
+    assert!(
+        opened[1].ends_with("patches/help/spreads.ron"),
+        "{opened:?}"
+    );
 }
 
 /// A help patch opens read-only: an edit is undone at once, and the banner
@@ -1087,15 +1094,27 @@ fn a_read_only_help_patch_undoes_every_edit_and_says_so() {
     let mut options = env.options(Some(path.clone()));
     options.read_only = true;
     let mut h = harness(options);
-    assert!(h.state().title().contains("read-only"), "{}", h.state().title());
+    assert!(
+        h.state().title().contains("read-only"),
+        "{}",
+        h.state().title()
+    );
     let _ = h.get_by_label(spreadlight_editor::app::READ_ONLY_BANNER);
     h.state_mut().select(&[NodeId(1)]);
     h.key_press(Key::Delete);
     h.run();
-    assert_eq!(h.state().doc().patch().nodes.len(), 2, "the delete was undone");
+    assert_eq!(
+        h.state().doc().patch().nodes.len(),
+        2,
+        "the delete was undone"
+    );
     assert_eq!(h.state().refused_edits(), 1);
     assert!(!h.state().doc().is_dirty());
-    assert!(h.state().status().contains("read-only"), "{}", h.state().status());
+    assert!(
+        h.state().status().contains("read-only"),
+        "{}",
+        h.state().status()
+    );
     assert_eq!(
         std::fs::read(&path).expect("readable"),
         before,

@@ -227,5 +227,8 @@ fn only_the_nodes_near_the_view_are_laid_out_and_wires_still_lead_off_screen() {
         .pin_pos(spreadlight_graph::NodeId(100), "Input", true)
         .expect("the wire's far end is recorded");
     assert!(canvas.contains(near), "{near:?} in {canvas:?}");
-    assert!(far.x > canvas.max.x + 1000.0, "{far:?} far right of {canvas:?}");
+    assert!(
+        far.x > canvas.max.x + 1000.0,
+        "{far:?} far right of {canvas:?}"
+    );
 }

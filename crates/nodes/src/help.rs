@@ -95,13 +95,15 @@ mod tests {
         let registry = crate::registry();
         let mut seen = std::collections::HashSet::new();
         for help in HELP_PATCHES {
-            let patch = spreadlight_graph::format::from_str(
-                help.text,
-                std::path::Path::new(help.file),
-            )
-            .unwrap_or_else(|e| panic!("{}: {e}", help.path()));
+            let patch =
+                spreadlight_graph::format::from_str(help.text, std::path::Path::new(help.file))
+                    .unwrap_or_else(|e| panic!("{}: {e}", help.path()));
             for ty in help.covers {
-                assert!(registry.get(ty).is_some(), "{}: no node type {ty}", help.file);
+                assert!(
+                    registry.get(ty).is_some(),
+                    "{}: no node type {ty}",
+                    help.file
+                );
                 assert!(seen.insert(*ty), "{ty} has two help patches");
                 assert!(
                     patch.nodes.iter().any(|n| n.type_name == *ty),

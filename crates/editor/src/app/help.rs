@@ -18,8 +18,7 @@ pub enum HelpLaunch {
 }
 
 /// The banner a read-only editor shows over its canvas.
-pub const READ_ONLY_BANNER: &str =
-    "Help patch, read-only: edits are undone at once. Save as… writes a copy you can open and edit.";
+pub const READ_ONLY_BANNER: &str = "Help patch, read-only: edits are undone at once. Save as… writes a copy you can open and edit.";
 
 impl EditorApp {
     /// How F1 opens help patches (a second process unless a test says otherwise).

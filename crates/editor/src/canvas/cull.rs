@@ -161,9 +161,10 @@ mod tests {
             c.pin_at(&registry, &node, origin, "Output", false),
             origin + Vec2::new(100.0, 30.0)
         );
-        c.offsets
-            .borrow_mut()
-            .insert(node.id, vec![("Output".into(), false, Vec2::new(96.0, 41.0))]);
+        c.offsets.borrow_mut().insert(
+            node.id,
+            vec![("Output".into(), false, Vec2::new(96.0, 41.0))],
+        );
         assert_eq!(
             c.pin_at(&registry, &node, origin, "Output", false),
             origin + Vec2::new(96.0, 41.0)
