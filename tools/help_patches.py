@@ -415,7 +415,7 @@ def post():
     p.l(gbase, "Layer", tr, "Layer")
     af = p.n("Autofocus", Point=V2(0.5, 0.55))
     p.l(s["mre"], "G-Buffer", af, "G-Buffer")
-    dof = p.n("DOF", F_Stop=F(1.4), Focal_Length=F(200), Samples=I(8))
+    dof = p.n("DOF", **{"F-Stop": F(1.4)}, Focal_Length=F(200), Samples=I(8))
     p.l(tr, "Texture", dof, "Texture")
     p.l(s["mre"], "G-Buffer", dof, "G-Buffer")
     p.l(af, "Focus", dof, "Focus")
