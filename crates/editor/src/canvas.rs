@@ -23,7 +23,7 @@ mod sync;
 mod wires;
 
 pub use crate::zoom::{READABLE_ZOOM, fit_view, zoom_around};
-pub use cull::{Culling, PinOffsets, wire_color};
+pub use cull::{CulledWire, Culling, PinOffsets, wire_color};
 pub use style::{PinKey, PinPositions, compact_spacing, style};
 use style::{RecordedPin, pin_color};
 pub use sync::{CanvasNode, SCALE, moved_nodes, sync};

@@ -61,6 +61,9 @@ impl EditorApp {
         if changed {
             self.refresh_subpatch_types();
         }
+        if (changed && self.synced_generation.is_none()) || self.culling.instance != self.instance {
+            self.culling.forget(&self.instance);
+        }
         let layer = LayerId::new(ui.layer_id().order, Id::new(CANVAS_ID));
         let canvas_rect = ui.max_rect().shrink(8.0);
         // Snarl holds the nodes near the view only (`canvas/cull.rs`); fitting
@@ -74,14 +77,18 @@ impl EditorApp {
         let keep = |n: &spreadlight_graph::NodeDoc| {
             kept_area.is_none_or(|area| area.intersects(culling.rect(n)))
         };
-        canvas::sync(
-            &mut self.snarl,
-            &mut self.snarl_ids,
-            &self.doc,
-            &self.registry,
-            changed,
-            &keep,
-        );
+        // Which nodes snarl holds changes only with the document or the kept area.
+        if changed || self.culling.kept_area != Some(kept_area) {
+            canvas::sync(
+                &mut self.snarl,
+                &mut self.snarl_ids,
+                &self.doc,
+                &self.registry,
+                changed,
+                &keep,
+            );
+            self.culling.kept_area = Some(kept_area);
+        }
         self.synced_generation = Some(self.doc.generation());
         self.culling.laid_out = 0;
         // Only this frame's pins: a pin of a node left out must not keep its old place.
@@ -260,12 +267,19 @@ impl EditorApp {
             .ctx()
             .layer_transform_to_global(layer)
             .unwrap_or_default();
-        let mut all: Vec<(NodeId, egui::Rect)> = patch
-            .nodes
-            .iter()
-            .filter(|n| !self.snarl_ids.contains_key(&n.id))
-            .map(|n| (n.id, to_global * self.culling.rect(n)))
-            .collect();
+        // The same view of the same document: the same rectangles as last frame.
+        let key = (to_global, self.doc.generation(), self.snarl_ids.len());
+        let mut cache = self.culling.culled_rects.borrow_mut();
+        if cache.0 != Some(key) {
+            cache.1 = patch
+                .nodes
+                .iter()
+                .filter(|n| !self.snarl_ids.contains_key(&n.id))
+                .map(|n| (n.id, to_global * self.culling.rect(n)))
+                .collect();
+            cache.0 = Some(key);
+        }
+        let mut all = cache.1.clone();
         all.extend(drawn);
         all
     }
@@ -283,48 +297,70 @@ impl EditorApp {
             .ctx()
             .layer_transform_to_global(layer)
             .unwrap_or_default();
-        let view = to_global.inverse() * canvas_rect;
+        // The same view of the same document, nothing dragged: last frame's wires.
+        let key = (
+            to_global,
+            canvas_rect,
+            self.doc.generation(),
+            self.snarl_ids.len(),
+        );
+        let dragging = ui.input(|i| i.pointer.any_down());
+        let mut cache = self.culling.culled_wires.borrow_mut();
+        if dragging || cache.0 != Some(key) {
+            cache.1.clear();
+            let view = to_global.inverse() * canvas_rect;
+            for l in &patch.links {
+                let (from, to) = (l.from.node(), l.to.node());
+                let (sa, sb) = (self.snarl_ids.get(&from), self.snarl_ids.get(&to));
+                if sa.is_some() && sb.is_some() {
+                    continue;
+                }
+                let (Some(na), Some(nb)) = (self.doc.node(from), self.doc.node(to)) else {
+                    continue;
+                };
+                // A wire lies within its two nodes' rectangles: most lie off the view.
+                if !self
+                    .culling
+                    .rect(na)
+                    .union(self.culling.rect(nb))
+                    .intersects(view)
+                {
+                    continue;
+                }
+                // A node snarl holds is where snarl has it (a drag in progress).
+                let origin = |n: &spreadlight_graph::NodeDoc, sid: Option<&egui_snarl::NodeId>| {
+                    sid.and_then(|s| self.snarl.get_node_info(*s))
+                        .map_or(Pos2::new(n.pos.0 * SCALE, n.pos.1 * SCALE), |i| i.pos)
+                };
+                let a = to_global
+                    * self
+                        .culling
+                        .pin_at(&self.registry, na, origin(na, sa), l.from.pin(), false);
+                let b = to_global
+                    * self
+                        .culling
+                        .pin_at(&self.registry, nb, origin(nb, sb), l.to.pin(), true);
+                if !egui::Rect::from_two_pos(a, b).intersects(canvas_rect) {
+                    continue;
+                }
+                let color = canvas::wire_color(&self.registry, na, l.from.pin());
+                cache.1.push(canvas::CulledWire {
+                    from: (from, l.from.pin().to_owned(), false),
+                    to: (to, l.to.pin().to_owned(), true),
+                    a,
+                    b,
+                    color,
+                });
+            }
+            cache.0 = (!dragging).then_some(key);
+        }
         let painter = ui.painter().with_clip_rect(canvas_rect);
         let width = (0.8 * to_global.scaling).max(1.0);
         let mut pins = self.pins.borrow_mut();
-        for l in &patch.links {
-            let (from, to) = (l.from.node(), l.to.node());
-            let (sa, sb) = (self.snarl_ids.get(&from), self.snarl_ids.get(&to));
-            if sa.is_some() && sb.is_some() {
-                continue;
-            }
-            let (Some(na), Some(nb)) = (self.doc.node(from), self.doc.node(to)) else {
-                continue;
-            };
-            // A wire lies within its two nodes' rectangles: most lie off the view.
-            if !self
-                .culling
-                .rect(na)
-                .union(self.culling.rect(nb))
-                .intersects(view)
-            {
-                continue;
-            }
-            // A node snarl holds is where snarl has it (a drag in progress).
-            let origin = |n: &spreadlight_graph::NodeDoc, sid: Option<&egui_snarl::NodeId>| {
-                sid.and_then(|s| self.snarl.get_node_info(*s))
-                    .map_or(Pos2::new(n.pos.0 * SCALE, n.pos.1 * SCALE), |i| i.pos)
-            };
-            let a = to_global
-                * self
-                    .culling
-                    .pin_at(&self.registry, na, origin(na, sa), l.from.pin(), false);
-            let b = to_global
-                * self
-                    .culling
-                    .pin_at(&self.registry, nb, origin(nb, sb), l.to.pin(), true);
-            if !egui::Rect::from_two_pos(a, b).intersects(canvas_rect) {
-                continue;
-            }
-            let color = canvas::wire_color(&self.registry, na, l.from.pin());
-            painter.line_segment([a, b], egui::Stroke::new(width, color));
-            pins.insert((from, l.from.pin().to_owned(), false), a);
-            pins.insert((to, l.to.pin().to_owned(), true), b);
+        for w in &cache.1 {
+            painter.line_segment([w.a, w.b], egui::Stroke::new(width, w.color));
+            pins.insert(w.from.clone(), w.a);
+            pins.insert(w.to.clone(), w.b);
         }
     }
 

@@ -15,9 +15,11 @@ use std::cell::RefCell;
 use std::collections::HashMap;
 use std::rc::Rc;
 
+use egui::emath::TSTransform;
 use egui::{Pos2, Rect, Vec2};
 use spreadlight_graph::{NodeDoc, NodeId, Registry};
 
+use super::style::PinKey;
 use super::sync::SCALE;
 
 /// How far around the view (a share of its larger side) nodes stay in snarl:
@@ -43,6 +45,29 @@ pub struct Culling {
     /// How many nodes the viewer laid out in the last frame (their titles
     /// and pins): what culling keeps down, read by the tests.
     pub laid_out: usize,
+    /// The document (subpatch instance) the sizes and offsets are of.
+    pub instance: Vec<NodeId>,
+    /// The kept area snarl was last synced for (`None` inside: every node).
+    pub kept_area: Option<Option<Rect>>,
+    /// The culled nodes' rectangles on screen, for a view of a document.
+    pub culled_rects: RefCell<(Option<RectsKey>, Vec<(NodeId, Rect)>)>,
+    /// The wires to culled nodes across the canvas, for a view of a document.
+    pub culled_wires: RefCell<(Option<WiresKey>, Vec<CulledWire>)>,
+}
+
+/// What the culled rectangles depend on: the view, the document's generation, the nodes kept.
+pub type RectsKey = (TSTransform, u64, usize);
+
+/// What the wires to culled nodes depend on: the view, the canvas, the document, the nodes kept.
+pub type WiresKey = (TSTransform, Rect, u64, usize);
+
+/// A wire to or from a culled node, on screen.
+pub struct CulledWire {
+    pub from: PinKey,
+    pub to: PinKey,
+    pub a: Pos2,
+    pub b: Pos2,
+    pub color: egui::Color32,
 }
 
 impl Default for Culling {
@@ -52,11 +77,24 @@ impl Default for Culling {
             sizes: HashMap::new(),
             offsets: PinOffsets::default(),
             laid_out: 0,
+            instance: Vec::new(),
+            kept_area: None,
+            culled_rects: RefCell::default(),
+            culled_wires: RefCell::default(),
         }
     }
 }
 
 impl Culling {
+    /// Forget what was drawn: another document is shown (ids mean other nodes there).
+    pub fn forget(&mut self, instance: &[NodeId]) {
+        *self = Culling {
+            enabled: self.enabled,
+            instance: instance.to_vec(),
+            ..Culling::default()
+        };
+    }
+
     /// Remember a node's size as drawn (canvas px).
     pub fn drawn(&mut self, id: NodeId, size: Vec2) {
         self.sizes.insert(id, size);
