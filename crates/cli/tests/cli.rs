@@ -477,8 +477,7 @@ fn nodes_help_documents_one_node_type() {
     let file = root().join("patches/help/spreads.ron");
     let listed = stdout.lines().find_map(|l| {
         let l = l.trim();
-        l.ends_with("spreads.ron")
-            .then(|| std::path::PathBuf::from(l))
+        (l.starts_with('/') && l.ends_with("spreads.ron")).then(|| std::path::PathBuf::from(l))
     });
     assert!(
         listed
