@@ -89,9 +89,15 @@ impl EditorApp {
                     .arg(&path)
                     .spawn()
             });
-            if let Err(e) = spawned {
-                self.status = format!("cannot open the help patch {}: {e}", path.display());
-                return;
+            match spawned {
+                // Reaped when it closes, whenever that is.
+                Ok(mut child) => {
+                    std::thread::spawn(move || child.wait());
+                }
+                Err(e) => {
+                    self.status = format!("cannot open the help patch {}: {e}", path.display());
+                    return;
+                }
             }
         }
         self.status = format!(
