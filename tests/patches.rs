@@ -737,3 +737,137 @@ fn every_texture_output_renders_straight_into_an_output() {
     assert!(tried >= 30, "only {tried} texture outputs found");
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
+
+/// The help patches (`patches/help/`, opened by F1 in the editor and named by
+/// `spreadlight nodes --help NAME`): each one is in the help table, canonical,
+/// loads without a problem and evaluates two frames without an error, its
+/// Outputs rendered at 32x18 and finite, its probes filled.
+#[test]
+fn help_patches_load_check_and_evaluate() {
+    use spreadlight_nodes::help::HELP_PATCHES;
+    let files = spreadlight_tests::ron_files(&spreadlight_tests::root().join("patches/help"));
+    assert_eq!(
+        files.len(),
+        HELP_PATCHES.len(),
+        "every help patch is in crates/nodes/src/help.rs: {files:?}"
+    );
+    let queue = std::sync::Mutex::new(files);
+    let workers = std::thread::available_parallelism().map_or(2, |n| n.get());
+    std::thread::scope(|scope| {
+        let handles: Vec<_> = (0..workers)
+            .map(|_| {
+                scope.spawn(|| {
+                    while let Some(path) = queue.lock().unwrap_or_else(|e| e.into_inner()).pop() {
+                        help_patch_evaluates(&path);
+                    }
+                })
+            })
+            .collect();
+        for handle in handles {
+            if let Err(panic) = handle.join() {
+                std::panic::resume_unwind(panic);
+            }
+        }
+    });
+}
+
+fn help_patch_evaluates(path: &std::path::Path) {
+    let name = path.file_name().and_then(|f| f.to_str()).unwrap_or("");
+    let help = spreadlight_nodes::help::HELP_PATCHES
+        .iter()
+        .find(|h| h.file == name)
+        .unwrap_or_else(|| panic!("{}: not in the help table", path.display()));
+    let text = std::fs::read_to_string(path).expect("readable");
+    assert_eq!(text, help.text, "{name}: the binary embeds this file");
+    let patch = format::from_str(&text, path).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(
+        format::to_string(&patch).expect("encode"),
+        text,
+        "{name}: not in canonical form (`spreadlight fmt`)"
+    );
+    let mut rt = Runtime::new(spreadlight_nodes::registry());
+    rt.provide(patch_dir(path));
+    let renderer = spreadlight_render::renderer::test_renderer();
+    renderer.set_output_size((32, 18));
+    spreadlight_nodes::gpu::provide_renderer(&mut rt, renderer);
+    let images = std::sync::Arc::new(spreadlight_nodes::output::RenderedImages::default());
+    rt.provide(images.clone());
+    let problems = rt.load(&patch).to_vec();
+    assert!(problems.is_empty(), "{name}: {problems:?}");
+    for frame in 0..2 {
+        let stats = rt.evaluate(FrameClock::fixed(frame, 60.0)).clone();
+        let errors: Vec<_> = rt
+            .node_errors()
+            .map(|(id, e)| format!("{id}: {e}"))
+            .collect();
+        assert!(errors.is_empty(), "{name} frame {frame}: {errors:?}");
+        assert_eq!(stats.failed, 0, "{name}");
+    }
+    assert!(
+        !rt.probes().is_empty() || !images.names().is_empty(),
+        "{name}: a help patch shows something working"
+    );
+    for output in images.names() {
+        let (image, _) = images.get(&output).expect("listed");
+        assert!(image.all_finite(), "{name}: output {output} is not finite");
+        assert!(lit_pixels(&image) > 0, "{name}: output {output} is black");
+    }
+    for (probe, value) in rt.probes() {
+        assert!(!value.is_empty(), "{name}: probe {probe} is empty");
+    }
+}
+
+/// Every Emeshe module (the categories of the deferred pipeline, its lights,
+/// materials, environment and post FX) and the core value and spread nodes
+/// have a help patch, and there are at least 40 such types.
+#[test]
+fn the_most_used_node_types_have_help_patches() {
+    use spreadlight_nodes::help::for_type;
+    const EMESHE: &[&str] = &[
+        "DeferredBase",
+        "Lighting",
+        "Material",
+        "Environment",
+        "Post",
+    ];
+    const CORE: &[&str] = &[
+        "LFO",
+        "Sin (Value)",
+        "Cos (Value)",
+        "Multiply (Value)",
+        "Add (Value)",
+        "Subtract (Value)",
+        "Divide (Value)",
+        "Map (Value)",
+        "Clamp (Value)",
+        "IOBox (Value)",
+        "Probe",
+        "LinearSpread",
+        "CircularSpread",
+        "RandomSpread",
+        "I (Spreads)",
+        "Count (Spreads)",
+        "Sum (Spreads)",
+        "GetSlice (Spreads)",
+        "Camera",
+        "Output",
+    ];
+    let registry = spreadlight_nodes::registry();
+    let mut wanted: Vec<String> = registry
+        .iter()
+        .filter(|d| EMESHE.contains(&&*d.category))
+        .map(|d| d.name.to_string())
+        .collect();
+    assert!(wanted.len() >= 40, "the Emeshe categories: {wanted:?}");
+    wanted.extend(CORE.iter().map(|s| s.to_string()));
+    let missing: Vec<&String> = wanted.iter().filter(|t| for_type(t).is_none()).collect();
+    assert!(missing.is_empty(), "no help patch for {missing:?}");
+    for t in &wanted {
+        let help = for_type(t).expect("checked");
+        assert!(
+            spreadlight_tests::root().join(help.path()).is_file(),
+            "{t}: {} is missing",
+            help.path()
+        );
+    }
+}

@@ -34,6 +34,17 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
             return Ok(match spreadlight_nodes::docs::find(&registry, name) {
                 Ok(def) => {
                     print!("{}", spreadlight_nodes::docs::help_text(def));
+                    // The same table F1 in the editor opens help patches from.
+                    match spreadlight_nodes::help::for_type(&def.name) {
+                        Some(help) => {
+                            println!("\nHelp patch: {}", help.path());
+                            if let Some(file) = help.source_file() {
+                                println!("  {}", file.display());
+                            }
+                            println!("  (F1 on the node in the editor opens it, read-only)");
+                        }
+                        None => println!("\nHelp patch: none yet"),
+                    }
                     ExitCode::SUCCESS
                 }
                 Err(candidates) if candidates.is_empty() => {

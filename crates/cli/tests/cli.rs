@@ -469,6 +469,27 @@ fn nodes_help_documents_one_node_type() {
         "{stdout}"
     );
     assert!(stdout.contains("Bin Size: Int = 1"), "{stdout}");
+    // Its help patch, from the table F1 in the editor uses, and where it lies.
+    assert!(
+        stdout.contains("Help patch: patches/help/spreads.ron"),
+        "{stdout}"
+    );
+    let file = root().join("patches/help/spreads.ron");
+    let listed = stdout.lines().find_map(|l| {
+        let l = l.trim();
+        (l.starts_with('/') && l.ends_with("spreads.ron")).then(|| std::path::PathBuf::from(l))
+    });
+    assert!(
+        listed
+            .is_some_and(|p| p.is_absolute() && p.canonicalize().ok() == file.canonicalize().ok()),
+        "the help patch's path: {stdout}"
+    );
+    let out = spreadlight(&["nodes", "--help", "DOF"]);
+    assert!(
+        text(&out.stdout).contains("Help patch: patches/help/post.ron"),
+        "{}",
+        text(&out.stdout)
+    );
     let out = spreadlight(&["nodes", "--help", "GetSlice"]);
     assert_eq!(out.status.code(), Some(1));
     assert!(text(&out.stderr).contains("GetSlice (Color)"));

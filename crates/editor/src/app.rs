@@ -18,6 +18,7 @@ mod automation;
 mod canvas_view;
 mod dialogs;
 mod document;
+mod help;
 mod host_input;
 mod inspector;
 mod menus;
@@ -36,6 +37,7 @@ use crate::model::edits::Clip;
 use crate::values;
 use crate::viewport::{Blitter, ViewportError};
 use crate::worker::{Frame, FrameWait, Request, ViewRequest, Worker, WorkerGpu};
+pub use help::{HelpLaunch, READ_ONLY_BANNER};
 pub use show_window::ShowWindowOptions;
 
 /// How the editor starts.
@@ -50,6 +52,8 @@ pub struct EditorOptions {
     /// How long a UI frame waits for the patch frame it asked for (the patch
     /// runs on its own thread, `worker.rs`).
     pub frame_wait: FrameWait,
+    /// A help patch: every edit is undone at once (`help.rs`).
+    pub read_only: bool,
 }
 
 /// A scripted run of the real window: repaint for `frames` frames, then
@@ -95,6 +99,7 @@ impl EditorOptions {
             autosave_secs: AUTOSAVE_SECS,
             automation: None,
             frame_wait: FrameWait::default(),
+            read_only: false,
         }
     }
 }
@@ -252,6 +257,12 @@ pub struct EditorApp {
     show_image_rect: Option<egui::Rect>,
     /// `play --native`: the window takes the texture's size (`show.rs`).
     play_native: bool,
+    /// How F1 opens help patches, and what it opened (`help.rs`).
+    help_launch: HelpLaunch,
+    help_opened: Vec<PathBuf>,
+    refused_edits: u32,
+    /// The canvas draws the nodes near its view only (`canvas/cull.rs`).
+    culling: canvas::Culling,
 }
 
 impl EditorApp {
@@ -381,6 +392,10 @@ impl EditorApp {
             show_input: None,
             show_image_rect: None,
             play_native: false,
+            help_launch: HelpLaunch::default(),
+            help_opened: Vec::new(),
+            refused_edits: 0,
+            culling: canvas::Culling::default(),
         };
         match options.path {
             // `spreadlight edit new.ron` starts that patch, as text editors do.
@@ -509,6 +524,7 @@ impl EditorApp {
         let (now, dt) = ctx.input(|i| (i.time, f64::from(i.stable_dt)));
         self.poll_shaders(&ctx);
         self.shortcuts(&ctx);
+        self.help_key(&ctx);
         self.evaluate_if_needed(&ctx, Some(dt), true);
 
         egui::Panel::top("menu").show(ui, |ui| self.menu_bar(ui));
@@ -531,10 +547,12 @@ impl EditorApp {
                 self.inspector(ui);
                 self.watches_ui(ui);
             });
+        self.read_only_banner(ui);
         egui::CentralPanel::default().show(ui, |ui| self.canvas(ui));
         self.node_browser(&ctx);
         self.dialogs(&ctx);
         self.show_window_ui(&ctx);
+        self.refuse_edits();
 
         // Edits made while drawing are evaluated at once, so the viewport never shows a stale frame.
         self.evaluate_if_needed(&ctx, None, false);

@@ -17,11 +17,13 @@ use spreadlight_graph::{NodeId, PinRef, PinType, Registry, RuntimeSnapshot, Seve
 use crate::model::EditorDoc;
 use crate::values;
 
+mod cull;
 mod style;
 mod sync;
 mod wires;
 
 pub use crate::zoom::{READABLE_ZOOM, fit_view, zoom_around};
+pub use cull::{CulledWire, Culling, PinOffsets, wire_color};
 pub use style::{PinKey, PinPositions, compact_spacing, style};
 use style::{RecordedPin, pin_color};
 pub use sync::{CanvasNode, SCALE, moved_nodes, sync};
@@ -62,6 +64,8 @@ pub struct Canvas<'a> {
     /// The subpatch instance the open document is shown for (node ids from the
     /// top; empty at the top): live values, errors and timings are read there.
     pub instance: &'a [NodeId],
+    /// What is remembered of drawn nodes, to leave off-screen ones out (`cull.rs`).
+    pub culling: &'a mut Culling,
 }
 
 impl<'a> Canvas<'a> {
@@ -130,7 +134,8 @@ impl<'a> Canvas<'a> {
         (!messages.is_empty()).then(|| messages.join("\n"))
     }
 
-    fn recorded(&self, key: PinKey, ty: Option<PinType>) -> RecordedPin {
+    /// The pin drawn for `key` on the node placed at `origin` (canvas px).
+    fn recorded(&self, key: PinKey, ty: Option<PinType>, origin: Pos2) -> RecordedPin {
         let shape = if matches!(ty, Some(PinType::Resource(_))) {
             PinShape::Square
         } else {
@@ -141,6 +146,8 @@ impl<'a> Canvas<'a> {
             info: PinInfo::default().with_shape(shape).with_fill(fill),
             key,
             sink: self.pins.clone(),
+            origin,
+            offsets: self.culling.offsets.clone(),
         }
     }
 
@@ -207,6 +214,7 @@ impl SnarlViewer<CanvasNode> for Canvas<'_> {
         let Some(id) = Self::node_id(snarl, node) else {
             return;
         };
+        self.culling.laid_out += 1;
         let title = self.title(&snarl[node]);
         // Not clickable: a drag on the title moves the node; clicks select through `node_rects`.
         let resp = ui.label(egui::RichText::new(title).strong());
@@ -224,6 +232,7 @@ impl SnarlViewer<CanvasNode> for Canvas<'_> {
         snarl: &mut Snarl<CanvasNode>,
     ) {
         if let Some(id) = Self::node_id(snarl, node) {
+            self.culling.drawn(id, rect.size());
             let to_global = ui
                 .ctx()
                 .layer_transform_to_global(ui.layer_id())
@@ -252,8 +261,11 @@ impl SnarlViewer<CanvasNode> for Canvas<'_> {
         ui: &mut Ui,
         snarl: &mut Snarl<CanvasNode>,
     ) -> impl SnarlPin + 'static {
+        let origin = snarl
+            .get_node_info(pin.id.node)
+            .map_or(Pos2::ZERO, |n| n.pos);
         let Some((id, name, ty)) = self.input_pin(snarl, pin.id) else {
-            return self.recorded((NodeId(0), String::new(), true), None);
+            return self.recorded((NodeId(0), String::new(), true), None, origin);
         };
         let target = PinRef(id, name.to_owned());
         let linked = self.doc.link_into(&target).cloned();
@@ -308,7 +320,7 @@ impl SnarlViewer<CanvasNode> for Canvas<'_> {
                 self.doc.set_value(id, name, Some(value), edited.continuing);
             }
         }
-        self.recorded((id, name.to_owned(), true), Some(ty))
+        self.recorded((id, name.to_owned(), true), Some(ty), origin)
     }
 
     fn show_output(
@@ -317,8 +329,11 @@ impl SnarlViewer<CanvasNode> for Canvas<'_> {
         ui: &mut Ui,
         snarl: &mut Snarl<CanvasNode>,
     ) -> impl SnarlPin + 'static {
+        let origin = snarl
+            .get_node_info(pin.id.node)
+            .map_or(Pos2::ZERO, |n| n.pos);
         let Some((id, name, ty)) = self.output_pin(snarl, pin.id) else {
-            return self.recorded((NodeId(0), String::new(), false), None);
+            return self.recorded((NodeId(0), String::new(), false), None, origin);
         };
         // Snarl draws an output's pin over the row's end: keep the name clear of it.
         ui.add_space(OUTPUT_PIN_GAP);
@@ -330,7 +345,7 @@ impl SnarlViewer<CanvasNode> for Canvas<'_> {
                 .map_or_else(|| "not evaluated".to_owned(), |s| preview(s));
             label.on_hover_text(format!("{name}: {ty}\n{shown}"));
         }
-        self.recorded((id, name.to_owned(), false), Some(ty))
+        self.recorded((id, name.to_owned(), false), Some(ty), origin)
     }
 
     fn has_body(&mut self, node: &CanvasNode) -> bool {

@@ -22,7 +22,7 @@ pub mod viewport;
 pub mod worker;
 pub mod zoom;
 
-pub use app::{EditorApp, EditorOptions, ShowWindowOptions};
+pub use app::{EditorApp, EditorOptions, HelpLaunch, ShowWindowOptions};
 pub use model::edits::Clip;
 pub use model::links::LinkError;
 pub use model::{Command, EditorDoc};

@@ -1038,3 +1038,86 @@ fn saved_shader_files_reload(show: bool) {
         "the last good version stays"
     );
 }
+
+/// F1 on a node opens its family's help patch (the table in
+/// `spreadlight_nodes::help`, as `spreadlight nodes --help` names it): the
+/// node under the pointer first, else the selected one.
+#[test]
+fn f1_opens_the_help_patch_of_the_node_under_the_pointer_or_selected() {
+    let env = Env::new();
+    let mut p = Patch::default();
+    p.add(NodeDoc::new(1, "LFO").at(20.0, 20.0));
+    p.add(NodeDoc::new(2, "LinearSpread").at(160.0, 20.0));
+    let path = env.patch_file("help.ron", &p);
+    let mut h = common::editor_with(
+        env.options(Some(path)),
+        Vec2::new(1400.0, 800.0),
+        40,
+        |app| app.set_help_launch(spreadlight_editor::HelpLaunch::Record),
+    );
+    h.run_steps(2);
+    hover_on_canvas(&mut h, "LFO");
+    h.key_press(Key::F1);
+    h.run();
+    let opened = h.state().help_opened().to_vec();
+    assert_eq!(opened.len(), 1, "{}", h.state().status());
+    assert!(opened[0].ends_with("patches/help/values.ron"), "{opened:?}");
+    let help = format::load(&opened[0]).expect("the help patch loads");
+    assert!(help.nodes.iter().any(|n| n.type_name == "LFO"));
+    assert!(
+        h.state().status().contains("help for LFO"),
+        "{}",
+        h.state().status()
+    );
+    // Away from every node, F1 takes the selected one.
+    h.state_mut().select(&[NodeId(2)]);
+    let canvas = h.state().canvas_rect().expect("canvas");
+    h.hover_at(canvas.max - Vec2::new(20.0, 20.0));
+    h.run();
+    h.key_press(Key::F1);
+    h.run();
+    let opened = h.state().help_opened().to_vec();
+    assert_eq!(opened.len(), 2);
+    assert!(
+        opened[1].ends_with("patches/help/spreads.ron"),
+        "{opened:?}"
+    );
+}
+
+/// A help patch opens read-only: an edit is undone at once, and the banner
+/// and the title say so.
+#[test]
+fn a_read_only_help_patch_undoes_every_edit_and_says_so() {
+    let env = Env::new();
+    let path = env.patch_file("values.ron", &lfo_probe());
+    let before = std::fs::read(&path).expect("written");
+    let mut options = env.options(Some(path.clone()));
+    options.read_only = true;
+    let mut h = harness(options);
+    assert!(
+        h.state().title().contains("read-only"),
+        "{}",
+        h.state().title()
+    );
+    let _ = h.get_by_label(spreadlight_editor::app::READ_ONLY_BANNER);
+    h.state_mut().select(&[NodeId(1)]);
+    h.key_press(Key::Delete);
+    h.run();
+    assert_eq!(
+        h.state().doc().patch().nodes.len(),
+        2,
+        "the delete was undone"
+    );
+    assert_eq!(h.state().refused_edits(), 1);
+    assert!(!h.state().doc().is_dirty());
+    assert!(
+        h.state().status().contains("read-only"),
+        "{}",
+        h.state().status()
+    );
+    assert_eq!(
+        std::fs::read(&path).expect("readable"),
+        before,
+        "the file is untouched"
+    );
+}

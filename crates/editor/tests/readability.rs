@@ -165,3 +165,70 @@ fn nodes_are_as_narrow_as_their_title_and_pins_need() {
         );
     }
 }
+
+/// `pairs` LFO -> Probe pairs, eight to a row, as `wide_patch` lays them out.
+fn pairs(pairs: u32) -> Patch {
+    let mut p = Patch::default();
+    for k in 0..pairs {
+        let (x, y) = ((k % 8) as f32 * 300.0, (k / 8) as f32 * 200.0);
+        p.add(NodeDoc::new(2 * k + 1, "LFO").at(x, y));
+        p.add(NodeDoc::new(2 * k + 2, "Probe").at(x + 120.0, y));
+        p.link(2 * k + 1, "Output", 2 * k + 2, "Input");
+    }
+    p
+}
+
+/// Big patches stay fluid: the canvas lays out (titles, pins, values) only
+/// the nodes near its view, so eight times the nodes off screen cost
+/// nothing more, and a wire from a node on screen to one far off it is still
+/// drawn, its far end where that node's pin is.
+#[test]
+fn only_the_nodes_near_the_view_are_laid_out_and_wires_still_lead_off_screen() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let mut counts = Vec::new();
+    for n in [40, 320] {
+        let mut h = harness(&dir, &pairs(n));
+        h.run_steps(2);
+        let laid_out = h.state().nodes_laid_out();
+        assert!(
+            laid_out > 0 && laid_out < 2 * n as usize,
+            "{laid_out} of {} nodes laid out",
+            2 * n
+        );
+        counts.push(laid_out);
+    }
+    assert_eq!(counts[0], counts[1], "flat in the nodes off screen");
+
+    let mut p = pairs(4);
+    p.add(NodeDoc::new(100, "Probe").at(3000.0, 0.0));
+    p.link(1, "Output", 100, "Input");
+    let mut h = harness(&dir, &p);
+    h.run_steps(2);
+    let canvas = h.state().canvas_rect().expect("canvas");
+    assert!(
+        h.state().nodes_laid_out() < 9,
+        "the far node is not laid out: {} of 9",
+        h.state().nodes_laid_out()
+    );
+    let far_node = h
+        .state()
+        .node_screen_rects()
+        .iter()
+        .find(|(id, _)| id.0 == 100)
+        .map(|(_, r)| *r)
+        .expect("every node has its rectangle, drawn or not");
+    assert!(far_node.min.x > canvas.max.x, "{far_node:?}");
+    let near = h
+        .state()
+        .pin_pos(spreadlight_graph::NodeId(1), "Output", false)
+        .expect("the near end is drawn");
+    let far = h
+        .state()
+        .pin_pos(spreadlight_graph::NodeId(100), "Input", true)
+        .expect("the wire's far end is recorded");
+    assert!(canvas.contains(near), "{near:?} in {canvas:?}");
+    assert!(
+        far.x > canvas.max.x + 1000.0,
+        "{far:?} far right of {canvas:?}"
+    );
+}

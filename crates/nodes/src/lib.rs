@@ -42,6 +42,7 @@ pub mod expr;
 pub mod filters;
 pub mod geometry;
 pub mod gpu;
+pub mod help;
 pub mod input;
 pub mod io;
 pub mod lighting;

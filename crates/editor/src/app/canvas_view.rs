@@ -61,23 +61,45 @@ impl EditorApp {
         if changed {
             self.refresh_subpatch_types();
         }
-        canvas::sync(
-            &mut self.snarl,
-            &mut self.snarl_ids,
-            &self.doc,
-            &self.registry,
-            changed,
-        );
-        self.synced_generation = Some(self.doc.generation());
-        let now = ui.input(|i| i.time);
+        if (changed && self.synced_generation.is_none()) || self.culling.instance != self.instance {
+            self.culling.forget(&self.instance);
+        }
         let layer = LayerId::new(ui.layer_id().order, Id::new(CANVAS_ID));
+        let canvas_rect = ui.max_rect().shrink(8.0);
+        // Snarl holds the nodes near the view only (`canvas/cull.rs`); fitting
+        // the view measures them all.
+        let kept_area = ui
+            .ctx()
+            .layer_transform_to_global(layer)
+            .filter(|_| self.fit == 0 && self.culling.enabled)
+            .map(|view| canvas::Culling::kept_area(view, canvas_rect));
+        let culling = &self.culling;
+        let keep = |n: &spreadlight_graph::NodeDoc| {
+            kept_area.is_none_or(|area| area.intersects(culling.rect(n)))
+        };
+        // Which nodes snarl holds changes only with the document or the kept area.
+        if changed || self.culling.kept_area != Some(kept_area) {
+            canvas::sync(
+                &mut self.snarl,
+                &mut self.snarl_ids,
+                &self.doc,
+                &self.registry,
+                changed,
+                &keep,
+            );
+            self.culling.kept_area = Some(kept_area);
+        }
+        self.synced_generation = Some(self.doc.generation());
+        self.culling.laid_out = 0;
+        // Only this frame's pins: a pin of a node left out must not keep its old place.
+        self.pins.borrow_mut().clear();
+        let now = ui.input(|i| i.time);
         self.canvas_layer = Some(layer);
         if let Some(p) = ui.input(|i| i.pointer.latest_pos()) {
             self.last_pointer = p;
         }
         // Labels that select text would take the drags that move nodes.
         ui.style_mut().interaction.selectable_labels = false;
-        let canvas_rect = ui.max_rect().shrink(8.0);
         self.canvas_rect = Some(canvas_rect);
         let set_view = match ui.ctx().layer_transform_to_global(layer) {
             Some(view) if !self.fit.is_multiple_of(2) => {
@@ -105,6 +127,7 @@ impl EditorApp {
                 set_view,
                 now,
                 instance: &self.instance,
+                culling: &mut self.culling,
             };
             canvas::compact_spacing(ui);
             SnarlWidget::new()
@@ -112,6 +135,8 @@ impl EditorApp {
                 .style(canvas::style())
                 .show(&mut self.snarl, &mut viewer, ui)
         };
+        self.wires_to_culled_nodes(ui, layer, canvas_rect);
+        let node_rects = self.with_culled_rects(ui, layer, node_rects);
         if !dragging {
             let moves = canvas::moved_nodes(&self.snarl, &self.doc);
             self.doc.move_nodes(&moves);
@@ -222,6 +247,120 @@ impl EditorApp {
                     });
                 ui.ctx().request_repaint();
             }
+        }
+    }
+
+    /// `drawn` (the nodes snarl drew, in drawing order) after the nodes it
+    /// did not hold, where they were last drawn: every node has its
+    /// rectangle on screen (fitting, selecting, hit tests read them).
+    fn with_culled_rects(
+        &self,
+        ui: &Ui,
+        layer: LayerId,
+        drawn: Vec<(NodeId, egui::Rect)>,
+    ) -> Vec<(NodeId, egui::Rect)> {
+        let patch = self.doc.patch();
+        if self.snarl_ids.len() == patch.nodes.len() {
+            return drawn;
+        }
+        let to_global = ui
+            .ctx()
+            .layer_transform_to_global(layer)
+            .unwrap_or_default();
+        // The same view of the same document: the same rectangles as last frame.
+        let key = (to_global, self.doc.generation(), self.snarl_ids.len());
+        let mut cache = self.culling.culled_rects.borrow_mut();
+        if cache.0 != Some(key) {
+            cache.1 = patch
+                .nodes
+                .iter()
+                .filter(|n| !self.snarl_ids.contains_key(&n.id))
+                .map(|n| (n.id, to_global * self.culling.rect(n)))
+                .collect();
+            cache.0 = Some(key);
+        }
+        let mut all = cache.1.clone();
+        all.extend(drawn);
+        all
+    }
+
+    /// The wires snarl cannot draw: those to or from a node it does not hold
+    /// (off the view, `canvas/cull.rs`), from where their pins were last
+    /// drawn, under the nodes; their ends are recorded as drawn pins, so
+    /// hovering one shows its value as any wire does.
+    fn wires_to_culled_nodes(&self, ui: &Ui, layer: LayerId, canvas_rect: egui::Rect) {
+        let patch = self.doc.patch();
+        if self.snarl_ids.len() == patch.nodes.len() {
+            return;
+        }
+        let to_global = ui
+            .ctx()
+            .layer_transform_to_global(layer)
+            .unwrap_or_default();
+        // The same view of the same document, nothing dragged: last frame's wires.
+        let key = (
+            to_global,
+            canvas_rect,
+            self.doc.generation(),
+            self.snarl_ids.len(),
+        );
+        let dragging = ui.input(|i| i.pointer.any_down());
+        let mut cache = self.culling.culled_wires.borrow_mut();
+        if dragging || cache.0 != Some(key) {
+            cache.1.clear();
+            let view = to_global.inverse() * canvas_rect;
+            for l in &patch.links {
+                let (from, to) = (l.from.node(), l.to.node());
+                let (sa, sb) = (self.snarl_ids.get(&from), self.snarl_ids.get(&to));
+                if sa.is_some() && sb.is_some() {
+                    continue;
+                }
+                let (Some(na), Some(nb)) = (self.doc.node(from), self.doc.node(to)) else {
+                    continue;
+                };
+                // A wire lies within its two nodes' rectangles: most lie off the view.
+                if !self
+                    .culling
+                    .rect(na)
+                    .union(self.culling.rect(nb))
+                    .intersects(view)
+                {
+                    continue;
+                }
+                // A node snarl holds is where snarl has it (a drag in progress).
+                let origin = |n: &spreadlight_graph::NodeDoc, sid: Option<&egui_snarl::NodeId>| {
+                    sid.and_then(|s| self.snarl.get_node_info(*s))
+                        .map_or(Pos2::new(n.pos.0 * SCALE, n.pos.1 * SCALE), |i| i.pos)
+                };
+                let a = to_global
+                    * self
+                        .culling
+                        .pin_at(&self.registry, na, origin(na, sa), l.from.pin(), false);
+                let b = to_global
+                    * self
+                        .culling
+                        .pin_at(&self.registry, nb, origin(nb, sb), l.to.pin(), true);
+                if !egui::Rect::from_two_pos(a, b).intersects(canvas_rect) {
+                    continue;
+                }
+                let color = canvas::wire_color(&self.registry, na, l.from.pin());
+                cache.1.push(canvas::CulledWire {
+                    from: (from, l.from.pin().to_owned(), false),
+                    to: (to, l.to.pin().to_owned(), true),
+                    a,
+                    b,
+                    color,
+                });
+            }
+            cache.0 = (!dragging).then_some(key);
+        }
+        let painter = ui.painter().with_clip_rect(canvas_rect);
+        let width = (0.8 * to_global.scaling).max(1.0);
+        let mut pins = self.pins.borrow_mut();
+        for w in &cache.1 {
+            painter.line_segment([w.a, w.b], egui::Stroke::new(width, w.color));
+            pins.insert(w.from.clone(), w.a);
+            pins.insert(w.to.clone(), w.b);
         }
     }
 

@@ -11,7 +11,8 @@ impl EditorApp {
     }
 
     pub(super) fn replace_document(&mut self, doc: EditorDoc, path: Option<PathBuf>) {
-        if let Some(p) = &path {
+        // A help patch (read-only) is not a patch of the user's.
+        if let Some(p) = path.as_ref().filter(|_| !self.options.read_only) {
             files::remember_recent(&self.options.config_dir, &mut self.recent, p);
         }
         self.doc = doc;

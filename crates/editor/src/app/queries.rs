@@ -36,7 +36,12 @@ impl EditorApp {
             |n| n.to_string_lossy().into_owned(),
         );
         let mark = if self.doc.is_dirty() { "*" } else { "" };
-        format!("{mark}{name} — Spreadlight")
+        let help = if self.options.read_only {
+            " (read-only help)"
+        } else {
+            ""
+        };
+        format!("{mark}{name}{help} — Spreadlight")
     }
 
     /// Where a pin was drawn last frame, in screen points.
@@ -52,6 +57,12 @@ impl EditorApp {
         self.canvas_layer
             .and_then(|l| ctx.layer_transform_to_global(l))
             .map_or(p, |t| t * p)
+    }
+
+    /// How many nodes the canvas laid out (title, pins, values) in the last
+    /// frame: those near the view, not the whole patch (`canvas/cull.rs`).
+    pub fn nodes_laid_out(&self) -> usize {
+        self.culling.laid_out
     }
 
     /// Each node's rectangle on screen last frame, and the canvas's.

@@ -108,7 +108,15 @@ impl EditorApp {
                     .into_iter()
                     .rev()
                     .find(is_output)
-                    .or_else(|| patch.nodes.iter().map(|n| n.id).find(is_output))
+                    // By type in one pass: `is_output` looks each id up (a linear search), which
+                    // made this quadratic, every frame, in a big patch without an Output.
+                    .or_else(|| {
+                        patch
+                            .nodes
+                            .iter()
+                            .find(|n| n.type_name == "Output")
+                            .map(|n| n.id)
+                    })
                     .ok_or(ViewportError::NoTexture)?;
                 let into = PinRef(chosen, "Texture".to_owned());
                 let link = patch

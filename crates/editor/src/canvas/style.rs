@@ -88,6 +88,9 @@ pub struct RecordedPin {
     pub(super) info: PinInfo,
     pub(super) key: PinKey,
     pub(super) sink: PinPositions,
+    /// Its node's position (canvas px) and where offsets from it are kept (`cull.rs`).
+    pub(super) origin: Pos2,
+    pub(super) offsets: super::PinOffsets,
 }
 
 impl SnarlPin for RecordedPin {
@@ -102,6 +105,13 @@ impl SnarlPin for RecordedPin {
             .ctx()
             .layer_transform_to_global(painter.layer_id())
             .unwrap_or_default();
+        super::cull::record_pin(
+            &self.offsets,
+            self.key.0,
+            &self.key.1,
+            self.key.2,
+            rect.center() - self.origin,
+        );
         self.sink
             .borrow_mut()
             .insert(self.key, to_global * rect.center());

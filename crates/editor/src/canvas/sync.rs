@@ -6,7 +6,7 @@ use std::collections::HashMap;
 
 use egui::Pos2;
 use egui_snarl::{InPinId, OutPinId, Snarl};
-use spreadlight_graph::{NodeId, Registry};
+use spreadlight_graph::{NodeDoc, NodeId, Registry};
 
 use crate::model::EditorDoc;
 
@@ -18,45 +18,53 @@ pub const SCALE: f32 = 3.0;
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct CanvasNode(pub NodeId);
 
-/// Bring snarl in line with the document after it changed: nodes added or
-/// removed, positions changed by undo, and wires. Between changes the canvas
-/// positions are the newer ones (a drag in progress). Keeps snarl's ids for nodes that stay, so
-/// selection and layout survive edits.
+/// Bring snarl in line with the document, every frame: the document's nodes
+/// that `keep` accepts (those near the view, `cull.rs`) and only those, and
+/// after a change positions changed by undo, and the wires between them.
+/// Between changes the canvas positions are the newer ones (a drag in
+/// progress). Keeps snarl's ids for nodes that stay, so selection and layout
+/// survive edits. A frame without a change to the document or to the nodes
+/// kept costs a look at each node's rectangle.
 pub fn sync(
     snarl: &mut Snarl<CanvasNode>,
     ids: &mut HashMap<NodeId, egui_snarl::NodeId>,
     doc: &EditorDoc,
     registry: &Registry,
     doc_changed: bool,
+    keep: &dyn Fn(&NodeDoc) -> bool,
 ) {
-    if !doc_changed {
-        return;
-    }
     let patch = doc.patch();
-    let present: HashMap<NodeId, (f32, f32)> = patch.nodes.iter().map(|n| (n.id, n.pos)).collect();
+    let mut kept_changed = false;
     ids.retain(|id, sid| {
-        let keep = present.contains_key(id);
-        if !keep {
+        let stay = doc.node(*id).is_some_and(keep);
+        if !stay {
             snarl.remove_node(*sid);
+            kept_changed = true;
         }
-        keep
+        stay
     });
     for n in &patch.nodes {
         let want = Pos2::new(n.pos.0 * SCALE, n.pos.1 * SCALE);
         match ids.get(&n.id) {
             Some(&sid) => {
                 // The document changed (an undone move, say): it wins.
-                if let Some(info) = snarl.get_node_info_mut(sid)
+                if doc_changed
+                    && let Some(info) = snarl.get_node_info_mut(sid)
                     && (info.pos - want).length() > 0.5 * SCALE
                 {
                     info.pos = want;
                 }
             }
-            None => {
+            None if keep(n) => {
                 let sid = snarl.insert_node(want, CanvasNode(n.id));
                 ids.insert(n.id, sid);
+                kept_changed = true;
             }
+            None => {}
         }
+    }
+    if !doc_changed && !kept_changed {
+        return;
     }
     let mut wanted = std::collections::HashSet::new();
     for l in &patch.links {

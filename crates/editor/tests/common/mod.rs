@@ -20,6 +20,7 @@ pub fn options(path: Option<PathBuf>, config_dir: PathBuf) -> EditorOptions {
         autosave_secs: 0.0,
         automation: None,
         frame_wait: FrameWait::Always,
+        read_only: false,
     }
 }
 
