@@ -21,6 +21,7 @@ mod document;
 mod host_input;
 mod inspector;
 mod menus;
+mod previews;
 mod queries;
 mod running;
 mod show;
@@ -252,6 +253,8 @@ pub struct EditorApp {
     show_image_rect: Option<egui::Rect>,
     /// `play --native`: the window takes the texture's size (`show.rs`).
     play_native: bool,
+    /// Thumbnails and hover previews: their settings and this frame's wishes (`previews.rs`).
+    previews: crate::previews::CanvasPreviews,
 }
 
 impl EditorApp {
@@ -381,6 +384,9 @@ impl EditorApp {
             show_input: None,
             show_image_rect: None,
             play_native: false,
+            previews: crate::previews::CanvasPreviews::new(
+                crate::previews::PreviewSettings::load(&options.config_dir),
+            ),
         };
         match options.path {
             // `spreadlight edit new.ron` starts that patch, as text editors do.
