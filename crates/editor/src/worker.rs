@@ -453,6 +453,7 @@ impl Engine {
             }
         }
         if let Some(gpu) = &self.gpu {
+            self.previews.probe_again(&gpu.renderer, &gpu.blitter);
             self.previews.free_stale(&gpu.state);
         }
     }

@@ -37,13 +37,39 @@ pub struct PreviewEngine {
     slots: HashMap<PreviewKey, Slot>,
     /// The requests changed since they were last rendered.
     due: bool,
+    /// Only the texels to probe changed: read them from the last frame's textures.
+    reprobe: bool,
+    /// The textures the last frame's previews showed, by key: valid until
+    /// the next frame takes its pooled textures back.
+    sources: HashMap<PreviewKey, wgpu::Texture>,
 }
 
 impl PreviewEngine {
     /// Take the canvas's new wishes.
     pub fn set_requests(&mut self, requests: Vec<PreviewRequest>) {
+        let same_previews = requests.len() == self.requests.len()
+            && requests.iter().zip(&self.requests).all(|(a, b)| a.key == b.key);
         self.requests = requests;
-        self.due = true;
+        if same_previews && !self.due {
+            // The pointer moved over a thumbnail: no frame to render for that.
+            self.reprobe = true;
+        } else {
+            self.due = true;
+        }
+    }
+
+    /// Read the texels under the pointer again from the last frame's
+    /// textures, when only they changed (and no frame was rendered since).
+    pub fn probe_again(&mut self, renderer: &Renderer, blitter: &Blitter) {
+        if !std::mem::take(&mut self.reprobe) {
+            return;
+        }
+        for r in &self.requests {
+            let (Some(slot), Some(src)) = (self.slots.get_mut(&r.key), self.sources.get(&r.key)) else {
+                continue;
+            };
+            slot.out.value = r.probe.and_then(|uv| probe(renderer, blitter, src, uv));
+        }
     }
 
     /// The output pins the previews look at (node path, pin), sorted, once each.
@@ -104,6 +130,8 @@ impl PreviewEngine {
         time: f64,
     ) -> Option<Result<RenderedFrame, viewport::ViewportError>> {
         self.due = false;
+        self.reprobe = false;
+        self.sources.clear();
         let resolved = self.resolve(runtime, renderer, time);
         let mut textures: Vec<&TextureRef> = main.into_iter().collect();
         for (_, shown) in &resolved {
@@ -122,7 +150,7 @@ impl PreviewEngine {
                     // The previews' error; the viewport renders on its own.
                     let alone = main.map(|m| viewport::render_frame(renderer, &[m], size));
                     for (request, _) in &resolved {
-                        self.slot(&request.key).out.error = Some(e.to_string());
+                        slot(&mut self.slots, &request.key).out.error = Some(e.to_string());
                     }
                     self.age();
                     return alone;
@@ -132,7 +160,7 @@ impl PreviewEngine {
         };
         let outputs = frame.as_ref().and_then(|f| f.as_ref().ok()).map(|f| &f.1);
         for (request, shown) in resolved {
-            let slot = self.slot(&request.key);
+            let slot = slot(&mut self.slots, &request.key);
             slot.out.mesh = None;
             slot.out.error = None;
             if let Ok(Shown::Mesh(counts, _)) = &shown {
@@ -165,30 +193,13 @@ impl PreviewEngine {
                         slot.out.error = Some(e.to_string());
                         continue;
                     }
-                    slot.out.value = request.probe.and_then(|(u, v)| {
-                        let texel = (
-                            ((u.clamp(0.0, 1.0) * src_size.0 as f32) as u32).min(src_size.0 - 1),
-                            ((v.clamp(0.0, 1.0) * src_size.1 as f32) as u32).min(src_size.1 - 1),
-                        );
-                        blitter
-                            .probe(&renderer.gpu, src, texel)
-                            .ok()
-                            .map(|value| (texel, value))
-                    });
+                    slot.out.value = request.probe.and_then(|uv| probe(renderer, blitter, src, uv));
+                    self.sources.insert(request.key.clone(), src.clone());
                 }
             }
         }
         self.age();
         frame
-    }
-
-    fn slot(&mut self, key: &PreviewKey) -> &mut Slot {
-        let slot = self.slots.entry(key.clone()).or_insert_with(|| Slot {
-            out: PreviewOut::default(),
-            idle: 0,
-        });
-        slot.idle = 0;
-        slot
     }
 
     /// Count a run for every preview not asked for.
@@ -227,6 +238,34 @@ impl PreviewEngine {
                 .collect(),
         )
     }
+}
+
+/// The preview of `key`, kept or new, marked as asked for.
+fn slot<'s>(slots: &'s mut HashMap<PreviewKey, Slot>, key: &PreviewKey) -> &'s mut Slot {
+    let slot = slots.entry(key.clone()).or_insert_with(|| Slot {
+        out: PreviewOut::default(),
+        idle: 0,
+    });
+    slot.idle = 0;
+    slot
+}
+
+/// The texel of `src` at `uv` (0..1 from the top left) and its value.
+fn probe(
+    renderer: &Renderer,
+    blitter: &Blitter,
+    src: &wgpu::Texture,
+    (u, v): (f32, f32),
+) -> Option<((u32, u32), [f32; 4])> {
+    let (w, h) = (src.width().max(1), src.height().max(1));
+    let texel = (
+        ((u.clamp(0.0, 1.0) * w as f32) as u32).min(w - 1),
+        ((v.clamp(0.0, 1.0) * h as f32) as u32).min(h - 1),
+    );
+    blitter
+        .probe(&renderer.gpu, src, texel)
+        .ok()
+        .map(|value| (texel, value))
 }
 
 /// A preview's pixel size: `width` wide (never wider than the source), the
@@ -330,7 +369,7 @@ fn turntable(renderer: &Renderer, mesh: Arc<GpuMesh>, time: f64) -> TextureRef {
     let angle = (time / 8.0).fract() as f32 * std::f32::consts::TAU;
     let eye = centre + radius * 2.6 * Vec3::new(angle.sin(), 0.45, angle.cos());
     let camera = CameraInput {
-        view: Mat4::look_at_rh(eye, centre, Vec3::Y),
+        view: glam::camera::rh::view::look_at_mat4(eye, centre, Vec3::Y),
         projection: glam::camera::rh::proj::directx::perspective(
             std::f32::consts::FRAC_PI_4,
             1.0,
