@@ -384,9 +384,9 @@ impl EditorApp {
             show_input: None,
             show_image_rect: None,
             play_native: false,
-            previews: crate::previews::CanvasPreviews::new(
-                crate::previews::PreviewSettings::load(&options.config_dir),
-            ),
+            previews: crate::previews::CanvasPreviews::new(crate::previews::PreviewSettings::load(
+                &options.config_dir,
+            )),
         };
         match options.path {
             // `spreadlight edit new.ron` starts that patch, as text editors do.

@@ -233,13 +233,7 @@ impl Blitter {
                 let mode = u32::from(shows_as_data(src.format()));
                 ([0.0, 0.0], scale, mode, taps, &self.pipeline)
             }
-            BlitMode::Probe(x, y) => (
-                [x as f32, y as f32],
-                [1.0, 1.0],
-                2,
-                1,
-                &self.probe,
-            ),
+            BlitMode::Probe(x, y) => ([x as f32, y as f32], [1.0, 1.0], 2, 1, &self.probe),
         };
         let mut params = [0u8; 32];
         for (k, v) in origin.iter().chain(&scale).enumerate() {
@@ -390,7 +384,14 @@ pub fn render_into(
     let src = outputs
         .get(&texture.name)
         .ok_or_else(|| ViewportError::Missing(texture.name.clone()))?;
-    show_in(render_state, renderer, blitter, src, (src.width(), src.height()), target)?;
+    show_in(
+        render_state,
+        renderer,
+        blitter,
+        src,
+        (src.width(), src.height()),
+        target,
+    )?;
     Ok(report)
 }
 

@@ -241,7 +241,11 @@ fn file_texture_patch(file: &str, srgb: bool, output: bool) -> spreadlight_graph
 }
 
 /// The editor on `patch`, saved in `dir`, run until it settles.
-fn editor_on(patch: &spreadlight_graph::Patch, dir: &tempfile::TempDir, size: Vec2) -> Harness<'static, EditorApp> {
+fn editor_on(
+    patch: &spreadlight_graph::Patch,
+    dir: &tempfile::TempDir,
+    size: Vec2,
+) -> Harness<'static, EditorApp> {
     let path = dir.path().join("patch.ron");
     spreadlight_graph::format::save(patch, &path).expect("save");
     let options = common::options(Some(path), dir.path().join("config"));
@@ -296,7 +300,10 @@ fn a_thumbnail_shows_the_texture_it_previews_and_the_value_under_the_pointer() {
         .state()
         .thumbnail_rect(&thumb_key(1))
         .expect("the FileTexture's thumbnail is drawn");
-    let out = h.state().preview(&thumb_key(1)).expect("the worker made it");
+    let out = h
+        .state()
+        .preview(&thumb_key(1))
+        .expect("the worker made it");
     assert_eq!(out.error, None);
     let (size, _) = out.source.expect("the texture's size and format");
     assert_eq!(size, (64, 36));
@@ -306,7 +313,9 @@ fn a_thumbnail_shows_the_texture_it_previews_and_the_value_under_the_pointer() {
     assert_grey(pixel_in(&image, rect, ppp, 0.25, 0.5), 40, "left half");
     assert_grey(pixel_in(&image, rect, ppp, 0.75, 0.5), 200, "right half");
     // Hovering it probes the texel under the pointer: linear, as shaders read it.
-    h.event(egui::Event::PointerMoved(rect.lerp_inside(Vec2::new(0.8, 0.5))));
+    h.event(egui::Event::PointerMoved(
+        rect.lerp_inside(Vec2::new(0.8, 0.5)),
+    ));
     h.run_steps(3);
     let (texel, value) = h
         .state()
@@ -315,7 +324,10 @@ fn a_thumbnail_shows_the_texture_it_previews_and_the_value_under_the_pointer() {
         .expect("a probed value");
     assert_eq!(texel, (51, 18));
     let linear = spreadlight_render::readback::srgb_to_linear(200.0 / 255.0);
-    assert!((value[0] - linear).abs() < 0.01, "{value:?} against {linear}");
+    assert!(
+        (value[0] - linear).abs() < 0.01,
+        "{value:?} against {linear}"
+    );
     // Ctrl+T takes every thumbnail away; nothing is asked for then.
     h.state_mut().set_thumbnails(false);
     h.run_steps(3);
@@ -338,10 +350,19 @@ fn a_preview_of_an_unsunk_branch_evaluates_it_and_render_still_does_not() {
         "its thumbnail demanded it"
     );
     let rect = h.state().thumbnail_rect(&thumb_key(1)).expect("drawn");
-    assert_eq!(h.state().preview(&thumb_key(1)).and_then(|o| o.error.clone()), None);
+    assert_eq!(
+        h.state()
+            .preview(&thumb_key(1))
+            .and_then(|o| o.error.clone()),
+        None
+    );
     let ppp = h.ctx.pixels_per_point();
     let image = h.render().expect("render the window");
-    assert_grey(pixel_in(&image, rect, ppp, 0.5, 0.5), 90, "the unsunk texture");
+    assert_grey(
+        pixel_in(&image, rect, ppp, 0.5, 0.5),
+        90,
+        "the unsunk texture",
+    );
     // `render` evaluates with the patch's own demand: the branch stays skipped.
     let mut runtime = spreadlight_graph::Runtime::new(spreadlight_editor::nodes::registry());
     runtime.provide(std::sync::Arc::new(spreadlight_graph::PatchDir(
@@ -402,11 +423,17 @@ fn off_screen_thumbnails_are_not_requested() {
         .iter()
         .map(|r| r.key.path.clone())
         .collect();
-    assert!(asked.contains(&vec![spreadlight_graph::NodeId(1)]), "{asked:?}");
+    assert!(
+        asked.contains(&vec![spreadlight_graph::NodeId(1)]),
+        "{asked:?}"
+    );
     assert!(
         !asked.contains(&vec![spreadlight_graph::NodeId(3)]),
         "an off-screen node asks for nothing: {asked:?}"
     );
     assert!(h.state().thumbnail_rect(&thumb_key(3)).is_none());
-    assert!(h.state().preview(&thumb_key(3)).is_none(), "nor does the worker make it");
+    assert!(
+        h.state().preview(&thumb_key(3)).is_none(),
+        "nor does the worker make it"
+    );
 }

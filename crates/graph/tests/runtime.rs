@@ -205,13 +205,24 @@ fn a_pin_demanded_by_the_host_evaluates_its_branch_and_only_there() {
     let plain_frames = run_frames(&mut plain, 2);
     let frames = run_frames(&mut looked_at, 2);
     for id in [10, 11] {
-        assert_eq!(count(&frames, id, NodeRun::Evaluated), 1, "node {id} ran once");
+        assert_eq!(
+            count(&frames, id, NodeRun::Evaluated),
+            1,
+            "node {id} ran once"
+        );
         assert_eq!(count(&plain_frames, id, NodeRun::Skipped), 2, "node {id}");
     }
-    assert_eq!(count(&frames, 12, NodeRun::Skipped), 2, "downstream of the pin: not demanded");
+    assert_eq!(
+        count(&frames, 12, NodeRun::Skipped),
+        2,
+        "downstream of the pin: not demanded"
+    );
     let index = looked_at.network().index_of(NodeId(11)).expect("node 11");
     assert!(looked_at.is_demanded(index) && !plain.is_demanded(index));
-    assert!(!looked_at.network().is_needed(index), "the network's own demand is unchanged");
+    assert!(
+        !looked_at.network().is_needed(index),
+        "the network's own demand is unchanged"
+    );
     let value = looked_at.output(NodeId(11), "Output").expect("evaluated");
     assert_eq!(**value, Spread::Float(vec![5.0]));
     // Demand survives a reload and goes with an empty list.

@@ -42,7 +42,9 @@ impl EditorApp {
         }
         let file = self.path.clone();
         let settings = &mut self.previews.settings;
-        let hide = paths.iter().any(|p| !settings.is_hidden(file.as_deref(), p));
+        let hide = paths
+            .iter()
+            .any(|p| !settings.is_hidden(file.as_deref(), p));
         for p in &paths {
             settings.set_hidden(file.as_deref(), p, hide);
         }
@@ -75,8 +77,17 @@ impl EditorApp {
     }
 
     /// The inspector's toggle for the focused node's thumbnail.
-    pub(super) fn inspector_thumbnail(&mut self, ui: &mut Ui, id: NodeId, def: &spreadlight_graph::NodeDef) {
-        if !def.outputs.iter().any(|p| crate::previews::has_thumbnail(p.ty)) {
+    pub(super) fn inspector_thumbnail(
+        &mut self,
+        ui: &mut Ui,
+        id: NodeId,
+        def: &spreadlight_graph::NodeDef,
+    ) {
+        if !def
+            .outputs
+            .iter()
+            .any(|p| crate::previews::has_thumbnail(p.ty))
+        {
             return;
         }
         let path = self.preview_path(id);

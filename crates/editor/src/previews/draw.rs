@@ -11,8 +11,15 @@ use super::{
 };
 
 /// The key of the preview of `pin` on the node at `path`.
-fn key(previews: &CanvasPreviews, path: &[NodeId], pin: &str, ty: PinType, large: bool) -> PreviewKey {
-    let channel = matches!(ty, PinType::Resource(ResourceKind::GBuffer)).then(|| previews.channel_of(path));
+fn key(
+    previews: &CanvasPreviews,
+    path: &[NodeId],
+    pin: &str,
+    ty: PinType,
+    large: bool,
+) -> PreviewKey {
+    let channel =
+        matches!(ty, PinType::Resource(ResourceKind::GBuffer)).then(|| previews.channel_of(path));
     PreviewKey {
         path: path.to_vec(),
         pin: pin.to_owned(),
@@ -24,16 +31,28 @@ fn key(previews: &CanvasPreviews, path: &[NodeId], pin: &str, ty: PinType, large
 /// Height over width of what the preview shows (16:9 until it is known).
 fn aspect(out: Option<&PreviewOut>) -> f32 {
     out.and_then(|o| o.source)
-        .map_or(9.0 / 16.0, |((w, h), _)| (h as f32 / w.max(1) as f32).clamp(0.1, 1.0))
+        .map_or(9.0 / 16.0, |((w, h), _)| {
+            (h as f32 / w.max(1) as f32).clamp(0.1, 1.0)
+        })
 }
 
 /// Whether the node at `path` with output pins `outputs` shows thumbnails now.
-pub fn shows_thumbnails(previews: &CanvasPreviews, path: &[NodeId], outputs: &[(&str, PinType)]) -> bool {
-    previews.settings.shows(previews.file.as_deref(), path) && outputs.iter().any(|(_, ty)| has_thumbnail(*ty))
+pub fn shows_thumbnails(
+    previews: &CanvasPreviews,
+    path: &[NodeId],
+    outputs: &[(&str, PinType)],
+) -> bool {
+    previews.settings.shows(previews.file.as_deref(), path)
+        && outputs.iter().any(|(_, ty)| has_thumbnail(*ty))
 }
 
 /// A node's thumbnails, one per texture or G-buffer output, in its body.
-pub fn thumbnails(ui: &mut Ui, previews: &mut CanvasPreviews, path: &[NodeId], outputs: &[(&str, PinType)]) {
+pub fn thumbnails(
+    ui: &mut Ui,
+    previews: &mut CanvasPreviews,
+    path: &[NodeId],
+    outputs: &[(&str, PinType)],
+) {
     ui.vertical(|ui| {
         for (pin, ty) in outputs.iter().filter(|(_, ty)| has_thumbnail(*ty)) {
             ui.push_id(pin, |ui| thumbnail(ui, previews, path, pin, *ty));

@@ -10,7 +10,9 @@ use spreadlight_render::gbuffer::{Channel, GBuffer, GBufferView};
 use spreadlight_render::mesh_arena::GpuMesh;
 use spreadlight_render::{Renderer, TextureRef};
 
-use super::{LARGE_PIXELS, MeshCounts, PreviewKey, PreviewOut, PreviewOuts, PreviewRequest, THUMB_PIXELS};
+use super::{
+    LARGE_PIXELS, MeshCounts, PreviewKey, PreviewOut, PreviewOuts, PreviewRequest, THUMB_PIXELS,
+};
 use crate::viewport::{self, Blitter, RenderedFrame};
 
 /// Runs of the worker a preview no longer asked for keeps its texture, so
@@ -48,7 +50,10 @@ impl PreviewEngine {
     /// Take the canvas's new wishes.
     pub fn set_requests(&mut self, requests: Vec<PreviewRequest>) {
         let same_previews = requests.len() == self.requests.len()
-            && requests.iter().zip(&self.requests).all(|(a, b)| a.key == b.key);
+            && requests
+                .iter()
+                .zip(&self.requests)
+                .all(|(a, b)| a.key == b.key);
         self.requests = requests;
         if same_previews && !self.due {
             // The pointer moved over a thumbnail: no frame to render for that.
@@ -65,7 +70,8 @@ impl PreviewEngine {
             return;
         }
         for r in &self.requests {
-            let (Some(slot), Some(src)) = (self.slots.get_mut(&r.key), self.sources.get(&r.key)) else {
+            let (Some(slot), Some(src)) = (self.slots.get_mut(&r.key), self.sources.get(&r.key))
+            else {
                 continue;
             };
             slot.out.value = r.probe.and_then(|uv| probe(renderer, blitter, src, uv));
@@ -193,7 +199,9 @@ impl PreviewEngine {
                         slot.out.error = Some(e.to_string());
                         continue;
                     }
-                    slot.out.value = request.probe.and_then(|uv| probe(renderer, blitter, src, uv));
+                    slot.out.value = request
+                        .probe
+                        .and_then(|uv| probe(renderer, blitter, src, uv));
                     self.sources.insert(request.key.clone(), src.clone());
                 }
             }
@@ -272,7 +280,8 @@ fn probe(
 /// source's aspect.
 pub fn preview_pixels(source: (u32, u32), width: u32) -> (u32, u32) {
     let w = width.min(source.0).max(1);
-    let h = (u64::from(w) * u64::from(source.1) / u64::from(source.0.max(1))).clamp(1, u64::from(width)) as u32;
+    let h = (u64::from(w) * u64::from(source.1) / u64::from(source.0.max(1)))
+        .clamp(1, u64::from(width)) as u32;
     (w, h)
 }
 

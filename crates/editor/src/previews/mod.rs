@@ -146,7 +146,10 @@ impl PreviewSettings {
         let path = config_dir.join(SETTINGS_FILE);
         match std::fs::read_to_string(&path) {
             Ok(text) => ron::from_str(&text).unwrap_or_else(|e| {
-                eprintln!("warning: {}: {e}; previews use their defaults", path.display());
+                eprintln!(
+                    "warning: {}: {e}; previews use their defaults",
+                    path.display()
+                );
                 Self::new()
             }),
             Err(_) => Self::new(),
