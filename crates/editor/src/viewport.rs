@@ -218,6 +218,23 @@ impl Blitter {
         dst: &wgpu::Texture,
         how: BlitMode,
     ) -> Result<(), ViewportError> {
+        let commands = self.encode(gpu, src, dst, how)?;
+        // Through the renderer's gate like its own frames: a window's surface
+        // may be configured on the UI thread meanwhile (`GpuContext::submit`).
+        gpu.submit([commands]);
+        Ok(())
+    }
+
+    /// The commands of a blit, to submit with others: each submission may
+    /// wait for the UI's next frame at the gate, so a frame's thumbnails
+    /// go in one.
+    fn encode(
+        &self,
+        gpu: &GpuContext,
+        src: &wgpu::Texture,
+        dst: &wgpu::Texture,
+        how: BlitMode,
+    ) -> Result<wgpu::CommandBuffer, ViewportError> {
         use wgpu::util::DeviceExt;
         Self::check(src.format())?;
         let (dst_w, dst_h) = (dst.width().max(1), dst.height().max(1));
@@ -242,7 +259,7 @@ impl Blitter {
         params[16..20].copy_from_slice(&mode.to_le_bytes());
         params[20..24].copy_from_slice(&taps.to_le_bytes());
         // In an error scope: what wgpu refuses is this viewport's error, not a panic.
-        let commands = gpu
+        gpu
             .scoped(|| {
                 // Its first layer and level as a plain 2D view, whatever it is (an
                 // image file's texture array, a mip chain): what the blit samples.
@@ -300,11 +317,7 @@ impl Blitter {
                 }
                 encoder.finish()
             })
-            .map_err(ViewportError::Render)?;
-        // Through the renderer's gate like its own frames: a window's surface
-        // may be configured on the UI thread meanwhile (`GpuContext::submit`).
-        gpu.submit([commands]);
-        Ok(())
+            .map_err(ViewportError::Render)
     }
 
     /// The value of texel (x, y) of `src` as the shaders read it (linear,
@@ -406,6 +419,22 @@ pub fn show_in(
     size: (u32, u32),
     target: &mut Option<ViewTarget>,
 ) -> Result<(), ViewportError> {
+    let mut commands = Vec::new();
+    show_in_batch(render_state, renderer, blitter, src, size, target, &mut commands)?;
+    renderer.gpu.submit(commands);
+    Ok(())
+}
+
+/// [`show_in`], its blit's commands added to `batch` for the caller to submit.
+pub fn show_in_batch(
+    render_state: &egui_wgpu::RenderState,
+    renderer: &Renderer,
+    blitter: &Blitter,
+    src: &wgpu::Texture,
+    size: (u32, u32),
+    target: &mut Option<ViewTarget>,
+    batch: &mut Vec<wgpu::CommandBuffer>,
+) -> Result<(), ViewportError> {
     Blitter::check(src.format())?;
     let size = (size.0.max(1), size.1.max(1));
     let device = &render_state.device;
@@ -451,5 +480,6 @@ pub fn show_in(
     let Some(t) = target.as_ref() else {
         return Err(ViewportError::NoTexture);
     };
-    blitter.blit(&renderer.gpu, src, &t.texture, BlitMode::Fit)
+    batch.push(blitter.encode(&renderer.gpu, src, &t.texture, BlitMode::Fit)?);
+    Ok(())
 }

@@ -500,9 +500,7 @@ impl Engine {
             };
             let frame = self.previews.render(
                 &self.runtime,
-                &gpu.state,
-                &gpu.renderer,
-                &gpu.blitter,
+                gpu,
                 main,
                 size,
                 self.clock.time,

@@ -437,3 +437,27 @@ fn off_screen_thumbnails_are_not_requested() {
         "nor does the worker make it"
     );
 }
+
+#[test]
+fn a_g_buffer_output_shows_a_channel_as_its_thumbnail() {
+    use spreadlight_editor::previews::{ChannelName, PreviewKey};
+    let dir = tempfile::tempdir().expect("tempdir");
+    let mut h = harness(&dir);
+    // The showcase's MRE (node 15): its G-buffer's albedo, at the viewport's size.
+    let key = PreviewKey {
+        path: vec![spreadlight_graph::NodeId(15)],
+        pin: "G-Buffer".to_owned(),
+        channel: Some(ChannelName(0)),
+        large: false,
+    };
+    let rect = h.state().thumbnail_rect(&key).expect("the MRE's thumbnail is drawn");
+    let out = h.state().preview(&key).expect("the worker made it");
+    assert_eq!(out.error, None);
+    let (size, _) = out.source.expect("its size");
+    assert_eq!(Some(size), h.state().viewport_pixels(0), "rendered in the viewport's frame");
+    let image = h.render().expect("render the window");
+    assert!(
+        distinct_colours(&image, rect, h.ctx.pixels_per_point()) > 2,
+        "the albedo of the scene, not a blank"
+    );
+}

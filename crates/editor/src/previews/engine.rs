@@ -128,13 +128,12 @@ impl PreviewEngine {
     pub fn render(
         &mut self,
         runtime: &Runtime,
-        render_state: &egui_wgpu::RenderState,
-        renderer: &Arc<Renderer>,
-        blitter: &Blitter,
+        gpu: &crate::worker::WorkerGpu,
         main: Option<&TextureRef>,
         size: (u32, u32),
         time: f64,
     ) -> Option<Result<RenderedFrame, viewport::ViewportError>> {
+        let (render_state, renderer, blitter) = (&gpu.state, &gpu.renderer, &gpu.blitter);
         self.due = false;
         self.reprobe = false;
         self.sources.clear();
@@ -165,10 +164,14 @@ impl PreviewEngine {
             }
         };
         let outputs = frame.as_ref().and_then(|f| f.as_ref().ok()).map(|f| &f.1);
+        // Every thumbnail's blit in one submission (each may wait at the gate).
+        let mut batch = Vec::new();
+        let mut probes = Vec::new();
         for (request, shown) in resolved {
             let slot = slot(&mut self.slots, &request.key);
             slot.out.mesh = None;
             slot.out.error = None;
+            slot.out.value = None;
             if let Ok(Shown::Mesh(counts, _)) = &shown {
                 slot.out.mesh = Some(*counts);
             }
@@ -188,22 +191,30 @@ impl PreviewEngine {
                         THUMB_PIXELS
                     };
                     let size = preview_pixels(src_size, width);
-                    if let Err(e) = viewport::show_in(
+                    if let Err(e) = viewport::show_in_batch(
                         render_state,
                         renderer,
                         blitter,
                         src,
                         size,
                         &mut slot.out.target,
+                        &mut batch,
                     ) {
                         slot.out.error = Some(e.to_string());
                         continue;
                     }
-                    slot.out.value = request
-                        .probe
-                        .and_then(|uv| probe(renderer, blitter, src, uv));
+                    if let Some(uv) = request.probe {
+                        probes.push((request.key.clone(), uv));
+                    }
                     self.sources.insert(request.key.clone(), src.clone());
                 }
+            }
+        }
+        renderer.gpu.submit(batch);
+        // The texels under the pointer, after the thumbnails (each waits for the GPU).
+        for (key, uv) in probes {
+            if let (Some(src), Some(slot)) = (self.sources.get(&key), self.slots.get_mut(&key)) {
+                slot.out.value = probe(renderer, blitter, src, uv);
             }
         }
         self.age();
