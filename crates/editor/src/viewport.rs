@@ -259,65 +259,64 @@ impl Blitter {
         params[16..20].copy_from_slice(&mode.to_le_bytes());
         params[20..24].copy_from_slice(&taps.to_le_bytes());
         // In an error scope: what wgpu refuses is this viewport's error, not a panic.
-        gpu
-            .scoped(|| {
-                // Its first layer and level as a plain 2D view, whatever it is (an
-                // image file's texture array, a mip chain): what the blit samples.
-                let view = src.create_view(&wgpu::TextureViewDescriptor {
-                    dimension: Some(wgpu::TextureViewDimension::D2),
-                    base_mip_level: 0,
-                    mip_level_count: Some(1),
-                    base_array_layer: 0,
-                    array_layer_count: Some(1),
-                    ..Default::default()
+        gpu.scoped(|| {
+            // Its first layer and level as a plain 2D view, whatever it is (an
+            // image file's texture array, a mip chain): what the blit samples.
+            let view = src.create_view(&wgpu::TextureViewDescriptor {
+                dimension: Some(wgpu::TextureViewDimension::D2),
+                base_mip_level: 0,
+                mip_level_count: Some(1),
+                base_array_layer: 0,
+                array_layer_count: Some(1),
+                ..Default::default()
+            });
+            let dst = dst.create_view(&Default::default());
+            let buffer = gpu
+                .device
+                .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some("viewport blit params"),
+                    contents: &params,
+                    usage: wgpu::BufferUsages::UNIFORM,
                 });
-                let dst = dst.create_view(&Default::default());
-                let buffer = gpu
-                    .device
-                    .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                        label: Some("viewport blit params"),
-                        contents: &params,
-                        usage: wgpu::BufferUsages::UNIFORM,
-                    });
-                let bind = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            let bind = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("viewport blit"),
+                layout: &self.layout,
+                entries: &[
+                    wgpu::BindGroupEntry {
+                        binding: 0,
+                        resource: wgpu::BindingResource::TextureView(&view),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 1,
+                        resource: buffer.as_entire_binding(),
+                    },
+                ],
+            });
+            let mut encoder = gpu.device.create_command_encoder(&Default::default());
+            {
+                let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                     label: Some("viewport blit"),
-                    layout: &self.layout,
-                    entries: &[
-                        wgpu::BindGroupEntry {
-                            binding: 0,
-                            resource: wgpu::BindingResource::TextureView(&view),
+                    color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                        view: &dst,
+                        depth_slice: None,
+                        resolve_target: None,
+                        ops: wgpu::Operations {
+                            load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
+                            store: wgpu::StoreOp::Store,
                         },
-                        wgpu::BindGroupEntry {
-                            binding: 1,
-                            resource: buffer.as_entire_binding(),
-                        },
-                    ],
+                    })],
+                    depth_stencil_attachment: None,
+                    timestamp_writes: None,
+                    occlusion_query_set: None,
+                    multiview_mask: None,
                 });
-                let mut encoder = gpu.device.create_command_encoder(&Default::default());
-                {
-                    let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                        label: Some("viewport blit"),
-                        color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                            view: &dst,
-                            depth_slice: None,
-                            resolve_target: None,
-                            ops: wgpu::Operations {
-                                load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
-                                store: wgpu::StoreOp::Store,
-                            },
-                        })],
-                        depth_stencil_attachment: None,
-                        timestamp_writes: None,
-                        occlusion_query_set: None,
-                        multiview_mask: None,
-                    });
-                    pass.set_pipeline(pipeline);
-                    pass.set_bind_group(0, &bind, &[]);
-                    pass.draw(0..3, 0..1);
-                }
-                encoder.finish()
-            })
-            .map_err(ViewportError::Render)
+                pass.set_pipeline(pipeline);
+                pass.set_bind_group(0, &bind, &[]);
+                pass.draw(0..3, 0..1);
+            }
+            encoder.finish()
+        })
+        .map_err(ViewportError::Render)
     }
 
     /// The value of texel (x, y) of `src` as the shaders read it (linear,
@@ -420,7 +419,15 @@ pub fn show_in(
     target: &mut Option<ViewTarget>,
 ) -> Result<(), ViewportError> {
     let mut commands = Vec::new();
-    show_in_batch(render_state, renderer, blitter, src, size, target, &mut commands)?;
+    show_in_batch(
+        render_state,
+        renderer,
+        blitter,
+        src,
+        size,
+        target,
+        &mut commands,
+    )?;
     renderer.gpu.submit(commands);
     Ok(())
 }

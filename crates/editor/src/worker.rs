@@ -498,13 +498,9 @@ impl Engine {
             } else {
                 want.size
             };
-            let frame = self.previews.render(
-                &self.runtime,
-                gpu,
-                main,
-                size,
-                self.clock.time,
-            );
+            let frame = self
+                .previews
+                .render(&self.runtime, gpu, main, size, self.clock.time);
             match (texture, frame) {
                 (Err(e), _) => Err(e),
                 (Ok(_), None) => Err(ViewportError::NoTexture),

@@ -450,14 +450,26 @@ fn a_g_buffer_output_shows_a_channel_as_its_thumbnail() {
         channel: Some(ChannelName(0)),
         large: false,
     };
-    let rect = h.state().thumbnail_rect(&key).expect("the MRE's thumbnail is drawn");
+    let rect = h
+        .state()
+        .thumbnail_rect(&key)
+        .expect("the MRE's thumbnail is drawn");
     let out = h.state().preview(&key).expect("the worker made it");
     assert_eq!(out.error, None);
     let (size, _) = out.source.expect("its size");
-    assert_eq!(Some(size), h.state().viewport_pixels(0), "rendered in the viewport's frame");
+    assert_eq!(
+        Some(size),
+        h.state().viewport_pixels(0),
+        "rendered in the viewport's frame"
+    );
     let image = h.render().expect("render the window");
     assert!(
         distinct_colours(&image, rect, h.ctx.pixels_per_point()) > 2,
         "the albedo of the scene, not a blank"
     );
+    // `SPREADLIGHT_DOC_PICTURES=1` refreshes docs/editor.md's picture of previews.
+    if std::env::var_os("SPREADLIGHT_DOC_PICTURES").is_some() {
+        let docs = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../docs/editor-previews.png");
+        image.save(docs).expect("write docs/editor-previews.png");
+    }
 }
