@@ -22,6 +22,7 @@ mod help;
 mod host_input;
 mod inspector;
 mod menus;
+mod previews;
 mod queries;
 mod running;
 mod show;
@@ -263,6 +264,8 @@ pub struct EditorApp {
     refused_edits: u32,
     /// The canvas draws the nodes near its view only (`canvas/cull.rs`).
     culling: canvas::Culling,
+    /// Thumbnails and hover previews: their settings and this frame's wishes (`previews.rs`).
+    previews: crate::previews::CanvasPreviews,
 }
 
 impl EditorApp {
@@ -396,6 +399,9 @@ impl EditorApp {
             help_opened: Vec::new(),
             refused_edits: 0,
             culling: canvas::Culling::default(),
+            previews: crate::previews::CanvasPreviews::new(crate::previews::PreviewSettings::load(
+                &options.config_dir,
+            )),
         };
         match options.path {
             // `spreadlight edit new.ron` starts that patch, as text editors do.

@@ -66,6 +66,8 @@ pub struct Canvas<'a> {
     pub instance: &'a [NodeId],
     /// What is remembered of drawn nodes, to leave off-screen ones out (`cull.rs`).
     pub culling: &'a mut Culling,
+    /// Thumbnails and hover previews (`previews`).
+    pub previews: &'a mut crate::previews::CanvasPreviews,
 }
 
 impl<'a> Canvas<'a> {
@@ -132,6 +134,22 @@ impl<'a> Canvas<'a> {
             messages.push(format!("GPU: {e}"));
         }
         (!messages.is_empty()).then(|| messages.join("\n"))
+    }
+
+    /// The node's output pins that have a preview, by name and type.
+    fn preview_outputs(&self, id: NodeId) -> Vec<(&'a str, PinType)> {
+        let registry: &'a Registry = self.registry;
+        self.doc
+            .node(id)
+            .and_then(|n| registry.get(&n.type_name))
+            .map(|d| {
+                d.outputs
+                    .iter()
+                    .filter(|p| crate::previews::previewable(p.ty))
+                    .map(|p| (&*p.name, p.ty))
+                    .collect()
+            })
+            .unwrap_or_default()
     }
 
     /// The pin drawn for `key` on the node placed at `origin` (canvas px).
@@ -283,10 +301,24 @@ impl SnarlViewer<CanvasNode> for Canvas<'_> {
                     .input_value(self.registry, id, name)
                     .map(|s| preview(&s)),
             };
-            label.on_hover_text(format!(
+            let text = format!(
                 "{name}: {ty}\n{}",
                 shown.unwrap_or_else(|| "no value yet".into())
-            ));
+            );
+            match &linked {
+                // What flows in from a texture, G-buffer or mesh: its preview.
+                Some(l) if crate::previews::previewable(ty) => {
+                    let from = self.at(l.from.node());
+                    let previews = &mut *self.previews;
+                    label.on_hover_ui(|ui| {
+                        ui.label(text);
+                        crate::previews::draw::large(ui, previews, &from, l.from.pin(), ty);
+                    });
+                }
+                _ => {
+                    label.on_hover_text(text);
+                }
+            }
         }
         // Zoomed far out the editors are too small to use, and a big patch
         // would spend most of its frame drawing them.
@@ -343,7 +375,17 @@ impl SnarlViewer<CanvasNode> for Canvas<'_> {
                 .runtime
                 .output_at(&self.at(id), name)
                 .map_or_else(|| "not evaluated".to_owned(), |s| preview(s));
-            label.on_hover_text(format!("{name}: {ty}\n{shown}"));
+            let text = format!("{name}: {ty}\n{shown}");
+            if crate::previews::previewable(ty) {
+                let path = self.at(id);
+                let previews = &mut *self.previews;
+                label.on_hover_ui(|ui| {
+                    ui.label(text);
+                    crate::previews::draw::large(ui, previews, &path, name, ty);
+                });
+            } else {
+                label.on_hover_text(text);
+            }
         }
         self.recorded((id, name.to_owned(), false), Some(ty), origin)
     }
@@ -352,6 +394,11 @@ impl SnarlViewer<CanvasNode> for Canvas<'_> {
         self.doc
             .node(node.0)
             .is_some_and(|n| crate::iobox::is_iobox(&n.type_name))
+            || crate::previews::draw::shows_thumbnails(
+                &*self.previews,
+                &self.at(node.0),
+                &self.preview_outputs(node.0),
+            )
     }
 
     fn show_body(
@@ -364,7 +411,16 @@ impl SnarlViewer<CanvasNode> for Canvas<'_> {
     ) {
         if let Some(id) = Self::node_id(snarl, node) {
             let path = self.at(id);
-            crate::iobox::rows(ui, self.doc, self.registry, self.runtime, &path);
+            let iobox = self
+                .doc
+                .node(id)
+                .is_some_and(|n| crate::iobox::is_iobox(&n.type_name));
+            if iobox {
+                crate::iobox::rows(ui, self.doc, self.registry, self.runtime, &path);
+            } else {
+                let outputs = self.preview_outputs(id);
+                crate::previews::draw::thumbnails(ui, &mut *self.previews, &path, &outputs);
+            }
         }
     }
 

@@ -31,7 +31,21 @@ pub const VIEW_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb
 pub const EGUI_VIEW_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
 
 const BLIT_WGSL: &str = r"
+struct Params {
+    // The source texel the target's pixel (0, 0) starts at, and source
+    // texels per target pixel: 1 for the viewports, more for thumbnails.
+    origin: vec2<f32>,
+    scale: vec2<f32>,
+    // 0: colour (linear light, sRGB-encoded by the target's format);
+    // 1: data (stored values shown as they are); 2: raw (a probe: unclamped).
+    mode: u32,
+    // Taps per axis across a target pixel's footprint (a box filter).
+    taps: u32,
+    pad: vec2<u32>,
+}
+
 @group(0) @binding(0) var src: texture_2d<f32>;
+@group(0) @binding(1) var<uniform> params: Params;
 
 @vertex
 fn vs(@builtin(vertex_index) i: u32) -> @builtin(position) vec4<f32> {
@@ -39,20 +53,84 @@ fn vs(@builtin(vertex_index) i: u32) -> @builtin(position) vec4<f32> {
     return vec4<f32>(uv * 2.0 - 1.0, 0.0, 1.0);
 }
 
+fn srgb_to_linear(c: vec3<f32>) -> vec3<f32> {
+    let low = c / 12.92;
+    let high = pow((c + 0.055) / 1.055, vec3<f32>(2.4));
+    return select(high, low, c <= vec3<f32>(0.04045));
+}
+
 @fragment
 fn fs(@builtin(position) p: vec4<f32>) -> @location(0) vec4<f32> {
     let size = vec2<i32>(textureDimensions(src));
-    let c = textureLoad(src, min(vec2<i32>(p.xy), size - 1), 0);
-    // Single-channel textures (depth-like data in R32Float) show as grey.
-    return vec4<f32>(clamp(c.rgb, vec3(0.0), vec3(1.0)), 1.0);
+    let n = max(params.taps, 1u);
+    let start = params.origin + floor(p.xy) * params.scale;
+    var sum = vec4<f32>(0.0);
+    for (var j = 0u; j < n; j++) {
+        for (var i = 0u; i < n; i++) {
+            let at = start + (vec2<f32>(f32(i), f32(j)) + 0.5) / f32(n) * params.scale;
+            sum += textureLoad(src, clamp(vec2<i32>(at), vec2<i32>(0), size - 1), 0);
+        }
+    }
+    let c = sum / f32(n * n);
+    if params.mode == 2u {
+        return c;
+    }
+    // Single-channel textures (depth-like data in R32Float) show in red.
+    let v = clamp(c.rgb, vec3(0.0), vec3(1.0));
+    if params.mode == 1u {
+        // The target encodes what it is given: hand it the value whose
+        // encoding is the stored value, so 0.5 shows as 128.
+        return vec4<f32>(srgb_to_linear(v), 1.0);
+    }
+    return vec4<f32>(v, 1.0);
 }
 ";
 
+/// The format a probe (one texel read back unclamped) is blitted into.
+const PROBE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
+
+/// Whether a texture of `format` holds data shown as stored (a non-sRGB
+/// 8- or 16-bit normalised format: a FileTexture with sRGB off, a normal
+/// map, a mask), rather than linear light encoded for the display (sRGB
+/// formats, float render targets, Tonemap's output). Data shows as image
+/// viewers, vvvv and TouchDesigner show it: a stored 0.5 as grey 128.
+pub fn shows_as_data(format: wgpu::TextureFormat) -> bool {
+    use wgpu::TextureFormat as F;
+    matches!(
+        format,
+        F::R8Unorm
+            | F::Rg8Unorm
+            | F::Rgba8Unorm
+            | F::Bgra8Unorm
+            | F::R16Unorm
+            | F::Rg16Unorm
+            | F::Rgba16Unorm
+            | F::Rgb10a2Unorm
+            | F::R8Snorm
+            | F::Rg8Snorm
+            | F::Rgba8Snorm
+            | F::R16Snorm
+            | F::Rg16Snorm
+            | F::Rgba16Snorm
+    )
+}
+
+/// How a blit maps its source onto its target.
+#[derive(Clone, Copy, Debug)]
+enum BlitMode {
+    /// Every pixel of the target from the source's texels, whatever its size.
+    Fit,
+    /// One texel, unclamped, into a 1x1 float target.
+    Probe(u32, u32),
+}
+
 /// Copies any float colour texture into the viewport's texture, whatever its
-/// format (Rgba32Float is not filterable, so egui could not sample it directly).
+/// format (Rgba32Float is not filterable, so egui could not sample it
+/// directly), and scales it down into thumbnails (a box filter).
 pub struct Blitter {
     layout: wgpu::BindGroupLayout,
     pipeline: wgpu::RenderPipeline,
+    probe: wgpu::RenderPipeline,
 }
 
 impl Blitter {
@@ -63,109 +141,210 @@ impl Blitter {
         });
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("viewport blit"),
-            entries: &[wgpu::BindGroupLayoutEntry {
-                binding: 0,
-                visibility: wgpu::ShaderStages::FRAGMENT,
-                ty: wgpu::BindingType::Texture {
-                    sample_type: wgpu::TextureSampleType::Float { filterable: false },
-                    view_dimension: wgpu::TextureViewDimension::D2,
-                    multisampled: false,
+            entries: &[
+                wgpu::BindGroupLayoutEntry {
+                    binding: 0,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ty: wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Float { filterable: false },
+                        view_dimension: wgpu::TextureViewDimension::D2,
+                        multisampled: false,
+                    },
+                    count: None,
                 },
-                count: None,
-            }],
+                wgpu::BindGroupLayoutEntry {
+                    binding: 1,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ty: wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Uniform,
+                        has_dynamic_offset: false,
+                        min_binding_size: None,
+                    },
+                    count: None,
+                },
+            ],
         });
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("viewport blit"),
             bind_group_layouts: &[Some(&layout)],
             immediate_size: 0,
         });
-        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("viewport blit"),
-            layout: Some(&pipeline_layout),
-            vertex: wgpu::VertexState {
-                module: &shader,
-                entry_point: Some("vs"),
-                compilation_options: Default::default(),
-                buffers: &[],
-            },
-            fragment: Some(wgpu::FragmentState {
-                module: &shader,
-                entry_point: Some("fs"),
-                compilation_options: Default::default(),
-                targets: &[Some(VIEW_FORMAT.into())],
-            }),
-            primitive: wgpu::PrimitiveState::default(),
-            depth_stencil: None,
-            multisample: wgpu::MultisampleState::default(),
-            multiview_mask: None,
-            cache: None,
-        });
-        Blitter { layout, pipeline }
+        let pipeline = |format: wgpu::TextureFormat| {
+            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some("viewport blit"),
+                layout: Some(&pipeline_layout),
+                vertex: wgpu::VertexState {
+                    module: &shader,
+                    entry_point: Some("vs"),
+                    compilation_options: Default::default(),
+                    buffers: &[],
+                },
+                fragment: Some(wgpu::FragmentState {
+                    module: &shader,
+                    entry_point: Some("fs"),
+                    compilation_options: Default::default(),
+                    targets: &[Some(format.into())],
+                }),
+                primitive: wgpu::PrimitiveState::default(),
+                depth_stencil: None,
+                multisample: wgpu::MultisampleState::default(),
+                multiview_mask: None,
+                cache: None,
+            })
+        };
+        Blitter {
+            pipeline: pipeline(VIEW_FORMAT),
+            probe: pipeline(PROBE_FORMAT),
+            layout,
+        }
+    }
+
+    /// Whether the blit can show `format`: float-sampled colour, not depth.
+    fn check(format: wgpu::TextureFormat) -> Result<(), ViewportError> {
+        let showable = matches!(
+            format.sample_type(None, None),
+            Some(wgpu::TextureSampleType::Float { .. })
+        );
+        if !showable || format.is_depth_stencil_format() {
+            return Err(ViewportError::Format(format));
+        }
+        Ok(())
     }
 
     fn blit(
         &self,
         gpu: &GpuContext,
         src: &wgpu::Texture,
-        dst: &wgpu::TextureView,
+        dst: &wgpu::Texture,
+        how: BlitMode,
     ) -> Result<(), ViewportError> {
-        let showable = matches!(
-            src.format().sample_type(None, None),
-            Some(wgpu::TextureSampleType::Float { .. })
-        );
-        if !showable || src.format().is_depth_stencil_format() {
-            return Err(ViewportError::Format(src.format()));
-        }
-        // In an error scope: what wgpu refuses is this viewport's error, not a panic.
-        let commands = gpu
-            .scoped(|| {
-                // Its first layer and level as a plain 2D view, whatever it is (an
-                // image file's texture array, a mip chain): what the blit samples.
-                let view = src.create_view(&wgpu::TextureViewDescriptor {
-                    dimension: Some(wgpu::TextureViewDimension::D2),
-                    base_mip_level: 0,
-                    mip_level_count: Some(1),
-                    base_array_layer: 0,
-                    array_layer_count: Some(1),
-                    ..Default::default()
-                });
-                let bind = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-                    label: Some("viewport blit"),
-                    layout: &self.layout,
-                    entries: &[wgpu::BindGroupEntry {
-                        binding: 0,
-                        resource: wgpu::BindingResource::TextureView(&view),
-                    }],
-                });
-                let mut encoder = gpu.device.create_command_encoder(&Default::default());
-                {
-                    let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                        label: Some("viewport blit"),
-                        color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                            view: dst,
-                            depth_slice: None,
-                            resolve_target: None,
-                            ops: wgpu::Operations {
-                                load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
-                                store: wgpu::StoreOp::Store,
-                            },
-                        })],
-                        depth_stencil_attachment: None,
-                        timestamp_writes: None,
-                        occlusion_query_set: None,
-                        multiview_mask: None,
-                    });
-                    pass.set_pipeline(&self.pipeline);
-                    pass.set_bind_group(0, &bind, &[]);
-                    pass.draw(0..3, 0..1);
-                }
-                encoder.finish()
-            })
-            .map_err(ViewportError::Render)?;
+        let commands = self.encode(gpu, src, dst, how)?;
         // Through the renderer's gate like its own frames: a window's surface
         // may be configured on the UI thread meanwhile (`GpuContext::submit`).
         gpu.submit([commands]);
         Ok(())
+    }
+
+    /// The commands of a blit, to submit with others: each submission may
+    /// wait for the UI's next frame at the gate, so a frame's thumbnails
+    /// go in one.
+    fn encode(
+        &self,
+        gpu: &GpuContext,
+        src: &wgpu::Texture,
+        dst: &wgpu::Texture,
+        how: BlitMode,
+    ) -> Result<wgpu::CommandBuffer, ViewportError> {
+        use wgpu::util::DeviceExt;
+        Self::check(src.format())?;
+        let (dst_w, dst_h) = (dst.width().max(1), dst.height().max(1));
+        let (origin, scale, mode, taps, pipeline) = match how {
+            BlitMode::Fit => {
+                let scale = [
+                    src.width() as f32 / dst_w as f32,
+                    src.height() as f32 / dst_h as f32,
+                ];
+                // Up to 4x4 taps a pixel: enough that a thumbnail of a
+                // noisy frame does not shimmer, cheap at thumbnail sizes.
+                let taps = scale[0].max(scale[1]).ceil().clamp(1.0, 4.0) as u32;
+                let mode = u32::from(shows_as_data(src.format()));
+                ([0.0, 0.0], scale, mode, taps, &self.pipeline)
+            }
+            BlitMode::Probe(x, y) => ([x as f32, y as f32], [1.0, 1.0], 2, 1, &self.probe),
+        };
+        let mut params = [0u8; 32];
+        for (k, v) in origin.iter().chain(&scale).enumerate() {
+            params[k * 4..k * 4 + 4].copy_from_slice(&v.to_le_bytes());
+        }
+        params[16..20].copy_from_slice(&mode.to_le_bytes());
+        params[20..24].copy_from_slice(&taps.to_le_bytes());
+        // In an error scope: what wgpu refuses is this viewport's error, not a panic.
+        gpu.scoped(|| {
+            // Its first layer and level as a plain 2D view, whatever it is (an
+            // image file's texture array, a mip chain): what the blit samples.
+            let view = src.create_view(&wgpu::TextureViewDescriptor {
+                dimension: Some(wgpu::TextureViewDimension::D2),
+                base_mip_level: 0,
+                mip_level_count: Some(1),
+                base_array_layer: 0,
+                array_layer_count: Some(1),
+                ..Default::default()
+            });
+            let dst = dst.create_view(&Default::default());
+            let buffer = gpu
+                .device
+                .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some("viewport blit params"),
+                    contents: &params,
+                    usage: wgpu::BufferUsages::UNIFORM,
+                });
+            let bind = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("viewport blit"),
+                layout: &self.layout,
+                entries: &[
+                    wgpu::BindGroupEntry {
+                        binding: 0,
+                        resource: wgpu::BindingResource::TextureView(&view),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 1,
+                        resource: buffer.as_entire_binding(),
+                    },
+                ],
+            });
+            let mut encoder = gpu.device.create_command_encoder(&Default::default());
+            {
+                let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                    label: Some("viewport blit"),
+                    color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                        view: &dst,
+                        depth_slice: None,
+                        resolve_target: None,
+                        ops: wgpu::Operations {
+                            load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
+                            store: wgpu::StoreOp::Store,
+                        },
+                    })],
+                    depth_stencil_attachment: None,
+                    timestamp_writes: None,
+                    occlusion_query_set: None,
+                    multiview_mask: None,
+                });
+                pass.set_pipeline(pipeline);
+                pass.set_bind_group(0, &bind, &[]);
+                pass.draw(0..3, 0..1);
+            }
+            encoder.finish()
+        })
+        .map_err(ViewportError::Render)
+    }
+
+    /// The value of texel (x, y) of `src` as the shaders read it (linear,
+    /// unclamped): what a preview shows under the pointer. Waits for the GPU.
+    pub fn probe(
+        &self,
+        gpu: &GpuContext,
+        src: &wgpu::Texture,
+        (x, y): (u32, u32),
+    ) -> Result<[f32; 4], ViewportError> {
+        let texel = gpu.device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("preview probe"),
+            size: wgpu::Extent3d {
+                width: 1,
+                height: 1,
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: PROBE_FORMAT,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+            view_formats: &[],
+        });
+        self.blit(gpu, src, &texel, BlitMode::Probe(x, y))?;
+        spreadlight_render::readback::read_texture(gpu, &texel)
+            .map(|image| image.pixel(0, 0))
+            .map_err(|e| ViewportError::Render(e.to_string()))
     }
 }
 
@@ -175,6 +354,32 @@ pub struct ViewTarget {
     pub texture: wgpu::Texture,
     pub id: egui::TextureId,
 }
+
+/// Render `textures` at `size` with the shared renderer, in one frame graph
+/// (a recipe two of them share runs once). Returns the frame's report and
+/// the textures by name.
+pub fn render_frame(
+    renderer: &Arc<Renderer>,
+    textures: &[&TextureRef],
+    size: (u32, u32),
+) -> Result<RenderedFrame, ViewportError> {
+    let size = (size.0.max(1), size.1.max(1));
+    renderer.set_output_size(size);
+    let mut graph = FrameGraph::new(size);
+    for texture in textures {
+        texture.recipe.declare(renderer, &mut graph);
+        graph.request(&texture.name);
+    }
+    graph
+        .execute(renderer)
+        .map_err(|e| ViewportError::Render(e.to_string()))
+}
+
+/// A rendered frame: its report and its requested textures by name.
+pub type RenderedFrame = (
+    spreadlight_render::FrameReport,
+    std::collections::HashMap<String, wgpu::Texture>,
+);
 
 /// Render `texture` at `size` with the shared renderer and copy it into
 /// `target` (made or resized as needed). Returns the frame's report for the
@@ -187,28 +392,68 @@ pub fn render_into(
     size: (u32, u32),
     target: &mut Option<ViewTarget>,
 ) -> Result<spreadlight_render::FrameReport, ViewportError> {
-    let size = (size.0.max(1), size.1.max(1));
-    renderer.set_output_size(size);
-    let mut graph = FrameGraph::new(size);
-    texture.recipe.declare(renderer, &mut graph);
-    graph.request(&texture.name);
-    let (report, outputs) = graph
-        .execute(renderer)
-        .map_err(|e| ViewportError::Render(e.to_string()))?;
+    let (report, outputs) = render_frame(renderer, &[texture], size)?;
     let src = outputs
         .get(&texture.name)
         .ok_or_else(|| ViewportError::Missing(texture.name.clone()))?;
+    show_in(
+        render_state,
+        renderer,
+        blitter,
+        src,
+        (src.width(), src.height()),
+        target,
+    )?;
+    Ok(report)
+}
+
+/// Copy `src` into `target` at `size` in pixels (made, or remade at another
+/// size, and registered with egui as needed): one blit, scaled down when
+/// `size` is smaller (a thumbnail).
+pub fn show_in(
+    render_state: &egui_wgpu::RenderState,
+    renderer: &Renderer,
+    blitter: &Blitter,
+    src: &wgpu::Texture,
+    size: (u32, u32),
+    target: &mut Option<ViewTarget>,
+) -> Result<(), ViewportError> {
+    let mut commands = Vec::new();
+    show_in_batch(
+        render_state,
+        renderer,
+        blitter,
+        src,
+        size,
+        target,
+        &mut commands,
+    )?;
+    renderer.gpu.submit(commands);
+    Ok(())
+}
+
+/// [`show_in`], its blit's commands added to `batch` for the caller to submit.
+pub fn show_in_batch(
+    render_state: &egui_wgpu::RenderState,
+    renderer: &Renderer,
+    blitter: &Blitter,
+    src: &wgpu::Texture,
+    size: (u32, u32),
+    target: &mut Option<ViewTarget>,
+    batch: &mut Vec<wgpu::CommandBuffer>,
+) -> Result<(), ViewportError> {
+    Blitter::check(src.format())?;
+    let size = (size.0.max(1), size.1.max(1));
     let device = &render_state.device;
-    let src_size = (src.width(), src.height());
     let fits = target
         .as_ref()
-        .is_some_and(|t| (t.texture.width(), t.texture.height()) == src_size);
+        .is_some_and(|t| (t.texture.width(), t.texture.height()) == size);
     if !fits {
         let new = device.create_texture(&wgpu::TextureDescriptor {
             label: Some("viewport"),
             size: wgpu::Extent3d {
-                width: src_size.0,
-                height: src_size.1,
+                width: size.0,
+                height: size.1,
                 depth_or_array_layers: 1,
             },
             mip_level_count: 1,
@@ -242,7 +487,6 @@ pub fn render_into(
     let Some(t) = target.as_ref() else {
         return Err(ViewportError::NoTexture);
     };
-    let dst = t.texture.create_view(&Default::default());
-    blitter.blit(&renderer.gpu, src, &dst)?;
-    Ok(report)
+    batch.push(blitter.encode(&renderer.gpu, src, &t.texture, BlitMode::Fit)?);
+    Ok(())
 }

@@ -31,6 +31,8 @@ use spreadlight_nodes::input::HostInput;
 use spreadlight_nodes::media::midi_in::MidiLearn;
 use spreadlight_render::{Renderer, SubmissionGate, TextureRef};
 
+use crate::previews::engine::PreviewEngine;
+use crate::previews::{PreviewOuts, PreviewRequest};
 use crate::viewport::{self, Blitter, ViewTarget, ViewportError};
 
 /// How long a UI frame waits for the patch frame it asked for.
@@ -74,6 +76,8 @@ pub struct Request {
     pub clock: Option<FrameClock>,
     /// What the viewports show, when that changed.
     pub views: Option<Vec<ViewRequest>>,
+    /// The previews the canvas draws, when that changed (`previews`).
+    pub previews: Option<Vec<PreviewRequest>>,
 }
 
 impl Request {
@@ -84,6 +88,7 @@ impl Request {
             && self.patch.is_none()
             && self.clock.is_none()
             && self.views.is_none()
+            && self.previews.is_none()
     }
 
     /// Fold `newer` in: the newest of each part wins; a reset drops what came before it.
@@ -98,6 +103,7 @@ impl Request {
             patch,
             clock,
             views,
+            previews,
         } = newer;
         self.reset = reset.or(self.reset.take());
         self.registry = registry.or(self.registry.take());
@@ -105,6 +111,7 @@ impl Request {
         self.patch = patch.or(self.patch.take());
         self.clock = clock.or(self.clock.take());
         self.views = views.or(self.views.take());
+        self.previews = previews.or(self.previews.take());
     }
 }
 
@@ -129,6 +136,8 @@ pub struct Frame {
     /// Evaluations since the editor started.
     pub evaluations: u64,
     pub views: Vec<ViewOut>,
+    /// The previews asked for, as far as they are made.
+    pub previews: PreviewOuts,
     /// GPU milliseconds of the first viewport's passes, by the node that declared them.
     pub gpu_ms: HashMap<u32, f64>,
     /// Errors of the first viewport's passes, by node.
@@ -296,6 +305,11 @@ struct Engine {
     views: Vec<(Option<ViewRequest>, ViewOut, bool)>,
     gpu_ms: HashMap<u32, f64>,
     gpu_errors: HashMap<u32, String>,
+    previews: PreviewEngine,
+    /// The pins of the viewports after the first (the texture-pin viewport's).
+    viewed_pins: Vec<(Vec<NodeId>, String)>,
+    /// What the runtime was last asked to evaluate besides the sinks.
+    demanded: Vec<(Vec<NodeId>, String)>,
 }
 
 impl Engine {
@@ -316,6 +330,9 @@ impl Engine {
             views: Vec::new(),
             gpu_ms: HashMap::new(),
             gpu_errors: HashMap::new(),
+            previews: PreviewEngine::default(),
+            viewed_pins: Vec::new(),
+            demanded: Vec::new(),
         };
         engine.reset(engine.registry.clone());
         engine
@@ -332,6 +349,8 @@ impl Engine {
         }
         self.generation = None;
         self.clock = FrameClock::default();
+        // A fresh runtime evaluates only its sinks until told again.
+        self.demanded.clear();
     }
 
     fn serve(&mut self, shared: &Shared) {
@@ -364,6 +383,7 @@ impl Engine {
                 clock: self.clock,
                 evaluations: self.evaluations,
                 views: self.views.iter().map(|(_, out, _)| out.clone()).collect(),
+                previews: self.previews.outputs(),
                 gpu_ms: self.gpu_ms.clone(),
                 gpu_errors: self.gpu_errors.clone(),
                 seconds: started.elapsed().as_secs_f64(),
@@ -402,6 +422,28 @@ impl Engine {
             self.clock = clock;
             evaluate = true;
         }
+        if let Some(previews) = request.previews {
+            self.previews.set_requests(previews);
+        }
+        if let Some(views) = &request.views {
+            self.viewed_pins = views
+                .iter()
+                .skip(1)
+                .filter_map(|v| v.texture.as_ref().ok())
+                .map(|(node, pin)| (vec![*node], pin.clone()))
+                .collect();
+        }
+        // A preview of a pin that feeds no sink, or the texture-pin viewport's
+        // pin, evaluates its branch; `render` and `play` never ask for this.
+        let mut demand = self.previews.pins();
+        demand.extend(self.viewed_pins.iter().cloned());
+        demand.sort();
+        demand.dedup();
+        if demand != self.demanded {
+            self.runtime.demand_also(demand.clone());
+            self.demanded = demand;
+            evaluate |= self.generation.is_some();
+        }
         if evaluate {
             self.runtime.evaluate(self.clock);
             self.evaluations += 1;
@@ -418,10 +460,18 @@ impl Engine {
                 }
             }
         }
+        if self.previews.is_due() && !self.views.is_empty() {
+            // The previews render in the first viewport's frame.
+            self.views[0].2 = true;
+        }
         for k in 0..self.views.len() {
             if std::mem::take(&mut self.views[k].2) {
                 self.render_view(k);
             }
+        }
+        if let Some(gpu) = &self.gpu {
+            self.previews.probe_again(&gpu.renderer, &gpu.blitter);
+            self.previews.free_stale(&gpu.state);
         }
     }
 
@@ -432,7 +482,7 @@ impl Engine {
         let needed = network
             .index_at(&[node])
             .or_else(|| network.instance_output(&[node], &pin))
-            .is_some_and(|i| network.is_needed(i));
+            .is_some_and(|i| self.runtime.is_demanded(i));
         if !needed {
             return Err(ViewportError::NotEvaluated(format!("{node}.{pin}")));
         }
@@ -455,16 +505,50 @@ impl Engine {
         };
         let texture = self.texture(&want);
         let out = &mut self.views[k].1;
-        let result = texture.and_then(|t| {
-            viewport::render_into(
-                &gpu.state,
-                &gpu.renderer,
-                &gpu.blitter,
-                &t,
-                want.size,
-                &mut out.target,
-            )
-        });
+        let result = if k == 0 && !self.previews.is_empty() {
+            // The first viewport's frame graph renders the previews too: a
+            // pass both need runs once, and one the viewport needs anyway
+            // costs a preview nothing but its scaling.
+            let main = texture.as_ref().ok();
+            let size = if want.size.0 < 16 || want.size.1 < 16 {
+                (640, 360)
+            } else {
+                want.size
+            };
+            let frame = self
+                .previews
+                .render(&self.runtime, gpu, main, size, self.clock.time);
+            match (texture, frame) {
+                (Err(e), _) => Err(e),
+                (Ok(_), None) => Err(ViewportError::NoTexture),
+                (Ok(_), Some(Err(e))) => Err(e),
+                (Ok(t), Some(Ok((report, outputs)))) => outputs
+                    .get(&t.name)
+                    .ok_or_else(|| ViewportError::Missing(t.name.clone()))
+                    .and_then(|src| {
+                        viewport::show_in(
+                            &gpu.state,
+                            &gpu.renderer,
+                            &gpu.blitter,
+                            src,
+                            (src.width(), src.height()),
+                            &mut out.target,
+                        )
+                    })
+                    .map(|()| report),
+            }
+        } else {
+            texture.and_then(|t| {
+                viewport::render_into(
+                    &gpu.state,
+                    &gpu.renderer,
+                    &gpu.blitter,
+                    &t,
+                    want.size,
+                    &mut out.target,
+                )
+            })
+        };
         out.for_size = Some(want.size);
         match result {
             Ok(report) => {

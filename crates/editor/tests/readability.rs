@@ -156,7 +156,17 @@ fn nodes_are_as_narrow_as_their_title_and_pins_need() {
         let outputs = widest(def.outputs.iter().map(|p| &*p.name).collect());
         // The title is drawn strong; allow a tenth more for it.
         let title = width_of(&node.type_name) * 1.1;
-        let need = title.max(inputs + EDITOR_ALLOWANCE + outputs) + FRAME_ALLOWANCE;
+        // A texture output's thumbnail sits between the inputs and the outputs.
+        let thumbnail = if def
+            .outputs
+            .iter()
+            .any(|p| spreadlight_editor::previews::has_thumbnail(p.ty))
+        {
+            spreadlight_editor::previews::THUMB_POINTS + 8.0
+        } else {
+            0.0
+        };
+        let need = title.max(inputs + EDITOR_ALLOWANCE + thumbnail + outputs) + FRAME_ALLOWANCE;
         let width = rect.width() / zoom;
         assert!(
             width <= need,

@@ -218,3 +218,258 @@ fn a_texture_shows_in_the_viewport_as_its_file_has_it() {
         }
     }
 }
+
+/// A patch of a FileTexture (node 1) showing `file`, with its sRGB switch,
+/// and, with `output`, an Output (node 2) it feeds.
+fn file_texture_patch(file: &str, srgb: bool, output: bool) -> spreadlight_graph::Patch {
+    use spreadlight_graph::{NodeDoc, Patch};
+    let mut p = Patch::default();
+    p.add(
+        NodeDoc::new(1, "FileTexture")
+            .with("Filename", vec![file.to_owned()])
+            .with("sRGB", vec![srgb]),
+    );
+    if output {
+        p.add(
+            NodeDoc::new(2, "Output")
+                .at(160.0, 0.0)
+                .with("Write", vec![false]),
+        );
+        p.link(1, "Texture", 2, "Texture");
+    }
+    p
+}
+
+/// The editor on `patch`, saved in `dir`, run until it settles.
+fn editor_on(
+    patch: &spreadlight_graph::Patch,
+    dir: &tempfile::TempDir,
+    size: Vec2,
+) -> Harness<'static, EditorApp> {
+    let path = dir.path().join("patch.ron");
+    spreadlight_graph::format::save(patch, &path).expect("save");
+    let options = common::options(Some(path), dir.path().join("config"));
+    let mut h = common::editor(options, size);
+    h.run_steps(6);
+    h
+}
+
+fn thumb_key(node: u32) -> spreadlight_editor::previews::PreviewKey {
+    spreadlight_editor::previews::PreviewKey {
+        path: vec![spreadlight_graph::NodeId(node)],
+        pin: "Texture".to_owned(),
+        channel: None,
+        large: false,
+    }
+}
+
+/// The window's pixel at a fraction (`fx`, `fy`) across a rectangle in points.
+fn pixel_in(image: &image::RgbaImage, rect: egui::Rect, ppp: f32, fx: f32, fy: f32) -> [u8; 3] {
+    let p = rect.lerp_inside(Vec2::new(fx, fy)) * ppp;
+    let c = image.get_pixel(p.x as u32, p.y as u32);
+    [c[0], c[1], c[2]]
+}
+
+fn assert_grey(seen: [u8; 3], grey: u8, what: &str) {
+    for c in seen {
+        assert!(
+            (i32::from(c) - i32::from(grey)).abs() <= 4,
+            "{what}: expected grey {grey}, the window shows {seen:?}"
+        );
+    }
+}
+
+/// A two-tone PNG: the left half `left`, the right half `right` (sRGB bytes).
+fn two_tone(dir: &tempfile::TempDir, left: u8, right: u8) {
+    image::RgbaImage::from_fn(64, 36, |x, _| {
+        let g = if x < 32 { left } else { right };
+        image::Rgba([g, g, g, 255])
+    })
+    .save(dir.path().join("two.png"))
+    .expect("png");
+}
+
+#[test]
+fn a_thumbnail_shows_the_texture_it_previews_and_the_value_under_the_pointer() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    two_tone(&dir, 40, 200);
+    let p = file_texture_patch("two.png", true, true);
+    let mut h = editor_on(&p, &dir, Vec2::new(1100.0, 700.0));
+    assert!(h.state().thumbnails(), "thumbnails are on by default");
+    let rect = h
+        .state()
+        .thumbnail_rect(&thumb_key(1))
+        .expect("the FileTexture's thumbnail is drawn");
+    let out = h
+        .state()
+        .preview(&thumb_key(1))
+        .expect("the worker made it");
+    assert_eq!(out.error, None);
+    let (size, _) = out.source.expect("the texture's size and format");
+    assert_eq!(size, (64, 36));
+    let ppp = h.ctx.pixels_per_point();
+    let image = h.render().expect("render the window");
+    // Each half at its file's value, as the texture holds it.
+    assert_grey(pixel_in(&image, rect, ppp, 0.25, 0.5), 40, "left half");
+    assert_grey(pixel_in(&image, rect, ppp, 0.75, 0.5), 200, "right half");
+    // Hovering it probes the texel under the pointer: linear, as shaders read it.
+    h.event(egui::Event::PointerMoved(
+        rect.lerp_inside(Vec2::new(0.8, 0.5)),
+    ));
+    h.run_steps(3);
+    let (texel, value) = h
+        .state()
+        .preview(&thumb_key(1))
+        .and_then(|o| o.value)
+        .expect("a probed value");
+    assert_eq!(texel, (51, 18));
+    let linear = spreadlight_render::readback::srgb_to_linear(200.0 / 255.0);
+    assert!(
+        (value[0] - linear).abs() < 0.01,
+        "{value:?} against {linear}"
+    );
+    // Ctrl+T takes every thumbnail away; nothing is asked for then.
+    h.state_mut().set_thumbnails(false);
+    h.run_steps(3);
+    assert!(h.state().preview_requests().is_empty());
+    assert!(h.state().thumbnail_rect(&thumb_key(1)).is_none());
+}
+
+#[test]
+fn a_preview_of_an_unsunk_branch_evaluates_it_and_render_still_does_not() {
+    use spreadlight_graph::stats::NodeRun;
+    let dir = tempfile::tempdir().expect("tempdir");
+    two_tone(&dir, 90, 90);
+    // The FileTexture feeds nothing: no sink needs it.
+    let p = file_texture_patch("two.png", true, false);
+    let mut h = editor_on(&p, &dir, Vec2::new(1100.0, 700.0));
+    let node = spreadlight_graph::NodeId(1);
+    assert_eq!(
+        h.state().runtime().stats().node(node).map(|n| n.run),
+        Some(NodeRun::Evaluated),
+        "its thumbnail demanded it"
+    );
+    let rect = h.state().thumbnail_rect(&thumb_key(1)).expect("drawn");
+    assert_eq!(
+        h.state()
+            .preview(&thumb_key(1))
+            .and_then(|o| o.error.clone()),
+        None
+    );
+    let ppp = h.ctx.pixels_per_point();
+    let image = h.render().expect("render the window");
+    assert_grey(
+        pixel_in(&image, rect, ppp, 0.5, 0.5),
+        90,
+        "the unsunk texture",
+    );
+    // `render` evaluates with the patch's own demand: the branch stays skipped.
+    let mut runtime = spreadlight_graph::Runtime::new(spreadlight_editor::nodes::registry());
+    runtime.provide(std::sync::Arc::new(spreadlight_graph::PatchDir(
+        dir.path().to_owned(),
+    )));
+    runtime.load(&p);
+    let stats = runtime.evaluate(spreadlight_graph::FrameClock::default());
+    assert_eq!(stats.node(node).map(|n| n.run), Some(NodeRun::Skipped));
+}
+
+#[test]
+fn a_linear_texture_shows_at_its_true_value() {
+    // Data (sRGB off: a normal map, a mask) shows as stored, 128 as 128, as
+    // image viewers show it; it showed sRGB-encoded, 128 as 188.
+    for grey in [64u8, 128, 200] {
+        let dir = tempfile::tempdir().expect("tempdir");
+        two_tone(&dir, grey, grey);
+        let p = file_texture_patch("two.png", false, true);
+        let mut h = editor_on(&p, &dir, Vec2::new(1100.0, 700.0));
+        assert_eq!(h.state().viewport_error(0), None);
+        let view = h.state().viewport_rect(0).expect("the viewport was drawn");
+        let thumb = h.state().thumbnail_rect(&thumb_key(1)).expect("drawn");
+        let ppp = h.ctx.pixels_per_point();
+        let image = h.render().expect("render the window");
+        assert_grey(pixel_in(&image, view, ppp, 0.5, 0.5), grey, "viewport");
+        assert_grey(pixel_in(&image, thumb, ppp, 0.5, 0.5), grey, "thumbnail");
+    }
+    // A float file holds linear light: 0.5 shows sRGB-encoded (188), not cut
+    // to 8 bits and taken as encoded (0.5 showed as 128, darker than it is).
+    let dir = tempfile::tempdir().expect("tempdir");
+    image::Rgb32FImage::from_pixel(16, 16, image::Rgb([0.5, 0.5, 0.5]))
+        .save(dir.path().join("half.hdr"))
+        .expect("hdr");
+    let p = file_texture_patch("half.hdr", true, true);
+    let mut h = editor_on(&p, &dir, Vec2::new(1100.0, 700.0));
+    assert_eq!(h.state().viewport_error(0), None);
+    let view = h.state().viewport_rect(0).expect("drawn");
+    let ppp = h.ctx.pixels_per_point();
+    let image = h.render().expect("render the window");
+    assert_grey(pixel_in(&image, view, ppp, 0.5, 0.5), 188, "linear 0.5");
+}
+
+#[test]
+fn off_screen_thumbnails_are_not_requested() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    two_tone(&dir, 90, 90);
+    let mut p = file_texture_patch("two.png", true, false);
+    // Far beyond the window at the readable zoom the patch opens at.
+    p.add(
+        spreadlight_graph::NodeDoc::new(3, "FileTexture")
+            .at(3000.0, 3000.0)
+            .with("Filename", vec!["two.png".to_owned()]),
+    );
+    let h = editor_on(&p, &dir, Vec2::new(900.0, 600.0));
+    let asked: Vec<_> = h
+        .state()
+        .preview_requests()
+        .iter()
+        .map(|r| r.key.path.clone())
+        .collect();
+    assert!(
+        asked.contains(&vec![spreadlight_graph::NodeId(1)]),
+        "{asked:?}"
+    );
+    assert!(
+        !asked.contains(&vec![spreadlight_graph::NodeId(3)]),
+        "an off-screen node asks for nothing: {asked:?}"
+    );
+    assert!(h.state().thumbnail_rect(&thumb_key(3)).is_none());
+    assert!(
+        h.state().preview(&thumb_key(3)).is_none(),
+        "nor does the worker make it"
+    );
+}
+
+#[test]
+fn a_g_buffer_output_shows_a_channel_as_its_thumbnail() {
+    use spreadlight_editor::previews::{ChannelName, PreviewKey};
+    let dir = tempfile::tempdir().expect("tempdir");
+    let mut h = harness(&dir);
+    // The showcase's MRE (node 15): its G-buffer's albedo, at the viewport's size.
+    let key = PreviewKey {
+        path: vec![spreadlight_graph::NodeId(15)],
+        pin: "G-Buffer".to_owned(),
+        channel: Some(ChannelName(0)),
+        large: false,
+    };
+    let rect = h
+        .state()
+        .thumbnail_rect(&key)
+        .expect("the MRE's thumbnail is drawn");
+    let out = h.state().preview(&key).expect("the worker made it");
+    assert_eq!(out.error, None);
+    let (size, _) = out.source.expect("its size");
+    assert_eq!(
+        Some(size),
+        h.state().viewport_pixels(0),
+        "rendered in the viewport's frame"
+    );
+    let image = h.render().expect("render the window");
+    assert!(
+        distinct_colours(&image, rect, h.ctx.pixels_per_point()) > 2,
+        "the albedo of the scene, not a blank"
+    );
+    // `SPREADLIGHT_DOC_PICTURES=1` refreshes docs/editor.md's picture of previews.
+    if std::env::var_os("SPREADLIGHT_DOC_PICTURES").is_some() {
+        let docs = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../docs/editor-previews.png");
+        image.save(docs).expect("write docs/editor-previews.png");
+    }
+}

@@ -153,6 +153,24 @@ impl Network {
         self.needed[index]
     }
 
+    /// Demand with `also` (node indices) demanded besides the sinks: what a
+    /// host that looks at a node (the editor's previews) must evaluate. The
+    /// network's own demand, the one `render` and `play` run, is unchanged.
+    pub fn needed_with(&self, also: &[usize]) -> Vec<bool> {
+        let mut needed = self.needed.clone();
+        let mut grew = false;
+        for &i in also {
+            if let Some(n) = needed.get_mut(i) {
+                grew |= !*n;
+                *n = true;
+            }
+        }
+        if grew {
+            spread_demand(&self.nodes, &mut needed);
+        }
+        needed
+    }
+
     pub fn problems(&self) -> &[Problem] {
         &self.problems
     }
@@ -675,6 +693,12 @@ fn needed_nodes(nodes: &[NetworkNode]) -> Vec<bool> {
         .iter()
         .map(|n| n.def.as_ref().is_some_and(|d| d.sink))
         .collect();
+    spread_demand(nodes, &mut needed);
+    needed
+}
+
+/// Everything that feeds a needed node is needed too.
+fn spread_demand(nodes: &[NetworkNode], needed: &mut [bool]) {
     for i in (0..nodes.len()).rev() {
         if !needed[i] {
             continue;
@@ -685,5 +709,4 @@ fn needed_nodes(nodes: &[NetworkNode]) -> Vec<bool> {
             }
         }
     }
-    needed
 }

@@ -50,6 +50,10 @@ pub struct Runtime {
     library: Option<Library>,
     /// Whether the host chose the library (otherwise it follows the [`PatchDir`] service).
     library_set: bool,
+    /// Output pins the host looks at besides the sinks ([`Runtime::demand_also`]), by path.
+    also: Vec<(Vec<NodeId>, String)>,
+    /// What runs: the network's demand with `also`'s nodes and what feeds them.
+    demand: Vec<bool>,
 }
 
 impl Runtime {
@@ -64,7 +68,39 @@ impl Runtime {
             services: Services::default(),
             library: None,
             library_set: false,
+            also: Vec::new(),
+            demand: Vec::new(),
         }
+    }
+
+    /// Evaluate these output pins (a node's path and pin name) too, and what
+    /// feeds them, though no sink needs them: the editor previews a branch
+    /// this way. Without it (as `render` and `play` run) only what feeds a
+    /// sink is evaluated. Kept across loads; an empty list drops it.
+    pub fn demand_also(&mut self, pins: Vec<(Vec<NodeId>, String)>) {
+        if pins != self.also {
+            self.also = pins;
+            self.demand = self.demand_of(&self.network);
+        }
+    }
+
+    fn demand_of(&self, network: &Network) -> Vec<bool> {
+        let also: Vec<usize> = self
+            .also
+            .iter()
+            .filter_map(|(path, pin)| {
+                network
+                    .index_at(path)
+                    .or_else(|| network.instance_output(path, pin))
+            })
+            .collect();
+        network.needed_with(&also)
+    }
+
+    /// Whether node `index` of the network runs: it feeds a sink or a pin
+    /// demanded with [`Runtime::demand_also`].
+    pub fn is_demanded(&self, index: usize) -> bool {
+        self.demand.get(index).copied().unwrap_or(false)
     }
 
     /// Where subpatch files come from. Without this, a runtime uses
@@ -181,6 +217,7 @@ impl Runtime {
             })
             .collect();
         self.states = states;
+        self.demand = self.demand_of(&network);
         self.network = Arc::new(network);
         self.network.problems()
     }
@@ -211,7 +248,7 @@ impl Runtime {
             let stat = &mut stats.nodes[i];
             stat.cpu_ns = 0;
             let def = match &node.def {
-                Some(def) if self.network.is_needed(i) => def,
+                Some(def) if self.demand[i] => def,
                 _ => {
                     stat.run = NodeRun::Skipped;
                     stats.skipped += 1;

@@ -185,6 +185,56 @@ fn a_disconnected_chain_is_never_evaluated() {
 }
 
 #[test]
+fn a_pin_demanded_by_the_host_evaluates_its_branch_and_only_there() {
+    // The editor's previews: a branch that feeds no sink runs for the host
+    // that looks at it; a runtime without that demand (`render`) still skips it.
+    let mut p = Patch::default();
+    p.add(NodeDoc::new(1, "Const"));
+    p.add(sink(2, "out"));
+    p.link(1, "Output", 2, "Input");
+    p.add(NodeDoc::new(10, "Const").with("Value", vec![4.0f32]));
+    p.add(NodeDoc::new(11, "Add").with("B", vec![1.0f32]));
+    p.add(NodeDoc::new(12, "Add"));
+    p.link(10, "Output", 11, "A");
+    p.link(11, "Output", 12, "A");
+    let mut plain = Runtime::new(registry());
+    let mut looked_at = Runtime::new(registry());
+    assert!(plain.load(&p).is_empty());
+    assert!(looked_at.load(&p).is_empty());
+    looked_at.demand_also(vec![(vec![NodeId(11)], "Output".to_owned())]);
+    let plain_frames = run_frames(&mut plain, 2);
+    let frames = run_frames(&mut looked_at, 2);
+    for id in [10, 11] {
+        assert_eq!(
+            count(&frames, id, NodeRun::Evaluated),
+            1,
+            "node {id} ran once"
+        );
+        assert_eq!(count(&plain_frames, id, NodeRun::Skipped), 2, "node {id}");
+    }
+    assert_eq!(
+        count(&frames, 12, NodeRun::Skipped),
+        2,
+        "downstream of the pin: not demanded"
+    );
+    let index = looked_at.network().index_of(NodeId(11)).expect("node 11");
+    assert!(looked_at.is_demanded(index) && !plain.is_demanded(index));
+    assert!(
+        !looked_at.network().is_needed(index),
+        "the network's own demand is unchanged"
+    );
+    let value = looked_at.output(NodeId(11), "Output").expect("evaluated");
+    assert_eq!(**value, Spread::Float(vec![5.0]));
+    // Demand survives a reload and goes with an empty list.
+    assert!(looked_at.load(&p).is_empty());
+    assert!(looked_at.is_demanded(index));
+    looked_at.demand_also(Vec::new());
+    let frames = run_frames(&mut looked_at, 1);
+    assert_eq!(count(&frames, 11, NodeRun::Skipped), 1);
+    assert_eq!(probe(&looked_at, "out"), Spread::Float(vec![1.0]));
+}
+
+#[test]
 fn an_unchanged_subgraph_is_evaluated_once_over_ten_frames() {
     let mut p = Patch::default();
     p.add(NodeDoc::new(1, "Const").with("Value", vec![2.0f32, 3.0]));

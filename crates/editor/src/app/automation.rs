@@ -85,7 +85,7 @@ impl EditorApp {
             let rect = self.viewport_rects[0]
                 .map(|r| [r.min.x * ppp, r.min.y * ppp, r.max.x * ppp, r.max.y * ppp]);
             println!(
-                "{{\"frames\": {}, \"nodes\": {}, \"ui_ms_median\": {:.3}, \"ui_ms_p95\": {:.3}, \"frame_ms_median\": {:.3}, \"frame_ms_p95\": {:.3}, \"eframe_cpu_ms_median\": {:.3}, \"patch_frames\": {}, \"patch_ms_median\": {:.3}, \"viewport_px\": {}, \"viewport_error\": {:?}, \"canvas_zoom\": {:.3}, \"canvas_text_px\": {:.2}, \"recovery_offered\": {}, \"recovery_module_files\": {}, \"nodes_laid_out\": {}}}",
+                "{{\"frames\": {}, \"nodes\": {}, \"ui_ms_median\": {:.3}, \"ui_ms_p95\": {:.3}, \"frame_ms_median\": {:.3}, \"frame_ms_p95\": {:.3}, \"eframe_cpu_ms_median\": {:.3}, \"patch_frames\": {}, \"patch_ms_median\": {:.3}, \"viewport_px\": {}, \"viewport_error\": {:?}, \"canvas_zoom\": {:.3}, \"canvas_text_px\": {:.2}, \"recovery_offered\": {}, \"recovery_module_files\": {}, \"nodes_laid_out\": {}, \"thumbnails\": {}}}",
                 a.frames,
                 nodes,
                 ui_med * 1e3,
@@ -105,6 +105,8 @@ impl EditorApp {
                 recovery_offered,
                 recovery_modules,
                 self.culling.laid_out,
+                // Thumbnails drawn on screen (each asks for its preview).
+                self.previews.sent.iter().filter(|r| !r.key.large).count(),
             );
             self.allow_close = true;
             ctx.send_viewport_cmd(ViewportCommand::Close);

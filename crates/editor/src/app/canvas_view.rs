@@ -111,6 +111,8 @@ impl EditorApp {
             None => None,
         };
         let mut node_rects = Vec::new();
+        self.previews
+            .begin(self.frame.previews.clone(), self.path.as_deref());
         let response = {
             let mut viewer = Canvas {
                 doc: &mut self.doc,
@@ -128,6 +130,7 @@ impl EditorApp {
                 now,
                 instance: &self.instance,
                 culling: &mut self.culling,
+                previews: &mut self.previews,
             };
             canvas::compact_spacing(ui);
             SnarlWidget::new()
@@ -225,6 +228,26 @@ impl EditorApp {
                 .show(ui.ctx(), |ui| {
                     egui::Frame::popup(ui.style()).show(ui, |ui| {
                         ui.label(format!("{} → {}\n{value}", link.from, link.to));
+                        // What flows through a texture, G-buffer or mesh wire: its preview.
+                        let ty = self
+                            .doc
+                            .patch()
+                            .node(link.from.node())
+                            .and_then(|n| self.registry.get(&n.type_name))
+                            .and_then(|d| d.outputs.iter().find(|p| *p.name == *link.from.pin()))
+                            .map(|p| p.ty)
+                            .filter(|ty| crate::previews::previewable(*ty));
+                        if let Some(ty) = ty {
+                            let mut from = self.instance.clone();
+                            from.push(link.from.node());
+                            crate::previews::draw::large(
+                                ui,
+                                &mut self.previews,
+                                &from,
+                                link.from.pin(),
+                                ty,
+                            );
+                        }
                     });
                 });
         }

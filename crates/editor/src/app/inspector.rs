@@ -21,6 +21,7 @@ impl EditorApp {
             return;
         };
         ui.weak(&*def.help);
+        self.inspector_thumbnail(ui, id, &def);
         let mut at = self.instance.clone();
         at.push(id);
         if let Some(e) = self.frame.runtime.node_error_at(&at) {

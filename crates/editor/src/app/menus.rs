@@ -88,6 +88,7 @@ impl EditorApp {
         if ctx.input_mut(|i| i.consume_key(Modifiers::NONE, Key::F)) {
             self.fit = FIT_FROM_SCRATCH;
         }
+        self.preview_shortcuts(ctx);
     }
 
     pub(super) fn menu_bar(&mut self, ui: &mut Ui) {
@@ -197,6 +198,7 @@ impl EditorApp {
             }
             ui.toggle_value(&mut self.show_timings, "⏱ Timings")
                 .on_hover_text("CPU time per node, GPU time per render node");
+            self.previews_toolbar(ui);
             ui.separator();
             let open = self.show_window.is_some();
             if ui

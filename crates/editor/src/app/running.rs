@@ -74,6 +74,7 @@ impl EditorApp {
             request.views = Some(views.clone());
             self.sent_views = views;
         }
+        request.previews = self.previews.take_request();
         if !request.is_empty() {
             let seq = self.worker.submit(request);
             let wait = match self.options.frame_wait {
