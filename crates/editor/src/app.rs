@@ -21,6 +21,7 @@ mod document;
 mod host_input;
 mod inspector;
 mod menus;
+mod organise;
 mod queries;
 mod running;
 mod show;
@@ -111,6 +112,8 @@ struct BrowserState {
     query: String,
     highlighted: usize,
     focus: bool,
+    /// A dropped wire or a double-clicked link the new node is linked into.
+    link: Option<crate::organise::gestures::BrowserLink>,
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -252,6 +255,8 @@ pub struct EditorApp {
     show_image_rect: Option<egui::Rect>,
     /// `play --native`: the window takes the texture's size (`show.rs`).
     play_native: bool,
+    /// Comments, frames, find, the legend and the gestures (`organise.rs`).
+    organise: organise::OrganiseUi,
 }
 
 impl EditorApp {
@@ -381,6 +386,7 @@ impl EditorApp {
             show_input: None,
             show_image_rect: None,
             play_native: false,
+            organise: Default::default(),
         };
         match options.path {
             // `spreadlight edit new.ron` starts that patch, as text editors do.
@@ -533,6 +539,7 @@ impl EditorApp {
             });
         egui::CentralPanel::default().show(ui, |ui| self.canvas(ui));
         self.node_browser(&ctx);
+        self.organise_windows(&ctx);
         self.dialogs(&ctx);
         self.show_window_ui(&ctx);
 
