@@ -22,9 +22,9 @@ mod sync;
 mod wires;
 
 pub use crate::zoom::{READABLE_ZOOM, fit_view, zoom_around};
-pub use style::{PinKey, PinPositions, compact_spacing, style};
 use style::RecordedPin;
 pub use style::pin_color;
+pub use style::{PinKey, PinPositions, compact_spacing, style};
 pub use sync::{CanvasNode, SCALE, moved_nodes, sync};
 pub use wires::wire_under;
 

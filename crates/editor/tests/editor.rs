@@ -1264,9 +1264,16 @@ fn dragging_a_frame_title_moves_its_nodes() {
     let patch = h.state().doc().patch().clone();
     let lfo = patch.node(NodeId(1)).expect("node").pos;
     let probe = patch.node(NodeId(2)).expect("node").pos;
-    assert!(lfo.0 > 20.0 && lfo.1 > 20.0, "the LFO inside moved: {lfo:?}");
+    assert!(
+        lfo.0 > 20.0 && lfo.1 > 20.0,
+        "the LFO inside moved: {lfo:?}"
+    );
     let d = (lfo.0 - 20.0, lfo.1 - 20.0);
-    assert_eq!(patch.frames[0].pos, (10.0 + d.0, 5.0 + d.1), "with its frame");
+    assert_eq!(
+        patch.frames[0].pos,
+        (10.0 + d.0, 5.0 + d.1),
+        "with its frame"
+    );
     assert_eq!(probe, (120.0, 20.0), "the Probe outside stays");
     assert_eq!(h.state().doc().undo_label(), Some("move frame"));
     cmd(&h, Key::Z);

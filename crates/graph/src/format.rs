@@ -178,8 +178,12 @@ mod tests {
         use crate::organise::{CommentDoc, FrameDoc};
         let mut p = sample();
         p.version = 1;
-        assert_eq!(to_string(&p).expect("encode").lines().nth(1), Some("    version: 1,"));
-        p.comments.push(CommentDoc::new(0.0, -40.0, "# Phase\n- **LFO** drives it"));
+        assert_eq!(
+            to_string(&p).expect("encode").lines().nth(1),
+            Some("    version: 1,")
+        );
+        p.comments
+            .push(CommentDoc::new(0.0, -40.0, "# Phase\n- **LFO** drives it"));
         let mut frame = FrameDoc::new("Source", (-10.0, -10.0), (80.0, 60.0));
         frame.color = (120, 60, 40);
         p.frames.push(frame);
@@ -192,8 +196,11 @@ mod tests {
         assert!(back.nodes[1].bypass && !back.nodes[0].bypass);
         assert_eq!(to_string(&back).expect("encode"), text);
         // A file without them (an older one) loads with none.
-        let old = from_str("(version: 2, nodes: [(id: 1, type: \"LFO\")])", Path::new("old.ron"))
-            .expect("decode");
+        let old = from_str(
+            "(version: 2, nodes: [(id: 1, type: \"LFO\")])",
+            Path::new("old.ron"),
+        )
+        .expect("decode");
         assert!(old.comments.is_empty() && old.frames.is_empty() && !old.nodes[0].bypass);
     }
 

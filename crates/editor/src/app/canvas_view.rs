@@ -376,7 +376,13 @@ impl EditorApp {
         if let Some(name) = place {
             let at = b.at;
             let link = b.link.clone();
-            match super::organise::place_node(&mut self.doc, &self.registry, name, at, link.as_ref()) {
+            match super::organise::place_node(
+                &mut self.doc,
+                &self.registry,
+                name,
+                at,
+                link.as_ref(),
+            ) {
                 Ok(id) => self.selected = [id].into_iter().collect(),
                 Err(e) => self.status = format!("{name} was not put into the link: {e}"),
             }

@@ -184,7 +184,11 @@ impl EditorApp {
                 self.doc.toggle_bypass(&ids);
             }
             ui.separator();
-            if ui.button("Layout").on_hover_text("L: the selection, or the whole patch").clicked() {
+            if ui
+                .button("Layout")
+                .on_hover_text("L: the selection, or the whole patch")
+                .clicked()
+            {
                 self.layout_selection_or_all();
             }
             if ui
@@ -453,7 +457,10 @@ impl EditorApp {
                 .open(&mut open)
                 .resizable(false)
                 .collapsible(false)
-                .default_pos(self.canvas_rect.map_or(Pos2::ZERO, |r| r.left_bottom() - egui::vec2(-10.0, 230.0)))
+                .default_pos(
+                    self.canvas_rect
+                        .map_or(Pos2::ZERO, |r| r.left_bottom() - egui::vec2(-10.0, 230.0)),
+                )
                 .show(ctx, crate::organise::legend::show);
             self.organise.legend = open;
         }
@@ -472,14 +479,24 @@ impl EditorApp {
                 i.key_pressed(Key::ArrowUp),
                 i.key_pressed(Key::Enter),
                 i.raw.events.iter().any(|e| {
-                    matches!(e, egui::Event::Key { key: Key::Escape, pressed: true, .. })
+                    matches!(
+                        e,
+                        egui::Event::Key {
+                            key: Key::Escape,
+                            pressed: true,
+                            ..
+                        }
+                    )
                 }),
             )
         });
         egui::Window::new("Find in patch")
             .collapsible(false)
             .resizable(false)
-            .default_pos(self.canvas_rect.map_or(Pos2::ZERO, |r| r.right_top() + egui::vec2(-300.0, 10.0)))
+            .default_pos(
+                self.canvas_rect
+                    .map_or(Pos2::ZERO, |r| r.right_top() + egui::vec2(-300.0, 10.0)),
+            )
             .show(ctx, |ui| {
                 ui.set_width(260.0);
                 let edit = ui.add(
@@ -511,14 +528,19 @@ impl EditorApp {
                 if !state.query.trim().is_empty() {
                     ui.weak(format!("{} found", hits.len()));
                 }
-                egui::ScrollArea::vertical().max_height(240.0).show(ui, |ui| {
-                    for (i, hit) in hits.iter().enumerate() {
-                        if ui.selectable_label(i == state.highlighted, &hit.text).clicked() {
-                            state.highlighted = i;
-                            jump = Some(hit.target);
+                egui::ScrollArea::vertical()
+                    .max_height(240.0)
+                    .show(ui, |ui| {
+                        for (i, hit) in hits.iter().enumerate() {
+                            if ui
+                                .selectable_label(i == state.highlighted, &hit.text)
+                                .clicked()
+                            {
+                                state.highlighted = i;
+                                jump = Some(hit.target);
+                            }
                         }
-                    }
-                });
+                    });
             });
         if let Some(target) = jump {
             self.jump_to(target);

@@ -38,7 +38,9 @@ pub enum Command {
         new: Option<Box<Patch>>,
     },
     /// Bypass or run nodes again: (node, old, new).
-    Bypass { nodes: Vec<(NodeId, bool, bool)> },
+    Bypass {
+        nodes: Vec<(NodeId, bool, bool)>,
+    },
     /// Replace the comments and frames (`organise.rs`).
     Annotate {
         old: Box<Annotations>,

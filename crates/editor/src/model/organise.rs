@@ -141,9 +141,17 @@ impl EditorDoc {
     }
 
     /// A frame around `ids` (by their measured sizes); returns its index.
-    pub fn frame_around(&mut self, registry: &Registry, ids: &[NodeId], title: &str) -> Option<usize> {
+    pub fn frame_around(
+        &mut self,
+        registry: &Registry,
+        ids: &[NodeId],
+        title: &str,
+    ) -> Option<usize> {
         let patch = self.patch();
-        let (mut lo, mut hi) = ((f32::INFINITY, f32::INFINITY), (f32::NEG_INFINITY, f32::NEG_INFINITY));
+        let (mut lo, mut hi) = (
+            (f32::INFINITY, f32::INFINITY),
+            (f32::NEG_INFINITY, f32::NEG_INFINITY),
+        );
         for n in ids.iter().filter_map(|&id| patch.node(id)) {
             let (w, h) = measure::node_size(n, registry, patch);
             lo = (lo.0.min(n.pos.0), lo.1.min(n.pos.1));
@@ -158,7 +166,11 @@ impl EditorDoc {
             hi.1 - lo.1 + 2.0 * FRAME_MARGIN + FRAME_TITLE,
         );
         let mut a = self.annotations();
-        a.frames.push(FrameDoc::new(title, (pos.0.round(), pos.1.round()), (size.0.round(), size.1.round())));
+        a.frames.push(FrameDoc::new(
+            title,
+            (pos.0.round(), pos.1.round()),
+            (size.0.round(), size.1.round()),
+        ));
         let index = a.frames.len() - 1;
         self.set_annotations("add frame", a);
         Some(index)
@@ -217,10 +229,7 @@ impl EditorDoc {
 
     /// Bypass the nodes, or run them again when all of them are bypassed.
     pub fn toggle_bypass(&mut self, ids: &[NodeId]) {
-        let all = ids
-            .iter()
-            .filter_map(|&id| self.node(id))
-            .all(|n| n.bypass);
+        let all = ids.iter().filter_map(|&id| self.node(id)).all(|n| n.bypass);
         let nodes: Vec<_> = ids
             .iter()
             .filter_map(|&id| self.node(id).map(|n| (id, n.bypass, !all)))
@@ -264,7 +273,12 @@ impl EditorDoc {
     }
 
     /// The pin of `type_name` a dropped wire would link to, if it fits.
-    pub fn wire_fits(&self, registry: &Registry, type_name: &str, wire: &DroppedWire) -> Option<String> {
+    pub fn wire_fits(
+        &self,
+        registry: &Registry,
+        type_name: &str,
+        wire: &DroppedWire,
+    ) -> Option<String> {
         match wire {
             DroppedWire::Outputs(pins) => {
                 let ty = self.pin_type(registry, pins.first()?, false)?;
@@ -308,7 +322,12 @@ impl EditorDoc {
     }
 
     /// The pins of `type_name` that would carry `link` through it (input, output).
-    pub fn link_fits(&self, registry: &Registry, type_name: &str, link: &LinkDoc) -> Option<(String, String)> {
+    pub fn link_fits(
+        &self,
+        registry: &Registry,
+        type_name: &str,
+        link: &LinkDoc,
+    ) -> Option<(String, String)> {
         let from = self.pin_type(registry, &link.from, false)?;
         let to = self.pin_type(registry, &link.to, true)?;
         Some((
@@ -319,15 +338,20 @@ impl EditorDoc {
 
     /// Put node `id` into `link`: the link's source feeds it and it feeds the
     /// link's target, in one undo step. Nothing changes when that would not link.
-    pub fn insert_into_link(&mut self, registry: &Registry, link: &LinkDoc, id: NodeId) -> Result<(), LinkError> {
+    pub fn insert_into_link(
+        &mut self,
+        registry: &Registry,
+        link: &LinkDoc,
+        id: NodeId,
+    ) -> Result<(), LinkError> {
         let node = self.node(id).ok_or(LinkError::MissingNode(id))?;
         let type_name = node.type_name.clone();
-        let (input, output) = self
-            .link_fits(registry, &type_name, link)
-            .ok_or_else(|| LinkError::Incompatible {
-                from_type: link.from.to_string(),
-                to_type: type_name.clone(),
-            })?;
+        let (input, output) =
+            self.link_fits(registry, &type_name, link)
+                .ok_or_else(|| LinkError::Incompatible {
+                    from_type: link.from.to_string(),
+                    to_type: type_name.clone(),
+                })?;
         let into = PinRef(id, input);
         let out = PinRef(id, output);
         self.validate_link(registry, &link.from, &into)?;
@@ -359,7 +383,12 @@ impl EditorDoc {
     }
 
     /// An IOBox holding `value`, placed left of input `pin` and linked to it, in one undo step.
-    pub fn iobox_for_input(&mut self, registry: &Registry, pin: &PinRef, value: Spread) -> Option<NodeId> {
+    pub fn iobox_for_input(
+        &mut self,
+        registry: &Registry,
+        pin: &PinRef,
+        value: Spread,
+    ) -> Option<NodeId> {
         let ty = self.pin_type(registry, pin, true)?;
         let type_name = iobox_for(ty)?;
         let def = registry.get(type_name)?;

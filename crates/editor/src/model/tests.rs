@@ -198,13 +198,22 @@ fn a_node_put_into_a_link_keeps_both_sides_linked_in_one_undo_step() {
         .insert_new_into_link(&reg, &link, "Sin (Value)", (40.0, 40.0))
         .expect("fits");
     let links = &doc.patch().links;
-    assert!(links.contains(&LinkDoc::new(1, "Output", id.0, "Input")), "{links:?}");
-    assert!(links.contains(&LinkDoc::new(id.0, "Output", 2, "Input")), "{links:?}");
+    assert!(
+        links.contains(&LinkDoc::new(1, "Output", id.0, "Input")),
+        "{links:?}"
+    );
+    assert!(
+        links.contains(&LinkDoc::new(id.0, "Output", 2, "Input")),
+        "{links:?}"
+    );
     assert_eq!(links.len(), 2, "the old link is gone");
     assert!(doc.undo());
     assert_eq!(doc.patch(), &before, "one step");
     // A type with no pin for the link is refused and changes nothing.
-    assert!(doc.insert_new_into_link(&reg, &link, "Probe", (0.0, 0.0)).is_err());
+    assert!(
+        doc.insert_new_into_link(&reg, &link, "Probe", (0.0, 0.0))
+            .is_err()
+    );
     assert_eq!(doc.patch(), &before);
 }
 
@@ -214,9 +223,19 @@ fn a_dropped_wire_makes_a_linked_node_in_one_undo_step() {
     let mut doc = lfo_probe();
     let wire = organise::DroppedWire::Outputs(vec![PinRef::new(1, "Output")]);
     assert!(doc.wire_fits(&reg, "Sin (Value)", &wire).is_some());
-    assert!(doc.wire_fits(&reg, "LFO", &organise::DroppedWire::Inputs(vec![PinRef::new(2, "Input")])).is_some());
+    assert!(
+        doc.wire_fits(
+            &reg,
+            "LFO",
+            &organise::DroppedWire::Inputs(vec![PinRef::new(2, "Input")])
+        )
+        .is_some()
+    );
     let id = doc.add_linked_node(&reg, "Sin (Value)", (50.0, 0.0), &wire);
-    assert_eq!(doc.patch().links, vec![LinkDoc::new(1, "Output", id.0, "Input")]);
+    assert_eq!(
+        doc.patch().links,
+        vec![LinkDoc::new(1, "Output", id.0, "Input")]
+    );
     assert!(doc.undo());
     assert_eq!(doc.patch().nodes.len(), 2);
     assert!(doc.patch().links.is_empty());
@@ -232,9 +251,15 @@ fn an_iobox_from_a_pin_holds_its_spread_and_feeds_it() {
         .expect("an IOBox");
     let node = doc.node(id).expect("node");
     assert_eq!(node.type_name, "IOBox (Value)");
-    assert_eq!(node.values.get("Input"), Some(&Spread::Float(vec![2.5, 4.0])));
+    assert_eq!(
+        node.values.get("Input"),
+        Some(&Spread::Float(vec![2.5, 4.0]))
+    );
     assert!(node.pos.0 < 0.0, "left of the node it feeds");
-    assert_eq!(doc.link_into(&pin).map(|l| l.from.clone()), Some(PinRef(id, "Output".into())));
+    assert_eq!(
+        doc.link_into(&pin).map(|l| l.from.clone()),
+        Some(PinRef(id, "Output".into()))
+    );
     assert!(doc.undo());
     assert_eq!(doc.patch().nodes.len(), 2, "one step");
 }
@@ -252,10 +277,18 @@ fn a_frame_moves_its_nodes_and_bypass_comments_and_layout_undo() {
     doc.move_frame(frame, (pos.0 + 30.0, pos.1 + 5.0));
     assert_eq!(doc.node(NodeId(1)).map(|n| n.pos), Some((30.0, 5.0)));
     assert_eq!(doc.node(NodeId(2)).map(|n| n.pos), Some((30.0, 85.0)));
-    assert_eq!(doc.node(NodeId(3)).map(|n| n.pos), Some((500.0, 500.0)), "outside: stays");
+    assert_eq!(
+        doc.node(NodeId(3)).map(|n| n.pos),
+        Some((500.0, 500.0)),
+        "outside: stays"
+    );
     assert!(doc.undo());
     assert_eq!(doc.node(NodeId(1)).map(|n| n.pos), Some((0.0, 0.0)));
-    assert_eq!(doc.patch().frames[frame].pos, pos, "the frame and its nodes in one step");
+    assert_eq!(
+        doc.patch().frames[frame].pos,
+        pos,
+        "the frame and its nodes in one step"
+    );
 
     doc.add_comment((0.0, -30.0), "# Hello");
     assert_eq!(doc.patch().comments.len(), 1);

@@ -57,7 +57,8 @@ fn line_job(line: &str, text: Color32, strong: Color32) -> LayoutJob {
 
 /// Paint the comments (in canvas points), with `offset` added to comment `moving`.
 pub fn paint(painter: &Painter, comments: &[CommentDoc], moving: Option<(usize, Vec2)>) {
-    let visuals = &painter.ctx().global_style().visuals;
+    let style = painter.ctx().global_style();
+    let visuals = &style.visuals;
     let text = visuals.text_color();
     let strong = visuals.strong_text_color();
     for (i, c) in comments.iter().enumerate() {
@@ -94,6 +95,9 @@ mod tests {
         let job = line_job("- a **b** c", Color32::GRAY, Color32::WHITE);
         assert_eq!(job.text, "• a b c");
         let colors: Vec<Color32> = job.sections.iter().map(|s| s.format.color).collect();
-        assert_eq!(colors, vec![Color32::GRAY, Color32::GRAY, Color32::WHITE, Color32::GRAY]);
+        assert_eq!(
+            colors,
+            vec![Color32::GRAY, Color32::GRAY, Color32::WHITE, Color32::GRAY]
+        );
     }
 }

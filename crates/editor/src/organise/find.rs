@@ -25,7 +25,7 @@ pub fn find(patch: &Patch, registry: &Registry, query: &str) -> Vec<Hit> {
     if q.is_empty() {
         return Vec::new();
     }
-    let has = |s: &str| s.to_lowercase().contains(&q);
+    let has = |s: &str| s.to_lowercase().contains(q.as_str());
     let mut hits = Vec::new();
     for n in &patch.nodes {
         let what = if has(&n.type_name) || has(&n.id.to_string()) {
@@ -33,7 +33,7 @@ pub fn find(patch: &Patch, registry: &Registry, query: &str) -> Vec<Hit> {
         } else if let Some((pin, v)) = n
             .values
             .iter()
-            .find(|(pin, v)| has(pin) || has(&v.preview(4)))
+            .find(|(pin, v)| has(pin.as_str()) || has(&v.preview(4)))
         {
             Some(format!(": {pin} = {}", v.preview(4)))
         } else {
@@ -41,7 +41,7 @@ pub fn find(patch: &Patch, registry: &Registry, query: &str) -> Vec<Hit> {
                 def.inputs
                     .iter()
                     .chain(&def.outputs)
-                    .find(|p| has(&p.name))
+                    .find(|p| has(&*p.name))
                     .map(|p| format!(": pin {}", p.name))
             })
         };
@@ -82,11 +82,20 @@ mod tests {
         let mut p = Patch::default();
         p.add(NodeDoc::new(1, "LFO").with("Period", vec![7.25f32]));
         p.add(NodeDoc::new(2, "Probe").with("Name", vec!["wobble".to_owned()]));
-        p.comments.push(CommentDoc::new(0.0, 0.0, "# Title\nthe wobble is slow"));
-        let targets = |q: &str| -> Vec<Target> { find(&p, &registry, q).into_iter().map(|h| h.target).collect() };
+        p.comments
+            .push(CommentDoc::new(0.0, 0.0, "# Title\nthe wobble is slow"));
+        let targets = |q: &str| -> Vec<Target> {
+            find(&p, &registry, q)
+                .into_iter()
+                .map(|h| h.target)
+                .collect()
+        };
         assert_eq!(targets("lfo"), vec![Target::Node(NodeId(1))]);
         assert_eq!(targets("7.25"), vec![Target::Node(NodeId(1))]);
-        assert_eq!(targets("wobble"), vec![Target::Node(NodeId(2)), Target::Comment(0)]);
+        assert_eq!(
+            targets("wobble"),
+            vec![Target::Node(NodeId(2)), Target::Comment(0)]
+        );
         assert_eq!(targets("period"), vec![Target::Node(NodeId(1))]);
         assert!(targets("").is_empty());
     }

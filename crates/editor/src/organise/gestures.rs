@@ -84,5 +84,9 @@ pub fn catch_dropped_wire(
 
 /// The wire dropped this frame, if any: its pins, where (canvas units), and where on screen.
 pub fn take_dropped_wire(ctx: &egui::Context) -> Option<(DroppedWire, (f32, f32), Pos2)> {
-    ctx.data_mut(|d| d.remove_temp(dropped_id()))
+    ctx.data_mut(|d| {
+        let dropped = d.get_temp(dropped_id());
+        d.remove::<(DroppedWire, (f32, f32), Pos2)>(dropped_id());
+        dropped
+    })
 }

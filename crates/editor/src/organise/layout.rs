@@ -160,7 +160,7 @@ pub fn layout(patch: &Patch, registry: &Registry, ids: &[NodeId]) -> Vec<(NodeId
         for &v in row {
             if pred[v].is_empty() && !succ[v].is_empty() {
                 let want = succ[v].iter().map(|&w| y[w]).sum::<f32>() / succ[v].len() as f32;
-                y[v] = want.max(y[v].min(want));
+                y[v] = want;
             }
             if bottom.is_finite() {
                 y[v] = y[v].max(bottom + NODE_GAP);
@@ -248,7 +248,7 @@ pub fn align(patch: &Patch, registry: &Registry, ids: &[NodeId]) -> Vec<(NodeId,
 
 /// Positions that place `comments` (by index) in a column above the nodes'
 /// bounds, first on top: where `spreadlight fmt --layout` puts them.
-pub fn comments_above(patch: &Patch, registry: &Registry) -> Vec<(f32, f32)> {
+pub fn comments_above(patch: &Patch) -> Vec<(f32, f32)> {
     let (left, top) = patch
         .nodes
         .iter()
@@ -256,8 +256,11 @@ pub fn comments_above(patch: &Patch, registry: &Registry) -> Vec<(f32, f32)> {
         .fold((f32::INFINITY, f32::INFINITY), |a, p| {
             (a.0.min(p.0), a.1.min(p.1))
         });
-    let (left, top) = if left.is_finite() { (left, top) } else { (0.0, 0.0) };
-    let _ = registry;
+    let (left, top) = if left.is_finite() {
+        (left, top)
+    } else {
+        (0.0, 0.0)
+    };
     let heights: Vec<f32> = patch
         .comments
         .iter()
@@ -319,6 +322,10 @@ mod tests {
         let ys: Vec<f32> = p.nodes.iter().map(|n| n.pos.1).collect();
         assert_eq!(ys, vec![0.0, 0.0, 0.0]);
         assert!(overlapping_nodes(&p, &registry).is_empty());
-        assert_eq!(p.node(NodeId(3)).expect("node").pos.0, 200.0, "far enough already");
+        assert_eq!(
+            p.node(NodeId(3)).expect("node").pos.0,
+            200.0,
+            "far enough already"
+        );
     }
 }

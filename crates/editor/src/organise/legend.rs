@@ -21,7 +21,11 @@ pub fn rows() -> Vec<(Color32, bool, &'static str)> {
         (pin_color(PinType::Vec3), false, "Vec2, Vec3, Vec4"),
         (pin_color(PinType::Color), false, "Color"),
         (pin_color(PinType::Mat4), false, "Transform (Mat4)"),
-        (pin_color(PinType::Enum(&LEGEND_ENUM)), false, "Enum (a choice)"),
+        (
+            pin_color(PinType::Enum(&LEGEND_ENUM)),
+            false,
+            "Enum (a choice)",
+        ),
         (
             pin_color(PinType::Resource(ResourceKind::Texture)),
             true,

@@ -123,9 +123,10 @@ fn node_points(node: &NodeDoc, registry: &Registry, patch: &Patch) -> (f32, f32)
     let mut h = HEADER_H + rows * ROW_H + 8.0;
     if iobox {
         // One row per slice (up to the rows shown) and the `+ slice` button.
-        let slices = def.inputs.first().map_or(1, |p| {
-            node.values.get(&*p.name).unwrap_or(&p.default).len()
-        });
+        let slices = def
+            .inputs
+            .first()
+            .map_or(1, |p| node.values.get(&*p.name).unwrap_or(&p.default).len());
         let shown = slices.min(crate::iobox::MAX_ROWS) as f32;
         let ty = def.inputs.first().map_or(PinType::Float, |p| p.ty);
         w = w.max(editor_w(ty, None) + 60.0 + outputs);

@@ -26,7 +26,11 @@ pub fn registry_for(path: &Path, patch: &Patch) -> Registry {
     collect_inline(patch, &mut defs);
     for (name, entry) in library.entries() {
         if let Ok(def) = &entry.definition {
-            defs.push((name.to_owned(), (**def).clone(), entry.path.display().to_string()));
+            defs.push((
+                name.to_owned(),
+                (**def).clone(),
+                entry.path.display().to_string(),
+            ));
         }
     }
     for (name, def, source) in defs {
@@ -76,7 +80,10 @@ pub fn tidy(patch: &mut Patch, registry: &Registry) {
     for (frame, ids) in patch.frames.iter_mut().zip(held) {
         let mut lo = (f32::INFINITY, f32::INFINITY);
         let mut hi = (f32::NEG_INFINITY, f32::NEG_INFINITY);
-        for n in ids.iter().filter_map(|&id| patch.nodes.iter().find(|n| n.id == id)) {
+        for n in ids
+            .iter()
+            .filter_map(|&id| patch.nodes.iter().find(|n| n.id == id))
+        {
             let (w, h) = measure::node_size(n, registry, patch);
             lo = (lo.0.min(n.pos.0), lo.1.min(n.pos.1));
             hi = (hi.0.max(n.pos.0 + w), hi.1.max(n.pos.1 + h));
@@ -86,7 +93,7 @@ pub fn tidy(patch: &mut Patch, registry: &Registry) {
             frame.size = ((hi.0 - lo.0 + 16.0).round(), (hi.1 - lo.1 + 26.0).round());
         }
     }
-    let places = layout::comments_above(patch, registry);
+    let places = layout::comments_above(patch);
     for (c, p) in patch.comments.iter_mut().zip(places) {
         c.pos = p;
     }
@@ -142,7 +149,11 @@ mod tests {
             };
             checked += 1;
             let registry = registry_for(path, &patch);
-            let name = path.strip_prefix(&root).unwrap_or(path).display().to_string();
+            let name = path
+                .strip_prefix(&root)
+                .unwrap_or(path)
+                .display()
+                .to_string();
             overlaps_in(&patch, &registry, &name, &mut problems);
             // The bad patches show one mistake each; help patches are checked for overlap here and
             // for what they show by their own tests.
@@ -151,7 +162,11 @@ mod tests {
                 problems.push(format!("{name}: no comment explains it"));
             }
         }
-        assert!(checked > 25, "only {checked} patches found under {}", root.display());
+        assert!(
+            checked > 25,
+            "only {checked} patches found under {}",
+            root.display()
+        );
         assert!(problems.is_empty(), "{}", problems.join("\n"));
     }
 }
