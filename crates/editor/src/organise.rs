@@ -33,7 +33,9 @@ pub fn dragging(ctx: &egui::Context) -> Option<Dragging> {
 
 pub fn set_dragging(ctx: &egui::Context, drag: Option<Dragging>) {
     ctx.data_mut(|d| match drag {
-        Some(drag) => d.insert_temp(dragging_id(), drag),
+        Some(drag) => {
+            d.insert_temp(dragging_id(), drag);
+        }
         None => d.remove::<Dragging>(dragging_id()),
     });
 }

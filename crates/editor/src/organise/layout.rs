@@ -8,6 +8,8 @@ use std::collections::{BTreeMap, HashMap, HashSet};
 
 use spreadlight_graph::{NodeId, Patch, Registry};
 
+use spreadlight_graph::subpatch::{INLET, OUTLET};
+
 use super::measure::node_size;
 
 /// Room between layers and between nodes of a layer, in canvas units.
@@ -69,6 +71,17 @@ pub fn layout(patch: &Patch, registry: &Registry, ids: &[NodeId]) -> Vec<(NodeId
             && min > layer[v] + 1
         {
             layer[v] = min - 1;
+        }
+    }
+    // A subpatch's Inlets stay first and its Outlets last: their order left
+    // to right is its node's pin order (`graph::subpatch::ioboxes`).
+    let last = layer.iter().copied().max().unwrap_or(0);
+    let kind = |v: usize| node(v).map(|d| d.type_name.as_str());
+    for (v, l) in layer.iter_mut().enumerate() {
+        match kind(v) {
+            Some(INLET) => *l = 0,
+            Some(OUTLET) => *l = last.max(1),
+            _ => {}
         }
     }
     let layers = layer.iter().copied().max().unwrap_or(0) + 1;
@@ -174,13 +187,26 @@ pub fn layout(patch: &Patch, registry: &Registry, ids: &[NodeId]) -> Vec<(NodeId
         .fold((f32::INFINITY, f32::INFINITY), |a, p| {
             (a.0.min(p.0), a.1.min(p.1))
         });
+    // Keep the IOBoxes' order left to right (by x, then id), a unit apart.
+    let mut shift = vec![0.0f32; n];
+    for k in [INLET, OUTLET] {
+        let mut boxes: Vec<usize> = (0..n).filter(|&v| kind(v) == Some(k)).collect();
+        boxes.sort_by(|&a, &b| {
+            let xa = node(a).map_or(0.0, |d| d.pos.0);
+            let xb = node(b).map_or(0.0, |d| d.pos.0);
+            xa.total_cmp(&xb).then(chosen[a].cmp(&chosen[b]))
+        });
+        for (rank, v) in boxes.into_iter().enumerate() {
+            shift[v] = rank as f32;
+        }
+    }
     let top = y.iter().copied().fold(f32::INFINITY, f32::min);
     (0..n)
         .map(|v| {
             (
                 chosen[v],
                 (
-                    (origin.0 + x[layer[v]]).round(),
+                    (origin.0 + x[layer[v]] + shift[v]).round(),
                     (origin.1 + y[v] - top).round(),
                 ),
             )

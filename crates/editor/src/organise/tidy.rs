@@ -77,7 +77,8 @@ pub fn tidy(patch: &mut Patch, registry: &Registry) {
             n.pos = pos;
         }
     }
-    for (frame, ids) in patch.frames.iter_mut().zip(held) {
+    let mut frames = std::mem::take(&mut patch.frames);
+    for (frame, ids) in frames.iter_mut().zip(held) {
         let mut lo = (f32::INFINITY, f32::INFINITY);
         let mut hi = (f32::NEG_INFINITY, f32::NEG_INFINITY);
         for n in ids
@@ -93,6 +94,7 @@ pub fn tidy(patch: &mut Patch, registry: &Registry) {
             frame.size = ((hi.0 - lo.0 + 16.0).round(), (hi.1 - lo.1 + 26.0).round());
         }
     }
+    patch.frames = frames;
     let places = layout::comments_above(patch);
     for (c, p) in patch.comments.iter_mut().zip(places) {
         c.pos = p;
