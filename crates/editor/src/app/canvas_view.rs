@@ -138,8 +138,11 @@ impl EditorApp {
             // Double-click on a subpatch node opens it in place.
             self.open_subpatch(id);
         } else if double
-            && response.hovered()
             && let Some(screen) = ui.input(|i| i.pointer.interact_pos())
+            // Over a wire snarl's own wire widget is hovered, not the canvas.
+            && (response.hovered()
+                || (canvas_rect.contains(screen)
+                    && canvas::wire_under(&self.doc, &self.pins, screen, 5.0).is_some()))
         {
             let from_global = ui
                 .ctx()

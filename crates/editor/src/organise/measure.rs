@@ -122,15 +122,16 @@ fn node_points(node: &NodeDoc, registry: &Registry, patch: &Patch) -> (f32, f32)
     let mut w = (inputs + outputs + 16.0).max(title) + 8.0;
     let mut h = HEADER_H + rows * ROW_H + 8.0;
     if iobox {
-        // One row per slice (up to the rows shown) and the `+ slice` button.
-        let slices = def
-            .inputs
-            .first()
-            .map_or(1, |p| node.values.get(&*p.name).unwrap_or(&p.default).len());
-        let shown = slices.min(crate::iobox::MAX_ROWS) as f32;
+        // The body edits every slice in a row: its index, an editor and `−`,
+        // then `+ slice` (up to the rows shown).
+        let slices = def.inputs.first().map_or(1, |p| {
+            node.values.get(&*p.name).unwrap_or(&p.default).len()
+        });
+        let shown = slices.clamp(1, crate::iobox::MAX_ROWS) as f32;
         let ty = def.inputs.first().map_or(PinType::Float, |p| p.ty);
-        w = w.max(editor_w(ty, None) + 60.0 + outputs);
-        h += (shown + 2.0) * ROW_H;
+        let body = shown * (editor_w(ty, None) + 50.0) + 70.0;
+        w = w.max(inputs + body + outputs + 24.0);
+        h += 2.0 * ROW_H;
     }
     (w, h)
 }
