@@ -273,12 +273,14 @@ pub fn align(patch: &Patch, registry: &Registry, ids: &[NodeId]) -> Vec<(NodeId,
 }
 
 /// Positions that place `comments` (by index) in a column above the nodes'
-/// bounds, first on top: where `spreadlight fmt --layout` puts them.
+/// and frames' bounds, first on top: where `spreadlight fmt --layout` puts them.
 pub fn comments_above(patch: &Patch) -> Vec<(f32, f32)> {
+    // Above the frames too: a comment must not cover a frame's title.
     let (left, top) = patch
         .nodes
         .iter()
         .map(|n| n.pos)
+        .chain(patch.frames.iter().map(|f| f.pos))
         .fold((f32::INFINITY, f32::INFINITY), |a, p| {
             (a.0.min(p.0), a.1.min(p.1))
         });

@@ -124,9 +124,10 @@ fn node_points(node: &NodeDoc, registry: &Registry, patch: &Patch) -> (f32, f32)
     if iobox {
         // The body edits every slice in a row: its index, an editor and `−`,
         // then `+ slice` (up to the rows shown).
-        let slices = def.inputs.first().map_or(1, |p| {
-            node.values.get(&*p.name).unwrap_or(&p.default).len()
-        });
+        let slices = def
+            .inputs
+            .first()
+            .map_or(1, |p| node.values.get(&*p.name).unwrap_or(&p.default).len());
         let shown = slices.clamp(1, crate::iobox::MAX_ROWS) as f32;
         let ty = def.inputs.first().map_or(PinType::Float, |p| p.ty);
         let body = shown * (editor_w(ty, None) + 50.0) + 70.0;
