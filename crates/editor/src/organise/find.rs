@@ -41,7 +41,7 @@ pub fn find(patch: &Patch, registry: &Registry, query: &str) -> Vec<Hit> {
                 def.inputs
                     .iter()
                     .chain(&def.outputs)
-                    .find(|p| has(&*p.name))
+                    .find(|p| has(&p.name))
                     .map(|p| format!(": pin {}", p.name))
             })
         };

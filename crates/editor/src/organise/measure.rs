@@ -33,7 +33,7 @@ fn text_w(text: &str) -> f32 {
 
 /// What a compact value editor takes on the node (`values::edit_first`).
 fn editor_w(ty: PinType, value: Option<&Spread>) -> f32 {
-    let float = |x: f32| text_w(&format!("{x:.4}").trim_end_matches('0').to_string()) + 16.0;
+    let float = |x: f32| text_w(format!("{x:.4}").trim_end_matches('0')) + 16.0;
     let number = |x: f32| float(x).max(text_w(&format!("{x:.2}")) + 16.0).max(32.0);
     if let Some(v) = value {
         if v.len() > 1 {
