@@ -1,5 +1,7 @@
 //! `spreadlight fmt`: rewrite patches in the canonical layout that saving
 //! produces (atomically), or with `--check` only report those that differ.
+//! With `--layout`, the nodes are laid out as the editor's layout key does
+//! (and comments stacked above them) before writing.
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -14,6 +16,10 @@ pub struct Args {
     /// Change nothing; exit 1 if any patch is not in canonical form.
     #[arg(long)]
     check: bool,
+    /// Lay the nodes out (layered, left to right in data-flow order, no
+    /// overlaps), fit frames to their nodes and stack comments above them.
+    #[arg(long)]
+    layout: bool,
 }
 
 pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
@@ -23,7 +29,11 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
             path: path.clone(),
             source,
         })?;
-        let patch = format::from_str(&text, path)?;
+        let mut patch = format::from_str(&text, path)?;
+        if args.layout {
+            let registry = spreadlight_editor::organise::tidy::registry_for(path, &patch);
+            spreadlight_editor::organise::tidy::tidy(&mut patch, &registry);
+        }
         if format::to_string(&patch)? == text {
             continue;
         }

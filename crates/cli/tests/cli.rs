@@ -313,6 +313,50 @@ fn an_image_file_straight_into_an_output_renders() {
     assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
 }
 
+/// A bypassed node passes its first input on in `render` as in the editor: a
+/// bypassed Tonemap between an image and the Output leaves the image's own
+/// pixels, where the same Tonemap running changes them.
+#[test]
+fn render_passes_a_bypassed_nodes_input_through() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let tiles = root().join("patches/assets/tiles.png");
+    let want = image::open(&tiles).expect("tiles").to_rgba8();
+    let (width, height) = want.dimensions();
+    let worst = |bypass: bool| {
+        let patch = dir.path().join(format!("bypass-{bypass}.ron"));
+        std::fs::write(
+            &patch,
+            format!(
+                r#"(version: 3, nodes: [
+                    (id: 1, type: "FileTexture", values: {{"Filename": String(["{}"])}}),
+                    (id: 2, type: "Tonemap", values: {{"Exposure": Float([3.0])}}, bypass: {bypass}),
+                    (id: 3, type: "Output")],
+                    links: [(from: (1, "Texture"), to: (2, "Texture")), (from: (2, "Texture"), to: (3, "Texture"))])"#,
+                tiles.display()
+            ),
+        )
+        .expect("write");
+        let out = dir.path().join(format!("out-{bypass}.png"));
+        let o = spreadlight(&[
+            "render",
+            patch.to_str().expect("utf-8"),
+            "-o",
+            out.to_str().expect("utf-8"),
+            "--size",
+            &format!("{width}x{height}"),
+        ]);
+        assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+        let got = image::open(&out).expect("written").to_rgba8();
+        want.pixels()
+            .zip(got.pixels())
+            .flat_map(|(a, b)| (0..3).map(move |c| (i32::from(a[c]) - i32::from(b[c])).abs()))
+            .max()
+            .unwrap_or(0)
+    };
+    assert!(worst(true) <= 1, "bypassed: the file's pixels");
+    assert!(worst(false) > 8, "running, the Tonemap changes them");
+}
+
 /// Accuracy images go into a folder named for the effect, inside
 /// `accuracy-images/` (ignored by git) when `--images` names no folder:
 /// never loose in the current folder, as 85 of them once were in `1/`.

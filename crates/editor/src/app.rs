@@ -22,6 +22,7 @@ mod help;
 mod host_input;
 mod inspector;
 mod menus;
+mod organise;
 mod previews;
 mod queries;
 mod running;
@@ -117,6 +118,8 @@ struct BrowserState {
     query: String,
     highlighted: usize,
     focus: bool,
+    /// A dropped wire or a double-clicked link the new node is linked into.
+    link: Option<crate::organise::gestures::BrowserLink>,
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -266,6 +269,8 @@ pub struct EditorApp {
     culling: canvas::Culling,
     /// Thumbnails and hover previews: their settings and this frame's wishes (`previews.rs`).
     previews: crate::previews::CanvasPreviews,
+    /// Comments, frames, find, the legend and the gestures (`organise.rs`).
+    organise: organise::OrganiseUi,
 }
 
 impl EditorApp {
@@ -402,6 +407,7 @@ impl EditorApp {
             previews: crate::previews::CanvasPreviews::new(crate::previews::PreviewSettings::load(
                 &options.config_dir,
             )),
+            organise: Default::default(),
         };
         match options.path {
             // `spreadlight edit new.ron` starts that patch, as text editors do.
@@ -556,6 +562,7 @@ impl EditorApp {
         self.read_only_banner(ui);
         egui::CentralPanel::default().show(ui, |ui| self.canvas(ui));
         self.node_browser(&ctx);
+        self.organise_windows(&ctx);
         self.dialogs(&ctx);
         self.show_window_ui(&ctx);
         self.refuse_edits();

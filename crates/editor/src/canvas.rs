@@ -24,13 +24,20 @@ mod wires;
 
 pub use crate::zoom::{READABLE_ZOOM, fit_view, zoom_around};
 pub use cull::{CulledWire, Culling, PinOffsets, wire_color};
+use style::RecordedPin;
+pub use style::pin_color;
 pub use style::{PinKey, PinPositions, compact_spacing, style};
-use style::{RecordedPin, pin_color};
 pub use sync::{CanvasNode, SCALE, moved_nodes, sync};
 pub use wires::wire_under;
 
 /// Room between an output's name and its pin, which snarl draws over the row's end.
 const OUTPUT_PIN_GAP: f32 = 6.0;
+
+/// A bypassed node's header and body (`organise`: bypass).
+const BYPASS_HEADER: Color32 = Color32::from_rgb(150, 105, 20);
+const BYPASS_FILL: Color32 = Color32::from_rgb(45, 40, 30);
+/// Shown beside a bypassed node's title (the node measure counts it).
+pub const BYPASS_TAG: &str = "bypassed";
 
 /// Below this zoom the canvas shows pins without their value editors (the inspector still edits).
 pub const EDITOR_MIN_ZOOM: f32 = 0.5;
@@ -201,6 +208,7 @@ impl SnarlViewer<CanvasNode> for Canvas<'_> {
     ) -> egui::Frame {
         match Self::node_id(snarl, node) {
             Some(id) if self.error_of(id).is_some() => default.fill(Color32::from_rgb(150, 30, 30)),
+            Some(id) if self.doc.node(id).is_some_and(|n| n.bypass) => default.fill(BYPASS_HEADER),
             _ => default,
         }
     }
@@ -213,6 +221,13 @@ impl SnarlViewer<CanvasNode> for Canvas<'_> {
         _outputs: &[OutPin],
         snarl: &Snarl<CanvasNode>,
     ) -> egui::Frame {
+        // A bypassed node is dimmed with an amber rim, so it reads as "not running" at a glance.
+        let default = match Self::node_id(snarl, node) {
+            Some(id) if self.doc.node(id).is_some_and(|n| n.bypass) => default
+                .fill(BYPASS_FILL)
+                .stroke(Stroke::new(2.0, BYPASS_HEADER)),
+            _ => default,
+        };
         match Self::node_id(snarl, node) {
             Some(id) if self.selected.contains(&id) => {
                 default.stroke(Stroke::new(2.0, Color32::from_rgb(90, 170, 255)))
@@ -236,6 +251,9 @@ impl SnarlViewer<CanvasNode> for Canvas<'_> {
         let title = self.title(&snarl[node]);
         // Not clickable: a drag on the title moves the node; clicks select through `node_rects`.
         let resp = ui.label(egui::RichText::new(title).strong());
+        if self.doc.node(id).is_some_and(|n| n.bypass) {
+            ui.label(egui::RichText::new(BYPASS_TAG).color(Color32::from_rgb(255, 200, 90)));
+        }
         match self.error_of(id) {
             Some(message) => resp.on_hover_text(message),
             None => resp.on_hover_text(format!("node {id}")),
@@ -452,6 +470,46 @@ impl SnarlViewer<CanvasNode> for Canvas<'_> {
             None => format!("CPU {cpu:.3} ms"),
         };
         ui.weak(text);
+    }
+
+    fn draw_background(
+        &mut self,
+        background: Option<&egui_snarl::ui::BackgroundPattern>,
+        viewport: &Rect,
+        snarl_style: &egui_snarl::ui::SnarlStyle,
+        style: &egui::Style,
+        painter: &egui::Painter,
+        _snarl: &Snarl<CanvasNode>,
+    ) {
+        if let Some(background) = background {
+            background.draw(viewport, snarl_style, style, painter);
+        }
+        crate::organise::paint_annotations(painter, self.doc.patch());
+    }
+
+    fn has_dropped_wire_menu(
+        &mut self,
+        _src_pins: egui_snarl::ui::AnyPins,
+        _snarl: &mut Snarl<CanvasNode>,
+    ) -> bool {
+        true
+    }
+
+    fn show_dropped_wire_menu(
+        &mut self,
+        pos: Pos2,
+        ui: &mut Ui,
+        src_pins: egui_snarl::ui::AnyPins,
+        snarl: &mut Snarl<CanvasNode>,
+    ) {
+        crate::organise::gestures::catch_dropped_wire(
+            self.doc,
+            self.registry,
+            snarl,
+            src_pins,
+            pos,
+            ui,
+        );
     }
 
     fn current_transform(

@@ -15,6 +15,7 @@ pub mod module_file;
 pub mod module_scope;
 pub mod monitors;
 pub mod nodes;
+pub mod organise;
 pub mod previews;
 pub mod shader_watch;
 pub mod subpatch;

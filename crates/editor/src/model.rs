@@ -13,8 +13,9 @@ use spreadlight_graph::{LinkDoc, NodeDoc, NodeId, Patch, PinRef, Registry, Sprea
 mod command;
 pub mod edits;
 pub mod links;
+pub mod organise;
 
-pub use command::{Command, NodeMove};
+pub use command::{Annotations, Command, NodeMove};
 
 struct Entry {
     label: String,

@@ -1121,3 +1121,245 @@ fn a_read_only_help_patch_undoes_every_edit_and_says_so() {
         "the file is untouched"
     );
 }
+
+// ----- organising: gestures, find, bypass, layout, frames (docs/editor.md) -----
+
+fn middle_click(h: &mut Harness<'_, EditorApp>, pos: Pos2) {
+    h.hover_at(pos);
+    h.step();
+    for pressed in [true, false] {
+        h.event(Event::PointerButton {
+            pos,
+            button: PointerButton::Middle,
+            pressed,
+            modifiers: Modifiers::NONE,
+        });
+    }
+    h.run();
+}
+
+fn links_of(h: &Harness<'_, EditorApp>) -> Vec<LinkDoc> {
+    h.state().doc().patch().links.clone()
+}
+
+#[test]
+fn a_wire_dropped_on_empty_canvas_opens_the_browser_and_links_the_new_node() {
+    let env = Env::new();
+    let path = env.patch_file("p.ron", &lfo_probe());
+    let mut h = harness(env.options(Some(path)));
+    let from = pin(&h, 1, "Output", false);
+    drag(&mut h, from, from + Vec2::new(40.0, 220.0));
+    h.run();
+    // The browser lists only types that take a Float: a Probe does, a texture-only node does not.
+    h.event(Event::Text("sin (value".into()));
+    h.run();
+    h.get_by_label("Sin (Value)");
+    h.key_press(Key::Enter);
+    h.run();
+    let patch = h.state().doc().patch().clone();
+    assert_eq!(patch.nodes.len(), 3, "{:?}", patch.nodes);
+    let new = patch.nodes[2].id;
+    assert_eq!(patch.nodes[2].type_name, "Sin (Value)");
+    assert_eq!(patch.links, vec![LinkDoc::new(1, "Output", new.0, "Input")]);
+    cmd(&h, Key::Z);
+    h.run();
+    assert_eq!(h.state().doc().patch().nodes.len(), 2, "one undo step");
+    assert!(links_of(&h).is_empty());
+}
+
+#[test]
+fn double_clicking_a_link_inserts_a_node_keeping_both_sides_linked() {
+    let env = Env::new();
+    let mut p = lfo_probe();
+    p.nodes[1].pos = (260.0, 20.0);
+    p.link(1, "Output", 2, "Input");
+    let path = env.patch_file("p.ron", &p);
+    let mut h = harness(env.options(Some(path)));
+    let a = pin(&h, 1, "Output", false);
+    let b = pin(&h, 2, "Input", true);
+    double_click(&mut h, a + (b - a) * 0.5);
+    h.run();
+    h.event(Event::Text("sin (value".into()));
+    h.run();
+    h.key_press(Key::Enter);
+    h.run();
+    let patch = h.state().doc().patch().clone();
+    assert_eq!(patch.nodes.len(), 3);
+    let new = patch.nodes[2].id.0;
+    assert_eq!(
+        patch.links,
+        vec![
+            LinkDoc::new(1, "Output", new, "Input"),
+            LinkDoc::new(new, "Output", 2, "Input"),
+        ]
+    );
+    cmd(&h, Key::Z);
+    h.run();
+    assert_eq!(links_of(&h), vec![LinkDoc::new(1, "Output", 2, "Input")]);
+}
+
+#[test]
+fn middle_clicking_an_input_pin_makes_a_linked_iobox_holding_its_spread() {
+    let env = Env::new();
+    let mut p = lfo_probe();
+    p.nodes[0].pos = (200.0, 20.0);
+    p.nodes[0]
+        .values
+        .insert("Period".into(), Spread::Float(vec![2.5, 3.0]));
+    let path = env.patch_file("p.ron", &p);
+    let mut h = harness(env.options(Some(path)));
+    let at = pin(&h, 1, "Period", true);
+    middle_click(&mut h, at);
+    let patch = h.state().doc().patch().clone();
+    let iobox = patch
+        .nodes
+        .iter()
+        .find(|n| n.type_name == "IOBox (Value)")
+        .expect("an IOBox");
+    assert_eq!(
+        iobox.values.get("Input"),
+        Some(&Spread::Float(vec![2.5, 3.0]))
+    );
+    assert_eq!(
+        patch.links,
+        vec![LinkDoc::new(iobox.id.0, "Output", 1, "Period")]
+    );
+    assert_eq!(h.state().selected(), vec![iobox.id]);
+}
+
+#[test]
+fn find_selects_the_match_and_bypass_shows_on_the_node() {
+    let env = Env::new();
+    let mut p = lfo_probe();
+    p.nodes[1]
+        .values
+        .insert("Name".into(), Spread::String(vec!["wobble".into()]));
+    let path = env.patch_file("p.ron", &p);
+    let mut h = harness(env.options(Some(path)));
+    cmd(&h, Key::F);
+    h.run();
+    h.event(Event::Text("wobble".into()));
+    h.run();
+    h.key_press(Key::Enter);
+    h.run();
+    assert_eq!(h.state().selected(), vec![NodeId(2)]);
+    // Bypass the found node: saved in the document and marked on the canvas.
+    h.key_press(Key::Escape);
+    h.run();
+    h.state_mut().select(&[NodeId(1)]);
+    cmd(&h, Key::B);
+    h.run();
+    assert!(h.state().doc().patch().nodes[0].bypass);
+    assert!(h.query_by_label("bypassed").is_some());
+    cmd(&h, Key::Z);
+    h.run();
+    assert!(!h.state().doc().patch().nodes[0].bypass);
+    assert!(h.query_by_label("bypassed").is_none());
+}
+
+/// Nodes of many kinds (editors of every width, an IOBox, a texture pin) piled on one spot.
+fn pile() -> Patch {
+    let mut p = Patch::default();
+    let types = [
+        "LFO",
+        "Sin (Value)",
+        "Multiply (Value)",
+        "Probe",
+        "IOBox (Value)",
+        "LinearSpread",
+        "IOBox (Color)",
+        "IOBox (Vector 3d)",
+    ];
+    for (k, t) in types.iter().enumerate() {
+        p.add(NodeDoc::new(k as u32 + 1, t).at(30.0, 30.0));
+    }
+    p.nodes[4]
+        .values
+        .insert("Input".into(), Spread::Float(vec![1.0, 22.5, 333.25]));
+    p.link(1, "Output", 2, "Input");
+    p.link(2, "Output", 3, "Input 1");
+    p.link(5, "Output", 3, "Input 2");
+    p.link(3, "Output", 4, "Input");
+    p
+}
+
+#[test]
+fn the_layout_key_leaves_no_drawn_overlap_within_the_measure_and_undo_restores() {
+    let env = Env::new();
+    let before = pile();
+    let path = env.patch_file("p.ron", &before);
+    let mut h = harness(env.options(Some(path)));
+    h.key_press(Key::L);
+    h.run();
+    // Fit again, so every node is on screen to be measured.
+    h.key_press(Key::F);
+    h.run();
+    let registry = h.state().registry().clone();
+    let patch = h.state().doc().patch().clone();
+    assert!(spreadlight_editor::organise::measure::overlapping_nodes(&patch, &registry).is_empty());
+    let zoom = h.state().canvas_zoom(&h.ctx).expect("zoom");
+    let rects = h.state().node_screen_rects().to_vec();
+    assert_eq!(rects.len(), patch.nodes.len());
+    for (k, (id, r)) in rects.iter().enumerate() {
+        let node = patch.node(*id).expect("node");
+        let (w, hgt) = spreadlight_editor::organise::measure::node_size(node, &registry, &patch);
+        let scale = spreadlight_editor::canvas::SCALE * zoom;
+        assert!(
+            r.width() <= w * scale + 0.5 && r.height() <= hgt * scale + 0.5,
+            "{} is drawn {:?}, measured {:?}",
+            node.type_name,
+            r.size() / scale,
+            (w, hgt)
+        );
+        for (other, s) in &rects[k + 1..] {
+            assert!(
+                !r.shrink(0.5).intersects(s.shrink(0.5)),
+                "{id} and {other} overlap on screen"
+            );
+        }
+    }
+    cmd(&h, Key::Z);
+    h.run();
+    assert_eq!(h.state().doc().patch(), &before, "one undo step");
+}
+
+#[test]
+fn dragging_a_frame_title_moves_its_nodes() {
+    let env = Env::new();
+    let mut p = lfo_probe();
+    p.frames.push(spreadlight_graph::FrameDoc::new(
+        "Source",
+        (10.0, 5.0),
+        (60.0, 60.0),
+    ));
+    p.comments.push(spreadlight_graph::CommentDoc::new(
+        10.0,
+        -30.0,
+        "# Title\n- **bold** item",
+    ));
+    let path = env.patch_file("p.ron", &p);
+    let mut h = harness(env.options(Some(path)));
+    let title = h
+        .state()
+        .canvas_to_screen(&h.ctx, Pos2::new(10.0 * 3.0 + 20.0, 5.0 * 3.0 + 8.0));
+    drag(&mut h, title, title + Vec2::new(60.0, 30.0));
+    h.run();
+    let patch = h.state().doc().patch().clone();
+    let lfo = patch.node(NodeId(1)).expect("node").pos;
+    let probe = patch.node(NodeId(2)).expect("node").pos;
+    assert!(
+        lfo.0 > 20.0 && lfo.1 > 20.0,
+        "the LFO inside moved: {lfo:?}"
+    );
+    let d = (lfo.0 - 20.0, lfo.1 - 20.0);
+    assert_eq!(
+        patch.frames[0].pos,
+        (10.0 + d.0, 5.0 + d.1),
+        "with its frame"
+    );
+    assert_eq!(probe, (120.0, 20.0), "the Probe outside stays");
+    assert_eq!(h.state().doc().undo_label(), Some("move frame"));
+    cmd(&h, Key::Z);
+    h.run();
+    assert_eq!(h.state().doc().patch(), &p);
+}

@@ -11,16 +11,21 @@ use std::fmt;
 
 use serde::{Deserialize, Serialize};
 
+use crate::organise::{CommentDoc, FrameDoc};
 use crate::spread::Spread;
 
 /// The format version this build writes; it reads this one and every older one.
 ///
-/// Version 2 added inline subpatch definitions (`subpatches`); a version-1 file
-/// reads unchanged and is written back as version 1 while it defines none.
-pub const FORMAT_VERSION: u32 = 2;
+/// Version 2 added inline subpatch definitions (`subpatches`); version 3 added
+/// comments, frames and bypassed nodes (`crate::organise`). An older file reads
+/// unchanged and is written back at its own version while it uses nothing newer.
+pub const FORMAT_VERSION: u32 = 3;
 
 /// The first version whose files may define subpatches inline.
 pub const SUBPATCH_VERSION: u32 = 2;
+
+/// The first version whose files may hold comments, frames and bypassed nodes.
+pub const ORGANISE_VERSION: u32 = 3;
 
 /// A node's id: stable for the node's life, unique within its patch.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
@@ -46,6 +51,14 @@ pub struct NodeDoc {
     /// Input values that differ from the pin defaults, by pin name.
     #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
     pub values: BTreeMap<String, Spread>,
+    /// Bypassed: the node does not run; its first input passes to its first
+    /// output of the same type and its other outputs are empty (`crate::runtime`).
+    #[serde(default, skip_serializing_if = "is_false")]
+    pub bypass: bool,
+}
+
+fn is_false(b: &bool) -> bool {
+    !*b
 }
 
 impl NodeDoc {
@@ -55,6 +68,7 @@ impl NodeDoc {
             type_name: type_name.to_owned(),
             pos: (0.0, 0.0),
             values: BTreeMap::new(),
+            bypass: false,
         }
     }
 
@@ -123,6 +137,12 @@ pub struct Patch {
     /// these names is an instance of it (`crate::subpatch`).
     #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
     pub subpatches: BTreeMap<String, Patch>,
+    /// Notes on the canvas (format version 3).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub comments: Vec<CommentDoc>,
+    /// Titled rectangles grouping nodes on the canvas (format version 3).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub frames: Vec<FrameDoc>,
 }
 
 impl Default for Patch {
@@ -132,6 +152,8 @@ impl Default for Patch {
             nodes: Vec::new(),
             links: Vec::new(),
             subpatches: BTreeMap::new(),
+            comments: Vec::new(),
+            frames: Vec::new(),
         }
     }
 }
@@ -160,7 +182,12 @@ impl Patch {
     /// at least, so an older build refuses a file it would misread.
     pub fn required_version(&self) -> u32 {
         let nested = self.subpatches.values().map(Patch::required_version);
-        let own = if self.subpatches.is_empty() {
+        let organised = !self.comments.is_empty()
+            || !self.frames.is_empty()
+            || self.nodes.iter().any(|n| n.bypass);
+        let own = if organised {
+            ORGANISE_VERSION
+        } else if self.subpatches.is_empty() {
             1
         } else {
             SUBPATCH_VERSION

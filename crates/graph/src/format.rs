@@ -174,6 +174,37 @@ mod tests {
     }
 
     #[test]
+    fn comments_frames_and_bypass_round_trip_and_need_version_3() {
+        use crate::organise::{CommentDoc, FrameDoc};
+        let mut p = sample();
+        p.version = 1;
+        assert_eq!(
+            to_string(&p).expect("encode").lines().nth(1),
+            Some("    version: 1,")
+        );
+        p.comments
+            .push(CommentDoc::new(0.0, -40.0, "# Phase\n- **LFO** drives it"));
+        let mut frame = FrameDoc::new("Source", (-10.0, -10.0), (80.0, 60.0));
+        frame.color = (120, 60, 40);
+        p.frames.push(frame);
+        p.nodes[1].bypass = true;
+        let text = to_string(&p).expect("encode");
+        let back = from_str(&text, Path::new("mem.ron")).expect("decode");
+        assert_eq!(back.version, 3, "{text}");
+        assert_eq!(back.comments, p.comments);
+        assert_eq!(back.frames, p.frames);
+        assert!(back.nodes[1].bypass && !back.nodes[0].bypass);
+        assert_eq!(to_string(&back).expect("encode"), text);
+        // A file without them (an older one) loads with none.
+        let old = from_str(
+            "(version: 2, nodes: [(id: 1, type: \"LFO\")])",
+            Path::new("old.ron"),
+        )
+        .expect("decode");
+        assert!(old.comments.is_empty() && old.frames.is_empty() && !old.nodes[0].bypass);
+    }
+
+    #[test]
     fn syntax_errors_carry_line_and_column() {
         let err = from_str(
             "(version: 1,\n nodes: [\n (id: 1, type: LFO) ],\n)",

@@ -38,6 +38,9 @@ pub struct NetworkNode {
     /// `None` for a node type this build does not know: a placeholder that never evaluates.
     pub def: Option<Arc<NodeDef>>,
     pub inputs: Vec<InputSource>,
+    /// Bypassed in the document: the runtime passes its first input through
+    /// instead of running it (`Runtime::evaluate`).
+    pub bypass: bool,
 }
 
 /// A compiled patch.
@@ -357,6 +360,7 @@ impl Compiler<'_> {
                 type_name: patch.nodes[i].type_name.clone(),
                 def: defs[i].clone(),
                 inputs: std::mem::take(&mut inputs[i]),
+                bypass: patch.nodes[i].bypass,
             })
             .collect();
         let index = nodes.iter().enumerate().map(|(k, n)| (n.id, k)).collect();

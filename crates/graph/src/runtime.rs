@@ -288,6 +288,15 @@ impl Runtime {
             for (slot, pin) in state.outputs.iter_mut().zip(&def.outputs) {
                 *slot = empty(pin.ty);
             }
+            if node.bypass {
+                bypass(state, def);
+                stat.run = NodeRun::Evaluated;
+                stats.evaluated += 1;
+                self.versions += 1;
+                state.version = self.versions;
+                state.dirty = false;
+                continue;
+            }
             let Some(instance) = state.instance.as_mut() else {
                 continue;
             };
@@ -406,6 +415,31 @@ impl Runtime {
     }
 }
 
+/// A bypassed node's outputs: its first input goes to its first output of the
+/// same type (or one it converts to, as a link would), the rest stay empty.
+/// The node itself does not run, so it declares no GPU work either.
+fn bypass(state: &mut NodeState, def: &crate::registry::NodeDef) {
+    state.error = None;
+    let (Some(input), Some(pin)) = (state.inputs.first(), def.inputs.first()) else {
+        return;
+    };
+    let same = def.outputs.iter().position(|o| o.ty == pin.ty);
+    let converted = || {
+        def.outputs
+            .iter()
+            .enumerate()
+            .find_map(|(k, o)| Some((k, input.convert_to(o.ty)?)))
+    };
+    match same {
+        Some(k) => state.outputs[k] = input.clone(),
+        None => {
+            if let Some((k, spread)) = converted() {
+                state.outputs[k] = Arc::new(spread);
+            }
+        }
+    }
+}
+
 fn empty(ty: crate::value::PinType) -> Arc<Spread> {
     Arc::new(Spread::empty(ty))
 }
@@ -455,9 +489,11 @@ fn same_def(a: &NetworkNode, b: &NetworkNode) -> bool {
 }
 
 /// Whether a node reads the same things in two networks: the same constants
-/// and links from the same upstream node ids and pins.
+/// and links from the same upstream node ids and pins, bypassed alike.
 fn same_inputs(a_net: &Network, a: &NetworkNode, b_net: &Network, b: &NetworkNode) -> bool {
-    a.inputs.len() == b.inputs.len()
+    // Bypassing or un-bypassing changes what the node's outputs are.
+    a.bypass == b.bypass
+        && a.inputs.len() == b.inputs.len()
         && a.inputs.iter().zip(&b.inputs).all(|(x, y)| match (x, y) {
             (InputSource::Constant(u), InputSource::Constant(v)) => Arc::ptr_eq(u, v) || u == v,
             (

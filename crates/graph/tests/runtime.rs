@@ -687,3 +687,53 @@ fn a_type_replaced_at_run_time_re_instantiates_its_nodes_and_keeps_values_and_li
     rt.evaluate(FrameClock::fixed(3, 60.0));
     assert_eq!(probe(&rt, "runs"), Spread::Int(vec![1]));
 }
+
+#[test]
+fn a_bypassed_node_passes_its_first_input_and_its_other_outputs_are_empty() {
+    let mut r = registry();
+    r.add(
+        NodeDef::new("Split", "Test", "")
+            .input("Input", 0.0f32)
+            .input("Gain", 10.0f32)
+            .output::<i64>("Count")
+            .output::<f32>("Output")
+            .evaluate(|cx| {
+                let v: Vec<f32> = cx.slices::<f32>(0)?.iter().map(|x| x * 10.0).collect();
+                cx.set(0, vec![v.len() as i64]);
+                cx.set(1, v);
+                Ok(())
+            }),
+    );
+    let mut p = Patch::default();
+    p.add(NodeDoc::new(1, "Const").with("Value", vec![3.0f32, 4.0]));
+    p.add(NodeDoc::new(2, "Split"));
+    p.add(sink(3, "passed"));
+    p.add(sink(4, "count"));
+    p.link(1, "Output", 2, "Input");
+    p.link(2, "Output", 3, "Input");
+    p.link(2, "Count", 4, "Input");
+    let mut rt = Runtime::new(r);
+    rt.load(&p);
+    rt.evaluate(FrameClock::fixed(0, 60.0));
+    assert_eq!(probe(&rt, "passed"), Spread::Float(vec![30.0, 40.0]));
+    assert_eq!(probe(&rt, "count"), Spread::Int(vec![2]));
+
+    // Bypassed: the Float input goes to the Float output (the second), unscaled; Count is empty.
+    p.node_mut(NodeId(2)).expect("node").bypass = true;
+    rt.load(&p);
+    rt.evaluate(FrameClock::fixed(1, 60.0));
+    assert_eq!(probe(&rt, "passed"), Spread::Float(vec![3.0, 4.0]));
+    assert_eq!(probe(&rt, "count"), Spread::Int(vec![]));
+
+    // The bypass is saved, and loading it back bypasses again.
+    let text = format::to_string(&p).expect("encode");
+    assert!(text.contains("bypass: true"), "{text}");
+    let back = format::from_str(&text, std::path::Path::new("b.ron")).expect("decode");
+    assert!(back.node(NodeId(2)).expect("node").bypass);
+
+    // Un-bypassed, it runs again.
+    p.node_mut(NodeId(2)).expect("node").bypass = false;
+    rt.load(&p);
+    rt.evaluate(FrameClock::fixed(2, 60.0));
+    assert_eq!(probe(&rt, "passed"), Spread::Float(vec![30.0, 40.0]));
+}

@@ -105,8 +105,12 @@ impl EditorApp {
             Some(view) if !self.fit.is_multiple_of(2) => {
                 self.fit -= 1;
                 ui.ctx().request_repaint();
-                canvas::fit_view(view, &self.node_rects, canvas_rect)
+                // Comments and frames are part of what the patch shows.
+                let mut rects = self.node_rects.clone();
+                rects.extend(self.organise.rects.iter().map(|r| (NodeId(u32::MAX), *r)));
+                canvas::fit_view(view, &rects, canvas_rect)
             }
+            Some(view) if self.organise.jump.is_some() => self.jump_view(view, canvas_rect),
             Some(view) => self.wheel_zoom(ui, view, canvas_rect),
             None => None,
         };
@@ -140,10 +144,13 @@ impl EditorApp {
         };
         self.wires_to_culled_nodes(ui, layer, canvas_rect);
         let node_rects = self.with_culled_rects(ui, layer, node_rects);
+        self.annotations_ui(ui, layer);
+        self.open_browser_for_dropped_wire(ui.ctx());
         if !dragging {
             let moves = canvas::moved_nodes(&self.snarl, &self.doc);
-            self.doc.move_nodes(&moves);
+            self.record_moves(ui, &moves);
         }
+        let pin_gesture = self.pin_gesture(ui);
         let double = ui.input(|i| {
             i.pointer
                 .button_double_clicked(egui::PointerButton::Primary)
@@ -159,22 +166,30 @@ impl EditorApp {
             // Double-click on a subpatch node opens it in place.
             self.open_subpatch(id);
         } else if double
-            && response.hovered()
             && let Some(screen) = ui.input(|i| i.pointer.interact_pos())
+            // Over a wire snarl's own wire widget is hovered, not the canvas.
+            && (response.hovered()
+                || (canvas_rect.contains(screen)
+                    && canvas::wire_under(&self.doc, &self.pins, screen, 5.0).is_some()))
         {
             let from_global = ui
                 .ctx()
                 .layer_transform_from_global(layer)
                 .unwrap_or_default();
             let g = from_global * screen;
+            // Double-click on a link: the new node goes into it.
+            let link = canvas::wire_under(&self.doc, &self.pins, screen, 5.0)
+                .map(crate::organise::gestures::BrowserLink::Insert);
             self.browser = Some(BrowserState {
                 at: ((g.x / SCALE).round(), (g.y / SCALE).round()),
                 screen,
                 query: String::new(),
                 highlighted: 0,
                 focus: true,
+                link,
             });
-        } else if ui.input(|i| i.pointer.primary_clicked())
+        } else if !pin_gesture
+            && ui.input(|i| i.pointer.primary_clicked())
             && let Some(p) = ui.input(|i| i.pointer.interact_pos())
             && ui.max_rect().contains(p)
         {
@@ -443,7 +458,11 @@ impl EditorApp {
         let Some(b) = &mut self.browser else {
             return;
         };
-        let hits = browser::filter(&self.registry, &b.query);
+        let mut hits = browser::filter(&self.registry, &b.query);
+        if let Some(link) = &b.link {
+            // Only types that can take the wire or go into the link.
+            hits.retain(|name| link.fits(&self.doc, &self.registry, name));
+        }
         let mut place = None;
         let mut close = false;
         let opened_now = b.focus;
@@ -521,8 +540,17 @@ impl EditorApp {
         }
         if let Some(name) = place {
             let at = b.at;
-            let id = self.doc.add_node(name, at);
-            self.selected = [id].into_iter().collect();
+            let link = b.link.clone();
+            match super::organise::place_node(
+                &mut self.doc,
+                &self.registry,
+                name,
+                at,
+                link.as_ref(),
+            ) {
+                Ok(id) => self.selected = [id].into_iter().collect(),
+                Err(e) => self.status = format!("{name} was not put into the link: {e}"),
+            }
         }
         if close {
             self.browser = None;

@@ -85,6 +85,7 @@ impl EditorApp {
                 self.selected.clear();
             }
         }
+        self.organise_shortcuts(ctx);
         if ctx.input_mut(|i| i.consume_key(Modifiers::NONE, Key::F)) {
             self.fit = FIT_FROM_SCRATCH;
         }
@@ -171,6 +172,7 @@ impl EditorApp {
                     self.unmake_selected_subpatches();
                 }
             });
+            self.organise_menu(ui);
             ui.separator();
             let play = if self.playing {
                 "⏸ Pause"

@@ -69,7 +69,8 @@ pub fn style() -> SnarlStyle {
     }
 }
 
-pub(super) fn pin_color(ty: PinType) -> Color32 {
+/// A pin's colour by its type (the legend, `organise/legend.rs`, lists them).
+pub fn pin_color(ty: PinType) -> Color32 {
     match ty {
         PinType::Float | PinType::Int => Color32::from_rgb(160, 160, 160),
         PinType::Bool => Color32::from_rgb(220, 120, 120),

@@ -1,7 +1,7 @@
 //! The document's reversible changes: each command and its exact inverse,
 //! so undo and redo are the same machinery.
 
-use spreadlight_graph::{LinkDoc, NodeDoc, NodeId, Patch, Spread};
+use spreadlight_graph::{CommentDoc, FrameDoc, LinkDoc, NodeDoc, NodeId, Patch, Spread};
 
 /// A node's move: its id, where it was, where it went (canvas units).
 pub type NodeMove = (NodeId, (f32, f32), (f32, f32));
@@ -37,7 +37,23 @@ pub enum Command {
         old: Option<Box<Patch>>,
         new: Option<Box<Patch>>,
     },
+    /// Bypass or run nodes again: (node, old, new).
+    Bypass {
+        nodes: Vec<(NodeId, bool, bool)>,
+    },
+    /// Replace the comments and frames (`organise.rs`).
+    Annotate {
+        old: Box<Annotations>,
+        new: Box<Annotations>,
+    },
     Batch(Vec<Command>),
+}
+
+/// A document's comments and frames, replaced as a whole by [`Command::Annotate`].
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Annotations {
+    pub comments: Vec<CommentDoc>,
+    pub frames: Vec<FrameDoc>,
 }
 
 impl Command {
@@ -67,6 +83,13 @@ impl Command {
             },
             Command::Define { name, old, new } => Command::Define {
                 name: name.clone(),
+                old: new.clone(),
+                new: old.clone(),
+            },
+            Command::Bypass { nodes } => Command::Bypass {
+                nodes: nodes.iter().map(|&(id, a, b)| (id, b, a)).collect(),
+            },
+            Command::Annotate { old, new } => Command::Annotate {
                 old: new.clone(),
                 new: old.clone(),
             },
@@ -128,6 +151,17 @@ impl Command {
                     patch.subpatches.remove(name);
                 }
             },
+            Command::Bypass { nodes } => {
+                for &(id, _, bypass) in nodes {
+                    if let Some(n) = patch.node_mut(id) {
+                        n.bypass = bypass;
+                    }
+                }
+            }
+            Command::Annotate { new, .. } => {
+                patch.comments = new.comments.clone();
+                patch.frames = new.frames.clone();
+            }
             Command::Batch(cmds) => {
                 for c in cmds {
                     c.apply(patch);

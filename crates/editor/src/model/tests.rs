@@ -180,3 +180,126 @@ fn unlink_undo_puts_the_link_back() {
     doc.undo();
     assert_eq!(doc.patch(), &linked);
 }
+
+fn linked_lfo_probe() -> (EditorDoc, Registry) {
+    let reg = registry();
+    let mut doc = lfo_probe();
+    doc.link(&reg, PinRef::new(1, "Output"), PinRef::new(2, "Input"))
+        .expect("link");
+    (doc, reg)
+}
+
+#[test]
+fn a_node_put_into_a_link_keeps_both_sides_linked_in_one_undo_step() {
+    let (mut doc, reg) = linked_lfo_probe();
+    let before = doc.patch().clone();
+    let link = before.links[0].clone();
+    let id = doc
+        .insert_new_into_link(&reg, &link, "Sin (Value)", (40.0, 40.0))
+        .expect("fits");
+    let links = &doc.patch().links;
+    assert!(
+        links.contains(&LinkDoc::new(1, "Output", id.0, "Input")),
+        "{links:?}"
+    );
+    assert!(
+        links.contains(&LinkDoc::new(id.0, "Output", 2, "Input")),
+        "{links:?}"
+    );
+    assert_eq!(links.len(), 2, "the old link is gone");
+    assert!(doc.undo());
+    assert_eq!(doc.patch(), &before, "one step");
+    // A type with no pin for the link is refused and changes nothing.
+    assert!(
+        doc.insert_new_into_link(&reg, &link, "Probe", (0.0, 0.0))
+            .is_err()
+    );
+    assert_eq!(doc.patch(), &before);
+}
+
+#[test]
+fn a_dropped_wire_makes_a_linked_node_in_one_undo_step() {
+    let reg = registry();
+    let mut doc = lfo_probe();
+    let wire = organise::DroppedWire::Outputs(vec![PinRef::new(1, "Output")]);
+    assert!(doc.wire_fits(&reg, "Sin (Value)", &wire).is_some());
+    assert!(
+        doc.wire_fits(
+            &reg,
+            "LFO",
+            &organise::DroppedWire::Inputs(vec![PinRef::new(2, "Input")])
+        )
+        .is_some()
+    );
+    let id = doc.add_linked_node(&reg, "Sin (Value)", (50.0, 0.0), &wire);
+    assert_eq!(
+        doc.patch().links,
+        vec![LinkDoc::new(1, "Output", id.0, "Input")]
+    );
+    assert!(doc.undo());
+    assert_eq!(doc.patch().nodes.len(), 2);
+    assert!(doc.patch().links.is_empty());
+}
+
+#[test]
+fn an_iobox_from_a_pin_holds_its_spread_and_feeds_it() {
+    let reg = registry();
+    let mut doc = lfo_probe();
+    let pin = PinRef::new(1, "Period");
+    let id = doc
+        .iobox_for_input(&reg, &pin, Spread::Float(vec![2.5, 4.0]))
+        .expect("an IOBox");
+    let node = doc.node(id).expect("node");
+    assert_eq!(node.type_name, "IOBox (Value)");
+    assert_eq!(
+        node.values.get("Input"),
+        Some(&Spread::Float(vec![2.5, 4.0]))
+    );
+    assert!(node.pos.0 < 0.0, "left of the node it feeds");
+    assert_eq!(
+        doc.link_into(&pin).map(|l| l.from.clone()),
+        Some(PinRef(id, "Output".into()))
+    );
+    assert!(doc.undo());
+    assert_eq!(doc.patch().nodes.len(), 2, "one step");
+}
+
+#[test]
+fn a_frame_moves_its_nodes_and_bypass_comments_and_layout_undo() {
+    let reg = registry();
+    let mut doc = lfo_probe();
+    doc.add_node("LFO", (500.0, 500.0));
+    let frame = doc
+        .frame_around(&reg, &[NodeId(1), NodeId(2)], "Source")
+        .expect("a frame");
+    assert_eq!(doc.frame_nodes(frame), vec![NodeId(1), NodeId(2)]);
+    let pos = doc.patch().frames[frame].pos;
+    doc.move_frame(frame, (pos.0 + 30.0, pos.1 + 5.0));
+    assert_eq!(doc.node(NodeId(1)).map(|n| n.pos), Some((30.0, 5.0)));
+    assert_eq!(doc.node(NodeId(2)).map(|n| n.pos), Some((30.0, 85.0)));
+    assert_eq!(
+        doc.node(NodeId(3)).map(|n| n.pos),
+        Some((500.0, 500.0)),
+        "outside: stays"
+    );
+    assert!(doc.undo());
+    assert_eq!(doc.node(NodeId(1)).map(|n| n.pos), Some((0.0, 0.0)));
+    assert_eq!(
+        doc.patch().frames[frame].pos,
+        pos,
+        "the frame and its nodes in one step"
+    );
+
+    doc.add_comment((0.0, -30.0), "# Hello");
+    assert_eq!(doc.patch().comments.len(), 1);
+    doc.toggle_bypass(&[NodeId(1)]);
+    assert!(doc.node(NodeId(1)).is_some_and(|n| n.bypass));
+    assert!(doc.undo());
+    assert!(doc.node(NodeId(1)).is_some_and(|n| !n.bypass));
+
+    let before = doc.patch().clone();
+    doc.layout(&reg, &[]);
+    assert!(crate::organise::measure::overlapping_nodes(doc.patch(), &reg).is_empty());
+    assert!(doc.undo());
+    assert_eq!(doc.patch(), &before, "layout is one step");
+}
