@@ -79,8 +79,15 @@ impl VideoDecoder {
         } else {
             (seconds * rate).round().max(1.0) as u64
         };
-        let context = ffmpeg::codec::context::Context::from_parameters(stream.parameters())
+        let mut context = ffmpeg::codec::context::Context::from_parameters(stream.parameters())
             .map_err(open_error)?;
+        // Frame threads, as many as FFmpeg sees cores: 1080p H.264 decodes
+        // about half again as fast on two cores (docs/media.md).
+        context.set_threading(ffmpeg::codec::threading::Config {
+            kind: ffmpeg::codec::threading::Type::Frame,
+            count: 0,
+            ..Default::default()
+        });
         let decoder = context.decoder().video().map_err(open_error)?;
         let info = VideoInfo {
             width: decoder.width(),

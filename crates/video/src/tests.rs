@@ -249,3 +249,56 @@ fn a_recording_has_its_frames_and_the_sound_of_the_audio_file() {
             .is_some_and(|e| e.to_string().contains("no.such-format"))
     );
 }
+
+/// Decode throughput and seek latency at 1080p, for docs/media.md:
+/// `cargo test -p spreadlight-video --lib -- --ignored --nocapture throughput`.
+/// A 10-second 1920x1080 H.264 clip (testsrc2, 30 fps, a key frame every 2 s,
+/// x264's medium preset) is made in the temporary folder first.
+#[test]
+#[ignore = "a measurement, not a test: run it by hand"]
+fn throughput_and_seek_latency_at_1080p() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let path = dir.path().join("1080p.mp4");
+    ffmpeg(&[
+        "-f",
+        "lavfi",
+        "-i",
+        "testsrc2=size=1920x1080:rate=30:duration=10",
+        "-c:v",
+        "libx264",
+        "-g",
+        "60",
+        "-pix_fmt",
+        "yuv420p",
+        path.to_str().expect("utf-8"),
+    ]);
+    let mut source = Source::open(&path, 30.0).expect("opens");
+    let frames = source.info().frames;
+    let started = std::time::Instant::now();
+    for n in 0..frames {
+        source.frame(n).expect("decodes");
+    }
+    let seconds = started.elapsed().as_secs_f64();
+    println!(
+        "sequential: {frames} frames in {seconds:.2} s = {:.1} frames/s (decode + RGBA)",
+        frames as f64 / seconds
+    );
+    // Seeks to scattered frames (a fixed sequence, each far from the last).
+    let targets: Vec<u64> = (0..20u64).map(|k| (k * 137 + 61) % frames).collect();
+    let mut latencies = Vec::new();
+    for &n in &targets {
+        let mut fresh = Source::open(&path, 30.0).expect("opens");
+        fresh.frame(frames - 1).expect("decodes");
+        let started = std::time::Instant::now();
+        fresh.frame(n).expect("decodes");
+        latencies.push(started.elapsed().as_secs_f64() * 1e3);
+    }
+    latencies.sort_by(f64::total_cmp);
+    let mean = latencies.iter().sum::<f64>() / latencies.len() as f64;
+    println!(
+        "seek: mean {mean:.1} ms, median {:.1} ms, worst {:.1} ms over {} seeks (key frame every 2 s)",
+        latencies[latencies.len() / 2],
+        latencies[latencies.len() - 1],
+        latencies.len()
+    );
+}
