@@ -190,3 +190,17 @@ fn geometry_nodes_extrude_and_spherize() {
         20,
     );
 }
+
+/// A video texture on a deferred-lit surface (issue 37): frame 30 at 60 fps,
+/// so the shipped test clip's frame at 0.5 s (its frame 15), shadowed by a
+/// sphere; frame-exact, so the same every run.
+#[test]
+fn video_texture_on_a_lit_surface() {
+    check(
+        "video-surface",
+        "patches/video-surface.ron",
+        "video-surface",
+        (160, 90),
+        30,
+    );
+}

@@ -22,6 +22,7 @@ mod host_input;
 mod inspector;
 mod menus;
 mod queries;
+mod recording;
 mod running;
 mod show;
 mod show_window;
@@ -252,6 +253,13 @@ pub struct EditorApp {
     show_image_rect: Option<egui::Rect>,
     /// `play --native`: the window takes the texture's size (`show.rs`).
     play_native: bool,
+    /// The file being recorded to (`app/recording.rs`).
+    recording: Option<PathBuf>,
+    /// Where the next recording goes (`play --record`); it starts on the first frame.
+    record_to: Option<PathBuf>,
+    record_on_start: bool,
+    /// Seconds the clock steps each frame instead of the wall clock's (`play --fps`).
+    fixed_step: Option<f64>,
 }
 
 impl EditorApp {
@@ -381,6 +389,10 @@ impl EditorApp {
             show_input: None,
             show_image_rect: None,
             play_native: false,
+            recording: None,
+            record_to: None,
+            record_on_start: false,
+            fixed_step: None,
         };
         match options.path {
             // `spreadlight edit new.ron` starts that patch, as text editors do.
@@ -509,6 +521,7 @@ impl EditorApp {
         let (now, dt) = ctx.input(|i| (i.time, f64::from(i.stable_dt)));
         self.poll_shaders(&ctx);
         self.shortcuts(&ctx);
+        self.recording_shortcut(&ctx);
         self.evaluate_if_needed(&ctx, Some(dt), true);
 
         egui::Panel::top("menu").show(ui, |ui| self.menu_bar(ui));

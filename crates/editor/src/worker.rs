@@ -30,6 +30,7 @@ use spreadlight_graph::{
 use spreadlight_nodes::input::HostInput;
 use spreadlight_render::{Renderer, SubmissionGate, TextureRef};
 
+use crate::recording::{RecordCommand, Recording, RecordingStatus};
 use crate::viewport::{self, Blitter, ViewTarget, ViewportError};
 
 /// How long a UI frame waits for the patch frame it asked for.
@@ -73,6 +74,10 @@ pub struct Request {
     pub clock: Option<FrameClock>,
     /// What the viewports show, when that changed.
     pub views: Option<Vec<ViewRequest>>,
+    /// Start or stop recording the first viewport (`recording.rs`).
+    pub record: Option<RecordCommand>,
+    /// How media nodes keep up with the clock, when that changed.
+    pub playback: Option<spreadlight_nodes::media::Playback>,
 }
 
 impl Request {
@@ -83,6 +88,8 @@ impl Request {
             && self.patch.is_none()
             && self.clock.is_none()
             && self.views.is_none()
+            && self.record.is_none()
+            && self.playback.is_none()
     }
 
     /// Fold `newer` in: the newest of each part wins; a reset drops what came before it.
@@ -97,6 +104,8 @@ impl Request {
             patch,
             clock,
             views,
+            record,
+            playback,
         } = newer;
         self.reset = reset.or(self.reset.take());
         self.registry = registry.or(self.registry.take());
@@ -104,6 +113,8 @@ impl Request {
         self.patch = patch.or(self.patch.take());
         self.clock = clock.or(self.clock.take());
         self.views = views.or(self.views.take());
+        self.record = record.or(self.record.take());
+        self.playback = playback.or(self.playback.take());
     }
 }
 
@@ -136,6 +147,8 @@ pub struct Frame {
     pub seconds: f64,
     /// A panic in a node or pass, caught so the editor keeps the document.
     pub failure: Option<String>,
+    /// The recording in progress, or the last one finished.
+    pub recording: Option<RecordingStatus>,
 }
 
 /// The renderer the worker draws the viewports with, on egui's device.
@@ -285,6 +298,9 @@ struct Engine {
     views: Vec<(Option<ViewRequest>, ViewOut, bool)>,
     gpu_ms: HashMap<u32, f64>,
     gpu_errors: HashMap<u32, String>,
+    playback: spreadlight_nodes::media::Playback,
+    recording: Option<Recording>,
+    recorded: Option<RecordingStatus>,
 }
 
 impl Engine {
@@ -300,6 +316,9 @@ impl Engine {
             views: Vec::new(),
             gpu_ms: HashMap::new(),
             gpu_errors: HashMap::new(),
+            playback: spreadlight_nodes::media::Playback::Live,
+            recording: None,
+            recorded: None,
         };
         engine.reset(engine.registry.clone());
         engine
@@ -309,6 +328,7 @@ impl Engine {
         self.registry = registry;
         self.runtime = Runtime::new(self.registry.clone());
         self.runtime.provide(self.host.clone());
+        self.runtime.provide(Arc::new(self.playback));
         if let Some(gpu) = &self.gpu {
             spreadlight_nodes::gpu::provide_renderer(&mut self.runtime, gpu.renderer.clone());
             gpu.renderer.reset_history();
@@ -351,6 +371,11 @@ impl Engine {
                 gpu_errors: self.gpu_errors.clone(),
                 seconds: started.elapsed().as_secs_f64(),
                 failure,
+                recording: self
+                    .recording
+                    .as_ref()
+                    .map(|r| r.status.clone())
+                    .or_else(|| self.recorded.clone()),
             });
             {
                 let mut s = shared.lock();
@@ -371,6 +396,20 @@ impl Engine {
         if let Some(registry) = request.registry {
             self.registry = registry.clone();
             self.runtime.set_registry(registry);
+        }
+        if let Some(playback) = request.playback {
+            self.playback = playback;
+            self.runtime.provide(Arc::new(playback));
+        }
+        match request.record {
+            Some(RecordCommand::Start(settings)) => {
+                self.recorded = self.recording.take().map(Recording::finish);
+                self.recording = Some(Recording::new(settings));
+            }
+            Some(RecordCommand::Stop) => {
+                self.recorded = self.recording.take().map(Recording::finish);
+            }
+            None => {}
         }
         if let Some(dir) = request.patch_dir {
             self.runtime.provide(Arc::new(PatchDir(dir)));
@@ -405,6 +444,22 @@ impl Engine {
             if std::mem::take(&mut self.views[k].2) {
                 self.render_view(k);
             }
+        }
+        if evaluate {
+            self.record_view();
+        }
+    }
+
+    /// Hand the first viewport's new frame to the recording, if one runs.
+    fn record_view(&mut self) {
+        let (Some(recording), Some(gpu)) = (&mut self.recording, &self.gpu) else {
+            return;
+        };
+        let Some((_, out, _)) = self.views.first() else {
+            return;
+        };
+        if let (Some(target), None) = (&out.target, &out.error) {
+            recording.capture(&gpu.renderer.gpu, &target.texture, self.clock);
         }
     }
 
