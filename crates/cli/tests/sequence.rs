@@ -473,8 +473,16 @@ fn a_terminal_gets_a_progress_bar_and_a_pipe_gets_lines() {
 fn a_video_texture_renders_the_same_bytes_in_a_chunk_as_in_a_full_run() {
     let dir = tempfile::tempdir().expect("tempdir");
     let patch = "patches/video-surface.ron";
-    ok(&render(patch, &dir.path().join("full/f_####.png"), &["--frames", "0-4"]));
-    ok(&render(patch, &dir.path().join("chunk/f_####.png"), &["--frames", "3-4"]));
+    ok(&render(
+        patch,
+        &dir.path().join("full/f_####.png"),
+        &["--frames", "0-4"],
+    ));
+    ok(&render(
+        patch,
+        &dir.path().join("chunk/f_####.png"),
+        &["--frames", "3-4"],
+    ));
     let read = |run: &str, frame: u32| {
         std::fs::read(dir.path().join(format!("{run}/f_{frame:04}.png"))).expect("read")
     };

@@ -395,8 +395,15 @@ fn play_records_three_seconds_frame_for_frame_with_the_audio_files_sound() {
     ff(
         "ffmpeg",
         &[
-            "-hide_banner", "-loglevel", "error", "-y", "-f", "lavfi", "-i",
-            "sine=frequency=440:duration=4", &d("tone.wav"),
+            "-hide_banner",
+            "-loglevel",
+            "error",
+            "-y",
+            "-f",
+            "lavfi",
+            "-i",
+            "sine=frequency=440:duration=4",
+            &d("tone.wav"),
         ],
     );
     let video = root().join("patches/assets/testsrc-64x36.mp4");
@@ -407,7 +414,10 @@ fn play_records_three_seconds_frame_for_frame_with_the_audio_files_sound() {
     );
     p.add(spreadlight_graph::NodeDoc::new(2, "Output").with("Write", vec![false]));
     p.link(1, "Texture", 2, "Texture");
-    p.add(spreadlight_graph::NodeDoc::new(3, "AudioFile").with("Filename", vec!["tone.wav".to_owned()]));
+    p.add(
+        spreadlight_graph::NodeDoc::new(3, "AudioFile")
+            .with("Filename", vec!["tone.wav".to_owned()]),
+    );
     let patch = dir.path().join("recorded.ron");
     spreadlight_graph::format::save(&p, &patch).expect("save");
     let recording = dir.path().join("out.mp4");
@@ -415,24 +425,44 @@ fn play_records_three_seconds_frame_for_frame_with_the_audio_files_sound() {
         .spreadlight(&dir.path().join("config"))
         .arg("play")
         .arg(&patch)
-        .args(["--size", "64x36", "--fps", "30", "--measure-frames", "90", "--record"])
+        .args([
+            "--size",
+            "64x36",
+            "--fps",
+            "30",
+            "--measure-frames",
+            "90",
+            "--record",
+        ])
         .arg(&recording)
         .output()
         .expect("play runs");
     let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(out.status.success(), "{stdout}{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{stdout}{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let report: serde_json::Value = serde_json::from_str(stdout.lines().last().unwrap_or_default())
         .unwrap_or_else(|e| panic!("{e}: {stdout}"));
     assert_eq!(report["recording_error"], "", "{report}");
     assert_eq!(report["recorded_frames"], 90, "{report}");
     assert_eq!(report["recording_dropped"], 0, "{report}");
-    let first = report["recording_first_frame"].as_u64().expect("a first frame");
+    let first = report["recording_first_frame"]
+        .as_u64()
+        .expect("a first frame");
     let rec = recording.to_string_lossy().into_owned();
     let streams = ff(
         "ffprobe",
         &[
-            "-v", "error", "-count_frames", "-show_entries",
-            "stream=codec_type,width,height,nb_read_frames", "-of", "csv=p=0", &rec,
+            "-v",
+            "error",
+            "-count_frames",
+            "-show_entries",
+            "stream=codec_type,width,height,nb_read_frames",
+            "-of",
+            "csv=p=0",
+            &rec,
         ],
     );
     let lines: Vec<&str> = streams.lines().map(str::trim).collect();
@@ -445,8 +475,17 @@ fn play_records_three_seconds_frame_for_frame_with_the_audio_files_sound() {
     ff(
         "ffmpeg",
         &[
-            "-hide_banner", "-loglevel", "error", "-y", "-i", &rec, "-vf", "select=eq(n\\,45)",
-            "-frames:v", "1", &recorded.to_string_lossy(),
+            "-hide_banner",
+            "-loglevel",
+            "error",
+            "-y",
+            "-i",
+            &rec,
+            "-vf",
+            "select=eq(n\\,45)",
+            "-frames:v",
+            "1",
+            &recorded.to_string_lossy(),
         ],
     );
     let recorded = image::open(&recorded).expect("png").to_rgba8();
@@ -455,18 +494,32 @@ fn play_records_three_seconds_frame_for_frame_with_the_audio_files_sound() {
         let out = std::process::Command::new(env!("CARGO_BIN_EXE_spreadlight"))
             .arg("render")
             .arg(&patch)
-            .args(["--size", "64x36", "--fps", "30", "--allow-unknown", "--frames"])
+            .args([
+                "--size",
+                "64x36",
+                "--fps",
+                "30",
+                "--allow-unknown",
+                "--frames",
+            ])
             .arg(frame.to_string())
             .arg("-o")
             .arg(&png)
             .output()
             .expect("render runs");
-        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
         image::open(&png).expect("png").to_rgba8()
     };
     let at = first + 45;
     let same = mean_difference(&recorded, &rendered(at));
-    assert!(same < 6.0, "recorded frame 45 differs from patch frame {at} by {same}");
+    assert!(
+        same < 6.0,
+        "recorded frame 45 differs from patch frame {at} by {same}"
+    );
     for other in [at - 3, at + 3] {
         let differs = mean_difference(&recorded, &rendered(other));
         assert!(differs > same * 2.0, "frame {other}: {differs} vs {same}");

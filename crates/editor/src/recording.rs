@@ -142,7 +142,9 @@ impl Recording {
             return Ok(());
         };
         if self.settings.wait {
-            recorder.push_wait(rgba, number).map_err(|e| e.to_string())?;
+            recorder
+                .push_wait(rgba, number)
+                .map_err(|e| e.to_string())?;
             self.status.frames += 1;
         } else {
             match recorder.push(rgba, number).map_err(|e| e.to_string())? {

@@ -23,7 +23,10 @@ impl EditorApp {
     /// The toolbar's button.
     pub(super) fn recording_button(&mut self, ui: &mut Ui) {
         let (label, hint) = match &self.recording {
-            Some(path) => ("⏹ Stop recording", format!("recording {} (Ctrl+R)", path.display())),
+            Some(path) => (
+                "⏹ Stop recording",
+                format!("recording {} (Ctrl+R)", path.display()),
+            ),
             None => (
                 "⏺ Record",
                 "record the viewport to a video file beside the patch (Ctrl+R)".to_owned(),
@@ -89,11 +92,10 @@ impl EditorApp {
             .as_ref()
             .and_then(|p| p.parent())
             .map_or_else(|| self.options.config_dir.clone(), Path::to_path_buf);
-        let stem = self
-            .path
-            .as_ref()
-            .and_then(|p| p.file_stem())
-            .map_or_else(|| "untitled".to_owned(), |s| s.to_string_lossy().into_owned());
+        let stem = self.path.as_ref().and_then(|p| p.file_stem()).map_or_else(
+            || "untitled".to_owned(),
+            |s| s.to_string_lossy().into_owned(),
+        );
         let seconds = SystemTime::now()
             .duration_since(UNIX_EPOCH)
             .map_or(0, |d| d.as_secs());

@@ -129,7 +129,10 @@ impl Node for VideoFile {
             self.opened = None;
             self.player = None;
             self.uploaded = None;
-            cx.set_output(0, resource_spread::<TextureRef>(ResourceKind::Texture, Vec::new()));
+            cx.set_output(
+                0,
+                resource_spread::<TextureRef>(ResourceKind::Texture, Vec::new()),
+            );
             return Ok(());
         }
         let play = first(cx, 1, true)?;
@@ -144,16 +147,25 @@ impl Node for VideoFile {
             modified: std::fs::metadata(&path).and_then(|m| m.modified()).ok(),
             path: path.clone(),
             sequence_fps,
-            live: cx.service::<Playback>().is_some_and(|p| *p == Playback::Live),
+            live: cx
+                .service::<Playback>()
+                .is_some_and(|p| *p == Playback::Live),
         };
         let info = self
             .open(want, &path)
             .map_err(|e| cx.input_error(FILENAME, e.to_string()))?;
-        let time = if play { seek + speed * cx.clock.time } else { seek };
+        let time = if play {
+            seek + speed * cx.clock.time
+        } else {
+            seek
+        };
         let index = info.frame_at(time, looping);
         let frame = match &mut self.player {
             Some(Player::Exact(_))
-                if self.uploaded.as_ref().is_some_and(|(f, _)| f.index == index) =>
+                if self
+                    .uploaded
+                    .as_ref()
+                    .is_some_and(|(f, _)| f.index == index) =>
             {
                 self.uploaded.as_ref().map(|(f, _)| f.clone())
             }
@@ -162,7 +174,11 @@ impl Node for VideoFile {
                 let frame = source
                     .frame(index)
                     .map_err(|e| cx.input_error(FILENAME, e.to_string()))?;
-                if self.uploaded.as_ref().is_none_or(|(f, _)| !Arc::ptr_eq(f, &frame)) {
+                if self
+                    .uploaded
+                    .as_ref()
+                    .is_none_or(|(f, _)| !Arc::ptr_eq(f, &frame))
+                {
                     self.exact_cost.0 += 1;
                     self.exact_cost.1 += started.elapsed().as_secs_f64();
                 }
@@ -184,7 +200,10 @@ impl Node for VideoFile {
             _ => self.exact_cost,
         };
         if let Some(frame) = frame {
-            let fresh = self.uploaded.as_ref().is_none_or(|(f, _)| !Arc::ptr_eq(f, &frame));
+            let fresh = self
+                .uploaded
+                .as_ref()
+                .is_none_or(|(f, _)| !Arc::ptr_eq(f, &frame));
             if fresh {
                 let texture = GpuTexture::frame_rgba8(
                     &renderer.gpu,
@@ -204,7 +223,10 @@ impl Node for VideoFile {
             .into_iter()
             .collect();
         let shown = self.uploaded.as_ref().map_or(-1, |(f, _)| f.index as i64);
-        cx.set_output(0, resource_spread::<TextureRef>(ResourceKind::Texture, textures));
+        cx.set_output(
+            0,
+            resource_spread::<TextureRef>(ResourceKind::Texture, textures),
+        );
         cx.set(1, vec![info.duration() as f32]);
         cx.set(2, vec![shown]);
         cx.set(3, vec![self.dropped]);
@@ -223,7 +245,9 @@ mod tests {
     use std::path::{Path, PathBuf};
     use std::sync::Arc;
 
-    use spreadlight_graph::{FrameClock, NodeDoc, NodeId, NodeRun, Patch, PatchDir, Runtime, Spread};
+    use spreadlight_graph::{
+        FrameClock, NodeDoc, NodeId, NodeRun, Patch, PatchDir, Runtime, Spread,
+    };
 
     use crate::media::Playback;
 
@@ -232,12 +256,21 @@ mod tests {
         let path = dir.join("clip.mp4");
         let out = std::process::Command::new("ffmpeg")
             .args(["-hide_banner", "-loglevel", "error", "-y", "-f", "lavfi"])
-            .args(["-i", "testsrc=size=64x36:rate=30:duration=2", "-c:v", "libx264"])
+            .args([
+                "-i",
+                "testsrc=size=64x36:rate=30:duration=2",
+                "-c:v",
+                "libx264",
+            ])
             .args(["-g", "30", "-pix_fmt", "yuv420p"])
             .arg(&path)
             .output()
             .expect("the ffmpeg command");
-        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
         path
     }
 
@@ -245,7 +278,7 @@ mod tests {
     /// beside an LFO (#3) probed too: the rest of the patch.
     fn runtime(dir: &Path, file: &str, values: &[(&str, Spread)], probed: bool) -> Runtime {
         let mut patch = Patch::default();
-        let mut video = NodeDoc::new(1, "VideoFile").with("Filename", file.to_owned());
+        let mut video = NodeDoc::new(1, "VideoFile").with("Filename", vec![file.to_owned()]);
         for (pin, value) in values {
             video.values.insert((*pin).into(), value.clone());
         }
@@ -289,13 +322,19 @@ mod tests {
             other => panic!("{other:?}"),
         }
         // Twice as fast from half a second, looping: 2.1 s of video is frame 3.
-        let fast = [("Speed", Spread::Float(vec![2.0])), ("Seek", Spread::Float(vec![0.5]))];
+        let fast = [
+            ("Speed", Spread::Float(vec![2.0])),
+            ("Seek", Spread::Float(vec![0.5])),
+        ];
         let mut chunk = runtime(dir.path(), "clip.mp4", &fast, true);
         for (n, want) in [(4u64, 23i64), (24, 3), (2, 19)] {
             chunk.evaluate(FrameClock::fixed(n, 30.0));
             assert_eq!(ints(&chunk, "Frame"), [want], "frame {n}");
         }
-        let paused = [("Play", Spread::Bool(vec![false])), ("Seek", Spread::Float(vec![1.0]))];
+        let paused = [
+            ("Play", Spread::Bool(vec![false])),
+            ("Seek", Spread::Float(vec![1.0])),
+        ];
         let mut still = runtime(dir.path(), "clip.mp4", &paused, true);
         still.evaluate(FrameClock::fixed(17, 30.0));
         assert_eq!(ints(&still, "Frame"), [30]);
@@ -319,7 +358,10 @@ mod tests {
             assert!(waited.elapsed().as_secs() < 60, "no frame within a minute");
             std::thread::sleep(std::time::Duration::from_millis(5));
         }
-        assert!(ints(&live, "Dropped")[0] >= 1, "the first frame is always late");
+        assert!(
+            ints(&live, "Dropped")[0] >= 1,
+            "the first frame is always late"
+        );
     }
 
     #[test]
@@ -331,14 +373,20 @@ mod tests {
         for file in ["truncated.mp4", "garbage.mp4", "missing.mp4"] {
             let mut runtime = runtime(dir.path(), file, &[], true);
             runtime.evaluate(FrameClock::default());
-            let errors: Vec<(NodeId, String)> =
-                runtime.node_errors().map(|(n, e)| (n, e.to_string())).collect();
+            let errors: Vec<(NodeId, String)> = runtime
+                .node_errors()
+                .map(|(n, e)| (n, e.to_string()))
+                .collect();
             assert_eq!(errors.len(), 1, "{errors:?}");
             assert_eq!(errors[0].0, NodeId(1));
             assert!(errors[0].1.contains(file), "{errors:?}");
             assert!(errors[0].1.contains("Filename"), "{errors:?}");
             // The rest of the patch keeps running.
-            assert!(runtime.output(NodeId(3), "Output").is_some_and(|s| s.len() == 1));
+            assert!(
+                runtime
+                    .output(NodeId(3), "Output")
+                    .is_some_and(|s| s.len() == 1)
+            );
             // Feeding no sink, the node does not run: the garbage is never opened.
             let mut unneeded = self::runtime(dir.path(), file, &[], false);
             unneeded.evaluate(FrameClock::default());
