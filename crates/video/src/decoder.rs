@@ -156,7 +156,7 @@ impl VideoDecoder {
 
     /// Decode until the current frame is `index` or past it, or the file ends.
     fn decode_until(&mut self, index: u64) -> Result<(), MediaError> {
-        while !self.current.as_ref().is_some_and(|(at, _)| *at >= index) && !self.ended {
+        while self.current.as_ref().is_none_or(|(at, _)| *at < index) && !self.ended {
             let mut frame = AvFrame::empty();
             match self.decoder.receive_frame(&mut frame) {
                 Ok(()) => {
