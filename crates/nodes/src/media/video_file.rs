@@ -111,10 +111,11 @@ impl VideoFile {
     }
 }
 
-fn first<T: Copy>(cx: &EvalContext<'_>, pin: usize, default: T) -> Result<T, NodeError>
-where
-    T: spreadlight_graph::SliceValue,
-{
+fn first<T: Copy + spreadlight_graph::SliceValue>(
+    cx: &EvalContext<'_>,
+    pin: usize,
+    default: T,
+) -> Result<T, NodeError> {
     Ok(cx.slices::<T>(pin)?.first().copied().unwrap_or(default))
 }
 
