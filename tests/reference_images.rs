@@ -450,6 +450,17 @@ static CASES: &[Case] = &[
         }],
     },
     Case {
+        patch: "patches/video-surface.ron",
+        size: SCENE,
+        edit: unchanged,
+        shots: &[Shot {
+            name: "video-surface",
+            output: "video-surface",
+            frame: 30,
+            tolerance: LIT,
+        }],
+    },
+    Case {
         patch: "patches/bench-skinning.ron",
         size: SCENE,
         edit: skinned_normals,
@@ -764,4 +775,12 @@ mod comparison {
         }
         let _ = std::fs::remove_dir_all(&dir);
     }
+}
+
+/// A video texture on a deferred-lit surface (issue 37): frame 30 at 60 fps,
+/// so the shipped test clip's frame at 0.5 s (its frame 15), shadowed by a
+/// sphere; frame-exact, so the same every run.
+#[test]
+fn video_texture_on_a_lit_surface() {
+    check("patches/video-surface.ron");
 }

@@ -30,6 +30,22 @@ pub struct Args {
     /// After the frames, write a screenshot of the window (PNG) here and quit.
     #[arg(long, value_name = "PNG")]
     screenshot: Option<PathBuf>,
+    /// Record what the window shows to this video file (.mp4, .mkv, .mov)
+    /// from the first frame until the window closes; Ctrl+R stops and starts
+    /// recording too. The sound of the patch's AudioFile is muxed in.
+    #[arg(long, value_name = "VIDEO")]
+    record: Option<PathBuf>,
+    /// Step the clock by 1/FPS each frame instead of following the wall clock,
+    /// waiting for every patch frame: deterministic, and recorded frame for frame.
+    #[arg(long, value_name = "FPS", value_parser = positive_fps)]
+    fps: Option<f64>,
+}
+
+fn positive_fps(s: &str) -> Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(fps) if fps.is_finite() && fps > 0.0 && fps <= 1000.0 => Ok(fps),
+        _ => Err(format!("`{s}` is not a frame rate from above 0 to 1000")),
+    }
 }
 
 pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
@@ -45,11 +61,16 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
             screenshot: args.screenshot.clone(),
         });
     }
+    if args.fps.is_some() {
+        options.frame_wait = spreadlight_editor::FrameWait::Always;
+    }
     let window = ShowWindow {
         size: args.size,
         fullscreen: args.fullscreen,
         monitor: args.monitor,
         native: args.native,
+        record: args.record.clone(),
+        fps: args.fps,
     };
     spreadlight_editor::play(options, window)?;
     Ok(ExitCode::SUCCESS)

@@ -464,3 +464,30 @@ fn a_terminal_gets_a_progress_bar_and_a_pipe_gets_lines() {
     let tty = text(&out.stdout);
     assert!(tty.contains("frames") && tty.contains("ETA"), "{tty}");
 }
+
+/// A video on a lit surface (patches/video-surface.ron, issue 37): a chunk
+/// that starts mid-run writes the same bytes as the full run for its
+/// frames, because the VideoFile shows the frame at the clock's time
+/// whichever frame came before; and the video moves from frame to frame.
+#[test]
+fn a_video_texture_renders_the_same_bytes_in_a_chunk_as_in_a_full_run() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let patch = "patches/video-surface.ron";
+    ok(&render(
+        patch,
+        &dir.path().join("full/f_####.png"),
+        &["--frames", "0-4"],
+    ));
+    ok(&render(
+        patch,
+        &dir.path().join("chunk/f_####.png"),
+        &["--frames", "3-4"],
+    ));
+    let read = |run: &str, frame: u32| {
+        std::fs::read(dir.path().join(format!("{run}/f_{frame:04}.png"))).expect("read")
+    };
+    for frame in [3, 4] {
+        assert_eq!(read("full", frame), read("chunk", frame), "frame {frame}");
+    }
+    assert_ne!(read("full", 3), read("full", 4), "the video moves");
+}

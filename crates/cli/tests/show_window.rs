@@ -358,3 +358,180 @@ fn play_shows_a_shader_file_saved_while_it_runs() {
     play.kill().expect("SIGKILL");
     play.wait().expect("reaped");
 }
+
+/// The ffmpeg command (or ffprobe) on `args`; its standard output. CI installs both.
+fn ff(program: &str, args: &[&str]) -> String {
+    let out = std::process::Command::new(program)
+        .args(args)
+        .output()
+        .unwrap_or_else(|e| panic!("{program}: {e}"));
+    assert!(
+        out.status.success(),
+        "{program} {args:?}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8_lossy(&out.stdout).into_owned()
+}
+
+fn mean_difference(a: &image::RgbaImage, b: &image::RgbaImage) -> f64 {
+    assert_eq!(a.dimensions(), b.dimensions());
+    let sum: u64 = a
+        .pixels()
+        .zip(b.pixels())
+        .map(|(p, q)| (0..3).map(|c| u64::from(p[c].abs_diff(q[c]))).sum::<u64>())
+        .sum();
+    sum as f64 / (f64::from(a.width() * a.height()) * 3.0)
+}
+
+/// `play --record` (issue 37): 3 seconds at 30 fps on the fixed clock make
+/// a file of 90 frames (ffprobe counts them), each the patch's render of
+/// that frame (frame 45 decoded back is closest to `spreadlight render`'s
+/// frame of the same clock), with the sound of the patch's AudioFile muxed in.
+#[test]
+fn play_records_three_seconds_frame_for_frame_with_the_audio_files_sound() {
+    let x = Xvfb::start();
+    let dir = tempfile::tempdir().expect("tempdir");
+    let d = |name: &str| dir.path().join(name).to_string_lossy().into_owned();
+    ff(
+        "ffmpeg",
+        &[
+            "-hide_banner",
+            "-loglevel",
+            "error",
+            "-y",
+            "-f",
+            "lavfi",
+            "-i",
+            "sine=frequency=440:duration=4",
+            &d("tone.wav"),
+        ],
+    );
+    let video = root().join("patches/assets/testsrc-64x36.mp4");
+    let mut p = spreadlight_graph::Patch::default();
+    p.add(
+        spreadlight_graph::NodeDoc::new(1, "VideoFile")
+            .with("Filename", vec![video.to_string_lossy().into_owned()]),
+    );
+    p.add(spreadlight_graph::NodeDoc::new(2, "Output").with("Write", vec![false]));
+    p.link(1, "Texture", 2, "Texture");
+    p.add(
+        spreadlight_graph::NodeDoc::new(3, "AudioFile")
+            .with("Filename", vec!["tone.wav".to_owned()]),
+    );
+    let patch = dir.path().join("recorded.ron");
+    spreadlight_graph::format::save(&p, &patch).expect("save");
+    let recording = dir.path().join("out.mp4");
+    let out = x
+        .spreadlight(&dir.path().join("config"))
+        .arg("play")
+        .arg(&patch)
+        .args([
+            "--size",
+            "64x36",
+            "--fps",
+            "30",
+            "--measure-frames",
+            "90",
+            "--record",
+        ])
+        .arg(&recording)
+        .output()
+        .expect("play runs");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{stdout}{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    // The run's report: its first JSON line (the window may draw once more
+    // while it closes, and report again with the recording gone).
+    let report: serde_json::Value = stdout
+        .lines()
+        .find_map(|l| serde_json::from_str(l).ok())
+        .unwrap_or_else(|| panic!("no JSON report: {stdout}"));
+    assert_eq!(report["recording_error"], "", "{report}");
+    assert_eq!(report["recorded_frames"], 90, "{report}");
+    assert_eq!(report["recording_dropped"], 0, "{report}");
+    let first = report["recording_first_frame"]
+        .as_u64()
+        .expect("a first frame");
+    let rec = recording.to_string_lossy().into_owned();
+    let streams = ff(
+        "ffprobe",
+        &[
+            "-v",
+            "error",
+            "-count_frames",
+            "-show_entries",
+            "stream=codec_type,width,height,nb_read_frames",
+            "-of",
+            "csv=p=0",
+            &rec,
+        ],
+    );
+    let lines: Vec<&str> = streams.lines().map(str::trim).collect();
+    assert_eq!(lines.len(), 2, "{streams}");
+    assert_eq!(lines[0], "video,64,36,90", "{streams}");
+    assert!(lines[1].starts_with("audio"), "{streams}");
+    // Recorded frame 45 against the render of the patch frame it was: closer
+    // to it than to the renders of the frames beside it.
+    let recorded = dir.path().join("recorded-45.png");
+    ff(
+        "ffmpeg",
+        &[
+            "-hide_banner",
+            "-loglevel",
+            "error",
+            "-y",
+            "-i",
+            &rec,
+            "-vf",
+            "select=eq(n\\,45)",
+            "-frames:v",
+            "1",
+            &recorded.to_string_lossy(),
+        ],
+    );
+    let recorded = image::open(&recorded).expect("png").to_rgba8();
+    let rendered = |frame: u64| {
+        let png = dir.path().join(format!("render-{frame}.png"));
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_spreadlight"))
+            .arg("render")
+            .arg(&patch)
+            .args([
+                "--size",
+                "64x36",
+                "--fps",
+                "30",
+                "--allow-unknown",
+                "--frames",
+            ])
+            .arg(frame.to_string())
+            .arg("-o")
+            .arg(&png)
+            .output()
+            .expect("render runs");
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        image::open(&png).expect("png").to_rgba8()
+    };
+    let at = first + 45;
+    let same = mean_difference(&recorded, &rendered(at));
+    assert!(
+        same < 6.0,
+        "recorded frame 45 differs from patch frame {at} by {same}"
+    );
+    // Small frames of colour bars lose their chroma edges to 4:2:0 and
+    // H.264 alike, so the difference is never 0; what tells the frames apart
+    // is that the right one is the closest.
+    for other in [at - 3, at + 3] {
+        let differs = mean_difference(&recorded, &rendered(other));
+        assert!(
+            differs > same,
+            "frame {other}: {differs}, frame {at}: {same}"
+        );
+    }
+}

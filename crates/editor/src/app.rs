@@ -25,6 +25,7 @@ mod menus;
 mod organise;
 mod previews;
 mod queries;
+mod recording;
 mod running;
 mod show;
 mod show_window;
@@ -271,6 +272,13 @@ pub struct EditorApp {
     previews: crate::previews::CanvasPreviews,
     /// Comments, frames, find, the legend and the gestures (`organise.rs`).
     organise: organise::OrganiseUi,
+    /// The file being recorded to (`app/recording.rs`).
+    recording: Option<PathBuf>,
+    /// Where the next recording goes (`play --record`); it starts on the first frame.
+    record_to: Option<PathBuf>,
+    record_on_start: bool,
+    /// Seconds the clock steps each frame instead of the wall clock's (`play --fps`).
+    fixed_step: Option<f64>,
 }
 
 impl EditorApp {
@@ -408,6 +416,10 @@ impl EditorApp {
                 &options.config_dir,
             )),
             organise: Default::default(),
+            recording: None,
+            record_to: None,
+            record_on_start: false,
+            fixed_step: None,
         };
         match options.path {
             // `spreadlight edit new.ron` starts that patch, as text editors do.
@@ -537,6 +549,7 @@ impl EditorApp {
         self.poll_shaders(&ctx);
         self.shortcuts(&ctx);
         self.help_key(&ctx);
+        self.recording_shortcut(&ctx);
         self.evaluate_if_needed(&ctx, Some(dt), true);
 
         egui::Panel::top("menu").show(ui, |ui| self.menu_bar(ui));

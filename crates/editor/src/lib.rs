@@ -17,6 +17,7 @@ pub mod monitors;
 pub mod nodes;
 pub mod organise;
 pub mod previews;
+pub mod recording;
 pub mod shader_watch;
 pub mod subpatch;
 pub mod values;
@@ -30,6 +31,7 @@ pub use model::links::LinkError;
 pub use model::{Command, EditorDoc};
 pub use worker::FrameWait;
 
+use std::path::PathBuf;
 use std::sync::{Arc, Mutex};
 
 use thiserror::Error;
@@ -51,7 +53,7 @@ pub fn run(options: EditorOptions) -> Result<(), EditorError> {
 }
 
 /// How the show window opens.
-#[derive(Clone, Copy, Debug, Default)]
+#[derive(Clone, Debug, Default)]
 pub struct ShowWindow {
     /// Its inner size in points (the Output renders at its pixel size); 1280x720 by default.
     pub size: Option<(u32, u32)>,
@@ -62,6 +64,13 @@ pub struct ShowWindow {
     pub monitor: Option<usize>,
     /// The window takes the Output texture's own pixel size and shows it 1:1.
     pub native: bool,
+    /// Record what the window shows to this video file from the first frame
+    /// (`spreadlight play --record`); Ctrl+R starts and stops one too.
+    pub record: Option<PathBuf>,
+    /// Step the clock by 1/fps each frame instead of by the wall clock, and
+    /// wait for every patch frame: a deterministic run (`--fps`), recorded
+    /// frame for frame and with exact video decoding.
+    pub fps: Option<f64>,
 }
 
 /// Run a patch in a borderless show window alone (no editor) until it closes.

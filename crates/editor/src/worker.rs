@@ -33,6 +33,7 @@ use spreadlight_render::{Renderer, SubmissionGate, TextureRef};
 
 use crate::previews::engine::PreviewEngine;
 use crate::previews::{PreviewOuts, PreviewRequest};
+use crate::recording::{RecordCommand, Recording, RecordingStatus};
 use crate::viewport::{self, Blitter, ViewTarget, ViewportError};
 
 /// How long a UI frame waits for the patch frame it asked for.
@@ -78,6 +79,10 @@ pub struct Request {
     pub views: Option<Vec<ViewRequest>>,
     /// The previews the canvas draws, when that changed (`previews`).
     pub previews: Option<Vec<PreviewRequest>>,
+    /// Start or stop recording the first viewport (`recording.rs`).
+    pub record: Option<RecordCommand>,
+    /// How media nodes keep up with the clock, when that changed.
+    pub playback: Option<spreadlight_nodes::media::Playback>,
 }
 
 impl Request {
@@ -89,6 +94,8 @@ impl Request {
             && self.clock.is_none()
             && self.views.is_none()
             && self.previews.is_none()
+            && self.record.is_none()
+            && self.playback.is_none()
     }
 
     /// Fold `newer` in: the newest of each part wins; a reset drops what came before it.
@@ -104,6 +111,8 @@ impl Request {
             clock,
             views,
             previews,
+            record,
+            playback,
         } = newer;
         self.reset = reset.or(self.reset.take());
         self.registry = registry.or(self.registry.take());
@@ -112,6 +121,8 @@ impl Request {
         self.clock = clock.or(self.clock.take());
         self.views = views.or(self.views.take());
         self.previews = previews.or(self.previews.take());
+        self.record = record.or(self.record.take());
+        self.playback = playback.or(self.playback.take());
     }
 }
 
@@ -146,6 +157,8 @@ pub struct Frame {
     pub seconds: f64,
     /// A panic in a node or pass, caught so the editor keeps the document.
     pub failure: Option<String>,
+    /// The recording in progress, or the last one finished.
+    pub recording: Option<RecordingStatus>,
 }
 
 /// The renderer the worker draws the viewports with, on egui's device.
@@ -310,6 +323,9 @@ struct Engine {
     viewed_pins: Vec<(Vec<NodeId>, String)>,
     /// What the runtime was last asked to evaluate besides the sinks.
     demanded: Vec<(Vec<NodeId>, String)>,
+    playback: spreadlight_nodes::media::Playback,
+    recording: Option<Recording>,
+    recorded: Option<RecordingStatus>,
 }
 
 impl Engine {
@@ -333,6 +349,9 @@ impl Engine {
             previews: PreviewEngine::default(),
             viewed_pins: Vec::new(),
             demanded: Vec::new(),
+            playback: spreadlight_nodes::media::Playback::Live,
+            recording: None,
+            recorded: None,
         };
         engine.reset(engine.registry.clone());
         engine
@@ -343,6 +362,7 @@ impl Engine {
         self.runtime = Runtime::new(self.registry.clone());
         self.runtime.provide(self.host.clone());
         self.runtime.provide(self.midi_learn.clone());
+        self.runtime.provide(Arc::new(self.playback));
         if let Some(gpu) = &self.gpu {
             spreadlight_nodes::gpu::provide_renderer(&mut self.runtime, gpu.renderer.clone());
             gpu.renderer.reset_history();
@@ -388,6 +408,11 @@ impl Engine {
                 gpu_errors: self.gpu_errors.clone(),
                 seconds: started.elapsed().as_secs_f64(),
                 failure,
+                recording: self
+                    .recording
+                    .as_ref()
+                    .map(|r| r.status.clone())
+                    .or_else(|| self.recorded.clone()),
             });
             {
                 let mut s = shared.lock();
@@ -408,6 +433,20 @@ impl Engine {
         if let Some(registry) = request.registry {
             self.registry = registry.clone();
             self.runtime.set_registry(registry);
+        }
+        if let Some(playback) = request.playback {
+            self.playback = playback;
+            self.runtime.provide(Arc::new(playback));
+        }
+        match request.record {
+            Some(RecordCommand::Start(settings)) => {
+                self.recorded = self.recording.take().map(Recording::finish);
+                self.recording = Some(Recording::new(settings));
+            }
+            Some(RecordCommand::Stop) => {
+                self.recorded = self.recording.take().map(Recording::finish);
+            }
+            None => {}
         }
         if let Some(dir) = request.patch_dir {
             self.runtime.provide(Arc::new(PatchDir(dir)));
@@ -472,6 +511,22 @@ impl Engine {
         if let Some(gpu) = &self.gpu {
             self.previews.probe_again(&gpu.renderer, &gpu.blitter);
             self.previews.free_stale(&gpu.state);
+        }
+        if evaluate {
+            self.record_view();
+        }
+    }
+
+    /// Hand the first viewport's new frame to the recording, if one runs.
+    fn record_view(&mut self) {
+        let (Some(recording), Some(gpu)) = (&mut self.recording, &self.gpu) else {
+            return;
+        };
+        let Some((_, out, _)) = self.views.first() else {
+            return;
+        };
+        if let (Some(target), None) = (&out.target, &out.error) {
+            recording.capture(&gpu.renderer.gpu, &target.texture, self.clock);
         }
     }
 

@@ -7,7 +7,7 @@
 //! `camera.rs`, `LFO` in `animation.rs`, IOBoxes, `Probe` and `Switch` in `io.rs`,
 //! `Sphere` in `geometry/primitives.rs`, `glTF` in `geometry/gltf.rs`,
 //! `DeferredBase`, `MRE` and `GBufferView` in `deferred/`, `Output` in `output.rs`,
-//! `FileTexture` and `FileTexture (Array)` in `texture/`, the `AddLight`s, light
+//! `FileTexture` and `FileTexture (Array)` in `texture/`, `VideoFile` in `media/`, the `AddLight`s, light
 //! buffers, `ShadowMap`s, `CookTorrance` and `CompositeLight` in `lighting/`, `Sky` and
 //! `Fog` in `environment/`, `Tonemap`, `EyeAdaptation` and `FXAA` in `post/`, the material nodes
 //! in `material/`, `Perspective (Transform)` in `transform.rs`, `BenchLights` in `bench.rs`;
@@ -89,6 +89,7 @@ pub fn registry() -> Registry {
     lighting::register(&mut r);
     environment::register(&mut r);
     material::register(&mut r);
+    media::register(&mut r);
     post::register(&mut r);
     bench::register(&mut r);
     shader_nodes::register(&mut r);

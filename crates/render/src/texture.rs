@@ -130,6 +130,19 @@ impl GpuTexture {
         GpuTexture { texture, view }
     }
 
+    /// 8-bit RGBA pixels as a texture of one level: for pictures that change
+    /// every frame (video), where the mip chain [`GpuTexture::from_rgba8`]
+    /// computes on the CPU would cost more than the frame. A queue write: nothing waits.
+    pub fn frame_rgba8(
+        gpu: &GpuContext,
+        (width, height): (u32, u32),
+        rgba8: &[u8],
+        srgb: bool,
+        label: &str,
+    ) -> Self {
+        Self::upload(gpu, rgba8_format(srgb), 4, width, height, rgba8, label)
+    }
+
     /// Upload linear RGBA 32-bit float pixels (HDR images, test frames).
     pub fn from_rgba32f(
         gpu: &GpuContext,

@@ -77,6 +77,9 @@ impl EditorApp {
             ctx.send_viewport_cmd(ViewportCommand::Screenshot(egui::UserData::default()));
         }
         if done {
+            // A recording ends with the run, its file closed before the report.
+            let recorded = self.stop_recording();
+            let a = &mut self.auto;
             let (ui_med, ui_p95) = median_and_p95(&a.ui);
             let (frame_med, frame_p95) = median_and_p95(&a.intervals);
             let (cpu_med, _) = median_and_p95(&a.cpu);
@@ -85,7 +88,7 @@ impl EditorApp {
             let rect = self.viewport_rects[0]
                 .map(|r| [r.min.x * ppp, r.min.y * ppp, r.max.x * ppp, r.max.y * ppp]);
             println!(
-                "{{\"frames\": {}, \"nodes\": {}, \"ui_ms_median\": {:.3}, \"ui_ms_p95\": {:.3}, \"frame_ms_median\": {:.3}, \"frame_ms_p95\": {:.3}, \"eframe_cpu_ms_median\": {:.3}, \"patch_frames\": {}, \"patch_ms_median\": {:.3}, \"viewport_px\": {}, \"viewport_error\": {:?}, \"canvas_zoom\": {:.3}, \"canvas_text_px\": {:.2}, \"recovery_offered\": {}, \"recovery_module_files\": {}, \"nodes_laid_out\": {}, \"thumbnails\": {}}}",
+                "{{\"frames\": {}, \"nodes\": {}, \"ui_ms_median\": {:.3}, \"ui_ms_p95\": {:.3}, \"frame_ms_median\": {:.3}, \"frame_ms_p95\": {:.3}, \"eframe_cpu_ms_median\": {:.3}, \"patch_frames\": {}, \"patch_ms_median\": {:.3}, \"viewport_px\": {}, \"viewport_error\": {:?}, \"canvas_zoom\": {:.3}, \"canvas_text_px\": {:.2}, \"recovery_offered\": {}, \"recovery_module_files\": {}, \"nodes_laid_out\": {}, \"thumbnails\": {}, \"recorded_frames\": {}, \"recording_first_frame\": {}, \"recording_dropped\": {}, \"recording_error\": {:?}}}",
                 a.frames,
                 nodes,
                 ui_med * 1e3,
@@ -107,6 +110,16 @@ impl EditorApp {
                 self.culling.laid_out,
                 // Thumbnails drawn on screen (each asks for its preview).
                 self.previews.sent.iter().filter(|r| !r.key.large).count(),
+                recorded.as_ref().map_or(0, |r| r.frames),
+                recorded
+                    .as_ref()
+                    .and_then(|r| r.first_frame)
+                    .map_or_else(|| "null".to_owned(), |f| f.to_string()),
+                recorded.as_ref().map_or(0, |r| r.dropped),
+                recorded
+                    .as_ref()
+                    .and_then(|r| r.error.clone())
+                    .unwrap_or_default(),
             );
             self.allow_close = true;
             ctx.send_viewport_cmd(ViewportCommand::Close);

@@ -190,6 +190,7 @@ impl EditorApp {
                 "frame {} · {:.2} s",
                 self.clock.frame, self.clock.time
             ));
+            self.recording_button(ui);
             ui.separator();
             if ui
                 .button("⛶ Fit")
@@ -230,6 +231,10 @@ impl EditorApp {
                 stats.failed,
                 stats.cpu_ns as f64 / 1e6
             ));
+            if let Some(recording) = self.frame.recording.as_ref().filter(|r| r.recording) {
+                ui.separator();
+                ui.label(recording.describe());
+            }
             if let Some(ui_s) = self.median_ui_seconds() {
                 ui.separator();
                 ui.label(format!("ui {:.1} ms", ui_s * 1e3));

@@ -42,6 +42,11 @@ impl EditorApp {
                 .set_wake(Box::new(move || ctx.request_repaint()));
             self.wake_set = true;
         }
+        if std::mem::take(&mut self.record_on_start) {
+            self.toggle_recording();
+        }
+        // A fixed step (`play --fps`) replaces the wall clock's.
+        let dt = dt.map(|dt| self.fixed_step.unwrap_or(dt));
         let mut request = Request::default();
         let generation = self.doc.generation();
         if self.sent_generation != Some(generation) {

@@ -35,6 +35,15 @@ impl EditorApp {
         failure: Arc<Mutex<Option<String>>>,
     ) {
         self.play_native = window.native;
+        if let Some(fps) = window.fps.filter(|f| f.is_finite() && *f > 0.0) {
+            self.fixed_step = Some(1.0 / fps);
+            self.worker.submit(Request {
+                playback: Some(spreadlight_nodes::media::Playback::Exact),
+                ..Default::default()
+            });
+        }
+        self.record_on_start = window.record.is_some();
+        self.record_to = window.record.clone();
         self.placement = Some(Placement {
             window,
             found,
@@ -111,6 +120,7 @@ impl EditorApp {
         }
         // A show is tuned while it runs: saved shader files reload as in the editor.
         self.poll_shaders(&ctx);
+        self.recording_shortcut(&ctx);
         let dt = ctx.input(|i| f64::from(i.stable_dt));
         self.evaluate_if_needed(&ctx, Some(dt), true);
         egui::CentralPanel::default()
