@@ -121,7 +121,9 @@ fn the_crate_diagram_matches_the_manifests() {
             arrows.insert((pair[0].to_owned(), pair[1].to_owned()));
         }
     }
-    let crates = ["graph", "render", "audio", "midi", "video", "nodes", "editor", "cli"];
+    let crates = [
+        "graph", "render", "audio", "midi", "video", "nodes", "editor", "cli",
+    ];
     let mut deps: BTreeMap<&str, BTreeSet<String>> = BTreeMap::new();
     for krate in crates {
         let manifest = std::fs::read_to_string(root().join(format!("crates/{krate}/Cargo.toml")))

@@ -96,6 +96,5 @@ pub fn registry() -> Registry {
     // The IOBoxes that make a subpatch's pins (spreadlight_graph::subpatch).
     spreadlight_graph::subpatch::register(&mut r);
     particles::register(&mut r);
-    media::register(&mut r);
     r
 }

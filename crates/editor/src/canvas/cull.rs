@@ -33,6 +33,9 @@ const UNKNOWN_SIZE: Vec2 = Vec2::new(160.0, 90.0);
 /// Where a node's pins were drawn, relative to the node's position (canvas px).
 pub type PinOffsets = Rc<RefCell<HashMap<NodeId, Vec<(String, bool, Vec2)>>>>;
 
+/// Culled nodes and their rectangles on screen.
+pub type CulledRects = Vec<(NodeId, Rect)>;
+
 /// What the canvas remembers of nodes it drew, to leave them out later.
 pub struct Culling {
     /// Off (`SPREADLIGHT_EDITOR_CULLING=0`): snarl holds every node, as it
@@ -50,7 +53,7 @@ pub struct Culling {
     /// The kept area snarl was last synced for (`None` inside: every node).
     pub kept_area: Option<Option<Rect>>,
     /// The culled nodes' rectangles on screen, for a view of a document.
-    pub culled_rects: RefCell<(Option<RectsKey>, Vec<(NodeId, Rect)>)>,
+    pub culled_rects: RefCell<(Option<RectsKey>, CulledRects)>,
     /// The wires to culled nodes across the canvas, for a view of a document.
     pub culled_wires: RefCell<(Option<WiresKey>, Vec<CulledWire>)>,
 }

@@ -1,8 +1,9 @@
-//! Media nodes (category "Media"): sound from a file or a live input as an
-//! `Audio` handle, the analyses that take it (level, spectrum bands, onsets
-//! and tempo, envelopes), and MIDI in and out. The decoding, analysis and
-//! ports live in `spreadlight-audio` and `spreadlight-midi`; these files
-//! are the pins around them. docs/media.md describes them for users.
+//! Media nodes: video files as textures (`VideoFile`, category "Texture"),
+//! and (category "Media") sound from a file or a live input as an `Audio`
+//! handle, the analyses that take it (level, spectrum bands, onsets and
+//! tempo, envelopes), and MIDI in and out. The decoding, analysis and ports
+//! live in `spreadlight-video`, `spreadlight-audio` and `spreadlight-midi`;
+//! these files are the pins around them. docs/media.md describes them for users.
 
 pub mod audio_file;
 pub mod audio_in;
@@ -12,6 +13,7 @@ pub mod level;
 pub mod midi_in;
 pub mod midi_out;
 pub mod spectrum;
+pub mod video_file;
 
 use std::sync::Arc;
 
@@ -20,7 +22,21 @@ use spreadlight_graph::{EvalContext, NodeError, PinType, Registry, ResourceKind,
 
 pub(crate) const CATEGORY: &str = "Media";
 
+/// How media nodes keep up with the clock, a service hosts provide. Live
+/// hosts (`spreadlight play`, the editor) provide [`Playback::Live`]: media
+/// nodes then decode ahead on a thread and show the last frame rather than
+/// wait for a late one. Without it, or with [`Playback::Exact`] (`render`,
+/// `eval`, a farm, `play --fps`), every frame is exact: the node waits for
+/// the frame the clock asks for.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Playback {
+    #[default]
+    Exact,
+    Live,
+}
+
 pub fn register(r: &mut Registry) {
+    video_file::register(r);
     audio_file::register(r);
     audio_in::register(r);
     level::register(r);
