@@ -624,6 +624,16 @@ fn under_test(name: &str) -> spreadlight_graph::NodeDoc {
     match name {
         "FileTexture" => node.with("Filename", tiles()),
         "FileTexture (Array)" => node.with("Filenames", tiles()),
+        // The shipped test clip (patches/assets/README.md).
+        "VideoFile" => node.with(
+            "Filename",
+            vec![
+                spreadlight_tests::root()
+                    .join("patches/assets/testsrc-64x36.mp4")
+                    .display()
+                    .to_string(),
+            ],
+        ),
         _ => node,
     }
 }

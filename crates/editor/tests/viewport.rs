@@ -443,6 +443,28 @@ fn a_g_buffer_output_shows_a_channel_as_its_thumbnail() {
     use spreadlight_editor::previews::{ChannelName, PreviewKey};
     let dir = tempfile::tempdir().expect("tempdir");
     let mut h = harness(&dir);
+    // The tidied showcase opens fitted to its bounds, where the MRE may lie
+    // outside the canvas: bring it beside a node that is on screen.
+    let mre = spreadlight_graph::NodeId(15);
+    let canvas = h.state().canvas_rect().expect("a canvas");
+    let beside = h
+        .state()
+        .node_screen_rects()
+        .iter()
+        .find(|(id, r)| *id != mre && canvas.contains_rect(*r))
+        .map(|(id, _)| *id)
+        .expect("a node on screen");
+    let at = h.state().doc().node(beside).expect("on screen").pos;
+    let from = h.state().doc().node(mre).expect("the MRE").pos;
+    h.state_mut().doc_mut().execute(
+        "move",
+        spreadlight_editor::model::Command::Move {
+            moves: vec![(mre, from, (at.0 + 20.0, at.1 + 20.0))],
+        },
+    );
+    // Not an edit to keep: no autosave beside the shipped patch.
+    h.state_mut().doc_mut().mark_saved();
+    h.run();
     // The showcase's MRE (node 15): its G-buffer's albedo, at the viewport's size.
     let key = PreviewKey {
         path: vec![spreadlight_graph::NodeId(15)],

@@ -93,129 +93,136 @@ impl EditorApp {
     }
 
     pub(super) fn menu_bar(&mut self, ui: &mut Ui) {
+        // Wrapped: a window narrower than the toolbar shows its last
+        // buttons (Timings, Thumbnails, Show window) on a second row
+        // instead of clipping them.
         egui::MenuBar::new().ui(ui, |ui| {
-            ui.menu_button("File", |ui| {
-                if ui.button("New").clicked() {
-                    if self.doc.is_dirty() {
-                        self.pending = Some(Pending::New);
-                    } else {
-                        self.replace_document(EditorDoc::default(), None);
-                    }
-                }
-                if ui.button("Open…").clicked() {
-                    self.open_dialog(DialogMode::Open);
-                }
-                ui.menu_button("Open recent", |ui| {
-                    if self.recent.is_empty() {
-                        ui.weak("nothing yet");
-                    }
-                    for p in self.recent.clone() {
-                        if ui.button(p.display().to_string()).clicked() {
-                            self.request_open(p);
+            ui.horizontal_wrapped(|ui| {
+                ui.menu_button("File", |ui| {
+                    if ui.button("New").clicked() {
+                        if self.doc.is_dirty() {
+                            self.pending = Some(Pending::New);
+                        } else {
+                            self.replace_document(EditorDoc::default(), None);
                         }
                     }
+                    if ui.button("Open…").clicked() {
+                        self.open_dialog(DialogMode::Open);
+                    }
+                    ui.menu_button("Open recent", |ui| {
+                        if self.recent.is_empty() {
+                            ui.weak("nothing yet");
+                        }
+                        for p in self.recent.clone() {
+                            if ui.button(p.display().to_string()).clicked() {
+                                self.request_open(p);
+                            }
+                        }
+                    });
+                    if ui.button("Save").clicked() && !self.save() {
+                        self.open_dialog(DialogMode::SaveAs);
+                    }
+                    if ui.button("Save as…").clicked() {
+                        self.open_dialog(DialogMode::SaveAs);
+                    }
+                    ui.separator();
+                    if ui.button("Quit").clicked() {
+                        ui.ctx().send_viewport_cmd(ViewportCommand::Close);
+                    }
                 });
-                if ui.button("Save").clicked() && !self.save() {
-                    self.open_dialog(DialogMode::SaveAs);
-                }
-                if ui.button("Save as…").clicked() {
-                    self.open_dialog(DialogMode::SaveAs);
-                }
+                ui.menu_button("Edit", |ui| {
+                    let undo = self.doc.undo_label().map(|l| format!("Undo {l}"));
+                    if ui
+                        .add_enabled(
+                            undo.is_some(),
+                            egui::Button::new(undo.unwrap_or_else(|| "Undo".into())),
+                        )
+                        .clicked()
+                    {
+                        self.doc.undo();
+                    }
+                    let redo = self.doc.redo_label().map(|l| format!("Redo {l}"));
+                    if ui
+                        .add_enabled(
+                            redo.is_some(),
+                            egui::Button::new(redo.unwrap_or_else(|| "Redo".into())),
+                        )
+                        .clicked()
+                    {
+                        self.doc.redo();
+                    }
+                    ui.separator();
+                    if ui.button("Copy").clicked() {
+                        self.copy_selected(Some(ui.ctx()));
+                    }
+                    if ui.button("Paste").clicked() {
+                        self.paste();
+                    }
+                    if ui.button("Duplicate").clicked() {
+                        self.duplicate_selected();
+                    }
+                    if ui.button("Delete").clicked() {
+                        self.delete_selected();
+                    }
+                    ui.separator();
+                    if ui.button("Make subpatch").on_hover_text("Ctrl+G").clicked() {
+                        self.make_subpatch_of_selection();
+                    }
+                    if ui
+                        .button("Unmake subpatch")
+                        .on_hover_text("Ctrl+Shift+G")
+                        .clicked()
+                    {
+                        self.unmake_selected_subpatches();
+                    }
+                });
+                self.organise_menu(ui);
                 ui.separator();
-                if ui.button("Quit").clicked() {
-                    ui.ctx().send_viewport_cmd(ViewportCommand::Close);
+                let play = if self.playing {
+                    "⏸ Pause"
+                } else {
+                    "▶ Play"
+                };
+                if ui.button(play).clicked() {
+                    self.playing = !self.playing;
                 }
-            });
-            ui.menu_button("Edit", |ui| {
-                let undo = self.doc.undo_label().map(|l| format!("Undo {l}"));
+                if ui.button("⏭ Step").clicked() {
+                    self.playing = false;
+                    self.step = true;
+                }
+                ui.label(format!(
+                    "frame {} · {:.2} s",
+                    self.clock.frame, self.clock.time
+                ));
+                self.recording_button(ui);
+                ui.separator();
                 if ui
-                    .add_enabled(
-                        undo.is_some(),
-                        egui::Button::new(undo.unwrap_or_else(|| "Undo".into())),
+                    .button("⛶ Fit")
+                    .on_hover_text("show the whole patch (F)")
+                    .clicked()
+                {
+                    self.fit = FIT_FROM_SCRATCH;
+                }
+                ui.toggle_value(&mut self.show_timings, "⏱ Timings")
+                    .on_hover_text("CPU time per node, GPU time per render node");
+                self.previews_toolbar(ui);
+                ui.separator();
+                let open = self.show_window.is_some();
+                if ui
+                    .selectable_label(open, "🖵 Show window")
+                    .on_hover_text(
+                        "the Output in its own borderless window (F11); Esc in it closes it",
                     )
                     .clicked()
                 {
-                    self.doc.undo();
+                    self.toggle_show_window();
                 }
-                let redo = self.doc.redo_label().map(|l| format!("Redo {l}"));
-                if ui
-                    .add_enabled(
-                        redo.is_some(),
-                        egui::Button::new(redo.unwrap_or_else(|| "Redo".into())),
-                    )
-                    .clicked()
-                {
-                    self.doc.redo();
-                }
-                ui.separator();
-                if ui.button("Copy").clicked() {
-                    self.copy_selected(Some(ui.ctx()));
-                }
-                if ui.button("Paste").clicked() {
-                    self.paste();
-                }
-                if ui.button("Duplicate").clicked() {
-                    self.duplicate_selected();
-                }
-                if ui.button("Delete").clicked() {
-                    self.delete_selected();
-                }
-                ui.separator();
-                if ui.button("Make subpatch").on_hover_text("Ctrl+G").clicked() {
-                    self.make_subpatch_of_selection();
-                }
-                if ui
-                    .button("Unmake subpatch")
-                    .on_hover_text("Ctrl+Shift+G")
-                    .clicked()
-                {
-                    self.unmake_selected_subpatches();
-                }
-            });
-            self.organise_menu(ui);
-            ui.separator();
-            let play = if self.playing {
-                "⏸ Pause"
-            } else {
-                "▶ Play"
-            };
-            if ui.button(play).clicked() {
-                self.playing = !self.playing;
-            }
-            if ui.button("⏭ Step").clicked() {
-                self.playing = false;
-                self.step = true;
-            }
-            ui.label(format!(
-                "frame {} · {:.2} s",
-                self.clock.frame, self.clock.time
-            ));
-            self.recording_button(ui);
-            ui.separator();
-            if ui
-                .button("⛶ Fit")
-                .on_hover_text("show the whole patch (F)")
-                .clicked()
-            {
-                self.fit = FIT_FROM_SCRATCH;
-            }
-            ui.toggle_value(&mut self.show_timings, "⏱ Timings")
-                .on_hover_text("CPU time per node, GPU time per render node");
-            self.previews_toolbar(ui);
-            ui.separator();
-            let open = self.show_window.is_some();
-            if ui
-                .selectable_label(open, "🖵 Show window")
-                .on_hover_text("the Output in its own borderless window (F11); Esc in it closes it")
-                .clicked()
-            {
-                self.toggle_show_window();
-            }
-            ui.add_enabled_ui(!open, |ui| {
-                ui.checkbox(&mut self.show_window_choice.fullscreen, "Fullscreen")
-                    .on_hover_text("on the monitor the Output's Monitor pin names");
-                ui.checkbox(&mut self.show_window_choice.native, "Native size")
-                    .on_hover_text("the window takes the texture's pixel size, 1:1");
+                ui.add_enabled_ui(!open, |ui| {
+                    ui.checkbox(&mut self.show_window_choice.fullscreen, "Fullscreen")
+                        .on_hover_text("on the monitor the Output's Monitor pin names");
+                    ui.checkbox(&mut self.show_window_choice.native, "Native size")
+                        .on_hover_text("the window takes the texture's pixel size, 1:1");
+                });
             });
         });
     }
