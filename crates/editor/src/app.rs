@@ -27,6 +27,7 @@ mod previews;
 mod queries;
 mod recording;
 mod running;
+mod search_field;
 mod show;
 mod show_window;
 mod subpatches;

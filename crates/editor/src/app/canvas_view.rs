@@ -472,47 +472,18 @@ impl EditorApp {
             .show(ctx, |ui| {
                 egui::Frame::popup(ui.style()).show(ui, |ui| {
                     ui.set_width(260.0);
-                    let (down, up, enter, escape) = ui.input(|i| {
-                        (
-                            i.key_pressed(Key::ArrowDown),
-                            i.key_pressed(Key::ArrowUp),
-                            i.key_pressed(Key::Enter),
-                            // egui takes Esc to unfocus the text field; the raw input still has it.
-                            i.raw.events.iter().any(|e| {
-                                matches!(
-                                    e,
-                                    egui::Event::Key {
-                                        key: Key::Escape,
-                                        pressed: true,
-                                        ..
-                                    }
-                                )
-                            }),
-                        )
-                    });
-                    let edit = ui.add(
-                        egui::TextEdit::singleline(&mut b.query)
-                            .hint_text("type a node name or category")
-                            .id(Id::new("node-browser-query")),
+                    let keys = super::search_field::search_field(
+                        ui,
+                        (&mut b.query, &mut b.focus, &mut b.highlighted),
+                        hits.len(),
+                        "type a node name or category",
+                        "node-browser-query",
                     );
-                    if b.focus {
-                        edit.request_focus();
-                        b.focus = false;
-                    }
-                    if edit.changed() {
-                        b.highlighted = 0;
-                    }
-                    if down {
-                        b.highlighted = (b.highlighted + 1).min(hits.len().saturating_sub(1));
-                    }
-                    if up {
-                        b.highlighted = b.highlighted.saturating_sub(1);
-                    }
-                    if enter {
+                    if keys.enter {
                         place = hits.get(b.highlighted).copied();
                         close = true;
                     }
-                    if escape {
+                    if keys.escape {
                         close = true;
                     }
                     egui::ScrollArea::vertical()

@@ -473,23 +473,6 @@ impl EditorApp {
         let hits = find::find(self.doc.patch(), &self.registry, &state.query);
         let mut jump = None;
         let mut close = false;
-        let (down, up, enter, escape) = ctx.input(|i| {
-            (
-                i.key_pressed(Key::ArrowDown),
-                i.key_pressed(Key::ArrowUp),
-                i.key_pressed(Key::Enter),
-                i.raw.events.iter().any(|e| {
-                    matches!(
-                        e,
-                        egui::Event::Key {
-                            key: Key::Escape,
-                            pressed: true,
-                            ..
-                        }
-                    )
-                }),
-            )
-        });
         egui::Window::new("Find in patch")
             .collapsible(false)
             .resizable(false)
@@ -499,30 +482,19 @@ impl EditorApp {
             )
             .show(ctx, |ui| {
                 ui.set_width(260.0);
-                let edit = ui.add(
-                    egui::TextEdit::singleline(&mut state.query)
-                        .hint_text("node, pin, value or comment")
-                        .id(Id::new("find-query")),
+                let keys = super::search_field::search_field(
+                    ui,
+                    (&mut state.query, &mut state.focus, &mut state.highlighted),
+                    hits.len(),
+                    "node, pin, value or comment",
+                    "find-query",
                 );
-                if state.focus {
-                    edit.request_focus();
-                    state.focus = false;
-                }
-                if edit.changed() {
-                    state.highlighted = 0;
-                }
-                if down {
-                    state.highlighted = (state.highlighted + 1).min(hits.len().saturating_sub(1));
-                }
-                if up {
-                    state.highlighted = state.highlighted.saturating_sub(1);
-                }
-                if enter {
+                if keys.enter {
                     jump = hits.get(state.highlighted).map(|h| h.target);
                     // Enter takes the focus from the field; keep typing there.
                     state.focus = true;
                 }
-                if escape {
+                if keys.escape {
                     close = true;
                 }
                 if !state.query.trim().is_empty() {
