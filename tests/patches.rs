@@ -41,14 +41,20 @@ fn examples_round_trip_exactly() {
 /// longest test of the suite otherwise.
 #[test]
 fn examples_evaluate_cleanly_for_120_frames() {
-    let queue = std::sync::Mutex::new(example_patches());
+    in_parallel(example_patches(), evaluates_cleanly_for_120_frames);
+}
+
+/// `check` each path on as many threads as the machine has; a panic in one
+/// fails the test with its message.
+fn in_parallel(paths: Vec<std::path::PathBuf>, check: fn(&std::path::Path)) {
+    let queue = std::sync::Mutex::new(paths);
     let workers = std::thread::available_parallelism().map_or(2, |n| n.get());
     std::thread::scope(|scope| {
         let handles: Vec<_> = (0..workers)
             .map(|_| {
                 scope.spawn(|| {
                     while let Some(path) = queue.lock().unwrap_or_else(|e| e.into_inner()).pop() {
-                        evaluates_cleanly_for_120_frames(&path);
+                        check(&path);
                     }
                 })
             })
@@ -761,24 +767,7 @@ fn help_patches_load_check_and_evaluate() {
         HELP_PATCHES.len(),
         "every help patch is in crates/nodes/src/help.rs: {files:?}"
     );
-    let queue = std::sync::Mutex::new(files);
-    let workers = std::thread::available_parallelism().map_or(2, |n| n.get());
-    std::thread::scope(|scope| {
-        let handles: Vec<_> = (0..workers)
-            .map(|_| {
-                scope.spawn(|| {
-                    while let Some(path) = queue.lock().unwrap_or_else(|e| e.into_inner()).pop() {
-                        help_patch_evaluates(&path);
-                    }
-                })
-            })
-            .collect();
-        for handle in handles {
-            if let Err(panic) = handle.join() {
-                std::panic::resume_unwind(panic);
-            }
-        }
-    });
+    in_parallel(files, help_patch_evaluates);
 }
 
 fn help_patch_evaluates(path: &std::path::Path) {
