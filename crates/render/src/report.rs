@@ -31,7 +31,7 @@ impl PassName {
 
     /// Whether this is `kind`'s pass named `step` (any step when `None`).
     pub fn is(&self, kind: &str, step: Option<&str>) -> bool {
-        self.kind == kind && step.is_none_or(|s| self.step.as_deref() == Some(s))
+        is_pass(&self.kind, self.step.as_deref(), kind, step)
     }
 
     /// The pass's name in reports and captures: the kind, the node id when
@@ -52,6 +52,12 @@ impl PassName {
         }
         name
     }
+}
+
+/// Whether a pass of `(has_kind, has_step)` is `kind`'s pass `step` (any
+/// step when `None`): the one match [`PassName`] and [`PassReport`] share.
+fn is_pass(has_kind: &str, has_step: Option<&str>, kind: &str, step: Option<&str>) -> bool {
+    has_kind == kind && step.is_none_or(|s| has_step == Some(s))
 }
 
 impl From<&'static str> for PassName {
@@ -113,7 +119,7 @@ pub struct FrameReport {
 impl PassReport {
     /// Whether this is `kind`'s pass named `step` (any step when `None`).
     pub fn is(&self, kind: &str, step: Option<&str>) -> bool {
-        self.kind == kind && step.is_none_or(|s| self.step.as_deref() == Some(s))
+        is_pass(&self.kind, self.step.as_deref(), kind, step)
     }
 }
 
