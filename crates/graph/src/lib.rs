@@ -18,6 +18,7 @@ pub mod spelling;
 pub mod spread;
 pub mod stats;
 pub mod subpatch;
+pub mod typed_pins;
 pub mod value;
 
 pub use clock::FrameClock;
@@ -32,4 +33,5 @@ pub use runtime::Runtime;
 pub use snapshot::RuntimeSnapshot;
 pub use spread::{SliceValue, Spread};
 pub use stats::{FrameStats, NodeRun, NodeStat};
+pub use typed_pins::{AnySpread, Choice, Choices, In, Out, Pins, Res};
 pub use value::{Color, EnumDef, PinType, Resource, ResourceKind};

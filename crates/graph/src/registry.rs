@@ -12,6 +12,7 @@ use std::sync::Arc;
 use crate::node::{EvalContext, Node, NodeError};
 pub use crate::pin::{Name, PinDef};
 use crate::spread::{SliceValue, Spread, map1, map2, map3, map4};
+use crate::typed_pins::Pins;
 use crate::value::{EnumDef, PinType};
 
 type Constructor = Arc<dyn Fn() -> Box<dyn Node> + Send + Sync>;
@@ -193,6 +194,35 @@ impl NodeDef {
     ) -> Self {
         self.constructor = Arc::new(move || Box::new(make()));
         self
+    }
+
+    /// Declare the pins through typed handles and give the evaluation that
+    /// reads and writes through them ([`crate::typed_pins`]): the closure
+    /// `declare` returns captures the handles it was given.
+    pub fn with_pins<F>(mut self, declare: impl FnOnce(&mut Pins<'_>) -> F) -> Self
+    where
+        F: Fn(&mut EvalContext<'_>) -> Result<(), NodeError> + Clone + Send + Sync + 'static,
+    {
+        let evaluate = declare(&mut Pins {
+            inputs: &mut self.inputs,
+            outputs: &mut self.outputs,
+            node: &self.name,
+        });
+        self.evaluate_with(evaluate)
+    }
+
+    /// [`NodeDef::with_pins`] for a node with state: `declare` returns how to
+    /// make one, capturing the handles the node's struct keeps.
+    pub fn with_pins_node<N: Node + 'static, M: Fn() -> N + Send + Sync + 'static>(
+        mut self,
+        declare: impl FnOnce(&mut Pins<'_>) -> M,
+    ) -> Self {
+        let make = declare(&mut Pins {
+            inputs: &mut self.inputs,
+            outputs: &mut self.outputs,
+            node: &self.name,
+        });
+        self.construct(make)
     }
 
     /// A stateless node given as one function over the context.
