@@ -381,6 +381,21 @@ static CASES: &[Case] = &[
             tolerance: POST,
         }],
     },
+    // The heavy frame (issue 33's benchmark weight): 2,000 lights, eight
+    // PCSS spot shadows, a four-cascade VSM sun, SAO times HBAO, SSGI, SSR,
+    // SSSS, fog, TAA, DOF, motion blur and glare. Frame 3 for the reason the
+    // Emeshe frame's is: the four frames tests/patches.rs evaluates.
+    Case {
+        patch: "patches/emeshe-heavy.ron",
+        size: SCENE,
+        edit: unchanged,
+        shots: &[Shot {
+            name: "emeshe-heavy",
+            output: "bench",
+            frame: 3,
+            tolerance: POST,
+        }],
+    },
     Case {
         patch: "patches/bench-gltf.ron",
         size: SCENE,
@@ -561,6 +576,11 @@ fn geometry_nodes_extrude_and_spherize() {
 #[test]
 fn emeshe_frame() {
     check("patches/emeshe-frame.ron");
+}
+
+#[test]
+fn emeshe_heavy() {
+    check("patches/emeshe-heavy.ron");
 }
 
 #[test]

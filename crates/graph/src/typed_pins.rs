@@ -99,9 +99,18 @@ impl<E: Copy + PartialEq + 'static> Choices<E> {
         }
     }
 
-    /// The value an option's name stands for.
+    /// The value an option's name stands for; a name that differs only in
+    /// case counts (as typed on a command line or in a hand-written patch).
     pub fn value(&self, option: &str) -> Option<E> {
-        self.def.index_of(option).map(|i| self.values[i])
+        self.def
+            .index_of(option)
+            .or_else(|| {
+                self.def
+                    .options
+                    .iter()
+                    .position(|o| o.eq_ignore_ascii_case(option))
+            })
+            .map(|i| self.values[i])
     }
 
     /// The option's name for a value (the first, if two options share one).
@@ -366,6 +375,14 @@ impl EvalContext<'_> {
         }
     }
 
+    /// The first object at a resource input, if any.
+    pub fn first_resource<T: Send + Sync + 'static>(
+        &self,
+        pin: In<Res<T>>,
+    ) -> Result<Option<Arc<T>>, NodeError> {
+        Ok(self.resources(pin)?.into_iter().next())
+    }
+
     /// Every slice of an enum input as its value; an option the pin does not
     /// know is an error naming the pin and the option.
     pub fn choices<E: Copy + PartialEq + Send + Sync + 'static>(
@@ -596,6 +613,7 @@ mod tests {
     fn choices_name_and_value_agree() {
         assert_eq!(MODES.value("Fast"), Some(Mode::Fast));
         assert_eq!(MODES.value("Slow"), None);
+        assert_eq!(MODES.value("exact"), Some(Mode::Exact));
         assert_eq!(MODES.name(Mode::Exact), "Exact");
     }
 }

@@ -2,7 +2,7 @@
 //! SSR, DOF): a quality setting that runs the effect's expensive pass at
 //! half resolution with a depth-aware upsample (render::resolution).
 
-use spreadlight_graph::{EnumDef, EvalContext, NodeDef, NodeError};
+use spreadlight_graph::{Choice, Choices, EnumDef, EvalContext, In, NodeDef, NodeError, Pins};
 use spreadlight_render::resolution::Resolution;
 
 pub static RESOLUTION: EnumDef = EnumDef {
@@ -33,4 +33,20 @@ pub fn read(cx: &EvalContext<'_>, index: usize) -> Result<Resolution, NodeError>
             )
         }),
     }
+}
+
+/// The options as [`Resolution`] values, for typed pins.
+pub static RESOLUTIONS: Choices<Resolution> =
+    Choices::new("Resolution", &Resolution::NAMES, &Resolution::ALL);
+
+/// The pin's line in the node's help, for a node that declares the pin with
+/// [`input`].
+pub fn with_help(mut def: NodeDef) -> NodeDef {
+    def.help = format!("{}{HELP}", def.help).into();
+    def
+}
+
+/// Declare the pin (default Full, so a patch without it renders as before).
+pub fn input(p: &mut Pins<'_>) -> In<Choice<Resolution>> {
+    p.input_choice("Resolution", &RESOLUTIONS, Resolution::Full)
 }

@@ -39,6 +39,8 @@ pub enum Resolution {
 impl Resolution {
     /// The pin's option names, in order.
     pub const NAMES: [&'static str; 2] = ["Full", "Half"];
+    /// Every resolution, in the order of [`Resolution::NAMES`].
+    pub const ALL: [Resolution; 2] = [Resolution::Full, Resolution::Half];
 
     pub fn name(self) -> &'static str {
         match self {

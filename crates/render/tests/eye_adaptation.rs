@@ -6,7 +6,7 @@
 use spreadlight_render::TextureRef;
 use spreadlight_render::post::{AdaptationSettings, AdaptedExposure, EyeAdaptation, Tonemap};
 use spreadlight_render::readback::render_and_read;
-use spreadlight_render::reference::tonemap::TONEMAP_NAMES;
+use spreadlight_render::reference::tonemap::TonemapOperator;
 use spreadlight_render::renderer::{Renderer, test_renderer};
 use spreadlight_render::static_texture::StaticTexture;
 
@@ -197,7 +197,7 @@ fn tonemapping_with_adapted_exposure_stays_finite_and_maps_to_the_key() {
         &renderer,
         None,
         hdr,
-        0,
+        TonemapOperator::Linear,
         1.0,
         4.0,
         Some(AdaptedExposure::new(adaptation.texture())),
@@ -225,14 +225,15 @@ fn tonemapping_with_adapted_exposure_stays_finite_and_maps_to_the_key() {
     for pixels in frames {
         let renderer = test_renderer();
         let hdr = source(&renderer, 8, 1, &pixels);
-        for (op, name) in TONEMAP_NAMES.iter().enumerate() {
+        for op in TonemapOperator::ALL {
+            let name = op.name();
             for delta in [0.0, 1.0 / 60.0] {
                 let adaptation = EyeAdaptation::new(&renderer, None, hdr.clone(), SETTINGS, delta);
                 let t = Tonemap::with_adaptation(
                     &renderer,
                     None,
                     hdr.clone(),
-                    op as u32,
+                    op,
                     1.0,
                     4.0,
                     Some(AdaptedExposure::new(adaptation.texture())),

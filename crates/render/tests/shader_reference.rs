@@ -18,9 +18,7 @@ use spreadlight_render::reference::lights::{
     luminous_intensity_from_power, point_attenuation, spot_attenuation,
 };
 use spreadlight_render::reference::tonemap::{
-    TONEMAP_ACES, TONEMAP_AGX, TONEMAP_DRAGO, TONEMAP_EXPONENTIAL, TONEMAP_FILMIC_ALU,
-    TONEMAP_LINEAR, TONEMAP_LOGARITHMIC, TONEMAP_NAMES, TONEMAP_REINHARD,
-    TONEMAP_REINHARD_MODIFIED, TONEMAP_UNCHARTED2, ev100_to_exposure, luminance, tonemap,
+    TonemapOperator, ev100_to_exposure, luminance, tonemap,
 };
 use spreadlight_render::renderer::test_renderer;
 use spreadlight_render::shaders::SHADERS;
@@ -152,26 +150,14 @@ impl Case {
         // The squared-distance form must agree with the distance form.
         rows[6] = compensated.specular.extend(point_attenuation(p.z, p.w));
         let hdr = self.albedo * self.hdr_scale;
-        for op in 0..10u32 {
+        for op in TonemapOperator::ALL {
             let mapped = tonemap(hdr, op, q.z, q.w);
-            rows[7 + op as usize] = mapped.extend(0.0);
+            rows[7 + op.id() as usize] = mapped.extend(0.0);
             // By name, the same as through the dispatch.
-            rows[17 + op as usize] = mapped.extend(0.0);
+            rows[17 + op.id() as usize] = mapped.extend(0.0);
         }
         // The operator ids, which the nodes and passes share.
-        let ids = [
-            TONEMAP_LINEAR,
-            TONEMAP_REINHARD,
-            TONEMAP_REINHARD_MODIFIED,
-            TONEMAP_UNCHARTED2,
-            TONEMAP_FILMIC_ALU,
-            TONEMAP_DRAGO,
-            TONEMAP_LOGARITHMIC,
-            TONEMAP_EXPONENTIAL,
-            TONEMAP_ACES,
-            TONEMAP_AGX,
-        ]
-        .map(|id| id as f32);
+        let ids = TonemapOperator::ALL.map(|op| op.id() as f32);
         rows[27] = Vec4::from_slice(&ids[0..4]);
         rows[28] = Vec4::from_slice(&ids[4..8]);
         rows[29] = Vec4::new(ids[8], ids[9], 0.0, 0.0);
@@ -331,7 +317,7 @@ fn libraries_are_registered_and_compose_and_validate() {
     if let Err(e) = validator.validate(&module) {
         panic!("{e:?}");
     }
-    assert_eq!(TONEMAP_NAMES.len(), 10);
+    assert_eq!(TonemapOperator::NAMES.len(), TonemapOperator::ALL.len());
 }
 
 /// Largest |gpu - cpu| allowed: relative to the larger magnitude, with an

@@ -2,10 +2,10 @@
 //! the GPU (a 1x1 texture `DOF` reads; no readback).
 
 use glam::Vec2;
-use spreadlight_graph::{NodeDef, PinType, Registry, ResourceKind, Spread};
+use spreadlight_graph::{NodeDef, Registry};
 use spreadlight_render::post::Autofocus;
 
-use super::{float, gbuffer, set_texture};
+use super::{float, gbuffer, gbuffer_input, set_texture, texture_output};
 use crate::gpu::renderer;
 
 pub fn register(r: &mut Registry) {
@@ -18,26 +18,28 @@ pub fn register(r: &mut Registry) {
              an infinite Speed follows at once. The first frame, and after a cut, take the measurement as it is. \
              Output: a 1x1 texture for DOF's Focus pin (the inverse distance, on the GPU).",
         )
-        .input_spread("G-Buffer", PinType::Resource(ResourceKind::GBuffer), Spread::Resource(ResourceKind::GBuffer, vec![]))
-        .input("Point", Vec2::splat(0.5))
-        .input("Speed", 5.0f32)
-        .output_typed("Focus", PinType::Resource(ResourceKind::Texture))
         .time_dependent()
         .stateful()
-        .evaluate(|cx| {
-            let renderer = renderer(cx)?;
-            let g = gbuffer(cx, 0, "autofocus reads the depth under its point")?;
-            let point = cx.slices::<Vec2>(1)?.first().copied().unwrap_or(Vec2::splat(0.5));
-            if !point.is_finite() {
-                return Err(cx.input_error(1, "slice 0 is NaN or infinite"));
+        .with_pins(|p| {
+            let g_buffer = gbuffer_input(p);
+            let point = p.input("Point", Vec2::splat(0.5));
+            let speed = p.input("Speed", 5.0f32);
+            let out = texture_output(p, "Focus");
+            move |cx| {
+                let renderer = renderer(cx)?;
+                let g = gbuffer(cx, g_buffer, "autofocus reads the depth under its point")?;
+                let point_value = cx.first(point, Vec2::splat(0.5))?;
+                if !point_value.is_finite() {
+                    return Err(cx.error(point, "slice 0 is NaN or infinite"));
+                }
+                let speed_value = float(cx, speed, 5.0, true)?;
+                if speed_value < 0.0 {
+                    return Err(cx.error(speed, "is negative"));
+                }
+                let af = Autofocus::new(&renderer, Some(cx.node_id.0), g, point_value, speed_value, cx.clock.delta);
+                set_texture(cx, out, af.texture());
+                Ok(())
             }
-            let speed = float(cx, 2, 5.0, true)?;
-            if speed < 0.0 {
-                return Err(cx.input_error(2, "is negative"));
-            }
-            let af = Autofocus::new(&renderer, Some(cx.node_id.0), g, point, speed, cx.clock.delta);
-            set_texture(cx, af.texture());
-            Ok(())
         }),
     );
 }

@@ -1,16 +1,19 @@
 //! `DOF`: depth of field from a thin lens, focused by a distance or by an
 //! `Autofocus` texture.
 
-use spreadlight_graph::{NodeDef, PinType, Registry, ResourceKind, Spread};
+use spreadlight_graph::{NodeDef, Registry};
 use spreadlight_render::post::{Dof, DofSettings, Focus};
 
-use super::{count, float, gbuffer, optional_texture, set_texture, texture};
+use super::{
+    count, float, gbuffer, gbuffer_input, optional_texture, set_texture, texture, texture_input,
+    texture_output,
+};
 use crate::gpu::renderer;
 
 pub fn register(r: &mut Registry) {
     let d = DofSettings::default();
     r.add(
-        crate::resolution::pin(NodeDef::new(
+        crate::resolution::with_help(NodeDef::new(
             "DOF",
             "Post",
             "Depth of field from a thin lens: Focal Length (mm, the scene in metres), F-Stop (0.5 and up; larger is \
@@ -20,43 +23,49 @@ pub fn register(r: &mut Registry) {
              Bokeh: an optional texture whose luminance shapes the blur (the unit disk mapped to it). Samples per pixel \
              is the quality; Max Radius (pixels) bounds the blur and the cost. When the lens cannot blur anything by \
              half a pixel it costs one copy (counted as \"dof skipped\").",
-        )
-        .input_spread("Texture", PinType::Resource(ResourceKind::Texture), Spread::Resource(ResourceKind::Texture, vec![]))
-        .input_spread("G-Buffer", PinType::Resource(ResourceKind::GBuffer), Spread::Resource(ResourceKind::GBuffer, vec![]))
-        .input_spread("Focus", PinType::Resource(ResourceKind::Texture), Spread::Resource(ResourceKind::Texture, vec![]))
-        .input_spread("Bokeh", PinType::Resource(ResourceKind::Texture), Spread::Resource(ResourceKind::Texture, vec![]))
-        .input("Focal Length", d.focal_length_mm)
-        .input("F-Stop", d.f_stop)
-        .input("Focus Distance", 5.0f32)
-        .input("Samples", i64::from(d.samples))
-        .input("Max Radius", d.max_radius))
-        .output_typed("Texture", PinType::Resource(ResourceKind::Texture))
-        .evaluate(|cx| {
-            let d = DofSettings::default();
-            let renderer = renderer(cx)?;
-            let source = texture(cx, 0)?;
-            let g = gbuffer(cx, 1, "depth of field needs each pixel's depth")?;
-            let focal_length_mm = float(cx, 4, d.focal_length_mm, false)?;
-            if focal_length_mm <= 0.0 {
-                return Err(cx.input_error(4, "must be above 0"));
+        ))
+        .with_pins(|p| {
+            let texture_in = texture_input(p, "Texture");
+            let g_buffer = gbuffer_input(p);
+            let focus_texture = texture_input(p, "Focus");
+            let bokeh = texture_input(p, "Bokeh");
+            let focal_length = p.input("Focal Length", d.focal_length_mm);
+            let f_stop = p.input("F-Stop", d.f_stop);
+            let focus_distance = p.input("Focus Distance", 5.0f32);
+            let samples = p.input("Samples", i64::from(d.samples));
+            let max_radius = p.input("Max Radius", d.max_radius);
+            let resolution = crate::resolution::input(p);
+            let out = texture_output(p, "Texture");
+            move |cx| {
+                let d = DofSettings::default();
+                let renderer = renderer(cx)?;
+                let source = texture(cx, texture_in)?;
+                let g = gbuffer(cx, g_buffer, "depth of field needs each pixel's depth")?;
+                let focal_length_mm = float(cx, focal_length, d.focal_length_mm, false)?;
+                if focal_length_mm <= 0.0 {
+                    return Err(cx.error(focal_length, "must be above 0"));
+                }
+                let f_stop_value = float(cx, f_stop, d.f_stop, true)?;
+                if f_stop_value < spreadlight_render::post::dof::MIN_F_STOP {
+                    return Err(cx.error(f_stop, "must be 0.5 or more"));
+                }
+                let distance = float(cx, focus_distance, 5.0, true)?;
+                let focus = match optional_texture(cx, focus_texture)? {
+                    Some(t) => Focus::Texture(t),
+                    None => Focus::Distance(distance),
+                };
+                let settings = DofSettings {
+                    focal_length_mm,
+                    f_stop: f_stop_value,
+                    samples: count(cx, samples, 32, 1, 512)?,
+                    max_radius: float(cx, max_radius, d.max_radius, false)?,
+                    resolution: cx.choice(resolution)?,
+                };
+                let bokeh = optional_texture(cx, bokeh)?;
+                let dof = Dof::new(&renderer, Some(cx.node_id.0), source, g, focus, bokeh, settings);
+                set_texture(cx, out, dof.texture());
+                Ok(())
             }
-            let f_stop = float(cx, 5, d.f_stop, true)?;
-            if f_stop < spreadlight_render::post::dof::MIN_F_STOP {
-                return Err(cx.input_error(5, "must be 0.5 or more"));
-            }
-            let distance = float(cx, 6, 5.0, true)?;
-            let samples = count(cx, 7, 32, 1, 512)?;
-            let max_radius = float(cx, 8, d.max_radius, false)?;
-            let focus = match optional_texture(cx, 2)? {
-                Some(t) => Focus::Texture(t),
-                None => Focus::Distance(distance),
-            };
-            let bokeh = optional_texture(cx, 3)?;
-            let resolution = crate::resolution::read(cx, 9)?;
-            let settings = DofSettings { focal_length_mm, f_stop, samples, max_radius, resolution };
-            let dof = Dof::new(&renderer, Some(cx.node_id.0), source, g, focus, bokeh, settings);
-            set_texture(cx, dof.texture());
-            Ok(())
         }),
     );
 }

@@ -1,10 +1,10 @@
 //! `EyeAdaptation`: the average luminance of an HDR texture, adapted over time.
 
-use spreadlight_graph::{NodeDef, PinType, Registry, ResourceKind, Spread};
-use spreadlight_render::TextureRef;
+use spreadlight_graph::{NodeDef, Registry};
 use spreadlight_render::post::{AdaptationSettings, EyeAdaptation};
 
-use crate::gpu::{renderer, resource_spread, resources};
+use super::{set_texture, texture, texture_input, texture_output};
+use crate::gpu::renderer;
 
 pub fn register(r: &mut Registry) {
     let defaults = AdaptationSettings::default();
@@ -18,37 +18,38 @@ pub fn register(r: &mut Registry) {
              Stays within Minimum..Maximum, so a black frame adapts to Minimum. Output: a 1x1 texture of the adapted luminance \
              (linear) for Tonemap's Eye Adaptation input.",
         )
-        .input_spread("Texture", PinType::Resource(ResourceKind::Texture), Spread::Resource(ResourceKind::Texture, vec![]))
-        .input("Speed Up", defaults.speed_up)
-        .input("Speed Down", defaults.speed_down)
-        .input("Minimum", defaults.min_luminance)
-        .input("Maximum", defaults.max_luminance)
-        .output_typed("Luminance", PinType::Resource(ResourceKind::Texture))
         .time_dependent()
         .stateful()
-        .evaluate(|cx| {
-            let renderer = renderer(cx)?;
-            let source = resources::<TextureRef>(cx, 0)?.into_iter().next().ok_or_else(|| cx.input_error(0, "no texture connected"))?;
-            let mut values = [0.0f32; 4];
-            for (i, value) in values.iter_mut().enumerate() {
-                let pin = i + 1;
-                let v = cx.slices::<f32>(pin)?.first().copied().unwrap_or(0.0);
-                if !v.is_finite() {
-                    return Err(cx.input_error(pin, "is NaN or infinite"));
+        .with_pins(|p| {
+            let texture_in = texture_input(p, "Texture");
+            let speed_up = p.input("Speed Up", defaults.speed_up);
+            let speed_down = p.input("Speed Down", defaults.speed_down);
+            let minimum = p.input("Minimum", defaults.min_luminance);
+            let maximum = p.input("Maximum", defaults.max_luminance);
+            let out = texture_output(p, "Luminance");
+            move |cx| {
+                let renderer = renderer(cx)?;
+                let source = texture(cx, texture_in)?;
+                let mut values = [0.0f32; 4];
+                for (value, pin) in values.iter_mut().zip([speed_up, speed_down, minimum, maximum]) {
+                    let v = cx.first(pin, 0.0)?;
+                    if !v.is_finite() {
+                        return Err(cx.error(pin, "is NaN or infinite"));
+                    }
+                    if v < 0.0 {
+                        return Err(cx.error(pin, "is negative"));
+                    }
+                    *value = v;
                 }
-                if v < 0.0 {
-                    return Err(cx.input_error(pin, "is negative"));
+                let [speed_up, speed_down, min_luminance, max_luminance] = values;
+                if max_luminance < min_luminance {
+                    return Err(cx.error(maximum, "is below Minimum"));
                 }
-                *value = v;
+                let settings = AdaptationSettings { speed_up, speed_down, min_luminance, max_luminance };
+                let adaptation = EyeAdaptation::new(&renderer, Some(cx.node_id.0), source, settings, cx.clock.delta);
+                set_texture(cx, out, adaptation.texture());
+                Ok(())
             }
-            let [speed_up, speed_down, min_luminance, max_luminance] = values;
-            if max_luminance < min_luminance {
-                return Err(cx.input_error(4, "is below Minimum"));
-            }
-            let settings = AdaptationSettings { speed_up, speed_down, min_luminance, max_luminance };
-            let adaptation = EyeAdaptation::new(&renderer, Some(cx.node_id.0), (*source).clone(), settings, cx.clock.delta);
-            cx.set_output(0, resource_spread::<TextureRef>(ResourceKind::Texture, vec![std::sync::Arc::new(adaptation.texture())]));
-            Ok(())
         }),
     );
 }

@@ -2,16 +2,17 @@
 //! after `Tonemap` (its edge test reads luma); Quality sets how far it
 //! follows an edge.
 
-use spreadlight_graph::{EnumDef, NodeDef, PinType, Registry, ResourceKind, Spread};
-use spreadlight_render::TextureRef;
+use spreadlight_graph::{Choices, NodeDef, Registry};
 use spreadlight_render::post::{Fxaa, FxaaQuality};
 
-use crate::gpu::{renderer, resource_spread, resources};
+use super::{float, set_texture, texture, texture_input, texture_output};
+use crate::gpu::renderer;
 
-pub static QUALITY: EnumDef = EnumDef {
-    name: "FXAA Quality",
-    options: &["Low", "Medium", "High"],
-};
+pub static QUALITY: Choices<FxaaQuality> = Choices::new(
+    "FXAA Quality",
+    &["Low", "Medium", "High"],
+    &[FxaaQuality::Low, FxaaQuality::Medium, FxaaQuality::High],
+);
 
 pub fn register(r: &mut Registry) {
     r.add(
@@ -22,28 +23,20 @@ pub fn register(r: &mut Registry) {
              steps), Medium (8), High (12, the finest contrast threshold). Subpixel 0..1: how much detail smaller than a \
              pixel is softened (0.75 is FXAA's default).",
         )
-        .input_spread("Texture", PinType::Resource(ResourceKind::Texture), Spread::Resource(ResourceKind::Texture, vec![]))
-        .input_enum("Quality", &QUALITY, "High")
-        .input("Subpixel", 0.75f32)
-        .output_typed("Texture", PinType::Resource(ResourceKind::Texture))
-        .evaluate(|cx| {
-            let renderer = renderer(cx)?;
-            let source = resources::<TextureRef>(cx, 0)?
-                .into_iter()
-                .next()
-                .ok_or_else(|| cx.input_error(0, "no texture connected"))?;
-            let quality = match cx.enum_slices(1)?.first().map(String::as_str) {
-                Some("Low") => FxaaQuality::Low,
-                Some("Medium") => FxaaQuality::Medium,
-                _ => FxaaQuality::High,
-            };
-            let subpixel = cx.slices::<f32>(2)?.first().copied().unwrap_or(0.75);
-            if !subpixel.is_finite() {
-                return Err(cx.input_error(2, "is NaN or infinite"));
+        .with_pins(|p| {
+            let texture_in = texture_input(p, "Texture");
+            let quality = p.input_choice("Quality", &QUALITY, FxaaQuality::High);
+            let subpixel = p.input("Subpixel", 0.75f32);
+            let out = texture_output(p, "Texture");
+            move |cx| {
+                let renderer = renderer(cx)?;
+                let source = texture(cx, texture_in)?;
+                let quality = cx.choice(quality)?;
+                let subpixel = float(cx, subpixel, 0.75, false)?;
+                let fxaa = Fxaa::new(&renderer, Some(cx.node_id.0), source, quality, subpixel);
+                set_texture(cx, out, fxaa.texture());
+                Ok(())
             }
-            let fxaa = Fxaa::new(&renderer, Some(cx.node_id.0), (*source).clone(), quality, subpixel);
-            cx.set_output(0, resource_spread::<TextureRef>(ResourceKind::Texture, vec![std::sync::Arc::new(fxaa.texture())]));
-            Ok(())
         }),
     );
 }

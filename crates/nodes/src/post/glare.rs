@@ -1,9 +1,9 @@
 //! `Glare`: bloom through a mip-like chain, with chromatic aberration.
 
-use spreadlight_graph::{NodeDef, PinType, Registry, ResourceKind, Spread};
+use spreadlight_graph::{NodeDef, Registry};
 use spreadlight_render::post::{Glare, GlareSettings};
 
-use super::{count, float, set_texture, texture};
+use super::{count, float, set_texture, texture, texture_input, texture_output};
 use crate::gpu::renderer;
 
 pub fn register(r: &mut Registry) {
@@ -18,35 +18,37 @@ pub fn register(r: &mut Registry) {
              fraction of the distance to the centre, over the image and the glow. Everything stays within half-float \
              range, whatever the input. Intensity and Aberration 0 cost one copy.",
         )
-        .input_spread("Texture", PinType::Resource(ResourceKind::Texture), Spread::Resource(ResourceKind::Texture, vec![]))
-        .input("Threshold", d.threshold)
-        .input("Intensity", d.intensity)
-        .input("Spread", d.spread)
-        .input("Aberration", d.aberration)
-        .input("Levels", i64::from(d.levels))
-        .output_typed("Texture", PinType::Resource(ResourceKind::Texture))
-        .evaluate(|cx| {
-            let renderer = renderer(cx)?;
-            let source = texture(cx, 0)?;
-            let mut v = [0.0f32; 4];
-            for (i, value) in v.iter_mut().enumerate() {
-                *value = float(cx, i + 1, 0.0, false)?;
+        .with_pins(|p| {
+            let texture_in = texture_input(p, "Texture");
+            let threshold = p.input("Threshold", d.threshold);
+            let intensity = p.input("Intensity", d.intensity);
+            let spread = p.input("Spread", d.spread);
+            let aberration = p.input("Aberration", d.aberration);
+            let levels = p.input("Levels", i64::from(d.levels));
+            let out = texture_output(p, "Texture");
+            move |cx| {
+                let renderer = renderer(cx)?;
+                let source = texture(cx, texture_in)?;
+                let settings = GlareSettings {
+                    threshold: float(cx, threshold, 0.0, false)?,
+                    intensity: float(cx, intensity, 0.0, false)?,
+                    spread: float(cx, spread, 0.0, false)?,
+                    aberration: float(cx, aberration, 0.0, false)?,
+                    levels: count(cx, levels, 6, 1, 12)?,
+                };
+                if settings.threshold < 0.0 {
+                    return Err(cx.error(threshold, "is negative"));
+                }
+                if settings.intensity < 0.0 {
+                    return Err(cx.error(intensity, "is negative"));
+                }
+                if !(0.0..=1.0).contains(&settings.spread) {
+                    return Err(cx.error(spread, "must be 0 to 1"));
+                }
+                let glare = Glare::new(&renderer, Some(cx.node_id.0), source, settings);
+                set_texture(cx, out, glare.texture());
+                Ok(())
             }
-            let [threshold, intensity, spread, aberration] = v;
-            if threshold < 0.0 {
-                return Err(cx.input_error(1, "is negative"));
-            }
-            if intensity < 0.0 {
-                return Err(cx.input_error(2, "is negative"));
-            }
-            if !(0.0..=1.0).contains(&spread) {
-                return Err(cx.input_error(3, "must be 0 to 1"));
-            }
-            let levels = count(cx, 5, 6, 1, 12)?;
-            let settings = GlareSettings { threshold, intensity, spread, aberration, levels };
-            let glare = Glare::new(&renderer, Some(cx.node_id.0), source, settings);
-            set_texture(cx, glare.texture());
-            Ok(())
         }),
     );
 }

@@ -1,9 +1,11 @@
 //! `MotionBlur`: blur along the G-buffer's velocity (McGuire et al. 2012).
 
-use spreadlight_graph::{NodeDef, PinType, Registry, ResourceKind, Spread};
+use spreadlight_graph::{NodeDef, Registry};
 use spreadlight_render::post::{MotionBlur, MotionBlurSettings};
 
-use super::{count, float, gbuffer, set_texture, texture};
+use super::{
+    count, float, gbuffer, gbuffer_input, set_texture, texture, texture_input, texture_output,
+};
 use crate::gpu::renderer;
 
 pub fn register(r: &mut Registry) {
@@ -18,26 +20,30 @@ pub fn register(r: &mut Registry) {
              blur each way; Samples per pixel is the quality. A frame where nothing moves costs one copy (counted as \
              \"motion blur skipped\"), and still tiles copy their pixels.",
         )
-        .input_spread("Texture", PinType::Resource(ResourceKind::Texture), Spread::Resource(ResourceKind::Texture, vec![]))
-        .input_spread("G-Buffer", PinType::Resource(ResourceKind::GBuffer), Spread::Resource(ResourceKind::GBuffer, vec![]))
-        .input("Shutter Angle", d.shutter_angle)
-        .input("Samples", i64::from(d.samples))
-        .input("Max Blur", i64::from(d.tile_size))
-        .output_typed("Texture", PinType::Resource(ResourceKind::Texture))
-        .evaluate(|cx| {
-            let renderer = renderer(cx)?;
-            let source = texture(cx, 0)?;
-            let g = gbuffer(cx, 1, "motion blur follows its velocity")?;
-            let shutter_angle = float(cx, 2, 180.0, false)?;
-            if !(0.0..=360.0).contains(&shutter_angle) {
-                return Err(cx.input_error(2, "must be 0 to 360 degrees"));
+        .with_pins(|p| {
+            let texture_in = texture_input(p, "Texture");
+            let g_buffer = gbuffer_input(p);
+            let shutter_angle = p.input("Shutter Angle", d.shutter_angle);
+            let samples = p.input("Samples", i64::from(d.samples));
+            let max_blur = p.input("Max Blur", i64::from(d.tile_size));
+            let out = texture_output(p, "Texture");
+            move |cx| {
+                let renderer = renderer(cx)?;
+                let source = texture(cx, texture_in)?;
+                let g = gbuffer(cx, g_buffer, "motion blur follows its velocity")?;
+                let angle = float(cx, shutter_angle, 180.0, false)?;
+                if !(0.0..=360.0).contains(&angle) {
+                    return Err(cx.error(shutter_angle, "must be 0 to 360 degrees"));
+                }
+                let settings = MotionBlurSettings {
+                    shutter_angle: angle,
+                    samples: count(cx, samples, 15, 2, 256)?,
+                    tile_size: count(cx, max_blur, 20, 4, 64)?,
+                };
+                let blur = MotionBlur::new(&renderer, Some(cx.node_id.0), source, g, settings);
+                set_texture(cx, out, blur.texture());
+                Ok(())
             }
-            let samples = count(cx, 3, 15, 2, 256)?;
-            let tile_size = count(cx, 4, 20, 4, 64)?;
-            let settings = MotionBlurSettings { shutter_angle, samples, tile_size };
-            let blur = MotionBlur::new(&renderer, Some(cx.node_id.0), source, g, settings);
-            set_texture(cx, blur.texture());
-            Ok(())
         }),
     );
 }

@@ -3,17 +3,20 @@
 
 use glam::{Mat4, Vec2};
 use spreadlight_graph::{
-    EnumDef, EvalContext, Node, NodeDef, NodeError, PinType, Registry, ResourceKind, Spread,
+    Choice, Choices, EvalContext, In, Node, NodeDef, NodeError, Out, Registry, Res,
 };
+use spreadlight_render::TextureRef;
+use spreadlight_render::gbuffer::GBuffer;
 use spreadlight_render::post::{Taa, TaaQuality, TaaSettings, is_cut};
 
-use super::{float, gbuffer, set_texture, texture};
+use super::{float, gbuffer, gbuffer_input, set_texture, texture, texture_input, texture_output};
 use crate::gpu::renderer;
 
-pub static QUALITY: EnumDef = EnumDef {
-    name: "TAA Quality",
-    options: &["Low", "Medium", "High"],
-};
+pub static QUALITY: Choices<TaaQuality> = Choices::new(
+    "TAA Quality",
+    &["Low", "Medium", "High"],
+    &[TaaQuality::Low, TaaQuality::Medium, TaaQuality::High],
+);
 
 pub fn register(r: &mut Registry) {
     let d = TaaSettings::default();
@@ -30,22 +33,43 @@ pub fn register(r: &mut Registry) {
              camera moving further than Cut Distance in a frame (0: never by distance) or turning more than 45 \
              degrees.",
         )
-        .input_spread("Texture", PinType::Resource(ResourceKind::Texture), Spread::Resource(ResourceKind::Texture, vec![]))
-        .input_spread("G-Buffer", PinType::Resource(ResourceKind::GBuffer), Spread::Resource(ResourceKind::GBuffer, vec![]))
-        .input("Jitter", Vec2::ZERO)
-        .input_enum("Quality", &QUALITY, "High")
-        .input("Feedback", d.feedback)
-        .input("Sharpen", d.sharpen)
-        .input("Reset", false)
-        .input("Cut Distance", 1.0f32)
-        .output_typed("Texture", PinType::Resource(ResourceKind::Texture))
         .stateful()
-        .construct(TaaNode::default),
+        .with_pins_node(|p| {
+            let pins = TaaPins {
+                texture: texture_input(p, "Texture"),
+                g_buffer: gbuffer_input(p),
+                jitter: p.input("Jitter", Vec2::ZERO),
+                quality: p.input_choice("Quality", &QUALITY, TaaQuality::High),
+                feedback: p.input("Feedback", d.feedback),
+                sharpen: p.input("Sharpen", d.sharpen),
+                reset: p.input("Reset", false),
+                cut_distance: p.input("Cut Distance", 1.0f32),
+                out: texture_output(p, "Texture"),
+            };
+            move || TaaNode {
+                pins,
+                previous_jitter: None,
+                previous_view: None,
+            }
+        }),
     );
 }
 
-#[derive(Default)]
+#[derive(Clone, Copy)]
+struct TaaPins {
+    texture: In<Res<TextureRef>>,
+    g_buffer: In<Res<GBuffer>>,
+    jitter: In<Vec2>,
+    quality: In<Choice<TaaQuality>>,
+    feedback: In<f32>,
+    sharpen: In<f32>,
+    reset: In<bool>,
+    cut_distance: In<f32>,
+    out: Out<Res<TextureRef>>,
+}
+
 struct TaaNode {
+    pins: TaaPins,
     previous_jitter: Option<Vec2>,
     previous_view: Option<Mat4>,
 }
@@ -53,26 +77,23 @@ struct TaaNode {
 impl Node for TaaNode {
     fn evaluate(&mut self, cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
         let renderer = renderer(cx)?;
-        let source = texture(cx, 0)?;
-        let g = gbuffer(cx, 1, "TAA reprojects with its velocity")?;
-        let jitter = cx.slices::<Vec2>(2)?.first().copied().unwrap_or(Vec2::ZERO);
+        let pins = self.pins;
+        let source = texture(cx, pins.texture)?;
+        let g = gbuffer(cx, pins.g_buffer, "TAA reprojects with its velocity")?;
+        let jitter = cx.first(pins.jitter, Vec2::ZERO)?;
         if !jitter.is_finite() {
-            return Err(cx.input_error(2, "slice 0 is NaN or infinite"));
+            return Err(cx.error(pins.jitter, "slice 0 is NaN or infinite"));
         }
-        let quality = match cx.enum_slices(3)?.first().map(String::as_str) {
-            Some("Low") => TaaQuality::Low,
-            Some("Medium") => TaaQuality::Medium,
-            _ => TaaQuality::High,
-        };
-        let feedback = float(cx, 4, 0.9, false)?;
+        let quality = cx.choice(pins.quality)?;
+        let feedback = float(cx, pins.feedback, 0.9, false)?;
         if !(0.0..=1.0).contains(&feedback) {
-            return Err(cx.input_error(4, "must be 0 to 1"));
+            return Err(cx.error(pins.feedback, "must be 0 to 1"));
         }
-        let sharpen = float(cx, 5, 0.0, false)?;
+        let sharpen = float(cx, pins.sharpen, 0.0, false)?;
         if sharpen < 0.0 {
-            return Err(cx.input_error(5, "is negative"));
+            return Err(cx.error(pins.sharpen, "is negative"));
         }
-        let cut_distance = float(cx, 7, 1.0, true)?;
+        let cut_distance = float(cx, pins.cut_distance, 1.0, true)?;
         let view = g.camera.view;
         let cut = self
             .previous_view
@@ -82,7 +103,7 @@ impl Node for TaaNode {
             // The recipe made now resets the history; next frame's must not.
             cx.reevaluate_next_frame();
         }
-        let reset = cx.slices::<bool>(6)?.first().copied().unwrap_or(false) || cut;
+        let reset = cx.first(pins.reset, false)? || cut;
         let previous_jitter = self.previous_jitter.replace(jitter).unwrap_or(jitter);
         let settings = TaaSettings {
             quality,
@@ -93,7 +114,7 @@ impl Node for TaaNode {
             reset,
         };
         let taa = Taa::new(&renderer, Some(cx.node_id.0), source, g, settings, None);
-        set_texture(cx, taa.texture());
+        set_texture(cx, pins.out, taa.texture());
         Ok(())
     }
 }

@@ -2,12 +2,12 @@
 //! the opaque lit image.
 
 use glam::Vec3;
-use spreadlight_graph::{Color, NodeDef, PinType, Registry, ResourceKind, Spread};
+use spreadlight_graph::{Color, NodeDef, Registry, ResourceKind};
 use spreadlight_render::gbuffer::Layer;
 use spreadlight_render::post::{Transparency, TransparencySettings};
 
-use super::{gbuffer, set_texture, texture};
-use crate::gpu::{renderer, resources};
+use super::{gbuffer, gbuffer_input, set_texture, texture, texture_input, texture_output};
+use crate::gpu::renderer;
 
 pub fn register(r: &mut Registry) {
     r.add(
@@ -20,34 +20,35 @@ pub fn register(r: &mut Registry) {
              the colour times Ambient plus one two-sided directional light (Light Direction, towards the light; Light \
              Color). Without transparent instances it costs one copy.",
         )
-        .input_spread("Texture", PinType::Resource(ResourceKind::Texture), Spread::Resource(ResourceKind::Texture, vec![]))
-        .input_spread("G-Buffer", PinType::Resource(ResourceKind::GBuffer), Spread::Resource(ResourceKind::GBuffer, vec![]))
-        .input_spread("Layer", PinType::Resource(ResourceKind::Layer), Spread::Resource(ResourceKind::Layer, vec![]))
-        .input("Ambient", Color::rgba(0.3, 0.3, 0.3, 1.0))
-        .input("Light Direction", Vec3::new(0.3, 1.0, 0.5))
-        .input("Light Color", Color::WHITE)
-        .output_typed("Texture", PinType::Resource(ResourceKind::Texture))
-        .evaluate(|cx| {
-            let renderer = renderer(cx)?;
-            for pin in 3..6 {
-                if let Some(slice) = cx.input(pin).first_non_finite() {
-                    return Err(cx.input_error(pin, format!("slice {slice} is NaN or infinite")));
+        .with_pins(|p| {
+            let texture_in = texture_input(p, "Texture");
+            let g_buffer = gbuffer_input(p);
+            let layer = p.input_resource::<Layer>("Layer", ResourceKind::Layer);
+            let ambient = p.input("Ambient", Color::rgba(0.3, 0.3, 0.3, 1.0));
+            let light_direction = p.input("Light Direction", Vec3::new(0.3, 1.0, 0.5));
+            let light_color = p.input("Light Color", Color::WHITE);
+            let out = texture_output(p, "Texture");
+            move |cx| {
+                let renderer = renderer(cx)?;
+                for pin in [ambient.index(), light_direction.index(), light_color.index()] {
+                    if let Some(slice) = cx.input(pin).first_non_finite() {
+                        return Err(cx.input_error(pin, format!("slice {slice} is NaN or infinite")));
+                    }
                 }
+                let source = texture(cx, texture_in)?;
+                let g = gbuffer(cx, g_buffer, "transparent surfaces are depth-tested against it")?;
+                let layers = cx.resources(layer)?;
+                let ambient = cx.first(ambient, Color::WHITE)?;
+                let light = cx.first(light_color, Color::WHITE)?;
+                let settings = TransparencySettings {
+                    ambient: Vec3::new(ambient.r, ambient.g, ambient.b),
+                    light_direction: cx.first(light_direction, Vec3::Y)?,
+                    light_color: Vec3::new(light.r, light.g, light.b),
+                };
+                let pass = Transparency::new(&renderer, Some(cx.node_id.0), source, g, layers, settings);
+                set_texture(cx, out, pass.texture());
+                Ok(())
             }
-            let source = texture(cx, 0)?;
-            let g = gbuffer(cx, 1, "transparent surfaces are depth-tested against it")?;
-            let layers = resources::<Layer>(cx, 2)?;
-            let ambient = cx.slices::<Color>(3)?.first().copied().unwrap_or(Color::WHITE);
-            let light_direction = cx.slices::<Vec3>(4)?.first().copied().unwrap_or(Vec3::Y);
-            let light = cx.slices::<Color>(5)?.first().copied().unwrap_or(Color::WHITE);
-            let settings = TransparencySettings {
-                ambient: Vec3::new(ambient.r, ambient.g, ambient.b),
-                light_direction,
-                light_color: Vec3::new(light.r, light.g, light.b),
-            };
-            let pass = Transparency::new(&renderer, Some(cx.node_id.0), source, g, layers, settings);
-            set_texture(cx, pass.texture());
-            Ok(())
         }),
     );
 }

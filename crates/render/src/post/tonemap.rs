@@ -6,6 +6,8 @@
 
 use std::sync::Arc;
 
+use crate::reference::tonemap::TonemapOperator;
+
 use crate::error::RenderError;
 use crate::frame_graph::{Bindings, FrameGraph, PassContext, SizeRule, Tex, TextureDesc};
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
@@ -44,12 +46,12 @@ pub struct Tonemap {
 }
 
 impl Tonemap {
-    /// `operator` is one of `reference::tonemap`'s `TONEMAP_*` ids; `exposure` a linear multiplier.
+    /// `exposure` is a linear multiplier.
     pub fn new(
         renderer: &Renderer,
         owner: Option<u32>,
         source: TextureRef,
-        operator: u32,
+        operator: TonemapOperator,
         exposure: f32,
         param: f32,
     ) -> Arc<Self> {
@@ -61,7 +63,7 @@ impl Tonemap {
         renderer: &Renderer,
         owner: Option<u32>,
         source: TextureRef,
-        operator: u32,
+        operator: TonemapOperator,
         exposure: f32,
         param: f32,
         adaptation: Option<AdaptedExposure>,
@@ -75,7 +77,7 @@ impl Tonemap {
             owner,
             "tonemap params",
             bytemuck::cast_slice(&[
-                operator,
+                operator.id(),
                 finite(exposure, 1.0).max(0.0).to_bits(),
                 finite(param, 1.0).to_bits(),
                 key.to_bits(),

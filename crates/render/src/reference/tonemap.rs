@@ -10,30 +10,62 @@
 
 use glam::{Mat3, Vec3};
 
-pub const TONEMAP_LINEAR: u32 = 0;
-pub const TONEMAP_REINHARD: u32 = 1;
-pub const TONEMAP_REINHARD_MODIFIED: u32 = 2;
-pub const TONEMAP_UNCHARTED2: u32 = 3;
-pub const TONEMAP_FILMIC_ALU: u32 = 4;
-pub const TONEMAP_DRAGO: u32 = 5;
-pub const TONEMAP_LOGARITHMIC: u32 = 6;
-pub const TONEMAP_EXPONENTIAL: u32 = 7;
-pub const TONEMAP_ACES: u32 = 8;
-pub const TONEMAP_AGX: u32 = 9;
+/// A tone operator. Its id (`as u32`, [`TonemapOperator::id`]) is the
+/// `TONEMAP_*` constant of the same name in `shaders/lib/tonemap.wgsl`, which
+/// the tonemap pass's uniform carries.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[repr(u32)]
+pub enum TonemapOperator {
+    Linear = 0,
+    Reinhard = 1,
+    ReinhardModified = 2,
+    FilmicUncharted2 = 3,
+    FilmicAlu = 4,
+    Drago = 5,
+    Logarithmic = 6,
+    Exponential = 7,
+    Aces = 8,
+    Agx = 9,
+}
 
-/// The operators' names, indexed by their ids.
-pub const TONEMAP_NAMES: [&str; 10] = [
-    "Linear",
-    "Reinhard",
-    "Reinhard Modified",
-    "Filmic Uncharted 2",
-    "Filmic ALU",
-    "Drago",
-    "Logarithmic",
-    "Exponential",
-    "ACES",
-    "AgX",
-];
+impl TonemapOperator {
+    /// Every operator, in id order.
+    pub const ALL: [TonemapOperator; 10] = [
+        TonemapOperator::Linear,
+        TonemapOperator::Reinhard,
+        TonemapOperator::ReinhardModified,
+        TonemapOperator::FilmicUncharted2,
+        TonemapOperator::FilmicAlu,
+        TonemapOperator::Drago,
+        TonemapOperator::Logarithmic,
+        TonemapOperator::Exponential,
+        TonemapOperator::Aces,
+        TonemapOperator::Agx,
+    ];
+
+    /// The operators' names as patches spell them, in id order.
+    pub const NAMES: [&'static str; 10] = [
+        "Linear",
+        "Reinhard",
+        "Reinhard Modified",
+        "Filmic Uncharted 2",
+        "Filmic ALU",
+        "Drago",
+        "Logarithmic",
+        "Exponential",
+        "ACES",
+        "AgX",
+    ];
+
+    /// The id the WGSL knows it by.
+    pub const fn id(self) -> u32 {
+        self as u32
+    }
+
+    pub const fn name(self) -> &'static str {
+        Self::NAMES[self as usize]
+    }
+}
 
 /// Largest channel value an operator looks at: every operator has saturated
 /// long before, and the rational ones would overflow (inf / inf) past ~1e19.
@@ -232,22 +264,22 @@ pub fn tonemap_agx(c: Vec3) -> Vec3 {
 }
 
 /// Scale by `exposure` (a linear multiplier, e.g. [`ev100_to_exposure`]) and
-/// apply operator `op` (a `TONEMAP_*` id; unknown ids are Linear).
+/// apply operator `op`.
 /// `param` is the white point of Reinhard Modified and the maximum
 /// luminance of Drago and Logarithmic, and unused by the others.
-pub fn tonemap(c: Vec3, op: u32, exposure: f32, param: f32) -> Vec3 {
+pub fn tonemap(c: Vec3, op: TonemapOperator, exposure: f32, param: f32) -> Vec3 {
     let x = c * exposure;
     match op {
-        TONEMAP_REINHARD => tonemap_reinhard(x),
-        TONEMAP_REINHARD_MODIFIED => tonemap_reinhard_modified(x, param),
-        TONEMAP_UNCHARTED2 => tonemap_filmic_uncharted2(x),
-        TONEMAP_FILMIC_ALU => tonemap_filmic_alu(x),
-        TONEMAP_DRAGO => tonemap_drago(x, param),
-        TONEMAP_LOGARITHMIC => tonemap_logarithmic(x, param),
-        TONEMAP_EXPONENTIAL => tonemap_exponential(x),
-        TONEMAP_ACES => tonemap_aces(x),
-        TONEMAP_AGX => tonemap_agx(x),
-        _ => tonemap_linear(x),
+        TonemapOperator::Linear => tonemap_linear(x),
+        TonemapOperator::Reinhard => tonemap_reinhard(x),
+        TonemapOperator::ReinhardModified => tonemap_reinhard_modified(x, param),
+        TonemapOperator::FilmicUncharted2 => tonemap_filmic_uncharted2(x),
+        TonemapOperator::FilmicAlu => tonemap_filmic_alu(x),
+        TonemapOperator::Drago => tonemap_drago(x, param),
+        TonemapOperator::Logarithmic => tonemap_logarithmic(x, param),
+        TonemapOperator::Exponential => tonemap_exponential(x),
+        TonemapOperator::Aces => tonemap_aces(x),
+        TonemapOperator::Agx => tonemap_agx(x),
     }
 }
 
@@ -258,8 +290,8 @@ mod tests {
     /// The parameter each operator is tested with (white point, max luminance).
     const PARAM: f32 = 4.0;
 
-    fn all_operators() -> impl Iterator<Item = u32> {
-        0..TONEMAP_NAMES.len() as u32
+    fn all_operators() -> impl Iterator<Item = TonemapOperator> {
+        TonemapOperator::ALL.into_iter()
     }
 
     /// 0, then 1e-6..1e6 in logarithmic steps.
@@ -274,7 +306,7 @@ mod tests {
     #[test]
     fn zero_is_black_and_huge_is_at_most_white() {
         for op in all_operators() {
-            let name = TONEMAP_NAMES[op as usize];
+            let name = op.name();
             let black = tonemap(Vec3::ZERO, op, 1.0, PARAM);
             assert!(
                 black.max_element() <= 1e-6 && black.min_element() >= 0.0,
@@ -293,7 +325,7 @@ mod tests {
     #[test]
     fn operators_are_monotonic_and_in_range_on_a_grey_ramp() {
         for op in all_operators() {
-            let name = TONEMAP_NAMES[op as usize];
+            let name = op.name();
             let mut previous = Vec3::ZERO;
             for x in ramp() {
                 let c = tonemap(Vec3::splat(x), op, 1.0, PARAM);
@@ -317,7 +349,7 @@ mod tests {
             Vec3::new(-1.0, 0.5, 2.0),
         ];
         for op in all_operators() {
-            let name = TONEMAP_NAMES[op as usize];
+            let name = op.name();
             for colour in colours {
                 for x in ramp() {
                     let c = tonemap(colour * x, op, 1.0, PARAM);
@@ -339,8 +371,11 @@ mod tests {
         // ACES and AgX mix channels through matrices with negative entries
         // (hue shifts, the path to white), so only the others are monotonic
         // per channel on a saturated ramp.
-        for op in [0, 1, 2, 3, 4, 5, 6, 7] {
-            let name = TONEMAP_NAMES[op as usize];
+        for op in TonemapOperator::ALL
+            .into_iter()
+            .filter(|o| !matches!(o, TonemapOperator::Aces | TonemapOperator::Agx))
+        {
+            let name = op.name();
             let mut previous = Vec3::ZERO;
             for x in ramp() {
                 let c = tonemap(Vec3::new(1.0, 0.5, 0.1) * x, op, 1.0, PARAM);
@@ -353,20 +388,22 @@ mod tests {
     #[test]
     fn known_values() {
         let grey = |op, x: f32, param| tonemap(Vec3::splat(x), op, 1.0, param).x;
-        assert!((grey(TONEMAP_LINEAR, 0.25, 0.0) - 0.25).abs() < 1e-7);
-        assert!((grey(TONEMAP_REINHARD, 1.0, 0.0) - 0.5).abs() < 1e-7);
-        assert!((grey(TONEMAP_REINHARD_MODIFIED, 4.0, 4.0) - 1.0).abs() < 1e-6);
-        assert!((grey(TONEMAP_UNCHARTED2, HABLE_WHITE / 2.0, 0.0) - 1.0).abs() < 1e-5);
-        assert!((grey(TONEMAP_DRAGO, 100.0, 100.0) - 1.0).abs() < 1e-5);
-        assert!((grey(TONEMAP_LOGARITHMIC, 100.0, 100.0) - 1.0).abs() < 1e-5);
-        assert!((grey(TONEMAP_EXPONENTIAL, 1.0, 0.0) - (1.0 - (-1.0f32).exp())).abs() < 1e-7);
+        assert!((grey(TonemapOperator::Linear, 0.25, 0.0) - 0.25).abs() < 1e-7);
+        assert!((grey(TonemapOperator::Reinhard, 1.0, 0.0) - 0.5).abs() < 1e-7);
+        assert!((grey(TonemapOperator::ReinhardModified, 4.0, 4.0) - 1.0).abs() < 1e-6);
+        assert!(
+            (grey(TonemapOperator::FilmicUncharted2, HABLE_WHITE / 2.0, 0.0) - 1.0).abs() < 1e-5
+        );
+        assert!((grey(TonemapOperator::Drago, 100.0, 100.0) - 1.0).abs() < 1e-5);
+        assert!((grey(TonemapOperator::Logarithmic, 100.0, 100.0) - 1.0).abs() < 1e-5);
+        assert!(
+            (grey(TonemapOperator::Exponential, 1.0, 0.0) - (1.0 - (-1.0f32).exp())).abs() < 1e-7
+        );
         // Exposure multiplies before the curve.
         assert_eq!(
-            tonemap(Vec3::splat(0.5), TONEMAP_REINHARD, 2.0, 0.0),
+            tonemap(Vec3::splat(0.5), TonemapOperator::Reinhard, 2.0, 0.0),
             tonemap_reinhard(Vec3::ONE)
         );
-        // Unknown ids fall back to Linear.
-        assert_eq!(tonemap(Vec3::splat(2.0), 99, 1.0, 0.0), Vec3::ONE);
         // EV100 9.7, the bench's exposure: about 1/1000.
         let e = ev100_to_exposure(9.7);
         assert!((e - 1.0 / (1.2 * 831.75)).abs() < 1e-7, "{e}");
