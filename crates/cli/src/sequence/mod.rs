@@ -13,6 +13,7 @@ mod files;
 pub mod frames;
 mod names;
 mod outputs;
+mod pipeline;
 mod progress;
 mod render;
 mod video;
