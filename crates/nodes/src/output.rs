@@ -12,7 +12,9 @@ use std::sync::atomic::{AtomicBool, Ordering};
 
 use spreadlight_graph::{EnumDef, NodeDef, NodeError, PinType, Registry, ResourceKind, Spread};
 use spreadlight_render::image_io::{Encoding, write_image};
-use spreadlight_render::readback::{ImageF32, PendingImage, read_texture, readback_layout, start_read_texture};
+use spreadlight_render::readback::{
+    ImageF32, PendingImage, read_texture, readback_layout, start_read_texture,
+};
 use spreadlight_render::{FrameGraph, TextureRef};
 
 use crate::gpu::{renderer, resources};

@@ -90,9 +90,9 @@ impl Captured {
                     let image = match shot {
                         Shot::Ready(image) => image,
                         Shot::Pending(pending) => {
-                            let image = pending.wait().map_err(|e| {
-                                vec![format!("the Output named `{name}`: {e}")]
-                            })?;
+                            let image = pending
+                                .wait()
+                                .map_err(|e| vec![format!("the Output named `{name}`: {e}")])?;
                             // As the Output stretches what it reads back at once.
                             if (image.width, image.height) == size {
                                 image
@@ -213,7 +213,9 @@ impl Evaluator {
                     }
                     None => {
                         let Some((image, e)) = self.session.images.get(name) else {
-                            return Err(vec![format!("the Output named `{name}` rendered nothing")]);
+                            return Err(vec![format!(
+                                "the Output named `{name}` rendered nothing"
+                            )]);
                         };
                         *encoding = e;
                         Shot::Ready(image)

@@ -328,7 +328,12 @@ fn render_frames(args: &Args, plan: &Plan) -> anyhow::Result<bool> {
 }
 
 /// The cold start into the `done` line, and for people with `--timings`.
-fn cold_start(args: &Args, evaluator: &Evaluator, progress: &Progress, summary: &mut serde_json::Value) {
+fn cold_start(
+    args: &Args,
+    evaluator: &Evaluator,
+    progress: &Progress,
+    summary: &mut serde_json::Value,
+) {
     if let Some(cold) = evaluator.cold_start() {
         if args.timings {
             progress.note(&cold.line());
