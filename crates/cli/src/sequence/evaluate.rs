@@ -9,6 +9,7 @@ use glam::Vec2;
 use spreadlight_graph::FrameClock;
 use spreadlight_nodes::deferred::mre::SubPixelOffset;
 use spreadlight_render::image_io::Encoding;
+use spreadlight_render::renderer::Timing as GpuTiming;
 use spreadlight_render::readback::{ImageF32, PendingImage};
 
 use super::accumulate::{Average, pixel_offset, shutter_offset};
@@ -152,6 +153,11 @@ impl Evaluator {
         });
         // Copies are waited for where the frame is written, not in the Output node.
         session.images.set_deferred(true);
+        // No timestamps (nothing reports per-pass times here), so the CPU does not wait for the
+        // GPU after every frame: the next frame is recorded while the GPU renders this one.
+        if let Some(renderer) = &session.renderer {
+            renderer.set_timing(GpuTiming::Off);
+        }
         Evaluator {
             session,
             offset,
