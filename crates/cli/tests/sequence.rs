@@ -318,6 +318,23 @@ fn frames_in_flight_write_the_bytes_of_single_frame_runs_and_fail_alone() {
         "frame 2 of 2 sub-frames: the sequence's EXR differs from a run of its own"
     );
 
+    // `--exr half`: the same frame as ZIP-compressed half floats, read back as the float frame's
+    // values rounded to halves; whole, so a second run skips it.
+    let half = dir.path().join("half/f_#.exr");
+    let args = ["--frames", "2", "--samples", "2", "--exr", "half"];
+    ok(&render(SPHERES, &half, &args));
+    let halves = rgb(&dir.path().join("half/f_2.exr"));
+    let floats: Vec<f32> = rgb(&exr.join("f_2.exr"))
+        .into_iter()
+        .map(|v| exr::prelude::f16::from_f32(v).to_f32())
+        .collect();
+    assert!(halves == floats, "the half EXR is not the float frame in halves");
+    assert!(
+        read(dir.path().join("half/f_2.exr")).len() < read(exr.join("f_2.exr")).len() / 2,
+        "half floats, compressed"
+    );
+    assert_eq!(done(&render(SPHERES, &half, &args))["skipped"], 1);
+
     // Frame 1's name is taken by a folder: its temporary file is written, the rename fails.
     let blocked = dir.path().join("blocked");
     std::fs::create_dir_all(blocked.join("f_1.png")).expect("mkdir");

@@ -8,6 +8,7 @@
 
 pub mod accumulate;
 mod evaluate;
+mod exr_pixels;
 mod fault;
 mod files;
 pub mod frames;

@@ -18,6 +18,7 @@ use std::time::Instant;
 use spreadlight_render::image_io::{encode_image, is_exr};
 
 use super::evaluate::Captured;
+use super::exr_pixels::{ExrPixels, encode_half};
 use super::files::write_partial;
 
 /// A frame evaluated, its copies started: for a writer thread.
@@ -28,6 +29,8 @@ pub struct Job {
     pub files: Vec<PathBuf>,
     /// When its evaluation began.
     pub started: Instant,
+    /// How EXR files store their pixels.
+    pub exr: ExrPixels,
 }
 
 /// A frame whose files are written under their temporary names (each
@@ -171,7 +174,11 @@ fn write(job: Job) -> Finished {
     let result = job.captured.resolve().and_then(|images| {
         let mut written: Vec<(PathBuf, PathBuf)> = Vec::new();
         for (rendered, path) in images.iter().zip(&job.files) {
-            let step = encode_image(&rendered.image, rendered.encoding, is_exr(path))
+            let encoded = match (is_exr(path), job.exr) {
+                (true, ExrPixels::Half) => encode_half(&rendered.image),
+                (exr, _) => encode_image(&rendered.image, rendered.encoding, exr),
+            };
+            let step = encoded
                 .map_err(|e| format!("cannot encode {}: {e}", path.display()))
                 .and_then(|bytes| {
                     write_partial(path, &bytes)

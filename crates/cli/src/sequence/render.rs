@@ -11,6 +11,7 @@ use spreadlight_graph::{Memory, format};
 
 use super::BadInput;
 use super::evaluate::{Evaluator, Timing};
+use super::exr_pixels::ExrPixels;
 use super::fault::KillAt;
 use super::files::{commit, is_complete, sweep_partials};
 use super::frames::{FrameRange, Preroll, Span};
@@ -82,6 +83,10 @@ pub struct Args {
     /// making pipelines, the rest of the first frame). `--json` has it in `done` always.
     #[arg(long)]
     pub timings: bool,
+    /// EXR pixels: `float` (32-bit, uncompressed) or `half` (16-bit, ZIP-compressed: lossless over
+    /// the halves, about a quarter of the bytes).
+    #[arg(long, value_enum, default_value_t)]
+    pub exr: ExrPixels,
 }
 
 /// Exit codes: 0 every frame written or complete, 1 some frames failed (or
@@ -310,6 +315,7 @@ fn render_frames(args: &Args, plan: &Plan) -> anyhow::Result<bool> {
                 captured,
                 files: plan.files(frame).into_iter().map(|(_, p)| p).collect(),
                 started,
+                exr: args.exr,
             }),
             Err(errors) => pipeline.fail(frame, errors, started),
         }
