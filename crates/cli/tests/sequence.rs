@@ -328,7 +328,10 @@ fn frames_in_flight_write_the_bytes_of_single_frame_runs_and_fail_alone() {
         .into_iter()
         .map(|v| exr::prelude::f16::from_f32(v).to_f32())
         .collect();
-    assert!(halves == floats, "the half EXR is not the float frame in halves");
+    assert!(
+        halves == floats,
+        "the half EXR is not the float frame in halves"
+    );
     assert!(
         read(dir.path().join("half/f_2.exr")).len() < read(exr.join("f_2.exr")).len() / 2,
         "half floats, compressed"

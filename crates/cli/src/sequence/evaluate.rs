@@ -9,8 +9,8 @@ use glam::Vec2;
 use spreadlight_graph::FrameClock;
 use spreadlight_nodes::deferred::mre::SubPixelOffset;
 use spreadlight_render::image_io::Encoding;
-use spreadlight_render::renderer::Timing as GpuTiming;
 use spreadlight_render::readback::{ImageF32, PendingImage};
+use spreadlight_render::renderer::Timing as GpuTiming;
 
 use super::accumulate::{Average, pixel_offset, shutter_offset};
 use crate::cold_start::ColdStart;

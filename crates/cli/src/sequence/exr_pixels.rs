@@ -66,15 +66,9 @@ mod tests {
             .expect("decodes")
             .to_rgba32f();
         assert_eq!(decoded.dimensions(), (2, 1));
-        let expected: Vec<f32> = values
-            .iter()
-            .map(|&v| f16::from_f32(v).to_f32())
-            .collect();
+        let expected: Vec<f32> = values.iter().map(|&v| f16::from_f32(v).to_f32()).collect();
         assert_eq!(decoded.into_raw(), expected);
-        let wrong = ImageF32 {
-            width: 3,
-            ..image
-        };
+        let wrong = ImageF32 { width: 3, ..image };
         assert!(encode_half(&wrong).is_err());
     }
 }
