@@ -206,6 +206,9 @@ impl Evaluator {
                 offset.set(pixel_offset(k, n));
             }
             let clock = self.timing.clock(frame, k);
+            // Every Output renders every (sub-)frame, even when nothing it depends on changed:
+            // its copy goes to the writer threads, so there is no last image here to use again.
+            self.session.runtime.invalidate_sinks();
             self.session.runtime.evaluate(clock);
             let errors = self.session.frame_errors(&self.patch);
             if !errors.is_empty() {
