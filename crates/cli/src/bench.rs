@@ -21,6 +21,7 @@ use std::process::ExitCode;
 use anyhow::{Context, bail};
 use spreadlight_graph::{NodeId, Spread, format};
 
+use crate::cold_start::ColdStart;
 use crate::session::{Session, parse_size};
 
 #[derive(clap::Args)]
@@ -246,6 +247,7 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
     // Per pass position (frames render the same passes in the same order).
     let mut passes: Vec<PassSeries> = Vec::new();
     let total = args.warmup + args.frames.max(1);
+    let mut cold_start = None;
     for frame in 0..total {
         session.runtime.invalidate_sinks();
         let started = std::time::Instant::now();
@@ -253,6 +255,9 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
             bail!("frame {frame} failed (errors above)");
         }
         let wall_ms = started.elapsed().as_secs_f64() * 1e3;
+        if frame == 0 {
+            cold_start = Some(ColdStart::now(&session, wall_ms / 1e3));
+        }
         let geometry_ms = geometry.take_gpu_ms();
         // Skinning (glTF skins and morph targets) is a part of the above, named apart.
         let skinning_ms = geometry.take_skinning_gpu_ms();
@@ -351,6 +356,7 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
             "wall_cpu_record_ms_median": wall_cpu.2,
             "passes": unique_names(&passes),
             "pass_order": passes,
+            "cold_start": cold_start.map(|c| c.json()),
         });
         println!("{line}");
     } else {
@@ -365,6 +371,9 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
         );
         let show =
             |v: Option<f64>| v.map_or("n/a (no timestamps)".to_owned(), |ms| format!("{ms:.3} ms"));
+        if let Some(cold) = cold_start {
+            println!("  {}", cold.line());
+        }
         println!("  GPU frame              {}", show(gpu));
         println!("  GPU idle between passes {}", show(idle));
         println!("  CPU frame              {}", show(cpu));

@@ -6,6 +6,7 @@
 mod accuracy;
 mod bench;
 mod check;
+mod cold_start;
 mod edit;
 mod eval;
 mod fmt;
@@ -65,6 +66,7 @@ enum Command {
 }
 
 fn main() -> ExitCode {
+    cold_start::mark_process_start();
     let cli = Cli::parse();
     let result = match cli.command {
         None => edit::run(&edit::Args::default()),

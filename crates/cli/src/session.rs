@@ -21,6 +21,19 @@ pub struct Session {
     pub images: Arc<RenderedImages>,
     /// Whether loading reported errors (they are printed already).
     pub load_errors: bool,
+    /// Where opening it went: the start of a fresh process's cold start.
+    pub opened: Opened,
+}
+
+/// Seconds opening a session took, by step (`cold_start.rs` reports them).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Opened {
+    /// The node registry with the shader nodes of the user's library and the patch's folder.
+    pub registry: f64,
+    /// The adapter and device, the renderer with its shader libraries.
+    pub gpu: f64,
+    /// The patch loaded into the runtime (nodes made, files they read at load).
+    pub load: f64,
 }
 
 /// A load problem as a headless command reports it: its line, and its
@@ -119,7 +132,10 @@ impl Session {
         capture: bool,
         allow_unknown: bool,
     ) -> anyhow::Result<Self> {
+        let started = std::time::Instant::now();
+        let mut opened = Opened::default();
         let (registry, shader_errors) = registry_for(Some(path));
+        opened.registry = started.elapsed().as_secs_f64();
         for error in &shader_errors {
             eprintln!("{error}");
         }
@@ -131,6 +147,7 @@ impl Session {
         if capture {
             runtime.provide(images.clone());
         }
+        let started = std::time::Instant::now();
         let renderer = if gpu {
             let renderer =
                 Arc::new(Renderer::headless().context("cannot open the GPU this patch needs")?);
@@ -156,17 +173,21 @@ impl Session {
         } else {
             None
         };
+        opened.gpu = started.elapsed().as_secs_f64();
+        let started = std::time::Instant::now();
         let mut load_errors = !shader_errors.is_empty();
         for problem in runtime.load(patch) {
             let (severity, line) = headless_problem(problem, path, allow_unknown);
             eprintln!("{line}");
             load_errors |= severity == Severity::Error;
         }
+        opened.load = started.elapsed().as_secs_f64();
         Ok(Session {
             runtime,
             renderer,
             images,
             load_errors,
+            opened,
         })
     }
 

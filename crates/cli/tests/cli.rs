@@ -805,6 +805,25 @@ fn bench_prints_one_json_line_with_the_adapter() {
     assert!(json["cpu_eval_ms_median"].as_f64().is_some());
     assert!(json["cpu_record_ms_median"].as_f64().is_some());
     assert!(json["wall_ms_per_frame"].is_null(), "only with --wall");
+    // Where the cold start went, by step: the steps happen one after another in the process, and
+    // the first frame of a fresh process compiles its pipelines.
+    let cold = &json["cold_start"];
+    let ms = |key: &str| {
+        cold[key]
+            .as_f64()
+            .unwrap_or_else(|| panic!("cold_start.{key}: {cold}"))
+    };
+    assert!(
+        cold["pipelines_compiled"].as_u64().is_some_and(|n| n > 0),
+        "{cold}"
+    );
+    let steps = ms("registry_ms") + ms("open_gpu_ms") + ms("load_patch_ms") + ms("first_frame_ms");
+    assert!(ms("total_ms") >= steps, "{cold}");
+    let compiling = ms("compose_ms") + ms("shader_modules_ms") + ms("pipelines_ms");
+    assert!(
+        compiling > 0.0 && ms("first_frame_other_ms") >= 0.0,
+        "{cold}"
+    );
     // Each timed pass of the frame says how long the GPU idled before it;
     // the first has nothing before it. (The geometry line is timed apart.)
     let idle: Vec<f64> = order

@@ -180,9 +180,10 @@ fn a_killed_run_leaves_only_whole_frames_and_resumes() {
 /// Fault injection (`SPREADLIGHT_TEST_KILL_AT`, read by the writer alone):
 /// the run aborts, with no cleanup, between writing frame 3's temporary file
 /// and renaming it, and in another run between frames 3 and 4. What it left
-/// is whole frames and at most that temporary file; the resumed run removes
-/// the temporary file and ends with exactly the files of an uninterrupted
-/// run, byte for byte.
+/// is the whole frames before (frames are renamed in order, however many
+/// are in flight), that temporary file and at most temporary files of later
+/// frames; the resumed run removes them and ends with exactly the files of
+/// an uninterrupted run, byte for byte.
 #[test]
 fn a_run_killed_between_write_and_rename_or_between_frames_resumes_to_the_same_files() {
     use std::os::unix::process::ExitStatusExt;
@@ -226,20 +227,29 @@ fn a_run_killed_between_write_and_rename_or_between_frames_resumes_to_the_same_f
             expected[..left].iter().collect::<Vec<_>>(),
             "{point}"
         );
+        // Later frames were in flight (encoded on other threads, waiting for their turn to be
+        // renamed): their temporary files may be there, never a file under a frame's own name.
+        let frame_of = |name: &str| -> u64 {
+            name.strip_prefix(".shot_")
+                .and_then(|n| n.get(..4))
+                .and_then(|n| n.parse().ok())
+                .unwrap_or_else(|| panic!("{point}: not a partial file of a frame: {name}"))
+        };
+        for name in &partials {
+            assert!(name.ends_with(".partial"), "{point}: {names:?}");
+            assert!(frame_of(name) >= left as u64, "{point}: {names:?}");
+        }
+        let own: Vec<&&String> = partials.iter().filter(|n| frame_of(n) == 3).collect();
         if partial {
-            assert_eq!(partials.len(), 1, "{point}: {names:?}");
-            assert!(
-                partials[0].starts_with(".shot_0003.png.") && partials[0].ends_with(".partial"),
-                "{point}: {names:?}"
-            );
+            assert_eq!(own.len(), 1, "{point}: {names:?}");
             // Written and synced before the abort: the whole frame, under its temporary name.
-            let bytes = std::fs::read(out.join(partials[0])).expect("read");
+            let bytes = std::fs::read(out.join(own[0])).expect("read");
             assert_eq!(
                 bytes,
                 std::fs::read(whole.join(&expected[3])).expect("read")
             );
         } else {
-            assert!(partials.is_empty(), "{point}: {names:?}");
+            assert!(own.is_empty(), "{point}: {names:?}");
         }
 
         let resumed = render(SPHERES, &template, &frames);
@@ -267,6 +277,81 @@ fn a_run_killed_between_write_and_rename_or_between_frames_resumes_to_the_same_f
         bad.status.code(),
         Some(2),
         "a kill point it cannot read is bad input"
+    );
+}
+
+/// Several frames in flight (read back, encoded and written on other
+/// threads, renamed in order) make the same bytes as frames rendered one by
+/// one in runs of their own, PNG and EXR, with and without sub-frames; a
+/// file that cannot be put in place fails its frame alone and leaves no
+/// temporary file behind.
+#[test]
+fn frames_in_flight_write_the_bytes_of_single_frame_runs_and_fail_alone() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let read = |p: std::path::PathBuf| {
+        std::fs::read(&p).unwrap_or_else(|e| panic!("{}: {e}", p.display()))
+    };
+    let seq = dir.path().join("seq");
+    ok(&render(
+        SPHERES,
+        &seq.join("f_#.png"),
+        &["--frames", "0-3", "--threads", "3"],
+    ));
+    for f in [0, 3] {
+        let one = dir.path().join(format!("one_{f}.png"));
+        ok(&render(SPHERES, &one, &["--frames", &f.to_string()]));
+        assert!(
+            read(one) == read(seq.join(format!("f_{f}.png"))),
+            "frame {f}: the sequence's PNG differs from a run of its own"
+        );
+    }
+    let exr = dir.path().join("exr");
+    ok(&render(
+        SPHERES,
+        &exr.join("f_#.exr"),
+        &["--frames", "0-2", "--samples", "2", "--threads", "2"],
+    ));
+    let one = dir.path().join("one_2.exr");
+    ok(&render(SPHERES, &one, &["--frames", "2", "--samples", "2"]));
+    assert!(
+        read(one) == read(exr.join("f_2.exr")),
+        "frame 2 of 2 sub-frames: the sequence's EXR differs from a run of its own"
+    );
+
+    // `--exr half`: the same frame as ZIP-compressed half floats, read back as the float frame's
+    // values rounded to halves; whole, so a second run skips it.
+    let half = dir.path().join("half/f_#.exr");
+    let args = ["--frames", "2", "--samples", "2", "--exr", "half"];
+    ok(&render(SPHERES, &half, &args));
+    let halves = rgb(&dir.path().join("half/f_2.exr"));
+    let floats: Vec<f32> = rgb(&exr.join("f_2.exr"))
+        .into_iter()
+        .map(|v| exr::prelude::f16::from_f32(v).to_f32())
+        .collect();
+    assert!(
+        halves == floats,
+        "the half EXR is not the float frame in halves"
+    );
+    assert!(
+        read(dir.path().join("half/f_2.exr")).len() < read(exr.join("f_2.exr")).len() / 2,
+        "half floats, compressed"
+    );
+    assert_eq!(done(&render(SPHERES, &half, &args))["skipped"], 1);
+
+    // Frame 1's name is taken by a folder: its temporary file is written, the rename fails.
+    let blocked = dir.path().join("blocked");
+    std::fs::create_dir_all(blocked.join("f_1.png")).expect("mkdir");
+    std::fs::write(blocked.join("f_1.png/keep"), b"x").expect("write");
+    let out = render(SPHERES, &blocked.join("f_#.png"), &["--frames", "0-2"]);
+    assert_eq!(out.status.code(), Some(1), "{}", text(&out.stderr));
+    assert_eq!(done(&out)["failed"], serde_json::json!([1]));
+    assert_eq!(done(&out)["written"], 2);
+    assert_eq!(listing(&blocked), ["f_0.png", "f_1.png", "f_2.png"]);
+    assert!(blocked.join("f_1.png").is_dir());
+    assert!(
+        text(&out.stderr).contains("cannot write") && text(&out.stderr).contains("f_1.png"),
+        "{}",
+        text(&out.stderr)
     );
 }
 

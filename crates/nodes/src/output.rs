@@ -8,10 +8,13 @@
 use std::collections::BTreeMap;
 use std::path::Path;
 use std::sync::Mutex;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 use spreadlight_graph::{EnumDef, NodeDef, NodeError, PinType, Registry, ResourceKind, Spread};
 use spreadlight_render::image_io::{Encoding, write_image};
-use spreadlight_render::readback::{ImageF32, read_texture, readback_layout};
+use spreadlight_render::readback::{
+    ImageF32, PendingImage, read_texture, readback_layout, start_read_texture,
+};
 use spreadlight_render::{FrameGraph, TextureRef};
 
 use crate::gpu::{renderer, resources};
@@ -27,9 +30,42 @@ pub struct RenderedImages {
     images: Mutex<BTreeMap<String, (ImageF32, Encoding)>>,
     /// The size of the texture each Output was given, before it was stretched.
     sources: Mutex<BTreeMap<String, (u32, u32)>>,
+    /// Whether the host takes copies still on their way ([`RenderedImages::take_pending`])
+    /// instead of images: a sequence keeps several frames in flight this way.
+    deferred: AtomicBool,
+    pending: Mutex<BTreeMap<String, (PendingImage, Encoding)>>,
 }
 
 impl RenderedImages {
+    /// From now on, an `Output` that only hands its image to the host (no
+    /// file of its own) starts the copy and leaves it here unwaited: the
+    /// host takes it with [`RenderedImages::take_pending`], waits for it
+    /// where it likes and stretches it to the output size when its size
+    /// differs (as [`ImageF32::resized`]).
+    pub fn set_deferred(&self, deferred: bool) {
+        self.deferred.store(deferred, Ordering::Relaxed);
+    }
+
+    /// The copy an `Output` named `name` started in the last evaluation,
+    /// taken (a second call returns `None`).
+    pub fn take_pending(&self, name: &str) -> Option<(PendingImage, Encoding)> {
+        self.pending
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .remove(name)
+    }
+
+    fn put_pending(&self, name: &str, image: PendingImage, encoding: Encoding) {
+        self.sources
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .insert(name.to_owned(), image.size());
+        self.pending
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .insert(name.to_owned(), (image, encoding));
+    }
+
     /// The last image an `Output` named `name` rendered, with the encoding it asks for.
     pub fn get(&self, name: &str) -> Option<(ImageF32, Encoding)> {
         self.images
@@ -123,6 +159,11 @@ pub fn register(r: &mut Registry) {
                 .get(&texture.name)
                 .ok_or_else(|| NodeError::Other(format!("the frame produced no `{}`", texture.name)))?;
             if !to_file && store.is_none() {
+                return Ok(());
+            }
+            if let Some(store) = store.as_ref().filter(|s| !to_file && s.deferred.load(Ordering::Relaxed)) {
+                let pending = start_read_texture(&renderer.gpu, target).map_err(|e| NodeError::Other(e.to_string()))?;
+                store.put_pending(&name, pending, encoding);
                 return Ok(());
             }
             let image = read_texture(&renderer.gpu, target).map_err(|e| NodeError::Other(e.to_string()))?;

@@ -2,7 +2,6 @@
 
 use crate::context::GpuContext;
 use crate::error::RenderError;
-use crate::renderer::read_buffer;
 
 /// A texture's pixels as linear RGBA floats, top row first.
 #[derive(Clone, Debug, PartialEq)]
@@ -84,6 +83,29 @@ pub fn read_texture_layer(
     layer: u32,
     mip: u32,
 ) -> Result<ImageF32, RenderError> {
+    start_read_texture_layer(gpu, texture, layer, mip)?.wait()
+}
+
+/// Start copying `texture` (mip 0) to the CPU and return at once: the copy
+/// is submitted behind the work already queued, and [`PendingImage::wait`]
+/// takes the pixels when the GPU has got there. What lets a host keep
+/// several frames in flight (`spreadlight render` sequences): the renderer
+/// goes on with the next frame while this one is copied, and the wait and
+/// the decoding run on another thread.
+pub fn start_read_texture(
+    gpu: &GpuContext,
+    texture: &wgpu::Texture,
+) -> Result<PendingImage, RenderError> {
+    start_read_texture_layer(gpu, texture, 0, 0)
+}
+
+/// [`start_read_texture`] of one array layer (a cube face) at one mip.
+pub fn start_read_texture_layer(
+    gpu: &GpuContext,
+    texture: &wgpu::Texture,
+    layer: u32,
+    mip: u32,
+) -> Result<PendingImage, RenderError> {
     let (width, height) = (
         (texture.width() >> mip).max(1),
         (texture.height() >> mip).max(1),
@@ -140,21 +162,99 @@ pub fn read_texture_layer(
         })
         .map_err(RenderError::Readback)?;
     let (buffer, commands) = buffer;
-    gpu.submit([commands]);
-    let data = read_buffer(gpu, &buffer, size)?;
-    let mut pixels = Vec::with_capacity((width * height) as usize);
-    for y in 0..height {
-        let start = (y * row) as usize;
-        let line = &data[start..start + (width * bytes_per_pixel) as usize];
+    let submission = gpu.submit([commands]);
+    Ok(PendingImage {
+        device: gpu.device.clone(),
+        buffer,
+        submission,
+        format,
+        width,
+        height,
+        row,
+        bytes_per_pixel,
+        size,
+    })
+}
+
+/// A texture's copy on its way to the CPU ([`start_read_texture`]). It
+/// can be sent to another thread and waited for there; dropped unwaited,
+/// the copy is simply thrown away.
+pub struct PendingImage {
+    device: wgpu::Device,
+    buffer: wgpu::Buffer,
+    submission: wgpu::SubmissionIndex,
+    format: wgpu::TextureFormat,
+    width: u32,
+    height: u32,
+    /// Bytes per padded row of the buffer.
+    row: u32,
+    bytes_per_pixel: u32,
+    size: u64,
+}
+
+impl PendingImage {
+    /// The size of the texture being copied.
+    pub fn size(&self) -> (u32, u32) {
+        (self.width, self.height)
+    }
+
+    /// Block until the GPU has made the copy (waiting for its own
+    /// submission, not for frames queued after it), then decode it as
+    /// [`read_texture`] does.
+    pub fn wait(self) -> Result<ImageF32, RenderError> {
+        let slice = self.buffer.slice(0..self.size);
+        let (tx, rx) = std::sync::mpsc::channel();
+        slice.map_async(wgpu::MapMode::Read, move |r| {
+            let _ = tx.send(r);
+        });
+        self.device
+            .poll(wgpu::PollType::Wait {
+                submission_index: Some(self.submission.clone()),
+                timeout: None,
+            })
+            .map_err(|e| RenderError::Readback(e.to_string()))?;
+        // Another thread's poll may be the one that runs the callback: wait for it either way.
+        rx.recv()
+            .map_err(|e| RenderError::Readback(e.to_string()))?
+            .map_err(|e| RenderError::Readback(e.to_string()))?;
+        let pixels = {
+            let data = slice
+                .get_mapped_range()
+                .map_err(|e| RenderError::Readback(e.to_string()))?;
+            decode_rows(
+                self.format,
+                &data,
+                (self.width, self.height),
+                self.row,
+                self.bytes_per_pixel,
+            )
+        };
+        self.buffer.unmap();
+        Ok(ImageF32 {
+            width: self.width,
+            height: self.height,
+            pixels,
+        })
+    }
+}
+
+/// The pixels of a buffer of padded rows, top row first.
+fn decode_rows(
+    format: wgpu::TextureFormat,
+    data: &[u8],
+    (width, height): (u32, u32),
+    row: u32,
+    bytes_per_pixel: u32,
+) -> Vec<[f32; 4]> {
+    let mut pixels = Vec::with_capacity(width as usize * height as usize);
+    for y in 0..height as usize {
+        let start = y * row as usize;
+        let line = &data[start..start + width as usize * bytes_per_pixel as usize];
         for px in line.chunks_exact(bytes_per_pixel as usize) {
             pixels.push(decode(format, px));
         }
     }
-    Ok(ImageF32 {
-        width,
-        height,
-        pixels,
-    })
+    pixels
 }
 
 /// Whether a texture like `key` (`name` in messages) can be read back,

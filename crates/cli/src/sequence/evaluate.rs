@@ -9,9 +9,11 @@ use glam::Vec2;
 use spreadlight_graph::FrameClock;
 use spreadlight_nodes::deferred::mre::SubPixelOffset;
 use spreadlight_render::image_io::Encoding;
-use spreadlight_render::readback::ImageF32;
+use spreadlight_render::readback::{ImageF32, PendingImage};
+use spreadlight_render::renderer::Timing as GpuTiming;
 
 use super::accumulate::{Average, pixel_offset, shutter_offset};
+use crate::cold_start::ColdStart;
 use crate::session::Session;
 
 /// How frames are evaluated: the same for a chunk and for a full run, so both agree.
@@ -60,6 +62,71 @@ pub struct Rendered {
     pub encoding: Encoding,
 }
 
+/// One sub-frame's image of one output: read back already (an `Output`
+/// that writes its own file too), or a copy still on its way.
+enum Shot {
+    Ready(ImageF32),
+    Pending(PendingImage),
+}
+
+/// A frame evaluated and its copies started, not yet waited for: what goes
+/// through the pipeline (`pipeline.rs`) to the thread that writes it.
+pub struct Captured {
+    /// Per output, its sub-frames in order, and its encoding.
+    outputs: Vec<(String, Vec<Shot>, Encoding)>,
+    size: (u32, u32),
+}
+
+impl Captured {
+    /// Wait for the copies and average each output's sub-frames (one image
+    /// averages to itself exactly, so it is passed on as it is): the same
+    /// images, bit for bit, as reading each back at once would give.
+    pub fn resolve(self) -> Result<Vec<Rendered>, Vec<String>> {
+        let size = self.size;
+        let pixels = size.0 as usize * size.1 as usize;
+        self.outputs
+            .into_iter()
+            .map(|(name, shots, encoding)| {
+                let take = |shot: Shot| {
+                    let image = match shot {
+                        Shot::Ready(image) => image,
+                        Shot::Pending(pending) => {
+                            let image = pending
+                                .wait()
+                                .map_err(|e| vec![format!("the Output named `{name}`: {e}")])?;
+                            // As the Output stretches what it reads back at once.
+                            if (image.width, image.height) == size {
+                                image
+                            } else {
+                                image.resized(size)
+                            }
+                        }
+                    };
+                    if (image.width, image.height) != size {
+                        return Err(vec![format!(
+                            "the Output named `{name}` rendered {}x{}, not {}x{}",
+                            image.width, image.height, size.0, size.1
+                        )]);
+                    }
+                    Ok(image)
+                };
+                // Sub-frames are taken one at a time, so K of them never sit in memory at once.
+                let image = match <[Shot; 1]>::try_from(shots) {
+                    Ok([shot]) => take(shot)?,
+                    Err(shots) => {
+                        let mut sum = Average::new(pixels);
+                        for shot in shots {
+                            sum.add(&take(shot)?);
+                        }
+                        sum.image(size)
+                    }
+                };
+                Ok(Rendered { image, encoding })
+            })
+            .collect()
+    }
+}
+
 pub struct Evaluator {
     session: Session,
     offset: Option<Arc<SubPixelOffset>>,
@@ -67,6 +134,8 @@ pub struct Evaluator {
     outputs: Vec<String>,
     size: (u32, u32),
     patch: PathBuf,
+    /// The cold start, measured at the end of the first frame evaluated.
+    cold_start: Option<ColdStart>,
 }
 
 impl Evaluator {
@@ -82,6 +151,13 @@ impl Evaluator {
             session.runtime.provide(offset.clone());
             offset
         });
+        // Copies are waited for where the frame is written, not in the Output node.
+        session.images.set_deferred(true);
+        // No timestamps (nothing reports per-pass times here), so the CPU does not wait for the
+        // GPU after every frame: the next frame is recorded while the GPU renders this one.
+        if let Some(renderer) = &session.renderer {
+            renderer.set_timing(GpuTiming::Off);
+        }
         Evaluator {
             session,
             offset,
@@ -89,7 +165,13 @@ impl Evaluator {
             outputs,
             size,
             patch,
+            cold_start: None,
         }
+    }
+
+    /// Where the process's time went up to its first frame (None before one).
+    pub fn cold_start(&self) -> Option<ColdStart> {
+        self.cold_start
     }
 
     pub fn adapter(&self) -> String {
@@ -99,49 +181,65 @@ impl Evaluator {
             .map_or_else(String::new, |r| r.gpu.adapter_name().to_string())
     }
 
-    /// Evaluate `frame` (every sub-frame) and take each output's image (the
-    /// average of its sub-frames; one image averages to itself exactly). A
-    /// frame fails when a node or pass fails, or an output rendered nothing.
-    pub fn frame(&mut self, frame: u64) -> Result<Vec<Rendered>, Vec<String>> {
+    /// Evaluate `frame` (every sub-frame) and start each output's copies.
+    /// A frame fails when a node or pass fails, or an output rendered
+    /// nothing; [`Captured::resolve`] makes the images.
+    pub fn frame(&mut self, frame: u64) -> Result<Captured, Vec<String>> {
+        let started = std::time::Instant::now();
+        let result = self.evaluate(frame);
+        if self.cold_start.is_none() {
+            let seconds = started.elapsed().as_secs_f64();
+            self.cold_start = Some(ColdStart::now(&self.session, seconds));
+        }
+        result
+    }
+
+    fn evaluate(&mut self, frame: u64) -> Result<Captured, Vec<String>> {
         let n = self.timing.samples.max(1);
-        let pixels = (self.size.0 * self.size.1) as usize;
-        let mut sums: Vec<Average> = self.outputs.iter().map(|_| Average::new(pixels)).collect();
-        let mut encodings = vec![Encoding::Srgb; self.outputs.len()];
+        let mut outputs: Vec<(String, Vec<Shot>, Encoding)> = self
+            .outputs
+            .iter()
+            .map(|name| (name.clone(), Vec::new(), Encoding::Srgb))
+            .collect();
         for k in 0..n {
             if let Some(offset) = &self.offset {
                 offset.set(pixel_offset(k, n));
             }
             let clock = self.timing.clock(frame, k);
+            // Every Output renders every (sub-)frame, even when nothing it depends on changed:
+            // its copy goes to the writer threads, so there is no last image here to use again.
+            self.session.runtime.invalidate_sinks();
             self.session.runtime.evaluate(clock);
             let errors = self.session.frame_errors(&self.patch);
             if !errors.is_empty() {
                 return Err(errors);
             }
-            for (i, name) in self.outputs.iter().enumerate() {
-                let Some((image, encoding)) = self.session.images.get(name) else {
-                    return Err(vec![format!("the Output named `{name}` rendered nothing")]);
+            for (name, shots, encoding) in &mut outputs {
+                let shot = match self.session.images.take_pending(name) {
+                    Some((pending, e)) => {
+                        *encoding = e;
+                        Shot::Pending(pending)
+                    }
+                    None => {
+                        let Some((image, e)) = self.session.images.get(name) else {
+                            return Err(vec![format!(
+                                "the Output named `{name}` rendered nothing"
+                            )]);
+                        };
+                        *encoding = e;
+                        Shot::Ready(image)
+                    }
                 };
-                if (image.width, image.height) != self.size {
-                    return Err(vec![format!(
-                        "the Output named `{name}` rendered {}x{}, not {}x{}",
-                        image.width, image.height, self.size.0, self.size.1
-                    )]);
-                }
-                sums[i].add(&image);
-                encodings[i] = encoding;
+                shots.push(shot);
             }
         }
         if let Some(offset) = &self.offset {
             offset.set(Vec2::ZERO);
         }
-        Ok(sums
-            .into_iter()
-            .zip(encodings)
-            .map(|(sum, encoding)| Rendered {
-                image: sum.image(self.size),
-                encoding,
-            })
-            .collect())
+        Ok(Captured {
+            outputs,
+            size: self.size,
+        })
     }
 }
 

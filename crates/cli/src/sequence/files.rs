@@ -33,13 +33,11 @@ pub fn partial_path(path: &Path) -> PathBuf {
     ))
 }
 
-/// Write `bytes` to `path` atomically: a temporary file, synced, renamed over
-/// `path`. `before_rename` runs between the two (the fault-injection hook).
-pub fn write_atomic(
-    path: &Path,
-    bytes: &[u8],
-    before_rename: impl FnOnce(),
-) -> std::io::Result<()> {
+/// The first half of an atomic write: `bytes` in `path`'s temporary file,
+/// synced; returns its name. A sequence writes frames this way on several
+/// threads and [`commit`]s them in frame order, so the frames on disk are
+/// always the first ones of the run (what resuming relies on).
+pub fn write_partial(path: &Path, bytes: &[u8]) -> std::io::Result<PathBuf> {
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir)?;
     }
@@ -47,12 +45,23 @@ pub fn write_atomic(
     let result = (|| {
         let mut file = std::fs::File::create(&partial)?;
         file.write_all(bytes)?;
-        file.sync_all()?;
-        before_rename();
-        std::fs::rename(&partial, path)
+        file.sync_all()
     })();
+    match result {
+        Ok(()) => Ok(partial),
+        Err(e) => {
+            let _ = std::fs::remove_file(&partial);
+            Err(e)
+        }
+    }
+}
+
+/// The second half of an atomic write: rename `partial` over `path` (or,
+/// failing that, remove it).
+pub fn commit(partial: &Path, path: &Path) -> std::io::Result<()> {
+    let result = std::fs::rename(partial, path);
     if result.is_err() {
-        let _ = std::fs::remove_file(&partial);
+        let _ = std::fs::remove_file(partial);
     }
     result
 }
@@ -128,7 +137,10 @@ mod tests {
     fn atomic_writes_leave_only_the_file_and_sweeps_spare_live_writers() {
         let dir = tempfile::tempdir().expect("tempdir");
         let target = dir.path().join("a/shot_0001.png");
-        write_atomic(&target, b"whole", || {}).expect("write");
+        let partial = write_partial(&target, b"whole").expect("write");
+        assert_eq!(partial, partial_path(&target));
+        assert!(!target.exists(), "not in place before the commit");
+        commit(&partial, &target).expect("rename");
         assert_eq!(std::fs::read(&target).expect("read"), b"whole");
         let names: Vec<_> = std::fs::read_dir(target.parent().expect("dir"))
             .expect("ls")

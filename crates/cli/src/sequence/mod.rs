@@ -8,11 +8,13 @@
 
 pub mod accumulate;
 mod evaluate;
+mod exr_pixels;
 mod fault;
 mod files;
 pub mod frames;
 mod names;
 mod outputs;
+mod pipeline;
 mod progress;
 mod render;
 mod video;

@@ -8,15 +8,16 @@ use std::process::ExitCode;
 use anyhow::Context;
 use serde_json::json;
 use spreadlight_graph::{Memory, format};
-use spreadlight_render::image_io::{encode_image, is_exr};
 
 use super::BadInput;
 use super::evaluate::{Evaluator, Timing};
+use super::exr_pixels::ExrPixels;
 use super::fault::KillAt;
-use super::files::{is_complete, sweep_partials, write_atomic};
+use super::files::{commit, is_complete, sweep_partials};
 use super::frames::{FrameRange, Preroll, Span};
 use super::names::{Target, VideoKind};
 use super::outputs::{Declared, declared};
+use super::pipeline::{Finished, Job, Pipeline};
 use super::progress::{Progress, Status};
 use super::video::Video;
 use crate::session::{Session, parse_size};
@@ -74,6 +75,18 @@ pub struct Args {
     /// node's work is left out. Without it such a patch is an error.
     #[arg(long)]
     pub allow_unknown: bool,
+    /// Threads that read frames back, encode and write them while the GPU renders the next ones
+    /// (default: one a core). Frames are written in order whatever the number.
+    #[arg(long)]
+    pub threads: Option<usize>,
+    /// Say where the cold start went (opening the GPU, loading the patch, composing shaders,
+    /// making pipelines, the rest of the first frame). `--json` has it in `done` always.
+    #[arg(long)]
+    pub timings: bool,
+    /// EXR pixels: `float` (32-bit, uncompressed) or `half` (16-bit, ZIP-compressed: lossless over
+    /// the halves, about a quarter of the bytes).
+    #[arg(long, value_enum, default_value_t)]
+    pub exr: ExrPixels,
 }
 
 /// Exit codes: 0 every frame written or complete, 1 some frames failed (or
@@ -292,37 +305,97 @@ fn render_frames(args: &Args, plan: &Plan) -> anyhow::Result<bool> {
     note_preroll(&progress, plan, &todo);
     let mut failed = Vec::new();
     let mut next: Option<u64> = None;
+    let mut pipeline = Pipeline::new(args.threads.unwrap_or_else(default_threads))?;
     for &frame in &todo {
         preroll(&mut evaluator, plan, &mut next, frame);
         let started = std::time::Instant::now();
-        let files = plan.files(frame);
-        let result = evaluator.frame(frame).and_then(|images| {
-            for (rendered, (_, path)) in images.iter().zip(&files) {
-                let bytes = encode_image(&rendered.image, rendered.encoding, is_exr(path))
-                    .map_err(|e| vec![format!("cannot encode {}: {e}", path.display())])?;
-                write_atomic(path, &bytes, || kill.after_write(frame))
-                    .map_err(|e| vec![format!("cannot write {}: {e}", path.display())])?;
-            }
-            Ok(())
-        });
-        let seconds = started.elapsed().as_secs_f64();
-        if let Err(errors) = result {
-            for e in &errors {
-                progress.error(
-                    Some(frame),
-                    &format!("frame {frame}: {}", e.trim_start_matches("error: ")),
-                );
-            }
-            failed.push(frame);
-            progress.frame(frame, Status::Failed, seconds, &shown(&files));
-        } else {
-            progress.frame(frame, Status::Written, seconds, &shown(&files));
+        match evaluator.frame(frame) {
+            Ok(captured) => pipeline.submit(Job {
+                frame,
+                captured,
+                files: plan.files(frame).into_iter().map(|(_, p)| p).collect(),
+                started,
+                exr: args.exr,
+            }),
+            Err(errors) => pipeline.fail(frame, errors, started),
         }
-        kill.between_frames(frame);
+        for finished in pipeline.finished(false) {
+            place(finished, plan, &progress, kill, &mut failed);
+        }
+    }
+    for finished in pipeline.finish() {
+        place(finished, plan, &progress, kill, &mut failed);
     }
     let written = todo.len() - failed.len();
-    progress.finish(json!({"written": written, "skipped": done.len(), "failed": failed}));
+    let mut summary = json!({"written": written, "skipped": done.len(), "failed": failed});
+    cold_start(args, &evaluator, &progress, &mut summary);
+    progress.finish(summary);
     Ok(!failed.is_empty())
+}
+
+/// The cold start into the `done` line, and for people with `--timings`.
+fn cold_start(
+    args: &Args,
+    evaluator: &Evaluator,
+    progress: &Progress,
+    summary: &mut serde_json::Value,
+) {
+    if let Some(cold) = evaluator.cold_start() {
+        if args.timings {
+            progress.note(&cold.line());
+        }
+        summary["cold_start"] = cold.json();
+    }
+}
+
+/// Writer threads default to one a core: encoding is most of a frame's CPU time.
+fn default_threads() -> usize {
+    std::thread::available_parallelism().map_or(4, |n| n.get())
+}
+
+/// A frame's turn: its temporary files renamed into place (in frame order,
+/// so the files on disk are always the run's first frames), and reported.
+fn place(
+    finished: Finished,
+    plan: &Plan,
+    progress: &Progress,
+    kill: KillAt,
+    failed: &mut Vec<u64>,
+) {
+    let frame = finished.frame;
+    let result = finished.result.and_then(|written| {
+        let mut errors = Vec::new();
+        for (partial, path) in written {
+            if !errors.is_empty() {
+                let _ = std::fs::remove_file(&partial);
+                continue;
+            }
+            kill.after_write(frame);
+            if let Err(e) = commit(&partial, &path) {
+                errors.push(format!("cannot write {}: {e}", path.display()));
+            }
+        }
+        if errors.is_empty() {
+            Ok(())
+        } else {
+            Err(errors)
+        }
+    });
+    let seconds = finished.started.elapsed().as_secs_f64();
+    let files = plan.files(frame);
+    if let Err(errors) = result {
+        for e in &errors {
+            progress.error(
+                Some(frame),
+                &format!("frame {frame}: {}", e.trim_start_matches("error: ")),
+            );
+        }
+        failed.push(frame);
+        progress.frame(frame, Status::Failed, seconds, &shown(&files));
+    } else {
+        progress.frame(frame, Status::Written, seconds, &shown(&files));
+    }
+    kill.between_frames(frame);
 }
 
 /// Say why a render starts evaluating at frame 0 when nothing asked for it:
@@ -394,7 +467,8 @@ fn render_video(args: &Args, plan: &Plan, kind: VideoKind) -> anyhow::Result<boo
     for &frame in &frames {
         preroll(&mut evaluator, plan, &mut next, frame);
         let started = std::time::Instant::now();
-        let pushed = evaluator.frame(frame).and_then(|images| {
+        let pushed = evaluator.frame(frame).and_then(|captured| {
+            let images = captured.resolve()?;
             for (rendered, video) in images.iter().zip(videos.iter_mut()) {
                 video
                     .push(&rendered.image, rendered.encoding)
@@ -424,6 +498,8 @@ fn render_video(args: &Args, plan: &Plan, kind: VideoKind) -> anyhow::Result<boo
     for video in videos {
         video.finish().context("the video")?;
     }
-    progress.finish(json!({"written": frames.len(), "skipped": 0, "failed": []}));
+    let mut summary = json!({"written": frames.len(), "skipped": 0, "failed": []});
+    cold_start(args, &evaluator, &progress, &mut summary);
+    progress.finish(summary);
     Ok(false)
 }

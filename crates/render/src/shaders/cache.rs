@@ -68,6 +68,30 @@ pub struct ShaderCache {
     /// Bind groups made and reused since the cache was made.
     pub bind_groups_created: u64,
     pub bind_groups_reused: u64,
+    /// Where the time making shaders and pipelines went since the cache was made.
+    pub compile_times: CompileTimes,
+}
+
+/// CPU time spent making shaders and pipelines, by step: most of what a
+/// fresh process's first frame costs (`spreadlight bench --json`'s
+/// `cold_start`, `render --timings`).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct CompileTimes {
+    /// naga_oil composing permutations (preprocessing, naga's parse and
+    /// validation); a permutation composed once is reused by every renderer of the process.
+    pub compose: std::time::Duration,
+    /// Shader modules made from composed naga modules (wgpu validates them again).
+    pub modules: std::time::Duration,
+    /// Pipelines made (naga's backend writes the driver's language, the driver compiles it).
+    pub pipelines: std::time::Duration,
+}
+
+/// `work`'s result, its time added to `total`.
+fn timed<T>(total: &mut std::time::Duration, work: impl FnOnce() -> T) -> T {
+    let started = std::time::Instant::now();
+    let value = work();
+    *total += started.elapsed();
+    value
 }
 
 /// A pipeline composed with a shader node material, and its reflection.
@@ -235,6 +259,7 @@ impl ShaderCache {
             pipelines_compiled: 0,
             bind_groups_created: 0,
             bind_groups_reused: 0,
+            compile_times: CompileTimes::default(),
         }
     }
 
@@ -252,6 +277,7 @@ impl ShaderCache {
     pub fn replace_sources(&mut self, composer: ShaderComposer) {
         *self = ShaderCache {
             pipelines_compiled: self.pipelines_compiled,
+            compile_times: self.compile_times,
             ..ShaderCache::new(composer)
         };
     }
@@ -264,11 +290,14 @@ impl ShaderCache {
         if let Some(m) = self.modules.get(key) {
             return Ok(m.clone());
         }
-        let module = self.composer.compose(key)?;
+        let composer = &mut self.composer;
+        let module = timed(&mut self.compile_times.compose, || composer.compose(key))?;
         let label = format!("{}{}", key.path, key.describe_defs());
-        let m = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some(&label),
-            source: wgpu::ShaderSource::Naga(Cow::Owned(module)),
+        let m = timed(&mut self.compile_times.modules, || {
+            device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some(&label),
+                source: wgpu::ShaderSource::Naga(Cow::Owned(module)),
+            })
         });
         self.modules.insert(key.clone(), m.clone());
         Ok(m)
@@ -284,7 +313,8 @@ impl ShaderCache {
         if let Some(found) = self.reflections.get(key).and_then(|by| by.get(entry)) {
             return Ok(found.clone());
         }
-        let module = self.composer.compose(key)?;
+        let composer = &mut self.composer;
+        let module = timed(&mut self.compile_times.compose, || composer.compose(key))?;
         let reflection =
             Arc::new(
                 reflect(&module, entry).map_err(|message| RenderError::Shader {
@@ -481,7 +511,9 @@ impl ShaderCache {
         }
         let module = self.module(device, key)?;
         let label = format!("{}{}::{entry}", key.path, key.describe_defs());
-        let pipeline = compute_pipeline_of(device, &module, &label, entry);
+        let pipeline = timed(&mut self.compile_times.pipelines, || {
+            compute_pipeline_of(device, &module, &label, entry)
+        });
         self.pipelines_compiled += 1;
         self.compute
             .entry(key.clone())
@@ -505,11 +537,16 @@ impl ShaderCache {
         if let Some(p) = self.external.get(&cache_key) {
             return p.clone();
         }
-        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some(label),
-            source: wgpu::ShaderSource::Naga(Cow::Owned(module())),
+        let module = timed(&mut self.compile_times.compose, module);
+        let module = timed(&mut self.compile_times.modules, || {
+            device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some(label),
+                source: wgpu::ShaderSource::Naga(Cow::Owned(module)),
+            })
         });
-        let pipeline = compute_pipeline_of(device, &module, &format!("{label}::{entry}"), entry);
+        let pipeline = timed(&mut self.compile_times.pipelines, || {
+            compute_pipeline_of(device, &module, &format!("{label}::{entry}"), entry)
+        });
         self.pipelines_compiled += 1;
         self.external.insert(cache_key, pipeline.clone());
         pipeline
@@ -536,9 +573,10 @@ impl ShaderCache {
         if let Some(found) = self.surfaces.get(&cache_key) {
             return Ok(found.clone());
         }
-        let composed = self
-            .composer
-            .compose_with_module(key, module, file_path, source)?;
+        let composer = &mut self.composer;
+        let composed = timed(&mut self.compile_times.compose, || {
+            composer.compose_with_module(key, module, file_path, source)
+        })?;
         let reflection =
             Arc::new(
                 reflect(&composed, entry).map_err(|message| RenderError::Shader {
@@ -548,11 +586,15 @@ impl ShaderCache {
                 })?,
             );
         let label = format!("{}{} + {file_path}", key.path, key.describe_defs());
-        let shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some(&label),
-            source: wgpu::ShaderSource::Naga(Cow::Owned(composed)),
+        let shader = timed(&mut self.compile_times.modules, || {
+            device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some(&label),
+                source: wgpu::ShaderSource::Naga(Cow::Owned(composed)),
+            })
         });
-        let pipeline = compute_pipeline_of(device, &shader, &format!("{label}::{entry}"), entry);
+        let pipeline = timed(&mut self.compile_times.pipelines, || {
+            compute_pipeline_of(device, &shader, &format!("{label}::{entry}"), entry)
+        });
         self.pipelines_compiled += 1;
         self.surfaces
             .insert(cache_key, (pipeline.clone(), reflection.clone()));
@@ -572,7 +614,7 @@ impl ShaderCache {
             return Ok(p.clone());
         }
         let module = self.module(device, key)?;
-        let pipeline = build(&module);
+        let pipeline = timed(&mut self.compile_times.pipelines, || build(&module));
         self.pipelines_compiled += 1;
         self.render
             .entry(key.clone())

@@ -369,7 +369,7 @@ mod composer;
 pub mod layout;
 mod reflection;
 
-pub use cache::{PipelineRef, Sampling, ShaderCache};
+pub use cache::{CompileTimes, PipelineRef, Sampling, ShaderCache};
 pub use composer::{ShaderComposer, Splice};
 pub use reflection::{Reflection, ShaderVar};
 
