@@ -13,7 +13,7 @@
 use spreadlight_graph::{
     EnumDef, EvalContext, NodeDef, NodeError, PinType, Registry, ResourceKind, Spread,
 };
-use spreadlight_render::gbuffer::{GBuffer, Layer};
+use spreadlight_render::gbuffer::{GBuffer, Layer, RasterChoice};
 use spreadlight_render::lighting::{PointLight, SpotLight, SunLight};
 use spreadlight_render::shadows::{
     Cascades, ShadowError, ShadowFilter, ShadowLights, ShadowMaps, ShadowSettings,
@@ -40,9 +40,10 @@ const BLEEDING: usize = 8;
 const BLUR: usize = 9;
 const DEPTH_BIAS: usize = 10;
 const NORMAL_BIAS: usize = 11;
-const CASCADES: usize = 12;
-const SPLIT: usize = 13;
-const DISTANCE: usize = 14;
+const RASTER: usize = 12;
+const CASCADES: usize = 13;
+const SPLIT: usize = 14;
+const DISTANCE: usize = 15;
 
 fn node(name: &'static str, lights: ResourceKind, help: &'static str, light_size: f32) -> NodeDef {
     NodeDef::new(name, super::CATEGORY, help)
@@ -70,6 +71,7 @@ fn node(name: &'static str, lights: ResourceKind, help: &'static str, light_size
         .input("VSM Blur", 1i64)
         .input("Depth Bias", 0.02f32)
         .input("Normal Bias", 1.5f32)
+        .input_enum("Raster", &crate::deferred::mre::RASTER, "Auto")
 }
 
 /// A node's help: its own first sentence, then what every ShadowMap's pins mean.
@@ -81,7 +83,9 @@ macro_rules! help {
      for (lights outside it render nothing; sun cascades follow it). Filter: Raw (one texel), PCF (PCF Kernel x PCF \
      Kernel texels, odd, up to 9), PCSS (soft shadows from a light of Light Size, PCSS Samples 1..64 per search and \
      filter), VSM (blurred depth moments, VSM Blur texels, VSM Bleeding 0..1 cuts light bleeding). Depth Bias is in \
-     world units, Normal Bias in texels."
+     world units, Normal Bias in texels. Raster: which rasterizer draws the maps, Compute (32-bit depth atomics), \
+     Hardware, or Auto (per adapter: on a GPU compute up to 1024 texels a side and the hardware beyond, on a CPU \
+     adapter compute)."
         )
     };
 }
@@ -192,7 +196,11 @@ fn settings(cx: &EvalContext<'_>) -> Result<ShadowSettings, NodeError> {
         filter,
         depth_bias: first(cx.slices::<f32>(DEPTH_BIAS)?, 0.02),
         normal_bias: first(cx.slices::<f32>(NORMAL_BIAS)?, 1.5),
-        ..Default::default()
+        raster: match cx.enum_slices(RASTER)?.first().map(String::as_str) {
+            Some("Compute") => RasterChoice::Compute,
+            Some("Hardware") => RasterChoice::Hardware,
+            _ => RasterChoice::Auto,
+        },
     })
 }
 

@@ -69,8 +69,7 @@ pub struct ShadowSettings {
     pub depth_bias: f32,
     /// The receiver moves this many texels along its normal before it is compared.
     pub normal_bias: f32,
-    /// Which rasterizer draws the maps. Auto: compute up to 1024 texels a
-    /// side (where the adapter has 64-bit atomics), the hardware beyond.
+    /// Which rasterizer draws the maps (see [`compute_rasterizes`]).
     pub raster: RasterChoice,
 }
 
@@ -173,8 +172,7 @@ pub struct ShadowMaps {
     /// What the layers are drawn from (both rasterizers read the sets).
     sets: Sets,
     /// The compute rasterizer's camera uniform per layer, where it draws
-    /// the maps (the adapter has 64-bit atomics and a map fits one storage
-    /// binding); the raster hardware draws them otherwise.
+    /// the maps ([`compute_rasterizes`]); the raster hardware draws them otherwise.
     cameras: Option<Vec<wgpu::Buffer>>,
     store: Arc<ShadowStore>,
     layers: u32,
@@ -386,17 +384,12 @@ impl ShadowMaps {
             bytemuck::bytes_of(&params),
             wgpu::BufferUsages::UNIFORM,
         );
-        // Which rasterizer: measured on the H100 (docs/shadows.md), compute
-        // is faster up to 1024 texels a side and the hardware beyond, where
-        // 4 bytes a texel of depth is all the raster writes.
-        let fits =
-            u64::from(res) * u64::from(res) * 8 <= device.limits().max_storage_buffer_binding_size;
-        let wants_compute = match settings.raster {
-            RasterChoice::Compute => true,
-            RasterChoice::Hardware => false,
-            RasterChoice::Auto => res <= 1024,
-        };
-        let compute = renderer.gpu.has_compute_raster() && fits && wants_compute;
+        let compute = compute_rasterizes(
+            settings.raster,
+            renderer.gpu.adapter_class(),
+            res,
+            device.limits().max_storage_buffer_binding_size,
+        );
         let cameras = compute.then(|| {
             (0..layers)
                 .map(|layer| {
@@ -508,6 +501,32 @@ impl ShadowMaps {
 
     fn label(&self, what: impl Into<std::borrow::Cow<'static, str>>) -> PassName {
         PassName::new("ShadowMap").step(what)
+    }
+}
+
+/// Whether the compute rasterizer draws maps of `resolution` texels a side
+/// (the raster hardware otherwise). It writes 32-bit depth words, so any
+/// adapter can, as long as a layer's words fit one storage binding.
+///
+/// `Auto` follows the adapter (adapter_class.rs). On a GPU, compute up to
+/// 1024 texels a side and the hardware beyond: measured on the H100
+/// (docs/shadows.md), where the hardware's 4 bytes a texel of depth is all
+/// the raster writes once maps are big. On a CPU adapter always compute:
+/// lavapipe's raster pipeline runs the maps several times slower than the
+/// compute one at every size (docs/shadows.md, "lavapipe").
+pub fn compute_rasterizes(
+    choice: RasterChoice,
+    class: crate::adapter_class::AdapterClass,
+    resolution: u32,
+    max_binding: u64,
+) -> bool {
+    let fits = u64::from(resolution) * u64::from(resolution) * 4 <= max_binding;
+    fits && match choice {
+        RasterChoice::Compute => true,
+        RasterChoice::Hardware => false,
+        RasterChoice::Auto => {
+            class == crate::adapter_class::AdapterClass::Cpu || resolution <= 1024
+        }
     }
 }
 
