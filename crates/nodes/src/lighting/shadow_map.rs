@@ -44,6 +44,7 @@ const RASTER: usize = 12;
 const CASCADES: usize = 13;
 const SPLIT: usize = 14;
 const DISTANCE: usize = 15;
+const CASCADE_STEP: usize = 16;
 
 fn node(name: &'static str, lights: ResourceKind, help: &'static str, light_size: f32) -> NodeDef {
     NodeDef::new(name, super::CATEGORY, help)
@@ -126,13 +127,17 @@ pub fn register(r: &mut Registry) {
             help!(
                 "Cascaded shadow maps for suns: Cascades (1..4) orthographic maps each, splitting the camera's view up to \
                  Distance; Split 0 spaces them evenly, 1 logarithmically (the practical scheme blends the two). For a sun, \
-                 Light Size is the tangent of its angular radius (0.0047 for ours)."
+                 Light Size is the tangent of its angular radius (0.0047 for ours). Cascade Step 0 moves each cascade \
+                 with the camera texel by texel (re-rendered whenever the camera moves); 0.1..0.5 widens each cascade by \
+                 that share of its width on each side and moves it only in steps of that share, so a camera moving \
+                 within a step re-renders no map."
             ),
             0.01,
         )
         .input("Cascades", 4i64)
         .input("Split", 0.6f32)
         .input("Distance", 60.0f32)
+        .input("Cascade Step", 0.0f32)
         .output_typed("Shadows", PinType::Resource(ResourceKind::Shadows))
         .evaluate(|cx| {
             let list = LightList::<SunLight>::gather(cx, LIGHTS)?;
@@ -140,11 +145,22 @@ pub fn register(r: &mut Registry) {
                 count: first(cx.slices::<i64>(CASCADES)?, 4).clamp(1, 4) as u32,
                 split_lambda: first(cx.slices::<f32>(SPLIT)?, 0.6),
                 distance: first(cx.slices::<f32>(DISTANCE)?, 60.0),
+                step: cascade_step(cx)?,
             };
             let casting = list.lights.iter().filter_map(|l| l.shadow.map(|s| (s, l.direction))).collect();
             build(cx, ShadowLights::Sun { lights: casting, cascades }, &list.ids, list.lights.iter().map(|l| l.shadow))
         }),
     );
+}
+
+/// The sun's Cascade Step: 0 or 0.01..=0.5 (a share of a cascade's width).
+fn cascade_step(cx: &EvalContext<'_>) -> Result<f32, NodeError> {
+    let step = first(cx.slices::<f32>(CASCADE_STEP)?, 0.0);
+    if step.is_finite() && (step == 0.0 || (0.01..=0.5).contains(&step)) {
+        Ok(step)
+    } else {
+        Err(cx.input_error(CASCADE_STEP, format!("is {step}; it must be 0 or 0.01..=0.5")))
+    }
 }
 
 fn first<T: Copy>(slices: &[T], fallback: T) -> T {

@@ -499,6 +499,27 @@ impl ShadowMaps {
         guard.as_ref().map(|m| (m.depth.clone(), m.moments.clone()))
     }
 
+    /// Every layer of the depth maps as the last frame left them
+    /// (conventional depth in R, 1 where nothing was drawn), slice-major; None
+    /// before a frame rendered them. For tests and tools comparing rasterizers.
+    pub fn read_depth(
+        &self,
+        gpu: &crate::context::GpuContext,
+    ) -> Result<Option<Vec<crate::readback::ImageF32>>, crate::error::RenderError> {
+        let Some((depth, _)) = self.textures() else {
+            return Ok(None);
+        };
+        (0..depth.depth_or_array_layers())
+            .map(|layer| crate::readback::read_texture_layer(gpu, &depth, layer, 0))
+            .collect::<Result<Vec<_>, _>>()
+            .map(Some)
+    }
+
+    /// Whether the compute rasterizer draws these maps (else the raster hardware).
+    pub fn compute_raster(&self) -> bool {
+        self.cameras.is_some()
+    }
+
     fn label(&self, what: impl Into<std::borrow::Cow<'static, str>>) -> PassName {
         PassName::new("ShadowMap").step(what)
     }
