@@ -447,6 +447,11 @@ fn assert_depths_agree(compute: &[ImageF32], hardware: &[ImageF32], what: &str) 
             }
         }
     }
+    // The figures docs/shadows.md states (shown with --nocapture).
+    eprintln!(
+        "{what}: worst {worst:.2e}; {off} of {both} drawn texels beyond {DEPTH_ERROR}; \
+         {one_only} of {texels} drawn by one only"
+    );
     assert!(both > 0, "{what}: the casters are in the maps");
     assert!(
         (off as f64) <= OUTLIERS * both as f64,
