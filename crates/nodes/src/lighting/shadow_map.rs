@@ -86,7 +86,7 @@ macro_rules! help {
      filter), VSM (blurred depth moments, VSM Blur texels, VSM Bleeding 0..1 cuts light bleeding). Depth Bias is in \
      world units, Normal Bias in texels. Raster: which rasterizer draws the maps, Compute (32-bit depth atomics), \
      Hardware, or Auto (per adapter: on a GPU compute up to 1024 texels a side and the hardware beyond, on a CPU \
-     adapter compute)."
+     adapter the hardware)."
         )
     };
 }
