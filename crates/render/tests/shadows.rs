@@ -404,7 +404,11 @@ fn a_stepped_sun_renders_no_cascade_while_the_camera_moves_within_a_step() {
                 assert!(image.all_finite());
                 rendered.push(report.counter("shadow maps rendered"));
             }
-            let expected = if step > 0.0 { [1, 0, 0, 0] } else { [1, 1, 1, 1] };
+            let expected = if step > 0.0 {
+                [1, 0, 0, 0]
+            } else {
+                [1, 1, 1, 1]
+            };
             assert_eq!(rendered, expected, "{raster:?}, step {step}");
         }
     }

@@ -159,7 +159,10 @@ fn cascade_step(cx: &EvalContext<'_>) -> Result<f32, NodeError> {
     if step.is_finite() && (step == 0.0 || (0.01..=0.5).contains(&step)) {
         Ok(step)
     } else {
-        Err(cx.input_error(CASCADE_STEP, format!("is {step}; it must be 0 or 0.01..=0.5")))
+        Err(cx.input_error(
+            CASCADE_STEP,
+            format!("is {step}; it must be 0 or 0.01..=0.5"),
+        ))
     }
 }
 

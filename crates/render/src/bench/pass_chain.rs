@@ -38,9 +38,7 @@ impl PassChain {
     pub fn new(renderer: &Renderer, owner: Option<u32>, passes: u32) -> Arc<Self> {
         let id = next_recipe_id();
         let passes = passes.clamp(1, MAX_PASSES);
-        let names = (0..passes)
-            .map(|i| format!("pass chain{id}/{i}"))
-            .collect();
+        let names = (0..passes).map(|i| format!("pass chain{id}/{i}")).collect();
         let steps = (1..passes)
             .map(|i| {
                 renderer.kept_init_at(

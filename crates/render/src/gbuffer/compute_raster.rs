@@ -427,14 +427,23 @@ mod tests {
             let base: &[&'static str] = if sided { &["TWO_SIDED"] } else { &[] };
             let with = |f: &'static str| [base, &[f]].concat();
             // A GPU keeps the shader it always ran, particles or not.
-            assert_eq!(raster_key(AdapterClass::Gpu, sided, false, Words::Visibility64), key(base));
-            assert_eq!(raster_key(AdapterClass::Gpu, sided, true, Words::Visibility64), key(base));
+            assert_eq!(
+                raster_key(AdapterClass::Gpu, sided, false, Words::Visibility64),
+                key(base)
+            );
+            assert_eq!(
+                raster_key(AdapterClass::Gpu, sided, true, Words::Visibility64),
+                key(base)
+            );
             assert_eq!(
                 raster_key(AdapterClass::Cpu, sided, false, Words::Visibility64),
                 key(&with("MESHES_ONLY"))
             );
             // Particles need the procedural path.
-            assert_eq!(raster_key(AdapterClass::Cpu, sided, true, Words::Visibility64), key(base));
+            assert_eq!(
+                raster_key(AdapterClass::Cpu, sided, true, Words::Visibility64),
+                key(base)
+            );
             // Shadow maps' 32-bit depth words are a permutation of their own.
             assert_eq!(
                 raster_key(AdapterClass::Gpu, sided, true, Words::Depth32),

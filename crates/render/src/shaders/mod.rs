@@ -176,7 +176,10 @@ pub const SHADERS: &[ShaderFile] = &[
         ["FIELD_TEXTURE", "MESH_EMITTER", "DEPTH_COLLISION"]
     ),
     shader!("particles/expand.wgsl", []),
-    shader!("gbuffer/raster.wgsl", ["TWO_SIDED", "MESHES_ONLY", "DEPTH_ONLY"]),
+    shader!(
+        "gbuffer/raster.wgsl",
+        ["TWO_SIDED", "MESHES_ONLY", "DEPTH_ONLY"]
+    ),
     shader!("gbuffer/published_depth.wgsl", ["COMPUTE_RASTER"]),
     shader!(
         "gbuffer/resolve.wgsl",

@@ -674,7 +674,12 @@ mod tests {
             );
         }
         // 4 bytes a texel must fit one storage binding, whatever was asked.
-        assert!(!compute_rasterizes(RasterChoice::Compute, Gpu, 8192, 1 << 20));
+        assert!(!compute_rasterizes(
+            RasterChoice::Compute,
+            Gpu,
+            8192,
+            1 << 20
+        ));
     }
 }
 

@@ -343,7 +343,11 @@ mod tests {
         let at = |x: f32| {
             let eye = Vec3::new(x, 5.0, 10.0);
             CameraInput {
-                view: glam::camera::rh::view::look_at_mat4(eye, eye - Vec3::new(0.0, 5.0, 10.0), Vec3::Y),
+                view: glam::camera::rh::view::look_at_mat4(
+                    eye,
+                    eye - Vec3::new(0.0, 5.0, 10.0),
+                    Vec3::Y,
+                ),
                 projection: glam::camera::rh::proj::directx::perspective(1.0, 1.5, 0.1, 200.0),
             }
         };
@@ -354,10 +358,16 @@ mod tests {
                 distance: 40.0,
                 step,
             };
-            sun(Vec3::new(-0.3, -1.0, -0.2), &at(x), cascades, (Vec3::ZERO, 20.0), 512)
-                .iter()
-                .map(|v| v.view_projection)
-                .collect()
+            sun(
+                Vec3::new(-0.3, -1.0, -0.2),
+                &at(x),
+                cascades,
+                (Vec3::ZERO, 20.0),
+                512,
+            )
+            .iter()
+            .map(|v| v.view_projection)
+            .collect()
         };
         // Following the camera texel by texel: a small move moves every cascade.
         let (a, b) = (views(0.0, 0.0), views(0.0, 0.05));
@@ -368,7 +378,10 @@ mod tests {
         let mut steps = 0;
         let mut held = 0;
         for k in 1..=20 {
-            let (before, after) = (views(0.25, (k - 1) as f32 * 0.05), views(0.25, k as f32 * 0.05));
+            let (before, after) = (
+                views(0.25, (k - 1) as f32 * 0.05),
+                views(0.25, k as f32 * 0.05),
+            );
             for (b, a) in before.iter().zip(&after) {
                 if a == b {
                     held += 1;
