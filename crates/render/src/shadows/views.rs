@@ -207,7 +207,7 @@ pub fn sun(
                 let step = 2.0 * step_share * radius;
                 radius += step;
                 let texel = 2.0 * radius / res;
-                let step = ((step / texel).floor().max(1.0)) * texel;
+                let step = (step / texel).floor().max(1.0) * texel;
                 (c / step).floor() * step
             } else {
                 // Snap the centre to whole texels in the light's view.
