@@ -440,6 +440,19 @@ static CASES: &[Case] = &[
             tolerance: FILTER,
         }],
     },
+    // 200 passes, each turning the one before's 64x64 image: exact
+    // arithmetic on a ramp, in either recording mode.
+    Case {
+        patch: "patches/bench-pass-chain.ron",
+        size: SCENE,
+        edit: unchanged,
+        shots: &[Shot {
+            name: "bench-pass-chain",
+            output: "chain",
+            frame: 0,
+            tolerance: FILTER,
+        }],
+    },
     Case {
         patch: "patches/bench-shader-blur.ron",
         size: SCENE,
@@ -497,6 +510,11 @@ fn references() -> References {
 
 /// Render `patch`'s case once and check each of its shots at its frame.
 fn check(patch: &str) {
+    check_on(patch, |_| {});
+}
+
+/// [`check`] on a renderer that `setup` set (its recording mode).
+fn check_on(patch: &str, setup: impl FnOnce(&spreadlight_render::Renderer)) {
     let case = CASES
         .iter()
         .find(|c| c.patch == patch)
@@ -505,6 +523,7 @@ fn check(patch: &str) {
     let mut shots: Vec<&Shot> = case.shots.iter().collect();
     shots.sort_by_key(|s| s.frame);
     let mut run = PatchRun::new(&root().join(case.patch), case.size, case.edit);
+    setup(run.renderer());
     let mut failures = Vec::new();
     for shot in shots {
         run.run_to(shot.frame);
@@ -601,6 +620,24 @@ fn bench_tessellation() {
 #[test]
 fn bench_builtin_blur() {
     check("patches/bench-builtin-blur.ron");
+}
+
+/// The 200-pass chain renders the same, the reference, whether each pass
+/// records into its own encoder or the frame into one (with its dispatches
+/// sharing compute passes), timed per pass or not at all.
+#[test]
+fn bench_pass_chain_in_every_recording_mode() {
+    use spreadlight_render::renderer::{Recording, Timing};
+    for (recording, timing) in [
+        (Recording::Isolated, Timing::PerPass),
+        (Recording::Batched, Timing::PerPass),
+        (Recording::Batched, Timing::Off),
+    ] {
+        check_on("patches/bench-pass-chain.ron", |renderer| {
+            renderer.set_recording(recording);
+            renderer.set_timing(timing);
+        });
+    }
 }
 
 #[test]

@@ -59,6 +59,7 @@ pub struct PatchRun {
     path: PathBuf,
     rt: Runtime,
     images: Arc<RenderedImages>,
+    renderer: Arc<spreadlight_render::Renderer>,
     next: u64,
 }
 
@@ -72,7 +73,7 @@ impl PatchRun {
         rt.provide(patch_dir(path));
         let renderer = spreadlight_render::renderer::test_renderer();
         renderer.set_output_size(size);
-        spreadlight_nodes::gpu::provide_renderer(&mut rt, renderer);
+        spreadlight_nodes::gpu::provide_renderer(&mut rt, renderer.clone());
         let images = Arc::new(RenderedImages::default());
         rt.provide(images.clone());
         let problems = rt.load(&patch).to_vec();
@@ -81,8 +82,14 @@ impl PatchRun {
             path: path.to_owned(),
             rt,
             images,
+            renderer,
             next: 0,
         }
+    }
+
+    /// The renderer the patch runs on (a test sets its recording mode).
+    pub fn renderer(&self) -> &Arc<spreadlight_render::Renderer> {
+        &self.renderer
     }
 
     /// Evaluate every frame from the next one to `frame`; panics on a node error.

@@ -10,6 +10,11 @@
 // tile list, and every workgroup of the second kernel takes its share of
 // its tiles: its thread writing thousands of tile entries alone, one after
 // another, took 0.3 ms on the H100 for a floor's two triangles.
+//
+// DEPTH_ONLY (shadow maps): 32-bit words of depth alone, atomicMax on the
+// reversed-Z depth's bits (the same as atomicMin on conventional depth:
+// non-negative floats order as their bits do). Half the bytes of the 64-bit
+// words, and any adapter has 32-bit atomics (no SHADER_INT64 needed).
 #import spreadlight::camera::Camera
 #import spreadlight::mesh_fetch::{instances, mesh_position, triangle_vertex, view_right, view_up}
 
@@ -30,7 +35,11 @@ struct TileEntry {
 }
 
 @group(0) @binding(0) var<uniform> camera: Camera;
+#ifdef DEPTH_ONLY
+@group(0) @binding(4) var<storage, read_write> visibility: array<atomic<u32>>;
+#else
 @group(0) @binding(4) var<storage, read_write> visibility: array<atomic<u64>>;
+#endif
 @group(0) @binding(5) var<storage, read_write> tiles: array<TileEntry>;
 // x: tile entries written, y: the list's capacity, z: giant triangles queued, w unused.
 @group(0) @binding(6) var<storage, read_write> tile_count: array<atomic<u32>, 4>;
@@ -132,6 +141,13 @@ fn setup(instance: u32, triangle: u32) -> Setup {
     s.hi = vec2<f32>(-1e30);
     for (var i = 0u; i < n; i++) {
         let v = to_screen(poly[i]);
+        // A corner that is NaN or infinite (a broken mesh or transform)
+        // draws nothing: it would otherwise loop over made-up bounds and
+        // write made-up depths.
+        if (!all(abs(v) < vec3<f32>(1e30))) {
+            s.count = 0u;
+            return s;
+        }
         s.a[i] = v;
         s.lo = min(s.lo, v.xy);
         s.hi = max(s.hi, v.xy);
@@ -140,9 +156,11 @@ fn setup(instance: u32, triangle: u32) -> Setup {
     return s;
 }
 
+#ifndef DEPTH_ONLY
 fn pack(depth: f32, id: u32) -> u64 {
     return (u64(bitcast<u32>(depth)) << 32u) | u64(id + 1u);
 }
+#endif
 
 // Cover one pixel with triangle (a, b, c) in screen space (clockwise there, as y points down).
 fn shade(x: u32, y: u32, a: vec3<f32>, b: vec3<f32>, c: vec3<f32>, id: u32) {
@@ -160,11 +178,17 @@ fn shade(x: u32, y: u32, a: vec3<f32>, b: vec3<f32>, c: vec3<f32>, id: u32) {
         return;
     }
     let depth = w0 * a.z + w1 * b.z + w2 * c.z;
-    if (depth < 0.0 || depth > 1.0) {
+    // Written so that NaN fails it too.
+    if (!(depth >= 0.0 && depth <= 1.0)) {
         return;
     }
     let width = u32(camera.size.x);
+#ifdef DEPTH_ONLY
+    // Without the sign bit: -0.0 is the far plane, not the nearest depth.
+    atomicMax(&visibility[y * width + x], bitcast<u32>(depth) & 0x7fffffffu);
+#else
     atomicMax(&visibility[y * width + x], pack(depth, id));
+#endif
 }
 
 fn shade_rect(s: Setup, id: u32, lo: vec2<u32>, hi: vec2<u32>, lane: u32, lanes: u32) {

@@ -1,7 +1,8 @@
 // Shadow-map depth into the map shading samples (R32F, conventional depth:
 // 0 at the near plane, 1 at the far plane and where nothing was drawn).
-// from_visibility: the compute rasterizer's 64-bit words (id + 1, reversed-Z
-// depth bits), so 1 - depth. from_depth: the raster hardware's Depth32F
+// from_visibility: the compute rasterizer's 32-bit words (DEPTH_ONLY in
+// gbuffer/raster.wgsl: reversed-Z depth bits, 0 where nothing was drawn),
+// so 1 - depth. from_depth: the raster hardware's Depth32F
 // attachments, copied. OVER_STILL: the nearer of that and the still
 // casters' cached map (a node caches what did not move, and draws only what
 // moved over it each frame).
@@ -12,7 +13,7 @@ struct Info {
     layer: vec4<u32>,
 }
 
-@group(0) @binding(0) var<storage, read> visibility: array<vec2<u32>>;
+@group(0) @binding(0) var<storage, read> visibility: array<u32>;
 @group(0) @binding(1) var depth: texture_depth_2d_array;
 @group(0) @binding(2) var<uniform> camera: Camera;
 @group(0) @binding(3) var out_depth: texture_storage_2d<r32float, write>;
@@ -22,7 +23,9 @@ struct Info {
 #endif
 
 fn store_depth(at: vec2<u32>, drawn: f32) {
-    var d = drawn;
+    // NaN or infinity (a broken caster on a rasterizer that lets it through)
+    // never reaches the map: written so that NaN fails the test too.
+    var d = select(1.0, drawn, drawn >= 0.0 && drawn <= 1.0);
 #ifdef OVER_STILL
     d = min(d, textureLoad(still, vec2<i32>(at), 0).x);
 #endif
@@ -37,8 +40,8 @@ fn from_visibility(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     let word = visibility[id.y * size.x + id.x];
     var d = 1.0;
-    if (word.x != 0u) {
-        d = clamp(1.0 - bitcast<f32>(word.y), 0.0, 1.0);
+    if (word != 0u) {
+        d = clamp(1.0 - bitcast<f32>(word), 0.0, 1.0);
     }
     store_depth(id.xy, d);
 }

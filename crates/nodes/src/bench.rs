@@ -3,6 +3,8 @@
 //! per light x, y, z, r, g, b in that order, so Spreadlight's picture and
 //! timings compare with Bevy's on the same lights.
 
+mod pass_chain;
+
 use glam::Vec3;
 use spreadlight_graph::{Color, NodeDef, Registry};
 
@@ -55,6 +57,7 @@ pub fn bench_lights(count: usize, seed: u64) -> (Vec<Vec3>, Vec<Color>) {
 const MAX_LIGHTS: i64 = 10_000_000;
 
 pub fn register(r: &mut Registry) {
+    pass_chain::register(r);
     r.add(
         NodeDef::new(
             "BenchLights",

@@ -20,7 +20,11 @@
 //! - the compute raster's permutation (`gbuffer/compute_raster.rs`,
 //!   `raster_key`): on a CPU adapter a raster without particle systems
 //!   fetches corner positions alone (MESHES_ONLY), not whole vertices
-//!   through the particle-aware `triangle_vertex`.
+//!   through the particle-aware `triangle_vertex`;
+//! - which rasterizer draws shadow maps under `Auto`
+//!   (`shadows::compute_rasterizes`): a GPU compute up to 1024 texels a
+//!   side, a CPU adapter the raster hardware (ten to a hundred times faster
+//!   there for patches/shadows.ron's cascades).
 //!
 //! The class comes from the adapter's own report (`AdapterInfo::device_type`),
 //! so the decision is made once per device, costs nothing per frame and is

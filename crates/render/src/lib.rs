@@ -4,6 +4,7 @@
 //! and the CLI only host it.
 
 pub mod adapter_class;
+pub mod bench;
 pub mod camera;
 pub mod context;
 pub mod environment;

@@ -289,6 +289,7 @@ fn a_re_made_sun_shadow_keeps_the_bounds_of_its_still_casters() {
             count: 2,
             split_lambda: 0.6,
             distance: 20.0,
+            step: 0.0,
         },
     };
     let maps = |renderer: &Renderer, layers: &[Arc<Layer>], owner| {

@@ -13,7 +13,7 @@
 use spreadlight_graph::{
     EnumDef, EvalContext, NodeDef, NodeError, PinType, Registry, ResourceKind, Spread,
 };
-use spreadlight_render::gbuffer::{GBuffer, Layer};
+use spreadlight_render::gbuffer::{GBuffer, Layer, RasterChoice};
 use spreadlight_render::lighting::{PointLight, SpotLight, SunLight};
 use spreadlight_render::shadows::{
     Cascades, ShadowError, ShadowFilter, ShadowLights, ShadowMaps, ShadowSettings,
@@ -40,9 +40,11 @@ const BLEEDING: usize = 8;
 const BLUR: usize = 9;
 const DEPTH_BIAS: usize = 10;
 const NORMAL_BIAS: usize = 11;
-const CASCADES: usize = 12;
-const SPLIT: usize = 13;
-const DISTANCE: usize = 14;
+const RASTER: usize = 12;
+const CASCADES: usize = 13;
+const SPLIT: usize = 14;
+const DISTANCE: usize = 15;
+const CASCADE_STEP: usize = 16;
 
 fn node(name: &'static str, lights: ResourceKind, help: &'static str, light_size: f32) -> NodeDef {
     NodeDef::new(name, super::CATEGORY, help)
@@ -70,6 +72,7 @@ fn node(name: &'static str, lights: ResourceKind, help: &'static str, light_size
         .input("VSM Blur", 1i64)
         .input("Depth Bias", 0.02f32)
         .input("Normal Bias", 1.5f32)
+        .input_enum("Raster", &crate::deferred::mre::RASTER, "Auto")
 }
 
 /// A node's help: its own first sentence, then what every ShadowMap's pins mean.
@@ -81,7 +84,9 @@ macro_rules! help {
      for (lights outside it render nothing; sun cascades follow it). Filter: Raw (one texel), PCF (PCF Kernel x PCF \
      Kernel texels, odd, up to 9), PCSS (soft shadows from a light of Light Size, PCSS Samples 1..64 per search and \
      filter), VSM (blurred depth moments, VSM Blur texels, VSM Bleeding 0..1 cuts light bleeding). Depth Bias is in \
-     world units, Normal Bias in texels."
+     world units, Normal Bias in texels. Raster: which rasterizer draws the maps, Compute (32-bit depth atomics), \
+     Hardware, or Auto (per adapter: on a GPU compute up to 1024 texels a side and the hardware beyond, on a CPU \
+     adapter the hardware)."
         )
     };
 }
@@ -122,13 +127,17 @@ pub fn register(r: &mut Registry) {
             help!(
                 "Cascaded shadow maps for suns: Cascades (1..4) orthographic maps each, splitting the camera's view up to \
                  Distance; Split 0 spaces them evenly, 1 logarithmically (the practical scheme blends the two). For a sun, \
-                 Light Size is the tangent of its angular radius (0.0047 for ours)."
+                 Light Size is the tangent of its angular radius (0.0047 for ours). Cascade Step 0 moves each cascade \
+                 with the camera texel by texel (re-rendered whenever the camera moves); 0.1..0.5 widens each cascade by \
+                 that share of its width on each side and moves it only in steps of that share, so a camera moving \
+                 within a step re-renders no map."
             ),
             0.01,
         )
         .input("Cascades", 4i64)
         .input("Split", 0.6f32)
         .input("Distance", 60.0f32)
+        .input("Cascade Step", 0.0f32)
         .output_typed("Shadows", PinType::Resource(ResourceKind::Shadows))
         .evaluate(|cx| {
             let list = LightList::<SunLight>::gather(cx, LIGHTS)?;
@@ -136,11 +145,25 @@ pub fn register(r: &mut Registry) {
                 count: first(cx.slices::<i64>(CASCADES)?, 4).clamp(1, 4) as u32,
                 split_lambda: first(cx.slices::<f32>(SPLIT)?, 0.6),
                 distance: first(cx.slices::<f32>(DISTANCE)?, 60.0),
+                step: cascade_step(cx)?,
             };
             let casting = list.lights.iter().filter_map(|l| l.shadow.map(|s| (s, l.direction))).collect();
             build(cx, ShadowLights::Sun { lights: casting, cascades }, &list.ids, list.lights.iter().map(|l| l.shadow))
         }),
     );
+}
+
+/// The sun's Cascade Step: 0 or 0.01..=0.5 (a share of a cascade's width).
+fn cascade_step(cx: &EvalContext<'_>) -> Result<f32, NodeError> {
+    let step = first(cx.slices::<f32>(CASCADE_STEP)?, 0.0);
+    if step.is_finite() && (step == 0.0 || (0.01..=0.5).contains(&step)) {
+        Ok(step)
+    } else {
+        Err(cx.input_error(
+            CASCADE_STEP,
+            format!("is {step}; it must be 0 or 0.01..=0.5"),
+        ))
+    }
 }
 
 fn first<T: Copy>(slices: &[T], fallback: T) -> T {
@@ -192,7 +215,11 @@ fn settings(cx: &EvalContext<'_>) -> Result<ShadowSettings, NodeError> {
         filter,
         depth_bias: first(cx.slices::<f32>(DEPTH_BIAS)?, 0.02),
         normal_bias: first(cx.slices::<f32>(NORMAL_BIAS)?, 1.5),
-        ..Default::default()
+        raster: match cx.enum_slices(RASTER)?.first().map(String::as_str) {
+            Some("Compute") => RasterChoice::Compute,
+            Some("Hardware") => RasterChoice::Hardware,
+            _ => RasterChoice::Auto,
+        },
     })
 }
 

@@ -1,6 +1,8 @@
 //! The compute rasterizer's resources and pass (shaders/gbuffer/raster.wgsl).
 //!
-//! The 64-bit visibility buffer lives here, sized to the frame, because the
+//! It writes one of two kinds of word per pixel ([`Words`]): the G-buffer's
+//! 64-bit visibility (depth and triangle id), or shadow maps' 32-bit depth
+//! alone. The buffer of words lives here, sized to the frame, because the
 //! frame graph manages textures; the raster pass writes an ordering token
 //! that the resolves read, so culling and order still come from the graph.
 
@@ -34,12 +36,33 @@ struct GpuBatch {
 
 struct Targets {
     size: (u32, u32),
+    words: Words,
     visibility: wgpu::Buffer,
     tiles: wgpu::Buffer,
     tile_count: wgpu::Buffer,
     /// What `tile_count` starts each raster with (0 queued, the capacity),
     /// copied in the encoder so several rasters can share one.
     tile_reset: wgpu::Buffer,
+}
+
+/// What the compute rasterizer writes per pixel.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Words {
+    /// 64 bits: reversed-Z depth over the triangle's id + 1 (atomicMax on
+    /// u64; the adapter needs SHADER_INT64_ATOMIC_MIN_MAX). The G-buffer.
+    Visibility64,
+    /// 32 bits: reversed-Z depth alone (atomicMax on u32, which any adapter
+    /// has: DEPTH_ONLY in raster.wgsl). Shadow maps, which need no id.
+    Depth32,
+}
+
+impl Words {
+    fn bytes(self) -> u64 {
+        match self {
+            Words::Visibility64 => 8,
+            Words::Depth32 => 4,
+        }
+    }
 }
 
 /// What the compute rasterizer draws from and where: the camera uniform
@@ -95,6 +118,7 @@ impl RasterLabels {
 pub(crate) struct ComputeRaster {
     /// Per draw with triangles: its uniform and what it rasterizes.
     batches: Vec<Batch>,
+    words: Words,
     pub first_triangle: wgpu::Buffer,
     targets: std::sync::Arc<RasterTargets>,
 }
@@ -106,6 +130,7 @@ impl ComputeRaster {
         renderer: &Renderer,
         owner: Option<u32>,
         labels: RasterLabels,
+        words: Words,
         draws: &[Draw],
         instance_count: usize,
     ) -> Self {
@@ -150,6 +175,7 @@ impl ComputeRaster {
         );
         ComputeRaster {
             batches,
+            words,
             first_triangle,
             targets: match owner {
                 Some(owner) => renderer.state::<RasterTargets>(u64::from(owner)),
@@ -204,7 +230,7 @@ impl ComputeRaster {
         Ok(())
     }
 
-    /// Rasterize into the 64-bit buffer for `view`, which this returns (a
+    /// Rasterize into the buffer of words for `view`, which this returns (a
     /// caller may record several views in a row: each clears it first).
     /// `between`: run after the meshes and before the particles (procedural
     /// draws), given the buffer: what publishes a depth without particles.
@@ -218,7 +244,11 @@ impl ComputeRaster {
         let device = cx.gpu.device.clone();
         let size = view.size;
         let mut guard = self.targets.0.lock().unwrap_or_else(|e| e.into_inner());
-        if guard.as_ref().is_none_or(|t| t.size != size) {
+        let words = self.words;
+        if guard
+            .as_ref()
+            .is_none_or(|t| t.size != size || t.words != words)
+        {
             let storage = |label: &str, bytes: u64| {
                 device.create_buffer(&wgpu::BufferDescriptor {
                     label: Some(label),
@@ -229,9 +259,13 @@ impl ComputeRaster {
             };
             *guard = Some(Targets {
                 size,
+                words,
                 visibility: storage(
-                    "visibility (64-bit)",
-                    u64::from(size.0) * u64::from(size.1) * 8,
+                    match words {
+                        Words::Visibility64 => "visibility (64-bit)",
+                        Words::Depth32 => "raster depth (32-bit)",
+                    },
+                    u64::from(size.0) * u64::from(size.1) * words.bytes(),
                 ),
                 tiles: storage("raster tiles", u64::from(TILE_CAPACITY) * 16),
                 tile_count: storage("raster tile count", 16),
@@ -258,7 +292,7 @@ impl ComputeRaster {
         // a GPU keeps the one shader it always ran.
         let particles = self.batches.iter().any(|b| b.procedural);
         let class = cx.gpu.adapter_class();
-        let key = |two_sided: bool| raster_key(class, two_sided, particles);
+        let key = |two_sided: bool| raster_key(class, two_sided, particles, words);
         let mut triangle_pipelines: [Option<wgpu::ComputePipeline>; 2] = [None, None];
         for batch in &self.batches {
             let sided = view.two_sided || batch.two_sided;
@@ -338,11 +372,15 @@ pub(crate) type Between<'b> =
     &'b mut dyn FnMut(&mut PassContext<'_>, &wgpu::Buffer) -> Result<(), RenderError>;
 
 /// The raster's permutation on a `class` adapter: back faces kept or not,
-/// and on a CPU adapter, where no draw is a particle system, corner
-/// positions fetched alone (MESHES_ONLY, adapter_class.rs).
-fn raster_key(class: AdapterClass, two_sided: bool, particles: bool) -> ShaderKey {
+/// on a CPU adapter, where no draw is a particle system, corner positions
+/// fetched alone (MESHES_ONLY, adapter_class.rs), and 32-bit depth words.
+fn raster_key(class: AdapterClass, two_sided: bool, particles: bool, words: Words) -> ShaderKey {
     let meshes_only = class == AdapterClass::Cpu && !particles;
-    let features = [(two_sided, "TWO_SIDED"), (meshes_only, "MESHES_ONLY")];
+    let features = [
+        (two_sided, "TWO_SIDED"),
+        (meshes_only, "MESHES_ONLY"),
+        (words == Words::Depth32, "DEPTH_ONLY"),
+    ];
     ShaderKey::new(
         "gbuffer/raster.wgsl",
         features.into_iter().filter(|(on, _)| *on).map(|(_, f)| f),
@@ -389,14 +427,28 @@ mod tests {
             let base: &[&'static str] = if sided { &["TWO_SIDED"] } else { &[] };
             let with = |f: &'static str| [base, &[f]].concat();
             // A GPU keeps the shader it always ran, particles or not.
-            assert_eq!(raster_key(AdapterClass::Gpu, sided, false), key(base));
-            assert_eq!(raster_key(AdapterClass::Gpu, sided, true), key(base));
             assert_eq!(
-                raster_key(AdapterClass::Cpu, sided, false),
+                raster_key(AdapterClass::Gpu, sided, false, Words::Visibility64),
+                key(base)
+            );
+            assert_eq!(
+                raster_key(AdapterClass::Gpu, sided, true, Words::Visibility64),
+                key(base)
+            );
+            assert_eq!(
+                raster_key(AdapterClass::Cpu, sided, false, Words::Visibility64),
                 key(&with("MESHES_ONLY"))
             );
             // Particles need the procedural path.
-            assert_eq!(raster_key(AdapterClass::Cpu, sided, true), key(base));
+            assert_eq!(
+                raster_key(AdapterClass::Cpu, sided, true, Words::Visibility64),
+                key(base)
+            );
+            // Shadow maps' 32-bit depth words are a permutation of their own.
+            assert_eq!(
+                raster_key(AdapterClass::Gpu, sided, true, Words::Depth32),
+                key(&with("DEPTH_ONLY"))
+            );
         }
     }
 }

@@ -371,6 +371,7 @@ impl GBuffer {
                 renderer,
                 owner,
                 compute_raster::RasterLabels::G_BUFFER,
+                compute_raster::Words::Visibility64,
                 &draws,
                 instance_count,
             )

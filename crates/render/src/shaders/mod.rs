@@ -176,7 +176,10 @@ pub const SHADERS: &[ShaderFile] = &[
         ["FIELD_TEXTURE", "MESH_EMITTER", "DEPTH_COLLISION"]
     ),
     shader!("particles/expand.wgsl", []),
-    shader!("gbuffer/raster.wgsl", ["TWO_SIDED", "MESHES_ONLY"]),
+    shader!(
+        "gbuffer/raster.wgsl",
+        ["TWO_SIDED", "MESHES_ONLY", "DEPTH_ONLY"]
+    ),
     shader!("gbuffer/published_depth.wgsl", ["COMPUTE_RASTER"]),
     shader!(
         "gbuffer/resolve.wgsl",
@@ -276,6 +279,7 @@ pub const SHADERS: &[ShaderFile] = &[
     shader!("post/eye_adaptation.wgsl", []),
     shader!("post/fxaa.wgsl", []),
     shader!("post/copy.wgsl", []),
+    shader!("bench/pass_chain.wgsl", []),
     shader!(
         "post/dof.wgsl",
         ["AUTOFOCUS", "BOKEH", "HALF", "INLINE_COC"],

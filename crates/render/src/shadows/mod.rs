@@ -69,8 +69,7 @@ pub struct ShadowSettings {
     pub depth_bias: f32,
     /// The receiver moves this many texels along its normal before it is compared.
     pub normal_bias: f32,
-    /// Which rasterizer draws the maps. Auto: compute up to 1024 texels a
-    /// side (where the adapter has 64-bit atomics), the hardware beyond.
+    /// Which rasterizer draws the maps (see [`compute_rasterizes`]).
     pub raster: RasterChoice,
 }
 
@@ -173,8 +172,7 @@ pub struct ShadowMaps {
     /// What the layers are drawn from (both rasterizers read the sets).
     sets: Sets,
     /// The compute rasterizer's camera uniform per layer, where it draws
-    /// the maps (the adapter has 64-bit atomics and a map fits one storage
-    /// binding); the raster hardware draws them otherwise.
+    /// the maps ([`compute_rasterizes`]); the raster hardware draws them otherwise.
     cameras: Option<Vec<wgpu::Buffer>>,
     store: Arc<ShadowStore>,
     layers: u32,
@@ -386,17 +384,12 @@ impl ShadowMaps {
             bytemuck::bytes_of(&params),
             wgpu::BufferUsages::UNIFORM,
         );
-        // Which rasterizer: measured on the H100 (docs/shadows.md), compute
-        // is faster up to 1024 texels a side and the hardware beyond, where
-        // 4 bytes a texel of depth is all the raster writes.
-        let fits =
-            u64::from(res) * u64::from(res) * 8 <= device.limits().max_storage_buffer_binding_size;
-        let wants_compute = match settings.raster {
-            RasterChoice::Compute => true,
-            RasterChoice::Hardware => false,
-            RasterChoice::Auto => res <= 1024,
-        };
-        let compute = renderer.gpu.has_compute_raster() && fits && wants_compute;
+        let compute = compute_rasterizes(
+            settings.raster,
+            renderer.gpu.adapter_class(),
+            res,
+            device.limits().max_storage_buffer_binding_size,
+        );
         let cameras = compute.then(|| {
             (0..layers)
                 .map(|layer| {
@@ -506,8 +499,58 @@ impl ShadowMaps {
         guard.as_ref().map(|m| (m.depth.clone(), m.moments.clone()))
     }
 
+    /// Every layer of the depth maps as the last frame left them
+    /// (conventional depth in R, 1 where nothing was drawn), slice-major; None
+    /// before a frame rendered them. For tests and tools comparing rasterizers.
+    pub fn read_depth(
+        &self,
+        gpu: &crate::context::GpuContext,
+    ) -> Result<Option<Vec<crate::readback::ImageF32>>, crate::error::RenderError> {
+        let Some((depth, _)) = self.textures() else {
+            return Ok(None);
+        };
+        (0..depth.depth_or_array_layers())
+            .map(|layer| crate::readback::read_texture_layer(gpu, &depth, layer, 0))
+            .collect::<Result<Vec<_>, _>>()
+            .map(Some)
+    }
+
+    /// Whether the compute rasterizer draws these maps (else the raster hardware).
+    pub fn compute_raster(&self) -> bool {
+        self.cameras.is_some()
+    }
+
     fn label(&self, what: impl Into<std::borrow::Cow<'static, str>>) -> PassName {
         PassName::new("ShadowMap").step(what)
+    }
+}
+
+/// Whether the compute rasterizer draws maps of `resolution` texels a side
+/// (the raster hardware otherwise). It writes 32-bit depth words, so any
+/// adapter can, as long as a layer's words fit one storage binding.
+///
+/// `Auto` follows the adapter (adapter_class.rs). On a GPU, compute up to
+/// 1024 texels a side and the hardware beyond: measured on the H100
+/// (docs/shadows.md), where the hardware's 4 bytes a texel of depth is all
+/// the raster writes once maps are big. On a CPU adapter the hardware:
+/// lavapipe drew patches/shadows.ron's three 512 cascades in 13-141 ms
+/// with its raster pipeline and 1,338-1,417 ms with the compute one
+/// (docs/shadows.md, "Two rasterizers"): a CPU runs the compute raster's
+/// workgroups one after another, and a map's few big triangles (a floor)
+/// are its worst case.
+pub fn compute_rasterizes(
+    choice: RasterChoice,
+    class: crate::adapter_class::AdapterClass,
+    resolution: u32,
+    max_binding: u64,
+) -> bool {
+    let fits = u64::from(resolution) * u64::from(resolution) * 4 <= max_binding;
+    fits && match choice {
+        RasterChoice::Compute => true,
+        RasterChoice::Hardware => false,
+        RasterChoice::Auto => {
+            class == crate::adapter_class::AdapterClass::Gpu && resolution <= 1024
+        }
     }
 }
 
@@ -603,6 +646,40 @@ impl Recipe for ShadowMaps {
             pass.write(&self.token, token);
             pass.run(move |cx| self.moments_pass(cx));
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::adapter_class::AdapterClass::{Cpu, Gpu};
+
+    #[test]
+    fn auto_rasterizes_in_compute_on_a_gpu_up_to_1024_and_never_on_a_cpu_adapter() {
+        let binding = 128 << 20;
+        for (choice, class, res, expected) in [
+            (RasterChoice::Auto, Gpu, 512, true),
+            (RasterChoice::Auto, Gpu, 1024, true),
+            (RasterChoice::Auto, Gpu, 2048, false),
+            (RasterChoice::Auto, Cpu, 256, false),
+            (RasterChoice::Auto, Cpu, 4096, false),
+            (RasterChoice::Compute, Cpu, 4096, true),
+            (RasterChoice::Compute, Gpu, 8192, true),
+            (RasterChoice::Hardware, Gpu, 512, false),
+        ] {
+            assert_eq!(
+                compute_rasterizes(choice, class, res, binding),
+                expected,
+                "{choice:?} {class:?} {res}"
+            );
+        }
+        // 4 bytes a texel must fit one storage binding, whatever was asked.
+        assert!(!compute_rasterizes(
+            RasterChoice::Compute,
+            Gpu,
+            8192,
+            1 << 20
+        ));
     }
 }
 

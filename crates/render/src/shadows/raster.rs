@@ -6,7 +6,7 @@ use std::sync::{Arc, Mutex};
 
 use crate::error::RenderError;
 use crate::frame_graph::{Bindings, PassContext};
-use crate::gbuffer::compute_raster::{ComputeRaster, RasterLabels, RasterView};
+use crate::gbuffer::compute_raster::{ComputeRaster, RasterLabels, RasterView, Words};
 use crate::gbuffer::{Draw, Layer, pack_instances};
 use crate::renderer::Renderer;
 use crate::shaders::ShaderKey;
@@ -83,6 +83,7 @@ impl CasterSet {
                 renderer,
                 owner,
                 kind.raster_labels(),
+                Words::Depth32,
                 &draws,
                 instance_count,
             )

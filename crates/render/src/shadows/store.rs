@@ -127,7 +127,14 @@ impl StoredMaps {
         let slices = (layout.layers / layout.per_slice.max(1)) as usize;
         StoredMaps {
             layout,
-            depth: array(device, "shadow maps", layout, MAP_FORMAT, sampled),
+            // Copied out only by tools and tests (`ShadowMaps::read_depth`).
+            depth: array(
+                device,
+                "shadow maps",
+                layout,
+                MAP_FORMAT,
+                sampled | wgpu::TextureUsages::COPY_SRC,
+            ),
             still: None,
             attachments: layout.hardware.then(|| {
                 array(

@@ -117,6 +117,23 @@ pub struct Cascades {
     pub split_lambda: f32,
     /// How far from the camera sun shadows reach.
     pub distance: f32,
+    /// 0: each cascade follows the camera texel by texel (re-rendered
+    /// whenever the camera moves). Above 0 (up to 0.5): a cascade is wider
+    /// by this share of its width on each side and moves only in steps of
+    /// that share, so its view (and its map, if its casters are still)
+    /// holds while the camera moves within a step.
+    pub step: f32,
+}
+
+impl Cascades {
+    /// The step as a share of a cascade's width: 0 where not finite, at most 0.5.
+    fn step_share(&self) -> f32 {
+        if self.step.is_finite() {
+            self.step.clamp(0.0, 0.5)
+        } else {
+            0.0
+        }
+    }
 }
 
 /// A sun's cascades: each an orthographic box around the bounding sphere of
@@ -156,6 +173,7 @@ pub fn sun(
         Vec3::Y
     };
     let res = resolution.max(1) as f32;
+    let step_share = cascades.step_share();
     let mut start = near;
     splits
         .into_iter()
@@ -167,21 +185,40 @@ pub fn sun(
             let corners: Vec<Vec3> = corners.collect();
             let center = corners.iter().copied().sum::<Vec3>() / corners.len() as f32;
             // Two texels of room: snapping the centre moves it by up to one.
-            let radius = corners
+            let mut radius = corners
                 .iter()
                 .map(|c| c.distance(center))
                 .fold(0.0f32, f32::max)
                 .max(1e-3)
                 * (1.0 + 4.0 / res);
-            // Snap the centre to whole texels in the light's view.
             let light_view = glam::camera::rh::view::look_to_mat4(Vec3::ZERO, direction, up);
-            let texel = 2.0 * radius / res;
             let c = light_view.transform_point3(center);
-            let snapped = Vec3::new(
-                (c.x / texel).floor() * texel,
-                (c.y / texel).floor() * texel,
-                c.z,
-            );
+            let snapped = if step_share > 0.0 {
+                // Stepped: wider by a step on each side, and the centre snapped
+                // to whole steps (whole texels) in all three of the light's
+                // axes, so the box (depth range too) holds while the camera
+                // moves within a step. The sphere is within a step of the
+                // snapped centre along each axis: the step of room holds it.
+                // The radius rounded up to 6 significant bits: a frustum's
+                // sphere is the same size wherever the camera is, but its
+                // float rounding is not, and a view must hold bit for bit.
+                let unit = (radius.log2().floor() - 5.0).exp2();
+                radius = (radius / unit).ceil() * unit;
+                let step = 2.0 * step_share * radius;
+                radius += step;
+                let texel = 2.0 * radius / res;
+                let step = (step / texel).floor().max(1.0) * texel;
+                (c / step).floor() * step
+            } else {
+                // Snap the centre to whole texels in the light's view.
+                let texel = 2.0 * radius / res;
+                Vec3::new(
+                    (c.x / texel).floor() * texel,
+                    (c.y / texel).floor() * texel,
+                    c.z,
+                )
+            };
+            let texel = 2.0 * radius / res;
             let center = crate::camera::safe_inverse(light_view).transform_point3(snapped);
             // Back to the farthest caster towards the sun (at least the cascade's own sphere).
             let (caster_center, caster_radius) = casters;
@@ -248,8 +285,21 @@ mod tests {
 
     #[test]
     fn every_cascade_holds_its_slice_of_the_camera_frustum() {
-        let view =
-            glam::camera::rh::view::look_at_mat4(Vec3::new(0.0, 5.0, 10.0), Vec3::ZERO, Vec3::Y);
+        for step in [0.0, 0.1, 0.25, 0.5] {
+            for eye in [
+                Vec3::new(0.0, 5.0, 10.0),
+                Vec3::new(0.37, 5.11, 9.6),
+                Vec3::new(-13.2, 4.0, 31.7),
+            ] {
+                cascades_hold_their_slices(step, eye);
+            }
+        }
+    }
+
+    /// Every corner of each cascade's slice of the frustum (and its centre
+    /// line) lies in the cascade's box, sides and depth.
+    fn cascades_hold_their_slices(step: f32, eye: Vec3) {
+        let view = glam::camera::rh::view::look_at_mat4(eye, Vec3::ZERO, Vec3::Y);
         let projection = glam::camera::rh::proj::directx::perspective(1.0, 1.5, 0.1, 200.0);
         let cascades = sun(
             Vec3::new(-0.3, -1.0, -0.2),
@@ -258,6 +308,7 @@ mod tests {
                 count: 4,
                 split_lambda: 0.7,
                 distance: 60.0,
+                step,
             },
             (Vec3::ZERO, 20.0),
             1024,
@@ -275,13 +326,71 @@ mod tests {
                     let ndc = c.view_projection.project_point3(p);
                     assert!(
                         ndc.x.abs() <= 1.0 + 1e-3 && ndc.y.abs() <= 1.0 + 1e-3,
-                        "{ndc}"
+                        "step {step}, eye {eye}: {ndc}"
                     );
-                    assert!((0.0..=1.0).contains(&ndc.z), "{ndc}");
+                    assert!(
+                        (0.0..=1.0).contains(&ndc.z),
+                        "step {step}, eye {eye}: {ndc}"
+                    );
                 }
             }
             start = c.split;
         }
+    }
+
+    #[test]
+    fn stepped_cascades_hold_their_views_while_the_camera_moves_within_a_step() {
+        let at = |x: f32| {
+            let eye = Vec3::new(x, 5.0, 10.0);
+            CameraInput {
+                view: glam::camera::rh::view::look_at_mat4(
+                    eye,
+                    eye - Vec3::new(0.0, 5.0, 10.0),
+                    Vec3::Y,
+                ),
+                projection: glam::camera::rh::proj::directx::perspective(1.0, 1.5, 0.1, 200.0),
+            }
+        };
+        let views = |step: f32, x: f32| -> Vec<Mat4> {
+            let cascades = Cascades {
+                count: 3,
+                split_lambda: 0.6,
+                distance: 40.0,
+                step,
+            };
+            sun(
+                Vec3::new(-0.3, -1.0, -0.2),
+                &at(x),
+                cascades,
+                (Vec3::ZERO, 20.0),
+                512,
+            )
+            .iter()
+            .map(|v| v.view_projection)
+            .collect()
+        };
+        // Following the camera texel by texel: a small move moves every cascade.
+        let (a, b) = (views(0.0, 0.0), views(0.0, 0.05));
+        assert!(a.iter().zip(&b).all(|(a, b)| a != b));
+        // Stepped: moves much smaller than a step leave most cascades where
+        // they were, bit for bit; over 20 small moves the first cascade (the
+        // finest, steps of about 1.3 units here) steps a few times at most.
+        let mut steps = 0;
+        let mut held = 0;
+        for k in 1..=20 {
+            let (before, after) = (
+                views(0.25, (k - 1) as f32 * 0.05),
+                views(0.25, k as f32 * 0.05),
+            );
+            for (b, a) in before.iter().zip(&after) {
+                if a == b {
+                    held += 1;
+                } else {
+                    steps += 1;
+                }
+            }
+        }
+        assert!(held >= 50 && steps <= 10, "held {held}, stepped {steps}");
     }
 
     #[test]
@@ -301,6 +410,7 @@ mod tests {
                 count: 4,
                 split_lambda: 0.7,
                 distance: 60.0,
+                step: 0.0,
             },
             (Vec3::ZERO, 0.87),
             1024,
