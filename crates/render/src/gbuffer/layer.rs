@@ -298,9 +298,25 @@ impl Layer {
         d
     }
 
-    /// The textures its shader node material reads.
+    /// The textures its shader node material reads: its texture inputs,
+    /// then the material world's texture array where it reads the world
+    /// ([`Layer::library_textures`]).
     pub(crate) fn surface_textures(&self) -> impl Iterator<Item = &TextureRef> {
-        self.surface.iter().flat_map(|s| &s.textures)
+        self.surface
+            .iter()
+            .flat_map(|s| &s.textures)
+            .chain(self.library_textures())
+    }
+
+    /// The world a shader node material reads through `spreadlight::materials`.
+    pub(crate) fn library_world(&self) -> Option<&Arc<MaterialWorld>> {
+        self.surface.as_ref().filter(|s| s.reads_materials)?;
+        self.materials.as_ref()
+    }
+
+    /// That world's texture array, when some material of it reads one.
+    pub(crate) fn library_textures(&self) -> Option<&TextureRef> {
+        self.library_world()?.textures()
     }
 
     /// Whether the surface pass reads the arena's extra stream: some mesh

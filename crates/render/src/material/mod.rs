@@ -26,6 +26,7 @@
 //! shading pass sees mapped values without knowing glTF.
 
 mod feature;
+pub mod library;
 pub mod map_textures;
 pub mod maps;
 
