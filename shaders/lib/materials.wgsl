@@ -44,8 +44,11 @@ struct FeatureEntry {
     Offset: u32,
     // Its parameters, in vec4s.
     Count: u32,
-    // The texture layer + 1 (0: none).
+    // The feature's Texture ID + 1 (0: none).
     Texture: u32,
+    // Per component of the first parameter vec4, the layer + 1 (low 24
+    // bits; 0: none) and channel (bits 24..26) that scale it in shading.
+    Maps: vec4<u32>,
 }
 
 @group(3) @binding(0) var<storage, read> MatMeta: array<MaterialMeta>;

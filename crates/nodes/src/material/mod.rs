@@ -71,7 +71,21 @@ pub fn set_feature(
     n: usize,
     param_pin: usize,
     texture_pin: Option<usize>,
+    params: impl FnMut(&EvalContext<'_>, usize) -> Result<(Feature, Vec<[f32; 4]>), NodeError>,
+) -> Result<(), NodeError> {
+    set_feature_then(cx, pin, n, param_pin, texture_pin, params, |_, _, _| {})
+}
+
+/// [`set_feature`], then `then(material, feature, slice)` on each material
+/// before it is output (a helper's per-parameter texture layers).
+pub fn set_feature_then(
+    cx: &mut EvalContext<'_>,
+    pin: usize,
+    n: usize,
+    param_pin: usize,
+    texture_pin: Option<usize>,
     mut params: impl FnMut(&EvalContext<'_>, usize) -> Result<(Feature, Vec<[f32; 4]>), NodeError>,
+    then: impl Fn(&mut Material, Feature, usize),
 ) -> Result<(), NodeError> {
     let textures = match texture_pin {
         Some(pin) => cx.slices::<i64>(pin)?.to_vec(),
@@ -93,6 +107,7 @@ pub fn set_feature(
             len => u32::try_from(textures[slice % len]).ok(),
         };
         material.set_texture(feature, layer);
+        then(&mut material, feature, slice);
         out.push(Arc::new(material));
     }
     cx.set_output(0, resource_spread(ResourceKind::Material, out));

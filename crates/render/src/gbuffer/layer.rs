@@ -24,11 +24,11 @@ pub enum VelocitySource {
 }
 
 /// The DeferredBase switches (Emeshe's `#define`s), each a shader feature.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct LayerFeatures {
     /// Write the mesh's texture coordinates (the UV target).
     pub texcoords: bool,
-    /// Perturb normals with the layer's normal map (needs UVs and tangents, or triplanar).
+    /// Perturb normals with the layer's normal map (needs UVs and tangents, or triplanar, which needs neither).
     pub normal_map: bool,
     /// Texture coordinates projected from world position, for geometry without UVs.
     pub triplanar: bool,
@@ -39,6 +39,27 @@ pub struct LayerFeatures {
     /// first vertex's `previous_position.w`, written by GPU geometry and
     /// particles) to the object id, for per-virtual-instance parameters.
     pub geometry_ids: bool,
+    /// Triplanar: the exponent of the normal's components that weights the
+    /// three projections its Color and Normal Textures blend (1: wide
+    /// blends; larger: narrower ones). A uniform, not a permutation.
+    pub triplanar_sharpness: u32,
+}
+
+/// The default blend sharpness of triplanar mapping.
+pub const TRIPLANAR_SHARPNESS: u32 = 4;
+
+impl Default for LayerFeatures {
+    fn default() -> Self {
+        LayerFeatures {
+            texcoords: false,
+            normal_map: false,
+            triplanar: false,
+            velocity: VelocitySource::default(),
+            ids: false,
+            geometry_ids: false,
+            triplanar_sharpness: TRIPLANAR_SHARPNESS,
+        }
+    }
 }
 
 impl LayerFeatures {
@@ -164,7 +185,9 @@ impl Layer {
                     mesh,
                 });
             }
-            if features.normal_map && !batch.mesh.has_tangents {
+            // Triplanar normal mapping needs no tangents: each projection's
+            // axes are its frame (resolve.wgsl's whiteout blend).
+            if features.normal_map && !features.triplanar && !batch.mesh.has_tangents {
                 return Err(LayerError::NoTangents { mesh });
             }
             if features.velocity == VelocitySource::Geometry && !batch.mesh.has_previous_positions {

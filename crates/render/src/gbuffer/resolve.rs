@@ -332,7 +332,8 @@ fn background_layer(device: &wgpu::Device) -> wgpu::Buffer {
     use wgpu::util::DeviceExt;
     device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
         label: Some("mre background layer"),
-        contents: bytemuck::cast_slice(&[0u32, 0, 1, 0]),
+        // No instances; writes the background. (Layer in resolve.wgsl: 8 words.)
+        contents: bytemuck::cast_slice(&[0u32, 0, 1, 0, 0, 0, 0, 0]),
         usage: wgpu::BufferUsages::UNIFORM,
     })
 }

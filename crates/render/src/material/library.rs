@@ -140,7 +140,7 @@ mod tests {
             "lib/materials.wgsl",
             [],
             "FeatureEntry",
-            [feature, offset, count, texture]
+            [feature, offset, count, texture, maps]
         );
     }
 }
