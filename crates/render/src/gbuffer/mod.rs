@@ -584,7 +584,14 @@ mod wgsl_layout {
             "gbuffer/resolve.wgsl",
             [],
             "Layer",
-            [first_instance, end_instance, write_background, geometry_ids]
+            [
+                first_instance,
+                end_instance,
+                write_background,
+                geometry_ids,
+                triplanar_sharpness,
+                pad
+            ]
         );
     }
 }

@@ -206,28 +206,20 @@ impl Feature {
     /// per-parameter texture layer scales ([`super::Material::set_param_texture`]).
     /// Empty for custom features, whose shaders read their own textures.
     pub fn parameters(self) -> &'static [(&'static str, std::ops::Range<usize>)] {
+        type Params = &'static [(&'static str, std::ops::Range<usize>)];
+        const CT_PARAMS: Params = &[
+            ("Roughness", 0..1),
+            ("Metallic", 1..2),
+            ("Reflectance", 2..3),
+        ];
+        const COLOR_PARAMS: Params = &[("Color", 0..3), ("Strength", 3..4)];
+        const STRENGTH_PARAMS: Params = &[("Strength", 0..1)];
         match self {
-            Feature::CookTorrance => &[
-                ("Roughness", 0..1),
-                ("Metallic", 1..2),
-                ("Reflectance", 2..3),
-            ],
-            Feature::Emission | Feature::FakeSss => &[("Color", 0..3), ("Strength", 3..4)],
-            Feature::Reflection | Feature::AmbientOcclusion | Feature::MatCap => {
-                &[("Strength", 0..1)]
-            }
+            Feature::CookTorrance => CT_PARAMS,
+            Feature::Emission | Feature::FakeSss => COLOR_PARAMS,
+            Feature::Reflection | Feature::AmbientOcclusion | Feature::MatCap => STRENGTH_PARAMS,
             Feature::Custom(_) => &[],
         }
-    }
-
-    /// Whether shading scales this feature's parameters by texture layers
-    /// at each pixel's UV (`feature_param_at`): CookTorrance, Emission and
-    /// FakeSSS. The others' parameters are read as set.
-    pub fn maps_parameters(self) -> bool {
-        matches!(
-            self,
-            Feature::CookTorrance | Feature::Emission | Feature::FakeSss
-        )
     }
 
     /// How many vec4 parameters the feature takes; `None`: any number (custom).

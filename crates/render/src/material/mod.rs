@@ -157,8 +157,8 @@ impl Material {
     /// Emission's Strength 1), at each pixel's UV: a number by the layer's
     /// red channel (a grayscale map), a colour by its rgb. It takes the
     /// place of the feature's Texture ID for that parameter; None: none.
-    /// Read only for features whose parameters shading maps
-    /// ([`Feature::maps_parameters`]) and only while the material has the feature.
+    /// Shading reads it for CookTorrance, Emission and FakeSSS (what
+    /// `feature_param_at` serves), and only while the material has the feature.
     pub fn set_param_texture(&mut self, feature: Feature, param: usize, layer: Option<u32>) {
         match layer {
             Some(layer) => self.param_textures.insert((feature.id(), param), layer),
