@@ -54,7 +54,7 @@ struct Layer {
     // 1: add the triangle's geometry id (its first vertex's previous_position.w) to the object id.
     geometry_ids: u32,
     // TRIPLANAR: the exponent of the normal's components that weights the
-    // three projections (DeferredBase's Triplanar Sharpness).
+    // three projections (4, or what a Triplanar (Layer) node set).
     triplanar_sharpness: f32,
     pad0: u32,
     pad1: u32,

@@ -36,7 +36,6 @@ const IDS: usize = 10;
 const COLOR_TEXTURE: usize = 11;
 const MATERIAL_WORLD: usize = 12;
 const GEOMETRY_IDS: usize = 13;
-const TRIPLANAR_SHARPNESS: usize = 14;
 
 pub fn register(r: &mut Registry) {
     r.add(
@@ -49,8 +48,8 @@ pub fn register(r: &mut Registry) {
              surface's UV (needs Texture Coordinates or Triplanar). Color's alpha is opacity for Transparency only: \
              the G-buffer keeps the material id there. Normal Mapping reads the mesh's UVs unless Triplanar is on. \
              Triplanar projects world position on three planes and blends the Color and Normal Textures' three samples by \
-             the normal's components to the power Triplanar Sharpness (1..32; larger: narrower blends), so there is no \
-             seam; the G-buffer's UV (what material textures read) is the plane the surface faces most. \
+             the normal's components (Triplanar (Layer) sets how sharply), so there is no seam; the G-buffer's UV (what \
+             material textures read) is the plane the surface faces most. \
              Material World: the MaterialBuffer the Material IDs index, needed where materials have surface maps (glTF \
              textures, alpha modes, double-sided): the G-buffer samples them per pixel, trilinear and anisotropic. \
              Velocity Geometry reads the meshes' previous positions (GPU geometry and particles make them); Instance \
@@ -82,8 +81,6 @@ pub fn register(r: &mut Registry) {
             Spread::Resource(ResourceKind::MaterialWorld, vec![]),
         )
         .input("Instance from GeomFX", false)
-        .input("Triplanar Sharpness", 4i64)
-        .range(1.0, 32.0)
         .output_typed("Layer", PinType::Resource(ResourceKind::Layer))
         // Last frame's transforms, for per-object velocity.
         .remembers(1)
@@ -119,11 +116,8 @@ impl Node for DeferredBase {
             velocity,
             ids: flag(IDS)?,
             geometry_ids: flag(GEOMETRY_IDS)?,
-            // Held to 1..=32: beyond, the blend is a hard switch again.
-            triplanar_sharpness: cx
-                .slices::<i64>(TRIPLANAR_SHARPNESS)?
-                .first()
-                .map_or(4, |s| (*s).clamp(1, 32) as u32),
+            // `Triplanar (Layer)` changes it on the way to MRE.
+            ..LayerFeatures::default()
         };
         let first_texture = |pin: usize| -> Result<Option<TextureRef>, NodeError> {
             Ok(match cx.input(pin) {
