@@ -5,11 +5,8 @@
 //! One function serves all six: the vec4 is the node's pins after Material,
 //! in order, a Float giving one component and a Color three (rgb); then
 //! Texture ID, the layer of the MaterialBuffer's texture array that scales
-//! that vec4 at each pixel's UV, channel by channel (-1: none), on the
-//! features a shader maps (CookTorrance, Emission, FakeSSS; not Reflection
-//! or AO), and on those one Texture ID per parameter (`Roughness Texture
-//! ID`...): a layer that scales that parameter alone, a number by the
-//! layer's red channel (a grayscale map), a colour by its rgb. `AddMatCap` has
+//! that vec4 at each pixel's UV (-1: none), on the features a shader maps
+//! (CookTorrance, Emission, FakeSSS; not Reflection or AO). `AddMatCap` has
 //! its own pins: Strength, Mode and Mapping, and MatCap Texture ID, the layer
 //! that is the matcap image itself.
 
@@ -17,7 +14,7 @@ use spreadlight_graph::{Color, EnumDef, EvalContext, NodeDef, NodeError, Registr
 use spreadlight_render::material::{Feature, MatCapMapping, MatCapMode, matcap_params};
 
 use super::{
-    CATEGORY, MATERIAL, TEXTURE_ID, no_materials, not_finite, set_feature, set_feature_then,
+    CATEGORY, MATERIAL, TEXTURE_ID, no_materials, not_finite, set_feature,
     slice_count_with_materials,
 };
 
@@ -29,32 +26,25 @@ pub fn register(r: &mut Registry) {
     };
     let color = |r, g, b| Color { r, g, b, a: 1.0 };
     r.add(
-        node("AddCookTorrance", "Sets CookTorrance shading on each material: GGX roughness 0..1, metallic 0..1 and reflectance, the f0 of the dielectric part (0.04 for most; 0..1). Texture ID: a layer of the MaterialBuffer's texture array whose r, g, b scale the three at each pixel's UV; Roughness, Metallic and Reflectance Texture ID: a layer whose red channel scales that one alone (-1: none). No material in: new ones.")
+        node("AddCookTorrance", "Sets CookTorrance shading on each material: GGX roughness 0..1, metallic 0..1 and reflectance, the f0 of the dielectric part (0.04 for most; 0..1). No material in: new ones.")
             .input("Roughness", 0.5f32)
             .input("Metallic", 0.0f32)
             .input("Reflectance", 0.04f32)
             .input(TEXTURE_ID, -1i64)
-            .input("Roughness Texture ID", -1i64)
-            .input("Metallic Texture ID", -1i64)
-            .input("Reflectance Texture ID", -1i64)
             .evaluate(|cx| add(cx, Feature::CookTorrance, 3)),
     );
     r.add(
-        node("AddEmission", "Sets emission on each material: linear colour and strength (both >= 0). Texture ID: a layer whose rgba scales colour and strength; Color Texture ID: a layer whose rgb scales the colour; Strength Texture ID: a layer whose red channel scales the strength (-1: none). No material in: new ones.")
+        node("AddEmission", "Sets emission on each material: linear colour and strength (both >= 0). No material in: new ones.")
             .input("Color", color(1.0, 1.0, 1.0))
             .input("Strength", 1.0f32)
             .input(TEXTURE_ID, -1i64)
-            .input("Color Texture ID", -1i64)
-            .input("Strength Texture ID", -1i64)
             .evaluate(|cx| add(cx, Feature::Emission, 2)),
     );
     r.add(
-        node("AddFakeSSS", "Sets faked subsurface scattering on each material: scatter colour and strength (both >= 0). Texture ID: a layer whose rgba scales colour and strength; Color Texture ID and Strength Texture ID: one each (rgb; red channel) (-1: none). No material in: new ones.")
+        node("AddFakeSSS", "Sets faked subsurface scattering on each material: scatter colour and strength (both >= 0). No material in: new ones.")
             .input("Color", color(1.0, 0.2, 0.1))
             .input("Strength", 1.0f32)
             .input(TEXTURE_ID, -1i64)
-            .input("Color Texture ID", -1i64)
-            .input("Strength Texture ID", -1i64)
             .evaluate(|cx| add(cx, Feature::FakeSss, 2)),
     );
     let strength = |name, help| node(name, help).input("Strength", 1.0f32);
@@ -173,33 +163,9 @@ fn add(cx: &mut EvalContext<'_>, feature: Feature, values: usize) -> Result<(), 
         components.resize(4, 0.0);
         params.push([components[0], components[1], components[2], components[3]]);
     }
-    // Only features a shader maps by texture have a Texture ID pin (after
-    // the values), then one per parameter (`Feature::parameters` order).
+    // Only features a shader maps by texture have a Texture ID pin (after the values).
     let texture_pin = (cx.input_count() > values + 1).then_some(values + 1);
-    let mut param_layers: Vec<Vec<i64>> = Vec::new();
-    if texture_pin.is_some() {
-        for k in 0..feature.parameters().len() {
-            let pin = values + 2 + k;
-            if pin < cx.input_count() {
-                param_layers.push(cx.slices::<i64>(pin)?.to_vec());
-            }
-        }
-    }
-    set_feature_then(
-        cx,
-        0,
-        n,
-        1,
-        texture_pin,
-        |_, slice| Ok((feature, vec![params[slice]])),
-        |material, feature, slice| {
-            for (param, layers) in param_layers.iter().enumerate() {
-                let layer = match layers.len() {
-                    0 => None,
-                    len => u32::try_from(layers[slice % len]).ok(),
-                };
-                material.set_param_texture(feature, param, layer);
-            }
-        },
-    )
+    set_feature(cx, 0, n, 1, texture_pin, |_, slice| {
+        Ok((feature, vec![params[slice]]))
+    })
 }

@@ -2,7 +2,8 @@
 //! `FeatureManager` sets one feature, by id, on a material; `AddCookTorrance`,
 //! `AddEmission`, `AddFakeSSS`, `AddReflection`, `AddMatCap` and
 //! `AddAmbientOcclusion` (in `add_feature.rs`) wrap it per built-in feature;
-//! `MaterialManager` places materials at material IDs; `MaterialByName`
+//! `ParameterTexture` maps one parameter of a built-in feature by a texture
+//! layer; `MaterialManager` places materials at material IDs; `MaterialByName`
 //! picks a named one (a glTF file's) to change; `MaterialBuffer`
 //! uploads a spread of materials (slice i = material id i) as a `MaterialWorld`.
 //!
@@ -16,6 +17,7 @@ pub mod feature_manager;
 pub mod material_buffer;
 pub mod material_by_name;
 pub mod material_manager;
+pub mod parameter_texture;
 
 use std::sync::Arc;
 
@@ -30,6 +32,7 @@ pub fn register(r: &mut Registry) {
     feature_manager::register(r);
     add_feature::register(r);
     material_manager::register(r);
+    parameter_texture::register(r);
     material_by_name::register(r);
     material_buffer::register(r);
 }
@@ -71,21 +74,7 @@ pub fn set_feature(
     n: usize,
     param_pin: usize,
     texture_pin: Option<usize>,
-    params: impl FnMut(&EvalContext<'_>, usize) -> Result<(Feature, Vec<[f32; 4]>), NodeError>,
-) -> Result<(), NodeError> {
-    set_feature_then(cx, pin, n, param_pin, texture_pin, params, |_, _, _| {})
-}
-
-/// [`set_feature`], then `then(material, feature, slice)` on each material
-/// before it is output (a helper's per-parameter texture layers).
-pub fn set_feature_then(
-    cx: &mut EvalContext<'_>,
-    pin: usize,
-    n: usize,
-    param_pin: usize,
-    texture_pin: Option<usize>,
     mut params: impl FnMut(&EvalContext<'_>, usize) -> Result<(Feature, Vec<[f32; 4]>), NodeError>,
-    then: impl Fn(&mut Material, Feature, usize),
 ) -> Result<(), NodeError> {
     let textures = match texture_pin {
         Some(pin) => cx.slices::<i64>(pin)?.to_vec(),
@@ -107,7 +96,6 @@ pub fn set_feature_then(
             len => u32::try_from(textures[slice % len]).ok(),
         };
         material.set_texture(feature, layer);
-        then(&mut material, feature, slice);
         out.push(Arc::new(material));
     }
     cx.set_output(0, resource_spread(ResourceKind::Material, out));
