@@ -468,10 +468,16 @@ fn parameter_texture_maps_one_parameter_and_refuses_what_it_cannot_map() {
 fn a_texture_id_without_a_texture_array_is_an_error_naming_material_and_feature() {
     let mut patch = Patch::default();
     patch.add(NodeDoc::new(1, "AddCookTorrance"));
-    patch.add(NodeDoc::new(2, "AddEmission").with("Texture ID", vec![-1i64, 3]));
+    patch.add(
+        NodeDoc::new(2, "AddEmission")
+            .with("Strength", vec![1.0f32, 2.0])
+            .with("Texture ID", vec![-1i64, 3]),
+    );
     patch.add(NodeDoc::new(9, "MaterialBuffer"));
+    patch.add(NodeDoc::new(10, "Probe"));
     patch.link(1, "Material", 2, "Material");
     patch.link(2, "Material", 9, "Materials");
+    patch.link(9, "Material World", 10, "Input");
     let mut runtime = Runtime::new(crate::registry());
     runtime.provide(spreadlight_render::renderer::test_renderer());
     assert!(runtime.load(&patch).is_empty());

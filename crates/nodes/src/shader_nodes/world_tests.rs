@@ -176,7 +176,7 @@ fn the_custom_feature_example_lights_rims_only_where_the_feature_is_set() {
     let without = rig.image("custom-feature");
     assert!(with.all_finite() && without.all_finite());
     let (w, h) = (with.width, with.height);
-    // How much brighter the rims made each third of the picture (a ball each).
+    // How much brighter the rims made a band of columns, and the least change in it.
     let gained = |x0: u32, x1: u32| -> (f32, f32) {
         let mut sum = 0.0f32;
         let mut lowest = 0.0f32;
@@ -190,10 +190,12 @@ fn the_custom_feature_example_lights_rims_only_where_the_feature_is_set() {
         }
         (sum, lowest)
     };
-    let third = w / 3;
-    let (left, left_low) = gained(0, third);
-    let (middle, _) = gained(third + 4, 2 * third - 4);
-    let (right, right_low) = gained(2 * third, w);
+    // The balls stand side by side: the middle one (material 0) is the
+    // columns about the centre, the others lie left and right of it.
+    let centre = w / 2;
+    let (left, left_low) = gained(0, centre - 9);
+    let (middle, _) = gained(centre - 7, centre + 8);
+    let (right, right_low) = gained(centre + 10, w);
     assert!(left > 0.5 && right > 0.5, "rims on the outer balls: {left} {right}");
     assert!(left_low > -1e-3 && right_low > -1e-3, "a rim only adds light");
     assert_eq!(middle, 0.0, "the middle ball (material 0, no feature 16) is unchanged");
