@@ -889,7 +889,12 @@ fn triplanar_colour_blends_three_projections_without_a_seam() {
     let texels: Vec<u8> = (0..n * n)
         .flat_map(|i| {
             let (r, g) = (wave(i % n), wave(i / n));
-            [(r * 255.0).round() as u8, (g * 255.0).round() as u8, 128, 255]
+            [
+                (r * 255.0).round() as u8,
+                (g * 255.0).round() as u8,
+                128,
+                255,
+            ]
         })
         .collect();
     let map = StaticTexture::new(GpuTexture::from_rgba8(
@@ -913,7 +918,11 @@ fn triplanar_colour_blends_three_projections_without_a_seam() {
             features,
         );
         let map = textured.then(|| map.texture_ref());
-        let layer = Arc::new(Layer::clone(&plain).with_color_map(map).expect("triplanar UVs"));
+        let layer = Arc::new(
+            Layer::clone(&plain)
+                .with_color_map(map)
+                .expect("triplanar UVs"),
+        );
         let g = GBuffer::new(
             &renderer,
             None,
@@ -932,7 +941,11 @@ fn triplanar_colour_blends_three_projections_without_a_seam() {
         (-2..=2).all(|dy| {
             (-2..=2).all(|dx| {
                 let (px, py) = (x + dx, y + dy);
-                px >= 0 && py >= 0 && px < w && py < h && coverage.pixel(px as u32, py as u32)[0] > 0.0
+                px >= 0
+                    && py >= 0
+                    && px < w
+                    && py < h
+                    && coverage.pixel(px as u32, py as u32)[0] > 0.0
             })
         })
     };
@@ -960,7 +973,10 @@ fn triplanar_colour_blends_three_projections_without_a_seam() {
     let hard = albedo(32, true);
     assert!(blended.all_finite() && hard.all_finite());
     let (smooth, seams) = (largest_jump(&blended), largest_jump(&hard));
-    assert!(seams > 0.3, "a near-hard switch jumps at the seams: {seams}");
+    assert!(
+        seams > 0.3,
+        "a near-hard switch jumps at the seams: {seams}"
+    );
     assert!(
         smooth < 0.5 * seams && smooth < 0.2,
         "blended: largest step {smooth} between neighbours (hard switch: {seams})"

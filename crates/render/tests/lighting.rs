@@ -798,7 +798,13 @@ fn a_parameter_with_its_own_layer_changes_with_the_texture_and_the_others_do_not
     // and blue 1 everywhere: only a red-channel read sees the halves.
     let (w, h) = (8u32, 8u32);
     let halves: Vec<u8> = (0..w * h)
-        .flat_map(|i| if i % w < w / 2 { [255u8; 4] } else { [0, 255, 255, 255] })
+        .flat_map(|i| {
+            if i % w < w / 2 {
+                [255u8; 4]
+            } else {
+                [0, 255, 255, 255]
+            }
+        })
         .collect();
     let array = GpuTexture::array_from_rgba8(&renderer.gpu, w, h, &[halves], false, "maps");
     let textures = StaticTexture::new(array).texture_ref();
@@ -860,19 +866,33 @@ fn a_parameter_with_its_own_layer_changes_with_the_texture_and_the_others_do_not
         }
         unchanged += usize::from(f[0] > 0.0 && s[..3] == f[..3]);
     }
-    assert!(unchanged > 0 && unchanged < all, "{unchanged} of {all} keep their glow");
+    assert!(
+        unchanged > 0 && unchanged < all,
+        "{unchanged} of {all} keep their glow"
+    );
     assert!(strength.all_finite() && strength.pixels.iter().all(|p| p[0] >= 0.0));
     // The colour by the layer's rgb: red goes where red is 0, green and blue stay.
     let color = composite(emissive(Some(0)));
     assert!(color.all_finite());
-    let (red_gone, green_kept) = color.pixels.iter().zip(&flat.pixels).fold((0, 0), |(r, g), (c, f)| {
-        (
-            r + usize::from(f[0] > 1e-3 && c[0] < 1e-4),
-            g + usize::from(f[1] > 1e-3 && (c[1] - f[1]).abs() < 1e-4),
-        )
-    });
-    assert!(red_gone > 0 && red_gone < all, "{red_gone} of {all} lose their red");
-    assert!(green_kept >= all, "green kept on every glowing pixel: {green_kept} of {all}");
+    let (red_gone, green_kept) =
+        color
+            .pixels
+            .iter()
+            .zip(&flat.pixels)
+            .fold((0, 0), |(r, g), (c, f)| {
+                (
+                    r + usize::from(f[0] > 1e-3 && c[0] < 1e-4),
+                    g + usize::from(f[1] > 1e-3 && (c[1] - f[1]).abs() < 1e-4),
+                )
+            });
+    assert!(
+        red_gone > 0 && red_gone < all,
+        "{red_gone} of {all} lose their red"
+    );
+    assert!(
+        green_kept >= all,
+        "green kept on every glowing pixel: {green_kept} of {all}"
+    );
 }
 
 #[test]

@@ -64,7 +64,12 @@ mod tests {
         match out {
             Spread::Resource(ResourceKind::Layer, handles) => handles
                 .iter()
-                .map(|h| h.downcast_arc::<Layer>().expect("a Layer").features.triplanar_sharpness)
+                .map(|h| {
+                    h.downcast_arc::<Layer>()
+                        .expect("a Layer")
+                        .features
+                        .triplanar_sharpness
+                })
                 .collect(),
             other => panic!("{other:?}"),
         }
@@ -72,15 +77,21 @@ mod tests {
 
     #[test]
     fn sets_each_layers_sharpness_held_to_its_range() {
-        assert_eq!(Layer::plain(Vec::new()).features.triplanar_sharpness, TRIPLANAR_SHARPNESS);
+        assert_eq!(
+            Layer::plain(Vec::new()).features.triplanar_sharpness,
+            TRIPLANAR_SHARPNESS
+        );
         let out = eval(
             "Triplanar (Layer)",
             &[("Layer", layers(3)), ("Sharpness", ints(&[8, 0, 100]))],
         )
         .expect("evaluates");
         assert_eq!(sharpness_of(&out[0]), [8, 1, 32]);
-        let none = eval("Triplanar (Layer)", &[("Layer", layers(2)), ("Sharpness", ints(&[]))])
-            .expect("evaluates");
+        let none = eval(
+            "Triplanar (Layer)",
+            &[("Layer", layers(2)), ("Sharpness", ints(&[]))],
+        )
+        .expect("evaluates");
         assert_eq!(sharpness_of(&none[0]), Vec::<u32>::new());
     }
 }

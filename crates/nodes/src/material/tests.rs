@@ -436,11 +436,18 @@ fn parameter_texture_maps_one_parameter_and_refuses_what_it_cannot_map() {
     assert_eq!(mapped[0].param_texture(Feature::CookTorrance, 1), Some(2));
     assert_eq!(mapped[0].param_texture(Feature::CookTorrance, 0), None);
     assert_eq!(mapped[1].param_texture(Feature::CookTorrance, 1), None);
-    assert_eq!(mapped[0].texture(Feature::CookTorrance), None, "the feature's own Texture ID untouched");
+    assert_eq!(
+        mapped[0].texture(Feature::CookTorrance),
+        None,
+        "the feature's own Texture ID untouched"
+    );
     // Reflection's strength is not mapped by shading: refused, naming the pin.
     let e = eval_err(
         "ParameterTexture",
-        &[("Material", material_spread(&ct)), ("Feature ID", ints(&[3]))],
+        &[
+            ("Material", material_spread(&ct)),
+            ("Feature ID", ints(&[3])),
+        ],
         "Feature ID",
     );
     assert!(e.to_string().contains("CookTorrance"), "{e}");
@@ -453,7 +460,10 @@ fn parameter_texture_maps_one_parameter_and_refuses_what_it_cannot_map() {
         ],
         "Parameter",
     );
-    assert!(e.to_string().contains("Roughness, Metallic, Reflectance"), "{e}");
+    assert!(
+        e.to_string().contains("Roughness, Metallic, Reflectance"),
+        "{e}"
+    );
     // A material without the feature: set it first.
     let emissive = materials("AddEmission", &[]);
     let e = eval_err(

@@ -104,7 +104,11 @@ fn an_image_effect_reads_back_what_feature_manager_set() {
     assert_eq!(at(1, 0), [0.125, 3.0, 4.0, -0.5]);
     assert_eq!(at(0, 1), [1.0, 2.0, 3.0, 4.0]);
     assert_eq!(at(1, 1), [5.0, 6.0, 7.0, 0.75]);
-    assert_eq!(at(2, 0), [1.0, -1.0, 2.0, 2.0], "known, no texture, 2 vec4s, 2 materials");
+    assert_eq!(
+        at(2, 0),
+        [1.0, -1.0, 2.0, 2.0],
+        "known, no texture, 2 vec4s, 2 materials"
+    );
     assert_eq!(at(2, 1), [1.0, 0.0, 2.0, 2.0], "texture layer 0");
     // CookTorrance through the same library; feature 40 does not exist.
     assert_eq!(at(3, 0), [0.25, 0.0, 0.0, 0.0]);
@@ -115,7 +119,10 @@ fn an_image_effect_reads_back_what_feature_manager_set() {
     assert_eq!(at(5, 0), [1.0; 4]);
     let texel = at(5, 1);
     assert!(texel[3] > 0.99 && texel[..3].iter().all(|c| (0.0..=1.0).contains(c)));
-    assert!(texel[..3].iter().any(|c| *c < 0.99), "tiles.png is not white there: {texel:?}");
+    assert!(
+        texel[..3].iter().any(|c| *c < 0.99),
+        "tiles.png is not white there: {texel:?}"
+    );
     // Material ids past the world's read material 0, as every pass does.
     for x in 0..5 {
         assert_eq!(at(x, 7), at(x, 0), "row 7 = material 0 at x {x}");
@@ -126,7 +133,9 @@ fn an_image_effect_reads_back_what_feature_manager_set() {
 fn an_image_effect_without_a_world_says_which_pin() {
     let (_dir, registry) = registry_with_probe();
     let mut patch = world_patch();
-    patch.links.retain(|l| l.to.0.0 != 5 || l.to.1 != "Material World");
+    patch
+        .links
+        .retain(|l| l.to.0.0 != 5 || l.to.1 != "Material World");
     let mut rig = Rig::new(registry, &patch);
     rig.step();
     let errors = rig.errors();
@@ -170,7 +179,13 @@ fn the_custom_feature_example_lights_rims_only_where_the_feature_is_set() {
     assert!(rig.errors().is_empty(), "{:?}", rig.errors());
     let with = rig.image("custom-feature");
     // A Feature ID no material has: no rim anywhere, the rest as it was.
-    set(&mut rig, &mut patch, RIM, "Feature ID", Spread::Int(vec![20]));
+    set(
+        &mut rig,
+        &mut patch,
+        RIM,
+        "Feature ID",
+        Spread::Int(vec![20]),
+    );
     rig.step();
     assert!(rig.errors().is_empty(), "{:?}", rig.errors());
     let without = rig.image("custom-feature");
@@ -196,7 +211,16 @@ fn the_custom_feature_example_lights_rims_only_where_the_feature_is_set() {
     let (left, left_low) = gained(0, centre - 9);
     let (middle, _) = gained(centre - 7, centre + 8);
     let (right, right_low) = gained(centre + 10, w);
-    assert!(left > 0.5 && right > 0.5, "rims on the outer balls: {left} {right}");
-    assert!(left_low > -1e-3 && right_low > -1e-3, "a rim only adds light");
-    assert_eq!(middle, 0.0, "the middle ball (material 0, no feature 16) is unchanged");
+    assert!(
+        left > 0.5 && right > 0.5,
+        "rims on the outer balls: {left} {right}"
+    );
+    assert!(
+        left_low > -1e-3 && right_low > -1e-3,
+        "a rim only adds light"
+    );
+    assert_eq!(
+        middle, 0.0,
+        "the middle ball (material 0, no feature 16) is unchanged"
+    );
 }

@@ -336,7 +336,11 @@ impl GBuffer {
             runs(&layers, &layer_ranges, |l| {
                 l.resolves_with_others().then(|| {
                     let f = &l.features;
-                    (l.surface_defines(), f.adds_geometry_ids(), f.triplanar_sharpness)
+                    (
+                        l.surface_defines(),
+                        f.adds_geometry_ids(),
+                        f.triplanar_sharpness,
+                    )
                 })
             }),
         );
@@ -351,7 +355,11 @@ impl GBuffer {
             runs(&layers, &layer_ranges, |l| {
                 l.resolves_with_others().then(|| {
                     let f = &l.features;
-                    (l.fused_defines(), f.adds_geometry_ids(), f.triplanar_sharpness)
+                    (
+                        l.fused_defines(),
+                        f.adds_geometry_ids(),
+                        f.triplanar_sharpness,
+                    )
                 })
             }),
         );

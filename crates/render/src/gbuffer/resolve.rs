@@ -218,14 +218,15 @@ pub(super) fn resolve(
                 // spreadlight::materials: the layer's world in group 3, its
                 // texture array read after the material's own inputs.
                 if s.reads_materials {
-                    let world = layer
-                        .and_then(|l| l.library_world())
-                        .ok_or_else(|| RenderError::Pass {
-                            pass: label.clone(),
-                            message: "it reads the material world (spreadlight::materials), \
+                    let world =
+                        layer
+                            .and_then(|l| l.library_world())
+                            .ok_or_else(|| RenderError::Pass {
+                                pass: label.clone(),
+                                message: "it reads the material world (spreadlight::materials), \
                                       but its DeferredBase has no Material World connected"
-                                .to_owned(),
-                        })?;
+                                    .to_owned(),
+                            })?;
                     let array = layer
                         .and_then(|l| l.library_textures())
                         .and_then(|_| textures.get(s.textures.len()).copied());

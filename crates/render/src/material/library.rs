@@ -109,9 +109,15 @@ mod tests {
         assert!(imports_library(
             "#import spreadlight::materials::{KnowFeature, GetFloat}\n"
         ));
-        assert!(imports_library("  #import spreadlight::materials::GetTexID"));
-        assert!(!imports_library("#import spreadlight::material::feature_param"));
-        assert!(!imports_library("// spreadlight::materials is not imported"));
+        assert!(imports_library(
+            "  #import spreadlight::materials::GetTexID"
+        ));
+        assert!(!imports_library(
+            "#import spreadlight::material::feature_param"
+        ));
+        assert!(!imports_library(
+            "// spreadlight::materials is not imported"
+        ));
     }
 
     #[test]

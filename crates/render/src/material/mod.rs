@@ -183,7 +183,8 @@ impl Material {
         if !self.features.contains_key(&feature.id()) {
             return maps;
         }
-        let entry = |layer: u32, channel: usize| (layer.min(0xFF_FFFE) + 1) | ((channel as u32) << 24);
+        let entry =
+            |layer: u32, channel: usize| (layer.min(0xFF_FFFE) + 1) | ((channel as u32) << 24);
         // MatCap's Texture ID is its image, not a scale.
         if let Some(layer) = self.texture(feature).filter(|_| feature != Feature::MatCap) {
             for (k, m) in maps.iter_mut().enumerate() {

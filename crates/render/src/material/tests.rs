@@ -200,7 +200,9 @@ fn every_parameter_of_a_built_in_feature_can_have_its_own_layer() {
     assert!(!m.has_textures());
     assert_eq!(m.component_maps(Feature::Emission), [0; 4]);
     // MatCap's Texture ID is its image, never a scale.
-    let mut matcap = Material::new().with(Feature::MatCap, &[[1.0, 0.0, 0.0, 0.0]]).expect("valid");
+    let mut matcap = Material::new()
+        .with(Feature::MatCap, &[[1.0, 0.0, 0.0, 0.0]])
+        .expect("valid");
     matcap.set_texture(Feature::MatCap, Some(0));
     assert_eq!(matcap.component_maps(Feature::MatCap), [0; 4]);
 }
