@@ -254,7 +254,7 @@ impl Material {
 
     /// Every feature entry as packed, in ascending id: (id, parameters,
     /// texture layer + 1, per-component maps).
-    fn entries(&self, layout: Option<&MapLayout>) -> Vec<(u32, Vec<[f32; 4]>, u32, [u32; 4])> {
+    fn entries(&self, layout: Option<&MapLayout>) -> Vec<Entry> {
         let mut entries: Vec<_> = self
             .features()
             .map(|(f, p)| {
@@ -279,6 +279,9 @@ impl Material {
         self.features.values().map(|(f, p)| (*f, p.as_slice()))
     }
 }
+
+/// One packed feature: its id, parameter vec4s, Texture ID + 1 and per-component maps.
+type Entry = (u32, Vec<[f32; 4]>, u32, [u32; 4]);
 
 /// Matches `MaterialMeta` in shaders/lib/material.wgsl.
 #[repr(C)]
