@@ -334,6 +334,20 @@ static CASES: &[Case] = &[
             },
         ],
     },
+    // A custom material feature (id 16, set by the AddRimLight module) shaded
+    // by `RimLight (Shader)` through the material world library: rims on the
+    // outer balls, none on the middle one (docs/materials.md).
+    Case {
+        patch: "patches/custom-feature.ron",
+        size: SCENE,
+        edit: unchanged,
+        shots: &[Shot {
+            name: "custom-feature",
+            output: "custom-feature",
+            frame: 0,
+            tolerance: LIT,
+        }],
+    },
     // Particles in a curl-noise field: lit by the sun, casting its shadow,
     // motion-blurred through Velocity From Geometry; frame 30 of a fixed
     // seed, so the same particles every run.
@@ -580,6 +594,11 @@ fn shader_node_examples() {
 #[test]
 fn shader_material_example() {
     check("patches/shader-material.ron");
+}
+
+#[test]
+fn custom_feature_example() {
+    check("patches/custom-feature.ron");
 }
 
 #[test]

@@ -53,6 +53,12 @@ struct Layer {
     write_background: u32,
     // 1: add the triangle's geometry id (its first vertex's previous_position.w) to the object id.
     geometry_ids: u32,
+    // TRIPLANAR: the exponent of the normal's components that weights the
+    // three projections (4, or what a Triplanar (Layer) node set).
+    triplanar_sharpness: f32,
+    pad0: u32,
+    pad1: u32,
+    pad2: u32,
 }
 
 @group(0) @binding(0) var<uniform> camera: Camera;
@@ -148,6 +154,18 @@ fn visible(pixel: vec2<u32>) -> vec3<u32> {
 #endif
 }
 
+#ifdef TRIPLANAR
+// How much each of the three planar projections (along x: the zy plane,
+// along y: xz, along z: xy) counts where the surface's unit normal is `n`:
+// |n|^sharpness, summing to 1. Continuous in n, so no seam where the axis
+// the surface faces most changes; the larger the sharpness, the narrower
+// the blend between projections.
+fn triplanar_weights(n: vec3<f32>, sharpness: f32) -> vec3<f32> {
+    let w = pow(abs(n) + vec3<f32>(1e-5), vec3<f32>(max(sharpness, 1.0)));
+    return w / (w.x + w.y + w.z);
+}
+#endif
+
 fn interpolate3(b: vec3<f32>, a0: vec3<f32>, a1: vec3<f32>, a2: vec3<f32>) -> vec3<f32> {
     return a0 * b.x + a1 * b.y + a2 * b.z;
 }
@@ -228,8 +246,10 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     );
 #else
 #ifdef TRIPLANAR
-    // Planar projection on the axis the surface faces most: texture
-    // coordinates for geometry that has none.
+    // Planar projection on the axis the surface faces most: the texture
+    // coordinates the G-buffer stores (and a material reads) for geometry
+    // that has none. The layer's own Color and Normal Textures blend all
+    // three projections instead (triplanar_weights), without seams.
     let world = (instance.model * vec4<f32>(interpolate3(b, v0.position_u.xyz, v1.position_u.xyz, v2.position_u.xyz), 1.0)).xyz;
     let face_normal = abs(interpolate3(b, v0.normal_v.xyz, v1.normal_v.xyz, v2.normal_v.xyz));
     var uv = fract(world.xy);
@@ -318,7 +338,24 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
 #endif
 #endif
 #endif
+#ifdef TRIPLANAR
+    // The blend's weights, from the surface's normal before any normal map.
+    let tri = triplanar_weights(normal_world, layer.triplanar_sharpness);
+#endif
 #ifdef NORMAL_MAP
+#ifdef TRIPLANAR
+    // Three tangent-space samples, each reoriented onto the surface by the
+    // whiteout blend of its projection's axis (Ben Golus, "Normal Mapping for
+    // a Triplanar Shader"), then weighted like the colour.
+    let tri_n = normal_world;
+    let tx = textureSampleLevel(normal_map, normal_sampler, fract(world.zy), 0.0).xyz * 2.0 - 1.0;
+    let ty = textureSampleLevel(normal_map, normal_sampler, fract(world.xz), 0.0).xyz * 2.0 - 1.0;
+    let tz = textureSampleLevel(normal_map, normal_sampler, fract(world.xy), 0.0).xyz * 2.0 - 1.0;
+    let bx = vec3<f32>(tx.xy + tri_n.zy, abs(tx.z) * tri_n.x);
+    let by = vec3<f32>(ty.xy + tri_n.xz, abs(ty.z) * tri_n.y);
+    let bz = vec3<f32>(tz.xy + tri_n.xy, abs(tz.z) * tri_n.z);
+    normal_world = safe_normalize(bx.zyx * tri.x + by.xzy * tri.y + bz * tri.z, normal_world);
+#else
     let tangent4 = v0.tangent * b.x + v1.tangent * b.y + v2.tangent * b.z;
     let tangent_world = safe_normalize((instance.model * vec4<f32>(tangent4.xyz, 0.0)).xyz, vec3<f32>(1.0, 0.0, 0.0));
     let sign = select(-1.0, 1.0, tangent4.w >= 0.0);
@@ -329,9 +366,17 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         normal_world,
     );
 #endif
+#endif
     var albedo = instance.color.rgb;
 #ifdef COLOR_MAP
+#ifdef TRIPLANAR
+    let color_x = textureSampleLevel(color_map, color_sampler, fract(world.zy), 0.0).rgb;
+    let color_y = textureSampleLevel(color_map, color_sampler, fract(world.xz), 0.0).rgb;
+    let color_z = textureSampleLevel(color_map, color_sampler, fract(world.xy), 0.0).rgb;
+    albedo *= max(color_x * tri.x + color_y * tri.y + color_z * tri.z, vec3<f32>(0.0));
+#else
     albedo *= max(textureSampleLevel(color_map, color_sampler, uv, 0.0).rgb, vec3<f32>(0.0));
+#endif
 #endif
 #ifdef MATERIAL_MAPS
     albedo *= max(sample_map(material, MAP_BASE_COLOR, coords, vec4<f32>(1.0)).rgb, vec3<f32>(0.0));

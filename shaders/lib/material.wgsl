@@ -35,8 +35,13 @@ struct FeatureOffset {
     offset: u32,
     // Number of vec4 parameters.
     count: u32,
-    // The texture layer + 1 that scales the first parameter; 0: none.
+    // The feature's Texture ID: its layer + 1; 0: none.
     texture: u32,
+    // Per component of the first parameter: the layer + 1 (low 24 bits; 0:
+    // nothing) and the channel of it (bits 24..26) that scales it
+    // (Material::component_maps: the Texture ID gives component k channel k,
+    // a parameter's own texture its red channel, or rgb for a colour).
+    maps: vec4<u32>,
 }
 
 @group(1) @binding(0) var<storage, read> material_meta: array<MaterialMeta>;
@@ -91,14 +96,26 @@ fn feature_texture(id: u32, feature: u32) -> u32 {
     return feature_offsets[m.address + countOneBits(below)].texture;
 }
 
+// What scales each component of the feature's first parameter (zero: nothing).
+fn feature_maps(id: u32, feature: u32) -> vec4<u32> {
+    let m = material_meta[material_index(id)];
+    if (feature >= MAX_FEATURES || (m.flags & (1u << feature)) == 0u) {
+        return vec4<u32>(0u);
+    }
+    let below = m.flags & ((1u << feature) - 1u);
+    return feature_offsets[m.address + countOneBits(below)].maps;
+}
+
 // `feature_param` at a pixel. Where the G-buffer resolved the pixel's
 // surface (SURFACE_TARGET, written: glTF surface maps or a shader node
 // material), CookTorrance's roughness and metallic and Emission's colour
 // are what it wrote, whatever features the material has (CookTorrance keeps
 // the material's reflectance, zw; Emission's strength is 1: the resolve
-// applied it). Otherwise, with MATERIAL_TEXTURES, the first parameter of a
-// feature with a texture is scaled by it at the pixel's G-buffer UV.
-// Layers past the array's end wrap; a texture never makes a value negative.
+// applied it). Otherwise, with MATERIAL_TEXTURES, each component of the
+// first parameter that has a map (the feature's Texture ID, or its
+// parameter's own layer) is scaled by that layer's channel at the pixel's
+// G-buffer UV. Layers past the array's end wrap; a texture never makes a
+// value negative.
 fn feature_param_at(id: u32, feature: u32, index: u32, fallback: vec4<f32>, pixel: vec2<u32>) -> vec4<f32> {
     let value = feature_param(id, feature, index, fallback);
 #ifdef SURFACE_TARGET
@@ -113,12 +130,28 @@ fn feature_param_at(id: u32, feature: u32, index: u32, fallback: vec4<f32>, pixe
     }
 #endif
 #ifdef MATERIAL_TEXTURES
-    let texture = feature_texture(id, feature);
-    if (index == 0u && texture > 0u) {
+    let maps = feature_maps(id, feature);
+    if (index == 0u && any(maps != vec4<u32>(0u))) {
         let uv = textureLoad(material_uv, pixel, 0).zw;
-        let layer = (texture - 1u) % max(textureNumLayers(material_textures), 1u);
-        let scale = textureSampleLevel(material_textures, material_sampler, uv, layer, 0.0);
-        return value * max(scale, vec4<f32>(0.0));
+        let layers = max(textureNumLayers(material_textures), 1u);
+        var scaled = value;
+        // One sample per component that has a map; a layer the component
+        // before read is not sampled again (a Texture ID maps all four).
+        var last = 0u;
+        var texel = vec4<f32>(1.0);
+        for (var k = 0u; k < 4u; k++) {
+            let m = maps[k];
+            let layer = m & 0xffffffu;
+            if (layer == 0u) {
+                continue;
+            }
+            if (layer != last) {
+                texel = textureSampleLevel(material_textures, material_sampler, uv, (layer - 1u) % layers, 0.0);
+                last = layer;
+            }
+            scaled[k] = value[k] * max(texel[min(m >> 24u, 3u)], 0.0);
+        }
+        return scaled;
     }
 #endif
     return value;

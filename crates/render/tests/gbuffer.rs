@@ -871,3 +871,114 @@ fn one_resolve_dispatch_for_both_writes_what_each_writes_alone() {
         }
     }
 }
+
+/// Triplanar colour blends its three projections by the normal's weights:
+/// on a sphere seen from a diagonal, where the axis the surface faces most
+/// changes, neighbouring pixels' albedo does not jump at the default
+/// sharpness, while a near-hard switch between projections (sharpness 32,
+/// what one projection per pixel was) jumps there.
+#[test]
+fn triplanar_colour_blends_three_projections_without_a_seam() {
+    use spreadlight_render::gbuffer::TRIPLANAR_SHARPNESS;
+    use spreadlight_render::static_texture::StaticTexture;
+    use spreadlight_render::texture::GpuTexture;
+    let renderer = test_renderer();
+    // A pattern that tiles: red a sine of u, green a sine of v, one period each.
+    let n = 32u32;
+    let wave = |t: u32| 0.5 + 0.5 * (std::f32::consts::TAU * (t as f32 + 0.5) / n as f32).sin();
+    let texels: Vec<u8> = (0..n * n)
+        .flat_map(|i| {
+            let (r, g) = (wave(i % n), wave(i / n));
+            [
+                (r * 255.0).round() as u8,
+                (g * 255.0).round() as u8,
+                128,
+                255,
+            ]
+        })
+        .collect();
+    let map = StaticTexture::new(GpuTexture::from_rgba8(
+        &renderer.gpu,
+        n,
+        n,
+        &texels,
+        false,
+        "pattern",
+    ));
+    let camera = camera_at(Vec3::new(1.6, 1.9, 2.2));
+    let albedo = |sharpness: u32, textured: bool| {
+        let features = LayerFeatures {
+            triplanar: true,
+            triplanar_sharpness: sharpness,
+            ..Default::default()
+        };
+        let plain = sphere_layer(
+            &renderer,
+            vec![instance(Mat4::IDENTITY, Mat4::IDENTITY)],
+            features,
+        );
+        let map = textured.then(|| map.texture_ref());
+        let layer = Arc::new(
+            Layer::clone(&plain)
+                .with_color_map(map)
+                .expect("triplanar UVs"),
+        );
+        let g = GBuffer::new(
+            &renderer,
+            None,
+            vec![layer],
+            camera,
+            None,
+            SizeRule::Relative(1.0),
+        );
+        let (_, images) = render(&renderer, &g, &[&g.targets.color]);
+        images.into_iter().next().expect("color")
+    };
+    let coverage = albedo(TRIPLANAR_SHARPNESS, false);
+    let (w, h) = (coverage.width as i32, coverage.height as i32);
+    // Pixels whose 5x5 neighbourhood is all sphere: no silhouette in the comparison.
+    let covered = |x: i32, y: i32| {
+        (-2..=2).all(|dy| {
+            (-2..=2).all(|dx| {
+                let (px, py) = (x + dx, y + dy);
+                px >= 0
+                    && py >= 0
+                    && px < w
+                    && py < h
+                    && coverage.pixel(px as u32, py as u32)[0] > 0.0
+            })
+        })
+    };
+    let largest_jump = |image: &ImageF32| {
+        let mut largest = 0.0f32;
+        for y in 0..h - 1 {
+            for x in 0..w - 1 {
+                if !covered(x, y) {
+                    continue;
+                }
+                let p = image.pixel(x as u32, y as u32);
+                for (nx, ny) in [(x + 1, y), (x, y + 1)] {
+                    let q = image.pixel(nx as u32, ny as u32);
+                    for c in 0..3 {
+                        largest = largest.max((p[c] - q[c]).abs());
+                    }
+                }
+            }
+        }
+        largest
+    };
+    let interior = (0..h).flat_map(|y| (0..w).map(move |x| (x, y)));
+    assert!(interior.filter(|&(x, y)| covered(x, y)).count() > 300);
+    let blended = albedo(TRIPLANAR_SHARPNESS, true);
+    let hard = albedo(32, true);
+    assert!(blended.all_finite() && hard.all_finite());
+    let (smooth, seams) = (largest_jump(&blended), largest_jump(&hard));
+    assert!(
+        seams > 0.3,
+        "a near-hard switch jumps at the seams: {seams}"
+    );
+    assert!(
+        smooth < 0.5 * seams && smooth < 0.2,
+        "blended: largest step {smooth} between neighbours (hard switch: {seams})"
+    );
+}

@@ -781,6 +781,121 @@ fn material_textures_scale_parameters_at_the_gbuffer_uv_and_compile_only_when_re
 }
 
 #[test]
+fn a_parameter_with_its_own_layer_changes_with_the_texture_and_the_others_do_not() {
+    use spreadlight_render::lighting::{CompositeInputs, CompositeLight};
+    use spreadlight_render::material::{Feature, Material, MaterialWorld};
+    use spreadlight_render::static_texture::StaticTexture;
+    use spreadlight_render::texture::GpuTexture;
+    let renderer = test_renderer();
+    let g = scene_with(
+        &renderer,
+        LayerFeatures {
+            texcoords: true,
+            ..Default::default()
+        },
+    );
+    // Layer 0: red 1 on the left half of UV space, red 0 on the right, green
+    // and blue 1 everywhere: only a red-channel read sees the halves.
+    let (w, h) = (8u32, 8u32);
+    let halves: Vec<u8> = (0..w * h)
+        .flat_map(|i| {
+            if i % w < w / 2 {
+                [255u8; 4]
+            } else {
+                [0, 255, 255, 255]
+            }
+        })
+        .collect();
+    let array = GpuTexture::array_from_rgba8(&renderer.gpu, w, h, &[halves], false, "maps");
+    let textures = StaticTexture::new(array).texture_ref();
+    // Emission's parameters: Color (0) and Strength (1).
+    let emissive = |param: Option<usize>| {
+        let mut m = Material::default_material()
+            .with(Feature::Emission, &[[1.0, 0.5, 0.25, 2.0]])
+            .expect("valid");
+        if let Some(p) = param {
+            m.set_param_texture(Feature::Emission, p, Some(0));
+        }
+        MaterialWorld::with_textures(&renderer, vec![m], Some(textures.clone()))
+    };
+    let composite = |world: Arc<MaterialWorld>| {
+        let lights = LightBuffer::points(&renderer, &[]);
+        let ct = CookTorrance::new(
+            &renderer,
+            None,
+            g.clone(),
+            lights,
+            LightLoop::Naive,
+            false,
+            Surfaces::Materials(world.clone()),
+        );
+        let c = CompositeLight::new(
+            &renderer,
+            None,
+            g.clone(),
+            CompositeInputs {
+                components: vec![ct.components()],
+                ambient: [0.0; 3],
+                materials: Some(world),
+                occlusion: None,
+                gi: None,
+                reflection: None,
+            },
+        )
+        .expect("valid");
+        let [image] = frame(&renderer, c.as_ref(), SIZE, [&c.output]);
+        image
+    };
+    let flat = composite(emissive(None));
+    let glowing = |image: &ImageF32| image.pixels.iter().filter(|p| p[0] > 1e-3).count();
+    let all = glowing(&flat);
+    assert!(all > 0);
+    // Strength, the second parameter, by the red channel: the right half goes dark,
+    // the left half glows exactly as before (red 1 scales by 1).
+    let strength = composite(emissive(Some(1)));
+    let part = glowing(&strength);
+    assert!(part > 0 && part < all, "{part} of {all} pixels glow");
+    // Every pixel is its old colour times one factor in 0..=1 (bilinear
+    // between the halves at their border): only the strength moved.
+    let mut unchanged = 0;
+    for (s, f) in strength.pixels.iter().zip(&flat.pixels) {
+        let t = if f[0] > 0.0 { s[0] / f[0] } else { 0.0 };
+        assert!((0.0..=1.0 + 1e-3).contains(&t), "{s:?} vs {f:?}");
+        for c in 0..3 {
+            assert!((s[c] - f[c] * t).abs() < 1e-2, "{s:?} vs {f:?}");
+        }
+        unchanged += usize::from(f[0] > 0.0 && s[..3] == f[..3]);
+    }
+    assert!(
+        unchanged > 0 && unchanged < all,
+        "{unchanged} of {all} keep their glow"
+    );
+    assert!(strength.all_finite() && strength.pixels.iter().all(|p| p[0] >= 0.0));
+    // The colour by the layer's rgb: red goes where red is 0, green and blue stay.
+    let color = composite(emissive(Some(0)));
+    assert!(color.all_finite());
+    let (red_gone, green_kept) =
+        color
+            .pixels
+            .iter()
+            .zip(&flat.pixels)
+            .fold((0, 0), |(r, g), (c, f)| {
+                (
+                    r + usize::from(f[0] > 1e-3 && c[0] < 1e-4),
+                    g + usize::from(f[1] > 1e-3 && (c[1] - f[1]).abs() < 1e-4),
+                )
+            });
+    assert!(
+        red_gone > 0 && red_gone < all,
+        "{red_gone} of {all} lose their red"
+    );
+    assert!(
+        green_kept >= all,
+        "green kept on every glowing pixel: {green_kept} of {all}"
+    );
+}
+
+#[test]
 fn fake_sss_adds_light_past_the_terminator_only_for_materials_that_have_it() {
     use spreadlight_render::material::{Feature, Material, MaterialWorld};
     let renderer = test_renderer();

@@ -47,6 +47,9 @@ pub fn register(r: &mut Registry) {
              receives; each is a shader feature compiled only when used. Color Texture scales Color (albedo) at the \
              surface's UV (needs Texture Coordinates or Triplanar). Color's alpha is opacity for Transparency only: \
              the G-buffer keeps the material id there. Normal Mapping reads the mesh's UVs unless Triplanar is on. \
+             Triplanar projects world position on three planes and blends the Color and Normal Textures' three samples by \
+             the normal's components (Triplanar (Layer) sets how sharply), so there is no seam; the G-buffer's UV (what \
+             material textures read) is the plane the surface faces most. \
              Material World: the MaterialBuffer the Material IDs index, needed where materials have surface maps (glTF \
              textures, alpha modes, double-sided): the G-buffer samples them per pixel, trilinear and anisotropic. \
              Velocity Geometry reads the meshes' previous positions (GPU geometry and particles make them); Instance \
@@ -113,6 +116,8 @@ impl Node for DeferredBase {
             velocity,
             ids: flag(IDS)?,
             geometry_ids: flag(GEOMETRY_IDS)?,
+            // `Triplanar (Layer)` changes it on the way to MRE.
+            ..LayerFeatures::default()
         };
         let first_texture = |pin: usize| -> Result<Option<TextureRef>, NodeError> {
             Ok(match cx.input(pin) {

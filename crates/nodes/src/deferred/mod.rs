@@ -6,6 +6,7 @@ pub mod deferred_base;
 pub mod gbuffer_view;
 pub mod group;
 pub mod mre;
+pub mod triplanar;
 
 use spreadlight_graph::Registry;
 
@@ -16,4 +17,5 @@ pub fn register(r: &mut Registry) {
     group::register(r);
     mre::register(r);
     gbuffer_view::register(r);
+    triplanar::register(r);
 }

@@ -39,6 +39,24 @@ pub fn register(r: &mut Registry) {
                     format!("takes one texture array, got {} textures: join them with FileTexture (Array)", textures.len()),
                 ));
             }
+            // A Texture ID with no array to index would be read as "no
+            // texture" without a word: say which material and feature asks.
+            if textures.is_empty()
+                && let Some((id, feature, layer)) = materials.iter().enumerate().find_map(|(id, m)| {
+                    m.features().find_map(|(f, _)| {
+                        let param = (0..f.parameters().len()).find_map(|p| m.param_texture(f, p));
+                        m.texture(f).or(param).map(|layer| (id, f, layer))
+                    })
+                })
+            {
+                return Err(cx.input_error(
+                    1,
+                    format!(
+                        "material {id}: feature {feature} reads texture layer {layer}, but no texture array is \
+                         connected: wire a FileTexture (Array) here, or set its Texture ID to -1"
+                    ),
+                ));
+            }
             let textures = textures.first().map(|t| TextureRef::clone(t));
             let world = MaterialWorld::with_textures(&renderer, materials, textures);
             cx.set_output(0, resource_spread(ResourceKind::MaterialWorld, vec![world]));

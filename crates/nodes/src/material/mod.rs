@@ -2,7 +2,8 @@
 //! `FeatureManager` sets one feature, by id, on a material; `AddCookTorrance`,
 //! `AddEmission`, `AddFakeSSS`, `AddReflection`, `AddMatCap` and
 //! `AddAmbientOcclusion` (in `add_feature.rs`) wrap it per built-in feature;
-//! `MaterialManager` places materials at material IDs; `MaterialByName`
+//! `ParameterTexture` maps one parameter of a built-in feature by a texture
+//! layer; `MaterialManager` places materials at material IDs; `MaterialByName`
 //! picks a named one (a glTF file's) to change; `MaterialBuffer`
 //! uploads a spread of materials (slice i = material id i) as a `MaterialWorld`.
 //!
@@ -16,6 +17,7 @@ pub mod feature_manager;
 pub mod material_buffer;
 pub mod material_by_name;
 pub mod material_manager;
+pub mod parameter_texture;
 
 use std::sync::Arc;
 
@@ -30,6 +32,7 @@ pub fn register(r: &mut Registry) {
     feature_manager::register(r);
     add_feature::register(r);
     material_manager::register(r);
+    parameter_texture::register(r);
     material_by_name::register(r);
     material_buffer::register(r);
 }

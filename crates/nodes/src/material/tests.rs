@@ -420,3 +420,84 @@ fn feature_manager_refuses_a_texture_on_features_that_read_none() {
     );
     assert_eq!(matcap[0].texture(Feature::MatCap), Some(1));
 }
+
+#[test]
+fn parameter_texture_maps_one_parameter_and_refuses_what_it_cannot_map() {
+    let ct = materials("AddCookTorrance", &[("Roughness", floats(&[0.2, 0.4]))]);
+    let mapped = materials(
+        "ParameterTexture",
+        &[
+            ("Material", material_spread(&ct)),
+            ("Parameter", Spread::Enum(vec!["Metallic".into()])),
+            ("Texture ID", ints(&[2, -1])),
+        ],
+    );
+    assert_eq!(mapped.len(), 2);
+    assert_eq!(mapped[0].param_texture(Feature::CookTorrance, 1), Some(2));
+    assert_eq!(mapped[0].param_texture(Feature::CookTorrance, 0), None);
+    assert_eq!(mapped[1].param_texture(Feature::CookTorrance, 1), None);
+    assert_eq!(
+        mapped[0].texture(Feature::CookTorrance),
+        None,
+        "the feature's own Texture ID untouched"
+    );
+    // Reflection's strength is not mapped by shading: refused, naming the pin.
+    let e = eval_err(
+        "ParameterTexture",
+        &[
+            ("Material", material_spread(&ct)),
+            ("Feature ID", ints(&[3])),
+        ],
+        "Feature ID",
+    );
+    assert!(e.to_string().contains("CookTorrance"), "{e}");
+    // CookTorrance has no Color.
+    let e = eval_err(
+        "ParameterTexture",
+        &[
+            ("Material", material_spread(&ct)),
+            ("Parameter", Spread::Enum(vec!["Color".into()])),
+        ],
+        "Parameter",
+    );
+    assert!(
+        e.to_string().contains("Roughness, Metallic, Reflectance"),
+        "{e}"
+    );
+    // A material without the feature: set it first.
+    let emissive = materials("AddEmission", &[]);
+    let e = eval_err(
+        "ParameterTexture",
+        &[("Material", material_spread(&emissive))],
+        "Material",
+    );
+    assert!(e.to_string().contains("CookTorrance"), "{e}");
+}
+
+#[test]
+fn a_texture_id_without_a_texture_array_is_an_error_naming_material_and_feature() {
+    let mut patch = Patch::default();
+    patch.add(NodeDoc::new(1, "AddCookTorrance"));
+    patch.add(
+        NodeDoc::new(2, "AddEmission")
+            .with("Strength", vec![1.0f32, 2.0])
+            .with("Texture ID", vec![-1i64, 3]),
+    );
+    patch.add(NodeDoc::new(9, "MaterialBuffer"));
+    patch.add(NodeDoc::new(10, "Probe"));
+    patch.link(1, "Material", 2, "Material");
+    patch.link(2, "Material", 9, "Materials");
+    patch.link(9, "Material World", 10, "Input");
+    let mut runtime = Runtime::new(crate::registry());
+    runtime.provide(spreadlight_render::renderer::test_renderer());
+    assert!(runtime.load(&patch).is_empty());
+    runtime.evaluate(FrameClock::default());
+    let errors: Vec<String> = runtime.node_errors().map(|(_, e)| e.to_string()).collect();
+    assert!(
+        errors.iter().any(|e| e.contains("Textures")
+            && e.contains("material 1")
+            && e.contains("Emission")
+            && e.contains("layer 3")),
+        "{errors:?}"
+    );
+}

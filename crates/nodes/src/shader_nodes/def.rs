@@ -11,6 +11,9 @@ use spreadlight_render::shader_nodes::{ParamKind, ParamPin, ShaderNodeError};
 use super::node::{Broken, ShaderNode};
 use super::shader_type::ShaderType;
 
+/// The pin of an image effect that reads the material world.
+pub const MATERIAL_WORLD: &str = "Material World";
+
 impl ShaderType {
     /// The node type; `error` (a newer version of the file that failed) is
     /// shown on every node of it while this version keeps rendering.
@@ -32,6 +35,11 @@ impl ShaderType {
             .collect();
         if !ranges.is_empty() {
             help.push_str(&format!(" Ranges: {}.", ranges.join(", ")));
+        }
+        if self.materials_pin() {
+            help.push_str(
+                " Material World: the MaterialBuffer whose materials it reads (spreadlight::materials).",
+            );
         }
         if self.is_material() {
             help.push_str(
@@ -63,6 +71,13 @@ impl ShaderType {
                 "G-Buffer",
                 PinType::Resource(ResourceKind::GBuffer),
                 Spread::Resource(ResourceKind::GBuffer, vec![]),
+            );
+        }
+        if self.materials_pin() {
+            def = def.input_spread(
+                MATERIAL_WORLD,
+                PinType::Resource(ResourceKind::MaterialWorld),
+                Spread::Resource(ResourceKind::MaterialWorld, vec![]),
             );
         }
         for p in self.params() {

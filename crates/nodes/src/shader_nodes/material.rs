@@ -21,6 +21,17 @@ const LAYER: usize = 0;
 
 pub(super) fn evaluate(ty: &Arc<ShaderType>, cx: &mut EvalContext<'_>) -> Result<(), Failure> {
     let layers = resources::<Layer>(cx, LAYER)?;
+    // It reads the material world: every layer it shades must bring one.
+    let reads_materials = ty.reads_materials();
+    if reads_materials && layers.iter().any(|l| l.materials.is_none()) {
+        return Err(cx
+            .input_error(
+                LAYER,
+                "the file reads the material world (spreadlight::materials), but the layer's \
+                 DeferredBase has no Material World: wire a MaterialBuffer to it",
+            )
+            .into());
+    }
     let first_texture = ty.first_texture();
     let mut textures = Vec::with_capacity(ty.notes.inputs.len());
     for k in 0..ty.notes.inputs.len() {
@@ -95,7 +106,8 @@ pub(super) fn evaluate(ty: &Arc<ShaderType>, cx: &mut EvalContext<'_>) -> Result
                 .map(|t| (*t[slice % t.len()]).clone())
                 .collect(),
             if slice == 0 { compiled } else { 0 },
-        );
+        )
+        .reading_materials(reads_materials);
         let layer = (*layers[slice % layers.len()])
             .clone()
             .with_surface(Some(Arc::new(surface)));

@@ -41,6 +41,7 @@ pub const EXAMPLES: &[(&str, &str, &str)] = &[
     example!("feedback"),
     example!("eye_adaptation_chain"),
     example!("procedural_material"),
+    example!("rim_light"),
 ];
 
 /// Register the shipped examples. One that does not compile (a bug a test
@@ -87,3 +88,5 @@ fn examples() -> &'static [LoadedExample] {
 mod material_tests;
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod world_tests;

@@ -11,6 +11,7 @@ use std::sync::Arc;
 use spreadlight_graph::{EvalContext, Node, NodeError, ResourceKind};
 use spreadlight_render::TextureRef;
 use spreadlight_render::gbuffer::GBuffer;
+use spreadlight_render::material::MaterialWorld;
 use spreadlight_render::shader_nodes::{ShaderNodeError, ShaderNodeInputs, ShaderNodeRecipe};
 
 use super::params::{numbers, slice_defines, write_param};
@@ -103,12 +104,30 @@ fn run(ty: &Arc<ShaderType>, cx: &mut EvalContext<'_>) -> Result<(), Failure> {
     } else {
         Vec::new()
     };
+    let worlds = if ty.materials_pin() {
+        let pin = inputs + usize::from(ty.reads_gbuffer());
+        let w = resources::<MaterialWorld>(cx, pin)?;
+        if w.is_empty() {
+            return Err(cx
+                .input_error(
+                    pin,
+                    "no Material World connected (the file imports spreadlight::materials): wire a MaterialBuffer",
+                )
+                .into());
+        }
+        w
+    } else {
+        Vec::new()
+    };
     let first = ty.first_param();
     let params = ty.params();
     // vvvv's rule: as many slices as the longest input, none if one is empty.
     let mut lens: Vec<usize> = textures.iter().map(Vec::len).collect();
     if ty.reads_gbuffer() {
         lens.push(gbuffers.len());
+    }
+    if ty.materials_pin() {
+        lens.push(worlds.len());
     }
     lens.extend((first..cx.input_count()).map(|pin| cx.input(pin).len()));
     let count = if lens.contains(&0) {
@@ -156,6 +175,7 @@ fn run(ty: &Arc<ShaderType>, cx: &mut EvalContext<'_>) -> Result<(), Failure> {
                     .map(|t| Some((*t[slice % t.len()]).clone()))
                     .collect(),
                 gbuffer: (!gbuffers.is_empty()).then(|| gbuffers[slice % gbuffers.len()].clone()),
+                materials: (!worlds.is_empty()).then(|| worlds[slice % worlds.len()].clone()),
                 params: bytes,
                 skips,
                 time: cx.clock.time as f32,

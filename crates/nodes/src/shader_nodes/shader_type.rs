@@ -7,6 +7,7 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex, OnceLock};
 
 use spreadlight_render::frame_graph::Lifetime;
+use spreadlight_render::material::library::imports_library;
 use spreadlight_render::shader_nodes::{
     Annotations, Builtin, Kind, ParamKind, ParamPin, Program, ShaderNodeError,
 };
@@ -100,6 +101,7 @@ impl ShaderType {
         let mut pins = vec![format!("material {}", self.is_material())];
         pins.extend(self.notes.inputs.iter().map(|(_, pin, _)| pin.clone()));
         pins.push(format!("gbuffer {}", self.reads_gbuffer()));
+        pins.push(format!("materials {}", self.materials_pin()));
         pins.extend(
             self.params()
                 .iter()
@@ -177,9 +179,25 @@ impl ShaderType {
     }
 
     /// Input pins: a material's Layer, textures, then the G-buffer (if
-    /// read), then the fields, then the switches.
+    /// read), the Material World (if an effect reads it), then the fields,
+    /// then the switches.
     pub fn first_param(&self) -> usize {
-        self.first_texture() + self.notes.inputs.len() + usize::from(self.reads_gbuffer())
+        self.first_texture()
+            + self.notes.inputs.len()
+            + usize::from(self.reads_gbuffer())
+            + usize::from(self.materials_pin())
+    }
+
+    /// The file imports `spreadlight::materials` (in any permutation): it
+    /// reads the material world.
+    pub fn reads_materials(&self) -> bool {
+        imports_library(&self.source)
+    }
+
+    /// An image effect that reads the material world has a `Material World`
+    /// pin; a material reads its DeferredBase's.
+    pub fn materials_pin(&self) -> bool {
+        self.reads_materials() && !self.is_material()
     }
 
     /// The first texture input pin: after a material's Layer.

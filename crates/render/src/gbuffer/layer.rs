@@ -24,11 +24,11 @@ pub enum VelocitySource {
 }
 
 /// The DeferredBase switches (Emeshe's `#define`s), each a shader feature.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct LayerFeatures {
     /// Write the mesh's texture coordinates (the UV target).
     pub texcoords: bool,
-    /// Perturb normals with the layer's normal map (needs UVs and tangents, or triplanar).
+    /// Perturb normals with the layer's normal map (needs UVs and tangents, or triplanar, which needs neither).
     pub normal_map: bool,
     /// Texture coordinates projected from world position, for geometry without UVs.
     pub triplanar: bool,
@@ -39,6 +39,27 @@ pub struct LayerFeatures {
     /// first vertex's `previous_position.w`, written by GPU geometry and
     /// particles) to the object id, for per-virtual-instance parameters.
     pub geometry_ids: bool,
+    /// Triplanar: the exponent of the normal's components that weights the
+    /// three projections its Color and Normal Textures blend (1: wide
+    /// blends; larger: narrower ones). A uniform, not a permutation.
+    pub triplanar_sharpness: u32,
+}
+
+/// The default blend sharpness of triplanar mapping.
+pub const TRIPLANAR_SHARPNESS: u32 = 4;
+
+impl Default for LayerFeatures {
+    fn default() -> Self {
+        LayerFeatures {
+            texcoords: false,
+            normal_map: false,
+            triplanar: false,
+            velocity: VelocitySource::default(),
+            ids: false,
+            geometry_ids: false,
+            triplanar_sharpness: TRIPLANAR_SHARPNESS,
+        }
+    }
 }
 
 impl LayerFeatures {
@@ -164,7 +185,9 @@ impl Layer {
                     mesh,
                 });
             }
-            if features.normal_map && !batch.mesh.has_tangents {
+            // Triplanar normal mapping needs no tangents: each projection's
+            // axes are its frame (resolve.wgsl's whiteout blend).
+            if features.normal_map && !features.triplanar && !batch.mesh.has_tangents {
                 return Err(LayerError::NoTangents { mesh });
             }
             if features.velocity == VelocitySource::Geometry && !batch.mesh.has_previous_positions {
@@ -298,9 +321,25 @@ impl Layer {
         d
     }
 
-    /// The textures its shader node material reads.
+    /// The textures its shader node material reads: its texture inputs,
+    /// then the material world's texture array where it reads the world
+    /// ([`Layer::library_textures`]).
     pub(crate) fn surface_textures(&self) -> impl Iterator<Item = &TextureRef> {
-        self.surface.iter().flat_map(|s| &s.textures)
+        self.surface
+            .iter()
+            .flat_map(|s| &s.textures)
+            .chain(self.library_textures())
+    }
+
+    /// The world a shader node material reads through `spreadlight::materials`.
+    pub(crate) fn library_world(&self) -> Option<&Arc<MaterialWorld>> {
+        self.surface.as_ref().filter(|s| s.reads_materials)?;
+        self.materials.as_ref()
+    }
+
+    /// That world's texture array, when some material of it reads one.
+    pub(crate) fn library_textures(&self) -> Option<&TextureRef> {
+        self.library_world()?.textures()
     }
 
     /// Whether the surface pass reads the arena's extra stream: some mesh

@@ -25,7 +25,9 @@ use std::sync::Arc;
 
 use glam::Mat4;
 
-pub use layer::{DrawBatch, InstanceInput, Layer, LayerError, LayerFeatures, VelocitySource};
+pub use layer::{
+    DrawBatch, InstanceInput, Layer, LayerError, LayerFeatures, TRIPLANAR_SHARPNESS, VelocitySource,
+};
 pub use published_depth::{PublishedDepth, PublishedDepths};
 pub use resolve::SURFACE_AND_MOTION_DISPATCHES;
 pub use surface_shader::{SURFACE_MODULE, SurfaceBinding, SurfaceShader};
@@ -59,6 +61,8 @@ struct GpuLayer {
     write_background: u32,
     /// 1: add the vertices' geometry ids to the object id ("Instance from GeomFX").
     geometry_ids: u32,
+    triplanar_sharpness: f32,
+    pad: [u32; 3],
 }
 
 /// Runs of adjacent layers a resolve can serve in one dispatch: those whose
@@ -88,6 +92,8 @@ fn runs<K: PartialEq>(
                 end_instance: end,
                 write_background: u32::from(i == 0),
                 geometry_ids: u32::from(layer.features.adds_geometry_ids()),
+                triplanar_sharpness: layer.features.triplanar_sharpness as f32,
+                pad: [0; 3],
             },
         ));
     }
@@ -328,8 +334,14 @@ impl GBuffer {
         let surface_runs = kept(
             "mre surface run",
             runs(&layers, &layer_ranges, |l| {
-                l.resolves_with_others()
-                    .then(|| (l.surface_defines(), l.features.adds_geometry_ids()))
+                l.resolves_with_others().then(|| {
+                    let f = &l.features;
+                    (
+                        l.surface_defines(),
+                        f.adds_geometry_ids(),
+                        f.triplanar_sharpness,
+                    )
+                })
             }),
         );
         let motion_runs = kept(
@@ -341,8 +353,14 @@ impl GBuffer {
         let fused_runs = kept(
             "mre fused run",
             runs(&layers, &layer_ranges, |l| {
-                l.resolves_with_others()
-                    .then(|| (l.fused_defines(), l.features.adds_geometry_ids()))
+                l.resolves_with_others().then(|| {
+                    let f = &l.features;
+                    (
+                        l.fused_defines(),
+                        f.adds_geometry_ids(),
+                        f.triplanar_sharpness,
+                    )
+                })
             }),
         );
         let surface_buffers = layers
@@ -575,7 +593,14 @@ mod wgsl_layout {
             "gbuffer/resolve.wgsl",
             [],
             "Layer",
-            [first_instance, end_instance, write_background, geometry_ids]
+            [
+                first_instance,
+                end_instance,
+                write_background,
+                geometry_ids,
+                triplanar_sharpness,
+                pad
+            ]
         );
     }
 }

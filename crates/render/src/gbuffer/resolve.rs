@@ -215,6 +215,23 @@ pub(super) fn resolve(
                 {
                     b = b.group(1, group);
                 }
+                // spreadlight::materials: the layer's world in group 3, its
+                // texture array read after the material's own inputs.
+                if s.reads_materials {
+                    let world =
+                        layer
+                            .and_then(|l| l.library_world())
+                            .ok_or_else(|| RenderError::Pass {
+                                pass: label.clone(),
+                                message: "it reads the material world (spreadlight::materials), \
+                                      but its DeferredBase has no Material World connected"
+                                    .to_owned(),
+                            })?;
+                    let array = layer
+                        .and_then(|l| l.library_textures())
+                        .and_then(|_| textures.get(s.textures.len()).copied());
+                    b = b.extend(world.library_bindings(array));
+                }
                 let groups = cx.bind_groups_reflected(&label, &reflection, &pipeline, b)?;
                 (pipeline, groups)
             }
@@ -316,7 +333,8 @@ fn background_layer(device: &wgpu::Device) -> wgpu::Buffer {
     use wgpu::util::DeviceExt;
     device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
         label: Some("mre background layer"),
-        contents: bytemuck::cast_slice(&[0u32, 0, 1, 0]),
+        // No instances; writes the background. (Layer in resolve.wgsl: 8 words.)
+        contents: bytemuck::cast_slice(&[0u32, 0, 1, 0, 0, 0, 0, 0]),
         usage: wgpu::BufferUsages::UNIFORM,
     })
 }

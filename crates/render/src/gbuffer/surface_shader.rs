@@ -40,6 +40,9 @@ pub struct SurfaceShader {
     pub textures: Vec<TextureRef>,
     /// Permutations compiled to make it (counted once in the frame report).
     pub compiled: u64,
+    /// It imports `spreadlight::materials`: the resolve binds the layer's
+    /// material world in group 3 ([`SurfaceShader::reading_materials`]).
+    pub reads_materials: bool,
     counted: AtomicBool,
 }
 
@@ -64,8 +67,15 @@ impl SurfaceShader {
             params,
             textures,
             compiled,
+            reads_materials: false,
             counted: AtomicBool::new(false),
         }
+    }
+
+    /// The material, reading its layer's material world (`spreadlight::materials`).
+    pub fn reading_materials(mut self, reads: bool) -> Self {
+        self.reads_materials = reads;
+        self
     }
 
     /// The permutations compiled for it, the first time a frame asks.

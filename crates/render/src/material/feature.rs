@@ -201,6 +201,27 @@ impl Feature {
         !matches!(self, Feature::Reflection | Feature::AmbientOcclusion)
     }
 
+    /// The named parameters of a built-in feature's vec4, each with the
+    /// components it spans (a colour three, a number one): what a
+    /// per-parameter texture layer scales ([`super::Material::set_param_texture`]).
+    /// Empty for custom features, whose shaders read their own textures.
+    pub fn parameters(self) -> &'static [(&'static str, std::ops::Range<usize>)] {
+        type Params = &'static [(&'static str, std::ops::Range<usize>)];
+        const CT_PARAMS: Params = &[
+            ("Roughness", 0..1),
+            ("Metallic", 1..2),
+            ("Reflectance", 2..3),
+        ];
+        const COLOR_PARAMS: Params = &[("Color", 0..3), ("Strength", 3..4)];
+        const STRENGTH_PARAMS: Params = &[("Strength", 0..1)];
+        match self {
+            Feature::CookTorrance => CT_PARAMS,
+            Feature::Emission | Feature::FakeSss => COLOR_PARAMS,
+            Feature::Reflection | Feature::AmbientOcclusion | Feature::MatCap => STRENGTH_PARAMS,
+            Feature::Custom(_) => &[],
+        }
+    }
+
     /// How many vec4 parameters the feature takes; `None`: any number (custom).
     pub fn param_count(self) -> Option<usize> {
         self.layout().map(|_| 1)

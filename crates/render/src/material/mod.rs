@@ -26,6 +26,7 @@
 //! shading pass sees mapped values without knowing glTF.
 
 mod feature;
+pub mod library;
 pub mod map_textures;
 pub mod maps;
 
@@ -104,8 +105,12 @@ pub struct Material {
     /// By feature id, so packing walks them in ascending order.
     features: BTreeMap<u32, (Feature, Vec<[f32; 4]>)>,
     /// Per feature id: the layer of the world's texture array that scales
-    /// its first parameter at each pixel's G-buffer UV.
+    /// its first parameter vec4, channel by channel, at each pixel's G-buffer UV.
     textures: BTreeMap<u32, u32>,
+    /// Per (feature id, parameter index in [`Feature::parameters`]): the
+    /// layer that scales that parameter alone (a number by the layer's red
+    /// channel, a colour by its rgb), in place of `textures`' channel.
+    param_textures: BTreeMap<(u32, usize), u32>,
     /// A glTF material's maps (the SurfaceMaps feature), shared, not copied.
     maps: Option<Arc<SurfaceMaps>>,
 }
@@ -144,6 +149,57 @@ impl Material {
     pub fn remove(&mut self, feature: Feature) {
         self.features.remove(&feature.id());
         self.textures.remove(&feature.id());
+        self.param_textures.retain(|(id, _), _| *id != feature.id());
+    }
+
+    /// Let layer `layer` scale parameter `param` of `feature` alone (its
+    /// index in [`Feature::parameters`]: CookTorrance's Metallic is 1,
+    /// Emission's Strength 1), at each pixel's UV: a number by the layer's
+    /// red channel (a grayscale map), a colour by its rgb. It takes the
+    /// place of the feature's Texture ID for that parameter; None: none.
+    /// Shading reads it for CookTorrance, Emission and FakeSSS (what
+    /// `feature_param_at` serves), and only while the material has the feature.
+    pub fn set_param_texture(&mut self, feature: Feature, param: usize, layer: Option<u32>) {
+        match layer {
+            Some(layer) => self.param_textures.insert((feature.id(), param), layer),
+            None => self.param_textures.remove(&(feature.id(), param)),
+        };
+    }
+
+    pub fn param_texture(&self, feature: Feature, param: usize) -> Option<u32> {
+        self.features
+            .contains_key(&feature.id())
+            .then(|| self.param_textures.get(&(feature.id(), param)).copied())
+            .flatten()
+    }
+
+    /// Per component of `feature`'s first vec4, what scales it: 0 for
+    /// nothing, else the layer + 1 (low 24 bits) and the channel of that
+    /// layer (bits 24..26), as `feature_param_at` reads them. The feature's
+    /// Texture ID gives component k channel k; a parameter's own layer
+    /// replaces it for that parameter's components.
+    pub fn component_maps(&self, feature: Feature) -> [u32; 4] {
+        let mut maps = [0u32; 4];
+        if !self.features.contains_key(&feature.id()) {
+            return maps;
+        }
+        let entry =
+            |layer: u32, channel: usize| (layer.min(0xFF_FFFE) + 1) | ((channel as u32) << 24);
+        // MatCap's Texture ID is its image, not a scale.
+        if let Some(layer) = self.texture(feature).filter(|_| feature != Feature::MatCap) {
+            for (k, m) in maps.iter_mut().enumerate() {
+                *m = entry(layer, k);
+            }
+        }
+        for (param, (_, components)) in feature.parameters().iter().enumerate() {
+            if let Some(layer) = self.param_texture(feature, param) {
+                let colour = components.len() > 1;
+                for (j, k) in components.clone().enumerate() {
+                    maps[k] = entry(layer, if colour { j } else { 0 });
+                }
+            }
+        }
+        maps
     }
 
     /// Let layer `layer` of the world's texture array scale `feature`'s first
@@ -166,9 +222,15 @@ impl Material {
 
     /// Whether some feature of this material reads a texture.
     pub fn has_textures(&self) -> bool {
-        self.textures
-            .keys()
-            .any(|id| self.features.contains_key(id))
+        self.textured_ids().next().is_some()
+    }
+
+    /// The ids of features this material has that name a texture layer
+    /// (theirs or one of their parameters').
+    fn textured_ids(&self) -> impl Iterator<Item = u32> + '_ {
+        (self.textures.keys().copied())
+            .chain(self.param_textures.keys().map(|(id, _)| *id))
+            .filter(|id| self.features.contains_key(id))
     }
 
     /// The OR of the features' flags (SurfaceMaps' included).
@@ -190,18 +252,19 @@ impl Material {
         self.maps.as_ref()
     }
 
-    /// Every feature entry as packed, in ascending id: (id, parameters, texture layer + 1).
-    fn entries(&self, layout: Option<&MapLayout>) -> Vec<(u32, Vec<[f32; 4]>, u32)> {
+    /// Every feature entry as packed, in ascending id: (id, parameters,
+    /// texture layer + 1, per-component maps).
+    fn entries(&self, layout: Option<&MapLayout>) -> Vec<Entry> {
         let mut entries: Vec<_> = self
             .features()
             .map(|(f, p)| {
                 let texture = self.texture(f).map_or(0, |layer| layer + 1);
-                (f.id(), p.to_vec(), texture)
+                (f.id(), p.to_vec(), texture, self.component_maps(f))
             })
             .collect();
         if let Some(maps) = &self.maps {
             let params = maps.pack(&|m, slot| layout?.location(m, slot));
-            entries.push((FEATURE_SURFACE_MAPS, params, 0));
+            entries.push((FEATURE_SURFACE_MAPS, params, 0, [0; 4]));
             entries.sort_by_key(|e| e.0);
         }
         entries
@@ -216,6 +279,9 @@ impl Material {
         self.features.values().map(|(f, p)| (*f, p.as_slice()))
     }
 }
+
+/// One packed feature: its id, parameter vec4s, Texture ID + 1 and per-component maps.
+type Entry = (u32, Vec<[f32; 4]>, u32, [u32; 4]);
 
 /// Matches `MaterialMeta` in shaders/lib/material.wgsl.
 #[repr(C)]
@@ -234,8 +300,11 @@ pub struct GpuFeatureOffset {
     pub feature: u32,
     pub offset: u32,
     pub count: u32,
-    /// The texture layer + 1 that scales the first parameter; 0: none.
+    /// The feature's Texture ID: its layer + 1; 0: none.
     pub texture: u32,
+    /// What scales each component of the first parameter vec4
+    /// ([`Material::component_maps`]); 0: nothing.
+    pub maps: [u32; 4],
 }
 
 /// The three buffers' contents, before upload (also what tests check without a GPU).
@@ -263,12 +332,13 @@ impl PackedMaterials {
                 size: entries.len() as u32,
                 pad: 0,
             });
-            for (feature, params, texture) in entries {
+            for (feature, params, texture, maps) in entries {
                 packed.offsets.push(GpuFeatureOffset {
                     feature,
                     offset: packed.data.len() as u32,
                     count: params.len() as u32,
                     texture,
+                    maps,
                 });
                 packed.data.extend_from_slice(&params);
             }
@@ -388,10 +458,7 @@ impl MaterialWorld {
         });
         let textured_flags = match &textures {
             Some(_) => materials.iter().fold(0, |acc, m| {
-                m.textures
-                    .keys()
-                    .filter(|id| m.features.contains_key(id))
-                    .fold(acc, |acc, id| acc | 1 << id)
+                m.textured_ids().fold(acc, |acc, id| acc | 1 << id)
             }),
             None => 0,
         };
@@ -634,7 +701,7 @@ mod wgsl_layout {
             "lighting/cook_torrance.wgsl",
             ["MATERIALS"],
             "FeatureOffset",
-            [feature, offset, count, texture]
+            [feature, offset, count, texture, maps]
         );
     }
 }

@@ -118,6 +118,7 @@ fn packing_follows_emeshes_three_buffers() {
         ]
     );
     let entry = |feature, offset, count| GpuFeatureOffset {
+        maps: [0; 4],
         feature,
         offset,
         count,
@@ -160,6 +161,50 @@ fn a_feature_texture_packs_as_its_layer_plus_one_and_only_with_its_feature() {
     m.set_texture(Feature::CookTorrance, None);
     m.remove(Feature::Emission);
     assert!(!m.has_textures());
+}
+
+#[test]
+fn every_parameter_of_a_built_in_feature_can_have_its_own_layer() {
+    let mut m = Material::default_material()
+        .with(Feature::Emission, &[[1.0, 0.5, 0.25, 2.0]])
+        .expect("valid");
+    assert_eq!(m.component_maps(Feature::CookTorrance), [0; 4]);
+    // The feature's Texture ID: component k by channel k of its layer.
+    m.set_texture(Feature::CookTorrance, Some(2));
+    assert_eq!(
+        m.component_maps(Feature::CookTorrance),
+        [3, 3 | 1 << 24, 3 | 2 << 24, 3 | 3 << 24]
+    );
+    // Metallic (parameter 1) alone by layer 5's red channel: the others keep the Texture ID.
+    m.set_param_texture(Feature::CookTorrance, 1, Some(5));
+    assert_eq!(m.param_texture(Feature::CookTorrance, 1), Some(5));
+    assert_eq!(
+        m.component_maps(Feature::CookTorrance),
+        [3, 6, 3 | 2 << 24, 3 | 3 << 24]
+    );
+    // Emission's colour by a layer's rgb, its strength (parameter 1) by another's red.
+    m.set_param_texture(Feature::Emission, 0, Some(0));
+    m.set_param_texture(Feature::Emission, 1, Some(7));
+    assert_eq!(
+        m.component_maps(Feature::Emission),
+        [1, 1 | 1 << 24, 1 | 2 << 24, 8]
+    );
+    assert!(m.has_textures());
+    let packed = PackedMaterials::pack(std::slice::from_ref(&m));
+    assert_eq!(packed.offsets[1].maps, [1, 1 | 1 << 24, 1 | 2 << 24, 8]);
+    assert_eq!(packed.offsets[1].texture, 0, "no Texture ID of its own");
+    // A parameter map alone makes the material textured; removing the feature drops it.
+    m.set_texture(Feature::CookTorrance, None);
+    m.set_param_texture(Feature::CookTorrance, 1, None);
+    m.remove(Feature::Emission);
+    assert!(!m.has_textures());
+    assert_eq!(m.component_maps(Feature::Emission), [0; 4]);
+    // MatCap's Texture ID is its image, never a scale.
+    let mut matcap = Material::new()
+        .with(Feature::MatCap, &[[1.0, 0.0, 0.0, 0.0]])
+        .expect("valid");
+    matcap.set_texture(Feature::MatCap, Some(0));
+    assert_eq!(matcap.component_maps(Feature::MatCap), [0; 4]);
 }
 
 #[test]

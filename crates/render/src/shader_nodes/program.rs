@@ -19,6 +19,7 @@ use super::error::{ShaderNodeError, Span};
 use super::uniform_layout::uniform_layout;
 use super::validate::{parse_and_validate, validate_composed};
 use crate::frame_graph::Lifetime;
+use crate::material::library::{self, LibraryBinding};
 
 pub use super::preprocess::preprocess;
 pub use super::uniform_layout::{Builtin, ParamKind, ParamPin, UniformLayout};
@@ -36,6 +37,8 @@ pub enum Role {
     /// A target written as a storage texture.
     Write(String),
     Sampler(SamplerDecl),
+    /// A variable of `spreadlight::materials` (group 3): the material world.
+    Materials(LibraryBinding),
 }
 
 /// One `@pass`, resolved.
@@ -353,6 +356,13 @@ impl Program {
             let name = var.name.clone().unwrap_or_default();
             let at = place(handle);
             let fail = |m: String| ShaderNodeError::at_offset(file, text, at, m);
+            // The material world library's variables, whatever the kind.
+            if binding.group == library::GROUP
+                && let Some(b) = LibraryBinding::from_name(&super::compose::undecorate(&name))
+            {
+                roles.push((binding.binding, handle, Role::Materials(b)));
+                continue;
+            }
             if binding.group != group {
                 let what = match kind {
                     Kind::Effect => "shader nodes bind everything in group 0",

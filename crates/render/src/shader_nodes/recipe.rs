@@ -20,6 +20,8 @@ use super::utility;
 use crate::error::RenderError;
 use crate::frame_graph::{FrameGraph, Lifetime, PassContext, SizeRule, Tex, TextureDesc};
 use crate::gbuffer::GBuffer;
+use crate::material::MaterialWorld;
+use crate::material::library::LibraryBinding;
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
 use crate::report::PassName;
@@ -30,6 +32,9 @@ pub struct ShaderNodeInputs {
     /// Per `@input`, in order.
     pub textures: Vec<Option<TextureRef>>,
     pub gbuffer: Option<Arc<GBuffer>>,
+    /// The material world the file reads through `spreadlight::materials`
+    /// (its `Material World` pin); None where it does not import it.
+    pub materials: Option<Arc<MaterialWorld>>,
     /// The uniform block with the pins written (empty without one).
     pub params: Vec<u8>,
     /// Per pass: whether its skip pin is on.
@@ -153,6 +158,18 @@ impl ShaderNodeRecipe {
             }
             _ => None,
         }
+    }
+
+    /// The material world's texture array, when some material reads it and
+    /// some pass samples it (`SampleFeature`); else a stand-in is bound.
+    fn materials_array(&self) -> Option<&TextureRef> {
+        let samples = (self.program.passes.iter().flat_map(|p| &p.bindings))
+            .any(|(_, r)| *r == Role::Materials(LibraryBinding::Textures));
+        self.inputs
+            .materials
+            .as_ref()
+            .filter(|_| samples)?
+            .textures()
     }
 
     /// Unroll the passes into dispatches for a frame of `output` size.
@@ -311,7 +328,34 @@ impl ShaderNodeRecipe {
             Sampler(wgpu::Sampler),
         }
         let mut bound: Vec<(u32, Bound)> = Vec::new();
+        // Group 3: the material world (spreadlight::materials).
+        let mut world: Vec<(u32, Bound)> = Vec::new();
         for (binding, role) in &pass.bindings {
+            if let Role::Materials(what) = role {
+                let materials = self
+                    .inputs
+                    .materials
+                    .as_ref()
+                    .ok_or_else(|| missing(&self.type_name, "Material World"))?;
+                let resource = match what {
+                    LibraryBinding::Textures => Bound::View(match io.array {
+                        Some(tex) => {
+                            let texture = cx.texture(tex)?.clone();
+                            cx.view_of(&texture, crate::texture_pool::ViewSpec::array())
+                        }
+                        None => materials.stand_in_array(),
+                    }),
+                    LibraryBinding::Sampler => Bound::Sampler(cx.sampler(Sampling::LinearRepeat)),
+                    buffer => Bound::Buffer(
+                        materials
+                            .library_buffer(*buffer)
+                            .ok_or_else(|| missing(&self.type_name, "Material World"))?
+                            .clone(),
+                    ),
+                };
+                world.push((*binding, resource));
+                continue;
+            }
             let resource = match role {
                 Role::Uniform => Bound::Buffer(uniform.clone().ok_or_else(|| {
                     RenderError::Graph("uniform block without a layout".to_owned())
@@ -366,27 +410,37 @@ impl ShaderNodeRecipe {
             move || program.module.clone(),
             &pass.decl.entry,
         );
-        let entries: Vec<wgpu::BindGroupEntry<'_>> = bound
-            .iter()
-            .map(|(binding, b)| wgpu::BindGroupEntry {
-                binding: *binding,
-                resource: match b {
-                    Bound::View(v) => wgpu::BindingResource::TextureView(v),
-                    Bound::Buffer(b) => b.as_entire_binding(),
-                    Bound::Sampler(s) => wgpu::BindingResource::Sampler(s),
-                },
+        let group_of = |index: u32, bound: &[(u32, Bound)]| {
+            let entries: Vec<wgpu::BindGroupEntry<'_>> = bound
+                .iter()
+                .map(|(binding, b)| wgpu::BindGroupEntry {
+                    binding: *binding,
+                    resource: match b {
+                        Bound::View(v) => wgpu::BindingResource::TextureView(v),
+                        Bound::Buffer(b) => b.as_entire_binding(),
+                        Bound::Sampler(s) => wgpu::BindingResource::Sampler(s),
+                    },
+                })
+                .collect();
+            device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some(&self.type_name),
+                layout: &pipeline.get_bind_group_layout(index),
+                entries: &entries,
             })
-            .collect();
-        let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some(&self.type_name),
-            layout: &pipeline.get_bind_group_layout(0),
-            entries: &entries,
-        });
+        };
+        let mut groups = vec![group_of(0, &bound)];
+        // A pass reading the world has a derived layout of four groups, the
+        // two between empty.
+        if !world.is_empty() {
+            groups.extend((1..crate::material::library::GROUP).map(|g| group_of(g, &[])));
+            groups.push(group_of(crate::material::library::GROUP, &world));
+        }
+        let groups: Vec<&wgpu::BindGroup> = groups.iter().collect();
         let [wx, wy, _] = pass.workgroup;
         cx.dispatch(
             &pass.decl.entry,
             &pipeline,
-            &[&group],
+            &groups,
             (size.0.div_ceil(wx.max(1)), size.1.div_ceil(wy.max(1)), 1),
         );
         Ok(())
@@ -406,6 +460,8 @@ struct StepNames {
     outside: HashMap<u32, String>,
     /// (persistent target, its copy) for persistent targets the pass also reads.
     histories: Vec<(String, String)>,
+    /// The material world's texture array, where the pass samples it.
+    array: Option<String>,
 }
 
 impl StepNames {
@@ -432,6 +488,7 @@ impl StepNames {
             histories: (self.histories.iter())
                 .map(|(history, copy)| Ok((tex(history)?, tex(copy)?)))
                 .collect::<Result<_, String>>()?,
+            array: self.array.as_ref().map(tex).transpose()?,
         })
     }
 }
@@ -442,6 +499,7 @@ struct StepIo {
     reads: HashMap<u32, Tex>,
     outside: HashMap<u32, Tex>,
     histories: Vec<(Tex, Tex)>,
+    array: Option<Tex>,
 }
 
 impl Recipe for ShaderNodeRecipe {
@@ -454,6 +512,9 @@ impl Recipe for ShaderNodeRecipe {
         }
         if let Some(g) = &self.inputs.gbuffer {
             g.declare(renderer, fg);
+        }
+        if let Some(t) = self.materials_array() {
+            t.recipe.declare(renderer, fg);
         }
         if !self.counted.swap(true, Ordering::Relaxed) && self.inputs.compiled > 0 {
             fg.count("shader node permutations compiled", self.inputs.compiled);
@@ -493,6 +554,13 @@ impl Recipe for ShaderNodeRecipe {
                     .filter_map(|(binding, role)| Some((*binding, self.outside(role)?)))
                     .collect(),
                 histories: Vec::new(),
+                array: self
+                    .materials_array()
+                    .filter(|_| {
+                        (plan.bindings.iter())
+                            .any(|(_, r)| *r == Role::Materials(LibraryBinding::Textures))
+                    })
+                    .map(|t| t.name.clone()),
             };
             let mut writes: Vec<(String, TextureDesc)> = Vec::new();
             for &(d, write, (width, height)) in &step.dests {
@@ -540,6 +608,7 @@ impl Recipe for ShaderNodeRecipe {
             }
             let mut reads: Vec<String> = names.reads.values().cloned().collect();
             reads.extend(names.outside.values().cloned());
+            reads.extend(names.array.iter().cloned());
             // A pass does not read what it writes (its persistent target's copy holds last frame).
             reads.retain(|r| {
                 !writes.iter().any(|(w, _)| w == r) && !names.histories.iter().any(|(h, _)| h == r)

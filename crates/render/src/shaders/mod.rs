@@ -152,6 +152,7 @@ pub const SHADERS: &[ShaderFile] = &[
     shader!("lib/tonemap.wgsl", library),
     shader!("lib/surface_target.wgsl", library),
     shader!("lib/material.wgsl", library),
+    shader!("lib/materials.wgsl", library),
     shader!("lib/material_maps.wgsl", library),
     shader!("lib/matcap.wgsl", library),
     shader!("lib/screen.wgsl", library),
