@@ -11,7 +11,8 @@ use naga_oil::compose::{
     ComposableModuleDescriptor, Composer, NagaModuleDescriptor, ShaderLanguage, ShaderType,
 };
 use spreadlight_render::material::{
-    FEATURE_AMBIENT_OCCLUSION, FEATURE_COOK_TORRANCE, FEATURE_EMISSION, FEATURE_FAKE_SSS,
+    FEATURE_AMBIENT_OCCLUSION, FEATURE_CLEARCOAT, FEATURE_COOK_TORRANCE, FEATURE_EMISSION,
+    FEATURE_FAKE_SSS, FEATURE_UNLIT,
     FEATURE_MATCAP, FEATURE_REFLECTION, FIRST_CUSTOM_FEATURE, Feature, MAX_FEATURES, Material,
     MaterialWorld,
 };
@@ -95,6 +96,8 @@ fn library_composes_validates_and_mirrors_the_rust_constants() {
         ("FEATURE_REFLECTION", FEATURE_REFLECTION),
         ("FEATURE_MATCAP", FEATURE_MATCAP),
         ("FEATURE_AMBIENT_OCCLUSION", FEATURE_AMBIENT_OCCLUSION),
+        ("FEATURE_CLEARCOAT", FEATURE_CLEARCOAT),
+        ("FEATURE_UNLIT", FEATURE_UNLIT),
         ("FIRST_CUSTOM_FEATURE", FIRST_CUSTOM_FEATURE),
         ("MAX_FEATURES", MAX_FEATURES),
     ] {

@@ -9,7 +9,8 @@
 //! world (`shaders/lib/surface_target.wgsl`). A reflection input is not
 //! even rendered when no material reflects ("reflection culled: no reflective
 //! material"); the matcap code is compiled in only when some material has
-//! MatCap ("matcap shaded").
+//! MatCap ("matcap shaded"); Unlit materials show their albedo (`UNLIT`,
+//! only when some material is unlit: "unlit shaded").
 
 use std::sync::Arc;
 
@@ -18,7 +19,7 @@ use crate::frame_graph::{Bindings, FrameGraph, PassContext, Tex, TextureDesc};
 use crate::gbuffer::GBuffer;
 use crate::material::{
     FEATURE_AMBIENT_OCCLUSION, FEATURE_EMISSION, FEATURE_MATCAP, FEATURE_REFLECTION,
-    MaterialTextures, MaterialWorld,
+    FEATURE_UNLIT, MaterialTextures, MaterialWorld,
 };
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
@@ -81,6 +82,8 @@ pub struct CompositeLight {
     reflection_culled: bool,
     /// Some material has MatCap: the matcap code is compiled in.
     matcap: bool,
+    /// Some material is Unlit: the albedo replaces its lighting.
+    unlit: bool,
     params: wgpu::Buffer,
     pub output: String,
 }
@@ -111,9 +114,10 @@ impl CompositeLight {
         let reflection_culled = reflection.is_some() && !has(FEATURE_REFLECTION);
         let reflection = reflection.filter(|_| has(FEATURE_REFLECTION));
         let matcap = has(FEATURE_MATCAP);
+        let unlit = has(FEATURE_UNLIT);
         // GI reads each material's metallic: metals take no diffuse light.
         let materials = materials.filter(|_| {
-            emission || ao_per_material || reflection.is_some() || gi.is_some() || matcap
+            emission || ao_per_material || reflection.is_some() || gi.is_some() || matcap || unlit
         });
         if components.is_empty() || components.len() > MAX_COMPONENTS {
             return Err(RenderError::Pass {
@@ -150,6 +154,7 @@ impl CompositeLight {
             reflection,
             reflection_culled,
             matcap,
+            unlit,
             params,
             output: format!("composite{id}"),
         }))
@@ -206,6 +211,7 @@ impl CompositeLight {
                 matcap: self
                     .matcap
                     .then(|| textured(self.matcap_images().is_some())),
+                unlit: self.unlit,
             }),
         };
         Ok(CompositeKey {
@@ -224,6 +230,9 @@ impl CompositeLight {
         }
         if self.matcap {
             cx.count("matcap shaded", 1);
+        }
+        if self.unlit {
+            cx.count("unlit shaded", 1);
         }
         const DIFFUSE: [&str; MAX_COMPONENTS] = ["diffuse0", "diffuse1", "diffuse2", "diffuse3"];
         const SPECULAR: [&str; MAX_COMPONENTS] =
