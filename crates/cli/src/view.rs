@@ -372,7 +372,11 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
     // The file's first camera, as the file places it at the posed time's
     // rest (its aspect rebuilt for the output when the file states none).
     if let Some(camera) = scene.cameras.first() {
-        eprintln!("{}: viewed from camera `{}`", args.model.display(), camera.name);
+        eprintln!(
+            "{}: viewed from camera `{}`",
+            args.model.display(),
+            camera.name
+        );
     }
     let (view, projection) = match scene.cameras.first() {
         Some(camera) => (camera.view, camera.projection_for(aspect)),

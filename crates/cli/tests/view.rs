@@ -442,7 +442,10 @@ fn a_photometric_file_is_seen_from_its_camera_and_exposed_down() {
         &["--save-patch", patch.to_str().expect("utf-8")],
     );
     assert!(stderr.contains("viewed from camera `Shot`"), "{stderr}");
-    assert!(stderr.contains("50000 lux") && stderr.contains("exposed by"), "{stderr}");
+    assert!(
+        stderr.contains("50000 lux") && stderr.contains("exposed by"),
+        "{stderr}"
+    );
     let saved = std::fs::read_to_string(&patch).expect("saved patch");
     assert!(saved.contains("Exposure"), "Tonemap is given the exposure");
     // From the file's camera the block's red face fills the picture (a
@@ -453,7 +456,10 @@ fn a_photometric_file_is_seen_from_its_camera_and_exposed_down() {
         .filter(|p| p.0[0] > 2 * p.0[1].max(10) && p.0[0] > 2 * p.0[2].max(10))
         .count();
     let total = albedo.pixels().len();
-    assert!(red * 10 >= total * 9, "{red} of {total} pixels show the block");
+    assert!(
+        red * 10 >= total * 9,
+        "{red} of {total} pixels show the block"
+    );
     // Exposed down, the face lit by a 50,000 lux sun is a mid red, not
     // burnt white: not one pixel saturates, and the red stays far above
     // green (without the exposure every channel clips at 255).
@@ -478,7 +484,10 @@ fn material_extensions_show_as_their_materials_say() {
         &[],
     );
     // Transmission is blended (its warning says so); nothing else is ignored.
-    assert!(stderr.contains("`Transmission`") && stderr.contains("BLEND"), "{stderr}");
+    assert!(
+        stderr.contains("`Transmission`") && stderr.contains("BLEND"),
+        "{stderr}"
+    );
     assert!(!stderr.contains("not supported"), "{stderr}");
     matches_reference("view-material-extensions", &lit);
 }

@@ -684,7 +684,11 @@ fn clearcoat_adds_its_lobe_and_dims_the_base_as_the_reference_does() {
     };
     // No coat anywhere: the coat's code is never compiled.
     let (plain_d, plain_s) = shade_floor_material(&renderer, base.clone());
-    assert_eq!(compiled(&renderer), 0, "no Clearcoat material, no CLEARCOAT permutation");
+    assert_eq!(
+        compiled(&renderer),
+        0,
+        "no Clearcoat material, no CLEARCOAT permutation"
+    );
     for (factor, coat_roughness) in [(1.0, 0.1), (0.5, 0.4)] {
         let coated = base
             .clone()
@@ -718,11 +722,19 @@ fn clearcoat_adds_its_lobe_and_dims_the_base_as_the_reference_does() {
             }
             checked += 1;
         }
-        assert!(checked > (SIZE.0 * SIZE.1 / 3) as usize, "{checked} floor pixels");
+        assert!(
+            checked > (SIZE.0 * SIZE.1 / 3) as usize,
+            "{checked} floor pixels"
+        );
         // A smooth coat makes a highlight the rough base does not have.
         let peak = |image: &ImageF32| image.pixels.iter().map(|p| p[1]).fold(0.0, f32::max);
         if coat_roughness < 0.2 {
-            assert!(peak(&s) > 2.0 * peak(&plain_s), "{} vs {}", peak(&s), peak(&plain_s));
+            assert!(
+                peak(&s) > 2.0 * peak(&plain_s),
+                "{} vs {}",
+                peak(&s),
+                peak(&plain_s)
+            );
         }
     }
     assert!(compiled(&renderer) >= 1);
@@ -753,7 +765,8 @@ fn ior_and_specular_reach_direct_light_through_the_reflectance() {
         let (_, s) = shade_floor_material(&renderer, material);
         for (i, seen) in points.iter().enumerate() {
             let Some((_, v)) = seen else { continue };
-            let want = cook_torrance_f0(Vec3::Y, *v, l, albedo, 0.5, 0.0, f0, true).specular * radiance;
+            let want =
+                cook_torrance_f0(Vec3::Y, *v, l, albedo, 0.5, 0.0, f0, true).specular * radiance;
             for c in 0..3 {
                 assert!(
                     (s.pixels[i][c] - want[c]).abs() <= 4e-3 * want[c] + 1e-4,
@@ -788,10 +801,17 @@ fn unlit_materials_show_their_albedo_whatever_the_light() {
         &g,
         point_light(&renderer),
         0.3,
-        Some(MaterialWorld::new(&renderer, vec![Material::default_material()])),
+        Some(MaterialWorld::new(
+            &renderer,
+            vec![Material::default_material()],
+        )),
         None,
     );
-    assert_eq!(compiled(&renderer), 0, "no Unlit material, no UNLIT permutation");
+    assert_eq!(
+        compiled(&renderer),
+        0,
+        "no Unlit material, no UNLIT permutation"
+    );
     for light in [no_lights(&renderer), point_light(&renderer)] {
         let image = composite(
             &renderer,
@@ -828,7 +848,10 @@ fn unlit_materials_show_their_albedo_whatever_the_light() {
         }
         for c in 0..3 {
             let want = 0.5 * l[c] + 0.5 * FLOOR_ALBEDO[c];
-            assert!((m[c] - want).abs() <= 2e-3 * want.max(0.5), "{m:?} vs {want}");
+            assert!(
+                (m[c] - want).abs() <= 2e-3 * want.max(0.5),
+                "{m:?} vs {want}"
+            );
         }
     }
     assert!(compiled(&renderer) >= 1);

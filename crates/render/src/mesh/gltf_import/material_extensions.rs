@@ -236,7 +236,12 @@ impl Importer<'_> {
                 .and_then(|e| e.get("KHR_texture_transform"))
                 .map(parse_transform),
         };
-        self.texture(document, Some(slot), srgb, &format!("{who}, {extension} {key}"))
+        self.texture(
+            document,
+            Some(slot),
+            srgb,
+            &format!("{who}, {extension} {key}"),
+        )
     }
 
     /// `KHR_materials_pbrSpecularGlossiness` in place of the core
@@ -256,14 +261,8 @@ impl Importer<'_> {
             glossiness: self.factor(who, name, ext, "glossinessFactor", 1.0, 0.0, 1.0),
         };
         let diffuse = self.extension_texture(document, who, name, ext, "diffuseTexture", true)?;
-        let specular_glossiness = self.extension_texture(
-            document,
-            who,
-            name,
-            ext,
-            "specularGlossinessTexture",
-            true,
-        )?;
+        let specular_glossiness =
+            self.extension_texture(document, who, name, ext, "specularGlossinessTexture", true)?;
         data.from_spec_gloss = true;
         if diffuse.is_none() && specular_glossiness.is_none() {
             let mr = spec_gloss::convert(factors);

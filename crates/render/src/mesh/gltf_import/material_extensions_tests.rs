@@ -82,7 +82,10 @@ fn unlit_materials_get_the_unlit_feature_and_lit_ones_do_not() {
 
 #[test]
 fn ior_sets_the_dielectric_f0() {
-    let (water, warnings) = load_one(cube_with(named("Water"), r#"{"KHR_materials_ior": {"ior": 1.33}}"#));
+    let (water, warnings) = load_one(cube_with(
+        named("Water"),
+        r#"{"KHR_materials_ior": {"ior": 1.33}}"#,
+    ));
     assert!(warnings.is_empty(), "{warnings:?}");
     assert_eq!(water.ior, 1.33);
     let expected = ((1.33f32 - 1.0) / (1.33 + 1.0)).powi(2);
@@ -93,7 +96,10 @@ fn ior_sets_the_dielectric_f0() {
     let (plain, _) = load_one(cube_with(named("Plain"), "{}"));
     assert_close(plain.reflectance(), 0.04, 1e-6, "default f0");
     // ior 0: the extension's "f0 = 1".
-    let (mirror, warnings) = load_one(cube_with(named("Mirror"), r#"{"KHR_materials_ior": {"ior": 0}}"#));
+    let (mirror, warnings) = load_one(cube_with(
+        named("Mirror"),
+        r#"{"KHR_materials_ior": {"ior": 0}}"#,
+    ));
     assert!(warnings.is_empty(), "{warnings:?}");
     assert_close(mirror.reflectance(), 1.0, 1e-6, "ior 0");
 }
@@ -127,18 +133,25 @@ fn specular_scales_and_tints_the_dielectric_f0() {
     let expected = (0.2126 * 2.0 * f0 + 0.7152 * f0 + 0.0722 * 0.5 * f0) * 0.5;
     assert_close(m.reflectance(), expected, 1e-6, "specular f0");
     // Specular 0: no dielectric reflection at normal incidence.
-    let (matte, _) = load_one(cube_with(named("Matte"), r#"{"KHR_materials_specular": {"specularFactor": 0}}"#));
+    let (matte, _) = load_one(cube_with(
+        named("Matte"),
+        r#"{"KHR_materials_specular": {"specularFactor": 0}}"#,
+    ));
     assert_eq!(matte.reflectance(), 0.0);
     // Out of range and malformed: clamped or default, warned, finite.
     let ext = r#"{"KHR_materials_specular": {"specularFactor": 7, "specularColorFactor": [1, "red", 1]}}"#;
     let (bad, warnings) = load_one(cube_with(named("Bad"), ext));
     assert_eq!((bad.specular, bad.specular_color), (1.0, [1.0; 3]));
     assert!(
-        warnings.iter().any(|w| w.contains("`Bad`") && w.contains("specularFactor")),
+        warnings
+            .iter()
+            .any(|w| w.contains("`Bad`") && w.contains("specularFactor")),
         "{warnings:?}"
     );
     assert!(
-        warnings.iter().any(|w| w.contains("`Bad`") && w.contains("specularColorFactor")),
+        warnings
+            .iter()
+            .any(|w| w.contains("`Bad`") && w.contains("specularColorFactor")),
         "{warnings:?}"
     );
     assert_finite(&bad);
@@ -152,7 +165,10 @@ fn clearcoat_becomes_the_clearcoat_feature() {
     assert_eq!((m.clearcoat, m.clearcoat_roughness), (0.8, 0.25));
     assert_eq!(params(&m, Feature::Clearcoat), Some([0.8, 0.25, 0.0, 0.0]));
     // Factor 0 (the default): no coat, no feature, nothing compiled for it.
-    let (none, _) = load_one(cube_with(named("Bare"), r#"{"KHR_materials_clearcoat": {}}"#));
+    let (none, _) = load_one(cube_with(
+        named("Bare"),
+        r#"{"KHR_materials_clearcoat": {}}"#,
+    ));
     assert_eq!(params(&none, Feature::Clearcoat), None);
 }
 
@@ -174,7 +190,9 @@ fn clearcoat_bad_values_and_unread_maps_are_warned() {
         others: value(&ext).as_object().cloned().unwrap_or_default(),
         ..Default::default()
     });
-    doc.root.extensions_used.push("KHR_materials_clearcoat".into());
+    doc.root
+        .extensions_used
+        .push("KHR_materials_clearcoat".into());
     let (m, warnings) = load_one(doc);
     assert_eq!(params(&m, Feature::Clearcoat), Some([1.0, 0.0, 0.0, 0.0]));
     for what in [
@@ -184,7 +202,9 @@ fn clearcoat_bad_values_and_unread_maps_are_warned() {
         "clearcoatNormalTexture is not read",
     ] {
         assert!(
-            warnings.iter().any(|w| w.contains("material 0 `Coat`") && w.contains(what)),
+            warnings
+                .iter()
+                .any(|w| w.contains("material 0 `Coat`") && w.contains(what)),
             "{what}: {warnings:?}"
         );
     }
@@ -201,11 +221,16 @@ fn transmission_is_blended_with_opacity_one_minus_transmission() {
     assert_eq!(m.alpha_mode, AlphaMode::Blend);
     assert_close(m.base_color[3], 0.8 * 0.25, 1e-6, "opacity");
     assert!(
-        warnings.iter().any(|w| w.contains("`Glass`") && w.contains("BLEND")),
+        warnings
+            .iter()
+            .any(|w| w.contains("`Glass`") && w.contains("BLEND")),
         "{warnings:?}"
     );
     // No transmission: opaque as the core material says.
-    let (opaque, _) = load_one(cube_with(named("Solid"), r#"{"KHR_materials_transmission": {"transmissionFactor": 0}}"#));
+    let (opaque, _) = load_one(cube_with(
+        named("Solid"),
+        r#"{"KHR_materials_transmission": {"transmissionFactor": 0}}"#,
+    ));
     assert_eq!(opaque.alpha_mode, AlphaMode::Opaque);
     assert_eq!(opaque.base_color[3], 1.0);
 }
@@ -254,11 +279,19 @@ fn spec_gloss_round_trip_error_over_a_sweep() {
                     specular,
                     glossiness: 0.5,
                 });
-                assert!(mr.base_color.iter().all(|c| c.is_finite() && (0.0..=1.0).contains(c)));
+                assert!(
+                    mr.base_color
+                        .iter()
+                        .all(|c| c.is_finite() && (0.0..=1.0).contains(c))
+                );
                 assert!((0.0..=1.0).contains(&mr.metallic));
                 let (d2, s2) = round_trip(mr);
                 let err = (0..3)
-                    .map(|i| (d2[i] - diffuse[i] * (1.0 - 0.04)).abs().max((s2[i] - specular[i]).abs()))
+                    .map(|i| {
+                        (d2[i] - diffuse[i] * (1.0 - 0.04))
+                            .abs()
+                            .max((s2[i] - specular[i]).abs())
+                    })
                     .fold(0.0, f32::max);
                 any = any.max(err);
             }
@@ -270,9 +303,9 @@ fn spec_gloss_round_trip_error_over_a_sweep() {
             glossiness: 0.5,
         });
         let (d2, s2) = round_trip(mr);
-        for i in 0..3 {
-            physical = physical.max((d2[i] - [d, d * 0.5, d * 0.25][i] * 0.96).abs());
-            physical = physical.max((s2[i] - 0.04).abs());
+        for ((got_d, got_s), want_d) in d2.iter().zip(s2).zip([d, d * 0.5, d * 0.25]) {
+            physical = physical.max((got_d - want_d * 0.96).abs());
+            physical = physical.max((got_s - 0.04).abs());
         }
     }
     // Metals.
@@ -285,15 +318,18 @@ fn spec_gloss_round_trip_error_over_a_sweep() {
         });
         if specular.iter().all(|&c| c >= 0.04) {
             let (_, s2) = round_trip(mr);
-            for i in 0..3 {
-                physical = physical.max((s2[i] - specular[i]).abs());
+            for (got, want) in s2.iter().zip(specular) {
+                physical = physical.max((got - want).abs());
             }
         }
     }
     assert!(physical < 1e-4, "physical inputs: {physical}");
     // The sweep's worst (a half metal, coloured speculars): docs/gltf.md quotes it.
     assert!(any < 0.25, "any input: {any}");
-    assert!(any > 0.2, "the sweep reaches the documented worst case: {any}");
+    assert!(
+        any > 0.2,
+        "the sweep reaches the documented worst case: {any}"
+    );
     eprintln!("spec-gloss round trip: physical {physical:e}, worst {any}");
 }
 
@@ -319,33 +355,56 @@ fn spec_gloss_maps_convert_per_texel() {
     });
     let (m, warnings) = load_one(doc);
     assert!(warnings.is_empty(), "{warnings:?}");
-    let base = m.base_color_texture.as_ref().expect("converted base colour map");
-    let mr = m.metallic_roughness_texture.as_ref().expect("converted metal-rough map");
+    let base = m
+        .base_color_texture
+        .as_ref()
+        .expect("converted base colour map");
+    let mr = m
+        .metallic_roughness_texture
+        .as_ref()
+        .expect("converted metal-rough map");
     assert!(base.srgb && !mr.srgb);
     assert_eq!((base.image.width, base.image.height), (2, 1));
     assert_eq!(m.base_color, [1.0; 4]);
     // Left texel: dielectric, the diffuse kept (sRGB 188), roughness 0.
     assert_eq!(&mr.image.rgba8[0..4], &[0, 0, 0, 255]);
-    assert!((i32::from(base.image.rgba8[0]) - 188).abs() <= 1, "{:?}", &base.image.rgba8[0..4]);
+    assert!(
+        (i32::from(base.image.rgba8[0]) - 188).abs() <= 1,
+        "{:?}",
+        &base.image.rgba8[0..4]
+    );
     // Right texel: a metal, roughness 1 - 128/255, base colour its specular colour.
-    assert!(mr.image.rgba8[6] > 250, "metallic {:?}", &mr.image.rgba8[4..8]);
+    assert!(
+        mr.image.rgba8[6] > 250,
+        "metallic {:?}",
+        &mr.image.rgba8[4..8]
+    );
     assert!((i32::from(mr.image.rgba8[5]) - 127).abs() <= 1);
     for (got, want) in base.image.rgba8[4..7].iter().zip([250, 210, 100]) {
-        assert!((i32::from(*got) - want).abs() <= 2, "{:?}", &base.image.rgba8[4..8]);
+        assert!(
+            (i32::from(*got) - want).abs() <= 2,
+            "{:?}",
+            &base.image.rgba8[4..8]
+        );
     }
     // A map index that does not exist: warned, drawn without it.
     let ext = r#"{"KHR_materials_pbrSpecularGlossiness": {"diffuseTexture": {"index": 9}}}"#;
     let (m, warnings) = load_one(cube_with(named("Lost"), ext));
     assert!(m.base_color_texture.is_none());
     assert!(
-        warnings.iter().any(|w| w.contains("`Lost`") && w.contains("diffuseTexture")),
+        warnings
+            .iter()
+            .any(|w| w.contains("`Lost`") && w.contains("diffuseTexture")),
         "{warnings:?}"
     );
 }
 
 #[test]
 fn the_supported_material_extensions_may_be_required() {
-    let mut doc = cube_with(named("Coat"), r#"{"KHR_materials_clearcoat": {"clearcoatFactor": 1}}"#);
+    let mut doc = cube_with(
+        named("Coat"),
+        r#"{"KHR_materials_clearcoat": {"clearcoatFactor": 1}}"#,
+    );
     doc.root.extensions_required = vec![
         "KHR_materials_clearcoat".into(),
         "KHR_materials_unlit".into(),
@@ -381,5 +440,10 @@ fn no_extension_value_makes_a_material_non_finite() {
         metallic,
         roughness,
     } = sg;
-    assert!(base_color.iter().chain([&metallic, &roughness]).all(|v| v.is_finite()));
+    assert!(
+        base_color
+            .iter()
+            .chain([&metallic, &roughness])
+            .all(|v| v.is_finite())
+    );
 }

@@ -458,7 +458,10 @@ pub fn photometric_camera_scene() -> Vec<u8> {
         extras: Default::default(),
     });
     // The sun shines down and into the block's front face (lights shine along -Z).
-    let sun = glam::Quat::from_rotation_arc(glam::Vec3::NEG_Z, glam::Vec3::new(0.0, -0.5, -1.0).normalize());
+    let sun = glam::Quat::from_rotation_arc(
+        glam::Vec3::NEG_Z,
+        glam::Vec3::new(0.0, -0.5, -1.0).normalize(),
+    );
     let nodes = vec![
         doc.node(mesh_node(Some(floor), [0.0; 3], 1.0)),
         doc.node(mesh_node(Some(block), [0.0, 0.5, 0.0], 1.0)),

@@ -60,8 +60,18 @@ fn solve_metallic(diffuse: f32, specular: f32, one_minus_specular_strength: f32)
 /// One point converted. Inputs outside 0..1 or not finite are clamped
 /// first, so the result is always finite and in range.
 pub fn convert(sg: SpecGloss) -> MetalRough {
-    let unit = |v: f32| if v.is_finite() { v.clamp(0.0, 1.0) } else { 0.0 };
-    let diffuse = [unit(sg.diffuse[0]), unit(sg.diffuse[1]), unit(sg.diffuse[2])];
+    let unit = |v: f32| {
+        if v.is_finite() {
+            v.clamp(0.0, 1.0)
+        } else {
+            0.0
+        }
+    };
+    let diffuse = [
+        unit(sg.diffuse[0]),
+        unit(sg.diffuse[1]),
+        unit(sg.diffuse[2]),
+    ];
     let specular = sg.specular.map(unit);
     let one_minus_specular_strength = 1.0 - specular.iter().fold(0.0f32, |a, &b| a.max(b));
     let metallic = solve_metallic(
@@ -75,12 +85,10 @@ pub fn convert(sg: SpecGloss) -> MetalRough {
     let from_specular =
         specular.map(|s| (s - DIELECTRIC_F0 * (1.0 - metallic)) / metallic.max(EPSILON));
     let t = metallic * metallic;
-    let mut base_color = [0.0, 0.0, 0.0, unit(sg.diffuse[3])];
-    for i in 0..3 {
-        base_color[i] = unit(from_diffuse[i] + (from_specular[i] - from_diffuse[i]) * t);
-    }
+    let [r, g, b] =
+        [0, 1, 2].map(|i| unit(from_diffuse[i] + (from_specular[i] - from_diffuse[i]) * t));
     MetalRough {
-        base_color,
+        base_color: [r, g, b, unit(sg.diffuse[3])],
         metallic,
         roughness: 1.0 - unit(sg.glossiness),
     }
