@@ -316,8 +316,11 @@ impl MaterialData {
     pub fn reflectance(&self) -> f32 {
         let finite = |v: f32, or: f32| if v.is_finite() { v } else { or };
         let ior = finite(self.ior, 1.5);
+        // glTF's default (1.5) gives the 0.04 every material had, bit for bit.
         let f0 = if ior == 0.0 {
             1.0
+        } else if ior == 1.5 {
+            0.04
         } else {
             let r = (ior - 1.0) / (ior + 1.0);
             r * r
@@ -325,7 +328,11 @@ impl MaterialData {
         let [r, g, b] = self
             .specular_color
             .map(|c| (f0 * finite(c, 1.0).max(0.0)).min(1.0));
-        let luminance = 0.2126 * r + 0.7152 * g + 0.0722 * b;
-        (luminance * finite(self.specular, 1.0)).clamp(0.0, 1.0)
+        let grey = if r == g && g == b {
+            r
+        } else {
+            0.2126 * r + 0.7152 * g + 0.0722 * b
+        };
+        (grey * finite(self.specular, 1.0)).clamp(0.0, 1.0)
     }
 }
