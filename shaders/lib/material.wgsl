@@ -19,7 +19,7 @@ const FEATURE_AMBIENT_OCCLUSION: u32 = 5u;
 const FEATURE_SURFACE_MAPS: u32 = 6u;
 // A clear coat over the base (factor, roughness): CookTorrance's CLEARCOAT.
 const FEATURE_CLEARCOAT: u32 = 7u;
-// Shown as its albedo (strength): CompositeLight's UNLIT.
+// Shown as its albedo (strength): CompositeLight, under EMISSION.
 const FEATURE_UNLIT: u32 = 8u;
 const FIRST_CUSTOM_FEATURE: u32 = 16u;
 const MAX_FEATURES: u32 = 32u;

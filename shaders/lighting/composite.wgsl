@@ -10,10 +10,12 @@
 // view-space normal (or the reflected view vector), times albedo or as light,
 // times its strength; MATCAP_TEXTURE binds the material texture array its
 // images are layers of (else the built-in matcap).
-// UNLIT: materials with the Unlit feature show their albedo (glTF's
+// Under EMISSION too (compiled when some material emits or is unlit):
+// materials with the Unlit feature show their albedo (glTF's
 // KHR_materials_unlit: base colour x maps x vertex colour), mixed over the
 // lit colour by its strength; lights, ambient, GI and reflections do not
-// reach them.
+// reach them. One flag test per pixel, sharing the emission permutation
+// rather than doubling the composite's permutations.
 // MATERIALS: the material library is bound (emission, per-material AO,
 // reflection, matcap or unlit need it). SURFACE_TARGET: what the G-buffer resolved
 // per pixel (below). Clamped below half-float overflow.
@@ -72,7 +74,7 @@ struct Params {
 #ifdef SURFACE_TARGET
 #import spreadlight::surface_target::surface_at
 #endif
-#ifdef UNLIT
+#ifdef EMISSION
 #import spreadlight::material::FEATURE_UNLIT
 #endif
 #ifdef GI
@@ -184,7 +186,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
 #ifdef MATCAP
         lit += matcap_light(p, albedo);
 #endif
-#ifdef UNLIT
+#ifdef EMISSION
         let unlit = clamp(feature_param(channel_to_id(textureLoad(color, p, 0).a), FEATURE_UNLIT, 0u, vec4<f32>(0.0)).x, 0.0, 1.0);
         // Strength 1 is the albedo alone, whatever the lighting summed to.
         lit = select(mix(lit, albedo, unlit), albedo, unlit >= 1.0);

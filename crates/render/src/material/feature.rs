@@ -142,7 +142,7 @@ pub enum Feature {
     /// Fresnel reflectance (`CLEARCOAT`).
     Clearcoat,
     /// Unlit: CompositeLight shows the pixel's albedo, mixed over the lit
-    /// colour by strength (1: albedo alone; `UNLIT`).
+    /// colour by strength (1: albedo alone; compiled with `EMISSION`).
     Unlit,
     /// A user feature, id 16..=31, with as many vec4 parameters as it is given.
     Custom(u32),

@@ -310,7 +310,7 @@ fn load(bytes: &[u8], base_dir: Option<&Path>, path: &Path) -> Result<GltfScene,
         path: path.to_owned(),
         reason,
     })?;
-    let root: gltf::json::Root =
+    let mut root: gltf::json::Root =
         gltf::json::deserialize::from_slice(json).map_err(|e| GltfError::Json {
             path: path.to_owned(),
             message: e.to_string(),
@@ -326,6 +326,10 @@ fn load(bytes: &[u8], base_dir: Option<&Path>, path: &Path) -> Result<GltfScene,
             extension: extension.clone(),
         });
     }
+    // Every required extension is one this loader reads (checked above);
+    // gltf-json's validation would refuse those it has no typed form of
+    // (clearcoat, specular), so its check is not asked again.
+    root.extensions_required.clear();
     let major = root.asset.version.split('.').next().unwrap_or("");
     if major != "2" {
         return Err(GltfError::Invalid {

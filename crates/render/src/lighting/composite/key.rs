@@ -59,8 +59,6 @@ pub struct MaterialTerms {
     pub emission: Option<Textured>,
     pub reflection: bool,
     pub matcap: Option<Textured>,
-    /// Some material is Unlit (its albedo replaces its lighting).
-    pub unlit: bool,
 }
 
 /// Ambient occlusion with a material world.
@@ -100,7 +98,6 @@ impl Permutation for CompositeKey {
         "MATCAP",
         "MATCAP_TEXTURE",
         "SURFACE_TARGET",
-        "UNLIT",
     ];
 
     fn features(self) -> impl Iterator<Item = &'static str> {
@@ -133,7 +130,6 @@ impl Permutation for CompositeKey {
                     Some(Textured::Flat) => terms.push("MATCAP"),
                     Some(Textured::Textured) => terms.extend(["MATCAP", "MATCAP_TEXTURE"]),
                 }
-                terms.extend(m.unlit.then_some("UNLIT"));
             }
         }
         terms.extend(self.gi.then_some("GI"));
@@ -151,15 +147,12 @@ impl Permutation for CompositeKey {
             for emission in optional {
                 for reflection in [false, true] {
                     for matcap in optional {
-                        for unlit in [false, true] {
-                            shading.push(Shading::Materials(MaterialTerms {
-                                ao,
-                                emission,
-                                reflection,
-                                matcap,
-                                unlit,
-                            }));
-                        }
+                        shading.push(Shading::Materials(MaterialTerms {
+                            ao,
+                            emission,
+                            reflection,
+                            matcap,
+                        }));
                     }
                 }
             }

@@ -9,8 +9,10 @@
 //! world (`shaders/lib/surface_target.wgsl`). A reflection input is not
 //! even rendered when no material reflects ("reflection culled: no reflective
 //! material"); the matcap code is compiled in only when some material has
-//! MatCap ("matcap shaded"); Unlit materials show their albedo (`UNLIT`,
-//! only when some material is unlit: "unlit shaded").
+//! MatCap ("matcap shaded"). Unlit materials show their albedo: that
+//! test shares the emission permutation (`EMISSION`, compiled when some
+//! material emits or is unlit; "unlit shaded"), one flag test per pixel,
+//! rather than doubling the composite's 6,720 permutations.
 
 use std::sync::Arc;
 
@@ -109,15 +111,15 @@ impl CompositeLight {
                 .as_ref()
                 .is_some_and(|w| w.union_flags() & (1 << feature) != 0)
         };
-        let emission = has(FEATURE_EMISSION);
+        let unlit = has(FEATURE_UNLIT);
+        let emission = has(FEATURE_EMISSION) || unlit;
         let ao_per_material = occlusion.is_some() && has(FEATURE_AMBIENT_OCCLUSION);
         let reflection_culled = reflection.is_some() && !has(FEATURE_REFLECTION);
         let reflection = reflection.filter(|_| has(FEATURE_REFLECTION));
         let matcap = has(FEATURE_MATCAP);
-        let unlit = has(FEATURE_UNLIT);
         // GI reads each material's metallic: metals take no diffuse light.
         let materials = materials.filter(|_| {
-            emission || ao_per_material || reflection.is_some() || gi.is_some() || matcap || unlit
+            emission || ao_per_material || reflection.is_some() || gi.is_some() || matcap
         });
         if components.is_empty() || components.len() > MAX_COMPONENTS {
             return Err(RenderError::Pass {
@@ -211,7 +213,6 @@ impl CompositeLight {
                 matcap: self
                     .matcap
                     .then(|| textured(self.matcap_images().is_some())),
-                unlit: self.unlit,
             }),
         };
         Ok(CompositeKey {

@@ -410,11 +410,14 @@ fn the_supported_material_extensions_may_be_required() {
         "KHR_materials_unlit".into(),
         "KHR_materials_pbrSpecularGlossiness".into(),
     ];
+    // glTF: what a file requires it also lists as used.
+    doc.root.extensions_used = doc.root.extensions_required.clone();
     let scene = load_gltf_slice(&doc.glb(), None).expect("supported extensions are accepted");
     assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
     // Volume is not read: a file that requires it is refused by name.
     let mut doc = cube_with(named("Thick"), "{}");
     doc.root.extensions_required = vec!["KHR_materials_volume".into()];
+    doc.root.extensions_used = doc.root.extensions_required.clone();
     let err = load_gltf_slice(&doc.glb(), None).expect_err("refused");
     assert!(err.to_string().contains("KHR_materials_volume"), "{err}");
 }
