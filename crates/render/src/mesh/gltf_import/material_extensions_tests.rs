@@ -450,3 +450,36 @@ fn no_extension_value_makes_a_material_non_finite() {
             .all(|v| v.is_finite())
     );
 }
+
+#[test]
+fn the_extensions_row_asset_is_what_the_generator_makes_and_loads_clean() {
+    // patches/assets/gltf-material-extensions.gltf (docs/gltf.md's picture,
+    // `spreadlight view` of it) is the committed output of the generator.
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../patches/assets/gltf-material-extensions.gltf");
+    let made = super::models::material_extensions_row();
+    if std::env::var_os("SPREADLIGHT_BLESS").is_some() {
+        std::fs::write(&path, &made).unwrap();
+    }
+    let committed = std::fs::read(&path).unwrap();
+    assert!(
+        committed == made,
+        "{} is stale: regenerate with SPREADLIGHT_BLESS=1",
+        path.display()
+    );
+    let scene = load_gltf_slice(&made, None).unwrap();
+    let by_name = |name: &str| {
+        scene
+            .materials
+            .iter()
+            .find(|m| m.name.as_deref() == Some(name))
+            .unwrap_or_else(|| panic!("{name}"))
+    };
+    assert!(by_name("Unlit").unlit);
+    assert_eq!(by_name("Clearcoat").clearcoat, 1.0);
+    assert!(by_name("Specular").reflectance() > 0.06);
+    assert!(by_name("SpecGloss").from_spec_gloss && by_name("SpecGloss").metallic > 0.99);
+    assert_eq!(by_name("Transmission").alpha_mode, AlphaMode::Blend);
+    // The one warning: transmission drawn as blending.
+    assert_eq!(scene.warnings.len(), 1, "{:?}", scene.warnings);
+}
