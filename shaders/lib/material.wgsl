@@ -17,6 +17,10 @@ const FEATURE_AMBIENT_OCCLUSION: u32 = 5u;
 // A glTF material's maps (shaders/lib/material_maps.wgsl); what the G-buffer
 // resolve made of them is in the surface target (shaders/lib/surface_target.wgsl).
 const FEATURE_SURFACE_MAPS: u32 = 6u;
+// A clear coat over the base (factor, roughness): CookTorrance's CLEARCOAT.
+const FEATURE_CLEARCOAT: u32 = 7u;
+// Shown as its albedo (strength): CompositeLight, under EMISSION.
+const FEATURE_UNLIT: u32 = 8u;
 const FIRST_CUSTOM_FEATURE: u32 = 16u;
 const MAX_FEATURES: u32 = 32u;
 

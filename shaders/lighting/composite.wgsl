@@ -10,8 +10,14 @@
 // view-space normal (or the reflected view vector), times albedo or as light,
 // times its strength; MATCAP_TEXTURE binds the material texture array its
 // images are layers of (else the built-in matcap).
+// Under EMISSION too (compiled when some material emits or is unlit):
+// materials with the Unlit feature show their albedo (glTF's
+// KHR_materials_unlit: base colour x maps x vertex colour), mixed over the
+// lit colour by its strength; lights, ambient, GI and reflections do not
+// reach them. One flag test per pixel, sharing the emission permutation
+// rather than doubling the composite's permutations.
 // MATERIALS: the material library is bound (emission, per-material AO,
-// reflection or matcap need it). SURFACE_TARGET: what the G-buffer resolved
+// reflection, matcap or unlit need it). SURFACE_TARGET: what the G-buffer resolved
 // per pixel (below). Clamped below half-float overflow.
 #import spreadlight::camera::{Camera, pixel_to_ndc}
 
@@ -67,6 +73,9 @@ struct Params {
 // added, with or without a material world (shaders/lib/surface_target.wgsl).
 #ifdef SURFACE_TARGET
 #import spreadlight::surface_target::surface_at
+#endif
+#ifdef EMISSION
+#import spreadlight::material::FEATURE_UNLIT
 #endif
 #ifdef GI
 @group(0) @binding(18) var gi: texture_2d<f32>;
@@ -176,6 +185,11 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
 #endif
 #ifdef MATCAP
         lit += matcap_light(p, albedo);
+#endif
+#ifdef EMISSION
+        let unlit = clamp(feature_param(channel_to_id(textureLoad(color, p, 0).a), FEATURE_UNLIT, 0u, vec4<f32>(0.0)).x, 0.0, 1.0);
+        // Strength 1 is the albedo alone, whatever the lighting summed to.
+        lit = select(mix(lit, albedo, unlit), albedo, unlit >= 1.0);
 #endif
     }
     textureStore(output, p, vec4<f32>(min(lit, vec3<f32>(65000.0)), 1.0));

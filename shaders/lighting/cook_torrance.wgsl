@@ -8,9 +8,12 @@
 // adds the multiple-scattering term. Outputs diffuse (albedo applied, so
 // metals and F0 are exact) and specular radiance (and, with FAKE_SSS, a
 // subsurface term for materials with the FakeSSS feature), clamped below half-float
-// overflow so no infinity reaches a target.
+// overflow so no infinity reaches a target. CLEARCOAT (some material has
+// the Clearcoat feature): a second GGX lobe, f0 0.04, over the base, which
+// it dims by its Fresnel reflectance at N.V (glTF's KHR_materials_clearcoat
+// as the Khronos sample viewer shades it; the coat shares the pixel's normal).
 #import spreadlight::camera::Camera
-#import spreadlight::brdf::{BrdfSurface, LightSums, brdf_surface, no_light_sums, add_light, light_sums_brdf, cook_torrance_weights, half_vector_cosines, surface_energy_compensation, DIELECTRIC_F0}
+#import spreadlight::brdf::{BrdfSurface, LightSums, brdf_surface, no_light_sums, add_light, light_sums_brdf, cook_torrance_weights, half_vector_cosines, surface_energy_compensation, schlick_weight, DIELECTRIC_F0}
 #import spreadlight::lights::{range_window, inverse_square, spot_attenuation}
 #import spreadlight::packing::{channel_to_id, safe_normalize}
 // The material library, imported once: MATERIALS reads CookTorrance
@@ -29,6 +32,14 @@
 #ifdef SURFACE_TARGET
 #import spreadlight::surface_target::surface_at
 #endif
+#endif
+#ifdef CLEARCOAT
+#import spreadlight::material::{feature_param, FEATURE_CLEARCOAT}
+// The pixel's coat: its coverage (0: none), its lobe's surface (the
+// pixel's normal, the coat's roughness, f0 0.04) and its summed specular.
+var<private> coat_factor: f32;
+var<private> coat_surface: BrdfSurface;
+var<private> coat_sum: vec3<f32>;
 #endif
 #ifdef SHADOWS
 #import spreadlight::shadow_sampling::light_shadow
@@ -192,6 +203,13 @@ fn shade(slot: u32, lv: vec4<f32>, p: vec3<f32>, pw: vec3<f32>, surface: BrdfSur
 #endif
     let cosines = half_vector_cosines(surface, n_dot_l, v_dot_l);
     add_light(sums, radiance, cook_torrance_weights(surface, n_dot_l, cosines.x, cosines.y) * attenuation);
+#ifdef CLEARCOAT
+    if (coat_factor > 0.0) {
+        // D V N.L (F0 + (1 - F0) w): the coat's Schlick Fresnel at V.H.
+        let coat = cook_torrance_weights(coat_surface, n_dot_l, cosines.x, cosines.y);
+        coat_sum += radiance * attenuation * (coat.x * DIELECTRIC_F0 + coat.y * (1.0 - DIELECTRIC_F0));
+    }
+#endif
 #ifdef FAKE_SSS
     // Light that wraps past the terminator (wrap 0.5), beyond what Lambert gives.
     let wrapped = max((n_dot_l + 0.5) / 1.5, 0.0) - max(n_dot_l, 0.0);
@@ -325,6 +343,17 @@ fn main(@builtin(local_invocation_index) lane: u32, @builtin(workgroup_id) wid: 
     }
     sss_sum = vec3<f32>(0.0);
 #endif
+#ifdef CLEARCOAT
+    coat_factor = 0.0;
+    var coat_roughness = 0.0;
+    if (covered) {
+        let coat = feature_param(material, FEATURE_CLEARCOAT, 0u, vec4<f32>(0.0));
+        coat_factor = clamp(coat.x, 0.0, 1.0);
+        coat_roughness = clamp(coat.y, 0.0, 1.0);
+    }
+    coat_surface = brdf_surface(n, v, vec3<f32>(0.0), coat_roughness, 0.0, DIELECTRIC_F0);
+    coat_sum = vec3<f32>(0.0);
+#endif
 #ifdef CLUSTERED
     if (lane == 0u) {
         for (var i = 0u; i < 3u; i++) {
@@ -453,10 +482,18 @@ fn main(@builtin(local_invocation_index) lane: u32, @builtin(workgroup_id) wid: 
         return;
     }
     let lit = light_sums_brdf(surface, sums);
-    let diffuse = lit.diffuse;
+    var diffuse = lit.diffuse;
     var specular = lit.specular;
 #ifdef ENERGY_COMPENSATION
     specular *= surface_energy_compensation(surface);
+#endif
+#ifdef CLEARCOAT
+    if (coat_factor > 0.0) {
+        // What the coat reflects does not reach the base, nor leave it.
+        let dim = 1.0 - coat_factor * (DIELECTRIC_F0 + (1.0 - DIELECTRIC_F0) * schlick_weight(surface.n_dot_v));
+        diffuse *= dim;
+        specular = specular * dim + coat_factor * coat_sum;
+    }
 #endif
     textureStore(out_diffuse, pixel, vec4<f32>(min(diffuse, vec3<f32>(HALF_MAX)), 1.0));
     textureStore(out_specular, pixel, vec4<f32>(min(specular, vec3<f32>(HALF_MAX)), 1.0));

@@ -5,6 +5,9 @@
 //! the file's own lights (`KHR_lights_punctual`) or else a sun with a
 //! shadow, image-based light from the procedural sky (or `--environment`),
 //! the sky behind, tonemapped; or, with `--channel`, a G-buffer view.
+//! A file whose lights give the model more than [`KEY_ILLUMINANCE`] lux
+//! (photometric exports: suns of thousands of lux) is exposed down to it
+//! ([`file_exposure`]), the sky scaled with it, so it is not burnt white.
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -13,7 +16,7 @@ use anyhow::Context;
 use glam::{Mat4, Vec3};
 use spreadlight_graph::{NodeDoc, Patch, format};
 use spreadlight_render::mesh::AlphaMode;
-use spreadlight_render::mesh::gltf_import::load_gltf;
+use spreadlight_render::mesh::gltf_import::{SceneLights, load_gltf};
 
 use crate::session::parse_size;
 
@@ -70,6 +73,61 @@ pub fn framing(center: Vec3, radius: f32, aspect: f32) -> (Mat4, Mat4) {
 /// The sun's direction (towards the ground) in the default lighting.
 const SUN_DIRECTION: Vec3 = Vec3::new(-0.4, -1.0, -0.3);
 
+/// The most light (lux at the model) `view` shows a file's lights with as
+/// they are: view's own sun is 2 lux with the sky about as much again;
+/// three stops above that, a white surface facing the light is near white
+/// after ACES. Files lit within this keep their brightness (the generated
+/// point-and-spot scene of the tests gives about 11); brighter ones
+/// (photometric exports: Blender's suns of 1,000 lux and more, point lights
+/// of thousands of candela) are exposed down to it.
+pub const KEY_ILLUMINANCE: f32 = 16.0;
+
+/// The illuminance (lux) the file's lights give at `point`, each as if the
+/// surface faced it: suns their lux, point lights and spots (where `point`
+/// is inside the spot's cone) candela / distance², the distance at least a
+/// tenth of the model's `radius` (a light inside the model lights its
+/// surface, not its centre). Colours count by their luminance.
+pub fn key_illuminance(lights: &SceneLights, point: Vec3, radius: f32) -> f32 {
+    let luminance = |c: Vec3| c.dot(Vec3::new(0.2126, 0.7152, 0.0722)).max(0.0);
+    let near = (radius * 0.1).max(1e-3);
+    let at = |position: Vec3, candela: f32| candela / position.distance(point).max(near).powi(2);
+    let suns = lights
+        .suns
+        .iter()
+        .map(|(_, s)| s.illuminance * luminance(s.color));
+    let points = lights
+        .points
+        .iter()
+        .map(|(_, p)| at(p.position, p.intensity * luminance(p.color)));
+    let spots = lights.spots.iter().map(|(_, s)| {
+        let clip = s.projection * s.view * point.extend(1.0);
+        let inside = clip.w > 0.0 && clip.x.abs() <= clip.w && clip.y.abs() <= clip.w;
+        let position = s.view.inverse().transform_point3(Vec3::ZERO);
+        if inside {
+            at(position, s.intensity * luminance(s.color))
+        } else {
+            0.0
+        }
+    });
+    suns.chain(points)
+        .chain(spots)
+        .filter(|e| !e.is_nan())
+        .map(|e| e.max(0.0))
+        .sum()
+}
+
+/// The Tonemap exposure for a file's lights: 1 up to [`KEY_ILLUMINANCE`]
+/// lux at the model, then what brings their light down to it. Always
+/// finite and positive (lights of infinite intensity count as f32::MAX).
+pub fn file_exposure(lights: &SceneLights, point: Vec3, radius: f32) -> f32 {
+    let lux = key_illuminance(lights, point, radius).min(f32::MAX);
+    if lux > KEY_ILLUMINANCE {
+        (KEY_ILLUMINANCE / lux).max(f32::MIN_POSITIVE)
+    } else {
+        1.0
+    }
+}
+
 /// Where the camera is and what it sees, and what lights the scene.
 pub struct Framing {
     pub view: Mat4,
@@ -82,6 +140,10 @@ pub struct Framing {
     pub time: f32,
     /// Whether some instance has a BLEND material (drawn by Transparency).
     pub blend: bool,
+    /// Tonemap's exposure ([`file_exposure`]; 1 with view's own sun). The
+    /// procedural sky is scaled by its inverse, so it looks as it does
+    /// with view's sun while the file's lights are exposed down.
+    pub exposure: f32,
 }
 
 /// The patch `view` renders, as a user would wire it.
@@ -139,7 +201,7 @@ pub fn build_patch(
     } else {
         sun(&mut patch, framing.radius);
     }
-    image_light(&mut patch, environment);
+    image_light(&mut patch, environment, framing.exposure);
     if framing.blend {
         transparent(&mut patch, file, framing.time);
     } else {
@@ -241,7 +303,7 @@ fn sun(patch: &mut Patch, radius: f32) {
 /// Image-based light (the environment's irradiance and prefiltered
 /// reflection) into CompositeLight, the sky behind (node 14), Tonemap (15)
 /// to the Output; the caller links 14 to 15, or through Transparency.
-fn image_light(patch: &mut Patch, environment: Option<&std::path::Path>) {
+fn image_light(patch: &mut Patch, environment: Option<&std::path::Path>, exposure: f32) {
     // Image-based light: the environment's irradiance and prefiltered reflection.
     let environment_node = match environment {
         Some(file) => NodeDoc::new(11, "Environment (File)")
@@ -249,7 +311,7 @@ fn image_light(patch: &mut Patch, environment: Option<&std::path::Path>) {
             .with("Filename", vec![file.to_string_lossy().into_owned()]),
         None => NodeDoc::new(11, "Environment (Sky)")
             .at(640.0, 160.0)
-            .with("Intensity", vec![0.5f32])
+            .with("Intensity", vec![(0.5 / exposure).min(f32::MAX)])
             .with("Sun Direction", vec![SUN_DIRECTION]),
     };
     patch.add(environment_node);
@@ -273,10 +335,14 @@ fn image_light(patch: &mut Patch, environment: Option<&std::path::Path>) {
     patch.link(13, "Texture", 14, "Texture");
     patch.link(5, "G-Buffer", 14, "G-Buffer");
     patch.link(11, "Environment", 14, "Environment");
-    patch.add(NodeDoc::new(15, "Tonemap").at(0.0, 560.0).with(
+    let mut tonemap = NodeDoc::new(15, "Tonemap").at(0.0, 560.0).with(
         "Operator",
         spreadlight_graph::Spread::Enum(vec!["ACES".to_owned()]),
-    ));
+    );
+    if exposure != 1.0 {
+        tonemap = tonemap.with("Exposure", vec![exposure]);
+    }
+    patch.add(tonemap);
     patch.link(15, "Texture", 20, "Texture");
 }
 
@@ -303,6 +369,15 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
     }
     let radius = scene.bounds.size().length() * 0.5;
     let aspect = args.size.0 as f32 / args.size.1 as f32;
+    // The file's first camera, as the file places it at the posed time's
+    // rest (its aspect rebuilt for the output when the file states none).
+    if let Some(camera) = scene.cameras.first() {
+        eprintln!(
+            "{}: viewed from camera `{}`",
+            args.model.display(),
+            camera.name
+        );
+    }
     let (view, projection) = match scene.cameras.first() {
         Some(camera) => (camera.view, camera.projection_for(aspect)),
         None => framing(scene.bounds.center(), radius, aspect),
@@ -332,7 +407,16 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
                 .and_then(|m| scene.materials.get(m))
                 .is_some_and(|m| m.alpha_mode == AlphaMode::Blend)
         }),
+        exposure: file_exposure(lights, scene.bounds.center(), radius),
     };
+    if framing.exposure != 1.0 {
+        eprintln!(
+            "{}: its lights give the model {:.0} lux; exposed by {:.3e} (down to {KEY_ILLUMINANCE} lux)",
+            args.model.display(),
+            key_illuminance(lights, scene.bounds.center(), radius),
+            framing.exposure
+        );
+    }
     let patch = build_patch(&model, &framing, &args.channel, environment.as_deref());
     if let Some(path) = &args.save_patch {
         format::save(&patch, path)?;

@@ -429,3 +429,65 @@ fn a_skinned_and_morphed_model_is_posed_at_two_times() {
     let distinct: std::collections::HashSet<[u8; 4]> = posed.pixels().map(|p| p.0).collect();
     assert!(distinct.len() > 100, "{} colours", distinct.len());
 }
+
+#[test]
+fn a_photometric_file_is_seen_from_its_camera_and_exposed_down() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let patch = dir.path().join("shot.ron");
+    let model = models::photometric_camera_scene();
+    let (lit, stderr) = view(
+        dir.path(),
+        "shot",
+        &model,
+        &["--save-patch", patch.to_str().expect("utf-8")],
+    );
+    assert!(stderr.contains("viewed from camera `Shot`"), "{stderr}");
+    assert!(
+        stderr.contains("50000 lux") && stderr.contains("exposed by"),
+        "{stderr}"
+    );
+    let saved = std::fs::read_to_string(&patch).expect("saved patch");
+    assert!(saved.contains("Exposure"), "Tonemap is given the exposure");
+    // From the file's camera the block's red face fills the picture (a
+    // framing camera would show the whole floor, the block small in it).
+    let (albedo, _) = view(dir.path(), "shot", &model, &["--channel", "Albedo"]);
+    let red = albedo
+        .pixels()
+        .filter(|p| p.0[0] > 2 * p.0[1].max(10) && p.0[0] > 2 * p.0[2].max(10))
+        .count();
+    let total = albedo.pixels().len();
+    assert!(
+        red * 10 >= total * 9,
+        "{red} of {total} pixels show the block"
+    );
+    // Exposed down, the face lit by a 50,000 lux sun is a mid red, not
+    // burnt white: not one pixel saturates, and the red stays far above
+    // green (without the exposure every channel clips at 255).
+    let mut reds: Vec<u8> = lit.pixels().map(|p| p.0[0]).collect();
+    reds.sort_unstable();
+    let median = reds[reds.len() / 2];
+    assert!((60..236).contains(&median), "median red {median}");
+    assert!(
+        lit.pixels().all(|p| p.0[1] < 200),
+        "no channel burns: {:?}",
+        lit.pixels().map(|p| p.0[1]).max()
+    );
+}
+
+#[test]
+fn material_extensions_show_as_their_materials_say() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let (lit, stderr) = view(
+        dir.path(),
+        "extensions",
+        &models::material_extensions_row(),
+        &[],
+    );
+    // Transmission is blended (its warning says so); nothing else is ignored.
+    assert!(
+        stderr.contains("`Transmission`") && stderr.contains("BLEND"),
+        "{stderr}"
+    );
+    assert!(!stderr.contains("not supported"), "{stderr}");
+    matches_reference("view-material-extensions", &lit);
+}

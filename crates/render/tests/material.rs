@@ -11,9 +11,9 @@ use naga_oil::compose::{
     ComposableModuleDescriptor, Composer, NagaModuleDescriptor, ShaderLanguage, ShaderType,
 };
 use spreadlight_render::material::{
-    FEATURE_AMBIENT_OCCLUSION, FEATURE_COOK_TORRANCE, FEATURE_EMISSION, FEATURE_FAKE_SSS,
-    FEATURE_MATCAP, FEATURE_REFLECTION, FIRST_CUSTOM_FEATURE, Feature, MAX_FEATURES, Material,
-    MaterialWorld,
+    FEATURE_AMBIENT_OCCLUSION, FEATURE_CLEARCOAT, FEATURE_COOK_TORRANCE, FEATURE_EMISSION,
+    FEATURE_FAKE_SSS, FEATURE_MATCAP, FEATURE_REFLECTION, FEATURE_UNLIT, FIRST_CUSTOM_FEATURE,
+    Feature, MAX_FEATURES, Material, MaterialWorld,
 };
 use spreadlight_render::renderer::test_renderer;
 use spreadlight_render::shaders::SHADERS;
@@ -95,6 +95,8 @@ fn library_composes_validates_and_mirrors_the_rust_constants() {
         ("FEATURE_REFLECTION", FEATURE_REFLECTION),
         ("FEATURE_MATCAP", FEATURE_MATCAP),
         ("FEATURE_AMBIENT_OCCLUSION", FEATURE_AMBIENT_OCCLUSION),
+        ("FEATURE_CLEARCOAT", FEATURE_CLEARCOAT),
+        ("FEATURE_UNLIT", FEATURE_UNLIT),
         ("FIRST_CUSTOM_FEATURE", FIRST_CUSTOM_FEATURE),
         ("MAX_FEATURES", MAX_FEATURES),
     ] {
@@ -153,7 +155,11 @@ fn shader_reads_what_the_material_world_holds() {
     let other = MaterialWorld::new(&renderer, Vec::new());
     assert_eq!(other.len(), 1);
     assert_eq!(other.union_flags(), 1);
-    assert_eq!(world.union_flags(), 0b11_1111 | 1 << 16 | 1 << 17 | 1 << 31);
+    // The built-ins (0..=5, Clearcoat 7, Unlit 8) and the custom ones.
+    assert_eq!(
+        world.union_flags(),
+        0b1_1011_1111 | 1 << 16 | 1 << 17 | 1 << 31
+    );
 
     let mut queries: Vec<[u32; 4]> = Vec::new();
     for id in (0..world.len() as u32 + 2).chain([u32::MAX]) {

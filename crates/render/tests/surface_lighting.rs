@@ -649,3 +649,205 @@ fn a_material_reads_the_layers_texture_coordinates_without_maps() {
     }
     assert!(hi - lo > 0.2, "u spans {lo}..{hi} across the floor");
 }
+
+/// glTF material extensions as the lit floor shows them. The floor's
+/// material 0 is `material`; each pixel against the CPU BRDF at the floor
+/// point it sees.
+fn shade_floor_material(renderer: &Renderer, material: Material) -> (ImageF32, ImageF32) {
+    let g = scene(renderer, None, None);
+    let world = MaterialWorld::new(renderer, vec![material]);
+    shade(
+        renderer,
+        &g,
+        LightBuffer::suns(renderer, &[SUN]),
+        Surfaces::Materials(world),
+    )
+}
+
+#[test]
+fn clearcoat_adds_its_lobe_and_dims_the_base_as_the_reference_does() {
+    use spreadlight_render::reference::brdf::clearcoat;
+    let renderer = test_renderer();
+    let l = -SUN.direction.normalize();
+    let radiance = SUN.color * SUN.illuminance;
+    let albedo = Vec3::from(FLOOR_ALBEDO);
+    let points = floor_points();
+    let base = Material::new()
+        .with(Feature::CookTorrance, &[[0.7, 0.0, 0.04, 0.0]])
+        .expect("valid");
+    let compiled = |renderer: &Renderer| {
+        renderer
+            .shaders()
+            .compiled_keys()
+            .filter(|k| k.features.contains("CLEARCOAT"))
+            .count()
+    };
+    // No coat anywhere: the coat's code is never compiled.
+    let (plain_d, plain_s) = shade_floor_material(&renderer, base.clone());
+    assert_eq!(
+        compiled(&renderer),
+        0,
+        "no Clearcoat material, no CLEARCOAT permutation"
+    );
+    for (factor, coat_roughness) in [(1.0, 0.1), (0.5, 0.4)] {
+        let coated = base
+            .clone()
+            .with(Feature::Clearcoat, &[[factor, coat_roughness, 0.0, 0.0]])
+            .expect("valid");
+        let (d, s) = shade_floor_material(&renderer, coated);
+        let mut checked = 0;
+        for (i, seen) in points.iter().enumerate() {
+            let Some((_, v)) = seen else { continue };
+            let brdf = cook_torrance_f0(Vec3::Y, *v, l, albedo, 0.7, 0.0, 0.04, true);
+            let (dim, lobe) = clearcoat(Vec3::Y, *v, l, factor, coat_roughness);
+            let want_d = brdf.diffuse * radiance * dim;
+            let want_s = (brdf.specular * dim + Vec3::splat(factor * lobe)) * radiance;
+            for c in 0..3 {
+                // Half-float targets (11 significant bits) and f32 against f32.
+                let close = |got: f32, want: f32| (got - want).abs() <= 4e-3 * want + 1e-4;
+                assert!(
+                    close(d.pixels[i][c], want_d[c]),
+                    "coat {factor}/{coat_roughness}: diffuse {:?}, the reference says {want_d}",
+                    d.pixels[i]
+                );
+                assert!(
+                    close(s.pixels[i][c], want_s[c]),
+                    "coat {factor}/{coat_roughness}: specular {:?}, the reference says {want_s}",
+                    s.pixels[i]
+                );
+            }
+            // The coat takes light from the base: every lit pixel's diffuse is darker.
+            if plain_d.pixels[i][0] > 1e-3 {
+                assert!(d.pixels[i][0] < plain_d.pixels[i][0]);
+            }
+            checked += 1;
+        }
+        assert!(
+            checked > (SIZE.0 * SIZE.1 / 3) as usize,
+            "{checked} floor pixels"
+        );
+        // The coat changes the specular image, not only the diffuse one.
+        let sum = |image: &ImageF32| image.pixels.iter().map(|p| f64::from(p[1])).sum::<f64>();
+        assert!(
+            (sum(&s) - sum(&plain_s)).abs() > 0.01 * sum(&plain_s),
+            "{} vs {}",
+            sum(&s),
+            sum(&plain_s)
+        );
+    }
+    assert!(compiled(&renderer) >= 1);
+}
+
+#[test]
+fn ior_and_specular_reach_direct_light_through_the_reflectance() {
+    use spreadlight_render::mesh::gltf_import::MaterialData;
+    let renderer = test_renderer();
+    let l = -SUN.direction.normalize();
+    let radiance = SUN.color * SUN.illuminance;
+    let albedo = Vec3::from(FLOOR_ALBEDO);
+    let points = floor_points();
+    // Water's ior (f0 0.020) and a tinted, halved specular over ior 1.8.
+    for (ior, specular, color) in [(1.33, 1.0, [1.0; 3]), (1.8, 0.5, [1.0, 0.5, 0.25])] {
+        let data = MaterialData {
+            roughness: 0.5,
+            metallic: 0.0,
+            ior,
+            specular,
+            specular_color: color,
+            ..MaterialData::default()
+        };
+        let mut material = data.to_material();
+        // The floor's albedo stays the instance colour; the test layer has no maps.
+        material.set_maps(None);
+        let f0 = data.reflectance();
+        let (_, s) = shade_floor_material(&renderer, material);
+        for (i, seen) in points.iter().enumerate() {
+            let Some((_, v)) = seen else { continue };
+            let want =
+                cook_torrance_f0(Vec3::Y, *v, l, albedo, 0.5, 0.0, f0, true).specular * radiance;
+            for c in 0..3 {
+                assert!(
+                    (s.pixels[i][c] - want[c]).abs() <= 4e-3 * want[c] + 1e-4,
+                    "ior {ior}: specular {:?}, f0 {f0} says {want}",
+                    s.pixels[i]
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn unlit_materials_show_their_albedo_whatever_the_light() {
+    let renderer = test_renderer();
+    let points = floor_points();
+    let g = scene(&renderer, None, None);
+    let unlit = Material::default_material()
+        .with(Feature::Unlit, &[[1.0, 0.0, 0.0, 0.0]])
+        .expect("valid");
+    let half = Material::default_material()
+        .with(Feature::Unlit, &[[0.5, 0.0, 0.0, 0.0]])
+        .expect("valid");
+    // Unlit shares the emission permutation (no material here emits).
+    let compiled = |renderer: &Renderer| {
+        renderer
+            .shaders()
+            .compiled_keys()
+            .filter(|k| k.features.contains("EMISSION"))
+            .count()
+    };
+    let lit = composite(
+        &renderer,
+        &g,
+        point_light(&renderer),
+        0.3,
+        Some(MaterialWorld::new(
+            &renderer,
+            vec![Material::default_material()],
+        )),
+        None,
+    );
+    assert_eq!(compiled(&renderer), 0, "no Unlit material, no unlit code");
+    for light in [no_lights(&renderer), point_light(&renderer)] {
+        let image = composite(
+            &renderer,
+            &g,
+            light,
+            0.3,
+            Some(MaterialWorld::new(&renderer, vec![unlit.clone()])),
+            None,
+        );
+        for (pixel, seen) in image.pixels.iter().zip(&points) {
+            if seen.is_none() {
+                continue;
+            }
+            for c in 0..3 {
+                assert!(
+                    (pixel[c] - FLOOR_ALBEDO[c]).abs() <= 4e-3,
+                    "unlit: {pixel:?}, albedo {FLOOR_ALBEDO:?}"
+                );
+            }
+        }
+    }
+    // Strength 0.5: halfway between the lit colour and the albedo.
+    let mixed = composite(
+        &renderer,
+        &g,
+        point_light(&renderer),
+        0.3,
+        Some(MaterialWorld::new(&renderer, vec![half])),
+        None,
+    );
+    for ((m, l), seen) in mixed.pixels.iter().zip(&lit.pixels).zip(&points) {
+        if seen.is_none() {
+            continue;
+        }
+        for c in 0..3 {
+            let want = 0.5 * l[c] + 0.5 * FLOOR_ALBEDO[c];
+            assert!(
+                (m[c] - want).abs() <= 2e-3 * want.max(0.5),
+                "{m:?} vs {want}"
+            );
+        }
+    }
+    assert!(compiled(&renderer) >= 1);
+}

@@ -1,6 +1,6 @@
 //! `FeatureManager`: sets one feature, by id, on each material. Feature id n
-//! is flag 1 << n (Emeshe's convention); 0..=5 are the built-ins (one vec4
-//! each), 16..=31 custom features with any number of vec4s. Bin Size says
+//! is flag 1 << n (Emeshe's convention); 0..=5, 7 and 8 are the built-ins
+//! (one vec4 each; 6 is a glTF material's maps), 16..=31 custom features with any number of vec4s. Bin Size says
 //! how many Parameters slices go to each material, as vvvv's bin sizes do.
 
 use glam::Vec4;
@@ -24,7 +24,8 @@ pub fn register(r: &mut Registry) {
             CATEGORY,
             "Sets feature Feature ID on each material (none in: new ones), replacing an earlier setting. \
              Ids: 0 CookTorrance (roughness, metallic, reflectance), 1 Emission (rgb, strength), 2 FakeSSS \
-             (rgb, strength), 3 Reflection, 4 MatCap, 5 AmbientOcclusion (strength); 16..31 custom. Each \
+             (rgb, strength), 3 Reflection, 4 MatCap, 5 AmbientOcclusion (strength), 7 Clearcoat (factor, \
+             roughness), 8 Unlit (strength); 16..31 custom. Each \
              material takes Bin Size slices of Parameters (built-ins take 1; 0 sets a custom flag alone). \
              Values are clamped to their physical ranges. Texture ID: the layer of the MaterialBuffer's \
              texture array that scales the first parameter at each pixel's UV (-1: none; MatCap: the matcap \

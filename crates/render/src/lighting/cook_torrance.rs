@@ -9,7 +9,7 @@ use crate::adapter_class::AdapterClass;
 use crate::error::RenderError;
 use crate::frame_graph::{Bindings, FrameGraph, PassContext, Tex, TextureDesc};
 use crate::gbuffer::GBuffer;
-use crate::material::{FEATURE_FAKE_SSS, MaterialTextures, MaterialWorld};
+use crate::material::{FEATURE_CLEARCOAT, FEATURE_FAKE_SSS, MaterialTextures, MaterialWorld};
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
 use crate::report::PassName;
@@ -215,6 +215,13 @@ impl CookTorrance {
         })
     }
 
+    /// Whether some material has a clear coat: its lobe is compiled in.
+    fn clearcoat(&self) -> bool {
+        self.materials
+            .as_ref()
+            .is_some_and(|w| w.union_flags() & (1 << FEATURE_CLEARCOAT) != 0)
+    }
+
     fn label(&self, what: impl Into<std::borrow::Cow<'static, str>>) -> PassName {
         PassName::new("CookTorrance").step(what)
     }
@@ -282,6 +289,7 @@ impl CookTorrance {
             (self.energy_compensation, "ENERGY_COMPENSATION"),
             (self.materials.is_some(), "MATERIALS"),
             (self.sss.is_some(), "FAKE_SSS"),
+            (self.clearcoat(), "CLEARCOAT"),
             (self.lights.textures().is_some(), "SPOT_TEXTURE"),
             (self.textured(), "MATERIAL_TEXTURES"),
         ];

@@ -1,7 +1,7 @@
 //! Material features: what a bit of a material's flag word switches on, and
 //! the parameters it reads. Feature id `n` is flag `1 << n` (Emeshe's
 //! convention: the id is the exponent, the flag the power of two). Ids 0..16
-//! belong to built-in features (0..=6 exist now; 7..=15 are kept for the
+//! belong to built-in features (0..=8 exist now; 9..=15 are kept for the
 //! ones to come), 16..=31 are free for custom features.
 //!
 //! Mirrored by the `FEATURE_*` constants of `shaders/lib/material.wgsl`.
@@ -18,6 +18,10 @@ pub const FEATURE_AMBIENT_OCCLUSION: u32 = 5;
 /// `Material::set_maps`, not as a [`Feature`], since its parameters are
 /// texture places the world assigns when it packs.
 pub const FEATURE_SURFACE_MAPS: u32 = 6;
+/// A clear lacquer over the surface (glTF's `KHR_materials_clearcoat`).
+pub const FEATURE_CLEARCOAT: u32 = 7;
+/// Shown as its albedo, unlit (glTF's `KHR_materials_unlit`).
+pub const FEATURE_UNLIT: u32 = 8;
 /// The first id free for custom features.
 pub const FIRST_CUSTOM_FEATURE: u32 = 16;
 /// One bit of a `u32` per feature.
@@ -67,6 +71,13 @@ const FAKE_SSS: ParamLayout = ParamLayout {
 const STRENGTH: ParamLayout = ParamLayout {
     names: ["strength", "", "", ""],
     ranges: [Unit, Unused, Unused, Unused],
+    default: [1.0, 0.0, 0.0, 0.0],
+};
+/// A second, colourless GGX lobe over the base (f0 0.04, index of
+/// refraction 1.5): how much of it (the coat's coverage) and its roughness.
+const CLEARCOAT: ParamLayout = ParamLayout {
+    names: ["factor", "roughness", "", ""],
+    ranges: [Unit, Unit, Unused, Unused],
     default: [1.0, 0.0, 0.0, 0.0],
 };
 /// Strength, then two switches kept as 0 or 1 ([`MatCapMode`], [`MatCapMapping`]).
@@ -126,22 +137,32 @@ pub enum Feature {
     MatCap,
     /// Screen-space ambient occlusion: strength.
     AmbientOcclusion,
+    /// A clear coat over the base layer: factor (coverage, 0..1), roughness.
+    /// CookTorrance adds its specular lobe and dims the base by the coat's
+    /// Fresnel reflectance (`CLEARCOAT`).
+    Clearcoat,
+    /// Unlit: CompositeLight shows the pixel's albedo, mixed over the lit
+    /// colour by strength (1: albedo alone; compiled with `EMISSION`).
+    Unlit,
     /// A user feature, id 16..=31, with as many vec4 parameters as it is given.
     Custom(u32),
 }
 
 impl Feature {
-    pub const BUILT_IN: [Feature; 6] = [
+    /// In ascending id (6, SurfaceMaps, is set through `Material::set_maps`).
+    pub const BUILT_IN: [Feature; 8] = [
         Feature::CookTorrance,
         Feature::Emission,
         Feature::FakeSss,
         Feature::Reflection,
         Feature::MatCap,
         Feature::AmbientOcclusion,
+        Feature::Clearcoat,
+        Feature::Unlit,
     ];
 
     /// The feature with id `id`: a built-in one, or a custom one for 16..=31.
-    /// Ids 6..=15 are reserved for built-ins to come.
+    /// Id 6 is SurfaceMaps (not set as a feature); 9..=15 are reserved for built-ins to come.
     pub fn from_id(id: i64) -> Result<Feature, FeatureError> {
         if let Some(f) = Feature::BUILT_IN.iter().find(|f| i64::from(f.id()) == id) {
             return Ok(*f);
@@ -160,6 +181,8 @@ impl Feature {
             Feature::Reflection => FEATURE_REFLECTION,
             Feature::MatCap => FEATURE_MATCAP,
             Feature::AmbientOcclusion => FEATURE_AMBIENT_OCCLUSION,
+            Feature::Clearcoat => FEATURE_CLEARCOAT,
+            Feature::Unlit => FEATURE_UNLIT,
             Feature::Custom(id) => id,
         }
     }
@@ -177,6 +200,8 @@ impl Feature {
             Feature::Reflection => "Reflection".to_owned(),
             Feature::MatCap => "MatCap".to_owned(),
             Feature::AmbientOcclusion => "AmbientOcclusion".to_owned(),
+            Feature::Clearcoat => "Clearcoat".to_owned(),
+            Feature::Unlit => "Unlit".to_owned(),
             Feature::Custom(id) => format!("Custom{id}"),
         }
     }
@@ -187,7 +212,8 @@ impl Feature {
             Feature::CookTorrance => Some(&COOK_TORRANCE),
             Feature::Emission => Some(&EMISSION),
             Feature::FakeSss => Some(&FAKE_SSS),
-            Feature::Reflection | Feature::AmbientOcclusion => Some(&STRENGTH),
+            Feature::Reflection | Feature::AmbientOcclusion | Feature::Unlit => Some(&STRENGTH),
+            Feature::Clearcoat => Some(&CLEARCOAT),
             Feature::MatCap => Some(&MATCAP),
             Feature::Custom(_) => None,
         }
@@ -196,9 +222,13 @@ impl Feature {
     /// Whether a shader reads this feature's texture layer: CookTorrance,
     /// Emission and FakeSSS scale their parameter by it, MatCap looks its
     /// image up in it, custom features' own shaders decide. Reflection and
-    /// AmbientOcclusion weight screen-space inputs and read none.
+    /// AmbientOcclusion weight screen-space inputs and read none; Clearcoat
+    /// and Unlit read none either (their parameters are per material).
     pub fn reads_texture(self) -> bool {
-        !matches!(self, Feature::Reflection | Feature::AmbientOcclusion)
+        !matches!(
+            self,
+            Feature::Reflection | Feature::AmbientOcclusion | Feature::Clearcoat | Feature::Unlit
+        )
     }
 
     /// The named parameters of a built-in feature's vec4, each with the

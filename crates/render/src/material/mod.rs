@@ -37,9 +37,10 @@ use thiserror::Error;
 use wgpu::util::DeviceExt;
 
 pub use feature::{
-    FEATURE_AMBIENT_OCCLUSION, FEATURE_COOK_TORRANCE, FEATURE_EMISSION, FEATURE_FAKE_SSS,
-    FEATURE_MATCAP, FEATURE_REFLECTION, FEATURE_SURFACE_MAPS, FIRST_CUSTOM_FEATURE, Feature,
-    MAX_FEATURES, MatCapMapping, MatCapMode, ParamLayout, Range, matcap_params,
+    FEATURE_AMBIENT_OCCLUSION, FEATURE_CLEARCOAT, FEATURE_COOK_TORRANCE, FEATURE_EMISSION,
+    FEATURE_FAKE_SSS, FEATURE_MATCAP, FEATURE_REFLECTION, FEATURE_SURFACE_MAPS, FEATURE_UNLIT,
+    FIRST_CUSTOM_FEATURE, Feature, MAX_FEATURES, MatCapMapping, MatCapMode, ParamLayout, Range,
+    matcap_params,
 };
 use map_textures::MapLayout;
 pub use map_textures::{MapFiltering, WorldMaps};
@@ -65,7 +66,7 @@ pub enum FeatureError {
         got: usize,
     },
     #[error(
-        "feature id {id} does not exist: built-in features are 0..=5 (6..=15 are reserved), custom ones 16..=31"
+        "feature id {id} does not exist: built-in features are 0..=5, 7 and 8 (6 is SurfaceMaps, 9..=15 are reserved), custom ones 16..=31"
     )]
     UnknownFeature { id: i64 },
 }

@@ -10,15 +10,20 @@ fn feature_ids_flags_and_names() {
     assert_eq!(Feature::from_id(2), Ok(Feature::FakeSss));
     assert_eq!(Feature::from_id(16), Ok(Feature::Custom(16)));
     assert_eq!(Feature::Custom(31).flag(), 1 << 31);
-    for bad in [-1, 6, 15, 32, 1 << 40] {
+    assert_eq!(Feature::from_id(7), Ok(Feature::Clearcoat));
+    assert_eq!(Feature::from_id(8), Ok(Feature::Unlit));
+    for bad in [-1, 6, 9, 15, 32, 1 << 40] {
         assert_eq!(
             Feature::from_id(bad),
             Err(FeatureError::UnknownFeature { id: bad })
         );
     }
-    for (i, f) in Feature::BUILT_IN.iter().enumerate() {
-        assert_eq!(f.id() as usize, i);
+    // In ascending id, each once; 6 (SurfaceMaps) is set through `set_maps`.
+    let ids: Vec<u32> = Feature::BUILT_IN.iter().map(|f| f.id()).collect();
+    assert_eq!(ids, [0, 1, 2, 3, 4, 5, 7, 8]);
+    for f in Feature::BUILT_IN {
         assert_eq!(f.param_count(), Some(1));
+        assert_eq!(Feature::from_id(i64::from(f.id())), Ok(f));
     }
     assert_eq!(Feature::FakeSss.name(), "FakeSSS");
 }

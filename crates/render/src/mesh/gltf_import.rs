@@ -26,8 +26,11 @@
 //!   beside each mesh ([`deform::Deform`]), and [`GltfScene::deform_pose`]
 //!   gives what the GPU skinning pass needs for a pose;
 //! - materials carry every texture with its sampler and
-//!   `KHR_texture_transform`, and `KHR_materials_emissive_strength`
-//!   ([`MaterialData::to_material`] makes them materials of the one world);
+//!   `KHR_texture_transform`, and the `KHR_materials_*` extensions that fit
+//!   the G-buffer (`material_extensions`: emissive strength, unlit, ior,
+//!   specular, clearcoat, transmission as blending, spec-gloss converted to
+//!   metal-rough); [`MaterialData::to_material`] makes them materials of the
+//!   one world;
 //! - a file requiring an extension outside [`SUPPORTED_EXTENSIONS`] is
 //!   refused with a [`GltfError`] naming it; unknown optional ones are
 //!   ignored with one warning each; `asset.version` must be 2.x.
@@ -40,6 +43,9 @@ pub mod deform;
 #[cfg(test)]
 mod hard_cases;
 mod material;
+mod material_extensions;
+#[cfg(test)]
+mod material_extensions_tests;
 pub mod models;
 pub mod morph;
 mod primitive;
@@ -51,6 +57,7 @@ pub mod skin;
 mod skin_tests;
 pub mod skinned_models;
 mod source;
+pub mod spec_gloss;
 #[cfg(test)]
 mod tests;
 
@@ -141,6 +148,27 @@ pub struct MaterialData {
     pub emissive_texture: Option<TextureData>,
     pub double_sided: bool,
     pub alpha_mode: AlphaMode,
+    /// `KHR_materials_unlit`: shown as its base colour, no lighting.
+    pub unlit: bool,
+    /// `KHR_materials_ior` (1.5 without it; 0 is the extension's "f0 = 1").
+    pub ior: f32,
+    /// `KHR_materials_specular`: specularFactor (1 without it).
+    pub specular: f32,
+    /// `KHR_materials_specular`: specularColorFactor (white without it).
+    pub specular_color: [f32; 3],
+    /// `KHR_materials_clearcoat`: clearcoatFactor (0: no coat).
+    pub clearcoat: f32,
+    /// `KHR_materials_clearcoat`: clearcoatRoughnessFactor.
+    pub clearcoat_roughness: f32,
+    /// `KHR_materials_transmission`: transmissionFactor (0 without it). Until
+    /// a pass refracts, a transmissive material is drawn BLEND with its base
+    /// colour alpha times 1 - transmission (the importer has applied that to
+    /// `alpha_mode` and `base_color`; this keeps the file's value).
+    pub transmission: f32,
+    /// The file gave this material as `KHR_materials_pbrSpecularGlossiness`;
+    /// base colour, metallic, roughness and their maps are its conversion
+    /// (`spec_gloss`).
+    pub from_spec_gloss: bool,
 }
 
 impl Default for MaterialData {
@@ -162,6 +190,14 @@ impl Default for MaterialData {
             emissive_texture: None,
             double_sided: false,
             alpha_mode: AlphaMode::Opaque,
+            unlit: false,
+            ior: 1.5,
+            specular: 1.0,
+            specular_color: [1.0; 3],
+            clearcoat: 0.0,
+            clearcoat_roughness: 0.0,
+            transmission: 0.0,
+            from_spec_gloss: false,
         }
     }
 }
@@ -274,7 +310,7 @@ fn load(bytes: &[u8], base_dir: Option<&Path>, path: &Path) -> Result<GltfScene,
         path: path.to_owned(),
         reason,
     })?;
-    let root: gltf::json::Root =
+    let mut root: gltf::json::Root =
         gltf::json::deserialize::from_slice(json).map_err(|e| GltfError::Json {
             path: path.to_owned(),
             message: e.to_string(),
@@ -290,6 +326,10 @@ fn load(bytes: &[u8], base_dir: Option<&Path>, path: &Path) -> Result<GltfScene,
             extension: extension.clone(),
         });
     }
+    // Every required extension is one this loader reads (checked above);
+    // gltf-json's validation would refuse those it has no typed form of
+    // (clearcoat, specular), so its check is not asked again.
+    root.extensions_required.clear();
     let major = root.asset.version.split('.').next().unwrap_or("");
     if major != "2" {
         return Err(GltfError::Invalid {
@@ -377,7 +417,13 @@ fn check_camera_projections(root: &gltf::json::Root, path: &Path) -> Result<(), 
 /// The extensions read; a file may require these and no others.
 pub const SUPPORTED_EXTENSIONS: &[&str] = &[
     "KHR_lights_punctual",
+    "KHR_materials_clearcoat",
     "KHR_materials_emissive_strength",
+    "KHR_materials_ior",
+    "KHR_materials_pbrSpecularGlossiness",
+    "KHR_materials_specular",
+    "KHR_materials_transmission",
+    "KHR_materials_unlit",
     "KHR_texture_transform",
 ];
 

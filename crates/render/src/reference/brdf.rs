@@ -194,6 +194,28 @@ pub fn cook_torrance_f0(
     Brdf { diffuse, specular }
 }
 
+/// A clear coat over a surface (glTF's `KHR_materials_clearcoat`, as the
+/// Khronos sample viewer shades it; `shaders/lighting/cook_torrance.wgsl`,
+/// CLEARCOAT): the coat's GGX lobe (f0 0.04, Schlick Fresnel at V.H) times
+/// N.L, and the factor the base's diffuse and specular are multiplied by,
+/// 1 - factor x F_coat(N.V). Returns (dim, lobe); the shaded result is
+/// base x dim + factor x lobe, per unit of the light's radiance.
+pub fn clearcoat(n: Vec3, v: Vec3, l: Vec3, factor: f32, roughness: f32) -> (f32, f32) {
+    let factor = factor.clamp(0.0, 1.0);
+    let n_dot_v = n.dot(v).clamp(MIN_COS, 1.0);
+    let dim = 1.0 - factor * f_schlick(Vec3::splat(DIELECTRIC_F0), n_dot_v).x;
+    let n_dot_l = n.dot(l);
+    if n_dot_l <= 0.0 {
+        return (dim, 0.0);
+    }
+    let n_dot_l = n_dot_l.min(1.0);
+    let h = safe_normalize(v + l, n);
+    let roughness = roughness.clamp(0.0, 1.0);
+    let f = f_schlick(Vec3::splat(DIELECTRIC_F0), v.dot(h)).x;
+    let lobe = d_ggx(n.dot(h), roughness) * v_smith_ggx_correlated(n_dot_v, n_dot_l, roughness);
+    (dim, f * lobe * n_dot_l)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

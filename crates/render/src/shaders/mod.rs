@@ -229,7 +229,8 @@ pub const SHADERS: &[ShaderFile] = &[
             "SHADOW_PCF",
             "SHADOW_PCSS",
             "SHADOW_VSM",
-            "SURFACE_TARGET"
+            "SURFACE_TARGET",
+            "CLEARCOAT"
         ],
         Rule::AtMostOne(&["LIGHT_SPOT", "LIGHT_SUN"]),
         // SHADOWS alone samples raw; the others choose a filter.
@@ -238,6 +239,7 @@ pub const SHADERS: &[ShaderFile] = &[
         Rule::Requires("SHADOW_PCSS", "SHADOWS"),
         Rule::Requires("SHADOW_VSM", "SHADOWS"),
         Rule::Requires("FAKE_SSS", "MATERIALS"),
+        Rule::Requires("CLEARCOAT", "MATERIALS"),
         // Suns have no range to cluster by.
         Rule::AtMostOne(&["LIGHT_SUN", "CLUSTERED"]),
         Rule::Requires("SPOT_TEXTURE", "LIGHT_SPOT"),

@@ -9,7 +9,10 @@
 //! world (`shaders/lib/surface_target.wgsl`). A reflection input is not
 //! even rendered when no material reflects ("reflection culled: no reflective
 //! material"); the matcap code is compiled in only when some material has
-//! MatCap ("matcap shaded").
+//! MatCap ("matcap shaded"). Unlit materials show their albedo: that
+//! test shares the emission permutation (`EMISSION`, compiled when some
+//! material emits or is unlit; "unlit shaded"), one flag test per pixel,
+//! rather than doubling the composite's 6,720 permutations.
 
 use std::sync::Arc;
 
@@ -17,7 +20,7 @@ use crate::error::RenderError;
 use crate::frame_graph::{Bindings, FrameGraph, PassContext, Tex, TextureDesc};
 use crate::gbuffer::GBuffer;
 use crate::material::{
-    FEATURE_AMBIENT_OCCLUSION, FEATURE_EMISSION, FEATURE_MATCAP, FEATURE_REFLECTION,
+    FEATURE_AMBIENT_OCCLUSION, FEATURE_EMISSION, FEATURE_MATCAP, FEATURE_REFLECTION, FEATURE_UNLIT,
     MaterialTextures, MaterialWorld,
 };
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
@@ -81,6 +84,8 @@ pub struct CompositeLight {
     reflection_culled: bool,
     /// Some material has MatCap: the matcap code is compiled in.
     matcap: bool,
+    /// Some material is Unlit: the albedo replaces its lighting.
+    unlit: bool,
     params: wgpu::Buffer,
     pub output: String,
 }
@@ -106,7 +111,8 @@ impl CompositeLight {
                 .as_ref()
                 .is_some_and(|w| w.union_flags() & (1 << feature) != 0)
         };
-        let emission = has(FEATURE_EMISSION);
+        let unlit = has(FEATURE_UNLIT);
+        let emission = has(FEATURE_EMISSION) || unlit;
         let ao_per_material = occlusion.is_some() && has(FEATURE_AMBIENT_OCCLUSION);
         let reflection_culled = reflection.is_some() && !has(FEATURE_REFLECTION);
         let reflection = reflection.filter(|_| has(FEATURE_REFLECTION));
@@ -150,6 +156,7 @@ impl CompositeLight {
             reflection,
             reflection_culled,
             matcap,
+            unlit,
             params,
             output: format!("composite{id}"),
         }))
@@ -224,6 +231,9 @@ impl CompositeLight {
         }
         if self.matcap {
             cx.count("matcap shaded", 1);
+        }
+        if self.unlit {
+            cx.count("unlit shaded", 1);
         }
         const DIFFUSE: [&str; MAX_COMPONENTS] = ["diffuse0", "diffuse1", "diffuse2", "diffuse3"];
         const SPECULAR: [&str; MAX_COMPONENTS] =

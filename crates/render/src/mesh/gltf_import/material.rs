@@ -13,11 +13,11 @@ use crate::material::{Feature, Material};
 
 /// A texture use as glTF states it: the texture, its texCoord, and its
 /// `KHR_texture_transform` extension object if any.
-struct Slot<'a> {
-    texture: gltf::Texture<'a>,
-    tex_coord: u32,
+pub(super) struct Slot<'a> {
+    pub(super) texture: gltf::Texture<'a>,
+    pub(super) tex_coord: u32,
     /// `KHR_texture_transform`, and the texCoord it overrides with.
-    transform: Option<(UvTransform, Option<u32>)>,
+    pub(super) transform: Option<(UvTransform, Option<u32>)>,
 }
 
 impl Importer<'_> {
@@ -47,7 +47,7 @@ impl Importer<'_> {
                 .extension_value("KHR_texture_transform")
                 .map(parse_transform),
         });
-        Ok(MaterialData {
+        let mut data = MaterialData {
             name: m.name().map(str::to_owned),
             base_color: pbr.base_color_factor(),
             metallic: pbr.metallic_factor(),
@@ -89,10 +89,15 @@ impl Importer<'_> {
                 },
                 gltf::material::AlphaMode::Blend => AlphaMode::Blend,
             },
-        })
+            ..MaterialData::default()
+        };
+        // KHR_materials_*: unlit, ior, specular, clearcoat, transmission,
+        // spec-gloss (converted), emissive strength checked.
+        self.material_extensions(document, m, &mut data)?;
+        Ok(data)
     }
 
-    fn texture(
+    pub(super) fn texture(
         &mut self,
         document: &Document,
         slot: Option<Slot>,
@@ -233,8 +238,11 @@ impl TextureData {
 
 impl MaterialData {
     /// This material in the material world: CookTorrance with its roughness
-    /// and metallic factors (f0 0.04 for dielectrics, glTF's), Emission
-    /// when it emits (colour, `KHR_materials_emissive_strength`), and
+    /// and metallic factors and the dielectric f0 of `KHR_materials_ior` and
+    /// `KHR_materials_specular` ([`MaterialData::reflectance`]; 0.04, glTF's,
+    /// without them), Emission when it emits (colour,
+    /// `KHR_materials_emissive_strength`), Clearcoat when it has a coat
+    /// (`KHR_materials_clearcoat`), Unlit (`KHR_materials_unlit`), and
     /// SurfaceMaps for its textures, alpha mode and sidedness. The base
     /// colour factor is the instance colour (the glTF node's Base Color).
     pub fn to_material(&self) -> Material {
@@ -243,8 +251,27 @@ impl MaterialData {
         // Clamped into range by `set`; finite, so it cannot fail.
         let _ = material.set(
             Feature::CookTorrance,
-            &[[finite(self.roughness), finite(self.metallic), 0.04, 0.0]],
+            &[[
+                finite(self.roughness),
+                finite(self.metallic),
+                self.reflectance(),
+                0.0,
+            ]],
         );
+        if finite(self.clearcoat) > 0.0 {
+            let _ = material.set(
+                Feature::Clearcoat,
+                &[[
+                    finite(self.clearcoat),
+                    finite(self.clearcoat_roughness),
+                    0.0,
+                    0.0,
+                ]],
+            );
+        }
+        if self.unlit {
+            let _ = material.set(Feature::Unlit, &[[1.0, 0.0, 0.0, 0.0]]);
+        }
         let [r, g, b] = self.emissive.map(finite);
         let strength = finite(self.emissive_strength);
         if (r > 0.0 || g > 0.0 || b > 0.0) && strength > 0.0 {

@@ -395,3 +395,170 @@ pub fn textured_floor() -> Vec<u8> {
     doc.scene(vec![node]);
     doc.gltf_data_uri()
 }
+
+/// A grey floor and a red block lit as a photometric export lights them (a
+/// 50,000 lux sun, as Blender writes a sun of strength 50,000 in lux), seen
+/// by the file's own camera `Shot`: straight at the block's front face from
+/// 2.5 m with a 0.3 rad field of view, so the face fills the picture. What
+/// `view` must show from that camera, exposed down (`view`'s tests).
+pub fn photometric_camera_scene() -> Vec<u8> {
+    use json::extensions::scene::khr_lights_punctual::{Light, Type};
+    let mut doc = Doc::new();
+    let floor = doc.mesh_data(
+        "Floor",
+        &crate::mesh::primitives::grid(crate::mesh::primitives::GridParams {
+            size: glam::Vec2::splat(6.0),
+            resolution_x: 1,
+            resolution_y: 1,
+        }),
+    );
+    let block = doc.mesh_data("Block", &box_mesh(BoxParams::default()));
+    let matte = |color: [f32; 4]| json::Material {
+        pbr_metallic_roughness: json::material::PbrMetallicRoughness {
+            base_color_factor: json::material::PbrBaseColorFactor(color),
+            metallic_factor: json::material::StrengthFactor(0.0),
+            roughness_factor: json::material::StrengthFactor(0.8),
+            ..Default::default()
+        },
+        ..Default::default()
+    };
+    let grey = doc.material(matte([0.4, 0.4, 0.4, 1.0]));
+    let red = doc.material(matte([0.15, 0.015, 0.015, 1.0]));
+    doc.root.meshes[floor.value()].primitives[0].material = Some(grey);
+    doc.root.meshes[block.value()].primitives[0].material = Some(red);
+    doc.root.extensions_used.push("KHR_lights_punctual".into());
+    doc.root.extensions = Some(json::extensions::root::Root {
+        khr_lights_punctual: Some(json::extensions::root::KhrLightsPunctual {
+            lights: vec![Light {
+                color: [1.0, 1.0, 1.0],
+                extensions: None,
+                extras: Default::default(),
+                intensity: 50_000.0,
+                name: Some("Sun".into()),
+                range: None,
+                spot: None,
+                type_: Valid(Type::Directional),
+            }],
+        }),
+        ..Default::default()
+    });
+    let camera = doc.root.push(json::Camera {
+        name: Some("Shot".into()),
+        orthographic: None,
+        perspective: Some(json::camera::Perspective {
+            aspect_ratio: None,
+            yfov: 0.3,
+            zfar: Some(100.0),
+            znear: 0.05,
+            extensions: None,
+            extras: Default::default(),
+        }),
+        type_: Valid(json::camera::Type::Perspective),
+        extensions: None,
+        extras: Default::default(),
+    });
+    // The sun shines down and into the block's front face (lights shine along -Z).
+    let sun = glam::Quat::from_rotation_arc(
+        glam::Vec3::NEG_Z,
+        glam::Vec3::new(0.0, -0.5, -1.0).normalize(),
+    );
+    let nodes = vec![
+        doc.node(mesh_node(Some(floor), [0.0; 3], 1.0)),
+        doc.node(mesh_node(Some(block), [0.0, 0.5, 0.0], 1.0)),
+        doc.node(json::Node {
+            rotation: Some(json::scene::UnitQuaternion(sun.to_array())),
+            extensions: Some(json::extensions::scene::Node {
+                khr_lights_punctual: Some(
+                    json::extensions::scene::khr_lights_punctual::KhrLightsPunctual {
+                        light: json::Index::new(0),
+                    },
+                ),
+                ..Default::default()
+            }),
+            ..Default::default()
+        }),
+        // Cameras look along -Z: from +Z straight at the block.
+        doc.node(json::Node {
+            camera: Some(camera),
+            translation: Some([0.0, 0.5, 3.0]),
+            ..Default::default()
+        }),
+    ];
+    doc.scene(nodes);
+    doc.gltf_data_uri()
+}
+
+/// One sphere per glTF material extension the loader reads, in a row
+/// along x, for docs/gltf.md's picture and `view`'s test of them: plain
+/// metal-rough, clearcoat, unlit, ior 1.8 with a tinted specular, spec-gloss
+/// (a converted gold), transmission (drawn blended).
+pub fn material_extensions_row() -> Vec<u8> {
+    let mut doc = Doc::new();
+    let sphere = doc.mesh_data(
+        "Sphere",
+        &crate::mesh::primitives::sphere(crate::mesh::primitives::SphereParams {
+            radius: 0.45,
+            sectors: 32,
+            stacks: 16,
+        }),
+    );
+    let base = |color: [f32; 4], roughness: f32| json::Material {
+        pbr_metallic_roughness: json::material::PbrMetallicRoughness {
+            base_color_factor: json::material::PbrBaseColorFactor(color),
+            metallic_factor: json::material::StrengthFactor(0.0),
+            roughness_factor: json::material::StrengthFactor(roughness),
+            ..Default::default()
+        },
+        ..Default::default()
+    };
+    let red = [0.6, 0.08, 0.05, 1.0];
+    let variants: [(&str, json::Material, &str); 6] = [
+        ("Plain", base(red, 0.6), "{}"),
+        (
+            "Clearcoat",
+            base(red, 0.6),
+            r#"{"KHR_materials_clearcoat": {"clearcoatFactor": 1.0, "clearcoatRoughnessFactor": 0.05}}"#,
+        ),
+        ("Unlit", base(red, 0.6), r#"{"KHR_materials_unlit": {}}"#),
+        (
+            "Specular",
+            base(red, 0.6),
+            r#"{"KHR_materials_ior": {"ior": 1.8}, "KHR_materials_specular": {"specularColorFactor": [1.0, 0.8, 0.4]}}"#,
+        ),
+        (
+            "SpecGloss",
+            base(red, 0.6),
+            r#"{"KHR_materials_pbrSpecularGlossiness": {"diffuseFactor": [0, 0, 0, 1], "specularFactor": [1.0, 0.77, 0.34], "glossinessFactor": 0.7}}"#,
+        ),
+        (
+            "Transmission",
+            base([0.8, 0.9, 1.0, 1.0], 0.1),
+            r#"{"KHR_materials_transmission": {"transmissionFactor": 0.7}}"#,
+        ),
+    ];
+    let mut nodes = Vec::new();
+    for (i, (name, mut material, extensions)) in variants.into_iter().enumerate() {
+        material.name = Some(name.into());
+        let others = json::deserialize::from_str::<json::Value>(extensions)
+            .ok()
+            .and_then(|v| v.as_object().cloned())
+            .unwrap_or_default();
+        for extension in others.keys() {
+            if !doc.root.extensions_used.contains(extension) {
+                doc.root.extensions_used.push(extension.clone());
+            }
+        }
+        material.extensions = Some(json::extensions::material::Material {
+            others,
+            ..Default::default()
+        });
+        let material = doc.material(material);
+        let mut mesh = doc.root.meshes[sphere.value()].clone();
+        mesh.primitives[0].material = Some(material);
+        mesh.name = Some(name.into());
+        let mesh = doc.root.push(mesh);
+        nodes.push(doc.node(mesh_node(Some(mesh), [i as f32 - 2.5, 0.0, 0.0], 1.0)));
+    }
+    doc.scene(nodes);
+    doc.gltf_data_uri()
+}
