@@ -7,6 +7,7 @@
 pub mod builtin_blur;
 pub mod def;
 pub mod library;
+pub mod light;
 pub mod material;
 pub mod node;
 mod params;

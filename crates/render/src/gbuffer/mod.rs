@@ -28,6 +28,7 @@ use glam::Mat4;
 pub use layer::{DrawBatch, InstanceInput, Layer, LayerError, LayerFeatures, VelocitySource};
 pub use published_depth::{PublishedDepth, PublishedDepths};
 pub use resolve::SURFACE_AND_MOTION_DISPATCHES;
+pub(crate) use resolve::{SplicedGroup, shader_node_group};
 pub use surface_shader::{SURFACE_MODULE, SurfaceBinding, SurfaceShader};
 pub use view::{Channel, GBufferView};
 
