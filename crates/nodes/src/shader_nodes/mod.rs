@@ -42,6 +42,7 @@ pub const EXAMPLES: &[(&str, &str, &str)] = &[
     example!("feedback"),
     example!("eye_adaptation_chain"),
     example!("procedural_material"),
+    example!("toon_lights"),
 ];
 
 /// Register the shipped examples. One that does not compile (a bug a test
@@ -84,6 +85,8 @@ fn examples() -> &'static [LoadedExample] {
     })
 }
 
+#[cfg(test)]
+mod light_tests;
 #[cfg(test)]
 mod material_tests;
 #[cfg(test)]
