@@ -54,13 +54,13 @@ fn custom_finite(v: vec3<f32>) -> vec3<f32> {
 }
 
 // One light through the node's function, its outputs summed.
-fn add_custom_light(slot: u32, towards: vec3<f32>, n_dot_l: f32, distance: f32, radiance: vec3<f32>,
+fn add_custom_light(slot: u32, towards: vec3<f32>, n_dot_l: f32, reach: f32, radiance: vec3<f32>,
                     attenuation: f32, shadow: f32) {
     var input = custom_input;
     input.index = light_index(slot);
     input.direction = towards;
     input.n_dot_l = n_dot_l;
-    input.distance = distance;
+    input.distance = reach;
     input.radiance = radiance;
     input.attenuation = attenuation;
     input.shadow = shadow;
@@ -180,7 +180,7 @@ fn shade(slot: u32, lv: vec4<f32>, p: vec3<f32>, pw: vec3<f32>, surface: BrdfSur
 #endif
     let attenuation = 1.0;
 #ifdef CUSTOM_LIGHT
-    let distance = 0.0;
+    let reach = 0.0;
     let towards = -record.direction.xyz;
 #endif
 #else
@@ -228,12 +228,12 @@ fn shade(slot: u32, lv: vec4<f32>, p: vec3<f32>, pw: vec3<f32>, surface: BrdfSur
     }
 #endif
 #ifdef CUSTOM_LIGHT
-    let distance = distance2 * inverse_distance;
+    let reach = distance2 * inverse_distance;
     let towards = safe_normalize(lights[light_index(slot)].position_range.xyz - pw, custom_input.normal);
 #endif
 #endif
 #ifdef CUSTOM_LIGHT
-    add_custom_light(slot, towards, n_dot_l, distance, radiance, attenuation, shadow);
+    add_custom_light(slot, towards, n_dot_l, reach, radiance, attenuation, shadow);
 #else
     radiance *= shadow;
     let cosines = half_vector_cosines(surface, n_dot_l, v_dot_l);
