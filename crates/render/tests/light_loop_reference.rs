@@ -210,18 +210,35 @@ fn toon_light_at(
             let d = to.length();
             let clip = l.projection * l.view * p.extend(1.0);
             let ndc = clip.truncate() / clip.w;
-            let inside = clip.w > 0.0 && ndc.x.abs() <= 1.0 && ndc.y.abs() <= 1.0 && (0.0..=1.0).contains(&ndc.z);
+            let inside = clip.w > 0.0
+                && ndc.x.abs() <= 1.0
+                && ndc.y.abs() <= 1.0
+                && (0.0..=1.0).contains(&ndc.z);
             let mask = if inside {
                 spot_attenuation(1.0 - ndc.truncate().length(), 0.0, l.softness)
             } else {
                 0.0
             };
             // The far plane's distance is its range (SpotLight::cone).
-            let range = (l.projection.inverse() * glam::Vec4::new(0.0, 0.0, 1.0, 1.0)).z.abs()
-                / (l.projection.inverse() * glam::Vec4::new(0.0, 0.0, 1.0, 1.0)).w.abs();
-            (to / d, l.color * l.intensity * mask, point_attenuation(d, range), d)
+            let range = (l.projection.inverse() * glam::Vec4::new(0.0, 0.0, 1.0, 1.0))
+                .z
+                .abs()
+                / (l.projection.inverse() * glam::Vec4::new(0.0, 0.0, 1.0, 1.0))
+                    .w
+                    .abs();
+            (
+                to / d,
+                l.color * l.intensity * mask,
+                point_attenuation(d, range),
+                d,
+            )
         }
-        AnyLight::Sun(l) => (-l.direction.normalize(), l.color * l.illuminance, 1.0, 100.0),
+        AnyLight::Sun(l) => (
+            -l.direction.normalize(),
+            l.color * l.illuminance,
+            1.0,
+            100.0,
+        ),
     };
     let casts = match light {
         AnyLight::Point(l) => l.shadow.is_some(),
@@ -249,7 +266,11 @@ fn toon_light_at(
 
 /// Per pixel of `shadows.rs`-like view from (0, 8, 6), the floor point it sees
 /// and the unit vector to the eye; None where it may see the ball.
-fn ball_floor_points(camera: &spreadlight_render::camera::CameraInput, size: (u32, u32), eye: Vec3) -> Vec<Option<(Vec3, Vec3)>> {
+fn ball_floor_points(
+    camera: &spreadlight_render::camera::CameraInput,
+    size: (u32, u32),
+    eye: Vec3,
+) -> Vec<Option<(Vec3, Vec3)>> {
     use glam::Vec4Swizzles;
     let inverse = (camera.projection * camera.view).inverse();
     (0..size.1)
@@ -276,36 +297,95 @@ fn a_light_shader_node_sums_every_light_type_as_its_cpu_reference_with_and_witho
     use spreadlight_render::gbuffer::{SurfaceBinding, SurfaceShader};
     use spreadlight_render::lighting::{SpotLight, SunLight};
     use spreadlight_render::reference::toon::{band_margin, toon_sum};
-    use spreadlight_render::shadows::{Cascades, ShadowFilter, ShadowLights, ShadowMaps, ShadowSettings};
+    use spreadlight_render::shadows::{
+        Cascades, ShadowFilter, ShadowLights, ShadowMaps, ShadowSettings,
+    };
     let renderer = test_renderer();
     let size = (80, 60);
     let eye = Vec3::new(0.0, 8.0, 6.0);
     let camera = spreadlight_render::camera::CameraInput {
         view: glam::camera::rh::view::look_at_mat4(eye, Vec3::ZERO, Vec3::Y),
-        projection: glam::camera::rh::proj::directx::perspective(1.0, size.0 as f32 / size.1 as f32, 0.1, 50.0),
+        projection: glam::camera::rh::proj::directx::perspective(
+            1.0,
+            size.0 as f32 / size.1 as f32,
+            0.1,
+            50.0,
+        ),
     };
     let layers = vec![
-        spreadlight_render::scenes::balls_on_floor(&renderer, &[(BALL, 0.5)], 20.0, 32).expect("upload"),
+        spreadlight_render::scenes::balls_on_floor(&renderer, &[(BALL, 0.5)], 20.0, 32)
+            .expect("upload"),
     ];
     let points = [
-        PointLight { position: Vec3::new(0.5, 4.0, 0.3), color: Vec3::new(1.0, 0.9, 0.8), intensity: 40.0, range: 12.0, shadow: Some(0) },
-        PointLight { position: Vec3::new(-3.0, 1.5, 1.0), color: Vec3::new(0.3, 0.5, 1.0), intensity: 12.0, range: 6.0, shadow: None },
-        PointLight { position: Vec3::new(2.5, 2.0, -1.5), color: Vec3::new(1.0, 0.4, 0.2), intensity: 15.0, range: 7.0, shadow: Some(1) },
+        PointLight {
+            position: Vec3::new(0.5, 4.0, 0.3),
+            color: Vec3::new(1.0, 0.9, 0.8),
+            intensity: 40.0,
+            range: 12.0,
+            shadow: Some(0),
+        },
+        PointLight {
+            position: Vec3::new(-3.0, 1.5, 1.0),
+            color: Vec3::new(0.3, 0.5, 1.0),
+            intensity: 12.0,
+            range: 6.0,
+            shadow: None,
+        },
+        PointLight {
+            position: Vec3::new(2.5, 2.0, -1.5),
+            color: Vec3::new(1.0, 0.4, 0.2),
+            intensity: 15.0,
+            range: 7.0,
+            shadow: Some(1),
+        },
     ];
     let spots = [
-        SpotLight { shadow: Some(0), ..SpotLight::cone(Vec3::new(0.5, 6.0, 0.5), Vec3::new(-0.05, -1.0, -0.1), 12.0, 0.3, 0.6).with_light(Vec3::new(1.0, 0.95, 0.8), 200.0) },
-        SpotLight { shadow: None, ..SpotLight::cone(Vec3::new(-3.0, 3.0, 3.0), Vec3::new(0.6, -1.0, -0.6), 10.0, 0.2, 0.5).with_light(Vec3::new(0.4, 0.6, 1.0), 80.0) },
+        SpotLight {
+            shadow: Some(0),
+            ..SpotLight::cone(
+                Vec3::new(0.5, 6.0, 0.5),
+                Vec3::new(-0.05, -1.0, -0.1),
+                12.0,
+                0.3,
+                0.6,
+            )
+            .with_light(Vec3::new(1.0, 0.95, 0.8), 200.0)
+        },
+        SpotLight {
+            shadow: None,
+            ..SpotLight::cone(
+                Vec3::new(-3.0, 3.0, 3.0),
+                Vec3::new(0.6, -1.0, -0.6),
+                10.0,
+                0.2,
+                0.5,
+            )
+            .with_light(Vec3::new(0.4, 0.6, 1.0), 80.0)
+        },
     ];
     let suns = [
-        SunLight { direction: Vec3::new(-0.3, -1.0, -0.2), color: Vec3::new(1.0, 0.95, 0.9), illuminance: 3.0, shadow: Some(0) },
-        SunLight { direction: Vec3::new(0.7, -0.6, 0.3), color: Vec3::new(0.3, 0.4, 0.8), illuminance: 1.5, shadow: None },
+        SunLight {
+            direction: Vec3::new(-0.3, -1.0, -0.2),
+            color: Vec3::new(1.0, 0.95, 0.9),
+            illuminance: 3.0,
+            shadow: Some(0),
+        },
+        SunLight {
+            direction: Vec3::new(0.7, -0.6, 0.3),
+            color: Vec3::new(0.3, 0.4, 0.8),
+            illuminance: 1.5,
+            shadow: None,
+        },
     ];
     let cases: Vec<(&str, Arc<LightBuffer>, Vec<AnyLight>, ShadowLights)> = vec![
         (
             "points",
             LightBuffer::points(&renderer, &points),
             points.iter().map(|l| AnyLight::Point(*l)).collect(),
-            ShadowLights::Point(vec![(0, points[0].position, points[0].range), (1, points[2].position, points[2].range)]),
+            ShadowLights::Point(vec![
+                (0, points[0].position, points[0].range),
+                (1, points[2].position, points[2].range),
+            ]),
         ),
         (
             "spots",
@@ -319,14 +399,23 @@ fn a_light_shader_node_sums_every_light_type_as_its_cpu_reference_with_and_witho
             suns.iter().map(|l| AnyLight::Sun(*l)).collect(),
             ShadowLights::Sun {
                 lights: vec![(0, suns[0].direction)],
-                cascades: Cascades { count: 2, split_lambda: 0.6, distance: 20.0 },
+                cascades: Cascades {
+                    count: 2,
+                    split_lambda: 0.6,
+                    distance: 20.0,
+                },
             },
         ),
     ];
-    let params: Vec<u8> = [TOON_PARAMS.bands, TOON_PARAMS.highlight_size, TOON_PARAMS.specular, 0.0]
-        .iter()
-        .flat_map(|f| f.to_le_bytes())
-        .collect();
+    let params: Vec<u8> = [
+        TOON_PARAMS.bands,
+        TOON_PARAMS.highlight_size,
+        TOON_PARAMS.specular,
+        0.0,
+    ]
+    .iter()
+    .flat_map(|f| f.to_le_bytes())
+    .collect();
     let seen = ball_floor_points(&camera, size, eye);
     for (name, buffer, lights, casting) in cases {
         // A few lights are walked naively; points and spots through the clusters too.
@@ -334,8 +423,18 @@ fn a_light_shader_node_sums_every_light_type_as_its_cpu_reference_with_and_witho
             "suns" => &[LightLoop::Auto],
             _ => &[LightLoop::Auto, LightLoop::Clustered],
         };
-        for (with_shadows, &light_loop) in [false, true].into_iter().flat_map(|s| loops.iter().map(move |l| (s, l))) {
-            let g = GBuffer::new(&renderer, None, layers.clone(), camera, None, SizeRule::Relative(1.0));
+        for (with_shadows, &light_loop) in [false, true]
+            .into_iter()
+            .flat_map(|s| loops.iter().map(move |l| (s, l)))
+        {
+            let g = GBuffer::new(
+                &renderer,
+                None,
+                layers.clone(),
+                camera,
+                None,
+                SizeRule::Relative(1.0),
+            );
             let shadows = with_shadows.then(|| {
                 ShadowMaps::new(
                     &renderer,
@@ -343,7 +442,11 @@ fn a_light_shader_node_sums_every_light_type_as_its_cpu_reference_with_and_witho
                     &casting,
                     layers.clone(),
                     &camera,
-                    ShadowSettings { resolution: 512, filter: ShadowFilter::Raw, ..Default::default() },
+                    ShadowSettings {
+                        resolution: 512,
+                        filter: ShadowFilter::Raw,
+                        ..Default::default()
+                    },
                 )
                 .expect("valid shadows")
             });
@@ -367,11 +470,19 @@ fn a_light_shader_node_sums_every_light_type_as_its_cpu_reference_with_and_witho
                 shadows,
                 Arc::new(shader),
             );
-            let (report, images) = render_and_read(&renderer, toon.as_ref(), size, &[&toon.diffuse, &toon.specular])
-                .expect("the frame renders");
+            let (report, images) = render_and_read(
+                &renderer,
+                toon.as_ref(),
+                size,
+                &[&toon.diffuse, &toon.specular],
+            )
+            .expect("the frame renders");
             assert!(report.errors.is_empty(), "{name}: {:?}", report.errors);
             assert!(
-                report.passes.iter().any(|p| p.is("Toon (Shader) #1", Some("shade"))),
+                report
+                    .passes
+                    .iter()
+                    .any(|p| p.is("Toon (Shader) #1", Some("shade"))),
                 "the pass is named after the node"
             );
             let (diffuse, specular) = (&images[0], &images[1]);
@@ -379,14 +490,22 @@ fn a_light_shader_node_sums_every_light_type_as_its_cpu_reference_with_and_witho
             let (mut checked, mut shadowed, mut highlit) = (0, 0, 0);
             for (i, seen) in seen.iter().enumerate() {
                 let Some((p, v)) = seen else { continue };
-                let Some(reference) = lights.iter().map(|l| toon_light_at(l, *p, with_shadows)).collect::<Option<Vec<_>>>() else {
+                let Some(reference) = lights
+                    .iter()
+                    .map(|l| toon_light_at(l, *p, with_shadows))
+                    .collect::<Option<Vec<_>>>()
+                else {
                     continue;
                 };
                 if band_margin(Vec3::Y, *v, &reference, &TOON_PARAMS) < 2e-3 {
                     continue;
                 }
-                let (want_d, want_s) = toon_sum(Vec3::Y, *v, Vec3::splat(0.8), &reference, &TOON_PARAMS);
-                for (got, want, what) in [(diffuse.pixels[i], want_d, "diffuse"), (specular.pixels[i], want_s, "specular")] {
+                let (want_d, want_s) =
+                    toon_sum(Vec3::Y, *v, Vec3::splat(0.8), &reference, &TOON_PARAMS);
+                for (got, want, what) in [
+                    (diffuse.pixels[i], want_d, "diffuse"),
+                    (specular.pixels[i], want_s, "specular"),
+                ] {
                     for c in 0..3 {
                         assert!(
                             (got[c] - want[c]).abs() <= 1e-2 * want[c].abs() + 1e-4,
@@ -395,14 +514,29 @@ fn a_light_shader_node_sums_every_light_type_as_its_cpu_reference_with_and_witho
                     }
                 }
                 checked += 1;
-                shadowed += usize::from(reference.iter().any(|l| l.shadow == 0.0 && l.radiance.max_element() * l.attenuation > 1e-3 && l.direction.y > 0.0));
+                shadowed += usize::from(reference.iter().any(|l| {
+                    l.shadow == 0.0
+                        && l.radiance.max_element() * l.attenuation > 1e-3
+                        && l.direction.y > 0.0
+                }));
                 highlit += usize::from(want_s.max_element() > 1e-4);
             }
-            eprintln!("{name}, {light_loop:?}, shadows {with_shadows}: {checked} pixels, {shadowed} in a shadow, {highlit} highlit");
-            assert!(checked * 2 > (size.0 * size.1) as usize, "{name}: {checked} pixels compared");
-            assert!(highlit > 0, "{name}, shadows {with_shadows}: some pixel has a highlight");
+            eprintln!(
+                "{name}, {light_loop:?}, shadows {with_shadows}: {checked} pixels, {shadowed} in a shadow, {highlit} highlit"
+            );
+            assert!(
+                checked * 2 > (size.0 * size.1) as usize,
+                "{name}: {checked} pixels compared"
+            );
+            assert!(
+                highlit > 0,
+                "{name}, shadows {with_shadows}: some pixel has a highlight"
+            );
             if with_shadows {
-                assert!(shadowed >= 10, "{name}: {shadowed} compared pixels lie in a shadow");
+                assert!(
+                    shadowed >= 10,
+                    "{name}: {shadowed} compared pixels lie in a shadow"
+                );
             }
         }
     }

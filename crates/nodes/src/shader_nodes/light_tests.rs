@@ -49,12 +49,18 @@ fn broken_light_shaders_name_their_file_line_and_column() {
     let lambert = "fn light(in: LightInput) -> LightOutput { return LightOutput(light_lambert(in), vec3<f32>(0.0)); }\n";
     let cases = [
         (
-            light_file("point", "fn shade(in: LightInput) -> LightOutput { return LightOutput(light_lambert(in), vec3<f32>(0.0)); }\n"),
+            light_file(
+                "point",
+                "fn shade(in: LightInput) -> LightOutput { return LightOutput(light_lambert(in), vec3<f32>(0.0)); }\n",
+            ),
             "l.wgsl:1:4:",
             "defines `fn light(in: LightInput) -> LightOutput`",
         ),
         (
-            light_file("point", "fn light(in: LightInput) -> vec3<f32> { return light_lambert(in); }\n"),
+            light_file(
+                "point",
+                "fn light(in: LightInput) -> vec3<f32> { return light_lambert(in); }\n",
+            ),
             "l.wgsl:4:1:",
             "must be `fn light(in: LightInput) -> LightOutput`",
         ),
@@ -76,7 +82,10 @@ fn broken_light_shaders_name_their_file_line_and_column() {
             "WGSL type",
         ),
         (
-            light_file("point", "fn light(in: LightInput) -> LightOutput { return LightOutput(light_lambert(in), vec3<f32>(0.0)) }\n"),
+            light_file(
+                "point",
+                "fn light(in: LightInput) -> LightOutput { return LightOutput(light_lambert(in), vec3<f32>(0.0)) }\n",
+            ),
             "l.wgsl:4:",
             "WGSL syntax",
         ),
@@ -131,13 +140,16 @@ fn a_light_type_the_file_does_not_declare_is_refused_at_the_lights_pin_and_the_r
     let errors = rig.errors();
     assert_eq!(errors.len(), 1, "{errors:?}");
     assert!(
-        errors[0].contains("Lights") && errors[0].contains("holds sun lights")
+        errors[0].contains("Lights")
+            && errors[0].contains("holds sun lights")
             && errors[0].contains("`// @light point`"),
         "{errors:?}"
     );
     // The point lights' toon node still shades, and the picture is made.
     assert_eq!(
-        report.passes_of("ToonLights (Shader) #12", Some("shade")).count(),
+        report
+            .passes_of("ToonLights (Shader) #12", Some("shade"))
+            .count(),
         1
     );
     assert!(report.errors.is_empty(), "{:?}", report.errors);

@@ -216,7 +216,8 @@ pub(super) fn resolve(
                     label: &label,
                     reflection: &reflection,
                 };
-                if let Some(group) = shader_node_group(cx, &pipeline, s, params, textures, &spliced)?
+                if let Some(group) =
+                    shader_node_group(cx, &pipeline, s, params, textures, &spliced)?
                 {
                     b = b.group(1, group);
                 }

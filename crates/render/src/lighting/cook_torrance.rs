@@ -9,13 +9,13 @@ use crate::adapter_class::AdapterClass;
 use crate::error::RenderError;
 use crate::frame_graph::{Bindings, FrameGraph, PassContext, Tex, TextureDesc};
 use crate::gbuffer::GBuffer;
+use crate::gbuffer::SurfaceShader;
 use crate::material::{FEATURE_FAKE_SSS, MaterialTextures, MaterialWorld};
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
 use crate::report::PassName;
 use crate::shaders::{Sampling, ShaderKey};
 use crate::shadows::{ShadowFilter, ShadowMaps};
-use crate::gbuffer::SurfaceShader;
 
 /// Where roughness and metallic come from.
 #[derive(Clone, Debug)]
@@ -544,7 +544,12 @@ impl Recipe for CookTorrance {
             diffuse: pass.write(&self.diffuse, hdr),
             specular: pass.write(&self.specular, hdr),
             sss: self.sss.as_ref().map(|sss| pass.write(sss, hdr)),
-            custom_textures: self.custom.iter().flat_map(|c| &c.shader.textures).map(|t| pass.read(&t.name)).collect(),
+            custom_textures: self
+                .custom
+                .iter()
+                .flat_map(|c| &c.shader.textures)
+                .map(|t| pass.read(&t.name))
+                .collect(),
         };
         pass.run(move |cx| self.shade(cx, &io));
     }

@@ -94,7 +94,8 @@ pub fn band_margin(n: Vec3, v: Vec3, lights: &[ToonLight], params: &ToonParams) 
             let h = (l.direction + v).try_normalize().unwrap_or(n);
             let highlight = (n.dot(h) - (1.0 - params.highlight_size)).abs();
             // The highlight's `lit > 0` test: a light at grazing incidence.
-            band.min(highlight).min(lit(n, l).max(1.0 - lit(n, l)).min(x.abs().max(1.0)))
+            band.min(highlight)
+                .min(lit(n, l).max(1.0 - lit(n, l)).min(x.abs().max(1.0)))
         })
         .fold(f32::INFINITY, f32::min)
 }

@@ -254,9 +254,7 @@ fn parse_light_kinds(rest: &str) -> Result<Vec<LightKind>, String> {
             "spot" => LightKind::Spot,
             "sun" => LightKind::Sun,
             other => {
-                return Err(format!(
-                    "unknown light type `{other}` (point, spot, sun)"
-                ));
+                return Err(format!("unknown light type `{other}` (point, spot, sun)"));
             }
         };
         if kinds.contains(&kind) {

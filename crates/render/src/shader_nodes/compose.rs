@@ -49,10 +49,8 @@ pub fn compose(file: &str, text: &str) -> Result<naga::Module, ShaderNodeError> 
 /// place of `spreadlight::custom_surface` (naga_oil is stricter with an
 /// imported module than with a top-level one: names ending in a digit, say).
 pub fn check_material(file: &str, text: &str) -> Result<(), ShaderNodeError> {
-    let key = crate::shaders::ShaderKey::new(
-        "gbuffer/resolve.wgsl",
-        ["SURFACE_OUT", "CUSTOM_SURFACE"],
-    );
+    let key =
+        crate::shaders::ShaderKey::new("gbuffer/resolve.wgsl", ["SURFACE_OUT", "CUSTOM_SURFACE"]);
     check_spliced(
         file,
         text,
@@ -77,9 +75,10 @@ pub fn check_spliced(
         .map_err(|e| place(file, text, &e));
     let composed = replaced.and_then(|()| {
         passes.iter().try_for_each(|(key, what)| {
-            composer.compose(key).map(|_| ()).map_err(|e| {
-                first(format!("in {what}: {}", undecorate(&e.to_string())))
-            })
+            composer
+                .compose(key)
+                .map(|_| ())
+                .map_err(|e| first(format!("in {what}: {}", undecorate(&e.to_string()))))
         })
     });
     let restored = composer

@@ -117,7 +117,11 @@ pub fn check(
         .map(|(_, f)| f)
         .find(|f| f.name.as_deref() == Some(LIGHT_FUNCTION))
         .ok_or_else(|| {
-            ShaderNodeError::at(file, at_light, format!("a `@light` shader defines {signature}"))
+            ShaderNodeError::at(
+                file,
+                at_light,
+                format!("a `@light` shader defines {signature}"),
+            )
         })?;
     let at = text
         .find(&format!("fn {LIGHT_FUNCTION}"))
