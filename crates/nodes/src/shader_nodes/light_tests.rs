@@ -100,7 +100,7 @@ fn broken_light_shaders_name_their_file_line_and_column() {
             "has no passes",
         ),
         (
-            format!("fn light(in: vec3<f32>) -> vec3<f32> {{ return in; }}\n// @light sun\n"),
+            "fn light(in: vec3<f32>) -> vec3<f32> { return in; }\n// @light sun\n".to_string(),
             "l.wgsl:2:4:",
             "imports the light loop's structs",
         ),
