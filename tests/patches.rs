@@ -306,6 +306,29 @@ fn first_frame(
     (rt, renderer)
 }
 
+/// The toon example shades with its light shader nodes (passes named after
+/// them, through the same light loop), runs no CookTorrance; a light buffer
+/// of a type the node's file does not shade is refused at its Lights pin,
+/// and the rest of the patch keeps running.
+#[test]
+fn the_toon_lights_example_runs_its_light_shaders_in_place_of_cook_torrance() {
+    let path = spreadlight_tests::root().join("patches/toon-lights.ron");
+    let patch = format::load(&path).expect("loads");
+    let (rt, renderer) = first_frame(&patch, &path, (64, 36));
+    let errors: Vec<_> = rt
+        .node_errors()
+        .map(|(id, e)| format!("#{}: {e}", id.0))
+        .collect();
+    assert!(errors.is_empty(), "{errors:?}");
+    let report = renderer.last_report();
+    assert!(report.errors.is_empty(), "{:?}", report.errors);
+    for node in [12, 16] {
+        let kind = format!("ToonLights (Shader) #{node}");
+        assert_eq!(report.passes_of(&kind, Some("shade")).count(), 1, "{kind}");
+    }
+    assert_eq!(report.passes_of("CookTorrance", None).count(), 0);
+}
+
 /// The showcase without its reflective and subsurface materials (the
 /// AddReflection and AddFakeSSS nodes taken out of the material chain) runs
 /// no Reflection, SSR or SSSS pass, though those nodes are still wired: the

@@ -348,6 +348,19 @@ static CASES: &[Case] = &[
             tolerance: LIT,
         }],
     },
+    // `ToonLights (Shader)`, a light shader node, in place of CookTorrance
+    // for two shadowed point lights and a shadowed sun.
+    Case {
+        patch: "patches/toon-lights.ron",
+        size: SCENE,
+        edit: unchanged,
+        shots: &[Shot {
+            name: "toon-lights",
+            output: "toon",
+            frame: 0,
+            tolerance: LIT,
+        }],
+    },
     // Particles in a curl-noise field: lit by the sun, casting its shadow,
     // motion-blurred through Velocity From Geometry; frame 30 of a fixed
     // seed, so the same particles every run.
@@ -599,6 +612,11 @@ fn shader_material_example() {
 #[test]
 fn custom_feature_example() {
     check("patches/custom-feature.ron");
+}
+
+#[test]
+fn toon_lights_example() {
+    check("patches/toon-lights.ron");
 }
 
 #[test]

@@ -12,6 +12,9 @@
 // the Clearcoat feature): a second GGX lobe, f0 0.04, over the base, which
 // it dims by its Fresnel reflectance at N.V (glTF's KHR_materials_clearcoat
 // as the Khronos sample viewer shades it; the coat shares the pixel's normal).
+// CUSTOM_LIGHT: a light shader node's `light` function (lib/light_shader.wgsl,
+// spliced in for lib/custom_light.wgsl) replaces the BRDF: the same walk,
+// clusters and shadows, its outputs summed into the two targets.
 #import spreadlight::camera::Camera
 #import spreadlight::brdf::{BrdfSurface, LightSums, brdf_surface, no_light_sums, add_light, light_sums_brdf, cook_torrance_weights, half_vector_cosines, surface_energy_compensation, schlick_weight, DIELECTRIC_F0}
 #import spreadlight::lights::{range_window, inverse_square, spot_attenuation}
@@ -47,6 +50,35 @@ var<private> coat_sum: vec3<f32>;
 var<private> normal_world: vec3<f32>;
 // Its camera depth, to pick a sun's cascade.
 var<private> view_depth: f32;
+#endif
+#ifdef CUSTOM_LIGHT
+#import spreadlight::light_shader::{LightInput, LIGHT_KIND_POINT, LIGHT_KIND_SPOT, LIGHT_KIND_SUN}
+#import spreadlight::custom_light as user_light
+// The pixel's half of the light function's input, filled once per pixel.
+var<private> custom_input: LightInput;
+var<private> custom_diffuse: vec3<f32>;
+var<private> custom_specular: vec3<f32>;
+
+// A light function's output, finite (NaN and overflow count as nothing).
+fn custom_finite(v: vec3<f32>) -> vec3<f32> {
+    return select(vec3<f32>(0.0), v, abs(v) <= vec3<f32>(HALF_MAX));
+}
+
+// One light through the node's function, its outputs summed.
+fn add_custom_light(slot: u32, towards: vec3<f32>, n_dot_l: f32, reach: f32, radiance: vec3<f32>,
+                    attenuation: f32, shadow: f32) {
+    var input = custom_input;
+    input.index = light_index(slot);
+    input.direction = towards;
+    input.n_dot_l = n_dot_l;
+    input.distance = reach;
+    input.radiance = radiance;
+    input.attenuation = attenuation;
+    input.shadow = shadow;
+    let out = user_light::light(input);
+    custom_diffuse += custom_finite(out.diffuse);
+    custom_specular += custom_finite(out.specular);
+}
 #endif
 #ifdef FAKE_SSS
 // Wrap-lighting subsurface term, tinted per material by the FakeSSS feature.
@@ -142,6 +174,8 @@ fn with_inverse_range(lv: vec4<f32>) -> vec4<f32> {
 fn shade(slot: u32, lv: vec4<f32>, p: vec3<f32>, pw: vec3<f32>, surface: BrdfSurface,
          sums: ptr<function, LightSums>) {
     let n = surface.n;
+    // The light's shadow factor (1: lit); CUSTOM_LIGHT hands it over apart.
+    var shadow = 1.0;
 #ifdef LIGHT_SUN
     let light = light_index(slot);
     let record = lights[light];
@@ -152,10 +186,14 @@ fn shade(slot: u32, lv: vec4<f32>, p: vec3<f32>, pw: vec3<f32>, surface: BrdfSur
     var radiance = light_radiance(slot);
 #ifdef SHADOWS
     if (record.cone.z >= 0.0) {
-        radiance *= light_shadow(u32(record.cone.z), pw, normal_world, record.direction.xyz, view_depth, n_dot_l);
+        shadow = light_shadow(u32(record.cone.z), pw, normal_world, record.direction.xyz, view_depth, n_dot_l);
     }
 #endif
     let attenuation = 1.0;
+#ifdef CUSTOM_LIGHT
+    let reach = 0.0;
+    let towards = -record.direction.xyz;
+#endif
 #else
     let to_light = lv.xyz - p;
     let distance2 = dot(to_light, to_light);
@@ -197,10 +235,18 @@ fn shade(slot: u32, lv: vec4<f32>, p: vec3<f32>, pw: vec3<f32>, surface: BrdfSur
     // A light's own shadow slice (cone.z; -1: casts none).
     let caster = lights[light_index(slot)];
     if (caster.cone.z >= 0.0) {
-        radiance *= light_shadow(u32(caster.cone.z), pw, normal_world, pw - caster.position_range.xyz, view_depth, n_dot_l);
+        shadow = light_shadow(u32(caster.cone.z), pw, normal_world, pw - caster.position_range.xyz, view_depth, n_dot_l);
     }
 #endif
+#ifdef CUSTOM_LIGHT
+    let reach = distance2 * inverse_distance;
+    let towards = safe_normalize(lights[light_index(slot)].position_range.xyz - pw, custom_input.normal);
 #endif
+#endif
+#ifdef CUSTOM_LIGHT
+    add_custom_light(slot, towards, n_dot_l, reach, radiance, attenuation, shadow);
+#else
+    radiance *= shadow;
     let cosines = half_vector_cosines(surface, n_dot_l, v_dot_l);
     add_light(sums, radiance, cook_torrance_weights(surface, n_dot_l, cosines.x, cosines.y) * attenuation);
 #ifdef CLEARCOAT
@@ -214,6 +260,7 @@ fn shade(slot: u32, lv: vec4<f32>, p: vec3<f32>, pw: vec3<f32>, surface: BrdfSur
     // Light that wraps past the terminator (wrap 0.5), beyond what Lambert gives.
     let wrapped = max((n_dot_l + 0.5) / 1.5, 0.0) - max(n_dot_l, 0.0);
     sss_sum += sss_tint * radiance * attenuation * max(wrapped, 0.0) * 0.31830988;
+#endif
 #endif
 }
 
@@ -335,6 +382,28 @@ fn main(@builtin(local_invocation_index) lane: u32, @builtin(workgroup_id) wid: 
     // rm: roughness, metallic, reflectance (the dielectric F0).
     let surface = brdf_surface(n, v, albedo, rm.x, rm.y, rm.z);
     var sums = no_light_sums();
+#ifdef CUSTOM_LIGHT
+    custom_diffuse = vec3<f32>(0.0);
+    custom_specular = vec3<f32>(0.0);
+    custom_input.position = pw;
+    custom_input.normal = safe_normalize((camera.view_inverse * vec4<f32>(n, 0.0)).xyz, vec3<f32>(0.0, 1.0, 0.0));
+    custom_input.view = safe_normalize(camera.position.xyz - pw, custom_input.normal);
+    custom_input.albedo = albedo;
+    custom_input.roughness = rm.x;
+    custom_input.metallic = rm.y;
+    custom_input.reflectance = rm.z;
+    custom_input.material_id = material;
+    custom_input.pixel = pixel;
+#ifdef LIGHT_SUN
+    custom_input.kind = LIGHT_KIND_SUN;
+#else
+#ifdef LIGHT_SPOT
+    custom_input.kind = LIGHT_KIND_SPOT;
+#else
+    custom_input.kind = LIGHT_KIND_POINT;
+#endif
+#endif
+#endif
 #ifdef FAKE_SSS
     sss_tint = vec3<f32>(0.0);
     if (covered) {
@@ -481,6 +550,10 @@ fn main(@builtin(local_invocation_index) lane: u32, @builtin(workgroup_id) wid: 
     if (!covered) {
         return;
     }
+#ifdef CUSTOM_LIGHT
+    let diffuse = max(custom_diffuse, vec3<f32>(0.0));
+    let specular = max(custom_specular, vec3<f32>(0.0));
+#else
     let lit = light_sums_brdf(surface, sums);
     var diffuse = lit.diffuse;
     var specular = lit.specular;

@@ -157,3 +157,387 @@ fn every_floor_pixel_is_lit_as_the_reference_brdf_and_falloff_say() {
         }
     }
 }
+
+/// The shipped toon light shader node's file, spliced into the light loop.
+const TOON: &str = include_str!("../../../shaders/nodes/toon_lights.wgsl");
+
+const TOON_PARAMS: spreadlight_render::reference::toon::ToonParams =
+    spreadlight_render::reference::toon::ToonParams {
+        bands: 3.0,
+        highlight_size: 0.06,
+        specular: 0.8,
+    };
+
+/// A light of any type as the test places it and as the reference sees it.
+#[derive(Clone, Copy)]
+enum AnyLight {
+    Point(PointLight),
+    Spot(spreadlight_render::lighting::SpotLight),
+    Sun(spreadlight_render::lighting::SunLight),
+}
+
+/// Whether the segment from `p` along unit `dir` for `length` meets the ball.
+fn hits_ball(p: Vec3, dir: Vec3, length: f32, centre: Vec3, radius: f32) -> bool {
+    let t = (centre - p).dot(dir).clamp(0.0, length);
+    (p + dir * t).distance(centre) < radius
+}
+
+const BALL: Vec3 = Vec3::new(0.3, 1.5, 0.2);
+
+/// The toon reference's light at floor point `p`, with the shadow the ball
+/// casts when `shadows` and the light has a shadow slice (None: too near
+/// the shadow's edge to tell).
+fn toon_light_at(
+    light: &AnyLight,
+    p: Vec3,
+    shadows: bool,
+) -> Option<spreadlight_render::reference::toon::ToonLight> {
+    use spreadlight_render::reference::lights::spot_attenuation;
+    let (direction, radiance, attenuation, reach) = match light {
+        AnyLight::Point(l) => {
+            let to = l.position - p;
+            let d = to.length();
+            (
+                to / d,
+                l.color * l.intensity,
+                point_attenuation(d, l.range),
+                d,
+            )
+        }
+        AnyLight::Spot(l) => {
+            let position = l.view.inverse().w_axis.truncate();
+            let to = position - p;
+            let d = to.length();
+            let clip = l.projection * l.view * p.extend(1.0);
+            let ndc = clip.truncate() / clip.w;
+            let inside = clip.w > 0.0
+                && ndc.x.abs() <= 1.0
+                && ndc.y.abs() <= 1.0
+                && (0.0..=1.0).contains(&ndc.z);
+            let mask = if inside {
+                spot_attenuation(1.0 - ndc.truncate().length(), 0.0, l.softness)
+            } else {
+                0.0
+            };
+            // The far plane's distance is its range (SpotLight::cone).
+            let range = (l.projection.inverse() * glam::Vec4::new(0.0, 0.0, 1.0, 1.0))
+                .z
+                .abs()
+                / (l.projection.inverse() * glam::Vec4::new(0.0, 0.0, 1.0, 1.0))
+                    .w
+                    .abs();
+            (
+                to / d,
+                l.color * l.intensity * mask,
+                point_attenuation(d, range),
+                d,
+            )
+        }
+        AnyLight::Sun(l) => (
+            -l.direction.normalize(),
+            l.color * l.illuminance,
+            1.0,
+            100.0,
+        ),
+    };
+    let casts = match light {
+        AnyLight::Point(l) => l.shadow.is_some(),
+        AnyLight::Spot(l) => l.shadow.is_some(),
+        AnyLight::Sun(l) => l.shadow.is_some(),
+    };
+    let mut shadow = 1.0;
+    if shadows && casts {
+        // A margin around the ball's edge, where the map's texels and the
+        // tessellated ball decide.
+        let inner = hits_ball(p, direction, reach, BALL, 0.42);
+        let outer = hits_ball(p, direction, reach, BALL, 0.58);
+        if inner != outer {
+            return None;
+        }
+        shadow = if inner { 0.0 } else { 1.0 };
+    }
+    Some(spreadlight_render::reference::toon::ToonLight {
+        direction,
+        radiance,
+        attenuation,
+        shadow,
+    })
+}
+
+/// Per pixel of `shadows.rs`-like view from (0, 8, 6), the floor point it sees
+/// and the unit vector to the eye; None where it may see the ball.
+fn ball_floor_points(
+    camera: &spreadlight_render::camera::CameraInput,
+    size: (u32, u32),
+    eye: Vec3,
+) -> Vec<Option<(Vec3, Vec3)>> {
+    use glam::Vec4Swizzles;
+    let inverse = (camera.projection * camera.view).inverse();
+    (0..size.1)
+        .flat_map(|y| (0..size.0).map(move |x| (x, y)))
+        .map(|(x, y)| {
+            let ndc_x = (x as f32 + 0.5) / size.0 as f32 * 2.0 - 1.0;
+            let ndc_y = 1.0 - (y as f32 + 0.5) / size.1 as f32 * 2.0;
+            let h = inverse * glam::Vec4::new(ndc_x, ndc_y, 0.5, 1.0);
+            let ray = (h.xyz() / h.w - eye).normalize();
+            if ray.y >= -1e-3 {
+                return None;
+            }
+            let t = -eye.y / ray.y;
+            let p = eye + ray * t;
+            // Pixels whose ray passes near the ball see it (or its edge).
+            let seen = !hits_ball(eye, ray, t, BALL, 0.6) && p.x.abs() < 9.5 && p.z.abs() < 9.5;
+            seen.then_some((p, -ray))
+        })
+        .collect()
+}
+
+#[test]
+fn a_light_shader_node_sums_every_light_type_as_its_cpu_reference_with_and_without_shadows() {
+    use spreadlight_render::gbuffer::{SurfaceBinding, SurfaceShader};
+    use spreadlight_render::lighting::{SpotLight, SunLight};
+    use spreadlight_render::reference::toon::{band_margin, toon_sum};
+    use spreadlight_render::shadows::{
+        Cascades, ShadowFilter, ShadowLights, ShadowMaps, ShadowSettings,
+    };
+    let renderer = test_renderer();
+    let size = (80, 60);
+    let eye = Vec3::new(0.0, 8.0, 6.0);
+    let camera = spreadlight_render::camera::CameraInput {
+        view: glam::camera::rh::view::look_at_mat4(eye, Vec3::ZERO, Vec3::Y),
+        projection: glam::camera::rh::proj::directx::perspective(
+            1.0,
+            size.0 as f32 / size.1 as f32,
+            0.1,
+            50.0,
+        ),
+    };
+    let layers = vec![
+        spreadlight_render::scenes::balls_on_floor(&renderer, &[(BALL, 0.5)], 20.0, 32)
+            .expect("upload"),
+    ];
+    let points = [
+        PointLight {
+            position: Vec3::new(0.5, 4.0, 0.3),
+            color: Vec3::new(1.0, 0.9, 0.8),
+            intensity: 40.0,
+            range: 12.0,
+            shadow: Some(0),
+        },
+        PointLight {
+            position: Vec3::new(-3.0, 1.5, 1.0),
+            color: Vec3::new(0.3, 0.5, 1.0),
+            intensity: 12.0,
+            range: 6.0,
+            shadow: None,
+        },
+        PointLight {
+            position: Vec3::new(2.5, 2.0, -1.5),
+            color: Vec3::new(1.0, 0.4, 0.2),
+            intensity: 15.0,
+            range: 7.0,
+            shadow: Some(1),
+        },
+    ];
+    let spots = [
+        SpotLight {
+            shadow: Some(0),
+            ..SpotLight::cone(
+                Vec3::new(0.5, 6.0, 0.5),
+                Vec3::new(-0.05, -1.0, -0.1),
+                12.0,
+                0.3,
+                0.6,
+            )
+            .with_light(Vec3::new(1.0, 0.95, 0.8), 200.0)
+        },
+        SpotLight {
+            shadow: None,
+            ..SpotLight::cone(
+                Vec3::new(-3.0, 3.0, 3.0),
+                Vec3::new(0.6, -1.0, -0.6),
+                10.0,
+                0.2,
+                0.5,
+            )
+            .with_light(Vec3::new(0.4, 0.6, 1.0), 80.0)
+        },
+    ];
+    let suns = [
+        SunLight {
+            direction: Vec3::new(-0.3, -1.0, -0.2),
+            color: Vec3::new(1.0, 0.95, 0.9),
+            illuminance: 3.0,
+            shadow: Some(0),
+        },
+        SunLight {
+            direction: Vec3::new(0.7, -0.6, 0.3),
+            color: Vec3::new(0.3, 0.4, 0.8),
+            illuminance: 1.5,
+            shadow: None,
+        },
+    ];
+    let cases: Vec<(&str, Arc<LightBuffer>, Vec<AnyLight>, ShadowLights)> = vec![
+        (
+            "points",
+            LightBuffer::points(&renderer, &points),
+            points.iter().map(|l| AnyLight::Point(*l)).collect(),
+            ShadowLights::Point(vec![
+                (0, points[0].position, points[0].range),
+                (1, points[2].position, points[2].range),
+            ]),
+        ),
+        (
+            "spots",
+            LightBuffer::spots(&renderer, &spots, None).expect("valid"),
+            spots.iter().map(|l| AnyLight::Spot(*l)).collect(),
+            ShadowLights::Spot(vec![(0, spots[0].view, spots[0].projection)]),
+        ),
+        (
+            "suns",
+            LightBuffer::suns(&renderer, &suns),
+            suns.iter().map(|l| AnyLight::Sun(*l)).collect(),
+            ShadowLights::Sun {
+                lights: vec![(0, suns[0].direction)],
+                cascades: Cascades {
+                    count: 2,
+                    split_lambda: 0.6,
+                    distance: 20.0,
+                },
+            },
+        ),
+    ];
+    let params: Vec<u8> = [
+        TOON_PARAMS.bands,
+        TOON_PARAMS.highlight_size,
+        TOON_PARAMS.specular,
+        0.0,
+    ]
+    .iter()
+    .flat_map(|f| f.to_le_bytes())
+    .collect();
+    let seen = ball_floor_points(&camera, size, eye);
+    for (name, buffer, lights, casting) in cases {
+        // A few lights are walked naively; points and spots through the clusters too.
+        let loops: &[LightLoop] = match name {
+            "suns" => &[LightLoop::Auto],
+            _ => &[LightLoop::Auto, LightLoop::Clustered],
+        };
+        for (with_shadows, &light_loop) in [false, true]
+            .into_iter()
+            .flat_map(|s| loops.iter().map(move |l| (s, l)))
+        {
+            let g = GBuffer::new(
+                &renderer,
+                None,
+                layers.clone(),
+                camera,
+                None,
+                SizeRule::Relative(1.0),
+            );
+            let shadows = with_shadows.then(|| {
+                ShadowMaps::new(
+                    &renderer,
+                    None,
+                    &casting,
+                    layers.clone(),
+                    &camera,
+                    ShadowSettings {
+                        resolution: 512,
+                        filter: ShadowFilter::Raw,
+                        ..Default::default()
+                    },
+                )
+                .expect("valid shadows")
+            });
+            let shader = SurfaceShader::new(
+                "Toon (Shader) #1".into(),
+                "shaders/nodes/toon_lights.wgsl".into(),
+                TOON.into(),
+                7,
+                vec![(0, SurfaceBinding::Uniform)],
+                params.clone(),
+                Vec::new(),
+                1,
+            );
+            let toon = CookTorrance::with_light_shader(
+                &renderer,
+                Some(1),
+                g,
+                buffer.clone(),
+                light_loop,
+                Surfaces::PerMaterialId(vec![(0.5, 0.0)]),
+                shadows,
+                Arc::new(shader),
+            );
+            let (report, images) = render_and_read(
+                &renderer,
+                toon.as_ref(),
+                size,
+                &[&toon.diffuse, &toon.specular],
+            )
+            .expect("the frame renders");
+            assert!(report.errors.is_empty(), "{name}: {:?}", report.errors);
+            assert!(
+                report
+                    .passes
+                    .iter()
+                    .any(|p| p.is("Toon (Shader) #1", Some("shade"))),
+                "the pass is named after the node"
+            );
+            let (diffuse, specular) = (&images[0], &images[1]);
+            assert!(diffuse.all_finite() && specular.all_finite());
+            let (mut checked, mut shadowed, mut highlit) = (0, 0, 0);
+            for (i, seen) in seen.iter().enumerate() {
+                let Some((p, v)) = seen else { continue };
+                let Some(reference) = lights
+                    .iter()
+                    .map(|l| toon_light_at(l, *p, with_shadows))
+                    .collect::<Option<Vec<_>>>()
+                else {
+                    continue;
+                };
+                if band_margin(Vec3::Y, *v, &reference, &TOON_PARAMS) < 2e-3 {
+                    continue;
+                }
+                let (want_d, want_s) =
+                    toon_sum(Vec3::Y, *v, Vec3::splat(0.8), &reference, &TOON_PARAMS);
+                for (got, want, what) in [
+                    (diffuse.pixels[i], want_d, "diffuse"),
+                    (specular.pixels[i], want_s, "specular"),
+                ] {
+                    for c in 0..3 {
+                        assert!(
+                            (got[c] - want[c]).abs() <= 1e-2 * want[c].abs() + 1e-4,
+                            "{name}, {light_loop:?}, shadows {with_shadows}, {what} at {p}: got {got:?}, the reference says {want}"
+                        );
+                    }
+                }
+                checked += 1;
+                shadowed += usize::from(reference.iter().any(|l| {
+                    l.shadow == 0.0
+                        && l.radiance.max_element() * l.attenuation > 1e-3
+                        && l.direction.y > 0.0
+                }));
+                highlit += usize::from(want_s.max_element() > 1e-4);
+            }
+            eprintln!(
+                "{name}, {light_loop:?}, shadows {with_shadows}: {checked} pixels, {shadowed} in a shadow, {highlit} highlit"
+            );
+            assert!(
+                checked * 2 > (size.0 * size.1) as usize,
+                "{name}: {checked} pixels compared"
+            );
+            assert!(
+                highlit > 0,
+                "{name}, shadows {with_shadows}: some pixel has a highlight"
+            );
+            if with_shadows {
+                assert!(
+                    shadowed >= 10,
+                    "{name}: {shadowed} compared pixels lie in a shadow"
+                );
+            }
+        }
+    }
+}

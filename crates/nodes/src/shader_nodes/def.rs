@@ -48,6 +48,11 @@ impl ShaderType {
                  occlusion, emission).",
             );
         }
+        if self.is_light() {
+            help.push_str(
+                " A light shader: its light function shades every light of the Lights buffer                  reaching a pixel of the G-buffer (through CookTorrance's clusters and the                  Shadows), in place of CookTorrance; wire Diffuse and Specular into                  CompositeLight. Light Loop as CookTorrance's.",
+            );
+        }
         help.push_str(&format!(" (Shader node: {}.)", self.file));
         let texture = PinType::Resource(ResourceKind::Texture);
         let mut def = NodeDef::new(self.name.clone(), format!("Shader/{category}"), help);
@@ -57,6 +62,16 @@ impl ShaderType {
                 "Layer",
                 layer,
                 Spread::Resource(ResourceKind::Layer, vec![]),
+            );
+        }
+        if self.is_light() {
+            for (name, ty, default) in super::light::pins() {
+                def = def.input_spread(name, ty, default);
+            }
+            def = def.input_enum(
+                "Light Loop",
+                &crate::lighting::cook_torrance::LIGHT_LOOP,
+                "Auto",
             );
         }
         for (_, pin, _) in &self.notes.inputs {
@@ -106,6 +121,9 @@ impl ShaderType {
         }
         def = if self.is_material() {
             def.output_typed("Layer", layer)
+        } else if self.is_light() {
+            def.output_typed("Diffuse", texture)
+                .output_typed("Specular", texture)
         } else {
             def.output_typed("Texture", texture)
         };

@@ -9,7 +9,7 @@ use std::sync::Arc;
 use spreadlight_graph::{EvalContext, ResourceKind};
 use spreadlight_render::TextureRef;
 use spreadlight_render::gbuffer::{Layer, SurfaceBinding, SurfaceShader};
-use spreadlight_render::shader_nodes::{Builtin, Role};
+use spreadlight_render::shader_nodes::{Builtin, Program, Role};
 
 use super::node::Failure;
 use super::params::{numbers, slice_defines, write_param};
@@ -63,48 +63,12 @@ pub(super) fn evaluate(ty: &Arc<ShaderType>, cx: &mut EvalContext<'_>) -> Result
     }
     let mut out = Vec::with_capacity(count);
     for (slice, program) in programs.into_iter().enumerate() {
-        let mut bytes = vec![0u8; program.uniform.as_ref().map_or(0, |u| u.size as usize)];
-        for (i, pin) in params.iter().enumerate() {
-            write_param(&mut bytes, pin, &numbers(cx.input(first + i), slice));
-        }
-        // The built-ins a material has: the clock and its slice (the rest are 0).
-        for (builtin, offset) in program.uniform.iter().flat_map(|u| &u.builtins) {
-            let word = match builtin {
-                Builtin::Time => (cx.clock.time as f32).to_bits(),
-                Builtin::Delta => (cx.clock.delta as f32).to_bits(),
-                Builtin::Slice => slice as u32,
-                _ => continue,
-            };
-            let at = *offset as usize;
-            if let Some(slot) = bytes.get_mut(at..at + 4) {
-                slot.copy_from_slice(&word.to_le_bytes());
-            }
-        }
-        let bindings = program
-            .bindings
-            .iter()
-            .filter_map(|(binding, role)| {
-                let what = match role {
-                    Role::Uniform => SurfaceBinding::Uniform,
-                    Role::Input(i) => SurfaceBinding::Texture(*i),
-                    Role::Sampler(d) => SurfaceBinding::Sampler { repeat: d.repeat },
-                    // Refused for materials when the file compiled.
-                    _ => return None,
-                };
-                Some((*binding, what))
-            })
-            .collect();
-        let surface = SurfaceShader::new(
-            format!("{} #{}", ty.name, cx.node_id.0),
-            program.file.clone(),
-            program.text.clone(),
-            program.key,
-            bindings,
-            bytes,
-            textures
-                .iter()
-                .map(|t| (*t[slice % t.len()]).clone())
-                .collect(),
+        let surface = spliced(
+            ty,
+            cx,
+            &program,
+            slice,
+            &textures,
             if slice == 0 { compiled } else { 0 },
         )
         .reading_materials(reads_materials);
@@ -115,4 +79,62 @@ pub(super) fn evaluate(ty: &Arc<ShaderType>, cx: &mut EvalContext<'_>) -> Result
     }
     cx.set_output(0, resource_spread(ResourceKind::Layer, out));
     Ok(())
+}
+
+/// Slice `slice` of a material or light shader node as the file spliced
+/// into a built-in pass: its text, its bindings, the uniform block with the
+/// pins and built-ins written, its texture inputs.
+pub(super) fn spliced(
+    ty: &Arc<ShaderType>,
+    cx: &EvalContext<'_>,
+    program: &Program,
+    slice: usize,
+    textures: &[Vec<Arc<TextureRef>>],
+    compiled: u64,
+) -> SurfaceShader {
+    let first = ty.first_param();
+    let mut bytes = vec![0u8; program.uniform.as_ref().map_or(0, |u| u.size as usize)];
+    for (i, pin) in ty.params().iter().enumerate() {
+        write_param(&mut bytes, pin, &numbers(cx.input(first + i), slice));
+    }
+    // The built-ins a spliced file has: the clock and its slice (the rest are 0).
+    for (builtin, offset) in program.uniform.iter().flat_map(|u| &u.builtins) {
+        let word = match builtin {
+            Builtin::Time => (cx.clock.time as f32).to_bits(),
+            Builtin::Delta => (cx.clock.delta as f32).to_bits(),
+            Builtin::Slice => slice as u32,
+            _ => continue,
+        };
+        let at = *offset as usize;
+        if let Some(slot) = bytes.get_mut(at..at + 4) {
+            slot.copy_from_slice(&word.to_le_bytes());
+        }
+    }
+    let bindings = program
+        .bindings
+        .iter()
+        .filter_map(|(binding, role)| {
+            let what = match role {
+                Role::Uniform => SurfaceBinding::Uniform,
+                Role::Input(i) => SurfaceBinding::Texture(*i),
+                Role::Sampler(d) => SurfaceBinding::Sampler { repeat: d.repeat },
+                // Refused for materials and light shaders when the file compiled.
+                _ => return None,
+            };
+            Some((*binding, what))
+        })
+        .collect();
+    SurfaceShader::new(
+        format!("{} #{}", ty.name, cx.node_id.0),
+        program.file.clone(),
+        program.text.clone(),
+        program.key,
+        bindings,
+        bytes,
+        textures
+            .iter()
+            .map(|t| (*t[slice % t.len()]).clone())
+            .collect(),
+        compiled,
+    )
 }

@@ -7,6 +7,7 @@
 pub mod builtin_blur;
 pub mod def;
 pub mod library;
+pub mod light;
 pub mod material;
 pub mod node;
 mod params;
@@ -42,6 +43,7 @@ pub const EXAMPLES: &[(&str, &str, &str)] = &[
     example!("eye_adaptation_chain"),
     example!("procedural_material"),
     example!("rim_light"),
+    example!("toon_lights"),
 ];
 
 /// Register the shipped examples. One that does not compile (a bug a test
@@ -84,6 +86,8 @@ fn examples() -> &'static [LoadedExample] {
     })
 }
 
+#[cfg(test)]
+mod light_tests;
 #[cfg(test)]
 mod material_tests;
 #[cfg(test)]

@@ -85,6 +85,9 @@ fn run(ty: &Arc<ShaderType>, cx: &mut EvalContext<'_>) -> Result<(), Failure> {
     if ty.is_material() {
         return super::material::evaluate(ty, cx);
     }
+    if ty.is_light() {
+        return super::light::evaluate(ty, cx);
+    }
     let renderer = renderer(cx)?;
     let inputs = ty.notes.inputs.len();
     let mut textures = Vec::with_capacity(inputs);

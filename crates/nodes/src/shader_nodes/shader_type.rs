@@ -98,7 +98,7 @@ impl ShaderType {
     /// What the node's pins are made of (def.rs), in order: two versions
     /// alike here make nodes with the same pins.
     fn pin_signature(&self) -> Vec<String> {
-        let mut pins = vec![format!("material {}", self.is_material())];
+        let mut pins = vec![format!("{:?}", self.base.kind)];
         pins.extend(self.notes.inputs.iter().map(|(_, pin, _)| pin.clone()));
         pins.push(format!("gbuffer {}", self.reads_gbuffer()));
         pins.push(format!("materials {}", self.materials_pin()));
@@ -200,9 +200,28 @@ impl ShaderType {
         self.reads_materials() && !self.is_material()
     }
 
-    /// The first texture input pin: after a material's Layer.
+    /// The first texture input pin: after a material's Layer, after a light
+    /// shader's G-Buffer, Lights, Material World, Shadows and Light Loop.
     pub fn first_texture(&self) -> usize {
-        usize::from(self.is_material())
+        match self.base.kind {
+            Kind::Effect => 0,
+            Kind::Material => 1,
+            Kind::Light => super::light::LIGHT_PINS,
+        }
+    }
+
+    /// A light shader (`// @light`) rather than an image effect.
+    pub fn is_light(&self) -> bool {
+        self.base.kind == Kind::Light
+    }
+
+    /// The light types a light shader declares (none for other kinds).
+    pub fn light_kinds(&self) -> Vec<spreadlight_render::lighting::LightKind> {
+        self.notes
+            .light
+            .as_ref()
+            .map(|(_, kinds)| kinds.clone())
+            .unwrap_or_default()
     }
 
     /// A DeferredBase material (`// @material`) rather than an image effect.

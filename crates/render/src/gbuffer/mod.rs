@@ -30,6 +30,7 @@ pub use layer::{
 };
 pub use published_depth::{PublishedDepth, PublishedDepths};
 pub use resolve::SURFACE_AND_MOTION_DISPATCHES;
+pub(crate) use resolve::{SplicedGroup, shader_node_group};
 pub use surface_shader::{SURFACE_MODULE, SurfaceBinding, SurfaceShader};
 pub use view::{Channel, GBufferView};
 

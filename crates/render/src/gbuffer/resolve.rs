@@ -211,7 +211,13 @@ pub(super) fn resolve(
                     })?;
                 let params = g.surface_buffers.get(i).and_then(Option::as_ref);
                 let textures = reads.map_or(&[][..], |r| r.textures.as_slice());
-                if let Some(group) = surface_group(cx, &pipeline, s, params, textures, &reflection)?
+                let spliced = SplicedGroup {
+                    group: 1,
+                    label: &label,
+                    reflection: &reflection,
+                };
+                if let Some(group) =
+                    shader_node_group(cx, &pipeline, s, params, textures, &spliced)?
                 {
                     b = b.group(1, group);
                 }
@@ -260,25 +266,36 @@ pub(super) fn resolve(
     Ok(())
 }
 
-/// Group 1 of a resolve composed with a shader node material: its pins'
+/// Where a spliced shader node file's own bindings go.
+pub(crate) struct SplicedGroup<'a> {
+    /// 1 for a material in the resolve, 2 for a light shader in CookTorrance.
+    pub group: u32,
+    /// The pass, for errors.
+    pub label: &'a str,
+    pub reflection: &'a Reflection,
+}
+
+/// The group of a built-in pass composed with a shader node file (a
+/// material in the resolve, a light shader in CookTorrance): its pins'
 /// uniform block, texture inputs and samplers, numbered as the user's file
-/// numbers them, those the permutation uses. None where it uses no group 1.
-fn surface_group(
+/// numbers them, those the permutation uses. None where it uses no such group.
+pub(crate) fn shader_node_group(
     cx: &mut PassContext<'_>,
     pipeline: &wgpu::ComputePipeline,
     surface: &super::SurfaceShader,
     params: Option<&wgpu::Buffer>,
     textures: &[Tex],
-    reflection: &Reflection,
+    spliced: &SplicedGroup<'_>,
 ) -> Result<Option<wgpu::BindGroup>, RenderError> {
     use super::SurfaceBinding;
-    // A derived layout has groups up to the last one used: none past 0, no group 1.
-    if reflection.last_group().is_none_or(|last| last < 1) {
+    let (group, reflection) = (spliced.group, spliced.reflection);
+    // A derived layout has groups up to the last one used: none past the last.
+    if reflection.last_group().is_none_or(|last| last < group) {
         return Ok(None);
     }
     let mut resources = Vec::new();
     for (binding, role) in &surface.bindings {
-        if !reflection.used().any(|u| u == (1, *binding)) {
+        if !reflection.used().any(|u| u == (group, *binding)) {
             continue;
         }
         let resource = match role {
@@ -288,7 +305,7 @@ fn surface_group(
             },
             SurfaceBinding::Texture(t) => {
                 let tex = textures.get(*t).ok_or_else(|| RenderError::Pass {
-                    pass: format!("{}: resolve surface", surface.label),
+                    pass: spliced.label.to_owned(),
                     message: format!("texture input {t} is not connected"),
                 })?;
                 Bound::View(cx.view(*tex)?)
@@ -314,8 +331,8 @@ fn surface_group(
         .collect();
     Ok(Some(cx.gpu.device.create_bind_group(
         &wgpu::BindGroupDescriptor {
-            label: Some("resolve: shader node material"),
-            layout: &pipeline.get_bind_group_layout(1),
+            label: Some(spliced.label),
+            layout: &pipeline.get_bind_group_layout(group),
             entries: &entries,
         },
     )))

@@ -9,6 +9,7 @@ use crate::adapter_class::AdapterClass;
 use crate::error::RenderError;
 use crate::frame_graph::{Bindings, FrameGraph, PassContext, Tex, TextureDesc};
 use crate::gbuffer::GBuffer;
+use crate::gbuffer::SurfaceShader;
 use crate::material::{FEATURE_CLEARCOAT, FEATURE_FAKE_SSS, MaterialTextures, MaterialWorld};
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
@@ -70,6 +71,16 @@ pub struct CookTorrance {
     pub sss: Option<String>,
     /// Shadow maps for the lights whose `shadow` slice is set.
     shadows: Option<Arc<ShadowMaps>>,
+    /// A light shader node's `light` function in place of the BRDF (CUSTOM_LIGHT).
+    custom: Option<CustomLight>,
+}
+
+/// A light shader node's file spliced into the light loop: described as a
+/// material's is (the file, its bindings, pins and textures), its pins'
+/// uniform block uploaded under the node.
+struct CustomLight {
+    shader: Arc<SurfaceShader>,
+    params: Option<wgpu::Buffer>,
 }
 
 /// Near and far of a conventional (0..1 depth) perspective projection; None for others.
@@ -170,7 +181,40 @@ impl CookTorrance {
             specular: format!("cooktorrance{id}/specular"),
             sss,
             shadows,
+            custom: None,
         })
+    }
+
+    /// As [`CookTorrance::with_shadows`], each light shaded by a light shader
+    /// node's `light` function (`shader`: its file, pins and textures) in
+    /// place of the BRDF; no energy compensation or subsurface term, which are
+    /// the BRDF's. The passes are named after the node (`shader.label`).
+    #[allow(clippy::too_many_arguments)]
+    pub fn with_light_shader(
+        renderer: &Renderer,
+        owner: Option<u32>,
+        gbuffer: Arc<GBuffer>,
+        lights: Arc<LightBuffer>,
+        mode: LightLoop,
+        surfaces: Surfaces,
+        shadows: Option<Arc<ShadowMaps>>,
+        shader: Arc<SurfaceShader>,
+    ) -> Arc<Self> {
+        let mut made = Self::with_shadows(
+            renderer, owner, gbuffer, lights, mode, false, surfaces, shadows,
+        );
+        let params = (!shader.params.is_empty()).then(|| {
+            renderer.kept_init(
+                owner,
+                "light shader pins",
+                &shader.params,
+                wgpu::BufferUsages::UNIFORM,
+            )
+        });
+        let this = Arc::get_mut(&mut made).expect("just made");
+        this.sss = None;
+        this.custom = Some(CustomLight { shader, params });
+        made
     }
 
     pub fn diffuse_texture(self: &Arc<Self>) -> TextureRef {
@@ -223,7 +267,10 @@ impl CookTorrance {
     }
 
     fn label(&self, what: impl Into<std::borrow::Cow<'static, str>>) -> PassName {
-        PassName::new("CookTorrance").step(what)
+        match &self.custom {
+            Some(c) => PassName::new(c.shader.label.clone()).step(what),
+            None => PassName::new("CookTorrance").step(what),
+        }
     }
 
     fn assign(&self, grid: ClusterGrid, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
@@ -292,6 +339,7 @@ impl CookTorrance {
             (self.clearcoat(), "CLEARCOAT"),
             (self.lights.textures().is_some(), "SPOT_TEXTURE"),
             (self.textured(), "MATERIAL_TEXTURES"),
+            (self.custom.is_some(), "CUSTOM_LIGHT"),
         ];
         features.extend(flags.into_iter().filter(|(on, _)| *on).map(|(_, f)| f));
         // Roughness and metallic where the G-buffer resolved them, with or without materials.
@@ -353,13 +401,58 @@ impl CookTorrance {
         }
         let (w, h) = g.pixel_size(cx.output_size);
         // 16x16 blocks: shaders/lighting/cook_torrance.wgsl's GROUP.
-        cx.dispatch_shader(
-            "cook torrance",
-            &self.key(),
-            "main",
-            b,
-            (w.div_ceil(16), h.div_ceil(16), 1),
-        )
+        let groups = (w.div_ceil(16), h.div_ceil(16), 1);
+        match &self.custom {
+            Some(custom) => self.shade_custom(cx, custom, io, b, groups),
+            None => cx.dispatch_shader("cook torrance", &self.key(), "main", b, groups),
+        }
+    }
+
+    /// The light loop composed with a light shader node's file in place of
+    /// `spreadlight::custom_light`, its own bindings in group 2.
+    fn shade_custom(
+        &self,
+        cx: &mut PassContext<'_>,
+        custom: &CustomLight,
+        io: &ShadeIo,
+        mut b: Bindings<'_>,
+        groups: (u32, u32, u32),
+    ) -> Result<(), RenderError> {
+        let s = &custom.shader;
+        let device = cx.gpu.device.clone();
+        let splice = crate::shaders::Splice {
+            key: s.key,
+            module: crate::shader_nodes::light::LIGHT_MODULE,
+            file_path: &s.file,
+            source: &s.text,
+        };
+        let label = format!("{}: shade", s.label);
+        let (pipeline, reflection) = cx
+            .shaders
+            .surface_pipeline(&device, &self.key(), &splice, "main")
+            .map_err(|e| RenderError::Pass {
+                pass: label.clone(),
+                message: e.to_string(),
+            })?;
+        let spliced = crate::gbuffer::SplicedGroup {
+            group: crate::shader_nodes::light::LIGHT_GROUP,
+            label: &label,
+            reflection: &reflection,
+        };
+        if let Some(group) = crate::gbuffer::shader_node_group(
+            cx,
+            &pipeline,
+            s,
+            custom.params.as_ref(),
+            &io.custom_textures,
+            &spliced,
+        )? {
+            b = b.group(spliced.group, group);
+        }
+        let bind_groups = cx.bind_groups_reflected(&label, &reflection, &pipeline, b)?;
+        let bind_groups: Vec<&wgpu::BindGroup> = bind_groups.iter().collect();
+        cx.dispatch(&label, &pipeline, &bind_groups, groups);
+        Ok(())
     }
 }
 
@@ -376,6 +469,8 @@ struct ShadeIo {
     /// Textured spot lights' images.
     spot_textures: Option<Tex>,
     material_textures: Option<MaterialTextures>,
+    /// A light shader node's texture inputs, in `@input` order.
+    custom_textures: Vec<Tex>,
 }
 
 /// Roughness and metallic from a pin: finite and in 0..1.
@@ -424,6 +519,15 @@ impl Recipe for CookTorrance {
         if let Some(shadows) = &self.shadows {
             shadows.declare(renderer, fg);
         }
+        if let Some(custom) = &self.custom {
+            for texture in &custom.shader.textures {
+                texture.recipe.declare(renderer, fg);
+            }
+            let compiled = custom.shader.take_compiled();
+            if compiled > 0 {
+                fg.count("shader node permutations compiled", compiled);
+            }
+        }
         let g = &self.gbuffer.targets;
         let hdr = TextureDesc::storage(wgpu::TextureFormat::Rgba16Float).size(self.gbuffer.size);
         let mut pass = fg.pass(self.label("shade"), self.owner);
@@ -448,6 +552,12 @@ impl Recipe for CookTorrance {
             diffuse: pass.write(&self.diffuse, hdr),
             specular: pass.write(&self.specular, hdr),
             sss: self.sss.as_ref().map(|sss| pass.write(sss, hdr)),
+            custom_textures: self
+                .custom
+                .iter()
+                .flat_map(|c| &c.shader.textures)
+                .map(|t| pass.read(&t.name))
+                .collect(),
         };
         pass.run(move |cx| self.shade(cx, &io));
     }

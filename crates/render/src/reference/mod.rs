@@ -19,3 +19,4 @@ pub mod reflection;
 pub mod shadows;
 pub mod ssao;
 pub mod tonemap;
+pub mod toon;

@@ -7,6 +7,7 @@ use std::collections::BTreeMap;
 
 use super::error::{ShaderNodeError, Span};
 use crate::frame_graph::{Lifetime, SizeRule};
+use crate::lighting::LightKind;
 
 /// Where in the file: 1-based line and column.
 pub type At = Span;
@@ -128,6 +129,9 @@ pub struct Annotations {
     pub pins: BTreeMap<u32, PinDecl>,
     /// `// @material`: the file is a DeferredBase material (its `surface` function), not an effect.
     pub material: Option<At>,
+    /// `// @light point spot sun`: the file is a light shader (its `light`
+    /// function) for these light types, not an effect.
+    pub light: Option<(At, Vec<LightKind>)>,
 }
 
 /// The G-buffer names a shader may bind: its textures and its camera uniform.
@@ -213,6 +217,7 @@ impl Annotations {
                     a.outputs.push((target.to_owned(), at));
                 }
                 "material" => a.material = Some(at),
+                "light" => a.light = Some((at, parse_light_kinds(rest).map_err(fail)?)),
                 "enum" => a.enums.push(parse_enum(rest, at).map_err(fail)?),
                 "pin" => {
                     let mut decl = parse_pin(rest, at, rest_column)
@@ -223,7 +228,7 @@ impl Annotations {
                 other => {
                     return Err(fail(format!(
                         "unknown annotation `@{other}` (category, help, input, gbuffer, sampler, target, \
-                         pass, switch, enum, output, pin, material)"
+                         pass, switch, enum, output, pin, material, light)"
                     )));
                 }
             }
@@ -234,6 +239,33 @@ impl Annotations {
     pub fn target(&self, name: &str) -> Option<&TargetDecl> {
         self.targets.iter().find(|t| t.name == name)
     }
+}
+
+/// `point spot sun` (also `point|spot`, `point, sun`): the light types a
+/// light shader declares, each once, in the order written.
+fn parse_light_kinds(rest: &str) -> Result<Vec<LightKind>, String> {
+    let mut kinds = Vec::new();
+    for word in rest
+        .split(|c: char| c.is_whitespace() || c == '|' || c == ',')
+        .filter(|w| !w.is_empty())
+    {
+        let kind = match word {
+            "point" => LightKind::Point,
+            "spot" => LightKind::Spot,
+            "sun" => LightKind::Sun,
+            other => {
+                return Err(format!("unknown light type `{other}` (point, spot, sun)"));
+            }
+        };
+        if kinds.contains(&kind) {
+            return Err(format!("light type `{word}` is declared twice"));
+        }
+        kinds.push(kind);
+    }
+    if kinds.is_empty() {
+        return Err("`@light` needs the light types it shades: point, spot, sun".into());
+    }
+    Ok(kinds)
 }
 
 /// `Name "Display Name" ...` -> the first word and the quoted text, if any.

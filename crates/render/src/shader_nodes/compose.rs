@@ -49,23 +49,36 @@ pub fn compose(file: &str, text: &str) -> Result<naga::Module, ShaderNodeError> 
 /// place of `spreadlight::custom_surface` (naga_oil is stricter with an
 /// imported module than with a top-level one: names ending in a digit, say).
 pub fn check_material(file: &str, text: &str) -> Result<(), ShaderNodeError> {
+    let key =
+        crate::shaders::ShaderKey::new("gbuffer/resolve.wgsl", ["SURFACE_OUT", "CUSTOM_SURFACE"]);
+    check_spliced(
+        file,
+        text,
+        crate::gbuffer::SURFACE_MODULE,
+        &[(key, "the G-buffer resolve")],
+    )
+}
+
+/// Check that `text` composes into each of `passes` (a permutation and what
+/// to call it in an error) in place of library `module`.
+pub fn check_spliced(
+    file: &str,
+    text: &str,
+    module: &str,
+    passes: &[(crate::shaders::ShaderKey, &str)],
+) -> Result<(), ShaderNodeError> {
     let first = |message: String| ShaderNodeError::at(file, Span { line: 1, column: 1 }, message);
     let lock = composer().map_err(|e| first(format!("the shader libraries: {e}")))?;
     let mut composer = lock.lock().unwrap_or_else(|e| e.into_inner());
-    let module = crate::gbuffer::SURFACE_MODULE;
     let replaced = composer
         .replace_library(module, file, text)
         .map_err(|e| place(file, text, &e));
     let composed = replaced.and_then(|()| {
-        let key = crate::shaders::ShaderKey::new(
-            "gbuffer/resolve.wgsl",
-            ["SURFACE_OUT", "CUSTOM_SURFACE"],
-        );
-        composer.compose(&key).map(|_| ()).map_err(|e| {
-            first(format!(
-                "in the G-buffer resolve: {}",
-                undecorate(&e.to_string())
-            ))
+        passes.iter().try_for_each(|(key, what)| {
+            composer
+                .compose(key)
+                .map(|_| ())
+                .map_err(|e| first(format!("in {what}: {}", undecorate(&e.to_string()))))
         })
     });
     let restored = composer
@@ -179,9 +192,9 @@ fn place(file: &str, text: &str, e: &ComposerError) -> ShaderNodeError {
         (ErrSource::Constructing { source, .. }, Some(offset)) => {
             ShaderNodeError::at(file, span_of(source, offset), message)
         }
-        // A material composed in place of the custom surface library: the file itself.
+        // A material or light shader composed in place of its library: the file itself.
         (ErrSource::Module { name, .. }, Some(offset))
-            if name == crate::gbuffer::SURFACE_MODULE =>
+            if name == crate::gbuffer::SURFACE_MODULE || name == super::light::LIGHT_MODULE =>
         {
             ShaderNodeError::at_offset(file, text, offset, message)
         }

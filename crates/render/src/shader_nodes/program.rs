@@ -92,6 +92,9 @@ pub enum Kind {
     /// A DeferredBase layer's material (`// @material`): a `surface` function
     /// the G-buffer resolve calls per pixel; bindings in group 1.
     Material,
+    /// A light shader (`// @light point spot sun`): a `light` function the
+    /// CookTorrance loop calls per light and pixel; bindings in group 2.
+    Light,
 }
 
 fn storage_format(format: naga::StorageFormat) -> Option<wgpu::TextureFormat> {
@@ -116,7 +119,10 @@ impl Program {
         defines: &BTreeSet<String>,
     ) -> Result<Program, ShaderNodeError> {
         let text = preprocess(file, source, defines)?;
-        let kind = if notes.material.is_some() {
+        let kind = if notes.light.is_some() {
+            super::light::check_annotations(file, notes)?;
+            Kind::Light
+        } else if notes.material.is_some() {
             super::material::check_annotations(file, notes)?;
             Kind::Material
         } else {
@@ -187,9 +193,13 @@ impl Program {
             (file, source, defines).hash(&mut hasher);
             hasher.finish()
         };
-        if kind == Kind::Material {
-            super::material::check(file, &text, notes, &module)?;
-            super::compose::check_material(file, &text)?;
+        if kind != Kind::Effect {
+            if kind == Kind::Light {
+                super::light::check(file, &text, notes, &module)?;
+            } else {
+                super::material::check(file, &text, notes, &module)?;
+                super::compose::check_material(file, &text)?;
+            }
             return Ok(Program {
                 file: file.to_owned(),
                 module,
@@ -348,6 +358,7 @@ impl Program {
         let group = match kind {
             Kind::Effect => 0,
             Kind::Material => 1,
+            Kind::Light => super::light::LIGHT_GROUP,
         };
         for (handle, var) in module.global_variables.iter() {
             let Some(binding) = &var.binding else {
@@ -368,6 +379,9 @@ impl Program {
                     Kind::Effect => "shader nodes bind everything in group 0",
                     Kind::Material => {
                         "a material binds everything in group 1 (group 0 is the G-buffer's)"
+                    }
+                    Kind::Light => {
+                        "a light shader binds everything in group 2 (groups 0 and 1 are the light loop's)"
                     }
                 };
                 return Err(fail(format!(

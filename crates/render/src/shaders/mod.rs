@@ -164,6 +164,8 @@ pub const SHADERS: &[ShaderFile] = &[
     shader!("lighting/shadow_sampling.wgsl", library),
     shader!("lib/surface.wgsl", library),
     shader!("lib/custom_surface.wgsl", library),
+    shader!("lib/light_shader.wgsl", library),
+    shader!("lib/custom_light.wgsl", library),
     shader!("gbuffer/visibility.wgsl", ["ALPHA_MASK"]),
     shader!("geometry/spherize.wgsl", []),
     shader!("geometry/extrude.wgsl", ["TEXTURE"]),
@@ -230,9 +232,14 @@ pub const SHADERS: &[ShaderFile] = &[
             "SHADOW_PCSS",
             "SHADOW_VSM",
             "SURFACE_TARGET",
-            "CLEARCOAT"
+            "CLEARCOAT",
+            "CUSTOM_LIGHT"
         ],
         Rule::AtMostOne(&["LIGHT_SPOT", "LIGHT_SUN"]),
+        // A light shader node's function replaces the BRDF and its extras.
+        Rule::AtMostOne(&["CUSTOM_LIGHT", "ENERGY_COMPENSATION"]),
+        Rule::AtMostOne(&["CUSTOM_LIGHT", "FAKE_SSS"]),
+        Rule::AtMostOne(&["CUSTOM_LIGHT", "CLEARCOAT"]),
         // SHADOWS alone samples raw; the others choose a filter.
         Rule::AtMostOne(&["SHADOW_PCF", "SHADOW_PCSS", "SHADOW_VSM"]),
         Rule::Requires("SHADOW_PCF", "SHADOWS"),

@@ -1,0 +1,176 @@
+//! The light kind of shader node (`// @light point spot sun`): a file that
+//! defines `fn light(in: LightInput) -> LightOutput` (structs from
+//! `shaders/lib/light_shader.wgsl`), which the CookTorrance light loop calls
+//! for every light of a declared type that reaches a pixel, through the same
+//! clusters and shadow maps, summing its outputs into Diffuse and Specular:
+//! breezEngine's light passes. Like a material it has no passes or targets;
+//! its uniform block (pins), texture inputs and samplers are bound in group
+//! 2 (group 0 is the light loop's, group 1 the material world's).
+
+use naga::TypeInner;
+
+use super::annotations::Annotations;
+use super::error::{ShaderNodeError, Span};
+use crate::lighting::LightKind;
+use crate::shaders::ShaderKey;
+
+/// The library a light shader's file takes the place of in the light loop.
+pub const LIGHT_MODULE: &str = "spreadlight::custom_light";
+
+/// The function a light shader file defines.
+pub const LIGHT_FUNCTION: &str = "light";
+
+/// The group a light shader's own bindings are in.
+pub const LIGHT_GROUP: u32 = 2;
+
+/// The light loop's permutation a light shader is spliced into, for a
+/// light type (the rest of the key is what the scene calls for).
+pub fn loop_key(kind: LightKind) -> ShaderKey {
+    let mut features = vec!["CUSTOM_LIGHT"];
+    features.extend(kind.feature());
+    ShaderKey::new("lighting/cook_torrance.wgsl", features)
+}
+
+/// Annotations that make no sense for a light shader, at their place.
+pub fn check_annotations(file: &str, notes: &Annotations) -> Result<(), ShaderNodeError> {
+    let refuse = |at: Span, what: &str| {
+        Err(ShaderNodeError::at(
+            file,
+            at,
+            format!(
+                "a `@light` shader has no {what}: the light loop calls its `{LIGHT_FUNCTION}` \
+                 function for every light reaching a pixel (see docs/shader-nodes.md)"
+            ),
+        ))
+    };
+    if let Some(at) = notes.material {
+        return refuse(at, "`@material` (a file is a material or a light shader)");
+    }
+    if let Some(p) = notes.passes.first() {
+        return refuse(p.at, "passes");
+    }
+    if let Some(t) = notes.targets.first() {
+        return refuse(t.at, "render targets");
+    }
+    if let Some((_, at)) = notes.outputs.first() {
+        return refuse(*at, "extra outputs");
+    }
+    if let Some((_, at)) = notes.gbuffer.first() {
+        return refuse(
+            *at,
+            "G-buffer bindings (its `LightInput` carries the pixel's surface)",
+        );
+    }
+    Ok(())
+}
+
+/// The type's name as written (naga_oil decorates imported names).
+fn type_name(module: &naga::Module, ty: naga::Handle<naga::Type>) -> String {
+    module.types[ty]
+        .name
+        .as_deref()
+        .map(super::compose::undecorate)
+        .unwrap_or_default()
+}
+
+/// The file defines `light(LightInput) -> LightOutput` and no entry point,
+/// and composes into the light loop for each light type it declares.
+pub fn check(
+    file: &str,
+    text: &str,
+    notes: &Annotations,
+    module: &naga::Module,
+) -> Result<(), ShaderNodeError> {
+    let (at_light, kinds) = notes
+        .light
+        .as_ref()
+        .map_or((Span { line: 1, column: 1 }, &[][..]), |(at, k)| {
+            (*at, k.as_slice())
+        });
+    let signature = format!(
+        "`fn {LIGHT_FUNCTION}(in: LightInput) -> LightOutput` \
+         (`#import spreadlight::light_shader::{{LightInput, LightOutput}}`)"
+    );
+    if !super::compose::imports(text) || !text.contains("spreadlight::light_shader") {
+        return Err(ShaderNodeError::at(
+            file,
+            at_light,
+            format!("a light shader imports the light loop's structs: it defines {signature}"),
+        ));
+    }
+    if let Some(entry) = module.entry_points.first() {
+        let at = text
+            .find(&format!("fn {}", entry.name))
+            .map_or(at_light, |o| super::error::span_of(text, o));
+        return Err(ShaderNodeError::at(
+            file,
+            at,
+            format!(
+                "`{}` is an entry point: a light shader has none, the light loop calls its `{LIGHT_FUNCTION}` function",
+                entry.name
+            ),
+        ));
+    }
+    let function = module
+        .functions
+        .iter()
+        .map(|(_, f)| f)
+        .find(|f| f.name.as_deref() == Some(LIGHT_FUNCTION))
+        .ok_or_else(|| {
+            ShaderNodeError::at(
+                file,
+                at_light,
+                format!("a `@light` shader defines {signature}"),
+            )
+        })?;
+    let at = text
+        .find(&format!("fn {LIGHT_FUNCTION}"))
+        .map_or(at_light, |o| super::error::span_of(text, o));
+    let argument = match function.arguments.as_slice() {
+        [a] => type_name(module, a.ty),
+        _ => String::new(),
+    };
+    let result = function
+        .result
+        .as_ref()
+        .map(|r| type_name(module, r.ty))
+        .unwrap_or_default();
+    let structs = function
+        .arguments
+        .iter()
+        .all(|a| matches!(module.types[a.ty].inner, TypeInner::Struct { .. }));
+    if argument != "LightInput" || result != "LightOutput" || !structs {
+        return Err(ShaderNodeError::at(
+            file,
+            at,
+            format!(
+                "`{LIGHT_FUNCTION}` must be {signature} with the structs of spreadlight::light_shader \
+                 (found ({argument}) -> {result})"
+            ),
+        ));
+    }
+    let passes: Vec<(ShaderKey, &str)> = kinds
+        .iter()
+        .map(|k| (loop_key(*k), "the light loop"))
+        .collect();
+    super::compose::check_spliced(file, text, LIGHT_MODULE, &passes)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn light_types_parse_in_any_separator_and_are_refused_by_name() {
+        let notes = Annotations::parse("t.wgsl", "// @light point|spot, sun\n").expect("parses");
+        let kinds = notes.light.expect("declared").1;
+        assert_eq!(kinds, [LightKind::Point, LightKind::Spot, LightKind::Sun]);
+        let e = Annotations::parse("t.wgsl", "\n// @light point area\n").expect_err("area");
+        assert_eq!(e.at.line, 2);
+        assert!(e.message.contains("unknown light type `area`"), "{e}");
+        let e = Annotations::parse("t.wgsl", "// @light\n").expect_err("none");
+        assert!(e.message.contains("point, spot, sun"), "{e}");
+        let e = Annotations::parse("t.wgsl", "// @light sun sun\n").expect_err("twice");
+        assert!(e.message.contains("twice"), "{e}");
+    }
+}
