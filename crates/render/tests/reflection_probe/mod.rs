@@ -22,7 +22,7 @@ use super::reflection_scene::{SIZE, camera, reflective, world_position};
 
 const BALL: Vec3 = Vec3::new(0.0, 0.6, 0.0);
 const RADIUS: f32 = 0.6;
-const EYE: Vec3 = Vec3::new(0.0, 1.2, 4.0);
+const EYE: Vec3 = Vec3::new(0.0, 1.0, 2.4);
 const QUALITY: EnvironmentQuality = EnvironmentQuality {
     cube_size: 32,
     samples: 16,
@@ -87,9 +87,10 @@ fn mirror(
     (report, specular, images.next().expect("depth"), g)
 }
 
-/// The mean specular over the ball's pixels whose world x is beyond `side` (sign: which side).
-fn ball_side(g: &GBuffer, specular: &ImageF32, depth: &ImageF32, side: f32) -> Vec3 {
-    let (mut sum, mut n) = (Vec3::ZERO, 0);
+/// The ball's pixels, each with its specular and the world direction it
+/// reflects (from the ball's centre, where the probe is).
+fn ball_pixels(g: &GBuffer, specular: &ImageF32, depth: &ImageF32) -> Vec<(Vec3, Vec3)> {
+    let mut pixels = Vec::new();
     for y in 0..SIZE.1 {
         for x in 0..SIZE.0 {
             let d = depth.pixel(x, y)[0];
@@ -97,15 +98,20 @@ fn ball_side(g: &GBuffer, specular: &ImageF32, depth: &ImageF32, side: f32) -> V
                 continue;
             }
             let p = world_position(g, x, y, d);
-            if ((p - BALL).length() - RADIUS).abs() > 0.05 || p.x * side.signum() < side.abs() {
+            if ((p - BALL).length() - RADIUS).abs() > 0.05 {
                 continue;
             }
-            sum += Vec3::from_slice(&specular.pixel(x, y)[..3]);
-            n += 1;
+            let n = (p - BALL).normalize();
+            let v = (g.camera.view.inverse().w_axis.truncate() - p).normalize();
+            let r = 2.0 * n.dot(v) * n - v;
+            pixels.push((Vec3::from_slice(&specular.pixel(x, y)[..3]), r));
         }
     }
-    assert!(n >= 8, "{n} ball pixels on side {side}");
-    sum / n as f32
+    pixels
+}
+
+fn red(c: Vec3) -> bool {
+    c.x > 2.0 * c.y && c.x > 2.0 * c.z
 }
 
 #[test]
@@ -119,13 +125,24 @@ fn a_mirror_sphere_beside_a_red_box_shows_the_box() {
         probe(&renderer, None, &s.surroundings, at_ball()),
     );
     assert_eq!(report.counter("environment probe rendered"), 1);
-    let right = ball_side(&g, &specular, &depth, 0.3);
-    let left = ball_side(&g, &specular, &depth, -0.3);
-    assert!(
-        right.x > 2.0 * right.y && right.x > 2.0 * right.z,
-        "the box's side is red: {right}"
-    );
-    assert!(left.x < 1.2 * left.z, "the other side is not: {left}");
+    // The box's centre seen from the ball's (its near face spans about 0.3 rad either side).
+    let towards_box = (Vec3::new(1.6, 0.402, 0.0) - BALL).normalize();
+    let pixels = ball_pixels(&g, &specular, &depth);
+    let on_box: Vec<Vec3> = pixels
+        .iter()
+        .filter(|(_, r)| r.angle_between(towards_box) < 0.2)
+        .map(|(c, _)| *c)
+        .collect();
+    assert!(on_box.len() >= 3, "{} pixels reflect the box", on_box.len());
+    let mean = on_box.iter().sum::<Vec3>() / on_box.len() as f32;
+    assert!(red(mean), "where the ball reflects the box it is red: {mean}");
+    // Away from the box (reflecting towards -x), nothing is red.
+    let away: Vec<Vec3> = pixels
+        .iter()
+        .filter(|(_, r)| r.x < -0.3)
+        .map(|(c, _)| *c)
+        .collect();
+    assert!(away.len() >= 8 && !away.iter().any(|c| red(*c)), "the other side is not red");
 }
 
 #[test]
@@ -175,45 +192,89 @@ fn a_probe_renders_again_only_when_what_it_sees_changed() {
     assert_eq!(frame(&moved, EYE, once, Some(503)), (0, 1));
 }
 
-/// A probe away from the ball sees the box from the wrong place; a box
-/// volume around the scene moves the reflection back towards what a probe
-/// at the ball sees.
+/// A closed room of six walls of different colours, walls at x, z = ±5, floor at 0, ceiling at 4.
+fn room(renderer: &Renderer) -> Arc<Layer> {
+    use spreadlight_render::gbuffer::{DrawBatch, InstanceInput};
+    let mesh = renderer
+        .meshes
+        .upload(&renderer.gpu, &spreadlight_render::mesh::primitives::box_mesh(Default::default()))
+        .expect("uploads");
+    let wall = |center: Vec3, size: Vec3, color: [f32; 4]| {
+        let t = Mat4::from_translation(center) * Mat4::from_scale(size);
+        InstanceInput {
+            transform: t,
+            previous_transform: t,
+            color,
+            material_id: 1,
+            object_id: 1,
+        }
+    };
+    let mut layer = Layer::plain(vec![DrawBatch {
+        mesh,
+        instances: vec![
+            wall(Vec3::new(5.0, 2.0, 0.0), Vec3::new(0.02, 4.0, 10.0), [0.9, 0.1, 0.1, 1.0]),
+            wall(Vec3::new(-5.0, 2.0, 0.0), Vec3::new(0.02, 4.0, 10.0), [0.1, 0.9, 0.1, 1.0]),
+            wall(Vec3::new(0.0, 2.0, 5.0), Vec3::new(10.0, 4.0, 0.02), [0.1, 0.1, 0.9, 1.0]),
+            wall(Vec3::new(0.0, 2.0, -5.0), Vec3::new(10.0, 4.0, 0.02), [0.9, 0.9, 0.1, 1.0]),
+            wall(Vec3::new(0.0, 0.0, 0.0), Vec3::new(10.0, 0.02, 10.0), [0.5, 0.5, 0.5, 1.0]),
+            wall(Vec3::new(0.0, 4.0, 0.0), Vec3::new(10.0, 0.02, 10.0), [0.1, 0.9, 0.9, 1.0]),
+        ],
+    }]);
+    layer.features.ids = true;
+    Arc::new(layer)
+}
+
+/// In a closed box room with the room as the probe's volume, parallax
+/// correction makes the mirror's reflection (nearly) independent of where
+/// in the room the probe stands; without it an offset probe shows the
+/// walls from the wrong place.
 #[test]
 fn a_box_volume_corrects_an_offset_probe_for_parallax() {
     let renderer = test_renderer();
-    let s = scene(&renderer);
-    let reference = mirror(&renderer, &s, EYE, probe(&renderer, None, &s.surroundings, at_ball())).1;
-    let offset = Vec3::new(-1.0, 0.6, 0.5);
-    let error = |volume: ProbeVolume| {
+    let walls = room(&renderer);
+    let s = MirrorBesideBox {
+        ball: scene(&renderer).ball,
+        surroundings: walls.clone(),
+    };
+    let volume = ProbeVolume::Box {
+        center: Vec3::new(0.0, 2.0, 0.0),
+        size: Vec3::new(10.0, 4.0, 10.0),
+    };
+    let image = |position: Vec3, volume: ProbeVolume| {
         let settings = ProbeSettings {
-            position: offset,
+            position,
             volume,
             ..Default::default()
         };
-        let image = mirror(&renderer, &s, EYE, probe(&renderer, None, &s.surroundings, settings)).1;
-        let sum: f32 = image
+        mirror(&renderer, &s, EYE, probe(&renderer, None, &walls, settings)).1
+    };
+    let rmse = |a: &ImageF32, b: &ImageF32| {
+        let sum: f32 = a
             .pixels
             .iter()
-            .zip(&reference.pixels)
+            .zip(&b.pixels)
             .map(|(a, b)| (Vec3::from_slice(&a[..3]) - Vec3::from_slice(&b[..3])).length_squared())
             .sum();
-        (sum / image.pixels.len() as f32).sqrt()
+        (sum / a.pixels.len() as f32).sqrt()
     };
-    let uncorrected = error(ProbeVolume::Infinite);
-    let corrected = error(ProbeVolume::Box {
-        center: Vec3::new(0.4, 1.0, 0.0),
-        size: Vec3::new(3.2, 2.0, 3.0),
-    });
+    let reference = image(BALL, volume);
+    let offset = Vec3::new(-2.5, 2.5, 1.5);
+    let corrected = rmse(&image(offset, volume), &reference);
+    let uncorrected_image = image(offset, ProbeVolume::Infinite);
+    let uncorrected = rmse(&uncorrected_image, &reference);
     assert!(
-        corrected < 0.8 * uncorrected,
+        corrected < 0.4 * uncorrected,
         "parallax-corrected error {corrected} vs uncorrected {uncorrected}"
     );
     // A zero-size volume is no volume: exactly the uncorrected image.
-    let flat = error(ProbeVolume::Box {
-        center: Vec3::ZERO,
-        size: Vec3::new(3.0, 0.0, 3.0),
-    });
-    assert_eq!(flat, uncorrected);
+    let flat = image(
+        offset,
+        ProbeVolume::Box {
+            center: Vec3::ZERO,
+            size: Vec3::new(3.0, 0.0, 3.0),
+        },
+    );
+    assert_eq!(rmse(&flat, &uncorrected_image), 0.0);
 }
 
 #[test]
