@@ -372,7 +372,11 @@ fn the_environment_probe_example_renders_its_probe_once_while_the_camera_orbits(
     assert_eq!(counts(&renderer), (1, 0), "the first frame renders it");
     for frame in 1..4 {
         rt.evaluate(FrameClock::fixed(frame * 20, 60.0));
-        assert_eq!(counts(&renderer), (0, 1), "frame {frame}: the camera moved, nothing else");
+        assert_eq!(
+            counts(&renderer),
+            (0, 1),
+            "frame {frame}: the camera moved, nothing else"
+        );
     }
     let translate = patch
         .nodes
@@ -386,9 +390,16 @@ fn the_environment_probe_example_renders_its_probe_once_while_the_camera_orbits(
     rt.evaluate(FrameClock::fixed(100, 60.0));
     assert_eq!(counts(&renderer), (1, 0), "the box moved");
 
-    let showcase = format::load(&spreadlight_tests::root().join("patches/showcase.ron")).expect("loads");
+    let showcase =
+        format::load(&spreadlight_tests::root().join("patches/showcase.ron")).expect("loads");
     let (_, renderer) = first_frame(&showcase, &path, (32, 18));
-    assert_eq!(renderer.last_report().passes_of("EnvironmentProbe", None).count(), 0);
+    assert_eq!(
+        renderer
+            .last_report()
+            .passes_of("EnvironmentProbe", None)
+            .count(),
+        0
+    );
 }
 
 /// The matcap example shades two of its four balls with matcaps; without its

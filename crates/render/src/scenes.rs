@@ -127,8 +127,9 @@ pub fn mirror_beside_box(
         )],
     }]);
     // A hair above the floor: its bottom and the floor would fight for depth.
-    let box_transform = Mat4::from_translation(Vec3::new(red_box.x, box_size * 0.5 + 0.002, red_box.y))
-        * Mat4::from_scale(Vec3::splat(box_size));
+    let box_transform =
+        Mat4::from_translation(Vec3::new(red_box.x, box_size * 0.5 + 0.002, red_box.y))
+            * Mat4::from_scale(Vec3::splat(box_size));
     let surroundings = layer(vec![
         DrawBatch {
             mesh: box_mesh,

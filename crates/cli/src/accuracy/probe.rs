@@ -132,10 +132,16 @@ fn frame(
 
 /// RMSE and SSIM over the pixels the reference reflects on.
 fn error(image: &ImageF32, truth: &ImageF32) -> metrics::Error {
-    let mask: Vec<bool> = truth.pixels.iter().map(|p| p[..3].iter().any(|c| *c > 0.0)).collect();
-    let channel = |img: &ImageF32, c: usize| -> Vec<f32> { img.pixels.iter().map(|p| p[c]).collect() };
-    let (approx, reference): (Vec<Vec<f32>>, Vec<Vec<f32>>) =
-        (0..3).map(|c| (channel(image, c), channel(truth, c))).unzip();
+    let mask: Vec<bool> = truth
+        .pixels
+        .iter()
+        .map(|p| p[..3].iter().any(|c| *c > 0.0))
+        .collect();
+    let channel =
+        |img: &ImageF32, c: usize| -> Vec<f32> { img.pixels.iter().map(|p| p[c]).collect() };
+    let (approx, reference): (Vec<Vec<f32>>, Vec<Vec<f32>>) = (0..3)
+        .map(|c| (channel(image, c), channel(truth, c)))
+        .unzip();
     let planes = |channels: &'_ [Vec<f32>]| -> Vec<Plane<'_>> {
         channels
             .iter()
@@ -166,7 +172,13 @@ pub fn run(args: &ProbeArgs) -> anyhow::Result<ExitCode> {
     let mirror = Material::new()
         .with(Feature::CookTorrance, &[[args.roughness, 1.0, 0.04, 0.0]])?
         .with(Feature::Reflection, &[[1.0, 0.0, 0.0, 0.0]])?;
-    let scene = mirror_beside_box(&renderer, (BALL, RADIUS), Vec2::new(BOX_DISTANCE, 0.0), BOX_SIZE, 8.0)?;
+    let scene = mirror_beside_box(
+        &renderer,
+        (BALL, RADIUS),
+        Vec2::new(BOX_DISTANCE, 0.0),
+        BOX_SIZE,
+        8.0,
+    )?;
     let s = Scene {
         materials: MaterialWorld::new(&renderer, vec![mirror, Material::default_material()]),
         scene,
@@ -176,8 +188,19 @@ pub fn run(args: &ProbeArgs) -> anyhow::Result<ExitCode> {
         cube_size: args.reference_size,
         samples: args.reference_samples,
     };
-    eprintln!("reference probe: cube {} x {} samples ...", args.reference_size, args.reference_samples);
-    let (truth, _) = frame(&renderer, &s, &still, size, 1, reference_quality, ProbeUpdate::OnChange)?;
+    eprintln!(
+        "reference probe: cube {} x {} samples ...",
+        args.reference_size, args.reference_samples
+    );
+    let (truth, _) = frame(
+        &renderer,
+        &s,
+        &still,
+        size,
+        1,
+        reference_quality,
+        ProbeUpdate::OnChange,
+    )?;
     let mut rows = Vec::new();
     let mut owner = 10;
     for &cube_size in &args.cube_sizes {
@@ -188,7 +211,15 @@ pub fn run(args: &ProbeArgs) -> anyhow::Result<ExitCode> {
             let mut last = None;
             // Rendered every frame, so every frame times the whole probe.
             for i in 0..args.common.warmup + args.common.frames.max(1) {
-                let (image, ms) = frame(&renderer, &s, &still, size, owner, quality, ProbeUpdate::EveryNFrames(1))?;
+                let (image, ms) = frame(
+                    &renderer,
+                    &s,
+                    &still,
+                    size,
+                    owner,
+                    quality,
+                    ProbeUpdate::EveryNFrames(1),
+                )?;
                 if i >= args.common.warmup {
                     times.extend(ms);
                 }
@@ -216,13 +247,32 @@ pub fn run(args: &ProbeArgs) -> anyhow::Result<ExitCode> {
         .collect();
     let mut references = Vec::new();
     for layer in &moving {
-        references.push(frame(&renderer, &s, layer, size, every_frame, quality, ProbeUpdate::OnChange)?.0);
+        references.push(
+            frame(
+                &renderer,
+                &s,
+                layer,
+                size,
+                every_frame,
+                quality,
+                ProbeUpdate::OnChange,
+            )?
+            .0,
+        );
     }
     for &n in &args.intervals {
         owner += 1;
         let (mut total_ms, mut renders, mut sum, mut ssim) = (0.0, 0usize, 0.0, 0.0f64);
         for (layer, truth) in moving.iter().zip(&references) {
-            let (image, ms) = frame(&renderer, &s, layer, size, owner, quality, ProbeUpdate::EveryNFrames(n.max(1)))?;
+            let (image, ms) = frame(
+                &renderer,
+                &s,
+                layer,
+                size,
+                owner,
+                quality,
+                ProbeUpdate::EveryNFrames(n.max(1)),
+            )?;
             if let Some(ms) = ms {
                 total_ms += ms;
                 renders += 1;
@@ -287,10 +337,12 @@ pub fn run(args: &ProbeArgs) -> anyhow::Result<ExitCode> {
         &format!("Environment probes on {adapter}: probe ms against RMSE"),
         "RMSE of the specular term",
         || {
-            Series::group(
-                rows.iter()
-                    .map(|r| (r.family.to_owned(), (r.ms.unwrap_or(0.0), r.e.rmse, r.setting.clone()))),
-            )
+            Series::group(rows.iter().map(|r| {
+                (
+                    r.family.to_owned(),
+                    (r.ms.unwrap_or(0.0), r.e.rmse, r.setting.clone()),
+                )
+            }))
         },
     )
 }

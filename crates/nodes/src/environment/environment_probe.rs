@@ -75,11 +75,17 @@ fn settings(cx: &EvalContext<'_>) -> Result<(ProbeSettings, EnvironmentQuality),
     };
     let size = vec3(VOLUME_SIZE, Vec3::splat(10.0))?;
     if size.min_element() < 0.0 {
-        return Err(cx.input_error(VOLUME_SIZE, format!("is {size}; a size cannot be negative (0: no parallax)")));
+        return Err(cx.input_error(
+            VOLUME_SIZE,
+            format!("is {size}; a size cannot be negative (0: no parallax)"),
+        ));
     }
     let radius = first(cx.slices::<f32>(VOLUME_RADIUS)?, 5.0);
     if radius < 0.0 {
-        return Err(cx.input_error(VOLUME_RADIUS, format!("is {radius}; a radius cannot be negative (0: no parallax)")));
+        return Err(cx.input_error(
+            VOLUME_RADIUS,
+            format!("is {radius}; a radius cannot be negative (0: no parallax)"),
+        ));
     }
     let center = vec3(VOLUME_CENTER, Vec3::ZERO)?;
     let volume = match cx.enum_slices(VOLUME)?.first().map(String::as_str) {

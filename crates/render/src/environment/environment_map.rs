@@ -28,10 +28,7 @@ use crate::report::PassName;
 /// Where a node's maps are kept across frames, and (for a probe updated
 /// every n frames) the frames since they were built.
 #[derive(Default)]
-pub struct EnvironmentStore(
-    pub(crate) Mutex<Option<Arc<EnvironmentMaps>>>,
-    AtomicU32,
-);
+pub struct EnvironmentStore(pub(crate) Mutex<Option<Arc<EnvironmentMaps>>>, AtomicU32);
 
 /// Statistics: a probe's faces rendered (and prefiltered) this frame, or its cube kept.
 pub const PROBE_RENDERED: &str = "environment probe rendered";
@@ -152,9 +149,7 @@ impl Environment {
     /// The parallax volume Reflection corrects with: a probe's with a box or sphere, else none.
     pub(crate) fn parallax(&self) -> Option<super::probe::GpuProbeVolume> {
         match &self.source {
-            EnvironmentSource::Probe(scene) => {
-                Some(scene.gpu_volume()).filter(|v| v.corrects())
-            }
+            EnvironmentSource::Probe(scene) => Some(scene.gpu_volume()).filter(|v| v.corrects()),
             _ => None,
         }
     }
@@ -181,7 +176,14 @@ impl Environment {
         let mut guard = self.store.0.lock().unwrap_or_else(|e| e.into_inner());
         let probe = matches!(self.source, EnvironmentSource::Probe(_));
         if self.current(guard.as_deref()) {
-            cx.count(if probe { PROBE_REUSED } else { "environment reused" }, 1);
+            cx.count(
+                if probe {
+                    PROBE_REUSED
+                } else {
+                    "environment reused"
+                },
+                1,
+            );
             return Ok(());
         }
         let faces = match (&self.source, &self.probe) {
@@ -191,7 +193,14 @@ impl Environment {
         let maps = super::prefilter::build(cx, &self.source, self.quality, self.key, faces)?;
         *guard = Some(Arc::new(maps));
         self.store.1.store(0, Ordering::Relaxed);
-        cx.count(if probe { PROBE_RENDERED } else { "environment prefiltered" }, 1);
+        cx.count(
+            if probe {
+                PROBE_RENDERED
+            } else {
+                "environment prefiltered"
+            },
+            1,
+        );
         Ok(())
     }
 }
@@ -202,7 +211,9 @@ impl Recipe for Environment {
             return;
         }
         let name = match self.source {
-            EnvironmentSource::Probe(_) => PassName::new("EnvironmentProbe").step("faces and prefilter"),
+            EnvironmentSource::Probe(_) => {
+                PassName::new("EnvironmentProbe").step("faces and prefilter")
+            }
             _ => PassName::new("Environment").step("prefilter"),
         };
         let mut pass = fg.pass(name, self.owner);

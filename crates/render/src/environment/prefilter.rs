@@ -6,12 +6,12 @@
 
 use wgpu::util::DeviceExt;
 
+use super::probe::ProbeScene;
+use super::probe::faces::PackedProbe;
 use super::source::{
     EnvironmentMaps, EnvironmentQuality, EnvironmentSource, EquirectImage, IRRADIANCE_SIZE,
     LUT_SAMPLES, LUT_SIZE,
 };
-use super::probe::ProbeScene;
-use super::probe::faces::PackedProbe;
 use crate::error::RenderError;
 use crate::frame_graph::{Bindings, PassContext};
 use crate::renderer::Renderer;

@@ -39,7 +39,12 @@ fn probe(
     settings: ProbeSettings,
 ) -> Arc<Environment> {
     let scene = ProbeScene::new(vec![surroundings.clone()], settings).expect("valid");
-    Environment::new(renderer, owner, EnvironmentSource::Probe(Arc::new(scene)), QUALITY)
+    Environment::new(
+        renderer,
+        owner,
+        EnvironmentSource::Probe(Arc::new(scene)),
+        QUALITY,
+    )
 }
 
 fn at_ball() -> ProbeSettings {
@@ -73,13 +78,9 @@ fn mirror(
         environment,
         ReflectionMode::Reflect,
     );
-    let (report, images) = render_and_read(
-        renderer,
-        r.as_ref(),
-        SIZE,
-        &[&r.specular, &g.targets.depth],
-    )
-    .expect("renders");
+    let (report, images) =
+        render_and_read(renderer, r.as_ref(), SIZE, &[&r.specular, &g.targets.depth])
+            .expect("renders");
     assert!(report.errors.is_empty(), "{:?}", report.errors);
     let mut images = images.into_iter();
     let specular = images.next().expect("specular");
@@ -135,14 +136,20 @@ fn a_mirror_sphere_beside_a_red_box_shows_the_box() {
         .collect();
     assert!(on_box.len() >= 3, "{} pixels reflect the box", on_box.len());
     let mean = on_box.iter().sum::<Vec3>() / on_box.len() as f32;
-    assert!(red(mean), "where the ball reflects the box it is red: {mean}");
+    assert!(
+        red(mean),
+        "where the ball reflects the box it is red: {mean}"
+    );
     // Away from the box (reflecting towards -x), nothing is red.
     let away: Vec<Vec3> = pixels
         .iter()
         .filter(|(_, r)| r.x < -0.3)
         .map(|(c, _)| *c)
         .collect();
-    assert!(away.len() >= 8 && !away.iter().any(|c| red(*c)), "the other side is not red");
+    assert!(
+        away.len() >= 8 && !away.iter().any(|c| red(*c)),
+        "the other side is not red"
+    );
 }
 
 #[test]
@@ -163,7 +170,11 @@ fn a_probe_renders_again_only_when_what_it_sees_changed() {
     assert_eq!(frame(&s, EYE, at_ball(), owner), (1, 0), "first frame");
     assert_eq!(frame(&s, EYE, at_ball(), owner), (0, 1), "still scene");
     let moved_eye = Vec3::new(2.0, 2.0, 3.0);
-    assert_eq!(frame(&s, moved_eye, at_ball(), owner), (0, 1), "a moved camera");
+    assert_eq!(
+        frame(&s, moved_eye, at_ball(), owner),
+        (0, 1),
+        "a moved camera"
+    );
     let mut moved = Layer::clone(&s.surroundings);
     moved.batches[0].instances[0].transform =
         Mat4::from_translation(Vec3::new(1.7, 0.4, 0.2)) * Mat4::from_scale(Vec3::splat(0.8));
@@ -179,9 +190,7 @@ fn a_probe_renders_again_only_when_what_it_sees_changed() {
         update: ProbeUpdate::EveryNFrames(3),
         ..at_ball()
     };
-    let counts: Vec<_> = (0..5)
-        .map(|_| frame(&s, EYE, every, Some(502)).0)
-        .collect();
+    let counts: Vec<_> = (0..5).map(|_| frame(&s, EYE, every, Some(502)).0).collect();
     assert_eq!(counts, [1, 0, 0, 1, 0]);
     // Once: a moved box does not render it again.
     let once = ProbeSettings {
@@ -197,7 +206,10 @@ fn room(renderer: &Renderer) -> Arc<Layer> {
     use spreadlight_render::gbuffer::{DrawBatch, InstanceInput};
     let mesh = renderer
         .meshes
-        .upload(&renderer.gpu, &spreadlight_render::mesh::primitives::box_mesh(Default::default()))
+        .upload(
+            &renderer.gpu,
+            &spreadlight_render::mesh::primitives::box_mesh(Default::default()),
+        )
         .expect("uploads");
     let wall = |center: Vec3, size: Vec3, color: [f32; 4]| {
         let t = Mat4::from_translation(center) * Mat4::from_scale(size);
@@ -212,12 +224,36 @@ fn room(renderer: &Renderer) -> Arc<Layer> {
     let mut layer = Layer::plain(vec![DrawBatch {
         mesh,
         instances: vec![
-            wall(Vec3::new(5.0, 2.0, 0.0), Vec3::new(0.02, 4.0, 10.0), [0.9, 0.1, 0.1, 1.0]),
-            wall(Vec3::new(-5.0, 2.0, 0.0), Vec3::new(0.02, 4.0, 10.0), [0.1, 0.9, 0.1, 1.0]),
-            wall(Vec3::new(0.0, 2.0, 5.0), Vec3::new(10.0, 4.0, 0.02), [0.1, 0.1, 0.9, 1.0]),
-            wall(Vec3::new(0.0, 2.0, -5.0), Vec3::new(10.0, 4.0, 0.02), [0.9, 0.9, 0.1, 1.0]),
-            wall(Vec3::new(0.0, 0.0, 0.0), Vec3::new(10.0, 0.02, 10.0), [0.5, 0.5, 0.5, 1.0]),
-            wall(Vec3::new(0.0, 4.0, 0.0), Vec3::new(10.0, 0.02, 10.0), [0.1, 0.9, 0.9, 1.0]),
+            wall(
+                Vec3::new(5.0, 2.0, 0.0),
+                Vec3::new(0.02, 4.0, 10.0),
+                [0.9, 0.1, 0.1, 1.0],
+            ),
+            wall(
+                Vec3::new(-5.0, 2.0, 0.0),
+                Vec3::new(0.02, 4.0, 10.0),
+                [0.1, 0.9, 0.1, 1.0],
+            ),
+            wall(
+                Vec3::new(0.0, 2.0, 5.0),
+                Vec3::new(10.0, 4.0, 0.02),
+                [0.1, 0.1, 0.9, 1.0],
+            ),
+            wall(
+                Vec3::new(0.0, 2.0, -5.0),
+                Vec3::new(10.0, 4.0, 0.02),
+                [0.9, 0.9, 0.1, 1.0],
+            ),
+            wall(
+                Vec3::new(0.0, 0.0, 0.0),
+                Vec3::new(10.0, 0.02, 10.0),
+                [0.5, 0.5, 0.5, 1.0],
+            ),
+            wall(
+                Vec3::new(0.0, 4.0, 0.0),
+                Vec3::new(10.0, 0.02, 10.0),
+                [0.1, 0.9, 0.9, 1.0],
+            ),
         ],
     }]);
     layer.features.ids = true;

@@ -73,9 +73,7 @@ pub(crate) fn render(
     let size = base.width();
     let s = scene.settings();
     let l = s.lighting;
-    let towards_sun = (-l.sun_direction)
-        .try_normalize()
-        .unwrap_or(glam::Vec3::Y);
+    let towards_sun = (-l.sun_direction).try_normalize().unwrap_or(glam::Vec3::Y);
     let key = ShaderKey::new(SHADER, []);
     let pipeline = cx
         .shaders

@@ -62,8 +62,14 @@ pub enum ProbeVolume {
     #[default]
     Infinite,
     /// An axis-aligned box, `center` ± `size` / 2.
-    Box { center: Vec3, size: Vec3 },
-    Sphere { center: Vec3, radius: f32 },
+    Box {
+        center: Vec3,
+        size: Vec3,
+    },
+    Sphere {
+        center: Vec3,
+        radius: f32,
+    },
 }
 
 impl ProbeVolume {
