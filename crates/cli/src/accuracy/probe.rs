@@ -142,19 +142,22 @@ fn error(image: &ImageF32, truth: &ImageF32) -> metrics::Error {
     let (approx, reference): (Vec<Vec<f32>>, Vec<Vec<f32>>) = (0..3)
         .map(|c| (channel(image, c), channel(truth, c)))
         .unzip();
-    let planes = |channels: &'_ [Vec<f32>]| -> Vec<Plane<'_>> {
-        channels
-            .iter()
-            .map(|values| Plane {
-                width: truth.width,
-                height: truth.height,
-                values,
-                mask: Some(&mask),
-            })
-            .collect()
-    };
-    let (a, t) = (planes(&approx), planes(&reference));
+    let a = as_planes(&approx, &mask, (truth.width, truth.height));
+    let t = as_planes(&reference, &mask, (truth.width, truth.height));
     metrics::Error::of(&a, &t)
+}
+
+/// Each channel as a plane of `size`, counting the pixels of `mask`.
+fn as_planes<'a>(channels: &'a [Vec<f32>], mask: &'a [bool], size: (u32, u32)) -> Vec<Plane<'a>> {
+    channels
+        .iter()
+        .map(|values| Plane {
+            width: size.0,
+            height: size.1,
+            values,
+            mask: Some(mask),
+        })
+        .collect()
 }
 
 struct Row {
