@@ -380,6 +380,56 @@ fn a_scene_without_reflective_or_subsurface_materials_runs_no_reflection_or_sss_
     assert_eq!(report.passes_of("SSSS", None).count(), 0);
 }
 
+/// The environment-probe example renders its probe on the first frame and
+/// then reuses it while the camera orbits (the probe sees nothing move);
+/// moving the red box renders it again once. The showcase, with no probe,
+/// has no probe pass.
+#[test]
+fn the_environment_probe_example_renders_its_probe_once_while_the_camera_orbits() {
+    let path = spreadlight_tests::root().join("patches/environment-probe.ron");
+    let mut patch = format::load(&path).expect("loads");
+    let (mut rt, renderer) = first_frame(&patch, &path, (32, 18));
+    assert_eq!(rt.node_errors().count(), 0);
+    let counts = |r: &spreadlight_render::Renderer| {
+        let report = r.last_report();
+        (
+            report.counter("environment probe rendered"),
+            report.counter("environment probe reused"),
+        )
+    };
+    assert_eq!(counts(&renderer), (1, 0), "the first frame renders it");
+    for frame in 1..4 {
+        rt.evaluate(FrameClock::fixed(frame * 20, 60.0));
+        assert_eq!(
+            counts(&renderer),
+            (0, 1),
+            "frame {frame}: the camera moved, nothing else"
+        );
+    }
+    let translate = patch
+        .nodes
+        .iter_mut()
+        .find(|n| n.type_name == "Translate (Transform)" && n.values.contains_key("X"))
+        .expect("the box's Translate");
+    translate
+        .values
+        .insert("X".to_owned(), Spread::Float(vec![1.2]));
+    assert!(rt.load(&patch).is_empty());
+    rt.evaluate(FrameClock::fixed(100, 60.0));
+    assert_eq!(counts(&renderer), (1, 0), "the box moved");
+
+    let showcase =
+        format::load(&spreadlight_tests::root().join("patches/showcase.ron")).expect("loads");
+    let (_, renderer) = first_frame(&showcase, &path, (32, 18));
+    assert_eq!(
+        renderer
+            .last_report()
+            .passes_of("EnvironmentProbe", None)
+            .count(),
+        0
+    );
+}
+
 /// The matcap example shades two of its four balls with matcaps; without its
 /// AddMatCap node (11 takes no Material), no matcap code runs at all.
 #[test]

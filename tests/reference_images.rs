@@ -213,6 +213,20 @@ static CASES: &[Case] = &[
             tolerance: LIT,
         }],
     },
+    // The mirror ball reflecting the red box through an EnvironmentProbe
+    // (box-projected), at the first frame: the probe's faces are lit by its
+    // own ambient and sun, so the same lighting tolerance.
+    Case {
+        patch: "patches/environment-probe.ron",
+        size: SCENE,
+        edit: unchanged,
+        shots: &[Shot {
+            name: "environment-probe",
+            output: "environment-probe",
+            frame: 0,
+            tolerance: LIT,
+        }],
+    },
     Case {
         patch: "patches/shadows.ron",
         size: SCENE,
@@ -587,6 +601,11 @@ fn showcase_all_three_light_types() {
 #[test]
 fn matcaps_beside_pbr_materials() {
     check("patches/matcap.ron");
+}
+
+#[test]
+fn environment_probe_mirror_beside_a_red_box() {
+    check("patches/environment-probe.ron");
 }
 
 #[test]

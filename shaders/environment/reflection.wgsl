@@ -13,6 +13,11 @@
 // 1 - (F0 A + B), what Fresnel lets through; total internal reflection
 // falls back to the reflected direction. Empty depth, materials without
 // the feature: zero. Clamped below half-float overflow.
+// PARALLAX (an EnvironmentProbe with an influence volume): the specular
+// ray from the shaded point is intersected with the volume (a box or a
+// sphere) and the cube read towards that hit from the probe's position
+// (Lagarde & Zanuttini 2012); outside the volume, or for a ray that does
+// not leave it, the direction stays as it is.
 #import spreadlight::camera::{Camera, pixel_to_ndc}
 #import spreadlight::packing::{channel_to_id, safe_normalize}
 #import spreadlight::ibl::{split_sum, facing_normal}
@@ -38,6 +43,48 @@ struct Params {
 @group(0) @binding(8) var cube_sampler: sampler;
 @group(0) @binding(9) var out_specular: texture_storage_2d<rgba16float, write>;
 @group(0) @binding(10) var out_diffuse: texture_storage_2d<rgba16float, write>;
+#ifdef PARALLAX
+// Matches `GpuProbeVolume` in crates/render/src/environment/probe/mod.rs.
+struct ProbeVolume {
+    position: vec3<f32>,
+    // 0: none, 1: box (low..high), 2: sphere (low.xyz, radius low.w)
+    shape: u32,
+    low: vec4<f32>,
+    high: vec4<f32>,
+}
+@group(0) @binding(11) var<uniform> volume: ProbeVolume;
+
+// The distance along unit `r` from `p` to where it leaves the volume, or
+// -1 where `p` is outside it.
+fn leaving_distance(p: vec3<f32>, r: vec3<f32>) -> f32 {
+    if (volume.shape == 1u) {
+        if (any(p < volume.low.xyz) || any(p > volume.high.xyz)) {
+            return -1.0;
+        }
+        // Lagarde's box: the nearest of the far planes along each axis
+        // (an axis the ray runs parallel to never limits it).
+        let safe = select(r, vec3<f32>(1e-6), abs(r) < vec3<f32>(1e-6));
+        let far = max((volume.high.xyz - p) / safe, (volume.low.xyz - p) / safe);
+        return max(min(min(far.x, far.y), far.z), 0.0);
+    }
+    let o = p - volume.low.xyz;
+    let c = dot(o, o) - volume.low.w * volume.low.w;
+    if (c > 0.0) {
+        return -1.0;
+    }
+    let b = dot(o, r);
+    return -b + sqrt(max(b * b - c, 0.0));
+}
+
+// The direction to read the probe's cube along for a ray from `p` along `r`.
+fn parallax_corrected(p: vec3<f32>, r: vec3<f32>) -> vec3<f32> {
+    let t = leaving_distance(p, r);
+    if (t < 0.0) {
+        return r;
+    }
+    return safe_normalize(p + r * t - volume.position, r);
+}
+#endif
 
 const HALF_MAX: f32 = 65000.0;
 
@@ -75,7 +122,11 @@ fn specular_at(pixel: vec2<u32>) -> vec4<f32> {
             weight = max(vec3<f32>(1.0) - factor, vec3<f32>(0.0));
         }
     }
-    let world_dir = safe_normalize((camera.view_inverse * vec4<f32>(dir, 0.0)).xyz, vec3<f32>(0.0, 1.0, 0.0));
+    var world_dir = safe_normalize((camera.view_inverse * vec4<f32>(dir, 0.0)).xyz, vec3<f32>(0.0, 1.0, 0.0));
+#ifdef PARALLAX
+    let world = camera.view_inverse * vec4<f32>(p, 1.0);
+    world_dir = parallax_corrected(world.xyz / world.w, world_dir);
+#endif
     let lod = roughness * f32(max(params.levels, 1u) - 1u);
     let radiance = textureSampleLevel(prefiltered, cube_sampler, world_dir, lod).rgb;
     return clean(radiance * weight);

@@ -62,8 +62,8 @@ pub const HELP_PATCHES: &[HelpPatch] = &[
     ]),
     help!("occlusion.ron" => ["SSAO", "HBAO", "SSGI", "SSSS", "AddFakeSSS"]),
     help!("environment.ron" => [
-        "Environment (Sky)", "Environment (File)", "Reflection", "SSR", "Fog", "Sky",
-        "AddReflection",
+        "Environment (Sky)", "Environment (File)", "EnvironmentProbe", "Reflection", "SSR", "Fog",
+        "Sky", "AddReflection",
     ]),
     help!("post.ron" => [
         "Transparency", "Autofocus", "DOF", "MotionBlur", "Glare", "TAA", "EyeAdaptation",

@@ -72,3 +72,73 @@ pub fn with_materials(layer: &Layer, ball: u32, floor: u32) -> Arc<Layer> {
     }
     Arc::new(layer)
 }
+
+/// What an environment probe's tests and its accuracy measure look at: a
+/// ball (material 0) and, in a layer of their own so a probe at the ball's
+/// centre can be given them without the ball, a red box (material 1) and a
+/// grey floor of side `floor` at y = 0 (material 1).
+pub struct MirrorBesideBox {
+    pub ball: Arc<Layer>,
+    pub surroundings: Arc<Layer>,
+}
+
+/// The albedo of [`MirrorBesideBox`]'s box: red.
+pub const RED_BOX: [f32; 4] = [0.9, 0.05, 0.05, 1.0];
+
+/// A ball of `radius` at `ball`, a box of side `box_size` standing on the
+/// floor at `red_box` (x, z), and the floor.
+pub fn mirror_beside_box(
+    renderer: &Renderer,
+    (ball, radius): (Vec3, f32),
+    red_box: Vec2,
+    box_size: f32,
+    floor: f32,
+) -> Result<MirrorBesideBox, RenderError> {
+    let upload = |m| renderer.meshes.upload(&renderer.gpu, &m);
+    let ball_mesh = upload(sphere(SphereParams {
+        radius: 1.0,
+        sectors: 32,
+        stacks: 16,
+    }))?;
+    let box_mesh = upload(crate::mesh::primitives::box_mesh(Default::default()))?;
+    let ground = upload(grid(GridParams {
+        size: Vec2::splat(floor),
+        resolution_x: 1,
+        resolution_y: 1,
+    }))?;
+    let instance = |t: Mat4, color: [f32; 4], material_id: u32| InstanceInput {
+        transform: t,
+        previous_transform: t,
+        color,
+        material_id,
+        object_id: material_id,
+    };
+    let layer = |batches: Vec<DrawBatch>| {
+        let mut layer = Layer::plain(batches);
+        layer.features.ids = true;
+        Arc::new(layer)
+    };
+    let ball = layer(vec![DrawBatch {
+        mesh: ball_mesh,
+        instances: vec![instance(
+            Mat4::from_translation(ball) * Mat4::from_scale(Vec3::splat(radius)),
+            [0.9, 0.9, 0.9, 1.0],
+            0,
+        )],
+    }]);
+    // A hair above the floor: its bottom and the floor would fight for depth.
+    let box_transform =
+        Mat4::from_translation(Vec3::new(red_box.x, box_size * 0.5 + 0.002, red_box.y))
+            * Mat4::from_scale(Vec3::splat(box_size));
+    let surroundings = layer(vec![
+        DrawBatch {
+            mesh: box_mesh,
+            instances: vec![instance(box_transform, RED_BOX, 1)],
+        },
+        DrawBatch {
+            mesh: ground,
+            instances: vec![instance(Mat4::IDENTITY, [0.5, 0.5, 0.5, 1.0], 1)],
+        },
+    ]);
+    Ok(MirrorBesideBox { ball, surroundings })
+}

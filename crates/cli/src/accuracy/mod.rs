@@ -12,6 +12,7 @@ pub(crate) mod metrics;
 mod particles;
 pub(crate) mod plot;
 mod post;
+mod probe;
 mod reflection;
 mod shadows;
 
@@ -132,6 +133,8 @@ enum What {
     Ao(ao::AoArgs),
     /// Prefiltered environment (cube size x samples) and SSR (steps x rays, temporal off and on): GPU time against error versus ray-traced reflections.
     Reflection(reflection::ReflectionArgs),
+    /// Environment probes by cube size x samples and by update interval: probe GPU ms against error versus a high-resolution probe and an every-frame probe.
+    Probe(probe::ProbeArgs),
     /// Post effects (DOF, MotionBlur, TAA, FXAA) by quality: GPU time against error versus brute-force references.
     Post(post::PostArgs),
     /// Particle integrators (explicit Euler vs exponential) per time step: error against a small-step reference, GPU ms a step.
@@ -147,6 +150,7 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
         What::Shadows(a) => shadows::run(a),
         What::Ao(a) => ao::run(a),
         What::Reflection(a) => reflection::run(a),
+        What::Probe(a) => probe::run(a),
         What::Post(a) => post::run_post(a),
         What::Particles(a) => particles::run_particles(a),
         What::Geometry(a) => geometry::run_geometry(a),

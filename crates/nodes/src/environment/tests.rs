@@ -69,3 +69,47 @@ fn bad_environment_pins_are_errors_naming_the_pin() {
     let e = eval_err("SSR", &[("Rays", Spread::Int(vec![0]))], "Rays");
     assert!(e.to_string().contains("at least 1"), "{e}");
 }
+
+/// A probe's bad numbers are errors on their pins, before any GPU work: a
+/// NaN position would put NaN in every texel of its cube.
+#[test]
+fn bad_environment_probe_pins_are_errors_naming_the_pin() {
+    use glam::Vec3;
+    let vec3 = |v: Vec3| Spread::Vec3(vec![v]);
+    let e = eval_err(
+        "EnvironmentProbe",
+        &[("Position", vec3(Vec3::new(0.0, f32::NAN, 0.0)))],
+        "Position",
+    );
+    assert!(e.to_string().contains("NaN or infinite"), "{e}");
+    let e = eval_err(
+        "EnvironmentProbe",
+        &[
+            ("Volume", crate::testing::option("Box")),
+            ("Volume Size", vec3(Vec3::new(1.0, -2.0, 1.0))),
+        ],
+        "Volume Size",
+    );
+    assert!(e.to_string().contains("cannot be negative"), "{e}");
+    let e = eval_err(
+        "EnvironmentProbe",
+        &[("Volume Radius", floats(&[-1.0]))],
+        "Volume Radius",
+    );
+    assert!(e.to_string().contains("cannot be negative"), "{e}");
+    let e = eval_err(
+        "EnvironmentProbe",
+        &[
+            ("Update", crate::testing::option("Every N Frames")),
+            ("Every N", Spread::Int(vec![0])),
+        ],
+        "Every N",
+    );
+    assert!(e.to_string().contains("at least 1"), "{e}");
+    let e = eval_err(
+        "EnvironmentProbe",
+        &[("Cube Size", Spread::Int(vec![0]))],
+        "Cube Size",
+    );
+    assert!(e.to_string().contains("at least 1"), "{e}");
+}

@@ -7,10 +7,17 @@
 //! owning node and rebuilt only when the source or quality changes (the
 //! frame report counts "environment prefiltered" and "environment reused").
 //! Readers order themselves after the build by reading [`Environment::token`].
+//!
+//! A probe's maps (`EnvironmentSource::Probe`) are rendered from its layer
+//! and rebuilt as its [`ProbeUpdate`] says: counted as "environment probe
+//! rendered" and "environment probe reused".
 
 use std::hash::{Hash, Hasher};
+use std::sync::atomic::{AtomicU32, Ordering};
 use std::sync::{Arc, Mutex};
 
+use super::probe::ProbeUpdate;
+use super::probe::faces::PackedProbe;
 use super::source::{EnvironmentMaps, EnvironmentQuality, EnvironmentSource};
 use crate::error::RenderError;
 use crate::frame_graph::{FrameGraph, PassContext, TextureDesc};
@@ -18,9 +25,14 @@ use crate::recipe::{Recipe, next_recipe_id};
 use crate::renderer::Renderer;
 use crate::report::PassName;
 
-/// Where a node's maps are kept across frames.
+/// Where a node's maps are kept across frames, and (for a probe updated
+/// every n frames) the frames since they were built.
 #[derive(Default)]
-pub struct EnvironmentStore(pub(crate) Mutex<Option<Arc<EnvironmentMaps>>>);
+pub struct EnvironmentStore(pub(crate) Mutex<Option<Arc<EnvironmentMaps>>>, AtomicU32);
+
+/// Statistics: a probe's faces rendered (and prefiltered) this frame, or its cube kept.
+pub const PROBE_RENDERED: &str = "environment probe rendered";
+pub const PROBE_REUSED: &str = "environment probe reused";
 
 /// The environment recipe: one pass that builds the maps when its source or
 /// quality changed and otherwise only counts the reuse.
@@ -32,6 +44,8 @@ pub struct Environment {
     key: u64,
     store: Arc<EnvironmentStore>,
     token: String,
+    /// A probe's layers as instances and draws (hashed into `key`).
+    probe: Option<PackedProbe>,
 }
 
 impl std::fmt::Debug for Environment {
@@ -41,10 +55,20 @@ impl std::fmt::Debug for Environment {
 }
 
 /// Identifies a source and quality: a change means a rebuild.
-fn source_key(source: &EnvironmentSource, quality: EnvironmentQuality) -> u64 {
+fn source_key(
+    source: &EnvironmentSource,
+    quality: EnvironmentQuality,
+    probe: Option<&PackedProbe>,
+) -> u64 {
     let mut h = std::collections::hash_map::DefaultHasher::new();
     quality.hash(&mut h);
     match source {
+        EnvironmentSource::Probe(scene) => {
+            2u8.hash(&mut h);
+            if let Some(packed) = probe {
+                scene.hash_content(packed, &mut h);
+            }
+        }
         EnvironmentSource::Equirect(image) => {
             0u8.hash(&mut h);
             (image.width, image.height).hash(&mut h);
@@ -84,14 +108,19 @@ impl Environment {
             Some(node) => renderer.state::<EnvironmentStore>(u64::from(node)),
             None => Arc::new(EnvironmentStore::default()),
         };
+        let probe = match &source {
+            EnvironmentSource::Probe(scene) => Some(PackedProbe::new(scene.layers())),
+            _ => None,
+        };
         Arc::new(Environment {
             id,
             owner,
-            key: source_key(&source, quality),
+            key: source_key(&source, quality, probe.as_ref()),
             source,
             quality,
             store,
             token: format!("environment{id}/maps"),
+            probe,
         })
     }
 
@@ -117,28 +146,79 @@ impl Environment {
         })
     }
 
-    fn run(&self, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
+    /// The parallax volume Reflection corrects with: a probe's with a box or sphere, else none.
+    pub(crate) fn parallax(&self) -> Option<super::probe::GpuProbeVolume> {
+        match &self.source {
+            EnvironmentSource::Probe(scene) => Some(scene.gpu_volume()).filter(|v| v.corrects()),
+            _ => None,
+        }
+    }
+
+    /// Whether the kept maps serve this frame: the same source (a probe:
+    /// as its update rate says).
+    fn current(&self, maps: Option<&EnvironmentMaps>) -> bool {
+        let Some(maps) = maps else {
+            return false;
+        };
+        let EnvironmentSource::Probe(scene) = &self.source else {
+            return maps.key == self.key;
+        };
+        let frames = self.store.1.fetch_add(1, Ordering::Relaxed) + 1;
+        maps.quality == self.quality
+            && match scene.settings().update {
+                ProbeUpdate::OnChange => maps.key == self.key,
+                ProbeUpdate::EveryNFrames(n) => frames < n,
+                ProbeUpdate::Once => true,
+            }
+    }
+
+    fn run(&self, cx: &mut PassContext<'_>, renderer: &Renderer) -> Result<(), RenderError> {
         let mut guard = self.store.0.lock().unwrap_or_else(|e| e.into_inner());
-        if guard.as_ref().is_some_and(|m| m.key == self.key) {
-            cx.count("environment reused", 1);
+        let probe = matches!(self.source, EnvironmentSource::Probe(_));
+        if self.current(guard.as_deref()) {
+            cx.count(
+                if probe {
+                    PROBE_REUSED
+                } else {
+                    "environment reused"
+                },
+                1,
+            );
             return Ok(());
         }
-        let maps = super::prefilter::build(cx, &self.source, self.quality, self.key)?;
+        let faces = match (&self.source, &self.probe) {
+            (EnvironmentSource::Probe(scene), Some(packed)) => Some((renderer, &**scene, packed)),
+            _ => None,
+        };
+        let maps = super::prefilter::build(cx, &self.source, self.quality, self.key, faces)?;
         *guard = Some(Arc::new(maps));
-        cx.count("environment prefiltered", 1);
+        self.store.1.store(0, Ordering::Relaxed);
+        cx.count(
+            if probe {
+                PROBE_RENDERED
+            } else {
+                "environment prefiltered"
+            },
+            1,
+        );
         Ok(())
     }
 }
 
 impl Recipe for Environment {
-    fn declare<'a>(&'a self, _: &'a Renderer, fg: &mut FrameGraph<'a>) {
+    fn declare<'a>(&'a self, renderer: &'a Renderer, fg: &mut FrameGraph<'a>) {
         if !fg.include(self.id) {
             return;
         }
-        let name = PassName::new("Environment").step("prefilter");
+        let name = match self.source {
+            EnvironmentSource::Probe(_) => {
+                PassName::new("EnvironmentProbe").step("faces and prefilter")
+            }
+            _ => PassName::new("Environment").step("prefilter"),
+        };
         let mut pass = fg.pass(name, self.owner);
         // The maps live in the store; the token orders the passes that read them.
         pass.write(&self.token, TextureDesc::token());
-        pass.run(move |cx| self.run(cx));
+        pass.run(move |cx| self.run(cx, renderer));
     }
 }

@@ -2,20 +2,23 @@
 //! the light it sends. `Sky` fills the G-buffer's empty depth with a
 //! procedural sky (or an environment); `Fog` veils what is far or low;
 //! [`Environment`] is a prefiltered cube for image-based light, which
-//! `Reflection` reads; `SSR` traces reflections in screen space.
+//! `Reflection` reads; `EnvironmentProbe` makes one from the scene itself
+//! ([`probe`]); `SSR` traces reflections in screen space.
 
 pub mod environment_map;
 pub mod fog;
 mod pass;
 mod prefilter;
+pub mod probe;
 pub mod reflection;
 pub mod sky;
 mod source;
 pub mod ssr;
 
-pub use environment_map::Environment;
+pub use environment_map::{Environment, PROBE_RENDERED, PROBE_REUSED};
 pub use fog::{Fog, FogSettings};
 pub use pass::{FOG_AND_SKY, ImageKind, ImagePass};
+pub use probe::{ProbeError, ProbeLighting, ProbeScene, ProbeSettings, ProbeUpdate, ProbeVolume};
 pub use reflection::{BOTH_IN_ONE_PASS as REFLECTION_BOTH_IN_ONE_PASS, Reflection, ReflectionMode};
 pub use sky::Sky;
 pub use source::{

@@ -6,12 +6,15 @@
 
 use wgpu::util::DeviceExt;
 
+use super::probe::ProbeScene;
+use super::probe::faces::PackedProbe;
 use super::source::{
     EnvironmentMaps, EnvironmentQuality, EnvironmentSource, EquirectImage, IRRADIANCE_SIZE,
     LUT_SAMPLES, LUT_SIZE,
 };
 use crate::error::RenderError;
 use crate::frame_graph::{Bindings, PassContext};
+use crate::renderer::Renderer;
 use crate::shaders::{Sampling, ShaderKey};
 
 const SHADER: &str = "environment/prefilter.wgsl";
@@ -40,8 +43,10 @@ fn cube(device: &wgpu::Device, label: &str, size: u32, mips: u32) -> wgpu::Textu
         sample_count: 1,
         dimension: wgpu::TextureDimension::D2,
         format: wgpu::TextureFormat::Rgba16Float,
+        // Render attachment: a probe draws its faces into the base cube's level 0.
         usage: wgpu::TextureUsages::TEXTURE_BINDING
             | wgpu::TextureUsages::STORAGE_BINDING
+            | wgpu::TextureUsages::RENDER_ATTACHMENT
             | wgpu::TextureUsages::COPY_SRC,
         view_formats: &[],
     })
@@ -91,11 +96,15 @@ fn upload_equirect(cx: &PassContext<'_>, image: &EquirectImage) -> wgpu::Texture
 /// One dispatch of the prefilter: its pipeline, bind groups and workgroups.
 type Step = (wgpu::ComputePipeline, Vec<wgpu::BindGroup>, (u32, u32, u32));
 
+/// What a probe's faces are drawn from.
+pub(crate) type ProbeFaces<'p> = (&'p Renderer, &'p ProbeScene, &'p PackedProbe);
+
 pub(crate) fn build(
     cx: &mut PassContext<'_>,
     source: &EnvironmentSource,
     quality: EnvironmentQuality,
     key: u64,
+    probe: Option<ProbeFaces<'_>>,
 ) -> Result<EnvironmentMaps, RenderError> {
     let device = cx.gpu.device.clone();
     let n = quality.cube_size;
@@ -167,6 +176,16 @@ pub(crate) fn build(
                 n,
                 6,
             )?;
+        }
+        EnvironmentSource::Probe(_) => {
+            let Some((renderer, scene, packed)) = probe else {
+                return Err(RenderError::Pass {
+                    pass: "EnvironmentProbe".to_owned(),
+                    message: "a probe's layers were not packed".to_owned(),
+                });
+            };
+            // Render passes now, before the compute pass the steps go into.
+            super::probe::faces::render(cx, renderer, scene, packed, &base)?;
         }
         EnvironmentSource::Sky(_) => {
             let sky = source.gpu_sky().unwrap_or_default();

@@ -64,6 +64,9 @@ pub struct Reflection {
     environment: Arc<Environment>,
     pub mode: ReflectionMode,
     params: wgpu::Buffer,
+    /// A probe's influence volume, when it has one: each reflected ray is
+    /// corrected for parallax against it (the PARALLAX permutation).
+    volume: Option<wgpu::Buffer>,
     /// Reflected (or refracted) radiance, additive.
     pub specular: String,
     /// Irradiance / pi from the environment: multiply by albedo to light a surface.
@@ -88,6 +91,14 @@ impl Reflection {
             bytemuck::cast_slice(&[mode_id, levels, ior.to_bits(), 0]),
             wgpu::BufferUsages::UNIFORM,
         );
+        let volume = environment.parallax().map(|v| {
+            renderer.kept_init(
+                owner,
+                "reflection probe volume",
+                bytemuck::bytes_of(&v),
+                wgpu::BufferUsages::UNIFORM,
+            )
+        });
         Arc::new(Reflection {
             id,
             owner,
@@ -96,6 +107,7 @@ impl Reflection {
             environment,
             mode,
             params,
+            volume,
             specular: format!("reflection{id}/specular"),
             diffuse: format!("reflection{id}/diffuse"),
         })
@@ -137,8 +149,13 @@ impl Reflection {
     }
 
     fn key(&self) -> ShaderKey {
-        self.materials
-            .surface_key(SHADER, self.gbuffer.targets.surface_feature())
+        let mut key = self
+            .materials
+            .surface_key(SHADER, self.gbuffer.targets.surface_feature());
+        if self.volume.is_some() {
+            key.features.insert("PARALLAX");
+        }
+        key
     }
 
     fn clear(&self, cx: &mut PassContext<'_>, specular: Tex) -> Result<(), RenderError> {
@@ -206,6 +223,7 @@ impl Reflection {
             b = b
                 .texture_opt("out_specular", io.specular)
                 .texture_opt("surface_target", io.surface)
+                .buffer_opt("volume", self.volume.as_ref())
                 .extend(self.materials.bindings(io.material_textures));
         }
         match outputs {

@@ -64,6 +64,8 @@ pub const HALF_MAX: f32 = 65000.0;
 pub enum EnvironmentSource {
     Equirect(Arc<EquirectImage>),
     Sky(SkySettings),
+    /// A layer rendered into the cube from a point (`EnvironmentProbe`).
+    Probe(Arc<super::probe::ProbeScene>),
 }
 
 /// The quality pins: the base cube's face size and the GGX samples per prefiltered texel.
@@ -223,7 +225,7 @@ impl EnvironmentSource {
     pub(crate) fn gpu_sky(&self) -> Option<GpuSky> {
         match self {
             EnvironmentSource::Sky(s) => Some(GpuSky::from_settings(s)),
-            EnvironmentSource::Equirect(_) => None,
+            EnvironmentSource::Equirect(_) | EnvironmentSource::Probe(_) => None,
         }
     }
 }

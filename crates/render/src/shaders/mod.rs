@@ -274,9 +274,10 @@ pub const SHADERS: &[ShaderFile] = &[
     shader!("ssao/blur.wgsl", keyed crate::ssao::BlurKey),
     shader!("environment/sky.wgsl", ["ENVIRONMENT", "FOG"]),
     shader!("environment/prefilter.wgsl", []),
+    shader!("environment/environment_probe.wgsl", []),
     shader!(
         "environment/reflection.wgsl",
-        ["MATERIAL_TEXTURES", "SURFACE_TARGET"]
+        ["MATERIAL_TEXTURES", "SURFACE_TARGET", "PARALLAX"]
     ),
     shader!(
         "environment/ssr.wgsl",

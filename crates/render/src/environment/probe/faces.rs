@@ -1,0 +1,251 @@
+//! Rendering a probe's six faces (shaders/environment/environment_probe.wgsl) into its
+//! base cube's level 0 on the raster hardware: one render pass per face,
+//! the layer's instances pulled from the mesh arena as the shadow depth
+//! pass pulls them, each surface shaded forward with the probe's lighting.
+//! The prefilter then makes the cube's mips and roughness levels from it.
+
+use std::hash::{Hash, Hasher};
+
+use wgpu::util::DeviceExt;
+
+use super::{ProbeScene, face_view_projection};
+use crate::error::RenderError;
+use crate::frame_graph::{Bindings, PassContext};
+use crate::gbuffer::{Draw, GpuInstance, Layer, pack_instances};
+use crate::renderer::Renderer;
+use crate::shaders::ShaderKey;
+
+const SHADER: &str = "environment/environment_probe.wgsl";
+const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+/// The base cube's format (prefilter.rs).
+const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+
+/// A probe's layers packed as the G-buffer packs them, once per recipe:
+/// hashed to decide a re-render, uploaded only when rendering.
+pub(crate) struct PackedProbe {
+    instances: Vec<GpuInstance>,
+    draws: Vec<Draw>,
+}
+
+impl PackedProbe {
+    pub(crate) fn new(layers: &[std::sync::Arc<Layer>]) -> Self {
+        let (instances, draws, _) = pack_instances(layers);
+        PackedProbe { instances, draws }
+    }
+}
+
+impl Hash for PackedProbe {
+    fn hash<H: Hasher>(&self, h: &mut H) {
+        for i in &self.instances {
+            for c in i.model.iter().flatten().chain(&i.color) {
+                c.to_bits().hash(h);
+            }
+            i.info.hash(h);
+        }
+        for d in &self.draws {
+            (d.index_count, d.first_instance, d.instance_count).hash(h);
+        }
+    }
+}
+
+/// Matches `ProbeFace` in shaders/environment/environment_probe.wgsl.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
+struct GpuProbeFace {
+    view_projection: [[f32; 4]; 4],
+    /// Where the probe is (w unused).
+    position: [f32; 4],
+    /// Towards the sun, unit (w unused).
+    towards_sun: [f32; 4],
+    sun_color: [f32; 4],
+    ambient: [f32; 4],
+}
+
+/// Draw `scene` into level 0 of `base` (a cube, RENDER_ATTACHMENT), one face per layer.
+pub(crate) fn render(
+    cx: &mut PassContext<'_>,
+    renderer: &Renderer,
+    scene: &ProbeScene,
+    packed: &PackedProbe,
+    base: &wgpu::Texture,
+) -> Result<(), RenderError> {
+    let device = cx.gpu.device.clone();
+    let size = base.width();
+    let s = scene.settings();
+    let l = s.lighting;
+    let towards_sun = (-l.sun_direction).try_normalize().unwrap_or(glam::Vec3::Y);
+    let key = ShaderKey::new(SHADER, []);
+    let pipeline = cx
+        .shaders
+        .render_pipeline(&device, &key, "rgba16f", |module| {
+            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some("environment probe faces"),
+                layout: None,
+                vertex: wgpu::VertexState {
+                    module,
+                    entry_point: Some("vs"),
+                    compilation_options: Default::default(),
+                    buffers: &[],
+                },
+                // Both sides: the faces' handedness differs, and a probe
+                // inside an object sees its inside (the shader turns each
+                // normal towards the probe).
+                primitive: wgpu::PrimitiveState::default(),
+                depth_stencil: Some(wgpu::DepthStencilState {
+                    format: DEPTH_FORMAT,
+                    depth_write_enabled: Some(true),
+                    // Reversed-Z: nearer is greater.
+                    depth_compare: Some(wgpu::CompareFunction::Greater),
+                    stencil: Default::default(),
+                    bias: Default::default(),
+                }),
+                multisample: Default::default(),
+                fragment: Some(wgpu::FragmentState {
+                    module,
+                    entry_point: Some("fs"),
+                    compilation_options: Default::default(),
+                    targets: &[Some(COLOR_FORMAT.into())],
+                }),
+                multiview_mask: None,
+                cache: None,
+            })
+        })?;
+    let (vertices, indices, _) = renderer.meshes.buffers();
+    // A storage binding cannot be empty: an empty layer binds one unused instance.
+    let empty: [GpuInstance; 1] = [bytemuck::Zeroable::zeroed()];
+    let instances: &[GpuInstance] = if packed.instances.is_empty() {
+        &empty
+    } else {
+        &packed.instances
+    };
+    let instances = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some("environment probe instances"),
+        contents: bytemuck::cast_slice(instances),
+        usage: wgpu::BufferUsages::STORAGE,
+    });
+    let depth = device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("environment probe depth"),
+        size: wgpu::Extent3d {
+            width: size,
+            height: size,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: DEPTH_FORMAT,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
+        view_formats: &[],
+    });
+    let depth_view = depth.create_view(&Default::default());
+    let mut faces = Vec::with_capacity(6);
+    for face in 0..6u32 {
+        let uniform = GpuProbeFace {
+            view_projection: face_view_projection(face, s.position).to_cols_array_2d(),
+            position: s.position.extend(1.0).to_array(),
+            towards_sun: towards_sun.extend(0.0).to_array(),
+            sun_color: l.sun_color.extend(0.0).to_array(),
+            ambient: l.ambient.extend(0.0).to_array(),
+        };
+        let buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("environment probe face"),
+            contents: bytemuck::bytes_of(&uniform),
+            usage: wgpu::BufferUsages::UNIFORM,
+        });
+        let b = Bindings::new()
+            .buffer("face", &buffer)
+            .buffer("vertices", &vertices)
+            .buffer("indices", &indices)
+            .buffer("instances", &instances);
+        let groups = cx.render_bind_groups(&key, &["vs", "fs"], &pipeline, b)?;
+        let target = base.create_view(&wgpu::TextureViewDescriptor {
+            label: Some("environment probe face"),
+            dimension: Some(wgpu::TextureViewDimension::D2),
+            base_mip_level: 0,
+            mip_level_count: Some(1),
+            base_array_layer: face,
+            array_layer_count: Some(1),
+            ..Default::default()
+        });
+        faces.push((groups, target));
+    }
+    let clear = wgpu::Color {
+        r: f64::from(l.background.x),
+        g: f64::from(l.background.y),
+        b: f64::from(l.background.z),
+        a: 1.0,
+    };
+    let pair = cx.render_timestamps();
+    let mut draws = 0;
+    for (index, (groups, target)) in faces.iter().enumerate() {
+        // The six faces timed as one: the first begins, the last ends.
+        let timestamps = pair.as_ref().and_then(|p| {
+            let begin = (index == 0)
+                .then_some(p.beginning_of_pass_write_index)
+                .flatten();
+            let end = (index == 5).then_some(p.end_of_pass_write_index).flatten();
+            (begin.is_some() || end.is_some()).then_some(wgpu::RenderPassTimestampWrites {
+                query_set: p.query_set,
+                beginning_of_pass_write_index: begin,
+                end_of_pass_write_index: end,
+            })
+        });
+        let mut pass = cx.encoder().begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("environment probe face"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: target,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(clear),
+                    store: wgpu::StoreOp::Store,
+                },
+            })],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: &depth_view,
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(0.0),
+                    store: wgpu::StoreOp::Discard,
+                }),
+                stencil_ops: None,
+            }),
+            timestamp_writes: timestamps,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        pass.set_pipeline(&pipeline);
+        for (i, group) in groups.iter().enumerate() {
+            pass.set_bind_group(i as u32, group, &[]);
+        }
+        for draw in packed
+            .draws
+            .iter()
+            .filter(|d| d.instance_count > 0 && d.index_count > 0)
+        {
+            pass.draw(
+                0..draw.index_count,
+                draw.first_instance..draw.first_instance + draw.instance_count,
+            );
+            draws += 1;
+        }
+    }
+    cx.draws += draws;
+    Ok(())
+}
+
+/// The layout the shader sees (shaders/layout.rs).
+#[cfg(test)]
+mod wgsl_layout {
+    use super::*;
+
+    #[test]
+    fn gpu_probe_face_matches_probe_face_in_the_shader() {
+        crate::assert_wgsl_layout!(
+            GpuProbeFace,
+            "environment/environment_probe.wgsl",
+            [],
+            "ProbeFace",
+            [view_projection, position, towards_sun, sun_color, ambient]
+        );
+    }
+}

@@ -1,0 +1,366 @@
+//! `EnvironmentProbe` through Reflection: a mirror ball beside a red box
+//! shows the box on its side, the probe renders again only when what it
+//! sees changed (not when the camera moves), every N frames or once as
+//! asked, a box volume corrects for parallax, and the hard cases (a probe
+//! inside the box, a zero-size volume, no light direction) stay finite.
+
+use std::sync::Arc;
+
+use glam::{Mat4, Vec2, Vec3};
+use spreadlight_render::environment::{
+    Environment, EnvironmentQuality, EnvironmentSource, ProbeScene, ProbeSettings, ProbeUpdate,
+    ProbeVolume, Reflection, ReflectionMode,
+};
+use spreadlight_render::gbuffer::{GBuffer, Layer};
+use spreadlight_render::material::{Material, MaterialWorld};
+use spreadlight_render::readback::{ImageF32, read_texture_layer, render_and_read};
+use spreadlight_render::renderer::test_renderer;
+use spreadlight_render::scenes::{MirrorBesideBox, mirror_beside_box};
+use spreadlight_render::{FrameReport, Renderer, SizeRule};
+
+use super::reflection_scene::{SIZE, camera, reflective, world_position};
+
+const BALL: Vec3 = Vec3::new(0.0, 0.6, 0.0);
+const RADIUS: f32 = 0.6;
+const EYE: Vec3 = Vec3::new(0.0, 1.0, 2.4);
+const QUALITY: EnvironmentQuality = EnvironmentQuality {
+    cube_size: 32,
+    samples: 16,
+};
+
+fn scene(renderer: &Renderer) -> MirrorBesideBox {
+    mirror_beside_box(renderer, (BALL, RADIUS), Vec2::new(1.6, 0.0), 0.8, 8.0).expect("uploads")
+}
+
+fn probe(
+    renderer: &Renderer,
+    owner: Option<u32>,
+    surroundings: &Arc<Layer>,
+    settings: ProbeSettings,
+) -> Arc<Environment> {
+    let scene = ProbeScene::new(vec![surroundings.clone()], settings).expect("valid");
+    Environment::new(
+        renderer,
+        owner,
+        EnvironmentSource::Probe(Arc::new(scene)),
+        QUALITY,
+    )
+}
+
+fn at_ball() -> ProbeSettings {
+    ProbeSettings {
+        position: BALL,
+        ..Default::default()
+    }
+}
+
+/// The mirror ball's reflection from `eye`: the report, the specular and the depth.
+fn mirror(
+    renderer: &Renderer,
+    s: &MirrorBesideBox,
+    eye: Vec3,
+    environment: Arc<Environment>,
+) -> (FrameReport, ImageF32, ImageF32, Arc<GBuffer>) {
+    let g = GBuffer::new(
+        renderer,
+        None,
+        vec![s.ball.clone(), s.surroundings.clone()],
+        camera(eye, BALL),
+        None,
+        SizeRule::Relative(1.0),
+    );
+    let world = vec![reflective(0.0, 1.0), Material::default_material()];
+    let r = Reflection::new(
+        renderer,
+        None,
+        g.clone(),
+        MaterialWorld::new(renderer, world),
+        environment,
+        ReflectionMode::Reflect,
+    );
+    let (report, images) =
+        render_and_read(renderer, r.as_ref(), SIZE, &[&r.specular, &g.targets.depth])
+            .expect("renders");
+    assert!(report.errors.is_empty(), "{:?}", report.errors);
+    let mut images = images.into_iter();
+    let specular = images.next().expect("specular");
+    assert!(specular.all_finite(), "NaN or infinity in the reflection");
+    (report, specular, images.next().expect("depth"), g)
+}
+
+/// The ball's pixels, each with its specular and the world direction it
+/// reflects (from the ball's centre, where the probe is).
+fn ball_pixels(g: &GBuffer, specular: &ImageF32, depth: &ImageF32) -> Vec<(Vec3, Vec3)> {
+    let mut pixels = Vec::new();
+    for y in 0..SIZE.1 {
+        for x in 0..SIZE.0 {
+            let d = depth.pixel(x, y)[0];
+            if d <= 0.0 {
+                continue;
+            }
+            let p = world_position(g, x, y, d);
+            if ((p - BALL).length() - RADIUS).abs() > 0.05 {
+                continue;
+            }
+            let n = (p - BALL).normalize();
+            let v = (g.camera.view.inverse().w_axis.truncate() - p).normalize();
+            let r = 2.0 * n.dot(v) * n - v;
+            pixels.push((Vec3::from_slice(&specular.pixel(x, y)[..3]), r));
+        }
+    }
+    pixels
+}
+
+fn red(c: Vec3) -> bool {
+    c.x > 2.0 * c.y && c.x > 2.0 * c.z
+}
+
+#[test]
+fn a_mirror_sphere_beside_a_red_box_shows_the_box() {
+    let renderer = test_renderer();
+    let s = scene(&renderer);
+    let (report, specular, depth, g) = mirror(
+        &renderer,
+        &s,
+        EYE,
+        probe(&renderer, None, &s.surroundings, at_ball()),
+    );
+    assert_eq!(report.counter("environment probe rendered"), 1);
+    // The box's centre seen from the ball's (its near face spans about 0.3 rad either side).
+    let towards_box = (Vec3::new(1.6, 0.402, 0.0) - BALL).normalize();
+    let pixels = ball_pixels(&g, &specular, &depth);
+    let on_box: Vec<Vec3> = pixels
+        .iter()
+        .filter(|(_, r)| r.angle_between(towards_box) < 0.2)
+        .map(|(c, _)| *c)
+        .collect();
+    assert!(on_box.len() >= 3, "{} pixels reflect the box", on_box.len());
+    let mean = on_box.iter().sum::<Vec3>() / on_box.len() as f32;
+    assert!(
+        red(mean),
+        "where the ball reflects the box it is red: {mean}"
+    );
+    // Away from the box (reflecting towards -x), nothing is red.
+    let away: Vec<Vec3> = pixels
+        .iter()
+        .filter(|(_, r)| r.x < -0.3)
+        .map(|(c, _)| *c)
+        .collect();
+    assert!(
+        away.len() >= 8 && !away.iter().any(|c| red(*c)),
+        "the other side is not red"
+    );
+}
+
+#[test]
+fn a_probe_renders_again_only_when_what_it_sees_changed() {
+    let renderer = test_renderer();
+    let s = scene(&renderer);
+    let owner = Some(501);
+    // The node evaluated again: new recipes, layers equal but not the same Arcs.
+    let again = |layer: &Arc<Layer>| Arc::new((**layer).clone());
+    let frame = |s: &MirrorBesideBox, eye: Vec3, settings: ProbeSettings, owner| {
+        let env = probe(&renderer, owner, &again(&s.surroundings), settings);
+        let (report, ..) = mirror(&renderer, s, eye, env);
+        (
+            report.counter("environment probe rendered"),
+            report.counter("environment probe reused"),
+        )
+    };
+    assert_eq!(frame(&s, EYE, at_ball(), owner), (1, 0), "first frame");
+    assert_eq!(frame(&s, EYE, at_ball(), owner), (0, 1), "still scene");
+    let moved_eye = Vec3::new(2.0, 2.0, 3.0);
+    assert_eq!(
+        frame(&s, moved_eye, at_ball(), owner),
+        (0, 1),
+        "a moved camera"
+    );
+    let mut moved = Layer::clone(&s.surroundings);
+    moved.batches[0].instances[0].transform =
+        Mat4::from_translation(Vec3::new(1.7, 0.4, 0.2)) * Mat4::from_scale(Vec3::splat(0.8));
+    let moved = MirrorBesideBox {
+        ball: s.ball.clone(),
+        surroundings: Arc::new(moved),
+    };
+    assert_eq!(frame(&moved, EYE, at_ball(), owner), (1, 0), "a moved box");
+    assert_eq!(frame(&moved, EYE, at_ball(), owner), (0, 1), "still again");
+
+    // Every 3 frames: the first, then every third, changed or not.
+    let every = ProbeSettings {
+        update: ProbeUpdate::EveryNFrames(3),
+        ..at_ball()
+    };
+    let counts: Vec<_> = (0..5).map(|_| frame(&s, EYE, every, Some(502)).0).collect();
+    assert_eq!(counts, [1, 0, 0, 1, 0]);
+    // Once: a moved box does not render it again.
+    let once = ProbeSettings {
+        update: ProbeUpdate::Once,
+        ..at_ball()
+    };
+    assert_eq!(frame(&s, EYE, once, Some(503)), (1, 0));
+    assert_eq!(frame(&moved, EYE, once, Some(503)), (0, 1));
+}
+
+/// A closed room of six walls of different colours, walls at x, z = ±5, floor at 0, ceiling at 4.
+fn room(renderer: &Renderer) -> Arc<Layer> {
+    use spreadlight_render::gbuffer::{DrawBatch, InstanceInput};
+    let mesh = renderer
+        .meshes
+        .upload(
+            &renderer.gpu,
+            &spreadlight_render::mesh::primitives::box_mesh(Default::default()),
+        )
+        .expect("uploads");
+    let wall = |center: Vec3, size: Vec3, color: [f32; 4]| {
+        let t = Mat4::from_translation(center) * Mat4::from_scale(size);
+        InstanceInput {
+            transform: t,
+            previous_transform: t,
+            color,
+            material_id: 1,
+            object_id: 1,
+        }
+    };
+    let mut layer = Layer::plain(vec![DrawBatch {
+        mesh,
+        instances: vec![
+            wall(
+                Vec3::new(5.0, 2.0, 0.0),
+                Vec3::new(0.02, 4.0, 10.0),
+                [0.9, 0.1, 0.1, 1.0],
+            ),
+            wall(
+                Vec3::new(-5.0, 2.0, 0.0),
+                Vec3::new(0.02, 4.0, 10.0),
+                [0.1, 0.9, 0.1, 1.0],
+            ),
+            wall(
+                Vec3::new(0.0, 2.0, 5.0),
+                Vec3::new(10.0, 4.0, 0.02),
+                [0.1, 0.1, 0.9, 1.0],
+            ),
+            wall(
+                Vec3::new(0.0, 2.0, -5.0),
+                Vec3::new(10.0, 4.0, 0.02),
+                [0.9, 0.9, 0.1, 1.0],
+            ),
+            wall(
+                Vec3::new(0.0, 0.0, 0.0),
+                Vec3::new(10.0, 0.02, 10.0),
+                [0.5, 0.5, 0.5, 1.0],
+            ),
+            wall(
+                Vec3::new(0.0, 4.0, 0.0),
+                Vec3::new(10.0, 0.02, 10.0),
+                [0.1, 0.9, 0.9, 1.0],
+            ),
+        ],
+    }]);
+    layer.features.ids = true;
+    Arc::new(layer)
+}
+
+/// In a closed box room with the room as the probe's volume, parallax
+/// correction makes the mirror's reflection (nearly) independent of where
+/// in the room the probe stands; without it an offset probe shows the
+/// walls from the wrong place.
+#[test]
+fn a_box_volume_corrects_an_offset_probe_for_parallax() {
+    let renderer = test_renderer();
+    let walls = room(&renderer);
+    let s = MirrorBesideBox {
+        ball: scene(&renderer).ball,
+        surroundings: walls.clone(),
+    };
+    let volume = ProbeVolume::Box {
+        center: Vec3::new(0.0, 2.0, 0.0),
+        size: Vec3::new(10.0, 4.0, 10.0),
+    };
+    let image = |position: Vec3, volume: ProbeVolume| {
+        let settings = ProbeSettings {
+            position,
+            volume,
+            ..Default::default()
+        };
+        mirror(&renderer, &s, EYE, probe(&renderer, None, &walls, settings)).1
+    };
+    let rmse = |a: &ImageF32, b: &ImageF32| {
+        let sum: f32 = a
+            .pixels
+            .iter()
+            .zip(&b.pixels)
+            .map(|(a, b)| (Vec3::from_slice(&a[..3]) - Vec3::from_slice(&b[..3])).length_squared())
+            .sum();
+        (sum / a.pixels.len() as f32).sqrt()
+    };
+    let reference = image(BALL, volume);
+    let offset = Vec3::new(-2.5, 2.5, 1.5);
+    let corrected = rmse(&image(offset, volume), &reference);
+    let uncorrected_image = image(offset, ProbeVolume::Infinite);
+    let uncorrected = rmse(&uncorrected_image, &reference);
+    assert!(
+        corrected < 0.4 * uncorrected,
+        "parallax-corrected error {corrected} vs uncorrected {uncorrected}"
+    );
+    // A zero-size volume is no volume: exactly the uncorrected image.
+    let flat = image(
+        offset,
+        ProbeVolume::Box {
+            center: Vec3::ZERO,
+            size: Vec3::new(3.0, 0.0, 3.0),
+        },
+    );
+    assert_eq!(rmse(&flat, &uncorrected_image), 0.0);
+}
+
+#[test]
+fn a_probe_inside_the_box_sees_its_inside_and_stays_finite() {
+    let renderer = test_renderer();
+    let s = scene(&renderer);
+    let mut inside = ProbeSettings {
+        position: Vec3::new(1.6, 0.4, 0.0),
+        ..Default::default()
+    };
+    // No light direction at all: the sun falls back to straight down, not NaN.
+    inside.lighting.sun_direction = Vec3::ZERO;
+    let env = probe(&renderer, None, &s.surroundings, inside);
+    let (report, ..) = mirror(&renderer, &s, EYE, env.clone());
+    assert_eq!(report.counter("environment probe rendered"), 1);
+    let maps = env.maps().expect("built");
+    for face in 0..6 {
+        let image = read_texture_layer(&renderer.gpu, &maps.base, face, 0).expect("reads");
+        assert!(image.all_finite(), "face {face}");
+        let mean = image
+            .pixels
+            .iter()
+            .fold(Vec3::ZERO, |a, p| a + Vec3::from_slice(&p[..3]))
+            / image.pixels.len() as f32;
+        assert!(
+            mean.x > 3.0 * mean.y && mean.x > 0.0,
+            "face {face} sees the red inside: {mean}"
+        );
+    }
+}
+
+/// Nothing of a probe runs in a frame without one.
+#[test]
+fn a_frame_without_a_probe_has_no_probe_pass() {
+    let renderer = test_renderer();
+    let s = scene(&renderer);
+    let sky = Environment::new(
+        &renderer,
+        None,
+        EnvironmentSource::Sky(Default::default()),
+        QUALITY,
+    );
+    let (report, ..) = mirror(&renderer, &s, EYE, sky);
+    assert!(report.passes.iter().all(|p| p.kind != "EnvironmentProbe"));
+    assert_eq!(report.counter("environment probe rendered"), 0);
+    let (report, ..) = mirror(
+        &renderer,
+        &s,
+        EYE,
+        probe(&renderer, None, &s.surroundings, at_ball()),
+    );
+    assert!(report.passes.iter().any(|p| p.kind == "EnvironmentProbe"));
+}

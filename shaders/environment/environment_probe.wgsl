@@ -1,0 +1,61 @@
+// EnvironmentProbe's faces (crates/render/src/environment/probe/faces.rs):
+// the layer drawn from the probe into one cube face per render pass, each
+// surface shaded forward with the probe's own lighting:
+//   radiance = albedo * (ambient + sun_color * max(N.L, 0))
+// albedo the instance colour; N turned towards the probe (both sides are
+// drawn: a probe inside an object sees its inside lit, not black). No
+// shadows, no textures: a mirror needs the colours and the rough shape of
+// its surroundings, at a fraction of a G-buffer's cost. Vertices are pulled
+// from the mesh arena by index (spreadlight::mesh_fetch), as the shadow
+// depth pass pulls them. Clamped below half-float overflow; NaN is 0.
+#import spreadlight::mesh_fetch::{instances, triangle_vertex, view_right, view_up}
+#import spreadlight::packing::{safe_normalize}
+
+struct ProbeFace {
+    // World to clip: x = uv.x, y = -uv.y, z = near, w = distance along the face's axis.
+    view_projection: mat4x4<f32>,
+    // Where the probe is (w unused).
+    position: vec4<f32>,
+    // Towards the sun, unit (w unused).
+    towards_sun: vec4<f32>,
+    sun_color: vec4<f32>,
+    ambient: vec4<f32>,
+}
+
+@group(0) @binding(0) var<uniform> face: ProbeFace;
+
+const HALF_MAX: f32 = 65000.0;
+
+struct Varyings {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) world: vec3<f32>,
+    @location(1) normal: vec3<f32>,
+    @location(2) albedo: vec3<f32>,
+}
+
+@vertex
+fn vs(@builtin(vertex_index) vertex: u32, @builtin(instance_index) instance: u32) -> Varyings {
+    // Sprites face the probe (the view-projection's rows point along the face's axes).
+    let v = triangle_vertex(instance, vertex / 3u, vertex % 3u, view_right(face.view_projection), view_up(face.view_projection));
+    let record = instances[instance];
+    let world = record.model * vec4<f32>(v.position_u.xyz, 1.0);
+    var out: Varyings;
+    out.clip = face.view_projection * world;
+    out.world = world.xyz / world.w;
+    out.normal = (record.normal_matrix * vec4<f32>(v.normal_v.xyz, 0.0)).xyz;
+    out.albedo = record.color.rgb;
+    return out;
+}
+
+@fragment
+fn fs(in: Varyings) -> @location(0) vec4<f32> {
+    let to_probe = face.position.xyz - in.world;
+    var n = safe_normalize(in.normal, safe_normalize(to_probe, vec3<f32>(0.0, 1.0, 0.0)));
+    if (dot(n, to_probe) < 0.0) {
+        n = -n;
+    }
+    let albedo = max(in.albedo, vec3<f32>(0.0));
+    let light = face.ambient.rgb + face.sun_color.rgb * max(dot(n, face.towards_sun.xyz), 0.0);
+    let c = min(max(albedo * light, vec3<f32>(0.0)), vec3<f32>(HALF_MAX));
+    return vec4<f32>(select(vec3<f32>(0.0), c, c == c), 1.0);
+}
