@@ -234,7 +234,8 @@ impl Feature {
     /// The named parameters of a built-in feature's vec4, each with the
     /// components it spans (a colour three, a number one): what a
     /// per-parameter texture layer scales ([`super::Material::set_param_texture`]).
-    /// Empty for custom features, whose shaders read their own textures.
+    /// Empty for custom features, whose shaders read their own textures, and
+    /// for Clearcoat and Unlit, which no shader reads through a layer.
     pub fn parameters(self) -> &'static [(&'static str, std::ops::Range<usize>)] {
         type Params = &'static [(&'static str, std::ops::Range<usize>)];
         const CT_PARAMS: Params = &[
@@ -248,7 +249,8 @@ impl Feature {
             Feature::CookTorrance => CT_PARAMS,
             Feature::Emission | Feature::FakeSss => COLOR_PARAMS,
             Feature::Reflection | Feature::AmbientOcclusion | Feature::MatCap => STRENGTH_PARAMS,
-            Feature::Custom(_) => &[],
+            // Per material: no shader samples a texture layer for them.
+            Feature::Clearcoat | Feature::Unlit | Feature::Custom(_) => &[],
         }
     }
 
