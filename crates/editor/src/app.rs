@@ -58,6 +58,9 @@ pub struct EditorOptions {
     pub frame_wait: FrameWait,
     /// A help patch: every edit is undone at once (`help.rs`).
     pub read_only: bool,
+    /// The smallest zoom fitting the view goes to (`zoom::READABLE_ZOOM`;
+    /// lower brings a bigger patch wholly on screen: `edit --min-zoom`).
+    pub min_zoom: f32,
 }
 
 /// A scripted run of the real window: repaint for `frames` frames, then
@@ -104,6 +107,7 @@ impl EditorOptions {
             automation: None,
             frame_wait: FrameWait::default(),
             read_only: false,
+            min_zoom: crate::zoom::READABLE_ZOOM,
         }
     }
 }

@@ -108,7 +108,7 @@ impl EditorApp {
                 // Comments and frames are part of what the patch shows.
                 let mut rects = self.node_rects.clone();
                 rects.extend(self.organise.rects.iter().map(|r| (NodeId(u32::MAX), *r)));
-                canvas::fit_view(view, &rects, canvas_rect)
+                canvas::fit_view(view, &rects, canvas_rect, self.options.min_zoom)
             }
             Some(view) if self.organise.jump.is_some() => self.jump_view(view, canvas_rect),
             Some(view) => self.wheel_zoom(ui, view, canvas_rect),
