@@ -23,6 +23,7 @@ mod host_input;
 mod inspector;
 mod menus;
 mod organise;
+mod output_index;
 mod previews;
 mod queries;
 mod recording;
@@ -219,7 +220,14 @@ pub struct EditorApp {
     /// and fitting them (odd) down to 0, twice: node sizes change with zoom
     /// (editors are left out when small), so one pass may not settle.
     fit: u8,
+    /// The nodes snarl drew last frame, on screen, in drawing order: what a
+    /// click or the pointer can be over (the others lie outside the view,
+    /// `canvas/cull.rs`). Every node's: [`EditorApp::node_screen_rects`].
     node_rects: Vec<(NodeId, egui::Rect)>,
+    /// The canvas's view last frame (canvas to screen).
+    canvas_view: Option<egui::emath::TSTransform>,
+    /// The top patch's Outputs, for the first viewport.
+    outputs: output_index::OutputIndex,
     canvas_rect: Option<egui::Rect>,
     browser: Option<BrowserState>,
     refusal: Option<Refusal>,
@@ -374,6 +382,8 @@ impl EditorApp {
             rect_select: None,
             fit: FIT_FROM_SCRATCH,
             node_rects: Vec::new(),
+            canvas_view: None,
+            outputs: Default::default(),
             canvas_rect: None,
             browser: None,
             refusal: None,
