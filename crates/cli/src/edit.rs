@@ -24,6 +24,10 @@ pub struct Args {
     /// `patches/post.ron` for a `--measure-frames` run.
     #[arg(long, value_name = "ZOOM", value_parser = parse_zoom)]
     min_zoom: Option<f32>,
+    /// Open with time stopped (▶ Play starts it): the patch evaluates on edits and Step only.
+    /// With `--measure-frames`, the UI's own cost without the patch running beside it.
+    #[arg(long)]
+    paused: bool,
 }
 
 fn parse_zoom(text: &str) -> Result<f32, String> {
@@ -40,6 +44,7 @@ fn parse_zoom(text: &str) -> Result<f32, String> {
 pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
     let mut options = EditorOptions::new(args.patch.clone());
     options.read_only = args.read_only;
+    options.paused = args.paused;
     if let Some(zoom) = args.min_zoom {
         options.min_zoom = zoom;
     }

@@ -62,6 +62,9 @@ pub struct EditorOptions {
     /// The smallest zoom fitting the view goes to (`zoom::READABLE_ZOOM`;
     /// lower brings a bigger patch wholly on screen: `edit --min-zoom`).
     pub min_zoom: f32,
+    /// Open with time stopped (`edit --paused`): the patch evaluates on
+    /// edits and Step only, so a measurement sees the UI's own cost.
+    pub paused: bool,
 }
 
 /// A scripted run of the real window: repaint for `frames` frames, then
@@ -109,6 +112,7 @@ impl EditorOptions {
             frame_wait: FrameWait::default(),
             read_only: false,
             min_zoom: crate::zoom::READABLE_ZOOM,
+            paused: false,
         }
     }
 }
@@ -390,7 +394,7 @@ impl EditorApp {
             clipboard: Clip::default(),
             pastes: 0,
             clock: FrameClock::default(),
-            playing: true,
+            playing: !options.paused,
             step: false,
             show_timings: false,
             status: String::new(),

@@ -22,6 +22,7 @@ pub fn options(path: Option<PathBuf>, config_dir: PathBuf) -> EditorOptions {
         frame_wait: FrameWait::Always,
         read_only: false,
         min_zoom: spreadlight_editor::canvas::READABLE_ZOOM,
+        paused: false,
     }
 }
 
