@@ -441,12 +441,12 @@ pub(crate) fn short_circuit(flat: &mut Flat, typed: &HashMap<NodeId, (crate::Pin
         let target = instance
             .outlets
             .iter()
-            .find(|o| ty(o) == Some(from))
+            .find(|o| ty(*o) == Some(from))
             .or_else(|| {
                 instance
                     .outlets
                     .iter()
-                    .find(|o| ty(o).is_some_and(|to| from.links_to(to)))
+                    .find(|o| ty(*o).is_some_and(|to| from.links_to(to)))
             });
         if let Some(&outlet) = target {
             let link = LinkDoc::new(inlet.0, "Output", outlet.0, "Input");
