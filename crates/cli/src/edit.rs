@@ -37,7 +37,9 @@ fn parse_zoom(text: &str) -> Result<f32, String> {
     if (0.1..=1.0).contains(&zoom) {
         Ok(zoom)
     } else {
-        Err(format!("{zoom} is outside the canvas's zoom range, 0.1 to 1"))
+        Err(format!(
+            "{zoom} is outside the canvas's zoom range, 0.1 to 1"
+        ))
     }
 }
 

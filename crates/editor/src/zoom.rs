@@ -95,7 +95,9 @@ mod tests {
             Rect::from_min_size(Pos2::ZERO, egui::vec2(10.0, 10.0)),
         )];
         assert_eq!(
-            fit_view(view, &small, canvas, READABLE_ZOOM).expect("view").scaling,
+            fit_view(view, &small, canvas, READABLE_ZOOM)
+                .expect("view")
+                .scaling,
             1.0,
             "never blown up"
         );

@@ -1211,7 +1211,11 @@ fn alt_dropping_a_node_onto_a_link_inserts_it_keeping_both_sides_linked() {
     let a = pin(&h, 1, "Output", false);
     let b = pin(&h, 2, "Input", true);
     let onto = a + (b - a) * 0.5;
-    let title = h.get_all_by_label("Sin (Value)").next().expect("title").rect();
+    let title = h
+        .get_all_by_label("Sin (Value)")
+        .next()
+        .expect("title")
+        .rect();
     let from = on_canvas(&h, title).center();
     // Drag the Sin by its title; Alt is held when it is let go over the link.
     h.hover_at(from);
@@ -1263,7 +1267,10 @@ fn alt_dropping_a_node_onto_a_link_inserts_it_keeping_both_sides_linked() {
     h.step();
     h.run();
     assert_eq!(links_of(&h), vec![LinkDoc::new(1, "Output", 2, "Input")]);
-    assert_ne!(h.state().doc().node(NodeId(3)).expect("node").pos, (120.0, 90.0));
+    assert_ne!(
+        h.state().doc().node(NodeId(3)).expect("node").pos,
+        (120.0, 90.0)
+    );
 }
 
 #[test]
@@ -1334,13 +1341,20 @@ fn middle_clicking_an_input_pin_makes_a_linked_iobox_holding_its_spread() {
         iobox.values.get("Input"),
         Some(&Spread::Float(vec![2.5, 3.0]))
     );
-    assert!(patch.links.contains(&LinkDoc::new(iobox.id.0, "Output", 1, "Period")));
+    assert!(
+        patch
+            .links
+            .contains(&LinkDoc::new(iobox.id.0, "Output", 1, "Period"))
+    );
     // Its value is now what flows into the LFO's Period: Ctrl-click there again
     // with the IOBox's value changed makes a second IOBox holding the new spread.
     let first = iobox.id;
-    h.state_mut()
-        .doc_mut()
-        .set_value(first, "Input", Some(Spread::Float(vec![7.0, 8.0, 9.0])), false);
+    h.state_mut().doc_mut().set_value(
+        first,
+        "Input",
+        Some(Spread::Float(vec![7.0, 8.0, 9.0])),
+        false,
+    );
     h.run();
     let at = pin(&h, 1, "Period", true);
     h.hover_at(at);
@@ -1369,8 +1383,12 @@ fn middle_clicking_an_input_pin_makes_a_linked_iobox_holding_its_spread() {
         "the linked pin's live spread"
     );
     assert!(
-        patch.links.contains(&LinkDoc::new(second.id.0, "Output", 1, "Period"))
-            && !patch.links.contains(&LinkDoc::new(first.0, "Output", 1, "Period")),
+        patch
+            .links
+            .contains(&LinkDoc::new(second.id.0, "Output", 1, "Period"))
+            && !patch
+                .links
+                .contains(&LinkDoc::new(first.0, "Output", 1, "Period")),
         "linked in place of the first: {:?}",
         patch.links
     );

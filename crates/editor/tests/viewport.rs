@@ -552,8 +552,16 @@ fn hovering_a_texture_or_mesh_pin_shows_its_large_preview() {
     assert!(h.query_by_label_contains("64 × 36").is_some());
     let ppp = h.ctx.pixels_per_point();
     let image = h.render().expect("render the window");
-    assert_grey(pixel_in(&image, rect, ppp, 0.25, 0.5), 40, "large, left half");
-    assert_grey(pixel_in(&image, rect, ppp, 0.75, 0.5), 200, "large, right half");
+    assert_grey(
+        pixel_in(&image, rect, ppp, 0.25, 0.5),
+        40,
+        "large, left half",
+    );
+    assert_grey(
+        pixel_in(&image, rect, ppp, 0.75, 0.5),
+        200,
+        "large, right half",
+    );
 
     // A mesh pin: a turntable of the mesh, with its counts (a box: 6 faces of 4 vertices, 2 triangles).
     hover_output(&mut h, 3, "Mesh");

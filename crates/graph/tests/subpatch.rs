@@ -499,7 +499,11 @@ fn a_bypassed_instance_passes_its_first_input_and_its_inside_does_not_run() {
         [1.0, 2.0, 3.0],
         "X passes to Y (the first Float output) undoubled"
     );
-    assert_eq!(ints(&rt, "count"), [] as [i64; 0], "the other output is empty");
+    assert_eq!(
+        ints(&rt, "count"),
+        [] as [i64; 0],
+        "the other output is empty"
+    );
     assert_eq!(
         **rt.output(NodeId(2), "Y").expect("the instance's pin"),
         Spread::Float(vec![1.0, 2.0, 3.0])

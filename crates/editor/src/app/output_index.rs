@@ -57,7 +57,7 @@ impl OutputIndex {
         let (_, outputs) = cache.as_ref()?;
         let chosen = selected
             .rev()
-            .find(|id| outputs.fed.contains_key(id))
+            .find(|id| outputs.fed.contains_key(*id))
             .copied()
             .or(outputs.first)?;
         outputs.fed.get(&chosen).cloned()

@@ -65,7 +65,6 @@ impl EditorApp {
         self.culling.laid_out
     }
 
-
     pub fn canvas_rect(&self) -> Option<egui::Rect> {
         self.canvas_rect
     }

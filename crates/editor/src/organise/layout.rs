@@ -165,7 +165,12 @@ pub fn layout(
         }
     }
     if down {
-        pin_order(&mut rows, &|v| kind(v), &|v| node(v).map_or(0.0, |d| d.pos.0), &chosen);
+        pin_order(
+            &mut rows,
+            &|v| kind(v),
+            &|v| node(v).map_or(0.0, |d| d.pos.0),
+            &chosen,
+        );
     }
     // Columns (rows, top to bottom): each layer as wide as its widest node.
     let mut x = vec![0.0f32; layers];
@@ -254,15 +259,17 @@ pub fn layout(
 /// A subpatch's `Inlet`s and `Outlet`s, each a row when laid out top to
 /// bottom: their order along it is their node's pin order (by x, then id), so
 /// each row's places held by one kind go to that kind in pin order.
-fn pin_order(
+fn pin_order<'p>(
     rows: &mut [Vec<usize>],
-    kind: &dyn Fn(usize) -> Option<&str>,
+    kind: &dyn Fn(usize) -> Option<&'p str>,
     x: &dyn Fn(usize) -> f32,
     chosen: &[NodeId],
 ) {
     for k in [INLET, OUTLET] {
         for row in rows.iter_mut() {
-            let slots: Vec<usize> = (0..row.len()).filter(|&s| kind(row[s]) == Some(k)).collect();
+            let slots: Vec<usize> = (0..row.len())
+                .filter(|&s| kind(row[s]) == Some(k))
+                .collect();
             let mut boxes: Vec<usize> = slots.iter().map(|&s| row[s]).collect();
             boxes.sort_by(|&a, &b| x(a).total_cmp(&x(b)).then(chosen[a].cmp(&chosen[b])));
             for (s, v) in slots.into_iter().zip(boxes) {
@@ -429,7 +436,11 @@ mod tests {
         assert_ne!(at(2).0, at(3).0);
         // Laid out from where the nodes were.
         assert_eq!(at(1).1, 5.0);
-        let left = p.nodes.iter().map(|n| n.pos.0).fold(f32::INFINITY, f32::min);
+        let left = p
+            .nodes
+            .iter()
+            .map(|n| n.pos.0)
+            .fold(f32::INFINITY, f32::min);
         assert_eq!(left, 5.0);
     }
 

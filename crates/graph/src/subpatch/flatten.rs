@@ -417,7 +417,10 @@ impl Flattener<'_> {
 /// its first `Outlet` of the same type, else the first one its type links to
 /// (Int to Float, Color and Vec4), as `Runtime`'s bypass of a plain node
 /// does. The other `Outlet`s, unlinked, pass on their empty default.
-pub(crate) fn short_circuit(flat: &mut Flat, typed: &HashMap<NodeId, (crate::PinType, crate::Spread)>) {
+pub(crate) fn short_circuit(
+    flat: &mut Flat,
+    typed: &HashMap<NodeId, (crate::PinType, crate::Spread)>,
+) {
     let ty = |id: &NodeId| typed.get(id).map(|(ty, _)| *ty);
     for instance in std::mem::take(&mut flat.bypassed) {
         let outlets: HashSet<NodeId> = instance.outlets.iter().copied().collect();
