@@ -444,12 +444,12 @@ pub(crate) fn short_circuit(
         let target = instance
             .outlets
             .iter()
-            .find(|o| ty(*o) == Some(from))
+            .find(|o| ty(o) == Some(from))
             .or_else(|| {
                 instance
                     .outlets
                     .iter()
-                    .find(|o| ty(*o).is_some_and(|to| from.links_to(to)))
+                    .find(|o| ty(o).is_some_and(|to| from.links_to(to)))
             });
         if let Some(&outlet) = target {
             let link = LinkDoc::new(inlet.0, "Output", outlet.0, "Input");
