@@ -23,6 +23,7 @@ mod host_input;
 mod inspector;
 mod menus;
 mod organise;
+mod output_index;
 mod previews;
 mod queries;
 mod recording;
@@ -58,6 +59,12 @@ pub struct EditorOptions {
     pub frame_wait: FrameWait,
     /// A help patch: every edit is undone at once (`help.rs`).
     pub read_only: bool,
+    /// The smallest zoom fitting the view goes to (`zoom::READABLE_ZOOM`;
+    /// lower brings a bigger patch wholly on screen: `edit --min-zoom`).
+    pub min_zoom: f32,
+    /// Open with time stopped (`edit --paused`): the patch evaluates on
+    /// edits and Step only, so a measurement sees the UI's own cost.
+    pub paused: bool,
 }
 
 /// A scripted run of the real window: repaint for `frames` frames, then
@@ -104,6 +111,8 @@ impl EditorOptions {
             automation: None,
             frame_wait: FrameWait::default(),
             read_only: false,
+            min_zoom: crate::zoom::READABLE_ZOOM,
+            paused: false,
         }
     }
 }
@@ -215,7 +224,14 @@ pub struct EditorApp {
     /// and fitting them (odd) down to 0, twice: node sizes change with zoom
     /// (editors are left out when small), so one pass may not settle.
     fit: u8,
+    /// The nodes snarl drew last frame, on screen, in drawing order: what a
+    /// click or the pointer can be over (the others lie outside the view,
+    /// `canvas/cull.rs`). Every node's: [`EditorApp::node_screen_rects`].
     node_rects: Vec<(NodeId, egui::Rect)>,
+    /// The canvas's view last frame (canvas to screen).
+    canvas_view: Option<egui::emath::TSTransform>,
+    /// The top patch's Outputs, for the first viewport.
+    outputs: output_index::OutputIndex,
     canvas_rect: Option<egui::Rect>,
     browser: Option<BrowserState>,
     refusal: Option<Refusal>,
@@ -370,13 +386,15 @@ impl EditorApp {
             rect_select: None,
             fit: FIT_FROM_SCRATCH,
             node_rects: Vec::new(),
+            canvas_view: None,
+            outputs: Default::default(),
             canvas_rect: None,
             browser: None,
             refusal: None,
             clipboard: Clip::default(),
             pastes: 0,
             clock: FrameClock::default(),
-            playing: true,
+            playing: !options.paused,
             step: false,
             show_timings: false,
             status: String::new(),

@@ -249,6 +249,11 @@ impl EditorDoc {
         self.patch().links.get(*self.link_index.get(to)?)
     }
 
+    /// Where a link into an input stands in the document's list (by its input, indexed).
+    pub fn link_position(&self, link: &LinkDoc) -> Option<usize> {
+        self.link_index.get(&link.to).copied()
+    }
+
     /// The value an input holds in the document, or its default.
     pub fn input_value(&self, registry: &Registry, node: NodeId, pin: &str) -> Option<Spread> {
         let n = self.node(node)?;

@@ -175,6 +175,10 @@ struct State {
     submitted: u64,
     finished: u64,
     latest: Option<Arc<Frame>>,
+    /// Frames the UI is done with, freed here: a frame holds a spread per
+    /// output of every node, and freeing them on the UI thread made its
+    /// frame grow with the patch.
+    retired: Vec<Arc<Frame>>,
     stop: bool,
 }
 
@@ -278,6 +282,12 @@ impl Worker {
                 s.finished >= seq
             }
         }
+    }
+
+    /// Hand back a frame the UI no longer shows, to be freed on the worker
+    /// thread (with the next frame it finishes).
+    pub fn retire(&self, frame: Arc<Frame>) {
+        self.shared.lock().retired.push(frame);
     }
 
     /// The latest finished frame.
@@ -414,12 +424,15 @@ impl Engine {
                     .map(|r| r.status.clone())
                     .or_else(|| self.recorded.clone()),
             });
-            {
+            let (previous, retired) = {
                 let mut s = shared.lock();
-                s.latest = Some(frame);
+                let previous = s.latest.replace(frame);
                 s.finished = seq;
                 shared.done.notify_all();
-            }
+                (previous, std::mem::take(&mut s.retired))
+            };
+            // Freed here, outside the lock, not on the UI thread.
+            drop((previous, retired));
             if let Some(wake) = &*shared.wake.lock().unwrap_or_else(|e| e.into_inner()) {
                 wake();
             }

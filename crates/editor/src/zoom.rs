@@ -28,11 +28,13 @@ pub fn zoom_around(
 }
 
 /// The view that shows the whole patch at the largest zoom up to real size,
-/// but never below [`READABLE_ZOOM`].
+/// but never below `floor` ([`READABLE_ZOOM`] unless asked otherwise: `edit
+/// --min-zoom`, to bring a whole patch on screen for a measurement).
 pub fn fit_view(
     to_global: egui::emath::TSTransform,
     node_rects: &[(NodeId, Rect)],
     canvas: Rect,
+    floor: f32,
 ) -> Option<egui::emath::TSTransform> {
     let from_global = to_global.inverse();
     let bb = node_rects
@@ -42,7 +44,7 @@ pub fn fit_view(
         .expand(20.0);
     let scale = (canvas.width() / bb.width())
         .min(canvas.height() / bb.height())
-        .clamp(READABLE_ZOOM, 1.0);
+        .clamp(floor.clamp(*ZOOM_RANGE.start(), 1.0), 1.0);
     let fits =
         bb.width() * scale <= canvas.width() + 0.5 && bb.height() * scale <= canvas.height() + 0.5;
     // Patches too big to fit readably start at their top left, where patches begin.
@@ -72,7 +74,7 @@ mod tests {
                 Rect::from_min_size(Pos2::new(300.0, 250.0), egui::vec2(100.0, 50.0)),
             ),
         ];
-        let fit = fit_view(view, &rects, canvas).expect("a view");
+        let fit = fit_view(view, &rects, canvas, READABLE_ZOOM).expect("a view");
         assert!(fit.scaling >= READABLE_ZOOM, "readable: {}", fit.scaling);
         let back = fit * view.inverse();
         for (_, r) in &rects {
@@ -84,7 +86,7 @@ mod tests {
             NodeId(3),
             Rect::from_min_size(Pos2::new(5000.0, 3000.0), egui::vec2(100.0, 50.0)),
         ));
-        let fit = fit_view(view, &far, canvas).expect("a view");
+        let fit = fit_view(view, &far, canvas, READABLE_ZOOM).expect("a view");
         assert_eq!(fit.scaling, READABLE_ZOOM);
         let top_left = fit * view.inverse() * far[0].1.min;
         assert!(canvas.contains(top_left), "{top_left:?}");
@@ -93,11 +95,13 @@ mod tests {
             Rect::from_min_size(Pos2::ZERO, egui::vec2(10.0, 10.0)),
         )];
         assert_eq!(
-            fit_view(view, &small, canvas).expect("view").scaling,
+            fit_view(view, &small, canvas, READABLE_ZOOM)
+                .expect("view")
+                .scaling,
             1.0,
             "never blown up"
         );
-        assert!(fit_view(view, &[], canvas).is_none());
+        assert!(fit_view(view, &[], canvas, READABLE_ZOOM).is_none());
     }
 
     #[test]

@@ -1199,6 +1199,81 @@ fn double_clicking_a_link_inserts_a_node_keeping_both_sides_linked() {
 }
 
 #[test]
+fn alt_dropping_a_node_onto_a_link_inserts_it_keeping_both_sides_linked() {
+    let env = Env::new();
+    let mut p = lfo_probe();
+    p.nodes[1].pos = (260.0, 20.0);
+    p.link(1, "Output", 2, "Input");
+    p.add(NodeDoc::new(3, "Sin (Value)").at(120.0, 90.0));
+    let before = p.clone();
+    let path = env.patch_file("p.ron", &p);
+    let mut h = harness(env.options(Some(path)));
+    let a = pin(&h, 1, "Output", false);
+    let b = pin(&h, 2, "Input", true);
+    let onto = a + (b - a) * 0.5;
+    let title = h
+        .get_all_by_label("Sin (Value)")
+        .next()
+        .expect("title")
+        .rect();
+    let from = on_canvas(&h, title).center();
+    // Drag the Sin by its title; Alt is held when it is let go over the link.
+    h.hover_at(from);
+    h.step();
+    h.drag_at(from);
+    h.step();
+    for k in 1..=6 {
+        h.hover_at(from + (onto - from) * (k as f32 / 6.0));
+        h.step();
+    }
+    h.event(Event::ModifiersChanged(Modifiers::ALT));
+    h.step();
+    h.drop_at(onto);
+    h.step();
+    h.step();
+    h.event(Event::ModifiersChanged(Modifiers::NONE));
+    h.run();
+    assert_eq!(
+        links_of(&h),
+        vec![
+            LinkDoc::new(1, "Output", 3, "Input"),
+            LinkDoc::new(3, "Output", 2, "Input"),
+        ],
+        "the Sin is in the link, linked on both sides; the old link is gone"
+    );
+    assert_ne!(
+        h.state().doc().node(NodeId(3)).expect("node").pos,
+        (120.0, 90.0),
+        "moved where it was let go"
+    );
+    cmd(&h, Key::Z);
+    h.run();
+    assert_eq!(
+        h.state().doc().patch(),
+        &before,
+        "the move and the insert are one undo step"
+    );
+
+    // Let go without Alt: the node only moves.
+    h.hover_at(from);
+    h.step();
+    h.drag_at(from);
+    h.step();
+    for k in 1..=6 {
+        h.hover_at(from + (onto - from) * (k as f32 / 6.0));
+        h.step();
+    }
+    h.drop_at(onto);
+    h.step();
+    h.run();
+    assert_eq!(links_of(&h), vec![LinkDoc::new(1, "Output", 2, "Input")]);
+    assert_ne!(
+        h.state().doc().node(NodeId(3)).expect("node").pos,
+        (120.0, 90.0)
+    );
+}
+
+#[test]
 fn middle_clicking_an_input_pin_makes_a_linked_iobox_holding_its_spread() {
     let env = Env::new();
     let mut p = lfo_probe();
@@ -1225,6 +1300,98 @@ fn middle_clicking_an_input_pin_makes_a_linked_iobox_holding_its_spread() {
         vec![LinkDoc::new(iobox.id.0, "Output", 1, "Period")]
     );
     assert_eq!(h.state().selected(), vec![iobox.id]);
+    cmd(&h, Key::Z);
+    h.run();
+    assert_eq!(h.state().doc().patch(), &p, "one undo step");
+
+    // Ctrl-click does the same; on a linked pin the IOBox holds what flows in now.
+    // (The LFO feeds the Probe, a sink, so what flows into it is evaluated.)
+    let registry = h.state().registry().clone();
+    h.state_mut()
+        .doc_mut()
+        .link(
+            &registry,
+            spreadlight_graph::PinRef(NodeId(1), "Output".into()),
+            spreadlight_graph::PinRef(NodeId(2), "Input".into()),
+        )
+        .expect("link");
+    h.run();
+    let at = pin(&h, 1, "Period", true);
+    h.hover_at(at);
+    h.step();
+    for pressed in [true, false] {
+        h.event_modifiers(
+            Event::PointerButton {
+                pos: at,
+                button: PointerButton::Primary,
+                pressed,
+                modifiers: Modifiers::COMMAND,
+            },
+            Modifiers::COMMAND,
+        );
+    }
+    h.run();
+    let patch = h.state().doc().patch().clone();
+    let iobox = patch
+        .nodes
+        .iter()
+        .find(|n| n.type_name == "IOBox (Value)")
+        .expect("an IOBox from Ctrl-click");
+    assert_eq!(
+        iobox.values.get("Input"),
+        Some(&Spread::Float(vec![2.5, 3.0]))
+    );
+    assert!(
+        patch
+            .links
+            .contains(&LinkDoc::new(iobox.id.0, "Output", 1, "Period"))
+    );
+    // Its value is now what flows into the LFO's Period: Ctrl-click there again
+    // with the IOBox's value changed makes a second IOBox holding the new spread.
+    let first = iobox.id;
+    h.state_mut().doc_mut().set_value(
+        first,
+        "Input",
+        Some(Spread::Float(vec![7.0, 8.0, 9.0])),
+        false,
+    );
+    h.run();
+    let at = pin(&h, 1, "Period", true);
+    h.hover_at(at);
+    h.step();
+    for pressed in [true, false] {
+        h.event_modifiers(
+            Event::PointerButton {
+                pos: at,
+                button: PointerButton::Primary,
+                pressed,
+                modifiers: Modifiers::COMMAND,
+            },
+            Modifiers::COMMAND,
+        );
+    }
+    h.run();
+    let patch = h.state().doc().patch().clone();
+    let second = patch
+        .nodes
+        .iter()
+        .find(|n| n.type_name == "IOBox (Value)" && n.id != first)
+        .expect("a second IOBox");
+    assert_eq!(
+        second.values.get("Input"),
+        Some(&Spread::Float(vec![7.0, 8.0, 9.0])),
+        "the linked pin's live spread"
+    );
+    assert!(
+        patch
+            .links
+            .contains(&LinkDoc::new(second.id.0, "Output", 1, "Period"))
+            && !patch
+                .links
+                .contains(&LinkDoc::new(first.0, "Output", 1, "Period")),
+        "linked in place of the first: {:?}",
+        patch.links
+    );
 }
 
 #[test]
@@ -1318,6 +1485,33 @@ fn the_layout_key_leaves_no_drawn_overlap_within_the_measure_and_undo_restores()
             );
         }
     }
+    cmd(&h, Key::Z);
+    h.run();
+    assert_eq!(h.state().doc().patch(), &before, "one undo step");
+
+    // Shift+L: the same, top to bottom, each layer below the one feeding it.
+    h.key_press_modifiers(Modifiers::SHIFT, Key::L);
+    h.run();
+    let patch = h.state().doc().patch().clone();
+    assert_ne!(&patch, &before, "Shift+L moved the nodes");
+    assert!(spreadlight_editor::organise::measure::overlapping_nodes(&patch, &registry).is_empty());
+    let node = |id: u32| patch.node(NodeId(id)).expect("node");
+    let bottom = |id: u32| {
+        node(id).pos.1
+            + spreadlight_editor::organise::measure::node_size(node(id), &registry, &patch).1
+    };
+    // LFO -> Sin -> Multiply -> Probe, a row each.
+    for (a, b) in [(1, 2), (2, 3), (3, 4)] {
+        assert!(
+            node(b).pos.1 >= bottom(a),
+            "{} is below {}: {:?} {:?}",
+            node(b).type_name,
+            node(a).type_name,
+            node(b).pos,
+            node(a).pos
+        );
+    }
+    assert!(h.state().status().contains("top to bottom"));
     cmd(&h, Key::Z);
     h.run();
     assert_eq!(h.state().doc().patch(), &before, "one undo step");

@@ -495,3 +495,100 @@ fn a_g_buffer_output_shows_a_channel_as_its_thumbnail() {
         image.save(docs).expect("write docs/editor-previews.png");
     }
 }
+
+/// Hover the output pin `pin` of node `node` (its name, where snarl draws it) until its popup shows.
+fn hover_output(h: &mut Harness<'static, EditorApp>, node: u32, pin: &str) {
+    let dot = h
+        .state()
+        .pin_pos(spreadlight_graph::NodeId(node), pin, false)
+        .expect("the pin is drawn");
+    // The name is left of the pin's dot, on its row.
+    let at = h
+        .get_all_by_label(pin)
+        .map(|l| {
+            let r = l.rect();
+            let a = h.state().canvas_to_screen(&h.ctx, r.min);
+            let b = h.state().canvas_to_screen(&h.ctx, r.max);
+            egui::Rect::from_min_max(a, b).center()
+        })
+        .min_by(|a, b| a.distance(dot).total_cmp(&b.distance(dot)))
+        .expect("the pin's name");
+    h.hover_at(at);
+    h.run_steps(6);
+}
+
+#[test]
+fn hovering_a_texture_or_mesh_pin_shows_its_large_preview() {
+    use spreadlight_editor::previews::{MeshCounts, PreviewKey};
+    let dir = tempfile::tempdir().expect("tempdir");
+    two_tone(&dir, 40, 200);
+    let mut p = file_texture_patch("two.png", true, false);
+    p.add(spreadlight_graph::NodeDoc::new(3, "Box").at(160.0, 0.0));
+    let mut h = editor_on(&p, &dir, Vec2::new(1100.0, 700.0));
+    let large = |node: u32, pin: &str| PreviewKey {
+        path: vec![spreadlight_graph::NodeId(node)],
+        pin: pin.to_owned(),
+        channel: None,
+        large: true,
+    };
+
+    // A texture pin: the large preview shows the texture's pixels, its size, and the centre texel.
+    hover_output(&mut h, 1, "Texture");
+    let rect = h
+        .state()
+        .thumbnail_rect(&large(1, "Texture"))
+        .expect("the large preview is drawn in the pin's popup");
+    assert!(rect.width() > 200.0, "large: {rect:?}");
+    let out = h
+        .state()
+        .preview(&large(1, "Texture"))
+        .expect("the worker made it");
+    assert_eq!(out.error, None);
+    assert_eq!(out.source.map(|s| s.0), Some((64, 36)));
+    let (texel, value) = out.value.expect("the centre texel");
+    assert_eq!(texel, (32, 18));
+    let linear = spreadlight_render::readback::srgb_to_linear(200.0 / 255.0);
+    assert!((value[0] - linear).abs() < 0.01, "{value:?}");
+    assert!(h.query_by_label_contains("64 × 36").is_some());
+    let ppp = h.ctx.pixels_per_point();
+    let image = h.render().expect("render the window");
+    assert_grey(
+        pixel_in(&image, rect, ppp, 0.25, 0.5),
+        40,
+        "large, left half",
+    );
+    assert_grey(
+        pixel_in(&image, rect, ppp, 0.75, 0.5),
+        200,
+        "large, right half",
+    );
+
+    // A mesh pin: a turntable of the mesh, with its counts (a box: 6 faces of 4 vertices, 2 triangles).
+    hover_output(&mut h, 3, "Mesh");
+    let out = h
+        .state()
+        .preview(&large(3, "Mesh"))
+        .expect("the worker made the turntable");
+    assert_eq!(out.error, None);
+    assert_eq!(
+        out.mesh,
+        Some(MeshCounts {
+            meshes: 1,
+            vertices: 24,
+            triangles: 12
+        })
+    );
+    assert!(
+        h.query_by_label_contains("1 mesh · 24 vertices · 12 triangles")
+            .is_some()
+    );
+    let rect = h
+        .state()
+        .thumbnail_rect(&large(3, "Mesh"))
+        .expect("the turntable is drawn");
+    let image = h.render().expect("render the window");
+    assert!(
+        distinct_colours(&image, rect, ppp) > 2,
+        "the box's normals, not a blank"
+    );
+}

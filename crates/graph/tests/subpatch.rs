@@ -476,3 +476,44 @@ fn inline_subpatches_round_trip_and_raise_the_version() {
         "no subpatches: stays version 1"
     );
 }
+
+/// Bypass on a subpatch node works as on any node: its first input passes to
+/// its first output of the same type, its other outputs are empty, and its
+/// inside does not run; un-bypassed, it computes again.
+#[test]
+fn a_bypassed_instance_passes_its_first_input_and_its_inside_does_not_run() {
+    let mut p = parent();
+    p.add(probe(6, "count"));
+    p.link(2, "Count", 6, "Input");
+    let mut rt = loaded(&p);
+    rt.evaluate(FrameClock::fixed(0, 60.0));
+    assert_eq!(floats(&rt, "linked"), [2.0, 4.0, 6.0]);
+    assert_eq!(ints(&rt, "count"), [1]);
+
+    p.node_mut(NodeId(2)).expect("node").bypass = true;
+    let problems = rt.load(&p).to_vec();
+    assert!(problems.is_empty(), "{problems:?}");
+    rt.evaluate(FrameClock::fixed(1, 60.0));
+    assert_eq!(
+        floats(&rt, "linked"),
+        [1.0, 2.0, 3.0],
+        "X passes to Y (the first Float output) undoubled"
+    );
+    assert_eq!(
+        ints(&rt, "count"),
+        [] as [i64; 0],
+        "the other output is empty"
+    );
+    assert_eq!(
+        **rt.output(NodeId(2), "Y").expect("the instance's pin"),
+        Spread::Float(vec![1.0, 2.0, 3.0])
+    );
+    // The other instance, not bypassed, still doubles.
+    assert_eq!(floats(&rt, "valued"), [20.0]);
+
+    p.node_mut(NodeId(2)).expect("node").bypass = false;
+    rt.load(&p);
+    rt.evaluate(FrameClock::fixed(2, 60.0));
+    assert_eq!(floats(&rt, "linked"), [2.0, 4.0, 6.0], "runs again");
+    assert!(ints(&rt, "count")[0] >= 1);
+}

@@ -108,7 +108,7 @@ impl EditorApp {
                 // Comments and frames are part of what the patch shows.
                 let mut rects = self.node_rects.clone();
                 rects.extend(self.organise.rects.iter().map(|r| (NodeId(u32::MAX), *r)));
-                canvas::fit_view(view, &rects, canvas_rect)
+                canvas::fit_view(view, &rects, canvas_rect, self.options.min_zoom)
             }
             Some(view) if self.organise.jump.is_some() => self.jump_view(view, canvas_rect),
             Some(view) => self.wheel_zoom(ui, view, canvas_rect),
@@ -143,7 +143,7 @@ impl EditorApp {
                 .show(&mut self.snarl, &mut viewer, ui)
         };
         self.wires_to_culled_nodes(ui, layer, canvas_rect);
-        let node_rects = self.with_culled_rects(ui, layer, node_rects);
+        self.canvas_view = ui.ctx().layer_transform_to_global(layer);
         self.annotations_ui(ui, layer);
         self.open_browser_for_dropped_wire(ui.ctx());
         if !dragging {
@@ -288,23 +288,18 @@ impl EditorApp {
         }
     }
 
-    /// `drawn` (the nodes snarl drew, in drawing order) after the nodes it
-    /// did not hold, where they were last drawn: every node has its
-    /// rectangle on screen (fitting, selecting, hit tests read them).
-    fn with_culled_rects(
-        &self,
-        ui: &Ui,
-        layer: LayerId,
-        drawn: Vec<(NodeId, egui::Rect)>,
-    ) -> Vec<(NodeId, egui::Rect)> {
+    /// Each node's rectangle on screen last frame: the nodes snarl did not
+    /// hold (off the view), where they were last drawn, then those it drew,
+    /// in drawing order. Hit tests need only the drawn ones (the others lie
+    /// outside the view), so a frame does not build this; fitting the view
+    /// and the tests do.
+    pub fn node_screen_rects(&self) -> Vec<(NodeId, egui::Rect)> {
         let patch = self.doc.patch();
+        let drawn = &self.node_rects;
         if self.snarl_ids.len() == patch.nodes.len() {
-            return drawn;
+            return drawn.clone();
         }
-        let to_global = ui
-            .ctx()
-            .layer_transform_to_global(layer)
-            .unwrap_or_default();
+        let to_global = self.canvas_view.unwrap_or_default();
         // The same view of the same document: the same rectangles as last frame.
         let key = (to_global, self.doc.generation(), self.snarl_ids.len());
         let mut cache = self.culling.culled_rects.borrow_mut();
@@ -318,7 +313,7 @@ impl EditorApp {
             cache.0 = Some(key);
         }
         let mut all = cache.1.clone();
-        all.extend(drawn);
+        all.extend(drawn.iter().copied());
         all
     }
 

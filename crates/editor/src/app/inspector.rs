@@ -171,7 +171,6 @@ impl EditorApp {
 
     pub(super) fn viewport_ui(&mut self, ui: &mut Ui, k: usize, label: Option<Id>) {
         if k == 1 {
-            let pins = self.texture_pins();
             let current = match &self.viewports[1].source {
                 Source::None => "none".to_owned(),
                 Source::Output => "Output".to_owned(),
@@ -180,6 +179,8 @@ impl EditorApp {
             let combo = egui::ComboBox::from_id_salt("second-viewport")
                 .selected_text(current)
                 .show_ui(ui, |ui| {
+                    // Listed only while the drop-down is open: a look at every node.
+                    let pins = self.texture_pins();
                     if ui
                         .selectable_label(self.viewports[1].source == Source::Output, "Output")
                         .clicked()

@@ -7,6 +7,7 @@
 use super::*;
 use crate::organise::find::{self, Target};
 use crate::organise::gestures::{self, BrowserLink};
+use crate::organise::layout::Direction;
 use crate::organise::{Dragging, comments, frames, measure};
 use spreadlight_graph::{CommentDoc, FrameDoc, LinkDoc};
 
@@ -72,7 +73,8 @@ fn hit_area(ctx: &egui::Context, id: Id, rect: egui::Rect) -> egui::Response {
 
 impl EditorApp {
     /// The organising shortcuts (not while typing): Ctrl+F, Ctrl+B, Ctrl+M,
-    /// Ctrl+Shift+F, Ctrl+L, L, the arrow keys.
+    /// Ctrl+Shift+F, Ctrl+L, Shift+L, L, the arrow keys. Shifted keys are
+    /// tried first: `consume_key` with no modifiers takes a shifted press too.
     pub(super) fn organise_shortcuts(&mut self, ctx: &egui::Context) {
         let consume = |m: Modifiers, key| ctx.input_mut(|i| i.consume_key(m, key));
         let ids = self.selected();
@@ -91,8 +93,11 @@ impl EditorApp {
         if consume(Modifiers::COMMAND, Key::L) {
             self.doc.align(&self.registry, &ids);
         }
+        if consume(Modifiers::SHIFT, Key::L) {
+            self.layout_selection_or_all(Direction::TopToBottom);
+        }
         if consume(Modifiers::NONE, Key::L) {
-            self.layout_selection_or_all();
+            self.layout_selection_or_all(Direction::LeftToRight);
         }
         for (key, d) in [
             (Key::ArrowLeft, (-1.0, 0.0)),
@@ -121,14 +126,19 @@ impl EditorApp {
         });
     }
 
-    /// Lay out the selection, or the whole patch when nothing is selected.
-    pub fn layout_selection_or_all(&mut self) {
+    /// Lay out the selection, or the whole patch when nothing is selected,
+    /// its layers following each other in `direction`.
+    pub fn layout_selection_or_all(&mut self, direction: Direction) {
         let ids = self.selected();
-        self.doc.layout(&self.registry, &ids);
+        self.doc.layout(&self.registry, &ids, direction);
+        let way = match direction {
+            Direction::LeftToRight => "left to right",
+            Direction::TopToBottom => "top to bottom",
+        };
         self.status = if ids.is_empty() {
-            "laid out the patch (Ctrl+Z undoes it)".to_owned()
+            format!("laid out the patch {way} (Ctrl+Z undoes it)")
         } else {
-            format!("laid out {} nodes (Ctrl+Z undoes it)", ids.len())
+            format!("laid out {} nodes {way} (Ctrl+Z undoes it)", ids.len())
         };
     }
 
@@ -185,11 +195,18 @@ impl EditorApp {
             }
             ui.separator();
             if ui
-                .button("Layout")
-                .on_hover_text("L: the selection, or the whole patch")
+                .button("Layout left to right")
+                .on_hover_text("L: the selection, or the whole patch, in columns")
                 .clicked()
             {
-                self.layout_selection_or_all();
+                self.layout_selection_or_all(Direction::LeftToRight);
+            }
+            if ui
+                .button("Layout top to bottom")
+                .on_hover_text("Shift+L: the selection, or the whole patch, in rows")
+                .clicked()
+            {
+                self.layout_selection_or_all(Direction::TopToBottom);
             }
             if ui
                 .add_enabled(ids.len() > 1, egui::Button::new("Align"))

@@ -110,7 +110,8 @@ impl EditorApp {
         &self.previews.sent
     }
 
-    /// Where the last frame drew a thumbnail, in screen points.
+    /// Where the last frame drew a thumbnail (or, for a `large` key, the
+    /// hover preview), in screen points.
     pub fn thumbnail_rect(&self, key: &PreviewKey) -> Option<egui::Rect> {
         self.previews
             .drawn

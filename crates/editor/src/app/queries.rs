@@ -65,11 +65,6 @@ impl EditorApp {
         self.culling.laid_out
     }
 
-    /// Each node's rectangle on screen last frame, and the canvas's.
-    pub fn node_screen_rects(&self) -> &[(NodeId, egui::Rect)] {
-        &self.node_rects
-    }
-
     pub fn canvas_rect(&self) -> Option<egui::Rect> {
         self.canvas_rect
     }

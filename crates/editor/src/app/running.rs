@@ -95,7 +95,9 @@ impl EditorApp {
             if let Some(failure) = &frame.failure {
                 self.status = failure.clone();
             }
-            self.frame = frame;
+            // The worker frees the old one (every node's outputs), not this thread.
+            let old = std::mem::replace(&mut self.frame, frame);
+            self.worker.retire(old);
         }
     }
 
@@ -104,34 +106,13 @@ impl EditorApp {
         match source {
             Source::None => Err(ViewportError::NoTexture),
             Source::Pin(node, pin) => Ok((*node, pin.clone())),
-            Source::Output => {
-                // Viewports show the top patch, whichever document is open.
-                let patch = self.doc.top();
-                let is_output =
-                    |id: &NodeId| patch.node(*id).is_some_and(|n| n.type_name == "Output");
-                let chosen = self
-                    .selected()
-                    .into_iter()
-                    .rev()
-                    .find(is_output)
-                    // By type in one pass: `is_output` looks each id up (a linear search), which
-                    // made this quadratic, every frame, in a big patch without an Output.
-                    .or_else(|| {
-                        patch
-                            .nodes
-                            .iter()
-                            .find(|n| n.type_name == "Output")
-                            .map(|n| n.id)
-                    })
-                    .ok_or(ViewportError::NoTexture)?;
-                let into = PinRef(chosen, "Texture".to_owned());
-                let link = patch
-                    .links
-                    .iter()
-                    .find(|l| l.to == into)
-                    .ok_or(ViewportError::NoTexture)?;
-                Ok((link.from.node(), link.from.pin().to_owned()))
-            }
+            // Viewports show the top patch, whichever document is open; its
+            // Outputs are indexed once per edit (`output_index.rs`).
+            Source::Output => self
+                .outputs
+                .source(self.doc.generation(), self.doc.top(), self.selected.iter())
+                .flatten()
+                .ok_or(ViewportError::NoTexture),
         }
     }
 }

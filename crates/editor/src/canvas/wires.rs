@@ -7,6 +7,12 @@ use crate::model::EditorDoc;
 
 /// The link under `pointer`, if one passes within `threshold` points of it:
 /// wires are straight lines between the pins' drawn positions.
+///
+/// Only drawn wires can be under the pointer, and a wire is drawn only where
+/// both its pins were: so the links looked at are those into the drawn input
+/// pins (found by the document's index of links by input), not every link of
+/// the patch. Hovering the canvas, which asks this every frame, costs what
+/// the visible part of the patch costs, however big the patch is.
 pub fn wire_under(
     doc: &EditorDoc,
     pins: &PinPositions,
@@ -14,19 +20,22 @@ pub fn wire_under(
     threshold: f32,
 ) -> Option<spreadlight_graph::LinkDoc> {
     let pins = pins.borrow();
-    doc.patch()
-        .links
-        .iter()
-        .filter_map(|l| {
+    pins.iter()
+        .filter(|((_, _, input), _)| *input)
+        .filter_map(|((node, name, _), &b)| {
+            let l = doc.link_into(&spreadlight_graph::PinRef(*node, name.clone()))?;
             let a = *pins.get(&(l.from.node(), l.from.pin().to_owned(), false))?;
-            let b = *pins.get(&(l.to.node(), l.to.pin().to_owned(), true))?;
             let ab = b - a;
             let t = ((pointer - a).dot(ab) / ab.length_sq().max(1e-6)).clamp(0.0, 1.0);
             let d = (a + ab * t - pointer).length();
-            (d < threshold).then(|| (d, l.clone()))
+            (d < threshold).then_some((d, l))
         })
-        .min_by(|x, y| x.0.total_cmp(&y.0))
-        .map(|(_, l)| l)
+        // The nearest; a tie goes to the link listed first, whatever the map's order.
+        .min_by(|x, y| {
+            x.0.total_cmp(&y.0)
+                .then_with(|| doc.link_position(x.1).cmp(&doc.link_position(y.1)))
+        })
+        .map(|(_, l)| l.clone())
 }
 
 #[cfg(test)]

@@ -242,9 +242,10 @@ impl EditorDoc {
         self.execute(label, Command::Bypass { nodes });
     }
 
-    /// Lay out `ids` (every node when empty): one undo step. Frames are left where they are.
-    pub fn layout(&mut self, registry: &Registry, ids: &[NodeId]) {
-        let moves = layout::layout(self.patch(), registry, ids);
+    /// Lay out `ids` (every node when empty), layers following each other in
+    /// `direction`: one undo step. Frames are left where they are.
+    pub fn layout(&mut self, registry: &Registry, ids: &[NodeId], direction: layout::Direction) {
+        let moves = layout::layout(self.patch(), registry, ids, direction);
         self.grouped("layout", |doc| doc.move_nodes(&moves));
     }
 

@@ -298,7 +298,7 @@ fn a_frame_moves_its_nodes_and_bypass_comments_and_layout_undo() {
     assert!(doc.node(NodeId(1)).is_some_and(|n| !n.bypass));
 
     let before = doc.patch().clone();
-    doc.layout(&reg, &[]);
+    doc.layout(&reg, &[], crate::organise::layout::Direction::LeftToRight);
     assert!(crate::organise::measure::overlapping_nodes(doc.patch(), &reg).is_empty());
     assert!(doc.undo());
     assert_eq!(doc.patch(), &before, "layout is one step");

@@ -1,8 +1,9 @@
-//! The one-key layout: nodes in layers left to right in data-flow order
-//! (a node one layer right of the nearest node it feeds, so links stay
-//! short), ordered within a layer to keep links from crossing, stacked
-//! without overlap. Also aligning a selection in a row or a column. Pure
-//! functions of the patch: the model records their moves as one undo step.
+//! The one-key layout: nodes in layers in data-flow order, left to right
+//! (L) or top to bottom (Shift+L) (a node one layer after the nearest node
+//! it feeds, so links stay short), ordered within a layer to keep links from
+//! crossing, stacked without overlap. Also aligning a selection in a row or
+//! a column. Pure functions of the patch: the model records their moves as
+//! one undo step.
 
 use std::collections::{BTreeMap, HashMap, HashSet};
 
@@ -16,9 +17,30 @@ use super::measure::node_size;
 pub const LAYER_GAP: f32 = 16.0;
 pub const NODE_GAP: f32 = 6.0;
 
+/// Which way data flows in a layout: the direction its layers follow each other.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Direction {
+    /// Layers are columns, sources at the left (L).
+    #[default]
+    LeftToRight,
+    /// Layers are rows, sources at the top (Shift+L), as vvvv patches read.
+    TopToBottom,
+}
+
 /// New positions for `ids` (all nodes when empty), laid out from the top-left
-/// corner of where they are now. Nodes not named keep their places.
-pub fn layout(patch: &Patch, registry: &Registry, ids: &[NodeId]) -> Vec<(NodeId, (f32, f32))> {
+/// corner of where they are now, layers following each other in `direction`.
+/// Nodes not named keep their places.
+///
+/// The layout is worked out in "across" and "along" coordinates: layers
+/// follow each other across (x left to right, y top to bottom) and nodes of a
+/// layer stack along (y, or x). Pins stay on the nodes' sides either way.
+pub fn layout(
+    patch: &Patch,
+    registry: &Registry,
+    ids: &[NodeId],
+    direction: Direction,
+) -> Vec<(NodeId, (f32, f32))> {
+    let down = direction == Direction::TopToBottom;
     let chosen: Vec<NodeId> = if ids.is_empty() {
         patch.nodes.iter().map(|n| n.id).collect()
     } else {
@@ -36,10 +58,18 @@ pub fn layout(patch: &Patch, registry: &Registry, ids: &[NodeId]) -> Vec<(NodeId
     }
     let index: HashMap<NodeId, usize> = chosen.iter().enumerate().map(|(i, &id)| (id, i)).collect();
     let n = chosen.len();
-    let node = |i: usize| patch.node(chosen[i]);
+    // Looked up once: `Patch::node` is a linear search, and the sorts below ask often.
+    let docs: HashMap<NodeId, &spreadlight_graph::NodeDoc> =
+        patch.nodes.iter().map(|d| (d.id, d)).collect();
+    let docs: Vec<Option<&spreadlight_graph::NodeDoc>> =
+        chosen.iter().map(|id| docs.get(id).copied()).collect();
+    let node = |i: usize| docs[i];
+    // Each node's (across, along) extent and position.
+    let swap = |(a, b): (f32, f32)| if down { (b, a) } else { (a, b) };
     let sizes: Vec<(f32, f32)> = (0..n)
-        .map(|i| node(i).map_or((40.0, 20.0), |d| node_size(d, registry, patch)))
+        .map(|i| swap(node(i).map_or((40.0, 20.0), |d| node_size(d, registry, patch))))
         .collect();
+    let along_pos = |i: usize| node(i).map_or(0.0, |d| swap(d.pos).1);
     // Edges among the chosen nodes, once per pair, with the input's index (to order by pin).
     let mut succ: Vec<Vec<usize>> = vec![Vec::new(); n];
     let mut pred: Vec<Vec<(usize, usize)>> = vec![Vec::new(); n];
@@ -86,13 +116,9 @@ pub fn layout(patch: &Patch, registry: &Registry, ids: &[NodeId]) -> Vec<(NodeId
     }
     let layers = layer.iter().copied().max().unwrap_or(0) + 1;
     let mut rows: Vec<Vec<usize>> = vec![Vec::new(); layers];
-    // Start from the current vertical order, so a layout keeps what the artist arranged.
+    // Start from the current order along a layer, so a layout keeps what the artist arranged.
     let mut by_y: Vec<usize> = (0..n).collect();
-    by_y.sort_by(|&a, &b| {
-        let ya = node(a).map_or(0.0, |d| d.pos.1);
-        let yb = node(b).map_or(0.0, |d| d.pos.1);
-        ya.total_cmp(&yb).then(a.cmp(&b))
-    });
+    by_y.sort_by(|&a, &b| along_pos(a).total_cmp(&along_pos(b)).then(a.cmp(&b)));
     for v in by_y {
         rows[layer[v]].push(v);
     }
@@ -138,7 +164,15 @@ pub fn layout(patch: &Patch, registry: &Registry, ids: &[NodeId]) -> Vec<(NodeId
             set_places(&rows, &mut place);
         }
     }
-    // Columns: each layer as wide as its widest node.
+    if down {
+        pin_order(
+            &mut rows,
+            &|v| kind(v),
+            &|v| node(v).map_or(0.0, |d| d.pos.0),
+            &chosen,
+        );
+    }
+    // Columns (rows, top to bottom): each layer as wide as its widest node.
     let mut x = vec![0.0f32; layers];
     for l in 1..layers {
         let widest = rows[l - 1].iter().map(|&v| sizes[v].0).fold(0.0, f32::max);
@@ -181,13 +215,13 @@ pub fn layout(patch: &Patch, registry: &Registry, ids: &[NodeId]) -> Vec<(NodeId
             bottom = y[v] + sizes[v].1;
         }
     }
-    let origin = chosen
+    let origin = docs
         .iter()
-        .filter_map(|&id| patch.node(id).map(|d| d.pos))
+        .filter_map(|d| d.map(|d| d.pos))
         .fold((f32::INFINITY, f32::INFINITY), |a, p| {
             (a.0.min(p.0), a.1.min(p.1))
         });
-    // Keep the IOBoxes' order left to right (by x, then id), a unit apart.
+    // Keep the IOBoxes' order left to right (by x, then id): their pin order.
     let mut shift = vec![0.0f32; n];
     for k in [INLET, OUTLET] {
         let mut boxes: Vec<usize> = (0..n).filter(|&v| kind(v) == Some(k)).collect();
@@ -196,22 +230,53 @@ pub fn layout(patch: &Patch, registry: &Registry, ids: &[NodeId]) -> Vec<(NodeId
             let xb = node(b).map_or(0.0, |d| d.pos.0);
             xa.total_cmp(&xb).then(chosen[a].cmp(&chosen[b]))
         });
-        for (rank, v) in boxes.into_iter().enumerate() {
-            shift[v] = rank as f32;
+        // Top to bottom they are a row, ordered so already (`pin_order`);
+        // left to right a column, kept in order by a unit's shift right.
+        if !down {
+            for (rank, v) in boxes.into_iter().enumerate() {
+                shift[v] = rank as f32;
+            }
         }
     }
     let top = y.iter().copied().fold(f32::INFINITY, f32::min);
     (0..n)
         .map(|v| {
+            let across = x[layer[v]] + shift[v];
+            let along = y[v] - top;
+            let (dx, dy) = if down {
+                (along, across)
+            } else {
+                (across, along)
+            };
             (
                 chosen[v],
-                (
-                    (origin.0 + x[layer[v]] + shift[v]).round(),
-                    (origin.1 + y[v] - top).round(),
-                ),
+                ((origin.0 + dx).round(), (origin.1 + dy).round()),
             )
         })
         .collect()
+}
+
+/// A subpatch's `Inlet`s and `Outlet`s, each a row when laid out top to
+/// bottom: their order along it is their node's pin order (by x, then id), so
+/// each row's places held by one kind go to that kind in pin order.
+fn pin_order<'p>(
+    rows: &mut [Vec<usize>],
+    kind: &dyn Fn(usize) -> Option<&'p str>,
+    x: &dyn Fn(usize) -> f32,
+    chosen: &[NodeId],
+) {
+    for k in [INLET, OUTLET] {
+        for row in rows.iter_mut() {
+            let slots: Vec<usize> = (0..row.len())
+                .filter(|&s| kind(row[s]) == Some(k))
+                .collect();
+            let mut boxes: Vec<usize> = slots.iter().map(|&s| row[s]).collect();
+            boxes.sort_by(|&a, &b| x(a).total_cmp(&x(b)).then(chosen[a].cmp(&chosen[b])));
+            for (s, v) in slots.into_iter().zip(boxes) {
+                row[s] = v;
+            }
+        }
+    }
 }
 
 /// Kahn's order; nodes on a cycle (a broken patch) follow in document order.
@@ -325,7 +390,7 @@ mod tests {
         p.link(2, "Output", 4, "Input 1");
         p.link(4, "Output", 3, "Input");
         assert!(!overlapping_nodes(&p, &registry).is_empty());
-        let moves = layout(&p, &registry, &[]);
+        let moves = layout(&p, &registry, &[], Direction::LeftToRight);
         for (id, pos) in &moves {
             p.node_mut(*id).expect("node").pos = *pos;
         }
@@ -334,6 +399,84 @@ mod tests {
         assert!(x(1) < x(2) && x(2) < x(4) && x(4) < x(3), "{moves:?}");
         // Laid out from where the nodes were.
         assert_eq!(x(1), 5.0);
+    }
+
+    #[test]
+    fn top_to_bottom_puts_each_layer_below_the_one_feeding_it_without_overlap() {
+        let registry = crate::nodes::registry();
+        let mut p = Patch::default();
+        // A diamond, piled up: LFO feeds Sin and Cos, both feed Multiply.
+        p.add(NodeDoc::new(1, "LFO").at(5.0, 5.0));
+        p.add(NodeDoc::new(2, "Sin (Value)").at(5.0, 5.0));
+        p.add(NodeDoc::new(3, "Cos (Value)").at(5.0, 5.0));
+        p.add(NodeDoc::new(4, "Multiply (Value)").at(5.0, 5.0));
+        p.add(NodeDoc::new(5, "Probe").at(5.0, 5.0));
+        p.link(1, "Output", 2, "Input");
+        p.link(1, "Output", 3, "Input");
+        p.link(2, "Output", 4, "Input 1");
+        p.link(3, "Output", 4, "Input 2");
+        p.link(4, "Output", 5, "Input");
+        let moves = layout(&p, &registry, &[], Direction::TopToBottom);
+        assert_eq!(moves.len(), 5);
+        for (id, pos) in &moves {
+            p.node_mut(*id).expect("node").pos = *pos;
+        }
+        assert!(overlapping_nodes(&p, &registry).is_empty(), "{moves:?}");
+        let at = |id: u32| p.node(NodeId(id)).expect("node").pos;
+        let bottom = |id: u32| {
+            let n = p.node(NodeId(id)).expect("node");
+            n.pos.1 + node_size(n, &registry, &p).1
+        };
+        // Each layer starts below the bottom of the layer that feeds it.
+        assert!(at(2).1 >= bottom(1) && at(3).1 >= bottom(1), "{moves:?}");
+        assert!(at(4).1 >= bottom(2).max(bottom(3)), "{moves:?}");
+        assert!(at(5).1 >= bottom(4), "{moves:?}");
+        // Sin and Cos share a row, side by side.
+        assert_eq!(at(2).1, at(3).1);
+        assert_ne!(at(2).0, at(3).0);
+        // Laid out from where the nodes were.
+        assert_eq!(at(1).1, 5.0);
+        let left = p
+            .nodes
+            .iter()
+            .map(|n| n.pos.0)
+            .fold(f32::INFINITY, f32::min);
+        assert_eq!(left, 5.0);
+    }
+
+    #[test]
+    fn top_to_bottom_keeps_a_subpatch_s_pin_order() {
+        use spreadlight_graph::subpatch::{INLET, OUTLET};
+        let registry = crate::nodes::registry();
+        let mut p = Patch::default();
+        let iobox = |id: u32, kind: &str, x: f32, name: &str| {
+            NodeDoc::new(id, kind)
+                .at(x, 0.0)
+                .with("Name", vec![name.to_owned()])
+        };
+        // Pin order B (x 0), A (x 50); they feed the adder crosswise.
+        p.add(iobox(1, INLET, 50.0, "A"));
+        p.add(iobox(2, INLET, 0.0, "B"));
+        p.add(NodeDoc::new(3, "Add (Value)").at(0.0, 0.0));
+        p.add(iobox(4, OUTLET, 0.0, "Sum"));
+        p.link(1, "Output", 3, "Input 1");
+        p.link(2, "Output", 3, "Input 2");
+        p.link(3, "Output", 4, "Input");
+        let before: Vec<String> = spreadlight_graph::subpatch::ioboxes(&p, INLET)
+            .iter()
+            .map(|n| spreadlight_graph::subpatch::pin_name(n))
+            .collect();
+        for (id, pos) in layout(&p, &registry, &[], Direction::TopToBottom) {
+            p.node_mut(id).expect("node").pos = pos;
+        }
+        let after: Vec<String> = spreadlight_graph::subpatch::ioboxes(&p, INLET)
+            .iter()
+            .map(|n| spreadlight_graph::subpatch::pin_name(n))
+            .collect();
+        assert_eq!(before, after);
+        assert!(overlapping_nodes(&p, &registry).is_empty());
+        let y = |id: u32| p.node(NodeId(id)).expect("node").pos.1;
+        assert!(y(1) == y(2) && y(2) < y(3) && y(3) < y(4));
     }
 
     #[test]

@@ -72,7 +72,7 @@ pub fn tidy(patch: &mut Patch, registry: &Registry) {
                 .collect()
         })
         .collect();
-    for (id, pos) in layout::layout(patch, registry, &[]) {
+    for (id, pos) in layout::layout(patch, registry, &[], layout::Direction::LeftToRight) {
         if let Some(n) = patch.node_mut(id) {
             n.pos = pos;
         }

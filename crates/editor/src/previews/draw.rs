@@ -100,7 +100,8 @@ fn thumbnail(ui: &mut Ui, previews: &mut CanvasPreviews, path: &[NodeId], pin: &
         let probed = out.as_ref().and_then(|o| o.value);
         response.on_hover_ui(|ui| {
             let out = previews.outputs.get(&large).cloned();
-            large_image(ui, out.as_ref());
+            let rect = large_image(ui, out.as_ref());
+            record(ui, previews, large, rect);
             describe(ui, out.as_ref(), probed);
         });
     }
@@ -127,7 +128,16 @@ fn paint(ui: &Ui, rect: Rect, out: Option<&PreviewOut>) {
     }
 }
 
-fn large_image(ui: &mut Ui, out: Option<&PreviewOut>) {
+/// Where a preview was drawn this frame, in screen points (the tests look there).
+fn record(ui: &Ui, previews: &mut CanvasPreviews, key: PreviewKey, rect: Rect) {
+    let to_screen = ui
+        .ctx()
+        .layer_transform_to_global(ui.layer_id())
+        .unwrap_or_default();
+    previews.drawn.push((key, to_screen * rect));
+}
+
+fn large_image(ui: &mut Ui, out: Option<&PreviewOut>) -> Rect {
     // A mesh's turntable is square and smaller.
     let width = if out.is_some_and(|o| o.mesh.is_some()) {
         LARGE_POINTS * 0.6
@@ -137,6 +147,7 @@ fn large_image(ui: &mut Ui, out: Option<&PreviewOut>) {
     let size = Vec2::new(width, width * aspect(out));
     let (rect, _) = ui.allocate_exact_size(size, Sense::hover());
     paint(ui, rect, out);
+    rect
 }
 
 /// The size, format, and the value probed under the pointer.
@@ -171,6 +182,7 @@ pub fn large(ui: &mut Ui, previews: &mut CanvasPreviews, path: &[NodeId], pin: &
     let key = key(previews, path, pin, ty, true);
     previews.want(key.clone(), Some((0.5, 0.5)));
     let out = previews.outputs.get(&key).cloned();
-    large_image(ui, out.as_ref());
+    let rect = large_image(ui, out.as_ref());
+    record(ui, previews, key, rect);
     describe(ui, out.as_ref(), None);
 }

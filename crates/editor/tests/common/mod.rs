@@ -21,6 +21,8 @@ pub fn options(path: Option<PathBuf>, config_dir: PathBuf) -> EditorOptions {
         automation: None,
         frame_wait: FrameWait::Always,
         read_only: false,
+        min_zoom: spreadlight_editor::canvas::READABLE_ZOOM,
+        paused: false,
     }
 }
 

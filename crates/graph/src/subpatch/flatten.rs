@@ -33,6 +33,14 @@ pub(crate) struct Flat {
     pub problems: Vec<Problem>,
     /// Flat placeholders whose "unknown type" warning a flattening error replaces.
     pub explained: HashSet<NodeId>,
+    /// Bypassed instances, to be short-circuited once their IOBoxes are typed.
+    pub bypassed: Vec<BypassedInstance>,
+}
+
+/// A bypassed subpatch instance: its first `Inlet` and its `Outlet`s, in pin order.
+pub(crate) struct BypassedInstance {
+    pub first_inlet: Option<NodeId>,
+    pub outlets: Vec<NodeId>,
 }
 
 /// A subpatch's pins of one direction, in order: name and the flat IOBox behind it.
@@ -245,6 +253,7 @@ impl Flattener<'_> {
         }
         let mut inner_chain = chain.to_vec();
         inner_chain.push(name.clone());
+        let first_inner = self.flat.patch.nodes.len();
         let (inputs, outputs) = match self.find(name, Some(scope)) {
             None => return placeholder(self, path, None),
             Some(Found::Unreadable(message)) => {
@@ -287,7 +296,27 @@ impl Flattener<'_> {
                 .instance_outputs
                 .insert((path.clone(), pin.clone()), *outlet);
         }
+        if node.bypass {
+            self.bypass(first_inner, &inputs, &outputs);
+        }
         Local::Instance { inputs, outputs }
+    }
+
+    /// A bypassed instance does not run, as a bypassed node does not: every
+    /// node of its inside (nested instances' too, all pushed from
+    /// `first_inner` on) is bypassed, and `compile` later links its first
+    /// `Inlet` straight to the matching `Outlet` (`short_circuit`).
+    fn bypass(&mut self, first_inner: usize, inputs: &Pins, outputs: &Pins) {
+        let own: HashSet<NodeId> = inputs.iter().chain(outputs).map(|(_, id)| *id).collect();
+        for node in &mut self.flat.patch.nodes[first_inner..] {
+            if !own.contains(&node.id) {
+                node.bypass = true;
+            }
+        }
+        self.flat.bypassed.push(BypassedInstance {
+            first_inlet: inputs.first().map(|(_, id)| *id),
+            outlets: outputs.iter().map(|(_, id)| *id).collect(),
+        });
     }
 
     fn link(
@@ -380,5 +409,52 @@ impl Flattener<'_> {
         };
         self.flat.patch.links.push(LinkDoc { from, to });
         self.flat.link_labels.push(text);
+    }
+}
+
+/// Short-circuit each bypassed instance once its IOBoxes are typed: the
+/// links into its `Outlet`s (from its inside) go, and its first `Inlet` feeds
+/// its first `Outlet` of the same type, else the first one its type links to
+/// (Int to Float, Color and Vec4), as `Runtime`'s bypass of a plain node
+/// does. The other `Outlet`s, unlinked, pass on their empty default.
+pub(crate) fn short_circuit(
+    flat: &mut Flat,
+    typed: &HashMap<NodeId, (crate::PinType, crate::Spread)>,
+) {
+    let ty = |id: &NodeId| typed.get(id).map(|(ty, _)| *ty);
+    for instance in std::mem::take(&mut flat.bypassed) {
+        let outlets: HashSet<NodeId> = instance.outlets.iter().copied().collect();
+        let mut k = 0;
+        while k < flat.patch.links.len() {
+            if outlets.contains(&flat.patch.links[k].to.node()) {
+                flat.patch.links.remove(k);
+                if k < flat.link_labels.len() {
+                    flat.link_labels.remove(k);
+                }
+            } else {
+                k += 1;
+            }
+        }
+        let Some(inlet) = instance.first_inlet else {
+            continue;
+        };
+        let Some(from) = ty(&inlet) else {
+            continue;
+        };
+        let target = instance
+            .outlets
+            .iter()
+            .find(|o| ty(o) == Some(from))
+            .or_else(|| {
+                instance
+                    .outlets
+                    .iter()
+                    .find(|o| ty(o).is_some_and(|to| from.links_to(to)))
+            });
+        if let Some(&outlet) = target {
+            let link = LinkDoc::new(inlet.0, "Output", outlet.0, "Input");
+            flat.link_labels.push(link_text(&link));
+            flat.patch.links.push(link);
+        }
     }
 }

@@ -45,6 +45,7 @@ impl Network {
 fn compile(patch: &Patch, registry: &Registry, library: &Library) -> Network {
     let mut flat = flatten::flatten(patch, registry, library);
     let typed = pins::type_ioboxes(&flat.patch, registry);
+    flatten::short_circuit(&mut flat, &typed);
     let extras = CompileExtras {
         defs: pins::iobox_defs(&mut flat.patch, &typed),
         link_labels: &flat.link_labels,
