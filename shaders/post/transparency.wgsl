@@ -116,9 +116,10 @@ struct Grid {
     depth: vec4<f32>,
 }
 @group(0) @binding(22) var<uniform> grid: Grid;
-@group(0) @binding(23) var<storage, read> counts: array<u32>;
-@group(0) @binding(24) var<storage, read> offsets: array<u32>;
-@group(0) @binding(25) var<storage, read> indices: array<u32>;
+// Named apart from the mesh's `indices` (bindings are found by name).
+@group(0) @binding(23) var<storage, read> light_counts: array<u32>;
+@group(0) @binding(24) var<storage, read> light_offsets: array<u32>;
+@group(0) @binding(25) var<storage, read> light_indices: array<u32>;
 #endif
 
 // Light `i`'s radiance at world point `pw` times its Cook-Torrance weights,
@@ -181,11 +182,11 @@ fn light_sums(frag: vec2<f32>, pw: vec3<f32>, s: BrdfSurface, view_depth: f32) -
     let tile = vec2<u32>(clamp(floor(frag / grid.depth.w), vec2<f32>(0.0), vec2<f32>(grid.dims.xy - 1u)));
     let slice = u32(clamp(floor(log(max(view_depth, grid.depth.x) / grid.depth.x) / grid.depth.z * f32(grid.dims.z)), 0.0, f32(grid.dims.z - 1u)));
     let froxel = (slice * grid.dims.y + tile.y) * grid.dims.x + tile.x;
-    let first = offsets[froxel];
+    let first = light_offsets[froxel];
     // Never past the list's end (an overfull frame's lists are cut: clusters.rs).
-    let end = min(first + counts[froxel], arrayLength(&indices));
+    let end = min(first + light_counts[froxel], arrayLength(&light_indices));
     for (var k = first; k < end; k++) {
-        add_forward_light(indices[k], pw, s, view_depth, &sums);
+        add_forward_light(light_indices[k], pw, s, view_depth, &sums);
     }
 #else
     let count = arrayLength(&lights);

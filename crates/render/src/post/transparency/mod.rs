@@ -442,9 +442,9 @@ impl Transparency {
                             };
                             b = b
                                 .buffer("grid", grid)
-                                .buffer("counts", &lists.counts)
-                                .buffer("offsets", &lists.offsets)
-                                .buffer("indices", &lists.indices);
+                                .buffer("light_counts", &lists.counts)
+                                .buffer("light_offsets", &lists.offsets)
+                                .buffer("light_indices", &lists.indices);
                         }
                     }
                     // Through the cache: the camera, meshes, kept instances,
