@@ -18,8 +18,9 @@
 // Lighting is forward+ (breezEngine's "mixing forward and deferred"): the
 // transparent surfaces are not in the G-buffer, so each layer is drawn once
 // for its unlit part (the base pass: the colour times Ambient, emission,
-// and, when no light buffer is connected, one two-sided directional key
-// light from `params`), then once more per connected light buffer
+// ENVIRONMENT's image-based light, and, when no light buffer is connected,
+// one two-sided directional key light from `params`), then once more per
+// connected light buffer
 // (LIGHT_PASS, the light type compiled in as CookTorrance compiles it:
 // point by default, LIGHT_SPOT, LIGHT_SUN; SHADOWS and its filter;
 // CLUSTERED walks the froxel lists of lighting/clusters.wgsl, the same
@@ -49,7 +50,10 @@
 #import spreadlight::post::{sanitize, HALF_MAX}
 #import spreadlight::packing::safe_normalize
 #ifdef MATERIALS
-#import spreadlight::material::{feature_param, FEATURE_COOK_TORRANCE, FEATURE_EMISSION}
+#import spreadlight::material::{feature_param, FEATURE_COOK_TORRANCE, FEATURE_EMISSION, FEATURE_REFLECTION}
+#endif
+#ifdef ENVIRONMENT
+#import spreadlight::ibl::{split_sum, facing_normal}
 #endif
 #ifdef MATERIAL_MAPS
 #import spreadlight::material_maps::{MapCoords, sample_map, has_map, map_settings, MAP_BASE_COLOR, MAP_METALLIC_ROUGHNESS, MAP_NORMAL, MAP_OCCLUSION, MAP_EMISSIVE}
@@ -76,7 +80,8 @@ struct Params {
     light_direction: vec4<f32>,
     // rgb: key light radiance (black when light buffers are connected)
     light_color: vec4<f32>,
-    // x roughness, y metallic (layers without a material world), z energy compensation (0/1)
+    // x roughness, y metallic (layers without a material world), z energy
+    // compensation (0/1), w the environment's prefiltered levels
     surface: vec4<f32>,
 }
 
@@ -96,6 +101,28 @@ struct Params {
 #ifdef COLOR_MAP
 @group(2) @binding(2) var color_map: texture_2d<f32>;
 @group(2) @binding(3) var color_sampler: sampler;
+#endif
+#ifdef ENVIRONMENT
+// The Environment node's maps, as Reflection reads them.
+@group(0) @binding(26) var prefiltered: texture_cube<f32>;
+@group(0) @binding(27) var irradiance: texture_cube<f32>;
+@group(0) @binding(28) var lut: texture_2d<f32>;
+@group(0) @binding(29) var cube_sampler: sampler;
+
+// Image-based light on the surface (the base pass's): the irradiance times
+// the diffuse albedo, and the prefiltered reflection times the split-sum
+// factor, scaled by `reflective` (the material's Reflection strength).
+fn environment_light(n: vec3<f32>, v: vec3<f32>, albedo: vec3<f32>, roughness: f32, metallic: f32, reflectance: f32, reflective: f32) -> vec3<f32> {
+    let nf = facing_normal(n, v);
+    let r = clamp(roughness, 0.0, 1.0);
+    let m = clamp(metallic, 0.0, 1.0);
+    let diffuse = textureSampleLevel(irradiance, cube_sampler, nf, 0.0).rgb * albedo * (1.0 - m);
+    let f0 = mix(vec3<f32>(clamp(reflectance, 0.0, 1.0)), albedo, m);
+    let factor = split_sum(lut, cube_sampler, f0, clamp(dot(nf, v), 1e-4, 1.0), r);
+    let lod = r * max(params.surface.w - 1.0, 0.0);
+    let specular = textureSampleLevel(prefiltered, cube_sampler, reflect(-v, nf), lod).rgb * factor;
+    return max(diffuse, vec3<f32>(0.0)) + max(specular, vec3<f32>(0.0)) * max(reflective, 0.0);
+}
 #endif
 
 #ifdef LIGHT_PASS
@@ -350,7 +377,20 @@ fn fs(in: VertexOut, @builtin(front_facing) front: bool) -> Accumulated {
     // Two-sided: a thin glass-like shell is lit from either side.
     let lambert = abs(dot(n, params.light_direction.xyz));
     let radiance = params.ambient.rgb * occlusion + params.light_color.rgb * lambert;
-    let color = clamp(sanitize(vec4<f32>(albedo * radiance + emission, 0.0)).rgb, vec3<f32>(0.0), vec3<f32>(600.0));
+    var unlit = albedo * radiance + emission;
+#ifdef ENVIRONMENT
+    // Layers without a material world reflect fully; with one, as much as
+    // their material's Reflection feature says (none without it), as
+    // Reflection does for the opaque surfaces.
+    var reflective = 1.0;
+#ifdef MATERIALS
+    reflective = feature_param(in.material, FEATURE_REFLECTION, 0u, vec4<f32>(0.0)).x;
+#endif
+    let facing = select(-n, n, front);
+    let v = safe_normalize(camera.position.xyz - in.world, facing);
+    unlit += environment_light(facing, v, albedo, roughness, metallic, reflectance, reflective) * occlusion;
+#endif
+    let color = max(sanitize(vec4<f32>(min(unlit, vec3<f32>(600.0)), 0.0)).rgb, vec3<f32>(0.0));
     out.accumulation = vec4<f32>(color * alpha, alpha) * w;
     out.revealage = vec4<f32>(alpha);
 #endif

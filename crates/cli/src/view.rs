@@ -183,6 +183,8 @@ fn transparent(patch: &mut Patch, file: String, time: f32, lights: (Vec<u32>, Op
     patch.link(5, "G-Buffer", 42, "G-Buffer");
     patch.link(41, "Layer", 42, "Layer");
     patch.link(42, "Texture", 15, "Texture");
+    // The image-based light the opaque surfaces get (Reflection) lights them too.
+    patch.link(11, "Environment", 42, "Environment");
     let (buffers, shadows) = lights;
     if let [only] = buffers[..] {
         patch.link(only, "Lights", 42, "Lights");

@@ -14,6 +14,9 @@ use std::sync::Arc;
 use glam::{Mat4, Vec3};
 use post_common::*;
 use spreadlight_render::Renderer;
+use spreadlight_render::environment::{
+    Environment, EnvironmentQuality, EnvironmentSource, EquirectImage,
+};
 use spreadlight_render::gbuffer::{DrawBatch, GBuffer, InstanceInput, Layer};
 use spreadlight_render::lighting::{LightBuffer, LightLoop, PointLight, SunLight};
 use spreadlight_render::mesh::MeshData;
@@ -21,9 +24,9 @@ use spreadlight_render::mesh::primitives::{SphereParams, plane, sphere};
 use spreadlight_render::post::transparency::{
     ASSIGNED, DRAWN, LIGHT_PASSES, SKIPPED, TransparencyPass,
 };
-use spreadlight_render::post::{Transparency, TransparencySettings, TransparentLights};
+use spreadlight_render::post::{LitBy, Transparency, TransparencySettings, TransparentLights};
 use spreadlight_render::readback::ImageF32;
-use spreadlight_render::reference::brdf::cook_torrance_f0;
+use spreadlight_render::reference::brdf::{cook_torrance_f0, specular_albedo};
 use spreadlight_render::reference::lights::point_attenuation;
 use spreadlight_render::renderer::test_renderer;
 use spreadlight_render::shaders::Permutation;
@@ -373,6 +376,11 @@ const METALLIC: f32 = 0.3;
 /// A 4 x 4 pane at z = PANE_Z facing the eye, opaque (alpha 1) so a pixel
 /// shows its lit colour alone; `mesh` replaces the plane (its normals, say).
 fn pane(renderer: &Renderer, mesh: Option<MeshData>, alpha: f32) -> Arc<Layer> {
+    pane_of(renderer, mesh, ALBEDO.extend(alpha))
+}
+
+/// `pane` in `color` (alpha in w).
+fn pane_of(renderer: &Renderer, mesh: Option<MeshData>, color: glam::Vec4) -> Arc<Layer> {
     let mesh = renderer
         .meshes
         .upload(&renderer.gpu, &mesh.unwrap_or_else(plane))
@@ -385,7 +393,7 @@ fn pane(renderer: &Renderer, mesh: Option<MeshData>, alpha: f32) -> Arc<Layer> {
         instances: vec![InstanceInput {
             transform: t,
             previous_transform: t,
-            color: ALBEDO.extend(alpha).to_array(),
+            color: color.to_array(),
             material_id: 0,
             object_id: 0,
         }],
@@ -414,6 +422,21 @@ fn lit_pane(
     ImageF32,
     Arc<Transparency>,
 ) {
+    lit_pane_by(renderer, layer, settings, lights, None)
+}
+
+/// `lit_pane`, with an environment.
+fn lit_pane_by(
+    renderer: &Renderer,
+    layer: Arc<Layer>,
+    settings: TransparencySettings,
+    lights: Vec<Arc<LightBuffer>>,
+    environment: Option<Arc<Environment>>,
+) -> (
+    spreadlight_render::report::FrameReport,
+    ImageF32,
+    Arc<Transparency>,
+) {
     let opaque = balls(renderer, &[Ball::still(Vec3::ZERO, 0.5)]);
     let g = gbuffer(renderer, opaque, look(EYE, Vec3::ZERO, FOV, 1.0), None);
     let black = image(renderer, SIZE, |_, _| [0.0, 0.0, 0.0, 1.0]);
@@ -431,8 +454,11 @@ fn lit_pane(
         g,
         vec![layer],
         settings,
-        lights,
-        None,
+        LitBy {
+            lights,
+            environment,
+            ..Default::default()
+        },
     );
     let (report, out) = render(renderer, pass.as_ref(), &pass.output, SIZE);
     (report, out, pass)
@@ -614,7 +640,11 @@ fn no_light_buffer_no_light_pass_and_the_old_look() {
     let (report, out, pass) = lit_pane(&renderer, pane(&renderer, None, 1.0), unlit(), vec![]);
     assert_eq!(report.counter(LIGHT_PASSES), 0);
     assert_eq!(report.counter(ASSIGNED), 0);
-    assert!(pass.keys().iter().all(|k| k.pass == TransparencyPass::Base));
+    assert!(
+        pass.keys()
+            .iter()
+            .all(|k| k.pass == TransparencyPass::Base { environment: false })
+    );
     let c = Vec3::from_slice(&at(&out, 24, 24)[..3]);
     assert!((c - ALBEDO).abs().max_element() < 5e-3, "{c}");
     // An empty light buffer is no light pass either.
@@ -634,11 +664,13 @@ fn no_light_buffer_no_light_pass_and_the_old_look() {
         g,
         vec![],
         dark(LightLoop::Clustered),
-        vec![TransparentLights {
-            lights: LightBuffer::points(&renderer, &[point(Vec3::Z, Vec3::ONE, 1.0, 5.0)]),
-            shadows: None,
-        }],
-        None,
+        LitBy {
+            lights: vec![TransparentLights {
+                lights: LightBuffer::points(&renderer, &[point(Vec3::Z, Vec3::ONE, 1.0, 5.0)]),
+                shadows: None,
+            }],
+            ..Default::default()
+        },
     );
     let (report, _) = render(&renderer, pass.as_ref(), &pass.output, SIZE);
     assert_eq!(
@@ -649,4 +681,54 @@ fn no_light_buffer_no_light_pass_and_the_old_look() {
         ),
         (1, 0, 0)
     );
+}
+
+#[test]
+fn a_uniform_environment_reflects_off_white_metal_glass_as_its_specular_albedo() {
+    // Radiance 0.5 from every direction: the prefiltered reflection is 0.5
+    // at every roughness, so white metal (F0 = 1, no diffuse) shows 0.5
+    // times its directional albedo, which the split-sum table holds (A + B)
+    // and the CPU reference fits.
+    let renderer = test_renderer();
+    let radiance = 0.5;
+    let image = Arc::new(EquirectImage {
+        width: 16,
+        height: 8,
+        pixels: vec![[radiance, radiance, radiance, 1.0]; 16 * 8],
+    });
+    let environment = Environment::new(
+        &renderer,
+        None,
+        EnvironmentSource::Equirect(image),
+        EnvironmentQuality {
+            cube_size: 16,
+            samples: 64,
+        },
+    );
+    let settings = TransparencySettings {
+        metallic: 1.0,
+        ..dark(LightLoop::Auto)
+    };
+    let white = pane_of(&renderer, None, glam::Vec4::ONE);
+    let (_, out, pass) = lit_pane_by(&renderer, white, settings, vec![], Some(environment));
+    assert_eq!(
+        pass.keys()
+            .iter()
+            .filter(|k| k.key().features.contains("ENVIRONMENT"))
+            .count(),
+        1,
+        "the base pass reads the environment"
+    );
+    for (x, y) in [(24, 24), (12, 30), (40, 10)] {
+        let p = pane_point(x, y);
+        let n_dot_v = (EYE - p).normalize().z;
+        let want = radiance * specular_albedo(n_dot_v, ROUGHNESS);
+        let got = at(&out, x, y);
+        for c in &got[..3] {
+            assert!(
+                (c - want).abs() < 0.04 * want,
+                "pixel ({x}, {y}): {got:?}, the reference says {want}"
+            );
+        }
+    }
 }

@@ -4,10 +4,11 @@
 
 use glam::Vec3;
 use spreadlight_graph::{Color, NodeDef, PinType, Registry, ResourceKind, Spread};
+use spreadlight_render::environment::Environment;
 use spreadlight_render::gbuffer::Layer;
 use spreadlight_render::lighting::{LightBuffer, LightLoop};
 use spreadlight_render::material::MaterialWorld;
-use spreadlight_render::post::{Transparency, TransparencySettings, TransparentLights};
+use spreadlight_render::post::{LitBy, Transparency, TransparencySettings, TransparentLights};
 use spreadlight_render::shadows::ShadowMaps;
 
 use super::{gbuffer, set_texture, texture};
@@ -29,7 +30,9 @@ pub fn register(r: &mut Registry) {
              (Light Direction, towards the light; Light Color) as before. The surface is the layer's: glTF materials' \
              maps (base colour, normal, metallic-roughness, occlusion, emissive), a DeferredBase's Color Texture and \
              normal map; roughness, metallic and emission from the layer's material world, else Material World, \
-             else Roughness and Metallic. Without transparent instances it costs one copy.",
+             else Roughness and Metallic. Environment adds its irradiance and its prefiltered reflection (as much as \
+             a material's Reflection feature says; fully for layers without a material world). Without transparent \
+             instances it costs one copy.",
         )
         .input_spread("Texture", PinType::Resource(ResourceKind::Texture), Spread::Resource(ResourceKind::Texture, vec![]))
         .input_spread("G-Buffer", PinType::Resource(ResourceKind::GBuffer), Spread::Resource(ResourceKind::GBuffer, vec![]))
@@ -48,6 +51,11 @@ pub fn register(r: &mut Registry) {
         .input("Metallic", 0.0f32)
         .input("Energy Compensation", true)
         .input_enum("Light Loop", &LIGHT_LOOP, "Auto")
+        .input_spread(
+            "Environment",
+            PinType::Resource(ResourceKind::Environment),
+            Spread::Resource(ResourceKind::Environment, vec![]),
+        )
         .output_typed("Texture", PinType::Resource(ResourceKind::Texture))
         .evaluate(|cx| {
             let renderer = renderer(cx)?;
@@ -91,7 +99,12 @@ pub fn register(r: &mut Registry) {
                 energy_compensation: cx.slices::<bool>(11)?.first().copied().unwrap_or(true),
                 light_loop,
             };
-            let pass = Transparency::lit(&renderer, Some(cx.node_id.0), source, g, layers, settings, lights, materials);
+            let by = LitBy {
+                lights,
+                materials,
+                environment: resources::<Environment>(cx, 13)?.into_iter().next(),
+            };
+            let pass = Transparency::lit(&renderer, Some(cx.node_id.0), source, g, layers, settings, by);
             set_texture(cx, pass.texture());
             Ok(())
         }),

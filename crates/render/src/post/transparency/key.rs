@@ -53,8 +53,9 @@ pub enum LayerUv {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum TransparencyPass {
     /// Alpha, revealage and the unlit colour (ambient, emission, the built-in
-    /// key light); also the clear and the resolve.
-    Base,
+    /// key light, and with `environment` the Environment's image-based
+    /// light); without it, also the clear and the resolve.
+    Base { environment: bool },
     /// One light buffer's Cook-Torrance light, added to the colour.
     Light(LightKey),
 }
@@ -211,6 +212,7 @@ impl Permutation for TransparencyKey {
         "MATERIAL_MAPS",
         "VERTEX_EXTRAS",
         "MATERIALS",
+        "ENVIRONMENT",
         "TEXCOORDS",
         "TRIPLANAR",
         "COLOR_MAP",
@@ -228,16 +230,20 @@ impl Permutation for TransparencyKey {
 
     fn features(self) -> impl Iterator<Item = &'static str> {
         let light: Vec<&'static str> = match self.pass {
-            TransparencyPass::Base => Vec::new(),
+            TransparencyPass::Base { environment } => {
+                environment.then_some("ENVIRONMENT").into_iter().collect()
+            }
             TransparencyPass::Light(light) => light.features().collect(),
         };
         self.surface.features().chain(light)
     }
 
-    /// Every surface with the base pass and with every light pass. The
-    /// validation test composes each: 40 surfaces x 41 passes.
+    /// Every surface with the base passes and with every light pass. The
+    /// validation test composes each: 30 surfaces x (2 + 35) passes.
     fn all() -> Vec<Self> {
-        let passes: Vec<TransparencyPass> = std::iter::once(TransparencyPass::Base)
+        let bases = [false, true].map(|environment| TransparencyPass::Base { environment });
+        let passes: Vec<TransparencyPass> = bases
+            .into_iter()
             .chain(LightKey::all().into_iter().map(TransparencyPass::Light))
             .collect();
         SurfaceKey::all()
@@ -259,7 +265,7 @@ impl TransparencyKey {
             vertex_extras: false,
             materials: false,
         },
-        pass: TransparencyPass::Base,
+        pass: TransparencyPass::Base { environment: false },
     };
 }
 
@@ -303,7 +309,7 @@ mod tests {
             TransparencyPass::Light(l) =>
                 !(l.kind == LightKind::Sun && l.clustered)
                     && (l.kind == LightKind::Spot || !l.spot_texture),
-            TransparencyPass::Base => true,
+            TransparencyPass::Base { .. } => true,
         }));
     }
 }

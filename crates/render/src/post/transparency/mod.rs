@@ -6,8 +6,9 @@
 //! composites them over the opaque lit image.
 //!
 //! Lighting: a base pass draws each layer's alpha and its unlit colour
-//! (the colour times an ambient term, emission, and, without light
-//! buffers, one two-sided directional key light); then each connected
+//! (the colour times an ambient term, emission, an Environment's
+//! irradiance and prefiltered reflection, and, without light buffers, one
+//! two-sided directional key light); then each connected
 //! light buffer draws the layer again, adding its Cook-Torrance light to
 //! the colour alone (the sum is linear, so this equals one pass that loops
 //! over every buffer). A light pass walks the buffer's lights as
@@ -33,6 +34,7 @@ pub use key::{
     LayerMaps, LayerUv, LightKey, ShadowKey, SurfaceKey, TransparencyKey, TransparencyPass,
 };
 
+use crate::environment::Environment;
 use crate::error::RenderError;
 use crate::frame_graph::{Bindings, FrameGraph, PassContext, Tex, TextureDesc};
 use crate::gbuffer::{Draw, GBuffer, Layer, mesh_bindings, pack_instances};
@@ -43,6 +45,7 @@ use crate::renderer::Renderer;
 use crate::report::PassName;
 use crate::shaders::{Permutation, Sampling, ShaderKey};
 use crate::shadows::ShadowMaps;
+use crate::texture_pool::ViewSpec;
 
 const ACCUMULATION: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 // Rgba16Float, not R16Float (only red is read): the targets are cleared by
@@ -97,6 +100,17 @@ pub struct TransparentLights {
     pub shadows: Option<Arc<ShadowMaps>>,
 }
 
+/// What lights the layers besides the settings' ambient and key light.
+#[derive(Clone, Debug, Default)]
+pub struct LitBy {
+    /// Each buffer is a light pass; with any, the settings' key light is off.
+    pub lights: Vec<TransparentLights>,
+    /// The world of layers that bring none of their own.
+    pub materials: Option<Arc<MaterialWorld>>,
+    /// Image-based light (irradiance and prefiltered reflection) in the base pass.
+    pub environment: Option<Arc<Environment>>,
+}
+
 /// One light buffer as a light pass uses it.
 struct LightSet {
     lights: Arc<LightBuffer>,
@@ -149,6 +163,7 @@ pub struct Transparency {
     lights: Vec<LightSet>,
     /// The world of layers that bring none.
     materials: Option<Arc<MaterialWorld>>,
+    environment: Option<Arc<Environment>>,
     accumulation: String,
     revealage: String,
     pub output: String,
@@ -189,15 +204,12 @@ impl Transparency {
             gbuffer,
             layers,
             settings,
-            Vec::new(),
-            None,
+            LitBy::default(),
         )
     }
 
-    /// Lit by `lights` (each buffer a light pass; with any, the settings'
-    /// key light is off), surfaces read from `materials` where a layer
-    /// brings no material world of its own.
-    #[allow(clippy::too_many_arguments)]
+    /// Lit by `by`'s light buffers and environment as well, surfaces read
+    /// from its material world where a layer brings none of its own.
     pub fn lit(
         renderer: &Renderer,
         owner: Option<u32>,
@@ -205,9 +217,13 @@ impl Transparency {
         gbuffer: Arc<GBuffer>,
         layers: Vec<Arc<Layer>>,
         settings: TransparencySettings,
-        lights: Vec<TransparentLights>,
-        materials: Option<Arc<MaterialWorld>>,
+        by: LitBy,
     ) -> Arc<Self> {
+        let LitBy {
+            lights,
+            materials,
+            environment,
+        } = by;
         let id = next_recipe_id();
         let (gpu_instances, draws, layer_ranges) = pack_instances(&layers);
         let instance_count = gpu_instances.len() as u32;
@@ -248,7 +264,9 @@ impl Transparency {
                 } else {
                     0.0
                 },
-                0.0,
+                environment
+                    .as_ref()
+                    .map_or(0.0, |e| e.quality.levels() as f32),
             ]),
         );
         let kept = owner.map(|node| renderer.state::<ForwardClusters>(u64::from(node)));
@@ -288,6 +306,7 @@ impl Transparency {
             params,
             lights,
             materials,
+            environment,
             accumulation: format!("transparency{id} accumulation"),
             revealage: format!("transparency{id} revealage"),
             output: format!("transparency{id}"),
@@ -322,14 +341,17 @@ impl Transparency {
 
     /// The base pass, then a light pass per light buffer.
     fn passes(&self) -> impl Iterator<Item = TransparencyPass> + '_ {
-        std::iter::once(TransparencyPass::Base).chain(self.lights.iter().map(|set| {
-            TransparencyPass::Light(LightKey {
-                kind: set.lights.kind,
-                clustered: set.clusters.is_some(),
-                shadows: ShadowKey::of(set.shadows.as_ref().map(|s| s.filter())),
-                spot_texture: set.lights.textures().is_some(),
-            })
-        }))
+        let environment = self.environment.is_some();
+        std::iter::once(TransparencyPass::Base { environment }).chain(self.lights.iter().map(
+            |set| {
+                TransparencyPass::Light(LightKey {
+                    kind: set.lights.kind,
+                    clustered: set.clusters.is_some(),
+                    shadows: ShadowKey::of(set.shadows.as_ref().map(|s| s.filter())),
+                    spot_texture: set.lights.textures().is_some(),
+                })
+            },
+        ))
     }
 
     /// A layer's surface permutation and the material world it reads.
@@ -433,6 +455,17 @@ impl Transparency {
                         b = b
                             .texture("color_map", color)
                             .sampler("color_sampler", Sampling::LinearRepeat);
+                    }
+                    if let (None, Some(environment)) = (set, &self.environment) {
+                        let maps = environment.maps_for("transparency")?;
+                        b = b
+                            .view(
+                                "prefiltered",
+                                cx.view_of(&maps.prefiltered, ViewSpec::cube()),
+                            )
+                            .view("irradiance", cx.view_of(&maps.irradiance, ViewSpec::cube()))
+                            .view("lut", cx.view_of(&maps.lut, ViewSpec::default()))
+                            .sampler_object("cube_sampler", maps.sampler.clone());
                     }
                     if let Some(set) = set {
                         b = b.extend(self.light_bindings(cx, set, io.spot_textures[set])?);
@@ -547,7 +580,7 @@ impl Transparency {
                 pass: "transparency".to_owned(),
                 message: "the shadow maps were not rendered this frame".to_owned(),
             })?;
-            let array = |t: &wgpu::Texture| cx.view_of(t, crate::texture_pool::ViewSpec::array());
+            let array = |t: &wgpu::Texture| cx.view_of(t, ViewSpec::array());
             b = b
                 .view("shadow_maps", array(&depth))
                 .buffer("shadow_views", shadows.views())
@@ -722,6 +755,9 @@ impl Recipe for Transparency {
         for map in self.layers.iter().flat_map(|l| l.maps()) {
             map.recipe.declare(renderer, fg);
         }
+        if let Some(environment) = &self.environment {
+            environment.declare(renderer, fg);
+        }
         for set in &self.lights {
             if let Some(textures) = set.lights.textures() {
                 textures.recipe.declare(renderer, fg);
@@ -769,6 +805,11 @@ impl Recipe for Transparency {
             desc
         };
         let mut pass = fg.pass(name("accumulate"), self.owner);
+        // Ordering tokens: the environment's maps, the assignments' lists
+        // and the shadow maps live outside the graph.
+        if let Some(environment) = &self.environment {
+            pass.read(environment.token());
+        }
         for set in &self.lights {
             if let Some(clusters) = &set.clusters {
                 pass.read(&clusters.token);
