@@ -705,8 +705,11 @@ fn a_uniform_environment_reflects_off_white_metal_glass_as_its_specular_albedo()
             samples: 64,
         },
     );
+    // No light buffer: the built-in key light would be on; off, so the
+    // environment alone lights the pane.
     let settings = TransparencySettings {
         metallic: 1.0,
+        light_color: Vec3::ZERO,
         ..dark(LightLoop::Auto)
     };
     let white = pane_of(&renderer, None, glam::Vec4::ONE);
