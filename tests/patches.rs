@@ -91,9 +91,12 @@ fn evaluates_cleanly_for_120_frames(path: &std::path::Path) {
         // and four sun shadow maps) is the same, heavier still.
         // The skinning benchmark deforms 100 skinned tubes a frame: a few
         // frames cover its motion (its own test below counts what it does).
+        // The transparency benchmark is still: 1,000 lights over two grids
+        // of spheres, a few frames show it runs.
         let frames = if path.ends_with("emeshe-frame.ron")
             || path.ends_with("emeshe-heavy.ron")
             || path.ends_with("bench-skinning.ron")
+            || path.ends_with("bench-transparency.ron")
         {
             4
         } else {
@@ -327,6 +330,42 @@ fn the_toon_lights_example_runs_its_light_shaders_in_place_of_cook_torrance() {
         assert_eq!(report.passes_of(&kind, Some("shade")).count(), 1, "{kind}");
     }
     assert_eq!(report.passes_of("CookTorrance", None).count(), 0);
+}
+
+/// The lit transparency example lights its glass balls forward+ with the
+/// scene's three light buffers (a light pass each, no froxel assignment for
+/// six point lights) and their shadow maps, which are rendered once for the
+/// opaque and the transparent lighting together; without Lights connected
+/// no light pass runs.
+#[test]
+fn the_lit_transparency_example_lights_glass_with_the_scenes_lights() {
+    use spreadlight_render::post::transparency::{ASSIGNED, LIGHT_PASSES};
+    let path = spreadlight_tests::root().join("patches/lit-transparency.ron");
+    let full = format::load(&path).expect("loads");
+    let report = |patch: &spreadlight_graph::Patch| {
+        let (rt, renderer) = first_frame(patch, &path, (64, 36));
+        let errors: Vec<_> = rt
+            .node_errors()
+            .map(|(id, e)| format!("#{}: {e}", id.0))
+            .collect();
+        assert!(errors.is_empty(), "{errors:?}");
+        renderer.last_report()
+    };
+    let lit = report(&full);
+    assert_eq!(lit.counter(LIGHT_PASSES), 3, "{:?}", lit.counters);
+    assert_eq!(lit.counter(ASSIGNED), 0, "six point lights walk naively");
+    // Five casting lights' maps (three point, one spot, one sun), once.
+    assert_eq!(lit.counter("shadow maps rendered"), 5);
+    let mut unlit = full.clone();
+    unlit
+        .links
+        .retain(|l| l.to != spreadlight_graph::document::PinRef::new(68, "Lights"));
+    assert_eq!(
+        unlit.links.len() + 1,
+        full.links.len(),
+        "the Lights link was there"
+    );
+    assert_eq!(report(&unlit).counter(LIGHT_PASSES), 0);
 }
 
 /// The showcase without its reflective and subsurface materials (the

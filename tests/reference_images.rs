@@ -192,6 +192,17 @@ static CASES: &[Case] = &[
         }],
     },
     Case {
+        patch: "patches/bench-transparency.ron",
+        size: SCENE,
+        edit: unchanged,
+        shots: &[Shot {
+            name: "bench-transparency",
+            output: "bench",
+            frame: 0,
+            tolerance: LIT,
+        }],
+    },
+    Case {
         patch: "patches/showcase.ron",
         size: SCENE,
         edit: unchanged,
@@ -234,6 +245,19 @@ static CASES: &[Case] = &[
         shots: &[Shot {
             name: "shadows",
             output: "showcase",
+            frame: 0,
+            tolerance: LIT,
+        }],
+    },
+    // The shadows scene with three glass balls lit forward+ by its three
+    // light buffers and their shadow maps (Transparency's Lights and Shadows).
+    Case {
+        patch: "patches/lit-transparency.ron",
+        size: SCENE,
+        edit: unchanged,
+        shots: &[Shot {
+            name: "lit-transparency",
+            output: "lit-transparency",
             frame: 0,
             tolerance: LIT,
         }],
@@ -594,6 +618,11 @@ fn bench_lights_lit() {
 }
 
 #[test]
+fn bench_transparency_glass_under_a_thousand_lights() {
+    check("patches/bench-transparency.ron");
+}
+
+#[test]
 fn showcase_all_three_light_types() {
     check("patches/showcase.ron");
 }
@@ -611,6 +640,11 @@ fn environment_probe_mirror_beside_a_red_box() {
 #[test]
 fn shadows_of_all_three_light_types() {
     check("patches/shadows.ron");
+}
+
+#[test]
+fn glass_lit_by_the_scenes_lights_and_shadows() {
+    check("patches/lit-transparency.ron");
 }
 
 #[test]

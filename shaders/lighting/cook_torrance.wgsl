@@ -17,7 +17,7 @@
 // clusters and shadows, its outputs summed into the two targets.
 #import spreadlight::camera::Camera
 #import spreadlight::brdf::{BrdfSurface, LightSums, brdf_surface, no_light_sums, add_light, light_sums_brdf, cook_torrance_weights, half_vector_cosines, surface_energy_compensation, schlick_weight, DIELECTRIC_F0}
-#import spreadlight::lights::{range_window, inverse_square, spot_attenuation}
+#import spreadlight::lights::{range_window, inverse_square}
 #import spreadlight::packing::{channel_to_id, safe_normalize}
 // The material library, imported once: MATERIALS reads CookTorrance
 // parameters from it, FAKE_SSS the FakeSSS tint. SURFACE_TARGET: the
@@ -123,36 +123,8 @@ struct Surface {
 @group(0) @binding(11) var out_diffuse: texture_storage_2d<rgba16float, write>;
 @group(0) @binding(12) var out_specular: texture_storage_2d<rgba16float, write>;
 #ifdef LIGHT_SPOT
-// World to each spot's clip space.
-@group(0) @binding(14) var<storage, read> spot_projections: array<mat4x4<f32>>;
-#ifdef SPOT_TEXTURE
-@group(0) @binding(15) var spot_textures: texture_2d_array<f32>;
-@group(0) @binding(16) var spot_sampler: sampler;
-#endif
-
-// What a spot projects onto world point `pw`: black outside its frustum, its
-// texture layer (cone.y >= 0) or a round cone with a soft edge (cone.x) inside.
-fn spot_mask(light: u32, record: Light, pw: vec3<f32>) -> vec3<f32> {
-    let clip = spot_projections[light] * vec4<f32>(pw, 1.0);
-    if (clip.w <= 0.0) {
-        return vec3<f32>(0.0);
-    }
-    let ndc = clip.xyz / clip.w;
-    if (any(abs(ndc.xy) > vec2<f32>(1.0)) || ndc.z < 0.0 || ndc.z > 1.0) {
-        return vec3<f32>(0.0);
-    }
-#ifdef SPOT_TEXTURE
-    if (record.cone.y >= 0.0) {
-        let layers = textureNumLayers(spot_textures);
-        let layer = u32(record.cone.y) % max(layers, 1u);
-        let uv = vec2<f32>(ndc.x * 0.5 + 0.5, 0.5 - ndc.y * 0.5);
-        return max(textureSampleLevel(spot_textures, spot_sampler, uv, layer, 0.0).rgb, vec3<f32>(0.0));
-    }
-#endif
-    // The cone's edge as the tested smooth step: 1 - radius against 0 (the
-    // edge) and the softness (where it is fully lit).
-    return vec3<f32>(spot_attenuation(1.0 - length(ndc.xy), 0.0, record.cone.x));
-}
+// Projectors: shaders/lib/spot.wgsl (lit transparency shares it).
+#import spreadlight::spot::spot_mask
 #endif
 
 const HALF_MAX: f32 = 65000.0;
@@ -223,7 +195,7 @@ fn shade(slot: u32, lv: vec4<f32>, p: vec3<f32>, pw: vec3<f32>, surface: BrdfSur
     // seen from any one pixel).
     let light = light_index(slot);
     let record = lights[light];
-    let mask = spot_mask(light, record, pw);
+    let mask = spot_mask(light, record.cone, pw);
     if (all(mask <= vec3<f32>(0.0))) {
         return;
     }

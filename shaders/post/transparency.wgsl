@@ -15,27 +15,62 @@
 // half-float accumulation cannot overflow at the near plane, and at the far
 // plane the smallest weight (3e-6) is still a half float.
 //
-// Lighting is deliberately simple (the transparent surfaces are not in the
-// G-buffer): the layer's colour times an ambient term plus one directional
-// key light, lit from both sides (a thin glass-like shell), all in `params`.
-// Both faces are drawn, except for one-sided glTF materials (layers with a
-// material world), whose back faces the pipeline culls.
+// Lighting is forward+ (breezEngine's "mixing forward and deferred"): the
+// transparent surfaces are not in the G-buffer, so each layer is drawn once
+// for its unlit part (the base pass: the colour times Ambient, emission,
+// ENVIRONMENT's image-based light, and, when no light buffer is connected,
+// one two-sided directional key light from `params`), then once more per
+// connected light buffer
+// (LIGHT_PASS, the light type compiled in as CookTorrance compiles it:
+// point by default, LIGHT_SPOT, LIGHT_SUN; SHADOWS and its filter;
+// CLUSTERED walks the froxel lists of lighting/clusters.wgsl, the same
+// assignment CookTorrance's light loop reads, else every light). The sum is
+// linear in the colour, so a light pass adds its Cook-Torrance diffuse and
+// specular times alpha times the same weight to the accumulation's colour
+// alone (its pipeline masks alpha and the revealage): the result is the one
+// pass the paper draws, with each light type's code compiled only when a
+// scene has that type.
 //
 // The colour and coverage are glTF's base colour: the instance colour
 // (factor) x the base colour map (MATERIAL_MAPS: the layer's material world
 // has surface maps; group 1 the world, group 3 its map arrays, sampled as
 // the G-buffer resolve does, with the map's UV set, sampler and
 // KHR_texture_transform) x COLOR_0 (VERTEX_EXTRAS: the arena's extra
-// stream, binding 12), alpha included.
+// stream, binding 12), alpha included; a DeferredBase layer's Color Texture
+// (COLOR_MAP) and normal map (NORMAL_MAP, group 2) by its UVs (TEXCOORDS)
+// or a planar projection (TRIPLANAR). MATERIALS: roughness, metallic,
+// reflectance and emission from the material world's CookTorrance and
+// Emission features by the instance's material id (with surface maps,
+// scaled by the metallic-roughness and emissive maps), else the node's pins.
+// Both faces are drawn, except for one-sided glTF materials, whose back
+// faces the pipeline culls; a back face is lit with its normal turned to
+// the viewer (a glass shell's inside).
 #import spreadlight::camera::Camera
 #import spreadlight::mesh_fetch::{instances, triangle_vertex, view_right, view_up}
 #import spreadlight::post::{sanitize, HALF_MAX}
+#import spreadlight::packing::safe_normalize
+#ifdef MATERIALS
+#import spreadlight::material::{feature_param, FEATURE_COOK_TORRANCE, FEATURE_EMISSION, FEATURE_REFLECTION}
+#endif
+#ifdef ENVIRONMENT
+#import spreadlight::ibl::{split_sum, facing_normal}
+#endif
 #ifdef MATERIAL_MAPS
-#import spreadlight::material_maps::{MapCoords, sample_map, MAP_BASE_COLOR}
+#import spreadlight::material_maps::{MapCoords, sample_map, has_map, map_settings, MAP_BASE_COLOR, MAP_METALLIC_ROUGHNESS, MAP_NORMAL, MAP_OCCLUSION, MAP_EMISSIVE}
 #endif
 #ifdef VERTEX_EXTRAS
 #import spreadlight::mesh::vertex_color
 #import spreadlight::vertex_extras::corner_extra
+#endif
+#ifdef LIGHT_PASS
+#import spreadlight::brdf::{BrdfSurface, LightSums, brdf_surface, no_light_sums, add_light, light_sums_brdf, cook_torrance_weights, half_vector_cosines, surface_energy_compensation}
+#import spreadlight::lights::{range_window, inverse_square}
+#ifdef LIGHT_SPOT
+#import spreadlight::spot::spot_mask
+#endif
+#ifdef SHADOWS
+#import spreadlight::shadow_sampling::light_shadow
+#endif
 #endif
 
 struct Params {
@@ -43,8 +78,11 @@ struct Params {
     ambient: vec4<f32>,
     // xyz: direction towards the key light (world, unit)
     light_direction: vec4<f32>,
-    // rgb: key light radiance
+    // rgb: key light radiance (black when light buffers are connected)
     light_color: vec4<f32>,
+    // x roughness, y metallic (layers without a material world), z energy
+    // compensation (0/1), w the environment's prefiltered levels
+    surface: vec4<f32>,
 }
 
 @group(0) @binding(0) var<uniform> camera: Camera;
@@ -56,6 +94,136 @@ struct Params {
 @group(0) @binding(9) var output: texture_storage_2d<rgba16float, write>;
 @group(0) @binding(10) var clear_accumulation: texture_storage_2d<rgba16float, write>;
 @group(0) @binding(11) var clear_revealage: texture_storage_2d<rgba16float, write>;
+#ifdef NORMAL_MAP
+@group(2) @binding(0) var normal_map: texture_2d<f32>;
+@group(2) @binding(1) var normal_sampler: sampler;
+#endif
+#ifdef COLOR_MAP
+@group(2) @binding(2) var color_map: texture_2d<f32>;
+@group(2) @binding(3) var color_sampler: sampler;
+#endif
+#ifdef ENVIRONMENT
+// The Environment node's maps, as Reflection reads them.
+@group(0) @binding(26) var prefiltered: texture_cube<f32>;
+@group(0) @binding(27) var irradiance: texture_cube<f32>;
+@group(0) @binding(28) var lut: texture_2d<f32>;
+@group(0) @binding(29) var cube_sampler: sampler;
+
+// Image-based light on the surface (the base pass's): the irradiance times
+// the diffuse albedo, and the prefiltered reflection times the split-sum
+// factor, scaled by `reflective` (the material's Reflection strength).
+fn environment_light(n: vec3<f32>, v: vec3<f32>, albedo: vec3<f32>, roughness: f32, metallic: f32, reflectance: f32, reflective: f32) -> vec3<f32> {
+    let nf = facing_normal(n, v);
+    let r = clamp(roughness, 0.0, 1.0);
+    let m = clamp(metallic, 0.0, 1.0);
+    let diffuse = textureSampleLevel(irradiance, cube_sampler, nf, 0.0).rgb * albedo * (1.0 - m);
+    let f0 = mix(vec3<f32>(clamp(reflectance, 0.0, 1.0)), albedo, m);
+    let factor = split_sum(lut, cube_sampler, f0, clamp(dot(nf, v), 1e-4, 1.0), r);
+    let lod = r * max(params.surface.w - 1.0, 0.0);
+    let specular = textureSampleLevel(prefiltered, cube_sampler, reflect(-v, nf), lod).rgb * factor;
+    return max(diffuse, vec3<f32>(0.0)) + max(specular, vec3<f32>(0.0)) * max(reflective, 0.0);
+}
+#endif
+
+#ifdef LIGHT_PASS
+// Matches `GpuLight` in crates/render/src/lighting/mod.rs.
+struct Light {
+    position_range: vec4<f32>,
+    intensity: vec4<f32>,
+    direction: vec4<f32>,
+    cone: vec4<f32>,
+}
+
+@group(0) @binding(13) var<storage, read> lights: array<Light>;
+#ifdef CLUSTERED
+// lighting/clusters.wgsl's grid and froxel lists (its `Grid`: tiles x,
+// tiles y, slices, light count; near, far, log(far / near), tile pixels).
+struct Grid {
+    dims: vec4<u32>,
+    depth: vec4<f32>,
+}
+@group(0) @binding(22) var<uniform> grid: Grid;
+// Named apart from the mesh's `indices` (bindings are found by name).
+@group(0) @binding(23) var<storage, read> light_counts: array<u32>;
+@group(0) @binding(24) var<storage, read> light_offsets: array<u32>;
+@group(0) @binding(25) var<storage, read> light_indices: array<u32>;
+#endif
+
+// Light `i`'s radiance at world point `pw` times its Cook-Torrance weights,
+// added to `sums`: CookTorrance's `shade` in world space (the attenuation,
+// cone and shadow functions are the libraries' it calls).
+fn add_forward_light(i: u32, pw: vec3<f32>, s: BrdfSurface, view_depth: f32, sums: ptr<function, LightSums>) {
+    let record = lights[i];
+#ifdef LIGHT_SUN
+    let l = safe_normalize(-record.direction.xyz, vec3<f32>(0.0, 1.0, 0.0));
+    let n_dot_l = dot(s.n, l);
+    let v_dot_l = dot(s.v, l);
+    var radiance = record.intensity.rgb;
+    let attenuation = 1.0;
+#ifdef SHADOWS
+    if (record.cone.z >= 0.0) {
+        radiance *= light_shadow(u32(record.cone.z), pw, s.n, record.direction.xyz, view_depth, n_dot_l);
+    }
+#endif
+#else
+    let range = record.position_range.w;
+    // A light without a range lights nothing.
+    if (!(range > 0.0)) {
+        return;
+    }
+    let to_light = record.position_range.xyz - pw;
+    let distance2 = dot(to_light, to_light);
+    // (distance / range)^2; the floor keeps a range whose square underflows finite.
+    let ratio2 = distance2 / max(range * range, 1e-30);
+    if (!(ratio2 < 1.0)) {
+        return;
+    }
+    let inverse_distance = inverseSqrt(max(distance2, 1e-20));
+    let attenuation = range_window(ratio2) * inverse_square(inverse_distance);
+    var n_dot_l = dot(s.n, to_light) * inverse_distance;
+    var v_dot_l = dot(s.v, to_light) * inverse_distance;
+    if (!(distance2 > 1e-20)) {
+        // A light at the surface point: from along the normal.
+        n_dot_l = 1.0;
+        v_dot_l = s.view_cosine;
+    }
+    var radiance = record.intensity.rgb;
+#ifdef LIGHT_SPOT
+    radiance *= spot_mask(i, record.cone, pw);
+#endif
+#ifdef SHADOWS
+    if (record.cone.z >= 0.0) {
+        radiance *= light_shadow(u32(record.cone.z), pw, s.n, pw - record.position_range.xyz, view_depth, n_dot_l);
+    }
+#endif
+#endif
+    let cosines = half_vector_cosines(s, n_dot_l, v_dot_l);
+    add_light(sums, radiance, cook_torrance_weights(s, n_dot_l, cosines.x, cosines.y) * attenuation);
+}
+
+// Every light of the buffer that reaches `pw`: with CLUSTERED, those listed
+// in the froxel of the fragment (pixel `frag`, camera depth `view_depth`).
+fn light_sums(frag: vec2<f32>, pw: vec3<f32>, s: BrdfSurface, view_depth: f32) -> LightSums {
+    var sums = no_light_sums();
+#ifdef CLUSTERED
+    let tile = vec2<u32>(clamp(floor(frag / grid.depth.w), vec2<f32>(0.0), vec2<f32>(grid.dims.xy - 1u)));
+    let slice = u32(clamp(floor(log(max(view_depth, grid.depth.x) / grid.depth.x) / grid.depth.z * f32(grid.dims.z)), 0.0, f32(grid.dims.z - 1u)));
+    let froxel = (slice * grid.dims.y + tile.y) * grid.dims.x + tile.x;
+    let first = light_offsets[froxel];
+    // Never past the list's end (an overfull frame's lists are cut: clusters.rs).
+    let end = min(first + light_counts[froxel], arrayLength(&light_indices));
+    for (var k = first; k < end; k++) {
+        add_forward_light(light_indices[k], pw, s, view_depth, &sums);
+    }
+#else
+    let count = arrayLength(&lights);
+    for (var i = 0u; i < count; i++) {
+        add_forward_light(i, pw, s, view_depth, &sums);
+    }
+#endif
+    return sums;
+}
+#endif
 
 struct VertexOut {
     @builtin(position) clip: vec4<f32>,
@@ -65,6 +233,11 @@ struct VertexOut {
     @location(3) uv: vec2<f32>,
     @location(4) second_uv: vec2<f32>,
     @location(5) @interpolate(flat) material: u32,
+    @location(6) world: vec3<f32>,
+    // xyz world tangent, w handedness
+    @location(7) tangent: vec4<f32>,
+    // The object-space normal, whose largest axis picks TRIPLANAR's projection.
+    @location(8) object_normal: vec3<f32>,
 }
 
 @vertex
@@ -84,6 +257,9 @@ fn vs(@builtin(vertex_index) vertex: u32, @builtin(instance_index) instance_inde
     out.uv = vec2<f32>(v.position_u.w, v.normal_v.w);
     out.second_uv = out.uv;
     out.material = instances[instance_index].info.z;
+    out.world = world.xyz;
+    out.tangent = vec4<f32>((m * vec4<f32>(v.tangent.xyz, 0.0)).xyz, v.tangent.w);
+    out.object_normal = v.normal_v.xyz;
 #ifdef VERTEX_EXTRAS
     let extra = corner_extra(instance_index, vertex / 3u, corner, v);
     out.second_uv = extra.second_uv;
@@ -104,11 +280,54 @@ fn weight(z: f32, alpha: f32) -> f32 {
     return alpha * clamp(w, 1e-2, 3e3) / 3e3;
 }
 
+// `n` bent by a tangent-space normal-map texel (-1..1) along `tangent`.
+fn perturb(n: vec3<f32>, tangent: vec4<f32>, texel: vec3<f32>) -> vec3<f32> {
+    let t = safe_normalize(tangent.xyz - n * dot(n, tangent.xyz), vec3<f32>(1.0, 0.0, 0.0));
+    let b = cross(n, t) * select(-1.0, 1.0, tangent.w >= 0.0);
+    return safe_normalize(t * texel.x + b * texel.y + n * texel.z, n);
+}
+
 @fragment
-fn fs(in: VertexOut) -> Accumulated {
+fn fs(in: VertexOut, @builtin(front_facing) front: bool) -> Accumulated {
     var base = in.color;
+    var n = safe_normalize(in.normal, vec3<f32>(0.0, 1.0, 0.0));
+    // Textures first, in uniform control flow (implicit derivatives).
+#ifdef TEXCOORDS
+    let uv = in.uv;
+#else
+#ifdef TRIPLANAR
+    // Planar projection on the axis the surface faces most, as the G-buffer resolve does.
+    let face = abs(in.object_normal);
+    var uv = fract(in.world.xy);
+    if (face.x >= face.y && face.x >= face.z) {
+        uv = fract(in.world.zy);
+    } else if (face.y >= face.z) {
+        uv = fract(in.world.xz);
+    }
+#else
+    let uv = vec2<f32>(0.0);
+#endif
+#endif
+#ifdef COLOR_MAP
+    base = vec4<f32>(base.rgb * max(textureSample(color_map, color_sampler, uv).rgb, vec3<f32>(0.0)), base.a);
+#endif
+#ifdef NORMAL_MAP
+    n = perturb(n, in.tangent, textureSample(normal_map, normal_sampler, uv).xyz * 2.0 - 1.0);
+#endif
+    var roughness = params.surface.x;
+    var metallic = params.surface.y;
+    var reflectance = 0.04;
+    var emission = vec3<f32>(0.0);
+    var occlusion = 1.0;
+#ifdef MATERIALS
+    let ct = feature_param(in.material, FEATURE_COOK_TORRANCE, 0u, vec4<f32>(roughness, metallic, reflectance, 0.0));
+    roughness = ct.x;
+    metallic = ct.y;
+    reflectance = ct.z;
+    let em = feature_param(in.material, FEATURE_EMISSION, 0u, vec4<f32>(0.0));
+    emission = max(em.rgb, vec3<f32>(0.0)) * max(em.a, 0.0);
+#endif
 #ifdef MATERIAL_MAPS
-    // Derivatives first, in uniform control flow.
     var coords: MapCoords;
     coords.uv = in.uv;
     coords.dx = dpdx(in.uv);
@@ -117,6 +336,17 @@ fn fs(in: VertexOut) -> Accumulated {
     coords.second_dx = dpdx(in.second_uv);
     coords.second_dy = dpdy(in.second_uv);
     base *= max(sample_map(in.material, MAP_BASE_COLOR, coords, vec4<f32>(1.0)), vec4<f32>(0.0));
+    let settings = map_settings(in.material);
+    if (has_map(in.material, MAP_NORMAL)) {
+        var texel = sample_map(in.material, MAP_NORMAL, coords, vec4<f32>(0.5, 0.5, 1.0, 1.0)).xyz * 2.0 - 1.0;
+        texel = vec3<f32>(texel.xy * settings.z, texel.z);
+        n = perturb(n, in.tangent, texel);
+    }
+    let metal_rough = sample_map(in.material, MAP_METALLIC_ROUGHNESS, coords, vec4<f32>(1.0));
+    roughness *= metal_rough.g;
+    metallic *= metal_rough.b;
+    occlusion = clamp(1.0 + settings.w * (sample_map(in.material, MAP_OCCLUSION, coords, vec4<f32>(1.0)).r - 1.0), 0.0, 1.0);
+    emission *= max(sample_map(in.material, MAP_EMISSIVE, coords, vec4<f32>(1.0)).rgb, vec3<f32>(0.0));
 #endif
     // Behind the opaque surface (reversed-Z: a smaller depth is further): hidden.
     let opaque_z = textureLoad(opaque_depth, vec2<i32>(in.clip.xy), 0).r;
@@ -124,14 +354,46 @@ fn fs(in: VertexOut) -> Accumulated {
     if (in.clip.z < opaque_z || alpha < 1e-4) {
         discard;
     }
-    let n = normalize(in.normal + vec3<f32>(0.0, 0.0, 1e-12));
-    let lambert = abs(dot(n, params.light_direction.xyz));
-    let radiance = params.ambient.rgb + params.light_color.rgb * lambert;
-    let color = clamp(sanitize(vec4<f32>(base.rgb * radiance, 0.0)).rgb, vec3<f32>(0.0), vec3<f32>(600.0));
+    let albedo = max(sanitize(base).rgb, vec3<f32>(0.0));
     let w = weight(in.distance, alpha);
     var out: Accumulated;
+#ifdef LIGHT_PASS
+    // A back face (a shell's inside, seen through its front) is lit on the side it shows.
+    let facing = select(-n, n, front);
+    let v = safe_normalize(camera.position.xyz - in.world, facing);
+    let s = brdf_surface(facing, v, albedo, roughness, metallic, reflectance);
+    let lit = light_sums_brdf(s, light_sums(in.clip.xy, in.world, s, in.distance));
+    var specular = lit.specular;
+    if (params.surface.z > 0.5) {
+        specular *= surface_energy_compensation(s);
+    }
+    // Held at 600 before sanitizing: a light that overflows to infinity
+    // saturates the pixel instead of blacking it out; NaN becomes 0.
+    let color = max(sanitize(vec4<f32>(min(lit.diffuse + specular, vec3<f32>(600.0)), 0.0)).rgb, vec3<f32>(0.0));
+    // The colour alone: alpha and the revealage are the base pass's (the pipeline masks them).
+    out.accumulation = vec4<f32>(color * alpha * w, 0.0);
+    out.revealage = vec4<f32>(0.0);
+#else
+    // Two-sided: a thin glass-like shell is lit from either side.
+    let lambert = abs(dot(n, params.light_direction.xyz));
+    let radiance = params.ambient.rgb * occlusion + params.light_color.rgb * lambert;
+    var unlit = albedo * radiance + emission;
+#ifdef ENVIRONMENT
+    // Layers without a material world reflect fully; with one, as much as
+    // their material's Reflection feature says (none without it), as
+    // Reflection does for the opaque surfaces.
+    var reflective = 1.0;
+#ifdef MATERIALS
+    reflective = feature_param(in.material, FEATURE_REFLECTION, 0u, vec4<f32>(0.0)).x;
+#endif
+    let facing = select(-n, n, front);
+    let v = safe_normalize(camera.position.xyz - in.world, facing);
+    unlit += environment_light(facing, v, albedo, roughness, metallic, reflectance, reflective) * occlusion;
+#endif
+    let color = max(sanitize(vec4<f32>(min(unlit, vec3<f32>(600.0)), 0.0)).rgb, vec3<f32>(0.0));
     out.accumulation = vec4<f32>(color * alpha, alpha) * w;
     out.revealage = vec4<f32>(alpha);
+#endif
     return out;
 }
 

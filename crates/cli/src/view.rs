@@ -196,14 +196,17 @@ pub fn build_patch(
         patch.link(6, "Texture", 20, "Texture");
         return patch;
     }
-    if framing.file_lights.contains(&true) {
-        file_lights(&mut patch, framing.file_lights);
+    // The light buffers (and shadow maps) the opaque scene is lit with
+    // light the BLEND materials too.
+    let lights = if framing.file_lights.contains(&true) {
+        (file_lights(&mut patch, framing.file_lights), None)
     } else {
         sun(&mut patch, framing.radius);
-    }
+        (vec![8], Some(9))
+    };
     image_light(&mut patch, environment, framing.exposure);
     if framing.blend {
-        transparent(&mut patch, file, framing.time);
+        transparent(&mut patch, file, framing.time, lights);
     } else {
         patch.link(14, "Texture", 15, "Texture");
     }
@@ -211,9 +214,10 @@ pub fn build_patch(
 }
 
 /// BLEND materials: a second glTF node giving only them, their layer drawn
-/// by Transparency over the lit image before tonemapping, with their base
-/// colour textures and vertex colours (the layer carries the material world).
-fn transparent(patch: &mut Patch, file: String, time: f32) {
+/// by Transparency over the lit image before tonemapping, with their maps
+/// and vertex colours (the layer carries the material world), lit by the
+/// scene's light buffers (`lights`: their nodes, and the shadow maps' node).
+fn transparent(patch: &mut Patch, file: String, time: f32, lights: (Vec<u32>, Option<u32>)) {
     patch.add(
         NodeDoc::new(40, "glTF")
             .at(800.0, 0.0)
@@ -241,11 +245,26 @@ fn transparent(patch: &mut Patch, file: String, time: f32) {
     patch.link(5, "G-Buffer", 42, "G-Buffer");
     patch.link(41, "Layer", 42, "Layer");
     patch.link(42, "Texture", 15, "Texture");
+    // The image-based light the opaque surfaces get (Reflection) lights them too.
+    patch.link(11, "Environment", 42, "Environment");
+    let (buffers, shadows) = lights;
+    if let [only] = buffers[..] {
+        patch.link(only, "Lights", 42, "Lights");
+    } else if !buffers.is_empty() {
+        patch.add(NodeDoc::new(43, "Group (Lights)").at(160.0, 520.0));
+        for (i, buffer) in buffers.iter().enumerate() {
+            patch.link(*buffer, "Lights", 43, &format!("Lights {}", i + 1));
+        }
+        patch.link(43, "Lights", 42, "Lights");
+    }
+    if let Some(shadows) = shadows {
+        patch.link(shadows, "Shadows", 42, "Shadows");
+    }
 }
 
 /// The file's lights: a buffer and a CookTorrance per type it has, their
-/// components grouped for CompositeLight (node 13).
-fn file_lights(patch: &mut Patch, present: [bool; 3]) {
+/// components grouped for CompositeLight (node 13). Returns the buffers' nodes.
+fn file_lights(patch: &mut Patch, present: [bool; 3]) -> Vec<u32> {
     let types = [
         ("Point Lights", "PointLightBuffer"),
         ("Spot Lights", "SpotLightBuffer"),
@@ -254,6 +273,7 @@ fn file_lights(patch: &mut Patch, present: [bool; 3]) {
     patch.add(NodeDoc::new(16, "Group (Texture)").at(320.0, 320.0));
     patch.add(NodeDoc::new(17, "Group (Texture)").at(480.0, 320.0));
     let used = types.iter().zip(present).filter(|(_, p)| *p);
+    let mut buffers = Vec::new();
     for (slot, ((output, buffer), _)) in used.enumerate() {
         let (b, c) = (30 + 2 * slot as u32, 31 + 2 * slot as u32);
         let x = 320.0 + 160.0 * slot as f32;
@@ -266,9 +286,11 @@ fn file_lights(patch: &mut Patch, present: [bool; 3]) {
         let pin = format!("Texture {}", slot + 1);
         patch.link(c, "Diffuse", 16, &pin);
         patch.link(c, "Specular", 17, &pin);
+        buffers.push(b);
     }
     patch.link(16, "Texture", 13, "Diffuse");
     patch.link(17, "Texture", 13, "Specular");
+    buffers
 }
 
 /// A sun from above and behind the camera's right, its shadow covering the model.

@@ -1,7 +1,11 @@
 //! Weighted blended transparency: alpha 0 leaves the opaque image exactly,
 //! alpha 1 covers it, alpha 0.5 front and back faces reveal a quarter of it;
 //! the opaque depth hides what is behind; 100 overlapping layers, and
-//! layers at the near and far planes, neither overflow nor make NaN.
+//! layers at the near and far planes, neither overflow nor make NaN. Lit
+//! forward+: point and sun lights on a glass pane match the CPU BRDF
+//! reference at chosen pixels, naive and clustered alike; zero normals,
+//! zero roughness and a light at the surface stay finite; light passes run
+//! only for connected light buffers, with only their type compiled in.
 
 mod post_common;
 
@@ -10,12 +14,22 @@ use std::sync::Arc;
 use glam::{Mat4, Vec3};
 use post_common::*;
 use spreadlight_render::Renderer;
+use spreadlight_render::environment::{
+    Environment, EnvironmentQuality, EnvironmentSource, EquirectImage,
+};
 use spreadlight_render::gbuffer::{DrawBatch, GBuffer, InstanceInput, Layer};
-use spreadlight_render::mesh::primitives::{SphereParams, sphere};
-use spreadlight_render::post::transparency::{DRAWN, SKIPPED};
-use spreadlight_render::post::{Transparency, TransparencySettings};
+use spreadlight_render::lighting::{LightBuffer, LightLoop, PointLight, SunLight};
+use spreadlight_render::mesh::MeshData;
+use spreadlight_render::mesh::primitives::{SphereParams, plane, sphere};
+use spreadlight_render::post::transparency::{
+    ASSIGNED, DRAWN, LIGHT_PASSES, SKIPPED, TransparencyPass,
+};
+use spreadlight_render::post::{LitBy, Transparency, TransparencySettings, TransparentLights};
 use spreadlight_render::readback::ImageF32;
+use spreadlight_render::reference::brdf::{cook_torrance_f0, specular_albedo};
+use spreadlight_render::reference::lights::point_attenuation;
 use spreadlight_render::renderer::test_renderer;
+use spreadlight_render::shaders::Permutation;
 use spreadlight_render::static_texture::StaticTexture;
 
 const SIZE: (u32, u32) = (48, 48);
@@ -345,6 +359,379 @@ fn a_re_made_transparency_binds_the_groups_it_made_before() {
         match &first {
             None => first = Some(out),
             Some(image) => assert!(image.pixels == out.pixels, "frame {frame}: the same image"),
+        }
+    }
+}
+
+// Lit transparency.
+
+const EYE: Vec3 = Vec3::new(0.0, 0.0, 8.0);
+const FOV: f32 = 0.6;
+/// The glass pane's plane (z) and albedo; roughness and metallic are the settings'.
+const PANE_Z: f32 = 3.0;
+const ALBEDO: Vec3 = Vec3::new(0.8, 0.6, 0.4);
+const ROUGHNESS: f32 = 0.4;
+const METALLIC: f32 = 0.3;
+
+/// A 4 x 4 pane at z = PANE_Z facing the eye, opaque (alpha 1) so a pixel
+/// shows its lit colour alone; `mesh` replaces the plane (its normals, say).
+fn pane(renderer: &Renderer, mesh: Option<MeshData>, alpha: f32) -> Arc<Layer> {
+    pane_of(renderer, mesh, ALBEDO.extend(alpha))
+}
+
+/// `pane` in `color` (alpha in w).
+fn pane_of(renderer: &Renderer, mesh: Option<MeshData>, color: glam::Vec4) -> Arc<Layer> {
+    let mesh = renderer
+        .meshes
+        .upload(&renderer.gpu, &mesh.unwrap_or_else(plane))
+        .expect("upload");
+    let t = Mat4::from_translation(Vec3::new(0.0, 0.0, PANE_Z))
+        * Mat4::from_rotation_x(std::f32::consts::FRAC_PI_2)
+        * Mat4::from_scale(Vec3::splat(4.0));
+    Arc::new(Layer::plain(vec![DrawBatch {
+        mesh,
+        instances: vec![InstanceInput {
+            transform: t,
+            previous_transform: t,
+            color: color.to_array(),
+            material_id: 0,
+            object_id: 0,
+        }],
+    }]))
+}
+
+/// No ambient, no key light: only the light buffers light the pane.
+fn dark(light_loop: LightLoop) -> TransparencySettings {
+    TransparencySettings {
+        ambient: Vec3::ZERO,
+        roughness: ROUGHNESS,
+        metallic: METALLIC,
+        light_loop,
+        ..Default::default()
+    }
+}
+
+/// The pane lit by `lights` over a black image; the frame's report and image.
+fn lit_pane(
+    renderer: &Renderer,
+    layer: Arc<Layer>,
+    settings: TransparencySettings,
+    lights: Vec<Arc<LightBuffer>>,
+) -> (
+    spreadlight_render::report::FrameReport,
+    ImageF32,
+    Arc<Transparency>,
+) {
+    lit_pane_by(renderer, layer, settings, lights, None)
+}
+
+/// `lit_pane`, with an environment.
+fn lit_pane_by(
+    renderer: &Renderer,
+    layer: Arc<Layer>,
+    settings: TransparencySettings,
+    lights: Vec<Arc<LightBuffer>>,
+    environment: Option<Arc<Environment>>,
+) -> (
+    spreadlight_render::report::FrameReport,
+    ImageF32,
+    Arc<Transparency>,
+) {
+    let opaque = balls(renderer, &[Ball::still(Vec3::ZERO, 0.5)]);
+    let g = gbuffer(renderer, opaque, look(EYE, Vec3::ZERO, FOV, 1.0), None);
+    let black = image(renderer, SIZE, |_, _| [0.0, 0.0, 0.0, 1.0]);
+    let lights = lights
+        .into_iter()
+        .map(|lights| TransparentLights {
+            lights,
+            shadows: None,
+        })
+        .collect();
+    let pass = Transparency::lit(
+        renderer,
+        None,
+        black.texture_ref(),
+        g,
+        vec![layer],
+        settings,
+        LitBy {
+            lights,
+            environment,
+            ..Default::default()
+        },
+    );
+    let (report, out) = render(renderer, pass.as_ref(), &pass.output, SIZE);
+    (report, out, pass)
+}
+
+/// Where the ray through pixel (x, y)'s centre meets the pane.
+fn pane_point(x: u32, y: u32) -> Vec3 {
+    let half = (FOV / 2.0).tan();
+    let ndc_x = (x as f32 + 0.5) / SIZE.0 as f32 * 2.0 - 1.0;
+    let ndc_y = 1.0 - (y as f32 + 0.5) / SIZE.1 as f32 * 2.0;
+    let direction = Vec3::new(ndc_x * half, ndc_y * half, -1.0);
+    EYE + direction * ((EYE.z - PANE_Z) / 1.0)
+}
+
+/// What the CPU reference says the pane shows at pixel (x, y) under `points` and `suns`.
+fn reference(x: u32, y: u32, points: &[PointLight], suns: &[SunLight]) -> Vec3 {
+    let p = pane_point(x, y);
+    let n = Vec3::Z;
+    let v = (EYE - p).normalize();
+    let brdf = |l: Vec3| {
+        let b = cook_torrance_f0(n, v, l, ALBEDO, ROUGHNESS, METALLIC, 0.04, true);
+        b.diffuse + b.specular
+    };
+    let mut sum = Vec3::ZERO;
+    for light in points {
+        let to = light.position - p;
+        sum += brdf(to.normalize())
+            * light.color
+            * light.intensity
+            * point_attenuation(to.length(), light.range);
+    }
+    for sun in suns {
+        sum += brdf(-sun.direction.normalize()) * sun.color * sun.illuminance;
+    }
+    sum
+}
+
+fn point(position: Vec3, color: Vec3, intensity: f32, range: f32) -> PointLight {
+    PointLight {
+        position,
+        color,
+        intensity,
+        range,
+        shadow: None,
+    }
+}
+
+/// Compares the pane's colour with the reference at a spread of pixels.
+fn assert_matches_reference(out: &ImageF32, points: &[PointLight], suns: &[SunLight], what: &str) {
+    let mut lit = 0;
+    for (x, y) in [(24, 24), (10, 12), (36, 30), (20, 40), (40, 8), (5, 5)] {
+        let want = reference(x, y, points, suns);
+        let got = Vec3::from_slice(&at(out, x, y)[..3]);
+        // Half-float accumulation: about three decimal digits.
+        let tolerance = 2e-3 + 1e-2 * want.max_element();
+        assert!(
+            (got - want).abs().max_element() <= tolerance,
+            "{what}: pixel ({x}, {y}) is {got}, the reference says {want}"
+        );
+        lit += usize::from(want.max_element() > 0.05);
+    }
+    assert!(lit >= 3, "{what}: the chosen pixels are lit");
+}
+
+#[test]
+fn point_and_sun_lights_on_glass_match_the_cpu_brdf_naive_and_clustered() {
+    let renderer = test_renderer();
+    let points = [
+        point(Vec3::new(1.0, 1.5, 4.5), Vec3::new(1.0, 0.9, 0.8), 6.0, 6.0),
+        point(
+            Vec3::new(-1.5, -1.0, 4.0),
+            Vec3::new(0.3, 0.5, 1.0),
+            4.0,
+            4.0,
+        ),
+        // Out of reach of the pane: lights nothing.
+        point(Vec3::new(0.0, 0.0, 12.0), Vec3::ONE, 100.0, 2.0),
+    ];
+    let suns = [SunLight {
+        direction: Vec3::new(0.4, -0.3, -1.0),
+        color: Vec3::new(1.0, 0.95, 0.9),
+        illuminance: 0.8,
+        shadow: None,
+    }];
+    let buffers = || {
+        vec![
+            LightBuffer::points(&renderer, &points),
+            LightBuffer::suns(&renderer, &suns),
+        ]
+    };
+    let mut images = Vec::new();
+    for light_loop in [LightLoop::Naive, LightLoop::Clustered] {
+        let (report, out, pass) = lit_pane(
+            &renderer,
+            pane(&renderer, None, 1.0),
+            dark(light_loop),
+            buffers(),
+        );
+        assert_matches_reference(&out, &points, &suns, &format!("{light_loop:?}"));
+        // A light pass per buffer; only the point buffer is clustered (suns have no range).
+        assert_eq!(report.counter(LIGHT_PASSES), 2);
+        let clustered = u64::from(light_loop == LightLoop::Clustered);
+        assert_eq!(report.counter(ASSIGNED), clustered);
+        // The base pass and one light pass per buffer: no spot code anywhere.
+        let keys = pass.keys();
+        assert_eq!(keys.len(), 3);
+        assert!(
+            keys.iter()
+                .all(|k| !k.key().features.contains("LIGHT_SPOT"))
+        );
+        images.push(out);
+    }
+    // The two walks visit the same lights in another order: the same picture.
+    for (a, b) in images[0].pixels.iter().zip(&images[1].pixels) {
+        assert!(
+            a.iter()
+                .zip(b)
+                .all(|(s, t)| (s - t).abs() <= 1e-3 * s.abs().max(1.0)),
+            "{a:?} vs {b:?}"
+        );
+    }
+}
+
+#[test]
+fn light_at_the_surface_zero_roughness_and_zero_normals_stay_finite() {
+    let renderer = test_renderer();
+    // A light on the pane at the centre pixel's point, and one a hair off
+    // it; a sun straight down the mirror direction of a perfect mirror.
+    let on = pane_point(24, 24);
+    let points = [
+        point(on, Vec3::ONE, 1e6, 1.0),
+        point(on + Vec3::Z * 1e-7, Vec3::ONE, 1e30, 1e-20),
+        point(Vec3::new(0.5, 0.5, 3.2), Vec3::ONE, 1e38, 1e30),
+    ];
+    let suns = [SunLight {
+        direction: Vec3::NEG_Z,
+        color: Vec3::ONE,
+        illuminance: 1e30,
+        shadow: None,
+    }];
+    let mirror = TransparencySettings {
+        roughness: 0.0,
+        metallic: 1.0,
+        ..dark(LightLoop::Naive)
+    };
+    // Zero-length normals: the plane with every normal zeroed.
+    let mut flat = plane();
+    flat.normals.iter_mut().for_each(|n| *n = [0.0; 3]);
+    for (what, layer, settings) in [
+        ("mirror", pane(&renderer, None, 1.0), mirror),
+        ("half-covering mirror", pane(&renderer, None, 0.5), mirror),
+        (
+            "zero normals",
+            pane(&renderer, Some(flat), 1.0),
+            dark(LightLoop::Clustered),
+        ),
+    ] {
+        let (_, out, _) = lit_pane(
+            &renderer,
+            layer,
+            settings,
+            vec![
+                LightBuffer::points(&renderer, &points),
+                LightBuffer::suns(&renderer, &suns),
+            ],
+        );
+        // `render` asserts every pixel finite; and nothing past half-float range.
+        let (lo, hi) = range(&out);
+        assert!(lo >= 0.0 && hi <= 65000.0, "{what}: {lo}..{hi}");
+        assert!(hi > 1.0, "{what}: the lights light the pane");
+    }
+}
+
+#[test]
+fn no_light_buffer_no_light_pass_and_the_old_look() {
+    let renderer = test_renderer();
+    // Unlit settings as before: every light pass is absent, the key light
+    // and ambient give today's colour (ambient 1: the albedo).
+    let (report, out, pass) = lit_pane(&renderer, pane(&renderer, None, 1.0), unlit(), vec![]);
+    assert_eq!(report.counter(LIGHT_PASSES), 0);
+    assert_eq!(report.counter(ASSIGNED), 0);
+    assert!(
+        pass.keys()
+            .iter()
+            .all(|k| k.pass == TransparencyPass::Base { environment: false })
+    );
+    let c = Vec3::from_slice(&at(&out, 24, 24)[..3]);
+    assert!((c - ALBEDO).abs().max_element() < 5e-3, "{c}");
+    // An empty light buffer is no light pass either.
+    let (report, _, _) = lit_pane(
+        &renderer,
+        pane(&renderer, None, 1.0),
+        unlit(),
+        vec![LightBuffer::points(&renderer, &[])],
+    );
+    assert_eq!(report.counter(LIGHT_PASSES), 0);
+    // Nothing transparent: a copy, no light pass, no assignment, whatever is connected.
+    let (g, black) = ball_under_green(&renderer);
+    let pass = Transparency::lit(
+        &renderer,
+        None,
+        black.texture_ref(),
+        g,
+        vec![],
+        dark(LightLoop::Clustered),
+        LitBy {
+            lights: vec![TransparentLights {
+                lights: LightBuffer::points(&renderer, &[point(Vec3::Z, Vec3::ONE, 1.0, 5.0)]),
+                shadows: None,
+            }],
+            ..Default::default()
+        },
+    );
+    let (report, _) = render(&renderer, pass.as_ref(), &pass.output, SIZE);
+    assert_eq!(
+        (
+            report.counter(SKIPPED),
+            report.counter(LIGHT_PASSES),
+            report.counter(ASSIGNED)
+        ),
+        (1, 0, 0)
+    );
+}
+
+#[test]
+fn a_uniform_environment_reflects_off_white_metal_glass_as_its_specular_albedo() {
+    // Radiance 0.5 from every direction: the prefiltered reflection is 0.5
+    // at every roughness, so white metal (F0 = 1, no diffuse) shows 0.5
+    // times its directional albedo, which the split-sum table holds (A + B)
+    // and the CPU reference fits.
+    let renderer = test_renderer();
+    let radiance = 0.5;
+    let image = Arc::new(EquirectImage {
+        width: 16,
+        height: 8,
+        pixels: vec![[radiance, radiance, radiance, 1.0]; 16 * 8],
+    });
+    let environment = Environment::new(
+        &renderer,
+        None,
+        EnvironmentSource::Equirect(image),
+        EnvironmentQuality {
+            cube_size: 16,
+            samples: 64,
+        },
+    );
+    // No light buffer: the built-in key light would be on; off, so the
+    // environment alone lights the pane.
+    let settings = TransparencySettings {
+        metallic: 1.0,
+        light_color: Vec3::ZERO,
+        ..dark(LightLoop::Auto)
+    };
+    let white = pane_of(&renderer, None, glam::Vec4::ONE);
+    let (_, out, pass) = lit_pane_by(&renderer, white, settings, vec![], Some(environment));
+    assert_eq!(
+        pass.keys()
+            .iter()
+            .filter(|k| k.key().features.contains("ENVIRONMENT"))
+            .count(),
+        1,
+        "the base pass reads the environment"
+    );
+    for (x, y) in [(24, 24), (12, 30), (40, 10)] {
+        let p = pane_point(x, y);
+        let n_dot_v = (EYE - p).normalize().z;
+        let want = radiance * specular_albedo(n_dot_v, ROUGHNESS);
+        let got = at(&out, x, y);
+        for c in &got[..3] {
+            assert!(
+                (c - want).abs() < 0.04 * want,
+                "pixel ({x}, {y}): {got:?}, the reference says {want}"
+            );
         }
     }
 }

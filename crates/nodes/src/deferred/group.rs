@@ -1,5 +1,7 @@
-//! `Group (Layer)` and `Group (Texture)`: join resource spreads into one, as
-//! vvvv's Group: layers for `MRE`, light components for `CompositeLight`.
+//! `Group (Layer)`, `Group (Texture)`, `Group (Lights)` and `Group (Shadows)`:
+//! join resource spreads into one, as vvvv's Group: layers for `MRE`, light
+//! components for `CompositeLight`, light buffers of several types and
+//! their shadow maps for `Transparency`.
 
 use spreadlight_graph::{NodeDef, PinType, Registry, ResourceKind, Spread};
 
@@ -15,6 +17,18 @@ pub fn register(r: &mut Registry) {
         ResourceKind::Texture,
         ["Texture 1", "Texture 2", "Texture 3", "Texture 4"],
         "Texture",
+    ));
+    r.add(group(
+        "Group (Lights)",
+        ResourceKind::LightWorld,
+        ["Lights 1", "Lights 2", "Lights 3", "Lights 4"],
+        "Lights",
+    ));
+    r.add(group(
+        "Group (Shadows)",
+        ResourceKind::Shadows,
+        ["Shadows 1", "Shadows 2", "Shadows 3", "Shadows 4"],
+        "Shadows",
     ));
 }
 

@@ -12,10 +12,19 @@ use spreadlight_render::shadows::ShadowMaps;
 
 use crate::gpu::{renderer, resource_spread, resources};
 
+const LIGHT_LOOP_OPTIONS: &[&str] = &["Auto", "Clustered", "Naive"];
+
 pub static LIGHT_LOOP: EnumDef = EnumDef {
     name: "Light Loop",
-    options: &["Auto", "Clustered", "Naive"],
+    options: LIGHT_LOOP_OPTIONS,
 };
+
+/// The Light Loop pin's options as values, for nodes with typed pins.
+pub static LIGHT_LOOPS: spreadlight_graph::Choices<LightLoop> = spreadlight_graph::Choices::new(
+    "Light Loop",
+    LIGHT_LOOP_OPTIONS,
+    &[LightLoop::Auto, LightLoop::Clustered, LightLoop::Naive],
+);
 
 pub fn register(r: &mut Registry) {
     r.add(

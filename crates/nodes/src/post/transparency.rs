@@ -1,13 +1,19 @@
 //! `Transparency`: weighted blended order-independent transparency over
-//! the opaque lit image.
+//! the opaque lit image, lit forward+ by the light buffers CookTorrance
+//! shades the opaque scene with.
 
 use glam::Vec3;
 use spreadlight_graph::{Color, NodeDef, Registry, ResourceKind};
+use spreadlight_render::environment::Environment;
 use spreadlight_render::gbuffer::Layer;
-use spreadlight_render::post::{Transparency, TransparencySettings};
+use spreadlight_render::lighting::{LightBuffer, LightLoop};
+use spreadlight_render::material::MaterialWorld;
+use spreadlight_render::post::{LitBy, Transparency, TransparencySettings, TransparentLights};
+use spreadlight_render::shadows::ShadowMaps;
 
 use super::{gbuffer, gbuffer_input, set_texture, texture, texture_input, texture_output};
 use crate::gpu::renderer;
+use crate::lighting::cook_torrance::LIGHT_LOOPS;
 
 pub fn register(r: &mut Registry) {
     r.add(
@@ -16,9 +22,17 @@ pub fn register(r: &mut Registry) {
             "Post",
             "Transparent meshes over the opaque lit image, in any order (weighted blended order-independent \
              transparency, McGuire and Bavoil 2013): connect DeferredBase layers that are not in the MRE; each \
-             instance's Color alpha is its opacity. Hidden behind the G-buffer's opaque depth. Lighting is simple: \
-             the colour times Ambient plus one two-sided directional light (Light Direction, towards the light; Light \
-             Color). Without transparent instances it costs one copy.",
+             instance's Color alpha is its opacity. Hidden behind the G-buffer's opaque depth. Every layer gets \
+             its colour times Ambient plus its emission. Lights: the light buffers CookTorrance shades with (point, \
+             spot, sun; several as a spread), each lighting the layers forward+ with Cook-Torrance (each type's code \
+             compiled only when connected; the clustered froxel lists past 16 lights, or as Light Loop says), \
+             shadowed by the ShadowMap of its type in Shadows. Without Lights, one two-sided directional light \
+             (Light Direction, towards the light; Light Color) as before. The surface is the layer's: glTF materials' \
+             maps (base colour, normal, metallic-roughness, occlusion, emissive), a DeferredBase's Color Texture and \
+             normal map; roughness, metallic and emission from the layer's material world, else Material World, \
+             else Roughness and Metallic. Environment adds its irradiance and its prefiltered reflection (as much as \
+             a material's Reflection feature says; fully for layers without a material world). Without transparent \
+             instances it costs one copy.",
         )
         .with_pins(|p| {
             let texture_in = texture_input(p, "Texture");
@@ -27,10 +41,18 @@ pub fn register(r: &mut Registry) {
             let ambient = p.input("Ambient", Color::rgba(0.3, 0.3, 0.3, 1.0));
             let light_direction = p.input("Light Direction", Vec3::new(0.3, 1.0, 0.5));
             let light_color = p.input("Light Color", Color::WHITE);
+            let lights_in = p.input_resource::<LightBuffer>("Lights", ResourceKind::LightWorld);
+            let shadows_in = p.input_resource::<ShadowMaps>("Shadows", ResourceKind::Shadows);
+            let material_world = p.input_resource::<MaterialWorld>("Material World", ResourceKind::MaterialWorld);
+            let roughness = p.input("Roughness", 0.5f32);
+            let metallic = p.input("Metallic", 0.0f32);
+            let energy_compensation = p.input("Energy Compensation", true);
+            let light_loop = p.input_choice("Light Loop", &LIGHT_LOOPS, LightLoop::Auto);
+            let environment = p.input_resource::<Environment>("Environment", ResourceKind::Environment);
             let out = texture_output(p, "Texture");
             move |cx| {
                 let renderer = renderer(cx)?;
-                for pin in [ambient.index(), light_direction.index(), light_color.index()] {
+                for pin in [ambient.index(), light_direction.index(), light_color.index(), roughness.index(), metallic.index()] {
                     if let Some(slice) = cx.input(pin).first_non_finite() {
                         return Err(cx.input_error(pin, format!("slice {slice} is NaN or infinite")));
                     }
@@ -40,12 +62,39 @@ pub fn register(r: &mut Registry) {
                 let layers = cx.resources(layer)?;
                 let ambient = cx.first(ambient, Color::WHITE)?;
                 let light = cx.first(light_color, Color::WHITE)?;
+                let shadows = cx.resources(shadows_in)?;
+                // Each light buffer is shadowed by the shadow maps of its type: two of one type would be a guess.
+                for (i, s) in shadows.iter().enumerate() {
+                    if shadows[..i].iter().any(|other| other.kind == s.kind) {
+                        return Err(cx.error(
+                            shadows_in,
+                            format!("slices hold two shadow maps of {:?} lights: connect one per light type", s.kind),
+                        ));
+                    }
+                }
+                let lights = cx
+                    .resources(lights_in)?
+                    .into_iter()
+                    .map(|lights| TransparentLights {
+                        shadows: shadows.iter().find(|s| s.kind == lights.kind).cloned(),
+                        lights,
+                    })
+                    .collect();
                 let settings = TransparencySettings {
                     ambient: Vec3::new(ambient.r, ambient.g, ambient.b),
                     light_direction: cx.first(light_direction, Vec3::Y)?,
                     light_color: Vec3::new(light.r, light.g, light.b),
+                    roughness: cx.first(roughness, 0.5)?,
+                    metallic: cx.first(metallic, 0.0)?,
+                    energy_compensation: cx.first(energy_compensation, true)?,
+                    light_loop: cx.choice(light_loop)?,
                 };
-                let pass = Transparency::new(&renderer, Some(cx.node_id.0), source, g, layers, settings);
+                let by = LitBy {
+                    lights,
+                    materials: cx.first_resource(material_world)?,
+                    environment: cx.first_resource(environment)?,
+                };
+                let pass = Transparency::lit(&renderer, Some(cx.node_id.0), source, g, layers, settings, by);
                 set_texture(cx, out, pass.texture());
                 Ok(())
             }

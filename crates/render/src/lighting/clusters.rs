@@ -3,7 +3,11 @@
 
 use std::sync::Mutex;
 
+use super::LightBuffer;
 use crate::context::GpuContext;
+use crate::error::RenderError;
+use crate::frame_graph::{Bindings, PassContext};
+use crate::shaders::ShaderKey;
 
 /// The froxel grid for a target size and depth range.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -134,4 +138,74 @@ impl ClusterStore {
         }
         guard
     }
+}
+
+/// Lists `lights` in the froxels of `grid` (its uniform in `grid_buffer`,
+/// the camera in `camera`), into `store`'s buffers: the assignment
+/// CookTorrance's clustered light loop reads, and lit transparency's forward
+/// one (post/transparency), so both walk the same lists.
+pub(crate) fn assign_lights(
+    cx: &mut PassContext<'_>,
+    store: &ClusterStore,
+    grid: ClusterGrid,
+    grid_buffer: &wgpu::Buffer,
+    camera: &wgpu::Buffer,
+    lights: &LightBuffer,
+) -> Result<(), RenderError> {
+    let device = cx.gpu.device.clone();
+    let count = lights.count();
+    let guard = store.get(cx.gpu, grid.clusters(), count);
+    let Some(b) = guard.as_ref() else {
+        return Ok(());
+    };
+    cx.encoder().clear_buffer(&b.counts, 0, None);
+    cx.gpu.queue.write_buffer(
+        &b.totals,
+        0,
+        bytemuck::cast_slice(&[0u32, b.capacity, 0, 0]),
+    );
+    let key = ShaderKey::new("lighting/clusters.wgsl", []);
+    // Only the clustered walk runs this pass; the naive loop moves its
+    // few lights to view space itself.
+    let steps = ["transform", "count", "scan", "fill"];
+    let mut work = Vec::new();
+    for step in steps {
+        let pipeline = cx.shaders.compute_pipeline(&device, &key, step)?;
+        let bindings = Bindings::new()
+            .buffer("camera", camera)
+            .buffer("grid", grid_buffer)
+            .buffer("lights", lights.buffer())
+            .buffer("view_lights", &b.view_lights)
+            .buffer("counts", &b.counts)
+            .buffer("offsets", &b.offsets)
+            .buffer("indices", &b.indices)
+            .buffer("totals", &b.totals);
+        let group = cx.bind_groups(&key, step, &pipeline, bindings)?;
+        // transform: a thread per light; count and fill: workgroups per
+        // light (x up to 65,535, then y; z splits a light's froxels);
+        // scan: one workgroup.
+        let groups = match step {
+            "scan" => (1, 1, 1),
+            "transform" => (count.div_ceil(64).max(1), 1, 1),
+            _ => (
+                count.clamp(1, 65_535),
+                count.div_ceil(65_535).max(1),
+                super::cook_torrance::workgroups_per_light(
+                    count,
+                    grid.clusters(),
+                    cx.gpu.adapter_class(),
+                ),
+            ),
+        };
+        work.push((pipeline, group, groups));
+    }
+    let pass = cx.compute_pass("light assignment");
+    for (pipeline, bind_groups, groups) in &work {
+        pass.set_pipeline(pipeline);
+        for (i, group) in bind_groups.iter().enumerate() {
+            pass.set_bind_group(i as u32, group, &[]);
+        }
+        pass.dispatch_workgroups(groups.0, groups.1, groups.2);
+    }
+    Ok(())
 }

@@ -84,7 +84,7 @@ struct CustomLight {
 }
 
 /// Near and far of a conventional (0..1 depth) perspective projection; None for others.
-fn near_far(projection: glam::Mat4) -> Option<(f32, f32)> {
+pub(crate) fn near_far(projection: glam::Mat4) -> Option<(f32, f32)> {
     let (a, b) = (projection.z_axis.z, projection.w_axis.z);
     let near = b / a;
     let far = b / (a + 1.0);
@@ -274,58 +274,14 @@ impl CookTorrance {
     }
 
     fn assign(&self, grid: ClusterGrid, cx: &mut PassContext<'_>) -> Result<(), RenderError> {
-        let device = cx.gpu.device.clone();
-        let count = self.lights.count();
-        let guard = self.clusters.get(cx.gpu, grid.clusters(), count);
-        let Some(b) = guard.as_ref() else {
-            return Ok(());
-        };
-        cx.encoder().clear_buffer(&b.counts, 0, None);
-        cx.gpu.queue.write_buffer(
-            &b.totals,
-            0,
-            bytemuck::cast_slice(&[0u32, b.capacity, 0, 0]),
-        );
-        let key = ShaderKey::new("lighting/clusters.wgsl", []);
-        // Only the clustered walk runs this pass; the naive loop moves its
-        // few lights to view space itself.
-        let steps = ["transform", "count", "scan", "fill"];
-        let mut work = Vec::new();
-        for step in steps {
-            let pipeline = cx.shaders.compute_pipeline(&device, &key, step)?;
-            let bindings = Bindings::new()
-                .buffer("camera", self.gbuffer.camera_buffer())
-                .buffer("grid", &self.grid)
-                .buffer("lights", self.lights.buffer())
-                .buffer("view_lights", &b.view_lights)
-                .buffer("counts", &b.counts)
-                .buffer("offsets", &b.offsets)
-                .buffer("indices", &b.indices)
-                .buffer("totals", &b.totals);
-            let group = cx.bind_groups(&key, step, &pipeline, bindings)?;
-            // transform: a thread per light; count and fill: workgroups per
-            // light (x up to 65,535, then y; z splits a light's froxels);
-            // scan: one workgroup.
-            let groups = match step {
-                "scan" => (1, 1, 1),
-                "transform" => (count.div_ceil(64).max(1), 1, 1),
-                _ => (
-                    count.clamp(1, 65_535),
-                    count.div_ceil(65_535).max(1),
-                    workgroups_per_light(count, grid.clusters(), cx.gpu.adapter_class()),
-                ),
-            };
-            work.push((pipeline, group, groups));
-        }
-        let pass = cx.compute_pass("light assignment");
-        for (pipeline, bind_groups, groups) in &work {
-            pass.set_pipeline(pipeline);
-            for (i, group) in bind_groups.iter().enumerate() {
-                pass.set_bind_group(i as u32, group, &[]);
-            }
-            pass.dispatch_workgroups(groups.0, groups.1, groups.2);
-        }
-        Ok(())
+        super::clusters::assign_lights(
+            cx,
+            &self.clusters,
+            grid,
+            &self.grid,
+            self.gbuffer.camera_buffer(),
+            &self.lights,
+        )
     }
 
     /// The permutation: what the lights, materials and shadows call for.
@@ -573,7 +529,7 @@ impl Recipe for CookTorrance {
 /// froxels (at 160x90 the grid has 32, and the GPU's 64 workgroups a light,
 /// 63 of them idle, made 100 lights' assignment 18 ms on lavapipe against
 /// 0.45 ms with one; docs/benchmarks.md, "lavapipe").
-fn workgroups_per_light(lights: u32, clusters: u32, class: AdapterClass) -> u32 {
+pub(super) fn workgroups_per_light(lights: u32, clusters: u32, class: AdapterClass) -> u32 {
     match class {
         AdapterClass::Gpu => (16_384 / lights.max(1)).clamp(1, 64),
         AdapterClass::Cpu => (64 / lights.max(1)).clamp(1, clusters.div_ceil(64).clamp(1, 64)),

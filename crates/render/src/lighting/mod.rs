@@ -13,10 +13,12 @@ use std::sync::Arc;
 use glam::{Mat4, Vec3};
 
 pub use clusters::ClusterGrid;
+pub(crate) use clusters::{ClusterStore, assign_lights};
 pub use composite::{
     CompositeInputs, CompositeKey, CompositeLight, LightComponents, LightPairs, MAX_COMPONENTS,
     MaterialAo, MaterialTerms, Shading, Textured,
 };
+pub(crate) use cook_torrance::near_far;
 pub use cook_torrance::{CookTorrance, FEW_LIGHTS, LightLoop, Surfaces};
 pub use ssgi::GATHER_TEMPORAL as SSGI_GATHER_TEMPORAL;
 pub use ssgi::HALF_RESOLUTION as SSGI_HALF_RESOLUTION;
@@ -169,7 +171,7 @@ pub struct SunLight {
 }
 
 /// Which light type a buffer holds; CookTorrance compiles one permutation per type.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum LightKind {
     Point,
     Spot,

@@ -18,7 +18,9 @@ pub use glare::{Glare, GlareSettings};
 pub use motion_blur::{MotionBlur, MotionBlurSettings};
 pub use taa::{Taa, TaaQuality, TaaSettings, is_cut};
 pub use tonemap::{AdaptedExposure, Tonemap};
-pub use transparency::{Transparency, TransparencySettings};
+pub use transparency::{
+    LitBy, Transparency, TransparencyKey, TransparencySettings, TransparentLights,
+};
 
 use crate::error::RenderError;
 use crate::frame_graph::{Bindings, FrameGraph, PassContext, Tex, TextureDesc};

@@ -149,6 +149,7 @@ pub const SHADERS: &[ShaderFile] = &[
     shader!("lib/vertex_extras.wgsl", library),
     shader!("lib/brdf.wgsl", library),
     shader!("lib/lights.wgsl", library),
+    shader!("lib/spot.wgsl", library),
     shader!("lib/tonemap.wgsl", library),
     shader!("lib/surface_target.wgsl", library),
     shader!("lib/material.wgsl", library),
@@ -300,7 +301,7 @@ pub const SHADERS: &[ShaderFile] = &[
     shader!("post/autofocus.wgsl", []),
     shader!("post/motion_blur.wgsl", []),
     shader!("post/glare.wgsl", ["FILTERED_SOURCE"]),
-    shader!("post/transparency.wgsl", ["MATERIAL_MAPS", "VERTEX_EXTRAS"]),
+    shader!("post/transparency.wgsl", keyed crate::post::TransparencyKey),
     shader!(
         "post/taa.wgsl",
         ["VARIANCE_CLIP", "CATMULL_ROM"],

@@ -1,0 +1,315 @@
+//! `Transparency`'s permutations as types: what a layer's surface reads
+//! (`SurfaceKey`) and which pass draws it (`TransparencyPass`: the unlit
+//! base, or the lights of one buffer with its type, walk and shadow filter
+//! compiled in). A light type no connected buffer has is never compiled,
+//! and a combination the shader cannot serve cannot be written (a glTF
+//! layer's surface maps and a DeferredBase layer's own maps are one choice:
+//! `LayerMaps`; suns have no range to cluster by).
+
+use crate::lighting::LightKind;
+use crate::shaders::Permutation;
+use crate::shadows::ShadowFilter;
+
+/// One permutation of `post/transparency.wgsl`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct TransparencyKey {
+    pub surface: SurfaceKey,
+    pub pass: TransparencyPass,
+}
+
+/// What a layer's fragments read.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct SurfaceKey {
+    pub maps: LayerMaps,
+    /// COLOR_0 and the second UV set (VERTEX_EXTRAS).
+    pub vertex_extras: bool,
+    /// Roughness, metallic, reflectance and emission from a material world
+    /// (MATERIALS); surface maps always read one.
+    pub materials: bool,
+}
+
+/// The textures a layer's surface samples.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum LayerMaps {
+    None,
+    /// A glTF material world's surface maps (MATERIAL_MAPS).
+    Surface,
+    /// A DeferredBase layer's Color Texture and normal map, by its UVs or a
+    /// planar projection.
+    Layer {
+        uv: LayerUv,
+        color: bool,
+        normal: bool,
+    },
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum LayerUv {
+    Texcoords,
+    Triplanar,
+}
+
+/// Which pass draws the layer.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum TransparencyPass {
+    /// Alpha, revealage and the unlit colour (ambient, emission, the built-in
+    /// key light, and with `environment` the Environment's image-based
+    /// light); without it, also the clear and the resolve.
+    Base { environment: bool },
+    /// One light buffer's Cook-Torrance light, added to the colour.
+    Light(LightKey),
+}
+
+/// A light pass: the buffer's type, how it finds its lights, its shadows.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct LightKey {
+    pub kind: LightKind,
+    /// The froxel lists of the clustered assignment (never for suns).
+    pub clustered: bool,
+    pub shadows: ShadowKey,
+    /// Spots projecting texture layers.
+    pub spot_texture: bool,
+}
+
+/// The shadow filter compiled in (ShadowFilter without its settings).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum ShadowKey {
+    None,
+    Raw,
+    Pcf,
+    Pcss,
+    Vsm,
+}
+
+impl ShadowKey {
+    pub fn of(filter: Option<ShadowFilter>) -> Self {
+        match filter {
+            None => ShadowKey::None,
+            Some(ShadowFilter::Raw) => ShadowKey::Raw,
+            Some(ShadowFilter::Pcf { .. }) => ShadowKey::Pcf,
+            Some(ShadowFilter::Pcss { .. }) => ShadowKey::Pcss,
+            Some(ShadowFilter::Vsm { .. }) => ShadowKey::Vsm,
+        }
+    }
+
+    fn features(self) -> impl Iterator<Item = &'static str> {
+        let (on, filter) = match self {
+            ShadowKey::None => (false, None),
+            ShadowKey::Raw => (true, None),
+            ShadowKey::Pcf => (true, Some("SHADOW_PCF")),
+            ShadowKey::Pcss => (true, Some("SHADOW_PCSS")),
+            ShadowKey::Vsm => (true, Some("SHADOW_VSM")),
+        };
+        on.then_some("SHADOWS").into_iter().chain(filter)
+    }
+
+    const ALL: [ShadowKey; 5] = [
+        ShadowKey::None,
+        ShadowKey::Raw,
+        ShadowKey::Pcf,
+        ShadowKey::Pcss,
+        ShadowKey::Vsm,
+    ];
+}
+
+impl SurfaceKey {
+    fn features(self) -> impl Iterator<Item = &'static str> {
+        let mut f: Vec<&'static str> = Vec::new();
+        match self.maps {
+            LayerMaps::None => {}
+            LayerMaps::Surface => f.push("MATERIAL_MAPS"),
+            LayerMaps::Layer { uv, color, normal } => {
+                f.push(match uv {
+                    LayerUv::Texcoords => "TEXCOORDS",
+                    LayerUv::Triplanar => "TRIPLANAR",
+                });
+                f.extend(color.then_some("COLOR_MAP"));
+                f.extend(normal.then_some("NORMAL_MAP"));
+            }
+        }
+        // Surface maps read the world's parameters too.
+        f.extend((self.materials || self.maps == LayerMaps::Surface).then_some("MATERIALS"));
+        f.extend(self.vertex_extras.then_some("VERTEX_EXTRAS"));
+        f.into_iter()
+    }
+
+    fn all() -> Vec<SurfaceKey> {
+        let mut maps = vec![LayerMaps::None, LayerMaps::Surface];
+        for uv in [LayerUv::Texcoords, LayerUv::Triplanar] {
+            for (color, normal) in [(true, false), (false, true), (true, true)] {
+                maps.push(LayerMaps::Layer { uv, color, normal });
+            }
+        }
+        let mut all = Vec::new();
+        for maps in maps {
+            for vertex_extras in [false, true] {
+                // Surface maps always read the world: one permutation, not two.
+                let worlds: &[bool] = if maps == LayerMaps::Surface {
+                    &[true]
+                } else {
+                    &[false, true]
+                };
+                for &materials in worlds {
+                    all.push(SurfaceKey {
+                        maps,
+                        vertex_extras,
+                        materials,
+                    });
+                }
+            }
+        }
+        all
+    }
+}
+
+impl LightKey {
+    fn features(self) -> impl Iterator<Item = &'static str> {
+        let kind = match self.kind {
+            LightKind::Point => None,
+            LightKind::Spot => Some("LIGHT_SPOT"),
+            LightKind::Sun => Some("LIGHT_SUN"),
+        };
+        std::iter::once("LIGHT_PASS")
+            .chain(kind)
+            .chain(self.clustered.then_some("CLUSTERED"))
+            .chain(self.spot_texture.then_some("SPOT_TEXTURE"))
+            .chain(self.shadows.features())
+    }
+
+    fn all() -> Vec<LightKey> {
+        let mut all = Vec::new();
+        for kind in [LightKind::Point, LightKind::Spot, LightKind::Sun] {
+            let walks: &[bool] = if kind == LightKind::Sun {
+                &[false]
+            } else {
+                &[false, true]
+            };
+            let textures: &[bool] = if kind == LightKind::Spot {
+                &[false, true]
+            } else {
+                &[false]
+            };
+            for &clustered in walks {
+                for &spot_texture in textures {
+                    for shadows in ShadowKey::ALL {
+                        all.push(LightKey {
+                            kind,
+                            clustered,
+                            shadows,
+                            spot_texture,
+                        });
+                    }
+                }
+            }
+        }
+        all
+    }
+}
+
+impl Permutation for TransparencyKey {
+    const PATH: &'static str = "post/transparency.wgsl";
+    const FEATURES: &'static [&'static str] = &[
+        "MATERIAL_MAPS",
+        "VERTEX_EXTRAS",
+        "MATERIALS",
+        "ENVIRONMENT",
+        "TEXCOORDS",
+        "TRIPLANAR",
+        "COLOR_MAP",
+        "NORMAL_MAP",
+        "LIGHT_PASS",
+        "LIGHT_SPOT",
+        "LIGHT_SUN",
+        "CLUSTERED",
+        "SPOT_TEXTURE",
+        "SHADOWS",
+        "SHADOW_PCF",
+        "SHADOW_PCSS",
+        "SHADOW_VSM",
+    ];
+
+    fn features(self) -> impl Iterator<Item = &'static str> {
+        let light: Vec<&'static str> = match self.pass {
+            TransparencyPass::Base { environment } => {
+                environment.then_some("ENVIRONMENT").into_iter().collect()
+            }
+            TransparencyPass::Light(light) => light.features().collect(),
+        };
+        self.surface.features().chain(light)
+    }
+
+    /// Every surface with the base passes and with every light pass. The
+    /// validation test composes each: 30 surfaces x (2 + 35) passes.
+    fn all() -> Vec<Self> {
+        let bases = [false, true].map(|environment| TransparencyPass::Base { environment });
+        let passes: Vec<TransparencyPass> = bases
+            .into_iter()
+            .chain(LightKey::all().into_iter().map(TransparencyPass::Light))
+            .collect();
+        SurfaceKey::all()
+            .into_iter()
+            .flat_map(|surface| {
+                passes
+                    .iter()
+                    .map(move |&pass| TransparencyKey { surface, pass })
+            })
+            .collect()
+    }
+}
+
+impl TransparencyKey {
+    /// The clear and resolve compute entry points: no surface, no lights.
+    pub const COMPOSITE: TransparencyKey = TransparencyKey {
+        surface: SurfaceKey {
+            maps: LayerMaps::None,
+            vertex_extras: false,
+            materials: false,
+        },
+        pass: TransparencyPass::Base { environment: false },
+    };
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn light_code_is_compiled_only_for_the_pass_that_calls_for_it() {
+        let base = TransparencyKey::COMPOSITE;
+        assert_eq!(base.features().count(), 0);
+        let spot = TransparencyKey {
+            pass: TransparencyPass::Light(LightKey {
+                kind: LightKind::Spot,
+                clustered: true,
+                shadows: ShadowKey::Pcf,
+                spot_texture: false,
+            }),
+            ..base
+        };
+        let features: Vec<_> = spot.features().collect();
+        assert_eq!(
+            features,
+            [
+                "LIGHT_PASS",
+                "LIGHT_SPOT",
+                "CLUSTERED",
+                "SHADOWS",
+                "SHADOW_PCF"
+            ]
+        );
+        let all = TransparencyKey::all();
+        let keys: std::collections::HashSet<_> = all.iter().map(|k| k.key()).collect();
+        assert_eq!(
+            keys.len(),
+            all.len(),
+            "every permutation is a different shader"
+        );
+        // No sun is clustered, and only spots project textures.
+        assert!(all.iter().all(|k| match k.pass {
+            TransparencyPass::Light(l) =>
+                !(l.kind == LightKind::Sun && l.clustered)
+                    && (l.kind == LightKind::Spot || !l.spot_texture),
+            TransparencyPass::Base { .. } => true,
+        }));
+    }
+}

@@ -1,0 +1,865 @@
+//! `Transparency`: weighted blended order-independent transparency
+//! (McGuire and Bavoil 2013; shaders/post/transparency.wgsl), lit forward+.
+//! Transparent layers are rasterized (blending is what raster hardware is
+//! for) into an RGBA16F accumulation and an R16F revealage target,
+//! depth-tested by hand against the G-buffer's depth, then a compute pass
+//! composites them over the opaque lit image.
+//!
+//! Lighting: a base pass draws each layer's alpha and its unlit colour
+//! (the colour times an ambient term, emission, an Environment's
+//! irradiance and prefiltered reflection, and, without light buffers, one
+//! two-sided directional key light); then each connected
+//! light buffer draws the layer again, adding its Cook-Torrance light to
+//! the colour alone (the sum is linear, so this equals one pass that loops
+//! over every buffer). A light pass walks the buffer's lights as
+//! CookTorrance does: every light for a handful ([`FEW_LIGHTS`]), else the
+//! froxel lists of the same clustered assignment
+//! (`lighting::assign_lights`), with the buffer's shadow maps. The surface
+//! is the layer's: glTF's base colour (instance colour x base colour map x
+//! COLOR_0), normal, metallic-roughness, occlusion and emissive maps, or a
+//! DeferredBase layer's Color Texture and normal map; roughness, metallic
+//! and emission from the material world's CookTorrance and Emission
+//! features (the layer's world, else the node's), else the node's pins.
+//! Each layer and pass is drawn with its own permutation (`key.rs`).
+//! Without transparent instances the node costs a copy, and without light
+//! buffers no light pass runs.
+
+mod key;
+
+use std::sync::{Arc, Mutex};
+
+use glam::Vec3;
+
+pub use key::{
+    LayerMaps, LayerUv, LightKey, ShadowKey, SurfaceKey, TransparencyKey, TransparencyPass,
+};
+
+use crate::environment::Environment;
+use crate::error::RenderError;
+use crate::frame_graph::{Bindings, FrameGraph, PassContext, Tex, TextureDesc};
+use crate::gbuffer::{Draw, GBuffer, Layer, mesh_bindings, pack_instances};
+use crate::lighting::{ClusterGrid, ClusterStore, FEW_LIGHTS, LightBuffer, LightKind, LightLoop};
+use crate::material::MaterialWorld;
+use crate::recipe::{Recipe, TextureRef, next_recipe_id};
+use crate::renderer::Renderer;
+use crate::report::PassName;
+use crate::shaders::{Permutation, Sampling, ShaderKey};
+use crate::shadows::ShadowMaps;
+use crate::texture_pool::ViewSpec;
+
+const ACCUMULATION: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+// Rgba16Float, not R16Float (only red is read): the targets are cleared by
+// a compute pass, and half-float storage is only core in four channels.
+const REVEALAGE: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+
+/// Counted when there was nothing transparent to draw and the node only copied.
+pub const SKIPPED: &str = "transparency skipped (nothing transparent)";
+/// Transparent instances drawn.
+pub const DRAWN: &str = "transparent instances drawn";
+/// Light passes drawn: one per layer (and culling variant) and light buffer.
+pub const LIGHT_PASSES: &str = "transparency light passes";
+/// Light buffers whose lights were assigned to froxels for the forward loop.
+pub const ASSIGNED: &str = "transparency clustered light buffers";
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TransparencySettings {
+    pub ambient: Vec3,
+    /// Towards the built-in key light, in world space (only without light buffers).
+    pub light_direction: Vec3,
+    /// The built-in key light; off (black) whenever light buffers are connected.
+    pub light_color: Vec3,
+    /// Roughness and metallic of surfaces whose material world has no
+    /// CookTorrance feature (or that have no world).
+    pub roughness: f32,
+    pub metallic: f32,
+    /// The multiple-scattering term on the light passes' specular, as CookTorrance's.
+    pub energy_compensation: bool,
+    /// How light passes find their lights (CookTorrance's choice).
+    pub light_loop: LightLoop,
+}
+
+impl Default for TransparencySettings {
+    fn default() -> Self {
+        TransparencySettings {
+            ambient: Vec3::splat(0.3),
+            light_direction: Vec3::new(0.3, 1.0, 0.5),
+            light_color: Vec3::splat(1.0),
+            roughness: 0.5,
+            metallic: 0.0,
+            energy_compensation: true,
+            light_loop: LightLoop::Auto,
+        }
+    }
+}
+
+/// A light buffer that lights the transparent layers, with the shadow maps
+/// its lights' slices index (a ShadowMap of the same light type).
+#[derive(Clone, Debug)]
+pub struct TransparentLights {
+    pub lights: Arc<LightBuffer>,
+    pub shadows: Option<Arc<ShadowMaps>>,
+}
+
+/// What lights the layers besides the settings' ambient and key light.
+#[derive(Clone, Debug, Default)]
+pub struct LitBy {
+    /// Each buffer is a light pass; with any, the settings' key light is off.
+    pub lights: Vec<TransparentLights>,
+    /// The world of layers that bring none of their own.
+    pub materials: Option<Arc<MaterialWorld>>,
+    /// Image-based light (irradiance and prefiltered reflection) in the base pass.
+    pub environment: Option<Arc<Environment>>,
+}
+
+/// One light buffer as a light pass uses it.
+struct LightSet {
+    lights: Arc<LightBuffer>,
+    shadows: Option<Arc<ShadowMaps>>,
+    /// The froxel lists, when the walk is clustered.
+    clusters: Option<SetClusters>,
+}
+
+struct SetClusters {
+    store: Arc<ClusterStore>,
+    grid: wgpu::Buffer,
+    /// Orders the light pass after the assignment (its buffers live outside the graph).
+    token: String,
+}
+
+/// Per node: each light buffer's froxel buffers and grid uniform, kept
+/// across the node's recipes (a new one each frame the camera moves), as
+/// CookTorrance keeps its `ClusterStore`.
+#[derive(Default)]
+struct ForwardClusters(Mutex<Vec<(Arc<ClusterStore>, wgpu::Buffer)>>);
+
+impl ForwardClusters {
+    fn set(&self, renderer: &Renderer, index: usize) -> (Arc<ClusterStore>, wgpu::Buffer) {
+        let mut sets = self.0.lock().unwrap_or_else(|e| e.into_inner());
+        while sets.len() <= index {
+            let grid = renderer.gpu.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("transparency cluster grid"),
+                size: 32,
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            });
+            sets.push((Arc::default(), grid));
+        }
+        sets[index].clone()
+    }
+}
+
+pub struct Transparency {
+    id: u64,
+    owner: Option<u32>,
+    source: TextureRef,
+    gbuffer: Arc<GBuffer>,
+    layers: Vec<Arc<Layer>>,
+    draws: Vec<Draw>,
+    /// Per layer: its instance range.
+    layer_ranges: Vec<(u32, u32)>,
+    instances: wgpu::Buffer,
+    instance_count: u32,
+    params: wgpu::Buffer,
+    lights: Vec<LightSet>,
+    /// The world of layers that bring none.
+    materials: Option<Arc<MaterialWorld>>,
+    environment: Option<Arc<Environment>>,
+    accumulation: String,
+    revealage: String,
+    pub output: String,
+}
+
+/// A finite colour in 0..HALF_MAX (black for NaN or infinity).
+fn clean(v: Vec3) -> Vec3 {
+    if v.is_finite() {
+        v.clamp(Vec3::ZERO, Vec3::splat(super::HALF_MAX))
+    } else {
+        Vec3::ZERO
+    }
+}
+
+/// 0..1, `fallback` for NaN or infinity.
+fn unit(v: f32, fallback: f32) -> f32 {
+    if v.is_finite() {
+        v.clamp(0.0, 1.0)
+    } else {
+        fallback
+    }
+}
+
+impl Transparency {
+    /// Unlit but for the settings' ambient and key light (no light buffers).
+    pub fn new(
+        renderer: &Renderer,
+        owner: Option<u32>,
+        source: TextureRef,
+        gbuffer: Arc<GBuffer>,
+        layers: Vec<Arc<Layer>>,
+        settings: TransparencySettings,
+    ) -> Arc<Self> {
+        Self::lit(
+            renderer,
+            owner,
+            source,
+            gbuffer,
+            layers,
+            settings,
+            LitBy::default(),
+        )
+    }
+
+    /// Lit by `by`'s light buffers and environment as well, surfaces read
+    /// from its material world where a layer brings none of its own.
+    pub fn lit(
+        renderer: &Renderer,
+        owner: Option<u32>,
+        source: TextureRef,
+        gbuffer: Arc<GBuffer>,
+        layers: Vec<Arc<Layer>>,
+        settings: TransparencySettings,
+        by: LitBy,
+    ) -> Arc<Self> {
+        let LitBy {
+            lights,
+            materials,
+            environment,
+        } = by;
+        let id = next_recipe_id();
+        let (gpu_instances, draws, layer_ranges) = pack_instances(&layers);
+        let instance_count = gpu_instances.len() as u32;
+        let instances = renderer.kept_storage(owner, "transparent instances", &gpu_instances);
+        // Buffers without lights light nothing: no pass for them.
+        let lights: Vec<TransparentLights> = lights
+            .into_iter()
+            .filter(|l| l.lights.count() > 0)
+            .collect();
+        let direction = settings.light_direction.normalize_or(Vec3::Y);
+        let a = clean(settings.ambient);
+        let l = if lights.is_empty() {
+            clean(settings.light_color)
+        } else {
+            Vec3::ZERO
+        };
+        let params = super::uniform(
+            renderer,
+            owner,
+            "transparency",
+            &super::words(&[
+                a.x,
+                a.y,
+                a.z,
+                0.0,
+                direction.x,
+                direction.y,
+                direction.z,
+                0.0,
+                l.x,
+                l.y,
+                l.z,
+                0.0,
+                unit(settings.roughness, 0.5),
+                unit(settings.metallic, 0.0),
+                if settings.energy_compensation {
+                    1.0
+                } else {
+                    0.0
+                },
+                environment
+                    .as_ref()
+                    .map_or(0.0, |e| e.quality.levels() as f32),
+            ]),
+        );
+        let kept = owner.map(|node| renderer.state::<ForwardClusters>(u64::from(node)));
+        let lights = lights
+            .into_iter()
+            .enumerate()
+            .map(|(i, l)| {
+                let clustered = clustered(settings.light_loop, &l.lights);
+                let clusters = clustered.then(|| {
+                    let (store, grid) = match &kept {
+                        Some(kept) => kept.set(renderer, i),
+                        None => ForwardClusters::default().set(renderer, 0),
+                    };
+                    SetClusters {
+                        store,
+                        grid,
+                        token: format!("transparency{id}/lights{i}"),
+                    }
+                });
+                LightSet {
+                    lights: l.lights,
+                    shadows: l.shadows,
+                    clusters,
+                }
+            })
+            .collect();
+        Arc::new(Transparency {
+            id,
+            owner,
+            source,
+            gbuffer,
+            layers,
+            draws,
+            layer_ranges,
+            instances,
+            instance_count,
+            params,
+            lights,
+            materials,
+            environment,
+            accumulation: format!("transparency{id} accumulation"),
+            revealage: format!("transparency{id} revealage"),
+            output: format!("transparency{id}"),
+        })
+    }
+
+    pub fn texture(self: &Arc<Self>) -> TextureRef {
+        TextureRef {
+            recipe: self.clone(),
+            name: self.output.clone(),
+        }
+    }
+
+    /// The permutations this recipe draws with: each layer's base pass and
+    /// one light pass per light buffer (what `stats` counts as compiled).
+    pub fn keys(&self) -> Vec<TransparencyKey> {
+        let mut keys = Vec::new();
+        for (layer, range) in self.layers.iter().zip(&self.layer_ranges) {
+            if range.0 == range.1 {
+                continue;
+            }
+            let surface = self.surface(layer).0;
+            for pass in self.passes() {
+                let key = TransparencyKey { surface, pass };
+                if !keys.contains(&key) {
+                    keys.push(key);
+                }
+            }
+        }
+        keys
+    }
+
+    /// The base pass, then a light pass per light buffer.
+    fn passes(&self) -> impl Iterator<Item = TransparencyPass> + '_ {
+        let environment = self.environment.is_some();
+        std::iter::once(TransparencyPass::Base { environment }).chain(self.lights.iter().map(
+            |set| {
+                TransparencyPass::Light(LightKey {
+                    kind: set.lights.kind,
+                    clustered: set.clusters.is_some(),
+                    shadows: ShadowKey::of(set.shadows.as_ref().map(|s| s.filter())),
+                    spot_texture: set.lights.textures().is_some(),
+                })
+            },
+        ))
+    }
+
+    /// A layer's surface permutation and the material world it reads.
+    fn surface<'a>(&'a self, layer: &'a Layer) -> (SurfaceKey, Option<&'a Arc<MaterialWorld>>) {
+        let map_world = layer.map_world();
+        let world = map_world
+            .or(layer.materials.as_ref())
+            .or(self.materials.as_ref());
+        let color = layer.color_map.is_some();
+        let normal = layer.features.normal_map && layer.normal_map.is_some();
+        let maps = if map_world.is_some() {
+            LayerMaps::Surface
+        } else if color || normal {
+            // A normal map without either switch reads the mesh's own UVs, as the resolve does.
+            let uv = if layer.features.triplanar && !layer.features.texcoords {
+                LayerUv::Triplanar
+            } else {
+                LayerUv::Texcoords
+            };
+            LayerMaps::Layer { uv, color, normal }
+        } else {
+            LayerMaps::None
+        };
+        let key = SurfaceKey {
+            maps,
+            vertex_extras: layer.vertex_extras(),
+            materials: world.is_some(),
+        };
+        (key, world)
+    }
+
+    fn accumulate(
+        &self,
+        renderer: &Renderer,
+        cx: &mut PassContext<'_>,
+        io: &AccumulateIo,
+    ) -> Result<(), RenderError> {
+        let (vertices, indices, _) = renderer.meshes.buffers();
+        let extras = renderer.meshes.extras();
+        // The froxel lists, held while the bind groups are made.
+        let guards: Vec<_> = self
+            .lights
+            .iter()
+            .map(|set| {
+                set.clusters
+                    .as_ref()
+                    .map(|c| (c.store.get(cx.gpu, 1, set.lights.count()), &c.grid))
+            })
+            .collect();
+        // Per layer, culling variant and pass: its pipeline and bind groups
+        // (0; 1 and 3 with a material world and maps; 2 with layer maps).
+        let mut work = Vec::new();
+        for ((layer, range), maps) in self
+            .layers
+            .iter()
+            .zip(&self.layer_ranges)
+            .zip(&io.layer_maps)
+        {
+            if range.0 == range.1 {
+                continue;
+            }
+            let (surface, world) = self.surface(layer);
+            let surface_maps = surface.maps == LayerMaps::Surface;
+            // glTF materials (surface maps): back faces culled unless
+            // double-sided, as other viewers draw them; patch-built layers
+            // show both faces (a glass shell's back through its front).
+            for culled in [true, false] {
+                let in_layer = |d: &&Draw| (range.0..range.1).contains(&d.first_instance);
+                let culls = |d: &Draw| surface_maps && !d.two_sided;
+                if !self
+                    .draws
+                    .iter()
+                    .filter(in_layer)
+                    .any(|d| culls(d) == culled)
+                {
+                    continue;
+                }
+                for (pass, set) in self
+                    .passes()
+                    .zip(std::iter::once(None).chain((0..self.lights.len()).map(Some)))
+                {
+                    let key = TransparencyKey { surface, pass }.key();
+                    let pipeline = accumulate_pipeline(cx, key.clone(), culled, pass)?;
+                    let mut b = mesh_bindings(&vertices, &indices, &self.instances)
+                        .buffer("camera", self.gbuffer.camera_buffer())
+                        .texture("opaque_depth", io.depth)
+                        .buffer("params", &self.params)
+                        .buffer_opt("extras", surface.vertex_extras.then_some(&extras));
+                    if let Some(world) = world {
+                        b = b.extend(world.bindings(None));
+                        if surface_maps && let Some(maps) = world.maps_bindings() {
+                            b = b.extend(maps);
+                        }
+                    }
+                    if let Some(normal) = maps.normal {
+                        b = b
+                            .texture("normal_map", normal)
+                            .sampler("normal_sampler", Sampling::LinearRepeat);
+                    }
+                    if let Some(color) = maps.color {
+                        b = b
+                            .texture("color_map", color)
+                            .sampler("color_sampler", Sampling::LinearRepeat);
+                    }
+                    if let (None, Some(environment)) = (set, &self.environment) {
+                        let maps = environment.maps_for("transparency")?;
+                        b = b
+                            .view(
+                                "prefiltered",
+                                cx.view_of(&maps.prefiltered, ViewSpec::cube()),
+                            )
+                            .view("irradiance", cx.view_of(&maps.irradiance, ViewSpec::cube()))
+                            .view("lut", cx.view_of(&maps.lut, ViewSpec::default()))
+                            .sampler_object("cube_sampler", maps.sampler.clone());
+                    }
+                    if let Some(set) = set {
+                        b = b.extend(self.light_bindings(cx, set, io.spot_textures[set])?);
+                        if let Some((guard, grid)) = &guards[set] {
+                            let Some(lists) = guard.as_ref() else {
+                                continue;
+                            };
+                            b = b
+                                .buffer("grid", grid)
+                                .buffer("light_counts", &lists.counts)
+                                .buffer("light_offsets", &lists.offsets)
+                                .buffer("light_indices", &lists.indices);
+                        }
+                    }
+                    // Through the cache: the camera, meshes, kept instances,
+                    // parameters and lights are the same buffers from frame to frame.
+                    let groups = cx.render_bind_groups(&key, &["vs", "fs"], &pipeline, b)?;
+                    work.push((
+                        *range,
+                        culled,
+                        surface_maps,
+                        set.is_some(),
+                        pipeline,
+                        groups,
+                    ));
+                }
+            }
+        }
+        drop(guards);
+        // Cleared in compute, then loaded: a render pass's clear goes through
+        // the raster output, which on the H100 took 0.28 of this pass's
+        // 0.41 ms at 1080p (docs/benchmarks.md, session 10); compute writes
+        // the same bytes about a hundred times faster.
+        let size = cx.size_of(io.accumulation)?;
+        let composite = TransparencyKey::COMPOSITE.key();
+        cx.dispatch_shader(
+            "transparency clear",
+            &composite,
+            "clear",
+            Bindings::new()
+                .texture("clear_accumulation", io.accumulation)
+                .texture("clear_revealage", io.revealage),
+            super::per_pixel(size),
+        )?;
+        let (accumulation, revealage) = (cx.view(io.accumulation)?, cx.view(io.revealage)?);
+        let timestamps = cx.render_timestamps();
+        let attachment = |view| {
+            Some(wgpu::RenderPassColorAttachment {
+                view,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Load,
+                    store: wgpu::StoreOp::Store,
+                },
+            })
+        };
+        let mut pass = cx.encoder().begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("transparency accumulate"),
+            color_attachments: &[attachment(&accumulation), attachment(&revealage)],
+            depth_stencil_attachment: None,
+            timestamp_writes: timestamps,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        let (mut draws, mut light_passes) = (0, 0);
+        for ((first, end), culled, maps, lit, pipeline, groups) in &work {
+            pass.set_pipeline(pipeline);
+            for (i, group) in groups.iter().enumerate() {
+                pass.set_bind_group(i as u32, group, &[]);
+            }
+            for draw in self.draws.iter().filter(|d| {
+                d.instance_count > 0
+                    && d.index_count > 0
+                    && (*first..*end).contains(&d.first_instance)
+                    && (*maps && !d.two_sided) == *culled
+            }) {
+                pass.draw(
+                    0..draw.index_count,
+                    draw.first_instance..draw.first_instance + draw.instance_count,
+                );
+                draws += 1;
+            }
+            light_passes += u64::from(*lit);
+        }
+        drop(pass);
+        cx.draws += draws;
+        cx.count(DRAWN, u64::from(self.instance_count));
+        cx.count(LIGHT_PASSES, light_passes);
+        Ok(())
+    }
+
+    /// Light buffer `set`'s bindings: its lights, spots' projections and
+    /// texture array, and shadow maps.
+    fn light_bindings(
+        &self,
+        cx: &PassContext<'_>,
+        set: usize,
+        spot_textures: Option<Tex>,
+    ) -> Result<Bindings<'_>, RenderError> {
+        let light_set = &self.lights[set];
+        let mut b = Bindings::new()
+            .buffer("lights", light_set.lights.buffer())
+            .buffer_opt("spot_projections", light_set.lights.projections());
+        if let Some(textures) = spot_textures {
+            b = b
+                .array("spot_textures", textures)
+                .sampler("spot_sampler", Sampling::LinearClamp);
+        }
+        if let Some(shadows) = &light_set.shadows {
+            let (depth, moments) = shadows.textures().ok_or_else(|| RenderError::Pass {
+                pass: "transparency".to_owned(),
+                message: "the shadow maps were not rendered this frame".to_owned(),
+            })?;
+            let array = |t: &wgpu::Texture| cx.view_of(t, ViewSpec::array());
+            b = b
+                .view("shadow_maps", array(&depth))
+                .buffer("shadow_views", shadows.views())
+                .buffer("shadow_params", shadows.params());
+            if let Some(moments) = moments {
+                b = b.view("shadow_moments", array(&moments));
+            }
+        }
+        Ok(b)
+    }
+
+    fn resolve(&self, cx: &mut PassContext<'_>, io: &ResolveIo) -> Result<(), RenderError> {
+        let size = cx.size_of(io.output)?;
+        cx.dispatch_shader(
+            "transparency resolve",
+            &TransparencyKey::COMPOSITE.key(),
+            "resolve",
+            Bindings::new()
+                .texture("opaque", io.opaque)
+                .texture("accumulation", io.accumulation)
+                .texture("revealage", io.revealage)
+                .texture("output", io.output),
+            super::per_pixel(size),
+        )
+    }
+}
+
+/// Whether a light pass walks froxel lists: as CookTorrance decides it
+/// (suns have no range to cluster by; Auto clusters past [`FEW_LIGHTS`]).
+fn clustered(mode: LightLoop, lights: &LightBuffer) -> bool {
+    match mode {
+        _ if lights.kind == LightKind::Sun => false,
+        LightLoop::Auto => lights.count() > FEW_LIGHTS,
+        LightLoop::Clustered => true,
+        LightLoop::Naive => false,
+    }
+}
+
+/// A layer's own maps as the accumulation pass read them.
+#[derive(Clone, Copy, Default)]
+struct LayerMapReads {
+    normal: Option<Tex>,
+    color: Option<Tex>,
+}
+
+/// What the accumulation pass declared: the depth it tests against, the
+/// two targets it clears and draws into, and the textures layers and
+/// lights sample.
+struct AccumulateIo {
+    depth: Tex,
+    accumulation: Tex,
+    revealage: Tex,
+    /// Per layer.
+    layer_maps: Vec<LayerMapReads>,
+    /// Per light buffer: its spots' texture array.
+    spot_textures: Vec<Option<Tex>>,
+}
+
+/// What the resolve pass declared.
+struct ResolveIo {
+    opaque: Tex,
+    accumulation: Tex,
+    revealage: Tex,
+    output: Tex,
+}
+
+/// The accumulation pipeline of one permutation, back faces culled when
+/// `culled`. The base pass adds (premultiplied colour, alpha) and
+/// multiplies the revealage; a light pass adds to the colour alone.
+fn accumulate_pipeline(
+    cx: &mut PassContext<'_>,
+    key: ShaderKey,
+    culled: bool,
+    pass: TransparencyPass,
+) -> Result<wgpu::RenderPipeline, RenderError> {
+    let device = cx.gpu.device.clone();
+    let lit = matches!(pass, TransparencyPass::Light(_));
+    let variant = match (culled, lit) {
+        (true, false) => "wboit, culled",
+        (false, false) => "wboit",
+        (true, true) => "wboit light, culled",
+        (false, true) => "wboit light",
+    };
+    cx.shaders
+        .render_pipeline(&device, &key, variant, |module| {
+            let additive = wgpu::BlendComponent {
+                src_factor: wgpu::BlendFactor::One,
+                dst_factor: wgpu::BlendFactor::One,
+                operation: wgpu::BlendOperation::Add,
+            };
+            let reveal = wgpu::BlendComponent {
+                src_factor: wgpu::BlendFactor::Zero,
+                dst_factor: wgpu::BlendFactor::OneMinusSrc,
+                operation: wgpu::BlendOperation::Add,
+            };
+            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some("transparency accumulate"),
+                layout: None,
+                vertex: wgpu::VertexState {
+                    module,
+                    entry_point: Some("vs"),
+                    compilation_options: Default::default(),
+                    buffers: &[],
+                },
+                primitive: wgpu::PrimitiveState {
+                    topology: wgpu::PrimitiveTopology::TriangleList,
+                    front_face: wgpu::FrontFace::Ccw,
+                    cull_mode: culled.then_some(wgpu::Face::Back),
+                    ..Default::default()
+                },
+                depth_stencil: None,
+                multisample: Default::default(),
+                fragment: Some(wgpu::FragmentState {
+                    module,
+                    entry_point: Some("fs"),
+                    compilation_options: Default::default(),
+                    targets: &[
+                        Some(wgpu::ColorTargetState {
+                            format: ACCUMULATION,
+                            blend: Some(wgpu::BlendState {
+                                color: additive,
+                                alpha: additive,
+                            }),
+                            // A light pass adds colour; the weight sum (alpha) is the base pass's.
+                            write_mask: if lit {
+                                wgpu::ColorWrites::COLOR
+                            } else {
+                                wgpu::ColorWrites::ALL
+                            },
+                        }),
+                        Some(wgpu::ColorTargetState {
+                            format: REVEALAGE,
+                            blend: Some(wgpu::BlendState {
+                                color: reveal,
+                                alpha: reveal,
+                            }),
+                            // Only red is read, and only the base pass covers.
+                            write_mask: if lit {
+                                wgpu::ColorWrites::empty()
+                            } else {
+                                wgpu::ColorWrites::RED
+                            },
+                        }),
+                    ],
+                }),
+                multiview_mask: None,
+                cache: None,
+            })
+        })
+}
+
+impl Recipe for Transparency {
+    fn declare<'a>(&'a self, renderer: &'a Renderer, fg: &mut FrameGraph<'a>) {
+        if !fg.include(self.id) {
+            return;
+        }
+        self.source.recipe.declare(renderer, fg);
+        let name = |what| PassName::new("Transparency").step(what);
+        let output = TextureDesc::storage(wgpu::TextureFormat::Rgba16Float).size(self.gbuffer.size);
+        if self.instance_count == 0 {
+            super::declare_copy(
+                fg,
+                name("copy"),
+                self.owner,
+                &self.source.name,
+                (&self.output, output),
+                SKIPPED,
+            );
+            return;
+        }
+        self.gbuffer.declare(renderer, fg);
+        for map in self.layers.iter().flat_map(|l| l.maps()) {
+            map.recipe.declare(renderer, fg);
+        }
+        if let Some(environment) = &self.environment {
+            environment.declare(renderer, fg);
+        }
+        for set in &self.lights {
+            if let Some(textures) = set.lights.textures() {
+                textures.recipe.declare(renderer, fg);
+            }
+            if let Some(shadows) = &set.shadows {
+                shadows.declare(renderer, fg);
+            }
+        }
+        // The clustered buffers' assignments, each a pass of its own (as
+        // CookTorrance's): the froxel grid of the G-buffer's camera, where
+        // the transparent fragments are drawn too.
+        let size = self.gbuffer.pixel_size(fg.output_size());
+        let (near, far) =
+            crate::lighting::near_far(self.gbuffer.camera.projection).unwrap_or((0.1, 1000.0));
+        let grid = ClusterGrid::new(size, near, far);
+        for (i, set) in self.lights.iter().enumerate() {
+            let Some(clusters) = &set.clusters else {
+                continue;
+            };
+            renderer.gpu.queue.write_buffer(
+                &clusters.grid,
+                0,
+                bytemuck::cast_slice(&grid.uniform(set.lights.count())),
+            );
+            // One per clustered light buffer, numbered in Lights order.
+            let step = format!("clustered light assignment {}", i + 1);
+            let mut pass = fg.pass(PassName::new("Transparency").step(step), self.owner);
+            pass.write(&clusters.token, TextureDesc::token());
+            pass.run(move |cx| {
+                cx.count(ASSIGNED, 1);
+                crate::lighting::assign_lights(
+                    cx,
+                    &clusters.store,
+                    grid,
+                    &clusters.grid,
+                    self.gbuffer.camera_buffer(),
+                    &set.lights,
+                )
+            });
+        }
+        // Drawn into, and cleared by a compute pass first.
+        let target = |format| {
+            let mut desc = TextureDesc::attachment(format).size(self.gbuffer.size);
+            desc.usage |= wgpu::TextureUsages::STORAGE_BINDING;
+            desc
+        };
+        let mut pass = fg.pass(name("accumulate"), self.owner);
+        // Ordering tokens: the environment's maps, the assignments' lists
+        // and the shadow maps live outside the graph.
+        if let Some(environment) = &self.environment {
+            pass.read(environment.token());
+        }
+        for set in &self.lights {
+            if let Some(clusters) = &set.clusters {
+                pass.read(&clusters.token);
+            }
+            if let Some(shadows) = &set.shadows {
+                pass.read(shadows.token());
+            }
+        }
+        let layer_maps = self
+            .layers
+            .iter()
+            .map(|layer| {
+                let (surface, _) = self.surface(layer);
+                match surface.maps {
+                    LayerMaps::Layer { color, normal, .. } => LayerMapReads {
+                        normal: layer
+                            .normal_map
+                            .as_ref()
+                            .filter(|_| normal)
+                            .map(|m| pass.read(&m.name)),
+                        color: layer
+                            .color_map
+                            .as_ref()
+                            .filter(|_| color)
+                            .map(|m| pass.read(&m.name)),
+                    },
+                    _ => LayerMapReads::default(),
+                }
+            })
+            .collect();
+        let spot_textures = self
+            .lights
+            .iter()
+            .map(|set| set.lights.textures().map(|t| pass.read(&t.name)))
+            .collect();
+        let io = AccumulateIo {
+            depth: pass.read(&self.gbuffer.targets.depth),
+            accumulation: pass.write(&self.accumulation, target(ACCUMULATION)),
+            revealage: pass.write(&self.revealage, target(REVEALAGE)),
+            layer_maps,
+            spot_textures,
+        };
+        pass.run(move |cx| self.accumulate(renderer, cx, &io));
+        let mut pass = fg.pass(name("resolve"), self.owner);
+        let io = ResolveIo {
+            opaque: pass.read(&self.source.name),
+            accumulation: pass.read(&self.accumulation),
+            revealage: pass.read(&self.revealage),
+            output: pass.write(&self.output, output),
+        };
+        pass.run(move |cx| self.resolve(cx, &io));
+    }
+}
