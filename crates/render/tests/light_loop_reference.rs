@@ -403,6 +403,7 @@ fn a_light_shader_node_sums_every_light_type_as_its_cpu_reference_with_and_witho
                     count: 2,
                     split_lambda: 0.6,
                     distance: 20.0,
+                    step: 0.0,
                 },
             },
         ),
