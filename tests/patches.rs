@@ -337,20 +337,27 @@ fn the_toon_lights_example_runs_its_light_shaders_in_place_of_cook_torrance() {
 /// six point lights) and their shadow maps, which are rendered once for the
 /// opaque and the transparent lighting together; without Lights connected
 /// no light pass runs.
+/// The report of `patch`'s first frame at 64 x 36 (loaded as if from
+/// `path`), which no node may fail.
+fn clean_first_frame(
+    patch: &spreadlight_graph::Patch,
+    path: &std::path::Path,
+) -> spreadlight_render::FrameReport {
+    let (rt, renderer) = first_frame(patch, path, (64, 36));
+    let errors: Vec<_> = rt
+        .node_errors()
+        .map(|(id, e)| format!("#{}: {e}", id.0))
+        .collect();
+    assert!(errors.is_empty(), "{errors:?}");
+    renderer.last_report()
+}
+
 #[test]
 fn the_lit_transparency_example_lights_glass_with_the_scenes_lights() {
     use spreadlight_render::post::transparency::{ASSIGNED, LIGHT_PASSES};
     let path = spreadlight_tests::root().join("patches/lit-transparency.ron");
     let full = format::load(&path).expect("loads");
-    let report = |patch: &spreadlight_graph::Patch| {
-        let (rt, renderer) = first_frame(patch, &path, (64, 36));
-        let errors: Vec<_> = rt
-            .node_errors()
-            .map(|(id, e)| format!("#{}: {e}", id.0))
-            .collect();
-        assert!(errors.is_empty(), "{errors:?}");
-        renderer.last_report()
-    };
+    let report = |patch: &spreadlight_graph::Patch| clean_first_frame(patch, &path);
     let lit = report(&full);
     assert_eq!(lit.counter(LIGHT_PASSES), 3, "{:?}", lit.counters);
     assert_eq!(lit.counter(ASSIGNED), 0, "six point lights walk naively");
@@ -375,15 +382,7 @@ fn the_lit_transparency_example_lights_glass_with_the_scenes_lights() {
 #[test]
 fn a_scene_without_reflective_or_subsurface_materials_runs_no_reflection_or_sss_pass() {
     let path = spreadlight_tests::root().join("patches/showcase.ron");
-    let passes = |patch: &spreadlight_graph::Patch| {
-        let (rt, renderer) = first_frame(patch, &path, (64, 36));
-        let errors: Vec<_> = rt
-            .node_errors()
-            .map(|(id, e)| format!("#{}: {e}", id.0))
-            .collect();
-        assert!(errors.is_empty(), "{errors:?}");
-        renderer.last_report()
-    };
+    let passes = |patch: &spreadlight_graph::Patch| clean_first_frame(patch, &path);
     // The environment's diffuse light ("Reflection #n: diffuse") lights every
     // surface and keeps running; its specular pass, SSR and SSSS must not.
     let named = |report: &spreadlight_render::FrameReport, kind: &str| {

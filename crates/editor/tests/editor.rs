@@ -107,6 +107,14 @@ fn hover_on_canvas(h: &mut Harness<'_, EditorApp>, label: &str) {
 
 /// Drag a wire from one pin to another the way a mouse does: press, move in steps, release.
 fn drag(h: &mut Harness<'_, EditorApp>, from: Pos2, to: Pos2) {
+    drag_over(h, from, to);
+    h.drop_at(to);
+    h.step();
+    h.step();
+}
+
+/// Press at `from` and move to `to` in steps, not letting go yet.
+fn drag_over(h: &mut Harness<'_, EditorApp>, from: Pos2, to: Pos2) {
     h.hover_at(from);
     h.step();
     h.drag_at(from);
@@ -116,9 +124,6 @@ fn drag(h: &mut Harness<'_, EditorApp>, from: Pos2, to: Pos2) {
         h.hover_at(from + (to - from) * t);
         h.step();
     }
-    h.drop_at(to);
-    h.step();
-    h.step();
 }
 
 fn pin(h: &Harness<'_, EditorApp>, node: u32, pin: &str, input: bool) -> Pos2 {
@@ -1138,6 +1143,24 @@ fn middle_click(h: &mut Harness<'_, EditorApp>, pos: Pos2) {
     h.run();
 }
 
+/// A primary click with Ctrl (Cmd on a Mac) held.
+fn ctrl_click(h: &mut Harness<'_, EditorApp>, pos: Pos2) {
+    h.hover_at(pos);
+    h.step();
+    for pressed in [true, false] {
+        h.event_modifiers(
+            Event::PointerButton {
+                pos,
+                button: PointerButton::Primary,
+                pressed,
+                modifiers: Modifiers::COMMAND,
+            },
+            Modifiers::COMMAND,
+        );
+    }
+    h.run();
+}
+
 fn links_of(h: &Harness<'_, EditorApp>) -> Vec<LinkDoc> {
     h.state().doc().patch().links.clone()
 }
@@ -1218,14 +1241,7 @@ fn alt_dropping_a_node_onto_a_link_inserts_it_keeping_both_sides_linked() {
         .rect();
     let from = on_canvas(&h, title).center();
     // Drag the Sin by its title; Alt is held when it is let go over the link.
-    h.hover_at(from);
-    h.step();
-    h.drag_at(from);
-    h.step();
-    for k in 1..=6 {
-        h.hover_at(from + (onto - from) * (k as f32 / 6.0));
-        h.step();
-    }
+    drag_over(&mut h, from, onto);
     h.event(Event::ModifiersChanged(Modifiers::ALT));
     h.step();
     h.drop_at(onto);
@@ -1255,14 +1271,7 @@ fn alt_dropping_a_node_onto_a_link_inserts_it_keeping_both_sides_linked() {
     );
 
     // Let go without Alt: the node only moves.
-    h.hover_at(from);
-    h.step();
-    h.drag_at(from);
-    h.step();
-    for k in 1..=6 {
-        h.hover_at(from + (onto - from) * (k as f32 / 6.0));
-        h.step();
-    }
+    drag_over(&mut h, from, onto);
     h.drop_at(onto);
     h.step();
     h.run();
@@ -1317,20 +1326,7 @@ fn middle_clicking_an_input_pin_makes_a_linked_iobox_holding_its_spread() {
         .expect("link");
     h.run();
     let at = pin(&h, 1, "Period", true);
-    h.hover_at(at);
-    h.step();
-    for pressed in [true, false] {
-        h.event_modifiers(
-            Event::PointerButton {
-                pos: at,
-                button: PointerButton::Primary,
-                pressed,
-                modifiers: Modifiers::COMMAND,
-            },
-            Modifiers::COMMAND,
-        );
-    }
-    h.run();
+    ctrl_click(&mut h, at);
     let patch = h.state().doc().patch().clone();
     let iobox = patch
         .nodes
@@ -1357,20 +1353,7 @@ fn middle_clicking_an_input_pin_makes_a_linked_iobox_holding_its_spread() {
     );
     h.run();
     let at = pin(&h, 1, "Period", true);
-    h.hover_at(at);
-    h.step();
-    for pressed in [true, false] {
-        h.event_modifiers(
-            Event::PointerButton {
-                pos: at,
-                button: PointerButton::Primary,
-                pressed,
-                modifiers: Modifiers::COMMAND,
-            },
-            Modifiers::COMMAND,
-        );
-    }
-    h.run();
+    ctrl_click(&mut h, at);
     let patch = h.state().doc().patch().clone();
     let second = patch
         .nodes

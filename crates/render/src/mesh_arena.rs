@@ -428,6 +428,41 @@ impl MeshArena {
     }
 }
 
+/// A render pipeline drawing from the arena: its vertex shader `vs` pulls
+/// vertices and indices from the arena's storage buffers (so it has no
+/// vertex buffers), and its fragment shader `fs` writes `targets`; with
+/// none there is no fragment stage (a depth-only pass).
+pub(crate) fn pulled_pipeline(
+    device: &wgpu::Device,
+    module: &wgpu::ShaderModule,
+    label: &str,
+    primitive: wgpu::PrimitiveState,
+    depth_stencil: Option<wgpu::DepthStencilState>,
+    targets: &[Option<wgpu::ColorTargetState>],
+) -> wgpu::RenderPipeline {
+    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some(label),
+        layout: None,
+        vertex: wgpu::VertexState {
+            module,
+            entry_point: Some("vs"),
+            compilation_options: Default::default(),
+            buffers: &[],
+        },
+        primitive,
+        depth_stencil,
+        multisample: Default::default(),
+        fragment: (!targets.is_empty()).then(|| wgpu::FragmentState {
+            module,
+            entry_point: Some("fs"),
+            compilation_options: Default::default(),
+            targets,
+        }),
+        multiview_mask: None,
+        cache: None,
+    })
+}
+
 #[derive(Clone, Copy)]
 enum Stream {
     Vertices,

@@ -689,9 +689,55 @@ fn the_material_buffer_drives_shading_and_unused_features_cost_nothing() {
     );
 }
 
+/// The side of the [`uv_halves`] texture.
+const HALVES: u32 = 8;
+
+/// An RGBA8 texture of `HALVES` x `HALVES`, `left` on the left half of UV
+/// space and `right` on the right.
+fn uv_halves(left: [u8; 4], right: [u8; 4]) -> Vec<u8> {
+    (0..HALVES * HALVES)
+        .flat_map(|i| if i % HALVES < HALVES / 2 { left } else { right })
+        .collect()
+}
+
+/// CompositeLight over a CookTorrance with no lights and no ambient, both
+/// reading `world`: what the materials add by themselves (emission).
+fn unlit_composite(
+    renderer: &Renderer,
+    g: &Arc<GBuffer>,
+    world: Arc<spreadlight_render::material::MaterialWorld>,
+) -> ImageF32 {
+    use spreadlight_render::lighting::{CompositeInputs, CompositeLight};
+    let lights = LightBuffer::points(renderer, &[]);
+    let ct = CookTorrance::new(
+        renderer,
+        None,
+        g.clone(),
+        lights,
+        LightLoop::Naive,
+        false,
+        Surfaces::Materials(world.clone()),
+    );
+    let c = CompositeLight::new(
+        renderer,
+        None,
+        g.clone(),
+        CompositeInputs {
+            components: vec![ct.components()],
+            ambient: [0.0; 3],
+            materials: Some(world),
+            occlusion: None,
+            gi: None,
+            reflection: None,
+        },
+    )
+    .expect("valid");
+    let [image] = frame(renderer, c.as_ref(), SIZE, [&c.output]);
+    image
+}
+
 #[test]
 fn material_textures_scale_parameters_at_the_gbuffer_uv_and_compile_only_when_read() {
-    use spreadlight_render::lighting::{CompositeInputs, CompositeLight};
     use spreadlight_render::material::{Feature, Material, MaterialWorld};
     use spreadlight_render::static_texture::StaticTexture;
     use spreadlight_render::texture::GpuTexture;
@@ -704,18 +750,10 @@ fn material_textures_scale_parameters_at_the_gbuffer_uv_and_compile_only_when_re
         },
     );
     // Layer 0 white; layer 1 white on the left half of UV space, black on the right.
-    let (w, h) = (8u32, 8u32);
-    let white = [255u8; 4].repeat((w * h) as usize);
-    let half: Vec<u8> = (0..w * h)
-        .flat_map(|i| {
-            if i % w < w / 2 {
-                [255u8; 4]
-            } else {
-                [0, 0, 0, 255]
-            }
-        })
-        .collect();
-    let array = GpuTexture::array_from_rgba8(&renderer.gpu, w, h, &[white, half], false, "maps");
+    let white = [255u8; 4].repeat((HALVES * HALVES) as usize);
+    let half = uv_halves([255; 4], [0, 0, 0, 255]);
+    let array =
+        GpuTexture::array_from_rgba8(&renderer.gpu, HALVES, HALVES, &[white, half], false, "maps");
     let textures = StaticTexture::new(array).texture_ref();
     let emissive = |layer: Option<u32>| {
         let mut m = Material::default_material()
@@ -725,33 +763,8 @@ fn material_textures_scale_parameters_at_the_gbuffer_uv_and_compile_only_when_re
         MaterialWorld::with_textures(&renderer, vec![m], Some(textures.clone()))
     };
     let composite = |world: Arc<MaterialWorld>| {
-        let lights = LightBuffer::points(&renderer, &[]);
-        let ct = CookTorrance::new(
-            &renderer,
-            None,
-            g.clone(),
-            lights,
-            LightLoop::Naive,
-            false,
-            Surfaces::Materials(world.clone()),
-        );
-        let c = CompositeLight::new(
-            &renderer,
-            None,
-            g.clone(),
-            CompositeInputs {
-                components: vec![ct.components()],
-                ambient: [0.0; 3],
-                materials: Some(world),
-                occlusion: None,
-                gi: None,
-                reflection: None,
-            },
-        )
-        .expect("valid");
-        let [image] = frame(&renderer, c.as_ref(), SIZE, [&c.output]);
-        let passes = renderer.last_report().passes;
-        (image, passes)
+        let image = unlit_composite(&renderer, &g, world);
+        (image, renderer.last_report().passes)
     };
     let glowing = |image: &ImageF32| image.pixels.iter().filter(|p| p[0] > 1e-3).count();
     // No material reads a texture: the array is not even declared.
@@ -782,7 +795,6 @@ fn material_textures_scale_parameters_at_the_gbuffer_uv_and_compile_only_when_re
 
 #[test]
 fn a_parameter_with_its_own_layer_changes_with_the_texture_and_the_others_do_not() {
-    use spreadlight_render::lighting::{CompositeInputs, CompositeLight};
     use spreadlight_render::material::{Feature, Material, MaterialWorld};
     use spreadlight_render::static_texture::StaticTexture;
     use spreadlight_render::texture::GpuTexture;
@@ -796,17 +808,9 @@ fn a_parameter_with_its_own_layer_changes_with_the_texture_and_the_others_do_not
     );
     // Layer 0: red 1 on the left half of UV space, red 0 on the right, green
     // and blue 1 everywhere: only a red-channel read sees the halves.
-    let (w, h) = (8u32, 8u32);
-    let halves: Vec<u8> = (0..w * h)
-        .flat_map(|i| {
-            if i % w < w / 2 {
-                [255u8; 4]
-            } else {
-                [0, 255, 255, 255]
-            }
-        })
-        .collect();
-    let array = GpuTexture::array_from_rgba8(&renderer.gpu, w, h, &[halves], false, "maps");
+    let halves = uv_halves([255; 4], [0, 255, 255, 255]);
+    let array =
+        GpuTexture::array_from_rgba8(&renderer.gpu, HALVES, HALVES, &[halves], false, "maps");
     let textures = StaticTexture::new(array).texture_ref();
     // Emission's parameters: Color (0) and Strength (1).
     let emissive = |param: Option<usize>| {
@@ -818,34 +822,7 @@ fn a_parameter_with_its_own_layer_changes_with_the_texture_and_the_others_do_not
         }
         MaterialWorld::with_textures(&renderer, vec![m], Some(textures.clone()))
     };
-    let composite = |world: Arc<MaterialWorld>| {
-        let lights = LightBuffer::points(&renderer, &[]);
-        let ct = CookTorrance::new(
-            &renderer,
-            None,
-            g.clone(),
-            lights,
-            LightLoop::Naive,
-            false,
-            Surfaces::Materials(world.clone()),
-        );
-        let c = CompositeLight::new(
-            &renderer,
-            None,
-            g.clone(),
-            CompositeInputs {
-                components: vec![ct.components()],
-                ambient: [0.0; 3],
-                materials: Some(world),
-                occlusion: None,
-                gi: None,
-                reflection: None,
-            },
-        )
-        .expect("valid");
-        let [image] = frame(&renderer, c.as_ref(), SIZE, [&c.output]);
-        image
-    };
+    let composite = |world: Arc<MaterialWorld>| unlit_composite(&renderer, &g, world);
     let flat = composite(emissive(None));
     let glowing = |image: &ImageF32| image.pixels.iter().filter(|p| p[0] > 1e-3).count();
     let all = glowing(&flat);

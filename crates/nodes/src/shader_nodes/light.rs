@@ -98,16 +98,7 @@ pub(super) fn evaluate(ty: &Arc<ShaderType>, cx: &mut EvalContext<'_>) -> Result
         Some("Clustered") => LightLoop::Clustered,
         _ => LightLoop::Auto,
     };
-    let first_texture = ty.first_texture();
-    let mut textures = Vec::with_capacity(ty.notes.inputs.len());
-    for k in 0..ty.notes.inputs.len() {
-        let pin = first_texture + k;
-        let t = resources::<TextureRef>(cx, pin)?;
-        if t.is_empty() {
-            return Err(cx.input_error(pin, "no texture connected").into());
-        }
-        textures.push(t);
-    }
+    let textures = super::material::textures(ty, cx)?;
     let defines = slice_defines(ty, cx, ty.first_param() + ty.params().len(), 0);
     let (program, fresh) = ty.program(&defines).map_err(Failure::Shader)?;
     let shader = super::material::spliced(ty, cx, &program, 0, &textures, u64::from(fresh));

@@ -32,16 +32,7 @@ pub(super) fn evaluate(ty: &Arc<ShaderType>, cx: &mut EvalContext<'_>) -> Result
             )
             .into());
     }
-    let first_texture = ty.first_texture();
-    let mut textures = Vec::with_capacity(ty.notes.inputs.len());
-    for k in 0..ty.notes.inputs.len() {
-        let pin = first_texture + k;
-        let t = resources::<TextureRef>(cx, pin)?;
-        if t.is_empty() {
-            return Err(cx.input_error(pin, "no texture connected").into());
-        }
-        textures.push(t);
-    }
+    let textures = textures(ty, cx)?;
     let first = ty.first_param();
     let params = ty.params();
     // vvvv's rule: as many slices as the longest input, none if one is empty.
@@ -79,6 +70,25 @@ pub(super) fn evaluate(ty: &Arc<ShaderType>, cx: &mut EvalContext<'_>) -> Result
     }
     cx.set_output(0, resource_spread(ResourceKind::Layer, out));
     Ok(())
+}
+
+/// The textures on the file's texture input pins, each a spread; an
+/// unconnected one is an error at its pin.
+pub(super) fn textures(
+    ty: &ShaderType,
+    cx: &EvalContext<'_>,
+) -> Result<Vec<Vec<Arc<TextureRef>>>, Failure> {
+    let first_texture = ty.first_texture();
+    let mut textures = Vec::with_capacity(ty.notes.inputs.len());
+    for k in 0..ty.notes.inputs.len() {
+        let pin = first_texture + k;
+        let t = resources::<TextureRef>(cx, pin)?;
+        if t.is_empty() {
+            return Err(cx.input_error(pin, "no texture connected").into());
+        }
+        textures.push(t);
+    }
+    Ok(textures)
 }
 
 /// Slice `slice` of a material or light shader node as the file spliced

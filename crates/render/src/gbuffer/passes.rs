@@ -4,6 +4,7 @@
 
 use crate::error::RenderError;
 use crate::frame_graph::{FrameGraph, Lifetime, PassContext, Tex, TextureDesc};
+use crate::mesh_arena::pulled_pipeline;
 use crate::renderer::Renderer;
 use crate::report::PassName;
 use crate::shaders::ShaderKey;
@@ -275,42 +276,29 @@ fn visibility_pipeline(
     let pipeline = cx
         .shaders
         .render_pipeline(&device, &key, variant, |module| {
-            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some("visibility"),
-                layout: None,
-                vertex: wgpu::VertexState {
-                    module,
-                    entry_point: Some("vs"),
-                    compilation_options: Default::default(),
-                    buffers: &[],
-                },
-                primitive: wgpu::PrimitiveState {
+            pulled_pipeline(
+                &device,
+                module,
+                "visibility",
+                wgpu::PrimitiveState {
                     topology: wgpu::PrimitiveTopology::TriangleList,
                     front_face: wgpu::FrontFace::Ccw,
                     cull_mode: (!two_sided).then_some(wgpu::Face::Back),
                     ..Default::default()
                 },
-                depth_stencil: Some(wgpu::DepthStencilState {
+                Some(wgpu::DepthStencilState {
                     format: HARDWARE_DEPTH_FORMAT,
                     depth_write_enabled: Some(true),
                     depth_compare: Some(wgpu::CompareFunction::Greater),
                     stencil: Default::default(),
                     bias: Default::default(),
                 }),
-                multisample: Default::default(),
-                fragment: Some(wgpu::FragmentState {
-                    module,
-                    entry_point: Some("fs"),
-                    compilation_options: Default::default(),
-                    targets: &[Some(wgpu::ColorTargetState {
-                        format: VISIBILITY_FORMAT,
-                        blend: None,
-                        write_mask: wgpu::ColorWrites::ALL,
-                    })],
-                }),
-                multiview_mask: None,
-                cache: None,
-            })
+                &[Some(wgpu::ColorTargetState {
+                    format: VISIBILITY_FORMAT,
+                    blend: None,
+                    write_mask: wgpu::ColorWrites::ALL,
+                })],
+            )
         })?;
     Ok((pipeline, key))
 }

@@ -7,10 +7,9 @@
 //! its uniform block (pins), texture inputs and samplers are bound in group
 //! 2 (group 0 is the light loop's, group 1 the material world's).
 
-use naga::TypeInner;
-
 use super::annotations::Annotations;
 use super::error::{ShaderNodeError, Span};
+use super::hook::Hook;
 use crate::lighting::LightKind;
 use crate::shaders::ShaderKey;
 
@@ -31,46 +30,39 @@ pub fn loop_key(kind: LightKind) -> ShaderKey {
     ShaderKey::new("lighting/cook_torrance.wgsl", features)
 }
 
+/// What the light loop asks of a light shader's file.
+const HOOK: Hook = Hook {
+    annotation: "a `@light` shader",
+    kind: "a light shader",
+    caller: "the light loop",
+    function: LIGHT_FUNCTION,
+    input: "LightInput",
+    output: "LightOutput",
+    library: "spreadlight::light_shader",
+};
+
 /// Annotations that make no sense for a light shader, at their place.
 pub fn check_annotations(file: &str, notes: &Annotations) -> Result<(), ShaderNodeError> {
-    let refuse = |at: Span, what: &str| {
-        Err(ShaderNodeError::at(
+    let why = format!(
+        "the light loop calls its `{LIGHT_FUNCTION}` function for every light reaching a pixel"
+    );
+    if let Some(at) = notes.material {
+        return Err(ShaderNodeError::at(
             file,
             at,
             format!(
-                "a `@light` shader has no {what}: the light loop calls its `{LIGHT_FUNCTION}` \
-                 function for every light reaching a pixel (see docs/shader-nodes.md)"
+                "{} has no `@material` (a file is a material or a light shader): {why} \
+                 (see docs/shader-nodes.md)",
+                HOOK.annotation
             ),
-        ))
-    };
-    if let Some(at) = notes.material {
-        return refuse(at, "`@material` (a file is a material or a light shader)");
+        ));
     }
-    if let Some(p) = notes.passes.first() {
-        return refuse(p.at, "passes");
-    }
-    if let Some(t) = notes.targets.first() {
-        return refuse(t.at, "render targets");
-    }
-    if let Some((_, at)) = notes.outputs.first() {
-        return refuse(*at, "extra outputs");
-    }
-    if let Some((_, at)) = notes.gbuffer.first() {
-        return refuse(
-            *at,
-            "G-buffer bindings (its `LightInput` carries the pixel's surface)",
-        );
-    }
-    Ok(())
-}
-
-/// The type's name as written (naga_oil decorates imported names).
-fn type_name(module: &naga::Module, ty: naga::Handle<naga::Type>) -> String {
-    module.types[ty]
-        .name
-        .as_deref()
-        .map(super::compose::undecorate)
-        .unwrap_or_default()
+    HOOK.check_annotations(
+        file,
+        notes,
+        &why,
+        "G-buffer bindings (its `LightInput` carries the pixel's surface)",
+    )
 }
 
 /// The file defines `light(LightInput) -> LightOutput` and no entry point,
@@ -87,68 +79,17 @@ pub fn check(
         .map_or((Span { line: 1, column: 1 }, &[][..]), |(at, k)| {
             (*at, k.as_slice())
         });
-    let signature = format!(
-        "`fn {LIGHT_FUNCTION}(in: LightInput) -> LightOutput` \
-         (`#import spreadlight::light_shader::{{LightInput, LightOutput}}`)"
-    );
-    if !super::compose::imports(text) || !text.contains("spreadlight::light_shader") {
+    if !super::compose::imports(text) || !text.contains(HOOK.library) {
         return Err(ShaderNodeError::at(
             file,
             at_light,
-            format!("a light shader imports the light loop's structs: it defines {signature}"),
-        ));
-    }
-    if let Some(entry) = module.entry_points.first() {
-        let at = text
-            .find(&format!("fn {}", entry.name))
-            .map_or(at_light, |o| super::error::span_of(text, o));
-        return Err(ShaderNodeError::at(
-            file,
-            at,
             format!(
-                "`{}` is an entry point: a light shader has none, the light loop calls its `{LIGHT_FUNCTION}` function",
-                entry.name
+                "a light shader imports the light loop's structs: it defines {}",
+                HOOK.signature_and_import()
             ),
         ));
     }
-    let function = module
-        .functions
-        .iter()
-        .map(|(_, f)| f)
-        .find(|f| f.name.as_deref() == Some(LIGHT_FUNCTION))
-        .ok_or_else(|| {
-            ShaderNodeError::at(
-                file,
-                at_light,
-                format!("a `@light` shader defines {signature}"),
-            )
-        })?;
-    let at = text
-        .find(&format!("fn {LIGHT_FUNCTION}"))
-        .map_or(at_light, |o| super::error::span_of(text, o));
-    let argument = match function.arguments.as_slice() {
-        [a] => type_name(module, a.ty),
-        _ => String::new(),
-    };
-    let result = function
-        .result
-        .as_ref()
-        .map(|r| type_name(module, r.ty))
-        .unwrap_or_default();
-    let structs = function
-        .arguments
-        .iter()
-        .all(|a| matches!(module.types[a.ty].inner, TypeInner::Struct { .. }));
-    if argument != "LightInput" || result != "LightOutput" || !structs {
-        return Err(ShaderNodeError::at(
-            file,
-            at,
-            format!(
-                "`{LIGHT_FUNCTION}` must be {signature} with the structs of spreadlight::light_shader \
-                 (found ({argument}) -> {result})"
-            ),
-        ));
-    }
+    HOOK.check_function(file, text, at_light, module)?;
     let passes: Vec<(ShaderKey, &str)> = kinds
         .iter()
         .map(|k| (loop_key(*k), "the light loop"))

@@ -10,6 +10,7 @@ pub mod annotations;
 pub mod builtin_blur;
 pub mod compose;
 pub mod error;
+mod hook;
 pub mod light;
 pub mod material;
 mod preprocess;

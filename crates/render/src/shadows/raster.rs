@@ -8,6 +8,7 @@ use crate::error::RenderError;
 use crate::frame_graph::{Bindings, PassContext};
 use crate::gbuffer::compute_raster::{ComputeRaster, RasterLabels, RasterView, Words};
 use crate::gbuffer::{Draw, Layer, pack_instances};
+use crate::mesh_arena::pulled_pipeline;
 use crate::renderer::Renderer;
 use crate::shaders::ShaderKey;
 
@@ -249,18 +250,13 @@ impl ShadowMaps {
         let pipeline = cx
             .shaders
             .render_pipeline(&device, &key, "depth32f", |module| {
-                device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                    label: Some("shadow depth"),
-                    layout: None,
-                    vertex: wgpu::VertexState {
-                        module,
-                        entry_point: Some("vs"),
-                        compilation_options: Default::default(),
-                        buffers: &[],
-                    },
-                    // Both faces: open meshes (a plane) must cast too.
-                    primitive: wgpu::PrimitiveState::default(),
-                    depth_stencil: Some(wgpu::DepthStencilState {
+                // Both faces: open meshes (a plane) must cast too.
+                pulled_pipeline(
+                    &device,
+                    module,
+                    "shadow depth",
+                    wgpu::PrimitiveState::default(),
+                    Some(wgpu::DepthStencilState {
                         format: DEPTH_FORMAT,
                         depth_write_enabled: Some(true),
                         depth_compare: Some(wgpu::CompareFunction::Less),
@@ -272,11 +268,8 @@ impl ShadowMaps {
                             clamp: 0.0,
                         },
                     }),
-                    multisample: Default::default(),
-                    fragment: None,
-                    multiview_mask: None,
-                    cache: None,
-                })
+                    &[],
+                )
             })?;
         let (vertices, indices, _) = renderer.meshes.buffers();
         let mut work = Vec::new();

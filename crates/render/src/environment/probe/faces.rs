@@ -12,6 +12,7 @@ use super::{ProbeScene, face_view_projection};
 use crate::error::RenderError;
 use crate::frame_graph::{Bindings, PassContext};
 use crate::gbuffer::{Draw, GpuInstance, Layer, pack_instances};
+use crate::mesh_arena::pulled_pipeline;
 use crate::renderer::Renderer;
 use crate::shaders::ShaderKey;
 
@@ -78,20 +79,15 @@ pub(crate) fn render(
     let pipeline = cx
         .shaders
         .render_pipeline(&device, &key, "rgba16f", |module| {
-            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some("environment probe faces"),
-                layout: None,
-                vertex: wgpu::VertexState {
-                    module,
-                    entry_point: Some("vs"),
-                    compilation_options: Default::default(),
-                    buffers: &[],
-                },
-                // Both sides: the faces' handedness differs, and a probe
-                // inside an object sees its inside (the shader turns each
-                // normal towards the probe).
-                primitive: wgpu::PrimitiveState::default(),
-                depth_stencil: Some(wgpu::DepthStencilState {
+            // Both sides: the faces' handedness differs, and a probe
+            // inside an object sees its inside (the shader turns each
+            // normal towards the probe).
+            pulled_pipeline(
+                &device,
+                module,
+                "environment probe faces",
+                wgpu::PrimitiveState::default(),
+                Some(wgpu::DepthStencilState {
                     format: DEPTH_FORMAT,
                     depth_write_enabled: Some(true),
                     // Reversed-Z: nearer is greater.
@@ -99,16 +95,8 @@ pub(crate) fn render(
                     stencil: Default::default(),
                     bias: Default::default(),
                 }),
-                multisample: Default::default(),
-                fragment: Some(wgpu::FragmentState {
-                    module,
-                    entry_point: Some("fs"),
-                    compilation_options: Default::default(),
-                    targets: &[Some(COLOR_FORMAT.into())],
-                }),
-                multiview_mask: None,
-                cache: None,
-            })
+                &[Some(COLOR_FORMAT.into())],
+            )
         })?;
     let (vertices, indices, _) = renderer.meshes.buffers();
     // A storage binding cannot be empty: an empty layer binds one unused instance.

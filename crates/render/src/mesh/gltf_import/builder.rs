@@ -259,6 +259,34 @@ impl Doc {
     pub fn material(&mut self, material: json::Material) -> Index<json::Material> {
         self.root.push(material)
     }
+
+    /// The file's `KHR_lights_punctual` lights, which [`light_node`]s name by index.
+    pub fn punctual_lights(
+        &mut self,
+        lights: Vec<json::extensions::scene::khr_lights_punctual::Light>,
+    ) {
+        self.root.extensions_used.push("KHR_lights_punctual".into());
+        self.root.extensions = Some(json::extensions::root::Root {
+            khr_lights_punctual: Some(json::extensions::root::KhrLightsPunctual { lights }),
+            ..Default::default()
+        });
+    }
+}
+
+/// A node carrying light `index` of the file's [`Doc::punctual_lights`],
+/// at the origin: set its translation and rotation over it.
+pub fn light_node(index: u32) -> json::Node {
+    json::Node {
+        extensions: Some(json::extensions::scene::Node {
+            khr_lights_punctual: Some(
+                json::extensions::scene::khr_lights_punctual::KhrLightsPunctual {
+                    light: json::Index::new(index),
+                },
+            ),
+            ..Default::default()
+        }),
+        ..Default::default()
+    }
 }
 
 /// A texture reference on TEXCOORD_0.

@@ -6,8 +6,18 @@
 use gltf::json;
 use json::validation::Checked::Valid;
 
-use super::builder::{Doc, info, mesh_node, png};
+use super::builder::{Doc, info, light_node, mesh_node, png};
 use crate::mesh::primitives::{BoxParams, box_mesh};
+
+/// A flat floor of two triangles, `size` across, facing up.
+fn floor_mesh(doc: &mut Doc, size: glam::Vec2) -> json::Index<json::Mesh> {
+    let floor = crate::mesh::primitives::grid(crate::mesh::primitives::GridParams {
+        size,
+        resolution_x: 1,
+        resolution_y: 1,
+    });
+    doc.mesh_data("Floor", &floor)
+}
 
 /// Texel size of the generated textures (one size class exactly, so they are not resampled).
 pub const TEXTURE_SIZE: u32 = 64;
@@ -109,14 +119,7 @@ pub fn textured_cube() -> Vec<u8> {
 /// sun. Used to test that `view` lights a file with its lights alone.
 pub fn punctual_lights_scene() -> Vec<u8> {
     let mut doc = Doc::new();
-    let floor = doc.mesh_data(
-        "Floor",
-        &crate::mesh::primitives::grid(crate::mesh::primitives::GridParams {
-            size: glam::Vec2::splat(6.0),
-            resolution_x: 1,
-            resolution_y: 1,
-        }),
-    );
+    let floor = floor_mesh(&mut doc, glam::Vec2::splat(6.0));
     let cube = doc.mesh_data("Block", &box_mesh(BoxParams::default()));
     let white = doc.material(json::Material {
         pbr_metallic_roughness: json::material::PbrMetallicRoughness {
@@ -147,32 +150,18 @@ pub fn punctual_lights_scene() -> Vec<u8> {
         inner_cone_angle: 0.3,
         outer_cone_angle: 0.5,
     });
-    doc.root.extensions_used.push("KHR_lights_punctual".into());
-    doc.root.extensions = Some(json::extensions::root::Root {
-        khr_lights_punctual: Some(json::extensions::root::KhrLightsPunctual {
-            lights: vec![point, spot],
-        }),
-        ..Default::default()
-    });
-    let light_node = |index: u32, translation: [f32; 3], rotation: glam::Quat| json::Node {
+    doc.punctual_lights(vec![point, spot]);
+    let placed_light = |index: u32, translation: [f32; 3], rotation: glam::Quat| json::Node {
         translation: Some(translation),
         rotation: Some(json::scene::UnitQuaternion(rotation.to_array())),
-        extensions: Some(json::extensions::scene::Node {
-            khr_lights_punctual: Some(
-                json::extensions::scene::khr_lights_punctual::KhrLightsPunctual {
-                    light: json::Index::new(index),
-                },
-            ),
-            ..Default::default()
-        }),
-        ..Default::default()
+        ..light_node(index)
     };
     let nodes = vec![
         doc.node(mesh_node(Some(floor), [0.0; 3], 1.0)),
         doc.node(mesh_node(Some(cube), [0.0, 0.5, 0.0], 1.0)),
-        doc.node(light_node(0, [-1.5, 1.5, 1.0], glam::Quat::IDENTITY)),
+        doc.node(placed_light(0, [-1.5, 1.5, 1.0], glam::Quat::IDENTITY)),
         // Spots shine along -Z: turned to look down at the block from the right.
-        doc.node(light_node(
+        doc.node(placed_light(
             1,
             [2.0, 2.5, 0.0],
             glam::Quat::from_rotation_y(std::f32::consts::FRAC_PI_2)
@@ -258,14 +247,7 @@ pub fn sliding_cube() -> Vec<u8> {
     use json::accessor::{ComponentType, Type};
     let mut doc = Doc::new();
     let cube = doc.mesh_data("Cube", &box_mesh(BoxParams::default()));
-    let floor = doc.mesh_data(
-        "Floor",
-        &crate::mesh::primitives::grid(crate::mesh::primitives::GridParams {
-            size: glam::Vec2::new(4.0, 2.0),
-            resolution_x: 1,
-            resolution_y: 1,
-        }),
-    );
+    let floor = floor_mesh(&mut doc, glam::Vec2::new(4.0, 2.0));
     let red = doc.material(json::Material {
         pbr_metallic_roughness: json::material::PbrMetallicRoughness {
             base_color_factor: json::material::PbrBaseColorFactor([0.9, 0.05, 0.05, 1.0]),
@@ -276,32 +258,18 @@ pub fn sliding_cube() -> Vec<u8> {
     doc.root.meshes[cube.value()].primitives[0].material = Some(red);
     let lamp = doc.node(json::Node {
         translation: Some([0.0, 2.0, 0.0]),
-        extensions: Some(json::extensions::scene::Node {
-            khr_lights_punctual: Some(
-                json::extensions::scene::khr_lights_punctual::KhrLightsPunctual {
-                    light: json::Index::new(0),
-                },
-            ),
-            ..Default::default()
-        }),
-        ..Default::default()
+        ..light_node(0)
     });
-    doc.root.extensions_used.push("KHR_lights_punctual".into());
-    doc.root.extensions = Some(json::extensions::root::Root {
-        khr_lights_punctual: Some(json::extensions::root::KhrLightsPunctual {
-            lights: vec![json::extensions::scene::khr_lights_punctual::Light {
-                color: [1.0, 0.9, 0.8],
-                extensions: None,
-                extras: Default::default(),
-                intensity: 20.0,
-                name: Some("Lamp".into()),
-                range: None,
-                spot: None,
-                type_: Valid(json::extensions::scene::khr_lights_punctual::Type::Point),
-            }],
-        }),
-        ..Default::default()
-    });
+    doc.punctual_lights(vec![json::extensions::scene::khr_lights_punctual::Light {
+        color: [1.0, 0.9, 0.8],
+        extensions: None,
+        extras: Default::default(),
+        intensity: 20.0,
+        name: Some("Lamp".into()),
+        range: None,
+        spot: None,
+        type_: Valid(json::extensions::scene::khr_lights_punctual::Type::Point),
+    }]);
     let mut moving = mesh_node(Some(cube), [-1.0, 0.5, 0.0], 0.5);
     moving.children = Some(vec![lamp]);
     let moving = doc.node(moving);
@@ -404,14 +372,7 @@ pub fn textured_floor() -> Vec<u8> {
 pub fn photometric_camera_scene() -> Vec<u8> {
     use json::extensions::scene::khr_lights_punctual::{Light, Type};
     let mut doc = Doc::new();
-    let floor = doc.mesh_data(
-        "Floor",
-        &crate::mesh::primitives::grid(crate::mesh::primitives::GridParams {
-            size: glam::Vec2::splat(6.0),
-            resolution_x: 1,
-            resolution_y: 1,
-        }),
-    );
+    let floor = floor_mesh(&mut doc, glam::Vec2::splat(6.0));
     let block = doc.mesh_data("Block", &box_mesh(BoxParams::default()));
     let matte = |color: [f32; 4]| json::Material {
         pbr_metallic_roughness: json::material::PbrMetallicRoughness {
@@ -426,22 +387,16 @@ pub fn photometric_camera_scene() -> Vec<u8> {
     let red = doc.material(matte([0.15, 0.015, 0.015, 1.0]));
     doc.root.meshes[floor.value()].primitives[0].material = Some(grey);
     doc.root.meshes[block.value()].primitives[0].material = Some(red);
-    doc.root.extensions_used.push("KHR_lights_punctual".into());
-    doc.root.extensions = Some(json::extensions::root::Root {
-        khr_lights_punctual: Some(json::extensions::root::KhrLightsPunctual {
-            lights: vec![Light {
-                color: [1.0, 1.0, 1.0],
-                extensions: None,
-                extras: Default::default(),
-                intensity: 50_000.0,
-                name: Some("Sun".into()),
-                range: None,
-                spot: None,
-                type_: Valid(Type::Directional),
-            }],
-        }),
-        ..Default::default()
-    });
+    doc.punctual_lights(vec![Light {
+        color: [1.0, 1.0, 1.0],
+        extensions: None,
+        extras: Default::default(),
+        intensity: 50_000.0,
+        name: Some("Sun".into()),
+        range: None,
+        spot: None,
+        type_: Valid(Type::Directional),
+    }]);
     let camera = doc.root.push(json::Camera {
         name: Some("Shot".into()),
         orthographic: None,
@@ -467,15 +422,7 @@ pub fn photometric_camera_scene() -> Vec<u8> {
         doc.node(mesh_node(Some(block), [0.0, 0.5, 0.0], 1.0)),
         doc.node(json::Node {
             rotation: Some(json::scene::UnitQuaternion(sun.to_array())),
-            extensions: Some(json::extensions::scene::Node {
-                khr_lights_punctual: Some(
-                    json::extensions::scene::khr_lights_punctual::KhrLightsPunctual {
-                        light: json::Index::new(0),
-                    },
-                ),
-                ..Default::default()
-            }),
-            ..Default::default()
+            ..light_node(0)
         }),
         // Cameras look along -Z: from +Z straight at the block.
         doc.node(json::Node {

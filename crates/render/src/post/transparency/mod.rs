@@ -40,6 +40,7 @@ use crate::frame_graph::{Bindings, FrameGraph, PassContext, Tex, TextureDesc};
 use crate::gbuffer::{Draw, GBuffer, Layer, mesh_bindings, pack_instances};
 use crate::lighting::{ClusterGrid, ClusterStore, FEW_LIGHTS, LightBuffer, LightKind, LightLoop};
 use crate::material::MaterialWorld;
+use crate::mesh_arena::pulled_pipeline;
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
 use crate::report::PassName;
@@ -676,59 +677,46 @@ fn accumulate_pipeline(
                 dst_factor: wgpu::BlendFactor::OneMinusSrc,
                 operation: wgpu::BlendOperation::Add,
             };
-            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some("transparency accumulate"),
-                layout: None,
-                vertex: wgpu::VertexState {
-                    module,
-                    entry_point: Some("vs"),
-                    compilation_options: Default::default(),
-                    buffers: &[],
-                },
-                primitive: wgpu::PrimitiveState {
+            pulled_pipeline(
+                &device,
+                module,
+                "transparency accumulate",
+                wgpu::PrimitiveState {
                     topology: wgpu::PrimitiveTopology::TriangleList,
                     front_face: wgpu::FrontFace::Ccw,
                     cull_mode: culled.then_some(wgpu::Face::Back),
                     ..Default::default()
                 },
-                depth_stencil: None,
-                multisample: Default::default(),
-                fragment: Some(wgpu::FragmentState {
-                    module,
-                    entry_point: Some("fs"),
-                    compilation_options: Default::default(),
-                    targets: &[
-                        Some(wgpu::ColorTargetState {
-                            format: ACCUMULATION,
-                            blend: Some(wgpu::BlendState {
-                                color: additive,
-                                alpha: additive,
-                            }),
-                            // A light pass adds colour; the weight sum (alpha) is the base pass's.
-                            write_mask: if lit {
-                                wgpu::ColorWrites::COLOR
-                            } else {
-                                wgpu::ColorWrites::ALL
-                            },
+                None,
+                &[
+                    Some(wgpu::ColorTargetState {
+                        format: ACCUMULATION,
+                        blend: Some(wgpu::BlendState {
+                            color: additive,
+                            alpha: additive,
                         }),
-                        Some(wgpu::ColorTargetState {
-                            format: REVEALAGE,
-                            blend: Some(wgpu::BlendState {
-                                color: reveal,
-                                alpha: reveal,
-                            }),
-                            // Only red is read, and only the base pass covers.
-                            write_mask: if lit {
-                                wgpu::ColorWrites::empty()
-                            } else {
-                                wgpu::ColorWrites::RED
-                            },
+                        // A light pass adds colour; the weight sum (alpha) is the base pass's.
+                        write_mask: if lit {
+                            wgpu::ColorWrites::COLOR
+                        } else {
+                            wgpu::ColorWrites::ALL
+                        },
+                    }),
+                    Some(wgpu::ColorTargetState {
+                        format: REVEALAGE,
+                        blend: Some(wgpu::BlendState {
+                            color: reveal,
+                            alpha: reveal,
                         }),
-                    ],
-                }),
-                multiview_mask: None,
-                cache: None,
-            })
+                        // Only red is read, and only the base pass covers.
+                        write_mask: if lit {
+                            wgpu::ColorWrites::empty()
+                        } else {
+                            wgpu::ColorWrites::RED
+                        },
+                    }),
+                ],
+            )
         })
 }
 
