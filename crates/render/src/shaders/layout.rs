@@ -138,9 +138,13 @@ mod tests {
         write_background: u32,
         end_instance: u32,
         geometry_ids: u32,
+        triplanar_sharpness: f32,
+        pad0: u32,
+        pad1: u32,
+        pad2: u32,
     }
 
-    /// Three of its four members.
+    /// Three of its members.
     #[repr(C)]
     #[derive(Clone, Copy, Zeroable)]
     struct Short {
@@ -162,7 +166,16 @@ mod tests {
         let e = check(
             crate::host_layout!(
                 Swapped,
-                [first_instance, write_background, end_instance, geometry_ids]
+                [
+                    first_instance,
+                    write_background,
+                    end_instance,
+                    geometry_ids,
+                    triplanar_sharpness,
+                    pad0,
+                    pad1,
+                    pad2
+                ]
             ),
             "Layer",
         )
@@ -176,7 +189,7 @@ mod tests {
             "Layer",
         )
         .expect_err("a member short");
-        assert!(e.contains("12 bytes, the shader's struct 16"), "{e}");
+        assert!(e.contains("12 bytes, the shader's struct 32"), "{e}");
         let e = check(
             crate::host_layout!(Short, [first_instance, end_instance]),
             "Layer",

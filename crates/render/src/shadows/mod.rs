@@ -664,7 +664,7 @@ mod tests {
             (RasterChoice::Auto, Cpu, 256, false),
             (RasterChoice::Auto, Cpu, 4096, false),
             (RasterChoice::Compute, Cpu, 4096, true),
-            (RasterChoice::Compute, Gpu, 8192, true),
+            (RasterChoice::Compute, Gpu, 4096, true),
             (RasterChoice::Hardware, Gpu, 512, false),
         ] {
             assert_eq!(

@@ -342,11 +342,15 @@ impl ShadowMaps {
         cx.draws += draws;
         // Into the targets, a dispatch per layer.
         let res = self.settings.resolution;
-        let depth = attachments.create_view(&wgpu::TextureViewDescriptor {
-            dimension: Some(wgpu::TextureViewDimension::D2Array),
-            aspect: wgpu::TextureAspect::DepthOnly,
-            ..Default::default()
-        });
+        // A view the pool keeps: a view made here each frame would make the
+        // copy's bind group anew each frame too.
+        let depth = cx.view_of(
+            &attachments,
+            crate::texture_pool::ViewSpec {
+                aspect: wgpu::TextureAspect::DepthOnly,
+                ..crate::texture_pool::ViewSpec::array()
+            },
+        );
         for job in jobs {
             let (out, under) = Self::outputs(maps, &device, job.target);
             let mut b = Bindings::new()
