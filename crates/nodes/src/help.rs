@@ -49,16 +49,17 @@ macro_rules! help {
 pub const HELP_PATCHES: &[HelpPatch] = &[
     help!("deferred.ron" => [
         "DeferredBase", "MRE", "Group (Layer)", "GBufferView", "Camera", "Output", "Sphere",
-        "Plane",
+        "Plane", "Triplanar (Layer)",
     ]),
     help!("lighting.ron" => [
         "AddLight (Sun)", "AddLight (Point)", "AddLight (Spot)", "SunLightBuffer",
         "PointLightBuffer", "SpotLightBuffer", "CookTorrance", "CompositeLight", "Group (Texture)",
+        "Group (Lights)", "Group (Shadows)",
     ]),
     help!("shadows.ron" => ["ShadowMap (Sun)", "ShadowMap (Point)", "ShadowMap (Spot)"]),
     help!("material.ron" => [
         "AddCookTorrance", "AddEmission", "AddAmbientOcclusion", "AddMatCap", "FeatureManager",
-        "MaterialManager", "MaterialBuffer", "MaterialByName",
+        "MaterialManager", "MaterialBuffer", "MaterialByName", "ParameterTexture",
     ]),
     help!("occlusion.ron" => ["SSAO", "HBAO", "SSGI", "SSSS", "AddFakeSSS"]),
     help!("environment.ron" => [
