@@ -359,17 +359,25 @@ impl EvalContext<'_> {
         &self,
         pin: In<Res<T>>,
     ) -> Result<Vec<Arc<T>>, NodeError> {
-        match self.input(pin.index) {
+        self.resources_at(pin.index)
+    }
+
+    /// [`EvalContext::resources`] by position, for nodes that still read
+    /// their pins by number.
+    pub fn resources_at<T: Send + Sync + 'static>(
+        &self,
+        index: usize,
+    ) -> Result<Vec<Arc<T>>, NodeError> {
+        match self.input(index) {
             Spread::Resource(_, handles) => handles
                 .iter()
                 .map(|h| {
-                    h.downcast_arc::<T>().ok_or_else(|| {
-                        self.input_error(pin.index, "holds a resource of another kind")
-                    })
+                    h.downcast_arc::<T>()
+                        .ok_or_else(|| self.input_error(index, "holds a resource of another kind"))
                 })
                 .collect(),
             other => Err(self.input_error(
-                pin.index,
+                index,
                 format!("expected a resource, got {}", other.type_name()),
             )),
         }

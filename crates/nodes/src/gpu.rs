@@ -47,19 +47,7 @@ pub fn resources<T: std::any::Any + Send + Sync>(
     cx: &EvalContext<'_>,
     pin: usize,
 ) -> Result<Vec<Arc<T>>, NodeError> {
-    match cx.input(pin) {
-        Spread::Resource(_, handles) => handles
-            .iter()
-            .map(|h| {
-                h.downcast_arc::<T>()
-                    .ok_or_else(|| cx.input_error(pin, "holds a resource of another kind"))
-            })
-            .collect(),
-        other => Err(cx.input_error(
-            pin,
-            format!("expected a resource, got {}", other.type_name()),
-        )),
-    }
+    cx.resources_at(pin)
 }
 
 /// A spread of resources of `kind`.
