@@ -756,11 +756,12 @@ impl Recipe for Transparency {
         }
         // The clustered buffers' assignments, each a pass of its own (as
         // CookTorrance's): the froxel grid of the G-buffer's camera, where
-        // the transparent fragments are drawn too.
+        // the transparent fragments are drawn too, in the forward loop's
+        // finer tiles (a fragment walks its froxel's whole list).
         let size = self.gbuffer.pixel_size(fg.output_size());
         let (near, far) =
             crate::lighting::near_far(self.gbuffer.camera.projection).unwrap_or((0.1, 1000.0));
-        let grid = ClusterGrid::new(size, near, far);
+        let grid = ClusterGrid::with_tile(size, near, far, ClusterGrid::FORWARD_TILE);
         for (i, set) in self.lights.iter().enumerate() {
             let Some(clusters) = &set.clusters else {
                 continue;
