@@ -26,7 +26,7 @@ fn since_start() -> f64 {
 }
 
 /// Where a process's time went up to the end of its first frame.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 pub struct ColdStart {
     /// Process start to the end of the first frame's evaluation.
     pub total: f64,
@@ -38,6 +38,9 @@ pub struct ColdStart {
     pub first_frame: f64,
     pub compile: CompileTimes,
     pub pipelines: u64,
+    /// The pipeline cache file and the bytes read from it (None: the device
+    /// keeps none, pipeline_cache.rs).
+    pub pipeline_cache: Option<(std::path::PathBuf, usize)>,
 }
 
 impl ColdStart {
@@ -50,7 +53,13 @@ impl ColdStart {
                 (shaders.compile_times, shaders.pipelines_compiled)
             },
         );
+        let pipeline_cache = session
+            .renderer
+            .as_ref()
+            .and_then(|r| r.gpu.disk_pipeline_cache())
+            .map(|c| (c.path().to_path_buf(), c.loaded_bytes()));
         ColdStart {
+            pipeline_cache,
             total: since_start(),
             registry: session.opened.registry,
             gpu: session.opened.gpu,
@@ -77,6 +86,10 @@ impl ColdStart {
             "pipelines_ms": ms(c.pipelines.as_secs_f64()),
             "first_frame_other_ms": ms((self.first_frame - compiling).max(0.0)),
             "pipelines_compiled": self.pipelines,
+            "pipeline_cache": self.pipeline_cache.as_ref().map(|(path, bytes)| json!({
+                "path": path.display().to_string(),
+                "loaded_bytes": bytes,
+            })),
         })
     }
 

@@ -926,3 +926,62 @@ fn shader_nodes_are_listed_and_a_broken_one_beside_a_patch_is_named_by_check() {
         text(&out.stderr)
     );
 }
+
+/// The pipeline cache kept between runs (crates/render/src/pipeline_cache.rs):
+/// the first run starts empty and writes the file, the next starts from it
+/// and draws the same bytes, and a damaged file is a cold start, not an
+/// error. (On by default on GPUs only; `SPREADLIGHT_PIPELINE_CACHE=on` here.)
+#[test]
+fn the_pipeline_cache_is_kept_between_runs_and_a_damaged_file_is_a_cold_start() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let cache = dir.path().join("cache");
+    let cache_dir = cache.to_str().expect("utf-8 path");
+    let env = [
+        ("SPREADLIGHT_PIPELINE_CACHE", "on"),
+        ("SPREADLIGHT_CACHE_DIR", cache_dir),
+    ];
+    let run = |name: &str| {
+        let image = dir.path().join(name);
+        let image = image.to_str().expect("utf-8 path");
+        let args = [
+            "render",
+            "patches/gbuffer-spheres.ron",
+            "-o",
+            image,
+            "--size",
+            "32x18",
+            "--json",
+        ];
+        let out = spreadlight_env(&args, &env);
+        let stdout = text(&out.stdout);
+        assert_eq!(out.status.code(), Some(0), "{stdout}{}", text(&out.stderr));
+        let done: serde_json::Value = stdout
+            .lines()
+            .filter_map(|l| serde_json::from_str(l).ok())
+            .last()
+            .expect("a done line");
+        let cache = done["cold_start"]["pipeline_cache"].clone();
+        let bytes = std::fs::read(image).expect("image written");
+        (cache, bytes)
+    };
+    let (first, first_image) = run("first.png");
+    if first.is_null() {
+        panic!("the adapter offers no PIPELINE_CACHE (every Vulkan adapter should)");
+    }
+    assert_eq!(first["loaded_bytes"], 0, "{first}");
+    let file = PathBuf::from(first["path"].as_str().expect("path"));
+    assert!(file.starts_with(&cache), "{file:?} outside {cache:?}");
+    let saved = std::fs::metadata(&file)
+        .expect("saved when the run ended")
+        .len();
+    assert!(saved > 0);
+
+    let (second, second_image) = run("second.png");
+    assert_eq!(second["loaded_bytes"].as_u64(), Some(saved), "{second}");
+    assert_eq!(first_image, second_image, "the cache changes no pixel");
+
+    std::fs::write(&file, b"not a pipeline cache").expect("damage it");
+    let (third, third_image) = run("third.png");
+    assert!(!third.is_null(), "{third}");
+    assert_eq!(first_image, third_image);
+}

@@ -12,6 +12,7 @@ use std::sync::Arc;
 
 use crate::adapter_class::AdapterClass;
 use crate::error::RenderError;
+use crate::pipeline_cache::DiskPipelineCache;
 use crate::submission_gate::SubmissionGate;
 use crate::uncaptured::{UncapturedErrors, error_text};
 
@@ -20,11 +21,13 @@ pub const REQUIRED_FEATURES: wgpu::Features = wgpu::Features::empty();
 /// Features used when the adapter has them: timestamps for GPU times (inside
 /// passes too, so that timed passes can share a compute pass), and
 /// 64-bit atomics for the compute rasterizer (the G-buffer falls back to the
-/// raster hardware without them).
+/// raster hardware without them), and a pipeline cache kept on disk
+/// (pipeline_cache.rs).
 pub const OPTIONAL_FEATURES: wgpu::Features = wgpu::Features::TIMESTAMP_QUERY
     .union(wgpu::Features::TIMESTAMP_QUERY_INSIDE_PASSES)
     .union(wgpu::Features::SHADER_INT64)
-    .union(wgpu::Features::SHADER_INT64_ATOMIC_MIN_MAX);
+    .union(wgpu::Features::SHADER_INT64_ATOMIC_MIN_MAX)
+    .union(wgpu::Features::PIPELINE_CACHE);
 
 /// A shared device and queue, with what the adapter told us about itself.
 #[derive(Clone)]
@@ -40,6 +43,9 @@ pub struct GpuContext {
     gate: SubmissionGate,
     /// Device errors no error scope caught, until a host takes them.
     uncaptured: Arc<UncapturedErrors>,
+    /// Compiled pipelines kept between runs, where the device offers it;
+    /// saved when the last clone of the context is dropped.
+    pipeline_cache: Option<Arc<DiskPipelineCache>>,
 }
 
 impl std::fmt::Debug for GpuContext {
@@ -117,7 +123,9 @@ impl GpuContext {
         let uncaptured = Arc::new(UncapturedErrors::default());
         let recorder = uncaptured.clone();
         device.on_uncaptured_error(Arc::new(move |error: wgpu::Error| recorder.record(&error)));
+        let pipeline_cache = DiskPipelineCache::open(&device, &adapter_info);
         GpuContext {
+            pipeline_cache,
             device,
             queue,
             class: AdapterClass::of(&adapter_info),
@@ -125,6 +133,17 @@ impl GpuContext {
             gate: SubmissionGate::default(),
             uncaptured,
         }
+    }
+
+    /// The pipeline cache every pipeline of this device is compiled through
+    /// (None where the device has none: pipeline_cache.rs).
+    pub fn pipeline_cache(&self) -> Option<&wgpu::PipelineCache> {
+        self.pipeline_cache.as_deref().map(DiskPipelineCache::cache)
+    }
+
+    /// The disk-kept pipeline cache (its file, the bytes it started from), if any.
+    pub fn disk_pipeline_cache(&self) -> Option<&DiskPipelineCache> {
+        self.pipeline_cache.as_deref()
     }
 
     /// The device errors no error scope caught since the last call

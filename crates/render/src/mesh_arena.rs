@@ -435,6 +435,7 @@ impl MeshArena {
 pub(crate) fn pulled_pipeline(
     device: &wgpu::Device,
     module: &wgpu::ShaderModule,
+    cache: Option<&wgpu::PipelineCache>,
     label: &str,
     primitive: wgpu::PrimitiveState,
     depth_stencil: Option<wgpu::DepthStencilState>,
@@ -459,7 +460,7 @@ pub(crate) fn pulled_pipeline(
             targets,
         }),
         multiview_mask: None,
-        cache: None,
+        cache,
     })
 }
 

@@ -171,7 +171,7 @@ impl Evaluator {
 
     /// Where the process's time went up to its first frame (None before one).
     pub fn cold_start(&self) -> Option<ColdStart> {
-        self.cold_start
+        self.cold_start.clone()
     }
 
     pub fn adapter(&self) -> String {

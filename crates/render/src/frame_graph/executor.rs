@@ -71,7 +71,8 @@ pub struct Executor {
 
 impl Executor {
     pub(crate) fn new(gpu: &GpuContext) -> Result<Self, RenderError> {
-        let shaders = ShaderCache::new(ShaderComposer::new()?);
+        let shaders = ShaderCache::new(ShaderComposer::new()?)
+            .with_pipeline_cache(gpu.pipeline_cache().cloned());
         let timestamps = gpu.has_timestamps().then(|| Timestamps {
             set: gpu.device.create_query_set(&wgpu::QuerySetDescriptor {
                 label: Some("pass timestamps"),

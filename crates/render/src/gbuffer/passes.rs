@@ -275,10 +275,11 @@ fn visibility_pipeline(
     };
     let pipeline = cx
         .shaders
-        .render_pipeline(&device, &key, variant, |module| {
+        .render_pipeline(&device, &key, variant, |module, cache| {
             pulled_pipeline(
                 &device,
                 module,
+                cache,
                 "visibility",
                 wgpu::PrimitiveState {
                     topology: wgpu::PrimitiveTopology::TriangleList,

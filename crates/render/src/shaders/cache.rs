@@ -13,6 +13,7 @@ use crate::error::RenderError;
 /// A compute pipeline of `entry` in `module`, its bind group layouts derived from the shader.
 fn compute_pipeline_of(
     device: &wgpu::Device,
+    cache: Option<&wgpu::PipelineCache>,
     module: &wgpu::ShaderModule,
     label: &str,
     entry: &str,
@@ -23,7 +24,7 @@ fn compute_pipeline_of(
         module,
         entry_point: Some(entry),
         compilation_options: Default::default(),
-        cache: None,
+        cache,
     })
 }
 
@@ -70,6 +71,9 @@ pub struct ShaderCache {
     pub bind_groups_reused: u64,
     /// Where the time making shaders and pipelines went since the cache was made.
     pub compile_times: CompileTimes,
+    /// The driver's cache kept on disk between runs (pipeline_cache.rs), if
+    /// the device has one: every pipeline is compiled through it.
+    pipeline_cache: Option<wgpu::PipelineCache>,
 }
 
 /// CPU time spent making shaders and pipelines, by step: most of what a
@@ -260,7 +264,14 @@ impl ShaderCache {
             bind_groups_created: 0,
             bind_groups_reused: 0,
             compile_times: CompileTimes::default(),
+            pipeline_cache: None,
         }
+    }
+
+    /// Compile every pipeline through `cache` (GpuContext::pipeline_cache).
+    pub fn with_pipeline_cache(mut self, cache: Option<wgpu::PipelineCache>) -> Self {
+        self.pipeline_cache = cache;
+        self
     }
 
     /// A new frame begins: bind groups unused for a while are dropped.
@@ -278,6 +289,7 @@ impl ShaderCache {
         *self = ShaderCache {
             pipelines_compiled: self.pipelines_compiled,
             compile_times: self.compile_times,
+            pipeline_cache: self.pipeline_cache.take(),
             ..ShaderCache::new(composer)
         };
     }
@@ -512,7 +524,7 @@ impl ShaderCache {
         let module = self.module(device, key)?;
         let label = format!("{}{}::{entry}", key.path, key.describe_defs());
         let pipeline = timed(&mut self.compile_times.pipelines, || {
-            compute_pipeline_of(device, &module, &label, entry)
+            compute_pipeline_of(device, self.pipeline_cache.as_ref(), &module, &label, entry)
         });
         self.pipelines_compiled += 1;
         self.compute
@@ -545,7 +557,13 @@ impl ShaderCache {
             })
         });
         let pipeline = timed(&mut self.compile_times.pipelines, || {
-            compute_pipeline_of(device, &module, &format!("{label}::{entry}"), entry)
+            compute_pipeline_of(
+                device,
+                self.pipeline_cache.as_ref(),
+                &module,
+                &format!("{label}::{entry}"),
+                entry,
+            )
         });
         self.pipelines_compiled += 1;
         self.external.insert(cache_key, pipeline.clone());
@@ -593,7 +611,13 @@ impl ShaderCache {
             })
         });
         let pipeline = timed(&mut self.compile_times.pipelines, || {
-            compute_pipeline_of(device, &shader, &format!("{label}::{entry}"), entry)
+            compute_pipeline_of(
+                device,
+                self.pipeline_cache.as_ref(),
+                &shader,
+                &format!("{label}::{entry}"),
+                entry,
+            )
         });
         self.pipelines_compiled += 1;
         self.surfaces
@@ -602,19 +626,21 @@ impl ShaderCache {
     }
 
     /// A render pipeline for a permutation; `variant` names what else the
-    /// caller's descriptor depends on (target formats, blend), and `build` makes it.
+    /// caller's descriptor depends on (target formats, blend), and `build`
+    /// makes it (through the pipeline cache it is given).
     pub fn render_pipeline(
         &mut self,
         device: &wgpu::Device,
         key: &ShaderKey,
         variant: &str,
-        build: impl FnOnce(&wgpu::ShaderModule) -> wgpu::RenderPipeline,
+        build: impl FnOnce(&wgpu::ShaderModule, Option<&wgpu::PipelineCache>) -> wgpu::RenderPipeline,
     ) -> Result<wgpu::RenderPipeline, RenderError> {
         if let Some(p) = self.render.get(key).and_then(|by| by.get(variant)) {
             return Ok(p.clone());
         }
         let module = self.module(device, key)?;
-        let pipeline = timed(&mut self.compile_times.pipelines, || build(&module));
+        let cache = self.pipeline_cache.as_ref();
+        let pipeline = timed(&mut self.compile_times.pipelines, || build(&module, cache));
         self.pipelines_compiled += 1;
         self.render
             .entry(key.clone())

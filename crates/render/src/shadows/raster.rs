@@ -249,11 +249,12 @@ impl ShadowMaps {
         let key = ShaderKey::new("shadows/depth.wgsl", []);
         let pipeline = cx
             .shaders
-            .render_pipeline(&device, &key, "depth32f", |module| {
+            .render_pipeline(&device, &key, "depth32f", |module, cache| {
                 // Both faces: open meshes (a plane) must cast too.
                 pulled_pipeline(
                     &device,
                     module,
+                    cache,
                     "shadow depth",
                     wgpu::PrimitiveState::default(),
                     Some(wgpu::DepthStencilState {

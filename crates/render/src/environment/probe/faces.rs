@@ -78,13 +78,14 @@ pub(crate) fn render(
     let key = ShaderKey::new(SHADER, []);
     let pipeline = cx
         .shaders
-        .render_pipeline(&device, &key, "rgba16f", |module| {
+        .render_pipeline(&device, &key, "rgba16f", |module, cache| {
             // Both sides: the faces' handedness differs, and a probe
             // inside an object sees its inside (the shader turns each
             // normal towards the probe).
             pulled_pipeline(
                 &device,
                 module,
+                cache,
                 "environment probe faces",
                 wgpu::PrimitiveState::default(),
                 Some(wgpu::DepthStencilState {

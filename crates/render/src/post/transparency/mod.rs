@@ -666,7 +666,7 @@ fn accumulate_pipeline(
         (false, true) => "wboit light",
     };
     cx.shaders
-        .render_pipeline(&device, &key, variant, |module| {
+        .render_pipeline(&device, &key, variant, |module, cache| {
             let additive = wgpu::BlendComponent {
                 src_factor: wgpu::BlendFactor::One,
                 dst_factor: wgpu::BlendFactor::One,
@@ -680,6 +680,7 @@ fn accumulate_pipeline(
             pulled_pipeline(
                 &device,
                 module,
+                cache,
                 "transparency accumulate",
                 wgpu::PrimitiveState {
                     topology: wgpu::PrimitiveTopology::TriangleList,

@@ -1,0 +1,144 @@
+//! The driver's compiled pipelines, kept on disk between runs
+//! (`wgpu::PipelineCache`, where the adapter offers `PIPELINE_CACHE`: Vulkan).
+//!
+//! A fresh process spends most of its first frame compiling pipelines (on
+//! the H200, 1.6 s of 2.1 s for post.ron, `bench --json`'s `cold_start`). The
+//! driver keeps a cache of its own, but a farm worker or a CI machine often
+//! starts with it empty or cleared; this one lives in Spreadlight's cache
+//! directory, so every run after the first on a machine finds the pipelines
+//! it compiled before.
+//!
+//! Where: `SPREADLIGHT_CACHE_DIR`, else `$XDG_CACHE_HOME/spreadlight`, else
+//! `~/.cache/spreadlight`; one file per adapter and driver
+//! (`wgpu::util::pipeline_cache_key`). `SPREADLIGHT_PIPELINE_CACHE=off`
+//! leaves it out (a run that must measure the cold compile).
+//!
+//! The file is written when the last holder of the context drops it, only
+//! if the driver's data grew (something new was compiled), through a
+//! temporary file and a rename, so a run killed half-way leaves the old file.
+
+use std::path::PathBuf;
+use std::sync::Arc;
+
+/// A pipeline cache read from disk, saved back when dropped.
+pub struct DiskPipelineCache {
+    cache: wgpu::PipelineCache,
+    path: PathBuf,
+    /// Bytes of the data it was made from (0 when none): a smaller or equal
+    /// size when dropped means nothing new was compiled.
+    loaded: usize,
+}
+
+impl std::fmt::Debug for DiskPipelineCache {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "DiskPipelineCache({})", self.path.display())
+    }
+}
+
+/// Spreadlight's cache directory (see the module docs).
+pub fn cache_dir() -> PathBuf {
+    if let Some(dir) = std::env::var_os("SPREADLIGHT_CACHE_DIR") {
+        return PathBuf::from(dir);
+    }
+    if let Some(dir) = std::env::var_os("XDG_CACHE_HOME") {
+        return PathBuf::from(dir).join("spreadlight");
+    }
+    match std::env::var_os("HOME") {
+        Some(home) => PathBuf::from(home).join(".cache").join("spreadlight"),
+        None => std::env::temp_dir().join("spreadlight-cache"),
+    }
+}
+
+impl DiskPipelineCache {
+    /// The cache for `device` on the adapter `info` describes, from its file
+    /// when there is one; None when the device lacks `PIPELINE_CACHE`, the
+    /// backend has no cache key, or the user turned it off.
+    pub fn open(device: &wgpu::Device, info: &wgpu::AdapterInfo) -> Option<Arc<Self>> {
+        if !device.features().contains(wgpu::Features::PIPELINE_CACHE) {
+            return None;
+        }
+        let wanted = match std::env::var("SPREADLIGHT_PIPELINE_CACHE").as_deref() {
+            Ok("off" | "0") => false,
+            Ok("on" | "1") => true,
+            _ => {
+                crate::adapter_class::AdapterClass::of(info)
+                    == crate::adapter_class::AdapterClass::Gpu
+            }
+        };
+        if !wanted {
+            return None;
+        }
+        let key = wgpu::util::pipeline_cache_key(info)?;
+        let path = cache_dir().join(key);
+        // A missing or unreadable file is a cold start, not an error.
+        let data = std::fs::read(&path).ok();
+        // SAFETY: `data` is what an earlier run's `PipelineCache::get_data`
+        // wrote to a file named by `pipeline_cache_key` for this adapter.
+        // wgpu prefixes that data with a header (magic, version, adapter
+        // and driver identity, length and hash of the body) that it checks
+        // before the driver sees a byte, and with `fallback` a file that
+        // fails the check (truncated, edited, another driver) gives an
+        // empty cache instead of an error. What the check cannot prove is
+        // that nobody wrote a well-formed file with a matching hash and a
+        // hostile body; the cache directory is the user's own.
+        #[allow(unsafe_code)]
+        let cache = unsafe {
+            device.create_pipeline_cache(&wgpu::PipelineCacheDescriptor {
+                label: Some("spreadlight pipeline cache"),
+                data: data.as_deref(),
+                fallback: true,
+            })
+        };
+        Some(Arc::new(DiskPipelineCache {
+            cache,
+            path,
+            loaded: data.map_or(0, |d| d.len()),
+        }))
+    }
+
+    pub fn cache(&self) -> &wgpu::PipelineCache {
+        &self.cache
+    }
+
+    pub fn path(&self) -> &std::path::Path {
+        &self.path
+    }
+
+    /// Bytes read from the file when the cache was made (0: a cold start).
+    pub fn loaded_bytes(&self) -> usize {
+        self.loaded
+    }
+
+    /// Write the driver's data to the file if it grew since it was read.
+    /// Errors are returned for a caller that wants them; dropping the cache
+    /// saves too and only warns.
+    pub fn save(&self) -> std::io::Result<bool> {
+        let Some(data) = self.cache.get_data() else {
+            return Ok(false);
+        };
+        if data.len() <= self.loaded {
+            return Ok(false);
+        }
+        if let Some(dir) = self.path.parent() {
+            std::fs::create_dir_all(dir)?;
+        }
+        let temp = self
+            .path
+            .with_extension(format!("{}.tmp", std::process::id()));
+        std::fs::write(&temp, &data)?;
+        std::fs::rename(&temp, &self.path)?;
+        Ok(true)
+    }
+}
+
+impl Drop for DiskPipelineCache {
+    fn drop(&mut self) {
+        if let Err(e) = self.save() {
+            // Nothing else is lost: the next run compiles again.
+            eprintln!(
+                "warning: could not save the pipeline cache to {}: {e}",
+                self.path.display()
+            );
+        }
+    }
+}
