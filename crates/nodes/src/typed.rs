@@ -8,6 +8,18 @@
 //! but a Float never links back into an Int pin, so indices and counts taken
 //! through the value variant could not be used as indices again.
 
+/// What a node written once for every slice type asks of the type: a plain
+/// value read and written through typed pin handles.
+pub(crate) trait Value:
+    spreadlight_graph::SliceValue + spreadlight_graph::typed_pins::PinData<Meta = ()>
+{
+}
+
+impl<T: spreadlight_graph::SliceValue + spreadlight_graph::typed_pins::PinData<Meta = ()>> Value
+    for T
+{
+}
+
 /// `typed!(r, make, "Base", "Spreads")` registers `make::<T>(name, default)`
 /// for each slice type, named `Base (Spreads)` for values and `Base (Integer)`,
 /// `Base (Toggle)`, `Base (String)`,
