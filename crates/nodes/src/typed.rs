@@ -100,4 +100,104 @@ mod tests {
             }
         }
     }
+
+    /// The folders whose nodes still read some pins by position (the GPU
+    /// families, being converted); every other file must name its pins by handle.
+    const NOT_YET_TYPED: &[&str] = &[
+        "lighting",
+        "environment",
+        "material",
+        "deferred",
+        "geometry",
+        "particles",
+        "texture",
+        "media",
+        "shader_nodes",
+    ];
+
+    /// Reads of a pin by a literal position in `line`: `cx.slices::<f32>(0)`,
+    /// `cx.set(1, ..)`, `input_error(2, ..)`, `inputs[0]` and the like.
+    fn positional_reads(line: &str) -> Vec<&str> {
+        const CALLS: &[&str] = &[
+            ".set(",
+            ".input(",
+            "input_error(",
+            "set_output(",
+            "set_output_arc(",
+            "input_arc(",
+            "enum_slices(",
+            "resources_at(",
+            "inputs[",
+            "outputs[",
+        ];
+        let digit_after = |rest: &str| {
+            let rest = rest.strip_prefix("cx, ").unwrap_or(rest);
+            rest.starts_with(|c: char| c.is_ascii_digit())
+        };
+        let mut found = Vec::new();
+        for call in CALLS {
+            for (at, _) in line.match_indices(call) {
+                if digit_after(&line[at + call.len()..]) {
+                    found.push(*call);
+                }
+            }
+        }
+        for (at, _) in line.match_indices("slices::<") {
+            let rest = &line[at..];
+            if let Some(close) = rest.find(">(")
+                && digit_after(&rest[close + 2..])
+            {
+                found.push("slices::<T>(");
+            }
+        }
+        found
+    }
+
+    #[test]
+    fn the_positional_read_finder_finds_them() {
+        assert_eq!(positional_reads("let a = cx.slices::<f32>(0)?;").len(), 1);
+        assert_eq!(positional_reads("cx.set(1, out); cx.set(2, o)").len(), 2);
+        assert_eq!(positional_reads("cx.input_error(3, \"bad\")").len(), 1);
+        assert_eq!(positional_reads("def.outputs[0].name").len(), 1);
+        assert!(positional_reads("h.set(\"Input\", floats(&[1.0]))").is_empty());
+        assert!(positional_reads("cx.put(out, vec![1.0])").is_empty());
+    }
+
+    /// No node outside the folders still being converted reads or writes a
+    /// pin by its position: each declares its pins once and uses the handles.
+    #[test]
+    fn converted_nodes_name_their_pins_by_handle() {
+        fn visit(dir: &std::path::Path, found: &mut Vec<String>) {
+            let mut entries: Vec<_> = std::fs::read_dir(dir)
+                .expect("the source folder reads")
+                .map(|e| e.expect("a directory entry").path())
+                .collect();
+            entries.sort();
+            for path in entries {
+                let name = path.file_name().and_then(|n| n.to_str()).unwrap_or("");
+                if path.is_dir() {
+                    if !NOT_YET_TYPED.contains(&name) {
+                        visit(&path, found);
+                    }
+                } else if name.ends_with(".rs") && name != "typed.rs" {
+                    let text = std::fs::read_to_string(&path).expect("a source file reads");
+                    for (n, line) in text.lines().enumerate() {
+                        for call in positional_reads(line) {
+                            found.push(format!("{}:{}: {call}", path.display(), n + 1));
+                        }
+                    }
+                }
+            }
+        }
+        let mut found = Vec::new();
+        visit(
+            &std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("src"),
+            &mut found,
+        );
+        assert!(
+            found.is_empty(),
+            "pins read by position:\n{}",
+            found.join("\n")
+        );
+    }
 }
