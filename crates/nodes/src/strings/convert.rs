@@ -104,7 +104,8 @@ fn parse_node<T: Value + Copy>(
         move |cx| {
             let (input, default) = (cx.get(input)?, cx.get(default)?);
             let n = slice_count([input.len(), default.len()]);
-            let parsed: Vec<Option<T>> = (0..n).map(|i| parse(wrapped(input, i).as_str())).collect();
+            let parsed: Vec<Option<T>> =
+                (0..n).map(|i| parse(wrapped(input, i).as_str())).collect();
             let out = (0..n)
                 .map(|i| parsed[i].unwrap_or(*wrapped(default, i)))
                 .collect();
