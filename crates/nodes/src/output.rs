@@ -132,52 +132,52 @@ pub fn register(r: &mut Registry) {
             p.input("Preroll", 0i64);
             p.input("Monitor", -1i64);
             move |cx| {
-            let renderer = renderer(cx)?;
-            let Some(texture) = cx.first_resource(texture_in)? else {
-                return Err(cx.error(texture_in, "no texture connected"));
-            };
-            let filename = cx.get(filename_in)?.first().cloned().unwrap_or_default();
-            let name = cx.get(name_in)?.first().cloned().unwrap_or_else(|| "output".to_owned());
-            let encoding = cx.choice(encoding_in)?;
-            let write = cx.first(write_in, true)?;
+                let renderer = renderer(cx)?;
+                let Some(texture) = cx.first_resource(texture_in)? else {
+                    return Err(cx.error(texture_in, "no texture connected"));
+                };
+                let filename = cx.get(filename_in)?.first().cloned().unwrap_or_default();
+                let name = cx.get(name_in)?.first().cloned().unwrap_or_else(|| "output".to_owned());
+                let encoding = cx.choice(encoding_in)?;
+                let write = cx.first(write_in, true)?;
 
-            let mut graph = FrameGraph::new(renderer.output_size());
-            texture.recipe.declare(&renderer, &mut graph);
-            graph.request(&texture.name);
-            // Read back only when someone takes the image: a benchmark renders without the copy.
-            let to_file = write && !filename.is_empty();
-            let store = cx.service::<RenderedImages>();
-            // An image that could not be read back (a buffer past the adapter's
-            // largest) is refused before a frame is rendered for it.
-            if let (true, Some(planned)) = (to_file || store.is_some(), graph.planned(&texture.name)) {
-                readback_layout(&renderer.gpu, &planned, "the Output's texture")
-                    .map_err(|e| NodeError::Other(e.to_string()))?;
-            }
-            let (_, outputs) = graph.execute(&renderer).map_err(|e| NodeError::Other(e.to_string()))?;
-            let target = outputs
-                .get(&texture.name)
-                .ok_or_else(|| NodeError::Other(format!("the frame produced no `{}`", texture.name)))?;
-            if !to_file && store.is_none() {
-                return Ok(());
-            }
-            if let Some(store) = store.as_ref().filter(|s| !to_file && s.deferred.load(Ordering::Relaxed)) {
-                let pending = start_read_texture(&renderer.gpu, target).map_err(|e| NodeError::Other(e.to_string()))?;
-                store.put_pending(&name, pending, encoding);
-                return Ok(());
-            }
-            let image = read_texture(&renderer.gpu, target).map_err(|e| NodeError::Other(e.to_string()))?;
-            // Hosts ask for an image of the output size (`render --size` writes files of that size and
-            // checks it): a texture of another size is drawn over it, as the show window draws it.
-            let source = (image.width, image.height);
-            let size = renderer.output_size();
-            let image = if source == size { image } else { image.resized(size) };
-            if to_file {
-                write_image(&image, Path::new(&filename), encoding).map_err(|e| cx.error(filename_in, e.to_string()))?;
-            }
-            if let Some(store) = store {
-                store.put(&name, image, encoding, source);
-            }
-            Ok(())
+                let mut graph = FrameGraph::new(renderer.output_size());
+                texture.recipe.declare(&renderer, &mut graph);
+                graph.request(&texture.name);
+                // Read back only when someone takes the image: a benchmark renders without the copy.
+                let to_file = write && !filename.is_empty();
+                let store = cx.service::<RenderedImages>();
+                // An image that could not be read back (a buffer past the adapter's
+                // largest) is refused before a frame is rendered for it.
+                if let (true, Some(planned)) = (to_file || store.is_some(), graph.planned(&texture.name)) {
+                    readback_layout(&renderer.gpu, &planned, "the Output's texture")
+                        .map_err(|e| NodeError::Other(e.to_string()))?;
+                }
+                let (_, outputs) = graph.execute(&renderer).map_err(|e| NodeError::Other(e.to_string()))?;
+                let target = outputs
+                    .get(&texture.name)
+                    .ok_or_else(|| NodeError::Other(format!("the frame produced no `{}`", texture.name)))?;
+                if !to_file && store.is_none() {
+                    return Ok(());
+                }
+                if let Some(store) = store.as_ref().filter(|s| !to_file && s.deferred.load(Ordering::Relaxed)) {
+                    let pending = start_read_texture(&renderer.gpu, target).map_err(|e| NodeError::Other(e.to_string()))?;
+                    store.put_pending(&name, pending, encoding);
+                    return Ok(());
+                }
+                let image = read_texture(&renderer.gpu, target).map_err(|e| NodeError::Other(e.to_string()))?;
+                // Hosts ask for an image of the output size (`render --size` writes files of that size and
+                // checks it): a texture of another size is drawn over it, as the show window draws it.
+                let source = (image.width, image.height);
+                let size = renderer.output_size();
+                let image = if source == size { image } else { image.resized(size) };
+                if to_file {
+                    write_image(&image, Path::new(&filename), encoding).map_err(|e| cx.error(filename_in, e.to_string()))?;
+                }
+                if let Some(store) = store {
+                    store.put(&name, image, encoding, source);
+                }
+                Ok(())
             }
         }),
     );
