@@ -15,9 +15,8 @@ use rand_pcg::Pcg32;
 use spreadlight_graph::spread::{slice_count, wrapped};
 use spreadlight_graph::{EvalContext, In, NodeDef, NodeError, Registry};
 
-use crate::typed::Value;
-
 use crate::spreads::MAX_SLICES;
+use crate::typed::Value;
 
 const CATEGORY: &str = "Animation";
 

@@ -6,9 +6,8 @@
 use spreadlight_graph::spread::{cycled, slice_count};
 use spreadlight_graph::{NodeDef, PinType, Registry, Spread};
 
-use crate::typed::Value;
-
 use super::MAX_SLICES;
+use crate::typed::Value;
 
 const CATEGORY: &str = "Spreads";
 

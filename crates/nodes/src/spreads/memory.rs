@@ -12,9 +12,8 @@ use std::collections::VecDeque;
 use spreadlight_graph::spread::{slice_count, wrapped};
 use spreadlight_graph::{EvalContext, In, Node, NodeDef, NodeError, Out, Registry};
 
-use crate::typed::Value;
-
 use super::MAX_SLICES;
+use crate::typed::Value;
 
 pub fn register(r: &mut Registry) {
     typed!(r, queue, "Queue", "Spreads");

@@ -6,10 +6,9 @@ use spreadlight_graph::spread::{slice_count, wrapped};
 use spreadlight_graph::typed_pins::InputPin;
 use spreadlight_graph::{NodeDef, NodeError, Registry};
 
-use crate::typed::Value;
-
 use super::MAX_SLICES;
 use super::bins::bins_of;
+use crate::typed::Value;
 
 const CATEGORY: &str = "Spreads";
 

@@ -5,10 +5,9 @@ use glam::{Vec2, Vec3, Vec4};
 use spreadlight_graph::spread::{slice_count, wrapped};
 use spreadlight_graph::{Color, NodeDef, Registry, SliceValue};
 
-use crate::typed::Value;
-
 use super::CATEGORY;
 use crate::color::{linear_to_srgb, srgb_to_linear};
+use crate::typed::Value;
 
 pub fn register(r: &mut Registry) {
     r.add(as_string::<f32>("AsString (Value)", 0.0, |v, d| {

@@ -11,9 +11,8 @@ mod format;
 use spreadlight_graph::spread::{slice_count, wrapped};
 use spreadlight_graph::{EvalContext, In, Node, NodeDef, NodeError, Out, Registry};
 
-use crate::typed::Value;
-
 use crate::spreads::MAX_SLICES;
+use crate::typed::Value;
 
 const CATEGORY: &str = "String";
 const FORMAT_INPUTS: [&str; 3] = ["Input 0", "Input 1", "Input 2"];
