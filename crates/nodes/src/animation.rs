@@ -3,7 +3,7 @@
 //! nodes (`animation/time.rs`) beside it. The LFO depends on the frame clock,
 //! so the runtime evaluates it every frame.
 
-use spreadlight_graph::{EvalContext, Node, NodeDef, NodeError, Registry, spread};
+use spreadlight_graph::{EvalContext, In, Node, NodeDef, NodeError, Out, Registry, spread};
 
 pub mod easing;
 pub mod noise;
@@ -21,30 +21,43 @@ pub fn register(r: &mut Registry) {
              Pause holds it, Reset sets it to 0. A new LFO starts at the phase \
              one running since time 0 would have (so a render of frames 100.. sees what a full run sees). A Period of zero or less holds the phase (no NaN).",
         )
-        .input("Period", 1.0f32)
-        .input("Pause", false)
-        .input("Reset", false)
-        .output::<f32>("Output")
-        .output::<i64>("Cycles")
         .time_dependent()
         // Not `stateful`: a new LFO seeds its phase from the clock, so a render from frame N
         // matches a run from 0 while Period, Pause and Reset are constant (patches/lfo-sine.ron).
-        .construct(Lfo::default),
+        .with_pins_node(|p| {
+            let period = p.input("Period", 1.0f32);
+            let pause = p.input("Pause", false);
+            let reset = p.input("Reset", false);
+            let output = p.output::<f32>("Output");
+            let cycles = p.output::<i64>("Cycles");
+            move || Lfo {
+                period,
+                pause,
+                reset,
+                output,
+                cycles,
+                phases: Vec::new(),
+            }
+        }),
     );
 }
 
 /// Keeps an unwrapped phase per slice, in f64 so long runs stay exact.
-#[derive(Default)]
 struct Lfo {
+    period: In<f32>,
+    pause: In<bool>,
+    reset: In<bool>,
+    output: Out<f32>,
+    cycles: Out<i64>,
     phases: Vec<f64>,
 }
 
 impl Node for Lfo {
     fn evaluate(&mut self, cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
         let (period, pause, reset) = (
-            cx.slices::<f32>(0)?,
-            cx.slices::<bool>(1)?,
-            cx.slices::<bool>(2)?,
+            cx.get(self.period)?,
+            cx.get(self.pause)?,
+            cx.get(self.reset)?,
         );
         let n = spread::slice_count([period.len(), pause.len(), reset.len()]);
         let delta = cx.clock.delta;
@@ -75,8 +88,8 @@ impl Node for Lfo {
         }
         let output = self.phases.iter().map(|p| p.fract() as f32).collect();
         let cycles = self.phases.iter().map(|p| p.floor() as i64).collect();
-        cx.set::<f32>(0, output);
-        cx.set::<i64>(1, cycles);
+        cx.put(self.output, output);
+        cx.put(self.cycles, cycles);
         Ok(())
     }
 }

@@ -65,20 +65,22 @@ pub fn register(r: &mut Registry) {
             "The benchmark scene's point-light placement (docs/bench/scene.md): Count lights from xorshift64 \
              with Seed, x in -50..50, y in 0.5..3, z in -50..50, colour uniform in 0..1.",
         )
-        .input("Count", 1000i64)
-        .input("Seed", 1i64)
-        .output::<Vec3>("Position")
-        .output::<Color>("Color")
-        .evaluate(|cx| {
-            let count = cx.slices::<i64>(0)?.first().copied().unwrap_or(0);
-            if !(0..=MAX_LIGHTS).contains(&count) {
-                return Err(cx.input_error(0, format!("must be 0 to {MAX_LIGHTS}")));
+        .with_pins(|p| {
+            let count_in = p.input("Count", 1000i64);
+            let seed_in = p.input("Seed", 1i64);
+            let position = p.output::<Vec3>("Position");
+            let color = p.output::<Color>("Color");
+            move |cx| {
+                let count = cx.first(count_in, 0)?;
+                if !(0..=MAX_LIGHTS).contains(&count) {
+                    return Err(cx.error(count_in, format!("must be 0 to {MAX_LIGHTS}")));
+                }
+                let seed = cx.first(seed_in, 1)? as u64;
+                let (positions, colors) = bench_lights(count as usize, seed);
+                cx.put(position, positions);
+                cx.put(color, colors);
+                Ok(())
             }
-            let seed = cx.slices::<i64>(1)?.first().copied().unwrap_or(1) as u64;
-            let (positions, colors) = bench_lights(count as usize, seed);
-            cx.set(0, positions);
-            cx.set(1, colors);
-            Ok(())
         }),
     );
 }

@@ -12,7 +12,7 @@ use std::f32::consts::TAU;
 use glam::camera::rh::{proj::directx::perspective, view::look_to_mat4};
 use glam::{Mat4, Vec2, Vec3};
 use spreadlight_graph::spread::{slice_count, wrapped};
-use spreadlight_graph::{EvalContext, NodeDef, NodeError, Registry};
+use spreadlight_graph::{EvalContext, In, NodeDef, NodeError, Out, Registry};
 use spreadlight_render::Renderer;
 use spreadlight_render::camera::{jitter_ndc, jittered};
 use spreadlight_render::renderer::DEFAULT_OUTPUT_SIZE;
@@ -26,16 +26,25 @@ pub const PITCH_LIMIT: f32 = 0.249;
 /// The smallest orbit distance; anything closer (or negative) is held here.
 pub const MIN_DISTANCE: f32 = 1e-3;
 
-// Input pin indices (Yaw and Pitch, 1 and 2, need no checks).
-const TARGET: usize = 0;
-const DISTANCE: usize = 3;
-const FOV: usize = 4;
-const ASPECT: usize = 5;
-const NEAR: usize = 6;
-const FAR: usize = 7;
-const JITTER: usize = 8;
-const FRAME: usize = 9;
-const RESOLUTION: usize = 10;
+/// The Camera's pins.
+#[derive(Clone, Copy)]
+struct CameraPins {
+    target: In<Vec3>,
+    yaw: In<f32>,
+    pitch: In<f32>,
+    distance: In<f32>,
+    fov: In<f32>,
+    aspect: In<f32>,
+    near: In<f32>,
+    far: In<f32>,
+    jitter: In<bool>,
+    frame: In<i64>,
+    resolution: In<Vec2>,
+    view: Out<Mat4>,
+    projection: Out<Mat4>,
+    position: Out<Vec3>,
+    jitter_out: Out<Vec2>,
+}
 
 pub fn register(r: &mut Registry) {
     r.add(
@@ -56,22 +65,26 @@ pub fn register(r: &mut Registry) {
              8 frames, for a target of Resolution pixels ((0, 0): the renderer's output size), at Frame \
              (-1: the clock's frame); the Jitter output is that offset in NDC, for TAA's Jitter pin.",
         )
-        .input("Target", Vec3::ZERO)
-        .input("Yaw", 0.0f32)
-        .input("Pitch", 0.0f32)
-        .input("Distance", 5.0f32)
-        .input("FOV", 1.0f32 / 6.0)
-        .input("Aspect Ratio", 16.0f32 / 9.0)
-        .input("Near", 0.1f32)
-        .input("Far", 100.0f32)
-        .input("Jitter", false)
-        .input("Frame", -1i64)
-        .input("Resolution", Vec2::ZERO)
-        .output::<Mat4>("View")
-        .output::<Mat4>("Projection")
-        .output::<Vec3>("Position")
-        .output::<Vec2>("Jitter")
-        .evaluate(camera),
+        .with_pins(|p| {
+            let pins = CameraPins {
+                target: p.input("Target", Vec3::ZERO),
+                yaw: p.input("Yaw", 0.0f32),
+                pitch: p.input("Pitch", 0.0f32),
+                distance: p.input("Distance", 5.0f32),
+                fov: p.input("FOV", 1.0f32 / 6.0),
+                aspect: p.input("Aspect Ratio", 16.0f32 / 9.0),
+                near: p.input("Near", 0.1f32),
+                far: p.input("Far", 100.0f32),
+                jitter: p.input("Jitter", false),
+                frame: p.input("Frame", -1i64),
+                resolution: p.input("Resolution", Vec2::ZERO),
+                view: p.output::<Mat4>("View"),
+                projection: p.output::<Mat4>("Projection"),
+                position: p.output::<Vec3>("Position"),
+                jitter_out: p.output::<Vec2>("Jitter"),
+            };
+            move |cx| camera(cx, pins)
+        }),
     );
 }
 
@@ -84,12 +97,21 @@ fn orbit_direction(yaw: f32, pitch: f32) -> Vec3 {
     Vec3::new(sin_yaw * cos_pitch, sin_pitch, cos_yaw * cos_pitch).normalize_or(Vec3::Z)
 }
 
-fn camera(cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
-    let jitter = jitter_offset(cx)?;
-    let target = cx.slices::<Vec3>(TARGET)?;
+fn camera(cx: &mut EvalContext<'_>, pins: CameraPins) -> Result<(), NodeError> {
+    let jitter = jitter_offset(cx, pins)?;
+    let target = cx.get(pins.target)?;
     let mut params: [&[f32]; 7] = [&[]; 7];
-    for (k, p) in params.iter_mut().enumerate() {
-        *p = cx.slices::<f32>(k + 1)?;
+    let floats = [
+        pins.yaw,
+        pins.pitch,
+        pins.distance,
+        pins.fov,
+        pins.aspect,
+        pins.near,
+        pins.far,
+    ];
+    for (slot, pin) in params.iter_mut().zip(floats) {
+        *slot = cx.get(pin)?;
     }
     let n = slice_count(
         [target.len()]
@@ -105,21 +127,22 @@ fn camera(cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
         let target = *wrapped(target, i);
         let [yaw, pitch, distance, fov, aspect, near, far] = params.map(|p| *wrapped(p, i));
         if !(fov > 0.0 && fov < 0.5) {
-            return Err(cx.input_error(
-                FOV,
+            return Err(cx.error(
+                pins.fov,
                 format!("slice {i}: {fov} is not between 0 and 0.5 cycles (0 and 180 degrees)"),
             ));
         }
         if aspect <= 0.0 {
-            return Err(cx.input_error(ASPECT, format!("slice {i}: {aspect} is not above 0")));
+            return Err(cx.error(pins.aspect, format!("slice {i}: {aspect} is not above 0")));
         }
         if near <= 0.0 {
-            return Err(cx.input_error(NEAR, format!("slice {i}: {near} is not above 0")));
+            return Err(cx.error(pins.near, format!("slice {i}: {near} is not above 0")));
         }
         if far <= near {
-            return Err(
-                cx.input_error(FAR, format!("slice {i}: {far} is not beyond Near ({near})"))
-            );
+            return Err(cx.error(
+                pins.far,
+                format!("slice {i}: {far} is not beyond Near ({near})"),
+            ));
         }
         let direction = orbit_direction(yaw, pitch);
         let position = target + direction * distance.max(MIN_DISTANCE);
@@ -127,15 +150,15 @@ fn camera(cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
         // where the distance is too small to tell the two points apart.
         let view = look_to_mat4(position, -direction, Vec3::Y);
         if !view.is_finite() || !position.is_finite() {
-            return Err(cx.input_error(
-                DISTANCE,
+            return Err(cx.error(
+                pins.distance,
                 format!("slice {i}: the camera position is out of range"),
             ));
         }
         let projection = perspective(fov * TAU, aspect, near, far);
         if !projection.is_finite() {
-            return Err(cx.input_error(
-                FOV,
+            return Err(cx.error(
+                pins.fov,
                 format!("slice {i}: the lens gives no finite projection"),
             ));
         }
@@ -143,29 +166,25 @@ fn camera(cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
         projections.push(jittered(projection, jitter));
         positions.push(position);
     }
-    cx.set(0, views);
-    cx.set(1, projections);
-    cx.set(2, positions);
-    cx.set(3, vec![jitter]);
+    cx.put(pins.view, views);
+    cx.put(pins.projection, projections);
+    cx.put(pins.position, positions);
+    cx.put(pins.jitter_out, vec![jitter]);
     Ok(())
 }
 
 /// This frame's jitter in NDC (zero when off). With it on, the node runs
 /// every frame: the offset changes though no input does.
-fn jitter_offset(cx: &mut EvalContext<'_>) -> Result<Vec2, NodeError> {
-    if !cx.slices::<bool>(JITTER)?.first().copied().unwrap_or(false) {
+fn jitter_offset(cx: &mut EvalContext<'_>, pins: CameraPins) -> Result<Vec2, NodeError> {
+    if !cx.first(pins.jitter, false)? {
         return Ok(Vec2::ZERO);
     }
     cx.reevaluate_next_frame();
-    let frame = cx.slices::<i64>(FRAME)?.first().copied().unwrap_or(-1);
+    let frame = cx.first(pins.frame, -1)?;
     let frame = u64::try_from(frame).unwrap_or(cx.clock.frame);
-    let resolution = cx
-        .slices::<Vec2>(RESOLUTION)?
-        .first()
-        .copied()
-        .unwrap_or(Vec2::ZERO);
+    let resolution = cx.first(pins.resolution, Vec2::ZERO)?;
     if !resolution.is_finite() || resolution.min_element() < 0.0 {
-        return Err(cx.input_error(RESOLUTION, "must be finite and not negative"));
+        return Err(cx.error(pins.resolution, "must be finite and not negative"));
     }
     let size = if resolution.min_element() >= 1.0 {
         (resolution.x as u32, resolution.y as u32)

@@ -9,16 +9,16 @@
 
 use glam::Vec4;
 use spreadlight_graph::spread::{slice_count, wrapped};
-use spreadlight_graph::{Color, EnumDef, NodeDef, Registry};
+use spreadlight_graph::{Choices, Color, NodeDef, Registry};
 
-use crate::animation::easing::play;
+use crate::animation::easing::{Easing, play};
 
 const CATEGORY: &str = "Color";
 
 /// The blend modes of `ColorBlend`, as image editors name them.
-pub static BLEND_MODE: EnumDef = EnumDef {
-    name: "Blend Mode",
-    options: &[
+pub static BLEND_MODE: Choices<BlendMode> = Choices::new(
+    "Blend Mode",
+    &[
         "Normal",
         "Multiply",
         "Screen",
@@ -29,7 +29,32 @@ pub static BLEND_MODE: EnumDef = EnumDef {
         "Darken",
         "Lighten",
     ],
-};
+    &[
+        BlendMode::Normal,
+        BlendMode::Multiply,
+        BlendMode::Screen,
+        BlendMode::Overlay,
+        BlendMode::Add,
+        BlendMode::Subtract,
+        BlendMode::Difference,
+        BlendMode::Darken,
+        BlendMode::Lighten,
+    ],
+);
+
+/// How `ColorBlend` combines a channel of Blend with Base's (see [`BLEND_MODE`] for the names).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum BlendMode {
+    Normal,
+    Multiply,
+    Screen,
+    Overlay,
+    Add,
+    Subtract,
+    Difference,
+    Darken,
+    Lighten,
+}
 
 pub fn register(r: &mut Registry) {
     r.add(
@@ -115,31 +140,30 @@ pub fn register(r: &mut Registry) {
              ...), then mixes the result in by Opacity x Blend's alpha. The output keeps Base's \
              alpha.",
         )
-        .input("Base", Color::BLACK)
-        .input("Blend", Color::WHITE)
-        .input_enum("Mode", &BLEND_MODE, "Normal")
-        .input("Opacity", 1.0f32)
-        .output::<Color>("Output")
-        .evaluate(|cx| {
-            let (base, blend) = (cx.slices::<Color>(0)?, cx.slices::<Color>(1)?);
-            let modes = cx.enum_slices(2)?;
-            if let Some(bad) = modes.iter().find(|m| BLEND_MODE.index_of(m).is_none()) {
-                return Err(cx.input_error(2, format!("`{bad}` is not a blend mode")));
+        .with_pins(|p| {
+            let base = p.input("Base", Color::BLACK);
+            let blend = p.input("Blend", Color::WHITE);
+            let mode = p.input_choice("Mode", &BLEND_MODE, BlendMode::Normal);
+            let opacity = p.input("Opacity", 1.0f32);
+            let output = p.output::<Color>("Output");
+            move |cx| {
+                let (base, blend) = (cx.get(base)?, cx.get(blend)?);
+                let modes = cx.choices(mode)?;
+                let opacity = cx.get(opacity)?;
+                let n = slice_count([base.len(), blend.len(), modes.len(), opacity.len()]);
+                let out: Vec<Color> = (0..n)
+                    .map(|i| {
+                        color_blend(
+                            *wrapped(base, i),
+                            *wrapped(blend, i),
+                            *wrapped(&modes, i),
+                            *wrapped(opacity, i),
+                        )
+                    })
+                    .collect();
+                cx.put(output, out);
+                Ok(())
             }
-            let opacity = cx.slices::<f32>(3)?;
-            let n = slice_count([base.len(), blend.len(), modes.len(), opacity.len()]);
-            let out: Vec<Color> = (0..n)
-                .map(|i| {
-                    color_blend(
-                        *wrapped(base, i),
-                        *wrapped(blend, i),
-                        wrapped(modes, i).as_str(),
-                        *wrapped(opacity, i),
-                    )
-                })
-                .collect();
-            cx.set(0, out);
-            Ok(())
         }),
     );
     r.add(
@@ -197,36 +221,30 @@ pub fn register(r: &mut Registry) {
              the first and after the last it holds. One output slice per Input slice; no stops \
              give no output.",
         )
-        .input("Input", 0.5f32)
-        .input_spread(
-            "Key Position",
-            spreadlight_graph::PinType::Float,
-            vec![0.0f32, 1.0].into(),
-        )
-        .input_spread(
-            "Key Color",
-            spreadlight_graph::PinType::Color,
-            vec![Color::BLACK, Color::WHITE].into(),
-        )
-        .output::<Color>("Output")
-        .evaluate(|cx| {
-            let input = cx.slices::<f32>(0)?;
-            let (pos, col) = (cx.slices::<f32>(1)?, cx.slices::<Color>(2)?);
-            let mut keys: Vec<(f32, Vec4, &str)> = (0..slice_count([pos.len(), col.len()]))
-                .filter(|&k| wrapped(pos, k).is_finite())
-                .map(|k| (*wrapped(pos, k), wrapped(col, k).to_vec4(), "Linear"))
-                .collect();
-            keys.sort_by(|a, b| a.0.total_cmp(&b.0));
-            let out: Vec<Color> = if keys.is_empty() {
-                Vec::new()
-            } else {
-                input
-                    .iter()
-                    .map(|&t| Color::from_vec4(play(&keys, t)))
-                    .collect()
-            };
-            cx.set(0, out);
-            Ok(())
+        .with_pins(|p| {
+            let input = p.input("Input", 0.5f32);
+            let key_position = p.input_spread("Key Position", vec![0.0f32, 1.0]);
+            let key_color = p.input_spread("Key Color", vec![Color::BLACK, Color::WHITE]);
+            let output = p.output::<Color>("Output");
+            move |cx| {
+                let input = cx.get(input)?;
+                let (pos, col) = (cx.get(key_position)?, cx.get(key_color)?);
+                let mut keys: Vec<(f32, Vec4, Easing)> = (0..slice_count([pos.len(), col.len()]))
+                    .filter(|&k| wrapped(pos, k).is_finite())
+                    .map(|k| (*wrapped(pos, k), wrapped(col, k).to_vec4(), Easing::Linear))
+                    .collect();
+                keys.sort_by(|a, b| a.0.total_cmp(&b.0));
+                let out: Vec<Color> = if keys.is_empty() {
+                    Vec::new()
+                } else {
+                    input
+                        .iter()
+                        .map(|&t| Color::from_vec4(play(&keys, t)))
+                        .collect()
+                };
+                cx.put(output, out);
+                Ok(())
+            }
         }),
     );
     r.add(
@@ -260,30 +278,17 @@ fn split(
     pins: [&'static str; 4],
     f: fn(Color) -> [f32; 4],
 ) -> NodeDef {
-    let mut def = NodeDef::new(name, CATEGORY, help).input("Input", Color::WHITE);
-    for pin in pins {
-        def = def.output::<f32>(pin);
-    }
-    def.construct(move || Split(f))
-}
-
-struct Split(fn(Color) -> [f32; 4]);
-
-impl spreadlight_graph::Node for Split {
-    fn evaluate(
-        &mut self,
-        cx: &mut spreadlight_graph::EvalContext<'_>,
-    ) -> Result<(), spreadlight_graph::NodeError> {
-        let parts: Vec<[f32; 4]> = cx
-            .slices::<Color>(0)?
-            .iter()
-            .map(|c| (self.0)(*c))
-            .collect();
-        for k in 0..4 {
-            cx.set(k, parts.iter().map(|p| p[k]).collect());
+    NodeDef::new(name, CATEGORY, help).with_pins(|p| {
+        let input = p.input("Input", Color::WHITE);
+        let outputs = pins.map(|pin| p.output::<f32>(pin));
+        move |cx| {
+            let parts: Vec<[f32; 4]> = cx.get(input)?.iter().map(|c| f(*c)).collect();
+            for (k, pin) in outputs.into_iter().enumerate() {
+                cx.put(pin, parts.iter().map(|p| p[k]).collect());
+            }
+            Ok(())
         }
-        Ok(())
-    }
+    })
 }
 
 fn map_rgb(c: Color, f: fn(f32) -> f32) -> Color {
@@ -375,19 +380,19 @@ pub fn rgb_to_hsl(c: Color) -> [f32; 4] {
     [h, s, l, c.a]
 }
 
-fn color_blend(base: Color, blend: Color, mode: &str, opacity: f32) -> Color {
+fn color_blend(base: Color, blend: Color, mode: BlendMode, opacity: f32) -> Color {
     let f = |b: f32, s: f32| -> f32 {
         match mode {
-            "Multiply" => b * s,
-            "Screen" => 1.0 - (1.0 - b) * (1.0 - s),
-            "Overlay" if b < 0.5 => 2.0 * b * s,
-            "Overlay" => 1.0 - 2.0 * (1.0 - b) * (1.0 - s),
-            "Add" => b + s,
-            "Subtract" => b - s,
-            "Difference" => (b - s).abs(),
-            "Darken" => b.min(s),
-            "Lighten" => b.max(s),
-            _ => s,
+            BlendMode::Normal => s,
+            BlendMode::Multiply => b * s,
+            BlendMode::Screen => 1.0 - (1.0 - b) * (1.0 - s),
+            BlendMode::Overlay if b < 0.5 => 2.0 * b * s,
+            BlendMode::Overlay => 1.0 - 2.0 * (1.0 - b) * (1.0 - s),
+            BlendMode::Add => b + s,
+            BlendMode::Subtract => b - s,
+            BlendMode::Difference => (b - s).abs(),
+            BlendMode::Darken => b.min(s),
+            BlendMode::Lighten => b.max(s),
         }
     };
     let t = opacity * blend.a;

@@ -12,13 +12,15 @@ use std::ops::{Add, Mul, Sub};
 
 use glam::{Vec2, Vec3, Vec4};
 use spreadlight_graph::spread::{slice_count, wrapped};
-use spreadlight_graph::{EvalContext, Node, NodeDef, NodeError, Registry, SliceValue};
+use spreadlight_graph::{EvalContext, In, Node, NodeDef, NodeError, Out, Registry};
+
+use crate::typed::Value;
 
 const CATEGORY: &str = "Animation";
 
 /// A value a filter can move: values and vectors.
 pub(crate) trait Linear:
-    SliceValue + Copy + PartialEq + Add<Output = Self> + Sub<Output = Self> + Mul<f32, Output = Self>
+    Value + Copy + PartialEq + Add<Output = Self> + Sub<Output = Self> + Mul<f32, Output = Self>
 {
     const ZERO: Self;
     fn length(self) -> f32;
@@ -81,12 +83,20 @@ pub fn register(r: &mut Registry) {
              Attack seconds; where it is below, Output falls with Decay seconds (each the time to \
              come within 1% of Input; 0 follows at once). A peak meter or a smoothed trigger.",
         )
-        .input("Input", 0.0f32)
-        .input("Attack", 0.0f32)
-        .input("Decay", 1.0f32)
-        .output::<f32>("Output")
         .stateful()
-        .construct(|| Decay { state: Vec::new() }),
+        .with_pins_node(|p| {
+            let input = p.input("Input", 0.0f32);
+            let attack = p.input("Attack", 0.0f32);
+            let decay = p.input("Decay", 1.0f32);
+            let output = p.output::<f32>("Output");
+            move || Decay {
+                input,
+                attack,
+                decay,
+                output,
+                state: Vec::new(),
+            }
+        }),
     );
 }
 
@@ -108,21 +118,33 @@ fn damper<T: Linear>(name: &'static str) -> NodeDef {
          Velocity is Position's change per second. \
          The 4d variant moves colours too: Color pins link to and from 4d vectors.",
     )
-    .input("Goal Position", T::ZERO)
-    .input("Filter Time", 1.0f32)
-    .output::<T>("Position")
-    .output::<T>("Velocity")
     .stateful()
-    .construct(|| Damper::<T> { state: Vec::new() })
+    .with_pins_node(|p| {
+        let goal = p.input("Goal Position", T::ZERO);
+        let time = p.input("Filter Time", 1.0f32);
+        let position = p.output::<T>("Position");
+        let velocity = p.output::<T>("Velocity");
+        move || Damper::<T> {
+            goal,
+            time,
+            position,
+            velocity,
+            state: Vec::new(),
+        }
+    })
 }
 
-struct Damper<T> {
+struct Damper<T: Linear> {
+    goal: In<T>,
+    time: In<f32>,
+    position: Out<T>,
+    velocity: Out<T>,
     state: Vec<T>,
 }
 
 impl<T: Linear> Node for Damper<T> {
     fn evaluate(&mut self, cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
-        let (goal, time) = (cx.slices::<T>(0)?, cx.slices::<f32>(1)?);
+        let (goal, time) = (cx.get(self.goal)?, cx.get(self.time)?);
         let n = slice_count([goal.len(), time.len()]);
         let dt = cx.clock.delta;
         let (mut moving, mut velocity) = (false, Vec::with_capacity(n));
@@ -145,8 +167,8 @@ impl<T: Linear> Node for Damper<T> {
         if moving {
             cx.reevaluate_next_frame();
         }
-        cx.set(0, self.state.clone());
-        cx.set(1, velocity);
+        cx.put(self.position, self.state.clone());
+        cx.put(self.velocity, velocity);
         Ok(())
     }
 }
@@ -169,11 +191,18 @@ fn linear_filter<T: Linear>(name: &'static str) -> NodeDef {
          a new move from where Position is. \
          The 4d variant moves colours too: Color pins link to and from 4d vectors.",
     )
-    .input("Goal Position", T::ZERO)
-    .input("Filter Time", 1.0f32)
-    .output::<T>("Position")
     .stateful()
-    .construct(|| LinearFilter::<T> { state: Vec::new() })
+    .with_pins_node(|p| {
+        let goal = p.input("Goal Position", T::ZERO);
+        let time = p.input("Filter Time", 1.0f32);
+        let position = p.output::<T>("Position");
+        move || LinearFilter::<T> {
+            goal,
+            time,
+            position,
+            state: Vec::new(),
+        }
+    })
 }
 
 /// A linear move: where it is, where it goes, and how fast (units per second).
@@ -184,13 +213,16 @@ struct Move<T> {
     speed: f32,
 }
 
-struct LinearFilter<T> {
+struct LinearFilter<T: Linear> {
+    goal: In<T>,
+    time: In<f32>,
+    position: Out<T>,
     state: Vec<Move<T>>,
 }
 
 impl<T: Linear> Node for LinearFilter<T> {
     fn evaluate(&mut self, cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
-        let (goal, time) = (cx.slices::<T>(0)?, cx.slices::<f32>(1)?);
+        let (goal, time) = (cx.get(self.goal)?, cx.get(self.time)?);
         let n = slice_count([goal.len(), time.len()]);
         let dt = cx.clock.delta as f32;
         let mut moving = false;
@@ -232,7 +264,10 @@ impl<T: Linear> Node for LinearFilter<T> {
         if moving {
             cx.reevaluate_next_frame();
         }
-        cx.set(0, self.state.iter().map(|m| m.position).collect());
+        cx.put(
+            self.position,
+            self.state.iter().map(|m| m.position).collect(),
+        );
         Ok(())
     }
 }
@@ -247,16 +282,30 @@ fn oscillator<T: Linear>(name: &'static str) -> NodeDef {
          stable at any frame rate; it stops (and is reused) once it has come to rest. \
          The 4d variant moves colours too: Color pins link to and from 4d vectors.",
     )
-    .input("Goal Position", T::ZERO)
-    .input("Frequency", 1.0f32)
-    .input("Damping", 0.2f32)
-    .output::<T>("Position")
-    .output::<T>("Velocity")
     .stateful()
-    .construct(|| Oscillator::<T> { state: Vec::new() })
+    .with_pins_node(|p| {
+        let goal = p.input("Goal Position", T::ZERO);
+        let frequency = p.input("Frequency", 1.0f32);
+        let damping = p.input("Damping", 0.2f32);
+        let position = p.output::<T>("Position");
+        let velocity = p.output::<T>("Velocity");
+        move || Oscillator::<T> {
+            goal,
+            frequency,
+            damping,
+            position,
+            velocity,
+            state: Vec::new(),
+        }
+    })
 }
 
-struct Oscillator<T> {
+struct Oscillator<T: Linear> {
+    goal: In<T>,
+    frequency: In<f32>,
+    damping: In<f32>,
+    position: Out<T>,
+    velocity: Out<T>,
     /// Position and velocity per slice.
     state: Vec<(T, T)>,
 }
@@ -264,9 +313,9 @@ struct Oscillator<T> {
 impl<T: Linear> Node for Oscillator<T> {
     fn evaluate(&mut self, cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
         let (goal, freq, damping) = (
-            cx.slices::<T>(0)?,
-            cx.slices::<f32>(1)?,
-            cx.slices::<f32>(2)?,
+            cx.get(self.goal)?,
+            cx.get(self.frequency)?,
+            cx.get(self.damping)?,
         );
         let n = slice_count([goal.len(), freq.len(), damping.len()]);
         let dt = cx.clock.delta as f32;
@@ -300,22 +349,26 @@ impl<T: Linear> Node for Oscillator<T> {
         if moving {
             cx.reevaluate_next_frame();
         }
-        cx.set(0, self.state.iter().map(|s| s.0).collect());
-        cx.set(1, self.state.iter().map(|s| s.1).collect());
+        cx.put(self.position, self.state.iter().map(|s| s.0).collect());
+        cx.put(self.velocity, self.state.iter().map(|s| s.1).collect());
         Ok(())
     }
 }
 
 struct Decay {
+    input: In<f32>,
+    attack: In<f32>,
+    decay: In<f32>,
+    output: Out<f32>,
     state: Vec<f32>,
 }
 
 impl Node for Decay {
     fn evaluate(&mut self, cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
         let (input, attack, decay) = (
-            cx.slices::<f32>(0)?,
-            cx.slices::<f32>(1)?,
-            cx.slices::<f32>(2)?,
+            cx.get(self.input)?,
+            cx.get(self.attack)?,
+            cx.get(self.decay)?,
         );
         let n = slice_count([input.len(), attack.len(), decay.len()]);
         let dt = cx.clock.delta;
@@ -342,7 +395,7 @@ impl Node for Decay {
         if moving {
             cx.reevaluate_next_frame();
         }
-        cx.set(0, self.state.clone());
+        cx.put(self.output, self.state.clone());
         Ok(())
     }
 }

@@ -2,9 +2,9 @@
 //! vvvv), `Switch`, and the `Probe` sink that records what flows into it.
 
 use glam::{Mat4, Vec2, Vec3, Vec4};
-use spreadlight_graph::{
-    Color, EvalContext, NodeDef, NodeError, PinType, Registry, SliceValue, spread,
-};
+use spreadlight_graph::{Color, NodeDef, PinType, Registry, spread};
+
+use crate::typed::Value;
 
 pub fn register(r: &mut Registry) {
     r.add(iobox("IOBox (Value)", 0.0f32));
@@ -32,65 +32,73 @@ pub fn register(r: &mut Registry) {
             "A sink: records the spread on its input every frame it changes, under its name. \
              `spreadlight eval --probe NAME` prints it; tests read it.",
         )
-        .input_spread(
-            "Input",
-            PinType::Any,
-            spreadlight_graph::Spread::Float(Vec::new()),
-        )
-        .input("Name", "probe".to_owned())
         .sink()
-        .evaluate(probe),
+        .with_pins(|p| {
+            let input = p.input_any(
+                "Input",
+                PinType::Any,
+                spreadlight_graph::Spread::Float(Vec::new()),
+            );
+            let name = p.input("Name", "probe".to_owned());
+            move |cx| {
+                let names = cx.get(name)?;
+                let Some(name) = names.first().filter(|n| !n.is_empty()).cloned() else {
+                    return Err(cx.error(name, "a probe needs a name"));
+                };
+                let value = cx.spread_arc(input).clone();
+                cx.record_probe(&name, value);
+                Ok(())
+            }
+        }),
     );
 }
 
 /// A constant value node: its one input is edited in the patch and passed on unchanged.
-fn iobox<T: SliceValue>(name: &'static str, default: T) -> NodeDef {
+fn iobox<T: Value>(name: &'static str, default: T) -> NodeDef {
     NodeDef::new(
         name,
         "IO",
         "A constant spread, edited in place: outputs its input value unchanged.",
     )
-    .input("Input", default)
-    .output::<T>("Output")
-    .evaluate(|cx| {
-        let input = cx.input_arc(0).clone();
-        cx.set_output_arc(0, input);
-        Ok(())
+    .with_pins(|p| {
+        let input = p.input("Input", default);
+        let output = p.output::<T>("Output");
+        move |cx| {
+            let value = cx.spread_arc(input).clone();
+            cx.put_arc(output, value);
+            Ok(())
+        }
     })
 }
 
 /// Picks, per slice, one of two inputs by index (wrapping, so -1 picks the last).
-fn switch<T: SliceValue + Default>(name: &'static str) -> NodeDef {
+fn switch<T: Value + Default>(name: &'static str) -> NodeDef {
     NodeDef::new(
         name,
         "IO",
         "Outputs, slice by slice, the input the Switch index selects (indices wrap around).",
     )
-    .input("Switch", 0i64)
-    .input("Input 1", T::default())
-    .input("Input 2", T::default())
-    .output::<T>("Output")
-    .evaluate(|cx| {
-        let index = cx.slices::<i64>(0)?;
-        let inputs = [cx.slices::<T>(1)?, cx.slices::<T>(2)?];
-        let n = spread::slice_count([index.len(), inputs[0].len(), inputs[1].len()]);
-        let out: Vec<T> = (0..n)
-            .map(|i| {
-                let which = spread::wrapped(index, i).rem_euclid(inputs.len() as i64) as usize;
-                spread::wrapped(inputs[which], i).clone()
-            })
-            .collect();
-        cx.set(0, out);
-        Ok(())
+    .with_pins(|p| {
+        let switch = p.input("Switch", 0i64);
+        let inputs = ["Input 1", "Input 2"].map(|name| p.input(name, T::default()));
+        let output = p.output::<T>("Output");
+        move |cx| {
+            let index = cx.get(switch)?;
+            let [first, second] = inputs;
+            let inputs = [cx.get(first)?, cx.get(second)?];
+            let n = spread::slice_count(
+                [index.len()]
+                    .into_iter()
+                    .chain(inputs.iter().map(|s| s.len())),
+            );
+            let out: Vec<T> = (0..n)
+                .map(|i| {
+                    let which = spread::wrapped(index, i).rem_euclid(inputs.len() as i64) as usize;
+                    spread::wrapped(inputs[which], i).clone()
+                })
+                .collect();
+            cx.put(output, out);
+            Ok(())
+        }
     })
-}
-
-fn probe(cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
-    let names = cx.slices::<String>(1)?;
-    let Some(name) = names.first().filter(|n| !n.is_empty()).cloned() else {
-        return Err(cx.input_error(1, "a probe needs a name"));
-    };
-    let value = cx.input_arc(0).clone();
-    cx.record_probe(&name, value);
-    Ok(())
 }

@@ -5,7 +5,7 @@
 
 pub mod signals;
 
-use spreadlight_graph::{EvalContext, Node, NodeDef, NodeError, Registry};
+use spreadlight_graph::{NodeDef, Registry};
 
 const CATEGORY: &str = "Logic";
 
@@ -143,24 +143,15 @@ fn boolean(name: &'static str, help: &'static str, f: fn(bool, bool) -> bool) ->
 }
 
 fn spectral(name: &'static str, help: &'static str, f: fn(&[bool]) -> bool) -> NodeDef {
-    NodeDef::new(name, CATEGORY, help)
-        .input_spread(
-            "Input",
-            spreadlight_graph::PinType::Bool,
-            vec![false].into(),
-        )
-        .output::<bool>("Output")
-        .construct(move || Spectral(f))
-}
-
-struct Spectral(fn(&[bool]) -> bool);
-
-impl Node for Spectral {
-    fn evaluate(&mut self, cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
-        let out = (self.0)(cx.slices::<bool>(0)?);
-        cx.set(0, vec![out]);
-        Ok(())
-    }
+    NodeDef::new(name, CATEGORY, help).with_pins(|p| {
+        let input = p.input_spread("Input", vec![false]);
+        let output = p.output::<bool>("Output");
+        move |cx| {
+            let out = f(cx.get(input)?);
+            cx.put(output, vec![out]);
+            Ok(())
+        }
+    })
 }
 
 #[cfg(test)]

@@ -12,9 +12,7 @@ use std::net::{SocketAddr, ToSocketAddrs, UdpSocket};
 
 use rosc::address::{Matcher, OscAddress};
 use rosc::{OscMessage, OscPacket, OscType};
-use spreadlight_graph::{EvalContext, Node, NodeDef, NodeError, Registry};
-
-use crate::spreads::memory::first_bool;
+use spreadlight_graph::{EvalContext, In, Node, NodeDef, NodeError, Out, Registry};
 
 const CATEGORY: &str = "Network";
 
@@ -34,15 +32,23 @@ pub fn register(r: &mut Registry) {
              without waiting, up to 4096 packets a frame. Port 0 lets the system pick a free \
              port; Bound Port says which (link it into a sender's Port).",
         )
-        .input("Port", 9000i64)
-        .input("Address", "*".to_owned())
-        .output::<f32>("Values")
-        .output::<i64>("Values Bin Size")
-        .output::<bool>("Received")
-        .output::<String>("Last Address")
-        .output::<i64>("Bound Port")
         .time_dependent()
-        .construct(Receiver::default),
+        .with_pins_node(|p| {
+            let pins = ReceiverPins {
+                port: p.input("Port", 9000i64),
+                address: p.input("Address", "*".to_owned()),
+                values: p.output::<f32>("Values"),
+                values_bin_size: p.output::<i64>("Values Bin Size"),
+                received: p.output::<bool>("Received"),
+                last_address: p.output::<String>("Last Address"),
+                bound_port: p.output::<i64>("Bound Port"),
+            };
+            move || Receiver {
+                pins,
+                socket: None,
+                latest: HashMap::new(),
+            }
+        }),
     );
     r.add(
         NodeDef::new(
@@ -54,26 +60,45 @@ pub fn register(r: &mut Registry) {
              per change (an IP address needs no lookup). Messages Sent counts this frame's. \
              Never waits: a datagram the system cannot take at once is dropped.",
         )
-        .input("Host", "127.0.0.1".to_owned())
-        .input("Port", 9000i64)
-        .input("Address", "/spreadlight".to_owned())
-        .input("Values", 0.0f32)
-        .input("Bin Size", -1i64)
-        .input("Send", false)
-        .output::<i64>("Messages Sent")
         .sink()
-        .construct(Sender::default),
+        .with_pins_node(|p| {
+            let pins = SenderPins {
+                host: p.input("Host", "127.0.0.1".to_owned()),
+                port: p.input("Port", 9000i64),
+                address: p.input("Address", "/spreadlight".to_owned()),
+                values: p.input("Values", 0.0f32),
+                bin_size: p.input("Bin Size", -1i64),
+                send: p.input("Send", false),
+                messages_sent: p.output::<i64>("Messages Sent"),
+            };
+            move || Sender {
+                pins,
+                socket: None,
+                target: None,
+            }
+        }),
     );
 }
 
 /// A UDP port from an Int pin.
-fn port(cx: &EvalContext<'_>, pin: usize) -> Result<u16, NodeError> {
-    let p = cx.slices::<i64>(pin)?.first().copied().unwrap_or(0);
-    u16::try_from(p).map_err(|_| cx.input_error(pin, format!("{p} is not a UDP port (0 to 65535)")))
+fn port(cx: &EvalContext<'_>, pin: In<i64>) -> Result<u16, NodeError> {
+    let p = cx.first(pin, 0)?;
+    u16::try_from(p).map_err(|_| cx.error(pin, format!("{p} is not a UDP port (0 to 65535)")))
 }
 
-#[derive(Default)]
+#[derive(Clone, Copy)]
+struct ReceiverPins {
+    port: In<i64>,
+    address: In<String>,
+    values: Out<f32>,
+    values_bin_size: Out<i64>,
+    received: Out<bool>,
+    last_address: Out<String>,
+    bound_port: Out<i64>,
+}
+
 struct Receiver {
+    pins: ReceiverPins,
     socket: Option<(u16, UdpSocket)>,
     /// The latest message per pattern, by the pattern's text.
     latest: HashMap<String, OscMessage>,
@@ -86,7 +111,12 @@ impl Receiver {
             self.socket = None;
             let socket = UdpSocket::bind(("0.0.0.0", port))
                 .and_then(|s| s.set_nonblocking(true).map(|()| s))
-                .map_err(|e| cx.input_error(0, format!("cannot listen on UDP port {port}: {e}")))?;
+                .map_err(|e| {
+                    cx.error(
+                        self.pins.port,
+                        format!("cannot listen on UDP port {port}: {e}"),
+                    )
+                })?;
             self.latest.clear();
             self.socket = Some((port, socket));
         }
@@ -116,17 +146,21 @@ fn numeric(arg: &OscType) -> Option<f32> {
 
 impl Node for Receiver {
     fn evaluate(&mut self, cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
-        let port = port(cx, 0)?;
+        let pins = self.pins;
+        let port = port(cx, pins.port)?;
         // `*` alone takes every address; anything else is an OSC address pattern.
         let patterns: Vec<(String, Option<Matcher>)> = cx
-            .slices::<String>(1)?
+            .get(pins.address)?
             .iter()
             .map(|p| {
                 if p == "*" {
                     return Ok((p.clone(), None));
                 }
                 Matcher::new(p).map(|m| (p.clone(), Some(m))).map_err(|e| {
-                    cx.input_error(1, format!("`{p}` is not an OSC address pattern: {e}"))
+                    cx.error(
+                        pins.address,
+                        format!("`{p}` is not an OSC address pattern: {e}"),
+                    )
                 })
             })
             .collect::<Result<_, _>>()?;
@@ -171,17 +205,28 @@ impl Node for Receiver {
             sizes.push((values.len() - before) as i64);
             addresses.push(latest.map(|m| m.addr.clone()).unwrap_or_default());
         }
-        cx.set(0, values);
-        cx.set(1, sizes);
-        cx.set(2, received);
-        cx.set(3, addresses);
-        cx.set(4, vec![bound]);
+        cx.put(pins.values, values);
+        cx.put(pins.values_bin_size, sizes);
+        cx.put(pins.received, received);
+        cx.put(pins.last_address, addresses);
+        cx.put(pins.bound_port, vec![bound]);
         Ok(())
     }
 }
 
-#[derive(Default)]
+#[derive(Clone, Copy)]
+struct SenderPins {
+    host: In<String>,
+    port: In<i64>,
+    address: In<String>,
+    values: In<f32>,
+    bin_size: In<i64>,
+    send: In<bool>,
+    messages_sent: Out<i64>,
+}
+
 struct Sender {
+    pins: SenderPins,
     socket: Option<UdpSocket>,
     /// The last host and port resolved, and where they led.
     target: Option<((String, u16), SocketAddr)>,
@@ -204,7 +249,7 @@ impl Sender {
             .to_socket_addrs()
             .ok()
             .and_then(|mut a| a.next())
-            .ok_or_else(|| cx.input_error(0, format!("cannot resolve host `{host}`")))?;
+            .ok_or_else(|| cx.error(self.pins.host, format!("cannot resolve host `{host}`")))?;
         self.target = Some((key, addr));
         Ok(addr)
     }
@@ -212,22 +257,23 @@ impl Sender {
 
 impl Node for Sender {
     fn evaluate(&mut self, cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
-        if !first_bool(cx, 5)? {
-            cx.set(0, vec![0i64]);
+        let pins = self.pins;
+        if !cx.first(pins.send, false)? {
+            cx.put(pins.messages_sent, vec![0i64]);
             return Ok(());
         }
-        let host = cx.slices::<String>(0)?.first().cloned().unwrap_or_default();
-        let port = port(cx, 1)?;
+        let host = cx.get(pins.host)?.first().cloned().unwrap_or_default();
+        let port = port(cx, pins.port)?;
         let target = self.target(cx, &host, port)?;
-        let addresses = cx.slices::<String>(2)?;
+        let addresses = cx.get(pins.address)?;
         if let Some(bad) = addresses
             .iter()
             .find(|a| rosc::address::verify_address(a).is_err())
         {
-            return Err(cx.input_error(2, format!("`{bad}` is not an OSC address")));
+            return Err(cx.error(pins.address, format!("`{bad}` is not an OSC address")));
         }
-        let values = cx.slices::<f32>(3)?;
-        let bins = crate::spreads::bins::bins_of(cx, values.len(), 4)?;
+        let values = cx.get(pins.values)?;
+        let bins = crate::spreads::bins::bins_of(cx, values.len(), pins.bin_size)?;
         if self.socket.is_none() {
             let socket = UdpSocket::bind(("0.0.0.0", 0))
                 .and_then(|s| s.set_nonblocking(true).map(|()| s))
@@ -258,7 +304,7 @@ impl Node for Sender {
         }
         // Streams every frame while Send is on, like vvvv's UDP sender.
         cx.reevaluate_next_frame();
-        cx.set(0, vec![sent]);
+        cx.put(pins.messages_sent, vec![sent]);
         Ok(())
     }
 }

@@ -10,19 +10,20 @@ use std::path::Path;
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicBool, Ordering};
 
-use spreadlight_graph::{EnumDef, NodeDef, NodeError, PinType, Registry, ResourceKind, Spread};
+use spreadlight_graph::{Choices, NodeDef, NodeError, Registry, ResourceKind};
 use spreadlight_render::image_io::{Encoding, write_image};
 use spreadlight_render::readback::{
     ImageF32, PendingImage, read_texture, readback_layout, start_read_texture,
 };
 use spreadlight_render::{FrameGraph, TextureRef};
 
-use crate::gpu::{renderer, resources};
+use crate::gpu::renderer;
 
-pub static ENCODING: EnumDef = EnumDef {
-    name: "Encoding",
-    options: &["sRGB", "Linear"],
-};
+pub static ENCODING: Choices<Encoding> = Choices::new(
+    "Encoding",
+    &["sRGB", "Linear"],
+    &[Encoding::Srgb, Encoding::Linear],
+);
 
 /// Images the `Output` nodes rendered, by their Name: the CLI and tests read them here.
 #[derive(Default)]
@@ -120,65 +121,64 @@ pub fn register(r: &mut Registry) {
              Monitor (-1 or 0 and up) picks the monitor its show window opens on: `spreadlight play`, and \
              in the editor (F11 or the toolbar's Show window) when fullscreen; -1 leaves it to the window system.",
         )
-        .input_spread("Texture", PinType::Resource(ResourceKind::Texture), Spread::Resource(ResourceKind::Texture, vec![]))
-        .input("Filename", String::new())
-        .input("Name", "output".to_owned())
-        .input_enum("Encoding", &ENCODING, "sRGB")
-        .input("Write", true)
-        .input("Preroll", 0i64)
-        .input("Monitor", -1i64)
         .sink()
-        .evaluate(|cx| {
-            let renderer = renderer(cx)?;
-            let textures = resources::<TextureRef>(cx, 0)?;
-            let Some(texture) = textures.first() else {
-                return Err(cx.input_error(0, "no texture connected"));
-            };
-            let filename = cx.slices::<String>(1)?.first().cloned().unwrap_or_default();
-            let name = cx.slices::<String>(2)?.first().cloned().unwrap_or_else(|| "output".to_owned());
-            let encoding = match cx.enum_slices(3)?.first().map(String::as_str) {
-                Some("Linear") => Encoding::Linear,
-                _ => Encoding::Srgb,
-            };
-            let write = cx.slices::<bool>(4)?.first().copied().unwrap_or(true);
+        .with_pins(|p| {
+            let texture_in = p.input_resource::<TextureRef>("Texture", ResourceKind::Texture);
+            let filename_in = p.input("Filename", String::new());
+            let name_in = p.input("Name", "output".to_owned());
+            let encoding_in = p.input_choice("Encoding", &ENCODING, Encoding::Srgb);
+            let write_in = p.input("Write", true);
+            // Read by the hosts (`spreadlight render`, the show window), not here.
+            p.input("Preroll", 0i64);
+            p.input("Monitor", -1i64);
+            move |cx| {
+                let renderer = renderer(cx)?;
+                let Some(texture) = cx.first_resource(texture_in)? else {
+                    return Err(cx.error(texture_in, "no texture connected"));
+                };
+                let filename = cx.get(filename_in)?.first().cloned().unwrap_or_default();
+                let name = cx.get(name_in)?.first().cloned().unwrap_or_else(|| "output".to_owned());
+                let encoding = cx.choice(encoding_in)?;
+                let write = cx.first(write_in, true)?;
 
-            let mut graph = FrameGraph::new(renderer.output_size());
-            texture.recipe.declare(&renderer, &mut graph);
-            graph.request(&texture.name);
-            // Read back only when someone takes the image: a benchmark renders without the copy.
-            let to_file = write && !filename.is_empty();
-            let store = cx.service::<RenderedImages>();
-            // An image that could not be read back (a buffer past the adapter's
-            // largest) is refused before a frame is rendered for it.
-            if let (true, Some(planned)) = (to_file || store.is_some(), graph.planned(&texture.name)) {
-                readback_layout(&renderer.gpu, &planned, "the Output's texture")
-                    .map_err(|e| NodeError::Other(e.to_string()))?;
+                let mut graph = FrameGraph::new(renderer.output_size());
+                texture.recipe.declare(&renderer, &mut graph);
+                graph.request(&texture.name);
+                // Read back only when someone takes the image: a benchmark renders without the copy.
+                let to_file = write && !filename.is_empty();
+                let store = cx.service::<RenderedImages>();
+                // An image that could not be read back (a buffer past the adapter's
+                // largest) is refused before a frame is rendered for it.
+                if let (true, Some(planned)) = (to_file || store.is_some(), graph.planned(&texture.name)) {
+                    readback_layout(&renderer.gpu, &planned, "the Output's texture")
+                        .map_err(|e| NodeError::Other(e.to_string()))?;
+                }
+                let (_, outputs) = graph.execute(&renderer).map_err(|e| NodeError::Other(e.to_string()))?;
+                let target = outputs
+                    .get(&texture.name)
+                    .ok_or_else(|| NodeError::Other(format!("the frame produced no `{}`", texture.name)))?;
+                if !to_file && store.is_none() {
+                    return Ok(());
+                }
+                if let Some(store) = store.as_ref().filter(|s| !to_file && s.deferred.load(Ordering::Relaxed)) {
+                    let pending = start_read_texture(&renderer.gpu, target).map_err(|e| NodeError::Other(e.to_string()))?;
+                    store.put_pending(&name, pending, encoding);
+                    return Ok(());
+                }
+                let image = read_texture(&renderer.gpu, target).map_err(|e| NodeError::Other(e.to_string()))?;
+                // Hosts ask for an image of the output size (`render --size` writes files of that size and
+                // checks it): a texture of another size is drawn over it, as the show window draws it.
+                let source = (image.width, image.height);
+                let size = renderer.output_size();
+                let image = if source == size { image } else { image.resized(size) };
+                if to_file {
+                    write_image(&image, Path::new(&filename), encoding).map_err(|e| cx.error(filename_in, e.to_string()))?;
+                }
+                if let Some(store) = store {
+                    store.put(&name, image, encoding, source);
+                }
+                Ok(())
             }
-            let (_, outputs) = graph.execute(&renderer).map_err(|e| NodeError::Other(e.to_string()))?;
-            let target = outputs
-                .get(&texture.name)
-                .ok_or_else(|| NodeError::Other(format!("the frame produced no `{}`", texture.name)))?;
-            if !to_file && store.is_none() {
-                return Ok(());
-            }
-            if let Some(store) = store.as_ref().filter(|s| !to_file && s.deferred.load(Ordering::Relaxed)) {
-                let pending = start_read_texture(&renderer.gpu, target).map_err(|e| NodeError::Other(e.to_string()))?;
-                store.put_pending(&name, pending, encoding);
-                return Ok(());
-            }
-            let image = read_texture(&renderer.gpu, target).map_err(|e| NodeError::Other(e.to_string()))?;
-            // Hosts ask for an image of the output size (`render --size` writes files of that size and
-            // checks it): a texture of another size is drawn over it, as the show window draws it.
-            let source = (image.width, image.height);
-            let size = renderer.output_size();
-            let image = if source == size { image } else { image.resized(size) };
-            if to_file {
-                write_image(&image, Path::new(&filename), encoding).map_err(|e| cx.input_error(1, e.to_string()))?;
-            }
-            if let Some(store) = store {
-                store.put(&name, image, encoding, source);
-            }
-            Ok(())
         }),
     );
 }

@@ -20,7 +20,7 @@ use std::f64::consts::TAU;
 use rand_core::{Rng, SeedableRng};
 use rand_pcg::Pcg32;
 use spreadlight_graph::spread::{slice_count, wrapped};
-use spreadlight_graph::{EnumDef, EvalContext, NodeDef, NodeError, Registry};
+use spreadlight_graph::{Choices, EvalContext, In, NodeDef, NodeError, Registry};
 
 pub(crate) mod bins;
 pub mod combine;
@@ -34,10 +34,16 @@ const CATEGORY: &str = "Spreads";
 pub const MAX_SLICES: usize = 10_000_000;
 
 /// How `LinearSpread` places its slices in its range, as vvvv names the options.
-pub static ALIGNMENT: EnumDef = EnumDef {
-    name: "Spread Alignment",
-    options: &["Centered", "LeftJustified", "RightJustified", "Block"],
-};
+pub static ALIGNMENT: Choices<Alignment> = Choices::new(
+    "Spread Alignment",
+    &["Centered", "LeftJustified", "RightJustified", "Block"],
+    &[
+        Alignment::Centered,
+        Alignment::LeftJustified,
+        Alignment::RightJustified,
+        Alignment::Block,
+    ],
+);
 
 pub fn register(r: &mut Registry) {
     slices::register(r);
@@ -63,13 +69,41 @@ pub fn register_generators(r: &mut Registry) {
              spreads: each slice of the longest pin makes its own sub-spread and the \
              sub-spreads are output one after the other.",
         )
-        .input("Input", 0.0f32)
-        .input("Width", 1.0f32)
-        .input_enum("Alignment", &ALIGNMENT, "Centered")
-        .input("Phase", 0.0f32)
-        .input("Spread Count", 1i64)
-        .output::<f32>("Output")
-        .evaluate(linear_spread),
+        .with_pins(|p| {
+            let input = p.input("Input", 0.0f32);
+            let width = p.input("Width", 1.0f32);
+            let alignment = p.input_choice("Alignment", &ALIGNMENT, Alignment::Centered);
+            let phase = p.input("Phase", 0.0f32);
+            let count = p.input("Spread Count", 1i64);
+            let output = p.output::<f32>("Output");
+            move |cx| {
+                let input = cx.get(input)?;
+                let width = cx.get(width)?;
+                let alignments = cx.choices(alignment)?;
+                let phase = cx.get(phase)?;
+                let n = slice_count([
+                    input.len(),
+                    width.len(),
+                    alignments.len(),
+                    phase.len(),
+                    cx.spread(count).len(),
+                ]);
+                let counts = bin_counts(cx, count, n)?;
+                let mut out = Vec::with_capacity(counts.iter().sum());
+                for (b, &count) in counts.iter().enumerate() {
+                    let center = f64::from(*wrapped(input, b));
+                    let width = f64::from(*wrapped(width, b));
+                    let alignment = *wrapped(&alignments, b);
+                    let phase = f64::from(*wrapped(phase, b));
+                    out.extend((0..count).map(|i| {
+                        let t = linear_position(i, count, alignment, phase);
+                        (center + width * (t - 0.5)) as f32
+                    }));
+                }
+                cx.put(output, out);
+                Ok(())
+            }
+        }),
     );
     r.add(
         NodeDef::new(
@@ -82,16 +116,46 @@ pub fn register_generators(r: &mut Registry) {
              each slice of the longest pin makes its own ring and the rings are output one \
              after the other.",
         )
-        .input("Input X", 0.0f32)
-        .input("Input Y", 0.0f32)
-        .input("Width", 1.0f32)
-        .input("Height", 1.0f32)
-        .input("Factor", 1.0f32)
-        .input("Phase", 0.0f32)
-        .input("Spread Count", 1i64)
-        .output::<f32>("Output X")
-        .output::<f32>("Output Y")
-        .evaluate(circular_spread),
+        .with_pins(|p| {
+            let params = [
+                p.input("Input X", 0.0f32),
+                p.input("Input Y", 0.0f32),
+                p.input("Width", 1.0f32),
+                p.input("Height", 1.0f32),
+                p.input("Factor", 1.0f32),
+                p.input("Phase", 0.0f32),
+            ];
+            let count = p.input("Spread Count", 1i64);
+            let out_x = p.output::<f32>("Output X");
+            let out_y = p.output::<f32>("Output Y");
+            move |cx| {
+                let mut slices: [&[f32]; 6] = [&[]; 6];
+                for (slot, pin) in slices.iter_mut().zip(params) {
+                    *slot = cx.get(pin)?;
+                }
+                let n = slice_count(
+                    slices
+                        .iter()
+                        .map(|p| p.len())
+                        .chain([cx.spread(count).len()]),
+                );
+                let counts = bin_counts(cx, count, n)?;
+                let total = counts.iter().sum();
+                let (mut xs, mut ys) = (Vec::with_capacity(total), Vec::with_capacity(total));
+                for (b, &count) in counts.iter().enumerate() {
+                    let [x, y, width, height, factor, phase] =
+                        slices.map(|p| f64::from(*wrapped(p, b)));
+                    for i in 0..count {
+                        let (cos, sin) = cos_sin_cycles(phase + factor * i as f64 / count as f64);
+                        xs.push((x + cos * width / 2.0) as f32);
+                        ys.push((y + sin * height / 2.0) as f32);
+                    }
+                }
+                cx.put(out_x, xs);
+                cx.put(out_y, ys);
+                Ok(())
+            }
+        }),
     );
     r.add(
         NodeDef::new(
@@ -103,12 +167,30 @@ pub fn register_generators(r: &mut Registry) {
              makes its own sub-spread, drawn from a generator seeded with that slice's Random \
              Seed, and the sub-spreads are output one after the other.",
         )
-        .input("Input", 0.0f32)
-        .input("Width", 1.0f32)
-        .input("Random Seed", 0i64)
-        .input("Spread Count", 1i64)
-        .output::<f32>("Output")
-        .evaluate(random_spread),
+        .with_pins(|p| {
+            let input = p.input("Input", 0.0f32);
+            let width = p.input("Width", 1.0f32);
+            let seed = p.input("Random Seed", 0i64);
+            let count = p.input("Spread Count", 1i64);
+            let output = p.output::<f32>("Output");
+            move |cx| {
+                let input = cx.get(input)?;
+                let width = cx.get(width)?;
+                let seed = cx.get(seed)?;
+                let n = slice_count([input.len(), width.len(), seed.len(), cx.spread(count).len()]);
+                let counts = bin_counts(cx, count, n)?;
+                let mut out = Vec::with_capacity(counts.iter().sum());
+                for (b, &count) in counts.iter().enumerate() {
+                    let center = *wrapped(input, b);
+                    let width = *wrapped(width, b);
+                    // The seed's bits as they are: negative seeds are as good as positive ones.
+                    let mut rng = Pcg32::seed_from_u64(*wrapped(seed, b) as u64);
+                    out.extend((0..count).map(|_| center + width * (unit_random(&mut rng) - 0.5)));
+                }
+                cx.put(output, out);
+                Ok(())
+            }
+        }),
     );
     r.add(
         NodeDef::new(
@@ -119,28 +201,51 @@ pub fn register_generators(r: &mut Registry) {
              spread: each slice pair makes its own range and the ranges are output one after \
              the other.",
         )
-        .input("Start", 0i64)
-        .input("End", 1i64)
-        .output::<i64>("Output")
-        .evaluate(integer_range),
+        .with_pins(|p| {
+            let start = p.input("Start", 0i64);
+            let end = p.input("End", 1i64);
+            let output = p.output::<i64>("Output");
+            move |cx| {
+                let (starts, ends) = (cx.get(start)?, cx.get(end)?);
+                let n = slice_count([starts.len(), ends.len()]);
+                let mut total = 0usize;
+                let mut ranges = Vec::with_capacity(n);
+                for b in 0..n {
+                    let (s, e) = (*wrapped(starts, b), *wrapped(ends, b));
+                    // In i128 so that the widest ranges cannot overflow.
+                    let len = (i128::from(e) - i128::from(s)).max(0);
+                    total = total.saturating_add(usize::try_from(len).unwrap_or(usize::MAX));
+                    if total > MAX_SLICES {
+                        return Err(cx.error(
+                            end,
+                            format!("the ranges hold more than {MAX_SLICES} slices in all"),
+                        ));
+                    }
+                    ranges.push(s..e);
+                }
+                let out: Vec<i64> = ranges.into_iter().flatten().collect();
+                cx.put(output, out);
+                Ok(())
+            }
+        }),
     );
 }
 
 /// The slice count of each of `n` bins, from the Int pin `pin`: checks that
 /// none is negative and that all of them together stay within [`MAX_SLICES`].
-fn bin_counts(cx: &EvalContext<'_>, pin: usize, n: usize) -> Result<Vec<usize>, NodeError> {
-    let counts = cx.slices::<i64>(pin)?;
+fn bin_counts(cx: &EvalContext<'_>, pin: In<i64>, n: usize) -> Result<Vec<usize>, NodeError> {
+    let counts = cx.get(pin)?;
     let mut total = 0usize;
     (0..n)
         .map(|i| {
             let count = *wrapped(counts, i);
             if count < 0 {
-                return Err(cx.input_error(pin, format!("slice {i}: {count} is negative")));
+                return Err(cx.error(pin, format!("slice {i}: {count} is negative")));
             }
             let count = usize::try_from(count).unwrap_or(usize::MAX);
             total = total.saturating_add(count);
             if total > MAX_SLICES {
-                return Err(cx.input_error(
+                return Err(cx.error(
                     pin,
                     format!("asks for more than {MAX_SLICES} slices in all"),
                 ));
@@ -150,24 +255,13 @@ fn bin_counts(cx: &EvalContext<'_>, pin: usize, n: usize) -> Result<Vec<usize>, 
         .collect()
 }
 
+/// Where `LinearSpread` puts its slices (see [`ALIGNMENT`] for the names).
 #[derive(Clone, Copy, Debug, PartialEq)]
-enum Alignment {
+pub enum Alignment {
     Centered,
     LeftJustified,
     RightJustified,
     Block,
-}
-
-impl Alignment {
-    fn parse(name: &str) -> Option<Alignment> {
-        match ALIGNMENT.index_of(name)? {
-            0 => Some(Alignment::Centered),
-            1 => Some(Alignment::LeftJustified),
-            2 => Some(Alignment::RightJustified),
-            3 => Some(Alignment::Block),
-            _ => None,
-        }
-    }
 }
 
 /// Where slice `i` of `count` sits in the range, 0 the left end and 1 the right end.
@@ -189,125 +283,15 @@ fn linear_position(i: usize, count: usize, alignment: Alignment, phase: f64) -> 
     if wrapped.is_finite() { wrapped } else { 0.5 }
 }
 
-fn linear_spread(cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
-    let input = cx.slices::<f32>(0)?;
-    let width = cx.slices::<f32>(1)?;
-    let alignments = cx
-        .enum_slices(2)?
-        .iter()
-        .map(|a| {
-            Alignment::parse(a).ok_or_else(|| {
-                cx.input_error(
-                    2,
-                    format!(
-                        "`{a}` is not an alignment ({})",
-                        ALIGNMENT.options.join(", ")
-                    ),
-                )
-            })
-        })
-        .collect::<Result<Vec<_>, _>>()?;
-    let phase = cx.slices::<f32>(3)?;
-    let n = slice_count([
-        input.len(),
-        width.len(),
-        alignments.len(),
-        phase.len(),
-        cx.input(4).len(),
-    ]);
-    let counts = bin_counts(cx, 4, n)?;
-    let mut out = Vec::with_capacity(counts.iter().sum());
-    for (b, &count) in counts.iter().enumerate() {
-        let center = f64::from(*wrapped(input, b));
-        let width = f64::from(*wrapped(width, b));
-        let alignment = *wrapped(&alignments, b);
-        let phase = f64::from(*wrapped(phase, b));
-        out.extend((0..count).map(|i| {
-            let t = linear_position(i, count, alignment, phase);
-            (center + width * (t - 0.5)) as f32
-        }));
-    }
-    cx.set(0, out);
-    Ok(())
-}
-
 /// (cos, sin) of an angle in cycles, reduced to one turn first for precision.
 fn cos_sin_cycles(cycles: f64) -> (f64, f64) {
     let (sin, cos) = (cycles.rem_euclid(1.0) * TAU).sin_cos();
     (cos, sin)
 }
 
-fn circular_spread(cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
-    let params: [&[f32]; 6] = [
-        cx.slices::<f32>(0)?,
-        cx.slices::<f32>(1)?,
-        cx.slices::<f32>(2)?,
-        cx.slices::<f32>(3)?,
-        cx.slices::<f32>(4)?,
-        cx.slices::<f32>(5)?,
-    ];
-    let n = slice_count(params.iter().map(|p| p.len()).chain([cx.input(6).len()]));
-    let counts = bin_counts(cx, 6, n)?;
-    let total = counts.iter().sum();
-    let (mut xs, mut ys) = (Vec::with_capacity(total), Vec::with_capacity(total));
-    for (b, &count) in counts.iter().enumerate() {
-        let [x, y, width, height, factor, phase] = params.map(|p| f64::from(*wrapped(p, b)));
-        for i in 0..count {
-            let (cos, sin) = cos_sin_cycles(phase + factor * i as f64 / count as f64);
-            xs.push((x + cos * width / 2.0) as f32);
-            ys.push((y + sin * height / 2.0) as f32);
-        }
-    }
-    cx.set(0, xs);
-    cx.set(1, ys);
-    Ok(())
-}
-
 /// A uniform random float in [0, 1) from the generator's next 24 bits.
 fn unit_random(rng: &mut Pcg32) -> f32 {
     (rng.next_u32() >> 8) as f32 * (1.0 / (1u32 << 24) as f32)
-}
-
-fn random_spread(cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
-    let input = cx.slices::<f32>(0)?;
-    let width = cx.slices::<f32>(1)?;
-    let seed = cx.slices::<i64>(2)?;
-    let n = slice_count([input.len(), width.len(), seed.len(), cx.input(3).len()]);
-    let counts = bin_counts(cx, 3, n)?;
-    let mut out = Vec::with_capacity(counts.iter().sum());
-    for (b, &count) in counts.iter().enumerate() {
-        let center = *wrapped(input, b);
-        let width = *wrapped(width, b);
-        // The seed's bits as they are: negative seeds are as good as positive ones.
-        let mut rng = Pcg32::seed_from_u64(*wrapped(seed, b) as u64);
-        out.extend((0..count).map(|_| center + width * (unit_random(&mut rng) - 0.5)));
-    }
-    cx.set(0, out);
-    Ok(())
-}
-
-fn integer_range(cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
-    let start = cx.slices::<i64>(0)?;
-    let end = cx.slices::<i64>(1)?;
-    let n = slice_count([start.len(), end.len()]);
-    let mut total = 0usize;
-    let mut ranges = Vec::with_capacity(n);
-    for b in 0..n {
-        let (s, e) = (*wrapped(start, b), *wrapped(end, b));
-        // In i128 so that the widest ranges cannot overflow.
-        let len = (i128::from(e) - i128::from(s)).max(0);
-        total = total.saturating_add(usize::try_from(len).unwrap_or(usize::MAX));
-        if total > MAX_SLICES {
-            return Err(cx.input_error(
-                1,
-                format!("the ranges hold more than {MAX_SLICES} slices in all"),
-            ));
-        }
-        ranges.push(s..e);
-    }
-    let out: Vec<i64> = ranges.into_iter().flatten().collect();
-    cx.set(0, out);
-    Ok(())
 }
 
 /// `Cross (2d)`: every pairing of two spreads, X varying slowest, as vvvv's.
@@ -318,20 +302,22 @@ fn cross_2d() -> NodeDef {
         "Every combination of the slices of X and Y: X[0] with each Y, then X[1] with each Y, and so on \
          (a grid from two rows of values).",
     )
-    .input("X", 0.0f32)
-    .input("Y", 0.0f32)
-    .output::<f32>("X")
-    .output::<f32>("Y")
-    .evaluate(|cx| {
-        let (xs, ys) = (cx.slices::<f32>(0)?.to_vec(), cx.slices::<f32>(1)?.to_vec());
-        if xs.len().saturating_mul(ys.len()) > MAX_SLICES {
-            return Err(cx.input_error(1, format!("the cross would have over {MAX_SLICES} slices")));
+    .with_pins(|p| {
+        let x = p.input("X", 0.0f32);
+        let y = p.input("Y", 0.0f32);
+        let out_x = p.output::<f32>("X");
+        let out_y = p.output::<f32>("Y");
+        move |cx| {
+            let (xs, ys) = (cx.get(x)?.to_vec(), cx.get(y)?.to_vec());
+            if xs.len().saturating_mul(ys.len()) > MAX_SLICES {
+                return Err(cx.error(y, format!("the cross would have over {MAX_SLICES} slices")));
+            }
+            let xs_out = xs.iter().flat_map(|x| std::iter::repeat_n(*x, ys.len())).collect();
+            let ys_out = xs.iter().flat_map(|_| ys.iter().copied()).collect();
+            cx.put(out_x, xs_out);
+            cx.put(out_y, ys_out);
+            Ok(())
         }
-        let out_x = xs.iter().flat_map(|x| std::iter::repeat_n(*x, ys.len())).collect();
-        let out_y = xs.iter().flat_map(|_| ys.iter().copied()).collect();
-        cx.set::<f32>(0, out_x);
-        cx.set::<f32>(1, out_y);
-        Ok(())
     })
 }
 

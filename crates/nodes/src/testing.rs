@@ -218,8 +218,13 @@ impl Harness {
         let mut patch = Patch::default();
         patch.add(NodeDoc::new(1, name));
         if !def.sink {
+            // A probe on its first output keeps the node evaluated.
+            let first = def
+                .outputs
+                .first()
+                .unwrap_or_else(|| panic!("`{name}` is no sink and has no output"));
             patch.add(NodeDoc::new(2, "Probe"));
-            patch.link(1, &def.outputs[0].name, 2, "Input");
+            patch.link(1, &first.name, 2, "Input");
         }
         let mut h = Harness {
             runtime: Runtime::new(registry),

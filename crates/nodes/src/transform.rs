@@ -12,7 +12,7 @@ use std::f32::consts::TAU;
 
 use glam::{Mat4, Vec3};
 use spreadlight_graph::spread::{slice_count, wrapped};
-use spreadlight_graph::{EvalContext, NodeDef, NodeError, Registry};
+use spreadlight_graph::{NodeDef, Registry};
 
 const CATEGORY: &str = "Transform";
 
@@ -23,12 +23,7 @@ pub fn register(r: &mut Registry) {
             CATEGORY,
             "Moves by (X, Y, Z), applied after Transform In: Transform Out = T * Transform In.",
         )
-        .input("Transform In", Mat4::IDENTITY)
-        .input("X", 0.0f32)
-        .input("Y", 0.0f32)
-        .input("Z", 0.0f32)
-        .output::<Mat4>("Transform Out")
-        .evaluate(translate),
+        .with_pins(|p| xyz_transform(p, 0.0, |x, y, z| Mat4::from_translation(Vec3::new(x, y, z)))),
     );
     r.add(
         NodeDef::new(
@@ -39,12 +34,7 @@ pub fn register(r: &mut Registry) {
              turns are applied as vvvv's yaw-pitch-roll: first Z (roll), then X (pitch), then \
              Y (yaw), i.e. R = Ry * Rx * Rz.",
         )
-        .input("Transform In", Mat4::IDENTITY)
-        .input("X", 0.0f32)
-        .input("Y", 0.0f32)
-        .input("Z", 0.0f32)
-        .output::<Mat4>("Transform Out")
-        .evaluate(rotate),
+        .with_pins(|p| xyz_transform(p, 0.0, rotation)),
     );
     r.add(
         NodeDef::new(
@@ -52,12 +42,7 @@ pub fn register(r: &mut Registry) {
             CATEGORY,
             "Scales by (X, Y, Z) about the origin, applied after Transform In.",
         )
-        .input("Transform In", Mat4::IDENTITY)
-        .input("X", 1.0f32)
-        .input("Y", 1.0f32)
-        .input("Z", 1.0f32)
-        .output::<Mat4>("Transform Out")
-        .evaluate(scale),
+        .with_pins(|p| xyz_transform(p, 1.0, |x, y, z| Mat4::from_scale(Vec3::new(x, y, z)))),
     );
     r.add(
         NodeDef::new(
@@ -67,18 +52,45 @@ pub fn register(r: &mut Registry) {
              order: Transform Out = T * R * S * Transform In. Rotations are in cycles and \
              turn as in Rotate (Transform): Z, then X, then Y.",
         )
-        .input("Transform In", Mat4::IDENTITY)
-        .input("Translate X", 0.0f32)
-        .input("Translate Y", 0.0f32)
-        .input("Translate Z", 0.0f32)
-        .input("Scale X", 1.0f32)
-        .input("Scale Y", 1.0f32)
-        .input("Scale Z", 1.0f32)
-        .input("Rotate X", 0.0f32)
-        .input("Rotate Y", 0.0f32)
-        .input("Rotate Z", 0.0f32)
-        .output::<Mat4>("Transform Out")
-        .evaluate(transform_3d),
+        .with_pins(|p| {
+            let transform_in = p.input("Transform In", Mat4::IDENTITY);
+            let params = [
+                ("Translate X", 0.0f32),
+                ("Translate Y", 0.0),
+                ("Translate Z", 0.0),
+                ("Scale X", 1.0),
+                ("Scale Y", 1.0),
+                ("Scale Z", 1.0),
+                ("Rotate X", 0.0),
+                ("Rotate Y", 0.0),
+                ("Rotate Z", 0.0),
+            ]
+            .map(|(name, default)| p.input(name, default));
+            let transform_out = p.output::<Mat4>("Transform Out");
+            move |cx| {
+                let input = cx.get(transform_in)?;
+                let mut slices: [&[f32]; 9] = [&[]; 9];
+                for (slot, pin) in slices.iter_mut().zip(params) {
+                    *slot = cx.get(pin)?;
+                }
+                let n = slice_count(
+                    [input.len()]
+                        .into_iter()
+                        .chain(slices.iter().map(|p| p.len())),
+                );
+                let out: Vec<Mat4> = (0..n)
+                    .map(|i| {
+                        let [tx, ty, tz, sx, sy, sz, rx, ry, rz] = slices.map(|p| *wrapped(p, i));
+                        Mat4::from_translation(Vec3::new(tx, ty, tz))
+                            * rotation(rx, ry, rz)
+                            * Mat4::from_scale(Vec3::new(sx, sy, sz))
+                            * *wrapped(input, i)
+                    })
+                    .collect();
+                cx.put(transform_out, out);
+                Ok(())
+            }
+        }),
     );
     r.add(
         NodeDef::new(
@@ -152,58 +164,31 @@ pub(crate) fn rotation(x: f32, y: f32, z: f32) -> Mat4 {
         * Mat4::from_rotation_z(radians(z))
 }
 
-/// A node with Transform In at pin 0 and three Float pins after it:
+/// The pins of a node with Transform In and three Float pins X, Y, Z
+/// (`default` each), and its evaluation:
 /// `Transform Out = own(x, y, z) * Transform In`, spread slice by slice.
 fn xyz_transform(
-    cx: &mut EvalContext<'_>,
+    p: &mut spreadlight_graph::Pins<'_>,
+    default: f32,
     own: fn(f32, f32, f32) -> Mat4,
-) -> Result<(), NodeError> {
-    let input = cx.slices::<Mat4>(0)?;
-    let x = cx.slices::<f32>(1)?;
-    let y = cx.slices::<f32>(2)?;
-    let z = cx.slices::<f32>(3)?;
-    let n = slice_count([input.len(), x.len(), y.len(), z.len()]);
-    let out: Vec<Mat4> = (0..n)
-        .map(|i| own(*wrapped(x, i), *wrapped(y, i), *wrapped(z, i)) * *wrapped(input, i))
-        .collect();
-    cx.set(0, out);
-    Ok(())
-}
-
-fn translate(cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
-    xyz_transform(cx, |x, y, z| Mat4::from_translation(Vec3::new(x, y, z)))
-}
-
-fn rotate(cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
-    xyz_transform(cx, rotation)
-}
-
-fn scale(cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
-    xyz_transform(cx, |x, y, z| Mat4::from_scale(Vec3::new(x, y, z)))
-}
-
-fn transform_3d(cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
-    let input = cx.slices::<Mat4>(0)?;
-    let mut params: [&[f32]; 9] = [&[]; 9];
-    for (k, p) in params.iter_mut().enumerate() {
-        *p = cx.slices::<f32>(k + 1)?;
+) -> impl Fn(&mut spreadlight_graph::EvalContext<'_>) -> Result<(), spreadlight_graph::NodeError>
++ Clone
++ Send
++ Sync
++ use<> {
+    let transform_in = p.input("Transform In", Mat4::IDENTITY);
+    let xyz = ["X", "Y", "Z"].map(|name| p.input(name, default));
+    let transform_out = p.output::<Mat4>("Transform Out");
+    move |cx| {
+        let input = cx.get(transform_in)?;
+        let [x, y, z] = [cx.get(xyz[0])?, cx.get(xyz[1])?, cx.get(xyz[2])?];
+        let n = slice_count([input.len(), x.len(), y.len(), z.len()]);
+        let out: Vec<Mat4> = (0..n)
+            .map(|i| own(*wrapped(x, i), *wrapped(y, i), *wrapped(z, i)) * *wrapped(input, i))
+            .collect();
+        cx.put(transform_out, out);
+        Ok(())
     }
-    let n = slice_count(
-        [input.len()]
-            .into_iter()
-            .chain(params.iter().map(|p| p.len())),
-    );
-    let out: Vec<Mat4> = (0..n)
-        .map(|i| {
-            let [tx, ty, tz, sx, sy, sz, rx, ry, rz] = params.map(|p| *wrapped(p, i));
-            Mat4::from_translation(Vec3::new(tx, ty, tz))
-                * rotation(rx, ry, rz)
-                * Mat4::from_scale(Vec3::new(sx, sy, sz))
-                * *wrapped(input, i)
-        })
-        .collect();
-    cx.set(0, out);
-    Ok(())
 }
 
 /// A right-handed view matrix that never holds NaN: see `LookAt (Transform)`'s help

@@ -14,15 +14,21 @@
 use std::f64::consts::TAU;
 
 use spreadlight_graph::spread::{slice_count, wrapped};
-use spreadlight_graph::{EnumDef, EvalContext, NodeDef, NodeError, Registry};
+use spreadlight_graph::{Choices, NodeDef, Registry};
 
 const CATEGORY: &str = "Value";
 
 /// The mapping modes of `Map (Value)`, as vvvv names them.
-pub static MAPPING: EnumDef = EnumDef {
-    name: "Mapping",
-    options: &["Float", "Clamp", "Wrap", "Mirror"],
-};
+pub static MAPPING: Choices<Mapping> = Choices::new(
+    "Mapping",
+    &["Float", "Clamp", "Wrap", "Mirror"],
+    &[
+        Mapping::Float,
+        Mapping::Clamp,
+        Mapping::Wrap,
+        Mapping::Mirror,
+    ],
+);
 
 pub mod functions;
 
@@ -137,14 +143,45 @@ pub fn register_basics(r: &mut Registry) {
              Wrap repeats the range, Mirror runs it back and forth. A zero-width source range \
              outputs Destination Minimum.",
         )
-        .input("Input", 0.0f32)
-        .input("Source Minimum", 0.0f32)
-        .input("Source Maximum", 1.0f32)
-        .input("Destination Minimum", 0.0f32)
-        .input("Destination Maximum", 1.0f32)
-        .input_enum("Mapping", &MAPPING, "Float")
-        .output::<f32>("Output")
-        .evaluate(map_node),
+        .with_pins(|p| {
+            let input = p.input("Input", 0.0f32);
+            let src_min = p.input("Source Minimum", 0.0f32);
+            let src_max = p.input("Source Maximum", 1.0f32);
+            let dst_min = p.input("Destination Minimum", 0.0f32);
+            let dst_max = p.input("Destination Maximum", 1.0f32);
+            let mapping = p.input_choice("Mapping", &MAPPING, Mapping::Float);
+            let output = p.output::<f32>("Output");
+            move |cx| {
+                let input = cx.get(input)?;
+                let src_min = cx.get(src_min)?;
+                let src_max = cx.get(src_max)?;
+                let dst_min = cx.get(dst_min)?;
+                let dst_max = cx.get(dst_max)?;
+                let modes = cx.choices(mapping)?;
+                let n = slice_count([
+                    input.len(),
+                    src_min.len(),
+                    src_max.len(),
+                    dst_min.len(),
+                    dst_max.len(),
+                    modes.len(),
+                ]);
+                let out: Vec<f32> = (0..n)
+                    .map(|i| {
+                        map_value(
+                            *wrapped(input, i),
+                            *wrapped(src_min, i),
+                            *wrapped(src_max, i),
+                            *wrapped(dst_min, i),
+                            *wrapped(dst_max, i),
+                            *wrapped(&modes, i),
+                        )
+                    })
+                    .collect();
+                cx.put(output, out);
+                Ok(())
+            }
+        }),
     );
 }
 
@@ -180,24 +217,13 @@ fn clamp(x: f32, min: f32, max: f32) -> f32 {
     x.max(lo).min(hi)
 }
 
+/// What `Map (Value)` does outside its source range (see [`MAPPING`] for the names).
 #[derive(Clone, Copy, Debug, PartialEq)]
-enum Mapping {
+pub enum Mapping {
     Float,
     Clamp,
     Wrap,
     Mirror,
-}
-
-impl Mapping {
-    fn parse(name: &str) -> Option<Mapping> {
-        match MAPPING.index_of(name)? {
-            0 => Some(Mapping::Float),
-            1 => Some(Mapping::Clamp),
-            2 => Some(Mapping::Wrap),
-            3 => Some(Mapping::Mirror),
-            _ => None,
-        }
-    }
 }
 
 fn map_value(x: f32, src_min: f32, src_max: f32, dst_min: f32, dst_max: f32, mode: Mapping) -> f32 {
@@ -217,48 +243,6 @@ fn map_value(x: f32, src_min: f32, src_max: f32, dst_min: f32, dst_max: f32, mod
         }
     };
     finite_or_zero(dst_min + t * (dst_max - dst_min))
-}
-
-fn map_node(cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
-    let input = cx.slices::<f32>(0)?;
-    let src_min = cx.slices::<f32>(1)?;
-    let src_max = cx.slices::<f32>(2)?;
-    let dst_min = cx.slices::<f32>(3)?;
-    let dst_max = cx.slices::<f32>(4)?;
-    let modes = cx
-        .enum_slices(5)?
-        .iter()
-        .map(|m| {
-            Mapping::parse(m).ok_or_else(|| {
-                cx.input_error(
-                    5,
-                    format!("`{m}` is not a mapping ({})", MAPPING.options.join(", ")),
-                )
-            })
-        })
-        .collect::<Result<Vec<_>, _>>()?;
-    let n = slice_count([
-        input.len(),
-        src_min.len(),
-        src_max.len(),
-        dst_min.len(),
-        dst_max.len(),
-        modes.len(),
-    ]);
-    let out: Vec<f32> = (0..n)
-        .map(|i| {
-            map_value(
-                *wrapped(input, i),
-                *wrapped(src_min, i),
-                *wrapped(src_max, i),
-                *wrapped(dst_min, i),
-                *wrapped(dst_max, i),
-                *wrapped(&modes, i),
-            )
-        })
-        .collect();
-    cx.set(0, out);
-    Ok(())
 }
 
 #[cfg(test)]

@@ -10,7 +10,9 @@
 
 use glam::{Vec2, Vec3, Vec4};
 use spreadlight_graph::spread::map1;
-use spreadlight_graph::{EvalContext, NodeDef, NodeError, Registry};
+use spreadlight_graph::{NodeDef, Registry};
+
+use crate::typed::Value;
 
 const CATEGORY: &str = "Vector";
 
@@ -59,76 +61,50 @@ pub fn register_join_split(r: &mut Registry) {
         .output::<Vec4>("Output")
         .per_slice4(|x: &f32, y: &f32, z: &f32, w: &f32| Vec4::new(*x, *y, *z, *w)),
     );
-    r.add(
-        NodeDef::new(
-            "Vector (2d Split)",
-            CATEGORY,
-            "Splits 2d vectors into their X and Y components.",
-        )
-        .input("Input", Vec2::ZERO)
-        .output::<f32>("X")
-        .output::<f32>("Y")
-        .evaluate(split2),
-    );
-    r.add(
-        NodeDef::new(
-            "Vector (3d Split)",
-            CATEGORY,
-            "Splits 3d vectors into their X, Y and Z components.",
-        )
-        .input("Input", Vec3::ZERO)
-        .output::<f32>("X")
-        .output::<f32>("Y")
-        .output::<f32>("Z")
-        .evaluate(split3),
-    );
-    r.add(
-        NodeDef::new(
-            "Vector (4d Split)",
-            CATEGORY,
-            "Splits 4d vectors into their X, Y, Z and W components.",
-        )
-        .input("Input", Vec4::ZERO)
-        .output::<f32>("X")
-        .output::<f32>("Y")
-        .output::<f32>("Z")
-        .output::<f32>("W")
-        .evaluate(split4),
-    );
+    r.add(split(
+        "Vector (2d Split)",
+        "Splits 2d vectors into their X and Y components.",
+        Vec2::ZERO,
+        ["X", "Y"],
+        |v| v.to_array(),
+    ));
+    r.add(split(
+        "Vector (3d Split)",
+        "Splits 3d vectors into their X, Y and Z components.",
+        Vec3::ZERO,
+        ["X", "Y", "Z"],
+        |v| v.to_array(),
+    ));
+    r.add(split(
+        "Vector (4d Split)",
+        "Splits 4d vectors into their X, Y, Z and W components.",
+        Vec4::ZERO,
+        ["X", "Y", "Z", "W"],
+        |v| v.to_array(),
+    ));
 }
 
-fn split2(cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
-    let v = cx.slices::<Vec2>(0)?;
-    let (x, y) = (map1(v, |v| v.x), map1(v, |v| v.y));
-    cx.set(0, x);
-    cx.set(1, y);
-    Ok(())
+/// A split node: Input, then one Float output per component, named `components`.
+fn split<V: Value + Copy, const N: usize>(
+    name: &'static str,
+    help: &'static str,
+    default: V,
+    components: [&'static str; N],
+    parts: fn(&V) -> [f32; N],
+) -> NodeDef {
+    NodeDef::new(name, CATEGORY, help).with_pins(|p| {
+        let input = p.input("Input", default);
+        let outputs = components.map(|name| p.output::<f32>(name));
+        move |cx| {
+            let v = cx.get(input)?;
+            let columns: [Vec<f32>; N] = std::array::from_fn(|k| map1(v, |v| parts(v)[k]));
+            for (pin, column) in outputs.into_iter().zip(columns) {
+                cx.put(pin, column);
+            }
+            Ok(())
+        }
+    })
 }
-
-fn split3(cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
-    let v = cx.slices::<Vec3>(0)?;
-    let (x, y, z) = (map1(v, |v| v.x), map1(v, |v| v.y), map1(v, |v| v.z));
-    cx.set(0, x);
-    cx.set(1, y);
-    cx.set(2, z);
-    Ok(())
-}
-
-fn split4(cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
-    let v = cx.slices::<Vec4>(0)?;
-    let (x, y, z, w) = (
-        map1(v, |v| v.x),
-        map1(v, |v| v.y),
-        map1(v, |v| v.z),
-        map1(v, |v| v.w),
-    );
-    cx.set(0, x);
-    cx.set(1, y);
-    cx.set(2, z);
-    cx.set(3, w);
-    Ok(())
-}
-
 #[cfg(test)]
 mod tests {
     use glam::{Vec2, Vec3, Vec4};

@@ -5,80 +5,139 @@
 
 use glam::{Vec2, Vec3, Vec4};
 use spreadlight_graph::spread::{slice_count, wrapped};
-use spreadlight_graph::{EnumDef, EvalContext, NodeDef, NodeError, Registry};
+use spreadlight_graph::{Choices, EnumDef, NodeDef, Registry};
 
 use crate::filters::Linear;
+use crate::typed::Value;
 
 const CATEGORY: &str = "Animation";
+
+/// The easing curves' names, as Robert Penner named them (and vvvv's Tweener nodes).
+const EASING_NAMES: &[&str] = &[
+    "Linear",
+    "Step",
+    "Quad In",
+    "Quad Out",
+    "Quad InOut",
+    "Cubic In",
+    "Cubic Out",
+    "Cubic InOut",
+    "Sine In",
+    "Sine Out",
+    "Sine InOut",
+    "Expo In",
+    "Expo Out",
+    "Back In",
+    "Back Out",
+    "Elastic Out",
+    "Bounce Out",
+];
 
 /// The easing curves, as Robert Penner named them (and vvvv's Tweener nodes).
 pub static EASING: EnumDef = EnumDef {
     name: "Easing",
-    options: &[
-        "Linear",
-        "Step",
-        "Quad In",
-        "Quad Out",
-        "Quad InOut",
-        "Cubic In",
-        "Cubic Out",
-        "Cubic InOut",
-        "Sine In",
-        "Sine Out",
-        "Sine InOut",
-        "Expo In",
-        "Expo Out",
-        "Back In",
-        "Back Out",
-        "Elastic Out",
-        "Bounce Out",
-    ],
+    options: EASING_NAMES,
 };
+
+/// [`EASING`]'s names beside the curves they stand for, for the pins.
+pub static EASINGS: Choices<Easing> = Choices::new(
+    "Easing",
+    EASING_NAMES,
+    &[
+        Easing::Linear,
+        Easing::Step,
+        Easing::QuadIn,
+        Easing::QuadOut,
+        Easing::QuadInOut,
+        Easing::CubicIn,
+        Easing::CubicOut,
+        Easing::CubicInOut,
+        Easing::SineIn,
+        Easing::SineOut,
+        Easing::SineInOut,
+        Easing::ExpoIn,
+        Easing::ExpoOut,
+        Easing::BackIn,
+        Easing::BackOut,
+        Easing::ElasticOut,
+        Easing::BounceOut,
+    ],
+);
+
+/// An easing curve (see [`EASING`] for the names).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Easing {
+    Linear,
+    Step,
+    QuadIn,
+    QuadOut,
+    QuadInOut,
+    CubicIn,
+    CubicOut,
+    CubicInOut,
+    SineIn,
+    SineOut,
+    SineInOut,
+    ExpoIn,
+    ExpoOut,
+    BackIn,
+    BackOut,
+    ElasticOut,
+    BounceOut,
+}
 
 /// The curve `name` at `t` in [0, 1] (clamped): 0 at 0, 1 at 1. `None` for an unknown name.
 pub fn ease(name: &str, t: f32) -> Option<f32> {
-    use std::f32::consts::PI;
-    let t = t.clamp(0.0, 1.0);
-    let in_out = |f: fn(f32) -> f32| {
-        if t < 0.5 {
-            f(2.0 * t) / 2.0
-        } else {
-            1.0 - f(2.0 - 2.0 * t) / 2.0
-        }
-    };
-    const BACK: f32 = 1.70158;
-    Some(match name {
-        "Linear" => t,
-        "Step" => {
-            if t < 1.0 {
-                0.0
+    Some(EASINGS.value(name)?.at(t))
+}
+
+impl Easing {
+    /// The curve at `t` in [0, 1] (clamped): 0 at 0, 1 at 1.
+    pub fn at(self, t: f32) -> f32 {
+        use std::f32::consts::PI;
+        let t = t.clamp(0.0, 1.0);
+        let in_out = |f: fn(f32) -> f32| {
+            if t < 0.5 {
+                f(2.0 * t) / 2.0
             } else {
-                1.0
+                1.0 - f(2.0 - 2.0 * t) / 2.0
             }
+        };
+        const BACK: f32 = 1.70158;
+        match self {
+            Easing::Linear => t,
+            Easing::Step => {
+                if t < 1.0 {
+                    0.0
+                } else {
+                    1.0
+                }
+            }
+            Easing::QuadIn => t * t,
+            Easing::QuadOut => 1.0 - (1.0 - t) * (1.0 - t),
+            Easing::QuadInOut => in_out(|x| x * x),
+            Easing::CubicIn => t * t * t,
+            Easing::CubicOut => 1.0 - (1.0 - t).powi(3),
+            Easing::CubicInOut => in_out(|x| x * x * x),
+            Easing::SineIn => 1.0 - (t * PI / 2.0).cos(),
+            Easing::SineOut => (t * PI / 2.0).sin(),
+            Easing::SineInOut => (1.0 - (t * PI).cos()) / 2.0,
+            Easing::ExpoIn if t == 0.0 => 0.0,
+            Easing::ExpoIn => 2f32.powf(10.0 * t - 10.0),
+            Easing::ExpoOut if t == 1.0 => 1.0,
+            Easing::ExpoOut => 1.0 - 2f32.powf(-10.0 * t),
+            Easing::BackIn => t * t * ((BACK + 1.0) * t - BACK),
+            Easing::BackOut => {
+                let u = t - 1.0;
+                1.0 + u * u * ((BACK + 1.0) * u + BACK)
+            }
+            Easing::ElasticOut if t == 0.0 || t == 1.0 => t,
+            Easing::ElasticOut => {
+                2f32.powf(-10.0 * t) * ((t * 10.0 - 0.75) * (2.0 * PI / 3.0)).sin() + 1.0
+            }
+            Easing::BounceOut => bounce_out(t),
         }
-        "Quad In" => t * t,
-        "Quad Out" => 1.0 - (1.0 - t) * (1.0 - t),
-        "Quad InOut" => in_out(|x| x * x),
-        "Cubic In" => t * t * t,
-        "Cubic Out" => 1.0 - (1.0 - t).powi(3),
-        "Cubic InOut" => in_out(|x| x * x * x),
-        "Sine In" => 1.0 - (t * PI / 2.0).cos(),
-        "Sine Out" => (t * PI / 2.0).sin(),
-        "Sine InOut" => (1.0 - (t * PI).cos()) / 2.0,
-        "Expo In" if t == 0.0 => 0.0,
-        "Expo In" => 2f32.powf(10.0 * t - 10.0),
-        "Expo Out" if t == 1.0 => 1.0,
-        "Expo Out" => 1.0 - 2f32.powf(-10.0 * t),
-        "Back In" => t * t * ((BACK + 1.0) * t - BACK),
-        "Back Out" => {
-            let u = t - 1.0;
-            1.0 + u * u * ((BACK + 1.0) * u + BACK)
-        }
-        "Elastic Out" if t == 0.0 || t == 1.0 => t,
-        "Elastic Out" => 2f32.powf(-10.0 * t) * ((t * 10.0 - 0.75) * (2.0 * PI / 3.0)).sin() + 1.0,
-        "Bounce Out" => bounce_out(t),
-        _ => return None,
-    })
+    }
 }
 
 fn bounce_out(t: f32) -> f32 {
@@ -98,15 +157,6 @@ fn bounce_out(t: f32) -> f32 {
     }
 }
 
-/// The easing names of an enum pin, checked.
-fn easings<'a>(cx: &'a EvalContext<'_>, pin: usize) -> Result<&'a [String], NodeError> {
-    let names = cx.enum_slices(pin)?;
-    if let Some(bad) = names.iter().find(|n| EASING.index_of(n).is_none()) {
-        return Err(cx.input_error(pin, format!("`{bad}` is not an easing")));
-    }
-    Ok(names)
-}
-
 pub fn register(r: &mut Registry) {
     r.add(
         NodeDef::new(
@@ -115,18 +165,20 @@ pub fn register(r: &mut Registry) {
             "Shapes a ramp: Input from 0 to 1 (clamped) through the Easing curve, 0 at 0 and 1 at \
              1 (Back and Elastic overshoot in between). Drive it with an LFO or a LinearFilter.",
         )
-        .input("Input", 0.0f32)
-        .input_enum("Easing", &EASING, "Linear")
-        .output::<f32>("Output")
-        .evaluate(|cx| {
-            let input = cx.slices::<f32>(0)?;
-            let names = easings(cx, 1)?;
-            let n = slice_count([input.len(), names.len()]);
-            let out: Vec<f32> = (0..n)
-                .map(|i| ease(wrapped(names, i).as_str(), *wrapped(input, i)).unwrap_or(0.0))
-                .collect();
-            cx.set(0, out);
-            Ok(())
+        .with_pins(|p| {
+            let input = p.input("Input", 0.0f32);
+            let easing = p.input_choice("Easing", &EASINGS, Easing::Linear);
+            let output = p.output::<f32>("Output");
+            move |cx| {
+                let input = cx.get(input)?;
+                let easings = cx.choices(easing)?;
+                let n = slice_count([input.len(), easings.len()]);
+                let out: Vec<f32> = (0..n)
+                    .map(|i| wrapped(&easings, i).at(*wrapped(input, i)))
+                    .collect();
+                cx.put(output, out);
+                Ok(())
+            }
         }),
     );
     r.add(keyframes::<f32>("Keyframes (Animation)"));
@@ -135,7 +187,7 @@ pub fn register(r: &mut Registry) {
     r.add(keyframes::<Vec4>("Keyframes (4d)"));
 }
 
-fn keyframes<T: Linear>(name: &'static str) -> NodeDef {
+fn keyframes<T: Linear + Value>(name: &'static str) -> NodeDef {
     NodeDef::new(
         name,
         CATEGORY,
@@ -146,39 +198,42 @@ fn keyframes<T: Linear>(name: &'static str) -> NodeDef {
          keys give no output. Colour tracks: Keyframes (4d), as Color pins link to and from 4d \
          vectors.",
     )
-    .input("Time", 0.0f32)
-    .input("Key Time", 0.0f32)
-    .input("Key Value", T::ZERO)
-    .input_enum("Easing", &EASING, "Linear")
-    .output::<T>("Output")
-    .evaluate(|cx| {
-        let time = cx.slices::<f32>(0)?;
-        let (key_time, key_value) = (cx.slices::<f32>(1)?, cx.slices::<T>(2)?);
-        let names = easings(cx, 3)?;
-        let mut keys: Vec<(f32, T, &str)> = (0..slice_count([key_time.len(), key_value.len()]))
-            .filter(|&k| wrapped(key_time, k).is_finite())
-            .map(|k| {
-                let easing = if names.is_empty() {
-                    "Linear"
-                } else {
-                    wrapped(names, k).as_str()
-                };
-                (*wrapped(key_time, k), *wrapped(key_value, k), easing)
-            })
-            .collect();
-        keys.sort_by(|a, b| a.0.total_cmp(&b.0));
-        let out: Vec<T> = if keys.is_empty() {
-            Vec::new()
-        } else {
-            time.iter().map(|&t| play(&keys, t)).collect()
-        };
-        cx.set(0, out);
-        Ok(())
+    .with_pins(|p| {
+        let time = p.input("Time", 0.0f32);
+        let key_time = p.input("Key Time", 0.0f32);
+        let key_value = p.input("Key Value", T::ZERO);
+        let easing = p.input_choice("Easing", &EASINGS, Easing::Linear);
+        let output = p.output::<T>("Output");
+        move |cx| {
+            let time = cx.get(time)?;
+            let (key_time, key_value) = (cx.get(key_time)?, cx.get(key_value)?);
+            let easings = cx.choices(easing)?;
+            let mut keys: Vec<(f32, T, Easing)> =
+                (0..slice_count([key_time.len(), key_value.len()]))
+                    .filter(|&k| wrapped(key_time, k).is_finite())
+                    .map(|k| {
+                        let easing = if easings.is_empty() {
+                            Easing::Linear
+                        } else {
+                            *wrapped(&easings, k)
+                        };
+                        (*wrapped(key_time, k), *wrapped(key_value, k), easing)
+                    })
+                    .collect();
+            keys.sort_by(|a, b| a.0.total_cmp(&b.0));
+            let out: Vec<T> = if keys.is_empty() {
+                Vec::new()
+            } else {
+                time.iter().map(|&t| play(&keys, t)).collect()
+            };
+            cx.put(output, out);
+            Ok(())
+        }
     })
 }
 
 /// The track's value at `t`: `keys` sorted by time, not empty.
-pub(crate) fn play<T: Linear>(keys: &[(f32, T, &str)], t: f32) -> T {
+pub(crate) fn play<T: Linear>(keys: &[(f32, T, Easing)], t: f32) -> T {
     // The first key after t; the segment is the key before it to it.
     let next = keys.partition_point(|k| k.0 <= t);
     if next == 0 {
@@ -189,7 +244,7 @@ pub(crate) fn play<T: Linear>(keys: &[(f32, T, &str)], t: f32) -> T {
     }
     let (a, b) = (&keys[next - 1], &keys[next]);
     let u = (t - a.0) / (b.0 - a.0);
-    let e = ease(a.2, u).unwrap_or(u);
+    let e = a.2.at(u);
     a.1 + (b.1 - a.1) * e
 }
 

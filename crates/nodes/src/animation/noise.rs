@@ -13,9 +13,10 @@ use glam::{Vec2, Vec3};
 use rand_core::{Rng, SeedableRng};
 use rand_pcg::Pcg32;
 use spreadlight_graph::spread::{slice_count, wrapped};
-use spreadlight_graph::{EvalContext, NodeDef, NodeError, Registry, SliceValue};
+use spreadlight_graph::{EvalContext, In, NodeDef, NodeError, Registry};
 
 use crate::spreads::MAX_SLICES;
+use crate::typed::Value;
 
 const CATEGORY: &str = "Animation";
 
@@ -35,14 +36,45 @@ pub fn register(r: &mut Registry) {
              slice of Random Seed. Octaves (1 to 16) and Persistence add finer jitter, as in \
              Perlin (1d). Reproducible: headless runs give the same values.",
         )
-        .input("Frequency", 1.0f32)
-        .input("Amplitude", 1.0f32)
-        .input("Octaves", 1i64)
-        .input("Persistence", 0.5f32)
-        .input("Random Seed", 0i64)
-        .output::<f32>("Output")
         .time_dependent()
-        .evaluate(noise_over_time),
+        .with_pins(|p| {
+            let freq = p.input("Frequency", 1.0f32);
+            let amp = p.input("Amplitude", 1.0f32);
+            let octaves_pin = p.input("Octaves", 1i64);
+            let persistence = p.input("Persistence", 0.5f32);
+            let seed = p.input("Random Seed", 0i64);
+            let output = p.output::<f32>("Output");
+            move |cx| {
+                let (freq, amp) = (cx.get(freq)?, cx.get(amp)?);
+                let octaves = octaves(cx, octaves_pin)?;
+                let (persistence, seed) = (cx.get(persistence)?, cx.get(seed)?);
+                let n = slice_count([
+                    freq.len(),
+                    amp.len(),
+                    octaves.len(),
+                    persistence.len(),
+                    seed.len(),
+                ]);
+                let time = cx.clock.time;
+                let out: Vec<f32> = (0..n)
+                    .map(|i| {
+                        // The phase in f64 and reduced, so hours of running keep the noise smooth.
+                        let x = (time * f64::from(*wrapped(freq, i))).rem_euclid(65_536.0) as f32;
+                        let v = fractal_noise(
+                            Vec3::new(x, 0.0, 0.0),
+                            1,
+                            *wrapped(octaves, i) as u32,
+                            *wrapped(persistence, i),
+                            *wrapped(seed, i),
+                        );
+                        let out = v * *wrapped(amp, i);
+                        if out.is_finite() { out } else { 0.0 }
+                    })
+                    .collect();
+                cx.put(output, out);
+                Ok(())
+            }
+        }),
     );
     r.add(
         NodeDef::new(
@@ -52,13 +84,45 @@ pub fn register(r: &mut Registry) {
              changes with time. Reproducible: the values depend only on Random Seed and the \
              frame number, so a headless run gives the same values each time.",
         )
-        .input("Minimum", 0.0f32)
-        .input("Maximum", 1.0f32)
-        .input("Random Seed", 0i64)
-        .input("Spread Count", 1i64)
-        .output::<f32>("Output")
         .time_dependent()
-        .evaluate(random),
+        .with_pins(|p| {
+            let minimum = p.input("Minimum", 0.0f32);
+            let maximum = p.input("Maximum", 1.0f32);
+            let seed = p.input("Random Seed", 0i64);
+            let count_pin = p.input("Spread Count", 1i64);
+            let output = p.output::<f32>("Output");
+            move |cx| {
+                let (lo, hi) = (cx.get(minimum)?, cx.get(maximum)?);
+                let seed = cx.first(seed, 0)?;
+                let count = cx.first(count_pin, 0)?;
+                let count = usize::try_from(count)
+                    .ok()
+                    .filter(|&c| c <= MAX_SLICES)
+                    .ok_or_else(|| {
+                        cx.error(
+                            count_pin,
+                            format!("{count} is not a count from 0 to {MAX_SLICES}"),
+                        )
+                    })?;
+                let n = if lo.is_empty() || hi.is_empty() {
+                    0
+                } else {
+                    count
+                };
+                let mut rng = Pcg32::seed_from_u64(
+                    (seed as u64) ^ cx.clock.frame.wrapping_mul(0x9e37_79b9_7f4a_7c15),
+                );
+                let out: Vec<f32> = (0..n)
+                    .map(|i| {
+                        let t = (rng.next_u32() >> 8) as f32 / (1u32 << 24) as f32;
+                        let (a, b) = (*wrapped(lo, i), *wrapped(hi, i));
+                        a + (b - a) * t
+                    })
+                    .collect();
+                cx.put(output, out);
+                Ok(())
+            }
+        }),
     );
 }
 
@@ -186,7 +250,7 @@ pub(crate) fn fractal_noise(
 }
 
 /// A point type Perlin noise can be sampled at.
-trait NoisePoint: SliceValue + Copy {
+trait NoisePoint: Value + Copy {
     const DIMS: usize;
     fn to_vec3(self) -> Vec3;
 }
@@ -221,111 +285,54 @@ fn perlin<T: NoisePoint>(name: &'static str, default: T) -> NodeDef {
          and Persistence times the amplitude of the one before. Random Seed picks another \
          field. Every pin spreads.",
     )
-    .input("Input", default)
-    .input("Frequency", 1.0f32)
-    .input("Octaves", 1i64)
-    .input("Persistence", 0.5f32)
-    .input("Random Seed", 0i64)
-    .output::<f32>("Output")
-    .evaluate(|cx| {
-        let input = cx.slices::<T>(0)?;
-        let freq = cx.slices::<f32>(1)?;
-        let octaves = octaves(cx, 2)?;
-        let persistence = cx.slices::<f32>(3)?;
-        let seed = cx.slices::<i64>(4)?;
-        let n = slice_count([
-            input.len(),
-            freq.len(),
-            octaves.len(),
-            persistence.len(),
-            seed.len(),
-        ]);
-        let out: Vec<f32> = (0..n)
-            .map(|i| {
-                let p = wrapped(input, i).to_vec3() * *wrapped(freq, i);
-                if !p.is_finite() {
-                    return 0.0;
-                }
-                fractal_noise(
-                    p,
-                    T::DIMS,
-                    *wrapped(octaves, i) as u32,
-                    *wrapped(persistence, i),
-                    *wrapped(seed, i),
-                )
-            })
-            .collect();
-        cx.set(0, out);
-        Ok(())
+    .with_pins(|p| {
+        let input = p.input("Input", default);
+        let freq = p.input("Frequency", 1.0f32);
+        let octaves_pin = p.input("Octaves", 1i64);
+        let persistence = p.input("Persistence", 0.5f32);
+        let seed = p.input("Random Seed", 0i64);
+        let output = p.output::<f32>("Output");
+        move |cx| {
+            let input = cx.get(input)?;
+            let freq = cx.get(freq)?;
+            let octaves = octaves(cx, octaves_pin)?;
+            let persistence = cx.get(persistence)?;
+            let seed = cx.get(seed)?;
+            let n = slice_count([
+                input.len(),
+                freq.len(),
+                octaves.len(),
+                persistence.len(),
+                seed.len(),
+            ]);
+            let out: Vec<f32> = (0..n)
+                .map(|i| {
+                    let p = wrapped(input, i).to_vec3() * *wrapped(freq, i);
+                    if !p.is_finite() {
+                        return 0.0;
+                    }
+                    fractal_noise(
+                        p,
+                        T::DIMS,
+                        *wrapped(octaves, i) as u32,
+                        *wrapped(persistence, i),
+                        *wrapped(seed, i),
+                    )
+                })
+                .collect();
+            cx.put(output, out);
+            Ok(())
+        }
     })
 }
 
-/// The Octaves pin (index `pin`), checked to lie in 1..=MAX_OCTAVES.
-fn octaves<'a>(cx: &'a EvalContext<'_>, pin: usize) -> Result<&'a [i64], NodeError> {
-    let octaves = cx.slices::<i64>(pin)?;
+/// The Octaves pin, checked to lie in 1..=MAX_OCTAVES.
+fn octaves<'a>(cx: &'a EvalContext<'_>, pin: In<i64>) -> Result<&'a [i64], NodeError> {
+    let octaves = cx.get(pin)?;
     if let Some(bad) = octaves.iter().find(|o| !(1..=MAX_OCTAVES).contains(*o)) {
-        return Err(cx.input_error(pin, format!("{bad} is not from 1 to {MAX_OCTAVES}")));
+        return Err(cx.error(pin, format!("{bad} is not from 1 to {MAX_OCTAVES}")));
     }
     Ok(octaves)
-}
-
-fn noise_over_time(cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
-    let (freq, amp) = (cx.slices::<f32>(0)?, cx.slices::<f32>(1)?);
-    let octaves = octaves(cx, 2)?;
-    let (persistence, seed) = (cx.slices::<f32>(3)?, cx.slices::<i64>(4)?);
-    let n = slice_count([
-        freq.len(),
-        amp.len(),
-        octaves.len(),
-        persistence.len(),
-        seed.len(),
-    ]);
-    let time = cx.clock.time;
-    let out: Vec<f32> = (0..n)
-        .map(|i| {
-            // The phase in f64 and reduced, so hours of running keep the noise smooth.
-            let x = (time * f64::from(*wrapped(freq, i))).rem_euclid(65_536.0) as f32;
-            let v = fractal_noise(
-                Vec3::new(x, 0.0, 0.0),
-                1,
-                *wrapped(octaves, i) as u32,
-                *wrapped(persistence, i),
-                *wrapped(seed, i),
-            );
-            let out = v * *wrapped(amp, i);
-            if out.is_finite() { out } else { 0.0 }
-        })
-        .collect();
-    cx.set(0, out);
-    Ok(())
-}
-
-fn random(cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
-    let (lo, hi) = (cx.slices::<f32>(0)?, cx.slices::<f32>(1)?);
-    let seed = cx.slices::<i64>(2)?.first().copied().unwrap_or(0);
-    let count = cx.slices::<i64>(3)?.first().copied().unwrap_or(0);
-    let count = usize::try_from(count)
-        .ok()
-        .filter(|&c| c <= MAX_SLICES)
-        .ok_or_else(|| {
-            cx.input_error(3, format!("{count} is not a count from 0 to {MAX_SLICES}"))
-        })?;
-    let n = if lo.is_empty() || hi.is_empty() {
-        0
-    } else {
-        count
-    };
-    let mut rng =
-        Pcg32::seed_from_u64((seed as u64) ^ cx.clock.frame.wrapping_mul(0x9e37_79b9_7f4a_7c15));
-    let out: Vec<f32> = (0..n)
-        .map(|i| {
-            let t = (rng.next_u32() >> 8) as f32 / (1u32 << 24) as f32;
-            let (a, b) = (*wrapped(lo, i), *wrapped(hi, i));
-            a + (b - a) * t
-        })
-        .collect();
-    cx.set(0, out);
-    Ok(())
 }
 
 #[cfg(test)]

@@ -4,7 +4,7 @@
 //! `Keyframes` tracks as vvvv's Timeliner does.
 
 use spreadlight_graph::spread::{slice_count, wrapped};
-use spreadlight_graph::{EvalContext, Node, NodeDef, NodeError, Registry};
+use spreadlight_graph::{EvalContext, In, Node, NodeDef, NodeError, Out, Registry};
 
 const CATEGORY: &str = "Animation";
 
@@ -17,16 +17,18 @@ pub fn register(r: &mut Registry) {
              and Delta, the seconds since the previous frame. Headless runs step a fixed frame \
              rate, so these are exact there; the editor uses wall time.",
         )
-        .output::<f32>("Time")
-        .output::<i64>("Frame")
-        .output::<f32>("Delta")
         .time_dependent()
-        .evaluate(|cx| {
-            let clock = *cx.clock;
-            cx.set(0, vec![clock.time as f32]);
-            cx.set(1, vec![i64::try_from(clock.frame).unwrap_or(i64::MAX)]);
-            cx.set(2, vec![clock.delta as f32]);
-            Ok(())
+        .with_pins(|p| {
+            let time = p.output::<f32>("Time");
+            let frame = p.output::<i64>("Frame");
+            let delta = p.output::<f32>("Delta");
+            move |cx| {
+                let clock = *cx.clock;
+                cx.put(time, vec![clock.time as f32]);
+                cx.put(frame, vec![i64::try_from(clock.frame).unwrap_or(i64::MAX)]);
+                cx.put(delta, vec![clock.delta as f32]);
+                Ok(())
+            }
         }),
     );
     r.add(
@@ -36,12 +38,17 @@ pub fn register(r: &mut Registry) {
             "Per slice, counts seconds while Run is on and holds while it is off; Reset sets it \
              back to 0.",
         )
-        .input("Run", false)
-        .input("Reset", false)
-        .output::<f32>("Time")
         .stateful()
-        .construct(|| Stopwatch {
-            elapsed: Vec::new(),
+        .with_pins_node(|p| {
+            let run = p.input("Run", false);
+            let reset = p.input("Reset", false);
+            let time = p.output::<f32>("Time");
+            move || Stopwatch {
+                run,
+                reset,
+                time,
+                elapsed: Vec::new(),
+            }
         }),
     );
     r.add(timeliner());
@@ -57,35 +64,57 @@ fn timeliner() -> NodeDef {
          with Loop on, Time wraps around within [Loop Start, Loop End). Feed Time into \
          Keyframes nodes for Timeliner-style tracks. Playing says whether it moves.",
     )
-    .input("Play", false)
-    .input("Speed", 1.0f32)
-    .input("Seek", false)
-    .input("Seek Time", 0.0f32)
-    .input("Loop", false)
-    .input("Loop Start", 0.0f32)
-    .input("Loop End", 10.0f32)
-    .output::<f32>("Time")
-    .output::<bool>("Playing")
     .stateful()
-    .construct(|| Timeliner { time: Vec::new() })
+    .with_pins_node(|p| {
+        let pins = TimelinerPins {
+            play: p.input("Play", false),
+            speed: p.input("Speed", 1.0f32),
+            seek: p.input("Seek", false),
+            seek_time: p.input("Seek Time", 0.0f32),
+            looping: p.input("Loop", false),
+            loop_start: p.input("Loop Start", 0.0f32),
+            loop_end: p.input("Loop End", 10.0f32),
+            time: p.output::<f32>("Time"),
+            playing: p.output::<bool>("Playing"),
+        };
+        move || Timeliner {
+            pins,
+            time: Vec::new(),
+        }
+    })
+}
+
+#[derive(Clone, Copy)]
+struct TimelinerPins {
+    play: In<bool>,
+    speed: In<f32>,
+    seek: In<bool>,
+    seek_time: In<f32>,
+    looping: In<bool>,
+    loop_start: In<f32>,
+    loop_end: In<f32>,
+    time: Out<f32>,
+    playing: Out<bool>,
 }
 
 struct Timeliner {
+    pins: TimelinerPins,
     time: Vec<f64>,
 }
 
 impl Node for Timeliner {
     fn evaluate(&mut self, cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
+        let pins = self.pins;
         let (play, seek, looping) = (
-            cx.slices::<bool>(0)?,
-            cx.slices::<bool>(2)?,
-            cx.slices::<bool>(4)?,
+            cx.get(pins.play)?,
+            cx.get(pins.seek)?,
+            cx.get(pins.looping)?,
         );
         let floats = [
-            cx.slices::<f32>(1)?,
-            cx.slices::<f32>(3)?,
-            cx.slices::<f32>(5)?,
-            cx.slices::<f32>(6)?,
+            cx.get(pins.speed)?,
+            cx.get(pins.seek_time)?,
+            cx.get(pins.loop_start)?,
+            cx.get(pins.loop_end)?,
         ];
         let n = slice_count(
             [play.len(), seek.len(), looping.len()]
@@ -114,20 +143,23 @@ impl Node for Timeliner {
             // Time moves on without any input changing.
             cx.reevaluate_next_frame();
         }
-        cx.set(0, self.time.iter().map(|&t| t as f32).collect());
-        cx.set(1, playing);
+        cx.put(pins.time, self.time.iter().map(|&t| t as f32).collect());
+        cx.put(pins.playing, playing);
         Ok(())
     }
 }
 
 struct Stopwatch {
+    run: In<bool>,
+    reset: In<bool>,
+    time: Out<f32>,
     /// Seconds per slice, in f64 so long runs keep their precision.
     elapsed: Vec<f64>,
 }
 
 impl Node for Stopwatch {
     fn evaluate(&mut self, cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
-        let (run, reset) = (cx.slices::<bool>(0)?, cx.slices::<bool>(1)?);
+        let (run, reset) = (cx.get(self.run)?, cx.get(self.reset)?);
         let n = slice_count([run.len(), reset.len()]);
         self.elapsed.resize(n, 0.0);
         let mut running = false;
@@ -143,7 +175,7 @@ impl Node for Stopwatch {
             // Time passes without any input changing.
             cx.reevaluate_next_frame();
         }
-        cx.set(0, self.elapsed.iter().map(|&t| t as f32).collect());
+        cx.put(self.time, self.elapsed.iter().map(|&t| t as f32).collect());
         Ok(())
     }
 }

@@ -4,10 +4,12 @@
 
 use std::sync::Arc;
 
-use spreadlight_graph::{NodeDef, PinType, Registry, ResourceKind};
+use spreadlight_graph::{NodeDef, Registry, ResourceKind};
 use spreadlight_render::bench::pass_chain::{MAX_PASSES, PassChain};
 
-use crate::gpu::{renderer, resource_spread};
+use spreadlight_render::TextureRef;
+
+use crate::gpu::renderer;
 
 pub fn register(r: &mut Registry) {
     r.add(
@@ -18,21 +20,20 @@ pub fn register(r: &mut Registry) {
              share is negligible): what a frame's CPU time grows by per graph pass. The result is a ramp turned \
              once per pass.",
         )
-        .input("Passes", 200i64)
-        .output_typed("Texture", PinType::Resource(ResourceKind::Texture))
-        .evaluate(|cx| {
-            let passes = cx.slices::<i64>(0)?.first().copied().unwrap_or(200);
-            let passes = u32::try_from(passes)
-                .ok()
-                .filter(|p| (1..=MAX_PASSES).contains(p))
-                .ok_or_else(|| cx.input_error(0, format!("is {passes}; it must be 1..={MAX_PASSES}")))?;
-            let renderer = renderer(cx)?;
-            let chain = PassChain::new(&renderer, Some(cx.node_id.0), passes);
-            cx.set_output(
-                0,
-                resource_spread(ResourceKind::Texture, vec![Arc::new(chain.texture())]),
-            );
-            Ok(())
+        .with_pins(|p| {
+            let passes_in = p.input("Passes", 200i64);
+            let texture = p.output_resource::<TextureRef>("Texture", ResourceKind::Texture);
+            move |cx| {
+                let passes = cx.first(passes_in, 200)?;
+                let passes = u32::try_from(passes)
+                    .ok()
+                    .filter(|p| (1..=MAX_PASSES).contains(p))
+                    .ok_or_else(|| cx.error(passes_in, format!("is {passes}; it must be 1..={MAX_PASSES}")))?;
+                let renderer = renderer(cx)?;
+                let chain = PassChain::new(&renderer, Some(cx.node_id.0), passes);
+                cx.put_resources(texture, vec![Arc::new(chain.texture())]);
+                Ok(())
+            }
         }),
     );
 }

@@ -17,7 +17,7 @@ mod values;
 
 use glam::{Mat4, Vec2, Vec3, Vec4};
 use spreadlight_graph::spread::{slice_count, wrapped};
-use spreadlight_graph::{EvalContext, Node, NodeDef, NodeError, Registry, SliceValue};
+use spreadlight_graph::{EvalContext, In, Node, NodeDef, NodeError, Out, Pins, Registry};
 
 pub use functions::FUNCTIONS;
 pub use parse::ExprError;
@@ -29,7 +29,7 @@ const CATEGORY: &str = "Value";
 const CACHE: usize = 16;
 
 /// A pin type the expression language knows.
-trait ExprType: SliceValue + Copy {
+trait ExprType: crate::typed::Value + Copy {
     const TY: Ty;
     /// The output from a result of the node's type, or a scalar spread over it; non-finite parts become 0.
     fn from_value(v: Value) -> Self;
@@ -125,7 +125,7 @@ fn expr_node<T: ExprType>(
     vectors: &'static [&'static str],
     matrices: &'static [&'static str],
 ) -> NodeDef {
-    let mut def = NodeDef::new(
+    NodeDef::new(
         name,
         CATEGORY,
         "Evaluates Expression over its inputs, slice by slice (every pin spreads, the \
@@ -141,57 +141,84 @@ fn expr_node<T: ExprType>(
          scalar fills a vector). A wrong expression is an error on Expression naming the \
          character; a non-finite result component is output as 0.",
     )
-    .input("Expression", example.to_owned());
-    let vector_ty = if T::TY == Ty::Mat4 { Ty::Vec3 } else { T::TY };
-    for &pin in scalars {
-        def = def.input(pin, 0.0f32);
-    }
-    for &pin in vectors {
-        def = match vector_ty {
-            Ty::Vec2 => def.input(pin, Vec2::ZERO),
-            Ty::Vec4 => def.input(pin, Vec4::ZERO),
-            _ => def.input(pin, Vec3::ZERO),
-        };
-    }
-    for &pin in matrices {
-        def = def.input(pin, Mat4::IDENTITY);
-    }
-    let vars: Vec<(&'static str, Ty)> = scalars
-        .iter()
-        .map(|&n| (n, Ty::Scalar))
-        .chain(vectors.iter().map(|&n| (n, vector_ty)))
-        .chain(matrices.iter().map(|&n| (n, Ty::Mat4)))
-        .collect();
-    def.output::<T>("Output").construct(move || ExprNode::<T> {
-        vars: vars.clone(),
-        cache: Vec::new(),
-        _out: std::marker::PhantomData,
+    .with_pins_node(|p| {
+        let expression = p.input("Expression", example.to_owned());
+        let vector_ty = if T::TY == Ty::Mat4 { Ty::Vec3 } else { T::TY };
+        let vars: Vec<(&'static str, VarPin)> = scalars
+            .iter()
+            .map(|&n| (n, Ty::Scalar))
+            .chain(vectors.iter().map(|&n| (n, vector_ty)))
+            .chain(matrices.iter().map(|&n| (n, Ty::Mat4)))
+            .map(|(n, ty)| (n, VarPin::declare(p, n, ty)))
+            .collect();
+        let output = p.output::<T>("Output");
+        move || ExprNode::<T> {
+            expression,
+            vars: vars.clone(),
+            output,
+            cache: Vec::new(),
+        }
     })
 }
 
-struct ExprNode<T> {
-    vars: Vec<(&'static str, Ty)>,
-    /// Checked expressions by their text, most recent last.
-    cache: Vec<(String, Compiled)>,
-    _out: std::marker::PhantomData<T>,
+/// A variable's input pin, of the type the expression sees it as.
+#[derive(Clone, Copy)]
+enum VarPin {
+    Scalar(In<f32>),
+    Vec2(In<Vec2>),
+    Vec3(In<Vec3>),
+    Vec4(In<Vec4>),
+    Mat4(In<Mat4>),
 }
 
-/// One input pin's slices as expression values.
-fn values(cx: &EvalContext<'_>, pin: usize, ty: Ty) -> Result<Vec<Value>, NodeError> {
-    fn of<T: SliceValue + Copy>(
-        cx: &EvalContext<'_>,
-        pin: usize,
-        f: fn(T) -> Value,
-    ) -> Result<Vec<Value>, NodeError> {
-        Ok(cx.slices::<T>(pin)?.iter().map(|&x| f(x)).collect())
+impl VarPin {
+    /// Declare the pin `name` for a variable of type `ty` (zero, or the identity, by default).
+    fn declare(p: &mut Pins<'_>, name: &'static str, ty: Ty) -> VarPin {
+        match ty {
+            Ty::Scalar => VarPin::Scalar(p.input(name, 0.0f32)),
+            Ty::Vec2 => VarPin::Vec2(p.input(name, Vec2::ZERO)),
+            Ty::Vec3 => VarPin::Vec3(p.input(name, Vec3::ZERO)),
+            Ty::Vec4 => VarPin::Vec4(p.input(name, Vec4::ZERO)),
+            Ty::Mat4 => VarPin::Mat4(p.input(name, Mat4::IDENTITY)),
+        }
     }
-    match ty {
-        Ty::Scalar => of::<f32>(cx, pin, Value::Scalar),
-        Ty::Vec2 => of::<Vec2>(cx, pin, Value::Vec2),
-        Ty::Vec3 => of::<Vec3>(cx, pin, Value::Vec3),
-        Ty::Vec4 => of::<Vec4>(cx, pin, Value::Vec4),
-        Ty::Mat4 => of::<Mat4>(cx, pin, Value::Mat4),
+
+    fn ty(self) -> Ty {
+        match self {
+            VarPin::Scalar(_) => Ty::Scalar,
+            VarPin::Vec2(_) => Ty::Vec2,
+            VarPin::Vec3(_) => Ty::Vec3,
+            VarPin::Vec4(_) => Ty::Vec4,
+            VarPin::Mat4(_) => Ty::Mat4,
+        }
     }
+
+    /// The pin's slices as expression values.
+    fn values(self, cx: &EvalContext<'_>) -> Result<Vec<Value>, NodeError> {
+        fn of<T: crate::typed::Value + Copy>(
+            cx: &EvalContext<'_>,
+            pin: In<T>,
+            f: fn(T) -> Value,
+        ) -> Result<Vec<Value>, NodeError> {
+            Ok(cx.get(pin)?.iter().map(|&x| f(x)).collect())
+        }
+        match self {
+            VarPin::Scalar(pin) => of(cx, pin, Value::Scalar),
+            VarPin::Vec2(pin) => of(cx, pin, Value::Vec2),
+            VarPin::Vec3(pin) => of(cx, pin, Value::Vec3),
+            VarPin::Vec4(pin) => of(cx, pin, Value::Vec4),
+            VarPin::Mat4(pin) => of(cx, pin, Value::Mat4),
+        }
+    }
+}
+
+struct ExprNode<T: ExprType> {
+    expression: In<String>,
+    /// The variables by name, each with its pin.
+    vars: Vec<(&'static str, VarPin)>,
+    output: Out<T>,
+    /// Checked expressions by their text, most recent last.
+    cache: Vec<(String, Compiled)>,
 }
 
 impl<T: ExprType> ExprNode<T> {
@@ -200,12 +227,14 @@ impl<T: ExprType> ExprNode<T> {
         if let Some(k) = self.cache.iter().position(|(t, _)| t == text) {
             return Ok(k);
         }
+        let vars: Vec<(&'static str, Ty)> =
+            self.vars.iter().map(|&(n, pin)| (n, pin.ty())).collect();
         let c =
-            compile(text, &self.vars).map_err(|e| cx.input_error(0, format!("`{text}` {e}")))?;
+            compile(text, &vars).map_err(|e| cx.error(self.expression, format!("`{text}` {e}")))?;
         let result_fits = c.ty == T::TY || (c.ty == Ty::Scalar && T::TY != Ty::Mat4);
         if !result_fits {
-            return Err(cx.input_error(
-                0,
+            return Err(cx.error(
+                self.expression,
                 format!("`{text}` gives {:?}, this node outputs {:?}", c.ty, T::TY),
             ));
         }
@@ -219,12 +248,11 @@ impl<T: ExprType> ExprNode<T> {
 
 impl<T: ExprType> Node for ExprNode<T> {
     fn evaluate(&mut self, cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
-        let texts = cx.slices::<String>(0)?;
+        let texts = cx.get(self.expression)?;
         let inputs = self
             .vars
             .iter()
-            .enumerate()
-            .map(|(k, (_, ty))| values(cx, k + 1, *ty))
+            .map(|&(_, pin)| pin.values(cx))
             .collect::<Result<Vec<_>, _>>()?;
         let n = slice_count([texts.len()].into_iter().chain(inputs.iter().map(Vec::len)));
         let mut out = Vec::with_capacity(n);
@@ -236,7 +264,7 @@ impl<T: ExprType> Node for ExprNode<T> {
             }
             out.push(T::from_value(eval(&self.cache[k].1, &slot)));
         }
-        cx.set(0, out);
+        cx.put(self.output, out);
         Ok(())
     }
 }

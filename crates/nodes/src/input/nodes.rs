@@ -2,7 +2,7 @@
 //! (time-dependent), since the user moves without any input pin changing.
 
 use glam::Vec2;
-use spreadlight_graph::{EvalContext, NodeDef, NodeError, Registry};
+use spreadlight_graph::{EvalContext, NodeDef, Registry};
 
 use super::{HostInput, InputSnapshot};
 
@@ -19,16 +19,37 @@ pub fn register(r: &mut Registry) {
              the window; outside, Position holds the centre). Without a window (headless) \
              everything is at rest: centre, no buttons, wheel 0.",
         )
-        .output::<Vec2>("Position")
-        .output::<f32>("X")
-        .output::<f32>("Y")
-        .output::<bool>("Left Button")
-        .output::<bool>("Middle Button")
-        .output::<bool>("Right Button")
-        .output::<f32>("Wheel")
-        .output::<bool>("Inside")
         .time_dependent()
-        .evaluate(mouse),
+        .with_pins(|p| {
+            let position = p.output::<Vec2>("Position");
+            let x = p.output::<f32>("X");
+            let y = p.output::<f32>("Y");
+            let buttons =
+                ["Left Button", "Middle Button", "Right Button"].map(|name| p.output::<bool>(name));
+            let wheel_out = p.output::<f32>("Wheel");
+            let inside = p.output::<bool>("Inside");
+            move |cx| {
+                let s = snapshot(cx);
+                let pos = s
+                    .mouse_position
+                    .filter(|p| p.is_finite())
+                    .unwrap_or(Vec2::ZERO);
+                cx.put(position, vec![pos]);
+                cx.put(x, vec![pos.x]);
+                cx.put(y, vec![pos.y]);
+                for (pin, down) in buttons.into_iter().zip(s.mouse_buttons) {
+                    cx.put(pin, vec![down]);
+                }
+                let wheel = if s.mouse_wheel.is_finite() {
+                    s.mouse_wheel
+                } else {
+                    0.0
+                };
+                cx.put(wheel_out, vec![wheel]);
+                cx.put(inside, vec![s.mouse_position.is_some()]);
+                Ok(())
+            }
+        }),
     );
     r.add(
         NodeDef::new(
@@ -37,10 +58,18 @@ pub fn register(r: &mut Registry) {
             "The keys held down in the host window, by name as egui spells them (`A`, `Space`, \
              `Enter`, `ArrowLeft`, `F1`), sorted; Any Key is on while one is. Headless: none.",
         )
-        .output::<String>("Keys")
-        .output::<bool>("Any Key")
         .time_dependent()
-        .evaluate(keyboard),
+        .with_pins(|p| {
+            let keys_out = p.output::<String>("Keys");
+            let any_key = p.output::<bool>("Any Key");
+            move |cx| {
+                let keys: Vec<String> = snapshot(cx).keys_down.into_iter().collect();
+                let any = !keys.is_empty();
+                cx.put(keys_out, keys);
+                cx.put(any_key, vec![any]);
+                Ok(())
+            }
+        }),
     );
     r.add(
         NodeDef::new(
@@ -49,10 +78,21 @@ pub fn register(r: &mut Registry) {
             "Per slice of Key Match (a key name, as Keyboard (Window) gives them, any case), \
              whether that key is held down. Headless: never.",
         )
-        .input("Key Match", "Space".to_owned())
-        .output::<bool>("Output")
         .time_dependent()
-        .evaluate(key_match),
+        .with_pins(|p| {
+            let key_match = p.input("Key Match", "Space".to_owned());
+            let output = p.output::<bool>("Output");
+            move |cx| {
+                let down = snapshot(cx).keys_down;
+                let out: Vec<bool> = cx
+                    .get(key_match)?
+                    .iter()
+                    .map(|want| down.iter().any(|k| k.eq_ignore_ascii_case(want.trim())))
+                    .collect();
+                cx.put(output, out);
+                Ok(())
+            }
+        }),
     );
     r.add(
         NodeDef::new(
@@ -61,12 +101,26 @@ pub fn register(r: &mut Registry) {
             "The host window's client area in pixels (Size, Width, Height) and its Aspect ratio \
              (width / height). Headless, or while a window is minimised: 0 x 0 with Aspect 1.",
         )
-        .output::<Vec2>("Size")
-        .output::<i64>("Width")
-        .output::<i64>("Height")
-        .output::<f32>("Aspect")
         .time_dependent()
-        .evaluate(window_size),
+        .with_pins(|p| {
+            let size = p.output::<Vec2>("Size");
+            let width = p.output::<i64>("Width");
+            let height = p.output::<i64>("Height");
+            let aspect_out = p.output::<f32>("Aspect");
+            move |cx| {
+                let (w, h) = snapshot(cx).window_size.unwrap_or((0, 0));
+                let aspect = if w > 0 && h > 0 {
+                    w as f32 / h as f32
+                } else {
+                    1.0
+                };
+                cx.put(size, vec![Vec2::new(w as f32, h as f32)]);
+                cx.put(width, vec![i64::from(w)]);
+                cx.put(height, vec![i64::from(h)]);
+                cx.put(aspect_out, vec![aspect]);
+                Ok(())
+            }
+        }),
     );
 }
 
@@ -75,61 +129,6 @@ fn snapshot(cx: &EvalContext<'_>) -> InputSnapshot {
     cx.service::<HostInput>()
         .map(|s| s.snapshot())
         .unwrap_or_default()
-}
-
-fn mouse(cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
-    let s = snapshot(cx);
-    let p = s
-        .mouse_position
-        .filter(|p| p.is_finite())
-        .unwrap_or(Vec2::ZERO);
-    cx.set(0, vec![p]);
-    cx.set(1, vec![p.x]);
-    cx.set(2, vec![p.y]);
-    for (k, down) in s.mouse_buttons.into_iter().enumerate() {
-        cx.set(3 + k, vec![down]);
-    }
-    let wheel = if s.mouse_wheel.is_finite() {
-        s.mouse_wheel
-    } else {
-        0.0
-    };
-    cx.set(6, vec![wheel]);
-    cx.set(7, vec![s.mouse_position.is_some()]);
-    Ok(())
-}
-
-fn keyboard(cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
-    let keys: Vec<String> = snapshot(cx).keys_down.into_iter().collect();
-    let any = !keys.is_empty();
-    cx.set(0, keys);
-    cx.set(1, vec![any]);
-    Ok(())
-}
-
-fn key_match(cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
-    let down = snapshot(cx).keys_down;
-    let out: Vec<bool> = cx
-        .slices::<String>(0)?
-        .iter()
-        .map(|want| down.iter().any(|k| k.eq_ignore_ascii_case(want.trim())))
-        .collect();
-    cx.set(0, out);
-    Ok(())
-}
-
-fn window_size(cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
-    let (w, h) = snapshot(cx).window_size.unwrap_or((0, 0));
-    let aspect = if w > 0 && h > 0 {
-        w as f32 / h as f32
-    } else {
-        1.0
-    };
-    cx.set(0, vec![Vec2::new(w as f32, h as f32)]);
-    cx.set(1, vec![i64::from(w)]);
-    cx.set(2, vec![i64::from(h)]);
-    cx.set(3, vec![aspect]);
-    Ok(())
 }
 
 #[cfg(test)]

@@ -8,15 +8,34 @@
 //! asks to run again next frame to end itself.
 
 use spreadlight_graph::spread::{slice_count, wrapped};
-use spreadlight_graph::{EnumDef, EvalContext, Node, NodeDef, NodeError, Registry, SliceValue};
+use spreadlight_graph::typed_pins::PinData;
+use spreadlight_graph::{
+    Choice, Choices, EvalContext, In, Node, NodeDef, NodeError, Out, Registry, SliceValue,
+};
 
 const ANIMATION: &str = "Animation";
 
 /// What `Counter` does at its range's ends.
-pub static COUNTER_MODE: EnumDef = EnumDef {
-    name: "Counter Mode",
-    options: &["Wrap", "Clamp", "Unlimited"],
-};
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum CounterMode {
+    /// Past one end, start again at the other.
+    Wrap,
+    /// Stop at the ends.
+    Clamp,
+    /// Ignore the range.
+    Unlimited,
+}
+
+/// `Counter`'s Mode options, as vvvv names them.
+pub static COUNTER_MODE: Choices<CounterMode> = Choices::new(
+    "Counter Mode",
+    &["Wrap", "Clamp", "Unlimited"],
+    &[
+        CounterMode::Wrap,
+        CounterMode::Clamp,
+        CounterMode::Unlimited,
+    ],
+);
 
 pub fn register(r: &mut Registry) {
     r.add(change::<f32>("Change (Animation)", 0.0));
@@ -28,11 +47,18 @@ pub fn register(r: &mut Registry) {
             "Up Edge is true for the one frame in which a slice of Input turns on, Down Edge \
              for the one in which it turns off. A slice starts off.",
         )
-        .input("Input", false)
-        .output::<bool>("Up Edge")
-        .output::<bool>("Down Edge")
         .remembers(1)
-        .construct(|| TogEdge { last: Vec::new() }),
+        .with_pins_node(|p| {
+            let input = p.input("Input", false);
+            let up = p.output::<bool>("Up Edge");
+            let down = p.output::<bool>("Down Edge");
+            move || TogEdge {
+                input,
+                up,
+                down,
+                last: Vec::new(),
+            }
+        }),
     );
     r.add(
         NodeDef::new(
@@ -41,12 +67,20 @@ pub fn register(r: &mut Registry) {
             "Per slice, Output turns on while Set is on and off while Reset is on, and keeps its \
              state otherwise (Reset wins when both are on). Inverse Output is its opposite.",
         )
-        .input("Set", false)
-        .input("Reset", false)
-        .output::<bool>("Output")
-        .output::<bool>("Inverse Output")
         .stateful()
-        .construct(|| FlipFlop { state: Vec::new() }),
+        .with_pins_node(|p| {
+            let set = p.input("Set", false);
+            let reset = p.input("Reset", false);
+            let output = p.output::<bool>("Output");
+            let inverse = p.output::<bool>("Inverse Output");
+            move || FlipFlop {
+                set,
+                reset,
+                output,
+                inverse,
+                state: Vec::new(),
+            }
+        }),
     );
     r.add(
         NodeDef::new(
@@ -55,13 +89,18 @@ pub fn register(r: &mut Registry) {
             "Per slice, Output flips each time Input turns on (a held Input flips once). Reset \
              turns it off.",
         )
-        .input("Input", false)
-        .input("Reset", false)
-        .output::<bool>("Output")
         .stateful()
-        .construct(|| Toggle {
-            state: Vec::new(),
-            last: Vec::new(),
+        .with_pins_node(|p| {
+            let input = p.input("Input", false);
+            let reset = p.input("Reset", false);
+            let output = p.output::<bool>("Output");
+            move || Toggle {
+                input,
+                reset,
+                output,
+                state: Vec::new(),
+                last: Vec::new(),
+            }
         }),
     );
     r.add(
@@ -74,18 +113,27 @@ pub fn register(r: &mut Registry) {
              Unlimited ignores the range. Overflow is true in the frame the count wrapped or hit \
              an end. Reset sets the count to Default.",
         )
-        .input("Up", false)
-        .input("Down", false)
-        .input("Increment", 1i64)
-        .input("Minimum", 0i64)
-        .input("Maximum", 10i64)
-        .input("Default", 0i64)
-        .input_enum("Mode", &COUNTER_MODE, "Wrap")
-        .input("Reset", false)
-        .output::<i64>("Output")
-        .output::<bool>("Overflow")
         .stateful()
-        .construct(Counter::default),
+        .with_pins_node(|p| {
+            let pins = CounterPins {
+                up: p.input("Up", false),
+                down: p.input("Down", false),
+                increment: p.input("Increment", 1i64),
+                minimum: p.input("Minimum", 0i64),
+                maximum: p.input("Maximum", 10i64),
+                default: p.input("Default", 0i64),
+                mode: p.input_choice("Mode", &COUNTER_MODE, CounterMode::Wrap),
+                reset: p.input("Reset", false),
+                output: p.output::<i64>("Output"),
+                overflow: p.output::<bool>("Overflow"),
+            };
+            move || Counter {
+                pins,
+                counts: Vec::new(),
+                up: Vec::new(),
+                down: Vec::new(),
+            }
+        }),
     );
     r.add(
         NodeDef::new(
@@ -94,14 +142,20 @@ pub fn register(r: &mut Registry) {
             "Per slice, Output turns on when Set turns on and off again Time seconds later. \
              Retriggerable: a new Set while on starts the time again; otherwise it is ignored.",
         )
-        .input("Set", false)
-        .input("Time", 1.0f32)
-        .input("Retriggerable", false)
-        .output::<bool>("Output")
         .stateful()
-        .construct(|| MonoFlop {
-            until: Vec::new(),
-            last: Vec::new(),
+        .with_pins_node(|p| {
+            let set = p.input("Set", false);
+            let time = p.input("Time", 1.0f32);
+            let retrigger = p.input("Retriggerable", false);
+            let output = p.output::<bool>("Output");
+            move || MonoFlop {
+                set,
+                time,
+                retrigger,
+                output,
+                until: Vec::new(),
+                last: Vec::new(),
+            }
         }),
     );
 }
@@ -118,26 +172,37 @@ fn rising_edges(last: &mut Vec<bool>, now: &[bool], n: usize) -> Vec<bool> {
         .collect()
 }
 
-fn change<T: SliceValue + PartialEq>(name: &'static str, default: T) -> NodeDef {
+fn change<T: SliceValue + PinData<Meta = ()> + PartialEq>(
+    name: &'static str,
+    default: T,
+) -> NodeDef {
     NodeDef::new(
         name,
         ANIMATION,
         "True, per slice, for the one frame in which Input's slice differs from what it was \
          the frame before (a slice that appears counts as changed; the first frame does not).",
     )
-    .input("Input", default)
-    .output::<bool>("Output")
     .remembers(1)
-    .construct(|| Change::<T> { last: None })
+    .with_pins_node(|p| {
+        let input = p.input("Input", default);
+        let output = p.output::<bool>("Output");
+        move || Change::<T> {
+            input,
+            output,
+            last: None,
+        }
+    })
 }
 
-struct Change<T> {
+struct Change<T: PinData> {
+    input: In<T>,
+    output: Out<bool>,
     last: Option<Vec<T>>,
 }
 
-impl<T: SliceValue + PartialEq> Node for Change<T> {
+impl<T: SliceValue + PinData + PartialEq> Node for Change<T> {
     fn evaluate(&mut self, cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
-        let input = cx.slices::<T>(0)?;
+        let input = cx.get(self.input)?;
         let out: Vec<bool> = match &self.last {
             None => vec![false; input.len()],
             Some(last) => input
@@ -151,18 +216,21 @@ impl<T: SliceValue + PartialEq> Node for Change<T> {
             // The pulse lasts one frame: run again to end it even if nothing changes.
             cx.reevaluate_next_frame();
         }
-        cx.set(0, out);
+        cx.put(self.output, out);
         Ok(())
     }
 }
 
 struct TogEdge {
+    input: In<bool>,
+    up: Out<bool>,
+    down: Out<bool>,
     last: Vec<bool>,
 }
 
 impl Node for TogEdge {
     fn evaluate(&mut self, cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
-        let input = cx.slices::<bool>(0)?;
+        let input = cx.get(self.input)?;
         let before = {
             let mut b = self.last.clone();
             b.resize(input.len(), false);
@@ -173,19 +241,23 @@ impl Node for TogEdge {
         if up.contains(&true) || down.contains(&true) {
             cx.reevaluate_next_frame();
         }
-        cx.set(0, up);
-        cx.set(1, down);
+        cx.put(self.up, up);
+        cx.put(self.down, down);
         Ok(())
     }
 }
 
 struct FlipFlop {
+    set: In<bool>,
+    reset: In<bool>,
+    output: Out<bool>,
+    inverse: Out<bool>,
     state: Vec<bool>,
 }
 
 impl Node for FlipFlop {
     fn evaluate(&mut self, cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
-        let (set, reset) = (cx.slices::<bool>(0)?, cx.slices::<bool>(1)?);
+        let (set, reset) = (cx.get(self.set)?, cx.get(self.reset)?);
         let n = slice_count([set.len(), reset.len()]);
         self.state.resize(n, false);
         for (i, s) in self.state.iter_mut().enumerate() {
@@ -195,20 +267,23 @@ impl Node for FlipFlop {
                 *s = true;
             }
         }
-        cx.set(0, self.state.clone());
-        cx.set(1, self.state.iter().map(|s| !s).collect());
+        cx.put(self.output, self.state.clone());
+        cx.put(self.inverse, self.state.iter().map(|s| !s).collect());
         Ok(())
     }
 }
 
 struct Toggle {
+    input: In<bool>,
+    reset: In<bool>,
+    output: Out<bool>,
     state: Vec<bool>,
     last: Vec<bool>,
 }
 
 impl Node for Toggle {
     fn evaluate(&mut self, cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
-        let (input, reset) = (cx.slices::<bool>(0)?, cx.slices::<bool>(1)?);
+        let (input, reset) = (cx.get(self.input)?, cx.get(self.reset)?);
         let n = slice_count([input.len(), reset.len()]);
         let edges = rising_edges(&mut self.last, input, n);
         self.state.resize(n, false);
@@ -219,27 +294,40 @@ impl Node for Toggle {
                 *s = !*s;
             }
         }
-        cx.set(0, self.state.clone());
+        cx.put(self.output, self.state.clone());
         Ok(())
     }
 }
 
-#[derive(Default)]
+#[derive(Clone, Copy)]
+struct CounterPins {
+    up: In<bool>,
+    down: In<bool>,
+    increment: In<i64>,
+    minimum: In<i64>,
+    maximum: In<i64>,
+    default: In<i64>,
+    mode: In<Choice<CounterMode>>,
+    reset: In<bool>,
+    output: Out<i64>,
+    overflow: Out<bool>,
+}
+
 struct Counter {
+    pins: CounterPins,
     counts: Vec<i64>,
     up: Vec<bool>,
     down: Vec<bool>,
-    overflowed: bool,
 }
 
 /// One counting step: `count + step` with the range rule; returns the new count and whether it overflowed.
-fn count_step(count: i64, step: i64, min: i64, max: i64, mode: &str) -> (i64, bool) {
+fn count_step(count: i64, step: i64, min: i64, max: i64, mode: CounterMode) -> (i64, bool) {
     let (lo, hi) = (min.min(max), min.max(max));
     let next = count.saturating_add(step);
     match mode {
-        "Unlimited" => (next, false),
-        "Clamp" => (next.clamp(lo, hi), next < lo || next > hi),
-        _ => {
+        CounterMode::Unlimited => (next, false),
+        CounterMode::Clamp => (next.clamp(lo, hi), next < lo || next > hi),
+        CounterMode::Wrap => {
             let span = i128::from(hi) - i128::from(lo) + 1;
             let wrapped = (i128::from(next) - i128::from(lo)).rem_euclid(span) + i128::from(lo);
             (wrapped as i64, next < lo || next > hi)
@@ -249,18 +337,16 @@ fn count_step(count: i64, step: i64, min: i64, max: i64, mode: &str) -> (i64, bo
 
 impl Node for Counter {
     fn evaluate(&mut self, cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
-        let (up, down) = (cx.slices::<bool>(0)?, cx.slices::<bool>(1)?);
+        let pins = self.pins;
+        let (up, down) = (cx.get(pins.up)?, cx.get(pins.down)?);
         let ints: [&[i64]; 4] = [
-            cx.slices::<i64>(2)?,
-            cx.slices::<i64>(3)?,
-            cx.slices::<i64>(4)?,
-            cx.slices::<i64>(5)?,
+            cx.get(pins.increment)?,
+            cx.get(pins.minimum)?,
+            cx.get(pins.maximum)?,
+            cx.get(pins.default)?,
         ];
-        let modes = cx.enum_slices(6)?;
-        if let Some(bad) = modes.iter().find(|m| COUNTER_MODE.index_of(m).is_none()) {
-            return Err(cx.input_error(6, format!("`{bad}` is not a counter mode")));
-        }
-        let reset = cx.slices::<bool>(7)?;
+        let modes = cx.choices(pins.mode)?;
+        let reset = cx.get(pins.reset)?;
         let n = slice_count(
             [up.len(), down.len(), modes.len(), reset.len()]
                 .into_iter()
@@ -279,7 +365,7 @@ impl Node for Counter {
                 self.counts[i] = default;
                 continue;
             }
-            let mode = wrapped(modes, i).as_str();
+            let mode = *wrapped(&modes, i);
             for (edge, step) in [(ups[i], inc), (downs[i], inc.saturating_neg())] {
                 if edge {
                     let (c, o) = count_step(self.counts[i], step, min, max, mode);
@@ -290,17 +376,20 @@ impl Node for Counter {
         }
         self.counts.truncate(n);
         // Overflow is a one-frame pulse; run again to clear it.
-        self.overflowed = overflow.contains(&true);
-        if self.overflowed {
+        if overflow.contains(&true) {
             cx.reevaluate_next_frame();
         }
-        cx.set(0, self.counts.clone());
-        cx.set(1, overflow);
+        cx.put(pins.output, self.counts.clone());
+        cx.put(pins.overflow, overflow);
         Ok(())
     }
 }
 
 struct MonoFlop {
+    set: In<bool>,
+    time: In<f32>,
+    retrigger: In<bool>,
+    output: Out<bool>,
     /// Per slice, the clock time at which it turns off (None: off).
     until: Vec<Option<f64>>,
     last: Vec<bool>,
@@ -309,9 +398,9 @@ struct MonoFlop {
 impl Node for MonoFlop {
     fn evaluate(&mut self, cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
         let (set, time, retrigger) = (
-            cx.slices::<bool>(0)?,
-            cx.slices::<f32>(1)?,
-            cx.slices::<bool>(2)?,
+            cx.get(self.set)?,
+            cx.get(self.time)?,
+            cx.get(self.retrigger)?,
         );
         let n = slice_count([set.len(), time.len(), retrigger.len()]);
         let edges = rising_edges(&mut self.last, set, n);
@@ -333,7 +422,7 @@ impl Node for MonoFlop {
             // Turning off is a matter of time, not of inputs.
             cx.reevaluate_next_frame();
         }
-        cx.set(0, out);
+        cx.put(self.output, out);
         Ok(())
     }
 }

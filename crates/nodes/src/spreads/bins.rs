@@ -8,7 +8,7 @@
 
 use std::ops::Range;
 
-use spreadlight_graph::{EvalContext, NodeError};
+use spreadlight_graph::{EvalContext, In, NodeError};
 
 use super::MAX_SLICES;
 
@@ -49,11 +49,11 @@ pub(crate) fn partition(len: usize, sizes: &[i64]) -> Vec<Range<usize>> {
 pub(crate) fn bins_of(
     cx: &EvalContext<'_>,
     len: usize,
-    pin: usize,
+    pin: In<i64>,
 ) -> Result<Vec<Range<usize>>, NodeError> {
-    let sizes = cx.slices::<i64>(pin)?;
+    let sizes = cx.get(pin)?;
     if sizes.len() > MAX_SLICES {
-        return Err(cx.input_error(pin, format!("more than {MAX_SLICES} bin sizes")));
+        return Err(cx.error(pin, format!("more than {MAX_SLICES} bin sizes")));
     }
     Ok(partition(len, sizes))
 }

@@ -4,9 +4,10 @@
 //! a spread of any type.
 
 use spreadlight_graph::spread::{cycled, slice_count};
-use spreadlight_graph::{NodeDef, PinType, Registry, SliceValue, Spread};
+use spreadlight_graph::{NodeDef, PinType, Registry, Spread};
 
 use super::MAX_SLICES;
+use crate::typed::Value;
 
 const CATEGORY: &str = "Spreads";
 
@@ -27,12 +28,14 @@ pub fn register(r: &mut Registry) {
             CATEGORY,
             "The number of slices of Input, whatever its type.",
         )
-        .input_spread("Input", PinType::Any, Spread::Float(Vec::new()))
-        .output::<i64>("Count")
-        .evaluate(|cx| {
-            let n = cx.input(0).len() as i64;
-            cx.set(0, vec![n]);
-            Ok(())
+        .with_pins(|p| {
+            let input = p.input_any("Input", PinType::Any, Spread::Float(Vec::new()));
+            let count = p.output::<i64>("Count");
+            move |cx| {
+                let n = cx.spread(input).len() as i64;
+                cx.put(count, vec![n]);
+                Ok(())
+            }
         }),
     );
 }
@@ -59,93 +62,98 @@ fn deal<T: Clone>(input: &[T], ways: usize, bin: usize) -> Vec<Vec<T>> {
     outs
 }
 
-fn zip<T: SliceValue>(name: &'static str, default: T) -> NodeDef {
+fn zip<T: Value>(name: &'static str, default: T) -> NodeDef {
     NodeDef::new(
         name,
         CATEGORY,
         "Interleaves Input 1 and Input 2: slice 0 of each, then slice 1 of each, and so on. \
          The shorter input wraps around; an empty one gives an empty Output.",
     )
-    .input("Input 1", default.clone())
-    .input("Input 2", default)
-    .output::<T>("Output")
-    .evaluate(|cx| {
-        let out = interleave(&[cx.slices::<T>(0)?, cx.slices::<T>(1)?]);
-        cx.set(0, out);
-        Ok(())
+    .with_pins(|p| {
+        let a = p.input("Input 1", default.clone());
+        let b = p.input("Input 2", default);
+        let output = p.output::<T>("Output");
+        move |cx| {
+            let out = interleave(&[cx.get(a)?, cx.get(b)?]);
+            cx.put(output, out);
+            Ok(())
+        }
     })
 }
 
-fn unzip<T: SliceValue>(name: &'static str, default: T) -> NodeDef {
+fn unzip<T: Value>(name: &'static str, default: T) -> NodeDef {
     NodeDef::new(
         name,
         CATEGORY,
         "Takes Input apart in turn, Bin Size slices at a time: the even bins go to Output 1, \
          the odd ones to Output 2 (Zip's inverse). A Bin Size below 1 counts as 1.",
     )
-    .input("Input", default)
-    .input("Bin Size", 1i64)
-    .output::<T>("Output 1")
-    .output::<T>("Output 2")
-    .evaluate(|cx| {
-        let bin = cx.slices::<i64>(1)?.first().copied().unwrap_or(1);
-        let outs = deal(cx.slices::<T>(0)?, 2, usize::try_from(bin).unwrap_or(1));
-        for (k, out) in outs.into_iter().enumerate() {
-            cx.set(k, out);
+    .with_pins(|p| {
+        let input = p.input("Input", default);
+        let bin_size = p.input("Bin Size", 1i64);
+        let outputs = [p.output::<T>("Output 1"), p.output::<T>("Output 2")];
+        move |cx| {
+            let bin = cx.first(bin_size, 1)?;
+            let outs = deal(cx.get(input)?, 2, usize::try_from(bin).unwrap_or(1));
+            for (pin, out) in outputs.into_iter().zip(outs) {
+                cx.put(pin, out);
+            }
+            Ok(())
         }
-        Ok(())
     })
 }
 
-fn stallone_join<T: SliceValue>(name: &'static str, default: T) -> NodeDef {
-    let mut def = NodeDef::new(
+fn stallone_join<T: Value>(name: &'static str, default: T) -> NodeDef {
+    NodeDef::new(
         name,
         CATEGORY,
         "Joins four spreads into one by taking a slice of each in turn (Input 1, 2, 3, 4, then \
          again), as vvvv's Stallone with four inputs: Zip for four. Shorter inputs wrap; an \
          empty one gives an empty Output.",
-    );
-    for pin in STALLONE_INPUTS {
-        def = def.input(pin, default.clone());
-    }
-    def.output::<T>("Output").evaluate(|cx| {
-        let inputs = (0..STALLONE_WAYS)
-            .map(|k| cx.slices::<T>(k))
-            .collect::<Result<Vec<_>, _>>()?;
-        let out = interleave(&inputs);
-        cx.set(0, out);
-        Ok(())
+    )
+    .with_pins(|p| {
+        let inputs = STALLONE_INPUTS.map(|pin| p.input(pin, default.clone()));
+        let output = p.output::<T>("Output");
+        move |cx| {
+            let inputs = inputs
+                .iter()
+                .map(|&pin| cx.get(pin))
+                .collect::<Result<Vec<_>, _>>()?;
+            let out = interleave(&inputs);
+            cx.put(output, out);
+            Ok(())
+        }
     })
 }
 
-fn stallone_split<T: SliceValue>(name: &'static str, default: T) -> NodeDef {
-    let mut def = NodeDef::new(
+fn stallone_split<T: Value>(name: &'static str, default: T) -> NodeDef {
+    NodeDef::new(
         name,
         CATEGORY,
         "Splits Input four ways, as vvvv's Stallone with four outputs: bin 0 (Bin Size slices) \
          goes to Output 1, bin 1 to Output 2, bin 2 to Output 3, bin 3 to Output 4, bin 4 to \
          Output 1 again, and so on. A Bin Size below 1 counts as 1.",
     )
-    .input("Input", default)
-    .input("Bin Size", 1i64);
-    for pin in STALLONE_OUTPUTS {
-        def = def.output::<T>(pin);
-    }
-    def.evaluate(|cx| {
-        let bin = cx.slices::<i64>(1)?.first().copied().unwrap_or(1);
-        let outs = deal(
-            cx.slices::<T>(0)?,
-            STALLONE_WAYS,
-            usize::try_from(bin).unwrap_or(1),
-        );
-        for (k, out) in outs.into_iter().enumerate() {
-            cx.set(k, out);
+    .with_pins(|p| {
+        let input = p.input("Input", default);
+        let bin_size = p.input("Bin Size", 1i64);
+        let outputs = STALLONE_OUTPUTS.map(|pin| p.output::<T>(pin));
+        move |cx| {
+            let bin = cx.first(bin_size, 1)?;
+            let outs = deal(
+                cx.get(input)?,
+                STALLONE_WAYS,
+                usize::try_from(bin).unwrap_or(1),
+            );
+            for (pin, out) in outputs.into_iter().zip(outs) {
+                cx.put(pin, out);
+            }
+            Ok(())
         }
-        Ok(())
     })
 }
 
-fn cons<T: SliceValue>(name: &'static str, default: T) -> NodeDef {
+fn cons<T: Value>(name: &'static str, default: T) -> NodeDef {
     NodeDef::new(
         name,
         CATEGORY,
@@ -153,20 +161,22 @@ fn cons<T: SliceValue>(name: &'static str, default: T) -> NodeDef {
          adds nothing). Output Bin Size gives the two counts, to take the result apart again \
          with GetSlice's Bin Size.",
     )
-    .input("Input 1", default.clone())
-    .input("Input 2", default)
-    .output::<T>("Output")
-    .output::<i64>("Output Bin Size")
-    .evaluate(|cx| {
-        let (a, b) = (cx.slices::<T>(0)?, cx.slices::<T>(1)?);
-        if a.len().saturating_add(b.len()) > MAX_SLICES {
-            return Err(cx.input_error(1, format!("more than {MAX_SLICES} slices")));
+    .with_pins(|p| {
+        let first = p.input("Input 1", default.clone());
+        let second = p.input("Input 2", default);
+        let output = p.output::<T>("Output");
+        let output_bin_size = p.output::<i64>("Output Bin Size");
+        move |cx| {
+            let (a, b) = (cx.get(first)?, cx.get(second)?);
+            if a.len().saturating_add(b.len()) > MAX_SLICES {
+                return Err(cx.error(second, format!("more than {MAX_SLICES} slices")));
+            }
+            let sizes = vec![a.len() as i64, b.len() as i64];
+            let out = [a, b].concat();
+            cx.put(output, out);
+            cx.put(output_bin_size, sizes);
+            Ok(())
         }
-        let sizes = vec![a.len() as i64, b.len() as i64];
-        let out = [a, b].concat();
-        cx.set(0, out);
-        cx.set(1, sizes);
-        Ok(())
     })
 }
 

@@ -10,9 +10,10 @@
 use std::collections::VecDeque;
 
 use spreadlight_graph::spread::{slice_count, wrapped};
-use spreadlight_graph::{EvalContext, Node, NodeDef, NodeError, Registry, SliceValue};
+use spreadlight_graph::{EvalContext, In, Node, NodeDef, NodeError, Out, Registry};
 
 use super::MAX_SLICES;
+use crate::typed::Value;
 
 pub fn register(r: &mut Registry) {
     typed!(r, queue, "Queue", "Spreads");
@@ -21,18 +22,19 @@ pub fn register(r: &mut Registry) {
     typed!(r, sample_hold, "S+H", "Animation");
 }
 
-/// The first slice of a Bool pin, false when empty.
+/// The first slice of a Bool pin, false when empty (by position, for the
+/// nodes outside this folder that still read pins by number).
 pub(crate) fn first_bool(cx: &EvalContext<'_>, pin: usize) -> Result<bool, NodeError> {
     Ok(cx.slices::<bool>(pin)?.first().copied().unwrap_or(false))
 }
 
 /// The first slice of an Int pin as a size; negative or huge values are input errors.
-fn size_pin(cx: &EvalContext<'_>, pin: usize, default: i64) -> Result<usize, NodeError> {
-    let n = cx.slices::<i64>(pin)?.first().copied().unwrap_or(default);
+fn size_pin(cx: &EvalContext<'_>, pin: In<i64>, default: i64) -> Result<usize, NodeError> {
+    let n = cx.first(pin, default)?;
     usize::try_from(n)
         .ok()
         .filter(|&n| n <= MAX_SLICES)
-        .ok_or_else(|| cx.input_error(pin, format!("{n} is not a size from 0 to {MAX_SLICES}")))
+        .ok_or_else(|| cx.error(pin, format!("{n} is not a size from 0 to {MAX_SLICES}")))
 }
 
 /// Bins one after the other, with their sizes.
@@ -45,7 +47,7 @@ fn flatten<'a, T: Clone + 'a>(bins: impl Iterator<Item = &'a Vec<T>>) -> (Vec<T>
     (out, sizes)
 }
 
-fn queue<T: SliceValue>(name: &'static str, default: T) -> NodeDef {
+fn queue<T: Value>(name: &'static str, default: T) -> NodeDef {
     NodeDef::new(
         name,
         "Spreads",
@@ -53,43 +55,67 @@ fn queue<T: SliceValue>(name: &'static str, default: T) -> NodeDef {
          Insert is on, the whole Input spread goes in front, and the oldest falls out beyond \
          Frame Count. Output is newest first, one bin per frame (Output Bin Size). Reset empties it.",
     )
-    .input("Input", default)
-    .input("Insert", false)
-    .input("Frame Count", 10i64)
-    .input("Reset", false)
-    .output::<T>("Output")
-    .output::<i64>("Output Bin Size")
     .stateful()
-    .construct(|| Queue::<T> {
-        frames: VecDeque::new(),
+    .with_pins_node(|p| {
+        let pins = BufferPins {
+            input: p.input("Input", default),
+            set: p.input("Insert", false),
+            size: p.input("Frame Count", 10i64),
+            reset: p.input("Reset", false),
+            output: p.output::<T>("Output"),
+            output_bin_size: p.output::<i64>("Output Bin Size"),
+        };
+        move || Queue::<T> {
+            pins,
+            frames: VecDeque::new(),
+        }
     })
 }
 
-struct Queue<T> {
+/// The pins `Queue` and `RingBuffer` share (Set is Queue's Insert, Size its Frame Count).
+struct BufferPins<T: Value> {
+    input: In<T>,
+    set: In<bool>,
+    size: In<i64>,
+    reset: In<bool>,
+    output: Out<T>,
+    output_bin_size: Out<i64>,
+}
+
+impl<T: Value> Clone for BufferPins<T> {
+    fn clone(&self) -> Self {
+        *self
+    }
+}
+impl<T: Value> Copy for BufferPins<T> {}
+
+struct Queue<T: Value> {
+    pins: BufferPins<T>,
     frames: VecDeque<Vec<T>>,
 }
 
-impl<T: SliceValue> Node for Queue<T> {
+impl<T: Value> Node for Queue<T> {
     fn evaluate(&mut self, cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
-        let keep = size_pin(cx, 2, 10)?;
-        if first_bool(cx, 3)? {
+        let pins = self.pins;
+        let keep = size_pin(cx, pins.size, 10)?;
+        if cx.first(pins.reset, false)? {
             self.frames.clear();
         }
-        let insert = first_bool(cx, 1)?;
+        let insert = cx.first(pins.set, false)?;
         if insert {
-            self.frames.push_front(cx.slices::<T>(0)?.to_vec());
+            self.frames.push_front(cx.get(pins.input)?.to_vec());
             // A held Insert adds a frame every frame, even when the Input stays the same.
             cx.reevaluate_next_frame();
         }
         self.frames.truncate(keep);
         let (out, sizes) = flatten(self.frames.iter());
-        cx.set(0, out);
-        cx.set(1, sizes);
+        cx.put(pins.output, out);
+        cx.put(pins.output_bin_size, sizes);
         Ok(())
     }
 }
 
-fn ring_buffer<T: SliceValue>(name: &'static str, default: T) -> NodeDef {
+fn ring_buffer<T: Value>(name: &'static str, default: T) -> NodeDef {
     NodeDef::new(
         name,
         "Spreads",
@@ -98,86 +124,105 @@ fn ring_buffer<T: SliceValue>(name: &'static str, default: T) -> NodeDef {
          Output lists the slots in slot order (not by age), one bin per slot (Output Bin Size; \
          a slot not written yet is empty). Reset empties every slot and starts again at slot 0.",
     )
-    .input("Input", default)
-    .input("Set", false)
-    .input("Buffer Size", 4i64)
-    .input("Reset", false)
-    .output::<T>("Output")
-    .output::<i64>("Output Bin Size")
-    .output::<i64>("Current Slot")
     .stateful()
-    .construct(|| RingBuffer::<T> {
-        slots: Vec::new(),
-        next: 0,
-        current: -1,
+    .with_pins_node(|p| {
+        let pins = BufferPins {
+            input: p.input("Input", default),
+            set: p.input("Set", false),
+            size: p.input("Buffer Size", 4i64),
+            reset: p.input("Reset", false),
+            output: p.output::<T>("Output"),
+            output_bin_size: p.output::<i64>("Output Bin Size"),
+        };
+        let current_slot = p.output::<i64>("Current Slot");
+        move || RingBuffer::<T> {
+            pins,
+            current_slot,
+            slots: Vec::new(),
+            next: 0,
+            current: -1,
+        }
     })
 }
 
-struct RingBuffer<T> {
+struct RingBuffer<T: Value> {
+    pins: BufferPins<T>,
+    current_slot: Out<i64>,
     slots: Vec<Vec<T>>,
     next: usize,
     current: i64,
 }
 
-impl<T: SliceValue> Node for RingBuffer<T> {
+impl<T: Value> Node for RingBuffer<T> {
     fn evaluate(&mut self, cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
-        let size = size_pin(cx, 2, 4)?;
-        if first_bool(cx, 3)? {
+        let pins = self.pins;
+        let size = size_pin(cx, pins.size, 4)?;
+        if cx.first(pins.reset, false)? {
             self.slots.clear();
             (self.next, self.current) = (0, -1);
         }
         self.slots.resize_with(size, Vec::new);
-        if first_bool(cx, 1)? && size > 0 {
+        if cx.first(pins.set, false)? && size > 0 {
             let slot = self.next % size;
-            self.slots[slot] = cx.slices::<T>(0)?.to_vec();
+            self.slots[slot] = cx.get(pins.input)?.to_vec();
             self.current = slot as i64;
             self.next = (slot + 1) % size;
             cx.reevaluate_next_frame();
         }
         let (out, sizes) = flatten(self.slots.iter());
-        cx.set(0, out);
-        cx.set(1, sizes);
-        cx.set(2, vec![self.current]);
+        cx.put(pins.output, out);
+        cx.put(pins.output_bin_size, sizes);
+        cx.put(self.current_slot, vec![self.current]);
         Ok(())
     }
 }
 
-fn frame_delay<T: SliceValue + PartialEq>(name: &'static str, default: T) -> NodeDef {
+fn frame_delay<T: Value + PartialEq>(name: &'static str, default: T) -> NodeDef {
     NodeDef::new(
         name,
         "Animation",
         "Outputs the Input of the previous frame (Default on the first frame): breaks a \
          feedback loop, or compares a value with its last one.",
     )
-    .input("Input", default.clone())
-    .input("Default", default)
-    .output::<T>("Output")
     .remembers(1)
-    .construct(|| FrameDelay::<T> { previous: None })
+    .with_pins_node(|p| {
+        let input = p.input("Input", default.clone());
+        let default = p.input("Default", default);
+        let output = p.output::<T>("Output");
+        move || FrameDelay::<T> {
+            input,
+            default,
+            output,
+            previous: None,
+        }
+    })
 }
 
-struct FrameDelay<T> {
+struct FrameDelay<T: Value> {
+    input: In<T>,
+    default: In<T>,
+    output: Out<T>,
     previous: Option<Vec<T>>,
 }
 
-impl<T: SliceValue + PartialEq> Node for FrameDelay<T> {
+impl<T: Value + PartialEq> Node for FrameDelay<T> {
     fn evaluate(&mut self, cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
-        let input = cx.slices::<T>(0)?.to_vec();
+        let input = cx.get(self.input)?.to_vec();
         let out = match self.previous.take() {
             Some(previous) => previous,
-            None => cx.slices::<T>(1)?.to_vec(),
+            None => cx.get(self.default)?.to_vec(),
         };
         if out != input {
             // Next frame the output catches up with the input, even if nothing upstream changes.
             cx.reevaluate_next_frame();
         }
         self.previous = Some(input);
-        cx.set(0, out);
+        cx.put(self.output, out);
         Ok(())
     }
 }
 
-fn sample_hold<T: SliceValue>(name: &'static str, default: T) -> NodeDef {
+fn sample_hold<T: Value>(name: &'static str, default: T) -> NodeDef {
     let initial = default.clone();
     NodeDef::new(
         name,
@@ -186,24 +231,32 @@ fn sample_hold<T: SliceValue>(name: &'static str, default: T) -> NodeDef {
          elsewhere it keeps the value it last took (the type's default, 0 for values, until \
          then). Input and Set spread together.",
     )
-    .input("Input", default)
-    .input("Set", false)
-    .output::<T>("Output")
     .stateful()
-    .construct(move || SampleHold::<T> {
-        held: Vec::new(),
-        initial: initial.clone(),
+    .with_pins_node(|p| {
+        let input = p.input("Input", default);
+        let set = p.input("Set", false);
+        let output = p.output::<T>("Output");
+        move || SampleHold::<T> {
+            input,
+            set,
+            output,
+            held: Vec::new(),
+            initial: initial.clone(),
+        }
     })
 }
 
-struct SampleHold<T> {
+struct SampleHold<T: Value> {
+    input: In<T>,
+    set: In<bool>,
+    output: Out<T>,
     held: Vec<T>,
     initial: T,
 }
 
-impl<T: SliceValue> Node for SampleHold<T> {
+impl<T: Value> Node for SampleHold<T> {
     fn evaluate(&mut self, cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
-        let (input, set) = (cx.slices::<T>(0)?, cx.slices::<bool>(1)?);
+        let (input, set) = (cx.get(self.input)?, cx.get(self.set)?);
         let n = slice_count([input.len(), set.len()]);
         self.held.resize(n, self.initial.clone());
         for (i, held) in self.held.iter_mut().enumerate() {
@@ -211,7 +264,7 @@ impl<T: SliceValue> Node for SampleHold<T> {
                 *held = wrapped(input, i).clone();
             }
         }
-        cx.set(0, self.held.clone());
+        cx.put(self.output, self.held.clone());
         Ok(())
     }
 }

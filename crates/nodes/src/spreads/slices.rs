@@ -3,10 +3,12 @@
 //! `typed!`). Indices wrap around, as everywhere in vvvv: -1 is the last slice.
 
 use spreadlight_graph::spread::{slice_count, wrapped};
-use spreadlight_graph::{NodeDef, NodeError, Registry, SliceValue};
+use spreadlight_graph::typed_pins::InputPin;
+use spreadlight_graph::{NodeDef, NodeError, Registry};
 
 use super::MAX_SLICES;
 use super::bins::bins_of;
+use crate::typed::Value;
 
 const CATEGORY: &str = "Spreads";
 
@@ -28,16 +30,16 @@ pub(crate) fn wrap_index(i: i64, len: usize) -> usize {
 /// Refuse outputs over [`MAX_SLICES`] slices, naming the pin that asked for them.
 fn check_total(
     cx: &spreadlight_graph::EvalContext<'_>,
-    pin: usize,
+    pin: impl InputPin,
     total: usize,
 ) -> Result<(), NodeError> {
     if total > MAX_SLICES {
-        return Err(cx.input_error(pin, format!("asks for more than {MAX_SLICES} slices")));
+        return Err(cx.error(pin, format!("asks for more than {MAX_SLICES} slices")));
     }
     Ok(())
 }
 
-fn get_slice<T: SliceValue>(name: &'static str, default: T) -> NodeDef {
+fn get_slice<T: Value>(name: &'static str, default: T) -> NodeDef {
     NodeDef::new(
         name,
         CATEGORY,
@@ -46,31 +48,33 @@ fn get_slice<T: SliceValue>(name: &'static str, default: T) -> NodeDef {
          bin; -k: k equal bins). Indices wrap around: -1 is the last bin. Output Bin Size says \
          how many slices each index gave. An empty Input gives an empty Output.",
     )
-    .input("Input", default)
-    .input("Bin Size", 1i64)
-    .input("Index", 0i64)
-    .output::<T>("Output")
-    .output::<i64>("Output Bin Size")
-    .evaluate(|cx| {
-        let input = cx.slices::<T>(0)?;
-        let index = cx.slices::<i64>(2)?;
-        let bins = bins_of(cx, input.len(), 1)?;
-        let (mut out, mut sizes) = (Vec::new(), Vec::with_capacity(index.len()));
-        if !input.is_empty() && !bins.is_empty() {
-            for &i in index {
-                let bin = bins[wrap_index(i, bins.len())].clone();
-                sizes.push(bin.len() as i64);
-                out.extend_from_slice(&input[bin]);
-                check_total(cx, 2, out.len())?;
+    .with_pins(|p| {
+        let input_pin = p.input("Input", default);
+        let bin_size = p.input("Bin Size", 1i64);
+        let index_pin = p.input("Index", 0i64);
+        let output = p.output::<T>("Output");
+        let output_bin_size = p.output::<i64>("Output Bin Size");
+        move |cx| {
+            let input = cx.get(input_pin)?;
+            let index = cx.get(index_pin)?;
+            let bins = bins_of(cx, input.len(), bin_size)?;
+            let (mut out, mut sizes) = (Vec::new(), Vec::with_capacity(index.len()));
+            if !input.is_empty() && !bins.is_empty() {
+                for &i in index {
+                    let bin = bins[wrap_index(i, bins.len())].clone();
+                    sizes.push(bin.len() as i64);
+                    out.extend_from_slice(&input[bin]);
+                    check_total(cx, index_pin, out.len())?;
+                }
             }
+            cx.put(output, out);
+            cx.put(output_bin_size, sizes);
+            Ok(())
         }
-        cx.set(0, out);
-        cx.set(1, sizes);
-        Ok(())
     })
 }
 
-fn set_slice<T: SliceValue>(name: &'static str, default: T) -> NodeDef {
+fn set_slice<T: Value>(name: &'static str, default: T) -> NodeDef {
     NodeDef::new(
         name,
         CATEGORY,
@@ -79,26 +83,28 @@ fn set_slice<T: SliceValue>(name: &'static str, default: T) -> NodeDef {
          same index wins). Indices wrap around Spread's count. An empty Spread, Input or Index \
          changes nothing.",
     )
-    .input("Spread", default.clone())
-    .input("Input", default)
-    .input("Index", 0i64)
-    .output::<T>("Output")
-    .evaluate(|cx| {
-        let mut out = cx.slices::<T>(0)?.to_vec();
-        let input = cx.slices::<T>(1)?;
-        let index = cx.slices::<i64>(2)?;
-        if !out.is_empty() {
-            let len = out.len();
-            for k in 0..slice_count([input.len(), index.len()]) {
-                out[wrap_index(*wrapped(index, k), len)] = wrapped(input, k).clone();
+    .with_pins(|p| {
+        let spread = p.input("Spread", default.clone());
+        let input = p.input("Input", default);
+        let index = p.input("Index", 0i64);
+        let output = p.output::<T>("Output");
+        move |cx| {
+            let mut out = cx.get(spread)?.to_vec();
+            let input = cx.get(input)?;
+            let index = cx.get(index)?;
+            if !out.is_empty() {
+                let len = out.len();
+                for k in 0..slice_count([input.len(), index.len()]) {
+                    out[wrap_index(*wrapped(index, k), len)] = wrapped(input, k).clone();
+                }
             }
+            cx.put(output, out);
+            Ok(())
         }
-        cx.set(0, out);
-        Ok(())
     })
 }
 
-fn get_spread<T: SliceValue>(name: &'static str, default: T) -> NodeDef {
+fn get_spread<T: Value>(name: &'static str, default: T) -> NodeDef {
     NodeDef::new(
         name,
         CATEGORY,
@@ -106,31 +112,33 @@ fn get_spread<T: SliceValue>(name: &'static str, default: T) -> NodeDef {
          spread: each pair gives a sub-spread and they are output one after the other. A \
          negative Count is an error.",
     )
-    .input("Input", default)
-    .input("Offset", 0i64)
-    .input("Count", 1i64)
-    .output::<T>("Output")
-    .evaluate(|cx| {
-        let input = cx.slices::<T>(0)?;
-        let (offset, count) = (cx.slices::<i64>(1)?, cx.slices::<i64>(2)?);
-        let mut out = Vec::new();
-        if !input.is_empty() {
-            for k in 0..slice_count([offset.len(), count.len()]) {
-                let c = *wrapped(count, k);
-                if c < 0 {
-                    return Err(cx.input_error(2, format!("slice {k}: {c} is negative")));
+    .with_pins(|p| {
+        let input = p.input("Input", default);
+        let offset = p.input("Offset", 0i64);
+        let count_pin = p.input("Count", 1i64);
+        let output = p.output::<T>("Output");
+        move |cx| {
+            let input = cx.get(input)?;
+            let (offset, count) = (cx.get(offset)?, cx.get(count_pin)?);
+            let mut out = Vec::new();
+            if !input.is_empty() {
+                for k in 0..slice_count([offset.len(), count.len()]) {
+                    let c = *wrapped(count, k);
+                    if c < 0 {
+                        return Err(cx.error(count_pin, format!("slice {k}: {c} is negative")));
+                    }
+                    check_total(cx, count_pin, out.len().saturating_add(c as usize))?;
+                    let start = *wrapped(offset, k);
+                    out.extend((0..c).map(|j| input[wrap_index(start + j, input.len())].clone()));
                 }
-                check_total(cx, 2, out.len().saturating_add(c as usize))?;
-                let start = *wrapped(offset, k);
-                out.extend((0..c).map(|j| input[wrap_index(start + j, input.len())].clone()));
             }
+            cx.put(output, out);
+            Ok(())
         }
-        cx.set(0, out);
-        Ok(())
     })
 }
 
-fn select<T: SliceValue>(name: &'static str, default: T) -> NodeDef {
+fn select<T: Value>(name: &'static str, default: T) -> NodeDef {
     NodeDef::new(
         name,
         CATEGORY,
@@ -138,54 +146,58 @@ fn select<T: SliceValue>(name: &'static str, default: T) -> NodeDef {
          Input and Select together. Former Slice gives, for each output slice, the index of \
          the Input slice it came from.",
     )
-    .input("Input", default)
-    .input("Select", 1i64)
-    .output::<T>("Output")
-    .output::<i64>("Former Slice")
-    .evaluate(|cx| {
-        let input = cx.slices::<T>(0)?;
-        let select = cx.slices::<i64>(1)?;
-        let n = slice_count([input.len(), select.len()]);
-        let total = (0..n).fold(0usize, |t, k| {
-            t.saturating_add(usize::try_from(*wrapped(select, k)).unwrap_or(0))
-        });
-        check_total(cx, 1, total)?;
-        let (mut out, mut former) = (Vec::with_capacity(total), Vec::with_capacity(total));
-        for k in 0..n {
-            let times = usize::try_from(*wrapped(select, k)).unwrap_or(0);
-            let source = k % input.len();
-            out.extend(std::iter::repeat_n(input[source].clone(), times));
-            former.extend(std::iter::repeat_n(source as i64, times));
+    .with_pins(|p| {
+        let input = p.input("Input", default);
+        let select_pin = p.input("Select", 1i64);
+        let output = p.output::<T>("Output");
+        let former_slice = p.output::<i64>("Former Slice");
+        move |cx| {
+            let input = cx.get(input)?;
+            let select = cx.get(select_pin)?;
+            let n = slice_count([input.len(), select.len()]);
+            let total = (0..n).fold(0usize, |t, k| {
+                t.saturating_add(usize::try_from(*wrapped(select, k)).unwrap_or(0))
+            });
+            check_total(cx, select_pin, total)?;
+            let (mut out, mut former) = (Vec::with_capacity(total), Vec::with_capacity(total));
+            for k in 0..n {
+                let times = usize::try_from(*wrapped(select, k)).unwrap_or(0);
+                let source = k % input.len();
+                out.extend(std::iter::repeat_n(input[source].clone(), times));
+                former.extend(std::iter::repeat_n(source as i64, times));
+            }
+            cx.put(output, out);
+            cx.put(former_slice, former);
+            Ok(())
         }
-        cx.set(0, out);
-        cx.set(1, former);
-        Ok(())
     })
 }
 
-fn reverse<T: SliceValue>(name: &'static str, default: T) -> NodeDef {
+fn reverse<T: Value>(name: &'static str, default: T) -> NodeDef {
     NodeDef::new(
         name,
         CATEGORY,
         "Input in reverse order. With a Bin Size, the slices are reversed within each bin \
          and the bins stay in place (-1, the default: the whole spread is one bin).",
     )
-    .input("Input", default)
-    .input("Bin Size", -1i64)
-    .output::<T>("Output")
-    .evaluate(|cx| {
-        let input = cx.slices::<T>(0)?;
-        let bins = bins_of(cx, input.len(), 1)?;
-        let out: Vec<T> = bins
-            .into_iter()
-            .flat_map(|b| input[b].iter().rev().cloned())
-            .collect();
-        cx.set(0, out);
-        Ok(())
+    .with_pins(|p| {
+        let input = p.input("Input", default);
+        let bin_size = p.input("Bin Size", -1i64);
+        let output = p.output::<T>("Output");
+        move |cx| {
+            let input = cx.get(input)?;
+            let bins = bins_of(cx, input.len(), bin_size)?;
+            let out: Vec<T> = bins
+                .into_iter()
+                .flat_map(|b| input[b].iter().rev().cloned())
+                .collect();
+            cx.put(output, out);
+            Ok(())
+        }
     })
 }
 
-fn shift<T: SliceValue>(name: &'static str, default: T) -> NodeDef {
+fn shift<T: Value>(name: &'static str, default: T) -> NodeDef {
     NodeDef::new(
         name,
         CATEGORY,
@@ -193,29 +205,31 @@ fn shift<T: SliceValue>(name: &'static str, default: T) -> NodeDef {
          end comes back at the start (-1 moves every slice one step towards the start). With \
          a Bin Size each bin rotates on its own, by its own slice of Offset (wrapping).",
     )
-    .input("Input", default)
-    .input("Offset", 1i64)
-    .input("Bin Size", -1i64)
-    .output::<T>("Output")
-    .evaluate(|cx| {
-        let input = cx.slices::<T>(0)?;
-        let offset = cx.slices::<i64>(1)?;
-        let bins = bins_of(cx, input.len(), 2)?;
-        let mut out = Vec::with_capacity(input.len());
-        if !offset.is_empty() {
-            for (b, bin) in bins.into_iter().enumerate() {
-                let slices = &input[bin];
-                let len = slices.len();
-                let by = if len == 0 {
-                    0
-                } else {
-                    wrap_index(*wrapped(offset, b), len)
-                };
-                out.extend((0..len).map(|i| slices[(i + len - by) % len].clone()));
+    .with_pins(|p| {
+        let input = p.input("Input", default);
+        let offset = p.input("Offset", 1i64);
+        let bin_size = p.input("Bin Size", -1i64);
+        let output = p.output::<T>("Output");
+        move |cx| {
+            let input = cx.get(input)?;
+            let offset = cx.get(offset)?;
+            let bins = bins_of(cx, input.len(), bin_size)?;
+            let mut out = Vec::with_capacity(input.len());
+            if !offset.is_empty() {
+                for (b, bin) in bins.into_iter().enumerate() {
+                    let slices = &input[bin];
+                    let len = slices.len();
+                    let by = if len == 0 {
+                        0
+                    } else {
+                        wrap_index(*wrapped(offset, b), len)
+                    };
+                    out.extend((0..len).map(|i| slices[(i + len - by) % len].clone()));
+                }
             }
+            cx.put(output, out);
+            Ok(())
         }
-        cx.set(0, out);
-        Ok(())
     })
 }
 

@@ -7,6 +7,7 @@ use spreadlight_graph::{Color, NodeDef, Registry, SliceValue};
 
 use super::CATEGORY;
 use crate::color::{linear_to_srgb, srgb_to_linear};
+use crate::typed::Value;
 
 pub fn register(r: &mut Registry) {
     r.add(as_string::<f32>("AsString (Value)", 0.0, |v, d| {
@@ -58,88 +59,60 @@ pub fn register(r: &mut Registry) {
         .output::<String>("Output")
         .per_slice1(|c: &Color| hex(*c)),
     );
-    r.add(
-        NodeDef::new(
-            "AsValue (String)",
-            CATEGORY,
-            "Reads each slice as a number (`1.5`, `-2`, `3e-2`; white space around it is fine). \
-             Text that is not a finite number gives Default and Valid off.",
-        )
-        .input("Input", "0".to_owned())
-        .input("Default", 0.0f32)
-        .output::<f32>("Output")
-        .output::<bool>("Valid")
-        .evaluate(|cx| {
-            let (input, default) = (cx.slices::<String>(0)?, cx.slices::<f32>(1)?);
+    r.add(parse_node(
+        "AsValue (String)",
+        "Reads each slice as a number (`1.5`, `-2`, `3e-2`; white space around it is fine). \
+         Text that is not a finite number gives Default and Valid off.",
+        "0",
+        0.0f32,
+        |s| s.trim().parse::<f32>().ok().filter(|v| v.is_finite()),
+    ));
+    r.add(parse_node(
+        "AsInteger (String)",
+        "Reads each slice as a whole number (`42`, `-7`). Anything else gives Default and \
+         Valid off.",
+        "0",
+        0i64,
+        |s| s.trim().parse::<i64>().ok(),
+    ));
+    r.add(parse_node(
+        "AsColor (String)",
+        "Reads each slice as an sRGB hex colour, `#RGB`, `#RRGGBB` or `#RRGGBBAA` (the `#` \
+         may be left out), and gives the linear colour. Anything else gives Default and \
+         Valid off.",
+        "#FFFFFF",
+        Color::BLACK,
+        parse_hex,
+    ));
+}
+
+/// A node that reads each slice of Input with `parse`, giving Default (and
+/// Valid off) where it cannot.
+fn parse_node<T: Value + Copy>(
+    name: &'static str,
+    help: &'static str,
+    input_default: &str,
+    default: T,
+    parse: fn(&str) -> Option<T>,
+) -> NodeDef {
+    NodeDef::new(name, CATEGORY, help).with_pins(|p| {
+        let input = p.input("Input", input_default.to_owned());
+        let default = p.input("Default", default);
+        let output = p.output::<T>("Output");
+        let valid = p.output::<bool>("Valid");
+        move |cx| {
+            let (input, default) = (cx.get(input)?, cx.get(default)?);
             let n = slice_count([input.len(), default.len()]);
-            let parsed: Vec<Option<f32>> = (0..n)
-                .map(|i| {
-                    wrapped(input, i)
-                        .trim()
-                        .parse::<f32>()
-                        .ok()
-                        .filter(|v| v.is_finite())
-                })
-                .collect();
+            let parsed: Vec<Option<T>> =
+                (0..n).map(|i| parse(wrapped(input, i).as_str())).collect();
             let out = (0..n)
                 .map(|i| parsed[i].unwrap_or(*wrapped(default, i)))
                 .collect();
-            cx.set(0, out);
-            cx.set(1, parsed.iter().map(Option::is_some).collect());
+            cx.put(output, out);
+            cx.put(valid, parsed.iter().map(Option::is_some).collect());
             Ok(())
-        }),
-    );
-    r.add(
-        NodeDef::new(
-            "AsInteger (String)",
-            CATEGORY,
-            "Reads each slice as a whole number (`42`, `-7`). Anything else gives Default and \
-             Valid off.",
-        )
-        .input("Input", "0".to_owned())
-        .input("Default", 0i64)
-        .output::<i64>("Output")
-        .output::<bool>("Valid")
-        .evaluate(|cx| {
-            let (input, default) = (cx.slices::<String>(0)?, cx.slices::<i64>(1)?);
-            let n = slice_count([input.len(), default.len()]);
-            let parsed: Vec<Option<i64>> = (0..n)
-                .map(|i| wrapped(input, i).trim().parse::<i64>().ok())
-                .collect();
-            let out = (0..n)
-                .map(|i| parsed[i].unwrap_or(*wrapped(default, i)))
-                .collect();
-            cx.set(0, out);
-            cx.set(1, parsed.iter().map(Option::is_some).collect());
-            Ok(())
-        }),
-    );
-    r.add(
-        NodeDef::new(
-            "AsColor (String)",
-            CATEGORY,
-            "Reads each slice as an sRGB hex colour, `#RGB`, `#RRGGBB` or `#RRGGBBAA` (the `#` \
-             may be left out), and gives the linear colour. Anything else gives Default and \
-             Valid off.",
-        )
-        .input("Input", "#FFFFFF".to_owned())
-        .input("Default", Color::BLACK)
-        .output::<Color>("Output")
-        .output::<bool>("Valid")
-        .evaluate(|cx| {
-            let (input, default) = (cx.slices::<String>(0)?, cx.slices::<Color>(1)?);
-            let n = slice_count([input.len(), default.len()]);
-            let parsed: Vec<Option<Color>> = (0..n)
-                .map(|i| parse_hex(wrapped(input, i).as_str()))
-                .collect();
-            let out = (0..n)
-                .map(|i| parsed[i].unwrap_or(*wrapped(default, i)))
-                .collect();
-            cx.set(0, out);
-            cx.set(1, parsed.iter().map(Option::is_some).collect());
-            Ok(())
-        }),
-    );
+        }
+    })
 }
 
 fn as_string<T: SliceValue>(

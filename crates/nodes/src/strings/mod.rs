@@ -9,9 +9,10 @@ mod convert;
 mod format;
 
 use spreadlight_graph::spread::{slice_count, wrapped};
-use spreadlight_graph::{EvalContext, NodeDef, NodeError, Registry, SliceValue};
+use spreadlight_graph::{EvalContext, In, Node, NodeDef, NodeError, Out, Registry};
 
 use crate::spreads::MAX_SLICES;
+use crate::typed::Value;
 
 const CATEGORY: &str = "String";
 const FORMAT_INPUTS: [&str; 3] = ["Input 0", "Input 1", "Input 2"];
@@ -44,12 +45,19 @@ pub fn register(r: &mut Registry) {
              characters). Keep Empty keeps the empty pieces between two separators. Former Slice \
              gives, for each piece, the Input slice it came from.",
         )
-        .input("Input", String::new())
-        .input("Separator", " ".to_owned())
-        .input("Keep Empty", false)
-        .output::<String>("Output")
-        .output::<i64>("Former Slice")
-        .evaluate(split),
+        .with_pins(|p| {
+            let input = p.input("Input", String::new());
+            let separator = p.input("Separator", " ".to_owned());
+            let keep_empty = p.input("Keep Empty", false);
+            let output = p.output::<String>("Output");
+            let former_slice = p.output::<i64>("Former Slice");
+            move |cx| {
+                let (pieces, former) = split(cx, input, separator, keep_empty)?;
+                cx.put(output, pieces);
+                cx.put(former_slice, former);
+                Ok(())
+            }
+        }),
     );
     r.add(
         NodeDef::new(
@@ -70,17 +78,19 @@ pub fn register(r: &mut Registry) {
             "Joins the slices of each bin of Input into one text, Intersperse between them \
              (Bin Size -1, the default: the whole spread into one text).",
         )
-        .input("Input", String::new())
-        .input("Intersperse", String::new())
-        .input("Bin Size", -1i64)
-        .output::<String>("Output")
-        .evaluate(|cx| {
-            let input = cx.slices::<String>(0)?;
-            let sep = cx.slices::<String>(1)?.first().cloned().unwrap_or_default();
-            let bins = crate::spreads::bins::bins_of(cx, input.len(), 2)?;
-            let out: Vec<String> = bins.into_iter().map(|b| input[b].join(&sep)).collect();
-            cx.set(0, out);
-            Ok(())
+        .with_pins(|p| {
+            let input = p.input("Input", String::new());
+            let intersperse = p.input("Intersperse", String::new());
+            let bin_size = p.input("Bin Size", -1i64);
+            let output = p.output::<String>("Output");
+            move |cx| {
+                let input = cx.get(input)?;
+                let sep = cx.get(intersperse)?.first().cloned().unwrap_or_default();
+                let bins = crate::spreads::bins::bins_of(cx, input.len(), bin_size)?;
+                let out: Vec<String> = bins.into_iter().map(|b| input[b].join(&sep)).collect();
+                cx.put(output, out);
+                Ok(())
+            }
         }),
     );
     r.add(
@@ -172,31 +182,43 @@ pub fn register(r: &mut Registry) {
     );
 }
 
-fn format_node<T: SliceValue>(
+fn format_node<T: Value>(
     name: &'static str,
     help: &'static str,
     default: T,
     show: fn(&T, Option<usize>) -> String,
 ) -> NodeDef {
-    let mut def = NodeDef::new(name, CATEGORY, help).input("Format", "{0}".to_owned());
-    for pin in FORMAT_INPUTS {
-        def = def.input(pin, default.clone());
-    }
-    def.output::<String>("Output")
-        .construct(move || FormatNode::<T> { show, cache: None })
+    NodeDef::new(name, CATEGORY, help).with_pins_node(|p| {
+        let template = p.input("Format", "{0}".to_owned());
+        let inputs = FORMAT_INPUTS.map(|pin| p.input(pin, default.clone()));
+        let output = p.output::<String>("Output");
+        move || FormatNode::<T> {
+            template,
+            inputs,
+            output,
+            show,
+            cache: None,
+        }
+    })
 }
 
-struct FormatNode<T> {
+struct FormatNode<T: Value> {
+    template: In<String>,
+    /// Input 0 to 2, the `{0}` to `{2}` of the template.
+    inputs: [In<T>; FORMAT_INPUTS.len()],
+    output: Out<String>,
     show: fn(&T, Option<usize>) -> String,
     /// The last template and its parse, so an unchanged template is not parsed again.
     cache: Option<(String, Vec<format::Piece>)>,
 }
 
-impl<T: SliceValue> spreadlight_graph::Node for FormatNode<T> {
+impl<T: Value> Node for FormatNode<T> {
     fn evaluate(&mut self, cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
-        let templates = cx.slices::<String>(0)?;
-        let inputs = (1..=FORMAT_INPUTS.len())
-            .map(|k| cx.slices::<T>(k))
+        let templates = cx.get(self.template)?;
+        let inputs = self
+            .inputs
+            .iter()
+            .map(|&pin| cx.get(pin))
             .collect::<Result<Vec<_>, _>>()?;
         let n = slice_count(
             [templates.len()]
@@ -208,7 +230,7 @@ impl<T: SliceValue> spreadlight_graph::Node for FormatNode<T> {
             let template = wrapped(templates, i);
             if self.cache.as_ref().is_none_or(|(t, _)| t != template) {
                 let pieces = format::parse(template, FORMAT_INPUTS.len())
-                    .map_err(|e| cx.input_error(0, e))?;
+                    .map_err(|e| cx.error(self.template, e))?;
                 self.cache = Some((template.clone(), pieces));
             }
             let (_, pieces) = self.cache.as_ref().expect("just parsed");
@@ -216,17 +238,19 @@ impl<T: SliceValue> spreadlight_graph::Node for FormatNode<T> {
                 (self.show)(wrapped(inputs[k], i), d)
             }));
         }
-        cx.set(0, out);
+        cx.put(self.output, out);
         Ok(())
     }
 }
 
-fn split(cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
-    let (input, sep, keep) = (
-        cx.slices::<String>(0)?,
-        cx.slices::<String>(1)?,
-        cx.slices::<bool>(2)?,
-    );
+/// Split's pieces and, for each, the Input slice it came from.
+fn split(
+    cx: &EvalContext<'_>,
+    input_pin: In<String>,
+    separator: In<String>,
+    keep_empty: In<bool>,
+) -> Result<(Vec<String>, Vec<i64>), NodeError> {
+    let (input, sep, keep) = (cx.get(input_pin)?, cx.get(separator)?, cx.get(keep_empty)?);
     let n = slice_count([input.len(), sep.len(), keep.len()]);
     let (mut out, mut former) = (Vec::new(), Vec::new());
     for i in 0..n {
@@ -241,12 +265,10 @@ fn split(cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
             former.push(i as i64);
         }
         if out.len() > MAX_SLICES {
-            return Err(cx.input_error(0, format!("more than {MAX_SLICES} pieces")));
+            return Err(cx.error(input_pin, format!("more than {MAX_SLICES} pieces")));
         }
     }
-    cx.set(0, out);
-    cx.set(1, former);
-    Ok(())
+    Ok((out, former))
 }
 
 fn substring(s: &str, start: i64, count: i64) -> String {
