@@ -11,7 +11,6 @@ use spreadlight_render::material::MaterialWorld;
 use spreadlight_render::shadows::ShadowMaps;
 
 use crate::gpu::renderer;
-use crate::post::{gbuffer_input, set_texture, texture_output};
 
 const LIGHT_LOOP_OPTIONS: &[&str] = &["Auto", "Clustered", "Naive"];
 
@@ -42,7 +41,8 @@ pub fn register(r: &mut Registry) {
              AddLight has a Shadow Slice is shadowed by that slice.",
         )
         .with_pins(|p| {
-            let g_buffer = gbuffer_input(p);
+            // Not post's pin helpers: Transparency (post) imports this file's LIGHT_LOOPS.
+            let g_buffer = p.input_resource::<GBuffer>("G-Buffer", ResourceKind::GBuffer);
             let lights_in = p.input_resource::<LightBuffer>("Lights", ResourceKind::LightWorld);
             let roughness = p.input("Roughness", 0.5f32);
             let metallic = p.input("Metallic", 0.0f32);
@@ -50,6 +50,9 @@ pub fn register(r: &mut Registry) {
             let energy = p.input("Energy Compensation", true);
             let material_world = p.input_resource::<MaterialWorld>("Material World", ResourceKind::MaterialWorld);
             let shadows_in = p.input_resource::<ShadowMaps>("Shadows", ResourceKind::Shadows);
+            let texture_output = |p: &mut spreadlight_graph::Pins<'_>, name: &'static str| {
+                p.output_resource::<TextureRef>(name, ResourceKind::Texture)
+            };
             let diffuse = texture_output(p, "Diffuse");
             let specular = texture_output(p, "Specular");
             let sss_out = texture_output(p, "SSS");
@@ -79,8 +82,8 @@ pub fn register(r: &mut Registry) {
                     return Err(cx.error(shadows_in, format!("holds shadows of {:?} lights, but Lights holds {:?} lights", s.kind, lights.kind)));
                 }
                 let recipe = CookTorrance::with_shadows(&renderer, Some(cx.node_id.0), gbuffer, lights, mode, energy, surfaces, shadows);
-                set_texture(cx, diffuse, recipe.diffuse_texture());
-                set_texture(cx, specular, recipe.specular_texture());
+                cx.put_resources(diffuse, vec![std::sync::Arc::new(recipe.diffuse_texture())]);
+                cx.put_resources(specular, vec![std::sync::Arc::new(recipe.specular_texture())]);
                 // Only when some material scatters (FakeSSS above 0): otherwise there is no subsurface term to pass on.
                 let sss: Vec<std::sync::Arc<TextureRef>> = recipe.sss_texture().map(std::sync::Arc::new).into_iter().collect();
                 cx.put_resources(sss_out, sss);

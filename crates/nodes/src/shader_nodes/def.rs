@@ -3,10 +3,10 @@
 //! a file declares) and `node.rs` (how a node of it evaluates), so neither
 //! of those needs the other's insides.
 
-use std::sync::{Arc, Mutex};
+use std::sync::Arc;
 
-use spreadlight_graph::{Color, EnumDef, NodeDef, NodeError, PinType, ResourceKind, Spread};
-use spreadlight_render::shader_nodes::{ParamKind, ParamPin, ShaderNodeError};
+use spreadlight_graph::{NodeDef, NodeError, PinType, ResourceKind};
+use spreadlight_render::shader_nodes::ShaderNodeError;
 
 use super::node::{Broken, ShaderNode};
 use super::pins::ShaderPins;
@@ -67,64 +67,6 @@ impl ShaderType {
             let pins = Arc::new(ShaderPins::declare(&ty, p));
             move || ShaderNode::new(ty.clone(), pins.clone(), error.clone())
         })
-    }
-}
-
-/// The `EnumDef` of a shader file's `@enum` pin. Pin types name enums by
-/// `&'static`, so each distinct (name, options) is made once and kept:
-/// reloading a file that did not change its options makes none.
-pub(super) fn enum_def(name: &str, options: &[&str]) -> &'static EnumDef {
-    static DEFS: Mutex<Vec<&'static EnumDef>> = Mutex::new(Vec::new());
-    let mut defs = DEFS.lock().unwrap_or_else(|e| e.into_inner());
-    if let Some(found) = defs.iter().find(|d| d.name == name && d.options == options) {
-        return found;
-    }
-    let options: Vec<&'static str> = options
-        .iter()
-        .map(|o| &*Box::leak(o.to_string().into_boxed_str()))
-        .collect();
-    let made: &'static EnumDef = Box::leak(Box::new(EnumDef {
-        name: Box::leak(name.to_owned().into_boxed_str()),
-        options: Box::leak(options.into_boxed_slice()),
-    }));
-    defs.push(made);
-    made
-}
-
-/// A field's pin type and its default as a one-slice spread.
-pub(super) fn pin_default(p: &ParamPin) -> (PinType, Spread) {
-    let v = &p.default;
-    let at = |i: usize| v.get(i).copied().unwrap_or(0.0);
-    match p.kind {
-        ParamKind::Float => (PinType::Float, Spread::Float(vec![at(0)])),
-        ParamKind::Int => (PinType::Int, Spread::Int(vec![at(0) as i64])),
-        ParamKind::Bool => (PinType::Bool, Spread::Bool(vec![at(0) != 0.0])),
-        ParamKind::Vec2 => (
-            PinType::Vec2,
-            Spread::Vec2(vec![glam::Vec2::new(at(0), at(1))]),
-        ),
-        ParamKind::Vec3 => (
-            PinType::Vec3,
-            Spread::Vec3(vec![glam::Vec3::new(at(0), at(1), at(2))]),
-        ),
-        ParamKind::Vec4 => (
-            PinType::Vec4,
-            Spread::Vec4(vec![glam::Vec4::new(at(0), at(1), at(2), at(3))]),
-        ),
-        ParamKind::Color => (
-            PinType::Color,
-            Spread::Color(vec![Color::rgba(at(0), at(1), at(2), at(3))]),
-        ),
-        ParamKind::Mat4 => {
-            let mut cols = [0.0; 16];
-            for (i, c) in cols.iter_mut().enumerate() {
-                *c = at(i);
-            }
-            (
-                PinType::Mat4,
-                Spread::Mat4(vec![glam::Mat4::from_cols_array(&cols)]),
-            )
-        }
     }
 }
 

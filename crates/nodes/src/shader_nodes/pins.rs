@@ -4,14 +4,17 @@
 //! many pins a node has is its file's: texture inputs, fields, switches,
 //! enums and extra outputs are families, a handle each, in the file's order.
 
+use std::sync::Mutex;
+
 use spreadlight_graph::{
-    AnySpread, Choice, EvalContext, In, Out, PinType, Pins, Res, ResourceKind, Spread,
+    AnySpread, Choice, Color, EnumDef, EvalContext, In, Out, PinType, Pins, Res, ResourceKind,
+    Spread,
 };
 use spreadlight_render::TextureRef;
 use spreadlight_render::gbuffer::{GBuffer, Layer};
 use spreadlight_render::lighting::{LightBuffer, LightLoop};
 use spreadlight_render::material::MaterialWorld;
-use spreadlight_render::shader_nodes::ParamKind;
+use spreadlight_render::shader_nodes::{ParamKind, ParamPin};
 use spreadlight_render::shadows::ShadowMaps;
 
 use super::shader_type::{BoolPin, ShaderType};
@@ -107,7 +110,7 @@ impl ShaderPins {
             .params()
             .iter()
             .map(|field| {
-                let (pin_type, default) = super::def::pin_default(field);
+                let (pin_type, default) = pin_default(field);
                 let pin = p.input_any(field.display.clone(), pin_type, default);
                 // Colours and matrices are not ranges (write_param holds the rest to it).
                 if (field.min.is_some() || field.max.is_some())
@@ -138,7 +141,7 @@ impl ShaderPins {
                 let options: Vec<&str> = e.options.iter().map(String::as_str).collect();
                 p.input_any(
                     e.display.clone(),
-                    PinType::Enum(super::def::enum_def(&e.display, &options)),
+                    PinType::Enum(enum_def(&e.display, &options)),
                     Spread::Enum(vec![e.options[e.default].clone()]),
                 )
             })
@@ -195,5 +198,63 @@ impl ShaderPins {
         let switches = self.switches.iter().map(|p| cx.spread(*p).len());
         let enums = self.enums.iter().map(|p| cx.spread(*p).len());
         params.chain(switches).chain(enums).collect()
+    }
+}
+
+/// The `EnumDef` of a shader file's `@enum` pin. Pin types name enums by
+/// `&'static`, so each distinct (name, options) is made once and kept:
+/// reloading a file that did not change its options makes none.
+fn enum_def(name: &str, options: &[&str]) -> &'static EnumDef {
+    static DEFS: Mutex<Vec<&'static EnumDef>> = Mutex::new(Vec::new());
+    let mut defs = DEFS.lock().unwrap_or_else(|e| e.into_inner());
+    if let Some(found) = defs.iter().find(|d| d.name == name && d.options == options) {
+        return found;
+    }
+    let options: Vec<&'static str> = options
+        .iter()
+        .map(|o| &*Box::leak(o.to_string().into_boxed_str()))
+        .collect();
+    let made: &'static EnumDef = Box::leak(Box::new(EnumDef {
+        name: Box::leak(name.to_owned().into_boxed_str()),
+        options: Box::leak(options.into_boxed_slice()),
+    }));
+    defs.push(made);
+    made
+}
+
+/// A field's pin type and its default as a one-slice spread.
+fn pin_default(p: &ParamPin) -> (PinType, Spread) {
+    let v = &p.default;
+    let at = |i: usize| v.get(i).copied().unwrap_or(0.0);
+    match p.kind {
+        ParamKind::Float => (PinType::Float, Spread::Float(vec![at(0)])),
+        ParamKind::Int => (PinType::Int, Spread::Int(vec![at(0) as i64])),
+        ParamKind::Bool => (PinType::Bool, Spread::Bool(vec![at(0) != 0.0])),
+        ParamKind::Vec2 => (
+            PinType::Vec2,
+            Spread::Vec2(vec![glam::Vec2::new(at(0), at(1))]),
+        ),
+        ParamKind::Vec3 => (
+            PinType::Vec3,
+            Spread::Vec3(vec![glam::Vec3::new(at(0), at(1), at(2))]),
+        ),
+        ParamKind::Vec4 => (
+            PinType::Vec4,
+            Spread::Vec4(vec![glam::Vec4::new(at(0), at(1), at(2), at(3))]),
+        ),
+        ParamKind::Color => (
+            PinType::Color,
+            Spread::Color(vec![Color::rgba(at(0), at(1), at(2), at(3))]),
+        ),
+        ParamKind::Mat4 => {
+            let mut cols = [0.0; 16];
+            for (i, c) in cols.iter_mut().enumerate() {
+                *c = at(i);
+            }
+            (
+                PinType::Mat4,
+                Spread::Mat4(vec![glam::Mat4::from_cols_array(&cols)]),
+            )
+        }
     }
 }
