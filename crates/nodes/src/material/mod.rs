@@ -22,7 +22,7 @@ pub mod parameter_texture;
 use std::sync::Arc;
 
 use spreadlight_graph::typed_pins::InputPin;
-use spreadlight_graph::{EvalContext, In, NodeError, Out, PinType, Pins, Registry, Res, ResourceKind};
+use spreadlight_graph::{EvalContext, In, NodeError, Out, Pins, Registry, Res, ResourceKind};
 use spreadlight_render::material::{Feature, FeatureError, Material};
 
 pub const CATEGORY: &str = "Material";
@@ -35,9 +35,6 @@ pub fn register(r: &mut Registry) {
     material_by_name::register(r);
     material_buffer::register(r);
 }
-
-/// The pin type of a CPU-side material.
-pub const MATERIAL: PinType = PinType::Resource(ResourceKind::Material);
 
 /// A pin of CPU-side materials (unconnected: no slices, read as "a new
 /// material" by the feature nodes).
