@@ -1,7 +1,7 @@
 //! `GBufferView`: one G-buffer channel as a texture, for looking at.
 
 use spreadlight_graph::{Choices, NodeDef, NodeError, Registry};
-use spreadlight_render::gbuffer::{Channel, GBuffer, GBufferView};
+use spreadlight_render::gbuffer::{Channel, GBufferView};
 
 use crate::gpu::renderer;
 use crate::post::{gbuffer_input, set_texture, texture_output};

@@ -3,7 +3,7 @@
 //! G-buffer's material id (until the MaterialBuffer lands).
 
 use spreadlight_graph::spread::{cycled, slice_count};
-use spreadlight_graph::{EnumDef, NodeDef, NodeError, Registry, ResourceKind};
+use spreadlight_graph::{NodeDef, NodeError, Registry, ResourceKind};
 use spreadlight_render::TextureRef;
 use spreadlight_render::gbuffer::GBuffer;
 use spreadlight_render::lighting::{CookTorrance, LightBuffer, LightLoop, Surfaces};
@@ -14,12 +14,7 @@ use crate::gpu::renderer;
 
 const LIGHT_LOOP_OPTIONS: &[&str] = &["Auto", "Clustered", "Naive"];
 
-pub static LIGHT_LOOP: EnumDef = EnumDef {
-    name: "Light Loop",
-    options: LIGHT_LOOP_OPTIONS,
-};
-
-/// The Light Loop pin's options as values, for nodes with typed pins.
+/// The Light Loop pin's options as values (CookTorrance, light shader nodes, Transparency).
 pub static LIGHT_LOOPS: spreadlight_graph::Choices<LightLoop> = spreadlight_graph::Choices::new(
     "Light Loop",
     LIGHT_LOOP_OPTIONS,

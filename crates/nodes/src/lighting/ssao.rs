@@ -5,7 +5,7 @@
 //! pairs the two.
 
 use spreadlight_graph::{
-    Choice, Choices, EvalContext, In, NodeDef, NodeError, Pins, Registry, Res, ResourceKind,
+    Choice, Choices, EvalContext, In, NodeDef, NodeError, Pins, Registry, Res,
 };
 use spreadlight_render::gbuffer::GBuffer;
 use spreadlight_render::resolution::Resolution;
