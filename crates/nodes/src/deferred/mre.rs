@@ -16,7 +16,11 @@ use crate::gpu::renderer;
 pub static RASTER: Choices<RasterChoice> = Choices::new(
     "Raster",
     &["Auto", "Compute", "Hardware"],
-    &[RasterChoice::Auto, RasterChoice::Compute, RasterChoice::Hardware],
+    &[
+        RasterChoice::Auto,
+        RasterChoice::Compute,
+        RasterChoice::Hardware,
+    ],
 );
 
 pub fn register(r: &mut Registry) {

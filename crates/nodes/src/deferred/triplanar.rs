@@ -6,7 +6,6 @@ use spreadlight_graph::{NodeDef, Registry, ResourceKind};
 use spreadlight_render::gbuffer::{Layer, TRIPLANAR_SHARPNESS};
 use std::sync::Arc;
 
-
 pub fn register(r: &mut Registry) {
     r.add(
         NodeDef::new(

@@ -5,7 +5,9 @@
 
 use std::sync::Arc;
 
-use spreadlight_graph::{EvalContext, In, NodeDef, NodeError, Out, Pins, Registry, Res, ResourceKind};
+use spreadlight_graph::{
+    EvalContext, In, NodeDef, NodeError, Out, Pins, Registry, Res, ResourceKind,
+};
 use spreadlight_render::environment::{
     Environment, EnvironmentQuality, EnvironmentSource, EquirectImage,
 };

@@ -44,7 +44,11 @@ pub enum UpdateKind {
 pub static PROBE_UPDATE: Choices<UpdateKind> = Choices::new(
     "Probe Update",
     &["On Change", "Every N Frames", "Once"],
-    &[UpdateKind::OnChange, UpdateKind::EveryNFrames, UpdateKind::Once],
+    &[
+        UpdateKind::OnChange,
+        UpdateKind::EveryNFrames,
+        UpdateKind::Once,
+    ],
 );
 
 #[derive(Clone, Copy)]

@@ -196,7 +196,10 @@ impl Node for GltfNode {
         let pins = self.pins;
         let first = cx.first(pins.first_id, 0)?;
         if !(0..=MAX_FIRST_ID).contains(&first) {
-            return Err(cx.error(pins.first_id, format!("{first} is outside 0..={MAX_FIRST_ID}")));
+            return Err(cx.error(
+                pins.first_id,
+                format!("{first} is outside 0..={MAX_FIRST_ID}"),
+            ));
         }
         let time = cx.first(pins.time, 0.0)?;
         let animation = cx.first(pins.animation, -1)?;

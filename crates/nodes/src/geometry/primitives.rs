@@ -49,13 +49,18 @@ pub fn register(r: &mut Registry) {
             let stacks = p.input("Stacks", 16i64);
             let out = mesh_output(p, "Mesh");
             move |cx| {
-                let meshes = map3(cx.get(radius)?, cx.get(sectors)?, cx.get(stacks)?, |r, se, st| {
-                    sphere(SphereParams {
-                        radius: *r,
-                        sectors: count(*se),
-                        stacks: count(*st),
-                    })
-                });
+                let meshes = map3(
+                    cx.get(radius)?,
+                    cx.get(sectors)?,
+                    cx.get(stacks)?,
+                    |r, se, st| {
+                        sphere(SphereParams {
+                            radius: *r,
+                            sectors: count(*se),
+                            stacks: count(*st),
+                        })
+                    },
+                );
                 upload(cx, out, meshes)
             }
         }),
@@ -72,13 +77,18 @@ pub fn register(r: &mut Registry) {
             let resolution_y = p.input("Resolution Y", 10i64);
             let out = mesh_output(p, "Mesh");
             move |cx| {
-                let meshes = map3(cx.get(size)?, cx.get(resolution_x)?, cx.get(resolution_y)?, |s, x, y| {
-                    grid(GridParams {
-                        size: *s,
-                        resolution_x: count(*x),
-                        resolution_y: count(*y),
-                    })
-                });
+                let meshes = map3(
+                    cx.get(size)?,
+                    cx.get(resolution_x)?,
+                    cx.get(resolution_y)?,
+                    |s, x, y| {
+                        grid(GridParams {
+                            size: *s,
+                            resolution_x: count(*x),
+                            resolution_y: count(*y),
+                        })
+                    },
+                );
                 upload(cx, out, meshes)
             }
         }),
@@ -140,31 +150,30 @@ pub fn register(r: &mut Registry) {
         }),
     );
     r.add(
-        NodeDef::new("Torus", CATEGORY, "A torus around Y in the XZ plane.")
-            .with_pins(|p| {
-                let major_radius = p.input("Major Radius", 0.5f32);
-                let minor_radius = p.input("Minor Radius", 0.2f32);
-                let major_segments = p.input("Major Segments", 32i64);
-                let minor_segments = p.input("Minor Segments", 16i64);
-                let out = mesh_output(p, "Mesh");
-                move |cx| {
-                    let meshes = map4(
-                        cx.get(major_radius)?,
-                        cx.get(minor_radius)?,
-                        cx.get(major_segments)?,
-                        cx.get(minor_segments)?,
-                        |a, b, s, t| {
-                            torus(TorusParams {
-                                major_radius: *a,
-                                minor_radius: *b,
-                                major_segments: count(*s),
-                                minor_segments: count(*t),
-                            })
-                        },
-                    );
-                    upload(cx, out, meshes)
-                }
-            }),
+        NodeDef::new("Torus", CATEGORY, "A torus around Y in the XZ plane.").with_pins(|p| {
+            let major_radius = p.input("Major Radius", 0.5f32);
+            let minor_radius = p.input("Minor Radius", 0.2f32);
+            let major_segments = p.input("Major Segments", 32i64);
+            let minor_segments = p.input("Minor Segments", 16i64);
+            let out = mesh_output(p, "Mesh");
+            move |cx| {
+                let meshes = map4(
+                    cx.get(major_radius)?,
+                    cx.get(minor_radius)?,
+                    cx.get(major_segments)?,
+                    cx.get(minor_segments)?,
+                    |a, b, s, t| {
+                        torus(TorusParams {
+                            major_radius: *a,
+                            minor_radius: *b,
+                            major_segments: count(*s),
+                            minor_segments: count(*t),
+                        })
+                    },
+                );
+                upload(cx, out, meshes)
+            }
+        }),
     );
 }
 

@@ -4,7 +4,9 @@
 //! point; and `Spline`, the same curve's points on the CPU as a spread.
 
 use glam::{Vec3, Vec4};
-use spreadlight_graph::{Choice, Choices, EvalContext, In, Node, NodeDef, NodeError, Out, Registry, Res};
+use spreadlight_graph::{
+    Choice, Choices, EvalContext, In, Node, NodeDef, NodeError, Out, Registry, Res,
+};
 use spreadlight_render::geometry::{Curve, Sweep, curve_point, spline};
 use spreadlight_render::mesh_arena::GpuMesh;
 

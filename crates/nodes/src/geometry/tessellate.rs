@@ -56,7 +56,10 @@ impl Node for Tessellate {
             return Err(cx.error(self.max_area, format!("{max_area} is not a positive area")));
         }
         if !(1..=i64::from(MAX_LEVEL)).contains(&level) {
-            return Err(cx.error(self.max_level, format!("{level} is not within 1..{MAX_LEVEL}")));
+            return Err(cx.error(
+                self.max_level,
+                format!("{level} is not within 1..{MAX_LEVEL}"),
+            ));
         }
         let signatures = meshes
             .iter()

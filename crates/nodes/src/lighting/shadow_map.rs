@@ -34,7 +34,12 @@ pub enum FilterKind {
 pub static SHADOW_FILTER: Choices<FilterKind> = Choices::new(
     "Shadow Filter",
     &["Raw", "PCF", "PCSS", "VSM"],
-    &[FilterKind::Raw, FilterKind::Pcf, FilterKind::Pcss, FilterKind::Vsm],
+    &[
+        FilterKind::Raw,
+        FilterKind::Pcf,
+        FilterKind::Pcss,
+        FilterKind::Vsm,
+    ],
 );
 
 /// The pins the three nodes share (the sun's cascade pins follow them), and
@@ -181,7 +186,12 @@ fn settings<T: Send + Sync + 'static>(
     cx: &EvalContext<'_>,
     pins: ShadowPins<T>,
 ) -> Result<ShadowSettings, NodeError> {
-    for pin in [pins.light_size, pins.bleeding, pins.depth_bias, pins.normal_bias] {
+    for pin in [
+        pins.light_size,
+        pins.bleeding,
+        pins.depth_bias,
+        pins.normal_bias,
+    ] {
         super::require_finite(cx, pin)?;
     }
     let resolution = cx.first(pins.resolution, 1024)?;

@@ -93,7 +93,10 @@ impl Common {
     }
 }
 
-fn gbuffer(cx: &EvalContext<'_>, pin: In<Res<GBuffer>>) -> Result<std::sync::Arc<GBuffer>, NodeError> {
+fn gbuffer(
+    cx: &EvalContext<'_>,
+    pin: In<Res<GBuffer>>,
+) -> Result<std::sync::Arc<GBuffer>, NodeError> {
     cx.first_resource(pin)?
         .ok_or_else(|| cx.error(pin, "no G-buffer connected: AO reads its depth and normals"))
 }

@@ -11,7 +11,9 @@
 //! that is the matcap image itself.
 
 use spreadlight_graph::typed_pins::InputPin;
-use spreadlight_graph::{Choice, Choices, Color, EvalContext, In, NodeDef, NodeError, Out, Pins, Registry, Res};
+use spreadlight_graph::{
+    Choice, Choices, Color, EvalContext, In, NodeDef, NodeError, Out, Pins, Registry, Res,
+};
 use spreadlight_render::material::{Feature, MatCapMapping, MatCapMode, Material, matcap_params};
 
 use super::{
@@ -199,9 +201,15 @@ fn add_matcap(cx: &mut EvalContext<'_>, pins: MatCapPins) -> Result<(), NodeErro
         let mapping = mappings[slice % mappings.len()];
         params.push(matcap_params(s, mode, mapping));
     }
-    set_feature(cx, pins.material, pins.out, n, pins.strength, Some(pins.layer), |_, slice| {
-        Ok((Feature::MatCap, vec![params[slice]]))
-    })
+    set_feature(
+        cx,
+        pins.material,
+        pins.out,
+        n,
+        pins.strength,
+        Some(pins.layer),
+        |_, slice| Ok((Feature::MatCap, vec![params[slice]])),
+    )
 }
 
 /// The value pins of a helper as per-slice components.
@@ -228,7 +236,10 @@ fn add(cx: &mut EvalContext<'_>, pins: &FeaturePins, feature: Feature) -> Result
             ValuePin::Float(pin) => Values::Float(cx.get(pin)?),
         });
     }
-    let n = slice_count_with_materials(cx.spread(pins.material).len(), values.iter().map(Values::len));
+    let n = slice_count_with_materials(
+        cx.spread(pins.material).len(),
+        values.iter().map(Values::len),
+    );
     let mut params = Vec::with_capacity(n);
     for slice in 0..n {
         // n > 0 means no pin is empty.
@@ -250,7 +261,13 @@ fn add(cx: &mut EvalContext<'_>, pins: &FeaturePins, feature: Feature) -> Result
         params.push([components[0], components[1], components[2], components[3]]);
     }
     // A refused setting is named on the first value pin.
-    set_feature(cx, pins.material, pins.out, n, pins.param, pins.texture, |_, slice| {
-        Ok((feature, vec![params[slice]]))
-    })
+    set_feature(
+        cx,
+        pins.material,
+        pins.out,
+        n,
+        pins.param,
+        pins.texture,
+        |_, slice| Ok((feature, vec![params[slice]])),
+    )
 }

@@ -106,7 +106,12 @@ pub fn set_feature(
 }
 
 /// A `FeatureError` as an input error on `pin` at `slice`.
-pub fn refused(cx: &EvalContext<'_>, pin: impl InputPin, slice: usize, e: FeatureError) -> NodeError {
+pub fn refused(
+    cx: &EvalContext<'_>,
+    pin: impl InputPin,
+    slice: usize,
+    e: FeatureError,
+) -> NodeError {
     cx.error(pin, format!("slice {slice}: {e}"))
 }
 

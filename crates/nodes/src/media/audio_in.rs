@@ -4,8 +4,8 @@
 //! patch runs on. The device is tried again when a pin changes, not every
 //! frame: a missing device would otherwise cost an ALSA probe per frame.
 
-use spreadlight_audio::input::LiveInput;
 use spreadlight_audio::AudioWindow;
+use spreadlight_audio::input::LiveInput;
 use spreadlight_graph::{In, Node, NodeDef, NodeError, Out, Registry, Res};
 
 use super::{CATEGORY, audio_output, put_audio};

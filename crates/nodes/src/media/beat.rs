@@ -4,8 +4,8 @@
 //! frames that are new; the result equals a computation from scratch, so a
 //! render is deterministic.
 
-use spreadlight_audio::beat::{OnsetTracker, PEAK_FRAMES, onsets, tempo};
 use spreadlight_audio::AudioWindow;
+use spreadlight_audio::beat::{OnsetTracker, PEAK_FRAMES, onsets, tempo};
 use spreadlight_graph::{In, Node, NodeDef, NodeError, Out, Registry, Res};
 
 use super::{CATEGORY, audio, audio_input};

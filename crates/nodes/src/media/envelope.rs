@@ -29,18 +29,18 @@ pub fn register(r: &mut Registry) {
             p.range(0.0, 2.0);
             let envelope = p.output::<f32>("Envelope");
             move |cx| {
-            let sounds = audio(cx, audio_in)?;
-            let attack = cx.first(attack_in, 0.01)?.clamp(0.0, 2.0);
-            let release = cx.first(release_in, 0.2)?.clamp(0.0, 2.0);
-            let seconds = f64::from(memory_seconds(attack, release).clamp(0.001, MAX_SECONDS));
-            let mut samples = Vec::new();
-            let mut out = Vec::new();
-            for w in &sounds {
-                w.last_into(w.samples_in(seconds), &mut samples);
-                out.push(follow(&samples, w.rate(), attack, release, 0.0));
-            }
-            cx.put(envelope, out);
-            Ok(())
+                let sounds = audio(cx, audio_in)?;
+                let attack = cx.first(attack_in, 0.01)?.clamp(0.0, 2.0);
+                let release = cx.first(release_in, 0.2)?.clamp(0.0, 2.0);
+                let seconds = f64::from(memory_seconds(attack, release).clamp(0.001, MAX_SECONDS));
+                let mut samples = Vec::new();
+                let mut out = Vec::new();
+                for w in &sounds {
+                    w.last_into(w.samples_in(seconds), &mut samples);
+                    out.push(follow(&samples, w.rate(), attack, release, 0.0));
+                }
+                cx.put(envelope, out);
+                Ok(())
             }
         }),
     );

@@ -19,19 +19,19 @@ pub fn register(r: &mut Registry) {
             let rms_out = p.output::<f32>("RMS");
             let peak_out = p.output::<f32>("Peak");
             move |cx| {
-            let sounds = audio(cx, audio_in)?;
-            let seconds = f64::from(cx.first(window, 0.05)?.clamp(0.001, 10.0));
-            let (mut rms, mut peak) = (Vec::new(), Vec::new());
-            let mut samples = Vec::new();
-            for w in &sounds {
-                w.last_into(w.samples_in(seconds), &mut samples);
-                let l = spreadlight_audio::level::level(&samples);
-                rms.push(l.rms);
-                peak.push(l.peak);
-            }
-            cx.put(rms_out, rms);
-            cx.put(peak_out, peak);
-            Ok(())
+                let sounds = audio(cx, audio_in)?;
+                let seconds = f64::from(cx.first(window, 0.05)?.clamp(0.001, 10.0));
+                let (mut rms, mut peak) = (Vec::new(), Vec::new());
+                let mut samples = Vec::new();
+                for w in &sounds {
+                    w.last_into(w.samples_in(seconds), &mut samples);
+                    let l = spreadlight_audio::level::level(&samples);
+                    rms.push(l.rms);
+                    peak.push(l.peak);
+                }
+                cx.put(rms_out, rms);
+                cx.put(peak_out, peak);
+                Ok(())
             }
         }),
     );

@@ -1,8 +1,8 @@
 //! `Spectrum`: an FFT of the latest sound grouped into bands, a spread of
 //! amplitudes to drive anything with (light intensities, particle rates).
 
-use spreadlight_audio::spectrum::{Analyzer, BandScale, bands};
 use spreadlight_audio::AudioWindow;
+use spreadlight_audio::spectrum::{Analyzer, BandScale, bands};
 use spreadlight_graph::{Choice, Choices, In, Node, NodeDef, NodeError, Out, Registry, Res};
 
 use super::{CATEGORY, audio, audio_input};

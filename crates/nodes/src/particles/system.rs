@@ -9,8 +9,7 @@ use std::sync::Arc;
 
 use glam::{Mat4, Vec3, Vec4};
 use spreadlight_graph::{
-    Choice, Choices, EvalContext, In, Node, NodeDef, NodeError, Out, Registry, Res,
-    ResourceKind,
+    Choice, Choices, EvalContext, In, Node, NodeDef, NodeError, Out, Registry, Res, ResourceKind,
 };
 use spreadlight_render::gbuffer::PublishedDepths;
 use spreadlight_render::mesh_arena::GpuMesh;
@@ -197,7 +196,11 @@ struct Particles {
     system: Option<ParticleSystem>,
 }
 
-fn first_mesh(cx: &EvalContext<'_>, pin: In<Res<GpuMesh>>, what: &str) -> Result<Arc<GpuMesh>, NodeError> {
+fn first_mesh(
+    cx: &EvalContext<'_>,
+    pin: In<Res<GpuMesh>>,
+    what: &str,
+) -> Result<Arc<GpuMesh>, NodeError> {
     cx.first_resource(pin)?
         .ok_or_else(|| cx.error(pin, format!("{what} needs a mesh here")))
 }
@@ -232,14 +235,20 @@ impl Particles {
             }))
     }
 
-    fn settings(cx: &EvalContext<'_>, pins: Pins, count: i64) -> Result<ParticleSettings, NodeError> {
+    fn settings(
+        cx: &EvalContext<'_>,
+        pins: Pins,
+        count: i64,
+    ) -> Result<ParticleSettings, NodeError> {
         let size = cx.first(pins.emitter_size, Vec3::ONE)?;
         let shape = match cx.choice(pins.emitter)? {
             EmitterKind::Box => EmitterShape::Box(size),
             EmitterKind::Sphere => EmitterShape::Sphere(size.x),
-            EmitterKind::MeshSurface => {
-                EmitterShape::MeshSurface(first_mesh(cx, pins.emitter_mesh, "Emitter Mesh Surface")?)
-            }
+            EmitterKind::MeshSurface => EmitterShape::MeshSurface(first_mesh(
+                cx,
+                pins.emitter_mesh,
+                "Emitter Mesh Surface",
+            )?),
             EmitterKind::Point => EmitterShape::Point,
         };
         let strength = cx.first(pins.field_strength, 1.0f32)?;
@@ -265,7 +274,10 @@ impl Particles {
         Ok(ParticleSettings {
             emitter: cx.first(pins.emitter_transform, Mat4::IDENTITY)?,
             shape,
-            rate: match (cx.first(pins.rate, 0.0f32)?, cx.first(pins.lifetime, 1.0f32)?) {
+            rate: match (
+                cx.first(pins.rate, 0.0f32)?,
+                cx.first(pins.lifetime, 1.0f32)?,
+            ) {
                 // Negative: keep the ring full (Count a Lifetime).
                 (rate, lifetime) if rate < 0.0 && lifetime > 0.0 => count as f32 / lifetime,
                 (rate, _) => rate,

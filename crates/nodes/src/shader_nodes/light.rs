@@ -79,8 +79,7 @@ pub(super) fn evaluate(
     let textures = super::material::textures(pins, cx)?;
     let defines = slice_defines(ty, pins, cx, 0);
     let (program, fresh) = ty.program(&defines).map_err(Failure::Shader)?;
-    let shader =
-        super::material::spliced(ty, pins, cx, &program, 0, &textures, u64::from(fresh));
+    let shader = super::material::spliced(ty, pins, cx, &program, 0, &textures, u64::from(fresh));
     let recipe = CookTorrance::with_light_shader(
         &renderer,
         Some(cx.node_id.0),

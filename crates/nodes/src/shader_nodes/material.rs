@@ -8,8 +8,8 @@ use std::sync::Arc;
 
 use spreadlight_graph::EvalContext;
 use spreadlight_render::TextureRef;
-use spreadlight_render::shader_nodes::{Builtin, Program, Role};
 use spreadlight_render::gbuffer::{SurfaceBinding, SurfaceShader};
+use spreadlight_render::shader_nodes::{Builtin, Program, Role};
 
 use super::failure::Failure;
 use super::params::{slice_defines, uniform_bytes};

@@ -27,7 +27,11 @@ pub struct ShaderNode {
 }
 
 impl ShaderNode {
-    pub(super) fn new(ty: Arc<ShaderType>, pins: Arc<ShaderPins>, error: Option<NodeError>) -> Self {
+    pub(super) fn new(
+        ty: Arc<ShaderType>,
+        pins: Arc<ShaderPins>,
+        error: Option<NodeError>,
+    ) -> Self {
         ShaderNode { ty, pins, error }
     }
 }

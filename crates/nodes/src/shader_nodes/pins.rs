@@ -103,9 +103,9 @@ impl ShaderPins {
         let gbuffer = ty
             .reads_gbuffer()
             .then(|| p.input_resource::<GBuffer>("G-Buffer", ResourceKind::GBuffer));
-        let materials = ty
-            .materials_pin()
-            .then(|| p.input_resource::<MaterialWorld>(MATERIAL_WORLD, ResourceKind::MaterialWorld));
+        let materials = ty.materials_pin().then(|| {
+            p.input_resource::<MaterialWorld>(MATERIAL_WORLD, ResourceKind::MaterialWorld)
+        });
         let params = ty
             .params()
             .iter()
