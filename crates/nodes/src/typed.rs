@@ -101,20 +101,6 @@ mod tests {
         }
     }
 
-    /// The folders whose nodes still read some pins by position (the GPU
-    /// families, being converted); every other file must name its pins by handle.
-    const NOT_YET_TYPED: &[&str] = &[
-        "lighting",
-        "environment",
-        "material",
-        "deferred",
-        "geometry",
-        "particles",
-        "texture",
-        "media",
-        "shader_nodes",
-    ];
-
     /// Reads of a pin by a literal position in `line`: a number as the first
     /// argument of `slices`, `set`, `input_error` and the like, or as an index
     /// into `inputs` or `outputs`.
@@ -177,8 +163,8 @@ mod tests {
         assert!(positional_reads("cx.put(out, vec![1.0])").is_empty());
     }
 
-    /// No node outside the folders still being converted reads or writes a
-    /// pin by its position: each declares its pins once and uses the handles.
+    /// No node reads or writes a pin by its position: each declares its
+    /// pins once and uses the handles.
     #[test]
     fn converted_nodes_name_their_pins_by_handle() {
         fn visit(dir: &std::path::Path, found: &mut Vec<String>) {
@@ -190,9 +176,7 @@ mod tests {
             for path in entries {
                 let name = path.file_name().and_then(|n| n.to_str()).unwrap_or("");
                 if path.is_dir() {
-                    if !NOT_YET_TYPED.contains(&name) {
-                        visit(&path, found);
-                    }
+                    visit(&path, found);
                 } else if name.ends_with(".rs") {
                     let text = std::fs::read_to_string(&path).expect("a source file reads");
                     for (n, line) in text.lines().enumerate() {

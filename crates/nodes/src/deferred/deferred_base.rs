@@ -8,34 +8,44 @@ use std::sync::Arc;
 use glam::Mat4;
 use spreadlight_graph::spread::{cycled, slice_count};
 use spreadlight_graph::{
-    Color, EnumDef, EvalContext, Node, NodeDef, NodeError, PinType, Registry, ResourceKind, Spread,
+    Choice, Choices, Color, EvalContext, In, Node, NodeDef, NodeError, Out, Registry, Res,
+    ResourceKind, Spread,
 };
 use spreadlight_render::TextureRef;
 use spreadlight_render::gbuffer::{DrawBatch, InstanceInput, Layer, LayerFeatures, VelocitySource};
 use spreadlight_render::material::MaterialWorld;
 use spreadlight_render::mesh_arena::GpuMesh;
 
-use crate::gpu::{resource_spread, resources};
+use crate::post::{optional_texture, texture_input};
 
-pub static VELOCITY: EnumDef = EnumDef {
-    name: "Velocity Source",
-    options: &["Transforms", "Geometry", "Off"],
-};
+pub static VELOCITY: Choices<VelocitySource> = Choices::new(
+    "Velocity Source",
+    &["Transforms", "Geometry", "Off"],
+    &[
+        VelocitySource::Transforms,
+        VelocitySource::Geometry,
+        VelocitySource::Off,
+    ],
+);
 
-const MESH: usize = 0;
-const TRANSFORM: usize = 1;
-const COLOR: usize = 2;
-const MATERIAL_ID: usize = 3;
-const OBJECT_ID: usize = 4;
-const TEXCOORDS: usize = 5;
-const NORMAL_MAPPING: usize = 6;
-const NORMAL_TEXTURE: usize = 7;
-const TRIPLANAR: usize = 8;
-const VELOCITY_PIN: usize = 9;
-const IDS: usize = 10;
-const COLOR_TEXTURE: usize = 11;
-const MATERIAL_WORLD: usize = 12;
-const GEOMETRY_IDS: usize = 13;
+#[derive(Clone, Copy)]
+struct Pins {
+    mesh: In<Res<GpuMesh>>,
+    transform: In<Mat4>,
+    color: In<Color>,
+    material_id: In<i64>,
+    object_id: In<i64>,
+    texcoords: In<bool>,
+    normal_mapping: In<bool>,
+    normal_texture: In<Res<TextureRef>>,
+    triplanar: In<bool>,
+    velocity: In<Choice<VelocitySource>>,
+    ids: In<bool>,
+    color_texture: In<Res<TextureRef>>,
+    material_world: In<Res<MaterialWorld>>,
+    geometry_ids: In<bool>,
+    out: Out<Res<Layer>>,
+}
 
 pub fn register(r: &mut Registry) {
     r.add(
@@ -55,84 +65,69 @@ pub fn register(r: &mut Registry) {
              Velocity Geometry reads the meshes' previous positions (GPU geometry and particles make them); Instance \
              from GeomFX adds each triangle's geometry id (a particle's index, say) to its Object ID.",
         )
-        .input_spread("Mesh", PinType::Resource(ResourceKind::Mesh), Spread::Resource(ResourceKind::Mesh, vec![]))
-        .input("Transform", Mat4::IDENTITY)
-        .input("Color", Color::WHITE)
-        .input("Material ID", 0i64)
-        .input("Object ID", 0i64)
-        .input("Texture Coordinates", false)
-        .input("Normal Mapping", false)
-        .input_spread(
-            "Normal Texture",
-            PinType::Resource(ResourceKind::Texture),
-            Spread::Resource(ResourceKind::Texture, vec![]),
-        )
-        .input("Triplanar", false)
-        .input_enum("Velocity", &VELOCITY, "Transforms")
-        .input("IDs", true)
-        .input_spread(
-            "Color Texture",
-            PinType::Resource(ResourceKind::Texture),
-            Spread::Resource(ResourceKind::Texture, vec![]),
-        )
-        .input_spread(
-            "Material World",
-            PinType::Resource(ResourceKind::MaterialWorld),
-            Spread::Resource(ResourceKind::MaterialWorld, vec![]),
-        )
-        .input("Instance from GeomFX", false)
-        .output_typed("Layer", PinType::Resource(ResourceKind::Layer))
         // Last frame's transforms, for per-object velocity.
         .remembers(1)
-        .construct(DeferredBase::default),
+        .with_pins_node(|p| {
+            let pins = Pins {
+                mesh: p.input_resource::<GpuMesh>("Mesh", ResourceKind::Mesh),
+                transform: p.input("Transform", Mat4::IDENTITY),
+                color: p.input("Color", Color::WHITE),
+                material_id: p.input("Material ID", 0i64),
+                object_id: p.input("Object ID", 0i64),
+                texcoords: p.input("Texture Coordinates", false),
+                normal_mapping: p.input("Normal Mapping", false),
+                normal_texture: texture_input(p, "Normal Texture"),
+                triplanar: p.input("Triplanar", false),
+                velocity: p.input_choice("Velocity", &VELOCITY, VelocitySource::Transforms),
+                ids: p.input("IDs", true),
+                color_texture: texture_input(p, "Color Texture"),
+                material_world: p.input_resource::<MaterialWorld>("Material World", ResourceKind::MaterialWorld),
+                geometry_ids: p.input("Instance from GeomFX", false),
+                out: p.output_resource::<Layer>("Layer", ResourceKind::Layer),
+            };
+            move || DeferredBase {
+                pins,
+                previous: Vec::new(),
+            }
+        }),
     );
 }
 
 /// Keeps last frame's transforms, for velocity.
-#[derive(Default)]
 struct DeferredBase {
+    pins: Pins,
     previous: Vec<Mat4>,
 }
 
 impl Node for DeferredBase {
     fn evaluate(&mut self, cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
-        let meshes = resources::<GpuMesh>(cx, MESH)?;
-        let transforms = cx.slices::<Mat4>(TRANSFORM)?;
-        let colors = cx.slices::<Color>(COLOR)?;
-        let materials = cx.slices::<i64>(MATERIAL_ID)?;
-        let objects = cx.slices::<i64>(OBJECT_ID)?;
-        let flag = |pin: usize| -> Result<bool, NodeError> {
-            Ok(cx.slices::<bool>(pin)?.first().copied().unwrap_or(false))
-        };
-        let velocity = match cx.enum_slices(VELOCITY_PIN)?.first().map(String::as_str) {
-            Some("Geometry") => VelocitySource::Geometry,
-            Some("Off") => VelocitySource::Off,
-            _ => VelocitySource::Transforms,
-        };
+        let pins = self.pins;
+        let meshes = cx.resources(pins.mesh)?;
+        let transforms = cx.get(pins.transform)?;
+        let colors = cx.get(pins.color)?;
+        let materials = cx.get(pins.material_id)?;
+        let objects = cx.get(pins.object_id)?;
+        let flag = |pin: In<bool>| cx.first(pin, false);
+        let velocity = cx.choice(pins.velocity)?;
         let features = LayerFeatures {
-            texcoords: flag(TEXCOORDS)?,
-            normal_map: flag(NORMAL_MAPPING)?,
-            triplanar: flag(TRIPLANAR)?,
+            texcoords: flag(pins.texcoords)?,
+            normal_map: flag(pins.normal_mapping)?,
+            triplanar: flag(pins.triplanar)?,
             velocity,
-            ids: flag(IDS)?,
-            geometry_ids: flag(GEOMETRY_IDS)?,
+            ids: flag(pins.ids)?,
+            geometry_ids: flag(pins.geometry_ids)?,
             // `Triplanar (Layer)` changes it on the way to MRE.
             ..LayerFeatures::default()
         };
-        let first_texture = |pin: usize| -> Result<Option<TextureRef>, NodeError> {
-            Ok(match cx.input(pin) {
-                Spread::Resource(_, v) if !v.is_empty() => resources::<TextureRef>(cx, pin)?
-                    .into_iter()
-                    .next()
-                    .map(|t| (*t).clone()),
+        let first_texture = |pin: In<Res<TextureRef>>| -> Result<Option<TextureRef>, NodeError> {
+            Ok(match cx.spread(pin) {
+                Spread::Resource(_, v) if !v.is_empty() => optional_texture(cx, pin)?,
                 _ => None,
             })
         };
-        let normal_map = first_texture(NORMAL_TEXTURE)?;
-        let world = resources::<MaterialWorld>(cx, MATERIAL_WORLD)?
-            .into_iter()
-            .next();
-        let color_map = first_texture(COLOR_TEXTURE)?;
+        let normal_map = first_texture(pins.normal_texture)?;
+        let world = cx.first_resource(pins.material_world)?;
+        let color_map = first_texture(pins.color_texture)?;
 
         let n = slice_count([
             meshes.len(),
@@ -187,12 +182,9 @@ impl Node for DeferredBase {
         let layer = Layer::new(Some(cx.node_id.0), batches, features, normal_map)
             .map_err(|e| NodeError::Other(e.to_string()))?
             .with_color_map(color_map)
-            .map_err(|e| cx.input_error(COLOR_TEXTURE, e.to_string()))?
+            .map_err(|e| cx.error(pins.color_texture, e.to_string()))?
             .with_materials(world);
-        cx.set_output(
-            0,
-            resource_spread(ResourceKind::Layer, vec![Arc::new(layer)]),
-        );
+        cx.put_resources(pins.out, vec![Arc::new(layer)]);
         Ok(())
     }
 }

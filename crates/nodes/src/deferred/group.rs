@@ -40,32 +40,24 @@ fn group(
     output: &'static str,
 ) -> NodeDef {
     let ty = PinType::Resource(kind);
-    let mut def = NodeDef::new(
+    NodeDef::new(
         name,
         super::CATEGORY,
         "Joins up to four spreads into one, in pin order.",
-    );
-    for input in inputs {
-        def = def.input_spread(input, ty, Spread::Resource(kind, vec![]));
-    }
-    def.output_typed(output, ty).construct(move || Group(kind))
-}
-
-/// Joins its inputs' handles; knows its kind so an empty result is typed right.
-struct Group(ResourceKind);
-
-impl spreadlight_graph::Node for Group {
-    fn evaluate(
-        &mut self,
-        cx: &mut spreadlight_graph::EvalContext<'_>,
-    ) -> Result<(), spreadlight_graph::NodeError> {
-        let mut joined = Vec::new();
-        for pin in 0..4 {
-            if let Spread::Resource(_, handles) = cx.input(pin) {
-                joined.extend(handles.iter().cloned());
+    )
+    .with_pins(|p| {
+        let inputs = inputs.map(|input| p.input_any(input, ty, Spread::Resource(kind, vec![])));
+        let out = p.output_any(output, ty);
+        // Knows its kind so an empty result is typed right.
+        move |cx| {
+            let mut joined = Vec::new();
+            for pin in inputs {
+                if let Spread::Resource(_, handles) = cx.spread(pin) {
+                    joined.extend(handles.iter().cloned());
+                }
             }
+            cx.put_spread(out, Spread::Resource(kind, joined));
+            Ok(())
         }
-        cx.set_output(0, Spread::Resource(self.0, joined));
-        Ok(())
-    }
+    })
 }

@@ -5,18 +5,23 @@ use std::sync::Mutex;
 
 use glam::{Mat4, Vec2};
 use spreadlight_graph::{
-    EnumDef, EvalContext, Node, NodeDef, NodeError, PinType, Registry, ResourceKind, Spread,
+    Choice, Choices, EvalContext, In, Node, NodeDef, NodeError, Out, Registry, Res, ResourceKind,
 };
 use spreadlight_render::SizeRule;
 use spreadlight_render::camera::{CameraInput, jittered};
 use spreadlight_render::gbuffer::{GBuffer, Layer, RasterChoice};
 
-use crate::gpu::{renderer, resource_spread, resources};
+use crate::gpu::renderer;
 
-pub static RASTER: EnumDef = EnumDef {
-    name: "Raster",
-    options: &["Auto", "Compute", "Hardware"],
-};
+pub static RASTER: Choices<RasterChoice> = Choices::new(
+    "Raster",
+    &["Auto", "Compute", "Hardware"],
+    &[
+        RasterChoice::Auto,
+        RasterChoice::Compute,
+        RasterChoice::Hardware,
+    ],
+);
 
 pub fn register(r: &mut Registry) {
     r.add(
@@ -31,17 +36,30 @@ pub fn register(r: &mut Registry) {
              its meshes (not its particles) each frame for the next frame's `Particles` with that Collide Depth: \
              particles collide with what this G-buffer shows without a link back into their own G-buffer.",
         )
-        .input_spread("Layer", PinType::Resource(ResourceKind::Layer), Spread::Resource(ResourceKind::Layer, vec![]))
-        .input("View", glam::camera::rh::view::look_at_mat4(glam::Vec3::new(0.0, 0.0, 5.0), glam::Vec3::ZERO, glam::Vec3::Y))
-        .input("Projection", glam::camera::rh::proj::directx::perspective(std::f32::consts::FRAC_PI_3, 16.0 / 9.0, 0.1, 100.0))
-        .input("Width", 0i64)
-        .input("Height", 0i64)
-        .input_enum("Raster", &RASTER, "Auto")
-        .input("Publish Depth", String::new())
-        .output_typed("G-Buffer", PinType::Resource(ResourceKind::GBuffer))
         // Last frame's camera, for the velocity buffer.
         .remembers(1)
-        .construct(Mre::default),
+        .with_pins_node(|p| {
+            let pins = MrePins {
+                layer: p.input_resource::<Layer>("Layer", ResourceKind::Layer),
+                view: p.input(
+                    "View",
+                    glam::camera::rh::view::look_at_mat4(glam::Vec3::new(0.0, 0.0, 5.0), glam::Vec3::ZERO, glam::Vec3::Y),
+                ),
+                projection: p.input(
+                    "Projection",
+                    glam::camera::rh::proj::directx::perspective(std::f32::consts::FRAC_PI_3, 16.0 / 9.0, 0.1, 100.0),
+                ),
+                width: p.input("Width", 0i64),
+                height: p.input("Height", 0i64),
+                raster: p.input_choice("Raster", &RASTER, RasterChoice::Auto),
+                publish: p.input("Publish Depth", String::new()),
+                out: p.output_resource::<GBuffer>("G-Buffer", ResourceKind::GBuffer),
+            };
+            move || Mre {
+                pins,
+                previous_view_projection: None,
+            }
+        }),
     );
 }
 
@@ -62,37 +80,50 @@ impl SubPixelOffset {
     }
 }
 
+#[derive(Clone, Copy)]
+struct MrePins {
+    layer: In<Res<Layer>>,
+    view: In<Mat4>,
+    projection: In<Mat4>,
+    width: In<i64>,
+    height: In<i64>,
+    raster: In<Choice<RasterChoice>>,
+    publish: In<String>,
+    out: Out<Res<GBuffer>>,
+}
+
 /// Keeps last frame's view-projection, for velocity.
-#[derive(Default)]
 struct Mre {
+    pins: MrePins,
     previous_view_projection: Option<Mat4>,
 }
 
 impl Node for Mre {
     fn evaluate(&mut self, cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
+        let pins = self.pins;
         let renderer = renderer(cx)?;
-        let layers = resources::<Layer>(cx, 0)?;
+        let layers = cx.resources(pins.layer)?;
         let view = *cx
-            .slices::<Mat4>(1)?
+            .get(pins.view)?
             .first()
-            .ok_or_else(|| cx.input_error(1, "needs a view transform"))?;
+            .ok_or_else(|| cx.error(pins.view, "needs a view transform"))?;
         let projection = *cx
-            .slices::<Mat4>(2)?
+            .get(pins.projection)?
             .first()
-            .ok_or_else(|| cx.input_error(2, "needs a projection"))?;
+            .ok_or_else(|| cx.error(pins.projection, "needs a projection"))?;
         if !view.is_finite() || !projection.is_finite() {
             return Err(NodeError::Other(
                 "the camera matrices are not finite".to_owned(),
             ));
         }
-        let dimension = |pin: usize| -> Result<u32, NodeError> {
-            let v = cx.slices::<i64>(pin)?.first().copied().unwrap_or(0);
+        let dimension = |pin: In<i64>| -> Result<u32, NodeError> {
+            let v = cx.first(pin, 0)?;
             u32::try_from(v)
                 .ok()
                 .filter(|v| *v <= 16384)
-                .ok_or_else(|| cx.input_error(pin, "must be 0 (output size) to 16384"))
+                .ok_or_else(|| cx.error(pin, "must be 0 (output size) to 16384"))
         };
-        let (width, height) = (dimension(3)?, dimension(4)?);
+        let (width, height) = (dimension(pins.width)?, dimension(pins.height)?);
         let size = if width == 0 || height == 0 {
             SizeRule::Relative(1.0)
         } else {
@@ -123,12 +154,8 @@ impl Node for Mre {
             // Camera velocity is last frame's motion: next frame must see it settle.
             cx.reevaluate_next_frame();
         }
-        let raster = match cx.enum_slices(5)?.first().map(String::as_str) {
-            Some("Compute") => RasterChoice::Compute,
-            Some("Hardware") => RasterChoice::Hardware,
-            _ => RasterChoice::Auto,
-        };
-        let publish = cx.slices::<String>(6)?.first().cloned().unwrap_or_default();
+        let raster = cx.choice(pins.raster)?;
+        let publish = cx.get(pins.publish)?.first().cloned().unwrap_or_default();
         let gbuffer = GBuffer::publishing_depth(
             &renderer,
             Some(cx.node_id.0),
@@ -139,7 +166,7 @@ impl Node for Mre {
             raster,
             publish,
         );
-        cx.set_output(0, resource_spread(ResourceKind::GBuffer, vec![gbuffer]));
+        cx.put_resources(pins.out, vec![gbuffer]);
         Ok(())
     }
 }

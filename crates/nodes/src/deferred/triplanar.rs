@@ -2,14 +2,11 @@
 //! projections. A node of its own on the way from DeferredBase to MRE, so
 //! DeferredBase keeps its pins (and every patch its layout).
 
-use spreadlight_graph::{NodeDef, PinType, Registry, ResourceKind, Spread};
+use spreadlight_graph::{NodeDef, Registry, ResourceKind};
 use spreadlight_render::gbuffer::{Layer, TRIPLANAR_SHARPNESS};
 use std::sync::Arc;
 
-use crate::gpu::{resource_spread, resources};
-
 pub fn register(r: &mut Registry) {
-    let layer = PinType::Resource(ResourceKind::Layer);
     r.add(
         NodeDef::new(
             "Triplanar (Layer)",
@@ -20,13 +17,14 @@ pub fn register(r: &mut Registry) {
              it towards one projection per pixel. Layers without Triplanar pass unchanged. Slice i of Sharpness goes \
              to layer i (wrapping).",
         )
-        .input_spread("Layer", layer, Spread::Resource(ResourceKind::Layer, vec![]))
-        .input("Sharpness", i64::from(TRIPLANAR_SHARPNESS))
-        .range(1.0, 32.0)
-        .output_typed("Layer", layer)
-        .evaluate(|cx| {
-            let layers = resources::<Layer>(cx, 0)?;
-            let sharpness = cx.slices::<i64>(1)?.to_vec();
+        .with_pins(|p| {
+            let layer_in = p.input_resource::<Layer>("Layer", ResourceKind::Layer);
+            let sharpness_in = p.input("Sharpness", i64::from(TRIPLANAR_SHARPNESS));
+            p.range(1.0, 32.0);
+            let out_pin = p.output_resource::<Layer>("Layer", ResourceKind::Layer);
+            move |cx| {
+            let layers = cx.resources(layer_in)?;
+            let sharpness = cx.get(sharpness_in)?.to_vec();
             let n = if sharpness.is_empty() { 0 } else { layers.len() };
             let out = (0..n)
                 .map(|i| {
@@ -37,8 +35,9 @@ pub fn register(r: &mut Registry) {
                     Arc::new(layer)
                 })
                 .collect();
-            cx.set_output(0, resource_spread(ResourceKind::Layer, out));
+            cx.put_resources(out_pin, out);
             Ok(())
+            }
         }),
     );
 }

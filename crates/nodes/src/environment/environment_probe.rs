@@ -8,7 +8,7 @@
 
 use glam::Vec3;
 use spreadlight_graph::{
-    Color, EnumDef, EvalContext, NodeDef, NodeError, PinType, Registry, ResourceKind, Spread,
+    Choice, Choices, Color, EvalContext, In, NodeDef, NodeError, Out, Registry, Res, ResourceKind,
 };
 use spreadlight_render::environment::{
     Environment, EnvironmentQuality, EnvironmentSource, ProbeLighting, ProbeScene, ProbeSettings,
@@ -16,34 +16,60 @@ use spreadlight_render::environment::{
 };
 use spreadlight_render::gbuffer::Layer;
 
-use crate::gpu::{renderer, resource_spread, resources};
+use crate::gpu::renderer;
+use crate::lighting::require_finite;
 
-pub static PROBE_VOLUME: EnumDef = EnumDef {
-    name: "Probe Volume",
-    options: &["None", "Box", "Sphere"],
-};
+/// The Volume pin's options (the volume's measures come from other pins).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum VolumeKind {
+    None,
+    Box,
+    Sphere,
+}
 
-pub static PROBE_UPDATE: EnumDef = EnumDef {
-    name: "Probe Update",
-    options: &["On Change", "Every N Frames", "Once"],
-};
+pub static PROBE_VOLUME: Choices<VolumeKind> = Choices::new(
+    "Probe Volume",
+    &["None", "Box", "Sphere"],
+    &[VolumeKind::None, VolumeKind::Box, VolumeKind::Sphere],
+);
 
-// Pin indices.
-const LAYER: usize = 0;
-const POSITION: usize = 1;
-const VOLUME: usize = 2;
-const VOLUME_CENTER: usize = 3;
-const VOLUME_SIZE: usize = 4;
-const VOLUME_RADIUS: usize = 5;
-const SUN_DIRECTION: usize = 6;
-const SUN_COLOR: usize = 7;
-const SUN_INTENSITY: usize = 8;
-const AMBIENT: usize = 9;
-const BACKGROUND: usize = 10;
-const UPDATE: usize = 11;
-const EVERY: usize = 12;
-const CUBE_SIZE: usize = 13;
-const SAMPLES: usize = 14;
+/// The Update pin's options (Every N Frames takes its N from Every N).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum UpdateKind {
+    OnChange,
+    EveryNFrames,
+    Once,
+}
+
+pub static PROBE_UPDATE: Choices<UpdateKind> = Choices::new(
+    "Probe Update",
+    &["On Change", "Every N Frames", "Once"],
+    &[
+        UpdateKind::OnChange,
+        UpdateKind::EveryNFrames,
+        UpdateKind::Once,
+    ],
+);
+
+#[derive(Clone, Copy)]
+struct ProbePins {
+    layer: In<Res<Layer>>,
+    position: In<Vec3>,
+    volume: In<Choice<VolumeKind>>,
+    volume_center: In<Vec3>,
+    volume_size: In<Vec3>,
+    volume_radius: In<f32>,
+    sun_direction: In<Vec3>,
+    sun_color: In<Color>,
+    sun_intensity: In<f32>,
+    ambient: In<Color>,
+    background: In<Color>,
+    update: In<Choice<UpdateKind>>,
+    every: In<i64>,
+    cube_size: In<i64>,
+    samples: In<i64>,
+    out: Out<Res<Environment>>,
+}
 
 /// The probe's defaults: a cube small enough to render often.
 pub const DEFAULT_QUALITY: EnvironmentQuality = EnvironmentQuality {
@@ -55,70 +81,75 @@ fn rgb(c: &Color) -> Vec3 {
     Vec3::new(c.r, c.g, c.b)
 }
 
-fn first<T: Clone>(slices: &[T], fallback: T) -> T {
-    slices.first().cloned().unwrap_or(fallback)
-}
-
-fn settings(cx: &EvalContext<'_>) -> Result<(ProbeSettings, EnvironmentQuality), NodeError> {
+fn settings(
+    cx: &EvalContext<'_>,
+    pins: ProbePins,
+) -> Result<(ProbeSettings, EnvironmentQuality), NodeError> {
     // NaN or infinity anywhere is an error on its pin (a NaN position would
     // put NaN in every texel of the cube).
-    for pin in POSITION..=SAMPLES {
-        if let Some(slice) = cx.input(pin).first_non_finite() {
-            return Err(cx.input_error(pin, format!("slice {slice} is NaN or infinite")));
-        }
+    require_finite(cx, pins.position)?;
+    for pin in [pins.volume_center, pins.volume_size] {
+        require_finite(cx, pin)?;
     }
-    let vec3 = |pin: usize, fallback: Vec3| -> Result<Vec3, NodeError> {
-        Ok(first(cx.slices::<Vec3>(pin)?, fallback))
+    require_finite(cx, pins.volume_radius)?;
+    require_finite(cx, pins.sun_direction)?;
+    require_finite(cx, pins.sun_color)?;
+    require_finite(cx, pins.sun_intensity)?;
+    for pin in [pins.ambient, pins.background] {
+        require_finite(cx, pin)?;
+    }
+    for pin in [pins.every, pins.cube_size, pins.samples] {
+        require_finite(cx, pin)?;
+    }
+    let color = |pin: In<Color>, fallback: Vec3| -> Result<Vec3, NodeError> {
+        Ok(cx.get(pin)?.first().map_or(fallback, rgb))
     };
-    let color = |pin: usize, fallback: Vec3| -> Result<Vec3, NodeError> {
-        Ok(cx.slices::<Color>(pin)?.first().map_or(fallback, rgb))
-    };
-    let size = vec3(VOLUME_SIZE, Vec3::splat(10.0))?;
+    let size = cx.first(pins.volume_size, Vec3::splat(10.0))?;
     if size.min_element() < 0.0 {
-        return Err(cx.input_error(
-            VOLUME_SIZE,
+        return Err(cx.error(
+            pins.volume_size,
             format!("is {size}; a size cannot be negative (0: no parallax)"),
         ));
     }
-    let radius = first(cx.slices::<f32>(VOLUME_RADIUS)?, 5.0);
+    let radius = cx.first(pins.volume_radius, 5.0)?;
     if radius < 0.0 {
-        return Err(cx.input_error(
-            VOLUME_RADIUS,
+        return Err(cx.error(
+            pins.volume_radius,
             format!("is {radius}; a radius cannot be negative (0: no parallax)"),
         ));
     }
-    let center = vec3(VOLUME_CENTER, Vec3::ZERO)?;
-    let volume = match cx.enum_slices(VOLUME)?.first().map(String::as_str) {
-        Some("Box") => ProbeVolume::Box { center, size },
-        Some("Sphere") => ProbeVolume::Sphere { center, radius },
-        _ => ProbeVolume::Infinite,
+    let center = cx.first(pins.volume_center, Vec3::ZERO)?;
+    let volume = match cx.choice(pins.volume)? {
+        VolumeKind::Box => ProbeVolume::Box { center, size },
+        VolumeKind::Sphere => ProbeVolume::Sphere { center, radius },
+        VolumeKind::None => ProbeVolume::Infinite,
     };
-    let int = |pin: usize, fallback: u32| -> Result<u32, NodeError> {
-        let v = first(cx.slices::<i64>(pin)?, i64::from(fallback));
+    let int = |pin: In<i64>, fallback: u32| -> Result<u32, NodeError> {
+        let v = cx.first(pin, i64::from(fallback))?;
         if v < 1 {
-            return Err(cx.input_error(pin, format!("must be at least 1, got {v}")));
+            return Err(cx.error(pin, format!("must be at least 1, got {v}")));
         }
         Ok(v.min(i64::from(u32::MAX)) as u32)
     };
-    let update = match cx.enum_slices(UPDATE)?.first().map(String::as_str) {
-        Some("Every N Frames") => ProbeUpdate::EveryNFrames(int(EVERY, 1)?),
-        Some("Once") => ProbeUpdate::Once,
-        _ => ProbeUpdate::OnChange,
+    let update = match cx.choice(pins.update)? {
+        UpdateKind::EveryNFrames => ProbeUpdate::EveryNFrames(int(pins.every, 1)?),
+        UpdateKind::Once => ProbeUpdate::Once,
+        UpdateKind::OnChange => ProbeUpdate::OnChange,
     };
     let d = ProbeLighting::default();
-    let intensity = first(cx.slices::<f32>(SUN_INTENSITY)?, 2.0).max(0.0);
+    let intensity = cx.first(pins.sun_intensity, 2.0)?.max(0.0);
     let lighting = ProbeLighting {
-        sun_direction: vec3(SUN_DIRECTION, d.sun_direction)?,
-        sun_color: color(SUN_COLOR, Vec3::ONE)?.max(Vec3::ZERO) * intensity,
-        ambient: color(AMBIENT, d.ambient)?.max(Vec3::ZERO),
-        background: color(BACKGROUND, d.background)?.max(Vec3::ZERO),
+        sun_direction: cx.first(pins.sun_direction, d.sun_direction)?,
+        sun_color: color(pins.sun_color, Vec3::ONE)?.max(Vec3::ZERO) * intensity,
+        ambient: color(pins.ambient, d.ambient)?.max(Vec3::ZERO),
+        background: color(pins.background, d.background)?.max(Vec3::ZERO),
     };
     let quality = EnvironmentQuality {
-        cube_size: int(CUBE_SIZE, DEFAULT_QUALITY.cube_size)?,
-        samples: int(SAMPLES, DEFAULT_QUALITY.samples)?,
+        cube_size: int(pins.cube_size, DEFAULT_QUALITY.cube_size)?,
+        samples: int(pins.samples, DEFAULT_QUALITY.samples)?,
     };
     let settings = ProbeSettings {
-        position: vec3(POSITION, Vec3::new(0.0, 1.0, 0.0))?,
+        position: cx.first(pins.position, Vec3::new(0.0, 1.0, 0.0))?,
         volume,
         lighting,
         update,
@@ -144,31 +175,35 @@ pub fn register(r: &mut Registry) {
              None, or a zero size, reads the cube as infinitely far. Cube Size (a power of two, 8..1024) and Samples \
              trade time for accuracy (`spreadlight accuracy probe`).",
         )
-        .input_spread("Layer", PinType::Resource(ResourceKind::Layer), Spread::Resource(ResourceKind::Layer, vec![]))
-        .input("Position", Vec3::new(0.0, 1.0, 0.0))
-        .input_enum("Volume", &PROBE_VOLUME, "None")
-        .input("Volume Center", Vec3::ZERO)
-        .input("Volume Size", Vec3::splat(10.0))
-        .input("Volume Radius", 5.0f32)
-        .input("Sun Direction", d.sun_direction)
-        .input("Sun Color", Color::WHITE)
-        .input("Sun Intensity", 2.0f32)
-        .input("Ambient", color(d.ambient))
-        .input("Background", color(d.background))
-        .input_enum("Update", &PROBE_UPDATE, "On Change")
-        .input("Every N", 1i64)
-        .input("Cube Size", i64::from(DEFAULT_QUALITY.cube_size))
-        .input("Samples", i64::from(DEFAULT_QUALITY.samples))
-        .output_typed("Environment", PinType::Resource(ResourceKind::Environment))
-        .evaluate(|cx| {
-            let (settings, quality) = settings(cx)?;
-            let layers = resources::<Layer>(cx, LAYER)?;
-            let scene = ProbeScene::new(layers, settings).map_err(|e| cx.input_error(POSITION, e.to_string()))?;
-            let renderer = renderer(cx)?;
-            let environment =
-                Environment::new(&renderer, Some(cx.node_id.0), EnvironmentSource::Probe(std::sync::Arc::new(scene)), quality);
-            cx.set_output(0, resource_spread::<Environment>(ResourceKind::Environment, vec![environment]));
-            Ok(())
+        .with_pins(|p| {
+            let pins = ProbePins {
+                layer: p.input_resource::<Layer>("Layer", ResourceKind::Layer),
+                position: p.input("Position", Vec3::new(0.0, 1.0, 0.0)),
+                volume: p.input_choice("Volume", &PROBE_VOLUME, VolumeKind::None),
+                volume_center: p.input("Volume Center", Vec3::ZERO),
+                volume_size: p.input("Volume Size", Vec3::splat(10.0)),
+                volume_radius: p.input("Volume Radius", 5.0f32),
+                sun_direction: p.input("Sun Direction", d.sun_direction),
+                sun_color: p.input("Sun Color", Color::WHITE),
+                sun_intensity: p.input("Sun Intensity", 2.0f32),
+                ambient: p.input("Ambient", color(d.ambient)),
+                background: p.input("Background", color(d.background)),
+                update: p.input_choice("Update", &PROBE_UPDATE, UpdateKind::OnChange),
+                every: p.input("Every N", 1i64),
+                cube_size: p.input("Cube Size", i64::from(DEFAULT_QUALITY.cube_size)),
+                samples: p.input("Samples", i64::from(DEFAULT_QUALITY.samples)),
+                out: p.output_resource::<Environment>("Environment", ResourceKind::Environment),
+            };
+            move |cx| {
+                let (settings, quality) = settings(cx, pins)?;
+                let layers = cx.resources(pins.layer)?;
+                let scene = ProbeScene::new(layers, settings).map_err(|e| cx.error(pins.position, e.to_string()))?;
+                let renderer = renderer(cx)?;
+                let environment =
+                    Environment::new(&renderer, Some(cx.node_id.0), EnvironmentSource::Probe(std::sync::Arc::new(scene)), quality);
+                cx.put_resources(pins.out, vec![environment]);
+                Ok(())
+            }
         }),
     );
 }

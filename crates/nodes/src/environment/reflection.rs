@@ -4,13 +4,13 @@
 //! albedo not applied). Only materials with the Reflection feature get it;
 //! when none has it the pass only clears and the environment is not built.
 
-use spreadlight_graph::{NodeDef, PinType, Registry, ResourceKind, Spread};
-use spreadlight_render::TextureRef;
+use spreadlight_graph::{NodeDef, Registry, ResourceKind};
 use spreadlight_render::environment::{Environment, Reflection, ReflectionMode};
-use spreadlight_render::gbuffer::GBuffer;
 use spreadlight_render::material::MaterialWorld;
 
-use crate::gpu::{renderer, resource_spread, resources};
+use crate::gpu::renderer;
+use crate::lighting::require_finite;
+use crate::post::{gbuffer_input, set_texture, texture_output};
 
 pub fn register(r: &mut Registry) {
     r.add(
@@ -24,41 +24,36 @@ pub fn register(r: &mut Registry) {
              instead; total internal reflection reflects. Diffuse: the environment's irradiance / pi at the normal, not \
              multiplied by albedo. Sky pixels are zero. Cost: one pass, a few texture reads per pixel.",
         )
-        .input_spread("G-Buffer", PinType::Resource(ResourceKind::GBuffer), Spread::Resource(ResourceKind::GBuffer, vec![]))
-        .input_spread(
-            "Material World",
-            PinType::Resource(ResourceKind::MaterialWorld),
-            Spread::Resource(ResourceKind::MaterialWorld, vec![]),
-        )
-        .input_spread("Environment", PinType::Resource(ResourceKind::Environment), Spread::Resource(ResourceKind::Environment, vec![]))
-        .input("Refract", false)
-        .input("IOR", 1.5f32)
-        .output_typed("Specular", PinType::Resource(ResourceKind::Texture))
-        .output_typed("Diffuse", PinType::Resource(ResourceKind::Texture))
-        .evaluate(|cx| {
-            if let Some(slice) = cx.input(4).first_non_finite() {
-                return Err(cx.input_error(4, format!("slice {slice} is NaN or infinite")));
+        .with_pins(|p| {
+            let g_buffer = gbuffer_input(p);
+            let material_world = p.input_resource::<MaterialWorld>("Material World", ResourceKind::MaterialWorld);
+            let environment_in = p.input_resource::<Environment>("Environment", ResourceKind::Environment);
+            let refract = p.input("Refract", false);
+            let ior = p.input("IOR", 1.5f32);
+            let specular = texture_output(p, "Specular");
+            let diffuse = texture_output(p, "Diffuse");
+            move |cx| {
+                require_finite(cx, ior)?;
+                let renderer = renderer(cx)?;
+                let gbuffer = cx.first_resource(g_buffer)?.ok_or_else(|| cx.error(g_buffer, "no G-buffer connected"))?;
+                let materials = match cx.first_resource(material_world)? {
+                    Some(world) => world,
+                    // The default material has no Reflection feature: nothing reflects.
+                    None => MaterialWorld::new(&renderer, Vec::new()),
+                };
+                let environment = cx.first_resource(environment_in)?.ok_or_else(|| {
+                    cx.error(environment_in, "no environment connected: use Environment (File) or Environment (Sky)")
+                })?;
+                let mode = if cx.first(refract, false)? {
+                    ReflectionMode::Refract { ior: cx.first(ior, 1.5)? }
+                } else {
+                    ReflectionMode::Reflect
+                };
+                let recipe = Reflection::new(&renderer, Some(cx.node_id.0), gbuffer, materials, environment, mode);
+                set_texture(cx, specular, recipe.specular_texture());
+                set_texture(cx, diffuse, recipe.diffuse_texture());
+                Ok(())
             }
-            let renderer = renderer(cx)?;
-            let gbuffer = resources::<GBuffer>(cx, 0)?.into_iter().next().ok_or_else(|| cx.input_error(0, "no G-buffer connected"))?;
-            let materials = match resources::<MaterialWorld>(cx, 1)?.into_iter().next() {
-                Some(world) => world,
-                // The default material has no Reflection feature: nothing reflects.
-                None => MaterialWorld::new(&renderer, Vec::new()),
-            };
-            let environment = resources::<Environment>(cx, 2)?
-                .into_iter()
-                .next()
-                .ok_or_else(|| cx.input_error(2, "no environment connected: use Environment (File) or Environment (Sky)"))?;
-            let mode = if cx.slices::<bool>(3)?.first().copied().unwrap_or(false) {
-                ReflectionMode::Refract { ior: cx.slices::<f32>(4)?.first().copied().unwrap_or(1.5) }
-            } else {
-                ReflectionMode::Reflect
-            };
-            let recipe = Reflection::new(&renderer, Some(cx.node_id.0), gbuffer, materials, environment, mode);
-            cx.set_output(0, resource_spread::<TextureRef>(ResourceKind::Texture, vec![std::sync::Arc::new(recipe.specular_texture())]));
-            cx.set_output(1, resource_spread::<TextureRef>(ResourceKind::Texture, vec![std::sync::Arc::new(recipe.diffuse_texture())]));
-            Ok(())
         }),
     );
 }

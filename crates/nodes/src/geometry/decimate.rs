@@ -1,13 +1,11 @@
 //! `Decimate`: edge collapse to a share of the triangles, keeping UV seams
 //! and borders (`render::geometry::decimate`, meshoptimizer on the CPU).
 
-use spreadlight_graph::{
-    EvalContext, Node, NodeDef, NodeError, PinType, Registry, ResourceKind, Spread,
-};
+use spreadlight_graph::{EvalContext, In, Node, NodeDef, NodeError, Out, Registry, Res};
 use spreadlight_render::geometry::{DecimateParams, decimate};
 use spreadlight_render::mesh_arena::GpuMesh;
 
-use crate::gpu::{renderer, resource_spread, resources};
+use crate::gpu::renderer;
 
 pub fn register(r: &mut Registry) {
     r.add(
@@ -22,23 +20,33 @@ pub fn register(r: &mut Registry) {
              borders and seams leave nothing to collapse. Runs on the CPU (reads the mesh back, uploads the \
              result), only when its inputs change.",
         )
-        .input_spread("Mesh", super::MESH, Spread::Resource(ResourceKind::Mesh, vec![]))
-        .input("Ratio", 0.5f32)
-        .input("Lock Border", true)
-        .output_typed("Mesh", PinType::Resource(ResourceKind::Mesh))
-        .construct(|| Decimate),
+        .with_pins_node(|p| {
+            let pins = Decimate {
+                mesh: super::mesh_input(p),
+                ratio: p.input("Ratio", 0.5f32),
+                lock_border: p.input("Lock Border", true),
+                out: super::mesh_output(p, "Mesh"),
+            };
+            move || pins
+        }),
     );
 }
 
-struct Decimate;
+#[derive(Clone, Copy)]
+struct Decimate {
+    mesh: In<Res<GpuMesh>>,
+    ratio: In<f32>,
+    lock_border: In<bool>,
+    out: Out<Res<GpuMesh>>,
+}
 
 impl Node for Decimate {
     fn evaluate(&mut self, cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
-        let meshes = resources::<GpuMesh>(cx, 0)?;
-        let ratio = cx.slices::<f32>(1)?.first().copied().unwrap_or(0.5);
-        let lock_border = cx.slices::<bool>(2)?.first().copied().unwrap_or(true);
+        let meshes = cx.resources(self.mesh)?;
+        let ratio = cx.first(self.ratio, 0.5)?;
+        let lock_border = cx.first(self.lock_border, true)?;
         if !(0.0..=1.0).contains(&ratio) {
-            return Err(cx.input_error(1, format!("{ratio} is not within 0..1")));
+            return Err(cx.error(self.ratio, format!("{ratio} is not within 0..1")));
         }
         let renderer = renderer(cx)?;
         let params = DecimateParams { ratio, lock_border };
@@ -50,7 +58,7 @@ impl Node for Decimate {
                     .map_err(|e| NodeError::Other(format!("slice {i}: {e}")))
             })
             .collect::<Result<Vec<_>, _>>()?;
-        cx.set_output(0, resource_spread(ResourceKind::Mesh, out));
+        cx.put_resources(self.out, out);
         Ok(())
     }
 }

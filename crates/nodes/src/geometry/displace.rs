@@ -3,15 +3,16 @@
 //! (`render::geometry::displace`).
 
 use spreadlight_graph::spread::{cycled, slice_count};
-use spreadlight_graph::{
-    EvalContext, Node, NodeDef, NodeError, PinType, Registry, ResourceKind, Spread,
-};
+use spreadlight_graph::{EvalContext, In, Node, NodeDef, NodeError, Out, Registry, Res};
+use spreadlight_render::TextureRef;
 use spreadlight_render::geometry::{DisplaceParams, displace};
 use spreadlight_render::mesh_arena::GpuMesh;
 
 use super::continuity::{Continuity, signature, with_identity};
 use super::height::{height_texture, identity};
-use crate::gpu::{renderer, resource_spread, resources};
+use crate::gpu::renderer;
+use crate::lighting::require_finite;
+use crate::post::texture_input;
 
 pub fn register(r: &mut Registry) {
     r.add(
@@ -25,37 +26,47 @@ pub fn register(r: &mut Registry) {
              Midlevel cycle over the meshes; any finite value. Tessellate first for detail finer than the mesh. \
              Runs on the GPU; the Texture must exist before the frame (FileTexture).",
         )
-        .input_spread("Mesh", super::MESH, Spread::Resource(ResourceKind::Mesh, vec![]))
-        .input_spread(
-            "Texture",
-            PinType::Resource(ResourceKind::Texture),
-            Spread::Resource(ResourceKind::Texture, vec![]),
-        )
-        .input("Amount", 0.1f32)
-        .input("Midlevel", 0.0f32)
-        .output_typed("Mesh", PinType::Resource(ResourceKind::Mesh))
-        .construct(Displace::default),
+        .with_pins_node(|p| {
+            let pins = DisplacePins {
+                mesh: super::mesh_input(p),
+                texture: texture_input(p, "Texture"),
+                amount: p.input("Amount", 0.1f32),
+                midlevel: p.input("Midlevel", 0.0f32),
+                out: super::mesh_output(p, "Mesh"),
+            };
+            move || Displace {
+                pins,
+                continuity: Continuity::default(),
+            }
+        }),
     );
 }
 
-#[derive(Default)]
+#[derive(Clone, Copy)]
+struct DisplacePins {
+    mesh: In<Res<GpuMesh>>,
+    texture: In<Res<TextureRef>>,
+    amount: In<f32>,
+    midlevel: In<f32>,
+    out: Out<Res<GpuMesh>>,
+}
+
 struct Displace {
+    pins: DisplacePins,
     continuity: Continuity,
 }
 
 impl Node for Displace {
     fn evaluate(&mut self, cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
-        let meshes = resources::<GpuMesh>(cx, 0)?;
-        let Some(texture) = height_texture(cx, 1)? else {
-            return Err(cx.input_error(1, "connect a height texture (a FileTexture)"));
+        let pins = self.pins;
+        let meshes = cx.resources(pins.mesh)?;
+        let Some(texture) = height_texture(cx, pins.texture)? else {
+            return Err(cx.error(pins.texture, "connect a height texture (a FileTexture)"));
         };
-        let amounts = cx.slices::<f32>(2)?.to_vec();
-        let midlevels = cx.slices::<f32>(3)?.to_vec();
-        for (pin, values) in [(2, &amounts), (3, &midlevels)] {
-            if let Some(i) = values.iter().position(|v| !v.is_finite()) {
-                return Err(cx.input_error(pin, format!("slice {i} is NaN or infinite")));
-            }
-        }
+        require_finite(cx, pins.amount)?;
+        require_finite(cx, pins.midlevel)?;
+        let amounts = cx.get(pins.amount)?.to_vec();
+        let midlevels = cx.get(pins.midlevel)?.to_vec();
         let n = if meshes.is_empty() {
             0
         } else {
@@ -86,7 +97,7 @@ impl Node for Displace {
         let out = self.continuity.run(cx, signatures, |i, previous| {
             displace(&renderer, &slices[i].0, previous, height, slices[i].1)
         })?;
-        cx.set_output(0, resource_spread(ResourceKind::Mesh, out));
+        cx.put_resources(pins.out, out);
         Ok(())
     }
 }

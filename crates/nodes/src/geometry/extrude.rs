@@ -2,15 +2,15 @@
 //! on the GPU (`render::geometry::extrude`), the amount per face from a
 //! spread, optionally scaled by a texture at the face's UV.
 
-use spreadlight_graph::{
-    EvalContext, Node, NodeDef, NodeError, PinType, Registry, ResourceKind, Spread,
-};
+use spreadlight_graph::{EvalContext, In, Node, NodeDef, NodeError, Out, Registry, Res};
+use spreadlight_render::TextureRef;
 use spreadlight_render::geometry::extrude;
 use spreadlight_render::mesh_arena::GpuMesh;
 
 use super::continuity::{Continuity, signature, with_identity};
 use super::height::{height_texture, identity};
-use crate::gpu::{renderer, resource_spread, resources};
+use crate::gpu::renderer;
+use crate::post::texture_input;
 
 pub fn register(r: &mut Registry) {
     r.add(
@@ -23,30 +23,42 @@ pub fn register(r: &mut Registry) {
              multiplied by the texture's red channel at the face's centroid UV. Runs on the GPU; animated amounts \
              give previous positions for Velocity From Geometry.",
         )
-        .input_spread("Mesh", super::MESH, Spread::Resource(ResourceKind::Mesh, vec![]))
-        .input("Amount", 0.1f32)
-        .input_spread(
-            "Texture",
-            PinType::Resource(ResourceKind::Texture),
-            Spread::Resource(ResourceKind::Texture, vec![]),
-        )
-        .output_typed("Mesh", PinType::Resource(ResourceKind::Mesh))
-        .construct(Extrude::default),
+        .with_pins_node(|p| {
+            let pins = ExtrudePins {
+                mesh: super::mesh_input(p),
+                amount: p.input("Amount", 0.1f32),
+                texture: texture_input(p, "Texture"),
+                out: super::mesh_output(p, "Mesh"),
+            };
+            move || Extrude {
+                pins,
+                continuity: Continuity::default(),
+            }
+        }),
     );
 }
 
-#[derive(Default)]
+#[derive(Clone, Copy)]
+struct ExtrudePins {
+    mesh: In<Res<GpuMesh>>,
+    amount: In<f32>,
+    texture: In<Res<TextureRef>>,
+    out: Out<Res<GpuMesh>>,
+}
+
 struct Extrude {
+    pins: ExtrudePins,
     continuity: Continuity,
 }
 
 impl Node for Extrude {
     fn evaluate(&mut self, cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
-        let meshes = resources::<GpuMesh>(cx, 0)?;
-        let amounts = cx.slices::<f32>(1)?.to_vec();
-        let texture = height_texture(cx, 2)?;
+        let pins = self.pins;
+        let meshes = cx.resources(pins.mesh)?;
+        let amounts = cx.get(pins.amount)?.to_vec();
+        let texture = height_texture(cx, pins.texture)?;
         if amounts.is_empty() {
-            cx.set_output(0, resource_spread::<GpuMesh>(ResourceKind::Mesh, vec![]));
+            cx.put_resources(pins.out, Vec::new());
             return Ok(());
         }
         let signatures = meshes
@@ -63,7 +75,7 @@ impl Node for Extrude {
                 texture.as_ref().and_then(|t| t.recipe.static_texture()),
             )
         })?;
-        cx.set_output(0, resource_spread(ResourceKind::Mesh, out));
+        cx.put_resources(pins.out, out);
         Ok(())
     }
 }

@@ -15,10 +15,11 @@
 use std::sync::Arc;
 
 use glam::Mat4;
-use spreadlight_graph::EnumDef;
 use spreadlight_graph::{
-    Color, EvalContext, Node, NodeDef, NodeError, PinType, Registry, ResourceKind,
+    Choice, Choices, Color, EvalContext, In, Node, NodeDef, NodeError, Out, Registry, Res,
+    ResourceKind,
 };
+use spreadlight_render::lighting::{PointLight, SpotLight, SunLight};
 use spreadlight_render::material::Material;
 use spreadlight_render::material::maps::AlphaMode;
 use spreadlight_render::mesh::GltfScene;
@@ -27,7 +28,7 @@ use spreadlight_render::mesh::gltf_import::load_gltf;
 use spreadlight_render::mesh_arena::GpuMesh;
 
 use super::gltf_deform::{Deformer, Ran};
-use crate::gpu::{renderer, resource_spread};
+use crate::gpu::renderer;
 use crate::lighting::add_light::LightList;
 
 fn empty<T>() -> LightList<T> {
@@ -51,10 +52,38 @@ fn extend<T: Clone>(list: &mut LightList<T>, named: &[(String, T)], file: &str) 
 }
 
 /// Which instances the node outputs, by their material's alpha mode.
-pub static INSTANCES: EnumDef = EnumDef {
-    name: "glTF Instances",
-    options: &["All", "Opaque", "Blend"],
-};
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Instances {
+    All,
+    Opaque,
+    Blend,
+}
+
+pub static INSTANCES: Choices<Instances> = Choices::new(
+    "glTF Instances",
+    &["All", "Opaque", "Blend"],
+    &[Instances::All, Instances::Opaque, Instances::Blend],
+);
+
+#[derive(Clone, Copy)]
+struct GltfPins {
+    filename: In<String>,
+    first_id: In<i64>,
+    time: In<f32>,
+    animation: In<i64>,
+    instances: In<Choice<Instances>>,
+    mesh: Out<Res<GpuMesh>>,
+    transform: Out<Mat4>,
+    base_color: Out<Color>,
+    material_id: Out<i64>,
+    materials: Out<Res<Material>>,
+    material_names: Out<String>,
+    point_lights: Out<Res<LightList<PointLight>>>,
+    spot_lights: Out<Res<LightList<SpotLight>>>,
+    sun_lights: Out<Res<LightList<SunLight>>>,
+    view: Out<Mat4>,
+    projection: Out<Mat4>,
+}
 
 /// Material ids beyond this are a mistake, as in `MaterialManager`.
 const MAX_FIRST_ID: i64 = 60_000;
@@ -79,23 +108,31 @@ pub fn register(r: &mut Registry) {
              G-buffer) or Blend (BLEND materials, for a DeferredBase layer drawn by Transparency: Base Color's alpha is \
              their opacity). A relative Filename is relative to the patch's folder.",
         )
-        .input("Filename", String::new())
-        .input("First Material ID", 0i64)
-        .input("Time", 0.0f32)
-        .input("Animation", 0i64)
-        .input_enum("Instances", &INSTANCES, "All")
-        .output_typed("Mesh", PinType::Resource(ResourceKind::Mesh))
-        .output::<Mat4>("Transform")
-        .output::<Color>("Base Color")
-        .output::<i64>("Material ID")
-        .output_typed("Materials", PinType::Resource(ResourceKind::Material))
-        .output::<String>("Material Names")
-        .output_typed("Point Lights", PinType::Resource(ResourceKind::PointLights))
-        .output_typed("Spot Lights", PinType::Resource(ResourceKind::SpotLights))
-        .output_typed("Sun Lights", PinType::Resource(ResourceKind::SunLights))
-        .output::<Mat4>("View")
-        .output::<Mat4>("Projection")
-        .construct(GltfNode::default),
+        .with_pins_node(|p| {
+            let pins = GltfPins {
+                filename: p.input("Filename", String::new()),
+                first_id: p.input("First Material ID", 0i64),
+                time: p.input("Time", 0.0f32),
+                animation: p.input("Animation", 0i64),
+                instances: p.input_choice("Instances", &INSTANCES, Instances::All),
+                mesh: super::mesh_output(p, "Mesh"),
+                transform: p.output::<Mat4>("Transform"),
+                base_color: p.output::<Color>("Base Color"),
+                material_id: p.output::<i64>("Material ID"),
+                materials: p.output_resource::<Material>("Materials", ResourceKind::Material),
+                material_names: p.output::<String>("Material Names"),
+                point_lights: p.output_resource::<LightList<PointLight>>("Point Lights", ResourceKind::PointLights),
+                spot_lights: p.output_resource::<LightList<SpotLight>>("Spot Lights", ResourceKind::SpotLights),
+                sun_lights: p.output_resource::<LightList<SunLight>>("Sun Lights", ResourceKind::SunLights),
+                view: p.output::<Mat4>("View"),
+                projection: p.output::<Mat4>("Projection"),
+            };
+            move || GltfNode {
+                pins,
+                loaded: Vec::new(),
+                from: Vec::new(),
+            }
+        }),
     );
 }
 
@@ -110,8 +147,8 @@ struct Loaded {
 
 /// Keeps the loaded files while Filename is unchanged, so posing at a new
 /// Time does not read or upload anything.
-#[derive(Default)]
 struct GltfNode {
+    pins: GltfPins,
     loaded: Vec<Loaded>,
     /// The Filename slices `loaded` was made from (resolved).
     from: Vec<std::path::PathBuf>,
@@ -120,7 +157,7 @@ struct GltfNode {
 impl GltfNode {
     fn load(&mut self, cx: &EvalContext<'_>) -> Result<(), NodeError> {
         let files: Vec<String> = cx
-            .slices::<String>(0)?
+            .get(self.pins.filename)?
             .iter()
             .filter(|f| !f.is_empty())
             .cloned()
@@ -132,7 +169,7 @@ impl GltfNode {
         let renderer = renderer(cx)?;
         let mut loaded = Vec::new();
         for (file, path) in files.iter().zip(&paths) {
-            let scene = load_gltf(path).map_err(|e| cx.input_error(0, e.to_string()))?;
+            let scene = load_gltf(path).map_err(|e| cx.error(self.pins.filename, e.to_string()))?;
             let meshes = scene
                 .meshes
                 .iter()
@@ -156,13 +193,17 @@ impl GltfNode {
 
 impl Node for GltfNode {
     fn evaluate(&mut self, cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
-        let first = cx.slices::<i64>(1)?.first().copied().unwrap_or(0);
+        let pins = self.pins;
+        let first = cx.first(pins.first_id, 0)?;
         if !(0..=MAX_FIRST_ID).contains(&first) {
-            return Err(cx.input_error(1, format!("{first} is outside 0..={MAX_FIRST_ID}")));
+            return Err(cx.error(
+                pins.first_id,
+                format!("{first} is outside 0..={MAX_FIRST_ID}"),
+            ));
         }
-        let time = cx.slices::<f32>(2)?.first().copied().unwrap_or(0.0);
-        let animation = cx.slices::<i64>(3)?.first().copied().unwrap_or(-1);
-        let which = cx.enum_slices(4)?.first().cloned().unwrap_or_default();
+        let time = cx.first(pins.time, 0.0)?;
+        let animation = cx.first(pins.animation, -1)?;
+        let which = cx.choice(pins.instances)?;
         self.load(cx)?;
         let (mut meshes, mut transforms, mut colors, mut ids) =
             (Vec::new(), Vec::new(), Vec::new(), Vec::new());
@@ -215,9 +256,9 @@ impl Node for GltfNode {
             for (k, instance) in scene.instances.iter().enumerate() {
                 let material = instance.material.and_then(|m| scene.materials.get(m));
                 let blend = material.is_some_and(|m| m.alpha_mode == AlphaMode::Blend);
-                match which.as_str() {
-                    "Opaque" if blend => continue,
-                    "Blend" if !blend => continue,
+                match which {
+                    Instances::Opaque if blend => continue,
+                    Instances::Blend if !blend => continue,
                     _ => {}
                 }
                 match deformer.as_ref().and_then(|d| d.mesh(k)) {
@@ -240,26 +281,17 @@ impl Node for GltfNode {
                 ids.push(base + instance.material.map_or(0, |m| m as i64 + 1));
             }
         }
-        cx.set_output(0, resource_spread(ResourceKind::Mesh, meshes));
-        cx.set(1, transforms);
-        cx.set(2, colors);
-        cx.set(3, ids);
-        cx.set_output(4, resource_spread(ResourceKind::Material, materials));
-        cx.set(5, names);
-        cx.set_output(
-            6,
-            resource_spread(ResourceKind::PointLights, vec![Arc::new(points)]),
-        );
-        cx.set_output(
-            7,
-            resource_spread(ResourceKind::SpotLights, vec![Arc::new(spots)]),
-        );
-        cx.set_output(
-            8,
-            resource_spread(ResourceKind::SunLights, vec![Arc::new(suns)]),
-        );
-        cx.set(9, views);
-        cx.set(10, projections);
+        cx.put_resources(pins.mesh, meshes);
+        cx.put(pins.transform, transforms);
+        cx.put(pins.base_color, colors);
+        cx.put(pins.material_id, ids);
+        cx.put_resources(pins.materials, materials);
+        cx.put(pins.material_names, names);
+        cx.put_resources(pins.point_lights, vec![Arc::new(points)]);
+        cx.put_resources(pins.spot_lights, vec![Arc::new(spots)]);
+        cx.put_resources(pins.sun_lights, vec![Arc::new(suns)]);
+        cx.put(pins.view, views);
+        cx.put(pins.projection, projections);
         if settle {
             cx.reevaluate_next_frame();
         }

@@ -4,22 +4,20 @@
 
 use std::sync::Arc;
 
-use spreadlight_graph::{EvalContext, NodeError};
+use spreadlight_graph::{EvalContext, In, NodeError, Res};
 use spreadlight_render::TextureRef;
-
-use crate::gpu::resources;
 
 /// The first texture on `pin`, if any; one rendered by the frame (a
 /// post-processing output, say) is an error that says so.
 pub(crate) fn height_texture(
     cx: &EvalContext<'_>,
-    pin: usize,
+    pin: In<Res<TextureRef>>,
 ) -> Result<Option<Arc<TextureRef>>, NodeError> {
-    let Some(texture) = resources::<TextureRef>(cx, pin)?.into_iter().next() else {
+    let Some(texture) = cx.first_resource(pin)? else {
         return Ok(None);
     };
     if texture.recipe.static_texture().is_none() {
-        return Err(cx.input_error(
+        return Err(cx.error(
             pin,
             format!(
                 "`{}` is rendered by the frame; geometry runs before the frame and needs a texture that exists \

@@ -19,10 +19,20 @@ pub mod spherize;
 pub mod spline;
 pub mod tessellate;
 
-use spreadlight_graph::{PinType, Registry, ResourceKind};
+use spreadlight_graph::{In, Out, Pins, Registry, Res, ResourceKind};
+use spreadlight_render::mesh_arena::GpuMesh;
 
 const CATEGORY: &str = "Geometry";
-const MESH: PinType = PinType::Resource(ResourceKind::Mesh);
+
+/// A pin of meshes (the GPU geometry nodes' first).
+fn mesh_input(p: &mut Pins<'_>) -> In<Res<GpuMesh>> {
+    p.input_resource::<GpuMesh>("Mesh", ResourceKind::Mesh)
+}
+
+/// The mesh output every geometry node gives.
+fn mesh_output(p: &mut Pins<'_>, name: &'static str) -> Out<Res<GpuMesh>> {
+    p.output_resource::<GpuMesh>(name, ResourceKind::Mesh)
+}
 
 pub fn register(r: &mut Registry) {
     primitives::register(r);

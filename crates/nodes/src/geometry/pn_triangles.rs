@@ -2,15 +2,13 @@
 //! edge on the GPU (`render::geometry::pn_triangles`), on the curved
 //! point-normal patch of its corners or flat in its plane.
 
-use spreadlight_graph::{
-    EvalContext, Node, NodeDef, NodeError, PinType, Registry, ResourceKind, Spread,
-};
+use spreadlight_graph::{EvalContext, In, Node, NodeDef, NodeError, Out, Registry, Res};
 use spreadlight_render::geometry::pn_triangles;
 use spreadlight_render::geometry::pn_triangles::MAX_LEVEL;
 use spreadlight_render::mesh_arena::GpuMesh;
 
 use super::continuity::{Continuity, signature};
-use crate::gpu::{renderer, resource_spread, resources};
+use crate::gpu::renderer;
 
 pub fn register(r: &mut Registry) {
     for (name, curved, help) in [
@@ -29,33 +27,36 @@ pub fn register(r: &mut Registry) {
         ),
     ] {
         r.add(
-            NodeDef::new(name, super::CATEGORY, help)
-                .input_spread(
-                    "Mesh",
-                    super::MESH,
-                    Spread::Resource(ResourceKind::Mesh, vec![]),
-                )
-                .input("Level", 3i64)
-                .output_typed("Mesh", PinType::Resource(ResourceKind::Mesh))
-                .construct(move || Tessellation {
+            NodeDef::new(name, super::CATEGORY, help).with_pins_node(|p| {
+                let mesh = super::mesh_input(p);
+                let level = p.input("Level", 3i64);
+                let out = super::mesh_output(p, "Mesh");
+                move || Tessellation {
+                    mesh,
+                    level,
+                    out,
                     curved,
                     continuity: Continuity::default(),
-                }),
+                }
+            }),
         );
     }
 }
 
 struct Tessellation {
+    mesh: In<Res<GpuMesh>>,
+    level: In<i64>,
+    out: Out<Res<GpuMesh>>,
     curved: bool,
     continuity: Continuity,
 }
 
 impl Node for Tessellation {
     fn evaluate(&mut self, cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
-        let meshes = resources::<GpuMesh>(cx, 0)?;
-        let level = cx.slices::<i64>(1)?.first().copied().unwrap_or(1);
+        let meshes = cx.resources(self.mesh)?;
+        let level = cx.first(self.level, 1)?;
         if !(1..=i64::from(MAX_LEVEL)).contains(&level) {
-            return Err(cx.input_error(1, format!("{level} is not within 1..{MAX_LEVEL}")));
+            return Err(cx.error(self.level, format!("{level} is not within 1..{MAX_LEVEL}")));
         }
         let signatures = meshes
             .iter()
@@ -66,7 +67,7 @@ impl Node for Tessellation {
         let out = self.continuity.run(cx, signatures, |i, previous| {
             pn_triangles(&renderer, &meshes[i], previous, level as u32, curved)
         })?;
-        cx.set_output(0, resource_spread(ResourceKind::Mesh, out));
+        cx.put_resources(self.out, out);
         Ok(())
     }
 }

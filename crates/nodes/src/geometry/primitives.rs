@@ -4,7 +4,7 @@
 
 use glam::{Vec2, Vec3};
 use spreadlight_graph::spread::{map2, map3, map4};
-use spreadlight_graph::{EvalContext, NodeDef, NodeError, PinType, Registry, ResourceKind};
+use spreadlight_graph::{EvalContext, NodeDef, NodeError, Out, Registry, Res};
 use spreadlight_render::mesh::MeshData;
 use spreadlight_render::mesh::primitives::{
     BoxParams, CylinderParams, GridParams, SphereParams, TorusParams, box_mesh, cylinder, grid,
@@ -12,10 +12,8 @@ use spreadlight_render::mesh::primitives::{
 };
 use spreadlight_render::mesh_arena::GpuMesh;
 
-use crate::gpu::{renderer, resource_spread};
-
-const CATEGORY: &str = "Geometry";
-const MESH: PinType = PinType::Resource(ResourceKind::Mesh);
+use super::{CATEGORY, mesh_output};
+use crate::gpu::renderer;
 
 pub fn register(r: &mut Registry) {
     r.add(
@@ -24,17 +22,19 @@ pub fn register(r: &mut Registry) {
             CATEGORY,
             "A box centred at the origin, flat-shaded faces subdivided Segments times.",
         )
-        .input("Size", Vec3::ONE)
-        .input("Segments", 1i64)
-        .output_typed("Mesh", MESH)
-        .evaluate(|cx| {
-            let meshes = map2(cx.slices::<Vec3>(0)?, cx.slices::<i64>(1)?, |size, seg| {
-                box_mesh(BoxParams {
-                    size: *size,
-                    segments: count(*seg),
-                })
-            });
-            upload(cx, meshes)
+        .with_pins(|p| {
+            let size = p.input("Size", Vec3::ONE);
+            let segments = p.input("Segments", 1i64);
+            let out = mesh_output(p, "Mesh");
+            move |cx| {
+                let meshes = map2(cx.get(size)?, cx.get(segments)?, |size, seg| {
+                    box_mesh(BoxParams {
+                        size: *size,
+                        segments: count(*seg),
+                    })
+                });
+                upload(cx, out, meshes)
+            }
         }),
     );
     r.add(
@@ -43,24 +43,26 @@ pub fn register(r: &mut Registry) {
             CATEGORY,
             "A UV sphere centred at the origin: Sectors around Y, Stacks pole to pole.",
         )
-        .input("Radius", 0.5f32)
-        .input("Sectors", 32i64)
-        .input("Stacks", 16i64)
-        .output_typed("Mesh", MESH)
-        .evaluate(|cx| {
-            let meshes = map3(
-                cx.slices::<f32>(0)?,
-                cx.slices::<i64>(1)?,
-                cx.slices::<i64>(2)?,
-                |r, se, st| {
-                    sphere(SphereParams {
-                        radius: *r,
-                        sectors: count(*se),
-                        stacks: count(*st),
-                    })
-                },
-            );
-            upload(cx, meshes)
+        .with_pins(|p| {
+            let radius = p.input("Radius", 0.5f32);
+            let sectors = p.input("Sectors", 32i64);
+            let stacks = p.input("Stacks", 16i64);
+            let out = mesh_output(p, "Mesh");
+            move |cx| {
+                let meshes = map3(
+                    cx.get(radius)?,
+                    cx.get(sectors)?,
+                    cx.get(stacks)?,
+                    |r, se, st| {
+                        sphere(SphereParams {
+                            radius: *r,
+                            sectors: count(*se),
+                            stacks: count(*st),
+                        })
+                    },
+                );
+                upload(cx, out, meshes)
+            }
         }),
     );
     r.add(
@@ -69,24 +71,26 @@ pub fn register(r: &mut Registry) {
             CATEGORY,
             "A plane in XZ facing +Y, centred at the origin, Resolution X by Y cells.",
         )
-        .input("Size", Vec2::ONE)
-        .input("Resolution X", 10i64)
-        .input("Resolution Y", 10i64)
-        .output_typed("Mesh", MESH)
-        .evaluate(|cx| {
-            let meshes = map3(
-                cx.slices::<Vec2>(0)?,
-                cx.slices::<i64>(1)?,
-                cx.slices::<i64>(2)?,
-                |s, x, y| {
-                    grid(GridParams {
-                        size: *s,
-                        resolution_x: count(*x),
-                        resolution_y: count(*y),
-                    })
-                },
-            );
-            upload(cx, meshes)
+        .with_pins(|p| {
+            let size = p.input("Size", Vec2::ONE);
+            let resolution_x = p.input("Resolution X", 10i64);
+            let resolution_y = p.input("Resolution Y", 10i64);
+            let out = mesh_output(p, "Mesh");
+            move |cx| {
+                let meshes = map3(
+                    cx.get(size)?,
+                    cx.get(resolution_x)?,
+                    cx.get(resolution_y)?,
+                    |s, x, y| {
+                        grid(GridParams {
+                            size: *s,
+                            resolution_x: count(*x),
+                            resolution_y: count(*y),
+                        })
+                    },
+                );
+                upload(cx, out, meshes)
+            }
         }),
     );
     r.add(
@@ -95,21 +99,23 @@ pub fn register(r: &mut Registry) {
             CATEGORY,
             "A single-quad plane in XZ facing +Y (a Grid of 1x1 cells), scaled by Size.",
         )
-        .input("Size", Vec2::ONE)
-        .output_typed("Mesh", MESH)
-        .evaluate(|cx| {
-            let meshes = cx
-                .slices::<Vec2>(0)?
-                .iter()
-                .map(|s| {
-                    grid(GridParams {
-                        size: *s,
-                        resolution_x: 1,
-                        resolution_y: 1,
+        .with_pins(|p| {
+            let size = p.input("Size", Vec2::ONE);
+            let out = mesh_output(p, "Mesh");
+            move |cx| {
+                let meshes = cx
+                    .get(size)?
+                    .iter()
+                    .map(|s| {
+                        grid(GridParams {
+                            size: *s,
+                            resolution_x: 1,
+                            resolution_y: 1,
+                        })
                     })
-                })
-                .collect();
-            upload(cx, meshes)
+                    .collect();
+                upload(cx, out, meshes)
+            }
         }),
     );
     r.add(
@@ -118,42 +124,44 @@ pub fn register(r: &mut Registry) {
             CATEGORY,
             "A cylinder along Y centred at the origin, with optional caps.",
         )
-        .input("Radius", 0.5f32)
-        .input("Height", 1.0f32)
-        .input("Sectors", 32i64)
-        .input("Caps", true)
-        .output_typed("Mesh", MESH)
-        .evaluate(|cx| {
-            let meshes = map4(
-                cx.slices::<f32>(0)?,
-                cx.slices::<f32>(1)?,
-                cx.slices::<i64>(2)?,
-                cx.slices::<bool>(3)?,
-                |r, h, s, caps| {
-                    cylinder(CylinderParams {
-                        radius: *r,
-                        height: *h,
-                        sectors: count(*s),
-                        caps: *caps,
-                    })
-                },
-            );
-            upload(cx, meshes)
+        .with_pins(|p| {
+            let radius = p.input("Radius", 0.5f32);
+            let height = p.input("Height", 1.0f32);
+            let sectors = p.input("Sectors", 32i64);
+            let caps = p.input("Caps", true);
+            let out = mesh_output(p, "Mesh");
+            move |cx| {
+                let meshes = map4(
+                    cx.get(radius)?,
+                    cx.get(height)?,
+                    cx.get(sectors)?,
+                    cx.get(caps)?,
+                    |r, h, s, caps| {
+                        cylinder(CylinderParams {
+                            radius: *r,
+                            height: *h,
+                            sectors: count(*s),
+                            caps: *caps,
+                        })
+                    },
+                );
+                upload(cx, out, meshes)
+            }
         }),
     );
     r.add(
-        NodeDef::new("Torus", CATEGORY, "A torus around Y in the XZ plane.")
-            .input("Major Radius", 0.5f32)
-            .input("Minor Radius", 0.2f32)
-            .input("Major Segments", 32i64)
-            .input("Minor Segments", 16i64)
-            .output_typed("Mesh", MESH)
-            .evaluate(|cx| {
+        NodeDef::new("Torus", CATEGORY, "A torus around Y in the XZ plane.").with_pins(|p| {
+            let major_radius = p.input("Major Radius", 0.5f32);
+            let minor_radius = p.input("Minor Radius", 0.2f32);
+            let major_segments = p.input("Major Segments", 32i64);
+            let minor_segments = p.input("Minor Segments", 16i64);
+            let out = mesh_output(p, "Mesh");
+            move |cx| {
                 let meshes = map4(
-                    cx.slices::<f32>(0)?,
-                    cx.slices::<f32>(1)?,
-                    cx.slices::<i64>(2)?,
-                    cx.slices::<i64>(3)?,
+                    cx.get(major_radius)?,
+                    cx.get(minor_radius)?,
+                    cx.get(major_segments)?,
+                    cx.get(minor_segments)?,
                     |a, b, s, t| {
                         torus(TorusParams {
                             major_radius: *a,
@@ -163,8 +171,9 @@ pub fn register(r: &mut Registry) {
                         })
                     },
                 );
-                upload(cx, meshes)
-            }),
+                upload(cx, out, meshes)
+            }
+        }),
     );
 }
 
@@ -173,7 +182,11 @@ fn count(v: i64) -> u32 {
     v.clamp(0, 4096) as u32
 }
 
-fn upload(cx: &mut EvalContext<'_>, meshes: Vec<MeshData>) -> Result<(), NodeError> {
+fn upload(
+    cx: &mut EvalContext<'_>,
+    out: Out<Res<GpuMesh>>,
+    meshes: Vec<MeshData>,
+) -> Result<(), NodeError> {
     let renderer = renderer(cx)?;
     let gpu_meshes = meshes
         .iter()
@@ -184,9 +197,6 @@ fn upload(cx: &mut EvalContext<'_>, meshes: Vec<MeshData>) -> Result<(), NodeErr
                 .map_err(|e| NodeError::Other(e.to_string()))
         })
         .collect::<Result<Vec<_>, _>>()?;
-    cx.set_output(
-        0,
-        resource_spread::<GpuMesh>(ResourceKind::Mesh, gpu_meshes),
-    );
+    cx.put_resources(out, gpu_meshes);
     Ok(())
 }

@@ -4,14 +4,12 @@
 
 use glam::Vec3;
 use spreadlight_graph::spread::{cycled, slice_count};
-use spreadlight_graph::{
-    EvalContext, Node, NodeDef, NodeError, PinType, Registry, ResourceKind, Spread,
-};
+use spreadlight_graph::{EvalContext, In, Node, NodeDef, NodeError, Out, Registry, Res};
 use spreadlight_render::geometry::{SpherizeParams, spherize};
 use spreadlight_render::mesh_arena::GpuMesh;
 
 use super::continuity::{Continuity, signature};
-use crate::gpu::{renderer, resource_spread, resources};
+use crate::gpu::renderer;
 
 pub fn register(r: &mut Registry) {
     r.add(
@@ -22,26 +20,39 @@ pub fn register(r: &mut Registry) {
              the sphere. Normals and tangents follow the deformation exactly, UVs are kept. Runs on the GPU; the \
              output carries last frame's positions for Velocity From Geometry.",
         )
-        .input_spread("Mesh", super::MESH, Spread::Resource(ResourceKind::Mesh, vec![]))
-        .input("Amount", 1.0f32)
-        .input("Radius", 0.5f32)
-        .input("Center", Vec3::ZERO)
-        .output_typed("Mesh", PinType::Resource(ResourceKind::Mesh))
-        .construct(Spherize::default),
+        .with_pins_node(|p| {
+            let mesh = super::mesh_input(p);
+            let amount = p.input("Amount", 1.0f32);
+            let radius = p.input("Radius", 0.5f32);
+            let center = p.input("Center", Vec3::ZERO);
+            let out = super::mesh_output(p, "Mesh");
+            move || Spherize {
+                mesh,
+                amount,
+                radius,
+                center,
+                out,
+                continuity: Continuity::default(),
+            }
+        }),
     );
 }
 
-#[derive(Default)]
 struct Spherize {
+    mesh: In<Res<GpuMesh>>,
+    amount: In<f32>,
+    radius: In<f32>,
+    center: In<Vec3>,
+    out: Out<Res<GpuMesh>>,
     continuity: Continuity,
 }
 
 impl Node for Spherize {
     fn evaluate(&mut self, cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
-        let meshes = resources::<GpuMesh>(cx, 0)?;
-        let amounts = cx.slices::<f32>(1)?.to_vec();
-        let radii = cx.slices::<f32>(2)?.to_vec();
-        let centers = cx.slices::<Vec3>(3)?.to_vec();
+        let meshes = cx.resources(self.mesh)?;
+        let amounts = cx.get(self.amount)?.to_vec();
+        let radii = cx.get(self.radius)?.to_vec();
+        let centers = cx.get(self.center)?.to_vec();
         let n = slice_count([meshes.len(), amounts.len(), radii.len(), centers.len()]);
         let slices: Vec<_> = cycled(&meshes, n)
             .zip(cycled(&amounts, n))
@@ -71,7 +82,7 @@ impl Node for Spherize {
         let out = self.continuity.run(cx, signatures, |i, previous| {
             spherize(&renderer, &slices[i].0, previous, slices[i].1)
         })?;
-        cx.set_output(0, resource_spread(ResourceKind::Mesh, out));
+        cx.put_resources(self.out, out);
         Ok(())
     }
 }

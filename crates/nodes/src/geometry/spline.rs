@@ -5,12 +5,13 @@
 
 use glam::{Vec3, Vec4};
 use spreadlight_graph::{
-    EnumDef, EvalContext, Node, NodeDef, NodeError, PinType, Registry, ResourceKind, Spread,
+    Choice, Choices, EvalContext, In, Node, NodeDef, NodeError, Out, Registry, Res,
 };
 use spreadlight_render::geometry::{Curve, Sweep, curve_point, spline};
+use spreadlight_render::mesh_arena::GpuMesh;
 
 use super::continuity::{Continuity, signature};
-use crate::gpu::{renderer, resource_spread};
+use crate::gpu::renderer;
 
 fn points() -> Vec<Vec3> {
     vec![
@@ -20,16 +21,23 @@ fn points() -> Vec<Vec3> {
     ]
 }
 
-pub static CURVE: EnumDef = EnumDef {
-    name: "Curve",
-    options: &["Catmull-Rom", "Bezier"],
-};
+pub static CURVE: Choices<Curve> = Choices::new(
+    "Curve",
+    &["Catmull-Rom", "Bezier"],
+    &[Curve::CatmullRom, Curve::Bezier],
+);
 
-fn curve(cx: &EvalContext<'_>, pin: usize) -> Result<Curve, NodeError> {
-    Ok(match cx.enum_slices(pin)?.first().map(String::as_str) {
-        Some("Bezier") => Curve::Bezier,
-        _ => Curve::CatmullRom,
-    })
+/// The points every spline node starts with.
+fn points_input(p: &mut spreadlight_graph::Pins<'_>) -> In<Vec3> {
+    p.input_spread("Points", points())
+}
+
+/// A NaN or infinite point is an error on Points naming the slice.
+fn finite_points(cx: &EvalContext<'_>, pin: In<Vec3>, points: &[Vec3]) -> Result<(), NodeError> {
+    match points.iter().position(|p| !p.is_finite()) {
+        Some(i) => Err(cx.error(pin, format!("slice {i} is NaN or infinite"))),
+        None => Ok(()),
+    }
 }
 
 const CURVE_HELP: &str = "Curve Catmull-Rom passes through every point; Curve Bezier takes cubic spans (anchor, handle, \
@@ -46,13 +54,17 @@ pub fn register(r: &mut Registry) {
                  {CURVE_HELP} Made on the GPU; animated points give previous positions for Velocity From Geometry."
             ),
         )
-        .input_spread("Points", PinType::Vec3, spreadlight_graph::Spread::Vec3(points()))
-        .input("Radius", 0.1f32)
-        .input("Segments", 8i64)
-        .input("Sides", 12i64)
-        .input_enum("Curve", &CURVE, "Catmull-Rom")
-        .output_typed("Mesh", PinType::Resource(ResourceKind::Mesh))
-        .construct(|| SplineNode::new(true)),
+        .with_pins_node(|p| {
+            let pins = SweepPins {
+                points: points_input(p),
+                radius: p.input("Radius", 0.1f32),
+                segments: p.input("Segments", 8i64),
+                sides: Some(p.input("Sides", 12i64)),
+                curve: p.input_choice("Curve", &CURVE, Curve::CatmullRom),
+                out: super::mesh_output(p, "Mesh"),
+            };
+            move || SplineNode::new(pins)
+        }),
     );
     r.add(
         NodeDef::new(
@@ -63,12 +75,17 @@ pub fn register(r: &mut Registry) {
                  (cycled), Segments (1..1024) a span, facing the curve's normal. {CURVE_HELP} Made on the GPU."
             ),
         )
-        .input_spread("Points", PinType::Vec3, spreadlight_graph::Spread::Vec3(points()))
-        .input("Width", 0.1f32)
-        .input("Segments", 8i64)
-        .input_enum("Curve", &CURVE, "Catmull-Rom")
-        .output_typed("Mesh", PinType::Resource(ResourceKind::Mesh))
-        .construct(|| SplineNode::new(false)),
+        .with_pins_node(|p| {
+            let pins = SweepPins {
+                points: points_input(p),
+                radius: p.input("Width", 0.1f32),
+                segments: p.input("Segments", 8i64),
+                sides: None,
+                curve: p.input_choice("Curve", &CURVE, Curve::CatmullRom),
+                out: super::mesh_output(p, "Mesh"),
+            };
+            move || SplineNode::new(pins)
+        }),
     );
     r.add(
         NodeDef::new(
@@ -80,46 +97,57 @@ pub fn register(r: &mut Registry) {
                  sweep, on the CPU."
             ),
         )
-        .input_spread("Points", PinType::Vec3, Spread::Vec3(points()))
-        .input("Segments", 8i64)
-        .input_enum("Curve", &CURVE, "Catmull-Rom")
-        .output::<Vec3>("Output")
-        .output::<Vec3>("Tangent")
-        .evaluate(|cx| {
-            let points = cx.slices::<Vec3>(0)?.to_vec();
-            let segments = cx.slices::<i64>(1)?.first().copied().unwrap_or(8);
-            if !(1..=1024).contains(&segments) {
-                return Err(cx.input_error(1, format!("{segments} is not within 1..1024")));
+        .with_pins(|p| {
+            let points_in = points_input(p);
+            let segments_in = p.input("Segments", 8i64);
+            let curve_in = p.input_choice("Curve", &CURVE, Curve::CatmullRom);
+            let output = p.output::<Vec3>("Output");
+            let tangent = p.output::<Vec3>("Tangent");
+            move |cx| {
+                let points = cx.get(points_in)?.to_vec();
+                let segments = cx.first(segments_in, 8)?;
+                if !(1..=1024).contains(&segments) {
+                    return Err(cx.error(segments_in, format!("{segments} is not within 1..1024")));
+                }
+                let curve = cx.choice(curve_in)?;
+                let spans = curve.spans(points.len()).map_err(|e| cx.error(points_in, e))?;
+                finite_points(cx, points_in, &points)?;
+                let controls: Vec<Vec4> = points.iter().map(|p| p.extend(0.0)).collect();
+                let steps = spans as usize * segments as usize;
+                let (mut out, mut tangents) = (Vec::with_capacity(steps + 1), Vec::with_capacity(steps + 1));
+                for k in 0..=steps {
+                    let (p, d) = curve_point(&controls, curve, k as f32 / segments as f32);
+                    out.push(p.truncate());
+                    tangents.push(d.truncate().normalize_or_zero());
+                }
+                cx.put(output, out);
+                cx.put(tangent, tangents);
+                Ok(())
             }
-            let curve = curve(cx, 2)?;
-            let spans = curve.spans(points.len()).map_err(|e| cx.input_error(0, e))?;
-            if let Some(i) = points.iter().position(|p| !p.is_finite()) {
-                return Err(cx.input_error(0, format!("slice {i} is NaN or infinite")));
-            }
-            let controls: Vec<Vec4> = points.iter().map(|p| p.extend(0.0)).collect();
-            let steps = spans as usize * segments as usize;
-            let (mut out, mut tangents) = (Vec::with_capacity(steps + 1), Vec::with_capacity(steps + 1));
-            for k in 0..=steps {
-                let (p, d) = curve_point(&controls, curve, k as f32 / segments as f32);
-                out.push(p.truncate());
-                tangents.push(d.truncate().normalize_or_zero());
-            }
-            cx.set_output(0, Spread::Vec3(out));
-            cx.set_output(1, Spread::Vec3(tangents));
-            Ok(())
         }),
     );
 }
 
+/// Tube's and Ribbon's pins: Ribbon has no Sides, and its Radius is Width.
+#[derive(Clone, Copy)]
+struct SweepPins {
+    points: In<Vec3>,
+    radius: In<f32>,
+    segments: In<i64>,
+    sides: Option<In<i64>>,
+    curve: In<Choice<Curve>>,
+    out: Out<Res<GpuMesh>>,
+}
+
 struct SplineNode {
-    tube: bool,
+    pins: SweepPins,
     continuity: Continuity,
 }
 
 impl SplineNode {
-    fn new(tube: bool) -> Self {
+    fn new(pins: SweepPins) -> Self {
         SplineNode {
-            tube,
+            pins,
             continuity: Continuity::default(),
         }
     }
@@ -127,23 +155,20 @@ impl SplineNode {
 
 impl Node for SplineNode {
     fn evaluate(&mut self, cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
-        let points = cx.slices::<Vec3>(0)?.to_vec();
-        let radii = cx.slices::<f32>(1)?.to_vec();
-        let segments = cx.slices::<i64>(2)?.first().copied().unwrap_or(8);
-        let sides = if self.tube {
-            cx.slices::<i64>(3)?.first().copied().unwrap_or(12)
-        } else {
-            1
+        let pins = self.pins;
+        let points = cx.get(pins.points)?.to_vec();
+        let radii = cx.get(pins.radius)?.to_vec();
+        let segments = cx.first(pins.segments, 8)?;
+        let sides = match pins.sides {
+            Some(sides) => cx.first(sides, 12)?,
+            None => 1,
         };
-        let curve_pin = if self.tube { 4 } else { 3 };
-        let curve = curve(cx, curve_pin)?;
+        let curve = cx.choice(pins.curve)?;
         curve
             .spans(points.len())
-            .map_err(|e| cx.input_error(0, e))?;
-        if let Some(i) = points.iter().position(|p| !p.is_finite()) {
-            return Err(cx.input_error(0, format!("slice {i} is NaN or infinite")));
-        }
-        let sweep = if self.tube {
+            .map_err(|e| cx.error(pins.points, e))?;
+        finite_points(cx, pins.points, &points)?;
+        let sweep = if pins.sides.is_some() {
             Sweep::Tube {
                 sides: sides.clamp(3, 1024) as u32,
             }
@@ -160,7 +185,7 @@ impl Node for SplineNode {
             .run(cx, vec![signature(None, &values)], |_, previous| {
                 spline(&renderer, &points, &radii, curve, segments, sweep, previous)
             })?;
-        cx.set_output(0, resource_spread(ResourceKind::Mesh, out));
+        cx.put_resources(pins.out, out);
         Ok(())
     }
 }

@@ -2,15 +2,13 @@
 //! (`render::geometry::tessellate`): triangles over Max Area are split until
 //! none is larger; shared edges are cut alike, so closed meshes stay closed.
 
-use spreadlight_graph::{
-    EvalContext, Node, NodeDef, NodeError, PinType, Registry, ResourceKind, Spread,
-};
+use spreadlight_graph::{EvalContext, In, Node, NodeDef, NodeError, Out, Registry, Res};
 use spreadlight_render::geometry::tessellate;
 use spreadlight_render::geometry::tessellate::MAX_LEVEL;
 use spreadlight_render::mesh_arena::GpuMesh;
 
 use super::continuity::{Continuity, signature};
-use crate::gpu::{renderer, resource_spread, resources};
+use crate::gpu::renderer;
 
 pub fn register(r: &mut Registry) {
     r.add(
@@ -25,29 +23,43 @@ pub fn register(r: &mut Registry) {
              where a finer triangle meets a coarser edge (they draw nothing). Runs on the GPU; reads back one \
              number (the output's size) per run.",
         )
-        .input_spread("Mesh", super::MESH, Spread::Resource(ResourceKind::Mesh, vec![]))
-        .input("Max Area", 0.05f32)
-        .input("Max Level", 16i64)
-        .output_typed("Mesh", PinType::Resource(ResourceKind::Mesh))
-        .construct(Tessellate::default),
+        .with_pins_node(|p| {
+            let mesh = super::mesh_input(p);
+            let max_area = p.input("Max Area", 0.05f32);
+            let max_level = p.input("Max Level", 16i64);
+            let out = super::mesh_output(p, "Mesh");
+            move || Tessellate {
+                mesh,
+                max_area,
+                max_level,
+                out,
+                continuity: Continuity::default(),
+            }
+        }),
     );
 }
 
-#[derive(Default)]
 struct Tessellate {
+    mesh: In<Res<GpuMesh>>,
+    max_area: In<f32>,
+    max_level: In<i64>,
+    out: Out<Res<GpuMesh>>,
     continuity: Continuity,
 }
 
 impl Node for Tessellate {
     fn evaluate(&mut self, cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
-        let meshes = resources::<GpuMesh>(cx, 0)?;
-        let max_area = cx.slices::<f32>(1)?.first().copied().unwrap_or(0.05);
-        let level = cx.slices::<i64>(2)?.first().copied().unwrap_or(16);
+        let meshes = cx.resources(self.mesh)?;
+        let max_area = cx.first(self.max_area, 0.05)?;
+        let level = cx.first(self.max_level, 16)?;
         if !(max_area.is_finite() && max_area > 0.0) {
-            return Err(cx.input_error(1, format!("{max_area} is not a positive area")));
+            return Err(cx.error(self.max_area, format!("{max_area} is not a positive area")));
         }
         if !(1..=i64::from(MAX_LEVEL)).contains(&level) {
-            return Err(cx.input_error(2, format!("{level} is not within 1..{MAX_LEVEL}")));
+            return Err(cx.error(
+                self.max_level,
+                format!("{level} is not within 1..{MAX_LEVEL}"),
+            ));
         }
         let signatures = meshes
             .iter()
@@ -57,7 +69,7 @@ impl Node for Tessellate {
         let out = self.continuity.run(cx, signatures, |i, previous| {
             tessellate(&renderer, &meshes[i], previous, max_area, level as u32)
         })?;
-        cx.set_output(0, resource_spread(ResourceKind::Mesh, out));
+        cx.put_resources(self.out, out);
         Ok(())
     }
 }

@@ -14,18 +14,14 @@ pub mod ssgi;
 pub mod ssss;
 pub mod sun_light_buffer;
 
+use spreadlight_graph::typed_pins::InputPin;
 use spreadlight_graph::{EvalContext, NodeError, Registry};
 
-/// A NaN or infinity on any of `pins` is an error on the node naming the pin
-/// and slice: user maths that blew up never reaches a light buffer.
-pub(crate) fn require_finite(
-    cx: &EvalContext<'_>,
-    pins: std::ops::Range<usize>,
-) -> Result<(), NodeError> {
-    for pin in pins {
-        if let Some(slice) = cx.input(pin).first_non_finite() {
-            return Err(cx.input_error(pin, format!("slice {slice} is NaN or infinite")));
-        }
+/// A NaN or infinity on `pin` is an error on the node naming the pin and
+/// slice: user maths that blew up never reaches a light buffer.
+pub(crate) fn require_finite(cx: &EvalContext<'_>, pin: impl InputPin) -> Result<(), NodeError> {
+    if let Some(slice) = cx.spread(pin).first_non_finite() {
+        return Err(cx.error(pin, format!("slice {slice} is NaN or infinite")));
     }
     Ok(())
 }

@@ -11,7 +11,7 @@
 //! counts ("shadow maps rendered / reused / culled").
 
 use spreadlight_graph::{
-    EnumDef, EvalContext, NodeDef, NodeError, PinType, Registry, ResourceKind, Spread,
+    Choice, Choices, EvalContext, In, NodeDef, NodeError, Out, Pins, Registry, Res, ResourceKind,
 };
 use spreadlight_render::gbuffer::{GBuffer, Layer, RasterChoice};
 use spreadlight_render::lighting::{PointLight, SpotLight, SunLight};
@@ -19,60 +19,75 @@ use spreadlight_render::shadows::{
     Cascades, ShadowError, ShadowFilter, ShadowLights, ShadowMaps, ShadowSettings,
 };
 
-use super::add_light::LightList;
-use crate::gpu::{renderer, resource_spread, resources};
+use super::add_light::{LightList, LightsPin};
+use crate::gpu::renderer;
 
-pub static SHADOW_FILTER: EnumDef = EnumDef {
-    name: "Shadow Filter",
-    options: &["Raw", "PCF", "PCSS", "VSM"],
-};
+/// The Filter pin's options; the settings each needs come from other pins.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FilterKind {
+    Raw,
+    Pcf,
+    Pcss,
+    Vsm,
+}
 
-// Pin indices shared by the three nodes; the sun's cascade pins follow.
-const LAYER: usize = 0;
-const GBUFFER: usize = 1;
-const LIGHTS: usize = 2;
-const RESOLUTION: usize = 3;
-const FILTER: usize = 4;
-const KERNEL: usize = 5;
-const LIGHT_SIZE: usize = 6;
-const SAMPLES: usize = 7;
-const BLEEDING: usize = 8;
-const BLUR: usize = 9;
-const DEPTH_BIAS: usize = 10;
-const NORMAL_BIAS: usize = 11;
-const RASTER: usize = 12;
-const CASCADES: usize = 13;
-const SPLIT: usize = 14;
-const DISTANCE: usize = 15;
-const CASCADE_STEP: usize = 16;
+pub static SHADOW_FILTER: Choices<FilterKind> = Choices::new(
+    "Shadow Filter",
+    &["Raw", "PCF", "PCSS", "VSM"],
+    &[
+        FilterKind::Raw,
+        FilterKind::Pcf,
+        FilterKind::Pcss,
+        FilterKind::Vsm,
+    ],
+);
 
-fn node(name: &'static str, lights: ResourceKind, help: &'static str, light_size: f32) -> NodeDef {
-    NodeDef::new(name, super::CATEGORY, help)
-        .input_spread(
-            "Layer",
-            PinType::Resource(ResourceKind::Layer),
-            Spread::Resource(ResourceKind::Layer, vec![]),
-        )
-        .input_spread(
-            "G-Buffer",
-            PinType::Resource(ResourceKind::GBuffer),
-            Spread::Resource(ResourceKind::GBuffer, vec![]),
-        )
-        .input_spread(
-            "Lights",
-            PinType::Resource(lights),
-            Spread::Resource(lights, vec![]),
-        )
-        .input("Resolution", 1024i64)
-        .input_enum("Filter", &SHADOW_FILTER, "PCF")
-        .input("PCF Kernel", 3i64)
-        .input("Light Size", light_size)
-        .input("PCSS Samples", 16i64)
-        .input("VSM Bleeding", 0.2f32)
-        .input("VSM Blur", 1i64)
-        .input("Depth Bias", 0.02f32)
-        .input("Normal Bias", 1.5f32)
-        .input_enum("Raster", &crate::deferred::mre::RASTER, "Auto")
+/// The pins the three nodes share (the sun's cascade pins follow them), and
+/// their output.
+struct ShadowPins<T: Send + Sync + 'static> {
+    layer: In<Res<Layer>>,
+    gbuffer: In<Res<GBuffer>>,
+    lights: LightsPin<T>,
+    resolution: In<i64>,
+    filter: In<Choice<FilterKind>>,
+    kernel: In<i64>,
+    light_size: In<f32>,
+    samples: In<i64>,
+    bleeding: In<f32>,
+    blur: In<i64>,
+    depth_bias: In<f32>,
+    normal_bias: In<f32>,
+    raster: In<Choice<RasterChoice>>,
+    out: Out<Res<ShadowMaps>>,
+}
+
+// By hand: a derive would ask `T: Copy`, and only the handles are copied.
+impl<T: Send + Sync + 'static> Clone for ShadowPins<T> {
+    fn clone(&self) -> Self {
+        *self
+    }
+}
+impl<T: Send + Sync + 'static> Copy for ShadowPins<T> {}
+
+impl<T: Clone + Send + Sync + 'static> ShadowPins<T> {
+    fn declare(p: &mut Pins<'_>, kind: ResourceKind, light_size: f32) -> Self {
+        ShadowPins {
+            layer: p.input_resource::<Layer>("Layer", ResourceKind::Layer),
+            gbuffer: p.input_resource::<GBuffer>("G-Buffer", ResourceKind::GBuffer),
+            lights: LightList::input(p, kind),
+            resolution: p.input("Resolution", 1024i64),
+            filter: p.input_choice("Filter", &SHADOW_FILTER, FilterKind::Pcf),
+            kernel: p.input("PCF Kernel", 3i64),
+            light_size: p.input("Light Size", light_size),
+            samples: p.input("PCSS Samples", 16i64),
+            bleeding: p.input("VSM Bleeding", 0.2f32),
+            blur: p.input("VSM Blur", 1i64),
+            depth_bias: p.input("Depth Bias", 0.02f32),
+            normal_bias: p.input("Normal Bias", 1.5f32),
+            raster: p.input_choice("Raster", &crate::deferred::mre::RASTER, RasterChoice::Auto),
+            out: p.output_resource::<ShadowMaps>("Shadows", ResourceKind::Shadows),
+        }
+    }
 }
 
 /// A node's help: its own first sentence, then what every ShadowMap's pins mean.
@@ -93,37 +108,39 @@ macro_rules! help {
 
 pub fn register(r: &mut Registry) {
     r.add(
-        node(
+        NodeDef::new(
             "ShadowMap (Spot)",
-            ResourceKind::SpotLights,
+            super::CATEGORY,
             help!("Shadow maps for spot lights: one layer each, seen through the spot's own view and projection."),
-            0.2,
         )
-        .output_typed("Shadows", PinType::Resource(ResourceKind::Shadows))
-        .evaluate(|cx| {
-            let list = LightList::<SpotLight>::gather(cx, LIGHTS)?;
-            let casting = list.lights.iter().filter_map(|l| l.shadow.map(|s| (s, l.view, l.projection))).collect();
-            build(cx, ShadowLights::Spot(casting), &list.ids, list.lights.iter().map(|l| l.shadow))
+        .with_pins(|p| {
+            let pins = ShadowPins::<SpotLight>::declare(p, ResourceKind::SpotLights, 0.2);
+            move |cx| {
+                let list = LightList::gather(cx, pins.lights)?;
+                let casting = list.lights.iter().filter_map(|l| l.shadow.map(|s| (s, l.view, l.projection))).collect();
+                build(cx, pins, ShadowLights::Spot(casting), &list.ids, list.lights.iter().map(|l| l.shadow))
+            }
         }),
     );
     r.add(
-        node(
+        NodeDef::new(
             "ShadowMap (Point)",
-            ResourceKind::PointLights,
+            super::CATEGORY,
             help!("Shadow maps for point lights: six 90-degree faces each (a cube map array's layout), out to the light's range."),
-            0.2,
         )
-        .output_typed("Shadows", PinType::Resource(ResourceKind::Shadows))
-        .evaluate(|cx| {
-            let list = LightList::<PointLight>::gather(cx, LIGHTS)?;
-            let casting = list.lights.iter().filter_map(|l| l.shadow.map(|s| (s, l.position, l.range))).collect();
-            build(cx, ShadowLights::Point(casting), &list.ids, list.lights.iter().map(|l| l.shadow))
+        .with_pins(|p| {
+            let pins = ShadowPins::<PointLight>::declare(p, ResourceKind::PointLights, 0.2);
+            move |cx| {
+                let list = LightList::gather(cx, pins.lights)?;
+                let casting = list.lights.iter().filter_map(|l| l.shadow.map(|s| (s, l.position, l.range))).collect();
+                build(cx, pins, ShadowLights::Point(casting), &list.ids, list.lights.iter().map(|l| l.shadow))
+            }
         }),
     );
     r.add(
-        node(
+        NodeDef::new(
             "ShadowMap (Sun)",
-            ResourceKind::SunLights,
+            super::CATEGORY,
             help!(
                 "Cascaded shadow maps for suns: Cascades (1..4) orthographic maps each, splitting the camera's view up to \
                  Distance; Split 0 spaces them evenly, 1 logarithmically (the practical scheme blends the two). For a sun, \
@@ -132,78 +149,78 @@ pub fn register(r: &mut Registry) {
                  that share of its width on each side and moves it only in steps of that share, so a camera moving \
                  within a step re-renders no map."
             ),
-            0.01,
         )
-        .input("Cascades", 4i64)
-        .input("Split", 0.6f32)
-        .input("Distance", 60.0f32)
-        .input("Cascade Step", 0.0f32)
-        .output_typed("Shadows", PinType::Resource(ResourceKind::Shadows))
-        .evaluate(|cx| {
-            let list = LightList::<SunLight>::gather(cx, LIGHTS)?;
-            let cascades = Cascades {
-                count: first(cx.slices::<i64>(CASCADES)?, 4).clamp(1, 4) as u32,
-                split_lambda: first(cx.slices::<f32>(SPLIT)?, 0.6),
-                distance: first(cx.slices::<f32>(DISTANCE)?, 60.0),
-                step: cascade_step(cx)?,
-            };
-            let casting = list.lights.iter().filter_map(|l| l.shadow.map(|s| (s, l.direction))).collect();
-            build(cx, ShadowLights::Sun { lights: casting, cascades }, &list.ids, list.lights.iter().map(|l| l.shadow))
+        .with_pins(|p| {
+            let pins = ShadowPins::<SunLight>::declare(p, ResourceKind::SunLights, 0.01);
+            let cascades = p.input("Cascades", 4i64);
+            let split = p.input("Split", 0.6f32);
+            let distance = p.input("Distance", 60.0f32);
+            let step = p.input("Cascade Step", 0.0f32);
+            move |cx| {
+                let list = LightList::gather(cx, pins.lights)?;
+                let cascades = Cascades {
+                    count: cx.first(cascades, 4)?.clamp(1, 4) as u32,
+                    split_lambda: cx.first(split, 0.6)?,
+                    distance: cx.first(distance, 60.0)?,
+                    step: cascade_step(cx, step)?,
+                };
+                let casting = list.lights.iter().filter_map(|l| l.shadow.map(|s| (s, l.direction))).collect();
+                build(cx, pins, ShadowLights::Sun { lights: casting, cascades }, &list.ids, list.lights.iter().map(|l| l.shadow))
+            }
         }),
     );
 }
 
 /// The sun's Cascade Step: 0 or 0.01..=0.5 (a share of a cascade's width).
-fn cascade_step(cx: &EvalContext<'_>) -> Result<f32, NodeError> {
-    let step = first(cx.slices::<f32>(CASCADE_STEP)?, 0.0);
+fn cascade_step(cx: &EvalContext<'_>, pin: In<f32>) -> Result<f32, NodeError> {
+    let step = cx.first(pin, 0.0)?;
     if step.is_finite() && (step == 0.0 || (0.01..=0.5).contains(&step)) {
         Ok(step)
     } else {
-        Err(cx.input_error(
-            CASCADE_STEP,
-            format!("is {step}; it must be 0 or 0.01..=0.5"),
-        ))
+        Err(cx.error(pin, format!("is {step}; it must be 0 or 0.01..=0.5")))
     }
-}
-
-fn first<T: Copy>(slices: &[T], fallback: T) -> T {
-    slices.first().copied().unwrap_or(fallback)
 }
 
 /// The node's settings from its pins; a value outside its range is an error naming the pin.
-fn settings(cx: &EvalContext<'_>) -> Result<ShadowSettings, NodeError> {
-    for pin in [LIGHT_SIZE, BLEEDING, DEPTH_BIAS, NORMAL_BIAS] {
-        if let Some(slice) = cx.input(pin).first_non_finite() {
-            return Err(cx.input_error(pin, format!("slice {slice} is NaN or infinite")));
-        }
+fn settings<T: Send + Sync + 'static>(
+    cx: &EvalContext<'_>,
+    pins: ShadowPins<T>,
+) -> Result<ShadowSettings, NodeError> {
+    for pin in [
+        pins.light_size,
+        pins.bleeding,
+        pins.depth_bias,
+        pins.normal_bias,
+    ] {
+        super::require_finite(cx, pin)?;
     }
-    let resolution = first(cx.slices::<i64>(RESOLUTION)?, 1024);
+    let resolution = cx.first(pins.resolution, 1024)?;
     let resolution = u32::try_from(resolution)
         .ok()
         .filter(|r| (16..=spreadlight_render::shadows::MAX_RESOLUTION).contains(r))
         .ok_or_else(|| {
-            cx.input_error(
-                RESOLUTION,
+            cx.error(
+                pins.resolution,
                 format!(
                     "is {resolution}; it must be 16..={}",
                     spreadlight_render::shadows::MAX_RESOLUTION
                 ),
             )
         })?;
-    let kernel = first(cx.slices::<i64>(KERNEL)?, 3);
-    let filter = match cx.enum_slices(FILTER)?.first().map(String::as_str) {
-        Some("Raw") => ShadowFilter::Raw,
-        Some("PCSS") => ShadowFilter::Pcss {
-            light_size: first(cx.slices::<f32>(LIGHT_SIZE)?, 0.2),
-            samples: first(cx.slices::<i64>(SAMPLES)?, 16).clamp(1, 64) as u32,
+    let kernel = cx.first(pins.kernel, 3)?;
+    let filter = match cx.choice(pins.filter)? {
+        FilterKind::Raw => ShadowFilter::Raw,
+        FilterKind::Pcss => ShadowFilter::Pcss {
+            light_size: cx.first(pins.light_size, 0.2)?,
+            samples: cx.first(pins.samples, 16)?.clamp(1, 64) as u32,
         },
-        Some("VSM") => ShadowFilter::Vsm {
-            bleeding: first(cx.slices::<f32>(BLEEDING)?, 0.2),
-            blur: first(cx.slices::<i64>(BLUR)?, 1).clamp(0, 8) as u32,
+        FilterKind::Vsm => ShadowFilter::Vsm {
+            bleeding: cx.first(pins.bleeding, 0.2)?,
+            blur: cx.first(pins.blur, 1)?.clamp(0, 8) as u32,
         },
-        _ => {
+        FilterKind::Pcf => {
             if !(1..=9).contains(&kernel) || kernel % 2 == 0 {
-                return Err(cx.input_error(KERNEL, format!("is {kernel}; it must be odd, 1..=9")));
+                return Err(cx.error(pins.kernel, format!("is {kernel}; it must be odd, 1..=9")));
             }
             ShadowFilter::Pcf {
                 kernel: kernel as u32,
@@ -213,35 +230,29 @@ fn settings(cx: &EvalContext<'_>) -> Result<ShadowSettings, NodeError> {
     Ok(ShadowSettings {
         resolution,
         filter,
-        depth_bias: first(cx.slices::<f32>(DEPTH_BIAS)?, 0.02),
-        normal_bias: first(cx.slices::<f32>(NORMAL_BIAS)?, 1.5),
-        raster: match cx.enum_slices(RASTER)?.first().map(String::as_str) {
-            Some("Compute") => RasterChoice::Compute,
-            Some("Hardware") => RasterChoice::Hardware,
-            _ => RasterChoice::Auto,
-        },
+        depth_bias: cx.first(pins.depth_bias, 0.02)?,
+        normal_bias: cx.first(pins.normal_bias, 1.5)?,
+        raster: cx.choice(pins.raster)?,
     })
 }
 
 /// The maps of `lights` as the node's output. A slice given twice names the lights that share it.
-fn build(
+fn build<T: Send + Sync + 'static>(
     cx: &mut EvalContext<'_>,
+    pins: ShadowPins<T>,
     lights: ShadowLights,
     ids: &[String],
     slices: impl Iterator<Item = Option<u32>>,
 ) -> Result<(), NodeError> {
     let renderer = renderer(cx)?;
-    let settings = settings(cx)?;
-    let casters: Vec<std::sync::Arc<Layer>> = resources::<Layer>(cx, LAYER)?;
-    let gbuffer = resources::<GBuffer>(cx, GBUFFER)?
-        .into_iter()
-        .next()
-        .ok_or_else(|| {
-            cx.input_error(
-                GBUFFER,
-                "no G-buffer connected: the shadows need the view they are for",
-            )
-        })?;
+    let settings = settings(cx, pins)?;
+    let casters: Vec<std::sync::Arc<Layer>> = cx.resources(pins.layer)?;
+    let gbuffer = cx.first_resource(pins.gbuffer)?.ok_or_else(|| {
+        cx.error(
+            pins.gbuffer,
+            "no G-buffer connected: the shadows need the view they are for",
+        )
+    })?;
     let slices: Vec<Option<u32>> = slices.collect();
     let maps = ShadowMaps::new(
         &renderer,
@@ -259,17 +270,17 @@ fn build(
                 .filter(|(_, s)| **s == Some(slice))
                 .map(|(id, _)| id.as_str())
                 .collect();
-            cx.input_error(
-                LIGHTS,
+            cx.error(
+                pins.lights,
                 format!(
                     "shadow slice {slice} is given to lights `{}`",
                     owners.join("`, `")
                 ),
             )
         }
-        ShadowError::Resolution(..) => cx.input_error(RESOLUTION, e.to_string()),
-        ShadowError::TooManySlices { .. } => cx.input_error(LIGHTS, e.to_string()),
+        ShadowError::Resolution(..) => cx.error(pins.resolution, e.to_string()),
+        ShadowError::TooManySlices { .. } => cx.error(pins.lights, e.to_string()),
     })?;
-    cx.set_output(0, resource_spread(ResourceKind::Shadows, vec![maps]));
+    cx.put_resources(pins.out, vec![maps]);
     Ok(())
 }

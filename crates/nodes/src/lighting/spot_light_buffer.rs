@@ -2,12 +2,12 @@
 //! gathered, with the texture array their Texture IDs index (Emeshe's
 //! Texture2DArray of projected textures; `FileTexture (Array)` makes one).
 
-use spreadlight_graph::{NodeDef, PinType, Registry, ResourceKind, Spread};
+use spreadlight_graph::{NodeDef, Registry, ResourceKind};
 use spreadlight_render::TextureRef;
 use spreadlight_render::lighting::{LightBuffer, SpotLight};
 
 use super::add_light::LightList;
-use crate::gpu::{renderer, resource_spread, resources};
+use crate::gpu::renderer;
 
 pub fn register(r: &mut Registry) {
     let kind = ResourceKind::SpotLights;
@@ -19,36 +19,37 @@ pub fn register(r: &mut Registry) {
              with the textures they project: a texture array (FileTexture (Array)) whose layers the \
              lights' Texture IDs pick, wrapping past its end. No texture: every spot is a round cone.",
         )
-        .input_spread("Lights", PinType::Resource(kind), Spread::Resource(kind, Vec::new()))
-        .input_spread(
-            "Textures",
-            PinType::Resource(ResourceKind::Texture),
-            Spread::Resource(ResourceKind::Texture, Vec::new()),
-        )
-        .output_typed("Lights", PinType::Resource(ResourceKind::LightWorld))
-        .output::<i64>("Count")
-        .evaluate(|cx| {
-            let renderer = renderer(cx)?;
-            let list = LightList::<SpotLight>::gather(cx, 0)?;
-            let textures = resources::<TextureRef>(cx, 1)?;
-            if textures.len() > 1 {
-                return Err(cx.input_error(
-                    1,
-                    format!("takes one texture array, got {} textures: join them with FileTexture (Array)", textures.len()),
-                ));
+        .with_pins(|p| {
+            let lights = LightList::<SpotLight>::input(p, kind);
+            let textures = p.input_resource::<TextureRef>("Textures", ResourceKind::Texture);
+            let out = p.output_resource::<LightBuffer>("Lights", ResourceKind::LightWorld);
+            let count = p.output::<i64>("Count");
+            move |cx| {
+                let renderer = renderer(cx)?;
+                let list = LightList::<SpotLight>::gather(cx, lights)?;
+                let arrays = cx.resources(textures)?;
+                if arrays.len() > 1 {
+                    return Err(cx.error(
+                        textures,
+                        format!(
+                            "takes one texture array, got {} textures: join them with FileTexture (Array)",
+                            arrays.len()
+                        ),
+                    ));
+                }
+                let arrays = arrays.first().map(|t| (**t).clone());
+                let buffer = LightBuffer::spots_of(&renderer, Some(cx.node_id.0), &list.lights, arrays).map_err(|e| {
+                    // Name the light by its ID, as the patch does.
+                    let id = match &e {
+                        spreadlight_render::lighting::SpotError::View { index }
+                        | spreadlight_render::lighting::SpotError::Projection { index } => &list.ids[*index],
+                    };
+                    cx.error(lights, format!("light `{id}`: {e}"))
+                })?;
+                cx.put_resources(out, vec![buffer]);
+                cx.put(count, vec![list.lights.len() as i64]);
+                Ok(())
             }
-            let textures = textures.first().map(|t| (**t).clone());
-            let buffer = LightBuffer::spots_of(&renderer, Some(cx.node_id.0), &list.lights, textures).map_err(|e| {
-                // Name the light by its ID, as the patch does.
-                let id = match &e {
-                    spreadlight_render::lighting::SpotError::View { index }
-                    | spreadlight_render::lighting::SpotError::Projection { index } => &list.ids[*index],
-                };
-                cx.input_error(0, format!("light `{id}`: {e}"))
-            })?;
-            cx.set_output(0, resource_spread(ResourceKind::LightWorld, vec![buffer]));
-            cx.set_output(1, Spread::Int(vec![list.lights.len() as i64]));
-            Ok(())
         }),
     );
 }

@@ -5,18 +5,22 @@
 //! pairs the two.
 
 use spreadlight_graph::{
-    EnumDef, EvalContext, NodeDef, NodeError, PinType, Registry, ResourceKind, Spread,
+    Choice, Choices, EvalContext, In, NodeDef, NodeError, Pins, Registry, Res,
 };
-use spreadlight_render::TextureRef;
 use spreadlight_render::gbuffer::GBuffer;
+use spreadlight_render::resolution::Resolution;
 use spreadlight_render::ssao::{AmbientOcclusion, AoMode, AoSettings};
 
-use crate::gpu::{renderer, resource_spread, resources};
+use super::require_finite;
+use crate::gpu::renderer;
+use crate::post::{gbuffer_input, optional_texture, set_texture, texture_input, texture_output};
 
-pub static SSAO_MODE: EnumDef = EnumDef {
-    name: "SSAO Mode",
-    options: &["Stochastic", "SAO"],
-};
+/// SSAO's Mode pin: its two estimators.
+pub static SSAO_MODES: Choices<AoMode> = Choices::new(
+    "SSAO Mode",
+    &["Stochastic", "SAO"],
+    &[AoMode::Stochastic, AoMode::Sao],
+);
 
 /// What the pins both nodes share mean, closing each node's help.
 macro_rules! temporal_help {
@@ -28,140 +32,135 @@ macro_rules! temporal_help {
     };
 }
 
-fn gbuffer_pin(def: NodeDef) -> NodeDef {
-    def.input_spread(
-        "G-Buffer",
-        PinType::Resource(ResourceKind::GBuffer),
-        Spread::Resource(ResourceKind::GBuffer, vec![]),
-    )
-}
-
 /// The pins both nodes share, after their own: Radius, (Samples or Directions), Steps, Intensity,
 /// Temporal Blend, Blur Radius, Reset, Resolution.
-fn common(def: NodeDef, count_name: &'static str, radius: f32, count: i64) -> NodeDef {
-    let def = def
-        .input("Radius", radius)
-        .input(count_name, count)
-        .input("Steps", 4i64)
-        .input("Intensity", 1.0f32)
-        .input("Temporal Blend", 0.9f32)
-        .input("Blur Radius", 4i64)
-        .input("Reset", false);
-    crate::resolution::pin(def)
+#[derive(Clone, Copy)]
+struct Common {
+    radius: In<f32>,
+    count: In<i64>,
+    steps: In<i64>,
+    intensity: In<f32>,
+    blend: In<f32>,
+    blur: In<i64>,
+    reset: In<bool>,
+    resolution: In<Choice<Resolution>>,
 }
 
-/// Settings from the common pins starting at `first` (Radius), and the
-/// Resolution pin after them.
-fn settings(cx: &EvalContext<'_>, first: usize, mode: AoMode) -> Result<AoSettings, NodeError> {
-    super::require_finite(cx, first..first + 6)?;
-    let float = |pin: usize, fallback: f32| -> Result<f32, NodeError> {
-        Ok(cx.slices::<f32>(pin)?.first().copied().unwrap_or(fallback))
-    };
-    let int = |pin: usize, fallback: i64| -> Result<u32, NodeError> {
-        Ok(cx
-            .slices::<i64>(pin)?
-            .first()
-            .copied()
-            .unwrap_or(fallback)
-            .clamp(0, i64::from(u32::MAX)) as u32)
-    };
-    let radius = float(first, 1.0)?;
-    if radius < 0.0 {
-        return Err(cx.input_error(first, "must be 0 or more (world units)"));
+impl Common {
+    fn declare(p: &mut Pins<'_>, count_name: &'static str, radius: f32, count: i64) -> Self {
+        Common {
+            radius: p.input("Radius", radius),
+            count: p.input(count_name, count),
+            steps: p.input("Steps", 4i64),
+            intensity: p.input("Intensity", 1.0f32),
+            blend: p.input("Temporal Blend", 0.9f32),
+            blur: p.input("Blur Radius", 4i64),
+            reset: p.input("Reset", false),
+            resolution: crate::resolution::input(p),
+        }
     }
-    let blend = float(first + 4, 0.9)?;
-    if !(0.0..1.0).contains(&blend) {
-        return Err(cx.input_error(first + 4, "must be in 0..1 (0.98 at most is used)"));
+
+    /// The settings the pins give; a value out of range is an error naming its pin.
+    fn settings(self, cx: &EvalContext<'_>, mode: AoMode) -> Result<AoSettings, NodeError> {
+        require_finite(cx, self.radius)?;
+        require_finite(cx, self.count)?;
+        require_finite(cx, self.steps)?;
+        require_finite(cx, self.intensity)?;
+        require_finite(cx, self.blend)?;
+        require_finite(cx, self.blur)?;
+        let int = |pin: In<i64>, fallback: i64| -> Result<u32, NodeError> {
+            Ok(cx.first(pin, fallback)?.clamp(0, i64::from(u32::MAX)) as u32)
+        };
+        let radius = cx.first(self.radius, 1.0)?;
+        if radius < 0.0 {
+            return Err(cx.error(self.radius, "must be 0 or more (world units)"));
+        }
+        let blend = cx.first(self.blend, 0.9)?;
+        if !(0.0..1.0).contains(&blend) {
+            return Err(cx.error(self.blend, "must be in 0..1 (0.98 at most is used)"));
+        }
+        Ok(AoSettings {
+            mode,
+            radius,
+            samples: int(self.count, 8)?,
+            steps: int(self.steps, 4)?,
+            intensity: cx.first(self.intensity, 1.0)?,
+            temporal_blend: blend,
+            blur_radius: int(self.blur, 4)?,
+            reset: cx.first(self.reset, false)?,
+            resolution: cx.choice(self.resolution)?,
+        })
     }
-    Ok(AoSettings {
-        mode,
-        radius,
-        samples: int(first + 1, 8)?,
-        steps: int(first + 2, 4)?,
-        intensity: float(first + 3, 1.0)?,
-        temporal_blend: blend,
-        blur_radius: int(first + 5, 4)?,
-        reset: cx
-            .slices::<bool>(first + 6)?
-            .first()
-            .copied()
-            .unwrap_or(false),
-        resolution: crate::resolution::read(cx, first + 7)?,
-    })
 }
 
-fn gbuffer(cx: &EvalContext<'_>) -> Result<std::sync::Arc<GBuffer>, NodeError> {
-    resources::<GBuffer>(cx, 0)?
-        .into_iter()
-        .next()
-        .ok_or_else(|| cx.input_error(0, "no G-buffer connected: AO reads its depth and normals"))
+fn gbuffer(
+    cx: &EvalContext<'_>,
+    pin: In<Res<GBuffer>>,
+) -> Result<std::sync::Arc<GBuffer>, NodeError> {
+    cx.first_resource(pin)?
+        .ok_or_else(|| cx.error(pin, "no G-buffer connected: AO reads its depth and normals"))
 }
 
 pub fn register(r: &mut Registry) {
     r.add(
-        common(
-            gbuffer_pin(NodeDef::new(
-                "SSAO",
-                super::CATEGORY,
-                concat!(
-                    "Wide-range ambient occlusion: visibility 0..1 (1 = open) for CompositeLight's AO. Mode: Stochastic ",
-                    "(Emeshe's: Samples rays in a cosine-weighted hemisphere, each marched Steps times; blocked where it ",
-                    "passes behind a surface within Radius — what ray-cast AO computes) or SAO (McGuire's scalable ",
-                    "obscurance: a spiral of Samples taps over a depth mip chain; cheap at large radii, darker; it takes no ",
-                    "Steps). Radius in world units.",
-                    temporal_help!(),
-                ),
-            ))
-            .input_enum("Mode", &SSAO_MODE, "Stochastic"),
-            "Samples",
-            1.0,
-            8,
-        )
-        .output_typed("Texture", PinType::Resource(ResourceKind::Texture))
+        crate::resolution::with_help(NodeDef::new(
+            "SSAO",
+            super::CATEGORY,
+            concat!(
+                "Wide-range ambient occlusion: visibility 0..1 (1 = open) for CompositeLight's AO. Mode: Stochastic ",
+                "(Emeshe's: Samples rays in a cosine-weighted hemisphere, each marched Steps times; blocked where it ",
+                "passes behind a surface within Radius — what ray-cast AO computes) or SAO (McGuire's scalable ",
+                "obscurance: a spiral of Samples taps over a depth mip chain; cheap at large radii, darker; it takes no ",
+                "Steps). Radius in world units.",
+                temporal_help!(),
+            ),
+        ))
         // Temporal accumulation, and sample patterns turned by a count of its own frames.
         .stateful()
-        .evaluate(|cx| {
-            let renderer = renderer(cx)?;
-            let mode = match cx.enum_slices(1)?.first().map(String::as_str) {
-                Some("SAO") => AoMode::Sao,
-                _ => AoMode::Stochastic,
-            };
-            // Settings first: a wrong pin is named even before anything is wired.
-            let s = settings(cx, 2, mode)?;
-            let g = gbuffer(cx)?;
-            let ao = AmbientOcclusion::new(&renderer, Some(cx.node_id.0), g, s, None);
-            cx.set_output(0, resource_spread::<TextureRef>(ResourceKind::Texture, vec![std::sync::Arc::new(ao.texture())]));
-            Ok(())
+        .with_pins(|p| {
+            let g_buffer = gbuffer_input(p);
+            let mode = p.input_choice("Mode", &SSAO_MODES, AoMode::Stochastic);
+            let common = Common::declare(p, "Samples", 1.0, 8);
+            let out = texture_output(p, "Texture");
+            move |cx| {
+                let renderer = renderer(cx)?;
+                let mode = cx.choice(mode)?;
+                // Settings first: a wrong pin is named even before anything is wired.
+                let s = common.settings(cx, mode)?;
+                let g = gbuffer(cx, g_buffer)?;
+                let ao = AmbientOcclusion::new(&renderer, Some(cx.node_id.0), g, s, None);
+                set_texture(cx, out, ao.texture());
+                Ok(())
+            }
         }),
     );
     r.add(
-        common(
-            gbuffer_pin(NodeDef::new(
-                "HBAO",
-                super::CATEGORY,
-                concat!(
-                    "Short-range local ambient occlusion, horizon-based: Directions screen directions, Steps taps each ",
-                    "within Radius (world units); the highest horizon in each direction occludes its slice. AO (optional): ",
-                    "a wide-range AO (SSAO) multiplied in, so one texture feeds CompositeLight.",
-                    temporal_help!(),
-                ),
-            ))
-            .input_spread("AO", PinType::Resource(ResourceKind::Texture), Spread::Resource(ResourceKind::Texture, vec![])),
-            "Directions",
-            0.3,
-            8,
-        )
-        .output_typed("Texture", PinType::Resource(ResourceKind::Texture))
+        crate::resolution::with_help(NodeDef::new(
+            "HBAO",
+            super::CATEGORY,
+            concat!(
+                "Short-range local ambient occlusion, horizon-based: Directions screen directions, Steps taps each ",
+                "within Radius (world units); the highest horizon in each direction occludes its slice. AO (optional): ",
+                "a wide-range AO (SSAO) multiplied in, so one texture feeds CompositeLight.",
+                temporal_help!(),
+            ),
+        ))
         // Temporal accumulation, and sample patterns turned by a count of its own frames.
         .stateful()
-        .evaluate(|cx| {
-            let renderer = renderer(cx)?;
-            let s = settings(cx, 2, AoMode::Hbao)?;
-            let g = gbuffer(cx)?;
-            let combine = resources::<TextureRef>(cx, 1)?.into_iter().next().map(|t| (*t).clone());
-            let ao = AmbientOcclusion::new(&renderer, Some(cx.node_id.0), g, s, combine);
-            cx.set_output(0, resource_spread::<TextureRef>(ResourceKind::Texture, vec![std::sync::Arc::new(ao.texture())]));
-            Ok(())
+        .with_pins(|p| {
+            let g_buffer = gbuffer_input(p);
+            let combine = texture_input(p, "AO");
+            let common = Common::declare(p, "Directions", 0.3, 8);
+            let out = texture_output(p, "Texture");
+            move |cx| {
+                let renderer = renderer(cx)?;
+                let s = common.settings(cx, AoMode::Hbao)?;
+                let g = gbuffer(cx, g_buffer)?;
+                let combine = optional_texture(cx, combine)?;
+                let ao = AmbientOcclusion::new(&renderer, Some(cx.node_id.0), g, s, combine);
+                set_texture(cx, out, ao.texture());
+                Ok(())
+            }
         }),
     );
 }

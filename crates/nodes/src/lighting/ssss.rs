@@ -1,18 +1,18 @@
 //! `SSSS`: screen-space subsurface scattering of CookTorrance's SSS term
 //! (render::lighting::Ssss), per material by its FakeSSS colour.
 
-use spreadlight_graph::{EnumDef, NodeDef, PinType, Registry, ResourceKind, Spread};
-use spreadlight_render::TextureRef;
-use spreadlight_render::gbuffer::GBuffer;
+use spreadlight_graph::{Choices, NodeDef, Registry, ResourceKind};
 use spreadlight_render::lighting::{Ssss, SsssQuality};
 use spreadlight_render::material::MaterialWorld;
 
-use crate::gpu::{renderer, resource_spread, resources};
+use crate::gpu::renderer;
+use crate::post::{gbuffer_input, texture_input, texture_output};
 
-pub static QUALITY: EnumDef = EnumDef {
-    name: "SSSS Quality",
-    options: &["Low", "Medium", "High"],
-};
+pub static QUALITY: Choices<SsssQuality> = Choices::new(
+    "SSSS Quality",
+    &["Low", "Medium", "High"],
+    &[SsssQuality::Low, SsssQuality::Medium, SsssQuality::High],
+);
 
 pub fn register(r: &mut Registry) {
     r.add(
@@ -26,50 +26,41 @@ pub fn register(r: &mut Registry) {
              colour and a strength above 0 it runs nothing and passes the Texture on; pixels of materials that \
              scatter nothing pass through. Wire the result to CompositeLight's SSS.",
         )
-        .input_spread("G-Buffer", PinType::Resource(ResourceKind::GBuffer), Spread::Resource(ResourceKind::GBuffer, vec![]))
-        .input_spread("Texture", PinType::Resource(ResourceKind::Texture), Spread::Resource(ResourceKind::Texture, vec![]))
-        .input_spread(
-            "Material World",
-            PinType::Resource(ResourceKind::MaterialWorld),
-            Spread::Resource(ResourceKind::MaterialWorld, vec![]),
-        )
-        .input("Width", 0.05f32)
-        .input_enum("Quality", &QUALITY, "Medium")
-        .output_typed("Texture", PinType::Resource(ResourceKind::Texture))
-        .evaluate(|cx| {
-            let renderer = renderer(cx)?;
-            super::require_finite(cx, 3..4)?;
-            let width = cx.slices::<f32>(3)?.first().copied().unwrap_or(0.05);
-            if width < 0.0 {
-                return Err(cx.input_error(3, "must be 0 or more (world units)"));
-            }
-            let quality = match cx.enum_slices(4)?.first().map(String::as_str) {
-                Some("Low") => SsssQuality::Low,
-                Some("High") => SsssQuality::High,
-                _ => SsssQuality::Medium,
-            };
-            let g = resources::<GBuffer>(cx, 0)?
+        .with_pins(|p| {
+            let g_buffer = gbuffer_input(p);
+            let texture = texture_input(p, "Texture");
+            let material_world = p.input_resource::<MaterialWorld>("Material World", ResourceKind::MaterialWorld);
+            let width = p.input("Width", 0.05f32);
+            let quality = p.input_choice("Quality", &QUALITY, SsssQuality::Medium);
+            let out = texture_output(p, "Texture");
+            move |cx| {
+                let renderer = renderer(cx)?;
+                super::require_finite(cx, width)?;
+                let width_value = cx.first(width, 0.05)?;
+                if width_value < 0.0 {
+                    return Err(cx.error(width, "must be 0 or more (world units)"));
+                }
+                let quality = cx.choice(quality)?;
+                let g = cx.first_resource(g_buffer)?.ok_or_else(|| cx.error(g_buffer, "no G-buffer connected"))?;
+                // One slice per light type, as CookTorrance gives them.
+                let sss = cx.resources(texture)?;
+                let materials = cx.first_resource(material_world)?;
+                // One blur pass pair for up to three slices: they share their taps.
+                let textures = Ssss::textures(
+                    &renderer,
+                    Some(cx.node_id.0),
+                    g.clone(),
+                    sss.iter().map(|t| (**t).clone()).collect(),
+                    materials,
+                    width_value,
+                    quality,
+                )
                 .into_iter()
-                .next()
-                .ok_or_else(|| cx.input_error(0, "no G-buffer connected"))?;
-            // One slice per light type, as CookTorrance gives them.
-            let sss = resources::<TextureRef>(cx, 1)?;
-            let materials = resources::<MaterialWorld>(cx, 2)?.into_iter().next();
-            // One blur pass pair for up to three slices: they share their taps.
-            let out = Ssss::textures(
-                &renderer,
-                Some(cx.node_id.0),
-                g.clone(),
-                sss.iter().map(|t| (**t).clone()).collect(),
-                materials,
-                width,
-                quality,
-            )
-            .into_iter()
-            .map(std::sync::Arc::new)
-            .collect();
-            cx.set_output(0, resource_spread::<TextureRef>(ResourceKind::Texture, out));
-            Ok(())
+                .map(std::sync::Arc::new)
+                .collect();
+                cx.put_resources(out, textures);
+                Ok(())
+            }
         }),
     );
 }

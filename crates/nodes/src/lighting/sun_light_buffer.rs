@@ -1,10 +1,10 @@
 //! `SunLightBuffer`: uploads the parallel lights that `AddLight (Sun)` nodes gathered.
 
-use spreadlight_graph::{NodeDef, PinType, Registry, ResourceKind, Spread};
+use spreadlight_graph::{NodeDef, Registry, ResourceKind};
 use spreadlight_render::lighting::{LightBuffer, SunLight};
 
 use super::add_light::LightList;
-use crate::gpu::{renderer, resource_spread};
+use crate::gpu::renderer;
 
 pub fn register(r: &mut Registry) {
     let kind = ResourceKind::SunLights;
@@ -14,16 +14,18 @@ pub fn register(r: &mut Registry) {
             super::CATEGORY,
             "The sun lights from AddLight (Sun) nodes as one GPU buffer, uploaded when they change.",
         )
-        .input_spread("Lights", PinType::Resource(kind), Spread::Resource(kind, Vec::new()))
-        .output_typed("Lights", PinType::Resource(ResourceKind::LightWorld))
-        .output::<i64>("Count")
-        .evaluate(|cx| {
-            let renderer = renderer(cx)?;
-            let list = LightList::<SunLight>::gather(cx, 0)?;
-            let buffer = LightBuffer::suns_of(&renderer, Some(cx.node_id.0), &list.lights);
-            cx.set_output(0, resource_spread(ResourceKind::LightWorld, vec![buffer]));
-            cx.set_output(1, Spread::Int(vec![list.lights.len() as i64]));
-            Ok(())
+        .with_pins(|p| {
+            let lights = LightList::<SunLight>::input(p, kind);
+            let out = p.output_resource::<LightBuffer>("Lights", ResourceKind::LightWorld);
+            let count = p.output::<i64>("Count");
+            move |cx| {
+                let renderer = renderer(cx)?;
+                let list = LightList::<SunLight>::gather(cx, lights)?;
+                let buffer = LightBuffer::suns_of(&renderer, Some(cx.node_id.0), &list.lights);
+                cx.put_resources(out, vec![buffer]);
+                cx.put(count, vec![list.lights.len() as i64]);
+                Ok(())
+            }
         }),
     );
 }

@@ -8,14 +8,9 @@ use spreadlight_graph::{NodeDef, Registry};
 use spreadlight_render::material::Feature;
 
 use super::{
-    CATEGORY, MATERIAL, TEXTURE_ID, no_materials, not_finite, refused, set_feature,
+    CATEGORY, TEXTURE_ID, material_input, material_output, not_finite, refused, set_feature,
     slice_count_with_materials,
 };
-
-const FEATURE_ID: usize = 1;
-const PARAMETERS: usize = 2;
-const BIN_SIZE: usize = 3;
-const TEXTURE: usize = 4;
 
 pub fn register(r: &mut Registry) {
     r.add(
@@ -31,44 +26,46 @@ pub fn register(r: &mut Registry) {
              texture array that scales the first parameter at each pixel's UV (-1: none; MatCap: the matcap \
              image; Reflection and AmbientOcclusion read none).",
         )
-        .input_spread("Material", MATERIAL, no_materials())
-        .input("Feature ID", 0i64)
-        .input("Parameters", Vec4::new(0.5, 0.0, 0.04, 0.0))
-        .input("Bin Size", 1i64)
-        .input(TEXTURE_ID, -1i64)
-        .output_typed("Material", MATERIAL)
-        .evaluate(|cx| {
-            let ids = cx.slices::<i64>(FEATURE_ID)?.to_vec();
-            let layers = cx.slices::<i64>(TEXTURE)?.to_vec();
-            let params = cx.slices::<Vec4>(PARAMETERS)?.to_vec();
-            let bin = match cx.slices::<i64>(BIN_SIZE)?.first().copied().unwrap_or(1) {
-                b if b < 0 => return Err(cx.input_error(BIN_SIZE, format!("is {b}; it must be 0 or more"))),
-                b => usize::try_from(b).unwrap_or(usize::MAX),
-            };
-            // Bin size 0: every material gets no parameters, whatever Parameters holds.
-            let bins = if bin == 0 { 1 } else { params.len().div_ceil(bin) };
-            let n = slice_count_with_materials(cx.input(0).len(), [ids.len(), bins]);
-            if let Some(slice) = (0..n).find(|s| (0..bin).any(|k| !params[(s * bin + k) % params.len()].is_finite())) {
-                return Err(not_finite(cx, PARAMETERS, slice));
+        .with_pins(|p| {
+            let material = material_input(p, "Material");
+            let feature_id = p.input("Feature ID", 0i64);
+            let parameters = p.input("Parameters", Vec4::new(0.5, 0.0, 0.04, 0.0));
+            let bin_size = p.input("Bin Size", 1i64);
+            let texture = p.input(TEXTURE_ID, -1i64);
+            let out = material_output(p, "Material");
+            move |cx| {
+                let ids = cx.get(feature_id)?.to_vec();
+                let layers = cx.get(texture)?.to_vec();
+                let params = cx.get(parameters)?.to_vec();
+                let bin = match cx.first(bin_size, 1)? {
+                    b if b < 0 => return Err(cx.error(bin_size, format!("is {b}; it must be 0 or more"))),
+                    b => usize::try_from(b).unwrap_or(usize::MAX),
+                };
+                // Bin size 0: every material gets no parameters, whatever Parameters holds.
+                let bins = if bin == 0 { 1 } else { params.len().div_ceil(bin) };
+                let n = slice_count_with_materials(cx.spread(material).len(), [ids.len(), bins]);
+                if let Some(slice) = (0..n).find(|s| (0..bin).any(|k| !params[(s * bin + k) % params.len()].is_finite())) {
+                    return Err(not_finite(cx, parameters, slice));
+                }
+                set_feature(cx, material, out, n, parameters, Some(texture), |cx, slice| {
+                    let id = ids[slice % ids.len()];
+                    let feature = Feature::from_id(id).map_err(|e| refused(cx, feature_id, slice, e))?;
+                    if feature.param_count().is_some_and(|c| c != bin) {
+                        return Err(cx.error(
+                            bin_size,
+                            format!("is {bin}, but feature {feature} (slice {slice}) takes exactly one parameter vec4"),
+                        ));
+                    }
+                    if !feature.reads_texture() && layers.get(slice % layers.len().max(1)).is_some_and(|l| *l >= 0) {
+                        return Err(cx.error(
+                            texture,
+                            format!("slice {slice}: feature {feature} reads no texture; set -1"),
+                        ));
+                    }
+                    let values = (0..bin).map(|k| params[(slice * bin + k) % params.len()].to_array()).collect();
+                    Ok((feature, values))
+                })
             }
-            set_feature(cx, 0, n, PARAMETERS, Some(TEXTURE), |cx, slice| {
-                let id = ids[slice % ids.len()];
-                let feature = Feature::from_id(id).map_err(|e| refused(cx, FEATURE_ID, slice, e))?;
-                if feature.param_count().is_some_and(|c| c != bin) {
-                    return Err(cx.input_error(
-                        BIN_SIZE,
-                        format!("is {bin}, but feature {feature} (slice {slice}) takes exactly one parameter vec4"),
-                    ));
-                }
-                if !feature.reads_texture() && layers.get(slice % layers.len().max(1)).is_some_and(|l| *l >= 0) {
-                    return Err(cx.input_error(
-                        TEXTURE,
-                        format!("slice {slice}: feature {feature} reads no texture; set -1"),
-                    ));
-                }
-                let values = (0..bin).map(|k| params[(slice * bin + k) % params.len()].to_array()).collect();
-                Ok((feature, values))
-            })
         }),
     );
 }

@@ -4,12 +4,13 @@
 //! CookTorrance, roughness 0.5, metallic 0). Worlds are not singletons:
 //! each MaterialBuffer has its own.
 
-use spreadlight_graph::{NodeDef, PinType, Registry, ResourceKind, Spread};
+use spreadlight_graph::{NodeDef, Registry, ResourceKind};
 use spreadlight_render::TextureRef;
 use spreadlight_render::material::{Material, MaterialWorld};
 
-use super::{CATEGORY, MATERIAL, no_materials};
-use crate::gpu::{renderer, resource_spread, resources};
+use super::{CATEGORY, material_input};
+use crate::gpu::renderer;
+use crate::post::texture_input;
 
 pub fn register(r: &mut Registry) {
     r.add(
@@ -22,20 +23,17 @@ pub fn register(r: &mut Registry) {
              Textures: a texture array (FileTexture (Array)) whose layers the features' Texture IDs pick, \
              mapped by the G-buffer's UV; no texture code is compiled unless some material reads one.",
         )
-        .input_spread("Materials", MATERIAL, no_materials())
-        .input_spread(
-            "Textures",
-            PinType::Resource(ResourceKind::Texture),
-            Spread::Resource(ResourceKind::Texture, Vec::new()),
-        )
-        .output_typed("Material World", PinType::Resource(ResourceKind::MaterialWorld))
-        .evaluate(|cx| {
+        .with_pins(|p| {
+            let materials_in = material_input(p, "Materials");
+            let textures_in = texture_input(p, "Textures");
+            let out = p.output_resource::<MaterialWorld>("Material World", ResourceKind::MaterialWorld);
+            move |cx| {
             let renderer = renderer(cx)?;
-            let materials: Vec<Material> = resources::<Material>(cx, 0)?.iter().map(|m| Material::clone(m)).collect();
-            let textures = resources::<TextureRef>(cx, 1)?;
+            let materials: Vec<Material> = cx.resources(materials_in)?.iter().map(|m| Material::clone(m)).collect();
+            let textures = cx.resources(textures_in)?;
             if textures.len() > 1 {
-                return Err(cx.input_error(
-                    1,
+                return Err(cx.error(
+                    textures_in,
                     format!("takes one texture array, got {} textures: join them with FileTexture (Array)", textures.len()),
                 ));
             }
@@ -49,8 +47,8 @@ pub fn register(r: &mut Registry) {
                     })
                 })
             {
-                return Err(cx.input_error(
-                    1,
+                return Err(cx.error(
+                    textures_in,
                     format!(
                         "material {id}: feature {feature} reads texture layer {layer}, but no texture array is \
                          connected: wire a FileTexture (Array) here, or set its Texture ID to -1"
@@ -59,8 +57,9 @@ pub fn register(r: &mut Registry) {
             }
             let textures = textures.first().map(|t| TextureRef::clone(t));
             let world = MaterialWorld::with_textures(&renderer, materials, textures);
-            cx.set_output(0, resource_spread(ResourceKind::MaterialWorld, vec![world]));
+            cx.put_resources(out, vec![world]);
             Ok(())
+            }
         }),
     );
 }

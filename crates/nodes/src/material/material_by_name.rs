@@ -10,8 +10,7 @@ use std::sync::Arc;
 use spreadlight_graph::{NodeDef, Registry};
 use spreadlight_render::material::Material;
 
-use super::{CATEGORY, MATERIAL, no_materials};
-use crate::gpu::{resource_spread, resources};
+use super::{CATEGORY, material_input, material_output};
 
 pub fn register(r: &mut Registry) {
     r.add(
@@ -22,33 +21,35 @@ pub fn register(r: &mut Registry) {
              outputs that material and its Material ID, one slice per name found. A name that is not there is an \
              error naming it.",
         )
-        .input_spread("Materials", MATERIAL, no_materials())
-        .input_spread("Names", spreadlight_graph::PinType::String, spreadlight_graph::Spread::String(Vec::new()))
-        .input("Name", String::new())
-        .output_typed("Material", MATERIAL)
-        .output::<i64>("Material ID")
-        .evaluate(|cx| {
-            let materials = resources::<Material>(cx, 0)?;
-            let names = cx.slices::<String>(1)?.to_vec();
-            let wanted = cx.slices::<String>(2)?.to_vec();
-            let mut found: Vec<Arc<Material>> = Vec::new();
-            let mut ids = Vec::new();
-            for name in &wanted {
-                let Some(id) = names.iter().position(|n| n == name) else {
-                    return Err(cx.input_error(2, format!("no material is named `{name}`")));
-                };
-                let Some(material) = materials.get(id) else {
-                    return Err(cx.input_error(
-                        0,
-                        format!("`{name}` is material {id}, but only {} materials arrive", materials.len()),
-                    ));
-                };
-                found.push(material.clone());
-                ids.push(id as i64);
+        .with_pins(|p| {
+            let materials_in = material_input(p, "Materials");
+            let names_in = p.input_spread::<String>("Names", Vec::new());
+            let name_in = p.input("Name", String::new());
+            let material_out = material_output(p, "Material");
+            let id_out = p.output::<i64>("Material ID");
+            move |cx| {
+                let materials = cx.resources(materials_in)?;
+                let names = cx.get(names_in)?.to_vec();
+                let wanted = cx.get(name_in)?.to_vec();
+                let mut found: Vec<Arc<Material>> = Vec::new();
+                let mut ids = Vec::new();
+                for name in &wanted {
+                    let Some(id) = names.iter().position(|n| n == name) else {
+                        return Err(cx.error(name_in, format!("no material is named `{name}`")));
+                    };
+                    let Some(material) = materials.get(id) else {
+                        return Err(cx.error(
+                            materials_in,
+                            format!("`{name}` is material {id}, but only {} materials arrive", materials.len()),
+                        ));
+                    };
+                    found.push(material.clone());
+                    ids.push(id as i64);
+                }
+                cx.put_resources(material_out, found);
+                cx.put(id_out, ids);
+                Ok(())
             }
-            cx.set_output(0, resource_spread(spreadlight_graph::ResourceKind::Material, found));
-            cx.set(1, ids);
-            Ok(())
         }),
     );
 }

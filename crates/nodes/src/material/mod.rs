@@ -21,10 +21,9 @@ pub mod parameter_texture;
 
 use std::sync::Arc;
 
-use spreadlight_graph::{EvalContext, NodeError, PinType, Registry, ResourceKind, Spread};
+use spreadlight_graph::typed_pins::InputPin;
+use spreadlight_graph::{EvalContext, In, NodeError, Out, Pins, Registry, Res, ResourceKind};
 use spreadlight_render::material::{Feature, FeatureError, Material};
-
-use crate::gpu::{resource_spread, resources};
 
 pub const CATEGORY: &str = "Material";
 
@@ -37,12 +36,15 @@ pub fn register(r: &mut Registry) {
     material_buffer::register(r);
 }
 
-/// The pin type of a CPU-side material.
-pub const MATERIAL: PinType = PinType::Resource(ResourceKind::Material);
+/// A pin of CPU-side materials (unconnected: no slices, read as "a new
+/// material" by the feature nodes).
+pub fn material_input(p: &mut Pins<'_>, name: &'static str) -> In<Res<Material>> {
+    p.input_resource::<Material>(name, ResourceKind::Material)
+}
 
-/// An unconnected material pin: no slices, read as "a new material".
-pub fn no_materials() -> Spread {
-    Spread::Resource(ResourceKind::Material, Vec::new())
+/// An output of CPU-side materials.
+pub fn material_output(p: &mut Pins<'_>, name: &'static str) -> Out<Res<Material>> {
+    p.output_resource::<Material>(name, ResourceKind::Material)
 }
 
 /// How many materials a feature node outputs: the spread count of its
@@ -64,24 +66,25 @@ pub fn slice_count_with_materials(
 /// MaterialBuffer's texture array scales the feature's first parameter.
 pub const TEXTURE_ID: &str = "Texture ID";
 
-/// Set `feature` on each of `n` materials from input pin `pin` (wrapping;
-/// empty = new materials) with `params(slice)`, and output them on pin 0.
-/// A refused setting becomes an error on `param_pin` naming the slice.
-/// `texture_pin`, when the node has one, holds each slice's texture layer (negative: none).
+/// Set `feature` on each of `n` materials from `pin` (wrapping; empty = new
+/// materials) with `params(slice)`, and output them on `out`. A refused
+/// setting becomes an error on `param_pin` naming the slice. `texture_pin`,
+/// when the node has one, holds each slice's texture layer (negative: none).
 pub fn set_feature(
     cx: &mut EvalContext<'_>,
-    pin: usize,
+    pin: In<Res<Material>>,
+    out: Out<Res<Material>>,
     n: usize,
-    param_pin: usize,
-    texture_pin: Option<usize>,
+    param_pin: impl InputPin,
+    texture_pin: Option<In<i64>>,
     mut params: impl FnMut(&EvalContext<'_>, usize) -> Result<(Feature, Vec<[f32; 4]>), NodeError>,
 ) -> Result<(), NodeError> {
     let textures = match texture_pin {
-        Some(pin) => cx.slices::<i64>(pin)?.to_vec(),
+        Some(pin) => cx.get(pin)?.to_vec(),
         None => Vec::new(),
     };
-    let inputs = resources::<Material>(cx, pin)?;
-    let mut out = Vec::with_capacity(n);
+    let inputs = cx.resources(pin)?;
+    let mut materials = Vec::with_capacity(n);
     for slice in 0..n {
         let (feature, values) = params(cx, slice)?;
         let mut material = match inputs.len() {
@@ -96,20 +99,25 @@ pub fn set_feature(
             len => u32::try_from(textures[slice % len]).ok(),
         };
         material.set_texture(feature, layer);
-        out.push(Arc::new(material));
+        materials.push(Arc::new(material));
     }
-    cx.set_output(0, resource_spread(ResourceKind::Material, out));
+    cx.put_resources(out, materials);
     Ok(())
 }
 
 /// A `FeatureError` as an input error on `pin` at `slice`.
-pub fn refused(cx: &EvalContext<'_>, pin: usize, slice: usize, e: FeatureError) -> NodeError {
-    cx.input_error(pin, format!("slice {slice}: {e}"))
+pub fn refused(
+    cx: &EvalContext<'_>,
+    pin: impl InputPin,
+    slice: usize,
+    e: FeatureError,
+) -> NodeError {
+    cx.error(pin, format!("slice {slice}: {e}"))
 }
 
 /// The error for a NaN or infinity on `pin` at `slice`.
-pub fn not_finite(cx: &EvalContext<'_>, pin: usize, slice: usize) -> NodeError {
-    cx.input_error(pin, format!("slice {slice} is NaN or infinite"))
+pub fn not_finite(cx: &EvalContext<'_>, pin: impl InputPin, slice: usize) -> NodeError {
+    cx.error(pin, format!("slice {slice} is NaN or infinite"))
 }
 
 #[cfg(test)]

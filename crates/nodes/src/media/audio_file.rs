@@ -13,10 +13,9 @@ use std::path::PathBuf;
 use std::time::SystemTime;
 
 use spreadlight_audio::{AudioWindow, Clip, decode_file};
-use spreadlight_graph::{EvalContext, Node, NodeDef, NodeError, Registry};
+use spreadlight_graph::{EvalContext, In, Node, NodeDef, NodeError, Out, Registry, Res};
 
-use super::{AUDIO, CATEGORY, audio_spread, first_f32};
-use crate::spreads::memory::first_bool;
+use super::{CATEGORY, audio_output, put_audio};
 
 pub fn register(r: &mut Registry) {
     r.add(
@@ -29,18 +28,39 @@ pub fn register(r: &mut Registry) {
              deterministic; Loop repeats it, else it falls silent at the end. Decoded whole, \
              mixed to mono, the first time a sink needs it. Nothing is played to speakers.",
         )
-        .input("Filename", String::new())
-        .input("Play", true)
-        .input("Loop", false)
-        .input("Speed", 1.0f32)
-        .input("Seek", 0.0f32)
-        .output_typed("Audio", AUDIO)
-        .output::<f32>("Position")
-        .output::<f32>("Duration")
-        .output::<i64>("Sample Rate")
         .time_dependent()
-        .construct(AudioFile::default),
+        .with_pins_node(|p| {
+            let pins = AudioFilePins {
+                filename: p.input("Filename", String::new()),
+                play: p.input("Play", true),
+                looping: p.input("Loop", false),
+                speed: p.input("Speed", 1.0f32),
+                seek: p.input("Seek", 0.0f32),
+                audio: audio_output(p),
+                position: p.output::<f32>("Position"),
+                duration: p.output::<f32>("Duration"),
+                rate: p.output::<i64>("Sample Rate"),
+            };
+            move || AudioFile {
+                pins,
+                loaded: None,
+                head: None,
+            }
+        }),
     );
+}
+
+#[derive(Clone, Copy)]
+struct AudioFilePins {
+    filename: In<String>,
+    play: In<bool>,
+    looping: In<bool>,
+    speed: In<f32>,
+    seek: In<f32>,
+    audio: Out<Res<AudioWindow>>,
+    position: Out<f32>,
+    duration: Out<f32>,
+    rate: Out<i64>,
 }
 
 /// Where the play head is, as a function of the clock and the pins.
@@ -93,8 +113,8 @@ impl Head {
     }
 }
 
-#[derive(Default)]
 struct AudioFile {
+    pins: AudioFilePins,
     /// The decoded file (or why it could not be), by path and modification time.
     loaded: Option<(PathBuf, Option<SystemTime>, Result<Clip, String>)>,
     head: Option<Head>,
@@ -115,19 +135,20 @@ impl AudioFile {
         }
         match &self.loaded {
             Some((_, _, Ok(clip))) => Ok(clip),
-            Some((_, _, Err(e))) => Err(cx.input_error(0, e.clone())),
-            None => Err(cx.input_error(0, format!("{name}: not loaded"))),
+            Some((_, _, Err(e))) => Err(cx.error(self.pins.filename, e.clone())),
+            None => Err(cx.error(self.pins.filename, format!("{name}: not loaded"))),
         }
     }
 }
 
 impl Node for AudioFile {
     fn evaluate(&mut self, cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
-        let name = cx.slices::<String>(0)?.first().cloned().unwrap_or_default();
-        let play = first_bool(cx, 1)?;
-        let looping = first_bool(cx, 2)?;
-        let speed = f64::from(first_f32(cx, 3, 1.0)?);
-        let seek = f64::from(first_f32(cx, 4, 0.0)?);
+        let pins = self.pins;
+        let name = cx.get(pins.filename)?.first().cloned().unwrap_or_default();
+        let play = cx.first(pins.play, false)?;
+        let looping = cx.first(pins.looping, false)?;
+        let speed = f64::from(cx.first(pins.speed, 1.0)?);
+        let seek = f64::from(cx.first(pins.seek, 0.0)?);
         if name.is_empty() {
             self.loaded = None;
             return Ok(());
@@ -154,10 +175,10 @@ impl Node for AudioFile {
         };
         let window =
             AudioWindow::new(clip.samples.clone(), clip.rate, end, looping).with_step(step);
-        cx.set_output(0, audio_spread(window));
-        cx.set(1, vec![shown as f32]);
-        cx.set(2, vec![duration as f32]);
-        cx.set(3, vec![i64::from(clip.rate)]);
+        put_audio(cx, pins.audio, window);
+        cx.put(pins.position, vec![shown as f32]);
+        cx.put(pins.duration, vec![duration as f32]);
+        cx.put(pins.rate, vec![i64::from(clip.rate)]);
         Ok(())
     }
 }

@@ -4,11 +4,11 @@
 //! patch runs on. The device is tried again when a pin changes, not every
 //! frame: a missing device would otherwise cost an ALSA probe per frame.
 
+use spreadlight_audio::AudioWindow;
 use spreadlight_audio::input::LiveInput;
-use spreadlight_graph::{Node, NodeDef, NodeError, Registry};
+use spreadlight_graph::{In, Node, NodeDef, NodeError, Out, Registry, Res};
 
-use super::{AUDIO, CATEGORY, audio_spread, first_f32};
-use crate::spreads::memory::first_bool;
+use super::{CATEGORY, audio_output, put_audio};
 
 pub fn register(r: &mut Registry) {
     r.add(
@@ -20,27 +20,44 @@ pub fn register(r: &mut Registry) {
              device, not the patch clock, so it is not deterministic (use AudioFile for \
              renders). Without a device the node shows \"no audio device\" and outputs nothing.",
         )
-        .input("Enabled", true)
-        .input("Buffer", 8.0f32)
-        .range(0.1, 60.0)
-        .output_typed("Audio", AUDIO)
-        .output::<i64>("Sample Rate")
-        .output::<String>("Device")
         .time_dependent()
-        .construct(AudioIn::default),
+        .with_pins_node(|p| {
+            let pins = AudioInPins {
+                enabled: p.input("Enabled", true),
+                buffer: {
+                    let pin = p.input("Buffer", 8.0f32);
+                    p.range(0.1, 60.0);
+                    pin
+                },
+                audio: audio_output(p),
+                rate: p.output::<i64>("Sample Rate"),
+                device: p.output::<String>("Device"),
+            };
+            move || AudioIn { pins, opened: None }
+        }),
     );
 }
 
-#[derive(Default)]
+#[derive(Clone, Copy)]
+struct AudioInPins {
+    enabled: In<bool>,
+    buffer: In<f32>,
+    audio: Out<Res<AudioWindow>>,
+    rate: Out<i64>,
+    device: Out<String>,
+}
+
 struct AudioIn {
+    pins: AudioInPins,
     /// The open device, or why it did not open, for these pins.
     opened: Option<((bool, u32), Result<LiveInput, String>)>,
 }
 
 impl Node for AudioIn {
     fn evaluate(&mut self, cx: &mut spreadlight_graph::EvalContext<'_>) -> Result<(), NodeError> {
-        let enabled = first_bool(cx, 0)?;
-        let seconds = first_f32(cx, 1, 8.0)?.clamp(0.1, 60.0);
+        let pins = self.pins;
+        let enabled = cx.first(pins.enabled, false)?;
+        let seconds = cx.first(pins.buffer, 8.0)?.clamp(0.1, 60.0);
         let key = (enabled, seconds.to_bits());
         if !enabled {
             self.opened = None;
@@ -60,9 +77,9 @@ impl Node for AudioIn {
         let window = input.window();
         let step = (cx.clock.delta * f64::from(input.rate())).round() as i64;
         let (rate, device) = (i64::from(input.rate()), input.name().to_owned());
-        cx.set_output(0, audio_spread(window.with_step(step)));
-        cx.set(1, vec![rate]);
-        cx.set(2, vec![device]);
+        put_audio(cx, pins.audio, window.with_step(step));
+        cx.put(pins.rate, vec![rate]);
+        cx.put(pins.device, vec![device]);
         Ok(())
     }
 }

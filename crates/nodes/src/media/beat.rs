@@ -4,10 +4,11 @@
 //! frames that are new; the result equals a computation from scratch, so a
 //! render is deterministic.
 
+use spreadlight_audio::AudioWindow;
 use spreadlight_audio::beat::{OnsetTracker, PEAK_FRAMES, onsets, tempo};
-use spreadlight_graph::{Node, NodeDef, NodeError, Registry};
+use spreadlight_graph::{In, Node, NodeDef, NodeError, Out, Registry, Res};
 
-use super::{AUDIO, CATEGORY, audio, first_f32, no_audio};
+use super::{CATEGORY, audio, audio_input};
 
 pub fn register(r: &mut Registry) {
     r.add(
@@ -21,36 +22,59 @@ pub fn register(r: &mut Registry) {
              onsets best (0 when nothing repeats). Threshold: how far above its surroundings a \
              peak must rise, as a fraction of the window's largest (lower finds more onsets).",
         )
-        .input_spread("Audio", AUDIO, no_audio())
-        .input("Window", 6.0f32)
-        .range(1.0, 30.0)
-        .input("Threshold", 0.3f32)
-        .range(0.0, 1.0)
-        .input("Min BPM", 60.0f32)
-        .input("Max BPM", 180.0f32)
-        .output::<bool>("Onset")
-        .output::<f32>("BPM")
-        .output::<f32>("Strength")
-        .construct(Beat::default),
+        .with_pins_node(|p| {
+            let audio = audio_input(p);
+            let window = p.input("Window", 6.0f32);
+            p.range(1.0, 30.0);
+            let threshold = p.input("Threshold", 0.3f32);
+            p.range(0.0, 1.0);
+            let pins = BeatPins {
+                audio,
+                window,
+                threshold,
+                min_bpm: p.input("Min BPM", 60.0f32),
+                max_bpm: p.input("Max BPM", 180.0f32),
+                onset: p.output::<bool>("Onset"),
+                bpm: p.output::<f32>("BPM"),
+                strength: p.output::<f32>("Strength"),
+            };
+            move || Beat {
+                pins,
+                trackers: Vec::new(),
+            }
+        }),
     );
 }
 
-#[derive(Default)]
+#[derive(Clone, Copy)]
+struct BeatPins {
+    audio: In<Res<AudioWindow>>,
+    window: In<f32>,
+    threshold: In<f32>,
+    min_bpm: In<f32>,
+    max_bpm: In<f32>,
+    onset: Out<bool>,
+    bpm: Out<f32>,
+    strength: Out<f32>,
+}
+
 struct Beat {
+    pins: BeatPins,
     /// One tracker per Audio slice, remade when the sample rate changes.
     trackers: Vec<OnsetTracker>,
 }
 
 impl Node for Beat {
     fn evaluate(&mut self, cx: &mut spreadlight_graph::EvalContext<'_>) -> Result<(), NodeError> {
-        let sounds = audio(cx, 0)?;
-        let seconds = f64::from(first_f32(cx, 1, 6.0)?.clamp(1.0, 30.0));
-        let threshold = first_f32(cx, 2, 0.3)?.clamp(0.0, 1.0);
-        let min_bpm = first_f32(cx, 3, 60.0)?;
-        let max_bpm = first_f32(cx, 4, 180.0)?;
+        let pins = self.pins;
+        let sounds = audio(cx, pins.audio)?;
+        let seconds = f64::from(cx.first(pins.window, 6.0)?.clamp(1.0, 30.0));
+        let threshold = cx.first(pins.threshold, 0.3)?.clamp(0.0, 1.0);
+        let min_bpm = cx.first(pins.min_bpm, 60.0)?;
+        let max_bpm = cx.first(pins.max_bpm, 180.0)?;
         if !(min_bpm >= 1.0 && max_bpm > min_bpm && max_bpm.is_finite()) {
-            return Err(cx.input_error(
-                3,
+            return Err(cx.error(
+                pins.min_bpm,
                 format!("Min BPM {min_bpm} must be at least 1 and below Max BPM {max_bpm}"),
             ));
         }
@@ -78,9 +102,9 @@ impl Node for Beat {
             bpm.push(tempo(&strengths, tracker.hop_seconds(), min_bpm, max_bpm).unwrap_or(0.0));
             strength.push(if max > 0.0 { latest / max } else { 0.0 });
         }
-        cx.set(0, onset);
-        cx.set(1, bpm);
-        cx.set(2, strength);
+        cx.put(pins.onset, onset);
+        cx.put(pins.bpm, bpm);
+        cx.put(pins.strength, strength);
         Ok(())
     }
 }

@@ -6,7 +6,7 @@
 use spreadlight_audio::envelope::{follow, memory_seconds};
 use spreadlight_graph::{NodeDef, Registry};
 
-use super::{AUDIO, CATEGORY, audio, first_f32, no_audio};
+use super::{CATEGORY, audio, audio_input};
 
 /// The longest stretch of sound followed a frame.
 const MAX_SECONDS: f32 = 10.0;
@@ -21,25 +21,27 @@ pub fn register(r: &mut Registry) {
              step up reaches 63% after Attack, a step down falls to 37% after Release). Follows \
              the last five time constants of sound (at most 10 s) each frame.",
         )
-        .input_spread("Audio", AUDIO, no_audio())
-        .input("Attack", 0.01f32)
-        .range(0.0, 2.0)
-        .input("Release", 0.2f32)
-        .range(0.0, 2.0)
-        .output::<f32>("Envelope")
-        .evaluate(|cx| {
-            let sounds = audio(cx, 0)?;
-            let attack = first_f32(cx, 1, 0.01)?.clamp(0.0, 2.0);
-            let release = first_f32(cx, 2, 0.2)?.clamp(0.0, 2.0);
-            let seconds = f64::from(memory_seconds(attack, release).clamp(0.001, MAX_SECONDS));
-            let mut samples = Vec::new();
-            let mut out = Vec::new();
-            for w in &sounds {
-                w.last_into(w.samples_in(seconds), &mut samples);
-                out.push(follow(&samples, w.rate(), attack, release, 0.0));
+        .with_pins(|p| {
+            let audio_in = audio_input(p);
+            let attack_in = p.input("Attack", 0.01f32);
+            p.range(0.0, 2.0);
+            let release_in = p.input("Release", 0.2f32);
+            p.range(0.0, 2.0);
+            let envelope = p.output::<f32>("Envelope");
+            move |cx| {
+                let sounds = audio(cx, audio_in)?;
+                let attack = cx.first(attack_in, 0.01)?.clamp(0.0, 2.0);
+                let release = cx.first(release_in, 0.2)?.clamp(0.0, 2.0);
+                let seconds = f64::from(memory_seconds(attack, release).clamp(0.001, MAX_SECONDS));
+                let mut samples = Vec::new();
+                let mut out = Vec::new();
+                for w in &sounds {
+                    w.last_into(w.samples_in(seconds), &mut samples);
+                    out.push(follow(&samples, w.rate(), attack, release, 0.0));
+                }
+                cx.put(envelope, out);
+                Ok(())
             }
-            cx.set(0, out);
-            Ok(())
         }),
     );
 }

@@ -6,10 +6,10 @@
 
 use std::sync::Mutex;
 
-use spreadlight_graph::{EvalContext, Node, NodeDef, NodeError, NodeId, Registry};
+use spreadlight_graph::{EvalContext, In, Node, NodeDef, NodeError, NodeId, Out, Pins, Registry};
 use spreadlight_midi::{Binding, Learn, MidiIn as Port, MidiState, message};
 
-use super::{CATEGORY, first_i64};
+use super::CATEGORY;
 
 pub fn register(r: &mut Registry) {
     r.add(
@@ -24,21 +24,61 @@ pub fn register(r: &mut Registry) {
              beside Controller binds the next controller that moves. Without a MIDI sequencer \
              (no /dev/snd/seq) the node says so.",
         )
-        .input("Port", String::new())
-        .input("Channel", 0i64)
-        .range(0.0, 16.0)
-        .input("Controller", 1i64)
-        .range(0.0, 127.0)
-        .output::<f32>("Value")
-        .output::<f32>("Notes")
-        .output::<i64>("Last Note")
-        .output::<i64>("Last Controller")
-        .output::<f32>("BPM")
-        .output::<bool>("Clock Running")
-        .output::<String>("Port Name")
         .time_dependent()
-        .construct(MidiIn::default),
+        .with_pins_node(|p| {
+            let pins = MidiInPins::declare(p);
+            move || MidiIn {
+                pins,
+                port: None,
+                state: MidiState::default(),
+            }
+        }),
     );
+}
+
+#[derive(Clone, Copy)]
+struct MidiInPins {
+    port: In<String>,
+    channel: In<i64>,
+    controller: In<i64>,
+    port_name: Out<String>,
+    state: StateOutputs,
+}
+
+/// The outputs that follow the MIDI state.
+#[derive(Clone, Copy)]
+struct StateOutputs {
+    value: Out<f32>,
+    notes: Out<f32>,
+    last_note: Out<i64>,
+    last_controller: Out<i64>,
+    bpm: Out<f32>,
+    clock_running: Out<bool>,
+}
+
+impl MidiInPins {
+    fn declare(p: &mut Pins<'_>) -> Self {
+        let port = p.input("Port", String::new());
+        let channel = p.input("Channel", 0i64);
+        p.range(0.0, 16.0);
+        let controller = p.input("Controller", 1i64);
+        p.range(0.0, 127.0);
+        let state = StateOutputs {
+            value: p.output::<f32>("Value"),
+            notes: p.output::<f32>("Notes"),
+            last_note: p.output::<i64>("Last Note"),
+            last_controller: p.output::<i64>("Last Controller"),
+            bpm: p.output::<f32>("BPM"),
+            clock_running: p.output::<bool>("Clock Running"),
+        };
+        MidiInPins {
+            port,
+            channel,
+            controller,
+            port_name: p.output::<String>("Port Name"),
+            state,
+        }
+    }
 }
 
 /// MIDI learn between the editor and the running `MidiIn` nodes: the editor
@@ -83,15 +123,21 @@ impl MidiLearn {
     }
 }
 
-#[derive(Default)]
 struct MidiIn {
+    pins: MidiInPins,
     /// The open port (or why it did not open) for the Port pin's text.
     port: Option<(String, Result<Port, String>)>,
     state: MidiState,
 }
 
 /// What the node outputs from a state: pure, for tests without a port.
-fn outputs(cx: &mut EvalContext<'_>, state: &MidiState, channel: u8, controllers: &[i64]) {
+fn outputs(
+    cx: &mut EvalContext<'_>,
+    pins: StateOutputs,
+    state: &MidiState,
+    channel: u8,
+    controllers: &[i64],
+) {
     let value = controllers
         .iter()
         .map(|&c| f32::from(state.controller(channel, c.clamp(0, 127) as u8)) / 127.0)
@@ -99,22 +145,25 @@ fn outputs(cx: &mut EvalContext<'_>, state: &MidiState, channel: u8, controllers
     let notes = (0..128u8)
         .map(|n| f32::from(state.note(channel, n)) / 127.0)
         .collect();
-    cx.set(0, value);
-    cx.set(1, notes);
-    cx.set(2, vec![state.last_note.map_or(-1, |(_, n)| i64::from(n))]);
-    cx.set(
-        3,
+    cx.put(pins.value, value);
+    cx.put(pins.notes, notes);
+    cx.put(
+        pins.last_note,
+        vec![state.last_note.map_or(-1, |(_, n)| i64::from(n))],
+    );
+    cx.put(
+        pins.last_controller,
         vec![state.last_controller.map_or(-1, |(_, c)| i64::from(c))],
     );
-    cx.set(4, vec![state.clock.bpm().unwrap_or(0.0) as f32]);
-    cx.set(5, vec![state.clock.running()]);
+    cx.put(pins.bpm, vec![state.clock.bpm().unwrap_or(0.0) as f32]);
+    cx.put(pins.clock_running, vec![state.clock.running()]);
 }
 
 /// The Channel pin: 0 (any) or 1 to 16.
-pub(crate) fn channel(cx: &EvalContext<'_>, pin: usize) -> Result<u8, NodeError> {
-    let c = first_i64(cx, pin, 0)?;
+pub(crate) fn channel(cx: &EvalContext<'_>, pin: In<i64>) -> Result<u8, NodeError> {
+    let c = cx.first(pin, 0)?;
     u8::try_from(c).ok().filter(|c| *c <= 16).ok_or_else(|| {
-        cx.input_error(
+        cx.error(
             pin,
             format!("{c} is not a MIDI channel (0 for any, 1 to 16)"),
         )
@@ -123,9 +172,10 @@ pub(crate) fn channel(cx: &EvalContext<'_>, pin: usize) -> Result<u8, NodeError>
 
 impl Node for MidiIn {
     fn evaluate(&mut self, cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
-        let wanted = cx.slices::<String>(0)?.first().cloned().unwrap_or_default();
-        let channel = channel(cx, 1)?;
-        let controllers = cx.slices::<i64>(2)?.to_vec();
+        let pins = self.pins;
+        let wanted = cx.get(pins.port)?.first().cloned().unwrap_or_default();
+        let channel = channel(cx, pins.channel)?;
+        let controllers = cx.get(pins.controller)?.to_vec();
         if self.port.as_ref().is_none_or(|(w, _)| *w != wanted) {
             self.port = Some((
                 wanted.clone(),
@@ -135,7 +185,7 @@ impl Node for MidiIn {
         }
         let port = match &self.port {
             Some((_, Ok(port))) => port,
-            Some((_, Err(e))) => return Err(cx.input_error(0, e.clone())),
+            Some((_, Err(e))) => return Err(cx.error(pins.port, e.clone())),
             None => return Ok(()),
         };
         let learn = cx.service::<MidiLearn>();
@@ -148,8 +198,8 @@ impl Node for MidiIn {
             }
         }
         let name = port.name().to_owned();
-        outputs(cx, &self.state, channel, &controllers);
-        cx.set(6, vec![name]);
+        outputs(cx, pins.state, &self.state, channel, &controllers);
+        cx.put(pins.port_name, vec![name]);
         Ok(())
     }
 }
@@ -200,7 +250,14 @@ mod tests {
             &services,
             NodeId(1),
         );
-        outputs(&mut cx, &state, 0, &[7, 1, 2]);
+        // MidiIn's pins as its definition declares them.
+        let mut declared = None;
+        let _ = NodeDef::new("MidiIn", CATEGORY, "").with_pins(|p| {
+            declared = Some(MidiInPins::declare(p));
+            |_: &mut EvalContext<'_>| Ok(())
+        });
+        let pins = declared.expect("declared");
+        outputs(&mut cx, pins.state, &state, 0, &[7, 1, 2]);
         assert_eq!(*outs[0], Spread::Float(vec![1.0, 0.0, 0.0]));
         let Spread::Float(notes) = &*outs[1] else {
             panic!("notes are floats")

@@ -2,11 +2,10 @@
 //! ALSA's sequencer). Only what changed is sent, so a patch that holds a
 //! value still does not flood the port.
 
-use spreadlight_graph::{EvalContext, Node, NodeDef, NodeError, Registry};
+use spreadlight_graph::{EvalContext, In, Node, NodeDef, NodeError, Out, Registry};
 use spreadlight_midi::{MidiOut as Port, message};
 
 use super::{CATEGORY, midi_in::channel};
-use crate::spreads::memory::first_bool;
 
 pub fn register(r: &mut Registry) {
     r.add(
@@ -19,26 +18,53 @@ pub fn register(r: &mut Registry) {
              Note whose Velocity (0 to 1; 0 releases) changed. Messages Sent counts this frame's. \
              Without a MIDI sequencer (no /dev/snd/seq) the node says so.",
         )
-        .input("Port", String::new())
-        .input("Channel", 1i64)
-        .range(1.0, 16.0)
-        .input("Controller", 1i64)
-        .range(0.0, 127.0)
-        .input("Value", 0.0f32)
-        .range(0.0, 1.0)
-        .input("Note", 60i64)
-        .range(0.0, 127.0)
-        .input("Velocity", 0.0f32)
-        .range(0.0, 1.0)
-        .input("Send", false)
-        .output::<i64>("Messages Sent")
         .sink()
-        .construct(MidiOut::default),
+        .with_pins_node(|p| {
+            let port = p.input("Port", String::new());
+            let channel = p.input("Channel", 1i64);
+            p.range(1.0, 16.0);
+            let controller = p.input("Controller", 1i64);
+            p.range(0.0, 127.0);
+            let value = p.input("Value", 0.0f32);
+            p.range(0.0, 1.0);
+            let note = p.input("Note", 60i64);
+            p.range(0.0, 127.0);
+            let velocity = p.input("Velocity", 0.0f32);
+            p.range(0.0, 1.0);
+            let pins = MidiOutPins {
+                port,
+                channel,
+                controller,
+                value,
+                note,
+                velocity,
+                send: p.input("Send", false),
+                sent: p.output::<i64>("Messages Sent"),
+            };
+            move || MidiOut {
+                pins,
+                port: None,
+                sent_cc: Default::default(),
+                sent_notes: Default::default(),
+            }
+        }),
     );
 }
 
-#[derive(Default)]
+#[derive(Clone, Copy)]
+struct MidiOutPins {
+    port: In<String>,
+    channel: In<i64>,
+    controller: In<i64>,
+    value: In<f32>,
+    note: In<i64>,
+    velocity: In<f32>,
+    send: In<bool>,
+    sent: Out<i64>,
+}
+
 struct MidiOut {
+    pins: MidiOutPins,
     port: Option<(String, Result<Port, String>)>,
     /// What was last sent: (channel, controller) → value and (channel, note) → velocity.
     sent_cc: std::collections::HashMap<(u8, u8), u8>,
@@ -67,9 +93,9 @@ fn changes(
     out
 }
 
-fn pairs(cx: &EvalContext<'_>, keys: usize, values: usize) -> Result<Vec<(u8, u8)>, NodeError> {
-    let k = cx.slices::<i64>(keys)?;
-    let v = cx.slices::<f32>(values)?;
+fn pairs(cx: &EvalContext<'_>, keys: In<i64>, values: In<f32>) -> Result<Vec<(u8, u8)>, NodeError> {
+    let k = cx.get(keys)?;
+    let v = cx.get(values)?;
     if k.is_empty() || v.is_empty() {
         return Ok(Vec::new());
     }
@@ -85,12 +111,13 @@ fn pairs(cx: &EvalContext<'_>, keys: usize, values: usize) -> Result<Vec<(u8, u8
 
 impl Node for MidiOut {
     fn evaluate(&mut self, cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
-        if !first_bool(cx, 6)? {
-            cx.set(0, vec![0i64]);
+        let pins = self.pins;
+        if !cx.first(pins.send, false)? {
+            cx.put(pins.sent, vec![0i64]);
             return Ok(());
         }
-        let wanted = cx.slices::<String>(0)?.first().cloned().unwrap_or_default();
-        let channel = channel(cx, 1)?.max(1);
+        let wanted = cx.get(pins.port)?.first().cloned().unwrap_or_default();
+        let channel = channel(cx, pins.channel)?.max(1);
         if self.port.as_ref().is_none_or(|(w, _)| *w != wanted) {
             self.port = Some((
                 wanted.clone(),
@@ -99,9 +126,10 @@ impl Node for MidiOut {
             self.sent_cc.clear();
             self.sent_notes.clear();
         }
-        let cc = pairs(cx, 2, 3)?;
-        let notes = pairs(cx, 4, 5)?;
+        let cc = pairs(cx, pins.controller, pins.value)?;
+        let notes = pairs(cx, pins.note, pins.velocity)?;
         let MidiOut {
+            pins: _,
             port,
             sent_cc,
             sent_notes,
@@ -109,7 +137,7 @@ impl Node for MidiOut {
         // What is not sent is not remembered as sent: a port that opens later gets it all.
         let port = match port {
             Some((_, Ok(port))) => port,
-            Some((_, Err(e))) => return Err(cx.input_error(0, e.clone())),
+            Some((_, Err(e))) => return Err(cx.error(pins.port, e.clone())),
             None => return Ok(()),
         };
         let mut messages = changes(channel, cc.into_iter(), sent_cc, message::control_change);
@@ -128,7 +156,7 @@ impl Node for MidiOut {
         for m in &messages {
             port.send(m).map_err(|e| NodeError::Other(e.to_string()))?;
         }
-        cx.set(0, vec![messages.len() as i64]);
+        cx.put(pins.sent, vec![messages.len() as i64]);
         Ok(())
     }
 }

@@ -18,7 +18,7 @@ pub mod video_file;
 use std::sync::Arc;
 
 use spreadlight_audio::AudioWindow;
-use spreadlight_graph::{EvalContext, NodeError, PinType, Registry, ResourceKind, Spread};
+use spreadlight_graph::{EvalContext, In, NodeError, Out, Pins, Registry, Res, ResourceKind};
 
 pub(crate) const CATEGORY: &str = "Media";
 
@@ -47,32 +47,27 @@ pub fn register(r: &mut Registry) {
     midi_out::register(r);
 }
 
-/// The pin type of sound.
-pub(crate) const AUDIO: PinType = PinType::Resource(ResourceKind::Audio);
-
-/// An empty Audio spread: the default of an analysis node's input.
-pub(crate) fn no_audio() -> Spread {
-    Spread::Resource(ResourceKind::Audio, Vec::new())
+/// A pin of sound (empty by default), the analysis nodes' first.
+pub(crate) fn audio_input(p: &mut Pins<'_>) -> In<Res<AudioWindow>> {
+    p.input_resource::<AudioWindow>("Audio", ResourceKind::Audio)
 }
 
-/// The sound on input `pin`, one window per slice.
-pub(crate) fn audio(cx: &EvalContext<'_>, pin: usize) -> Result<Vec<Arc<AudioWindow>>, NodeError> {
-    crate::gpu::resources::<AudioWindow>(cx, pin)
+/// The sound output of the sources.
+pub(crate) fn audio_output(p: &mut Pins<'_>) -> Out<Res<AudioWindow>> {
+    p.output_resource::<AudioWindow>("Audio", ResourceKind::Audio)
 }
 
-/// One window as an Audio spread.
-pub(crate) fn audio_spread(window: AudioWindow) -> Spread {
-    crate::gpu::resource_spread(ResourceKind::Audio, vec![Arc::new(window)])
+/// The sound on `pin`, one window per slice.
+pub(crate) fn audio(
+    cx: &EvalContext<'_>,
+    pin: In<Res<AudioWindow>>,
+) -> Result<Vec<Arc<AudioWindow>>, NodeError> {
+    cx.resources(pin)
 }
 
-/// The first slice of a Float pin, or `default` when empty.
-pub(crate) fn first_f32(cx: &EvalContext<'_>, pin: usize, default: f32) -> Result<f32, NodeError> {
-    Ok(cx.slices::<f32>(pin)?.first().copied().unwrap_or(default))
-}
-
-/// The first slice of an Int pin, or `default` when empty.
-pub(crate) fn first_i64(cx: &EvalContext<'_>, pin: usize, default: i64) -> Result<i64, NodeError> {
-    Ok(cx.slices::<i64>(pin)?.first().copied().unwrap_or(default))
+/// Output one window.
+pub(crate) fn put_audio(cx: &mut EvalContext<'_>, pin: Out<Res<AudioWindow>>, window: AudioWindow) {
+    cx.put_resources(pin, vec![Arc::new(window)]);
 }
 
 #[cfg(test)]

@@ -1,15 +1,17 @@
 //! `Spectrum`: an FFT of the latest sound grouped into bands, a spread of
 //! amplitudes to drive anything with (light intensities, particle rates).
 
+use spreadlight_audio::AudioWindow;
 use spreadlight_audio::spectrum::{Analyzer, BandScale, bands};
-use spreadlight_graph::{EnumDef, Node, NodeDef, NodeError, Registry};
+use spreadlight_graph::{Choice, Choices, In, Node, NodeDef, NodeError, Out, Registry, Res};
 
-use super::{AUDIO, CATEGORY, audio, first_f32, first_i64, no_audio};
+use super::{CATEGORY, audio, audio_input};
 
-static SCALE: EnumDef = EnumDef {
-    name: "BandScale",
-    options: &["Logarithmic", "Linear"],
-};
+static SCALE: Choices<BandScale> = Choices::new(
+    "BandScale",
+    &["Logarithmic", "Linear"],
+    &[BandScale::Logarithmic, BandScale::Linear],
+);
 
 pub fn register(r: &mut Registry) {
     r.add(
@@ -23,22 +25,45 @@ pub fn register(r: &mut Registry) {
              about 1. Bands holds Bands slices per Audio slice; Frequencies their centres in Hz. \
              FFT Size is rounded to a power of two (64 to 16384).",
         )
-        .input_spread("Audio", AUDIO, no_audio())
-        .input("FFT Size", 1024i64)
-        .range(64.0, 16384.0)
-        .input("Bands", 16i64)
-        .range(1.0, 1024.0)
-        .input_enum("Scale", &SCALE, "Logarithmic")
-        .input("Min Frequency", 40.0f32)
-        .input("Max Frequency", 16000.0f32)
-        .output::<f32>("Bands")
-        .output::<f32>("Frequencies")
-        .construct(Spectrum::default),
+        .with_pins_node(|p| {
+            let audio = audio_input(p);
+            let fft_size = p.input("FFT Size", 1024i64);
+            p.range(64.0, 16384.0);
+            let bands = p.input("Bands", 16i64);
+            p.range(1.0, 1024.0);
+            let pins = SpectrumPins {
+                audio,
+                fft_size,
+                bands,
+                scale: p.input_choice("Scale", &SCALE, BandScale::Logarithmic),
+                min_frequency: p.input("Min Frequency", 40.0f32),
+                max_frequency: p.input("Max Frequency", 16000.0f32),
+                values: p.output::<f32>("Bands"),
+                frequencies: p.output::<f32>("Frequencies"),
+            };
+            move || Spectrum {
+                pins,
+                analyzer: None,
+                samples: Vec::new(),
+            }
+        }),
     );
 }
 
-#[derive(Default)]
+#[derive(Clone, Copy)]
+struct SpectrumPins {
+    audio: In<Res<AudioWindow>>,
+    fft_size: In<i64>,
+    bands: In<i64>,
+    scale: In<Choice<BandScale>>,
+    min_frequency: In<f32>,
+    max_frequency: In<f32>,
+    values: Out<f32>,
+    frequencies: Out<f32>,
+}
+
 struct Spectrum {
+    pins: SpectrumPins,
     /// Planned once per size: planning is most of a first FFT's cost.
     analyzer: Option<Analyzer>,
     samples: Vec<f32>,
@@ -46,19 +71,17 @@ struct Spectrum {
 
 impl Node for Spectrum {
     fn evaluate(&mut self, cx: &mut spreadlight_graph::EvalContext<'_>) -> Result<(), NodeError> {
-        let sounds = audio(cx, 0)?;
-        let size = first_i64(cx, 1, 1024)?.clamp(64, 16384) as usize;
+        let pins = self.pins;
+        let sounds = audio(cx, pins.audio)?;
+        let size = cx.first(pins.fft_size, 1024)?.clamp(64, 16384) as usize;
         let size = size.next_power_of_two().min(16384);
-        let count = first_i64(cx, 2, 16)?.clamp(1, 1024) as usize;
-        let scale = match cx.enum_slices(3)?.first().map(String::as_str) {
-            Some("Linear") => BandScale::Linear,
-            _ => BandScale::Logarithmic,
-        };
-        let low = first_f32(cx, 4, 40.0)?;
-        let high = first_f32(cx, 5, 16000.0)?;
+        let count = cx.first(pins.bands, 16)?.clamp(1, 1024) as usize;
+        let scale = cx.choice(pins.scale)?;
+        let low = cx.first(pins.min_frequency, 40.0)?;
+        let high = cx.first(pins.max_frequency, 16000.0)?;
         if !(low.is_finite() && high.is_finite() && 0.0 <= low && low < high) {
-            return Err(cx.input_error(
-                4,
+            return Err(cx.error(
+                pins.min_frequency,
                 format!("Min Frequency {low} must be at least 0 and below Max Frequency {high}"),
             ));
         }
@@ -75,8 +98,8 @@ impl Node for Spectrum {
                 centres.push(band.centre);
             }
         }
-        cx.set(0, values);
-        cx.set(1, centres);
+        cx.put(pins.values, values);
+        cx.put(pins.frequencies, centres);
         Ok(())
     }
 }

@@ -12,16 +12,15 @@ use std::path::PathBuf;
 use std::sync::Arc;
 use std::time::SystemTime;
 
-use spreadlight_graph::{EvalContext, Node, NodeDef, NodeError, PinType, Registry, ResourceKind};
+use spreadlight_graph::{EvalContext, In, Node, NodeDef, NodeError, Out, Registry, Res};
 use spreadlight_render::TextureRef;
 use spreadlight_render::static_texture::StaticTexture;
 use spreadlight_render::texture::GpuTexture;
 use spreadlight_video::{DecodeAhead, Frame, MediaError, Source, VideoInfo};
 
 use super::Playback;
-use crate::gpu::{renderer, resource_spread};
-
-const FILENAME: usize = 0;
+use crate::gpu::renderer;
+use crate::post::texture_output;
 
 pub fn register(r: &mut Registry) {
     r.add(
@@ -37,22 +36,56 @@ pub fn register(r: &mut Registry) {
              the file is not played. Duration in seconds, Frame is the frame shown, Decode ms the \
              average cost of a decoded frame.",
         )
-        .input("Filename", String::new())
-        .input("Play", true)
-        .input("Loop", true)
-        .input("Speed", 1.0f32)
-        .input("Seek", 0.0f32)
-        .input("Sequence FPS", 30.0f32)
-        .range(0.001, 1000.0)
-        .input("sRGB", true)
-        .output_typed("Texture", PinType::Resource(ResourceKind::Texture))
-        .output::<f32>("Duration")
-        .output::<i64>("Frame")
-        .output::<i64>("Dropped")
-        .output::<f32>("Decode ms")
         .time_dependent()
-        .construct(VideoFile::default),
+        .with_pins_node(|p| {
+            let filename = p.input("Filename", String::new());
+            let play = p.input("Play", true);
+            let looping = p.input("Loop", true);
+            let speed = p.input("Speed", 1.0f32);
+            let seek = p.input("Seek", 0.0f32);
+            let sequence_fps = p.input("Sequence FPS", 30.0f32);
+            p.range(0.001, 1000.0);
+            let pins = VideoPins {
+                filename,
+                play,
+                looping,
+                speed,
+                seek,
+                sequence_fps,
+                srgb: p.input("sRGB", true),
+                texture: texture_output(p, "Texture"),
+                duration: p.output::<f32>("Duration"),
+                frame: p.output::<i64>("Frame"),
+                dropped: p.output::<i64>("Dropped"),
+                decode_ms: p.output::<f32>("Decode ms"),
+            };
+            move || VideoFile {
+                pins,
+                opened: None,
+                player: None,
+                failed: None,
+                uploaded: None,
+                dropped: 0,
+                exact_cost: (0, 0.0),
+            }
+        }),
     );
+}
+
+#[derive(Clone, Copy)]
+struct VideoPins {
+    filename: In<String>,
+    play: In<bool>,
+    looping: In<bool>,
+    speed: In<f32>,
+    seek: In<f32>,
+    sequence_fps: In<f32>,
+    srgb: In<bool>,
+    texture: Out<Res<TextureRef>>,
+    duration: Out<f32>,
+    frame: Out<i64>,
+    dropped: Out<i64>,
+    decode_ms: Out<f32>,
 }
 
 /// How the file is being read: exactly on the evaluating thread, or ahead on one of its own.
@@ -71,8 +104,8 @@ struct Opened {
     live: bool,
 }
 
-#[derive(Default)]
 pub struct VideoFile {
+    pins: VideoPins,
     opened: Option<Opened>,
     player: Option<Player>,
     /// Why the file could not be opened (kept so a bad file is not probed every frame).
@@ -111,37 +144,23 @@ impl VideoFile {
     }
 }
 
-fn first<T: Copy + spreadlight_graph::SliceValue>(
-    cx: &EvalContext<'_>,
-    pin: usize,
-    default: T,
-) -> Result<T, NodeError> {
-    Ok(cx.slices::<T>(pin)?.first().copied().unwrap_or(default))
-}
-
 impl Node for VideoFile {
     fn evaluate(&mut self, cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
-        let name = cx
-            .slices::<String>(FILENAME)?
-            .first()
-            .cloned()
-            .unwrap_or_default();
+        let pins = self.pins;
+        let name = cx.get(pins.filename)?.first().cloned().unwrap_or_default();
         if name.is_empty() {
             self.opened = None;
             self.player = None;
             self.uploaded = None;
-            cx.set_output(
-                0,
-                resource_spread::<TextureRef>(ResourceKind::Texture, Vec::new()),
-            );
+            cx.put_resources(pins.texture, Vec::new());
             return Ok(());
         }
-        let play = first(cx, 1, true)?;
-        let looping = first(cx, 2, true)?;
-        let speed = f64::from(first(cx, 3, 1.0f32)?);
-        let seek = f64::from(first(cx, 4, 0.0f32)?);
-        let sequence_fps = first(cx, 5, 30.0f32)?.clamp(0.001, 1000.0);
-        let srgb = first(cx, 6, true)?;
+        let play = cx.first(pins.play, true)?;
+        let looping = cx.first(pins.looping, true)?;
+        let speed = f64::from(cx.first(pins.speed, 1.0f32)?);
+        let seek = f64::from(cx.first(pins.seek, 0.0f32)?);
+        let sequence_fps = cx.first(pins.sequence_fps, 30.0f32)?.clamp(0.001, 1000.0);
+        let srgb = cx.first(pins.srgb, true)?;
         let renderer = renderer(cx)?;
         let path = cx.resolve_path(&name);
         let want = Opened {
@@ -154,7 +173,7 @@ impl Node for VideoFile {
         };
         let info = self
             .open(want, &path)
-            .map_err(|e| cx.input_error(FILENAME, e.to_string()))?;
+            .map_err(|e| cx.error(pins.filename, e.to_string()))?;
         let time = if play {
             seek + speed * cx.clock.time
         } else {
@@ -174,7 +193,7 @@ impl Node for VideoFile {
                 let started = std::time::Instant::now();
                 let frame = source
                     .frame(index)
-                    .map_err(|e| cx.input_error(FILENAME, e.to_string()))?;
+                    .map_err(|e| cx.error(pins.filename, e.to_string()))?;
                 if self
                     .uploaded
                     .as_ref()
@@ -188,7 +207,7 @@ impl Node for VideoFile {
             Some(Player::Live(ahead)) => {
                 let taken = ahead
                     .take(index, looping)
-                    .map_err(|e| cx.input_error(FILENAME, e.to_string()))?;
+                    .map_err(|e| cx.error(pins.filename, e.to_string()))?;
                 if taken.late {
                     self.dropped += 1;
                 }
@@ -224,19 +243,16 @@ impl Node for VideoFile {
             .into_iter()
             .collect();
         let shown = self.uploaded.as_ref().map_or(-1, |(f, _)| f.index as i64);
-        cx.set_output(
-            0,
-            resource_spread::<TextureRef>(ResourceKind::Texture, textures),
-        );
-        cx.set(1, vec![info.duration() as f32]);
-        cx.set(2, vec![shown]);
-        cx.set(3, vec![self.dropped]);
+        cx.put_resources(pins.texture, textures);
+        cx.put(pins.duration, vec![info.duration() as f32]);
+        cx.put(pins.frame, vec![shown]);
+        cx.put(pins.dropped, vec![self.dropped]);
         let ms = if decoded > 0 {
             seconds * 1e3 / decoded as f64
         } else {
             0.0
         };
-        cx.set(4, vec![ms as f32]);
+        cx.put(pins.decode_ms, vec![ms as f32]);
         Ok(())
     }
 }

@@ -4,10 +4,10 @@
 use std::sync::Arc;
 
 use glam::Vec3;
-use spreadlight_graph::{NodeDef, PinType, Registry, ResourceKind, Spread};
+use spreadlight_graph::{NodeDef, Registry, ResourceKind};
 use spreadlight_render::particles::FieldTexture;
 
-use crate::gpu::{renderer, resource_spread};
+use crate::gpu::renderer;
 
 pub fn register(r: &mut Registry) {
     r.add(
@@ -17,20 +17,22 @@ pub fn register(r: &mut Registry) {
             "A 3D vector field from a spread of Resolution³ vectors (x fastest, then y, then z), uploaded once as a \
              texture. Particles sample it trilinearly over Field Min..Field Max; NaN or infinite vectors act as no force.",
         )
-        .input_spread("Vectors", PinType::Vec3, Spread::Vec3(vec![Vec3::Y; 8]))
-        .input("Resolution", 2i64)
-        .output_typed("Field", PinType::Resource(ResourceKind::Buffer))
-        .evaluate(|cx| {
-            let vectors = cx.slices::<Vec3>(0)?.to_vec();
-            let resolution = cx.slices::<i64>(1)?.first().copied().unwrap_or(2);
-            if !(2..=256).contains(&resolution) {
-                return Err(cx.input_error(1, format!("{resolution} is not within 2..256")));
+        .with_pins(|p| {
+            let vectors_in = p.input_spread("Vectors", vec![Vec3::Y; 8]);
+            let resolution_in = p.input("Resolution", 2i64);
+            let out = p.output_resource::<FieldTexture>("Field", ResourceKind::Buffer);
+            move |cx| {
+                let vectors = cx.get(vectors_in)?.to_vec();
+                let resolution = cx.first(resolution_in, 2)?;
+                if !(2..=256).contains(&resolution) {
+                    return Err(cx.error(resolution_in, format!("{resolution} is not within 2..256")));
+                }
+                let renderer = renderer(cx)?;
+                let field = FieldTexture::new(&renderer, resolution as u32, &vectors)
+                    .map_err(|e| cx.error(vectors_in, e.to_string()))?;
+                cx.put_resources(out, vec![Arc::new(field)]);
+                Ok(())
             }
-            let renderer = renderer(cx)?;
-            let field = FieldTexture::new(&renderer, resolution as u32, &vectors)
-                .map_err(|e| cx.input_error(0, e.to_string()))?;
-            cx.set_output(0, resource_spread(ResourceKind::Buffer, vec![Arc::new(field)]));
-            Ok(())
         }),
     );
 }

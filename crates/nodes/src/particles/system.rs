@@ -9,7 +9,7 @@ use std::sync::Arc;
 
 use glam::{Mat4, Vec3, Vec4};
 use spreadlight_graph::{
-    EnumDef, EvalContext, Node, NodeDef, NodeError, PinType, Registry, ResourceKind, Spread,
+    Choice, Choices, EvalContext, In, Node, NodeDef, NodeError, Out, Registry, Res, ResourceKind,
 };
 use spreadlight_render::gbuffer::PublishedDepths;
 use spreadlight_render::mesh_arena::GpuMesh;
@@ -18,61 +18,144 @@ use spreadlight_render::particles::{
     ParticleSystem, Plane, draw,
 };
 
-use crate::gpu::{renderer, resource_spread, resources};
+use crate::gpu::renderer;
 
-pub static EMITTER: EnumDef = EnumDef {
-    name: "Particle Emitter",
-    options: &["Point", "Box", "Sphere", "Mesh Surface"],
-};
-pub static FIELD: EnumDef = EnumDef {
-    name: "Particle Field",
-    options: &["None", "Curl Noise", "Texture"],
-};
-pub static INTEGRATOR: EnumDef = EnumDef {
-    name: "Particle Integrator",
-    options: &["Exponential", "Explicit Euler"],
-};
-pub static DRAW: EnumDef = EnumDef {
-    name: "Particle Draw",
-    options: &["Sprites", "Mesh"],
-};
+/// The Emitter pin's options (a shape's measures come from other pins).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum EmitterKind {
+    Point,
+    Box,
+    Sphere,
+    MeshSurface,
+}
 
-/// Input pins, in order.
-mod pin {
-    pub const COUNT: usize = 0;
-    pub const SEED: usize = 1;
-    pub const RESET: usize = 2;
-    pub const EMITTER: usize = 3;
-    pub const EMITTER_TRANSFORM: usize = 4;
-    pub const EMITTER_SIZE: usize = 5;
-    pub const EMITTER_MESH: usize = 6;
-    pub const RATE: usize = 7;
-    pub const LIFETIME: usize = 8;
-    pub const LIFETIME_SPREAD: usize = 9;
-    pub const VELOCITY: usize = 10;
-    pub const VELOCITY_SPREAD: usize = 11;
-    pub const GRAVITY: usize = 12;
-    pub const DRAG: usize = 13;
-    pub const FIELD: usize = 14;
-    pub const FIELD_STRENGTH: usize = 15;
-    pub const CURL_FREQUENCY: usize = 16;
-    pub const FIELD_TEXTURE: usize = 17;
-    pub const FIELD_MIN: usize = 18;
-    pub const FIELD_MAX: usize = 19;
-    pub const ATTRACTORS: usize = 20;
-    pub const COLLIDE_PLANE: usize = 21;
-    pub const PLANE_NORMAL: usize = 22;
-    pub const PLANE_OFFSET: usize = 23;
-    pub const BOUNCE: usize = 24;
-    pub const FRICTION: usize = 25;
-    pub const WORLD_RADIUS: usize = 26;
-    pub const INTEGRATOR: usize = 27;
-    pub const DRAW: usize = 28;
-    pub const SHAPE: usize = 29;
-    pub const SIZE: usize = 30;
-    pub const SHRINK: usize = 31;
-    pub const COLLIDE_DEPTH: usize = 32;
-    pub const DEPTH_THICKNESS: usize = 33;
+pub static EMITTER: Choices<EmitterKind> = Choices::new(
+    "Particle Emitter",
+    &["Point", "Box", "Sphere", "Mesh Surface"],
+    &[
+        EmitterKind::Point,
+        EmitterKind::Box,
+        EmitterKind::Sphere,
+        EmitterKind::MeshSurface,
+    ],
+);
+
+/// The Field pin's options.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FieldKind {
+    None,
+    CurlNoise,
+    Texture,
+}
+
+pub static FIELD: Choices<FieldKind> = Choices::new(
+    "Particle Field",
+    &["None", "Curl Noise", "Texture"],
+    &[FieldKind::None, FieldKind::CurlNoise, FieldKind::Texture],
+);
+
+pub static INTEGRATOR: Choices<Integrator> = Choices::new(
+    "Particle Integrator",
+    &["Exponential", "Explicit Euler"],
+    &[Integrator::Exponential, Integrator::ExplicitEuler],
+);
+
+/// The Draw pin's options.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DrawKind {
+    Sprites,
+    Mesh,
+}
+
+pub static DRAW: Choices<DrawKind> = Choices::new(
+    "Particle Draw",
+    &["Sprites", "Mesh"],
+    &[DrawKind::Sprites, DrawKind::Mesh],
+);
+
+/// The node's pins, in order.
+#[derive(Clone, Copy)]
+struct Pins {
+    count: In<i64>,
+    seed: In<i64>,
+    reset: In<bool>,
+    emitter: In<Choice<EmitterKind>>,
+    emitter_transform: In<Mat4>,
+    emitter_size: In<Vec3>,
+    emitter_mesh: In<Res<GpuMesh>>,
+    rate: In<f32>,
+    lifetime: In<f32>,
+    lifetime_spread: In<f32>,
+    velocity: In<Vec3>,
+    velocity_spread: In<f32>,
+    gravity: In<Vec3>,
+    drag: In<f32>,
+    field: In<Choice<FieldKind>>,
+    field_strength: In<f32>,
+    curl_frequency: In<f32>,
+    field_texture: In<Res<FieldTexture>>,
+    field_min: In<Vec3>,
+    field_max: In<Vec3>,
+    attractors: In<Vec4>,
+    collide_plane: In<bool>,
+    plane_normal: In<Vec3>,
+    plane_offset: In<f32>,
+    bounce: In<f32>,
+    friction: In<f32>,
+    world_radius: In<f32>,
+    integrator: In<Choice<Integrator>>,
+    draw: In<Choice<DrawKind>>,
+    shape: In<Res<GpuMesh>>,
+    size: In<f32>,
+    shrink: In<bool>,
+    collide_depth: In<String>,
+    depth_thickness: In<f32>,
+    out: Out<Res<GpuMesh>>,
+}
+
+impl Pins {
+    fn declare(p: &mut spreadlight_graph::Pins<'_>) -> Self {
+        let mesh = |p: &mut spreadlight_graph::Pins<'_>, name: &'static str| {
+            p.input_resource::<GpuMesh>(name, ResourceKind::Mesh)
+        };
+        Pins {
+            count: p.input("Count", 10_000i64),
+            seed: p.input("Seed", 1i64),
+            reset: p.input("Reset", false),
+            emitter: p.input_choice("Emitter", &EMITTER, EmitterKind::Point),
+            emitter_transform: p.input("Emitter Transform", Mat4::IDENTITY),
+            emitter_size: p.input("Emitter Size", Vec3::splat(0.5)),
+            emitter_mesh: mesh(p, "Emitter Mesh"),
+            rate: p.input("Rate", 1000.0f32),
+            lifetime: p.input("Lifetime", 3.0f32),
+            lifetime_spread: p.input("Lifetime Spread", 0.5f32),
+            velocity: p.input("Velocity", Vec3::new(0.0, 2.0, 0.0)),
+            velocity_spread: p.input("Velocity Spread", 0.5f32),
+            gravity: p.input("Gravity", Vec3::new(0.0, -9.81, 0.0)),
+            drag: p.input("Drag", 0.1f32),
+            field: p.input_choice("Field", &FIELD, FieldKind::None),
+            field_strength: p.input("Field Strength", 1.0f32),
+            curl_frequency: p.input("Curl Frequency", 1.0f32),
+            field_texture: p.input_resource::<FieldTexture>("Field Texture", ResourceKind::Buffer),
+            field_min: p.input("Field Min", Vec3::splat(-1.0)),
+            field_max: p.input("Field Max", Vec3::splat(1.0)),
+            attractors: p.input_spread("Attractors", Vec::<Vec4>::new()),
+            collide_plane: p.input("Collide Plane", false),
+            plane_normal: p.input("Plane Normal", Vec3::Y),
+            plane_offset: p.input("Plane Offset", 0.0f32),
+            bounce: p.input("Bounce", 0.5f32),
+            friction: p.input("Friction", 0.1f32),
+            world_radius: p.input("World Radius", 100.0f32),
+            integrator: p.input_choice("Integrator", &INTEGRATOR, Integrator::Exponential),
+            draw: p.input_choice("Draw", &DRAW, DrawKind::Sprites),
+            shape: mesh(p, "Shape"),
+            size: p.input("Size", 0.02f32),
+            shrink: p.input("Shrink", true),
+            collide_depth: p.input("Collide Depth", String::new()),
+            depth_thickness: p.input("Depth Thickness", 0.5f32),
+            out: p.output_resource::<GpuMesh>("Mesh", ResourceKind::Mesh),
+        }
+    }
 }
 
 /// The most slots one system may have (64 bytes each in the mesh arena,
@@ -80,7 +163,6 @@ mod pin {
 const MAX_COUNT: i64 = 1 << 25;
 
 pub fn register(r: &mut Registry) {
-    let mesh = || Spread::Resource(ResourceKind::Mesh, vec![]);
     r.add(
         NodeDef::new(
             "Particles",
@@ -100,81 +182,35 @@ pub fn register(r: &mut Registry) {
              previous positions and each particle's slot as geometry id: DeferredBase with Velocity \
              Geometry blurs them, Instance from GeomFX numbers them; into Transparency they blend unsorted.",
         )
-        .input("Count", 10_000i64)
-        .input("Seed", 1i64)
-        .input("Reset", false)
-        .input_enum("Emitter", &EMITTER, "Point")
-        .input("Emitter Transform", Mat4::IDENTITY)
-        .input("Emitter Size", Vec3::splat(0.5))
-        .input_spread("Emitter Mesh", PinType::Resource(ResourceKind::Mesh), mesh())
-        .input("Rate", 1000.0f32)
-        .input("Lifetime", 3.0f32)
-        .input("Lifetime Spread", 0.5f32)
-        .input("Velocity", Vec3::new(0.0, 2.0, 0.0))
-        .input("Velocity Spread", 0.5f32)
-        .input("Gravity", Vec3::new(0.0, -9.81, 0.0))
-        .input("Drag", 0.1f32)
-        .input_enum("Field", &FIELD, "None")
-        .input("Field Strength", 1.0f32)
-        .input("Curl Frequency", 1.0f32)
-        .input_spread(
-            "Field Texture",
-            PinType::Resource(ResourceKind::Buffer),
-            Spread::Resource(ResourceKind::Buffer, vec![]),
-        )
-        .input("Field Min", Vec3::splat(-1.0))
-        .input("Field Max", Vec3::splat(1.0))
-        .input_spread("Attractors", PinType::Vec4, Spread::Vec4(vec![]))
-        .input("Collide Plane", false)
-        .input("Plane Normal", Vec3::Y)
-        .input("Plane Offset", 0.0f32)
-        .input("Bounce", 0.5f32)
-        .input("Friction", 0.1f32)
-        .input("World Radius", 100.0f32)
-        .input_enum("Integrator", &INTEGRATOR, "Exponential")
-        .input_enum("Draw", &DRAW, "Sprites")
-        .input_spread("Shape", PinType::Resource(ResourceKind::Mesh), mesh())
-        .input("Size", 0.02f32)
-        .input("Shrink", true)
-        .input("Collide Depth", String::new())
-        .input("Depth Thickness", 0.5f32)
-        .output_typed("Mesh", PinType::Resource(ResourceKind::Mesh))
         .time_dependent()
         .stateful()
-        .construct(Particles::default),
+        .with_pins_node(|p| {
+            let pins = Pins::declare(p);
+            move || Particles { pins, system: None }
+        }),
     );
 }
 
-#[derive(Default)]
 struct Particles {
+    pins: Pins,
     system: Option<ParticleSystem>,
 }
 
-fn first<T: spreadlight_graph::SliceValue + Copy>(
+fn first_mesh(
     cx: &EvalContext<'_>,
-    pin: usize,
-    or: T,
-) -> Result<T, NodeError> {
-    Ok(cx.slices::<T>(pin)?.first().copied().unwrap_or(or))
-}
-
-fn choice<'c>(cx: &'c EvalContext<'_>, pin: usize) -> Result<&'c str, NodeError> {
-    Ok(cx.enum_slices(pin)?.first().map_or("", String::as_str))
-}
-
-fn first_mesh(cx: &EvalContext<'_>, pin: usize, what: &str) -> Result<Arc<GpuMesh>, NodeError> {
-    resources::<GpuMesh>(cx, pin)?
-        .into_iter()
-        .next()
-        .ok_or_else(|| cx.input_error(pin, format!("{what} needs a mesh here")))
+    pin: In<Res<GpuMesh>>,
+    what: &str,
+) -> Result<Arc<GpuMesh>, NodeError> {
+    cx.first_resource(pin)?
+        .ok_or_else(|| cx.error(pin, format!("{what} needs a mesh here")))
 }
 
 impl Particles {
     /// The depth published under Collide Depth's name (None: off, or not
     /// published yet: the first frame, before the MRE has rendered once).
-    fn depth(cx: &EvalContext<'_>) -> Result<Option<DepthCollision>, NodeError> {
+    fn depth(cx: &EvalContext<'_>, pins: Pins) -> Result<Option<DepthCollision>, NodeError> {
         let name = cx
-            .slices::<String>(pin::COLLIDE_DEPTH)?
+            .get(pins.collide_depth)?
             .first()
             .cloned()
             .unwrap_or_default();
@@ -182,10 +218,10 @@ impl Particles {
             return Ok(None);
         }
         let renderer = renderer(cx)?;
-        let thickness = first(cx, pin::DEPTH_THICKNESS, 0.5f32)?;
+        let thickness = cx.first(pins.depth_thickness, 0.5f32)?;
         if !(thickness.is_finite() && thickness >= 0.0) {
-            return Err(cx.input_error(
-                pin::DEPTH_THICKNESS,
+            return Err(cx.error(
+                pins.depth_thickness,
                 format!("{thickness} is not a distance (0 or more metres)"),
             ));
         }
@@ -199,81 +235,80 @@ impl Particles {
             }))
     }
 
-    fn settings(cx: &EvalContext<'_>, count: i64) -> Result<ParticleSettings, NodeError> {
-        let size = first(cx, pin::EMITTER_SIZE, Vec3::ONE)?;
-        let shape = match choice(cx, pin::EMITTER)? {
-            "Box" => EmitterShape::Box(size),
-            "Sphere" => EmitterShape::Sphere(size.x),
-            "Mesh Surface" => EmitterShape::MeshSurface(first_mesh(
+    fn settings(
+        cx: &EvalContext<'_>,
+        pins: Pins,
+        count: i64,
+    ) -> Result<ParticleSettings, NodeError> {
+        let size = cx.first(pins.emitter_size, Vec3::ONE)?;
+        let shape = match cx.choice(pins.emitter)? {
+            EmitterKind::Box => EmitterShape::Box(size),
+            EmitterKind::Sphere => EmitterShape::Sphere(size.x),
+            EmitterKind::MeshSurface => EmitterShape::MeshSurface(first_mesh(
                 cx,
-                pin::EMITTER_MESH,
+                pins.emitter_mesh,
                 "Emitter Mesh Surface",
             )?),
-            _ => EmitterShape::Point,
+            EmitterKind::Point => EmitterShape::Point,
         };
-        let strength = first(cx, pin::FIELD_STRENGTH, 1.0f32)?;
-        let field = match choice(cx, pin::FIELD)? {
-            "Curl Noise" => Field::Curl {
-                frequency: first(cx, pin::CURL_FREQUENCY, 1.0f32)?,
+        let strength = cx.first(pins.field_strength, 1.0f32)?;
+        let field = match cx.choice(pins.field)? {
+            FieldKind::CurlNoise => Field::Curl {
+                frequency: cx.first(pins.curl_frequency, 1.0f32)?,
                 strength,
             },
-            "Texture" => Field::Texture {
-                texture: resources::<FieldTexture>(cx, pin::FIELD_TEXTURE)?
-                    .into_iter()
-                    .next()
-                    .ok_or_else(|| {
-                        cx.input_error(pin::FIELD_TEXTURE, "Field Texture needs a VectorField here")
-                    })?,
-                min: first(cx, pin::FIELD_MIN, Vec3::splat(-1.0))?,
-                max: first(cx, pin::FIELD_MAX, Vec3::ONE)?,
+            FieldKind::Texture => Field::Texture {
+                texture: cx.first_resource(pins.field_texture)?.ok_or_else(|| {
+                    cx.error(pins.field_texture, "Field Texture needs a VectorField here")
+                })?,
+                min: cx.first(pins.field_min, Vec3::splat(-1.0))?,
+                max: cx.first(pins.field_max, Vec3::ONE)?,
                 strength,
             },
-            _ => Field::None,
+            FieldKind::None => Field::None,
         };
-        let plane = first(cx, pin::COLLIDE_PLANE, false)?.then_some(Plane {
-            normal: first(cx, pin::PLANE_NORMAL, Vec3::Y)?,
-            offset: first(cx, pin::PLANE_OFFSET, 0.0f32)?,
+        let plane = cx.first(pins.collide_plane, false)?.then_some(Plane {
+            normal: cx.first(pins.plane_normal, Vec3::Y)?,
+            offset: cx.first(pins.plane_offset, 0.0f32)?,
         });
         Ok(ParticleSettings {
-            emitter: first(cx, pin::EMITTER_TRANSFORM, Mat4::IDENTITY)?,
+            emitter: cx.first(pins.emitter_transform, Mat4::IDENTITY)?,
             shape,
             rate: match (
-                first(cx, pin::RATE, 0.0f32)?,
-                first(cx, pin::LIFETIME, 1.0f32)?,
+                cx.first(pins.rate, 0.0f32)?,
+                cx.first(pins.lifetime, 1.0f32)?,
             ) {
                 // Negative: keep the ring full (Count a Lifetime).
                 (rate, lifetime) if rate < 0.0 && lifetime > 0.0 => count as f32 / lifetime,
                 (rate, _) => rate,
             },
-            lifetime: first(cx, pin::LIFETIME, 1.0f32)?,
-            lifetime_spread: first(cx, pin::LIFETIME_SPREAD, 0.0f32)?,
-            velocity: first(cx, pin::VELOCITY, Vec3::ZERO)?,
-            velocity_spread: first(cx, pin::VELOCITY_SPREAD, 0.0f32)?,
-            gravity: first(cx, pin::GRAVITY, Vec3::ZERO)?,
-            drag: first(cx, pin::DRAG, 0.0f32)?,
+            lifetime: cx.first(pins.lifetime, 1.0f32)?,
+            lifetime_spread: cx.first(pins.lifetime_spread, 0.0f32)?,
+            velocity: cx.first(pins.velocity, Vec3::ZERO)?,
+            velocity_spread: cx.first(pins.velocity_spread, 0.0f32)?,
+            gravity: cx.first(pins.gravity, Vec3::ZERO)?,
+            drag: cx.first(pins.drag, 0.0f32)?,
             field,
-            attractors: cx.slices::<Vec4>(pin::ATTRACTORS)?.to_vec(),
+            attractors: cx.get(pins.attractors)?.to_vec(),
             plane,
-            bounce: first(cx, pin::BOUNCE, 0.5f32)?,
-            friction: first(cx, pin::FRICTION, 0.1f32)?,
-            depth: Self::depth(cx)?,
-            world_radius: first(cx, pin::WORLD_RADIUS, 100.0f32)?,
-            integrator: match choice(cx, pin::INTEGRATOR)? {
-                "Explicit Euler" => Integrator::ExplicitEuler,
-                _ => Integrator::Exponential,
-            },
+            bounce: cx.first(pins.bounce, 0.5f32)?,
+            friction: cx.first(pins.friction, 0.1f32)?,
+            depth: Self::depth(cx, pins)?,
+            world_radius: cx.first(pins.world_radius, 100.0f32)?,
+            integrator: cx.choice(pins.integrator)?,
         })
     }
 }
 
 impl Node for Particles {
     fn evaluate(&mut self, cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
-        let count = first(cx, pin::COUNT, 0i64)?;
+        let pins = self.pins;
+        let count = cx.first(pins.count, 0i64)?;
         if !(1..=MAX_COUNT).contains(&count) {
-            return Err(cx.input_error(pin::COUNT, format!("{count} is not within 1..{MAX_COUNT}")));
+            return Err(cx.error(pins.count, format!("{count} is not within 1..{MAX_COUNT}")));
         }
-        let seed = first(cx, pin::SEED, 0i64)? as u32;
-        let settings = Self::settings(cx, count)?;
+        let seed = cx.first(pins.seed, 0i64)? as u32;
+        let settings = Self::settings(cx, pins, count)?;
         let renderer = renderer(cx)?;
         let fresh = self
             .system
@@ -282,13 +317,13 @@ impl Node for Particles {
         if fresh {
             self.system = Some(
                 ParticleSystem::new(&renderer, count as u32, seed)
-                    .map_err(|e| cx.input_error(pin::COUNT, e.to_string()))?,
+                    .map_err(|e| cx.error(pins.count, e.to_string()))?,
             );
         }
         let Some(system) = self.system.as_mut() else {
             return Ok(());
         };
-        if first(cx, pin::RESET, false)? && !fresh {
+        if cx.first(pins.reset, false)? && !fresh {
             system.reset(&renderer);
         }
         let other = |e: spreadlight_render::RenderError| NodeError::Other(e.to_string());
@@ -296,23 +331,23 @@ impl Node for Particles {
             .step(&renderer, &settings, cx.clock.delta as f32)
             .map_err(other)?;
         let shape_mesh;
-        let shape = match choice(cx, pin::DRAW)? {
-            "Mesh" => {
-                shape_mesh = first_mesh(cx, pin::SHAPE, "Draw Mesh")?;
+        let shape = match cx.choice(pins.draw)? {
+            DrawKind::Mesh => {
+                shape_mesh = first_mesh(cx, pins.shape, "Draw Mesh")?;
                 DrawShape::Mesh(&shape_mesh)
             }
-            _ => DrawShape::Sprites,
+            DrawKind::Sprites => DrawShape::Sprites,
         };
         let mesh = draw(
             &renderer,
             system,
             shape,
-            first(cx, pin::SIZE, 0.02f32)?,
-            first(cx, pin::SHRINK, true)?,
+            cx.first(pins.size, 0.02f32)?,
+            cx.first(pins.shrink, true)?,
             settings.world_radius,
         )
-        .map_err(|e| cx.input_error(pin::SHAPE, e.to_string()))?;
-        cx.set_output(0, resource_spread(ResourceKind::Mesh, vec![mesh]));
+        .map_err(|e| cx.error(pins.shape, e.to_string()))?;
+        cx.put_resources(pins.out, vec![mesh]);
         Ok(())
     }
 }

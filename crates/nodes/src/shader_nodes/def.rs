@@ -3,16 +3,16 @@
 //! a file declares) and `node.rs` (how a node of it evaluates), so neither
 //! of those needs the other's insides.
 
-use std::sync::{Arc, Mutex};
+use std::sync::Arc;
 
-use spreadlight_graph::{Color, EnumDef, NodeDef, NodeError, PinType, ResourceKind, Spread};
-use spreadlight_render::shader_nodes::{ParamKind, ParamPin, ShaderNodeError};
+use spreadlight_graph::{NodeDef, NodeError, PinType, ResourceKind};
+use spreadlight_render::shader_nodes::ShaderNodeError;
 
 use super::node::{Broken, ShaderNode};
+use super::pins::ShaderPins;
 use super::shader_type::ShaderType;
 
-/// The pin of an image effect that reads the material world.
-pub const MATERIAL_WORLD: &str = "Material World";
+pub use super::pins::MATERIAL_WORLD;
 
 impl ShaderType {
     /// The node type; `error` (a newer version of the file that failed) is
@@ -54,85 +54,7 @@ impl ShaderType {
             );
         }
         help.push_str(&format!(" (Shader node: {}.)", self.file));
-        let texture = PinType::Resource(ResourceKind::Texture);
         let mut def = NodeDef::new(self.name.clone(), format!("Shader/{category}"), help);
-        let layer = PinType::Resource(ResourceKind::Layer);
-        if self.is_material() {
-            def = def.input_spread(
-                "Layer",
-                layer,
-                Spread::Resource(ResourceKind::Layer, vec![]),
-            );
-        }
-        if self.is_light() {
-            for (name, ty, default) in super::light::pins() {
-                def = def.input_spread(name, ty, default);
-            }
-            def = def.input_enum(
-                "Light Loop",
-                &crate::lighting::cook_torrance::LIGHT_LOOP,
-                "Auto",
-            );
-        }
-        for (_, pin, _) in &self.notes.inputs {
-            def = def.input_spread(
-                pin.clone(),
-                texture,
-                Spread::Resource(ResourceKind::Texture, vec![]),
-            );
-        }
-        if self.reads_gbuffer() {
-            def = def.input_spread(
-                "G-Buffer",
-                PinType::Resource(ResourceKind::GBuffer),
-                Spread::Resource(ResourceKind::GBuffer, vec![]),
-            );
-        }
-        if self.materials_pin() {
-            def = def.input_spread(
-                MATERIAL_WORLD,
-                PinType::Resource(ResourceKind::MaterialWorld),
-                Spread::Resource(ResourceKind::MaterialWorld, vec![]),
-            );
-        }
-        for p in self.params() {
-            let (ty, default) = pin_default(p);
-            def = def.input_spread(p.display.clone(), ty, default);
-            // Colours and matrices are not ranges (write_param holds the rest to it).
-            if (p.min.is_some() || p.max.is_some())
-                && !matches!(p.kind, ParamKind::Color | ParamKind::Mat4 | ParamKind::Bool)
-            {
-                def = def.range(
-                    p.min.map_or(f64::NEG_INFINITY, f64::from),
-                    p.max.map_or(f64::INFINITY, f64::from),
-                );
-            }
-        }
-        for s in &self.notes.switches {
-            def = def.input(s.display.clone(), s.default);
-        }
-        for e in &self.notes.enums {
-            let options: Vec<&str> = e.options.iter().map(String::as_str).collect();
-            def = def.input_enum(
-                e.display.clone(),
-                enum_def(&e.display, &options),
-                &e.options[e.default],
-            );
-        }
-        def = if self.is_material() {
-            def.output_typed("Layer", layer)
-        } else if self.is_light() {
-            def.output_typed("Diffuse", texture)
-                .output_typed("Specular", texture)
-        } else {
-            def.output_typed("Texture", texture)
-        };
-        for (target, _) in &self.notes.outputs {
-            def = def.output_typed(
-                spreadlight_render::shader_nodes::annotations::title(target),
-                texture,
-            );
-        }
         if self.time_dependent() {
             def = def.time_dependent();
         }
@@ -141,65 +63,10 @@ impl ShaderType {
         }
         let ty = self.clone();
         let error = error.map(|e| NodeError::Other(e.to_string()));
-        def.construct(move || ShaderNode::new(ty.clone(), error.clone()))
-    }
-}
-
-/// The `EnumDef` of a shader file's `@enum` pin. Pin types name enums by
-/// `&'static`, so each distinct (name, options) is made once and kept:
-/// reloading a file that did not change its options makes none.
-fn enum_def(name: &str, options: &[&str]) -> &'static EnumDef {
-    static DEFS: Mutex<Vec<&'static EnumDef>> = Mutex::new(Vec::new());
-    let mut defs = DEFS.lock().unwrap_or_else(|e| e.into_inner());
-    if let Some(found) = defs.iter().find(|d| d.name == name && d.options == options) {
-        return found;
-    }
-    let options: Vec<&'static str> = options
-        .iter()
-        .map(|o| &*Box::leak(o.to_string().into_boxed_str()))
-        .collect();
-    let made: &'static EnumDef = Box::leak(Box::new(EnumDef {
-        name: Box::leak(name.to_owned().into_boxed_str()),
-        options: Box::leak(options.into_boxed_slice()),
-    }));
-    defs.push(made);
-    made
-}
-
-/// A field's pin type and its default as a one-slice spread.
-fn pin_default(p: &ParamPin) -> (PinType, Spread) {
-    let v = &p.default;
-    let at = |i: usize| v.get(i).copied().unwrap_or(0.0);
-    match p.kind {
-        ParamKind::Float => (PinType::Float, Spread::Float(vec![at(0)])),
-        ParamKind::Int => (PinType::Int, Spread::Int(vec![at(0) as i64])),
-        ParamKind::Bool => (PinType::Bool, Spread::Bool(vec![at(0) != 0.0])),
-        ParamKind::Vec2 => (
-            PinType::Vec2,
-            Spread::Vec2(vec![glam::Vec2::new(at(0), at(1))]),
-        ),
-        ParamKind::Vec3 => (
-            PinType::Vec3,
-            Spread::Vec3(vec![glam::Vec3::new(at(0), at(1), at(2))]),
-        ),
-        ParamKind::Vec4 => (
-            PinType::Vec4,
-            Spread::Vec4(vec![glam::Vec4::new(at(0), at(1), at(2), at(3))]),
-        ),
-        ParamKind::Color => (
-            PinType::Color,
-            Spread::Color(vec![Color::rgba(at(0), at(1), at(2), at(3))]),
-        ),
-        ParamKind::Mat4 => {
-            let mut cols = [0.0; 16];
-            for (i, c) in cols.iter_mut().enumerate() {
-                *c = at(i);
-            }
-            (
-                PinType::Mat4,
-                Spread::Mat4(vec![glam::Mat4::from_cols_array(&cols)]),
-            )
-        }
+        def.with_pins_node(|p| {
+            let pins = Arc::new(ShaderPins::declare(&ty, p));
+            move || ShaderNode::new(ty.clone(), pins.clone(), error.clone())
+        })
     }
 }
 

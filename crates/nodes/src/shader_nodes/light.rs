@@ -7,38 +7,14 @@
 
 use std::sync::Arc;
 
-use spreadlight_graph::{EvalContext, PinType, ResourceKind, Spread};
-use spreadlight_render::TextureRef;
-use spreadlight_render::gbuffer::GBuffer;
-use spreadlight_render::lighting::{CookTorrance, LightBuffer, LightKind, LightLoop, Surfaces};
-use spreadlight_render::material::MaterialWorld;
-use spreadlight_render::shadows::ShadowMaps;
+use spreadlight_graph::EvalContext;
+use spreadlight_render::lighting::{CookTorrance, LightBuffer, LightKind, Surfaces};
 
-use super::node::Failure;
+use super::failure::Failure;
 use super::params::slice_defines;
+use super::pins::{Main, ShaderPins};
 use super::shader_type::ShaderType;
-use crate::gpu::{renderer, resource_spread, resources};
-
-/// The pins before a light shader's own: G-Buffer, Lights, Material World, Shadows, Light Loop.
-pub const LIGHT_PINS: usize = 5;
-
-/// The fixed pins of a light shader node, in order: (name, type, default).
-pub(super) fn pins() -> [(&'static str, PinType, Spread); 4] {
-    let resource = |kind| (PinType::Resource(kind), Spread::Resource(kind, vec![]));
-    let [g, l, m, s] = [
-        ResourceKind::GBuffer,
-        ResourceKind::LightWorld,
-        ResourceKind::MaterialWorld,
-        ResourceKind::Shadows,
-    ]
-    .map(resource);
-    [
-        ("G-Buffer", g.0, g.1),
-        ("Lights", l.0, l.1),
-        ("Material World", m.0, m.1),
-        ("Shadows", s.0, s.1),
-    ]
-}
+use crate::gpu::renderer;
 
 fn kind_name(kind: LightKind) -> &'static str {
     match kind {
@@ -48,14 +24,20 @@ fn kind_name(kind: LightKind) -> &'static str {
     }
 }
 
-pub(super) fn evaluate(ty: &Arc<ShaderType>, cx: &mut EvalContext<'_>) -> Result<(), Failure> {
+pub(super) fn evaluate(
+    ty: &Arc<ShaderType>,
+    pins: &ShaderPins,
+    cx: &mut EvalContext<'_>,
+) -> Result<(), Failure> {
+    let (Some(light), Main::Light { diffuse, specular }) = (pins.light, pins.main) else {
+        return Err(Failure::other_kind(&ty.file));
+    };
     let renderer = renderer(cx)?;
-    let gbuffer = resources::<GBuffer>(cx, 0)?
-        .into_iter()
-        .next()
-        .ok_or_else(|| cx.input_error(0, "no G-buffer connected"))?;
+    let gbuffer = cx
+        .first_resource(light.gbuffer)?
+        .ok_or_else(|| cx.error(light.gbuffer, "no G-buffer connected"))?;
     let declared = ty.light_kinds();
-    let lights = match resources::<LightBuffer>(cx, 1)?.into_iter().next() {
+    let lights = match cx.first_resource(light.lights)? {
         Some(l) => l,
         None => LightBuffer::points(&renderer, &[]),
     };
@@ -63,8 +45,8 @@ pub(super) fn evaluate(ty: &Arc<ShaderType>, cx: &mut EvalContext<'_>) -> Result
     if !declared.contains(&lights.kind) && lights.count() > 0 {
         let names: Vec<&str> = declared.iter().map(|k| kind_name(*k)).collect();
         return Err(cx
-            .input_error(
-                1,
+            .error(
+                light.lights,
                 format!(
                     "holds {} lights, but {} shades only {} lights (`// @light {}`)",
                     kind_name(lights.kind),
@@ -75,13 +57,13 @@ pub(super) fn evaluate(ty: &Arc<ShaderType>, cx: &mut EvalContext<'_>) -> Result
             )
             .into());
     }
-    let shadows = resources::<ShadowMaps>(cx, 3)?.into_iter().next();
+    let shadows = cx.first_resource(light.shadows)?;
     if let Some(s) = &shadows
         && s.kind != lights.kind
     {
         return Err(cx
-            .input_error(
-                3,
+            .error(
+                light.shadows,
                 format!(
                     "holds shadows of {:?} lights, but Lights holds {:?} lights",
                     s.kind, lights.kind
@@ -89,19 +71,15 @@ pub(super) fn evaluate(ty: &Arc<ShaderType>, cx: &mut EvalContext<'_>) -> Result
             )
             .into());
     }
-    let surfaces = match resources::<MaterialWorld>(cx, 2)?.into_iter().next() {
+    let surfaces = match cx.first_resource(light.materials)? {
         Some(world) => Surfaces::Materials(world),
         None => Surfaces::PerMaterialId(Vec::new()),
     };
-    let mode = match cx.enum_slices(4)?.first().map(String::as_str) {
-        Some("Naive") => LightLoop::Naive,
-        Some("Clustered") => LightLoop::Clustered,
-        _ => LightLoop::Auto,
-    };
-    let textures = super::material::textures(ty, cx)?;
-    let defines = slice_defines(ty, cx, ty.first_param() + ty.params().len(), 0);
+    let mode = cx.choice(light.light_loop)?;
+    let textures = super::material::textures(pins, cx)?;
+    let defines = slice_defines(ty, pins, cx, 0);
     let (program, fresh) = ty.program(&defines).map_err(Failure::Shader)?;
-    let shader = super::material::spliced(ty, cx, &program, 0, &textures, u64::from(fresh));
+    let shader = super::material::spliced(ty, pins, cx, &program, 0, &textures, u64::from(fresh));
     let recipe = CookTorrance::with_light_shader(
         &renderer,
         Some(cx.node_id.0),
@@ -112,19 +90,7 @@ pub(super) fn evaluate(ty: &Arc<ShaderType>, cx: &mut EvalContext<'_>) -> Result
         shadows,
         Arc::new(shader),
     );
-    cx.set_output(
-        0,
-        resource_spread::<TextureRef>(
-            ResourceKind::Texture,
-            vec![Arc::new(recipe.diffuse_texture())],
-        ),
-    );
-    cx.set_output(
-        1,
-        resource_spread::<TextureRef>(
-            ResourceKind::Texture,
-            vec![Arc::new(recipe.specular_texture())],
-        ),
-    );
+    cx.put_resources(diffuse, vec![Arc::new(recipe.diffuse_texture())]);
+    cx.put_resources(specular, vec![Arc::new(recipe.specular_texture())]);
     Ok(())
 }

@@ -6,39 +6,41 @@
 
 use std::sync::Arc;
 
-use spreadlight_graph::{EvalContext, ResourceKind};
+use spreadlight_graph::EvalContext;
 use spreadlight_render::TextureRef;
-use spreadlight_render::gbuffer::{Layer, SurfaceBinding, SurfaceShader};
+use spreadlight_render::gbuffer::{SurfaceBinding, SurfaceShader};
 use spreadlight_render::shader_nodes::{Builtin, Program, Role};
 
-use super::node::Failure;
-use super::params::{numbers, slice_defines, write_param};
+use super::failure::Failure;
+use super::params::{slice_defines, uniform_bytes};
+use super::pins::{Main, ShaderPins};
 use super::shader_type::ShaderType;
-use crate::gpu::{resource_spread, resources};
 
-/// The Layer input pin.
-const LAYER: usize = 0;
-
-pub(super) fn evaluate(ty: &Arc<ShaderType>, cx: &mut EvalContext<'_>) -> Result<(), Failure> {
-    let layers = resources::<Layer>(cx, LAYER)?;
+pub(super) fn evaluate(
+    ty: &Arc<ShaderType>,
+    pins: &ShaderPins,
+    cx: &mut EvalContext<'_>,
+) -> Result<(), Failure> {
+    let (Some(layer_in), Main::Layer(out)) = (pins.layer, pins.main) else {
+        return Err(Failure::other_kind(&ty.file));
+    };
+    let layers = cx.resources(layer_in)?;
     // It reads the material world: every layer it shades must bring one.
     let reads_materials = ty.reads_materials();
     if reads_materials && layers.iter().any(|l| l.materials.is_none()) {
         return Err(cx
-            .input_error(
-                LAYER,
+            .error(
+                layer_in,
                 "the file reads the material world (spreadlight::materials), but the layer's \
                  DeferredBase has no Material World: wire a MaterialBuffer to it",
             )
             .into());
     }
-    let textures = textures(ty, cx)?;
-    let first = ty.first_param();
-    let params = ty.params();
+    let textures = textures(pins, cx)?;
     // vvvv's rule: as many slices as the longest input, none if one is empty.
     let mut lens = vec![layers.len()];
     lens.extend(textures.iter().map(Vec::len));
-    lens.extend((first..cx.input_count()).map(|pin| cx.input(pin).len()));
+    lens.extend(pins.value_lens(cx));
     let count = if lens.contains(&0) {
         0
     } else {
@@ -47,15 +49,16 @@ pub(super) fn evaluate(ty: &Arc<ShaderType>, cx: &mut EvalContext<'_>) -> Result
     let mut programs = Vec::with_capacity(count);
     let mut compiled = 0;
     for slice in 0..count {
-        let defines = slice_defines(ty, cx, first + params.len(), slice);
+        let defines = slice_defines(ty, pins, cx, slice);
         let (program, fresh) = ty.program(&defines).map_err(Failure::Shader)?;
         compiled += u64::from(fresh);
         programs.push(program);
     }
-    let mut out = Vec::with_capacity(count);
+    let mut layers_out = Vec::with_capacity(count);
     for (slice, program) in programs.into_iter().enumerate() {
         let surface = spliced(
             ty,
+            pins,
             cx,
             &program,
             slice,
@@ -66,25 +69,23 @@ pub(super) fn evaluate(ty: &Arc<ShaderType>, cx: &mut EvalContext<'_>) -> Result
         let layer = (*layers[slice % layers.len()])
             .clone()
             .with_surface(Some(Arc::new(surface)));
-        out.push(Arc::new(layer));
+        layers_out.push(Arc::new(layer));
     }
-    cx.set_output(0, resource_spread(ResourceKind::Layer, out));
+    cx.put_resources(out, layers_out);
     Ok(())
 }
 
 /// The textures on the file's texture input pins, each a spread; an
 /// unconnected one is an error at its pin.
 pub(super) fn textures(
-    ty: &ShaderType,
+    pins: &ShaderPins,
     cx: &EvalContext<'_>,
 ) -> Result<Vec<Vec<Arc<TextureRef>>>, Failure> {
-    let first_texture = ty.first_texture();
-    let mut textures = Vec::with_capacity(ty.notes.inputs.len());
-    for k in 0..ty.notes.inputs.len() {
-        let pin = first_texture + k;
-        let t = resources::<TextureRef>(cx, pin)?;
+    let mut textures = Vec::with_capacity(pins.textures.len());
+    for pin in &pins.textures {
+        let t = cx.resources(*pin)?;
         if t.is_empty() {
-            return Err(cx.input_error(pin, "no texture connected").into());
+            return Err(cx.error(*pin, "no texture connected").into());
         }
         textures.push(t);
     }
@@ -96,17 +97,15 @@ pub(super) fn textures(
 /// pins and built-ins written, its texture inputs.
 pub(super) fn spliced(
     ty: &Arc<ShaderType>,
+    pins: &ShaderPins,
     cx: &EvalContext<'_>,
     program: &Program,
     slice: usize,
     textures: &[Vec<Arc<TextureRef>>],
     compiled: u64,
 ) -> SurfaceShader {
-    let first = ty.first_param();
-    let mut bytes = vec![0u8; program.uniform.as_ref().map_or(0, |u| u.size as usize)];
-    for (i, pin) in ty.params().iter().enumerate() {
-        write_param(&mut bytes, pin, &numbers(cx.input(first + i), slice));
-    }
+    let size = program.uniform.as_ref().map_or(0, |u| u.size as usize);
+    let mut bytes = uniform_bytes(ty, pins, cx, size, slice);
     // The built-ins a spliced file has: the clock and its slice (the rest are 0).
     for (builtin, offset) in program.uniform.iter().flat_map(|u| &u.builtins) {
         let word = match builtin {

@@ -6,11 +6,13 @@
 
 pub mod builtin_blur;
 pub mod def;
+mod failure;
 pub mod library;
 pub mod light;
 pub mod material;
 pub mod node;
 mod params;
+mod pins;
 pub mod shader_type;
 
 pub use library::{Changes, ShaderLibrary};

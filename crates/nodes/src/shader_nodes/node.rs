@@ -8,25 +8,31 @@
 
 use std::sync::Arc;
 
-use spreadlight_graph::{EvalContext, Node, NodeError, ResourceKind};
+use spreadlight_graph::{EvalContext, Node, NodeError};
 use spreadlight_render::TextureRef;
-use spreadlight_render::gbuffer::GBuffer;
-use spreadlight_render::material::MaterialWorld;
-use spreadlight_render::shader_nodes::{ShaderNodeError, ShaderNodeInputs, ShaderNodeRecipe};
+use spreadlight_render::shader_nodes::{ShaderNodeInputs, ShaderNodeRecipe};
 
-use super::params::{numbers, slice_defines, write_param};
+use super::failure::Failure;
+use super::params::{numbers, slice_defines, uniform_bytes};
+use super::pins::{Main, ShaderPins};
 use super::shader_type::ShaderType;
-use crate::gpu::{renderer, resource_spread, resources};
+use crate::gpu::renderer;
 
 pub struct ShaderNode {
     ty: Arc<ShaderType>,
+    /// The node type's pins; a previous version of the file has the same.
+    pins: Arc<ShaderPins>,
     /// A newer version of the file that failed: shown while this one renders.
     error: Option<NodeError>,
 }
 
 impl ShaderNode {
-    pub fn new(ty: Arc<ShaderType>, error: Option<NodeError>) -> Self {
-        ShaderNode { ty, error }
+    pub(super) fn new(
+        ty: Arc<ShaderType>,
+        pins: Arc<ShaderPins>,
+        error: Option<NodeError>,
+    ) -> Self {
+        ShaderNode { ty, pins, error }
     }
 }
 
@@ -39,29 +45,16 @@ impl Node for Broken {
     }
 }
 
-/// Why a version of a file could not evaluate: the file's own fault (a
-/// permutation that does not compile, a device limit), which its previous
-/// version may not have, or the node's (an input not connected).
-pub(super) enum Failure {
-    Shader(ShaderNodeError),
-    Node(NodeError),
-}
-
-impl From<NodeError> for Failure {
-    fn from(e: NodeError) -> Self {
-        Failure::Node(e)
-    }
-}
-
 impl Node for ShaderNode {
     fn evaluate(&mut self, cx: &mut EvalContext<'_>) -> Result<(), NodeError> {
         let mut shown: Vec<String> = self.error.iter().map(ToString::to_string).collect();
-        let result = match run(&self.ty, cx) {
+        let pins = &self.pins;
+        let result = match run(&self.ty, pins, cx) {
             // The version before runs in its place, showing why.
             Err(Failure::Shader(e)) => match self.ty.previous() {
                 Some(previous) => {
                     shown.push(e.to_string());
-                    run(previous, cx).map_err(|_| Failure::Shader(e))
+                    run(previous, pins, cx).map_err(|_| Failure::Shader(e))
                 }
                 None => Err(Failure::Shader(e)),
             },
@@ -81,58 +74,59 @@ impl Node for ShaderNode {
 }
 
 /// Evaluate one version of the file.
-fn run(ty: &Arc<ShaderType>, cx: &mut EvalContext<'_>) -> Result<(), Failure> {
+fn run(ty: &Arc<ShaderType>, pins: &ShaderPins, cx: &mut EvalContext<'_>) -> Result<(), Failure> {
     if ty.is_material() {
-        return super::material::evaluate(ty, cx);
+        return super::material::evaluate(ty, pins, cx);
     }
     if ty.is_light() {
-        return super::light::evaluate(ty, cx);
+        return super::light::evaluate(ty, pins, cx);
     }
+    let Main::Texture(main_out) = pins.main else {
+        return Err(Failure::other_kind(&ty.file));
+    };
     let renderer = renderer(cx)?;
-    let inputs = ty.notes.inputs.len();
-    let mut textures = Vec::with_capacity(inputs);
-    for pin in 0..inputs {
-        let t = resources::<TextureRef>(cx, pin)?;
+    let mut textures = Vec::with_capacity(pins.textures.len());
+    for pin in &pins.textures {
+        let t = cx.resources(*pin)?;
         if t.is_empty() {
-            return Err(cx.input_error(pin, "no texture connected").into());
+            return Err(cx.error(*pin, "no texture connected").into());
         }
         textures.push(t);
     }
-    let gbuffers = if ty.reads_gbuffer() {
-        let g = resources::<GBuffer>(cx, inputs)?;
-        if g.is_empty() {
-            return Err(cx.input_error(inputs, "no G-buffer connected").into());
+    let gbuffers = match pins.gbuffer {
+        Some(pin) => {
+            let g = cx.resources(pin)?;
+            if g.is_empty() {
+                return Err(cx.error(pin, "no G-buffer connected").into());
+            }
+            g
         }
-        g
-    } else {
-        Vec::new()
+        None => Vec::new(),
     };
-    let worlds = if ty.materials_pin() {
-        let pin = inputs + usize::from(ty.reads_gbuffer());
-        let w = resources::<MaterialWorld>(cx, pin)?;
-        if w.is_empty() {
-            return Err(cx
-                .input_error(
-                    pin,
-                    "no Material World connected (the file imports spreadlight::materials): wire a MaterialBuffer",
-                )
-                .into());
+    let worlds = match pins.materials {
+        Some(pin) => {
+            let w = cx.resources(pin)?;
+            if w.is_empty() {
+                return Err(cx
+                    .error(
+                        pin,
+                        "no Material World connected (the file imports spreadlight::materials): wire a MaterialBuffer",
+                    )
+                    .into());
+            }
+            w
         }
-        w
-    } else {
-        Vec::new()
+        None => Vec::new(),
     };
-    let first = ty.first_param();
-    let params = ty.params();
     // vvvv's rule: as many slices as the longest input, none if one is empty.
     let mut lens: Vec<usize> = textures.iter().map(Vec::len).collect();
-    if ty.reads_gbuffer() {
+    if pins.gbuffer.is_some() {
         lens.push(gbuffers.len());
     }
-    if ty.materials_pin() {
+    if pins.materials.is_some() {
         lens.push(worlds.len());
     }
-    lens.extend((first..cx.input_count()).map(|pin| cx.input(pin).len()));
+    lens.extend(pins.value_lens(cx));
     let count = if lens.contains(&0) {
         0
     } else {
@@ -140,12 +134,13 @@ fn run(ty: &Arc<ShaderType>, cx: &mut EvalContext<'_>) -> Result<(), Failure> {
     };
     let limits = renderer.gpu.device.limits();
     let main = ty.main_target().to_owned();
-    let mut outputs: Vec<Vec<Arc<TextureRef>>> = vec![Vec::new(); 1 + ty.notes.outputs.len()];
+    let mut main_textures: Vec<Arc<TextureRef>> = Vec::new();
+    let mut outputs: Vec<Vec<Arc<TextureRef>>> = vec![Vec::new(); ty.notes.outputs.len()];
     // The permutations first, so slice 0's recipe can count every compile.
     let mut programs = Vec::with_capacity(count);
     let mut compiled = 0;
     for slice in 0..count {
-        let defines = slice_defines(ty, cx, first + params.len(), slice);
+        let defines = slice_defines(ty, pins, cx, slice);
         let (program, fresh) = ty.program(&defines).map_err(Failure::Shader)?;
         program
             .check_limits(&limits, renderer.output_size())
@@ -154,18 +149,17 @@ fn run(ty: &Arc<ShaderType>, cx: &mut EvalContext<'_>) -> Result<(), Failure> {
         programs.push(program);
     }
     for (slice, program) in programs.into_iter().enumerate() {
-        let mut bytes = vec![0u8; program.uniform.as_ref().map_or(0, |u| u.size as usize)];
-        for (i, pin) in params.iter().enumerate() {
-            write_param(&mut bytes, pin, &numbers(cx.input(first + i), slice));
-        }
+        let size = program.uniform.as_ref().map_or(0, |u| u.size as usize);
+        let bytes = uniform_bytes(ty, pins, cx, size, slice);
         let skips = program
             .passes
             .iter()
             .map(|p| {
                 p.skip
                     .as_ref()
-                    .and_then(|pin| ty.bool_pin_index(pin))
-                    .is_some_and(|k| numbers(cx.input(k), slice) == [1.0])
+                    .and_then(|pin| ty.bool_pin(pin))
+                    .and_then(|pin| pins.bool_spread(cx, pin))
+                    .is_some_and(|spread| numbers(spread, slice) == [1.0])
             })
             .collect();
         let recipe = ShaderNodeRecipe::new(
@@ -187,13 +181,14 @@ fn run(ty: &Arc<ShaderType>, cx: &mut EvalContext<'_>) -> Result<(), Failure> {
                 compiled: if slice == 0 { compiled } else { 0 },
             },
         );
-        outputs[0].push(Arc::new(recipe.texture(&main)));
-        for (k, (target, _)) in ty.notes.outputs.iter().enumerate() {
-            outputs[k + 1].push(Arc::new(recipe.texture(target)));
+        main_textures.push(Arc::new(recipe.texture(&main)));
+        for ((target, _), out) in ty.notes.outputs.iter().zip(&mut outputs) {
+            out.push(Arc::new(recipe.texture(target)));
         }
     }
-    for (k, out) in outputs.into_iter().enumerate() {
-        cx.set_output(k, resource_spread(ResourceKind::Texture, out));
+    cx.put_resources(main_out, main_textures);
+    for (pin, out) in pins.outputs.iter().zip(outputs) {
+        cx.put_resources(*pin, out);
     }
     Ok(())
 }

@@ -8,6 +8,7 @@ use spreadlight_graph::{EvalContext, Spread};
 use spreadlight_render::shader_nodes::ParamKind;
 use spreadlight_render::shader_nodes::ParamPin;
 
+use super::pins::ShaderPins;
 use super::shader_type::ShaderType;
 
 /// Slice `i` of a spread as numbers (wrapping), for the uniform block.
@@ -29,25 +30,43 @@ pub(super) fn numbers(spread: &Spread, i: usize) -> Vec<f32> {
     .unwrap_or_default()
 }
 
-/// The defines slice `slice` selects with the switch and enum pins from input `first_switch`.
+/// The defines slice `slice` selects with the switch and enum pins.
 pub(super) fn slice_defines(
     ty: &ShaderType,
+    pins: &ShaderPins,
     cx: &EvalContext<'_>,
-    first_switch: usize,
     slice: usize,
 ) -> BTreeSet<String> {
     ty.defines(
-        first_switch,
-        &|pin| numbers(cx.input(pin), slice),
-        &|pin| match cx.input(pin) {
-            Spread::Enum(v) if !v.is_empty() => Some(v[slice % v.len()].clone()),
+        &|k| {
+            pins.switches
+                .get(k)
+                .map_or_else(Vec::new, |pin| numbers(cx.spread(*pin), slice))
+        },
+        &|k| match pins.enums.get(k).map(|pin| cx.spread(*pin)) {
+            Some(Spread::Enum(v)) if !v.is_empty() => Some(v[slice % v.len()].clone()),
             _ => None,
         },
     )
 }
 
+/// Write every field pin's slice `slice` into a uniform block of `size` bytes.
+pub(super) fn uniform_bytes(
+    ty: &ShaderType,
+    pins: &ShaderPins,
+    cx: &EvalContext<'_>,
+    size: usize,
+    slice: usize,
+) -> Vec<u8> {
+    let mut bytes = vec![0u8; size];
+    for (field, pin) in ty.params().iter().zip(&pins.params) {
+        write_param(&mut bytes, field, &numbers(cx.spread(*pin), slice));
+    }
+    bytes
+}
+
 /// Write one pin's value into the uniform block, held to its range.
-pub(super) fn write_param(bytes: &mut [u8], pin: &ParamPin, values: &[f32]) {
+fn write_param(bytes: &mut [u8], pin: &ParamPin, values: &[f32]) {
     let clamp = |v: f32| {
         let v = if v.is_finite() { v } else { 0.0 };
         let v = pin.min.map_or(v, |m| v.max(m));

@@ -12,6 +12,14 @@ use spreadlight_render::shader_nodes::{
     Annotations, Builtin, Kind, ParamKind, ParamPin, Program, ShaderNodeError,
 };
 
+/// A Bool pin a pass's `skip` may name: the i-th uniform field, or the
+/// i-th `@switch`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BoolPin {
+    Field(usize),
+    Switch(usize),
+}
+
 /// A loaded shader node file.
 pub struct ShaderType {
     /// The node type name: `Blur (Shader)` for `blur.wgsl`.
@@ -146,7 +154,7 @@ impl ShaderType {
     fn check_skips(&self) -> Result<(), ShaderNodeError> {
         for pass in &self.base.passes {
             if let Some(pin) = &pass.skip
-                && self.bool_pin_index(pin).is_none()
+                && self.bool_pin(pin).is_none()
             {
                 return Err(ShaderNodeError::at(
                     &self.file,
@@ -162,30 +170,20 @@ impl ShaderType {
         self.base.uniform.as_ref().map_or(&[], |u| &u.pins)
     }
 
-    /// Where a Bool pin named `pin` (field, define, or display name) is among the inputs.
-    pub fn bool_pin_index(&self, pin: &str) -> Option<usize> {
-        let params = self.params();
-        if let Some(i) = params
+    /// Which Bool pin `pin` names (a field, a define, or a display name).
+    pub fn bool_pin(&self, pin: &str) -> Option<BoolPin> {
+        if let Some(i) = self
+            .params()
             .iter()
             .position(|p| p.kind == ParamKind::Bool && (p.field == pin || p.display == pin))
         {
-            return Some(self.first_param() + i);
+            return Some(BoolPin::Field(i));
         }
         self.notes
             .switches
             .iter()
             .position(|s| s.define == pin || s.display == pin)
-            .map(|i| self.first_param() + params.len() + i)
-    }
-
-    /// Input pins: a material's Layer, textures, then the G-buffer (if
-    /// read), the Material World (if an effect reads it), then the fields,
-    /// then the switches.
-    pub fn first_param(&self) -> usize {
-        self.first_texture()
-            + self.notes.inputs.len()
-            + usize::from(self.reads_gbuffer())
-            + usize::from(self.materials_pin())
+            .map(BoolPin::Switch)
     }
 
     /// The file imports `spreadlight::materials` (in any permutation): it
@@ -198,16 +196,6 @@ impl ShaderType {
     /// pin; a material reads its DeferredBase's.
     pub fn materials_pin(&self) -> bool {
         self.reads_materials() && !self.is_material()
-    }
-
-    /// The first texture input pin: after a material's Layer, after a light
-    /// shader's G-Buffer, Lights, Material World, Shadows and Light Loop.
-    pub fn first_texture(&self) -> usize {
-        match self.base.kind {
-            Kind::Effect => 0,
-            Kind::Material => 1,
-            Kind::Light => super::light::LIGHT_PINS,
-        }
     }
 
     /// A light shader (`// @light`) rather than an image effect.
@@ -229,23 +217,22 @@ impl ShaderType {
         self.base.kind == Kind::Material
     }
 
-    /// The permutation's defines for slice `slice` of the switch pins
-    /// (Bool switches, then Enum choices) starting at input `first_switch`.
+    /// The permutation's defines for one slice: `switch(k)` gives the value
+    /// of the k-th Bool switch, `choice(k)` the option of the k-th Enum.
     pub fn defines(
         &self,
-        first_switch: usize,
-        input: &dyn Fn(usize) -> Vec<f32>,
+        switch: &dyn Fn(usize) -> Vec<f32>,
         choice: &dyn Fn(usize) -> Option<String>,
     ) -> BTreeSet<String> {
         let switches = &self.notes.switches;
         let mut defines: BTreeSet<String> = switches
             .iter()
             .enumerate()
-            .filter(|(i, _)| input(first_switch + i) == [1.0])
+            .filter(|(k, _)| switch(*k) == [1.0])
             .map(|(_, s)| s.define.clone())
             .collect();
         for (k, e) in self.notes.enums.iter().enumerate() {
-            let chosen = choice(first_switch + switches.len() + k)
+            let chosen = choice(k)
                 .and_then(|o| e.options.iter().position(|x| *x == o))
                 .unwrap_or(e.default);
             defines.extend(e.define(chosen));

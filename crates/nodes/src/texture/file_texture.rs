@@ -3,12 +3,12 @@
 
 use std::sync::Arc;
 
-use spreadlight_graph::{NodeDef, PinType, Registry, ResourceKind};
-use spreadlight_render::TextureRef;
+use spreadlight_graph::{NodeDef, Registry};
 use spreadlight_render::static_texture::StaticTexture;
 use spreadlight_render::texture::GpuTexture;
 
-use crate::gpu::{renderer, resource_spread};
+use crate::gpu::renderer;
+use crate::post::texture_output;
 
 pub fn register(r: &mut Registry) {
     r.add(
@@ -17,16 +17,17 @@ pub fn register(r: &mut Registry) {
             "Texture",
             "Loads an image file as a texture (a relative Filename is relative to the patch's folder). sRGB for colour images; switch it off for data such as normal maps. HDR and EXR files are linear floats (Rgba32Float) whatever sRGB says.",
         )
-        .input("Filename", String::new())
-        .input("sRGB", true)
-        .output_typed("Texture", PinType::Resource(ResourceKind::Texture))
-        .evaluate(|cx| {
+        .with_pins(|p| {
+            let filename = p.input("Filename", String::new());
+            let srgb_in = p.input("sRGB", true);
+            let out = texture_output(p, "Texture");
+            move |cx| {
             let renderer = renderer(cx)?;
-            let files = cx.slices::<String>(0)?.to_vec();
-            let srgb = cx.slices::<bool>(1)?.first().copied().unwrap_or(true);
+            let files = cx.get(filename)?.to_vec();
+            let srgb = cx.first(srgb_in, true)?;
             let mut textures = Vec::new();
             for file in files.iter().filter(|f| !f.is_empty()) {
-                let image = image::open(cx.resolve_path(file)).map_err(|e| cx.input_error(0, format!("{file}: {e}")))?;
+                let image = image::open(cx.resolve_path(file)).map_err(|e| cx.error(filename, format!("{file}: {e}")))?;
                 let texture = if is_float(image.color()) {
                     // HDR and EXR files hold linear values: kept as they are.
                     // Cut to 8 bits they were taken as sRGB-encoded and
@@ -39,8 +40,9 @@ pub fn register(r: &mut Registry) {
                 };
                 textures.push(Arc::new(StaticTexture::new(texture).texture_ref()));
             }
-            cx.set_output(0, resource_spread::<TextureRef>(ResourceKind::Texture, textures));
+            cx.put_resources(out, textures);
             Ok(())
+            }
         }),
     );
 }

@@ -4,12 +4,12 @@
 
 use std::sync::Arc;
 
-use spreadlight_graph::{NodeDef, PinType, Registry, ResourceKind, Spread};
-use spreadlight_render::TextureRef;
+use spreadlight_graph::{NodeDef, Registry};
 use spreadlight_render::static_texture::StaticTexture;
 use spreadlight_render::texture::GpuTexture;
 
-use crate::gpu::{renderer, resource_spread};
+use crate::gpu::renderer;
+use crate::post::texture_output;
 
 pub fn register(r: &mut Registry) {
     r.add(
@@ -20,24 +20,25 @@ pub fn register(r: &mut Registry) {
              the first file's size; relative names are relative to the patch's folder. sRGB for colour images; switch it off for data. Outputs one texture \
              and its layer count.",
         )
-        .input_spread("Filenames", PinType::String, Spread::String(Vec::new()))
-        .input("sRGB", true)
-        .output_typed("Texture", PinType::Resource(ResourceKind::Texture))
-        .output::<i64>("Layers")
-        .evaluate(|cx| {
+        .with_pins(|p| {
+            let filenames = p.input_spread::<String>("Filenames", Vec::new());
+            let srgb_in = p.input("sRGB", true);
+            let out = texture_output(p, "Texture");
+            let layer_count = p.output::<i64>("Layers");
+            move |cx| {
             let renderer = renderer(cx)?;
-            let files: Vec<String> = cx.slices::<String>(0)?.iter().filter(|f| !f.is_empty()).cloned().collect();
-            let srgb = cx.slices::<bool>(1)?.first().copied().unwrap_or(true);
+            let files: Vec<String> = cx.get(filenames)?.iter().filter(|f| !f.is_empty()).cloned().collect();
+            let srgb = cx.first(srgb_in, true)?;
             if files.is_empty() {
-                cx.set_output(0, Spread::Resource(ResourceKind::Texture, Vec::new()));
-                cx.set_output(1, Spread::Int(vec![0]));
+                cx.put_resources(out, Vec::new());
+                cx.put(layer_count, vec![0]);
                 return Ok(());
             }
             let mut layers = Vec::with_capacity(files.len());
             let mut size = None;
             for (slice, file) in files.iter().enumerate() {
                 let image = image::open(cx.resolve_path(file))
-                    .map_err(|e| cx.input_error(0, format!("slice {slice}, {file}: {e}")))?
+                    .map_err(|e| cx.error(filenames, format!("slice {slice}, {file}: {e}")))?
                     .to_rgba8();
                 let (w, h) = *size.get_or_insert(image.dimensions());
                 let image = if image.dimensions() == (w, h) {
@@ -50,9 +51,10 @@ pub fn register(r: &mut Registry) {
             let (w, h) = size.unwrap_or((1, 1));
             let texture = GpuTexture::array_from_rgba8(&renderer.gpu, w, h, &layers, srgb, "texture array");
             let texture = Arc::new(StaticTexture::new(texture).texture_ref());
-            cx.set_output(0, resource_spread::<TextureRef>(ResourceKind::Texture, vec![texture]));
-            cx.set_output(1, Spread::Int(vec![layers.len() as i64]));
+            cx.put_resources(out, vec![texture]);
+            cx.put(layer_count, vec![layers.len() as i64]);
             Ok(())
+            }
         }),
     );
 }
