@@ -59,7 +59,11 @@ fn patch(file: &str, analysis: &str, values: &[(&str, Spread)]) -> Patch {
     patch.link(1, "Audio", 2, "Audio");
     patch.add(NodeDoc::new(3, "Probe").with("Name", vec!["analysis".to_owned()]));
     let registry = crate::registry();
-    let first = &registry.get(analysis).expect("analysis node").outputs[0].name;
+    let first = &registry
+        .get(analysis)
+        .and_then(|def| def.outputs.first())
+        .expect("analysis node with an output")
+        .name;
     patch.link(2, first, 3, "Input");
     patch.add(NodeDoc::new(4, "LinearSpread"));
     patch.add(NodeDoc::new(5, "Probe").with("Name", vec!["other".to_owned()]));
