@@ -8,6 +8,8 @@
 //! when its material is double-sided. A second frame binds the material
 //! world's groups made in the first.
 
+// The post tests' scene helpers, shared with the renderer's tests.
+#[path = "../../render/tests/post_common/mod.rs"]
 mod post_common;
 
 use std::sync::Arc;
@@ -19,10 +21,9 @@ use spreadlight_render::camera::CameraInput;
 use spreadlight_render::frame_graph::FrameReport;
 use spreadlight_render::gbuffer::{DrawBatch, GBuffer, InstanceInput, Layer, LayerFeatures};
 use spreadlight_render::material::MaterialWorld;
-use spreadlight_render::mesh::gltf_import::builder::{Doc, info, png};
-use spreadlight_render::mesh::{
-    Aabb, AlphaMode, GltfScene, MaterialData, MeshData, load_gltf_slice,
-};
+use spreadlight_gltf::builder::{Doc, info, png};
+use spreadlight_gltf::{AlphaMode, GltfScene, MaterialData, load_gltf_slice};
+use spreadlight_render::mesh::{Aabb, MeshData};
 use spreadlight_render::post::{Transparency, TransparencySettings};
 use spreadlight_render::renderer::test_renderer;
 use spreadlight_render::{Renderer, SizeRule};

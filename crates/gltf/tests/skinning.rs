@@ -12,9 +12,9 @@ use spreadlight_render::gbuffer::{
 };
 use spreadlight_render::geometry::read_mesh;
 use spreadlight_render::geometry::skinning::{DeformJob, DeformSource, deform};
-use spreadlight_render::mesh::GltfScene;
-use spreadlight_render::mesh::gltf_import::load_gltf_slice;
-use spreadlight_render::mesh::gltf_import::skinned_models::{
+use spreadlight_gltf::GltfScene;
+use spreadlight_gltf::load_gltf_slice;
+use spreadlight_gltf::skinned_models::{
     BAR_BEND_RATE, swaying_tube, two_bone_bar,
 };
 use spreadlight_render::mesh_arena::GpuMesh;

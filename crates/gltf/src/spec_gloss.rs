@@ -17,7 +17,7 @@
 
 use std::sync::Arc;
 
-use crate::material::maps::MapImage;
+use spreadlight_render::material::maps::MapImage;
 
 /// glTF's f0 for dielectrics.
 const DIELECTRIC_F0: f32 = 0.04;

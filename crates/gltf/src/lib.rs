@@ -1,6 +1,12 @@
-//! glTF 2.0 import: `.gltf` (external or data-URI buffers and images) and
-//! `.glb`, into [`MeshData`], [`MaterialData`] and world-space
-//! [`MeshInstance`]s of one scene.
+//! Spreadlight's glTF 2.0 import: `.gltf` (external or data-URI buffers and
+//! images) and `.glb`, into the renderer's CPU-side types ([`MeshData`],
+//! materials of the one world through [`MaterialData::to_material`], lights,
+//! deform data) and world-space [`MeshInstance`]s of one scene.
+//!
+//! A crate of its own, above `spreadlight-render` and below the nodes and
+//! the CLI: it uses only the renderer's public types (the renderer never
+//! names it), so the renderer and its unit tests no longer compile the
+//! importer and its tests with every change of an effect.
 //!
 //! The `gltf` crate parses and validates the JSON (every index in range,
 //! every enum known); the bytes are ours to check. Its own buffer import and
@@ -49,6 +55,7 @@ mod material_extensions_tests;
 pub mod models;
 pub mod morph;
 mod primitive;
+pub mod reference;
 #[cfg(test)]
 mod robustness;
 mod scene;
@@ -71,7 +78,7 @@ use thiserror::Error;
 
 pub use content::{SceneCamera, SceneLights};
 
-use super::{Aabb, MeshData, MeshError};
+use spreadlight_render::mesh::{Aabb, MeshData, MeshError};
 use accessor::Buffers;
 
 /// Everything loaded from one glTF file.
@@ -121,8 +128,8 @@ pub struct MeshInstance {
     pub weights: Vec<f32>,
 }
 
-pub use crate::material::maps::AlphaMode;
-use crate::material::maps::{MapImage, UvTransform, Wrap};
+pub use spreadlight_render::material::maps::AlphaMode;
+use spreadlight_render::material::maps::{MapImage, UvTransform, Wrap};
 
 /// A glTF metallic-roughness material. Factors are linear; texture colours
 /// are as stored (see [`TextureData::srgb`]).

@@ -7,11 +7,11 @@ use gltf::json;
 use json::validation::Checked::Valid;
 
 use super::builder::{Doc, info, light_node, mesh_node, png};
-use crate::mesh::primitives::{BoxParams, box_mesh};
+use spreadlight_render::mesh::primitives::{BoxParams, box_mesh};
 
 /// A flat floor of two triangles, `size` across, facing up.
 fn floor_mesh(doc: &mut Doc, size: glam::Vec2) -> json::Index<json::Mesh> {
-    let floor = crate::mesh::primitives::grid(crate::mesh::primitives::GridParams {
+    let floor = spreadlight_render::mesh::primitives::grid(spreadlight_render::mesh::primitives::GridParams {
         size,
         resolution_x: 1,
         resolution_y: 1,
@@ -180,7 +180,7 @@ pub fn punctual_lights_scene() -> Vec<u8> {
 /// untextured material: the baseline the textured scene is measured against.
 pub fn bench_grid(instances: usize, materials: usize, textures: usize, textured: bool) -> Vec<u8> {
     let mut doc = Doc::new();
-    let sphere = crate::mesh::primitives::sphere(crate::mesh::primitives::SphereParams {
+    let sphere = spreadlight_render::mesh::primitives::sphere(spreadlight_render::mesh::primitives::SphereParams {
         radius: 0.4,
         sectors: 16,
         stacks: 8,
@@ -341,7 +341,7 @@ pub fn textured_floor() -> Vec<u8> {
     let material = doc.material(material);
     let (h, r) = (FLOOR_HALF, FLOOR_REPEAT);
     let corners = [[-h, h], [h, h], [h, -h], [-h, -h]];
-    let mut floor = crate::mesh::MeshData {
+    let mut floor = spreadlight_render::mesh::MeshData {
         positions: corners.iter().map(|&[x, z]| [x, 0.0, z]).collect(),
         normals: vec![[0.0, 1.0, 0.0]; 4],
         uvs: Some(
@@ -354,7 +354,7 @@ pub fn textured_floor() -> Vec<u8> {
         uvs1: None,
         colors: None,
         indices: vec![0, 1, 2, 0, 2, 3],
-        bounds: crate::mesh::Aabb::ZERO,
+        bounds: spreadlight_render::mesh::Aabb::ZERO,
     };
     floor.recompute_bounds();
     let mesh = doc.mesh_data("Floor", &floor);
@@ -443,7 +443,7 @@ pub fn material_extensions_row() -> Vec<u8> {
     let mut doc = Doc::new();
     let sphere = doc.mesh_data(
         "Sphere",
-        &crate::mesh::primitives::sphere(crate::mesh::primitives::SphereParams {
+        &spreadlight_render::mesh::primitives::sphere(spreadlight_render::mesh::primitives::SphereParams {
             radius: 0.45,
             sectors: 32,
             stacks: 16,

@@ -9,8 +9,8 @@ use json::Value;
 use super::builder::{Doc, png};
 use super::spec_gloss::{MetalRough, SpecGloss, convert, round_trip};
 use super::*;
-use crate::material::Feature;
-use crate::mesh::primitives::{BoxParams, box_mesh};
+use spreadlight_render::material::Feature;
+use spreadlight_render::mesh::primitives::{BoxParams, box_mesh};
 
 fn value(text: &str) -> Value {
     json::deserialize::from_str(text).expect("test JSON")
