@@ -509,3 +509,72 @@ pub fn material_extensions_row() -> Vec<u8> {
     doc.scene(nodes);
     doc.gltf_data_uri()
 }
+
+/// A window: an orange box seen through a pane whose
+/// `KHR_materials_transmission` map is a frame (red 0: opaque) around four
+/// panes (red 255: transmission 0.9), for docs/gltf.md's picture of the
+/// map baked into the base colour's alpha.
+pub fn transmission_window() -> Vec<u8> {
+    let mut doc = Doc::new();
+    let cube = doc.mesh_data("Box", &box_mesh(BoxParams::default()));
+    let orange = doc.material(json::Material {
+        name: Some("Orange".into()),
+        pbr_metallic_roughness: json::material::PbrMetallicRoughness {
+            base_color_factor: json::material::PbrBaseColorFactor([0.9, 0.35, 0.05, 1.0]),
+            metallic_factor: json::material::StrengthFactor(0.0),
+            roughness_factor: json::material::StrengthFactor(0.5),
+            ..Default::default()
+        },
+        ..Default::default()
+    });
+    doc.root.meshes[cube.value()].primitives[0].material = Some(orange);
+    let pane = floor_mesh(&mut doc, glam::Vec2::splat(2.0));
+    // An 8-texel frame and cross (red 0) around four panes (red 255).
+    let map = image::RgbaImage::from_fn(TEXTURE_SIZE, TEXTURE_SIZE, |x, y| {
+        let bar = |c: u32| !(8..56).contains(&c) || (28..36).contains(&c);
+        image::Rgba(if bar(x) || bar(y) { [0, 0, 0, 255] } else { [255, 0, 0, 255] })
+    });
+    let image = doc.png_image(&png(&map));
+    let texture = doc.texture(image);
+    let others = json::deserialize::from_str::<json::Value>(&format!(
+        r#"{{"KHR_materials_transmission": {{"transmissionFactor": 0.9,
+            "transmissionTexture": {{"index": {}}}}}}}"#,
+        texture.value()
+    ))
+    .ok()
+    .and_then(|v| v.as_object().cloned())
+    .unwrap_or_default();
+    doc.root
+        .extensions_used
+        .push("KHR_materials_transmission".into());
+    let glass = doc.material(json::Material {
+        name: Some("Window".into()),
+        pbr_metallic_roughness: json::material::PbrMetallicRoughness {
+            base_color_factor: json::material::PbrBaseColorFactor([0.85, 0.9, 1.0, 1.0]),
+            metallic_factor: json::material::StrengthFactor(0.0),
+            roughness_factor: json::material::StrengthFactor(0.3),
+            ..Default::default()
+        },
+        double_sided: true,
+        extensions: Some(json::extensions::material::Material {
+            others,
+            ..Default::default()
+        }),
+        ..Default::default()
+    });
+    doc.root.meshes[pane.value()].primitives[0].material = Some(glass);
+    let behind = doc.node(mesh_node(Some(cube), [0.0, 0.0, -1.5], 1.0));
+    // The grid lies in y = 0 facing +y: stood up to face the camera (+z).
+    let window = doc.node(json::Node {
+        mesh: Some(pane),
+        rotation: Some(json::scene::UnitQuaternion([
+            std::f32::consts::FRAC_1_SQRT_2,
+            0.0,
+            0.0,
+            std::f32::consts::FRAC_1_SQRT_2,
+        ])),
+        ..Default::default()
+    });
+    doc.scene(vec![behind, window]);
+    doc.gltf_data_uri()
+}
