@@ -14,9 +14,9 @@ use std::process::ExitCode;
 
 use anyhow::Context;
 use glam::{Mat4, Vec3};
-use spreadlight_graph::{NodeDoc, Patch, format};
 use spreadlight_gltf::AlphaMode;
 use spreadlight_gltf::{SceneLights, load_gltf};
+use spreadlight_graph::{NodeDoc, Patch, format};
 
 use crate::session::parse_size;
 

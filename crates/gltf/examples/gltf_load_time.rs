@@ -7,8 +7,8 @@
 
 use std::time::Instant;
 
-use spreadlight_gltf::models;
 use spreadlight_gltf::load_gltf_slice;
+use spreadlight_gltf::models;
 
 fn main() {
     let nodes: usize = std::env::args()

@@ -421,8 +421,7 @@ mod tests {
 
     #[test]
     fn lights_follow_their_animated_nodes() {
-        let scene =
-            load_gltf_slice(&crate::models::sliding_cube(), None).unwrap();
+        let scene = load_gltf_slice(&crate::models::sliding_cube(), None).unwrap();
         let at = |time: f32| {
             let world = scene.node_worlds(Some(0), time);
             let (lights, _) = scene.posed_content(&world);

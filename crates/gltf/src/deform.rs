@@ -12,8 +12,8 @@ use glam::{Mat4, Vec3};
 use super::morph::morph_extent;
 use super::skin::skin_point;
 use super::{GltfScene, MeshInstance};
-pub use spreadlight_render::mesh::deform::{Deform, DeformPose};
 use spreadlight_render::mesh::Aabb;
+pub use spreadlight_render::mesh::deform::{Deform, DeformPose};
 
 impl GltfScene {
     /// Whether `instance` is deformed (skinned or morphed) rather than rigid.

@@ -269,7 +269,9 @@ fn supported_required_extensions_load_and_unknown_optional_ones_warn_once() {
     );
     // The material world's view: CookTorrance, Emission x strength, maps.
     let material = m.to_material();
-    let emission = material.params(spreadlight_render::material::Feature::Emission).unwrap();
+    let emission = material
+        .params(spreadlight_render::material::Feature::Emission)
+        .unwrap();
     assert_eq!(emission, &[[1.0, 0.5, 0.0, 4.0]]);
     let maps = material.maps().unwrap();
     assert!(

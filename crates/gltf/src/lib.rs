@@ -83,8 +83,8 @@ use thiserror::Error;
 
 pub use content::{SceneCamera, SceneLights};
 
-use spreadlight_render::mesh::{Aabb, MeshData, MeshError};
 use accessor::Buffers;
+use spreadlight_render::mesh::{Aabb, MeshData, MeshError};
 
 /// Everything loaded from one glTF file.
 #[derive(Debug, Clone, PartialEq)]

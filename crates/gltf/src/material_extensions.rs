@@ -99,14 +99,8 @@ impl Importer<'_> {
                 "clearcoatRoughnessTexture",
                 false,
             )?;
-            data.clearcoat_normal_texture = self.extension_texture(
-                document,
-                &who,
-                name,
-                ext,
-                "clearcoatNormalTexture",
-                false,
-            )?;
+            data.clearcoat_normal_texture =
+                self.extension_texture(document, &who, name, ext, "clearcoatNormalTexture", false)?;
         }
         // Spec-gloss replaces the base colour map; transmission's map is
         // baked into whichever base colour map results.

@@ -1,7 +1,8 @@
 //! `KHR_materials_*` over files written at test time: each extension's
 //! values as the material world gets them, and the bad values a file can
 //! hold (warned, naming the material; never NaN). The GPU side (what the
-//! shaded pixels are) is crates/render/tests/gltf_materials.rs.
+//! shaded pixels are) is crates/render/tests/surface_lighting.rs and
+//! crates/gltf/tests/gltf_blend.rs.
 
 use gltf_json as json;
 use json::Value;

@@ -11,11 +11,13 @@ use spreadlight_render::mesh::primitives::{BoxParams, box_mesh};
 
 /// A flat floor of two triangles, `size` across, facing up.
 fn floor_mesh(doc: &mut Doc, size: glam::Vec2) -> json::Index<json::Mesh> {
-    let floor = spreadlight_render::mesh::primitives::grid(spreadlight_render::mesh::primitives::GridParams {
-        size,
-        resolution_x: 1,
-        resolution_y: 1,
-    });
+    let floor = spreadlight_render::mesh::primitives::grid(
+        spreadlight_render::mesh::primitives::GridParams {
+            size,
+            resolution_x: 1,
+            resolution_y: 1,
+        },
+    );
     doc.mesh_data("Floor", &floor)
 }
 
@@ -180,11 +182,13 @@ pub fn punctual_lights_scene() -> Vec<u8> {
 /// untextured material: the baseline the textured scene is measured against.
 pub fn bench_grid(instances: usize, materials: usize, textures: usize, textured: bool) -> Vec<u8> {
     let mut doc = Doc::new();
-    let sphere = spreadlight_render::mesh::primitives::sphere(spreadlight_render::mesh::primitives::SphereParams {
-        radius: 0.4,
-        sectors: 16,
-        stacks: 8,
-    });
+    let sphere = spreadlight_render::mesh::primitives::sphere(
+        spreadlight_render::mesh::primitives::SphereParams {
+            radius: 0.4,
+            sectors: 16,
+            stacks: 8,
+        },
+    );
     let mesh = doc.mesh_data("Sphere", &sphere);
     let template = doc.root.meshes[mesh.value()].primitives[0].clone();
     let textures: Vec<_> = (0..textures * usize::from(textured))
@@ -443,11 +447,13 @@ pub fn material_extensions_row() -> Vec<u8> {
     let mut doc = Doc::new();
     let sphere = doc.mesh_data(
         "Sphere",
-        &spreadlight_render::mesh::primitives::sphere(spreadlight_render::mesh::primitives::SphereParams {
-            radius: 0.45,
-            sectors: 32,
-            stacks: 16,
-        }),
+        &spreadlight_render::mesh::primitives::sphere(
+            spreadlight_render::mesh::primitives::SphereParams {
+                radius: 0.45,
+                sectors: 32,
+                stacks: 16,
+            },
+        ),
     );
     let base = |color: [f32; 4], roughness: f32| json::Material {
         pbr_metallic_roughness: json::material::PbrMetallicRoughness {
@@ -532,7 +538,11 @@ pub fn transmission_window() -> Vec<u8> {
     // An 8-texel frame and cross (red 0) around four panes (red 255).
     let map = image::RgbaImage::from_fn(TEXTURE_SIZE, TEXTURE_SIZE, |x, y| {
         let bar = |c: u32| !(8..56).contains(&c) || (28..36).contains(&c);
-        image::Rgba(if bar(x) || bar(y) { [0, 0, 0, 255] } else { [255, 0, 0, 255] })
+        image::Rgba(if bar(x) || bar(y) {
+            [0, 0, 0, 255]
+        } else {
+            [255, 0, 0, 255]
+        })
     });
     let image = doc.png_image(&png(&map));
     let texture = doc.texture(image);

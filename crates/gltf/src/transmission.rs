@@ -16,7 +16,11 @@ use super::spec_gloss::nearest;
 /// map reads as opaque white. The grid is the larger map's, the other
 /// sampled nearest (as the spec-gloss conversion does); colour channels are
 /// copied as stored (sRGB), alpha is linear in every format.
-pub fn bake_opacity(base: Option<&MapImage>, transmission: &MapImage, factor: f32) -> Arc<MapImage> {
+pub fn bake_opacity(
+    base: Option<&MapImage>,
+    transmission: &MapImage,
+    factor: f32,
+) -> Arc<MapImage> {
     let factor = if factor.is_finite() {
         factor.clamp(0.0, 1.0)
     } else {

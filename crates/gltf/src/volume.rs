@@ -59,7 +59,9 @@ impl MaterialData {
     /// 0..=1, never NaN.
     pub fn transmittance(&self, path: f32) -> [f32; 3] {
         let d = self.attenuation_distance;
-        if !(path > 0.0) || !(d > 0.0) || d == f32::INFINITY {
+        // No path (or NaN), no distance (or NaN), or an infinite one: nothing absorbed.
+        let positive = |x: f32| x > 0.0;
+        if !positive(path) || !positive(d) || d == f32::INFINITY {
             return [1.0; 3];
         }
         self.attenuation_color.map(|c| {

@@ -63,10 +63,7 @@ fn volume_values_are_read_and_absorb_by_beer_lambert() {
 #[test]
 fn volume_hard_cases_stay_finite_and_in_range() {
     // No volume object values: thin-walled, infinite distance, no absorption.
-    let (thin, warnings) = load_one(cube_with(
-        named("Thin"),
-        r#"{"KHR_materials_volume": {}}"#,
-    ));
+    let (thin, warnings) = load_one(cube_with(named("Thin"), r#"{"KHR_materials_volume": {}}"#));
     assert!(warnings.is_empty(), "{warnings:?}");
     assert_eq!(thin.thickness, 0.0);
     assert_eq!(thin.attenuation_distance, f32::INFINITY);
@@ -120,7 +117,11 @@ fn volume_hard_cases_stay_finite_and_in_range() {
     assert_eq!(warnings.len(), 2, "{warnings:?}");
     for m in [&thin, &zero, &bad, &far] {
         assert_finite(m);
-        assert!(m.transmittance(m.thickness).iter().all(|t| (0.0..=1.0).contains(t)));
+        assert!(
+            m.transmittance(m.thickness)
+                .iter()
+                .all(|t| (0.0..=1.0).contains(t))
+        );
     }
 }
 
@@ -134,7 +135,11 @@ fn ior_one_gives_no_dielectric_reflection_and_stays_finite() {
     let (m, _) = load_one(cube_with(named("Air"), ext));
     assert_eq!(m.ior, 1.0);
     assert_eq!(m.reflectance(), 0.0);
-    assert_eq!(m.transmittance(1.0), [1.0; 3], "white attenuation absorbs nothing");
+    assert_eq!(
+        m.transmittance(1.0),
+        [1.0; 3],
+        "white attenuation absorbs nothing"
+    );
     assert_finite(&m);
 }
 
@@ -142,7 +147,11 @@ fn ior_one_gives_no_dielectric_reflection_and_stays_finite() {
 fn the_transmission_map_is_baked_into_the_base_colour_alpha() {
     let mut doc = cube_with(named("Window"), "{}");
     // Transmission map: red 0 (the frame) | 255 (the pane) | 128.
-    let t = texture(&mut doc, 3, vec![0, 0, 0, 255, 255, 0, 0, 255, 128, 0, 0, 255]);
+    let t = texture(
+        &mut doc,
+        3,
+        vec![0, 0, 0, 255, 255, 0, 0, 255, 128, 0, 0, 255],
+    );
     with_extensions(
         &mut doc,
         &format!(
@@ -155,13 +164,21 @@ fn the_transmission_map_is_baked_into_the_base_colour_alpha() {
     // The factor's alpha stays: the map carries the transmission.
     assert_eq!(m.base_color[3], 1.0);
     assert!(m.transmission_texture.is_some());
-    let base = m.base_color_texture.as_ref().expect("a baked base colour map");
+    let base = m
+        .base_color_texture
+        .as_ref()
+        .expect("a baked base colour map");
     assert!(base.srgb);
     assert_eq!((base.image.width, base.image.height), (3, 1));
     let alpha: Vec<u8> = base.image.rgba8.chunks(4).map(|p| p[3]).collect();
     // 255 x (1 - 0.8 x red / 255): 255, 51, 255 x (1 - 0.8 x 128/255) = 152.6.
     assert_eq!(alpha, vec![255, 51, 153]);
-    assert!(base.image.rgba8.chunks(4).all(|p| p[..3] == [255, 255, 255]));
+    assert!(
+        base.image
+            .rgba8
+            .chunks(4)
+            .all(|p| p[..3] == [255, 255, 255])
+    );
     assert!(
         warnings
             .iter()
@@ -176,9 +193,9 @@ fn the_transmission_map_keeps_the_base_colour_and_its_alpha() {
     // Base colour 2x1: red, half-transparent blue. Transmission 1x1: full.
     let base = texture(&mut doc, 2, vec![255, 0, 0, 255, 0, 0, 255, 128]);
     let t = texture(&mut doc, 1, vec![255, 255, 255, 255]);
-    doc.root.materials[0].pbr_metallic_roughness.base_color_texture = Some(builder::info(
-        gltf_json::Index::new(base),
-    ));
+    doc.root.materials[0]
+        .pbr_metallic_roughness
+        .base_color_texture = Some(builder::info(gltf_json::Index::new(base)));
     with_extensions(
         &mut doc,
         &format!(
@@ -221,7 +238,10 @@ fn the_clearcoat_and_specular_maps_are_read() {
         assert_eq!(map.srgb, srgb, "{name}");
     }
     // Those no pass samples yet are said to be so, one warning each.
-    let unsampled = warnings.iter().filter(|w| w.contains("not sampled")).count();
+    let unsampled = warnings
+        .iter()
+        .filter(|w| w.contains("not sampled"))
+        .count();
     assert_eq!(unsampled, 6, "{warnings:?}");
 }
 

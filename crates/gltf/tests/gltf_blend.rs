@@ -17,12 +17,12 @@ use std::sync::Arc;
 use glam::{Mat4, Vec3};
 use gltf_json as json;
 use post_common::*;
+use spreadlight_gltf::builder::{Doc, info, png};
+use spreadlight_gltf::{AlphaMode, GltfScene, MaterialData, load_gltf_slice};
 use spreadlight_render::camera::CameraInput;
 use spreadlight_render::frame_graph::FrameReport;
 use spreadlight_render::gbuffer::{DrawBatch, GBuffer, InstanceInput, Layer, LayerFeatures};
 use spreadlight_render::material::MaterialWorld;
-use spreadlight_gltf::builder::{Doc, info, png};
-use spreadlight_gltf::{AlphaMode, GltfScene, MaterialData, load_gltf_slice};
 use spreadlight_render::mesh::{Aabb, MeshData};
 use spreadlight_render::post::{Transparency, TransparencySettings};
 use spreadlight_render::renderer::test_renderer;
@@ -319,7 +319,11 @@ fn transmissive_model() -> Vec<u8> {
     quad.recompute_bounds();
     let mesh = doc.mesh_data("Quad", &quad);
     let halves = image::RgbaImage::from_fn(16, 16, |x, _| {
-        image::Rgba(if x >= 8 { [255, 0, 0, 255] } else { [0, 0, 0, 255] })
+        image::Rgba(if x >= 8 {
+            [255, 0, 0, 255]
+        } else {
+            [0, 0, 0, 255]
+        })
     });
     let image = doc.png_image(&png(&halves));
     let texture = doc.texture(image);
@@ -340,8 +344,8 @@ fn transmissive_model() -> Vec<u8> {
           "KHR_materials_emissive_strength": {{"emissiveStrength": 2.0}}}}"#,
         texture.value()
     );
-    let others: json::extensions::material::Material = json::deserialize::from_str(&extensions)
-        .expect("the test's extension objects");
+    let others: json::extensions::material::Material =
+        json::deserialize::from_str(&extensions).expect("the test's extension objects");
     material.extensions = Some(others);
     for name in [
         "KHR_materials_transmission",
@@ -388,7 +392,9 @@ fn transmission_maps_and_emissive_strength_reach_lit_transparency() {
         vec![layer(&renderer, &scene, Mat4::IDENTITY)],
         settings,
     );
-    let pixels = render(&renderer, pass.as_ref(), &pass.output, SIZE).1.pixels;
+    let pixels = render(&renderer, pass.as_ref(), &pass.output, SIZE)
+        .1
+        .pixels;
     // Unlit by lights (ambient 1): base 0.25 plus emission (0.5, 0.25, 0)
     // x strength 2. Left: no transmission, opaque. Right: transmission
     // 0.8 x 1, opacity 0.2 (baked alpha 51 / 255), over the green background.

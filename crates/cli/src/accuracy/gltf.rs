@@ -19,14 +19,14 @@ use std::sync::Arc;
 
 use anyhow::Context;
 use glam::{Vec3, Vec4};
+use spreadlight_gltf::models::{self, FLOOR_HALF};
+use spreadlight_gltf::reference::{sample_material, shade_sun};
+use spreadlight_gltf::{GltfScene, MaterialData, load_gltf_slice};
 use spreadlight_render::camera::{CameraInput, reverse_z};
 use spreadlight_render::gbuffer::{DrawBatch, GBuffer, InstanceInput, Layer, LayerFeatures};
 use spreadlight_render::lighting::{CookTorrance, LightBuffer, LightLoop, SunLight, Surfaces};
 use spreadlight_render::material::{MapFiltering, Material, MaterialWorld};
-use spreadlight_gltf::models::{self, FLOOR_HALF};
-use spreadlight_gltf::{GltfScene, MaterialData, load_gltf_slice};
 use spreadlight_render::readback::{ImageF32, render_and_read};
-use spreadlight_gltf::reference::{sample_material, shade_sun};
 use spreadlight_render::{FrameGraph, Recipe, Renderer, SizeRule};
 
 use super::metrics::{self, Plane};

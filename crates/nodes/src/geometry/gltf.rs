@@ -15,15 +15,15 @@
 use std::sync::Arc;
 
 use glam::Mat4;
+use spreadlight_gltf::GltfScene;
+use spreadlight_gltf::MaterialData;
+use spreadlight_gltf::load_gltf;
 use spreadlight_graph::EnumDef;
 use spreadlight_graph::{
     Color, EvalContext, Node, NodeDef, NodeError, PinType, Registry, ResourceKind,
 };
 use spreadlight_render::material::Material;
 use spreadlight_render::material::maps::AlphaMode;
-use spreadlight_gltf::GltfScene;
-use spreadlight_gltf::MaterialData;
-use spreadlight_gltf::load_gltf;
 use spreadlight_render::mesh_arena::GpuMesh;
 
 use super::gltf_deform::{Deformer, Ran};

@@ -130,4 +130,3 @@ pub struct DeformPose {
     /// the node's world transform for morph-only instances.
     pub transform: Mat4,
 }
-
