@@ -122,7 +122,7 @@ fn the_crate_diagram_matches_the_manifests() {
         }
     }
     let crates = [
-        "graph", "render", "audio", "midi", "video", "nodes", "editor", "cli",
+        "graph", "render", "gltf", "audio", "midi", "video", "nodes", "editor", "cli",
     ];
     let mut deps: BTreeMap<&str, BTreeSet<String>> = BTreeMap::new();
     for krate in crates {

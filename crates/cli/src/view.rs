@@ -14,9 +14,9 @@ use std::process::ExitCode;
 
 use anyhow::Context;
 use glam::{Mat4, Vec3};
+use spreadlight_gltf::AlphaMode;
+use spreadlight_gltf::{SceneLights, load_gltf};
 use spreadlight_graph::{NodeDoc, Patch, format};
-use spreadlight_render::mesh::AlphaMode;
-use spreadlight_render::mesh::gltf_import::{SceneLights, load_gltf};
 
 use crate::session::parse_size;
 

@@ -1,4 +1,4 @@
-//! `spreadlight view` on generated models (`render::mesh::gltf_import::models`),
+//! `spreadlight view` on generated models (`spreadlight_gltf::models`),
 //! against reference images in `tests/reference/view-*.png`: every channel
 //! within 4/255 on 99% of pixels. These stay 8-bit where the workspace's
 //! references are float (`tests/float_compare.rs`): `view` writes a tonemapped,
@@ -10,8 +10,8 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-use spreadlight_render::mesh::gltf_import::builder::{Doc, info, png};
-use spreadlight_render::mesh::gltf_import::{models, skinned_models};
+use spreadlight_gltf::builder::{Doc, info, png};
+use spreadlight_gltf::{models, skinned_models};
 
 const SIZE: &str = "64x64";
 
@@ -205,7 +205,7 @@ fn coverage(image: &image::RgbaImage) -> f64 {
 #[test]
 fn a_file_whose_only_primitive_is_refused_fails_and_writes_nothing() {
     use gltf_json::mesh::{Mode, Semantic};
-    use spreadlight_render::mesh::gltf_import::builder::{mesh_node, primitive};
+    use spreadlight_gltf::builder::{mesh_node, primitive};
     let dir = tempfile::tempdir().expect("tempdir");
     let mut doc = Doc::new();
     let points = doc.positions(&[[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]);

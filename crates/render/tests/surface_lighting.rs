@@ -740,26 +740,22 @@ fn clearcoat_adds_its_lobe_and_dims_the_base_as_the_reference_does() {
 
 #[test]
 fn ior_and_specular_reach_direct_light_through_the_reflectance() {
-    use spreadlight_render::mesh::gltf_import::MaterialData;
     let renderer = test_renderer();
     let l = -SUN.direction.normalize();
     let radiance = SUN.color * SUN.illuminance;
     let albedo = Vec3::from(FLOOR_ALBEDO);
     let points = floor_points();
-    // Water's ior (f0 0.020) and a tinted, halved specular over ior 1.8.
-    for (ior, specular, color) in [(1.33, 1.0, [1.0; 3]), (1.8, 0.5, [1.0, 0.5, 0.25])] {
-        let data = MaterialData {
-            roughness: 0.5,
-            metallic: 0.0,
-            ior,
-            specular,
-            specular_color: color,
-            ..MaterialData::default()
-        };
-        let mut material = data.to_material();
-        // The floor's albedo stays the instance colour; the test layer has no maps.
-        material.set_maps(None);
-        let f0 = data.reflectance();
+    // glTF's KHR_materials_ior and _specular arrive as CookTorrance's
+    // reflectance (spreadlight-gltf's `MaterialData::reflectance`, tested
+    // there): water's ior (f0 0.020), and a tinted (Rec. 709 luminance of
+    // (1, 0.5, 0.25)), halved specular over ior 1.8.
+    let water = ((1.33f32 - 1.0) / (1.33 + 1.0)).powi(2);
+    let tinted =
+        ((1.8f32 - 1.0) / (1.8 + 1.0)).powi(2) * (0.2126 + 0.7152 * 0.5 + 0.0722 * 0.25) * 0.5;
+    for (ior, f0) in [(1.33, water), (1.8, tinted)] {
+        let material = Material::new()
+            .with(Feature::CookTorrance, &[[0.5, 0.0, f0, 0.0]])
+            .expect("valid");
         let (_, s) = shade_floor_material(&renderer, material);
         for (i, seen) in points.iter().enumerate() {
             let Some((_, v)) = seen else { continue };

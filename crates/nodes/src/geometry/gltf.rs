@@ -15,6 +15,9 @@
 use std::sync::Arc;
 
 use glam::Mat4;
+use spreadlight_gltf::GltfScene;
+use spreadlight_gltf::MaterialData;
+use spreadlight_gltf::load_gltf;
 use spreadlight_graph::{
     Choice, Choices, Color, EvalContext, In, Node, NodeDef, NodeError, Out, Registry, Res,
     ResourceKind,
@@ -22,9 +25,6 @@ use spreadlight_graph::{
 use spreadlight_render::lighting::{PointLight, SpotLight, SunLight};
 use spreadlight_render::material::Material;
 use spreadlight_render::material::maps::AlphaMode;
-use spreadlight_render::mesh::GltfScene;
-use spreadlight_render::mesh::MaterialData;
-use spreadlight_render::mesh::gltf_import::load_gltf;
 use spreadlight_render::mesh_arena::GpuMesh;
 
 use super::gltf_deform::{Deformer, Ran};

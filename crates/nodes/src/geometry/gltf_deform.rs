@@ -9,11 +9,11 @@ use std::hash::{DefaultHasher, Hash, Hasher};
 use std::sync::Arc;
 
 use glam::Mat4;
+use spreadlight_gltf::GltfScene;
+use spreadlight_gltf::deform::DeformPose;
 use spreadlight_render::RenderError;
 use spreadlight_render::Renderer;
 use spreadlight_render::geometry::skinning::{DeformJob, DeformSource, deform};
-use spreadlight_render::mesh::GltfScene;
-use spreadlight_render::mesh::gltf_import::deform::DeformPose;
 use spreadlight_render::mesh_arena::GpuMesh;
 
 /// One file's deformed instances and what they showed last.

@@ -4,9 +4,9 @@
 //! reruns nothing.
 
 use glam::{Mat4, Quat, Vec3};
+use spreadlight_gltf::skinned_models::{BAR_BEND_RATE, two_bone_bar};
 use spreadlight_graph::{NodeDoc, NodeRun, Patch};
 use spreadlight_render::geometry::{GeometryStats, read_mesh};
-use spreadlight_render::mesh::gltf_import::skinned_models::{BAR_BEND_RATE, two_bone_bar};
 
 use super::tests::Run;
 

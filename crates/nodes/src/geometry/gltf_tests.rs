@@ -4,10 +4,10 @@
 
 use std::sync::Arc;
 
+use spreadlight_gltf::models;
 use spreadlight_graph::{FrameClock, NodeDoc, NodeId, Patch, Runtime, Spread};
 use spreadlight_render::lighting::PointLight;
 use spreadlight_render::material::{FEATURE_SURFACE_MAPS, Feature, MaterialWorld};
-use spreadlight_render::mesh::gltf_import::models;
 
 use crate::lighting::add_light::LightList;
 

@@ -18,8 +18,7 @@ use wgpu::util::DeviceExt;
 
 use super::{Work, dispatch_as, uniform};
 use crate::error::RenderError;
-use crate::mesh::gltf_import::deform::{Deform, DeformPose};
-use crate::mesh::gltf_import::skin::{MAX_INFLUENCES, UNSKINNED};
+use crate::mesh::deform::{Deform, DeformPose, MAX_INFLUENCES, UNSKINNED};
 use crate::mesh_arena::{GpuMesh, MeshLayout};
 use crate::renderer::Renderer;
 use crate::shaders::ShaderKey;

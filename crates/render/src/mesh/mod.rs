@@ -1,7 +1,9 @@
 //! Meshes on the CPU side: the vertex streams every renderer path consumes
 //! ([`MeshData`]), their bounds ([`Aabb`]), the checks a mesh must pass before
 //! it is uploaded ([`MeshData::validate`]), and where meshes come from:
-//! [`primitives`] (box, sphere, grid, cylinder, torus) and [`gltf_import`].
+//! [`primitives`] (box, sphere, grid, cylinder, torus), and what deforms a
+//! mesh ([`deform`]: skins and morph targets, which `spreadlight-gltf`
+//! imports and `geometry::skinning` applies).
 //!
 //! Pure data and loading, no wgpu: everything here is testable anywhere.
 //!
@@ -10,18 +12,14 @@
 //! with the origin at the top-left of the image (v grows downwards), and
 //! tangents whose `w` gives the bitangent as `cross(normal, tangent.xyz) * w`.
 
+pub mod deform;
 mod generate;
-pub mod gltf_import;
 pub mod primitives;
 
 use glam::{Mat4, Vec3};
 use thiserror::Error;
 
 pub use generate::{Shading, flat_normals, smooth_normals};
-pub use gltf_import::{
-    AlphaMode, GltfError, GltfScene, MaterialData, MeshInstance, TextureData, load_gltf,
-    load_gltf_slice,
-};
 pub use primitives::{
     BoxParams, CylinderParams, GridParams, SphereParams, TorusParams, box_mesh, cylinder, grid,
     plane, sphere, torus,

@@ -1,7 +1,8 @@
 //! The CPU reference of the renderer's pure maths: BRDF terms
 //! ([`brdf`]), light falloff ([`lights`]) and tone operators ([`tonemap`]),
-//! the matcap lookup ([`matcap`]), glTF materials point-sampled
-//! ([`material`]), and ray-cast soft shadows ([`shadows`]) to measure the shadow filters by.
+//! the matcap lookup ([`matcap`]), and ray-cast soft shadows ([`shadows`])
+//! to measure the shadow filters by (glTF materials point-sampled are
+//! `spreadlight_gltf::reference`, beside the importer).
 //!
 //! Each function is written twice, here in Rust and in a WGSL library under
 //! `shaders/lib/` with the same name and signature (`spreadlight::brdf`,
@@ -14,7 +15,6 @@
 pub mod brdf;
 pub mod lights;
 pub mod matcap;
-pub mod material;
 pub mod reflection;
 pub mod shadows;
 pub mod ssao;

@@ -7,18 +7,7 @@ use glam::Vec3;
 use gltf::animation::Interpolation;
 
 use super::{GltfError, Importer};
-
-/// One morph target of a primitive: deltas per vertex (an absent attribute
-/// is empty: it does not move).
-#[derive(Debug, Clone, PartialEq, Default)]
-pub struct MorphTarget {
-    pub positions: Vec<[f32; 3]>,
-    pub normals: Vec<[f32; 3]>,
-    pub tangents: Vec<[f32; 3]>,
-    /// The largest position delta per axis (absolute): weight w moves no
-    /// vertex further than w times this, which bounds the morphed mesh.
-    pub extent: Vec3,
-}
+pub use spreadlight_render::mesh::deform::{MorphTarget, morph_extent};
 
 /// An animation channel of a node's morph weights.
 #[derive(Debug, Clone, PartialEq)]
@@ -30,15 +19,6 @@ pub struct WeightsChannel {
     /// splines: in-tangents, values, out-tangents).
     pub values: Vec<f32>,
     pub count: usize,
-}
-
-/// How far `weights` move any vertex of a primitive with `targets`, per axis.
-pub fn morph_extent(targets: &[MorphTarget], weights: &[f32]) -> Vec3 {
-    targets
-        .iter()
-        .zip(weights)
-        .map(|(t, w)| t.extent * w.abs())
-        .sum()
 }
 
 impl WeightsChannel {

@@ -11,7 +11,7 @@ use json::validation::USize64;
 
 use super::builder::{Doc, bytes, info, mesh_node, png_2x2};
 use super::*;
-use crate::mesh::primitives::{BoxParams, box_mesh};
+use spreadlight_render::mesh::primitives::{BoxParams, box_mesh};
 
 /// A cube (accessors: 0 POSITION, 1 NORMAL, 2 TEXCOORD_0, 3 indices; one
 /// view each) on node 0.

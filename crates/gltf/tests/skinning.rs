@@ -6,17 +6,15 @@
 use std::sync::Arc;
 
 use glam::{Mat4, Quat, Vec2, Vec3, Vec4};
+use spreadlight_gltf::GltfScene;
+use spreadlight_gltf::load_gltf_slice;
+use spreadlight_gltf::skinned_models::{BAR_BEND_RATE, swaying_tube, two_bone_bar};
 use spreadlight_render::camera::CameraInput;
 use spreadlight_render::gbuffer::{
     DrawBatch, GBuffer, InstanceInput, Layer, LayerFeatures, VelocitySource,
 };
 use spreadlight_render::geometry::read_mesh;
 use spreadlight_render::geometry::skinning::{DeformJob, DeformSource, deform};
-use spreadlight_render::mesh::GltfScene;
-use spreadlight_render::mesh::gltf_import::load_gltf_slice;
-use spreadlight_render::mesh::gltf_import::skinned_models::{
-    BAR_BEND_RATE, swaying_tube, two_bone_bar,
-};
 use spreadlight_render::mesh_arena::GpuMesh;
 use spreadlight_render::readback::render_and_read;
 use spreadlight_render::renderer::test_renderer;

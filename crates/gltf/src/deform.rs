@@ -9,39 +9,11 @@
 
 use glam::{Mat4, Vec3};
 
-use super::morph::{MorphTarget, morph_extent};
-use super::skin::{Influences, skin_point};
+use super::morph::morph_extent;
+use super::skin::skin_point;
 use super::{GltfScene, MeshInstance};
-use crate::mesh::Aabb;
-
-/// What deforms one primitive's vertices (empty for rigid meshes).
-#[derive(Debug, Clone, PartialEq, Default)]
-pub struct Deform {
-    /// Joint influences (JOINTS_n/WEIGHTS_n), when it has them.
-    pub influences: Option<Influences>,
-    pub targets: Vec<MorphTarget>,
-}
-
-impl Deform {
-    pub fn is_empty(&self) -> bool {
-        self.influences.is_none() && self.targets.is_empty()
-    }
-}
-
-/// One instance's deformation at one pose: what the GPU pass takes.
-#[derive(Debug, Clone, PartialEq)]
-pub struct DeformPose {
-    /// Joint matrices, then the skinned node's world transform (vertices
-    /// without weights follow it); empty for an instance without a skin.
-    pub palette: Vec<Mat4>,
-    /// One weight per morph target of the mesh.
-    pub weights: Vec<f32>,
-    /// Bounds of the deformed mesh in its own space (conservative).
-    pub bounds: Aabb,
-    /// What places the deformed mesh: identity for skinned (world space),
-    /// the node's world transform for morph-only instances.
-    pub transform: Mat4,
-}
+use spreadlight_render::mesh::Aabb;
+pub use spreadlight_render::mesh::deform::{Deform, DeformPose};
 
 impl GltfScene {
     /// Whether `instance` is deformed (skinned or morphed) rather than rigid.

@@ -10,7 +10,7 @@ use json::validation::USize64;
 
 use super::builder::{Doc, bytes, info, mesh_node, png_2x2, primitive};
 use super::*;
-use crate::mesh::primitives::{BoxParams, box_mesh};
+use spreadlight_render::mesh::primitives::{BoxParams, box_mesh};
 
 fn cube_doc() -> Doc {
     let mut doc = Doc::new();
@@ -269,11 +269,13 @@ fn supported_required_extensions_load_and_unknown_optional_ones_warn_once() {
     );
     // The material world's view: CookTorrance, Emission x strength, maps.
     let material = m.to_material();
-    let emission = material.params(crate::material::Feature::Emission).unwrap();
+    let emission = material
+        .params(spreadlight_render::material::Feature::Emission)
+        .unwrap();
     assert_eq!(emission, &[[1.0, 0.5, 0.0, 4.0]]);
     let maps = material.maps().unwrap();
     assert!(
-        maps.map(crate::material::maps::MapSlot::BaseColor)
+        maps.map(spreadlight_render::material::maps::MapSlot::BaseColor)
             .is_some()
     );
 }

@@ -17,7 +17,7 @@
 
 use std::sync::Arc;
 
-use crate::material::maps::MapImage;
+use spreadlight_render::material::maps::MapImage;
 
 /// glTF's f0 for dielectrics.
 const DIELECTRIC_F0: f32 = 0.04;
@@ -123,7 +123,7 @@ fn linear_to_srgb(c: f32) -> u8 {
 }
 
 /// The texel of `image` nearest to relative place (u, v) in 0..1.
-fn nearest(image: &MapImage, u: f32, v: f32) -> [u8; 4] {
+pub(super) fn nearest(image: &MapImage, u: f32, v: f32) -> [u8; 4] {
     let x = ((u * image.width as f32) as u32).min(image.width.saturating_sub(1));
     let y = ((v * image.height as f32) as u32).min(image.height.saturating_sub(1));
     let at = (y as usize * image.width as usize + x as usize) * 4;

@@ -6,13 +6,14 @@
 //! green, metallic = factor x blue; each map on its UV set (`texCoord`),
 //! through its `KHR_texture_transform` and wrap modes; colour maps decoded
 //! from sRGB. `spreadlight accuracy gltf` shades these with the CPU
-//! Cook-Torrance ([`super::brdf`]) as the reference of the GPU's image.
+//! Cook-Torrance (`spreadlight_render::reference::brdf`) as the reference of the GPU's image.
 
 use glam::{Vec3, Vec4};
 
-use crate::material::maps::Wrap;
-use crate::mesh::{MaterialData, TextureData};
-use crate::readback::srgb_to_linear;
+use spreadlight_render::material::maps::Wrap;
+use spreadlight_render::readback::srgb_to_linear;
+
+use crate::{MaterialData, TextureData};
 
 /// A material's inputs to shading at one surface point.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -76,7 +77,7 @@ pub fn shade_sun(
     radiance: Vec3,
     compensate: bool,
 ) -> Vec3 {
-    let brdf = super::brdf::cook_torrance(
+    let brdf = spreadlight_render::reference::brdf::cook_torrance(
         normal,
         view,
         -travel.normalize_or(Vec3::NEG_Y),
@@ -93,7 +94,7 @@ mod tests {
     use std::sync::Arc;
 
     use super::*;
-    use crate::material::maps::{MapImage, UvTransform};
+    use spreadlight_render::material::maps::{MapImage, UvTransform};
 
     fn texture(srgb: bool, tex_coord: u32) -> TextureData {
         // 2 x 2: 0, 64 / 128, 255 in every channel.

@@ -7,15 +7,17 @@ use gltf::json;
 use json::validation::Checked::Valid;
 
 use super::builder::{Doc, info, light_node, mesh_node, png};
-use crate::mesh::primitives::{BoxParams, box_mesh};
+use spreadlight_render::mesh::primitives::{BoxParams, box_mesh};
 
 /// A flat floor of two triangles, `size` across, facing up.
 fn floor_mesh(doc: &mut Doc, size: glam::Vec2) -> json::Index<json::Mesh> {
-    let floor = crate::mesh::primitives::grid(crate::mesh::primitives::GridParams {
-        size,
-        resolution_x: 1,
-        resolution_y: 1,
-    });
+    let floor = spreadlight_render::mesh::primitives::grid(
+        spreadlight_render::mesh::primitives::GridParams {
+            size,
+            resolution_x: 1,
+            resolution_y: 1,
+        },
+    );
     doc.mesh_data("Floor", &floor)
 }
 
@@ -180,11 +182,13 @@ pub fn punctual_lights_scene() -> Vec<u8> {
 /// untextured material: the baseline the textured scene is measured against.
 pub fn bench_grid(instances: usize, materials: usize, textures: usize, textured: bool) -> Vec<u8> {
     let mut doc = Doc::new();
-    let sphere = crate::mesh::primitives::sphere(crate::mesh::primitives::SphereParams {
-        radius: 0.4,
-        sectors: 16,
-        stacks: 8,
-    });
+    let sphere = spreadlight_render::mesh::primitives::sphere(
+        spreadlight_render::mesh::primitives::SphereParams {
+            radius: 0.4,
+            sectors: 16,
+            stacks: 8,
+        },
+    );
     let mesh = doc.mesh_data("Sphere", &sphere);
     let template = doc.root.meshes[mesh.value()].primitives[0].clone();
     let textures: Vec<_> = (0..textures * usize::from(textured))
@@ -341,7 +345,7 @@ pub fn textured_floor() -> Vec<u8> {
     let material = doc.material(material);
     let (h, r) = (FLOOR_HALF, FLOOR_REPEAT);
     let corners = [[-h, h], [h, h], [h, -h], [-h, -h]];
-    let mut floor = crate::mesh::MeshData {
+    let mut floor = spreadlight_render::mesh::MeshData {
         positions: corners.iter().map(|&[x, z]| [x, 0.0, z]).collect(),
         normals: vec![[0.0, 1.0, 0.0]; 4],
         uvs: Some(
@@ -354,7 +358,7 @@ pub fn textured_floor() -> Vec<u8> {
         uvs1: None,
         colors: None,
         indices: vec![0, 1, 2, 0, 2, 3],
-        bounds: crate::mesh::Aabb::ZERO,
+        bounds: spreadlight_render::mesh::Aabb::ZERO,
     };
     floor.recompute_bounds();
     let mesh = doc.mesh_data("Floor", &floor);
@@ -443,11 +447,13 @@ pub fn material_extensions_row() -> Vec<u8> {
     let mut doc = Doc::new();
     let sphere = doc.mesh_data(
         "Sphere",
-        &crate::mesh::primitives::sphere(crate::mesh::primitives::SphereParams {
-            radius: 0.45,
-            sectors: 32,
-            stacks: 16,
-        }),
+        &spreadlight_render::mesh::primitives::sphere(
+            spreadlight_render::mesh::primitives::SphereParams {
+                radius: 0.45,
+                sectors: 32,
+                stacks: 16,
+            },
+        ),
     );
     let base = |color: [f32; 4], roughness: f32| json::Material {
         pbr_metallic_roughness: json::material::PbrMetallicRoughness {
@@ -507,5 +513,78 @@ pub fn material_extensions_row() -> Vec<u8> {
         nodes.push(doc.node(mesh_node(Some(mesh), [i as f32 - 2.5, 0.0, 0.0], 1.0)));
     }
     doc.scene(nodes);
+    doc.gltf_data_uri()
+}
+
+/// A window: an orange box seen through a pane whose
+/// `KHR_materials_transmission` map is a frame (red 0: opaque) around four
+/// panes (red 255: transmission 0.9), for docs/gltf.md's picture of the
+/// map baked into the base colour's alpha.
+pub fn transmission_window() -> Vec<u8> {
+    let mut doc = Doc::new();
+    let cube = doc.mesh_data("Box", &box_mesh(BoxParams::default()));
+    let orange = doc.material(json::Material {
+        name: Some("Orange".into()),
+        pbr_metallic_roughness: json::material::PbrMetallicRoughness {
+            base_color_factor: json::material::PbrBaseColorFactor([0.9, 0.35, 0.05, 1.0]),
+            metallic_factor: json::material::StrengthFactor(0.0),
+            roughness_factor: json::material::StrengthFactor(0.5),
+            ..Default::default()
+        },
+        ..Default::default()
+    });
+    doc.root.meshes[cube.value()].primitives[0].material = Some(orange);
+    let pane = floor_mesh(&mut doc, glam::Vec2::splat(2.0));
+    // An 8-texel frame and cross (red 0) around four panes (red 255).
+    let map = image::RgbaImage::from_fn(TEXTURE_SIZE, TEXTURE_SIZE, |x, y| {
+        let bar = |c: u32| !(8..56).contains(&c) || (28..36).contains(&c);
+        image::Rgba(if bar(x) || bar(y) {
+            [0, 0, 0, 255]
+        } else {
+            [255, 0, 0, 255]
+        })
+    });
+    let image = doc.png_image(&png(&map));
+    let texture = doc.texture(image);
+    let others = json::deserialize::from_str::<json::Value>(&format!(
+        r#"{{"KHR_materials_transmission": {{"transmissionFactor": 0.9,
+            "transmissionTexture": {{"index": {}}}}}}}"#,
+        texture.value()
+    ))
+    .ok()
+    .and_then(|v| v.as_object().cloned())
+    .unwrap_or_default();
+    doc.root
+        .extensions_used
+        .push("KHR_materials_transmission".into());
+    let glass = doc.material(json::Material {
+        name: Some("Window".into()),
+        pbr_metallic_roughness: json::material::PbrMetallicRoughness {
+            base_color_factor: json::material::PbrBaseColorFactor([0.85, 0.9, 1.0, 1.0]),
+            metallic_factor: json::material::StrengthFactor(0.0),
+            roughness_factor: json::material::StrengthFactor(0.3),
+            ..Default::default()
+        },
+        double_sided: true,
+        extensions: Some(json::extensions::material::Material {
+            others,
+            ..Default::default()
+        }),
+        ..Default::default()
+    });
+    doc.root.meshes[pane.value()].primitives[0].material = Some(glass);
+    let behind = doc.node(mesh_node(Some(cube), [0.0, 0.0, -1.5], 1.0));
+    // The grid lies in y = 0 facing +y: stood up to face the camera (+z).
+    let window = doc.node(json::Node {
+        mesh: Some(pane),
+        rotation: Some(json::scene::UnitQuaternion([
+            std::f32::consts::FRAC_1_SQRT_2,
+            0.0,
+            0.0,
+            std::f32::consts::FRAC_1_SQRT_2,
+        ])),
+        ..Default::default()
+    });
+    doc.scene(vec![behind, window]);
     doc.gltf_data_uri()
 }

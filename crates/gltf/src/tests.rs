@@ -9,7 +9,7 @@ use json::validation::USize64;
 
 use super::builder::{Doc, bytes, mesh_node, png_2x2, primitive};
 use super::*;
-use crate::mesh::primitives::{BoxParams, box_mesh};
+use spreadlight_render::mesh::primitives::{BoxParams, box_mesh};
 
 fn write(dir: &Path, name: &str, data: &[u8]) -> PathBuf {
     let path = dir.join(name);

@@ -10,13 +10,14 @@ use std::sync::Arc;
 
 use glam::{Mat4, Vec3};
 use gltf_json as json;
+use spreadlight_gltf::builder::{Doc, info, png};
+use spreadlight_gltf::{GltfScene, MaterialData, load_gltf_slice};
 use spreadlight_render::camera::CameraInput;
 use spreadlight_render::gbuffer::{
     DrawBatch, GBuffer, InstanceInput, Layer, LayerFeatures, RasterChoice, RasterMode,
 };
 use spreadlight_render::material::MaterialWorld;
-use spreadlight_render::mesh::gltf_import::builder::{Doc, info, png};
-use spreadlight_render::mesh::{Aabb, GltfScene, MaterialData, MeshData, load_gltf_slice};
+use spreadlight_render::mesh::{Aabb, MeshData};
 use spreadlight_render::readback::render_and_read;
 use spreadlight_render::renderer::test_renderer;
 use spreadlight_render::{Renderer, SizeRule};

@@ -307,7 +307,7 @@ mod tests {
     use super::super::builder::{Doc, bytes, mesh_node};
     use super::super::load_gltf_slice;
     use super::*;
-    use crate::mesh::primitives::{BoxParams, box_mesh};
+    use spreadlight_render::mesh::primitives::{BoxParams, box_mesh};
 
     /// A cube on a child node of a parent at x = 10, its translation
     /// animated by `interpolation` from keyframes `times` to `values`.
@@ -421,8 +421,7 @@ mod tests {
 
     #[test]
     fn lights_follow_their_animated_nodes() {
-        let scene =
-            load_gltf_slice(&crate::mesh::gltf_import::models::sliding_cube(), None).unwrap();
+        let scene = load_gltf_slice(&crate::models::sliding_cube(), None).unwrap();
         let at = |time: f32| {
             let world = scene.node_worlds(Some(0), time);
             let (lights, _) = scene.posed_content(&world);

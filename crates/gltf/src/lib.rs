@@ -1,6 +1,12 @@
-//! glTF 2.0 import: `.gltf` (external or data-URI buffers and images) and
-//! `.glb`, into [`MeshData`], [`MaterialData`] and world-space
-//! [`MeshInstance`]s of one scene.
+//! Spreadlight's glTF 2.0 import: `.gltf` (external or data-URI buffers and
+//! images) and `.glb`, into the renderer's CPU-side types ([`MeshData`],
+//! materials of the one world through [`MaterialData::to_material`], lights,
+//! deform data) and world-space [`MeshInstance`]s of one scene.
+//!
+//! A crate of its own, above `spreadlight-render` and below the nodes and
+//! the CLI: it uses only the renderer's public types (the renderer never
+//! names it), so the renderer and its unit tests no longer compile the
+//! importer and its tests with every change of an effect.
 //!
 //! The `gltf` crate parses and validates the JSON (every index in range,
 //! every enum known); the bytes are ours to check. Its own buffer import and
@@ -28,7 +34,8 @@
 //! - materials carry every texture with its sampler and
 //!   `KHR_texture_transform`, and the `KHR_materials_*` extensions that fit
 //!   the G-buffer (`material_extensions`: emissive strength, unlit, ior,
-//!   specular, clearcoat, transmission as blending, spec-gloss converted to
+//!   specular, clearcoat, transmission as blending with its map baked into
+//!   the base colour's alpha, volume read, spec-gloss converted to
 //!   metal-rough); [`MaterialData::to_material`] makes them materials of the
 //!   one world;
 //! - a file requiring an extension outside [`SUPPORTED_EXTENSIONS`] is
@@ -49,6 +56,7 @@ mod material_extensions_tests;
 pub mod models;
 pub mod morph;
 mod primitive;
+pub mod reference;
 #[cfg(test)]
 mod robustness;
 mod scene;
@@ -60,6 +68,10 @@ mod source;
 pub mod spec_gloss;
 #[cfg(test)]
 mod tests;
+pub mod transmission;
+mod volume;
+#[cfg(test)]
+mod volume_tests;
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -71,8 +83,8 @@ use thiserror::Error;
 
 pub use content::{SceneCamera, SceneLights};
 
-use super::{Aabb, MeshData, MeshError};
 use accessor::Buffers;
+use spreadlight_render::mesh::{Aabb, MeshData, MeshError};
 
 /// Everything loaded from one glTF file.
 #[derive(Debug, Clone, PartialEq)]
@@ -121,8 +133,8 @@ pub struct MeshInstance {
     pub weights: Vec<f32>,
 }
 
-pub use crate::material::maps::AlphaMode;
-use crate::material::maps::{MapImage, UvTransform, Wrap};
+pub use spreadlight_render::material::maps::AlphaMode;
+use spreadlight_render::material::maps::{MapImage, UvTransform, Wrap};
 
 /// A glTF metallic-roughness material. Factors are linear; texture colours
 /// are as stored (see [`TextureData::srgb`]).
@@ -165,6 +177,33 @@ pub struct MaterialData {
     /// colour alpha times 1 - transmission (the importer has applied that to
     /// `alpha_mode` and `base_color`; this keeps the file's value).
     pub transmission: f32,
+    /// `KHR_materials_transmission`: transmissionTexture (red scales the
+    /// factor). Kept as read; the importer has baked it into the base colour
+    /// map's alpha ([`transmission::bake_opacity`]).
+    pub transmission_texture: Option<TextureData>,
+    /// `KHR_materials_volume`: thicknessFactor (0 without it: thin-walled),
+    /// in the mesh's units.
+    pub thickness: f32,
+    /// `KHR_materials_volume`: thicknessTexture (green scales the factor).
+    pub thickness_texture: Option<TextureData>,
+    /// `KHR_materials_volume`: attenuationColor, the colour white light
+    /// turns after travelling `attenuation_distance` inside (white: none).
+    pub attenuation_color: [f32; 3],
+    /// `KHR_materials_volume`: attenuationDistance (> 0; infinite without
+    /// it: no absorption). Infinity stays on the CPU: what leaves for the
+    /// GPU is [`MaterialData::transmittance`], finite.
+    pub attenuation_distance: f32,
+    /// `KHR_materials_clearcoat`: clearcoatTexture (red scales the factor),
+    /// clearcoatRoughnessTexture (green), clearcoatNormalTexture: read and
+    /// decoded, not yet sampled (the G-buffer has no per-pixel coat slot).
+    pub clearcoat_texture: Option<TextureData>,
+    pub clearcoat_roughness_texture: Option<TextureData>,
+    pub clearcoat_normal_texture: Option<TextureData>,
+    /// `KHR_materials_specular`: specularTexture (alpha scales the factor)
+    /// and specularColorTexture (rgb, sRGB): read, not yet sampled (the
+    /// material world's reflectance is one number per material).
+    pub specular_texture: Option<TextureData>,
+    pub specular_color_texture: Option<TextureData>,
     /// The file gave this material as `KHR_materials_pbrSpecularGlossiness`;
     /// base colour, metallic, roughness and their maps are its conversion
     /// (`spec_gloss`).
@@ -197,6 +236,16 @@ impl Default for MaterialData {
             clearcoat: 0.0,
             clearcoat_roughness: 0.0,
             transmission: 0.0,
+            transmission_texture: None,
+            thickness: 0.0,
+            thickness_texture: None,
+            attenuation_color: [1.0; 3],
+            attenuation_distance: f32::INFINITY,
+            clearcoat_texture: None,
+            clearcoat_roughness_texture: None,
+            clearcoat_normal_texture: None,
+            specular_texture: None,
+            specular_color_texture: None,
             from_spec_gloss: false,
         }
     }
@@ -424,6 +473,7 @@ pub const SUPPORTED_EXTENSIONS: &[&str] = &[
     "KHR_materials_specular",
     "KHR_materials_transmission",
     "KHR_materials_unlit",
+    "KHR_materials_volume",
     "KHR_texture_transform",
 ];
 

@@ -8,8 +8,8 @@ use gltf::Document;
 use gltf::texture::{MagFilter, WrappingMode};
 
 use super::{AlphaMode, GltfError, Importer, MaterialData, TextureData, source};
-use crate::material::maps::{MapRef, MapSlot, SurfaceMaps, UvTransform, Wrap};
-use crate::material::{Feature, Material};
+use spreadlight_render::material::maps::{MapRef, MapSlot, SurfaceMaps, UvTransform, Wrap};
+use spreadlight_render::material::{Feature, Material};
 
 /// A texture use as glTF states it: the texture, its texCoord, and its
 /// `KHR_texture_transform` extension object if any.

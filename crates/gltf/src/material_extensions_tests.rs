@@ -1,7 +1,8 @@
 //! `KHR_materials_*` over files written at test time: each extension's
 //! values as the material world gets them, and the bad values a file can
 //! hold (warned, naming the material; never NaN). The GPU side (what the
-//! shaded pixels are) is crates/render/tests/gltf_materials.rs.
+//! shaded pixels are) is crates/render/tests/surface_lighting.rs and
+//! crates/gltf/tests/gltf_blend.rs.
 
 use gltf_json as json;
 use json::Value;
@@ -9,15 +10,15 @@ use json::Value;
 use super::builder::{Doc, png};
 use super::spec_gloss::{MetalRough, SpecGloss, convert, round_trip};
 use super::*;
-use crate::material::Feature;
-use crate::mesh::primitives::{BoxParams, box_mesh};
+use spreadlight_render::material::Feature;
+use spreadlight_render::mesh::primitives::{BoxParams, box_mesh};
 
-fn value(text: &str) -> Value {
+pub(super) fn value(text: &str) -> Value {
     json::deserialize::from_str(text).expect("test JSON")
 }
 
 /// A cube whose one material is `material` with the extension objects of `extensions`.
-fn cube_with(mut material: json::Material, extensions: &str) -> Doc {
+pub(super) fn cube_with(mut material: json::Material, extensions: &str) -> Doc {
     let mut doc = Doc::new();
     let mesh = doc.mesh_data("Cube", &box_mesh(BoxParams::default()));
     let node = doc.node(super::builder::mesh_node(Some(mesh), [0.0; 3], 1.0));
@@ -35,7 +36,7 @@ fn cube_with(mut material: json::Material, extensions: &str) -> Doc {
     doc
 }
 
-fn named(name: &str) -> json::Material {
+pub(super) fn named(name: &str) -> json::Material {
     json::Material {
         name: Some(name.into()),
         ..Default::default()
@@ -43,22 +44,22 @@ fn named(name: &str) -> json::Material {
 }
 
 /// The file's one material, and the warnings of the load.
-fn load_one(doc: Doc) -> (MaterialData, Vec<String>) {
+pub(super) fn load_one(doc: Doc) -> (MaterialData, Vec<String>) {
     let scene = load_gltf_slice(&doc.glb(), None).expect("the file loads");
     assert_eq!(scene.materials.len(), 1);
     (scene.materials[0].clone(), scene.warnings)
 }
 
-fn params(m: &MaterialData, f: Feature) -> Option<[f32; 4]> {
+pub(super) fn params(m: &MaterialData, f: Feature) -> Option<[f32; 4]> {
     m.to_material().params(f).map(|p| p[0])
 }
 
-fn assert_close(a: f32, b: f32, tolerance: f32, what: &str) {
+pub(super) fn assert_close(a: f32, b: f32, tolerance: f32, what: &str) {
     assert!((a - b).abs() <= tolerance, "{what}: {a} against {b}");
 }
 
 /// Every parameter of every feature of the material is finite.
-fn assert_finite(m: &MaterialData) {
+pub(super) fn assert_finite(m: &MaterialData) {
     for (f, p) in m.to_material().features() {
         assert!(
             p.iter().flatten().all(|v| v.is_finite()),
@@ -198,8 +199,8 @@ fn clearcoat_bad_values_and_unread_maps_are_warned() {
     for what in [
         "clearcoatFactor is 1.5",
         "clearcoatRoughnessFactor is -1",
-        "clearcoatTexture is not read",
-        "clearcoatNormalTexture is not read",
+        "clearcoatTexture is read but not sampled",
+        "clearcoatNormalTexture is read but not sampled",
     ] {
         assert!(
             warnings
@@ -414,12 +415,17 @@ fn the_supported_material_extensions_may_be_required() {
     doc.root.extensions_used = doc.root.extensions_required.clone();
     let scene = load_gltf_slice(&doc.glb(), None).expect("supported extensions are accepted");
     assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
-    // Volume is not read: a file that requires it is refused by name.
+    // Volume is read: a file may require it.
     let mut doc = cube_with(named("Thick"), "{}");
     doc.root.extensions_required = vec!["KHR_materials_volume".into()];
     doc.root.extensions_used = doc.root.extensions_required.clone();
+    load_gltf_slice(&doc.glb(), None).expect("volume is supported");
+    // Sheen is not read: a file that requires it is refused by name.
+    let mut doc = cube_with(named("Velvet"), "{}");
+    doc.root.extensions_required = vec!["KHR_materials_sheen".into()];
+    doc.root.extensions_used = doc.root.extensions_required.clone();
     let err = load_gltf_slice(&doc.glb(), None).expect_err("refused");
-    assert!(err.to_string().contains("KHR_materials_volume"), "{err}");
+    assert!(err.to_string().contains("KHR_materials_sheen"), "{err}");
 }
 
 #[test]

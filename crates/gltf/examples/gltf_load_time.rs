@@ -3,12 +3,12 @@
 //! transforms, materials and their images. A measurement for docs/gltf.md,
 //! not a test:
 //!
-//! `cargo run --release -p spreadlight-render --example gltf_load_time [-- NODES]`
+//! `cargo run --release -p spreadlight-gltf --example gltf_load_time [-- NODES]`
 
 use std::time::Instant;
 
-use spreadlight_render::mesh::gltf_import::models;
-use spreadlight_render::mesh::load_gltf_slice;
+use spreadlight_gltf::load_gltf_slice;
+use spreadlight_gltf::models;
 
 fn main() {
     let nodes: usize = std::env::args()

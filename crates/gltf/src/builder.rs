@@ -139,10 +139,14 @@ impl Doc {
         })
     }
 
-    /// A mesh from a finished [`MeshData`](crate::mesh::MeshData): positions,
+    /// A mesh from a finished [`MeshData`](spreadlight_render::mesh::MeshData): positions,
     /// normals, UVs, a second UV set and vertex colours when it has them (no
     /// tangents) and u16 indices.
-    pub fn mesh_data(&mut self, name: &str, m: &crate::mesh::MeshData) -> Index<json::Mesh> {
+    pub fn mesh_data(
+        &mut self,
+        name: &str,
+        m: &spreadlight_render::mesh::MeshData,
+    ) -> Index<json::Mesh> {
         let mut attributes = vec![
             (Semantic::Positions, self.positions(&m.positions)),
             (Semantic::Normals, self.floats(&m.normals)),

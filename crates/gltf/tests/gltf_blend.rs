@@ -8,6 +8,8 @@
 //! when its material is double-sided. A second frame binds the material
 //! world's groups made in the first.
 
+// The post tests' scene helpers, shared with the renderer's tests.
+#[path = "../../render/tests/post_common/mod.rs"]
 mod post_common;
 
 use std::sync::Arc;
@@ -15,14 +17,13 @@ use std::sync::Arc;
 use glam::{Mat4, Vec3};
 use gltf_json as json;
 use post_common::*;
+use spreadlight_gltf::builder::{Doc, info, png};
+use spreadlight_gltf::{AlphaMode, GltfScene, MaterialData, load_gltf_slice};
 use spreadlight_render::camera::CameraInput;
 use spreadlight_render::frame_graph::FrameReport;
 use spreadlight_render::gbuffer::{DrawBatch, GBuffer, InstanceInput, Layer, LayerFeatures};
 use spreadlight_render::material::MaterialWorld;
-use spreadlight_render::mesh::gltf_import::builder::{Doc, info, png};
-use spreadlight_render::mesh::{
-    Aabb, AlphaMode, GltfScene, MaterialData, MeshData, load_gltf_slice,
-};
+use spreadlight_render::mesh::{Aabb, MeshData};
 use spreadlight_render::post::{Transparency, TransparencySettings};
 use spreadlight_render::renderer::test_renderer;
 use spreadlight_render::{Renderer, SizeRule};
@@ -292,4 +293,133 @@ fn blend_binds_the_material_groups_it_made_before() {
             Some(image) => assert!(image.pixels == out.pixels, "the same image"),
         }
     }
+}
+
+/// A quad like [`model`]'s (one UV set, no COLOR_0) whose material is
+/// transmissive through a map (halves: red 0 | 255) and emits with a
+/// strength: `KHR_materials_transmission` and
+/// `KHR_materials_emissive_strength` as lit transparency draws them.
+fn transmissive_model() -> Vec<u8> {
+    let mut doc = Doc::new();
+    let mut quad = MeshData {
+        positions: vec![
+            [-1.0, -1.0, 0.0],
+            [1.0, -1.0, 0.0],
+            [1.0, 1.0, 0.0],
+            [-1.0, 1.0, 0.0],
+        ],
+        normals: vec![[0.0, 0.0, 1.0]; 4],
+        uvs: Some(vec![[0.0, 1.0], [1.0, 1.0], [1.0, 0.0], [0.0, 0.0]]),
+        tangents: None,
+        uvs1: None,
+        colors: None,
+        indices: vec![0, 1, 2, 0, 2, 3],
+        bounds: Aabb::ZERO,
+    };
+    quad.recompute_bounds();
+    let mesh = doc.mesh_data("Quad", &quad);
+    let halves = image::RgbaImage::from_fn(16, 16, |x, _| {
+        image::Rgba(if x >= 8 {
+            [255, 0, 0, 255]
+        } else {
+            [0, 0, 0, 255]
+        })
+    });
+    let image = doc.png_image(&png(&halves));
+    let texture = doc.texture(image);
+    let sampler = doc.root.push(json::texture::Sampler {
+        mag_filter: Some(json::validation::Checked::Valid(
+            json::texture::MagFilter::Nearest,
+        )),
+        ..Default::default()
+    });
+    doc.root.textures[texture.value()].sampler = Some(sampler);
+    let mut material = json::Material::default();
+    material.pbr_metallic_roughness.base_color_factor =
+        json::material::PbrBaseColorFactor([0.25, 0.25, 0.25, 1.0]);
+    material.emissive_factor = json::material::EmissiveFactor([0.5, 0.25, 0.0]);
+    let extensions = format!(
+        r#"{{"KHR_materials_transmission": {{"transmissionFactor": 0.8,
+            "transmissionTexture": {{"index": {}}}}},
+          "KHR_materials_emissive_strength": {{"emissiveStrength": 2.0}}}}"#,
+        texture.value()
+    );
+    let others: json::extensions::material::Material =
+        json::deserialize::from_str(&extensions).expect("the test's extension objects");
+    material.extensions = Some(others);
+    for name in [
+        "KHR_materials_transmission",
+        "KHR_materials_emissive_strength",
+    ] {
+        doc.root.extensions_used.push(name.into());
+    }
+    let material = doc.material(material);
+    doc.root.meshes[mesh.value()].primitives[0].material = Some(material);
+    let node = doc.node(json::Node {
+        mesh: Some(mesh),
+        ..Default::default()
+    });
+    doc.scene(vec![node]);
+    doc.gltf_data_uri()
+}
+
+#[test]
+fn transmission_maps_and_emissive_strength_reach_lit_transparency() {
+    let renderer = test_renderer();
+    let scene = load_gltf_slice(&transmissive_model(), None).expect("loads");
+    let material = &scene.materials[0];
+    assert_eq!(material.alpha_mode, AlphaMode::Blend);
+    assert_eq!(material.emissive_strength, 2.0);
+    let g = GBuffer::new(
+        &renderer,
+        None,
+        vec![],
+        camera(),
+        None,
+        SizeRule::Relative(1.0),
+    );
+    let background = image(&renderer, SIZE, |_, _| BACKGROUND);
+    let settings = TransparencySettings {
+        ambient: Vec3::ONE,
+        light_color: Vec3::ZERO,
+        ..Default::default()
+    };
+    let pass = Transparency::new(
+        &renderer,
+        None,
+        background.texture_ref(),
+        g,
+        vec![layer(&renderer, &scene, Mat4::IDENTITY)],
+        settings,
+    );
+    let pixels = render(&renderer, pass.as_ref(), &pass.output, SIZE)
+        .1
+        .pixels;
+    // Unlit by lights (ambient 1): base 0.25 plus emission (0.5, 0.25, 0)
+    // x strength 2. Left: no transmission, opaque. Right: transmission
+    // 0.8 x 1, opacity 0.2 (baked alpha 51 / 255), over the green background.
+    let surface = [1.25, 0.75, 0.25];
+    let mut checked = [0; 2];
+    for py in 0..SIZE.1 {
+        for px in 0..SIZE.0 {
+            let (x, y) = hit(px, py);
+            let t = (x + 1.0) / 2.0;
+            if x.abs() > 0.95 || y.abs() > 0.95 || (t - 0.5).abs() < 0.04 {
+                continue;
+            }
+            let half = usize::from(t >= 0.5);
+            let alpha = [1.0, 0.2][half];
+            let got = pixels[(py * SIZE.0 + px) as usize];
+            for c in 0..3 {
+                let want = BACKGROUND[c] * (1.0 - alpha) + surface[c] * alpha;
+                assert!(
+                    got[c].is_finite() && (got[c] - want).abs() < 0.01,
+                    "pixel ({px}, {py}), channel {c}: {} instead of {want} (half {half})",
+                    got[c]
+                );
+            }
+            checked[half] += 1;
+        }
+    }
+    assert!(checked[0] > 600 && checked[1] > 600, "{checked:?}");
 }

@@ -16,18 +16,10 @@ use glam::{Mat4, Vec3};
 use gltf::Semantic;
 
 use super::{GltfError, Importer};
-use crate::mesh::Aabb;
-
-/// Influences kept per vertex: two sets of JOINTS/WEIGHTS.
-pub const MAX_INFLUENCES: usize = 8;
-
-/// The joint index of a vertex without weights: the palette's last matrix,
-/// the mesh node's world transform.
-pub const UNSKINNED: u32 = u32::MAX;
-
-/// Joints a skin may have: joint indices go to the GPU as 16 bits, and
-/// 0xFFFF stands for [`UNSKINNED`].
-pub const MAX_JOINTS: usize = 0xFFFF;
+use spreadlight_render::mesh::Aabb;
+pub use spreadlight_render::mesh::deform::{
+    Influences, MAX_INFLUENCES, MAX_JOINTS, UNSKINNED, skin_point,
+};
 
 /// A glTF skin: its joints (glTF node indices) and the matrix that takes
 /// the mesh into each joint's space at bind time.
@@ -38,48 +30,6 @@ pub struct Skin {
     pub joints: Vec<usize>,
     /// One per joint (identity when the file gives none).
     pub inverse_bind: Vec<Mat4>,
-}
-
-/// Per vertex, up to [`MAX_INFLUENCES`] joints (indices into the skin's
-/// joints; [`UNSKINNED`] for vertices without weights) and their weights,
-/// which sum to 1. Unused slots have weight 0.
-#[derive(Debug, Clone, PartialEq, Default)]
-pub struct Influences {
-    pub joints: Vec<[u32; MAX_INFLUENCES]>,
-    pub weights: Vec<[f32; MAX_INFLUENCES]>,
-    /// The largest joint index in use and a vertex using it (for messages).
-    pub max_joint: Option<(u32, usize)>,
-    /// Rest-pose bounds of the vertices each joint moves: a posed vertex is
-    /// a convex blend of its joints' transforms, so the union of these boxes
-    /// transformed by their joints bounds the posed mesh.
-    pub joint_bounds: Vec<(u32, Aabb)>,
-}
-
-/// `point` skinned by `palette` (joint matrices, the mesh node's last) with
-/// one vertex's influences: what the GPU pass computes.
-pub fn skin_point(
-    palette: &[Mat4],
-    joints: &[u32; MAX_INFLUENCES],
-    weights: &[f32; MAX_INFLUENCES],
-    point: Vec3,
-) -> Vec3 {
-    let mut blended = Mat4::ZERO;
-    for (j, w) in joints.iter().zip(weights) {
-        if *w != 0.0 {
-            blended += palette_matrix(palette, *j) * *w;
-        }
-    }
-    blended.transform_point3(point)
-}
-
-fn palette_matrix(palette: &[Mat4], joint: u32) -> Mat4 {
-    let last = palette.len().saturating_sub(1);
-    let at = if joint == UNSKINNED {
-        last
-    } else {
-        (joint as usize).min(last)
-    };
-    palette.get(at).copied().unwrap_or(Mat4::IDENTITY)
 }
 
 impl Skin {
@@ -93,24 +43,6 @@ impl Skin {
             .map(|(&j, ibm)| world.get(j).copied().unwrap_or(Mat4::IDENTITY) * *ibm)
             .chain([mesh_world])
             .collect()
-    }
-}
-
-impl Influences {
-    /// Bounds of the mesh posed by `palette`, its rest positions grown by
-    /// `morph` (the most the morph targets move a vertex, per axis).
-    pub fn posed_bounds(&self, palette: &[Mat4], morph: Vec3) -> Aabb {
-        self.joint_bounds
-            .iter()
-            .map(|(j, b)| {
-                let grown = Aabb {
-                    min: b.min - morph,
-                    max: b.max + morph,
-                };
-                grown.transformed(palette_matrix(palette, *j))
-            })
-            .reduce(Aabb::union)
-            .unwrap_or(Aabb::ZERO)
     }
 }
 

@@ -9,7 +9,7 @@ use gltf::Document;
 use super::animation::{self, SceneGraph};
 use super::content::LightSource;
 use super::{GltfError, GltfScene, Importer, MeshInstance, SceneLights, content};
-use crate::mesh::Aabb;
+use spreadlight_render::mesh::Aabb;
 
 /// glTF's node hierarchy must be a forest: no node is its own child, none
 /// has two parents, and following parents never loops. The first problem,

@@ -9,15 +9,20 @@
 //! - `KHR_materials_ior`, `KHR_materials_specular`: the dielectric f0
 //!   ([`MaterialData::reflectance`], CookTorrance's reflectance).
 //! - `KHR_materials_clearcoat`: factor and roughness (the Clearcoat feature).
-//! - `KHR_materials_transmission`: kept, and drawn BLEND with opacity
-//!   1 - transmission until a pass refracts.
+//! - `KHR_materials_transmission`: drawn BLEND with opacity
+//!   alpha x (1 - transmission) until a pass refracts; its
+//!   transmissionTexture is baked into the base colour map's alpha
+//!   ([`super::transmission`]), so it is sampled per texel.
+//! - `KHR_materials_volume`: thickness, its map, attenuation colour and
+//!   distance read and checked ([`super::volume`]); the absorption
+//!   ([`MaterialData::transmittance`]) is not drawn yet (warned).
 //! - `KHR_materials_pbrSpecularGlossiness`: converted to metal-rough
 //!   ([`super::spec_gloss`]), maps included.
 //! - `KHR_materials_emissive_strength` (typed by the gltf crate): checked.
 //!
-//! The maps these extensions add (clearcoat, specular, transmission) have
-//! no slot in the surface maps: each present one is a warning, and its
-//! factor applies over the whole surface.
+//! The clearcoat, specular and thickness maps have no slot in the surface
+//! maps: they are read and decoded into [`MaterialData`], each present one
+//! is a warning, and its factor applies over the whole surface.
 
 use gltf::Document;
 use gltf::json::Value;
@@ -26,8 +31,8 @@ use super::material::{Slot, parse_transform};
 use super::spec_gloss::{self, SpecGloss};
 use super::{AlphaMode, GltfError, Importer, MaterialData, TextureData};
 
-/// The maps each extension may carry that the loader does not read.
-const UNREAD_MAPS: &[(&str, &[&str])] = &[
+/// The maps read into [`MaterialData`] that no pass samples yet.
+const UNSAMPLED_MAPS: &[(&str, &[&str])] = &[
     (
         "KHR_materials_clearcoat",
         &[
@@ -40,7 +45,7 @@ const UNREAD_MAPS: &[(&str, &[&str])] = &[
         "KHR_materials_specular",
         &["specularTexture", "specularColorTexture"],
     ),
-    ("KHR_materials_transmission", &["transmissionTexture"]),
+    ("KHR_materials_volume", &["thicknessTexture"]),
 ];
 
 impl Importer<'_> {
@@ -74,40 +79,101 @@ impl Importer<'_> {
             data.specular = self.factor(&who, name, ext, "specularFactor", 1.0, 0.0, 1.0);
             data.specular_color =
                 self.color(&who, name, ext, "specularColorFactor", [1.0; 3], f32::MAX);
+            data.specular_texture =
+                self.extension_texture(document, &who, name, ext, "specularTexture", false)?;
+            data.specular_color_texture =
+                self.extension_texture(document, &who, name, ext, "specularColorTexture", true)?;
         }
         if let Some(ext) = m.extension_value("KHR_materials_clearcoat") {
             let name = "KHR_materials_clearcoat";
             data.clearcoat = self.factor(&who, name, ext, "clearcoatFactor", 0.0, 0.0, 1.0);
             data.clearcoat_roughness =
                 self.factor(&who, name, ext, "clearcoatRoughnessFactor", 0.0, 0.0, 1.0);
+            data.clearcoat_texture =
+                self.extension_texture(document, &who, name, ext, "clearcoatTexture", false)?;
+            data.clearcoat_roughness_texture = self.extension_texture(
+                document,
+                &who,
+                name,
+                ext,
+                "clearcoatRoughnessTexture",
+                false,
+            )?;
+            data.clearcoat_normal_texture =
+                self.extension_texture(document, &who, name, ext, "clearcoatNormalTexture", false)?;
+        }
+        // Spec-gloss replaces the base colour map; transmission's map is
+        // baked into whichever base colour map results.
+        if let Some(ext) = m.extension_value("KHR_materials_pbrSpecularGlossiness") {
+            self.spec_gloss(document, &who, ext, data)?;
         }
         if let Some(ext) = m.extension_value("KHR_materials_transmission") {
-            let name = "KHR_materials_transmission";
-            data.transmission = self.factor(&who, name, ext, "transmissionFactor", 0.0, 0.0, 1.0);
-            if data.transmission > 0.0 {
-                // No pass refracts yet: what the surface lets through is
-                // blended, as a glass pane would look without refraction.
-                data.alpha_mode = AlphaMode::Blend;
-                data.base_color[3] *= 1.0 - data.transmission;
-                self.warn(format!(
-                    "{who}: KHR_materials_transmission {} is drawn as BLEND with opacity {} (alpha x (1 - transmission)), without refraction",
-                    data.transmission, data.base_color[3]
-                ));
-            }
+            self.transmission(document, &who, ext, data)?;
         }
-        for (extension, maps) in UNREAD_MAPS {
+        if let Some(ext) = m.extension_value("KHR_materials_volume") {
+            self.volume(document, &who, ext, data)?;
+        }
+        for (extension, maps) in UNSAMPLED_MAPS {
             let Some(ext) = m.extension_value(extension) else {
                 continue;
             };
             for map in maps.iter().filter(|map| ext.get(**map).is_some()) {
                 self.warn(format!(
-                    "{who}: {extension} {map} is not read; its factor applies over the whole surface"
+                    "{who}: {extension} {map} is read but not sampled (no G-buffer slot); its factor applies over the whole surface"
                 ));
             }
         }
-        if let Some(ext) = m.extension_value("KHR_materials_pbrSpecularGlossiness") {
-            self.spec_gloss(document, &who, ext, data)?;
+        Ok(())
+    }
+
+    /// `KHR_materials_transmission`: the factor, and its map baked into
+    /// the base colour map's alpha; drawn BLEND (no pass refracts yet).
+    fn transmission(
+        &mut self,
+        document: &Document,
+        who: &str,
+        ext: &Value,
+        data: &mut MaterialData,
+    ) -> Result<(), GltfError> {
+        let name = "KHR_materials_transmission";
+        data.transmission = self.factor(who, name, ext, "transmissionFactor", 0.0, 0.0, 1.0);
+        data.transmission_texture =
+            self.extension_texture(document, who, name, ext, "transmissionTexture", false)?;
+        if data.transmission <= 0.0 {
+            return Ok(());
         }
+        // No pass refracts yet: what the surface lets through is
+        // blended, as a glass pane would look without refraction.
+        data.alpha_mode = AlphaMode::Blend;
+        let Some(map) = data.transmission_texture.clone() else {
+            data.base_color[3] *= 1.0 - data.transmission;
+            self.warn(format!(
+                "{who}: {name} {} is drawn as BLEND with opacity {} (alpha x (1 - transmission)), without refraction",
+                data.transmission, data.base_color[3]
+            ));
+            return Ok(());
+        };
+        let base = data.base_color_texture.take();
+        if let Some(b) = &base
+            && (b.tex_coord, b.transform, b.wrap) != (map.tex_coord, map.transform, map.wrap)
+        {
+            self.warn(format!(
+                "{who}: {name}: transmissionTexture is mapped differently from baseColorTexture; it is baked on the base colour's mapping"
+            ));
+        }
+        let image = super::transmission::bake_opacity(
+            base.as_ref().map(|b| b.image.as_ref()),
+            &map.image,
+            data.transmission,
+        );
+        // The baked map keeps the base colour's sampling, else the
+        // transmission map's (with white colour, so only alpha changes).
+        let sampling = base.unwrap_or(TextureData { srgb: true, ..map });
+        data.base_color_texture = Some(TextureData { image, ..sampling });
+        self.warn(format!(
+            "{who}: {name} {} with transmissionTexture is drawn as BLEND with opacity alpha x (1 - transmission x map), without refraction",
+            data.transmission
+        ));
         Ok(())
     }
 
@@ -131,7 +197,7 @@ impl Importer<'_> {
     /// clamped into `lo..=hi` when outside, `default` when not a finite
     /// number (both warned, naming the material).
     #[allow(clippy::too_many_arguments)]
-    fn factor(
+    pub(super) fn factor(
         &mut self,
         who: &str,
         extension: &str,
@@ -163,7 +229,7 @@ impl Importer<'_> {
     }
 
     /// An array of N numbers in 0..=`hi`; `default` when absent or malformed.
-    fn color<const N: usize>(
+    pub(super) fn color<const N: usize>(
         &mut self,
         who: &str,
         extension: &str,
@@ -201,7 +267,7 @@ impl Importer<'_> {
 
     /// The texture an extension's texture info names, decoded as the core
     /// slots are; one that names no texture of the file is warned and left out.
-    fn extension_texture(
+    pub(super) fn extension_texture(
         &mut self,
         document: &Document,
         who: &str,

@@ -8,7 +8,7 @@ use gltf::Document;
 
 use super::GltfError;
 use super::accessor::Buffers;
-use crate::material::maps::MapImage;
+use spreadlight_render::material::maps::MapImage;
 
 const GLB_MAGIC: &[u8; 4] = b"glTF";
 const CHUNK_JSON: u32 = 0x4E4F_534A;

@@ -9,7 +9,7 @@ use gltf::mesh::Mode;
 
 use super::deform::Deform;
 use super::{GltfError, Importer};
-use crate::mesh::{Aabb, MeshData, Shading};
+use spreadlight_render::mesh::{Aabb, MeshData, Shading};
 
 /// A primitive's mesh and, when its vertices were unwelded, each output
 /// vertex's vertex in the file.

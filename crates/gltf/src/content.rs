@@ -6,7 +6,7 @@
 
 use glam::{Mat4, Vec3};
 
-use crate::lighting::{PointLight, SpotLight, SunLight};
+use spreadlight_render::lighting::{PointLight, SpotLight, SunLight};
 
 /// The scene's lights by type, each with a name (the file's, or `light N`).
 #[derive(Debug, Clone, Default, PartialEq)]
