@@ -22,8 +22,8 @@
 //!   fetches corner positions alone (MESHES_ONLY), not whole vertices
 //!   through the particle-aware `triangle_vertex`;
 //! - which rasterizer draws shadow maps under `Auto`
-//!   (`shadows::compute_rasterizes`): a GPU compute up to 1024 texels a
-//!   side, a CPU adapter the raster hardware (ten to a hundred times faster
+//!   (`shadows::compute_rasterizes`): a GPU compute at every
+//!   resolution, a CPU adapter the raster hardware (ten to a hundred times faster
 //!   there for patches/shadows.ron's cascades).
 //!
 //! The class comes from the adapter's own report (`AdapterInfo::device_type`),

@@ -100,7 +100,7 @@ macro_rules! help {
      Kernel texels, odd, up to 9), PCSS (soft shadows from a light of Light Size, PCSS Samples 1..64 per search and \
      filter), VSM (blurred depth moments, VSM Blur texels, VSM Bleeding 0..1 cuts light bleeding). Depth Bias is in \
      world units, Normal Bias in texels. Raster: which rasterizer draws the maps, Compute (32-bit depth atomics), \
-     Hardware, or Auto (per adapter: on a GPU compute up to 1024 texels a side and the hardware beyond, on a CPU \
+     Hardware, or Auto (per adapter: on a GPU compute, on a CPU \
      adapter the hardware)."
         )
     };

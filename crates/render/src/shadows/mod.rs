@@ -529,10 +529,15 @@ impl ShadowMaps {
 /// (the raster hardware otherwise). It writes 32-bit depth words, so any
 /// adapter can, as long as a layer's words fit one storage binding.
 ///
-/// `Auto` follows the adapter (adapter_class.rs). On a GPU, compute up to
-/// 1024 texels a side and the hardware beyond: measured on the H100
-/// (docs/shadows.md), where the hardware's 4 bytes a texel of depth is all
-/// the raster writes once maps are big. On a CPU adapter the hardware:
+/// `Auto` follows the adapter (adapter_class.rs). On a GPU, compute at every
+/// resolution: measured on the H200 (docs/benchmarks.md, "Session 16"),
+/// compute ties the hardware at 1024 texels a side and wins at 2048 (0.60
+/// against 1.45 ms for shadows.ron's three cascades, 0.28 against 0.73 for
+/// emeshe-heavy.ron's spots), and the hardware falls off a cliff where many
+/// casters meet several cascades (emeshe-heavy.ron's VSM sun: 6.2 ms at any
+/// resolution against 0.5-0.9 in compute); it wins only small maps of few
+/// casters, by at most 0.17 ms (shadows.ron's sun at 256 and 512). On a CPU
+/// adapter the hardware:
 /// lavapipe drew patches/shadows.ron's three 512 cascades in 13-141 ms
 /// with its raster pipeline and 1,338-1,417 ms with the compute one
 /// (docs/shadows.md, "Two rasterizers"): a CPU runs the compute raster's
@@ -548,9 +553,7 @@ pub fn compute_rasterizes(
     fits && match choice {
         RasterChoice::Compute => true,
         RasterChoice::Hardware => false,
-        RasterChoice::Auto => {
-            class == crate::adapter_class::AdapterClass::Gpu && resolution <= 1024
-        }
+        RasterChoice::Auto => class == crate::adapter_class::AdapterClass::Gpu,
     }
 }
 
@@ -655,12 +658,12 @@ mod tests {
     use crate::adapter_class::AdapterClass::{Cpu, Gpu};
 
     #[test]
-    fn auto_rasterizes_in_compute_on_a_gpu_up_to_1024_and_never_on_a_cpu_adapter() {
+    fn auto_rasterizes_in_compute_on_a_gpu_and_never_on_a_cpu_adapter() {
         let binding = 128 << 20;
         for (choice, class, res, expected) in [
             (RasterChoice::Auto, Gpu, 512, true),
             (RasterChoice::Auto, Gpu, 1024, true),
-            (RasterChoice::Auto, Gpu, 2048, false),
+            (RasterChoice::Auto, Gpu, 2048, true),
             (RasterChoice::Auto, Cpu, 256, false),
             (RasterChoice::Auto, Cpu, 4096, false),
             (RasterChoice::Compute, Cpu, 4096, true),
