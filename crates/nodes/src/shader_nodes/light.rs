@@ -96,6 +96,8 @@ pub(super) fn evaluate(ty: &Arc<ShaderType>, cx: &mut EvalContext<'_>) -> Result
     let mode = match cx.enum_slices(4)?.first().map(String::as_str) {
         Some("Naive") => LightLoop::Naive,
         Some("Clustered") => LightLoop::Clustered,
+        Some("Tiled") => LightLoop::Tiled,
+        Some("Per Pixel") => LightLoop::PerPixel,
         _ => LightLoop::Auto,
     };
     let textures = super::material::textures(ty, cx)?;
