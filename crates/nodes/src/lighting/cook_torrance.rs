@@ -23,7 +23,13 @@ pub static LIGHT_LOOP: EnumDef = EnumDef {
 pub static LIGHT_LOOPS: spreadlight_graph::Choices<LightLoop> = spreadlight_graph::Choices::new(
     "Light Loop",
     LIGHT_LOOP_OPTIONS,
-    &[LightLoop::Auto, LightLoop::Clustered, LightLoop::Naive, LightLoop::Tiled, LightLoop::PerPixel],
+    &[
+        LightLoop::Auto,
+        LightLoop::Clustered,
+        LightLoop::Naive,
+        LightLoop::Tiled,
+        LightLoop::PerPixel,
+    ],
 );
 
 pub fn register(r: &mut Registry) {

@@ -619,10 +619,7 @@ mod tests {
             assert_eq!(auto(100_000), auto_walk(class));
             // Suns are never clustered, whatever was asked.
             for mode in [LightLoop::Auto, LightLoop::Tiled, LightLoop::PerPixel] {
-                assert_eq!(
-                    resolve_walk(mode, LightKind::Sun, 100, class),
-                    Walk::Naive
-                );
+                assert_eq!(resolve_walk(mode, LightKind::Sun, 100, class), Walk::Naive);
             }
             // A walk asked for is the walk taken.
             for (mode, walk) in [
