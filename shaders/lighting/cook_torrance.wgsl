@@ -3,7 +3,9 @@
 // their frustum, through a layer of a texture array with SPOT_TEXTURE, else a
 // round cone), LIGHT_SUN for parallel lights.
 // per pixel, the G-buffer's surface lit by the lights of its froxel
-// (CLUSTERED) or by every light (the naive reference). GGX distribution,
+// (CLUSTERED: shared by 16x16 blocks, slice by slice; with TILED over
+// depth-bounded tiles; with PER_PIXEL each pixel alone, for CPU adapters)
+// or by every light (the naive reference). GGX distribution,
 // height-correlated Smith visibility, Schlick Fresnel; ENERGY_COMPENSATION
 // adds the multiple-scattering term. Outputs diffuse (albedo applied, so
 // metals and F0 are exact) and specular radiance (and, with FAKE_SSS, a
@@ -249,6 +251,17 @@ const BATCH: u32 = 256u;
 const MASK_WORDS: u32 = 8u;
 
 #ifdef CLUSTERED
+#ifdef PER_PIXEL
+// Each pixel walks its own froxel list: slots are light indices, as in the
+// naive loop.
+fn light_index(slot: u32) -> u32 {
+    return slot;
+}
+
+fn light_radiance(slot: u32) -> vec3<f32> {
+    return lights[slot].intensity.rgb;
+}
+#else
 var<workgroup> box_lo: array<atomic<u32>, 3>;
 var<workgroup> box_hi: array<atomic<u32>, 3>;
 var<workgroup> slice_span: array<atomic<u32>, 2>;
@@ -280,6 +293,209 @@ fn ordered(f: f32) -> u32 {
 fn unordered(u: u32) -> f32 {
     return bitcast<f32>(select(~u, u & 0x7fffffffu, (u & 0x80000000u) != 0u));
 }
+#ifdef TILED
+// TILED (LightLoop::Tiled): the clustered walk over depth-bounded tiles
+// (Harada's 2.5D culling over Olsson's froxel lists). Per 16x16 tile: the
+// slices its pixels occupy (a bit each, so the empty slices between a
+// sphere and the floor behind it are not read), the box around its points
+// and 32 depth bins between their nearest and farthest (a light whose depth
+// range covers no occupied bin is dropped), and a box per 32 lanes (8x4
+// pixels). The occupied slices' lists are read as one sequence, 256 entries
+// a round, so rounds are full however short each list is; a survivor keeps
+// its slice and which lane groups' boxes it touches, and a lane group skips
+// the others together. A pixel shades only its own slice's entries, in list
+// order: the same lights in the same order as the clustered walk.
+const WARPS: u32 = 8u;
+// Slices a bit each: ClusterGrid::SLICES stays within 32 (cook_torrance.rs).
+const MAX_TILE_SLICES: u32 = 32u;
+const DEPTH_BINS: f32 = 32.0;
+var<workgroup> tile_slices: atomic<u32>;
+var<workgroup> depth_bins: atomic<u32>;
+var<workgroup> warp_slices: array<atomic<u32>, WARPS>;
+var<workgroup> warp_lo: array<array<atomic<u32>, 3>, WARPS>;
+var<workgroup> warp_hi: array<array<atomic<u32>, 3>, WARPS>;
+// The lane groups' boxes as floats (nearest, farthest corner), made once.
+var<workgroup> warp_box: array<array<vec3<f32>, 2>, WARPS>;
+// Each slice's list (first entry, length; 0 for unoccupied slices) and
+// where it starts in the sequence of all of them.
+var<workgroup> slice_first: array<u32, MAX_TILE_SLICES>;
+var<workgroup> slice_count: array<u32, MAX_TILE_SLICES>;
+var<workgroup> slice_start: array<u32, MAX_TILE_SLICES>;
+var<workgroup> total_read: u32;
+// A survivor's slice (low 8 bits) and the lane groups it may reach (bits 8..15).
+var<workgroup> batch_tag: array<u32, BATCH>;
+
+// A view depth's bin between the tile's nearest and farthest (z: view space,
+// negative). Monotonic in z, so a pixel's bin lies within the bins of any
+// depth range holding it.
+fn depth_bin(z: f32, lo: f32, scale: f32) -> u32 {
+    return u32(clamp((z - lo) * scale, 0.0, DEPTH_BINS - 1.0));
+}
+
+fn sphere_touches(lv: vec4<f32>, lo: vec3<f32>, hi: vec3<f32>) -> bool {
+    let offset = lv.xyz - clamp(lv.xyz, lo, hi);
+    return dot(offset, offset) < lv.w * lv.w;
+}
+
+
+// Every lane calls it (barriers). `slice`: the pixel's, when `covered`.
+fn walk_tiled(lane: u32, wid: vec2<u32>, covered: bool, slice: u32, p: vec3<f32>, pw: vec3<f32>,
+              surface: BrdfSurface, sums: ptr<function, LightSums>) {
+    let warp = lane / 32u;
+    if (lane == 0u) {
+        for (var i = 0u; i < 3u; i++) {
+            atomicStore(&box_lo[i], 0xffffffffu);
+            atomicStore(&box_hi[i], 0u);
+        }
+        atomicStore(&tile_slices, 0u);
+        atomicStore(&depth_bins, 0u);
+    }
+    if (lane < WARPS) {
+        for (var i = 0u; i < 3u; i++) {
+            atomicStore(&warp_lo[lane][i], 0xffffffffu);
+            atomicStore(&warp_hi[lane][i], 0u);
+        }
+        atomicStore(&warp_slices[lane], 0u);
+    }
+    if (lane < MASK_WORDS) {
+        atomicStore(&batch_mask[0][lane], 0u);
+        atomicStore(&batch_mask[1][lane], 0u);
+    }
+    workgroupBarrier();
+    if (covered) {
+        let q = vec3<u32>(ordered(p.x), ordered(p.y), ordered(p.z));
+        for (var i = 0u; i < 3u; i++) {
+            atomicMin(&box_lo[i], q[i]);
+            atomicMax(&box_hi[i], q[i]);
+            atomicMin(&warp_lo[warp][i], q[i]);
+            atomicMax(&warp_hi[warp][i], q[i]);
+        }
+        atomicOr(&tile_slices, 1u << slice);
+        atomicOr(&warp_slices[warp], 1u << slice);
+    }
+    workgroupBarrier();
+    let lo = vec3<f32>(unordered(atomicLoad(&box_lo[0])), unordered(atomicLoad(&box_lo[1])), unordered(atomicLoad(&box_lo[2])));
+    let hi = vec3<f32>(unordered(atomicLoad(&box_hi[0])), unordered(atomicLoad(&box_hi[1])), unordered(atomicLoad(&box_hi[2])));
+    if (lane < WARPS) {
+        // An empty group's box is NaN; its slice bits are 0, so it is never tested.
+        warp_box[lane][0] = vec3<f32>(unordered(atomicLoad(&warp_lo[lane][0])), unordered(atomicLoad(&warp_lo[lane][1])), unordered(atomicLoad(&warp_lo[lane][2])));
+        warp_box[lane][1] = vec3<f32>(unordered(atomicLoad(&warp_hi[lane][0])), unordered(atomicLoad(&warp_hi[lane][1])), unordered(atomicLoad(&warp_hi[lane][2])));
+    }
+    // 0 when the tile is flat in depth (or empty): one bin, no division by 0.
+    let scale = select(0.0, DEPTH_BINS / (hi.z - lo.z), hi.z > lo.z);
+    if (covered) {
+        atomicOr(&depth_bins, 1u << depth_bin(p.z, lo.z, scale));
+    }
+    // The occupied slices' lists, a lane each.
+    let occupied = atomicLoad(&tile_slices);
+    let tile = min(wid * GROUP / u32(grid.depth.w), grid.dims.xy - 1u);
+    if (lane < MAX_TILE_SLICES) {
+        var first = 0u;
+        var count = 0u;
+        if (lane < grid.dims.z && (occupied & (1u << lane)) != 0u) {
+            let cluster = (lane * grid.dims.y + tile.y) * grid.dims.x + tile.x;
+            first = offsets[cluster];
+            // Never past the end of a cut list (see the clustered walk).
+            count = min(counts[cluster], arrayLength(&indices) - min(first, arrayLength(&indices)));
+        }
+        slice_first[lane] = first;
+        slice_count[lane] = count;
+    }
+    workgroupBarrier();
+    if (lane == 0u) {
+        var running = 0u;
+        for (var z = 0u; z < MAX_TILE_SLICES; z++) {
+            slice_start[z] = running;
+            running += slice_count[z];
+        }
+        total_read = running;
+    }
+    let total = workgroupUniformLoad(&total_read);
+    let bins = atomicLoad(&depth_bins);
+    var round = 0u;
+    for (var start = 0u; start < total; start += BATCH) {
+        let parity = round & 1u;
+        let k = start + lane;
+        var survives = false;
+        var light = 0u;
+        var lv = vec4<f32>(0.0);
+        var intensity = vec4<f32>(0.0);
+        var tag = 0u;
+        if (k < total) {
+            // The last slice whose list starts at or before k (empty
+            // slices start where the next one does, and lose to it).
+            var z = 0u;
+            for (var step = MAX_TILE_SLICES / 2u; step > 0u; step /= 2u) {
+                if (slice_start[z + step] <= k) {
+                    z += step;
+                }
+            }
+            light = indices[slice_first[z] + k - slice_start[z]];
+            lv = view_lights[light];
+            // A light without a range lights nothing (shade leaves it to this test).
+            survives = lv.w > 0.0 && sphere_touches(lv, lo, hi);
+            if (survives) {
+                // Its depth range, widened a little so that rounding never
+                // drops a light that reaches a pixel of an occupied bin.
+                let reach = lv.w * 1.001;
+                let b0 = depth_bin(lv.z - reach, lo.z, scale);
+                let b1 = depth_bin(lv.z + reach, lo.z, scale);
+                let range = (0xffffffffu >> (31u - b1)) & (0xffffffffu << b0);
+                survives = (range & bins) != 0u;
+            }
+            if (survives) {
+                var warps = 0u;
+                for (var w = 0u; w < WARPS; w++) {
+                    let in_slice = (atomicLoad(&warp_slices[w]) & (1u << z)) != 0u;
+                    if (in_slice && sphere_touches(lv, warp_box[w][0], warp_box[w][1])) {
+                        warps |= 1u << w;
+                    }
+                }
+                survives = warps != 0u;
+                tag = z | (warps << 8u);
+            }
+            if (survives) {
+                atomicOr(&batch_mask[parity][lane / 32u], 1u << (lane % 32u));
+                intensity = lights[light].intensity;
+            }
+        }
+        if (lane < MASK_WORDS) {
+            atomicStore(&batch_mask[1u - parity][lane], 0u);
+        }
+        workgroupBarrier();
+        var survivors = 0u;
+        var place = 0u;
+        for (var w = 0u; w < MASK_WORDS; w++) {
+            let word = atomicLoad(&batch_mask[parity][w]);
+            let before = select(0u, select(word, word & ((1u << (lane % 32u)) - 1u), w == lane / 32u), w <= lane / 32u);
+            place += countOneBits(before);
+            survivors += countOneBits(word);
+        }
+        if (survives) {
+            batch_view[place] = with_inverse_range(lv);
+            batch_intensity[place] = intensity;
+            batch_light[place] = light;
+            batch_tag[place] = tag;
+        }
+        workgroupBarrier();
+        // Whole lane groups skip a survivor none of their pixels can see
+        // (the tag is the same for all of them); a lane of another slice
+        // skips it alone.
+        let group_bit = 1u << (8u + warp);
+        for (var slot = 0u; slot < survivors; slot++) {
+            let entry = batch_tag[slot];
+            if ((entry & group_bit) == 0u) {
+                continue;
+            }
+            if (covered && (entry & 0xffu) == slice) {
+                shade(slot, batch_view[slot], p, pw, surface, sums);
+            }
+        }
+        round++;
+    }
+}
+#endif
+#endif
 #else
 fn light_index(slot: u32) -> u32 {
     return slot;
@@ -396,6 +612,35 @@ fn main(@builtin(local_invocation_index) lane: u32, @builtin(workgroup_id) wid: 
     coat_sum = vec3<f32>(0.0);
 #endif
 #ifdef CLUSTERED
+    // The pixel's depth slice (covered pixels only).
+    var slice = 0u;
+    if (covered) {
+        slice = u32(clamp(floor(log(max(-p.z, grid.depth.x) / grid.depth.x) / grid.depth.z * f32(grid.dims.z)), 0.0, f32(grid.dims.z - 1u)));
+    }
+#ifdef PER_PIXEL
+    // CPU adapters: every pixel walks its own froxel list, with no
+    // workgroup memory and no barrier (llvmpipe runs a barrier as a
+    // coroutine switch per 8 lanes). Same lights, same order as the
+    // clustered walk's survivors (those it drops reach no pixel of the block).
+    if (covered) {
+        let tile = min(pixel / u32(grid.depth.w), grid.dims.xy - 1u);
+        let cluster = (slice * grid.dims.y + tile.y) * grid.dims.x + tile.x;
+        let first = offsets[cluster];
+        let count = min(counts[cluster], arrayLength(&indices) - min(first, arrayLength(&indices)));
+        for (var k = 0u; k < count; k++) {
+            let light = indices[first + k];
+            let lv = view_lights[light];
+            // A light without a range lights nothing (shade leaves it to this test).
+            if (!(lv.w > 0.0)) {
+                continue;
+            }
+            shade(light, with_inverse_range(lv), p, pw, surface, &sums);
+        }
+    }
+#else
+#ifdef TILED
+    walk_tiled(lane, wid.xy, covered, slice, p, pw, surface, &sums);
+#else
     if (lane == 0u) {
         for (var i = 0u; i < 3u; i++) {
             atomicStore(&box_lo[i], 0xffffffffu);
@@ -409,9 +654,7 @@ fn main(@builtin(local_invocation_index) lane: u32, @builtin(workgroup_id) wid: 
         atomicStore(&batch_mask[1][lane], 0u);
     }
     workgroupBarrier();
-    var slice = 0u;
     if (covered) {
-        slice = u32(clamp(floor(log(max(-p.z, grid.depth.x) / grid.depth.x) / grid.depth.z * f32(grid.dims.z)), 0.0, f32(grid.dims.z - 1u)));
         atomicMin(&box_lo[0], ordered(p.x));
         atomicMin(&box_lo[1], ordered(p.y));
         atomicMin(&box_lo[2], ordered(p.z));
@@ -502,6 +745,8 @@ fn main(@builtin(local_invocation_index) lane: u32, @builtin(workgroup_id) wid: 
             round++;
         }
     }
+#endif
+#endif
 #else
     if (covered) {
         for (var i = 0u; i < grid.dims.w; i++) {

@@ -21,6 +21,10 @@
 //!   `raster_key`): on a CPU adapter a raster without particle systems
 //!   fetches corner positions alone (MESHES_ONLY), not whole vertices
 //!   through the particle-aware `triangle_vertex`;
+//! - CookTorrance's light walk under `Auto` past a handful of lights
+//!   (`lighting/cook_torrance.rs`, `auto_walk`): a GPU shares each 16x16
+//!   block's lights through workgroup memory (Clustered), a CPU adapter walks
+//!   each pixel's froxel list alone (PerPixel: no barrier to run as a coroutine);
 //! - which rasterizer draws shadow maps under `Auto`
 //!   (`shadows::compute_rasterizes`): a GPU compute at every
 //!   resolution, a CPU adapter the raster hardware (ten to a hundred times faster

@@ -1,5 +1,5 @@
-//! Point lights on the G-buffer: the clustered loop against the naive
-//! reference, and the hard cases of the stability suite that are in place
+//! Point lights on the G-buffer: the froxel walks (clustered, tiled, per
+//! pixel) against the naive reference, and the hard cases of the stability suite that are in place
 //! so far (no NaN or infinity in any HDR target).
 
 mod floor_view;
@@ -16,7 +16,7 @@ use spreadlight_render::context::GpuContext;
 use spreadlight_render::gbuffer::{DrawBatch, GBuffer, InstanceInput, Layer, LayerFeatures};
 use spreadlight_render::lighting::{
     ClusterGrid, CookTorrance, FEW_LIGHTS, LightBuffer, LightLoop, PointLight, SpotLight, SunLight,
-    Surfaces,
+    Surfaces, Walk,
 };
 use spreadlight_render::mesh::primitives::{SphereParams, sphere};
 use spreadlight_render::readback::{ImageF32, render_and_read};
@@ -32,6 +32,11 @@ fn scene(renderer: &Renderer) -> Arc<GBuffer> {
 
 /// The scene with its layer's G-buffer features (texture coordinates, ...).
 fn scene_with(renderer: &Renderer, features: LayerFeatures) -> Arc<GBuffer> {
+    scene_with_far(renderer, features, 100.0)
+}
+
+/// The scene seen by a camera whose far plane is at `far`.
+fn scene_with_far(renderer: &Renderer, features: LayerFeatures, far: f32) -> Arc<GBuffer> {
     let ball = renderer
         .meshes
         .upload(&renderer.gpu, &sphere(SphereParams::default()))
@@ -70,7 +75,7 @@ fn scene_with(renderer: &Renderer, features: LayerFeatures) -> Arc<GBuffer> {
             1.0,
             SIZE.0 as f32 / SIZE.1 as f32,
             0.1,
-            100.0,
+            far,
         ),
     };
     GBuffer::new(
@@ -180,23 +185,69 @@ fn max_relative_difference(a: &ImageF32, b: &ImageF32) -> f32 {
         .fold(0.0, f32::max)
 }
 
+/// The walks that read froxel lists.
+const FROXEL_WALKS: [LightLoop; 3] = [LightLoop::Clustered, LightLoop::Tiled, LightLoop::PerPixel];
+
 #[test]
-fn clustered_shading_matches_the_naive_reference() {
+fn clustered_tiled_and_per_pixel_shading_match_the_naive_reference() {
     let renderer = test_renderer();
     let g = scene(&renderer);
     let lights = scattered(300);
     let naive = shade(&renderer, &g, lights.clone(), LightLoop::Naive);
-    let clustered = shade(&renderer, &g, lights, LightLoop::Clustered);
-    // Same lights, same maths: only summation order may differ.
-    let worst = max_relative_difference(&clustered, &naive);
-    assert!(
-        worst < 1e-3,
-        "clustered differs from naive by up to {worst}"
-    );
+    let clustered = shade(&renderer, &g, lights.clone(), LightLoop::Clustered);
+    for mode in FROXEL_WALKS {
+        let walked = shade(&renderer, &g, lights.clone(), mode);
+        // Same lights, same maths: only summation order may differ.
+        let worst = max_relative_difference(&walked, &naive);
+        assert!(worst < 1e-3, "{mode:?} differs from naive by up to {worst}");
+        // Tiled and per pixel sum what the clustered walk sums, in list
+        // order (the lights they drop reach no pixel); each frame fills
+        // the lists in another order, so sums may differ in rounding.
+        let worst = max_relative_difference(&walked, &clustered);
+        assert!(
+            worst < 1e-3,
+            "{mode:?} differs from clustered by up to {worst}"
+        );
+    }
     assert!(
         naive.pixels.iter().any(|p| p[0] > 0.01),
         "the lights light something"
     );
+}
+
+#[test]
+fn froxel_walks_stay_finite_and_agree_at_tile_edges_the_far_plane_and_zero_radius() {
+    let renderer = test_renderer();
+    // The far plane cuts the floor: its last pixels lie at the far plane's
+    // depth, in the last slice, beside background in the same tiles.
+    let g = scene_with_far(&renderer, LayerFeatures::default(), 12.0);
+    let mut lights = scattered(200);
+    let edge = PointLight {
+        shadow: None,
+        // x = 0 projects onto pixel column 48 of 96: the edge between two 16x16 tiles.
+        position: Vec3::new(0.0, 0.5, 0.0),
+        color: Vec3::ONE,
+        intensity: 20.0,
+        range: 3.0,
+    };
+    lights.push(edge);
+    lights.push(PointLight { range: 0.0, ..edge });
+    lights.push(PointLight {
+        // On the floor at the tile edge, under the far plane's pixels.
+        position: Vec3::new(0.0, 0.0, -1.5),
+        ..edge
+    });
+    let naive = shade(&renderer, &g, lights.clone(), LightLoop::Naive);
+    assert!(
+        naive.pixels.iter().any(|p| p[0] > 0.01),
+        "the lights light something"
+    );
+    for mode in FROXEL_WALKS {
+        // `shade` asserts every pixel finite.
+        let walked = shade(&renderer, &g, lights.clone(), mode);
+        let worst = max_relative_difference(&walked, &naive);
+        assert!(worst < 1e-3, "{mode:?} differs from naive by up to {worst}");
+    }
 }
 
 #[test]
@@ -212,11 +263,30 @@ fn a_gpus_and_a_cpu_adapters_paths_draw_the_same_frame() {
         let g = scene(&renderer);
         let names = [g.targets.depth.as_str(), g.targets.color.as_str()];
         let [depth, color] = frame(&renderer, g.as_ref(), SIZE, names);
-        let lit = shade(&renderer, &g, scattered(100), LightLoop::Clustered);
-        (depth, color, lit)
+        let lights = scattered(100);
+        // Auto's walk for the class: clustered on a GPU, per pixel on a CPU adapter.
+        let auto = CookTorrance::new(
+            &renderer,
+            Some(1),
+            g.clone(),
+            LightBuffer::points(&renderer, &lights),
+            LightLoop::Auto,
+            true,
+            Surfaces::PerMaterialId(vec![(0.5, 0.0)]),
+        );
+        let expected = match class {
+            AdapterClass::Gpu => Walk::Clustered,
+            AdapterClass::Cpu => Walk::PerPixel,
+        };
+        assert_eq!(auto.walk(), expected, "{class:?}");
+        let lit = shade(&renderer, &g, lights.clone(), LightLoop::Auto);
+        let tiled = shade(&renderer, &g, lights, LightLoop::Tiled);
+        (depth, color, lit, tiled)
     };
-    let (gpu_depth, gpu_color, gpu_lit) = render(AdapterClass::Gpu);
-    let (cpu_depth, cpu_color, cpu_lit) = render(AdapterClass::Cpu);
+    let (gpu_depth, gpu_color, gpu_lit, gpu_tiled) = render(AdapterClass::Gpu);
+    let (cpu_depth, cpu_color, cpu_lit, _) = render(AdapterClass::Cpu);
+    let worst = max_relative_difference(&gpu_tiled, &gpu_lit);
+    assert!(worst < 1e-3, "the tiled walk differs by up to {worst}");
     // The same triangles win every pixel: the G-buffer is bit for bit the same.
     assert!(gpu_depth.pixels == cpu_depth.pixels, "depth differs");
     assert!(gpu_color.pixels == cpu_color.pixels, "colour differs");
@@ -248,12 +318,13 @@ fn clustered_shading_matches_the_naive_reference_past_one_round_of_the_froxel_sc
             size,
         )
     };
-    let (naive, clustered) = (shade(LightLoop::Naive), shade(LightLoop::Clustered));
-    let worst = max_relative_difference(&clustered, &naive);
-    assert!(
-        worst < 1e-3,
-        "clustered differs from naive by up to {worst}"
-    );
+    let naive = shade(LightLoop::Naive);
+    // Many tile columns: each walk finds its block's or pixel's froxel.
+    for mode in FROXEL_WALKS {
+        let walked = shade(mode);
+        let worst = max_relative_difference(&walked, &naive);
+        assert!(worst < 1e-3, "{mode:?} differs from naive by up to {worst}");
+    }
     // Not a dark frame that would match anything: the lights reach across the screen.
     let lit_right = (0..size.1)
         .flat_map(|y| (size.0 / 2..size.0).map(move |x| (x, y)))
@@ -377,12 +448,14 @@ fn extreme_lights_never_produce_nan_or_infinity() {
         },
     ];
     for light in cases {
-        // `shade` asserts every pixel finite.
-        let image = shade(&renderer, &g, vec![light], LightLoop::Clustered);
-        assert!(
-            image.pixels.iter().all(|p| p[0] <= 65000.0 * 2.0),
-            "clamped below half-float overflow"
-        );
+        for mode in FROXEL_WALKS {
+            // `shade` asserts every pixel finite.
+            let image = shade(&renderer, &g, vec![light], mode);
+            assert!(
+                image.pixels.iter().all(|p| p[0] <= 65000.0 * 2.0),
+                "{mode:?}: clamped below half-float overflow"
+            );
+        }
     }
 }
 

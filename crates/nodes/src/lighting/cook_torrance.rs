@@ -12,13 +12,19 @@ use spreadlight_render::shadows::ShadowMaps;
 
 use crate::gpu::renderer;
 
-const LIGHT_LOOP_OPTIONS: &[&str] = &["Auto", "Clustered", "Naive"];
+const LIGHT_LOOP_OPTIONS: &[&str] = &["Auto", "Clustered", "Naive", "Tiled", "Per Pixel"];
 
 /// The Light Loop pin's options as values (CookTorrance, light shader nodes, Transparency).
 pub static LIGHT_LOOPS: spreadlight_graph::Choices<LightLoop> = spreadlight_graph::Choices::new(
     "Light Loop",
     LIGHT_LOOP_OPTIONS,
-    &[LightLoop::Auto, LightLoop::Clustered, LightLoop::Naive],
+    &[
+        LightLoop::Auto,
+        LightLoop::Clustered,
+        LightLoop::Naive,
+        LightLoop::Tiled,
+        LightLoop::PerPixel,
+    ],
 );
 
 pub fn register(r: &mut Registry) {
@@ -27,8 +33,10 @@ pub fn register(r: &mut Registry) {
             "CookTorrance",
             super::CATEGORY,
             "Shades the G-buffer with one light buffer (point, spot or sun: one permutation per type): GGX, height-correlated Smith, Schlick Fresnel. Clustered \
-             loops over the lights of each pixel's froxel, Naive over all (the reference); Auto (the default) is Naive for 16 lights \
-             or fewer, where assigning them to froxels costs more than it saves, and Clustered beyond. Energy Compensation \
+             loops over the lights of each pixel's froxel, shared by 16x16 blocks; Tiled does too over depth-bounded tiles (only the depth slices \
+             and depth bins a tile's pixels occupy); Per Pixel walks each pixel's froxel list alone (no shared memory); Naive loops over all (the reference). \
+             Auto (the default) is Naive for 16 lights or fewer, where assigning them to froxels costs more than it saves, and beyond that \
+             Clustered on a GPU, Per Pixel on a CPU adapter (lavapipe). Energy Compensation \
              adds multiple scattering. Roughness and Metallic slice i apply to material id i (wrapping), unless a Material World is \
              connected: then each material's CookTorrance feature decides. \
              Diffuse includes albedo. SSS carries a wrap-lighting subsurface term when some material has \

@@ -29,10 +29,19 @@ pub enum Surfaces {
 /// How the shading pass finds its lights.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum LightLoop {
-    /// Naive for a handful of lights ([`FEW_LIGHTS`] or fewer), Clustered beyond.
+    /// Naive for a handful of lights ([`FEW_LIGHTS`] or fewer); beyond, what
+    /// measures fastest on the adapter's class ([`auto_walk`]).
     Auto,
-    /// Only the lights listed in the pixel's froxel.
+    /// Only the lights listed in the pixel's froxel, shared by 16x16 blocks
+    /// through workgroup memory, slice by slice.
     Clustered,
+    /// As Clustered over depth-bounded tiles: each 16x16 tile reads only the
+    /// slices its pixels occupy, as one sequence, and drops lights outside
+    /// its depth bins and its 8x4 lane groups' boxes (shaders/lighting/cook_torrance.wgsl, TILED).
+    Tiled,
+    /// Each pixel walks its froxel's list alone: no workgroup memory, no
+    /// barrier (what a CPU adapter runs fastest).
+    PerPixel,
     /// Every light for every pixel: the reference the clustered path is tested against.
     Naive,
 }
@@ -43,11 +52,49 @@ pub enum LightLoop {
 /// measurable over walking their froxel lists).
 pub const FEW_LIGHTS: u32 = 16;
 
-/// The walk a recipe does, `LightLoop` resolved for its lights.
+/// The walk a recipe does, `LightLoop` resolved for its lights and adapter.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Walk {
+pub enum Walk {
     Clustered,
+    Tiled,
+    PerPixel,
     Naive,
+}
+
+impl Walk {
+    /// Whether the walk reads froxel lists (and so needs the light assignment).
+    pub fn uses_froxels(self) -> bool {
+        self != Walk::Naive
+    }
+}
+
+// TILED keeps the slices a tile occupies in one 32-bit mask.
+const _: () = assert!(super::clusters::ClusterGrid::SLICES <= 32);
+
+/// The walk `mode` takes for `count` lights of `kind` on an adapter of `class`.
+pub fn resolve_walk(mode: LightLoop, kind: LightKind, count: u32, class: AdapterClass) -> Walk {
+    match mode {
+        // Suns have no range to cluster by: every pixel sees every sun.
+        _ if kind == LightKind::Sun => Walk::Naive,
+        LightLoop::Auto if count <= FEW_LIGHTS => Walk::Naive,
+        LightLoop::Auto => auto_walk(class),
+        LightLoop::Clustered => Walk::Clustered,
+        LightLoop::Tiled => Walk::Tiled,
+        LightLoop::PerPixel => Walk::PerPixel,
+        LightLoop::Naive => Walk::Naive,
+    }
+}
+
+/// `Auto`'s walk past [`FEW_LIGHTS`]. A CPU adapter walks per pixel: the
+/// shared-memory walks' barriers are coroutine switches on llvmpipe
+/// (docs/benchmarks.md, "lavapipe"). A GPU keeps the clustered walk, the
+/// one measured on the H200, until Tiled is measured there against it
+/// (docs/benchmarks.md, "Tiled light shading").
+pub fn auto_walk(class: AdapterClass) -> Walk {
+    match class {
+        AdapterClass::Gpu => Walk::Clustered,
+        AdapterClass::Cpu => Walk::PerPixel,
+    }
 }
 
 pub struct CookTorrance {
@@ -155,13 +202,12 @@ impl CookTorrance {
             .as_ref()
             .filter(|w| w.scatters_subsurface())
             .map(|_| format!("cooktorrance{id}/sss"));
-        let walk = match mode {
-            // Suns have no range to cluster by: every pixel sees every sun.
-            _ if lights.kind == LightKind::Sun => Walk::Naive,
-            LightLoop::Auto if lights.count() <= FEW_LIGHTS => Walk::Naive,
-            LightLoop::Auto | LightLoop::Clustered => Walk::Clustered,
-            LightLoop::Naive => Walk::Naive,
-        };
+        let walk = resolve_walk(
+            mode,
+            lights.kind,
+            lights.count(),
+            renderer.gpu.adapter_class(),
+        );
         Arc::new(CookTorrance {
             id,
             owner,
@@ -266,6 +312,11 @@ impl CookTorrance {
             .is_some_and(|w| w.union_flags() & (1 << FEATURE_CLEARCOAT) != 0)
     }
 
+    /// The walk this recipe's shade pass does.
+    pub fn walk(&self) -> Walk {
+        self.walk
+    }
+
     fn label(&self, what: impl Into<std::borrow::Cow<'static, str>>) -> PassName {
         match &self.custom {
             Some(c) => PassName::new(c.shader.label.clone()).step(what),
@@ -288,7 +339,7 @@ impl CookTorrance {
     fn key(&self) -> ShaderKey {
         let mut features: Vec<&'static str> = self.lights.kind.feature().into_iter().collect();
         let flags = [
-            (self.walk == Walk::Clustered, "CLUSTERED"),
+            (self.walk.uses_froxels(), "CLUSTERED"),
             (self.energy_compensation, "ENERGY_COMPENSATION"),
             (self.materials.is_some(), "MATERIALS"),
             (self.sss.is_some(), "FAKE_SSS"),
@@ -296,6 +347,9 @@ impl CookTorrance {
             (self.lights.textures().is_some(), "SPOT_TEXTURE"),
             (self.textured(), "MATERIAL_TEXTURES"),
             (self.custom.is_some(), "CUSTOM_LIGHT"),
+            // With CLUSTERED: the froxel lists walked another way.
+            (self.walk == Walk::Tiled, "TILED"),
+            (self.walk == Walk::PerPixel, "PER_PIXEL"),
         ];
         features.extend(flags.into_iter().filter(|(on, _)| *on).map(|(_, f)| f));
         // Roughness and metallic where the G-buffer resolved them, with or without materials.
@@ -459,7 +513,7 @@ impl Recipe for CookTorrance {
         // dispatch of its own before the shade, 6 µs on the H100, cost a
         // compute-pass boundary and barrier more: 17 µs of idle before each
         // naive shade against 7.6 before other passes, session 10.)
-        let clustered = self.walk == Walk::Clustered;
+        let clustered = self.walk.uses_froxels();
         if clustered {
             let mut pass = fg.pass(self.label("clustered light assignment"), self.owner);
             // The assignment's buffers live in the cluster store; the token orders the shade after it.
@@ -551,6 +605,39 @@ mod tests {
                 1
             );
         }
+    }
+
+    #[test]
+    fn auto_walks_few_lights_naively_and_more_by_the_adapters_walk() {
+        use AdapterClass::{Cpu, Gpu};
+        let point = LightKind::Point;
+        for class in [Gpu, Cpu] {
+            let auto = |n| resolve_walk(LightLoop::Auto, point, n, class);
+            assert_eq!(auto(0), Walk::Naive);
+            assert_eq!(auto(FEW_LIGHTS), Walk::Naive);
+            assert_eq!(auto(FEW_LIGHTS + 1), auto_walk(class));
+            assert_eq!(auto(100_000), auto_walk(class));
+            // Suns are never clustered, whatever was asked.
+            for mode in [LightLoop::Auto, LightLoop::Tiled, LightLoop::PerPixel] {
+                assert_eq!(resolve_walk(mode, LightKind::Sun, 100, class), Walk::Naive);
+            }
+            // A walk asked for is the walk taken.
+            for (mode, walk) in [
+                (LightLoop::Clustered, Walk::Clustered),
+                (LightLoop::Tiled, Walk::Tiled),
+                (LightLoop::PerPixel, Walk::PerPixel),
+                (LightLoop::Naive, Walk::Naive),
+            ] {
+                assert_eq!(resolve_walk(mode, point, 100, class), walk);
+                assert_eq!(resolve_walk(mode, point, 3, class), walk);
+            }
+        }
+        // A CPU adapter shares nothing through workgroup memory; a GPU keeps
+        // the walk measured on the H200.
+        assert_eq!(auto_walk(Cpu), Walk::PerPixel);
+        assert_eq!(auto_walk(Gpu), Walk::Clustered);
+        assert!(!Walk::Naive.uses_froxels());
+        assert!(Walk::Tiled.uses_froxels() && Walk::PerPixel.uses_froxels());
     }
 
     #[test]

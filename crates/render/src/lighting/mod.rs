@@ -19,7 +19,7 @@ pub use composite::{
     MaterialAo, MaterialTerms, Shading, Textured,
 };
 pub(crate) use cook_torrance::near_far;
-pub use cook_torrance::{CookTorrance, FEW_LIGHTS, LightLoop, Surfaces};
+pub use cook_torrance::{CookTorrance, FEW_LIGHTS, LightLoop, Surfaces, Walk, resolve_walk};
 pub use ssgi::GATHER_TEMPORAL as SSGI_GATHER_TEMPORAL;
 pub use ssgi::HALF_RESOLUTION as SSGI_HALF_RESOLUTION;
 pub use ssgi::{Ssgi, SsgiSettings};

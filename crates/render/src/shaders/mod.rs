@@ -234,7 +234,9 @@ pub const SHADERS: &[ShaderFile] = &[
             "SHADOW_VSM",
             "SURFACE_TARGET",
             "CLEARCOAT",
-            "CUSTOM_LIGHT"
+            "CUSTOM_LIGHT",
+            "TILED",
+            "PER_PIXEL"
         ],
         Rule::AtMostOne(&["LIGHT_SPOT", "LIGHT_SUN"]),
         // A light shader node's function replaces the BRDF and its extras.
@@ -251,7 +253,11 @@ pub const SHADERS: &[ShaderFile] = &[
         // Suns have no range to cluster by.
         Rule::AtMostOne(&["LIGHT_SUN", "CLUSTERED"]),
         Rule::Requires("SPOT_TEXTURE", "LIGHT_SPOT"),
-        Rule::Requires("MATERIAL_TEXTURES", "MATERIALS")
+        Rule::Requires("MATERIAL_TEXTURES", "MATERIALS"),
+        // Other walks of the froxel lists (cook_torrance::Walk).
+        Rule::Requires("TILED", "CLUSTERED"),
+        Rule::Requires("PER_PIXEL", "CLUSTERED"),
+        Rule::AtMostOne(&["TILED", "PER_PIXEL"])
     ),
     shader!("lighting/composite.wgsl", keyed crate::lighting::CompositeKey),
     shader!(

@@ -615,7 +615,8 @@ fn clustered(mode: LightLoop, lights: &LightBuffer) -> bool {
     match mode {
         _ if lights.kind == LightKind::Sun => false,
         LightLoop::Auto => lights.count() > FEW_LIGHTS,
-        LightLoop::Clustered => true,
+        // Its forward walk has one froxel loop; every froxel walk lists the same lights.
+        LightLoop::Clustered | LightLoop::Tiled | LightLoop::PerPixel => true,
         LightLoop::Naive => false,
     }
 }
