@@ -22,12 +22,6 @@ pub fn register(r: &mut Registry) {
     typed!(r, sample_hold, "S+H", "Animation");
 }
 
-/// The first slice of a Bool pin, false when empty (by position, for the
-/// nodes outside this folder that still read pins by number).
-pub(crate) fn first_bool(cx: &EvalContext<'_>, pin: usize) -> Result<bool, NodeError> {
-    Ok(cx.slices::<bool>(pin)?.first().copied().unwrap_or(false))
-}
-
 /// The first slice of an Int pin as a size; negative or huge values are input errors.
 fn size_pin(cx: &EvalContext<'_>, pin: In<i64>, default: i64) -> Result<usize, NodeError> {
     let n = cx.first(pin, default)?;
