@@ -101,7 +101,11 @@ impl PassContext<'_> {
     /// Hand last frame's history to its twin before the pass writes the
     /// history again ([`PassContext::copy_history`]): whether it is fresh,
     /// which is counted under `reset`.
-    pub fn hand_over_history(&mut self, h: History, reset: &'static str) -> Result<bool, RenderError> {
+    pub fn hand_over_history(
+        &mut self,
+        h: History,
+        reset: &'static str,
+    ) -> Result<bool, RenderError> {
         let fresh = self.copy_history(h.history, h.previous)?;
         if fresh {
             self.count(reset, 1);
