@@ -9,6 +9,7 @@ pub mod camera;
 pub mod context;
 pub mod environment;
 pub mod error;
+pub mod finite;
 pub mod frame_graph;
 pub mod gbuffer;
 pub mod geometry;

@@ -50,6 +50,33 @@ pub struct TextureRef {
     pub name: String,
 }
 
+impl TextureRef {
+    /// Texture `name` of `recipe`: what a recipe hands on as its output.
+    pub fn of<R: Recipe + 'static>(recipe: &Arc<R>, name: &str) -> Self {
+        TextureRef {
+            recipe: recipe.clone(),
+            name: name.to_owned(),
+        }
+    }
+}
+
+/// The name of an optional input, for [`crate::frame_graph::PassBuilder::input_opt`].
+pub fn name_of(input: &Option<TextureRef>) -> Option<&str> {
+    input.as_ref().map(|t| t.name.as_str())
+}
+
+/// Declare the recipes a pass reads from, before the pass itself (every
+/// recipe declares its inputs' passes first).
+pub fn declare_inputs<'a>(
+    renderer: &'a Renderer,
+    fg: &mut FrameGraph<'a>,
+    inputs: impl IntoIterator<Item = &'a TextureRef>,
+) {
+    for input in inputs {
+        input.recipe.declare(renderer, fg);
+    }
+}
+
 impl std::fmt::Debug for TextureRef {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(f, "TextureRef({})", self.name)

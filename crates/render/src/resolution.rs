@@ -20,7 +20,19 @@ use crate::error::RenderError;
 use crate::frame_graph::{Bindings, FrameGraph, PassContext, SizeRule, Tex, TextureDesc};
 use crate::gbuffer::GBuffer;
 use crate::report::PassName;
-use crate::shaders::ShaderKey;
+use crate::shaders::Permutation;
+
+crate::choice_key! {
+    /// `resolution/upsample.wgsl`.
+    pub enum UpsampleKey("resolution/upsample.wgsl") {
+        /// RGBA16F radiance.
+        Rgba16,
+        /// R32F visibility.
+        R32: "R32",
+        /// RGBA16F, keeping the full-size image where it is in focus.
+        Detail: "DETAIL",
+    }
+}
 
 /// The shader feature of a pass's half-resolution permutation.
 pub const HALF_FEATURE: &str = "HALF";
@@ -147,10 +159,12 @@ fn upsample(
     format: UpsampleFormat,
     io: &UpsampleIo,
 ) -> Result<(), RenderError> {
-    let features = [
-        (format == UpsampleFormat::R32).then_some("R32"),
-        io.detail.map(|_| "DETAIL"),
-    ];
+    // R32 is AO's; the detail is depth of field's, in RGBA16F.
+    let key = match (format, io.detail) {
+        (UpsampleFormat::R32, _) => UpsampleKey::R32,
+        (UpsampleFormat::Rgba16, Some(_)) => UpsampleKey::Detail,
+        (UpsampleFormat::Rgba16, None) => UpsampleKey::Rgba16,
+    };
     let mut b = Bindings::new()
         .buffer("camera", gbuffer.camera_buffer())
         .texture("depth", io.depth)
@@ -161,12 +175,7 @@ fn upsample(
         b = b.texture("image", image).texture("coc", coc);
     }
     let size = gbuffer.pixel_size(cx.output_size);
-    cx.dispatch_image(
-        label,
-        &ShaderKey::new("resolution/upsample.wgsl", features.into_iter().flatten()),
-        b,
-        size,
-    )
+    cx.dispatch_image(label, &key.key(), b, size)
 }
 
 /// Where a pass at `resolution` writes the estimate whose full-size target

@@ -15,9 +15,13 @@ use crate::frame_graph::{Bindings, FrameGraph, PassContext, SizeRule, Tex, Textu
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
 use crate::report::PassName;
-use crate::shaders::ShaderKey;
+use crate::shaders::Permutation;
 
-const SHADER: &str = "bench/pass_chain.wgsl";
+crate::flag_key! {
+    /// `bench/pass_chain.wgsl`: one permutation.
+    pub struct PassChainKey("bench/pass_chain.wgsl");
+}
+
 const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 /// Each pass's texture: small, so that the GPU's share stays negligible.
 pub const SIDE: u32 = 64;
@@ -80,7 +84,7 @@ impl PassChain {
         source: Option<Tex>,
         output: Tex,
     ) -> Result<(), RenderError> {
-        let key = ShaderKey::new(SHADER, []);
+        let key = PassChainKey.key();
         let groups = (SIDE.div_ceil(8), SIDE.div_ceil(8), 1);
         match (source, step.checked_sub(1).and_then(|k| self.steps.get(k))) {
             (Some(source), Some(uniform)) => cx.dispatch_shader(

@@ -15,9 +15,12 @@ use super::source::{
 use crate::error::RenderError;
 use crate::frame_graph::{Bindings, PassContext};
 use crate::renderer::Renderer;
-use crate::shaders::{Sampling, ShaderKey};
+use crate::shaders::{Permutation, Sampling};
 
-const SHADER: &str = "environment/prefilter.wgsl";
+crate::flag_key! {
+    /// `environment/prefilter.wgsl`: one permutation, an entry per step.
+    pub struct PrefilterKey("environment/prefilter.wgsl");
+}
 
 /// Matches `Params` in shaders/environment/prefilter.wgsl.
 #[repr(C)]
@@ -138,7 +141,7 @@ pub(crate) fn build(
             usage: wgpu::BufferUsages::UNIFORM,
         })
     };
-    let key_shader = ShaderKey::new(SHADER, []);
+    let key_shader = PrefilterKey.key();
     // Recorded in order into one pass.
     let mut steps: Vec<Step> = Vec::new();
     let mut step = |cx: &mut PassContext<'_>,
@@ -322,7 +325,7 @@ pub(crate) fn split_sum_table(
     let groups = LUT_SIZE.div_ceil(8);
     cx.dispatch_shader(
         "split-sum table",
-        &ShaderKey::new(SHADER, []),
+        &PrefilterKey.key(),
         "brdf_lut",
         Bindings::new()
             .buffer("params", &params)

@@ -12,6 +12,7 @@ use crate::shaders::{PipelineRef, Reflection, Sampling, ShaderKey};
 use crate::texture_pool::ViewSpec;
 
 /// One resource, before the pass resolves it.
+#[derive(Clone)]
 enum Resource<'r> {
     /// A texture the pass declared, its default view.
     Texture(Tex),
@@ -28,7 +29,7 @@ enum Resource<'r> {
 }
 
 /// The resources of one dispatch, by WGSL variable name.
-#[derive(Default)]
+#[derive(Clone, Default)]
 pub struct Bindings<'r> {
     entries: Vec<(&'r str, Resource<'r>)>,
     /// Whole groups laid out elsewhere (a user's shader file numbers its own bindings).

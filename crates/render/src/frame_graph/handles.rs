@@ -34,6 +34,8 @@ pub struct PassBuilder<'g, 'a> {
     owner: Option<u32>,
     reads: Vec<String>,
     writes: Vec<(String, TextureDesc)>,
+    /// What the pass binds, named where it was declared (bound.rs).
+    pub(super) bindings: super::Bindings<'a>,
 }
 
 impl<'a> FrameGraph<'a> {
@@ -46,6 +48,7 @@ impl<'a> FrameGraph<'a> {
             owner,
             reads: Vec::new(),
             writes: Vec::new(),
+            bindings: super::Bindings::new(),
         }
     }
 

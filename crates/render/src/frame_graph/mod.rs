@@ -17,6 +17,7 @@ use std::collections::BTreeMap;
 use rustc_hash::{FxHashMap, FxHashSet};
 
 mod bindings;
+mod bound;
 mod compute_pass;
 mod execute;
 mod executor;
@@ -34,6 +35,7 @@ use crate::shaders::ShaderCache;
 pub use crate::report::{FrameReport, PassName, PassReport};
 pub use crate::texture_pool::TextureKey;
 pub use bindings::Bindings;
+pub use bound::History;
 pub use compute_pass::COMPUTE_PASSES;
 pub use executor::{Executor, PERSISTENT_IDLE_GRAPHS, Recording, Timing};
 pub use finisher::FRAME_CHUNKS;
@@ -59,6 +61,17 @@ pub enum SizeRule {
 }
 
 impl SizeRule {
+    /// Level `k` of a mip chain of this size: halved `k` times, at least 1x1.
+    pub fn mip(self, k: u32) -> SizeRule {
+        match self {
+            SizeRule::Relative(s) => SizeRule::Relative(s * 0.5f32.powi(k as i32)),
+            SizeRule::Absolute { width, height } => SizeRule::Absolute {
+                width: (width >> k).max(1),
+                height: (height >> k).max(1),
+            },
+        }
+    }
+
     /// Width and height in pixels for a frame of `output` size; never zero.
     pub fn pixels(self, output: (u32, u32)) -> (u32, u32) {
         match self {

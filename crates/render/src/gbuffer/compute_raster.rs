@@ -14,9 +14,21 @@ use crate::adapter_class::AdapterClass;
 use crate::error::RenderError;
 use crate::frame_graph::PassContext;
 use crate::renderer::Renderer;
-use crate::shaders::ShaderKey;
+use crate::shaders::{Permutation, ShaderKey};
 
 use super::{Draw, GBuffer};
+
+crate::flag_key! {
+    /// `gbuffer/raster.wgsl`.
+    pub struct RasterKey("gbuffer/raster.wgsl") {
+        /// Back faces are drawn too.
+        two_sided: "TWO_SIDED",
+        /// Positions fetched alone (a CPU adapter with no particle system drawn).
+        meshes_only: "MESHES_ONLY",
+        /// 32-bit depth words, no triangle ids.
+        depth_only: "DEPTH_ONLY",
+    }
+}
 
 /// How many big-triangle tiles one frame can queue (16 bytes each).
 const TILE_CAPACITY: u32 = 1 << 18;
@@ -376,15 +388,12 @@ pub(crate) type Between<'b> =
 /// fetched alone (MESHES_ONLY, adapter_class.rs), and 32-bit depth words.
 fn raster_key(class: AdapterClass, two_sided: bool, particles: bool, words: Words) -> ShaderKey {
     let meshes_only = class == AdapterClass::Cpu && !particles;
-    let features = [
-        (two_sided, "TWO_SIDED"),
-        (meshes_only, "MESHES_ONLY"),
-        (words == Words::Depth32, "DEPTH_ONLY"),
-    ];
-    ShaderKey::new(
-        "gbuffer/raster.wgsl",
-        features.into_iter().filter(|(on, _)| *on).map(|(_, f)| f),
-    )
+    RasterKey {
+        two_sided,
+        meshes_only,
+        depth_only: words == Words::Depth32,
+    }
+    .key()
 }
 
 /// `batches`' triangles, then the big triangles' tiles, in the open compute pass.

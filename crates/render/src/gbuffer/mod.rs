@@ -28,10 +28,12 @@ use glam::Mat4;
 pub use layer::{
     DrawBatch, InstanceInput, Layer, LayerError, LayerFeatures, TRIPLANAR_SHARPNESS, VelocitySource,
 };
+pub(crate) use passes::VisibilityKey;
+pub(crate) use published_depth::PublishedDepthKey;
 pub use published_depth::{PublishedDepth, PublishedDepths};
 pub use resolve::SURFACE_AND_MOTION_DISPATCHES;
-pub(crate) use resolve::{SplicedGroup, shader_node_group};
 pub use surface_shader::{SURFACE_MODULE, SurfaceBinding, SurfaceShader};
+pub(crate) use surface_shader::{SplicedGroup, shader_node_group};
 pub use view::{Channel, GBufferView};
 
 pub(crate) use instances::{LayerMemo, pack_instances};

@@ -7,10 +7,18 @@ use crate::frame_graph::{FrameGraph, Lifetime, PassContext, Tex, TextureDesc};
 use crate::mesh_arena::pulled_pipeline;
 use crate::renderer::Renderer;
 use crate::report::PassName;
-use crate::shaders::ShaderKey;
+use crate::shaders::{Permutation, ShaderKey};
 
-use super::resolve::{LayerReads, ResolveIo, SurfaceOut, resolve};
+use super::resolve::{LayerReads, Targets, resolve};
 use super::{GBuffer, RasterMode};
+
+crate::flag_key! {
+    /// `gbuffer/visibility.wgsl`.
+    pub struct VisibilityKey("gbuffer/visibility.wgsl") {
+        /// Texels of the colour map below the cutoff are discarded.
+        alpha_mask: "ALPHA_MASK",
+    }
+}
 
 const VISIBILITY_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg32Uint;
 const HARDWARE_DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
@@ -49,9 +57,17 @@ pub(super) fn declare<'a>(g: &'a GBuffer, renderer: &'a Renderer, fg: &mut Frame
     // The surface resolve also reads the layers' maps. Its depth is
     // Permanent: readers (lighting, GBufferView) come later in the frame.
     let mut pass = fg.pass(label("resolve surface"), g.owner);
-    let visibility_read = pass.read(&t.visibility);
-    let hardware_depth = hardware.then(|| pass.read(&t.hardware_depth));
-    let layers = g
+    // The hardware raster's IDs are a texture; the compute raster's a
+    // buffer the run binds, its texture a token that orders the passes.
+    let visibility = |pass: &mut crate::frame_graph::PassBuilder<'_, 'a>| match hardware {
+        true => pass.input("visibility", &t.visibility),
+        false => pass.read(&t.visibility),
+    };
+    visibility(&mut pass);
+    if hardware {
+        pass.input("hardware_depth", &t.hardware_depth);
+    }
+    let layers: Vec<LayerReads> = g
         .layers
         .iter()
         .map(|l| LayerReads {
@@ -65,35 +81,20 @@ pub(super) fn declare<'a>(g: &'a GBuffer, renderer: &'a Renderer, fg: &mut Frame
         })
         .collect();
     let target = |format| TextureDesc::storage(format).size(g.size);
-    let surface = SurfaceOut {
-        color: pass.write(&t.color, target(TARGET_FORMAT)),
-        normals: pass.write(&t.normals, target(TARGET_FORMAT)),
-        depth: pass.write(&t.depth, target(DEPTH_FORMAT).lifetime(Lifetime::Permanent)),
-        surface: t
-            .surface
-            .as_ref()
-            .map(|name| pass.write(name, target(SURFACE_FORMAT))),
-    };
-    let surface_io = ResolveIo {
-        visibility: visibility_read,
-        hardware_depth,
-        surface: Some(surface),
-        velocity_uv: None,
-        layers,
-    };
-    let io = surface_io.clone();
-    pass.run(move |cx| resolve(g, renderer, cx, &io));
+    pass.output("out_color", &t.color, target(TARGET_FORMAT));
+    pass.output("out_normal", &t.normals, target(TARGET_FORMAT));
+    let depth = target(DEPTH_FORMAT).lifetime(Lifetime::Permanent);
+    pass.output("out_depth", &t.depth, depth);
+    if let Some(name) = &t.surface {
+        pass.output("out_surface", name, target(SURFACE_FORMAT));
+    }
+    let surface = pass.bindings().clone();
+    let surface_layers = layers.clone();
+    pass.run_bound(move |cx, b| resolve(g, renderer, cx, Targets::Surface, &surface_layers, b));
     let mut pass = fg.pass(label("resolve motion"), g.owner);
-    pass.read(&t.visibility);
-    let velocity_uv = pass.write(&t.velocity_uv, target(TARGET_FORMAT));
-    let motion_io = ResolveIo {
-        visibility: visibility_read,
-        hardware_depth: None,
-        surface: None,
-        velocity_uv: Some(velocity_uv),
-        layers: Vec::new(),
-    };
-    pass.run(move |cx| resolve(g, renderer, cx, &motion_io));
+    visibility(&mut pass);
+    let velocity_uv = pass.output("out_velocity_uv", &t.velocity_uv, target(TARGET_FORMAT));
+    pass.run_bound(move |cx, b| resolve(g, renderer, cx, Targets::Motion, &[], b));
     // Both read the visibility: one dispatch per run when the frame reads both,
     // where the device binds the five storage textures that takes with a
     // surface target (WebGPU's minimum is four).
@@ -103,12 +104,9 @@ pub(super) fn declare<'a>(g: &'a GBuffer, renderer: &'a Renderer, fg: &mut Frame
         .limits()
         .max_storage_textures_per_shader_stage;
     if t.surface.is_none() || storage >= 5 {
-        let both = ResolveIo {
-            velocity_uv: Some(velocity_uv),
-            ..surface_io
-        };
+        let both = surface.texture("out_velocity_uv", velocity_uv);
         fg.runs_together(label("resolve surface and motion"), move |cx| {
-            resolve(g, renderer, cx, &both)
+            resolve(g, renderer, cx, Targets::Both, &layers, both)
         });
     }
 }
@@ -263,10 +261,7 @@ fn visibility_pipeline(
     two_sided: bool,
 ) -> Result<(wgpu::RenderPipeline, ShaderKey), RenderError> {
     let device = cx.gpu.device.clone();
-    let key = ShaderKey::new(
-        "gbuffer/visibility.wgsl",
-        alpha_mask.then_some("ALPHA_MASK"),
-    );
+    let key = VisibilityKey { alpha_mask }.key();
     // Double-sided materials: every face is drawn (the resolve flips their back faces' normals).
     let variant = if two_sided {
         "rg32uint+depth32f, two-sided"

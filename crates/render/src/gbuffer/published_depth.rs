@@ -17,7 +17,15 @@ use glam::Mat4;
 use crate::error::RenderError;
 use crate::frame_graph::{Bindings, PassContext};
 use crate::renderer::Renderer;
-use crate::shaders::ShaderKey;
+use crate::shaders::Permutation;
+
+crate::flag_key! {
+    /// `gbuffer/published_depth.wgsl`.
+    pub struct PublishedDepthKey("gbuffer/published_depth.wgsl") {
+        /// Depth from the compute raster's 64-bit buffer (else the hardware raster's depth).
+        compute_raster: "COMPUTE_RASTER",
+    }
+}
 
 /// A published depth: reversed-Z R32Float, 0 where no mesh was drawn.
 #[derive(Clone, Debug)]
@@ -140,10 +148,10 @@ pub(crate) fn publish(
     // the group binding it (and the same source) is made once.
     let out = cx.view_of(&target, crate::texture_pool::ViewSpec::default());
     let compute = matches!(source, DepthSource::Compute(_));
-    let key = ShaderKey::new(
-        "gbuffer/published_depth.wgsl",
-        compute.then_some("COMPUTE_RASTER"),
-    );
+    let key = PublishedDepthKey {
+        compute_raster: compute,
+    }
+    .key();
     let b = match source {
         DepthSource::Compute(buffer) => Bindings::new().buffer("visibility", buffer),
         DepthSource::Hardware(view) => Bindings::new().view("depth", view.clone()),

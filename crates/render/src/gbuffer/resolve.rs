@@ -5,9 +5,9 @@
 use crate::error::RenderError;
 use crate::frame_graph::{Bindings, PassContext, Tex};
 use crate::renderer::Renderer;
-use crate::shaders::{Reflection, ShaderKey};
+use crate::shaders::ShaderKey;
 
-use super::{GBuffer, RasterMode};
+use super::{GBuffer, GpuLayer, RasterMode, SplicedGroup, shader_node_group};
 
 /// Statistic: resolve dispatches that wrote the surface and the motion
 /// targets at once (the frame read both).
@@ -44,16 +44,6 @@ impl Targets {
     }
 }
 
-/// What the surface resolve writes.
-#[derive(Clone, Copy)]
-pub(super) struct SurfaceOut {
-    pub color: Tex,
-    pub normals: Tex,
-    pub depth: Tex,
-    /// Where some layer has surface maps or a shader node material.
-    pub surface: Option<Tex>,
-}
-
 /// What one layer's surface resolve reads beside the visibility.
 #[derive(Clone, Default)]
 pub(super) struct LayerReads {
@@ -63,37 +53,17 @@ pub(super) struct LayerReads {
     pub textures: Vec<Tex>,
 }
 
-/// What a resolve pass declared: it writes the surface targets, the motion
-/// target, or both (one dispatch per run of layers).
-#[derive(Clone)]
-pub(super) struct ResolveIo {
-    /// The hardware raster's ID texture, or the compute raster's ordering token.
-    pub visibility: Tex,
-    /// The hardware raster's depth (the surface resolve reads it).
-    pub hardware_depth: Option<Tex>,
-    pub surface: Option<SurfaceOut>,
-    pub velocity_uv: Option<Tex>,
-    /// Per layer (the surface resolve's reads).
-    pub layers: Vec<LayerReads>,
-}
-
-impl ResolveIo {
-    fn targets(&self) -> Targets {
-        match (self.surface.is_some(), self.velocity_uv.is_some()) {
-            (true, true) => Targets::Both,
-            (false, _) => Targets::Motion,
-            (true, false) => Targets::Surface,
-        }
-    }
-}
-
+/// Record a resolve pass: `declared` binds the visibility (the hardware
+/// raster's), its depth and the targets written, as the pass declared them;
+/// `layers` are the surface resolve's reads.
 pub(super) fn resolve(
     g: &GBuffer,
     renderer: &Renderer,
     cx: &mut PassContext<'_>,
-    io: &ResolveIo,
+    targets: Targets,
+    layers: &[LayerReads],
+    declared: Bindings<'_>,
 ) -> Result<(), RenderError> {
-    let targets = io.targets();
     let motion = targets == Targets::Motion;
     let device = cx.gpu.device.clone();
     let (vertices, indices, _) = renderer.meshes.buffers();
@@ -132,7 +102,7 @@ pub(super) fn resolve(
     for (index, layer_buffer) in dispatches {
         let i = index.unwrap_or(0);
         let layer = index.and_then(|i| g.layers.get(i));
-        let reads = index.and_then(|i| io.layers.get(i)).filter(|_| !motion);
+        let reads = index.and_then(|i| layers.get(i)).filter(|_| !motion);
         let mut defines = match (layer, targets) {
             (Some(l), Targets::Motion) => l.features.motion_defines(),
             (Some(l), Targets::Surface) => l.surface_defines(),
@@ -144,8 +114,7 @@ pub(super) fn resolve(
         if compute.is_some() {
             defines.push("COMPUTE_RASTER");
         }
-        let surface_out = io.surface.and_then(|s| s.surface);
-        if surface_out.is_some() {
+        if !motion && g.targets.surface.is_some() {
             defines.push("SURFACE_OUT");
         }
         let key = ShaderKey::new("gbuffer/resolve.wgsl", defines);
@@ -153,62 +122,35 @@ pub(super) fn resolve(
             Some(b) => b.clone(),
             None => background_layer(&device),
         };
-        let mut b = Bindings::new()
+        let mut b = declared
+            .clone()
             .buffer("camera", g.camera_buffer())
             .buffer("vertices", &vertices)
             .buffer("indices", &indices)
             .buffer("instances", &g.instances)
             .buffer("extras", &extras)
-            .buffer("layer", &layer_buffer)
-            .texture_opt("hardware_depth", io.hardware_depth.filter(|_| !motion))
-            .texture_opt("out_surface", surface_out)
-            .texture_opt("out_velocity_uv", io.velocity_uv);
-        b = match visibility.as_ref() {
-            Some((buffer, first_triangle)) => b
-                .buffer("visibility", buffer)
-                .buffer("first_triangle", first_triangle),
-            None => b.texture("visibility", io.visibility),
-        };
-        if let Some(out) = io.surface {
+            .buffer("layer", &layer_buffer);
+        if let Some((buffer, first_triangle)) = visibility.as_ref() {
             b = b
-                .texture("out_color", out.color)
-                .texture("out_normal", out.normals)
-                .texture("out_depth", out.depth);
+                .buffer("visibility", buffer)
+                .buffer("first_triangle", first_triangle);
         }
-        // The layer's maps, where its permutation samples them.
-        if let Some(reads) = reads {
-            let sampling = crate::shaders::Sampling::LinearRepeat;
-            if let Some(map) = reads.normal_map {
-                b = b
-                    .texture("normal_map", map)
-                    .sampler("normal_sampler", sampling);
-            }
-            if let Some(map) = reads.color_map {
-                b = b
-                    .texture("color_map", map)
-                    .sampler("color_sampler", sampling);
-            }
-        }
+        // The layer's maps, where its permutation samples them (a sampler
+        // the permutation compiled out is not bound).
+        let sampling = crate::shaders::Sampling::LinearRepeat;
+        b = b
+            .texture_opt("normal_map", reads.and_then(|r| r.normal_map))
+            .texture_opt("color_map", reads.and_then(|r| r.color_map))
+            .sampler("normal_sampler", sampling)
+            .sampler("color_sampler", sampling);
         // A shader node material: the resolve composed with its file, whose
         // group 1 its own file lays out; else the material world and its
         // surface maps' arrays.
         let custom = layer.and_then(|l| l.surface.as_ref()).filter(|_| !motion);
         let groups = match custom {
             Some(s) => {
-                let splice = crate::shaders::Splice {
-                    key: s.key,
-                    module: super::SURFACE_MODULE,
-                    file_path: &s.file,
-                    source: &s.text,
-                };
                 let label = format!("{}: resolve surface", s.label);
-                let (pipeline, reflection) = cx
-                    .shaders
-                    .surface_pipeline(&device, &key, &splice, "main")
-                    .map_err(|e| RenderError::Pass {
-                        pass: label.clone(),
-                        message: e.to_string(),
-                    })?;
+                let (pipeline, reflection) = s.pipeline(cx, &key, super::SURFACE_MODULE, &label)?;
                 let params = g.surface_buffers.get(i).and_then(Option::as_ref);
                 let textures = reads.map_or(&[][..], |r| r.textures.as_slice());
                 let spliced = SplicedGroup {
@@ -255,103 +197,30 @@ pub(super) fn resolve(
         };
         work.push(groups);
     }
-    let pass = cx.compute_pass(targets.label());
     for (pipeline, groups) in &work {
-        pass.set_pipeline(pipeline);
-        for (i, group) in groups.iter().enumerate() {
-            pass.set_bind_group(i as u32, group, &[]);
-        }
-        pass.dispatch_workgroups(w.div_ceil(8), h.div_ceil(8), 1);
+        let groups: Vec<&wgpu::BindGroup> = groups.iter().collect();
+        cx.dispatch(
+            targets.label(),
+            pipeline,
+            &groups,
+            (w.div_ceil(8), h.div_ceil(8), 1),
+        );
     }
     Ok(())
 }
 
-/// Where a spliced shader node file's own bindings go.
-pub(crate) struct SplicedGroup<'a> {
-    /// 1 for a material in the resolve, 2 for a light shader in CookTorrance.
-    pub group: u32,
-    /// The pass, for errors.
-    pub label: &'a str,
-    pub reflection: &'a Reflection,
-}
-
-/// The group of a built-in pass composed with a shader node file (a
-/// material in the resolve, a light shader in CookTorrance): its pins'
-/// uniform block, texture inputs and samplers, numbered as the user's file
-/// numbers them, those the permutation uses. None where it uses no such group.
-pub(crate) fn shader_node_group(
-    cx: &mut PassContext<'_>,
-    pipeline: &wgpu::ComputePipeline,
-    surface: &super::SurfaceShader,
-    params: Option<&wgpu::Buffer>,
-    textures: &[Tex],
-    spliced: &SplicedGroup<'_>,
-) -> Result<Option<wgpu::BindGroup>, RenderError> {
-    use super::SurfaceBinding;
-    let (group, reflection) = (spliced.group, spliced.reflection);
-    // A derived layout has groups up to the last one used: none past the last.
-    if reflection.last_group().is_none_or(|last| last < group) {
-        return Ok(None);
-    }
-    let mut resources = Vec::new();
-    for (binding, role) in &surface.bindings {
-        if !reflection.used().any(|u| u == (group, *binding)) {
-            continue;
-        }
-        let resource = match role {
-            SurfaceBinding::Uniform => match params {
-                Some(buffer) => Bound::Buffer(buffer.clone()),
-                None => continue,
-            },
-            SurfaceBinding::Texture(t) => {
-                let tex = textures.get(*t).ok_or_else(|| RenderError::Pass {
-                    pass: spliced.label.to_owned(),
-                    message: format!("texture input {t} is not connected"),
-                })?;
-                Bound::View(cx.view(*tex)?)
-            }
-            SurfaceBinding::Sampler { repeat } => Bound::Sampler(cx.sampler(if *repeat {
-                crate::shaders::Sampling::LinearRepeat
-            } else {
-                crate::shaders::Sampling::LinearClamp
-            })),
-        };
-        resources.push((*binding, resource));
-    }
-    let entries: Vec<wgpu::BindGroupEntry<'_>> = resources
-        .iter()
-        .map(|(binding, bound)| wgpu::BindGroupEntry {
-            binding: *binding,
-            resource: match bound {
-                Bound::Buffer(b) => b.as_entire_binding(),
-                Bound::View(v) => wgpu::BindingResource::TextureView(v),
-                Bound::Sampler(s) => wgpu::BindingResource::Sampler(s),
-            },
-        })
-        .collect();
-    Ok(Some(cx.gpu.device.create_bind_group(
-        &wgpu::BindGroupDescriptor {
-            label: Some(spliced.label),
-            layout: &pipeline.get_bind_group_layout(group),
-            entries: &entries,
-        },
-    )))
-}
-
-/// A resource of a shader node material's group, resolved.
-enum Bound {
-    Buffer(wgpu::Buffer),
-    View(wgpu::TextureView),
-    Sampler(wgpu::Sampler),
-}
-
 /// The layer record of a G-buffer with no layers: covers nothing, clears everything.
 fn background_layer(device: &wgpu::Device) -> wgpu::Buffer {
-    use wgpu::util::DeviceExt;
-    device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-        label: Some("mre background layer"),
-        // No instances; writes the background. (Layer in resolve.wgsl: 8 words.)
-        contents: bytemuck::cast_slice(&[0u32, 0, 1, 0, 0, 0, 0, 0]),
-        usage: wgpu::BufferUsages::UNIFORM,
-    })
+    let layer = GpuLayer {
+        write_background: 1,
+        ..bytemuck::Zeroable::zeroed()
+    };
+    wgpu::util::DeviceExt::create_buffer_init(
+        device,
+        &wgpu::util::BufferInitDescriptor {
+            label: Some("mre background layer"),
+            contents: bytemuck::bytes_of(&layer),
+            usage: wgpu::BufferUsages::UNIFORM,
+        },
+    )
 }

@@ -13,10 +13,20 @@ use crate::error::RenderError;
 use crate::mesh::Aabb;
 use crate::mesh_arena::{GpuMesh, MeshLayout};
 use crate::renderer::Renderer;
-use crate::shaders::ShaderKey;
+use crate::shaders::Permutation;
 use crate::texture::GpuTexture;
 
-const SHADER: &str = "geometry/displace.wgsl";
+crate::choice_key! {
+    /// `geometry/displace.wgsl`: the pass that moves the vertices, or one of
+    /// the two that make their normals afterwards.
+    pub enum DisplaceKey("geometry/displace.wgsl") {
+        Move,
+        /// Face normals summed per vertex.
+        Accumulate: "ACCUMULATE",
+        /// The sums normalized.
+        Normals: "NORMALS",
+    }
+}
 
 /// How far along the normal: `(height - midlevel) x amount`, height the
 /// texture's red channel at the vertex's UV (sampled linearly, repeating).
@@ -76,7 +86,7 @@ pub fn displace(
     let output = run(
         renderer,
         Op {
-            key: ShaderKey::new(SHADER, []),
+            key: DisplaceKey::Move.key(),
             input: Some(input),
             previous,
             vertex_count,
@@ -115,8 +125,10 @@ pub fn displace(
     let params = uniform(renderer, "displace params", bytemuck::bytes_of(&gpu));
     dispatch_steps(
         renderer,
-        SHADER,
-        &[("ACCUMULATE", index_count / 3), ("NORMALS", vertex_count)],
+        &[
+            (DisplaceKey::Accumulate.key(), index_count / 3),
+            (DisplaceKey::Normals.key(), vertex_count),
+        ],
         &[("job", &job), ("params", &params), ("normal_sums", &sums)],
     )?;
     Ok(output)

@@ -12,8 +12,16 @@ use crate::error::RenderError;
 use crate::mesh::Aabb;
 use crate::mesh_arena::{GpuMesh, MeshLayout};
 use crate::renderer::Renderer;
-use crate::shaders::ShaderKey;
+use crate::shaders::Permutation;
 use crate::texture::GpuTexture;
+
+crate::flag_key! {
+    /// `geometry/extrude.wgsl`.
+    pub struct ExtrudeKey("geometry/extrude.wgsl") {
+        /// The height is read from a texture.
+        texture: "TEXTURE",
+    }
+}
 
 /// Vertices and triangles an input triangle becomes.
 pub const VERTICES_PER_FACE: u32 = 15;
@@ -61,11 +69,13 @@ pub fn extrude(
         extra.push(("height", wgpu::BindingResource::TextureView(&t.view)));
         extra.push(("height_sampler", wgpu::BindingResource::Sampler(s)));
     }
-    let features = texture.map(|_| "TEXTURE");
     run(
         renderer,
         Op {
-            key: ShaderKey::new("geometry/extrude.wgsl", features),
+            key: ExtrudeKey {
+                texture: texture.is_some(),
+            }
+            .key(),
             input: Some(input),
             previous,
             vertex_count,

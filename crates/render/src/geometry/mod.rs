@@ -270,17 +270,16 @@ pub(crate) fn dispatch(
     dispatch_as(renderer, key, resources, threads, Work::Geometry)
 }
 
-/// The steps of a multi-pass operation, in order: one [`dispatch`] of
-/// `shader` per (feature, threads), each binding the arena's vertices and
-/// indices and `bindings`, by name.
+/// The steps of a multi-pass operation, in order: one [`dispatch`] per
+/// (permutation, threads), each binding the arena's vertices and indices
+/// and `bindings`, by name.
 pub(crate) fn dispatch_steps(
     renderer: &Renderer,
-    shader: &'static str,
-    steps: &[(&'static str, u32)],
+    steps: &[(ShaderKey, u32)],
     bindings: &[(&str, &wgpu::Buffer)],
 ) -> Result<(), RenderError> {
     let (vertices, indices, _) = renderer.meshes.buffers();
-    for &(feature, threads) in steps {
+    for (key, threads) in steps {
         let mut resources = vec![
             ("vertices", vertices.as_entire_binding()),
             ("indices", indices.as_entire_binding()),
@@ -290,12 +289,7 @@ pub(crate) fn dispatch_steps(
                 .iter()
                 .map(|(b, buf)| (*b, buf.as_entire_binding())),
         );
-        dispatch(
-            renderer,
-            &ShaderKey::new(shader, [feature]),
-            resources,
-            threads,
-        )?;
+        dispatch(renderer, key, resources, *threads)?;
     }
     Ok(())
 }

@@ -11,7 +11,15 @@ use crate::error::RenderError;
 use crate::mesh::Aabb;
 use crate::mesh_arena::{GpuMesh, MeshLayout};
 use crate::renderer::Renderer;
-use crate::shaders::ShaderKey;
+use crate::shaders::Permutation;
+
+crate::flag_key! {
+    /// `geometry/pn_triangles.wgsl`.
+    pub struct PnTrianglesKey("geometry/pn_triangles.wgsl") {
+        /// Subdivided, not curved.
+        flat: "FLAT",
+    }
+}
 
 /// The most segments an edge (level² triangles a face).
 pub const MAX_LEVEL: u32 = 64;
@@ -37,11 +45,10 @@ pub fn pn_triangles(
     // A PN patch bulges at most about a third of its edges beyond its corners' box.
     let size = input.bounds.size().max_element();
     let reach = if curved { size / 3.0 } else { 0.0 };
-    let features: &[&'static str] = if curved { &[] } else { &["FLAT"] };
     run(
         renderer,
         Op {
-            key: ShaderKey::new("geometry/pn_triangles.wgsl", features.iter().copied()),
+            key: PnTrianglesKey { flat: !curved }.key(),
             input: Some(input),
             previous,
             vertex_count,

@@ -21,7 +21,12 @@ use crate::error::RenderError;
 use crate::mesh::deform::{Deform, DeformPose, MAX_INFLUENCES, UNSKINNED};
 use crate::mesh_arena::{GpuMesh, MeshLayout};
 use crate::renderer::Renderer;
-use crate::shaders::ShaderKey;
+use crate::shaders::Permutation;
+
+crate::flag_key! {
+    /// `geometry/skinning.wgsl`: one permutation.
+    pub struct SkinningKey("geometry/skinning.wgsl");
+}
 
 const PASS: &str = "skinning";
 /// No influences: the job's mesh has no skin.
@@ -273,7 +278,7 @@ pub fn deform(
     let weights = storage(renderer, "morph weights", bytemuck::cast_slice(&weights));
     dispatch_as(
         renderer,
-        &ShaderKey::new("geometry/skinning.wgsl", []),
+        &SkinningKey.key(),
         vec![
             ("vertices", vertices.as_entire_binding()),
             ("indices", indices.as_entire_binding()),

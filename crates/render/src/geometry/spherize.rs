@@ -10,7 +10,12 @@ use crate::error::RenderError;
 use crate::mesh::Aabb;
 use crate::mesh_arena::{GpuMesh, MeshLayout};
 use crate::renderer::Renderer;
-use crate::shaders::ShaderKey;
+use crate::shaders::Permutation;
+
+crate::flag_key! {
+    /// `geometry/spherize.wgsl`: one permutation.
+    pub struct SpherizeKey("geometry/spherize.wgsl");
+}
 
 /// Where the sphere is and how far to go towards it.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -59,7 +64,7 @@ pub fn spherize(
     run(
         renderer,
         Op {
-            key: ShaderKey::new("geometry/spherize.wgsl", []),
+            key: SpherizeKey.key(),
             input: Some(input),
             previous,
             vertex_count: vertices,

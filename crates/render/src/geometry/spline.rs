@@ -13,7 +13,17 @@ use crate::error::RenderError;
 use crate::mesh::Aabb;
 use crate::mesh_arena::{GpuMesh, MeshLayout};
 use crate::renderer::Renderer;
-use crate::shaders::ShaderKey;
+use crate::shaders::Permutation;
+
+crate::flag_key! {
+    /// `geometry/spline.wgsl`.
+    pub struct SplineKey("geometry/spline.wgsl") {
+        /// Swept into a flat ribbon (else a tube).
+        ribbon: "RIBBON",
+        /// Interpolated as a Bézier curve (else Catmull-Rom).
+        bezier: "BEZIER",
+    }
+}
 
 /// What the spline is swept into.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -158,17 +168,14 @@ pub fn spline(
         .map(|w| w[0].distance(w[1]))
         .fold(0.0f32, f32::max);
     let reach = span + gpu_points.iter().map(|p| p[3]).fold(0.0f32, f32::max);
-    let mut features: Vec<&'static str> = match sweep {
-        Sweep::Ribbon => vec!["RIBBON"],
-        Sweep::Tube { .. } => vec![],
+    let key = SplineKey {
+        ribbon: matches!(sweep, Sweep::Ribbon),
+        bezier: curve == Curve::Bezier,
     };
-    if curve == Curve::Bezier {
-        features.push("BEZIER");
-    }
     run(
         renderer,
         Op {
-            key: ShaderKey::new("geometry/spline.wgsl", features),
+            key: key.key(),
             input: None,
             previous,
             vertex_count,

@@ -18,12 +18,22 @@ use super::{GpuJob, Op, dispatch_steps, read_storage, run, uniform};
 use crate::error::RenderError;
 use crate::mesh_arena::{GpuMesh, MeshLayout};
 use crate::renderer::Renderer;
-use crate::shaders::ShaderKey;
+use crate::shaders::Permutation;
 
 /// The most segments an edge (a triangle becomes at most this squared).
 pub const MAX_LEVEL: u32 = 64;
 
-const SHADER: &str = "geometry/tessellate.wgsl";
+crate::choice_key! {
+    /// `geometry/tessellate.wgsl`: the pass that writes the triangles, or
+    /// one of the two that count them first.
+    pub enum TessellateKey("geometry/tessellate.wgsl") {
+        Write,
+        /// Triangles per face.
+        Count: "COUNT",
+        /// Their prefix sums.
+        Sums: "SUMS",
+    }
+}
 
 /// Matches `Params` in the shader.
 #[repr(C)]
@@ -106,8 +116,10 @@ pub fn tessellate(
     let params_buffer = uniform(renderer, "tessellate params", bytemuck::bytes_of(&params));
     dispatch_steps(
         renderer,
-        SHADER,
-        &[("COUNT", faces), ("SUMS", 64)],
+        &[
+            (TessellateKey::Count.key(), faces),
+            (TessellateKey::Sums.key(), 64),
+        ],
         &[
             ("job", &job),
             ("params", &params_buffer),
@@ -124,7 +136,7 @@ pub fn tessellate(
     run(
         renderer,
         Op {
-            key: ShaderKey::new(SHADER, []),
+            key: TessellateKey::Write.key(),
             input: Some(input),
             previous,
             vertex_count,

@@ -7,7 +7,12 @@ use super::LightBuffer;
 use crate::context::GpuContext;
 use crate::error::RenderError;
 use crate::frame_graph::{Bindings, PassContext};
-use crate::shaders::ShaderKey;
+use crate::shaders::Permutation;
+
+crate::flag_key! {
+    /// `lighting/clusters.wgsl`: one permutation, an entry per step.
+    pub struct ClustersKey("lighting/clusters.wgsl");
+}
 
 /// The froxel grid for a target size and depth range.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -74,19 +79,28 @@ impl ClusterGrid {
         self.tiles_x * self.tiles_y * self.slices
     }
 
-    /// Matches `Grid` in the lighting shaders.
+    /// `Grid` in the lighting shaders, as words.
     pub(crate) fn uniform(&self, lights: u32) -> [u32; 8] {
-        [
-            self.tiles_x,
-            self.tiles_y,
-            self.slices,
-            lights,
-            self.near.to_bits(),
-            self.far.to_bits(),
-            (self.far / self.near).ln().to_bits(),
-            (self.tile as f32).to_bits(),
-        ]
+        bytemuck::cast(GpuGrid {
+            dims: [self.tiles_x, self.tiles_y, self.slices, lights],
+            depth: [
+                self.near,
+                self.far,
+                (self.far / self.near).ln(),
+                self.tile as f32,
+            ],
+        })
     }
+}
+
+/// `Grid` in shaders/lighting/clusters.wgsl (and cook_torrance.wgsl).
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct GpuGrid {
+    /// Tiles across, tiles down, depth slices, lights.
+    dims: [u32; 4],
+    /// Near, far, ln(far / near), the tile's side in pixels.
+    depth: [f32; 4],
 }
 
 /// The froxel buffers, kept between frames and grown when needed.
@@ -177,7 +191,7 @@ pub(crate) fn assign_lights(
         0,
         bytemuck::cast_slice(&[0u32, b.capacity, 0, 0]),
     );
-    let key = ShaderKey::new("lighting/clusters.wgsl", []);
+    let key = ClustersKey.key();
     // Only the clustered walk runs this pass; the naive loop moves its
     // few lights to view space itself.
     let steps = ["transform", "count", "scan", "fill"];
@@ -221,4 +235,25 @@ pub(crate) fn assign_lights(
         pass.dispatch_workgroups(groups.0, groups.1, groups.2);
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod wgsl_layout {
+    #[test]
+    fn gpu_grid_matches_the_shaders() {
+        crate::assert_wgsl_layout!(
+            super::GpuGrid,
+            "lighting/clusters.wgsl",
+            [],
+            "Grid",
+            [dims, depth]
+        );
+        crate::assert_wgsl_layout!(
+            super::GpuGrid,
+            "lighting/cook_torrance.wgsl",
+            ["CLUSTERED"],
+            "Grid",
+            [dims, depth]
+        );
+    }
 }

@@ -13,7 +13,7 @@ use std::sync::Arc;
 use glam::{Mat4, Vec3};
 
 pub use clusters::ClusterGrid;
-pub(crate) use clusters::{ClusterStore, assign_lights};
+pub(crate) use clusters::{ClusterStore, ClustersKey, assign_lights};
 pub use composite::{
     CompositeInputs, CompositeKey, CompositeLight, LightComponents, LightPairs, MAX_COMPONENTS,
     MaterialAo, MaterialTerms, Shading, Textured,
@@ -22,7 +22,8 @@ pub(crate) use cook_torrance::near_far;
 pub use cook_torrance::{CookTorrance, FEW_LIGHTS, LightLoop, Surfaces, Walk, resolve_walk};
 pub use ssgi::GATHER_TEMPORAL as SSGI_GATHER_TEMPORAL;
 pub use ssgi::HALF_RESOLUTION as SSGI_HALF_RESOLUTION;
-pub use ssgi::{Ssgi, SsgiSettings};
+pub use ssgi::{Ssgi, SsgiKey, SsgiSettings};
+pub(crate) use ssss::SsssKey;
 pub use ssss::{Ssss, SsssQuality};
 
 use crate::recipe::TextureRef;

@@ -19,8 +19,8 @@ use crate::report::PassName;
 use crate::resolution::{
     Resolution, UpsampleFormat, UpsamplePass, declare_upsample, written_target,
 };
-use crate::shaders::ShaderKey;
-use crate::temporal::{RayParams, TemporalState};
+use crate::shaders::Permutation;
+use crate::temporal::{RayParams, RayUniforms};
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SsgiSettings {
@@ -43,6 +43,8 @@ pub struct SsgiSettings {
 
 /// Counted when an SSGI's gather ran at half resolution.
 pub const HALF_RESOLUTION: &str = "SSGI at half resolution";
+/// Counted when the history starts anew (a resize, a `Reset`, a camera cut).
+const HISTORY_RESET: &str = "SSGI history reset";
 /// Statistic: SSGI gathers that blended their history in the same pass
 /// (full resolution with temporal accumulation), writing no raw target.
 pub const GATHER_TEMPORAL: &str = "SSGI gathered and accumulated in one pass";
@@ -78,6 +80,44 @@ impl SsgiSettings {
     }
 }
 
+/// `lighting/ssgi.wgsl`'s permutations: the gather (at full or half
+/// resolution), the temporal blend (with the gather in the same pass at full
+/// resolution), or a blur pass (adding the ambient light in the last one).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum SsgiKey {
+    Gather { half: bool },
+    Temporal { gather: bool },
+    Blur { ambient: bool },
+}
+
+impl Permutation for SsgiKey {
+    const PATH: &'static str = "lighting/ssgi.wgsl";
+    const FEATURES: &'static [&'static str] = &["TEMPORAL", "GATHER", "BLUR", "AMBIENT", "HALF"];
+
+    fn features(self) -> impl Iterator<Item = &'static str> {
+        let on: &[&'static str] = match self {
+            SsgiKey::Gather { half: false } => &[],
+            SsgiKey::Gather { half: true } => &["HALF"],
+            SsgiKey::Temporal { gather: false } => &["TEMPORAL"],
+            SsgiKey::Temporal { gather: true } => &["TEMPORAL", "GATHER"],
+            SsgiKey::Blur { ambient: false } => &["BLUR"],
+            SsgiKey::Blur { ambient: true } => &["BLUR", "AMBIENT"],
+        };
+        on.iter().copied()
+    }
+
+    fn all() -> Vec<Self> {
+        vec![
+            SsgiKey::Gather { half: false },
+            SsgiKey::Temporal { gather: false },
+            SsgiKey::Temporal { gather: true },
+            SsgiKey::Blur { ambient: false },
+            SsgiKey::Blur { ambient: true },
+            SsgiKey::Gather { half: true },
+        ]
+    }
+}
+
 pub struct Ssgi {
     id: u64,
     owner: Option<u32>,
@@ -85,13 +125,10 @@ pub struct Ssgi {
     source: TextureRef,
     ambient: Option<TextureRef>,
     settings: SsgiSettings,
-    key: u64,
-    params: wgpu::Buffer,
+    /// The parameters, written each frame, and the history's state.
+    rays: RayUniforms,
     /// The blur's direction per pass: x, then y.
     axes: [wgpu::Buffer; 2],
-    /// The temporal pass's `fresh` flag: [history kept, history reset].
-    fresh: [wgpu::Buffer; 2],
-    state: Arc<TemporalState>,
     prefix: String,
     pub output: String,
 }
@@ -108,14 +145,6 @@ impl Ssgi {
         settings: SsgiSettings,
     ) -> Arc<Self> {
         let id = next_recipe_id();
-        let key = owner.map_or(id, u64::from);
-        // Written each frame; kept under the node so its bind groups are reused.
-        let params = renderer.kept_buffer(
-            owner,
-            "ssgi params",
-            64,
-            wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-        );
         // Constant per node: kept, so the blur's bind groups are reused.
         let kept = |label: &'static str, index: u32, words: [i32; 4]| {
             renderer.kept_init_at(
@@ -134,14 +163,16 @@ impl Ssgi {
             source,
             ambient,
             settings: settings.clamped(),
-            key,
-            params,
+            rays: RayUniforms::new(
+                renderer,
+                owner,
+                id,
+                ["ssgi params", "ssgi fresh", HISTORY_RESET],
+            ),
             axes: [
                 kept("ssgi axis", 0, [1, 0, 0, 0]),
                 kept("ssgi axis", 1, [0, 1, 0, 0]),
             ],
-            fresh: renderer.kept_flags(owner, "ssgi fresh"),
-            state: renderer.state::<TemporalState>(key),
             output: format!("{prefix}/out"),
             prefix,
         })
@@ -160,12 +191,12 @@ impl Ssgi {
 
     /// The persistent history (RGBA16F: bounce radiance, escaped share), per node.
     pub fn history_name(&self) -> String {
-        format!("ssgi-history-{}", self.key)
+        format!("ssgi-history-{}", self.rays.key)
     }
 
     /// The persistent view distance under each history texel (R32F).
     fn distance_name(&self) -> String {
-        format!("ssgi-distance-{}", self.key)
+        format!("ssgi-distance-{}", self.rays.key)
     }
 
     /// Radius 0 gathers nothing: the gather writes no bounce and every ray escapes.
@@ -177,21 +208,16 @@ impl Ssgi {
         self.settings.temporal_blend > 0.0 && !self.off()
     }
 
-    fn write_params(&self, cx: &PassContext<'_>, frame: u32, reset: bool) {
+    fn ray_params(&self) -> RayParams {
         let s = self.settings;
-        let params = RayParams {
+        RayParams {
             radius: s.radius,
             intensity: s.intensity,
             blend: s.temporal_blend,
             samples: s.samples,
             steps: s.steps,
             blur_radius: if self.off() { 0 } else { s.blur_radius },
-        };
-        cx.gpu.queue.write_buffer(
-            &self.params,
-            0,
-            bytemuck::cast_slice(&params.words(frame, reset)),
-        );
+        }
     }
 
     /// One pass: the camera, the parameters, the G-buffer's depth and
@@ -200,46 +226,38 @@ impl Ssgi {
         &self,
         cx: &mut PassContext<'_>,
         label: &str,
-        features: Vec<&'static str>,
+        key: SsgiKey,
         io: &PassIo,
         more: Bindings<'_>,
     ) -> Result<(), RenderError> {
         let mut size = self.gbuffer.pixel_size(cx.output_size);
-        if features.contains(&crate::resolution::HALF_FEATURE) {
+        if key == (SsgiKey::Gather { half: true }) {
             size = Resolution::Half.pixels(size);
         }
         let b = Bindings::new()
             .buffer("camera", self.gbuffer.camera_buffer())
-            .buffer("params", &self.params)
+            .buffer("params", self.rays.params())
             .texture("depth", io.depth)
             .texture("normals", io.normals)
             .texture("source", io.source)
             .texture("output", io.output)
             .extend(more);
-        cx.dispatch_image(
-            label,
-            &ShaderKey::new("lighting/ssgi.wgsl", features),
-            b,
-            size,
-        )
+        cx.dispatch_image(label, &key.key(), b, size)
     }
 
     /// The frame's start, in the pass that gathers: the node's frame count
     /// advanced (it turns the rays), a stale history counted as reset, and
     /// the parameters written.
     fn begin_frame(&self, cx: &mut PassContext<'_>) {
-        let (frame, stale) = self.state.advance(&self.gbuffer, self.settings.reset);
-        let reset = stale && self.temporal();
-        if reset {
-            cx.count("SSGI history reset", 1);
-        }
-        self.write_params(cx, frame, reset);
+        let (reset, temporal) = (self.settings.reset, self.temporal());
+        self.rays
+            .begin(cx, &self.gbuffer, &self.ray_params(), reset, temporal);
     }
 
     fn raw(&self, cx: &mut PassContext<'_>, io: &PassIo) -> Result<(), RenderError> {
         self.begin_frame(cx);
-        let features = self.settings.resolution.feature().into_iter().collect();
-        self.dispatch(cx, "ssgi", features, io, Bindings::new())
+        let half = self.settings.resolution.is_half();
+        self.dispatch(cx, "ssgi", SsgiKey::Gather { half }, io, Bindings::new())
     }
 
     /// Full resolution: the gather and the temporal blend in one pass
@@ -272,20 +290,16 @@ impl Ssgi {
         let fresh = cx.copy_history(io.output, t.previous)?
             | cx.copy_history(t.distance, t.previous_distance)?;
         if fresh {
-            cx.count("SSGI history reset", 1);
+            cx.count(HISTORY_RESET, 1);
         }
-        let (features, label) = if gather {
-            (vec!["TEMPORAL", "GATHER"], "ssgi")
-        } else {
-            (vec!["TEMPORAL"], "ssgi temporal")
-        };
+        let label = if gather { "ssgi" } else { "ssgi temporal" };
         let more = Bindings::new()
             .texture("velocity_uv", t.velocity_uv)
             .texture("previous", t.previous)
             .texture("previous_distance", t.previous_distance)
             .texture("distance", t.distance)
-            .buffer("fresh", &self.fresh[usize::from(fresh)]);
-        self.dispatch(cx, label, features, io, more)
+            .buffer("fresh", self.rays.fresh(fresh));
+        self.dispatch(cx, label, SsgiKey::Temporal { gather }, io, more)
     }
 
     fn blur(
@@ -295,7 +309,6 @@ impl Ssgi {
         vertical: bool,
         ambient: Option<Tex>,
     ) -> Result<(), RenderError> {
-        let features = [Some("BLUR"), ambient.map(|_| "AMBIENT")];
         let label = if vertical {
             "ssgi blur y"
         } else {
@@ -304,13 +317,10 @@ impl Ssgi {
         let more = Bindings::new()
             .buffer("axis", &self.axes[usize::from(vertical)])
             .texture_opt("ambient", ambient);
-        self.dispatch(
-            cx,
-            label,
-            features.into_iter().flatten().collect(),
-            io,
-            more,
-        )
+        let key = SsgiKey::Blur {
+            ambient: ambient.is_some(),
+        };
+        self.dispatch(cx, label, key, io, more)
     }
 }
 

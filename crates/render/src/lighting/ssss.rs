@@ -13,7 +13,17 @@ use crate::material::MaterialWorld;
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
 use crate::report::PassName;
-use crate::shaders::ShaderKey;
+use crate::shaders::{Permutation, ShaderKey};
+
+crate::flag_key! {
+    /// `lighting/ssss.wgsl`: the pass's direction and how many sources it blurs.
+    pub struct SsssKey("lighting/ssss.wgsl") {
+        vertical: "VERTICAL",
+        /// A second source (the second light type's subsurface term).
+        sources_2: "SOURCES_2",
+        sources_3: "SOURCES_3",
+    }
+}
 
 /// Taps per side: Low 4, Medium 8, High 16.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -165,12 +175,12 @@ impl Ssss {
     /// The source permutation: one, two or three sources a pass.
     fn key(&self, vertical: bool) -> ShaderKey {
         let n = self.sources.len();
-        let features = [
-            vertical.then_some("VERTICAL"),
-            (n >= 2).then_some("SOURCES_2"),
-            (n >= 3).then_some("SOURCES_3"),
-        ];
-        ShaderKey::new("lighting/ssss.wgsl", features.into_iter().flatten())
+        SsssKey {
+            vertical,
+            sources_2: n >= 2,
+            sources_3: n >= 3,
+        }
+        .key()
     }
 
     fn pass(

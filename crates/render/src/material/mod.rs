@@ -501,6 +501,11 @@ impl MaterialWorld {
         self.union_flags
     }
 
+    /// Whether some material has `feature` (a `FEATURE_*` index).
+    pub fn has(&self, feature: u32) -> bool {
+        self.union_flags & (1 << feature) != 0
+    }
+
     /// Whether some material scatters light under its surface: has FakeSSS
     /// with a colour and a strength above zero. A FakeSSS of strength 0 makes
     /// no subsurface term (CookTorrance multiplies by both), so it asks for

@@ -9,7 +9,12 @@ use crate::gbuffer::GpuInstance;
 use crate::geometry::{dispatch, read_storage, uniform};
 use crate::mesh_arena::{GpuMesh, GpuVertex};
 use crate::renderer::Renderer;
-use crate::shaders::ShaderKey;
+use crate::shaders::Permutation;
+
+crate::flag_key! {
+    /// `particles/expand.wgsl`: one permutation.
+    pub struct ExpandKey("particles/expand.wgsl");
+}
 
 /// Every triangle of `mesh` drawn by a view whose axes in world space are
 /// `right` and `up` (sprites face it), with the identity transform: three
@@ -59,7 +64,7 @@ pub fn read_drawn(
     let (vertices, indices, _) = renderer.meshes.buffers();
     dispatch(
         renderer,
-        &ShaderKey::new("particles/expand.wgsl", []),
+        &ExpandKey.key(),
         vec![
             ("params", params.as_entire_binding()),
             ("vertices", vertices.as_entire_binding()),

@@ -20,8 +20,10 @@ mod field;
 mod simulate;
 
 pub use draw::{DrawShape, draw};
+pub(crate) use expand::ExpandKey;
 pub use expand::read_drawn;
 pub use field::FieldTexture;
+pub(crate) use simulate::SimulateKey;
 pub use simulate::{
     DepthCollision, EmitterShape, Field, Integrator, MAX_ATTRACTORS, MAX_STEP, ParticleSettings,
     Plane,

@@ -11,7 +11,19 @@ use crate::error::RenderError;
 use crate::geometry::{dispatch, uniform};
 use crate::mesh_arena::GpuMesh;
 use crate::renderer::Renderer;
-use crate::shaders::ShaderKey;
+use crate::shaders::Permutation;
+
+crate::flag_key! {
+    /// `particles/simulate.wgsl`.
+    pub struct SimulateKey("particles/simulate.wgsl") {
+        /// The force field is a texture (else analytic).
+        field_texture: "FIELD_TEXTURE",
+        /// Particles are born on a mesh's surface.
+        mesh_emitter: "MESH_EMITTER",
+        /// Particles bounce off the G-buffer's depth.
+        depth_collision: "DEPTH_COLLISION",
+    }
+}
 
 /// The longest step simulated at once (seconds): a longer frame (a stall,
 /// a huge time step) is clamped to it, so no step can blow up.
@@ -277,17 +289,12 @@ impl ParticleSystem {
             layout: [self.first_record(), 0, 0, 0],
             attractors,
         };
-        let mut features = Vec::new();
-        if matches!(s.field, Field::Texture { .. }) {
-            features.push("FIELD_TEXTURE");
+        let key = SimulateKey {
+            field_texture: matches!(s.field, Field::Texture { .. }),
+            mesh_emitter: mesh.is_some(),
+            depth_collision: s.depth.is_some(),
         }
-        if mesh.is_some() {
-            features.push("MESH_EMITTER");
-        }
-        if s.depth.is_some() {
-            features.push("DEPTH_COLLISION");
-        }
-        let key = ShaderKey::new("particles/simulate.wgsl", features);
+        .key();
         let sim = uniform(renderer, "particle sim", bytemuck::bytes_of(&gpu_sim));
         let (vertices, indices, _) = renderer.meshes.buffers();
         let mesh_range = uniform(

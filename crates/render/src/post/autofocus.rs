@@ -17,7 +17,12 @@ use crate::post::eye_adaptation::AdaptationSettings;
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
 use crate::report::PassName;
-use crate::shaders::ShaderKey;
+use crate::shaders::Permutation;
+
+crate::flag_key! {
+    /// `post/autofocus.wgsl`: one permutation.
+    pub struct AutofocusKey("post/autofocus.wgsl");
+}
 
 const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
 const ONE: SizeRule = SizeRule::Absolute {
@@ -118,7 +123,7 @@ impl Autofocus {
         );
         cx.dispatch_image(
             "autofocus",
-            &ShaderKey::new("post/autofocus.wgsl", []),
+            &AutofocusKey.key(),
             Bindings::new()
                 .buffer("camera", self.gbuffer.camera_buffer())
                 .buffer("params", &self.params)

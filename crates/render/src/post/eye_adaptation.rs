@@ -16,9 +16,13 @@ use crate::frame_graph::{Bindings, FrameGraph, Lifetime, PassContext, SizeRule, 
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
 use crate::report::PassName;
-use crate::shaders::ShaderKey;
+use crate::shaders::Permutation;
 
-const SHADER: &str = "post/eye_adaptation.wgsl";
+crate::flag_key! {
+    /// `post/eye_adaptation.wgsl`: one permutation, an entry per step.
+    pub struct EyeAdaptationKey("post/eye_adaptation.wgsl");
+}
+
 /// The reduction's format: mean log-luminance and the count of valid pixels behind it.
 const REDUCED: wgpu::TextureFormat = wgpu::TextureFormat::Rg32Float;
 /// The adapted luminance's format.
@@ -223,7 +227,7 @@ impl EyeAdaptation {
             .texture("reduced", output);
         cx.dispatch_shader(
             entry,
-            &ShaderKey::new(SHADER, []),
+            &EyeAdaptationKey.key(),
             entry,
             bindings,
             super::per_pixel(size),
@@ -254,7 +258,7 @@ impl EyeAdaptation {
             .texture("adapted", io.adapted);
         cx.dispatch_shader(
             "adapt",
-            &ShaderKey::new(SHADER, []),
+            &EyeAdaptationKey.key(),
             "adapt",
             bindings,
             (1, 1, 1),

@@ -8,7 +8,12 @@ use crate::frame_graph::{Bindings, FrameGraph, PassContext, SizeRule, Tex, Textu
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
 use crate::report::PassName;
-use crate::shaders::ShaderKey;
+use crate::shaders::Permutation;
+
+crate::flag_key! {
+    /// `post/fxaa.wgsl`: one permutation.
+    pub struct FxaaKey("post/fxaa.wgsl");
+}
 
 /// How hard FXAA looks: more edge-search steps follow longer, shallower edges.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -82,7 +87,7 @@ impl Fxaa {
         let size = cx.size_of(output)?;
         cx.dispatch_image(
             "fxaa",
-            &ShaderKey::new("post/fxaa.wgsl", []),
+            &FxaaKey.key(),
             Bindings::new()
                 .buffer("params", &self.params)
                 .texture("source", source)

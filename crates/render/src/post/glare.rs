@@ -10,9 +10,15 @@ use crate::frame_graph::{Bindings, FrameGraph, PassContext, SizeRule, Tex, Textu
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
 use crate::report::PassName;
-use crate::shaders::{Sampling, ShaderKey};
+use crate::shaders::{Permutation, Sampling};
 
-const SHADER: &str = "post/glare.wgsl";
+crate::flag_key! {
+    /// `post/glare.wgsl`: one key for every entry of the chain.
+    pub struct GlareKey("post/glare.wgsl") {
+        /// The composite samples a filterable source (else it reads texels).
+        filtered_source: "FILTERED_SOURCE",
+    }
+}
 
 /// Counted when a Glare had nothing to add (intensity and aberration 0) and only copied.
 pub const SKIPPED: &str = "glare skipped (nothing to add)";
@@ -140,7 +146,6 @@ impl Glare {
                     .sample_type(None, Some(cx.gpu.device.features())),
                 Some(wgpu::TextureSampleType::Float { filterable: true })
             );
-        let features = filterable.then_some("FILTERED_SOURCE");
         let size = cx.size_of(output)?;
         let bindings = Bindings::new()
             .buffer("params", &self.params)
@@ -151,7 +156,10 @@ impl Glare {
             .sampler("linear", Sampling::LinearClamp);
         cx.dispatch_shader(
             entry,
-            &ShaderKey::new(SHADER, features),
+            &GlareKey {
+                filtered_source: filterable,
+            }
+            .key(),
             entry,
             bindings,
             super::per_pixel(size),

@@ -25,7 +25,12 @@ pub use transparency::{
 use crate::error::RenderError;
 use crate::frame_graph::{Bindings, FrameGraph, PassContext, Tex, TextureDesc};
 use crate::report::PassName;
-use crate::shaders::ShaderKey;
+use crate::shaders::{Permutation, ShaderKey};
+
+crate::flag_key! {
+    /// `post/copy.wgsl`: one permutation.
+    pub struct CopyKey("post/copy.wgsl");
+}
 
 /// The largest value the half-float targets are clamped to (65504 overflows).
 pub const HALF_MAX: f32 = 65000.0;
@@ -95,7 +100,7 @@ pub(crate) fn declare_copy<'a>(
         let size = cx.size_of(output)?;
         cx.dispatch_image(
             "copy",
-            &ShaderKey::new("post/copy.wgsl", []),
+            &CopyKey.key(),
             Bindings::new()
                 .texture("source", source)
                 .texture("output", output),

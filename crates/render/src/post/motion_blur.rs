@@ -13,9 +13,12 @@ use crate::gbuffer::GBuffer;
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
 use crate::report::PassName;
-use crate::shaders::ShaderKey;
+use crate::shaders::Permutation;
 
-const SHADER: &str = "post/motion_blur.wgsl";
+crate::flag_key! {
+    /// `post/motion_blur.wgsl`: one permutation, three entry points.
+    pub struct MotionBlurKey("post/motion_blur.wgsl");
+}
 
 /// Counted when a MotionBlur ran only its copy: nothing in the frame moves.
 pub const SKIPPED: &str = "motion blur skipped (no motion)";
@@ -120,7 +123,7 @@ impl MotionBlur {
     ) -> Result<(), RenderError> {
         super::dispatch_entry(
             cx,
-            &ShaderKey::new(SHADER, []),
+            &MotionBlurKey.key(),
             entry,
             entry == "tile_max",
             self.gbuffer.camera_buffer(),

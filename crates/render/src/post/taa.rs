@@ -16,7 +16,7 @@ use crate::gbuffer::GBuffer;
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
 use crate::report::PassName;
-use crate::shaders::{Sampling, ShaderKey};
+use crate::shaders::{Permutation, Sampling};
 
 /// Counted when the history was thrown away (fresh target or a cut).
 pub const RESET: &str = "taa history reset";
@@ -30,6 +30,26 @@ pub enum TaaQuality {
     Medium,
     /// Variance clipping and a bicubic (Catmull-Rom) history read, sharper in motion.
     High,
+}
+
+/// Each quality is one permutation of `post/taa.wgsl`: the bicubic read
+/// comes only with variance clipping.
+impl Permutation for TaaQuality {
+    const PATH: &'static str = "post/taa.wgsl";
+    const FEATURES: &'static [&'static str] = &["VARIANCE_CLIP", "CATMULL_ROM"];
+
+    fn features(self) -> impl Iterator<Item = &'static str> {
+        let on = match self {
+            TaaQuality::Low => 0,
+            TaaQuality::Medium => 1,
+            TaaQuality::High => 2,
+        };
+        Self::FEATURES[..on].iter().copied()
+    }
+
+    fn all() -> Vec<Self> {
+        vec![TaaQuality::Low, TaaQuality::Medium, TaaQuality::High]
+    }
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -156,15 +176,6 @@ impl Taa {
         }
     }
 
-    fn key(&self) -> ShaderKey {
-        let features: &[&'static str] = match self.settings.quality {
-            TaaQuality::Low => &[],
-            TaaQuality::Medium => &["VARIANCE_CLIP"],
-            TaaQuality::High => &["VARIANCE_CLIP", "CATMULL_ROM"],
-        };
-        ShaderKey::new("post/taa.wgsl", features.iter().copied())
-    }
-
     fn run(&self, cx: &mut PassContext<'_>, io: &TaaIo) -> Result<(), RenderError> {
         let fresh = cx.is_fresh(io.history) || self.settings.reset;
         if fresh {
@@ -178,7 +189,7 @@ impl Taa {
         let size = cx.size_of(io.output)?;
         cx.dispatch_image(
             "taa",
-            &self.key(),
+            &self.settings.quality.key(),
             Bindings::new()
                 .buffer("params", &self.params)
                 .texture("source", io.source)

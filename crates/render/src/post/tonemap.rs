@@ -13,7 +13,15 @@ use crate::frame_graph::{Bindings, FrameGraph, PassContext, SizeRule, Tex, Textu
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
 use crate::report::PassName;
-use crate::shaders::ShaderKey;
+use crate::shaders::Permutation;
+
+crate::flag_key! {
+    /// `post/tonemap.wgsl`.
+    pub struct TonemapKey("post/tonemap.wgsl") {
+        /// Exposure from the adapted luminance (an Eye Adaptation input).
+        eye_adaptation: "EYE_ADAPTATION",
+    }
+}
 
 /// The key exposure maps an adapted luminance to: middle grey.
 pub const DEFAULT_KEY: f32 = 0.18;
@@ -102,11 +110,13 @@ impl Tonemap {
     }
 
     fn run(&self, cx: &mut PassContext<'_>, io: &TonemapIo) -> Result<(), RenderError> {
-        let features = io.adaptation.map(|_| "EYE_ADAPTATION");
         let size = cx.size_of(io.output)?;
         cx.dispatch_image(
             "tonemap",
-            &ShaderKey::new("post/tonemap.wgsl", features),
+            &TonemapKey {
+                eye_adaptation: io.adaptation.is_some(),
+            }
+            .key(),
             Bindings::new()
                 .buffer("params", &self.params)
                 .texture("source", io.source)

@@ -107,6 +107,17 @@ impl Renderer {
         )
     }
 
+    /// A kept uniform of one `T`, written each frame ([`Renderer::kept_buffer`]).
+    pub fn kept_uniform<T: bytemuck::Pod>(
+        &self,
+        owner: Option<u32>,
+        label: &'static str,
+    ) -> crate::shaders::Uniform<T> {
+        let usage = wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST;
+        let size = crate::shaders::Uniform::<T>::SIZE;
+        crate::shaders::Uniform::new(self.kept_buffer(owner, label, size, usage))
+    }
+
     /// A kept storage buffer of `items` ([`Renderer::kept_init`]); one
     /// zeroed item when there are none, as a storage binding cannot be
     /// empty (the caller's count says there are none).

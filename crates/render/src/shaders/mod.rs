@@ -167,24 +167,18 @@ pub const SHADERS: &[ShaderFile] = &[
     shader!("lib/custom_surface.wgsl", library),
     shader!("lib/light_shader.wgsl", library),
     shader!("lib/custom_light.wgsl", library),
-    shader!("gbuffer/visibility.wgsl", ["ALPHA_MASK"]),
-    shader!("geometry/spherize.wgsl", []),
-    shader!("geometry/extrude.wgsl", ["TEXTURE"]),
-    shader!("geometry/pn_triangles.wgsl", ["FLAT"]),
-    shader!("geometry/spline.wgsl", ["RIBBON", "BEZIER"]),
-    shader!("geometry/tessellate.wgsl", one_of["COUNT", "SUMS"]),
-    shader!("geometry/displace.wgsl", one_of["ACCUMULATE", "NORMALS"]),
-    shader!("geometry/skinning.wgsl", []),
-    shader!(
-        "particles/simulate.wgsl",
-        ["FIELD_TEXTURE", "MESH_EMITTER", "DEPTH_COLLISION"]
-    ),
-    shader!("particles/expand.wgsl", []),
-    shader!(
-        "gbuffer/raster.wgsl",
-        ["TWO_SIDED", "MESHES_ONLY", "DEPTH_ONLY"]
-    ),
-    shader!("gbuffer/published_depth.wgsl", ["COMPUTE_RASTER"]),
+    shader!("gbuffer/visibility.wgsl", keyed crate::gbuffer::VisibilityKey),
+    shader!("geometry/spherize.wgsl", keyed crate::geometry::spherize::SpherizeKey),
+    shader!("geometry/extrude.wgsl", keyed crate::geometry::extrude::ExtrudeKey),
+    shader!("geometry/pn_triangles.wgsl", keyed crate::geometry::pn_triangles::PnTrianglesKey),
+    shader!("geometry/spline.wgsl", keyed crate::geometry::spline::SplineKey),
+    shader!("geometry/tessellate.wgsl", keyed crate::geometry::tessellate::TessellateKey),
+    shader!("geometry/displace.wgsl", keyed crate::geometry::displace::DisplaceKey),
+    shader!("geometry/skinning.wgsl", keyed crate::geometry::skinning::SkinningKey),
+    shader!("particles/simulate.wgsl", keyed crate::particles::SimulateKey),
+    shader!("particles/expand.wgsl", keyed crate::particles::ExpandKey),
+    shader!("gbuffer/raster.wgsl", keyed crate::gbuffer::compute_raster::RasterKey),
+    shader!("gbuffer/published_depth.wgsl", keyed crate::gbuffer::PublishedDepthKey),
     shader!(
         "gbuffer/resolve.wgsl",
         [
@@ -216,7 +210,7 @@ pub const SHADERS: &[ShaderFile] = &[
         // Vertex colours and the second UV set are the surface pass's.
         Rule::AtMostOne(&["VERTEX_EXTRAS", "MOTION"])
     ),
-    shader!("lighting/clusters.wgsl", []),
+    shader!("lighting/clusters.wgsl", keyed crate::lighting::ClustersKey),
     shader!(
         "lighting/cook_torrance.wgsl",
         [
@@ -260,28 +254,18 @@ pub const SHADERS: &[ShaderFile] = &[
         Rule::AtMostOne(&["TILED", "PER_PIXEL"])
     ),
     shader!("lighting/composite.wgsl", keyed crate::lighting::CompositeKey),
-    shader!(
-        "lighting/ssgi.wgsl",
-        ["TEMPORAL", "GATHER", "BLUR", "AMBIENT", "HALF"],
-        Rule::AtMostOne(&["TEMPORAL", "BLUR"]),
-        Rule::Requires("AMBIENT", "BLUR"),
-        // The gather fused into the temporal pass (full resolution only).
-        Rule::Requires("GATHER", "TEMPORAL"),
-        // Only the gather runs at half resolution.
-        Rule::AtMostOne(&["HALF", "TEMPORAL"]),
-        Rule::AtMostOne(&["HALF", "BLUR"])
-    ),
-    shader!("lighting/ssss.wgsl", ["VERTICAL", "SOURCES_2", "SOURCES_3"]),
-    shader!("shadows/depth.wgsl", []),
-    shader!("shadows/moments.wgsl", []),
-    shader!("shadows/resolve.wgsl", ["OVER_STILL"]),
+    shader!("lighting/ssgi.wgsl", keyed crate::lighting::SsgiKey),
+    shader!("lighting/ssss.wgsl", keyed crate::lighting::SsssKey),
+    shader!("shadows/depth.wgsl", keyed crate::shadows::ShadowDepthKey),
+    shader!("shadows/moments.wgsl", keyed crate::shadows::MomentsKey),
+    shader!("shadows/resolve.wgsl", keyed crate::shadows::ShadowResolveKey),
     shader!("ssao/linear_depth.wgsl", keyed crate::ssao::DepthKey),
     shader!("ssao/ao.wgsl", keyed crate::ssao::AoKey),
     shader!("ssao/temporal.wgsl", keyed crate::ssao::TemporalKey),
     shader!("ssao/blur.wgsl", keyed crate::ssao::BlurKey),
     shader!("environment/sky.wgsl", ["ENVIRONMENT", "FOG"]),
-    shader!("environment/prefilter.wgsl", []),
-    shader!("environment/environment_probe.wgsl", []),
+    shader!("environment/prefilter.wgsl", keyed crate::environment::PrefilterKey),
+    shader!("environment/environment_probe.wgsl", keyed crate::environment::probe::faces::ProbeFaceKey),
     shader!(
         "environment/reflection.wgsl",
         ["MATERIAL_TEXTURES", "SURFACE_TARGET", "PARALLAX"]
@@ -293,33 +277,25 @@ pub const SHADERS: &[ShaderFile] = &[
         Rule::AtMostOne(&["HALF", "TEMPORAL"])
     ),
     shader!("environment/fog.wgsl", []),
-    shader!("post/tonemap.wgsl", ["EYE_ADAPTATION"]),
-    shader!("post/eye_adaptation.wgsl", []),
-    shader!("post/fxaa.wgsl", []),
-    shader!("post/copy.wgsl", []),
-    shader!("bench/pass_chain.wgsl", []),
+    shader!("post/tonemap.wgsl", keyed crate::post::tonemap::TonemapKey),
+    shader!("post/eye_adaptation.wgsl", keyed crate::post::eye_adaptation::EyeAdaptationKey),
+    shader!("post/fxaa.wgsl", keyed crate::post::fxaa::FxaaKey),
+    shader!("post/copy.wgsl", keyed crate::post::CopyKey),
+    shader!("bench/pass_chain.wgsl", keyed crate::bench::pass_chain::PassChainKey),
     shader!(
         "post/dof.wgsl",
         ["AUTOFOCUS", "BOKEH", "HALF", "INLINE_COC"],
         // At half resolution the upsample reads the CoC target: a pass makes it.
         Rule::AtMostOne(&["HALF", "INLINE_COC"])
     ),
-    shader!("post/autofocus.wgsl", []),
-    shader!("post/motion_blur.wgsl", []),
-    shader!("post/glare.wgsl", ["FILTERED_SOURCE"]),
+    shader!("post/autofocus.wgsl", keyed crate::post::autofocus::AutofocusKey),
+    shader!("post/motion_blur.wgsl", keyed crate::post::motion_blur::MotionBlurKey),
+    shader!("post/glare.wgsl", keyed crate::post::glare::GlareKey),
     shader!("post/transparency.wgsl", keyed crate::post::TransparencyKey),
-    shader!(
-        "post/taa.wgsl",
-        ["VARIANCE_CLIP", "CATMULL_ROM"],
-        Rule::Requires("CATMULL_ROM", "VARIANCE_CLIP")
-    ),
+    shader!("post/taa.wgsl", keyed crate::post::taa::TaaQuality),
     // The shader-node example blur, run as a built-in pass (the baseline its node is benchmarked against).
     shader!("nodes/blur.wgsl", []),
-    shader!(
-        "resolution/upsample.wgsl",
-        ["R32", "DETAIL"],
-        Rule::AtMostOne(&["R32", "DETAIL"])
-    ),
+    shader!("resolution/upsample.wgsl", keyed crate::resolution::UpsampleKey),
     shader!("gbuffer/view.wgsl", one_of ["ALBEDO", "NORMALS", "VELOCITY", "UV", "DEPTH", "MATERIAL_ID", "OBJECT_ID"]),
 ];
 
@@ -388,12 +364,15 @@ pub fn all_permutations() -> Vec<ShaderKey> {
 
 mod cache;
 mod composer;
+mod flags;
 pub mod layout;
 mod reflection;
+mod uniform;
 
 pub use cache::{CompileTimes, PipelineRef, Sampling, ShaderCache};
 pub use composer::{ShaderComposer, Splice};
 pub use reflection::{Reflection, ShaderVar};
+pub use uniform::Uniform;
 
 #[cfg(test)]
 mod tests;

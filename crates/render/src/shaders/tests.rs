@@ -210,3 +210,102 @@ fn a_feature_set_no_typed_key_has_is_refused() {
     };
     assert!(ao.check(&super::Permutation::key(half).features).is_ok());
 }
+
+/// The typed keys that replaced string rules (`flag_key!`, `choice_key!`,
+/// TAA's quality) enumerate exactly the feature sets, in the same order,
+/// that the rules did: the permutation set did not change.
+#[test]
+fn typed_keys_enumerate_what_the_string_rules_did() {
+    use std::collections::BTreeSet;
+    // As `SHADERS` listed them before.
+    let choice = |f: &'static [&'static str]| vec![Rule::AtMostOne(f)];
+    let old: Vec<(&str, &[&str], Vec<Rule>)> = vec![
+        ("gbuffer/visibility.wgsl", &["ALPHA_MASK"], vec![]),
+        ("geometry/spherize.wgsl", &[], vec![]),
+        ("geometry/extrude.wgsl", &["TEXTURE"], vec![]),
+        ("geometry/pn_triangles.wgsl", &["FLAT"], vec![]),
+        ("geometry/spline.wgsl", &["RIBBON", "BEZIER"], vec![]),
+        (
+            "geometry/tessellate.wgsl",
+            &["COUNT", "SUMS"],
+            choice(&["COUNT", "SUMS"]),
+        ),
+        (
+            "geometry/displace.wgsl",
+            &["ACCUMULATE", "NORMALS"],
+            choice(&["ACCUMULATE", "NORMALS"]),
+        ),
+        ("geometry/skinning.wgsl", &[], vec![]),
+        (
+            "particles/simulate.wgsl",
+            &["FIELD_TEXTURE", "MESH_EMITTER", "DEPTH_COLLISION"],
+            vec![],
+        ),
+        ("particles/expand.wgsl", &[], vec![]),
+        (
+            "gbuffer/raster.wgsl",
+            &["TWO_SIDED", "MESHES_ONLY", "DEPTH_ONLY"],
+            vec![],
+        ),
+        ("gbuffer/published_depth.wgsl", &["COMPUTE_RASTER"], vec![]),
+        ("lighting/clusters.wgsl", &[], vec![]),
+        (
+            "lighting/ssss.wgsl",
+            &["VERTICAL", "SOURCES_2", "SOURCES_3"],
+            vec![],
+        ),
+        ("shadows/depth.wgsl", &[], vec![]),
+        ("shadows/moments.wgsl", &[], vec![]),
+        ("shadows/resolve.wgsl", &["OVER_STILL"], vec![]),
+        ("environment/prefilter.wgsl", &[], vec![]),
+        ("environment/environment_probe.wgsl", &[], vec![]),
+        ("post/tonemap.wgsl", &["EYE_ADAPTATION"], vec![]),
+        ("post/eye_adaptation.wgsl", &[], vec![]),
+        ("post/fxaa.wgsl", &[], vec![]),
+        ("post/copy.wgsl", &[], vec![]),
+        ("bench/pass_chain.wgsl", &[], vec![]),
+        ("post/autofocus.wgsl", &[], vec![]),
+        ("post/motion_blur.wgsl", &[], vec![]),
+        ("post/glare.wgsl", &["FILTERED_SOURCE"], vec![]),
+        (
+            "post/taa.wgsl",
+            &["VARIANCE_CLIP", "CATMULL_ROM"],
+            vec![Rule::Requires("CATMULL_ROM", "VARIANCE_CLIP")],
+        ),
+        (
+            "resolution/upsample.wgsl",
+            &["R32", "DETAIL"],
+            choice(&["R32", "DETAIL"]),
+        ),
+        (
+            "lighting/ssgi.wgsl",
+            &["TEMPORAL", "GATHER", "BLUR", "AMBIENT", "HALF"],
+            vec![
+                Rule::AtMostOne(&["TEMPORAL", "BLUR"]),
+                Rule::Requires("AMBIENT", "BLUR"),
+                Rule::Requires("GATHER", "TEMPORAL"),
+                Rule::AtMostOne(&["HALF", "TEMPORAL"]),
+                Rule::AtMostOne(&["HALF", "BLUR"]),
+            ],
+        ),
+    ];
+    for (path, features, rules) in old {
+        let file = SHADERS.iter().find(|f| f.path == path).expect(path);
+        let keyed = file
+            .keyed
+            .unwrap_or_else(|| panic!("{path} has no typed key"));
+        let keyed: Vec<BTreeSet<&str>> = keyed().into_iter().map(|k| k.features).collect();
+        let n = features.len();
+        let ruled: Vec<BTreeSet<&str>> = (0u32..1 << n)
+            .map(|mask| {
+                (0..n)
+                    .filter(|i| mask & (1 << i) != 0)
+                    .map(|i| features[i])
+                    .collect()
+            })
+            .filter(|set| rules.iter().all(|r| r.check(set).is_ok()))
+            .collect();
+        assert_eq!(keyed, ruled, "{path}");
+        assert_eq!(file.features, features, "{path}");
+    }
+}

@@ -31,6 +31,7 @@ use crate::report::PassName;
 use raster::{CasterSet, SetKind, StillSets};
 use store::ShadowStore;
 
+pub(crate) use raster::{MomentsKey, ShadowDepthKey, ShadowResolveKey};
 pub use views::{Cascades, LayerView};
 
 /// How a shadow is filtered when it is sampled.

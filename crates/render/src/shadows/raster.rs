@@ -10,10 +10,28 @@ use crate::gbuffer::compute_raster::{ComputeRaster, RasterLabels, RasterView, Wo
 use crate::gbuffer::{Draw, Layer, pack_instances};
 use crate::mesh_arena::pulled_pipeline;
 use crate::renderer::Renderer;
-use crate::shaders::ShaderKey;
+use crate::shaders::{Permutation, ShaderKey};
 
 use super::store::{DEPTH_FORMAT, StoredMaps};
 use super::{ShadowFilter, ShadowMaps, VIEW_STRIDE, layer_view};
+
+crate::flag_key! {
+    /// `shadows/depth.wgsl`: one permutation.
+    pub struct ShadowDepthKey("shadows/depth.wgsl");
+}
+
+crate::flag_key! {
+    /// `shadows/moments.wgsl`: one permutation.
+    pub struct MomentsKey("shadows/moments.wgsl");
+}
+
+crate::flag_key! {
+    /// `shadows/resolve.wgsl`.
+    pub struct ShadowResolveKey("shadows/resolve.wgsl") {
+        /// Composited over the cached maps of what stands still.
+        over_still: "OVER_STILL",
+    }
+}
 
 /// Casters drawn together: their instances, their draws and, where the
 /// compute rasterizer draws the maps, its batches over them.
@@ -151,10 +169,10 @@ pub(super) struct Job<'s> {
 
 impl ShadowMaps {
     fn resolve_key(target: Target) -> ShaderKey {
-        ShaderKey::new(
-            "shadows/resolve.wgsl",
-            (target == Target::MapOverStill).then_some("OVER_STILL"),
-        )
+        ShadowResolveKey {
+            over_still: target == Target::MapOverStill,
+        }
+        .key()
     }
 
     /// The texture a job writes and, over the still cache, the one it reads.
@@ -246,7 +264,7 @@ impl ShadowMaps {
                 message: "no depth attachments for the raster hardware".to_owned(),
             });
         };
-        let key = ShaderKey::new("shadows/depth.wgsl", []);
+        let key = ShadowDepthKey.key();
         let pipeline = cx
             .shaders
             .render_pipeline(&device, &key, "depth32f", |module, cache| {
@@ -397,7 +415,7 @@ impl ShadowMaps {
         layers: &[u32],
     ) -> Result<(), RenderError> {
         let device = cx.gpu.device.clone();
-        let key = ShaderKey::new("shadows/moments.wgsl", []);
+        let key = MomentsKey.key();
         let pipeline = cx.shaders.compute_pipeline(&device, &key, "main")?;
         let depth_view = depth.create_view(&wgpu::TextureViewDescriptor {
             dimension: Some(wgpu::TextureViewDimension::D2Array),

@@ -25,18 +25,17 @@
 use std::sync::Arc;
 
 use crate::error::RenderError;
-use crate::frame_graph::{
-    Bindings, FrameGraph, PassBuilder, PassContext, SizeRule, Tex, TextureDesc,
-};
+use crate::finite::finite_in;
+use crate::frame_graph::{Bindings, FrameGraph, History, PassBuilder, PassContext, TextureDesc};
 use crate::gbuffer::GBuffer;
-use crate::recipe::{Recipe, TextureRef, next_recipe_id};
+use crate::recipe::{Recipe, TextureRef, declare_inputs, name_of, next_recipe_id};
 use crate::renderer::Renderer;
 use crate::report::PassName;
 use crate::resolution::{
     Resolution, UpsampleFormat, UpsamplePass, declare_upsample, written_target,
 };
 use crate::shaders::Permutation;
-use crate::temporal::{RayParams, TemporalState};
+use crate::temporal::{RayParams, RayUniforms};
 
 mod key;
 pub use key::{AoKey, AoTarget, BlurKey, DepthKey, TemporalKey};
@@ -92,6 +91,8 @@ pub struct AoSettings {
     pub resolution: Resolution,
 }
 
+/// Counted when a history starts anew (a resize, a `Reset`, a camera cut).
+const HISTORY_RESET: &str = "AO history reset";
 /// Counted when an AO's raw estimate ran at half resolution.
 pub const HALF_RESOLUTION: &str = "AO at half resolution";
 /// Statistic: AO estimates that blended their history in the same pass
@@ -115,30 +116,25 @@ impl Default for AoSettings {
 }
 
 impl AoSettings {
-    /// Finite and in range: a NaN radius would reach every pixel.
+    /// Finite and in range ([`finite_in`]).
     fn clamped(self) -> Self {
-        let clean = |v: f32, lo: f32, hi: f32, fallback: f32| {
-            if v.is_finite() {
-                v.clamp(lo, hi)
-            } else {
-                fallback
-            }
-        };
         AoSettings {
             // A NaN radius occludes nothing rather than guessing one.
-            radius: clean(self.radius, 0.0, 1e6, 0.0),
+            radius: finite_in(self.radius, 0.0, 1e6, 0.0),
             samples: self.samples.clamp(1, 64),
             steps: self.steps.clamp(1, 32),
-            intensity: clean(self.intensity, 0.0, 16.0, 1.0),
-            temporal_blend: clean(self.temporal_blend, 0.0, 0.98, 0.0),
+            intensity: finite_in(self.intensity, 0.0, 16.0, 1.0),
+            temporal_blend: finite_in(self.temporal_blend, 0.0, 0.98, 0.0),
             blur_radius: self.blur_radius.min(16),
             ..self
         }
     }
 }
 
-/// Levels of SAO's view-depth chain (full size, then halves).
-const DEPTH_LEVELS: usize = 5;
+/// Levels of SAO's view-depth chain (full size, then halves), as ao.wgsl names them.
+const DEPTH_LEVELS: [&str; 5] = ["z0", "z1", "z2", "z3", "z4"];
+
+const R32: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
 
 pub struct AmbientOcclusion {
     id: u64,
@@ -146,13 +142,8 @@ pub struct AmbientOcclusion {
     gbuffer: Arc<GBuffer>,
     settings: AoSettings,
     combine: Option<TextureRef>,
-    /// Key of the per-node state and the history's name.
-    key: u64,
-    params: wgpu::Buffer,
-    /// The temporal pass's `fresh` flag: [history kept, history reset].
-    fresh: [wgpu::Buffer; 2],
-    state: Arc<TemporalState>,
-    prefix: String,
+    /// The parameters, written each frame, and the history's state.
+    rays: RayUniforms,
     pub output: String,
 }
 
@@ -166,40 +157,20 @@ impl AmbientOcclusion {
         combine: Option<TextureRef>,
     ) -> Arc<Self> {
         let id = next_recipe_id();
-        let settings = settings.clamped();
-        // The history outlives recipes: a node makes a new one whenever a pin
-        // changes, and its history must carry over. Without a node, per recipe.
-        let key = owner.map_or(id, u64::from);
-        // Written each frame; kept under the node so its bind groups are reused.
-        let params = renderer.kept_buffer(
-            owner,
-            "ao params",
-            64,
-            wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-        );
-        let prefix = format!("ao{id}");
-        // The temporal pass's flag, [history kept, history reset].
-        let fresh = renderer.kept_flags(owner, "ao temporal");
+        let labels = ["ao params", "ao temporal", HISTORY_RESET];
         Arc::new(AmbientOcclusion {
             id,
             owner,
             gbuffer,
-            settings,
+            settings: settings.clamped(),
             combine,
-            key,
-            params,
-            fresh,
-            state: renderer.state::<TemporalState>(key),
-            output: format!("{prefix}/out"),
-            prefix,
+            rays: RayUniforms::new(renderer, owner, id, labels),
+            output: format!("ao{id}/out"),
         })
     }
 
     pub fn texture(self: &Arc<Self>) -> TextureRef {
-        TextureRef {
-            recipe: self.clone(),
-            name: self.output.clone(),
-        }
+        TextureRef::of(self, &self.output)
     }
 
     pub fn settings(&self) -> AoSettings {
@@ -207,13 +178,13 @@ impl AmbientOcclusion {
     }
 
     fn name(&self, what: &str) -> String {
-        format!("{}/{what}", self.prefix)
+        format!("ao{}/{what}", self.id)
     }
 
     /// The persistent history texture's name (RGBA16F: visibility, view
     /// distance, world normal octahedron), kept per node and mode.
     pub fn history_name(&self) -> String {
-        format!("ao-history-{}-{:?}", self.key, self.settings.mode)
+        format!("ao-history-{}-{:?}", self.rays.key, self.settings.mode)
     }
 
     /// Radius 0 occludes nothing: the raw pass writes 1 and nothing else runs.
@@ -225,27 +196,57 @@ impl AmbientOcclusion {
         self.settings.temporal_blend > 0.0 && !self.off()
     }
 
-    /// SAO's depth chain is built only when SAO runs.
-    fn sao(&self) -> bool {
-        self.settings.mode == AoMode::Sao && !self.off()
+    /// Full resolution with accumulation: the estimate blends its history
+    /// in the raw pass (ao.wgsl's TEMPORAL), with no raw target between.
+    fn fused(&self) -> bool {
+        self.temporal() && !self.settings.resolution.is_half()
     }
 
-    /// The size of SAO's depth level `k`.
-    fn level_size(&self, k: usize) -> SizeRule {
-        let f = 0.5f32.powi(k as i32);
-        match self.gbuffer.size {
-            SizeRule::Relative(s) => SizeRule::Relative(s * f),
-            SizeRule::Absolute { width, height } => SizeRule::Absolute {
-                width: (width >> k).max(1),
-                height: (height >> k).max(1),
-            },
-        }
+    /// What every AO pass but SAO's depth chain binds: the camera, the
+    /// parameters, the G-buffer's depth and normals.
+    fn common<'a>(&'a self, pass: &mut PassBuilder<'_, 'a>) {
+        pass.input("depth", &self.gbuffer.targets.depth);
+        pass.input("normals", &self.gbuffer.targets.normals);
+        pass.bind(|b| {
+            b.buffer("camera", self.gbuffer.camera_buffer())
+                .buffer("params", self.rays.params())
+        });
     }
 
-    /// Upload this frame's parameters: the frame index turns the samples.
-    fn write_params(&self, cx: &PassContext<'_>, frame: u32, reset: bool) {
+    /// The history and its twin, last frame's (see TextureDesc::history),
+    /// with the velocity that reprojects it.
+    fn history<'a>(&'a self, pass: &mut PassBuilder<'_, 'a>) -> History {
+        pass.input("velocity_uv", &self.gbuffer.targets.velocity_uv);
+        pass.history(
+            ["history", "previous"],
+            [&self.history_name(), &self.name("previous")],
+            wgpu::TextureFormat::Rgba16Float,
+            self.gbuffer.size,
+        )
+    }
+
+    /// A pass of this effect, at `step`.
+    fn pass<'g, 'a>(
+        &'a self,
+        fg: &'g mut FrameGraph<'a>,
+        step: impl Into<std::borrow::Cow<'static, str>>,
+    ) -> PassBuilder<'g, 'a> {
+        fg.pass(
+            PassName::new(self.settings.mode.name()).step(step),
+            self.owner,
+        )
+    }
+
+    /// The raw estimate, its parameters uploaded first: the frame index turns the samples.
+    fn raw<'a>(
+        &'a self,
+        cx: &mut PassContext<'_>,
+        mut b: Bindings<'a>,
+        key: AoKey,
+        fused: Option<History>,
+    ) -> Result<(), RenderError> {
         let s = self.settings;
-        let params = RayParams {
+        let ray = RayParams {
             radius: s.radius,
             intensity: s.intensity,
             blend: s.temporal_blend,
@@ -253,188 +254,15 @@ impl AmbientOcclusion {
             steps: s.steps,
             blur_radius: if self.off() { 0 } else { s.blur_radius },
         };
-        cx.gpu.queue.write_buffer(
-            &self.params,
-            0,
-            bytemuck::cast_slice(&params.words(frame, reset)),
-        );
-    }
-
-    /// SAO's view depth (level 0, from the G-buffer's depth) or one mip of it.
-    fn linear_depth(
-        &self,
-        cx: &mut PassContext<'_>,
-        level: usize,
-        source: Tex,
-        output: Tex,
-    ) -> Result<(), RenderError> {
-        let size = cx.size_of(output)?;
-        let (label, key) = match level {
-            0 => ("ao view depth", DepthKey::FromGBuffer),
-            _ => ("ao depth mip", DepthKey::Downsample),
-        };
-        cx.dispatch_image(
-            label,
-            &key.key(),
-            Bindings::new()
-                .buffer("camera", self.gbuffer.camera_buffer())
-                .texture("source", source)
-                .texture("output", output),
-            size,
-        )
-    }
-
-    /// Full resolution with accumulation: the estimate blends its history
-    /// in the raw pass (ao.wgsl's TEMPORAL), with no raw target between.
-    fn fused(&self) -> bool {
-        self.temporal() && !self.settings.resolution.is_half()
-    }
-
-    /// The camera and parameters every AO pass binds, with the G-buffer's depth and normals.
-    fn common(&self, depth: Tex, normals: Tex) -> Bindings<'_> {
-        Bindings::new()
-            .buffer("camera", self.gbuffer.camera_buffer())
-            .buffer("params", &self.params)
-            .texture("depth", depth)
-            .texture("normals", normals)
-    }
-
-    fn raw(&self, cx: &mut PassContext<'_>, io: &RawIo) -> Result<(), RenderError> {
-        let (frame, stale) = self.state.advance(&self.gbuffer, self.settings.reset);
-        let reset = stale && self.temporal();
-        if reset {
-            cx.count("AO history reset", 1);
+        let rays = &self.rays;
+        rays.begin(cx, &self.gbuffer, &ray, s.reset, self.temporal());
+        if let Some(h) = fused {
+            b = b.buffer("fresh", self.rays.hand_over(cx, h)?);
+            cx.count(ESTIMATE_TEMPORAL, 1);
         }
-        self.write_params(cx, frame, reset);
-        let mut b = self.common(io.depth, io.normals);
-        for (name, level) in ["z0", "z1", "z2", "z3", "z4"].into_iter().zip(&io.levels) {
-            b = b.texture(name, *level);
-        }
-        b = match &io.target {
-            RawTarget::Raw(output) => b.texture("output", *output),
-            // Last frame's history handed to `previous` before the history
-            // is written (the two may trade textures).
-            RawTarget::Fused(h) => {
-                let fresh = self.hand_over_history(cx, h)?;
-                cx.count(ESTIMATE_TEMPORAL, 1);
-                b.texture("history", h.history)
-                    .texture("previous", h.previous)
-                    .texture("velocity_uv", h.velocity_uv)
-                    .buffer("fresh", &self.fresh[usize::from(fresh)])
-            }
-        };
-        let resolution = self.settings.resolution;
-        let key = AoKey {
-            // Off: the plain estimator's early exit writes 1 (no SAO chain to bind).
-            estimator: if self.off() {
-                AoMode::Stochastic
-            } else {
-                self.settings.mode
-            },
-            target: match (resolution, &io.target) {
-                (Resolution::Half, _) => AoTarget::Half,
-                (Resolution::Full, RawTarget::Fused(_)) => AoTarget::FullTemporal,
-                (Resolution::Full, _) => AoTarget::Full,
-            },
-        };
-        let size = resolution.pixels(self.gbuffer.pixel_size(cx.output_size));
-        cx.dispatch_image(self.settings.mode.name(), &key.key(), b, size)
+        let size = s.resolution.pixels(self.gbuffer.pixel_size(cx.output_size));
+        cx.dispatch_image(s.mode.name(), &key.key(), b, size)
     }
-
-    /// Last frame's history handed to `previous` before the history is
-    /// written again; whether it is fresh (then counted as a reset).
-    fn hand_over_history(
-        &self,
-        cx: &mut PassContext<'_>,
-        h: &HistoryIo,
-    ) -> Result<bool, RenderError> {
-        let fresh = cx.copy_history(h.history, h.previous)?;
-        if fresh {
-            cx.count("AO history reset", 1);
-        }
-        Ok(fresh)
-    }
-
-    fn temporal_pass(
-        &self,
-        cx: &mut PassContext<'_>,
-        raw: Tex,
-        depth: Tex,
-        normals: Tex,
-        h: &HistoryIo,
-    ) -> Result<(), RenderError> {
-        let fresh = self.hand_over_history(cx, h)?;
-        let size = self.gbuffer.pixel_size(cx.output_size);
-        cx.dispatch_image(
-            "ao temporal",
-            &TemporalKey.key(),
-            self.common(depth, normals)
-                .texture("raw", raw)
-                .texture("velocity_uv", h.velocity_uv)
-                .texture("previous", h.previous)
-                .texture("history", h.history)
-                .buffer("temporal", &self.fresh[usize::from(fresh)]),
-            size,
-        )
-    }
-
-    /// One direction of the depth-aware blur; the last pass (`vertical`, or
-    /// the resolve without blur) writes the output and multiplies `combine` in.
-    fn blur(
-        &self,
-        cx: &mut PassContext<'_>,
-        io: &BlurIo,
-        vertical: bool,
-    ) -> Result<(), RenderError> {
-        let key = match (vertical, io.combine) {
-            (false, _) => BlurKey::Horizontal,
-            (true, None) => BlurKey::Vertical,
-            (true, Some(_)) => BlurKey::VerticalCombine,
-        };
-        let size = self.gbuffer.pixel_size(cx.output_size);
-        cx.dispatch_image(
-            if vertical { "ao blur y" } else { "ao blur x" },
-            &key.key(),
-            self.common(io.depth, io.normals)
-                .texture("source", io.source)
-                .texture("output", io.output)
-                .texture_opt("combine", io.combine.filter(|_| vertical)),
-            size,
-        )
-    }
-}
-
-/// The history a temporal AO pass hands over and writes, and the velocity it reprojects by.
-#[derive(Clone, Copy)]
-struct HistoryIo {
-    history: Tex,
-    previous: Tex,
-    velocity_uv: Tex,
-}
-
-/// Where the raw estimate goes: its own target, or (full resolution with
-/// accumulation) straight into the history.
-enum RawTarget {
-    Raw(Tex),
-    Fused(HistoryIo),
-}
-
-/// What the raw pass declared.
-struct RawIo {
-    depth: Tex,
-    normals: Tex,
-    /// SAO's view-depth chain (empty for the other estimators).
-    levels: Vec<Tex>,
-    target: RawTarget,
-}
-
-/// What a blur pass declared.
-struct BlurIo {
-    source: Tex,
-    depth: Tex,
-    normals: Tex,
-    output: Tex,
-    combine: Option<Tex>,
 }
 
 impl Recipe for AmbientOcclusion {
@@ -443,139 +271,132 @@ impl Recipe for AmbientOcclusion {
             return;
         }
         self.gbuffer.declare(renderer, fg);
-        if let Some(c) = &self.combine {
-            c.recipe.declare(renderer, fg);
-        }
-        let kind = self.settings.mode.name();
-        let g = &self.gbuffer.targets;
-        let full = |format| TextureDesc::storage(format).size(self.gbuffer.size);
-        let mut levels = Vec::new();
-        if self.sao() {
-            for k in 0..DEPTH_LEVELS {
-                let mut pass = fg.pass(
-                    PassName::new(kind).step(format!("view depth {k}")),
-                    self.owner,
-                );
-                let source = match k {
-                    0 => pass.read(&g.depth),
-                    _ => pass.read(&self.name(&format!("z{}", k - 1))),
-                };
-                let output = pass.write(
-                    &self.name(&format!("z{k}")),
-                    TextureDesc::storage(wgpu::TextureFormat::R32Float).size(self.level_size(k)),
-                );
-                pass.run(move |cx| self.linear_depth(cx, k, source, output));
-                levels.push(self.name(&format!("z{k}")));
-            }
+        declare_inputs(renderer, fg, &self.combine);
+        // SAO's depth chain is built only when SAO runs.
+        let sao = self.settings.mode == AoMode::Sao && !self.off();
+        let levels = if sao { &DEPTH_LEVELS[..] } else { &[] };
+        for (k, level) in levels.iter().enumerate() {
+            let mut pass = self.pass(fg, format!("view depth {k}"));
+            let (source, label, key) = match k {
+                0 => (
+                    self.gbuffer.targets.depth.clone(),
+                    "ao view depth",
+                    DepthKey::FromGBuffer,
+                ),
+                _ => (
+                    self.name(levels[k - 1]),
+                    "ao depth mip",
+                    DepthKey::Downsample,
+                ),
+            };
+            let size = self.gbuffer.size.mip(k as u32);
+            pass.input("source", &source);
+            pass.output(
+                "output",
+                &self.name(level),
+                TextureDesc::storage(R32).size(size),
+            );
+            pass.bind(|b| b.buffer("camera", self.gbuffer.camera_buffer()));
+            pass.dispatch_image(label, key.key(), size);
         }
         let raw = self.name("raw");
         let resolution = self.settings.resolution;
         let pixels = self.gbuffer.pixel_size(fg.output_size());
-        let history = self.history_name();
-        // The history and its twin, last frame's (see TextureDesc::history).
-        let histories = |pass: &mut PassBuilder<'_, 'a>| HistoryIo {
-            velocity_uv: pass.read(&g.velocity_uv),
-            history: pass.write(
-                &history,
-                TextureDesc::history(wgpu::TextureFormat::Rgba16Float).size(self.gbuffer.size),
-            ),
-            previous: pass.write(
-                &self.name("previous"),
-                TextureDesc::history_twin(wgpu::TextureFormat::Rgba16Float).size(self.gbuffer.size),
-            ),
+        let full = |format| TextureDesc::storage(format).size(self.gbuffer.size);
+        let mut pass = self.pass(fg, format!("raw{}", resolution.pass_suffix()));
+        self.common(&mut pass);
+        for &level in levels {
+            pass.input(level, &self.name(level));
+        }
+        let fused = self.fused().then(|| self.history(&mut pass));
+        if fused.is_none() {
+            let size = resolution.size_rule(self.gbuffer.size, pixels);
+            pass.output(
+                "output",
+                &written_target(&raw, resolution),
+                full(R32).size(size),
+            );
+        }
+        let key = AoKey {
+            // Off: the plain estimator's early exit writes 1 (no SAO chain to bind).
+            estimator: if self.off() {
+                AoMode::Stochastic
+            } else {
+                self.settings.mode
+            },
+            target: match (resolution, fused) {
+                (Resolution::Half, _) => AoTarget::Half,
+                (Resolution::Full, Some(_)) => AoTarget::FullTemporal,
+                (Resolution::Full, None) => AoTarget::Full,
+            },
         };
-        let mut pass = fg.pass(
-            PassName::new(kind).step(format!("raw{}", resolution.pass_suffix())),
-            self.owner,
-        );
-        let (depth, normals) = (pass.read(&g.depth), pass.read(&g.normals));
-        let levels = levels.iter().map(|l| pass.read(l)).collect();
-        let target = if self.fused() {
-            RawTarget::Fused(histories(&mut pass))
-        } else {
-            RawTarget::Raw(
-                pass.write(
-                    &written_target(&raw, resolution),
-                    full(wgpu::TextureFormat::R32Float)
-                        .size(resolution.size_rule(self.gbuffer.size, pixels)),
-                ),
-            )
-        };
-        let fused = matches!(target, RawTarget::Fused(_));
-        let io = RawIo {
-            depth,
-            normals,
-            levels,
-            target,
-        };
-        pass.run(move |cx| self.raw(cx, &io));
-        if fused {
+        pass.run_bound(move |cx, b| self.raw(cx, b, key, fused));
+        if fused.is_some() {
             // The estimate and its accumulation in one pass: straight to the blur.
-            self.declare_blur(fg, history);
-            return;
+            return self.declare_blur(fg, self.history_name());
         }
         declare_upsample(
             fg,
             resolution,
             UpsamplePass {
-                name: PassName::new(kind).step("upsample"),
+                name: PassName::new(self.settings.mode.name()).step("upsample"),
                 owner: self.owner,
                 gbuffer: &self.gbuffer,
                 half: &written_target(&raw, resolution),
                 full: &raw,
-                desc: full(wgpu::TextureFormat::R32Float),
+                desc: full(R32),
                 format: UpsampleFormat::R32,
                 counter: HALF_RESOLUTION,
                 label: "ao upsample",
                 detail: None,
             },
         );
-        let mut source = raw.clone();
-        if self.temporal() {
-            let mut pass = fg.pass(PassName::new(kind).step("temporal"), self.owner);
-            let (raw, depth, normals) =
-                (pass.read(&raw), pass.read(&g.depth), pass.read(&g.normals));
-            let h = histories(&mut pass);
-            pass.run(move |cx| self.temporal_pass(cx, raw, depth, normals, &h));
-            source = history;
+        if !self.temporal() {
+            return self.declare_blur(fg, raw);
         }
-        self.declare_blur(fg, source);
+        let mut pass = self.pass(fg, "temporal");
+        pass.input("raw", &raw);
+        self.common(&mut pass);
+        let h = self.history(&mut pass);
+        pass.run_bound(move |cx, b| {
+            let b = b.buffer("temporal", self.rays.hand_over(cx, h)?);
+            let size = self.gbuffer.pixel_size(cx.output_size);
+            cx.dispatch_image("ao temporal", &TemporalKey.key(), b, size)
+        });
+        self.declare_blur(fg, self.history_name());
     }
 }
 
 impl AmbientOcclusion {
     /// The depth-aware blur of `source` (x then y), or with no blur the
     /// resolve; the last pass writes the output (and multiplies `combine` in).
-    fn declare_blur<'a>(&'a self, fg: &mut FrameGraph<'a>, source: String) {
-        let kind = self.settings.mode.name();
-        let g = &self.gbuffer.targets;
-        let full = |format| TextureDesc::storage(format).size(self.gbuffer.size);
+    fn declare_blur<'a>(&'a self, fg: &mut FrameGraph<'a>, mut source: String) {
         if self.off() {
             fg.count("AO off: radius 0", 1);
         }
         let blur = self.settings.blur_radius > 0 && !self.off();
-        let mut source = source;
+        let full = |format| TextureDesc::storage(format).size(self.gbuffer.size);
         if blur {
-            let mut pass = fg.pass(PassName::new(kind).step("blur x"), self.owner);
-            let io = BlurIo {
-                source: pass.read(&source),
-                depth: pass.read(&g.depth),
-                normals: pass.read(&g.normals),
-                output: pass.write(&self.name("blurred"), full(wgpu::TextureFormat::R32Float)),
-                combine: None,
-            };
-            pass.run(move |cx| self.blur(cx, &io, false));
+            let mut pass = self.pass(fg, "blur x");
+            pass.input("source", &source);
+            self.common(&mut pass);
+            pass.output("output", &self.name("blurred"), full(R32));
+            pass.dispatch_image("ao blur x", BlurKey::Horizontal.key(), self.gbuffer.size);
             source = self.name("blurred");
         }
-        let step = if blur { "blur y" } else { "resolve" };
-        let mut pass = fg.pass(PassName::new(kind).step(step), self.owner);
-        let io = BlurIo {
-            depth: pass.read(&g.depth),
-            normals: pass.read(&g.normals),
-            combine: pass.read_opt(self.combine.as_ref().map(|c| c.name.as_str())),
-            source: pass.read(&source),
-            output: pass.write(&self.output, full(wgpu::TextureFormat::Rgba16Float)),
+        let mut pass = self.pass(fg, if blur { "blur y" } else { "resolve" });
+        self.common(&mut pass);
+        let combine = pass.input_opt("combine", name_of(&self.combine));
+        pass.input("source", &source);
+        pass.output(
+            "output",
+            &self.output,
+            full(wgpu::TextureFormat::Rgba16Float),
+        );
+        let key = match combine {
+            None => BlurKey::Vertical,
+            Some(_) => BlurKey::VerticalCombine,
         };
-        pass.run(move |cx| self.blur(cx, &io, true));
+        pass.dispatch_image("ao blur y", key.key(), self.gbuffer.size);
     }
 }

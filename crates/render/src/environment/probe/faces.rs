@@ -14,9 +14,13 @@ use crate::frame_graph::{Bindings, PassContext};
 use crate::gbuffer::{Draw, GpuInstance, Layer, pack_instances};
 use crate::mesh_arena::pulled_pipeline;
 use crate::renderer::Renderer;
-use crate::shaders::ShaderKey;
+use crate::shaders::Permutation;
 
-const SHADER: &str = "environment/environment_probe.wgsl";
+crate::flag_key! {
+    /// `environment/environment_probe.wgsl`: one permutation.
+    pub struct ProbeFaceKey("environment/environment_probe.wgsl");
+}
+
 const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 /// The base cube's format (prefilter.rs).
 const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
@@ -75,7 +79,7 @@ pub(crate) fn render(
     let s = scene.settings();
     let l = s.lighting;
     let towards_sun = (-l.sun_direction).try_normalize().unwrap_or(glam::Vec3::Y);
-    let key = ShaderKey::new(SHADER, []);
+    let key = ProbeFaceKey.key();
     let pipeline = cx
         .shaders
         .render_pipeline(&device, &key, "rgba16f", |module, cache| {

@@ -78,6 +78,17 @@ pub enum Textured {
     Textured,
 }
 
+impl From<bool> for Textured {
+    /// Whether the term reads a texture.
+    fn from(textured: bool) -> Self {
+        if textured {
+            Textured::Textured
+        } else {
+            Textured::Flat
+        }
+    }
+}
+
 impl Permutation for CompositeKey {
     const PATH: &'static str = "lighting/composite.wgsl";
     const FEATURES: &'static [&'static str] = &[

@@ -17,16 +17,17 @@
 use std::sync::Arc;
 
 use crate::error::RenderError;
-use crate::frame_graph::{Bindings, FrameGraph, PassContext, Tex, TextureDesc};
+use crate::finite::finite_in;
+use crate::frame_graph::{FrameGraph, TextureDesc};
 use crate::gbuffer::GBuffer;
 use crate::material::{
     FEATURE_AMBIENT_OCCLUSION, FEATURE_EMISSION, FEATURE_MATCAP, FEATURE_REFLECTION, FEATURE_UNLIT,
-    MaterialTextures, MaterialWorld,
+    MaterialWorld,
 };
-use crate::recipe::{Recipe, TextureRef, next_recipe_id};
+use crate::recipe::{Recipe, TextureRef, declare_inputs, name_of, next_recipe_id};
 use crate::renderer::Renderer;
 use crate::report::PassName;
-use crate::shaders::{Permutation, Sampling, ShaderKey};
+use crate::shaders::{Permutation, Sampling};
 
 mod key;
 pub use key::{CompositeKey, LightPairs, MaterialAo, MaterialTerms, Shading, Textured};
@@ -52,6 +53,9 @@ pub struct CompositeInputs {
     pub reflection: Option<TextureRef>,
 }
 
+/// Counted when a reflection input was wired but no material reflects.
+const REFLECTION_CULLED: &str = "reflection culled: no reflective material";
+
 /// Light types one CompositeLight adds up.
 pub const MAX_COMPONENTS: usize = 4;
 
@@ -72,20 +76,19 @@ pub struct CompositeLight {
     components: Vec<LightComponents>,
     /// The material world, bound when emission or per-material AO needs it.
     materials: Option<Arc<MaterialWorld>>,
-    /// Some material has Emission: the emission code is compiled in.
-    emission: bool,
-    /// An AO texture, and whether materials weight it (some has AmbientOcclusion).
     occlusion: Option<TextureRef>,
-    ao_per_material: bool,
     gi: Option<TextureRef>,
     /// Only when some material has Reflection.
     reflection: Option<TextureRef>,
-    /// A reflection input was wired, and dropped: no material reflects.
-    reflection_culled: bool,
-    /// Some material has MatCap: the matcap code is compiled in.
-    matcap: bool,
-    /// Some material is Unlit: the albedo replaces its lighting.
-    unlit: bool,
+    /// The permutation: a feature no material has is compiled out. What the
+    /// pass reads follows from it (a matcap's normals, textured emission).
+    key: CompositeKey,
+    /// The texture array a matcap reads its images from, when some MatCap
+    /// material names a layer (else only the built-in matcap is used).
+    matcap_images: Option<TextureRef>,
+    /// What the pass counts each frame: a reflection input culled because no
+    /// material reflects, matcap or unlit materials shaded.
+    counts: Vec<&'static str>,
     params: wgpu::Buffer,
     pub output: String,
 }
@@ -105,12 +108,18 @@ impl CompositeLight {
             gi,
             reflection,
         } = inputs;
+        let pairs =
+            LightPairs::new(components.iter().map(|c| c.sss.is_some())).ok_or_else(|| {
+                RenderError::Pass {
+                    pass: "CompositeLight".to_owned(),
+                    message: format!(
+                        "takes 1 to {MAX_COMPONENTS} diffuse/specular pairs, got {}",
+                        components.len()
+                    ),
+                }
+            })?;
         // A feature no material has costs nothing: its code is not compiled in.
-        let has = |feature: u32| {
-            materials
-                .as_ref()
-                .is_some_and(|w| w.union_flags() & (1 << feature) != 0)
-        };
+        let has = |feature: u32| materials.as_ref().is_some_and(|w| w.has(feature));
         let unlit = has(FEATURE_UNLIT);
         let emission = has(FEATURE_EMISSION) || unlit;
         let ao_per_material = occlusion.is_some() && has(FEATURE_AMBIENT_OCCLUSION);
@@ -121,187 +130,77 @@ impl CompositeLight {
         let materials = materials.filter(|_| {
             emission || ao_per_material || reflection.is_some() || gi.is_some() || matcap
         });
-        if components.is_empty() || components.len() > MAX_COMPONENTS {
-            return Err(RenderError::Pass {
-                pass: "CompositeLight".to_owned(),
-                message: format!(
-                    "takes 1 to {MAX_COMPONENTS} diffuse/specular pairs, got {}",
-                    components.len()
-                ),
-            });
-        }
-        let id = next_recipe_id();
-        let ambient = ambient.map(|a| {
-            if a.is_finite() {
-                a.clamp(0.0, 65000.0)
-            } else {
-                0.0
-            }
-        });
+        // Emission and matcaps read the texture array where a material names a layer.
+        let textured = |feature: u32| materials.as_ref().filter(|w| w.textured(1 << feature));
+        let matcap_images = textured(FEATURE_MATCAP).filter(|_| matcap);
+        let matcap_images = matcap_images.and_then(|w| w.textures()).cloned();
+        let ao = occlusion.is_some();
+        let shading = match &materials {
+            None => Shading::Plain { ao },
+            Some(_) => Shading::Materials(MaterialTerms {
+                ao: match (ao, ao_per_material) {
+                    (false, _) => MaterialAo::Off,
+                    (true, false) => MaterialAo::On,
+                    (true, true) => MaterialAo::PerMaterial,
+                },
+                emission: emission.then(|| textured(FEATURE_EMISSION).is_some().into()),
+                reflection: reflection.is_some(),
+                matcap: matcap.then(|| matcap_images.is_some().into()),
+            }),
+        };
+        let key = CompositeKey {
+            pairs,
+            shading,
+            gi: gi.is_some(),
+            // Occlusion, metallic and emission where the G-buffer resolved them.
+            surface_target: gbuffer.targets.surface_feature().is_some(),
+        };
+        let counts = [
+            (reflection_culled, REFLECTION_CULLED),
+            (matcap, "matcap shaded"),
+            (unlit, "unlit shaded"),
+        ];
+        let ambient = ambient.map(|a| finite_in(a, 0.0, 65000.0, 0.0));
         let params = renderer.uniform(
             owner,
             "composite params",
             bytemuck::cast_slice(&[ambient[0], ambient[1], ambient[2], 0.0]),
         );
+        let id = next_recipe_id();
         Ok(Arc::new(CompositeLight {
             id,
             owner,
             gbuffer,
             components,
             materials,
-            emission,
             occlusion,
-            ao_per_material,
             gi,
             reflection,
-            reflection_culled,
-            matcap,
-            unlit,
+            key,
+            matcap_images,
+            counts: counts.into_iter().filter(|c| c.0).map(|c| c.1).collect(),
             params,
             output: format!("composite{id}"),
         }))
     }
 
+    pub fn texture(self: &Arc<Self>) -> TextureRef {
+        TextureRef::of(self, &self.output)
+    }
+
+    /// The material terms the permutation compiles in.
+    fn terms(&self) -> Option<MaterialTerms> {
+        match self.key.shading {
+            Shading::Materials(terms) => Some(terms),
+            Shading::Plain { .. } => None,
+        }
+    }
+
     /// Whether emission reads a texture (surface maps' emission and
     /// occlusion come through the G-buffer's surface target instead).
     fn textured(&self) -> bool {
-        self.materials
-            .as_ref()
-            .is_some_and(|w| self.emission && w.textured(1 << FEATURE_EMISSION))
+        self.terms().and_then(|t| t.emission) == Some(Textured::Textured)
     }
-
-    /// The texture array a matcap reads its images from, when some MatCap
-    /// material names a layer (else only the built-in matcap is used).
-    fn matcap_images(&self) -> Option<&TextureRef> {
-        self.materials
-            .as_ref()
-            .filter(|w| self.matcap && w.textured(1 << FEATURE_MATCAP))
-            .and_then(|w| w.textures())
-    }
-
-    pub fn texture(self: &Arc<Self>) -> TextureRef {
-        TextureRef {
-            recipe: self.clone(),
-            name: self.output.clone(),
-        }
-    }
-
-    /// The permutation: a feature no material has is compiled out.
-    fn key(&self) -> Result<ShaderKey, RenderError> {
-        let pairs =
-            LightPairs::new(self.components.iter().map(|c| c.sss.is_some())).ok_or_else(|| {
-                RenderError::Graph(format!(
-                    "CompositeLight takes 1 to {MAX_COMPONENTS} light components, not {}",
-                    self.components.len()
-                ))
-            })?;
-        let textured = |on: bool| match on {
-            true => Textured::Textured,
-            false => Textured::Flat,
-        };
-        let ao = self.occlusion.is_some();
-        let shading = match &self.materials {
-            None => Shading::Plain { ao },
-            Some(_) => Shading::Materials(MaterialTerms {
-                ao: match (ao, self.ao_per_material) {
-                    (false, _) => MaterialAo::Off,
-                    (true, false) => MaterialAo::On,
-                    (true, true) => MaterialAo::PerMaterial,
-                },
-                emission: self.emission.then(|| textured(self.textured())),
-                reflection: self.reflection.is_some(),
-                matcap: self
-                    .matcap
-                    .then(|| textured(self.matcap_images().is_some())),
-            }),
-        };
-        Ok(CompositeKey {
-            pairs,
-            shading,
-            gi: self.gi.is_some(),
-            // Occlusion, metallic and emission where the G-buffer resolved them.
-            surface_target: self.gbuffer.targets.surface_feature().is_some(),
-        }
-        .key())
-    }
-
-    fn run(&self, cx: &mut PassContext<'_>, io: &CompositeIo) -> Result<(), RenderError> {
-        if self.reflection_culled {
-            cx.count("reflection culled: no reflective material", 1);
-        }
-        if self.matcap {
-            cx.count("matcap shaded", 1);
-        }
-        if self.unlit {
-            cx.count("unlit shaded", 1);
-        }
-        const DIFFUSE: [&str; MAX_COMPONENTS] = ["diffuse0", "diffuse1", "diffuse2", "diffuse3"];
-        const SPECULAR: [&str; MAX_COMPONENTS] =
-            ["specular0", "specular1", "specular2", "specular3"];
-        const SSS: [&str; MAX_COMPONENTS] = ["sss0", "sss1", "sss2", "sss3"];
-        let mut b = Bindings::new()
-            .buffer("camera", self.gbuffer.camera_buffer())
-            .buffer("params", &self.params)
-            .texture("color", io.color)
-            .texture("depth", io.depth)
-            .texture("output", io.output)
-            .texture_opt("surface_target", io.surface)
-            .texture_opt("occlusion", io.occlusion)
-            .texture_opt("gi", io.gi)
-            .texture_opt("reflection", io.reflection)
-            .texture_opt("normals", io.normals);
-        for (k, light) in io.lights.iter().enumerate() {
-            b = b
-                .texture(DIFFUSE[k], light.diffuse)
-                .texture(SPECULAR[k], light.specular)
-                .texture_opt(SSS[k], light.sss);
-        }
-        if let Some(images) = io.matcap_images {
-            // Clamped: the rim of a matcap must not wrap to the far side.
-            b = b
-                .array("matcap_images", images)
-                .sampler("matcap_sampler", Sampling::LinearClamp);
-        }
-        if let Some(world) = &self.materials {
-            b = b.extend(world.bindings(io.material_textures));
-        }
-        let (w, h) = self.gbuffer.pixel_size(cx.output_size);
-        cx.dispatch_shader(
-            "composite",
-            &self.key()?,
-            "main",
-            b,
-            (w.div_ceil(8), h.div_ceil(8), 1),
-        )
-    }
-}
-
-/// What a CompositeLight pass declared.
-struct CompositeIo {
-    color: Tex,
-    depth: Tex,
-    output: Tex,
-    /// The G-buffer's surface target, where it has one.
-    surface: Option<Tex>,
-    lights: Vec<LightIo>,
-    occlusion: Option<Tex>,
-    gi: Option<Tex>,
-    reflection: Option<Tex>,
-    /// For MatCap: the normals, and the matcap images where a material names one.
-    normals: Option<Tex>,
-    matcap_images: Option<Tex>,
-    material_textures: Option<MaterialTextures>,
-}
-
-struct LightIo {
-    diffuse: Tex,
-    specular: Tex,
-    sss: Option<Tex>,
-}
-
-/// The name of an optional input.
-fn name(t: &Option<TextureRef>) -> Option<&str> {
-    t.as_ref().map(|t| t.name.as_str())
 }
 
 impl Recipe for CompositeLight {
@@ -314,47 +213,56 @@ impl Recipe for CompositeLight {
             .components
             .iter()
             .flat_map(|c| [Some(&c.diffuse), Some(&c.specular), c.sss.as_ref()]);
-        for input in [&self.occlusion, &self.gi, &self.reflection]
-            .map(Option::as_ref)
-            .into_iter()
-            .chain(lights)
-            .chain([self.matcap_images()])
-            .flatten()
-        {
-            input.recipe.declare(renderer, fg);
-        }
+        let inputs = [&self.occlusion, &self.gi, &self.reflection].map(Option::as_ref);
+        declare_inputs(renderer, fg, inputs.into_iter().chain(lights).flatten());
+        declare_inputs(renderer, fg, &self.matcap_images);
         if let Some(world) = &self.materials {
             world.declare_upstream(renderer, fg, self.textured());
         }
+        const DIFFUSE: [&str; MAX_COMPONENTS] = ["diffuse0", "diffuse1", "diffuse2", "diffuse3"];
+        const SPECULAR: [&str; MAX_COMPONENTS] =
+            ["specular0", "specular1", "specular2", "specular3"];
+        const SSS: [&str; MAX_COMPONENTS] = ["sss0", "sss1", "sss2", "sss3"];
         let g = &self.gbuffer.targets;
         let mut pass = fg.pass(PassName::new("CompositeLight"), self.owner);
-        let io = CompositeIo {
-            color: pass.read(&g.color),
-            depth: pass.read(&g.depth),
-            surface: pass.read_opt(g.surface.as_deref()),
-            lights: self
-                .components
-                .iter()
-                .map(|c| LightIo {
-                    diffuse: pass.read(&c.diffuse.name),
-                    specular: pass.read(&c.specular.name),
-                    sss: pass.read_opt(name(&c.sss)),
-                })
-                .collect(),
-            occlusion: pass.read_opt(name(&self.occlusion)),
-            gi: pass.read_opt(name(&self.gi)),
-            reflection: pass.read_opt(name(&self.reflection)),
-            normals: self.matcap.then(|| pass.read(&g.normals)),
-            matcap_images: self.matcap_images().map(|t| pass.read(&t.name)),
-            material_textures: self
-                .materials
-                .as_ref()
-                .and_then(|w| w.read_textures(&mut pass, self.textured(), g.surface_targets())),
-            output: pass.write(
-                &self.output,
-                TextureDesc::storage(wgpu::TextureFormat::Rgba16Float).size(self.gbuffer.size),
-            ),
-        };
-        pass.run(move |cx| self.run(cx, &io));
+        pass.input("color", &g.color);
+        pass.input("depth", &g.depth);
+        pass.input_opt("surface_target", g.surface.as_deref());
+        for (k, light) in self.components.iter().enumerate() {
+            pass.input(DIFFUSE[k], &light.diffuse.name);
+            pass.input(SPECULAR[k], &light.specular.name);
+            pass.input_opt(SSS[k], name_of(&light.sss));
+        }
+        pass.input_opt("occlusion", name_of(&self.occlusion));
+        pass.input_opt("gi", name_of(&self.gi));
+        pass.input_opt("reflection", name_of(&self.reflection));
+        if self.terms().is_some_and(|t| t.matcap.is_some()) {
+            pass.input("normals", &g.normals);
+        }
+        if let Some(images) = &self.matcap_images {
+            let images = pass.read(&images.name);
+            // Clamped: the rim of a matcap must not wrap to the far side.
+            pass.bind(|b| {
+                b.array("matcap_images", images)
+                    .sampler("matcap_sampler", Sampling::LinearClamp)
+            });
+        }
+        if let Some(world) = &self.materials {
+            let textures = world.read_textures(&mut pass, self.textured(), g.surface_targets());
+            pass.bind(|b| b.extend(world.bindings(textures)));
+        }
+        let desc = TextureDesc::storage(wgpu::TextureFormat::Rgba16Float).size(self.gbuffer.size);
+        pass.output("output", &self.output, desc);
+        pass.bind(|b| {
+            b.buffer("camera", self.gbuffer.camera_buffer())
+                .buffer("params", &self.params)
+        });
+        pass.run_bound(move |cx, b| {
+            for counter in &self.counts {
+                cx.count(counter, 1);
+            }
+            let size = self.gbuffer.pixel_size(cx.output_size);
+            cx.dispatch_image("composite", &self.key.key(), b, size)
+        });
     }
 }
