@@ -41,7 +41,8 @@ use crate::model::EditorDoc;
 use crate::model::edits::Clip;
 use crate::values;
 use crate::viewport::{Blitter, ViewportError};
-use crate::worker::{Frame, FrameWait, Request, ViewRequest, Worker, WorkerGpu};
+use crate::gpu::WorkerGpu;
+use crate::worker::{Frame, FrameWait, Request, ViewRequest, Worker};
 pub use help::{HelpLaunch, READ_ONLY_BANNER};
 pub use show_window::ShowWindowOptions;
 

@@ -88,7 +88,7 @@ impl EditorApp {
             let rect = self.viewport_rects[0]
                 .map(|r| [r.min.x * ppp, r.min.y * ppp, r.max.x * ppp, r.max.y * ppp]);
             println!(
-                "{{\"frames\": {}, \"nodes\": {}, \"ui_ms_median\": {:.3}, \"ui_ms_p95\": {:.3}, \"frame_ms_median\": {:.3}, \"frame_ms_p95\": {:.3}, \"eframe_cpu_ms_median\": {:.3}, \"patch_frames\": {}, \"patch_ms_median\": {:.3}, \"viewport_px\": {}, \"viewport_error\": {:?}, \"canvas_zoom\": {:.3}, \"canvas_text_px\": {:.2}, \"recovery_offered\": {}, \"recovery_module_files\": {}, \"nodes_laid_out\": {}, \"thumbnails\": {}, \"recorded_frames\": {}, \"recording_first_frame\": {}, \"recording_dropped\": {}, \"recording_error\": {:?}}}",
+                "{{\"frames\": {}, \"nodes\": {}, \"ui_ms_median\": {:.3}, \"ui_ms_p95\": {:.3}, \"frame_ms_median\": {:.3}, \"frame_ms_p95\": {:.3}, \"eframe_cpu_ms_median\": {:.3}, \"patch_frames\": {}, \"patch_ms_median\": {:.3}, \"viewport_px\": {}, \"viewport_error\": {:?}, \"canvas_zoom\": {:.3}, \"canvas_text_px\": {:.2}, \"recovery_offered\": {}, \"recovery_module_files\": {}, \"nodes_laid_out\": {}, \"thumbnails\": {}, \"recorded_frames\": {}, \"recording_first_frame\": {}, \"recording_dropped\": {}, \"recording_error\": {:?}, \"thumbnail_ms\": {}, \"patch_alone_ms\": {}}}",
                 a.frames,
                 nodes,
                 ui_med * 1e3,
@@ -120,9 +120,17 @@ impl EditorApp {
                     .as_ref()
                     .and_then(|r| r.error.clone())
                     .unwrap_or_default(),
+                // The thumbnails' schedule, as the worker measured it (previews/schedule.rs).
+                json_ms(self.frame.thumbnail_cost.thumb_ms),
+                json_ms(self.frame.thumbnail_cost.base_ms),
             );
             self.allow_close = true;
             ctx.send_viewport_cmd(ViewportCommand::Close);
         }
     }
+}
+
+/// Milliseconds for the report, `null` when not measured.
+fn json_ms(ms: Option<f64>) -> String {
+    ms.map_or_else(|| "null".to_owned(), |ms| format!("{ms:.3}"))
 }
