@@ -29,14 +29,14 @@ use spreadlight_graph::{
 };
 use spreadlight_nodes::input::HostInput;
 use spreadlight_nodes::media::midi_in::MidiLearn;
-use spreadlight_render::{Renderer, SubmissionGate, TextureRef};
+use spreadlight_render::{SubmissionGate, TextureRef};
 
 use crate::gpu::WorkerGpu;
 use crate::previews::engine::PreviewEngine;
 use crate::previews::schedule::Measured;
 use crate::previews::{PreviewOuts, PreviewRequest};
 use crate::recording::{RecordCommand, Recording, RecordingStatus};
-use crate::viewport::{self, Blitter, ViewTarget, ViewportError};
+use crate::viewport::{self, ViewTarget, ViewportError};
 
 /// How long a UI frame waits for the patch frame it asked for.
 #[derive(Clone, Copy, Debug, PartialEq)]

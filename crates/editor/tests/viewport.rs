@@ -650,7 +650,10 @@ mod thumbnail_schedule {
         // 100 ms frames, 1 ms a thumbnail: 3 ms of budget, three a frame.
         let mut s = measured(100.0, 1.0);
         let first = frame(&mut s, &thumbs(12, 1000), 100.0, 1.0);
-        assert!(first.iter().all(|p| *p), "a thumbnail coming on screen shows at once");
+        assert!(
+            first.iter().all(|p| *p),
+            "a thumbnail coming on screen shows at once"
+        );
         let mut counts = [0u32; 12];
         let mut refreshed = 0;
         let frames = 40u32;
@@ -665,8 +668,14 @@ mod thumbnail_schedule {
         }
         let spent = refreshed as f64 * 1.0;
         let allowed = BUDGET_SHARE * 100.0 * f64::from(frames);
-        assert!(spent <= allowed + 1.0, "{spent} ms of thumbnails against {allowed} allowed");
-        assert!(spent >= allowed * 0.9, "the budget is used: {spent} of {allowed} ms");
+        assert!(
+            spent <= allowed + 1.0,
+            "{spent} ms of thumbnails against {allowed} allowed"
+        );
+        assert!(
+            spent >= allowed * 0.9,
+            "the budget is used: {spent} of {allowed} ms"
+        );
         // Round-robin: each thumbnail gets its turn, none twice before another's once.
         let (min, max) = (counts.iter().min(), counts.iter().max());
         assert!(max.zip(min).is_some_and(|(a, b)| a - b <= 1), "{counts:?}");
@@ -697,12 +706,18 @@ mod thumbnail_schedule {
         // One source changes: that one alone.
         let mut c = thumbs(4, 7);
         c[2].source = Some(8);
-        assert_eq!(frame(&mut s, &c, 100.0, 0.01), vec![false, false, true, false]);
+        assert_eq!(
+            frame(&mut s, &c, 100.0, 0.01),
+            vec![false, false, true, false]
+        );
         // An unknown source is never taken as unchanged.
         let mut c = thumbs(4, 7);
         c[2].source = Some(8);
         c[1].source = None;
-        assert_eq!(frame(&mut s, &c, 100.0, 0.01), vec![false, true, false, false]);
+        assert_eq!(
+            frame(&mut s, &c, 100.0, 0.01),
+            vec![false, true, false, false]
+        );
     }
 
     #[test]

@@ -107,8 +107,13 @@ impl PreviewEngine {
                 .iter()
                 .zip(&self.requests)
                 .all(|(a, b)| a.key == b.key);
+        // A texel asked of a preview this frame did not render (skipped as
+        // unchanged): its texture is gone to the pool, so it renders again.
+        let unsourced = requests
+            .iter()
+            .any(|r| r.probe.is_some() && !self.sources.contains_key(&r.key));
         self.requests = requests;
-        if same_previews && !self.due {
+        if same_previews && !self.due && !unsourced {
             // The pointer moved over a thumbnail: no frame to render for that.
             self.reprobe = true;
         } else {
@@ -232,7 +237,8 @@ impl PreviewEngine {
             .filter(|(_, _, _, refresh)| *refresh)
             .map(|(request, found, source, _)| {
                 let shown = found.map(|f| made(renderer, f, &mut views, time));
-                thumbnails += usize::from(shown.is_ok() && !request.key.large && request.probe.is_none());
+                thumbnails +=
+                    usize::from(shown.is_ok() && !request.key.large && request.probe.is_none());
                 (request, shown, source)
             })
             .collect();
@@ -312,7 +318,17 @@ impl PreviewEngine {
                 }
             }
         }
+        let scaled = !batch.is_empty();
         renderer.gpu.submit(batch);
+        if self.budgeted && scaled {
+            // The scaling is timed with the frame it belongs to, not the next
+            // (the frame graph waits for its own passes; a failed wait only
+            // shifts a sample to the next frame).
+            let _ = renderer
+                .gpu
+                .device
+                .poll(wgpu::PollType::wait_indefinitely());
+        }
         // The texels under the pointer, after the thumbnails (each waits for the GPU).
         for (key, uv) in probes {
             if let (Some(src), Some(slot)) = (self.sources.get(&key), self.slots.get_mut(&key)) {

@@ -116,7 +116,10 @@ impl<S: PartialEq> Scheduler<S> {
                 due.push((shown.map_or(0, |s| s.frame), i));
             }
         }
-        due.sort_by(|a, b| a.0.cmp(&b.0).then_with(|| candidates[a.1].key.cmp(&candidates[b.1].key)));
+        due.sort_by(|a, b| {
+            a.0.cmp(&b.0)
+                .then_with(|| candidates[a.1].key.cmp(&candidates[b.1].key))
+        });
         let mut taken = 0;
         match (budgeted, self.base_ms, self.thumb_ms) {
             // Paused: all of them.
@@ -156,7 +159,8 @@ impl<S: PartialEq> Scheduler<S> {
     /// The frame took `ms` milliseconds with `thumbnails` (not live)
     /// refreshed. Only frames of a playing patch are measured.
     pub fn measured(&mut self, ms: f64, thumbnails: usize) {
-        let average = |old: Option<f64>, new: f64| Some(old.map_or(new, |o| o + SMOOTHING * (new - o)));
+        let average =
+            |old: Option<f64>, new: f64| Some(old.map_or(new, |o| o + SMOOTHING * (new - o)));
         if thumbnails == 0 {
             self.base_ms = average(self.base_ms, ms);
             self.last_base = self.frame;
