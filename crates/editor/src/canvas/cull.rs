@@ -29,7 +29,6 @@ pub const MARGIN: f32 = 0.5;
 /// known after its first frame on screen.
 const UNKNOWN_SIZE: Vec2 = Vec2::new(160.0, 90.0);
 
-
 /// Culled nodes and their rectangles on screen.
 pub type CulledRects = Vec<(NodeId, Rect)>;
 
@@ -155,7 +154,6 @@ pub fn wire_color(registry: &Registry, node: &NodeDoc, pin: &str) -> egui::Color
         .and_then(|d| d.outputs.iter().find(|p| p.name == pin))
         .map_or(egui::Color32::DARK_GRAY, |p| super::style::pin_color(p.ty))
 }
-
 
 #[cfg(test)]
 mod tests {

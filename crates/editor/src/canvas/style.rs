@@ -2,10 +2,9 @@
 //! type, and the pin shape that records where it was drawn (the wire hit
 //! test and the tests read those positions).
 
-
 use egui::{Color32, Pos2, Rect, Stroke, Ui};
 use egui_snarl::ui::{PinInfo, PinWireInfo, SnarlPin, SnarlStyle};
-use spreadlight_graph::{NodeId, PinType};
+use spreadlight_graph::PinType;
 
 use crate::zoom::ZOOM_RANGE;
 
