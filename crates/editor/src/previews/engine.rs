@@ -74,6 +74,14 @@ impl Found {
     }
 }
 
+/// A preview asked for this frame: what it shows and whether it is refreshed.
+struct Resolved {
+    request: PreviewRequest,
+    found: Result<Found, String>,
+    source: Option<Source>,
+    refresh: bool,
+}
+
 struct Slot {
     out: PreviewOut,
     /// Worker runs since it was last asked for.
@@ -177,11 +185,7 @@ impl PreviewEngine {
 
     /// What each preview shows, and which of them this frame refreshes
     /// (the schedule's pick; failures always, they cost nothing).
-    fn resolve(
-        &mut self,
-        runtime: &Runtime,
-        size: (u32, u32),
-    ) -> Vec<(PreviewRequest, Result<Found, String>, Option<Source>, bool)> {
+    fn resolve(&mut self, runtime: &Runtime, size: (u32, u32)) -> Vec<Resolved> {
         let found: Vec<(PreviewRequest, Result<Found, String>)> = self
             .requests
             .iter()
@@ -203,7 +207,12 @@ impl PreviewEngine {
             .map(|(r, f)| {
                 let source = f.as_ref().ok().and_then(|f| f.source(size));
                 let refresh = f.is_err() || picked.next().unwrap_or(true);
-                (r, f, source, refresh)
+                Resolved {
+                    request: r,
+                    found: f,
+                    source,
+                    refresh,
+                }
             })
             .collect()
     }
@@ -234,13 +243,20 @@ impl PreviewEngine {
         let mut thumbnails = 0;
         let resolved: Vec<(PreviewRequest, Result<Shown, String>, Option<Source>)> = resolved
             .into_iter()
-            .filter(|(_, _, _, refresh)| *refresh)
-            .map(|(request, found, source, _)| {
-                let shown = found.map(|f| made(renderer, f, &mut views, time));
-                thumbnails +=
-                    usize::from(shown.is_ok() && !request.key.large && request.probe.is_none());
-                (request, shown, source)
-            })
+            .filter(|r| r.refresh)
+            .map(
+                |Resolved {
+                     request,
+                     found,
+                     source,
+                     ..
+                 }| {
+                    let shown = found.map(|f| made(renderer, f, &mut views, time));
+                    thumbnails +=
+                        usize::from(shown.is_ok() && !request.key.large && request.probe.is_none());
+                    (request, shown, source)
+                },
+            )
             .collect();
         let mut textures: Vec<&TextureRef> = main.into_iter().collect();
         for (_, shown, _) in &resolved {
