@@ -1,12 +1,10 @@
 //! The editor application: menus, canvas, inspector, viewports, autosave.
 
-use std::collections::{BTreeSet, HashMap};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::Instant;
 
 use egui::{Id, Key, KeyboardShortcut, LayerId, Modifiers, Pos2, Ui, ViewportCommand};
-use egui_snarl::Snarl;
 use egui_snarl::ui::SnarlWidget;
 use spreadlight_graph::registry::Name;
 use spreadlight_graph::{
@@ -15,6 +13,8 @@ use spreadlight_graph::{
 use spreadlight_render::{GpuContext, Renderer, SubmissionGate};
 
 mod automation;
+mod autosave;
+mod canvas_state;
 mod canvas_view;
 mod dialogs;
 mod document;
@@ -32,16 +32,24 @@ mod search_field;
 mod show;
 mod show_window;
 mod subpatches;
+mod transport;
+mod viewports;
 mod watches;
 
+use self::autosave::{Autosave, Autosaved};
+use self::canvas_state::CanvasState;
+use self::show_window::ShowWindowState;
+use self::transport::Transport;
+use self::viewports::{Source, Viewport, Viewports};
 use crate::browser;
-use crate::canvas::{self, Canvas, CanvasNode, PinPositions, Refusal, SCALE};
+use crate::canvas::{self, Canvas, Refusal, SCALE};
 use crate::files;
+use crate::gpu::WorkerGpu;
 use crate::model::EditorDoc;
 use crate::model::edits::Clip;
 use crate::values;
 use crate::viewport::{Blitter, ViewportError};
-use crate::worker::{Frame, FrameWait, Request, ViewRequest, Worker, WorkerGpu};
+use crate::worker::{Frame, FrameWait, Request, ViewRequest, Worker};
 pub use help::{HelpLaunch, READ_ONLY_BANNER};
 pub use show_window::ShowWindowOptions;
 
@@ -158,33 +166,18 @@ enum Pending {
     Quit,
 }
 
-/// Which texture a viewport shows.
-#[derive(Clone, Debug, PartialEq)]
-enum Source {
-    /// Nothing until a pin is picked (rendering the Output twice would cost for nothing).
-    None,
-    /// The selected Output node, or the first one.
-    Output,
-    Pin(NodeId, String),
-}
-
-/// A viewport's wish (what and how big); what it shows comes from the worker's frame.
-struct Viewport {
-    source: Source,
-    size: (u32, u32),
-}
-
-impl Viewport {
-    fn new(source: Source) -> Self {
-        Viewport {
-            source,
-            size: (1, 1),
-        }
-    }
-}
-
 pub struct EditorApp {
     registry: Registry,
+    /// The canvas: snarl, the selection, the view (`canvas_state.rs`).
+    canvas: CanvasState,
+    /// The viewports' wishes and where they were drawn (`viewports.rs`).
+    viewports: Viewports,
+    /// The recovery file and the offer to restore one (`autosave.rs`).
+    autosave: Autosave,
+    /// The show window from inside the editor (`show_window.rs`).
+    show_window: ShowWindowState,
+    /// The patch's clock, playing or paused (`transport.rs`).
+    transport: Transport,
     doc: EditorDoc,
     path: Option<PathBuf>,
     options: EditorOptions,
@@ -200,8 +193,6 @@ pub struct EditorApp {
     /// Whether the worker's repaint call is installed (on the first frame, when there is a context).
     wake_set: bool,
     gpu_error: Option<String>,
-    /// The two side-panel viewports, then the show window's (`show_window.rs`).
-    viewports: [Viewport; 3],
     /// The renderer's submissions (the worker's): closed except while this
     /// app's own frame runs, minus the show window's drawing, because eframe
     /// may configure a window's surface anywhere else and wgpu refuses that
@@ -209,52 +200,18 @@ pub struct EditorApp {
     submission_gate: Option<SubmissionGate>,
     /// Whether the gate asks for a repaint when the worker waits at it.
     gate_waker_set: bool,
-    viewport_rects: [Option<egui::Rect>; 3],
-    /// The first viewport's whole area, in points: the patch's window (`host_input.rs`).
-    view_area: Option<egui::Rect>,
-    /// Wheel notches summed over the patch's window.
-    wheel: f32,
-    snarl: Snarl<CanvasNode>,
-    snarl_ids: HashMap<NodeId, egui_snarl::NodeId>,
-    selected: BTreeSet<NodeId>,
-    focused: Option<NodeId>,
-    /// Where a Shift-drag selection rectangle started, while it is being drawn.
-    rect_select: Option<Pos2>,
-    /// Fitting the view to the patch alternates measuring the nodes (even)
-    /// and fitting them (odd) down to 0, twice: node sizes change with zoom
-    /// (editors are left out when small), so one pass may not settle.
-    fit: u8,
-    /// The nodes snarl drew last frame, on screen, in drawing order: what a
-    /// click or the pointer can be over (the others lie outside the view,
-    /// `canvas/cull.rs`). Every node's: [`EditorApp::node_screen_rects`].
-    node_rects: Vec<(NodeId, egui::Rect)>,
-    /// The canvas's view last frame (canvas to screen).
-    canvas_view: Option<egui::emath::TSTransform>,
     /// The top patch's Outputs, for the first viewport.
     outputs: output_index::OutputIndex,
-    canvas_rect: Option<egui::Rect>,
     browser: Option<BrowserState>,
     refusal: Option<Refusal>,
     clipboard: Clip,
     pastes: u32,
-    clock: FrameClock,
-    playing: bool,
-    step: bool,
     show_timings: bool,
     status: String,
-    autosaved_generation: Option<u64>,
-    last_autosave: f64,
-    recovery_written: bool,
-    recovery_offer: Option<PathBuf>,
-    /// The subpatch files whose autosaved edits the offer restores too.
-    recovery_offer_modules: Vec<PathBuf>,
     pending: Option<Pending>,
     allow_close: bool,
     dialog: Option<FilePicker>,
-    pins: PinPositions,
-    canvas_layer: Option<LayerId>,
     synced_generation: Option<u64>,
-    last_pointer: Pos2,
     title: String,
     ui_times: std::collections::VecDeque<f64>,
     auto: AutoRun,
@@ -270,21 +227,12 @@ pub struct EditorApp {
     watches: Vec<watches::Watch>,
     /// Where the show window goes, until its first frame placed it (`show.rs`).
     placement: Option<show::Placement>,
-    /// The editor's show window, while it is open (`show_window.rs`).
-    show_window: Option<ShowWindowOptions>,
-    /// What the toolbar's show window choices are set to.
-    show_window_choice: ShowWindowOptions,
-    /// The show window's pointer, keys and size, read while it is open.
-    show_input: Option<spreadlight_nodes::input::InputSnapshot>,
-    show_image_rect: Option<egui::Rect>,
     /// `play --native`: the window takes the texture's size (`show.rs`).
     play_native: bool,
     /// How F1 opens help patches, and what it opened (`help.rs`).
     help_launch: HelpLaunch,
     help_opened: Vec<PathBuf>,
     refused_edits: u32,
-    /// The canvas draws the nodes near its view only (`canvas/cull.rs`).
-    culling: canvas::Culling,
     /// Thumbnails and hover previews: their settings and this frame's wishes (`previews.rs`).
     previews: crate::previews::CanvasPreviews,
     /// Comments, frames, find, the legend and the gestures (`organise.rs`).
@@ -294,8 +242,6 @@ pub struct EditorApp {
     /// Where the next recording goes (`play --record`); it starts on the first frame.
     record_to: Option<PathBuf>,
     record_on_start: bool,
-    /// Seconds the clock steps each frame instead of the wall clock's (`play --fps`).
-    fixed_step: Option<f64>,
 }
 
 impl EditorApp {
@@ -359,6 +305,11 @@ impl EditorApp {
         let worker = Worker::new(registry.clone(), gpu);
         let mut app = EditorApp {
             registry,
+            canvas: CanvasState::new(),
+            viewports: Viewports::new(),
+            autosave: Autosave::default(),
+            show_window: ShowWindowState::new(),
+            transport: Transport::new(!options.paused),
             doc: EditorDoc::default(),
             path: None,
             options: options.clone(),
@@ -369,47 +320,19 @@ impl EditorApp {
             sent_views: Vec::new(),
             wake_set: false,
             gpu_error,
-            viewports: [
-                Viewport::new(Source::Output),
-                Viewport::new(Source::None),
-                Viewport::new(Source::None),
-            ],
-            viewport_rects: [None; 3],
             submission_gate,
             gate_waker_set: false,
-            view_area: None,
-            wheel: 0.0,
-            snarl: Snarl::new(),
-            snarl_ids: HashMap::new(),
-            selected: BTreeSet::new(),
-            focused: None,
-            rect_select: None,
-            fit: FIT_FROM_SCRATCH,
-            node_rects: Vec::new(),
-            canvas_view: None,
             outputs: Default::default(),
-            canvas_rect: None,
             browser: None,
             refusal: None,
             clipboard: Clip::default(),
             pastes: 0,
-            clock: FrameClock::default(),
-            playing: !options.paused,
-            step: false,
             show_timings: false,
             status: String::new(),
-            autosaved_generation: None,
-            last_autosave: 0.0,
-            recovery_written: false,
-            recovery_offer: None,
-            recovery_offer_modules: Vec::new(),
             pending: None,
             allow_close: false,
             dialog: None,
-            pins: PinPositions::default(),
-            canvas_layer: None,
             synced_generation: None,
-            last_pointer: Pos2::ZERO,
             title: String::new(),
             ui_times: std::collections::VecDeque::new(),
             auto: AutoRun::default(),
@@ -419,18 +342,10 @@ impl EditorApp {
             show_mode: false,
             watches: Vec::new(),
             placement: None,
-            show_window: None,
-            show_window_choice: ShowWindowOptions {
-                fullscreen: false,
-                native: false,
-            },
-            show_input: None,
-            show_image_rect: None,
             play_native: false,
             help_launch: HelpLaunch::default(),
             help_opened: Vec::new(),
             refused_edits: 0,
-            culling: canvas::Culling::default(),
             previews: crate::previews::CanvasPreviews::new(crate::previews::PreviewSettings::load(
                 &options.config_dir,
             )),
@@ -438,7 +353,6 @@ impl EditorApp {
             recording: None,
             record_to: None,
             record_on_start: false,
-            fixed_step: None,
         };
         match options.path {
             // `spreadlight edit new.ron` starts that patch, as text editors do.
@@ -449,13 +363,9 @@ impl EditorApp {
             Some(path) => app.open_now(&path),
             None => {}
         }
-        app.recovery_offer = files::pending_recovery(app.path.as_deref(), &app.options.config_dir);
-        if let Some(recovery) = &app.recovery_offer {
-            // What cannot be read is said when restoring; the offer lists what can.
-            app.recovery_offer_modules = files::load_module_recovery(recovery)
-                .map(|m| m.edits.into_iter().map(|e| e.path).collect())
-                .unwrap_or_default();
-        }
+        let path = app.path.clone();
+        app.autosave
+            .find_offer(path.as_deref(), &app.options.config_dir);
         app
     }
 
@@ -463,15 +373,13 @@ impl EditorApp {
 
     /// The node the inspector shows: the last one clicked, while it is selected.
     fn focus_node(&self) -> Option<NodeId> {
-        self.focused
-            .filter(|id| self.selected.contains(id))
-            .or_else(|| self.selected.last().copied())
+        self.canvas.focus_node()
     }
 
     pub fn delete_selected(&mut self) {
         let ids = self.selected();
         self.doc.delete_nodes(&ids);
-        self.selected.clear();
+        self.canvas.selected.clear();
     }
 
     /// Copy the selection; with a context, also onto the system clipboard as
@@ -512,7 +420,7 @@ impl EditorApp {
         let d = 20.0 * self.pastes as f32;
         let ids = self.doc.paste(&self.clipboard.clone(), (d, d));
         if !ids.is_empty() {
-            self.selected = ids.into_iter().collect();
+            self.canvas.selected = ids.into_iter().collect();
         }
     }
 
@@ -520,7 +428,7 @@ impl EditorApp {
         let ids = self.selected();
         let new = self.doc.duplicate(&ids, (20.0, 20.0));
         if !new.is_empty() {
-            self.selected = new.into_iter().collect();
+            self.canvas.selected = new.into_iter().collect();
         }
     }
 
@@ -608,7 +516,7 @@ impl EditorApp {
             ctx.send_viewport_cmd(ViewportCommand::Title(title.clone()));
             self.title = title;
         }
-        if self.playing {
+        if self.transport.playing {
             ctx.request_repaint();
         }
         self.ui_times.push_back(started.elapsed().as_secs_f64());

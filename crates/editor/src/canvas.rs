@@ -18,12 +18,14 @@ use crate::model::EditorDoc;
 use crate::values;
 
 mod cull;
+mod pins;
 mod style;
 mod sync;
 mod wires;
 
 pub use crate::zoom::{READABLE_ZOOM, fit_view, zoom_around};
-pub use cull::{CulledWire, Culling, PinOffsets, wire_color};
+pub use cull::{CulledWire, Culling, wire_color};
+pub use pins::PinOffsets;
 use style::RecordedPin;
 pub use style::pin_color;
 pub use style::{PinKey, PinPositions, compact_spacing, style};
@@ -36,8 +38,7 @@ const OUTPUT_PIN_GAP: f32 = 6.0;
 /// A bypassed node's header and body (`organise`: bypass).
 const BYPASS_HEADER: Color32 = Color32::from_rgb(150, 105, 20);
 const BYPASS_FILL: Color32 = Color32::from_rgb(45, 40, 30);
-/// Shown beside a bypassed node's title (the node measure counts it).
-pub const BYPASS_TAG: &str = "bypassed";
+pub use crate::canvas_units::BYPASS_TAG;
 
 /// Below this zoom the canvas shows pins without their value editors (the inspector still edits).
 pub const EDITOR_MIN_ZOOM: f32 = 0.5;

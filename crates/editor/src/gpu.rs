@@ -3,7 +3,18 @@
 
 use std::sync::Arc;
 
+use spreadlight_render::Renderer;
 use spreadlight_render::context::{OPTIONAL_FEATURES, REQUIRED_FEATURES};
+
+use crate::viewport::Blitter;
+
+/// The renderer the worker draws the viewports and previews with, on
+/// egui's device (here, below both the worker and the previews' engine).
+pub struct WorkerGpu {
+    pub state: egui_wgpu::RenderState,
+    pub renderer: Arc<Renderer>,
+    pub blitter: Blitter,
+}
 
 /// Limits the renderer asks for (the same as `GpuContext::headless`): the
 /// adapter's own storage limits, since buffers grow with lights and instances.

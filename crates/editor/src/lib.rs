@@ -7,6 +7,7 @@
 pub mod app;
 pub mod browser;
 pub mod canvas;
+pub mod canvas_units;
 pub mod files;
 pub mod gpu;
 pub mod iobox;

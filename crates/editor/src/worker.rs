@@ -29,12 +29,14 @@ use spreadlight_graph::{
 };
 use spreadlight_nodes::input::HostInput;
 use spreadlight_nodes::media::midi_in::MidiLearn;
-use spreadlight_render::{Renderer, SubmissionGate, TextureRef};
+use spreadlight_render::{SubmissionGate, TextureRef};
 
+use crate::gpu::WorkerGpu;
 use crate::previews::engine::PreviewEngine;
+use crate::previews::schedule::Measured;
 use crate::previews::{PreviewOuts, PreviewRequest};
 use crate::recording::{RecordCommand, Recording, RecordingStatus};
-use crate::viewport::{self, Blitter, ViewTarget, ViewportError};
+use crate::viewport::{self, ViewTarget, ViewportError};
 
 /// How long a UI frame waits for the patch frame it asked for.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -155,17 +157,12 @@ pub struct Frame {
     pub gpu_errors: HashMap<u32, String>,
     /// Seconds the worker spent on this frame (evaluation and rendering).
     pub seconds: f64,
+    /// The thumbnails' schedule: the patch's frame alone and one thumbnail's cost.
+    pub thumbnail_cost: Measured,
     /// A panic in a node or pass, caught so the editor keeps the document.
     pub failure: Option<String>,
     /// The recording in progress, or the last one finished.
     pub recording: Option<RecordingStatus>,
-}
-
-/// The renderer the worker draws the viewports with, on egui's device.
-pub struct WorkerGpu {
-    pub state: egui_wgpu::RenderState,
-    pub renderer: Arc<Renderer>,
-    pub blitter: Blitter,
 }
 
 #[derive(Default)]
@@ -197,6 +194,10 @@ impl Shared {
         self.state.lock().unwrap_or_else(|e| e.into_inner())
     }
 }
+
+/// How long the worker waits for the next request before finishing the
+/// thumbnails a playing frame left for later (the patch may have paused).
+const PENDING_PREVIEWS_AFTER: Duration = Duration::from_millis(300);
 
 /// The UI's handle on the worker thread (stopped and joined on drop).
 pub struct Worker {
@@ -387,10 +388,22 @@ impl Engine {
         loop {
             let (request, seq) = {
                 let s = shared.lock();
-                let mut s = shared
-                    .work
-                    .wait_while(s, |s| s.pending.is_empty() && !s.stop)
-                    .unwrap_or_else(|e| e.into_inner());
+                let idle = |s: &mut State| s.pending.is_empty() && !s.stop;
+                let mut s = if self.previews.has_pending() {
+                    // Thumbnails a playing frame left for later: when no
+                    // request follows (the patch was paused), a frame of
+                    // their own, with no budget, finishes them.
+                    shared
+                        .work
+                        .wait_timeout_while(s, PENDING_PREVIEWS_AFTER, idle)
+                        .map(|(s, _)| s)
+                        .unwrap_or_else(|e| e.into_inner().0)
+                } else {
+                    shared
+                        .work
+                        .wait_while(s, idle)
+                        .unwrap_or_else(|e| e.into_inner())
+                };
                 if s.stop {
                     return;
                 }
@@ -417,6 +430,7 @@ impl Engine {
                 gpu_ms: self.gpu_ms.clone(),
                 gpu_errors: self.gpu_errors.clone(),
                 seconds: started.elapsed().as_secs_f64(),
+                thumbnail_cost: self.previews.measurements(),
                 failure,
                 recording: self
                     .recording
@@ -477,6 +491,8 @@ impl Engine {
         if let Some(previews) = request.previews {
             self.previews.set_requests(previews);
         }
+        // Time moved: a playing patch, whose frame time the thumbnails keep to their budget.
+        self.previews.set_budgeted(request.clock.is_some());
         if let Some(views) = &request.views {
             self.viewed_pins = views
                 .iter()

@@ -592,3 +592,180 @@ fn hovering_a_texture_or_mesh_pin_shows_its_large_preview() {
         "the box's normals, not a blank"
     );
 }
+
+/// The thumbnails' schedule (previews/schedule.rs): what a frame of a playing
+/// patch refreshes, so that previews do not slow the patch.
+mod thumbnail_schedule {
+    use spreadlight_editor::previews::PreviewKey;
+    use spreadlight_editor::previews::schedule::{BASE_EVERY, BUDGET_SHARE, Candidate, Scheduler};
+    use spreadlight_graph::NodeId;
+
+    fn key(node: u32) -> PreviewKey {
+        PreviewKey {
+            path: vec![NodeId(node)],
+            pin: "Output".to_owned(),
+            channel: None,
+            large: false,
+        }
+    }
+
+    /// Thumbnails of nodes 1..=n, each showing source `version`.
+    fn thumbs(n: u32, version: u32) -> Vec<Candidate<u32>> {
+        (1..=n)
+            .map(|k| Candidate {
+                key: key(k),
+                source: Some(version),
+                live: false,
+            })
+            .collect()
+    }
+
+    /// Pick, mark the picked as refreshed, measure `base + cost * n` ms.
+    fn frame(s: &mut Scheduler<u32>, c: &[Candidate<u32>], base: f64, cost: f64) -> Vec<bool> {
+        let picked = s.pick(c, true);
+        let mut n = 0;
+        for (c, p) in c.iter().zip(&picked) {
+            if *p {
+                s.refreshed(&c.key, c.source);
+                n += usize::from(!c.live);
+            }
+        }
+        s.measured(base + cost * n as f64, n);
+        picked
+    }
+
+    /// A scheduler that measured a 100 ms frame and 1 ms thumbnails.
+    fn measured(base: f64, cost: f64) -> Scheduler<u32> {
+        let mut s = Scheduler::default();
+        s.measured(base, 0);
+        for _ in 0..200 {
+            s.measured(base + cost, 1);
+        }
+        s.measured(base, 0);
+        s
+    }
+
+    #[test]
+    fn the_thumbnails_refreshed_stay_within_the_budget_and_take_turns() {
+        // 100 ms frames, 1 ms a thumbnail: 3 ms of budget, three a frame.
+        let mut s = measured(100.0, 1.0);
+        let first = frame(&mut s, &thumbs(12, 1000), 100.0, 1.0);
+        assert!(
+            first.iter().all(|p| *p),
+            "a thumbnail coming on screen shows at once"
+        );
+        let mut counts = [0u32; 12];
+        let mut refreshed = 0;
+        let frames = 40u32;
+        for f in 0..frames {
+            // A playing patch: every source changes every frame.
+            let c = thumbs(12, f);
+            let picked = frame(&mut s, &c, 100.0, 1.0);
+            for (k, p) in picked.iter().enumerate() {
+                counts[k] += u32::from(*p);
+                refreshed += usize::from(*p);
+            }
+        }
+        let spent = refreshed as f64; // 1 ms each
+        let allowed = BUDGET_SHARE * 100.0 * f64::from(frames);
+        assert!(
+            spent <= allowed + 1.0,
+            "{spent} ms of thumbnails against {allowed} allowed"
+        );
+        assert!(
+            spent >= allowed * 0.9,
+            "the budget is used: {spent} of {allowed} ms"
+        );
+        // Round-robin: each thumbnail gets its turn, none twice before another's once.
+        let (min, max) = (counts.iter().min(), counts.iter().max());
+        assert!(max.zip(min).is_some_and(|(a, b)| a - b <= 1), "{counts:?}");
+        assert_eq!(s.pending(), 12 - 3, "the rest wait for their turn");
+    }
+
+    #[test]
+    fn on_a_fast_machine_every_thumbnail_refreshes_every_frame() {
+        // 16 ms frames, 0.01 ms a thumbnail: 0.48 ms of budget holds all 20.
+        let mut s = measured(16.0, 0.01);
+        for f in 0..(BASE_EVERY as u32 - 2) {
+            let picked = frame(&mut s, &thumbs(20, f), 16.0, 0.01);
+            assert!(picked.iter().all(|p| *p), "frame {f}: {picked:?}");
+        }
+    }
+
+    #[test]
+    fn an_unchanged_source_is_skipped() {
+        let mut s = measured(100.0, 0.01);
+        let first = frame(&mut s, &thumbs(4, 7), 100.0, 0.01);
+        assert!(first.iter().all(|p| *p), "first shown: {first:?}");
+        // The same sources again: nothing to do, whatever the budget.
+        let again = frame(&mut s, &thumbs(4, 7), 100.0, 0.01);
+        assert_eq!(again, vec![false; 4]);
+        assert_eq!(s.pending(), 0);
+        // Paused (no budget) too.
+        assert_eq!(s.pick(&thumbs(4, 7), false), vec![false; 4]);
+        // One source changes: that one alone.
+        let mut c = thumbs(4, 7);
+        c[2].source = Some(8);
+        assert_eq!(
+            frame(&mut s, &c, 100.0, 0.01),
+            vec![false, false, true, false]
+        );
+        // An unknown source is never taken as unchanged.
+        let mut c = thumbs(4, 7);
+        c[2].source = Some(8);
+        c[1].source = None;
+        assert_eq!(
+            frame(&mut s, &c, 100.0, 0.01),
+            vec![false, true, false, false]
+        );
+    }
+
+    #[test]
+    fn the_hovered_preview_is_refreshed_every_frame_whatever_the_budget() {
+        // 10 ms a thumbnail against 3 ms of budget a frame.
+        let mut s = measured(100.0, 10.0);
+        let mut c = thumbs(6, 0);
+        c.push(Candidate {
+            key: PreviewKey {
+                large: true,
+                ..key(1)
+            },
+            source: Some(0),
+            live: true,
+        });
+        for f in 0..30 {
+            for t in &mut c {
+                t.source = Some(f);
+            }
+            let picked = frame(&mut s, &c, 100.0, 10.0);
+            assert!(picked[6], "frame {f}: the hovered preview is live");
+            // Unchanged, it is still live (its texel under the pointer is read from it).
+            let again = s.pick(&c, true);
+            assert!(again[6]);
+        }
+    }
+
+    #[test]
+    fn a_paused_patch_refreshes_every_changed_thumbnail_at_once() {
+        let mut s = measured(100.0, 10.0);
+        frame(&mut s, &thumbs(8, 0), 100.0, 10.0);
+        let picked = s.pick(&thumbs(8, 1), false);
+        assert!(picked.iter().all(|p| *p));
+        assert_eq!(s.pending(), 0);
+    }
+
+    #[test]
+    fn the_patch_frame_is_measured_alone_now_and_then() {
+        // A fast machine refreshes all every frame, but not for ever without a base frame.
+        let mut s = measured(16.0, 0.01);
+        let mut bare = 0;
+        for f in 0..(3 * BASE_EVERY as u32) {
+            let picked = frame(&mut s, &thumbs(5, f), 16.0, 0.01);
+            bare += u32::from(picked.iter().all(|p| !p));
+        }
+        assert!((2..=4).contains(&bare), "{bare} frames without thumbnails");
+        let m = s.measurements();
+        assert!(m.base_ms.is_some_and(|b| (b - 16.0).abs() < 1e-6), "{m:?}");
+        assert!(m.thumb_ms.is_some_and(|c| (c - 0.01).abs() < 1e-6), "{m:?}");
+    }
+}

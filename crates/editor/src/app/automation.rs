@@ -28,11 +28,10 @@ impl EditorApp {
         // its first viewport (if it has one) rendered for the viewport's
         // size. Not "at" it: an image file's texture keeps its own size, and
         // waiting for it to match made the screenshot wait its whole timeout.
-        let drawn =
-            patch_frame.0 > 0
-                && self.frame.views.first().is_none_or(|v| {
-                    v.target.is_none() || v.for_size == Some(self.viewports[0].size)
-                });
+        let drawn = patch_frame.0 > 0
+            && self.frame.views.first().is_none_or(|v| {
+                v.target.is_none() || v.for_size == Some(self.viewports.views[0].size)
+            });
         let a = &mut self.auto;
         // Each new patch frame once: how long the worker took for it.
         if patch_frame.0 != a.last_evaluations {
@@ -85,10 +84,10 @@ impl EditorApp {
             let (cpu_med, _) = median_and_p95(&a.cpu);
             let (patch_med, _) = median_and_p95(&a.patch);
             let ppp = ctx.pixels_per_point();
-            let rect = self.viewport_rects[0]
+            let rect = self.viewports.rects[0]
                 .map(|r| [r.min.x * ppp, r.min.y * ppp, r.max.x * ppp, r.max.y * ppp]);
             println!(
-                "{{\"frames\": {}, \"nodes\": {}, \"ui_ms_median\": {:.3}, \"ui_ms_p95\": {:.3}, \"frame_ms_median\": {:.3}, \"frame_ms_p95\": {:.3}, \"eframe_cpu_ms_median\": {:.3}, \"patch_frames\": {}, \"patch_ms_median\": {:.3}, \"viewport_px\": {}, \"viewport_error\": {:?}, \"canvas_zoom\": {:.3}, \"canvas_text_px\": {:.2}, \"recovery_offered\": {}, \"recovery_module_files\": {}, \"nodes_laid_out\": {}, \"thumbnails\": {}, \"recorded_frames\": {}, \"recording_first_frame\": {}, \"recording_dropped\": {}, \"recording_error\": {:?}}}",
+                "{{\"frames\": {}, \"nodes\": {}, \"ui_ms_median\": {:.3}, \"ui_ms_p95\": {:.3}, \"frame_ms_median\": {:.3}, \"frame_ms_p95\": {:.3}, \"eframe_cpu_ms_median\": {:.3}, \"patch_frames\": {}, \"patch_ms_median\": {:.3}, \"viewport_px\": {}, \"viewport_error\": {:?}, \"canvas_zoom\": {:.3}, \"canvas_text_px\": {:.2}, \"recovery_offered\": {}, \"recovery_module_files\": {}, \"nodes_laid_out\": {}, \"thumbnails\": {}, \"recorded_frames\": {}, \"recording_first_frame\": {}, \"recording_dropped\": {}, \"recording_error\": {:?}, \"thumbnail_ms\": {}, \"patch_alone_ms\": {}}}",
                 a.frames,
                 nodes,
                 ui_med * 1e3,
@@ -107,7 +106,7 @@ impl EditorApp {
                 canvas_text_px,
                 recovery_offered,
                 recovery_modules,
-                self.culling.laid_out,
+                self.canvas.culling.laid_out,
                 // Thumbnails drawn on screen (each asks for its preview).
                 self.previews.sent.iter().filter(|r| !r.key.large).count(),
                 recorded.as_ref().map_or(0, |r| r.frames),
@@ -120,9 +119,17 @@ impl EditorApp {
                     .as_ref()
                     .and_then(|r| r.error.clone())
                     .unwrap_or_default(),
+                // The thumbnails' schedule, as the worker measured it (previews/schedule.rs).
+                json_ms(self.frame.thumbnail_cost.thumb_ms),
+                json_ms(self.frame.thumbnail_cost.base_ms),
             );
             self.allow_close = true;
             ctx.send_viewport_cmd(ViewportCommand::Close);
         }
     }
+}
+
+/// Milliseconds for the report, `null` when not measured.
+fn json_ms(ms: Option<f64>) -> String {
+    ms.map_or_else(|| "null".to_owned(), |ms| format!("{ms:.3}"))
 }

@@ -8,7 +8,7 @@ const WHEEL_ZOOM_SPEED: f32 = 0.004;
 impl EditorApp {
     /// The canvas's zoom: on-screen points per canvas point.
     pub fn canvas_zoom(&self, ctx: &egui::Context) -> Option<f32> {
-        let layer = self.canvas_layer?;
+        let layer = self.canvas.layer?;
         Some(
             ctx.layer_transform_to_global(layer)
                 .unwrap_or_default()
@@ -61,8 +61,10 @@ impl EditorApp {
         if changed {
             self.refresh_subpatch_types();
         }
-        if (changed && self.synced_generation.is_none()) || self.culling.instance != self.instance {
-            self.culling.forget(&self.instance);
+        if (changed && self.synced_generation.is_none())
+            || self.canvas.culling.instance != self.instance
+        {
+            self.canvas.culling.forget(&self.instance);
         }
         let layer = LayerId::new(ui.layer_id().order, Id::new(CANVAS_ID));
         let canvas_rect = ui.max_rect().shrink(8.0);
@@ -71,42 +73,42 @@ impl EditorApp {
         let kept_area = ui
             .ctx()
             .layer_transform_to_global(layer)
-            .filter(|_| self.fit == 0 && self.culling.enabled)
+            .filter(|_| self.canvas.fit == 0 && self.canvas.culling.enabled)
             .map(|view| canvas::Culling::kept_area(view, canvas_rect));
-        let culling = &self.culling;
+        let culling = &self.canvas.culling;
         let keep = |n: &spreadlight_graph::NodeDoc| {
             kept_area.is_none_or(|area| area.intersects(culling.rect(n)))
         };
         // Which nodes snarl holds changes only with the document or the kept area.
-        if changed || self.culling.kept_area != Some(kept_area) {
+        if changed || self.canvas.culling.kept_area != Some(kept_area) {
             canvas::sync(
-                &mut self.snarl,
-                &mut self.snarl_ids,
+                &mut self.canvas.snarl,
+                &mut self.canvas.snarl_ids,
                 &self.doc,
                 &self.registry,
                 changed,
                 &keep,
             );
-            self.culling.kept_area = Some(kept_area);
+            self.canvas.culling.kept_area = Some(kept_area);
         }
         self.synced_generation = Some(self.doc.generation());
-        self.culling.laid_out = 0;
+        self.canvas.culling.laid_out = 0;
         // Only this frame's pins: a pin of a node left out must not keep its old place.
-        self.pins.borrow_mut().clear();
+        self.canvas.pins.borrow_mut().clear();
         let now = ui.input(|i| i.time);
-        self.canvas_layer = Some(layer);
+        self.canvas.layer = Some(layer);
         if let Some(p) = ui.input(|i| i.pointer.latest_pos()) {
-            self.last_pointer = p;
+            self.canvas.last_pointer = p;
         }
         // Labels that select text would take the drags that move nodes.
         ui.style_mut().interaction.selectable_labels = false;
-        self.canvas_rect = Some(canvas_rect);
+        self.canvas.rect = Some(canvas_rect);
         let set_view = match ui.ctx().layer_transform_to_global(layer) {
-            Some(view) if !self.fit.is_multiple_of(2) => {
-                self.fit -= 1;
+            Some(view) if !self.canvas.fit.is_multiple_of(2) => {
+                self.canvas.fit -= 1;
                 ui.ctx().request_repaint();
                 // Comments and frames are part of what the patch shows.
-                let mut rects = self.node_rects.clone();
+                let mut rects = self.canvas.node_rects.clone();
                 rects.extend(self.organise.rects.iter().map(|r| (NodeId(u32::MAX), *r)));
                 canvas::fit_view(view, &rects, canvas_rect, self.options.min_zoom)
             }
@@ -122,32 +124,32 @@ impl EditorApp {
                 doc: &mut self.doc,
                 registry: &self.registry,
                 runtime: &self.frame.runtime,
-                selected: &self.selected,
+                selected: &self.canvas.selected,
                 node_rects: &mut node_rects,
                 show_timings: self.show_timings,
                 gpu_ms: &self.frame.gpu_ms,
                 gpu_errors: &self.frame.gpu_errors,
                 refusal: &mut self.refusal,
-                pins: self.pins.clone(),
-                pointer: self.last_pointer,
+                pins: self.canvas.pins.clone(),
+                pointer: self.canvas.last_pointer,
                 set_view,
                 now,
                 instance: &self.instance,
-                culling: &mut self.culling,
+                culling: &mut self.canvas.culling,
                 previews: &mut self.previews,
             };
             canvas::compact_spacing(ui);
             SnarlWidget::new()
                 .id(Id::new(CANVAS_ID))
                 .style(canvas::style())
-                .show(&mut self.snarl, &mut viewer, ui)
+                .show(&mut self.canvas.snarl, &mut viewer, ui)
         };
         self.wires_to_culled_nodes(ui, layer, canvas_rect);
-        self.canvas_view = ui.ctx().layer_transform_to_global(layer);
+        self.canvas.view = ui.ctx().layer_transform_to_global(layer);
         self.annotations_ui(ui, layer);
         self.open_browser_for_dropped_wire(ui.ctx());
         if !dragging {
-            let moves = canvas::moved_nodes(&self.snarl, &self.doc);
+            let moves = canvas::moved_nodes(&self.canvas.snarl, &self.doc);
             self.record_moves(ui, &moves);
         }
         let pin_gesture = self.pin_gesture(ui);
@@ -170,7 +172,7 @@ impl EditorApp {
             // Over a wire snarl's own wire widget is hovered, not the canvas.
             && (response.hovered()
                 || (canvas_rect.contains(screen)
-                    && canvas::wire_under(&self.doc, &self.pins, screen, 5.0).is_some()))
+                    && canvas::wire_under(&self.doc, &self.canvas.pins, screen, 5.0).is_some()))
         {
             let from_global = ui
                 .ctx()
@@ -178,7 +180,7 @@ impl EditorApp {
                 .unwrap_or_default();
             let g = from_global * screen;
             // Double-click on a link: the new node goes into it.
-            let link = canvas::wire_under(&self.doc, &self.pins, screen, 5.0)
+            let link = canvas::wire_under(&self.doc, &self.canvas.pins, screen, 5.0)
                 .map(crate::organise::gestures::BrowserLink::Insert);
             self.browser = Some(BrowserState {
                 at: ((g.x / SCALE).round(), (g.y / SCALE).round()),
@@ -200,36 +202,36 @@ impl EditorApp {
                 .find(|(_, r)| r.contains(p))
                 .map(|(id, _)| *id);
             match hit {
-                Some(id) if add && self.selected.contains(&id) => {
-                    self.selected.remove(&id);
+                Some(id) if add && self.canvas.selected.contains(&id) => {
+                    self.canvas.selected.remove(&id);
                 }
                 Some(id) => {
                     if !add {
-                        self.selected.clear();
+                        self.canvas.selected.clear();
                     }
-                    self.selected.insert(id);
-                    self.focused = Some(id);
+                    self.canvas.selected.insert(id);
+                    self.canvas.focused = Some(id);
                 }
-                None if response.hovered() && !add => self.selected.clear(),
+                None if response.hovered() && !add => self.canvas.selected.clear(),
                 None => {}
             }
         }
         self.rectangle_selection(ui, &response, &node_rects);
-        if self.fit > 0 && self.fit.is_multiple_of(2) {
+        if self.canvas.fit > 0 && self.canvas.fit.is_multiple_of(2) {
             // An empty patch has nothing to fit; its first node must not jump the view.
-            self.fit = if node_rects.is_empty() {
+            self.canvas.fit = if node_rects.is_empty() {
                 0
             } else {
-                self.fit - 1
+                self.canvas.fit - 1
             };
             ui.ctx().request_repaint();
         }
-        self.node_rects = node_rects.clone();
+        self.canvas.node_rects = node_rects.clone();
         // Hovering a wire shows what flows through it, as hovering its output pin does.
         if response.hovered()
             && let Some(p) = ui.input(|i| i.pointer.hover_pos())
             && !node_rects.iter().any(|(_, r)| r.contains(p))
-            && let Some(link) = canvas::wire_under(&self.doc, &self.pins, p, 5.0)
+            && let Some(link) = canvas::wire_under(&self.doc, &self.canvas.pins, p, 5.0)
         {
             let value = self
                 .frame
@@ -295,20 +297,24 @@ impl EditorApp {
     /// and the tests do.
     pub fn node_screen_rects(&self) -> Vec<(NodeId, egui::Rect)> {
         let patch = self.doc.patch();
-        let drawn = &self.node_rects;
-        if self.snarl_ids.len() == patch.nodes.len() {
+        let drawn = &self.canvas.node_rects;
+        if self.canvas.snarl_ids.len() == patch.nodes.len() {
             return drawn.clone();
         }
-        let to_global = self.canvas_view.unwrap_or_default();
+        let to_global = self.canvas.view.unwrap_or_default();
         // The same view of the same document: the same rectangles as last frame.
-        let key = (to_global, self.doc.generation(), self.snarl_ids.len());
-        let mut cache = self.culling.culled_rects.borrow_mut();
+        let key = (
+            to_global,
+            self.doc.generation(),
+            self.canvas.snarl_ids.len(),
+        );
+        let mut cache = self.canvas.culling.culled_rects.borrow_mut();
         if cache.0 != Some(key) {
             cache.1 = patch
                 .nodes
                 .iter()
-                .filter(|n| !self.snarl_ids.contains_key(&n.id))
-                .map(|n| (n.id, to_global * self.culling.rect(n)))
+                .filter(|n| !self.canvas.snarl_ids.contains_key(&n.id))
+                .map(|n| (n.id, to_global * self.canvas.culling.rect(n)))
                 .collect();
             cache.0 = Some(key);
         }
@@ -323,7 +329,7 @@ impl EditorApp {
     /// hovering one shows its value as any wire does.
     fn wires_to_culled_nodes(&self, ui: &Ui, layer: LayerId, canvas_rect: egui::Rect) {
         let patch = self.doc.patch();
-        if self.snarl_ids.len() == patch.nodes.len() {
+        if self.canvas.snarl_ids.len() == patch.nodes.len() {
             return;
         }
         let to_global = ui
@@ -335,16 +341,19 @@ impl EditorApp {
             to_global,
             canvas_rect,
             self.doc.generation(),
-            self.snarl_ids.len(),
+            self.canvas.snarl_ids.len(),
         );
         let dragging = ui.input(|i| i.pointer.any_down());
-        let mut cache = self.culling.culled_wires.borrow_mut();
+        let mut cache = self.canvas.culling.culled_wires.borrow_mut();
         if dragging || cache.0 != Some(key) {
             cache.1.clear();
             let view = to_global.inverse() * canvas_rect;
             for l in &patch.links {
                 let (from, to) = (l.from.node(), l.to.node());
-                let (sa, sb) = (self.snarl_ids.get(&from), self.snarl_ids.get(&to));
+                let (sa, sb) = (
+                    self.canvas.snarl_ids.get(&from),
+                    self.canvas.snarl_ids.get(&to),
+                );
                 if sa.is_some() && sb.is_some() {
                     continue;
                 }
@@ -353,26 +362,35 @@ impl EditorApp {
                 };
                 // A wire lies within its two nodes' rectangles: most lie off the view.
                 if !self
+                    .canvas
                     .culling
                     .rect(na)
-                    .union(self.culling.rect(nb))
+                    .union(self.canvas.culling.rect(nb))
                     .intersects(view)
                 {
                     continue;
                 }
                 // A node snarl holds is where snarl has it (a drag in progress).
                 let origin = |n: &spreadlight_graph::NodeDoc, sid: Option<&egui_snarl::NodeId>| {
-                    sid.and_then(|s| self.snarl.get_node_info(*s))
+                    sid.and_then(|s| self.canvas.snarl.get_node_info(*s))
                         .map_or(Pos2::new(n.pos.0 * SCALE, n.pos.1 * SCALE), |i| i.pos)
                 };
                 let a = to_global
-                    * self
-                        .culling
-                        .pin_at(&self.registry, na, origin(na, sa), l.from.pin(), false);
+                    * self.canvas.culling.pin_at(
+                        &self.registry,
+                        na,
+                        origin(na, sa),
+                        l.from.pin(),
+                        false,
+                    );
                 let b = to_global
-                    * self
-                        .culling
-                        .pin_at(&self.registry, nb, origin(nb, sb), l.to.pin(), true);
+                    * self.canvas.culling.pin_at(
+                        &self.registry,
+                        nb,
+                        origin(nb, sb),
+                        l.to.pin(),
+                        true,
+                    );
                 if !egui::Rect::from_two_pos(a, b).intersects(canvas_rect) {
                     continue;
                 }
@@ -389,7 +407,7 @@ impl EditorApp {
         }
         let painter = ui.painter().with_clip_rect(canvas_rect);
         let width = (0.8 * to_global.scaling).max(1.0);
-        let mut pins = self.pins.borrow_mut();
+        let mut pins = self.canvas.pins.borrow_mut();
         for w in &cache.1 {
             painter.line_segment([w.a, w.b], egui::Stroke::new(width, w.color));
             pins.insert(w.from.clone(), w.a);
@@ -421,9 +439,9 @@ impl EditorApp {
         let on_empty_canvas =
             canvas.contains_pointer() && !node_rects.iter().any(|(_, r)| r.contains(pos));
         if pressed && shift && on_empty_canvas {
-            self.rect_select = Some(pos);
+            self.canvas.rect_select = Some(pos);
         }
-        let Some(start) = self.rect_select else {
+        let Some(start) = self.canvas.rect_select else {
             return;
         };
         let area = egui::Rect::from_two_pos(start, pos);
@@ -440,10 +458,10 @@ impl EditorApp {
                 egui::StrokeKind::Inside,
             );
         if released {
-            self.rect_select = None;
+            self.canvas.rect_select = None;
             for (id, r) in node_rects {
                 if r.intersects(area) {
-                    self.selected.insert(*id);
+                    self.canvas.selected.insert(*id);
                 }
             }
         }
@@ -514,7 +532,7 @@ impl EditorApp {
                 at,
                 link.as_ref(),
             ) {
-                Ok(id) => self.selected = [id].into_iter().collect(),
+                Ok(id) => self.canvas.selected = [id].into_iter().collect(),
                 Err(e) => self.status = format!("{name} was not put into the link: {e}"),
             }
         }

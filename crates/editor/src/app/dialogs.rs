@@ -5,16 +5,16 @@ use super::*;
 
 impl EditorApp {
     pub(super) fn dialogs(&mut self, ctx: &egui::Context) {
-        if let Some(recovery) = self.recovery_offer.clone() {
+        if let Some(recovery) = self.autosave.offer.clone() {
             egui::Modal::new(Id::new("recovery")).show(ctx, |ui| {
                 ui.heading("Restore unsaved changes?");
                 ui.label(format!(
                     "An autosave from a session that did not end normally exists:\n{}",
                     recovery.display()
                 ));
-                if !self.recovery_offer_modules.is_empty() {
+                if !self.autosave.offer_modules.is_empty() {
                     let list: Vec<String> = self
-                        .recovery_offer_modules
+                        .autosave.offer_modules
                         .iter()
                         .map(|p| p.display().to_string())
                         .collect();
@@ -25,11 +25,11 @@ impl EditorApp {
                 }
                 ui.horizontal(|ui| {
                     if ui.button("Restore").clicked() {
-                        self.recovery_offer = None;
+                        self.autosave.offer = None;
                         self.restore_recovery(&recovery);
                     }
                     if ui.button("Discard").clicked() {
-                        self.recovery_offer = None;
+                        self.autosave.offer = None;
                         files::remove_recovery(&recovery);
                     }
                 });
@@ -69,7 +69,7 @@ impl EditorApp {
                     self.pending = None;
                     // The user chose to drop the changes: their autosave goes too.
                     files::remove_recovery(&self.recovery_file());
-                    self.recovery_written = false;
+                    self.autosave.recovery_written = false;
                     self.doc.mark_saved();
                     self.perform(pending, ctx);
                 }

@@ -18,14 +18,10 @@ impl EditorApp {
         self.doc = doc;
         self.path = path;
         self.instance.clear();
-        self.selected.clear();
-        self.snarl = Snarl::new();
-        self.snarl_ids.clear();
+        self.canvas.forget_document();
         self.synced_generation = None;
-        self.fit = FIT_FROM_SCRATCH;
-        self.autosaved_generation = None;
-        self.recovery_written = false;
-        self.clock = FrameClock::default();
+        self.autosave.forget();
+        self.transport.clock = FrameClock::default();
         // The patch's own shader folder: its node types join the registry.
         self.shaders = crate::shader_watch::ShaderWatch::new(self.path.as_deref());
         self.shaders.poll_now(&mut self.registry);
@@ -82,7 +78,7 @@ impl EditorApp {
                 self.doc.mark_saved();
                 files::remove_recovery(&old_recovery);
                 files::remove_recovery(&self.recovery_file());
-                self.recovery_written = false;
+                self.autosave.recovery_written = false;
                 files::remember_recent(&self.options.config_dir, &mut self.recent, path);
                 self.status = match modules.len() {
                     0 => format!("saved {}", path.display()),
@@ -121,33 +117,16 @@ impl EditorApp {
     /// is `autosave_secs` old; otherwise ask for a frame when it will be, so an
     /// idle editor (nothing repaints it) still saves the edit in time.
     pub(super) fn autosave(&mut self, now: f64, ctx: &egui::Context) {
-        if !self.doc.is_dirty() {
-            if self.recovery_written {
-                files::remove_recovery(&self.recovery_file());
-                self.recovery_written = false;
-            }
-            return;
-        }
-        if self.autosaved_generation == Some(self.doc.generation()) {
-            return;
-        }
-        let wait = self.options.autosave_secs - (now - self.last_autosave);
-        if wait > 0.0 {
-            ctx.request_repaint_after(std::time::Duration::from_secs_f64(wait));
-            return;
-        }
-        self.last_autosave = now;
         let recovery = self.recovery_file();
-        // The subpatch files' edits first: a restart looks for the patch's
-        // recovery file, so once that is written both hold this edit.
-        let written = files::write_module_recovery(&self.doc.unsaved_module_files(), &recovery)
-            .and_then(|()| files::write_recovery(self.doc.top(), &recovery));
-        match written {
-            Ok(()) => {
-                self.autosaved_generation = Some(self.doc.generation());
-                self.recovery_written = true;
+        match self
+            .autosave
+            .tick(&self.doc, &recovery, self.options.autosave_secs, now)
+        {
+            Autosaved::In(wait) => {
+                ctx.request_repaint_after(std::time::Duration::from_secs_f64(wait));
             }
-            Err(e) => self.status = format!("autosave failed: {e}"),
+            Autosaved::Failed(e) => self.status = e,
+            Autosaved::Nothing | Autosaved::Written => {}
         }
     }
 

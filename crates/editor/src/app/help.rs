@@ -43,7 +43,8 @@ impl EditorApp {
         }
         let pointer = ctx.input(|i| i.pointer.hover_pos());
         let under = pointer.and_then(|p| {
-            self.node_rects
+            self.canvas
+                .node_rects
                 .iter()
                 .rev()
                 .find(|(_, r)| r.contains(p))

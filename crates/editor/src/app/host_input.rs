@@ -18,22 +18,22 @@ impl EditorApp {
     /// Read this frame's pointer, keys and window size; whether they changed
     /// for a patch that reads them (it is then evaluated again, even paused).
     pub(super) fn feed_host_input(&mut self, ctx: &egui::Context) -> bool {
-        let Some(area) = self.view_area else {
+        let Some(area) = self.viewports.area else {
             return false;
         };
-        let snapshot = match &self.show_input {
+        let snapshot = match &self.show_window.input {
             // The show window is open: the patch's window is that one.
             Some(s) => s.clone(),
             None => {
-                let mut wheel = self.wheel;
+                let mut wheel = self.viewports.wheel;
                 let s = show_window::read_input(
                     ctx,
                     area,
-                    self.viewports[0].size,
+                    self.viewports.views[0].size,
                     self.show_mode,
                     &mut wheel,
                 );
-                self.wheel = wheel;
+                self.viewports.wheel = wheel;
                 s
             }
         };

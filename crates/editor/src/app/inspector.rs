@@ -171,7 +171,7 @@ impl EditorApp {
 
     pub(super) fn viewport_ui(&mut self, ui: &mut Ui, k: usize, label: Option<Id>) {
         if k == 1 {
-            let current = match &self.viewports[1].source {
+            let current = match &self.viewports.views[1].source {
                 Source::None => "none".to_owned(),
                 Source::Output => "Output".to_owned(),
                 Source::Pin(n, p) => format!("{n}.{p}"),
@@ -182,18 +182,21 @@ impl EditorApp {
                     // Listed only while the drop-down is open: a look at every node.
                     let pins = self.texture_pins();
                     if ui
-                        .selectable_label(self.viewports[1].source == Source::Output, "Output")
+                        .selectable_label(
+                            self.viewports.views[1].source == Source::Output,
+                            "Output",
+                        )
                         .clicked()
                     {
-                        self.viewports[1].source = Source::Output;
+                        self.viewports.views[1].source = Source::Output;
                     }
                     for (node, pin, label) in pins {
                         let source = Source::Pin(node, pin.to_string());
                         if ui
-                            .selectable_label(self.viewports[1].source == source, label)
+                            .selectable_label(self.viewports.views[1].source == source, label)
                             .clicked()
                         {
-                            self.viewports[1].source = source;
+                            self.viewports.views[1].source = source;
                         }
                     }
                 });
@@ -203,14 +206,14 @@ impl EditorApp {
         }
         let avail = ui.available_size();
         if k == 0 {
-            self.view_area = Some(egui::Rect::from_min_size(ui.cursor().min, avail));
+            self.viewports.area = Some(egui::Rect::from_min_size(ui.cursor().min, avail));
         }
         let ppp = ui.ctx().pixels_per_point();
         let size = (
             ((avail.x * ppp) as u32).clamp(16, 4096),
             ((avail.y * ppp) as u32).clamp(16, 4096),
         );
-        self.viewports[k].size = size;
+        self.viewports.views[k].size = size;
         let shown = self.frame.views.get(k).cloned().unwrap_or_default();
         match (&shown.target, &shown.error) {
             (_, Some(e)) => {
@@ -220,7 +223,7 @@ impl EditorApp {
                 let tex_size =
                     egui::vec2(t.texture.width() as f32, t.texture.height() as f32) / ppp;
                 let r = ui.add(egui::Image::new((t.id, tex_size)).fit_to_exact_size(avail));
-                self.viewport_rects[k] = Some(r.rect);
+                self.viewports.rects[k] = Some(r.rect);
             }
             (None, None) => {
                 ui.weak(

@@ -77,17 +77,17 @@ impl EditorApp {
             self.delete_selected();
         }
         if ctx.input_mut(|i| i.consume_key(Modifiers::NONE, Key::Escape)) {
-            if self.show_window.is_some() && ctx.embed_viewports() {
+            if self.show_window.open.is_some() && ctx.embed_viewports() {
                 // The show window is drawn inside the editor (no native
                 // windows), so it shares the editor's keyboard: Esc closes it.
                 self.close_show_window();
             } else {
-                self.selected.clear();
+                self.canvas.selected.clear();
             }
         }
         self.organise_shortcuts(ctx);
         if ctx.input_mut(|i| i.consume_key(Modifiers::NONE, Key::F)) {
-            self.fit = FIT_FROM_SCRATCH;
+            self.canvas.fit = FIT_FROM_SCRATCH;
         }
         self.preview_shortcuts(ctx);
     }
@@ -178,21 +178,21 @@ impl EditorApp {
                 });
                 self.organise_menu(ui);
                 ui.separator();
-                let play = if self.playing {
+                let play = if self.transport.playing {
                     "⏸ Pause"
                 } else {
                     "▶ Play"
                 };
                 if ui.button(play).clicked() {
-                    self.playing = !self.playing;
+                    self.transport.playing = !self.transport.playing;
                 }
                 if ui.button("⏭ Step").clicked() {
-                    self.playing = false;
-                    self.step = true;
+                    self.transport.playing = false;
+                    self.transport.step = true;
                 }
                 ui.label(format!(
                     "frame {} · {:.2} s",
-                    self.clock.frame, self.clock.time
+                    self.transport.clock.frame, self.transport.clock.time
                 ));
                 self.recording_button(ui);
                 ui.separator();
@@ -201,13 +201,13 @@ impl EditorApp {
                     .on_hover_text("show the whole patch (F)")
                     .clicked()
                 {
-                    self.fit = FIT_FROM_SCRATCH;
+                    self.canvas.fit = FIT_FROM_SCRATCH;
                 }
                 ui.toggle_value(&mut self.show_timings, "⏱ Timings")
                     .on_hover_text("CPU time per node, GPU time per render node");
                 self.previews_toolbar(ui);
                 ui.separator();
-                let open = self.show_window.is_some();
+                let open = self.show_window.open.is_some();
                 if ui
                     .selectable_label(open, "🖵 Show window")
                     .on_hover_text(
@@ -218,9 +218,9 @@ impl EditorApp {
                     self.toggle_show_window();
                 }
                 ui.add_enabled_ui(!open, |ui| {
-                    ui.checkbox(&mut self.show_window_choice.fullscreen, "Fullscreen")
+                    ui.checkbox(&mut self.show_window.choice.fullscreen, "Fullscreen")
                         .on_hover_text("on the monitor the Output's Monitor pin names");
-                    ui.checkbox(&mut self.show_window_choice.native, "Native size")
+                    ui.checkbox(&mut self.show_window.choice.native, "Native size")
                         .on_hover_text("the window takes the texture's pixel size, 1:1");
                 });
             });

@@ -152,14 +152,14 @@ impl EditorApp {
 
     /// A comment where the pointer is (or the canvas's top left), with its text being edited.
     fn comment_at_pointer(&mut self, ctx: &egui::Context) {
-        let Some(layer) = self.canvas_layer else {
+        let Some(layer) = self.canvas.layer else {
             return;
         };
         let from_global = ctx.layer_transform_from_global(layer).unwrap_or_default();
-        let screen = match self.canvas_rect {
-            Some(r) if r.contains(self.last_pointer) => self.last_pointer,
+        let screen = match self.canvas.rect {
+            Some(r) if r.contains(self.canvas.last_pointer) => self.canvas.last_pointer,
             Some(r) => r.min + egui::vec2(20.0, 20.0),
-            None => self.last_pointer,
+            None => self.canvas.last_pointer,
         };
         let p = from_global * screen;
         let at = ((p.x / SCALE).round(), (p.y / SCALE).round());
@@ -224,7 +224,7 @@ impl EditorApp {
     /// canvas is drawn and before its node moves are recorded.
     pub(super) fn annotations_ui(&mut self, ui: &Ui, layer: LayerId) {
         let ctx = ui.ctx().clone();
-        let Some(canvas) = self.canvas_rect else {
+        let Some(canvas) = self.canvas.rect else {
             return;
         };
         let to_global = ctx.layer_transform_to_global(layer).unwrap_or_default();
@@ -266,8 +266,8 @@ impl EditorApp {
                     .frame_nodes(i)
                     .into_iter()
                     .filter_map(|id| {
-                        let sid = *self.snarl_ids.get(&id)?;
-                        Some((sid, self.snarl.get_node_info(sid)?.pos))
+                        let sid = *self.canvas.snarl_ids.get(&id)?;
+                        Some((sid, self.canvas.snarl.get_node_info(sid)?.pos))
                     })
                     .collect(),
                 _ => Vec::new(),
@@ -294,7 +294,7 @@ impl EditorApp {
         let du = ((d.x / SCALE).round(), (d.y / SCALE).round());
         let snapped = egui::vec2(du.0 * SCALE, du.1 * SCALE);
         for (sid, start) in &drag.nodes {
-            if let Some(info) = self.snarl.get_node_info_mut(*sid) {
+            if let Some(info) = self.canvas.snarl.get_node_info_mut(*sid) {
                 info.pos = *start + snapped;
             }
         }
@@ -356,6 +356,7 @@ impl EditorApp {
             return false;
         };
         let pin = self
+            .canvas
             .pins
             .borrow()
             .iter()
@@ -382,7 +383,7 @@ impl EditorApp {
         };
         match self.doc.iobox_for_input(&self.registry, &pin, value) {
             Some(id) => {
-                self.selected = [id].into_iter().collect();
+                self.canvas.selected = [id].into_iter().collect();
                 self.status = format!("IOBox for {pin}");
             }
             None => self.status = format!("no IOBox holds the values of {pin}"),
@@ -409,8 +410,10 @@ impl EditorApp {
     pub(super) fn record_moves(&mut self, ui: &Ui, moves: &[(NodeId, (f32, f32))]) {
         let alt = ui.input(|i| i.modifiers.alt);
         let link: Option<LinkDoc> = match moves {
-            [(id, _)] if alt => canvas::wire_under(&self.doc, &self.pins, self.last_pointer, 8.0)
-                .filter(|l| l.from.node() != *id && l.to.node() != *id),
+            [(id, _)] if alt => {
+                canvas::wire_under(&self.doc, &self.canvas.pins, self.canvas.last_pointer, 8.0)
+                    .filter(|l| l.from.node() != *id && l.to.node() != *id)
+            }
             _ => None,
         };
         let Some(link) = link else {
@@ -426,7 +429,7 @@ impl EditorApp {
         if let Err(e) = result {
             self.refusal = Some(Refusal {
                 message: e.to_string(),
-                at: self.last_pointer,
+                at: self.canvas.last_pointer,
                 since: ui.input(|i| i.time),
             });
         }
@@ -450,8 +453,8 @@ impl EditorApp {
         let patch = self.doc.patch();
         let centre = match target {
             Target::Node(id) => {
-                self.selected = [id].into_iter().collect();
-                self.focused = Some(id);
+                self.canvas.selected = [id].into_iter().collect();
+                self.canvas.focused = Some(id);
                 patch.node(id).map(|n| {
                     let (w, h) = measure::node_size(n, &self.registry, patch);
                     Pos2::new((n.pos.0 + w / 2.0) * SCALE, (n.pos.1 + h / 2.0) * SCALE)
@@ -475,7 +478,8 @@ impl EditorApp {
                 .resizable(false)
                 .collapsible(false)
                 .default_pos(
-                    self.canvas_rect
+                    self.canvas
+                        .rect
                         .map_or(Pos2::ZERO, |r| r.left_bottom() - egui::vec2(-10.0, 230.0)),
                 )
                 .show(ctx, crate::organise::legend::show);
@@ -494,7 +498,8 @@ impl EditorApp {
             .collapsible(false)
             .resizable(false)
             .default_pos(
-                self.canvas_rect
+                self.canvas
+                    .rect
                     .map_or(Pos2::ZERO, |r| r.right_top() + egui::vec2(-300.0, 10.0)),
             )
             .show(ctx, |ui| {

@@ -46,7 +46,8 @@ impl EditorApp {
 
     /// Where a pin was drawn last frame, in screen points.
     pub fn pin_pos(&self, node: NodeId, pin: &str, input: bool) -> Option<Pos2> {
-        self.pins
+        self.canvas
+            .pins
             .borrow()
             .get(&(node, pin.to_owned(), input))
             .copied()
@@ -54,7 +55,8 @@ impl EditorApp {
 
     /// Where a point of the canvas (as its widgets report their rects) is on screen.
     pub fn canvas_to_screen(&self, ctx: &egui::Context, p: Pos2) -> Pos2 {
-        self.canvas_layer
+        self.canvas
+            .layer
             .and_then(|l| ctx.layer_transform_to_global(l))
             .map_or(p, |t| t * p)
     }
@@ -62,19 +64,19 @@ impl EditorApp {
     /// How many nodes the canvas laid out (title, pins, values) in the last
     /// frame: those near the view, not the whole patch (`canvas/cull.rs`).
     pub fn nodes_laid_out(&self) -> usize {
-        self.culling.laid_out
+        self.canvas.culling.laid_out
     }
 
     pub fn canvas_rect(&self) -> Option<egui::Rect> {
-        self.canvas_rect
+        self.canvas.rect
     }
 
     pub fn selected(&self) -> Vec<NodeId> {
-        self.selected.iter().copied().collect()
+        self.canvas.selected.iter().copied().collect()
     }
 
     pub fn select(&mut self, ids: &[NodeId]) {
-        self.selected = ids.iter().copied().collect();
+        self.canvas.selected = ids.iter().copied().collect();
     }
 
     pub fn refusal(&self) -> Option<&str> {
@@ -82,29 +84,29 @@ impl EditorApp {
     }
 
     pub fn recovery_offered(&self) -> bool {
-        self.recovery_offer.is_some()
+        self.autosave.offer.is_some()
     }
 
     /// The subpatch files whose unsaved edits the recovery offer restores too.
     pub fn recovery_offered_modules(&self) -> &[PathBuf] {
-        if self.recovery_offer.is_some() {
-            &self.recovery_offer_modules
+        if self.autosave.offer.is_some() {
+            &self.autosave.offer_modules
         } else {
             &[]
         }
     }
 
     pub fn is_playing(&self) -> bool {
-        self.playing
+        self.transport.playing
     }
 
     pub fn set_playing(&mut self, playing: bool) {
-        self.playing = playing;
+        self.transport.playing = playing;
     }
 
     /// The frame the patch clock is at: it advances while playing and on Step.
     pub fn frame(&self) -> u64 {
-        self.clock.frame
+        self.transport.clock.frame
     }
 
     /// How many times the patch was evaluated: it runs only on change or while playing.
@@ -124,18 +126,18 @@ impl EditorApp {
 
     /// Where a viewport's image was drawn last frame, in points.
     pub fn viewport_rect(&self, index: usize) -> Option<egui::Rect> {
-        self.viewport_rects.get(index).copied().flatten()
+        self.viewports.rects.get(index).copied().flatten()
     }
 
     /// The area the patch's Mouse and WindowSize nodes measure: the first
     /// viewport's (the whole window in the show window), in points.
     pub fn patch_window_rect(&self) -> Option<egui::Rect> {
-        self.view_area
+        self.viewports.area
     }
 
     /// The pixel size a viewport renders at (the first one's is the patch's window size).
     pub fn viewport_pixels(&self, index: usize) -> Option<(u32, u32)> {
-        self.viewports.get(index).map(|v| v.size)
+        self.viewports.views.get(index).map(|v| v.size)
     }
 
     pub fn viewport_error(&self, index: usize) -> Option<String> {

@@ -52,9 +52,12 @@ impl EditorApp {
     fn start_recording(&mut self, path: PathBuf) {
         let settings = RecordSettings {
             path: path.clone(),
-            fps: self.fixed_step.map_or(LIVE_FPS, |step| 1.0 / step),
+            fps: self
+                .transport
+                .fixed_step
+                .map_or(LIVE_FPS, |step| 1.0 / step),
             audio: self.audio_file(),
-            wait: self.fixed_step.is_some(),
+            wait: self.transport.fixed_step.is_some(),
         };
         self.worker.submit(Request {
             record: Some(RecordCommand::Start(settings)),

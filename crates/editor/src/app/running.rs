@@ -45,30 +45,22 @@ impl EditorApp {
         if std::mem::take(&mut self.record_on_start) {
             self.toggle_recording();
         }
-        // A fixed step (`play --fps`) replaces the wall clock's.
-        let dt = dt.map(|dt| self.fixed_step.unwrap_or(dt));
         let mut request = Request::default();
         let generation = self.doc.generation();
         if self.sent_generation != Some(generation) {
             request.patch = Some((generation, Arc::new(self.doc.runtime_patch())));
             self.sent_generation = Some(generation);
         }
-        if dt.is_some() && self.feed_host_input(ctx) && !self.playing {
+        if dt.is_some() && self.feed_host_input(ctx) && !self.transport.playing {
             // The patch reads the pointer or keys: a paused patch follows them too.
-            request.clock = Some(self.clock);
+            request.clock = Some(self.transport.clock);
         }
-        if let Some(dt) = dt {
-            if self.playing {
-                self.clock.advance(dt);
-                request.clock = Some(self.clock);
-            } else if self.step {
-                self.clock.advance(1.0 / 60.0);
-                request.clock = Some(self.clock);
-            }
-            self.step = false;
+        if let Some(clock) = dt.and_then(|dt| self.transport.advance(dt)) {
+            request.clock = Some(clock);
         }
         let views: Vec<ViewRequest> = self
             .viewports
+            .views
             .iter()
             .map(|v| ViewRequest {
                 texture: self.texture_of(&v.source),
@@ -110,7 +102,11 @@ impl EditorApp {
             // Outputs are indexed once per edit (`output_index.rs`).
             Source::Output => self
                 .outputs
-                .source(self.doc.generation(), self.doc.top(), self.selected.iter())
+                .source(
+                    self.doc.generation(),
+                    self.doc.top(),
+                    self.canvas.selected.iter(),
+                )
                 .flatten()
                 .ok_or(ViewportError::NoTexture),
         }

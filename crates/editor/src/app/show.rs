@@ -23,7 +23,7 @@ impl EditorApp {
     /// Run as the show window instead of the editor.
     pub fn set_show_mode(&mut self, on: bool) {
         self.show_mode = on;
-        self.playing = on || self.playing;
+        self.transport.playing = on || self.transport.playing;
     }
 
     /// How the show window is placed; a monitor that does not exist ends it
@@ -36,7 +36,7 @@ impl EditorApp {
     ) {
         self.play_native = window.native;
         if let Some(fps) = window.fps.filter(|f| f.is_finite() && *f > 0.0) {
-            self.fixed_step = Some(1.0 / fps);
+            self.transport.fixed_step = Some(1.0 / fps);
             self.worker.submit(Request {
                 playback: Some(spreadlight_nodes::media::Playback::Exact),
                 ..Default::default()
@@ -128,14 +128,14 @@ impl EditorApp {
             .show(ui, |ui| {
                 if self.play_native {
                     let area = ui.available_rect_before_wrap();
-                    self.view_area = Some(area);
+                    self.viewports.area = Some(area);
                     self.show_window_image(ui, 0, area, true);
                 } else {
                     self.viewport_ui(ui, 0, None);
                 }
             });
         self.evaluate_if_needed(&ctx, None, false);
-        if self.playing {
+        if self.transport.playing {
             ctx.request_repaint();
         }
         self.ui_times.push_back(started.elapsed().as_secs_f64());

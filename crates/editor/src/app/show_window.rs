@@ -25,48 +25,82 @@ pub struct ShowWindowOptions {
     pub native: bool,
 }
 
+/// The show window's state: open or not and how, what the toolbar's
+/// choices are, and what it read and drew last frame.
+pub(super) struct ShowWindowState {
+    /// The editor's show window, while it is open.
+    pub(super) open: Option<ShowWindowOptions>,
+    /// What the toolbar's show window choices are set to.
+    pub(super) choice: ShowWindowOptions,
+    /// The show window's pointer, keys and size, read while it is open.
+    pub(super) input: Option<InputSnapshot>,
+    /// Where it drew its image last frame, in its own points.
+    pub(super) image_rect: Option<egui::Rect>,
+}
+
+impl ShowWindowState {
+    pub(super) fn new() -> Self {
+        ShowWindowState {
+            open: None,
+            choice: ShowWindowOptions {
+                fullscreen: false,
+                native: false,
+            },
+            input: None,
+            image_rect: None,
+        }
+    }
+
+    /// Closed: nothing of the window is kept but the toolbar's choices.
+    fn close(&mut self) {
+        self.open = None;
+        self.input = None;
+        self.image_rect = None;
+    }
+}
+
 impl EditorApp {
     /// Open the show window for the Output the first viewport shows.
     pub fn open_show_window(&mut self, options: ShowWindowOptions) {
-        self.show_window = Some(options);
-        self.viewports[SHOW_VIEW].source = Source::Output;
+        self.show_window.open = Some(options);
+        self.viewports.views[SHOW_VIEW].source = Source::Output;
         self.status = "show window open (Esc in it closes it)".to_owned();
     }
 
     pub fn close_show_window(&mut self) {
-        self.show_window = None;
-        self.show_input = None;
-        self.show_image_rect = None;
-        self.viewports[SHOW_VIEW] = Viewport::new(Source::None);
+        self.show_window.close();
+        self.viewports.views[SHOW_VIEW] = Viewport::new(Source::None);
     }
 
     /// The open show window's choices, if it is open.
     pub fn show_window(&self) -> Option<ShowWindowOptions> {
-        self.show_window
+        self.show_window.open
     }
 
     /// Where the show window drew its image last frame, in its own points.
     pub fn show_window_image_rect(&self) -> Option<egui::Rect> {
-        self.show_image_rect
+        self.show_window.image_rect
     }
 
     /// The pixel size the show window's texture is rendered at.
     pub fn show_window_pixels(&self) -> Option<(u32, u32)> {
-        self.show_window.map(|_| self.viewports[SHOW_VIEW].size)
+        self.show_window
+            .open
+            .map(|_| self.viewports.views[SHOW_VIEW].size)
     }
 
     pub(super) fn toggle_show_window(&mut self) {
-        if self.show_window.is_some() {
+        if self.show_window.open.is_some() {
             self.close_show_window();
         } else {
-            let options = self.show_window_choice;
+            let options = self.show_window.choice;
             self.open_show_window(options);
         }
     }
 
     /// Draw the show window while it is open (each editor frame).
     pub(super) fn show_window_ui(&mut self, ctx: &egui::Context) {
-        let Some(options) = self.show_window else {
+        let Some(options) = self.show_window.open else {
             return;
         };
         let mut builder = egui::ViewportBuilder::default()
@@ -125,11 +159,11 @@ impl EditorApp {
             ((avail.x * ppp) as u32).clamp(16, 8192),
             ((avail.y * ppp) as u32).clamp(16, 8192),
         );
-        self.viewports[k].size = size;
+        self.viewports.views[k].size = size;
         if k == SHOW_VIEW {
-            let mut wheel = self.wheel;
-            self.show_input = Some(read_input(ui.ctx(), area, size, true, &mut wheel));
-            self.wheel = wheel;
+            let mut wheel = self.viewports.wheel;
+            self.show_window.input = Some(read_input(ui.ctx(), area, size, true, &mut wheel));
+            self.viewports.wheel = wheel;
         }
         let shown = self.frame.views.get(k).cloned().unwrap_or_default();
         match (&shown.target, &shown.error) {
@@ -149,12 +183,12 @@ impl EditorApp {
                     // 1:1 pixels, centred until the window has its size.
                     let rect = egui::Rect::from_center_size(area.center(), tex_size);
                     paint(&painter, t.id, rect);
-                    self.show_image_rect = Some(rect);
-                    self.viewport_rects[k] = Some(rect);
+                    self.show_window.image_rect = Some(rect);
+                    self.viewports.rects[k] = Some(rect);
                 } else {
                     paint(&painter, t.id, area);
-                    self.show_image_rect = Some(area);
-                    self.viewport_rects[k] = Some(area);
+                    self.show_window.image_rect = Some(area);
+                    self.viewports.rects[k] = Some(area);
                 }
             }
             (None, None) => {

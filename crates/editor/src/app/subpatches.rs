@@ -138,8 +138,8 @@ impl EditorApp {
     }
 
     fn after_navigation(&mut self) {
-        self.selected.clear();
-        self.fit = FIT_FROM_SCRATCH;
+        self.canvas.selected.clear();
+        self.canvas.fit = FIT_FROM_SCRATCH;
         self.status = match self.doc.scope().last() {
             Some(name) => format!("editing subpatch {name}"),
             None => "editing the patch".to_owned(),
@@ -150,7 +150,7 @@ impl EditorApp {
     pub fn make_subpatch_of_selection(&mut self) -> Option<NodeId> {
         let ids = self.selected();
         let id = self.doc.make_subpatch(&self.registry, &ids)?;
-        self.selected = [id].into_iter().collect();
+        self.canvas.selected = [id].into_iter().collect();
         Some(id)
     }
 
@@ -161,7 +161,7 @@ impl EditorApp {
             made.extend(self.doc.unmake_subpatch(id));
         }
         if !made.is_empty() {
-            self.selected = made.into_iter().collect();
+            self.canvas.selected = made.into_iter().collect();
         }
     }
 

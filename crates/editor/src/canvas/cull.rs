@@ -13,13 +13,12 @@
 
 use std::cell::RefCell;
 use std::collections::HashMap;
-use std::rc::Rc;
 
 use egui::emath::TSTransform;
 use egui::{Pos2, Rect, Vec2};
 use spreadlight_graph::{NodeDoc, NodeId, Registry};
 
-use super::style::PinKey;
+use super::pins::{PinKey, PinOffsets};
 use super::sync::SCALE;
 
 /// How far around the view (a share of its larger side) nodes stay in snarl:
@@ -29,9 +28,6 @@ pub const MARGIN: f32 = 0.5;
 /// The size assumed for a node never drawn (canvas px): its real one is
 /// known after its first frame on screen.
 const UNKNOWN_SIZE: Vec2 = Vec2::new(160.0, 90.0);
-
-/// Where a node's pins were drawn, relative to the node's position (canvas px).
-pub type PinOffsets = Rc<RefCell<HashMap<NodeId, Vec<(String, bool, Vec2)>>>>;
 
 /// Culled nodes and their rectangles on screen.
 pub type CulledRects = Vec<(NodeId, Rect)>;
@@ -157,20 +153,6 @@ pub fn wire_color(registry: &Registry, node: &NodeDoc, pin: &str) -> egui::Color
         .get(&node.type_name)
         .and_then(|d| d.outputs.iter().find(|p| p.name == pin))
         .map_or(egui::Color32::DARK_GRAY, |p| super::style::pin_color(p.ty))
-}
-
-/// Record where a pin was drawn (`offset` from its node's position), keeping
-/// one entry per pin so a frame allocates nothing for pins seen before.
-pub fn record_pin(offsets: &PinOffsets, node: NodeId, pin: &str, input: bool, offset: Vec2) {
-    let mut offsets = offsets.borrow_mut();
-    let pins = offsets.entry(node).or_default();
-    match pins
-        .iter_mut()
-        .find(|(name, is_input, _)| name == pin && *is_input == input)
-    {
-        Some(entry) => entry.2 = offset,
-        None => pins.push((pin.to_owned(), input, offset)),
-    }
 }
 
 #[cfg(test)]

@@ -2,21 +2,13 @@
 //! type, and the pin shape that records where it was drawn (the wire hit
 //! test and the tests read those positions).
 
-use std::cell::RefCell;
-use std::collections::HashMap;
-use std::rc::Rc;
-
 use egui::{Color32, Pos2, Rect, Stroke, Ui};
 use egui_snarl::ui::{PinInfo, PinWireInfo, SnarlPin, SnarlStyle};
-use spreadlight_graph::{NodeId, PinType};
+use spreadlight_graph::PinType;
 
 use crate::zoom::ZOOM_RANGE;
 
-/// A pin on the canvas, by node and name: `true` for inputs.
-pub type PinKey = (NodeId, String, bool);
-
-/// Where each pin was drawn this frame, in screen points (tests drag between them).
-pub type PinPositions = Rc<RefCell<HashMap<PinKey, Pos2>>>;
+pub use super::pins::{PinKey, PinPositions};
 
 /// Spacing inside nodes: rows close together, as vvvv's nodes are (the text size is unchanged).
 pub fn compact_spacing(ui: &mut Ui) {
@@ -91,7 +83,7 @@ pub struct RecordedPin {
     pub(super) sink: PinPositions,
     /// Its node's position (canvas px) and where offsets from it are kept (`cull.rs`).
     pub(super) origin: Pos2,
-    pub(super) offsets: super::PinOffsets,
+    pub(super) offsets: super::pins::PinOffsets,
 }
 
 impl SnarlPin for RecordedPin {
@@ -106,7 +98,7 @@ impl SnarlPin for RecordedPin {
             .ctx()
             .layer_transform_to_global(painter.layer_id())
             .unwrap_or_default();
-        super::cull::record_pin(
+        super::pins::record_pin(
             &self.offsets,
             self.key.0,
             &self.key.1,

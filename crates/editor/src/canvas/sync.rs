@@ -8,15 +8,8 @@ use egui::Pos2;
 use egui_snarl::{InPinId, OutPinId, Snarl};
 use spreadlight_graph::{NodeDoc, NodeId, Registry};
 
+pub use crate::canvas_units::{CanvasNode, SCALE};
 use crate::model::EditorDoc;
-
-/// Canvas pixels per patch canvas unit: patches are laid out on a coarse grid
-/// (vvvv's nodes are small); snarl's nodes are larger.
-pub const SCALE: f32 = 3.0;
-
-/// What snarl stores per node: which document node it shows.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct CanvasNode(pub NodeId);
 
 /// Bring snarl in line with the document, every frame: the document's nodes
 /// that `keep` accepts (those near the view, `cull.rs`) and only those, and

@@ -2,7 +2,7 @@
 
 use egui::Pos2;
 
-use super::style::PinPositions;
+use super::pins::PinPositions;
 use crate::model::EditorDoc;
 
 /// The link under `pointer`, if one passes within `threshold` points of it:

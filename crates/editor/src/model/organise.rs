@@ -404,7 +404,7 @@ impl EditorDoc {
         let (w, _) = measure::node_size(&probe, registry, self.patch());
         let pos = (
             (target.pos.0 - w - layout::LAYER_GAP).round(),
-            (target.pos.1 + row * measure::ROW_H / crate::canvas::SCALE).round(),
+            (target.pos.1 + row * measure::ROW_H / crate::canvas_units::SCALE).round(),
         );
         self.grouped(&format!("IOBox for {pin}"), |doc| {
             let id = doc.add_node(type_name, pos);

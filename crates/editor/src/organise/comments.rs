@@ -6,25 +6,12 @@ use egui::text::{LayoutJob, TextFormat};
 use egui::{Color32, FontId, Painter, Pos2, Rect, Vec2};
 use spreadlight_graph::CommentDoc;
 
-use crate::canvas::SCALE;
+use crate::canvas_units::SCALE;
 
 /// Body text size of comments, as the nodes' (egui's body text).
 const BODY: f32 = 12.5;
 
-/// How a line is drawn: its text size relative to the body, and its text
-/// without the markup that says so (`# `, `## `, `- `).
-pub fn line_style(line: &str) -> (f32, &str) {
-    if let Some(rest) = line.strip_prefix("## ") {
-        (1.25, rest)
-    } else if let Some(rest) = line.strip_prefix("# ") {
-        (1.5, rest)
-    } else if let Some(rest) = line.strip_prefix("- ").or_else(|| line.strip_prefix("* ")) {
-        // The bullet takes the two characters the markup did.
-        (1.0, rest)
-    } else {
-        (1.0, line)
-    }
-}
+pub use super::measure::line_style;
 
 /// The comment's rectangle in canvas points (snarl's coordinates).
 pub fn rect(comment: &CommentDoc) -> Rect {

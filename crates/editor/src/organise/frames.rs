@@ -5,7 +5,7 @@
 use egui::{Align2, Color32, FontId, Painter, Pos2, Rect, Stroke, Vec2};
 use spreadlight_graph::FrameDoc;
 
-use crate::canvas::SCALE;
+use crate::canvas_units::SCALE;
 
 /// The title bar's height, in canvas points.
 pub const TITLE_H: f32 = 22.0;

@@ -9,7 +9,7 @@ use egui_snarl::Snarl;
 use egui_snarl::ui::AnyPins;
 use spreadlight_graph::{LinkDoc, PinRef, Registry};
 
-use crate::canvas::{CanvasNode, SCALE};
+use crate::canvas_units::{CanvasNode, SCALE};
 use crate::model::EditorDoc;
 use crate::model::organise::DroppedWire;
 

@@ -8,7 +8,7 @@ use std::collections::BTreeSet;
 
 use spreadlight_graph::{NodeDoc, Patch, PinType, Registry, Spread};
 
-use crate::canvas::SCALE;
+use crate::canvas_units::SCALE;
 
 /// Width of one character of egui's body text (12.5 points), generously.
 pub const CHAR_W: f32 = 7.2;
@@ -74,7 +74,7 @@ fn editor_w(ty: PinType, value: Option<&Spread>) -> f32 {
 
 fn node_points(node: &NodeDoc, registry: &Registry, patch: &Patch) -> (f32, f32) {
     let tag = if node.bypass {
-        text_w(crate::canvas::BYPASS_TAG) + 4.0
+        text_w(crate::canvas_units::BYPASS_TAG) + 4.0
     } else {
         0.0
     };
@@ -137,12 +137,28 @@ fn node_points(node: &NodeDoc, registry: &Registry, patch: &Patch) -> (f32, f32)
     (w, h)
 }
 
+/// How a comment's line is drawn: its text size relative to the body, and
+/// its text without the markup that says so (`# `, `## `, `- `). Here, with
+/// the measures, so drawing a comment (comments.rs) and measuring it share it.
+pub fn line_style(line: &str) -> (f32, &str) {
+    if let Some(rest) = line.strip_prefix("## ") {
+        (1.25, rest)
+    } else if let Some(rest) = line.strip_prefix("# ") {
+        (1.5, rest)
+    } else if let Some(rest) = line.strip_prefix("- ").or_else(|| line.strip_prefix("* ")) {
+        // The bullet takes the two characters the markup did.
+        (1.0, rest)
+    } else {
+        (1.0, line)
+    }
+}
+
 /// A comment's size in canvas units, as `organise::comments` draws it at zoom 1.
 pub fn comment_size(text: &str) -> (f32, f32) {
     let mut w: f32 = 40.0;
     let mut h = 8.0;
     for line in text.lines() {
-        let (scale, body) = crate::organise::comments::line_style(line);
+        let (scale, body) = line_style(line);
         w = w.max(text_w(body) * scale + 16.0);
         h += LINE_H * scale;
     }

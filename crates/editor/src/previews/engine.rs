@@ -4,15 +4,20 @@
 
 use std::collections::HashMap;
 use std::sync::Arc;
+use std::time::Instant;
 
 use spreadlight_graph::{NodeId, ResourceKind, Runtime, Spread};
 use spreadlight_render::gbuffer::{Channel, GBuffer, GBufferView};
 use spreadlight_render::mesh_arena::GpuMesh;
+use spreadlight_render::recipe::Recipe;
 use spreadlight_render::{Renderer, TextureRef};
 
+use super::schedule::{Candidate, Measured, Scheduler};
 use super::{
-    LARGE_PIXELS, MeshCounts, PreviewKey, PreviewOut, PreviewOuts, PreviewRequest, THUMB_PIXELS,
+    ChannelName, LARGE_PIXELS, MeshCounts, PreviewKey, PreviewOut, PreviewOuts, PreviewRequest,
+    THUMB_PIXELS,
 };
+use crate::gpu::WorkerGpu;
 use crate::viewport::{self, Blitter, RenderedFrame};
 
 /// Runs of the worker a preview no longer asked for keeps its texture, so
@@ -20,10 +25,61 @@ use crate::viewport::{self, Blitter, RenderedFrame};
 const KEEP_RUNS: u32 = 120;
 
 /// What a preview shows, found in the runtime.
+enum Found {
+    Texture(TextureRef),
+    /// A G-buffer and the channel to show (its view is made only when refreshed).
+    GBuffer(Arc<GBuffer>, ChannelName),
+    /// A mesh's counts and, for the large preview, the mesh to turn.
+    Mesh(MeshCounts, Option<Arc<GpuMesh>>),
+}
+
+/// What a preview shows, made ready for the frame graph.
 enum Shown {
     Texture(TextureRef),
     /// A mesh's counts and its turntable (the first mesh's normals).
     Mesh(MeshCounts, Option<TextureRef>),
+}
+
+/// The image a preview shows, as far as telling an unchanged one goes: the
+/// recipe that makes it (held, so no other can take its address) at the
+/// frame's size. A node the runtime did not evaluate again keeps its
+/// recipe, and a recipe makes the same image from the same inputs.
+#[derive(Clone)]
+pub enum Source {
+    Texture(Arc<dyn Recipe>, String, (u32, u32)),
+    GBuffer(Arc<GBuffer>, ChannelName, (u32, u32)),
+}
+
+impl PartialEq for Source {
+    fn eq(&self, other: &Self) -> bool {
+        match (self, other) {
+            (Source::Texture(a, n, s), Source::Texture(b, m, t)) => {
+                Arc::ptr_eq(a, b) && n == m && s == t
+            }
+            (Source::GBuffer(a, c, s), Source::GBuffer(b, d, t)) => {
+                Arc::ptr_eq(a, b) && c == d && s == t
+            }
+            _ => false,
+        }
+    }
+}
+
+impl Found {
+    fn source(&self, size: (u32, u32)) -> Option<Source> {
+        match self {
+            Found::Texture(t) => Some(Source::Texture(t.recipe.clone(), t.name.clone(), size)),
+            Found::GBuffer(g, c) => Some(Source::GBuffer(g.clone(), *c, size)),
+            Found::Mesh(..) => None,
+        }
+    }
+}
+
+/// A preview asked for this frame: what it shows and whether it is refreshed.
+struct Resolved {
+    request: PreviewRequest,
+    found: Result<Found, String>,
+    source: Option<Source>,
+    refresh: bool,
 }
 
 struct Slot {
@@ -44,6 +100,11 @@ pub struct PreviewEngine {
     /// The textures the last frame's previews showed, by key: valid until
     /// the next frame takes its pooled textures back.
     sources: HashMap<PreviewKey, wgpu::Texture>,
+    /// Which thumbnails a frame refreshes (schedule.rs).
+    schedule: Scheduler<Source>,
+    /// The frame being worked on advances a playing patch: the thumbnails
+    /// keep to their budget of its frame time.
+    budgeted: bool,
 }
 
 impl PreviewEngine {
@@ -54,8 +115,13 @@ impl PreviewEngine {
                 .iter()
                 .zip(&self.requests)
                 .all(|(a, b)| a.key == b.key);
+        // A texel asked of a preview this frame did not render (skipped as
+        // unchanged): its texture is gone to the pool, so it renders again.
+        let unsourced = requests
+            .iter()
+            .any(|r| r.probe.is_some() && !self.sources.contains_key(&r.key));
         self.requests = requests;
-        if same_previews && !self.due {
+        if same_previews && !self.due && !unsourced {
             // The pointer moved over a thumbnail: no frame to render for that.
             self.reprobe = true;
         } else {
@@ -90,31 +156,63 @@ impl PreviewEngine {
         pins
     }
 
-    /// Whether there are previews to render though the viewport has not changed.
+    /// Whether there are previews to render though the viewport has not
+    /// changed: new wishes, or changed thumbnails a budgeted frame left.
     pub fn is_due(&self) -> bool {
-        self.due
+        self.due || self.schedule.pending() > 0
+    }
+
+    /// Whether a budgeted frame left changed thumbnails for later: a patch
+    /// paused meanwhile gets them in a frame of their own.
+    pub fn has_pending(&self) -> bool {
+        self.schedule.pending() > 0
+    }
+
+    /// Whether the next frame advances a playing patch (so the thumbnails keep
+    /// to their budget) or not (all changed thumbnails are refreshed).
+    pub fn set_budgeted(&mut self, budgeted: bool) {
+        self.budgeted = budgeted;
+    }
+
+    /// The patch's frame time alone and one thumbnail's cost, as measured.
+    pub fn measurements(&self) -> Measured {
+        self.schedule.measurements()
     }
 
     pub fn is_empty(&self) -> bool {
         self.requests.is_empty()
     }
 
-    /// The textures this frame's previews show, to request in the viewport's
-    /// frame graph, and what the rest (meshes, failures) are.
-    fn resolve(
-        &self,
-        runtime: &Runtime,
-        renderer: &Renderer,
-        time: f64,
-    ) -> Vec<(PreviewRequest, Result<Shown, String>)> {
-        // One G-buffer view per (G-buffer, channel): the large and the small
-        // preview of a channel share its pass.
-        let mut views: HashMap<(usize, usize), TextureRef> = HashMap::new();
-        self.requests
+    /// What each preview shows, and which of them this frame refreshes
+    /// (the schedule's pick; failures always, they cost nothing).
+    fn resolve(&mut self, runtime: &Runtime, size: (u32, u32)) -> Vec<Resolved> {
+        let found: Vec<(PreviewRequest, Result<Found, String>)> = self
+            .requests
             .iter()
-            .map(|r| {
-                let shown = shown(runtime, renderer, &r.key, &mut views, time);
-                (r.clone(), shown)
+            .map(|r| (r.clone(), found(runtime, &r.key)))
+            .collect();
+        let candidates: Vec<Candidate<Source>> = found
+            .iter()
+            .filter_map(|(r, f)| {
+                Some(Candidate {
+                    key: r.key.clone(),
+                    source: f.as_ref().ok()?.source(size),
+                    live: r.key.large || r.probe.is_some(),
+                })
+            })
+            .collect();
+        let mut picked = self.schedule.pick(&candidates, self.budgeted).into_iter();
+        found
+            .into_iter()
+            .map(|(r, f)| {
+                let source = f.as_ref().ok().and_then(|f| f.source(size));
+                let refresh = f.is_err() || picked.next().unwrap_or(true);
+                Resolved {
+                    request: r,
+                    found: f,
+                    source,
+                    refresh,
+                }
             })
             .collect()
     }
@@ -128,18 +226,40 @@ impl PreviewEngine {
     pub fn render(
         &mut self,
         runtime: &Runtime,
-        gpu: &crate::worker::WorkerGpu,
+        gpu: &WorkerGpu,
         main: Option<&TextureRef>,
         size: (u32, u32),
         time: f64,
     ) -> Option<Result<RenderedFrame, viewport::ViewportError>> {
         let (render_state, renderer, blitter) = (&gpu.state, &gpu.renderer, &gpu.blitter);
+        let started = Instant::now();
         self.due = false;
         self.reprobe = false;
         self.sources.clear();
-        let resolved = self.resolve(runtime, renderer, time);
+        let resolved = self.resolve(runtime, size);
+        // One G-buffer view per (G-buffer, channel): the large and the small
+        // preview of a channel share its pass.
+        let mut views: HashMap<(usize, usize), TextureRef> = HashMap::new();
+        let mut thumbnails = 0;
+        let resolved: Vec<(PreviewRequest, Result<Shown, String>, Option<Source>)> = resolved
+            .into_iter()
+            .filter(|r| r.refresh)
+            .map(
+                |Resolved {
+                     request,
+                     found,
+                     source,
+                     ..
+                 }| {
+                    let shown = found.map(|f| made(renderer, f, &mut views, time));
+                    thumbnails +=
+                        usize::from(shown.is_ok() && !request.key.large && request.probe.is_none());
+                    (request, shown, source)
+                },
+            )
+            .collect();
         let mut textures: Vec<&TextureRef> = main.into_iter().collect();
-        for (_, shown) in &resolved {
+        for (_, shown, _) in &resolved {
             if let Ok(Shown::Texture(t) | Shown::Mesh(_, Some(t))) = shown
                 && !textures.iter().any(|u| u.name == t.name)
             {
@@ -154,8 +274,10 @@ impl PreviewEngine {
                 Err(e) if textures.len() > 1 => {
                     // The previews' error; the viewport renders on its own.
                     let alone = main.map(|m| viewport::render_frame(renderer, &[m], size));
-                    for (request, _) in &resolved {
+                    for (request, _, _) in &resolved {
                         slot(&mut self.slots, &request.key).out.error = Some(e.to_string());
+                        // Tried again in the next frame, not taken as shown.
+                        self.schedule.refreshed(&request.key, None);
                     }
                     self.age();
                     return alone;
@@ -167,7 +289,7 @@ impl PreviewEngine {
         // Every thumbnail's blit in one submission (each may wait at the gate).
         let mut batch = Vec::new();
         let mut probes = Vec::new();
-        for (request, shown) in resolved {
+        for (request, shown, source) in resolved {
             let slot = slot(&mut self.slots, &request.key);
             slot.out.mesh = None;
             slot.out.error = None;
@@ -207,15 +329,31 @@ impl PreviewEngine {
                         probes.push((request.key.clone(), uv));
                     }
                     self.sources.insert(request.key.clone(), src.clone());
+                    // Shown: skipped from now on while its source stays the same.
+                    self.schedule.refreshed(&request.key, source);
                 }
             }
         }
+        let scaled = !batch.is_empty();
         renderer.gpu.submit(batch);
+        if self.budgeted && scaled {
+            // The scaling is timed with the frame it belongs to, not the next
+            // (the frame graph waits for its own passes; a failed wait only
+            // shifts a sample to the next frame).
+            let _ = renderer
+                .gpu
+                .device
+                .poll(wgpu::PollType::wait_indefinitely());
+        }
         // The texels under the pointer, after the thumbnails (each waits for the GPU).
         for (key, uv) in probes {
             if let (Some(src), Some(slot)) = (self.sources.get(&key), self.slots.get_mut(&key)) {
                 slot.out.value = probe(renderer, blitter, src, uv);
             }
+        }
+        if self.budgeted {
+            self.schedule
+                .measured(started.elapsed().as_secs_f64() * 1e3, thumbnails);
         }
         self.age();
         frame
@@ -240,6 +378,7 @@ impl PreviewEngine {
             .map(|(k, _)| k.clone())
             .collect();
         for key in stale {
+            self.schedule.forget(&key);
             if let Some(slot) = self.slots.remove(&key)
                 && let Some(target) = slot.out.target
             {
@@ -296,14 +435,32 @@ pub fn preview_pixels(source: (u32, u32), width: u32) -> (u32, u32) {
     (w, h)
 }
 
-/// What the pin of `key` holds, as a preview shows it.
-fn shown(
-    runtime: &Runtime,
+/// A found preview made ready for the frame graph: a G-buffer's channel
+/// view, a mesh's turntable.
+fn made(
     renderer: &Renderer,
-    key: &PreviewKey,
+    found: Found,
     views: &mut HashMap<(usize, usize), TextureRef>,
     time: f64,
-) -> Result<Shown, String> {
+) -> Shown {
+    match found {
+        Found::Texture(t) => Shown::Texture(t),
+        Found::GBuffer(gbuffer, channel) => {
+            let view = views
+                .entry((Arc::as_ptr(&gbuffer) as usize, channel.0))
+                .or_insert_with(|| {
+                    GBufferView::new(renderer, None, gbuffer, channel.channel(), 20.0).texture()
+                });
+            Shown::Texture(view.clone())
+        }
+        Found::Mesh(counts, mesh) => {
+            Shown::Mesh(counts, mesh.map(|mesh| turntable(renderer, mesh, time)))
+        }
+    }
+}
+
+/// What the pin of `key` holds, as a preview shows it.
+fn found(runtime: &Runtime, key: &PreviewKey) -> Result<Found, String> {
     let network = runtime.network();
     let index = network
         .index_at(&key.path)
@@ -324,7 +481,7 @@ fn shown(
             .first()
             .ok_or_else(empty)?
             .downcast_arc::<TextureRef>()
-            .map(|t| Shown::Texture((*t).clone()))
+            .map(|t| Found::Texture((*t).clone()))
             .ok_or_else(|| "holds something other than a texture".to_owned()),
         ResourceKind::GBuffer => {
             let gbuffer = handles
@@ -332,13 +489,7 @@ fn shown(
                 .ok_or_else(empty)?
                 .downcast_arc::<GBuffer>()
                 .ok_or_else(|| "holds something other than a G-buffer".to_owned())?;
-            let channel = key.channel.unwrap_or_default();
-            let view = views
-                .entry((Arc::as_ptr(&gbuffer) as usize, channel.0))
-                .or_insert_with(|| {
-                    GBufferView::new(renderer, None, gbuffer, channel.channel(), 20.0).texture()
-                });
-            Ok(Shown::Texture(view.clone()))
+            Ok(Found::GBuffer(gbuffer, key.channel.unwrap_or_default()))
         }
         ResourceKind::Mesh => {
             let mut counts = MeshCounts {
@@ -360,10 +511,7 @@ fn shown(
                 first.get_or_insert(mesh);
             }
             // The large preview turns the first mesh; a thumbnail has none.
-            let turntable = first
-                .filter(|_| key.large)
-                .map(|mesh| turntable(renderer, mesh, time));
-            Ok(Shown::Mesh(counts, turntable))
+            Ok(Found::Mesh(counts, first.filter(|_| key.large)))
         }
         _ => Err("has no preview".to_owned()),
     }

@@ -23,6 +23,7 @@ pub use spreadlight_render::gbuffer::Channel;
 
 pub mod draw;
 pub mod engine;
+pub mod schedule;
 
 /// A thumbnail's width on the canvas, in canvas points.
 pub const THUMB_POINTS: f32 = 96.0;
