@@ -21,7 +21,6 @@ pub mod particles;
 pub mod post;
 pub mod readback;
 pub mod recipe;
-pub mod reference;
 pub mod renderer;
 pub mod report;
 pub mod resolution;

@@ -29,6 +29,7 @@ mod feature;
 pub mod library;
 pub mod map_textures;
 pub mod maps;
+pub mod point_sample;
 
 use std::collections::BTreeMap;
 use std::sync::Arc;
