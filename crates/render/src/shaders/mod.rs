@@ -11,73 +11,6 @@
 use std::collections::{BTreeSet, HashMap, HashSet};
 use std::sync::OnceLock;
 
-/// One WGSL file of `shaders/`.
-pub struct ShaderFile {
-    /// Path below `shaders/`, e.g. `gbuffer/visibility.wgsl`.
-    pub path: &'static str,
-    pub source: &'static str,
-    /// The feature switches the file reacts to; every subset is a valid permutation.
-    pub features: &'static [&'static str],
-    /// Libraries are imported by other shaders; they have no entry points.
-    pub library: bool,
-    /// Which subsets make sense: a permutation that breaks a rule is refused
-    /// and never compiled, and the permutation test skips it.
-    pub rules: &'static [Rule],
-    /// For a shader with a typed key ([`Permutation`]): its permutations,
-    /// which replace the rules (every other subset is refused).
-    pub keyed: Option<fn() -> Vec<ShaderKey>>,
-}
-
-/// A shader's permutations as a Rust type, beside the effect that runs it
-/// (SSAO's `AoKey` in `ssao/key.rs`): each value is one permutation, and a
-/// combination the shader does not support cannot be written, so the
-/// effect's code says `AoKey { estimator, target }`, not a list of strings.
-pub trait Permutation: Copy + 'static {
-    /// The shader, below `shaders/`.
-    const PATH: &'static str;
-    /// Every feature switch the shader reacts to.
-    const FEATURES: &'static [&'static str];
-    /// The switches this permutation turns on.
-    fn features(self) -> impl Iterator<Item = &'static str>;
-    /// Every permutation the shader supports.
-    fn all() -> Vec<Self>;
-
-    fn key(self) -> ShaderKey {
-        ShaderKey::new(Self::PATH, self.features())
-    }
-
-    /// The keys of [`Permutation::all`], for `SHADERS`.
-    fn all_keys() -> Vec<ShaderKey> {
-        Self::all().into_iter().map(Self::key).collect()
-    }
-}
-
-/// A constraint between the features of one shader.
-#[derive(Clone, Copy, Debug)]
-pub enum Rule {
-    /// The first feature only with the second (a third light pair only with a second).
-    Requires(&'static str, &'static str),
-    /// At most one of these (a choice, such as GBufferView's channel).
-    AtMostOne(&'static [&'static str]),
-}
-
-impl Rule {
-    fn check(&self, features: &BTreeSet<&'static str>) -> Result<(), String> {
-        match *self {
-            Rule::Requires(a, b) if features.contains(a) && !features.contains(b) => {
-                Err(format!("`{a}` needs `{b}`"))
-            }
-            Rule::AtMostOne(set) if set.iter().filter(|f| features.contains(*f)).count() > 1 => {
-                Err(format!(
-                    "these features are a choice, set at most one: {}",
-                    set.join(", ")
-                ))
-            }
-            _ => Ok(()),
-        }
-    }
-}
-
 impl ShaderFile {
     /// Whether `features` is a permutation this file allows (every rule
     /// holds; for a keyed file, one of its typed key's values).
@@ -253,7 +186,7 @@ pub const SHADERS: &[ShaderFile] = &[
         Rule::Requires("SPOT_TEXTURE", "LIGHT_SPOT"),
         Rule::Requires("MATERIAL_TEXTURES", "MATERIALS")
     ),
-    shader!("lighting/composite.wgsl", keyed crate::lighting::CompositeKey),
+    shader!("lighting/composite.wgsl", keyed crate::lighting::composite::key::CompositeKey),
     shader!(
         "lighting/ssgi.wgsl",
         ["TEMPORAL", "GATHER", "BLUR", "AMBIENT", "HALF"],
@@ -269,10 +202,10 @@ pub const SHADERS: &[ShaderFile] = &[
     shader!("shadows/depth.wgsl", []),
     shader!("shadows/moments.wgsl", []),
     shader!("shadows/resolve.wgsl", ["OVER_STILL"]),
-    shader!("ssao/linear_depth.wgsl", keyed crate::ssao::DepthKey),
-    shader!("ssao/ao.wgsl", keyed crate::ssao::AoKey),
-    shader!("ssao/temporal.wgsl", keyed crate::ssao::TemporalKey),
-    shader!("ssao/blur.wgsl", keyed crate::ssao::BlurKey),
+    shader!("ssao/linear_depth.wgsl", keyed crate::ssao::key::DepthKey),
+    shader!("ssao/ao.wgsl", keyed crate::ssao::key::AoKey),
+    shader!("ssao/temporal.wgsl", keyed crate::ssao::key::TemporalKey),
+    shader!("ssao/blur.wgsl", keyed crate::ssao::key::BlurKey),
     shader!("environment/sky.wgsl", ["ENVIRONMENT", "FOG"]),
     shader!("environment/prefilter.wgsl", []),
     shader!("environment/environment_probe.wgsl", []),
@@ -301,7 +234,7 @@ pub const SHADERS: &[ShaderFile] = &[
     shader!("post/autofocus.wgsl", []),
     shader!("post/motion_blur.wgsl", []),
     shader!("post/glare.wgsl", ["FILTERED_SOURCE"]),
-    shader!("post/transparency.wgsl", keyed crate::post::TransparencyKey),
+    shader!("post/transparency.wgsl", keyed crate::post::transparency::key::TransparencyKey),
     shader!(
         "post/taa.wgsl",
         ["VARIANCE_CLIP", "CATMULL_ROM"],
@@ -316,33 +249,6 @@ pub const SHADERS: &[ShaderFile] = &[
     ),
     shader!("gbuffer/view.wgsl", one_of ["ALBEDO", "NORMALS", "VELOCITY", "UV", "DEPTH", "MATERIAL_ID", "OBJECT_ID"]),
 ];
-
-/// Which permutation of which shader: its path and the set of switched-on features.
-#[derive(Clone, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub struct ShaderKey {
-    pub path: &'static str,
-    pub features: BTreeSet<&'static str>,
-}
-
-impl ShaderKey {
-    pub fn new(path: &'static str, features: impl IntoIterator<Item = &'static str>) -> Self {
-        ShaderKey {
-            path,
-            features: features.into_iter().collect(),
-        }
-    }
-
-    fn describe_defs(&self) -> String {
-        if self.features.is_empty() {
-            String::new()
-        } else {
-            format!(
-                " [{}]",
-                self.features.iter().copied().collect::<Vec<_>>().join(", ")
-            )
-        }
-    }
-}
 
 /// The feature sets of each keyed file's typed key, made once: checking
 /// is a look-up (the exhaustive test checks the composite's 6,720 keys).
@@ -383,10 +289,12 @@ pub fn all_permutations() -> Vec<ShaderKey> {
 mod cache;
 mod composer;
 pub mod layout;
+pub mod permutation;
 mod reflection;
 
 pub use cache::{CompileTimes, PipelineRef, Sampling, ShaderCache};
 pub use composer::{ShaderComposer, Splice};
+pub use permutation::{Permutation, Rule, ShaderFile, ShaderKey};
 pub use reflection::{Reflection, ShaderVar};
 
 #[cfg(test)]

@@ -28,7 +28,7 @@ use crate::renderer::Renderer;
 use crate::report::PassName;
 use crate::shaders::{Permutation, Sampling, ShaderKey};
 
-mod key;
+pub(crate) mod key;
 pub use key::{CompositeKey, LightPairs, MaterialAo, MaterialTerms, Shading, Textured};
 
 /// What a CompositeLight combines.
