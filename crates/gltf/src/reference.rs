@@ -6,24 +6,17 @@
 //! green, metallic = factor x blue; each map on its UV set (`texCoord`),
 //! through its `KHR_texture_transform` and wrap modes; colour maps decoded
 //! from sRGB. `spreadlight accuracy gltf` shades these with the CPU
-//! Cook-Torrance (`spreadlight_render::reference::brdf`) as the reference of the GPU's image.
+//! Cook-Torrance (`spreadlight_reference::material::shade_sun`) as the
+//! reference of the GPU's image. It stays beside the imported material's
+//! types, which the pure reference crate does not know.
 
 use glam::{Vec3, Vec4};
+use spreadlight_reference::material::SurfaceSample;
 
 use spreadlight_render::material::maps::Wrap;
 use spreadlight_render::readback::srgb_to_linear;
 
 use crate::{MaterialData, TextureData};
-
-/// A material's inputs to shading at one surface point.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct SurfaceSample {
-    /// Linear RGB albedo (base colour).
-    pub albedo: Vec3,
-    pub alpha: f32,
-    pub roughness: f32,
-    pub metallic: f32,
-}
 
 fn wrap(t: f32, mode: Wrap) -> f32 {
     match mode {
@@ -62,31 +55,6 @@ pub fn sample_material(material: &MaterialData, uvs: [[f32; 2]; 2], color: Vec4)
         roughness: (material.roughness * mr.y).clamp(0.0, 1.0),
         metallic: (material.metallic * mr.z).clamp(0.0, 1.0),
     }
-}
-
-/// The radiance towards `view` (unit, surface to eye) of `surface` with
-/// normal `normal`, lit by a sun travelling along `travel` with radiance
-/// `radiance` (colour x illuminance): Cook-Torrance (diffuse + specular),
-/// dielectric F0 0.04, with the multiple-scattering compensation when
-/// `compensate` (CookTorrance's Energy Compensation).
-pub fn shade_sun(
-    surface: &SurfaceSample,
-    normal: Vec3,
-    view: Vec3,
-    travel: Vec3,
-    radiance: Vec3,
-    compensate: bool,
-) -> Vec3 {
-    let brdf = spreadlight_render::reference::brdf::cook_torrance(
-        normal,
-        view,
-        -travel.normalize_or(Vec3::NEG_Y),
-        surface.albedo,
-        surface.roughness,
-        surface.metallic,
-        compensate,
-    );
-    (brdf.diffuse + brdf.specular) * radiance
 }
 
 #[cfg(test)]
@@ -162,19 +130,5 @@ mod tests {
         assert_eq!(m.alpha, 0.25);
         assert!((m.roughness - 0.5 * 128.0 / 255.0).abs() < 1e-6);
         assert!((m.metallic - 128.0 / 255.0).abs() < 1e-6);
-    }
-
-    #[test]
-    fn a_sun_behind_the_surface_gives_nothing_and_one_in_front_light() {
-        let s = SurfaceSample {
-            albedo: Vec3::splat(0.5),
-            alpha: 1.0,
-            roughness: 0.5,
-            metallic: 0.0,
-        };
-        let lit = shade_sun(&s, Vec3::Y, Vec3::Y, Vec3::NEG_Y, Vec3::ONE, true);
-        assert!(lit.x > 0.1 && lit.is_finite(), "{lit}");
-        let dark = shade_sun(&s, Vec3::Y, Vec3::Y, Vec3::Y, Vec3::ONE, true);
-        assert_eq!(dark, Vec3::ZERO);
     }
 }

@@ -23,7 +23,6 @@ pub mod pipeline_cache;
 pub mod post;
 pub mod readback;
 pub mod recipe;
-pub mod reference;
 pub mod renderer;
 pub mod report;
 pub mod resolution;

@@ -3,10 +3,10 @@
 //! step, the pins hold for black and 1e6 frames, non-finite pixels are left
 //! out, and tonemapping with the adapted exposure stays finite in 0..1.
 
+use spreadlight_reference::tonemap::TonemapOperator;
 use spreadlight_render::TextureRef;
 use spreadlight_render::post::{AdaptationSettings, AdaptedExposure, EyeAdaptation, Tonemap};
 use spreadlight_render::readback::render_and_read;
-use spreadlight_render::reference::tonemap::TonemapOperator;
 use spreadlight_render::renderer::{Renderer, test_renderer};
 use spreadlight_render::static_texture::StaticTexture;
 

@@ -11,11 +11,11 @@ use std::sync::Arc;
 
 use floor_view::{SIZE, camera, floor_mesh, floor_points};
 use glam::{Mat4, Vec3};
+use spreadlight_reference::brdf::cook_torrance_f0;
+use spreadlight_reference::lights::point_attenuation;
 use spreadlight_render::gbuffer::{DrawBatch, GBuffer, InstanceInput, Layer};
 use spreadlight_render::lighting::{CookTorrance, LightBuffer, LightLoop, PointLight, Surfaces};
 use spreadlight_render::readback::{ImageF32, render_and_read};
-use spreadlight_render::reference::brdf::cook_torrance_f0;
-use spreadlight_render::reference::lights::point_attenuation;
 use spreadlight_render::renderer::test_renderer;
 use spreadlight_render::{Renderer, SizeRule};
 
@@ -161,8 +161,8 @@ fn every_floor_pixel_is_lit_as_the_reference_brdf_and_falloff_say() {
 /// The shipped toon light shader node's file, spliced into the light loop.
 const TOON: &str = include_str!("../../../shaders/nodes/toon_lights.wgsl");
 
-const TOON_PARAMS: spreadlight_render::reference::toon::ToonParams =
-    spreadlight_render::reference::toon::ToonParams {
+const TOON_PARAMS: spreadlight_reference::toon::ToonParams =
+    spreadlight_reference::toon::ToonParams {
         bands: 3.0,
         highlight_size: 0.06,
         specular: 0.8,
@@ -191,8 +191,8 @@ fn toon_light_at(
     light: &AnyLight,
     p: Vec3,
     shadows: bool,
-) -> Option<spreadlight_render::reference::toon::ToonLight> {
-    use spreadlight_render::reference::lights::spot_attenuation;
+) -> Option<spreadlight_reference::toon::ToonLight> {
+    use spreadlight_reference::lights::spot_attenuation;
     let (direction, radiance, attenuation, reach) = match light {
         AnyLight::Point(l) => {
             let to = l.position - p;
@@ -256,7 +256,7 @@ fn toon_light_at(
         }
         shadow = if inner { 0.0 } else { 1.0 };
     }
-    Some(spreadlight_render::reference::toon::ToonLight {
+    Some(spreadlight_reference::toon::ToonLight {
         direction,
         radiance,
         attenuation,
@@ -294,9 +294,9 @@ fn ball_floor_points(
 
 #[test]
 fn a_light_shader_node_sums_every_light_type_as_its_cpu_reference_with_and_without_shadows() {
+    use spreadlight_reference::toon::{band_margin, toon_sum};
     use spreadlight_render::gbuffer::{SurfaceBinding, SurfaceShader};
     use spreadlight_render::lighting::{SpotLight, SunLight};
-    use spreadlight_render::reference::toon::{band_margin, toon_sum};
     use spreadlight_render::shadows::{
         Cascades, ShadowFilter, ShadowLights, ShadowMaps, ShadowSettings,
     };

@@ -7,6 +7,7 @@
 use std::sync::Arc;
 
 use glam::{Mat4, Vec2, Vec3};
+use spreadlight_reference::matcap::{default_matcap, matcap_uv};
 use spreadlight_render::camera::CameraInput;
 use spreadlight_render::gbuffer::{DrawBatch, GBuffer, InstanceInput, Layer};
 use spreadlight_render::lighting::{
@@ -17,7 +18,6 @@ use spreadlight_render::material::{
 };
 use spreadlight_render::mesh::primitives::{SphereParams, sphere};
 use spreadlight_render::readback::{ImageF32, render_and_read};
-use spreadlight_render::reference::matcap::{default_matcap, matcap_uv};
 use spreadlight_render::renderer::test_renderer;
 use spreadlight_render::static_texture::StaticTexture;
 use spreadlight_render::texture::GpuTexture;

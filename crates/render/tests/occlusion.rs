@@ -1,7 +1,7 @@
 //! Screen-space ambient occlusion (render::occlusion) and SSGI, which
 //! marches the same rays: every AO estimator
 //! darkens a ball's contact with the floor and leaves open floor and sky
-//! alone; the stochastic one agrees with ray-cast AO (render::reference::occlusion);
+//! alone; the stochastic one agrees with ray-cast AO (spreadlight_reference::ssao);
 //! temporal accumulation lowers the error of few samples; history survives
 //! neither a NaN, a reset, a stale camera nor a resize; hard settings
 //! (radius 0 and huge, sky, back-facing normals) stay finite. SSGI under
@@ -13,13 +13,13 @@ mod occlusion_scene;
 use std::sync::Arc;
 
 use glam::Vec3;
+use spreadlight_reference::shadows::Sphere;
+use spreadlight_reference::ssao::{Occluders, visibility_image};
 use spreadlight_render::camera::reverse_z;
 use spreadlight_render::gbuffer::GBuffer;
 use spreadlight_render::lighting::{SSGI_GATHER_TEMPORAL, Ssgi, SsgiSettings, Ssss, SsssQuality};
 use spreadlight_render::material::{Feature, Material, MaterialWorld};
 use spreadlight_render::readback::{ImageF32, render_and_read};
-use spreadlight_render::reference::shadows::Sphere;
-use spreadlight_render::reference::ssao::{Occluders, visibility_image};
 use spreadlight_render::renderer::test_renderer;
 use spreadlight_render::resolution::Resolution;
 use spreadlight_render::ssao::{AmbientOcclusion, AoMode, AoSettings, ESTIMATE_TEMPORAL};

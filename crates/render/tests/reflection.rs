@@ -11,6 +11,8 @@ use std::sync::Arc;
 
 use glam::Vec3;
 use reflection_scene::*;
+use spreadlight_reference::brdf::f_schlick;
+use spreadlight_reference::reflection::CpuSky;
 use spreadlight_render::Renderer;
 use spreadlight_render::environment::{
     Environment, EnvironmentQuality, EnvironmentSource, EquirectImage, REFLECTION_BOTH_IN_ONE_PASS,
@@ -19,8 +21,6 @@ use spreadlight_render::environment::{
 use spreadlight_render::gbuffer::GBuffer;
 use spreadlight_render::material::{Material, MaterialWorld};
 use spreadlight_render::readback::{ImageF32, read_texture_layer, render_and_read};
-use spreadlight_render::reference::brdf::f_schlick;
-use spreadlight_render::reference::reflection::CpuSky;
 use spreadlight_render::renderer::test_renderer;
 use spreadlight_render::static_texture::StaticTexture;
 
@@ -176,7 +176,7 @@ fn a_mirror_floor_reflects_the_sky_the_cpu_sky_gives_times_fresnel() {
         ReflectionMode::Reflect,
     );
     assert!(specular.all_finite() && diffuse.all_finite());
-    let sky = CpuSky::new(&calm_sky());
+    let sky = CpuSky::from(&calm_sky());
     let mut checked = 0;
     for y in 0..SIZE.1 {
         for x in 0..SIZE.0 {

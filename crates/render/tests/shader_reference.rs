@@ -1,5 +1,5 @@
 //! The WGSL libraries `spreadlight::{brdf, lights, tonemap}` against their
-//! CPU reference (`spreadlight_render::reference`): a small compute shader
+//! CPU reference (`spreadlight_reference`): a small compute shader
 //! that imports every function proves the libraries compose and validate
 //! (no GPU needed), then runs on the GPU over a few hundred inputs, edge cases
 //! included, and every output is compared with what the Rust functions give.
@@ -10,16 +10,14 @@ use glam::{Vec3, Vec4};
 use naga_oil::compose::{
     ComposableModuleDescriptor, Composer, NagaModuleDescriptor, ShaderLanguage, ShaderType,
 };
-use spreadlight_render::reference::brdf::{
+use spreadlight_reference::brdf::{
     Brdf, cook_torrance, d_ggx, diffuse_lambert, energy_compensation, f_schlick, specular_albedo,
     v_smith_ggx_correlated,
 };
-use spreadlight_render::reference::lights::{
+use spreadlight_reference::lights::{
     luminous_intensity_from_power, point_attenuation, spot_attenuation,
 };
-use spreadlight_render::reference::tonemap::{
-    TonemapOperator, ev100_to_exposure, luminance, tonemap,
-};
+use spreadlight_reference::tonemap::{TonemapOperator, ev100_to_exposure, luminance, tonemap};
 use spreadlight_render::renderer::test_renderer;
 use spreadlight_render::shaders::SHADERS;
 use wgpu::util::DeviceExt;

@@ -9,14 +9,14 @@ use std::sync::Arc;
 
 use glam::Vec3;
 use reflection_scene::*;
+use spreadlight_reference::reflection::{BallsScene, Surface};
+use spreadlight_reference::shadows::Sphere;
 use spreadlight_render::Renderer;
 use spreadlight_render::environment::{Ssr, SsrSettings};
 use spreadlight_render::frame_graph::TextureDesc;
 use spreadlight_render::gbuffer::GBuffer;
 use spreadlight_render::material::{Material, MaterialWorld};
 use spreadlight_render::readback::{ImageF32, render_and_read};
-use spreadlight_render::reference::reflection::{BallsScene, Surface};
-use spreadlight_render::reference::shadows::Sphere;
 use spreadlight_render::renderer::test_renderer;
 use spreadlight_render::static_texture::StaticTexture;
 

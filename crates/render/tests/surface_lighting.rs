@@ -11,6 +11,7 @@ use std::sync::Arc;
 
 use floor_view::{SIZE, camera, floor_mesh, floor_points};
 use glam::{Mat4, Vec3};
+use spreadlight_reference::brdf::cook_torrance_f0;
 use spreadlight_render::gbuffer::{DrawBatch, GBuffer, InstanceInput, Layer, SurfaceShader};
 use spreadlight_render::lighting::{
     CompositeInputs, CompositeLight, CookTorrance, LightBuffer, LightLoop, PointLight, SunLight,
@@ -20,7 +21,6 @@ use spreadlight_render::material::{Feature, Material, MaterialWorld};
 use spreadlight_render::mesh::primitives::{SphereParams, sphere};
 use spreadlight_render::readback::{ImageF32, render_and_read};
 use spreadlight_render::recipe::TextureRef;
-use spreadlight_render::reference::brdf::cook_torrance_f0;
 use spreadlight_render::renderer::test_renderer;
 use spreadlight_render::static_texture::StaticTexture;
 use spreadlight_render::{Renderer, SizeRule};
@@ -666,7 +666,7 @@ fn shade_floor_material(renderer: &Renderer, material: Material) -> (ImageF32, I
 
 #[test]
 fn clearcoat_adds_its_lobe_and_dims_the_base_as_the_reference_does() {
-    use spreadlight_render::reference::brdf::clearcoat;
+    use spreadlight_reference::brdf::clearcoat;
     let renderer = test_renderer();
     let l = -SUN.direction.normalize();
     let radiance = SUN.color * SUN.illuminance;

@@ -3,9 +3,9 @@
 //! finite values in 0..1, and the GPU agrees with the CPU reference.
 
 use glam::Vec3;
+use spreadlight_reference::tonemap::{TonemapOperator, tonemap};
 use spreadlight_render::post::Tonemap;
 use spreadlight_render::readback::render_and_read;
-use spreadlight_render::reference::tonemap::{TonemapOperator, tonemap};
 use spreadlight_render::renderer::test_renderer;
 use spreadlight_render::static_texture::StaticTexture;
 

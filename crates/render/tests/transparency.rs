@@ -13,6 +13,8 @@ use std::sync::Arc;
 
 use glam::{Mat4, Vec3};
 use post_common::*;
+use spreadlight_reference::brdf::{cook_torrance_f0, specular_albedo};
+use spreadlight_reference::lights::point_attenuation;
 use spreadlight_render::Renderer;
 use spreadlight_render::environment::{
     Environment, EnvironmentQuality, EnvironmentSource, EquirectImage,
@@ -26,8 +28,6 @@ use spreadlight_render::post::transparency::{
 };
 use spreadlight_render::post::{LitBy, Transparency, TransparencySettings, TransparentLights};
 use spreadlight_render::readback::ImageF32;
-use spreadlight_render::reference::brdf::{cook_torrance_f0, specular_albedo};
-use spreadlight_render::reference::lights::point_attenuation;
 use spreadlight_render::renderer::test_renderer;
 use spreadlight_render::shaders::Permutation;
 use spreadlight_render::static_texture::StaticTexture;

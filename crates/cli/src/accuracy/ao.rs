@@ -1,7 +1,7 @@
 //! Ambient occlusion: every estimator (Stochastic, SAO, HBAO) at several
 //! sample counts, with temporal accumulation off and on, GPU time at a
 //! large size against the error at a small one versus ray-cast AO
-//! (render::reference::occlusion: `--rays` cosine-weighted rays of the
+//! (spreadlight_reference::ssao: `--rays` cosine-weighted rays of the
 //! same radius from every pixel's true surface point). Four balls over a
 //! floor, a still camera; temporal settings are measured after `--settle`
 //! frames, as a viewer would see them. Each setting at every
@@ -14,11 +14,11 @@ use std::sync::Arc;
 
 use anyhow::Context;
 use glam::{Mat4, Vec3};
+use spreadlight_reference::shadows::Sphere;
+use spreadlight_reference::ssao::{Occluders, visibility_image};
 use spreadlight_render::camera::{CameraInput, reverse_z};
 use spreadlight_render::gbuffer::{GBuffer, Layer};
 use spreadlight_render::readback::{ImageF32, render_and_read};
-use spreadlight_render::reference::shadows::Sphere;
-use spreadlight_render::reference::ssao::{Occluders, visibility_image};
 use spreadlight_render::resolution::Resolution;
 use spreadlight_render::scenes::balls_on_floor;
 use spreadlight_render::ssao::{AmbientOcclusion, AoMode, AoSettings};

@@ -4,7 +4,7 @@
 //! resolve samples the maps, CookTorrance shades: diffuse + specular), once
 //! per map filtering (`MapFiltering`: point, bilinear, trilinear,
 //! trilinear + 16x anisotropic). The CPU reference
-//! (`spreadlight_gltf::reference`) shades the same floor with the same
+//! (`spreadlight_gltf::reference`, `spreadlight_reference::material`) shades the same floor with the same
 //! BRDF and the same texels, point-sampled where each ray meets the floor:
 //! one ray through the pixel's centre (what the GPU computes, texel for
 //! texel, with point filtering), and --supersamples rays on a stratified
@@ -20,8 +20,9 @@ use std::sync::Arc;
 use anyhow::Context;
 use glam::{Vec3, Vec4};
 use spreadlight_gltf::models::{self, FLOOR_HALF};
-use spreadlight_gltf::reference::{sample_material, shade_sun};
+use spreadlight_gltf::reference::sample_material;
 use spreadlight_gltf::{GltfScene, MaterialData, load_gltf_slice};
+use spreadlight_reference::material::shade_sun;
 use spreadlight_render::camera::{CameraInput, reverse_z};
 use spreadlight_render::gbuffer::{DrawBatch, GBuffer, InstanceInput, Layer, LayerFeatures};
 use spreadlight_render::lighting::{CookTorrance, LightBuffer, LightLoop, SunLight, Surfaces};

@@ -1,7 +1,7 @@
 //! Reflections: balls over a floor, all metals (albedo 0.8, F0 0.8), the
 //! balls nearly mirrors (roughness BALL_ROUGHNESS), the floor glossy
 //! (--floor-roughness), under the procedural sky. The reference
-//! (render::reference::reflection) ray-traces the specular reflection term
+//! (spreadlight_reference::reflection) ray-traces the specular reflection term
 //! per pixel with many GGX-sampled rays that see the other balls and the
 //! floor as well as the sky; the GPU's prefiltered environment
 //! (`Reflection`) sees only the sky, SSR sees what is on screen.
@@ -23,6 +23,10 @@ use std::sync::Arc;
 
 use anyhow::Context;
 use glam::{Vec3, Vec4};
+use spreadlight_reference::reflection::{
+    BallsScene, CpuEnvironment, CpuSky, Hit, SpecularSurface, Surface, specular_reflection,
+};
+use spreadlight_reference::shadows::Sphere;
 use spreadlight_render::camera::{CameraInput, reverse_z};
 use spreadlight_render::environment::{
     Environment, EnvironmentQuality, EnvironmentSource, Reflection, ReflectionMode, SkySettings,
@@ -31,10 +35,6 @@ use spreadlight_render::environment::{
 use spreadlight_render::gbuffer::{GBuffer, Layer};
 use spreadlight_render::material::{Feature, Material, MaterialWorld};
 use spreadlight_render::readback::{ImageF32, render_and_read};
-use spreadlight_render::reference::reflection::{
-    BallsScene, CpuEnvironment, CpuSky, Hit, SpecularSurface, Surface, specular_reflection,
-};
-use spreadlight_render::reference::shadows::Sphere;
 use spreadlight_render::scenes::{balls_on_floor, with_materials};
 use spreadlight_render::static_texture::StaticTexture;
 use spreadlight_render::{FrameGraph, Recipe, Renderer, SizeRule};
@@ -160,7 +160,7 @@ fn primary(size: (u32, u32), x: u32, y: u32) -> (Vec3, Vec3) {
 
 /// The lit image SSR reads, traced on the CPU: surfaces' stand-in radiance, the sky elsewhere.
 fn lit_image(size: (u32, u32)) -> Vec<[f32; 4]> {
-    let (scene, sky) = (scene(), CpuSky::new(&sky()));
+    let (scene, sky) = (scene(), CpuSky::from(&sky()));
     (0..size.0 * size.1)
         .map(|i| {
             let (o, d) = primary(size, i % size.0, i / size.0);
@@ -175,7 +175,7 @@ fn lit_image(size: (u32, u32)) -> Vec<[f32; 4]> {
 
 /// The reference specular term per pixel (None where the camera sees the sky).
 fn reference(size: (u32, u32), rays: u32, floor: f32) -> Vec<Option<Vec3>> {
-    let (scene, sky) = (scene(), CpuSky::new(&sky()));
+    let (scene, sky) = (scene(), CpuSky::from(&sky()));
     let env = CpuEnvironment::Sky(sky);
     let radiance = |hit: &Hit| surface_radiance(hit.normal);
     (0..size.0 * size.1)

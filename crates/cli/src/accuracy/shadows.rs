@@ -1,6 +1,6 @@
 //! Shadows: balls over a floor lit by one spot light of radius
 //! `LIGHT_RADIUS`; the reference ray-casts the light's disk from every
-//! pixel's surface point (render::reference::shadows), so soft shadows are
+//! pixel's surface point (spreadlight_reference::shadows), so soft shadows are
 //! the truth and hard filters pay for their hard edges. Each filter is
 //! measured at each map resolution; the error is the RMSE of the light's
 //! visibility (shadowed over unshadowed lighting) over the pixels the spot
@@ -11,11 +11,11 @@ use std::sync::Arc;
 
 use anyhow::Context;
 use glam::{Vec3, Vec4};
+use spreadlight_reference::shadows::{DiskLight, Sphere, disk_samples, visibility};
 use spreadlight_render::camera::{CameraInput, reverse_z};
 use spreadlight_render::gbuffer::{GBuffer, Layer, RasterChoice};
 use spreadlight_render::lighting::{CookTorrance, LightBuffer, LightLoop, SpotLight, Surfaces};
 use spreadlight_render::readback::{ImageF32, render_and_read};
-use spreadlight_render::reference::shadows::{DiskLight, Sphere, disk_samples, visibility};
 use spreadlight_render::scenes::balls_on_floor;
 use spreadlight_render::shadows::{ShadowFilter, ShadowLights, ShadowMaps, ShadowSettings};
 use spreadlight_render::{Recipe, Renderer, SizeRule};

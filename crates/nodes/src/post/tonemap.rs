@@ -4,8 +4,8 @@ use std::sync::Arc;
 
 use spreadlight_graph::{Choices, NodeDef, Registry, ResourceKind};
 use spreadlight_render::TextureRef;
+use spreadlight_render::post::tonemap::TonemapOperator;
 use spreadlight_render::post::{AdaptedExposure, Tonemap};
-use spreadlight_render::reference::tonemap::TonemapOperator;
 
 use crate::gpu::renderer;
 

@@ -7,6 +7,7 @@ use std::path::Path;
 use std::sync::Arc;
 
 use glam::Vec3;
+use spreadlight_reference::reflection::{CpuSky, Equirect, SkyInputs};
 use thiserror::Error;
 
 /// Why an environment image was refused; names the file.
@@ -164,6 +165,32 @@ impl Default for SkySettings {
             sun_color: Vec3::new(50.0, 45.0, 38.0),
             sun_radius: 0.0047,
             glow: 1.0,
+        }
+    }
+}
+
+/// The sky the CPU reference ray-traces against: the same numbers.
+impl From<&SkySettings> for CpuSky {
+    fn from(s: &SkySettings) -> Self {
+        CpuSky::new(&SkyInputs {
+            zenith: s.zenith,
+            horizon: s.horizon,
+            ground: s.ground,
+            sun_direction: s.sun_direction,
+            sun_color: s.sun_color,
+            sun_radius: s.sun_radius,
+            glow: s.glow,
+        })
+    }
+}
+
+/// The image as the CPU reference reads it (it sanitizes as the upload does).
+impl<'a> From<&'a EquirectImage> for Equirect<'a> {
+    fn from(image: &'a EquirectImage) -> Self {
+        Equirect {
+            width: image.width,
+            height: image.height,
+            pixels: &image.pixels,
         }
     }
 }

@@ -275,8 +275,11 @@ mod tests {
 
     #[test]
     fn encoders_the_thread_has_not_begun_are_finished_by_the_recording_thread() {
-        let renderer = crate::renderer::test_renderer();
-        let device = renderer.gpu.device.clone();
+        // The executor alone: the frame graph's layer knows no renderer.
+        let gpu = crate::context::GpuContext::headless()
+            .unwrap_or_else(|e| panic!("GPU tests need a GPU adapter: {e}"));
+        let executor = super::super::Executor::new(&gpu).expect("an executor");
+        let device = gpu.device.clone();
         // A finishing thread that never takes a job (it ends at once): as
         // one that gets no core before the recording is done.
         let finisher = Finisher::new(device.clone());
@@ -297,10 +300,8 @@ mod tests {
         let finished = collected.finished.expect("nothing lost");
         assert_eq!(finished.len(), 2);
         assert!(finished.iter().all(|(_, error)| error.is_none()));
-        renderer
-            .gpu
-            .submit(finished.into_iter().map(|(buffer, _)| buffer));
-        renderer.wait_idle().expect("drains");
+        gpu.submit(finished.into_iter().map(|(buffer, _)| buffer));
+        executor.wait_idle().expect("drains");
     }
 
     #[test]

@@ -3,10 +3,13 @@
 //! their issue.
 
 mod clusters;
-mod composite;
+// The composite's key is named by the shader table (`shaders::SHADERS`).
+pub(crate) mod composite;
 mod cook_torrance;
 mod ssgi;
 mod ssss;
+// Named by the permutation keys and the shader-node compiler without the passes.
+pub(crate) mod light_kind;
 
 use std::sync::Arc;
 
@@ -20,6 +23,7 @@ pub use composite::{
 };
 pub(crate) use cook_torrance::near_far;
 pub use cook_torrance::{CookTorrance, FEW_LIGHTS, LightLoop, Surfaces, Walk, resolve_walk};
+pub use light_kind::LightKind;
 pub use ssgi::GATHER_TEMPORAL as SSGI_GATHER_TEMPORAL;
 pub use ssgi::HALF_RESOLUTION as SSGI_HALF_RESOLUTION;
 pub use ssgi::{Ssgi, SsgiKey, SsgiSettings};
@@ -169,24 +173,6 @@ pub struct SunLight {
     pub illuminance: f32,
     /// The slice of a `ShadowMap (Sun)` that holds this light's cascades; None: casts none.
     pub shadow: Option<u32>,
-}
-
-/// Which light type a buffer holds; CookTorrance compiles one permutation per type.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum LightKind {
-    Point,
-    Spot,
-    Sun,
-}
-
-impl LightKind {
-    pub(crate) fn feature(self) -> Option<&'static str> {
-        match self {
-            LightKind::Point => None,
-            LightKind::Spot => Some("LIGHT_SPOT"),
-            LightKind::Sun => Some("LIGHT_SUN"),
-        }
-    }
 }
 
 /// Matches `Light` in shaders/lighting/*.wgsl.

@@ -1,12 +1,13 @@
 //! `Tonemap`: exposure and one of Emeshe's operators (plus ACES and AgX),
 //! HDR in, display-referred linear 0..1 out. The operator maths lives in
-//! shaders/lib/tonemap.wgsl and, for tests, in `crate::reference::tonemap`.
+//! shaders/lib/tonemap.wgsl and, for tests, in `spreadlight_reference::tonemap`.
 //! With an adapted luminance (`EyeAdaptation`'s output) the exposure becomes
 //! `exposure * key / adapted` (the shader's `EYE_ADAPTATION` permutation).
 
 use std::sync::Arc;
 
-use crate::reference::tonemap::TonemapOperator;
+// The operator is named where its CPU maths is; the pass's callers find it here.
+pub use spreadlight_reference::tonemap::TonemapOperator;
 
 use crate::error::RenderError;
 use crate::frame_graph::{Bindings, FrameGraph, PassContext, SizeRule, Tex, TextureDesc};

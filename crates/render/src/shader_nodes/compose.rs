@@ -9,13 +9,11 @@ use std::sync::{Mutex, OnceLock};
 
 use naga_oil::compose::{ComposerError, ComposerErrorInner, ErrSource};
 
-use super::error::{ShaderNodeError, Span, span_of};
+use super::error::{ShaderNodeError, Span, span_of, undecorate};
 use crate::shaders::ShaderComposer;
 
 /// naga_oil keeps a module index above this many bits of a span.
 const SPAN_BITS: usize = 21;
-/// What naga_oil wraps the module of an imported name in.
-const DECORATION_PRE: &str = "X_naga_oil_mod_X";
 
 /// Whether `text` (already preprocessed for its switches) imports a library.
 pub fn imports(text: &str) -> bool {
@@ -42,7 +40,7 @@ pub fn compose(file: &str, text: &str) -> Result<naga::Module, ShaderNodeError> 
     let mut composer = lock.lock().unwrap_or_else(|e| e.into_inner());
     composer
         .compose_external(file, text)
-        .map_err(|e| place(file, text, &e))
+        .map_err(|e| place(file, text, &e, None))
 }
 
 /// Check that a material's `text` composes into the G-buffer resolve in
@@ -72,7 +70,7 @@ pub fn check_spliced(
     let mut composer = lock.lock().unwrap_or_else(|e| e.into_inner());
     let replaced = composer
         .replace_library(module, file, text)
-        .map_err(|e| place(file, text, &e));
+        .map_err(|e| place(file, text, &e, Some(module)));
     let composed = replaced.and_then(|()| {
         passes.iter().try_for_each(|(key, what)| {
             composer
@@ -87,29 +85,9 @@ pub fn check_spliced(
     composed.and(restored)
 }
 
-/// `nameX_naga_oil_mod_XENCODEDX` -> `name`, in a message.
-pub fn undecorate(message: &str) -> String {
-    let mut out = String::with_capacity(message.len());
-    let mut rest = message;
-    while let Some(i) = rest.find(DECORATION_PRE) {
-        out.push_str(&rest[..i]);
-        let after = &rest[i + DECORATION_PRE.len()..];
-        let encoded = after
-            .find(|c: char| !(c.is_ascii_uppercase() || c.is_ascii_digit()))
-            .unwrap_or(after.len());
-        // The encoded module name ends with an `X` (itself a base32 digit).
-        rest = if after[..encoded].ends_with('X') {
-            &after[encoded..]
-        } else {
-            after
-        };
-    }
-    out.push_str(rest);
-    out
-}
-
-/// A naga_oil error at its place in the file.
-fn place(file: &str, text: &str, e: &ComposerError) -> ShaderNodeError {
+/// A naga_oil error at its place in the file; `spliced` is the library the
+/// file was composed as (a material's or light shader's), whose errors are the file's own.
+fn place(file: &str, text: &str, e: &ComposerError, spliced: Option<&str>) -> ShaderNodeError {
     let shift = e.source.offset();
     let unshift = |start: usize| (start & ((1 << SPAN_BITS) - 1)).saturating_sub(shift);
     let (offset, message) = match &e.inner {
@@ -193,9 +171,7 @@ fn place(file: &str, text: &str, e: &ComposerError) -> ShaderNodeError {
             ShaderNodeError::at(file, span_of(source, offset), message)
         }
         // A material or light shader composed in place of its library: the file itself.
-        (ErrSource::Module { name, .. }, Some(offset))
-            if name == crate::gbuffer::SURFACE_MODULE || name == super::light::LIGHT_MODULE =>
-        {
+        (ErrSource::Module { name, .. }, Some(offset)) if spliced == Some(name.as_str()) => {
             ShaderNodeError::at_offset(file, text, offset, message)
         }
         // In an imported library: at the file's first `#import`, naming the library.

@@ -41,3 +41,27 @@ pub fn span_of(source: &str, offset: usize) -> Span {
     let column = before.rfind('\n').map_or(offset, |n| offset - n - 1) as u32 + 1;
     Span { line, column }
 }
+
+/// What naga_oil wraps the module of an imported name in.
+const DECORATION_PRE: &str = "X_naga_oil_mod_X";
+
+/// `nameX_naga_oil_mod_XENCODEDX` -> `name`, in a message.
+pub fn undecorate(message: &str) -> String {
+    let mut out = String::with_capacity(message.len());
+    let mut rest = message;
+    while let Some(i) = rest.find(DECORATION_PRE) {
+        out.push_str(&rest[..i]);
+        let after = &rest[i + DECORATION_PRE.len()..];
+        let encoded = after
+            .find(|c: char| !(c.is_ascii_uppercase() || c.is_ascii_digit()))
+            .unwrap_or(after.len());
+        // The encoded module name ends with an `X` (itself a base32 digit).
+        rest = if after[..encoded].ends_with('X') {
+            &after[encoded..]
+        } else {
+            after
+        };
+    }
+    out.push_str(rest);
+    out
+}

@@ -166,6 +166,6 @@ fn type_name(module: &naga::Module, ty: naga::Handle<naga::Type>) -> String {
     module.types[ty]
         .name
         .as_deref()
-        .map(super::compose::undecorate)
+        .map(super::error::undecorate)
         .unwrap_or_default()
 }

@@ -10,7 +10,7 @@
 use super::annotations::Annotations;
 use super::error::{ShaderNodeError, Span};
 use super::hook::Hook;
-use crate::lighting::LightKind;
+use crate::lighting::light_kind::LightKind;
 use crate::shaders::ShaderKey;
 
 /// The library a light shader's file takes the place of in the light loop.

@@ -369,7 +369,7 @@ impl Program {
             let fail = |m: String| ShaderNodeError::at_offset(file, text, at, m);
             // The material world library's variables, whatever the kind.
             if binding.group == library::GROUP
-                && let Some(b) = LibraryBinding::from_name(&super::compose::undecorate(&name))
+                && let Some(b) = LibraryBinding::from_name(&super::error::undecorate(&name))
             {
                 roles.push((binding.binding, handle, Role::Materials(b)));
                 continue;

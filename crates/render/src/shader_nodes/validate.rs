@@ -135,7 +135,7 @@ pub(super) fn validate_composed(
         ShaderNodeError::at(
             file,
             Span { line: 1, column: 1 },
-            format!("validation: {}", super::compose::undecorate(&e.to_string())),
+            format!("validation: {}", super::error::undecorate(&e.to_string())),
         )
     })
 }

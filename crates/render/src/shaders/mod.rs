@@ -11,73 +11,6 @@
 use std::collections::{BTreeSet, HashMap, HashSet};
 use std::sync::OnceLock;
 
-/// One WGSL file of `shaders/`.
-pub struct ShaderFile {
-    /// Path below `shaders/`, e.g. `gbuffer/visibility.wgsl`.
-    pub path: &'static str,
-    pub source: &'static str,
-    /// The feature switches the file reacts to; every subset is a valid permutation.
-    pub features: &'static [&'static str],
-    /// Libraries are imported by other shaders; they have no entry points.
-    pub library: bool,
-    /// Which subsets make sense: a permutation that breaks a rule is refused
-    /// and never compiled, and the permutation test skips it.
-    pub rules: &'static [Rule],
-    /// For a shader with a typed key ([`Permutation`]): its permutations,
-    /// which replace the rules (every other subset is refused).
-    pub keyed: Option<fn() -> Vec<ShaderKey>>,
-}
-
-/// A shader's permutations as a Rust type, beside the effect that runs it
-/// (SSAO's `AoKey` in `ssao/key.rs`): each value is one permutation, and a
-/// combination the shader does not support cannot be written, so the
-/// effect's code says `AoKey { estimator, target }`, not a list of strings.
-pub trait Permutation: Copy + 'static {
-    /// The shader, below `shaders/`.
-    const PATH: &'static str;
-    /// Every feature switch the shader reacts to.
-    const FEATURES: &'static [&'static str];
-    /// The switches this permutation turns on.
-    fn features(self) -> impl Iterator<Item = &'static str>;
-    /// Every permutation the shader supports.
-    fn all() -> Vec<Self>;
-
-    fn key(self) -> ShaderKey {
-        ShaderKey::new(Self::PATH, self.features())
-    }
-
-    /// The keys of [`Permutation::all`], for `SHADERS`.
-    fn all_keys() -> Vec<ShaderKey> {
-        Self::all().into_iter().map(Self::key).collect()
-    }
-}
-
-/// A constraint between the features of one shader.
-#[derive(Clone, Copy, Debug)]
-pub enum Rule {
-    /// The first feature only with the second (a third light pair only with a second).
-    Requires(&'static str, &'static str),
-    /// At most one of these (a choice, such as GBufferView's channel).
-    AtMostOne(&'static [&'static str]),
-}
-
-impl Rule {
-    fn check(&self, features: &BTreeSet<&'static str>) -> Result<(), String> {
-        match *self {
-            Rule::Requires(a, b) if features.contains(a) && !features.contains(b) => {
-                Err(format!("`{a}` needs `{b}`"))
-            }
-            Rule::AtMostOne(set) if set.iter().filter(|f| features.contains(*f)).count() > 1 => {
-                Err(format!(
-                    "these features are a choice, set at most one: {}",
-                    set.join(", ")
-                ))
-            }
-            _ => Ok(()),
-        }
-    }
-}
-
 impl ShaderFile {
     /// Whether `features` is a permutation this file allows (every rule
     /// holds; for a keyed file, one of its typed key's values).
@@ -253,16 +186,16 @@ pub const SHADERS: &[ShaderFile] = &[
         Rule::Requires("PER_PIXEL", "CLUSTERED"),
         Rule::AtMostOne(&["TILED", "PER_PIXEL"])
     ),
-    shader!("lighting/composite.wgsl", keyed crate::lighting::CompositeKey),
+    shader!("lighting/composite.wgsl", keyed crate::lighting::composite::key::CompositeKey),
     shader!("lighting/ssgi.wgsl", keyed crate::lighting::SsgiKey),
     shader!("lighting/ssss.wgsl", keyed crate::lighting::SsssKey),
     shader!("shadows/depth.wgsl", keyed crate::shadows::ShadowDepthKey),
     shader!("shadows/moments.wgsl", keyed crate::shadows::MomentsKey),
     shader!("shadows/resolve.wgsl", keyed crate::shadows::ShadowResolveKey),
-    shader!("ssao/linear_depth.wgsl", keyed crate::ssao::DepthKey),
-    shader!("ssao/ao.wgsl", keyed crate::ssao::AoKey),
-    shader!("ssao/temporal.wgsl", keyed crate::ssao::TemporalKey),
-    shader!("ssao/blur.wgsl", keyed crate::ssao::BlurKey),
+    shader!("ssao/linear_depth.wgsl", keyed crate::ssao::key::DepthKey),
+    shader!("ssao/ao.wgsl", keyed crate::ssao::key::AoKey),
+    shader!("ssao/temporal.wgsl", keyed crate::ssao::key::TemporalKey),
+    shader!("ssao/blur.wgsl", keyed crate::ssao::key::BlurKey),
     shader!("environment/sky.wgsl", ["ENVIRONMENT", "FOG"]),
     shader!("environment/prefilter.wgsl", keyed crate::environment::PrefilterKey),
     shader!("environment/environment_probe.wgsl", keyed crate::environment::probe::faces::ProbeFaceKey),
@@ -291,40 +224,13 @@ pub const SHADERS: &[ShaderFile] = &[
     shader!("post/autofocus.wgsl", keyed crate::post::autofocus::AutofocusKey),
     shader!("post/motion_blur.wgsl", keyed crate::post::motion_blur::MotionBlurKey),
     shader!("post/glare.wgsl", keyed crate::post::glare::GlareKey),
-    shader!("post/transparency.wgsl", keyed crate::post::TransparencyKey),
+    shader!("post/transparency.wgsl", keyed crate::post::transparency::key::TransparencyKey),
     shader!("post/taa.wgsl", keyed crate::post::taa::TaaQuality),
     // The shader-node example blur, run as a built-in pass (the baseline its node is benchmarked against).
     shader!("nodes/blur.wgsl", []),
     shader!("resolution/upsample.wgsl", keyed crate::resolution::UpsampleKey),
     shader!("gbuffer/view.wgsl", one_of ["ALBEDO", "NORMALS", "VELOCITY", "UV", "DEPTH", "MATERIAL_ID", "OBJECT_ID"]),
 ];
-
-/// Which permutation of which shader: its path and the set of switched-on features.
-#[derive(Clone, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub struct ShaderKey {
-    pub path: &'static str,
-    pub features: BTreeSet<&'static str>,
-}
-
-impl ShaderKey {
-    pub fn new(path: &'static str, features: impl IntoIterator<Item = &'static str>) -> Self {
-        ShaderKey {
-            path,
-            features: features.into_iter().collect(),
-        }
-    }
-
-    fn describe_defs(&self) -> String {
-        if self.features.is_empty() {
-            String::new()
-        } else {
-            format!(
-                " [{}]",
-                self.features.iter().copied().collect::<Vec<_>>().join(", ")
-            )
-        }
-    }
-}
 
 /// The feature sets of each keyed file's typed key, made once: checking
 /// is a look-up (the exhaustive test checks the composite's 6,720 keys).
@@ -366,11 +272,13 @@ mod cache;
 mod composer;
 mod flags;
 pub mod layout;
+pub mod permutation;
 mod reflection;
 mod uniform;
 
 pub use cache::{CompileTimes, PipelineRef, Sampling, ShaderCache};
 pub use composer::{ShaderComposer, Splice};
+pub use permutation::{Permutation, Rule, ShaderFile, ShaderKey};
 pub use reflection::{Reflection, ShaderVar};
 pub use uniform::Uniform;
 

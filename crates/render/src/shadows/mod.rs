@@ -12,6 +12,8 @@
 //! the node's id). The frame report counts each decision
 //! ("shadow maps rendered", "shadow maps reused", "shadow maps culled").
 
+// Named by the permutation keys without the passes.
+pub(crate) mod filter;
 mod raster;
 mod slices;
 mod store;
@@ -32,33 +34,8 @@ use raster::{CasterSet, SetKind, StillSets};
 use store::ShadowStore;
 
 pub(crate) use raster::{MomentsKey, ShadowDepthKey, ShadowResolveKey};
+pub use filter::ShadowFilter;
 pub use views::{Cascades, LayerView};
-
-/// How a shadow is filtered when it is sampled.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum ShadowFilter {
-    /// One comparison at the nearest texel: hard, aliased edges.
-    Raw,
-    /// Percentage-closer filtering over `kernel` x `kernel` texels (odd, 1..=9).
-    Pcf { kernel: u32 },
-    /// Percentage-closer soft shadows (Fernando 2005; Emeshe's soft shadows):
-    /// a blocker search, a penumbra from the light's size, then PCF over it.
-    Pcss { light_size: f32, samples: u32 },
-    /// Variance shadow maps (Donnelly and Lauritzen 2006): depth moments in
-    /// RG32F, blurred, with light-bleeding reduction 0..1.
-    Vsm { bleeding: f32, blur: u32 },
-}
-
-impl ShadowFilter {
-    pub(crate) fn feature(self) -> &'static str {
-        match self {
-            ShadowFilter::Raw => "SHADOW_RAW",
-            ShadowFilter::Pcf { .. } => "SHADOW_PCF",
-            ShadowFilter::Pcss { .. } => "SHADOW_PCSS",
-            ShadowFilter::Vsm { .. } => "SHADOW_VSM",
-        }
-    }
-}
 
 /// What every shadow map of a node shares.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -37,37 +37,9 @@ use crate::resolution::{
 use crate::shaders::Permutation;
 use crate::temporal::{RayParams, RayUniforms};
 
-mod key;
-pub use key::{AoKey, AoTarget, BlurKey, DepthKey, TemporalKey};
-
-/// Which estimator.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum AoMode {
-    /// Emeshe's stochastic wide-range AO: rays in a cosine-weighted
-    /// hemisphere, each marched `steps` times against the depth buffer; a
-    /// ray is blocked where it passes behind a surface within `radius`.
-    /// Matches ray-cast AO of the same radius as samples grow.
-    Stochastic,
-    /// Scalable Ambient Obscurance (McGuire, Mara, Luebke 2012): a spiral of
-    /// taps over a view-depth mip chain, the obscurance estimator with a
-    /// smooth falloff. Cheap at large radii; not calibrated to ray-cast AO.
-    Sao,
-    /// Horizon-based AO (Bavoil 2008): `samples` directions in screen space,
-    /// `steps` taps each; per direction the square of the highest horizon's
-    /// sine is the (cosine-weighted) occluded share of that slice. Short
-    /// range, local detail.
-    Hbao,
-}
-
-impl AoMode {
-    fn name(self) -> &'static str {
-        match self {
-            AoMode::Stochastic => "SSAO",
-            AoMode::Sao => "SAO",
-            AoMode::Hbao => "HBAO",
-        }
-    }
-}
+// Seen by the shader table (`shaders::SHADERS`): the key needs nothing of the pass.
+pub(crate) mod key;
+pub use key::{AoKey, AoMode, AoTarget, BlurKey, DepthKey, TemporalKey};
 
 /// Every AO pin; out-of-range values are clamped where the recipe is made.
 #[derive(Clone, Copy, Debug, PartialEq)]

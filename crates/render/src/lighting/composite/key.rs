@@ -5,7 +5,7 @@
 //! matcaps) exists only under [`Shading::Materials`]; a textured emission
 //! or matcap is a kind of emission or matcap, not a switch beside them.
 
-use crate::shaders::Permutation;
+use crate::shaders::permutation::Permutation;
 
 /// One permutation of the composite.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]

@@ -29,7 +29,7 @@ use crate::renderer::Renderer;
 use crate::report::PassName;
 use crate::shaders::{Permutation, Sampling};
 
-mod key;
+pub(crate) mod key;
 pub use key::{CompositeKey, LightPairs, MaterialAo, MaterialTerms, Shading, Textured};
 
 /// What a CompositeLight combines.

@@ -6,9 +6,9 @@
 //! layer's surface maps and a DeferredBase layer's own maps are one choice:
 //! `LayerMaps`; suns have no range to cluster by).
 
-use crate::lighting::LightKind;
-use crate::shaders::Permutation;
-use crate::shadows::ShadowFilter;
+use crate::lighting::light_kind::LightKind;
+use crate::shaders::permutation::Permutation;
+use crate::shadows::filter::ShadowFilter;
 
 /// One permutation of `post/transparency.wgsl`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]

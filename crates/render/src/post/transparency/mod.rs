@@ -24,7 +24,7 @@
 //! Without transparent instances the node costs a copy, and without light
 //! buffers no light pass runs.
 
-mod key;
+pub(crate) mod key;
 
 use std::sync::{Arc, Mutex};
 

@@ -10,9 +10,8 @@
 
 use glam::{Vec2, Vec3};
 
-use super::brdf::{f_schlick, roughness_to_alpha, v_smith_ggx_correlated};
-use super::shadows::Sphere;
-use crate::environment::{EquirectImage, SkySettings};
+use crate::brdf::{f_schlick, roughness_to_alpha, v_smith_ggx_correlated};
+use crate::shadows::Sphere;
 
 /// The procedural sky as shaders/lib/sky.wgsl computes it (`GpuSky`'s sanitizing included).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -42,8 +41,24 @@ fn smoothstep(e0: f32, e1: f32, x: f32) -> f32 {
     t * t * (3.0 - 2.0 * t)
 }
 
+/// What the procedural sky is made of: the renderer's `SkySettings`, field
+/// for field (`CpuSky::from(&settings)` there), kept here as plain numbers so
+/// that this crate needs nothing of the renderer.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SkyInputs {
+    pub zenith: Vec3,
+    pub horizon: Vec3,
+    pub ground: Vec3,
+    /// The direction the sunlight travels: the disk is opposite it.
+    pub sun_direction: Vec3,
+    pub sun_color: Vec3,
+    /// The disk's angular radius in radians.
+    pub sun_radius: f32,
+    pub glow: f32,
+}
+
 impl CpuSky {
-    pub fn new(s: &SkySettings) -> Self {
+    pub fn new(s: &SkyInputs) -> Self {
         let finite = |v: f32, lo: f32, hi: f32| if v.is_finite() { v.clamp(lo, hi) } else { 0.0 };
         CpuSky {
             zenith: clean(s.zenith),
@@ -79,8 +94,28 @@ pub fn equirect_uv(d: Vec3) -> Vec2 {
     Vec2::new(u, v)
 }
 
-/// Bilinear lookup, wrapping in u and clamped in v, of the sanitized image (as uploaded).
-pub fn equirect_radiance(image: &EquirectImage, d: Vec3) -> Vec3 {
+/// An equirectangular image's linear radiance, row by row from the top
+/// (the renderer's `EquirectImage` lends itself as one: `Equirect::from(&image)`).
+#[derive(Clone, Copy, Debug)]
+pub struct Equirect<'a> {
+    pub width: u32,
+    pub height: u32,
+    pub pixels: &'a [[f32; 4]],
+}
+
+/// A texel as the renderer uploads it (`EquirectImage::sanitized`): NaN is
+/// 0, the rest within 0..=65000 (infinity the largest).
+fn as_uploaded(c: f32) -> f32 {
+    if c.is_nan() {
+        0.0
+    } else {
+        c.clamp(0.0, 65000.0)
+    }
+}
+
+/// Bilinear lookup, wrapping in u and clamped in v, of the sanitized image
+/// (as uploaded: half floats, NaN 0, within 0..=65000).
+pub fn equirect_radiance(image: &Equirect<'_>, d: Vec3) -> Vec3 {
     let uv = equirect_uv(d);
     let (w, h) = (image.width as i64, image.height as i64);
     let x = uv.x * w as f32 - 0.5;
@@ -89,7 +124,7 @@ pub fn equirect_radiance(image: &EquirectImage, d: Vec3) -> Vec3 {
     let (fx, fy) = (x - x0, y - y0);
     let texel = |xi: i64, yi: i64| {
         let p = image.pixels[(yi.clamp(0, h - 1) * w + xi.rem_euclid(w)) as usize];
-        Vec3::new(p[0], p[1], p[2]).map(EquirectImage::sanitized)
+        Vec3::new(p[0], p[1], p[2]).map(as_uploaded)
     };
     let (x0, y0) = (x0 as i64, y0 as i64);
     let top = texel(x0, y0).lerp(texel(x0 + 1, y0), fx);
@@ -101,7 +136,7 @@ pub fn equirect_radiance(image: &EquirectImage, d: Vec3) -> Vec3 {
 #[derive(Clone, Copy, Debug)]
 pub enum CpuEnvironment<'a> {
     Sky(CpuSky),
-    Equirect(&'a EquirectImage),
+    Equirect(Equirect<'a>),
 }
 
 impl CpuEnvironment<'_> {
@@ -269,6 +304,19 @@ pub fn specular_reflection(
 mod tests {
     use super::*;
 
+    /// The renderer's default sky (`SkySettings::default()`).
+    fn default_sky() -> SkyInputs {
+        SkyInputs {
+            zenith: Vec3::new(0.12, 0.25, 0.6),
+            horizon: Vec3::new(0.6, 0.7, 0.85),
+            ground: Vec3::new(0.2, 0.18, 0.16),
+            sun_direction: Vec3::new(-0.3, -1.0, -0.2),
+            sun_color: Vec3::new(50.0, 45.0, 38.0),
+            sun_radius: 0.0047,
+            glow: 1.0,
+        }
+    }
+
     #[test]
     fn a_mirror_sees_the_ball_above_it_and_the_sky_past_it() {
         let scene = BallsScene {
@@ -278,7 +326,7 @@ mod tests {
             }],
             floor: 10.0,
         };
-        let sky = CpuEnvironment::Sky(CpuSky::new(&SkySettings::default()));
+        let sky = CpuEnvironment::Sky(CpuSky::new(&default_sky()));
         let red = |_: &Hit| Vec3::new(1.0, 0.0, 0.0);
         let floor = |x: f32| SpecularSurface {
             point: Vec3::new(x, 0.0, 0.0),
@@ -295,13 +343,13 @@ mod tests {
         assert!((past - sky.radiance(Vec3::Y)).length() < 1e-5, "{past}");
         // A white furnace: a rough conductor with F0 = 1 under a uniform
         // environment reflects about the environment (energy lost to single scattering only).
-        let uniform = CpuEnvironment::Sky(CpuSky::new(&SkySettings {
+        let uniform = CpuEnvironment::Sky(CpuSky::new(&SkyInputs {
             zenith: Vec3::ONE,
             horizon: Vec3::ONE,
             ground: Vec3::ONE,
             sun_color: Vec3::ZERO,
             glow: 0.0,
-            ..Default::default()
+            ..default_sky()
         }));
         let empty = BallsScene {
             balls: vec![],
@@ -316,8 +364,8 @@ mod tests {
 
     #[test]
     fn the_cpu_sky_is_the_shader_sky() {
-        let sky = CpuSky::new(&SkySettings::default());
-        let sun = (-SkySettings::default().sun_direction).normalize();
+        let sky = CpuSky::new(&default_sky());
+        let sun = (-default_sky().sun_direction).normalize();
         assert!(sky.radiance(sun).x > 20.0, "the disk");
         assert!(
             sky.radiance(Vec3::Y).z > sky.radiance(Vec3::Y).x,

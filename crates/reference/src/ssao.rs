@@ -6,7 +6,7 @@
 
 use glam::{Mat4, Vec3, Vec4};
 
-use super::shadows::Sphere;
+use crate::shadows::Sphere;
 
 /// What occludes: balls over an optional square floor of half-width `floor` at y = 0.
 #[derive(Clone, Debug, PartialEq)]
@@ -82,7 +82,7 @@ impl Occluders {
 /// Cosine-weighted directions about +Z, stratified (Vogel's spiral on the
 /// disk lifted to the hemisphere): deterministic, evenly spread.
 pub fn hemisphere_samples(n: u32) -> Vec<Vec3> {
-    super::shadows::disk_samples(n)
+    crate::shadows::disk_samples(n)
         .into_iter()
         .map(|(x, y)| Vec3::new(x, y, (1.0 - x * x - y * y).max(0.0).sqrt()))
         .collect()
