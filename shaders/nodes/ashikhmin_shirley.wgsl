@@ -7,7 +7,7 @@
 // a test compares the two over several lights, with and without shadows.
 // @category Lighting
 // @light point spot sun
-// @help Ashikhmin-Shirley anisotropic Phong shading in place of CookTorrance: a specular lobe of Phong exponents Exponent U along the surface's tangent and Exponent V along its bitangent (equal: round highlights; unequal: brushed-metal streaks), Fresnel-weighted from Specular (the reflectance head on, 0..1), over a diffuse term that loses what the specular takes. The tangent frame is built from the normal alone (Duff et al. 2017), so on a floor U runs along +X and V along -Z. Wire G-Buffer, Lights (and their Shadows) as for CookTorrance, Diffuse and Specular into CompositeLight.
+// @help Ashikhmin-Shirley anisotropic Phong shading in place of CookTorrance: a specular lobe of Phong exponents Exponent U along the surface's tangent and Exponent V along its bitangent (equal: round highlights; unequal: brushed-metal streaks), Fresnel-weighted from Specular (the reflectance head on, 0..1), over a diffuse term that loses what the specular takes. The tangent frame is built from the normal alone (Frisvad 2012), so on a floor U runs along +X and V along -Z. Wire G-Buffer, Lights (and their Shadows) as for CookTorrance, Diffuse and Specular into CompositeLight.
 #import spreadlight::light_shader::{LightInput, LightOutput, LIGHT_PI, light_incident, light_output_none}
 #import spreadlight::packing::safe_normalize
 
@@ -28,14 +28,17 @@ fn pow5(x: f32) -> f32 {
     return x2 * x2 * x;
 }
 
-// A unit tangent perpendicular to `n` (the first vector of Duff et al.'s
-// branchless orthonormal basis, "Building an Orthonormal Basis,
-// Revisited", 2017): the surface's U direction. Its bitangent is cross(n, t).
+// A unit tangent perpendicular to `n`, the surface's U direction (the first
+// vector of Frisvad's orthonormal basis, "Building an Orthonormal Basis from
+// a 3D Unit Vector Without Normalization", 2012): continuous over every
+// normal but the one facing -Z, where it turns fast (held at -Y there). Its
+// bitangent is cross(n, t).
 fn tangent_of(n: vec3<f32>) -> vec3<f32> {
-    let s = select(-1.0, 1.0, n.z >= 0.0);
-    let a = -1.0 / (s + n.z);
-    let b = n.x * n.y * a;
-    return vec3<f32>(1.0 + s * n.x * n.x * a, s * b, -s * n.x);
+    if (n.z < -0.9999999) {
+        return vec3<f32>(0.0, -1.0, 0.0);
+    }
+    let a = 1.0 / (1.0 + n.z);
+    return vec3<f32>(1.0 - n.x * n.x * a, -n.x * n.y * a, -n.x);
 }
 
 fn light(in: LightInput) -> LightOutput {

@@ -300,6 +300,8 @@ struct LightShaderCase<'a> {
     node: &'a str,
     path: &'a str,
     source: &'a str,
+    /// The compiled file's version key (a shader node's content hash).
+    key: u64,
     params: [f32; 4],
     loops: fn(&str) -> &'static [LightLoop],
     reference: &'a dyn Fn(Vec3, &[ShaderLight]) -> Option<(Vec3, Vec3)>,
@@ -463,7 +465,7 @@ fn light_shader_sums_every_light_type_as_its_reference(case: &LightShaderCase<'_
                 format!("{} #1", case.node),
                 case.path.into(),
                 case.source.into(),
-                7,
+                case.key,
                 vec![(0, SurfaceBinding::Uniform)],
                 params.clone(),
                 Vec::new(),
@@ -557,6 +559,7 @@ fn a_light_shader_node_sums_every_light_type_as_its_cpu_reference_with_and_witho
         node: "Toon (Shader)",
         path: "shaders/nodes/toon_lights.wgsl",
         source: TOON,
+        key: 7,
         params: [
             TOON_PARAMS.bands,
             TOON_PARAMS.highlight_size,
@@ -597,6 +600,7 @@ fn the_ashikhmin_shirley_light_shader_sums_every_light_type_as_its_cpu_reference
         node: "AshikhminShirley (Shader)",
         path: "shaders/nodes/ashikhmin_shirley.wgsl",
         source: ASHIKHMIN_SHIRLEY,
+        key: 8,
         params: [p.exponent_u, p.exponent_v, p.specular, 0.0],
         loops: |_| &[LightLoop::Auto],
         reference: &|v, lights| {

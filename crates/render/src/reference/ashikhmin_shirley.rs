@@ -25,14 +25,17 @@ fn pow5(x: f32) -> f32 {
     x2 * x2 * x
 }
 
-/// The surface's U direction at unit normal `n`: the first vector of Duff
-/// et al.'s branchless orthonormal basis ("Building an Orthonormal Basis,
-/// Revisited", 2017); V is `n x U`. On a floor (`n` = +Y) U is +X, V is -Z.
+/// The surface's U direction at unit normal `n`: the first vector of
+/// Frisvad's orthonormal basis ("Building an Orthonormal Basis from a 3D
+/// Unit Vector Without Normalization", 2012), continuous over every normal
+/// but the one facing -Z (held at -Y there); V is `n x U`. On a floor
+/// (`n` = +Y) U is +X, V is -Z.
 pub fn tangent_of(n: Vec3) -> Vec3 {
-    let s = if n.z >= 0.0 { 1.0 } else { -1.0 };
-    let a = -1.0 / (s + n.z);
-    let b = n.x * n.y * a;
-    Vec3::new(1.0 + s * n.x * n.x * a, s * b, -s * n.x)
+    if n.z < -0.999_999_9 {
+        return Vec3::NEG_Y;
+    }
+    let a = 1.0 / (1.0 + n.z);
+    Vec3::new(1.0 - n.x * n.x * a, -n.x * n.y * a, -n.x)
 }
 
 /// (diffuse BRDF without the albedo, specular BRDF) for unit normal `n`,

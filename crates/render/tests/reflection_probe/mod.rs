@@ -376,11 +376,21 @@ fn blue(c: Vec3) -> bool {
 #[test]
 fn a_mirror_sphere_beside_a_textured_box_shows_the_textures_colour() {
     use spreadlight_render::static_texture::StaticTexture;
+    use spreadlight_render::texture::GpuTexture;
     let renderer = test_renderer();
     let s = scene(&renderer);
-    let texture = |rgba: [f32; 4]| {
-        StaticTexture::from_rgba32f(&renderer.gpu, 4, 4, &[rgba; 16], "probe test texture")
-            .texture_ref()
+    // Linear 8-bit (filterable, as a file's texture is).
+    let texture = |rgb: [u8; 3]| {
+        let texels: Vec<u8> = (0..16).flat_map(|_| [rgb[0], rgb[1], rgb[2], 255]).collect();
+        StaticTexture::new(GpuTexture::from_rgba8(
+            &renderer.gpu,
+            4,
+            4,
+            &texels,
+            false,
+            "probe test texture",
+        ))
+        .texture_ref()
     };
     // The box white (the texture alone colours it), the floor as it was.
     let mut white = Layer::clone(&s.surroundings);
@@ -421,7 +431,7 @@ fn a_mirror_sphere_beside_a_textured_box_shows_the_textures_colour() {
         textured.features.texcoords = !triplanar;
         textured.features.triplanar = triplanar;
         let textured = textured
-            .with_color_map(Some(texture([0.05, 0.1, 0.9, 1.0])))
+            .with_color_map(Some(texture([13, 26, 230])))
             .expect("UVs or triplanar");
         let (mean, _) = box_colour(textured, None);
         assert!(
@@ -435,13 +445,13 @@ fn a_mirror_sphere_beside_a_textured_box_shows_the_textures_colour() {
     let (_, first) = box_colour(
         layer
             .clone()
-            .with_color_map(Some(texture([0.05, 0.1, 0.9, 1.0])))
+            .with_color_map(Some(texture([13, 26, 230])))
             .expect("UVs"),
         Some(7),
     );
     let (green, again) = box_colour(
         layer
-            .with_color_map(Some(texture([0.05, 0.9, 0.1, 1.0])))
+            .with_color_map(Some(texture([13, 230, 26])))
             .expect("UVs"),
         Some(7),
     );
