@@ -587,7 +587,10 @@ fn a_depth_of_field_shaped_file_is_seen_from_its_camera_and_its_floor_is_not_bur
     let dir = tempfile::tempdir().expect("tempdir");
     let model = depth_of_field_shaped_scene();
     let (lit, stderr) = view(dir.path(), "dof", &model, &[]);
-    assert!(stderr.contains("viewed from camera `DOF Camera`"), "{stderr}");
+    assert!(
+        stderr.contains("viewed from camera `DOF Camera`"),
+        "{stderr}"
+    );
     assert!(stderr.contains("exposed by"), "{stderr}");
     // The floor fills the lower half of the picture, between the blocks.
     let floor: Vec<[u8; 4]> = lit
@@ -597,7 +600,10 @@ fn a_depth_of_field_shaped_file_is_seen_from_its_camera_and_its_floor_is_not_bur
         .filter(|p| (i32::from(p[0]) - i32::from(p[2])).abs() < 40)
         .collect();
     assert!(floor.len() > 100, "{} floor pixels", floor.len());
-    let burnt = floor.iter().filter(|p| p[..3].iter().all(|c| *c >= 250)).count();
+    let burnt = floor
+        .iter()
+        .filter(|p| p[..3].iter().all(|c| *c >= 250))
+        .count();
     assert!(
         burnt * 50 < floor.len(),
         "{burnt} of {} floor pixels are white",

@@ -187,11 +187,7 @@ const BALL: Vec3 = Vec3::new(0.3, 1.5, 0.2);
 /// A light shader reference's light at floor point `p`, with the shadow the ball
 /// casts when `shadows` and the light has a shadow slice (None: too near
 /// the shadow's edge to tell).
-fn shader_light_at(
-    light: &AnyLight,
-    p: Vec3,
-    shadows: bool,
-) -> Option<ShaderLight> {
+fn shader_light_at(light: &AnyLight, p: Vec3, shadows: bool) -> Option<ShaderLight> {
     use spreadlight_render::reference::lights::spot_attenuation;
     let (direction, radiance, attenuation, reach) = match light {
         AnyLight::Point(l) => {
@@ -425,11 +421,7 @@ fn light_shader_sums_every_light_type_as_its_reference(case: &LightShaderCase<'_
             },
         ),
     ];
-    let params: Vec<u8> = case
-        .params
-        .iter()
-    .flat_map(|f| f.to_le_bytes())
-    .collect();
+    let params: Vec<u8> = case.params.iter().flat_map(|f| f.to_le_bytes()).collect();
     let seen = ball_floor_points(&camera, size, eye);
     for (name, buffer, lights, casting) in cases {
         // A few lights are walked naively; points and spots through the clusters too.
@@ -582,7 +574,8 @@ fn a_light_shader_node_sums_every_light_type_as_its_cpu_reference_with_and_witho
 const ASHIKHMIN_SHIRLEY: &str = include_str!("../../../shaders/nodes/ashikhmin_shirley.wgsl");
 
 /// Anisotropic, so a wrong tangent frame or exponent shows.
-const ASHIKHMIN_SHIRLEY_PARAMS: spreadlight_render::reference::ashikhmin_shirley::AshikhminShirleyParams =
+const ASHIKHMIN_SHIRLEY_PARAMS:
+    spreadlight_render::reference::ashikhmin_shirley::AshikhminShirleyParams =
     spreadlight_render::reference::ashikhmin_shirley::AshikhminShirleyParams {
         exponent_u: 60.0,
         exponent_v: 8.0,
@@ -604,7 +597,13 @@ fn the_ashikhmin_shirley_light_shader_sums_every_light_type_as_its_cpu_reference
         params: [p.exponent_u, p.exponent_v, p.specular, 0.0],
         loops: |_| &[LightLoop::Auto],
         reference: &|v, lights| {
-            Some(ashikhmin_shirley_sum(Vec3::Y, v, Vec3::splat(0.8), lights, &p))
+            Some(ashikhmin_shirley_sum(
+                Vec3::Y,
+                v,
+                Vec3::splat(0.8),
+                lights,
+                &p,
+            ))
         },
     });
 }

@@ -470,7 +470,15 @@ fn lit_pane_with(
     let opaque = balls(renderer, &[Ball::still(Vec3::ZERO, 0.5)]);
     let g = gbuffer(renderer, opaque, look(EYE, Vec3::ZERO, FOV, 1.0), None);
     let black = image(renderer, SIZE, |_, _| [0.0, 0.0, 0.0, 1.0]);
-    let pass = Transparency::lit(renderer, None, black.texture_ref(), g, vec![layer], settings, by);
+    let pass = Transparency::lit(
+        renderer,
+        None,
+        black.texture_ref(),
+        g,
+        vec![layer],
+        settings,
+        by,
+    );
     let (report, out) = render(renderer, pass.as_ref(), &pass.output, SIZE);
     (report, out, pass)
 }
@@ -651,15 +659,11 @@ fn no_light_buffer_no_light_pass_and_the_old_look() {
     let (report, out, pass) = lit_pane(&renderer, pane(&renderer, None, 1.0), unlit(), vec![]);
     assert_eq!(report.counter(LIGHT_PASSES), 0);
     assert_eq!(report.counter(ASSIGNED), 0);
-    assert!(
-        pass.keys()
-            .iter()
-            .all(|k| k.pass
-                == TransparencyPass::Base {
-                    environment: false,
-                    matcap: MatCapKey::Off
-                })
-    );
+    assert!(pass.keys().iter().all(|k| k.pass
+        == TransparencyPass::Base {
+            environment: false,
+            matcap: MatCapKey::Off
+        }));
     let c = Vec3::from_slice(&at(&out, 24, 24)[..3]);
     assert!((c - ALBEDO).abs().max_element() < 5e-3, "{c}");
     // An empty light buffer is no light pass either.

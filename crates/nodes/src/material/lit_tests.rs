@@ -29,7 +29,10 @@ fn floor_patch(feature: &str, values: &[(&str, f32)]) -> Patch {
     patch.add(NodeDoc::new(1, "Plane").with("Size", vec![glam::Vec2::splat(20.0)]));
     patch.add(
         NodeDoc::new(2, "DeferredBase")
-            .with("Color", vec![Color::rgba(ALBEDO.x, ALBEDO.y, ALBEDO.z, 1.0)])
+            .with(
+                "Color",
+                vec![Color::rgba(ALBEDO.x, ALBEDO.y, ALBEDO.z, 1.0)],
+            )
             .with("Material ID", vec![0i64]),
     );
     patch.add(NodeDoc::new(3, "AddCookTorrance").with("Roughness", vec![ROUGHNESS]));
@@ -105,7 +108,10 @@ fn render_centre(patch: &Patch) -> Centre {
     let problems = rt.load(patch).to_vec();
     assert!(problems.is_empty(), "{problems:?}");
     rt.evaluate(FrameClock::fixed(0, 60.0));
-    let errors: Vec<_> = rt.node_errors().map(|(id, e)| format!("{id}: {e}")).collect();
+    let errors: Vec<_> = rt
+        .node_errors()
+        .map(|(id, e)| format!("{id}: {e}"))
+        .collect();
     assert!(errors.is_empty(), "{errors:?}");
     let centre = |name: &str| {
         let (image, _): (ImageF32, _) = images.get(name).unwrap_or_else(|| panic!("no `{name}`"));
@@ -155,12 +161,20 @@ fn add_clearcoat_lights_a_floor_as_the_reference_coat_does() {
         assert_close(coated.diffuse, want_d, &format!("{what} diffuse"));
         assert_close(coated.specular, want_s, &format!("{what} specular"));
         // The coat takes light from the base.
-        assert!(coated.diffuse.x < plain.diffuse.x, "{what}: {}", coated.diffuse);
+        assert!(
+            coated.diffuse.x < plain.diffuse.x,
+            "{what}: {}",
+            coated.diffuse
+        );
     }
     // Factor 0: no coat at all, CookTorrance's plain BRDF.
     let brdf = cook_torrance_f0(Vec3::Y, plain.view, l, ALBEDO, ROUGHNESS, 0.0, 0.04, true);
     assert_close(plain.diffuse, brdf.diffuse * radiance, "no coat: diffuse");
-    assert_close(plain.specular, brdf.specular * radiance, "no coat: specular");
+    assert_close(
+        plain.specular,
+        brdf.specular * radiance,
+        "no coat: specular",
+    );
 }
 
 #[test]

@@ -41,7 +41,12 @@ pub fn tangent_of(n: Vec3) -> Vec3 {
 /// (diffuse BRDF without the albedo, specular BRDF) for unit normal `n`,
 /// unit vectors `l` to the light and `v` to the eye; zero when either is
 /// below the surface.
-pub fn ashikhmin_shirley_brdf(n: Vec3, l: Vec3, v: Vec3, params: &AshikhminShirleyParams) -> (f32, f32) {
+pub fn ashikhmin_shirley_brdf(
+    n: Vec3,
+    l: Vec3,
+    v: Vec3,
+    params: &AshikhminShirleyParams,
+) -> (f32, f32) {
     let n_dot_l = n.dot(l);
     let n_dot_v = n.dot(v);
     if n_dot_l <= 0.0 || n_dot_v <= 0.0 {
@@ -120,9 +125,17 @@ mod tests {
     fn the_tangent_frame_is_orthonormal_and_fixed_on_a_floor() {
         assert!((tangent_of(Vec3::Y) - Vec3::X).length() < 1e-6);
         assert!((Vec3::Y.cross(tangent_of(Vec3::Y)) - Vec3::NEG_Z).length() < 1e-6);
-        for n in [dir(0.3, -0.5, 0.8), dir(-0.2, 0.1, -0.97), Vec3::NEG_Z, Vec3::Z] {
+        for n in [
+            dir(0.3, -0.5, 0.8),
+            dir(-0.2, 0.1, -0.97),
+            Vec3::NEG_Z,
+            Vec3::Z,
+        ] {
             let t = tangent_of(n);
-            assert!((t.length() - 1.0).abs() < 1e-5 && t.dot(n).abs() < 1e-5, "{n} {t}");
+            assert!(
+                (t.length() - 1.0).abs() < 1e-5 && t.dot(n).abs() < 1e-5,
+                "{n} {t}"
+            );
         }
     }
 
@@ -146,8 +159,14 @@ mod tests {
                 * params.specular;
             assert!((s - peak).abs() < 1e-4 * peak, "{s} vs {peak}");
         }
-        assert_eq!(ashikhmin_shirley_brdf(n, Vec3::NEG_Y, n, &ROUND), (0.0, 0.0));
-        assert_eq!(ashikhmin_shirley_brdf(n, n, dir(1.0, -0.1, 0.0), &ROUND), (0.0, 0.0));
+        assert_eq!(
+            ashikhmin_shirley_brdf(n, Vec3::NEG_Y, n, &ROUND),
+            (0.0, 0.0)
+        );
+        assert_eq!(
+            ashikhmin_shirley_brdf(n, n, dir(1.0, -0.1, 0.0), &ROUND),
+            (0.0, 0.0)
+        );
     }
 
     #[test]

@@ -381,7 +381,9 @@ fn a_mirror_sphere_beside_a_textured_box_shows_the_textures_colour() {
     let s = scene(&renderer);
     // Linear 8-bit (filterable, as a file's texture is).
     let texture = |rgb: [u8; 3]| {
-        let texels: Vec<u8> = (0..16).flat_map(|_| [rgb[0], rgb[1], rgb[2], 255]).collect();
+        let texels: Vec<u8> = (0..16)
+            .flat_map(|_| [rgb[0], rgb[1], rgb[2], 255])
+            .collect();
         StaticTexture::new(GpuTexture::from_rgba8(
             &renderer.gpu,
             4,
@@ -455,6 +457,13 @@ fn a_mirror_sphere_beside_a_textured_box_shows_the_textures_colour() {
             .expect("UVs"),
         Some(7),
     );
-    assert_eq!((first, again), (1, 1), "a new texture renders the faces again");
-    assert!(green.y > 2.0 * green.x && green.y > 2.0 * green.z, "{green}");
+    assert_eq!(
+        (first, again),
+        (1, 1),
+        "a new texture renders the faces again"
+    );
+    assert!(
+        green.y > 2.0 * green.x && green.y > 2.0 * green.z,
+        "{green}"
+    );
 }

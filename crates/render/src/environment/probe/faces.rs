@@ -120,7 +120,10 @@ struct GpuProbeFace {
 }
 
 /// The faces' pipeline for one kind of layer (`key`).
-fn pipeline(cx: &mut PassContext<'_>, key: &ShaderKey) -> Result<wgpu::RenderPipeline, RenderError> {
+fn pipeline(
+    cx: &mut PassContext<'_>,
+    key: &ShaderKey,
+) -> Result<wgpu::RenderPipeline, RenderError> {
     let device = cx.gpu.device.clone();
     cx.shaders
         .render_pipeline(&device, key, "rgba16f", |module| {
@@ -170,7 +173,11 @@ pub(crate) fn render(
         let color = color_maps.get(index).copied().flatten();
         // A map the pass was not handed is drawn without it (never the case
         // when declared together); the key follows what is bound.
-        let map = if color.is_some() { map } else { &ProbeMap::None };
+        let map = if color.is_some() {
+            map
+        } else {
+            &ProbeMap::None
+        };
         let key = ShaderKey::new(SHADER, map.features().iter().copied());
         let pipeline = pipeline(cx, &key)?;
         let uniform = match map {

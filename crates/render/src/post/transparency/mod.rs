@@ -348,16 +348,14 @@ impl Transparency {
             environment,
             matcap,
         };
-        std::iter::once(base).chain(self.lights.iter().map(
-            |set| {
-                TransparencyPass::Light(LightKey {
-                    kind: set.lights.kind,
-                    clustered: set.clusters.is_some(),
-                    shadows: ShadowKey::of(set.shadows.as_ref().map(|s| s.filter())),
-                    spot_texture: set.lights.textures().is_some(),
-                })
-            },
-        ))
+        std::iter::once(base).chain(self.lights.iter().map(|set| {
+            TransparencyPass::Light(LightKey {
+                kind: set.lights.kind,
+                clustered: set.clusters.is_some(),
+                shadows: ShadowKey::of(set.shadows.as_ref().map(|s| s.filter())),
+                spot_texture: set.lights.textures().is_some(),
+            })
+        }))
     }
 
     /// The matcap a layer's base pass compiles in: its world has a MatCap
@@ -840,9 +838,9 @@ impl Recipe for Transparency {
             .map(|layer| {
                 let (surface, world) = self.surface(layer);
                 let matcap = match Self::matcap(world) {
-                    MatCapKey::Images => world
-                        .and_then(|w| w.textures())
-                        .map(|t| pass.read(&t.name)),
+                    MatCapKey::Images => {
+                        world.and_then(|w| w.textures()).map(|t| pass.read(&t.name))
+                    }
                     _ => None,
                 };
                 match surface.maps {
