@@ -300,11 +300,11 @@ struct LightShaderCase<'a> {
     key: u64,
     params: [f32; 4],
     loops: fn(&str) -> &'static [LightLoop],
-    reference: &'a ShaderReference,
+    reference: &'a ShaderReference<'a>,
 }
 
 /// (diffuse, specular) at a floor point seen along `v` from `lights`, or None to skip it.
-type ShaderReference = dyn Fn(Vec3, &[ShaderLight]) -> Option<(Vec3, Vec3)>;
+type ShaderReference<'a> = dyn Fn(Vec3, &[ShaderLight]) -> Option<(Vec3, Vec3)> + 'a;
 
 /// Every light type's buffer (three points, two spots, two suns, some
 /// casting shadows) over the ball on the floor, shaded by `case`'s light
