@@ -399,6 +399,19 @@ static CASES: &[Case] = &[
             tolerance: LIT,
         }],
     },
+    // `AshikhminShirley (Shader)`, the anisotropic Phong light shader node,
+    // in place of CookTorrance for the toon example's lights.
+    Case {
+        patch: "patches/ashikhmin-shirley.ron",
+        size: SCENE,
+        edit: unchanged,
+        shots: &[Shot {
+            name: "ashikhmin-shirley",
+            output: "ashikhmin-shirley",
+            frame: 0,
+            tolerance: LIT,
+        }],
+    },
     // Particles in a curl-noise field: lit by the sun, casting its shadow,
     // motion-blurred through Velocity From Geometry; frame 30 of a fixed
     // seed, so the same particles every run.
@@ -670,6 +683,11 @@ fn custom_feature_example() {
 #[test]
 fn toon_lights_example() {
     check("patches/toon-lights.ron");
+}
+
+#[test]
+fn ashikhmin_shirley_example() {
+    check("patches/ashikhmin-shirley.ron");
 }
 
 #[test]

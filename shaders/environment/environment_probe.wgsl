@@ -2,10 +2,13 @@
 // the layer drawn from the probe into one cube face per render pass, each
 // surface shaded forward with the probe's own lighting:
 //   radiance = albedo * (ambient + sun_color * max(N.L, 0))
-// albedo the instance colour; N turned towards the probe (both sides are
-// drawn: a probe inside an object sees its inside lit, not black). No
-// shadows, no textures: a mirror needs the colours and the rough shape of
-// its surroundings, at a fraction of a G-buffer's cost. Vertices are pulled
+// albedo the instance colour times the layer's Color Texture (COLOR_MAP:
+// by the mesh's UVs, TEXCOORDS, or blended over three planar projections
+// as the G-buffer resolve does, TRIPLANAR; its group 1); N turned towards
+// the probe (both sides are drawn: a probe inside an object sees its
+// inside lit, not black). No shadows, no normal maps: a mirror needs the
+// colours and the rough shape of its surroundings, at a fraction of a
+// G-buffer's cost. Vertices are pulled
 // from the mesh arena by index (spreadlight::mesh_fetch), as the shadow
 // depth pass pulls them. Clamped below half-float overflow; NaN is 0.
 #import spreadlight::mesh_fetch::{instances, triangle_vertex, view_right, view_up}
@@ -23,6 +26,21 @@ struct ProbeFace {
 }
 
 @group(0) @binding(0) var<uniform> face: ProbeFace;
+#ifdef COLOR_MAP
+@group(1) @binding(0) var color_map: texture_2d<f32>;
+@group(1) @binding(1) var color_sampler: sampler;
+#ifdef TRIPLANAR
+struct ProbeLayer {
+    // The exponent of the normal's components weighting the projections
+    // (DeferredBase's Triplanar, Triplanar (Layer)'s Sharpness).
+    triplanar_sharpness: f32,
+    pad0: f32,
+    pad1: f32,
+    pad2: f32,
+}
+@group(1) @binding(2) var<uniform> probe_layer: ProbeLayer;
+#endif
+#endif
 
 const HALF_MAX: f32 = 65000.0;
 
@@ -31,6 +49,7 @@ struct Varyings {
     @location(0) world: vec3<f32>,
     @location(1) normal: vec3<f32>,
     @location(2) albedo: vec3<f32>,
+    @location(3) uv: vec2<f32>,
 }
 
 @vertex
@@ -44,6 +63,7 @@ fn vs(@builtin(vertex_index) vertex: u32, @builtin(instance_index) instance: u32
     out.world = world.xyz / world.w;
     out.normal = (record.normal_matrix * vec4<f32>(v.normal_v.xyz, 0.0)).xyz;
     out.albedo = record.color.rgb;
+    out.uv = vec2<f32>(v.position_u.w, v.normal_v.w);
     return out;
 }
 
@@ -54,7 +74,21 @@ fn fs(in: Varyings) -> @location(0) vec4<f32> {
     if (dot(n, to_probe) < 0.0) {
         n = -n;
     }
-    let albedo = max(in.albedo, vec3<f32>(0.0));
+    var albedo = max(in.albedo, vec3<f32>(0.0));
+#ifdef COLOR_MAP
+    // Level 0: a probe's faces are small and the prefilter blurs them anyway.
+#ifdef TRIPLANAR
+    let world_n = safe_normalize(in.normal, vec3<f32>(0.0, 1.0, 0.0));
+    var w = pow(abs(world_n) + vec3<f32>(1e-5), vec3<f32>(max(probe_layer.triplanar_sharpness, 1.0)));
+    w = w / (w.x + w.y + w.z);
+    let texel = textureSampleLevel(color_map, color_sampler, fract(in.world.zy), 0.0).rgb * w.x
+        + textureSampleLevel(color_map, color_sampler, fract(in.world.xz), 0.0).rgb * w.y
+        + textureSampleLevel(color_map, color_sampler, fract(in.world.xy), 0.0).rgb * w.z;
+#else
+    let texel = textureSampleLevel(color_map, color_sampler, in.uv, 0.0).rgb;
+#endif
+    albedo *= max(texel, vec3<f32>(0.0));
+#endif
     let light = face.ambient.rgb + face.sun_color.rgb * max(dot(n, face.towards_sun.xyz), 0.0);
     let c = min(max(albedo * light, vec3<f32>(0.0)), vec3<f32>(HALF_MAX));
     return vec4<f32>(select(vec3<f32>(0.0), c, c == c), 1.0);

@@ -42,6 +42,12 @@
 // reflectance and emission from the material world's CookTorrance and
 // Emission features by the instance's material id (with surface maps,
 // scaled by the metallic-roughness and emissive maps), else the node's pins.
+// MATCAP (base pass, with MATERIALS): a layer whose material has MatCap
+// gets it as CompositeLight gives opaque surfaces, looked up by the
+// view-space normal of the face shown (MATCAP_TEXTURE: the world's texture
+// array holds its images; else the built-in clay). SSR, Reflection's
+// screen-space input and SSAO are the G-buffer's, which transparent layers
+// are not in: they get the Environment (ENVIRONMENT) and no SSR.
 // Both faces are drawn, except for one-sided glTF materials, whose back
 // faces the pipeline culls; a back face is lit with its normal turned to
 // the viewer (a glass shell's inside).
@@ -54,6 +60,10 @@
 #endif
 #ifdef ENVIRONMENT
 #import spreadlight::ibl::{split_sum, facing_normal}
+#endif
+#ifdef MATCAP
+#import spreadlight::material::{feature_texture, FEATURE_MATCAP}
+#import spreadlight::matcap::{matcap_uv, default_matcap}
 #endif
 #ifdef MATERIAL_MAPS
 #import spreadlight::material_maps::{MapCoords, sample_map, has_map, map_settings, MAP_BASE_COLOR, MAP_METALLIC_ROUGHNESS, MAP_NORMAL, MAP_OCCLUSION, MAP_EMISSIVE}
@@ -122,6 +132,37 @@ fn environment_light(n: vec3<f32>, v: vec3<f32>, albedo: vec3<f32>, roughness: f
     let lod = r * max(params.surface.w - 1.0, 0.0);
     let specular = textureSampleLevel(prefiltered, cube_sampler, reflect(-v, nf), lod).rgb * factor;
     return max(diffuse, vec3<f32>(0.0)) + max(specular, vec3<f32>(0.0)) * max(reflective, 0.0);
+}
+#endif
+
+#ifdef MATCAP
+#ifdef MATCAP_TEXTURE
+@group(0) @binding(20) var matcap_images: texture_2d_array<f32>;
+@group(0) @binding(21) var matcap_sampler: sampler;
+#endif
+
+// What `material`'s MatCap adds to a surface of world normal `n` (the face
+// shown) at `world`: as CompositeLight's matcap_light, nothing without the
+// feature or at strength 0.
+fn matcap_light(material: u32, n: vec3<f32>, world: vec3<f32>, albedo: vec3<f32>) -> vec3<f32> {
+    // x strength, y mode (1: add as light), z mapping (1: reflected).
+    let settings = feature_param(material, FEATURE_MATCAP, 0u, vec4<f32>(0.0));
+    if (!(settings.x > 0.0)) {
+        return vec3<f32>(0.0);
+    }
+    let view_n = safe_normalize((camera.view * vec4<f32>(n, 0.0)).xyz, vec3<f32>(0.0, 0.0, 1.0));
+    let v = safe_normalize((camera.view * vec4<f32>(world, 1.0)).xyz, vec3<f32>(0.0, 0.0, -1.0));
+    let uv = matcap_uv(view_n, v, settings.z > 0.5);
+    var image = default_matcap(uv);
+#ifdef MATCAP_TEXTURE
+    let texture = feature_texture(material, FEATURE_MATCAP);
+    if (texture > 0u) {
+        let layer = (texture - 1u) % max(textureNumLayers(matcap_images), 1u);
+        image = textureSampleLevel(matcap_images, matcap_sampler, uv, layer, 0.0).rgb;
+    }
+#endif
+    let tint = select(albedo, vec3<f32>(1.0), settings.y > 0.5);
+    return max(image * tint * settings.x, vec3<f32>(0.0));
 }
 #endif
 
@@ -389,6 +430,9 @@ fn fs(in: VertexOut, @builtin(front_facing) front: bool) -> Accumulated {
     let facing = select(-n, n, front);
     let v = safe_normalize(camera.position.xyz - in.world, facing);
     unlit += environment_light(facing, v, albedo, roughness, metallic, reflectance, reflective) * occlusion;
+#endif
+#ifdef MATCAP
+    unlit += matcap_light(in.material, select(-n, n, front), in.world, albedo);
 #endif
     let color = max(sanitize(vec4<f32>(min(unlit, vec3<f32>(600.0)), 0.0)).rgb, vec3<f32>(0.0));
     out.accumulation = vec4<f32>(color * alpha, alpha) * w;

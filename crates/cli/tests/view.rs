@@ -491,3 +491,129 @@ fn material_extensions_show_as_their_materials_say() {
     assert!(!stderr.contains("not supported"), "{stderr}");
     matches_reference("view-material-extensions", &lit);
 }
+
+/// A file shaped like Khronos' DepthOfFieldExample (Blender's export): a
+/// large floor, blocks at several depths along the view, a camera of the
+/// file's own looking down the row, and point lights of thousands of
+/// candela above it, no sun. `view` must show it from that camera, exposed
+/// for those lights: the floor a mid grey, not the white, burnt-out floor
+/// a framing camera at exposure 1 gave.
+fn depth_of_field_shaped_scene() -> Vec<u8> {
+    use gltf_json::extensions::scene::khr_lights_punctual::{Light, Type};
+    use gltf_json::validation::Checked::Valid;
+    use spreadlight_render::mesh::gltf_import::builder::{light_node, mesh_node};
+    use spreadlight_render::mesh::primitives::{BoxParams, GridParams, box_mesh, grid};
+    let mut doc = Doc::new();
+    let floor = doc.mesh_data(
+        "Floor",
+        &grid(GridParams {
+            size: glam::Vec2::splat(16.0),
+            resolution_x: 1,
+            resolution_y: 1,
+        }),
+    );
+    let block = doc.mesh_data("Block", &box_mesh(BoxParams::default()));
+    let matte = |color: [f32; 4]| gltf_json::Material {
+        pbr_metallic_roughness: gltf_json::material::PbrMetallicRoughness {
+            base_color_factor: gltf_json::material::PbrBaseColorFactor(color),
+            metallic_factor: gltf_json::material::StrengthFactor(0.0),
+            roughness_factor: gltf_json::material::StrengthFactor(0.6),
+            ..Default::default()
+        },
+        ..Default::default()
+    };
+    let grey = doc.material(matte([0.5, 0.5, 0.5, 1.0]));
+    let orange = doc.material(matte([0.6, 0.25, 0.05, 1.0]));
+    doc.root.meshes[floor.value()].primitives[0].material = Some(grey);
+    doc.root.meshes[block.value()].primitives[0].material = Some(orange);
+    let point = |name: &str, intensity: f32| Light {
+        color: [1.0, 0.95, 0.9],
+        extensions: None,
+        extras: Default::default(),
+        intensity,
+        name: Some(name.into()),
+        range: None,
+        spot: None,
+        type_: Valid(Type::Point),
+    };
+    doc.punctual_lights(vec![
+        point("Lamp", 3000.0),
+        point("Lamp.001", 6000.0),
+        point("Lamp.002", 4500.0),
+    ]);
+    let camera = doc.root.push(gltf_json::Camera {
+        name: Some("DOF Camera".into()),
+        orthographic: None,
+        perspective: Some(gltf_json::camera::Perspective {
+            aspect_ratio: Some(1.0),
+            yfov: 0.6,
+            zfar: Some(100.0),
+            znear: 0.1,
+            extensions: None,
+            extras: Default::default(),
+        }),
+        type_: Valid(gltf_json::camera::Type::Perspective),
+        extensions: None,
+        extras: Default::default(),
+    });
+    let mut nodes = vec![doc.node(mesh_node(Some(floor), [0.0; 3], 1.0))];
+    for (i, z) in [1.0f32, -1.0, -3.0, -5.0, -7.0].into_iter().enumerate() {
+        let x = if i % 2 == 0 { -0.8 } else { 0.8 };
+        nodes.push(doc.node(mesh_node(Some(block), [x, 0.5, z], 1.0)));
+    }
+    for (light, position) in [[-2.0, 3.0, 0.0], [2.0, 3.0, -3.0], [0.0, 3.5, -6.0]]
+        .into_iter()
+        .enumerate()
+    {
+        nodes.push(doc.node(gltf_json::Node {
+            translation: Some(position),
+            ..light_node(light as u32)
+        }));
+    }
+    // Cameras look along -Z: from in front of the row, pitched down at it.
+    let pitch = glam::Quat::from_rotation_x(-0.3);
+    nodes.push(doc.node(gltf_json::Node {
+        camera: Some(camera),
+        translation: Some([0.0, 1.8, 5.0]),
+        rotation: Some(gltf_json::scene::UnitQuaternion(pitch.to_array())),
+        ..Default::default()
+    }));
+    doc.scene(nodes);
+    doc.gltf_data_uri()
+}
+
+#[test]
+fn a_depth_of_field_shaped_file_is_seen_from_its_camera_and_its_floor_is_not_burnt() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let model = depth_of_field_shaped_scene();
+    let (lit, stderr) = view(dir.path(), "dof", &model, &[]);
+    assert!(
+        stderr.contains("viewed from camera `DOF Camera`"),
+        "{stderr}"
+    );
+    assert!(stderr.contains("exposed by"), "{stderr}");
+    // The floor fills the lower half of the picture, between the blocks.
+    let floor: Vec<[u8; 4]> = lit
+        .enumerate_pixels()
+        .filter(|(_, y, _)| *y >= lit.height() * 3 / 4)
+        .map(|(_, _, p)| p.0)
+        .filter(|p| (i32::from(p[0]) - i32::from(p[2])).abs() < 40)
+        .collect();
+    assert!(floor.len() > 100, "{} floor pixels", floor.len());
+    let burnt = floor
+        .iter()
+        .filter(|p| p[..3].iter().all(|c| *c >= 250))
+        .count();
+    assert!(
+        burnt * 50 < floor.len(),
+        "{burnt} of {} floor pixels are white",
+        floor.len()
+    );
+    let mut grey: Vec<u8> = floor.iter().map(|p| p[1]).collect();
+    grey.sort_unstable();
+    let median = grey[grey.len() / 2];
+    assert!(
+        (25..240).contains(&median),
+        "the floor's median green {median}: neither black nor burnt"
+    );
+}

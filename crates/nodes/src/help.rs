@@ -59,7 +59,8 @@ pub const HELP_PATCHES: &[HelpPatch] = &[
     help!("shadows.ron" => ["ShadowMap (Sun)", "ShadowMap (Point)", "ShadowMap (Spot)"]),
     help!("material.ron" => [
         "AddCookTorrance", "AddEmission", "AddAmbientOcclusion", "AddMatCap", "FeatureManager",
-        "MaterialManager", "MaterialBuffer", "MaterialByName", "ParameterTexture",
+        "MaterialManager", "MaterialBuffer", "MaterialByName", "ParameterTexture", "AddClearcoat",
+        "AddUnlit",
     ]),
     help!("occlusion.ron" => ["SSAO", "HBAO", "SSGI", "SSSS", "AddFakeSSS"]),
     help!("environment.ron" => [

@@ -3,7 +3,8 @@
 //! the matcap lookup ([`matcap`]), a material shaded under the sun
 //! ([`material`]), ray-cast soft shadows ([`shadows`]) and ambient
 //! occlusion ([`ssao`]) to measure the filters by, reflections ray-traced
-//! ([`reflection`]) and the toon bands ([`toon`]); glTF materials point-sampled are
+//! ([`reflection`]), and the shipped light shader nodes' models ([`toon`],
+//! [`ashikhmin_shirley`]); glTF materials point-sampled are
 //! `spreadlight_gltf::reference`, beside the importer.
 //!
 //! Each function is written twice, here in Rust and in a WGSL library under
@@ -16,9 +17,11 @@
 //! renderer, which depends on this crate and not the other way round: a
 //! change in an effect does not rebuild the references.
 
+pub mod ashikhmin_shirley;
 pub mod brdf;
 pub mod lights;
 pub mod matcap;
+pub mod material;
 pub mod reflection;
 pub mod shadows;
 pub mod ssao;

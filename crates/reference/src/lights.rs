@@ -50,6 +50,22 @@ pub fn luminous_intensity_from_power(lumens: f32) -> f32 {
     lumens / (4.0 * PI)
 }
 
+/// One light at one surface point as the light loop hands it to a light
+/// shader node (`LightInput`'s light half, `shaders/lib/light_shader.wgsl`):
+/// what the references of the shipped light shaders
+/// ([`super::toon`], [`super::ashikhmin_shirley`]) take.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ShaderLight {
+    /// Unit vector from the surface towards the light.
+    pub direction: glam::Vec3,
+    /// Colour times intensity (a spot's cone applied).
+    pub radiance: glam::Vec3,
+    /// Windowed inverse square; 1 for a sun.
+    pub attenuation: f32,
+    /// 1 lit, 0 shadowed.
+    pub shadow: f32,
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

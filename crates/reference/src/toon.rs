@@ -16,18 +16,8 @@ pub struct ToonParams {
     pub specular: f32,
 }
 
-/// One light as the light loop hands it over (`LightInput`'s light half).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ToonLight {
-    /// Unit vector from the surface towards the light.
-    pub direction: Vec3,
-    /// Colour times intensity (a spot's cone applied).
-    pub radiance: Vec3,
-    /// Windowed inverse square; 1 for a sun.
-    pub attenuation: f32,
-    /// 1 lit, 0 shadowed.
-    pub shadow: f32,
-}
+/// One light as the light loop hands it over (shared by every light shader's reference).
+pub use super::lights::ShaderLight as ToonLight;
 
 /// The bands, as the shader rounds the pin: at least one.
 fn bands(params: &ToonParams) -> f32 {

@@ -11,11 +11,11 @@ use std::sync::Arc;
 
 use floor_view::{SIZE, camera, floor_mesh, floor_points};
 use glam::{Mat4, Vec3};
-use spreadlight_reference::brdf::cook_torrance_f0;
-use spreadlight_reference::lights::point_attenuation;
 use spreadlight_render::gbuffer::{DrawBatch, GBuffer, InstanceInput, Layer};
 use spreadlight_render::lighting::{CookTorrance, LightBuffer, LightLoop, PointLight, Surfaces};
 use spreadlight_render::readback::{ImageF32, render_and_read};
+use spreadlight_reference::brdf::cook_torrance_f0;
+use spreadlight_reference::lights::{ShaderLight, point_attenuation};
 use spreadlight_render::renderer::test_renderer;
 use spreadlight_render::{Renderer, SizeRule};
 
@@ -184,14 +184,10 @@ fn hits_ball(p: Vec3, dir: Vec3, length: f32, centre: Vec3, radius: f32) -> bool
 
 const BALL: Vec3 = Vec3::new(0.3, 1.5, 0.2);
 
-/// The toon reference's light at floor point `p`, with the shadow the ball
+/// A light shader reference's light at floor point `p`, with the shadow the ball
 /// casts when `shadows` and the light has a shadow slice (None: too near
 /// the shadow's edge to tell).
-fn toon_light_at(
-    light: &AnyLight,
-    p: Vec3,
-    shadows: bool,
-) -> Option<spreadlight_reference::toon::ToonLight> {
+fn shader_light_at(light: &AnyLight, p: Vec3, shadows: bool) -> Option<ShaderLight> {
     use spreadlight_reference::lights::spot_attenuation;
     let (direction, radiance, attenuation, reach) = match light {
         AnyLight::Point(l) => {
@@ -256,7 +252,7 @@ fn toon_light_at(
         }
         shadow = if inner { 0.0 } else { 1.0 };
     }
-    Some(spreadlight_reference::toon::ToonLight {
+    Some(ShaderLight {
         direction,
         radiance,
         attenuation,
@@ -292,9 +288,29 @@ fn ball_floor_points(
         .collect()
 }
 
-#[test]
-fn a_light_shader_node_sums_every_light_type_as_its_cpu_reference_with_and_without_shadows() {
-    use spreadlight_reference::toon::{band_margin, toon_sum};
+/// A light shader node under test: its file, its uniform block, the light
+/// loops each light type is walked by, and its CPU reference: (diffuse,
+/// specular) at a floor point seen along `v` from `lights`, or None where
+/// the pixel is too near a step of the model to compare.
+struct LightShaderCase<'a> {
+    node: &'a str,
+    path: &'a str,
+    source: &'a str,
+    /// The compiled file's version key (a shader node's content hash).
+    key: u64,
+    params: [f32; 4],
+    loops: fn(&str) -> &'static [LightLoop],
+    reference: &'a ShaderReference<'a>,
+}
+
+/// (diffuse, specular) at a floor point seen along `v` from `lights`, or None to skip it.
+type ShaderReference<'a> = dyn Fn(Vec3, &[ShaderLight]) -> Option<(Vec3, Vec3)> + 'a;
+
+/// Every light type's buffer (three points, two spots, two suns, some
+/// casting shadows) over the ball on the floor, shaded by `case`'s light
+/// shader, with and without shadow maps: the Diffuse and Specular targets
+/// must be the sums the reference makes, pixel by pixel.
+fn light_shader_sums_every_light_type_as_its_reference(case: &LightShaderCase<'_>) {
     use spreadlight_render::gbuffer::{SurfaceBinding, SurfaceShader};
     use spreadlight_render::lighting::{SpotLight, SunLight};
     use spreadlight_render::shadows::{
@@ -408,22 +424,11 @@ fn a_light_shader_node_sums_every_light_type_as_its_cpu_reference_with_and_witho
             },
         ),
     ];
-    let params: Vec<u8> = [
-        TOON_PARAMS.bands,
-        TOON_PARAMS.highlight_size,
-        TOON_PARAMS.specular,
-        0.0,
-    ]
-    .iter()
-    .flat_map(|f| f.to_le_bytes())
-    .collect();
+    let params: Vec<u8> = case.params.iter().flat_map(|f| f.to_le_bytes()).collect();
     let seen = ball_floor_points(&camera, size, eye);
     for (name, buffer, lights, casting) in cases {
         // A few lights are walked naively; points and spots through the clusters too.
-        let loops: &[LightLoop] = match name {
-            "suns" => &[LightLoop::Auto],
-            _ => &[LightLoop::Auto, LightLoop::Clustered],
-        };
+        let loops = (case.loops)(name);
         for (with_shadows, &light_loop) in [false, true]
             .into_iter()
             .flat_map(|s| loops.iter().map(move |l| (s, l)))
@@ -452,16 +457,16 @@ fn a_light_shader_node_sums_every_light_type_as_its_cpu_reference_with_and_witho
                 .expect("valid shadows")
             });
             let shader = SurfaceShader::new(
-                "Toon (Shader) #1".into(),
-                "shaders/nodes/toon_lights.wgsl".into(),
-                TOON.into(),
-                7,
+                format!("{} #1", case.node),
+                case.path.into(),
+                case.source.into(),
+                case.key,
                 vec![(0, SurfaceBinding::Uniform)],
                 params.clone(),
                 Vec::new(),
                 1,
             );
-            let toon = CookTorrance::with_light_shader(
+            let shaded = CookTorrance::with_light_shader(
                 &renderer,
                 Some(1),
                 g,
@@ -473,9 +478,9 @@ fn a_light_shader_node_sums_every_light_type_as_its_cpu_reference_with_and_witho
             );
             let (report, images) = render_and_read(
                 &renderer,
-                toon.as_ref(),
+                shaded.as_ref(),
                 size,
-                &[&toon.diffuse, &toon.specular],
+                &[&shaded.diffuse, &shaded.specular],
             )
             .expect("the frame renders");
             assert!(report.errors.is_empty(), "{name}: {:?}", report.errors);
@@ -483,7 +488,7 @@ fn a_light_shader_node_sums_every_light_type_as_its_cpu_reference_with_and_witho
                 report
                     .passes
                     .iter()
-                    .any(|p| p.is("Toon (Shader) #1", Some("shade"))),
+                    .any(|p| p.is(&format!("{} #1", case.node), Some("shade"))),
                 "the pass is named after the node"
             );
             let (diffuse, specular) = (&images[0], &images[1]);
@@ -493,16 +498,14 @@ fn a_light_shader_node_sums_every_light_type_as_its_cpu_reference_with_and_witho
                 let Some((p, v)) = seen else { continue };
                 let Some(reference) = lights
                     .iter()
-                    .map(|l| toon_light_at(l, *p, with_shadows))
+                    .map(|l| shader_light_at(l, *p, with_shadows))
                     .collect::<Option<Vec<_>>>()
                 else {
                     continue;
                 };
-                if band_margin(Vec3::Y, *v, &reference, &TOON_PARAMS) < 2e-3 {
+                let Some((want_d, want_s)) = (case.reference)(*v, &reference) else {
                     continue;
-                }
-                let (want_d, want_s) =
-                    toon_sum(Vec3::Y, *v, Vec3::splat(0.8), &reference, &TOON_PARAMS);
+                };
                 for (got, want, what) in [
                     (diffuse.pixels[i], want_d, "diffuse"),
                     (specular.pixels[i], want_s, "specular"),
@@ -523,7 +526,8 @@ fn a_light_shader_node_sums_every_light_type_as_its_cpu_reference_with_and_witho
                 highlit += usize::from(want_s.max_element() > 1e-4);
             }
             eprintln!(
-                "{name}, {light_loop:?}, shadows {with_shadows}: {checked} pixels, {shadowed} in a shadow, {highlit} highlit"
+                "{} {name}, {light_loop:?}, shadows {with_shadows}: {checked} pixels, {shadowed} in a shadow, {highlit} highlit",
+                case.node
             );
             assert!(
                 checked * 2 > (size.0 * size.1) as usize,
@@ -541,4 +545,68 @@ fn a_light_shader_node_sums_every_light_type_as_its_cpu_reference_with_and_witho
             }
         }
     }
+}
+
+#[test]
+fn a_light_shader_node_sums_every_light_type_as_its_cpu_reference_with_and_without_shadows() {
+    use spreadlight_reference::toon::{band_margin, toon_sum};
+    light_shader_sums_every_light_type_as_its_reference(&LightShaderCase {
+        node: "Toon (Shader)",
+        path: "shaders/nodes/toon_lights.wgsl",
+        source: TOON,
+        key: 7,
+        params: [
+            TOON_PARAMS.bands,
+            TOON_PARAMS.highlight_size,
+            TOON_PARAMS.specular,
+            0.0,
+        ],
+        // A few lights are walked naively; points and spots through the clusters too.
+        loops: |name| match name {
+            "suns" => &[LightLoop::Auto],
+            _ => &[LightLoop::Auto, LightLoop::Clustered],
+        },
+        reference: &|v, lights| {
+            (band_margin(Vec3::Y, v, lights, &TOON_PARAMS) >= 2e-3)
+                .then(|| toon_sum(Vec3::Y, v, Vec3::splat(0.8), lights, &TOON_PARAMS))
+        },
+    });
+}
+
+/// The shipped Ashikhmin-Shirley light shader node's file.
+const ASHIKHMIN_SHIRLEY: &str = include_str!("../../../shaders/nodes/ashikhmin_shirley.wgsl");
+
+/// Anisotropic, so a wrong tangent frame or exponent shows.
+const ASHIKHMIN_SHIRLEY_PARAMS:
+    spreadlight_reference::ashikhmin_shirley::AshikhminShirleyParams =
+    spreadlight_reference::ashikhmin_shirley::AshikhminShirleyParams {
+        exponent_u: 60.0,
+        exponent_v: 8.0,
+        specular: 0.3,
+    };
+
+/// The Ashikhmin-Shirley example sums over lights as its CPU reference does
+/// (smooth: every floor pixel is compared; the loop the toon test already
+/// checks both ways is walked by Auto only, to keep the test cheap).
+#[test]
+fn the_ashikhmin_shirley_light_shader_sums_every_light_type_as_its_cpu_reference() {
+    use spreadlight_reference::ashikhmin_shirley::ashikhmin_shirley_sum;
+    let p = ASHIKHMIN_SHIRLEY_PARAMS;
+    light_shader_sums_every_light_type_as_its_reference(&LightShaderCase {
+        node: "AshikhminShirley (Shader)",
+        path: "shaders/nodes/ashikhmin_shirley.wgsl",
+        source: ASHIKHMIN_SHIRLEY,
+        key: 8,
+        params: [p.exponent_u, p.exponent_v, p.specular, 0.0],
+        loops: |_| &[LightLoop::Auto],
+        reference: &|v, lights| {
+            Some(ashikhmin_shirley_sum(
+                Vec3::Y,
+                v,
+                Vec3::splat(0.8),
+                lights,
+                &p,
+            ))
+        },
+    });
 }

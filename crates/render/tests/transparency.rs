@@ -24,7 +24,7 @@ use spreadlight_render::lighting::{LightBuffer, LightLoop, PointLight, SunLight}
 use spreadlight_render::mesh::MeshData;
 use spreadlight_render::mesh::primitives::{SphereParams, plane, sphere};
 use spreadlight_render::post::transparency::{
-    ASSIGNED, DRAWN, LIGHT_PASSES, SKIPPED, TransparencyPass,
+    ASSIGNED, DRAWN, LIGHT_PASSES, MatCapKey, SKIPPED, TransparencyPass,
 };
 use spreadlight_render::post::{LitBy, Transparency, TransparencySettings, TransparentLights};
 use spreadlight_render::readback::ImageF32;
@@ -437,9 +437,6 @@ fn lit_pane_by(
     ImageF32,
     Arc<Transparency>,
 ) {
-    let opaque = balls(renderer, &[Ball::still(Vec3::ZERO, 0.5)]);
-    let g = gbuffer(renderer, opaque, look(EYE, Vec3::ZERO, FOV, 1.0), None);
-    let black = image(renderer, SIZE, |_, _| [0.0, 0.0, 0.0, 1.0]);
     let lights = lights
         .into_iter()
         .map(|lights| TransparentLights {
@@ -447,6 +444,32 @@ fn lit_pane_by(
             shadows: None,
         })
         .collect();
+    lit_pane_with(
+        renderer,
+        layer,
+        settings,
+        LitBy {
+            lights,
+            environment,
+            ..Default::default()
+        },
+    )
+}
+
+/// The pane lit as `by` says over a black image.
+fn lit_pane_with(
+    renderer: &Renderer,
+    layer: Arc<Layer>,
+    settings: TransparencySettings,
+    by: LitBy,
+) -> (
+    spreadlight_render::report::FrameReport,
+    ImageF32,
+    Arc<Transparency>,
+) {
+    let opaque = balls(renderer, &[Ball::still(Vec3::ZERO, 0.5)]);
+    let g = gbuffer(renderer, opaque, look(EYE, Vec3::ZERO, FOV, 1.0), None);
+    let black = image(renderer, SIZE, |_, _| [0.0, 0.0, 0.0, 1.0]);
     let pass = Transparency::lit(
         renderer,
         None,
@@ -454,11 +477,7 @@ fn lit_pane_by(
         g,
         vec![layer],
         settings,
-        LitBy {
-            lights,
-            environment,
-            ..Default::default()
-        },
+        by,
     );
     let (report, out) = render(renderer, pass.as_ref(), &pass.output, SIZE);
     (report, out, pass)
@@ -640,11 +659,11 @@ fn no_light_buffer_no_light_pass_and_the_old_look() {
     let (report, out, pass) = lit_pane(&renderer, pane(&renderer, None, 1.0), unlit(), vec![]);
     assert_eq!(report.counter(LIGHT_PASSES), 0);
     assert_eq!(report.counter(ASSIGNED), 0);
-    assert!(
-        pass.keys()
-            .iter()
-            .all(|k| k.pass == TransparencyPass::Base { environment: false })
-    );
+    assert!(pass.keys().iter().all(|k| k.pass
+        == TransparencyPass::Base {
+            environment: false,
+            matcap: MatCapKey::Off
+        }));
     let c = Vec3::from_slice(&at(&out, 24, 24)[..3]);
     assert!((c - ALBEDO).abs().max_element() < 5e-3, "{c}");
     // An empty light buffer is no light pass either.
@@ -731,6 +750,72 @@ fn a_uniform_environment_reflects_off_white_metal_glass_as_its_specular_albedo()
             assert!(
                 (c - want).abs() < 0.04 * want,
                 "pixel ({x}, {y}): {got:?}, the reference says {want}"
+            );
+        }
+    }
+}
+
+/// MatCap is a material feature, so a transparent layer whose material has
+/// it gets it in its base pass as CompositeLight gives opaque surfaces: the
+/// pane faces the eye, its view-space normal is +z everywhere, and the
+/// built-in matcap there (the CPU twin's value) is added (Add) or tinted by
+/// the albedo (Multiply), times strength. Without a MatCap material no
+/// MATCAP permutation is compiled.
+#[test]
+fn matcap_materials_shade_transparent_layers_as_the_cpu_matcap_says() {
+    use spreadlight_render::material::{
+        Feature, MatCapMapping, MatCapMode, Material, MaterialWorld, matcap_params,
+    };
+    use spreadlight_reference::matcap::{default_matcap, matcap_uv};
+    let renderer = test_renderer();
+    let image = default_matcap(matcap_uv(Vec3::Z, Vec3::NEG_Z, false));
+    let matcap_keys = |pass: &Transparency| {
+        pass.keys()
+            .iter()
+            .filter(|k| k.key().features.contains("MATCAP"))
+            .count()
+    };
+    let plain = MaterialWorld::new(&renderer, vec![Material::new()]);
+    let (_, out, pass) = lit_pane_with(
+        &renderer,
+        pane(&renderer, None, 1.0),
+        unlit(),
+        LitBy {
+            materials: Some(plain),
+            ..Default::default()
+        },
+    );
+    assert_eq!(matcap_keys(&pass), 0, "no MatCap material, no matcap code");
+    let c = Vec3::from_slice(&at(&out, 24, 24)[..3]);
+    assert!((c - ALBEDO).abs().max_element() < 5e-3, "{c}");
+    for (mode, strength, want) in [
+        (MatCapMode::Add, 1.0, ALBEDO + image),
+        (MatCapMode::Add, 0.5, ALBEDO + image * 0.5),
+        (MatCapMode::Multiply, 1.0, ALBEDO + image * ALBEDO),
+    ] {
+        let material = Material::new()
+            .with(
+                Feature::MatCap,
+                &[matcap_params(strength, mode, MatCapMapping::Normal)],
+            )
+            .expect("valid");
+        let world = MaterialWorld::new(&renderer, vec![material]);
+        let (_, out, pass) = lit_pane_with(
+            &renderer,
+            pane(&renderer, None, 1.0),
+            unlit(),
+            LitBy {
+                materials: Some(world),
+                ..Default::default()
+            },
+        );
+        assert_eq!(matcap_keys(&pass), 1, "the base pass reads the matcap");
+        assert!(out.all_finite());
+        for (x, y) in [(24, 24), (14, 30), (34, 16)] {
+            let c = Vec3::from_slice(&at(&out, x, y)[..3]);
+            assert!(
+                (c - want).abs().max_element() < 5e-3,
+                "{mode:?} {strength} at ({x}, {y}): {c}, the matcap says {want}"
             );
         }
     }

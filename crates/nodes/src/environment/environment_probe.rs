@@ -166,9 +166,10 @@ pub fn register(r: &mut Registry) {
             super::CATEGORY,
             "The scene as an environment: Layer rendered into a cube map from Position, prefiltered like Environment \
              (Sky), for Reflection, Sky and the diffuse light. What the faces show is a forward shading of the layer: \
-             each instance's colour times (Ambient + Sun Color x Sun Intensity x N.L, the sun travelling along Sun \
-             Direction), no shadows or textures; Background where nothing is. Update: On Change renders again only \
-             when the layer's instances, colours or meshes, the position or the lighting changed (a moved camera \
+             each instance's colour times its layer's Color Texture times (Ambient + Sun Color x Sun Intensity x \
+             N.L, the sun travelling along Sun Direction), no shadows; Background where nothing is. Update: On \
+             Change renders again only when the layer's instances, colours, meshes or Color Texture, the position \
+             or the lighting changed (a moved camera \
              does not); Every N Frames every N-th frame regardless; Once the first frame. `spreadlight stats` counts \
              \"environment probe rendered\" and \"reused\". Volume: with a Box (Volume Center, Volume Size) or Sphere \
              (Volume Radius) around the room, Reflection corrects each ray for parallax (box-projected reflections); \

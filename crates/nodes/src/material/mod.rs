@@ -1,7 +1,8 @@
 //! Materials in patch space (category "Material"), after Emeshe:
 //! `FeatureManager` sets one feature, by id, on a material; `AddCookTorrance`,
 //! `AddEmission`, `AddFakeSSS`, `AddReflection`, `AddMatCap` and
-//! `AddAmbientOcclusion` (in `add_feature.rs`) wrap it per built-in feature;
+//! `AddAmbientOcclusion` (in `add_feature.rs`) wrap it per built-in feature,
+//! as `AddClearcoat` and `AddUnlit` do for the features glTF brought;
 //! `ParameterTexture` maps one parameter of a built-in feature by a texture
 //! layer; `MaterialManager` places materials at material IDs; `MaterialByName`
 //! picks a named one (a glTF file's) to change; `MaterialBuffer`
@@ -12,7 +13,9 @@
 //! `ResourceKind::MaterialWorld` the uploaded `Arc<MaterialWorld>`, which is
 //! what shading passes bind. Only `MaterialBuffer` needs the renderer.
 
+pub mod add_clearcoat;
 pub mod add_feature;
+pub mod add_unlit;
 pub mod feature_manager;
 pub mod material_buffer;
 pub mod material_by_name;
@@ -30,6 +33,8 @@ pub const CATEGORY: &str = "Material";
 pub fn register(r: &mut Registry) {
     feature_manager::register(r);
     add_feature::register(r);
+    add_clearcoat::register(r);
+    add_unlit::register(r);
     material_manager::register(r);
     parameter_texture::register(r);
     material_by_name::register(r);
@@ -120,5 +125,7 @@ pub fn not_finite(cx: &EvalContext<'_>, pin: impl InputPin, slice: usize) -> Nod
     cx.error(pin, format!("slice {slice} is NaN or infinite"))
 }
 
+#[cfg(test)]
+mod lit_tests;
 #[cfg(test)]
 mod tests;

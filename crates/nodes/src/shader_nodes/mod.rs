@@ -46,6 +46,7 @@ pub const EXAMPLES: &[(&str, &str, &str)] = &[
     example!("procedural_material"),
     example!("rim_light"),
     example!("toon_lights"),
+    example!("ashikhmin_shirley"),
 ];
 
 /// Register the shipped examples. One that does not compile (a bug a test

@@ -20,7 +20,8 @@ use super::probe::ProbeUpdate;
 use super::probe::faces::PackedProbe;
 use super::source::{EnvironmentMaps, EnvironmentQuality, EnvironmentSource};
 use crate::error::RenderError;
-use crate::frame_graph::{FrameGraph, PassContext, TextureDesc};
+use crate::frame_graph::{FrameGraph, PassContext, Tex, TextureDesc};
+use crate::gbuffer::Layer;
 use crate::recipe::{Recipe, next_recipe_id};
 use crate::renderer::Renderer;
 use crate::report::PassName;
@@ -172,7 +173,12 @@ impl Environment {
             }
     }
 
-    fn run(&self, cx: &mut PassContext<'_>, renderer: &Renderer) -> Result<(), RenderError> {
+    fn run(
+        &self,
+        cx: &mut PassContext<'_>,
+        renderer: &Renderer,
+        color_maps: &[Option<Tex>],
+    ) -> Result<(), RenderError> {
         let mut guard = self.store.0.lock().unwrap_or_else(|e| e.into_inner());
         let probe = matches!(self.source, EnvironmentSource::Probe(_));
         if self.current(guard.as_deref()) {
@@ -187,7 +193,9 @@ impl Environment {
             return Ok(());
         }
         let faces = match (&self.source, &self.probe) {
-            (EnvironmentSource::Probe(scene), Some(packed)) => Some((renderer, &**scene, packed)),
+            (EnvironmentSource::Probe(scene), Some(packed)) => {
+                Some((renderer, &**scene, packed, color_maps))
+            }
             _ => None,
         };
         let maps = super::prefilter::build(cx, &self.source, self.quality, self.key, faces)?;
@@ -216,9 +224,21 @@ impl Recipe for Environment {
             }
             _ => PassName::new("Environment").step("prefilter"),
         };
+        // A probe's layers' Color Textures, made before its faces sample them.
+        let layers: &[Arc<Layer>] = match &self.source {
+            EnvironmentSource::Probe(scene) => scene.layers(),
+            _ => &[],
+        };
+        for map in layers.iter().flat_map(|l| &l.color_map) {
+            map.recipe.declare(renderer, fg);
+        }
         let mut pass = fg.pass(name, self.owner);
+        let color_maps: Vec<Option<Tex>> = layers
+            .iter()
+            .map(|l| l.color_map.as_ref().map(|m| pass.read(&m.name)))
+            .collect();
         // The maps live in the store; the token orders the passes that read them.
         pass.write(&self.token, TextureDesc::token());
-        pass.run(move |cx| self.run(cx, renderer));
+        pass.run(move |cx| self.run(cx, renderer, &color_maps));
     }
 }

@@ -99,8 +99,14 @@ fn upload_equirect(cx: &PassContext<'_>, image: &EquirectImage) -> wgpu::Texture
 /// One dispatch of the prefilter: its pipeline, bind groups and workgroups.
 type Step = (wgpu::ComputePipeline, Vec<wgpu::BindGroup>, (u32, u32, u32));
 
-/// What a probe's faces are drawn from.
-pub(crate) type ProbeFaces<'p> = (&'p Renderer, &'p ProbeScene, &'p PackedProbe);
+/// What a probe's faces are drawn from: its scene, packed, and each layer's
+/// Color Texture as the frame graph handed it to the pass.
+pub(crate) type ProbeFaces<'p> = (
+    &'p Renderer,
+    &'p ProbeScene,
+    &'p PackedProbe,
+    &'p [Option<crate::frame_graph::Tex>],
+);
 
 pub(crate) fn build(
     cx: &mut PassContext<'_>,
@@ -181,14 +187,14 @@ pub(crate) fn build(
             )?;
         }
         EnvironmentSource::Probe(_) => {
-            let Some((renderer, scene, packed)) = probe else {
+            let Some((renderer, scene, packed, color_maps)) = probe else {
                 return Err(RenderError::Pass {
                     pass: "EnvironmentProbe".to_owned(),
                     message: "a probe's layers were not packed".to_owned(),
                 });
             };
             // Render passes now, before the compute pass the steps go into.
-            super::probe::faces::render(cx, renderer, scene, packed, &base)?;
+            super::probe::faces::render(cx, renderer, scene, packed, color_maps, &base)?;
         }
         EnvironmentSource::Sky(_) => {
             let sky = source.gpu_sky().unwrap_or_default();

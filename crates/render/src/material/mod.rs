@@ -436,9 +436,13 @@ impl MaterialWorld {
         let packed = PackedMaterials::pack_with(&materials, Some(&layout));
         let upload = |label: &str, bytes: &[u8]| {
             // A storage binding cannot be empty (materials without features
-            // have no offsets or data); the flags say nothing is there.
+            // have no offsets or data); the flags say nothing is there. One
+            // element of the largest struct bound (a GpuFeatureOffset, 32
+            // bytes): a shader's minimum binding size is one element.
+            const PLACEHOLDER: [u8; std::mem::size_of::<GpuFeatureOffset>()] =
+                [0; std::mem::size_of::<GpuFeatureOffset>()];
             let contents = if bytes.is_empty() {
-                &[0u8; 16][..]
+                &PLACEHOLDER[..]
             } else {
                 bytes
             };

@@ -198,7 +198,14 @@ pub const SHADERS: &[ShaderFile] = &[
     shader!("ssao/blur.wgsl", keyed crate::ssao::key::BlurKey),
     shader!("environment/sky.wgsl", ["ENVIRONMENT", "FOG"]),
     shader!("environment/prefilter.wgsl", keyed crate::environment::PrefilterKey),
-    shader!("environment/environment_probe.wgsl", keyed crate::environment::probe::faces::ProbeFaceKey),
+    shader!(
+        "environment/environment_probe.wgsl",
+        ["COLOR_MAP", "TEXCOORDS", "TRIPLANAR"],
+        // The Color Texture by the mesh's UVs or by three planar projections.
+        Rule::AtMostOne(&["TEXCOORDS", "TRIPLANAR"]),
+        Rule::Requires("TEXCOORDS", "COLOR_MAP"),
+        Rule::Requires("TRIPLANAR", "COLOR_MAP")
+    ),
     shader!(
         "environment/reflection.wgsl",
         ["MATERIAL_TEXTURES", "SURFACE_TARGET", "PARALLAX"]

@@ -364,3 +364,106 @@ fn a_frame_without_a_probe_has_no_probe_pass() {
     );
     assert!(report.passes.iter().any(|p| p.kind == "EnvironmentProbe"));
 }
+
+fn blue(c: Vec3) -> bool {
+    c.z > 2.0 * c.x && c.z > 2.0 * c.y
+}
+
+/// The probe's faces take the layer's Color Texture: the box made white and
+/// textured blue (by its UVs, then by the triplanar projection) shows blue
+/// where the mirror reflects it, where a white box would show white. A
+/// texture changed under the same layer is a new content key: rendered again.
+#[test]
+fn a_mirror_sphere_beside_a_textured_box_shows_the_textures_colour() {
+    use spreadlight_render::static_texture::StaticTexture;
+    use spreadlight_render::texture::GpuTexture;
+    let renderer = test_renderer();
+    let s = scene(&renderer);
+    // Linear 8-bit (filterable, as a file's texture is).
+    let texture = |rgb: [u8; 3]| {
+        let texels: Vec<u8> = (0..16)
+            .flat_map(|_| [rgb[0], rgb[1], rgb[2], 255])
+            .collect();
+        StaticTexture::new(GpuTexture::from_rgba8(
+            &renderer.gpu,
+            4,
+            4,
+            &texels,
+            false,
+            "probe test texture",
+        ))
+        .texture_ref()
+    };
+    // The box white (the texture alone colours it), the floor as it was.
+    let mut white = Layer::clone(&s.surroundings);
+    for batch in &mut white.batches {
+        for instance in &mut batch.instances {
+            if instance.color == spreadlight_render::scenes::RED_BOX {
+                instance.color = [1.0; 4];
+            }
+        }
+    }
+    let towards_box = (Vec3::new(1.6, 0.402, 0.0) - BALL).normalize();
+    let box_colour = |surroundings: Layer, owner: Option<u32>| {
+        let surroundings = Arc::new(surroundings);
+        let (report, specular, depth, g) = mirror(
+            &renderer,
+            &MirrorBesideBox {
+                ball: s.ball.clone(),
+                surroundings: surroundings.clone(),
+            },
+            EYE,
+            probe(&renderer, owner, &surroundings, at_ball()),
+        );
+        let on_box: Vec<Vec3> = ball_pixels(&g, &specular, &depth)
+            .into_iter()
+            .filter(|(_, r)| r.angle_between(towards_box) < 0.2)
+            .map(|(c, _)| c)
+            .collect();
+        assert!(on_box.len() >= 3, "{} pixels reflect the box", on_box.len());
+        (
+            on_box.iter().sum::<Vec3>() / on_box.len() as f32,
+            report.counter("environment probe rendered"),
+        )
+    };
+    let (plain, _) = box_colour(white.clone(), None);
+    assert!(!blue(plain), "an untextured white box is not blue: {plain}");
+    for triplanar in [false, true] {
+        let mut textured = white.clone();
+        textured.features.texcoords = !triplanar;
+        textured.features.triplanar = triplanar;
+        let textured = textured
+            .with_color_map(Some(texture([13, 26, 230])))
+            .expect("UVs or triplanar");
+        let (mean, _) = box_colour(textured, None);
+        assert!(
+            blue(mean),
+            "triplanar {triplanar}: the textured box is blue in the mirror: {mean}"
+        );
+    }
+    // Another texture on the same layer, same node: the probe sees the change.
+    let mut layer = white.clone();
+    layer.features.texcoords = true;
+    let (_, first) = box_colour(
+        layer
+            .clone()
+            .with_color_map(Some(texture([13, 26, 230])))
+            .expect("UVs"),
+        Some(7),
+    );
+    let (green, again) = box_colour(
+        layer
+            .with_color_map(Some(texture([13, 230, 26])))
+            .expect("UVs"),
+        Some(7),
+    );
+    assert_eq!(
+        (first, again),
+        (1, 1),
+        "a new texture renders the faces again"
+    );
+    assert!(
+        green.y > 2.0 * green.x && green.y > 2.0 * green.z,
+        "{green}"
+    );
+}

@@ -1,8 +1,10 @@
 //! Rendering a probe's six faces (shaders/environment/environment_probe.wgsl) into its
 //! base cube's level 0 on the raster hardware: one render pass per face,
 //! the layer's instances pulled from the mesh arena as the shadow depth
-//! pass pulls them, each surface shaded forward with the probe's lighting.
-//! The prefilter then makes the cube's mips and roughness levels from it.
+//! pass pulls them, each surface shaded forward with the probe's lighting
+//! and its layer's Color Texture (one pipeline permutation per kind of
+//! layer: none, by UVs, triplanar). The prefilter then makes the cube's
+//! mips and roughness levels from it.
 
 use std::hash::{Hash, Hasher};
 
@@ -10,16 +12,11 @@ use wgpu::util::DeviceExt;
 
 use super::{ProbeScene, face_view_projection};
 use crate::error::RenderError;
-use crate::frame_graph::{Bindings, PassContext};
+use crate::frame_graph::{Bindings, PassContext, Tex};
 use crate::gbuffer::{Draw, GpuInstance, Layer, pack_instances};
 use crate::mesh_arena::pulled_pipeline;
 use crate::renderer::Renderer;
-use crate::shaders::Permutation;
-
-crate::flag_key! {
-    /// `environment/environment_probe.wgsl`: one permutation.
-    pub struct ProbeFaceKey("environment/environment_probe.wgsl");
-}
+use crate::shaders::{Sampling, ShaderKey};
 
 const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 /// The base cube's format (prefilter.rs).
@@ -30,13 +27,63 @@ const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 pub(crate) struct PackedProbe {
     instances: Vec<GpuInstance>,
     draws: Vec<Draw>,
+    /// Each layer's range of instances.
+    ranges: Vec<(u32, u32)>,
+    /// Each layer's Color Texture as its faces sample it.
+    maps: Vec<ProbeMap>,
+}
+
+/// How a layer's Color Texture reaches the probe's faces.
+#[derive(Clone, Debug, PartialEq, Hash)]
+enum ProbeMap {
+    None,
+    /// By the mesh's UVs.
+    Texcoords(String),
+    /// Three planar projections blended by the normal to this power.
+    Triplanar(String, u32),
+}
+
+impl ProbeMap {
+    fn of(layer: &Layer) -> Self {
+        let Some(map) = &layer.color_map else {
+            return ProbeMap::None;
+        };
+        // As Transparency and the resolve choose: Triplanar unless the mesh's UVs are asked for.
+        if layer.features.triplanar && !layer.features.texcoords {
+            ProbeMap::Triplanar(map.name.clone(), layer.features.triplanar_sharpness)
+        } else {
+            ProbeMap::Texcoords(map.name.clone())
+        }
+    }
+
+    fn features(&self) -> &'static [&'static str] {
+        match self {
+            ProbeMap::None => &[],
+            ProbeMap::Texcoords(_) => &["COLOR_MAP", "TEXCOORDS"],
+            ProbeMap::Triplanar(..) => &["COLOR_MAP", "TRIPLANAR"],
+        }
+    }
 }
 
 impl PackedProbe {
     pub(crate) fn new(layers: &[std::sync::Arc<Layer>]) -> Self {
-        let (instances, draws, _) = pack_instances(layers);
-        PackedProbe { instances, draws }
+        let (instances, draws, ranges) = pack_instances(layers);
+        let maps = layers.iter().map(|l| ProbeMap::of(l)).collect();
+        PackedProbe {
+            instances,
+            draws,
+            ranges,
+            maps,
+        }
     }
+}
+
+/// Matches `ProbeLayer` in shaders/environment/environment_probe.wgsl (TRIPLANAR).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
+struct GpuProbeLayer {
+    triplanar_sharpness: f32,
+    pad: [f32; 3],
 }
 
 impl Hash for PackedProbe {
@@ -50,6 +97,11 @@ impl Hash for PackedProbe {
         for d in &self.draws {
             (d.index_count, d.first_instance, d.instance_count).hash(h);
         }
+        // Which texture a layer shows (by name: a new file is a new
+        // texture); a texture whose pixels change under the same name (a
+        // video) needs EveryNFrames.
+        self.ranges.hash(h);
+        self.maps.hash(h);
     }
 }
 
@@ -66,23 +118,14 @@ struct GpuProbeFace {
     ambient: [f32; 4],
 }
 
-/// Draw `scene` into level 0 of `base` (a cube, RENDER_ATTACHMENT), one face per layer.
-pub(crate) fn render(
+/// The faces' pipeline for one kind of layer (`key`).
+fn pipeline(
     cx: &mut PassContext<'_>,
-    renderer: &Renderer,
-    scene: &ProbeScene,
-    packed: &PackedProbe,
-    base: &wgpu::Texture,
-) -> Result<(), RenderError> {
+    key: &ShaderKey,
+) -> Result<wgpu::RenderPipeline, RenderError> {
     let device = cx.gpu.device.clone();
-    let size = base.width();
-    let s = scene.settings();
-    let l = s.lighting;
-    let towards_sun = (-l.sun_direction).try_normalize().unwrap_or(glam::Vec3::Y);
-    let key = ProbeFaceKey.key();
-    let pipeline = cx
-        .shaders
-        .render_pipeline(&device, &key, "rgba16f", |module, cache| {
+    cx.shaders
+        .render_pipeline(&device, key, "rgba16f", |module, cache| {
             // Both sides: the faces' handedness differs, and a probe
             // inside an object sees its inside (the shader turns each
             // normal towards the probe).
@@ -102,7 +145,56 @@ pub(crate) fn render(
                 }),
                 &[Some(COLOR_FORMAT.into())],
             )
-        })?;
+        })
+}
+
+/// Draw `scene` into level 0 of `base` (a cube, RENDER_ATTACHMENT), one
+/// render pass per face. `color_maps`: each layer's Color Texture as the
+/// frame graph handed it to this pass (None: the layer has none).
+pub(crate) fn render(
+    cx: &mut PassContext<'_>,
+    renderer: &Renderer,
+    scene: &ProbeScene,
+    packed: &PackedProbe,
+    color_maps: &[Option<Tex>],
+    base: &wgpu::Texture,
+) -> Result<(), RenderError> {
+    let device = cx.gpu.device.clone();
+    let size = base.width();
+    let s = scene.settings();
+    let l = s.lighting;
+    let towards_sun = (-l.sun_direction).try_normalize().unwrap_or(glam::Vec3::Y);
+    // Per layer with instances: its permutation, pipeline and (triplanar) uniform.
+    let mut layers = Vec::new();
+    for (index, (range, map)) in packed.ranges.iter().zip(&packed.maps).enumerate() {
+        if range.0 == range.1 {
+            continue;
+        }
+        let color = color_maps.get(index).copied().flatten();
+        // A map the pass was not handed is drawn without it (never the case
+        // when declared together); the key follows what is bound.
+        let map = if color.is_some() {
+            map
+        } else {
+            &ProbeMap::None
+        };
+        let key = ShaderKey::new(SHADER, map.features().iter().copied());
+        let pipeline = pipeline(cx, &key)?;
+        let uniform = match map {
+            ProbeMap::Triplanar(_, sharpness) => Some(device.create_buffer_init(
+                &wgpu::util::BufferInitDescriptor {
+                    label: Some("environment probe layer"),
+                    contents: bytemuck::bytes_of(&GpuProbeLayer {
+                        triplanar_sharpness: *sharpness as f32,
+                        pad: [0.0; 3],
+                    }),
+                    usage: wgpu::BufferUsages::UNIFORM,
+                },
+            )),
+            _ => None,
+        };
+        layers.push((*range, key, pipeline, color, uniform));
+    }
     let (vertices, indices, _) = renderer.meshes.buffers();
     // A storage binding cannot be empty: an empty layer binds one unused instance.
     let empty: [GpuInstance; 1] = [bytemuck::Zeroable::zeroed()];
@@ -145,12 +237,21 @@ pub(crate) fn render(
             contents: bytemuck::bytes_of(&uniform),
             usage: wgpu::BufferUsages::UNIFORM,
         });
-        let b = Bindings::new()
-            .buffer("face", &buffer)
-            .buffer("vertices", &vertices)
-            .buffer("indices", &indices)
-            .buffer("instances", &instances);
-        let groups = cx.render_bind_groups(&key, &["vs", "fs"], &pipeline, b)?;
+        let mut per_layer = Vec::with_capacity(layers.len());
+        for (_, key, pipeline, color, uniform) in &layers {
+            let mut b = Bindings::new()
+                .buffer("face", &buffer)
+                .buffer("vertices", &vertices)
+                .buffer("indices", &indices)
+                .buffer("instances", &instances);
+            if let Some(color) = color {
+                b = b
+                    .texture("color_map", *color)
+                    .sampler("color_sampler", Sampling::LinearRepeat)
+                    .buffer_opt("probe_layer", uniform.as_ref());
+            }
+            per_layer.push(cx.render_bind_groups(key, &["vs", "fs"], pipeline, b)?);
+        }
         let target = base.create_view(&wgpu::TextureViewDescriptor {
             label: Some("environment probe face"),
             dimension: Some(wgpu::TextureViewDimension::D2),
@@ -160,7 +261,7 @@ pub(crate) fn render(
             array_layer_count: Some(1),
             ..Default::default()
         });
-        faces.push((groups, target));
+        faces.push((per_layer, target));
     }
     let clear = wgpu::Color {
         r: f64::from(l.background.x),
@@ -206,20 +307,22 @@ pub(crate) fn render(
             occlusion_query_set: None,
             multiview_mask: None,
         });
-        pass.set_pipeline(&pipeline);
-        for (i, group) in groups.iter().enumerate() {
-            pass.set_bind_group(i as u32, group, &[]);
-        }
-        for draw in packed
-            .draws
-            .iter()
-            .filter(|d| d.instance_count > 0 && d.index_count > 0)
-        {
-            pass.draw(
-                0..draw.index_count,
-                draw.first_instance..draw.first_instance + draw.instance_count,
-            );
-            draws += 1;
+        for ((range, _, pipeline, _, _), groups) in layers.iter().zip(groups) {
+            pass.set_pipeline(pipeline);
+            for (i, group) in groups.iter().enumerate() {
+                pass.set_bind_group(i as u32, group, &[]);
+            }
+            for draw in packed.draws.iter().filter(|d| {
+                d.instance_count > 0
+                    && d.index_count > 0
+                    && (range.0..range.1).contains(&d.first_instance)
+            }) {
+                pass.draw(
+                    0..draw.index_count,
+                    draw.first_instance..draw.first_instance + draw.instance_count,
+                );
+                draws += 1;
+            }
         }
     }
     cx.draws += draws;

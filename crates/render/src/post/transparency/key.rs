@@ -53,11 +53,39 @@ pub enum LayerUv {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum TransparencyPass {
     /// Alpha, revealage and the unlit colour (ambient, emission, the built-in
-    /// key light, and with `environment` the Environment's image-based
-    /// light); without it, also the clear and the resolve.
-    Base { environment: bool },
+    /// key light, with `environment` the Environment's image-based light,
+    /// and the layer's MatCap); without it, also the clear and the resolve.
+    Base {
+        environment: bool,
+        matcap: MatCapKey,
+    },
     /// One light buffer's Cook-Torrance light, added to the colour.
     Light(LightKey),
+}
+
+/// A base pass's matcap: compiled only for a layer whose material world has
+/// a MatCap material (and so only with MATERIALS).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum MatCapKey {
+    Off,
+    /// The built-in clay matcap (MATCAP).
+    BuiltIn,
+    /// Some MatCap material names an image of the world's texture array
+    /// (MATCAP, MATCAP_TEXTURE).
+    Images,
+}
+
+impl MatCapKey {
+    fn features(self) -> impl Iterator<Item = &'static str> {
+        let (on, images) = match self {
+            MatCapKey::Off => (false, false),
+            MatCapKey::BuiltIn => (true, false),
+            MatCapKey::Images => (true, true),
+        };
+        on.then_some("MATCAP")
+            .into_iter()
+            .chain(images.then_some("MATCAP_TEXTURE"))
+    }
 }
 
 /// A light pass: the buffer's type, how it finds its lights, its shadows.
@@ -127,10 +155,15 @@ impl SurfaceKey {
                 f.extend(normal.then_some("NORMAL_MAP"));
             }
         }
-        // Surface maps read the world's parameters too.
-        f.extend((self.materials || self.maps == LayerMaps::Surface).then_some("MATERIALS"));
+        f.extend(self.reads_materials().then_some("MATERIALS"));
         f.extend(self.vertex_extras.then_some("VERTEX_EXTRAS"));
         f.into_iter()
+    }
+
+    /// Whether the surface reads a material world (MATERIALS): surface maps
+    /// read the world's parameters too.
+    pub fn reads_materials(self) -> bool {
+        self.materials || self.maps == LayerMaps::Surface
     }
 
     fn all() -> Vec<SurfaceKey> {
@@ -213,6 +246,8 @@ impl Permutation for TransparencyKey {
         "VERTEX_EXTRAS",
         "MATERIALS",
         "ENVIRONMENT",
+        "MATCAP",
+        "MATCAP_TEXTURE",
         "TEXCOORDS",
         "TRIPLANAR",
         "COLOR_MAP",
@@ -230,28 +265,45 @@ impl Permutation for TransparencyKey {
 
     fn features(self) -> impl Iterator<Item = &'static str> {
         let light: Vec<&'static str> = match self.pass {
-            TransparencyPass::Base { environment } => {
-                environment.then_some("ENVIRONMENT").into_iter().collect()
-            }
+            TransparencyPass::Base {
+                environment,
+                matcap,
+            } => environment
+                .then_some("ENVIRONMENT")
+                .into_iter()
+                .chain(matcap.features())
+                .collect(),
             TransparencyPass::Light(light) => light.features().collect(),
         };
         self.surface.features().chain(light)
     }
 
-    /// Every surface with the base passes and with every light pass. The
-    /// validation test composes each: 30 surfaces x (2 + 35) passes.
+    /// Every surface with the base passes (a matcap only with a material
+    /// world) and with every light pass. The validation test composes each:
+    /// 30 surfaces x (2 or 6 + 35) passes.
     fn all() -> Vec<Self> {
-        let bases = [false, true].map(|environment| TransparencyPass::Base { environment });
-        let passes: Vec<TransparencyPass> = bases
+        let lights: Vec<TransparencyPass> = LightKey::all()
             .into_iter()
-            .chain(LightKey::all().into_iter().map(TransparencyPass::Light))
+            .map(TransparencyPass::Light)
             .collect();
         SurfaceKey::all()
             .into_iter()
             .flat_map(|surface| {
-                passes
-                    .iter()
-                    .map(move |&pass| TransparencyKey { surface, pass })
+                let matcaps: &[MatCapKey] = if surface.reads_materials() {
+                    &[MatCapKey::Off, MatCapKey::BuiltIn, MatCapKey::Images]
+                } else {
+                    &[MatCapKey::Off]
+                };
+                let bases = [false, true].into_iter().flat_map(move |environment| {
+                    matcaps.iter().map(move |&matcap| TransparencyPass::Base {
+                        environment,
+                        matcap,
+                    })
+                });
+                bases
+                    .chain(lights.iter().copied())
+                    .map(move |pass| TransparencyKey { surface, pass })
+                    .collect::<Vec<_>>()
             })
             .collect()
     }
@@ -265,7 +317,10 @@ impl TransparencyKey {
             vertex_extras: false,
             materials: false,
         },
-        pass: TransparencyPass::Base { environment: false },
+        pass: TransparencyPass::Base {
+            environment: false,
+            matcap: MatCapKey::Off,
+        },
     };
 }
 

@@ -31,7 +31,8 @@ use std::sync::{Arc, Mutex};
 use glam::Vec3;
 
 pub use key::{
-    LayerMaps, LayerUv, LightKey, ShadowKey, SurfaceKey, TransparencyKey, TransparencyPass,
+    LayerMaps, LayerUv, LightKey, MatCapKey, ShadowKey, SurfaceKey, TransparencyKey,
+    TransparencyPass,
 };
 
 use crate::environment::Environment;
@@ -39,7 +40,7 @@ use crate::error::RenderError;
 use crate::frame_graph::{Bindings, FrameGraph, PassContext, Tex, TextureDesc};
 use crate::gbuffer::{Draw, GBuffer, Layer, mesh_bindings, pack_instances};
 use crate::lighting::{ClusterGrid, ClusterStore, FEW_LIGHTS, LightBuffer, LightKind, LightLoop};
-use crate::material::MaterialWorld;
+use crate::material::{FEATURE_MATCAP, MaterialWorld};
 use crate::mesh_arena::pulled_pipeline;
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
@@ -329,8 +330,8 @@ impl Transparency {
             if range.0 == range.1 {
                 continue;
             }
-            let surface = self.surface(layer).0;
-            for pass in self.passes() {
+            let (surface, world) = self.surface(layer);
+            for pass in self.passes(Self::matcap(world)) {
                 let key = TransparencyKey { surface, pass };
                 if !keys.contains(&key) {
                     keys.push(key);
@@ -340,19 +341,36 @@ impl Transparency {
         keys
     }
 
-    /// The base pass, then a light pass per light buffer.
-    fn passes(&self) -> impl Iterator<Item = TransparencyPass> + '_ {
+    /// A layer's base pass (with its `matcap`), then a light pass per light buffer.
+    fn passes(&self, matcap: MatCapKey) -> impl Iterator<Item = TransparencyPass> + '_ {
         let environment = self.environment.is_some();
-        std::iter::once(TransparencyPass::Base { environment }).chain(self.lights.iter().map(
-            |set| {
-                TransparencyPass::Light(LightKey {
-                    kind: set.lights.kind,
-                    clustered: set.clusters.is_some(),
-                    shadows: ShadowKey::of(set.shadows.as_ref().map(|s| s.filter())),
-                    spot_texture: set.lights.textures().is_some(),
-                })
-            },
-        ))
+        let base = TransparencyPass::Base {
+            environment,
+            matcap,
+        };
+        std::iter::once(base).chain(self.lights.iter().map(|set| {
+            TransparencyPass::Light(LightKey {
+                kind: set.lights.kind,
+                clustered: set.clusters.is_some(),
+                shadows: ShadowKey::of(set.shadows.as_ref().map(|s| s.filter())),
+                spot_texture: set.lights.textures().is_some(),
+            })
+        }))
+    }
+
+    /// The matcap a layer's base pass compiles in: its world has a MatCap
+    /// material (images when one names a layer of the world's texture array).
+    fn matcap(world: Option<&Arc<MaterialWorld>>) -> MatCapKey {
+        match world {
+            Some(w) if w.union_flags() & (1 << FEATURE_MATCAP) != 0 => {
+                if w.textured(1 << FEATURE_MATCAP) && w.textures().is_some() {
+                    MatCapKey::Images
+                } else {
+                    MatCapKey::BuiltIn
+                }
+            }
+            _ => MatCapKey::Off,
+        }
     }
 
     /// A layer's surface permutation and the material world it reads.
@@ -431,7 +449,7 @@ impl Transparency {
                     continue;
                 }
                 for (pass, set) in self
-                    .passes()
+                    .passes(Self::matcap(world))
                     .zip(std::iter::once(None).chain((0..self.lights.len()).map(Some)))
                 {
                     let key = TransparencyKey { surface, pass }.key();
@@ -456,6 +474,12 @@ impl Transparency {
                         b = b
                             .texture("color_map", color)
                             .sampler("color_sampler", Sampling::LinearRepeat);
+                    }
+                    if let (None, Some(images)) = (set, maps.matcap) {
+                        // Clamped: the rim of a matcap must not wrap to the far side.
+                        b = b
+                            .array("matcap_images", images)
+                            .sampler("matcap_sampler", Sampling::LinearClamp);
                     }
                     if let (None, Some(environment)) = (set, &self.environment) {
                         let maps = environment.maps_for("transparency")?;
@@ -626,6 +650,8 @@ fn clustered(mode: LightLoop, lights: &LightBuffer) -> bool {
 struct LayerMapReads {
     normal: Option<Tex>,
     color: Option<Tex>,
+    /// The world's texture array, when its MatCap materials name images.
+    matcap: Option<Tex>,
 }
 
 /// What the accumulation pass declared: the depth it tests against, the
@@ -813,7 +839,13 @@ impl Recipe for Transparency {
             .layers
             .iter()
             .map(|layer| {
-                let (surface, _) = self.surface(layer);
+                let (surface, world) = self.surface(layer);
+                let matcap = match Self::matcap(world) {
+                    MatCapKey::Images => {
+                        world.and_then(|w| w.textures()).map(|t| pass.read(&t.name))
+                    }
+                    _ => None,
+                };
                 match surface.maps {
                     LayerMaps::Layer { color, normal, .. } => LayerMapReads {
                         normal: layer
@@ -826,8 +858,12 @@ impl Recipe for Transparency {
                             .as_ref()
                             .filter(|_| color)
                             .map(|m| pass.read(&m.name)),
+                        matcap,
                     },
-                    _ => LayerMapReads::default(),
+                    _ => LayerMapReads {
+                        matcap,
+                        ..Default::default()
+                    },
                 }
             })
             .collect();
