@@ -501,7 +501,7 @@ fn material_extensions_show_as_their_materials_say() {
 fn depth_of_field_shaped_scene() -> Vec<u8> {
     use gltf_json::extensions::scene::khr_lights_punctual::{Light, Type};
     use gltf_json::validation::Checked::Valid;
-    use spreadlight_render::mesh::gltf_import::builder::{light_node, mesh_node};
+    use spreadlight_gltf::builder::{light_node, mesh_node};
     use spreadlight_render::mesh::primitives::{BoxParams, GridParams, box_mesh, grid};
     let mut doc = Doc::new();
     let floor = doc.mesh_data(

@@ -26,10 +26,10 @@ pub fn register(r: &mut Registry) {
             p.range(0.0, 1.0);
             let roughness = p.input("Roughness", 0.0f32);
             p.range(0.0, 1.0);
-            p.output_resource::<Material>("Material", ResourceKind::Material);
+            let out = p.output_resource::<Material>("Material", ResourceKind::Material);
             move |cx| {
                 let params = per_slice(cx, material, &[factor, roughness])?;
-                set_feature(cx, material.index(), params.len(), factor.index(), None, |_, slice| {
+                set_feature(cx, material, out, params.len(), factor, None, |_, slice| {
                     Ok((Feature::Clearcoat, vec![params[slice]]))
                 })
             }
@@ -58,7 +58,7 @@ pub(super) fn per_slice(
                 // n > 0 means no pin is empty.
                 *o = v[slice % v.len()];
                 if !o.is_finite() {
-                    return Err(not_finite(cx, pin.index(), slice));
+                    return Err(not_finite(cx, *pin, slice));
                 }
             }
             Ok(out)

@@ -21,10 +21,10 @@ pub fn register(r: &mut Registry) {
             let material = p.input_resource::<Material>("Material", ResourceKind::Material);
             let strength = p.input("Strength", 1.0f32);
             p.range(0.0, 1.0);
-            p.output_resource::<Material>("Material", ResourceKind::Material);
+            let out = p.output_resource::<Material>("Material", ResourceKind::Material);
             move |cx| {
                 let params = per_slice(cx, material, &[strength])?;
-                set_feature(cx, material.index(), params.len(), strength.index(), None, |_, slice| {
+                set_feature(cx, material, out, params.len(), strength, None, |_, slice| {
                     Ok((Feature::Unlit, vec![params[slice]]))
                 })
             }

@@ -18,6 +18,7 @@ use crate::mesh_arena::pulled_pipeline;
 use crate::renderer::Renderer;
 use crate::shaders::{Sampling, ShaderKey};
 
+const SHADER: &str = "environment/environment_probe.wgsl";
 const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 /// The base cube's format (prefilter.rs).
 const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
