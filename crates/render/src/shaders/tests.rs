@@ -258,7 +258,6 @@ fn typed_keys_enumerate_what_the_string_rules_did() {
         ("shadows/moments.wgsl", &[], vec![]),
         ("shadows/resolve.wgsl", &["OVER_STILL"], vec![]),
         ("environment/prefilter.wgsl", &[], vec![]),
-        ("environment/environment_probe.wgsl", &[], vec![]),
         ("post/tonemap.wgsl", &["EYE_ADAPTATION"], vec![]),
         ("post/eye_adaptation.wgsl", &[], vec![]),
         ("post/fxaa.wgsl", &[], vec![]),
