@@ -516,7 +516,14 @@ impl EditorApp {
             ctx.send_viewport_cmd(ViewportCommand::Title(title.clone()));
             self.title = title;
         }
-        if self.transport.playing {
+        // Playing, the worker wakes the UI when it finishes a frame (the wake
+        // `evaluate_if_needed` sets), so the canvas is drawn as often as the
+        // patch makes frames, and input repaints at once. Asking for a
+        // repaint on every UI frame as well drew the canvas several times
+        // per patch frame on a slow adapter, and on lavapipe those drawings
+        // took the CPU the patch needed (docs/editor.md, "Previews' cost").
+        // Without a wake (FrameWait::Always, the tests) the UI keeps asking.
+        if self.transport.playing && !self.wake_set {
             ctx.request_repaint();
         }
         self.ui_times.push_back(started.elapsed().as_secs_f64());
