@@ -958,7 +958,7 @@ fn the_pipeline_cache_is_kept_between_runs_and_a_damaged_file_is_a_cold_start() 
         let done: serde_json::Value = stdout
             .lines()
             .filter_map(|l| serde_json::from_str(l).ok())
-            .last()
+            .next_back()
             .expect("a done line");
         let cache = done["cold_start"]["pipeline_cache"].clone();
         let bytes = std::fs::read(image).expect("image written");

@@ -14,7 +14,7 @@
 //!
 //! What follows the class (each where it is decided, each tested both ways):
 //! - the clustered light assignment's workgroups per light
-//!   (`lighting/cook_torrance.rs`, `workgroups_per_light`): a GPU up to 64 a
+//!   (`lighting/clusters.rs`, `workgroups_per_light`): a GPU up to 64 a
 //!   light, a CPU adapter about 64 in all and never more than a light's
 //!   froxels fill;
 //! - the compute raster's permutation (`gbuffer/compute_raster.rs`,

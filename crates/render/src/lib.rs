@@ -26,6 +26,7 @@ pub mod recipe;
 pub mod renderer;
 pub mod report;
 pub mod resolution;
+pub(crate) mod resolution_key;
 pub mod scenes;
 pub mod shader_nodes;
 pub mod shaders;

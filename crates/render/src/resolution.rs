@@ -22,17 +22,7 @@ use crate::gbuffer::GBuffer;
 use crate::report::PassName;
 use crate::shaders::Permutation;
 
-crate::choice_key! {
-    /// `resolution/upsample.wgsl`.
-    pub enum UpsampleKey("resolution/upsample.wgsl") {
-        /// RGBA16F radiance.
-        Rgba16,
-        /// R32F visibility.
-        R32: "R32",
-        /// RGBA16F, keeping the full-size image where it is in focus.
-        Detail: "DETAIL",
-    }
-}
+pub use crate::resolution_key::UpsampleKey;
 
 /// The shader feature of a pass's half-resolution permutation.
 pub const HALF_FEATURE: &str = "HALF";

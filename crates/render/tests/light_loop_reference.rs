@@ -11,11 +11,11 @@ use std::sync::Arc;
 
 use floor_view::{SIZE, camera, floor_mesh, floor_points};
 use glam::{Mat4, Vec3};
+use spreadlight_reference::brdf::cook_torrance_f0;
+use spreadlight_reference::lights::{ShaderLight, point_attenuation};
 use spreadlight_render::gbuffer::{DrawBatch, GBuffer, InstanceInput, Layer};
 use spreadlight_render::lighting::{CookTorrance, LightBuffer, LightLoop, PointLight, Surfaces};
 use spreadlight_render::readback::{ImageF32, render_and_read};
-use spreadlight_reference::brdf::cook_torrance_f0;
-use spreadlight_reference::lights::{ShaderLight, point_attenuation};
 use spreadlight_render::renderer::test_renderer;
 use spreadlight_render::{Renderer, SizeRule};
 
@@ -577,8 +577,7 @@ fn a_light_shader_node_sums_every_light_type_as_its_cpu_reference_with_and_witho
 const ASHIKHMIN_SHIRLEY: &str = include_str!("../../../shaders/nodes/ashikhmin_shirley.wgsl");
 
 /// Anisotropic, so a wrong tangent frame or exponent shows.
-const ASHIKHMIN_SHIRLEY_PARAMS:
-    spreadlight_reference::ashikhmin_shirley::AshikhminShirleyParams =
+const ASHIKHMIN_SHIRLEY_PARAMS: spreadlight_reference::ashikhmin_shirley::AshikhminShirleyParams =
     spreadlight_reference::ashikhmin_shirley::AshikhminShirleyParams {
         exponent_u: 60.0,
         exponent_v: 8.0,

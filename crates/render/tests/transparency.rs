@@ -763,10 +763,10 @@ fn a_uniform_environment_reflects_off_white_metal_glass_as_its_specular_albedo()
 /// MATCAP permutation is compiled.
 #[test]
 fn matcap_materials_shade_transparent_layers_as_the_cpu_matcap_says() {
+    use spreadlight_reference::matcap::{default_matcap, matcap_uv};
     use spreadlight_render::material::{
         Feature, MatCapMapping, MatCapMode, Material, MaterialWorld, matcap_params,
     };
-    use spreadlight_reference::matcap::{default_matcap, matcap_uv};
     let renderer = test_renderer();
     let image = default_matcap(matcap_uv(Vec3::Z, Vec3::NEG_Z, false));
     let matcap_keys = |pass: &Transparency| {

@@ -7,8 +7,8 @@ use std::sync::Arc;
 
 use glam::Vec3;
 use spreadlight_graph::{Color, FrameClock, NodeDoc, NodeId, Patch, Runtime, Spread};
-use spreadlight_render::readback::ImageF32;
 use spreadlight_reference::brdf::{clearcoat, cook_torrance_f0};
+use spreadlight_render::readback::ImageF32;
 
 use crate::output::RenderedImages;
 

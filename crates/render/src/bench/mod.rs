@@ -2,3 +2,4 @@
 //! of the renderer (`spreadlight bench`, docs/benchmarks.md).
 
 pub mod pass_chain;
+pub(crate) mod pass_chain_key;

@@ -17,10 +17,7 @@ use crate::renderer::Renderer;
 use crate::report::PassName;
 use crate::shaders::Permutation;
 
-crate::flag_key! {
-    /// `bench/pass_chain.wgsl`: one permutation.
-    pub struct PassChainKey("bench/pass_chain.wgsl");
-}
+pub use super::pass_chain_key::PassChainKey;
 
 const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 /// Each pass's texture: small, so that the GPU's share stays negligible.

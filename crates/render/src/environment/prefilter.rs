@@ -17,10 +17,7 @@ use crate::frame_graph::{Bindings, PassContext};
 use crate::renderer::Renderer;
 use crate::shaders::{Permutation, Sampling};
 
-crate::flag_key! {
-    /// `environment/prefilter.wgsl`: one permutation, an entry per step.
-    pub struct PrefilterKey("environment/prefilter.wgsl");
-}
+pub use super::prefilter_key::PrefilterKey;
 
 /// Matches `Params` in shaders/environment/prefilter.wgsl.
 #[repr(C)]

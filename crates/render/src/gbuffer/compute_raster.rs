@@ -18,17 +18,7 @@ use crate::shaders::{Permutation, ShaderKey};
 
 use super::{Draw, GBuffer};
 
-crate::flag_key! {
-    /// `gbuffer/raster.wgsl`.
-    pub struct RasterKey("gbuffer/raster.wgsl") {
-        /// Back faces are drawn too.
-        two_sided: "TWO_SIDED",
-        /// Positions fetched alone (a CPU adapter with no particle system drawn).
-        meshes_only: "MESHES_ONLY",
-        /// 32-bit depth words, no triangle ids.
-        depth_only: "DEPTH_ONLY",
-    }
-}
+pub use super::compute_raster_key::RasterKey;
 
 /// How many big-triangle tiles one frame can queue (16 bytes each).
 const TILE_CAPACITY: u32 = 1 << 18;

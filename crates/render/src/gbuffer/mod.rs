@@ -13,13 +13,16 @@
 //! (velocity, UV), so a frame that reads no velocity culls the second.
 
 pub(crate) mod compute_raster;
+pub(crate) mod compute_raster_key;
 mod instances;
 mod layer;
 mod passes;
 mod published_depth;
+pub(crate) mod published_depth_key;
 mod resolve;
 mod surface_shader;
 mod view;
+pub(crate) mod visibility_key;
 
 use std::sync::Arc;
 
@@ -28,8 +31,6 @@ use glam::Mat4;
 pub use layer::{
     DrawBatch, InstanceInput, Layer, LayerError, LayerFeatures, TRIPLANAR_SHARPNESS, VelocitySource,
 };
-pub(crate) use passes::VisibilityKey;
-pub(crate) use published_depth::PublishedDepthKey;
 pub use published_depth::{PublishedDepth, PublishedDepths};
 pub use resolve::SURFACE_AND_MOTION_DISPATCHES;
 pub use surface_shader::{SURFACE_MODULE, SurfaceBinding, SurfaceShader};

@@ -12,13 +12,7 @@ use crate::shaders::{Permutation, ShaderKey};
 use super::resolve::{LayerReads, Targets, resolve};
 use super::{GBuffer, RasterMode};
 
-crate::flag_key! {
-    /// `gbuffer/visibility.wgsl`.
-    pub struct VisibilityKey("gbuffer/visibility.wgsl") {
-        /// Texels of the colour map below the cutoff are discarded.
-        alpha_mask: "ALPHA_MASK",
-    }
-}
+pub use super::visibility_key::VisibilityKey;
 
 const VISIBILITY_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg32Uint;
 const HARDWARE_DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;

@@ -19,13 +19,7 @@ use crate::frame_graph::{Bindings, PassContext};
 use crate::renderer::Renderer;
 use crate::shaders::Permutation;
 
-crate::flag_key! {
-    /// `gbuffer/published_depth.wgsl`.
-    pub struct PublishedDepthKey("gbuffer/published_depth.wgsl") {
-        /// Depth from the compute raster's 64-bit buffer (else the hardware raster's depth).
-        compute_raster: "COMPUTE_RASTER",
-    }
-}
+pub use super::published_depth_key::PublishedDepthKey;
 
 /// A published depth: reversed-Z R32Float, 0 where no mesh was drawn.
 #[derive(Clone, Debug)]

@@ -16,17 +16,7 @@ use crate::renderer::Renderer;
 use crate::shaders::Permutation;
 use crate::texture::GpuTexture;
 
-crate::choice_key! {
-    /// `geometry/displace.wgsl`: the pass that moves the vertices, or one of
-    /// the two that make their normals afterwards.
-    pub enum DisplaceKey("geometry/displace.wgsl") {
-        Move,
-        /// Face normals summed per vertex.
-        Accumulate: "ACCUMULATE",
-        /// The sums normalized.
-        Normals: "NORMALS",
-    }
-}
+pub use super::displace_key::DisplaceKey;
 
 /// How far along the normal: `(height - midlevel) x amount`, height the
 /// texture's red channel at the vertex's UV (sampled linearly, repeating).

@@ -15,13 +15,7 @@ use crate::renderer::Renderer;
 use crate::shaders::Permutation;
 use crate::texture::GpuTexture;
 
-crate::flag_key! {
-    /// `geometry/extrude.wgsl`.
-    pub struct ExtrudeKey("geometry/extrude.wgsl") {
-        /// The height is read from a texture.
-        texture: "TEXTURE",
-    }
-}
+pub use super::extrude_key::ExtrudeKey;
 
 /// Vertices and triangles an input triangle becomes.
 pub const VERTICES_PER_FACE: u32 = 15;

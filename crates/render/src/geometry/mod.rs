@@ -12,13 +12,20 @@
 pub mod analytic;
 pub mod decimate;
 pub mod displace;
+pub(crate) mod displace_key;
 pub mod extrude;
+pub(crate) mod extrude_key;
 pub mod pn_triangles;
+pub(crate) mod pn_triangles_key;
 pub mod readback;
 pub mod skinning;
+pub(crate) mod skinning_key;
 pub mod spherize;
+pub(crate) mod spherize_key;
 pub mod spline;
+pub(crate) mod spline_key;
 pub mod tessellate;
+pub(crate) mod tessellate_key;
 
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};

@@ -13,13 +13,7 @@ use crate::mesh_arena::{GpuMesh, MeshLayout};
 use crate::renderer::Renderer;
 use crate::shaders::Permutation;
 
-crate::flag_key! {
-    /// `geometry/pn_triangles.wgsl`.
-    pub struct PnTrianglesKey("geometry/pn_triangles.wgsl") {
-        /// Subdivided, not curved.
-        flat: "FLAT",
-    }
-}
+pub use super::pn_triangles_key::PnTrianglesKey;
 
 /// The most segments an edge (level² triangles a face).
 pub const MAX_LEVEL: u32 = 64;

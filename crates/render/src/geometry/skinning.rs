@@ -23,10 +23,7 @@ use crate::mesh_arena::{GpuMesh, MeshLayout};
 use crate::renderer::Renderer;
 use crate::shaders::Permutation;
 
-crate::flag_key! {
-    /// `geometry/skinning.wgsl`: one permutation.
-    pub struct SkinningKey("geometry/skinning.wgsl");
-}
+pub use super::skinning_key::SkinningKey;
 
 const PASS: &str = "skinning";
 /// No influences: the job's mesh has no skin.

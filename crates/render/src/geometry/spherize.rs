@@ -12,10 +12,7 @@ use crate::mesh_arena::{GpuMesh, MeshLayout};
 use crate::renderer::Renderer;
 use crate::shaders::Permutation;
 
-crate::flag_key! {
-    /// `geometry/spherize.wgsl`: one permutation.
-    pub struct SpherizeKey("geometry/spherize.wgsl");
-}
+pub use super::spherize_key::SpherizeKey;
 
 /// Where the sphere is and how far to go towards it.
 #[derive(Clone, Copy, Debug, PartialEq)]

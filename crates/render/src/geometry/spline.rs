@@ -15,15 +15,7 @@ use crate::mesh_arena::{GpuMesh, MeshLayout};
 use crate::renderer::Renderer;
 use crate::shaders::Permutation;
 
-crate::flag_key! {
-    /// `geometry/spline.wgsl`.
-    pub struct SplineKey("geometry/spline.wgsl") {
-        /// Swept into a flat ribbon (else a tube).
-        ribbon: "RIBBON",
-        /// Interpolated as a Bézier curve (else Catmull-Rom).
-        bezier: "BEZIER",
-    }
-}
+pub use super::spline_key::SplineKey;
 
 /// What the spline is swept into.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -23,17 +23,7 @@ use crate::shaders::Permutation;
 /// The most segments an edge (a triangle becomes at most this squared).
 pub const MAX_LEVEL: u32 = 64;
 
-crate::choice_key! {
-    /// `geometry/tessellate.wgsl`: the pass that writes the triangles, or
-    /// one of the two that count them first.
-    pub enum TessellateKey("geometry/tessellate.wgsl") {
-        Write,
-        /// Triangles per face.
-        Count: "COUNT",
-        /// Their prefix sums.
-        Sums: "SUMS",
-    }
-}
+pub use super::tessellate_key::TessellateKey;
 
 /// Matches `Params` in the shader.
 #[repr(C)]

@@ -4,15 +4,13 @@
 use std::sync::Mutex;
 
 use super::LightBuffer;
+use crate::adapter_class::AdapterClass;
 use crate::context::GpuContext;
 use crate::error::RenderError;
 use crate::frame_graph::{Bindings, PassContext};
 use crate::shaders::Permutation;
 
-crate::flag_key! {
-    /// `lighting/clusters.wgsl`: one permutation, an entry per step.
-    pub struct ClustersKey("lighting/clusters.wgsl");
-}
+pub use super::clusters_key::ClustersKey;
 
 /// The froxel grid for a target size and depth range.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -217,11 +215,7 @@ pub(crate) fn assign_lights(
             _ => (
                 count.clamp(1, 65_535),
                 count.div_ceil(65_535).max(1),
-                super::cook_torrance::workgroups_per_light(
-                    count,
-                    grid.clusters(),
-                    cx.gpu.adapter_class(),
-                ),
+                workgroups_per_light(count, grid.clusters(), cx.gpu.adapter_class()),
             ),
         };
         work.push((pipeline, group, groups));
@@ -235,6 +229,54 @@ pub(crate) fn assign_lights(
         pass.dispatch_workgroups(groups.0, groups.1, groups.2);
     }
     Ok(())
+}
+
+/// How many workgroups share each light's froxels when `lights` are
+/// assigned to `clusters` froxels. On a GPU: enough that a few lights still
+/// fill it (three big spots took 0.22 ms at one workgroup each on the H100,
+/// walking 16,000 froxels 64 at a time), one where lights alone are plenty.
+/// On a CPU adapter a workgroup is a task its few cores start one after
+/// another, a barrier in it a coroutine per 8 lanes: about 64 workgroups in
+/// all keep the cores busy, and never more per light than 64 lanes' worth of
+/// froxels (at 160x90 the grid has 32, and the GPU's 64 workgroups a light,
+/// 63 of them idle, made 100 lights' assignment 18 ms on lavapipe against
+/// 0.45 ms with one; docs/benchmarks.md, "lavapipe").
+fn workgroups_per_light(lights: u32, clusters: u32, class: AdapterClass) -> u32 {
+    match class {
+        AdapterClass::Gpu => (16_384 / lights.max(1)).clamp(1, 64),
+        AdapterClass::Cpu => (64 / lights.max(1)).clamp(1, clusters.div_ceil(64).clamp(1, 64)),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_gpu_spreads_few_lights_over_many_workgroups_as_before() {
+        for clusters in [32, 1_280, 16_320] {
+            assert_eq!(workgroups_per_light(1, clusters, AdapterClass::Gpu), 64);
+            assert_eq!(workgroups_per_light(100, clusters, AdapterClass::Gpu), 64);
+            assert_eq!(workgroups_per_light(1_000, clusters, AdapterClass::Gpu), 16);
+            assert_eq!(
+                workgroups_per_light(100_000, clusters, AdapterClass::Gpu),
+                1
+            );
+        }
+    }
+
+    #[test]
+    fn a_cpu_adapter_starts_no_workgroup_that_can_find_no_froxel() {
+        // 160x90: one 256-pixel tile by 32 slices, which one workgroup's 64 lanes cover.
+        assert_eq!(workgroups_per_light(1, 32, AdapterClass::Cpu), 1);
+        assert_eq!(workgroups_per_light(100, 32, AdapterClass::Cpu), 1);
+        // 1920x1080 (8 x 5 x 32 froxels): a lone light is shared among 20.
+        assert_eq!(workgroups_per_light(1, 1_280, AdapterClass::Cpu), 20);
+        assert_eq!(workgroups_per_light(3, 1_280, AdapterClass::Cpu), 20);
+        assert_eq!(workgroups_per_light(16, 1_280, AdapterClass::Cpu), 4);
+        assert_eq!(workgroups_per_light(100, 1_280, AdapterClass::Cpu), 1);
+        assert_eq!(workgroups_per_light(0, 0, AdapterClass::Cpu), 1);
+    }
 }
 
 #[cfg(test)]

@@ -573,39 +573,9 @@ impl Recipe for CookTorrance {
     }
 }
 
-/// How many workgroups share each light's froxels when `lights` are
-/// assigned to `clusters` froxels. On a GPU: enough that a few lights still
-/// fill it (three big spots took 0.22 ms at one workgroup each on the H100,
-/// walking 16,000 froxels 64 at a time), one where lights alone are plenty.
-/// On a CPU adapter a workgroup is a task its few cores start one after
-/// another, a barrier in it a coroutine per 8 lanes: about 64 workgroups in
-/// all keep the cores busy, and never more per light than 64 lanes' worth of
-/// froxels (at 160x90 the grid has 32, and the GPU's 64 workgroups a light,
-/// 63 of them idle, made 100 lights' assignment 18 ms on lavapipe against
-/// 0.45 ms with one; docs/benchmarks.md, "lavapipe").
-pub(super) fn workgroups_per_light(lights: u32, clusters: u32, class: AdapterClass) -> u32 {
-    match class {
-        AdapterClass::Gpu => (16_384 / lights.max(1)).clamp(1, 64),
-        AdapterClass::Cpu => (64 / lights.max(1)).clamp(1, clusters.div_ceil(64).clamp(1, 64)),
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn a_gpu_spreads_few_lights_over_many_workgroups_as_before() {
-        for clusters in [32, 1_280, 16_320] {
-            assert_eq!(workgroups_per_light(1, clusters, AdapterClass::Gpu), 64);
-            assert_eq!(workgroups_per_light(100, clusters, AdapterClass::Gpu), 64);
-            assert_eq!(workgroups_per_light(1_000, clusters, AdapterClass::Gpu), 16);
-            assert_eq!(
-                workgroups_per_light(100_000, clusters, AdapterClass::Gpu),
-                1
-            );
-        }
-    }
 
     #[test]
     fn auto_walks_few_lights_naively_and_more_by_the_adapters_walk() {
@@ -638,18 +608,5 @@ mod tests {
         assert_eq!(auto_walk(Gpu), Walk::Clustered);
         assert!(!Walk::Naive.uses_froxels());
         assert!(Walk::Tiled.uses_froxels() && Walk::PerPixel.uses_froxels());
-    }
-
-    #[test]
-    fn a_cpu_adapter_starts_no_workgroup_that_can_find_no_froxel() {
-        // 160x90: one 256-pixel tile by 32 slices, which one workgroup's 64 lanes cover.
-        assert_eq!(workgroups_per_light(1, 32, AdapterClass::Cpu), 1);
-        assert_eq!(workgroups_per_light(100, 32, AdapterClass::Cpu), 1);
-        // 1920x1080 (8 x 5 x 32 froxels): a lone light is shared among 20.
-        assert_eq!(workgroups_per_light(1, 1_280, AdapterClass::Cpu), 20);
-        assert_eq!(workgroups_per_light(3, 1_280, AdapterClass::Cpu), 20);
-        assert_eq!(workgroups_per_light(16, 1_280, AdapterClass::Cpu), 4);
-        assert_eq!(workgroups_per_light(100, 1_280, AdapterClass::Cpu), 1);
-        assert_eq!(workgroups_per_light(0, 0, AdapterClass::Cpu), 1);
     }
 }

@@ -3,11 +3,14 @@
 //! their issue.
 
 mod clusters;
+pub(crate) mod clusters_key;
 // The composite's key is named by the shader table (`shaders::SHADERS`).
 pub(crate) mod composite;
 mod cook_torrance;
 mod ssgi;
+pub(crate) mod ssgi_key;
 mod ssss;
+pub(crate) mod ssss_key;
 // Named by the permutation keys and the shader-node compiler without the passes.
 pub(crate) mod light_kind;
 
@@ -16,7 +19,7 @@ use std::sync::Arc;
 use glam::{Mat4, Vec3};
 
 pub use clusters::ClusterGrid;
-pub(crate) use clusters::{ClusterStore, ClustersKey, assign_lights};
+pub(crate) use clusters::{ClusterStore, assign_lights};
 pub use composite::{
     CompositeInputs, CompositeKey, CompositeLight, LightComponents, LightPairs, MAX_COMPONENTS,
     MaterialAo, MaterialTerms, Shading, Textured,
@@ -27,7 +30,6 @@ pub use light_kind::LightKind;
 pub use ssgi::GATHER_TEMPORAL as SSGI_GATHER_TEMPORAL;
 pub use ssgi::HALF_RESOLUTION as SSGI_HALF_RESOLUTION;
 pub use ssgi::{Ssgi, SsgiKey, SsgiSettings};
-pub(crate) use ssss::SsssKey;
 pub use ssss::{Ssss, SsssQuality};
 
 use crate::recipe::TextureRef;

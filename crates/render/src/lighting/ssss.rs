@@ -15,15 +15,7 @@ use crate::renderer::Renderer;
 use crate::report::PassName;
 use crate::shaders::{Permutation, ShaderKey};
 
-crate::flag_key! {
-    /// `lighting/ssss.wgsl`: the pass's direction and how many sources it blurs.
-    pub struct SsssKey("lighting/ssss.wgsl") {
-        vertical: "VERTICAL",
-        /// A second source (the second light type's subsurface term).
-        sources_2: "SOURCES_2",
-        sources_3: "SOURCES_3",
-    }
-}
+pub use super::ssss_key::SsssKey;
 
 /// Taps per side: Low 4, Medium 8, High 16.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

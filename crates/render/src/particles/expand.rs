@@ -11,10 +11,7 @@ use crate::mesh_arena::{GpuMesh, GpuVertex};
 use crate::renderer::Renderer;
 use crate::shaders::Permutation;
 
-crate::flag_key! {
-    /// `particles/expand.wgsl`: one permutation.
-    pub struct ExpandKey("particles/expand.wgsl");
-}
+pub use super::expand_key::ExpandKey;
 
 /// Every triangle of `mesh` drawn by a view whose axes in world space are
 /// `right` and `up` (sprites face it), with the identity transform: three

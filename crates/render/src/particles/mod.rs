@@ -16,14 +16,14 @@
 
 mod draw;
 mod expand;
+pub(crate) mod expand_key;
 mod field;
 mod simulate;
+pub(crate) mod simulate_key;
 
 pub use draw::{DrawShape, draw};
-pub(crate) use expand::ExpandKey;
 pub use expand::read_drawn;
 pub use field::FieldTexture;
-pub(crate) use simulate::SimulateKey;
 pub use simulate::{
     DepthCollision, EmitterShape, Field, Integrator, MAX_ATTRACTORS, MAX_STEP, ParticleSettings,
     Plane,

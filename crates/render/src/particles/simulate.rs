@@ -13,17 +13,7 @@ use crate::mesh_arena::GpuMesh;
 use crate::renderer::Renderer;
 use crate::shaders::Permutation;
 
-crate::flag_key! {
-    /// `particles/simulate.wgsl`.
-    pub struct SimulateKey("particles/simulate.wgsl") {
-        /// The force field is a texture (else analytic).
-        field_texture: "FIELD_TEXTURE",
-        /// Particles are born on a mesh's surface.
-        mesh_emitter: "MESH_EMITTER",
-        /// Particles bounce off the G-buffer's depth.
-        depth_collision: "DEPTH_COLLISION",
-    }
-}
+pub use super::simulate_key::SimulateKey;
 
 /// The longest step simulated at once (seconds): a longer frame (a stall,
 /// a huge time step) is clamped to it, so no step can blow up.

@@ -19,10 +19,7 @@ use crate::renderer::Renderer;
 use crate::report::PassName;
 use crate::shaders::Permutation;
 
-crate::flag_key! {
-    /// `post/autofocus.wgsl`: one permutation.
-    pub struct AutofocusKey("post/autofocus.wgsl");
-}
+pub use super::autofocus_key::AutofocusKey;
 
 const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
 const ONE: SizeRule = SizeRule::Absolute {

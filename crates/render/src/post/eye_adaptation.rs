@@ -18,10 +18,7 @@ use crate::renderer::Renderer;
 use crate::report::PassName;
 use crate::shaders::Permutation;
 
-crate::flag_key! {
-    /// `post/eye_adaptation.wgsl`: one permutation, an entry per step.
-    pub struct EyeAdaptationKey("post/eye_adaptation.wgsl");
-}
+pub use super::eye_adaptation_key::EyeAdaptationKey;
 
 /// The reduction's format: mean log-luminance and the count of valid pixels behind it.
 const REDUCED: wgpu::TextureFormat = wgpu::TextureFormat::Rg32Float;

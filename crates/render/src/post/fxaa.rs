@@ -10,10 +10,7 @@ use crate::renderer::Renderer;
 use crate::report::PassName;
 use crate::shaders::Permutation;
 
-crate::flag_key! {
-    /// `post/fxaa.wgsl`: one permutation.
-    pub struct FxaaKey("post/fxaa.wgsl");
-}
+pub use super::fxaa_key::FxaaKey;
 
 /// How hard FXAA looks: more edge-search steps follow longer, shallower edges.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -12,13 +12,7 @@ use crate::renderer::Renderer;
 use crate::report::PassName;
 use crate::shaders::{Permutation, Sampling};
 
-crate::flag_key! {
-    /// `post/glare.wgsl`: one key for every entry of the chain.
-    pub struct GlareKey("post/glare.wgsl") {
-        /// The composite samples a filterable source (else it reads texels).
-        filtered_source: "FILTERED_SOURCE",
-    }
-}
+pub use super::glare_key::GlareKey;
 
 /// Counted when a Glare had nothing to add (intensity and aberration 0) and only copied.
 pub const SKIPPED: &str = "glare skipped (nothing to add)";

@@ -1,13 +1,21 @@
 //! Post-processing passes: texture in, texture out, in compute.
 
 pub mod autofocus;
+pub(crate) mod autofocus_key;
+pub(crate) mod copy_key;
 pub mod dof;
 pub mod eye_adaptation;
+pub(crate) mod eye_adaptation_key;
 pub mod fxaa;
+pub(crate) mod fxaa_key;
 pub mod glare;
+pub(crate) mod glare_key;
 pub mod motion_blur;
+pub(crate) mod motion_blur_key;
 pub mod taa;
+pub(crate) mod taa_key;
 pub mod tonemap;
+pub(crate) mod tonemap_key;
 pub mod transparency;
 
 pub use autofocus::Autofocus;
@@ -27,10 +35,7 @@ use crate::frame_graph::{Bindings, FrameGraph, PassContext, Tex, TextureDesc};
 use crate::report::PassName;
 use crate::shaders::{Permutation, ShaderKey};
 
-crate::flag_key! {
-    /// `post/copy.wgsl`: one permutation.
-    pub struct CopyKey("post/copy.wgsl");
-}
+pub use copy_key::CopyKey;
 
 /// The largest value the half-float targets are clamped to (65504 overflows).
 pub const HALF_MAX: f32 = 65000.0;

@@ -15,10 +15,7 @@ use crate::renderer::Renderer;
 use crate::report::PassName;
 use crate::shaders::Permutation;
 
-crate::flag_key! {
-    /// `post/motion_blur.wgsl`: one permutation, three entry points.
-    pub struct MotionBlurKey("post/motion_blur.wgsl");
-}
+pub use super::motion_blur_key::MotionBlurKey;
 
 /// Counted when a MotionBlur ran only its copy: nothing in the frame moves.
 pub const SKIPPED: &str = "motion blur skipped (no motion)";

@@ -18,39 +18,10 @@ use crate::renderer::Renderer;
 use crate::report::PassName;
 use crate::shaders::{Permutation, Sampling};
 
+pub use super::taa_key::TaaQuality;
+
 /// Counted when the history was thrown away (fresh target or a cut).
 pub const RESET: &str = "taa history reset";
-
-/// How the history is checked against the current frame.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum TaaQuality {
-    /// Clamp to the 3x3 neighbourhood's YCoCg box; bilinear history.
-    Low,
-    /// Clip towards the neighbourhood's mean (variance clipping); bilinear history.
-    Medium,
-    /// Variance clipping and a bicubic (Catmull-Rom) history read, sharper in motion.
-    High,
-}
-
-/// Each quality is one permutation of `post/taa.wgsl`: the bicubic read
-/// comes only with variance clipping.
-impl Permutation for TaaQuality {
-    const PATH: &'static str = "post/taa.wgsl";
-    const FEATURES: &'static [&'static str] = &["VARIANCE_CLIP", "CATMULL_ROM"];
-
-    fn features(self) -> impl Iterator<Item = &'static str> {
-        let on = match self {
-            TaaQuality::Low => 0,
-            TaaQuality::Medium => 1,
-            TaaQuality::High => 2,
-        };
-        Self::FEATURES[..on].iter().copied()
-    }
-
-    fn all() -> Vec<Self> {
-        vec![TaaQuality::Low, TaaQuality::Medium, TaaQuality::High]
-    }
-}
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TaaSettings {

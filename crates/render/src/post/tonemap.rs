@@ -16,13 +16,7 @@ use crate::renderer::Renderer;
 use crate::report::PassName;
 use crate::shaders::Permutation;
 
-crate::flag_key! {
-    /// `post/tonemap.wgsl`.
-    pub struct TonemapKey("post/tonemap.wgsl") {
-        /// Exposure from the adapted luminance (an Eye Adaptation input).
-        eye_adaptation: "EYE_ADAPTATION",
-    }
-}
+pub use super::tonemap_key::TonemapKey;
 
 /// The key exposure maps an adapted luminance to: middle grey.
 pub const DEFAULT_KEY: f32 = 0.18;

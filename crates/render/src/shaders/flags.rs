@@ -30,7 +30,7 @@ macro_rules! flag_key {
         #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
         $vis struct $name;
 
-        impl $crate::shaders::Permutation for $name {
+        impl $crate::shaders::permutation::Permutation for $name {
             const PATH: &'static str = $path;
             const FEATURES: &'static [&'static str] = &[];
 
@@ -55,19 +55,19 @@ macro_rules! flag_key {
             $($(#[$field_meta])* pub $field: bool),*
         }
 
-        impl $crate::shaders::Permutation for $name {
+        impl $crate::shaders::permutation::Permutation for $name {
             const PATH: &'static str = $path;
             const FEATURES: &'static [&'static str] = &[$($feature),*];
 
             fn features(self) -> impl Iterator<Item = &'static str> {
-                <Self as $crate::shaders::Permutation>::FEATURES
+                <Self as $crate::shaders::permutation::Permutation>::FEATURES
                     .iter()
                     .copied()
                     .filter(move |_feature| false $(|| (*_feature == $feature && self.$field))*)
             }
 
             fn all() -> Vec<Self> {
-                let features = <Self as $crate::shaders::Permutation>::FEATURES;
+                let features = <Self as $crate::shaders::permutation::Permutation>::FEATURES;
                 (0u32..1 << features.len())
                     .map(|_mask| {
                         let _on = |feature: &str| {
@@ -103,7 +103,7 @@ macro_rules! choice_key {
             $($(#[$variant_meta])* $variant),+
         }
 
-        impl $crate::shaders::Permutation for $name {
+        impl $crate::shaders::permutation::Permutation for $name {
             const PATH: &'static str = $path;
             const FEATURES: &'static [&'static str] = &[$($feature),+];
 

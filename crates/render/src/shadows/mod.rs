@@ -15,6 +15,7 @@
 // Named by the permutation keys without the passes.
 pub(crate) mod filter;
 mod raster;
+pub(crate) mod raster_key;
 mod slices;
 mod store;
 pub mod views;
@@ -33,7 +34,6 @@ use crate::report::PassName;
 use raster::{CasterSet, SetKind, StillSets};
 use store::ShadowStore;
 
-pub(crate) use raster::{MomentsKey, ShadowDepthKey, ShadowResolveKey};
 pub use filter::ShadowFilter;
 pub use views::{Cascades, LayerView};
 

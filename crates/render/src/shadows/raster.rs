@@ -15,23 +15,7 @@ use crate::shaders::{Permutation, ShaderKey};
 use super::store::{DEPTH_FORMAT, StoredMaps};
 use super::{ShadowFilter, ShadowMaps, VIEW_STRIDE, layer_view};
 
-crate::flag_key! {
-    /// `shadows/depth.wgsl`: one permutation.
-    pub struct ShadowDepthKey("shadows/depth.wgsl");
-}
-
-crate::flag_key! {
-    /// `shadows/moments.wgsl`: one permutation.
-    pub struct MomentsKey("shadows/moments.wgsl");
-}
-
-crate::flag_key! {
-    /// `shadows/resolve.wgsl`.
-    pub struct ShadowResolveKey("shadows/resolve.wgsl") {
-        /// Composited over the cached maps of what stands still.
-        over_still: "OVER_STILL",
-    }
-}
+pub use super::raster_key::{MomentsKey, ShadowDepthKey, ShadowResolveKey};
 
 /// Casters drawn together: their instances, their draws and, where the
 /// compute rasterizer draws the maps, its batches over them.

@@ -1,0 +1,16 @@
+//! The typed key of the compute rasterizer, [`RasterKey`] (`gbuffer/raster.wgsl`). It stands in a
+//! file of its own that imports no pass, so that `shaders::SHADERS` names it without a circle
+//! through the renderer (docs/architecture.md, "Layers inside render"); `gbuffer/compute_raster.rs`
+//! re-exports it.
+
+crate::flag_key! {
+    /// `gbuffer/raster.wgsl`.
+    pub struct RasterKey("gbuffer/raster.wgsl") {
+        /// Back faces are drawn too.
+        two_sided: "TWO_SIDED",
+        /// Positions fetched alone (a CPU adapter with no particle system drawn).
+        meshes_only: "MESHES_ONLY",
+        /// 32-bit depth words, no triangle ids.
+        depth_only: "DEPTH_ONLY",
+    }
+}

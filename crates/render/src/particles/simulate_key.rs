@@ -1,0 +1,16 @@
+//! The typed key of the particle simulation step, [`SimulateKey`] (`particles/simulate.wgsl`). It
+//! stands in a file of its own that imports no pass, so that `shaders::SHADERS` names it without a
+//! circle through the renderer (docs/architecture.md, "Layers inside render");
+//! `particles/simulate.rs` re-exports it.
+
+crate::flag_key! {
+    /// `particles/simulate.wgsl`.
+    pub struct SimulateKey("particles/simulate.wgsl") {
+        /// The force field is a texture (else analytic).
+        field_texture: "FIELD_TEXTURE",
+        /// Particles are born on a mesh's surface.
+        mesh_emitter: "MESH_EMITTER",
+        /// Particles bounce off the G-buffer's depth.
+        depth_collision: "DEPTH_COLLISION",
+    }
+}

@@ -1,0 +1,23 @@
+//! The typed keys of drawing shadow-map layers: [`ShadowDepthKey`] (`shadows/depth.wgsl`),
+//! [`MomentsKey`] (`shadows/moments.wgsl`), [`ShadowResolveKey`] (`shadows/resolve.wgsl`). They
+//! stand in a file of their own that imports no pass, so that `shaders::SHADERS` names them without
+//! a circle through the renderer (docs/architecture.md, "Layers inside render");
+//! `shadows/raster.rs` re-exports them.
+
+crate::flag_key! {
+    /// `shadows/depth.wgsl`: one permutation.
+    pub struct ShadowDepthKey("shadows/depth.wgsl");
+}
+
+crate::flag_key! {
+    /// `shadows/moments.wgsl`: one permutation.
+    pub struct MomentsKey("shadows/moments.wgsl");
+}
+
+crate::flag_key! {
+    /// `shadows/resolve.wgsl`.
+    pub struct ShadowResolveKey("shadows/resolve.wgsl") {
+        /// Composited over the cached maps of what stands still.
+        over_still: "OVER_STILL",
+    }
+}
