@@ -247,25 +247,21 @@ fn add_forward_light(i: u32, pw: vec3<f32>, s: BrdfSurface, view_depth: f32, sum
 fn light_sums(frag: vec2<f32>, pw: vec3<f32>, s: BrdfSurface, view_depth: f32) -> LightSums {
     var sums = no_light_sums();
 #ifdef CLUSTERED
-    // The grid spans the transparent layers' depth range (post/transparency):
-    // a fragment outside it (its layer's box was too small) walks every light.
-    if (view_depth >= grid.depth.x && view_depth <= grid.depth.y) {
-        let tile = vec2<u32>(clamp(floor(frag / grid.depth.w), vec2<f32>(0.0), vec2<f32>(grid.dims.xy - 1u)));
-        let slice = u32(clamp(floor(log(max(view_depth, grid.depth.x) / grid.depth.x) / grid.depth.z * f32(grid.dims.z)), 0.0, f32(grid.dims.z - 1u)));
-        let froxel = (slice * grid.dims.y + tile.y) * grid.dims.x + tile.x;
-        let first = light_offsets[froxel];
-        // Never past the list's end (an overfull frame's lists are cut: clusters.rs).
-        let end = min(first + light_counts[froxel], arrayLength(&light_indices));
-        for (var k = first; k < end; k++) {
-            add_forward_light(light_indices[k], pw, s, view_depth, &sums);
-        }
-        return sums;
+    let tile = vec2<u32>(clamp(floor(frag / grid.depth.w), vec2<f32>(0.0), vec2<f32>(grid.dims.xy - 1u)));
+    let slice = u32(clamp(floor(log(max(view_depth, grid.depth.x) / grid.depth.x) / grid.depth.z * f32(grid.dims.z)), 0.0, f32(grid.dims.z - 1u)));
+    let froxel = (slice * grid.dims.y + tile.y) * grid.dims.x + tile.x;
+    let first = light_offsets[froxel];
+    // Never past the list's end (an overfull frame's lists are cut: clusters.rs).
+    let end = min(first + light_counts[froxel], arrayLength(&light_indices));
+    for (var k = first; k < end; k++) {
+        add_forward_light(light_indices[k], pw, s, view_depth, &sums);
     }
-#endif
+#else
     let count = arrayLength(&lights);
     for (var i = 0u; i < count; i++) {
         add_forward_light(i, pw, s, view_depth, &sums);
     }
+#endif
     return sums;
 }
 #endif

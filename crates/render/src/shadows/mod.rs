@@ -578,7 +578,7 @@ fn sphere_around(boxes: impl Iterator<Item = Option<(Vec3, Vec3)>>) -> (Vec3, f3
 
 /// The box around a layer's instances (their meshes' boxes, transformed;
 /// corners that are not finite left out), None if it has none.
-pub(crate) fn layer_box(layer: &Layer) -> Option<(Vec3, Vec3)> {
+fn layer_box(layer: &Layer) -> Option<(Vec3, Vec3)> {
     let mut min = Vec3::splat(f32::INFINITY);
     let mut max = Vec3::splat(f32::NEG_INFINITY);
     for batch in &layer.batches {

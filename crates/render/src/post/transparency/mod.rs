@@ -789,15 +789,6 @@ impl Recipe for Transparency {
         let size = self.gbuffer.pixel_size(fg.output_size());
         let (near, far) =
             crate::lighting::near_far(self.gbuffer.camera.projection).unwrap_or((0.1, 1000.0));
-        // The slices span the transparent layers' own depth range, not the
-        // camera's: over near 0.1 .. far 1,000 each slice is a third of its
-        // depth thick, and a forward fragment walks every light of its
-        // slice. A fragment outside the range (a box that was too small:
-        // geometry moved on the GPU) walks every light instead (transparency.wgsl).
-        let (near, far) = depth_range(&self.layers, self.gbuffer.camera.view)
-            .map(|(lo, hi)| (lo.max(near), hi.min(far)))
-            .filter(|(lo, hi)| *hi > *lo * 1.01)
-            .unwrap_or((near, far));
         let grid = ClusterGrid::with_tile(size, near, far, ClusterGrid::FORWARD_TILE);
         for (i, set) in self.lights.iter().enumerate() {
             let Some(clusters) = &set.clusters else {
@@ -898,25 +889,4 @@ impl Recipe for Transparency {
         };
         pass.run(move |cx| self.resolve(cx, &io));
     }
-}
-
-/// The view-space depth range (nearest, farthest) of `layers`' boxes seen
-/// through `view`; None when they have none or it is not finite.
-fn depth_range(layers: &[Arc<Layer>], view: glam::Mat4) -> Option<(f32, f32)> {
-    let mut range: Option<(f32, f32)> = None;
-    for (lo, hi) in layers.iter().filter_map(|l| crate::shadows::layer_box(l)) {
-        for i in 0..8 {
-            let corner = glam::Vec3::new(
-                if i & 1 == 0 { lo.x } else { hi.x },
-                if i & 2 == 0 { lo.y } else { hi.y },
-                if i & 4 == 0 { lo.z } else { hi.z },
-            );
-            let depth = -view.transform_point3(corner).z;
-            if !depth.is_finite() {
-                return None;
-            }
-            range = Some(range.map_or((depth, depth), |(a, b)| (a.min(depth), b.max(depth))));
-        }
-    }
-    range
 }
