@@ -293,6 +293,22 @@ fn ordered(f: f32) -> u32 {
 fn unordered(u: u32) -> f32 {
     return bitcast<f32>(select(~u, u & 0x7fffffffu, (u & 0x80000000u) != 0u));
 }
+// From a batch's survivor mask (`batch_mask[parity]`, a bit per lane):
+// x, the place of `lane`'s light among the survivors (how many survived
+// before it, in list order), and y, how many survived. Both walks pack their
+// survivors by it, so the sums keep the list's order.
+fn survivor_place(parity: u32, lane: u32) -> vec2<u32> {
+    var survivors = 0u;
+    var place = 0u;
+    for (var w = 0u; w < MASK_WORDS; w++) {
+        let word = atomicLoad(&batch_mask[parity][w]);
+        let before = select(0u, select(word, word & ((1u << (lane % 32u)) - 1u), w == lane / 32u), w <= lane / 32u);
+        place += countOneBits(before);
+        survivors += countOneBits(word);
+    }
+    return vec2<u32>(place, survivors);
+}
+
 #ifdef TILED
 // TILED (LightLoop::Tiled): the clustered walk over depth-bounded tiles
 // (Harada's 2.5D culling over Olsson's froxel lists). Per 16x16 tile: the
@@ -463,14 +479,9 @@ fn walk_tiled(lane: u32, wid: vec2<u32>, covered: bool, slice: u32, p: vec3<f32>
             atomicStore(&batch_mask[1u - parity][lane], 0u);
         }
         workgroupBarrier();
-        var survivors = 0u;
-        var place = 0u;
-        for (var w = 0u; w < MASK_WORDS; w++) {
-            let word = atomicLoad(&batch_mask[parity][w]);
-            let before = select(0u, select(word, word & ((1u << (lane % 32u)) - 1u), w == lane / 32u), w <= lane / 32u);
-            place += countOneBits(before);
-            survivors += countOneBits(word);
-        }
+        let counted = survivor_place(parity, lane);
+        let place = counted.x;
+        let survivors = counted.y;
         if (survives) {
             batch_view[place] = with_inverse_range(lv);
             batch_intensity[place] = intensity;
@@ -712,14 +723,9 @@ fn main(@builtin(local_invocation_index) lane: u32, @builtin(workgroup_id) wid: 
             // The survivors, packed in list order: each one's place is the
             // count of survivors before it. The walk is then a counted loop
             // with no bit arithmetic per light, and the sums keep their order.
-            var survivors = 0u;
-            var place = 0u;
-            for (var w = 0u; w < MASK_WORDS; w++) {
-                let word = atomicLoad(&batch_mask[parity][w]);
-                let before = select(0u, select(word, word & ((1u << (lane % 32u)) - 1u), w == lane / 32u), w <= lane / 32u);
-                place += countOneBits(before);
-                survivors += countOneBits(word);
-            }
+            let counted = survivor_place(parity, lane);
+            let place = counted.x;
+            let survivors = counted.y;
             // The packed arrays were last read by the previous batch's walk,
             // which every lane left before the barrier above.
             if (survives) {
