@@ -24,7 +24,7 @@ use super::{
 /// One of a helper's value pins: a Float gives one component of the
 /// feature's vec4, a Color three (rgb).
 #[derive(Clone, Copy)]
-enum ValuePin {
+pub(super) enum ValuePin {
     Float(In<f32>),
     Color(In<Color>),
 }
@@ -53,7 +53,7 @@ struct FeaturePins {
 
 /// A helper node for `feature`: `values` declares its value pins after
 /// Material; `mapped` gives it a Texture ID pin after them.
-fn helper(
+pub(super) fn helper(
     name: &'static str,
     help: &'static str,
     feature: Feature,
