@@ -66,6 +66,8 @@ struct PassFigure {
     gpu_ms: Option<f64>,
     /// Median GPU idle time before the pass (after the previous one ended).
     idle_ms: Option<f64>,
+    /// Median CPU time recording the pass (`PassReport::cpu_ms`).
+    cpu_ms: Option<f64>,
 }
 
 fn median(mut v: Vec<f64>) -> Option<f64> {
@@ -149,6 +151,7 @@ struct PassSeries {
     owner: Option<u32>,
     gpu: Vec<f64>,
     idle: Vec<f64>,
+    cpu: Vec<f64>,
 }
 
 /// Per-frame figures of the timed frames.
@@ -159,6 +162,8 @@ struct Series {
     cpu: Vec<f64>,
     eval: Vec<f64>,
     record: Vec<f64>,
+    submit: Vec<f64>,
+    queue_submit: Vec<f64>,
 }
 
 /// Frames run back to back with timing off (frames in flight): what a host gets.
@@ -269,6 +274,8 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
         let cpu = (wall_ms - report.wait_ms).max(0.0);
         series.cpu.push(cpu);
         series.record.push(report.record_ms);
+        series.submit.push(report.submit_ms);
+        series.queue_submit.push(report.queue_submit_ms);
         series.eval.push((cpu - report.record_ms).max(0.0));
         if let Some(span) = report.gpu_frame_ms {
             series.gpu.push(span + geometry_ms);
@@ -286,6 +293,7 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
             }
             passes[k].gpu.extend(p.gpu_ms);
             passes[k].idle.extend(p.idle_ms);
+            passes[k].cpu.push(p.cpu_ms);
         }
         if renderer.gpu.has_timestamps() {
             const GEOMETRY: &str = "geometry and particles (compute)";
@@ -328,13 +336,15 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
             owner: p.owner,
             gpu_ms: median(p.gpu),
             idle_ms: median(p.idle),
+            cpu_ms: median(p.cpu),
         })
         .collect();
     let (gpu, cpu) = (median(series.gpu), median(series.cpu));
-    let (idle, eval, record) = (
+    let (idle, eval, record, submit) = (
         median(series.idle),
         median(series.eval),
         median(series.record),
+        median(series.submit),
     );
     if args.json {
         let line = serde_json::json!({
@@ -350,6 +360,8 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
             "cpu_ms_median": cpu,
             "cpu_eval_ms_median": eval,
             "cpu_record_ms_median": record,
+            "cpu_submit_ms_median": submit,
+            "cpu_queue_submit_ms_median": median(series.queue_submit.clone()),
             "wall_ms_per_frame": wall.as_ref().map(|w| w.ms_per_frame),
             "wall_cpu_ms_median": wall_cpu.0,
             "wall_cpu_eval_ms_median": wall_cpu.1,
@@ -379,6 +391,7 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
         println!("  CPU frame              {}", show(cpu));
         println!("    evaluating the patch {}", show(eval));
         println!("    recording the frame  {}", show(record));
+        println!("      of which finishing and submitting {}", show(submit));
         if let Some(w) = &wall {
             println!(
                 "  wall clock, frames in flight {:.3} ms a frame (CPU {} = {} + {}, no timestamps)",
@@ -394,7 +407,10 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
                 .idle_ms
                 .filter(|&ms| ms >= 0.0005)
                 .map_or(String::new(), |ms| format!("  (idle before {ms:.3} ms)"));
-            println!("  {:<44} {}{idle}", p.name, show(p.gpu_ms));
+            let cpu = p
+                .cpu_ms
+                .map_or(String::new(), |ms| format!("  (CPU {ms:.3} ms)"));
+            println!("  {:<44} {}{idle}{cpu}", p.name, show(p.gpu_ms));
         }
     }
     Ok(ExitCode::SUCCESS)

@@ -804,6 +804,16 @@ fn bench_prints_one_json_line_with_the_adapter() {
     );
     assert!(json["cpu_eval_ms_median"].as_f64().is_some());
     assert!(json["cpu_record_ms_median"].as_f64().is_some());
+    // Each pass's recording time is part of the frame's, and so is the submission after them.
+    let record = json["cpu_record_ms_median"].as_f64().unwrap_or(0.0);
+    let submit = json["cpu_submit_ms_median"]
+        .as_f64()
+        .expect("cpu_submit_ms_median");
+    assert!((0.0..=record).contains(&submit), "{submit} of {record}");
+    for pass in order {
+        let cpu = pass["cpu_ms"].as_f64().expect("each pass's cpu_ms");
+        assert!(cpu >= 0.0 && cpu <= record, "{pass}");
+    }
     assert!(json["wall_ms_per_frame"].is_null(), "only with --wall");
     // Where the cold start went, by step: the steps happen one after another in the process, and
     // the first frame of a fresh process compiles its pipelines.

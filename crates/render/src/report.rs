@@ -91,6 +91,11 @@ pub struct PassReport {
     /// others shows here where a compute pass ends (a render pass, a copy).
     pub idle_ms: Option<f64>,
     pub draws: u64,
+    /// CPU time recording this pass: its textures taken from the pool, its
+    /// `run` (pipelines, bind groups, uniform writes, commands) and the
+    /// graph's bookkeeping after it. What issue 33's "CPU per pass" is
+    /// about, per pass rather than as the frame's sum.
+    pub cpu_ms: f64,
 }
 
 /// What a frame did: the frame graph's statistics.
@@ -110,6 +115,13 @@ pub struct FrameReport {
     pub gpu_frame_ms: Option<f64>,
     /// CPU time spent recording and submitting the frame.
     pub record_ms: f64,
+    /// Of `record_ms`, the part after the last pass recorded: finishing the
+    /// command encoders (waiting for the finisher thread), resolving the
+    /// timestamps and the submission to the queue.
+    pub submit_ms: f64,
+    /// Of `submit_ms`, the queue's `submit` alone (wgpu's tracking and the
+    /// driver's submission).
+    pub queue_submit_ms: f64,
     /// Time spent waiting for the GPU to finish (to read the timestamps).
     pub wait_ms: f64,
     /// Decisions passes counted (`PassContext::count`), e.g. "shadow maps reused".

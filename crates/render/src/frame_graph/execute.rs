@@ -151,6 +151,7 @@ fn execute(
 
     let max_side = device.limits().max_texture_dimension_2d;
     for (step, &p) in parts.order.clone().iter().enumerate() {
+        let pass_started = std::time::Instant::now();
         // A texture past the adapter's limit fails its pass before anything
         // is allocated (wgpu would refuse it with an error outside any scope).
         let mut too_large = too_large(&parts.writes[p], &parts.keys[p], max_side, output_size);
@@ -307,7 +308,9 @@ fn execute(
             gpu_ms: None,
             idle_ms: None,
             draws,
+            cpu_ms: 0.0,
         });
+        let pass_report = report.passes.len() - 1;
 
         // Temporaries whose last reader has recorded go back to the pool, and
         // leave the live textures: no later pass can reach memory the pool
@@ -330,7 +333,9 @@ fn execute(
             }
             !done
         });
+        report.passes[pass_report].cpu_ms = pass_started.elapsed().as_secs_f64() * 1e3;
     }
+    let passes_recorded = started.elapsed();
     report.culled = parts
         .culled
         .iter()
@@ -417,8 +422,11 @@ fn execute(
     if !commands.is_empty() {
         add_counter(&mut report, "command buffers", commands.len() as u64);
     }
+    let submitting = std::time::Instant::now();
     let submission = gpu.submit(commands);
+    report.queue_submit_ms = submitting.elapsed().as_secs_f64() * 1e3;
     report.record_ms = started.elapsed().as_secs_f64() * 1e3;
+    report.submit_ms = (started.elapsed() - passes_recorded).as_secs_f64() * 1e3;
 
     if let (Some(ts), true) = (timestamps, next_query > 0) {
         let ticks = crate::context::read_buffer(gpu, &ts.readback, u64::from(next_query) * 8)?;
