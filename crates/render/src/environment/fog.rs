@@ -9,6 +9,8 @@ use crate::recipe::TextureRef;
 use crate::renderer::Renderer;
 use glam::Vec3;
 
+pub use super::fog_key::FogKey;
+
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FogSettings {
     /// The fog's own radiance (linear).

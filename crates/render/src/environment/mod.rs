@@ -7,12 +7,15 @@
 
 pub mod environment_map;
 pub mod fog;
+pub(crate) mod fog_key;
 mod pass;
 mod prefilter;
 pub(crate) mod prefilter_key;
 pub mod probe;
 pub mod reflection;
+pub(crate) mod reflection_key;
 pub mod sky;
+pub(crate) mod sky_key;
 mod source;
 pub mod ssr;
 

@@ -11,13 +11,15 @@
 use std::sync::Arc;
 
 use super::environment_map::Environment;
+use super::fog_key::FogKey;
+use super::sky_key::SkyKey;
 use crate::error::RenderError;
 use crate::frame_graph::{Bindings, FrameGraph, PassContext, Tex, TextureDesc};
 use crate::gbuffer::GBuffer;
 use crate::recipe::{AsAny, Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
 use crate::report::PassName;
-use crate::shaders::ShaderKey;
+use crate::shaders::{Permutation, ShaderKey};
 use crate::texture_pool::ViewSpec;
 
 /// Which environment pass an [`ImagePass`] is.
@@ -36,10 +38,13 @@ impl ImageKind {
         }
     }
 
-    fn shader(self) -> &'static str {
+    /// Its shader's permutation. Only the Sky's reads an environment's cube
+    /// or runs a Fog's parameters too (a Fog and a Sky in one pass run the
+    /// Sky's shader, [`ImagePass::run_over`]).
+    fn key(self, environment: bool, fog: bool) -> ShaderKey {
         match self {
-            ImageKind::Fog => "environment/fog.wgsl",
-            ImageKind::Sky => "environment/sky.wgsl",
+            ImageKind::Fog => FogKey.key(),
+            ImageKind::Sky => SkyKey { environment, fog }.key(),
         }
     }
 
@@ -137,14 +142,10 @@ impl ImagePass {
                 .view("environment", cx.view_of(&maps.base, ViewSpec::cube()))
                 .sampler_object("environment_sampler", maps.sampler.clone());
         }
-        let features = [
-            maps.is_some().then_some("ENVIRONMENT"),
-            fog.is_some().then_some("FOG"),
-        ];
         let size = self.gbuffer.pixel_size(cx.output_size);
         cx.dispatch_image(
             self.kind.name(),
-            &ShaderKey::new(self.kind.shader(), features.into_iter().flatten()),
+            &self.kind.key(maps.is_some(), fog.is_some()),
             b,
             size,
         )

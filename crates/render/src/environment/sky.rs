@@ -11,6 +11,8 @@ use crate::gbuffer::GBuffer;
 use crate::recipe::TextureRef;
 use crate::renderer::Renderer;
 
+pub use super::sky_key::SkyKey;
+
 /// The sky pass: an [`ImagePass`] over shaders/environment/sky.wgsl.
 pub struct Sky;
 

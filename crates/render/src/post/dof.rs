@@ -23,9 +23,9 @@ use crate::report::PassName;
 use crate::resolution::{
     Resolution, UpsampleFormat, UpsamplePass, declare_upsample, written_target,
 };
-use crate::shaders::ShaderKey;
+use crate::shaders::{Permutation, ShaderKey};
 
-const SHADER: &str = "post/dof.wgsl";
+pub use super::dof_key::DofKey;
 
 /// Counted when a DOF ran only its copy: its circle of confusion stays under half a pixel.
 pub const SKIPPED: &str = "dof skipped (circle under half a pixel)";
@@ -218,18 +218,12 @@ impl Dof {
     }
 
     fn key(&self) -> ShaderKey {
-        let mut features: Vec<&'static str> =
-            self.settings.resolution.feature().into_iter().collect();
-        if matches!(self.focus, Focus::Texture(_)) {
-            features.push("AUTOFOCUS");
+        DofKey {
+            autofocus: matches!(self.focus, Focus::Texture(_)),
+            bokeh: self.bokeh.is_some(),
+            half: self.settings.resolution.is_half(),
         }
-        if self.bokeh.is_some() {
-            features.push("BOKEH");
-        }
-        if self.inline_coc() {
-            features.push("INLINE_COC");
-        }
-        ShaderKey::new(SHADER, features)
+        .key()
     }
 
     /// Full resolution: the tiles and the blur make each pixel's circle of

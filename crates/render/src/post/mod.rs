@@ -4,6 +4,7 @@ pub mod autofocus;
 pub(crate) mod autofocus_key;
 pub(crate) mod copy_key;
 pub mod dof;
+pub(crate) mod dof_key;
 pub mod eye_adaptation;
 pub(crate) mod eye_adaptation_key;
 pub mod fxaa;

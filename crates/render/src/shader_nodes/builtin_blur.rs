@@ -13,9 +13,10 @@ use crate::frame_graph::{Bindings, FrameGraph, PassContext, SizeRule, Tex, Textu
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
 use crate::report::PassName;
-use crate::shaders::{Sampling, ShaderKey};
+use crate::shaders::{Permutation, Sampling};
 
-const SHADER: &str = "nodes/blur.wgsl";
+pub use super::builtin_blur_key::BuiltinBlurKey;
+
 const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 
 pub struct BuiltinBlur {
@@ -79,7 +80,7 @@ impl BuiltinBlur {
         };
         cx.dispatch_shader(
             entry,
-            &ShaderKey::new(SHADER, []),
+            &BuiltinBlurKey.key(),
             entry,
             Bindings::new()
                 .buffer("params", &params)

@@ -8,6 +8,7 @@
 
 pub mod annotations;
 pub mod builtin_blur;
+pub(crate) mod builtin_blur_key;
 pub mod compose;
 pub mod error;
 mod hook;

@@ -196,45 +196,25 @@ pub const SHADERS: &[ShaderFile] = &[
     shader!("ssao/ao.wgsl", keyed crate::ssao::key::AoKey),
     shader!("ssao/temporal.wgsl", keyed crate::ssao::key::TemporalKey),
     shader!("ssao/blur.wgsl", keyed crate::ssao::key::BlurKey),
-    shader!("environment/sky.wgsl", ["ENVIRONMENT", "FOG"]),
+    shader!("environment/sky.wgsl", keyed crate::environment::sky_key::SkyKey),
     shader!("environment/prefilter.wgsl", keyed crate::environment::prefilter_key::PrefilterKey),
-    shader!(
-        "environment/environment_probe.wgsl",
-        ["COLOR_MAP", "TEXCOORDS", "TRIPLANAR"],
-        // The Color Texture by the mesh's UVs or by three planar projections.
-        Rule::AtMostOne(&["TEXCOORDS", "TRIPLANAR"]),
-        Rule::Requires("TEXCOORDS", "COLOR_MAP"),
-        Rule::Requires("TRIPLANAR", "COLOR_MAP")
-    ),
-    shader!(
-        "environment/reflection.wgsl",
-        ["MATERIAL_TEXTURES", "SURFACE_TARGET", "PARALLAX"]
-    ),
-    shader!(
-        "environment/ssr.wgsl",
-        ["MATERIAL_TEXTURES", "HALF", "SURFACE_TARGET", "TEMPORAL"],
-        // The trace blends the history in its own pass at full resolution only.
-        Rule::AtMostOne(&["HALF", "TEMPORAL"])
-    ),
-    shader!("environment/fog.wgsl", []),
+    shader!("environment/environment_probe.wgsl", keyed crate::environment::probe::key::ProbeFacesKey),
+    shader!("environment/reflection.wgsl", keyed crate::environment::reflection_key::ReflectionKey),
+    shader!("environment/ssr.wgsl", keyed crate::environment::ssr::key::SsrKey),
+    shader!("environment/fog.wgsl", keyed crate::environment::fog_key::FogKey),
     shader!("post/tonemap.wgsl", keyed crate::post::tonemap_key::TonemapKey),
     shader!("post/eye_adaptation.wgsl", keyed crate::post::eye_adaptation_key::EyeAdaptationKey),
     shader!("post/fxaa.wgsl", keyed crate::post::fxaa_key::FxaaKey),
     shader!("post/copy.wgsl", keyed crate::post::copy_key::CopyKey),
     shader!("bench/pass_chain.wgsl", keyed crate::bench::pass_chain_key::PassChainKey),
-    shader!(
-        "post/dof.wgsl",
-        ["AUTOFOCUS", "BOKEH", "HALF", "INLINE_COC"],
-        // At half resolution the upsample reads the CoC target: a pass makes it.
-        Rule::AtMostOne(&["HALF", "INLINE_COC"])
-    ),
+    shader!("post/dof.wgsl", keyed crate::post::dof_key::DofKey),
     shader!("post/autofocus.wgsl", keyed crate::post::autofocus_key::AutofocusKey),
     shader!("post/motion_blur.wgsl", keyed crate::post::motion_blur_key::MotionBlurKey),
     shader!("post/glare.wgsl", keyed crate::post::glare_key::GlareKey),
     shader!("post/transparency.wgsl", keyed crate::post::transparency::key::TransparencyKey),
     shader!("post/taa.wgsl", keyed crate::post::taa_key::TaaQuality),
     // The shader-node example blur, run as a built-in pass (the baseline its node is benchmarked against).
-    shader!("nodes/blur.wgsl", []),
+    shader!("nodes/blur.wgsl", keyed crate::shader_nodes::builtin_blur_key::BuiltinBlurKey),
     shader!("resolution/upsample.wgsl", keyed crate::resolution_key::UpsampleKey),
     shader!("gbuffer/view.wgsl", one_of ["ALBEDO", "NORMALS", "VELOCITY", "UV", "DEPTH", "MATERIAL_ID", "OBJECT_ID"]),
 ];

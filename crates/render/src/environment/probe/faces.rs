@@ -10,15 +10,15 @@ use std::hash::{Hash, Hasher};
 
 use wgpu::util::DeviceExt;
 
+use super::key::ProbeFacesKey;
 use super::{ProbeScene, face_view_projection};
 use crate::error::RenderError;
 use crate::frame_graph::{Bindings, PassContext, Tex};
 use crate::gbuffer::{Draw, GpuInstance, Layer, pack_instances};
 use crate::mesh_arena::pulled_pipeline;
 use crate::renderer::Renderer;
-use crate::shaders::{Sampling, ShaderKey};
+use crate::shaders::{Permutation, Sampling, ShaderKey};
 
-const SHADER: &str = "environment/environment_probe.wgsl";
 const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 /// The base cube's format (prefilter.rs).
 const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
@@ -57,11 +57,11 @@ impl ProbeMap {
         }
     }
 
-    fn features(&self) -> &'static [&'static str] {
+    fn faces_key(&self) -> ProbeFacesKey {
         match self {
-            ProbeMap::None => &[],
-            ProbeMap::Texcoords(_) => &["COLOR_MAP", "TEXCOORDS"],
-            ProbeMap::Triplanar(..) => &["COLOR_MAP", "TRIPLANAR"],
+            ProbeMap::None => ProbeFacesKey::Plain,
+            ProbeMap::Texcoords(_) => ProbeFacesKey::Texcoords,
+            ProbeMap::Triplanar(..) => ProbeFacesKey::Triplanar,
         }
     }
 }
@@ -179,7 +179,7 @@ pub(crate) fn render(
         } else {
             &ProbeMap::None
         };
-        let key = ShaderKey::new(SHADER, map.features().iter().copied());
+        let key = map.faces_key().key();
         let pipeline = pipeline(cx, &key)?;
         let uniform = match map {
             ProbeMap::Triplanar(_, sharpness) => Some(device.create_buffer_init(

@@ -22,6 +22,7 @@
 //!   if infinitely far.
 
 pub(crate) mod faces;
+pub(crate) mod key;
 
 use std::hash::{Hash, Hasher};
 use std::sync::Arc;

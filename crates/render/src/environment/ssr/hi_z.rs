@@ -3,10 +3,10 @@
 //! dispatch (shaders/environment/ssr.wgsl, `hiz_first` / `hiz_down2`).
 
 use super::super::prefilter::split_sum_table;
-use super::{SHADER, Ssr};
+use super::{Ssr, SsrKey};
 use crate::error::RenderError;
 use crate::frame_graph::{Bindings, PassContext, Tex};
-use crate::shaders::ShaderKey;
+use crate::shaders::Permutation;
 
 /// Statistic: the dispatches that built the hierarchical depth (two levels
 /// each where they can).
@@ -51,7 +51,7 @@ impl Ssr {
         let hiz = self.hiz_texture(cx, size);
         split_sum_table(cx, &self.table)?;
         let device = cx.gpu.device.clone();
-        let key = ShaderKey::new(SHADER, []);
+        let key = SsrKey::PLAIN.key();
         // Each level's view, kept across frames (so are the bind groups over them).
         let mips: Vec<wgpu::TextureView> = (0..hiz.mip_level_count())
             .map(|m| cx.view_of(&hiz, crate::texture_pool::ViewSpec::mip(m)))

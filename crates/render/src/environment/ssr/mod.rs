@@ -16,8 +16,10 @@ use std::sync::atomic::{AtomicU32, Ordering};
 use std::sync::{Arc, Mutex};
 
 mod hi_z;
+pub(crate) mod key;
 
 pub use hi_z::HIZ_DISPATCHES;
+pub use key::{SsrKey, SsrTarget};
 
 use super::prefilter::{SplitSumStore, split_sum_table};
 use crate::error::RenderError;
@@ -30,10 +32,8 @@ use crate::report::PassName;
 use crate::resolution::{
     Resolution, UpsampleFormat, UpsamplePass, declare_upsample, written_target,
 };
-use crate::shaders::{Sampling, ShaderKey};
+use crate::shaders::{Permutation, Sampling};
 use crate::temporal::TemporalState;
-
-const SHADER: &str = "environment/ssr.wgsl";
 
 /// The quality pins.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -221,9 +221,20 @@ impl Ssr {
         self.materials.textured(1 << FEATURE_COOK_TORRANCE)
     }
 
-    fn key(&self) -> ShaderKey {
-        self.materials
-            .surface_key(SHADER, self.gbuffer.targets.surface_feature())
+    /// The trace's key: with `history`, it blends the history in itself.
+    fn trace_key(&self, history: bool) -> SsrKey {
+        let target = if history {
+            SsrTarget::FullTemporal
+        } else if self.settings.resolution.is_half() {
+            SsrTarget::Half
+        } else {
+            SsrTarget::Full
+        };
+        SsrKey {
+            material_textures: self.textured(),
+            surface_target: self.gbuffer.targets.surface.is_some(),
+            target,
+        }
     }
 
     fn label(&self, what: impl Into<std::borrow::Cow<'static, str>>) -> PassName {
@@ -296,8 +307,6 @@ impl Ssr {
         );
         let g = &self.gbuffer;
         let resolution = self.settings.resolution;
-        let mut key = self.key();
-        key.features.extend(resolution.feature());
         let mut b = Bindings::new()
             .buffer("camera", g.camera_buffer())
             .buffer("params", &self.trace_params)
@@ -313,7 +322,6 @@ impl Ssr {
             .texture_opt("surface_target", io.surface)
             .extend(self.materials.bindings(io.material_textures));
         if let Some(h) = io.history {
-            key.features.insert("TEMPORAL");
             b = b
                 .texture("history", h.history)
                 .texture("velocity_uv", h.velocity_uv);
@@ -321,7 +329,7 @@ impl Ssr {
         let (w, h) = resolution.pixels(g.pixel_size(cx.output_size));
         cx.dispatch_shader(
             "ssr trace",
-            &key,
+            &self.trace_key(io.history.is_some()).key(),
             "main",
             b,
             (w.div_ceil(8), h.div_ceil(8), 1),
@@ -361,7 +369,7 @@ impl Ssr {
         let size = g.pixel_size(cx.output_size);
         cx.dispatch_shader(
             "ssr resolve",
-            &ShaderKey::new(SHADER, []),
+            &SsrKey::PLAIN.key(),
             "resolve",
             Bindings::new()
                 .buffer("camera", g.camera_buffer())
@@ -382,7 +390,7 @@ impl Ssr {
         let (w, h) = self.gbuffer.pixel_size(cx.output_size);
         cx.dispatch_shader(
             "ssr clear",
-            &ShaderKey::new(SHADER, []),
+            &SsrKey::PLAIN.key(),
             "clear",
             Bindings::new()
                 .buffer("camera", self.gbuffer.camera_buffer())
