@@ -12,6 +12,7 @@ mod prefilter;
 pub(crate) mod prefilter_key;
 pub mod probe;
 pub mod reflection;
+pub(crate) mod reflection_key;
 pub mod sky;
 mod source;
 pub mod ssr;

@@ -20,10 +20,11 @@ use crate::material::{FEATURE_COOK_TORRANCE, FEATURE_REFLECTION, MaterialTexture
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
 use crate::report::PassName;
-use crate::shaders::ShaderKey;
+use crate::shaders::{Permutation, ShaderKey};
 use crate::texture_pool::ViewSpec;
 
-const SHADER: &str = "environment/reflection.wgsl";
+pub use super::reflection_key::ReflectionKey;
+
 /// Statistic: Reflection passes that wrote the diffuse light and the
 /// specular in one dispatch (the frame read both).
 pub const BOTH_IN_ONE_PASS: &str = "reflection diffuse and specular in one pass";
@@ -149,13 +150,12 @@ impl Reflection {
     }
 
     fn key(&self) -> ShaderKey {
-        let mut key = self
-            .materials
-            .surface_key(SHADER, self.gbuffer.targets.surface_feature());
-        if self.volume.is_some() {
-            key.features.insert("PARALLAX");
+        ReflectionKey {
+            material_textures: self.textured(),
+            surface_target: self.gbuffer.targets.surface.is_some(),
+            parallax: self.volume.is_some(),
         }
-        key
+        .key()
     }
 
     fn clear(&self, cx: &mut PassContext<'_>, specular: Tex) -> Result<(), RenderError> {

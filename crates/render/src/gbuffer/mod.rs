@@ -20,8 +20,10 @@ mod passes;
 mod published_depth;
 pub(crate) mod published_depth_key;
 mod resolve;
+pub(crate) mod resolve_key;
 mod surface_shader;
 mod view;
+pub(crate) mod view_key;
 pub(crate) mod visibility_key;
 
 use std::sync::Arc;
@@ -341,7 +343,7 @@ impl GBuffer {
                 l.resolves_with_others().then(|| {
                     let f = &l.features;
                     (
-                        l.surface_defines(),
+                        l.surface_key(),
                         f.adds_geometry_ids(),
                         f.triplanar_sharpness,
                     )
@@ -351,7 +353,7 @@ impl GBuffer {
         let motion_runs = kept(
             "mre motion run",
             runs(&layers, &layer_ranges, |l| {
-                Some((l.features.motion_defines(), l.features.adds_geometry_ids()))
+                Some((l.features.motion_key(), l.features.adds_geometry_ids()))
             }),
         );
         let fused_runs = kept(
@@ -360,7 +362,7 @@ impl GBuffer {
                 l.resolves_with_others().then(|| {
                     let f = &l.features;
                     (
-                        l.fused_defines(),
+                        l.fused_key(),
                         f.adds_geometry_ids(),
                         f.triplanar_sharpness,
                     )

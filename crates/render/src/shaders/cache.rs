@@ -200,7 +200,7 @@ fn same_group(
 /// empty). A name the permutation lacks goes to `unknown`, which says
 /// whether that is an error; a variable the entry point uses that nothing
 /// binds is one.
-fn match_bindings<'r>(
+pub(super) fn match_bindings<'r>(
     reflection: &Reflection,
     resources: &[(&str, wgpu::BindingResource<'r>)],
     prebuilt: &[(u32, wgpu::BindGroup)],

@@ -61,6 +61,36 @@ impl Reflection {
     pub fn last_group(&self) -> Option<u32> {
         self.vars.iter().filter(|v| v.used).map(|v| v.group).max()
     }
+
+    /// A WGSL module of its own (no `#import`s) reflected for `entry`: for a
+    /// pipeline made outside the shader cache (the editor's viewport blit, a
+    /// test's own module), which then binds by name with [`Reflection::entries`].
+    pub fn of_wgsl(source: &str, entry: &str) -> Result<Reflection, String> {
+        let module =
+            naga::front::wgsl::parse_str(source).map_err(|e| e.emit_to_string(source))?;
+        reflect(&module, entry)
+    }
+
+    /// A module composed elsewhere (a test composing a library) reflected for `entry`.
+    pub fn of_module(module: &naga::Module, entry: &str) -> Result<Reflection, String> {
+        reflect(module, entry)
+    }
+
+    /// Group `group`'s bind-group entries from `resources` by WGSL variable
+    /// name, for a pipeline whose layout wgpu derived (`layout: None`): a
+    /// variable the entry point does not use is left out, as the derived
+    /// layout leaves it; a name the module does not declare is an error, and
+    /// so is a variable the entry point uses that `resources` leaves unbound.
+    pub fn entries<'r>(
+        &self,
+        group: u32,
+        resources: &[(&str, wgpu::BindingResource<'r>)],
+    ) -> Result<Vec<wgpu::BindGroupEntry<'r>>, String> {
+        let groups = super::cache::match_bindings(self, resources, &[], |name| {
+            Err(format!("the shader declares no variable `{name}`"))
+        })?;
+        Ok(groups.into_iter().nth(group as usize).unwrap_or_default())
+    }
 }
 
 /// The name a WGSL author wrote, without naga_oil's module decoration.
