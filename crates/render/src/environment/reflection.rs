@@ -20,11 +20,10 @@ use crate::material::{FEATURE_COOK_TORRANCE, FEATURE_REFLECTION, MaterialTexture
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
 use crate::report::PassName;
-use crate::shaders::{Permutation, ShaderKey};
+use crate::shaders::Permutation;
 use crate::texture_pool::ViewSpec;
 
 pub use super::reflection_key::ReflectionKey;
-
 /// Statistic: Reflection passes that wrote the diffuse light and the
 /// specular in one dispatch (the frame read both).
 pub const BOTH_IN_ONE_PASS: &str = "reflection diffuse and specular in one pass";
@@ -149,13 +148,12 @@ impl Reflection {
         self.materials.textured(1 << FEATURE_COOK_TORRANCE)
     }
 
-    fn key(&self) -> ShaderKey {
+    fn key(&self) -> ReflectionKey {
         ReflectionKey {
             material_textures: self.textured(),
             surface_target: self.gbuffer.targets.surface.is_some(),
             parallax: self.volume.is_some(),
         }
-        .key()
     }
 
     fn clear(&self, cx: &mut PassContext<'_>, specular: Tex) -> Result<(), RenderError> {
@@ -177,7 +175,7 @@ impl Reflection {
         let (w, h) = self.gbuffer.pixel_size(cx.output_size);
         cx.dispatch_shader(
             label,
-            &self.key(),
+            &self.key().key(),
             entry,
             bindings,
             (w.div_ceil(8), h.div_ceil(8), 1),

@@ -1,16 +1,19 @@
-//! The typed key of the environment reflection, [`ReflectionKey`]
-//! (`environment/reflection.wgsl`). It stands in a file of its own that imports no pass, so that
-//! `shaders::SHADERS` names it without a circle through the renderer (docs/architecture.md, "Layers
-//! inside render"); `environment/reflection.rs` re-exports it.
+//! The typed key of `Reflection`, [`ReflectionKey`] (`environment/reflection.wgsl`). It stands in a
+//! file of its own that imports no pass, so that `shaders::SHADERS` names it without a circle
+//! through the renderer (docs/architecture.md, "Layers inside render"); `environment/reflection.rs`
+//! re-exports it.
 
 crate::flag_key! {
-    /// `environment/reflection.wgsl`.
+    /// `environment/reflection.wgsl`: one key for every entry (the clear,
+    /// the specular and diffuse light).
     pub struct ReflectionKey("environment/reflection.wgsl") {
-        /// Some material's CookTorrance parameters read the world's texture array.
+        /// Some material's CookTorrance parameters read a texture.
         material_textures: "MATERIAL_TEXTURES",
-        /// Roughness and metallic where the G-buffer resolved them (its surface target).
+        /// The G-buffer has a surface target (surface maps, shader node
+        /// materials), read in place of the materials' parameters.
         surface_target: "SURFACE_TARGET",
-        /// A probe volume's box corrects the lookup direction.
+        /// The cube is a probe's with a volume: the lookup is corrected by
+        /// the volume (parallax), not taken as if infinitely far.
         parallax: "PARALLAX",
     }
 }
