@@ -361,11 +361,7 @@ impl GBuffer {
             runs(&layers, &layer_ranges, |l| {
                 l.resolves_with_others().then(|| {
                     let f = &l.features;
-                    (
-                        l.fused_key(),
-                        f.adds_geometry_ids(),
-                        f.triplanar_sharpness,
-                    )
+                    (l.fused_key(), f.adds_geometry_ids(), f.triplanar_sharpness)
                 })
             }),
         );

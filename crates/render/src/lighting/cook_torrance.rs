@@ -5,7 +5,7 @@ use std::sync::Arc;
 
 use super::clusters::{ClusterGrid, ClusterStore};
 use super::cook_torrance_key::{
-    BrdfMaterials, CookTorranceKey, Lights, MaterialReads, ShadowSampling, Shading,
+    BrdfMaterials, CookTorranceKey, Lights, MaterialReads, Shading, ShadowSampling,
 };
 use super::{LightBuffer, LightKind};
 use crate::adapter_class::AdapterClass;

@@ -66,8 +66,7 @@ impl Reflection {
     /// pipeline made outside the shader cache (the editor's viewport blit, a
     /// test's own module), which then binds by name with [`Reflection::entries`].
     pub fn of_wgsl(source: &str, entry: &str) -> Result<Reflection, String> {
-        let module =
-            naga::front::wgsl::parse_str(source).map_err(|e| e.emit_to_string(source))?;
+        let module = naga::front::wgsl::parse_str(source).map_err(|e| e.emit_to_string(source))?;
         reflect(&module, entry)
     }
 

@@ -345,7 +345,9 @@ fn hand_written_keys_allow_what_the_string_rules_did() {
     };
     let keyed = |path: &str| -> (Sets, usize) {
         let file = SHADERS.iter().find(|f| f.path == path).expect(path);
-        let keys = file.keyed.unwrap_or_else(|| panic!("{path} has no typed key"))();
+        let keys = file
+            .keyed
+            .unwrap_or_else(|| panic!("{path} has no typed key"))();
         let n = keys.len();
         (keys.into_iter().map(|k| k.features).collect(), n)
     };
@@ -453,7 +455,10 @@ fn a_module_of_its_own_binds_by_name() {
     // Each by the number the WGSL gave it; `unused`, which `main` never
     // touches and a derived layout leaves out, is left out too.
     let entries = reflection
-        .entries(0, &[("output", whole()), ("input", whole()), ("unused", whole())])
+        .entries(
+            0,
+            &[("output", whole()), ("input", whole()), ("unused", whole())],
+        )
         .expect("binds");
     let numbers: Vec<u32> = entries.iter().map(|e| e.binding).collect();
     assert_eq!(numbers, [7, 3]);
@@ -462,7 +467,10 @@ fn a_module_of_its_own_binds_by_name() {
         .expect_err("output unbound");
     assert!(err.contains("`output`"), "{err}");
     let err = reflection
-        .entries(0, &[("input", whole()), ("output", whole()), ("typo", whole())])
+        .entries(
+            0,
+            &[("input", whole()), ("output", whole()), ("typo", whole())],
+        )
         .expect_err("no such variable");
     assert!(err.contains("`typo`"), "{err}");
     assert!(Reflection::of_wgsl("fn broken( {", "main").is_err());

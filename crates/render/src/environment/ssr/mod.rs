@@ -225,7 +225,12 @@ impl Ssr {
         // MaterialWorld::surface_key is gone (typed keys, issue 35): the
         // same two switches, until SSR has a typed key of its own.
         let textured = self.textured().then_some("MATERIAL_TEXTURES");
-        ShaderKey::new(SHADER, textured.into_iter().chain(self.gbuffer.targets.surface_feature()))
+        ShaderKey::new(
+            SHADER,
+            textured
+                .into_iter()
+                .chain(self.gbuffer.targets.surface_feature()),
+        )
     }
 
     fn label(&self, what: impl Into<std::borrow::Cow<'static, str>>) -> PassName {
