@@ -175,10 +175,6 @@ pub struct GBufferTargets {
     pub surface: Option<String>,
 }
 
-/// Where lighting passes bind the G-buffer's surface target (group 0): the
-/// binding `shaders/lib/surface_target.wgsl` declares under SURFACE_TARGET.
-pub const SURFACE_TARGET_BINDING: u32 = 30;
-
 impl GBufferTargets {
     /// What material lookups read at a pixel: the UV.
     pub fn surface_targets(&self) -> crate::material::SurfaceTargets<'_> {
