@@ -4,6 +4,7 @@
 
 use std::sync::Arc;
 
+use spreadlight_render::shaders::Reflection;
 use spreadlight_render::{FrameGraph, GpuContext, Renderer, TextureRef};
 use thiserror::Error;
 
@@ -128,7 +129,8 @@ enum BlitMode {
 /// format (Rgba32Float is not filterable, so egui could not sample it
 /// directly), and scales it down into thumbnails (a box filter).
 pub struct Blitter {
-    layout: wgpu::BindGroupLayout,
+    /// `BLIT_WGSL`'s variables, which each blit binds by name.
+    reflection: Reflection,
     pipeline: wgpu::RenderPipeline,
     probe: wgpu::RenderPipeline,
 }
@@ -139,40 +141,14 @@ impl Blitter {
             label: Some("viewport blit"),
             source: wgpu::ShaderSource::Wgsl(BLIT_WGSL.into()),
         });
-        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("viewport blit"),
-            entries: &[
-                wgpu::BindGroupLayoutEntry {
-                    binding: 0,
-                    visibility: wgpu::ShaderStages::FRAGMENT,
-                    ty: wgpu::BindingType::Texture {
-                        sample_type: wgpu::TextureSampleType::Float { filterable: false },
-                        view_dimension: wgpu::TextureViewDimension::D2,
-                        multisampled: false,
-                    },
-                    count: None,
-                },
-                wgpu::BindGroupLayoutEntry {
-                    binding: 1,
-                    visibility: wgpu::ShaderStages::FRAGMENT,
-                    ty: wgpu::BindingType::Buffer {
-                        ty: wgpu::BufferBindingType::Uniform,
-                        has_dynamic_offset: false,
-                        min_binding_size: None,
-                    },
-                    count: None,
-                },
-            ],
-        });
-        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("viewport blit"),
-            bind_group_layouts: &[Some(&layout)],
-            immediate_size: 0,
-        });
+        // Bound by variable name (render's reflection), its layout derived
+        // by wgpu: no binding number is written twice.
+        let reflection = Reflection::of_wgsl(BLIT_WGSL, "fs")
+            .expect("the viewport blit's own shader parses and has `fs`");
         let pipeline = |format: wgpu::TextureFormat| {
             device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                 label: Some("viewport blit"),
-                layout: Some(&pipeline_layout),
+                layout: None,
                 vertex: wgpu::VertexState {
                     module: &shader,
                     entry_point: Some("vs"),
@@ -195,7 +171,7 @@ impl Blitter {
         Blitter {
             pipeline: pipeline(VIEW_FORMAT),
             probe: pipeline(PROBE_FORMAT),
-            layout,
+            reflection,
         }
     }
 
@@ -278,19 +254,17 @@ impl Blitter {
                     contents: &params,
                     usage: wgpu::BufferUsages::UNIFORM,
                 });
+            let entries = self.reflection.entries(
+                0,
+                &[
+                    ("src", wgpu::BindingResource::TextureView(&view)),
+                    ("params", buffer.as_entire_binding()),
+                ],
+            )?;
             let bind = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("viewport blit"),
-                layout: &self.layout,
-                entries: &[
-                    wgpu::BindGroupEntry {
-                        binding: 0,
-                        resource: wgpu::BindingResource::TextureView(&view),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 1,
-                        resource: buffer.as_entire_binding(),
-                    },
-                ],
+                layout: &pipeline.get_bind_group_layout(0),
+                entries: &entries,
             });
             let mut encoder = gpu.device.create_command_encoder(&Default::default());
             {
@@ -314,8 +288,9 @@ impl Blitter {
                 pass.set_bind_group(0, &bind, &[]);
                 pass.draw(0..3, 0..1);
             }
-            encoder.finish()
+            Ok(encoder.finish())
         })
+        .and_then(|made| made)
         .map_err(ViewportError::Render)
     }
 

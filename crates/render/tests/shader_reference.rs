@@ -19,7 +19,7 @@ use spreadlight_reference::lights::{
 };
 use spreadlight_reference::tonemap::{TonemapOperator, ev100_to_exposure, luminance, tonemap};
 use spreadlight_render::renderer::test_renderer;
-use spreadlight_render::shaders::SHADERS;
+use spreadlight_render::shaders::{Reflection, SHADERS};
 use wgpu::util::DeviceExt;
 
 /// Calls every function of the three libraries. One invocation per case;
@@ -350,9 +350,11 @@ fn wgsl_libraries_match_the_cpu_reference_on_the_gpu() {
         usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
         mapped_at_creation: false,
     });
+    let composed = compose_entry();
+    let reflection = Reflection::of_module(&composed, "main").expect("reflects");
     let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
         label: Some("shader_reference"),
-        source: wgpu::ShaderSource::Naga(Cow::Owned(compose_entry())),
+        source: wgpu::ShaderSource::Naga(Cow::Owned(composed)),
     });
     let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
         label: Some("shader_reference"),
@@ -365,16 +367,15 @@ fn wgsl_libraries_match_the_cpu_reference_on_the_gpu() {
     let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
         label: Some("shader_reference"),
         layout: &pipeline.get_bind_group_layout(0),
-        entries: &[
-            wgpu::BindGroupEntry {
-                binding: 0,
-                resource: input.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 1,
-                resource: output.as_entire_binding(),
-            },
-        ],
+        entries: &reflection
+            .entries(
+                0,
+                &[
+                    ("cases", input.as_entire_binding()),
+                    ("results", output.as_entire_binding()),
+                ],
+            )
+            .expect("binds by name"),
     });
     let mut encoder = device.create_command_encoder(&Default::default());
     {

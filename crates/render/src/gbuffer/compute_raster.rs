@@ -419,34 +419,37 @@ mod tests {
 
     #[test]
     fn a_cpu_adapter_fetches_positions_alone_where_no_draw_is_a_particle_system() {
-        let key = |features: &[&'static str]| {
-            ShaderKey::new("gbuffer/raster.wgsl", features.iter().copied())
-        };
-        for sided in [false, true] {
-            let base: &[&'static str] = if sided { &["TWO_SIDED"] } else { &[] };
-            let with = |f: &'static str| [base, &[f]].concat();
+        for two_sided in [false, true] {
+            let key = |meshes_only, depth_only| {
+                RasterKey {
+                    two_sided,
+                    meshes_only,
+                    depth_only,
+                }
+                .key()
+            };
             // A GPU keeps the shader it always ran, particles or not.
             assert_eq!(
-                raster_key(AdapterClass::Gpu, sided, false, Words::Visibility64),
-                key(base)
+                raster_key(AdapterClass::Gpu, two_sided, false, Words::Visibility64),
+                key(false, false)
             );
             assert_eq!(
-                raster_key(AdapterClass::Gpu, sided, true, Words::Visibility64),
-                key(base)
+                raster_key(AdapterClass::Gpu, two_sided, true, Words::Visibility64),
+                key(false, false)
             );
             assert_eq!(
-                raster_key(AdapterClass::Cpu, sided, false, Words::Visibility64),
-                key(&with("MESHES_ONLY"))
+                raster_key(AdapterClass::Cpu, two_sided, false, Words::Visibility64),
+                key(true, false)
             );
             // Particles need the procedural path.
             assert_eq!(
-                raster_key(AdapterClass::Cpu, sided, true, Words::Visibility64),
-                key(base)
+                raster_key(AdapterClass::Cpu, two_sided, true, Words::Visibility64),
+                key(false, false)
             );
             // Shadow maps' 32-bit depth words are a permutation of their own.
             assert_eq!(
-                raster_key(AdapterClass::Gpu, sided, true, Words::Depth32),
-                key(&with("DEPTH_ONLY"))
+                raster_key(AdapterClass::Gpu, two_sided, true, Words::Depth32),
+                key(false, true)
             );
         }
     }

@@ -6,6 +6,7 @@ use std::sync::Arc;
 use glam::Mat4;
 use thiserror::Error;
 
+use super::resolve_key::{ResolveKey, SurfaceOut, SurfaceResolve, Uv, Written};
 use super::surface_shader::SurfaceShader;
 use crate::material::MaterialWorld;
 use crate::mesh_arena::GpuMesh;
@@ -69,38 +70,43 @@ impl LayerFeatures {
         self.ids && self.geometry_ids
     }
 
-    /// The resolve shader's features for the surface (color, normals) pass, from the switches alone.
-    fn surface_defines(&self) -> Vec<&'static str> {
-        let mut d = Vec::new();
-        if self.normal_map {
-            d.push("NORMAL_MAP");
+    /// The resolve's permutation for the surface (color, normals) pass, from the switches alone.
+    fn surface_key(&self) -> ResolveKey {
+        ResolveKey {
+            normal_map: self.normal_map,
             // A normal map needs coordinates even with both switches off:
             // the mesh's own UVs (`Layer::new` checked it has them), never
             // one texel for the whole surface.
-            d.push(self.uv_define().unwrap_or("TEXCOORDS"));
+            uv: match self.normal_map {
+                true => self.uv().or(Uv::Mesh),
+                false => Uv::None,
+            },
+            ..ResolveKey::surface(SurfaceResolve::default())
         }
-        d
     }
 
-    /// The resolve shader's features for the motion (velocity, UV) pass.
-    pub(crate) fn motion_defines(&self) -> Vec<&'static str> {
-        let mut d = vec!["MOTION"];
-        // The UVs the surface pass reads (a normal map reads the mesh's even
-        // with both switches off), so one dispatch for both writes the same.
-        d.extend(self.uv_define().or(self.normal_map.then_some("TEXCOORDS")));
-        if self.velocity == VelocitySource::Geometry {
-            d.push("VELOCITY_FROM_GEOMETRY");
+    /// The resolve's permutation for the motion (velocity, UV) pass.
+    pub(crate) fn motion_key(&self) -> ResolveKey {
+        ResolveKey {
+            // The UVs the surface pass reads (a normal map reads the mesh's
+            // even with both switches off), so one dispatch for both writes the same.
+            uv: match self.normal_map {
+                true => self.uv().or(Uv::Mesh),
+                false => self.uv(),
+            },
+            velocity_from_geometry: self.velocity == VelocitySource::Geometry,
+            ..ResolveKey::motion()
         }
-        d
     }
 
-    pub(crate) fn uv_define(&self) -> Option<&'static str> {
+    /// The texture coordinates the switches ask for.
+    pub(crate) fn uv(&self) -> Uv {
         if self.texcoords {
-            Some("TEXCOORDS")
+            Uv::Mesh
         } else if self.triplanar {
-            Some("TRIPLANAR")
+            Uv::Triplanar
         } else {
-            None
+            Uv::None
         }
     }
 }
@@ -278,47 +284,42 @@ impl Layer {
         Ok(self)
     }
 
-    /// The resolve shader's features for the surface (color, normals) pass.
-    pub(crate) fn surface_defines(&self) -> Vec<&'static str> {
-        let mut d = self.features.surface_defines();
-        if self.color_map.is_some() {
-            d.push("COLOR_MAP");
-            if !self.features.normal_map {
-                d.extend(self.features.uv_define());
-            }
+    /// The resolve's permutation for the surface (color, normals) pass.
+    pub(crate) fn surface_key(&self) -> ResolveKey {
+        let mut key = self.features.surface_key();
+        // A Color Texture, and a shader node material (its `uv` is the
+        // layer's texture coordinates, docs/shader-nodes.md, maps or not),
+        // read the switches' UVs where a normal map did not choose them.
+        if self.color_map.is_some() || self.surface.is_some() {
+            key.uv = key.uv.or(self.features.uv());
         }
-        if self.map_world().is_some() {
-            d.push("MATERIAL_MAPS");
-        }
-        if self.surface.is_some() {
-            d.push("CUSTOM_SURFACE");
-            // Its `uv` is the layer's texture coordinates (docs/shader-nodes.md),
-            // maps or not.
-            if let Some(uv) = self.features.uv_define()
-                && !d.contains(&uv)
-            {
-                d.push(uv);
-            }
-        }
-        if self.vertex_extras() {
-            d.push("VERTEX_EXTRAS");
-        }
-        d
+        let surface = if self.surface.is_some() {
+            Some(SurfaceOut::Custom)
+        } else {
+            self.map_world().map(|_| SurfaceOut::MaterialMaps)
+        };
+        key.written = Written::Surface(SurfaceResolve {
+            color_map: self.color_map.is_some(),
+            vertex_extras: self.vertex_extras(),
+            velocity: false,
+            surface,
+        });
+        key
     }
 
-    /// The resolve's features for the surface and motion passes in one
-    /// dispatch: the surface's, the motion pass's (its texture coordinates,
-    /// which the surface's equal where the surface reads any, and velocity
-    /// from geometry), and VELOCITY_OUT in place of MOTION.
-    pub(crate) fn fused_defines(&self) -> Vec<&'static str> {
-        let mut d = self.surface_defines();
-        for motion in self.features.motion_defines() {
-            if motion != "MOTION" && !d.contains(&motion) {
-                d.push(motion);
-            }
+    /// The resolve's permutation for the surface and motion passes in one
+    /// dispatch: the surface's, the motion pass's texture coordinates (which
+    /// the surface's equal where the surface reads any) and velocity from
+    /// geometry, writing velocity and UVs beside the surface (VELOCITY_OUT).
+    pub(crate) fn fused_key(&self) -> ResolveKey {
+        let mut key = self.surface_key();
+        let motion = self.features.motion_key();
+        key.uv = key.uv.or(motion.uv);
+        key.velocity_from_geometry = motion.velocity_from_geometry;
+        if let Written::Surface(s) = &mut key.written {
+            s.velocity = true;
         }
-        d.push("VELOCITY_OUT");
-        d
+        key
     }
 
     /// The textures its shader node material reads: its texture inputs,
@@ -362,6 +363,7 @@ impl Layer {
 
 #[cfg(test)]
 mod tests {
+    use super::super::resolve_key::{ResolveKey, SurfaceResolve, Uv};
     use super::LayerFeatures;
 
     #[test]
@@ -370,16 +372,25 @@ mod tests {
             normal_map: true,
             ..LayerFeatures::default()
         };
-        assert_eq!(features.surface_defines(), ["NORMAL_MAP", "TEXCOORDS"]);
+        let surface = |uv| ResolveKey {
+            uv,
+            normal_map: true,
+            ..ResolveKey::surface(SurfaceResolve::default())
+        };
+        assert_eq!(features.surface_key(), surface(Uv::Mesh));
         let triplanar = LayerFeatures {
             triplanar: true,
             ..features
         };
-        assert_eq!(triplanar.surface_defines(), ["NORMAL_MAP", "TRIPLANAR"]);
+        assert_eq!(triplanar.surface_key(), surface(Uv::Triplanar));
         // The motion pass writes the UVs the surface pass read, so the two in
         // one dispatch write what each writes alone.
-        assert_eq!(features.motion_defines(), ["MOTION", "TEXCOORDS"]);
-        assert_eq!(triplanar.motion_defines(), ["MOTION", "TRIPLANAR"]);
-        assert_eq!(LayerFeatures::default().motion_defines(), ["MOTION"]);
+        let motion = |uv| ResolveKey {
+            uv,
+            ..ResolveKey::motion()
+        };
+        assert_eq!(features.motion_key(), motion(Uv::Mesh));
+        assert_eq!(triplanar.motion_key(), motion(Uv::Triplanar));
+        assert_eq!(LayerFeatures::default().motion_key(), motion(Uv::None));
     }
 }

@@ -20,8 +20,10 @@ mod passes;
 mod published_depth;
 pub(crate) mod published_depth_key;
 mod resolve;
+pub(crate) mod resolve_key;
 mod surface_shader;
 mod view;
+pub(crate) mod view_key;
 pub(crate) mod visibility_key;
 
 use std::sync::Arc;
@@ -172,10 +174,6 @@ pub struct GBufferTargets {
     /// has surface maps or a shader node material.
     pub surface: Option<String>,
 }
-
-/// Where lighting passes bind the G-buffer's surface target (group 0): the
-/// binding `shaders/lib/surface_target.wgsl` declares under SURFACE_TARGET.
-pub const SURFACE_TARGET_BINDING: u32 = 30;
 
 impl GBufferTargets {
     /// What material lookups read at a pixel: the UV.
@@ -341,7 +339,7 @@ impl GBuffer {
                 l.resolves_with_others().then(|| {
                     let f = &l.features;
                     (
-                        l.surface_defines(),
+                        l.surface_key(),
                         f.adds_geometry_ids(),
                         f.triplanar_sharpness,
                     )
@@ -351,7 +349,7 @@ impl GBuffer {
         let motion_runs = kept(
             "mre motion run",
             runs(&layers, &layer_ranges, |l| {
-                Some((l.features.motion_defines(), l.features.adds_geometry_ids()))
+                Some((l.features.motion_key(), l.features.adds_geometry_ids()))
             }),
         );
         let fused_runs = kept(
@@ -359,11 +357,7 @@ impl GBuffer {
             runs(&layers, &layer_ranges, |l| {
                 l.resolves_with_others().then(|| {
                     let f = &l.features;
-                    (
-                        l.fused_defines(),
-                        f.adds_geometry_ids(),
-                        f.triplanar_sharpness,
-                    )
+                    (l.fused_key(), f.adds_geometry_ids(), f.triplanar_sharpness)
                 })
             }),
         );

@@ -5,8 +5,9 @@
 use crate::error::RenderError;
 use crate::frame_graph::{Bindings, PassContext, Tex};
 use crate::renderer::Renderer;
-use crate::shaders::ShaderKey;
+use crate::shaders::Permutation;
 
+use super::resolve_key::{ResolveKey, SurfaceResolve};
 use super::{GBuffer, GpuLayer, RasterMode, SplicedGroup, shader_node_group};
 
 /// Statistic: resolve dispatches that wrote the surface and the motion
@@ -103,21 +104,26 @@ pub(super) fn resolve(
         let i = index.unwrap_or(0);
         let layer = index.and_then(|i| g.layers.get(i));
         let reads = index.and_then(|i| layers.get(i)).filter(|_| !motion);
-        let mut defines = match (layer, targets) {
-            (Some(l), Targets::Motion) => l.features.motion_defines(),
-            (Some(l), Targets::Surface) => l.surface_defines(),
-            (Some(l), Targets::Both) => l.fused_defines(),
-            (None, Targets::Motion) => vec!["MOTION"],
-            (None, Targets::Surface) => vec![],
-            (None, Targets::Both) => vec!["VELOCITY_OUT"],
+        let key = match (layer, targets) {
+            (Some(l), Targets::Motion) => l.features.motion_key(),
+            (Some(l), Targets::Surface) => l.surface_key(),
+            (Some(l), Targets::Both) => l.fused_key(),
+            (None, Targets::Motion) => ResolveKey::motion(),
+            (None, Targets::Surface) => ResolveKey::surface(SurfaceResolve::default()),
+            (None, Targets::Both) => ResolveKey::surface(SurfaceResolve {
+                velocity: true,
+                ..SurfaceResolve::default()
+            }),
         };
-        if compute.is_some() {
-            defines.push("COMPUTE_RASTER");
+        let key = ResolveKey {
+            compute_raster: compute.is_some(),
+            ..key
+        };
+        let key = match g.targets.surface {
+            Some(_) => key.with_surface_target(),
+            None => key,
         }
-        if !motion && g.targets.surface.is_some() {
-            defines.push("SURFACE_OUT");
-        }
-        let key = ShaderKey::new("gbuffer/resolve.wgsl", defines);
+        .key();
         let layer_buffer = match layer_buffer {
             Some(b) => b.clone(),
             None => background_layer(&device),

@@ -8,57 +8,13 @@ use crate::frame_graph::{Bindings, FrameGraph, PassContext, Tex, TextureDesc};
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
 use crate::report::PassName;
-use crate::shaders::ShaderKey;
+use crate::shaders::Permutation;
 
 use super::GBuffer;
-
-/// A G-buffer channel.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Channel {
-    Albedo,
-    Normals,
-    Velocity,
-    Uv,
-    Depth,
-    MaterialId,
-    ObjectId,
-}
+pub use super::view_key::Channel;
 
 impl Channel {
-    pub const ALL: [Channel; 7] = [
-        Channel::Albedo,
-        Channel::Normals,
-        Channel::Velocity,
-        Channel::Uv,
-        Channel::Depth,
-        Channel::MaterialId,
-        Channel::ObjectId,
-    ];
-
-    pub fn name(self) -> &'static str {
-        match self {
-            Channel::Albedo => "Albedo",
-            Channel::Normals => "Normals",
-            Channel::Velocity => "Velocity",
-            Channel::Uv => "UV",
-            Channel::Depth => "Depth",
-            Channel::MaterialId => "Material ID",
-            Channel::ObjectId => "Object ID",
-        }
-    }
-
-    fn feature(self) -> &'static str {
-        match self {
-            Channel::Albedo => "ALBEDO",
-            Channel::Normals => "NORMALS",
-            Channel::Velocity => "VELOCITY",
-            Channel::Uv => "UV",
-            Channel::Depth => "DEPTH",
-            Channel::MaterialId => "MATERIAL_ID",
-            Channel::ObjectId => "OBJECT_ID",
-        }
-    }
-
+    /// The target this channel lives in.
     fn source(self, g: &GBuffer) -> &str {
         match self {
             Channel::Albedo | Channel::MaterialId => &g.targets.color,
@@ -111,7 +67,7 @@ impl GBufferView {
     }
 
     fn run(&self, cx: &mut PassContext<'_>, source: Tex, output: Tex) -> Result<(), RenderError> {
-        let key = ShaderKey::new("gbuffer/view.wgsl", [self.channel.feature()]);
+        let key = self.channel.key();
         let size = cx.size_of(output)?;
         // The layout is derived from the permutation: only the velocity view
         // reads its parameters, the others leave them out.

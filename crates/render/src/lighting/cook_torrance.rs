@@ -4,6 +4,9 @@
 use std::sync::Arc;
 
 use super::clusters::{ClusterGrid, ClusterStore};
+use super::cook_torrance_key::{
+    BrdfMaterials, CookTorranceKey, Lights, MaterialReads, Shading, ShadowSampling,
+};
 use super::{LightBuffer, LightKind};
 use crate::adapter_class::AdapterClass;
 use crate::error::RenderError;
@@ -14,8 +17,10 @@ use crate::material::{FEATURE_CLEARCOAT, FEATURE_FAKE_SSS, MaterialTextures, Mat
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
 use crate::report::PassName;
-use crate::shaders::{Sampling, ShaderKey};
-use crate::shadows::{ShadowFilter, ShadowMaps};
+use crate::shaders::{Permutation, Sampling, ShaderKey};
+use crate::shadows::ShadowMaps;
+
+pub use super::cook_torrance_key::Walk;
 
 /// Where roughness and metallic come from.
 #[derive(Clone, Debug)]
@@ -51,22 +56,6 @@ pub enum LightLoop {
 /// boundary on the H100, where walking three lights per pixel costs nothing
 /// measurable over walking their froxel lists).
 pub const FEW_LIGHTS: u32 = 16;
-
-/// The walk a recipe does, `LightLoop` resolved for its lights and adapter.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Walk {
-    Clustered,
-    Tiled,
-    PerPixel,
-    Naive,
-}
-
-impl Walk {
-    /// Whether the walk reads froxel lists (and so needs the light assignment).
-    pub fn uses_froxels(self) -> bool {
-        self != Walk::Naive
-    }
-}
 
 // TILED keeps the slices a tile occupies in one 32-bit mask.
 const _: () = assert!(super::clusters::ClusterGrid::SLICES <= 32);
@@ -337,31 +326,36 @@ impl CookTorrance {
 
     /// The permutation: what the lights, materials and shadows call for.
     fn key(&self) -> ShaderKey {
-        let mut features: Vec<&'static str> = self.lights.kind.feature().into_iter().collect();
-        let flags = [
-            (self.walk.uses_froxels(), "CLUSTERED"),
-            (self.energy_compensation, "ENERGY_COMPENSATION"),
-            (self.materials.is_some(), "MATERIALS"),
-            (self.sss.is_some(), "FAKE_SSS"),
-            (self.clearcoat(), "CLEARCOAT"),
-            (self.lights.textures().is_some(), "SPOT_TEXTURE"),
-            (self.textured(), "MATERIAL_TEXTURES"),
-            (self.custom.is_some(), "CUSTOM_LIGHT"),
-            // With CLUSTERED: the froxel lists walked another way.
-            (self.walk == Walk::Tiled, "TILED"),
-            (self.walk == Walk::PerPixel, "PER_PIXEL"),
-        ];
-        features.extend(flags.into_iter().filter(|(on, _)| *on).map(|(_, f)| f));
-        // Roughness and metallic where the G-buffer resolved them, with or without materials.
-        features.extend(self.gbuffer.targets.surface_feature());
-        if let Some(shadows) = &self.shadows {
-            features.push("SHADOWS");
-            match shadows.filter() {
-                ShadowFilter::Raw => {}
-                filter => features.push(filter.feature()),
-            }
+        let reads = MaterialReads {
+            textures: self.textured(),
+        };
+        let materials = self.materials.as_ref().map(|_| reads);
+        let shading = match self.custom {
+            Some(_) => Shading::Custom { materials },
+            None => Shading::Brdf {
+                energy_compensation: self.energy_compensation,
+                materials: materials.map(|reads| BrdfMaterials {
+                    reads,
+                    fake_sss: self.sss.is_some(),
+                    clearcoat: self.clearcoat(),
+                }),
+            },
+        };
+        CookTorranceKey {
+            lights: Lights::new(
+                self.lights.kind,
+                self.walk,
+                self.lights.textures().is_some(),
+            ),
+            shading,
+            shadows: self
+                .shadows
+                .as_ref()
+                .map(|s| ShadowSampling::of(s.filter())),
+            // Roughness and metallic where the G-buffer resolved them, with or without materials.
+            surface_target: self.gbuffer.targets.surface.is_some(),
         }
-        ShaderKey::new("lighting/cook_torrance.wgsl", features)
+        .key()
     }
 
     fn shade(&self, cx: &mut PassContext<'_>, io: &ShadeIo) -> Result<(), RenderError> {

@@ -9,13 +9,3 @@ pub enum LightKind {
     Spot,
     Sun,
 }
-
-impl LightKind {
-    pub(crate) fn feature(self) -> Option<&'static str> {
-        match self {
-            LightKind::Point => None,
-            LightKind::Spot => Some("LIGHT_SPOT"),
-            LightKind::Sun => Some("LIGHT_SUN"),
-        }
-    }
-}

@@ -7,6 +7,7 @@ pub(crate) mod clusters_key;
 // The composite's key is named by the shader table (`shaders::SHADERS`).
 pub(crate) mod composite;
 mod cook_torrance;
+pub(crate) mod cook_torrance_key;
 mod ssgi;
 pub(crate) mod ssgi_key;
 mod ssss;

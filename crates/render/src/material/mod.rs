@@ -524,25 +524,6 @@ impl MaterialWorld {
         feature < MAX_FEATURES && self.union_flags & (1 << feature) != 0
     }
 
-    /// The key of `path` for a pass that reads surfaces' CookTorrance
-    /// parameters: with MATERIAL_TEXTURES when some material's reads a
-    /// texture, and `surface` (the G-buffer's surface feature,
-    /// `GBufferTargets::surface_feature`) when the G-buffer resolved some.
-    pub fn surface_key(
-        &self,
-        path: &'static str,
-        surface: Option<&'static str>,
-    ) -> crate::shaders::ShaderKey {
-        let textured = self.textured(1 << FEATURE_COOK_TORRANCE);
-        crate::shaders::ShaderKey::new(
-            path,
-            textured
-                .then_some("MATERIAL_TEXTURES")
-                .into_iter()
-                .chain(surface),
-        )
-    }
-
     /// Material `id`'s flags; an id out of range reads material 0, as the shader does.
     pub fn flags(&self, material_id: u32) -> u32 {
         self.material(material_id).flags()

@@ -10,7 +10,8 @@ use std::sync::{Mutex, OnceLock};
 use naga_oil::compose::{ComposerError, ComposerErrorInner, ErrSource};
 
 use super::error::{ShaderNodeError, Span, span_of, undecorate};
-use crate::shaders::ShaderComposer;
+use crate::gbuffer::resolve_key::ResolveKey;
+use crate::shaders::{Permutation, ShaderComposer};
 
 /// naga_oil keeps a module index above this many bits of a span.
 const SPAN_BITS: usize = 21;
@@ -47,8 +48,7 @@ pub fn compose(file: &str, text: &str) -> Result<naga::Module, ShaderNodeError> 
 /// place of `spreadlight::custom_surface` (naga_oil is stricter with an
 /// imported module than with a top-level one: names ending in a digit, say).
 pub fn check_material(file: &str, text: &str) -> Result<(), ShaderNodeError> {
-    let key =
-        crate::shaders::ShaderKey::new("gbuffer/resolve.wgsl", ["SURFACE_OUT", "CUSTOM_SURFACE"]);
+    let key = ResolveKey::custom_surface().key();
     check_spliced(
         file,
         text,

@@ -10,8 +10,9 @@
 use super::annotations::Annotations;
 use super::error::{ShaderNodeError, Span};
 use super::hook::Hook;
+use crate::lighting::cook_torrance_key::CookTorranceKey;
 use crate::lighting::light_kind::LightKind;
-use crate::shaders::ShaderKey;
+use crate::shaders::{Permutation, ShaderKey};
 
 /// The library a light shader's file takes the place of in the light loop.
 pub const LIGHT_MODULE: &str = "spreadlight::custom_light";
@@ -25,9 +26,7 @@ pub const LIGHT_GROUP: u32 = 2;
 /// The light loop's permutation a light shader is spliced into, for a
 /// light type (the rest of the key is what the scene calls for).
 pub fn loop_key(kind: LightKind) -> ShaderKey {
-    let mut features = vec!["CUSTOM_LIGHT"];
-    features.extend(kind.feature());
-    ShaderKey::new("lighting/cook_torrance.wgsl", features)
+    CookTorranceKey::custom_light(kind).key()
 }
 
 /// What the light loop asks of a light shader's file.

@@ -6,7 +6,7 @@ use std::borrow::Cow;
 
 use std::sync::Arc;
 
-use super::reflection::{Reflection, reflect};
+use super::reflection::{Reflection, match_bindings, reflect};
 use super::{ShaderComposer, ShaderKey, Splice};
 use crate::error::RenderError;
 
@@ -193,52 +193,6 @@ fn same_group(
                     _ => false,
                 }
         })
-}
-
-/// `resources` matched to `reflection`'s variables by name, one hash look-up
-/// each, as the entries of groups 0..=last (those of `prebuilt` groups left
-/// empty). A name the permutation lacks goes to `unknown`, which says
-/// whether that is an error; a variable the entry point uses that nothing
-/// binds is one.
-fn match_bindings<'r>(
-    reflection: &Reflection,
-    resources: &[(&str, wgpu::BindingResource<'r>)],
-    prebuilt: &[(u32, wgpu::BindGroup)],
-    mut unknown: impl FnMut(&str) -> Result<(), String>,
-) -> Result<Vec<Vec<wgpu::BindGroupEntry<'r>>>, String> {
-    let vars = reflection.vars();
-    let made_elsewhere = |group: u32| prebuilt.iter().any(|(g, _)| *g == group);
-    let mut groups: Vec<Vec<wgpu::BindGroupEntry<'r>>> = match reflection.last_group() {
-        Some(last) => vec![Vec::new(); last as usize + 1],
-        None => Vec::new(),
-    };
-    let mut bound = vec![false; vars.len()];
-    for (name, resource) in resources {
-        let Some(i) = reflection.position(name) else {
-            unknown(name)?;
-            continue;
-        };
-        let var = &vars[i];
-        if var.used && !made_elsewhere(var.group) && !bound[i] {
-            bound[i] = true;
-            groups[var.group as usize].push(wgpu::BindGroupEntry {
-                binding: var.binding,
-                resource: resource.clone(),
-            });
-        }
-    }
-    if let Some(var) = vars
-        .iter()
-        .zip(&bound)
-        .find(|(v, bound)| v.used && !made_elsewhere(v.group) && !**bound)
-        .map(|(v, _)| v)
-    {
-        return Err(format!(
-            "`{}` (group {}, binding {}) is used by the shader but no pass binds it",
-            var.name, var.group, var.binding
-        ));
-    }
-    Ok(groups)
 }
 
 /// Frames a cached bind group may go unused before it is dropped (with the

@@ -117,13 +117,8 @@ impl ShaderComposer {
                     defs: String::new(),
                     message: "no such shader".to_owned(),
                 })?;
-        if let Err(message) = file.check(&key.features) {
-            return Err(RenderError::Shader {
-                shader: key.path.to_owned(),
-                defs: key.describe_defs(),
-                message,
-            });
-        }
+        // A switch the file does not have first: naming it says more than
+        // "no value of its typed key".
         if let Some(unknown) = key.features.iter().find(|f| !file.features.contains(f)) {
             return Err(RenderError::Shader {
                 shader: key.path.to_owned(),
@@ -132,6 +127,13 @@ impl ShaderComposer {
                     "`{unknown}` is not a feature of this shader (features: {})",
                     file.features.join(", ")
                 ),
+            });
+        }
+        if let Err(message) = file.check(&key.features) {
+            return Err(RenderError::Shader {
+                shader: key.path.to_owned(),
+                defs: key.describe_defs(),
+                message,
             });
         }
         let shared = self.embedded && !self.replaced;

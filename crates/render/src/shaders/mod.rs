@@ -59,16 +59,6 @@ macro_rules! shader {
             keyed: None,
         }
     };
-    ($path:literal, one_of [$($feature:literal),*]) => {
-        ShaderFile {
-            path: $path,
-            source: include_str!(concat!("../../../../shaders/", $path)),
-            features: &[$($feature),*],
-            library: false,
-            rules: &[Rule::AtMostOne(&[$($feature),*])],
-            keyed: None,
-        }
-    };
 }
 
 /// Every shader, in dependency order (libraries first).
@@ -112,80 +102,9 @@ pub const SHADERS: &[ShaderFile] = &[
     shader!("particles/expand.wgsl", keyed crate::particles::expand_key::ExpandKey),
     shader!("gbuffer/raster.wgsl", keyed crate::gbuffer::compute_raster_key::RasterKey),
     shader!("gbuffer/published_depth.wgsl", keyed crate::gbuffer::published_depth_key::PublishedDepthKey),
-    shader!(
-        "gbuffer/resolve.wgsl",
-        [
-            "COMPUTE_RASTER",
-            "MOTION",
-            "TEXCOORDS",
-            "NORMAL_MAP",
-            "TRIPLANAR",
-            "VELOCITY_FROM_GEOMETRY",
-            "COLOR_MAP",
-            "SURFACE_OUT",
-            "MATERIAL_MAPS",
-            "CUSTOM_SURFACE",
-            "VERTEX_EXTRAS",
-            "VELOCITY_OUT"
-        ],
-        // The colour map is the surface pass's; it reads UVs.
-        Rule::AtMostOne(&["COLOR_MAP", "MOTION"]),
-        // The surface pass writing what the motion pass writes, too.
-        Rule::AtMostOne(&["VELOCITY_OUT", "MOTION"]),
-        Rule::AtMostOne(&["TEXCOORDS", "TRIPLANAR"]),
-        // Surface maps are the surface pass's, and write the surface target.
-        Rule::AtMostOne(&["SURFACE_OUT", "MOTION"]),
-        Rule::Requires("MATERIAL_MAPS", "SURFACE_OUT"),
-        // A shader node material writes the surface target and binds group 1,
-        // where surface maps would put the material world.
-        Rule::Requires("CUSTOM_SURFACE", "SURFACE_OUT"),
-        Rule::AtMostOne(&["CUSTOM_SURFACE", "MATERIAL_MAPS"]),
-        // Vertex colours and the second UV set are the surface pass's.
-        Rule::AtMostOne(&["VERTEX_EXTRAS", "MOTION"])
-    ),
+    shader!("gbuffer/resolve.wgsl", keyed crate::gbuffer::resolve_key::ResolveKey),
     shader!("lighting/clusters.wgsl", keyed crate::lighting::clusters_key::ClustersKey),
-    shader!(
-        "lighting/cook_torrance.wgsl",
-        [
-            "CLUSTERED",
-            "ENERGY_COMPENSATION",
-            "LIGHT_SPOT",
-            "LIGHT_SUN",
-            "MATERIALS",
-            "FAKE_SSS",
-            "SPOT_TEXTURE",
-            "MATERIAL_TEXTURES",
-            "SHADOWS",
-            "SHADOW_PCF",
-            "SHADOW_PCSS",
-            "SHADOW_VSM",
-            "SURFACE_TARGET",
-            "CLEARCOAT",
-            "CUSTOM_LIGHT",
-            "TILED",
-            "PER_PIXEL"
-        ],
-        Rule::AtMostOne(&["LIGHT_SPOT", "LIGHT_SUN"]),
-        // A light shader node's function replaces the BRDF and its extras.
-        Rule::AtMostOne(&["CUSTOM_LIGHT", "ENERGY_COMPENSATION"]),
-        Rule::AtMostOne(&["CUSTOM_LIGHT", "FAKE_SSS"]),
-        Rule::AtMostOne(&["CUSTOM_LIGHT", "CLEARCOAT"]),
-        // SHADOWS alone samples raw; the others choose a filter.
-        Rule::AtMostOne(&["SHADOW_PCF", "SHADOW_PCSS", "SHADOW_VSM"]),
-        Rule::Requires("SHADOW_PCF", "SHADOWS"),
-        Rule::Requires("SHADOW_PCSS", "SHADOWS"),
-        Rule::Requires("SHADOW_VSM", "SHADOWS"),
-        Rule::Requires("FAKE_SSS", "MATERIALS"),
-        Rule::Requires("CLEARCOAT", "MATERIALS"),
-        // Suns have no range to cluster by.
-        Rule::AtMostOne(&["LIGHT_SUN", "CLUSTERED"]),
-        Rule::Requires("SPOT_TEXTURE", "LIGHT_SPOT"),
-        Rule::Requires("MATERIAL_TEXTURES", "MATERIALS"),
-        // Other walks of the froxel lists (cook_torrance::Walk).
-        Rule::Requires("TILED", "CLUSTERED"),
-        Rule::Requires("PER_PIXEL", "CLUSTERED"),
-        Rule::AtMostOne(&["TILED", "PER_PIXEL"])
-    ),
+    shader!("lighting/cook_torrance.wgsl", keyed crate::lighting::cook_torrance_key::CookTorranceKey),
     shader!("lighting/composite.wgsl", keyed crate::lighting::composite::key::CompositeKey),
     shader!("lighting/ssgi.wgsl", keyed crate::lighting::ssgi_key::SsgiKey),
     shader!("lighting/ssss.wgsl", keyed crate::lighting::ssss_key::SsssKey),
@@ -216,7 +135,7 @@ pub const SHADERS: &[ShaderFile] = &[
     // The shader-node example blur, run as a built-in pass (the baseline its node is benchmarked against).
     shader!("nodes/blur.wgsl", keyed crate::shader_nodes::builtin_blur_key::BuiltinBlurKey),
     shader!("resolution/upsample.wgsl", keyed crate::resolution_key::UpsampleKey),
-    shader!("gbuffer/view.wgsl", one_of ["ALBEDO", "NORMALS", "VELOCITY", "UV", "DEPTH", "MATERIAL_ID", "OBJECT_ID"]),
+    shader!("gbuffer/view.wgsl", keyed crate::gbuffer::view_key::Channel),
 ];
 
 /// The feature sets of each keyed file's typed key, made once: checking

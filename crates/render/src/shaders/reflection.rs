@@ -61,6 +61,35 @@ impl Reflection {
     pub fn last_group(&self) -> Option<u32> {
         self.vars.iter().filter(|v| v.used).map(|v| v.group).max()
     }
+
+    /// A WGSL module of its own (no `#import`s) reflected for `entry`: for a
+    /// pipeline made outside the shader cache (the editor's viewport blit, a
+    /// test's own module), which then binds by name with [`Reflection::entries`].
+    pub fn of_wgsl(source: &str, entry: &str) -> Result<Reflection, String> {
+        let module = naga::front::wgsl::parse_str(source).map_err(|e| e.emit_to_string(source))?;
+        reflect(&module, entry)
+    }
+
+    /// A module composed elsewhere (a test composing a library) reflected for `entry`.
+    pub fn of_module(module: &naga::Module, entry: &str) -> Result<Reflection, String> {
+        reflect(module, entry)
+    }
+
+    /// Group `group`'s bind-group entries from `resources` by WGSL variable
+    /// name, for a pipeline whose layout wgpu derived (`layout: None`): a
+    /// variable the entry point does not use is left out, as the derived
+    /// layout leaves it; a name the module does not declare is an error, and
+    /// so is a variable the entry point uses that `resources` leaves unbound.
+    pub fn entries<'r>(
+        &self,
+        group: u32,
+        resources: &[(&str, wgpu::BindingResource<'r>)],
+    ) -> Result<Vec<wgpu::BindGroupEntry<'r>>, String> {
+        let groups = match_bindings(self, resources, &[], |name| {
+            Err(format!("the shader declares no variable `{name}`"))
+        })?;
+        Ok(groups.into_iter().nth(group as usize).unwrap_or_default())
+    }
 }
 
 /// The name a WGSL author wrote, without naga_oil's module decoration.
@@ -102,6 +131,52 @@ pub fn reflect(module: &naga::Module, entry: &str) -> Result<Reflection, String>
         })
         .collect();
     Ok(Reflection::new(vars))
+}
+
+/// `resources` matched to `reflection`'s variables by name, one hash look-up
+/// each, as the entries of groups 0..=last (those of `prebuilt` groups left
+/// empty). A name the permutation lacks goes to `unknown`, which says
+/// whether that is an error; a variable the entry point uses that nothing
+/// binds is one.
+pub(super) fn match_bindings<'r>(
+    reflection: &Reflection,
+    resources: &[(&str, wgpu::BindingResource<'r>)],
+    prebuilt: &[(u32, wgpu::BindGroup)],
+    mut unknown: impl FnMut(&str) -> Result<(), String>,
+) -> Result<Vec<Vec<wgpu::BindGroupEntry<'r>>>, String> {
+    let vars = reflection.vars();
+    let made_elsewhere = |group: u32| prebuilt.iter().any(|(g, _)| *g == group);
+    let mut groups: Vec<Vec<wgpu::BindGroupEntry<'r>>> = match reflection.last_group() {
+        Some(last) => vec![Vec::new(); last as usize + 1],
+        None => Vec::new(),
+    };
+    let mut bound = vec![false; vars.len()];
+    for (name, resource) in resources {
+        let Some(i) = reflection.position(name) else {
+            unknown(name)?;
+            continue;
+        };
+        let var = &vars[i];
+        if var.used && !made_elsewhere(var.group) && !bound[i] {
+            bound[i] = true;
+            groups[var.group as usize].push(wgpu::BindGroupEntry {
+                binding: var.binding,
+                resource: resource.clone(),
+            });
+        }
+    }
+    if let Some(var) = vars
+        .iter()
+        .zip(&bound)
+        .find(|(v, bound)| v.used && !made_elsewhere(v.group) && !**bound)
+        .map(|(v, _)| v)
+    {
+        return Err(format!(
+            "`{}` (group {}, binding {}) is used by the shader but no pass binds it",
+            var.name, var.group, var.binding
+        ));
+    }
+    Ok(groups)
 }
 
 /// The names of the resource variables declared anywhere in WGSL `source`,

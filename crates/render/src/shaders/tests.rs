@@ -51,15 +51,29 @@ fn shaders_reload_from_disk_and_report_errors_with_the_file() {
 
 #[test]
 fn an_exclusive_choice_takes_one_feature() {
+    let rule = Rule::AtMostOne(&["DEPTH", "UV"]);
+    let err = rule
+        .check(&["DEPTH", "UV"].into_iter().collect())
+        .expect_err("refused");
+    assert!(err.contains("set at most one"), "{err}");
+    assert!(rule.check(&["UV"].into_iter().collect()).is_ok());
+    // The G-buffer view's channels are its typed key's values (Channel): two is none of them.
     let mut composer = ShaderComposer::new().expect("libraries compose");
     let err = composer
         .compose(&ShaderKey::new("gbuffer/view.wgsl", ["DEPTH", "UV"]))
         .expect_err("refused");
-    assert!(err.to_string().contains("set at most one"), "{err}");
+    assert!(err.to_string().contains("typed key"), "{err}");
 }
 
 #[test]
 fn a_feature_without_what_it_needs_is_refused_and_never_enumerated() {
+    let rule = Rule::Requires("SHADOW_PCF", "SHADOWS");
+    let err = rule
+        .check(&["SHADOW_PCF"].into_iter().collect())
+        .expect_err("refused");
+    assert!(err.contains("`SHADOW_PCF` needs `SHADOWS`"), "{err}");
+    // The light loop's rules are its typed key's shape (CookTorranceKey):
+    // a shadow filter without shadows is no value of it.
     let mut composer = ShaderComposer::new().expect("libraries compose");
     let err = composer
         .compose(&ShaderKey::new(
@@ -67,10 +81,7 @@ fn a_feature_without_what_it_needs_is_refused_and_never_enumerated() {
             ["SHADOW_PCF"],
         ))
         .expect_err("refused");
-    assert!(
-        err.to_string().contains("`SHADOW_PCF` needs `SHADOWS`"),
-        "{err}"
-    );
+    assert!(err.to_string().contains("typed key"), "{err}");
     // The composite's rules are its typed key's shape (CompositeKey): a
     // third light pair without a second is no value of it.
     let err = composer
@@ -127,15 +138,14 @@ fn a_cached_bind_group_is_found_by_what_it_binds() {
         })
     };
     let (a, b) = (buffer("a"), buffer("b"));
+    let reflection = Reflection::of_wgsl(wgsl, "main").expect("reflects");
     let mut group = |buffer: &wgpu::Buffer, offset: u64| {
-        let entries = [wgpu::BindGroupEntry {
-            binding: 0,
-            resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
-                buffer,
-                offset,
-                size: wgpu::BufferSize::new(256),
-            }),
-        }];
+        let range = wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+            buffer,
+            offset,
+            size: wgpu::BufferSize::new(256),
+        });
+        let entries = reflection.entries(0, &[("data", range)]).expect("binds");
         let before = (cache.bind_groups_created, cache.bind_groups_reused);
         let group = cache.group(device, &pipeline, 0, "test", &entries);
         let made = cache.bind_groups_created - before.0;
@@ -267,6 +277,11 @@ fn typed_keys_enumerate_what_the_string_rules_did() {
         ("post/motion_blur.wgsl", &[], vec![]),
         ("post/glare.wgsl", &["FILTERED_SOURCE"], vec![]),
         (
+            "environment/reflection.wgsl",
+            &["MATERIAL_TEXTURES", "SURFACE_TARGET", "PARALLAX"],
+            vec![],
+        ),
+        (
             "post/taa.wgsl",
             &["VARIANCE_CLIP", "CATMULL_ROM"],
             vec![Rule::Requires("CATMULL_ROM", "VARIANCE_CLIP")],
@@ -307,4 +322,156 @@ fn typed_keys_enumerate_what_the_string_rules_did() {
         assert_eq!(keyed, ruled, "{path}");
         assert_eq!(file.features, features, "{path}");
     }
+}
+
+/// The keys written by hand in place of string rules (their own order of
+/// enumeration) allow the feature sets the rules did: the same sets, save
+/// those the code never built, each named here.
+#[test]
+fn hand_written_keys_allow_what_the_string_rules_did() {
+    use std::collections::BTreeSet;
+    type Sets = BTreeSet<BTreeSet<&'static str>>;
+    let ruled = |features: &[&'static str], rules: &[Rule]| -> Sets {
+        let n = features.len();
+        (0u32..1 << n)
+            .map(|mask| {
+                (0..n)
+                    .filter(|i| mask & (1 << i) != 0)
+                    .map(|i| features[i])
+                    .collect::<BTreeSet<_>>()
+            })
+            .filter(|set| rules.iter().all(|r| r.check(set).is_ok()))
+            .collect()
+    };
+    let keyed = |path: &str| -> (Sets, usize) {
+        let file = SHADERS.iter().find(|f| f.path == path).expect(path);
+        let keys = file
+            .keyed
+            .unwrap_or_else(|| panic!("{path} has no typed key"))();
+        let n = keys.len();
+        (keys.into_iter().map(|k| k.features).collect(), n)
+    };
+    // As `SHADERS` listed them before.
+    let resolve: &[&str] = &[
+        "COMPUTE_RASTER",
+        "MOTION",
+        "TEXCOORDS",
+        "NORMAL_MAP",
+        "TRIPLANAR",
+        "VELOCITY_FROM_GEOMETRY",
+        "COLOR_MAP",
+        "SURFACE_OUT",
+        "MATERIAL_MAPS",
+        "CUSTOM_SURFACE",
+        "VERTEX_EXTRAS",
+        "VELOCITY_OUT",
+    ];
+    let resolve_rules = [
+        Rule::AtMostOne(&["COLOR_MAP", "MOTION"]),
+        Rule::AtMostOne(&["VELOCITY_OUT", "MOTION"]),
+        Rule::AtMostOne(&["TEXCOORDS", "TRIPLANAR"]),
+        Rule::AtMostOne(&["SURFACE_OUT", "MOTION"]),
+        Rule::Requires("MATERIAL_MAPS", "SURFACE_OUT"),
+        Rule::Requires("CUSTOM_SURFACE", "SURFACE_OUT"),
+        Rule::AtMostOne(&["CUSTOM_SURFACE", "MATERIAL_MAPS"]),
+        Rule::AtMostOne(&["VERTEX_EXTRAS", "MOTION"]),
+    ];
+    let (sets, n) = keyed("gbuffer/resolve.wgsl");
+    assert_eq!((sets, n), (ruled(resolve, &resolve_rules), 792));
+    let cook_torrance: &[&str] = &[
+        "CLUSTERED",
+        "ENERGY_COMPENSATION",
+        "LIGHT_SPOT",
+        "LIGHT_SUN",
+        "MATERIALS",
+        "FAKE_SSS",
+        "SPOT_TEXTURE",
+        "MATERIAL_TEXTURES",
+        "SHADOWS",
+        "SHADOW_PCF",
+        "SHADOW_PCSS",
+        "SHADOW_VSM",
+        "SURFACE_TARGET",
+        "CLEARCOAT",
+        "CUSTOM_LIGHT",
+        "TILED",
+        "PER_PIXEL",
+    ];
+    let cook_torrance_rules = [
+        Rule::AtMostOne(&["LIGHT_SPOT", "LIGHT_SUN"]),
+        Rule::AtMostOne(&["CUSTOM_LIGHT", "ENERGY_COMPENSATION"]),
+        Rule::AtMostOne(&["CUSTOM_LIGHT", "FAKE_SSS"]),
+        Rule::AtMostOne(&["CUSTOM_LIGHT", "CLEARCOAT"]),
+        Rule::AtMostOne(&["SHADOW_PCF", "SHADOW_PCSS", "SHADOW_VSM"]),
+        Rule::Requires("SHADOW_PCF", "SHADOWS"),
+        Rule::Requires("SHADOW_PCSS", "SHADOWS"),
+        Rule::Requires("SHADOW_VSM", "SHADOWS"),
+        Rule::Requires("FAKE_SSS", "MATERIALS"),
+        Rule::Requires("CLEARCOAT", "MATERIALS"),
+        Rule::AtMostOne(&["LIGHT_SUN", "CLUSTERED"]),
+        Rule::Requires("SPOT_TEXTURE", "LIGHT_SPOT"),
+        Rule::Requires("MATERIAL_TEXTURES", "MATERIALS"),
+        Rule::Requires("TILED", "CLUSTERED"),
+        Rule::Requires("PER_PIXEL", "CLUSTERED"),
+        Rule::AtMostOne(&["TILED", "PER_PIXEL"]),
+    ];
+    let (sets, n) = keyed("lighting/cook_torrance.wgsl");
+    assert_eq!(
+        (sets, n),
+        (ruled(cook_torrance, &cook_torrance_rules), 2730)
+    );
+    // The G-buffer view: the rule's empty choice (no channel, a black
+    // image) was never built, as every view shows a Channel.
+    let channels: &[&str] = &[
+        "ALBEDO",
+        "NORMALS",
+        "VELOCITY",
+        "UV",
+        "DEPTH",
+        "MATERIAL_ID",
+        "OBJECT_ID",
+    ];
+    let mut ruled_view = ruled(channels, &[Rule::AtMostOne(channels)]);
+    assert!(ruled_view.remove(&BTreeSet::new()));
+    let (sets, n) = keyed("gbuffer/view.wgsl");
+    assert_eq!((sets, n), (ruled_view, 7));
+}
+
+#[test]
+fn a_module_of_its_own_binds_by_name() {
+    let wgsl = "@group(0) @binding(3) var<storage, read> input: array<u32>;
+        @group(0) @binding(7) var<storage, read_write> output: array<u32>;
+        @group(0) @binding(9) var<storage, read_write> unused: array<u32>;
+        @compute @workgroup_size(1) fn main() { output[0] = input[0]; }";
+    let reflection = Reflection::of_wgsl(wgsl, "main").expect("reflects");
+    let renderer = crate::renderer::test_renderer();
+    let buffer = renderer.gpu.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("by name"),
+        size: 16,
+        usage: wgpu::BufferUsages::STORAGE,
+        mapped_at_creation: false,
+    });
+    let whole = || buffer.as_entire_binding();
+    // Each by the number the WGSL gave it; `unused`, which `main` never
+    // touches and a derived layout leaves out, is left out too.
+    let entries = reflection
+        .entries(
+            0,
+            &[("output", whole()), ("input", whole()), ("unused", whole())],
+        )
+        .expect("binds");
+    let numbers: Vec<u32> = entries.iter().map(|e| e.binding).collect();
+    assert_eq!(numbers, [7, 3]);
+    let err = reflection
+        .entries(0, &[("input", whole())])
+        .expect_err("output unbound");
+    assert!(err.contains("`output`"), "{err}");
+    let err = reflection
+        .entries(
+            0,
+            &[("input", whole()), ("output", whole()), ("typo", whole())],
+        )
+        .expect_err("no such variable");
+    assert!(err.contains("`typo`"), "{err}");
+    assert!(Reflection::of_wgsl("fn broken( {", "main").is_err());
 }

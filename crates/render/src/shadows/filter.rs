@@ -16,14 +16,3 @@ pub enum ShadowFilter {
     /// RG32F, blurred, with light-bleeding reduction 0..1.
     Vsm { bleeding: f32, blur: u32 },
 }
-
-impl ShadowFilter {
-    pub(crate) fn feature(self) -> &'static str {
-        match self {
-            ShadowFilter::Raw => "SHADOW_RAW",
-            ShadowFilter::Pcf { .. } => "SHADOW_PCF",
-            ShadowFilter::Pcss { .. } => "SHADOW_PCSS",
-            ShadowFilter::Vsm { .. } => "SHADOW_VSM",
-        }
-    }
-}

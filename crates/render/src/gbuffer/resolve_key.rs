@@ -1,0 +1,217 @@
+//! `gbuffer/resolve.wgsl`'s permutations as a type, [`ResolveKey`]: what the
+//! string rules said is its shape. The motion resolve writes velocity and
+//! UVs alone, so the surface's colour map, surface target and vertex
+//! extras exist only in [`Written::Surface`]; a mesh's UVs and a planar
+//! projection are one choice ([`Uv`]); surface maps and a shader node
+//! material write the surface target and are one choice ([`SurfaceOut`]).
+//! The G-buffer's resolve (`gbuffer/resolve.rs`) and the shader node
+//! compiler's material check (`shader_nodes/compose.rs`) both build it;
+//! the file imports no pass, so `shaders::SHADERS` names it without a
+//! circle through the renderer (docs/architecture.md, "Layers inside render").
+
+use crate::shaders::permutation::Permutation;
+
+/// One permutation of the G-buffer resolve.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct ResolveKey {
+    /// The visibility comes from the compute raster's 64-bit buffer (else the
+    /// hardware raster's IDs).
+    pub compute_raster: bool,
+    pub uv: Uv,
+    /// Normals perturbed by the layer's normal map.
+    pub normal_map: bool,
+    /// Velocity from the mesh's previous-frame positions as well.
+    pub velocity_from_geometry: bool,
+    pub written: Written,
+}
+
+/// Where texture coordinates come from.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Uv {
+    #[default]
+    None,
+    /// The mesh's own (TEXCOORDS).
+    Mesh,
+    /// Projected from world position (TRIPLANAR).
+    Triplanar,
+}
+
+/// Which targets a dispatch writes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Written {
+    /// Velocity and texture coordinates alone (MOTION).
+    Motion,
+    /// Colour, normals and depth, and with `velocity` the motion targets too.
+    Surface(SurfaceResolve),
+}
+
+/// What a surface resolve reads and writes beside colour, normals and depth.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct SurfaceResolve {
+    /// The layer's Color Texture (COLOR_MAP).
+    pub color_map: bool,
+    /// Vertex colours and the second UV set (VERTEX_EXTRAS).
+    pub vertex_extras: bool,
+    /// Velocity and UVs written in the same dispatch (VELOCITY_OUT).
+    pub velocity: bool,
+    /// The surface target, and what fills it.
+    pub surface: Option<SurfaceOut>,
+}
+
+/// The surface target is written (SURFACE_OUT), from the material world's
+/// constants, its surface maps or a shader node material.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum SurfaceOut {
+    Target,
+    /// A glTF material world's surface maps (MATERIAL_MAPS).
+    MaterialMaps,
+    /// A shader node material's `surface` function (CUSTOM_SURFACE), which
+    /// binds group 1, where surface maps would put the material world.
+    Custom,
+}
+
+impl Uv {
+    fn feature(self) -> Option<&'static str> {
+        match self {
+            Uv::None => None,
+            Uv::Mesh => Some("TEXCOORDS"),
+            Uv::Triplanar => Some("TRIPLANAR"),
+        }
+    }
+
+    /// This choice, or `other` where this is none.
+    pub fn or(self, other: Uv) -> Uv {
+        match self {
+            Uv::None => other,
+            uv => uv,
+        }
+    }
+}
+
+impl ResolveKey {
+    /// A surface resolve writing `surface`, reading nothing else.
+    pub fn surface(surface: SurfaceResolve) -> Self {
+        ResolveKey {
+            compute_raster: false,
+            uv: Uv::None,
+            normal_map: false,
+            velocity_from_geometry: false,
+            written: Written::Surface(surface),
+        }
+    }
+
+    /// A motion resolve with no UVs, velocity from transforms.
+    pub fn motion() -> Self {
+        ResolveKey {
+            written: Written::Motion,
+            ..ResolveKey::surface(SurfaceResolve::default())
+        }
+    }
+
+    /// The resolve a shader node material is spliced into
+    /// (`shader_nodes/compose.rs` checks its file against it).
+    pub fn custom_surface() -> Self {
+        ResolveKey::surface(SurfaceResolve {
+            surface: Some(SurfaceOut::Custom),
+            ..SurfaceResolve::default()
+        })
+    }
+
+    /// Where the G-buffer has a surface target, a surface resolve writes
+    /// it, from the material's constants where the layer fills it no other way.
+    pub fn with_surface_target(mut self) -> Self {
+        if let Written::Surface(s) = &mut self.written {
+            s.surface.get_or_insert(SurfaceOut::Target);
+        }
+        self
+    }
+}
+
+impl Permutation for ResolveKey {
+    const PATH: &'static str = "gbuffer/resolve.wgsl";
+    const FEATURES: &'static [&'static str] = &[
+        "COMPUTE_RASTER",
+        "MOTION",
+        "TEXCOORDS",
+        "NORMAL_MAP",
+        "TRIPLANAR",
+        "VELOCITY_FROM_GEOMETRY",
+        "COLOR_MAP",
+        "SURFACE_OUT",
+        "MATERIAL_MAPS",
+        "CUSTOM_SURFACE",
+        "VERTEX_EXTRAS",
+        "VELOCITY_OUT",
+    ];
+
+    fn features(self) -> impl Iterator<Item = &'static str> {
+        let mut f: Vec<&'static str> = Vec::with_capacity(8);
+        f.extend(self.compute_raster.then_some("COMPUTE_RASTER"));
+        f.extend(self.uv.feature());
+        f.extend(self.normal_map.then_some("NORMAL_MAP"));
+        f.extend(
+            self.velocity_from_geometry
+                .then_some("VELOCITY_FROM_GEOMETRY"),
+        );
+        match self.written {
+            Written::Motion => f.push("MOTION"),
+            Written::Surface(s) => {
+                f.extend(s.color_map.then_some("COLOR_MAP"));
+                f.extend(s.vertex_extras.then_some("VERTEX_EXTRAS"));
+                f.extend(s.velocity.then_some("VELOCITY_OUT"));
+                match s.surface {
+                    None => {}
+                    Some(SurfaceOut::Target) => f.push("SURFACE_OUT"),
+                    Some(SurfaceOut::MaterialMaps) => f.extend(["SURFACE_OUT", "MATERIAL_MAPS"]),
+                    Some(SurfaceOut::Custom) => f.extend(["SURFACE_OUT", "CUSTOM_SURFACE"]),
+                }
+            }
+        }
+        f.into_iter()
+    }
+
+    /// 2 rasters x 3 UV sources x 2 x 2 x (the motion resolve and 32
+    /// surface resolves): the 792 feature sets the string rules allowed.
+    fn all() -> Vec<Self> {
+        let surfaces = [
+            None,
+            Some(SurfaceOut::Target),
+            Some(SurfaceOut::MaterialMaps),
+            Some(SurfaceOut::Custom),
+        ];
+        let mut written = vec![Written::Motion];
+        for color_map in [false, true] {
+            for vertex_extras in [false, true] {
+                for velocity in [false, true] {
+                    for surface in surfaces {
+                        written.push(Written::Surface(SurfaceResolve {
+                            color_map,
+                            vertex_extras,
+                            velocity,
+                            surface,
+                        }));
+                    }
+                }
+            }
+        }
+        let mut all = Vec::new();
+        for compute_raster in [false, true] {
+            for uv in [Uv::None, Uv::Mesh, Uv::Triplanar] {
+                for normal_map in [false, true] {
+                    for velocity_from_geometry in [false, true] {
+                        for &written in &written {
+                            all.push(ResolveKey {
+                                compute_raster,
+                                uv,
+                                normal_map,
+                                velocity_from_geometry,
+                                written,
+                            });
+                        }
+                    }
+                }
+            }
+        }
+        all
+    }
+}
