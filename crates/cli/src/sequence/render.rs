@@ -57,6 +57,10 @@ pub struct Args {
     /// How long the shutter is open with --samples, as a fraction of a frame (0.5: 180 degrees).
     #[arg(long, default_value_t = 0.5)]
     pub shutter: f64,
+    /// Write only sub-frame K (0-based) of --samples, not averaged: one of the images a frame
+    /// averages, at its own instant and sub-pixel offset (every sub-frame is still evaluated).
+    #[arg(long, value_name = "K")]
+    pub sub_frame: Option<u32>,
     /// Render frames of a sequence whose files are complete already (they are skipped
     /// otherwise; one image and a video are always rendered).
     #[arg(long)]
@@ -134,6 +138,12 @@ impl Plan {
         }
         if args.samples == 0 {
             return Err(bad("--samples must be at least 1"));
+        }
+        if let Some(k) = args.sub_frame.filter(|&k| k >= args.samples) {
+            return Err(bad(format!(
+                "--sub-frame {k} is past the last of --samples {} (they count from 0)",
+                args.samples
+            )));
         }
         let range = FrameRange::new(args.frames, args.step).map_err(bad)?;
         let target = Target::parse(&args.output).map_err(bad)?;
@@ -252,6 +262,7 @@ fn open(args: &Args, plan: &Plan) -> anyhow::Result<Evaluator> {
     Ok(Evaluator::new(
         session,
         plan.timing,
+        args.sub_frame,
         plan.names(),
         args.size,
         args.patch.clone(),

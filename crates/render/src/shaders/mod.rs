@@ -222,6 +222,7 @@ pub const SHADERS: &[ShaderFile] = &[
     shader!("post/fxaa.wgsl", keyed crate::post::fxaa_key::FxaaKey),
     shader!("post/copy.wgsl", keyed crate::post::copy_key::CopyKey),
     shader!("bench/pass_chain.wgsl", keyed crate::bench::pass_chain_key::PassChainKey),
+    shader!("accumulate/add.wgsl", keyed crate::accumulate::key::AccumulateKey),
     shader!(
         "post/dof.wgsl",
         ["AUTOFOCUS", "BOKEH", "HALF", "INLINE_COC"],
