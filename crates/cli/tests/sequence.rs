@@ -375,7 +375,11 @@ fn samples_summed_on_the_gpu_are_the_average_of_the_sub_frames() {
         .map(|k| {
             let one = dir.path().join(format!("sub_{k}.exr"));
             let k = k.to_string();
-            ok(&render(SPHERES, &one, &[&frame[..], &["--sub-frame", &k]].concat()));
+            ok(&render(
+                SPHERES,
+                &one,
+                &[&frame[..], &["--sub-frame", &k]].concat(),
+            ));
             rgba(&one)
         })
         .collect();
@@ -393,7 +397,11 @@ fn samples_summed_on_the_gpu_are_the_average_of_the_sub_frames() {
         .zip(&in_f32)
         .filter(|(a, b)| a.to_bits() == b.to_bits())
         .count();
-    assert_eq!(same, gpu.len(), "the GPU's sum is the f32 sum of the sub-frames");
+    assert_eq!(
+        same,
+        gpu.len(),
+        "the GPU's sum is the f32 sum of the sub-frames"
+    );
     let in_f64: Vec<f32> = (0..gpu.len())
         .map(|i| ((0..3).map(|k| f64::from(subs[k][i])).sum::<f64>() / 3.0) as f32)
         .collect();
@@ -412,7 +420,10 @@ fn samples_summed_on_the_gpu_are_the_average_of_the_sub_frames() {
     let average = spreadlight_render::readback::ImageF32 {
         width: 64,
         height: 36,
-        pixels: in_f64.chunks_exact(4).map(|p| [p[0], p[1], p[2], p[3]]).collect(),
+        pixels: in_f64
+            .chunks_exact(4)
+            .map(|p| [p[0], p[1], p[2], p[3]])
+            .collect(),
     };
     let encoded = spreadlight_render::image_io::encode_image(
         &average,
@@ -421,7 +432,11 @@ fn samples_summed_on_the_gpu_are_the_average_of_the_sub_frames() {
     )
     .expect("encodes");
     let cpu_png = bytes(image::load_from_memory(&encoded).expect("decodes"));
-    let steps: Vec<u8> = gpu_png.iter().zip(&cpu_png).map(|(a, b)| a.abs_diff(*b)).collect();
+    let steps: Vec<u8> = gpu_png
+        .iter()
+        .zip(&cpu_png)
+        .map(|(a, b)| a.abs_diff(*b))
+        .collect();
     assert!(steps.iter().all(|&d| d <= 1));
     eprintln!(
         "GPU sum against the f64 average: max abs difference {:e}; {} of {} PNG values differ (by 1)",
@@ -430,9 +445,17 @@ fn samples_summed_on_the_gpu_are_the_average_of_the_sub_frames() {
         steps.len()
     );
 
-    let out = render(SPHERES, &dir.path().join("x.exr"), &[&frame[..], &["--sub-frame", "3"]].concat());
+    let out = render(
+        SPHERES,
+        &dir.path().join("x.exr"),
+        &[&frame[..], &["--sub-frame", "3"]].concat(),
+    );
     assert_eq!(out.status.code(), Some(2), "{}", text(&out.stderr));
-    assert!(text(&out.stderr).contains("--sub-frame 3"), "{}", text(&out.stderr));
+    assert!(
+        text(&out.stderr).contains("--sub-frame 3"),
+        "{}",
+        text(&out.stderr)
+    );
 }
 
 #[test]

@@ -11,11 +11,11 @@ use std::sync::Mutex;
 use std::sync::atomic::{AtomicBool, Ordering};
 
 use spreadlight_graph::{Choices, NodeDef, NodeError, Registry, ResourceKind};
+use spreadlight_render::accumulate::{PendingSum, Sums};
 use spreadlight_render::image_io::{Encoding, write_image};
 use spreadlight_render::readback::{
     ImageF32, PendingImage, read_texture, readback_layout, start_read_texture,
 };
-use spreadlight_render::accumulate::{PendingSum, Sums};
 use spreadlight_render::{FrameGraph, GpuContext, RenderError, TextureRef};
 
 use crate::gpu::renderer;
@@ -73,13 +73,19 @@ impl RenderedImages {
 
     /// Forget every sum begun (a frame that failed half way).
     pub fn restart_sums(&self) {
-        self.sums.lock().unwrap_or_else(|e| e.into_inner()).restart();
+        self.sums
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .restart();
     }
 
     /// How many images the `Output` named `name` added into its sum since
     /// the sums were taken or restarted.
     pub fn sum_count(&self, name: &str) -> u32 {
-        self.sums.lock().unwrap_or_else(|e| e.into_inner()).count(name)
+        self.sums
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .count(name)
     }
 
     /// The sum of the images the `Output` named `name` added since the
@@ -89,7 +95,11 @@ impl RenderedImages {
         name: &str,
         gpu: &GpuContext,
     ) -> Option<Result<(PendingSum, Encoding), RenderError>> {
-        let pending = self.sums.lock().unwrap_or_else(|e| e.into_inner()).start_read(name, gpu)?;
+        let pending = self
+            .sums
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .start_read(name, gpu)?;
         let encoding = self
             .sum_encodings
             .lock()

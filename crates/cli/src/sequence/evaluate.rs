@@ -8,8 +8,8 @@ use std::sync::Arc;
 use glam::Vec2;
 use spreadlight_graph::FrameClock;
 use spreadlight_nodes::deferred::mre::SubPixelOffset;
-use spreadlight_render::image_io::Encoding;
 use spreadlight_render::accumulate::PendingSum;
+use spreadlight_render::image_io::Encoding;
 use spreadlight_render::readback::{ImageF32, PendingImage};
 use spreadlight_render::renderer::Timing as GpuTiming;
 

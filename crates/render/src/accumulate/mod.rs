@@ -86,8 +86,7 @@ impl Accumulator {
         let (_, row, texel_bytes) = readback_layout(gpu, key, "the sub-frame").ok()?;
         let sum_bytes = u64::from(key.width) * u64::from(key.height) * 16;
         let limits = gpu.device.limits();
-        let largest =
-            u64::from(limits.max_storage_buffer_binding_size).min(limits.max_buffer_size);
+        let largest = u64::from(limits.max_storage_buffer_binding_size).min(limits.max_buffer_size);
         if sum_bytes > largest || texel_bytes > largest {
             return None;
         }
@@ -109,11 +108,7 @@ impl Accumulator {
                 U::STORAGE | U::COPY_SRC | U::COPY_DST,
             );
             let params = buffer("accumulate params", 16, U::UNIFORM | U::COPY_DST);
-            let values = buffer(
-                "accumulate byte values",
-                512 * 4,
-                U::STORAGE | U::COPY_DST,
-            );
+            let values = buffer("accumulate byte values", 512 * 4, U::STORAGE | U::COPY_DST);
             let words = [key.width, key.height, row / 4, code];
             gpu.queue
                 .write_buffer(&params, 0, bytemuck::cast_slice(&words));
@@ -304,7 +299,11 @@ impl Sums {
         renderer: &Renderer,
         texture: &wgpu::Texture,
     ) -> Result<bool, RenderError> {
-        match self.sums.get(name).map(|sum| (sum.fits(texture), sum.count())) {
+        match self
+            .sums
+            .get(name)
+            .map(|sum| (sum.fits(texture), sum.count()))
+        {
             Some((true, _)) => {}
             Some((false, count)) if count > 0 => {
                 return Err(RenderError::Readback(format!(
