@@ -370,7 +370,12 @@ fn samples_summed_on_the_gpu_are_the_average_of_the_sub_frames() {
     };
     let frame = ["--frames", "2", "--samples", "3"];
     let summed = dir.path().join("summed.exr");
-    ok(&render(SPHERES, &summed, &frame));
+    let out = render(SPHERES, &summed, &frame);
+    ok(&out);
+    assert_eq!(
+        done(&out)["sub_frames"],
+        serde_json::json!({"summed_on_gpu": 1, "averaged_on_cpu": 0})
+    );
     let subs: Vec<Vec<f32>> = (0..3)
         .map(|k| {
             let one = dir.path().join(format!("sub_{k}.exr"));

@@ -86,6 +86,20 @@ pub struct Captured {
 }
 
 impl Captured {
+    /// How many of the outputs' images combine sub-frames: summed on the
+    /// GPU, and read back one by one to be averaged on the CPU.
+    pub fn combined(&self) -> (u64, u64) {
+        let mut counts = (0, 0);
+        for (_, frame, _) in &self.outputs {
+            match frame {
+                Frame::Sum(_) => counts.0 += 1,
+                Frame::Shots(shots) if shots.len() > 1 => counts.1 += 1,
+                Frame::Shots(_) => {}
+            }
+        }
+        counts
+    }
+
     /// Wait for the copies and average each output's sub-frames. One image
     /// averages to itself exactly, so it is passed on as it is: the same
     /// images, bit for bit, as reading each back at once would give. A sum

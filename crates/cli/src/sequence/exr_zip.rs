@@ -1,16 +1,16 @@
 //! The half-float EXR of `--exr half`, ZIP-compressed by blocks of 16
 //! lines (OpenEXR's `ZIP_COMPRESSION`), written here block by block rather
 //! than by the `exr` crate's image writer, for one reason: the crate
-//! deflates at a fixed level (miniz_oxide's 4), which costs about three
-//! times what level 1 does for a tenth more bytes, and that was what held a
-//! 1080p sequence to 34 frames a second on 16 cores (docs/benchmarks.md,
-//! "EXR encoding"). The blocks are what OpenEXR's ZIP compressor makes: per
-//! line the channels in name order (A, B, G, R) as little-endian halves,
-//! the bytes split into even and odd halves, each byte stored as its
-//! difference to the one before, deflated (zlib); a block that does not
-//! shrink is stored raw. Any EXR reader decodes them; only the deflate
-//! level differs from the crate's (at its level, 4, the bytes are the
-//! crate's own: tested).
+//! deflates at a fixed level (miniz_oxide's 4), which costs three to four
+//! times what level 1 does for a tenth fewer bytes, and that was what held
+//! a 1080p sequence to 34 frames a second on 16 cores (docs/benchmarks.md,
+//! "EXR encoding and summed sub-frames"). The blocks are what OpenEXR's ZIP
+//! compressor makes: per line the channels in name order (A, B, G, R) as
+//! little-endian halves, the bytes split into even and odd halves, each
+//! byte stored as its difference to the one before, deflated (zlib); a
+//! block that does not shrink is stored raw. Any EXR reader decodes them;
+//! only the deflate level differs from the crate's (at its level, 4, the
+//! bytes are the crate's own: tested). `tools/exr-bench` measures it.
 
 use std::io::Cursor;
 
@@ -129,7 +129,9 @@ impl Block {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use exr::prelude::{Encoding, Image, Layer, SpecificChannels, Vec2, WritableImage};
+    use exr::prelude::{
+        Encoding, Image, Layer, ReadChannels, ReadLayers, SpecificChannels, Vec2, WritableImage,
+    };
 
     /// A frame with smooth areas, edges and noise, 37 lines (a last block of 5).
     fn frame() -> (Vec<[f32; 4]>, (usize, usize)) {

@@ -317,17 +317,23 @@ fn render_frames(args: &Args, plan: &Plan) -> anyhow::Result<bool> {
     let mut failed = Vec::new();
     let mut next: Option<u64> = None;
     let mut pipeline = Pipeline::new(args.threads.unwrap_or_else(default_threads))?;
+    // With --samples: the output images summed on the GPU, and those averaged on the CPU.
+    let mut summed = (0u64, 0u64);
     for &frame in &todo {
         preroll(&mut evaluator, plan, &mut next, frame);
         let started = std::time::Instant::now();
         match evaluator.frame(frame) {
-            Ok(captured) => pipeline.submit(Job {
-                frame,
-                captured,
-                files: plan.files(frame).into_iter().map(|(_, p)| p).collect(),
-                started,
-                exr: args.exr,
-            }),
+            Ok(captured) => {
+                let (gpu, cpu) = captured.combined();
+                summed = (summed.0 + gpu, summed.1 + cpu);
+                pipeline.submit(Job {
+                    frame,
+                    captured,
+                    files: plan.files(frame).into_iter().map(|(_, p)| p).collect(),
+                    started,
+                    exr: args.exr,
+                });
+            }
             Err(errors) => pipeline.fail(frame, errors, started),
         }
         for finished in pipeline.finished(false) {
@@ -339,6 +345,9 @@ fn render_frames(args: &Args, plan: &Plan) -> anyhow::Result<bool> {
     }
     let written = todo.len() - failed.len();
     let mut summary = json!({"written": written, "skipped": done.len(), "failed": failed});
+    if args.samples > 1 {
+        summary["sub_frames"] = json!({"summed_on_gpu": summed.0, "averaged_on_cpu": summed.1});
+    }
     cold_start(args, &evaluator, &progress, &mut summary);
     progress.finish(summary);
     Ok(!failed.is_empty())
