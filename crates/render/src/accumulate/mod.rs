@@ -86,7 +86,9 @@ impl Accumulator {
         let (_, row, texel_bytes) = readback_layout(gpu, key, "the sub-frame").ok()?;
         let sum_bytes = u64::from(key.width) * u64::from(key.height) * 16;
         let limits = gpu.device.limits();
-        let largest = u64::from(limits.max_storage_buffer_binding_size).min(limits.max_buffer_size);
+        let largest = limits
+            .max_storage_buffer_binding_size
+            .min(limits.max_buffer_size);
         if sum_bytes > largest || texel_bytes > largest {
             return None;
         }
@@ -306,9 +308,9 @@ impl Sums {
         {
             Some((true, _)) => {}
             Some((false, count)) if count > 0 => {
-                return Err(RenderError::Readback(format!(
-                    "its texture changed size or format between sub-frames"
-                )));
+                return Err(RenderError::Readback(
+                    "its texture changed size or format between sub-frames".to_owned(),
+                ));
             }
             _ => {
                 let key = TextureKey {
