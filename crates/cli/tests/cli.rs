@@ -810,10 +810,15 @@ fn bench_prints_one_json_line_with_the_adapter() {
         .as_f64()
         .expect("cpu_submit_ms_median");
     assert!((0.0..=record).contains(&submit), "{submit} of {record}");
+    // The geometry and skinning lines are timed apart from the graph's recording.
     for pass in order {
-        let cpu = pass["cpu_ms"].as_f64().expect("each pass's cpu_ms");
-        assert!(cpu >= 0.0 && cpu <= record, "{pass}");
+        let name = pass["name"].as_str().unwrap_or_default();
+        match pass["cpu_ms"].as_f64() {
+            Some(cpu) => assert!(cpu >= 0.0 && cpu <= record, "{pass}"),
+            None => assert!(name.ends_with("(compute)"), "{name} has no cpu_ms"),
+        }
     }
+    assert!(order.iter().any(|p| p["cpu_ms"].as_f64().is_some()));
     assert!(json["wall_ms_per_frame"].is_null(), "only with --wall");
     // Where the cold start went, by step: the steps happen one after another in the process, and
     // the first frame of a fresh process compiles its pipelines.

@@ -355,6 +355,114 @@ fn frames_in_flight_write_the_bytes_of_single_frame_runs_and_fail_alone() {
     );
 }
 
+/// `--samples 3` adds its sub-frames up on the GPU and reads the sum back once: the frame is the
+/// CPU's f32 sum of the three sub-frames rendered alone (`--sub-frame K`), added in order and
+/// divided once, bit for bit; against the f64 average the CPU made before, it differs by the f32
+/// rounding of the sum only.
+#[test]
+fn samples_summed_on_the_gpu_are_the_average_of_the_sub_frames() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let rgba = |p: &Path| -> Vec<f32> {
+        image::open(p)
+            .unwrap_or_else(|e| panic!("{}: {e}", p.display()))
+            .to_rgba32f()
+            .into_raw()
+    };
+    let frame = ["--frames", "2", "--samples", "3"];
+    let summed = dir.path().join("summed.exr");
+    let out = render(SPHERES, &summed, &frame);
+    ok(&out);
+    assert_eq!(
+        done(&out)["sub_frames"],
+        serde_json::json!({"summed_on_gpu": 1, "averaged_on_cpu": 0})
+    );
+    let subs: Vec<Vec<f32>> = (0..3)
+        .map(|k| {
+            let one = dir.path().join(format!("sub_{k}.exr"));
+            let k = k.to_string();
+            ok(&render(
+                SPHERES,
+                &one,
+                &[&frame[..], &["--sub-frame", &k]].concat(),
+            ));
+            rgba(&one)
+        })
+        .collect();
+    let gpu = rgba(&summed);
+    assert_eq!(gpu.len(), 64 * 36 * 4);
+    // The sub-frames differ (each has its own sub-pixel offset), so the average means something.
+    assert!(max_difference(&subs[0], &subs[1]) > 0.01);
+    assert!(max_difference(&gpu, &subs[0]) > 0.001);
+    let in_f32: Vec<f32> = (0..gpu.len())
+        .map(|i| f64::from(0.0 + subs[0][i] + subs[1][i] + subs[2][i]) / 3.0)
+        .map(|v| v as f32)
+        .collect();
+    let same = gpu
+        .iter()
+        .zip(&in_f32)
+        .filter(|(a, b)| a.to_bits() == b.to_bits())
+        .count();
+    assert_eq!(
+        same,
+        gpu.len(),
+        "the GPU's sum is the f32 sum of the sub-frames"
+    );
+    let in_f64: Vec<f32> = (0..gpu.len())
+        .map(|i| ((0..3).map(|k| f64::from(subs[k][i])).sum::<f64>() / 3.0) as f32)
+        .collect();
+    // Two f32 roundings of the sum (each within half a unit of the partial sum's last place)
+    // and one of the result: within EPSILON x (the sum of magnitudes / 3 + the result).
+    for (i, (a, b)) in gpu.iter().zip(&in_f64).enumerate() {
+        let magnitudes: f32 = (0..3).map(|k| subs[k][i].abs()).sum();
+        let bound = f32::EPSILON * (magnitudes / 3.0 + b.abs());
+        assert!((a - b).abs() <= bound, "value {i}: {a} against {b}");
+    }
+    // As 8-bit sRGB, a value changes only where the f64 average sits at a rounding step: by one.
+    let png = dir.path().join("summed.png");
+    ok(&render(SPHERES, &png, &frame));
+    let bytes = |image: image::DynamicImage| image.to_rgba8().into_raw();
+    let gpu_png = bytes(image::open(&png).expect("a PNG"));
+    let average = spreadlight_render::readback::ImageF32 {
+        width: 64,
+        height: 36,
+        pixels: in_f64
+            .chunks_exact(4)
+            .map(|p| [p[0], p[1], p[2], p[3]])
+            .collect(),
+    };
+    let encoded = spreadlight_render::image_io::encode_image(
+        &average,
+        spreadlight_render::image_io::Encoding::Srgb,
+        false,
+    )
+    .expect("encodes");
+    let cpu_png = bytes(image::load_from_memory(&encoded).expect("decodes"));
+    let steps: Vec<u8> = gpu_png
+        .iter()
+        .zip(&cpu_png)
+        .map(|(a, b)| a.abs_diff(*b))
+        .collect();
+    assert!(steps.iter().all(|&d| d <= 1));
+    eprintln!(
+        "GPU sum against the f64 average: max abs difference {:e}; {} of {} PNG values differ (by 1)",
+        max_difference(&gpu, &in_f64),
+        steps.iter().filter(|&&d| d > 0).count(),
+        steps.len()
+    );
+
+    let out = render(
+        SPHERES,
+        &dir.path().join("x.exr"),
+        &[&frame[..], &["--sub-frame", "3"]].concat(),
+    );
+    assert_eq!(out.status.code(), Some(2), "{}", text(&out.stderr));
+    assert!(
+        text(&out.stderr).contains("--sub-frame 3"),
+        "{}",
+        text(&out.stderr)
+    );
+}
+
 #[test]
 fn a_failing_frame_is_reported_and_the_rest_go_on() {
     let dir = tempfile::tempdir().expect("tempdir");

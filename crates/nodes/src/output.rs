@@ -11,11 +11,12 @@ use std::sync::Mutex;
 use std::sync::atomic::{AtomicBool, Ordering};
 
 use spreadlight_graph::{Choices, NodeDef, NodeError, Registry, ResourceKind};
+use spreadlight_render::accumulate::{PendingSum, Sums};
 use spreadlight_render::image_io::{Encoding, write_image};
 use spreadlight_render::readback::{
     ImageF32, PendingImage, read_texture, readback_layout, start_read_texture,
 };
-use spreadlight_render::{FrameGraph, TextureRef};
+use spreadlight_render::{FrameGraph, GpuContext, RenderError, TextureRef};
 
 use crate::gpu::renderer;
 
@@ -35,6 +36,12 @@ pub struct RenderedImages {
     /// instead of images: a sequence keeps several frames in flight this way.
     deferred: AtomicBool,
     pending: Mutex<BTreeMap<String, (PendingImage, Encoding)>>,
+    /// Whether a deferred `Output` adds its image into a sum on the GPU
+    /// ([`RenderedImages::take_sum`]) instead of starting its copy: the
+    /// sub-frames of `spreadlight render --samples`.
+    accumulating: AtomicBool,
+    sums: Mutex<Sums>,
+    sum_encodings: Mutex<BTreeMap<String, Encoding>>,
 }
 
 impl RenderedImages {
@@ -54,6 +61,67 @@ impl RenderedImages {
             .lock()
             .unwrap_or_else(|e| e.into_inner())
             .remove(name)
+    }
+
+    /// From now on, a deferred `Output` (see [`RenderedImages::set_deferred`])
+    /// adds each image it renders into a sum on the GPU, read back once by
+    /// [`RenderedImages::take_sum`]; where the device cannot hold the sum it
+    /// starts its copy as before.
+    pub fn set_accumulating(&self, accumulating: bool) {
+        self.accumulating.store(accumulating, Ordering::Relaxed);
+    }
+
+    /// Forget every sum begun (a frame that failed half way).
+    pub fn restart_sums(&self) {
+        self.sums
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .restart();
+    }
+
+    /// How many images the `Output` named `name` added into its sum since
+    /// the sums were taken or restarted.
+    pub fn sum_count(&self, name: &str) -> u32 {
+        self.sums
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .count(name)
+    }
+
+    /// The sum of the images the `Output` named `name` added since the
+    /// last call, its copy to the CPU started (`None` when it added none).
+    pub fn take_sum(
+        &self,
+        name: &str,
+        gpu: &GpuContext,
+    ) -> Option<Result<(PendingSum, Encoding), RenderError>> {
+        let pending = self
+            .sums
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .start_read(name, gpu)?;
+        let encoding = self
+            .sum_encodings
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .get(name)
+            .copied()
+            .unwrap_or(Encoding::Srgb);
+        Some(pending.map(|p| (p, encoding)))
+    }
+
+    /// What an `Output` that added into its sum tells the host: the size it summed, its encoding.
+    fn note_sum(&self, name: &str, size: Option<(u32, u32)>, encoding: Encoding) {
+        if let Some(size) = size {
+            self.sources
+                .lock()
+                .unwrap_or_else(|e| e.into_inner())
+                .insert(name.to_owned(), size);
+        }
+        self.sum_encodings
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .insert(name.to_owned(), encoding);
     }
 
     fn put_pending(&self, name: &str, image: PendingImage, encoding: Encoding) {
@@ -161,6 +229,16 @@ pub fn register(r: &mut Registry) {
                     return Ok(());
                 }
                 if let Some(store) = store.as_ref().filter(|s| !to_file && s.deferred.load(Ordering::Relaxed)) {
+                    if store.accumulating.load(Ordering::Relaxed) {
+                        let mut sums = store.sums.lock().unwrap_or_else(|e| e.into_inner());
+                        let added = sums
+                            .add(&name, &renderer, target)
+                            .map_err(|e| NodeError::Other(format!("the Output named `{name}`: {e}")))?;
+                        if added {
+                            store.note_sum(&name, sums.size(&name), encoding);
+                            return Ok(());
+                        }
+                    }
                     let pending = start_read_texture(&renderer.gpu, target).map_err(|e| NodeError::Other(e.to_string()))?;
                     store.put_pending(&name, pending, encoding);
                     return Ok(());

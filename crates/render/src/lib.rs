@@ -3,6 +3,7 @@
 //! meshes (primitives and glTF), and the deferred passes. No UI: the editor
 //! and the CLI only host it.
 
+pub mod accumulate;
 pub mod adapter_class;
 pub mod bench;
 pub mod camera;

@@ -193,6 +193,28 @@ pub struct PendingImage {
 }
 
 impl PendingImage {
+    /// A copy of tightly packed RGBA 32-bit floats on its way into
+    /// `buffer` (mappable for reading) by `submission`: how the
+    /// accumulator (`accumulate/`) hands on its sum.
+    pub(crate) fn of_floats(
+        device: wgpu::Device,
+        buffer: wgpu::Buffer,
+        submission: wgpu::SubmissionIndex,
+        (width, height): (u32, u32),
+    ) -> Self {
+        PendingImage {
+            device,
+            buffer,
+            submission,
+            format: wgpu::TextureFormat::Rgba32Float,
+            width,
+            height,
+            row: width * 16,
+            bytes_per_pixel: 16,
+            size: u64::from(width) * u64::from(height) * 16,
+        }
+    }
+
     /// The size of the texture being copied.
     pub fn size(&self) -> (u32, u32) {
         (self.width, self.height)

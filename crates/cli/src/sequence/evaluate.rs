@@ -8,6 +8,7 @@ use std::sync::Arc;
 use glam::Vec2;
 use spreadlight_graph::FrameClock;
 use spreadlight_nodes::deferred::mre::SubPixelOffset;
+use spreadlight_render::accumulate::PendingSum;
 use spreadlight_render::image_io::Encoding;
 use spreadlight_render::readback::{ImageF32, PendingImage};
 use spreadlight_render::renderer::Timing as GpuTiming;
@@ -69,38 +70,61 @@ enum Shot {
     Pending(PendingImage),
 }
 
+/// One output's image of a frame, not yet waited for: its sub-frames one
+/// by one (averaged on the CPU), or their sum made on the GPU.
+enum Frame {
+    Shots(Vec<Shot>),
+    Sum(PendingSum),
+}
+
 /// A frame evaluated and its copies started, not yet waited for: what goes
 /// through the pipeline (`pipeline.rs`) to the thread that writes it.
 pub struct Captured {
-    /// Per output, its sub-frames in order, and its encoding.
-    outputs: Vec<(String, Vec<Shot>, Encoding)>,
+    /// Per output, its image, and its encoding.
+    outputs: Vec<(String, Frame, Encoding)>,
     size: (u32, u32),
 }
 
 impl Captured {
-    /// Wait for the copies and average each output's sub-frames (one image
-    /// averages to itself exactly, so it is passed on as it is): the same
-    /// images, bit for bit, as reading each back at once would give.
+    /// How many of the outputs' images combine sub-frames: summed on the
+    /// GPU, and read back one by one to be averaged on the CPU.
+    pub fn combined(&self) -> (u64, u64) {
+        let mut counts = (0, 0);
+        for (_, frame, _) in &self.outputs {
+            match frame {
+                Frame::Sum(_) => counts.0 += 1,
+                Frame::Shots(shots) if shots.len() > 1 => counts.1 += 1,
+                Frame::Shots(_) => {}
+            }
+        }
+        counts
+    }
+
+    /// Wait for the copies and average each output's sub-frames. One image
+    /// averages to itself exactly, so it is passed on as it is: the same
+    /// images, bit for bit, as reading each back at once would give. A sum
+    /// made on the GPU is divided by its count (`accumulate/` in render).
     pub fn resolve(self) -> Result<Vec<Rendered>, Vec<String>> {
         let size = self.size;
         let pixels = size.0 as usize * size.1 as usize;
         self.outputs
             .into_iter()
-            .map(|(name, shots, encoding)| {
+            .map(|(name, frame, encoding)| {
+                let failed = |e: spreadlight_render::RenderError| {
+                    vec![format!("the Output named `{name}`: {e}")]
+                };
+                // As the Output stretches what it reads back at once.
+                let stretched = |image: ImageF32| {
+                    if (image.width, image.height) == size {
+                        image
+                    } else {
+                        image.resized(size)
+                    }
+                };
                 let take = |shot: Shot| {
                     let image = match shot {
                         Shot::Ready(image) => image,
-                        Shot::Pending(pending) => {
-                            let image = pending
-                                .wait()
-                                .map_err(|e| vec![format!("the Output named `{name}`: {e}")])?;
-                            // As the Output stretches what it reads back at once.
-                            if (image.width, image.height) == size {
-                                image
-                            } else {
-                                image.resized(size)
-                            }
-                        }
+                        Shot::Pending(pending) => stretched(pending.wait().map_err(failed)?),
                     };
                     if (image.width, image.height) != size {
                         return Err(vec![format!(
@@ -110,16 +134,19 @@ impl Captured {
                     }
                     Ok(image)
                 };
-                // Sub-frames are taken one at a time, so K of them never sit in memory at once.
-                let image = match <[Shot; 1]>::try_from(shots) {
-                    Ok([shot]) => take(shot)?,
-                    Err(shots) => {
-                        let mut sum = Average::new(pixels);
-                        for shot in shots {
-                            sum.add(&take(shot)?);
+                let image = match frame {
+                    Frame::Sum(sum) => stretched(sum.wait().map_err(failed)?),
+                    // Sub-frames are taken one at a time, so K of them never sit in memory at once.
+                    Frame::Shots(shots) => match <[Shot; 1]>::try_from(shots) {
+                        Ok([shot]) => take(shot)?,
+                        Err(shots) => {
+                            let mut sum = Average::new(pixels);
+                            for shot in shots {
+                                sum.add(&take(shot)?);
+                            }
+                            sum.image(size)
                         }
-                        sum.image(size)
-                    }
+                    },
                 };
                 Ok(Rendered { image, encoding })
             })
@@ -131,6 +158,8 @@ pub struct Evaluator {
     session: Session,
     offset: Option<Arc<SubPixelOffset>>,
     timing: Timing,
+    /// `--sub-frame K`: only sub-frame K's image is kept (not averaged).
+    only: Option<u32>,
     outputs: Vec<String>,
     size: (u32, u32),
     patch: PathBuf,
@@ -142,6 +171,7 @@ impl Evaluator {
     pub fn new(
         mut session: Session,
         timing: Timing,
+        only: Option<u32>,
         outputs: Vec<String>,
         size: (u32, u32),
         patch: PathBuf,
@@ -153,6 +183,11 @@ impl Evaluator {
         });
         // Copies are waited for where the frame is written, not in the Output node.
         session.images.set_deferred(true);
+        // Sub-frames are added up on the GPU and the sum read back once (the one kept of
+        // `--sub-frame` is not summed).
+        session
+            .images
+            .set_accumulating(timing.samples > 1 && only.is_none());
         // No timestamps (nothing reports per-pass times here), so the CPU does not wait for the
         // GPU after every frame: the next frame is recorded while the GPU renders this one.
         if let Some(renderer) = &session.renderer {
@@ -162,6 +197,7 @@ impl Evaluator {
             session,
             offset,
             timing,
+            only,
             outputs,
             size,
             patch,
@@ -201,6 +237,8 @@ impl Evaluator {
             .iter()
             .map(|name| (name.clone(), Vec::new(), Encoding::Srgb))
             .collect();
+        // Sums a frame that failed half way began are not this frame's.
+        self.session.images.restart_sums();
         for k in 0..n {
             if let Some(offset) = &self.offset {
                 offset.set(pixel_offset(k, n));
@@ -214,12 +252,17 @@ impl Evaluator {
             if !errors.is_empty() {
                 return Err(errors);
             }
+            // `--sub-frame`: the others are rendered all the same (what the nodes remember
+            // advances as in a full run), their copies dropped.
+            let keep = self.only.is_none_or(|only| only == k);
             for (name, shots, encoding) in &mut outputs {
                 let shot = match self.session.images.take_pending(name) {
                     Some((pending, e)) => {
                         *encoding = e;
-                        Shot::Pending(pending)
+                        Some(Shot::Pending(pending))
                     }
+                    // Added into the output's sum on the GPU (taken below).
+                    None if self.session.images.sum_count(name) == k + 1 => None,
                     None => {
                         let Some((image, e)) = self.session.images.get(name) else {
                             return Err(vec![format!(
@@ -227,17 +270,40 @@ impl Evaluator {
                             )]);
                         };
                         *encoding = e;
-                        Shot::Ready(image)
+                        Some(Shot::Ready(image))
                     }
                 };
-                shots.push(shot);
+                if let Some(shot) = shot.filter(|_| keep) {
+                    shots.push(shot);
+                }
             }
         }
         if let Some(offset) = &self.offset {
             offset.set(Vec2::ZERO);
         }
+        let gpu = self.session.renderer.as_ref().map(|r| &r.gpu);
+        let mut captured = Vec::with_capacity(outputs.len());
+        for (name, shots, encoding) in outputs {
+            let sum = gpu.and_then(|gpu| self.session.images.take_sum(&name, gpu));
+            let frame = match sum {
+                None => Frame::Shots(shots),
+                Some(Err(e)) => return Err(vec![format!("the Output named `{name}`: {e}")]),
+                Some(Ok((sum, e))) if shots.is_empty() && sum.count() == n => {
+                    captured.push((name, Frame::Sum(sum), e));
+                    continue;
+                }
+                Some(Ok((sum, _))) => {
+                    return Err(vec![format!(
+                        "the Output named `{name}` added {} of {n} sub-frames to its sum and read {} back",
+                        sum.count(),
+                        shots.len()
+                    )]);
+                }
+            };
+            captured.push((name, frame, encoding));
+        }
         Ok(Captured {
-            outputs,
+            outputs: captured,
             size: self.size,
         })
     }

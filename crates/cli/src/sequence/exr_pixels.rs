@@ -1,15 +1,14 @@
 //! `--exr half`: EXR frames as half floats, ZIP-compressed (lossless over
-//! the halves), written with the `exr` crate. A 1080p RGBA frame is about a
+//! the halves; `exr_zip.rs` writes them). A 1080p RGBA frame is about a
 //! quarter of the default's 33 MB of uncompressed 32-bit floats, which a
 //! sequence writing at GPU speed needs: at 60 frames a second the default
 //! writes 2 GB a second. Half floats keep 11 significant bits, what
 //! compositing beauty passes usually takes; data passes (depth, positions)
 //! keep the default.
 
-use exr::prelude::{
-    Encoding, Image, Layer, LayerAttributes, SpecificChannels, Vec2, WritableImage, f16,
-};
 use spreadlight_render::readback::ImageF32;
+
+use super::exr_zip;
 
 /// The pixels of EXR files (`--exr`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
@@ -17,38 +16,23 @@ pub enum ExrPixels {
     /// 32-bit floats, uncompressed (what `spreadlight` always wrote).
     #[default]
     Float,
-    /// 16-bit floats, ZIP-compressed in blocks of 16 lines.
+    /// 16-bit floats, ZIP-compressed in blocks of 16 lines (deflate level 1).
     Half,
 }
 
 /// `image` as the bytes of a half-float EXR file.
 pub fn encode_half(image: &ImageF32) -> Result<Vec<u8>, String> {
-    let (width, height) = (image.width as usize, image.height as usize);
-    if image.pixels.len() != width * height {
-        return Err("pixel count does not match the size".to_owned());
-    }
-    let channels = SpecificChannels::rgba(|Vec2(x, y): Vec2<usize>| {
-        let p = image.pixels[y * width + x];
-        let half = f16::from_f32;
-        (half(p[0]), half(p[1]), half(p[2]), half(p[3]))
-    });
-    let layer = Layer::new(
-        (width, height),
-        LayerAttributes::default(),
-        Encoding::SMALL_LOSSLESS,
-        channels,
-    );
-    let mut bytes = std::io::Cursor::new(Vec::new());
-    Image::from_layer(layer)
-        .write()
-        .to_buffered(&mut bytes)
-        .map_err(|e| e.to_string())?;
-    Ok(bytes.into_inner())
+    exr_zip::encode(
+        &image.pixels,
+        (image.width as usize, image.height as usize),
+        exr_zip::LEVEL,
+    )
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use exr::prelude::f16;
 
     #[test]
     fn half_exr_decodes_to_the_halves_of_the_image() {

@@ -9,6 +9,7 @@
 pub mod accumulate;
 mod evaluate;
 mod exr_pixels;
+mod exr_zip;
 mod fault;
 mod files;
 pub mod frames;

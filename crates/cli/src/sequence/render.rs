@@ -57,6 +57,10 @@ pub struct Args {
     /// How long the shutter is open with --samples, as a fraction of a frame (0.5: 180 degrees).
     #[arg(long, default_value_t = 0.5)]
     pub shutter: f64,
+    /// Write only sub-frame K (0-based) of --samples, not averaged: one of the images a frame
+    /// averages, at its own instant and sub-pixel offset (every sub-frame is still evaluated).
+    #[arg(long, value_name = "K")]
+    pub sub_frame: Option<u32>,
     /// Render frames of a sequence whose files are complete already (they are skipped
     /// otherwise; one image and a video are always rendered).
     #[arg(long)]
@@ -134,6 +138,12 @@ impl Plan {
         }
         if args.samples == 0 {
             return Err(bad("--samples must be at least 1"));
+        }
+        if let Some(k) = args.sub_frame.filter(|&k| k >= args.samples) {
+            return Err(bad(format!(
+                "--sub-frame {k} is past the last of --samples {} (they count from 0)",
+                args.samples
+            )));
         }
         let range = FrameRange::new(args.frames, args.step).map_err(bad)?;
         let target = Target::parse(&args.output).map_err(bad)?;
@@ -252,6 +262,7 @@ fn open(args: &Args, plan: &Plan) -> anyhow::Result<Evaluator> {
     Ok(Evaluator::new(
         session,
         plan.timing,
+        args.sub_frame,
         plan.names(),
         args.size,
         args.patch.clone(),
@@ -306,17 +317,23 @@ fn render_frames(args: &Args, plan: &Plan) -> anyhow::Result<bool> {
     let mut failed = Vec::new();
     let mut next: Option<u64> = None;
     let mut pipeline = Pipeline::new(args.threads.unwrap_or_else(default_threads))?;
+    // With --samples: the output images summed on the GPU, and those averaged on the CPU.
+    let mut summed = (0u64, 0u64);
     for &frame in &todo {
         preroll(&mut evaluator, plan, &mut next, frame);
         let started = std::time::Instant::now();
         match evaluator.frame(frame) {
-            Ok(captured) => pipeline.submit(Job {
-                frame,
-                captured,
-                files: plan.files(frame).into_iter().map(|(_, p)| p).collect(),
-                started,
-                exr: args.exr,
-            }),
+            Ok(captured) => {
+                let (gpu, cpu) = captured.combined();
+                summed = (summed.0 + gpu, summed.1 + cpu);
+                pipeline.submit(Job {
+                    frame,
+                    captured,
+                    files: plan.files(frame).into_iter().map(|(_, p)| p).collect(),
+                    started,
+                    exr: args.exr,
+                });
+            }
             Err(errors) => pipeline.fail(frame, errors, started),
         }
         for finished in pipeline.finished(false) {
@@ -328,6 +345,9 @@ fn render_frames(args: &Args, plan: &Plan) -> anyhow::Result<bool> {
     }
     let written = todo.len() - failed.len();
     let mut summary = json!({"written": written, "skipped": done.len(), "failed": failed});
+    if args.samples > 1 {
+        summary["sub_frames"] = json!({"summed_on_gpu": summed.0, "averaged_on_cpu": summed.1});
+    }
     cold_start(args, &evaluator, &progress, &mut summary);
     progress.finish(summary);
     Ok(!failed.is_empty())

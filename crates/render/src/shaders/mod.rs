@@ -126,6 +126,7 @@ pub const SHADERS: &[ShaderFile] = &[
     shader!("post/fxaa.wgsl", keyed crate::post::fxaa_key::FxaaKey),
     shader!("post/copy.wgsl", keyed crate::post::copy_key::CopyKey),
     shader!("bench/pass_chain.wgsl", keyed crate::bench::pass_chain_key::PassChainKey),
+    shader!("accumulate/add.wgsl", keyed crate::accumulate::key::AccumulateKey),
     shader!("post/dof.wgsl", keyed crate::post::dof_key::DofKey),
     shader!("post/autofocus.wgsl", keyed crate::post::autofocus_key::AutofocusKey),
     shader!("post/motion_blur.wgsl", keyed crate::post::motion_blur_key::MotionBlurKey),

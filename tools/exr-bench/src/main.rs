@@ -1,0 +1,227 @@
+//! The one-core cost of encoding a frame as a half-float RGBA EXR, per
+//! lossless option of the `exr` crate and per deflate level of
+//! `--exr half`'s own ZIP writer (`crates/cli/src/sequence/exr_zip.rs`,
+//! compiled in as it is). Times are the encoding thread's own CPU time
+//! (`/proc/thread-self/schedstat`), so a loaded machine still measures what
+//! a core spends. Every file is read back and compared with the halves.
+
+#[path = "../../../crates/cli/src/sequence/exr_zip.rs"]
+mod exr_zip;
+
+use std::io::{Cursor, Write};
+
+use exr::prelude::*;
+
+type Pixel = [f32; 4];
+
+/// This thread's CPU time so far, in seconds.
+fn cpu_seconds() -> f64 {
+    let stat = std::fs::read_to_string("/proc/thread-self/schedstat").unwrap_or_default();
+    let ns: f64 = stat
+        .split_whitespace()
+        .next()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(f64::NAN);
+    ns * 1e-9
+}
+
+/// The `exr` crate's own writer, as `--exr half` used it.
+fn by_the_crate(pixels: &[Pixel], (w, h): (usize, usize), encoding: Encoding) -> Vec<u8> {
+    let channels = SpecificChannels::rgba(|Vec2(x, y): Vec2<usize>| {
+        let p = pixels[y * w + x];
+        let half = f16::from_f32;
+        (half(p[0]), half(p[1]), half(p[2]), half(p[3]))
+    });
+    let layer = Layer::new((w, h), LayerAttributes::default(), encoding, channels);
+    let mut bytes = Cursor::new(Vec::new());
+    Image::from_layer(layer)
+        .write()
+        .to_buffered(&mut bytes)
+        .expect("the crate writes");
+    bytes.into_inner()
+}
+
+/// The same ZIP blocks as `exr_zip`'s, deflated by another deflater (rows
+/// for comparison only; written plainly, without `exr_zip`'s reused buffers).
+fn zip_with(
+    pixels: &[Pixel],
+    (w, h): (usize, usize),
+    deflate: &dyn Fn(&[u8]) -> Vec<u8>,
+) -> Vec<u8> {
+    use exr::block::chunk::{Chunk, CompressedBlock, CompressedScanLineBlock};
+    use exr::block::writer::ChunksWriter;
+    use exr::meta::attribute::{ChannelDescription, LineOrder, SampleType};
+    use exr::meta::header::Header;
+    use exr::meta::{BlockDescription, Headers};
+    let channels = ["A", "B", "G", "R"]
+        .map(|n| ChannelDescription::named(n, SampleType::F16))
+        .into_iter()
+        .collect();
+    let header = Header::new(Text::from("rgba"), (w, h), channels)
+        .with_attributes(LayerAttributes::default())
+        .with_encoding(
+            Compression::ZIP16,
+            BlockDescription::ScanLines,
+            LineOrder::Increasing,
+        );
+    let mut out = Cursor::new(Vec::new());
+    exr::block::write(&mut out, Headers::from(vec![header]), true, |_, writer| {
+        for (i, top) in (0..h).step_by(16).enumerate() {
+            let mut raw = Vec::new();
+            for y in top..(top + 16).min(h) {
+                for c in [3, 2, 1, 0] {
+                    raw.extend(
+                        pixels[y * w..(y + 1) * w]
+                            .iter()
+                            .flat_map(|p| f16::from_f32(p[c]).to_le_bytes()),
+                    );
+                }
+            }
+            let mut t: Vec<u8> = raw
+                .iter()
+                .step_by(2)
+                .chain(raw.iter().skip(1).step_by(2))
+                .copied()
+                .collect();
+            let mut previous = t[0];
+            for b in t.iter_mut().skip(1) {
+                let current = *b;
+                *b = current.wrapping_sub(previous).wrapping_add(128);
+                previous = current;
+            }
+            let z = deflate(&t);
+            let bytes = if z.len() < raw.len() { z } else { raw };
+            writer.write_chunk(
+                i,
+                Chunk {
+                    layer_index: 0,
+                    compressed_block: CompressedBlock::ScanLine(CompressedScanLineBlock {
+                        y_coordinate: top as i32,
+                        compressed_pixels_le: bytes,
+                    }),
+                },
+            )?;
+        }
+        Ok(())
+    })
+    .expect("writes");
+    out.into_inner()
+}
+
+/// The file's size and RGBA values.
+fn read(bytes: &[u8]) -> (Vec2<usize>, Vec<Pixel>) {
+    let image = exr::prelude::read()
+        .no_deep_data()
+        .largest_resolution_level()
+        .rgba_channels(
+            |size, _| (size, vec![[0.0f32; 4]; size.area()]),
+            |(size, px): &mut (Vec2<usize>, Vec<Pixel>),
+             at: Vec2<usize>,
+             (r, g, b, a): (f32, f32, f32, f32)| {
+                px[at.y() * size.width() + at.x()] = [r, g, b, a];
+            },
+        )
+        .first_valid_layer()
+        .all_attributes()
+        .from_buffered(Cursor::new(bytes))
+        .expect("a valid EXR");
+    image.layer_data.channel_data.pixels
+}
+
+fn main() {
+    let args: Vec<String> = std::env::args().collect();
+    let Some(path) = args.get(1) else {
+        eprintln!("usage: exr-bench FRAME.exr [REPEATS]");
+        std::process::exit(2);
+    };
+    let repeats: usize = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(3);
+    let bytes = std::fs::read(path).expect("the frame");
+    let (layer_size, pixels) = read(&bytes);
+    let size = (layer_size.width(), layer_size.height());
+    let halves: Vec<Pixel> = pixels
+        .iter()
+        .map(|p| p.map(|v| f16::from_f32(v).to_f32()))
+        .collect();
+    let raw = size.0 * size.1 * 8;
+    println!(
+        "{path}: {}x{}, {:.2} MB as halves; one core's CPU ms, best of {repeats}",
+        size.0,
+        size.1,
+        raw as f64 / 1e6
+    );
+    println!("| option | CPU ms | MB | ratio |\n| --- | ---: | ---: | ---: |");
+    let time = |name: &str, encode: &dyn Fn() -> Vec<u8>| {
+        let mut best = f64::MAX;
+        let mut out = Vec::new();
+        for _ in 0..repeats {
+            let start = cpu_seconds();
+            out = encode();
+            best = best.min(cpu_seconds() - start);
+        }
+        assert!(
+            read(&out).1 == halves,
+            "{name} does not read back as the halves"
+        );
+        println!(
+            "| {name} | {:.0} | {:.2} | {:.2} |",
+            best * 1e3,
+            out.len() as f64 / 1e6,
+            raw as f64 / out.len() as f64
+        );
+        let _ = std::io::stdout().flush();
+        out
+    };
+    let lines = |compression| Encoding {
+        compression,
+        blocks: Blocks::ScanLines,
+        line_order: LineOrder::Increasing,
+    };
+    time("uncompressed (exr crate)", &|| {
+        by_the_crate(&pixels, size, lines(Compression::Uncompressed))
+    });
+    let crate_zip = time("ZIP, 16 lines (exr crate)", &|| {
+        by_the_crate(&pixels, size, Encoding::SMALL_LOSSLESS)
+    });
+    time("ZIPS, 1 line (exr crate)", &|| {
+        by_the_crate(&pixels, size, lines(Compression::ZIP1))
+    });
+    time("RLE (exr crate, scan lines)", &|| {
+        by_the_crate(&pixels, size, lines(Compression::RLE))
+    });
+    time("PIZ (exr crate, scan lines)", &|| {
+        by_the_crate(&pixels, size, lines(Compression::PIZ))
+    });
+    time("PIZ (exr crate, 256x256 tiles)", &|| {
+        by_the_crate(&pixels, size, Encoding::SMALL_FAST_LOSSLESS)
+    });
+    for level in [1u8, 2, 3, 4, 6] {
+        let what = if level == exr_zip::LEVEL {
+            ": what `--exr half` writes"
+        } else {
+            ""
+        };
+        let ours = time(
+            &format!("ZIP, 16 lines, level {level} (exr_zip.rs{what})"),
+            &|| exr_zip::encode(&pixels, size, level).expect("encodes"),
+        );
+        if level == 4 {
+            println!(
+                "(level 4 is the exr crate's file byte for byte: {})",
+                ours == crate_zip
+            );
+        }
+    }
+    for level in [1u32, 2, 4] {
+        time(&format!("ZIP, 16 lines, zlib-rs level {level}"), &|| {
+            zip_with(&pixels, size, &|data| {
+                let mut e =
+                    flate2::write::ZlibEncoder::new(Vec::new(), flate2::Compression::new(level));
+                e.write_all(data).expect("deflates");
+                e.finish().expect("deflates")
+            })
+        });
+    }
+    time("ZIP, 16 lines, fdeflate", &|| {
+        zip_with(&pixels, size, &|data| fdeflate::compress_to_vec(data))
+    });
+}
