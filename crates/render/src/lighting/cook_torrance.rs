@@ -332,6 +332,7 @@ impl CookTorrance {
             &self.grid,
             self.gbuffer.camera_buffer(),
             &self.lights,
+            None,
         )
     }
 
