@@ -12,9 +12,12 @@
 //! light buffer draws the layer again, adding its Cook-Torrance light to
 //! the colour alone (the sum is linear, so this equals one pass that loops
 //! over every buffer). A light pass walks the buffer's lights as
-//! CookTorrance does: every light for a handful ([`FEW_LIGHTS`]), else the
-//! froxel lists of the same clustered assignment
-//! (`lighting::assign_lights`), with the buffer's shadow maps. The surface
+//! CookTorrance does: every light for a handful ([`FEW_LIGHTS`]), else
+//! froxel lists made by the same clustered assignment
+//! (`lighting::assign_lights`), with the buffer's shadow maps. The lists
+//! are the forward grid's (`ClusterGrid::forward`: thin slices), filled
+//! only in the froxels the base passes marked, so the accumulation draws
+//! every base pass, then assigns, then draws the light passes. The surface
 //! is the layer's: glTF's base colour (instance colour x base colour map x
 //! COLOR_0), normal, metallic-roughness, occlusion and emissive maps, or a
 //! DeferredBase layer's Color Texture and normal map; roughness, metallic
