@@ -825,7 +825,10 @@ fn matcap_materials_shade_transparent_layers_as_the_cpu_matcap_says() {
 /// A floor at y = -1.5 from the eye (z = 8) to z = -80: one layer through
 /// every depth slice of the forward grid.
 fn floor(renderer: &Renderer, alpha: f32) -> Arc<Layer> {
-    let mesh = renderer.meshes.upload(&renderer.gpu, &plane()).expect("upload");
+    let mesh = renderer
+        .meshes
+        .upload(&renderer.gpu, &plane())
+        .expect("upload");
     let t = Mat4::from_translation(Vec3::new(0.0, -1.5, -36.0))
         * Mat4::from_scale(Vec3::new(40.0, 1.0, 88.0));
     Arc::new(Layer::plain(vec![DrawBatch {
@@ -893,7 +896,12 @@ fn froxel_lists_shade_as_every_light_does_near_far_across_slices_and_tile_edges(
     }
     // The floor meets the row y = 32 at depth 1.5 / (tan(FOV / 2) / 3).
     let row = 1.5 / ((FOV / 2.0).tan() / 3.0);
-    points.push(point(on_ray(20.0, 32.0, row) + Vec3::Y * 0.1, Vec3::ONE, 3.0, 0.8));
+    points.push(point(
+        on_ray(20.0, 32.0, row) + Vec3::Y * 0.1,
+        Vec3::ONE,
+        3.0,
+        0.8,
+    ));
     // On the tile corner (32, 32), just before the near glass.
     points.push(point(on_ray(32.0, 32.0, 0.6), Vec3::ONE, 20.0, 0.5));
     // Before the far glass, and over the floor far off (depth 26).
@@ -946,8 +954,15 @@ fn froxel_lists_shade_as_every_light_does_near_far_across_slices_and_tile_edges(
         let c = at(&naive, x, y);
         assert!(c[..3].iter().any(|c| *c > 0.05), "({x}, {y}) is lit: {c:?}");
     }
-    let lit = naive.pixels.iter().filter(|p| p[..3].iter().any(|c| *c > 0.02)).count();
-    assert!(lit * 3 > naive.pixels.len(), "a third of the pixels are lit: {lit}");
+    let lit = naive
+        .pixels
+        .iter()
+        .filter(|p| p[..3].iter().any(|c| *c > 0.02))
+        .count();
+    assert!(
+        lit * 3 > naive.pixels.len(),
+        "a third of the pixels are lit: {lit}"
+    );
     // Zero lights: no light pass, the same as naive's unlit picture.
     let (report, none) = shade(LightLoop::Clustered, &[]);
     assert_eq!(report.counter(LIGHT_PASSES), 0);

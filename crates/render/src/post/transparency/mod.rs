@@ -451,7 +451,11 @@ impl Transparency {
         let marks = self.clustered().then(|| self.marks.get(cx.gpu, clusters));
         // The grid uniform the base pass marks by (any clustered buffer's:
         // they differ only in the light count, which it does not read).
-        let marks_grid = self.lights.iter().find_map(|s| s.clusters.as_ref()).map(|c| &c.grid);
+        let marks_grid = self
+            .lights
+            .iter()
+            .find_map(|s| s.clusters.as_ref())
+            .map(|c| &c.grid);
         // The froxel lists, held while the bind groups are made, at the
         // grid's size: the assignment between the base and light passes
         // finds them big enough and fills these same buffers.
