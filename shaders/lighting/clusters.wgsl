@@ -3,6 +3,13 @@
 // slices) and every light is listed in each froxel its sphere may touch.
 // Light-centric and exact: count per froxel, prefix-sum into offsets, then
 // fill the index list. No per-froxel cap: 100,000 lights in one froxel fit.
+//
+// OCCUPIED (lit transparency's forward lists, post/transparency.wgsl): only
+// the froxels that the transparent fragments marked get lists, so the grid
+// can be sliced thin (ClusterGrid::FORWARD_SLICES) without listing lights in
+// the empty space between layers; and the first slice runs from the eye,
+// the last to infinity, so that no fragment the camera draws lies outside
+// its froxel's box (a camera whose far plane is not where the grid thinks).
 #import spreadlight::camera::Camera
 
 // Matches `GpuLight` in crates/render/src/lighting/mod.rs.
@@ -34,6 +41,10 @@ struct Grid {
 @group(0) @binding(6) var<storage, read_write> indices: array<u32>;
 // x: total entries, y: capacity, z: overflowed entries
 @group(0) @binding(7) var<storage, read_write> totals: array<atomic<u32>, 4>;
+#ifdef OCCUPIED
+// Non-zero where a transparent fragment lies (post/transparency.wgsl's `mark_froxels`).
+@group(0) @binding(8) var<storage, read> occupied: array<u32>;
+#endif
 
 fn slice_of(depth: f32) -> i32 {
     return i32(floor(log(max(depth, grid.depth.x) / grid.depth.x) / grid.depth.z * f32(grid.dims.z)));
@@ -45,9 +56,19 @@ fn froxels(light: vec4<f32>) -> array<vec3<i32>, 2> {
     let center = light.xyz;
     let radius = light.w;
     let depth = -center.z;
-    if (radius <= 0.0 || depth + radius < grid.depth.x || depth - radius > grid.depth.y) {
+    if (radius <= 0.0) {
         return none;
     }
+#ifdef OCCUPIED
+    // The end slices are unbounded: only a light wholly behind the eye is out.
+    if (depth + radius < 0.0) {
+        return none;
+    }
+#else
+    if (depth + radius < grid.depth.x || depth - radius > grid.depth.y) {
+        return none;
+    }
+#endif
     let dims = vec3<i32>(grid.dims.xyz);
     let z0 = clamp(slice_of(depth - radius), 0, dims.z - 1);
     let z1 = clamp(slice_of(depth + radius), 0, dims.z - 1);
@@ -88,14 +109,25 @@ fn slice_depth(z: i32) -> f32 {
 
 // The slices' near depths (slice_depth), made once per workgroup: the
 // froxel tests of count and fill read them instead of two exponentials each.
-// ClusterGrid::SLICES (clusters.rs) stays within MAX_SLICES.
-const MAX_SLICES: u32 = 64u;
-var<workgroup> slice_depths: array<f32, 65>;
+// ClusterGrid's slice counts (clusters.rs) stay within MAX_SLICES.
+const MAX_SLICES: u32 = 128u;
+var<workgroup> slice_depths: array<f32, 129>;
 
 // Every lane calls it, before any returns (a barrier).
 fn load_slice_depths(lane: u32) {
-    for (var z = lane; z <= min(grid.dims.z, MAX_SLICES); z += 64u) {
-        slice_depths[z] = slice_depth(i32(z));
+    let slices = min(grid.dims.z, MAX_SLICES);
+    for (var z = lane; z <= slices; z += 64u) {
+        var depth = slice_depth(i32(z));
+#ifdef OCCUPIED
+        // The first slice from the eye, the last to (almost) infinity: a
+        // fragment nearer or further than the grid is clamped into them.
+        if (z == 0u) {
+            depth = 0.0;
+        } else if (z == slices) {
+            depth = 1e30;
+        }
+#endif
+        slice_depths[z] = depth;
     }
     workgroupBarrier();
 }
@@ -138,6 +170,16 @@ fn cluster_index(x: i32, y: i32, z: i32) -> u32 {
     return u32((z * i32(grid.dims.y) + y) * i32(grid.dims.x) + x);
 }
 
+// Whether froxel `f` needs a list: always, but with OCCUPIED only where a
+// transparent fragment lies (one load, before the sphere test).
+fn wanted(f: vec3<i32>) -> bool {
+#ifdef OCCUPIED
+    return occupied[cluster_index(f.x, f.y, f.z)] != 0u;
+#else
+    return true;
+#endif
+}
+
 // Every light to view space (the naive path uses this alone).
 @compute @workgroup_size(64)
 fn transform(@builtin(global_invocation_id) id: vec3<u32>) {
@@ -177,7 +219,7 @@ fn count(
     let total = u32(extent.x * extent.y * extent.z);
     for (var k = lane + wid.z * LANES; k < total; k += LANES * groups.z) {
         let f = froxel_at(range[0], extent, k);
-        if (touches(light, f.x, f.y, f.z)) {
+        if (wanted(f) && touches(light, f.x, f.y, f.z)) {
             atomicAdd(&counts[cluster_index(f.x, f.y, f.z)], 1u);
         }
     }
@@ -253,7 +295,7 @@ fn fill(
     let total = u32(extent.x * extent.y * extent.z);
     for (var k = lane + wid.z * LANES; k < total; k += LANES * groups.z) {
         let f = froxel_at(range[0], extent, k);
-        if (!touches(light, f.x, f.y, f.z)) {
+        if (!wanted(f) || !touches(light, f.x, f.y, f.z)) {
             continue;
         }
         let c = cluster_index(f.x, f.y, f.z);

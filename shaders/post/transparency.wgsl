@@ -23,8 +23,9 @@
 // connected light buffer
 // (LIGHT_PASS, the light type compiled in as CookTorrance compiles it:
 // point by default, LIGHT_SPOT, LIGHT_SUN; SHADOWS and its filter;
-// CLUSTERED walks the froxel lists of lighting/clusters.wgsl, the same
-// assignment CookTorrance's light loop reads, else every light). The sum is
+// CLUSTERED walks the froxel lists of lighting/clusters.wgsl, made as
+// CookTorrance's are, else every light; FROXEL_MARKS: the base pass marks
+// the froxels its fragments lie in, and only those get lists). The sum is
 // linear in the colour, so a light pass adds its Cook-Torrance diffuse and
 // specular times alpha times the same weight to the accumulation's colour
 // alone (its pipeline masks alpha and the revealage): the result is the one
@@ -166,6 +167,48 @@ fn matcap_light(material: u32, n: vec3<f32>, world: vec3<f32>, albedo: vec3<f32>
 }
 #endif
 
+#ifdef FROXELS
+// The forward grid (ClusterGrid::forward; lighting/clusters.wgsl's `Grid`:
+// tiles x, tiles y, slices, light count; near, far, log(far / near), tile
+// pixels), bound to the base pass that marks it and the light passes that
+// walk its lists.
+struct Grid {
+    dims: vec4<u32>,
+    depth: vec4<f32>,
+}
+@group(0) @binding(22) var<uniform> grid: Grid;
+
+// The froxel of pixel `frag` at view depth `view_depth` (the view-space
+// -z, as clusters.wgsl's `slice_of` takes it, not the distance to the eye).
+// Depths before the first slice or past the last are clamped into them,
+// which clusters.wgsl (OCCUPIED) makes unbounded.
+fn froxel_of(frag: vec2<f32>, view_depth: f32) -> u32 {
+    let tile = vec2<u32>(clamp(floor(frag / grid.depth.w), vec2<f32>(0.0), vec2<f32>(grid.dims.xy - 1u)));
+    let slice = u32(clamp(floor(log(max(view_depth, grid.depth.x) / grid.depth.x) / grid.depth.z * f32(grid.dims.z)), 0.0, f32(grid.dims.z - 1u)));
+    return (slice * grid.dims.y + tile.y) * grid.dims.x + tile.x;
+}
+#endif
+
+#ifdef FROXEL_MARKS
+// A word per froxel of the forward grid, cleared each frame: the base pass
+// marks the froxels its fragments lie in, and the light assignment lists
+// lights only there (clusters.wgsl, OCCUPIED).
+@group(0) @binding(31) var<storage, read_write> froxel_marks: array<atomic<u32>>;
+
+// Marks the froxel a light pass will read for this fragment. The light
+// pass is another permutation, compiled apart: the froxels of depths a
+// hair either side are marked too, so a rounding difference at a slice
+// boundary still finds a list (slices are 7.5% of their depth thick).
+fn mark_froxels(frag: vec2<f32>, view_depth: f32) {
+    let lo = froxel_of(frag, view_depth * (1.0 - 1e-4));
+    let hi = froxel_of(frag, view_depth * (1.0 + 1e-4));
+    atomicStore(&froxel_marks[lo], 1u);
+    if (hi != lo) {
+        atomicStore(&froxel_marks[hi], 1u);
+    }
+}
+#endif
+
 #ifdef LIGHT_PASS
 // Matches `GpuLight` in crates/render/src/lighting/mod.rs.
 struct Light {
@@ -177,13 +220,6 @@ struct Light {
 
 @group(0) @binding(13) var<storage, read> lights: array<Light>;
 #ifdef CLUSTERED
-// lighting/clusters.wgsl's grid and froxel lists (its `Grid`: tiles x,
-// tiles y, slices, light count; near, far, log(far / near), tile pixels).
-struct Grid {
-    dims: vec4<u32>,
-    depth: vec4<f32>,
-}
-@group(0) @binding(22) var<uniform> grid: Grid;
 // Named apart from the mesh's `indices` (bindings are found by name).
 @group(0) @binding(23) var<storage, read> light_counts: array<u32>;
 @group(0) @binding(24) var<storage, read> light_offsets: array<u32>;
@@ -247,9 +283,8 @@ fn add_forward_light(i: u32, pw: vec3<f32>, s: BrdfSurface, view_depth: f32, sum
 fn light_sums(frag: vec2<f32>, pw: vec3<f32>, s: BrdfSurface, view_depth: f32) -> LightSums {
     var sums = no_light_sums();
 #ifdef CLUSTERED
-    let tile = vec2<u32>(clamp(floor(frag / grid.depth.w), vec2<f32>(0.0), vec2<f32>(grid.dims.xy - 1u)));
-    let slice = u32(clamp(floor(log(max(view_depth, grid.depth.x) / grid.depth.x) / grid.depth.z * f32(grid.dims.z)), 0.0, f32(grid.dims.z - 1u)));
-    let froxel = (slice * grid.dims.y + tile.y) * grid.dims.x + tile.x;
+    // The base pass marked this froxel (mark_froxels), so it has a list.
+    let froxel = froxel_of(frag, view_depth);
     let first = light_offsets[froxel];
     // Never past the list's end (an overfull frame's lists are cut: clusters.rs).
     let end = min(first + light_counts[froxel], arrayLength(&light_indices));
@@ -433,6 +468,9 @@ fn fs(in: VertexOut, @builtin(front_facing) front: bool) -> Accumulated {
 #endif
 #ifdef MATCAP
     unlit += matcap_light(in.material, select(-n, n, front), in.world, albedo);
+#endif
+#ifdef FROXEL_MARKS
+    mark_froxels(in.clip.xy, in.distance);
 #endif
     let color = max(sanitize(vec4<f32>(min(unlit, vec3<f32>(600.0)), 0.0)).rgb, vec3<f32>(0.0));
     out.accumulation = vec4<f32>(color * alpha, alpha) * w;

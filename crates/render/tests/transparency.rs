@@ -662,7 +662,8 @@ fn no_light_buffer_no_light_pass_and_the_old_look() {
     assert!(pass.keys().iter().all(|k| k.pass
         == TransparencyPass::Base {
             environment: false,
-            matcap: MatCapKey::Off
+            matcap: MatCapKey::Off,
+            marks: false,
         }));
     let c = Vec3::from_slice(&at(&out, 24, 24)[..3]);
     assert!((c - ALBEDO).abs().max_element() < 5e-3, "{c}");
@@ -819,4 +820,152 @@ fn matcap_materials_shade_transparent_layers_as_the_cpu_matcap_says() {
             );
         }
     }
+}
+
+/// A floor at y = -1.5 from the eye (z = 8) to z = -80: one layer through
+/// every depth slice of the forward grid.
+fn floor(renderer: &Renderer, alpha: f32) -> Arc<Layer> {
+    let mesh = renderer
+        .meshes
+        .upload(&renderer.gpu, &plane())
+        .expect("upload");
+    let t = Mat4::from_translation(Vec3::new(0.0, -1.5, -36.0))
+        * Mat4::from_scale(Vec3::new(40.0, 1.0, 88.0));
+    Arc::new(Layer::plain(vec![DrawBatch {
+        mesh,
+        instances: vec![InstanceInput {
+            transform: t,
+            previous_transform: t,
+            color: ALBEDO.extend(alpha).to_array(),
+            material_id: 0,
+            object_id: 0,
+        }],
+    }]))
+}
+
+/// Where the ray through the pixel-grid point (x, y) (edges included, not
+/// centres) is `depth` in front of the eye (view-space z).
+fn on_ray(x: f32, y: f32, depth: f32) -> Vec3 {
+    let half = (FOV / 2.0).tan();
+    let ndc_x = x / SIZE.0 as f32 * 2.0 - 1.0;
+    let ndc_y = 1.0 - y / SIZE.1 as f32 * 2.0;
+    EYE + Vec3::new(ndc_x * half * depth, ndc_y * half * depth, -depth)
+}
+
+#[test]
+fn froxel_lists_shade_as_every_light_does_near_far_across_slices_and_tile_edges() {
+    let renderer = test_renderer();
+    // Glass in front of all opaque geometry (depth 1), beside the ball and
+    // far behind it (depth 38), and a floor through every slice.
+    let layers = || {
+        vec![
+            glass(
+                &renderer,
+                &[
+                    (Vec3::new(0.25, -0.2, 7.0), 0.3, [0.9, 0.8, 0.7, 0.5]),
+                    (Vec3::new(0.9, 0.4, 1.0), 0.5, [0.6, 0.9, 0.8, 0.6]),
+                    (Vec3::new(-6.0, 5.0, -30.0), 6.0, [0.7, 0.7, 1.0, 0.5]),
+                ],
+            ),
+            floor(&renderer, 0.5),
+        ]
+    };
+    // Lights strewn through the volume (a fixed sequence), with ranges from
+    // half a unit to six; and small lights on the 32-pixel tile edges (the
+    // column and row at pixel 32) where they meet the floor and the near glass.
+    let mut state = 0x2545_f491_u32;
+    let mut next = move || {
+        state = state.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+        (state >> 8) as f32 / (1u32 << 24) as f32
+    };
+    let mut points: Vec<PointLight> = (0..60)
+        .map(|_| {
+            let position = Vec3::new(
+                -4.0 + 8.0 * next(),
+                -2.0 + 4.0 * next(),
+                -40.0 + 47.5 * next(),
+            );
+            let color = Vec3::new(next(), next(), next());
+            point(position, color, 40.0 + 400.0 * next(), 0.5 + 5.5 * next())
+        })
+        .collect();
+    for depth in [5.0, 20.0] {
+        let mut p = on_ray(32.0, 40.0, depth);
+        p.y = -1.4;
+        points.push(point(p, Vec3::ONE, 3.0, 0.6));
+    }
+    // The floor meets the row y = 32 at depth 1.5 / (tan(FOV / 2) / 3).
+    let row = 1.5 / ((FOV / 2.0).tan() / 3.0);
+    points.push(point(
+        on_ray(20.0, 32.0, row) + Vec3::Y * 0.1,
+        Vec3::ONE,
+        3.0,
+        0.8,
+    ));
+    // On the tile corner (32, 32), just before the near glass.
+    points.push(point(on_ray(32.0, 32.0, 0.6), Vec3::ONE, 20.0, 0.5));
+    // Before the far glass, and over the floor far off (depth 26).
+    points.push(point(Vec3::new(-4.5, 3.5, -22.0), Vec3::ONE, 400.0, 6.0));
+    let mut far = on_ray(4.5, 28.5, 26.0);
+    far.y = -1.0;
+    points.push(point(far, Vec3::ONE, 300.0, 3.0));
+    let black = image(&renderer, SIZE, |_, _| [0.0, 0.0, 0.0, 1.0]);
+    let opaque = balls(&renderer, &[Ball::still(Vec3::ZERO, 0.5)]);
+    let g = gbuffer(&renderer, opaque, look(EYE, Vec3::ZERO, FOV, 1.0), None);
+    let shade = |light_loop, points: &[PointLight]| {
+        let by = LitBy {
+            lights: vec![TransparentLights {
+                lights: LightBuffer::points(&renderer, points),
+                shadows: None,
+            }],
+            ..Default::default()
+        };
+        let pass = Transparency::lit(
+            &renderer,
+            None,
+            black.texture_ref(),
+            g.clone(),
+            layers(),
+            dark(light_loop),
+            by,
+        );
+        // `render` asserts every pixel finite.
+        let (report, out) = render(&renderer, pass.as_ref(), &pass.output, SIZE);
+        (report, out)
+    };
+    let same = |a: &ImageF32, b: &ImageF32, what: &str| {
+        for (i, (s, t)) in a.pixels.iter().zip(&b.pixels).enumerate() {
+            let (x, y) = (i as u32 % SIZE.0, i as u32 / SIZE.0);
+            assert!(
+                s.iter()
+                    .zip(t)
+                    .all(|(s, t)| (s - t).abs() <= 1e-3 * s.abs().max(1.0)),
+                "{what}: pixel ({x}, {y}) every light {s:?}, froxel lists {t:?}"
+            );
+        }
+    };
+    let (_, naive) = shade(LightLoop::Naive, &points);
+    let (report, clustered) = shade(LightLoop::Clustered, &points);
+    assert_eq!(report.counter(ASSIGNED), 1);
+    same(&naive, &clustered, "60 strewn lights and 4 on tile edges");
+    // The lights reach the near glass, the floor near and far, and the far glass.
+    let probes = [(37, 35), (10, 44), (4, 28), (12, 14)];
+    for (x, y) in probes {
+        let c = at(&naive, x, y);
+        assert!(c[..3].iter().any(|c| *c > 0.05), "({x}, {y}) is lit: {c:?}");
+    }
+    let lit = naive
+        .pixels
+        .iter()
+        .filter(|p| p[..3].iter().any(|c| *c > 0.02))
+        .count();
+    assert!(
+        lit * 3 > naive.pixels.len(),
+        "a third of the pixels are lit: {lit}"
+    );
+    // Zero lights: no light pass, the same as naive's unlit picture.
+    let (report, none) = shade(LightLoop::Clustered, &[]);
+    assert_eq!(report.counter(LIGHT_PASSES), 0);
+    let (_, none_naive) = shade(LightLoop::Naive, &[]);
+    same(&none_naive, &none, "no lights");
 }

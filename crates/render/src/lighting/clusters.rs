@@ -26,7 +26,7 @@ pub struct ClusterGrid {
 // CookTorrance shades 16x16 blocks that must each lie in one tile.
 const _: () = assert!(ClusterGrid::TILE.is_multiple_of(16));
 // clusters.wgsl keeps the slices' depths in a table of MAX_SLICES + 1.
-const _: () = assert!(ClusterGrid::SLICES <= 64);
+const _: () = assert!(ClusterGrid::SLICES <= 128 && ClusterGrid::FORWARD_SLICES <= 128);
 
 impl ClusterGrid {
     /// Tiles of 256 pixels: the shading pass culls each froxel's list
@@ -44,6 +44,14 @@ impl ClusterGrid {
     /// accumulate with 256-pixel tiles (docs/benchmarks.md, "Session 16").
     pub const FORWARD_TILE: u32 = 32;
     pub const SLICES: u32 = 32;
+    /// Slices of the forward loop's grid. Over near 0.1 .. far 1,000, 32
+    /// slices are each a third of their depth thick (10 units at 30 from
+    /// the eye, against a 32-pixel tile about 1 unit wide there at 1080p),
+    /// so a froxel's list holds every light along a long stretch of the
+    /// view ray. 128 are 7.5% thick: about two tiles deep. The forward
+    /// assignment lists only the froxels transparent fragments occupy
+    /// (clusters.wgsl, OCCUPIED), so the thin empty ones cost a load each.
+    pub const FORWARD_SLICES: u32 = 128;
 
     /// The grid for a `size` target and a camera whose depth runs `near`..`far`.
     pub fn new(size: (u32, u32), near: f32, far: f32) -> Self {
@@ -52,6 +60,18 @@ impl ClusterGrid {
 
     /// The grid with square tiles of `tile` pixels (at least one).
     pub fn with_tile(size: (u32, u32), near: f32, far: f32, tile: u32) -> Self {
+        Self::with_slices(size, near, far, tile, Self::SLICES)
+    }
+
+    /// The forward loop's grid: [`Self::FORWARD_TILE`] pixels by
+    /// [`Self::FORWARD_SLICES`] slices.
+    pub fn forward(size: (u32, u32), near: f32, far: f32) -> Self {
+        Self::with_slices(size, near, far, Self::FORWARD_TILE, Self::FORWARD_SLICES)
+    }
+
+    /// The grid with square tiles of `tile` pixels (at least one) and
+    /// `slices` depth slices (1..=128, clusters.wgsl's table).
+    pub fn with_slices(size: (u32, u32), near: f32, far: f32, tile: u32, slices: u32) -> Self {
         let tile = tile.max(1);
         let near = if near.is_finite() && near > 0.0 {
             near
@@ -66,7 +86,7 @@ impl ClusterGrid {
         ClusterGrid {
             tiles_x: size.0.div_ceil(tile).max(1),
             tiles_y: size.1.div_ceil(tile).max(1),
-            slices: Self::SLICES,
+            slices: slices.clamp(1, 128),
             tile,
             near,
             far,
@@ -168,7 +188,9 @@ impl ClusterStore {
 /// Lists `lights` in the froxels of `grid` (its uniform in `grid_buffer`,
 /// the camera in `camera`), into `store`'s buffers: the assignment
 /// CookTorrance's clustered light loop reads, and lit transparency's forward
-/// one (post/transparency), so both walk the same lists.
+/// one (post/transparency), so both walk lists made the same way. With
+/// `occupied` (a word per froxel, non-zero where a transparent fragment
+/// lies), only those froxels get lists, and the end slices are unbounded.
 pub(crate) fn assign_lights(
     cx: &mut PassContext<'_>,
     store: &ClusterStore,
@@ -176,6 +198,7 @@ pub(crate) fn assign_lights(
     grid_buffer: &wgpu::Buffer,
     camera: &wgpu::Buffer,
     lights: &LightBuffer,
+    occupied: Option<&wgpu::Buffer>,
 ) -> Result<(), RenderError> {
     let device = cx.gpu.device.clone();
     let count = lights.count();
@@ -189,7 +212,10 @@ pub(crate) fn assign_lights(
         0,
         bytemuck::cast_slice(&[0u32, b.capacity, 0, 0]),
     );
-    let key = ClustersKey.key();
+    let key = ClustersKey {
+        occupied: occupied.is_some(),
+    }
+    .key();
     // Only the clustered walk runs this pass; the naive loop moves its
     // few lights to view space itself.
     let steps = ["transform", "count", "scan", "fill"];
@@ -204,7 +230,8 @@ pub(crate) fn assign_lights(
             .buffer("counts", &b.counts)
             .buffer("offsets", &b.offsets)
             .buffer("indices", &b.indices)
-            .buffer("totals", &b.totals);
+            .buffer("totals", &b.totals)
+            .buffer_opt("occupied", occupied);
         let group = cx.bind_groups(&key, step, &pipeline, bindings)?;
         // transform: a thread per light; count and fill: workgroups per
         // light (x up to 65,535, then y; z splits a light's froxels);

@@ -4,6 +4,10 @@
 //! `lighting/clusters.rs` re-exports it.
 
 crate::flag_key! {
-    /// `lighting/clusters.wgsl`: one permutation, an entry per step.
-    pub struct ClustersKey("lighting/clusters.wgsl");
+    /// `lighting/clusters.wgsl`: an entry per step; `occupied` lists only the
+    /// froxels lit transparency's fragments marked (OCCUPIED), CookTorrance's
+    /// walk lists every froxel.
+    pub struct ClustersKey("lighting/clusters.wgsl") {
+        occupied: "OCCUPIED",
+    }
 }

@@ -321,6 +321,7 @@ impl CookTorrance {
             &self.grid,
             self.gbuffer.camera_buffer(),
             &self.lights,
+            None,
         )
     }
 

@@ -258,7 +258,8 @@ fn typed_keys_enumerate_what_the_string_rules_did() {
             vec![],
         ),
         ("gbuffer/published_depth.wgsl", &["COMPUTE_RASTER"], vec![]),
-        ("lighting/clusters.wgsl", &[], vec![]),
+        // OCCUPIED (session 17): lit transparency's lists only in marked froxels.
+        ("lighting/clusters.wgsl", &["OCCUPIED"], vec![]),
         (
             "lighting/ssss.wgsl",
             &["VERTICAL", "SOURCES_2", "SOURCES_3"],

@@ -55,9 +55,13 @@ pub enum TransparencyPass {
     /// Alpha, revealage and the unlit colour (ambient, emission, the built-in
     /// key light, with `environment` the Environment's image-based light,
     /// and the layer's MatCap); without it, also the clear and the resolve.
+    /// With `marks` (some light pass walks froxel lists) its fragments mark
+    /// the froxels they lie in, the only ones the assignment fills
+    /// (FROXEL_MARKS).
     Base {
         environment: bool,
         matcap: MatCapKey,
+        marks: bool,
     },
     /// One light buffer's Cook-Torrance light, added to the colour.
     Light(LightKey),
@@ -205,6 +209,7 @@ impl LightKey {
         std::iter::once("LIGHT_PASS")
             .chain(kind)
             .chain(self.clustered.then_some("CLUSTERED"))
+            .chain(self.clustered.then_some("FROXELS"))
             .chain(self.spot_texture.then_some("SPOT_TEXTURE"))
             .chain(self.shadows.features())
     }
@@ -256,6 +261,8 @@ impl Permutation for TransparencyKey {
         "LIGHT_SPOT",
         "LIGHT_SUN",
         "CLUSTERED",
+        "FROXELS",
+        "FROXEL_MARKS",
         "SPOT_TEXTURE",
         "SHADOWS",
         "SHADOW_PCF",
@@ -268,10 +275,13 @@ impl Permutation for TransparencyKey {
             TransparencyPass::Base {
                 environment,
                 matcap,
+                marks,
             } => environment
                 .then_some("ENVIRONMENT")
                 .into_iter()
                 .chain(matcap.features())
+                .chain(marks.then_some("FROXELS"))
+                .chain(marks.then_some("FROXEL_MARKS"))
                 .collect(),
             TransparencyPass::Light(light) => light.features().collect(),
         };
@@ -279,8 +289,8 @@ impl Permutation for TransparencyKey {
     }
 
     /// Every surface with the base passes (a matcap only with a material
-    /// world) and with every light pass. The validation test composes each:
-    /// 30 surfaces x (2 or 6 + 35) passes.
+    /// world; marking froxels or not) and with every light pass. The
+    /// validation test composes each: 30 surfaces x (4 or 12 + 35) passes.
     fn all() -> Vec<Self> {
         let lights: Vec<TransparencyPass> = LightKey::all()
             .into_iter()
@@ -295,9 +305,12 @@ impl Permutation for TransparencyKey {
                     &[MatCapKey::Off]
                 };
                 let bases = [false, true].into_iter().flat_map(move |environment| {
-                    matcaps.iter().map(move |&matcap| TransparencyPass::Base {
-                        environment,
-                        matcap,
+                    matcaps.iter().flat_map(move |&matcap| {
+                        [false, true].map(|marks| TransparencyPass::Base {
+                            environment,
+                            matcap,
+                            marks,
+                        })
                     })
                 });
                 bases
@@ -320,6 +333,7 @@ impl TransparencyKey {
         pass: TransparencyPass::Base {
             environment: false,
             matcap: MatCapKey::Off,
+            marks: false,
         },
     };
 }
@@ -348,9 +362,23 @@ mod tests {
                 "LIGHT_PASS",
                 "LIGHT_SPOT",
                 "CLUSTERED",
+                "FROXELS",
                 "SHADOWS",
                 "SHADOW_PCF"
             ]
+        );
+        // A base pass marks froxels only when a light pass walks their lists.
+        let marking = TransparencyKey {
+            pass: TransparencyPass::Base {
+                environment: false,
+                matcap: MatCapKey::Off,
+                marks: true,
+            },
+            ..base
+        };
+        assert_eq!(
+            marking.features().collect::<Vec<_>>(),
+            ["FROXELS", "FROXEL_MARKS"]
         );
         let all = TransparencyKey::all();
         let keys: std::collections::HashSet<_> = all.iter().map(|k| k.key()).collect();

@@ -12,9 +12,12 @@
 //! light buffer draws the layer again, adding its Cook-Torrance light to
 //! the colour alone (the sum is linear, so this equals one pass that loops
 //! over every buffer). A light pass walks the buffer's lights as
-//! CookTorrance does: every light for a handful ([`FEW_LIGHTS`]), else the
-//! froxel lists of the same clustered assignment
-//! (`lighting::assign_lights`), with the buffer's shadow maps. The surface
+//! CookTorrance does: every light for a handful ([`FEW_LIGHTS`]), else
+//! froxel lists made by the same clustered assignment
+//! (`lighting::assign_lights`), with the buffer's shadow maps. The lists
+//! are the forward grid's (`ClusterGrid::forward`: thin slices), filled
+//! only in the froxels the base passes marked, so the accumulation draws
+//! every base pass, then assigns, then draws the light passes. The surface
 //! is the layer's: glTF's base colour (instance colour x base colour map x
 //! COLOR_0), normal, metallic-roughness, occlusion and emissive maps, or a
 //! DeferredBase layer's Color Texture and normal map; roughness, metallic
@@ -124,19 +127,45 @@ struct LightSet {
 struct SetClusters {
     store: Arc<ClusterStore>,
     grid: wgpu::Buffer,
-    /// Orders the light pass after the assignment (its buffers live outside the graph).
-    token: String,
 }
 
-/// Per node: each light buffer's froxel buffers and grid uniform, kept
-/// across the node's recipes (a new one each frame the camera moves), as
-/// CookTorrance keeps its `ClusterStore`.
+/// Per node: each light buffer's froxel buffers and grid uniform, and the
+/// froxel marks, kept across the node's recipes (a new one each frame the
+/// camera moves), as CookTorrance keeps its `ClusterStore`.
 #[derive(Default)]
-struct ForwardClusters(Mutex<Vec<(Arc<ClusterStore>, wgpu::Buffer)>>);
+struct ForwardClusters {
+    sets: Mutex<Vec<(Arc<ClusterStore>, wgpu::Buffer)>>,
+    marks: Arc<FroxelMarks>,
+}
+
+/// The word per froxel that the base pass sets where a transparent fragment
+/// lies (transparency.wgsl's `mark_froxels`): one for all light buffers,
+/// which share the grid. Grown when the grid outgrows it.
+#[derive(Default)]
+struct FroxelMarks(Mutex<Option<(u32, wgpu::Buffer)>>);
+
+impl FroxelMarks {
+    fn get(&self, gpu: &crate::context::GpuContext, clusters: u32) -> wgpu::Buffer {
+        let mut kept = self.0.lock().unwrap_or_else(|e| e.into_inner());
+        match kept.as_ref() {
+            Some((size, buffer)) if *size >= clusters => buffer.clone(),
+            _ => {
+                let buffer = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some("transparency froxel marks"),
+                    size: u64::from(clusters.max(1)) * 4,
+                    usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+                    mapped_at_creation: false,
+                });
+                *kept = Some((clusters, buffer.clone()));
+                buffer
+            }
+        }
+    }
+}
 
 impl ForwardClusters {
     fn set(&self, renderer: &Renderer, index: usize) -> (Arc<ClusterStore>, wgpu::Buffer) {
-        let mut sets = self.0.lock().unwrap_or_else(|e| e.into_inner());
+        let mut sets = self.sets.lock().unwrap_or_else(|e| e.into_inner());
         while sets.len() <= index {
             let grid = renderer.gpu.device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("transparency cluster grid"),
@@ -163,6 +192,8 @@ pub struct Transparency {
     instance_count: u32,
     params: wgpu::Buffer,
     lights: Vec<LightSet>,
+    /// The froxels transparent fragments lie in, when a light pass is clustered.
+    marks: Arc<FroxelMarks>,
     /// The world of layers that bring none.
     materials: Option<Arc<MaterialWorld>>,
     environment: Option<Arc<Environment>>,
@@ -272,6 +303,7 @@ impl Transparency {
             ]),
         );
         let kept = owner.map(|node| renderer.state::<ForwardClusters>(u64::from(node)));
+        let marks = kept.as_ref().map(|k| k.marks.clone()).unwrap_or_default();
         let lights = lights
             .into_iter()
             .enumerate()
@@ -282,11 +314,7 @@ impl Transparency {
                         Some(kept) => kept.set(renderer, i),
                         None => ForwardClusters::default().set(renderer, 0),
                     };
-                    SetClusters {
-                        store,
-                        grid,
-                        token: format!("transparency{id}/lights{i}"),
-                    }
+                    SetClusters { store, grid }
                 });
                 LightSet {
                     lights: l.lights,
@@ -307,6 +335,7 @@ impl Transparency {
             instance_count,
             params,
             lights,
+            marks,
             materials,
             environment,
             accumulation: format!("transparency{id} accumulation"),
@@ -347,6 +376,7 @@ impl Transparency {
         let base = TransparencyPass::Base {
             environment,
             matcap,
+            marks: self.clustered(),
         };
         std::iter::once(base).chain(self.lights.iter().map(|set| {
             TransparencyPass::Light(LightKey {
@@ -356,6 +386,11 @@ impl Transparency {
                 spot_texture: set.lights.textures().is_some(),
             })
         }))
+    }
+
+    /// Whether some light pass walks froxel lists (which the base pass marks).
+    fn clustered(&self) -> bool {
+        self.lights.iter().any(|set| set.clusters.is_some())
     }
 
     /// The matcap a layer's base pass compiles in: its world has a MatCap
@@ -410,19 +445,32 @@ impl Transparency {
     ) -> Result<(), RenderError> {
         let (vertices, indices, _) = renderer.meshes.buffers();
         let extras = renderer.meshes.extras();
-        // The froxel lists, held while the bind groups are made.
+        let grid = io.grid;
+        let clusters = grid.clusters();
+        // The froxel marks the base pass writes and the assignment reads.
+        let marks = self.clustered().then(|| self.marks.get(cx.gpu, clusters));
+        // The grid uniform the base pass marks by (any clustered buffer's:
+        // they differ only in the light count, which it does not read).
+        let marks_grid = self
+            .lights
+            .iter()
+            .find_map(|s| s.clusters.as_ref())
+            .map(|c| &c.grid);
+        // The froxel lists, held while the bind groups are made, at the
+        // grid's size: the assignment between the base and light passes
+        // finds them big enough and fills these same buffers.
         let guards: Vec<_> = self
             .lights
             .iter()
             .map(|set| {
                 set.clusters
                     .as_ref()
-                    .map(|c| (c.store.get(cx.gpu, 1, set.lights.count()), &c.grid))
+                    .map(|c| (c.store.get(cx.gpu, clusters, set.lights.count()), &c.grid))
             })
             .collect();
         // Per layer, culling variant and pass: its pipeline and bind groups
         // (0; 1 and 3 with a material world and maps; 2 with layer maps).
-        let mut work = Vec::new();
+        let mut work: Vec<Work> = Vec::new();
         for ((layer, range), maps) in self
             .layers
             .iter()
@@ -481,6 +529,9 @@ impl Transparency {
                             .array("matcap_images", images)
                             .sampler("matcap_sampler", Sampling::LinearClamp);
                     }
+                    if let (None, Some(marks), Some(grid)) = (set, &marks, marks_grid) {
+                        b = b.buffer("grid", grid).buffer("froxel_marks", marks);
+                    }
                     if let (None, Some(environment)) = (set, &self.environment) {
                         let maps = environment.maps_for("transparency")?;
                         b = b
@@ -535,6 +586,47 @@ impl Transparency {
                 .texture("clear_revealage", io.revealage),
             super::per_pixel(size),
         )?;
+        if let Some(marks) = &marks {
+            cx.encoder().clear_buffer(marks, 0, None);
+        }
+        // The base passes first: they mark the froxels their fragments lie
+        // in. Then the lights are listed in those froxels alone, and the
+        // light passes walk the lists. The sums are order-independent, so
+        // drawing every base pass before any light pass changes nothing.
+        let (base, lit): (Vec<_>, Vec<_>) = work.iter().partition(|w| !w.3);
+        let mut draws = self.draw(cx, io, &base)?;
+        for set in &self.lights {
+            let Some(c) = &set.clusters else {
+                continue;
+            };
+            cx.count(ASSIGNED, 1);
+            crate::lighting::assign_lights(
+                cx,
+                &c.store,
+                grid,
+                &c.grid,
+                self.gbuffer.camera_buffer(),
+                &set.lights,
+                marks.as_ref(),
+            )?;
+        }
+        if !lit.is_empty() {
+            draws += self.draw(cx, io, &lit)?;
+        }
+        cx.draws += draws;
+        cx.count(DRAWN, u64::from(self.instance_count));
+        cx.count(LIGHT_PASSES, lit.len() as u64);
+        Ok(())
+    }
+
+    /// One render pass over the two targets drawing `work`'s items: their
+    /// layers' draws with their pipelines and groups. Returns the draws.
+    fn draw(
+        &self,
+        cx: &mut PassContext<'_>,
+        io: &AccumulateIo,
+        work: &[&Work],
+    ) -> Result<u64, RenderError> {
         let (accumulation, revealage) = (cx.view(io.accumulation)?, cx.view(io.revealage)?);
         let timestamps = cx.render_timestamps();
         let attachment = |view| {
@@ -556,8 +648,8 @@ impl Transparency {
             occlusion_query_set: None,
             multiview_mask: None,
         });
-        let (mut draws, mut light_passes) = (0, 0);
-        for ((first, end), culled, maps, lit, pipeline, groups) in &work {
+        let mut draws = 0;
+        for ((first, end), culled, maps, _, pipeline, groups) in work.iter().copied() {
             pass.set_pipeline(pipeline);
             for (i, group) in groups.iter().enumerate() {
                 pass.set_bind_group(i as u32, group, &[]);
@@ -574,13 +666,8 @@ impl Transparency {
                 );
                 draws += 1;
             }
-            light_passes += u64::from(*lit);
         }
-        drop(pass);
-        cx.draws += draws;
-        cx.count(DRAWN, u64::from(self.instance_count));
-        cx.count(LIGHT_PASSES, light_passes);
-        Ok(())
+        Ok(draws)
     }
 
     /// Light buffer `set`'s bindings: its lights, spots' projections and
@@ -645,6 +732,18 @@ fn clustered(mode: LightLoop, lights: &LightBuffer) -> bool {
     }
 }
 
+/// One pipeline's share of the accumulation: its layer's instance range,
+/// whether back faces are culled, whether the layer has surface maps,
+/// whether it is a light pass; the pipeline and its bind groups.
+type Work = (
+    (u32, u32),
+    bool,
+    bool,
+    bool,
+    wgpu::RenderPipeline,
+    Vec<wgpu::BindGroup>,
+);
+
 /// A layer's own maps as the accumulation pass read them.
 #[derive(Clone, Copy, Default)]
 struct LayerMapReads {
@@ -665,6 +764,8 @@ struct AccumulateIo {
     layer_maps: Vec<LayerMapReads>,
     /// Per light buffer: its spots' texture array.
     spot_textures: Vec<Option<Tex>>,
+    /// The forward grid the clustered light passes' lists are made in.
+    grid: ClusterGrid,
 }
 
 /// What the resolve pass declared.
@@ -782,38 +883,23 @@ impl Recipe for Transparency {
                 shadows.declare(renderer, fg);
             }
         }
-        // The clustered buffers' assignments, each a pass of its own (as
-        // CookTorrance's): the froxel grid of the G-buffer's camera, where
-        // the transparent fragments are drawn too, in the forward loop's
-        // finer tiles (a fragment walks its froxel's whole list).
+        // The forward grid of the G-buffer's camera, where the transparent
+        // fragments are drawn too: finer tiles and thinner slices than
+        // CookTorrance's (a fragment walks its froxel's whole list), lists
+        // only where the base pass marked a fragment. The assignment runs
+        // inside the accumulation, between the base and light passes.
         let size = self.gbuffer.pixel_size(fg.output_size());
         let (near, far) =
             crate::lighting::near_far(self.gbuffer.camera.projection).unwrap_or((0.1, 1000.0));
-        let grid = ClusterGrid::with_tile(size, near, far, ClusterGrid::FORWARD_TILE);
-        for (i, set) in self.lights.iter().enumerate() {
-            let Some(clusters) = &set.clusters else {
-                continue;
-            };
-            renderer.gpu.queue.write_buffer(
-                &clusters.grid,
-                0,
-                bytemuck::cast_slice(&grid.uniform(set.lights.count())),
-            );
-            // One per clustered light buffer, numbered in Lights order.
-            let step = format!("clustered light assignment {}", i + 1);
-            let mut pass = fg.pass(PassName::new("Transparency").step(step), self.owner);
-            pass.write(&clusters.token, TextureDesc::token());
-            pass.run(move |cx| {
-                cx.count(ASSIGNED, 1);
-                crate::lighting::assign_lights(
-                    cx,
-                    &clusters.store,
-                    grid,
+        let grid = ClusterGrid::forward(size, near, far);
+        for set in &self.lights {
+            if let Some(clusters) = &set.clusters {
+                renderer.gpu.queue.write_buffer(
                     &clusters.grid,
-                    self.gbuffer.camera_buffer(),
-                    &set.lights,
-                )
-            });
+                    0,
+                    bytemuck::cast_slice(&grid.uniform(set.lights.count())),
+                );
+            }
         }
         // Drawn into, and cleared by a compute pass first.
         let target = |format| {
@@ -822,15 +908,12 @@ impl Recipe for Transparency {
             desc
         };
         let mut pass = fg.pass(name("accumulate"), self.owner);
-        // Ordering tokens: the environment's maps, the assignments' lists
-        // and the shadow maps live outside the graph.
+        // Ordering tokens: the environment's maps and the shadow maps live
+        // outside the graph.
         if let Some(environment) = &self.environment {
             pass.read(environment.token());
         }
         for set in &self.lights {
-            if let Some(clusters) = &set.clusters {
-                pass.read(&clusters.token);
-            }
             if let Some(shadows) = &set.shadows {
                 pass.read(shadows.token());
             }
@@ -878,6 +961,7 @@ impl Recipe for Transparency {
             revealage: pass.write(&self.revealage, target(REVEALAGE)),
             layer_maps,
             spot_textures,
+            grid,
         };
         pass.run(move |cx| self.accumulate(renderer, cx, &io));
         let mut pass = fg.pass(name("resolve"), self.owner);
