@@ -1085,13 +1085,13 @@ fn assert_scrolled_depths_agree(scrolled: &[ImageF32], whole: &[ImageF32], what:
                 "{what}: a map holds {a} / {b}"
             );
             texels += 1;
-            match (a < 1.0, b < 1.0) {
-                (true, true) => {
-                    both += 1;
-                    worst = worst.max((a - b).abs());
-                }
-                (false, false) => {}
-                _ => one_only += 1,
+            if a < 1.0 && b < 1.0 {
+                both += 1;
+                worst = worst.max((a - b).abs());
+            } else if (a - b).abs() > SCROLL_DEPTH_ERROR {
+                // (A caster at the far plane, 1 - 6e-8, is drawn or clipped
+                // as rounding goes: the same as nothing there.)
+                one_only += 1;
             }
         }
     }
@@ -1139,18 +1139,25 @@ fn a_panning_camera_scrolls_sun_cascades_and_draws_only_their_new_strips() {
         c.view *= glam::Mat4::from_translation(Vec3::new(-dx, 0.0, 0.0));
         c
     };
-    const RES: u64 = 256;
+    // Small maps: the compute rasterizer runs on the CPU here (lavapipe).
+    const RES: u64 = 128;
     let vsm = ShadowFilter::Vsm {
         bleeding: 0.2,
         blur: 2,
     };
+    // PCF reads the depth alone, VSM its moments too: each rasterizer's
+    // strips under VSM, and compute (the GPUs' default) under PCF as well.
     let mut owner = 60;
-    for raster in [RasterChoice::Compute, RasterChoice::Hardware] {
-        for filter in [ShadowFilter::Pcf { kernel: 3 }, vsm] {
+    for (raster, filters) in [
+        (RasterChoice::Compute, vec![ShadowFilter::Pcf { kernel: 3 }, vsm]),
+        (RasterChoice::Hardware, vec![vsm]),
+    ] {
+        for filter in filters {
             owner += 1;
             let what = format!("{raster:?} {filter:?}");
             let settings = ShadowSettings {
                 raster,
+                resolution: RES as u32,
                 ..settings(filter)
             };
             let maps = |camera: &CameraInput, owner: Option<u32>, layers: &[Arc<Layer>]| {
@@ -1176,8 +1183,8 @@ fn a_panning_camera_scrolls_sun_cascades_and_draws_only_their_new_strips() {
             assert_eq!(first.counter("shadow layers drawn whole"), 3, "{what}");
             assert_eq!(first.counter("shadow texels drawn"), 3 * RES * RES, "{what}");
             let mut scrolled = 0;
-            for k in 1..=4 {
-                let camera = at(k as f32 * 0.15);
+            for k in 1..=3 {
+                let camera = at(k as f32 * 0.2);
                 let (image, report, depth) = frame(camera, &camera, &layers);
                 let counted = |name: &str| report.counter(name);
                 // Every cascade that changed scrolled; none was drawn whole,
@@ -1214,7 +1221,7 @@ fn a_panning_camera_scrolls_sun_cascades_and_draws_only_their_new_strips() {
                 );
             }
             // The finest cascade moves a few texels a frame here: it scrolls every time.
-            assert!(scrolled >= 4, "{what}: {scrolled} cascades scrolled");
+            assert!(scrolled >= 3, "{what}: {scrolled} cascades scrolled");
             // A still camera over a still scene: nothing is drawn.
             let still = at(0.6);
             let (_, report, _) = frame(still, &still, &layers);
