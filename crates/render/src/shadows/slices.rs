@@ -271,9 +271,12 @@ impl ShadowMaps {
         let whole = jobs.iter().filter(|j| j.strips.is_empty()).count() as u64;
         let drawn: u64 = jobs
             .iter()
-            .map(|j| match j.strips.is_empty() {
-                true => Rect::full(res).texels(),
-                false => j.strips.iter().map(|s| s.rect.texels()).sum(),
+            .map(|j| {
+                if j.strips.is_empty() {
+                    Rect::full(res).texels()
+                } else {
+                    j.strips.iter().map(|s| s.rect.texels()).sum()
+                }
             })
             .sum();
         count(cx, "shadow layers drawn whole", whole);
@@ -314,9 +317,12 @@ impl ShadowMaps {
             old.views
                 .iter()
                 .zip(&new.views)
-                .map(|(a, b)| match a == b {
-                    true => Some((0, 0)),
-                    false => views::texel_shift(a, b, self.settings.resolution),
+                .map(|(a, b)| {
+                    if a == b {
+                        Some((0, 0))
+                    } else {
+                        views::texel_shift(a, b, self.settings.resolution)
+                    }
                 })
                 .collect()
         })
