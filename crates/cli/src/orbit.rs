@@ -43,7 +43,10 @@ impl Orbit {
             .get(&node.type_name)
             .with_context(|| format!("`--orbit {text}`: node #{id} has an unknown type"))?;
         let k = def.input_index(pin).with_context(|| {
-            format!("`--orbit {text}`: node #{id} `{}` has no input `{pin}`", def.name)
+            format!(
+                "`--orbit {text}`: node #{id} `{}` has no input `{pin}`",
+                def.name
+            )
         })?;
         if def.inputs[k].ty != PinType::Vec3 {
             bail!(
@@ -53,7 +56,9 @@ impl Orbit {
         }
         let start = match node.values.get(pin) {
             Some(Spread::Vec3(v)) if !v.is_empty() => v.clone(),
-            _ => bail!("`--orbit {text}`: input `{pin}` of node #{id} has no value set in the patch"),
+            _ => {
+                bail!("`--orbit {text}`: input `{pin}` of node #{id} has no value set in the patch")
+            }
         };
         Ok(Orbit {
             node: NodeId(id),

@@ -1095,7 +1095,9 @@ fn assert_scrolled_depths_agree(scrolled: &[ImageF32], whole: &[ImageF32], what:
             }
         }
     }
-    eprintln!("{what}: worst {worst:.2e} over {both} texels; {one_only} of {texels} drawn by one only");
+    eprintln!(
+        "{what}: worst {worst:.2e} over {both} texels; {one_only} of {texels} drawn by one only"
+    );
     assert!(both > 0, "{what}: the casters are in the maps");
     assert!(
         worst <= SCROLL_DEPTH_ERROR,
@@ -1149,7 +1151,10 @@ fn a_panning_camera_scrolls_sun_cascades_and_draws_only_their_new_strips() {
     // strips under VSM, and compute (the GPUs' default) under PCF as well.
     let mut owner = 60;
     for (raster, filters) in [
-        (RasterChoice::Compute, vec![ShadowFilter::Pcf { kernel: 3 }, vsm]),
+        (
+            RasterChoice::Compute,
+            vec![ShadowFilter::Pcf { kernel: 3 }, vsm],
+        ),
         (RasterChoice::Hardware, vec![vsm]),
     ] {
         for filter in filters {
@@ -1172,16 +1177,24 @@ fn a_panning_camera_scrolls_sun_cascades_and_draws_only_their_new_strips() {
                 .expect("valid shadows")
             };
             // A frame of the node's maps seen from `camera`: its image, report and depth.
-            let frame = |camera: CameraInput, shadow_camera: &CameraInput, layers: &[Arc<Layer>]| {
-                let m = maps(shadow_camera, Some(owner), layers);
-                let (image, report) =
-                    shade_from(&renderer, camera, layers, lights.clone(), Some(m.clone()));
-                let depth = m.read_depth(&renderer.gpu).expect("reads").expect("rendered");
-                (image, report, depth)
-            };
+            let frame =
+                |camera: CameraInput, shadow_camera: &CameraInput, layers: &[Arc<Layer>]| {
+                    let m = maps(shadow_camera, Some(owner), layers);
+                    let (image, report) =
+                        shade_from(&renderer, camera, layers, lights.clone(), Some(m.clone()));
+                    let depth = m
+                        .read_depth(&renderer.gpu)
+                        .expect("reads")
+                        .expect("rendered");
+                    (image, report, depth)
+                };
             let (_, first, _) = frame(at(0.0), &at(0.0), &layers);
             assert_eq!(first.counter("shadow layers drawn whole"), 3, "{what}");
-            assert_eq!(first.counter("shadow texels drawn"), 3 * RES * RES, "{what}");
+            assert_eq!(
+                first.counter("shadow texels drawn"),
+                3 * RES * RES,
+                "{what}"
+            );
             let mut scrolled = 0;
             for k in 1..=3 {
                 let camera = at(k as f32 * 0.2);
@@ -1190,7 +1203,12 @@ fn a_panning_camera_scrolls_sun_cascades_and_draws_only_their_new_strips() {
                 // Every cascade that changed scrolled; none was drawn whole,
                 // and the strips are a small part of what drawing them whole takes.
                 let n = counted("shadow layers scrolled");
-                assert_eq!(counted("shadow layers drawn whole"), 0, "{what}, frame {k}: {:?}", report.counters);
+                assert_eq!(
+                    counted("shadow layers drawn whole"),
+                    0,
+                    "{what}, frame {k}: {:?}",
+                    report.counters
+                );
                 assert!(
                     counted("shadow texels drawn") * 4 <= n * RES * RES,
                     "{what}, frame {k}: {:?}",
@@ -1204,9 +1222,17 @@ fn a_panning_camera_scrolls_sun_cascades_and_draws_only_their_new_strips() {
                 scrolled += n;
                 // The same frame drawn whole, by a recipe with no node.
                 let whole = maps(&camera, None, &layers);
-                let (whole_image, _) =
-                    shade_from(&renderer, camera, &layers, lights.clone(), Some(whole.clone()));
-                let whole_depth = whole.read_depth(&renderer.gpu).expect("reads").expect("rendered");
+                let (whole_image, _) = shade_from(
+                    &renderer,
+                    camera,
+                    &layers,
+                    lights.clone(),
+                    Some(whole.clone()),
+                );
+                let whole_depth = whole
+                    .read_depth(&renderer.gpu)
+                    .expect("reads")
+                    .expect("rendered");
                 assert_scrolled_depths_agree(&depth, &whole_depth, &format!("{what}, frame {k}"));
                 let worst = image
                     .pixels
@@ -1214,7 +1240,11 @@ fn a_panning_camera_scrolls_sun_cascades_and_draws_only_their_new_strips() {
                     .zip(&whole_image.pixels)
                     .map(|(a, b)| (a[0] - b[0]).abs().max((a[1] - b[1]).abs()))
                     .fold(0.0f32, f32::max);
-                let peak = whole_image.pixels.iter().map(|p| p[0]).fold(0.0f32, f32::max);
+                let peak = whole_image
+                    .pixels
+                    .iter()
+                    .map(|p| p[0])
+                    .fold(0.0f32, f32::max);
                 assert!(
                     worst <= 1e-3 * peak,
                     "{what}, frame {k}: the scrolled maps shade as the whole ones ({worst} of {peak})"
@@ -1225,7 +1255,12 @@ fn a_panning_camera_scrolls_sun_cascades_and_draws_only_their_new_strips() {
             // A still camera over a still scene: nothing is drawn.
             let still = at(0.6);
             let (_, report, _) = frame(still, &still, &layers);
-            assert_eq!(report.counter("shadow maps reused"), 1, "{what}: {:?}", report.counters);
+            assert_eq!(
+                report.counter("shadow maps reused"),
+                1,
+                "{what}: {:?}",
+                report.counters
+            );
             assert_eq!(report.counter("shadow texels drawn"), 0, "{what}");
             // A moving caster (a layer new this frame) draws the cascades whole.
             let moved = casters(&renderer, Vec3::new(0.3, 1.5, 0.0));
@@ -1246,14 +1281,29 @@ fn a_panning_camera_scrolls_sun_cascades_and_draws_only_their_new_strips() {
                 let (image, _, depth) = frame(at(0.0), &at(broken), &moved);
                 assert!(image.all_finite(), "{what}, camera at {broken}");
                 assert!(
-                    depth.iter().all(|l| l.pixels.iter().all(|p| (0.0..=1.0).contains(&p[0]))),
+                    depth
+                        .iter()
+                        .all(|l| l.pixels.iter().all(|p| (0.0..=1.0).contains(&p[0]))),
                     "{what}, camera at {broken}: the maps hold depths"
                 );
                 let (_, _, depth) = frame(at(0.0), &at(0.0), &moved);
                 let whole = maps(&at(0.0), None, &moved);
-                shade_from(&renderer, at(0.0), &moved, lights.clone(), Some(whole.clone()));
-                let whole_depth = whole.read_depth(&renderer.gpu).expect("reads").expect("rendered");
-                assert_scrolled_depths_agree(&depth, &whole_depth, &format!("{what}, after {broken}"));
+                shade_from(
+                    &renderer,
+                    at(0.0),
+                    &moved,
+                    lights.clone(),
+                    Some(whole.clone()),
+                );
+                let whole_depth = whole
+                    .read_depth(&renderer.gpu)
+                    .expect("reads")
+                    .expect("rendered");
+                assert_scrolled_depths_agree(
+                    &depth,
+                    &whole_depth,
+                    &format!("{what}, after {broken}"),
+                );
             }
         }
     }

@@ -88,10 +88,30 @@ pub(super) fn moments_regions(resolution: u32, strips: &[Rect], blur: u32) -> Ve
     let b = blur.min(resolution);
     if b > 0 {
         regions.extend([
-            Rect { x: 0, y: 0, w: resolution, h: b },
-            Rect { x: 0, y: resolution - b, w: resolution, h: b },
-            Rect { x: 0, y: 0, w: b, h: resolution },
-            Rect { x: resolution - b, y: 0, w: b, h: resolution },
+            Rect {
+                x: 0,
+                y: 0,
+                w: resolution,
+                h: b,
+            },
+            Rect {
+                x: 0,
+                y: resolution - b,
+                w: resolution,
+                h: b,
+            },
+            Rect {
+                x: 0,
+                y: 0,
+                w: b,
+                h: resolution,
+            },
+            Rect {
+                x: resolution - b,
+                y: 0,
+                w: b,
+                h: resolution,
+            },
         ]);
     }
     regions
@@ -142,7 +162,16 @@ mod tests {
     #[test]
     fn the_uncovered_strips_are_exactly_the_texels_a_shift_does_not_keep() {
         let res = 16;
-        for shift in [(3, 0), (-3, 0), (0, 5), (0, -5), (2, -7), (-4, 4), (15, 15), (16, 0)] {
+        for shift in [
+            (3, 0),
+            (-3, 0),
+            (0, 5),
+            (0, -5),
+            (2, -7),
+            (-4, 4),
+            (15, 15),
+            (16, 0),
+        ] {
             let strips = uncovered(res, shift);
             for y in 0..res {
                 for x in 0..res {
@@ -163,7 +192,15 @@ mod tests {
     fn moments_are_filtered_again_near_new_strips_and_borders_only() {
         let strips = uncovered(64, (4, 0));
         let regions = moments_regions(64, &strips, 2);
-        assert_eq!(regions[0], Rect { x: 0, y: 0, w: 6, h: 64 });
+        assert_eq!(
+            regions[0],
+            Rect {
+                x: 0,
+                y: 0,
+                w: 6,
+                h: 64
+            }
+        );
         let covered = |x: u32, y: u32| {
             regions
                 .iter()

@@ -80,10 +80,7 @@ impl ShadowMaps {
             // The same casters seen through the same filter: each cascade
             // that moved across by whole texels scrolls, one that held is
             // kept, and only the rest are drawn whole.
-            if let Some(shifts) = slot
-                .as_ref()
-                .and_then(|old| self.scrolls(old, &content))
-            {
+            if let Some(shifts) = slot.as_ref().and_then(|old| self.scrolls(old, &content)) {
                 for (k, shift) in shifts.into_iter().enumerate() {
                     match shift {
                         Some((0, 0)) => {}

@@ -480,7 +480,9 @@ mod tests {
         assert_eq!(texel_shift(&a, &at(0.0, 0.0, 0.5), 64), None);
         assert_eq!(texel_shift(&a, &at(64.0 * texel, 0.0, 0.0), 64), None);
         let perspective = glam::camera::rh::proj::directx::perspective(1.0, 1.0, 0.1, 10.0);
-        let q = |x: f32| (perspective * Mat4::from_translation(Vec3::new(-x, 0.0, 0.0))).to_cols_array();
+        let q = |x: f32| {
+            (perspective * Mat4::from_translation(Vec3::new(-x, 0.0, 0.0))).to_cols_array()
+        };
         assert_eq!(texel_shift(&q(0.0), &q(1.0), 64), None);
         assert_eq!(texel_shift(&a, &at(f32::NAN, 0.0, 0.0), 64), None);
     }
