@@ -1,11 +1,15 @@
 // VSM: one shadow-map layer's depth as the first two moments of linear
 // depth (normalized to the layer's near..far), box-filtered over
 // (2 blur + 1)^2 texels. Filtering the moments is what softens VSM edges.
+// Only `Info.region` of the layer: all of it, or where a scrolled cascade's
+// new strips (and its borders, where the filter clamps) change them.
 #import spreadlight::shadow_sampling::{ShadowView, linear_depth}
 
 struct Info {
     // x: layer, y: blur radius in texels
     layer_blur: vec4<u32>,
+    // The texels written: origin (x, y) and size (z, w)
+    region: vec4<u32>,
 }
 
 @group(0) @binding(0) var depth: texture_2d_array<f32>;
@@ -14,9 +18,10 @@ struct Info {
 @group(0) @binding(3) var moments: texture_storage_2d<rg32float, write>;
 
 @compute @workgroup_size(8, 8)
-fn main(@builtin(global_invocation_id) id: vec3<u32>) {
+fn main(@builtin(global_invocation_id) global: vec3<u32>) {
     let size = textureDimensions(depth);
-    if (id.x >= size.x || id.y >= size.y) {
+    let id = info.region.xy + global.xy;
+    if (global.x >= info.region.z || global.y >= info.region.w || id.x >= size.x || id.y >= size.y) {
         return;
     }
     let layer = info.layer_blur.x;

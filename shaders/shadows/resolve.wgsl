@@ -5,12 +5,17 @@
 // so 1 - depth. from_depth: the raster hardware's Depth32F
 // attachments, copied. OVER_STILL: the nearer of that and the still
 // casters' cached map (a node caches what did not move, and draws only what
-// moved over it each frame).
+// moved over it each frame). Either fills `Info.region` of the layer: the
+// whole layer, or a strip a scrolled cascade uncovered (the compute
+// rasterizer drew the strip alone, as a target of the strip's size; the raster
+// hardware drew it into the layer's attachment, scissored to it).
 #import spreadlight::camera::Camera
 
 struct Info {
     // x: the array layer to read
     layer: vec4<u32>,
+    // The texels written: origin (x, y) and size (z, w)
+    region: vec4<u32>,
 }
 
 @group(0) @binding(0) var<storage, read> visibility: array<u32>;
@@ -34,8 +39,9 @@ fn store_depth(at: vec2<u32>, drawn: f32) {
 
 @compute @workgroup_size(8, 8)
 fn from_visibility(@builtin(global_invocation_id) id: vec3<u32>) {
+    // The words cover the region alone (the camera's size is the region's).
     let size = vec2<u32>(camera.size.xy);
-    if (id.x >= size.x || id.y >= size.y) {
+    if (id.x >= size.x || id.y >= size.y || id.x >= info.region.z || id.y >= info.region.w) {
         return;
     }
     let word = visibility[id.y * size.x + id.x];
@@ -43,14 +49,15 @@ fn from_visibility(@builtin(global_invocation_id) id: vec3<u32>) {
     if (word != 0u) {
         d = clamp(1.0 - bitcast<f32>(word), 0.0, 1.0);
     }
-    store_depth(id.xy, d);
+    store_depth(info.region.xy + id.xy, d);
 }
 
 @compute @workgroup_size(8, 8)
 fn from_depth(@builtin(global_invocation_id) id: vec3<u32>) {
     let size = textureDimensions(depth);
-    if (id.x >= size.x || id.y >= size.y) {
+    let at = info.region.xy + id.xy;
+    if (id.x >= info.region.z || id.y >= info.region.w || at.x >= size.x || at.y >= size.y) {
         return;
     }
-    store_depth(id.xy, textureLoad(depth, vec2<i32>(id.xy), i32(info.layer.x), 0));
+    store_depth(at, textureLoad(depth, vec2<i32>(at), i32(info.layer.x), 0));
 }

@@ -38,6 +38,12 @@ pub struct Args {
     /// Override an input value: `NODE_ID.PIN=VALUE`, e.g. `--set "20.Input=10000"` (Int, Float, Bool, String or enum pins).
     #[arg(long = "set", value_name = "ID.PIN=VALUE")]
     sets: Vec<String>,
+    /// Turn a Vec3 pin (a camera's position) about the vertical axis by
+    /// RADIANS more each frame: `--orbit "9.Position=0.01"` times a still
+    /// patch seen from a moving camera (sun cascades follow it). The pin is
+    /// set and the patch reloaded before each frame, outside the CPU figures.
+    #[arg(long, value_name = "ID.PIN=RADIANS")]
+    orbit: Option<String>,
     /// Print one JSON line instead of a table.
     #[arg(long)]
     json: bool,
@@ -181,6 +187,7 @@ fn wall_clock(
     args: &Args,
     renderer: &spreadlight_render::Renderer,
     reported: &mut std::collections::BTreeSet<String>,
+    turn: &mut dyn FnMut(&mut Session, u64),
 ) -> anyhow::Result<Wall> {
     let mut cpu = Series::default();
     let before = renderer.settings().0;
@@ -194,6 +201,7 @@ fn wall_clock(
             started = std::time::Instant::now();
         }
         let frame = start_frame + k;
+        turn(session, frame);
         session.runtime.invalidate_sinks();
         let step = std::time::Instant::now();
         if session.step(frame, 60.0, &args.patch, reported) {
@@ -222,6 +230,11 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
     for set in &args.sets {
         apply_set(&mut patch, set)?;
     }
+    let orbit = args
+        .orbit
+        .as_deref()
+        .map(|text| crate::orbit::Orbit::parse(&patch, text))
+        .transpose()?;
     let mut session = Session::build(
         &patch,
         &args.patch,
@@ -253,7 +266,17 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
     let mut passes: Vec<PassSeries> = Vec::new();
     let total = args.warmup + args.frames.max(1);
     let mut cold_start = None;
+    // The orbiting pin moved and the patch reloaded (only that node re-evaluates).
+    let mut turned = patch.clone();
+    let mut turn = |session: &mut Session, frame: u64| {
+        if let Some(orbit) = &orbit {
+            orbit.place(&mut turned, frame);
+            // The same patch but for one value: it loaded without problems above.
+            let _ = session.runtime.load(&turned);
+        }
+    };
     for frame in 0..total {
+        turn(&mut session, frame);
         session.runtime.invalidate_sinks();
         let started = std::time::Instant::now();
         if session.step(frame, 60.0, &args.patch, &mut reported) {
@@ -317,7 +340,13 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
         }
     }
     let wall = if args.wall {
-        Some(wall_clock(&mut session, args, &renderer, &mut reported)?)
+        Some(wall_clock(
+            &mut session,
+            args,
+            &renderer,
+            &mut reported,
+            &mut turn,
+        )?)
     } else {
         None
     };
@@ -351,6 +380,7 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
             "patch": args.patch.display().to_string(),
             "size": format!("{}x{}", args.size.0, args.size.1),
             "sets": args.sets,
+            "orbit": args.orbit,
             "adapter": adapter,
             "frames": args.frames,
             "timing": args.timing,

@@ -11,6 +11,7 @@ mod edit;
 mod eval;
 mod fmt;
 mod nodes;
+mod orbit;
 mod play;
 mod sequence;
 mod session;

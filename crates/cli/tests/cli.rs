@@ -896,6 +896,40 @@ fn bench_prints_one_json_line_with_the_adapter() {
     );
 }
 
+/// `bench --orbit` turns a camera's position a little more each frame (sun
+/// cascades follow it and scroll: docs/shadows.md) and says so in the JSON
+/// line; a pin that is not there, or not a number of radians, is an error
+/// naming it.
+#[test]
+fn bench_orbit_turns_a_camera_and_names_a_wrong_pin() {
+    let orbit = "43.Position=0.05";
+    let o = spreadlight(&[
+        "bench",
+        "patches/shadows.ron",
+        "--size",
+        "32x18",
+        "--warmup",
+        "1",
+        "--frames",
+        "2",
+        "--orbit",
+        orbit,
+        "--json",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+    let json: serde_json::Value = serde_json::from_str(&text(&o.stdout)).expect("JSON");
+    assert_eq!(json["orbit"], orbit);
+    for (bad, says) in [
+        ("43.Nope=0.1", "has no input `Nope`"),
+        ("43.Position=fast", "is not a number of radians"),
+        ("999.Position=0.1", "has no node #999"),
+    ] {
+        let o = spreadlight(&["bench", "patches/shadows.ron", "--orbit", bad]);
+        assert_eq!(o.status.code(), Some(1), "{bad}");
+        assert!(text(&o.stderr).contains(says), "{bad}: {}", text(&o.stderr));
+    }
+}
+
 #[test]
 fn shader_nodes_are_listed_and_a_broken_one_beside_a_patch_is_named_by_check() {
     let out = spreadlight(&["nodes"]);

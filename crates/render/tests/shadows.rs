@@ -384,7 +384,7 @@ fn a_stepped_sun_renders_no_cascade_while_the_camera_moves_within_a_step() {
                 },
             };
             let owner = owner + if step > 0.0 { 10 } else { 0 };
-            let mut rendered = Vec::new();
+            let (mut rendered, mut whole) = (Vec::new(), Vec::new());
             for frame in 0..4 {
                 let camera = moved(frame as f32 * 0.01);
                 let maps = ShadowMaps::new(
@@ -403,13 +403,15 @@ fn a_stepped_sun_renders_no_cascade_while_the_camera_moves_within_a_step() {
                     shade_from(&renderer, camera, &layers, lights.clone(), Some(maps));
                 assert!(image.all_finite());
                 rendered.push(report.counter("shadow maps rendered"));
+                whole.push(report.counter("shadow layers drawn whole"));
             }
-            let expected = if step > 0.0 {
-                [1, 0, 0, 0]
+            if step > 0.0 {
+                assert_eq!(rendered, [1, 0, 0, 0], "{raster:?}, step {step}");
             } else {
-                [1, 1, 1, 1]
-            };
-            assert_eq!(rendered, expected, "{raster:?}, step {step}");
+                // Following the camera texel by texel: its cascades scroll
+                // (or hold), none is drawn whole after the first frame.
+                assert_eq!(whole, [3, 0, 0, 0], "{raster:?}, step {step}");
+            }
         }
     }
 }
@@ -1061,5 +1063,248 @@ fn still_casters_are_cached_and_only_moving_ones_drawn_over_them_with_the_same_i
             "{raster:?}: {:?}",
             report.counters
         );
+    }
+}
+
+/// Conventional depth of two renderings of the same maps, layer by layer:
+/// texels both draw differ by at most SCROLL_DEPTH_ERROR, and at most
+/// SCROLL_COVERAGE of the texels are drawn by one and not the other (a
+/// silhouette's texel centre on an edge, where the two views' rounding
+/// differs). Returns the worst depth difference.
+fn assert_scrolled_depths_agree(scrolled: &[ImageF32], whole: &[ImageF32], what: &str) -> f32 {
+    const SCROLL_DEPTH_ERROR: f32 = 1e-5;
+    const SCROLL_COVERAGE: f64 = 0.002;
+    assert_eq!(scrolled.len(), whole.len(), "{what}: layers");
+    let (mut one_only, mut texels, mut both) = (0usize, 0usize, 0usize);
+    let mut worst = 0.0f32;
+    for (s, w) in scrolled.iter().zip(whole) {
+        for (a, b) in s.pixels.iter().zip(&w.pixels) {
+            let (a, b) = (a[0], b[0]);
+            assert!(
+                (0.0..=1.0).contains(&a) && (0.0..=1.0).contains(&b),
+                "{what}: a map holds {a} / {b}"
+            );
+            texels += 1;
+            if a < 1.0 && b < 1.0 {
+                both += 1;
+                worst = worst.max((a - b).abs());
+            } else if (a - b).abs() > SCROLL_DEPTH_ERROR {
+                // (A caster at the far plane, 1 - 6e-8, is drawn or clipped
+                // as rounding goes: the same as nothing there.)
+                one_only += 1;
+            }
+        }
+    }
+    eprintln!(
+        "{what}: worst {worst:.2e} over {both} texels; {one_only} of {texels} drawn by one only"
+    );
+    assert!(both > 0, "{what}: the casters are in the maps");
+    assert!(
+        worst <= SCROLL_DEPTH_ERROR,
+        "{what}: a scrolled texel differs from a whole drawing by {worst}"
+    );
+    assert!(
+        (one_only as f64) <= SCROLL_COVERAGE * texels as f64,
+        "{what}: {one_only} of {texels} texels are drawn by one only"
+    );
+    worst
+}
+
+/// A camera panning over a still scene: a sun's cascades scroll (their kept
+/// texels copied, only the uncovered strips drawn, counted), and what they
+/// hold, and the shadows they cast through PCF and VSM, are what drawing
+/// them whole gives, on both rasterizers. A still camera then draws nothing;
+/// a moving caster, a camera jumping further than a cascade, and a camera at
+/// NaN or infinity draw whole and never put NaN in the maps or the image.
+#[test]
+fn a_panning_camera_scrolls_sun_cascades_and_draws_only_their_new_strips() {
+    let renderer = test_renderer();
+    let layers = casters(&renderer, Vec3::new(0.0, 1.5, 0.0));
+    let sun = SunLight {
+        direction: Vec3::new(-0.2, -1.0, -0.1),
+        color: Vec3::ONE,
+        illuminance: 5.0,
+        shadow: Some(0),
+    };
+    let lights = LightBuffer::suns(&renderer, &[sun]);
+    let casting = ShadowLights::Sun {
+        lights: vec![(0, sun.direction)],
+        cascades: Cascades {
+            count: 3,
+            split_lambda: 0.6,
+            distance: 30.0,
+            step: 0.0,
+        },
+    };
+    let at = |dx: f32| {
+        let mut c = camera();
+        c.view *= glam::Mat4::from_translation(Vec3::new(-dx, 0.0, 0.0));
+        c
+    };
+    // Small maps: the compute rasterizer runs on the CPU here (lavapipe).
+    const RES: u64 = 128;
+    let vsm = ShadowFilter::Vsm {
+        bleeding: 0.2,
+        blur: 2,
+    };
+    // PCF reads the depth alone, VSM its moments too: each rasterizer's
+    // strips under VSM, and compute (the GPUs' default) under PCF as well.
+    let mut owner = 60;
+    for (raster, filters) in [
+        (
+            RasterChoice::Compute,
+            vec![ShadowFilter::Pcf { kernel: 3 }, vsm],
+        ),
+        (RasterChoice::Hardware, vec![vsm]),
+    ] {
+        for filter in filters {
+            owner += 1;
+            let what = format!("{raster:?} {filter:?}");
+            let settings = ShadowSettings {
+                raster,
+                resolution: RES as u32,
+                ..settings(filter)
+            };
+            let maps = |camera: &CameraInput, owner: Option<u32>, layers: &[Arc<Layer>]| {
+                ShadowMaps::new(
+                    &renderer,
+                    owner,
+                    &casting,
+                    layers.to_vec(),
+                    camera,
+                    settings,
+                )
+                .expect("valid shadows")
+            };
+            // A frame of the node's maps seen from `camera`: its image, report and depth.
+            let frame =
+                |camera: CameraInput, shadow_camera: &CameraInput, layers: &[Arc<Layer>]| {
+                    let m = maps(shadow_camera, Some(owner), layers);
+                    let (image, report) =
+                        shade_from(&renderer, camera, layers, lights.clone(), Some(m.clone()));
+                    let depth = m
+                        .read_depth(&renderer.gpu)
+                        .expect("reads")
+                        .expect("rendered");
+                    (image, report, depth)
+                };
+            let (_, first, _) = frame(at(0.0), &at(0.0), &layers);
+            assert_eq!(first.counter("shadow layers drawn whole"), 3, "{what}");
+            assert_eq!(
+                first.counter("shadow texels drawn"),
+                3 * RES * RES,
+                "{what}"
+            );
+            let mut scrolled = 0;
+            for k in 1..=3 {
+                let camera = at(k as f32 * 0.2);
+                let (image, report, depth) = frame(camera, &camera, &layers);
+                let counted = |name: &str| report.counter(name);
+                // Every cascade that changed scrolled; none was drawn whole,
+                // and the strips are a small part of what drawing them whole takes.
+                let n = counted("shadow layers scrolled");
+                assert_eq!(
+                    counted("shadow layers drawn whole"),
+                    0,
+                    "{what}, frame {k}: {:?}",
+                    report.counters
+                );
+                assert!(
+                    counted("shadow texels drawn") * 4 <= n * RES * RES,
+                    "{what}, frame {k}: {:?}",
+                    report.counters
+                );
+                assert_eq!(
+                    counted("shadow texels drawn") + counted("shadow texels kept by scrolling"),
+                    n * RES * RES,
+                    "{what}, frame {k}"
+                );
+                scrolled += n;
+                // The same frame drawn whole, by a recipe with no node.
+                let whole = maps(&camera, None, &layers);
+                let (whole_image, _) = shade_from(
+                    &renderer,
+                    camera,
+                    &layers,
+                    lights.clone(),
+                    Some(whole.clone()),
+                );
+                let whole_depth = whole
+                    .read_depth(&renderer.gpu)
+                    .expect("reads")
+                    .expect("rendered");
+                assert_scrolled_depths_agree(&depth, &whole_depth, &format!("{what}, frame {k}"));
+                let worst = image
+                    .pixels
+                    .iter()
+                    .zip(&whole_image.pixels)
+                    .map(|(a, b)| (a[0] - b[0]).abs().max((a[1] - b[1]).abs()))
+                    .fold(0.0f32, f32::max);
+                let peak = whole_image
+                    .pixels
+                    .iter()
+                    .map(|p| p[0])
+                    .fold(0.0f32, f32::max);
+                assert!(
+                    worst <= 1e-3 * peak,
+                    "{what}, frame {k}: the scrolled maps shade as the whole ones ({worst} of {peak})"
+                );
+            }
+            // The finest cascade moves a few texels a frame here: it scrolls every time.
+            assert!(scrolled >= 3, "{what}: {scrolled} cascades scrolled");
+            // A still camera over a still scene: nothing is drawn.
+            let still = at(0.6);
+            let (_, report, _) = frame(still, &still, &layers);
+            assert_eq!(
+                report.counter("shadow maps reused"),
+                1,
+                "{what}: {:?}",
+                report.counters
+            );
+            assert_eq!(report.counter("shadow texels drawn"), 0, "{what}");
+            // A moving caster (a layer new this frame) draws the cascades whole.
+            let moved = casters(&renderer, Vec3::new(0.3, 1.5, 0.0));
+            let panned = at(0.75);
+            let (_, report, _) = frame(panned, &panned, &moved);
+            assert_eq!(report.counter("shadow layers scrolled"), 0, "{what}");
+            assert_eq!(report.counter("shadow layers drawn whole"), 3, "{what}");
+            // A jump further than any cascade is wide: drawn whole.
+            let far = at(500.0);
+            let (_, report, _) = frame(far, &far, &moved);
+            assert_eq!(report.counter("shadow layers scrolled"), 0, "{what}");
+            assert_eq!(report.counter("shadow layers drawn whole"), 3, "{what}");
+            // Cascades following a camera at NaN or infinity: no NaN in the
+            // maps or the image (the image seen from a sound camera), and
+            // whatever the next sound frame keeps of them, its maps are what
+            // drawing them whole gives.
+            for broken in [f32::NAN, f32::INFINITY] {
+                let (image, _, depth) = frame(at(0.0), &at(broken), &moved);
+                assert!(image.all_finite(), "{what}, camera at {broken}");
+                assert!(
+                    depth
+                        .iter()
+                        .all(|l| l.pixels.iter().all(|p| (0.0..=1.0).contains(&p[0]))),
+                    "{what}, camera at {broken}: the maps hold depths"
+                );
+                let (_, _, depth) = frame(at(0.0), &at(0.0), &moved);
+                let whole = maps(&at(0.0), None, &moved);
+                shade_from(
+                    &renderer,
+                    at(0.0),
+                    &moved,
+                    lights.clone(),
+                    Some(whole.clone()),
+                );
+                let whole_depth = whole
+                    .read_depth(&renderer.gpu)
+                    .expect("reads")
+                    .expect("rendered");
+                assert_scrolled_depths_agree(
+                    &depth,
+                    &whole_depth,
+                    &format!("{what}, after {broken}"),
+                );
+            }
+        }
     }
 }

@@ -145,7 +145,7 @@ pub fn register(r: &mut Registry) {
                 "Cascaded shadow maps for suns: Cascades (1..4) orthographic maps each, splitting the camera's view up to \
                  Distance; Split 0 spaces them evenly, 1 logarithmically (the practical scheme blends the two). For a sun, \
                  Light Size is the tangent of its angular radius (0.0047 for ours). Cascade Step 0 moves each cascade \
-                 with the camera texel by texel (re-rendered whenever the camera moves); 0.1..0.5 widens each cascade by \
+                 with the camera texel by texel (scrolled: only the texels a move uncovers are drawn); 0.1..0.5 widens each cascade by \
                  that share of its width on each side and moves it only in steps of that share, so a camera moving \
                  within a step re-renders no map."
             ),

@@ -37,7 +37,9 @@ struct GpuBatch {
 }
 
 struct Targets {
-    size: (u32, u32),
+    /// Bytes of words the buffer holds: a view of this many or fewer (a
+    /// shadow map's scrolled strips, of every size) reuses it.
+    capacity: u64,
     words: Words,
     visibility: wgpu::Buffer,
     tiles: wgpu::Buffer,
@@ -247,9 +249,10 @@ impl ComputeRaster {
         let size = view.size;
         let mut guard = self.targets.0.lock().unwrap_or_else(|e| e.into_inner());
         let words = self.words;
+        let needed = (u64::from(size.0) * u64::from(size.1) * words.bytes()).max(words.bytes());
         if guard
             .as_ref()
-            .is_none_or(|t| t.size != size || t.words != words)
+            .is_none_or(|t| t.capacity < needed || t.words != words)
         {
             let storage = |label: &str, bytes: u64| {
                 device.create_buffer(&wgpu::BufferDescriptor {
@@ -260,14 +263,14 @@ impl ComputeRaster {
                 })
             };
             *guard = Some(Targets {
-                size,
+                capacity: needed,
                 words,
                 visibility: storage(
                     match words {
                         Words::Visibility64 => "visibility (64-bit)",
                         Words::Depth32 => "raster depth (32-bit)",
                     },
-                    u64::from(size.0) * u64::from(size.1) * words.bytes(),
+                    needed,
                 ),
                 tiles: storage("raster tiles", u64::from(TILE_CAPACITY) * 16),
                 tile_count: storage("raster tile count", 16),
@@ -284,7 +287,9 @@ impl ComputeRaster {
                 message: "no visibility buffer".to_owned(),
             });
         };
-        cx.encoder().clear_buffer(&targets.visibility, 0, None);
+        // Only the words this view covers (the buffer may be larger).
+        cx.encoder()
+            .clear_buffer(&targets.visibility, 0, Some(needed));
         cx.encoder()
             .copy_buffer_to_buffer(&targets.tile_reset, 0, &targets.tile_count, 0, 16);
 

@@ -9,13 +9,17 @@
 //! nothing; a light whose volume misses the camera's frustum renders
 //! nothing; a slice whose light and casters are unchanged since it was
 //! rendered is reused (the maps live in the renderer between frames, under
-//! the node's id). The frame report counts each decision
-//! ("shadow maps rendered", "shadow maps reused", "shadow maps culled").
+//! the node's id). A sun's cascade that only moved across the light by whole
+//! texels (a moving camera) is scrolled: its kept texels are copied into
+//! place and only the uncovered strips are drawn (scroll.rs). The frame
+//! report counts each decision ("shadow maps rendered", "shadow maps
+//! reused", "shadow maps culled", "shadow layers scrolled"...).
 
 // Named by the permutation keys without the passes.
 pub(crate) mod filter;
 mod raster;
 pub(crate) mod raster_key;
+mod scroll;
 mod slices;
 mod store;
 pub mod views;
@@ -155,7 +159,8 @@ pub struct ShadowMaps {
     store: Arc<ShadowStore>,
     layers: u32,
     /// Per layer, what its resolve and moments dispatches read: (layer, VSM
-    /// blur radius); kept under the node so their bind groups are reused.
+    /// blur radius) and the region they fill (the whole layer); kept under
+    /// the node so their bind groups are reused.
     layer_info: Vec<wgpu::Buffer>,
     /// What readers wait for: the maps (and for VSM their moments) are ready.
     token: String,
@@ -426,7 +431,7 @@ impl ShadowMaps {
                     owner,
                     "shadow layer",
                     layer,
-                    bytemuck::cast_slice(&[layer, blur, 0, 0]),
+                    bytemuck::cast_slice(&[layer, blur, 0, 0, 0, 0, res, res]),
                     wgpu::BufferUsages::UNIFORM,
                 )
             })

@@ -12,6 +12,9 @@ use crate::mesh_arena::pulled_pipeline;
 use crate::renderer::Renderer;
 use crate::shaders::{Permutation, ShaderKey};
 
+use glam::{Mat4, Vec4};
+
+use super::scroll::Rect;
 use super::store::{DEPTH_FORMAT, StoredMaps};
 use super::{ShadowFilter, ShadowMaps, VIEW_STRIDE, layer_view};
 
@@ -149,6 +152,39 @@ pub(super) struct Job<'s> {
     pub set: &'s CasterSet,
     pub layer: u32,
     pub target: Target,
+    /// Empty: the whole layer. Else only these parts of it (the strips a
+    /// scrolled cascade uncovered), each rasterized clipped to itself.
+    pub strips: Vec<Strip>,
+}
+
+/// A part of a layer a job draws alone: its texels, the region uniform its
+/// resolve reads (`Info` in resolve.wgsl) and, where the compute rasterizer
+/// draws, its camera: the layer's view narrowed to the strip, so the
+/// rasterizer covers the strip's texels and no others.
+pub(super) struct Strip {
+    pub rect: Rect,
+    pub info: wgpu::Buffer,
+    pub camera: Option<wgpu::Buffer>,
+}
+
+/// `view_projection` narrowed to `rect` of a map of `resolution` texels a
+/// side: the rectangle's NDC span stretched over -1..1, so a target of the
+/// rectangle's size sees exactly its texels, centre for centre.
+pub(super) fn strip_projection(view_projection: Mat4, rect: Rect, resolution: u32) -> Mat4 {
+    let (r, w, h) = (
+        resolution as f32,
+        rect.w.max(1) as f32,
+        rect.h.max(1) as f32,
+    );
+    let cx = -1.0 + (2.0 * rect.x as f32 + w) / r;
+    let cy = 1.0 - (2.0 * rect.y as f32 + h) / r;
+    let narrow = Mat4::from_cols(
+        Vec4::new(r / w, 0.0, 0.0, 0.0),
+        Vec4::new(0.0, r / h, 0.0, 0.0),
+        Vec4::Z,
+        Vec4::new(-cx * r / w, -cy * r / h, 0.0, 1.0),
+    );
+    narrow * view_projection
 }
 
 impl ShadowMaps {
@@ -187,29 +223,44 @@ impl ShadowMaps {
             let Some(raster) = &job.set.compute else {
                 continue;
             };
-            let camera = &cameras[job.layer as usize];
-            let view = RasterView {
-                camera,
-                instances: &job.set.instances,
-                size: (res, res),
-                two_sided: true,
+            // The whole layer through its own camera, or each strip through its narrowed one.
+            let parts: Vec<(&wgpu::Buffer, &wgpu::Buffer, (u32, u32))> = if job.strips.is_empty() {
+                vec![(
+                    &cameras[job.layer as usize],
+                    &self.layer_info[job.layer as usize],
+                    (res, res),
+                )]
+            } else {
+                job.strips
+                    .iter()
+                    .filter_map(|s| Some((s.camera.as_ref()?, &s.info, (s.rect.w, s.rect.h))))
+                    .collect()
             };
-            let visibility = raster.record_view(&view, renderer, cx, None)?;
-            let (out, under) = Self::outputs(maps, &device, job.target);
-            let mut b = Bindings::new()
-                .buffer("visibility", &visibility)
-                .buffer("camera", camera)
-                .view("out_depth", layer_view(cx, &out, job.layer));
-            if let Some(under) = under {
-                b = b.view("still", layer_view(cx, &under, job.layer));
+            for (camera, info, size) in parts {
+                let view = RasterView {
+                    camera,
+                    instances: &job.set.instances,
+                    size,
+                    two_sided: true,
+                };
+                let visibility = raster.record_view(&view, renderer, cx, None)?;
+                let (out, under) = Self::outputs(maps, &device, job.target);
+                let mut b = Bindings::new()
+                    .buffer("visibility", &visibility)
+                    .buffer("camera", camera)
+                    .buffer("info", info)
+                    .view("out_depth", layer_view(cx, &out, job.layer));
+                if let Some(under) = under {
+                    b = b.view("still", layer_view(cx, &under, job.layer));
+                }
+                cx.dispatch_shader(
+                    "shadow depth from visibility",
+                    &Self::resolve_key(job.target),
+                    "from_visibility",
+                    b,
+                    (size.0.div_ceil(8), size.1.div_ceil(8), 1),
+                )?;
             }
-            cx.dispatch_shader(
-                "shadow depth from visibility",
-                &Self::resolve_key(job.target),
-                "from_visibility",
-                b,
-                (res.div_ceil(8), res.div_ceil(8), 1),
-            )?;
         }
         Ok(())
     }
@@ -292,13 +343,14 @@ impl ShadowMaps {
                 groups,
                 layer_view(cx, &attachments, job.layer),
                 &job.set.draws,
+                &job.strips,
             ));
         }
         let mut draws = 0;
         // Time the whole set as one: the first pass writes the beginning, the last the end.
         let pair = cx.render_timestamps();
         let last = work.len().saturating_sub(1);
-        for (index, (groups, view, set_draws)) in work.iter().enumerate() {
+        for (index, (groups, view, set_draws, strips)) in work.iter().enumerate() {
             let timestamps = pair.as_ref().and_then(|p| {
                 let begin = (index == 0)
                     .then_some(p.beginning_of_pass_write_index)
@@ -331,15 +383,27 @@ impl ShadowMaps {
             for (i, group) in groups.iter().enumerate() {
                 pass.set_bind_group(i as u32, group, &[]);
             }
-            for draw in set_draws
-                .iter()
-                .filter(|d| d.instance_count > 0 && d.index_count > 0)
-            {
-                pass.draw(
-                    0..draw.index_count,
-                    draw.first_instance..draw.first_instance + draw.instance_count,
-                );
-                draws += 1;
+            // A whole layer once, or each strip clipped to itself (the
+            // attachment is cleared whole; only the strips are resolved).
+            let scissors: Vec<Option<Rect>> = if strips.is_empty() {
+                vec![None]
+            } else {
+                strips.iter().map(|s| Some(s.rect)).collect()
+            };
+            for scissor in scissors {
+                if let Some(r) = scissor {
+                    pass.set_scissor_rect(r.x, r.y, r.w, r.h);
+                }
+                for draw in set_draws
+                    .iter()
+                    .filter(|d| d.instance_count > 0 && d.index_count > 0)
+                {
+                    pass.draw(
+                        0..draw.index_count,
+                        draw.first_instance..draw.first_instance + draw.instance_count,
+                    );
+                    draws += 1;
+                }
             }
         }
         cx.draws += draws;
@@ -355,21 +419,31 @@ impl ShadowMaps {
             },
         );
         for job in jobs {
-            let (out, under) = Self::outputs(maps, &device, job.target);
-            let mut b = Bindings::new()
-                .view("depth", depth.clone())
-                .view("out_depth", layer_view(cx, &out, job.layer))
-                .buffer("info", &self.layer_info[job.layer as usize]);
-            if let Some(under) = under {
-                b = b.view("still", layer_view(cx, &under, job.layer));
+            let parts: Vec<(&wgpu::Buffer, (u32, u32))> = if job.strips.is_empty() {
+                vec![(&self.layer_info[job.layer as usize], (res, res))]
+            } else {
+                job.strips
+                    .iter()
+                    .map(|s| (&s.info, (s.rect.w, s.rect.h)))
+                    .collect()
+            };
+            for (info, size) in parts {
+                let (out, under) = Self::outputs(maps, &device, job.target);
+                let mut b = Bindings::new()
+                    .view("depth", depth.clone())
+                    .view("out_depth", layer_view(cx, &out, job.layer))
+                    .buffer("info", info);
+                if let Some(under) = under {
+                    b = b.view("still", layer_view(cx, &under, job.layer));
+                }
+                cx.dispatch_shader(
+                    "shadow depth copy",
+                    &Self::resolve_key(job.target),
+                    "from_depth",
+                    b,
+                    (size.0.div_ceil(8), size.1.div_ceil(8), 1),
+                )?;
             }
-            cx.dispatch_shader(
-                "shadow depth copy",
-                &Self::resolve_key(job.target),
-                "from_depth",
-                b,
-                (res.div_ceil(8), res.div_ceil(8), 1),
-            )?;
         }
         Ok(())
     }
@@ -383,20 +457,21 @@ impl ShadowMaps {
         let Some(maps) = guard.as_mut() else {
             return Ok(());
         };
-        let layers = std::mem::take(&mut maps.pending_moments);
-        match (&maps.moments, layers.is_empty()) {
-            (Some(moments), false) => self.moments(cx, &maps.depth, moments, &layers),
+        let regions = std::mem::take(&mut maps.pending_moments);
+        match (&maps.moments, regions.is_empty()) {
+            (Some(moments), false) => self.moments(cx, &maps.depth, moments, &regions),
             _ => Ok(()),
         }
     }
 
-    /// VSM: the depth layers just rendered as blurred moments of linear depth.
+    /// VSM: the depth just rendered as blurred moments of linear depth, in
+    /// each (layer, region, its `Info` uniform) given.
     fn moments(
         &self,
         cx: &mut PassContext<'_>,
         depth: &wgpu::Texture,
         moments: &wgpu::Texture,
-        layers: &[u32],
+        regions: &[(u32, Rect, wgpu::Buffer)],
     ) -> Result<(), RenderError> {
         let device = cx.gpu.device.clone();
         let key = MomentsKey.key();
@@ -405,23 +480,22 @@ impl ShadowMaps {
             dimension: Some(wgpu::TextureViewDimension::D2Array),
             ..Default::default()
         });
-        let res = self.settings.resolution;
         let mut groups = Vec::new();
-        for &layer in layers {
+        for (layer, rect, info) in regions {
             let b = Bindings::new()
                 .view("depth", depth_view.clone())
                 .buffer("views", &self.views)
-                .buffer("info", &self.layer_info[layer as usize])
-                .view("moments", layer_view(cx, moments, layer));
-            groups.push(cx.bind_groups(&key, "main", &pipeline, b)?);
+                .buffer("info", info)
+                .view("moments", layer_view(cx, moments, *layer));
+            groups.push((cx.bind_groups(&key, "main", &pipeline, b)?, *rect));
         }
         let pass = cx.compute_pass("shadow moments");
         pass.set_pipeline(&pipeline);
-        for layer_groups in &groups {
+        for (layer_groups, rect) in &groups {
             for (i, group) in layer_groups.iter().enumerate() {
                 pass.set_bind_group(i as u32, group, &[]);
             }
-            pass.dispatch_workgroups(res.div_ceil(8), res.div_ceil(8), 1);
+            pass.dispatch_workgroups(rect.w.div_ceil(8), rect.h.div_ceil(8), 1);
         }
         Ok(())
     }

@@ -1,15 +1,17 @@
 //! Which slices a frame draws and how: reused whole, drawn from every
 //! caster, or (some casters still, some moving) the still ones cached per
 //! slice and only the moving ones drawn over them, or nothing at all where
-//! the moving ones miss the slice's views.
+//! the moving ones miss the slice's views. A sun's cascade whose casters
+//! held while its box moved across by whole texels is scrolled (scroll.rs).
 
 use crate::error::RenderError;
 use crate::frame_graph::PassContext;
 use crate::renderer::Renderer;
 
-use super::raster::{CasterSet, Job, SetKind, Target};
+use super::raster::{CasterSet, Job, SetKind, Strip, Target, strip_projection};
+use super::scroll::{self, Rect};
 use super::store::{MapLayout, SliceContent, StoredMaps};
-use super::{Sets, ShadowFilter, ShadowMaps, caster_bounds, views};
+use super::{Sets, ShadowFilter, ShadowMaps, all_views, caster_bounds, views};
 
 impl ShadowMaps {
     /// Render every slice that needs it into the stored maps.
@@ -37,6 +39,8 @@ impl ShadowMaps {
         // Layers drawn from every caster; layers whose still casters are
         // cached this frame; layers drawn from the moving casters over them.
         let (mut full, mut still, mut over) = (Vec::new(), Vec::new(), Vec::new());
+        // Layers scrolled by (right, down) texels: only their new strips are drawn.
+        let mut scrolled: Vec<(u32, (i32, i32))> = Vec::new();
         // Where the moving casters are, when the CPU knows: meshes it
         // uploaded, placed by their instances. (GPU-written meshes, skinned
         // or made by geometry nodes or particles, are wherever the GPU put them.)
@@ -72,7 +76,24 @@ impl ShadowMaps {
                 cx.count("shadow maps reused", 1);
                 continue;
             }
-            let layers = (0..plan.views.len() as u32).map(|k| plan.slice * self.per_slice + k);
+            let first = plan.slice * self.per_slice;
+            // The same casters seen through the same filter: each cascade
+            // that moved across by whole texels scrolls, one that held is
+            // kept, and only the rest are drawn whole.
+            if let Some(shifts) = slot.as_ref().and_then(|old| self.scrolls(old, &content)) {
+                for (k, shift) in shifts.into_iter().enumerate() {
+                    match shift {
+                        Some((0, 0)) => {}
+                        Some(shift) => scrolled.push((first + k as u32, shift)),
+                        None => full.push(first + k as u32),
+                    }
+                }
+                maps.bare[slice] = false;
+                maps.contents[slice] = Some(content);
+                rendered += 1;
+                continue;
+            }
+            let layers = (0..plan.views.len() as u32).map(|k| first + k);
             match &self.sets {
                 Sets::Split { still: set, .. } => {
                     let still_content = SliceContent {
@@ -126,10 +147,16 @@ impl ShadowMaps {
             return Ok(());
         }
         cx.count("shadow maps rendered", rendered);
+        let res = self.settings.resolution;
+        let blur = match self.settings.filter {
+            ShadowFilter::Vsm { blur, .. } => blur.min(8),
+            _ => 0,
+        };
         // Every caster together, made here only where split sets must draw a whole slice.
         let all_set;
         let mut jobs = Vec::new();
-        if !full.is_empty() {
+        let mut moments = Vec::new();
+        if !full.is_empty() || !scrolled.is_empty() {
             let set = match &self.sets {
                 Sets::One(set) => set,
                 Sets::Split { .. } => {
@@ -147,7 +174,80 @@ impl ShadowMaps {
                 set,
                 layer,
                 target: Target::Map,
+                strips: Vec::new(),
             }));
+            // The kept part of each scrolled layer moves into place first
+            // (these copies precede the strips' draws in the encoder).
+            let (scratch, moments_scratch) = if scrolled.is_empty() {
+                (None, None)
+            } else {
+                let (d, m) = maps.scratch(&device);
+                (Some(d), m)
+            };
+            let mut kept = 0u64;
+            for &(layer, shift) in &scrolled {
+                if let Some(scratch) = &scratch {
+                    scroll::shift_layer(cx.encoder(), &maps.depth, scratch, layer, res, shift);
+                }
+                if let (Some(m), Some(scratch)) = (&maps.moments, &moments_scratch) {
+                    scroll::shift_layer(cx.encoder(), m, scratch, layer, res, shift);
+                }
+                let rects = scroll::uncovered(res, shift);
+                kept += Rect::full(res).texels() - rects.iter().map(Rect::texels).sum::<u64>();
+                if vsm {
+                    for (k, rect) in scroll::moments_regions(res, &rects, blur)
+                        .into_iter()
+                        .enumerate()
+                    {
+                        let info = renderer.kept_init_at(
+                            self.owner,
+                            "shadow moments region",
+                            layer * 8 + k as u32,
+                            bytemuck::cast_slice(&region_info(layer, blur, rect)),
+                            wgpu::BufferUsages::UNIFORM,
+                        );
+                        moments.push((layer, rect, info));
+                    }
+                }
+                let view_projection = all_views(&self.plans, self.per_slice, layer);
+                let strips = rects
+                    .into_iter()
+                    .enumerate()
+                    .map(|(k, rect)| {
+                        let index = layer * 2 + k as u32;
+                        let camera = self.cameras.is_some().then(|| {
+                            let camera = crate::camera::CameraInput {
+                                view: glam::Mat4::IDENTITY,
+                                projection: strip_projection(view_projection, rect, res),
+                            }
+                            .to_gpu(None, (rect.w, rect.h));
+                            renderer.kept_init_at(
+                                self.owner,
+                                "shadow strip camera",
+                                index,
+                                bytemuck::bytes_of(&camera),
+                                wgpu::BufferUsages::UNIFORM,
+                            )
+                        });
+                        let info = renderer.kept_init_at(
+                            self.owner,
+                            "shadow strip",
+                            index,
+                            bytemuck::cast_slice(&region_info(layer, blur, rect)),
+                            wgpu::BufferUsages::UNIFORM,
+                        );
+                        Strip { rect, info, camera }
+                    })
+                    .collect();
+                jobs.push(Job {
+                    set,
+                    layer,
+                    target: Target::Map,
+                    strips,
+                });
+            }
+            count(cx, "shadow layers scrolled", scrolled.len() as u64);
+            count(cx, "shadow texels kept by scrolling", kept);
         }
         if let Sets::Split { still: s, moving } = &self.sets {
             // The still caches first: the layers drawn over them read them.
@@ -155,20 +255,86 @@ impl ShadowMaps {
                 set: s,
                 layer,
                 target: Target::Still,
+                strips: Vec::new(),
             }));
             jobs.extend(over.iter().map(|&layer| Job {
                 set: moving,
                 layer,
                 target: Target::MapOverStill,
+                strips: Vec::new(),
             }));
         }
+        // What was rasterized, against what drawing every job's layer whole would have.
+        let whole = jobs.iter().filter(|j| j.strips.is_empty()).count() as u64;
+        let drawn: u64 = jobs
+            .iter()
+            .map(|j| {
+                if j.strips.is_empty() {
+                    Rect::full(res).texels()
+                } else {
+                    j.strips.iter().map(|s| s.rect.texels()).sum()
+                }
+            })
+            .sum();
+        count(cx, "shadow layers drawn whole", whole);
+        count(cx, "shadow texels drawn", drawn);
         match &self.cameras {
             Some(cameras) => self.raster_compute(cx, renderer, maps, cameras, &jobs)?,
             None => self.raster_hardware(cx, renderer, maps, &jobs)?,
         }
         if vsm {
-            maps.pending_moments = full.into_iter().chain(over).collect();
+            for layer in full.into_iter().chain(over) {
+                moments.push((
+                    layer,
+                    Rect::full(res),
+                    self.layer_info[layer as usize].clone(),
+                ));
+            }
+            maps.pending_moments = moments;
         }
         Ok(())
     }
+
+    /// Per cascade of a slice whose last map was `old`, now to show `new`:
+    /// Some(shift) where it moved across by whole texels (or held: (0, 0)),
+    /// None where it must be drawn whole. None for the slice where it cannot
+    /// scroll at all: not a sun, other casters, another filter or cascade count.
+    fn scrolls(&self, old: &SliceContent, new: &SliceContent) -> Option<Vec<Option<(i32, i32)>>> {
+        let same_casters = old.casters.len() == new.casters.len()
+            && old
+                .casters
+                .iter()
+                .zip(&new.casters)
+                .all(|(a, b)| std::sync::Arc::ptr_eq(a, b));
+        let scrollable = self.kind == crate::lighting::LightKind::Sun
+            && same_casters
+            && old.filter == new.filter
+            && old.views.len() == new.views.len();
+        scrollable.then(|| {
+            old.views
+                .iter()
+                .zip(&new.views)
+                .map(|(a, b)| {
+                    if a == b {
+                        Some((0, 0))
+                    } else {
+                        views::texel_shift(a, b, self.settings.resolution)
+                    }
+                })
+                .collect()
+        })
+    }
+}
+
+/// Counted where it happened (a counter of 0 is left out of the report).
+fn count(cx: &mut PassContext<'_>, name: &'static str, n: u64) {
+    if n > 0 {
+        cx.count(name, n);
+    }
+}
+
+/// The `Info` uniform of the resolve and moments shaders for `rect` of `layer`.
+fn region_info(layer: u32, blur: u32, rect: Rect) -> [u32; 8] {
+    let [x, y, w, h] = rect.to_gpu();
+    [layer, blur, 0, 0, x, y, w, h]
 }

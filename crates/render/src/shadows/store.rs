@@ -6,6 +6,7 @@ use std::sync::{Arc, Mutex};
 use crate::gbuffer::Layer;
 
 use super::ShadowFilter;
+use super::scroll::Rect;
 
 /// Conventional depth (0 near, 1 far) per layer: what shading samples.
 pub(super) const MAP_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
@@ -69,8 +70,13 @@ pub(super) struct StoredMaps {
     /// Per slice: the map holds what its still cache holds and nothing
     /// more (the moving casters were outside its views when it was drawn).
     pub bare: Vec<bool>,
-    /// VSM: layers rendered this frame whose moments are still to compute.
-    pub pending_moments: Vec<u32>,
+    /// VSM: the regions of layers drawn this frame whose moments are still
+    /// to compute (whole layers, or about a scrolled layer's new strips).
+    pub pending_moments: Vec<(u32, Rect, wgpu::Buffer)>,
+    /// One layer of each map format, where scrolling a layer copies its
+    /// kept part through (made the first time a cascade scrolls).
+    scratch: Option<wgpu::Texture>,
+    moments_scratch: Option<wgpu::Texture>,
 }
 
 /// What a rendered slice shows: reusable while both are the same.
@@ -124,16 +130,18 @@ fn array(
 impl StoredMaps {
     pub fn allocate(device: &wgpu::Device, layout: MapLayout) -> StoredMaps {
         let sampled = wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::TEXTURE_BINDING;
+        let scrolled = wgpu::TextureUsages::COPY_SRC | wgpu::TextureUsages::COPY_DST;
         let slices = (layout.layers / layout.per_slice.max(1)) as usize;
         StoredMaps {
             layout,
-            // Copied out only by tools and tests (`ShadowMaps::read_depth`).
+            // Copied out by tools and tests (`ShadowMaps::read_depth`), and
+            // within itself when a cascade scrolls.
             depth: array(
                 device,
                 "shadow maps",
                 layout,
                 MAP_FORMAT,
-                sampled | wgpu::TextureUsages::COPY_SRC,
+                sampled | scrolled,
             ),
             still: None,
             attachments: layout.hardware.then(|| {
@@ -145,14 +153,50 @@ impl StoredMaps {
                     wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
                 )
             }),
-            moments: layout
-                .vsm
-                .then(|| array(device, "shadow moments", layout, MOMENTS_FORMAT, sampled)),
+            moments: layout.vsm.then(|| {
+                array(
+                    device,
+                    "shadow moments",
+                    layout,
+                    MOMENTS_FORMAT,
+                    sampled | scrolled,
+                )
+            }),
             contents: vec![None; slices],
             still_contents: vec![None; slices],
             bare: vec![false; slices],
             pending_moments: Vec::new(),
+            scratch: None,
+            moments_scratch: None,
         }
+    }
+
+    /// The scratch layers a scroll copies through: for the depth map and,
+    /// with VSM, for its moments. Made once, kept with the maps.
+    pub fn scratch(&mut self, device: &wgpu::Device) -> (wgpu::Texture, Option<wgpu::Texture>) {
+        let one = MapLayout {
+            layers: 1,
+            ..self.layout
+        };
+        let usage = wgpu::TextureUsages::COPY_SRC | wgpu::TextureUsages::COPY_DST;
+        let depth = self
+            .scratch
+            .get_or_insert_with(|| array(device, "shadow scroll scratch", one, MAP_FORMAT, usage))
+            .clone();
+        let moments = self.layout.vsm.then(|| {
+            self.moments_scratch
+                .get_or_insert_with(|| {
+                    array(
+                        device,
+                        "shadow moments scroll scratch",
+                        one,
+                        MOMENTS_FORMAT,
+                        usage,
+                    )
+                })
+                .clone()
+        });
+        (depth, moments)
     }
 
     /// The still casters' maps, made the first time they are asked for.

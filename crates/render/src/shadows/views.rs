@@ -193,7 +193,12 @@ pub fn sun(
                 * (1.0 + 4.0 / res);
             let light_view = glam::camera::rh::view::look_to_mat4(Vec3::ZERO, direction, up);
             let c = light_view.transform_point3(center);
-            let snapped = if step_share > 0.0 {
+            // The box is placed in the light's view space (not through a
+            // world-space round trip), so that a box that holds its size and
+            // depth gives a view-projection that differs from the last only
+            // by whole texels across: what lets a moving camera scroll a
+            // cascade's map instead of drawing it again (`texel_shift`).
+            let (snapped, room) = if step_share > 0.0 {
                 // Stepped: wider by a step on each side, and the centre snapped
                 // to whole steps (whole texels) in all three of the light's
                 // axes, so the box (depth range too) holds while the camera
@@ -208,24 +213,35 @@ pub fn sun(
                 radius += step;
                 let texel = 2.0 * radius / res;
                 let step = (step / texel).floor().max(1.0) * texel;
-                (c / step).floor() * step
+                ((c / step).floor() * step, 0.0)
             } else {
-                // Snap the centre to whole texels in the light's view.
+                // Following the camera texel by texel: the radius rounded up
+                // to 10 significant bits (at most 0.1% wider) so that it holds
+                // bit for bit, the centre snapped to whole texels across, and
+                // along the light to whole radii, with a radius of room
+                // towards the sun: the depth range holds while the
+                // camera moves within it, so moves across scroll the map.
+                let unit = (radius.log2().floor() - 9.0).exp2();
+                radius = (radius / unit).ceil() * unit;
                 let texel = 2.0 * radius / res;
-                Vec3::new(
-                    (c.x / texel).floor() * texel,
-                    (c.y / texel).floor() * texel,
-                    c.z,
+                let along = radius;
+                (
+                    Vec3::new(
+                        (c.x / texel).floor() * texel,
+                        (c.y / texel).floor() * texel,
+                        (c.z / along).floor() * along,
+                    ),
+                    along,
                 )
             };
             let texel = 2.0 * radius / res;
-            let center = crate::camera::safe_inverse(light_view).transform_point3(snapped);
-            // Back to the farthest caster towards the sun (at least the cascade's own sphere).
+            // Back to the farthest caster towards the sun (at least the
+            // cascade's own sphere): the sun lies along +z in the light's view.
             let (caster_center, caster_radius) = casters;
-            let reach = (caster_center - center).dot(-direction) + caster_radius;
-            let back = radius.max(if reach.is_finite() { reach } else { radius });
-            let eye = center - direction * back;
-            let view = glam::camera::rh::view::look_to_mat4(eye, direction, up);
+            let reach = light_view.transform_point3(caster_center).z - snapped.z + caster_radius;
+            let back = (radius + room).max(if reach.is_finite() { reach } else { 0.0 });
+            let eye = snapped + Vec3::new(0.0, 0.0, back);
+            let view = Mat4::from_translation(-eye) * light_view;
             let depth = back + radius;
             let projection = glam::camera::rh::proj::directx::orthographic(
                 -radius, radius, -radius, radius, 0.0, depth,
@@ -241,6 +257,36 @@ pub fn sun(
             }
         })
         .collect()
+}
+
+/// How far every point moved in a layer's map, in whole texels (right,
+/// down), between view-projections `old` and `new` (column-major): Some where
+/// the two are the same orthographic box moved across the light by whole
+/// texels (a sun's cascade following the camera: the same size, depth range
+/// and direction), so the old map shifted by it is the new one but for the
+/// strips it uncovers. None for any other change, and for a move of a whole
+/// map or more (nothing would be kept).
+pub(crate) fn texel_shift(old: &[f32; 16], new: &[f32; 16], resolution: u32) -> Option<(i32, i32)> {
+    // Orthographic: no perspective row, so a move across is a shift.
+    let affine = old[3] == 0.0 && old[7] == 0.0 && old[11] == 0.0 && old[15] == 1.0;
+    // Everything but the translation across (12, 13) the same, bit for bit
+    // (NaN is never equal: a broken view never scrolls).
+    let same = (0..16)
+        .filter(|&i| i != 12 && i != 13)
+        .all(|i| old[i] == new[i]);
+    if !affine || !same {
+        return None;
+    }
+    // A point's NDC moves by the translation's change; NDC spans 2 over the map.
+    let half = resolution as f32 * 0.5;
+    let whole = |ndc: f32| {
+        let texels = ndc * half;
+        let k = texels.round();
+        (texels.is_finite() && (texels - k).abs() <= 1e-2 && k.abs() < resolution as f32)
+            .then_some(k as i32)
+    };
+    // NDC y points up, texel rows down.
+    Some((whole(new[12] - old[12])?, whole(old[13] - new[13])?))
 }
 
 /// Near and far of a conventional (0..1 depth) perspective projection.
@@ -369,9 +415,30 @@ mod tests {
             .map(|v| v.view_projection)
             .collect()
         };
-        // Following the camera texel by texel: a small move moves every cascade.
-        let (a, b) = (views(0.0, 0.0), views(0.0, 0.05));
-        assert!(a.iter().zip(&b).all(|(a, b)| a != b));
+        // Following the camera texel by texel: the finest cascade moves with
+        // nearly every small move, and a cascade that moves across the
+        // light moves by whole texels of the same box (its map scrolls);
+        // only where the camera crosses a radius along the light does the
+        // depth range change (drawn whole), seldom.
+        let (mut shifted, mut redrawn, mut kept) = (0, 0, 0);
+        for k in 1..=20 {
+            let before = views(0.0, (k - 1) as f32 * 0.05);
+            let after = views(0.0, k as f32 * 0.05);
+            for (b, a) in before.iter().zip(&after) {
+                match texel_shift(&b.to_cols_array(), &a.to_cols_array(), 512) {
+                    _ if a == b => kept += 1,
+                    Some((x, y)) => {
+                        assert!((x, y) != (0, 0) && x.abs() < 512 && y.abs() < 512);
+                        shifted += 1;
+                    }
+                    None => redrawn += 1,
+                }
+            }
+        }
+        assert!(
+            shifted >= 25 && redrawn <= 3,
+            "shifted {shifted}, drawn whole {redrawn}, kept {kept}"
+        );
         // Stepped: moves much smaller than a step leave most cascades where
         // they were, bit for bit; over 20 small moves the first cascade (the
         // finest, steps of about 1.3 units here) steps a few times at most.
@@ -391,6 +458,33 @@ mod tests {
             }
         }
         assert!(held >= 50 && steps <= 10, "held {held}, stepped {steps}");
+    }
+
+    #[test]
+    fn texel_shift_finds_whole_texel_moves_of_one_box_and_nothing_else() {
+        let p = glam::camera::rh::proj::directx::orthographic(-2.0, 2.0, -2.0, 2.0, 0.0, 10.0);
+        let texel = 4.0 / 64.0;
+        let at = |x: f32, y: f32, z: f32| {
+            (p * Mat4::from_translation(Vec3::new(-x, -y, -z))).to_cols_array()
+        };
+        let a = at(0.0, 0.0, 0.0);
+        // The box moves right and down: what it sees moves left and up.
+        assert_eq!(
+            texel_shift(&a, &at(3.0 * texel, -2.0 * texel, 0.0), 64),
+            Some((-3, -2))
+        );
+        assert_eq!(texel_shift(&a, &a, 64), Some((0, 0)));
+        // Half a texel, a move along the light (another depth range), a
+        // whole map or more, a perspective view, NaN: drawn whole.
+        assert_eq!(texel_shift(&a, &at(0.5 * texel, 0.0, 0.0), 64), None);
+        assert_eq!(texel_shift(&a, &at(0.0, 0.0, 0.5), 64), None);
+        assert_eq!(texel_shift(&a, &at(64.0 * texel, 0.0, 0.0), 64), None);
+        let perspective = glam::camera::rh::proj::directx::perspective(1.0, 1.0, 0.1, 10.0);
+        let q = |x: f32| {
+            (perspective * Mat4::from_translation(Vec3::new(-x, 0.0, 0.0))).to_cols_array()
+        };
+        assert_eq!(texel_shift(&q(0.0), &q(1.0), 64), None);
+        assert_eq!(texel_shift(&a, &at(f32::NAN, 0.0, 0.0), 64), None);
     }
 
     #[test]
