@@ -17,8 +17,8 @@
 # the two builds within a round means much when other work shares the cores.
 # Example (the lead's re-run on a quiet machine):
 #   git worktree add /work/wt/e2187b0 e2187b0
-#   (cd /work/wt/e2187b0 && CARGO_TARGET_DIR=$PWD/target cargo build --release --locked --bin spreadlight)
-#   cargo build --release --locked --bin spreadlight
+#   (cd /work/wt/e2187b0 && CARGO_TARGET_DIR=$PWD/target cargo build --workspace --release --locked --bin spreadlight)
+#   cargo build --workspace --release --locked --bin spreadlight
 #   docs/bench/lavapipe-compare.sh /work/wt/e2187b0/target/release/spreadlight \
 #     target/release/spreadlight /work/wt/e2187b0 /tmp/lavapipe.jsonl 3
 set -euo pipefail
@@ -65,7 +65,7 @@ def get(case, build, key):
             b = r["bench"] or {}
             out.append(b.get(key))
     return out
-def fmt(v, d):
+def fmt(v, d):  # ms: two decimals for the GPU frame, three for CPU
     return "—" if v is None else f"{v:.{d}f}"
 print("| patch | base: GPU frame | new: GPU frame | new / base | base: CPU | new: CPU | load average (base / new) |")
 print("|---|---:|---:|---:|---:|---:|---:|")
@@ -75,5 +75,5 @@ for c in cases:
     ratio = [None if (b is None or n is None or b == 0) else n / b for b, n in zip(bg, ng)]
     loads = [f'{r["load"]}' for b in ("base", "new") for r in rows if r["case"] == c and r["build"] == b]
     j = lambda xs, d: " / ".join(fmt(x, d) for x in xs)
-    print(f"| {c}.ron | {j(bg,1)} | {j(ng,1)} | {j(ratio,2)} | {j(bc,3)} | {j(nc,3)} | {' / '.join(loads)} |")
+    print(f"| {c}.ron | {j(bg,2)} | {j(ng,2)} | {j(ratio,2)} | {j(bc,3)} | {j(nc,3)} | {' / '.join(loads)} |")
 EOF
