@@ -21,6 +21,10 @@
 //!   `raster_key`): on a CPU adapter a raster without particle systems
 //!   fetches corner positions alone (MESHES_ONLY), not whole vertices
 //!   through the particle-aware `triangle_vertex`;
+//! - how many workgroups share the compute raster's big-triangle tiles
+//!   (`gbuffer/compute_raster.rs`, `tile_workgroups`): a GPU 1,024, a CPU
+//!   adapter one per thread (a workgroup with no tile still runs its whole
+//!   kernel on llvmpipe);
 //! - CookTorrance's light walk under `Auto` past a handful of lights
 //!   (`lighting/cook_torrance.rs`, `auto_walk`): a GPU shares each 16x16
 //!   block's lights through workgroup memory (Clustered), a CPU adapter walks

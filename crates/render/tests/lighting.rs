@@ -253,8 +253,9 @@ fn froxel_walks_stay_finite_and_agree_at_tile_edges_the_far_plane_and_zero_radiu
 #[test]
 fn a_gpus_and_a_cpu_adapters_paths_draw_the_same_frame() {
     // One adapter (lavapipe in CI) made to take each class's paths: the
-    // compute raster with and without the particle path (MESHES_ONLY) and
-    // the light assignment spread over 64 workgroups a light or one.
+    // compute raster with and without the particle path (MESHES_ONLY), the
+    // floor's big triangles' tiles shared by 1,024 workgroups or one a
+    // thread, and the light assignment spread over 64 workgroups a light or one.
     let render = |class: AdapterClass| {
         let gpu = GpuContext::headless()
             .expect("GPU tests need a GPU adapter")

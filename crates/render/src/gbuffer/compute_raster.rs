@@ -22,8 +22,12 @@ pub use super::compute_raster_key::RasterKey;
 
 /// How many big-triangle tiles one frame can queue (16 bytes each).
 const TILE_CAPACITY: u32 = 1 << 18;
-/// Workgroups that stride over the queued tiles.
+/// Workgroups that stride over the queued tiles on a GPU: enough to fill
+/// one however few tiles are queued.
 const TILE_WORKGROUPS: u32 = 1024;
+/// The most workgroups that stride over the queued tiles on a CPU adapter
+/// (one per thread it runs them on, see `tile_workgroups`).
+const CPU_TILE_WORKGROUPS: u32 = 64;
 const WORKGROUP: u32 = 64;
 
 /// Matches `Batch` in raster.wgsl.
@@ -391,12 +395,35 @@ fn raster_key(class: AdapterClass, two_sided: bool, particles: bool, words: Word
     .key()
 }
 
+/// How many workgroups stride over the queued tiles on a `class` adapter
+/// whose host has `cpu_threads` threads. A GPU runs its thousand side by
+/// side. A CPU adapter (llvmpipe) runs them a few at a time, one a thread,
+/// and a workgroup that finds no tile still goes through its whole kernel
+/// there (llvmpipe steps every row of lanes through both sides of each
+/// branch): the thousand cost gbuffer-spheres' raster 75-230 ms a frame at
+/// 160x90, a few 1 ms (docs/benchmarks.md, "lavapipe"). One a thread keeps
+/// every thread busy. Every workgroup strides over the queue, so any count
+/// draws the same words.
+fn tile_workgroups(class: AdapterClass, cpu_threads: usize) -> u32 {
+    match class {
+        AdapterClass::Gpu => TILE_WORKGROUPS,
+        AdapterClass::Cpu => u32::try_from(cpu_threads)
+            .map_or(CPU_TILE_WORKGROUPS, |t| t.clamp(1, CPU_TILE_WORKGROUPS)),
+    }
+}
+
+/// The threads a CPU adapter runs workgroups on: llvmpipe starts one per core.
+fn cpu_threads() -> usize {
+    std::thread::available_parallelism().map_or(1, |n| n.get())
+}
+
 /// `batches`' triangles, then the big triangles' tiles, in the open compute pass.
 fn raster_batches(
     cx: &mut PassContext<'_>,
     (tiles, tiles_groups): (&wgpu::ComputePipeline, &[wgpu::BindGroup]),
     batches: &[&BatchGroup<'_>],
 ) {
+    let tile_workgroups = tile_workgroups(cx.gpu.adapter_class(), cpu_threads());
     let pass = cx.compute_pass("compute raster");
     let mut dispatches = 0;
     for b in batches {
@@ -414,13 +441,28 @@ fn raster_batches(
     for (i, group) in tiles_groups.iter().enumerate() {
         pass.set_bind_group(i as u32, group, &[]);
     }
-    pass.dispatch_workgroups(TILE_WORKGROUPS, 1, 1);
+    pass.dispatch_workgroups(tile_workgroups, 1, 1);
     cx.draws += dispatches;
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_gpu_strides_over_the_tiles_with_a_thousand_workgroups_a_cpu_adapter_with_one_a_thread() {
+        // The GPU's count does not depend on the host.
+        for threads in [1, 2, 16, 256] {
+            assert_eq!(tile_workgroups(AdapterClass::Gpu, threads), 1024);
+        }
+        // A CPU adapter: one a thread, never none, never a GPU's thousand.
+        assert_eq!(tile_workgroups(AdapterClass::Cpu, 0), 1);
+        assert_eq!(tile_workgroups(AdapterClass::Cpu, 1), 1);
+        assert_eq!(tile_workgroups(AdapterClass::Cpu, 2), 2);
+        assert_eq!(tile_workgroups(AdapterClass::Cpu, 16), 16);
+        assert_eq!(tile_workgroups(AdapterClass::Cpu, 256), 64);
+        assert_eq!(tile_workgroups(AdapterClass::Cpu, usize::MAX), 64);
+    }
 
     #[test]
     fn a_cpu_adapter_fetches_positions_alone_where_no_draw_is_a_particle_system() {
