@@ -55,9 +55,14 @@ pub enum TransparencyPass {
     /// Alpha, revealage and the unlit colour (ambient, emission, the built-in
     /// key light, with `environment` the Environment's image-based light,
     /// and the layer's MatCap); without it, also the clear and the resolve.
+    /// With `transmission` (TRANSMISSION: the layer's world has a
+    /// Transmission material, or the node's Transmission is on), what shows
+    /// through is the opaque image sampled along the refracted ray, tinted
+    /// and absorbed, instead of the straight blend.
     Base {
         environment: bool,
         matcap: MatCapKey,
+        transmission: bool,
     },
     /// One light buffer's Cook-Torrance light, added to the colour.
     Light(LightKey),
@@ -261,6 +266,7 @@ impl Permutation for TransparencyKey {
         "SHADOW_PCF",
         "SHADOW_PCSS",
         "SHADOW_VSM",
+        "TRANSMISSION",
     ];
 
     fn features(self) -> impl Iterator<Item = &'static str> {
@@ -268,10 +274,12 @@ impl Permutation for TransparencyKey {
             TransparencyPass::Base {
                 environment,
                 matcap,
+                transmission,
             } => environment
                 .then_some("ENVIRONMENT")
                 .into_iter()
                 .chain(matcap.features())
+                .chain(transmission.then_some("TRANSMISSION"))
                 .collect(),
             TransparencyPass::Light(light) => light.features().collect(),
         };
@@ -279,8 +287,9 @@ impl Permutation for TransparencyKey {
     }
 
     /// Every surface with the base passes (a matcap only with a material
-    /// world) and with every light pass. The validation test composes each:
-    /// 30 surfaces x (2 or 6 + 35) passes.
+    /// world), each with and without transmission, and with every light
+    /// pass. The validation test composes each: 30 surfaces x (4 or 12 + 35)
+    /// passes.
     fn all() -> Vec<Self> {
         let lights: Vec<TransparencyPass> = LightKey::all()
             .into_iter()
@@ -295,9 +304,14 @@ impl Permutation for TransparencyKey {
                     &[MatCapKey::Off]
                 };
                 let bases = [false, true].into_iter().flat_map(move |environment| {
-                    matcaps.iter().map(move |&matcap| TransparencyPass::Base {
-                        environment,
-                        matcap,
+                    matcaps.iter().flat_map(move |&matcap| {
+                        [false, true]
+                            .into_iter()
+                            .map(move |transmission| TransparencyPass::Base {
+                                environment,
+                                matcap,
+                                transmission,
+                            })
                     })
                 });
                 bases
@@ -320,6 +334,7 @@ impl TransparencyKey {
         pass: TransparencyPass::Base {
             environment: false,
             matcap: MatCapKey::Off,
+            transmission: false,
         },
     };
 }
@@ -352,7 +367,18 @@ mod tests {
                 "SHADOW_PCF"
             ]
         );
+        // Refraction is a base-pass switch alone.
+        let glass = TransparencyKey {
+            pass: TransparencyPass::Base {
+                environment: false,
+                matcap: MatCapKey::Off,
+                transmission: true,
+            },
+            ..base
+        };
+        assert_eq!(glass.features().collect::<Vec<_>>(), ["TRANSMISSION"]);
         let all = TransparencyKey::all();
+        assert!(all.contains(&glass));
         let keys: std::collections::HashSet<_> = all.iter().map(|k| k.key()).collect();
         assert_eq!(
             keys.len(),
