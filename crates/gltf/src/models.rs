@@ -634,7 +634,10 @@ pub fn refraction_block() -> Vec<u8> {
     });
     doc.root.meshes[block.value()].primitives[0].material = Some(glass);
     // The grid lies in y = 0 facing +y: stood up to face the camera (+z).
-    let (s, c) = (std::f32::consts::FRAC_1_SQRT_2, std::f32::consts::FRAC_1_SQRT_2);
+    let (s, c) = (
+        std::f32::consts::FRAC_1_SQRT_2,
+        std::f32::consts::FRAC_1_SQRT_2,
+    );
     let wall = doc.node(json::Node {
         mesh: Some(wall),
         rotation: Some(json::scene::UnitQuaternion([s, 0.0, 0.0, c])),
@@ -645,7 +648,12 @@ pub fn refraction_block() -> Vec<u8> {
     let half = 0.3f32;
     let block = doc.node(json::Node {
         mesh: Some(block),
-        rotation: Some(json::scene::UnitQuaternion([0.0, half.sin(), 0.0, half.cos()])),
+        rotation: Some(json::scene::UnitQuaternion([
+            0.0,
+            half.sin(),
+            0.0,
+            half.cos(),
+        ])),
         translation: Some([0.0, 0.0, 0.2]),
         ..Default::default()
     });

@@ -54,14 +54,22 @@ fn volume_values_are_read_and_absorb_by_beer_lambert() {
     }
     // Drawn: the Transmission feature carries ior, thickness and
     // σ = -ln(c) / d, so exp(-σ t) is the transmittance above.
-    assert!(warnings.iter().all(|w| !w.contains("absorption")), "{warnings:?}");
+    assert!(
+        warnings.iter().all(|w| !w.contains("absorption")),
+        "{warnings:?}"
+    );
     let material = m.to_material();
     let p = material
         .params(Feature::Transmission)
         .expect("a Transmission feature");
     assert_eq!(p[0], [1.0, 1.5, 0.5, 0.0]);
     for (c, (sigma, want)) in p[1][..3].iter().zip(t).enumerate() {
-        assert_close((-sigma * 0.5).exp(), want, 1e-6, &format!("exp(-σ t), channel {c}"));
+        assert_close(
+            (-sigma * 0.5).exp(),
+            want,
+            1e-6,
+            &format!("exp(-σ t), channel {c}"),
+        );
     }
 }
 

@@ -116,7 +116,10 @@ mod tests {
         let tan_t = (theta.sin() / 1.5) / cos_t;
         assert!(((straight.x - exit.x) - 2.0 * (theta.tan() - tan_t)).abs() < 1e-5);
         let t = beer_lambert(Vec3::new(2.0f32.ln(), 0.0, 1e6), 1.0);
-        assert!((t - Vec3::new(0.5, 1.0, 0.0)).abs().max_element() < 1e-6, "{t}");
+        assert!(
+            (t - Vec3::new(0.5, 1.0, 0.0)).abs().max_element() < 1e-6,
+            "{t}"
+        );
         assert_eq!(beer_lambert(Vec3::ONE, f32::INFINITY), Vec3::ZERO);
         // An infinite or NaN thickness is thin-walled: no shift.
         for t in [f32::INFINITY, f32::NAN] {

@@ -836,7 +836,8 @@ fn wall(renderer: &Renderer) -> Arc<GBuffer> {
         .meshes
         .upload(&renderer.gpu, &plane())
         .expect("upload");
-    let t = Mat4::from_rotation_x(std::f32::consts::FRAC_PI_2) * Mat4::from_scale(Vec3::splat(40.0));
+    let t =
+        Mat4::from_rotation_x(std::f32::consts::FRAC_PI_2) * Mat4::from_scale(Vec3::splat(40.0));
     let layer = Arc::new(Layer::plain(vec![DrawBatch {
         mesh,
         instances: vec![InstanceInput {
@@ -902,7 +903,12 @@ fn refract_through(
     settings: TransparencySettings,
     materials: Option<Arc<spreadlight_render::material::MaterialWorld>>,
     lit: fn(u32, u32) -> [f32; 4],
-) -> (spreadlight_render::report::FrameReport, ImageF32, Arc<Transparency>, Vec3) {
+) -> (
+    spreadlight_render::report::FrameReport,
+    ImageF32,
+    Arc<Transparency>,
+    Vec3,
+) {
     let (layer, normal) = glass_pane(renderer, tilt);
     let lit = image(renderer, SIZE, lit);
     let pass = Transparency::lit(
@@ -969,9 +975,14 @@ fn a_glass_slab_shifts_what_is_behind_by_snells_law_and_ior_one_does_not() {
             thickness,
             ..Default::default()
         };
-        let (report, out, pass, n) = refract_through(&renderer, tilt, glass_settings(t), None, uv_ramp);
+        let (report, out, pass, n) =
+            refract_through(&renderer, tilt, glass_settings(t), None, uv_ramp);
         assert_eq!(report.counter(REFRACTING), 1);
-        assert!(pass.keys().iter().any(|k| k.key().features.contains("TRANSMISSION")));
+        assert!(
+            pass.keys()
+                .iter()
+                .any(|k| k.key().features.contains("TRANSMISSION"))
+        );
         for (x, y) in REFRACTED_PIXELS {
             let (want, _) = snell_uv(x, y, n, ior, thickness).expect("the pixel sees the pane");
             let got = glam::Vec2::from_slice(&at(&out, x, y)[..2]);
@@ -982,9 +993,15 @@ fn a_glass_slab_shifts_what_is_behind_by_snells_law_and_ior_one_does_not() {
             let own = glam::Vec2::from_slice(&uv_ramp(x, y)[..2]);
             if ior == 1.0 {
                 // No bend: the wall straight behind, unshifted.
-                assert!((got - own).abs().max_element() < 0.3 * texel, "ior 1 at ({x}, {y}): {got} vs {own}");
+                assert!(
+                    (got - own).abs().max_element() < 0.3 * texel,
+                    "ior 1 at ({x}, {y}): {got} vs {own}"
+                );
             } else {
-                assert!((want - own).x.abs() > 1.5 * texel, "a shift worth testing at ({x}, {y})");
+                assert!(
+                    (want - own).x.abs() > 1.5 * texel,
+                    "a shift worth testing at ({x}, {y})"
+                );
             }
         }
     }
@@ -1014,7 +1031,10 @@ fn the_volume_absorbs_by_beer_lambert_over_the_path_inside() {
             (got - want).abs().max_element() < 3e-3,
             "({x}, {y}): {got}, Beer-Lambert over {path} says {want}"
         );
-        assert!(want.x < 0.75 && path > thickness, "absorbed along a slanted path");
+        assert!(
+            want.x < 0.75 && path > thickness,
+            "absorbed along a slanted path"
+        );
     }
 }
 
@@ -1027,11 +1047,19 @@ fn refraction_hard_cases_stay_finite_and_clamp_to_the_screen() {
         for (x, y) in REFRACTED_PIXELS {
             let got = glam::Vec2::from_slice(&at(out, x, y)[..2]);
             let own = glam::Vec2::from_slice(&uv_ramp(x, y)[..2]);
-            assert!((got - own).abs().max_element() < 0.3 * texel, "{what} at ({x}, {y}): {got} vs {own}");
+            assert!(
+                (got - own).abs().max_element() < 0.3 * texel,
+                "{what} at ({x}, {y}): {got} vs {own}"
+            );
         }
     };
     // An ior of 0, NaN or below 0 bends nothing; an infinite thickness is thin-walled.
-    for (ior, thickness) in [(0.0, 1.0), (f32::NAN, 1.0), (-1.0, 1.0), (1.5, f32::INFINITY)] {
+    for (ior, thickness) in [
+        (0.0, 1.0),
+        (f32::NAN, 1.0),
+        (-1.0, 1.0),
+        (1.5, f32::INFINITY),
+    ] {
         let t = TransmissionSettings {
             factor: 1.0,
             ior,
@@ -1048,8 +1076,18 @@ fn refraction_hard_cases_stay_finite_and_clamp_to_the_screen() {
         .with(Feature::Transmission, &[[1.0, 0.0, 1.0, 0.0], [0.0; 4]])
         .expect("valid");
     let world = MaterialWorld::new(&renderer, vec![material]);
-    let (report, out, _, _) = refract_through(&renderer, 0.6, glass_settings(TransmissionSettings::default()), Some(world), uv_ramp);
-    assert_eq!(report.counter(REFRACTING), 1, "the world's Transmission turns it on");
+    let (report, out, _, _) = refract_through(
+        &renderer,
+        0.6,
+        glass_settings(TransmissionSettings::default()),
+        Some(world),
+        uv_ramp,
+    );
+    assert_eq!(
+        report.counter(REFRACTING),
+        1,
+        "the world's Transmission turns it on"
+    );
     straight(&out, "a material's ior 0");
     // A slab a thousand units deep, steeply tilted, bends the rays off
     // screen (the CPU reference says where): they sample the screen's edge.
@@ -1066,26 +1104,47 @@ fn refraction_hard_cases_stay_finite_and_clamp_to_the_screen() {
             continue;
         }
         let d = pixel_ray(x, y);
-        let entry = spreadlight_reference::refraction::hit_plane(EYE, d, Vec3::new(0.0, 0.0, PANE_Z), n)
-            .expect("on the pane");
+        let entry =
+            spreadlight_reference::refraction::hit_plane(EYE, d, Vec3::new(0.0, 0.0, PANE_Z), n)
+                .expect("on the pane");
         let (exit, _) = spreadlight_reference::refraction::slab_exit(entry, d, n, 1.5, 1e3);
         let want = screen_uv(exit);
-        assert!(want.x < 0.0 || want.x > 1.0, "({x}, {y}) leaves the screen: {want}");
+        assert!(
+            want.x < 0.0 || want.x > 1.0,
+            "({x}, {y}) leaves the screen: {want}"
+        );
         let u = at(&out, x, y)[0];
-        let edge = if want.x < 0.0 { 0.5 * texel } else { 1.0 - 0.5 * texel };
-        assert!((u - edge).abs() < 0.1 * texel, "({x}, {y}): u {u}, not the edge {edge}");
+        let edge = if want.x < 0.0 {
+            0.5 * texel
+        } else {
+            1.0 - 0.5 * texel
+        };
+        assert!(
+            (u - edge).abs() < 0.1 * texel,
+            "({x}, {y}): u {u}, not the edge {edge}"
+        );
         clamped += 1;
     }
     assert!(clamped >= 2, "{clamped} pixels on the steep pane");
     for (tilt, t) in [
-        (1.55, TransmissionSettings { factor: 1.0, thickness: 5.0, ..Default::default() }),
-        (0.6, TransmissionSettings {
-            factor: 1.0,
-            thickness: 1.0,
-            attenuation_color: Vec3::ZERO,
-            attenuation_distance: 1e-30,
-            ..Default::default()
-        }),
+        (
+            1.55,
+            TransmissionSettings {
+                factor: 1.0,
+                thickness: 5.0,
+                ..Default::default()
+            },
+        ),
+        (
+            0.6,
+            TransmissionSettings {
+                factor: 1.0,
+                thickness: 1.0,
+                attenuation_color: Vec3::ZERO,
+                attenuation_distance: 1e-30,
+                ..Default::default()
+            },
+        ),
     ] {
         let (_, out, _, _) = refract_through(&renderer, tilt, glass_settings(t), None, uv_ramp);
         let (lo, hi) = range(&out);

@@ -115,10 +115,8 @@ fn reference_uvs(size: (u32, u32), ior: f32, thickness: f32) -> Vec<Option<Vec2>
     let across = n.cross(Vec3::Y).normalize();
     (0..size.0 * size.1)
         .map(|i| {
-            let uv = Vec2::new(
-                (i % size.0) as f32 + 0.5,
-                (i / size.0) as f32 + 0.5,
-            ) / Vec2::new(size.0 as f32, size.1 as f32);
+            let uv = Vec2::new((i % size.0) as f32 + 0.5, (i / size.0) as f32 + 0.5)
+                / Vec2::new(size.0 as f32, size.1 as f32);
             let d = ray(inverse, uv);
             let entry = hit_plane(EYE, d, PANE, n)?;
             let local = entry - PANE;
@@ -147,7 +145,8 @@ fn reference(size: (u32, u32), uvs: &[Option<Vec2>], radius: f32) -> Vec<Option<
                 .map(|i| {
                     let rho = (i as f32 / taps as f32).sqrt() * radius;
                     let theta = i as f32 * 2.399_963_2;
-                    let at = (uv + Vec2::from_angle(theta) * rho * aspect).clamp(Vec2::ZERO, Vec2::ONE);
+                    let at =
+                        (uv + Vec2::from_angle(theta) * rho * aspect).clamp(Vec2::ZERO, Vec2::ONE);
                     wall_at(inverse, at)
                 })
                 .sum();
@@ -188,12 +187,15 @@ fn frame(
             wall_at(inverse, uv).extend(1.0).to_array()
         })
         .collect();
-    let lit = StaticTexture::from_rgba32f(&renderer.gpu, size.0, size.1, &pixels, "transmission wall");
+    let lit =
+        StaticTexture::from_rgba32f(&renderer.gpu, size.0, size.1, &pixels, "transmission wall");
     let wall = quad(renderer, Mat4::from_scale(Vec3::splat(40.0)), [1.0; 4])?;
     let g = GBuffer::new(renderer, None, vec![wall], c, None, SizeRule::Relative(1.0));
     let pane = quad(
         renderer,
-        Mat4::from_translation(PANE) * Mat4::from_rotation_y(TILT) * Mat4::from_scale(Vec3::splat(PANE_SIZE)),
+        Mat4::from_translation(PANE)
+            * Mat4::from_rotation_y(TILT)
+            * Mat4::from_scale(Vec3::splat(PANE_SIZE)),
         [1.0, 1.0, 1.0, 0.0],
     )?;
     let settings = TransparencySettings {
@@ -269,11 +271,15 @@ pub fn run(args: &TransmissionArgs) -> anyhow::Result<ExitCode> {
         ..settings(0, 1)
     };
     let families = std::iter::once(("off", "blended".to_owned(), off, 0.0, &sharp))
-        .chain(
-            args.steps
-                .iter()
-                .map(|&s| ("steps (smooth)", format!("{s} steps"), settings(s, 1), 0.0, &sharp)),
-        )
+        .chain(args.steps.iter().map(|&s| {
+            (
+                "steps (smooth)",
+                format!("{s} steps"),
+                settings(s, 1),
+                0.0,
+                &sharp,
+            )
+        }))
         .chain(args.taps.iter().map(|&t| {
             (
                 "taps (rough)",

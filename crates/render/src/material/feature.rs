@@ -119,7 +119,11 @@ pub fn transmission_params(
     } else {
         0.0
     };
-    let ior = if ior.is_finite() && ior > 0.0 { ior } else { 1.0 };
+    let ior = if ior.is_finite() && ior > 0.0 {
+        ior
+    } else {
+        1.0
+    };
     let thickness = if thickness.is_finite() {
         thickness.max(0.0)
     } else {
@@ -325,9 +329,7 @@ impl Feature {
             Feature::Emission | Feature::FakeSss => COLOR_PARAMS,
             Feature::Reflection | Feature::AmbientOcclusion | Feature::MatCap => STRENGTH_PARAMS,
             // Per material: no shader samples a texture layer for them.
-            Feature::Clearcoat | Feature::Unlit | Feature::Transmission | Feature::Custom(_) => {
-                &[]
-            }
+            Feature::Clearcoat | Feature::Unlit | Feature::Transmission | Feature::Custom(_) => &[],
         }
     }
 

@@ -408,7 +408,8 @@ impl Transparency {
     /// Whether a layer of material world `world` refracts: the settings'
     /// transmission is on, or the world has a Transmission material.
     fn transmits(&self, world: Option<&Arc<MaterialWorld>>) -> bool {
-        self.transmission || world.is_some_and(|w| w.union_flags() & (1 << FEATURE_TRANSMISSION) != 0)
+        self.transmission
+            || world.is_some_and(|w| w.union_flags() & (1 << FEATURE_TRANSMISSION) != 0)
     }
 
     /// A layer's surface permutation and the material world it reads.
