@@ -97,8 +97,10 @@ mod tests {
             let r = refract(incident, n, ior).expect("straight");
             assert!((r - incident).length() < 1e-6, "ior {ior}: {r}");
         }
-        // Out of glass into air past the critical angle: reflected.
-        assert_eq!(refract(incident, n, 1.0 / 1.5), None);
+        // Out of glass into air past the critical angle (asin(1 / 1.5) = 0.73): reflected.
+        let steep = Vec3::new(0.9f32.sin(), 0.0, -0.9f32.cos());
+        assert_eq!(refract(steep, n, 1.0 / 1.5), None);
+        assert!(refract(incident, n, 1.0 / 1.5).is_some());
     }
 
     #[test]

@@ -226,18 +226,21 @@ fn error(image: &ImageF32, truth: &[Option<Vec3>], size: (u32, u32)) -> metrics:
             .unzip()
     };
     let (approx, reference): (Vec<Vec<f32>>, Vec<Vec<f32>>) = (0..3).map(channel).unzip();
-    let planes = |channels: &'_ [Vec<f32>]| -> Vec<Plane<'_>> {
+    fn planes<'a>(channels: &'a [Vec<f32>], mask: &'a [bool], size: (u32, u32)) -> Vec<Plane<'a>> {
         channels
             .iter()
             .map(|values| Plane {
                 width: size.0,
                 height: size.1,
                 values,
-                mask: Some(&mask),
+                mask: Some(mask),
             })
             .collect()
-    };
-    metrics::Error::of(&planes(&approx), &planes(&reference))
+    }
+    metrics::Error::of(
+        &planes(&approx, &mask, size),
+        &planes(&reference, &mask, size),
+    )
 }
 
 struct Row {
