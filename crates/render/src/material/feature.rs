@@ -132,7 +132,8 @@ pub fn transmission_params(
     let d = attenuation_distance;
     let sigma = attenuation_color.map(|c| {
         // sigma = -ln(c) / d: none for no distance, an infinite one or white.
-        if !(d > 0.0) || d == f32::INFINITY || !c.is_finite() || c >= 1.0 {
+        let no_distance = d.is_nan() || d <= 0.0 || d == f32::INFINITY;
+        if no_distance || !c.is_finite() || c >= 1.0 {
             0.0
         } else if c <= 0.0 {
             MAX_ABSORPTION
