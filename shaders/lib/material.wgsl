@@ -21,6 +21,9 @@ const FEATURE_SURFACE_MAPS: u32 = 6u;
 const FEATURE_CLEARCOAT: u32 = 7u;
 // Shown as its albedo (strength): CompositeLight, under EMISSION.
 const FEATURE_UNLIT: u32 = 8u;
+// Refracted transmission (factor, ior, thickness; absorption rgb): lit
+// transparency's TRANSMISSION (post/transparency.wgsl).
+const FEATURE_TRANSMISSION: u32 = 9u;
 const FIRST_CUSTOM_FEATURE: u32 = 16u;
 const MAX_FEATURES: u32 = 32u;
 

@@ -49,15 +49,29 @@
 // array holds its images; else the built-in clay). SSR, Reflection's
 // screen-space input and SSAO are the G-buffer's, which transparent layers
 // are not in: they get the Environment (ENVIRONMENT) and no SSR.
+// TRANSMISSION (base pass; a layer whose world has a Transmission material,
+// or any layer when the node's Transmission is on): of what shows through
+// a fragment (1 - alpha), the material's share is refracted instead of
+// blended, as glTF viewers draw KHR_materials_transmission: the opaque lit
+// image (`lit_opaque`, before this composite) sampled where the ray, bent
+// by Snell's law into a slab `thickness` deep and leaving it parallel,
+// meets the opaque depth (`exit_uv`: a few steps walking the ray onto the
+// depth under its guess), blurred by roughness over a few taps, tinted by
+// the base colour and absorbed by Beer-Lambert over the path inside. The
+// fragment then covers alpha + share (the weight and the revealage see
+// that); its diffuse keeps alpha, emission, reflections and speculars take
+// the coverage. Only the opaque scene is seen refracted (other transparent
+// layers behind are not in `lit_opaque`), and what is off screen is the
+// screen's edge.
 // Both faces are drawn, except for one-sided glTF materials, whose back
 // faces the pipeline culls; a back face is lit with its normal turned to
 // the viewer (a glass shell's inside).
 #import spreadlight::camera::Camera
 #import spreadlight::mesh_fetch::{instances, triangle_vertex, view_right, view_up}
-#import spreadlight::post::{sanitize, HALF_MAX}
+#import spreadlight::post::{sanitize, HALF_MAX, bilinear}
 #import spreadlight::packing::safe_normalize
 #ifdef MATERIALS
-#import spreadlight::material::{feature_param, FEATURE_COOK_TORRANCE, FEATURE_EMISSION, FEATURE_REFLECTION}
+#import spreadlight::material::{feature_param, FEATURE_COOK_TORRANCE, FEATURE_EMISSION, FEATURE_REFLECTION, FEATURE_TRANSMISSION}
 #endif
 #ifdef ENVIRONMENT
 #import spreadlight::ibl::{split_sum, facing_normal}
@@ -94,6 +108,11 @@ struct Params {
     // x roughness, y metallic (layers without a material world), z energy
     // compensation (0/1), w the environment's prefiltered levels
     surface: vec4<f32>,
+    // Layers without a Transmission material: x the refracted share of what
+    // shows through (0: off), y ior, z thickness (world units); w blur taps
+    transmission: vec4<f32>,
+    // rgb: the same layers' absorption coefficient (1 / world unit); w depth-search steps
+    absorption: vec4<f32>,
 }
 
 @group(0) @binding(0) var<uniform> camera: Camera;
@@ -105,6 +124,117 @@ struct Params {
 @group(0) @binding(9) var output: texture_storage_2d<rgba16float, write>;
 @group(0) @binding(10) var clear_accumulation: texture_storage_2d<rgba16float, write>;
 @group(0) @binding(11) var clear_revealage: texture_storage_2d<rgba16float, write>;
+
+// A fragment's transmission: x the share of what shows through it that is
+// refracted (0..1), y ior, z thickness. Its material's Transmission
+// feature, else the node's settings (x is 0 when the node's is off and the
+// world has none: then nothing refracts and coverage is alpha, as before).
+fn transmission_of(material: u32) -> vec4<f32> {
+    var t = params.transmission;
+#ifdef MATERIALS
+    t = feature_param(material, FEATURE_TRANSMISSION, 0u, t);
+#endif
+    return vec4<f32>(clamp(sanitize(t).x, 0.0, 1.0), t.yzw);
+}
+
+#ifdef TRANSMISSION
+// The opaque lit image (before this node's composite), sampled along the
+// refracted ray by hand (`bilinear`: any float format, filterable or not).
+@group(0) @binding(30) var lit_opaque: texture_2d<f32>;
+
+fn finite2(v: vec2<f32>) -> bool {
+    // False for NaN (every comparison with NaN is) and for infinities.
+    return all(abs(v) < vec2<f32>(1e30));
+}
+
+// Homogeneous world point `p` (w 0: a direction, the point at infinity) on
+// screen as uv, clamped to the screen (a ray leaving it samples its edge);
+// `fallback` behind the eye or for anything not finite.
+fn screen_uv(p: vec4<f32>, fallback: vec2<f32>) -> vec2<f32> {
+    let clip = camera.view_projection * p;
+    if (!(clip.w > 1e-6)) {
+        return fallback;
+    }
+    let ndc = clip.xy / clip.w;
+    let uv = vec2<f32>(ndc.x * 0.5 + 0.5, 0.5 - ndc.y * 0.5);
+    if (!finite2(uv)) {
+        return fallback;
+    }
+    return clamp(uv, vec2<f32>(0.0), vec2<f32>(1.0));
+}
+
+// Where the ray from `start` (world) along `dir` meets the opaque scene,
+// as uv: `steps` times, the opaque depth under the current guess gives the
+// camera depth the ray is walked to (exact in one step over a background at
+// one depth); 0 steps is `start`'s own projection (Khronos' viewer). An
+// empty pixel (the far plane) sends the ray to infinity: its vanishing point.
+fn exit_uv(start: vec3<f32>, dir: vec3<f32>, steps: u32, fallback: vec2<f32>) -> vec2<f32> {
+    var uv = screen_uv(vec4<f32>(start, 1.0), fallback);
+    let start_depth = -(camera.view * vec4<f32>(start, 1.0)).z;
+    let dir_depth = -(camera.view * vec4<f32>(dir, 0.0)).z;
+    // A ray that does not go away from the eye never meets what is behind.
+    if (!(dir_depth > 1e-4)) {
+        return uv;
+    }
+    let size = vec2<i32>(textureDimensions(opaque_depth));
+    for (var k = 0u; k < min(steps, 8u); k++) {
+        let pixel = clamp(vec2<i32>(uv * vec2<f32>(size)), vec2<i32>(0), size - 1);
+        let z = textureLoad(opaque_depth, pixel, 0).r;
+        let ndc = vec2<f32>(uv.x * 2.0 - 1.0, 1.0 - uv.y * 2.0);
+        let view = camera.projection_inverse * vec4<f32>(ndc, z, 1.0);
+        if (!(z > 0.0) || !(view.w > 1e-20)) {
+            uv = screen_uv(vec4<f32>(dir, 0.0), uv);
+            break;
+        }
+        let depth = -view.z / view.w;
+        let t = clamp((depth - start_depth) / dir_depth, 0.0, 1e6);
+        uv = screen_uv(vec4<f32>(start + dir * t, 1.0), uv);
+    }
+    return uv;
+}
+
+// The light reaching the eye through a transmissive surface at `world`
+// (facing normal `n`, towards-eye `v`, pixel `frag`): the ray refracted
+// into a slab `thickness` deep (Snell, index `ior`: NaN, zero or negative
+// is 1; total internal reflection goes straight on), leaving parallel to
+// where it came from, meeting the opaque scene (`exit_uv`), blurred over
+// the settings' taps in a disc that grows with `roughness`, and absorbed
+// along the path inside (Beer-Lambert, coefficients `sigma`). Finite for
+// every input.
+fn transmitted(world: vec3<f32>, n: vec3<f32>, v: vec3<f32>, ior_in: f32, thickness_in: f32, roughness: f32, sigma: vec3<f32>, frag: vec2<f32>) -> vec3<f32> {
+    let size = vec2<f32>(textureDimensions(lit_opaque));
+    let own = clamp(frag / vec2<f32>(textureDimensions(opaque_depth)), vec2<f32>(0.0), vec2<f32>(1.0));
+    let ior = select(1.0, ior_in, ior_in > 0.0 && ior_in < 1e6);
+    let thickness = select(0.0, thickness_in, thickness_in > 0.0 && thickness_in < 1e6);
+    let incident = -v;
+    var r = refract(incident, n, 1.0 / ior);
+    if (!(dot(r, r) > 1e-8)) {
+        r = incident;
+    }
+    // Through a slab: thickness / cos(refracted angle), held finite at grazing.
+    let path = thickness / max(dot(-n, r), 0.05);
+    let uv = exit_uv(world + r * path, incident, u32(params.absorption.w), own);
+    // The blur disc: none for smooth glass, none without a bend (ior 1).
+    let radius = 0.1 * clamp(roughness, 0.0, 1.0) * clamp(2.0 * ior - 2.0, 0.0, 1.0);
+    let taps = clamp(u32(params.transmission.w), 1u, 32u);
+    var color = vec3<f32>(0.0);
+    if (radius * size.y < 0.5 || taps == 1u) {
+        color = bilinear(lit_opaque, uv).rgb;
+    } else {
+        // A Vogel disc (golden-angle spiral), the first tap at the centre.
+        let aspect = vec2<f32>(size.y / size.x, 1.0);
+        for (var i = 0u; i < taps; i++) {
+            let rho = sqrt(f32(i) / f32(taps)) * radius;
+            let theta = f32(i) * 2.3999632;
+            let at = clamp(uv + vec2<f32>(cos(theta), sin(theta)) * rho * aspect, vec2<f32>(0.0), vec2<f32>(1.0));
+            color += bilinear(lit_opaque, at).rgb;
+        }
+        color /= f32(taps);
+    }
+    let absorbed = exp(-clamp(sanitize(vec4<f32>(sigma, 0.0)).rgb, vec3<f32>(0.0), vec3<f32>(1e6)) * path);
+    return clamp(sanitize(vec4<f32>(color * absorbed, 0.0)).rgb, vec3<f32>(0.0), vec3<f32>(HALF_MAX));
+}
+#endif
 #ifdef NORMAL_MAP
 @group(2) @binding(0) var normal_map: texture_2d<f32>;
 @group(2) @binding(1) var normal_sampler: sampler;
@@ -427,11 +557,18 @@ fn fs(in: VertexOut, @builtin(front_facing) front: bool) -> Accumulated {
     // Behind the opaque surface (reversed-Z: a smaller depth is further): hidden.
     let opaque_z = textureLoad(opaque_depth, vec2<i32>(in.clip.xy), 0).r;
     let alpha = clamp(sanitize(base).a, 0.0, 1.0);
-    if (in.clip.z < opaque_z || alpha < 1e-4) {
+    // What shows through is refracted in this share (transmission: the
+    // fragment covers it with what it refracts); coverage is what the
+    // weight and the revealage see, alpha what the surface's own diffuse
+    // colour is scaled by. Without transmission the two are one.
+    let transmission = transmission_of(in.material);
+    let share = transmission.x * (1.0 - alpha);
+    let coverage = alpha + share;
+    if (in.clip.z < opaque_z || coverage < 1e-4) {
         discard;
     }
     let albedo = max(sanitize(base).rgb, vec3<f32>(0.0));
-    let w = weight(in.distance, alpha);
+    let w = weight(in.distance, coverage);
     var out: Accumulated;
 #ifdef LIGHT_PASS
     // A back face (a shell's inside, seen through its front) is lit on the side it shows.
@@ -445,15 +582,21 @@ fn fs(in: VertexOut, @builtin(front_facing) front: bool) -> Accumulated {
     }
     // Held at 600 before sanitizing: a light that overflows to infinity
     // saturates the pixel instead of blacking it out; NaN becomes 0.
-    let color = max(sanitize(vec4<f32>(min(lit.diffuse + specular, vec3<f32>(600.0)), 0.0)).rgb, vec3<f32>(0.0));
-    // The colour alone: alpha and the revealage are the base pass's (the pipeline masks them).
-    out.accumulation = vec4<f32>(color * alpha * w, 0.0);
+    let diffuse = max(sanitize(vec4<f32>(min(lit.diffuse, vec3<f32>(600.0)), 0.0)).rgb, vec3<f32>(0.0));
+    let glossy = max(sanitize(vec4<f32>(min(specular, vec3<f32>(600.0)), 0.0)).rgb, vec3<f32>(0.0));
+    // The colour alone: alpha and the revealage are the base pass's (the
+    // pipeline masks them). Transmission takes the diffuse's place in what
+    // it covers (glTF's model), the specular reflects off all of it.
+    out.accumulation = vec4<f32>((diffuse * alpha + glossy * coverage) * w, 0.0);
     out.revealage = vec4<f32>(0.0);
 #else
     // Two-sided: a thin glass-like shell is lit from either side.
     let lambert = abs(dot(n, params.light_direction.xyz));
     let radiance = params.ambient.rgb * occlusion + params.light_color.rgb * lambert;
-    var unlit = albedo * radiance + emission;
+    // The diffuse, scaled by alpha; the rest (emission, reflections, the
+    // refracted light) by coverage.
+    let diffuse = albedo * radiance;
+    var unlit = emission;
 #ifdef ENVIRONMENT
     // Layers without a material world reflect fully; with one, as much as
     // their material's Reflection feature says (none without it), as
@@ -472,9 +615,24 @@ fn fs(in: VertexOut, @builtin(front_facing) front: bool) -> Accumulated {
 #ifdef FROXEL_MARKS
     mark_froxels(in.clip.xy, in.distance);
 #endif
+    var through = vec3<f32>(0.0);
+#ifdef TRANSMISSION
+    if (share > 0.0) {
+        var sigma = params.absorption.rgb;
+#ifdef MATERIALS
+        sigma = feature_param(in.material, FEATURE_TRANSMISSION, 1u, vec4<f32>(sigma, 0.0)).rgb;
+#endif
+        let n_t = select(-n, n, front);
+        let v_t = safe_normalize(camera.position.xyz - in.world, n_t);
+        // Tinted by the base colour (glTF: the transmitted light is).
+        through = albedo * transmitted(in.world, n_t, v_t, transmission.y, transmission.z, roughness, sigma, in.clip.xy);
+    }
+#endif
+    let surface = max(sanitize(vec4<f32>(min(diffuse, vec3<f32>(600.0)), 0.0)).rgb, vec3<f32>(0.0));
     let color = max(sanitize(vec4<f32>(min(unlit, vec3<f32>(600.0)), 0.0)).rgb, vec3<f32>(0.0));
-    out.accumulation = vec4<f32>(color * alpha, alpha) * w;
-    out.revealage = vec4<f32>(alpha);
+    let refracted = min(through, vec3<f32>(600.0));
+    out.accumulation = vec4<f32>(surface * alpha + color * coverage + refracted * share, coverage) * w;
+    out.revealage = vec4<f32>(coverage);
 #endif
     return out;
 }

@@ -9,7 +9,7 @@
 //! small size are named and left out, so a pass here means the stated
 //! trade-off, not a coin toss.
 //!
-//! One test binary for all seven subcommands: each test binary costs a link
+//! One test binary for all eight subcommands: each test binary costs a link
 //! in CI, and the tests of one binary run side by side.
 
 mod support;
@@ -614,4 +614,50 @@ fn gltf_filtering_reduces_aliasing_and_point_sampling_matches_the_reference() {
     assert_eq!(std::fs::read_to_string(&table).expect("the table"), stdout);
     let svg = std::fs::read_to_string(&plot).expect("the plot");
     assert!(svg.starts_with("<svg") && svg.contains("16 rays"));
+}
+
+/// Transmission (docs/post.md, "Transmission"): the baseline, every step
+/// count and every tap count timed; refraction nearer the ray trace than
+/// the straight blend, and a depth-search step nearer than none (the wall
+/// is at one camera depth: one step lands where the ray does).
+#[test]
+fn transmission_every_setting_is_timed_and_refraction_nears_the_ray_trace() {
+    let rows = json_rows(&[
+        "transmission",
+        "--error-size",
+        "96x54",
+        "--time-size",
+        "96x54",
+        "--steps",
+        "0,1,2",
+        "--taps",
+        "1,8",
+        "--warmup",
+        "0",
+        "--frames",
+        "1",
+    ]);
+    assert_eq!(rows.len(), 1 + 3 + 2);
+    let at = |method: &str, setting: &str| {
+        row(
+            &rows,
+            &[("method", method.into()), ("setting", setting.into())],
+        )
+    };
+    for r in &rows {
+        timed(r, "accumulate_ms");
+        finite_error(r, "rmse", 1.0);
+        assert_eq!(string(r, "effect"), "transmission");
+    }
+    let off = num(at("off", "blended"), "rmse");
+    let (none, one, two) = (
+        num(at("steps (smooth)", "0 steps"), "rmse"),
+        num(at("steps (smooth)", "1 steps"), "rmse"),
+        num(at("steps (smooth)", "2 steps"), "rmse"),
+    );
+    assert!(one < none && two < none, "steps: {none} {one} {two}");
+    // lavapipe at 96x54: blended 0.363, 0 / 1 / 2 steps 0.231 / 0.192 / 0.192.
+    assert!(two < 0.75 * off, "refracted {two} against blended {off}");
+    finite_error(at("taps (rough)", "1 taps"), "rmse", 1.0);
+    finite_error(at("taps (rough)", "8 taps"), "rmse", 1.0);
 }

@@ -9,7 +9,7 @@ use gltf::texture::{MagFilter, WrappingMode};
 
 use super::{AlphaMode, GltfError, Importer, MaterialData, TextureData, source};
 use spreadlight_render::material::maps::{MapRef, MapSlot, SurfaceMaps, UvTransform, Wrap};
-use spreadlight_render::material::{Feature, Material};
+use spreadlight_render::material::{Feature, Material, transmission_params};
 
 /// A texture use as glTF states it: the texture, its texCoord, and its
 /// `KHR_texture_transform` extension object if any.
@@ -242,7 +242,10 @@ impl MaterialData {
     /// `KHR_materials_specular` ([`MaterialData::reflectance`]; 0.04, glTF's,
     /// without them), Emission when it emits (colour,
     /// `KHR_materials_emissive_strength`), Clearcoat when it has a coat
-    /// (`KHR_materials_clearcoat`), Unlit (`KHR_materials_unlit`), and
+    /// (`KHR_materials_clearcoat`), Unlit (`KHR_materials_unlit`),
+    /// Transmission when it transmits (`KHR_materials_transmission`, its
+    /// refraction by `KHR_materials_ior`, its thickness and absorption by
+    /// `KHR_materials_volume`), and
     /// SurfaceMaps for its textures, alpha mode and sidedness. The base
     /// colour factor is the instance colour (the glTF node's Base Color).
     pub fn to_material(&self) -> Material {
@@ -271,6 +274,20 @@ impl MaterialData {
         }
         if self.unlit {
             let _ = material.set(Feature::Unlit, &[[1.0, 0.0, 0.0, 0.0]]);
+        }
+        if finite(self.transmission) > 0.0 {
+            // The factor and map are in the base colour's alpha already
+            // (1 - transmission), so all of what shows through refracts.
+            let _ = material.set(
+                Feature::Transmission,
+                &transmission_params(
+                    1.0,
+                    self.ior,
+                    self.thickness,
+                    self.attenuation_color,
+                    self.attenuation_distance,
+                ),
+            );
         }
         let [r, g, b] = self.emissive.map(finite);
         let strength = finite(self.emissive_strength);

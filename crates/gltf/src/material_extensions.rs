@@ -10,7 +10,9 @@
 //!   ([`MaterialData::reflectance`], CookTorrance's reflectance).
 //! - `KHR_materials_clearcoat`: factor and roughness (the Clearcoat feature).
 //! - `KHR_materials_transmission`: drawn BLEND with opacity
-//!   alpha x (1 - transmission) until a pass refracts; its
+//!   alpha x (1 - transmission), what shows through refracted by lit
+//!   transparency (the material's Transmission feature, with
+//!   `KHR_materials_ior` and `KHR_materials_volume`); its
 //!   transmissionTexture is baked into the base colour map's alpha
 //!   ([`super::transmission`]), so it is sampled per texel.
 //! - `KHR_materials_volume`: thickness, its map, attenuation colour and
@@ -127,7 +129,8 @@ impl Importer<'_> {
     }
 
     /// `KHR_materials_transmission`: the factor, and its map baked into
-    /// the base colour map's alpha; drawn BLEND (no pass refracts yet).
+    /// the base colour map's alpha; drawn BLEND, what shows through
+    /// refracted (the Transmission feature, [`MaterialData::to_material`]).
     fn transmission(
         &mut self,
         document: &Document,
@@ -142,13 +145,13 @@ impl Importer<'_> {
         if data.transmission <= 0.0 {
             return Ok(());
         }
-        // No pass refracts yet: what the surface lets through is
-        // blended, as a glass pane would look without refraction.
+        // What the surface lets through is its coverage's complement; lit
+        // transparency refracts it (the Transmission feature).
         data.alpha_mode = AlphaMode::Blend;
         let Some(map) = data.transmission_texture.clone() else {
             data.base_color[3] *= 1.0 - data.transmission;
             self.warn(format!(
-                "{who}: {name} {} is drawn as BLEND with opacity {} (alpha x (1 - transmission)), without refraction",
+                "{who}: {name} {} is drawn as BLEND with opacity {} (alpha x (1 - transmission)), what shows through refracted in screen space (the opaque scene only)",
                 data.transmission, data.base_color[3]
             ));
             return Ok(());
@@ -171,7 +174,7 @@ impl Importer<'_> {
         let sampling = base.unwrap_or(TextureData { srgb: true, ..map });
         data.base_color_texture = Some(TextureData { image, ..sampling });
         self.warn(format!(
-            "{who}: {name} {} with transmissionTexture is drawn as BLEND with opacity alpha x (1 - transmission x map), without refraction",
+            "{who}: {name} {} with transmissionTexture is drawn as BLEND with opacity alpha x (1 - transmission x map), what shows through refracted in screen space (the opaque scene only)",
             data.transmission
         ));
         Ok(())

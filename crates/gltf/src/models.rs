@@ -588,3 +588,75 @@ pub fn transmission_window() -> Vec<u8> {
     doc.scene(vec![behind, window]);
     doc.gltf_data_uri()
 }
+
+/// A glass block before a checkered wall: `KHR_materials_transmission` 1
+/// with `KHR_materials_ior` 1.5 and `KHR_materials_volume` (thickness 0.5,
+/// a pale blue absorption over 0.8), turned so the wall's lines bend
+/// through it; docs/gltf.md's picture of refracted transmission.
+pub fn refraction_block() -> Vec<u8> {
+    let mut doc = Doc::new();
+    let wall = floor_mesh(&mut doc, glam::Vec2::splat(4.0));
+    let image = doc.png_image(&png(&checker([230, 220, 200, 255], [30, 40, 60, 255])));
+    let texture = doc.texture(image);
+    let mut paper = json::Material {
+        name: Some("Wall".into()),
+        ..Default::default()
+    };
+    paper.pbr_metallic_roughness.base_color_texture = Some(info(texture));
+    paper.pbr_metallic_roughness.metallic_factor = json::material::StrengthFactor(0.0);
+    let paper = doc.material(paper);
+    doc.root.meshes[wall.value()].primitives[0].material = Some(paper);
+    let block = doc.mesh_data("Block", &box_mesh(BoxParams::default()));
+    let others = json::deserialize::from_str::<json::Value>(
+        r#"{"KHR_materials_transmission": {"transmissionFactor": 1.0},
+            "KHR_materials_ior": {"ior": 1.5},
+            "KHR_materials_volume": {"thicknessFactor": 0.5,
+                "attenuationColor": [0.6, 0.85, 1.0], "attenuationDistance": 0.8}}"#,
+    )
+    .ok()
+    .and_then(|v| v.as_object().cloned())
+    .unwrap_or_default();
+    for name in others.keys() {
+        doc.root.extensions_used.push(name.clone());
+    }
+    let glass = doc.material(json::Material {
+        name: Some("Glass".into()),
+        pbr_metallic_roughness: json::material::PbrMetallicRoughness {
+            metallic_factor: json::material::StrengthFactor(0.0),
+            roughness_factor: json::material::StrengthFactor(0.05),
+            ..Default::default()
+        },
+        extensions: Some(json::extensions::material::Material {
+            others,
+            ..Default::default()
+        }),
+        ..Default::default()
+    });
+    doc.root.meshes[block.value()].primitives[0].material = Some(glass);
+    // The grid lies in y = 0 facing +y: stood up to face the camera (+z).
+    let (s, c) = (
+        std::f32::consts::FRAC_1_SQRT_2,
+        std::f32::consts::FRAC_1_SQRT_2,
+    );
+    let wall = doc.node(json::Node {
+        mesh: Some(wall),
+        rotation: Some(json::scene::UnitQuaternion([s, 0.0, 0.0, c])),
+        translation: Some([0.0, 0.0, -1.0]),
+        ..Default::default()
+    });
+    // Turned 0.6 rad about y.
+    let half = 0.3f32;
+    let block = doc.node(json::Node {
+        mesh: Some(block),
+        rotation: Some(json::scene::UnitQuaternion([
+            0.0,
+            half.sin(),
+            0.0,
+            half.cos(),
+        ])),
+        translation: Some([0.0, 0.0, 0.2]),
+        ..Default::default()
+    });
+    doc.scene(vec![wall, block]);
+    doc.gltf_data_uri()
+}

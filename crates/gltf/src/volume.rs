@@ -4,8 +4,9 @@
 //! `attenuationColor` after `attenuationDistance`). Read and checked here;
 //! [`MaterialData::transmittance`] is the absorption along a path, finite
 //! for every input (zero thickness, infinite distance, black attenuation).
-//! No pass draws the absorption yet: transmission is blended without
-//! refraction, and a blend cannot tint what is behind (warned).
+//! Drawn by lit transparency: the material's Transmission feature carries
+//! the thickness and the absorption coefficient σ = -ln(c) / d
+//! ([`spreadlight_render::material::transmission_params`]).
 
 use gltf::Document;
 use gltf::json::Value;
@@ -39,13 +40,6 @@ impl Importer<'_> {
                 }
             },
         };
-        let absorbs = data.attenuation_distance.is_finite() && data.attenuation_color != [1.0; 3];
-        if data.transmission > 0.0 && data.thickness > 0.0 && absorbs {
-            self.warn(format!(
-                "{who}: {name}: the absorption through the thickness (transmittance {:?}) is not drawn; transmission is blended",
-                data.transmittance(data.thickness)
-            ));
-        }
         Ok(())
     }
 }

@@ -9,6 +9,7 @@ use super::material_extensions_tests::{
     assert_close, assert_finite, cube_with, load_one, named, value,
 };
 use super::*;
+use spreadlight_render::material::Feature;
 
 /// `doc`'s one material gets the extension objects of `ext` (a format
 /// string's output, naming textures the test added).
@@ -51,13 +52,25 @@ fn volume_values_are_read_and_absorb_by_beer_lambert() {
     for (got, want) in m.transmittance(2.0).iter().zip([0.5, 0.25, 1.0]) {
         assert_close(*got, want, 1e-6, "transmittance at the distance");
     }
-    // The absorption is not drawn: said once, naming the material.
+    // Drawn: the Transmission feature carries ior, thickness and
+    // σ = -ln(c) / d, so exp(-σ t) is the transmittance above.
     assert!(
-        warnings
-            .iter()
-            .any(|w| w.contains("`Tinted`") && w.contains("absorption")),
+        warnings.iter().all(|w| !w.contains("absorption")),
         "{warnings:?}"
     );
+    let material = m.to_material();
+    let p = material
+        .params(Feature::Transmission)
+        .expect("a Transmission feature");
+    assert_eq!(p[0], [1.0, 1.5, 0.5, 0.0]);
+    for (c, (sigma, want)) in p[1][..3].iter().zip(t).enumerate() {
+        assert_close(
+            (-sigma * 0.5).exp(),
+            want,
+            1e-6,
+            &format!("exp(-σ t), channel {c}"),
+        );
+    }
 }
 
 #[test]
@@ -273,4 +286,40 @@ fn the_window_asset_is_what_the_generator_makes_and_bakes_its_frame() {
     assert_eq!(alpha(0, 0), 255);
     assert_eq!(alpha(32, 10), 255);
     assert_eq!(alpha(16, 16), 26);
+}
+
+#[test]
+fn the_refraction_asset_is_what_the_generator_makes_and_refracts() {
+    // patches/assets/gltf-refraction.gltf (docs/gltf.md's picture of
+    // refracted transmission) is the committed output of the generator.
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../patches/assets/gltf-refraction.gltf");
+    let made = super::models::refraction_block();
+    if std::env::var_os("SPREADLIGHT_BLESS").is_some() {
+        std::fs::write(&path, &made).expect("bless the asset");
+    }
+    let committed = std::fs::read(&path).expect("the committed asset");
+    assert!(
+        committed == made,
+        "{} is stale: regenerate with SPREADLIGHT_BLESS=1",
+        path.display()
+    );
+    let scene = load_gltf_slice(&made, None).expect("loads");
+    let glass = scene
+        .materials
+        .iter()
+        .find(|m| m.name.as_deref() == Some("Glass"))
+        .expect("the glass");
+    // Fully transmissive: opacity 0, all of what shows through refracted
+    // with the file's ior, thickness and absorption.
+    assert_eq!(glass.alpha_mode, AlphaMode::Blend);
+    assert_eq!(glass.base_color[3], 0.0);
+    let material = glass.to_material();
+    let p = material
+        .params(Feature::Transmission)
+        .expect("a Transmission feature");
+    assert_eq!(p[0], [1.0, 1.5, 0.5, 0.0]);
+    for (sigma, c) in p[1][..3].iter().zip([0.6f32, 0.85, 1.0]) {
+        assert_close(*sigma, -c.ln() / 0.8, 1e-6, "σ = -ln(c) / d");
+    }
 }

@@ -397,8 +397,11 @@ fn transmission_maps_and_emissive_strength_reach_lit_transparency() {
         .pixels;
     // Unlit by lights (ambient 1): base 0.25 plus emission (0.5, 0.25, 0)
     // x strength 2. Left: no transmission, opaque. Right: transmission
-    // 0.8 x 1, opacity 0.2 (baked alpha 51 / 255), over the green background.
-    let surface = [1.25, 0.75, 0.25];
+    // 0.8 x 1, opacity 0.2 (baked alpha 51 / 255): the diffuse base scaled
+    // by the opacity, the emission whole, and what shows through (0.8)
+    // refracted (thin-walled: no shift) and tinted by the base colour, over
+    // the green background.
+    let (base, emission) = (0.25, [1.0, 0.5, 0.0]);
     let mut checked = [0; 2];
     for py in 0..SIZE.1 {
         for px in 0..SIZE.0 {
@@ -411,7 +414,7 @@ fn transmission_maps_and_emissive_strength_reach_lit_transparency() {
             let alpha = [1.0, 0.2][half];
             let got = pixels[(py * SIZE.0 + px) as usize];
             for c in 0..3 {
-                let want = BACKGROUND[c] * (1.0 - alpha) + surface[c] * alpha;
+                let want = base * alpha + emission[c] + (1.0 - alpha) * base * BACKGROUND[c];
                 assert!(
                     got[c].is_finite() && (got[c] - want).abs() < 0.01,
                     "pixel ({px}, {py}), channel {c}: {} instead of {want} (half {half})",

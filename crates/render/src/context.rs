@@ -240,6 +240,11 @@ fn required_limits(adapter: &wgpu::Limits, name: &str) -> Result<wgpu::Limits, R
         max_texture_dimension_2d: adapter.max_texture_dimension_2d,
         max_storage_buffers_per_shader_stage: adapter.max_storage_buffers_per_shader_stage.min(16),
         max_storage_textures_per_shader_stage: adapter.max_storage_textures_per_shader_stage.min(8),
+        // Lit transparency's refracting base pass over glTF maps with an
+        // environment samples 17 textures (WebGPU's default is 16).
+        max_sampled_textures_per_shader_stage: adapter
+            .max_sampled_textures_per_shader_stage
+            .min(32),
         ..wgpu::Limits::default()
     })
 }

@@ -12,8 +12,8 @@ use naga_oil::compose::{
 };
 use spreadlight_render::material::{
     FEATURE_AMBIENT_OCCLUSION, FEATURE_CLEARCOAT, FEATURE_COOK_TORRANCE, FEATURE_EMISSION,
-    FEATURE_FAKE_SSS, FEATURE_MATCAP, FEATURE_REFLECTION, FEATURE_UNLIT, FIRST_CUSTOM_FEATURE,
-    Feature, MAX_FEATURES, Material, MaterialWorld,
+    FEATURE_FAKE_SSS, FEATURE_MATCAP, FEATURE_REFLECTION, FEATURE_TRANSMISSION, FEATURE_UNLIT,
+    FIRST_CUSTOM_FEATURE, Feature, MAX_FEATURES, Material, MaterialWorld,
 };
 use spreadlight_render::renderer::test_renderer;
 use spreadlight_render::shaders::SHADERS;
@@ -97,6 +97,7 @@ fn library_composes_validates_and_mirrors_the_rust_constants() {
         ("FEATURE_AMBIENT_OCCLUSION", FEATURE_AMBIENT_OCCLUSION),
         ("FEATURE_CLEARCOAT", FEATURE_CLEARCOAT),
         ("FEATURE_UNLIT", FEATURE_UNLIT),
+        ("FEATURE_TRANSMISSION", FEATURE_TRANSMISSION),
         ("FIRST_CUSTOM_FEATURE", FIRST_CUSTOM_FEATURE),
         ("MAX_FEATURES", MAX_FEATURES),
     ] {
@@ -115,7 +116,10 @@ fn materials() -> Vec<Material> {
     let mut all = Material::new();
     for (i, f) in Feature::BUILT_IN.iter().enumerate() {
         let x = i as f32 * 0.1;
-        all = set(all, *f, &[[0.1 + x, 0.2 + x, 0.3 + x, 0.4 + x]]);
+        let p = [0.1 + x, 0.2 + x, 0.3 + x, 0.4 + x];
+        // Transmission takes two vec4s (refraction, absorption).
+        let params = vec![p; f.param_count().unwrap_or(1)];
+        all = set(all, *f, &params);
     }
     let custom = set(
         Material::new(),
@@ -155,10 +159,10 @@ fn shader_reads_what_the_material_world_holds() {
     let other = MaterialWorld::new(&renderer, Vec::new());
     assert_eq!(other.len(), 1);
     assert_eq!(other.union_flags(), 1);
-    // The built-ins (0..=5, Clearcoat 7, Unlit 8) and the custom ones.
+    // The built-ins (0..=5, Clearcoat 7, Unlit 8, Transmission 9) and the custom ones.
     assert_eq!(
         world.union_flags(),
-        0b1_1011_1111 | 1 << 16 | 1 << 17 | 1 << 31
+        0b11_1011_1111 | 1 << 16 | 1 << 17 | 1 << 31
     );
 
     let mut queries: Vec<[u32; 4]> = Vec::new();

@@ -6,6 +6,11 @@
 //! reference at chosen pixels, naive and clustered alike; zero normals,
 //! zero roughness and a light at the surface stay finite; light passes run
 //! only for connected light buffers, with only their type compiled in.
+//! Transmission: a glass slab over a ramp shifts what is behind by what
+//! Snell's law says (the CPU reference, `spreadlight_reference::
+//! refraction`), ior 1 shows it unshifted, the volume absorbs by
+//! exp(-σ path); ior 0 or NaN, an infinite thickness, grazing angles and
+//! rays leaving the screen stay finite and clamp.
 
 mod post_common;
 
@@ -24,7 +29,8 @@ use spreadlight_render::lighting::{LightBuffer, LightLoop, PointLight, SunLight}
 use spreadlight_render::mesh::MeshData;
 use spreadlight_render::mesh::primitives::{SphereParams, plane, sphere};
 use spreadlight_render::post::transparency::{
-    ASSIGNED, DRAWN, LIGHT_PASSES, MatCapKey, SKIPPED, TransparencyPass,
+    ASSIGNED, DRAWN, LIGHT_PASSES, MatCapKey, REFRACTING, SKIPPED, TransmissionSettings,
+    TransparencyPass,
 };
 use spreadlight_render::post::{LitBy, Transparency, TransparencySettings, TransparentLights};
 use spreadlight_render::readback::ImageF32;
@@ -664,7 +670,10 @@ fn no_light_buffer_no_light_pass_and_the_old_look() {
             environment: false,
             matcap: MatCapKey::Off,
             marks: false,
+            transmission: false,
         }));
+    // Nothing transmits: no refraction code, the opaque image unbound.
+    assert_eq!(report.counter(REFRACTING), 0);
     let c = Vec3::from_slice(&at(&out, 24, 24)[..3]);
     assert!((c - ALBEDO).abs().max_element() < 5e-3, "{c}");
     // An empty light buffer is no light pass either.
@@ -968,4 +977,326 @@ fn froxel_lists_shade_as_every_light_does_near_far_across_slices_and_tile_edges(
     assert_eq!(report.counter(LIGHT_PASSES), 0);
     let (_, none_naive) = shade(LightLoop::Naive, &[]);
     same(&none_naive, &none, "no lights");
+}
+
+/// The refraction scene: an opaque wall at z = 0 facing the eye, 40 wide.
+fn wall(renderer: &Renderer) -> Arc<GBuffer> {
+    let mesh = renderer
+        .meshes
+        .upload(&renderer.gpu, &plane())
+        .expect("upload");
+    let t =
+        Mat4::from_rotation_x(std::f32::consts::FRAC_PI_2) * Mat4::from_scale(Vec3::splat(40.0));
+    let layer = Arc::new(Layer::plain(vec![DrawBatch {
+        mesh,
+        instances: vec![InstanceInput {
+            transform: t,
+            previous_transform: t,
+            color: [1.0; 4],
+            material_id: 0,
+            object_id: 0,
+        }],
+    }]));
+    gbuffer(renderer, layer, look(EYE, Vec3::ZERO, FOV, 1.0), None)
+}
+
+/// The glass: a 4 x 4 pane at z = PANE_Z turned `tilt` radians about y,
+/// white and fully transmissive (alpha 0: all of it shows through).
+fn glass_pane(renderer: &Renderer, tilt: f32) -> (Arc<Layer>, Vec3) {
+    let mesh = renderer
+        .meshes
+        .upload(&renderer.gpu, &plane())
+        .expect("upload");
+    let turn = Mat4::from_rotation_y(tilt);
+    let t = Mat4::from_translation(Vec3::new(0.0, 0.0, PANE_Z))
+        * turn
+        * Mat4::from_rotation_x(std::f32::consts::FRAC_PI_2)
+        * Mat4::from_scale(Vec3::splat(4.0));
+    let layer = Arc::new(Layer::plain(vec![DrawBatch {
+        mesh,
+        instances: vec![InstanceInput {
+            transform: t,
+            previous_transform: t,
+            color: [1.0, 1.0, 1.0, 0.0],
+            material_id: 0,
+            object_id: 0,
+        }],
+    }]));
+    (layer, turn.transform_vector3(Vec3::Z))
+}
+
+/// A ramp: each pixel holds its own uv in red and green, so what a pixel
+/// shows says where it sampled (linear filtering of a ramp is the ramp).
+fn uv_ramp(x: u32, y: u32) -> [f32; 4] {
+    [
+        (x as f32 + 0.5) / SIZE.0 as f32,
+        (y as f32 + 0.5) / SIZE.1 as f32,
+        0.0,
+        1.0,
+    ]
+}
+
+/// Unlit glass that refracts as `t` says (roughness 0: no blur).
+fn glass_settings(t: TransmissionSettings) -> TransparencySettings {
+    TransparencySettings {
+        roughness: 0.0,
+        transmission: t,
+        ..unlit()
+    }
+}
+
+/// The glass pane tilted `tilt` over the wall with `lit` as the opaque image.
+fn refract_through(
+    renderer: &Renderer,
+    tilt: f32,
+    settings: TransparencySettings,
+    materials: Option<Arc<spreadlight_render::material::MaterialWorld>>,
+    lit: fn(u32, u32) -> [f32; 4],
+) -> (
+    spreadlight_render::report::FrameReport,
+    ImageF32,
+    Arc<Transparency>,
+    Vec3,
+) {
+    let (layer, normal) = glass_pane(renderer, tilt);
+    let lit = image(renderer, SIZE, lit);
+    let pass = Transparency::lit(
+        renderer,
+        None,
+        lit.texture_ref(),
+        wall(renderer),
+        vec![layer],
+        settings,
+        LitBy {
+            materials,
+            ..Default::default()
+        },
+    );
+    let (report, out) = render(renderer, pass.as_ref(), &pass.output, SIZE);
+    (report, out, pass, normal)
+}
+
+/// The ray through pixel (x, y)'s centre: from the eye, unit.
+fn pixel_ray(x: u32, y: u32) -> Vec3 {
+    let half = (FOV / 2.0).tan();
+    let ndc_x = (x as f32 + 0.5) / SIZE.0 as f32 * 2.0 - 1.0;
+    let ndc_y = 1.0 - (y as f32 + 0.5) / SIZE.1 as f32 * 2.0;
+    Vec3::new(ndc_x * half, ndc_y * half, -1.0).normalize()
+}
+
+/// The uv on screen of world point `p`.
+fn screen_uv(p: Vec3) -> glam::Vec2 {
+    let camera = look(EYE, Vec3::ZERO, FOV, 1.0);
+    let clip = camera.projection * camera.view * p.extend(1.0);
+    let ndc = clip.truncate().truncate() / clip.w;
+    glam::Vec2::new(ndc.x * 0.5 + 0.5, 0.5 - ndc.y * 0.5)
+}
+
+/// Where, by the CPU reference, the eye sees the wall through the pane
+/// (normal `n`) at pixel (x, y) with `ior` and `thickness`: the wall's uv
+/// and the path inside the glass. `None` off the pane.
+fn snell_uv(x: u32, y: u32, n: Vec3, ior: f32, thickness: f32) -> Option<(glam::Vec2, f32)> {
+    use spreadlight_reference::refraction::{hit_plane, through_slab};
+    let d = pixel_ray(x, y);
+    let entry = hit_plane(EYE, d, Vec3::new(0.0, 0.0, PANE_Z), n)?;
+    let local = entry - Vec3::new(0.0, 0.0, PANE_Z);
+    // On the pane: 2 either side of its centre, along its two in-plane axes.
+    let across = n.cross(Vec3::Y).normalize();
+    if local.dot(across).abs() > 1.8 || local.y.abs() > 1.8 {
+        return None;
+    }
+    let (back, path) = through_slab(entry, d, n, ior, thickness, Vec3::ZERO, Vec3::Z)?;
+    Some((screen_uv(back), path))
+}
+
+/// Pixels on the pane across its width (the tilt bends rays along x).
+const REFRACTED_PIXELS: [(u32, u32); 4] = [(14, 24), (20, 20), (26, 28), (32, 24)];
+
+#[test]
+fn a_glass_slab_shifts_what_is_behind_by_snells_law_and_ior_one_does_not() {
+    let renderer = test_renderer();
+    let tilt = 0.6;
+    let texel = 1.0 / SIZE.0 as f32;
+    for (ior, thickness) in [(1.5, 2.0), (1.33, 1.5), (1.0, 1.5)] {
+        let t = TransmissionSettings {
+            factor: 1.0,
+            ior,
+            thickness,
+            ..Default::default()
+        };
+        let (report, out, pass, n) =
+            refract_through(&renderer, tilt, glass_settings(t), None, uv_ramp);
+        assert_eq!(report.counter(REFRACTING), 1);
+        assert!(
+            pass.keys()
+                .iter()
+                .any(|k| k.key().features.contains("TRANSMISSION"))
+        );
+        for (x, y) in REFRACTED_PIXELS {
+            let (want, _) = snell_uv(x, y, n, ior, thickness).expect("the pixel sees the pane");
+            let got = glam::Vec2::from_slice(&at(&out, x, y)[..2]);
+            assert!(
+                (got - want).abs().max_element() < 0.3 * texel,
+                "ior {ior}, thickness {thickness} at ({x}, {y}): sampled {got}, Snell says {want}"
+            );
+            let own = glam::Vec2::from_slice(&uv_ramp(x, y)[..2]);
+            if ior == 1.0 {
+                // No bend: the wall straight behind, unshifted.
+                assert!(
+                    (got - own).abs().max_element() < 0.3 * texel,
+                    "ior 1 at ({x}, {y}): {got} vs {own}"
+                );
+            } else {
+                assert!(
+                    (want - own).x.abs() > 1.5 * texel,
+                    "a shift worth testing at ({x}, {y})"
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn the_volume_absorbs_by_beer_lambert_over_the_path_inside() {
+    let renderer = test_renderer();
+    let color = Vec3::new(0.5, 0.25, 1.0);
+    let (ior, thickness) = (1.5, 1.0);
+    let t = TransmissionSettings {
+        factor: 1.0,
+        ior,
+        thickness,
+        attenuation_color: color,
+        attenuation_distance: 2.0,
+        ..Default::default()
+    };
+    let (_, out, _, n) = refract_through(&renderer, 0.6, glass_settings(t), None, |_, _| [1.0; 4]);
+    for (x, y) in REFRACTED_PIXELS {
+        let (_, path) = snell_uv(x, y, n, ior, thickness).expect("on the pane");
+        // σ = -ln(c) / d: exp(-σ path) = c^(path / d).
+        let sigma = Vec3::new(-color.x.ln(), -color.y.ln(), -color.z.ln()) / 2.0;
+        let want = spreadlight_reference::refraction::beer_lambert(sigma, path);
+        let got = Vec3::from_slice(&at(&out, x, y)[..3]);
+        assert!(
+            (got - want).abs().max_element() < 3e-3,
+            "({x}, {y}): {got}, Beer-Lambert over {path} says {want}"
+        );
+        assert!(
+            want.x < 0.75 && path > thickness,
+            "absorbed along a slanted path"
+        );
+    }
+}
+
+#[test]
+fn refraction_hard_cases_stay_finite_and_clamp_to_the_screen() {
+    use spreadlight_render::material::{Feature, Material, MaterialWorld};
+    let renderer = test_renderer();
+    let texel = 1.0 / SIZE.0 as f32;
+    let straight = |out: &ImageF32, what: &str| {
+        for (x, y) in REFRACTED_PIXELS {
+            let got = glam::Vec2::from_slice(&at(out, x, y)[..2]);
+            let own = glam::Vec2::from_slice(&uv_ramp(x, y)[..2]);
+            assert!(
+                (got - own).abs().max_element() < 0.3 * texel,
+                "{what} at ({x}, {y}): {got} vs {own}"
+            );
+        }
+    };
+    // An ior of 0, NaN or below 0 bends nothing; an infinite thickness is thin-walled.
+    for (ior, thickness) in [
+        (0.0, 1.0),
+        (f32::NAN, 1.0),
+        (-1.0, 1.0),
+        (1.5, f32::INFINITY),
+    ] {
+        let t = TransmissionSettings {
+            factor: 1.0,
+            ior,
+            thickness,
+            attenuation_distance: f32::NAN,
+            ..Default::default()
+        };
+        let (_, out, _, _) = refract_through(&renderer, 0.6, glass_settings(t), None, uv_ramp);
+        straight(&out, &format!("ior {ior}, thickness {thickness}"));
+    }
+    // Through a material world the shader sees ior 0 itself (kept, not
+    // sanitized to 1 on the CPU): it bends nothing either.
+    let material = Material::new()
+        .with(Feature::Transmission, &[[1.0, 0.0, 1.0, 0.0], [0.0; 4]])
+        .expect("valid");
+    let world = MaterialWorld::new(&renderer, vec![material]);
+    let (report, out, _, _) = refract_through(
+        &renderer,
+        0.6,
+        glass_settings(TransmissionSettings::default()),
+        Some(world),
+        uv_ramp,
+    );
+    assert_eq!(
+        report.counter(REFRACTING),
+        1,
+        "the world's Transmission turns it on"
+    );
+    straight(&out, "a material's ior 0");
+    // A slab a thousand units deep, steeply tilted, bends the rays off
+    // screen (the CPU reference says where): they sample the screen's edge.
+    let deep = TransmissionSettings {
+        factor: 1.0,
+        thickness: 1e3,
+        ..Default::default()
+    };
+    let (_, out, _, n) = refract_through(&renderer, 1.2, glass_settings(deep), None, uv_ramp);
+    let mut clamped = 0;
+    for (x, y) in REFRACTED_PIXELS {
+        // On the pane (by a thin slab's reference), and where the deep one's exit projects.
+        if snell_uv(x, y, n, 1.5, 0.0).is_none() {
+            continue;
+        }
+        let d = pixel_ray(x, y);
+        let entry =
+            spreadlight_reference::refraction::hit_plane(EYE, d, Vec3::new(0.0, 0.0, PANE_Z), n)
+                .expect("on the pane");
+        let (exit, _) = spreadlight_reference::refraction::slab_exit(entry, d, n, 1.5, 1e3);
+        let want = screen_uv(exit);
+        assert!(
+            want.x < 0.0 || want.x > 1.0,
+            "({x}, {y}) leaves the screen: {want}"
+        );
+        let u = at(&out, x, y)[0];
+        let edge = if want.x < 0.0 {
+            0.5 * texel
+        } else {
+            1.0 - 0.5 * texel
+        };
+        assert!(
+            (u - edge).abs() < 0.1 * texel,
+            "({x}, {y}): u {u}, not the edge {edge}"
+        );
+        clamped += 1;
+    }
+    assert!(clamped >= 2, "{clamped} pixels on the steep pane");
+    for (tilt, t) in [
+        (
+            1.55,
+            TransmissionSettings {
+                factor: 1.0,
+                thickness: 5.0,
+                ..Default::default()
+            },
+        ),
+        (
+            0.6,
+            TransmissionSettings {
+                factor: 1.0,
+                thickness: 1.0,
+                attenuation_color: Vec3::ZERO,
+                attenuation_distance: 1e-30,
+                ..Default::default()
+            },
+        ),
+    ] {
+        let (_, out, _, _) = refract_through(&renderer, tilt, glass_settings(t), None, uv_ramp);
+        let (lo, hi) = range(&out);
+        assert!(lo >= 0.0 && hi <= 1.0 + 1e-3, "tilt {tilt}: {lo}..{hi}");
+    }
 }

@@ -15,6 +15,7 @@ mod post;
 mod probe;
 mod reflection;
 mod shadows;
+mod transmission;
 
 use std::path::PathBuf;
 
@@ -143,6 +144,8 @@ enum What {
     Geometry(geometry::GeometryArgs),
     /// glTF material maps by filtering (point, bilinear, trilinear, anisotropic): GPU time against error versus a CPU reference, 1 and 16 rays per pixel.
     Gltf(gltf::GltfArgs),
+    /// Lit transparency's screen-space refraction by depth-search steps (smooth glass) and blur taps (rough glass): GPU time against error versus a CPU ray trace through a slab.
+    Transmission(transmission::TransmissionArgs),
 }
 
 pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
@@ -155,6 +158,7 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
         What::Particles(a) => particles::run_particles(a),
         What::Geometry(a) => geometry::run_geometry(a),
         What::Gltf(a) => gltf::run(a),
+        What::Transmission(a) => transmission::run(a),
     }
 }
 

@@ -20,8 +20,10 @@ pub fn register(r: &mut Registry) {
             "Sets feature Feature ID on each material (none in: new ones), replacing an earlier setting. \
              Ids: 0 CookTorrance (roughness, metallic, reflectance), 1 Emission (rgb, strength), 2 FakeSSS \
              (rgb, strength), 3 Reflection, 4 MatCap, 5 AmbientOcclusion (strength), 7 Clearcoat (factor, \
-             roughness), 8 Unlit (strength); 16..31 custom. Each \
-             material takes Bin Size slices of Parameters (built-ins take 1; 0 sets a custom flag alone). \
+             roughness), 8 Unlit (strength), 9 Transmission (factor, ior, thickness; then absorption rgb: \
+             Transparency refracts what shows through); 16..31 custom. Each \
+             material takes Bin Size slices of Parameters (built-ins take 1, Transmission 2; 0 sets a custom \
+             flag alone). \
              Values are clamped to their physical ranges. Texture ID: the layer of the MaterialBuffer's \
              texture array that scales the first parameter at each pixel's UV (-1: none; MatCap: the matcap \
              image; Reflection and AmbientOcclusion read none).",

@@ -8,7 +8,9 @@ use spreadlight_render::environment::Environment;
 use spreadlight_render::gbuffer::Layer;
 use spreadlight_render::lighting::{LightBuffer, LightLoop};
 use spreadlight_render::material::MaterialWorld;
-use spreadlight_render::post::{LitBy, Transparency, TransparencySettings, TransparentLights};
+use spreadlight_render::post::{
+    LitBy, TransmissionSettings, Transparency, TransparencySettings, TransparentLights,
+};
 use spreadlight_render::shadows::ShadowMaps;
 
 use super::{gbuffer, gbuffer_input, set_texture, texture, texture_input, texture_output};
@@ -31,8 +33,14 @@ pub fn register(r: &mut Registry) {
              maps (base colour, normal, metallic-roughness, occlusion, emissive), a DeferredBase's Color Texture and \
              normal map; roughness, metallic and emission from the layer's material world, else Material World, \
              else Roughness and Metallic. Environment adds its irradiance and its prefiltered reflection (as much as \
-             a material's Reflection feature says; fully for layers without a material world). Without transparent \
-             instances it costs one copy.",
+             a material's Reflection feature says; fully for layers without a material world). Transmission \
+             (0..1): that share of what shows through a layer is refracted instead of blended (glass; glTF \
+             materials with KHR_materials_transmission bring their own, as does a material world's Transmission \
+             feature): the opaque image sampled where the ray bent by IOR through a slab Thickness deep (world \
+             units; 0: thin-walled) meets the opaque depth (Refraction Steps, 0..8), blurred by roughness over \
+             Refraction Taps (1..32), tinted by the colour and absorbed to Attenuation Color after Attenuation \
+             Distance (0: no absorption). Only the opaque scene is seen refracted; at Transmission 0 no refraction \
+             code runs. Without transparent instances it costs one copy.",
         )
         .with_pins(|p| {
             let texture_in = texture_input(p, "Texture");
@@ -49,10 +57,28 @@ pub fn register(r: &mut Registry) {
             let energy_compensation = p.input("Energy Compensation", true);
             let light_loop = p.input_choice("Light Loop", &LIGHT_LOOPS, LightLoop::Auto);
             let environment = p.input_resource::<Environment>("Environment", ResourceKind::Environment);
+            let transmission = p.input("Transmission", 0.0f32);
+            let ior = p.input("IOR", 1.5f32);
+            let thickness = p.input("Thickness", 0.0f32);
+            let attenuation_color = p.input("Attenuation Color", Color::WHITE);
+            let attenuation_distance = p.input("Attenuation Distance", 0.0f32);
+            let taps = p.input("Refraction Taps", 8i64);
+            let steps = p.input("Refraction Steps", 2i64);
             let out = texture_output(p, "Texture");
             move |cx| {
                 let renderer = renderer(cx)?;
-                for pin in [ambient.index(), light_direction.index(), light_color.index(), roughness.index(), metallic.index()] {
+                for pin in [
+                    ambient.index(),
+                    light_direction.index(),
+                    light_color.index(),
+                    roughness.index(),
+                    metallic.index(),
+                    transmission.index(),
+                    ior.index(),
+                    thickness.index(),
+                    attenuation_color.index(),
+                    attenuation_distance.index(),
+                ] {
                     if let Some(slice) = cx.input(pin).first_non_finite() {
                         return Err(cx.input_error(pin, format!("slice {slice} is NaN or infinite")));
                     }
@@ -88,6 +114,20 @@ pub fn register(r: &mut Registry) {
                     metallic: cx.first(metallic, 0.0)?,
                     energy_compensation: cx.first(energy_compensation, true)?,
                     light_loop: cx.choice(light_loop)?,
+                    transmission: {
+                        let c = cx.first(attenuation_color, Color::WHITE)?;
+                        let distance = cx.first(attenuation_distance, 0.0f32)?;
+                        TransmissionSettings {
+                            factor: cx.first(transmission, 0.0f32)?,
+                            ior: cx.first(ior, 1.5f32)?,
+                            thickness: cx.first(thickness, 0.0f32)?,
+                            attenuation_color: Vec3::new(c.r, c.g, c.b),
+                            // 0 (or less): none, as an infinite distance.
+                            attenuation_distance: if distance > 0.0 { distance } else { f32::INFINITY },
+                            taps: cx.first(taps, 8i64)?.clamp(1, 32) as u32,
+                            steps: cx.first(steps, 2i64)?.clamp(0, 8) as u32,
+                        }
+                    },
                 };
                 let by = LitBy {
                     lights,

@@ -1,7 +1,7 @@
 //! Material features: what a bit of a material's flag word switches on, and
 //! the parameters it reads. Feature id `n` is flag `1 << n` (Emeshe's
 //! convention: the id is the exponent, the flag the power of two). Ids 0..16
-//! belong to built-in features (0..=8 exist now; 9..=15 are kept for the
+//! belong to built-in features (0..=9 exist now; 10..=15 are kept for the
 //! ones to come), 16..=31 are free for custom features.
 //!
 //! Mirrored by the `FEATURE_*` constants of `shaders/lib/material.wgsl`.
@@ -22,6 +22,10 @@ pub const FEATURE_SURFACE_MAPS: u32 = 6;
 pub const FEATURE_CLEARCOAT: u32 = 7;
 /// Shown as its albedo, unlit (glTF's `KHR_materials_unlit`).
 pub const FEATURE_UNLIT: u32 = 8;
+/// Light through the surface, refracted (glTF's `KHR_materials_transmission`
+/// with `KHR_materials_ior` and `KHR_materials_volume`): drawn by lit
+/// transparency, which samples the opaque image along the refracted ray.
+pub const FEATURE_TRANSMISSION: u32 = 9;
 /// The first id free for custom features.
 pub const FIRST_CUSTOM_FEATURE: u32 = 16;
 /// One bit of a `u32` per feature.
@@ -80,6 +84,69 @@ const CLEARCOAT: ParamLayout = ParamLayout {
     ranges: [Unit, Unit, Unused, Unused],
     default: [1.0, 0.0, 0.0, 0.0],
 };
+/// Two vec4s ([`transmission_params`]): how much of what shows through is
+/// refracted (0..1), the index of refraction and the volume's thickness
+/// (world units, 0: thin-walled); then the volume's absorption coefficient
+/// per channel (1 / world unit, Beer-Lambert). Every component is kept
+/// non-negative (the coefficients are unbounded, so the factor's 0..1 is
+/// the shader's clamp).
+const TRANSMISSION: ParamLayout = ParamLayout {
+    names: ["factor", "ior", "thickness", ""],
+    ranges: [NonNegative, NonNegative, NonNegative, Unused],
+    default: [1.0, 1.5, 0.0, 0.0],
+};
+
+/// The largest absorption coefficient kept (1 / world unit): a black
+/// attenuation colour absorbs everything within a millionth of a unit, and
+/// the coefficient stays finite.
+pub const MAX_ABSORPTION: f32 = 1e6;
+
+/// The Transmission feature's two vec4s: `factor` (0..1) of what shows
+/// through refracted with index `ior` through a volume `thickness` deep,
+/// absorbing as `attenuation_color` after `attenuation_distance` (glTF's
+/// `KHR_materials_volume`; infinite or white: nothing). Every input made
+/// finite: a NaN or non-positive ior is 1 (no bend), a NaN or infinite
+/// thickness 0 (thin-walled), a black channel [`MAX_ABSORPTION`].
+pub fn transmission_params(
+    factor: f32,
+    ior: f32,
+    thickness: f32,
+    attenuation_color: [f32; 3],
+    attenuation_distance: f32,
+) -> [[f32; 4]; 2] {
+    let factor = if factor.is_finite() {
+        factor.clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    let ior = if ior.is_finite() && ior > 0.0 {
+        ior
+    } else {
+        1.0
+    };
+    let thickness = if thickness.is_finite() {
+        thickness.max(0.0)
+    } else {
+        0.0
+    };
+    let d = attenuation_distance;
+    let sigma = attenuation_color.map(|c| {
+        // sigma = -ln(c) / d: none for no distance, an infinite one or white.
+        let no_distance = d.is_nan() || d <= 0.0 || d == f32::INFINITY;
+        if no_distance || !c.is_finite() || c >= 1.0 {
+            0.0
+        } else if c <= 0.0 {
+            MAX_ABSORPTION
+        } else {
+            (-c.ln() / d).clamp(0.0, MAX_ABSORPTION)
+        }
+    });
+    [
+        [factor, ior, thickness, 0.0],
+        [sigma[0], sigma[1], sigma[2], 0.0],
+    ]
+}
+
 /// Strength, then two switches kept as 0 or 1 ([`MatCapMode`], [`MatCapMapping`]).
 const MATCAP: ParamLayout = ParamLayout {
     names: ["strength", "mode", "mapping", ""],
@@ -144,13 +211,17 @@ pub enum Feature {
     /// Unlit: CompositeLight shows the pixel's albedo, mixed over the lit
     /// colour by strength (1: albedo alone; compiled with `EMISSION`).
     Unlit,
+    /// Refracted transmission: two vec4s ([`transmission_params`]). Lit
+    /// transparency draws what shows through a layer of such a material as
+    /// the opaque image along the refracted ray, tinted and absorbed.
+    Transmission,
     /// A user feature, id 16..=31, with as many vec4 parameters as it is given.
     Custom(u32),
 }
 
 impl Feature {
     /// In ascending id (6, SurfaceMaps, is set through `Material::set_maps`).
-    pub const BUILT_IN: [Feature; 8] = [
+    pub const BUILT_IN: [Feature; 9] = [
         Feature::CookTorrance,
         Feature::Emission,
         Feature::FakeSss,
@@ -159,10 +230,11 @@ impl Feature {
         Feature::AmbientOcclusion,
         Feature::Clearcoat,
         Feature::Unlit,
+        Feature::Transmission,
     ];
 
     /// The feature with id `id`: a built-in one, or a custom one for 16..=31.
-    /// Id 6 is SurfaceMaps (not set as a feature); 9..=15 are reserved for built-ins to come.
+    /// Id 6 is SurfaceMaps (not set as a feature); 10..=15 are reserved for built-ins to come.
     pub fn from_id(id: i64) -> Result<Feature, FeatureError> {
         if let Some(f) = Feature::BUILT_IN.iter().find(|f| i64::from(f.id()) == id) {
             return Ok(*f);
@@ -183,6 +255,7 @@ impl Feature {
             Feature::AmbientOcclusion => FEATURE_AMBIENT_OCCLUSION,
             Feature::Clearcoat => FEATURE_CLEARCOAT,
             Feature::Unlit => FEATURE_UNLIT,
+            Feature::Transmission => FEATURE_TRANSMISSION,
             Feature::Custom(id) => id,
         }
     }
@@ -202,11 +275,13 @@ impl Feature {
             Feature::AmbientOcclusion => "AmbientOcclusion".to_owned(),
             Feature::Clearcoat => "Clearcoat".to_owned(),
             Feature::Unlit => "Unlit".to_owned(),
+            Feature::Transmission => "Transmission".to_owned(),
             Feature::Custom(id) => format!("Custom{id}"),
         }
     }
 
-    /// The layout of a built-in feature's one vec4; `None` for custom features.
+    /// The layout of a built-in feature's vec4 (each of Transmission's two);
+    /// `None` for custom features.
     pub fn layout(self) -> Option<&'static ParamLayout> {
         match self {
             Feature::CookTorrance => Some(&COOK_TORRANCE),
@@ -215,6 +290,7 @@ impl Feature {
             Feature::Reflection | Feature::AmbientOcclusion | Feature::Unlit => Some(&STRENGTH),
             Feature::Clearcoat => Some(&CLEARCOAT),
             Feature::MatCap => Some(&MATCAP),
+            Feature::Transmission => Some(&TRANSMISSION),
             Feature::Custom(_) => None,
         }
     }
@@ -227,7 +303,11 @@ impl Feature {
     pub fn reads_texture(self) -> bool {
         !matches!(
             self,
-            Feature::Reflection | Feature::AmbientOcclusion | Feature::Clearcoat | Feature::Unlit
+            Feature::Reflection
+                | Feature::AmbientOcclusion
+                | Feature::Clearcoat
+                | Feature::Unlit
+                | Feature::Transmission
         )
     }
 
@@ -250,13 +330,17 @@ impl Feature {
             Feature::Emission | Feature::FakeSss => COLOR_PARAMS,
             Feature::Reflection | Feature::AmbientOcclusion | Feature::MatCap => STRENGTH_PARAMS,
             // Per material: no shader samples a texture layer for them.
-            Feature::Clearcoat | Feature::Unlit | Feature::Custom(_) => &[],
+            Feature::Clearcoat | Feature::Unlit | Feature::Transmission | Feature::Custom(_) => &[],
         }
     }
 
     /// How many vec4 parameters the feature takes; `None`: any number (custom).
     pub fn param_count(self) -> Option<usize> {
-        self.layout().map(|_| 1)
+        match self {
+            // Refraction, then absorption.
+            Feature::Transmission => Some(2),
+            _ => self.layout().map(|_| 1),
+        }
     }
 
     /// Check `params` and keep them physical: non-finite values are an

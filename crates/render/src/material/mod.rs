@@ -38,9 +38,10 @@ use wgpu::util::DeviceExt;
 
 pub use feature::{
     FEATURE_AMBIENT_OCCLUSION, FEATURE_CLEARCOAT, FEATURE_COOK_TORRANCE, FEATURE_EMISSION,
-    FEATURE_FAKE_SSS, FEATURE_MATCAP, FEATURE_REFLECTION, FEATURE_SURFACE_MAPS, FEATURE_UNLIT,
-    FIRST_CUSTOM_FEATURE, Feature, MAX_FEATURES, MatCapMapping, MatCapMode, ParamLayout, Range,
-    matcap_params,
+    FEATURE_FAKE_SSS, FEATURE_MATCAP, FEATURE_REFLECTION, FEATURE_SURFACE_MAPS,
+    FEATURE_TRANSMISSION, FEATURE_UNLIT, FIRST_CUSTOM_FEATURE, Feature, MAX_ABSORPTION,
+    MAX_FEATURES, MatCapMapping, MatCapMode, ParamLayout, Range, matcap_params,
+    transmission_params,
 };
 use map_textures::MapLayout;
 pub use map_textures::{MapFiltering, WorldMaps};

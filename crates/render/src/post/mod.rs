@@ -28,7 +28,8 @@ pub use motion_blur::{MotionBlur, MotionBlurSettings};
 pub use taa::{Taa, TaaQuality, TaaSettings, is_cut};
 pub use tonemap::{AdaptedExposure, Tonemap};
 pub use transparency::{
-    LitBy, Transparency, TransparencyKey, TransparencySettings, TransparentLights,
+    LitBy, TransmissionSettings, Transparency, TransparencyKey, TransparencySettings,
+    TransparentLights,
 };
 
 use crate::error::RenderError;

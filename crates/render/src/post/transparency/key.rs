@@ -58,10 +58,15 @@ pub enum TransparencyPass {
     /// With `marks` (some light pass walks froxel lists) its fragments mark
     /// the froxels they lie in, the only ones the assignment fills
     /// (FROXEL_MARKS).
+    /// With `transmission` (TRANSMISSION: the layer's world has a
+    /// Transmission material, or the node's Transmission is on), what shows
+    /// through is the opaque image sampled along the refracted ray, tinted
+    /// and absorbed, instead of the straight blend.
     Base {
         environment: bool,
         matcap: MatCapKey,
         marks: bool,
+        transmission: bool,
     },
     /// One light buffer's Cook-Torrance light, added to the colour.
     Light(LightKey),
@@ -268,6 +273,7 @@ impl Permutation for TransparencyKey {
         "SHADOW_PCF",
         "SHADOW_PCSS",
         "SHADOW_VSM",
+        "TRANSMISSION",
     ];
 
     fn features(self) -> impl Iterator<Item = &'static str> {
@@ -276,12 +282,14 @@ impl Permutation for TransparencyKey {
                 environment,
                 matcap,
                 marks,
+                transmission,
             } => environment
                 .then_some("ENVIRONMENT")
                 .into_iter()
                 .chain(matcap.features())
                 .chain(marks.then_some("FROXELS"))
                 .chain(marks.then_some("FROXEL_MARKS"))
+                .chain(transmission.then_some("TRANSMISSION"))
                 .collect(),
             TransparencyPass::Light(light) => light.features().collect(),
         };
@@ -289,8 +297,8 @@ impl Permutation for TransparencyKey {
     }
 
     /// Every surface with the base passes (a matcap only with a material
-    /// world; marking froxels or not) and with every light pass. The
-    /// validation test composes each: 30 surfaces x (4 or 12 + 35) passes.
+    /// world; marking froxels or not), each with and without transmission,
+    /// and with every light pass. The validation test composes each.
     fn all() -> Vec<Self> {
         let lights: Vec<TransparencyPass> = LightKey::all()
             .into_iter()
@@ -306,10 +314,13 @@ impl Permutation for TransparencyKey {
                 };
                 let bases = [false, true].into_iter().flat_map(move |environment| {
                     matcaps.iter().flat_map(move |&matcap| {
-                        [false, true].map(|marks| TransparencyPass::Base {
-                            environment,
-                            matcap,
-                            marks,
+                        [false, true].into_iter().flat_map(move |marks| {
+                            [false, true].map(|transmission| TransparencyPass::Base {
+                                environment,
+                                matcap,
+                                marks,
+                                transmission,
+                            })
                         })
                     })
                 });
@@ -334,6 +345,7 @@ impl TransparencyKey {
             environment: false,
             matcap: MatCapKey::Off,
             marks: false,
+            transmission: false,
         },
     };
 }
@@ -373,6 +385,7 @@ mod tests {
                 environment: false,
                 matcap: MatCapKey::Off,
                 marks: true,
+                transmission: false,
             },
             ..base
         };
@@ -380,7 +393,19 @@ mod tests {
             marking.features().collect::<Vec<_>>(),
             ["FROXELS", "FROXEL_MARKS"]
         );
+        // Refraction is a base-pass switch alone.
+        let glass = TransparencyKey {
+            pass: TransparencyPass::Base {
+                environment: false,
+                matcap: MatCapKey::Off,
+                marks: false,
+                transmission: true,
+            },
+            ..base
+        };
+        assert_eq!(glass.features().collect::<Vec<_>>(), ["TRANSMISSION"]);
         let all = TransparencyKey::all();
+        assert!(all.contains(&glass));
         let keys: std::collections::HashSet<_> = all.iter().map(|k| k.key()).collect();
         assert_eq!(
             keys.len(),

@@ -26,8 +26,15 @@
 //! Each layer and pass is drawn with its own permutation (`key.rs`).
 //! Without transparent instances the node costs a copy, and without light
 //! buffers no light pass runs.
+//!
+//! Transmission (`transmission.rs`): a layer whose world has a Transmission
+//! material, or any layer when the settings' factor is on, is drawn with
+//! TRANSMISSION: what shows through is the opaque image refracted, not
+//! blended. Layers without it compile none of that code, and the opaque
+//! image is bound to the accumulation only when some layer refracts.
 
 pub(crate) mod key;
+pub mod transmission;
 
 use std::sync::{Arc, Mutex};
 
@@ -37,13 +44,14 @@ pub use key::{
     LayerMaps, LayerUv, LightKey, MatCapKey, ShadowKey, SurfaceKey, TransparencyKey,
     TransparencyPass,
 };
+pub use transmission::TransmissionSettings;
 
 use crate::environment::Environment;
 use crate::error::RenderError;
 use crate::frame_graph::{Bindings, FrameGraph, PassContext, Tex, TextureDesc};
 use crate::gbuffer::{Draw, GBuffer, Layer, mesh_bindings, pack_instances};
 use crate::lighting::{ClusterGrid, ClusterStore, FEW_LIGHTS, LightBuffer, LightKind, LightLoop};
-use crate::material::{FEATURE_MATCAP, MaterialWorld};
+use crate::material::{FEATURE_MATCAP, FEATURE_TRANSMISSION, MaterialWorld};
 use crate::mesh_arena::pulled_pipeline;
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
@@ -65,6 +73,8 @@ pub const DRAWN: &str = "transparent instances drawn";
 pub const LIGHT_PASSES: &str = "transparency light passes";
 /// Light buffers whose lights were assigned to froxels for the forward loop.
 pub const ASSIGNED: &str = "transparency clustered light buffers";
+/// Layers drawn with refracted transmission (TRANSMISSION).
+pub const REFRACTING: &str = "transparency refracting layers";
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TransparencySettings {
@@ -81,6 +91,9 @@ pub struct TransparencySettings {
     pub energy_compensation: bool,
     /// How light passes find their lights (CookTorrance's choice).
     pub light_loop: LightLoop,
+    /// Refraction for layers without a Transmission material, and the
+    /// sampling quality of every refracting layer.
+    pub transmission: TransmissionSettings,
 }
 
 impl Default for TransparencySettings {
@@ -93,6 +106,7 @@ impl Default for TransparencySettings {
             metallic: 0.0,
             energy_compensation: true,
             light_loop: LightLoop::Auto,
+            transmission: TransmissionSettings::default(),
         }
     }
 }
@@ -197,6 +211,8 @@ pub struct Transparency {
     /// The world of layers that bring none.
     materials: Option<Arc<MaterialWorld>>,
     environment: Option<Arc<Environment>>,
+    /// The settings' transmission is on: every layer refracts.
+    transmission: bool,
     accumulation: String,
     revealage: String,
     pub output: String,
@@ -273,6 +289,7 @@ impl Transparency {
         } else {
             Vec3::ZERO
         };
+        let t = settings.transmission.words();
         let params = super::uniform(
             renderer,
             owner,
@@ -300,6 +317,14 @@ impl Transparency {
                 environment
                     .as_ref()
                     .map_or(0.0, |e| e.quality.levels() as f32),
+                t[0],
+                t[1],
+                t[2],
+                t[3],
+                t[4],
+                t[5],
+                t[6],
+                t[7],
             ]),
         );
         let kept = owner.map(|node| renderer.state::<ForwardClusters>(u64::from(node)));
@@ -338,6 +363,7 @@ impl Transparency {
             marks,
             materials,
             environment,
+            transmission: settings.transmission.on(),
             accumulation: format!("transparency{id} accumulation"),
             revealage: format!("transparency{id} revealage"),
             output: format!("transparency{id}"),
@@ -360,7 +386,7 @@ impl Transparency {
                 continue;
             }
             let (surface, world) = self.surface(layer);
-            for pass in self.passes(Self::matcap(world)) {
+            for pass in self.passes(Self::matcap(world), self.transmits(world)) {
                 let key = TransparencyKey { surface, pass };
                 if !keys.contains(&key) {
                     keys.push(key);
@@ -370,13 +396,19 @@ impl Transparency {
         keys
     }
 
-    /// A layer's base pass (with its `matcap`), then a light pass per light buffer.
-    fn passes(&self, matcap: MatCapKey) -> impl Iterator<Item = TransparencyPass> + '_ {
+    /// A layer's base pass (with its `matcap` and `transmission`), then a
+    /// light pass per light buffer.
+    fn passes(
+        &self,
+        matcap: MatCapKey,
+        transmission: bool,
+    ) -> impl Iterator<Item = TransparencyPass> + '_ {
         let environment = self.environment.is_some();
         let base = TransparencyPass::Base {
             environment,
             matcap,
             marks: self.clustered(),
+            transmission,
         };
         std::iter::once(base).chain(self.lights.iter().map(|set| {
             TransparencyPass::Light(LightKey {
@@ -406,6 +438,13 @@ impl Transparency {
             }
             _ => MatCapKey::Off,
         }
+    }
+
+    /// Whether a layer of material world `world` refracts: the settings'
+    /// transmission is on, or the world has a Transmission material.
+    fn transmits(&self, world: Option<&Arc<MaterialWorld>>) -> bool {
+        self.transmission
+            || world.is_some_and(|w| w.union_flags() & (1 << FEATURE_TRANSMISSION) != 0)
     }
 
     /// A layer's surface permutation and the material world it reads.
@@ -471,6 +510,7 @@ impl Transparency {
         // Per layer, culling variant and pass: its pipeline and bind groups
         // (0; 1 and 3 with a material world and maps; 2 with layer maps).
         let mut work: Vec<Work> = Vec::new();
+        let mut refracting = 0;
         for ((layer, range), maps) in self
             .layers
             .iter()
@@ -482,6 +522,7 @@ impl Transparency {
             }
             let (surface, world) = self.surface(layer);
             let surface_maps = surface.maps == LayerMaps::Surface;
+            refracting += u64::from(self.transmits(world));
             // glTF materials (surface maps): back faces culled unless
             // double-sided, as other viewers draw them; patch-built layers
             // show both faces (a glass shell's back through its front).
@@ -496,8 +537,9 @@ impl Transparency {
                 {
                     continue;
                 }
+                let transmits = self.transmits(world);
                 for (pass, set) in self
-                    .passes(Self::matcap(world))
+                    .passes(Self::matcap(world), transmits)
                     .zip(std::iter::once(None).chain((0..self.lights.len()).map(Some)))
                 {
                     let key = TransparencyKey { surface, pass }.key();
@@ -531,6 +573,10 @@ impl Transparency {
                     }
                     if let (None, Some(marks), Some(grid)) = (set, &marks, marks_grid) {
                         b = b.buffer("grid", grid).buffer("froxel_marks", marks);
+                    }
+                    if let (None, true, Some(lit)) = (set, transmits, io.lit) {
+                        // Sampled by hand and clamped: a ray leaving the screen samples its edge.
+                        b = b.texture("lit_opaque", lit);
                     }
                     if let (None, Some(environment)) = (set, &self.environment) {
                         let maps = environment.maps_for("transparency")?;
@@ -616,6 +662,7 @@ impl Transparency {
         cx.draws += draws;
         cx.count(DRAWN, u64::from(self.instance_count));
         cx.count(LIGHT_PASSES, lit.len() as u64);
+        cx.count(REFRACTING, refracting);
         Ok(())
     }
 
@@ -766,6 +813,8 @@ struct AccumulateIo {
     spot_textures: Vec<Option<Tex>>,
     /// The forward grid the clustered light passes' lists are made in.
     grid: ClusterGrid,
+    /// The opaque lit image, when some layer refracts it.
+    lit: Option<Tex>,
 }
 
 /// What the resolve pass declared.
@@ -955,7 +1004,13 @@ impl Recipe for Transparency {
             .iter()
             .map(|set| set.lights.textures().map(|t| pass.read(&t.name)))
             .collect();
+        let refracts = self
+            .layers
+            .iter()
+            .zip(&self.layer_ranges)
+            .any(|(layer, range)| range.0 != range.1 && self.transmits(self.surface(layer).1));
         let io = AccumulateIo {
+            lit: refracts.then(|| pass.read(&self.source.name)),
             depth: pass.read(&self.gbuffer.targets.depth),
             accumulation: pass.write(&self.accumulation, target(ACCUMULATION)),
             revealage: pass.write(&self.revealage, target(REVEALAGE)),
