@@ -97,7 +97,7 @@ pub fn sweep_partials(targets: &[PathBuf]) -> usize {
             let Some((file, owner_host, pid)) = parse_partial(&name) else {
                 continue;
             };
-            let dead = owner_host == host && !Path::new(&format!("/proc/{pid}")).exists();
+            let dead = owner_host == host && !process_runs(pid);
             if dead
                 && files.contains(&OsString::from(file))
                 && std::fs::remove_file(entry.path()).is_ok()
@@ -107,6 +107,22 @@ pub fn sweep_partials(targets: &[PathBuf]) -> usize {
         }
     }
     removed
+}
+
+/// Whether process `pid` of this host still runs. A killed process whose
+/// parent is gone stays a zombie until something reaps it, and in a container
+/// whose first process reaps nothing that is for ever: its `/proc` entry is
+/// there, its state `Z` (or `X`). A farm worker's renderer, killed with its
+/// worker mid-write, is such a process (tools/farm: `PR_SET_PDEATHSIG`).
+fn process_runs(pid: u32) -> bool {
+    let Ok(stat) = std::fs::read_to_string(format!("/proc/{pid}/stat")) else {
+        return false;
+    };
+    // `PID (COMMAND) STATE ...`: the command may hold spaces and parentheses.
+    let state = stat
+        .rfind(')')
+        .and_then(|end| stat[end + 1..].split_whitespace().next());
+    !matches!(state, Some("Z" | "X") | None)
 }
 
 /// `.FILE.HOST-PID.partial` -> (FILE, HOST, PID).
@@ -120,6 +136,25 @@ fn parse_partial(name: &str) -> Option<(&str, &str, u32)> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_zombie_writer_is_dead_and_a_running_one_is_not() {
+        assert!(process_runs(std::process::id()));
+        assert!(!process_runs(u32::MAX), "no such process");
+        // A child that exited and was not waited for is a zombie until it is.
+        let mut child = std::process::Command::new("true").spawn().expect("spawn");
+        let pid = child.id();
+        let zombie = (0..500).any(|_| {
+            std::thread::sleep(std::time::Duration::from_millis(10));
+            !process_runs(pid)
+        });
+        assert!(
+            Path::new(&format!("/proc/{pid}")).exists(),
+            "still listed until it is reaped"
+        );
+        assert!(zombie, "an exited, unreaped child counts as dead");
+        child.wait().expect("reap");
+    }
 
     #[test]
     fn partial_names_round_trip() {

@@ -413,8 +413,12 @@ fn tile_workgroups(class: AdapterClass, cpu_threads: usize) -> u32 {
 }
 
 /// The threads a CPU adapter runs workgroups on: llvmpipe starts one per core.
+/// Asked once a process: on Linux `available_parallelism` reads the cgroup's
+/// quota files, tens of microseconds that every raster view (the G-buffer's,
+/// each shadow cascade's) paid on every frame (docs/benchmarks.md, session 17).
 fn cpu_threads() -> usize {
-    std::thread::available_parallelism().map_or(1, |n| n.get())
+    static THREADS: std::sync::OnceLock<usize> = std::sync::OnceLock::new();
+    *THREADS.get_or_init(|| std::thread::available_parallelism().map_or(1, |n| n.get()))
 }
 
 /// `batches`' triangles, then the big triangles' tiles, in the open compute pass.
