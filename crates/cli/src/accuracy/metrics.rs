@@ -14,6 +14,21 @@ pub struct Plane<'a> {
     pub mask: Option<&'a [bool]>,
 }
 
+impl<'a> Plane<'a> {
+    /// Each channel as a plane of `size`, counting the pixels of `mask`.
+    pub fn channels(channels: &'a [Vec<f32>], mask: &'a [bool], size: (u32, u32)) -> Vec<Self> {
+        channels
+            .iter()
+            .map(|values| Plane {
+                width: size.0,
+                height: size.1,
+                values,
+                mask: Some(mask),
+            })
+            .collect()
+    }
+}
+
 /// RMSE and SSIM of `approx` against `truth`.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct Error {

@@ -142,22 +142,9 @@ fn error(image: &ImageF32, truth: &ImageF32) -> metrics::Error {
     let (approx, reference): (Vec<Vec<f32>>, Vec<Vec<f32>>) = (0..3)
         .map(|c| (channel(image, c), channel(truth, c)))
         .unzip();
-    let a = as_planes(&approx, &mask, (truth.width, truth.height));
-    let t = as_planes(&reference, &mask, (truth.width, truth.height));
+    let a = Plane::channels(&approx, &mask, (truth.width, truth.height));
+    let t = Plane::channels(&reference, &mask, (truth.width, truth.height));
     metrics::Error::of(&a, &t)
-}
-
-/// Each channel as a plane of `size`, counting the pixels of `mask`.
-fn as_planes<'a>(channels: &'a [Vec<f32>], mask: &'a [bool], size: (u32, u32)) -> Vec<Plane<'a>> {
-    channels
-        .iter()
-        .map(|values| Plane {
-            width: size.0,
-            height: size.1,
-            values,
-            mask: Some(mask),
-        })
-        .collect()
 }
 
 struct Row {

@@ -226,20 +226,9 @@ fn error(image: &ImageF32, truth: &[Option<Vec3>], size: (u32, u32)) -> metrics:
             .unzip()
     };
     let (approx, reference): (Vec<Vec<f32>>, Vec<Vec<f32>>) = (0..3).map(channel).unzip();
-    fn planes<'a>(channels: &'a [Vec<f32>], mask: &'a [bool], size: (u32, u32)) -> Vec<Plane<'a>> {
-        channels
-            .iter()
-            .map(|values| Plane {
-                width: size.0,
-                height: size.1,
-                values,
-                mask: Some(mask),
-            })
-            .collect()
-    }
     metrics::Error::of(
-        &planes(&approx, &mask, size),
-        &planes(&reference, &mask, size),
+        &Plane::channels(&approx, &mask, size),
+        &Plane::channels(&reference, &mask, size),
     )
 }
 

@@ -352,21 +352,8 @@ fn hand_written_keys_allow_what_the_string_rules_did() {
         let n = keys.len();
         (keys.into_iter().map(|k| k.features).collect(), n)
     };
-    // As `SHADERS` listed them before.
-    let resolve: &[&str] = &[
-        "COMPUTE_RASTER",
-        "MOTION",
-        "TEXCOORDS",
-        "NORMAL_MAP",
-        "TRIPLANAR",
-        "VELOCITY_FROM_GEOMETRY",
-        "COLOR_MAP",
-        "SURFACE_OUT",
-        "MATERIAL_MAPS",
-        "CUSTOM_SURFACE",
-        "VERTEX_EXTRAS",
-        "VELOCITY_OUT",
-    ];
+    // The rules as `SHADERS` listed them before, over the key's own switches.
+    let resolve: &[&str] = crate::gbuffer::resolve_key::ResolveKey::FEATURES;
     let resolve_rules = [
         Rule::AtMostOne(&["COLOR_MAP", "MOTION"]),
         Rule::AtMostOne(&["VELOCITY_OUT", "MOTION"]),
@@ -379,25 +366,7 @@ fn hand_written_keys_allow_what_the_string_rules_did() {
     ];
     let (sets, n) = keyed("gbuffer/resolve.wgsl");
     assert_eq!((sets, n), (ruled(resolve, &resolve_rules), 792));
-    let cook_torrance: &[&str] = &[
-        "CLUSTERED",
-        "ENERGY_COMPENSATION",
-        "LIGHT_SPOT",
-        "LIGHT_SUN",
-        "MATERIALS",
-        "FAKE_SSS",
-        "SPOT_TEXTURE",
-        "MATERIAL_TEXTURES",
-        "SHADOWS",
-        "SHADOW_PCF",
-        "SHADOW_PCSS",
-        "SHADOW_VSM",
-        "SURFACE_TARGET",
-        "CLEARCOAT",
-        "CUSTOM_LIGHT",
-        "TILED",
-        "PER_PIXEL",
-    ];
+    let cook_torrance: &[&str] = crate::lighting::cook_torrance_key::CookTorranceKey::FEATURES;
     let cook_torrance_rules = [
         Rule::AtMostOne(&["LIGHT_SPOT", "LIGHT_SUN"]),
         Rule::AtMostOne(&["CUSTOM_LIGHT", "ENERGY_COMPENSATION"]),
@@ -423,15 +392,7 @@ fn hand_written_keys_allow_what_the_string_rules_did() {
     );
     // The G-buffer view: the rule's empty choice (no channel, a black
     // image) was never built, as every view shows a Channel.
-    let channels: &[&str] = &[
-        "ALBEDO",
-        "NORMALS",
-        "VELOCITY",
-        "UV",
-        "DEPTH",
-        "MATERIAL_ID",
-        "OBJECT_ID",
-    ];
+    let channels: &[&str] = crate::gbuffer::view_key::Channel::FEATURES;
     let mut ruled_view = ruled(channels, &[Rule::AtMostOne(channels)]);
     assert!(ruled_view.remove(&BTreeSet::new()));
     let (sets, n) = keyed("gbuffer/view.wgsl");
