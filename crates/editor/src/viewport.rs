@@ -331,11 +331,14 @@ pub struct ViewTarget {
 }
 
 /// Render `textures` at `size` with the shared renderer, in one frame graph
-/// (a recipe two of them share runs once). Returns the frame's report and
-/// the textures by name.
+/// (a recipe two of them share runs once), and watch `watched`
+/// ([`FrameGraph::watch`]: handed back when the frame makes them anyway,
+/// without changing the frame). Returns the frame's report and the
+/// textures by name.
 pub fn render_frame(
     renderer: &Arc<Renderer>,
     textures: &[&TextureRef],
+    watched: &[&TextureRef],
     size: (u32, u32),
 ) -> Result<RenderedFrame, ViewportError> {
     let size = (size.0.max(1), size.1.max(1));
@@ -344,6 +347,10 @@ pub fn render_frame(
     for texture in textures {
         texture.recipe.declare(renderer, &mut graph);
         graph.request(&texture.name);
+    }
+    for texture in watched {
+        texture.recipe.declare(renderer, &mut graph);
+        graph.watch(&texture.name);
     }
     graph
         .execute(renderer)
@@ -367,7 +374,7 @@ pub fn render_into(
     size: (u32, u32),
     target: &mut Option<ViewTarget>,
 ) -> Result<spreadlight_render::FrameReport, ViewportError> {
-    let (report, outputs) = render_frame(renderer, &[texture], size)?;
+    let (report, outputs) = render_frame(renderer, &[texture], &[], size)?;
     let src = outputs
         .get(&texture.name)
         .ok_or_else(|| ViewportError::Missing(texture.name.clone()))?;

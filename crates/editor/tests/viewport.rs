@@ -335,6 +335,49 @@ fn a_thumbnail_shows_the_texture_it_previews_and_the_value_under_the_pointer() {
     assert!(h.state().thumbnail_rect(&thumb_key(1)).is_none());
 }
 
+/// A thumbnail of a texture the patch's frame makes and reads anyway (the
+/// first of two FXAA passes) watches it (`FrameGraph::watch`) instead of
+/// requesting it: it shows the texture's pixels, with no low-rate note.
+#[test]
+fn a_thumbnail_of_a_texture_the_frame_makes_shows_it_without_a_request() {
+    use spreadlight_graph::NodeDoc;
+    let dir = tempfile::tempdir().expect("tempdir");
+    // Image effects make their output at the frame's size and read their
+    // source texel for texel: a source smaller than the viewport is read out
+    // of range (black) past its corner. A flat image larger than any
+    // viewport here keeps every texel the effects read grey.
+    image::RgbaImage::from_pixel(2048, 2048, image::Rgba([90, 90, 90, 255]))
+        .save(dir.path().join("flat.png"))
+        .expect("png");
+    let mut p = file_texture_patch("flat.png", true, false);
+    p.add(NodeDoc::new(2, "FXAA").at(160.0, 0.0));
+    p.add(NodeDoc::new(3, "FXAA").at(320.0, 0.0));
+    p.add(
+        NodeDoc::new(4, "Output")
+            .at(480.0, 0.0)
+            .with("Write", vec![false]),
+    );
+    p.link(1, "Texture", 2, "Texture");
+    p.link(2, "Texture", 3, "Texture");
+    p.link(3, "Texture", 4, "Texture");
+    let mut h = editor_on(&p, &dir, Vec2::new(1300.0, 700.0));
+    h.run_steps(3);
+    let rect = h
+        .state()
+        .thumbnail_rect(&thumb_key(2))
+        .expect("the first FXAA's thumbnail is drawn");
+    let out = h
+        .state()
+        .preview(&thumb_key(2))
+        .expect("the worker made it");
+    assert_eq!(out.error, None);
+    assert_eq!(out.note, None, "the patch's frame makes and reads it");
+    assert!(out.source.is_some());
+    let ppp = h.ctx.pixels_per_point();
+    let image = h.render().expect("render the window");
+    assert_grey(pixel_in(&image, rect, ppp, 0.5, 0.5), 90, "watched texture");
+}
+
 #[test]
 fn a_preview_of_an_unsunk_branch_evaluates_it_and_render_still_does_not() {
     use spreadlight_graph::stats::NodeRun;

@@ -318,6 +318,89 @@ fn a_chain_is_one_pass_only_when_nothing_else_reads_the_inner_output() {
     assert_eq!((merged.owner, merged.partner), (Some(7), Some(8)));
 }
 
+/// A watched texture (the editor's thumbnails) leaves the frame as it is:
+/// the chain still merges and its inner output is not handed back, no pass
+/// is kept from culling, usage is not widened; a texture the frame makes
+/// and reads is handed back; one no pass of the frame needs is made for the
+/// watch alone; an output no pass reads (left unwritten) is not handed back.
+#[test]
+fn a_watch_hands_back_what_the_frame_makes_and_changes_nothing_else() {
+    let renderer = test_renderer();
+    let log: Log = Arc::default();
+    // Sampled and stored, not copied: a request would add COPY_SRC.
+    let narrow = TextureDesc {
+        usage: wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::TEXTURE_BINDING,
+        ..target()
+    };
+    let frame = |watches: &[&str]| {
+        let mut fg = FrameGraph::new((16, 16));
+        let run = |what: &'static str| logs(&log, what);
+        declare_pass(
+            &mut fg,
+            "source",
+            None,
+            &[],
+            &[("source", narrow), ("unread", narrow)],
+            run("source"),
+        );
+        declare_pass(
+            &mut fg,
+            "inner",
+            None,
+            &["source"],
+            &[("inner", target())],
+            run("inner"),
+        );
+        declare_pass(
+            &mut fg,
+            "outer",
+            None,
+            &["inner"],
+            &[("outer", target())],
+            run("outer"),
+        );
+        fg.chains_into("inner", "inner and outer", run("both"));
+        declare_pass(
+            &mut fg,
+            "aside",
+            None,
+            &["source"],
+            &[("aside", target())],
+            run("aside"),
+        );
+        fg.request("outer");
+        for w in watches {
+            fg.watch(w);
+        }
+        log.lock().expect("log").clear();
+        let (report, outputs) = fg.execute(&renderer).expect("executes");
+        assert!(report.errors.is_empty(), "{:?}", report.errors);
+        let names: Vec<String> = report.passes.iter().map(|p| p.name.clone()).collect();
+        let mut handed: Vec<String> = outputs.keys().cloned().collect();
+        handed.sort();
+        (names, handed, outputs)
+    };
+    let (alone, ..) = frame(&[]);
+    assert_eq!(alone, ["source", "inner and outer"]);
+    // Watching the chain's inner output and the first pass's outputs: the
+    // same passes, merged as before; what was made and read comes back,
+    // with its own usage.
+    let (names, handed, outputs) = frame(&["inner", "source", "unread"]);
+    assert_eq!(names, alone);
+    assert_eq!(handed, ["outer", "source"]);
+    assert!(
+        !outputs["source"]
+            .usage()
+            .contains(wgpu::TextureUsages::COPY_SRC),
+        "a watch widened the texture's usage"
+    );
+    assert_eq!(log.lock().expect("log").clone(), ["source", "both"]);
+    // A texture no pass of the frame needs is made for the watch alone.
+    let (names, handed, _) = frame(&["aside"]);
+    assert_eq!(names, ["source", "inner and outer", "aside"]);
+    assert_eq!(handed, ["aside", "outer"]);
+}
+
 #[test]
 fn passes_run_in_dependency_order_whatever_the_declaration_order() {
     let renderer = test_renderer();

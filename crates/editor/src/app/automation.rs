@@ -87,7 +87,7 @@ impl EditorApp {
             let rect = self.viewports.rects[0]
                 .map(|r| [r.min.x * ppp, r.min.y * ppp, r.max.x * ppp, r.max.y * ppp]);
             println!(
-                "{{\"frames\": {}, \"nodes\": {}, \"ui_ms_median\": {:.3}, \"ui_ms_p95\": {:.3}, \"frame_ms_median\": {:.3}, \"frame_ms_p95\": {:.3}, \"eframe_cpu_ms_median\": {:.3}, \"patch_frames\": {}, \"patch_ms_median\": {:.3}, \"viewport_px\": {}, \"viewport_error\": {:?}, \"canvas_zoom\": {:.3}, \"canvas_text_px\": {:.2}, \"recovery_offered\": {}, \"recovery_module_files\": {}, \"nodes_laid_out\": {}, \"thumbnails\": {}, \"recorded_frames\": {}, \"recording_first_frame\": {}, \"recording_dropped\": {}, \"recording_error\": {:?}, \"thumbnail_ms\": {}, \"patch_alone_ms\": {}}}",
+                "{{\"frames\": {}, \"nodes\": {}, \"ui_ms_median\": {:.3}, \"ui_ms_p95\": {:.3}, \"frame_ms_median\": {:.3}, \"frame_ms_p95\": {:.3}, \"eframe_cpu_ms_median\": {:.3}, \"patch_frames\": {}, \"patch_ms_median\": {:.3}, \"viewport_px\": {}, \"viewport_error\": {:?}, \"canvas_zoom\": {:.3}, \"canvas_text_px\": {:.2}, \"recovery_offered\": {}, \"recovery_module_files\": {}, \"nodes_laid_out\": {}, \"thumbnails\": {}, \"recorded_frames\": {}, \"recording_first_frame\": {}, \"recording_dropped\": {}, \"recording_error\": {:?}, \"thumbnail_ms\": {}, \"patch_alone_ms\": {}, \"thumbnails_low_rate\": {}}}",
                 a.frames,
                 nodes,
                 ui_med * 1e3,
@@ -122,6 +122,13 @@ impl EditorApp {
                 // The thumbnails' schedule, as the worker measured it (previews/schedule.rs).
                 json_ms(self.frame.thumbnail_cost.thumb_ms),
                 json_ms(self.frame.thumbnail_cost.base_ms),
+                // Thumbnails whose texture the patch's frame does not make
+                // (merged away), refreshed at a low rate (previews/engine.rs).
+                self.previews
+                    .outputs
+                    .iter()
+                    .filter(|(k, o)| !k.large && o.note.is_some())
+                    .count(),
             );
             self.allow_close = true;
             ctx.send_viewport_cmd(ViewportCommand::Close);

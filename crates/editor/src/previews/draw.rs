@@ -113,6 +113,12 @@ fn paint(ui: &Ui, rect: Rect, out: Option<&PreviewOut>) {
         Some(target) => {
             let uv = Rect::from_min_max(egui::pos2(0.0, 0.0), egui::pos2(1.0, 1.0));
             painter.image(target.id, rect, uv, Color32::WHITE);
+            if out.is_some_and(|o| o.note.is_some()) {
+                // Refreshed at a low rate (its hover says why): an amber corner mark.
+                let r = (rect.width() * 0.05).clamp(2.0, 5.0);
+                let centre = rect.right_top() + Vec2::new(-r - 1.0, r + 1.0);
+                painter.circle_filled(centre, r, Color32::from_rgb(230, 160, 40));
+            }
         }
         None => {
             painter.rect_filled(rect, 2.0, Color32::from_gray(24));
@@ -170,6 +176,9 @@ fn describe(ui: &mut Ui, out: Option<&PreviewOut>, probed: Option<((u32, u32), [
     }
     if let Some(((x, y), [r, g, b, a])) = probed.or(out.value) {
         ui.monospace(format!("({x}, {y}): {r:.3} {g:.3} {b:.3} {a:.3}"));
+    }
+    if let Some(note) = &out.note {
+        ui.colored_label(Color32::from_rgb(230, 160, 40), note);
     }
     if let Some(e) = &out.error {
         ui.colored_label(Color32::LIGHT_RED, e);

@@ -1,6 +1,18 @@
 //! The worker's side of the previews: which pins the runtime evaluates for
-//! them, which textures the first viewport's frame graph also requests, and
+//! them, which textures the first viewport's frame graph also makes, and
 //! the scaled images and probed texels it makes of them.
+//!
+//! A thumbnail watches its texture in the viewport's frame graph
+//! ([`spreadlight_render::FrameGraph::watch`]): the patch's frame is the
+//! same with thumbnails as without (no pass kept from being culled or
+//! merged, no texture's usage or memory changed but that it is kept to the
+//! end of the frame), and the thumbnail is scaled from what the frame made.
+//! A texture the frame does not make (merged into the next pass, as Fog's
+//! into Sky's; an output no pass reads) is requested instead, every
+//! [`MERGED_EVERY`]th frame of a playing patch, and labelled so. A texture
+//! that feeds no sink is made for its preview alone, as a request. The
+//! hovered preview and a thumbnail under the pointer (whose texel is read
+//! back) are requested every frame.
 
 use std::collections::HashMap;
 use std::sync::Arc;
@@ -23,6 +35,29 @@ use crate::viewport::{self, Blitter, RenderedFrame};
 /// Runs of the worker a preview no longer asked for keeps its texture, so
 /// a frame the UI still draws never loses it; then it is freed.
 const KEEP_RUNS: u32 = 120;
+
+/// A thumbnail whose texture the patch's frame does not make is requested
+/// (changing that frame: the pass that writes it no longer merges into the
+/// next) once in this many frames of a playing patch.
+pub const MERGED_EVERY: u64 = 30;
+
+/// What a thumbnail of a texture the patch's frame does not make says.
+pub const MERGED_NOTE: &str =
+    "not made by the patch's frame (merged into the next pass): refreshed every 30th frame";
+
+/// A preview this frame refreshes: what it shows, its source, and how it
+/// gets its texture.
+type Refreshed = (PreviewRequest, Result<Shown, String>, Option<Source>, Via);
+
+/// How a refreshed preview gets its texture from the frame graph.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Via {
+    /// Watched: shown if the patch's frame makes it, which it leaves as it is.
+    Watch,
+    /// Requested: the hovered preview, a probed thumbnail, or a thumbnail the
+    /// frame does not make (at its low rate).
+    Request,
+}
 
 /// What a preview shows, found in the runtime.
 enum Found {
@@ -86,6 +121,10 @@ struct Slot {
     out: PreviewOut,
     /// Worker runs since it was last asked for.
     idle: u32,
+    /// The patch's frame did not make its texture when last watched.
+    merged: bool,
+    /// The frame ([`PreviewEngine::frames`]) it was last requested in as merged.
+    forced_at: u64,
 }
 
 /// The previews the worker keeps.
@@ -105,6 +144,8 @@ pub struct PreviewEngine {
     /// The frame being worked on advances a playing patch: the thumbnails
     /// keep to their budget of its frame time.
     budgeted: bool,
+    /// Frames rendered, for the merged thumbnails' low rate.
+    frames: u64,
 }
 
 impl PreviewEngine {
@@ -186,14 +227,29 @@ impl PreviewEngine {
     /// What each preview shows, and which of them this frame refreshes
     /// (the schedule's pick; failures always, they cost nothing).
     fn resolve(&mut self, runtime: &Runtime, size: (u32, u32)) -> Vec<Resolved> {
+        self.frames += 1;
         let found: Vec<(PreviewRequest, Result<Found, String>)> = self
             .requests
             .iter()
             .map(|r| (r.clone(), found(runtime, &r.key)))
             .collect();
+        // A thumbnail the patch's frame does not make waits for its low rate
+        // while the patch plays: no candidate until then.
+        let waiting: Vec<bool> = found
+            .iter()
+            .map(|(r, _)| {
+                self.budgeted
+                    && !(r.key.large || r.probe.is_some())
+                    && self.slots.get(&r.key).is_some_and(|s| {
+                        s.merged && self.frames.saturating_sub(s.forced_at) < MERGED_EVERY
+                    })
+            })
+            .collect();
         let candidates: Vec<Candidate<Source>> = found
             .iter()
-            .filter_map(|(r, f)| {
+            .zip(&waiting)
+            .filter(|(_, waits)| !**waits)
+            .filter_map(|((r, f), _)| {
                 Some(Candidate {
                     key: r.key.clone(),
                     source: f.as_ref().ok()?.source(size),
@@ -204,9 +260,10 @@ impl PreviewEngine {
         let mut picked = self.schedule.pick(&candidates, self.budgeted).into_iter();
         found
             .into_iter()
-            .map(|(r, f)| {
+            .zip(waiting)
+            .map(|((r, f), waits)| {
                 let source = f.as_ref().ok().and_then(|f| f.source(size));
-                let refresh = f.is_err() || picked.next().unwrap_or(true);
+                let refresh = !waits && (f.is_err() || picked.next().unwrap_or(true));
                 Resolved {
                     request: r,
                     found: f,
@@ -240,8 +297,7 @@ impl PreviewEngine {
         // One G-buffer view per (G-buffer, channel): the large and the small
         // preview of a channel share its pass.
         let mut views: HashMap<(usize, usize), TextureRef> = HashMap::new();
-        let mut thumbnails = 0;
-        let resolved: Vec<(PreviewRequest, Result<Shown, String>, Option<Source>)> = resolved
+        let resolved: Vec<Refreshed> = resolved
             .into_iter()
             .filter(|r| r.refresh)
             .map(
@@ -252,29 +308,39 @@ impl PreviewEngine {
                      ..
                  }| {
                     let shown = found.map(|f| made(renderer, f, &mut views, time));
-                    thumbnails +=
-                        usize::from(shown.is_ok() && !request.key.large && request.probe.is_none());
-                    (request, shown, source)
+                    let live = request.key.large || request.probe.is_some();
+                    let merged = self.slots.get(&request.key).is_some_and(|s| s.merged);
+                    let via = if live || merged {
+                        Via::Request
+                    } else {
+                        Via::Watch
+                    };
+                    (request, shown, source, via)
                 },
             )
             .collect();
         let mut textures: Vec<&TextureRef> = main.into_iter().collect();
-        for (_, shown, _) in &resolved {
-            if let Ok(Shown::Texture(t) | Shown::Mesh(_, Some(t))) = shown
-                && !textures.iter().any(|u| u.name == t.name)
-            {
-                textures.push(t);
+        let mut watched: Vec<&TextureRef> = Vec::new();
+        for (_, shown, _, via) in &resolved {
+            if let Ok(Shown::Texture(t) | Shown::Mesh(_, Some(t))) = shown {
+                let list = match via {
+                    Via::Request => &mut textures,
+                    Via::Watch => &mut watched,
+                };
+                if !list.iter().any(|u| u.name == t.name) {
+                    list.push(t);
+                }
             }
         }
-        let frame = if textures.is_empty() {
+        let frame = if textures.is_empty() && watched.is_empty() {
             None
         } else {
-            match viewport::render_frame(renderer, &textures, size) {
+            match viewport::render_frame(renderer, &textures, &watched, size) {
                 Ok(frame) => Some(Ok(frame)),
-                Err(e) if textures.len() > 1 => {
+                Err(e) if textures.len() > 1 || !watched.is_empty() => {
                     // The previews' error; the viewport renders on its own.
-                    let alone = main.map(|m| viewport::render_frame(renderer, &[m], size));
-                    for (request, _, _) in &resolved {
+                    let alone = main.map(|m| viewport::render_frame(renderer, &[m], &[], size));
+                    for (request, _, _, _) in &resolved {
                         slot(&mut self.slots, &request.key).out.error = Some(e.to_string());
                         // Tried again in the next frame, not taken as shown.
                         self.schedule.refreshed(&request.key, None);
@@ -289,7 +355,10 @@ impl PreviewEngine {
         // Every thumbnail's blit in one submission (each may wait at the gate).
         let mut batch = Vec::new();
         let mut probes = Vec::new();
-        for (request, shown, source) in resolved {
+        // Thumbnails scaled (not live): the frame's cost over the patch's own is theirs.
+        let mut thumbnails = 0;
+        let frames = self.frames;
+        for (request, shown, source, via) in resolved {
             let slot = slot(&mut self.slots, &request.key);
             slot.out.mesh = None;
             slot.out.error = None;
@@ -302,9 +371,29 @@ impl PreviewEngine {
                 Ok(Shown::Mesh(_, None)) => {}
                 Ok(Shown::Mesh(_, Some(t)) | Shown::Texture(t)) => {
                     let Some(src) = outputs.and_then(|o| o.get(&t.name)) else {
-                        slot.out.error = Some(format!("the frame produced no `{}`", t.name));
+                        if via == Via::Watch && outputs.is_some() {
+                            // The patch's frame merged it away (or left it
+                            // unwritten): requested at the low rate from now
+                            // on, at once when the thumbnail shows nothing yet.
+                            slot.merged = true;
+                            slot.out.note = Some(MERGED_NOTE.to_owned());
+                            if slot.out.target.is_none() {
+                                slot.forced_at = frames.saturating_sub(MERGED_EVERY);
+                            }
+                        } else {
+                            slot.out.error = Some(format!("the frame produced no `{}`", t.name));
+                        }
                         continue;
                     };
+                    let live = request.key.large || request.probe.is_some();
+                    if slot.merged && !live {
+                        // Requested at its low rate; watched again next time
+                        // (the patch may have changed so that it is made).
+                        slot.merged = false;
+                        slot.forced_at = frames;
+                    } else if via == Via::Watch {
+                        slot.out.note = None;
+                    }
                     let src_size = (src.width().max(1), src.height().max(1));
                     slot.out.source = Some((src_size, src.format()));
                     let width = if request.key.large {
@@ -328,6 +417,7 @@ impl PreviewEngine {
                     if let Some(uv) = request.probe {
                         probes.push((request.key.clone(), uv));
                     }
+                    thumbnails += usize::from(!live);
                     self.sources.insert(request.key.clone(), src.clone());
                     // Shown: skipped from now on while its source stays the same.
                     self.schedule.refreshed(&request.key, source);
@@ -403,6 +493,8 @@ fn slot<'s>(slots: &'s mut HashMap<PreviewKey, Slot>, key: &PreviewKey) -> &'s m
     let slot = slots.entry(key.clone()).or_insert_with(|| Slot {
         out: PreviewOut::default(),
         idle: 0,
+        merged: false,
+        forced_at: 0,
     });
     slot.idle = 0;
     slot

@@ -86,6 +86,9 @@ pub struct PreviewOut {
     pub value: Option<((u32, u32), [f32; 4])>,
     pub mesh: Option<MeshCounts>,
     pub error: Option<String>,
+    /// How it is refreshed, when not with every frame that changes it (a
+    /// texture the patch's frame merges away: engine::MERGED_NOTE).
+    pub note: Option<String>,
 }
 
 /// The previews of one finished frame, by key.

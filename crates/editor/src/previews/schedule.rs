@@ -1,13 +1,13 @@
 //! Which thumbnails the worker refreshes in a frame, so that previews do not
 //! slow the patch.
 //!
-//! A thumbnail costs the patch more than its scaling: its texture is
-//! requested from the first viewport's frame graph, so the pass that writes
-//! it is neither culled nor merged into the next one (a chain of post
-//! effects that ran as one pass runs as two), and its texture is kept to the
-//! end of the frame instead of being handed to a later pass. On lavapipe,
-//! where every pass is CPU work beside the patch's own, that was about
-//! 2.5 ms a thumbnail against a 376 ms frame of post.ron (docs/editor.md).
+//! A thumbnail once cost the patch more than its scaling: its texture was
+//! requested from the first viewport's frame graph, so the pass that wrote
+//! it was neither culled nor merged into the next one and its texture was
+//! kept from later passes and histories. Now a thumbnail watches its texture
+//! (engine.rs, `FrameGraph::watch`), which leaves the patch's frame as it
+//! is; what is left is its scaling, on lavapipe CPU work beside the patch's
+//! own passes.
 //!
 //! So, per frame of a playing patch:
 //! - a thumbnail whose source is the very image it already shows (the same

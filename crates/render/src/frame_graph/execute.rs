@@ -1,6 +1,6 @@
 //! Executing a frame graph on the renderer: allocate each pass's textures
 //! (pooled temporaries, persistent histories), record the passes in order,
-//! time them, submit, and hand the requested textures back.
+//! time them, submit, and hand the requested (and watched) textures back.
 //!
 //! Two choices are the renderer's settings ([`Recording`], [`Timing`]):
 //! - `Recording::Isolated` records each pass into its own command encoder
@@ -80,6 +80,10 @@ fn execute(
         }
     }
     let requested: FxHashSet<&str> = parts.requested.iter().map(String::as_str).collect();
+    // Watched textures are kept to the end of the frame, nothing else
+    // (`FrameGraph::watch`); those made and read are handed back.
+    let watched: FxHashSet<&str> = parts.watched.iter().map(String::as_str).collect();
+    let mut watched_made: Vec<String> = Vec::new();
     // Temporaries a history may trade textures with (history.rs).
     let tradable: FxHashSet<&str> = parts
         .writes
@@ -287,6 +291,17 @@ fn execute(
                 }
             }
         };
+        if error.is_none() && !watched.is_empty() {
+            // Made: written by this pass and read by a later one (a pass may
+            // leave an output nobody reads unwritten, `PassContext::is_read`).
+            for (name, _) in &parts.writes[p] {
+                if watched.contains(name.as_str())
+                    && last_use.get(name.as_str()).is_some_and(|&s| s > step)
+                {
+                    watched_made.push(name.clone());
+                }
+            }
+        }
         match error {
             Some(message) => {
                 let message = format!("pass `{}`: {message}", parts.names[p]);
@@ -318,7 +333,8 @@ fn execute(
         owned.retain(|(name, key, lifetime, slot)| {
             let done = *lifetime == Lifetime::Temporary
                 && last_use.get(name.as_str()).is_some_and(|&s| s <= step)
-                && !requested.contains(name.as_str());
+                && !requested.contains(name.as_str())
+                && !watched.contains(name.as_str());
             if done {
                 let texture = live.remove(name);
                 match release_instead.remove(name) {
@@ -509,7 +525,7 @@ fn execute(
             .remove(&name)
             .or_else(|| live.get(&name).cloned());
         if let Some(texture) = texture {
-            if requested.contains(name.as_str()) {
+            if requested.contains(name.as_str()) || watched.contains(name.as_str()) {
                 textures.lent.push((key, texture));
             } else {
                 textures.give_back(key, texture);
@@ -519,6 +535,15 @@ fn execute(
     for name in &parts.requested {
         if let Some(t) = live.get(name) {
             outputs.insert(name.clone(), t.clone());
+        }
+    }
+    // A watched texture is handed back only if it can be sampled: a watch
+    // changes no texture's usage.
+    for name in watched_made {
+        if let Some(t) = live.get(&name)
+            && t.usage().contains(wgpu::TextureUsages::TEXTURE_BINDING)
+        {
+            outputs.insert(name, t.clone());
         }
     }
     report.wait_ms = (started.elapsed().as_secs_f64() * 1e3 - report.record_ms).max(0.0);

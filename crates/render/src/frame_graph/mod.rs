@@ -2,7 +2,10 @@
 //! is a texture's identity across recipes and frames) and get typed handles
 //! back (handles.rs), which are all their runs can resolve; they bind their
 //! shaders' variables by name (bindings.rs). Before anything runs, every pass
-//! whose outputs do not reach a requested output is culled. As in breezEngine, a texture is temporary (pooled by
+//! whose outputs do not reach a requested output is culled. A texture can
+//! also be watched ([`FrameGraph::watch`]): handed back if the frame makes
+//! it anyway, without changing which passes run, merge or share memory (the
+//! editor's thumbnails). As in breezEngine, a texture is temporary (pooled by
 //! descriptor and reused within and across frames), permanent (lives through
 //! the frame) or persistent (kept across frames under its name: history,
 //! adapted luminance). Sizes are absolute or a scale of the frame's output.
@@ -327,6 +330,8 @@ pub struct FrameGraph<'a> {
     output_size: (u32, u32),
     passes: Vec<PassEntry<'a>>,
     requested: Vec<String>,
+    /// Textures handed back if the frame makes them anyway ([`FrameGraph::watch`]).
+    watched: Vec<String>,
     imports: FxHashMap<String, wgpu::Texture>,
     included: FxHashSet<u64>,
     /// Texture names by handle ([`Tex`]), and handles by name.
@@ -343,6 +348,7 @@ impl<'a> FrameGraph<'a> {
             output_size: (output_size.0.max(1), output_size.1.max(1)),
             passes: Vec::new(),
             requested: Vec::new(),
+            watched: Vec::new(),
             imports: FxHashMap::default(),
             included: FxHashSet::default(),
             texture_names: Vec::new(),
@@ -366,6 +372,21 @@ impl<'a> FrameGraph<'a> {
     /// Ask for a texture: only the passes it depends on will run.
     pub fn request(&mut self, name: &str) {
         self.requested.push(name.to_owned());
+    }
+
+    /// Watch a texture: hand it back if the frame makes it anyway, without
+    /// changing the frame (a request keeps its pass from being culled or
+    /// merged into the next, makes its texture readable, keeps it from
+    /// trading with a history and from being handed to a later pass). It is
+    /// handed back when a pass that ran wrote it and a later pass read it,
+    /// and it can be sampled; it is kept to the end of the frame, the one
+    /// difference a watch makes. A watched texture that no pass of the frame
+    /// needs is made for the watch alone, as a request: its passes are the
+    /// watch's own. One merged into the next pass (`chains_into`), or an
+    /// output that no pass reads (left unwritten), is not handed back: the
+    /// caller asks for it with [`FrameGraph::request`] when it must have it.
+    pub fn watch(&mut self, name: &str) {
+        self.watched.push(name.to_owned());
     }
 
     /// Make an outside texture readable by passes under `name`.
@@ -509,6 +530,8 @@ pub(crate) struct GraphParts<'a> {
     pub order: Vec<usize>,
     pub culled: Vec<usize>,
     pub requested: Vec<String>,
+    /// Watched textures that no request names ([`FrameGraph::watch`]).
+    pub watched: Vec<String>,
     pub imports: FxHashMap<String, wgpu::Texture>,
     pub keys: Vec<Vec<TextureKey>>,
     pub counters: BTreeMap<&'static str, u64>,
@@ -518,10 +541,32 @@ pub(crate) struct GraphParts<'a> {
 
 impl<'a> FrameGraph<'a> {
     pub(crate) fn into_parts(
-        self,
+        mut self,
         persistent: &dyn Fn(&str) -> bool,
     ) -> Result<GraphParts<'a>, RenderError> {
-        let (order, culled) = self.schedule(persistent)?;
+        let (mut order, mut culled) = self.schedule(persistent)?;
+        // A watched texture no pass of the frame makes is made for the watch
+        // alone: requested. The frame's own passes are scheduled as before,
+        // and what they make is only watched.
+        if !self.watched.is_empty() {
+            let made: FxHashSet<&str> = order
+                .iter()
+                .flat_map(|&p| self.passes[p].writes.iter().map(|(n, _)| n.as_str()))
+                .collect();
+            let alone: Vec<String> = self
+                .watched
+                .iter()
+                .filter(|w| !made.contains(w.as_str()) && !self.requested.contains(w))
+                .cloned()
+                .collect();
+            if !alone.is_empty() {
+                self.requested.extend(alone);
+                (order, culled) = self.schedule(persistent)?;
+            }
+            let requested = &self.requested;
+            self.watched.retain(|w| !requested.contains(w));
+            self.watched.dedup();
+        }
         // What the caller gets back, any sink must be able to read: copy
         // it (Output's readback) or sample it (the editor's viewport).
         let keys = self
@@ -552,6 +597,7 @@ impl<'a> FrameGraph<'a> {
             order,
             culled,
             requested: self.requested,
+            watched: self.watched,
             imports: self.imports,
             keys,
             counters: self.counters,
