@@ -19,9 +19,10 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use anyhow::{Context, bail};
-use spreadlight_graph::{NodeId, Spread, format};
+use spreadlight_graph::{Spread, format};
 
 use crate::cold_start::ColdStart;
+use crate::pin_arg::PinArg;
 use crate::session::{Session, parse_size};
 
 #[derive(clap::Args)]
@@ -86,32 +87,14 @@ fn median(mut v: Vec<f64>) -> Option<f64> {
 
 /// Apply `ID.PIN=VALUE` to the patch, typed by the pin.
 fn apply_set(patch: &mut spreadlight_graph::Patch, set: &str) -> anyhow::Result<()> {
-    let (target, value) = set
-        .rsplit_once('=')
-        .with_context(|| format!("`--set {set}`: expected ID.PIN=VALUE"))?;
-    let (id, pin) = target
-        .split_once('.')
-        .with_context(|| format!("`--set {set}`: expected ID.PIN=VALUE"))?;
-    let id: u32 = id
-        .trim()
-        .trim_start_matches('#')
-        .parse()
-        .with_context(|| format!("`--set {set}`: `{id}` is not a node id"))?;
-    let registry = spreadlight_nodes::registry();
-    let node = patch
-        .node_mut(NodeId(id))
-        .with_context(|| format!("`--set {set}`: the patch has no node #{id}"))?;
-    let def = registry
-        .get(&node.type_name)
-        .with_context(|| format!("`--set {set}`: node #{id} has an unknown type"))?;
-    let k = def.input_index(pin).with_context(|| {
-        format!(
-            "`--set {set}`: node #{id} `{}` has no input `{pin}`",
-            def.name
-        )
-    })?;
-    let bad = || anyhow::anyhow!("`--set {set}`: `{value}` is not a {}", def.inputs[k].ty);
-    let spread = match def.inputs[k].ty {
+    let PinArg {
+        node,
+        pin,
+        value,
+        ty,
+    } = PinArg::parse(patch, "set", "VALUE", set)?;
+    let bad = || anyhow::anyhow!("`--set {set}`: `{value}` is not a {ty}");
+    let spread = match ty {
         spreadlight_graph::PinType::Float => Spread::Float(vec![value.parse().map_err(|_| bad())?]),
         spreadlight_graph::PinType::Int => Spread::Int(vec![value.parse().map_err(|_| bad())?]),
         spreadlight_graph::PinType::Bool => Spread::Bool(vec![value.parse().map_err(|_| bad())?]),
@@ -127,7 +110,9 @@ fn apply_set(patch: &mut spreadlight_graph::Patch, set: &str) -> anyhow::Result<
         }
         other => bail!("`--set {set}`: pins of type {other} cannot be set from the command line"),
     };
-    node.values.insert(pin.to_owned(), spread);
+    if let Some(node) = patch.node_mut(node) {
+        node.values.insert(pin.to_owned(), spread);
+    }
     Ok(())
 }
 
@@ -391,7 +376,7 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
             "cpu_eval_ms_median": eval,
             "cpu_record_ms_median": record,
             "cpu_submit_ms_median": submit,
-            "cpu_queue_submit_ms_median": median(series.queue_submit.clone()),
+            "cpu_queue_submit_ms_median": median(series.queue_submit),
             "wall_ms_per_frame": wall.as_ref().map(|w| w.ms_per_frame),
             "wall_cpu_ms_median": wall_cpu.0,
             "wall_cpu_eval_ms_median": wall_cpu.1,

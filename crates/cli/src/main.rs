@@ -12,6 +12,7 @@ mod eval;
 mod fmt;
 mod nodes;
 mod orbit;
+mod pin_arg;
 mod play;
 mod sequence;
 mod session;

@@ -7,6 +7,8 @@
 use anyhow::{Context, bail};
 use spreadlight_graph::{NodeId, Patch, PinType, Spread};
 
+use crate::pin_arg::PinArg;
+
 /// The pin turned, where it started and how far it turns a frame.
 pub struct Orbit {
     node: NodeId,
@@ -18,50 +20,38 @@ pub struct Orbit {
 impl Orbit {
     /// `ID.PIN=RADIANS`, checked against `patch`: the node must exist and the pin be a Vec3 input.
     pub fn parse(patch: &Patch, text: &str) -> anyhow::Result<Orbit> {
-        let (target, value) = text
-            .rsplit_once('=')
-            .with_context(|| format!("`--orbit {text}`: expected ID.PIN=RADIANS"))?;
-        let (id, pin) = target
-            .split_once('.')
-            .with_context(|| format!("`--orbit {text}`: expected ID.PIN=RADIANS"))?;
-        let id: u32 = id
-            .trim()
-            .trim_start_matches('#')
-            .parse()
-            .with_context(|| format!("`--orbit {text}`: `{id}` is not a node id"))?;
+        let PinArg {
+            node: id,
+            pin,
+            value,
+            ty,
+        } = PinArg::parse(patch, "orbit", "RADIANS", text)?;
         let radians: f32 = value
             .trim()
             .parse()
             .ok()
             .filter(|r: &f32| r.is_finite())
             .with_context(|| format!("`--orbit {text}`: `{value}` is not a number of radians"))?;
-        let node = patch
-            .node(NodeId(id))
-            .with_context(|| format!("`--orbit {text}`: the patch has no node #{id}"))?;
-        let registry = spreadlight_nodes::registry();
-        let def = registry
-            .get(&node.type_name)
-            .with_context(|| format!("`--orbit {text}`: node #{id} has an unknown type"))?;
-        let k = def.input_index(pin).with_context(|| {
-            format!(
-                "`--orbit {text}`: node #{id} `{}` has no input `{pin}`",
-                def.name
-            )
-        })?;
-        if def.inputs[k].ty != PinType::Vec3 {
+        if ty != PinType::Vec3 {
             bail!(
-                "`--orbit {text}`: input `{pin}` of node #{id} is a {}, not a Vec3",
-                def.inputs[k].ty
+                "`--orbit {text}`: input `{pin}` of node #{} is a {ty}, not a Vec3",
+                id.0
             );
         }
+        let node = patch
+            .node(id)
+            .with_context(|| format!("`--orbit {text}`: no node #{}", id.0))?;
         let start = match node.values.get(pin) {
             Some(Spread::Vec3(v)) if !v.is_empty() => v.clone(),
             _ => {
-                bail!("`--orbit {text}`: input `{pin}` of node #{id} has no value set in the patch")
+                bail!(
+                    "`--orbit {text}`: input `{pin}` of node #{} has no value set in the patch",
+                    id.0
+                )
             }
         };
         Ok(Orbit {
-            node: NodeId(id),
+            node: id,
             pin: pin.to_owned(),
             start,
             radians,
