@@ -698,5 +698,8 @@ fn lights_every_cutoff_is_timed_and_a_higher_cutoff_costs_more_error() {
     let (some, more) = (num(at(100.0), "rmse"), num(at(400.0), "rmse"));
     // The bench's lights are 3,979 cd times a colour in 0..1, range 5: a
     // cutoff of 100 shortens only the dimmest, one of 400 most of them.
-    assert!(more > some && more > 0.0, "cutoffs 100 / 400: {some} / {more}");
+    assert!(
+        more > some && more > 0.0,
+        "cutoffs 100 / 400: {some} / {more}"
+    );
 }

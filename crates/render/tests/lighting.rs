@@ -1410,7 +1410,10 @@ fn a_light_cutoff_of_zero_is_exact_and_a_cutoff_shortens_every_lights_reach_alik
             total += f64::from(e[k]);
         }
     }
-    assert!(darker > 100, "the cutoff dims the scene ({darker} channels)");
+    assert!(
+        darker > 100,
+        "the cutoff dims the scene ({darker} channels)"
+    );
     assert!(
         kept > 0.1 * total && kept < total,
         "a cutoff of 2 keeps most of the light ({kept} of {total})"

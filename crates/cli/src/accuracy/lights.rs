@@ -56,7 +56,8 @@ fn with_settings(patch: &Patch, count: i64, cutoff: f32) -> Patch {
     for node in &mut set.nodes {
         match node.type_name.as_str() {
             "BenchLights" => {
-                node.values.insert("Count".to_owned(), Spread::Int(vec![count]));
+                node.values
+                    .insert("Count".to_owned(), Spread::Int(vec![count]));
             }
             "CookTorrance" => {
                 node.values
@@ -69,7 +70,12 @@ fn with_settings(patch: &Patch, count: i64, cutoff: f32) -> Patch {
 }
 
 /// A session of `patch` at `size` (capturing its Output images when `capture`).
-fn open(args: &LightArgs, patch: &Patch, size: (u32, u32), capture: bool) -> anyhow::Result<Session> {
+fn open(
+    args: &LightArgs,
+    patch: &Patch,
+    size: (u32, u32),
+    capture: bool,
+) -> anyhow::Result<Session> {
     let session = Session::build(patch, &args.patch, true, Some(size), capture, false)?;
     if session.load_errors {
         bail!("{} has errors (above)", args.patch.display());
@@ -111,7 +117,10 @@ fn output_channels(session: &Session) -> anyhow::Result<Vec<Vec<f32>>> {
         .into_iter()
         .next()
         .context("the patch has no Output to compare")?;
-    let (image, _) = session.images.get(&name).context("the Output rendered no image")?;
+    let (image, _) = session
+        .images
+        .get(&name)
+        .context("the Output rendered no image")?;
     Ok((0..3)
         .map(|c| image.pixels.iter().map(|p| p[c]).collect())
         .collect())

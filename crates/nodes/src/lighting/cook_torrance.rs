@@ -63,6 +63,11 @@ pub fn register(r: &mut Registry) {
             let specular = texture_output(p, "Specular");
             let sss_out = texture_output(p, "SSS");
             move |cx| {
+                // Checked first: a bad value is the node's error whatever else is connected.
+                let cutoff = cx.first(cutoff_pin, 0.0f32)?;
+                if !(cutoff.is_finite() && cutoff >= 0.0) {
+                    return Err(cx.error(cutoff_pin, format!("is {cutoff}: a light cutoff is an illuminance of 0 (off) or more")));
+                }
                 let renderer = renderer(cx)?;
                 let gbuffer = cx.first_resource(g_buffer)?.ok_or_else(|| cx.error(g_buffer, "no G-buffer connected"))?;
                 let lights = match cx.first_resource(lights_in)? {
@@ -77,10 +82,6 @@ pub fn register(r: &mut Registry) {
                 }
                 let mode = cx.choice(light_loop)?;
                 let energy = cx.first(energy, true)?;
-                let cutoff = cx.first(cutoff_pin, 0.0f32)?;
-                if !(cutoff.is_finite() && cutoff >= 0.0) {
-                    return Err(cx.error(cutoff_pin, format!("is {cutoff}: a light cutoff is an illuminance of 0 (off) or more")));
-                }
                 let surfaces = match cx.first_resource(material_world)? {
                     Some(world) => Surfaces::Materials(world),
                     None => Surfaces::PerMaterialId(surfaces),
