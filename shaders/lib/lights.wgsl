@@ -39,6 +39,22 @@ fn inverse_square(inverse_distance: f32) -> f32 {
     return min(inverse_distance * inverse_distance, 1.0 / MIN_DISTANCE_SQUARED);
 }
 
+// The range a light keeps under a cutoff (CookTorrance's Light Cutoff):
+// where its brightest channel's inverse-square illuminance, intensity /
+// distance^2, falls to `cutoff`, if that is nearer than its own `range`.
+// The clusters list the light only that far, and the window of
+// `range_window` fades it to 0 there, so there is no edge, only a shorter
+// reach. A cutoff of 0 (or less, or NaN) keeps the range: the exact image.
+fn cutoff_range(range: f32, intensity: vec3<f32>, cutoff: f32) -> f32 {
+    if (!(cutoff > 0.0)) {
+        return range;
+    }
+    let brightest = max(max(abs(intensity.r), abs(intensity.g)), abs(intensity.b));
+    let reach = sqrt(brightest / cutoff);
+    // A NaN reach (a NaN intensity) fails the test: the range stays.
+    return select(range, reach, reach < range);
+}
+
 // Cosines from the spot's axis: 1 inside the inner cone, 0 outside the outer,
 // smoothstep between; a hard step where the edges meet.
 fn spot_attenuation(cos_angle: f32, cos_outer: f32, cos_inner: f32) -> f32 {

@@ -11,6 +11,7 @@
 // the last to infinity, so that no fragment the camera draws lies outside
 // its froxel's box (a camera whose far plane is not where the grid thinks).
 #import spreadlight::camera::Camera
+#import spreadlight::lights::cutoff_range
 
 // Matches `GpuLight` in crates/render/src/lighting/mod.rs.
 struct Light {
@@ -29,6 +30,8 @@ struct Grid {
     dims: vec4<u32>,
     // near, far, log(far / near), tile size in pixels
     depth: vec4<f32>,
+    // x: the light cutoff (lights.wgsl's cutoff_range; 0: none)
+    falloff: vec4<f32>,
 }
 
 @group(0) @binding(0) var<uniform> camera: Camera;
@@ -188,7 +191,9 @@ fn transform(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     let light = lights[id.x];
     let view = camera.view * vec4<f32>(light.position_range.xyz, 1.0);
-    view_lights[id.x] = vec4<f32>(view.xyz, light.position_range.w);
+    // The range the cutoff leaves (the range itself without one): the
+    // assignment lists and the walks shade the light only that far.
+    view_lights[id.x] = vec4<f32>(view.xyz, cutoff_range(light.position_range.w, light.intensity.rgb, grid.falloff.x));
 }
 
 // A light's froxels are shared among the 64 lanes of each of its workgroups

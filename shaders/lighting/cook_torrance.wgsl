@@ -18,8 +18,8 @@
 // spliced in for lib/custom_light.wgsl) replaces the BRDF: the same walk,
 // clusters and shadows, its outputs summed into the two targets.
 #import spreadlight::camera::Camera
-#import spreadlight::brdf::{BrdfSurface, LightSums, brdf_surface, no_light_sums, add_light, light_sums_brdf, cook_torrance_weights, half_vector_cosines, surface_energy_compensation, schlick_weight, DIELECTRIC_F0}
-#import spreadlight::lights::{range_window, inverse_square}
+#import spreadlight::brdf::{BrdfSurface, LightSums, brdf_surface, no_light_sums, add_light, light_sums_brdf, cook_torrance_weights_scaled, half_vector_cosines, surface_energy_compensation, schlick_weight, DIELECTRIC_F0}
+#import spreadlight::lights::{range_window, inverse_square, cutoff_range}
 #import spreadlight::packing::{channel_to_id, safe_normalize}
 // The material library, imported once: MATERIALS reads CookTorrance
 // parameters from it, FAKE_SSS the FakeSSS tint. SURFACE_TARGET: the
@@ -101,6 +101,8 @@ struct Light {
 struct Grid {
     dims: vec4<u32>,
     depth: vec4<f32>,
+    // x: the light cutoff (clusters.wgsl's; 0: none).
+    falloff: vec4<f32>,
 }
 
 // Per material id (wrapping): roughness, metallic.
@@ -178,12 +180,27 @@ fn shade(slot: u32, lv: vec4<f32>, p: vec3<f32>, pw: vec3<f32>, surface: BrdfSur
     if (!(ratio2 < 1.0)) {
         return;
     }
+    // N.L's sign, before any square root: to_light scaled by a positive
+    // 1 / distance keeps it.
+    let facing = dot(n, to_light);
+#ifndef CUSTOM_LIGHT
+#ifndef FAKE_SSS
+    // A light behind the surface adds nothing (cook_torrance_weights is 0
+    // for N.L <= 0, the coat's too): leave before its radiance is read and
+    // its half vector made. Not with FAKE_SSS, which wraps light past the
+    // terminator, nor for a light shader, which sees every light in range.
+    // A light at the surface point is lit from along the normal (below).
+    if (!(facing > 0.0) && distance2 > 1e-20) {
+        return;
+    }
+#endif
+#endif
     // point_attenuation_squared, with one reciprocal square root for both
     // the inverse square and the direction to the light. The cosines come
     // from `to_light` scaled once, not from a normalised vector.
     let inverse_distance = inverseSqrt(max(distance2, 1e-20));
     let attenuation = range_window(ratio2) * inverse_square(inverse_distance);
-    var n_dot_l = dot(n, to_light) * inverse_distance;
+    var n_dot_l = facing * inverse_distance;
     var v_dot_l = dot(surface.v, to_light) * inverse_distance;
     if (!(distance2 > 1e-20)) {
         // A light at the surface point: from along the normal, as
@@ -220,20 +237,22 @@ fn shade(slot: u32, lv: vec4<f32>, p: vec3<f32>, pw: vec3<f32>, surface: BrdfSur
 #ifdef CUSTOM_LIGHT
     add_custom_light(slot, towards, n_dot_l, reach, radiance, attenuation, shadow);
 #else
-    radiance *= shadow;
+    // The shadow and the falloff are scalars: folded into the weights
+    // through N.L (cook_torrance_weights_scaled), one multiplication a light.
+    let scale = attenuation * shadow;
     let cosines = half_vector_cosines(surface, n_dot_l, v_dot_l);
-    add_light(sums, radiance, cook_torrance_weights(surface, n_dot_l, cosines.x, cosines.y) * attenuation);
+    add_light(sums, radiance, cook_torrance_weights_scaled(surface, n_dot_l, cosines.x, cosines.y, scale));
 #ifdef CLEARCOAT
     if (coat_factor > 0.0) {
         // D V N.L (F0 + (1 - F0) w): the coat's Schlick Fresnel at V.H.
-        let coat = cook_torrance_weights(coat_surface, n_dot_l, cosines.x, cosines.y);
-        coat_sum += radiance * attenuation * (coat.x * DIELECTRIC_F0 + coat.y * (1.0 - DIELECTRIC_F0));
+        let coat = cook_torrance_weights_scaled(coat_surface, n_dot_l, cosines.x, cosines.y, scale);
+        coat_sum += radiance * (coat.x * DIELECTRIC_F0 + coat.y * (1.0 - DIELECTRIC_F0));
     }
 #endif
 #ifdef FAKE_SSS
     // Light that wraps past the terminator (wrap 0.5), beyond what Lambert gives.
     let wrapped = max((n_dot_l + 0.5) / 1.5, 0.0) - max(n_dot_l, 0.0);
-    sss_sum += sss_tint * radiance * attenuation * max(wrapped, 0.0) * 0.31830988;
+    sss_sum += sss_tint * radiance * scale * max(wrapped, 0.0) * 0.31830988;
 #endif
 #endif
 }
@@ -759,7 +778,8 @@ fn main(@builtin(local_invocation_index) lane: u32, @builtin(workgroup_id) wid: 
             // Few lights: each moved to view space here, which costs less
             // than a dispatch of its own and the barrier after it.
             let record = lights[i];
-            let lv = vec4<f32>((camera.view * vec4<f32>(record.position_range.xyz, 1.0)).xyz, record.position_range.w);
+            // The range the cutoff leaves, as the clusters' transform makes it.
+            let lv = vec4<f32>((camera.view * vec4<f32>(record.position_range.xyz, 1.0)).xyz, cutoff_range(record.position_range.w, record.intensity.rgb, grid.falloff.x));
 #ifndef LIGHT_SUN
             // A light without a range lights nothing (shade leaves it to this test).
             if (!(lv.w > 0.0)) {

@@ -1333,3 +1333,146 @@ fn white_furnace_returns_at_most_the_incoming_energy() {
 fn resolves_motion(p: &spreadlight_render::frame_graph::PassReport) -> bool {
     p.is("MRE", Some("resolve motion")) || p.is("MRE", Some("resolve surface and motion"))
 }
+
+/// [`shade_buffer`] with CookTorrance's light cutoff.
+fn shade_cut(
+    renderer: &Renderer,
+    g: &Arc<GBuffer>,
+    lights: &[PointLight],
+    mode: LightLoop,
+    cutoff: f32,
+) -> ImageF32 {
+    let ct = CookTorrance::new(
+        renderer,
+        Some(1),
+        g.clone(),
+        LightBuffer::points(renderer, lights),
+        mode,
+        true,
+        Surfaces::PerMaterialId(vec![(0.5, 0.0)]),
+    );
+    let ct = CookTorrance::with_light_cutoff(ct, cutoff);
+    let [d, s] = frame(renderer, ct.as_ref(), SIZE, [&ct.diffuse, &ct.specular]);
+    assert!(
+        d.all_finite() && s.all_finite(),
+        "cutoff {cutoff}, {mode:?}: no NaN or infinity in the HDR targets"
+    );
+    ImageF32 {
+        width: d.width,
+        height: d.height,
+        pixels: d
+            .pixels
+            .iter()
+            .zip(&s.pixels)
+            .map(|(a, b)| [a[0] + b[0], a[1] + b[1], a[2] + b[2], 1.0])
+            .collect(),
+    }
+}
+
+#[test]
+fn a_light_cutoff_of_zero_is_exact_and_a_cutoff_shortens_every_lights_reach_alike_in_every_walk() {
+    let renderer = test_renderer();
+    let g = scene(&renderer);
+    let lights = scattered(300);
+    let exact = shade(&renderer, &g, lights.clone(), LightLoop::Naive);
+    // Off, and every value that means off (not a finite positive number):
+    // the image of no cutoff, bit for bit in the naive walk's fixed order.
+    for off in [0.0, -1.0, f32::NAN, f32::INFINITY, f32::NEG_INFINITY] {
+        let image = shade_cut(&renderer, &g, &lights, LightLoop::Naive, off);
+        assert_eq!(image.pixels, exact.pixels, "cutoff {off} is no cutoff");
+    }
+    // A cutoff of 2: a light of intensity 5..25 reaches sqrt(I / 2), 1.6..3.5,
+    // against its range of 1..5.
+    let cutoff = 2.0;
+    let cut = shade_cut(&renderer, &g, &lights, LightLoop::Naive, cutoff);
+    // Every walk lists and shades the same shortened spheres.
+    for mode in FROXEL_WALKS {
+        let walked = shade_cut(&renderer, &g, &lights, mode, cutoff);
+        let worst = max_relative_difference(&walked, &cut);
+        assert!(
+            worst < 1e-3,
+            "{mode:?} with the cutoff differs from naive by up to {worst}"
+        );
+    }
+    // A shorter reach only dims: no pixel brighter than without (the window
+    // over a shorter range is smaller everywhere), some darker, none lit
+    // that was not, and most of the light kept.
+    let mut darker = 0;
+    let (mut kept, mut total) = (0.0f64, 0.0f64);
+    for (c, e) in cut.pixels.iter().zip(&exact.pixels) {
+        for k in 0..3 {
+            assert!(c[k] <= e[k] * (1.0 + 1e-4) + 1e-6, "{} > {}", c[k], e[k]);
+            if e[k] == 0.0 {
+                assert_eq!(c[k], 0.0, "nothing lit that was not");
+            }
+            darker += usize::from(c[k] < e[k] * 0.999);
+            kept += f64::from(c[k]);
+            total += f64::from(e[k]);
+        }
+    }
+    assert!(
+        darker > 100,
+        "the cutoff dims the scene ({darker} channels)"
+    );
+    assert!(
+        kept > 0.1 * total && kept < total,
+        "a cutoff of 2 keeps most of the light ({kept} of {total})"
+    );
+}
+
+#[test]
+fn a_light_cutoff_stays_finite_for_extreme_lights_and_cutoffs() {
+    let renderer = test_renderer();
+    let g = scene(&renderer);
+    let light = PointLight {
+        shadow: None,
+        // Between the balls (their centres are at even x).
+        position: Vec3::new(1.0, 1.0, 1.0),
+        color: Vec3::ONE,
+        intensity: 10.0,
+        range: 3.0,
+    };
+    let lights = [
+        light,
+        // On the floor: the surface point at the light.
+        PointLight {
+            position: Vec3::new(-1.0, 0.0, 1.0),
+            ..light
+        },
+        PointLight {
+            intensity: 0.0,
+            ..light
+        },
+        PointLight {
+            range: 0.0,
+            ..light
+        },
+        PointLight {
+            intensity: 1e20,
+            position: Vec3::new(-3.0, 0.5, 1.0),
+            ..light
+        },
+        PointLight {
+            color: Vec3::new(-1.0, 0.5, 0.0),
+            position: Vec3::new(3.0, 0.5, 1.0),
+            ..light
+        },
+    ];
+    for cutoff in [1e-30, 1e-3, 1.0, 1e20, f32::MAX] {
+        for mode in [
+            LightLoop::Naive,
+            LightLoop::Clustered,
+            LightLoop::Tiled,
+            LightLoop::PerPixel,
+        ] {
+            // `shade_cut` asserts every pixel finite.
+            let image = shade_cut(&renderer, &g, &lights, mode, cutoff);
+            if cutoff >= 1e20 {
+                // No light is that bright at any distance worth a pixel but
+                // the one of 1e20 candela, which reaches a metre at most.
+                let lit = lit_pixels(&image);
+                assert!(lit < image.pixels.len() / 4, "{mode:?}: {lit} pixels lit");
+            }
+        }
+    }
+}

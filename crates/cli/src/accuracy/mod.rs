@@ -8,6 +8,7 @@
 mod ao;
 mod geometry;
 mod gltf;
+mod lights;
 pub(crate) mod metrics;
 mod particles;
 pub(crate) mod plot;
@@ -144,6 +145,8 @@ enum What {
     Geometry(geometry::GeometryArgs),
     /// glTF material maps by filtering (point, bilinear, trilinear, anisotropic): GPU time against error versus a CPU reference, 1 and 16 rays per pixel.
     Gltf(gltf::GltfArgs),
+    /// CookTorrance's Light Cutoff by light count: GPU time against error versus no cutoff (exact).
+    Lights(lights::LightArgs),
     /// Lit transparency's screen-space refraction by depth-search steps (smooth glass) and blur taps (rough glass): GPU time against error versus a CPU ray trace through a slab.
     Transmission(transmission::TransmissionArgs),
 }
@@ -159,6 +162,7 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
         What::Geometry(a) => geometry::run_geometry(a),
         What::Gltf(a) => gltf::run(a),
         What::Transmission(a) => transmission::run(a),
+        What::Lights(a) => lights::run(a),
     }
 }
 

@@ -41,7 +41,9 @@ pub fn register(r: &mut Registry) {
              connected: then each material's CookTorrance feature decides. \
              Diffuse includes albedo. SSS carries a wrap-lighting subsurface term when some material has \
              FakeSSS with a colour and a strength above 0, and is empty otherwise. Shadows: the ShadowMap node of the same light type; each light whose \
-             AddLight has a Shadow Slice is shadowed by that slice.",
+             AddLight has a Shadow Slice is shadowed by that slice. Light Cutoff (0: off, the exact image) trades accuracy for \
+             speed with many lights: each light reaches only as far as its illuminance (intensity over distance squared, its \
+             brightest channel) stays above the cutoff, fading to 0 there, so fewer lights reach each pixel.",
         )
         .with_pins(|p| {
             // Not post's pin helpers: Transparency (post) imports this file's LIGHT_LOOPS.
@@ -51,6 +53,7 @@ pub fn register(r: &mut Registry) {
             let metallic = p.input("Metallic", 0.0f32);
             let light_loop = p.input_choice("Light Loop", &LIGHT_LOOPS, LightLoop::Auto);
             let energy = p.input("Energy Compensation", true);
+            let cutoff_pin = p.input("Light Cutoff", 0.0f32);
             let material_world = p.input_resource::<MaterialWorld>("Material World", ResourceKind::MaterialWorld);
             let shadows_in = p.input_resource::<ShadowMaps>("Shadows", ResourceKind::Shadows);
             let texture_output = |p: &mut spreadlight_graph::Pins<'_>, name: &'static str| {
@@ -60,6 +63,11 @@ pub fn register(r: &mut Registry) {
             let specular = texture_output(p, "Specular");
             let sss_out = texture_output(p, "SSS");
             move |cx| {
+                // Checked first: a bad value is the node's error whatever else is connected.
+                let cutoff = cx.first(cutoff_pin, 0.0f32)?;
+                if !(cutoff.is_finite() && cutoff >= 0.0) {
+                    return Err(cx.error(cutoff_pin, format!("is {cutoff}: a light cutoff is an illuminance of 0 (off) or more")));
+                }
                 let renderer = renderer(cx)?;
                 let gbuffer = cx.first_resource(g_buffer)?.ok_or_else(|| cx.error(g_buffer, "no G-buffer connected"))?;
                 let lights = match cx.first_resource(lights_in)? {
@@ -85,6 +93,7 @@ pub fn register(r: &mut Registry) {
                     return Err(cx.error(shadows_in, format!("holds shadows of {:?} lights, but Lights holds {:?} lights", s.kind, lights.kind)));
                 }
                 let recipe = CookTorrance::with_shadows(&renderer, Some(cx.node_id.0), gbuffer, lights, mode, energy, surfaces, shadows);
+                let recipe = CookTorrance::with_light_cutoff(recipe, cutoff);
                 cx.put_resources(diffuse, vec![std::sync::Arc::new(recipe.diffuse_texture())]);
                 cx.put_resources(specular, vec![std::sync::Arc::new(recipe.specular_texture())]);
                 // Only when some material scatters (FakeSSS above 0): otherwise there is no subsurface term to pass on.

@@ -68,6 +68,18 @@ fn a_light_id_given_twice_is_an_error_naming_it() {
 }
 
 #[test]
+fn a_light_cutoff_that_is_nan_infinite_or_negative_is_an_error_on_its_pin() {
+    for bad in [f32::NAN, f32::INFINITY, -1.0] {
+        let e = eval_err(
+            "CookTorrance",
+            &[("Light Cutoff", floats(&[bad]))],
+            "Light Cutoff",
+        );
+        assert!(e.to_string().contains("light cutoff"), "{e}");
+    }
+}
+
+#[test]
 fn a_nan_on_a_light_pin_is_an_error_on_the_node_never_a_light() {
     let e = eval_err(
         "AddLight (Point)",

@@ -97,8 +97,16 @@ impl ClusterGrid {
         self.tiles_x * self.tiles_y * self.slices
     }
 
-    /// `Grid` in the lighting shaders, as words.
-    pub(crate) fn uniform(&self, lights: u32) -> [u32; 8] {
+    /// `Grid` in the lighting shaders, as words, with no light cutoff.
+    pub(crate) fn uniform(&self, lights: u32) -> [u32; 12] {
+        self.uniform_with_cutoff(lights, 0.0)
+    }
+
+    /// `Grid` with a light cutoff ([`light_cutoff`]: 0 when not a finite
+    /// positive number): each light's range becomes where its illuminance
+    /// falls to it (lights.wgsl's `cutoff_range`), in the assignment and
+    /// the walks alike.
+    pub(crate) fn uniform_with_cutoff(&self, lights: u32, cutoff: f32) -> [u32; 12] {
         bytemuck::cast(GpuGrid {
             dims: [self.tiles_x, self.tiles_y, self.slices, lights],
             depth: [
@@ -107,9 +115,24 @@ impl ClusterGrid {
                 (self.far / self.near).ln(),
                 self.tile as f32,
             ],
+            falloff: [light_cutoff(cutoff), 0.0, 0.0, 0.0],
         })
     }
 }
+
+/// A light cutoff as the shaders take it: a finite positive illuminance, or
+/// 0 (none: every light keeps its range) for anything else (NaN, infinity,
+/// zero or less), so no value reaches the GPU that could make a range NaN.
+pub fn light_cutoff(cutoff: f32) -> f32 {
+    if cutoff.is_finite() && cutoff > 0.0 {
+        cutoff
+    } else {
+        0.0
+    }
+}
+
+/// The grid uniform's size in bytes (`Grid` in the lighting shaders).
+pub(crate) const GRID_BYTES: u64 = std::mem::size_of::<GpuGrid>() as u64;
 
 /// `Grid` in shaders/lighting/clusters.wgsl (and cook_torrance.wgsl).
 #[repr(C)]
@@ -119,6 +142,8 @@ struct GpuGrid {
     dims: [u32; 4],
     /// Near, far, ln(far / near), the tile's side in pixels.
     depth: [f32; 4],
+    /// The light cutoff (0: none), then padding.
+    falloff: [f32; 4],
 }
 
 /// The froxel buffers, kept between frames and grown when needed.
@@ -315,14 +340,14 @@ mod wgsl_layout {
             "lighting/clusters.wgsl",
             [],
             "Grid",
-            [dims, depth]
+            [dims, depth, falloff]
         );
         crate::assert_wgsl_layout!(
             super::GpuGrid,
             "lighting/cook_torrance.wgsl",
             ["CLUSTERED"],
             "Grid",
-            [dims, depth]
+            [dims, depth, falloff]
         );
     }
 }

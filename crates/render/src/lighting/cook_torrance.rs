@@ -93,6 +93,10 @@ pub struct CookTorrance {
     lights: Arc<LightBuffer>,
     walk: Walk,
     energy_compensation: bool,
+    /// The light cutoff (illuminance; 0: none, the exact image): each light
+    /// reaches only as far as its illuminance stays above it
+    /// ([`CookTorrance::with_light_cutoff`]).
+    light_cutoff: f32,
     surfaces: wgpu::Buffer,
     /// Roughness and metallic per material from the material buffer, when
     /// given (else `surfaces`); either way, where the G-buffer's surface
@@ -184,7 +188,7 @@ impl CookTorrance {
         let grid = renderer.kept_buffer(
             owner,
             "cluster grid",
-            32,
+            super::GRID_BYTES,
             wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
         );
         let sss = materials
@@ -204,6 +208,7 @@ impl CookTorrance {
             lights,
             walk,
             energy_compensation,
+            light_cutoff: 0.0,
             surfaces,
             materials,
             grid,
@@ -250,6 +255,24 @@ impl CookTorrance {
         this.sss = None;
         this.custom = Some(CustomLight { shader, params });
         made
+    }
+
+    /// This recipe with a light cutoff: an illuminance (in the lights'
+    /// units: candela over distance squared) below which a light is left
+    /// out. Each light's range shrinks to where its brightest channel's
+    /// inverse-square illuminance falls to `cutoff` (never past its own
+    /// range), and its window fades it to 0 there: fewer lights per pixel,
+    /// each a little dimmer towards its new edge. 0, NaN, infinity or less
+    /// than 0: no cutoff, the exact image. Call it on the recipe just made.
+    pub fn with_light_cutoff(mut made: Arc<Self>, cutoff: f32) -> Arc<Self> {
+        let this = Arc::get_mut(&mut made).expect("a recipe just made is not shared");
+        this.light_cutoff = super::light_cutoff(cutoff);
+        made
+    }
+
+    /// The light cutoff in use (0: none).
+    pub fn light_cutoff(&self) -> f32 {
+        self.light_cutoff
     }
 
     pub fn diffuse_texture(self: &Arc<Self>) -> TextureRef {
@@ -501,7 +524,7 @@ impl Recipe for CookTorrance {
             self.owner,
             "cluster grid",
             &self.grid,
-            bytemuck::cast_slice(&grid.uniform(self.lights.count())),
+            bytemuck::cast_slice(&grid.uniform_with_cutoff(self.lights.count(), self.light_cutoff)),
         );
         // Clustered: assignment is a pass of its own, timed apart. Naive:
         // the shade pass moves each light to view space as it reads it. (A

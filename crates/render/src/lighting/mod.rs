@@ -19,8 +19,8 @@ use std::sync::Arc;
 
 use glam::{Mat4, Vec3};
 
-pub use clusters::ClusterGrid;
-pub(crate) use clusters::{ClusterStore, assign_lights};
+pub use clusters::{ClusterGrid, light_cutoff};
+pub(crate) use clusters::{ClusterStore, GRID_BYTES, assign_lights};
 pub use composite::{
     CompositeInputs, CompositeKey, CompositeLight, LightComponents, LightPairs, MAX_COMPONENTS,
     MaterialAo, MaterialTerms, Shading, Textured,

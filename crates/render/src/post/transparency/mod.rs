@@ -183,7 +183,7 @@ impl ForwardClusters {
         while sets.len() <= index {
             let grid = renderer.gpu.device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("transparency cluster grid"),
-                size: 32,
+                size: crate::lighting::GRID_BYTES,
                 usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
                 mapped_at_creation: false,
             });
