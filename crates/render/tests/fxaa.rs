@@ -126,7 +126,11 @@ fn every_image_effect_keeps_the_size_of_a_source_that_is_not_the_frames() {
         ),
         (
             "BlurBuiltin",
-            Box::new(|_| BuiltinBlur::new(None, source(), 4.0).texture()),
+            // Its sampler filters: an RGBA16F source, FXAA's (a chain of two effects).
+            Box::new(|_| {
+                let fxaa = Fxaa::new(&renderer, None, source(), FxaaQuality::Low, 0.75);
+                BuiltinBlur::new(None, fxaa.texture(), 4.0).texture()
+            }),
         ),
         (
             "EyeAdaptation",
