@@ -151,9 +151,20 @@ fn every_image_effect_keeps_the_size_of_a_source_that_is_not_the_frames() {
         };
         let own = render((w, h), 1000 + 2 * k as u32);
         let other = render((96, 54), 1001 + 2 * k as u32);
-        let size = if *name == "EyeAdaptation" { (1, 1) } else { (w, h) };
-        assert_eq!((other.width, other.height), size, "{name}: its source's size");
-        assert_eq!(own.pixels, other.pixels, "{name}: the frame's size changes nothing");
+        let size = if *name == "EyeAdaptation" {
+            (1, 1)
+        } else {
+            (w, h)
+        };
+        assert_eq!(
+            (other.width, other.height),
+            size,
+            "{name}: its source's size"
+        );
+        assert_eq!(
+            own.pixels, other.pixels,
+            "{name}: the frame's size changes nothing"
+        );
         for (i, p) in other.pixels.iter().enumerate() {
             assert!(
                 p[..3].iter().any(|c| *c > 0.05),

@@ -75,6 +75,19 @@ impl SizeRule {
         }
     }
 
+    /// This size times `factor`, rounded as a relative size rounds (so a
+    /// chain of an image file's halvings has the sizes the same chain of a
+    /// frame of its size has; [`SizeRule::mip`] rounds down).
+    pub fn scaled(self, factor: f32) -> SizeRule {
+        match self {
+            SizeRule::Relative(s) => SizeRule::Relative(s * factor),
+            SizeRule::Absolute { width, height } => {
+                let (width, height) = SizeRule::Relative(factor).pixels((width, height));
+                SizeRule::Absolute { width, height }
+            }
+        }
+    }
+
     /// Width and height in pixels for a frame of `output` size; never zero.
     pub fn pixels(self, output: (u32, u32)) -> (u32, u32) {
         match self {

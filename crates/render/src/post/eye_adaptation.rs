@@ -279,10 +279,7 @@ impl Recipe for EyeAdaptation {
         self.source.recipe.declare(renderer, fg);
         let name = |step: std::borrow::Cow<'static, str>| PassName::new("EyeAdaptation").step(step);
         // Reduced from its source's size (`FrameGraph::effect_size`): level 0 reads texel for texel.
-        let sizes = reduction_sizes(
-            fg.effect_size(&self.source.name)
-                .pixels(fg.output_size()),
-        );
+        let sizes = reduction_sizes(fg.effect_size(&self.source.name).pixels(fg.output_size()));
         let level = |(width, height): (u32, u32)| {
             TextureDesc::storage(REDUCED).size(SizeRule::Absolute { width, height })
         };

@@ -1,5 +1,5 @@
 //! `Glare`: bloom from a bright pass through a downsample/upsample chain of
-//! mip-like sizes (half, quarter... of the source, `SizeRule::mip`),
+//! mip-like sizes (half, quarter... of the source, `SizeRule::scaled`),
 //! then composited over the source with chromatic aberration
 //! (shaders/post/glare.wgsl). Intensity 0 and aberration 0 cost one copy.
 
@@ -189,7 +189,7 @@ impl Recipe for Glare {
         while levels < self.settings.levels as usize && (w.min(h) >> (levels + 1)) >= 2 {
             levels += 1;
         }
-        let level = |l: usize| full.size(source_size.mip(l as u32 + 1));
+        let level = |l: usize| full.size(source_size.scaled(0.5f32.powi(l as i32 + 1)));
         let mut pass = fg.pass(name("bright pass".into()), self.owner);
         let source = pass.read(&self.source.name);
         let output = pass.write(&self.down(0), level(0));

@@ -103,7 +103,10 @@ impl Recipe for BuiltinBlur {
         let size = fg.effect_size(&self.source.name);
         let mut pass = fg.pass(name("horizontal"), self.owner);
         let source = pass.read(&self.source.name);
-        let half = pass.write(&self.half, TextureDesc::storage(FORMAT).size(size.mip(1)));
+        let half = pass.write(
+            &self.half,
+            TextureDesc::storage(FORMAT).size(size.scaled(0.5)),
+        );
         pass.run(move |cx| self.run(cx, "horizontal", source, half));
         let mut pass = fg.pass(name("vertical"), self.owner);
         let half = pass.read(&self.half);
