@@ -342,11 +342,9 @@ fn a_thumbnail_shows_the_texture_it_previews_and_the_value_under_the_pointer() {
 fn a_thumbnail_of_a_texture_the_frame_makes_shows_it_without_a_request() {
     use spreadlight_graph::NodeDoc;
     let dir = tempfile::tempdir().expect("tempdir");
-    // Image effects make their output at the frame's size and read their
-    // source texel for texel: a source smaller than the viewport is read out
-    // of range (black) past its corner. A flat image larger than any
-    // viewport here keeps every texel the effects read grey.
-    image::RgbaImage::from_pixel(2048, 2048, image::Rgba([90, 90, 90, 255]))
+    // A source smaller than the viewport: image effects keep its size
+    // (`FrameGraph::effect_size`), so the thumbnail shows it whole.
+    image::RgbaImage::from_pixel(64, 36, image::Rgba([90, 90, 90, 255]))
         .save(dir.path().join("flat.png"))
         .expect("png");
     let mut p = file_texture_patch("flat.png", true, false);
@@ -376,6 +374,8 @@ fn a_thumbnail_of_a_texture_the_frame_makes_shows_it_without_a_request() {
     let ppp = h.ctx.pixels_per_point();
     let image = h.render().expect("render the window");
     assert_grey(pixel_in(&image, rect, ppp, 0.5, 0.5), 90, "watched texture");
+    // Its far corner too: the whole source, not its corner in a black frame.
+    assert_grey(pixel_in(&image, rect, ppp, 0.9, 0.9), 90, "its far corner");
 }
 
 #[test]

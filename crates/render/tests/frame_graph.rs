@@ -1204,3 +1204,48 @@ fn bindings_by_name_name_a_typo_and_a_missing_variable() {
         "{errors:?}"
     );
 }
+
+/// The size an image effect takes from its source (`FrameGraph::effect_size`):
+/// an imported texture's pixels, a pass output's size rule as declared, and
+/// the frame's size for a texture nothing declared.
+#[test]
+fn an_image_effect_takes_its_sources_size() {
+    let renderer = test_renderer();
+    let file = spreadlight_render::static_texture::StaticTexture::from_rgba32f(
+        &renderer.gpu,
+        64,
+        36,
+        &[[0.5; 4]; 64 * 36],
+        "file",
+    );
+    let mut fg = FrameGraph::new((96, 54));
+    fg.import("file", file.texture.texture.clone());
+    let half = SizeRule::Relative(0.5);
+    let fixed = SizeRule::Absolute {
+        width: 20,
+        height: 10,
+    };
+    declare_pass(
+        &mut fg,
+        "writer",
+        None,
+        &[],
+        &[
+            ("frame", target()),
+            ("half", target().size(half)),
+            ("fixed", target().size(fixed)),
+        ],
+        |_| Ok(()),
+    );
+    assert_eq!(
+        fg.effect_size("file"),
+        SizeRule::Absolute {
+            width: 64,
+            height: 36
+        }
+    );
+    assert_eq!(fg.effect_size("frame"), SizeRule::Relative(1.0));
+    assert_eq!(fg.effect_size("half"), half);
+    assert_eq!(fg.effect_size("fixed"), fixed);
+    assert_eq!(fg.effect_size("undeclared"), SizeRule::Relative(1.0));
+}

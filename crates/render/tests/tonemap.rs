@@ -1,6 +1,7 @@
 //! Tonemapping on the GPU, for the stability suite: an all-black frame and a
 //! frame of 1e6 (and NaN, infinity, negatives) through every operator give
-//! finite values in 0..1, and the GPU agrees with the CPU reference.
+//! finite values in 0..1, and the GPU agrees with the CPU reference; a
+//! source of another size than the frame's is tonemapped whole, at its size.
 
 use glam::Vec3;
 use spreadlight_reference::tonemap::{TonemapOperator, tonemap};
@@ -53,5 +54,39 @@ fn every_operator_keeps_extreme_frames_finite_and_matches_the_reference() {
                 "{name}, pixel {i}: GPU {got} vs CPU {want}"
             );
         }
+    }
+}
+
+/// A 64x36 texture tonemapped in a 96x54 frame: the output is 64x36 and
+/// every texel is the CPU reference's of its source texel (before image
+/// effects took their source's size, the output was 96x54 with the texture
+/// in its top-left corner and black past it).
+#[test]
+fn a_source_of_another_size_is_tonemapped_whole_at_its_size() {
+    let renderer = test_renderer();
+    let (w, h) = (64u32, 36u32);
+    let pixels: Vec<[f32; 4]> = (0..w * h)
+        .map(|i| {
+            let (x, y) = ((i % w) as f32, (i / w) as f32);
+            [0.1 + x / 16.0, 0.1 + y / 9.0, 0.5, 1.0]
+        })
+        .collect();
+    let source = StaticTexture::from_rgba32f(&renderer.gpu, w, h, &pixels, "small");
+    let op = TonemapOperator::Reinhard;
+    let t = Tonemap::new(&renderer, None, source.texture_ref(), op, 1.0, 4.0);
+    let (report, images) =
+        render_and_read(&renderer, t.as_ref(), (96, 54), &[&t.output]).expect("executes");
+    assert!(report.errors.is_empty(), "{:?}", report.errors);
+    let image = &images[0];
+    assert_eq!((image.width, image.height), (w, h));
+    for (i, (p, q)) in pixels.iter().zip(&image.pixels).enumerate() {
+        let want = tonemap(Vec3::new(p[0], p[1], p[2]), op, 1.0, 4.0);
+        let got = Vec3::new(q[0], q[1], q[2]);
+        assert!(
+            (want - got).abs().max_element() < 2e-3,
+            "texel ({}, {}): GPU {got} vs CPU {want}",
+            i as u32 % w,
+            i as u32 / w
+        );
     }
 }

@@ -133,6 +133,15 @@ fn run(ty: &Arc<ShaderType>, pins: &ShaderPins, cx: &mut EvalContext<'_>) -> Res
         lens.into_iter().max().unwrap_or(1)
     };
     let limits = renderer.gpu.device.limits();
+    // Targets scale with the first texture input's size (`ShaderNodeRecipe`'s
+    // size basis): known here for an image file's texture, else the frame's.
+    let basis = textures
+        .first()
+        .and_then(|t| t.first())
+        .and_then(|t| t.recipe.static_texture())
+        .map_or(renderer.output_size(), |g| {
+            (g.texture.width(), g.texture.height())
+        });
     let main = ty.main_target().to_owned();
     let mut main_textures: Vec<Arc<TextureRef>> = Vec::new();
     let mut outputs: Vec<Vec<Arc<TextureRef>>> = vec![Vec::new(); ty.notes.outputs.len()];
@@ -143,7 +152,7 @@ fn run(ty: &Arc<ShaderType>, pins: &ShaderPins, cx: &mut EvalContext<'_>) -> Res
         let defines = slice_defines(ty, pins, cx, slice);
         let (program, fresh) = ty.program(&defines).map_err(Failure::Shader)?;
         program
-            .check_limits(&limits, renderer.output_size())
+            .check_limits(&limits, basis)
             .map_err(Failure::Shader)?;
         compiled += u64::from(fresh);
         programs.push(program);

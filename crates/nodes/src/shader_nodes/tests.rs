@@ -814,3 +814,89 @@ fn show(@builtin(global_invocation_id) id: vec3<u32>) {
     assert!(hi - lo > 0.2, "normals {lo}..{hi}");
     assert!(image.pixels.iter().all(|p| p.iter().all(|c| c.is_finite())));
 }
+
+/// A 64x36 gradient, not the frame's size: a source shader node with an
+/// absolute-size target.
+const GRADIENT: &str = "// @category Source
+// @help A 64x36 gradient.
+// @target gradient temporary rgba16float size=64x36
+// @pass paint -> gradient
+@group(0) @binding(0) var gradient: texture_storage_2d<rgba16float, write>;
+@compute @workgroup_size(8, 8)
+fn paint(@builtin(global_invocation_id) id: vec3<u32>) {
+    let size = textureDimensions(gradient);
+    if (id.x >= size.x || id.y >= size.y) { return; }
+    let uv = (vec2<f32>(id.xy) + 0.5) / vec2<f32>(size);
+    textureStore(gradient, id.xy, vec4<f32>(0.25 + 0.5 * uv.x, 0.25 + 0.5 * uv.y, 0.5, 1.0));
+}
+";
+
+/// Image effects keep the size of a source that is not the frame's, and
+/// the Output stretches what they make to the frame: a 64x36 gradient
+/// through an image-effect shader node (Tint), and through FXAA and
+/// Tonemap, rendered at 96x54, is the whole gradient stretched over the
+/// frame (the CPU's gradient, tinted or tonemapped, resized bilinearly),
+/// not the gradient in a corner of a black frame.
+#[test]
+fn image_effects_of_a_small_texture_fill_the_frame_at_another_size() {
+    use glam::Vec3;
+    use spreadlight_reference::tonemap::{TonemapOperator, tonemap};
+    let dir = tempfile::tempdir().expect("tempdir");
+    std::fs::write(dir.path().join("gradient.wgsl"), GRADIENT).expect("write");
+    write(dir.path(), TINT_V1);
+    let mut registry = crate::registry();
+    let mut library = ShaderLibrary::new(vec![dir.path().to_owned()]);
+    library.poll(&mut registry);
+    let mut patch = Patch::default();
+    patch.add(NodeDoc::new(1, "Gradient (Shader)"));
+    patch.add(NodeDoc::new(2, "Tint (Shader)"));
+    patch.add(NodeDoc::new(3, "FXAA"));
+    patch.add(NodeDoc::new(4, "Tonemap"));
+    patch.add(output(5, "tint"));
+    patch.add(output(6, "post"));
+    patch.link(1, "Texture", 2, "Texture");
+    patch.link(2, "Texture", 5, "Texture");
+    patch.link(1, "Texture", 3, "Texture");
+    patch.link(3, "Texture", 4, "Texture");
+    patch.link(4, "Texture", 6, "Texture");
+    let mut rig = Rig::new(registry, &patch);
+    let frame = (96, 54);
+    rig.resize(frame);
+    let report = rig.step();
+    assert!(rig.errors().is_empty(), "{:?}", rig.errors());
+    assert!(report.errors.is_empty(), "{:?}", report.errors);
+    let (w, h) = (64u32, 36u32);
+    let gradient = |f: &dyn Fn(Vec3) -> Vec3| ImageF32 {
+        width: w,
+        height: h,
+        pixels: (0..w * h)
+            .map(|i| {
+                let (x, y) = ((i % w) as f32 + 0.5, (i / w) as f32 + 0.5);
+                let c = f(Vec3::new(0.25 + 0.5 * x / 64.0, 0.25 + 0.5 * y / 36.0, 0.5));
+                [c.x, c.y, c.z, 1.0]
+            })
+            .collect(),
+    };
+    // Tint's defaults: colour (1, 0.5, 0.25), gain 1.
+    let tinted = gradient(&|c| c * Vec3::new(1.0, 0.5, 0.25));
+    // FXAA leaves a gradient this smooth alone; Tonemap's defaults: ACES, exposure 1.
+    let tonemapped = gradient(&|c| tonemap(c, TonemapOperator::Aces, 1.0, 4.0));
+    for (name, want) in [("tint", tinted), ("post", tonemapped)] {
+        assert_eq!(
+            rig.images.source_size(name),
+            Some((w, h)),
+            "{name}: the effects made their source's size"
+        );
+        let got = rig.image(name);
+        let want = want.resized(frame);
+        assert_eq!((got.width, got.height), frame);
+        for (i, (a, b)) in want.pixels.iter().zip(&got.pixels).enumerate() {
+            assert!(
+                (0..3).all(|c| (a[c] - b[c]).abs() < 4e-3),
+                "{name}: pixel ({}, {}) is {b:?}, the stretched gradient {a:?}",
+                i as u32 % frame.0,
+                i as u32 / frame.0
+            );
+        }
+    }
+}

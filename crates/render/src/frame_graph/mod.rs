@@ -75,6 +75,19 @@ impl SizeRule {
         }
     }
 
+    /// This size times `factor`, rounded as a relative size rounds (so a
+    /// chain of an image file's halvings has the sizes the same chain of a
+    /// frame of its size has; [`SizeRule::mip`] rounds down).
+    pub fn scaled(self, factor: f32) -> SizeRule {
+        match self {
+            SizeRule::Relative(s) => SizeRule::Relative(s * factor),
+            SizeRule::Absolute { width, height } => {
+                let (width, height) = SizeRule::Relative(factor).pixels((width, height));
+                SizeRule::Absolute { width, height }
+            }
+        }
+    }
+
     /// Width and height in pixels for a frame of `output` size; never zero.
     pub fn pixels(self, output: (u32, u32)) -> (u32, u32) {
         match self {
@@ -423,6 +436,32 @@ impl<'a> FrameGraph<'a> {
             key.usage |= READABLE;
         }
         Some(key)
+    }
+
+    /// The size of an image effect's output whose source is texture `name`
+    /// (declared before this call, as recipes declare their sources first):
+    /// the source's own, as vvvv's texture effects keep their input's size.
+    /// An imported texture (a FileTexture) gives its pixels, a pass's output
+    /// its size rule (a frame-size chain `Relative(1.0)`, as before this
+    /// rule, a shader node's target its size, a DeferredBase of a fixed
+    /// size its G-buffer's); a texture nothing declared (a persistent one
+    /// from last frame) the frame's size. The effects read their source
+    /// texel for texel, so this is what keeps a source of another size from
+    /// landing in one corner of a black frame. The one place the rule lives
+    /// (docs/post.md, "Sizes").
+    pub fn effect_size(&self, name: &str) -> SizeRule {
+        if let Some(texture) = self.imports.get(name) {
+            return SizeRule::Absolute {
+                width: texture.width(),
+                height: texture.height(),
+            };
+        }
+        self.passes
+            .iter()
+            .rev()
+            .flat_map(|p| &p.writes)
+            .find(|(n, _)| n == name)
+            .map_or(SizeRule::Relative(1.0), |(_, d)| d.size)
     }
 
     pub fn resolve(&self, desc: &TextureDesc) -> TextureKey {

@@ -109,8 +109,8 @@ impl AdaptationSettings {
     }
 }
 
-/// The reduction's sizes for a frame of `output` size: each level half the
-/// last (rounded up), the first half the output, down to 1x1.
+/// The reduction's sizes for an image of `output` size (the source's): each
+/// level half the last (rounded up), the first half the image, down to 1x1.
 pub fn reduction_sizes(output: (u32, u32)) -> Vec<(u32, u32)> {
     let half = |(w, h): (u32, u32)| (w.div_ceil(2).max(1), h.div_ceil(2).max(1));
     let mut sizes = vec![half((output.0.max(1), output.1.max(1)))];
@@ -278,11 +278,12 @@ impl Recipe for EyeAdaptation {
         }
         self.source.recipe.declare(renderer, fg);
         let name = |step: std::borrow::Cow<'static, str>| PassName::new("EyeAdaptation").step(step);
-        let sizes = reduction_sizes(fg.output_size());
+        // Reduced from its source's size (`FrameGraph::effect_size`): level 0 reads texel for texel.
+        let sizes = reduction_sizes(fg.effect_size(&self.source.name).pixels(fg.output_size()));
         let level = |(width, height): (u32, u32)| {
             TextureDesc::storage(REDUCED).size(SizeRule::Absolute { width, height })
         };
-        // Level 0: log-luminance of the image at half the output size.
+        // Level 0: log-luminance of the image at half its size.
         let mut pass = fg.pass(name("log luminance".into()), self.owner);
         let input = pass.read(&self.source.name);
         let output = pass.write(&self.level_name(0), level(sizes[0]));

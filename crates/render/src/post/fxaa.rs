@@ -4,7 +4,7 @@
 use std::sync::Arc;
 
 use crate::error::RenderError;
-use crate::frame_graph::{Bindings, FrameGraph, PassContext, SizeRule, Tex, TextureDesc};
+use crate::frame_graph::{Bindings, FrameGraph, PassContext, Tex, TextureDesc};
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
 use crate::report::PassName;
@@ -101,8 +101,9 @@ impl Recipe for Fxaa {
         }
         self.source.recipe.declare(renderer, fg);
         let name = PassName::new("FXAA");
-        let desc =
-            TextureDesc::storage(wgpu::TextureFormat::Rgba16Float).size(SizeRule::Relative(1.0));
+        // At its source's size (`FrameGraph::effect_size`): it reads texel for texel.
+        let desc = TextureDesc::storage(wgpu::TextureFormat::Rgba16Float)
+            .size(fg.effect_size(&self.source.name));
         let mut pass = fg.pass(name, self.owner);
         let source = pass.read(&self.source.name);
         let output = pass.write(&self.output, desc);

@@ -1,12 +1,12 @@
 //! `Glare`: bloom from a bright pass through a downsample/upsample chain of
-//! mip-like sizes (half, quarter... of the output, `SizeRule::Relative`),
+//! mip-like sizes (half, quarter... of the source, `SizeRule::scaled`),
 //! then composited over the source with chromatic aberration
 //! (shaders/post/glare.wgsl). Intensity 0 and aberration 0 cost one copy.
 
 use std::sync::Arc;
 
 use crate::error::RenderError;
-use crate::frame_graph::{Bindings, FrameGraph, PassContext, SizeRule, Tex, TextureDesc};
+use crate::frame_graph::{Bindings, FrameGraph, PassContext, Tex, TextureDesc};
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
 use crate::report::PassName;
@@ -167,7 +167,10 @@ impl Recipe for Glare {
             return;
         }
         self.source.recipe.declare(renderer, fg);
-        let full = TextureDesc::storage(wgpu::TextureFormat::Rgba16Float);
+        // The source's size (`FrameGraph::effect_size`), and the chain's
+        // levels halvings of it: the passes read texel for texel.
+        let source_size = fg.effect_size(&self.source.name);
+        let full = TextureDesc::storage(wgpu::TextureFormat::Rgba16Float).size(source_size);
         let name = |what: std::borrow::Cow<'static, str>| PassName::new("Glare").step(what);
         if self.settings.intensity == 0.0 && self.settings.aberration == 0.0 {
             super::declare_copy(
@@ -181,12 +184,12 @@ impl Recipe for Glare {
             return;
         }
         // No level smaller than 2 pixels: a chain of 1x1 levels adds nothing.
-        let (w, h) = fg.output_size();
+        let (w, h) = source_size.pixels(fg.output_size());
         let mut levels = 1usize;
         while levels < self.settings.levels as usize && (w.min(h) >> (levels + 1)) >= 2 {
             levels += 1;
         }
-        let level = |l: usize| full.size(SizeRule::Relative(0.5f32.powi(l as i32 + 1)));
+        let level = |l: usize| full.size(source_size.scaled(0.5f32.powi(l as i32 + 1)));
         let mut pass = fg.pass(name("bright pass".into()), self.owner);
         let source = pass.read(&self.source.name);
         let output = pass.write(&self.down(0), level(0));

@@ -10,7 +10,7 @@ use std::sync::Arc;
 pub use spreadlight_reference::tonemap::TonemapOperator;
 
 use crate::error::RenderError;
-use crate::frame_graph::{Bindings, FrameGraph, PassContext, SizeRule, Tex, TextureDesc};
+use crate::frame_graph::{Bindings, FrameGraph, PassContext, Tex, TextureDesc};
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
 use crate::report::PassName;
@@ -140,8 +140,9 @@ impl Recipe for Tonemap {
             adaptation.recipe.declare(renderer, fg);
         }
         let name = PassName::new("Tonemap");
-        let desc =
-            TextureDesc::storage(wgpu::TextureFormat::Rgba16Float).size(SizeRule::Relative(1.0));
+        // At its source's size (`FrameGraph::effect_size`): it reads texel for texel.
+        let desc = TextureDesc::storage(wgpu::TextureFormat::Rgba16Float)
+            .size(fg.effect_size(&self.source.name));
         let mut pass = fg.pass(name, self.owner);
         let io = TonemapIo {
             source: pass.read(&self.source.name),

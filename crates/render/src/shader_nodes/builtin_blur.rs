@@ -9,7 +9,7 @@ use std::sync::Arc;
 use wgpu::util::DeviceExt;
 
 use crate::error::RenderError;
-use crate::frame_graph::{Bindings, FrameGraph, PassContext, SizeRule, Tex, TextureDesc};
+use crate::frame_graph::{Bindings, FrameGraph, PassContext, Tex, TextureDesc};
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
 use crate::report::PassName;
@@ -99,16 +99,18 @@ impl Recipe for BuiltinBlur {
         }
         self.source.recipe.declare(renderer, fg);
         let name = |what| PassName::new("BlurBuiltin").step(what);
+        // At its source's size, through a half-size temporary (`FrameGraph::effect_size`).
+        let size = fg.effect_size(&self.source.name);
         let mut pass = fg.pass(name("horizontal"), self.owner);
         let source = pass.read(&self.source.name);
         let half = pass.write(
             &self.half,
-            TextureDesc::storage(FORMAT).size(SizeRule::Relative(0.5)),
+            TextureDesc::storage(FORMAT).size(size.scaled(0.5)),
         );
         pass.run(move |cx| self.run(cx, "horizontal", source, half));
         let mut pass = fg.pass(name("vertical"), self.owner);
         let half = pass.read(&self.half);
-        let output = pass.write(&self.output, TextureDesc::storage(FORMAT));
+        let output = pass.write(&self.output, TextureDesc::storage(FORMAT).size(size));
         pass.run(move |cx| self.run(cx, "vertical", half, output));
     }
 }

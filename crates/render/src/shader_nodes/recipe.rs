@@ -172,7 +172,22 @@ impl ShaderNodeRecipe {
             .textures()
     }
 
-    /// Unroll the passes into dispatches for a frame of `output` size.
+    /// What a target's `scale=` is a scale of: the node's first connected
+    /// texture input's size, as any image effect takes its source's
+    /// ([`FrameGraph::effect_size`]), so a filter keeps a texture of
+    /// another size whole instead of reading it texel for texel into a
+    /// frame-size target; with no texture input (a source such as Noise),
+    /// the frame's size. Declared after the inputs, which declare first.
+    fn size_basis(&self, fg: &FrameGraph<'_>) -> (u32, u32) {
+        let output = fg.output_size();
+        match self.inputs.textures.iter().flatten().next() {
+            Some(input) => fg.effect_size(&input.name).pixels(output),
+            None => output,
+        }
+    }
+
+    /// Unroll the passes into dispatches for targets whose `scale=` is of
+    /// `output` pixels ([`ShaderNodeRecipe::size_basis`]).
     fn plan(&self, output: (u32, u32)) -> (Vec<Step>, Vec<Option<Source>>, u64) {
         let targets = &self.program.targets;
         let mut current: Vec<Option<(Source, (u32, u32))>> = vec![None; targets.len()];
@@ -519,7 +534,8 @@ impl Recipe for ShaderNodeRecipe {
         if !self.counted.swap(true, Ordering::Relaxed) && self.inputs.compiled > 0 {
             fg.count("shader node permutations compiled", self.inputs.compiled);
         }
-        let (steps, finals, skipped) = self.plan(fg.output_size());
+        let basis = self.size_basis(fg);
+        let (steps, finals, skipped) = self.plan(basis);
         if skipped > 0 {
             fg.count("shader node passes skipped", skipped);
         }
@@ -651,7 +667,7 @@ impl Recipe for ShaderNodeRecipe {
             }
             let from = self.source_name(source, &last);
             let to = self.target_name(&decl.name);
-            let size = decl.size.pixels(fg.output_size());
+            let size = decl.size.pixels(basis);
             let desc = TextureDesc::storage(decl.format).size(SizeRule::Absolute {
                 width: size.0,
                 height: size.1,
