@@ -20,6 +20,7 @@ pub mod material;
 pub mod mesh;
 pub mod mesh_arena;
 pub mod particles;
+pub mod permutations;
 pub mod pipeline_cache;
 pub mod post;
 pub mod readback;

@@ -5,9 +5,8 @@
 //! and its extras (energy compensation, FakeSSS, clear coat), and the
 //! extras read the material buffer ([`Shading`]); a shadow filter is a kind
 //! of shadows ([`ShadowSampling`]). `CookTorrance` and the light shader
-//! node's check (`shader_nodes/light.rs`) both build it; the file imports
-//! no pass, so `shaders::SHADERS` names it without a circle through the
-//! renderer (docs/architecture.md, "Layers inside render").
+//! node's check (`shader_nodes/light.rs`) both build it; it declares its
+//! shader file (`shader_file!`) and imports no pass.
 
 use super::light_kind::LightKind;
 use crate::shaders::permutation::Permutation;
@@ -242,7 +241,7 @@ impl CookTorranceKey {
 }
 
 impl Permutation for CookTorranceKey {
-    const PATH: &'static str = "lighting/cook_torrance.wgsl";
+    crate::shader_file!("lighting/cook_torrance.wgsl");
     const FEATURES: &'static [&'static str] = &[
         "CLUSTERED",
         "ENERGY_COMPENSATION",

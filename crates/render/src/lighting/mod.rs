@@ -4,7 +4,6 @@
 
 mod clusters;
 pub(crate) mod clusters_key;
-// The composite's key is named by the shader table (`shaders::SHADERS`).
 pub(crate) mod composite;
 mod cook_torrance;
 pub(crate) mod cook_torrance_key;
@@ -374,7 +373,7 @@ mod wgsl_layout {
     fn gpu_light_matches_light_in_the_shader() {
         crate::assert_wgsl_layout!(
             GpuLight,
-            "lighting/cook_torrance.wgsl",
+            crate::lighting::cook_torrance_key::CookTorranceKey,
             [],
             "Light",
             [position_range, intensity, direction, cone]

@@ -678,7 +678,7 @@ mod wgsl_layout {
     fn gpu_shadow_params_matches_shadowparams_in_the_shader() {
         crate::assert_wgsl_layout!(
             GpuShadowParams,
-            "lighting/cook_torrance.wgsl",
+            "lighting/shadow_sampling.wgsl",
             ["SHADOWS"],
             "ShadowParams",
             [bias, filter]

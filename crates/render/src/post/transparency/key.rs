@@ -250,7 +250,7 @@ impl LightKey {
 }
 
 impl Permutation for TransparencyKey {
-    const PATH: &'static str = "post/transparency.wgsl";
+    crate::shader_file!("post/transparency.wgsl");
     const FEATURES: &'static [&'static str] = &[
         "MATERIAL_MAPS",
         "VERTEX_EXTRAS",
