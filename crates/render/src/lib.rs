@@ -15,6 +15,7 @@ pub mod frame_graph;
 pub mod gbuffer;
 pub mod geometry;
 pub mod image_io;
+pub mod light_kind;
 pub mod lighting;
 pub mod material;
 pub mod mesh;

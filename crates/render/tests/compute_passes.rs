@@ -9,9 +9,9 @@
 use std::sync::Arc;
 
 use spreadlight_render::frame_graph::{Bindings, COMPUTE_PASSES, FRAME_CHUNKS, PassName};
+use spreadlight_render::post::CopyKey;
 use spreadlight_render::readback::render_and_read;
 use spreadlight_render::renderer::{Recording, Timing, test_renderer};
-use spreadlight_render::post::CopyKey;
 use spreadlight_render::shaders::Permutation;
 use spreadlight_render::static_texture::StaticTexture;
 use spreadlight_render::{FrameGraph, FrameReport, GpuContext, Renderer, TextureDesc};

@@ -741,8 +741,8 @@ fn a_readback_past_the_adapter_s_largest_buffer_is_refused_naming_the_limit() {
 /// A frame of three dependent compute passes that fill, add to and scale an
 /// image, so recording and timing modes can be compared on real work.
 fn arithmetic_frame(renderer: &spreadlight_render::Renderer) -> Vec<[f32; 4]> {
-    use spreadlight_render::readback::render_and_read;
     use spreadlight_render::post::CopyKey;
+    use spreadlight_render::readback::render_and_read;
     use spreadlight_render::shaders::Permutation;
     struct Chain;
     impl spreadlight_render::Recipe for Chain {
@@ -898,8 +898,8 @@ fn a_repeated_frame_reuses_its_bind_groups_and_texture_views() {
 /// [`arithmetic_frame`] as a re-made recipe declares it: its textures named
 /// after a new id each frame (`frame`), its passes named as before.
 fn renamed_frame(renderer: &spreadlight_render::Renderer, frame: u32) -> Vec<[f32; 4]> {
-    use spreadlight_render::readback::render_and_read;
     use spreadlight_render::post::CopyKey;
+    use spreadlight_render::readback::render_and_read;
     use spreadlight_render::shaders::Permutation;
     struct Chain([String; 3]);
     impl spreadlight_render::Recipe for Chain {
@@ -995,8 +995,8 @@ fn temporal_frame_requesting(
     value: f32,
     more: &[&str],
 ) -> [f32; 3] {
-    use spreadlight_render::readback::render_and_read;
     use spreadlight_render::post::CopyKey;
+    use spreadlight_render::readback::render_and_read;
     use spreadlight_render::shaders::Permutation;
     fn copy(cx: &mut PassContext<'_>, from: Tex, to: Tex) -> Result<(), RenderError> {
         cx.dispatch_image(
@@ -1185,12 +1185,7 @@ fn bindings_by_name_name_a_typo_and_a_missing_variable() {
                     true => bindings.texture("sourc", source),
                     false => bindings,
                 };
-                cx.dispatch_image(
-                    "copy",
-                    &CopyKey.key(),
-                    bindings,
-                    (8, 8),
-                )
+                cx.dispatch_image("copy", &CopyKey.key(), bindings, (8, 8))
             });
         }
     };

@@ -8,7 +8,7 @@
 //! node's check (`shader_nodes/light.rs`) both build it; it declares its
 //! shader file (`shader_file!`) and imports no pass.
 
-use super::light_kind::LightKind;
+use crate::light_kind::LightKind;
 use crate::shaders::permutation::Permutation;
 use crate::shadows::filter::ShadowFilter;
 
@@ -225,6 +225,14 @@ impl ShadowSampling {
         Some(ShadowSampling::Vsm),
     ];
 }
+
+/// The library a light shader node's file takes the place of in the light
+/// loop's `CUSTOM_LIGHT` permutations (the shader-node compiler splices it).
+pub const LIGHT_MODULE: &str = "spreadlight::custom_light";
+
+/// The group a light shader node's own bindings are in (group 0 is the
+/// light loop's, group 1 the material world's).
+pub const LIGHT_GROUP: u32 = 2;
 
 impl CookTorranceKey {
     /// The light loop a light shader node of `kind` is checked against

@@ -11,13 +11,12 @@ mod ssgi;
 pub(crate) mod ssgi_key;
 mod ssss;
 pub(crate) mod ssss_key;
-// Named by the permutation keys and the shader-node compiler without the passes.
-pub(crate) mod light_kind;
 
 use std::sync::Arc;
 
 use glam::{Mat4, Vec3};
 
+pub use crate::light_kind::LightKind;
 pub use clusters::ClusterGrid;
 pub(crate) use clusters::{ClusterStore, assign_lights};
 pub use composite::{
@@ -26,7 +25,6 @@ pub use composite::{
 };
 pub(crate) use cook_torrance::near_far;
 pub use cook_torrance::{CookTorrance, FEW_LIGHTS, LightLoop, Surfaces, Walk, resolve_walk};
-pub use light_kind::LightKind;
 pub use ssgi::GATHER_TEMPORAL as SSGI_GATHER_TEMPORAL;
 pub use ssgi::HALF_RESOLUTION as SSGI_HALF_RESOLUTION;
 pub use ssgi::{Ssgi, SsgiKey, SsgiSettings};

