@@ -80,14 +80,14 @@ impl ShaderComposer {
         Self::with_sources(sources, Some(dir.to_owned()))
     }
 
-    /// `file`'s text in [`Self::sources`], read (from the folder, or the
-    /// binary) the first time it is asked for.
-    fn load(&mut self, file: &'static ShaderFile) -> &str {
+    /// Put `file`'s text in [`Self::sources`], read (from the folder, or
+    /// the binary) the first time it is asked for.
+    fn load(&mut self, file: &'static ShaderFile) {
         let dir = &self.dir;
         self.sources.entry(file.path).or_insert_with(|| match dir {
             Some(dir) => read_or_embedded(dir, file),
             None => Cow::Borrowed(file.source),
-        })
+        });
     }
 
     fn with_sources(
