@@ -160,7 +160,7 @@ mod wgsl_layout {
     fn gpu_camera_matches_camera_in_the_shader() {
         crate::assert_wgsl_layout!(
             GpuCamera,
-            "lighting/composite.wgsl",
+            "lib/camera.wgsl",
             [],
             "Camera",
             [

@@ -536,7 +536,7 @@ mod wgsl_layout {
     fn gpu_vertex_matches_vertex_in_the_shader() {
         crate::assert_wgsl_layout!(
             GpuVertex,
-            "gbuffer/resolve.wgsl",
+            "lib/mesh.wgsl",
             [],
             "Vertex",
             [position_u, normal_v, tangent, previous_position]
@@ -547,7 +547,7 @@ mod wgsl_layout {
     fn gpu_vertex_extra_matches_vertexextra_in_the_shader() {
         crate::assert_wgsl_layout!(
             GpuVertexExtra,
-            "gbuffer/resolve.wgsl",
+            "lib/mesh.wgsl",
             ["VERTEX_EXTRAS"],
             "VertexExtra",
             [second_uv, color]

@@ -1,7 +1,6 @@
 //! The typed key of the half-resolution upsample, [`UpsampleKey`] (`resolution/upsample.wgsl`). It
-//! stands in a file of its own that imports no pass, so that `shaders::SHADERS` names it without a
-//! circle through the renderer (docs/architecture.md, "Layers inside render"); `resolution.rs` re-
-//! exports it.
+//! declares its shader file (`shader_file!`), so no table below the effects names it;
+//! `resolution.rs` re-exports it.
 
 crate::choice_key! {
     /// `resolution/upsample.wgsl`.

@@ -167,7 +167,7 @@ mod tests {
     fn gpu_ray_params_match_the_shader() {
         crate::assert_wgsl_layout!(
             GpuRayParams,
-            "ssao/ao.wgsl",
+            "lib/screen.wgsl",
             [],
             "RayParams",
             [

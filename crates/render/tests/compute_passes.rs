@@ -9,9 +9,10 @@
 use std::sync::Arc;
 
 use spreadlight_render::frame_graph::{Bindings, COMPUTE_PASSES, FRAME_CHUNKS, PassName};
+use spreadlight_render::post::CopyKey;
 use spreadlight_render::readback::render_and_read;
 use spreadlight_render::renderer::{Recording, Timing, test_renderer};
-use spreadlight_render::shaders::ShaderKey;
+use spreadlight_render::shaders::Permutation;
 use spreadlight_render::static_texture::StaticTexture;
 use spreadlight_render::{FrameGraph, FrameReport, GpuContext, Renderer, TextureDesc};
 
@@ -86,7 +87,7 @@ impl spreadlight_render::Recipe for Chain {
                 } else {
                     bindings.texture("source", input)
                 };
-                cx.dispatch_image("hop", &ShaderKey::new("post/copy.wgsl", []), bindings, SIZE)?;
+                cx.dispatch_image("hop", &CopyKey.key(), bindings, SIZE)?;
                 match fails {
                     true => Err(spreadlight_render::RenderError::Graph(
                         "a deliberate error after the dispatch".into(),

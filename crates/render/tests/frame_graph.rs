@@ -741,8 +741,9 @@ fn a_readback_past_the_adapter_s_largest_buffer_is_refused_naming_the_limit() {
 /// A frame of three dependent compute passes that fill, add to and scale an
 /// image, so recording and timing modes can be compared on real work.
 fn arithmetic_frame(renderer: &spreadlight_render::Renderer) -> Vec<[f32; 4]> {
+    use spreadlight_render::post::CopyKey;
     use spreadlight_render::readback::render_and_read;
-    use spreadlight_render::shaders::ShaderKey;
+    use spreadlight_render::shaders::Permutation;
     struct Chain;
     impl spreadlight_render::Recipe for Chain {
         fn declare<'a>(&'a self, _: &'a spreadlight_render::Renderer, fg: &mut FrameGraph<'a>) {
@@ -761,7 +762,7 @@ fn arithmetic_frame(renderer: &spreadlight_render::Renderer) -> Vec<[f32; 4]> {
                 pass.run(move |cx| {
                     cx.dispatch_image(
                         "copy",
-                        &ShaderKey::new("post/copy.wgsl", []),
+                        &CopyKey.key(),
                         Bindings::new()
                             .texture("source", source)
                             .texture("output", output),
@@ -897,8 +898,9 @@ fn a_repeated_frame_reuses_its_bind_groups_and_texture_views() {
 /// [`arithmetic_frame`] as a re-made recipe declares it: its textures named
 /// after a new id each frame (`frame`), its passes named as before.
 fn renamed_frame(renderer: &spreadlight_render::Renderer, frame: u32) -> Vec<[f32; 4]> {
+    use spreadlight_render::post::CopyKey;
     use spreadlight_render::readback::render_and_read;
-    use spreadlight_render::shaders::ShaderKey;
+    use spreadlight_render::shaders::Permutation;
     struct Chain([String; 3]);
     impl spreadlight_render::Recipe for Chain {
         fn declare<'a>(&'a self, _: &'a spreadlight_render::Renderer, fg: &mut FrameGraph<'a>) {
@@ -918,7 +920,7 @@ fn renamed_frame(renderer: &spreadlight_render::Renderer, frame: u32) -> Vec<[f3
                 pass.run(move |cx| {
                     cx.dispatch_image(
                         "copy",
-                        &ShaderKey::new("post/copy.wgsl", []),
+                        &CopyKey.key(),
                         Bindings::new()
                             .texture("source", source)
                             .texture("output", output),
@@ -993,12 +995,13 @@ fn temporal_frame_requesting(
     value: f32,
     more: &[&str],
 ) -> [f32; 3] {
+    use spreadlight_render::post::CopyKey;
     use spreadlight_render::readback::render_and_read;
-    use spreadlight_render::shaders::ShaderKey;
+    use spreadlight_render::shaders::Permutation;
     fn copy(cx: &mut PassContext<'_>, from: Tex, to: Tex) -> Result<(), RenderError> {
         cx.dispatch_image(
             "copy",
-            &ShaderKey::new("post/copy.wgsl", []),
+            &CopyKey.key(),
             Bindings::new()
                 .texture("source", from)
                 .texture("output", to),
@@ -1167,7 +1170,8 @@ fn a_pass_reaches_only_the_textures_it_declared() {
 /// the variable, not a validation error about binding numbers.
 #[test]
 fn bindings_by_name_name_a_typo_and_a_missing_variable() {
-    use spreadlight_render::shaders::ShaderKey;
+    use spreadlight_render::post::CopyKey;
+    use spreadlight_render::shaders::Permutation;
     let copy = |typo: bool| {
         move |fg: &mut FrameGraph<'_>| {
             let mut pass = fg.pass("source", None);
@@ -1181,12 +1185,7 @@ fn bindings_by_name_name_a_typo_and_a_missing_variable() {
                     true => bindings.texture("sourc", source),
                     false => bindings,
                 };
-                cx.dispatch_image(
-                    "copy",
-                    &ShaderKey::new("post/copy.wgsl", []),
-                    bindings,
-                    (8, 8),
-                )
+                cx.dispatch_image("copy", &CopyKey.key(), bindings, (8, 8))
             });
         }
     };

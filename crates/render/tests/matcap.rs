@@ -299,7 +299,7 @@ fn materials_without_matcap_stay_bit_for_bit_and_compile_no_matcap_code() {
         renderer
             .shaders()
             .compiled_keys()
-            .any(|k| k.path == "lighting/composite.wgsl" && k.features.contains("MATCAP"))
+            .any(|k| k.path() == "lighting/composite.wgsl" && k.features.contains("MATCAP"))
     );
     let (mut same, mut changed) = (0, 0);
     for y in 0..SIZE.1 {

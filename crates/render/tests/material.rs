@@ -16,7 +16,7 @@ use spreadlight_render::material::{
     FIRST_CUSTOM_FEATURE, Feature, MAX_FEATURES, Material, MaterialWorld,
 };
 use spreadlight_render::renderer::test_renderer;
-use spreadlight_render::shaders::SHADERS;
+use spreadlight_render::shaders::library;
 use wgpu::util::DeviceExt;
 
 const LIBRARY: &str = "lib/material.wgsl";
@@ -49,10 +49,7 @@ fn compose_entry() -> naga::Module {
     // The material library, after the one it imports (the G-buffer's
     // surface target, which feature_param_at reads under SURFACE_TARGET).
     for path in ["lib/surface_target.wgsl", LIBRARY] {
-        let file = SHADERS
-            .iter()
-            .find(|f| f.path == path)
-            .unwrap_or_else(|| panic!("{path} is in SHADERS"));
+        let file = library(path).unwrap_or_else(|| panic!("{path} is in shaders::LIBRARIES"));
         assert!(file.library, "{path} is registered as a library");
         if let Err(e) = composer.add_composable_module(ComposableModuleDescriptor {
             source: file.source,
@@ -83,11 +80,7 @@ fn library_composes_validates_and_mirrors_the_rust_constants() {
     if let Err(e) = validator.validate(&module) {
         panic!("{e:?}");
     }
-    let source = SHADERS
-        .iter()
-        .find(|f| f.path == LIBRARY)
-        .map(|f| f.source)
-        .unwrap_or_default();
+    let source = library(LIBRARY).map(|f| f.source).unwrap_or_default();
     for (name, value) in [
         ("FEATURE_COOK_TORRANCE", FEATURE_COOK_TORRANCE),
         ("FEATURE_EMISSION", FEATURE_EMISSION),

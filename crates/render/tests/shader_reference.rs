@@ -19,7 +19,7 @@ use spreadlight_reference::lights::{
 };
 use spreadlight_reference::tonemap::{TonemapOperator, ev100_to_exposure, luminance, tonemap};
 use spreadlight_render::renderer::test_renderer;
-use spreadlight_render::shaders::{Reflection, SHADERS};
+use spreadlight_render::shaders::{Reflection, library};
 use wgpu::util::DeviceExt;
 
 /// Calls every function of the three libraries. One invocation per case;
@@ -269,11 +269,12 @@ fn cases() -> Vec<Case> {
 }
 
 /// A composer holding the libraries under test (and `packing`, which `brdf`
-/// imports), taken from the renderer's shader table.
+/// imports), taken from the renderer's table of libraries.
 fn composer() -> Composer {
     let mut composer = Composer::default();
     let wanted = |path: &str| path == "lib/packing.wgsl" || LIBRARIES.contains(&path);
-    for file in SHADERS.iter().filter(|f| f.library && wanted(f.path)) {
+    let table = spreadlight_render::shaders::LIBRARIES;
+    for file in table.iter().filter(|f| wanted(f.path)) {
         if let Err(e) = composer.add_composable_module(ComposableModuleDescriptor {
             source: file.source,
             file_path: file.path,
@@ -303,10 +304,9 @@ fn compose_entry() -> naga::Module {
 #[test]
 fn libraries_are_registered_and_compose_and_validate() {
     for path in LIBRARIES {
-        let file = SHADERS.iter().find(|f| f.path == path);
         assert!(
-            file.is_some_and(|f| f.library),
-            "{path} is not a library of SHADERS"
+            library(path).is_some_and(|f| f.library),
+            "{path} is not a library of shaders::LIBRARIES"
         );
     }
     let module = compose_entry();

@@ -478,7 +478,7 @@ fn only_gbuffers_with_a_surface_target_compile_the_permutations_that_read_it() {
             .shaders()
             .compiled_keys()
             .filter(|k| k.features.contains("SURFACE_TARGET"))
-            .map(|k| k.path)
+            .map(|k| k.path())
             .collect::<std::collections::BTreeSet<_>>()
     };
     let renderer = test_renderer();

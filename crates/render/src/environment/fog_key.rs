@@ -1,6 +1,5 @@
-//! The typed key of `Fog`, [`FogKey`] (`environment/fog.wgsl`). It stands in a file of its own that
-//! imports no pass, so that `shaders::SHADERS` names it without a circle through the renderer
-//! (docs/architecture.md, "Layers inside render"); `environment/fog.rs` re-exports it.
+//! The typed key of `Fog`, [`FogKey`] (`environment/fog.wgsl`). It declares its shader file
+//! (`shader_file!`), so no table below the effects names it; `environment/fog.rs` re-exports it.
 
 crate::flag_key! {
     /// `environment/fog.wgsl`: one permutation (a Fog run with a Sky is the

@@ -366,7 +366,7 @@ mod wgsl_layout {
     fn params_matches_params_in_the_shader() {
         crate::assert_wgsl_layout!(
             Params,
-            "environment/prefilter.wgsl",
+            crate::environment::prefilter_key::PrefilterKey,
             [],
             "Params",
             [size, samples, base_size, base_mips, roughness, pad]

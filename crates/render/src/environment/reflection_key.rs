@@ -1,7 +1,6 @@
-//! The typed key of `Reflection`, [`ReflectionKey`] (`environment/reflection.wgsl`). It stands in a
-//! file of its own that imports no pass, so that `shaders::SHADERS` names it without a circle
-//! through the renderer (docs/architecture.md, "Layers inside render"); `environment/reflection.rs`
-//! re-exports it.
+//! The typed key of `Reflection`, [`ReflectionKey`] (`environment/reflection.wgsl`). It declares
+//! its shader file (`shader_file!`), so no table below the effects names it;
+//! `environment/reflection.rs` re-exports it.
 
 crate::flag_key! {
     /// `environment/reflection.wgsl`: one key for every entry (the clear,

@@ -266,7 +266,7 @@ mod wgsl_layout {
     fn gpu_sky_matches_sky_in_the_shader() {
         crate::assert_wgsl_layout!(
             GpuSky,
-            "environment/prefilter.wgsl",
+            crate::environment::prefilter_key::PrefilterKey,
             [],
             "Sky",
             [zenith, horizon, ground, sun, sun_color]

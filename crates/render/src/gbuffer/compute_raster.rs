@@ -515,7 +515,7 @@ mod wgsl_layout {
     fn gpu_batch_matches_batch_in_the_shader() {
         crate::assert_wgsl_layout!(
             GpuBatch,
-            "gbuffer/raster.wgsl",
+            crate::gbuffer::compute_raster_key::RasterKey,
             [],
             "Batch",
             [first_instance, triangles, instance_count, first_global]

@@ -1,7 +1,6 @@
-//! The typed key of the compute rasterizer, [`RasterKey`] (`gbuffer/raster.wgsl`). It stands in a
-//! file of its own that imports no pass, so that `shaders::SHADERS` names it without a circle
-//! through the renderer (docs/architecture.md, "Layers inside render"); `gbuffer/compute_raster.rs`
-//! re-exports it.
+//! The typed key of the compute rasterizer, [`RasterKey`] (`gbuffer/raster.wgsl`). It declares its
+//! shader file (`shader_file!`), so no table below the effects names it;
+//! `gbuffer/compute_raster.rs` re-exports it.
 
 crate::flag_key! {
     /// `gbuffer/raster.wgsl`.

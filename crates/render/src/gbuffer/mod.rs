@@ -577,7 +577,7 @@ mod wgsl_layout {
     fn gpu_instance_matches_instance_in_the_shader() {
         crate::assert_wgsl_layout!(
             GpuInstance,
-            "gbuffer/resolve.wgsl",
+            crate::gbuffer::resolve_key::ResolveKey,
             [],
             "Instance",
             [model, previous_model, normal_matrix, color, info]
@@ -588,7 +588,7 @@ mod wgsl_layout {
     fn gpu_layer_matches_layer_in_the_shader() {
         crate::assert_wgsl_layout!(
             GpuLayer,
-            "gbuffer/resolve.wgsl",
+            crate::gbuffer::resolve_key::ResolveKey,
             [],
             "Layer",
             [

@@ -6,8 +6,7 @@
 //! material write the surface target and are one choice ([`SurfaceOut`]).
 //! The G-buffer's resolve (`gbuffer/resolve.rs`) and the shader node
 //! compiler's material check (`shader_nodes/compose.rs`) both build it;
-//! the file imports no pass, so `shaders::SHADERS` names it without a
-//! circle through the renderer (docs/architecture.md, "Layers inside render").
+//! it declares its shader file (`shader_file!`) and imports no pass.
 
 use crate::shaders::permutation::Permutation;
 
@@ -128,7 +127,7 @@ impl ResolveKey {
 }
 
 impl Permutation for ResolveKey {
-    const PATH: &'static str = "gbuffer/resolve.wgsl";
+    crate::shader_file!("gbuffer/resolve.wgsl");
     const FEATURES: &'static [&'static str] = &[
         "COMPUTE_RASTER",
         "MOTION",

@@ -1,8 +1,7 @@
 //! The G-buffer channel a GBufferView shows, [`Channel`], which is also
-//! `gbuffer/view.wgsl`'s permutation: one switch per channel. It stands in
-//! a file of its own that imports no pass, so that `shaders::SHADERS` names
-//! it without a circle through the renderer (docs/architecture.md, "Layers
-//! inside render"); `gbuffer/view.rs` re-exports it.
+//! `gbuffer/view.wgsl`'s permutation: one switch per channel. It declares
+//! its shader file (`shader_file!`), so no table below the effects names
+//! it; `gbuffer/view.rs` re-exports it.
 
 use crate::shaders::permutation::Permutation;
 
@@ -57,7 +56,7 @@ impl Channel {
 /// Every view shows one channel: the string rule's empty choice (no
 /// channel at all) was never built, and is no permutation.
 impl Permutation for Channel {
-    const PATH: &'static str = "gbuffer/view.wgsl";
+    crate::shader_file!("gbuffer/view.wgsl");
     const FEATURES: &'static [&'static str] = &[
         "ALBEDO",
         "NORMALS",

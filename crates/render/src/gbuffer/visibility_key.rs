@@ -1,6 +1,5 @@
 //! The typed key of the G-buffer's visibility pass, [`VisibilityKey`] (`gbuffer/visibility.wgsl`).
-//! It stands in a file of its own that imports no pass, so that `shaders::SHADERS` names it without
-//! a circle through the renderer (docs/architecture.md, "Layers inside render");
+//! It declares its shader file (`shader_file!`), so no table below the effects names it;
 //! `gbuffer/passes.rs` re-exports it.
 
 crate::flag_key! {

@@ -133,7 +133,7 @@ mod wgsl_layout {
     fn gpu_matches_params_in_the_shader() {
         crate::assert_wgsl_layout!(
             Gpu,
-            "geometry/displace.wgsl",
+            crate::geometry::displace_key::DisplaceKey,
             [],
             "Params",
             [amount, midlevel, _pad]

@@ -1,6 +1,6 @@
-//! The typed key of Displace, [`DisplaceKey`] (`geometry/displace.wgsl`). It stands in a file of
-//! its own that imports no pass, so that `shaders::SHADERS` names it without a circle through the
-//! renderer (docs/architecture.md, "Layers inside render"); `geometry/displace.rs` re-exports it.
+//! The typed key of Displace, [`DisplaceKey`] (`geometry/displace.wgsl`). It declares its shader
+//! file (`shader_file!`), so no table below the effects names it; `geometry/displace.rs`
+//! re-exports it.
 
 crate::choice_key! {
     /// `geometry/displace.wgsl`: the pass that moves the vertices, or one of

@@ -203,7 +203,7 @@ pub fn run_into(
 ) -> Result<Arc<GpuMesh>, RenderError> {
     if op.input.is_some_and(|m| m.is_procedural()) {
         return Err(RenderError::Pass {
-            pass: op.key.path.to_owned(),
+            pass: op.key.path().to_owned(),
             message: "particles are drawn procedurally, not stored as a mesh: a geometry pass cannot take them".to_owned(),
         });
     }
@@ -328,11 +328,11 @@ pub(crate) fn dispatch_as(
         )?;
         drop(shaders);
         let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
-            label: Some(key.path),
+            label: Some(key.path()),
         });
         {
             let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some(key.path),
+                label: Some(key.path()),
                 timestamp_writes: timer.as_ref().map(|t| wgpu::ComputePassTimestampWrites {
                     query_set: &t.set,
                     beginning_of_pass_write_index: Some(0),
@@ -356,7 +356,7 @@ pub(crate) fn dispatch_as(
     match (recorded, validation) {
         (Err(e), _) => Err(e),
         (Ok(_), Some(e)) => Err(RenderError::Validation {
-            pass: key.path.to_owned(),
+            pass: key.path().to_owned(),
             message: e.to_string(),
         }),
         (Ok(commands), None) => {
@@ -408,7 +408,7 @@ mod wgsl_layout {
     fn gpu_job_matches_job_in_the_shader() {
         crate::assert_wgsl_layout!(
             GpuJob,
-            "geometry/spherize.wgsl",
+            crate::geometry::spherize_key::SpherizeKey,
             [],
             "Job",
             [

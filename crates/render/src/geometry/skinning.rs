@@ -301,7 +301,7 @@ mod wgsl_layout {
     fn gpu_job_matches_job_in_the_shader() {
         crate::assert_wgsl_layout!(
             GpuJob,
-            "geometry/skinning.wgsl",
+            crate::geometry::skinning_key::SkinningKey,
             [],
             "Job",
             [
@@ -329,7 +329,7 @@ mod wgsl_layout {
     fn gpu_influence_matches_influence_in_the_shader() {
         crate::assert_wgsl_layout!(
             GpuInfluence,
-            "geometry/skinning.wgsl",
+            crate::geometry::skinning_key::SkinningKey,
             [],
             "Influence",
             [joints, weights]

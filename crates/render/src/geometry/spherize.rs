@@ -88,7 +88,7 @@ mod wgsl_layout {
     fn gpu_matches_params_in_the_shader() {
         crate::assert_wgsl_layout!(
             Gpu,
-            "geometry/spherize.wgsl",
+            crate::geometry::spherize_key::SpherizeKey,
             [],
             "Params",
             [center, radius, amount, _pad]

@@ -152,7 +152,7 @@ mod wgsl_layout {
     fn gpu_matches_params_in_the_shader() {
         crate::assert_wgsl_layout!(
             Gpu,
-            "geometry/tessellate.wgsl",
+            crate::geometry::tessellate_key::TessellateKey,
             [],
             "Params",
             [max_area, segment, max_level, blocks]

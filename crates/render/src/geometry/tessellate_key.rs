@@ -1,7 +1,6 @@
-//! The typed key of Tessellate, [`TessellateKey`] (`geometry/tessellate.wgsl`). It stands in a file
-//! of its own that imports no pass, so that `shaders::SHADERS` names it without a circle through
-//! the renderer (docs/architecture.md, "Layers inside render"); `geometry/tessellate.rs` re-exports
-//! it.
+//! The typed key of Tessellate, [`TessellateKey`] (`geometry/tessellate.wgsl`). It declares its
+//! shader file (`shader_file!`), so no table below the effects names it; `geometry/tessellate.rs`
+//! re-exports it.
 
 crate::choice_key! {
     /// `geometry/tessellate.wgsl`: the pass that writes the triangles, or

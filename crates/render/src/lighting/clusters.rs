@@ -337,14 +337,14 @@ mod wgsl_layout {
     fn gpu_grid_matches_the_shaders() {
         crate::assert_wgsl_layout!(
             super::GpuGrid,
-            "lighting/clusters.wgsl",
+            crate::lighting::clusters_key::ClustersKey,
             [],
             "Grid",
             [dims, depth, falloff]
         );
         crate::assert_wgsl_layout!(
             super::GpuGrid,
-            "lighting/cook_torrance.wgsl",
+            crate::lighting::cook_torrance_key::CookTorranceKey,
             ["CLUSTERED"],
             "Grid",
             [dims, depth, falloff]

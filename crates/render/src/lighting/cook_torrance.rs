@@ -450,7 +450,7 @@ impl CookTorrance {
         let device = cx.gpu.device.clone();
         let splice = crate::shaders::Splice {
             key: s.key,
-            module: crate::shader_nodes::light::LIGHT_MODULE,
+            module: super::cook_torrance_key::LIGHT_MODULE,
             file_path: &s.file,
             source: &s.text,
         };
@@ -463,7 +463,7 @@ impl CookTorrance {
                 message: e.to_string(),
             })?;
         let spliced = crate::gbuffer::SplicedGroup {
-            group: crate::shader_nodes::light::LIGHT_GROUP,
+            group: super::cook_torrance_key::LIGHT_GROUP,
             label: &label,
             reflection: &reflection,
         };

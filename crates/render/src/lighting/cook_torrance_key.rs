@@ -5,11 +5,10 @@
 //! and its extras (energy compensation, FakeSSS, clear coat), and the
 //! extras read the material buffer ([`Shading`]); a shadow filter is a kind
 //! of shadows ([`ShadowSampling`]). `CookTorrance` and the light shader
-//! node's check (`shader_nodes/light.rs`) both build it; the file imports
-//! no pass, so `shaders::SHADERS` names it without a circle through the
-//! renderer (docs/architecture.md, "Layers inside render").
+//! node's check (`shader_nodes/light.rs`) both build it; it declares its
+//! shader file (`shader_file!`) and imports no pass.
 
-use super::light_kind::LightKind;
+use crate::light_kind::LightKind;
 use crate::shaders::permutation::Permutation;
 use crate::shadows::filter::ShadowFilter;
 
@@ -227,6 +226,14 @@ impl ShadowSampling {
     ];
 }
 
+/// The library a light shader node's file takes the place of in the light
+/// loop's `CUSTOM_LIGHT` permutations (the shader-node compiler splices it).
+pub const LIGHT_MODULE: &str = "spreadlight::custom_light";
+
+/// The group a light shader node's own bindings are in (group 0 is the
+/// light loop's, group 1 the material world's).
+pub const LIGHT_GROUP: u32 = 2;
+
 impl CookTorranceKey {
     /// The light loop a light shader node of `kind` is checked against
     /// (`shader_nodes/light.rs`): its own function, nothing else the scene
@@ -242,7 +249,7 @@ impl CookTorranceKey {
 }
 
 impl Permutation for CookTorranceKey {
-    const PATH: &'static str = "lighting/cook_torrance.wgsl";
+    crate::shader_file!("lighting/cook_torrance.wgsl");
     const FEATURES: &'static [&'static str] = &[
         "CLUSTERED",
         "ENERGY_COMPENSATION",

@@ -4,7 +4,6 @@
 
 mod clusters;
 pub(crate) mod clusters_key;
-// The composite's key is named by the shader table (`shaders::SHADERS`).
 pub(crate) mod composite;
 mod cook_torrance;
 pub(crate) mod cook_torrance_key;
@@ -12,13 +11,12 @@ mod ssgi;
 pub(crate) mod ssgi_key;
 mod ssss;
 pub(crate) mod ssss_key;
-// Named by the permutation keys and the shader-node compiler without the passes.
-pub(crate) mod light_kind;
 
 use std::sync::Arc;
 
 use glam::{Mat4, Vec3};
 
+pub use crate::light_kind::LightKind;
 pub use clusters::{ClusterGrid, light_cutoff};
 pub(crate) use clusters::{ClusterStore, GRID_BYTES, assign_lights};
 pub use composite::{
@@ -27,7 +25,6 @@ pub use composite::{
 };
 pub(crate) use cook_torrance::near_far;
 pub use cook_torrance::{CookTorrance, FEW_LIGHTS, LightLoop, Surfaces, Walk, resolve_walk};
-pub use light_kind::LightKind;
 pub use ssgi::GATHER_TEMPORAL as SSGI_GATHER_TEMPORAL;
 pub use ssgi::HALF_RESOLUTION as SSGI_HALF_RESOLUTION;
 pub use ssgi::{Ssgi, SsgiKey, SsgiSettings};
@@ -374,7 +371,7 @@ mod wgsl_layout {
     fn gpu_light_matches_light_in_the_shader() {
         crate::assert_wgsl_layout!(
             GpuLight,
-            "lighting/cook_torrance.wgsl",
+            crate::lighting::cook_torrance_key::CookTorranceKey,
             [],
             "Light",
             [position_range, intensity, direction, cone]

@@ -1,6 +1,5 @@
-//! The typed key of `SSGI`, [`SsgiKey`] (`lighting/ssgi.wgsl`). It stands in a file of its own
-//! that imports no pass, so that `shaders::SHADERS` names it without a circle through the renderer
-//! (docs/architecture.md, "Layers inside render"); `lighting/ssgi.rs` re-exports it.
+//! The typed key of `SSGI`, [`SsgiKey`] (`lighting/ssgi.wgsl`). It declares its shader file
+//! (`shader_file!`), so no table below the effects names it; `lighting/ssgi.rs` re-exports it.
 
 use crate::shaders::permutation::Permutation;
 
@@ -15,7 +14,7 @@ pub enum SsgiKey {
 }
 
 impl Permutation for SsgiKey {
-    const PATH: &'static str = "lighting/ssgi.wgsl";
+    crate::shader_file!("lighting/ssgi.wgsl");
     const FEATURES: &'static [&'static str] = &["TEMPORAL", "GATHER", "BLUR", "AMBIENT", "HALF"];
 
     fn features(self) -> impl Iterator<Item = &'static str> {

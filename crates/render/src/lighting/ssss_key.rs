@@ -1,6 +1,5 @@
-//! The typed key of `SSSS`, [`SsssKey`] (`lighting/ssss.wgsl`). It stands in a file of its own that
-//! imports no pass, so that `shaders::SHADERS` names it without a circle through the renderer
-//! (docs/architecture.md, "Layers inside render"); `lighting/ssss.rs` re-exports it.
+//! The typed key of `SSSS`, [`SsssKey`] (`lighting/ssss.wgsl`). It declares its shader file
+//! (`shader_file!`), so no table below the effects names it; `lighting/ssss.rs` re-exports it.
 
 crate::flag_key! {
     /// `lighting/ssss.wgsl`: the pass's direction and how many sources it blurs.

@@ -679,8 +679,8 @@ mod wgsl_layout {
     fn gpu_material_meta_matches_materialmeta_in_the_shader() {
         crate::assert_wgsl_layout!(
             GpuMaterialMeta,
-            "lighting/cook_torrance.wgsl",
-            ["MATERIALS"],
+            "lib/material.wgsl",
+            [],
             "MaterialMeta",
             [flags, address, size, pad]
         );
@@ -690,8 +690,8 @@ mod wgsl_layout {
     fn gpu_feature_offset_matches_featureoffset_in_the_shader() {
         crate::assert_wgsl_layout!(
             GpuFeatureOffset,
-            "lighting/cook_torrance.wgsl",
-            ["MATERIALS"],
+            "lib/material.wgsl",
+            [],
             "FeatureOffset",
             [feature, offset, count, texture, maps]
         );

@@ -328,7 +328,7 @@ mod wgsl_layout {
     fn gpu_sim_matches_sim_in_the_shader() {
         crate::assert_wgsl_layout!(
             GpuSim,
-            "particles/simulate.wgsl",
+            crate::particles::simulate_key::SimulateKey,
             [],
             "Sim",
             [

@@ -1,6 +1,5 @@
 //! The typed key of the particle simulation step, [`SimulateKey`] (`particles/simulate.wgsl`). It
-//! stands in a file of its own that imports no pass, so that `shaders::SHADERS` names it without a
-//! circle through the renderer (docs/architecture.md, "Layers inside render");
+//! declares its shader file (`shader_file!`), so no table below the effects names it;
 //! `particles/simulate.rs` re-exports it.
 
 crate::flag_key! {

@@ -1,6 +1,5 @@
-//! The typed key of `DOF`, [`DofKey`] (`post/dof.wgsl`). It stands in a file of its own that
-//! imports no pass, so that `shaders::SHADERS` names it without a circle through the renderer
-//! (docs/architecture.md, "Layers inside render"); `post/dof.rs` re-exports it.
+//! The typed key of `DOF`, [`DofKey`] (`post/dof.wgsl`). It declares its shader file
+//! (`shader_file!`), so no table below the effects names it; `post/dof.rs` re-exports it.
 
 use crate::shaders::permutation::Permutation;
 
@@ -20,7 +19,7 @@ pub struct DofKey {
 }
 
 impl Permutation for DofKey {
-    const PATH: &'static str = "post/dof.wgsl";
+    crate::shader_file!("post/dof.wgsl");
     const FEATURES: &'static [&'static str] = &["AUTOFOCUS", "BOKEH", "HALF", "INLINE_COC"];
 
     fn features(self) -> impl Iterator<Item = &'static str> {

@@ -1,6 +1,5 @@
-//! The typed key of `Glare`, [`GlareKey`] (`post/glare.wgsl`). It stands in a file of its own that
-//! imports no pass, so that `shaders::SHADERS` names it without a circle through the renderer
-//! (docs/architecture.md, "Layers inside render"); `post/glare.rs` re-exports it.
+//! The typed key of `Glare`, [`GlareKey`] (`post/glare.wgsl`). It declares its shader file
+//! (`shader_file!`), so no table below the effects names it; `post/glare.rs` re-exports it.
 
 crate::flag_key! {
     /// `post/glare.wgsl`: one key for every entry of the chain.

@@ -1,7 +1,6 @@
-//! The typed key of `MotionBlur`, [`MotionBlurKey`] (`post/motion_blur.wgsl`). It stands in a file
-//! of its own that imports no pass, so that `shaders::SHADERS` names it without a circle through
-//! the renderer (docs/architecture.md, "Layers inside render"); `post/motion_blur.rs` re-exports
-//! it.
+//! The typed key of `MotionBlur`, [`MotionBlurKey`] (`post/motion_blur.wgsl`). It declares its
+//! shader file (`shader_file!`), so no table below the effects names it; `post/motion_blur.rs`
+//! re-exports it.
 
 crate::flag_key! {
     /// `post/motion_blur.wgsl`: one permutation, three entry points.

@@ -1,7 +1,6 @@
 //! The typed key of `TAA`, [`TaaQuality`] (`post/taa.wgsl`): the quality setting the node library
-//! names is itself the shader's permutation. It stands in a file of its own that imports no pass,
-//! so that `shaders::SHADERS` names it without a circle through the renderer (docs/architecture.md,
-//! "Layers inside render"); `post/taa.rs` re-exports it.
+//! names is itself the shader's permutation. It declares its shader file (`shader_file!`), so no
+//! table below the effects names it; `post/taa.rs` re-exports it.
 
 use crate::shaders::permutation::Permutation;
 
@@ -19,7 +18,7 @@ pub enum TaaQuality {
 /// Each quality is one permutation of `post/taa.wgsl`: the bicubic read
 /// comes only with variance clipping.
 impl Permutation for TaaQuality {
-    const PATH: &'static str = "post/taa.wgsl";
+    crate::shader_file!("post/taa.wgsl");
     const FEATURES: &'static [&'static str] = &["VARIANCE_CLIP", "CATMULL_ROM"];
 
     fn features(self) -> impl Iterator<Item = &'static str> {

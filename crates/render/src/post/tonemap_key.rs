@@ -1,6 +1,5 @@
-//! The typed key of `Tonemap`, [`TonemapKey`] (`post/tonemap.wgsl`). It stands in a file of its own
-//! that imports no pass, so that `shaders::SHADERS` names it without a circle through the renderer
-//! (docs/architecture.md, "Layers inside render"); `post/tonemap.rs` re-exports it.
+//! The typed key of `Tonemap`, [`TonemapKey`] (`post/tonemap.wgsl`). It declares its shader file
+//! (`shader_file!`), so no table below the effects names it; `post/tonemap.rs` re-exports it.
 
 crate::flag_key! {
     /// `post/tonemap.wgsl`.

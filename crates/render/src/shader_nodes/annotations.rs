@@ -7,7 +7,7 @@ use std::collections::BTreeMap;
 
 use super::error::{ShaderNodeError, Span};
 use crate::frame_graph::{Lifetime, SizeRule};
-use crate::lighting::light_kind::LightKind;
+use crate::light_kind::LightKind;
 
 /// Where in the file: 1-based line and column.
 pub type At = Span;

@@ -1,6 +1,5 @@
-//! The typed key of `BlurBuiltin`, [`BuiltinBlurKey`] (`nodes/blur.wgsl`). It stands in a file of
-//! its own that imports no pass, so that `shaders::SHADERS` names it without a circle through the
-//! renderer (docs/architecture.md, "Layers inside render"); `shader_nodes/builtin_blur.rs`
+//! The typed key of `BlurBuiltin`, [`BuiltinBlurKey`] (`nodes/blur.wgsl`). It declares its shader
+//! file (`shader_file!`), so no table below the effects names it; `shader_nodes/builtin_blur.rs`
 //! re-exports it.
 
 crate::flag_key! {

@@ -10,18 +10,16 @@
 use super::annotations::Annotations;
 use super::error::{ShaderNodeError, Span};
 use super::hook::Hook;
+use crate::light_kind::LightKind;
 use crate::lighting::cook_torrance_key::CookTorranceKey;
-use crate::lighting::light_kind::LightKind;
 use crate::shaders::{Permutation, ShaderKey};
 
-/// The library a light shader's file takes the place of in the light loop.
-pub const LIGHT_MODULE: &str = "spreadlight::custom_light";
+// The light loop's splice point: the library a light shader's file takes
+// the place of, and the group of its own bindings (the loop's, as it binds them).
+pub use crate::lighting::cook_torrance_key::{LIGHT_GROUP, LIGHT_MODULE};
 
 /// The function a light shader file defines.
 pub const LIGHT_FUNCTION: &str = "light";
-
-/// The group a light shader's own bindings are in.
-pub const LIGHT_GROUP: u32 = 2;
 
 /// The light loop's permutation a light shader is spliced into, for a
 /// light type (the rest of the key is what the scene calls for).

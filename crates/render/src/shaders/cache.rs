@@ -53,7 +53,7 @@ pub struct ShaderCache {
     /// Per permutation, then variant (looked up by borrowing both).
     render: FxHashMap<ShaderKey, FxHashMap<String, wgpu::RenderPipeline>>,
     samplers: FxHashMap<Sampling, wgpu::Sampler>,
-    /// Pipelines of shaders not in [`SHADERS`] (shader node files), by the caller's key and entry.
+    /// Pipelines of shaders no typed key declares (shader node files), by the caller's key and entry.
     external: FxHashMap<(u64, String), wgpu::ComputePipeline>,
     /// Resolve permutations composed with a shader node material, by its source key.
     surfaces: FxHashMap<(ShaderKey, u64), SplicedPipeline>,
@@ -258,7 +258,7 @@ impl ShaderCache {
         }
         let composer = &mut self.composer;
         let module = timed(&mut self.compile_times.compose, || composer.compose(key))?;
-        let label = format!("{}{}", key.path, key.describe_defs());
+        let label = format!("{}{}", key.path(), key.describe_defs());
         let m = timed(&mut self.compile_times.modules, || {
             device.create_shader_module(wgpu::ShaderModuleDescriptor {
                 label: Some(&label),
@@ -284,7 +284,7 @@ impl ShaderCache {
         let reflection =
             Arc::new(
                 reflect(&module, entry).map_err(|message| RenderError::Shader {
-                    shader: key.path.to_owned(),
+                    shader: key.path().to_owned(),
                     defs: key.describe_defs(),
                     message,
                 })?,
@@ -327,14 +327,14 @@ impl ShaderCache {
                 Arc::new(Reflection::new(merged))
             }
         };
-        let path = key.path;
+        let path = key.path();
         // A name the permutation lacks must be one the shader (or a library)
         // declares under some feature: compiled out, not a typo.
-        let composer = &self.composer;
+        let composer = &mut self.composer;
         let declared = self
             .declared
             .entry(path)
-            .or_insert_with(|| composer.declared_names(path));
+            .or_insert_with(|| composer.declared_names(key.file));
         let matched = match_bindings(&reflection, resources, prebuilt, |name| {
             declared
                 .contains(name)
@@ -476,7 +476,7 @@ impl ShaderCache {
             return Ok(p.clone());
         }
         let module = self.module(device, key)?;
-        let label = format!("{}{}::{entry}", key.path, key.describe_defs());
+        let label = format!("{}{}::{entry}", key.path(), key.describe_defs());
         let pipeline = timed(&mut self.compile_times.pipelines, || {
             compute_pipeline_of(device, self.pipeline_cache.as_ref(), &module, &label, entry)
         });
@@ -557,7 +557,7 @@ impl ShaderCache {
                     message,
                 })?,
             );
-        let label = format!("{}{} + {file_path}", key.path, key.describe_defs());
+        let label = format!("{}{} + {file_path}", key.path(), key.describe_defs());
         let shader = timed(&mut self.compile_times.modules, || {
             device.create_shader_module(wgpu::ShaderModuleDescriptor {
                 label: Some(&label),

@@ -1,23 +1,29 @@
 //! Composing a permutation: naga_oil over the embedded (or on-disk) sources,
-//! with a library swapped for a shader node material where asked.
+//! with a library swapped for a shader node material where asked. The
+//! libraries are added up front; an entry shader's text comes with its key
+//! ([`ShaderKey::file`]), so the composer knows no list of them.
 
 use std::borrow::Cow;
 use std::collections::HashMap;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use naga_oil::compose::{
     ComposableModuleDescriptor, Composer, NagaModuleDescriptor, ShaderDefValue, ShaderLanguage,
     ShaderType,
 };
 
-use super::{SHADERS, ShaderKey};
+use super::{LIBRARIES, ShaderFile, ShaderKey};
 use crate::error::RenderError;
 
 /// Composes shader permutations into validated naga modules. No GPU needed,
 /// so tests can validate every permutation anywhere.
 pub struct ShaderComposer {
     composer: Composer,
+    /// By path: every library's text, and each entry shader's once composed.
     sources: HashMap<&'static str, Cow<'static, str>>,
+    /// Where edited sources are read from (`from_dir`); an entry shader is
+    /// read from there when first composed.
+    dir: Option<PathBuf>,
     /// Over the embedded sources, with no library replaced: what it composes
     /// is the same in every composer of the process (see [`embedded_modules`]).
     embedded: bool,
@@ -37,12 +43,16 @@ fn embedded_modules() -> &'static std::sync::Mutex<HashMap<ShaderKey, naga::Modu
 }
 
 impl ShaderComposer {
-    /// The resource variables `path` and the libraries declare under any
+    /// The resource variables `file` and the libraries declare under any
     /// feature (a pass may bind one its permutation compiled out).
-    pub(super) fn declared_names(&self, path: &str) -> rustc_hash::FxHashSet<String> {
-        SHADERS
+    pub(super) fn declared_names(
+        &mut self,
+        file: &'static ShaderFile,
+    ) -> rustc_hash::FxHashSet<String> {
+        self.load(file);
+        LIBRARIES
             .iter()
-            .filter(|f| f.path == path || f.library)
+            .chain([file])
             .filter_map(|f| self.sources.get(f.path))
             .flat_map(|source| super::reflection::declared_names(source))
             .map(str::to_owned)
@@ -51,11 +61,11 @@ impl ShaderComposer {
 
     /// A composer over the embedded sources.
     pub fn new() -> Result<Self, RenderError> {
-        let sources = SHADERS
+        let sources = LIBRARIES
             .iter()
             .map(|s| (s.path, Cow::Borrowed(s.source)))
             .collect();
-        let mut composer = Self::with_sources(sources)?;
+        let mut composer = Self::with_sources(sources, None)?;
         composer.embedded = true;
         Ok(composer)
     }
@@ -63,25 +73,33 @@ impl ShaderComposer {
     /// A composer over the sources in a `shaders/` folder on disk (for live
     /// editing); files missing there fall back to the embedded ones.
     pub fn from_dir(dir: &Path) -> Result<Self, RenderError> {
-        let mut sources = HashMap::new();
-        for file in SHADERS {
-            let text = std::fs::read_to_string(dir.join(file.path))
-                .map(Cow::Owned)
-                .unwrap_or(Cow::Borrowed(file.source));
-            sources.insert(file.path, text);
-        }
-        Self::with_sources(sources)
+        let sources = LIBRARIES
+            .iter()
+            .map(|file| (file.path, read_or_embedded(dir, file)))
+            .collect();
+        Self::with_sources(sources, Some(dir.to_owned()))
+    }
+
+    /// Put `file`'s text in [`Self::sources`], read (from the folder, or
+    /// the binary) the first time it is asked for.
+    fn load(&mut self, file: &'static ShaderFile) {
+        let dir = &self.dir;
+        self.sources.entry(file.path).or_insert_with(|| match dir {
+            Some(dir) => read_or_embedded(dir, file),
+            None => Cow::Borrowed(file.source),
+        });
     }
 
     fn with_sources(
         sources: HashMap<&'static str, Cow<'static, str>>,
+        dir: Option<PathBuf>,
     ) -> Result<Self, RenderError> {
         // Validate with what the compute rasterizer needs; devices without it never compile that shader.
         let mut composer = Composer::default().with_capabilities(
             naga::valid::Capabilities::SHADER_INT64
                 | naga::valid::Capabilities::SHADER_INT64_ATOMIC_MIN_MAX,
         );
-        for file in SHADERS.iter().filter(|f| f.library) {
+        for file in LIBRARIES {
             let source = &sources[file.path];
             let result = composer
                 .add_composable_module(ComposableModuleDescriptor {
@@ -101,6 +119,7 @@ impl ShaderComposer {
         Ok(ShaderComposer {
             composer,
             sources,
+            dir,
             embedded: false,
             replaced: false,
         })
@@ -108,20 +127,16 @@ impl ShaderComposer {
 
     /// Compose and validate one permutation.
     pub fn compose(&mut self, key: &ShaderKey) -> Result<naga::Module, RenderError> {
-        let file =
-            SHADERS
-                .iter()
-                .find(|f| f.path == key.path)
-                .ok_or_else(|| RenderError::Shader {
-                    shader: key.path.to_owned(),
-                    defs: String::new(),
-                    message: "no such shader".to_owned(),
-                })?;
+        let file = key.file;
         // A switch the file does not have first: naming it says more than
-        // "no value of its typed key".
-        if let Some(unknown) = key.features.iter().find(|f| !file.features.contains(f)) {
+        // "no value of its typed key". (A library composed alone takes any.)
+        if let Some(unknown) = key
+            .features
+            .iter()
+            .find(|f| !file.library && !file.features.contains(f))
+        {
             return Err(RenderError::Shader {
-                shader: key.path.to_owned(),
+                shader: key.path().to_owned(),
                 defs: key.describe_defs(),
                 message: format!(
                     "`{unknown}` is not a feature of this shader (features: {})",
@@ -131,7 +146,7 @@ impl ShaderComposer {
         }
         if let Err(message) = file.check(&key.features) {
             return Err(RenderError::Shader {
-                shader: key.path.to_owned(),
+                shader: key.path().to_owned(),
                 defs: key.describe_defs(),
                 message,
             });
@@ -150,15 +165,16 @@ impl ShaderComposer {
             .iter()
             .map(|f| ((*f).to_owned(), ShaderDefValue::Bool(true)))
             .collect();
+        self.load(file);
         let result = self.composer.make_naga_module(NagaModuleDescriptor {
-            source: &self.sources[key.path],
-            file_path: key.path,
+            source: &self.sources[file.path],
+            file_path: file.path,
             shader_type: ShaderType::Wgsl,
             shader_defs,
             additional_imports: &[],
         });
         let module = result.map_err(|e| RenderError::Shader {
-            shader: key.path.to_owned(),
+            shader: key.path().to_owned(),
             defs: key.describe_defs(),
             message: e.emit_to_string(&self.composer),
         })?;
@@ -173,7 +189,7 @@ impl ShaderComposer {
 }
 
 impl ShaderComposer {
-    /// Compose a WGSL file that is not one of [`SHADERS`] (a shader node's)
+    /// Compose a WGSL file that no typed key declares (a shader node's)
     /// as a top-level module: it may `#import` every library. Its own
     /// `#ifdef`s must already be resolved. The error is naga_oil's, for the
     /// caller to place in the file ([`ShaderComposer::composer`] undecorates it).
@@ -220,11 +236,11 @@ impl ShaderComposer {
             .map_err(Box::new)
     }
 
-    /// Put library `module` back as [`SHADERS`] has it.
+    /// Put library `module` back as [`LIBRARIES`] has it.
     pub fn restore_library(&mut self, module: &str) -> Result<(), RenderError> {
-        let library = SHADERS
+        let library = LIBRARIES
             .iter()
-            .find(|f| f.library && f.source.contains(&format!("#define_import_path {module}")))
+            .find(|f| f.source.contains(&format!("#define_import_path {module}")))
             .ok_or_else(|| RenderError::Shader {
                 shader: module.to_owned(),
                 defs: String::new(),
@@ -273,6 +289,13 @@ impl ShaderComposer {
         self.restore_library(module)?;
         composed
     }
+}
+
+/// `file`'s text in `dir`, or the embedded one where `dir` lacks it.
+fn read_or_embedded(dir: &Path, file: &ShaderFile) -> Cow<'static, str> {
+    std::fs::read_to_string(dir.join(file.path))
+        .map(Cow::Owned)
+        .unwrap_or(Cow::Borrowed(file.source))
 }
 
 /// A shader node material's file, composed into a permutation in place of a library.

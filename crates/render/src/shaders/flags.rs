@@ -31,7 +31,7 @@ macro_rules! flag_key {
         $vis struct $name;
 
         impl $crate::shaders::permutation::Permutation for $name {
-            const PATH: &'static str = $path;
+            $crate::shader_file!($path);
             const FEATURES: &'static [&'static str] = &[];
 
             fn features(self) -> impl Iterator<Item = &'static str> {
@@ -56,7 +56,7 @@ macro_rules! flag_key {
         }
 
         impl $crate::shaders::permutation::Permutation for $name {
-            const PATH: &'static str = $path;
+            $crate::shader_file!($path);
             const FEATURES: &'static [&'static str] = &[$($feature),*];
 
             fn features(self) -> impl Iterator<Item = &'static str> {
@@ -104,7 +104,7 @@ macro_rules! choice_key {
         }
 
         impl $crate::shaders::permutation::Permutation for $name {
-            const PATH: &'static str = $path;
+            $crate::shader_file!($path);
             const FEATURES: &'static [&'static str] = &[$($feature),+];
 
             fn features(self) -> impl Iterator<Item = &'static str> {

@@ -8,11 +8,18 @@
 //! ```ignore
 //! #[test]
 //! fn gpu_layer_matches_the_shader() {
-//!     crate::assert_wgsl_layout!(GpuLayer, "gbuffer/resolve.wgsl", [], "Layer",
+//!     crate::assert_wgsl_layout!(GpuLayer, ResolveKey, [], "Layer",
 //!         [first_instance, end_instance, write_background, geometry_ids]);
 //! }
 //! ```
+//!
+//! The shader is an entry shader's typed key ([`Permutation`], with the
+//! feature switches to compose it with) or, for a struct a library
+//! declares, the library's path (`"lib/camera.wgsl"`): a struct below the
+//! effects checks against its library, not an effect's shader above it.
 
+#[cfg(doc)]
+use super::Permutation;
 use super::reflection::undecorated;
 use super::{ShaderComposer, ShaderKey};
 
@@ -43,13 +50,23 @@ macro_rules! host_layout {
     }};
 }
 
-/// Panics unless `$ty`'s fields sit where WGSL struct `$wgsl` of shader
-/// `$path` (with `$features`) puts its members, and the sizes agree.
+/// Panics unless `$ty`'s fields sit where WGSL struct `$wgsl` of a shader
+/// (with `$features`) puts its members, and the sizes agree. The shader is
+/// a library's path (a literal) or an entry shader's typed key (a type).
 #[macro_export]
 macro_rules! assert_wgsl_layout {
-    ($ty:ty, $path:expr, [$($feature:expr),* $(,)?], $wgsl:expr, [$($field:ident),* $(,)?]) => {
+    ($ty:ty, $library:literal, [$($feature:expr),* $(,)?], $wgsl:expr, [$($field:ident),* $(,)?]) => {
+        let file = $crate::shaders::library($library)
+            .unwrap_or_else(|| panic!("{} is no library of shaders::LIBRARIES", $library));
+        $crate::assert_wgsl_layout!(@check $ty, file, [$($feature),*], $wgsl, [$($field),*]);
+    };
+    ($ty:ty, $key:ty, [$($feature:expr),* $(,)?], $wgsl:expr, [$($field:ident),* $(,)?]) => {
+        let file = <$key as $crate::shaders::Permutation>::FILE;
+        $crate::assert_wgsl_layout!(@check $ty, file, [$($feature),*], $wgsl, [$($field),*]);
+    };
+    (@check $ty:ty, $file:expr, [$($feature:expr),*], $wgsl:expr, [$($field:ident),*]) => {
         if let Err(e) = $crate::shaders::layout::check(
-            &$crate::shaders::ShaderKey::new($path, [$($feature),*]),
+            &$crate::shaders::ShaderKey::new($file, [$($feature),*]),
             $wgsl,
             &$crate::host_layout!($ty, [$($field),*]),
         ) {
@@ -63,7 +80,19 @@ macro_rules! assert_wgsl_layout {
 /// the same name starts there too; every member lies within a field (a Rust
 /// array may hold several members: `pad: [f32; 3]` for `pad0..pad2`).
 pub fn check(key: &ShaderKey, wgsl: &str, host: &HostLayout) -> Result<(), String> {
-    let label = format!("{} against `{wgsl}` of {}", host.name, key.path);
+    let mut composer = ShaderComposer::new().map_err(|e| e.to_string())?;
+    let module = composer.compose(key).map_err(|e| e.to_string())?;
+    check_module(&module, key.path(), wgsl, host)
+}
+
+/// [`check`] against a module composed already (`shader` names it in errors).
+pub fn check_module(
+    module: &naga::Module,
+    shader: &str,
+    wgsl: &str,
+    host: &HostLayout,
+) -> Result<(), String> {
+    let label = format!("{} against `{wgsl}` of {shader}", host.name);
     let listed: usize = host.fields.iter().map(|(_, _, size)| size).sum();
     if listed != host.size {
         return Err(format!(
@@ -71,8 +100,6 @@ pub fn check(key: &ShaderKey, wgsl: &str, host: &HostLayout) -> Result<(), Strin
             host.size
         ));
     }
-    let mut composer = ShaderComposer::new().map_err(|e| e.to_string())?;
-    let module = composer.compose(key).map_err(|e| e.to_string())?;
     let found = module.types.iter().find_map(|(_, ty)| {
         let name = ty.name.as_deref()?;
         match &ty.inner {
@@ -84,8 +111,7 @@ pub fn check(key: &ShaderKey, wgsl: &str, host: &HostLayout) -> Result<(), Strin
     });
     let Some((members, span)) = found else {
         return Err(format!(
-            "{}: no struct `{wgsl}` in the composed module",
-            key.path
+            "{shader}: no struct `{wgsl}` in the composed module"
         ));
     };
     if host.size != span as usize {
@@ -130,7 +156,21 @@ pub fn check(key: &ShaderKey, wgsl: &str, host: &HostLayout) -> Result<(), Strin
 mod tests {
     use bytemuck::Zeroable;
 
-    /// `Layer` of gbuffer/resolve.wgsl with two fields swapped.
+    /// A struct as `gbuffer/resolve.wgsl` declares its `Layer`, in a module
+    /// of its own (the check needs no shader file).
+    const LAYER: &str = "struct Layer {
+        first_instance: u32,
+        end_instance: u32,
+        write_background: u32,
+        geometry_ids: u32,
+        triplanar_sharpness: f32,
+        pad0: u32,
+        pad1: u32,
+        pad2: u32,
+    }
+    @group(0) @binding(0) var<uniform> layer: Layer;";
+
+    /// `Layer` with two fields swapped.
     #[repr(C)]
     #[derive(Clone, Copy, Zeroable)]
     struct Swapped {
@@ -154,11 +194,8 @@ mod tests {
     }
 
     fn check(host: super::HostLayout, wgsl: &str) -> Result<(), String> {
-        super::check(
-            &super::ShaderKey::new("gbuffer/resolve.wgsl", []),
-            wgsl,
-            &host,
-        )
+        let module = naga::front::wgsl::parse_str(LAYER).expect("parses");
+        super::check_module(&module, "layer.wgsl", wgsl, &host)
     }
 
     #[test]

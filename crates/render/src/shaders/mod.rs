@@ -7,172 +7,59 @@
 //! for a set of features, and the cache composes, validates and compiles that
 //! permutation once. A combination no pass asks for is never compiled.
 //! Shared libraries are imported by name (`#import spreadlight::packing`).
+//!
+//! An entry shader is declared by its effect's typed key ([`Permutation`],
+//! `ssao/key.rs`), whose keys carry the file: this layer lists only the
+//! libraries ([`LIBRARIES`]). Every key type is named in one place above the
+//! effects, `crate::permutations`, which the exhaustive tests walk.
 
-use std::collections::{BTreeSet, HashMap, HashSet};
-use std::sync::OnceLock;
-
-impl ShaderFile {
-    /// Whether `features` is a permutation this file allows (every rule
-    /// holds; for a keyed file, one of its typed key's values).
-    pub fn check(&self, features: &BTreeSet<&'static str>) -> Result<(), String> {
-        if self.keyed.is_some() {
-            return match keyed_features(self.path).is_some_and(|set| set.contains(features)) {
-                true => Ok(()),
-                false => Err(format!(
-                    "no value of its typed key switches on exactly {}",
-                    features.iter().copied().collect::<Vec<_>>().join(", ")
-                )),
-            };
-        }
-        self.rules.iter().try_for_each(|r| r.check(features))
-    }
-}
-
-macro_rules! shader {
-    ($path:literal, library) => {
+/// A library of `shaders/`: imported by the entry shaders, no entry points.
+macro_rules! library {
+    ($path:literal) => {
         ShaderFile {
             path: $path,
             source: include_str!(concat!("../../../../shaders/", $path)),
             features: &[],
             library: true,
-            rules: &[],
-            keyed: None,
-        }
-    };
-    ($path:literal, keyed $key:ty) => {
-        ShaderFile {
-            path: $path,
-            source: include_str!(concat!("../../../../shaders/", $path)),
-            features: <$key as Permutation>::FEATURES,
-            library: false,
-            rules: &[],
-            keyed: Some(<$key as Permutation>::all_keys),
-        }
-    };
-    ($path:literal, [$($feature:literal),*] $(, $rule:expr)*) => {
-        ShaderFile {
-            path: $path,
-            source: include_str!(concat!("../../../../shaders/", $path)),
-            features: &[$($feature),*],
-            library: false,
-            rules: &[$($rule),*],
-            keyed: None,
+            keys: None,
         }
     };
 }
 
-/// Every shader, in dependency order (libraries first).
-pub const SHADERS: &[ShaderFile] = &[
-    shader!("lib/packing.wgsl", library),
-    shader!("lib/camera.wgsl", library),
-    shader!("lib/mesh.wgsl", library),
-    shader!("lib/geometry.wgsl", library),
-    shader!("lib/particle.wgsl", library),
-    shader!("lib/mesh_fetch.wgsl", library),
-    shader!("lib/vertex_extras.wgsl", library),
-    shader!("lib/brdf.wgsl", library),
-    shader!("lib/lights.wgsl", library),
-    shader!("lib/spot.wgsl", library),
-    shader!("lib/tonemap.wgsl", library),
-    shader!("lib/surface_target.wgsl", library),
-    shader!("lib/material.wgsl", library),
-    shader!("lib/materials.wgsl", library),
-    shader!("lib/material_maps.wgsl", library),
-    shader!("lib/matcap.wgsl", library),
-    shader!("lib/screen.wgsl", library),
-    shader!("lib/ao_history.wgsl", library),
-    shader!("lib/sky.wgsl", library),
-    shader!("lib/fog.wgsl", library),
-    shader!("lib/ibl.wgsl", library),
-    shader!("lib/post.wgsl", library),
-    shader!("lighting/shadow_sampling.wgsl", library),
-    shader!("lib/surface.wgsl", library),
-    shader!("lib/custom_surface.wgsl", library),
-    shader!("lib/light_shader.wgsl", library),
-    shader!("lib/custom_light.wgsl", library),
-    shader!("gbuffer/visibility.wgsl", keyed crate::gbuffer::visibility_key::VisibilityKey),
-    shader!("geometry/spherize.wgsl", keyed crate::geometry::spherize_key::SpherizeKey),
-    shader!("geometry/extrude.wgsl", keyed crate::geometry::extrude_key::ExtrudeKey),
-    shader!("geometry/pn_triangles.wgsl", keyed crate::geometry::pn_triangles_key::PnTrianglesKey),
-    shader!("geometry/spline.wgsl", keyed crate::geometry::spline_key::SplineKey),
-    shader!("geometry/tessellate.wgsl", keyed crate::geometry::tessellate_key::TessellateKey),
-    shader!("geometry/displace.wgsl", keyed crate::geometry::displace_key::DisplaceKey),
-    shader!("geometry/skinning.wgsl", keyed crate::geometry::skinning_key::SkinningKey),
-    shader!("particles/simulate.wgsl", keyed crate::particles::simulate_key::SimulateKey),
-    shader!("particles/expand.wgsl", keyed crate::particles::expand_key::ExpandKey),
-    shader!("gbuffer/raster.wgsl", keyed crate::gbuffer::compute_raster_key::RasterKey),
-    shader!("gbuffer/published_depth.wgsl", keyed crate::gbuffer::published_depth_key::PublishedDepthKey),
-    shader!("gbuffer/resolve.wgsl", keyed crate::gbuffer::resolve_key::ResolveKey),
-    shader!("lighting/clusters.wgsl", keyed crate::lighting::clusters_key::ClustersKey),
-    shader!("lighting/cook_torrance.wgsl", keyed crate::lighting::cook_torrance_key::CookTorranceKey),
-    shader!("lighting/composite.wgsl", keyed crate::lighting::composite::key::CompositeKey),
-    shader!("lighting/ssgi.wgsl", keyed crate::lighting::ssgi_key::SsgiKey),
-    shader!("lighting/ssss.wgsl", keyed crate::lighting::ssss_key::SsssKey),
-    shader!("shadows/depth.wgsl", keyed crate::shadows::raster_key::ShadowDepthKey),
-    shader!("shadows/moments.wgsl", keyed crate::shadows::raster_key::MomentsKey),
-    shader!("shadows/resolve.wgsl", keyed crate::shadows::raster_key::ShadowResolveKey),
-    shader!("ssao/linear_depth.wgsl", keyed crate::ssao::key::DepthKey),
-    shader!("ssao/ao.wgsl", keyed crate::ssao::key::AoKey),
-    shader!("ssao/temporal.wgsl", keyed crate::ssao::key::TemporalKey),
-    shader!("ssao/blur.wgsl", keyed crate::ssao::key::BlurKey),
-    shader!("environment/sky.wgsl", keyed crate::environment::sky_key::SkyKey),
-    shader!("environment/prefilter.wgsl", keyed crate::environment::prefilter_key::PrefilterKey),
-    shader!("environment/environment_probe.wgsl", keyed crate::environment::probe::key::ProbeFacesKey),
-    shader!("environment/reflection.wgsl", keyed crate::environment::reflection_key::ReflectionKey),
-    shader!("environment/ssr.wgsl", keyed crate::environment::ssr::key::SsrKey),
-    shader!("environment/fog.wgsl", keyed crate::environment::fog_key::FogKey),
-    shader!("post/tonemap.wgsl", keyed crate::post::tonemap_key::TonemapKey),
-    shader!("post/eye_adaptation.wgsl", keyed crate::post::eye_adaptation_key::EyeAdaptationKey),
-    shader!("post/fxaa.wgsl", keyed crate::post::fxaa_key::FxaaKey),
-    shader!("post/copy.wgsl", keyed crate::post::copy_key::CopyKey),
-    shader!("bench/pass_chain.wgsl", keyed crate::bench::pass_chain_key::PassChainKey),
-    shader!("accumulate/add.wgsl", keyed crate::accumulate::key::AccumulateKey),
-    shader!("post/dof.wgsl", keyed crate::post::dof_key::DofKey),
-    shader!("post/autofocus.wgsl", keyed crate::post::autofocus_key::AutofocusKey),
-    shader!("post/motion_blur.wgsl", keyed crate::post::motion_blur_key::MotionBlurKey),
-    shader!("post/glare.wgsl", keyed crate::post::glare_key::GlareKey),
-    shader!("post/transparency.wgsl", keyed crate::post::transparency::key::TransparencyKey),
-    shader!("post/taa.wgsl", keyed crate::post::taa_key::TaaQuality),
-    // The shader-node example blur, run as a built-in pass (the baseline its node is benchmarked against).
-    shader!("nodes/blur.wgsl", keyed crate::shader_nodes::builtin_blur_key::BuiltinBlurKey),
-    shader!("resolution/upsample.wgsl", keyed crate::resolution_key::UpsampleKey),
-    shader!("gbuffer/view.wgsl", keyed crate::gbuffer::view_key::Channel),
+/// Every library, in dependency order (one only after those it imports).
+pub const LIBRARIES: &[ShaderFile] = &[
+    library!("lib/packing.wgsl"),
+    library!("lib/camera.wgsl"),
+    library!("lib/mesh.wgsl"),
+    library!("lib/geometry.wgsl"),
+    library!("lib/particle.wgsl"),
+    library!("lib/mesh_fetch.wgsl"),
+    library!("lib/vertex_extras.wgsl"),
+    library!("lib/brdf.wgsl"),
+    library!("lib/lights.wgsl"),
+    library!("lib/spot.wgsl"),
+    library!("lib/tonemap.wgsl"),
+    library!("lib/surface_target.wgsl"),
+    library!("lib/material.wgsl"),
+    library!("lib/materials.wgsl"),
+    library!("lib/material_maps.wgsl"),
+    library!("lib/matcap.wgsl"),
+    library!("lib/screen.wgsl"),
+    library!("lib/ao_history.wgsl"),
+    library!("lib/sky.wgsl"),
+    library!("lib/fog.wgsl"),
+    library!("lib/ibl.wgsl"),
+    library!("lib/post.wgsl"),
+    library!("lighting/shadow_sampling.wgsl"),
+    library!("lib/surface.wgsl"),
+    library!("lib/custom_surface.wgsl"),
+    library!("lib/light_shader.wgsl"),
+    library!("lib/custom_light.wgsl"),
 ];
 
-/// The feature sets of each keyed file's typed key, made once: checking
-/// is a look-up (the exhaustive test checks the composite's 6,720 keys).
-fn keyed_features(path: &str) -> Option<&'static HashSet<BTreeSet<&'static str>>> {
-    static SETS: OnceLock<HashMap<&'static str, HashSet<BTreeSet<&'static str>>>> = OnceLock::new();
-    SETS.get_or_init(|| {
-        SHADERS
-            .iter()
-            .filter_map(|f| Some((f.path, f.keyed?().into_iter().map(|k| k.features).collect())))
-            .collect()
-    })
-    .get(path)
-}
-
-/// Every permutation the shader set allows: each entry shader with every
-/// subset of its features that keeps its rules.
-pub fn all_permutations() -> Vec<ShaderKey> {
-    let mut keys = Vec::new();
-    for file in SHADERS.iter().filter(|f| !f.library) {
-        if let Some(keyed) = file.keyed {
-            keys.extend(keyed());
-            continue;
-        }
-        let n = file.features.len();
-        for mask in 0u32..(1 << n) {
-            let features = (0..n)
-                .filter(|i| mask & (1 << i) != 0)
-                .map(|i| file.features[i]);
-            let key = ShaderKey::new(file.path, features);
-            if file.check(&key.features).is_ok() {
-                keys.push(key);
-            }
-        }
-    }
-    keys
+/// The library at `path` below `shaders/` (`lib/camera.wgsl`), if there is one.
+pub fn library(path: &str) -> Option<&'static ShaderFile> {
+    LIBRARIES.iter().find(|f| f.path == path)
 }
 
 mod cache;
@@ -185,7 +72,7 @@ mod uniform;
 
 pub use cache::{CompileTimes, PipelineRef, Sampling, ShaderCache};
 pub use composer::{ShaderComposer, Splice};
-pub use permutation::{Permutation, Rule, ShaderFile, ShaderKey};
+pub use permutation::{Permutation, ShaderFile, ShaderKey};
 pub use reflection::{Reflection, ShaderVar};
 pub use uniform::Uniform;
 

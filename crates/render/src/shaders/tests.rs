@@ -1,31 +1,11 @@
 use super::*;
+use crate::gbuffer::view_key::Channel;
+use crate::lighting::composite::key::CompositeKey;
+use crate::lighting::cook_torrance_key::CookTorranceKey;
 
-#[test]
-fn every_permutation_composes_and_validates() {
-    let keys = all_permutations();
-    assert!(keys.len() >= 32, "resolve alone has 2^5 permutations");
-    // Hundreds of permutations: a composer per thread, a share of the keys each.
-    let threads = std::thread::available_parallelism().map_or(2, |n| n.get());
-    let chunk = keys.len().div_ceil(threads);
-    let failures: Vec<String> = std::thread::scope(|scope| {
-        let workers: Vec<_> = keys
-            .chunks(chunk)
-            .map(|share| {
-                scope.spawn(move || {
-                    let mut composer = ShaderComposer::new().expect("libraries compose");
-                    share
-                        .iter()
-                        .filter_map(|k| composer.compose(k).err().map(|e| e.to_string()))
-                        .collect::<Vec<_>>()
-                })
-            })
-            .collect();
-        workers
-            .into_iter()
-            .flat_map(|w| w.join().expect("no panic"))
-            .collect()
-    });
-    assert!(failures.is_empty(), "{}", failures.join("\n\n"));
+/// A key of `K`'s file with any features, as no typed key would make it.
+fn raw<K: Permutation>(features: impl IntoIterator<Item = &'static str>) -> ShaderKey {
+    ShaderKey::new(K::FILE, features)
 }
 
 #[test]
@@ -35,14 +15,9 @@ fn shaders_reload_from_disk_and_report_errors_with_the_file() {
     std::fs::create_dir_all(dir.path().join("gbuffer")).expect("mkdir");
     std::fs::write(dir.path().join("gbuffer/view.wgsl"), "fn broken( {").expect("write");
     let mut composer = ShaderComposer::from_dir(dir.path()).expect("libraries still compose");
-    assert!(
-        composer
-            .compose(&ShaderKey::new("gbuffer/visibility.wgsl", []))
-            .is_ok()
-    );
-    let err = composer
-        .compose(&ShaderKey::new("gbuffer/view.wgsl", []))
-        .expect_err("broken");
+    let visibility = crate::gbuffer::visibility_key::VisibilityKey { alpha_mask: false };
+    assert!(composer.compose(&visibility.key()).is_ok());
+    let err = composer.compose(&Channel::Depth.key()).expect_err("broken");
     assert!(
         err.to_string().starts_with("shader `gbuffer/view.wgsl`"),
         "{err}"
@@ -51,62 +26,38 @@ fn shaders_reload_from_disk_and_report_errors_with_the_file() {
 
 #[test]
 fn an_exclusive_choice_takes_one_feature() {
-    let rule = Rule::AtMostOne(&["DEPTH", "UV"]);
-    let err = rule
-        .check(&["DEPTH", "UV"].into_iter().collect())
-        .expect_err("refused");
-    assert!(err.contains("set at most one"), "{err}");
-    assert!(rule.check(&["UV"].into_iter().collect()).is_ok());
     // The G-buffer view's channels are its typed key's values (Channel): two is none of them.
     let mut composer = ShaderComposer::new().expect("libraries compose");
     let err = composer
-        .compose(&ShaderKey::new("gbuffer/view.wgsl", ["DEPTH", "UV"]))
+        .compose(&raw::<Channel>(["DEPTH", "UV"]))
         .expect_err("refused");
     assert!(err.to_string().contains("typed key"), "{err}");
 }
 
 #[test]
-fn a_feature_without_what_it_needs_is_refused_and_never_enumerated() {
-    let rule = Rule::Requires("SHADOW_PCF", "SHADOWS");
-    let err = rule
-        .check(&["SHADOW_PCF"].into_iter().collect())
-        .expect_err("refused");
-    assert!(err.contains("`SHADOW_PCF` needs `SHADOWS`"), "{err}");
+fn a_feature_without_what_it_needs_is_refused() {
     // The light loop's rules are its typed key's shape (CookTorranceKey):
     // a shadow filter without shadows is no value of it.
     let mut composer = ShaderComposer::new().expect("libraries compose");
     let err = composer
-        .compose(&ShaderKey::new(
-            "lighting/cook_torrance.wgsl",
-            ["SHADOW_PCF"],
-        ))
+        .compose(&raw::<CookTorranceKey>(["SHADOW_PCF"]))
         .expect_err("refused");
     assert!(err.to_string().contains("typed key"), "{err}");
     // The composite's rules are its typed key's shape (CompositeKey): a
     // third light pair without a second is no value of it.
     let err = composer
-        .compose(&ShaderKey::new("lighting/composite.wgsl", ["LIGHTS_3"]))
+        .compose(&raw::<CompositeKey>(["LIGHTS_3"]))
         .expect_err("refused");
     assert!(err.to_string().contains("typed key"), "{err}");
-    let composite: Vec<_> = all_permutations()
-        .into_iter()
-        .filter(|k| k.path == "lighting/composite.wgsl")
-        .collect();
-    // Light pairs with the SSS terms they allow (2 + 4 + 8 + 16), times
-    // GI (2), times the surface target (2), times the 56 ways of AO
-    // (none, AO, per material), emission (none, plain, textured),
-    // reflection (2), matcap (none, built-in, textured) and the material
-    // library (forced on when one of them reads it, free otherwise:
-    // 52 + 2 x 2): 6,720 of the 2^17 subsets, the count the string rules
-    // allowed before CompositeKey replaced them.
-    assert_eq!(composite.len(), 30 * 2 * 2 * 56);
 }
 
 #[test]
 fn an_unknown_feature_is_refused_by_name() {
     let mut composer = ShaderComposer::new().expect("libraries compose");
     let err = composer
-        .compose(&ShaderKey::new("gbuffer/resolve.wgsl", ["SPARKLES"]))
+        .compose(&raw::<crate::gbuffer::resolve_key::ResolveKey>([
+            "SPARKLES",
+        ]))
         .expect_err("refused");
     assert!(
         err.to_string().contains("`SPARKLES` is not a feature"),
@@ -166,50 +117,9 @@ fn a_cached_bind_group_is_found_by_what_it_binds() {
 }
 
 #[test]
-fn a_typed_key_names_its_file_and_only_its_features() {
-    for file in SHADERS.iter() {
-        let Some(keyed) = file.keyed else { continue };
-        let keys = keyed();
-        assert!(!keys.is_empty(), "{}", file.path);
-        let mut seen = std::collections::BTreeSet::new();
-        for key in &keys {
-            assert_eq!(
-                key.path, file.path,
-                "a key of {} names another file",
-                file.path
-            );
-            assert!(
-                key.features.iter().all(|f| file.features.contains(f)),
-                "{}: {:?} outside {:?}",
-                file.path,
-                key.features,
-                file.features
-            );
-            assert!(
-                seen.insert(key.features.clone()),
-                "{}: {key:?} twice",
-                file.path
-            );
-            assert!(file.check(&key.features).is_ok());
-        }
-        // Every switch the file declares is used by some permutation.
-        for feature in file.features {
-            assert!(
-                keys.iter().any(|k| k.features.contains(feature)),
-                "{}: `{feature}` is in no permutation",
-                file.path
-            );
-        }
-    }
-}
-
-#[test]
 fn a_feature_set_no_typed_key_has_is_refused() {
     use crate::ssao::{AoKey, AoTarget};
-    let ao = SHADERS
-        .iter()
-        .find(|f| f.path == <AoKey as super::Permutation>::PATH)
-        .expect("ssao/ao.wgsl is listed");
+    let ao = <AoKey as Permutation>::FILE;
     // Half resolution blends its history after the upsample: no AoTarget holds both.
     let both: std::collections::BTreeSet<_> = ["HALF", "TEMPORAL"].into_iter().collect();
     let err = ao.check(&both).expect_err("refused");
@@ -218,185 +128,7 @@ fn a_feature_set_no_typed_key_has_is_refused() {
         estimator: crate::ssao::AoMode::Hbao,
         target: AoTarget::Half,
     };
-    assert!(ao.check(&super::Permutation::key(half).features).is_ok());
-}
-
-/// The typed keys that replaced string rules (`flag_key!`, `choice_key!`,
-/// TAA's quality) enumerate exactly the feature sets, in the same order,
-/// that the rules did: the permutation set did not change.
-#[test]
-fn typed_keys_enumerate_what_the_string_rules_did() {
-    use std::collections::BTreeSet;
-    // As `SHADERS` listed them before.
-    let choice = |f: &'static [&'static str]| vec![Rule::AtMostOne(f)];
-    let old: Vec<(&str, &[&str], Vec<Rule>)> = vec![
-        ("gbuffer/visibility.wgsl", &["ALPHA_MASK"], vec![]),
-        ("geometry/spherize.wgsl", &[], vec![]),
-        ("geometry/extrude.wgsl", &["TEXTURE"], vec![]),
-        ("geometry/pn_triangles.wgsl", &["FLAT"], vec![]),
-        ("geometry/spline.wgsl", &["RIBBON", "BEZIER"], vec![]),
-        (
-            "geometry/tessellate.wgsl",
-            &["COUNT", "SUMS"],
-            choice(&["COUNT", "SUMS"]),
-        ),
-        (
-            "geometry/displace.wgsl",
-            &["ACCUMULATE", "NORMALS"],
-            choice(&["ACCUMULATE", "NORMALS"]),
-        ),
-        ("geometry/skinning.wgsl", &[], vec![]),
-        (
-            "particles/simulate.wgsl",
-            &["FIELD_TEXTURE", "MESH_EMITTER", "DEPTH_COLLISION"],
-            vec![],
-        ),
-        ("particles/expand.wgsl", &[], vec![]),
-        (
-            "gbuffer/raster.wgsl",
-            &["TWO_SIDED", "MESHES_ONLY", "DEPTH_ONLY"],
-            vec![],
-        ),
-        ("gbuffer/published_depth.wgsl", &["COMPUTE_RASTER"], vec![]),
-        // OCCUPIED (session 17): lit transparency's lists only in marked froxels.
-        ("lighting/clusters.wgsl", &["OCCUPIED"], vec![]),
-        (
-            "lighting/ssss.wgsl",
-            &["VERTICAL", "SOURCES_2", "SOURCES_3"],
-            vec![],
-        ),
-        ("shadows/depth.wgsl", &[], vec![]),
-        ("shadows/moments.wgsl", &[], vec![]),
-        ("shadows/resolve.wgsl", &["OVER_STILL"], vec![]),
-        ("environment/prefilter.wgsl", &[], vec![]),
-        ("post/tonemap.wgsl", &["EYE_ADAPTATION"], vec![]),
-        ("post/eye_adaptation.wgsl", &[], vec![]),
-        ("post/fxaa.wgsl", &[], vec![]),
-        ("post/copy.wgsl", &[], vec![]),
-        ("bench/pass_chain.wgsl", &[], vec![]),
-        ("post/autofocus.wgsl", &[], vec![]),
-        ("post/motion_blur.wgsl", &[], vec![]),
-        ("post/glare.wgsl", &["FILTERED_SOURCE"], vec![]),
-        (
-            "environment/reflection.wgsl",
-            &["MATERIAL_TEXTURES", "SURFACE_TARGET", "PARALLAX"],
-            vec![],
-        ),
-        (
-            "post/taa.wgsl",
-            &["VARIANCE_CLIP", "CATMULL_ROM"],
-            vec![Rule::Requires("CATMULL_ROM", "VARIANCE_CLIP")],
-        ),
-        (
-            "resolution/upsample.wgsl",
-            &["R32", "DETAIL"],
-            choice(&["R32", "DETAIL"]),
-        ),
-        (
-            "lighting/ssgi.wgsl",
-            &["TEMPORAL", "GATHER", "BLUR", "AMBIENT", "HALF"],
-            vec![
-                Rule::AtMostOne(&["TEMPORAL", "BLUR"]),
-                Rule::Requires("AMBIENT", "BLUR"),
-                Rule::Requires("GATHER", "TEMPORAL"),
-                Rule::AtMostOne(&["HALF", "TEMPORAL"]),
-                Rule::AtMostOne(&["HALF", "BLUR"]),
-            ],
-        ),
-    ];
-    for (path, features, rules) in old {
-        let file = SHADERS.iter().find(|f| f.path == path).expect(path);
-        let keyed = file
-            .keyed
-            .unwrap_or_else(|| panic!("{path} has no typed key"));
-        let keyed: Vec<BTreeSet<&str>> = keyed().into_iter().map(|k| k.features).collect();
-        let n = features.len();
-        let ruled: Vec<BTreeSet<&str>> = (0u32..1 << n)
-            .map(|mask| {
-                (0..n)
-                    .filter(|i| mask & (1 << i) != 0)
-                    .map(|i| features[i])
-                    .collect()
-            })
-            .filter(|set| rules.iter().all(|r| r.check(set).is_ok()))
-            .collect();
-        assert_eq!(keyed, ruled, "{path}");
-        assert_eq!(file.features, features, "{path}");
-    }
-}
-
-/// The keys written by hand in place of string rules (their own order of
-/// enumeration) allow the feature sets the rules did: the same sets, save
-/// those the code never built, each named here.
-#[test]
-fn hand_written_keys_allow_what_the_string_rules_did() {
-    use std::collections::BTreeSet;
-    type Sets = BTreeSet<BTreeSet<&'static str>>;
-    let ruled = |features: &[&'static str], rules: &[Rule]| -> Sets {
-        let n = features.len();
-        (0u32..1 << n)
-            .map(|mask| {
-                (0..n)
-                    .filter(|i| mask & (1 << i) != 0)
-                    .map(|i| features[i])
-                    .collect::<BTreeSet<_>>()
-            })
-            .filter(|set| rules.iter().all(|r| r.check(set).is_ok()))
-            .collect()
-    };
-    let keyed = |path: &str| -> (Sets, usize) {
-        let file = SHADERS.iter().find(|f| f.path == path).expect(path);
-        let keys = file
-            .keyed
-            .unwrap_or_else(|| panic!("{path} has no typed key"))();
-        let n = keys.len();
-        (keys.into_iter().map(|k| k.features).collect(), n)
-    };
-    // The rules as `SHADERS` listed them before, over the key's own switches.
-    let resolve: &[&str] = crate::gbuffer::resolve_key::ResolveKey::FEATURES;
-    let resolve_rules = [
-        Rule::AtMostOne(&["COLOR_MAP", "MOTION"]),
-        Rule::AtMostOne(&["VELOCITY_OUT", "MOTION"]),
-        Rule::AtMostOne(&["TEXCOORDS", "TRIPLANAR"]),
-        Rule::AtMostOne(&["SURFACE_OUT", "MOTION"]),
-        Rule::Requires("MATERIAL_MAPS", "SURFACE_OUT"),
-        Rule::Requires("CUSTOM_SURFACE", "SURFACE_OUT"),
-        Rule::AtMostOne(&["CUSTOM_SURFACE", "MATERIAL_MAPS"]),
-        Rule::AtMostOne(&["VERTEX_EXTRAS", "MOTION"]),
-    ];
-    let (sets, n) = keyed("gbuffer/resolve.wgsl");
-    assert_eq!((sets, n), (ruled(resolve, &resolve_rules), 792));
-    let cook_torrance: &[&str] = crate::lighting::cook_torrance_key::CookTorranceKey::FEATURES;
-    let cook_torrance_rules = [
-        Rule::AtMostOne(&["LIGHT_SPOT", "LIGHT_SUN"]),
-        Rule::AtMostOne(&["CUSTOM_LIGHT", "ENERGY_COMPENSATION"]),
-        Rule::AtMostOne(&["CUSTOM_LIGHT", "FAKE_SSS"]),
-        Rule::AtMostOne(&["CUSTOM_LIGHT", "CLEARCOAT"]),
-        Rule::AtMostOne(&["SHADOW_PCF", "SHADOW_PCSS", "SHADOW_VSM"]),
-        Rule::Requires("SHADOW_PCF", "SHADOWS"),
-        Rule::Requires("SHADOW_PCSS", "SHADOWS"),
-        Rule::Requires("SHADOW_VSM", "SHADOWS"),
-        Rule::Requires("FAKE_SSS", "MATERIALS"),
-        Rule::Requires("CLEARCOAT", "MATERIALS"),
-        Rule::AtMostOne(&["LIGHT_SUN", "CLUSTERED"]),
-        Rule::Requires("SPOT_TEXTURE", "LIGHT_SPOT"),
-        Rule::Requires("MATERIAL_TEXTURES", "MATERIALS"),
-        Rule::Requires("TILED", "CLUSTERED"),
-        Rule::Requires("PER_PIXEL", "CLUSTERED"),
-        Rule::AtMostOne(&["TILED", "PER_PIXEL"]),
-    ];
-    let (sets, n) = keyed("lighting/cook_torrance.wgsl");
-    assert_eq!(
-        (sets, n),
-        (ruled(cook_torrance, &cook_torrance_rules), 2730)
-    );
-    // The G-buffer view: the rule's empty choice (no channel, a black
-    // image) was never built, as every view shows a Channel.
-    let channels: &[&str] = crate::gbuffer::view_key::Channel::FEATURES;
-    let mut ruled_view = ruled(channels, &[Rule::AtMostOne(channels)]);
-    assert!(ruled_view.remove(&BTreeSet::new()));
-    let (sets, n) = keyed("gbuffer/view.wgsl");
-    assert_eq!((sets, n), (ruled_view, 7));
+    assert!(ao.check(&half.key().features).is_ok());
 }
 
 #[test]

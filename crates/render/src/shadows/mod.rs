@@ -140,7 +140,7 @@ const VIEW_STRIDE: u64 = 256;
 pub struct ShadowMaps {
     id: u64,
     /// The light type these maps are laid out for.
-    pub kind: crate::lighting::LightKind,
+    pub kind: crate::light_kind::LightKind,
     owner: Option<u32>,
     pub settings: ShadowSettings,
     per_slice: u32,
@@ -417,9 +417,9 @@ impl ShadowMaps {
             )),
         };
         let kind = match lights {
-            ShadowLights::Spot(_) => crate::lighting::LightKind::Spot,
-            ShadowLights::Point(_) => crate::lighting::LightKind::Point,
-            ShadowLights::Sun { .. } => crate::lighting::LightKind::Sun,
+            ShadowLights::Spot(_) => crate::light_kind::LightKind::Spot,
+            ShadowLights::Point(_) => crate::light_kind::LightKind::Point,
+            ShadowLights::Sun { .. } => crate::light_kind::LightKind::Sun,
         };
         let blur = match settings.filter {
             ShadowFilter::Vsm { blur, .. } => blur.min(8),
@@ -678,7 +678,7 @@ mod wgsl_layout {
     fn gpu_shadow_params_matches_shadowparams_in_the_shader() {
         crate::assert_wgsl_layout!(
             GpuShadowParams,
-            "lighting/cook_torrance.wgsl",
+            "lighting/shadow_sampling.wgsl",
             ["SHADOWS"],
             "ShadowParams",
             [bias, filter]

@@ -1,7 +1,6 @@
 //! The typed keys of drawing shadow-map layers: [`ShadowDepthKey`] (`shadows/depth.wgsl`),
 //! [`MomentsKey`] (`shadows/moments.wgsl`), [`ShadowResolveKey`] (`shadows/resolve.wgsl`). They
-//! stand in a file of their own that imports no pass, so that `shaders::SHADERS` names them without
-//! a circle through the renderer (docs/architecture.md, "Layers inside render");
+//! declare their shader file (`shader_file!`), so no table below the effects names them;
 //! `shadows/raster.rs` re-exports them.
 
 crate::flag_key! {

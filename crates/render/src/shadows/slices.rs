@@ -306,7 +306,7 @@ impl ShadowMaps {
                 .iter()
                 .zip(&new.casters)
                 .all(|(a, b)| std::sync::Arc::ptr_eq(a, b));
-        let scrollable = self.kind == crate::lighting::LightKind::Sun
+        let scrollable = self.kind == crate::light_kind::LightKind::Sun
             && same_casters
             && old.filter == new.filter
             && old.views.len() == new.views.len();

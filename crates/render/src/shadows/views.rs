@@ -569,7 +569,7 @@ mod wgsl_layout {
     fn gpu_layer_view_matches_shadowview_in_the_shader() {
         crate::assert_wgsl_layout!(
             GpuLayerView,
-            "lighting/cook_torrance.wgsl",
+            "lighting/shadow_sampling.wgsl",
             ["SHADOWS"],
             "ShadowView",
             [view_projection, depth, split]

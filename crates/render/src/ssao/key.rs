@@ -2,7 +2,8 @@
 //! shader; a combination the shader does not support cannot be written
 //! (half resolution blends its history after the upsample, so `AoTarget`
 //! has no "half and temporal"; the combine comes with the vertical blur).
-//! These replace the string rules `shaders::SHADERS` held for these files.
+//! These replace the string rules a table of shaders held for these files,
+//! and each declares its shader file (`shader_file!`).
 
 use crate::shaders::permutation::Permutation;
 
@@ -56,7 +57,7 @@ pub enum AoTarget {
 }
 
 impl Permutation for AoKey {
-    const PATH: &'static str = "ssao/ao.wgsl";
+    crate::shader_file!("ssao/ao.wgsl");
     const FEATURES: &'static [&'static str] = &["SAO", "HBAO", "HALF", "TEMPORAL"];
 
     fn features(self) -> impl Iterator<Item = &'static str> {
@@ -92,7 +93,7 @@ pub enum DepthKey {
 }
 
 impl Permutation for DepthKey {
-    const PATH: &'static str = "ssao/linear_depth.wgsl";
+    crate::shader_file!("ssao/linear_depth.wgsl");
     const FEATURES: &'static [&'static str] = &["DOWNSAMPLE"];
 
     fn features(self) -> impl Iterator<Item = &'static str> {
@@ -116,7 +117,7 @@ pub enum BlurKey {
 }
 
 impl Permutation for BlurKey {
-    const PATH: &'static str = "ssao/blur.wgsl";
+    crate::shader_file!("ssao/blur.wgsl");
     const FEATURES: &'static [&'static str] = &["VERTICAL", "COMBINE"];
 
     fn features(self) -> impl Iterator<Item = &'static str> {
@@ -146,7 +147,7 @@ impl Permutation for BlurKey {
 pub struct TemporalKey;
 
 impl Permutation for TemporalKey {
-    const PATH: &'static str = "ssao/temporal.wgsl";
+    crate::shader_file!("ssao/temporal.wgsl");
     const FEATURES: &'static [&'static str] = &[];
 
     fn features(self) -> impl Iterator<Item = &'static str> {

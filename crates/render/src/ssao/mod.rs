@@ -37,7 +37,7 @@ use crate::resolution::{
 use crate::shaders::Permutation;
 use crate::temporal::{RayParams, RayUniforms};
 
-// Seen by the shader table (`shaders::SHADERS`): the key needs nothing of the pass.
+// The keys declare their shader files and need nothing of the pass.
 pub(crate) mod key;
 pub use key::{AoKey, AoMode, AoTarget, BlurKey, DepthKey, TemporalKey};
 

@@ -339,7 +339,7 @@ mod wgsl_layout {
     fn gpu_probe_face_matches_probe_face_in_the_shader() {
         crate::assert_wgsl_layout!(
             GpuProbeFace,
-            "environment/environment_probe.wgsl",
+            crate::environment::probe::key::ProbeFacesKey,
             [],
             "ProbeFace",
             [view_projection, position, towards_sun, sun_color, ambient]

@@ -1,7 +1,6 @@
 //! The typed key of an environment probe's faces, [`ProbeFacesKey`]
-//! (`environment/environment_probe.wgsl`). It stands in a file of its own that imports no pass, so
-//! that `shaders::SHADERS` names it without a circle through the renderer (docs/architecture.md,
-//! "Layers inside render"); `environment/probe/faces.rs` uses it.
+//! (`environment/environment_probe.wgsl`). It declares its shader file (`shader_file!`), so no
+//! table below the effects names it; `environment/probe/faces.rs` uses it.
 
 use crate::shaders::permutation::Permutation;
 
@@ -23,7 +22,7 @@ pub enum ProbeFacesKey {
 }
 
 impl Permutation for ProbeFacesKey {
-    const PATH: &'static str = "environment/environment_probe.wgsl";
+    crate::shader_file!("environment/environment_probe.wgsl");
     const FEATURES: &'static [&'static str] = &["COLOR_MAP", "TEXCOORDS", "TRIPLANAR"];
 
     fn features(self) -> impl Iterator<Item = &'static str> {

@@ -333,7 +333,7 @@ mod tests {
     fn gpu_probe_volume_matches_probe_volume_in_the_shader() {
         crate::assert_wgsl_layout!(
             GpuProbeVolume,
-            "environment/reflection.wgsl",
+            crate::environment::reflection_key::ReflectionKey,
             ["PARALLAX"],
             "ProbeVolume",
             [position, shape, low, high]

@@ -1,6 +1,6 @@
-//! The typed key of `SSR`, [`SsrKey`] (`environment/ssr.wgsl`). It stands in a file of its own
-//! that imports no pass, so that `shaders::SHADERS` names it without a circle through the renderer
-//! (docs/architecture.md, "Layers inside render"); `environment/ssr/mod.rs` re-exports it.
+//! The typed key of `SSR`, [`SsrKey`] (`environment/ssr.wgsl`). It declares its shader file
+//! (`shader_file!`), so no table below the effects names it; `environment/ssr/mod.rs` re-exports
+//! it.
 
 use crate::shaders::permutation::Permutation;
 
@@ -38,7 +38,7 @@ impl SsrKey {
 }
 
 impl Permutation for SsrKey {
-    const PATH: &'static str = "environment/ssr.wgsl";
+    crate::shader_file!("environment/ssr.wgsl");
     const FEATURES: &'static [&'static str] =
         &["MATERIAL_TEXTURES", "HALF", "SURFACE_TARGET", "TEMPORAL"];
 

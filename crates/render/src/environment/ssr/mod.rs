@@ -538,7 +538,7 @@ mod wgsl_layout {
     fn params_matches_params_in_the_shader() {
         crate::assert_wgsl_layout!(
             Params,
-            "environment/ssr.wgsl",
+            crate::environment::ssr::key::SsrKey,
             [],
             "Params",
             [

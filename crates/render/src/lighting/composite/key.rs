@@ -90,7 +90,7 @@ impl From<bool> for Textured {
 }
 
 impl Permutation for CompositeKey {
-    const PATH: &'static str = "lighting/composite.wgsl";
+    crate::shader_file!("lighting/composite.wgsl");
     const FEATURES: &'static [&'static str] = &[
         "LIGHTS_2",
         "LIGHTS_3",

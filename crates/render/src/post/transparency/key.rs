@@ -6,7 +6,7 @@
 //! layer's surface maps and a DeferredBase layer's own maps are one choice:
 //! `LayerMaps`; suns have no range to cluster by).
 
-use crate::lighting::light_kind::LightKind;
+use crate::light_kind::LightKind;
 use crate::shaders::permutation::Permutation;
 use crate::shadows::filter::ShadowFilter;
 
@@ -250,7 +250,7 @@ impl LightKey {
 }
 
 impl Permutation for TransparencyKey {
-    const PATH: &'static str = "post/transparency.wgsl";
+    crate::shader_file!("post/transparency.wgsl");
     const FEATURES: &'static [&'static str] = &[
         "MATERIAL_MAPS",
         "VERTEX_EXTRAS",

@@ -1,0 +1,369 @@
+//! The exhaustive permutation tests, over every entry shader the catalogue
+//! names, and the string rules the typed keys replaced, replayed to show
+//! they allow the same permutations.
+
+use super::*;
+use crate::shaders::{LIBRARIES, ShaderComposer};
+use std::collections::BTreeSet;
+
+/// A constraint between the features of one shader, as the table of
+/// shaders held them before the typed keys: replayed here only, to compare.
+#[derive(Clone, Copy, Debug)]
+enum Rule {
+    /// The first feature only with the second (a third light pair only with a second).
+    Requires(&'static str, &'static str),
+    /// At most one of these (a choice, such as GBufferView's channel).
+    AtMostOne(&'static [&'static str]),
+}
+
+impl Rule {
+    fn check(&self, features: &BTreeSet<&'static str>) -> Result<(), String> {
+        match *self {
+            Rule::Requires(a, b) if features.contains(a) && !features.contains(b) => {
+                Err(format!("`{a}` needs `{b}`"))
+            }
+            Rule::AtMostOne(set) if set.iter().filter(|f| features.contains(*f)).count() > 1 => {
+                Err(format!(
+                    "these features are a choice, set at most one: {}",
+                    set.join(", ")
+                ))
+            }
+            _ => Ok(()),
+        }
+    }
+}
+
+/// The entry shader at `path`.
+fn entry(path: &str) -> &'static ShaderFile {
+    ENTRY_SHADERS
+        .iter()
+        .copied()
+        .find(|f| f.path == path)
+        .unwrap_or_else(|| panic!("{path} is no entry shader of the catalogue"))
+}
+
+#[test]
+fn the_replayed_rules_refuse_what_they_did() {
+    let set = |f: &[&'static str]| f.iter().copied().collect::<BTreeSet<_>>();
+    let choice = Rule::AtMostOne(&["DEPTH", "UV"]);
+    let err = choice.check(&set(&["DEPTH", "UV"])).expect_err("refused");
+    assert!(err.contains("set at most one"), "{err}");
+    assert!(choice.check(&set(&["UV"])).is_ok());
+    let needs = Rule::Requires("SHADOW_PCF", "SHADOWS");
+    let err = needs.check(&set(&["SHADOW_PCF"])).expect_err("refused");
+    assert!(err.contains("`SHADOW_PCF` needs `SHADOWS`"), "{err}");
+}
+
+/// Every WGSL file of `shaders/` is a library or an entry shader of the
+/// catalogue, once: a key whose file is missing here would escape the
+/// exhaustive test. (`shaders/nodes/` holds shader-node examples, composed
+/// at run time; its blur is also a built-in pass.)
+#[test]
+fn every_shader_file_is_a_library_or_a_listed_entry() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shaders");
+    let mut on_disk = BTreeSet::new();
+    let mut folders = vec![root.clone()];
+    while let Some(dir) = folders.pop() {
+        for entry in std::fs::read_dir(&dir).expect("shaders/ reads").flatten() {
+            let path = entry.path();
+            if path.is_dir() {
+                folders.push(path);
+            } else if path.extension().is_some_and(|e| e == "wgsl") {
+                let rel = path.strip_prefix(&root).expect("below shaders/");
+                on_disk.insert(rel.to_string_lossy().replace('\\', "/"));
+            }
+        }
+    }
+    let listed: Vec<&str> = LIBRARIES
+        .iter()
+        .chain(ENTRY_SHADERS.iter().copied())
+        .map(|f| f.path)
+        .collect();
+    let unique: BTreeSet<&str> = listed.iter().copied().collect();
+    assert_eq!(
+        unique.len(),
+        listed.len(),
+        "a file listed twice: {listed:?}"
+    );
+    let missing: Vec<&String> = on_disk
+        .iter()
+        .filter(|p| !p.starts_with("nodes/") || *p == "nodes/blur.wgsl")
+        .filter(|p| !unique.contains(p.as_str()))
+        .collect();
+    assert!(
+        missing.is_empty(),
+        "neither a library nor a listed entry: {missing:?}"
+    );
+    assert!(ENTRY_SHADERS.iter().all(|f| !f.library && f.keys.is_some()));
+    assert!(LIBRARIES.iter().all(|f| f.library && f.keys.is_none()));
+}
+
+/// All the permutations there are, as the table of shaders enumerated them
+/// before the keys carried their files (the same 46 keys, the same values):
+/// the composite's 6,720, the light loop's 2,730, the resolve's 792 and the
+/// rest. A key left out of [`ENTRY_SHADERS`] changes the count.
+#[test]
+fn the_permutation_count_is_unchanged() {
+    assert_eq!(ENTRY_SHADERS.len(), 46);
+    assert_eq!(all_permutations().len(), 11_922);
+}
+
+#[test]
+fn every_permutation_composes_and_validates() {
+    let keys = all_permutations();
+    assert!(keys.len() >= 32, "resolve alone has 2^5 permutations");
+    // Hundreds of permutations: a composer per thread, a share of the keys each.
+    let threads = std::thread::available_parallelism().map_or(2, |n| n.get());
+    let chunk = keys.len().div_ceil(threads);
+    let failures: Vec<String> = std::thread::scope(|scope| {
+        let workers: Vec<_> = keys
+            .chunks(chunk)
+            .map(|share| {
+                scope.spawn(move || {
+                    let mut composer = ShaderComposer::new().expect("libraries compose");
+                    share
+                        .iter()
+                        .filter_map(|k| composer.compose(k).err().map(|e| e.to_string()))
+                        .collect::<Vec<_>>()
+                })
+            })
+            .collect();
+        workers
+            .into_iter()
+            .flat_map(|w| w.join().expect("no panic"))
+            .collect()
+    });
+    assert!(failures.is_empty(), "{}", failures.join("\n\n"));
+}
+
+#[test]
+fn the_composite_has_the_keys_its_rules_allowed() {
+    let composite: Vec<_> = all_permutations()
+        .into_iter()
+        .filter(|k| k.path() == "lighting/composite.wgsl")
+        .collect();
+    // Light pairs with the SSS terms they allow (2 + 4 + 8 + 16), times
+    // GI (2), times the surface target (2), times the 56 ways of AO
+    // (none, AO, per material), emission (none, plain, textured),
+    // reflection (2), matcap (none, built-in, textured) and the material
+    // library (forced on when one of them reads it, free otherwise:
+    // 52 + 2 x 2): 6,720 of the 2^17 subsets, the count the string rules
+    // allowed before CompositeKey replaced them.
+    assert_eq!(composite.len(), 30 * 2 * 2 * 56);
+}
+
+#[test]
+fn a_typed_key_names_its_file_and_only_its_features() {
+    for file in ENTRY_SHADERS {
+        let keyed = file.keys.expect("an entry shader has a typed key");
+        let keys = keyed();
+        assert!(!keys.is_empty(), "{}", file.path);
+        let mut seen = std::collections::BTreeSet::new();
+        for key in &keys {
+            assert_eq!(
+                key.path(),
+                file.path,
+                "a key of {} names another file",
+                file.path
+            );
+            assert!(
+                key.features.iter().all(|f| file.features.contains(f)),
+                "{}: {:?} outside {:?}",
+                file.path,
+                key.features,
+                file.features
+            );
+            assert!(
+                seen.insert(key.features.clone()),
+                "{}: {key:?} twice",
+                file.path
+            );
+            assert!(file.check(&key.features).is_ok());
+        }
+        // Every switch the file declares is used by some permutation.
+        for feature in file.features {
+            assert!(
+                keys.iter().any(|k| k.features.contains(feature)),
+                "{}: `{feature}` is in no permutation",
+                file.path
+            );
+        }
+    }
+}
+
+/// The typed keys that replaced string rules (`flag_key!`, `choice_key!`,
+/// TAA's quality) enumerate exactly the feature sets, in the same order,
+/// that the rules did: the permutation set did not change.
+#[test]
+fn typed_keys_enumerate_what_the_string_rules_did() {
+    use std::collections::BTreeSet;
+    // As the table of shaders listed them before.
+    let choice = |f: &'static [&'static str]| vec![Rule::AtMostOne(f)];
+    let old: Vec<(&str, &[&str], Vec<Rule>)> = vec![
+        ("gbuffer/visibility.wgsl", &["ALPHA_MASK"], vec![]),
+        ("geometry/spherize.wgsl", &[], vec![]),
+        ("geometry/extrude.wgsl", &["TEXTURE"], vec![]),
+        ("geometry/pn_triangles.wgsl", &["FLAT"], vec![]),
+        ("geometry/spline.wgsl", &["RIBBON", "BEZIER"], vec![]),
+        (
+            "geometry/tessellate.wgsl",
+            &["COUNT", "SUMS"],
+            choice(&["COUNT", "SUMS"]),
+        ),
+        (
+            "geometry/displace.wgsl",
+            &["ACCUMULATE", "NORMALS"],
+            choice(&["ACCUMULATE", "NORMALS"]),
+        ),
+        ("geometry/skinning.wgsl", &[], vec![]),
+        (
+            "particles/simulate.wgsl",
+            &["FIELD_TEXTURE", "MESH_EMITTER", "DEPTH_COLLISION"],
+            vec![],
+        ),
+        ("particles/expand.wgsl", &[], vec![]),
+        (
+            "gbuffer/raster.wgsl",
+            &["TWO_SIDED", "MESHES_ONLY", "DEPTH_ONLY"],
+            vec![],
+        ),
+        ("gbuffer/published_depth.wgsl", &["COMPUTE_RASTER"], vec![]),
+        // OCCUPIED (session 17): lit transparency's lists only in marked froxels.
+        ("lighting/clusters.wgsl", &["OCCUPIED"], vec![]),
+        (
+            "lighting/ssss.wgsl",
+            &["VERTICAL", "SOURCES_2", "SOURCES_3"],
+            vec![],
+        ),
+        ("shadows/depth.wgsl", &[], vec![]),
+        ("shadows/moments.wgsl", &[], vec![]),
+        ("shadows/resolve.wgsl", &["OVER_STILL"], vec![]),
+        ("environment/prefilter.wgsl", &[], vec![]),
+        ("post/tonemap.wgsl", &["EYE_ADAPTATION"], vec![]),
+        ("post/eye_adaptation.wgsl", &[], vec![]),
+        ("post/fxaa.wgsl", &[], vec![]),
+        ("post/copy.wgsl", &[], vec![]),
+        ("bench/pass_chain.wgsl", &[], vec![]),
+        ("post/autofocus.wgsl", &[], vec![]),
+        ("post/motion_blur.wgsl", &[], vec![]),
+        ("post/glare.wgsl", &["FILTERED_SOURCE"], vec![]),
+        (
+            "environment/reflection.wgsl",
+            &["MATERIAL_TEXTURES", "SURFACE_TARGET", "PARALLAX"],
+            vec![],
+        ),
+        (
+            "post/taa.wgsl",
+            &["VARIANCE_CLIP", "CATMULL_ROM"],
+            vec![Rule::Requires("CATMULL_ROM", "VARIANCE_CLIP")],
+        ),
+        (
+            "resolution/upsample.wgsl",
+            &["R32", "DETAIL"],
+            choice(&["R32", "DETAIL"]),
+        ),
+        (
+            "lighting/ssgi.wgsl",
+            &["TEMPORAL", "GATHER", "BLUR", "AMBIENT", "HALF"],
+            vec![
+                Rule::AtMostOne(&["TEMPORAL", "BLUR"]),
+                Rule::Requires("AMBIENT", "BLUR"),
+                Rule::Requires("GATHER", "TEMPORAL"),
+                Rule::AtMostOne(&["HALF", "TEMPORAL"]),
+                Rule::AtMostOne(&["HALF", "BLUR"]),
+            ],
+        ),
+    ];
+    for (path, features, rules) in old {
+        let file = entry(path);
+        let keyed = file
+            .keys
+            .unwrap_or_else(|| panic!("{path} has no typed key"));
+        let keyed: Vec<BTreeSet<&str>> = keyed().into_iter().map(|k| k.features).collect();
+        let n = features.len();
+        let ruled: Vec<BTreeSet<&str>> = (0u32..1 << n)
+            .map(|mask| {
+                (0..n)
+                    .filter(|i| mask & (1 << i) != 0)
+                    .map(|i| features[i])
+                    .collect()
+            })
+            .filter(|set| rules.iter().all(|r| r.check(set).is_ok()))
+            .collect();
+        assert_eq!(keyed, ruled, "{path}");
+        assert_eq!(file.features, features, "{path}");
+    }
+}
+
+/// The keys written by hand in place of string rules (their own order of
+/// enumeration) allow the feature sets the rules did: the same sets, save
+/// those the code never built, each named here.
+#[test]
+fn hand_written_keys_allow_what_the_string_rules_did() {
+    use std::collections::BTreeSet;
+    type Sets = BTreeSet<BTreeSet<&'static str>>;
+    let ruled = |features: &[&'static str], rules: &[Rule]| -> Sets {
+        let n = features.len();
+        (0u32..1 << n)
+            .map(|mask| {
+                (0..n)
+                    .filter(|i| mask & (1 << i) != 0)
+                    .map(|i| features[i])
+                    .collect::<BTreeSet<_>>()
+            })
+            .filter(|set| rules.iter().all(|r| r.check(set).is_ok()))
+            .collect()
+    };
+    let keyed = |path: &str| -> (Sets, usize) {
+        let keys = entry(path)
+            .keys
+            .unwrap_or_else(|| panic!("{path} has no typed key"))();
+        let n = keys.len();
+        (keys.into_iter().map(|k| k.features).collect(), n)
+    };
+    // The rules as the table of shaders listed them before, over the key's own switches.
+    let resolve: &[&str] = crate::gbuffer::resolve_key::ResolveKey::FEATURES;
+    let resolve_rules = [
+        Rule::AtMostOne(&["COLOR_MAP", "MOTION"]),
+        Rule::AtMostOne(&["VELOCITY_OUT", "MOTION"]),
+        Rule::AtMostOne(&["TEXCOORDS", "TRIPLANAR"]),
+        Rule::AtMostOne(&["SURFACE_OUT", "MOTION"]),
+        Rule::Requires("MATERIAL_MAPS", "SURFACE_OUT"),
+        Rule::Requires("CUSTOM_SURFACE", "SURFACE_OUT"),
+        Rule::AtMostOne(&["CUSTOM_SURFACE", "MATERIAL_MAPS"]),
+        Rule::AtMostOne(&["VERTEX_EXTRAS", "MOTION"]),
+    ];
+    let (sets, n) = keyed("gbuffer/resolve.wgsl");
+    assert_eq!((sets, n), (ruled(resolve, &resolve_rules), 792));
+    let cook_torrance: &[&str] = crate::lighting::cook_torrance_key::CookTorranceKey::FEATURES;
+    let cook_torrance_rules = [
+        Rule::AtMostOne(&["LIGHT_SPOT", "LIGHT_SUN"]),
+        Rule::AtMostOne(&["CUSTOM_LIGHT", "ENERGY_COMPENSATION"]),
+        Rule::AtMostOne(&["CUSTOM_LIGHT", "FAKE_SSS"]),
+        Rule::AtMostOne(&["CUSTOM_LIGHT", "CLEARCOAT"]),
+        Rule::AtMostOne(&["SHADOW_PCF", "SHADOW_PCSS", "SHADOW_VSM"]),
+        Rule::Requires("SHADOW_PCF", "SHADOWS"),
+        Rule::Requires("SHADOW_PCSS", "SHADOWS"),
+        Rule::Requires("SHADOW_VSM", "SHADOWS"),
+        Rule::Requires("FAKE_SSS", "MATERIALS"),
+        Rule::Requires("CLEARCOAT", "MATERIALS"),
+        Rule::AtMostOne(&["LIGHT_SUN", "CLUSTERED"]),
+        Rule::Requires("SPOT_TEXTURE", "LIGHT_SPOT"),
+        Rule::Requires("MATERIAL_TEXTURES", "MATERIALS"),
+        Rule::Requires("TILED", "CLUSTERED"),
+        Rule::Requires("PER_PIXEL", "CLUSTERED"),
+        Rule::AtMostOne(&["TILED", "PER_PIXEL"]),
+    ];
+    let (sets, n) = keyed("lighting/cook_torrance.wgsl");
+    assert_eq!(
+        (sets, n),
+        (ruled(cook_torrance, &cook_torrance_rules), 2730)
+    );
+    // The G-buffer view: the rule's empty choice (no channel, a black
+    // image) was never built, as every view shows a Channel.
+    let channels: &[&str] = crate::gbuffer::view_key::Channel::FEATURES;
+    let mut ruled_view = ruled(channels, &[Rule::AtMostOne(channels)]);
+    assert!(ruled_view.remove(&BTreeSet::new()));
+    let (sets, n) = keyed("gbuffer/view.wgsl");
+    assert_eq!((sets, n), (ruled_view, 7));
+}
