@@ -310,41 +310,28 @@ pub fn run(args: &TransmissionArgs) -> anyhow::Result<ExitCode> {
         factor: 0.0,
         ..settings(0, 1, RefractionBlur::Taps)
     };
-    let steps_with = |family: &'static str, blur| {
-        args.steps.iter().map(move |&s| {
-            let setting = format!("{s} steps");
-            (family, setting, settings(s, 1, blur), 0.0, 0.0, &sharp)
-        })
-    };
-    let families = [
+    // Per row: its family, setting, transmission, roughness, the pane's
+    // alpha and the reference it is measured against.
+    let mut families = vec![
         ("off", "blended, discarded (alpha 0)".to_owned(), off, 0.0, 0.0, &sharp),
         ("off", "blended, drawn (alpha 0.01)".to_owned(), off, 0.0, 0.01, &sharp),
-    ]
-    .into_iter()
-    .chain(
-        taps.then(|| steps_with("steps (smooth, by hand)", RefractionBlur::Taps))
-            .into_iter()
-            .flatten(),
-    )
-    .chain(
-        mips.then(|| steps_with("steps (smooth, mips)", RefractionBlur::Mips))
-            .into_iter()
-            .flatten(),
-    )
-    .chain(
-        args.taps
-            .iter()
-            .filter(|_| taps)
-            .map(|&t| {
-                let setting = format!("{t} taps");
-                let t = settings(2, t, RefractionBlur::Taps);
-                ("taps (rough)", setting, t, args.roughness, 0.0, &blurred)
-            }),
-    )
-    .chain(mips.then(|| {
-        let t = settings(2, 1, RefractionBlur::Mips);
-        ("mips (rough)", "1 trilinear read".to_owned(), t, args.roughness, 0.0, &blurred)
-    }));
+    ];
+    for (on, family, blur) in [
+        (taps, "steps (smooth, by hand)", RefractionBlur::Taps),
+        (mips, "steps (smooth, mips)", RefractionBlur::Mips),
+    ] {
+        for &s in args.steps.iter().filter(|_| on) {
+            families.push((family, format!("{s} steps"), settings(s, 1, blur), 0.0, 0.0, &sharp));
+        }
+    }
+    for &t in args.taps.iter().filter(|_| taps) {
+        let rough = settings(2, t, RefractionBlur::Taps);
+        families.push(("taps (rough)", format!("{t} taps"), rough, args.roughness, 0.0, &blurred));
+    }
+    if mips {
+        let rough = settings(2, 1, RefractionBlur::Mips);
+        families.push(("mips (rough)", "1 trilinear read".to_owned(), rough, args.roughness, 0.0, &blurred));
+    }
     for (family, setting, t, roughness, alpha, truth) in families {
         let (image, _) = frame(&renderer, size, t, roughness, alpha)?;
         let e = error(&image, truth, size);
