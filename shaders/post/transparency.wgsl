@@ -65,7 +65,7 @@
 // alpha, emission, reflections and speculars take the coverage. Only the
 // opaque scene is seen refracted (other transparent layers behind are not
 // in `lit_opaque`); a ray that leaves the screen sees the Environment
-// (ENVIRONMENT) along it, faded in over a band inside the border, else the
+// (ENVIRONMENT) along it, faded in over a band beyond the border, else the
 // screen's edge.
 // Both faces are drawn, except for one-sided glTF materials, whose back
 // faces the pipeline culls; a back face is lit with its normal turned to
@@ -153,9 +153,10 @@ fn transmission_of(material: u32) -> vec4<f32> {
 @group(0) @binding(30) var lit_opaque: texture_2d<f32>;
 #endif
 
-// The band inside the screen's border (uv) over which a ray leaving the
-// screen fades from the screen's edge to the environment: no seam where
-// the screen-space image ends.
+// The band outside the screen's border (uv) over which a ray leaving the
+// screen fades from the screen's edge to the environment: no seam where the
+// screen-space image ends, and a ray that lands on screen, however near the
+// border, sees the image alone.
 const EDGE_BAND: f32 = 0.05;
 
 fn finite2(v: vec2<f32>) -> bool {
@@ -180,11 +181,11 @@ fn screen_uv(p: vec4<f32>, fallback: vec2<f32>) -> vec2<f32> {
     return clamp(uv, vec2<f32>(-1.0), vec2<f32>(2.0));
 }
 
-// How much of a sample at `uv` is off screen: 0 further than EDGE_BAND
-// inside the border, 1 on it and beyond, smooth between.
+// How much of a sample at `uv` is off screen: 0 on the screen, 1 further
+// than EDGE_BAND beyond its border, smooth between.
 fn off_screen(uv: vec2<f32>) -> f32 {
-    let inside = min(min(uv.x, 1.0 - uv.x), min(uv.y, 1.0 - uv.y));
-    return 1.0 - smoothstep(0.0, EDGE_BAND, inside);
+    let outside = max(max(-uv.x, uv.x - 1.0), max(-uv.y, uv.y - 1.0));
+    return smoothstep(0.0, EDGE_BAND, outside);
 }
 
 // Where the ray from `start` (world) along `dir` meets the opaque scene,

@@ -10,7 +10,9 @@
 //! Snell's law says (the CPU reference, `spreadlight_reference::
 //! refraction`), ior 1 shows it unshifted, the volume absorbs by
 //! exp(-σ path); ior 0 or NaN, an infinite thickness, grazing angles and
-//! rays leaving the screen stay finite and clamp.
+//! rays leaving the screen stay finite and clamp. Rough glass blurs through
+//! the opaque image's mip chain (built only when a layer refracts) as the
+//! taps do; rays leaving the screen see the Environment where there is one.
 
 mod post_common;
 
@@ -1477,7 +1479,9 @@ fn a_ray_leaving_the_screen_sees_the_environment_faded_in_at_the_border() {
             .expect("on the pane");
             let (exit, _) = spreadlight_reference::refraction::slab_exit(entry, d, n, 1.5, 1e3);
             let want = screen_uv(exit);
-            assert!(want.x < 0.0 || want.x > 1.0, "({x}, {y}) leaves the screen");
+            // Past the shader's fade band (5% of the screen beyond the border).
+            let outside = (-want).max(want - glam::Vec2::ONE).max_element();
+            assert!(outside > 0.05, "({x}, {y}) lands {want}, well off the screen");
             let got = at(&out, x, y);
             for c in 0..3 {
                 assert!(

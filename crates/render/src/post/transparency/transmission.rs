@@ -8,7 +8,7 @@
 //! `refraction_mips.rs`), tinted by the base colour and absorbed by
 //! Beer-Lambert over the path through the volume. A ray that leaves the
 //! screen sees the layer's Environment where it has one, faded in over a
-//! band inside the screen's border (no seam); without one, the edge.
+//! band beyond the screen's border (no seam); without one, the edge.
 //! A layer's material world's Transmission feature says it per material;
 //! these settings (the node's pins) are the fallback for layers without.
 
