@@ -662,7 +662,10 @@ fn transmission_every_setting_is_timed_and_refraction_nears_the_ray_trace() {
     }
     let off = num(at("off", "blended, discarded (alpha 0)"), "rmse");
     let drawn = num(at("off", "blended, drawn (alpha 0.01)"), "rmse");
-    assert!((off - drawn).abs() < 0.02, "alpha 0.01 is all but clear: {off} {drawn}");
+    assert!(
+        (off - drawn).abs() < 0.02,
+        "alpha 0.01 is all but clear: {off} {drawn}"
+    );
     for family in ["steps (smooth, by hand)", "steps (smooth, mips)"] {
         let (none, one, two) = (
             num(at(family, "0 steps"), "rmse"),
@@ -671,14 +674,20 @@ fn transmission_every_setting_is_timed_and_refraction_nears_the_ray_trace() {
         );
         assert!(one < none && two < none, "{family}: {none} {one} {two}");
         // lavapipe at 96x54: blended 0.363, 0 / 1 / 2 steps 0.231 / 0.192 / 0.192.
-        assert!(two < 0.75 * off, "{family}: refracted {two} against blended {off}");
+        assert!(
+            two < 0.75 * off,
+            "{family}: refracted {two} against blended {off}"
+        );
     }
     for steps in ["0 steps", "1 steps", "2 steps"] {
         let (hand, mips) = (
             num(at("steps (smooth, by hand)", steps), "rmse"),
             num(at("steps (smooth, mips)", steps), "rmse"),
         );
-        assert!((hand - mips).abs() < 1e-3, "{steps}: by hand {hand}, level 0 {mips}");
+        assert!(
+            (hand - mips).abs() < 1e-3,
+            "{steps}: by hand {hand}, level 0 {mips}"
+        );
     }
     // lavapipe at 96x54: 1 tap 0.154, 8 taps 0.052, the chain 0.069.
     let one_tap = finite_error(at("taps (rough)", "1 taps"), "rmse", 1.0);

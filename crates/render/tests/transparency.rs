@@ -1329,7 +1329,10 @@ fn stripes(x: u32, _: u32) -> [f32; 4] {
 
 /// The red channel's spread (max - min) over the refracted pixels.
 fn spread(out: &ImageF32) -> f32 {
-    let reds: Vec<f32> = REFRACTED_PIXELS.iter().map(|&(x, y)| at(out, x, y)[0]).collect();
+    let reds: Vec<f32> = REFRACTED_PIXELS
+        .iter()
+        .map(|&(x, y)| at(out, x, y)[0])
+        .collect();
     let (lo, hi) = reds
         .iter()
         .fold((f32::MAX, f32::MIN), |(lo, hi), &r| (lo.min(r), hi.max(r)));
@@ -1356,8 +1359,13 @@ fn rough_glass_blurs_by_one_read_of_a_mip_chain_built_only_when_it_refracts() {
     // REFRACTION_MIPS. Roughness 1 is a disc 4.8 pixels wide, levels 2 to 3;
     // a blur of a ramp is the ramp, so the chain's levels line up with the
     // image when the uv still lands where Snell's law says.
-    let (report, out, pass, n) =
-        refract_through(&renderer, 0.6, rough(RefractionBlur::Auto, 8, 1.0), None, uv_ramp);
+    let (report, out, pass, n) = refract_through(
+        &renderer,
+        0.6,
+        rough(RefractionBlur::Auto, 8, 1.0),
+        None,
+        uv_ramp,
+    );
     assert_eq!(report.counter(MIP_CHAINS), 1);
     assert!(pass.keys().iter().any(|k| {
         let features = &k.key().features;
@@ -1373,20 +1381,42 @@ fn rough_glass_blurs_by_one_read_of_a_mip_chain_built_only_when_it_refracts() {
     }
     // Stripes a pixel wide: smooth glass reads level 0 (the stripes, so the
     // pixels differ), rough glass a level where they are grey.
-    let (_, sharp, _, _) =
-        refract_through(&renderer, 0.6, rough(RefractionBlur::Mips, 8, 0.0), None, stripes);
-    let (_, blurred, _, _) =
-        refract_through(&renderer, 0.6, rough(RefractionBlur::Mips, 8, 1.0), None, stripes);
+    let (_, sharp, _, _) = refract_through(
+        &renderer,
+        0.6,
+        rough(RefractionBlur::Mips, 8, 0.0),
+        None,
+        stripes,
+    );
+    let (_, blurred, _, _) = refract_through(
+        &renderer,
+        0.6,
+        rough(RefractionBlur::Mips, 8, 1.0),
+        None,
+        stripes,
+    );
     assert!(spread(&sharp) > 0.3, "smooth glass shows the stripes");
     for (x, y) in REFRACTED_PIXELS {
         let r = at(&blurred, x, y)[0];
-        assert!((r - 0.5).abs() < 0.02, "({x}, {y}): {r}, not the stripes' grey");
+        assert!(
+            (r - 0.5).abs() < 0.02,
+            "({x}, {y}): {r}, not the stripes' grey"
+        );
     }
     // Taps: no chain, the image read by hand over the disc, the same grey.
-    let (report, taps, pass, _) =
-        refract_through(&renderer, 0.6, rough(RefractionBlur::Taps, 32, 1.0), None, stripes);
+    let (report, taps, pass, _) = refract_through(
+        &renderer,
+        0.6,
+        rough(RefractionBlur::Taps, 32, 1.0),
+        None,
+        stripes,
+    );
     assert_eq!(report.counter(MIP_CHAINS), 0);
-    assert!(pass.keys().iter().all(|k| !k.key().features.contains("REFRACTION_MIPS")));
+    assert!(
+        pass.keys()
+            .iter()
+            .all(|k| !k.key().features.contains("REFRACTION_MIPS"))
+    );
     for (x, y) in REFRACTED_PIXELS {
         let r = at(&taps, x, y)[0];
         assert!((r - 0.5).abs() < 0.1, "({x}, {y}): {r} through 32 taps");
@@ -1481,7 +1511,10 @@ fn a_ray_leaving_the_screen_sees_the_environment_faded_in_at_the_border() {
             let want = screen_uv(exit);
             // Past the shader's fade band (5% of the screen beyond the border).
             let outside = (-want).max(want - glam::Vec2::ONE).max_element();
-            assert!(outside > 0.05, "({x}, {y}) lands {want}, well off the screen");
+            assert!(
+                outside > 0.05,
+                "({x}, {y}) lands {want}, well off the screen"
+            );
             let got = at(&out, x, y);
             for c in 0..3 {
                 assert!(
@@ -1499,7 +1532,10 @@ fn a_ray_leaving_the_screen_sees_the_environment_faded_in_at_the_border() {
             assert!(want.min_element() > 0.1 && want.max_element() < 0.9);
             let got = at(&out, x, y);
             assert!(
-                (glam::Vec2::from_slice(&got[..2]) - want).abs().max_element() < 0.3 * texel
+                (glam::Vec2::from_slice(&got[..2]) - want)
+                    .abs()
+                    .max_element()
+                    < 0.3 * texel
                     && got[2].abs() < 1e-3,
                 "{blur:?} ({x}, {y}): {got:?}, Snell says {want}"
             );

@@ -313,24 +313,59 @@ pub fn run(args: &TransmissionArgs) -> anyhow::Result<ExitCode> {
     // Per row: its family, setting, transmission, roughness, the pane's
     // alpha and the reference it is measured against.
     let mut families = vec![
-        ("off", "blended, discarded (alpha 0)".to_owned(), off, 0.0, 0.0, &sharp),
-        ("off", "blended, drawn (alpha 0.01)".to_owned(), off, 0.0, 0.01, &sharp),
+        (
+            "off",
+            "blended, discarded (alpha 0)".to_owned(),
+            off,
+            0.0,
+            0.0,
+            &sharp,
+        ),
+        (
+            "off",
+            "blended, drawn (alpha 0.01)".to_owned(),
+            off,
+            0.0,
+            0.01,
+            &sharp,
+        ),
     ];
     for (on, family, blur) in [
         (taps, "steps (smooth, by hand)", RefractionBlur::Taps),
         (mips, "steps (smooth, mips)", RefractionBlur::Mips),
     ] {
         for &s in args.steps.iter().filter(|_| on) {
-            families.push((family, format!("{s} steps"), settings(s, 1, blur), 0.0, 0.0, &sharp));
+            families.push((
+                family,
+                format!("{s} steps"),
+                settings(s, 1, blur),
+                0.0,
+                0.0,
+                &sharp,
+            ));
         }
     }
     for &t in args.taps.iter().filter(|_| taps) {
         let rough = settings(2, t, RefractionBlur::Taps);
-        families.push(("taps (rough)", format!("{t} taps"), rough, args.roughness, 0.0, &blurred));
+        families.push((
+            "taps (rough)",
+            format!("{t} taps"),
+            rough,
+            args.roughness,
+            0.0,
+            &blurred,
+        ));
     }
     if mips {
         let rough = settings(2, 1, RefractionBlur::Mips);
-        families.push(("mips (rough)", "1 trilinear read".to_owned(), rough, args.roughness, 0.0, &blurred));
+        families.push((
+            "mips (rough)",
+            "1 trilinear read".to_owned(),
+            rough,
+            args.roughness,
+            0.0,
+            &blurred,
+        ));
     }
     for (family, setting, t, roughness, alpha, truth) in families {
         let (image, _) = frame(&renderer, size, t, roughness, alpha)?;

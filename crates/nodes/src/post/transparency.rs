@@ -9,7 +9,8 @@ use spreadlight_render::gbuffer::Layer;
 use spreadlight_render::lighting::{LightBuffer, LightLoop};
 use spreadlight_render::material::MaterialWorld;
 use spreadlight_render::post::{
-    LitBy, RefractionBlur, TransmissionSettings, Transparency, TransparencySettings, TransparentLights,
+    LitBy, RefractionBlur, TransmissionSettings, Transparency, TransparencySettings,
+    TransparentLights,
 };
 use spreadlight_render::shadows::ShadowMaps;
 
@@ -18,11 +19,16 @@ use crate::gpu::renderer;
 use crate::lighting::cook_torrance::LIGHT_LOOPS;
 
 /// The Refraction Blur pin's options as values.
-static REFRACTION_BLURS: spreadlight_graph::Choices<RefractionBlur> = spreadlight_graph::Choices::new(
-    "Refraction Blur",
-    &["Auto", "Mips", "Taps"],
-    &[RefractionBlur::Auto, RefractionBlur::Mips, RefractionBlur::Taps],
-);
+static REFRACTION_BLURS: spreadlight_graph::Choices<RefractionBlur> =
+    spreadlight_graph::Choices::new(
+        "Refraction Blur",
+        &["Auto", "Mips", "Taps"],
+        &[
+            RefractionBlur::Auto,
+            RefractionBlur::Mips,
+            RefractionBlur::Taps,
+        ],
+    );
 
 pub fn register(r: &mut Registry) {
     r.add(

@@ -44,8 +44,8 @@ use std::sync::{Arc, Mutex};
 use glam::Vec3;
 
 pub use key::{
-    LayerMaps, LayerUv, LightKey, MatCapKey, RefractionKey, ShadowKey, SurfaceKey,
-    TransparencyKey, TransparencyPass,
+    LayerMaps, LayerUv, LightKey, MatCapKey, RefractionKey, ShadowKey, SurfaceKey, TransparencyKey,
+    TransparencyPass,
 };
 pub use refraction_mips::MIP_CHAINS;
 pub use transmission::{RefractionBlur, TransmissionSettings};
