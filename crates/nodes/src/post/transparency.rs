@@ -54,7 +54,7 @@ pub fn register(r: &mut Registry) {
              read of a mip chain of the opaque image, built only while something refracts; Taps, Refraction Taps \
              (1..32) reads, the reference; Auto is Mips), tinted by the colour and absorbed to Attenuation Color \
              after Attenuation Distance (0: no absorption). Only the opaque scene is seen refracted; a ray leaving \
-             the screen sees the Environment (faded in near the border; without one, the screen's edge). At \
+             the screen sees the Environment (faded in just past the border; without one, the screen's edge). At \
              Transmission 0 no refraction code runs. Without transparent instances it costs one copy.",
         )
         .with_pins(|p| {
