@@ -5,7 +5,7 @@
 //! 1, `refraction_mips_down` each level after) only in frames where a layer
 //! refracts. The accumulation then blurs by roughness with one trilinear
 //! read at the level whose filter is as wide as the taps' disc, as
-//! Filament and Unreal blur screen-space refraction, instead of N taps.
+//! Filament blurs screen-space refraction, instead of N taps.
 //!
 //! Why a copy: the opaque image can be any float format (an Rgba32Float
 //! cannot be filtered without a device feature), and a mip chain needs
