@@ -56,12 +56,16 @@
 // image (`lit_opaque`, before this composite) sampled where the ray, bent
 // by Snell's law into a slab `thickness` deep and leaving it parallel,
 // meets the opaque depth (`exit_uv`: a few steps walking the ray onto the
-// depth under its guess), blurred by roughness over a few taps, tinted by
-// the base colour and absorbed by Beer-Lambert over the path inside. The
-// fragment then covers alpha + share (the weight and the revealage see
-// that); its diffuse keeps alpha, emission, reflections and speculars take
-// the coverage. Only the opaque scene is seen refracted (other transparent
-// layers behind are not in `lit_opaque`), and what is off screen is the
+// depth under its guess), blurred by roughness over a few taps, or with
+// REFRACTION_MIPS by one trilinear read of the opaque image's mip chain
+// (`refraction_mips`, built by `refraction_mips_first` / `_down` below) at
+// the level as wide as the taps' disc, tinted by the base colour and
+// absorbed by Beer-Lambert over the path inside. The fragment then covers
+// alpha + share (the weight and the revealage see that); its diffuse keeps
+// alpha, emission, reflections and speculars take the coverage. Only the
+// opaque scene is seen refracted (other transparent layers behind are not
+// in `lit_opaque`); a ray that leaves the screen sees the Environment
+// (ENVIRONMENT) along it, faded in over a band beyond the border, else the
 // screen's edge.
 // Both faces are drawn, except for one-sided glTF materials, whose back
 // faces the pipeline culls; a back face is lit with its normal turned to
@@ -138,9 +142,22 @@ fn transmission_of(material: u32) -> vec4<f32> {
 }
 
 #ifdef TRANSMISSION
+#ifdef REFRACTION_MIPS
+// The opaque lit image's mip chain (half float, every level a box average
+// of the one above), read trilinearly: one tap for any roughness.
+@group(0) @binding(32) var refraction_mips: texture_2d<f32>;
+@group(0) @binding(33) var refraction_sampler: sampler;
+#else
 // The opaque lit image (before this node's composite), sampled along the
 // refracted ray by hand (`bilinear`: any float format, filterable or not).
 @group(0) @binding(30) var lit_opaque: texture_2d<f32>;
+#endif
+
+// The band outside the screen's border (uv) over which a ray leaving the
+// screen fades from the screen's edge to the environment: no seam where the
+// screen-space image ends, and a ray that lands on screen, however near the
+// border, sees the image alone.
+const EDGE_BAND: f32 = 0.05;
 
 fn finite2(v: vec2<f32>) -> bool {
     // False for NaN (every comparison with NaN is) and for infinities.
@@ -148,7 +165,8 @@ fn finite2(v: vec2<f32>) -> bool {
 }
 
 // Homogeneous world point `p` (w 0: a direction, the point at infinity) on
-// screen as uv, clamped to the screen (a ray leaving it samples its edge);
+// screen as uv, off the screen too (held to -1..2, past the fade band: the
+// caller clamps it to sample and fades to the environment beyond);
 // `fallback` behind the eye or for anything not finite.
 fn screen_uv(p: vec4<f32>, fallback: vec2<f32>) -> vec2<f32> {
     let clip = camera.view_projection * p;
@@ -160,7 +178,14 @@ fn screen_uv(p: vec4<f32>, fallback: vec2<f32>) -> vec2<f32> {
     if (!finite2(uv)) {
         return fallback;
     }
-    return clamp(uv, vec2<f32>(0.0), vec2<f32>(1.0));
+    return clamp(uv, vec2<f32>(-1.0), vec2<f32>(2.0));
+}
+
+// How much of a sample at `uv` is off screen: 0 on the screen, 1 further
+// than EDGE_BAND beyond its border, smooth between.
+fn off_screen(uv: vec2<f32>) -> f32 {
+    let outside = max(max(-uv.x, uv.x - 1.0), max(-uv.y, uv.y - 1.0));
+    return smoothstep(0.0, EDGE_BAND, outside);
 }
 
 // Where the ray from `start` (world) along `dir` meets the opaque scene,
@@ -193,16 +218,50 @@ fn exit_uv(start: vec3<f32>, dir: vec3<f32>, steps: u32, fallback: vec2<f32>) ->
     return uv;
 }
 
+// The opaque image blurred over a disc of `radius` (uv, of the screen's
+// height) about `uv` (on screen).
+#ifdef REFRACTION_MIPS
+// One trilinear read at the level whose filter matches the disc: a level-L
+// texel is 2^L pixels, and its box average read bilinearly spreads like a
+// uniform disc of radius 2^L pixels (per axis, variance 4^L (1/12 + 1/6)
+// against r^2 / 4), so L = log2(radius in pixels). Under half a pixel is
+// level 0, the image itself, as the taps take one tap there.
+fn blurred(uv: vec2<f32>, radius: f32) -> vec3<f32> {
+    let pixels = radius * f32(textureDimensions(refraction_mips).y);
+    let top = f32(textureNumLevels(refraction_mips) - 1u);
+    let level = clamp(log2(max(pixels, 1e-6)), 0.0, top);
+    return textureSampleLevel(refraction_mips, refraction_sampler, uv, level).rgb;
+}
+#else
+fn blurred(uv: vec2<f32>, radius: f32) -> vec3<f32> {
+    let size = vec2<f32>(textureDimensions(lit_opaque));
+    let taps = clamp(u32(params.transmission.w), 1u, 32u);
+    if (radius * size.y < 0.5 || taps == 1u) {
+        return bilinear(lit_opaque, uv).rgb;
+    }
+    // A Vogel disc (golden-angle spiral), the first tap at the centre.
+    let aspect = vec2<f32>(size.y / size.x, 1.0);
+    var color = vec3<f32>(0.0);
+    for (var i = 0u; i < taps; i++) {
+        let rho = sqrt(f32(i) / f32(taps)) * radius;
+        let theta = f32(i) * 2.3999632;
+        let at = clamp(uv + vec2<f32>(cos(theta), sin(theta)) * rho * aspect, vec2<f32>(0.0), vec2<f32>(1.0));
+        color += bilinear(lit_opaque, at).rgb;
+    }
+    return color / f32(taps);
+}
+#endif
+
 // The light reaching the eye through a transmissive surface at `world`
 // (facing normal `n`, towards-eye `v`, pixel `frag`): the ray refracted
 // into a slab `thickness` deep (Snell, index `ior`: NaN, zero or negative
 // is 1; total internal reflection goes straight on), leaving parallel to
-// where it came from, meeting the opaque scene (`exit_uv`), blurred over
-// the settings' taps in a disc that grows with `roughness`, and absorbed
-// along the path inside (Beer-Lambert, coefficients `sigma`). Finite for
-// every input.
+// where it came from, meeting the opaque scene (`exit_uv`), blurred in a
+// disc that grows with `roughness` (`blurred`), and absorbed along the path
+// inside (Beer-Lambert, coefficients `sigma`). Where the ray leaves the
+// screen, the environment along it (ENVIRONMENT), faded in over EDGE_BAND;
+// without one, the screen's edge. Finite for every input.
 fn transmitted(world: vec3<f32>, n: vec3<f32>, v: vec3<f32>, ior_in: f32, thickness_in: f32, roughness: f32, sigma: vec3<f32>, frag: vec2<f32>) -> vec3<f32> {
-    let size = vec2<f32>(textureDimensions(lit_opaque));
     let own = clamp(frag / vec2<f32>(textureDimensions(opaque_depth)), vec2<f32>(0.0), vec2<f32>(1.0));
     let ior = select(1.0, ior_in, ior_in > 0.0 && ior_in < 1e6);
     let thickness = select(0.0, thickness_in, thickness_in > 0.0 && thickness_in < 1e6);
@@ -216,21 +275,19 @@ fn transmitted(world: vec3<f32>, n: vec3<f32>, v: vec3<f32>, ior_in: f32, thickn
     let uv = exit_uv(world + r * path, incident, u32(params.absorption.w), own);
     // The blur disc: none for smooth glass, none without a bend (ior 1).
     let radius = 0.1 * clamp(roughness, 0.0, 1.0) * clamp(2.0 * ior - 2.0, 0.0, 1.0);
-    let taps = clamp(u32(params.transmission.w), 1u, 32u);
-    var color = vec3<f32>(0.0);
-    if (radius * size.y < 0.5 || taps == 1u) {
-        color = bilinear(lit_opaque, uv).rgb;
-    } else {
-        // A Vogel disc (golden-angle spiral), the first tap at the centre.
-        let aspect = vec2<f32>(size.y / size.x, 1.0);
-        for (var i = 0u; i < taps; i++) {
-            let rho = sqrt(f32(i) / f32(taps)) * radius;
-            let theta = f32(i) * 2.3999632;
-            let at = clamp(uv + vec2<f32>(cos(theta), sin(theta)) * rho * aspect, vec2<f32>(0.0), vec2<f32>(1.0));
-            color += bilinear(lit_opaque, at).rgb;
-        }
-        color /= f32(taps);
+    let on_screen = clamp(uv, vec2<f32>(0.0), vec2<f32>(1.0));
+    var color = blurred(on_screen, radius);
+#ifdef ENVIRONMENT
+    // Off screen: the environment along the ray (it leaves the slab
+    // parallel to where it came from), as blurred as Environment's
+    // reflection is at this roughness.
+    let fade = off_screen(uv);
+    if (fade > 0.0) {
+        let lod = clamp(roughness, 0.0, 1.0) * max(params.surface.w - 1.0, 0.0);
+        let far = textureSampleLevel(prefiltered, cube_sampler, incident, lod).rgb;
+        color = mix(color, max(sanitize(vec4<f32>(far, 0.0)).rgb, vec3<f32>(0.0)), fade);
     }
+#endif
     let absorbed = exp(-clamp(sanitize(vec4<f32>(sigma, 0.0)).rgb, vec3<f32>(0.0), vec3<f32>(1e6)) * path);
     return clamp(sanitize(vec4<f32>(color * absorbed, 0.0)).rgb, vec3<f32>(0.0), vec3<f32>(HALF_MAX));
 }
@@ -668,4 +725,83 @@ fn clear(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     textureStore(clear_accumulation, id.xy, vec4<f32>(0.0));
     textureStore(clear_revealage, id.xy, vec4<f32>(1.0));
+}
+
+// Rough refraction's mip chain (REFRACTION_MIPS reads it; refraction_mips.rs
+// builds it only in frames where a layer refracts): level 0 the opaque image
+// in half float (NaN as 0, held in range), each further level the box average
+// of the texels under it, a dispatch a level in one compute pass.
+@group(0) @binding(34) var mips_image: texture_2d<f32>;
+@group(0) @binding(35) var mips_source: texture_2d<f32>;
+@group(0) @binding(36) var mips_out: texture_storage_2d<rgba16float, write>;
+// The level after mips_out's (refraction_mips_first).
+@group(0) @binding(37) var mips_out_next: texture_storage_2d<rgba16float, write>;
+
+// Along one axis: the first and last texel of the level above (`src` wide)
+// under texel `k` of a level `out` wide: its two, and at the last texel the
+// rest of an odd level (so every texel above counts somewhere).
+fn mip_footprint(k: u32, out: u32, src: u32) -> vec2<u32> {
+    let lo = min(k * 2u, src - 1u);
+    var hi = min(lo + 1u, src - 1u);
+    if (k + 1u == out) {
+        hi = src - 1u;
+    }
+    return vec2<u32>(lo, hi);
+}
+
+fn mip_texel(c: vec4<f32>) -> vec4<f32> {
+    return clamp(sanitize(c), vec4<f32>(0.0), vec4<f32>(HALF_MAX));
+}
+
+// A 1x1 image: level 0 alone.
+@compute @workgroup_size(8, 8)
+fn refraction_mips_copy(@builtin(global_invocation_id) id: vec3<u32>) {
+    if (any(id.xy >= textureDimensions(mips_out))) {
+        return;
+    }
+    textureStore(mips_out, id.xy, mip_texel(textureLoad(mips_image, id.xy, 0)));
+}
+
+// Levels 0 and 1: a thread per level-1 texel copies the image's texels under
+// it into level 0 (the footprints tile it, so each is written once) and
+// stores their average.
+@compute @workgroup_size(8, 8)
+fn refraction_mips_first(@builtin(global_invocation_id) id: vec3<u32>) {
+    let out_size = textureDimensions(mips_out_next);
+    if (any(id.xy >= out_size)) {
+        return;
+    }
+    let src = textureDimensions(mips_image);
+    let fx = mip_footprint(id.x, out_size.x, src.x);
+    let fy = mip_footprint(id.y, out_size.y, src.y);
+    var sum = vec4<f32>(0.0);
+    for (var y = fy.x; y <= fy.y; y++) {
+        for (var x = fx.x; x <= fx.y; x++) {
+            let c = mip_texel(textureLoad(mips_image, vec2<u32>(x, y), 0));
+            textureStore(mips_out, vec2<u32>(x, y), c);
+            sum += c;
+        }
+    }
+    let count = f32((fx.y - fx.x + 1u) * (fy.y - fy.x + 1u));
+    textureStore(mips_out_next, id.xy, sum / count);
+}
+
+// One level from the one above it.
+@compute @workgroup_size(8, 8)
+fn refraction_mips_down(@builtin(global_invocation_id) id: vec3<u32>) {
+    let out_size = textureDimensions(mips_out);
+    if (any(id.xy >= out_size)) {
+        return;
+    }
+    let src = textureDimensions(mips_source);
+    let fx = mip_footprint(id.x, out_size.x, src.x);
+    let fy = mip_footprint(id.y, out_size.y, src.y);
+    var sum = vec4<f32>(0.0);
+    for (var y = fy.x; y <= fy.y; y++) {
+        for (var x = fx.x; x <= fx.y; x++) {
+            sum += textureLoad(mips_source, vec2<u32>(x, y), 0);
+        }
+    }
+    let count = f32((fx.y - fx.x + 1u) * (fy.y - fy.x + 1u));
+    textureStore(mips_out, id.xy, sum / count);
 }

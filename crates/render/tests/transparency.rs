@@ -10,7 +10,9 @@
 //! Snell's law says (the CPU reference, `spreadlight_reference::
 //! refraction`), ior 1 shows it unshifted, the volume absorbs by
 //! exp(-σ path); ior 0 or NaN, an infinite thickness, grazing angles and
-//! rays leaving the screen stay finite and clamp.
+//! rays leaving the screen stay finite and clamp. Rough glass blurs through
+//! the opaque image's mip chain (built only when a layer refracts) as the
+//! taps do; rays leaving the screen see the Environment where there is one.
 
 mod post_common;
 
@@ -29,8 +31,8 @@ use spreadlight_render::lighting::{LightBuffer, LightLoop, PointLight, SunLight}
 use spreadlight_render::mesh::MeshData;
 use spreadlight_render::mesh::primitives::{SphereParams, plane, sphere};
 use spreadlight_render::post::transparency::{
-    ASSIGNED, DRAWN, LIGHT_PASSES, MatCapKey, REFRACTING, SKIPPED, TransmissionSettings,
-    TransparencyPass,
+    ASSIGNED, DRAWN, LIGHT_PASSES, MIP_CHAINS, MatCapKey, REFRACTING, RefractionBlur,
+    RefractionKey, SKIPPED, TransmissionSettings, TransparencyPass,
 };
 use spreadlight_render::post::{LitBy, Transparency, TransparencySettings, TransparentLights};
 use spreadlight_render::readback::ImageF32;
@@ -670,10 +672,11 @@ fn no_light_buffer_no_light_pass_and_the_old_look() {
             environment: false,
             matcap: MatCapKey::Off,
             marks: false,
-            transmission: false,
+            transmission: RefractionKey::Off,
         }));
-    // Nothing transmits: no refraction code, the opaque image unbound.
+    // Nothing transmits: no refraction code, the opaque image unbound, no mip chain.
     assert_eq!(report.counter(REFRACTING), 0);
+    assert_eq!(report.counter(MIP_CHAINS), 0);
     let c = Vec3::from_slice(&at(&out, 24, 24)[..3]);
     assert!((c - ALBEDO).abs().max_element() < 5e-3, "{c}");
     // An empty light buffer is no light pass either.
@@ -1058,6 +1061,26 @@ fn refract_through(
     Arc<Transparency>,
     Vec3,
 ) {
+    let by = LitBy {
+        materials,
+        ..Default::default()
+    };
+    refract_by(renderer, tilt, settings, by, lit)
+}
+
+/// [`refract_through`] lit (and refracting) by what `by` brings.
+fn refract_by(
+    renderer: &Renderer,
+    tilt: f32,
+    settings: TransparencySettings,
+    by: LitBy,
+    lit: fn(u32, u32) -> [f32; 4],
+) -> (
+    spreadlight_render::report::FrameReport,
+    ImageF32,
+    Arc<Transparency>,
+    Vec3,
+) {
     let (layer, normal) = glass_pane(renderer, tilt);
     let lit = image(renderer, SIZE, lit);
     let pass = Transparency::lit(
@@ -1067,10 +1090,7 @@ fn refract_through(
         wall(renderer),
         vec![layer],
         settings,
-        LitBy {
-            materials,
-            ..Default::default()
-        },
+        by,
     );
     let (report, out) = render(renderer, pass.as_ref(), &pass.output, SIZE);
     (report, out, pass, normal)
@@ -1298,5 +1318,227 @@ fn refraction_hard_cases_stay_finite_and_clamp_to_the_screen() {
         let (_, out, _, _) = refract_through(&renderer, tilt, glass_settings(t), None, uv_ramp);
         let (lo, hi) = range(&out);
         assert!(lo >= 0.0 && hi <= 1.0 + 1e-3, "tilt {tilt}: {lo}..{hi}");
+    }
+}
+
+/// Columns a pixel wide, alternately black and white (red): any blur over
+/// two pixels or more is 0.5.
+fn stripes(x: u32, _: u32) -> [f32; 4] {
+    [(x % 2) as f32, 0.0, 0.0, 1.0]
+}
+
+/// The red channel's spread (max - min) over the refracted pixels.
+fn spread(out: &ImageF32) -> f32 {
+    let reds: Vec<f32> = REFRACTED_PIXELS
+        .iter()
+        .map(|&(x, y)| at(out, x, y)[0])
+        .collect();
+    let (lo, hi) = reds
+        .iter()
+        .fold((f32::MAX, f32::MIN), |(lo, hi), &r| (lo.min(r), hi.max(r)));
+    hi - lo
+}
+
+#[test]
+fn rough_glass_blurs_by_one_read_of_a_mip_chain_built_only_when_it_refracts() {
+    let renderer = test_renderer();
+    let texel = 1.0 / SIZE.0 as f32;
+    let (ior, thickness) = (1.5, 2.0);
+    let rough = |blur, taps, roughness| TransparencySettings {
+        roughness,
+        ..glass_settings(TransmissionSettings {
+            factor: 1.0,
+            ior,
+            thickness,
+            taps,
+            blur,
+            ..Default::default()
+        })
+    };
+    // Auto is the chain: built once (one refracting layer), read with
+    // REFRACTION_MIPS. Roughness 1 is a disc 4.8 pixels wide, levels 2 to 3;
+    // a blur of a ramp is the ramp, so the chain's levels line up with the
+    // image when the uv still lands where Snell's law says.
+    let (report, out, pass, n) = refract_through(
+        &renderer,
+        0.6,
+        rough(RefractionBlur::Auto, 8, 1.0),
+        None,
+        uv_ramp,
+    );
+    assert_eq!(report.counter(MIP_CHAINS), 1);
+    assert!(pass.keys().iter().any(|k| {
+        let features = &k.key().features;
+        features.contains("TRANSMISSION") && features.contains("REFRACTION_MIPS")
+    }));
+    for (x, y) in REFRACTED_PIXELS {
+        let (want, _) = snell_uv(x, y, n, ior, thickness).expect("on the pane");
+        let got = glam::Vec2::from_slice(&at(&out, x, y)[..2]);
+        assert!(
+            (got - want).abs().max_element() < 0.5 * texel,
+            "({x}, {y}): the chain gave {got}, Snell says {want}"
+        );
+    }
+    // Stripes a pixel wide: smooth glass reads level 0 (the stripes, so the
+    // pixels differ), rough glass a level where they are grey.
+    let (_, sharp, _, _) = refract_through(
+        &renderer,
+        0.6,
+        rough(RefractionBlur::Mips, 8, 0.0),
+        None,
+        stripes,
+    );
+    let (_, blurred, _, _) = refract_through(
+        &renderer,
+        0.6,
+        rough(RefractionBlur::Mips, 8, 1.0),
+        None,
+        stripes,
+    );
+    assert!(spread(&sharp) > 0.3, "smooth glass shows the stripes");
+    for (x, y) in REFRACTED_PIXELS {
+        let r = at(&blurred, x, y)[0];
+        assert!(
+            (r - 0.5).abs() < 0.02,
+            "({x}, {y}): {r}, not the stripes' grey"
+        );
+    }
+    // Taps: no chain, the image read by hand over the disc, the same grey.
+    let (report, taps, pass, _) = refract_through(
+        &renderer,
+        0.6,
+        rough(RefractionBlur::Taps, 32, 1.0),
+        None,
+        stripes,
+    );
+    assert_eq!(report.counter(MIP_CHAINS), 0);
+    assert!(
+        pass.keys()
+            .iter()
+            .all(|k| !k.key().features.contains("REFRACTION_MIPS"))
+    );
+    for (x, y) in REFRACTED_PIXELS {
+        let r = at(&taps, x, y)[0];
+        assert!((r - 0.5).abs() < 0.1, "({x}, {y}): {r} through 32 taps");
+    }
+    // Hard cases through the chain stay finite and in range.
+    for t in [
+        TransmissionSettings {
+            factor: 1.0,
+            ior: f32::NAN,
+            thickness: f32::INFINITY,
+            blur: RefractionBlur::Mips,
+            ..Default::default()
+        },
+        TransmissionSettings {
+            factor: 1.0,
+            thickness: 1e3,
+            blur: RefractionBlur::Mips,
+            ..Default::default()
+        },
+    ] {
+        let settings = TransparencySettings {
+            roughness: 1.0,
+            ..glass_settings(t)
+        };
+        let (_, out, _, _) = refract_through(&renderer, 1.2, settings, None, uv_ramp);
+        let (lo, hi) = range(&out);
+        assert!(lo >= 0.0 && hi <= 1.0 + 1e-3, "{t:?}: {lo}..{hi}");
+    }
+}
+
+#[test]
+fn a_ray_leaving_the_screen_sees_the_environment_faded_in_at_the_border() {
+    use spreadlight_render::material::{Feature, Material, MaterialWorld};
+    let renderer = test_renderer();
+    let texel = 1.0 / SIZE.0 as f32;
+    let sky = [0.2, 0.4, 0.8];
+    let environment = Environment::new(
+        &renderer,
+        None,
+        EnvironmentSource::Equirect(Arc::new(EquirectImage {
+            width: 16,
+            height: 8,
+            pixels: vec![[sky[0], sky[1], sky[2], 1.0]; 16 * 8],
+        })),
+        EnvironmentQuality {
+            cube_size: 16,
+            samples: 64,
+        },
+    );
+    // The glass's own look off: metal (no irradiance diffuse) whose material
+    // has no Reflection feature (no reflection), so what shows is what it
+    // refracts. The material's Transmission: all of it, ior 1.5, a slab
+    // `thickness` deep.
+    let glass = |thickness: f32| {
+        let material = Material::new()
+            .with(
+                Feature::Transmission,
+                &[[1.0, 1.5, thickness, 0.0], [0.0; 4]],
+            )
+            .expect("valid");
+        LitBy {
+            materials: Some(MaterialWorld::new(&renderer, vec![material])),
+            environment: Some(environment.clone()),
+            ..Default::default()
+        }
+    };
+    let settings = |blur| TransparencySettings {
+        metallic: 1.0,
+        ..glass_settings(TransmissionSettings {
+            blur,
+            ..Default::default()
+        })
+    };
+    for blur in [RefractionBlur::Mips, RefractionBlur::Taps] {
+        // A slab a thousand deep, steeply tilted: its rays leave the screen
+        // (by the CPU reference), and there it shows the sky, not the edge.
+        let (_, out, _, n) = refract_by(&renderer, 1.2, settings(blur), glass(1e3), uv_ramp);
+        let mut off = 0;
+        for (x, y) in REFRACTED_PIXELS {
+            if snell_uv(x, y, n, 1.5, 0.0).is_none() {
+                continue;
+            }
+            let d = pixel_ray(x, y);
+            let entry = spreadlight_reference::refraction::hit_plane(
+                EYE,
+                d,
+                Vec3::new(0.0, 0.0, PANE_Z),
+                n,
+            )
+            .expect("on the pane");
+            let (exit, _) = spreadlight_reference::refraction::slab_exit(entry, d, n, 1.5, 1e3);
+            let want = screen_uv(exit);
+            // Past the shader's fade band (5% of the screen beyond the border).
+            let outside = (-want).max(want - glam::Vec2::ONE).max_element();
+            assert!(
+                outside > 0.05,
+                "({x}, {y}) lands {want}, well off the screen"
+            );
+            let got = at(&out, x, y);
+            for c in 0..3 {
+                assert!(
+                    got[c].is_finite() && (got[c] - sky[c]).abs() < 0.02 * sky[c].max(0.1),
+                    "{blur:?} ({x}, {y}): {got:?}, not the sky {sky:?}"
+                );
+            }
+            off += 1;
+        }
+        assert!(off >= 2, "{off} pixels leave the screen");
+        // A thin slab lands well inside the screen: the image, untouched by the sky.
+        let (_, out, _, n) = refract_by(&renderer, 0.6, settings(blur), glass(2.0), uv_ramp);
+        for (x, y) in REFRACTED_PIXELS {
+            let (want, _) = snell_uv(x, y, n, 1.5, 2.0).expect("on the pane");
+            assert!(want.min_element() > 0.1 && want.max_element() < 0.9);
+            let got = at(&out, x, y);
+            assert!(
+                (glam::Vec2::from_slice(&got[..2]) - want)
+                    .abs()
+                    .max_element()
+                    < 0.3 * texel
+                    && got[2].abs() < 1e-3,
+                "{blur:?} ({x}, {y}): {got:?}, Snell says {want}"
+            );
+        }
     }
 }

@@ -11,13 +11,19 @@
 //! - blur taps (rough glass, `--roughness`): the reference is the same disc
 //!   the shader blurs over, averaged over 1024 taps, so the error is the
 //!   taps' undersampling of the kernel plus the steps' geometry (the
-//!   kernel's shape is the model's, not a BTDF's).
+//!   kernel's shape is the model's, not a BTDF's);
+//! - or the blur as one trilinear read of the opaque image's mip chain
+//!   (`--blurs mips`; the steps rows run with each blur in `--blurs`): its
+//!   error is the box-and-tent filter's difference from the disc, its cost
+//!   one read plus the chain's build (a pass of its own, `mips_ms`).
 //!
-//! A first row, `off`, draws the glass without transmission (blended: the
+//! The first rows, `off`, draw the glass without transmission (blended: the
 //! wall seen straight through), for the bare cost and the error refraction
-//! removes. Error: RMSE of the linear colour over the pixels that see the
-//! glass, and SSIM. GPU time: the Transparency accumulation pass at
-//! `--time-size`.
+//! removes: at alpha 0 every fragment is discarded (nothing covers), so a
+//! second row draws it at alpha 0.01, the blend's writes included, the
+//! fair baseline of what refraction adds. Error: RMSE of the linear colour
+//! over the pixels that see the glass, and SSIM. GPU time: the
+//! Transparency accumulation pass at `--time-size`, and the mip chain's.
 
 use std::process::ExitCode;
 use std::sync::Arc;
@@ -28,7 +34,9 @@ use spreadlight_reference::refraction::{hit_plane, through_slab};
 use spreadlight_render::camera::CameraInput;
 use spreadlight_render::gbuffer::{DrawBatch, GBuffer, InstanceInput, Layer};
 use spreadlight_render::mesh::primitives::plane;
-use spreadlight_render::post::{TransmissionSettings, Transparency, TransparencySettings};
+use spreadlight_render::post::{
+    RefractionBlur, TransmissionSettings, Transparency, TransparencySettings,
+};
 use spreadlight_render::readback::{ImageF32, render_and_read};
 use spreadlight_render::static_texture::StaticTexture;
 use spreadlight_render::{Renderer, SizeRule};
@@ -59,6 +67,19 @@ pub struct TransmissionArgs {
     /// The rough glass's roughness.
     #[arg(long, default_value_t = 0.3)]
     roughness: f32,
+    /// Which blurs to measure, comma-separated: taps (the taps rows, and
+    /// the steps rows read by hand), mips (one row of rough glass, and the
+    /// steps rows through the chain).
+    #[arg(long, default_value = "taps,mips", value_delimiter = ',', value_parser = parse_blur)]
+    blurs: Vec<RefractionBlur>,
+}
+
+fn parse_blur(s: &str) -> Result<RefractionBlur, String> {
+    match s.to_ascii_lowercase().as_str() {
+        "taps" => Ok(RefractionBlur::Taps),
+        "mips" => Ok(RefractionBlur::Mips),
+        _ => Err(format!("`{s}` is not a refraction blur: taps or mips")),
+    }
 }
 
 const EYE: Vec3 = Vec3::new(0.0, 0.0, 6.0);
@@ -171,13 +192,21 @@ fn quad(renderer: &Renderer, transform: Mat4, color: [f32; 4]) -> anyhow::Result
     }])))
 }
 
-/// One frame at `size`: the composite and the accumulation pass's GPU ms.
+/// A frame's GPU ms: the accumulation pass and the mip chain's build.
+#[derive(Clone, Copy, Default)]
+struct Times {
+    accumulate: Option<f64>,
+    mips: Option<f64>,
+}
+
+/// One frame at `size` with the pane's alpha: the composite and its times.
 fn frame(
     renderer: &Renderer,
     size: (u32, u32),
     transmission: TransmissionSettings,
     roughness: f32,
-) -> anyhow::Result<(ImageF32, Option<f64>)> {
+    alpha: f32,
+) -> anyhow::Result<(ImageF32, Times)> {
     let c = camera(size);
     let inverse = (c.projection * c.view).inverse();
     let pixels: Vec<[f32; 4]> = (0..size.0 * size.1)
@@ -196,7 +225,7 @@ fn frame(
         Mat4::from_translation(PANE)
             * Mat4::from_rotation_y(TILT)
             * Mat4::from_scale(Vec3::splat(PANE_SIZE)),
-        [1.0, 1.0, 1.0, 0.0],
+        [1.0, 1.0, 1.0, alpha],
     )?;
     let settings = TransparencySettings {
         ambient: Vec3::ONE,
@@ -211,7 +240,11 @@ fn frame(
         anyhow::bail!("the frame failed: {e}");
     }
     let image = images.into_iter().next().context("the composite")?;
-    Ok((image, pass_ms(&report, "Transparency", Some("accumulate"))))
+    let times = Times {
+        accumulate: pass_ms(&report, "Transparency", Some("accumulate")),
+        mips: pass_ms(&report, "Transparency", Some("refraction mips")),
+    };
+    Ok((image, times))
 }
 
 /// RMSE and SSIM over the pixels that see the glass.
@@ -236,7 +269,16 @@ struct Row {
     family: &'static str,
     setting: String,
     ms: Option<f64>,
+    /// The mip chain's build (rows that blur by it).
+    mips_ms: Option<f64>,
     e: metrics::Error,
+}
+
+impl Row {
+    /// What the row costs: the accumulation and the chain's build.
+    fn total(&self) -> Option<f64> {
+        self.ms.map(|a| a + self.mips_ms.unwrap_or(0.0))
+    }
 }
 
 pub fn run(args: &TransmissionArgs) -> anyhow::Result<ExitCode> {
@@ -247,54 +289,100 @@ pub fn run(args: &TransmissionArgs) -> anyhow::Result<ExitCode> {
     let radius = 0.1 * args.roughness.clamp(0.0, 1.0) * (2.0 * args.ior - 2.0).clamp(0.0, 1.0);
     let sharp = reference(size, &uvs, 0.0);
     let blurred = reference(size, &uvs, radius);
-    let settings = |steps: u32, taps: u32| TransmissionSettings {
+    let settings = |steps: u32, taps: u32, blur: RefractionBlur| TransmissionSettings {
         factor: 1.0,
         ior: args.ior,
         thickness: args.thickness,
         taps,
         steps,
+        blur,
         ..Default::default()
     };
+    let (taps, mips) = (
+        args.blurs.contains(&RefractionBlur::Taps),
+        args.blurs.contains(&RefractionBlur::Mips),
+    );
     let mut rows = Vec::new();
-    // First the baseline: no transmission, the glass blended (here fully
-    // clear: the wall straight through) at the accumulation's bare cost.
+    // First the baselines: no transmission, the glass blended (here fully
+    // clear: the wall straight through) at alpha 0, every fragment
+    // discarded, and at alpha 0.01, drawn and blended as glass is.
     let off = TransmissionSettings {
         factor: 0.0,
-        ..settings(0, 1)
+        ..settings(0, 1, RefractionBlur::Taps)
     };
-    let families = std::iter::once(("off", "blended".to_owned(), off, 0.0, &sharp))
-        .chain(args.steps.iter().map(|&s| {
-            (
-                "steps (smooth)",
+    // Per row: its family, setting, transmission, roughness, the pane's
+    // alpha and the reference it is measured against.
+    let mut families = vec![
+        (
+            "off",
+            "blended, discarded (alpha 0)".to_owned(),
+            off,
+            0.0,
+            0.0,
+            &sharp,
+        ),
+        (
+            "off",
+            "blended, drawn (alpha 0.01)".to_owned(),
+            off,
+            0.0,
+            0.01,
+            &sharp,
+        ),
+    ];
+    for (on, family, blur) in [
+        (taps, "steps (smooth, by hand)", RefractionBlur::Taps),
+        (mips, "steps (smooth, mips)", RefractionBlur::Mips),
+    ] {
+        for &s in args.steps.iter().filter(|_| on) {
+            families.push((
+                family,
                 format!("{s} steps"),
-                settings(s, 1),
+                settings(s, 1, blur),
+                0.0,
                 0.0,
                 &sharp,
-            )
-        }))
-        .chain(args.taps.iter().map(|&t| {
-            (
-                "taps (rough)",
-                format!("{t} taps"),
-                settings(2, t),
-                args.roughness,
-                &blurred,
-            )
-        }));
-    for (family, setting, t, roughness, truth) in families {
-        let (image, _) = frame(&renderer, size, t, roughness)?;
+            ));
+        }
+    }
+    for &t in args.taps.iter().filter(|_| taps) {
+        let rough = settings(2, t, RefractionBlur::Taps);
+        families.push((
+            "taps (rough)",
+            format!("{t} taps"),
+            rough,
+            args.roughness,
+            0.0,
+            &blurred,
+        ));
+    }
+    if mips {
+        let rough = settings(2, 1, RefractionBlur::Mips);
+        families.push((
+            "mips (rough)",
+            "1 trilinear read".to_owned(),
+            rough,
+            args.roughness,
+            0.0,
+            &blurred,
+        ));
+    }
+    for (family, setting, t, roughness, alpha, truth) in families {
+        let (image, _) = frame(&renderer, size, t, roughness, alpha)?;
         let e = error(&image, truth, size);
-        let mut times = Vec::new();
+        let (mut accumulate, mut chain) = (Vec::new(), Vec::new());
         for i in 0..args.common.warmup + args.common.frames.max(1) {
-            let (_, ms) = frame(&renderer, args.common.time_size, t, roughness)?;
+            let (_, times) = frame(&renderer, args.common.time_size, t, roughness, alpha)?;
             if i >= args.common.warmup {
-                times.extend(ms);
+                accumulate.extend(times.accumulate);
+                chain.extend(times.mips);
             }
         }
         rows.push(Row {
             family,
             setting,
-            ms: median(times),
+            ms: median(accumulate),
+            mips_ms: median(chain),
             e,
         });
     }
@@ -307,26 +395,29 @@ pub fn run(args: &TransmissionArgs) -> anyhow::Result<ExitCode> {
                 serde_json::json!({
                     "effect": "transmission", "method": r.family, "setting": r.setting, "adapter": adapter,
                     "error_size": format!("{ew}x{eh}"), "time_size": format!("{tw}x{th}"),
-                    "accumulate_ms": r.ms, "rmse": r.e.rmse, "ssim": r.e.ssim,
+                    "accumulate_ms": r.ms, "mips_ms": r.mips_ms, "total_ms": r.total(),
+                    "rmse": r.e.rmse, "ssim": r.e.ssim,
                 })
             );
         }
         return Ok(ExitCode::SUCCESS);
     }
     let mut table = format!(
-        "Transmission on {adapter}: GPU ms of the Transparency accumulation pass at {tw}x{th} (median of {} frames \
-         after {}), error at {ew}x{eh} over the pixels that see the glass (a slab {} deep, ior {}, turned {TILT} rad, \
-         over a checkered wall; RMSE of the linear colour, SSIM) against a CPU ray trace (steps: smooth glass; taps: \
-         roughness {}, 2 steps, against the shader's blur disc averaged over 1024 taps).\n\n| method | setting | \
-         accumulate ms | RMSE | SSIM |\n|---|---|---|---|---|\n",
+        "Transmission on {adapter}: GPU ms of the Transparency accumulation pass and of the refraction mip \
+         chain at {tw}x{th} (median of {} frames after {}), error at {ew}x{eh} over the pixels that see the glass \
+         (a slab {} deep, ior {}, turned {TILT} rad, over a checkered wall; RMSE of the linear colour, SSIM) \
+         against a CPU ray trace (steps: smooth glass; taps and mips: roughness {}, 2 steps, against the \
+         shader's blur disc averaged over 1024 taps).\n\n| method | setting | accumulate ms | mips ms | \
+         RMSE | SSIM |\n|---|---|---|---|---|---|\n",
         args.common.frames, args.common.warmup, args.thickness, args.ior, args.roughness,
     );
     for r in &rows {
         table.push_str(&format!(
-            "| {} | {} | {} | {:.4} | {:.4} |\n",
+            "| {} | {} | {} | {} | {:.4} | {:.4} |\n",
             r.family,
             r.setting,
             ms(r.ms),
+            ms(r.mips_ms),
             r.e.rmse,
             r.e.ssim
         ));
@@ -339,7 +430,7 @@ pub fn run(args: &TransmissionArgs) -> anyhow::Result<ExitCode> {
             Series::group(rows.iter().map(|r| {
                 (
                     r.family.to_owned(),
-                    (r.ms.unwrap_or(0.0), r.e.rmse, r.setting.clone()),
+                    (r.total().unwrap_or(0.0), r.e.rmse, r.setting.clone()),
                 )
             }))
         },

@@ -9,13 +9,26 @@ use spreadlight_render::gbuffer::Layer;
 use spreadlight_render::lighting::{LightBuffer, LightLoop};
 use spreadlight_render::material::MaterialWorld;
 use spreadlight_render::post::{
-    LitBy, TransmissionSettings, Transparency, TransparencySettings, TransparentLights,
+    LitBy, RefractionBlur, TransmissionSettings, Transparency, TransparencySettings,
+    TransparentLights,
 };
 use spreadlight_render::shadows::ShadowMaps;
 
 use super::{gbuffer, gbuffer_input, set_texture, texture, texture_input, texture_output};
 use crate::gpu::renderer;
 use crate::lighting::cook_torrance::LIGHT_LOOPS;
+
+/// The Refraction Blur pin's options as values.
+static REFRACTION_BLURS: spreadlight_graph::Choices<RefractionBlur> =
+    spreadlight_graph::Choices::new(
+        "Refraction Blur",
+        &["Auto", "Mips", "Taps"],
+        &[
+            RefractionBlur::Auto,
+            RefractionBlur::Mips,
+            RefractionBlur::Taps,
+        ],
+    );
 
 pub fn register(r: &mut Registry) {
     r.add(
@@ -37,10 +50,12 @@ pub fn register(r: &mut Registry) {
              (0..1): that share of what shows through a layer is refracted instead of blended (glass; glTF \
              materials with KHR_materials_transmission bring their own, as does a material world's Transmission \
              feature): the opaque image sampled where the ray bent by IOR through a slab Thickness deep (world \
-             units; 0: thin-walled) meets the opaque depth (Refraction Steps, 0..8), blurred by roughness over \
-             Refraction Taps (1..32), tinted by the colour and absorbed to Attenuation Color after Attenuation \
-             Distance (0: no absorption). Only the opaque scene is seen refracted; at Transmission 0 no refraction \
-             code runs. Without transparent instances it costs one copy.",
+             units; 0: thin-walled) meets the opaque depth (Refraction Steps, 0..8), blurred by roughness (Refraction Blur: Mips, one \
+             read of a mip chain of the opaque image, built only while something refracts; Taps, Refraction Taps \
+             (1..32) reads, the reference; Auto is Mips), tinted by the colour and absorbed to Attenuation Color \
+             after Attenuation Distance (0: no absorption). Only the opaque scene is seen refracted; a ray leaving \
+             the screen sees the Environment (faded in just past the border; without one, the screen's edge). At \
+             Transmission 0 no refraction code runs. Without transparent instances it costs one copy.",
         )
         .with_pins(|p| {
             let texture_in = texture_input(p, "Texture");
@@ -64,6 +79,7 @@ pub fn register(r: &mut Registry) {
             let attenuation_distance = p.input("Attenuation Distance", 0.0f32);
             let taps = p.input("Refraction Taps", 8i64);
             let steps = p.input("Refraction Steps", 2i64);
+            let blur = p.input_choice("Refraction Blur", &REFRACTION_BLURS, RefractionBlur::Auto);
             let out = texture_output(p, "Texture");
             move |cx| {
                 let renderer = renderer(cx)?;
@@ -126,6 +142,7 @@ pub fn register(r: &mut Registry) {
                             attenuation_distance: if distance > 0.0 { distance } else { f32::INFINITY },
                             taps: cx.first(taps, 8i64)?.clamp(1, 32) as u32,
                             steps: cx.first(steps, 2i64)?.clamp(0, 8) as u32,
+                            blur: cx.choice(blur)?,
                         }
                     },
                 };

@@ -28,8 +28,8 @@ pub use motion_blur::{MotionBlur, MotionBlurSettings};
 pub use taa::{Taa, TaaQuality, TaaSettings, is_cut};
 pub use tonemap::{AdaptedExposure, Tonemap};
 pub use transparency::{
-    LitBy, TransmissionSettings, Transparency, TransparencyKey, TransparencySettings,
-    TransparentLights,
+    LitBy, RefractionBlur, TransmissionSettings, Transparency, TransparencyKey,
+    TransparencySettings, TransparentLights,
 };
 
 use crate::error::RenderError;

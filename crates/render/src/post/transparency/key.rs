@@ -66,10 +66,38 @@ pub enum TransparencyPass {
         environment: bool,
         matcap: MatCapKey,
         marks: bool,
-        transmission: bool,
+        transmission: RefractionKey,
     },
     /// One light buffer's Cook-Torrance light, added to the colour.
     Light(LightKey),
+}
+
+/// A base pass's refraction: compiled only for a layer that transmits, its
+/// blur the settings' (`RefractionBlur`, resolved).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum RefractionKey {
+    /// The straight blend: no refraction code, the opaque image unbound.
+    Off,
+    /// The opaque image read by hand over the settings' taps (TRANSMISSION).
+    Taps,
+    /// One trilinear read of the opaque image's mip chain (TRANSMISSION,
+    /// REFRACTION_MIPS): the chain is bound instead of the image.
+    Mips,
+}
+
+impl RefractionKey {
+    pub fn on(self) -> bool {
+        self != RefractionKey::Off
+    }
+
+    fn features(self) -> impl Iterator<Item = &'static str> {
+        self.on()
+            .then_some("TRANSMISSION")
+            .into_iter()
+            .chain((self == RefractionKey::Mips).then_some("REFRACTION_MIPS"))
+    }
+
+    const ALL: [RefractionKey; 3] = [RefractionKey::Off, RefractionKey::Taps, RefractionKey::Mips];
 }
 
 /// A base pass's matcap: compiled only for a layer whose material world has
@@ -274,6 +302,7 @@ impl Permutation for TransparencyKey {
         "SHADOW_PCSS",
         "SHADOW_VSM",
         "TRANSMISSION",
+        "REFRACTION_MIPS",
     ];
 
     fn features(self) -> impl Iterator<Item = &'static str> {
@@ -289,7 +318,7 @@ impl Permutation for TransparencyKey {
                 .chain(matcap.features())
                 .chain(marks.then_some("FROXELS"))
                 .chain(marks.then_some("FROXEL_MARKS"))
-                .chain(transmission.then_some("TRANSMISSION"))
+                .chain(transmission.features())
                 .collect(),
             TransparencyPass::Light(light) => light.features().collect(),
         };
@@ -297,8 +326,8 @@ impl Permutation for TransparencyKey {
     }
 
     /// Every surface with the base passes (a matcap only with a material
-    /// world; marking froxels or not), each with and without transmission,
-    /// and with every light pass. The validation test composes each.
+    /// world; marking froxels or not), each without transmission and with
+    /// either blur, and with every light pass. The validation test composes each.
     fn all() -> Vec<Self> {
         let lights: Vec<TransparencyPass> = LightKey::all()
             .into_iter()
@@ -315,7 +344,7 @@ impl Permutation for TransparencyKey {
                 let bases = [false, true].into_iter().flat_map(move |environment| {
                     matcaps.iter().flat_map(move |&matcap| {
                         [false, true].into_iter().flat_map(move |marks| {
-                            [false, true].map(|transmission| TransparencyPass::Base {
+                            RefractionKey::ALL.map(|transmission| TransparencyPass::Base {
                                 environment,
                                 matcap,
                                 marks,
@@ -345,7 +374,7 @@ impl TransparencyKey {
             environment: false,
             matcap: MatCapKey::Off,
             marks: false,
-            transmission: false,
+            transmission: RefractionKey::Off,
         },
     };
 }
@@ -385,7 +414,7 @@ mod tests {
                 environment: false,
                 matcap: MatCapKey::Off,
                 marks: true,
-                transmission: false,
+                transmission: RefractionKey::Off,
             },
             ..base
         };
@@ -399,13 +428,27 @@ mod tests {
                 environment: false,
                 matcap: MatCapKey::Off,
                 marks: false,
-                transmission: true,
+                transmission: RefractionKey::Taps,
             },
             ..base
         };
         assert_eq!(glass.features().collect::<Vec<_>>(), ["TRANSMISSION"]);
+        // The mip chain's read is the same pass with the chain bound.
+        let mips = TransparencyKey {
+            pass: TransparencyPass::Base {
+                environment: false,
+                matcap: MatCapKey::Off,
+                marks: false,
+                transmission: RefractionKey::Mips,
+            },
+            ..base
+        };
+        assert_eq!(
+            mips.features().collect::<Vec<_>>(),
+            ["TRANSMISSION", "REFRACTION_MIPS"]
+        );
         let all = TransparencyKey::all();
-        assert!(all.contains(&glass));
+        assert!(all.contains(&glass) && all.contains(&mips));
         let keys: std::collections::HashSet<_> = all.iter().map(|k| k.key()).collect();
         assert_eq!(
             keys.len(),

@@ -31,9 +31,12 @@
 //! material, or any layer when the settings' factor is on, is drawn with
 //! TRANSMISSION: what shows through is the opaque image refracted, not
 //! blended. Layers without it compile none of that code, and the opaque
-//! image is bound to the accumulation only when some layer refracts.
+//! image is bound to the accumulation only when some layer refracts. Rough
+//! glass blurs by taps or by one read of a mip chain of the opaque image
+//! (`refraction_mips.rs`), built in a pass of its own only then.
 
 pub(crate) mod key;
+pub mod refraction_mips;
 pub mod transmission;
 
 use std::sync::{Arc, Mutex};
@@ -41,10 +44,13 @@ use std::sync::{Arc, Mutex};
 use glam::Vec3;
 
 pub use key::{
-    LayerMaps, LayerUv, LightKey, MatCapKey, ShadowKey, SurfaceKey, TransparencyKey,
+    LayerMaps, LayerUv, LightKey, MatCapKey, RefractionKey, ShadowKey, SurfaceKey, TransparencyKey,
     TransparencyPass,
 };
-pub use transmission::TransmissionSettings;
+pub use refraction_mips::MIP_CHAINS;
+pub use transmission::{RefractionBlur, TransmissionSettings};
+
+use refraction_mips::RefractionMips;
 
 use crate::environment::Environment;
 use crate::error::RenderError;
@@ -213,6 +219,13 @@ pub struct Transparency {
     environment: Option<Arc<Environment>>,
     /// The settings' transmission is on: every layer refracts.
     transmission: bool,
+    /// How refracting layers blur (resolved: Taps or Mips).
+    blur: RefractionBlur,
+    /// The opaque image's mip chain (kept per node), built when some layer
+    /// refracts with [`RefractionBlur::Mips`].
+    mips: Arc<RefractionMips>,
+    /// Orders the chain's build before the accumulation (it lives outside the graph).
+    mips_token: String,
     accumulation: String,
     revealage: String,
     pub output: String,
@@ -364,6 +377,11 @@ impl Transparency {
             materials,
             environment,
             transmission: settings.transmission.on(),
+            blur: settings.transmission.blur.resolved(),
+            mips: owner
+                .map(|node| renderer.state::<RefractionMips>(u64::from(node)))
+                .unwrap_or_default(),
+            mips_token: format!("transparency{id}/refraction mips"),
             accumulation: format!("transparency{id} accumulation"),
             revealage: format!("transparency{id} revealage"),
             output: format!("transparency{id}"),
@@ -396,8 +414,8 @@ impl Transparency {
         keys
     }
 
-    /// A layer's base pass (with its `matcap` and `transmission`), then a
-    /// light pass per light buffer.
+    /// A layer's base pass (with its `matcap`, refracting when
+    /// `transmission`), then a light pass per light buffer.
     fn passes(
         &self,
         matcap: MatCapKey,
@@ -408,7 +426,11 @@ impl Transparency {
             environment,
             matcap,
             marks: self.clustered(),
-            transmission,
+            transmission: match (transmission, self.blur) {
+                (false, _) => RefractionKey::Off,
+                (true, RefractionBlur::Taps) => RefractionKey::Taps,
+                (true, _) => RefractionKey::Mips,
+            },
         };
         std::iter::once(base).chain(self.lights.iter().map(|set| {
             TransparencyPass::Light(LightKey {
@@ -507,6 +529,11 @@ impl Transparency {
                     .map(|c| (c.store.get(cx.gpu, clusters, set.lights.count()), &c.grid))
             })
             .collect();
+        // The mip chain its refracting layers read, built by the pass before.
+        let mips = match (io.lit, io.mips) {
+            (Some(lit), Some(_)) => Some(self.mips.get(cx.gpu, cx.size_of(lit)?)),
+            _ => None,
+        };
         // Per layer, culling variant and pass: its pipeline and bind groups
         // (0; 1 and 3 with a material world and maps; 2 with layer maps).
         let mut work: Vec<Work> = Vec::new();
@@ -574,9 +601,16 @@ impl Transparency {
                     if let (None, Some(marks), Some(grid)) = (set, &marks, marks_grid) {
                         b = b.buffer("grid", grid).buffer("froxel_marks", marks);
                     }
-                    if let (None, true, Some(lit)) = (set, transmits, io.lit) {
-                        // Sampled by hand and clamped: a ray leaving the screen samples its edge.
-                        b = b.texture("lit_opaque", lit);
+                    match (set, transmits, io.lit, &mips) {
+                        // The chain's levels, read trilinearly (RefractionKey::Mips).
+                        (None, true, _, Some((chain, sampler))) => {
+                            b = b
+                                .view("refraction_mips", cx.view_of(chain, ViewSpec::default()))
+                                .sampler_object("refraction_sampler", sampler.clone());
+                        }
+                        // Sampled by hand and clamped (RefractionKey::Taps).
+                        (None, true, Some(lit), None) => b = b.texture("lit_opaque", lit),
+                        _ => {}
                     }
                     if let (None, Some(environment)) = (set, &self.environment) {
                         let maps = environment.maps_for("transparency")?;
@@ -751,6 +785,12 @@ impl Transparency {
         Ok(b)
     }
 
+    /// The opaque image's mip chain, at the image's size.
+    fn build_mips(&self, cx: &mut PassContext<'_>, source: Tex) -> Result<(), RenderError> {
+        let (chain, _) = self.mips.get(cx.gpu, cx.size_of(source)?);
+        refraction_mips::build(cx, source, &chain)
+    }
+
     fn resolve(&self, cx: &mut PassContext<'_>, io: &ResolveIo) -> Result<(), RenderError> {
         let size = cx.size_of(io.output)?;
         cx.dispatch_shader(
@@ -815,6 +855,8 @@ struct AccumulateIo {
     grid: ClusterGrid,
     /// The opaque lit image, when some layer refracts it.
     lit: Option<Tex>,
+    /// The mip chain's token, when refracting layers blur by it.
+    mips: Option<Tex>,
 }
 
 /// What the resolve pass declared.
@@ -950,6 +992,20 @@ impl Recipe for Transparency {
                 );
             }
         }
+        // Rough refraction's mip chain, a pass before the accumulation, only
+        // when some layer refracts and blurs by it.
+        let refracts = self
+            .layers
+            .iter()
+            .zip(&self.layer_ranges)
+            .any(|(layer, range)| range.0 != range.1 && self.transmits(self.surface(layer).1));
+        let mips_built = refracts && self.blur == RefractionBlur::Mips;
+        if mips_built {
+            let mut pass = fg.pass(name("refraction mips"), self.owner);
+            let source = pass.read(&self.source.name);
+            pass.write(&self.mips_token, TextureDesc::token());
+            pass.run(move |cx| self.build_mips(cx, source));
+        }
         // Drawn into, and cleared by a compute pass first.
         let target = |format| {
             let mut desc = TextureDesc::attachment(format).size(self.gbuffer.size);
@@ -1004,13 +1060,9 @@ impl Recipe for Transparency {
             .iter()
             .map(|set| set.lights.textures().map(|t| pass.read(&t.name)))
             .collect();
-        let refracts = self
-            .layers
-            .iter()
-            .zip(&self.layer_ranges)
-            .any(|(layer, range)| range.0 != range.1 && self.transmits(self.surface(layer).1));
         let io = AccumulateIo {
             lit: refracts.then(|| pass.read(&self.source.name)),
+            mips: mips_built.then(|| pass.read(&self.mips_token)),
             depth: pass.read(&self.gbuffer.targets.depth),
             accumulation: pass.write(&self.accumulation, target(ACCUMULATION)),
             revealage: pass.write(&self.revealage, target(REVEALAGE)),

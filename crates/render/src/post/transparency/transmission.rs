@@ -3,8 +3,12 @@
 //! the opaque lit image (before the composite) sampled where the refracted
 //! ray meets the opaque scene, found in screen space, as glTF viewers draw
 //! `KHR_materials_transmission` (Khronos' sample viewer, three.js,
-//! Filament); blurred by roughness over a few taps, tinted by the base
-//! colour and absorbed by Beer-Lambert over the path through the volume.
+//! Filament); blurred by roughness (over a few taps, or one trilinear read
+//! of a mip chain of the opaque image: [`RefractionBlur`],
+//! `refraction_mips.rs`), tinted by the base colour and absorbed by
+//! Beer-Lambert over the path through the volume. A ray that leaves the
+//! screen sees the layer's Environment where it has one, faded in over a
+//! band beyond the screen's border (no seam); without one, the edge.
 //! A layer's material world's Transmission feature says it per material;
 //! these settings (the node's pins) are the fallback for layers without.
 
@@ -16,6 +20,31 @@ use crate::material::transmission_params;
 pub const MAX_TAPS: u32 = 32;
 /// The most depth-search steps.
 pub const MAX_STEPS: u32 = 8;
+
+/// How rough glass blurs what it refracts.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum RefractionBlur {
+    /// [`RefractionBlur::Mips`]: the same kernel as the taps' for one read.
+    #[default]
+    Auto,
+    /// One trilinear read of a mip chain of the opaque image, at the level
+    /// whose filter is as wide as the roughness's disc (the chain is built
+    /// each frame a layer refracts: one compute pass).
+    Mips,
+    /// The settings' taps over the disc: the reference-quality choice, its
+    /// cost growing with the count.
+    Taps,
+}
+
+impl RefractionBlur {
+    /// What Auto stands for.
+    pub fn resolved(self) -> RefractionBlur {
+        match self {
+            RefractionBlur::Auto | RefractionBlur::Mips => RefractionBlur::Mips,
+            RefractionBlur::Taps => RefractionBlur::Taps,
+        }
+    }
+}
 
 /// How a transparent layer without a Transmission material transmits, and
 /// how every transmissive fragment samples what is behind it.
@@ -39,6 +68,8 @@ pub struct TransmissionSettings {
     /// opaque depth (0..=[`MAX_STEPS`]; 0 samples where the exit point
     /// projects, as Khronos' viewer does).
     pub steps: u32,
+    /// Taps or the mip chain, for every refracting layer.
+    pub blur: RefractionBlur,
 }
 
 impl Default for TransmissionSettings {
@@ -51,6 +82,7 @@ impl Default for TransmissionSettings {
             attenuation_distance: f32::INFINITY,
             taps: 8,
             steps: 2,
+            blur: RefractionBlur::Auto,
         }
     }
 }
