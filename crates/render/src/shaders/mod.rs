@@ -115,6 +115,7 @@ pub const SHADERS: &[ShaderFile] = &[
     shader!("ssao/ao.wgsl", keyed crate::ssao::key::AoKey),
     shader!("ssao/temporal.wgsl", keyed crate::ssao::key::TemporalKey),
     shader!("ssao/blur.wgsl", keyed crate::ssao::key::BlurKey),
+    shader!("ssao/blur_tiled.wgsl", keyed crate::ssao::key::TiledBlurKey),
     shader!("environment/sky.wgsl", keyed crate::environment::sky_key::SkyKey),
     shader!("environment/prefilter.wgsl", keyed crate::environment::prefilter_key::PrefilterKey),
     shader!("environment/environment_probe.wgsl", keyed crate::environment::probe::key::ProbeFacesKey),

@@ -13,7 +13,9 @@
 //!    `Renderer::reset_history` starts it anew.
 //! 4. A depth- and normal-aware separable blur (shaders/ssao/blur.wgsl),
 //!    whose last pass also multiplies in another AO (`combine`: wide-range
-//!    times local, as Emeshe pairs them).
+//!    times local, as Emeshe pairs them). Up to [`TILED_MAX_RADIUS`] its x
+//!    and y run as one dispatch over tiles in workgroup memory
+//!    (shaders/ssao/blur_tiled.wgsl, [`BlurPasses`]), with the same result.
 //!
 //! At [`Resolution::Half`] step 2 runs for one pixel in four and is
 //! upsampled with depth awareness (crate::resolution) before step 3; the
@@ -39,7 +41,7 @@ use crate::temporal::{RayParams, RayUniforms};
 
 // Seen by the shader table (`shaders::SHADERS`): the key needs nothing of the pass.
 pub(crate) mod key;
-pub use key::{AoKey, AoMode, AoTarget, BlurKey, DepthKey, TemporalKey};
+pub use key::{AoKey, AoMode, AoTarget, BlurKey, DepthKey, TemporalKey, TiledBlurKey};
 
 /// Every AO pin; out-of-range values are clamped where the recipe is made.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -61,7 +63,31 @@ pub struct AoSettings {
     pub reset: bool,
     /// Where the raw estimate runs: every pixel, or one in four upsampled.
     pub resolution: Resolution,
+    /// How the blur's two axes run (the same image either way).
+    pub blur_passes: BlurPasses,
 }
+
+/// How the blur's x and y run. Both give the same image (within float
+/// rounding of the same sums: crates/render/tests/depth_aware_blur.rs);
+/// the choice is kept so the two can be compared.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum BlurPasses {
+    /// One dispatch ("blur") for half-widths up to [`TILED_MAX_RADIUS`]: tile
+    /// and apron loaded once into workgroup memory, x then y there; wider
+    /// blurs run as `Separable`.
+    #[default]
+    Tiled,
+    /// Two full-screen passes, "blur x" into an R32F target and "blur y".
+    Separable,
+}
+
+/// The widest blur the tiled pass holds: a 16x16 tile with this apron on
+/// every side is (16 + 2 x 6)^2 texels of 20 bytes, within WebGPU's default
+/// 16 KiB of workgroup memory (shaders/ssao/blur_tiled.wgsl's MAX_RADIUS).
+pub const TILED_MAX_RADIUS: u32 = 6;
+
+/// Statistic: AO blurs that ran x and y in one tiled dispatch.
+pub const BLUR_TILED: &str = "AO blur x and y in one tiled pass";
 
 /// Counted when a history starts anew (a resize, a `Reset`, a camera cut).
 const HISTORY_RESET: &str = "AO history reset";
@@ -83,6 +109,7 @@ impl Default for AoSettings {
             blur_radius: 4,
             reset: false,
             resolution: Resolution::Full,
+            blur_passes: BlurPasses::Tiled,
         }
     }
 }
@@ -348,6 +375,9 @@ impl AmbientOcclusion {
         }
         let blur = self.settings.blur_radius > 0 && !self.off();
         let full = |format| TextureDesc::storage(format).size(self.gbuffer.size);
+        if blur && self.tiled_blur() {
+            return self.declare_tiled_blur(fg, source);
+        }
         if blur {
             let mut pass = self.pass(fg, "blur x");
             pass.input("source", &source);
@@ -371,4 +401,37 @@ impl AmbientOcclusion {
         };
         pass.dispatch_image("ao blur y", key.key(), self.gbuffer.size);
     }
+
+    /// Whether the blur runs as one tiled dispatch ([`BlurPasses::Tiled`]).
+    fn tiled_blur(&self) -> bool {
+        self.settings.blur_passes == BlurPasses::Tiled
+            && self.settings.blur_radius <= TILED_MAX_RADIUS
+    }
+
+    /// x and y of the blur in one pass over 16x16 tiles; it writes the
+    /// output (and multiplies `combine` in) as the separable y pass does.
+    fn declare_tiled_blur<'a>(&'a self, fg: &mut FrameGraph<'a>, source: String) {
+        let mut pass = self.pass(fg, "blur");
+        self.common(&mut pass);
+        let combine = pass.input_opt("combine", name_of(&self.combine));
+        pass.input("source", &source);
+        pass.output(
+            "output",
+            &self.output,
+            TextureDesc::storage(wgpu::TextureFormat::Rgba16Float).size(self.gbuffer.size),
+        );
+        let key = TiledBlurKey {
+            combine: combine.is_some(),
+        };
+        let size = self.gbuffer.size;
+        pass.run_bound(move |cx, b| {
+            cx.count(BLUR_TILED, 1);
+            let (w, h) = size.pixels(cx.output_size);
+            let tiles = (w.div_ceil(TILE), h.div_ceil(TILE), 1);
+            cx.dispatch_shader("ao blur", &key.key(), "main", b, tiles)
+        });
+    }
 }
+
+/// blur_tiled.wgsl's tile edge (its workgroup is TILE x TILE).
+const TILE: u32 = 16;
