@@ -26,6 +26,7 @@
 
 use std::sync::Arc;
 
+use crate::adapter_class::AdapterClass;
 use crate::error::RenderError;
 use crate::finite::finite_in;
 use crate::frame_graph::{Bindings, FrameGraph, History, PassBuilder, PassContext, TextureDesc};
@@ -67,15 +68,19 @@ pub struct AoSettings {
     pub blur_passes: BlurPasses,
 }
 
-/// How the blur's x and y run. Both give the same image (within float
-/// rounding of the same sums: crates/render/tests/depth_aware_blur.rs);
-/// the choice is kept so the two can be compared.
+/// How the blur's x and y run. Both give the same image (the same sums in
+/// the same order: crates/render/tests/depth_aware_blur.rs compares them
+/// texel for texel); the choice is kept so the two can be compared.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum BlurPasses {
+    /// What measures fastest on the adapter's class ([`tiled_blur`]): a GPU
+    /// `Tiled`, a CPU adapter `Separable` (lavapipe runs the tiled pass's
+    /// 256 invocations and their barriers as coroutines: several times slower there).
+    #[default]
+    Auto,
     /// One dispatch ("blur") for half-widths up to [`TILED_MAX_RADIUS`]: tile
     /// and apron loaded once into workgroup memory, x then y there; wider
     /// blurs run as `Separable`.
-    #[default]
     Tiled,
     /// Two full-screen passes, "blur x" into an R32F target and "blur y".
     Separable,
@@ -109,7 +114,7 @@ impl Default for AoSettings {
             blur_radius: 4,
             reset: false,
             resolution: Resolution::Full,
-            blur_passes: BlurPasses::Tiled,
+            blur_passes: BlurPasses::Auto,
         }
     }
 }
@@ -271,6 +276,8 @@ impl Recipe for AmbientOcclusion {
         }
         self.gbuffer.declare(renderer, fg);
         declare_inputs(renderer, fg, &self.combine);
+        let s = self.settings;
+        let tiled = tiled_blur(s.blur_passes, s.blur_radius, renderer.gpu.adapter_class());
         // SAO's depth chain is built only when SAO runs.
         let sao = self.settings.mode == AoMode::Sao && !self.off();
         let levels = if sao { &DEPTH_LEVELS[..] } else { &[] };
@@ -332,7 +339,7 @@ impl Recipe for AmbientOcclusion {
         pass.run_bound(move |cx, b| self.raw(cx, b, key, fused));
         if fused.is_some() {
             // The estimate and its accumulation in one pass: straight to the blur.
-            return self.declare_blur(fg, self.history_name());
+            return self.declare_blur(fg, self.history_name(), tiled);
         }
         declare_upsample(
             fg,
@@ -351,7 +358,7 @@ impl Recipe for AmbientOcclusion {
             },
         );
         if !self.temporal() {
-            return self.declare_blur(fg, raw);
+            return self.declare_blur(fg, raw, tiled);
         }
         let mut pass = self.pass(fg, "temporal");
         pass.input("raw", &raw);
@@ -362,20 +369,20 @@ impl Recipe for AmbientOcclusion {
             let size = self.gbuffer.pixel_size(cx.output_size);
             cx.dispatch_image("ao temporal", &TemporalKey.key(), b, size)
         });
-        self.declare_blur(fg, self.history_name());
+        self.declare_blur(fg, self.history_name(), tiled);
     }
 }
 
 impl AmbientOcclusion {
     /// The depth-aware blur of `source` (x then y), or with no blur the
     /// resolve; the last pass writes the output (and multiplies `combine` in).
-    fn declare_blur<'a>(&'a self, fg: &mut FrameGraph<'a>, mut source: String) {
+    fn declare_blur<'a>(&'a self, fg: &mut FrameGraph<'a>, mut source: String, tiled: bool) {
         if self.off() {
             fg.count("AO off: radius 0", 1);
         }
         let blur = self.settings.blur_radius > 0 && !self.off();
         let full = |format| TextureDesc::storage(format).size(self.gbuffer.size);
-        if blur && self.tiled_blur() {
+        if blur && tiled {
             return self.declare_tiled_blur(fg, source);
         }
         if blur {
@@ -402,11 +409,6 @@ impl AmbientOcclusion {
         pass.dispatch_image("ao blur y", key.key(), self.gbuffer.size);
     }
 
-    /// Whether the blur runs as one tiled dispatch ([`BlurPasses::Tiled`]).
-    fn tiled_blur(&self) -> bool {
-        self.settings.blur_passes == BlurPasses::Tiled
-            && self.settings.blur_radius <= TILED_MAX_RADIUS
-    }
 
     /// x and y of the blur in one pass over 16x16 tiles; it writes the
     /// output (and multiplies `combine` in) as the separable y pass does.
@@ -435,3 +437,29 @@ impl AmbientOcclusion {
 
 /// blur_tiled.wgsl's tile edge (its workgroup is TILE x TILE).
 const TILE: u32 = 16;
+
+/// Whether a blur of half-width `radius` runs as one tiled dispatch: asked
+/// for (`Tiled`, or `Auto` on a GPU) and narrow enough to fit.
+pub fn tiled_blur(passes: BlurPasses, radius: u32, class: AdapterClass) -> bool {
+    let asked = match passes {
+        BlurPasses::Auto => class == AdapterClass::Gpu,
+        BlurPasses::Tiled => true,
+        BlurPasses::Separable => false,
+    };
+    asked && radius <= TILED_MAX_RADIUS
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn auto_tiles_the_blur_on_a_gpu_and_not_on_a_cpu_adapter_nor_past_the_widest() {
+        use AdapterClass::{Cpu, Gpu};
+        assert!(tiled_blur(BlurPasses::Auto, 4, Gpu));
+        assert!(!tiled_blur(BlurPasses::Auto, 4, Cpu));
+        assert!(tiled_blur(BlurPasses::Tiled, TILED_MAX_RADIUS, Cpu));
+        assert!(!tiled_blur(BlurPasses::Tiled, TILED_MAX_RADIUS + 1, Gpu));
+        assert!(!tiled_blur(BlurPasses::Separable, 1, Gpu));
+    }
+}
