@@ -3,15 +3,18 @@
 //! Gaussian and the same weights for view-distance and normal difference
 //! (shaders/ssao/blur.wgsl, shaders/lighting/ssgi.wgsl's BLUR). At a
 //! size that is a multiple of 8 neither way, workgroups end at the image's
-//! edge. AO's tiled blur (x and y in one dispatch, shaders/ssao/blur_tiled.wgsl)
-//! gives the two passes' image texel for texel.
+//! edge. The tiled blurs (x and y in one dispatch: shaders/ssao/blur_tiled.wgsl,
+//! shaders/lighting/ssgi_blur_tiled.wgsl) give the two passes' image texel
+//! for texel.
 
 mod occlusion_scene;
 
 use glam::Vec3;
 use spreadlight_render::FrameReport;
 use spreadlight_render::camera::reverse_z;
-use spreadlight_render::lighting::{Ssgi, SsgiSettings};
+use spreadlight_render::lighting::{
+    SSGI_BLUR_TILED, SSGI_TILED_MAX_RADIUS, Ssgi, SsgiSettings,
+};
 use spreadlight_render::readback::{ImageF32, render_and_read};
 use spreadlight_render::renderer::test_renderer;
 use spreadlight_render::ssao::{
@@ -180,11 +183,24 @@ fn assert_passes(report: &FrameReport, radius: u32, what: &str) {
     }
 }
 
-/// The blur ran as one tiled pass ("blur"), counted, with no x or y pass.
-fn assert_tiled(report: &FrameReport, radius: u32, what: &str) {
+/// The blur ran as one tiled pass ("blur"), counted under `counter`, with no x or y pass.
+fn assert_tiled(report: &FrameReport, radius: u32, what: &str, counter: &str) {
     assert_eq!(steps(report, "blur"), 1, "{what}, radius {radius}");
     assert_eq!(steps(report, "blur x") + steps(report, "blur y"), 0);
-    assert_eq!(report.counter(BLUR_TILED), 1, "{what}, radius {radius}");
+    assert_eq!(report.counter(counter), 1, "{what}, radius {radius}");
+}
+
+/// `tiled` and `separable` are the same image, texel for texel.
+fn assert_same(what: &str, tiled: &ImageF32, separable: &ImageF32) {
+    for (i, (t, s)) in tiled.pixels.iter().zip(&separable.pixels).enumerate() {
+        assert_eq!(
+            t,
+            s,
+            "{what}: tiled against two passes at pixel ({}, {})",
+            i % SIZE.0 as usize,
+            i / SIZE.0 as usize
+        );
+    }
 }
 
 #[test]
@@ -245,19 +261,12 @@ fn the_ao_blur_is_the_depth_aware_gaussian_of_its_input() {
         // The tiled pass where the radius fits it, else the same two passes.
         let (tiled_report, tiled) = frame(radius, combine, BlurPasses::Tiled);
         if radius <= TILED_MAX_RADIUS {
-            assert_tiled(&tiled_report, radius, "AO tiled");
+            assert_tiled(&tiled_report, radius, "AO tiled", BLUR_TILED);
         } else {
             assert_passes(&tiled_report, radius, "AO tiled, too wide to tile");
         }
-        for (i, (t, s)) in tiled[0].pixels.iter().zip(&images[0].pixels).enumerate() {
-            assert_eq!(
-                t,
-                s,
-                "AO, radius {radius}, combined {combine}: tiled against two passes at pixel ({}, {})",
-                i % SIZE.0 as usize,
-                i / SIZE.0 as usize
-            );
-        }
+        let what = format!("AO, radius {radius}, combined {combine}");
+        assert_same(&what, &tiled[0], &images[0]);
         let mut expected = reference_blur(&sharp, depth, normals, radius as i32, Values::Occlusion);
         if combine {
             for (e, other) in expected.iter_mut().zip(&images[3].pixels) {
@@ -282,7 +291,7 @@ fn the_ssgi_blur_is_the_depth_aware_gaussian_of_its_input() {
         })
         .collect();
     let sky = [0.0, 0.1, 0.4];
-    let frame = |blur_radius: u32, ambient: bool| {
+    let frame = |blur_radius: u32, ambient: bool, blur_passes: BlurPasses| {
         let renderer = test_renderer();
         let g = gbuffer(&renderer, eye(), None, SIZE);
         let lit = image(&renderer, &lit, SIZE, "lit");
@@ -292,6 +301,7 @@ fn the_ssgi_blur_is_the_depth_aware_gaussian_of_its_input() {
             samples: 2,
             temporal_blend: 0.0,
             blur_radius,
+            blur_passes,
             ..Default::default()
         };
         let gi = Ssgi::new(
@@ -308,12 +318,29 @@ fn the_ssgi_blur_is_the_depth_aware_gaussian_of_its_input() {
         assert!(report.errors.is_empty(), "{:?}", report.errors);
         (report, images)
     };
-    let (_, images) = frame(0, false);
+    let (_, images) = frame(0, false, BlurPasses::Separable);
     let sharp: Vec<[f32; 4]> = images[0].pixels.clone();
     let (depth, normals) = (&images[1], &images[2]);
-    for (radius, ambient) in [(1, false), (3, false), (4, true), (6, false), (9, true)] {
-        let (report, images) = frame(radius, ambient);
+    let widest = SSGI_TILED_MAX_RADIUS;
+    for (radius, ambient) in [
+        (1, false),
+        (3, false),
+        (4, true),
+        (widest, false),
+        (widest + 1, false),
+        (9, true),
+    ] {
+        let (report, images) = frame(radius, ambient, BlurPasses::Separable);
         assert_passes(&report, radius, "SSGI");
+        // The tiled pass where the radius fits it, else the same two passes.
+        let (tiled_report, tiled) = frame(radius, ambient, BlurPasses::Tiled);
+        if radius <= widest {
+            assert_tiled(&tiled_report, radius, "SSGI tiled", SSGI_BLUR_TILED);
+        } else {
+            assert_passes(&tiled_report, radius, "SSGI tiled, too wide to tile");
+        }
+        let what = format!("SSGI, radius {radius}, ambient {ambient}");
+        assert_same(&what, &tiled[0], &images[0]);
         let mut expected = reference_blur(&sharp, depth, normals, radius as i32, Values::Light);
         if ambient {
             // The environment's light arrives along the rays that escaped.

@@ -107,6 +107,7 @@ pub const SHADERS: &[ShaderFile] = &[
     shader!("lighting/cook_torrance.wgsl", keyed crate::lighting::cook_torrance_key::CookTorranceKey),
     shader!("lighting/composite.wgsl", keyed crate::lighting::composite::key::CompositeKey),
     shader!("lighting/ssgi.wgsl", keyed crate::lighting::ssgi_key::SsgiKey),
+    shader!("lighting/ssgi_blur_tiled.wgsl", keyed crate::lighting::ssgi_key::SsgiTiledBlurKey),
     shader!("lighting/ssss.wgsl", keyed crate::lighting::ssss_key::SsssKey),
     shader!("shadows/depth.wgsl", keyed crate::shadows::raster_key::ShadowDepthKey),
     shader!("shadows/moments.wgsl", keyed crate::shadows::raster_key::MomentsKey),

@@ -438,15 +438,22 @@ impl AmbientOcclusion {
 /// blur_tiled.wgsl's tile edge (its workgroup is TILE x TILE).
 const TILE: u32 = 16;
 
-/// Whether a blur of half-width `radius` runs as one tiled dispatch: asked
-/// for (`Tiled`, or `Auto` on a GPU) and narrow enough to fit.
+impl BlurPasses {
+    /// Whether this asks for the tiled pass on an adapter of `class`
+    /// (`Tiled`, or `Auto` on a GPU). AO's and SSGI's blurs share the choice.
+    pub fn tiled(self, class: AdapterClass) -> bool {
+        match self {
+            BlurPasses::Auto => class == AdapterClass::Gpu,
+            BlurPasses::Tiled => true,
+            BlurPasses::Separable => false,
+        }
+    }
+}
+
+/// Whether AO's blur of half-width `radius` runs as one tiled dispatch:
+/// asked for and narrow enough to fit.
 pub fn tiled_blur(passes: BlurPasses, radius: u32, class: AdapterClass) -> bool {
-    let asked = match passes {
-        BlurPasses::Auto => class == AdapterClass::Gpu,
-        BlurPasses::Tiled => true,
-        BlurPasses::Separable => false,
-    };
-    asked && radius <= TILED_MAX_RADIUS
+    passes.tiled(class) && radius <= TILED_MAX_RADIUS
 }
 
 #[cfg(test)]
