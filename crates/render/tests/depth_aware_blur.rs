@@ -12,9 +12,7 @@ mod occlusion_scene;
 use glam::Vec3;
 use spreadlight_render::FrameReport;
 use spreadlight_render::camera::reverse_z;
-use spreadlight_render::lighting::{
-    SSGI_BLUR_TILED, SSGI_TILED_MAX_RADIUS, Ssgi, SsgiSettings,
-};
+use spreadlight_render::lighting::{SSGI_BLUR_TILED, SSGI_TILED_MAX_RADIUS, Ssgi, SsgiSettings};
 use spreadlight_render::readback::{ImageF32, render_and_read};
 use spreadlight_render::renderer::test_renderer;
 use spreadlight_render::ssao::{

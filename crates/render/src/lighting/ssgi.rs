@@ -476,7 +476,10 @@ impl Recipe for Ssgi {
         }
         let s = self.settings;
         let blur = s.blur_radius > 0 && !self.off();
-        if blur && s.blur_passes.tiled(renderer.gpu.adapter_class()) && s.blur_radius <= TILED_MAX_RADIUS {
+        if blur
+            && s.blur_passes.tiled(renderer.gpu.adapter_class())
+            && s.blur_radius <= TILED_MAX_RADIUS
+        {
             let mut pass = fg.pass(PassName::new("SSGI").step("blur"), self.owner);
             let io = self.declare_pass(&mut pass, &last, &self.output, rgba);
             let ambient = pass.read_opt(self.ambient.as_ref().map(|a| a.name.as_str()));

@@ -409,7 +409,6 @@ impl AmbientOcclusion {
         pass.dispatch_image("ao blur y", key.key(), self.gbuffer.size);
     }
 
-
     /// x and y of the blur in one pass over 16x16 tiles; it writes the
     /// output (and multiplies `combine` in) as the separable y pass does.
     fn declare_tiled_blur<'a>(&'a self, fg: &mut FrameGraph<'a>, source: String) {
