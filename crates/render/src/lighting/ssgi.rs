@@ -7,6 +7,9 @@
 //! environment's diffuse light) is added so one texture carries both.
 //! At [`Resolution::Half`] the gather runs for one pixel in four and is
 //! upsampled with depth awareness (crate::resolution) before the rest.
+//! Up to [`TILED_MAX_RADIUS`] the blur's x and y run as one dispatch over
+//! tiles in workgroup memory (shaders/lighting/ssgi_blur_tiled.wgsl,
+//! [`BlurPasses`]), with the two passes' image.
 
 use std::sync::Arc;
 
