@@ -220,6 +220,9 @@ fn trace(origin: vec3<f32>, dir: vec3<f32>) -> Trace {
     let size = camera.size.xy;
     var s = 1.5;
     var level = 0u;
+    // Level sizes from level 0's (a mip is max(1, size >> level)), not a
+    // size query per step: the same numbers without a texture instruction.
+    let hiz_size = textureDimensions(hiz);
     for (var i = 0u; i < params.max_steps; i++) {
         let cell = f32(1u << level);
         let next = s + cell;
@@ -232,7 +235,8 @@ fn trace(origin: vec3<f32>, dir: vec3<f32>) -> Trace {
         }
         let ray_depth = start.z + step_z * next;
         // Clamped: a level's size rounds down, and the chain folds odd edges into its last texel.
-        let cell_texel = min(vec2<u32>(p) >> vec2<u32>(level), textureDimensions(hiz, i32(level)) - 1u);
+        let level_size = max(hiz_size >> vec2<u32>(level), vec2<u32>(1u));
+        let cell_texel = min(vec2<u32>(p) >> vec2<u32>(level), level_size - 1u);
         let nearest = textureLoad(hiz, cell_texel, i32(level)).r;
         if (ray_depth > nearest) {
             // In front of everything in the cell: skip it, try a coarser level.

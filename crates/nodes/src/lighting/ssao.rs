@@ -89,6 +89,7 @@ impl Common {
             blur_radius: int(self.blur, 4)?,
             reset: cx.first(self.reset, false)?,
             resolution: cx.choice(self.resolution)?,
+            blur_passes: Default::default(),
         })
     }
 }
