@@ -329,7 +329,10 @@ impl MaterialData {
             (MapSlot::SpecularColor, &self.specular_color_texture, true),
             (MapSlot::Thickness, &self.thickness_texture, transmits),
         ] {
-            maps.set_map(slot, texture.as_ref().filter(|_| used).map(TextureData::map));
+            maps.set_map(
+                slot,
+                texture.as_ref().filter(|_| used).map(TextureData::map),
+            );
         }
         let f0 = self.dielectric_f0();
         maps.specular = SpecularFactors {

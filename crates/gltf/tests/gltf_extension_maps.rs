@@ -137,7 +137,12 @@ fn inner_pixels() -> impl Iterator<Item = (usize, Vec3, usize, usize)> {
             let clear = (u - 0.5).abs() > 0.04 && (v - 0.5).abs() > 0.04;
             (inner && clear).then(|| {
                 let at = (py * SIZE.0 + px) as usize;
-                (at, Vec3::new(x, y, 0.0), usize::from(u >= 0.5), usize::from(v >= 0.5))
+                (
+                    at,
+                    Vec3::new(x, y, 0.0),
+                    usize::from(u >= 0.5),
+                    usize::from(v >= 0.5),
+                )
             })
         })
     })
@@ -145,10 +150,7 @@ fn inner_pixels() -> impl Iterator<Item = (usize, Vec3, usize, usize)> {
 
 /// The file's material world (glTF's default material first, as the
 /// importer's users number them) and its quad as a layer.
-fn world_and_layer(
-    renderer: &Renderer,
-    scene: &GltfScene,
-) -> (Arc<MaterialWorld>, Arc<Layer>) {
+fn world_and_layer(renderer: &Renderer, scene: &GltfScene) -> (Arc<MaterialWorld>, Arc<Layer>) {
     let mesh = renderer
         .meshes
         .upload(&renderer.gpu, &scene.meshes[0])
@@ -201,8 +203,9 @@ fn lit(renderer: &Renderer, model: &[u8]) -> (ImageF32, ImageF32) {
         true,
         Surfaces::Materials(world),
     );
-    let (report, images) = render_and_read(renderer, ct.as_ref(), SIZE, &[&ct.diffuse, &ct.specular])
-        .expect("the frame renders");
+    let (report, images) =
+        render_and_read(renderer, ct.as_ref(), SIZE, &[&ct.diffuse, &ct.specular])
+            .expect("the frame renders");
     assert!(report.errors.is_empty(), "{:?}", report.errors);
     let [d, s]: [ImageF32; 2] = images.try_into().unwrap_or_else(|_| unreachable!());
     assert!(d.all_finite() && s.all_finite(), "no NaN or infinity");
@@ -303,8 +306,17 @@ fn specular_maps_set_the_reflectance_per_pixel() {
         let grey = 0.2126 * f0.x + 0.7152 * f0.y + 0.0722 * f0.z;
         let reflectance = grey * [64.0 / 255.0, 1.0][u];
         let reflectance = (reflectance * 8191.0f32).round() / 8191.0;
-        let want = cook_torrance_f0(Vec3::Z, view, l, ALBEDO.into(), ROUGHNESS, 0.0, reflectance, true)
-            .specular
+        let want = cook_torrance_f0(
+            Vec3::Z,
+            view,
+            l,
+            ALBEDO.into(),
+            ROUGHNESS,
+            0.0,
+            reflectance,
+            true,
+        )
+        .specular
             * radiance;
         for c in 0..3 {
             assert!(

@@ -230,7 +230,8 @@ impl Recipe for Environment {
             EnvironmentSource::Probe(scene) => (scene.layers(), scene.sun_shadow()),
             _ => (&[], None),
         };
-        let normal_map = |l: &'a Arc<Layer>| l.normal_map.as_ref().filter(|_| l.features.normal_map);
+        let normal_map =
+            |l: &'a Arc<Layer>| l.normal_map.as_ref().filter(|_| l.features.normal_map);
         for map in layers
             .iter()
             .flat_map(|l| l.color_map.iter().chain(normal_map(l)))

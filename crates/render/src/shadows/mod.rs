@@ -119,7 +119,11 @@ impl ShadowLights {
                 for (slice, d) in lights {
                     floats(&[*slice as f32, d.x, d.y, d.z]);
                 }
-                floats(&[cascades.count as f32, cascades.split_lambda, cascades.distance]);
+                floats(&[
+                    cascades.count as f32,
+                    cascades.split_lambda,
+                    cascades.distance,
+                ]);
             }
         }
         h.finish()
@@ -517,7 +521,12 @@ impl ShadowMaps {
         use std::hash::Hash;
         self.light_key.hash(h);
         let s = &self.settings;
-        (s.resolution, s.depth_bias.to_bits(), s.normal_bias.to_bits()).hash(h);
+        (
+            s.resolution,
+            s.depth_bias.to_bits(),
+            s.normal_bias.to_bits(),
+        )
+            .hash(h);
         let (instances, draws, ranges) = crate::gbuffer::pack_instances(&self.casters);
         for i in &instances {
             for c in i.model.iter().flatten() {

@@ -523,8 +523,15 @@ fn sun_shadow(
         resolution: 1024,
         ..Default::default()
     };
-    ShadowMaps::new(renderer, None, &lights, casters, &camera(eye, BALL), settings)
-        .expect("valid shadow maps")
+    ShadowMaps::new(
+        renderer,
+        None,
+        &lights,
+        casters,
+        &camera(eye, BALL),
+        settings,
+    )
+    .expect("valid shadow maps")
 }
 
 fn shadowed_probe(
@@ -564,7 +571,10 @@ fn a_probe_sees_the_suns_shadow_beside_a_box() {
     mirror(&renderer, &s, EYE, env.clone());
     for (x, z) in [shadowed, beside, behind] {
         let c = floor_seen(&renderer, &env, x, z);
-        assert!((c.x - lit).abs() < 0.03 * lit, "({x}, {z}) unshadowed: {c}, want {lit}");
+        assert!(
+            (c.x - lit).abs() < 0.03 * lit,
+            "({x}, {z}) unshadowed: {c}, want {lit}"
+        );
     }
     let shadows = sun_shadow(&renderer, vec![s.surroundings.clone()], EYE);
     let env = shadowed_probe(&renderer, None, &s.surroundings, Some(shadows));
@@ -573,7 +583,10 @@ fn a_probe_sees_the_suns_shadow_beside_a_box() {
     let in_shadow = floor_seen(&renderer, &env, shadowed.0, shadowed.1);
     for (x, z) in [beside, behind] {
         let c = floor_seen(&renderer, &env, x, z);
-        assert!((c.x - lit).abs() < 0.03 * lit, "({x}, {z}) in the sun: {c}, want {lit}");
+        assert!(
+            (c.x - lit).abs() < 0.03 * lit,
+            "({x}, {z}) in the sun: {c}, want {lit}"
+        );
         // Darker than the lit side by the ambient's share of the light.
         let ratio = in_shadow.x / c.x;
         assert!(
@@ -582,12 +595,16 @@ fn a_probe_sees_the_suns_shadow_beside_a_box() {
             dark / lit
         );
     }
-    assert!((in_shadow.x - dark).abs() < 0.03 * dark, "{in_shadow}, want {dark}");
+    assert!(
+        (in_shadow.x - dark).abs() < 0.03 * dark,
+        "{in_shadow}, want {dark}"
+    );
     assert!(
         renderer
             .shaders()
             .compiled_keys()
-            .any(|k| k.path == "environment/environment_probe.wgsl" && k.features.contains("SHADOWS")),
+            .any(|k| k.path == "environment/environment_probe.wgsl"
+                && k.features.contains("SHADOWS")),
         "the shadowed faces' permutation"
     );
 
@@ -603,8 +620,16 @@ fn a_probe_sees_the_suns_shadow_beside_a_box() {
     };
     let again = |layer: &Arc<Layer>| Arc::new((**layer).clone());
     let casters = || vec![again(&s.surroundings), again(&s.ball)];
-    assert_eq!(frame(&again(&s.surroundings), casters(), EYE), (1, 0), "first");
-    assert_eq!(frame(&again(&s.surroundings), casters(), EYE), (0, 1), "still");
+    assert_eq!(
+        frame(&again(&s.surroundings), casters(), EYE),
+        (1, 0),
+        "first"
+    );
+    assert_eq!(
+        frame(&again(&s.surroundings), casters(), EYE),
+        (0, 1),
+        "still"
+    );
     let moved_eye = Vec3::new(2.0, 2.0, 3.0);
     assert_eq!(
         frame(&again(&s.surroundings), casters(), moved_eye),
@@ -616,7 +641,11 @@ fn a_probe_sees_the_suns_shadow_beside_a_box() {
     ball.batches[0].instances[0].transform =
         Mat4::from_translation(Vec3::new(-1.0, 0.6, 0.0)) * Mat4::from_scale(Vec3::splat(RADIUS));
     let moved = vec![again(&s.surroundings), Arc::new(ball)];
-    assert_eq!(frame(&again(&s.surroundings), moved, EYE), (1, 0), "a moved caster");
+    assert_eq!(
+        frame(&again(&s.surroundings), moved, EYE),
+        (1, 0),
+        "a moved caster"
+    );
 
     // Bad input: a slice the maps lack, or maps of another light type, named.
     use spreadlight_render::environment::{ProbeError, ProbeShadow};
@@ -628,7 +657,10 @@ fn a_probe_sees_the_suns_shadow_beside_a_box() {
             .expect_err("refused")
     };
     let sun = sun_shadow(&renderer, vec![s.surroundings.clone()], EYE);
-    assert_eq!(refused(sun, 3), ProbeError::ShadowSlice { slice: 3, count: 1 });
+    assert_eq!(
+        refused(sun, 3),
+        ProbeError::ShadowSlice { slice: 3, count: 1 }
+    );
     let spot = ShadowMaps::new(
         &renderer,
         None,
@@ -688,14 +720,21 @@ fn a_normal_mapped_floor_differs_from_the_flat_one_as_its_normal_says() {
     let l = -SUN_DIRECTION.normalize();
     let want = FLOOR_ALBEDO * (0.25 + 2.0 * n.dot(l).max(0.0));
     let want_flat = FLOOR_ALBEDO * (0.25 + 2.0 * Vec3::Y.dot(l));
-    assert!((flat.x - want_flat).abs() < 0.03 * want_flat, "flat: {flat}, want {want_flat}");
-    assert!((bumped.x - want).abs() < 0.03 * want, "mapped: {bumped}, want {want}");
+    assert!(
+        (flat.x - want_flat).abs() < 0.03 * want_flat,
+        "flat: {flat}, want {want_flat}"
+    );
+    assert!(
+        (bumped.x - want).abs() < 0.03 * want,
+        "mapped: {bumped}, want {want}"
+    );
     assert!(bumped.x > 1.2 * flat.x, "{bumped} against {flat}");
     assert!(
         renderer
             .shaders()
             .compiled_keys()
-            .any(|k| k.path == "environment/environment_probe.wgsl" && k.features.contains("NORMAL_MAP")),
+            .any(|k| k.path == "environment/environment_probe.wgsl"
+                && k.features.contains("NORMAL_MAP")),
         "the normal-mapped faces' permutation"
     );
 }

@@ -386,7 +386,14 @@ mod wgsl_layout {
             "environment/environment_probe.wgsl",
             [],
             "ProbeFace",
-            [view_projection, position, towards_sun, sun_color, ambient, shadow]
+            [
+                view_projection,
+                position,
+                towards_sun,
+                sun_color,
+                ambient,
+                shadow
+            ]
         );
     }
 }

@@ -35,7 +35,9 @@ pub enum LayerMaps {
     /// A glTF material world's surface maps (MATERIAL_MAPS), with
     /// `extensions` its material extensions' maps too, specular and
     /// thickness (EXTENSION_MAPS: some material of the world has one).
-    Surface { extensions: bool },
+    Surface {
+        extensions: bool,
+    },
     /// A DeferredBase layer's Color Texture and normal map, by its UVs or a
     /// planar projection.
     Layer {
