@@ -394,3 +394,61 @@ fn the_thickness_map_sets_how_much_a_transmissive_volume_absorbs() {
     let thick = data.transmittance(0.5)[1];
     assert!(thick < 0.3, "{thick}");
 }
+
+/// Hard cases under the maps: a specular colour factor of 1e30 (the
+/// extension bounds it only below) caps f0 at 1, a coat of roughness 0 and
+/// a thickness map under a factor of 1e30 stay finite (`lit` and `render`
+/// check every pixel).
+#[test]
+fn extreme_factors_under_the_maps_stay_finite() {
+    let renderer = test_renderer();
+    let white = halves([255; 4], [255; 4], false);
+    let ext = r#"{"KHR_materials_specular": {"specularColorFactor": [1e30, 1e30, 1e30],
+            "specularTexture": {"index": {0}}, "specularColorTexture": {"index": {0}}},
+        "KHR_materials_clearcoat": {"clearcoatFactor": 1.0, "clearcoatRoughnessFactor": 0.0,
+            "clearcoatTexture": {"index": {0}}, "clearcoatRoughnessTexture": {"index": {0}}}}"#;
+    // f0 1 reflects everything: a highlight, finite, and no diffuse left over it.
+    let (d, s) = lit(&renderer, &model(opaque_material(), ext, &[white.clone()]));
+    assert!(s.pixels.iter().any(|p| p[1] > 0.0));
+    assert!(
+        d.pixels.iter().all(|p| p[1] < 1e-3),
+        "f0 1 leaves no diffuse"
+    );
+    let mut material = json::Material::default();
+    material.pbr_metallic_roughness.roughness_factor = json::material::StrengthFactor(0.0);
+    let ext = r#"{"KHR_materials_transmission": {"transmissionFactor": 1.0},
+        "KHR_materials_volume": {"thicknessFactor": 1e30, "thicknessTexture": {"index": {0}},
+            "attenuationColor": [0.5, 0.5, 0.5], "attenuationDistance": 0.25}}"#;
+    let scene = load_gltf_slice(&model(material, ext, &[white]), None).expect("loads");
+    let g = GBuffer::new(
+        &renderer,
+        None,
+        vec![],
+        camera(),
+        None,
+        SizeRule::Relative(1.0),
+    );
+    let background = image(&renderer, SIZE, |_, _| [0.0, 1.0, 0.0, 1.0]);
+    let (_, layer) = world_and_layer(&renderer, &scene);
+    let pass = Transparency::new(
+        &renderer,
+        None,
+        background.texture_ref(),
+        g,
+        vec![layer],
+        TransparencySettings::default(),
+    );
+    // Finite (checked by `render`): a thickness past 1e6 is no slab at all
+    // (lit transparency's guard, as for an infinite factor), so what shows
+    // through is the background, unabsorbed.
+    let pixels = render(&renderer, pass.as_ref(), &pass.output, SIZE)
+        .1
+        .pixels;
+    for (i, ..) in inner_pixels() {
+        assert!(
+            (pixels[i][1] - 1.0).abs() < 0.01,
+            "pixel {i}: {:?}",
+            pixels[i]
+        );
+    }
+}
