@@ -408,7 +408,10 @@ fn extreme_factors_under_the_maps_stay_finite() {
         "KHR_materials_clearcoat": {"clearcoatFactor": 1.0, "clearcoatRoughnessFactor": 0.0,
             "clearcoatTexture": {"index": {0}}, "clearcoatRoughnessTexture": {"index": {0}}}}"#;
     // f0 1 reflects everything: a highlight, finite, and no diffuse left over it.
-    let (d, s) = lit(&renderer, &model(opaque_material(), ext, &[white.clone()]));
+    let (d, s) = lit(
+        &renderer,
+        &model(opaque_material(), ext, std::slice::from_ref(&white)),
+    );
     assert!(s.pixels.iter().any(|p| p[1] > 0.0));
     assert!(
         d.pixels.iter().all(|p| p[1] < 1e-3),
