@@ -455,3 +455,84 @@ fn extreme_factors_under_the_maps_stay_finite() {
         );
     }
 }
+
+/// Lit transparency reads the specular map per fragment: a BLEND quad of
+/// alpha 1 (what covers the background whole) whose specularTexture's
+/// alpha is 64 | 255 (left | right), lit by [`SUN`] in a light pass, shows
+/// the CPU BRDF's diffuse + specular with f0 0.04 x 64/255 on the left and
+/// 0.04 on the right (sampled, not quantized).
+#[test]
+fn lit_transparency_reads_the_specular_map() {
+    use spreadlight_render::post::{LitBy, TransparentLights};
+    let renderer = test_renderer();
+    let specular_map = halves([255, 255, 255, 64], [255, 255, 255, 255], false);
+    let mut material = opaque_material();
+    material.alpha_mode = json::validation::Checked::Valid(json::material::AlphaMode::Blend);
+    let ext = r#"{"KHR_materials_specular": {"specularTexture": {"index": {0}}}}"#;
+    let scene = load_gltf_slice(&model(material, ext, &[specular_map]), None).expect("loads");
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    let g = GBuffer::new(
+        &renderer,
+        None,
+        vec![],
+        camera(),
+        None,
+        SizeRule::Relative(1.0),
+    );
+    let background = image(&renderer, SIZE, |_, _| [0.0, 0.0, 0.0, 1.0]);
+    let settings = TransparencySettings {
+        ambient: Vec3::ZERO,
+        light_color: Vec3::ZERO,
+        energy_compensation: true,
+        ..Default::default()
+    };
+    let (_, layer) = world_and_layer(&renderer, &scene);
+    let lights = vec![TransparentLights {
+        lights: LightBuffer::suns(&renderer, &[SUN]),
+        shadows: None,
+    }];
+    let pass = Transparency::lit(
+        &renderer,
+        None,
+        background.texture_ref(),
+        g,
+        vec![layer],
+        settings,
+        LitBy {
+            lights,
+            ..Default::default()
+        },
+    );
+    let pixels = render(&renderer, pass.as_ref(), &pass.output, SIZE)
+        .1
+        .pixels;
+    let l = -SUN.direction.normalize();
+    let radiance = SUN.color * SUN.illuminance;
+    let eye = Vec3::Z * DISTANCE;
+    let mut checked = [0; 2];
+    for (i, p, u, _) in inner_pixels() {
+        let view = (eye - p).normalize();
+        let reflectance = 0.04 * [64.0 / 255.0, 1.0][u];
+        let brdf = cook_torrance_f0(
+            Vec3::Z,
+            view,
+            l,
+            ALBEDO.into(),
+            ROUGHNESS,
+            0.0,
+            reflectance,
+            true,
+        );
+        let want = (brdf.diffuse + brdf.specular) * radiance;
+        for c in 0..3 {
+            // Half-float accumulation: about three decimal digits.
+            assert!(
+                (pixels[i][c] - want[c]).abs() <= 2e-3 + 1e-2 * want[c],
+                "pixel {i} (half {u}): {:?}, f0 {reflectance} says {want}",
+                pixels[i]
+            );
+        }
+        checked[u] += 1;
+    }
+    assert!(checked[0] > 300 && checked[1] > 300, "{checked:?}");
+}
