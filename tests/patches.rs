@@ -418,8 +418,10 @@ fn a_scene_without_reflective_or_subsurface_materials_runs_no_reflection_or_sss_
     assert_eq!(report.passes_of("SSSS", None).count(), 0);
 }
 
-/// The environment-probe example renders its probe on the first frame and
-/// then reuses it while the camera orbits (the probe sees nothing move);
+/// The environment-probe example renders its probe on the first frame, its
+/// sun shadowed, and then reuses it while the camera orbits (the probe sees
+/// nothing move, and the shadow's cascades following the camera are not
+/// what it sees);
 /// moving the red box renders it again once. The showcase, with no probe,
 /// has no probe pass.
 #[test]
@@ -436,6 +438,13 @@ fn the_environment_probe_example_renders_its_probe_once_while_the_camera_orbits(
         )
     };
     assert_eq!(counts(&renderer), (1, 0), "the first frame renders it");
+    // Its ShadowMap (Sun) shadows the probe's faces too (their SHADOWS permutation).
+    assert!(
+        renderer.shaders().compiled_keys().any(|k| {
+            k.path == "environment/environment_probe.wgsl" && k.features.contains("SHADOWS")
+        }),
+        "the probe's faces are drawn with the sun's shadow"
+    );
     for frame in 1..4 {
         rt.evaluate(FrameClock::fixed(frame * 20, 60.0));
         assert_eq!(

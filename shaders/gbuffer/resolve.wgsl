@@ -17,6 +17,10 @@
 //                 normal (mapped, flipped on back faces of double-sided
 //                 materials), roughness, metallic, occlusion and emission per
 //                 pixel (see shaders/lib/material_maps.wgsl).
+// EXTENSION_MAPS: (with MATERIAL_MAPS) some material of the world has a
+//                 material extension's map: for those materials, the coat's
+//                 factor and roughness (clearcoat maps) and the reflectance
+//                 (specular maps) too, in the surface target's w.
 // CUSTOM_SURFACE: this layer has a shader node material: its
 //                 `surface` function (spreadlight::custom_surface, swapped
 //                 for the material's file) shades each pixel; its bindings
@@ -39,6 +43,11 @@
 #import spreadlight::material::{feature_param, has_feature, FEATURE_COOK_TORRANCE, FEATURE_EMISSION, FEATURE_SURFACE_MAPS}
 #import spreadlight::surface_target::pack_surface
 #import spreadlight::material_maps::{MapCoords, sample_map, has_map, map_settings, MAP_BASE_COLOR, MAP_METALLIC_ROUGHNESS, MAP_NORMAL, MAP_OCCLUSION, MAP_EMISSIVE}
+#ifdef EXTENSION_MAPS
+#import spreadlight::material::FEATURE_CLEARCOAT
+#import spreadlight::material_maps::{has_extension_maps, mapped_reflectance, mapped_clearcoat}
+#import spreadlight::surface_target::pack_extension
+#endif
 #endif
 #ifdef CUSTOM_SURFACE
 #import spreadlight::surface::{SurfaceInput, surface_finite}
@@ -329,6 +338,12 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     var surface_texel = vec4<u32>(0u);
     if (has_feature(material, FEATURE_SURFACE_MAPS)) {
         surface_texel = pack_surface(roughness, metallic, occlusion, emission);
+#ifdef EXTENSION_MAPS
+        if (has_extension_maps(material)) {
+            let coat = mapped_clearcoat(material, coords, feature_param(material, FEATURE_CLEARCOAT, 0u, vec4<f32>(0.0)).xy);
+            surface_texel.w = pack_extension(coat.x, coat.y, mapped_reflectance(material, coords, ct.z));
+        }
+#endif
     }
     textureStore(out_surface, pixel, surface_texel);
 #else

@@ -117,8 +117,8 @@ fn feature_maps(id: u32, feature: u32) -> vec4<u32> {
 // surface (SURFACE_TARGET, written: glTF surface maps or a shader node
 // material), CookTorrance's roughness and metallic and Emission's colour
 // are what it wrote, whatever features the material has (CookTorrance keeps
-// the material's reflectance, zw; Emission's strength is 1: the resolve
-// applied it). Otherwise, with MATERIAL_TEXTURES, each component of the
+// the material's reflectance, zw, unless a material extension's map wrote
+// one; Emission's strength is 1: the resolve applied it). Otherwise, with MATERIAL_TEXTURES, each component of the
 // first parameter that has a map (the feature's Texture ID, or its
 // parameter's own layer) is scaled by that layer's channel at the pixel's
 // G-buffer UV. Layers past the array's end wrap; a texture never makes a
@@ -130,7 +130,8 @@ fn feature_param_at(id: u32, feature: u32, index: u32, fallback: vec4<f32>, pixe
         let s = surface_at(pixel);
         if (s.written) {
             if (feature == FEATURE_COOK_TORRANCE) {
-                return vec4<f32>(s.roughness, s.metallic, value.zw);
+                // A specular map's reflectance, where the material has an extension's map.
+                return vec4<f32>(s.roughness, s.metallic, select(value.z, s.reflectance, s.extended), value.w);
             }
             return vec4<f32>(s.emission, 1.0);
         }
@@ -162,4 +163,20 @@ fn feature_param_at(id: u32, feature: u32, index: u32, fallback: vec4<f32>, pixe
     }
 #endif
     return value;
+}
+
+// The Clearcoat feature's (factor, roughness) at a pixel: where the G-buffer
+// resolve wrote a material extension's maps (SURFACE_TARGET), what its
+// clearcoat maps made of them; else the material's. 0 without the feature.
+fn clearcoat_at(id: u32, pixel: vec2<u32>) -> vec2<f32> {
+    let coat = feature_param(id, FEATURE_CLEARCOAT, 0u, vec4<f32>(0.0)).xy;
+#ifdef SURFACE_TARGET
+    if (coat.x > 0.0) {
+        let s = surface_at(pixel);
+        if (s.extended) {
+            return vec2<f32>(s.coat, s.coat_roughness);
+        }
+    }
+#endif
+    return coat;
 }

@@ -4,6 +4,13 @@
 // + sRGB), all bound at once so any material's maps are read in one
 // dispatch. Sampled with explicit screen derivatives (trilinear +
 // anisotropic in compute, where there are no implicit ones).
+//
+// Slots 5..9 are the material extensions' maps (clearcoat factor in red,
+// clearcoat roughness in green, specular in alpha, specular colour in rgb,
+// thickness in green); a material packs them, and the specular factors
+// after them (MAP_SPECULAR_FACTORS), only when it has one, and a pass reads
+// them only under EXTENSION_MAPS (the world has one): `has_map` reads "none"
+// past a material's parameters.
 #define_import_path spreadlight::material_maps
 #import spreadlight::material::{feature_param, FEATURE_SURFACE_MAPS}
 
@@ -12,6 +19,13 @@ const MAP_METALLIC_ROUGHNESS: u32 = 1u;
 const MAP_NORMAL: u32 = 2u;
 const MAP_OCCLUSION: u32 = 3u;
 const MAP_EMISSIVE: u32 = 4u;
+const MAP_CLEARCOAT: u32 = 5u;
+const MAP_CLEARCOAT_ROUGHNESS: u32 = 6u;
+const MAP_SPECULAR: u32 = 7u;
+const MAP_SPECULAR_COLOR: u32 = 8u;
+const MAP_THICKNESS: u32 = 9u;
+// The parameter after the last slot's: (ior's f0 x specular colour factor, specular factor).
+const MAP_SPECULAR_FACTORS: u32 = 21u;
 
 @group(3) @binding(0) var maps_0: texture_2d_array<f32>;
 @group(3) @binding(1) var maps_1: texture_2d_array<f32>;
@@ -108,4 +122,34 @@ fn sample_map(material: u32, slot: u32, coords: MapCoords, fallback: vec4<f32>) 
         return sample_array(maps_nearest, place >> 16u, wrapped, place & 0xffffu, dx, dy);
     }
     return sample_array(maps_linear, place >> 16u, wrapped, place & 0xffffu, dx, dy);
+}
+
+// Whether the material has a map of a material extension (it packs the long layout).
+fn has_extension_maps(material: u32) -> bool {
+    return feature_param(material, FEATURE_SURFACE_MAPS, MAP_SPECULAR_FACTORS, vec4<f32>(-1.0)).w >= 0.0;
+}
+
+// The dielectric f0 (CookTorrance's reflectance) where a specular map is:
+// min(f0 x colour factor x colour map, 1), made one number by its Rec. 709
+// luminance, x factor x specular map (KHR_materials_specular; the CPU twin
+// is spreadlight-gltf's MaterialData::reflectance). `reflectance` (the
+// material's) where the material has neither specular map.
+fn mapped_reflectance(material: u32, coords: MapCoords, reflectance: f32) -> f32 {
+    if (!has_map(material, MAP_SPECULAR) && !has_map(material, MAP_SPECULAR_COLOR)) {
+        return reflectance;
+    }
+    let s = feature_param(material, FEATURE_SURFACE_MAPS, MAP_SPECULAR_FACTORS, vec4<f32>(0.04, 0.04, 0.04, 1.0));
+    let tint = max(sample_map(material, MAP_SPECULAR_COLOR, coords, vec4<f32>(1.0)).rgb, vec3<f32>(0.0));
+    let f0 = min(max(s.rgb, vec3<f32>(0.0)) * tint, vec3<f32>(1.0));
+    let grey = dot(f0, vec3<f32>(0.2126, 0.7152, 0.0722));
+    let scale = clamp(s.a, 0.0, 1.0) * clamp(sample_map(material, MAP_SPECULAR, coords, vec4<f32>(1.0)).a, 0.0, 1.0);
+    return clamp(grey * scale, 0.0, 1.0);
+}
+
+// The coat's (factor, roughness) scaled by its maps (clearcoatTexture's
+// red, clearcoatRoughnessTexture's green), from the Clearcoat feature's `coat`.
+fn mapped_clearcoat(material: u32, coords: MapCoords, coat: vec2<f32>) -> vec2<f32> {
+    let factor = coat.x * sample_map(material, MAP_CLEARCOAT, coords, vec4<f32>(1.0)).r;
+    let roughness = coat.y * sample_map(material, MAP_CLEARCOAT_ROUGHNESS, coords, vec4<f32>(1.0)).g;
+    return clamp(vec2<f32>(factor, roughness), vec2<f32>(0.0), vec2<f32>(1.0));
 }

@@ -5,9 +5,13 @@
 //   x: pack2x16unorm(roughness, metallic)
 //   y: pack2x16unorm(occlusion, written: 1)
 //   z: emission, RGB9E5 (pack_rgb9e5)
-//   w: 0
+//   w: 0, or for a material with a material extension's map (clearcoat,
+//      specular; pack_extension): the coat's factor (bits 0..8, unorm),
+//      its roughness (8..18, unorm), the reflectance (18..31, unorm) and
+//      bit 31 set
 // Zero where nothing was written: such a pixel is shaded from its material
-// (or the lighting node's pins) exactly as without a surface target.
+// (or the lighting node's pins) exactly as without a surface target; w
+// zero: the coat and the reflectance are the material's.
 //
 // SURFACE_TARGET: the G-buffer has a surface target, bound at group 0,
 // binding 30 (SURFACE_TARGET_BINDING in crates/render/src/gbuffer/mod.rs;
@@ -30,6 +34,12 @@ struct SurfaceSample {
     occlusion: f32,
     // Emitted radiance, linear RGB, not negative.
     emission: vec3<f32>,
+    // Whether the next three are the maps' (w written), not the material's.
+    extended: bool,
+    coat: f32,
+    coat_roughness: f32,
+    // The dielectric f0 (CookTorrance's reflectance).
+    reflectance: f32,
 }
 
 // Non-negative HDR colour in one u32, shared-exponent 9-9-9-5 (the
@@ -63,6 +73,16 @@ fn pack_surface(roughness: f32, metallic: f32, occlusion: f32, emission: vec3<f3
     );
 }
 
+// The w of a material with an extension's map: the coat's factor (8
+// bits: a coverage), its roughness (10 bits: GGX's alpha is its square),
+// the reflectance (13 bits: 0.04 within 6e-5), bit 31 set. All 0..1.
+fn pack_extension(coat: f32, coat_roughness: f32, reflectance: f32) -> u32 {
+    let c = u32(round(clamp(coat, 0.0, 1.0) * 255.0));
+    let r = u32(round(clamp(coat_roughness, 0.0, 1.0) * 1023.0));
+    let f = u32(round(clamp(reflectance, 0.0, 1.0) * 8191.0));
+    return c | (r << 8u) | (f << 18u) | 0x80000000u;
+}
+
 // The surface the G-buffer resolved at `pixel` (full-resolution G-buffer coordinates).
 fn surface_at(pixel: vec2<u32>) -> SurfaceSample {
     var s: SurfaceSample;
@@ -71,6 +91,10 @@ fn surface_at(pixel: vec2<u32>) -> SurfaceSample {
     s.metallic = 0.0;
     s.occlusion = 1.0;
     s.emission = vec3<f32>(0.0);
+    s.extended = false;
+    s.coat = 0.0;
+    s.coat_roughness = 0.0;
+    s.reflectance = 0.04;
 #ifdef SURFACE_TARGET
     let bits = textureLoad(surface_target, pixel, 0);
     let ao = unpack2x16unorm(bits.y);
@@ -83,6 +107,12 @@ fn surface_at(pixel: vec2<u32>) -> SurfaceSample {
         // The resolve stores at most 65000; an RGB9E5 word it did not write
         // (exponent 31) can read up to 65408: hold it below half-float overflow.
         s.emission = min(unpack_rgb9e5(bits.z), vec3<f32>(65000.0));
+        if ((bits.w & 0x80000000u) != 0u) {
+            s.extended = true;
+            s.coat = f32(bits.w & 255u) / 255.0;
+            s.coat_roughness = f32((bits.w >> 8u) & 1023u) / 1023.0;
+            s.reflectance = f32((bits.w >> 18u) & 8191u) / 8191.0;
+        }
     }
 #endif
     return s;

@@ -13,7 +13,9 @@
 // overflow so no infinity reaches a target. CLEARCOAT (some material has
 // the Clearcoat feature): a second GGX lobe, f0 0.04, over the base, which
 // it dims by its Fresnel reflectance at N.V (glTF's KHR_materials_clearcoat
-// as the Khronos sample viewer shades it; the coat shares the pixel's normal).
+// as the Khronos sample viewer shades it; the coat shares the pixel's normal:
+// clearcoatNormalTexture is not applied), its factor and roughness scaled
+// by their maps where the G-buffer resolved them (material::clearcoat_at).
 // CUSTOM_LIGHT: a light shader node's `light` function (lib/light_shader.wgsl,
 // spliced in for lib/custom_light.wgsl) replaces the BRDF: the same walk,
 // clusters and shadows, its outputs summed into the two targets.
@@ -39,7 +41,7 @@
 #endif
 #endif
 #ifdef CLEARCOAT
-#import spreadlight::material::{feature_param, FEATURE_CLEARCOAT}
+#import spreadlight::material::clearcoat_at
 // The pixel's coat: its coverage (0: none), its lobe's surface (the
 // pixel's normal, the coat's roughness, f0 0.04) and its summed specular.
 var<private> coat_factor: f32;
@@ -634,7 +636,8 @@ fn main(@builtin(local_invocation_index) lane: u32, @builtin(workgroup_id) wid: 
     coat_factor = 0.0;
     var coat_roughness = 0.0;
     if (covered) {
-        let coat = feature_param(material, FEATURE_CLEARCOAT, 0u, vec4<f32>(0.0));
+        // Scaled by its maps where the G-buffer resolved them.
+        let coat = clearcoat_at(material, pixel);
         coat_factor = clamp(coat.x, 0.0, 1.0);
         coat_roughness = clamp(coat.y, 0.0, 1.0);
     }

@@ -263,4 +263,26 @@ fn light_shadow(slice: u32, pw: vec3<f32>, nw: vec3<f32>, from_light: vec3<f32>,
 #endif
 #endif
 }
+
+// How lit world point `pw` (world normal `nw`, `n_dot_l` towards the sun)
+// is by the sun whose cascades are slice `slice`, wherever the point is,
+// for passes that shade what the camera does not see (EnvironmentProbe's
+// faces): the finest cascade whose view holds it (inside its inner 98%,
+// so the filter's taps stay on the layer); beyond them all, lit.
+fn sun_shadow_anywhere(slice: u32, pw: vec3<f32>, nw: vec3<f32>, n_dot_l: f32) -> f32 {
+    let per = u32(shadow_params.sampling.w);
+    let c = clamp(abs(n_dot_l), 0.1, 1.0);
+    let slope = sqrt(1.0 - c * c) / c;
+    for (var k = 0u; k < per; k++) {
+        let layer = slice * per + k;
+        let clip = shadow_views[layer].view_projection * vec4<f32>(pw, 1.0);
+        if (clip.w > 1e-12) {
+            let ndc = clip.xyz / clip.w;
+            if (all(abs(ndc.xy) <= vec2<f32>(0.98)) && ndc.z >= 0.0 && ndc.z <= 1.0) {
+                return shadow_in_layer(layer, pw, nw, slope);
+            }
+        }
+    }
+    return 1.0;
+}
 #endif

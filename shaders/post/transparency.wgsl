@@ -43,6 +43,9 @@
 // reflectance and emission from the material world's CookTorrance and
 // Emission features by the instance's material id (with surface maps,
 // scaled by the metallic-roughness and emissive maps), else the node's pins.
+// EXTENSION_MAPS (with MATERIAL_MAPS; the world has a material extension's
+// map): the reflectance by the specular maps, the thickness by the
+// thickness map (the coat is not drawn here, nor its maps).
 // MATCAP (base pass, with MATERIALS): a layer whose material has MatCap
 // gets it as CompositeLight gives opaque surfaces, looked up by the
 // view-space normal of the face shown (MATCAP_TEXTURE: the world's texture
@@ -86,6 +89,9 @@
 #endif
 #ifdef MATERIAL_MAPS
 #import spreadlight::material_maps::{MapCoords, sample_map, has_map, map_settings, MAP_BASE_COLOR, MAP_METALLIC_ROUGHNESS, MAP_NORMAL, MAP_OCCLUSION, MAP_EMISSIVE}
+#ifdef EXTENSION_MAPS
+#import spreadlight::material_maps::{mapped_reflectance, MAP_THICKNESS}
+#endif
 #endif
 #ifdef VERTEX_EXTRAS
 #import spreadlight::mesh::vertex_color
@@ -582,6 +588,8 @@ fn fs(in: VertexOut, @builtin(front_facing) front: bool) -> Accumulated {
     var reflectance = 0.04;
     var emission = vec3<f32>(0.0);
     var occlusion = 1.0;
+    // What scales the transmission's thickness (KHR_materials_volume's map).
+    var thickness_scale = 1.0;
 #ifdef MATERIALS
     let ct = feature_param(in.material, FEATURE_COOK_TORRANCE, 0u, vec4<f32>(roughness, metallic, reflectance, 0.0));
     roughness = ct.x;
@@ -610,6 +618,10 @@ fn fs(in: VertexOut, @builtin(front_facing) front: bool) -> Accumulated {
     metallic *= metal_rough.b;
     occlusion = clamp(1.0 + settings.w * (sample_map(in.material, MAP_OCCLUSION, coords, vec4<f32>(1.0)).r - 1.0), 0.0, 1.0);
     emission *= max(sample_map(in.material, MAP_EMISSIVE, coords, vec4<f32>(1.0)).rgb, vec3<f32>(0.0));
+#ifdef EXTENSION_MAPS
+    reflectance = mapped_reflectance(in.material, coords, reflectance);
+    thickness_scale = max(sample_map(in.material, MAP_THICKNESS, coords, vec4<f32>(1.0)).g, 0.0);
+#endif
 #endif
     // Behind the opaque surface (reversed-Z: a smaller depth is further): hidden.
     let opaque_z = textureLoad(opaque_depth, vec2<i32>(in.clip.xy), 0).r;
@@ -682,7 +694,7 @@ fn fs(in: VertexOut, @builtin(front_facing) front: bool) -> Accumulated {
         let n_t = select(-n, n, front);
         let v_t = safe_normalize(camera.position.xyz - in.world, n_t);
         // Tinted by the base colour (glTF: the transmitted light is).
-        through = albedo * transmitted(in.world, n_t, v_t, transmission.y, transmission.z, roughness, sigma, in.clip.xy);
+        through = albedo * transmitted(in.world, n_t, v_t, transmission.y, transmission.z * thickness_scale, roughness, sigma, in.clip.xy);
     }
 #endif
     let surface = max(sanitize(vec4<f32>(min(diffuse, vec3<f32>(600.0)), 0.0)).rgb, vec3<f32>(0.0));

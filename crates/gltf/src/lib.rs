@@ -184,7 +184,8 @@ pub struct MaterialData {
     /// `KHR_materials_volume`: thicknessFactor (0 without it: thin-walled),
     /// in the mesh's units.
     pub thickness: f32,
-    /// `KHR_materials_volume`: thicknessTexture (green scales the factor).
+    /// `KHR_materials_volume`: thicknessTexture (green scales the factor),
+    /// sampled by lit transparency (the surface maps' thickness slot).
     pub thickness_texture: Option<TextureData>,
     /// `KHR_materials_volume`: attenuationColor, the colour white light
     /// turns after travelling `attenuation_distance` inside (white: none).
@@ -193,15 +194,17 @@ pub struct MaterialData {
     /// it: no absorption). Infinity stays on the CPU: what leaves for the
     /// GPU is [`MaterialData::transmittance`], finite.
     pub attenuation_distance: f32,
-    /// `KHR_materials_clearcoat`: clearcoatTexture (red scales the factor),
-    /// clearcoatRoughnessTexture (green), clearcoatNormalTexture: read and
-    /// decoded, not yet sampled (the G-buffer has no per-pixel coat slot).
+    /// `KHR_materials_clearcoat`: clearcoatTexture (red scales the factor)
+    /// and clearcoatRoughnessTexture (green), sampled in the G-buffer
+    /// resolve (the surface maps' coat slots); clearcoatNormalTexture is
+    /// read and decoded, not sampled (the coat shares the pixel's normal:
+    /// the G-buffer has one normal per pixel).
     pub clearcoat_texture: Option<TextureData>,
     pub clearcoat_roughness_texture: Option<TextureData>,
     pub clearcoat_normal_texture: Option<TextureData>,
     /// `KHR_materials_specular`: specularTexture (alpha scales the factor)
-    /// and specularColorTexture (rgb, sRGB): read, not yet sampled (the
-    /// material world's reflectance is one number per material).
+    /// and specularColorTexture (rgb, sRGB), sampled per pixel into the
+    /// reflectance (the surface maps' specular slots).
     pub specular_texture: Option<TextureData>,
     pub specular_color_texture: Option<TextureData>,
     /// The file gave this material as `KHR_materials_pbrSpecularGlossiness`;

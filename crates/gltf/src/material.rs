@@ -8,7 +8,9 @@ use gltf::Document;
 use gltf::texture::{MagFilter, WrappingMode};
 
 use super::{AlphaMode, GltfError, Importer, MaterialData, TextureData, source};
-use spreadlight_render::material::maps::{MapRef, MapSlot, SurfaceMaps, UvTransform, Wrap};
+use spreadlight_render::material::maps::{
+    MapRef, MapSlot, SpecularFactors, SurfaceMaps, UvTransform, Wrap,
+};
 use spreadlight_render::material::{Feature, Material, transmission_params};
 
 /// A texture use as glTF states it: the texture, its texCoord, and its
@@ -246,7 +248,9 @@ impl MaterialData {
     /// Transmission when it transmits (`KHR_materials_transmission`, its
     /// refraction by `KHR_materials_ior`, its thickness and absorption by
     /// `KHR_materials_volume`), and
-    /// SurfaceMaps for its textures, alpha mode and sidedness. The base
+    /// SurfaceMaps for its textures (the extensions' clearcoat, clearcoat
+    /// roughness, specular, specular colour and thickness maps included),
+    /// alpha mode and sidedness. The base
     /// colour factor is the instance colour (the glTF node's Base Color).
     pub fn to_material(&self) -> Material {
         let mut material = Material::new();
@@ -310,6 +314,31 @@ impl MaterialData {
         ] {
             maps.set_map(slot, texture.as_ref().map(TextureData::map));
         }
+        // The extensions' maps scale their factors: a map under a zero
+        // factor (no coat, nothing transmitted) changes nothing, and is left out.
+        let coated = finite(self.clearcoat) > 0.0;
+        let transmits = finite(self.transmission) > 0.0;
+        for (slot, texture, used) in [
+            (MapSlot::Clearcoat, &self.clearcoat_texture, coated),
+            (
+                MapSlot::ClearcoatRoughness,
+                &self.clearcoat_roughness_texture,
+                coated,
+            ),
+            (MapSlot::Specular, &self.specular_texture, true),
+            (MapSlot::SpecularColor, &self.specular_color_texture, true),
+            (MapSlot::Thickness, &self.thickness_texture, transmits),
+        ] {
+            maps.set_map(
+                slot,
+                texture.as_ref().filter(|_| used).map(TextureData::map),
+            );
+        }
+        let f0 = self.dielectric_f0();
+        maps.specular = SpecularFactors {
+            f0_color: self.specular_color.map(|c| f0 * finite(c).max(0.0)),
+            factor: finite(self.specular).clamp(0.0, 1.0),
+        };
         material.set_maps(Some(Arc::new(maps)));
         material
     }

@@ -16,15 +16,18 @@
 //!   transmissionTexture is baked into the base colour map's alpha
 //!   ([`super::transmission`]), so it is sampled per texel.
 //! - `KHR_materials_volume`: thickness, its map, attenuation colour and
-//!   distance read and checked ([`super::volume`]); the absorption
-//!   ([`MaterialData::transmittance`]) is not drawn yet (warned).
+//!   distance read and checked ([`super::volume`]), drawn by lit
+//!   transparency (the thickness map sampled per fragment).
 //! - `KHR_materials_pbrSpecularGlossiness`: converted to metal-rough
 //!   ([`super::spec_gloss`]), maps included.
 //! - `KHR_materials_emissive_strength` (typed by the gltf crate): checked.
 //!
-//! The clearcoat, specular and thickness maps have no slot in the surface
-//! maps: they are read and decoded into [`MaterialData`], each present one
-//! is a warning, and its factor applies over the whole surface.
+//! The clearcoat, clearcoat roughness, specular, specular colour and
+//! thickness maps are surface maps of their own slots
+//! ([`MaterialData::to_material`]), sampled where their factor is read: the
+//! coat and the reflectance in the G-buffer resolve, the reflectance and
+//! the thickness in lit transparency. clearcoatNormalTexture is read and
+//! decoded, not sampled (warned): the coat shares the pixel's normal.
 
 use gltf::Document;
 use gltf::json::Value;
@@ -33,22 +36,10 @@ use super::material::{Slot, parse_transform};
 use super::spec_gloss::{self, SpecGloss};
 use super::{AlphaMode, GltfError, Importer, MaterialData, TextureData};
 
-/// The maps read into [`MaterialData`] that no pass samples yet.
-const UNSAMPLED_MAPS: &[(&str, &[&str])] = &[
-    (
-        "KHR_materials_clearcoat",
-        &[
-            "clearcoatTexture",
-            "clearcoatRoughnessTexture",
-            "clearcoatNormalTexture",
-        ],
-    ),
-    (
-        "KHR_materials_specular",
-        &["specularTexture", "specularColorTexture"],
-    ),
-    ("KHR_materials_volume", &["thicknessTexture"]),
-];
+/// The maps read into [`MaterialData`] that no pass samples yet: the coat
+/// shares the pixel's normal (the G-buffer keeps one per pixel).
+const UNSAMPLED_MAPS: &[(&str, &[&str])] =
+    &[("KHR_materials_clearcoat", &["clearcoatNormalTexture"])];
 
 impl Importer<'_> {
     /// Reads `m`'s material extensions into `data` (already holding the core material).
@@ -121,7 +112,7 @@ impl Importer<'_> {
             };
             for map in maps.iter().filter(|map| ext.get(**map).is_some()) {
                 self.warn(format!(
-                    "{who}: {extension} {map} is read but not sampled (no G-buffer slot); its factor applies over the whole surface"
+                    "{who}: {extension} {map} is read but not sampled (the coat shares the surface's normal)"
                 ));
             }
         }
@@ -376,6 +367,22 @@ impl Importer<'_> {
 }
 
 impl MaterialData {
+    /// The f0 of the index of refraction alone, ((ior - 1) / (ior + 1))²
+    /// (`KHR_materials_ior`: 0.04 at 1.5, 1 for ior 0); what the specular
+    /// colour and factor, and their maps, scale.
+    pub fn dielectric_f0(&self) -> f32 {
+        let ior = if self.ior.is_finite() { self.ior } else { 1.5 };
+        // glTF's default (1.5) gives the 0.04 every material had, bit for bit.
+        if ior == 0.0 {
+            1.0
+        } else if ior == 1.5 {
+            0.04
+        } else {
+            let r = (ior - 1.0) / (ior + 1.0);
+            r * r
+        }
+    }
+
     /// The f0 of the dielectric part (CookTorrance's reflectance):
     /// ((ior - 1) / (ior + 1))² (`KHR_materials_ior`; 0.04 at 1.5, 1 for
     /// ior 0) times the specular colour, capped at 1, times the specular
@@ -384,16 +391,7 @@ impl MaterialData {
     /// and the extension's f90 (the specular factor at grazing) stays 1.
     pub fn reflectance(&self) -> f32 {
         let finite = |v: f32, or: f32| if v.is_finite() { v } else { or };
-        let ior = finite(self.ior, 1.5);
-        // glTF's default (1.5) gives the 0.04 every material had, bit for bit.
-        let f0 = if ior == 0.0 {
-            1.0
-        } else if ior == 1.5 {
-            0.04
-        } else {
-            let r = (ior - 1.0) / (ior + 1.0);
-            r * r
-        };
+        let f0 = self.dielectric_f0();
         let [r, g, b] = self
             .specular_color
             .map(|c| (f0 * finite(c, 1.0).max(0.0)).min(1.0));

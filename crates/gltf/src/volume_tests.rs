@@ -224,7 +224,7 @@ fn the_transmission_map_keeps_the_base_colour_and_its_alpha() {
 }
 
 #[test]
-fn the_clearcoat_and_specular_maps_are_read() {
+fn the_clearcoat_and_specular_maps_are_read_and_become_surface_maps() {
     let mut doc = cube_with(named("Maps"), "{}");
     let t = texture(&mut doc, 1, vec![200, 100, 50, 25]);
     with_extensions(
@@ -250,12 +250,31 @@ fn the_clearcoat_and_specular_maps_are_read() {
         assert_eq!(map.image.rgba8, vec![200, 100, 50, 25], "{name}");
         assert_eq!(map.srgb, srgb, "{name}");
     }
-    // Those no pass samples yet are said to be so, one warning each.
-    let unsampled = warnings
+    // Only the coat's normal map is not sampled, and is said to be so.
+    let unsampled: Vec<_> = warnings
         .iter()
         .filter(|w| w.contains("not sampled"))
-        .count();
-    assert_eq!(unsampled, 6, "{warnings:?}");
+        .collect();
+    assert_eq!(unsampled.len(), 1, "{warnings:?}");
+    assert!(unsampled[0].contains("clearcoatNormalTexture"));
+    // The rest become the material's surface maps, in their slots; the
+    // thickness map only for a material that transmits (this one does not).
+    let material = m.to_material();
+    let maps = material.maps().expect("surface maps");
+    use spreadlight_render::material::maps::MapSlot;
+    for slot in [
+        MapSlot::Clearcoat,
+        MapSlot::ClearcoatRoughness,
+        MapSlot::Specular,
+        MapSlot::SpecularColor,
+    ] {
+        assert!(maps.map(slot).is_some(), "{slot:?}");
+    }
+    assert!(maps.map(MapSlot::Thickness).is_none());
+    assert!(maps.has_extension_maps());
+    // White specular colour, ior 1.5, factor 1: glTF's f0.
+    assert_eq!(maps.specular.f0_color, [0.04; 3]);
+    assert_eq!(maps.specular.factor, 1.0);
 }
 
 #[test]

@@ -4,7 +4,9 @@
 //! `Environment (Sky)`, so it plugs into Reflection, Sky and the diffuse
 //! light wherever an Environment goes. It renders again only when what it
 //! sees changed (or every N frames, or once), and with a box or sphere
-//! influence volume Reflection corrects each ray for parallax.
+//! influence volume Reflection corrects each ray for parallax. Given a
+//! ShadowMap (Sun)'s Shadows, its sun is shadowed; a layer's Normal Map
+//! perturbs what it lights.
 
 use glam::Vec3;
 use spreadlight_graph::{
@@ -12,9 +14,10 @@ use spreadlight_graph::{
 };
 use spreadlight_render::environment::{
     Environment, EnvironmentQuality, EnvironmentSource, ProbeLighting, ProbeScene, ProbeSettings,
-    ProbeUpdate, ProbeVolume,
+    ProbeShadow, ProbeUpdate, ProbeVolume,
 };
 use spreadlight_render::gbuffer::Layer;
+use spreadlight_render::shadows::ShadowMaps;
 
 use crate::gpu::renderer;
 use crate::lighting::require_finite;
@@ -68,6 +71,8 @@ struct ProbePins {
     every: In<i64>,
     cube_size: In<i64>,
     samples: In<i64>,
+    shadows: In<Res<ShadowMaps>>,
+    shadow_slice: In<i64>,
     out: Out<Res<Environment>>,
 }
 
@@ -167,9 +172,12 @@ pub fn register(r: &mut Registry) {
             "The scene as an environment: Layer rendered into a cube map from Position, prefiltered like Environment \
              (Sky), for Reflection, Sky and the diffuse light. What the faces show is a forward shading of the layer: \
              each instance's colour times its layer's Color Texture times (Ambient + Sun Color x Sun Intensity x \
-             N.L, the sun travelling along Sun Direction), no shadows; Background where nothing is. Update: On \
-             Change renders again only when the layer's instances, colours, meshes or Color Texture, the position \
-             or the lighting changed (a moved camera \
+             N.L, the sun travelling along Sun Direction), N perturbed by the layer's Normal Map as the G-buffer \
+             does; Background where nothing is. Shadows: a ShadowMap (Sun)'s maps shadow the sun, slice Shadow \
+             Slice (the AddLight (Sun)'s; give the probe that sun's direction), in the finest cascade that holds \
+             each point (cascades follow the camera: beyond them, lit). Update: On \
+             Change renders again only when the layer's instances, colours, meshes, Color Texture or Normal Map, \
+             the position, the lighting, or the shadow's light or casters changed (a moved camera \
              does not); Every N Frames every N-th frame regardless; Once the first frame. `spreadlight stats` counts \
              \"environment probe rendered\" and \"reused\". Volume: with a Box (Volume Center, Volume Size) or Sphere \
              (Volume Radius) around the room, Reflection corrects each ray for parallax (box-projected reflections); \
@@ -193,12 +201,25 @@ pub fn register(r: &mut Registry) {
                 every: p.input("Every N", 1i64),
                 cube_size: p.input("Cube Size", i64::from(DEFAULT_QUALITY.cube_size)),
                 samples: p.input("Samples", i64::from(DEFAULT_QUALITY.samples)),
+                shadows: p.input_resource::<ShadowMaps>("Shadows", ResourceKind::Shadows),
+                shadow_slice: p.input("Shadow Slice", 0i64),
                 out: p.output_resource::<Environment>("Environment", ResourceKind::Environment),
             };
             move |cx| {
                 let (settings, quality) = settings(cx, pins)?;
                 let layers = cx.resources(pins.layer)?;
                 let scene = ProbeScene::new(layers, settings).map_err(|e| cx.error(pins.position, e.to_string()))?;
+                let shadow = match cx.first_resource(pins.shadows)? {
+                    Some(maps) => {
+                        require_finite(cx, pins.shadow_slice)?;
+                        let slice = cx.first(pins.shadow_slice, 0)?;
+                        let slice = u32::try_from(slice)
+                            .map_err(|_| cx.error(pins.shadow_slice, format!("is {slice}; a slice is 0 or more")))?;
+                        Some(ProbeShadow { maps, slice })
+                    }
+                    None => None,
+                };
+                let scene = scene.with_sun_shadow(shadow).map_err(|e| cx.error(pins.shadows, e.to_string()))?;
                 let renderer = renderer(cx)?;
                 let environment =
                     Environment::new(&renderer, Some(cx.node_id.0), EnvironmentSource::Probe(std::sync::Arc::new(scene)), quality);

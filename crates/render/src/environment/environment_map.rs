@@ -17,10 +17,10 @@ use std::sync::atomic::{AtomicU32, Ordering};
 use std::sync::{Arc, Mutex};
 
 use super::probe::ProbeUpdate;
-use super::probe::faces::PackedProbe;
+use super::probe::faces::{PackedProbe, ProbeTextures};
 use super::source::{EnvironmentMaps, EnvironmentQuality, EnvironmentSource};
 use crate::error::RenderError;
-use crate::frame_graph::{FrameGraph, PassContext, Tex, TextureDesc};
+use crate::frame_graph::{FrameGraph, PassContext, TextureDesc};
 use crate::gbuffer::Layer;
 use crate::recipe::{Recipe, next_recipe_id};
 use crate::renderer::Renderer;
@@ -177,7 +177,7 @@ impl Environment {
         &self,
         cx: &mut PassContext<'_>,
         renderer: &Renderer,
-        color_maps: &[Option<Tex>],
+        textures: &ProbeTextures,
     ) -> Result<(), RenderError> {
         let mut guard = self.store.0.lock().unwrap_or_else(|e| e.into_inner());
         let probe = matches!(self.source, EnvironmentSource::Probe(_));
@@ -194,7 +194,7 @@ impl Environment {
         }
         let faces = match (&self.source, &self.probe) {
             (EnvironmentSource::Probe(scene), Some(packed)) => {
-                Some((renderer, &**scene, packed, color_maps))
+                Some((renderer, &**scene, packed, textures))
             }
             _ => None,
         };
@@ -224,21 +224,37 @@ impl Recipe for Environment {
             }
             _ => PassName::new("Environment").step("prefilter"),
         };
-        // A probe's layers' Color Textures, made before its faces sample them.
-        let layers: &[Arc<Layer>] = match &self.source {
-            EnvironmentSource::Probe(scene) => scene.layers(),
-            _ => &[],
+        // A probe's layers' Color Textures and Normal Maps, and its sun's
+        // shadow maps, made before its faces sample them.
+        let (layers, sun_shadow): (&[Arc<Layer>], _) = match &self.source {
+            EnvironmentSource::Probe(scene) => (scene.layers(), scene.sun_shadow()),
+            _ => (&[], None),
         };
-        for map in layers.iter().flat_map(|l| &l.color_map) {
+        let normal_map =
+            |l: &'a Arc<Layer>| l.normal_map.as_ref().filter(|_| l.features.normal_map);
+        for map in layers
+            .iter()
+            .flat_map(|l| l.color_map.iter().chain(normal_map(l)))
+        {
             map.recipe.declare(renderer, fg);
         }
+        if let Some(sun) = sun_shadow {
+            sun.maps.declare(renderer, fg);
+        }
         let mut pass = fg.pass(name, self.owner);
-        let color_maps: Vec<Option<Tex>> = layers
-            .iter()
-            .map(|l| l.color_map.as_ref().map(|m| pass.read(&m.name)))
-            .collect();
+        let textures = ProbeTextures {
+            color: (layers.iter())
+                .map(|l| l.color_map.as_ref().map(|m| pass.read(&m.name)))
+                .collect(),
+            normal: (layers.iter())
+                .map(|l| normal_map(l).map(|m| pass.read(&m.name)))
+                .collect(),
+        };
+        if let Some(sun) = sun_shadow {
+            pass.read(sun.maps.token());
+        }
         // The maps live in the store; the token orders the passes that read them.
         pass.write(&self.token, TextureDesc::token());
-        pass.run(move |cx| self.run(cx, renderer, &color_maps));
+        pass.run(move |cx| self.run(cx, renderer, &textures));
     }
 }

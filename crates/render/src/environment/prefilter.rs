@@ -97,12 +97,12 @@ fn upload_equirect(cx: &PassContext<'_>, image: &EquirectImage) -> wgpu::Texture
 type Step = (wgpu::ComputePipeline, Vec<wgpu::BindGroup>, (u32, u32, u32));
 
 /// What a probe's faces are drawn from: its scene, packed, and each layer's
-/// Color Texture as the frame graph handed it to the pass.
+/// Color Texture and Normal Map as the frame graph handed them to the pass.
 pub(crate) type ProbeFaces<'p> = (
     &'p Renderer,
     &'p ProbeScene,
     &'p PackedProbe,
-    &'p [Option<crate::frame_graph::Tex>],
+    &'p super::probe::faces::ProbeTextures,
 );
 
 pub(crate) fn build(
@@ -184,14 +184,14 @@ pub(crate) fn build(
             )?;
         }
         EnvironmentSource::Probe(_) => {
-            let Some((renderer, scene, packed, color_maps)) = probe else {
+            let Some((renderer, scene, packed, textures)) = probe else {
                 return Err(RenderError::Pass {
                     pass: "EnvironmentProbe".to_owned(),
                     message: "a probe's layers were not packed".to_owned(),
                 });
             };
             // Render passes now, before the compute pass the steps go into.
-            super::probe::faces::render(cx, renderer, scene, packed, color_maps, &base)?;
+            super::probe::faces::render(cx, renderer, scene, packed, textures, &base)?;
         }
         EnvironmentSource::Sky(_) => {
             let sky = source.gpu_sky().unwrap_or_default();

@@ -296,7 +296,14 @@ impl Layer {
         let surface = if self.surface.is_some() {
             Some(SurfaceOut::Custom)
         } else {
-            self.map_world().map(|_| SurfaceOut::MaterialMaps)
+            // The extensions' maps (coat, specular) only where the world has one.
+            self.map_world().map(|w| {
+                if w.has_extension_maps() {
+                    SurfaceOut::ExtendedMaps
+                } else {
+                    SurfaceOut::MaterialMaps
+                }
+            })
         };
         key.written = Written::Surface(SurfaceResolve {
             color_map: self.color_map.is_some(),

@@ -64,6 +64,9 @@ pub enum SurfaceOut {
     Target,
     /// A glTF material world's surface maps (MATERIAL_MAPS).
     MaterialMaps,
+    /// Its surface maps and its material extensions' maps, the coat's and
+    /// the specular's (MATERIAL_MAPS, EXTENSION_MAPS): some material has one.
+    ExtendedMaps,
     /// A shader node material's `surface` function (CUSTOM_SURFACE), which
     /// binds group 1, where surface maps would put the material world.
     Custom,
@@ -138,6 +141,7 @@ impl Permutation for ResolveKey {
         "COLOR_MAP",
         "SURFACE_OUT",
         "MATERIAL_MAPS",
+        "EXTENSION_MAPS",
         "CUSTOM_SURFACE",
         "VERTEX_EXTRAS",
         "VELOCITY_OUT",
@@ -162,6 +166,9 @@ impl Permutation for ResolveKey {
                     None => {}
                     Some(SurfaceOut::Target) => f.push("SURFACE_OUT"),
                     Some(SurfaceOut::MaterialMaps) => f.extend(["SURFACE_OUT", "MATERIAL_MAPS"]),
+                    Some(SurfaceOut::ExtendedMaps) => {
+                        f.extend(["SURFACE_OUT", "MATERIAL_MAPS", "EXTENSION_MAPS"])
+                    }
                     Some(SurfaceOut::Custom) => f.extend(["SURFACE_OUT", "CUSTOM_SURFACE"]),
                 }
             }
@@ -169,13 +176,15 @@ impl Permutation for ResolveKey {
         f.into_iter()
     }
 
-    /// 2 rasters x 3 UV sources x 2 x 2 x (the motion resolve and 32
-    /// surface resolves): the 792 feature sets the string rules allowed.
+    /// 2 rasters x 3 UV sources x 2 x 2 x (the motion resolve and 40
+    /// surface resolves): the 984 feature sets the string rules allow (792
+    /// before EXTENSION_MAPS, which only surface maps take).
     fn all() -> Vec<Self> {
         let surfaces = [
             None,
             Some(SurfaceOut::Target),
             Some(SurfaceOut::MaterialMaps),
+            Some(SurfaceOut::ExtendedMaps),
             Some(SurfaceOut::Custom),
         ];
         let mut written = vec![Written::Motion];

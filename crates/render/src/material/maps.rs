@@ -1,17 +1,24 @@
 //! Surface maps: the textures of a glTF metallic-roughness material (base
-//! colour, metallic-roughness, normal, occlusion, emissive), each with its
-//! UV set, `KHR_texture_transform` and sampler, plus the alpha mode and
-//! double-sidedness. A [`Material`](super::Material) carries them as the
-//! built-in feature [`FEATURE_SURFACE_MAPS`](super::FEATURE_SURFACE_MAPS):
-//! its flag bit and, when packed, 11 parameter vec4s that
-//! `shaders/lib/material_maps.wgsl` reads in the G-buffer resolve. The
-//! factors stay where every other material keeps them: roughness and
-//! metallic in CookTorrance, emissive colour and strength in Emission, the
-//! base colour factor in the instance colour; maps multiply them.
+//! colour, metallic-roughness, normal, occlusion, emissive) and of its
+//! extensions (clearcoat, clearcoat roughness, specular, specular colour,
+//! thickness), each with its UV set, `KHR_texture_transform` and sampler,
+//! plus the alpha mode and double-sidedness. A [`Material`](super::Material)
+//! carries them as the built-in feature
+//! [`FEATURE_SURFACE_MAPS`](super::FEATURE_SURFACE_MAPS): its flag bit and,
+//! when packed, 11 parameter vec4s that `shaders/lib/material_maps.wgsl`
+//! reads in the G-buffer resolve, 22 when it has an extension's map (so a
+//! material without one packs, and shades, as before). The factors stay
+//! where every other material keeps them: roughness, metallic and
+//! reflectance in CookTorrance, emissive colour and strength in Emission,
+//! the coat's in Clearcoat, the thickness in Transmission, the base colour
+//! factor in the instance colour; maps multiply them. The one exception is
+//! the specular maps' factors ([`SpecularFactors`]): the reflectance is one
+//! number made of three, so a map of one of them needs the others.
 
 use std::sync::Arc;
 
-/// The five map slots, in the order their parameters are packed.
+/// The map slots, in the order their parameters are packed: the core
+/// material's five, then the extensions' ([`MapSlot::EXTENSIONS`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum MapSlot {
     BaseColor = 0,
@@ -21,20 +28,71 @@ pub enum MapSlot {
     /// Occlusion in red.
     Occlusion = 3,
     Emissive = 4,
+    /// `KHR_materials_clearcoat`'s clearcoatTexture: the coat's factor in red.
+    Clearcoat = 5,
+    /// clearcoatRoughnessTexture: the coat's roughness in green.
+    ClearcoatRoughness = 6,
+    /// `KHR_materials_specular`'s specularTexture: the specular factor in alpha.
+    Specular = 7,
+    /// specularColorTexture: the specular colour in rgb (sRGB).
+    SpecularColor = 8,
+    /// `KHR_materials_volume`'s thicknessTexture: the thickness in green.
+    Thickness = 9,
 }
 
 impl MapSlot {
-    pub const ALL: [MapSlot; 5] = [
+    pub const ALL: [MapSlot; 10] = [
         MapSlot::BaseColor,
         MapSlot::MetallicRoughness,
         MapSlot::Normal,
         MapSlot::Occlusion,
         MapSlot::Emissive,
+        MapSlot::Clearcoat,
+        MapSlot::ClearcoatRoughness,
+        MapSlot::Specular,
+        MapSlot::SpecularColor,
+        MapSlot::Thickness,
+    ];
+
+    /// The slots of the material extensions: a material with a map in one
+    /// of them packs the long layout, and the passes that read them compile
+    /// their code only for a world that has one (EXTENSION_MAPS).
+    pub const EXTENSIONS: [MapSlot; 5] = [
+        MapSlot::Clearcoat,
+        MapSlot::ClearcoatRoughness,
+        MapSlot::Specular,
+        MapSlot::SpecularColor,
+        MapSlot::Thickness,
     ];
 
     /// Colour maps are stored sRGB-encoded and sampled through an sRGB format.
     pub fn srgb(self) -> bool {
-        matches!(self, MapSlot::BaseColor | MapSlot::Emissive)
+        matches!(
+            self,
+            MapSlot::BaseColor | MapSlot::Emissive | MapSlot::SpecularColor
+        )
+    }
+}
+
+/// `KHR_materials_specular`'s factors, for a material with a specular map:
+/// the dielectric f0 is `min(f0 x colour x colour map, 1) x factor x map`,
+/// made one number (Rec. 709 luminance) as CookTorrance's reflectance is.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SpecularFactors {
+    /// The f0 of the index of refraction (`KHR_materials_ior`) times the
+    /// specular colour factor, per channel, before the colour map.
+    pub f0_color: [f32; 3],
+    /// The specular factor (0..=1), before the specular map.
+    pub factor: f32,
+}
+
+impl Default for SpecularFactors {
+    /// glTF's: ior 1.5 (f0 0.04), white, factor 1.
+    fn default() -> Self {
+        Self {
+            f0_color: [0.04; 3],
+            factor: 1.0,
+        }
     }
 }
 
@@ -129,7 +187,7 @@ pub enum AlphaMode {
 /// Everything of a glTF material that is not a factor of another feature.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SurfaceMaps {
-    pub maps: [Option<MapRef>; 5],
+    pub maps: [Option<MapRef>; 10],
     /// Scales the normal map's x and y.
     pub normal_scale: f32,
     /// How much of the occlusion map applies (0..=1).
@@ -137,6 +195,8 @@ pub struct SurfaceMaps {
     pub alpha: AlphaMode,
     /// Back faces drawn and lit with flipped normals.
     pub double_sided: bool,
+    /// What the specular maps scale (read only with one of them).
+    pub specular: SpecularFactors,
 }
 
 impl Default for SurfaceMaps {
@@ -147,6 +207,7 @@ impl Default for SurfaceMaps {
             occlusion_strength: 1.0,
             alpha: AlphaMode::Opaque,
             double_sided: false,
+            specular: SpecularFactors::default(),
         }
     }
 }
@@ -160,8 +221,11 @@ pub struct MapLocation {
     pub layer: u32,
 }
 
-/// How many parameter vec4s the SurfaceMaps feature packs.
-pub const PARAM_COUNT: usize = 1 + 2 * MapSlot::ALL.len();
+/// How many parameter vec4s the SurfaceMaps feature packs without an
+/// extension's map: the settings and the core slots.
+pub const PARAM_COUNT: usize = 1 + 2 * MapSlot::EXTENSIONS[0] as usize;
+/// With one: every slot, then the specular factors.
+pub const EXTENDED_PARAM_COUNT: usize = 1 + 2 * MapSlot::ALL.len() + 1;
 
 impl SurfaceMaps {
     pub fn map(&self, slot: MapSlot) -> Option<&MapRef> {
@@ -172,10 +236,17 @@ impl SurfaceMaps {
         self.maps[slot as usize] = map;
     }
 
+    /// Whether a material extension's slot has a map.
+    pub fn has_extension_maps(&self) -> bool {
+        MapSlot::EXTENSIONS.iter().any(|s| self.map(*s).is_some())
+    }
+
     /// The parameters the shader reads, with each map's location from `locate`:
     /// 0: (alpha mode 0/1/2 + 4 x double-sided, cutoff, normal scale, occlusion strength);
     /// per slot: (location, UV set 0/1, wrap s + 4 x wrap t + 16 x nearest, rotation),
-    /// (offset u, offset v, scale u, scale v).
+    /// (offset u, offset v, scale u, scale v); with an extension's map every
+    /// slot, then (specular f0 x colour rgb, specular factor), else the
+    /// core slots alone ([`PARAM_COUNT`]).
     pub fn pack(&self, locate: &dyn Fn(&MapRef, MapSlot) -> Option<MapLocation>) -> Vec<[f32; 4]> {
         let (mode, cutoff) = match self.alpha {
             AlphaMode::Opaque => (0.0, 0.0),
@@ -190,7 +261,13 @@ impl SurfaceMaps {
             finite(self.normal_scale, 1.0),
             finite(self.occlusion_strength, 1.0).clamp(0.0, 1.0),
         ]];
-        for slot in MapSlot::ALL {
+        let extended = self.has_extension_maps();
+        let slots = if extended {
+            &MapSlot::ALL[..]
+        } else {
+            &MapSlot::ALL[..MapSlot::EXTENSIONS[0] as usize]
+        };
+        for &slot in slots {
             let entry = self.map(slot).and_then(|m| Some((m, locate(m, slot)?)));
             match entry {
                 Some((m, at)) => {
@@ -212,6 +289,11 @@ impl SurfaceMaps {
                 }
                 None => params.extend([[0.0; 4], [0.0; 4]]),
             }
+        }
+        if extended {
+            let s = &self.specular;
+            let [r, g, b] = s.f0_color.map(|c| finite(c, 0.04).max(0.0));
+            params.push([r, g, b, finite(s.factor, 1.0).clamp(0.0, 1.0)]);
         }
         params
     }
@@ -262,5 +344,33 @@ mod tests {
         assert_eq!(packed[at + 1], [0.0, 0.0, 1.0, 1.0]);
         // Slots without a map are zero: the shader reads "none".
         assert_eq!(packed[1], [0.0; 4]);
+    }
+
+    #[test]
+    fn an_extension_map_packs_every_slot_and_the_specular_factors() {
+        let image = Arc::new(MapImage {
+            width: 1,
+            height: 1,
+            rgba8: vec![255; 4],
+        });
+        let mut maps = SurfaceMaps {
+            specular: SpecularFactors {
+                f0_color: [0.04, f32::NAN, -1.0],
+                factor: 2.0,
+            },
+            ..SurfaceMaps::default()
+        };
+        maps.set_map(MapSlot::Clearcoat, Some(MapRef::new(image)));
+        let packed = maps.pack(&|_, slot| {
+            (slot == MapSlot::Clearcoat).then_some(MapLocation { array: 1, layer: 2 })
+        });
+        assert_eq!(packed.len(), EXTENDED_PARAM_COUNT);
+        let at = 1 + 2 * MapSlot::Clearcoat as usize;
+        assert_eq!(packed[at], [(65536 + 3) as f32, 0.0, 0.0, 0.0]);
+        // The specular factors last, finite and in range.
+        assert_eq!(packed[EXTENDED_PARAM_COUNT - 1], [0.04, 0.04, 0.0, 1.0]);
+        // Only the colour slot of the extensions is sRGB.
+        let srgb: Vec<_> = MapSlot::EXTENSIONS.iter().map(|s| s.srgb()).collect();
+        assert_eq!(srgb, [false, false, false, true, false]);
     }
 }

@@ -23,7 +23,10 @@
 //! G-buffer's `surface` target (as it does for a shader node material's
 //! `surface` function), which lighting reads wherever it was written
 //! (`shaders/lib/surface_target.wgsl`; `feature_param_at` too): every
-//! shading pass sees mapped values without knowing glTF.
+//! shading pass sees mapped values without knowing glTF. The extensions'
+//! maps (clearcoat, specular) add the coat and the reflectance to it, for
+//! the materials that have one (`clearcoat_at`); lit transparency samples
+//! them, and the thickness map, per fragment.
 
 mod feature;
 pub mod library;
@@ -369,6 +372,10 @@ pub struct MaterialWorld {
     textured_flags: u32,
     /// The SurfaceMaps' textures, when some material has maps.
     maps: Option<WorldMaps>,
+    /// Some material has a map of a material extension (clearcoat,
+    /// specular, thickness): the passes that read them compile their code
+    /// (EXTENSION_MAPS) only then.
+    extension_maps: bool,
     dummies: Dummies,
     meta: wgpu::Buffer,
     offsets: wgpu::Buffer,
@@ -474,6 +481,10 @@ impl MaterialWorld {
         // through MATERIAL_TEXTURES: maps alone compile no texture code.
         let has_maps = union_flags & (1 << FEATURE_SURFACE_MAPS) != 0;
         let maps = has_maps.then(|| WorldMaps::new(renderer, &layout, filtering));
+        let extension_maps = materials
+            .iter()
+            .filter_map(|m| m.maps.as_ref())
+            .any(|m| m.has_extension_maps());
         Arc::new(MaterialWorld {
             materials,
             union_flags,
@@ -481,6 +492,7 @@ impl MaterialWorld {
             textures,
             textured_flags,
             maps,
+            extension_maps,
             dummies: Dummies::new(&renderer.gpu),
             meta,
             offsets,
@@ -560,6 +572,13 @@ impl MaterialWorld {
     /// Whether some material has surface maps (a glTF material).
     pub fn has_maps(&self) -> bool {
         self.maps.is_some()
+    }
+
+    /// Whether some material has a map of a material extension
+    /// (clearcoat, clearcoat roughness, specular, specular colour,
+    /// thickness: `maps::MapSlot::EXTENSIONS`).
+    pub fn has_extension_maps(&self) -> bool {
+        self.extension_maps
     }
 
     /// The surface maps' textures and samplers, when some material has maps.

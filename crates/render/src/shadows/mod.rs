@@ -91,6 +91,44 @@ impl ShadowLights {
         }
     }
 
+    /// A hash of the lights as they were given, not of the views made from
+    /// them (a sun's cascades follow the camera): what a reader that shades
+    /// outside the camera's view (an environment probe) keys its re-render on.
+    fn content_key(&self) -> u64 {
+        use std::hash::{Hash, Hasher};
+        let mut h = std::collections::hash_map::DefaultHasher::new();
+        let mut floats = |values: &[f32]| {
+            for v in values {
+                v.to_bits().hash(&mut h);
+            }
+        };
+        match self {
+            ShadowLights::Spot(l) => {
+                for (slice, view, projection) in l {
+                    floats(&[*slice as f32]);
+                    floats(&view.to_cols_array());
+                    floats(&projection.to_cols_array());
+                }
+            }
+            ShadowLights::Point(l) => {
+                for (slice, position, range) in l {
+                    floats(&[*slice as f32, position.x, position.y, position.z, *range]);
+                }
+            }
+            ShadowLights::Sun { lights, cascades } => {
+                for (slice, d) in lights {
+                    floats(&[*slice as f32, d.x, d.y, d.z]);
+                }
+                floats(&[
+                    cascades.count as f32,
+                    cascades.split_lambda,
+                    cascades.distance,
+                ]);
+            }
+        }
+        h.finish()
+    }
+
     fn slices(&self) -> Vec<u32> {
         match self {
             ShadowLights::Spot(l) => l.iter().map(|x| x.0).collect(),
@@ -144,6 +182,8 @@ pub struct ShadowMaps {
     owner: Option<u32>,
     pub settings: ShadowSettings,
     per_slice: u32,
+    /// The lights' [`ShadowLights::content_key`].
+    light_key: u64,
     plans: Vec<SlicePlan>,
     /// Every layer's view, slice-major (what the shader reads), even for slices with no light.
     views: wgpu::Buffer,
@@ -442,6 +482,7 @@ impl ShadowMaps {
             owner,
             settings,
             per_slice: per,
+            light_key: lights.content_key(),
             plans,
             views: views_buffer,
             params,
@@ -465,6 +506,38 @@ impl ShadowMaps {
 
     pub fn filter(&self) -> ShadowFilter {
         self.settings.filter
+    }
+
+    /// How many slices the maps hold (a slice per casting light's index).
+    pub fn slice_count(&self) -> u32 {
+        self.layers / self.per_slice.max(1)
+    }
+
+    /// What the maps show, as far as the camera does not decide it: the
+    /// lights as given, the settings and every caster's instances and
+    /// draws (an environment probe's re-render key: a change of light or a
+    /// moved caster changes its shadows, a moved camera only the cascades).
+    pub fn hash_content(&self, h: &mut impl std::hash::Hasher) {
+        use std::hash::Hash;
+        self.light_key.hash(h);
+        let s = &self.settings;
+        (
+            s.resolution,
+            s.depth_bias.to_bits(),
+            s.normal_bias.to_bits(),
+        )
+            .hash(h);
+        let (instances, draws, ranges) = crate::gbuffer::pack_instances(&self.casters);
+        for i in &instances {
+            for c in i.model.iter().flatten() {
+                c.to_bits().hash(h);
+            }
+            i.info.hash(h);
+        }
+        for d in &draws {
+            (d.index_count, d.first_instance, d.instance_count).hash(h);
+        }
+        ranges.hash(h);
     }
 
     /// The layer views a reader binds (slice-major).

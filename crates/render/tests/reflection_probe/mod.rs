@@ -467,3 +467,274 @@ fn a_mirror_sphere_beside_a_textured_box_shows_the_textures_colour() {
         "{green}"
     );
 }
+
+/// The probe above the floor, looking down its -Y face: floor point (x, 0,
+/// z) is at u = x / h, v = -z / h of that face (`cube_direction`).
+const ABOVE: Vec3 = Vec3::new(0.0, 1.5, 0.0);
+/// From +x and above at 45°: the box (x 1.2..2.0, 0.8 high) shadows the
+/// floor over x 0.4..1.2, |z| < 0.4.
+const SUN_DIRECTION: Vec3 = Vec3::new(-1.0, -1.0, 0.0);
+const FLOOR_ALBEDO: f32 = 0.5;
+
+/// The probe above the floor, lit by [`SUN_DIRECTION`] (sun 2, ambient 0.25 grey).
+fn above() -> ProbeSettings {
+    ProbeSettings {
+        position: ABOVE,
+        lighting: spreadlight_render::environment::ProbeLighting {
+            sun_direction: SUN_DIRECTION,
+            sun_color: Vec3::splat(2.0),
+            ambient: Vec3::splat(0.25),
+            ..Default::default()
+        },
+        ..Default::default()
+    }
+}
+
+/// What the probe's base cube shows of floor point (x, 0, z) (its -Y face, level 0).
+fn floor_seen(renderer: &Renderer, env: &Environment, x: f32, z: f32) -> Vec3 {
+    let maps = env.maps().expect("the probe was built");
+    let face = read_texture_layer(&renderer.gpu, &maps.base, 3, 0).expect("reads");
+    let (u, v) = (x / ABOVE.y, -z / ABOVE.y);
+    let n = face.width as f32;
+    let texel = |t: f32| ((t * 0.5 + 0.5) * n).floor().clamp(0.0, n - 1.0) as u32;
+    Vec3::from_slice(&face.pixel(texel(u), texel(v))[..3])
+}
+
+/// A ShadowMap (Sun)'s maps for [`SUN_DIRECTION`], slice 0, one cascade 8
+/// deep, 1024 texels a side, cast by `casters`.
+fn sun_shadow(
+    renderer: &Renderer,
+    casters: Vec<Arc<Layer>>,
+    eye: Vec3,
+) -> Arc<spreadlight_render::shadows::ShadowMaps> {
+    use spreadlight_render::shadows::{Cascades, ShadowLights, ShadowMaps, ShadowSettings};
+    let lights = ShadowLights::Sun {
+        lights: vec![(0, SUN_DIRECTION)],
+        cascades: Cascades {
+            count: 1,
+            split_lambda: 0.5,
+            distance: 8.0,
+            step: 0.0,
+        },
+    };
+    // Fine enough that the filter and the biases (a few texels) keep the
+    // shadow's edge within 0.3 of where the box puts it.
+    let settings = ShadowSettings {
+        resolution: 1024,
+        ..Default::default()
+    };
+    ShadowMaps::new(
+        renderer,
+        None,
+        &lights,
+        casters,
+        &camera(eye, BALL),
+        settings,
+    )
+    .expect("valid shadow maps")
+}
+
+fn shadowed_probe(
+    renderer: &Renderer,
+    owner: Option<u32>,
+    surroundings: &Arc<Layer>,
+    shadow: Option<Arc<spreadlight_render::shadows::ShadowMaps>>,
+) -> Arc<Environment> {
+    use spreadlight_render::environment::ProbeShadow;
+    let scene = ProbeScene::new(vec![surroundings.clone()], above())
+        .and_then(|s| s.with_sun_shadow(shadow.map(|maps| ProbeShadow { maps, slice: 0 })))
+        .expect("valid");
+    Environment::new(
+        renderer,
+        owner,
+        EnvironmentSource::Probe(Arc::new(scene)),
+        QUALITY,
+    )
+}
+
+/// With the scene's sun shadow maps, the floor the probe sees in the box's
+/// shadow is lit by the ambient alone: albedo x 0.25 where the lit floor
+/// beside it is albedo x (0.25 + 2 cos 45°), 0.150 of it. Without them both
+/// are lit. The shadow's casters are part of the probe's content key (a
+/// moved caster renders it again), its cascades are not (a moved camera
+/// reuses the cube).
+#[test]
+fn a_probe_sees_the_suns_shadow_beside_a_box() {
+    let renderer = test_renderer();
+    let s = scene(&renderer);
+    let lit = FLOOR_ALBEDO * (0.25 + 2.0 * std::f32::consts::FRAC_1_SQRT_2);
+    let dark = FLOOR_ALBEDO * 0.25;
+    // In the shadow (x 0.4..1.2), away from its edges; beside it; behind the box.
+    let (shadowed, beside, behind) = ((1.0, 0.0), (-0.8, 0.0), (1.0, 1.0));
+    // Unshadowed: all three lit alike.
+    let env = shadowed_probe(&renderer, None, &s.surroundings, None);
+    mirror(&renderer, &s, EYE, env.clone());
+    for (x, z) in [shadowed, beside, behind] {
+        let c = floor_seen(&renderer, &env, x, z);
+        assert!(
+            (c.x - lit).abs() < 0.03 * lit,
+            "({x}, {z}) unshadowed: {c}, want {lit}"
+        );
+    }
+    let shadows = sun_shadow(&renderer, vec![s.surroundings.clone()], EYE);
+    let env = shadowed_probe(&renderer, None, &s.surroundings, Some(shadows));
+    let (report, ..) = mirror(&renderer, &s, EYE, env.clone());
+    assert!(report.errors.is_empty(), "{:?}", report.errors);
+    let in_shadow = floor_seen(&renderer, &env, shadowed.0, shadowed.1);
+    for (x, z) in [beside, behind] {
+        let c = floor_seen(&renderer, &env, x, z);
+        assert!(
+            (c.x - lit).abs() < 0.03 * lit,
+            "({x}, {z}) in the sun: {c}, want {lit}"
+        );
+        // Darker than the lit side by the ambient's share of the light.
+        let ratio = in_shadow.x / c.x;
+        assert!(
+            (ratio - dark / lit).abs() < 0.02,
+            "shadowed / lit = {ratio}, want {}",
+            dark / lit
+        );
+    }
+    assert!(
+        (in_shadow.x - dark).abs() < 0.03 * dark,
+        "{in_shadow}, want {dark}"
+    );
+    assert!(
+        renderer
+            .shaders()
+            .compiled_keys()
+            .any(|k| k.path == "environment/environment_probe.wgsl"
+                && k.features.contains("SHADOWS")),
+        "the shadowed faces' permutation"
+    );
+
+    // Re-rendered when what it sees changed, and the shadow is part of that.
+    let frame = |surroundings: &Arc<Layer>, casters: Vec<Arc<Layer>>, eye: Vec3| {
+        let shadows = sun_shadow(&renderer, casters, eye);
+        let env = shadowed_probe(&renderer, Some(601), surroundings, Some(shadows));
+        let (report, ..) = mirror(&renderer, &s, eye, env);
+        (
+            report.counter("environment probe rendered"),
+            report.counter("environment probe reused"),
+        )
+    };
+    let again = |layer: &Arc<Layer>| Arc::new((**layer).clone());
+    let casters = || vec![again(&s.surroundings), again(&s.ball)];
+    assert_eq!(
+        frame(&again(&s.surroundings), casters(), EYE),
+        (1, 0),
+        "first"
+    );
+    assert_eq!(
+        frame(&again(&s.surroundings), casters(), EYE),
+        (0, 1),
+        "still"
+    );
+    let moved_eye = Vec3::new(2.0, 2.0, 3.0);
+    assert_eq!(
+        frame(&again(&s.surroundings), casters(), moved_eye),
+        (0, 1),
+        "a moved camera moves the cascades, not what the probe sees"
+    );
+    // A caster the probe does not draw (the ball) moves: its shadow does.
+    let mut ball = Layer::clone(&s.ball);
+    ball.batches[0].instances[0].transform =
+        Mat4::from_translation(Vec3::new(-1.0, 0.6, 0.0)) * Mat4::from_scale(Vec3::splat(RADIUS));
+    let moved = vec![again(&s.surroundings), Arc::new(ball)];
+    assert_eq!(
+        frame(&again(&s.surroundings), moved, EYE),
+        (1, 0),
+        "a moved caster"
+    );
+
+    // Bad input: a slice the maps lack, or maps of another light type, named.
+    use spreadlight_render::environment::{ProbeError, ProbeShadow};
+    use spreadlight_render::shadows::{ShadowLights, ShadowMaps, ShadowSettings};
+    let refused = |maps: Arc<ShadowMaps>, slice: u32| {
+        ProbeScene::new(vec![s.surroundings.clone()], above())
+            .and_then(|p| p.with_sun_shadow(Some(ProbeShadow { maps, slice })))
+            .map(|_| ())
+            .expect_err("refused")
+    };
+    let sun = sun_shadow(&renderer, vec![s.surroundings.clone()], EYE);
+    assert_eq!(
+        refused(sun, 3),
+        ProbeError::ShadowSlice { slice: 3, count: 1 }
+    );
+    let spot = ShadowMaps::new(
+        &renderer,
+        None,
+        &ShadowLights::Spot(vec![(0, Mat4::IDENTITY, Mat4::IDENTITY)]),
+        vec![s.surroundings.clone()],
+        &camera(EYE, BALL),
+        ShadowSettings::default(),
+    )
+    .expect("valid spot maps");
+    let e = refused(spot, 0);
+    assert!(e.to_string().contains("ShadowMap (Sun)"), "{e}");
+}
+
+/// The layer's Normal Map reaches the probe's faces as it reaches the
+/// G-buffer: a triplanar normal map of one texel (218, 128, 218) tilts the
+/// floor's normal towards +x by the whiteout blend (N = normalize(t.x,
+/// |t.z|, t.y), t = texel x 2 - 1), towards the sun: the floor the probe
+/// sees is lit by N.L of the tilted normal, brighter than the flat floor.
+#[test]
+fn a_normal_mapped_floor_differs_from_the_flat_one_as_its_normal_says() {
+    use spreadlight_render::static_texture::StaticTexture;
+    use spreadlight_render::texture::GpuTexture;
+    let renderer = test_renderer();
+    let s = scene(&renderer);
+    let texel = [218u8, 128, 218];
+    let texels: Vec<u8> = (0..16)
+        .flat_map(|_| [texel[0], texel[1], texel[2], 255])
+        .collect();
+    let normal_map = StaticTexture::new(GpuTexture::from_rgba8(
+        &renderer.gpu,
+        4,
+        4,
+        &texels,
+        false,
+        "probe normal map",
+    ))
+    .texture_ref();
+    let mut mapped = Layer::clone(&s.surroundings);
+    mapped.features.triplanar = true;
+    mapped.features.normal_map = true;
+    mapped.normal_map = Some(normal_map);
+    let mapped = Arc::new(mapped);
+    let seen = |surroundings: &Arc<Layer>| {
+        let env = shadowed_probe(&renderer, None, surroundings, None);
+        let shown = MirrorBesideBox {
+            ball: s.ball.clone(),
+            surroundings: surroundings.clone(),
+        };
+        let (report, ..) = mirror(&renderer, &shown, EYE, env.clone());
+        assert!(report.errors.is_empty(), "{:?}", report.errors);
+        floor_seen(&renderer, &env, -0.8, 0.0)
+    };
+    let flat = seen(&s.surroundings);
+    let bumped = seen(&mapped);
+    let t = Vec3::from(texel.map(|c| f32::from(c) / 255.0)) * 2.0 - Vec3::ONE;
+    let n = Vec3::new(t.x, t.z.abs(), t.y).normalize();
+    let l = -SUN_DIRECTION.normalize();
+    let want = FLOOR_ALBEDO * (0.25 + 2.0 * n.dot(l).max(0.0));
+    let want_flat = FLOOR_ALBEDO * (0.25 + 2.0 * Vec3::Y.dot(l));
+    assert!(
+        (flat.x - want_flat).abs() < 0.03 * want_flat,
+        "flat: {flat}, want {want_flat}"
+    );
+    assert!(
+        (bumped.x - want).abs() < 0.03 * want,
+        "mapped: {bumped}, want {want}"
+    );
+    assert!(bumped.x > 1.2 * flat.x, "{bumped} against {flat}");
+    assert!(
+        renderer
+            .shaders()
+            .compiled_keys()
+            .any(|k| k.path == "environment/environment_probe.wgsl"
+                && k.features.contains("NORMAL_MAP")),
+        "the normal-mapped faces' permutation"
+    );
+}

@@ -1,16 +1,17 @@
 //! Rendering a probe's six faces (shaders/environment/environment_probe.wgsl) into its
 //! base cube's level 0 on the raster hardware: one render pass per face,
 //! the layer's instances pulled from the mesh arena as the shadow depth
-//! pass pulls them, each surface shaded forward with the probe's lighting
-//! and its layer's Color Texture (one pipeline permutation per kind of
-//! layer: none, by UVs, triplanar). The prefilter then makes the cube's
-//! mips and roughness levels from it.
+//! pass pulls them, each surface shaded forward with the probe's lighting,
+//! its layer's Color Texture and Normal Map (one pipeline permutation per
+//! kind of layer: none, by UVs, triplanar) and, when the probe has one, the
+//! sun's shadow maps. The prefilter then makes the cube's mips and
+//! roughness levels from it.
 
 use std::hash::{Hash, Hasher};
 
 use wgpu::util::DeviceExt;
 
-use super::key::ProbeFacesKey;
+use super::key::{ProbeFacesKey, ProbeUv};
 use super::{ProbeScene, face_view_projection};
 use crate::error::RenderError;
 use crate::frame_graph::{Bindings, PassContext, Tex};
@@ -30,38 +31,39 @@ pub(crate) struct PackedProbe {
     draws: Vec<Draw>,
     /// Each layer's range of instances.
     ranges: Vec<(u32, u32)>,
-    /// Each layer's Color Texture as its faces sample it.
-    maps: Vec<ProbeMap>,
+    /// Each layer's textures as its faces sample them.
+    maps: Vec<ProbeMaps>,
 }
 
-/// How a layer's Color Texture reaches the probe's faces.
+/// How a layer's Color Texture and Normal Map reach the probe's faces (by name).
 #[derive(Clone, Debug, PartialEq, Hash)]
-enum ProbeMap {
-    None,
-    /// By the mesh's UVs.
-    Texcoords(String),
-    /// Three planar projections blended by the normal to this power.
-    Triplanar(String, u32),
+struct ProbeMaps {
+    color: Option<String>,
+    normal: Option<String>,
+    uv: ProbeUv,
+    /// Triplanar: the normal's power that blends the three projections.
+    sharpness: u32,
 }
 
-impl ProbeMap {
+impl ProbeMaps {
     fn of(layer: &Layer) -> Self {
-        let Some(map) = &layer.color_map else {
-            return ProbeMap::None;
-        };
+        let color = layer.color_map.as_ref().map(|m| m.name.clone());
+        let normal = (layer.normal_map.as_ref())
+            .filter(|_| layer.features.normal_map)
+            .map(|m| m.name.clone());
         // As Transparency and the resolve choose: Triplanar unless the mesh's UVs are asked for.
-        if layer.features.triplanar && !layer.features.texcoords {
-            ProbeMap::Triplanar(map.name.clone(), layer.features.triplanar_sharpness)
+        let uv = if color.is_none() && normal.is_none() {
+            ProbeUv::None
+        } else if layer.features.triplanar && !layer.features.texcoords {
+            ProbeUv::Triplanar
         } else {
-            ProbeMap::Texcoords(map.name.clone())
-        }
-    }
-
-    fn faces_key(&self) -> ProbeFacesKey {
-        match self {
-            ProbeMap::None => ProbeFacesKey::Plain,
-            ProbeMap::Texcoords(_) => ProbeFacesKey::Texcoords,
-            ProbeMap::Triplanar(..) => ProbeFacesKey::Triplanar,
+            ProbeUv::Texcoords
+        };
+        ProbeMaps {
+            color,
+            normal,
+            uv,
+            sharpness: layer.features.triplanar_sharpness,
         }
     }
 }
@@ -69,7 +71,7 @@ impl ProbeMap {
 impl PackedProbe {
     pub(crate) fn new(layers: &[std::sync::Arc<Layer>]) -> Self {
         let (instances, draws, ranges) = pack_instances(layers);
-        let maps = layers.iter().map(|l| ProbeMap::of(l)).collect();
+        let maps = layers.iter().map(|l| ProbeMaps::of(l)).collect();
         PackedProbe {
             instances,
             draws,
@@ -77,6 +79,14 @@ impl PackedProbe {
             maps,
         }
     }
+}
+
+/// Each layer's Color Texture and Normal Map as the frame graph handed
+/// them to the probe's pass (None: the layer has none).
+#[derive(Clone, Debug, Default)]
+pub(crate) struct ProbeTextures {
+    pub color: Vec<Option<Tex>>,
+    pub normal: Vec<Option<Tex>>,
 }
 
 /// Matches `ProbeLayer` in shaders/environment/environment_probe.wgsl (TRIPLANAR).
@@ -117,6 +127,8 @@ struct GpuProbeFace {
     towards_sun: [f32; 4],
     sun_color: [f32; 4],
     ambient: [f32; 4],
+    /// x: the sun's slice of the shadow maps (SHADOWS).
+    shadow: [u32; 4],
 }
 
 /// The faces' pipeline for one kind of layer (`key`).
@@ -150,14 +162,14 @@ fn pipeline(
 }
 
 /// Draw `scene` into level 0 of `base` (a cube, RENDER_ATTACHMENT), one
-/// render pass per face. `color_maps`: each layer's Color Texture as the
-/// frame graph handed it to this pass (None: the layer has none).
+/// render pass per face. `textures`: each layer's Color Texture and Normal
+/// Map as the frame graph handed them to this pass.
 pub(crate) fn render(
     cx: &mut PassContext<'_>,
     renderer: &Renderer,
     scene: &ProbeScene,
     packed: &PackedProbe,
-    color_maps: &[Option<Tex>],
+    textures: &ProbeTextures,
     base: &wgpu::Texture,
 ) -> Result<(), RenderError> {
     let device = cx.gpu.device.clone();
@@ -165,36 +177,56 @@ pub(crate) fn render(
     let s = scene.settings();
     let l = s.lighting;
     let towards_sun = (-l.sun_direction).try_normalize().unwrap_or(glam::Vec3::Y);
-    // Per layer with instances: its permutation, pipeline and (triplanar) uniform.
+    // The sun's shadow maps, when the probe has them: rendered this frame
+    // (the pass read their token) or kept from an earlier one.
+    let shadow = match scene.sun_shadow() {
+        Some(sun) => {
+            let (depth, _) = sun.maps.textures().ok_or_else(|| RenderError::Pass {
+                pass: "EnvironmentProbe".to_owned(),
+                message: "the sun's shadow maps were not rendered this frame".to_owned(),
+            })?;
+            let view = depth.create_view(&wgpu::TextureViewDescriptor {
+                dimension: Some(wgpu::TextureViewDimension::D2Array),
+                ..Default::default()
+            });
+            Some((sun, view))
+        }
+        None => None,
+    };
+    // Per layer with instances: its permutation, pipeline, textures and (triplanar) uniform.
     let mut layers = Vec::new();
-    for (index, (range, map)) in packed.ranges.iter().zip(&packed.maps).enumerate() {
+    for (index, (range, maps)) in packed.ranges.iter().zip(&packed.maps).enumerate() {
         if range.0 == range.1 {
             continue;
         }
-        let color = color_maps.get(index).copied().flatten();
-        // A map the pass was not handed is drawn without it (never the case
-        // when declared together); the key follows what is bound.
-        let map = if color.is_some() {
-            map
+        // A texture the pass was not handed is drawn without (never the
+        // case when declared together); the key follows what is bound.
+        let color = textures.color.get(index).copied().flatten();
+        let normal = textures.normal.get(index).copied().flatten();
+        let uv = if color.is_none() && normal.is_none() {
+            ProbeUv::None
         } else {
-            &ProbeMap::None
+            maps.uv
         };
-        let key = map.faces_key().key();
+        let faces_key = ProbeFacesKey {
+            uv,
+            color_map: color.is_some(),
+            normal_map: normal.is_some(),
+            sun_shadow: shadow.is_some(),
+        };
+        let key = faces_key.key();
         let pipeline = pipeline(cx, &key)?;
-        let uniform = match map {
-            ProbeMap::Triplanar(_, sharpness) => Some(device.create_buffer_init(
-                &wgpu::util::BufferInitDescriptor {
-                    label: Some("environment probe layer"),
-                    contents: bytemuck::bytes_of(&GpuProbeLayer {
-                        triplanar_sharpness: *sharpness as f32,
-                        pad: [0.0; 3],
-                    }),
-                    usage: wgpu::BufferUsages::UNIFORM,
-                },
-            )),
-            _ => None,
-        };
-        layers.push((*range, key, pipeline, color, uniform));
+        let uniform = (uv == ProbeUv::Triplanar).then(|| {
+            device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("environment probe layer"),
+                contents: bytemuck::bytes_of(&GpuProbeLayer {
+                    triplanar_sharpness: maps.sharpness as f32,
+                    pad: [0.0; 3],
+                }),
+                usage: wgpu::BufferUsages::UNIFORM,
+            })
+        });
+        layers.push((*range, key, pipeline, (color, normal), uniform));
     }
     let (vertices, indices, _) = renderer.meshes.buffers();
     // A storage binding cannot be empty: an empty layer binds one unused instance.
@@ -232,6 +264,7 @@ pub(crate) fn render(
             towards_sun: towards_sun.extend(0.0).to_array(),
             sun_color: l.sun_color.extend(0.0).to_array(),
             ambient: l.ambient.extend(0.0).to_array(),
+            shadow: [shadow.as_ref().map_or(0, |(sun, _)| sun.slice), 0, 0, 0],
         };
         let buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("environment probe face"),
@@ -239,17 +272,28 @@ pub(crate) fn render(
             usage: wgpu::BufferUsages::UNIFORM,
         });
         let mut per_layer = Vec::with_capacity(layers.len());
-        for (_, key, pipeline, color, uniform) in &layers {
+        for (_, key, pipeline, (color, normal), uniform) in &layers {
             let mut b = Bindings::new()
                 .buffer("face", &buffer)
                 .buffer("vertices", &vertices)
                 .buffer("indices", &indices)
-                .buffer("instances", &instances);
+                .buffer("instances", &instances)
+                .buffer_opt("probe_layer", uniform.as_ref());
             if let Some(color) = color {
                 b = b
                     .texture("color_map", *color)
-                    .sampler("color_sampler", Sampling::LinearRepeat)
-                    .buffer_opt("probe_layer", uniform.as_ref());
+                    .sampler("color_sampler", Sampling::LinearRepeat);
+            }
+            if let Some(normal) = normal {
+                b = b
+                    .texture("normal_map", *normal)
+                    .sampler("normal_sampler", Sampling::LinearRepeat);
+            }
+            if let Some((sun, depth)) = &shadow {
+                b = b
+                    .view("shadow_maps", depth.clone())
+                    .buffer("shadow_views", sun.maps.views())
+                    .buffer("shadow_params", sun.maps.params());
             }
             per_layer.push(cx.render_bind_groups(key, &["vs", "fs"], pipeline, b)?);
         }
@@ -342,7 +386,14 @@ mod wgsl_layout {
             crate::environment::probe::key::ProbeFacesKey,
             [],
             "ProbeFace",
-            [view_projection, position, towards_sun, sun_color, ambient]
+            [
+                view_projection,
+                position,
+                towards_sun,
+                sun_color,
+                ambient,
+                shadow
+            ]
         );
     }
 }

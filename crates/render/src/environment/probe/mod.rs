@@ -4,12 +4,15 @@
 //! sky), so Reflection, Sky and the diffuse light read it unchanged.
 //!
 //! - What it sees is a simple forward shading of the layer, not the
-//!   deferred pipeline: each surface's albedo (the instance colour) lit by
-//!   the probe's own ambient and one sun, no shadows, no textures, the
+//!   deferred pipeline: each surface's albedo (the instance colour and the
+//!   layer's Color Texture) lit by the probe's own ambient and one sun, its
+//!   normal perturbed by the layer's Normal Map, the sun shadowed by a
+//!   ShadowMap (Sun)'s maps when given them ([`ProbeShadow`]), the
 //!   background a flat colour. A mirror then shows the box's colour, at the
 //!   cost of six rasterizations and a prefilter, not six G-buffers.
-//! - When: the probe's content key (its position, lighting and every
-//!   instance's transform, colour and mesh) is compared with the last
+//! - When: the probe's content key (its position, lighting, every
+//!   instance's transform, colour and mesh, its layers' textures by name,
+//!   and the shadow's light and casters) is compared with the last
 //!   render's; [`ProbeUpdate`] says whether a change, a frame count or
 //!   nothing triggers the next. The camera is not part of the key: a moved
 //!   camera reuses the cube ("environment probe reused").
@@ -31,6 +34,8 @@ use glam::{Mat4, Vec3, Vec4};
 use thiserror::Error;
 
 use crate::gbuffer::Layer;
+use crate::lighting::LightKind;
+use crate::shadows::ShadowMaps;
 
 /// Why a probe was refused; names the setting.
 #[derive(Debug, Error, PartialEq)]
@@ -41,6 +46,18 @@ pub enum ProbeError {
     Negative { what: &'static str, value: f32 },
     #[error("update every {0} frames: it must be at least 1")]
     ZeroInterval(u32),
+    #[error("the probe's sun shadow needs a ShadowMap (Sun), not a {0:?} one")]
+    NotSunShadow(LightKind),
+    #[error("the probe's sun shadow slice {slice} is not in the shadow maps (slices 0..{count})")]
+    ShadowSlice { slice: u32, count: u32 },
+}
+
+/// The shadow of a probe's sun: slice `slice` of a ShadowMap (Sun)'s maps
+/// (the scene's sun, whose direction the probe's lighting should share).
+#[derive(Clone, Debug)]
+pub struct ProbeShadow {
+    pub maps: Arc<ShadowMaps>,
+    pub slice: u32,
 }
 
 /// When a probe renders its faces again.
@@ -123,11 +140,14 @@ pub struct ProbeSettings {
 pub struct ProbeScene {
     layers: Vec<Arc<Layer>>,
     settings: ProbeSettings,
+    sun_shadow: Option<ProbeShadow>,
 }
 
 impl PartialEq for ProbeScene {
     fn eq(&self, other: &Self) -> bool {
+        let shadow = |s: &Option<ProbeShadow>| s.as_ref().map(|s| (Arc::as_ptr(&s.maps), s.slice));
         self.settings == other.settings
+            && shadow(&self.sun_shadow) == shadow(&other.sun_shadow)
             && self.layers.len() == other.layers.len()
             && self
                 .layers
@@ -183,7 +203,34 @@ impl ProbeScene {
         if settings.update == ProbeUpdate::EveryNFrames(0) {
             return Err(ProbeError::ZeroInterval(0));
         }
-        Ok(ProbeScene { layers, settings })
+        Ok(ProbeScene {
+            layers,
+            settings,
+            sun_shadow: None,
+        })
+    }
+
+    /// The probe with its sun shadowed by `shadow` (None: unshadowed). Maps
+    /// of another light type, or a slice they do not have, are refused.
+    pub fn with_sun_shadow(mut self, shadow: Option<ProbeShadow>) -> Result<Self, ProbeError> {
+        if let Some(s) = &shadow {
+            if s.maps.kind != LightKind::Sun {
+                return Err(ProbeError::NotSunShadow(s.maps.kind));
+            }
+            let count = s.maps.slice_count();
+            if s.slice >= count {
+                return Err(ProbeError::ShadowSlice {
+                    slice: s.slice,
+                    count,
+                });
+            }
+        }
+        self.sun_shadow = shadow;
+        Ok(self)
+    }
+
+    pub fn sun_shadow(&self) -> Option<&ProbeShadow> {
+        self.sun_shadow.as_ref()
     }
 
     pub fn layers(&self) -> &[Arc<Layer>] {
@@ -200,9 +247,11 @@ impl ProbeScene {
     }
 
     /// What decides a re-render: position, lighting and every instance's
-    /// transform, colour and mesh (not the previous transforms, which
-    /// change once more after an object stops; not the volume, which only
-    /// Reflection reads).
+    /// transform, colour and mesh, and the sun shadow's slice, light and
+    /// casters (not the previous transforms, which change once more after
+    /// an object stops; not the volume, which only Reflection reads; not
+    /// the shadow's cascades, which follow the camera: a moved camera keeps
+    /// the cube).
     pub(crate) fn hash_content(&self, packed: &faces::PackedProbe, h: &mut impl Hasher) {
         let s = &self.settings;
         let l = &s.lighting;
@@ -218,6 +267,10 @@ impl ProbeScene {
             }
         }
         packed.hash(h);
+        if let Some(s) = &self.sun_shadow {
+            s.slice.hash(h);
+            s.maps.hash_content(h);
+        }
     }
 }
 

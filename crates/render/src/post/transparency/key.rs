@@ -32,8 +32,12 @@ pub struct SurfaceKey {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum LayerMaps {
     None,
-    /// A glTF material world's surface maps (MATERIAL_MAPS).
-    Surface,
+    /// A glTF material world's surface maps (MATERIAL_MAPS), with
+    /// `extensions` its material extensions' maps too, specular and
+    /// thickness (EXTENSION_MAPS: some material of the world has one).
+    Surface {
+        extensions: bool,
+    },
     /// A DeferredBase layer's Color Texture and normal map, by its UVs or a
     /// planar projection.
     Layer {
@@ -41,6 +45,13 @@ pub enum LayerMaps {
         color: bool,
         normal: bool,
     },
+}
+
+impl LayerMaps {
+    /// A glTF material world's surface maps, with or without the extensions'.
+    pub fn is_surface(self) -> bool {
+        matches!(self, LayerMaps::Surface { .. })
+    }
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -182,7 +193,10 @@ impl SurfaceKey {
         let mut f: Vec<&'static str> = Vec::new();
         match self.maps {
             LayerMaps::None => {}
-            LayerMaps::Surface => f.push("MATERIAL_MAPS"),
+            LayerMaps::Surface { extensions } => {
+                f.push("MATERIAL_MAPS");
+                f.extend(extensions.then_some("EXTENSION_MAPS"));
+            }
             LayerMaps::Layer { uv, color, normal } => {
                 f.push(match uv {
                     LayerUv::Texcoords => "TEXCOORDS",
@@ -200,11 +214,15 @@ impl SurfaceKey {
     /// Whether the surface reads a material world (MATERIALS): surface maps
     /// read the world's parameters too.
     pub fn reads_materials(self) -> bool {
-        self.materials || self.maps == LayerMaps::Surface
+        self.materials || self.maps.is_surface()
     }
 
     fn all() -> Vec<SurfaceKey> {
-        let mut maps = vec![LayerMaps::None, LayerMaps::Surface];
+        let mut maps = vec![
+            LayerMaps::None,
+            LayerMaps::Surface { extensions: false },
+            LayerMaps::Surface { extensions: true },
+        ];
         for uv in [LayerUv::Texcoords, LayerUv::Triplanar] {
             for (color, normal) in [(true, false), (false, true), (true, true)] {
                 maps.push(LayerMaps::Layer { uv, color, normal });
@@ -214,7 +232,7 @@ impl SurfaceKey {
         for maps in maps {
             for vertex_extras in [false, true] {
                 // Surface maps always read the world: one permutation, not two.
-                let worlds: &[bool] = if maps == LayerMaps::Surface {
+                let worlds: &[bool] = if maps.is_surface() {
                     &[true]
                 } else {
                     &[false, true]
@@ -281,6 +299,7 @@ impl Permutation for TransparencyKey {
     crate::shader_file!("post/transparency.wgsl");
     const FEATURES: &'static [&'static str] = &[
         "MATERIAL_MAPS",
+        "EXTENSION_MAPS",
         "VERTEX_EXTRAS",
         "MATERIALS",
         "ENVIRONMENT",

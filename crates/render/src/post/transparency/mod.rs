@@ -477,8 +477,10 @@ impl Transparency {
             .or(self.materials.as_ref());
         let color = layer.color_map.is_some();
         let normal = layer.features.normal_map && layer.normal_map.is_some();
-        let maps = if map_world.is_some() {
-            LayerMaps::Surface
+        let maps = if let Some(w) = map_world {
+            LayerMaps::Surface {
+                extensions: w.has_extension_maps(),
+            }
         } else if color || normal {
             // A normal map without either switch reads the mesh's own UVs, as the resolve does.
             let uv = if layer.features.triplanar && !layer.features.texcoords {
@@ -548,7 +550,7 @@ impl Transparency {
                 continue;
             }
             let (surface, world) = self.surface(layer);
-            let surface_maps = surface.maps == LayerMaps::Surface;
+            let surface_maps = surface.maps.is_surface();
             refracting += u64::from(self.transmits(world));
             // glTF materials (surface maps): back faces culled unless
             // double-sided, as other viewers draw them; patch-built layers

@@ -1,0 +1,538 @@
+//! The material extensions' maps, sampled: generated glTF quads whose
+//! `KHR_materials_clearcoat` and `KHR_materials_specular` maps (through the
+//! G-buffer resolve into CookTorrance) and `KHR_materials_volume` thickness
+//! map (through lit transparency) change each pixel as the map says, checked
+//! against the CPU references (spreadlight-reference's BRDF and coat,
+//! spreadlight-gltf's Beer-Lambert `MaterialData::transmittance`) at every
+//! inner pixel. A world without such a map compiles none of their code.
+
+// The post tests' scene helpers, shared with the renderer's tests.
+#[path = "../../render/tests/post_common/mod.rs"]
+mod post_common;
+
+use std::sync::Arc;
+
+use glam::{Mat4, Vec3};
+use gltf_json as json;
+use post_common::*;
+use spreadlight_gltf::builder::{Doc, png};
+use spreadlight_gltf::{GltfScene, MaterialData, load_gltf_slice};
+use spreadlight_reference::brdf::{clearcoat, cook_torrance_f0};
+use spreadlight_render::camera::CameraInput;
+use spreadlight_render::gbuffer::{DrawBatch, GBuffer, InstanceInput, Layer, LayerFeatures};
+use spreadlight_render::lighting::{CookTorrance, LightBuffer, LightLoop, SunLight, Surfaces};
+use spreadlight_render::material::MaterialWorld;
+use spreadlight_render::mesh::{Aabb, MeshData};
+use spreadlight_render::post::{Transparency, TransparencySettings};
+use spreadlight_render::readback::{ImageF32, render_and_read};
+use spreadlight_render::renderer::test_renderer;
+use spreadlight_render::{Renderer, SizeRule};
+
+const SIZE: (u32, u32) = (48, 48);
+const DISTANCE: f32 = 3.0;
+const FOV_Y: f32 = 0.8;
+const ALBEDO: [f32; 3] = [0.8, 0.7, 0.6];
+const ROUGHNESS: f32 = 0.7;
+/// From the camera's side and above, so the quad shows a highlight.
+const SUN: SunLight = SunLight {
+    direction: Vec3::new(-0.3, -0.4, -1.0),
+    color: Vec3::ONE,
+    illuminance: 3.0,
+    shadow: None,
+};
+
+/// A 16 x 16 map, `left` on its left half (or top, with `rows`), `right` on the other.
+fn halves(left: [u8; 4], right: [u8; 4], rows: bool) -> Vec<u8> {
+    let image = image::RgbaImage::from_fn(16, 16, |x, y| {
+        let second = if rows { y >= 8 } else { x >= 8 };
+        image::Rgba(if second { right } else { left })
+    });
+    png(&image)
+}
+
+/// The quad x, y in [-1, 1] at z = 0, facing +Z, UVs spanning it (v down),
+/// with one material: `material` (its factors) and `extensions` (JSON, `{0}`
+/// .. the indices of `maps`' textures, each sampled NEAREST so halves stay sharp).
+fn model(material: json::Material, extensions: &str, maps: &[Vec<u8>]) -> Vec<u8> {
+    let mut doc = Doc::new();
+    let mut quad = MeshData {
+        positions: vec![
+            [-1.0, -1.0, 0.0],
+            [1.0, -1.0, 0.0],
+            [1.0, 1.0, 0.0],
+            [-1.0, 1.0, 0.0],
+        ],
+        normals: vec![[0.0, 0.0, 1.0]; 4],
+        uvs: Some(vec![[0.0, 1.0], [1.0, 1.0], [1.0, 0.0], [0.0, 0.0]]),
+        tangents: None,
+        uvs1: None,
+        colors: None,
+        indices: vec![0, 1, 2, 0, 2, 3],
+        bounds: Aabb::ZERO,
+    };
+    quad.recompute_bounds();
+    let mesh = doc.mesh_data("Quad", &quad);
+    let sampler = doc.root.push(json::texture::Sampler {
+        mag_filter: Some(json::validation::Checked::Valid(
+            json::texture::MagFilter::Nearest,
+        )),
+        ..Default::default()
+    });
+    let mut extensions = extensions.to_owned();
+    for (i, map) in maps.iter().enumerate() {
+        let image = doc.png_image(map);
+        let texture = doc.texture(image);
+        doc.root.textures[texture.value()].sampler = Some(sampler);
+        extensions = extensions.replace(&format!("{{{i}}}"), &texture.value().to_string());
+    }
+    let mut material = material;
+    let others: json::extensions::material::Material =
+        json::deserialize::from_str(&extensions).expect("the test's extension objects");
+    for name in others.others.keys() {
+        doc.root.extensions_used.push(name.clone());
+    }
+    material.extensions = Some(others);
+    let material = doc.material(material);
+    doc.root.meshes[mesh.value()].primitives[0].material = Some(material);
+    let node = doc.node(json::Node {
+        mesh: Some(mesh),
+        ..Default::default()
+    });
+    doc.scene(vec![node]);
+    doc.gltf_data_uri()
+}
+
+/// An opaque dielectric of [`ALBEDO`] and [`ROUGHNESS`].
+fn opaque_material() -> json::Material {
+    let mut material = json::Material::default();
+    let [r, g, b] = ALBEDO;
+    material.pbr_metallic_roughness.base_color_factor =
+        json::material::PbrBaseColorFactor([r, g, b, 1.0]);
+    material.pbr_metallic_roughness.metallic_factor = json::material::StrengthFactor(0.0);
+    material.pbr_metallic_roughness.roughness_factor = json::material::StrengthFactor(ROUGHNESS);
+    material
+}
+
+fn camera() -> CameraInput {
+    look(Vec3::Z * DISTANCE, Vec3::ZERO, FOV_Y, 1.0)
+}
+
+/// Where the ray through pixel (x, y)'s centre meets the plane z = 0.
+fn hit(x: u32, y: u32) -> (f32, f32) {
+    let half = DISTANCE * (FOV_Y / 2.0).tan();
+    let ndc_x = (x as f32 + 0.5) / SIZE.0 as f32 * 2.0 - 1.0;
+    let ndc_y = 1.0 - (y as f32 + 0.5) / SIZE.1 as f32 * 2.0;
+    (ndc_x * half, ndc_y * half)
+}
+
+/// Every pixel well inside the quad and inside a half of each map: its
+/// pixel index, the point it sees, and which half of the columns (u) and
+/// of the rows (v) it is in.
+fn inner_pixels() -> impl Iterator<Item = (usize, Vec3, usize, usize)> {
+    (0..SIZE.1).flat_map(|py| {
+        (0..SIZE.0).filter_map(move |px| {
+            let (x, y) = hit(px, py);
+            let (u, v) = ((x + 1.0) / 2.0, (1.0 - y) / 2.0);
+            let inner = x.abs() < 0.95 && y.abs() < 0.95;
+            let clear = (u - 0.5).abs() > 0.04 && (v - 0.5).abs() > 0.04;
+            (inner && clear).then(|| {
+                let at = (py * SIZE.0 + px) as usize;
+                (
+                    at,
+                    Vec3::new(x, y, 0.0),
+                    usize::from(u >= 0.5),
+                    usize::from(v >= 0.5),
+                )
+            })
+        })
+    })
+}
+
+/// The file's material world (glTF's default material first, as the
+/// importer's users number them) and its quad as a layer.
+fn world_and_layer(renderer: &Renderer, scene: &GltfScene) -> (Arc<MaterialWorld>, Arc<Layer>) {
+    let mesh = renderer
+        .meshes
+        .upload(&renderer.gpu, &scene.meshes[0])
+        .expect("upload");
+    let materials = std::iter::once(MaterialData::default())
+        .chain(scene.materials.iter().cloned())
+        .map(|m| m.to_material())
+        .collect();
+    let world = MaterialWorld::new(renderer, materials);
+    let instance = InstanceInput {
+        transform: Mat4::IDENTITY,
+        previous_transform: Mat4::IDENTITY,
+        color: scene.materials[0].base_color,
+        material_id: 1,
+        object_id: 1,
+    };
+    let layer = Layer::new(
+        Some(1),
+        vec![DrawBatch {
+            mesh,
+            instances: vec![instance],
+        }],
+        LayerFeatures::default(),
+        None,
+    )
+    .expect("layer")
+    .with_materials(Some(world.clone()));
+    (world, Arc::new(layer))
+}
+
+/// CookTorrance's diffuse and specular of `model` under [`SUN`].
+fn lit(renderer: &Renderer, model: &[u8]) -> (ImageF32, ImageF32) {
+    let scene = load_gltf_slice(model, None).expect("loads");
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    let (world, layer) = world_and_layer(renderer, &scene);
+    let g = GBuffer::new(
+        renderer,
+        None,
+        vec![layer],
+        camera(),
+        None,
+        SizeRule::Relative(1.0),
+    );
+    let ct = CookTorrance::new(
+        renderer,
+        None,
+        g,
+        LightBuffer::suns(renderer, &[SUN]),
+        LightLoop::Clustered,
+        true,
+        Surfaces::Materials(world),
+    );
+    let (report, images) =
+        render_and_read(renderer, ct.as_ref(), SIZE, &[&ct.diffuse, &ct.specular])
+            .expect("the frame renders");
+    assert!(report.errors.is_empty(), "{:?}", report.errors);
+    let [d, s]: [ImageF32; 2] = images.try_into().unwrap_or_else(|_| unreachable!());
+    assert!(d.all_finite() && s.all_finite(), "no NaN or infinity");
+    (d, s)
+}
+
+/// How many compiled shaders have EXTENSION_MAPS on.
+fn extension_permutations(renderer: &Renderer) -> usize {
+    renderer
+        .shaders()
+        .compiled_keys()
+        .filter(|k| k.features.contains("EXTENSION_MAPS"))
+        .count()
+}
+
+/// Half-float targets (11 significant bits) against f32.
+fn close(got: f32, want: f32) -> bool {
+    (got - want).abs() <= 4e-3 * want + 1e-4
+}
+
+#[test]
+fn clearcoat_maps_put_the_coat_where_they_say() {
+    let renderer = test_renderer();
+    // The coat on the right half only (clearcoatTexture's red 0 | 255);
+    // its roughness 0.4 on the top half, 0.4 x 128/255 below
+    // (clearcoatRoughnessTexture's green, linear).
+    let coat_map = halves([0, 0, 0, 255], [255, 0, 0, 255], false);
+    let rough_map = halves([0, 255, 0, 255], [0, 128, 0, 255], true);
+    let ext = r#"{"KHR_materials_clearcoat": {"clearcoatFactor": 1.0, "clearcoatRoughnessFactor": 0.4,
+        "clearcoatTexture": {"index": {0}}, "clearcoatRoughnessTexture": {"index": {1}}}}"#;
+    // A plain file first: no extension map, none of their code compiled.
+    let (plain_d, _) = lit(&renderer, &model(opaque_material(), "{}", &[]));
+    assert_eq!(extension_permutations(&renderer), 0);
+    let (d, s) = lit(
+        &renderer,
+        &model(opaque_material(), ext, &[coat_map, rough_map]),
+    );
+    assert!(extension_permutations(&renderer) >= 1);
+    let l = -SUN.direction.normalize();
+    let radiance = SUN.color * SUN.illuminance;
+    let eye = Vec3::Z * DISTANCE;
+    let mut checked = [[0; 2]; 2];
+    for (i, p, u, v) in inner_pixels() {
+        let view = (eye - p).normalize();
+        let factor = [0.0, 1.0][u];
+        // The surface target keeps the coat's roughness in 10 bits.
+        let roughness = ((0.4 * [1.0, 128.0 / 255.0][v]) * 1023.0f32).round() / 1023.0;
+        let brdf = cook_torrance_f0(Vec3::Z, view, l, ALBEDO.into(), ROUGHNESS, 0.0, 0.04, true);
+        let (dim, lobe) = clearcoat(Vec3::Z, view, l, factor, roughness);
+        let want_d = brdf.diffuse * radiance * dim;
+        let want_s = (brdf.specular * dim + Vec3::splat(factor * lobe)) * radiance;
+        for c in 0..3 {
+            assert!(
+                close(d.pixels[i][c], want_d[c]) && close(s.pixels[i][c], want_s[c]),
+                "pixel {i} (half u {u}, v {v}): diffuse {:?} specular {:?}, the reference says {want_d} {want_s}",
+                d.pixels[i],
+                s.pixels[i]
+            );
+        }
+        // Uncoated, it is the plain file's; coated, the coat takes from the base.
+        if u == 0 {
+            assert!(close(d.pixels[i][0], plain_d.pixels[i][0]));
+        } else {
+            assert!(d.pixels[i][0] < plain_d.pixels[i][0]);
+        }
+        checked[u][v] += 1;
+    }
+    assert!(
+        checked.iter().flatten().all(|&n| n > 150),
+        "{checked:?} pixels per quarter"
+    );
+}
+
+#[test]
+fn specular_maps_set_the_reflectance_per_pixel() {
+    let renderer = test_renderer();
+    // specularTexture's alpha: 64 | 255 (left | right); specularColorTexture:
+    // white above, sRGB (255, 128, 0) below; ior 1.5 (f0 0.04), factors 1.
+    let specular_map = halves([255, 255, 255, 64], [255, 255, 255, 255], false);
+    let color_map = halves([255, 255, 255, 255], [255, 128, 0, 255], true);
+    let ext = r#"{"KHR_materials_specular": {"specularTexture": {"index": {0}},
+        "specularColorTexture": {"index": {1}}}}"#;
+    let (_, s) = lit(
+        &renderer,
+        &model(opaque_material(), ext, &[specular_map, color_map]),
+    );
+    let l = -SUN.direction.normalize();
+    let radiance = SUN.color * SUN.illuminance;
+    let eye = Vec3::Z * DISTANCE;
+    let srgb = |c: f32| ((c + 0.055) / 1.055).powf(2.4);
+    let tints = [Vec3::ONE, Vec3::new(1.0, srgb(128.0 / 255.0), 0.0)];
+    let mut checked = [[0; 2]; 2];
+    for (i, p, u, v) in inner_pixels() {
+        let view = (eye - p).normalize();
+        // min(f0 x colour, 1) as one number (Rec. 709), x the specular map,
+        // kept in 13 bits by the surface target.
+        let f0 = 0.04 * tints[v];
+        let grey = 0.2126 * f0.x + 0.7152 * f0.y + 0.0722 * f0.z;
+        let reflectance = grey * [64.0 / 255.0, 1.0][u];
+        let reflectance = (reflectance * 8191.0f32).round() / 8191.0;
+        let want = cook_torrance_f0(
+            Vec3::Z,
+            view,
+            l,
+            ALBEDO.into(),
+            ROUGHNESS,
+            0.0,
+            reflectance,
+            true,
+        )
+        .specular
+            * radiance;
+        for c in 0..3 {
+            assert!(
+                close(s.pixels[i][c], want[c]),
+                "pixel {i} (half u {u}, v {v}): specular {:?}, reflectance {reflectance} says {want}",
+                s.pixels[i]
+            );
+        }
+        checked[u][v] += 1;
+    }
+    assert!(
+        checked.iter().flatten().all(|&n| n > 150),
+        "{checked:?} pixels per quarter"
+    );
+}
+
+#[test]
+fn the_thickness_map_sets_how_much_a_transmissive_volume_absorbs() {
+    let renderer = test_renderer();
+    // All of it transmits (alpha 0), smooth, through a volume 0.5 deep
+    // where thicknessTexture's green is 255 (right half) and 0 (left: thin
+    // walled), absorbing to half after 0.25 (attenuation colour 0.5).
+    let mut material = json::Material::default();
+    material.pbr_metallic_roughness.roughness_factor = json::material::StrengthFactor(0.0);
+    let thickness_map = halves([0, 0, 0, 255], [0, 255, 0, 255], false);
+    let ext = r#"{"KHR_materials_transmission": {"transmissionFactor": 1.0},
+        "KHR_materials_volume": {"thicknessFactor": 0.5, "thicknessTexture": {"index": {0}},
+            "attenuationColor": [0.5, 0.5, 0.5], "attenuationDistance": 0.25}}"#;
+    let scene = load_gltf_slice(&model(material, ext, &[thickness_map]), None).expect("loads");
+    let data = &scene.materials[0];
+    let g = GBuffer::new(
+        &renderer,
+        None,
+        vec![],
+        camera(),
+        None,
+        SizeRule::Relative(1.0),
+    );
+    // Green behind: what shows through is green, absorbed.
+    let background = image(&renderer, SIZE, |_, _| [0.0, 1.0, 0.0, 1.0]);
+    let settings = TransparencySettings {
+        ambient: Vec3::ONE,
+        light_color: Vec3::ZERO,
+        ..Default::default()
+    };
+    let (_, layer) = world_and_layer(&renderer, &scene);
+    let pass = Transparency::new(
+        &renderer,
+        None,
+        background.texture_ref(),
+        g,
+        vec![layer],
+        settings,
+    );
+    let pixels = render(&renderer, pass.as_ref(), &pass.output, SIZE)
+        .1
+        .pixels;
+    let eye = Vec3::Z * DISTANCE;
+    let mut checked = [0; 2];
+    for (i, p, u, _) in inner_pixels() {
+        // Snell into the slab (ior 1.5), the path across it: thickness / cos.
+        let incident = (p - eye).normalize();
+        let sin_t = incident.truncate().length() / 1.5;
+        let path = [0.0, 0.5][u] / (1.0 - sin_t * sin_t).sqrt();
+        let want = data.transmittance(path)[1];
+        let got = pixels[i];
+        assert!(
+            (got[1] - want).abs() < 0.01 && got[0].abs() < 0.01 && got[2].abs() < 0.01,
+            "pixel {i} (half {u}): {got:?}, Beer-Lambert over {path} says green {want}"
+        );
+        checked[u] += 1;
+    }
+    assert!(checked[0] > 300 && checked[1] > 300, "{checked:?}");
+    // The thick half is clearly darker than the thin one: the map is read.
+    let thick = data.transmittance(0.5)[1];
+    assert!(thick < 0.3, "{thick}");
+}
+
+/// Hard cases under the maps: a specular colour factor of 1e30 (the
+/// extension bounds it only below) caps f0 at 1, a coat of roughness 0 and
+/// a thickness map under a factor of 1e30 stay finite (`lit` and `render`
+/// check every pixel).
+#[test]
+fn extreme_factors_under_the_maps_stay_finite() {
+    let renderer = test_renderer();
+    let white = halves([255; 4], [255; 4], false);
+    let ext = r#"{"KHR_materials_specular": {"specularColorFactor": [1e30, 1e30, 1e30],
+            "specularTexture": {"index": {0}}, "specularColorTexture": {"index": {0}}},
+        "KHR_materials_clearcoat": {"clearcoatFactor": 1.0, "clearcoatRoughnessFactor": 0.0,
+            "clearcoatTexture": {"index": {0}}, "clearcoatRoughnessTexture": {"index": {0}}}}"#;
+    // f0 1 reflects everything: a highlight, finite, and no diffuse left over it.
+    let (d, s) = lit(
+        &renderer,
+        &model(opaque_material(), ext, std::slice::from_ref(&white)),
+    );
+    assert!(s.pixels.iter().any(|p| p[1] > 0.0));
+    assert!(
+        d.pixels.iter().all(|p| p[1] < 1e-3),
+        "f0 1 leaves no diffuse"
+    );
+    let mut material = json::Material::default();
+    material.pbr_metallic_roughness.roughness_factor = json::material::StrengthFactor(0.0);
+    let ext = r#"{"KHR_materials_transmission": {"transmissionFactor": 1.0},
+        "KHR_materials_volume": {"thicknessFactor": 1e30, "thicknessTexture": {"index": {0}},
+            "attenuationColor": [0.5, 0.5, 0.5], "attenuationDistance": 0.25}}"#;
+    let scene = load_gltf_slice(&model(material, ext, &[white]), None).expect("loads");
+    let g = GBuffer::new(
+        &renderer,
+        None,
+        vec![],
+        camera(),
+        None,
+        SizeRule::Relative(1.0),
+    );
+    let background = image(&renderer, SIZE, |_, _| [0.0, 1.0, 0.0, 1.0]);
+    let (_, layer) = world_and_layer(&renderer, &scene);
+    let pass = Transparency::new(
+        &renderer,
+        None,
+        background.texture_ref(),
+        g,
+        vec![layer],
+        TransparencySettings::default(),
+    );
+    // Finite (checked by `render`): a thickness past 1e6 is no slab at all
+    // (lit transparency's guard, as for an infinite factor), so what shows
+    // through is the background, unabsorbed.
+    let pixels = render(&renderer, pass.as_ref(), &pass.output, SIZE)
+        .1
+        .pixels;
+    for (i, ..) in inner_pixels() {
+        assert!(
+            (pixels[i][1] - 1.0).abs() < 0.01,
+            "pixel {i}: {:?}",
+            pixels[i]
+        );
+    }
+}
+
+/// Lit transparency reads the specular map per fragment: a BLEND quad of
+/// alpha 1 (what covers the background whole) whose specularTexture's
+/// alpha is 64 | 255 (left | right), lit by [`SUN`] in a light pass, shows
+/// the CPU BRDF's diffuse + specular with f0 0.04 x 64/255 on the left and
+/// 0.04 on the right (sampled, not quantized).
+#[test]
+fn lit_transparency_reads_the_specular_map() {
+    use spreadlight_render::post::{LitBy, TransparentLights};
+    let renderer = test_renderer();
+    let specular_map = halves([255, 255, 255, 64], [255, 255, 255, 255], false);
+    let mut material = opaque_material();
+    material.alpha_mode = json::validation::Checked::Valid(json::material::AlphaMode::Blend);
+    let ext = r#"{"KHR_materials_specular": {"specularTexture": {"index": {0}}}}"#;
+    let scene = load_gltf_slice(&model(material, ext, &[specular_map]), None).expect("loads");
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    let g = GBuffer::new(
+        &renderer,
+        None,
+        vec![],
+        camera(),
+        None,
+        SizeRule::Relative(1.0),
+    );
+    let background = image(&renderer, SIZE, |_, _| [0.0, 0.0, 0.0, 1.0]);
+    let settings = TransparencySettings {
+        ambient: Vec3::ZERO,
+        light_color: Vec3::ZERO,
+        energy_compensation: true,
+        ..Default::default()
+    };
+    let (_, layer) = world_and_layer(&renderer, &scene);
+    let lights = vec![TransparentLights {
+        lights: LightBuffer::suns(&renderer, &[SUN]),
+        shadows: None,
+    }];
+    let pass = Transparency::lit(
+        &renderer,
+        None,
+        background.texture_ref(),
+        g,
+        vec![layer],
+        settings,
+        LitBy {
+            lights,
+            ..Default::default()
+        },
+    );
+    let pixels = render(&renderer, pass.as_ref(), &pass.output, SIZE)
+        .1
+        .pixels;
+    let l = -SUN.direction.normalize();
+    let radiance = SUN.color * SUN.illuminance;
+    let eye = Vec3::Z * DISTANCE;
+    let mut checked = [0; 2];
+    for (i, p, u, _) in inner_pixels() {
+        let view = (eye - p).normalize();
+        let reflectance = 0.04 * [64.0 / 255.0, 1.0][u];
+        let brdf = cook_torrance_f0(
+            Vec3::Z,
+            view,
+            l,
+            ALBEDO.into(),
+            ROUGHNESS,
+            0.0,
+            reflectance,
+            true,
+        );
+        let want = (brdf.diffuse + brdf.specular) * radiance;
+        for c in 0..3 {
+            // Half-float accumulation: about three decimal digits.
+            assert!(
+                (pixels[i][c] - want[c]).abs() <= 2e-3 + 1e-2 * want[c],
+                "pixel {i} (half {u}): {:?}, f0 {reflectance} says {want}",
+                pixels[i]
+            );
+        }
+        checked[u] += 1;
+    }
+    assert!(checked[0] > 300 && checked[1] > 300, "{checked:?}");
+}
