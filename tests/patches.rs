@@ -441,7 +441,7 @@ fn the_environment_probe_example_renders_its_probe_once_while_the_camera_orbits(
     // Its ShadowMap (Sun) shadows the probe's faces too (their SHADOWS permutation).
     assert!(
         renderer.shaders().compiled_keys().any(|k| {
-            k.path == "environment/environment_probe.wgsl" && k.features.contains("SHADOWS")
+            k.path() == "environment/environment_probe.wgsl" && k.features.contains("SHADOWS")
         }),
         "the probe's faces are drawn with the sun's shadow"
     );
