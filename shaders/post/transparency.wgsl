@@ -63,6 +63,16 @@
 // the coverage. Only the opaque scene is seen refracted (other transparent
 // layers behind are not in `lit_opaque`), and what is off screen is the
 // screen's edge.
+// Compute shading (crates/render/src/post/transparency/compute.rs): instead
+// of drawing each layer again per light buffer, the base pass stores each
+// fragment it keeps (FRAGMENT_RECORDS: position, facing normal, albedo,
+// roughness, metallic, reflectance, alpha, coverage; 40 bytes) in its
+// pixel's slots, and a compute pass per light buffer (COMPUTE_SHADE, entry
+// `shade`) walks each pixel's records with the same light walk and adds
+// what the light pass would have added to the colour, summed in f32, to a
+// buffer the resolve adds (LIGHT_SUMS). No fragment is shaded twice for a
+// light buffer, no helper lanes shade, and nothing goes through the
+// blender but the base pass.
 // Both faces are drawn, except for one-sided glTF materials, whose back
 // faces the pipeline culls; a back face is lit with its normal turned to
 // the viewer (a glass shell's inside).
@@ -337,6 +347,81 @@ fn mark_froxels(frag: vec2<f32>, view_depth: f32) {
         atomicStore(&froxel_marks[hi], 1u);
     }
 }
+#endif
+
+#ifdef FRAGMENT_RECORDS
+// The fragment lists (compute.rs): a counter per pixel and then one more
+// that counts the fragments no slot was left for, and `slots` records per
+// pixel (the records buffer's length over the pixel count), RECORD_WORDS
+// words each. A pixel's counter keeps counting past its slots, so the
+// shading knows how many fragments it missed.
+@group(0) @binding(40) var<storage, read_write> fragment_counts: array<atomic<u32>>;
+@group(0) @binding(41) var<storage, read_write> fragment_records: array<u32>;
+
+// World position and albedo as f32 (6), the normal (1), reflectance as f32
+// (1), roughness with metallic and alpha with coverage in 16 bits each (2).
+// Half floats would need a capability naga does not grant by default.
+const RECORD_WORDS: u32 = 10u;
+
+// A unit vector on the octahedron, unfolded onto -1..1 squared (two
+// 16-bit numbers keep it to about 5e-5 radians).
+fn octahedral(n: vec3<f32>) -> vec2<f32> {
+    let p = n.xy / max(abs(n.x) + abs(n.y) + abs(n.z), 1e-20);
+    if (n.z < 0.0) {
+        return (1.0 - abs(p.yx)) * select(vec2<f32>(-1.0), vec2<f32>(1.0), p >= vec2<f32>(0.0));
+    }
+    return p;
+}
+
+// Stores a kept fragment's lighting inputs in the next slot of its pixel
+// (pixel `frag`), or counts it as missed when the pixel's slots are full.
+// Every value is made finite and held in its packing's range first.
+fn record_fragment(frag: vec2<f32>, world: vec3<f32>, n: vec3<f32>, albedo: vec3<f32>, roughness: f32, metallic: f32, reflectance: f32, alpha: f32, coverage: f32) {
+    let size = textureDimensions(opaque_depth);
+    let pixels = size.x * size.y;
+    let pixel = min(u32(frag.y), size.y - 1u) * size.x + min(u32(frag.x), size.x - 1u);
+    let slots = arrayLength(&fragment_records) / (RECORD_WORDS * max(pixels, 1u));
+    let k = atomicAdd(&fragment_counts[pixel], 1u);
+    if (k >= slots) {
+        atomicAdd(&fragment_counts[pixels], 1u);
+        return;
+    }
+    let at = RECORD_WORDS * (pixel * slots + k);
+    let colour = clamp(sanitize(vec4<f32>(albedo, reflectance)), vec4<f32>(0.0), vec4<f32>(HALF_MAX));
+    let unit = clamp(sanitize(vec4<f32>(roughness, metallic, alpha, coverage)), vec4<f32>(0.0), vec4<f32>(1.0));
+    fragment_records[at] = bitcast<u32>(world.x);
+    fragment_records[at + 1u] = bitcast<u32>(world.y);
+    fragment_records[at + 2u] = bitcast<u32>(world.z);
+    fragment_records[at + 3u] = pack2x16snorm(octahedral(n));
+    fragment_records[at + 4u] = bitcast<u32>(colour.x);
+    fragment_records[at + 5u] = bitcast<u32>(colour.y);
+    fragment_records[at + 6u] = bitcast<u32>(colour.z);
+    fragment_records[at + 7u] = bitcast<u32>(colour.w);
+    fragment_records[at + 8u] = pack2x16unorm(unit.xy);
+    fragment_records[at + 9u] = pack2x16unorm(unit.zw);
+}
+#endif
+
+#ifdef COMPUTE_SHADE
+@group(0) @binding(40) var<storage, read> fragment_counts: array<u32>;
+@group(0) @binding(41) var<storage, read> fragment_records: array<u32>;
+// As FRAGMENT_RECORDS writes them.
+const RECORD_WORDS: u32 = 10u;
+// Per pixel: the light the compute passes add to the accumulation's colour.
+@group(0) @binding(42) var<storage, read_write> shaded_light: array<vec4<f32>>;
+// The base passes' accumulation: its alpha is the weight of every fragment,
+// recorded or missed.
+@group(0) @binding(43) var shade_accumulation: texture_2d<f32>;
+
+fn unoctahedral(e: vec2<f32>) -> vec3<f32> {
+    var n = vec3<f32>(e, 1.0 - abs(e.x) - abs(e.y));
+    let t = max(-n.z, 0.0);
+    n = vec3<f32>(n.x + select(t, -t, n.x >= 0.0), n.y + select(t, -t, n.y >= 0.0), n.z);
+    return safe_normalize(n, vec3<f32>(0.0, 0.0, 1.0));
+}
+#endif
+#ifdef LIGHT_SUMS
+@group(0) @binding(42) var<storage, read> shaded_light: array<vec4<f32>>;
 #endif
 
 #ifdef LIGHT_PASS
@@ -615,6 +700,9 @@ fn fs(in: VertexOut, @builtin(front_facing) front: bool) -> Accumulated {
 #ifdef FROXEL_MARKS
     mark_froxels(in.clip.xy, in.distance);
 #endif
+#ifdef FRAGMENT_RECORDS
+    record_fragment(in.clip.xy, in.world, select(-n, n, front), albedo, roughness, metallic, reflectance, alpha, coverage);
+#endif
     var through = vec3<f32>(0.0);
 #ifdef TRANSMISSION
     if (share > 0.0) {
@@ -637,6 +725,66 @@ fn fs(in: VertexOut, @builtin(front_facing) front: bool) -> Accumulated {
     return out;
 }
 
+#ifdef COMPUTE_SHADE
+// One light buffer's light on every fragment recorded at a pixel, added to
+// the pixel's light sum: per fragment exactly what the forward light pass
+// adds to the accumulation's colour (the same walk from the same froxel:
+// `frag` is the pixel's centre, as a fragment's position is), but summed
+// in f32. Fragments past the pixel's slots were not recorded: their weight
+// is in the accumulation's alpha, and they are lit as the recorded ones
+// are on average per weight (the sum scaled by all the weight over the
+// recorded weight), so an overfull pixel is approximate, never dark or NaN.
+@compute @workgroup_size(8, 8)
+fn shade(@builtin(global_invocation_id) id: vec3<u32>) {
+    let size = textureDimensions(shade_accumulation);
+    if (id.x >= size.x || id.y >= size.y) {
+        return;
+    }
+    let pixels = size.x * size.y;
+    let pixel = id.y * size.x + id.x;
+    let count = fragment_counts[pixel];
+    if (count == 0u) {
+        return;
+    }
+    let slots = arrayLength(&fragment_records) / (RECORD_WORDS * pixels);
+    let kept = min(count, slots);
+    let frag = vec2<f32>(id.xy) + 0.5;
+    var sum = vec3<f32>(0.0);
+    var kept_weight = 0.0;
+    for (var k = 0u; k < kept; k++) {
+        let at = RECORD_WORDS * (pixel * slots + k);
+        let world = bitcast<vec3<f32>>(vec3<u32>(fragment_records[at], fragment_records[at + 1u], fragment_records[at + 2u]));
+        let n = unoctahedral(unpack2x16snorm(fragment_records[at + 3u]));
+        let colour = bitcast<vec4<f32>>(vec4<u32>(fragment_records[at + 4u], fragment_records[at + 5u], fragment_records[at + 6u], fragment_records[at + 7u]));
+        let rough_metal = unpack2x16unorm(fragment_records[at + 8u]);
+        // x alpha, y coverage
+        let cover = unpack2x16unorm(fragment_records[at + 9u]);
+        let v = safe_normalize(camera.position.xyz - world, n);
+        let s = brdf_surface(n, v, colour.rgb, rough_metal.x, rough_metal.y, colour.w);
+        let view_depth = -(camera.view * vec4<f32>(world, 1.0)).z;
+        let lit = light_sums_brdf(s, light_sums(frag, world, s, view_depth));
+        var specular = lit.specular;
+        if (params.surface.z > 0.5) {
+            specular *= surface_energy_compensation(s);
+        }
+        let diffuse = max(sanitize(vec4<f32>(min(lit.diffuse, vec3<f32>(600.0)), 0.0)).rgb, vec3<f32>(0.0));
+        let glossy = max(sanitize(vec4<f32>(min(specular, vec3<f32>(600.0)), 0.0)).rgb, vec3<f32>(0.0));
+        let w = weight(view_depth, cover.y);
+        sum += (diffuse * cover.x + glossy * cover.y) * w;
+        // What the base pass added to the accumulation's alpha for it.
+        kept_weight += cover.y * w;
+    }
+    if (count > kept) {
+        let all_weight = sanitize(textureLoad(shade_accumulation, vec2<i32>(id.xy), 0)).a;
+        if (kept_weight > 0.0 && all_weight > kept_weight) {
+            sum *= min(all_weight / kept_weight, HALF_MAX);
+        }
+    }
+    let before = shaded_light[pixel].rgb;
+    shaded_light[pixel] = vec4<f32>(min(before + sanitize(vec4<f32>(sum, 0.0)).rgb, vec3<f32>(HALF_MAX)), 0.0);
+}
+#endif
+
 @compute @workgroup_size(8, 8)
 fn resolve(@builtin(global_invocation_id) id: vec3<u32>) {
     let size = textureDimensions(output);
@@ -645,8 +793,13 @@ fn resolve(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     let p = vec2<i32>(id.xy);
     let base = sanitize(textureLoad(opaque, p, 0));
+    var accumulated = textureLoad(accumulation, p, 0);
+#ifdef LIGHT_SUMS
+    // The lights shaded in compute (finite, held at HALF_MAX by `shade`).
+    accumulated = vec4<f32>(accumulated.rgb + shaded_light[id.y * size.x + id.x].rgb, accumulated.a);
+#endif
     // An overflowed sum reads as infinity: held at the top of the range, never NaN.
-    let sum = sanitize(min(textureLoad(accumulation, p, 0), vec4<f32>(HALF_MAX)));
+    let sum = sanitize(min(accumulated, vec4<f32>(HALF_MAX)));
     let r = clamp(sanitize(textureLoad(revealage, p, 0)).r, 0.0, 1.0);
     if (r >= 1.0 || sum.a <= 0.0) {
         textureStore(output, id.xy, base);

@@ -62,14 +62,23 @@ pub enum TransparencyPass {
     /// Transmission material, or the node's Transmission is on), what shows
     /// through is the opaque image sampled along the refracted ray, tinted
     /// and absorbed, instead of the straight blend.
+    /// With `records` (the lights are shaded in compute: `compute.rs`), each
+    /// fragment also stores what lighting it needs in its pixel's fragment
+    /// list (FRAGMENT_RECORDS).
     Base {
         environment: bool,
         matcap: MatCapKey,
         marks: bool,
         transmission: bool,
+        records: bool,
     },
     /// One light buffer's Cook-Torrance light, added to the colour.
     Light(LightKey),
+    /// One light buffer's Cook-Torrance light on the fragment lists' records,
+    /// in compute (COMPUTE_SHADE, with the light pass's switches); no surface.
+    Shade(LightKey),
+    /// The resolve that adds the compute-shaded light sums (LIGHT_SUMS); no surface.
+    ShadedResolve,
 }
 
 /// A base pass's matcap: compiled only for a layer whose material world has
@@ -274,6 +283,9 @@ impl Permutation for TransparencyKey {
         "SHADOW_PCSS",
         "SHADOW_VSM",
         "TRANSMISSION",
+        "FRAGMENT_RECORDS",
+        "COMPUTE_SHADE",
+        "LIGHT_SUMS",
     ];
 
     fn features(self) -> impl Iterator<Item = &'static str> {
@@ -283,6 +295,7 @@ impl Permutation for TransparencyKey {
                 matcap,
                 marks,
                 transmission,
+                records,
             } => environment
                 .then_some("ENVIRONMENT")
                 .into_iter()
@@ -290,15 +303,23 @@ impl Permutation for TransparencyKey {
                 .chain(marks.then_some("FROXELS"))
                 .chain(marks.then_some("FROXEL_MARKS"))
                 .chain(transmission.then_some("TRANSMISSION"))
+                .chain(records.then_some("FRAGMENT_RECORDS"))
                 .collect(),
             TransparencyPass::Light(light) => light.features().collect(),
+            TransparencyPass::Shade(light) => light
+                .features()
+                .chain(std::iter::once("COMPUTE_SHADE"))
+                .collect(),
+            TransparencyPass::ShadedResolve => vec!["LIGHT_SUMS"],
         };
         self.surface.features().chain(light)
     }
 
     /// Every surface with the base passes (a matcap only with a material
-    /// world; marking froxels or not), each with and without transmission,
-    /// and with every light pass. The validation test composes each.
+    /// world; marking froxels or not; recording fragments or not), each with
+    /// and without transmission, and with every light pass; the compute
+    /// shading of every light pass and its resolve, without a surface. The
+    /// validation test composes each.
     fn all() -> Vec<Self> {
         let lights: Vec<TransparencyPass> = LightKey::all()
             .into_iter()
@@ -315,11 +336,14 @@ impl Permutation for TransparencyKey {
                 let bases = [false, true].into_iter().flat_map(move |environment| {
                     matcaps.iter().flat_map(move |&matcap| {
                         [false, true].into_iter().flat_map(move |marks| {
-                            [false, true].map(|transmission| TransparencyPass::Base {
-                                environment,
-                                matcap,
-                                marks,
-                                transmission,
+                            [false, true].into_iter().flat_map(move |transmission| {
+                                [false, true].map(|records| TransparencyPass::Base {
+                                    environment,
+                                    matcap,
+                                    marks,
+                                    transmission,
+                                    records,
+                                })
                             })
                         })
                     })
@@ -329,6 +353,16 @@ impl Permutation for TransparencyKey {
                     .map(move |pass| TransparencyKey { surface, pass })
                     .collect::<Vec<_>>()
             })
+            .chain(
+                LightKey::all()
+                    .into_iter()
+                    .map(TransparencyPass::Shade)
+                    .chain([TransparencyPass::ShadedResolve])
+                    .map(|pass| TransparencyKey {
+                        surface: Self::COMPOSITE.surface,
+                        pass,
+                    }),
+            )
             .collect()
     }
 }
@@ -346,7 +380,14 @@ impl TransparencyKey {
             matcap: MatCapKey::Off,
             marks: false,
             transmission: false,
+            records: false,
         },
+    };
+
+    /// The resolve of a frame whose lights were shaded in compute.
+    pub const SHADED_RESOLVE: TransparencyKey = TransparencyKey {
+        surface: Self::COMPOSITE.surface,
+        pass: TransparencyPass::ShadedResolve,
     };
 }
 
@@ -386,6 +427,7 @@ mod tests {
                 matcap: MatCapKey::Off,
                 marks: true,
                 transmission: false,
+                records: false,
             },
             ..base
         };
@@ -400,6 +442,7 @@ mod tests {
                 matcap: MatCapKey::Off,
                 marks: false,
                 transmission: true,
+                records: false,
             },
             ..base
         };
@@ -417,7 +460,22 @@ mod tests {
             TransparencyPass::Light(l) =>
                 !(l.kind == LightKind::Sun && l.clustered)
                     && (l.kind == LightKind::Spot || !l.spot_texture),
-            TransparencyPass::Base { .. } => true,
+            _ => true,
         }));
+        // Compute shading: the light pass's switches and its own entry, no surface.
+        let shade = TransparencyKey {
+            pass: TransparencyPass::Shade(LightKey {
+                kind: LightKind::Point,
+                clustered: true,
+                shadows: ShadowKey::None,
+                spot_texture: false,
+            }),
+            ..base
+        };
+        assert_eq!(
+            shade.features().collect::<Vec<_>>(),
+            ["LIGHT_PASS", "CLUSTERED", "FROXELS", "COMPUTE_SHADE"]
+        );
+        assert!(all.contains(&shade) && all.contains(&TransparencyKey::SHADED_RESOLVE));
     }
 }
