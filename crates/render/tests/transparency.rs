@@ -34,11 +34,11 @@ use spreadlight_render::gbuffer::{DrawBatch, GBuffer, InstanceInput, Layer, Laye
 use spreadlight_render::lighting::{LightBuffer, LightLoop, PointLight, SunLight};
 use spreadlight_render::mesh::MeshData;
 use spreadlight_render::mesh::primitives::{SphereParams, plane, sphere};
+use spreadlight_render::post::transparency::compute::{FRAGMENT_SLOTS, SHADED, SLOTS};
 use spreadlight_render::post::transparency::{
     ASSIGNED, DRAWN, LIGHT_PASSES, MatCapKey, REFRACTING, SKIPPED, TransmissionSettings,
     TransparencyPass,
 };
-use spreadlight_render::post::transparency::compute::{FRAGMENT_SLOTS, SHADED, SLOTS};
 use spreadlight_render::post::{
     LitBy, Transparency, TransparencySettings, TransparencyShading, TransparentLights,
 };
@@ -700,10 +700,10 @@ fn compute_shading_matches_the_cpu_brdf_and_records_every_fragment() {
         // The recording base pass, a shade per buffer and the shaded resolve.
         let keys = pass.keys();
         assert_eq!(keys.len(), 4, "{what}: {keys:?}");
-        assert!(keys.iter().any(|k| matches!(
-            k.pass,
-            TransparencyPass::Base { records: true, .. }
-        )));
+        assert!(
+            keys.iter()
+                .any(|k| matches!(k.pass, TransparencyPass::Base { records: true, .. }))
+        );
         assert!(keys.contains(&spreadlight_render::post::TransparencyKey::SHADED_RESOLVE));
         assert_eq!(pass.missed_fragments(&renderer).expect("read back"), 0);
         let (_, forward, forward_pass) = lit_pane(
@@ -714,10 +714,18 @@ fn compute_shading_matches_the_cpu_brdf_and_records_every_fragment() {
         );
         assert!(!forward_pass.shades_in_compute());
         let (d, worst) = largest_difference(&forward, &out);
-        assert!(d <= COMPUTE_TOLERANCE, "{what}: {d} from the forward path {worst}");
+        assert!(
+            d <= COMPUTE_TOLERANCE,
+            "{what}: {d} from the forward path {worst}"
+        );
     }
     // Without a light buffer there is nothing to shade: the forward keys, no records.
-    let (report, _, pass) = lit_pane(&renderer, pane(&renderer, None, 1.0), computed(unlit()), vec![]);
+    let (report, _, pass) = lit_pane(
+        &renderer,
+        pane(&renderer, None, 1.0),
+        computed(unlit()),
+        vec![],
+    );
     assert!(!pass.shades_in_compute());
     assert_eq!(report.counter(SHADED), 0);
     assert_eq!(report.counter(FRAGMENT_SLOTS), 0);
@@ -780,7 +788,12 @@ fn compute_shading_matches_forward_with_a_colour_and_a_normal_map() {
     };
     let points = [
         point(Vec3::new(1.0, 1.5, 4.5), Vec3::new(1.0, 0.9, 0.8), 6.0, 6.0),
-        point(Vec3::new(-1.0, -0.5, 3.6), Vec3::new(0.3, 0.5, 1.0), 3.0, 3.0),
+        point(
+            Vec3::new(-1.0, -0.5, 3.6),
+            Vec3::new(0.3, 0.5, 1.0),
+            3.0,
+            3.0,
+        ),
     ];
     let lights = || vec![LightBuffer::points(&renderer, &points)];
     let (_, forward, _) = lit_pane(&renderer, mapped(), dark(LightLoop::Clustered), lights());
@@ -837,7 +850,11 @@ fn more_layers_than_slots_are_counted_and_lit_as_the_recorded_ones() {
     let missed = pass.missed_fragments(&renderer).expect("read back");
     let covered = out.pixels.iter().filter(|p| p[..3] != [0.0; 3]).count() as u32;
     assert!(covered > 100, "the panes cover the middle: {covered}");
-    assert_eq!(missed, covered * (layers - SLOTS), "every covered pixel misses twelve");
+    assert_eq!(
+        missed,
+        covered * (layers - SLOTS),
+        "every covered pixel misses twelve"
+    );
     // Alike layers: the missed ones lit as the recorded ones is the picture.
     let (d, worst) = largest_difference(&forward, &out);
     assert!(d <= 1e-2, "{d} from the forward path {worst}");
@@ -1255,7 +1272,10 @@ fn froxel_lists_shade_as_every_light_does_near_far_across_slices_and_tile_edges(
     same(&none_naive, &none, "no lights");
     // Shaded in compute over the recorded fragments, walking the same lists
     // or every light: the forward picture within the records' precision.
-    for (light_loop, reference) in [(LightLoop::Clustered, &clustered), (LightLoop::Naive, &naive)] {
+    for (light_loop, reference) in [
+        (LightLoop::Clustered, &clustered),
+        (LightLoop::Naive, &naive),
+    ] {
         let (report, out) = shade(light_loop, TransparencyShading::Compute, &points);
         assert_eq!(report.counter(SHADED), 1);
         assert_eq!(report.counter(LIGHT_PASSES), 0);

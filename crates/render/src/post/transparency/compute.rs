@@ -195,7 +195,10 @@ mod tests {
         for class in [Gpu, Cpu] {
             assert!(!TransparencyShading::Forward.computes(class));
             assert!(TransparencyShading::Compute.computes(class));
-            assert_eq!(TransparencyShading::Auto.computes(class), auto_compute(class));
+            assert_eq!(
+                TransparencyShading::Auto.computes(class),
+                auto_compute(class)
+            );
         }
         assert!(!TransparencyShading::Auto.computes(Gpu));
         // 1080p: eight slots are 663 MB, within a 4 GiB binding, not within 128 MiB.

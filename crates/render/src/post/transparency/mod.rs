@@ -46,11 +46,11 @@ use std::sync::{Arc, Mutex};
 
 use glam::Vec3;
 
+pub use compute::TransparencyShading;
 pub use key::{
     LayerMaps, LayerUv, LightKey, MatCapKey, ShadowKey, SurfaceKey, TransparencyKey,
     TransparencyPass,
 };
-pub use compute::TransparencyShading;
 pub use transmission::TransmissionSettings;
 
 use compute::{FragmentLists, ListBuffers};
@@ -344,8 +344,7 @@ impl Transparency {
                 t[7],
             ]),
         );
-        let compute =
-            !lights.is_empty() && settings.shading.computes(renderer.gpu.adapter_class());
+        let compute = !lights.is_empty() && settings.shading.computes(renderer.gpu.adapter_class());
         let lists = owner
             .map(|node| renderer.state::<FragmentLists>(u64::from(node)))
             .unwrap_or_default();
