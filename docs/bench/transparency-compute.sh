@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Issue 34: lit transparency's lights drawn forward against shaded in
-# compute (docs/benchmarks.md, "Session 18: lit transparency shaded in
+# compute, each pixel alone (Compute) or tiles sharing lights (Tiled)
+# (docs/benchmarks.md, "Session 18: lit transparency shaded in
 # compute"; docs/post.md, "Shading: Forward or Compute").
 #
 #   docs/bench/transparency-compute.sh [BIN] [OUT.jsonl]
@@ -13,12 +14,12 @@
 #
 # patches/bench-transparency.ron at 1920x1080 (node 12: the lights' Count;
 # node 21: the Transparency, its Shading pin), 1,000 / 10,000 / 100,000
-# lights, Forward and Compute interleaved, two rounds (the order of the two
-# alternates from round to round, so a drift in clocks or load does not
-# always favour one). One JSON line per run: the round, the lights, the
+# lights, Forward, Compute and Tiled interleaved, two rounds (the order
+# turns from round to round, so a drift in clocks or load does not always
+# favour one). One JSON line per run: the round, the lights, the
 # shading, `Transparency #21: accumulate` and `resolve` in GPU ms (medians),
 # the frame's GPU ms, and bench's whole line. Then a table of the accumulate
-# pass. 100,000 lights forward took 441 ms a frame in session 17: that count
+# pass, round 1 / round 2. 100,000 lights forward took 441 ms a frame in session 17: that count
 # runs 3 warm-up and 10 timed frames, the others 20 and 50 (WARMUP and
 # FRAMES override both; SIZE the image, for a smoke run on lavapipe).
 set -euo pipefail
@@ -30,7 +31,7 @@ export XDG_RUNTIME_DIR=${XDG_RUNTIME_DIR:-/tmp}
 
 : >"$out"
 for round in 1 2; do
-    if ((round % 2)); then order="Forward Compute"; else order="Compute Forward"; fi
+    if ((round % 2)); then order="Forward Compute Tiled"; else order="Tiled Compute Forward"; fi
     for lights in 1000 10000 100000; do
         frames=(--warmup "${WARMUP:-20}" --frames "${FRAMES:-50}")
         ((lights >= 100000)) && frames=(--warmup "${WARMUP:-3}" --frames "${FRAMES:-10}")
@@ -61,9 +62,11 @@ rows = [json.loads(l) for l in open(sys.argv[1]) if l.strip()]
 def get(lights, shading, key):
     return [r[key] for r in rows if r["lights"] == lights and r["shading"] == shading]
 fmt = lambda xs: " / ".join("-" if x is None else f"{x:.2f}" for x in xs)
-print("| lights | Forward: accumulate ms | Compute: accumulate ms | Forward: frame ms | Compute: frame ms |")
-print("| --- | ---: | ---: | ---: | ---: |")
+shadings = ("Forward", "Compute", "Tiled")
+print("| lights | " + " | ".join(f"{s}: accumulate ms" for s in shadings) + " | "
+      + " | ".join(f"{s}: frame ms" for s in shadings) + " |")
+print("| --- |" + " ---: |" * (2 * len(shadings)))
 for n in (1000, 10000, 100000):
-    print(f"| {n:,} | {fmt(get(n, 'Forward', 'accumulate_ms'))} | {fmt(get(n, 'Compute', 'accumulate_ms'))} "
-          f"| {fmt(get(n, 'Forward', 'gpu_ms_median'))} | {fmt(get(n, 'Compute', 'gpu_ms_median'))} |")
+    cells = [fmt(get(n, s, "accumulate_ms")) for s in shadings] + [fmt(get(n, s, "gpu_ms_median")) for s in shadings]
+    print(f"| {n:,} | " + " | ".join(cells) + " |")
 PY

@@ -324,8 +324,12 @@ struct Grid {
 // which clusters.wgsl (OCCUPIED) makes unbounded.
 fn froxel_of(frag: vec2<f32>, view_depth: f32) -> u32 {
     let tile = vec2<u32>(clamp(floor(frag / grid.depth.w), vec2<f32>(0.0), vec2<f32>(grid.dims.xy - 1u)));
-    let slice = u32(clamp(floor(log(max(view_depth, grid.depth.x) / grid.depth.x) / grid.depth.z * f32(grid.dims.z)), 0.0, f32(grid.dims.z - 1u)));
-    return (slice * grid.dims.y + tile.y) * grid.dims.x + tile.x;
+    return (slice_of(view_depth) * grid.dims.y + tile.y) * grid.dims.x + tile.x;
+}
+
+// The slice of view depth `view_depth`, clamped into the grid.
+fn slice_of(view_depth: f32) -> u32 {
+    return u32(clamp(floor(log(max(view_depth, grid.depth.x) / grid.depth.x) / grid.depth.z * f32(grid.dims.z)), 0.0, f32(grid.dims.z - 1u)));
 }
 #endif
 
@@ -445,7 +449,12 @@ struct Light {
 // added to `sums`: CookTorrance's `shade` in world space (the attenuation,
 // cone and shadow functions are the libraries' it calls).
 fn add_forward_light(i: u32, pw: vec3<f32>, s: BrdfSurface, view_depth: f32, sums: ptr<function, LightSums>) {
-    let record = lights[i];
+    add_light_record(lights[i], i, pw, s, view_depth, sums);
+}
+
+// `add_forward_light` with light `i`'s record already loaded (SHADE_TILED
+// shares a batch of records through workgroup memory).
+fn add_light_record(record: Light, i: u32, pw: vec3<f32>, s: BrdfSurface, view_depth: f32, sums: ptr<function, LightSums>) {
 #ifdef LIGHT_SUN
     let l = safe_normalize(-record.direction.xyz, vec3<f32>(0.0, 1.0, 0.0));
     let n_dot_l = dot(s.n, l);
@@ -726,14 +735,68 @@ fn fs(in: VertexOut, @builtin(front_facing) front: bool) -> Accumulated {
 }
 
 #ifdef COMPUTE_SHADE
+// A recorded fragment, unpacked (FRAGMENT_RECORDS' `record_fragment`).
+struct Recorded {
+    world: vec3<f32>,
+    view_depth: f32,
+    surface: BrdfSurface,
+    alpha: f32,
+    coverage: f32,
+}
+
+fn recorded(at: u32) -> Recorded {
+    let world = bitcast<vec3<f32>>(vec3<u32>(fragment_records[at], fragment_records[at + 1u], fragment_records[at + 2u]));
+    let n = unoctahedral(unpack2x16snorm(fragment_records[at + 3u]));
+    let colour = bitcast<vec4<f32>>(vec4<u32>(fragment_records[at + 4u], fragment_records[at + 5u], fragment_records[at + 6u], fragment_records[at + 7u]));
+    let rough_metal = unpack2x16unorm(fragment_records[at + 8u]);
+    // x alpha, y coverage
+    let cover = unpack2x16unorm(fragment_records[at + 9u]);
+    let v = safe_normalize(camera.position.xyz - world, n);
+    var f: Recorded;
+    f.world = world;
+    f.view_depth = -(camera.view * vec4<f32>(world, 1.0)).z;
+    f.surface = brdf_surface(n, v, colour.rgb, rough_metal.x, rough_metal.y, colour.w);
+    f.alpha = cover.x;
+    f.coverage = cover.y;
+    return f;
+}
+
+// What fragment `f` lit by `sums` adds to the accumulation's colour: the
+// forward light pass's output for it.
+fn recorded_light(f: Recorded, sums: LightSums) -> vec3<f32> {
+    let lit = light_sums_brdf(f.surface, sums);
+    var specular = lit.specular;
+    if (params.surface.z > 0.5) {
+        specular *= surface_energy_compensation(f.surface);
+    }
+    let diffuse = max(sanitize(vec4<f32>(min(lit.diffuse, vec3<f32>(600.0)), 0.0)).rgb, vec3<f32>(0.0));
+    let glossy = max(sanitize(vec4<f32>(min(specular, vec3<f32>(600.0)), 0.0)).rgb, vec3<f32>(0.0));
+    return (diffuse * f.alpha + glossy * f.coverage) * weight(f.view_depth, f.coverage);
+}
+
+// Adds `sum`, the light of a pixel's `kept` recorded fragments of `count`
+// (`kept_weight`: their share of the accumulation's alpha), to the pixel's
+// light sum. Fragments past the pixel's slots were not recorded: their
+// weight is in the accumulation's alpha, and they are lit as the recorded
+// ones are on average per weight (the sum scaled by all the weight over the
+// recorded weight), so an overfull pixel is approximate, never dark or NaN.
+fn add_shaded(id: vec2<u32>, pixel: u32, count: u32, kept: u32, sum_in: vec3<f32>, kept_weight: f32) {
+    var sum = sum_in;
+    if (count > kept) {
+        let all_weight = sanitize(textureLoad(shade_accumulation, vec2<i32>(id), 0)).a;
+        if (kept_weight > 0.0 && all_weight > kept_weight) {
+            sum *= min(all_weight / kept_weight, HALF_MAX);
+        }
+    }
+    let before = shaded_light[pixel].rgb;
+    shaded_light[pixel] = vec4<f32>(min(before + sanitize(vec4<f32>(sum, 0.0)).rgb, vec3<f32>(HALF_MAX)), 0.0);
+}
+
 // One light buffer's light on every fragment recorded at a pixel, added to
 // the pixel's light sum: per fragment exactly what the forward light pass
 // adds to the accumulation's colour (the same walk from the same froxel:
 // `frag` is the pixel's centre, as a fragment's position is), but summed
-// in f32. Fragments past the pixel's slots were not recorded: their weight
-// is in the accumulation's alpha, and they are lit as the recorded ones
-// are on average per weight (the sum scaled by all the weight over the
-// recorded weight), so an overfull pixel is approximate, never dark or NaN.
+// in f32.
 @compute @workgroup_size(8, 8)
 fn shade(@builtin(global_invocation_id) id: vec3<u32>) {
     let size = textureDimensions(shade_accumulation);
@@ -752,37 +815,109 @@ fn shade(@builtin(global_invocation_id) id: vec3<u32>) {
     var sum = vec3<f32>(0.0);
     var kept_weight = 0.0;
     for (var k = 0u; k < kept; k++) {
-        let at = RECORD_WORDS * (pixel * slots + k);
-        let world = bitcast<vec3<f32>>(vec3<u32>(fragment_records[at], fragment_records[at + 1u], fragment_records[at + 2u]));
-        let n = unoctahedral(unpack2x16snorm(fragment_records[at + 3u]));
-        let colour = bitcast<vec4<f32>>(vec4<u32>(fragment_records[at + 4u], fragment_records[at + 5u], fragment_records[at + 6u], fragment_records[at + 7u]));
-        let rough_metal = unpack2x16unorm(fragment_records[at + 8u]);
-        // x alpha, y coverage
-        let cover = unpack2x16unorm(fragment_records[at + 9u]);
-        let v = safe_normalize(camera.position.xyz - world, n);
-        let s = brdf_surface(n, v, colour.rgb, rough_metal.x, rough_metal.y, colour.w);
-        let view_depth = -(camera.view * vec4<f32>(world, 1.0)).z;
-        let lit = light_sums_brdf(s, light_sums(frag, world, s, view_depth));
-        var specular = lit.specular;
-        if (params.surface.z > 0.5) {
-            specular *= surface_energy_compensation(s);
-        }
-        let diffuse = max(sanitize(vec4<f32>(min(lit.diffuse, vec3<f32>(600.0)), 0.0)).rgb, vec3<f32>(0.0));
-        let glossy = max(sanitize(vec4<f32>(min(specular, vec3<f32>(600.0)), 0.0)).rgb, vec3<f32>(0.0));
-        let w = weight(view_depth, cover.y);
-        sum += (diffuse * cover.x + glossy * cover.y) * w;
+        let f = recorded(RECORD_WORDS * (pixel * slots + k));
+        sum += recorded_light(f, light_sums(frag, f.world, f.surface, f.view_depth));
         // What the base pass added to the accumulation's alpha for it.
-        kept_weight += cover.y * w;
+        kept_weight += f.coverage * weight(f.view_depth, f.coverage);
     }
-    if (count > kept) {
-        let all_weight = sanitize(textureLoad(shade_accumulation, vec2<i32>(id.xy), 0)).a;
-        if (kept_weight > 0.0 && all_weight > kept_weight) {
-            sum *= min(all_weight / kept_weight, HALF_MAX);
+    add_shaded(id.xy, pixel, count, kept, sum, kept_weight);
+}
+
+#ifdef SHADE_TILED
+// Shading with the lights shared by each 8x8 tile, as CookTorrance's
+// clustered walk shares a block's: the tile's pixels lie in one 32-pixel
+// tile of the forward grid (ClusterGrid::FORWARD_TILE is a multiple of 8),
+// so its froxels differ only in the slice. The tile marks the slices its
+// recorded fragments lie in; then for each marked slice, batch by batch,
+// the 64 lanes load that froxel's next 64 lights into workgroup memory,
+// and each lane adds them to those of its fragments that lie in the slice.
+// Each fragment gets exactly its froxel's list, in its order: the sums are
+// `shade`'s.
+const SLICE_WORDS: u32 = 4u;
+// SLOTS (compute.rs): per-lane sums for at most this many fragments.
+const MAX_SLOTS: u32 = 8u;
+const BATCH: u32 = 64u;
+var<workgroup> tile_slices: array<atomic<u32>, SLICE_WORDS>;
+var<workgroup> slice_words: array<u32, SLICE_WORDS>;
+var<workgroup> batch_lights: array<Light, BATCH>;
+var<workgroup> batch_index: array<u32, BATCH>;
+
+@compute @workgroup_size(8, 8)
+fn shade_tiled(@builtin(global_invocation_id) id: vec3<u32>, @builtin(local_invocation_index) lane: u32, @builtin(workgroup_id) group: vec3<u32>) {
+    let size = textureDimensions(shade_accumulation);
+    // Lanes past the image's edge take part in the barriers with nothing recorded.
+    let inside = id.x < size.x && id.y < size.y;
+    let pixels = size.x * size.y;
+    let pixel = select(0u, id.y * size.x + id.x, inside);
+    let count = select(0u, fragment_counts[pixel], inside);
+    let slots = arrayLength(&fragment_records) / (RECORD_WORDS * pixels);
+    let kept = min(min(count, slots), MAX_SLOTS);
+    let first_at = RECORD_WORDS * pixel * slots;
+    if (lane < SLICE_WORDS) {
+        atomicStore(&tile_slices[lane], 0u);
+    }
+    workgroupBarrier();
+    var sums: array<LightSums, MAX_SLOTS>;
+    for (var k = 0u; k < kept; k++) {
+        let s = slice_of(recorded(first_at + RECORD_WORDS * k).view_depth);
+        atomicOr(&tile_slices[s / 32u], 1u << (s % 32u));
+        sums[k] = no_light_sums();
+    }
+    workgroupBarrier();
+    if (lane < SLICE_WORDS) {
+        slice_words[lane] = atomicLoad(&tile_slices[lane]);
+    }
+    // The tile's column and row of the forward grid: every lane's.
+    let corner = vec2<f32>(group.xy * 8u) + 0.5;
+    let tile = vec2<u32>(clamp(floor(corner / grid.depth.w), vec2<f32>(0.0), vec2<f32>(grid.dims.xy - 1u)));
+    // Loaded whole, once: uniform across the tile (the loops below hold barriers).
+    let words = workgroupUniformLoad(&slice_words);
+    for (var word = 0u; word < SLICE_WORDS; word++) {
+        var bits = words[word];
+        while (bits != 0u) {
+            let slice = word * 32u + firstTrailingBit(bits);
+            bits &= bits - 1u;
+            let froxel = (slice * grid.dims.y + tile.y) * grid.dims.x + tile.x;
+            let first = light_offsets[froxel];
+            // Never past the list's end (an overfull frame's lists are cut: clusters.rs).
+            let end = min(first + light_counts[froxel], arrayLength(&light_indices));
+            for (var start = first; start < end; start += BATCH) {
+                let n = min(BATCH, end - start);
+                if (lane < n) {
+                    let i = light_indices[start + lane];
+                    batch_index[lane] = i;
+                    batch_lights[lane] = lights[i];
+                }
+                workgroupBarrier();
+                for (var k = 0u; k < kept; k++) {
+                    let f = recorded(first_at + RECORD_WORDS * k);
+                    if (slice_of(f.view_depth) == slice) {
+                        // A whole local, not a pointer into the array: naga's SPIR-V
+                        // output fails on a dynamically indexed element passed by pointer.
+                        var acc = sums[k];
+                        for (var j = 0u; j < n; j++) {
+                            add_light_record(batch_lights[j], batch_index[j], f.world, f.surface, f.view_depth, &acc);
+                        }
+                        sums[k] = acc;
+                    }
+                }
+                workgroupBarrier();
+            }
         }
     }
-    let before = shaded_light[pixel].rgb;
-    shaded_light[pixel] = vec4<f32>(min(before + sanitize(vec4<f32>(sum, 0.0)).rgb, vec3<f32>(HALF_MAX)), 0.0);
+    if (!inside || count == 0u) {
+        return;
+    }
+    var sum = vec3<f32>(0.0);
+    var kept_weight = 0.0;
+    for (var k = 0u; k < kept; k++) {
+        let f = recorded(first_at + RECORD_WORDS * k);
+        sum += recorded_light(f, sums[k]);
+        kept_weight += f.coverage * weight(f.view_depth, f.coverage);
+    }
+    add_shaded(id.xy, pixel, count, kept, sum, kept_weight);
 }
+#endif
 #endif
 
 @compute @workgroup_size(8, 8)

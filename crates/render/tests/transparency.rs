@@ -1272,11 +1272,18 @@ fn froxel_lists_shade_as_every_light_does_near_far_across_slices_and_tile_edges(
     same(&none_naive, &none, "no lights");
     // Shaded in compute over the recorded fragments, walking the same lists
     // or every light: the forward picture within the records' precision.
-    for (light_loop, reference) in [
-        (LightLoop::Clustered, &clustered),
-        (LightLoop::Naive, &naive),
+    let mut per_pixel = None;
+    for (light_loop, reference, shading) in [
+        (
+            LightLoop::Clustered,
+            &clustered,
+            TransparencyShading::Compute,
+        ),
+        (LightLoop::Naive, &naive, TransparencyShading::Compute),
+        (LightLoop::Clustered, &clustered, TransparencyShading::Tiled),
     ] {
-        let (report, out) = shade(light_loop, TransparencyShading::Compute, &points);
+        let what = format!("{light_loop:?} {shading:?}");
+        let (report, out) = shade(light_loop, shading, &points);
         assert_eq!(report.counter(SHADED), 1);
         assert_eq!(report.counter(LIGHT_PASSES), 0);
         let (d, worst) = largest_difference(reference, &out);
@@ -1293,12 +1300,19 @@ fn froxel_lists_shade_as_every_light_does_near_far_across_slices_and_tile_edges(
             .count();
         assert!(
             loose * 50 <= out.pixels.len(),
-            "{light_loop:?} in compute: {loose} pixels differ by more than 2e-3"
+            "{what}: {loose} pixels differ by more than 2e-3"
         );
-        assert!(
-            d <= COMPUTE_TOLERANCE,
-            "{light_loop:?} in compute: {d} from forward {worst}"
-        );
+        assert!(d <= COMPUTE_TOLERANCE, "{what}: {d} from forward {worst}");
+        match shading {
+            // The tiles share the lights each fragment walks alone in Compute, in the same order.
+            TransparencyShading::Tiled => {
+                let alone = per_pixel.as_ref().expect("Compute ran first");
+                let (d, worst) = largest_difference(alone, &out);
+                assert!(d <= 1e-5, "{what}: {d} from Compute {worst}");
+            }
+            _ if light_loop == LightLoop::Clustered => per_pixel = Some(out),
+            _ => {}
+        }
     }
 }
 

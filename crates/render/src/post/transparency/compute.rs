@@ -42,8 +42,14 @@ pub enum TransparencyShading {
     /// lights and blending them into the accumulation.
     Forward,
     /// Each layer drawn once, its fragments recorded per pixel and lit in
-    /// compute, a pass per light buffer.
+    /// compute, a pass per light buffer: each pixel walks its fragments'
+    /// froxel lists alone.
     Compute,
+    /// As Compute, each 8x8 tile loading its froxels' lights into workgroup
+    /// memory 64 at a time for all its pixels (CookTorrance's clustered
+    /// sharing); a buffer whose lights are walked naively is shaded as
+    /// Compute shades it.
+    Tiled,
 }
 
 impl TransparencyShading {
@@ -52,7 +58,7 @@ impl TransparencyShading {
         match self {
             TransparencyShading::Auto => auto_compute(class),
             TransparencyShading::Forward => false,
-            TransparencyShading::Compute => true,
+            TransparencyShading::Compute | TransparencyShading::Tiled => true,
         }
     }
 }
@@ -68,6 +74,9 @@ pub fn auto_compute(class: AdapterClass) -> bool {
         AdapterClass::Cpu => true,
     }
 }
+
+// SHADE_TILED's 8x8 tiles each lie in one tile of the forward grid.
+const _: () = assert!(crate::lighting::ClusterGrid::FORWARD_TILE % 8 == 0);
 
 /// Records a pixel has room for: the glass spheres of
 /// patches/bench-transparency.ron put up to about eight layers on a pixel.
@@ -195,6 +204,7 @@ mod tests {
         for class in [Gpu, Cpu] {
             assert!(!TransparencyShading::Forward.computes(class));
             assert!(TransparencyShading::Compute.computes(class));
+            assert!(TransparencyShading::Tiled.computes(class));
             assert_eq!(
                 TransparencyShading::Auto.computes(class),
                 auto_compute(class)

@@ -77,6 +77,9 @@ pub enum TransparencyPass {
     /// One light buffer's Cook-Torrance light on the fragment lists' records,
     /// in compute (COMPUTE_SHADE, with the light pass's switches); no surface.
     Shade(LightKey),
+    /// `Shade` with each 8x8 tile sharing its froxels' lights through
+    /// workgroup memory (SHADE_TILED, entry `shade_tiled`); clustered only.
+    ShadeTiled(LightKey),
     /// The resolve that adds the compute-shaded light sums (LIGHT_SUMS); no surface.
     ShadedResolve,
 }
@@ -286,6 +289,7 @@ impl Permutation for TransparencyKey {
         "FRAGMENT_RECORDS",
         "COMPUTE_SHADE",
         "LIGHT_SUMS",
+        "SHADE_TILED",
     ];
 
     fn features(self) -> impl Iterator<Item = &'static str> {
@@ -309,6 +313,10 @@ impl Permutation for TransparencyKey {
             TransparencyPass::Shade(light) => light
                 .features()
                 .chain(std::iter::once("COMPUTE_SHADE"))
+                .collect(),
+            TransparencyPass::ShadeTiled(light) => light
+                .features()
+                .chain(["COMPUTE_SHADE", "SHADE_TILED"])
                 .collect(),
             TransparencyPass::ShadedResolve => vec!["LIGHT_SUMS"],
         };
@@ -356,7 +364,12 @@ impl Permutation for TransparencyKey {
             .chain(
                 LightKey::all()
                     .into_iter()
-                    .map(TransparencyPass::Shade)
+                    .flat_map(|light| {
+                        let tiled = light
+                            .clustered
+                            .then_some(TransparencyPass::ShadeTiled(light));
+                        std::iter::once(TransparencyPass::Shade(light)).chain(tiled)
+                    })
                     .chain([TransparencyPass::ShadedResolve])
                     .map(|pass| TransparencyKey {
                         surface: Self::COMPOSITE.surface,

@@ -228,6 +228,8 @@ pub struct Transparency {
     /// The lights are shaded in compute over recorded fragments (some light
     /// buffer is connected and the settings' shading says so).
     compute: bool,
+    /// Clustered light buffers are shaded with the tiles sharing their lights.
+    tiled: bool,
     /// The fragment lists of compute shading, kept per node.
     lists: Arc<FragmentLists>,
     accumulation: String,
@@ -386,6 +388,7 @@ impl Transparency {
             environment,
             transmission: settings.transmission.on(),
             compute,
+            tiled: settings.shading == TransparencyShading::Tiled,
             lists,
             accumulation: format!("transparency{id} accumulation"),
             revealage: format!("transparency{id} revealage"),
@@ -420,7 +423,7 @@ impl Transparency {
             for light in self.light_keys() {
                 let key = TransparencyKey {
                     surface: TransparencyKey::COMPOSITE.surface,
-                    pass: TransparencyPass::Shade(light),
+                    pass: self.shade_pass(light),
                 };
                 if !keys.contains(&key) {
                     keys.push(key);
@@ -439,6 +442,16 @@ impl Transparency {
             shadows: ShadowKey::of(set.shadows.as_ref().map(|s| s.filter())),
             spot_texture: set.lights.textures().is_some(),
         })
+    }
+
+    /// The compute pass that shades a light buffer of permutation `light`:
+    /// tiled only where there are froxel lists to share.
+    fn shade_pass(&self, light: LightKey) -> TransparencyPass {
+        if self.tiled && light.clustered {
+            TransparencyPass::ShadeTiled(light)
+        } else {
+            TransparencyPass::Shade(light)
+        }
     }
 
     /// Whether the lights are shaded in compute over recorded fragments.
@@ -782,9 +795,14 @@ impl Transparency {
                 pass: "transparency".to_owned(),
                 message: format!("no light buffer {set} to shade"),
             })?;
+        let pass = self.shade_pass(light);
+        let entry = match pass {
+            TransparencyPass::ShadeTiled(_) => "shade_tiled",
+            _ => "shade",
+        };
         let key = TransparencyKey {
             surface: TransparencyKey::COMPOSITE.surface,
-            pass: TransparencyPass::Shade(light),
+            pass,
         }
         .key();
         let size = cx.size_of(io.accumulation)?;
@@ -816,13 +834,7 @@ impl Transparency {
                 .buffer("light_indices", &lists.indices);
         }
         cx.count(compute::SHADED, 1);
-        cx.dispatch_shader(
-            "transparency shade",
-            &key,
-            "shade",
-            b,
-            super::per_pixel(size),
-        )
+        cx.dispatch_shader("transparency shade", &key, entry, b, super::per_pixel(size))
     }
 
     /// One render pass over the two targets drawing `work`'s items: their
