@@ -76,7 +76,7 @@ pub fn auto_compute(class: AdapterClass) -> bool {
 }
 
 // SHADE_TILED's 8x8 tiles each lie in one tile of the forward grid.
-const _: () = assert!(crate::lighting::ClusterGrid::FORWARD_TILE % 8 == 0);
+const _: () = assert!(crate::lighting::ClusterGrid::FORWARD_TILE.is_multiple_of(8));
 
 /// Records a pixel has room for: the glass spheres of
 /// patches/bench-transparency.ron put up to about eight layers on a pixel.
