@@ -333,10 +333,11 @@ fn the_toon_lights_example_runs_its_light_shaders_in_place_of_cook_torrance() {
 }
 
 /// The lit transparency example lights its glass balls forward+ with the
-/// scene's three light buffers (a light pass each, no froxel assignment for
-/// six point lights) and their shadow maps, which are rendered once for the
-/// opaque and the transparent lighting together; without Lights connected
-/// no light pass runs.
+/// scene's three light buffers (a light pass each, or under Shading Auto on
+/// a CPU adapter a compute shade each; no froxel assignment for six point
+/// lights) and their shadow maps, which are rendered once for the opaque
+/// and the transparent lighting together; without Lights connected no light
+/// pass or shade runs.
 /// The report of `patch`'s first frame at 64 x 36 (loaded as if from
 /// `path`), which no node may fail.
 fn clean_first_frame(
@@ -354,12 +355,19 @@ fn clean_first_frame(
 
 #[test]
 fn the_lit_transparency_example_lights_glass_with_the_scenes_lights() {
+    use spreadlight_render::post::transparency::compute::SHADED;
     use spreadlight_render::post::transparency::{ASSIGNED, LIGHT_PASSES};
     let path = spreadlight_tests::root().join("patches/lit-transparency.ron");
     let full = format::load(&path).expect("loads");
     let report = |patch: &spreadlight_graph::Patch| clean_first_frame(patch, &path);
     let lit = report(&full);
-    assert_eq!(lit.counter(LIGHT_PASSES), 3, "{:?}", lit.counters);
+    // Each buffer lights the glass once, all drawn forward or all shaded in compute.
+    let (forward, computed) = (lit.counter(LIGHT_PASSES), lit.counter(SHADED));
+    assert!(
+        (forward, computed) == (3, 0) || (forward, computed) == (0, 3),
+        "{:?}",
+        lit.counters
+    );
     assert_eq!(lit.counter(ASSIGNED), 0, "six point lights walk naively");
     // Five casting lights' maps (three point, one spot, one sun), once.
     assert_eq!(lit.counter("shadow maps rendered"), 5);
@@ -372,7 +380,54 @@ fn the_lit_transparency_example_lights_glass_with_the_scenes_lights() {
         full.links.len(),
         "the Lights link was there"
     );
-    assert_eq!(report(&unlit).counter(LIGHT_PASSES), 0);
+    let unlit = report(&unlit);
+    assert_eq!(unlit.counter(LIGHT_PASSES) + unlit.counter(SHADED), 0);
+}
+
+/// The lit transparency example (point, spot and sun lights with their
+/// shadow maps and spot textures; Light Loop Clustered, so the point and
+/// spot buffers walk froxel lists) looks the same drawn forward, shaded in
+/// compute and shaded by tiles sharing their lights (docs/post.md,
+/// "Shading: Forward or Compute"): within 4e-3 of the value or of 1, the
+/// forward path's half-float sum being the less exact.
+#[test]
+fn the_lit_transparency_example_looks_the_same_forward_computed_and_tiled() {
+    let path = spreadlight_tests::root().join("patches/lit-transparency.ron");
+    let image = |shading: &str| {
+        let mut run = spreadlight_tests::PatchRun::new(&path, (64, 36), |patch| {
+            let node = patch
+                .node_mut(spreadlight_graph::NodeId(68))
+                .expect("lit-transparency.ron's Transparency is node 68");
+            assert_eq!(node.type_name, "Transparency");
+            for (pin, value) in [("Shading", shading), ("Light Loop", "Clustered")] {
+                node.values
+                    .insert(pin.to_owned(), Spread::Enum(vec![value.to_owned()]));
+            }
+        });
+        run.run_to(0);
+        run.image("lit-transparency").0
+    };
+    let forward = image("Forward");
+    for shading in ["Compute", "Tiled"] {
+        let out = image(shading);
+        assert!(out.all_finite(), "{shading}");
+        let mut worst = (0.0f32, 0);
+        for (i, (a, b)) in forward.pixels.iter().zip(&out.pixels).enumerate() {
+            for (u, v) in a.iter().zip(b) {
+                let d = (u - v).abs() / u.abs().max(1.0);
+                if d > worst.0 {
+                    worst = (d, i);
+                }
+            }
+        }
+        let (d, i) = worst;
+        assert!(
+            d <= 4e-3,
+            "{shading}: pixel {i} is {:?}, forward {:?}",
+            out.pixels[i],
+            forward.pixels[i]
+        );
+    }
 }
 
 /// The showcase without its reflective and subsurface materials (the

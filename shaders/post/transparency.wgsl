@@ -70,6 +70,16 @@
 // in `lit_opaque`); a ray that leaves the screen sees the Environment
 // (ENVIRONMENT) along it, faded in over a band beyond the border, else the
 // screen's edge.
+// Compute shading (crates/render/src/post/transparency/compute.rs): instead
+// of drawing each layer again per light buffer, the base pass stores each
+// fragment it keeps (FRAGMENT_RECORDS: position, facing normal, albedo,
+// roughness, metallic, reflectance, alpha, coverage; 40 bytes) in its
+// pixel's slots, and a compute pass per light buffer (COMPUTE_SHADE, entry
+// `shade`) walks each pixel's records with the same light walk and adds
+// what the light pass would have added to the colour, summed in f32, to a
+// buffer the resolve adds (LIGHT_SUMS). No fragment is shaded twice for a
+// light buffer, no helper lanes shade, and nothing goes through the
+// blender but the base pass.
 // Both faces are drawn, except for one-sided glTF materials, whose back
 // faces the pipeline culls; a back face is lit with its normal turned to
 // the viewer (a glass shell's inside).
@@ -377,8 +387,12 @@ struct Grid {
 // which clusters.wgsl (OCCUPIED) makes unbounded.
 fn froxel_of(frag: vec2<f32>, view_depth: f32) -> u32 {
     let tile = vec2<u32>(clamp(floor(frag / grid.depth.w), vec2<f32>(0.0), vec2<f32>(grid.dims.xy - 1u)));
-    let slice = u32(clamp(floor(log(max(view_depth, grid.depth.x) / grid.depth.x) / grid.depth.z * f32(grid.dims.z)), 0.0, f32(grid.dims.z - 1u)));
-    return (slice * grid.dims.y + tile.y) * grid.dims.x + tile.x;
+    return (slice_of(view_depth) * grid.dims.y + tile.y) * grid.dims.x + tile.x;
+}
+
+// The slice of view depth `view_depth`, clamped into the grid.
+fn slice_of(view_depth: f32) -> u32 {
+    return u32(clamp(floor(log(max(view_depth, grid.depth.x) / grid.depth.x) / grid.depth.z * f32(grid.dims.z)), 0.0, f32(grid.dims.z - 1u)));
 }
 #endif
 
@@ -402,6 +416,81 @@ fn mark_froxels(frag: vec2<f32>, view_depth: f32) {
 }
 #endif
 
+#ifdef FRAGMENT_RECORDS
+// The fragment lists (compute.rs): a counter per pixel and then one more
+// that counts the fragments no slot was left for, and `slots` records per
+// pixel (the records buffer's length over the pixel count), RECORD_WORDS
+// words each. A pixel's counter keeps counting past its slots, so the
+// shading knows how many fragments it missed.
+@group(0) @binding(40) var<storage, read_write> fragment_counts: array<atomic<u32>>;
+@group(0) @binding(41) var<storage, read_write> fragment_records: array<u32>;
+
+// World position and albedo as f32 (6), the normal (1), reflectance as f32
+// (1), roughness with metallic and alpha with coverage in 16 bits each (2).
+// Half floats would need a capability naga does not grant by default.
+const RECORD_WORDS: u32 = 10u;
+
+// A unit vector on the octahedron, unfolded onto -1..1 squared (two
+// 16-bit numbers keep it to about 5e-5 radians).
+fn octahedral(n: vec3<f32>) -> vec2<f32> {
+    let p = n.xy / max(abs(n.x) + abs(n.y) + abs(n.z), 1e-20);
+    if (n.z < 0.0) {
+        return (1.0 - abs(p.yx)) * select(vec2<f32>(-1.0), vec2<f32>(1.0), p >= vec2<f32>(0.0));
+    }
+    return p;
+}
+
+// Stores a kept fragment's lighting inputs in the next slot of its pixel
+// (pixel `frag`), or counts it as missed when the pixel's slots are full.
+// Every value is made finite and held in its packing's range first.
+fn record_fragment(frag: vec2<f32>, world: vec3<f32>, n: vec3<f32>, albedo: vec3<f32>, roughness: f32, metallic: f32, reflectance: f32, alpha: f32, coverage: f32) {
+    let size = textureDimensions(opaque_depth);
+    let pixels = size.x * size.y;
+    let pixel = min(u32(frag.y), size.y - 1u) * size.x + min(u32(frag.x), size.x - 1u);
+    let slots = arrayLength(&fragment_records) / (RECORD_WORDS * max(pixels, 1u));
+    let k = atomicAdd(&fragment_counts[pixel], 1u);
+    if (k >= slots) {
+        atomicAdd(&fragment_counts[pixels], 1u);
+        return;
+    }
+    let at = RECORD_WORDS * (pixel * slots + k);
+    let colour = clamp(sanitize(vec4<f32>(albedo, reflectance)), vec4<f32>(0.0), vec4<f32>(HALF_MAX));
+    let unit = clamp(sanitize(vec4<f32>(roughness, metallic, alpha, coverage)), vec4<f32>(0.0), vec4<f32>(1.0));
+    fragment_records[at] = bitcast<u32>(world.x);
+    fragment_records[at + 1u] = bitcast<u32>(world.y);
+    fragment_records[at + 2u] = bitcast<u32>(world.z);
+    fragment_records[at + 3u] = pack2x16snorm(octahedral(n));
+    fragment_records[at + 4u] = bitcast<u32>(colour.x);
+    fragment_records[at + 5u] = bitcast<u32>(colour.y);
+    fragment_records[at + 6u] = bitcast<u32>(colour.z);
+    fragment_records[at + 7u] = bitcast<u32>(colour.w);
+    fragment_records[at + 8u] = pack2x16unorm(unit.xy);
+    fragment_records[at + 9u] = pack2x16unorm(unit.zw);
+}
+#endif
+
+#ifdef COMPUTE_SHADE
+@group(0) @binding(40) var<storage, read> fragment_counts: array<u32>;
+@group(0) @binding(41) var<storage, read> fragment_records: array<u32>;
+// As FRAGMENT_RECORDS writes them.
+const RECORD_WORDS: u32 = 10u;
+// Per pixel: the light the compute passes add to the accumulation's colour.
+@group(0) @binding(42) var<storage, read_write> shaded_light: array<vec4<f32>>;
+// The base passes' accumulation: its alpha is the weight of every fragment,
+// recorded or missed.
+@group(0) @binding(43) var shade_accumulation: texture_2d<f32>;
+
+fn unoctahedral(e: vec2<f32>) -> vec3<f32> {
+    var n = vec3<f32>(e, 1.0 - abs(e.x) - abs(e.y));
+    let t = max(-n.z, 0.0);
+    n = vec3<f32>(n.x + select(t, -t, n.x >= 0.0), n.y + select(t, -t, n.y >= 0.0), n.z);
+    return safe_normalize(n, vec3<f32>(0.0, 0.0, 1.0));
+}
+#endif
+#ifdef LIGHT_SUMS
+@group(0) @binding(42) var<storage, read> shaded_light: array<vec4<f32>>;
+#endif
+
 #ifdef LIGHT_PASS
 // Matches `GpuLight` in crates/render/src/lighting/mod.rs.
 struct Light {
@@ -423,7 +512,12 @@ struct Light {
 // added to `sums`: CookTorrance's `shade` in world space (the attenuation,
 // cone and shadow functions are the libraries' it calls).
 fn add_forward_light(i: u32, pw: vec3<f32>, s: BrdfSurface, view_depth: f32, sums: ptr<function, LightSums>) {
-    let record = lights[i];
+    add_light_record(lights[i], i, pw, s, view_depth, sums);
+}
+
+// `add_forward_light` with light `i`'s record already loaded (SHADE_TILED
+// shares a batch of records through workgroup memory).
+fn add_light_record(record: Light, i: u32, pw: vec3<f32>, s: BrdfSurface, view_depth: f32, sums: ptr<function, LightSums>) {
 #ifdef LIGHT_SUN
     let l = safe_normalize(-record.direction.xyz, vec3<f32>(0.0, 1.0, 0.0));
     let n_dot_l = dot(s.n, l);
@@ -684,6 +778,9 @@ fn fs(in: VertexOut, @builtin(front_facing) front: bool) -> Accumulated {
 #ifdef FROXEL_MARKS
     mark_froxels(in.clip.xy, in.distance);
 #endif
+#ifdef FRAGMENT_RECORDS
+    record_fragment(in.clip.xy, in.world, select(-n, n, front), albedo, roughness, metallic, reflectance, alpha, coverage);
+#endif
     var through = vec3<f32>(0.0);
 #ifdef TRANSMISSION
     if (share > 0.0) {
@@ -706,6 +803,192 @@ fn fs(in: VertexOut, @builtin(front_facing) front: bool) -> Accumulated {
     return out;
 }
 
+#ifdef COMPUTE_SHADE
+// A recorded fragment, unpacked (FRAGMENT_RECORDS' `record_fragment`).
+struct Recorded {
+    world: vec3<f32>,
+    view_depth: f32,
+    surface: BrdfSurface,
+    alpha: f32,
+    coverage: f32,
+}
+
+fn recorded(at: u32) -> Recorded {
+    let world = bitcast<vec3<f32>>(vec3<u32>(fragment_records[at], fragment_records[at + 1u], fragment_records[at + 2u]));
+    let n = unoctahedral(unpack2x16snorm(fragment_records[at + 3u]));
+    let colour = bitcast<vec4<f32>>(vec4<u32>(fragment_records[at + 4u], fragment_records[at + 5u], fragment_records[at + 6u], fragment_records[at + 7u]));
+    let rough_metal = unpack2x16unorm(fragment_records[at + 8u]);
+    // x alpha, y coverage
+    let cover = unpack2x16unorm(fragment_records[at + 9u]);
+    let v = safe_normalize(camera.position.xyz - world, n);
+    var f: Recorded;
+    f.world = world;
+    f.view_depth = -(camera.view * vec4<f32>(world, 1.0)).z;
+    f.surface = brdf_surface(n, v, colour.rgb, rough_metal.x, rough_metal.y, colour.w);
+    f.alpha = cover.x;
+    f.coverage = cover.y;
+    return f;
+}
+
+// What fragment `f` lit by `sums` adds to the accumulation's colour: the
+// forward light pass's output for it.
+fn recorded_light(f: Recorded, sums: LightSums) -> vec3<f32> {
+    let lit = light_sums_brdf(f.surface, sums);
+    var specular = lit.specular;
+    if (params.surface.z > 0.5) {
+        specular *= surface_energy_compensation(f.surface);
+    }
+    let diffuse = max(sanitize(vec4<f32>(min(lit.diffuse, vec3<f32>(600.0)), 0.0)).rgb, vec3<f32>(0.0));
+    let glossy = max(sanitize(vec4<f32>(min(specular, vec3<f32>(600.0)), 0.0)).rgb, vec3<f32>(0.0));
+    return (diffuse * f.alpha + glossy * f.coverage) * weight(f.view_depth, f.coverage);
+}
+
+// Adds `sum`, the light of a pixel's `kept` recorded fragments of `count`
+// (`kept_weight`: their share of the accumulation's alpha), to the pixel's
+// light sum. Fragments past the pixel's slots were not recorded: their
+// weight is in the accumulation's alpha, and they are lit as the recorded
+// ones are on average per weight (the sum scaled by all the weight over the
+// recorded weight), so an overfull pixel is approximate, never dark or NaN.
+fn add_shaded(id: vec2<u32>, pixel: u32, count: u32, kept: u32, sum_in: vec3<f32>, kept_weight: f32) {
+    var sum = sum_in;
+    if (count > kept) {
+        let all_weight = sanitize(textureLoad(shade_accumulation, vec2<i32>(id), 0)).a;
+        if (kept_weight > 0.0 && all_weight > kept_weight) {
+            sum *= min(all_weight / kept_weight, HALF_MAX);
+        }
+    }
+    let before = shaded_light[pixel].rgb;
+    shaded_light[pixel] = vec4<f32>(min(before + sanitize(vec4<f32>(sum, 0.0)).rgb, vec3<f32>(HALF_MAX)), 0.0);
+}
+
+// One light buffer's light on every fragment recorded at a pixel, added to
+// the pixel's light sum: per fragment exactly what the forward light pass
+// adds to the accumulation's colour (the same walk from the same froxel:
+// `frag` is the pixel's centre, as a fragment's position is), but summed
+// in f32.
+@compute @workgroup_size(8, 8)
+fn shade(@builtin(global_invocation_id) id: vec3<u32>) {
+    let size = textureDimensions(shade_accumulation);
+    if (id.x >= size.x || id.y >= size.y) {
+        return;
+    }
+    let pixels = size.x * size.y;
+    let pixel = id.y * size.x + id.x;
+    let count = fragment_counts[pixel];
+    if (count == 0u) {
+        return;
+    }
+    let slots = arrayLength(&fragment_records) / (RECORD_WORDS * pixels);
+    let kept = min(count, slots);
+    let frag = vec2<f32>(id.xy) + 0.5;
+    var sum = vec3<f32>(0.0);
+    var kept_weight = 0.0;
+    for (var k = 0u; k < kept; k++) {
+        let f = recorded(RECORD_WORDS * (pixel * slots + k));
+        sum += recorded_light(f, light_sums(frag, f.world, f.surface, f.view_depth));
+        // What the base pass added to the accumulation's alpha for it.
+        kept_weight += f.coverage * weight(f.view_depth, f.coverage);
+    }
+    add_shaded(id.xy, pixel, count, kept, sum, kept_weight);
+}
+
+#ifdef SHADE_TILED
+// Shading with the lights shared by each 8x8 tile, as CookTorrance's
+// clustered walk shares a block's: the tile's pixels lie in one 32-pixel
+// tile of the forward grid (ClusterGrid::FORWARD_TILE is a multiple of 8),
+// so its froxels differ only in the slice. The tile marks the slices its
+// recorded fragments lie in; then for each marked slice, batch by batch,
+// the 64 lanes load that froxel's next 64 lights into workgroup memory,
+// and each lane adds them to those of its fragments that lie in the slice.
+// Each fragment gets exactly its froxel's list, in its order: the sums are
+// `shade`'s.
+const SLICE_WORDS: u32 = 4u;
+// SLOTS (compute.rs): per-lane sums for at most this many fragments.
+const MAX_SLOTS: u32 = 8u;
+const BATCH: u32 = 64u;
+var<workgroup> tile_slices: array<atomic<u32>, SLICE_WORDS>;
+var<workgroup> slice_words: array<u32, SLICE_WORDS>;
+var<workgroup> batch_lights: array<Light, BATCH>;
+var<workgroup> batch_index: array<u32, BATCH>;
+
+@compute @workgroup_size(8, 8)
+fn shade_tiled(@builtin(global_invocation_id) id: vec3<u32>, @builtin(local_invocation_index) lane: u32, @builtin(workgroup_id) group: vec3<u32>) {
+    let size = textureDimensions(shade_accumulation);
+    // Lanes past the image's edge take part in the barriers with nothing recorded.
+    let inside = id.x < size.x && id.y < size.y;
+    let pixels = size.x * size.y;
+    let pixel = select(0u, id.y * size.x + id.x, inside);
+    let count = select(0u, fragment_counts[pixel], inside);
+    let slots = arrayLength(&fragment_records) / (RECORD_WORDS * pixels);
+    let kept = min(min(count, slots), MAX_SLOTS);
+    let first_at = RECORD_WORDS * pixel * slots;
+    if (lane < SLICE_WORDS) {
+        atomicStore(&tile_slices[lane], 0u);
+    }
+    workgroupBarrier();
+    var sums: array<LightSums, MAX_SLOTS>;
+    for (var k = 0u; k < kept; k++) {
+        let s = slice_of(recorded(first_at + RECORD_WORDS * k).view_depth);
+        atomicOr(&tile_slices[s / 32u], 1u << (s % 32u));
+        sums[k] = no_light_sums();
+    }
+    workgroupBarrier();
+    if (lane < SLICE_WORDS) {
+        slice_words[lane] = atomicLoad(&tile_slices[lane]);
+    }
+    // The tile's column and row of the forward grid: every lane's.
+    let corner = vec2<f32>(group.xy * 8u) + 0.5;
+    let tile = vec2<u32>(clamp(floor(corner / grid.depth.w), vec2<f32>(0.0), vec2<f32>(grid.dims.xy - 1u)));
+    // Loaded whole, once: uniform across the tile (the loops below hold barriers).
+    let words = workgroupUniformLoad(&slice_words);
+    for (var word = 0u; word < SLICE_WORDS; word++) {
+        var bits = words[word];
+        while (bits != 0u) {
+            let slice = word * 32u + firstTrailingBit(bits);
+            bits &= bits - 1u;
+            let froxel = (slice * grid.dims.y + tile.y) * grid.dims.x + tile.x;
+            let first = light_offsets[froxel];
+            // Never past the list's end (an overfull frame's lists are cut: clusters.rs).
+            let end = min(first + light_counts[froxel], arrayLength(&light_indices));
+            for (var start = first; start < end; start += BATCH) {
+                let n = min(BATCH, end - start);
+                if (lane < n) {
+                    let i = light_indices[start + lane];
+                    batch_index[lane] = i;
+                    batch_lights[lane] = lights[i];
+                }
+                workgroupBarrier();
+                for (var k = 0u; k < kept; k++) {
+                    let f = recorded(first_at + RECORD_WORDS * k);
+                    if (slice_of(f.view_depth) == slice) {
+                        // A whole local, not a pointer into the array: naga's SPIR-V
+                        // output fails on a dynamically indexed element passed by pointer.
+                        var acc = sums[k];
+                        for (var j = 0u; j < n; j++) {
+                            add_light_record(batch_lights[j], batch_index[j], f.world, f.surface, f.view_depth, &acc);
+                        }
+                        sums[k] = acc;
+                    }
+                }
+                workgroupBarrier();
+            }
+        }
+    }
+    if (!inside || count == 0u) {
+        return;
+    }
+    var sum = vec3<f32>(0.0);
+    var kept_weight = 0.0;
+    for (var k = 0u; k < kept; k++) {
+        let f = recorded(first_at + RECORD_WORDS * k);
+        sum += recorded_light(f, sums[k]);
+        kept_weight += f.coverage * weight(f.view_depth, f.coverage);
+    }
+    add_shaded(id.xy, pixel, count, kept, sum, kept_weight);
+}
+#endif
+#endif
+
 @compute @workgroup_size(8, 8)
 fn resolve(@builtin(global_invocation_id) id: vec3<u32>) {
     let size = textureDimensions(output);
@@ -714,8 +997,13 @@ fn resolve(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     let p = vec2<i32>(id.xy);
     let base = sanitize(textureLoad(opaque, p, 0));
+    var accumulated = textureLoad(accumulation, p, 0);
+#ifdef LIGHT_SUMS
+    // The lights shaded in compute (finite, held at HALF_MAX by `shade`).
+    accumulated = vec4<f32>(accumulated.rgb + shaded_light[id.y * size.x + id.x].rgb, accumulated.a);
+#endif
     // An overflowed sum reads as infinity: held at the top of the range, never NaN.
-    let sum = sanitize(min(textureLoad(accumulation, p, 0), vec4<f32>(HALF_MAX)));
+    let sum = sanitize(min(accumulated, vec4<f32>(HALF_MAX)));
     let r = clamp(sanitize(textureLoad(revealage, p, 0)).r, 0.0, 1.0);
     if (r >= 1.0 || sum.a <= 0.0) {
         textureStore(output, id.xy, base);

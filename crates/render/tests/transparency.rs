@@ -13,6 +13,12 @@
 //! rays leaving the screen stay finite and clamp. Rough glass blurs through
 //! the opaque image's mip chain (built only when a layer refracts) as the
 //! taps do; rays leaving the screen see the Environment where there is one.
+//! Shading: the lights shaded in compute over each pixel's recorded
+//! fragments give the forward path's picture (within 4e-3) on the froxel
+//! scene, the CPU reference's on the pane, and the forward one with a
+//! colour and a normal map; hard cases stay finite, and a pixel with more
+//! layers than slots counts the missed fragments and lights them as the
+//! recorded ones.
 
 mod post_common;
 
@@ -26,19 +32,23 @@ use spreadlight_render::Renderer;
 use spreadlight_render::environment::{
     Environment, EnvironmentQuality, EnvironmentSource, EquirectImage,
 };
-use spreadlight_render::gbuffer::{DrawBatch, GBuffer, InstanceInput, Layer};
+use spreadlight_render::gbuffer::{DrawBatch, GBuffer, InstanceInput, Layer, LayerFeatures};
 use spreadlight_render::lighting::{LightBuffer, LightLoop, PointLight, SunLight};
 use spreadlight_render::mesh::MeshData;
 use spreadlight_render::mesh::primitives::{SphereParams, plane, sphere};
+use spreadlight_render::post::transparency::compute::{FRAGMENT_SLOTS, SHADED, SLOTS};
 use spreadlight_render::post::transparency::{
     ASSIGNED, DRAWN, LIGHT_PASSES, MIP_CHAINS, MatCapKey, REFRACTING, RefractionBlur,
     RefractionKey, SKIPPED, TransmissionSettings, TransparencyPass,
 };
-use spreadlight_render::post::{LitBy, Transparency, TransparencySettings, TransparentLights};
+use spreadlight_render::post::{
+    LitBy, Transparency, TransparencySettings, TransparencyShading, TransparentLights,
+};
 use spreadlight_render::readback::ImageF32;
 use spreadlight_render::renderer::test_renderer;
 use spreadlight_render::shaders::Permutation;
 use spreadlight_render::static_texture::StaticTexture;
+use spreadlight_render::texture::GpuTexture;
 
 const SIZE: (u32, u32) = (48, 48);
 const GREEN: [f32; 4] = [0.0, 1.0, 0.0, 1.0];
@@ -409,15 +419,53 @@ fn pane_of(renderer: &Renderer, mesh: Option<MeshData>, color: glam::Vec4) -> Ar
 }
 
 /// No ambient, no key light: only the light buffers light the pane.
+/// Drawn forward (what these tests were written for); `computed` shades in compute.
 fn dark(light_loop: LightLoop) -> TransparencySettings {
     TransparencySettings {
         ambient: Vec3::ZERO,
         roughness: ROUGHNESS,
         metallic: METALLIC,
         light_loop,
+        shading: TransparencyShading::Forward,
         ..Default::default()
     }
 }
+
+/// `settings` with the lights shaded in compute.
+fn computed(settings: TransparencySettings) -> TransparencySettings {
+    TransparencySettings {
+        shading: TransparencyShading::Compute,
+        ..settings
+    }
+}
+
+/// The largest difference between `a` and `b`, relative to 1 or the value
+/// where that is larger, over every channel of every pixel; and where it
+/// is, with both pixels, for the failure's message.
+fn largest_difference(a: &ImageF32, b: &ImageF32) -> (f32, String) {
+    let mut worst = (0.0, String::new());
+    for (i, (s, t)) in a.pixels.iter().zip(&b.pixels).enumerate() {
+        for (u, v) in s.iter().zip(t) {
+            let d = (u - v).abs() / u.abs().max(1.0);
+            if d > worst.0 {
+                let (x, y) = (i as u32 % SIZE.0, i as u32 / SIZE.0);
+                worst = (d, format!("at ({x}, {y}): {s:?} against {t:?}"));
+            }
+        }
+    }
+    worst
+}
+
+/// How close compute shading comes to the forward path, relative to 1 or
+/// the value where larger. The records hold roughness, metallic, alpha and
+/// coverage to 1/65535 and the normal to about 5e-5 radians, and compute
+/// sums the light in f32. The forward path blends each light into the
+/// half-float accumulation, rounding each of a pixel's adds by up to 2^-11
+/// (and far layers, whose weights are half-float subnormals, coarser):
+/// over the froxel scene's seven layers a pixel this much apart is the
+/// forward path's rounding (the compute path is the exact one there; on a
+/// single pane both match the CPU reference).
+const COMPUTE_TOLERANCE: f32 = 4e-3;
 
 /// The pane lit by `lights` over a black image; the frame's report and image.
 fn lit_pane(
@@ -610,6 +658,246 @@ fn point_and_sun_lights_on_glass_match_the_cpu_brdf_naive_and_clustered() {
 }
 
 #[test]
+fn compute_shading_matches_the_cpu_brdf_and_records_every_fragment() {
+    let renderer = test_renderer();
+    let points = [
+        point(Vec3::new(1.0, 1.5, 4.5), Vec3::new(1.0, 0.9, 0.8), 6.0, 6.0),
+        point(
+            Vec3::new(-1.5, -1.0, 4.0),
+            Vec3::new(0.3, 0.5, 1.0),
+            4.0,
+            4.0,
+        ),
+    ];
+    let suns = [SunLight {
+        direction: Vec3::new(0.4, -0.3, -1.0),
+        color: Vec3::new(1.0, 0.95, 0.9),
+        illuminance: 0.8,
+        shadow: None,
+    }];
+    let buffers = || {
+        vec![
+            LightBuffer::points(&renderer, &points),
+            LightBuffer::suns(&renderer, &suns),
+        ]
+    };
+    for light_loop in [LightLoop::Naive, LightLoop::Clustered] {
+        let what = format!("{light_loop:?} in compute");
+        let (report, out, pass) = lit_pane(
+            &renderer,
+            pane(&renderer, None, 1.0),
+            computed(dark(light_loop)),
+            buffers(),
+        );
+        assert!(pass.shades_in_compute());
+        assert_matches_reference(&out, &points, &suns, &what);
+        // No layer is drawn again: one compute pass per light buffer.
+        assert_eq!(report.counter(LIGHT_PASSES), 0, "{what}");
+        assert_eq!(report.counter(SHADED), 2, "{what}");
+        assert_eq!(report.counter(FRAGMENT_SLOTS), u64::from(SLOTS), "{what}");
+        assert_eq!(
+            report.counter(ASSIGNED),
+            u64::from(light_loop == LightLoop::Clustered)
+        );
+        // The recording base pass, a shade per buffer and the shaded resolve.
+        let keys = pass.keys();
+        assert_eq!(keys.len(), 4, "{what}: {keys:?}");
+        assert!(
+            keys.iter()
+                .any(|k| matches!(k.pass, TransparencyPass::Base { records: true, .. }))
+        );
+        assert!(keys.contains(&spreadlight_render::post::TransparencyKey::SHADED_RESOLVE));
+        assert_eq!(pass.missed_fragments(&renderer).expect("read back"), 0);
+        let (_, forward, forward_pass) = lit_pane(
+            &renderer,
+            pane(&renderer, None, 1.0),
+            dark(light_loop),
+            buffers(),
+        );
+        assert!(!forward_pass.shades_in_compute());
+        let (d, worst) = largest_difference(&forward, &out);
+        assert!(
+            d <= COMPUTE_TOLERANCE,
+            "{what}: {d} from the forward path {worst}"
+        );
+    }
+    // Without a light buffer there is nothing to shade: the forward keys, no records.
+    let (report, _, pass) = lit_pane(
+        &renderer,
+        pane(&renderer, None, 1.0),
+        computed(unlit()),
+        vec![],
+    );
+    assert!(!pass.shades_in_compute());
+    assert_eq!(report.counter(SHADED), 0);
+    assert_eq!(report.counter(FRAGMENT_SLOTS), 0);
+}
+
+#[test]
+fn compute_shading_matches_forward_with_a_colour_and_a_normal_map() {
+    let renderer = test_renderer();
+    // A checker of two colours and a normal map tilting alternate texels
+    // four ways: the lit colour changes from texel to texel.
+    let checker: Vec<u8> = (0..16)
+        .flat_map(|i| {
+            if (i % 4 + i / 4) % 2 == 0 {
+                [230u8, 128, 50, 255]
+            } else {
+                [80, 200, 230, 255]
+            }
+        })
+        .collect();
+    let colours = StaticTexture::new(GpuTexture::from_rgba8(
+        &renderer.gpu,
+        4,
+        4,
+        &checker,
+        false,
+        "checker",
+    ));
+    let tilts: Vec<u8> = (0..16)
+        .flat_map(|i| match i % 4 {
+            0 => [200u8, 128, 220, 255],
+            1 => [60, 128, 220, 255],
+            2 => [128, 200, 220, 255],
+            _ => [128, 128, 255, 255],
+        })
+        .collect();
+    let normals = StaticTexture::new(GpuTexture::from_rgba8(
+        &renderer.gpu,
+        4,
+        4,
+        &tilts,
+        false,
+        "tilting normal map",
+    ));
+    let mapped = || {
+        let plain = pane(&renderer, None, 0.7);
+        let features = LayerFeatures {
+            texcoords: true,
+            normal_map: true,
+            ..Default::default()
+        };
+        let mut layer = Layer::new(
+            None,
+            plain.batches.clone(),
+            features,
+            Some(normals.texture_ref()),
+        )
+        .expect("the plane has UVs and tangents");
+        layer.color_map = Some(colours.texture_ref());
+        Arc::new(layer)
+    };
+    let points = [
+        point(Vec3::new(1.0, 1.5, 4.5), Vec3::new(1.0, 0.9, 0.8), 6.0, 6.0),
+        point(
+            Vec3::new(-1.0, -0.5, 3.6),
+            Vec3::new(0.3, 0.5, 1.0),
+            3.0,
+            3.0,
+        ),
+    ];
+    let lights = || vec![LightBuffer::points(&renderer, &points)];
+    let (_, forward, _) = lit_pane(&renderer, mapped(), dark(LightLoop::Clustered), lights());
+    let (_, out, pass) = lit_pane(
+        &renderer,
+        mapped(),
+        computed(dark(LightLoop::Clustered)),
+        lights(),
+    );
+    assert!(pass.shades_in_compute());
+    let (d, worst) = largest_difference(&forward, &out);
+    assert!(d <= COMPUTE_TOLERANCE, "{d} from the forward path {worst}");
+    // The maps show: the lit pane is not one colour.
+    let (lo, hi) = (at(&out, 20, 24), at(&out, 28, 24));
+    assert!(lo[..3] != hi[..3], "{lo:?} {hi:?}");
+}
+
+#[test]
+fn more_layers_than_slots_are_counted_and_lit_as_the_recorded_ones() {
+    let renderer = test_renderer();
+    // Twenty panes a hair apart, under one light far enough to light them
+    // all alike: twelve fragments a pixel find no slot.
+    let layers = 20;
+    let panes = || {
+        let mesh = renderer
+            .meshes
+            .upload(&renderer.gpu, &plane())
+            .expect("upload");
+        let instances = (0..layers)
+            .map(|i| {
+                let t = Mat4::from_translation(Vec3::new(0.0, 0.0, PANE_Z + i as f32 * 1e-3))
+                    * Mat4::from_rotation_x(std::f32::consts::FRAC_PI_2)
+                    * Mat4::from_scale(Vec3::splat(4.0));
+                InstanceInput {
+                    transform: t,
+                    previous_transform: t,
+                    color: ALBEDO.extend(0.3).to_array(),
+                    material_id: 0,
+                    object_id: 0,
+                }
+            })
+            .collect();
+        Arc::new(Layer::plain(vec![DrawBatch { mesh, instances }]))
+    };
+    let points = [point(Vec3::new(0.5, 0.5, 40.0), Vec3::ONE, 5e3, 100.0)];
+    let lights = || vec![LightBuffer::points(&renderer, &points)];
+    let (_, forward, _) = lit_pane(&renderer, panes(), dark(LightLoop::Naive), lights());
+    let (_, out, pass) = lit_pane(
+        &renderer,
+        panes(),
+        computed(dark(LightLoop::Naive)),
+        lights(),
+    );
+    let missed = pass.missed_fragments(&renderer).expect("read back");
+    let covered = out.pixels.iter().filter(|p| p[..3] != [0.0; 3]).count() as u32;
+    assert!(covered > 100, "the panes cover the middle: {covered}");
+    assert_eq!(
+        missed,
+        covered * (layers - SLOTS),
+        "every covered pixel misses twelve"
+    );
+    // Alike layers: the missed ones lit as the recorded ones is the picture.
+    let (d, worst) = largest_difference(&forward, &out);
+    assert!(d <= 1e-2, "{d} from the forward path {worst}");
+    // Hard cases through the records: a light at the surface, a perfect
+    // mirror, zero normals, and lights past half-float range stay finite.
+    let on = pane_point(24, 24);
+    let wild = [
+        point(on, Vec3::ONE, 1e6, 1.0),
+        point(on + Vec3::Z * 1e-7, Vec3::ONE, 1e30, 1e-20),
+        point(Vec3::new(0.5, 0.5, 3.2), Vec3::ONE, 1e38, 1e30),
+    ];
+    let mirror = TransparencySettings {
+        roughness: 0.0,
+        metallic: 1.0,
+        ..computed(dark(LightLoop::Naive))
+    };
+    let mut flat = plane();
+    flat.normals.iter_mut().for_each(|n| *n = [0.0; 3]);
+    for (what, layer, settings) in [
+        ("mirror", pane(&renderer, None, 0.5), mirror),
+        ("overfull", panes(), mirror),
+        (
+            "zero normals",
+            pane(&renderer, Some(flat), 1.0),
+            computed(dark(LightLoop::Clustered)),
+        ),
+    ] {
+        let (_, out, _) = lit_pane(
+            &renderer,
+            layer,
+            settings,
+            vec![LightBuffer::points(&renderer, &wild)],
+        );
+        // `render` asserts every pixel finite; and nothing past half-float range.
+        let (lo, hi) = range(&out);
+        assert!(lo >= 0.0 && hi <= 65000.0, "{what}: {lo}..{hi}");
+        assert!(hi > 1.0, "{what}: the lights light the pane");
+    }
+}
+
+#[test]
 fn light_at_the_surface_zero_roughness_and_zero_normals_stay_finite() {
     let renderer = test_renderer();
     // A light on the pane at the centre pixel's point, and one a hair off
@@ -673,6 +961,7 @@ fn no_light_buffer_no_light_pass_and_the_old_look() {
             matcap: MatCapKey::Off,
             marks: false,
             transmission: RefractionKey::Off,
+            records: false,
         }));
     // Nothing transmits: no refraction code, the opaque image unbound, no mip chain.
     assert_eq!(report.counter(REFRACTING), 0);
@@ -924,7 +1213,7 @@ fn froxel_lists_shade_as_every_light_does_near_far_across_slices_and_tile_edges(
     let black = image(&renderer, SIZE, |_, _| [0.0, 0.0, 0.0, 1.0]);
     let opaque = balls(&renderer, &[Ball::still(Vec3::ZERO, 0.5)]);
     let g = gbuffer(&renderer, opaque, look(EYE, Vec3::ZERO, FOV, 1.0), None);
-    let shade = |light_loop, points: &[PointLight]| {
+    let shade = |light_loop, shading, points: &[PointLight]| {
         let by = LitBy {
             lights: vec![TransparentLights {
                 lights: LightBuffer::points(&renderer, points),
@@ -938,13 +1227,17 @@ fn froxel_lists_shade_as_every_light_does_near_far_across_slices_and_tile_edges(
             black.texture_ref(),
             g.clone(),
             layers(),
-            dark(light_loop),
+            TransparencySettings {
+                shading,
+                ..dark(light_loop)
+            },
             by,
         );
         // `render` asserts every pixel finite.
         let (report, out) = render(&renderer, pass.as_ref(), &pass.output, SIZE);
         (report, out)
     };
+    let forward = TransparencyShading::Forward;
     let same = |a: &ImageF32, b: &ImageF32, what: &str| {
         for (i, (s, t)) in a.pixels.iter().zip(&b.pixels).enumerate() {
             let (x, y) = (i as u32 % SIZE.0, i as u32 / SIZE.0);
@@ -956,8 +1249,8 @@ fn froxel_lists_shade_as_every_light_does_near_far_across_slices_and_tile_edges(
             );
         }
     };
-    let (_, naive) = shade(LightLoop::Naive, &points);
-    let (report, clustered) = shade(LightLoop::Clustered, &points);
+    let (_, naive) = shade(LightLoop::Naive, forward, &points);
+    let (report, clustered) = shade(LightLoop::Clustered, forward, &points);
     assert_eq!(report.counter(ASSIGNED), 1);
     same(&naive, &clustered, "60 strewn lights and 4 on tile edges");
     // The lights reach the near glass, the floor near and far, and the far glass.
@@ -976,10 +1269,54 @@ fn froxel_lists_shade_as_every_light_does_near_far_across_slices_and_tile_edges(
         "a third of the pixels are lit: {lit}"
     );
     // Zero lights: no light pass, the same as naive's unlit picture.
-    let (report, none) = shade(LightLoop::Clustered, &[]);
+    let (report, none) = shade(LightLoop::Clustered, forward, &[]);
     assert_eq!(report.counter(LIGHT_PASSES), 0);
-    let (_, none_naive) = shade(LightLoop::Naive, &[]);
+    let (_, none_naive) = shade(LightLoop::Naive, forward, &[]);
     same(&none_naive, &none, "no lights");
+    // Shaded in compute over the recorded fragments, walking the same lists
+    // or every light: the forward picture within the records' precision.
+    let mut per_pixel = None;
+    for (light_loop, reference, shading) in [
+        (
+            LightLoop::Clustered,
+            &clustered,
+            TransparencyShading::Compute,
+        ),
+        (LightLoop::Naive, &naive, TransparencyShading::Compute),
+        (LightLoop::Clustered, &clustered, TransparencyShading::Tiled),
+    ] {
+        let what = format!("{light_loop:?} {shading:?}");
+        let (report, out) = shade(light_loop, shading, &points);
+        assert_eq!(report.counter(SHADED), 1);
+        assert_eq!(report.counter(LIGHT_PASSES), 0);
+        let (d, worst) = largest_difference(reference, &out);
+        // Most pixels agree to the output's own half-float precision.
+        let loose = reference
+            .pixels
+            .iter()
+            .zip(&out.pixels)
+            .filter(|(s, t)| {
+                s.iter()
+                    .zip(t.iter())
+                    .any(|(u, v)| (u - v).abs() / u.abs().max(1.0) > 2e-3)
+            })
+            .count();
+        assert!(
+            loose * 50 <= out.pixels.len(),
+            "{what}: {loose} pixels differ by more than 2e-3"
+        );
+        assert!(d <= COMPUTE_TOLERANCE, "{what}: {d} from forward {worst}");
+        match shading {
+            // The tiles share the lights each fragment walks alone in Compute, in the same order.
+            TransparencyShading::Tiled => {
+                let alone = per_pixel.as_ref().expect("Compute ran first");
+                let (d, worst) = largest_difference(alone, &out);
+                assert!(d <= 1e-5, "{what}: {d} from Compute {worst}");
+            }
+            _ if light_loop == LightLoop::Clustered => per_pixel = Some(out),
+            _ => {}
+        }
+    }
 }
 
 /// The refraction scene: an opaque wall at z = 0 facing the eye, 40 wide.

@@ -29,7 +29,7 @@ pub use taa::{Taa, TaaQuality, TaaSettings, is_cut};
 pub use tonemap::{AdaptedExposure, Tonemap};
 pub use transparency::{
     LitBy, RefractionBlur, TransmissionSettings, Transparency, TransparencyKey,
-    TransparencySettings, TransparentLights,
+    TransparencySettings, TransparencyShading, TransparentLights,
 };
 
 use crate::error::RenderError;

@@ -73,14 +73,26 @@ pub enum TransparencyPass {
     /// Transmission material, or the node's Transmission is on), what shows
     /// through is the opaque image sampled along the refracted ray, tinted
     /// and absorbed, instead of the straight blend.
+    /// With `records` (the lights are shaded in compute: `compute.rs`), each
+    /// fragment also stores what lighting it needs in its pixel's fragment
+    /// list (FRAGMENT_RECORDS).
     Base {
         environment: bool,
         matcap: MatCapKey,
         marks: bool,
         transmission: RefractionKey,
+        records: bool,
     },
     /// One light buffer's Cook-Torrance light, added to the colour.
     Light(LightKey),
+    /// One light buffer's Cook-Torrance light on the fragment lists' records,
+    /// in compute (COMPUTE_SHADE, with the light pass's switches); no surface.
+    Shade(LightKey),
+    /// `Shade` with each 8x8 tile sharing its froxels' lights through
+    /// workgroup memory (SHADE_TILED, entry `shade_tiled`); clustered only.
+    ShadeTiled(LightKey),
+    /// The resolve that adds the compute-shaded light sums (LIGHT_SUMS); no surface.
+    ShadedResolve,
 }
 
 /// A base pass's refraction: compiled only for a layer that transmits, its
@@ -322,6 +334,10 @@ impl Permutation for TransparencyKey {
         "SHADOW_VSM",
         "TRANSMISSION",
         "REFRACTION_MIPS",
+        "FRAGMENT_RECORDS",
+        "COMPUTE_SHADE",
+        "LIGHT_SUMS",
+        "SHADE_TILED",
     ];
 
     fn features(self) -> impl Iterator<Item = &'static str> {
@@ -331,6 +347,7 @@ impl Permutation for TransparencyKey {
                 matcap,
                 marks,
                 transmission,
+                records,
             } => environment
                 .then_some("ENVIRONMENT")
                 .into_iter()
@@ -338,15 +355,27 @@ impl Permutation for TransparencyKey {
                 .chain(marks.then_some("FROXELS"))
                 .chain(marks.then_some("FROXEL_MARKS"))
                 .chain(transmission.features())
+                .chain(records.then_some("FRAGMENT_RECORDS"))
                 .collect(),
             TransparencyPass::Light(light) => light.features().collect(),
+            TransparencyPass::Shade(light) => light
+                .features()
+                .chain(std::iter::once("COMPUTE_SHADE"))
+                .collect(),
+            TransparencyPass::ShadeTiled(light) => light
+                .features()
+                .chain(["COMPUTE_SHADE", "SHADE_TILED"])
+                .collect(),
+            TransparencyPass::ShadedResolve => vec!["LIGHT_SUMS"],
         };
         self.surface.features().chain(light)
     }
 
     /// Every surface with the base passes (a matcap only with a material
-    /// world; marking froxels or not), each without transmission and with
-    /// either blur, and with every light pass. The validation test composes each.
+    /// world; marking froxels or not; recording fragments or not), each
+    /// without transmission and with either blur, and with every light pass;
+    /// the compute shading of every light pass and its resolve, without a
+    /// surface. The validation test composes each.
     fn all() -> Vec<Self> {
         let lights: Vec<TransparencyPass> = LightKey::all()
             .into_iter()
@@ -363,11 +392,14 @@ impl Permutation for TransparencyKey {
                 let bases = [false, true].into_iter().flat_map(move |environment| {
                     matcaps.iter().flat_map(move |&matcap| {
                         [false, true].into_iter().flat_map(move |marks| {
-                            RefractionKey::ALL.map(|transmission| TransparencyPass::Base {
-                                environment,
-                                matcap,
-                                marks,
-                                transmission,
+                            RefractionKey::ALL.into_iter().flat_map(move |transmission| {
+                                [false, true].map(|records| TransparencyPass::Base {
+                                    environment,
+                                    matcap,
+                                    marks,
+                                    transmission,
+                                    records,
+                                })
                             })
                         })
                     })
@@ -377,6 +409,21 @@ impl Permutation for TransparencyKey {
                     .map(move |pass| TransparencyKey { surface, pass })
                     .collect::<Vec<_>>()
             })
+            .chain(
+                LightKey::all()
+                    .into_iter()
+                    .flat_map(|light| {
+                        let tiled = light
+                            .clustered
+                            .then_some(TransparencyPass::ShadeTiled(light));
+                        std::iter::once(TransparencyPass::Shade(light)).chain(tiled)
+                    })
+                    .chain([TransparencyPass::ShadedResolve])
+                    .map(|pass| TransparencyKey {
+                        surface: Self::COMPOSITE.surface,
+                        pass,
+                    }),
+            )
             .collect()
     }
 }
@@ -394,7 +441,14 @@ impl TransparencyKey {
             matcap: MatCapKey::Off,
             marks: false,
             transmission: RefractionKey::Off,
+            records: false,
         },
+    };
+
+    /// The resolve of a frame whose lights were shaded in compute.
+    pub const SHADED_RESOLVE: TransparencyKey = TransparencyKey {
+        surface: Self::COMPOSITE.surface,
+        pass: TransparencyPass::ShadedResolve,
     };
 }
 
@@ -434,6 +488,7 @@ mod tests {
                 matcap: MatCapKey::Off,
                 marks: true,
                 transmission: RefractionKey::Off,
+                records: false,
             },
             ..base
         };
@@ -448,6 +503,7 @@ mod tests {
                 matcap: MatCapKey::Off,
                 marks: false,
                 transmission: RefractionKey::Taps,
+                records: false,
             },
             ..base
         };
@@ -479,7 +535,22 @@ mod tests {
             TransparencyPass::Light(l) =>
                 !(l.kind == LightKind::Sun && l.clustered)
                     && (l.kind == LightKind::Spot || !l.spot_texture),
-            TransparencyPass::Base { .. } => true,
+            _ => true,
         }));
+        // Compute shading: the light pass's switches and its own entry, no surface.
+        let shade = TransparencyKey {
+            pass: TransparencyPass::Shade(LightKey {
+                kind: LightKind::Point,
+                clustered: true,
+                shadows: ShadowKey::None,
+                spot_texture: false,
+            }),
+            ..base
+        };
+        assert_eq!(
+            shade.features().collect::<Vec<_>>(),
+            ["LIGHT_PASS", "CLUSTERED", "FROXELS", "COMPUTE_SHADE"]
+        );
+        assert!(all.contains(&shade) && all.contains(&TransparencyKey::SHADED_RESOLVE));
     }
 }

@@ -27,6 +27,11 @@
 //! Without transparent instances the node costs a copy, and without light
 //! buffers no light pass runs.
 //!
+//! Shading (`compute.rs`): under `TransparencyShading::Compute` no layer
+//! is drawn per light buffer; the base pass records each fragment's
+//! lighting inputs per pixel, a compute pass per light buffer lights them
+//! with the same walk, and the resolve adds the sums.
+//!
 //! Transmission (`transmission.rs`): a layer whose world has a Transmission
 //! material, or any layer when the settings' factor is on, is drawn with
 //! TRANSMISSION: what shows through is the opaque image refracted, not
@@ -35,6 +40,7 @@
 //! glass blurs by taps or by one read of a mip chain of the opaque image
 //! (`refraction_mips.rs`), built in a pass of its own only then.
 
+pub mod compute;
 pub(crate) mod key;
 pub mod refraction_mips;
 pub mod transmission;
@@ -43,6 +49,7 @@ use std::sync::{Arc, Mutex};
 
 use glam::Vec3;
 
+pub use compute::TransparencyShading;
 pub use key::{
     LayerMaps, LayerUv, LightKey, MatCapKey, RefractionKey, ShadowKey, SurfaceKey, TransparencyKey,
     TransparencyPass,
@@ -51,6 +58,8 @@ pub use refraction_mips::MIP_CHAINS;
 pub use transmission::{RefractionBlur, TransmissionSettings};
 
 use refraction_mips::RefractionMips;
+
+use compute::{FragmentLists, ListBuffers};
 
 use crate::environment::Environment;
 use crate::error::RenderError;
@@ -97,6 +106,8 @@ pub struct TransparencySettings {
     pub energy_compensation: bool,
     /// How light passes find their lights (CookTorrance's choice).
     pub light_loop: LightLoop,
+    /// Whether the lights are shaded by drawing the layers again or in compute.
+    pub shading: TransparencyShading,
     /// Refraction for layers without a Transmission material, and the
     /// sampling quality of every refracting layer.
     pub transmission: TransmissionSettings,
@@ -112,6 +123,7 @@ impl Default for TransparencySettings {
             metallic: 0.0,
             energy_compensation: true,
             light_loop: LightLoop::Auto,
+            shading: TransparencyShading::Auto,
             transmission: TransmissionSettings::default(),
         }
     }
@@ -226,6 +238,13 @@ pub struct Transparency {
     mips: Arc<RefractionMips>,
     /// Orders the chain's build before the accumulation (it lives outside the graph).
     mips_token: String,
+    /// The lights are shaded in compute over recorded fragments (some light
+    /// buffer is connected and the settings' shading says so).
+    compute: bool,
+    /// Clustered light buffers are shaded with the tiles sharing their lights.
+    tiled: bool,
+    /// The fragment lists of compute shading, kept per node.
+    lists: Arc<FragmentLists>,
     accumulation: String,
     revealage: String,
     pub output: String,
@@ -340,6 +359,10 @@ impl Transparency {
                 t[7],
             ]),
         );
+        let compute = !lights.is_empty() && settings.shading.computes(renderer.gpu.adapter_class());
+        let lists = owner
+            .map(|node| renderer.state::<FragmentLists>(u64::from(node)))
+            .unwrap_or_default();
         let kept = owner.map(|node| renderer.state::<ForwardClusters>(u64::from(node)));
         let marks = kept.as_ref().map(|k| k.marks.clone()).unwrap_or_default();
         let lights = lights
@@ -382,6 +405,9 @@ impl Transparency {
                 .map(|node| renderer.state::<RefractionMips>(u64::from(node)))
                 .unwrap_or_default(),
             mips_token: format!("transparency{id}/refraction mips"),
+            compute,
+            tiled: settings.shading == TransparencyShading::Tiled,
+            lists,
             accumulation: format!("transparency{id} accumulation"),
             revealage: format!("transparency{id} revealage"),
             output: format!("transparency{id}"),
@@ -411,11 +437,55 @@ impl Transparency {
                 }
             }
         }
+        if self.compute && !keys.is_empty() {
+            for light in self.light_keys() {
+                let key = TransparencyKey {
+                    surface: TransparencyKey::COMPOSITE.surface,
+                    pass: self.shade_pass(light),
+                };
+                if !keys.contains(&key) {
+                    keys.push(key);
+                }
+            }
+            keys.push(TransparencyKey::SHADED_RESOLVE);
+        }
         keys
     }
 
-    /// A layer's base pass (with its `matcap`, refracting when
-    /// `transmission`), then a light pass per light buffer.
+    /// Each light buffer's light permutation (drawn forward or shaded in compute).
+    fn light_keys(&self) -> impl Iterator<Item = LightKey> + '_ {
+        self.lights.iter().map(|set| LightKey {
+            kind: set.lights.kind,
+            clustered: set.clusters.is_some(),
+            shadows: ShadowKey::of(set.shadows.as_ref().map(|s| s.filter())),
+            spot_texture: set.lights.textures().is_some(),
+        })
+    }
+
+    /// The compute pass that shades a light buffer of permutation `light`:
+    /// tiled only where there are froxel lists to share.
+    fn shade_pass(&self, light: LightKey) -> TransparencyPass {
+        if self.tiled && light.clustered {
+            TransparencyPass::ShadeTiled(light)
+        } else {
+            TransparencyPass::Shade(light)
+        }
+    }
+
+    /// Whether the lights are shaded in compute over recorded fragments.
+    pub fn shades_in_compute(&self) -> bool {
+        self.compute
+    }
+
+    /// How many fragments of the last compute-shaded frame of this node
+    /// found their pixel's slots full (read back from the GPU: tests and
+    /// diagnostics, not a frame's work). 0 when nothing was recorded yet.
+    pub fn missed_fragments(&self, renderer: &Renderer) -> Result<u32, RenderError> {
+        self.lists.missed(&renderer.gpu)
+    }
+
+    /// A layer's base pass (with its `matcap` and `transmission`), then a
+    /// light pass per light buffer, unless the lights are shaded in compute.
     fn passes(
         &self,
         matcap: MatCapKey,
@@ -431,15 +501,10 @@ impl Transparency {
                 (true, RefractionBlur::Taps) => RefractionKey::Taps,
                 (true, _) => RefractionKey::Mips,
             },
+            records: self.compute,
         };
-        std::iter::once(base).chain(self.lights.iter().map(|set| {
-            TransparencyPass::Light(LightKey {
-                kind: set.lights.kind,
-                clustered: set.clusters.is_some(),
-                shadows: ShadowKey::of(set.shadows.as_ref().map(|s| s.filter())),
-                spot_texture: set.lights.textures().is_some(),
-            })
-        }))
+        let forward = (!self.compute).then(|| self.light_keys().map(TransparencyPass::Light));
+        std::iter::once(base).chain(forward.into_iter().flatten())
     }
 
     /// Whether some light pass walks froxel lists (which the base pass marks).
@@ -536,6 +601,11 @@ impl Transparency {
             (Some(lit), Some(_)) => Some(self.mips.get(cx.gpu, cx.size_of(lit)?)),
             _ => None,
         };
+        // Compute shading's fragment lists, at the accumulation's size.
+        let lists = match self.compute {
+            true => Some(self.fragment_lists(cx, io.accumulation)?),
+            false => None,
+        };
         // Per layer, culling variant and pass: its pipeline and bind groups
         // (0; 1 and 3 with a material world and maps; 2 with layer maps).
         let mut work: Vec<Work> = Vec::new();
@@ -602,6 +672,11 @@ impl Transparency {
                     }
                     if let (None, Some(marks), Some(grid)) = (set, &marks, marks_grid) {
                         b = b.buffer("grid", grid).buffer("froxel_marks", marks);
+                    }
+                    if let (None, Some(lists)) = (set, &lists) {
+                        b = b
+                            .buffer("fragment_counts", &lists.counts)
+                            .buffer("fragment_records", &lists.records);
                     }
                     match (set, transmits, io.lit, &mips) {
                         // The chain's levels, read trilinearly (RefractionKey::Mips).
@@ -671,6 +746,12 @@ impl Transparency {
         if let Some(marks) = &marks {
             cx.encoder().clear_buffer(marks, 0, None);
         }
+        if let Some(lists) = &lists {
+            // The records need no clearing: a pixel reads only as many as it counted.
+            cx.encoder().clear_buffer(&lists.counts, 0, None);
+            cx.encoder().clear_buffer(&lists.light, 0, None);
+            cx.count(compute::FRAGMENT_SLOTS, u64::from(lists.slots));
+        }
         // The base passes first: they mark the froxels their fragments lie
         // in. Then the lights are listed in those froxels alone, and the
         // light passes walk the lists. The sums are order-independent, so
@@ -695,11 +776,101 @@ impl Transparency {
         if !lit.is_empty() {
             draws += self.draw(cx, io, &lit)?;
         }
+        if let Some(lists) = &lists {
+            for set in 0..self.lights.len() {
+                self.shade(cx, io, set, lists)?;
+            }
+        }
         cx.draws += draws;
         cx.count(DRAWN, u64::from(self.instance_count));
         cx.count(LIGHT_PASSES, lit.len() as u64);
         cx.count(REFRACTING, refracting);
         Ok(())
+    }
+
+    /// Compute shading's fragment lists for the accumulation `target`'s
+    /// pixels, with as many slots as the device's limits allow.
+    fn fragment_lists(
+        &self,
+        cx: &PassContext<'_>,
+        target: Tex,
+    ) -> Result<Arc<ListBuffers>, RenderError> {
+        let (w, h) = cx.size_of(target)?;
+        let pixels = u64::from(w) * u64::from(h);
+        let limits = cx.gpu.device.limits();
+        let slots = compute::slots_for(
+            pixels,
+            limits.max_storage_buffer_binding_size,
+            limits.max_buffer_size,
+        );
+        if slots == 0 {
+            return Err(RenderError::Pass {
+                pass: "transparency".to_owned(),
+                message: format!(
+                    "a {w}x{h} image's fragment records do not fit the device's storage \
+                     buffer limit: shade this Transparency forward (Shading: Forward)"
+                ),
+            });
+        }
+        Ok(self.lists.get(cx.gpu, (w * h).max(1), slots))
+    }
+
+    /// Light buffer `set`'s light on every recorded fragment, added to the
+    /// lists' light sums (one compute pass; transparency.wgsl's `shade`).
+    fn shade(
+        &self,
+        cx: &mut PassContext<'_>,
+        io: &AccumulateIo,
+        set: usize,
+        lists: &ListBuffers,
+    ) -> Result<(), RenderError> {
+        let light = self
+            .light_keys()
+            .nth(set)
+            .ok_or_else(|| RenderError::Pass {
+                pass: "transparency".to_owned(),
+                message: format!("no light buffer {set} to shade"),
+            })?;
+        let pass = self.shade_pass(light);
+        let entry = match pass {
+            TransparencyPass::ShadeTiled(_) => "shade_tiled",
+            _ => "shade",
+        };
+        let key = TransparencyKey {
+            surface: TransparencyKey::COMPOSITE.surface,
+            pass,
+        }
+        .key();
+        let size = cx.size_of(io.accumulation)?;
+        let mut b = Bindings::new()
+            .buffer("camera", self.gbuffer.camera_buffer())
+            .buffer("params", &self.params)
+            .buffer("fragment_counts", &lists.counts)
+            .buffer("fragment_records", &lists.records)
+            .buffer("shaded_light", &lists.light)
+            .texture("shade_accumulation", io.accumulation)
+            .extend(self.light_bindings(cx, set, io.spot_textures[set])?);
+        let light_set = &self.lights[set];
+        // Held while the dispatch binds them: the lists the assignment just filled.
+        let guard = light_set.clusters.as_ref().map(|c| {
+            (
+                c.store
+                    .get(cx.gpu, io.grid.clusters(), light_set.lights.count()),
+                &c.grid,
+            )
+        });
+        if let Some((guard, grid)) = &guard {
+            let Some(lists) = guard.as_ref() else {
+                return Ok(());
+            };
+            b = b
+                .buffer("grid", grid)
+                .buffer("light_counts", &lists.counts)
+                .buffer("light_offsets", &lists.offsets)
+                .buffer("light_indices", &lists.indices);
+        }
+        cx.count(compute::SHADED, 1);
+        cx.dispatch_shader("transparency shade", &key, entry, b, super::per_pixel(size))
     }
 
     /// One render pass over the two targets drawing `work`'s items: their
@@ -795,15 +966,30 @@ impl Transparency {
 
     fn resolve(&self, cx: &mut PassContext<'_>, io: &ResolveIo) -> Result<(), RenderError> {
         let size = cx.size_of(io.output)?;
+        let b = Bindings::new()
+            .texture("opaque", io.opaque)
+            .texture("accumulation", io.accumulation)
+            .texture("revealage", io.revealage)
+            .texture("output", io.output);
+        if !self.compute {
+            return cx.dispatch_shader(
+                "transparency resolve",
+                &TransparencyKey::COMPOSITE.key(),
+                "resolve",
+                b,
+                super::per_pixel(size),
+            );
+        }
+        // The accumulation pass made them this frame.
+        let lists = self.lists.current().ok_or_else(|| RenderError::Pass {
+            pass: "transparency".to_owned(),
+            message: "the compute-shaded light sums were not made this frame".to_owned(),
+        })?;
         cx.dispatch_shader(
             "transparency resolve",
-            &TransparencyKey::COMPOSITE.key(),
+            &TransparencyKey::SHADED_RESOLVE.key(),
             "resolve",
-            Bindings::new()
-                .texture("opaque", io.opaque)
-                .texture("accumulation", io.accumulation)
-                .texture("revealage", io.revealage)
-                .texture("output", io.output),
+            b.buffer("shaded_light", &lists.light),
             super::per_pixel(size),
         )
     }

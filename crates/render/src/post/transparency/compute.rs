@@ -1,0 +1,222 @@
+//! Lit transparency's lights shaded in compute (`TransparencyShading`).
+//!
+//! The forward path draws every transparent layer once more per light
+//! buffer, and every fragment of every layer walks its froxel's lights and
+//! writes the blended accumulation through the raster output. At 1080p over
+//! a thousand glass spheres that costs the H200 9.6 ms for 1,000 lights and
+//! 441 ms for 100,000 (docs/benchmarks.md, session 17), a hundred times
+//! CookTorrance's compute shade of the same lights. Two costs there are not
+//! the lights' own: the raster output (blended half-float targets, both
+//! faces, several layers a pixel), and 2x2 quads shading pixels the
+//! triangles do not cover (a sphere's triangle covers about 1.5 pixels).
+//!
+//! The compute path draws each layer once (the base pass, which writes the
+//! unlit colour and the coverage as before) and has each kept fragment also
+//! store its lighting inputs, 40 bytes, in the next of its pixel's
+//! [`SLOTS`] (a counter per pixel; transparency.wgsl's FRAGMENT_RECORDS).
+//! Then one compute pass per light buffer (COMPUTE_SHADE's `shade`) walks
+//! each pixel's records with the forward walk and sums in f32 what the
+//! light pass would have blended, and the resolve adds the sums
+//! (LIGHT_SUMS). The picture is the forward one up to the records' packing
+//! (16-bit normal, roughness, metallic, alpha and coverage) and the f32 sum
+//! (the tests hold it within 4e-3, the forward half-float sum's rounding).
+//!
+//! A pixel with more fragments than slots lights the missed ones as its
+//! recorded ones on average per weight: approximate there, never dark or
+//! NaN. The missed fragments are counted on the GPU ([`FragmentLists::missed`]
+//! reads the count back); how many slots a pixel has is in `stats`.
+
+use std::sync::Mutex;
+
+use crate::adapter_class::AdapterClass;
+use crate::context::GpuContext;
+use crate::error::RenderError;
+
+/// How the transparent layers' lights are shaded.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum TransparencyShading {
+    /// What measures faster on the adapter's class ([`auto_compute`]).
+    #[default]
+    Auto,
+    /// Each layer drawn again per light buffer, each fragment walking its
+    /// lights and blending them into the accumulation.
+    Forward,
+    /// Each layer drawn once, its fragments recorded per pixel and lit in
+    /// compute, a pass per light buffer: each pixel walks its fragments'
+    /// froxel lists alone.
+    Compute,
+    /// As Compute, each 8x8 tile loading its froxels' lights into workgroup
+    /// memory 64 at a time for all its pixels (CookTorrance's clustered
+    /// sharing); a buffer whose lights are walked naively is shaded as
+    /// Compute shades it.
+    Tiled,
+}
+
+impl TransparencyShading {
+    /// Whether the lights are shaded in compute on an adapter of `class`.
+    pub fn computes(self, class: AdapterClass) -> bool {
+        match self {
+            TransparencyShading::Auto => auto_compute(class),
+            TransparencyShading::Forward => false,
+            TransparencyShading::Compute | TransparencyShading::Tiled => true,
+        }
+    }
+}
+
+/// `Auto`'s choice. A GPU keeps the forward path, the one measured on the
+/// H200, until the compute path is measured there against it
+/// (docs/bench/transparency-compute.sh). A CPU adapter takes what lavapipe
+/// runs faster (docs/benchmarks.md, "Session 18: lit transparency shaded in
+/// compute").
+pub fn auto_compute(class: AdapterClass) -> bool {
+    match class {
+        AdapterClass::Gpu => false,
+        AdapterClass::Cpu => true,
+    }
+}
+
+// SHADE_TILED's 8x8 tiles each lie in one tile of the forward grid.
+const _: () = assert!(crate::lighting::ClusterGrid::FORWARD_TILE.is_multiple_of(8));
+
+/// Records a pixel has room for: the glass spheres of
+/// patches/bench-transparency.ron put up to about eight layers on a pixel.
+pub const SLOTS: u32 = 8;
+
+/// One fragment record: ten u32 words (transparency.wgsl's RECORD_WORDS).
+const RECORD_BYTES: u64 = 40;
+
+/// Counted: the slots per pixel of this frame's fragment lists.
+pub const FRAGMENT_SLOTS: &str = "transparency fragment slots per pixel";
+/// Counted: light buffers shaded in compute (one `shade` dispatch each).
+pub const SHADED: &str = "transparency light buffers shaded in compute";
+
+/// The slots per pixel that fit `pixels` records within the device's
+/// binding and buffer limits: [`SLOTS`], fewer for a huge image, and 0 when
+/// not even one fits (then the forward path runs).
+pub fn slots_for(pixels: u64, max_binding: u64, max_buffer: u64) -> u32 {
+    let per_slot = pixels.max(1) * RECORD_BYTES;
+    (max_binding.min(max_buffer) / per_slot).min(u64::from(SLOTS)) as u32
+}
+
+/// The buffers of one frame's fragment lists, for `pixels` pixels.
+pub(crate) struct ListBuffers {
+    pub pixels: u32,
+    pub slots: u32,
+    /// A counter per pixel, then the count of fragments no slot was left for.
+    pub counts: wgpu::Buffer,
+    /// `slots` records per pixel, exactly (the shader divides its length).
+    pub records: wgpu::Buffer,
+    /// Per pixel, the compute-shaded light (vec4<f32>).
+    pub light: wgpu::Buffer,
+}
+
+/// Per node: the fragment lists' buffers, kept from frame to frame while
+/// the image size stays.
+#[derive(Default)]
+pub(crate) struct FragmentLists(Mutex<Option<std::sync::Arc<ListBuffers>>>);
+
+impl FragmentLists {
+    /// Buffers for `pixels` pixels with `slots` slots each, last frame's when they match.
+    pub fn get(&self, gpu: &GpuContext, pixels: u32, slots: u32) -> std::sync::Arc<ListBuffers> {
+        let mut kept = self.0.lock().unwrap_or_else(|e| e.into_inner());
+        if let Some(buffers) = kept.as_ref()
+            && buffers.pixels == pixels
+            && buffers.slots == slots
+        {
+            return buffers.clone();
+        }
+        let storage = |label: &str, bytes: u64, extra: wgpu::BufferUsages| {
+            gpu.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size: bytes.max(16),
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST | extra,
+                mapped_at_creation: false,
+            })
+        };
+        let pixels64 = u64::from(pixels);
+        let buffers = std::sync::Arc::new(ListBuffers {
+            pixels,
+            slots,
+            counts: storage(
+                "transparency fragment counts",
+                (pixels64 + 1) * 4,
+                wgpu::BufferUsages::COPY_SRC,
+            ),
+            // Exactly `slots` per pixel: the shader finds `slots` as the length over the pixels.
+            records: gpu.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("transparency fragment records"),
+                size: pixels64 * u64::from(slots) * RECORD_BYTES,
+                usage: wgpu::BufferUsages::STORAGE,
+                mapped_at_creation: false,
+            }),
+            light: storage(
+                "transparency compute-shaded light",
+                pixels64 * 16,
+                wgpu::BufferUsages::empty(),
+            ),
+        });
+        *kept = Some(buffers.clone());
+        buffers
+    }
+
+    /// The last frame's fragment lists, if any was made.
+    pub fn current(&self) -> Option<std::sync::Arc<ListBuffers>> {
+        self.0.lock().unwrap_or_else(|e| e.into_inner()).clone()
+    }
+
+    /// How many fragments of the last frame found their pixel's slots full
+    /// (read back from the GPU, waiting for it); 0 before any compute frame.
+    pub fn missed(&self, gpu: &GpuContext) -> Result<u32, RenderError> {
+        let Some(buffers) = self.current() else {
+            return Ok(0);
+        };
+        let staging = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("transparency missed fragments readback"),
+            size: 4,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let mut encoder = gpu
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("transparency missed fragments"),
+            });
+        encoder.copy_buffer_to_buffer(
+            &buffers.counts,
+            u64::from(buffers.pixels) * 4,
+            &staging,
+            0,
+            4,
+        );
+        gpu.queue.submit([encoder.finish()]);
+        let bytes = crate::context::read_buffer(gpu, &staging, 4)?;
+        Ok(u32::from_le_bytes([bytes[0], bytes[1], bytes[2], bytes[3]]))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn auto_keeps_the_forward_path_on_a_gpu_and_slots_fit_the_limits() {
+        use AdapterClass::{Cpu, Gpu};
+        for class in [Gpu, Cpu] {
+            assert!(!TransparencyShading::Forward.computes(class));
+            assert!(TransparencyShading::Compute.computes(class));
+            assert!(TransparencyShading::Tiled.computes(class));
+            assert_eq!(
+                TransparencyShading::Auto.computes(class),
+                auto_compute(class)
+            );
+        }
+        assert!(!TransparencyShading::Auto.computes(Gpu));
+        // 1080p: eight slots are 663 MB, within a 4 GiB binding, not within 128 MiB.
+        let hd = 1920 * 1080;
+        assert_eq!(slots_for(hd, 4 << 30, u64::MAX), SLOTS);
+        assert_eq!(slots_for(hd, 128 << 20, u64::MAX), 1);
+        assert_eq!(slots_for(hd, 4 << 30, 128 << 20), 1);
+        assert_eq!(slots_for(16384 * 16384, 128 << 20, u64::MAX), 0);
+        assert_eq!(slots_for(0, 128 << 20, u64::MAX), SLOTS);
+    }
+}
