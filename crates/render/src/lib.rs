@@ -4,6 +4,7 @@
 //! and the CLI only host it.
 
 pub mod accumulate;
+pub mod allocation_count;
 pub mod adapter_class;
 pub mod bench;
 pub mod camera;

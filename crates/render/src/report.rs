@@ -96,6 +96,9 @@ pub struct PassReport {
     /// graph's bookkeeping after it. What issue 33's "CPU per pass" is
     /// about, per pass rather than as the frame's sum.
     pub cpu_ms: f64,
+    /// Heap allocations the recording thread made for this pass (the same
+    /// span as `cpu_ms`), when the host counts them (allocation_count.rs).
+    pub allocations: Option<u64>,
 }
 
 /// What a frame did: the frame graph's statistics.
@@ -124,6 +127,12 @@ pub struct FrameReport {
     pub queue_submit_ms: f64,
     /// Time spent waiting for the GPU to finish (to read the timestamps).
     pub wait_ms: f64,
+    /// Heap allocations the recording thread made before the first pass
+    /// (culling, the frame's maps) and after the last one (finishing the
+    /// encoders, the submission, the textures handed back: the tail), when
+    /// the host counts them (allocation_count.rs).
+    pub allocations_before_passes: Option<u64>,
+    pub allocations_after_passes: Option<u64>,
     /// Decisions passes counted (`PassContext::count`), e.g. "shadow maps reused".
     pub counters: BTreeMap<String, u64>,
 }

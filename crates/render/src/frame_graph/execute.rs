@@ -27,6 +27,7 @@ use super::executor::{Executor, MAX_QUERIES, PERSISTENT_IDLE_GRAPHS, Recording, 
 use super::finisher::chunk_of;
 use super::{FrameGraph, Lifetime, PassContext, Recorded};
 use crate::context::GpuContext;
+use crate::allocation_count;
 use crate::error::RenderError;
 use crate::report::{FrameReport, PassReport};
 use crate::texture_pool::{create_texture, slot};
@@ -55,6 +56,7 @@ fn execute(
     counters: impl FnOnce() -> Vec<(&'static str, u64)>,
 ) -> Result<(FrameReport, HashMap<String, wgpu::Texture>), RenderError> {
     let started = std::time::Instant::now();
+    let allocations_started = allocation_count::now();
     let (timing, recording) = executor.settings();
     let output_size = graph.output_size();
     let device = &gpu.device;
@@ -154,8 +156,10 @@ fn execute(
     let steps = parts.order.len();
 
     let max_side = device.limits().max_texture_dimension_2d;
+    report.allocations_before_passes = allocation_count::since(allocations_started);
     for (step, &p) in parts.order.clone().iter().enumerate() {
         let pass_started = std::time::Instant::now();
+        let pass_allocations = allocation_count::now();
         // A texture past the adapter's limit fails its pass before anything
         // is allocated (wgpu would refuse it with an error outside any scope).
         let mut too_large = too_large(&parts.writes[p], &parts.keys[p], max_side, output_size);
@@ -324,6 +328,7 @@ fn execute(
             idle_ms: None,
             draws,
             cpu_ms: 0.0,
+            allocations: None,
         });
         let pass_report = report.passes.len() - 1;
 
@@ -350,8 +355,10 @@ fn execute(
             !done
         });
         report.passes[pass_report].cpu_ms = pass_started.elapsed().as_secs_f64() * 1e3;
+        report.passes[pass_report].allocations = allocation_count::since(pass_allocations);
     }
     let passes_recorded = started.elapsed();
+    let tail_allocations = allocation_count::now();
     report.culled = parts
         .culled
         .iter()
@@ -547,6 +554,7 @@ fn execute(
         }
     }
     report.wait_ms = (started.elapsed().as_secs_f64() * 1e3 - report.record_ms).max(0.0);
+    report.allocations_after_passes = allocation_count::since(tail_allocations);
     // Errors outside every pass's scope (allocating the frame's textures,
     // or work done before it that no host took): the frame's, not a panic.
     for error in gpu.take_uncaptured_errors() {
