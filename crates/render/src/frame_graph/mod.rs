@@ -37,7 +37,8 @@ use crate::shaders::ShaderCache;
 
 pub use crate::report::{FrameReport, PassName, PassReport};
 pub use crate::texture_pool::TextureKey;
-pub use bindings::Bindings;
+pub use bindings::{BindGroups, Bindings};
+pub(crate) use bindings::INLINE_BINDINGS;
 pub use bound::History;
 pub use compute_pass::COMPUTE_PASSES;
 pub use executor::{Executor, PERSISTENT_IDLE_GRAPHS, Recording, Timing};

@@ -6,7 +6,8 @@ use std::borrow::Cow;
 
 use std::sync::Arc;
 
-use super::reflection::{Reflection, match_bindings, reflect};
+use super::reflection::{GroupEntries, Reflection, match_bindings, reflect};
+use crate::frame_graph::BindGroups;
 use super::{ShaderComposer, ShaderKey, Splice};
 use crate::error::RenderError;
 
@@ -46,6 +47,10 @@ pub struct ShaderCache {
     /// which it uses. (Keyed by permutation, then entry: a look-up borrows
     /// the key, as every pass makes several a frame.)
     reflections: FxHashMap<ShaderKey, FxHashMap<String, Arc<Reflection>>>,
+    /// Per permutation, a render pipeline's stages merged into one
+    /// reflection (a variable used where any stage uses it): merged once,
+    /// not at every bind (it cloned every variable's name, each frame).
+    merged: FxHashMap<ShaderKey, Vec<(Vec<String>, Arc<Reflection>)>>,
     /// Per shader file: every resource variable its source (or a library)
     /// declares under any feature, to tell a compiled-out name from a typo.
     declared: FxHashMap<&'static str, rustc_hash::FxHashSet<String>>,
@@ -206,6 +211,7 @@ impl ShaderCache {
             composer,
             modules: FxHashMap::default(),
             reflections: FxHashMap::default(),
+            merged: FxHashMap::default(),
             declared: FxHashMap::default(),
             compute: FxHashMap::default(),
             render: FxHashMap::default(),
@@ -310,22 +316,10 @@ impl ShaderCache {
         pipeline: &PipelineRef,
         resources: &[(&str, wgpu::BindingResource<'_>)],
         prebuilt: &[(u32, wgpu::BindGroup)],
-    ) -> Result<Vec<wgpu::BindGroup>, RenderError> {
+    ) -> Result<BindGroups, RenderError> {
         let reflection = match entries {
             [entry] => self.reflection(key, entry)?,
-            // A render pipeline's stages: a variable is used where any stage uses it.
-            _ => {
-                let mut merged: Vec<super::ShaderVar> = Vec::new();
-                for entry in entries {
-                    for var in self.reflection(key, entry)?.vars() {
-                        match merged.iter_mut().find(|v| v.name == var.name) {
-                            Some(v) => v.used |= var.used,
-                            None => merged.push(var.clone()),
-                        }
-                    }
-                }
-                Arc::new(Reflection::new(merged))
-            }
+            _ => self.merged_reflection(key, entries)?,
         };
         let path = key.path;
         // A name the permutation lacks must be one the shader (or a library)
@@ -349,6 +343,40 @@ impl ShaderCache {
         Ok(self.groups_of(device, pipeline, path, &matched, prebuilt))
     }
 
+    /// The reflection of a render pipeline's stages `entries` together: a
+    /// variable is used where any stage uses it.
+    fn merged_reflection(
+        &mut self,
+        key: &ShaderKey,
+        entries: &[&str],
+    ) -> Result<Arc<Reflection>, RenderError> {
+        let same = |stages: &[String]| {
+            stages.len() == entries.len() && stages.iter().zip(entries).all(|(a, b)| a == b)
+        };
+        if let Some((_, found)) = self
+            .merged
+            .get(key)
+            .and_then(|made| made.iter().find(|(stages, _)| same(stages)))
+        {
+            return Ok(found.clone());
+        }
+        let mut merged: Vec<super::ShaderVar> = Vec::new();
+        for entry in entries {
+            for var in self.reflection(key, entry)?.vars() {
+                match merged.iter_mut().find(|v| v.name == var.name) {
+                    Some(v) => v.used |= var.used,
+                    None => merged.push(var.clone()),
+                }
+            }
+        }
+        let reflection = Arc::new(Reflection::new(merged));
+        self.merged.entry(key.clone()).or_default().push((
+            entries.iter().map(|e| (*e).to_owned()).collect(),
+            reflection.clone(),
+        ));
+        Ok(reflection)
+    }
+
     /// [`ShaderCache::named_groups`] for a pipeline reflected elsewhere (a
     /// resolve composed with a shader node material); every name must be
     /// one the module has or a variable it compiled out, which the caller vouches for.
@@ -360,7 +388,7 @@ impl ShaderCache {
         pipeline: &PipelineRef,
         resources: &[(&str, wgpu::BindingResource<'_>)],
         prebuilt: &[(u32, wgpu::BindGroup)],
-    ) -> Result<Vec<wgpu::BindGroup>, String> {
+    ) -> Result<BindGroups, String> {
         let matched = match_bindings(reflection, resources, prebuilt, |_| Ok(()))?;
         Ok(self.groups_of(device, pipeline, label, &matched, prebuilt))
     }
@@ -371,9 +399,9 @@ impl ShaderCache {
         device: &wgpu::Device,
         pipeline: &PipelineRef,
         label: &str,
-        matched: &[Vec<wgpu::BindGroupEntry<'_>>],
+        matched: &[GroupEntries<'_>],
         prebuilt: &[(u32, wgpu::BindGroup)],
-    ) -> Vec<wgpu::BindGroup> {
+    ) -> BindGroups {
         matched
             .iter()
             .enumerate()
