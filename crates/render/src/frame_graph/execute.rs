@@ -126,9 +126,12 @@ fn execute(
         add_counter(&mut report, name, n);
     }
     report.passes.reserve(parts.order.len());
-    let mut owned = Vec::new();
+    // Pool textures this frame took, by pass and output (the name is
+    // `parts.writes[p][output]`: not cloned a texture a frame).
+    let mut owned: Vec<(usize, usize, _, Lifetime, _)> = Vec::new();
     let mut commands = Vec::new();
-    let mut pass_queries: Vec<(usize, Vec<(u32, u32)>)> = Vec::with_capacity(parts.order.len());
+    let mut pass_queries: Vec<(usize, super::PassQueries)> =
+        Vec::with_capacity(parts.order.len());
     let mut next_query = 0u32;
     let timestamps = executor.timestamps().filter(|_| timing != Timing::Off);
     let capacity = if timestamps.is_some() { MAX_QUERIES } else { 0 };
@@ -182,7 +185,7 @@ fn execute(
                 },
                 Lifetime::Temporary | Lifetime::Permanent => {
                     let slot = slot(&parts.names[p], occurrence[p], output);
-                    owned.push((name.clone(), *key, desc.lifetime, slot));
+                    owned.push((p, output, *key, desc.lifetime, slot));
                     textures.take(device, key, (slot, name), &mut report.textures_created)
                 }
             };
@@ -227,7 +230,7 @@ fn execute(
             views: &views,
             fresh: &fresh,
             timestamps: timestamps.filter(|_| timed).map(|t| &t.set),
-            queries: Vec::new(),
+            queries: Default::default(),
             next_query: &mut next_query,
             query_capacity: capacity,
             draws: 0,
@@ -335,8 +338,9 @@ fn execute(
         // Temporaries whose last reader has recorded go back to the pool, and
         // leave the live textures: no later pass can reach memory the pool
         // may hand to another.
-        owned.retain(|(name, key, lifetime, slot)| {
-            let done = *lifetime == Lifetime::Temporary
+        owned.retain(|&(pass, output, ref key, lifetime, ref slot)| {
+            let name = &parts.writes[pass][output].0;
+            let done = lifetime == Lifetime::Temporary
                 && last_use.get(name.as_str()).is_some_and(|&s| s <= step)
                 && !requested.contains(name.as_str())
                 && !watched.contains(name.as_str());
@@ -500,23 +504,30 @@ fn execute(
     // History exists only for effects that run: a persistent texture no pass
     // has written for a while (its node deleted, culled, or switched to
     // another mode) is dropped.
+    // In place: the names were cloned (twice) for every persistent texture, every frame.
     let mut dropped = 0;
-    for name in textures.persistent.keys().cloned().collect::<Vec<_>>() {
-        let idle = textures.idle.entry(name.clone()).or_insert(0);
+    let pool = &mut *textures;
+    let idle = &mut pool.idle;
+    pool.persistent.retain(|name, _| {
         if parts
             .order
             .iter()
-            .any(|&p| parts.writes[p].iter().any(|(n, _)| *n == name))
+            .any(|&p| parts.writes[p].iter().any(|(n, _)| n == name))
         {
-            continue;
+            return true;
         }
-        *idle += 1;
-        if *idle > PERSISTENT_IDLE_GRAPHS {
-            textures.persistent.remove(&name);
-            textures.idle.remove(&name);
+        let frames = match idle.get_mut(name.as_str()) {
+            Some(frames) => frames,
+            None => idle.entry(name.clone()).or_insert(0),
+        };
+        *frames += 1;
+        if *frames > PERSISTENT_IDLE_GRAPHS {
+            idle.remove(name.as_str());
             dropped += 1;
+            return false;
         }
-    }
+        true
+    });
     if dropped > 0 {
         *report
             .counters
@@ -527,10 +538,11 @@ fn execute(
     // Requested outputs go to the caller and come back to the pool next frame;
     // other permanent textures return now.
     let mut outputs = HashMap::new();
-    for (name, key, _, _) in owned {
+    for (pass, output, key, _, _) in owned {
+        let name = &parts.writes[pass][output].0;
         let texture = release_instead
-            .remove(&name)
-            .or_else(|| live.get(&name).cloned());
+            .remove(name)
+            .or_else(|| live.get(name).cloned());
         if let Some(texture) = texture {
             if requested.contains(name.as_str()) || watched.contains(name.as_str()) {
                 textures.lent.push((key, texture));
