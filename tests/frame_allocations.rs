@@ -9,7 +9,7 @@
 //! allocates: the patch's evaluation, each pass, the tail.
 //!
 //! One test function: the count is the process's, so nothing else may run
-//! beside it.
+//! beside it (it counts in a process of its own, started by itself).
 
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
@@ -151,15 +151,52 @@ fn steady_frame(patch: &str) -> Frame {
     frames.swap_remove(COUNTED / 2)
 }
 
-/// The shipped frames issue 33 names, each with its bound: the count this
-/// change left (docs/benchmarks.md, "Session 18: a frame's allocations")
-/// and a margin for wgpu's own bookkeeping, which varies a little.
+/// The shipped frames issue 33 names, each with its bound: the count left
+/// on lavapipe by session 18 (docs/benchmarks.md, "Session 18: a frame's
+/// heap allocations": emeshe-frame 1,445, post 2,007; 2,026 and 2,871
+/// before, counted with `RUST_BACKTRACE=1`) and a tenth more for wgpu's own
+/// bookkeeping, which varies a little from frame to frame. (Another adapter
+/// takes other paths, a hardware shadow raster for one, so counts there
+/// differ.)
+const BOUNDS: [(&str, u64); 2] = [("emeshe-frame.ron", 1_600), ("post.ron", 2_200)];
+
+/// Set in the process that counts (see below).
+const COUNTING: &str = "SPREADLIGHT_COUNTING_ALLOCATIONS";
+
+/// A debug build of wgpu-core captures a backtrace at every lock it takes
+/// when `std::backtrace` is enabled (`RUST_BACKTRACE=1`, as many shells
+/// set): allocations of the measurement, not of the frame. The count runs in
+/// a process of this binary with library backtraces off, so it is the same
+/// whatever the caller's environment.
 #[test]
 fn a_frame_rendered_again_allocates_under_its_bound() {
+    if std::env::var_os(COUNTING).is_none() {
+        let out = std::process::Command::new(std::env::current_exe().expect("this test binary"))
+            .args([
+                "a_frame_rendered_again_allocates_under_its_bound",
+                "--exact",
+                "--nocapture",
+                "--test-threads=1",
+            ])
+            .env(COUNTING, "1")
+            .env("RUST_LIB_BACKTRACE", "0")
+            .output()
+            .expect("the counting process runs");
+        let text = format!(
+            "{}{}",
+            String::from_utf8_lossy(&out.stdout),
+            String::from_utf8_lossy(&out.stderr)
+        );
+        println!("{text}");
+        assert!(
+            out.status.success() && text.contains("1 passed"),
+            "the counting process failed:\n{text}"
+        );
+        return;
+    }
     spreadlight_render::allocation_count::count_with(here);
-    let bounds = [("emeshe-frame.ron", 100_000u64), ("post.ron", 100_000)];
     let mut failures = Vec::new();
-    for (patch, bound) in bounds {
+    for (patch, bound) in BOUNDS {
         let frame = steady_frame(patch);
         println!("{patch}: {}", frame.breakdown());
         if frame.all > bound {

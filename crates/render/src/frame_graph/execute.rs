@@ -529,10 +529,7 @@ fn execute(
         true
     });
     if dropped > 0 {
-        *report
-            .counters
-            .entry("histories dropped".to_owned())
-            .or_default() += dropped;
+        add_counter(&mut report, "histories dropped", dropped);
     }
 
     // Requested outputs go to the caller and come back to the pool next frame;
@@ -574,19 +571,16 @@ fn execute(
             .errors
             .push((None, format!("GPU error outside any pass: {error}")));
     }
-    executor.set_last_report(report.clone());
+    executor.set_last_report(&report);
     Ok((report, outputs))
 }
 
-/// Add `n` to the report's counter `name`, naming it (an allocation) only the
-/// first time in the frame: passes count under a few names many times.
-fn add_counter(report: &mut FrameReport, name: &str, n: u64) {
-    match report.counters.get_mut(name) {
-        Some(count) => *count += n,
-        None => {
-            report.counters.insert(name.to_owned(), n);
-        }
-    }
+/// Add `n` to the report's counter `name` (borrowed: no allocation a name).
+fn add_counter(report: &mut FrameReport, name: &'static str, n: u64) {
+    *report
+        .counters
+        .entry(std::borrow::Cow::Borrowed(name))
+        .or_default() += n;
 }
 
 /// The error of a pass whose output would be larger than the adapter's

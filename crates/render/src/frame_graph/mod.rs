@@ -545,7 +545,8 @@ pub(crate) struct GraphParts<'a> {
     /// Watched textures that no request names ([`FrameGraph::watch`]).
     pub watched: Vec<String>,
     pub imports: FxHashMap<String, wgpu::Texture>,
-    pub keys: Vec<Vec<TextureKey>>,
+    /// Inline: a pass writes a few textures, and a Vec each was a pass's allocation a frame.
+    pub keys: Vec<smallvec::SmallVec<[TextureKey; 4]>>,
     pub counters: BTreeMap<&'static str, u64>,
     /// Texture names by handle.
     pub texture_names: Vec<String>,
