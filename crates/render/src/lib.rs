@@ -4,8 +4,8 @@
 //! and the CLI only host it.
 
 pub mod accumulate;
-pub mod allocation_count;
 pub mod adapter_class;
+pub mod allocation_count;
 pub mod bench;
 pub mod camera;
 pub mod context;

@@ -26,8 +26,8 @@ use rustc_hash::{FxHashMap, FxHashSet};
 use super::executor::{Executor, MAX_QUERIES, PERSISTENT_IDLE_GRAPHS, Recording, Timing};
 use super::finisher::chunk_of;
 use super::{FrameGraph, Lifetime, PassContext, Recorded};
-use crate::context::GpuContext;
 use crate::allocation_count;
+use crate::context::GpuContext;
 use crate::error::RenderError;
 use crate::report::{FrameReport, PassReport};
 use crate::texture_pool::{create_texture, slot};
@@ -130,8 +130,7 @@ fn execute(
     // `parts.writes[p][output]`: not cloned a texture a frame).
     let mut owned: Vec<(usize, usize, _, Lifetime, _)> = Vec::new();
     let mut commands = Vec::new();
-    let mut pass_queries: Vec<(usize, super::PassQueries)> =
-        Vec::with_capacity(parts.order.len());
+    let mut pass_queries: Vec<(usize, super::PassQueries)> = Vec::with_capacity(parts.order.len());
     let mut next_query = 0u32;
     let timestamps = executor.timestamps().filter(|_| timing != Timing::Off);
     let capacity = if timestamps.is_some() { MAX_QUERIES } else { 0 };

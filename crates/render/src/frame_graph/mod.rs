@@ -37,8 +37,8 @@ use crate::shaders::ShaderCache;
 
 pub use crate::report::{FrameReport, PassName, PassReport};
 pub use crate::texture_pool::TextureKey;
-pub use bindings::{BindGroups, Bindings};
 pub(crate) use bindings::INLINE_BINDINGS;
+pub use bindings::{BindGroups, Bindings};
 pub use bound::History;
 pub use compute_pass::COMPUTE_PASSES;
 pub use executor::{Executor, PERSISTENT_IDLE_GRAPHS, Recording, Timing};
@@ -275,7 +275,11 @@ impl<'f> PassContext<'f> {
     /// Add `n` to the frame report's counter `name`: how passes show the work
     /// they did and the work they saved.
     pub fn count(&mut self, name: &'static str, n: u64) {
-        match self.counters.iter_mut().find(|(counted, _)| *counted == name) {
+        match self
+            .counters
+            .iter_mut()
+            .find(|(counted, _)| *counted == name)
+        {
             Some((_, count)) => *count += n,
             None => self.counters.push((name, n)),
         }

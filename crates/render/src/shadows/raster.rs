@@ -13,6 +13,7 @@ use crate::renderer::Renderer;
 use crate::shaders::{Permutation, ShaderKey};
 
 use glam::{Mat4, Vec4};
+use smallvec::{SmallVec, smallvec};
 
 use super::scroll::Rect;
 use super::store::{DEPTH_FORMAT, StoredMaps};
@@ -224,18 +225,20 @@ impl ShadowMaps {
                 continue;
             };
             // The whole layer through its own camera, or each strip through its narrowed one.
-            let parts: Vec<(&wgpu::Buffer, &wgpu::Buffer, (u32, u32))> = if job.strips.is_empty() {
-                vec![(
-                    &cameras[job.layer as usize],
-                    &self.layer_info[job.layer as usize],
-                    (res, res),
-                )]
-            } else {
-                job.strips
-                    .iter()
-                    .filter_map(|s| Some((s.camera.as_ref()?, &s.info, (s.rect.w, s.rect.h))))
-                    .collect()
-            };
+            // Inline: a layer or its two strips (an allocation a job a frame otherwise).
+            let parts: SmallVec<[(&wgpu::Buffer, &wgpu::Buffer, (u32, u32)); 2]> =
+                if job.strips.is_empty() {
+                    smallvec![(
+                        &cameras[job.layer as usize],
+                        &self.layer_info[job.layer as usize],
+                        (res, res),
+                    )]
+                } else {
+                    job.strips
+                        .iter()
+                        .filter_map(|s| Some((s.camera.as_ref()?, &s.info, (s.rect.w, s.rect.h))))
+                        .collect()
+                };
             for (camera, info, size) in parts {
                 let view = RasterView {
                     camera,
@@ -385,8 +388,8 @@ impl ShadowMaps {
             }
             // A whole layer once, or each strip clipped to itself (the
             // attachment is cleared whole; only the strips are resolved).
-            let scissors: Vec<Option<Rect>> = if strips.is_empty() {
-                vec![None]
+            let scissors: SmallVec<[Option<Rect>; 2]> = if strips.is_empty() {
+                smallvec![None]
             } else {
                 strips.iter().map(|s| Some(s.rect)).collect()
             };
@@ -419,8 +422,8 @@ impl ShadowMaps {
             },
         );
         for job in jobs {
-            let parts: Vec<(&wgpu::Buffer, (u32, u32))> = if job.strips.is_empty() {
-                vec![(&self.layer_info[job.layer as usize], (res, res))]
+            let parts: SmallVec<[(&wgpu::Buffer, (u32, u32)); 2]> = if job.strips.is_empty() {
+                smallvec![(&self.layer_info[job.layer as usize], (res, res))]
             } else {
                 job.strips
                     .iter()
