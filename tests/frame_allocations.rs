@@ -96,7 +96,7 @@ struct Frame {
 impl Frame {
     fn breakdown(&self) -> String {
         let mut passes: Vec<&(String, u64)> = self.passes.iter().collect();
-        passes.sort_by(|a, b| b.1.cmp(&a.1));
+        passes.sort_by_key(|p| std::cmp::Reverse(p.1));
         let mut text = format!(
             "{} in all: evaluating {}, before the passes {}, the {} passes {}, after them {}, other threads {}\n",
             self.all,

@@ -38,6 +38,9 @@ pub enum Sampling {
     LinearClamp,
 }
 
+/// A render pipeline's stage names and their merged reflection.
+type MergedStages = (Vec<String>, Arc<Reflection>);
+
 /// Compiled shader modules and pipelines, keyed by permutation. Counts what it
 /// compiles, so the frame statistics show when a frame had to compile.
 pub struct ShaderCache {
@@ -50,7 +53,7 @@ pub struct ShaderCache {
     /// Per permutation, a render pipeline's stages merged into one
     /// reflection (a variable used where any stage uses it): merged once,
     /// not at every bind (it cloned every variable's name, each frame).
-    merged: FxHashMap<ShaderKey, Vec<(Vec<String>, Arc<Reflection>)>>,
+    merged: FxHashMap<ShaderKey, Vec<MergedStages>>,
     /// Per shader file: every resource variable its source (or a library)
     /// declares under any feature, to tell a compiled-out name from a typo.
     declared: FxHashMap<&'static str, rustc_hash::FxHashSet<String>>,

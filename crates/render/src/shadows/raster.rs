@@ -137,6 +137,10 @@ impl StillSets {
     }
 }
 
+/// A part of a layer the compute rasterizer draws: its camera, its region
+/// uniform and its size in texels.
+type CameraPart<'b> = (&'b wgpu::Buffer, &'b wgpu::Buffer, (u32, u32));
+
 /// Where a layer's depth goes.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(super) enum Target {
@@ -226,19 +230,18 @@ impl ShadowMaps {
             };
             // The whole layer through its own camera, or each strip through its narrowed one.
             // Inline: a layer or its two strips (an allocation a job a frame otherwise).
-            let parts: SmallVec<[(&wgpu::Buffer, &wgpu::Buffer, (u32, u32)); 2]> =
-                if job.strips.is_empty() {
-                    smallvec![(
-                        &cameras[job.layer as usize],
-                        &self.layer_info[job.layer as usize],
-                        (res, res),
-                    )]
-                } else {
-                    job.strips
-                        .iter()
-                        .filter_map(|s| Some((s.camera.as_ref()?, &s.info, (s.rect.w, s.rect.h))))
-                        .collect()
-                };
+            let parts: SmallVec<[CameraPart<'_>; 2]> = if job.strips.is_empty() {
+                smallvec![(
+                    &cameras[job.layer as usize],
+                    &self.layer_info[job.layer as usize],
+                    (res, res),
+                )]
+            } else {
+                job.strips
+                    .iter()
+                    .filter_map(|s| Some((s.camera.as_ref()?, &s.info, (s.rect.w, s.rect.h))))
+                    .collect()
+            };
             for (camera, info, size) in parts {
                 let view = RasterView {
                     camera,
