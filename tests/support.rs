@@ -106,6 +106,14 @@ impl PatchRun {
         assert!(errors.is_empty(), "{}: {errors:?}", self.path.display());
     }
 
+    /// Evaluate the next frame with every sink rendering again though
+    /// nothing changed (as `spreadlight bench` times frames); panics on a
+    /// node error.
+    pub fn render_next(&mut self) {
+        self.rt.invalidate_sinks();
+        self.run_to(self.next);
+    }
+
     /// The image the Output named `output` rendered last, and the encoding it asks for.
     pub fn image(&self, output: &str) -> (ImageF32, Encoding) {
         self.images

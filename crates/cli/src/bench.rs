@@ -11,7 +11,9 @@
 //! CPU per frame split into patch evaluation and frame recording, and with
 //! `--wall` the wall-clock time per frame with frames in flight (no
 //! timestamps, nothing read back: what an interactive host gets) and the
-//! CPU per frame there (`wall_cpu_*`: timestamps cost CPU too).
+//! CPU per frame there (`wall_cpu_*`, the tail after the last pass in
+//! `wall_cpu_submit_ms_median`: timestamps cost CPU too, so these are the
+//! frame's own CPU, not the measurement's).
 
 use spreadlight_render::renderer::{Recording, Timing};
 
@@ -198,6 +200,7 @@ fn wall_clock(
             let ms = (step.elapsed().as_secs_f64() * 1e3 - report.wait_ms).max(0.0);
             cpu.cpu.push(ms);
             cpu.record.push(report.record_ms);
+            cpu.submit.push(report.submit_ms);
             cpu.eval.push((ms - report.record_ms).max(0.0));
         }
     }
@@ -335,11 +338,12 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
     } else {
         None
     };
-    let wall_cpu = wall.as_ref().map_or((None, None, None), |w| {
+    let wall_cpu = wall.as_ref().map_or((None, None, None, None), |w| {
         (
             median(w.cpu.cpu.clone()),
             median(w.cpu.eval.clone()),
             median(w.cpu.record.clone()),
+            median(w.cpu.submit.clone()),
         )
     });
     let adapter = renderer.gpu.adapter_name();
@@ -381,6 +385,8 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
             "wall_cpu_ms_median": wall_cpu.0,
             "wall_cpu_eval_ms_median": wall_cpu.1,
             "wall_cpu_record_ms_median": wall_cpu.2,
+            // The tail after the last pass with no timestamps to resolve.
+            "wall_cpu_submit_ms_median": wall_cpu.3,
             "passes": unique_names(&passes),
             "pass_order": passes,
             "cold_start": cold_start.map(|c| c.json()),

@@ -885,6 +885,11 @@ fn bench_prints_one_json_line_with_the_adapter() {
         cpu > 0.0 && record > 0.0 && eval >= 0.0,
         "{cpu} {eval} {record}"
     );
+    // The tail after the last pass with no timestamps, a part of the recording.
+    let submit = json["wall_cpu_submit_ms_median"]
+        .as_f64()
+        .expect("wall submit");
+    assert!((0.0..=record).contains(&submit), "{submit} of {record}");
     assert_eq!(json["recording"], "batched");
 
     let o = spreadlight(&["bench", "patches/bench-gbuffer.ron", "--set", "2.Nope=5"]);

@@ -26,6 +26,10 @@ struct NodeState {
     /// For each linked input, the version of the upstream output last read.
     seen: Vec<u64>,
     outputs: Vec<Arc<Spread>>,
+    /// An empty spread of each output's type, made once: the outputs start
+    /// each evaluation from these (an `Arc` an output a frame otherwise, for
+    /// every node that runs again: issue 33).
+    empties: Vec<Arc<Spread>>,
     /// Bumped (from one counter for the whole runtime) whenever the outputs are recomputed; 0 = never.
     version: u64,
     /// Must run next frame whatever its inputs say (new node, or its values or links changed).
@@ -285,8 +289,8 @@ impl Runtime {
                 stats.reused += 1;
                 continue;
             }
-            for (slot, pin) in state.outputs.iter_mut().zip(&def.outputs) {
-                *slot = empty(pin.ty);
+            for (slot, empty) in state.outputs.iter_mut().zip(&state.empties) {
+                *slot = empty.clone();
             }
             if node.bypass {
                 bypass(state, def);
@@ -328,8 +332,8 @@ impl Runtime {
                     stat.run = NodeRun::Evaluated;
                 }
                 Err(e) => {
-                    for (slot, pin) in state.outputs.iter_mut().zip(&def.outputs) {
-                        *slot = empty(pin.ty);
+                    for (slot, empty) in state.outputs.iter_mut().zip(&state.empties) {
+                        *slot = empty.clone();
                     }
                     state.error = Some(explain_unknown_input(&self.network, i, def, e));
                     stat.run = NodeRun::Failed;
@@ -456,6 +460,7 @@ fn new_state(node: &NetworkNode) -> NodeState {
         instance,
         inputs: Vec::new(),
         seen: vec![UNSEEN; node.inputs.len()],
+        empties: outputs.clone(),
         outputs,
         version: 0,
         dirty: true,

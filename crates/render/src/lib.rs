@@ -5,6 +5,7 @@
 
 pub mod accumulate;
 pub mod adapter_class;
+pub mod allocation_count;
 pub mod bench;
 pub mod camera;
 pub mod context;

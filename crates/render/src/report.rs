@@ -96,6 +96,9 @@ pub struct PassReport {
     /// graph's bookkeeping after it. What issue 33's "CPU per pass" is
     /// about, per pass rather than as the frame's sum.
     pub cpu_ms: f64,
+    /// Heap allocations the recording thread made for this pass (the same
+    /// span as `cpu_ms`), when the host counts them (allocation_count.rs).
+    pub allocations: Option<u64>,
 }
 
 /// What a frame did: the frame graph's statistics.
@@ -124,8 +127,16 @@ pub struct FrameReport {
     pub queue_submit_ms: f64,
     /// Time spent waiting for the GPU to finish (to read the timestamps).
     pub wait_ms: f64,
-    /// Decisions passes counted (`PassContext::count`), e.g. "shadow maps reused".
-    pub counters: BTreeMap<String, u64>,
+    /// Heap allocations the recording thread made before the first pass
+    /// (culling, the frame's maps) and after the last one (finishing the
+    /// encoders, the submission, the textures handed back: the tail), when
+    /// the host counts them (allocation_count.rs).
+    pub allocations_before_passes: Option<u64>,
+    pub allocations_after_passes: Option<u64>,
+    /// Decisions passes counted (`PassContext::count`), e.g. "shadow maps
+    /// reused". Names are the passes' own `'static` ones, borrowed: a frame
+    /// allocated a String for every counter it reported.
+    pub counters: BTreeMap<Cow<'static, str>, u64>,
 }
 
 impl PassReport {
@@ -148,6 +159,69 @@ impl FrameReport {
     /// A counter's value; 0 when no pass counted it.
     pub fn counter(&self, name: &str) -> u64 {
         self.counters.get(name).copied().unwrap_or(0)
+    }
+
+    /// Become a copy of `from`, in the storage this report already has: the
+    /// renderer keeps each frame's report, and cloning it (a String a pass
+    /// and a map of counters) was a tenth of a frame's allocations.
+    pub(crate) fn copy_from(&mut self, from: &FrameReport) {
+        self.adapter.clone_from(&from.adapter);
+        self.passes.truncate(from.passes.len());
+        let kept = self.passes.len();
+        for (into, pass) in self.passes.iter_mut().zip(&from.passes) {
+            into.name.clone_from(&pass.name);
+            into.kind.clone_from(&pass.kind);
+            into.step.clone_from(&pass.step);
+            into.owner = pass.owner;
+            into.partner = pass.partner;
+            into.gpu_ms = pass.gpu_ms;
+            into.idle_ms = pass.idle_ms;
+            into.draws = pass.draws;
+            into.cpu_ms = pass.cpu_ms;
+            into.allocations = pass.allocations;
+        }
+        self.passes.extend(from.passes[kept..].iter().cloned());
+        self.culled.clone_from(&from.culled);
+        self.errors.clone_from(&from.errors);
+        // The same counters as last frame (the usual case): values only.
+        if self.counters.len() == from.counters.len()
+            && self.counters.keys().eq(from.counters.keys())
+        {
+            for (into, n) in self.counters.values_mut().zip(from.counters.values()) {
+                *into = *n;
+            }
+        } else {
+            self.counters.clone_from(&from.counters);
+        }
+        let FrameReport {
+            adapter: _,
+            passes: _,
+            culled: _,
+            errors: _,
+            counters: _,
+            pipelines_compiled,
+            draws,
+            textures_created,
+            gpu_ms,
+            gpu_frame_ms,
+            record_ms,
+            submit_ms,
+            queue_submit_ms,
+            wait_ms,
+            allocations_before_passes,
+            allocations_after_passes,
+        } = from;
+        self.pipelines_compiled = *pipelines_compiled;
+        self.draws = *draws;
+        self.textures_created = *textures_created;
+        self.gpu_ms = *gpu_ms;
+        self.gpu_frame_ms = *gpu_frame_ms;
+        self.record_ms = *record_ms;
+        self.submit_ms = *submit_ms;
+        self.queue_submit_ms = *queue_submit_ms;
+        self.wait_ms = *wait_ms;
+        self.allocations_before_passes = *allocations_before_passes;
+        self.allocations_after_passes = *allocations_after_passes;
     }
 }
 

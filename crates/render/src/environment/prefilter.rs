@@ -94,7 +94,11 @@ fn upload_equirect(cx: &PassContext<'_>, image: &EquirectImage) -> wgpu::Texture
 
 /// Record every step and return the maps (valid once the frame is submitted).
 /// One dispatch of the prefilter: its pipeline, bind groups and workgroups.
-type Step = (wgpu::ComputePipeline, Vec<wgpu::BindGroup>, (u32, u32, u32));
+type Step = (
+    wgpu::ComputePipeline,
+    crate::frame_graph::BindGroups,
+    (u32, u32, u32),
+);
 
 /// What a probe's faces are drawn from: its scene, packed, and each layer's
 /// Color Texture and Normal Map as the frame graph handed them to the pass.

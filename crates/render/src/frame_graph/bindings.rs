@@ -6,6 +6,8 @@
 //! name the shader never declares is an error, and so is a variable the
 //! shader uses that the pass left unbound, each naming the variable.
 
+use smallvec::SmallVec;
+
 use super::{PassContext, Tex};
 use crate::error::RenderError;
 use crate::shaders::{PipelineRef, Reflection, Sampling, ShaderKey};
@@ -28,9 +30,21 @@ enum Resource<'r> {
     SamplerObject(wgpu::Sampler),
 }
 
+/// Resources a dispatch binds, held inline while they are resolved and
+/// matched: a frame records a hundred dispatches, and each one's half a
+/// dozen small Vecs were a third of its allocations (issue 33;
+/// tests/frame_allocations.rs counts them).
+pub(crate) const INLINE_BINDINGS: usize = 12;
+
+/// The bind groups of one pipeline (0 up to the last its entry points use).
+pub type BindGroups = SmallVec<[wgpu::BindGroup; 4]>;
+
 /// The resources of one dispatch, by WGSL variable name.
 #[derive(Clone, Default)]
 pub struct Bindings<'r> {
+    /// A Vec (an inline array would make `Bindings` invariant over `'r`,
+    /// which callers that extend one with a library's bindings rely on),
+    /// sized once for a whole dispatch's resources.
     entries: Vec<(&'r str, Resource<'r>)>,
     /// Whole groups laid out elsewhere (a user's shader file numbers its own bindings).
     groups: Vec<(u32, wgpu::BindGroup)>,
@@ -42,6 +56,10 @@ impl<'r> Bindings<'r> {
     }
 
     fn with(mut self, name: &'r str, resource: Resource<'r>) -> Self {
+        if self.entries.capacity() == 0 {
+            // One allocation for the dispatch instead of a Vec's doublings.
+            self.entries.reserve(INLINE_BINDINGS);
+        }
         self.entries.push((name, resource));
         self
     }
@@ -116,9 +134,12 @@ impl<'r> Bindings<'r> {
     }
 }
 
+/// What a dispatch binds, resolved (`PassContext::resolve_bindings`).
+type Resolved<'r> = SmallVec<[(&'r str, Owned<'r>); INLINE_BINDINGS]>;
+
 fn as_resources<'a>(
     owned: &'a [(&'a str, Owned<'a>)],
-) -> Vec<(&'a str, wgpu::BindingResource<'a>)> {
+) -> SmallVec<[(&'a str, wgpu::BindingResource<'a>); INLINE_BINDINGS]> {
     owned
         .iter()
         .map(|(name, r)| {
@@ -156,7 +177,7 @@ impl PassContext<'_> {
         entry: &str,
         pipeline: &wgpu::ComputePipeline,
         bindings: Bindings<'_>,
-    ) -> Result<Vec<wgpu::BindGroup>, RenderError> {
+    ) -> Result<BindGroups, RenderError> {
         let (owned, groups) = self.resolve_bindings(bindings)?;
         let resources = as_resources(&owned);
         let device = self.gpu.device.clone();
@@ -177,7 +198,7 @@ impl PassContext<'_> {
         entries: &[&str],
         pipeline: &wgpu::RenderPipeline,
         bindings: Bindings<'_>,
-    ) -> Result<Vec<wgpu::BindGroup>, RenderError> {
+    ) -> Result<BindGroups, RenderError> {
         let (owned, groups) = self.resolve_bindings(bindings)?;
         let resources = as_resources(&owned);
         let device = self.gpu.device.clone();
@@ -199,7 +220,7 @@ impl PassContext<'_> {
         reflection: &Reflection,
         pipeline: &wgpu::ComputePipeline,
         bindings: Bindings<'_>,
-    ) -> Result<Vec<wgpu::BindGroup>, RenderError> {
+    ) -> Result<BindGroups, RenderError> {
         let (owned, groups) = self.resolve_bindings(bindings)?;
         let resources = as_resources(&owned);
         let device = self.gpu.device.clone();
@@ -223,8 +244,8 @@ impl PassContext<'_> {
     fn resolve_bindings<'r>(
         &mut self,
         bindings: Bindings<'r>,
-    ) -> Result<(Vec<(&'r str, Owned<'r>)>, Vec<(u32, wgpu::BindGroup)>), RenderError> {
-        let mut owned = Vec::with_capacity(bindings.entries.len());
+    ) -> Result<(Resolved<'r>, Vec<(u32, wgpu::BindGroup)>), RenderError> {
+        let mut owned = Resolved::new();
         for (name, resource) in bindings.entries {
             let resolved = match resource {
                 Resource::Texture(tex) => Owned::View(self.view(tex)?),
@@ -258,7 +279,7 @@ impl PassContext<'_> {
         let device = self.gpu.device.clone();
         let pipeline = self.shaders.compute_pipeline(&device, key, entry)?;
         let groups = self.bind_groups(key, entry, &pipeline, bindings)?;
-        let groups: Vec<&wgpu::BindGroup> = groups.iter().collect();
+        let groups: SmallVec<[&wgpu::BindGroup; 4]> = groups.iter().collect();
         self.dispatch(label, &pipeline, &groups, workgroups);
         Ok(())
     }

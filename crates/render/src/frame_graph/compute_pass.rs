@@ -104,7 +104,7 @@ impl PassContext<'_> {
                     timestamp_writes,
                 })
                 .forget_lifetime();
-            *self.counters.entry(COMPUTE_PASSES).or_default() += 1;
+            self.count(COMPUTE_PASSES, 1);
             self.compute = Some(OpenCompute {
                 pass,
                 end_query: None,

@@ -26,6 +26,7 @@ use rustc_hash::{FxHashMap, FxHashSet};
 use super::executor::{Executor, MAX_QUERIES, PERSISTENT_IDLE_GRAPHS, Recording, Timing};
 use super::finisher::chunk_of;
 use super::{FrameGraph, Lifetime, PassContext, Recorded};
+use crate::allocation_count;
 use crate::context::GpuContext;
 use crate::error::RenderError;
 use crate::report::{FrameReport, PassReport};
@@ -55,6 +56,7 @@ fn execute(
     counters: impl FnOnce() -> Vec<(&'static str, u64)>,
 ) -> Result<(FrameReport, HashMap<String, wgpu::Texture>), RenderError> {
     let started = std::time::Instant::now();
+    let allocations_started = allocation_count::now();
     let (timing, recording) = executor.settings();
     let output_size = graph.output_size();
     let device = &gpu.device;
@@ -124,9 +126,11 @@ fn execute(
         add_counter(&mut report, name, n);
     }
     report.passes.reserve(parts.order.len());
-    let mut owned = Vec::new();
+    // Pool textures this frame took, by pass and output (the name is
+    // `parts.writes[p][output]`: not cloned a texture a frame).
+    let mut owned: Vec<(usize, usize, _, Lifetime, _)> = Vec::new();
     let mut commands = Vec::new();
-    let mut pass_queries: Vec<(usize, Vec<(u32, u32)>)> = Vec::with_capacity(parts.order.len());
+    let mut pass_queries: Vec<(usize, super::PassQueries)> = Vec::with_capacity(parts.order.len());
     let mut next_query = 0u32;
     let timestamps = executor.timestamps().filter(|_| timing != Timing::Off);
     let capacity = if timestamps.is_some() { MAX_QUERIES } else { 0 };
@@ -154,8 +158,10 @@ fn execute(
     let steps = parts.order.len();
 
     let max_side = device.limits().max_texture_dimension_2d;
+    report.allocations_before_passes = allocation_count::since(allocations_started);
     for (step, &p) in parts.order.clone().iter().enumerate() {
         let pass_started = std::time::Instant::now();
+        let pass_allocations = allocation_count::now();
         // A texture past the adapter's limit fails its pass before anything
         // is allocated (wgpu would refuse it with an error outside any scope).
         let mut too_large = too_large(&parts.writes[p], &parts.keys[p], max_side, output_size);
@@ -178,7 +184,7 @@ fn execute(
                 },
                 Lifetime::Temporary | Lifetime::Permanent => {
                     let slot = slot(&parts.names[p], occurrence[p], output);
-                    owned.push((name.clone(), *key, desc.lifetime, slot));
+                    owned.push((p, output, *key, desc.lifetime, slot));
                     textures.take(device, key, (slot, name), &mut report.textures_created)
                 }
             };
@@ -223,7 +229,7 @@ fn execute(
             views: &views,
             fresh: &fresh,
             timestamps: timestamps.filter(|_| timed).map(|t| &t.set),
-            queries: Vec::new(),
+            queries: Default::default(),
             next_query: &mut next_query,
             query_capacity: capacity,
             draws: 0,
@@ -324,14 +330,16 @@ fn execute(
             idle_ms: None,
             draws,
             cpu_ms: 0.0,
+            allocations: None,
         });
         let pass_report = report.passes.len() - 1;
 
         // Temporaries whose last reader has recorded go back to the pool, and
         // leave the live textures: no later pass can reach memory the pool
         // may hand to another.
-        owned.retain(|(name, key, lifetime, slot)| {
-            let done = *lifetime == Lifetime::Temporary
+        owned.retain(|&(pass, output, ref key, lifetime, ref slot)| {
+            let name = &parts.writes[pass][output].0;
+            let done = lifetime == Lifetime::Temporary
                 && last_use.get(name.as_str()).is_some_and(|&s| s <= step)
                 && !requested.contains(name.as_str())
                 && !watched.contains(name.as_str());
@@ -350,8 +358,10 @@ fn execute(
             !done
         });
         report.passes[pass_report].cpu_ms = pass_started.elapsed().as_secs_f64() * 1e3;
+        report.passes[pass_report].allocations = allocation_count::since(pass_allocations);
     }
     let passes_recorded = started.elapsed();
+    let tail_allocations = allocation_count::now();
     report.culled = parts
         .culled
         .iter()
@@ -493,37 +503,42 @@ fn execute(
     // History exists only for effects that run: a persistent texture no pass
     // has written for a while (its node deleted, culled, or switched to
     // another mode) is dropped.
+    // In place: the names were cloned (twice) for every persistent texture, every frame.
     let mut dropped = 0;
-    for name in textures.persistent.keys().cloned().collect::<Vec<_>>() {
-        let idle = textures.idle.entry(name.clone()).or_insert(0);
+    let pool = &mut *textures;
+    let idle = &mut pool.idle;
+    pool.persistent.retain(|name, _| {
         if parts
             .order
             .iter()
-            .any(|&p| parts.writes[p].iter().any(|(n, _)| *n == name))
+            .any(|&p| parts.writes[p].iter().any(|(n, _)| n == name))
         {
-            continue;
+            return true;
         }
-        *idle += 1;
-        if *idle > PERSISTENT_IDLE_GRAPHS {
-            textures.persistent.remove(&name);
-            textures.idle.remove(&name);
+        let frames = match idle.get_mut(name.as_str()) {
+            Some(frames) => frames,
+            None => idle.entry(name.clone()).or_insert(0),
+        };
+        *frames += 1;
+        if *frames > PERSISTENT_IDLE_GRAPHS {
+            idle.remove(name.as_str());
             dropped += 1;
+            return false;
         }
-    }
+        true
+    });
     if dropped > 0 {
-        *report
-            .counters
-            .entry("histories dropped".to_owned())
-            .or_default() += dropped;
+        add_counter(&mut report, "histories dropped", dropped);
     }
 
     // Requested outputs go to the caller and come back to the pool next frame;
     // other permanent textures return now.
     let mut outputs = HashMap::new();
-    for (name, key, _, _) in owned {
+    for (pass, output, key, _, _) in owned {
+        let name = &parts.writes[pass][output].0;
         let texture = release_instead
-            .remove(&name)
-            .or_else(|| live.get(&name).cloned());
+            .remove(name)
+            .or_else(|| live.get(name).cloned());
         if let Some(texture) = texture {
             if requested.contains(name.as_str()) || watched.contains(name.as_str()) {
                 textures.lent.push((key, texture));
@@ -547,6 +562,7 @@ fn execute(
         }
     }
     report.wait_ms = (started.elapsed().as_secs_f64() * 1e3 - report.record_ms).max(0.0);
+    report.allocations_after_passes = allocation_count::since(tail_allocations);
     // Errors outside every pass's scope (allocating the frame's textures,
     // or work done before it that no host took): the frame's, not a panic.
     for error in gpu.take_uncaptured_errors() {
@@ -554,19 +570,16 @@ fn execute(
             .errors
             .push((None, format!("GPU error outside any pass: {error}")));
     }
-    executor.set_last_report(report.clone());
+    executor.set_last_report(&report);
     Ok((report, outputs))
 }
 
-/// Add `n` to the report's counter `name`, naming it (an allocation) only the
-/// first time in the frame: passes count under a few names many times.
-fn add_counter(report: &mut FrameReport, name: &str, n: u64) {
-    match report.counters.get_mut(name) {
-        Some(count) => *count += n,
-        None => {
-            report.counters.insert(name.to_owned(), n);
-        }
-    }
+/// Add `n` to the report's counter `name` (borrowed: no allocation a name).
+fn add_counter(report: &mut FrameReport, name: &'static str, n: u64) {
+    *report
+        .counters
+        .entry(std::borrow::Cow::Borrowed(name))
+        .or_default() += n;
 }
 
 /// The error of a pass whose output would be larger than the adapter's

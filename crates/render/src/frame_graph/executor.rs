@@ -133,8 +133,12 @@ impl Executor {
         self.timestamps.as_ref()
     }
 
-    pub(crate) fn set_last_report(&self, report: FrameReport) {
-        *self.last_report.lock().unwrap_or_else(|e| e.into_inner()) = report;
+    /// Keep a copy of `report` as the last one (in the last one's storage).
+    pub(crate) fn set_last_report(&self, report: &FrameReport) {
+        self.last_report
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .copy_from(report);
     }
 
     /// Remember `submission`; wait until no more than `frames` are unfinished.

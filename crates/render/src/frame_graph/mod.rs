@@ -37,7 +37,8 @@ use crate::shaders::ShaderCache;
 
 pub use crate::report::{FrameReport, PassName, PassReport};
 pub use crate::texture_pool::TextureKey;
-pub use bindings::Bindings;
+pub(crate) use bindings::INLINE_BINDINGS;
+pub use bindings::{BindGroups, Bindings};
 pub use bound::History;
 pub use compute_pass::COMPUTE_PASSES;
 pub use executor::{Executor, PERSISTENT_IDLE_GRAPHS, Recording, Timing};
@@ -248,15 +249,23 @@ pub struct PassContext<'f> {
     pub(crate) views: &'f std::cell::RefCell<crate::texture_pool::ViewCache>,
     pub(crate) fresh: &'f FxHashSet<String>,
     pub(crate) timestamps: Option<&'f wgpu::QuerySet>,
-    pub(crate) queries: Vec<(u32, u32)>,
+    pub(crate) queries: PassQueries,
     pub(crate) next_query: &'f mut u32,
     pub(crate) query_capacity: u32,
     /// Draw calls recorded (raster passes count theirs here).
     pub draws: u64,
     pub output_size: (u32, u32),
     /// What the pass decided, by name (shadow maps rendered, reused, culled...): summed into the frame report.
-    pub(crate) counters: BTreeMap<&'static str, u64>,
+    pub(crate) counters: PassCounters,
 }
+
+/// A pass's timestamp query pairs, inline: a pass writes one or a few, and
+/// each pass allocated a Vec for them every timed frame (issue 33).
+pub(crate) type PassQueries = smallvec::SmallVec<[(u32, u32); 4]>;
+
+/// A pass's counters by name, inline and searched in order: a pass counts
+/// under a name or two, and each allocated a map node every frame.
+pub(crate) type PassCounters = smallvec::SmallVec<[(&'static str, u64); 4]>;
 
 impl<'f> PassContext<'f> {
     /// A view of any texture (one the frame graph does not manage too, such
@@ -279,7 +288,14 @@ impl<'f> PassContext<'f> {
     /// Add `n` to the frame report's counter `name`: how passes show the work
     /// they did and the work they saved.
     pub fn count(&mut self, name: &'static str, n: u64) {
-        *self.counters.entry(name).or_default() += n;
+        match self
+            .counters
+            .iter_mut()
+            .find(|(counted, _)| *counted == name)
+        {
+            Some((_, count)) => *count += n,
+            None => self.counters.push((name, n)),
+        }
     }
 
     /// Whether this pass's output `tex` is read: by a later pass of this
@@ -572,7 +588,8 @@ pub(crate) struct GraphParts<'a> {
     /// Watched textures that no request names ([`FrameGraph::watch`]).
     pub watched: Vec<String>,
     pub imports: FxHashMap<String, wgpu::Texture>,
-    pub keys: Vec<Vec<TextureKey>>,
+    /// Inline: a pass writes a few textures, and a Vec each was a pass's allocation a frame.
+    pub keys: Vec<smallvec::SmallVec<[TextureKey; 4]>>,
     pub counters: BTreeMap<&'static str, u64>,
     /// Texture names by handle.
     pub texture_names: Vec<String>,
@@ -662,9 +679,9 @@ pub(crate) struct Recorded {
     pub encoder: wgpu::CommandEncoder,
     /// The compute pass left open for the next graph pass on this encoder.
     pub compute: Option<compute_pass::OpenCompute>,
-    pub queries: Vec<(u32, u32)>,
+    pub queries: PassQueries,
     pub draws: u64,
-    pub counters: BTreeMap<&'static str, u64>,
+    pub counters: PassCounters,
     pub handovers: Vec<history::Handover>,
 }
 

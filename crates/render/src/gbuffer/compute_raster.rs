@@ -102,7 +102,7 @@ struct Batch {
 /// A [`Batch`] ready to dispatch this frame.
 struct BatchGroup<'p> {
     pipeline: &'p wgpu::ComputePipeline,
-    groups: Vec<wgpu::BindGroup>,
+    groups: crate::frame_graph::BindGroups,
     total: u32,
     procedural: bool,
 }

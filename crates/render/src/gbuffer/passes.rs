@@ -122,7 +122,8 @@ fn visibility(
     let extras = renderer.meshes.extras();
     const STAGES: [&str; 2] = ["vs", "fs"];
     // Culling back faces, and (for draws of double-sided materials) not.
-    let mut plain: [Option<(wgpu::RenderPipeline, Vec<wgpu::BindGroup>)>; 2] = [None, None];
+    let mut plain: [Option<(wgpu::RenderPipeline, crate::frame_graph::BindGroups)>; 2] =
+        [None, None];
     for sided in [false, true] {
         if g.draws.iter().any(|d| d.two_sided == sided) {
             let (pipeline, key) = visibility_pipeline(cx, false, sided)?;

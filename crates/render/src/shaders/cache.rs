@@ -6,9 +6,10 @@ use std::borrow::Cow;
 
 use std::sync::Arc;
 
-use super::reflection::{Reflection, match_bindings, reflect};
+use super::reflection::{GroupEntries, Reflection, match_bindings, reflect};
 use super::{ShaderComposer, ShaderKey, Splice};
 use crate::error::RenderError;
+use crate::frame_graph::BindGroups;
 
 /// A compute pipeline of `entry` in `module`, its bind group layouts derived from the shader.
 fn compute_pipeline_of(
@@ -37,6 +38,9 @@ pub enum Sampling {
     LinearClamp,
 }
 
+/// A render pipeline's stage names and their merged reflection.
+type MergedStages = (Vec<String>, Arc<Reflection>);
+
 /// Compiled shader modules and pipelines, keyed by permutation. Counts what it
 /// compiles, so the frame statistics show when a frame had to compile.
 pub struct ShaderCache {
@@ -46,6 +50,10 @@ pub struct ShaderCache {
     /// which it uses. (Keyed by permutation, then entry: a look-up borrows
     /// the key, as every pass makes several a frame.)
     reflections: FxHashMap<ShaderKey, FxHashMap<String, Arc<Reflection>>>,
+    /// Per permutation, a render pipeline's stages merged into one
+    /// reflection (a variable used where any stage uses it): merged once,
+    /// not at every bind (it cloned every variable's name, each frame).
+    merged: FxHashMap<ShaderKey, Vec<MergedStages>>,
     /// Per shader file: every resource variable its source (or a library)
     /// declares under any feature, to tell a compiled-out name from a typo.
     declared: FxHashMap<&'static str, rustc_hash::FxHashSet<String>>,
@@ -206,6 +214,7 @@ impl ShaderCache {
             composer,
             modules: FxHashMap::default(),
             reflections: FxHashMap::default(),
+            merged: FxHashMap::default(),
             declared: FxHashMap::default(),
             compute: FxHashMap::default(),
             render: FxHashMap::default(),
@@ -310,22 +319,10 @@ impl ShaderCache {
         pipeline: &PipelineRef,
         resources: &[(&str, wgpu::BindingResource<'_>)],
         prebuilt: &[(u32, wgpu::BindGroup)],
-    ) -> Result<Vec<wgpu::BindGroup>, RenderError> {
+    ) -> Result<BindGroups, RenderError> {
         let reflection = match entries {
             [entry] => self.reflection(key, entry)?,
-            // A render pipeline's stages: a variable is used where any stage uses it.
-            _ => {
-                let mut merged: Vec<super::ShaderVar> = Vec::new();
-                for entry in entries {
-                    for var in self.reflection(key, entry)?.vars() {
-                        match merged.iter_mut().find(|v| v.name == var.name) {
-                            Some(v) => v.used |= var.used,
-                            None => merged.push(var.clone()),
-                        }
-                    }
-                }
-                Arc::new(Reflection::new(merged))
-            }
+            _ => self.merged_reflection(key, entries)?,
         };
         let path = key.path();
         // A name the permutation lacks must be one the shader (or a library)
@@ -349,6 +346,40 @@ impl ShaderCache {
         Ok(self.groups_of(device, pipeline, path, &matched, prebuilt))
     }
 
+    /// The reflection of a render pipeline's stages `entries` together: a
+    /// variable is used where any stage uses it.
+    fn merged_reflection(
+        &mut self,
+        key: &ShaderKey,
+        entries: &[&str],
+    ) -> Result<Arc<Reflection>, RenderError> {
+        let same = |stages: &[String]| {
+            stages.len() == entries.len() && stages.iter().zip(entries).all(|(a, b)| a == b)
+        };
+        if let Some((_, found)) = self
+            .merged
+            .get(key)
+            .and_then(|made| made.iter().find(|(stages, _)| same(stages)))
+        {
+            return Ok(found.clone());
+        }
+        let mut merged: Vec<super::ShaderVar> = Vec::new();
+        for entry in entries {
+            for var in self.reflection(key, entry)?.vars() {
+                match merged.iter_mut().find(|v| v.name == var.name) {
+                    Some(v) => v.used |= var.used,
+                    None => merged.push(var.clone()),
+                }
+            }
+        }
+        let reflection = Arc::new(Reflection::new(merged));
+        self.merged.entry(key.clone()).or_default().push((
+            entries.iter().map(|e| (*e).to_owned()).collect(),
+            reflection.clone(),
+        ));
+        Ok(reflection)
+    }
+
     /// [`ShaderCache::named_groups`] for a pipeline reflected elsewhere (a
     /// resolve composed with a shader node material); every name must be
     /// one the module has or a variable it compiled out, which the caller vouches for.
@@ -360,7 +391,7 @@ impl ShaderCache {
         pipeline: &PipelineRef,
         resources: &[(&str, wgpu::BindingResource<'_>)],
         prebuilt: &[(u32, wgpu::BindGroup)],
-    ) -> Result<Vec<wgpu::BindGroup>, String> {
+    ) -> Result<BindGroups, String> {
         let matched = match_bindings(reflection, resources, prebuilt, |_| Ok(()))?;
         Ok(self.groups_of(device, pipeline, label, &matched, prebuilt))
     }
@@ -371,9 +402,9 @@ impl ShaderCache {
         device: &wgpu::Device,
         pipeline: &PipelineRef,
         label: &str,
-        matched: &[Vec<wgpu::BindGroupEntry<'_>>],
+        matched: &[GroupEntries<'_>],
         prebuilt: &[(u32, wgpu::BindGroup)],
-    ) -> Vec<wgpu::BindGroup> {
+    ) -> BindGroups {
         matched
             .iter()
             .enumerate()

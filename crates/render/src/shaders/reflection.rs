@@ -7,6 +7,8 @@
 //! (`material_metaX_naga_oil_mod_X…X`): the name here is the undecorated one,
 //! the name written in the library.
 
+use smallvec::SmallVec;
+
 /// One resource variable of a shader module.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct ShaderVar {
@@ -88,7 +90,11 @@ impl Reflection {
         let groups = match_bindings(self, resources, &[], |name| {
             Err(format!("the shader declares no variable `{name}`"))
         })?;
-        Ok(groups.into_iter().nth(group as usize).unwrap_or_default())
+        Ok(groups
+            .into_iter()
+            .nth(group as usize)
+            .map(SmallVec::into_vec)
+            .unwrap_or_default())
     }
 }
 
@@ -138,19 +144,23 @@ pub fn reflect(module: &naga::Module, entry: &str) -> Result<Reflection, String>
 /// empty). A name the permutation lacks goes to `unknown`, which says
 /// whether that is an error; a variable the entry point uses that nothing
 /// binds is one.
+/// One bind group's entries, inline (a dispatch matches its bindings every frame).
+pub(crate) type GroupEntries<'r> =
+    SmallVec<[wgpu::BindGroupEntry<'r>; crate::frame_graph::INLINE_BINDINGS]>;
+
 pub(super) fn match_bindings<'r>(
     reflection: &Reflection,
     resources: &[(&str, wgpu::BindingResource<'r>)],
     prebuilt: &[(u32, wgpu::BindGroup)],
     mut unknown: impl FnMut(&str) -> Result<(), String>,
-) -> Result<Vec<Vec<wgpu::BindGroupEntry<'r>>>, String> {
+) -> Result<SmallVec<[GroupEntries<'r>; 4]>, String> {
     let vars = reflection.vars();
     let made_elsewhere = |group: u32| prebuilt.iter().any(|(g, _)| *g == group);
-    let mut groups: Vec<Vec<wgpu::BindGroupEntry<'r>>> = match reflection.last_group() {
-        Some(last) => vec![Vec::new(); last as usize + 1],
-        None => Vec::new(),
+    let mut groups: SmallVec<[GroupEntries<'r>; 4]> = match reflection.last_group() {
+        Some(last) => (0..=last).map(|_| GroupEntries::new()).collect(),
+        None => SmallVec::new(),
     };
-    let mut bound = vec![false; vars.len()];
+    let mut bound: SmallVec<[bool; 32]> = smallvec::smallvec![false; vars.len()];
     for (name, resource) in resources {
         let Some(i) = reflection.position(name) else {
             unknown(name)?;

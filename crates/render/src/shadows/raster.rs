@@ -13,6 +13,7 @@ use crate::renderer::Renderer;
 use crate::shaders::{Permutation, ShaderKey};
 
 use glam::{Mat4, Vec4};
+use smallvec::{SmallVec, smallvec};
 
 use super::scroll::Rect;
 use super::store::{DEPTH_FORMAT, StoredMaps};
@@ -136,6 +137,10 @@ impl StillSets {
     }
 }
 
+/// A part of a layer the compute rasterizer draws: its camera, its region
+/// uniform and its size in texels.
+type CameraPart<'b> = (&'b wgpu::Buffer, &'b wgpu::Buffer, (u32, u32));
+
 /// Where a layer's depth goes.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(super) enum Target {
@@ -224,8 +229,9 @@ impl ShadowMaps {
                 continue;
             };
             // The whole layer through its own camera, or each strip through its narrowed one.
-            let parts: Vec<(&wgpu::Buffer, &wgpu::Buffer, (u32, u32))> = if job.strips.is_empty() {
-                vec![(
+            // Inline: a layer or its two strips (an allocation a job a frame otherwise).
+            let parts: SmallVec<[CameraPart<'_>; 2]> = if job.strips.is_empty() {
+                smallvec![(
                     &cameras[job.layer as usize],
                     &self.layer_info[job.layer as usize],
                     (res, res),
@@ -385,8 +391,8 @@ impl ShadowMaps {
             }
             // A whole layer once, or each strip clipped to itself (the
             // attachment is cleared whole; only the strips are resolved).
-            let scissors: Vec<Option<Rect>> = if strips.is_empty() {
-                vec![None]
+            let scissors: SmallVec<[Option<Rect>; 2]> = if strips.is_empty() {
+                smallvec![None]
             } else {
                 strips.iter().map(|s| Some(s.rect)).collect()
             };
@@ -419,8 +425,8 @@ impl ShadowMaps {
             },
         );
         for job in jobs {
-            let parts: Vec<(&wgpu::Buffer, (u32, u32))> = if job.strips.is_empty() {
-                vec![(&self.layer_info[job.layer as usize], (res, res))]
+            let parts: SmallVec<[(&wgpu::Buffer, (u32, u32)); 2]> = if job.strips.is_empty() {
+                smallvec![(&self.layer_info[job.layer as usize], (res, res))]
             } else {
                 job.strips
                     .iter()

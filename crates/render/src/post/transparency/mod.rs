@@ -1016,7 +1016,7 @@ type Work = (
     bool,
     bool,
     wgpu::RenderPipeline,
-    Vec<wgpu::BindGroup>,
+    crate::frame_graph::BindGroups,
 );
 
 /// A layer's own maps as the accumulation pass read them.
