@@ -32,10 +32,7 @@
 //! - which rasterizer draws shadow maps under `Auto`
 //!   (`shadows::compute_rasterizes`): a GPU compute at every
 //!   resolution, a CPU adapter the raster hardware (ten to a hundred times faster
-//!   there for patches/shadows.ron's cascades);
-//! - how AO's and SSGI's blurs run under `Auto` (`ssao::BlurPasses::tiled`):
-//!   a GPU x and y in one dispatch over tiles in workgroup memory, a CPU
-//!   adapter two plain passes (no barrier to run as a coroutine).
+//!   there for patches/shadows.ron's cascades).
 //!
 //! The class comes from the adapter's own report (`AdapterInfo::device_type`),
 //! so the decision is made once per device, costs nothing per frame and is

@@ -3,21 +3,17 @@
 //! Gaussian and the same weights for view-distance and normal difference
 //! (shaders/ssao/blur.wgsl, shaders/lighting/ssgi.wgsl's BLUR). At a
 //! size that is a multiple of 8 neither way, workgroups end at the image's
-//! edge. The tiled blurs (x and y in one dispatch: shaders/ssao/blur_tiled.wgsl,
-//! shaders/lighting/ssgi_blur_tiled.wgsl) give the two passes' image texel
-//! for texel.
+//! edge.
 
 mod occlusion_scene;
 
 use glam::Vec3;
 use spreadlight_render::FrameReport;
 use spreadlight_render::camera::reverse_z;
-use spreadlight_render::lighting::{SSGI_BLUR_TILED, SSGI_TILED_MAX_RADIUS, Ssgi, SsgiSettings};
+use spreadlight_render::lighting::{Ssgi, SsgiSettings};
 use spreadlight_render::readback::{ImageF32, render_and_read};
 use spreadlight_render::renderer::test_renderer;
-use spreadlight_render::ssao::{
-    AmbientOcclusion, AoMode, AoSettings, BLUR_TILED, BlurPasses, TILED_MAX_RADIUS,
-};
+use spreadlight_render::ssao::{AmbientOcclusion, AoMode, AoSettings};
 
 use occlusion_scene::{camera, constant, eye, gbuffer, image};
 
@@ -164,47 +160,22 @@ fn check(
     changed
 }
 
-/// How many passes of the report have step `step`.
-fn steps(report: &FrameReport, step: &str) -> usize {
-    report
-        .passes
-        .iter()
-        .filter(|p| p.step.as_deref() == Some(step))
-        .count()
-}
-
 /// The blur ran as two passes, x then y.
 fn assert_passes(report: &FrameReport, radius: u32, what: &str) {
     for axis in ["x", "y"] {
-        let named = steps(report, &format!("blur {axis}"));
+        let named = report
+            .passes
+            .iter()
+            .filter(|p| p.step.as_deref() == Some(format!("blur {axis}").as_str()))
+            .count();
         assert_eq!(named, 1, "{what}, radius {radius}: blur {axis}");
-    }
-}
-
-/// The blur ran as one tiled pass ("blur"), counted under `counter`, with no x or y pass.
-fn assert_tiled(report: &FrameReport, radius: u32, what: &str, counter: &str) {
-    assert_eq!(steps(report, "blur"), 1, "{what}, radius {radius}");
-    assert_eq!(steps(report, "blur x") + steps(report, "blur y"), 0);
-    assert_eq!(report.counter(counter), 1, "{what}, radius {radius}");
-}
-
-/// `tiled` and `separable` are the same image, texel for texel.
-fn assert_same(what: &str, tiled: &ImageF32, separable: &ImageF32) {
-    for (i, (t, s)) in tiled.pixels.iter().zip(&separable.pixels).enumerate() {
-        assert_eq!(
-            t,
-            s,
-            "{what}: tiled against two passes at pixel ({}, {})",
-            i % SIZE.0 as usize,
-            i / SIZE.0 as usize
-        );
     }
 }
 
 #[test]
 fn the_ao_blur_is_the_depth_aware_gaussian_of_its_input() {
     // The same node id on a new renderer: the same frame index, the same noise.
-    let frame = |blur_radius: u32, combine: bool, blur_passes: BlurPasses| {
+    let frame = |blur_radius: u32, combine: bool| {
         let renderer = test_renderer();
         let g = gbuffer(&renderer, eye(), None, SIZE);
         let settings = AoSettings {
@@ -214,7 +185,6 @@ fn the_ao_blur_is_the_depth_aware_gaussian_of_its_input() {
             steps: 8,
             temporal_blend: 0.0,
             blur_radius,
-            blur_passes,
             ..Default::default()
         };
         // HBAO unblurred, multiplied in by the last pass.
@@ -240,7 +210,7 @@ fn the_ao_blur_is_the_depth_aware_gaussian_of_its_input() {
         assert!(report.errors.is_empty(), "{:?}", report.errors);
         (report, images)
     };
-    let (_, images) = frame(0, false, BlurPasses::Separable);
+    let (_, images) = frame(0, false);
     let sharp: Vec<[f32; 4]> = images[0].pixels.clone();
     let (depth, normals) = (&images[1], &images[2]);
     for (radius, combine) in [
@@ -249,22 +219,10 @@ fn the_ao_blur_is_the_depth_aware_gaussian_of_its_input() {
         (4, false),
         (4, true),
         (6, false),
-        // The widest the tiled pass holds, and one wider.
-        (TILED_MAX_RADIUS, true),
-        (TILED_MAX_RADIUS + 2, false),
         (16, false),
     ] {
-        let (report, images) = frame(radius, combine, BlurPasses::Separable);
+        let (report, images) = frame(radius, combine);
         assert_passes(&report, radius, "AO");
-        // The tiled pass where the radius fits it, else the same two passes.
-        let (tiled_report, tiled) = frame(radius, combine, BlurPasses::Tiled);
-        if radius <= TILED_MAX_RADIUS {
-            assert_tiled(&tiled_report, radius, "AO tiled", BLUR_TILED);
-        } else {
-            assert_passes(&tiled_report, radius, "AO tiled, too wide to tile");
-        }
-        let what = format!("AO, radius {radius}, combined {combine}");
-        assert_same(&what, &tiled[0], &images[0]);
         let mut expected = reference_blur(&sharp, depth, normals, radius as i32, Values::Occlusion);
         if combine {
             for (e, other) in expected.iter_mut().zip(&images[3].pixels) {
@@ -289,7 +247,7 @@ fn the_ssgi_blur_is_the_depth_aware_gaussian_of_its_input() {
         })
         .collect();
     let sky = [0.0, 0.1, 0.4];
-    let frame = |blur_radius: u32, ambient: bool, blur_passes: BlurPasses| {
+    let frame = |blur_radius: u32, ambient: bool| {
         let renderer = test_renderer();
         let g = gbuffer(&renderer, eye(), None, SIZE);
         let lit = image(&renderer, &lit, SIZE, "lit");
@@ -299,7 +257,6 @@ fn the_ssgi_blur_is_the_depth_aware_gaussian_of_its_input() {
             samples: 2,
             temporal_blend: 0.0,
             blur_radius,
-            blur_passes,
             ..Default::default()
         };
         let gi = Ssgi::new(
@@ -316,29 +273,12 @@ fn the_ssgi_blur_is_the_depth_aware_gaussian_of_its_input() {
         assert!(report.errors.is_empty(), "{:?}", report.errors);
         (report, images)
     };
-    let (_, images) = frame(0, false, BlurPasses::Separable);
+    let (_, images) = frame(0, false);
     let sharp: Vec<[f32; 4]> = images[0].pixels.clone();
     let (depth, normals) = (&images[1], &images[2]);
-    let widest = SSGI_TILED_MAX_RADIUS;
-    for (radius, ambient) in [
-        (1, false),
-        (3, false),
-        (4, true),
-        (widest, false),
-        (widest + 1, false),
-        (9, true),
-    ] {
-        let (report, images) = frame(radius, ambient, BlurPasses::Separable);
+    for (radius, ambient) in [(1, false), (3, false), (4, true), (6, false), (9, true)] {
+        let (report, images) = frame(radius, ambient);
         assert_passes(&report, radius, "SSGI");
-        // The tiled pass where the radius fits it, else the same two passes.
-        let (tiled_report, tiled) = frame(radius, ambient, BlurPasses::Tiled);
-        if radius <= widest {
-            assert_tiled(&tiled_report, radius, "SSGI tiled", SSGI_BLUR_TILED);
-        } else {
-            assert_passes(&tiled_report, radius, "SSGI tiled, too wide to tile");
-        }
-        let what = format!("SSGI, radius {radius}, ambient {ambient}");
-        assert_same(&what, &tiled[0], &images[0]);
         let mut expected = reference_blur(&sharp, depth, normals, radius as i32, Values::Light);
         if ambient {
             // The environment's light arrives along the rays that escaped.

@@ -89,7 +89,6 @@ impl Common {
             blur_radius: int(self.blur, 4)?,
             reset: cx.first(self.reset, false)?,
             resolution: cx.choice(self.resolution)?,
-            blur_passes: Default::default(),
         })
     }
 }

@@ -65,7 +65,6 @@ pub fn register(r: &mut Registry) {
                     blur_radius: int(blur, d.blur_radius)?,
                     reset: cx.first(reset, false)?,
                     resolution: cx.choice(resolution)?,
-                    blur_passes: d.blur_passes,
                 };
                 let g = cx
                     .first_resource(g_buffer)?

@@ -27,7 +27,6 @@ pub(crate) use cook_torrance::near_far;
 pub use cook_torrance::{CookTorrance, FEW_LIGHTS, LightLoop, Surfaces, Walk, resolve_walk};
 pub use ssgi::GATHER_TEMPORAL as SSGI_GATHER_TEMPORAL;
 pub use ssgi::HALF_RESOLUTION as SSGI_HALF_RESOLUTION;
-pub use ssgi::{BLUR_TILED as SSGI_BLUR_TILED, TILED_MAX_RADIUS as SSGI_TILED_MAX_RADIUS};
 pub use ssgi::{Ssgi, SsgiKey, SsgiSettings};
 pub use ssss::{Ssss, SsssQuality};
 

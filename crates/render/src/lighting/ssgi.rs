@@ -7,13 +7,9 @@
 //! environment's diffuse light) is added so one texture carries both.
 //! At [`Resolution::Half`] the gather runs for one pixel in four and is
 //! upsampled with depth awareness (crate::resolution) before the rest.
-//! Up to [`TILED_MAX_RADIUS`] the blur's x and y run as one dispatch over
-//! tiles in workgroup memory (shaders/lighting/ssgi_blur_tiled.wgsl,
-//! [`BlurPasses`]), with the two passes' image.
 
 use std::sync::Arc;
 
-use crate::adapter_class::AdapterClass;
 use crate::error::RenderError;
 use crate::frame_graph::{Bindings, FrameGraph, PassBuilder, PassContext, Tex, TextureDesc};
 use crate::gbuffer::GBuffer;
@@ -24,11 +20,9 @@ use crate::resolution::{
     Resolution, UpsampleFormat, UpsamplePass, declare_upsample, written_target,
 };
 use crate::shaders::Permutation;
-use crate::ssao::BlurPasses;
 use crate::temporal::{RayParams, RayUniforms};
 
 pub use super::ssgi_key::SsgiKey;
-use super::ssgi_key::SsgiTiledBlurKey;
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SsgiSettings {
@@ -47,19 +41,7 @@ pub struct SsgiSettings {
     pub reset: bool,
     /// Where the gather runs: every pixel, or one in four upsampled.
     pub resolution: Resolution,
-    /// How the blur's x and y run (the same image either way): under
-    /// `Auto` on a GPU one tiled pass up to [`TILED_MAX_RADIUS`].
-    pub blur_passes: BlurPasses,
 }
-
-/// The widest blur the tiled pass holds: a 16x16 tile with this apron on
-/// every side is (16 + 2 x 5)^2 texels of 24 bytes, within WebGPU's default
-/// 16 KiB of workgroup memory (shaders/lighting/ssgi_blur_tiled.wgsl's MAX_RADIUS).
-pub const TILED_MAX_RADIUS: u32 = 5;
-/// Statistic: SSGI blurs that ran x and y in one tiled dispatch.
-pub const BLUR_TILED: &str = "SSGI blur x and y in one tiled pass";
-/// ssgi_blur_tiled.wgsl's tile edge (its workgroup is TILE x TILE).
-const TILE: u32 = 16;
 
 /// Counted when an SSGI's gather ran at half resolution.
 pub const HALF_RESOLUTION: &str = "SSGI at half resolution";
@@ -80,7 +62,6 @@ impl Default for SsgiSettings {
             blur_radius: 4,
             reset: false,
             resolution: Resolution::Full,
-            blur_passes: BlurPasses::Auto,
         }
     }
 }
@@ -97,7 +78,6 @@ impl SsgiSettings {
             blur_radius: self.blur_radius.min(16),
             reset: self.reset,
             resolution: self.resolution,
-            blur_passes: self.blur_passes,
         }
     }
 }
@@ -306,35 +286,6 @@ impl Ssgi {
         };
         self.dispatch(cx, label, key, io, more)
     }
-
-    /// x and y in one dispatch over 16x16 tiles
-    /// (shaders/lighting/ssgi_blur_tiled.wgsl), writing the output.
-    fn blur_tiled(
-        &self,
-        cx: &mut PassContext<'_>,
-        io: &PassIo,
-        ambient: Option<Tex>,
-    ) -> Result<(), RenderError> {
-        cx.count(BLUR_TILED, 1);
-        let b = Bindings::new()
-            .buffer("camera", self.gbuffer.camera_buffer())
-            .buffer("params", self.rays.params())
-            .texture("depth", io.depth)
-            .texture("normals", io.normals)
-            .texture("source", io.source)
-            .texture("output", io.output)
-            .texture_opt("ambient", ambient);
-        let key = SsgiTiledBlurKey {
-            ambient: ambient.is_some(),
-            // lavapipe's half-float stores truncate (depth_aware_blur.rs
-            // compares the two ways there); GPUs round to nearest. The
-            // device's own class, whatever paths a test asks it to take.
-            toward_zero: AdapterClass::of(&cx.gpu.adapter_info) == AdapterClass::Cpu,
-        };
-        let (w, h) = self.gbuffer.pixel_size(cx.output_size);
-        let tiles = (w.div_ceil(TILE), h.div_ceil(TILE), 1);
-        cx.dispatch_shader("ssgi blur", &key.key(), "main", b, tiles)
-    }
 }
 
 /// What an SSGI pass declared: the G-buffer's depth and normals, its
@@ -477,19 +428,7 @@ impl Recipe for Ssgi {
         if self.off() {
             fg.count("SSGI off: radius 0", 1);
         }
-        let s = self.settings;
-        let blur = s.blur_radius > 0 && !self.off();
-        if blur
-            && s.blur_passes.tiled(renderer.gpu.adapter_class())
-            && s.blur_radius <= TILED_MAX_RADIUS
-        {
-            let mut pass = fg.pass(PassName::new("SSGI").step("blur"), self.owner);
-            let io = self.declare_pass(&mut pass, &last, &self.output, rgba);
-            let ambient = pass.read_opt(self.ambient.as_ref().map(|a| a.name.as_str()));
-            pass.run(move |cx| self.blur_tiled(cx, &io, ambient));
-            return;
-        }
-        if blur {
+        if self.settings.blur_radius > 0 && !self.off() {
             let blurred = self.name("blurred");
             let mut pass = fg.pass(PassName::new("SSGI").step("blur x"), self.owner);
             let io = self.declare_pass(&mut pass, &last, &blurred, rgba);

@@ -40,37 +40,3 @@ impl Permutation for SsgiKey {
         ]
     }
 }
-
-/// `lighting/ssgi_blur_tiled.wgsl`: the blur's x and y in one dispatch over
-/// tiles in workgroup memory; with `ambient` the ambient added; with
-/// `toward_zero` the x result rounded to half float as a store on a CPU
-/// adapter rounds it (toward zero), else to nearest.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub struct SsgiTiledBlurKey {
-    pub ambient: bool,
-    pub toward_zero: bool,
-}
-
-impl Permutation for SsgiTiledBlurKey {
-    crate::shader_file!("lighting/ssgi_blur_tiled.wgsl");
-    const FEATURES: &'static [&'static str] = &["AMBIENT", "HALF_TOWARD_ZERO"];
-
-    fn features(self) -> impl Iterator<Item = &'static str> {
-        let ambient = self.ambient.then_some("AMBIENT");
-        ambient
-            .into_iter()
-            .chain(self.toward_zero.then_some("HALF_TOWARD_ZERO"))
-    }
-
-    fn all() -> Vec<Self> {
-        [false, true]
-            .into_iter()
-            .flat_map(|toward_zero| {
-                [false, true].map(|ambient| SsgiTiledBlurKey {
-                    ambient,
-                    toward_zero,
-                })
-            })
-            .collect()
-    }
-}

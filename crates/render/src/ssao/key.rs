@@ -158,26 +158,3 @@ impl Permutation for TemporalKey {
         vec![TemporalKey]
     }
 }
-
-/// `ssao/blur_tiled.wgsl`: the blur's x and y in one dispatch over tiles
-/// in workgroup memory; with `combine`, another AO multiplied in.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub struct TiledBlurKey {
-    pub combine: bool,
-}
-
-impl Permutation for TiledBlurKey {
-    crate::shader_file!("ssao/blur_tiled.wgsl");
-    const FEATURES: &'static [&'static str] = &["COMBINE"];
-
-    fn features(self) -> impl Iterator<Item = &'static str> {
-        self.combine.then_some("COMBINE").into_iter()
-    }
-
-    fn all() -> Vec<Self> {
-        vec![
-            TiledBlurKey { combine: false },
-            TiledBlurKey { combine: true },
-        ]
-    }
-}

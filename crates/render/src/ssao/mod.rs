@@ -13,9 +13,7 @@
 //!    `Renderer::reset_history` starts it anew.
 //! 4. A depth- and normal-aware separable blur (shaders/ssao/blur.wgsl),
 //!    whose last pass also multiplies in another AO (`combine`: wide-range
-//!    times local, as Emeshe pairs them). Up to [`TILED_MAX_RADIUS`] its x
-//!    and y run as one dispatch over tiles in workgroup memory
-//!    (shaders/ssao/blur_tiled.wgsl, [`BlurPasses`]), with the same result.
+//!    times local, as Emeshe pairs them).
 //!
 //! At [`Resolution::Half`] step 2 runs for one pixel in four and is
 //! upsampled with depth awareness (crate::resolution) before step 3; the
@@ -26,7 +24,6 @@
 
 use std::sync::Arc;
 
-use crate::adapter_class::AdapterClass;
 use crate::error::RenderError;
 use crate::finite::finite_in;
 use crate::frame_graph::{Bindings, FrameGraph, History, PassBuilder, PassContext, TextureDesc};
@@ -42,7 +39,7 @@ use crate::temporal::{RayParams, RayUniforms};
 
 // The keys declare their shader files and need nothing of the pass.
 pub(crate) mod key;
-pub use key::{AoKey, AoMode, AoTarget, BlurKey, DepthKey, TemporalKey, TiledBlurKey};
+pub use key::{AoKey, AoMode, AoTarget, BlurKey, DepthKey, TemporalKey};
 
 /// Every AO pin; out-of-range values are clamped where the recipe is made.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -64,35 +61,7 @@ pub struct AoSettings {
     pub reset: bool,
     /// Where the raw estimate runs: every pixel, or one in four upsampled.
     pub resolution: Resolution,
-    /// How the blur's two axes run (the same image either way).
-    pub blur_passes: BlurPasses,
 }
-
-/// How the blur's x and y run. Both give the same image (the same sums in
-/// the same order: crates/render/tests/depth_aware_blur.rs compares them
-/// texel for texel); the choice is kept so the two can be compared.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum BlurPasses {
-    /// What measures fastest on the adapter's class ([`tiled_blur`]): a GPU
-    /// `Tiled`, a CPU adapter `Separable` (lavapipe runs the tiled pass's
-    /// 256 invocations and their barriers as coroutines: several times slower there).
-    #[default]
-    Auto,
-    /// One dispatch ("blur") for half-widths up to [`TILED_MAX_RADIUS`]: tile
-    /// and apron loaded once into workgroup memory, x then y there; wider
-    /// blurs run as `Separable`.
-    Tiled,
-    /// Two full-screen passes, "blur x" into an R32F target and "blur y".
-    Separable,
-}
-
-/// The widest blur the tiled pass holds: a 16x16 tile with this apron on
-/// every side is (16 + 2 x 6)^2 texels of 20 bytes, within WebGPU's default
-/// 16 KiB of workgroup memory (shaders/ssao/blur_tiled.wgsl's MAX_RADIUS).
-pub const TILED_MAX_RADIUS: u32 = 6;
-
-/// Statistic: AO blurs that ran x and y in one tiled dispatch.
-pub const BLUR_TILED: &str = "AO blur x and y in one tiled pass";
 
 /// Counted when a history starts anew (a resize, a `Reset`, a camera cut).
 const HISTORY_RESET: &str = "AO history reset";
@@ -114,7 +83,6 @@ impl Default for AoSettings {
             blur_radius: 4,
             reset: false,
             resolution: Resolution::Full,
-            blur_passes: BlurPasses::Auto,
         }
     }
 }
@@ -276,8 +244,6 @@ impl Recipe for AmbientOcclusion {
         }
         self.gbuffer.declare(renderer, fg);
         declare_inputs(renderer, fg, &self.combine);
-        let s = self.settings;
-        let tiled = tiled_blur(s.blur_passes, s.blur_radius, renderer.gpu.adapter_class());
         // SAO's depth chain is built only when SAO runs.
         let sao = self.settings.mode == AoMode::Sao && !self.off();
         let levels = if sao { &DEPTH_LEVELS[..] } else { &[] };
@@ -339,7 +305,7 @@ impl Recipe for AmbientOcclusion {
         pass.run_bound(move |cx, b| self.raw(cx, b, key, fused));
         if fused.is_some() {
             // The estimate and its accumulation in one pass: straight to the blur.
-            return self.declare_blur(fg, self.history_name(), tiled);
+            return self.declare_blur(fg, self.history_name());
         }
         declare_upsample(
             fg,
@@ -358,7 +324,7 @@ impl Recipe for AmbientOcclusion {
             },
         );
         if !self.temporal() {
-            return self.declare_blur(fg, raw, tiled);
+            return self.declare_blur(fg, raw);
         }
         let mut pass = self.pass(fg, "temporal");
         pass.input("raw", &raw);
@@ -369,22 +335,19 @@ impl Recipe for AmbientOcclusion {
             let size = self.gbuffer.pixel_size(cx.output_size);
             cx.dispatch_image("ao temporal", &TemporalKey.key(), b, size)
         });
-        self.declare_blur(fg, self.history_name(), tiled);
+        self.declare_blur(fg, self.history_name());
     }
 }
 
 impl AmbientOcclusion {
     /// The depth-aware blur of `source` (x then y), or with no blur the
     /// resolve; the last pass writes the output (and multiplies `combine` in).
-    fn declare_blur<'a>(&'a self, fg: &mut FrameGraph<'a>, mut source: String, tiled: bool) {
+    fn declare_blur<'a>(&'a self, fg: &mut FrameGraph<'a>, mut source: String) {
         if self.off() {
             fg.count("AO off: radius 0", 1);
         }
         let blur = self.settings.blur_radius > 0 && !self.off();
         let full = |format| TextureDesc::storage(format).size(self.gbuffer.size);
-        if blur && tiled {
-            return self.declare_tiled_blur(fg, source);
-        }
         if blur {
             let mut pass = self.pass(fg, "blur x");
             pass.input("source", &source);
@@ -407,65 +370,5 @@ impl AmbientOcclusion {
             Some(_) => BlurKey::VerticalCombine,
         };
         pass.dispatch_image("ao blur y", key.key(), self.gbuffer.size);
-    }
-
-    /// x and y of the blur in one pass over 16x16 tiles; it writes the
-    /// output (and multiplies `combine` in) as the separable y pass does.
-    fn declare_tiled_blur<'a>(&'a self, fg: &mut FrameGraph<'a>, source: String) {
-        let mut pass = self.pass(fg, "blur");
-        self.common(&mut pass);
-        let combine = pass.input_opt("combine", name_of(&self.combine));
-        pass.input("source", &source);
-        pass.output(
-            "output",
-            &self.output,
-            TextureDesc::storage(wgpu::TextureFormat::Rgba16Float).size(self.gbuffer.size),
-        );
-        let key = TiledBlurKey {
-            combine: combine.is_some(),
-        };
-        let size = self.gbuffer.size;
-        pass.run_bound(move |cx, b| {
-            cx.count(BLUR_TILED, 1);
-            let (w, h) = size.pixels(cx.output_size);
-            let tiles = (w.div_ceil(TILE), h.div_ceil(TILE), 1);
-            cx.dispatch_shader("ao blur", &key.key(), "main", b, tiles)
-        });
-    }
-}
-
-/// blur_tiled.wgsl's tile edge (its workgroup is TILE x TILE).
-const TILE: u32 = 16;
-
-impl BlurPasses {
-    /// Whether this asks for the tiled pass on an adapter of `class`
-    /// (`Tiled`, or `Auto` on a GPU). AO's and SSGI's blurs share the choice.
-    pub fn tiled(self, class: AdapterClass) -> bool {
-        match self {
-            BlurPasses::Auto => class == AdapterClass::Gpu,
-            BlurPasses::Tiled => true,
-            BlurPasses::Separable => false,
-        }
-    }
-}
-
-/// Whether AO's blur of half-width `radius` runs as one tiled dispatch:
-/// asked for and narrow enough to fit.
-pub fn tiled_blur(passes: BlurPasses, radius: u32, class: AdapterClass) -> bool {
-    passes.tiled(class) && radius <= TILED_MAX_RADIUS
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn auto_tiles_the_blur_on_a_gpu_and_not_on_a_cpu_adapter_nor_past_the_widest() {
-        use AdapterClass::{Cpu, Gpu};
-        assert!(tiled_blur(BlurPasses::Auto, 4, Gpu));
-        assert!(!tiled_blur(BlurPasses::Auto, 4, Cpu));
-        assert!(tiled_blur(BlurPasses::Tiled, TILED_MAX_RADIUS, Cpu));
-        assert!(!tiled_blur(BlurPasses::Tiled, TILED_MAX_RADIUS + 1, Gpu));
-        assert!(!tiled_blur(BlurPasses::Separable, 1, Gpu));
     }
 }
