@@ -10,8 +10,7 @@ use spreadlight_render::lighting::{LightBuffer, LightLoop};
 use spreadlight_render::material::MaterialWorld;
 use spreadlight_render::post::{
     LitBy, RefractionBlur, TransmissionSettings, Transparency, TransparencySettings,
-    TransparencyShading,
-    TransparentLights,
+    TransparencyShading, TransparentLights,
 };
 use spreadlight_render::shadows::ShadowMaps;
 

@@ -603,7 +603,7 @@ fn a_probe_sees_the_suns_shadow_beside_a_box() {
         renderer
             .shaders()
             .compiled_keys()
-            .any(|k| k.path == "environment/environment_probe.wgsl"
+            .any(|k| k.path() == "environment/environment_probe.wgsl"
                 && k.features.contains("SHADOWS")),
         "the shadowed faces' permutation"
     );
@@ -733,7 +733,7 @@ fn a_normal_mapped_floor_differs_from_the_flat_one_as_its_normal_says() {
         renderer
             .shaders()
             .compiled_keys()
-            .any(|k| k.path == "environment/environment_probe.wgsl"
+            .any(|k| k.path() == "environment/environment_probe.wgsl"
                 && k.features.contains("NORMAL_MAP")),
         "the normal-mapped faces' permutation"
     );

@@ -392,15 +392,17 @@ impl Permutation for TransparencyKey {
                 let bases = [false, true].into_iter().flat_map(move |environment| {
                     matcaps.iter().flat_map(move |&matcap| {
                         [false, true].into_iter().flat_map(move |marks| {
-                            RefractionKey::ALL.into_iter().flat_map(move |transmission| {
-                                [false, true].map(|records| TransparencyPass::Base {
-                                    environment,
-                                    matcap,
-                                    marks,
-                                    transmission,
-                                    records,
+                            RefractionKey::ALL
+                                .into_iter()
+                                .flat_map(move |transmission| {
+                                    [false, true].map(|records| TransparencyPass::Base {
+                                        environment,
+                                        matcap,
+                                        marks,
+                                        transmission,
+                                        records,
+                                    })
                                 })
-                            })
                         })
                     })
                 });
@@ -515,6 +517,7 @@ mod tests {
                 matcap: MatCapKey::Off,
                 marks: false,
                 transmission: RefractionKey::Mips,
+                records: false,
             },
             ..base
         };

@@ -359,7 +359,21 @@ impl Transparency {
                 t[7],
             ]),
         );
-        let compute = !lights.is_empty() && settings.shading.computes(renderer.gpu.adapter_class());
+        // Auto draws forward where not one record a pixel of the output fits
+        // the device's storage limits; Compute and Tiled asked by name say so
+        // at run time (`fragment_lists`).
+        let fits = || {
+            let (w, h) = renderer.output_size();
+            let limits = renderer.gpu.device.limits();
+            compute::slots_for(
+                u64::from(w) * u64::from(h),
+                limits.max_storage_buffer_binding_size,
+                limits.max_buffer_size,
+            ) > 0
+        };
+        let compute = !lights.is_empty()
+            && settings.shading.computes(renderer.gpu.adapter_class())
+            && (settings.shading != TransparencyShading::Auto || fits());
         let lists = owner
             .map(|node| renderer.state::<FragmentLists>(u64::from(node)))
             .unwrap_or_default();
