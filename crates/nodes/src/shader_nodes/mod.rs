@@ -75,30 +75,17 @@ type LoadedExample = (String, Result<Arc<ShaderType>, ShaderNodeError>);
 /// The shipped examples, parsed and validated once per process: their
 /// sources are compiled in, so every registry (each CLI command, runtime
 /// and test builds one) would otherwise run naga over the same files again.
-///
-/// Each is loaded on a thread of its own: composing and validating the twelve
-/// one after another was most of the registry's part of every process's cold
-/// start (about 70 ms on the H200 host, whose 16 cores now share it).
 fn examples() -> &'static [LoadedExample] {
     static EXAMPLES_LOADED: std::sync::OnceLock<Vec<LoadedExample>> = std::sync::OnceLock::new();
     EXAMPLES_LOADED.get_or_init(|| {
-        let load = |(stem, path, source): &(&str, &str, &str)| {
-            let name = type_name(stem);
-            let loaded = ShaderType::load(&name, path, source);
-            (name, loaded)
-        };
-        std::thread::scope(|scope| {
-            let threads: Vec<_> = EXAMPLES
-                .iter()
-                .map(|example| (example, scope.spawn(move || load(example))))
-                .collect();
-            threads
-                .into_iter()
-                // A thread that panicked is loaded again here, so the panic
-                // surfaces as it did when the examples loaded in sequence.
-                .map(|(example, thread)| thread.join().unwrap_or_else(|_| load(example)))
-                .collect()
-        })
+        EXAMPLES
+            .iter()
+            .map(|(stem, path, source)| {
+                let name = type_name(stem);
+                let loaded = ShaderType::load(&name, path, source);
+                (name, loaded)
+            })
+            .collect()
     })
 }
 

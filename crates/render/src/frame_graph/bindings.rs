@@ -30,14 +30,11 @@ enum Resource<'r> {
     SamplerObject(wgpu::Sampler),
 }
 
-/// Resources a dispatch binds, held inline while they are resolved and
-/// matched: a frame records a hundred dispatches, and each one's half a
-/// dozen small Vecs were a third of its allocations (issue 33;
-/// tests/frame_allocations.rs counts them).
-pub(crate) const INLINE_BINDINGS: usize = 12;
-
-/// The bind groups of one pipeline (0 up to the last its entry points use).
-pub type BindGroups = SmallVec<[wgpu::BindGroup; 4]>;
+// How many resources a dispatch holds inline, and a pipeline's bind groups:
+// defined beside the reflection that matches them (shaders/reflection.rs), below
+// the frame graph.
+pub use crate::shaders::BindGroups;
+pub(crate) use crate::shaders::INLINE_BINDINGS;
 
 /// The resources of one dispatch, by WGSL variable name.
 #[derive(Clone, Default)]

@@ -37,7 +37,6 @@ use crate::shaders::ShaderCache;
 
 pub use crate::report::{FrameReport, PassName, PassReport};
 pub use crate::texture_pool::TextureKey;
-pub(crate) use bindings::INLINE_BINDINGS;
 pub use bindings::{BindGroups, Bindings};
 pub use bound::History;
 pub use compute_pass::COMPUTE_PASSES;

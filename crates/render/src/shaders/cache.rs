@@ -6,10 +6,10 @@ use std::borrow::Cow;
 
 use std::sync::Arc;
 
+use super::BindGroups;
 use super::reflection::{GroupEntries, Reflection, match_bindings, reflect};
 use super::{ShaderComposer, ShaderKey, Splice};
 use crate::error::RenderError;
-use crate::frame_graph::BindGroups;
 
 /// A compute pipeline of `entry` in `module`, its bind group layouts derived from the shader.
 fn compute_pipeline_of(

@@ -73,7 +73,8 @@ mod uniform;
 pub use cache::{CompileTimes, PipelineRef, Sampling, ShaderCache};
 pub use composer::{ShaderComposer, Splice};
 pub use permutation::{Permutation, ShaderFile, ShaderKey};
-pub use reflection::{Reflection, ShaderVar};
+pub(crate) use reflection::INLINE_BINDINGS;
+pub use reflection::{BindGroups, Reflection, ShaderVar};
 pub use uniform::Uniform;
 
 #[cfg(test)]

@@ -7,6 +7,14 @@
 //! (`material_metaX_naga_oil_mod_X…X`): the name here is the undecorated one,
 //! the name written in the library.
 
+/// Resources a dispatch binds, held inline while they are resolved and
+/// matched: a frame records a hundred dispatches, and each one's half a
+/// dozen small Vecs were a third of its allocations (issue 33;
+/// tests/frame_allocations.rs counts them).
+pub(crate) const INLINE_BINDINGS: usize = 12;
+
+/// The bind groups of one pipeline (0 up to the last its entry points use).
+pub type BindGroups = SmallVec<[wgpu::BindGroup; 4]>;
 use smallvec::SmallVec;
 
 /// One resource variable of a shader module.
@@ -145,8 +153,7 @@ pub fn reflect(module: &naga::Module, entry: &str) -> Result<Reflection, String>
 /// whether that is an error; a variable the entry point uses that nothing
 /// binds is one.
 /// One bind group's entries, inline (a dispatch matches its bindings every frame).
-pub(crate) type GroupEntries<'r> =
-    SmallVec<[wgpu::BindGroupEntry<'r>; crate::frame_graph::INLINE_BINDINGS]>;
+pub(crate) type GroupEntries<'r> = SmallVec<[wgpu::BindGroupEntry<'r>; INLINE_BINDINGS]>;
 
 pub(super) fn match_bindings<'r>(
     reflection: &Reflection,
