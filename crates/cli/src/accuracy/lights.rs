@@ -126,19 +126,6 @@ fn output_channels(session: &Session) -> anyhow::Result<Vec<Vec<f32>>> {
         .collect())
 }
 
-/// Channels of `size` as planes, every pixel counted.
-fn planes(channels: &[Vec<f32>], size: (u32, u32)) -> Vec<Plane<'_>> {
-    channels
-        .iter()
-        .map(|values| Plane {
-            width: size.0,
-            height: size.1,
-            values,
-            mask: None,
-        })
-        .collect()
-}
-
 pub fn run(args: &LightArgs) -> anyhow::Result<ExitCode> {
     let patch = spreadlight_graph::format::load(&args.patch)?;
     if !patch.nodes.iter().any(|n| n.type_name == "BenchLights")
@@ -168,7 +155,10 @@ pub fn run(args: &LightArgs) -> anyhow::Result<ExitCode> {
             let settings = with_settings(&patch, count, cutoff);
             run_frames(&mut small, args, &settings, 2)?;
             let approx = output_channels(&small)?;
-            let error = Error::of(&planes(&approx, args.size), &planes(&truth, args.size));
+            let error = Error::of(
+                &Plane::channels(&approx, None, args.size),
+                &Plane::channels(&truth, None, args.size),
+            );
             let reports = run_frames(
                 &mut large,
                 args,

@@ -15,15 +15,20 @@ pub struct Plane<'a> {
 }
 
 impl<'a> Plane<'a> {
-    /// Each channel as a plane of `size`, counting the pixels of `mask`.
-    pub fn channels(channels: &'a [Vec<f32>], mask: &'a [bool], size: (u32, u32)) -> Vec<Self> {
+    /// Each channel as a plane of `size`, counting the pixels of `mask`
+    /// (every pixel with none).
+    pub fn channels(
+        channels: &'a [Vec<f32>],
+        mask: Option<&'a [bool]>,
+        size: (u32, u32),
+    ) -> Vec<Self> {
         channels
             .iter()
             .map(|values| Plane {
                 width: size.0,
                 height: size.1,
                 values,
-                mask: Some(mask),
+                mask,
             })
             .collect()
     }

@@ -142,8 +142,8 @@ fn error(image: &ImageF32, truth: &ImageF32) -> metrics::Error {
     let (approx, reference): (Vec<Vec<f32>>, Vec<Vec<f32>>) = (0..3)
         .map(|c| (channel(image, c), channel(truth, c)))
         .unzip();
-    let a = Plane::channels(&approx, &mask, (truth.width, truth.height));
-    let t = Plane::channels(&reference, &mask, (truth.width, truth.height));
+    let a = Plane::channels(&approx, Some(&mask), (truth.width, truth.height));
+    let t = Plane::channels(&reference, Some(&mask), (truth.width, truth.height));
     metrics::Error::of(&a, &t)
 }
 

@@ -260,8 +260,8 @@ fn error(image: &ImageF32, truth: &[Option<Vec3>], size: (u32, u32)) -> metrics:
     };
     let (approx, reference): (Vec<Vec<f32>>, Vec<Vec<f32>>) = (0..3).map(channel).unzip();
     metrics::Error::of(
-        &Plane::channels(&approx, &mask, size),
-        &Plane::channels(&reference, &mask, size),
+        &Plane::channels(&approx, Some(&mask), size),
+        &Plane::channels(&reference, Some(&mask), size),
     )
 }
 

@@ -50,21 +50,13 @@ pub(super) fn error(approx: &ImageF32, truth: &ImageF32) -> (f64, f64) {
         (0..3).map(|c| channel(approx, c)).collect(),
         (0..3).map(|c| channel(truth, c)).collect(),
     );
-    let (approx, truth) = (planes(&a, truth), planes(&t, truth));
+    let size = (truth.width, truth.height);
+    let (approx, truth) = (
+        Plane::channels(&a, None, size),
+        Plane::channels(&t, None, size),
+    );
     let e = metrics::Error::of(&approx, &truth);
     (e.rmse, e.ssim)
-}
-
-fn planes<'a>(channels: &'a [Vec<f32>], like: &ImageF32) -> Vec<Plane<'a>> {
-    channels
-        .iter()
-        .map(|values| Plane {
-            width: like.width,
-            height: like.height,
-            values,
-            mask: None,
-        })
-        .collect()
 }
 
 /// Median GPU time of the passes of kind `what` over frames made by `make`.

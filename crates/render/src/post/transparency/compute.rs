@@ -31,6 +31,8 @@ use std::sync::Mutex;
 use crate::adapter_class::AdapterClass;
 use crate::context::GpuContext;
 use crate::error::RenderError;
+use crate::geometry::readback::read_storage;
+use crate::renderer::Renderer;
 
 /// How the transparent layers' lights are shaded.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -96,6 +98,16 @@ pub const SHADED: &str = "transparency light buffers shaded in compute";
 pub fn slots_for(pixels: u64, max_binding: u64, max_buffer: u64) -> u32 {
     let per_slot = pixels.max(1) * RECORD_BYTES;
     (max_binding.min(max_buffer) / per_slot).min(u64::from(SLOTS)) as u32
+}
+
+/// [`slots_for`] `pixels` on `gpu`'s device limits.
+pub(crate) fn slots_on(gpu: &GpuContext, pixels: u64) -> u32 {
+    let limits = gpu.device.limits();
+    slots_for(
+        pixels,
+        limits.max_storage_buffer_binding_size,
+        limits.max_buffer_size,
+    )
 }
 
 /// The buffers of one frame's fragment lists, for `pixels` pixels.
@@ -166,30 +178,12 @@ impl FragmentLists {
 
     /// How many fragments of the last frame found their pixel's slots full
     /// (read back from the GPU, waiting for it); 0 before any compute frame.
-    pub fn missed(&self, gpu: &GpuContext) -> Result<u32, RenderError> {
+    pub fn missed(&self, renderer: &Renderer) -> Result<u32, RenderError> {
         let Some(buffers) = self.current() else {
             return Ok(0);
         };
-        let staging = gpu.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("transparency missed fragments readback"),
-            size: 4,
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        let mut encoder = gpu
-            .device
-            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                label: Some("transparency missed fragments"),
-            });
-        encoder.copy_buffer_to_buffer(
-            &buffers.counts,
-            u64::from(buffers.pixels) * 4,
-            &staging,
-            0,
-            4,
-        );
-        gpu.queue.submit([encoder.finish()]);
-        let bytes = crate::context::read_buffer(gpu, &staging, 4)?;
+        let offset = u64::from(buffers.pixels) * 4;
+        let bytes = read_storage(renderer, &buffers.counts, offset, 4)?;
         Ok(u32::from_le_bytes([bytes[0], bytes[1], bytes[2], bytes[3]]))
     }
 }

@@ -364,12 +364,7 @@ impl Transparency {
         // at run time (`fragment_lists`).
         let fits = || {
             let (w, h) = renderer.output_size();
-            let limits = renderer.gpu.device.limits();
-            compute::slots_for(
-                u64::from(w) * u64::from(h),
-                limits.max_storage_buffer_binding_size,
-                limits.max_buffer_size,
-            ) > 0
+            compute::slots_on(&renderer.gpu, u64::from(w) * u64::from(h)) > 0
         };
         let compute = !lights.is_empty()
             && settings.shading.computes(renderer.gpu.adapter_class())
@@ -495,7 +490,7 @@ impl Transparency {
     /// found their pixel's slots full (read back from the GPU: tests and
     /// diagnostics, not a frame's work). 0 when nothing was recorded yet.
     pub fn missed_fragments(&self, renderer: &Renderer) -> Result<u32, RenderError> {
-        self.lists.missed(&renderer.gpu)
+        self.lists.missed(renderer)
     }
 
     /// A layer's base pass (with its `matcap` and `transmission`), then a
@@ -810,13 +805,7 @@ impl Transparency {
         target: Tex,
     ) -> Result<Arc<ListBuffers>, RenderError> {
         let (w, h) = cx.size_of(target)?;
-        let pixels = u64::from(w) * u64::from(h);
-        let limits = cx.gpu.device.limits();
-        let slots = compute::slots_for(
-            pixels,
-            limits.max_storage_buffer_binding_size,
-            limits.max_buffer_size,
-        );
+        let slots = compute::slots_on(cx.gpu, u64::from(w) * u64::from(h));
         if slots == 0 {
             return Err(RenderError::Pass {
                 pass: "transparency".to_owned(),
