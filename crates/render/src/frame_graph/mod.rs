@@ -440,13 +440,7 @@ impl<'a> FrameGraph<'a> {
                 usage: texture.usage(),
             });
         }
-        let desc = self
-            .passes
-            .iter()
-            .flat_map(|p| &p.writes)
-            .find(|(n, _)| n == name)
-            .map(|(_, d)| d)?;
-        let mut key = self.resolve(desc);
+        let mut key = self.resolve(self.declared(name)?);
         if self.requested.iter().any(|r| r == name) {
             key.usage |= READABLE;
         }
@@ -471,12 +465,18 @@ impl<'a> FrameGraph<'a> {
                 height: texture.height(),
             };
         }
+        self.declared(name)
+            .map_or(SizeRule::Relative(1.0), |d| d.size)
+    }
+
+    /// How the pass that writes `name` declared it (a name has one writer:
+    /// `schedule` refuses two).
+    fn declared(&self, name: &str) -> Option<&TextureDesc> {
         self.passes
             .iter()
-            .rev()
             .flat_map(|p| &p.writes)
             .find(|(n, _)| n == name)
-            .map_or(SizeRule::Relative(1.0), |(_, d)| d.size)
+            .map(|(_, d)| d)
     }
 
     pub fn resolve(&self, desc: &TextureDesc) -> TextureKey {
