@@ -1,27 +1,48 @@
 // EnvironmentProbe's faces (crates/render/src/environment/probe/faces.rs):
 // the layer drawn from the probe into one cube face per render pass, each
 // surface shaded forward with the probe's own lighting:
-//   radiance = albedo * (ambient + sun_color * max(N.L, 0) * shadow)
+//   radiance = albedo * (ambient * occlusion + sun_color * max(N.L, 0) * shadow) + emission
 // albedo the instance colour times the layer's Color Texture (COLOR_MAP);
 // N turned towards the probe (both sides are drawn: a probe inside an
 // object sees its inside lit, not black), then perturbed by the layer's
 // Normal Map (NORMAL_MAP) as the G-buffer resolve perturbs it; both
 // textures by the mesh's UVs (TEXCOORDS; the normal map with the mesh's
-// tangents) or blended over three planar projections (TRIPLANAR); group 1.
-// SHADOWS: the sun is shadowed by a ShadowMap (Sun)'s maps, slice
+// tangents) or blended over three planar projections (TRIPLANAR); group 2.
+// MATERIAL_MAPS: a glTF layer's surface maps (group 1 its material world,
+// group 3 the map arrays, read as the G-buffer resolve reads them, by
+// TEXCOORD_0): base colour, normal (with its scale), metallic-roughness,
+// occlusion (of the ambient) and emissive (times the Emission feature).
+// SHADOWS (base pass): the sun is shadowed by a ShadowMap (Sun)'s maps, slice
 // `face.shadow.x`, in the finest cascade that holds the point (the cascades
 // follow the camera, not the probe: beyond them all, lit), filtered with
 // PCF over the maps' kernel (SHADOW_PCF, whatever the node's filter; its
-// depth maps are there for every filter). A mirror needs the colours and
-// the rough shape of its surroundings, at a fraction of a G-buffer's
-// cost: no point or spot lights, no material world, no glTF surface maps.
+// depth maps are there for every filter).
+// LIGHT_PASS: the same surface drawn again, per point or spot light buffer
+// (LIGHT_SPOT, SPOT_TEXTURE; SHADOWS and its filter: that buffer's shadow
+// maps), adding the Cook-Torrance light of its first `face.light_params.x` lights
+// (lib/forward_light.wgsl: the very function lit transparency calls, so a
+// light reaches the probe's view of a wall as it reaches the wall), the
+// viewer at the probe; roughness and metallic the material world's
+// CookTorrance feature and metallic-roughness map (MATERIAL_MAPS), else
+// `face.light_params.yz`. A mirror needs the colours and the rough shape of its
+// surroundings, at a fraction of a G-buffer's cost: no other material
+// feature, no alpha (a glTF MASK or BLEND surface is seen opaque).
 // Vertices are pulled from the mesh arena by index (spreadlight::mesh_fetch),
 // as the shadow depth pass pulls them. Clamped below half-float overflow;
 // NaN is 0.
 #import spreadlight::mesh_fetch::{instances, triangle_vertex, view_right, view_up}
 #import spreadlight::packing::{safe_normalize}
+#ifdef MATERIAL_MAPS
+#import spreadlight::material::{feature_param, FEATURE_COOK_TORRANCE, FEATURE_EMISSION}
+#import spreadlight::material_maps::{MapCoords, sample_map, has_map, map_settings, MAP_BASE_COLOR, MAP_METALLIC_ROUGHNESS, MAP_NORMAL, MAP_OCCLUSION, MAP_EMISSIVE}
+#endif
+#ifdef LIGHT_PASS
+#import spreadlight::brdf::{brdf_surface, no_light_sums, light_sums_brdf, surface_energy_compensation}
+#import spreadlight::forward_light::{lights, add_forward_light}
+#else
 #ifdef SHADOWS
 #import spreadlight::shadow_sampling::sun_shadow_anywhere
+#endif
 #endif
 
 struct ProbeFace {
@@ -35,12 +56,16 @@ struct ProbeFace {
     ambient: vec4<f32>,
     // x: the sun's slice of the shadow maps (SHADOWS); yzw unused.
     shadow: vec4<u32>,
+    // LIGHT_PASS: x the most lights a face adds of the buffer (the
+    // Max Lights pin); y, z the roughness and metallic of surfaces without
+    // a material world (as bits); w unused.
+    light_params: vec4<u32>,
 }
 
 @group(0) @binding(0) var<uniform> face: ProbeFace;
 #ifdef COLOR_MAP
-@group(1) @binding(0) var color_map: texture_2d<f32>;
-@group(1) @binding(1) var color_sampler: sampler;
+@group(2) @binding(0) var color_map: texture_2d<f32>;
+@group(2) @binding(1) var color_sampler: sampler;
 #endif
 #ifdef TRIPLANAR
 struct ProbeLayer {
@@ -51,11 +76,11 @@ struct ProbeLayer {
     pad1: f32,
     pad2: f32,
 }
-@group(1) @binding(2) var<uniform> probe_layer: ProbeLayer;
+@group(2) @binding(2) var<uniform> probe_layer: ProbeLayer;
 #endif
 #ifdef NORMAL_MAP
-@group(1) @binding(3) var normal_map: texture_2d<f32>;
-@group(1) @binding(4) var normal_sampler: sampler;
+@group(2) @binding(3) var normal_map: texture_2d<f32>;
+@group(2) @binding(4) var normal_sampler: sampler;
 #endif
 
 const HALF_MAX: f32 = 65000.0;
@@ -68,6 +93,8 @@ struct Varyings {
     @location(3) uv: vec2<f32>,
     // World-space tangent (the model matrix's, as the resolve takes it), w its handedness.
     @location(4) tangent: vec4<f32>,
+    // The instance's material (its world's id; MATERIAL_MAPS).
+    @location(5) @interpolate(flat) material: u32,
 }
 
 @vertex
@@ -83,11 +110,22 @@ fn vs(@builtin(vertex_index) vertex: u32, @builtin(instance_index) instance: u32
     out.albedo = record.color.rgb;
     out.uv = vec2<f32>(v.position_u.w, v.normal_v.w);
     out.tangent = vec4<f32>((record.model * vec4<f32>(v.tangent.xyz, 0.0)).xyz, v.tangent.w);
+    out.material = record.info.z;
     return out;
 }
 
 @fragment
 fn fs(in: Varyings) -> @location(0) vec4<f32> {
+#ifdef MATERIAL_MAPS
+    // Derivatives first, in uniform control flow.
+    var coords: MapCoords;
+    coords.uv = in.uv;
+    coords.dx = dpdx(in.uv);
+    coords.dy = dpdy(in.uv);
+    coords.second_uv = in.uv;
+    coords.second_dx = coords.dx;
+    coords.second_dy = coords.dy;
+#endif
     let to_probe = face.position.xyz - in.world;
     var n = safe_normalize(in.normal, safe_normalize(to_probe, vec3<f32>(0.0, 1.0, 0.0)));
     if (dot(n, to_probe) < 0.0) {
@@ -132,6 +170,46 @@ fn fs(in: Varyings) -> @location(0) vec4<f32> {
     n = safe_normalize(t * tangent_texel.x + bt * tangent_texel.y + n * tangent_texel.z, n);
 #endif
 #endif
+    var roughness = bitcast<f32>(face.light_params.y);
+    var metallic = bitcast<f32>(face.light_params.z);
+    var reflectance = 0.04;
+    var occlusion = 1.0;
+    var emission = vec3<f32>(0.0);
+#ifdef MATERIAL_MAPS
+    let ct = feature_param(in.material, FEATURE_COOK_TORRANCE, 0u, vec4<f32>(roughness, metallic, reflectance, 0.0));
+    roughness = ct.x;
+    metallic = ct.y;
+    reflectance = ct.z;
+    let em = feature_param(in.material, FEATURE_EMISSION, 0u, vec4<f32>(0.0));
+    emission = max(em.rgb, vec3<f32>(0.0)) * max(em.a, 0.0);
+    albedo *= max(sample_map(in.material, MAP_BASE_COLOR, coords, vec4<f32>(1.0)).rgb, vec3<f32>(0.0));
+    let settings = map_settings(in.material);
+    if (has_map(in.material, MAP_NORMAL)) {
+        var texel = sample_map(in.material, MAP_NORMAL, coords, vec4<f32>(0.5, 0.5, 1.0, 1.0)).xyz * 2.0 - 1.0;
+        texel = vec3<f32>(texel.xy * settings.z, texel.z);
+        // The mesh's tangent frame, as the resolve builds it.
+        let mt = safe_normalize(in.tangent.xyz - n * dot(n, in.tangent.xyz), vec3<f32>(1.0, 0.0, 0.0));
+        let mb = cross(n, mt) * select(-1.0, 1.0, in.tangent.w >= 0.0);
+        n = safe_normalize(mt * texel.x + mb * texel.y + n * texel.z, n);
+    }
+    let metal_rough = sample_map(in.material, MAP_METALLIC_ROUGHNESS, coords, vec4<f32>(1.0));
+    roughness *= metal_rough.g;
+    metallic *= metal_rough.b;
+    occlusion = clamp(1.0 + settings.w * (sample_map(in.material, MAP_OCCLUSION, coords, vec4<f32>(1.0)).r - 1.0), 0.0, 1.0);
+    emission *= max(sample_map(in.material, MAP_EMISSIVE, coords, vec4<f32>(1.0)).rgb, vec3<f32>(0.0));
+#endif
+#ifdef LIGHT_PASS
+    // The buffer's lights as CookTorrance shades them, seen from the probe.
+    let v = safe_normalize(to_probe, n);
+    let s = brdf_surface(n, v, albedo, roughness, metallic, reflectance);
+    var sums = no_light_sums();
+    let count = min(arrayLength(&lights), face.light_params.x);
+    for (var i = 0u; i < count; i++) {
+        add_forward_light(i, in.world, s, 0.0, &sums);
+    }
+    let lit = light_sums_brdf(s, sums);
+    let c = min(max(lit.diffuse + lit.specular * surface_energy_compensation(s), vec3<f32>(0.0)), vec3<f32>(HALF_MAX));
+#else
     let towards_sun = face.towards_sun.xyz;
     var sun = max(dot(n, towards_sun), 0.0);
 #ifdef SHADOWS
@@ -139,7 +217,8 @@ fn fs(in: Varyings) -> @location(0) vec4<f32> {
         sun *= sun_shadow_anywhere(face.shadow.x, in.world, geometric, dot(geometric, towards_sun));
     }
 #endif
-    let light = face.ambient.rgb + face.sun_color.rgb * sun;
-    let c = min(max(albedo * light, vec3<f32>(0.0)), vec3<f32>(HALF_MAX));
+    let light = face.ambient.rgb * occlusion + face.sun_color.rgb * sun;
+    let c = min(max(albedo * light + emission, vec3<f32>(0.0)), vec3<f32>(HALF_MAX));
+#endif
     return vec4<f32>(select(vec3<f32>(0.0), c, c == c), 1.0);
 }

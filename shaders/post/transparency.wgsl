@@ -108,14 +108,10 @@
 #import spreadlight::vertex_extras::corner_extra
 #endif
 #ifdef LIGHT_PASS
-#import spreadlight::brdf::{BrdfSurface, LightSums, brdf_surface, no_light_sums, add_light, light_sums_brdf, cook_torrance_weights, half_vector_cosines, surface_energy_compensation}
-#import spreadlight::lights::{range_window, inverse_square}
-#ifdef LIGHT_SPOT
-#import spreadlight::spot::spot_mask
-#endif
-#ifdef SHADOWS
-#import spreadlight::shadow_sampling::light_shadow
-#endif
+#import spreadlight::brdf::{BrdfSurface, LightSums, brdf_surface, no_light_sums, light_sums_brdf, surface_energy_compensation}
+// A light's share: the forward passes' one copy of CookTorrance's `shade`
+// (lib/forward_light.wgsl), which the environment probe's faces use too.
+#import spreadlight::forward_light::{Light, lights, add_forward_light, add_light_record}
 #endif
 
 struct Params {
@@ -492,78 +488,12 @@ fn unoctahedral(e: vec2<f32>) -> vec3<f32> {
 #endif
 
 #ifdef LIGHT_PASS
-// Matches `GpuLight` in crates/render/src/lighting/mod.rs.
-struct Light {
-    position_range: vec4<f32>,
-    intensity: vec4<f32>,
-    direction: vec4<f32>,
-    cone: vec4<f32>,
-}
-
-@group(0) @binding(13) var<storage, read> lights: array<Light>;
 #ifdef CLUSTERED
 // Named apart from the mesh's `indices` (bindings are found by name).
 @group(0) @binding(23) var<storage, read> light_counts: array<u32>;
 @group(0) @binding(24) var<storage, read> light_offsets: array<u32>;
 @group(0) @binding(25) var<storage, read> light_indices: array<u32>;
 #endif
-
-// Light `i`'s radiance at world point `pw` times its Cook-Torrance weights,
-// added to `sums`: CookTorrance's `shade` in world space (the attenuation,
-// cone and shadow functions are the libraries' it calls).
-fn add_forward_light(i: u32, pw: vec3<f32>, s: BrdfSurface, view_depth: f32, sums: ptr<function, LightSums>) {
-    add_light_record(lights[i], i, pw, s, view_depth, sums);
-}
-
-// `add_forward_light` with light `i`'s record already loaded (SHADE_TILED
-// shares a batch of records through workgroup memory).
-fn add_light_record(record: Light, i: u32, pw: vec3<f32>, s: BrdfSurface, view_depth: f32, sums: ptr<function, LightSums>) {
-#ifdef LIGHT_SUN
-    let l = safe_normalize(-record.direction.xyz, vec3<f32>(0.0, 1.0, 0.0));
-    let n_dot_l = dot(s.n, l);
-    let v_dot_l = dot(s.v, l);
-    var radiance = record.intensity.rgb;
-    let attenuation = 1.0;
-#ifdef SHADOWS
-    if (record.cone.z >= 0.0) {
-        radiance *= light_shadow(u32(record.cone.z), pw, s.n, record.direction.xyz, view_depth, n_dot_l);
-    }
-#endif
-#else
-    let range = record.position_range.w;
-    // A light without a range lights nothing.
-    if (!(range > 0.0)) {
-        return;
-    }
-    let to_light = record.position_range.xyz - pw;
-    let distance2 = dot(to_light, to_light);
-    // (distance / range)^2; the floor keeps a range whose square underflows finite.
-    let ratio2 = distance2 / max(range * range, 1e-30);
-    if (!(ratio2 < 1.0)) {
-        return;
-    }
-    let inverse_distance = inverseSqrt(max(distance2, 1e-20));
-    let attenuation = range_window(ratio2) * inverse_square(inverse_distance);
-    var n_dot_l = dot(s.n, to_light) * inverse_distance;
-    var v_dot_l = dot(s.v, to_light) * inverse_distance;
-    if (!(distance2 > 1e-20)) {
-        // A light at the surface point: from along the normal.
-        n_dot_l = 1.0;
-        v_dot_l = s.view_cosine;
-    }
-    var radiance = record.intensity.rgb;
-#ifdef LIGHT_SPOT
-    radiance *= spot_mask(i, record.cone, pw);
-#endif
-#ifdef SHADOWS
-    if (record.cone.z >= 0.0) {
-        radiance *= light_shadow(u32(record.cone.z), pw, s.n, pw - record.position_range.xyz, view_depth, n_dot_l);
-    }
-#endif
-#endif
-    let cosines = half_vector_cosines(s, n_dot_l, v_dot_l);
-    add_light(sums, radiance, cook_torrance_weights(s, n_dot_l, cosines.x, cosines.y) * attenuation);
-}
 
 // Every light of the buffer that reaches `pw`: with CLUSTERED, those listed
 // in the froxel of the fragment (pixel `frag`, camera depth `view_depth`).

@@ -6,16 +6,20 @@
 //! sees changed (or every N frames, or once), and with a box or sphere
 //! influence volume Reflection corrects each ray for parallax. Given a
 //! ShadowMap (Sun)'s Shadows, its sun is shadowed; a layer's Normal Map
-//! perturbs what it lights.
+//! perturbs what it lights, and a glTF layer's surface maps colour and shape
+//! it. Point and spot light buffers (Lights, shadowed by Light Shadows) add
+//! their light to what it sees, as CookTorrance adds it to the G-buffer.
 
 use glam::Vec3;
 use spreadlight_graph::{
     Choice, Choices, Color, EvalContext, In, NodeDef, NodeError, Out, Registry, Res, ResourceKind,
 };
 use spreadlight_render::environment::{
-    Environment, EnvironmentQuality, EnvironmentSource, ProbeLighting, ProbeScene, ProbeSettings,
-    ProbeShadow, ProbeUpdate, ProbeVolume,
+    Environment, EnvironmentQuality, EnvironmentSource, ProbeLighting, ProbeLights, ProbeScene,
+    ProbeSettings, ProbeShadow, ProbeUpdate, ProbeVolume,
 };
+use spreadlight_render::environment::probe::DEFAULT_MAX_LIGHTS;
+use spreadlight_render::lighting::LightBuffer;
 use spreadlight_render::gbuffer::Layer;
 use spreadlight_render::shadows::ShadowMaps;
 
@@ -73,6 +77,9 @@ struct ProbePins {
     samples: In<i64>,
     shadows: In<Res<ShadowMaps>>,
     shadow_slice: In<i64>,
+    lights: In<Res<LightBuffer>>,
+    light_shadows: In<Res<ShadowMaps>>,
+    max_lights: In<i64>,
     out: Out<Res<Environment>>,
 }
 
@@ -175,10 +182,15 @@ pub fn register(r: &mut Registry) {
              N.L, the sun travelling along Sun Direction), N perturbed by the layer's Normal Map as the G-buffer \
              does; Background where nothing is. Shadows: a ShadowMap (Sun)'s maps shadow the sun, slice Shadow \
              Slice (the AddLight (Sun)'s; give the probe that sun's direction), in the finest cascade that holds \
-             each point (cascades follow the camera: beyond them, lit). Update: On \
-             Change renders again only when the layer's instances, colours, meshes, Color Texture or Normal Map, \
-             the position, the lighting, or the shadow's light or casters changed (a moved camera \
-             does not); Every N Frames every N-th frame regardless; Once the first frame. `spreadlight stats` counts \
+             each point (cascades follow the camera: beyond them, lit). A glTF layer's surface maps (base colour, \
+             normal, metallic-roughness, occlusion, emissive) are read as the G-buffer reads them. Lights: point and \
+             spot light buffers (AddLight's) add their Cook-Torrance light to the faces (the surfaces rough \
+             dielectrics, roughness 0.5, unless a glTF material says otherwise; the viewer at Position), shadowed by \
+             the ShadowMap of their type in Light Shadows; each face adds at most Max Lights of each buffer (its \
+             first ones; 0: none). Update: On \
+             Change renders again only when the layer's instances, colours, meshes, Color Texture, Normal Map or \
+             glTF materials, the position, the lighting, the lights, or the shadows' lights or casters changed (a \
+             moved camera does not); Every N Frames every N-th frame regardless; Once the first frame. `spreadlight stats` counts \
              \"environment probe rendered\" and \"reused\". Volume: with a Box (Volume Center, Volume Size) or Sphere \
              (Volume Radius) around the room, Reflection corrects each ray for parallax (box-projected reflections); \
              None, or a zero size, reads the cube as infinitely far. Cube Size (a power of two, 8..1024) and Samples \
@@ -203,6 +215,9 @@ pub fn register(r: &mut Registry) {
                 samples: p.input("Samples", i64::from(DEFAULT_QUALITY.samples)),
                 shadows: p.input_resource::<ShadowMaps>("Shadows", ResourceKind::Shadows),
                 shadow_slice: p.input("Shadow Slice", 0i64),
+                lights: p.input_resource::<LightBuffer>("Lights", ResourceKind::LightWorld),
+                light_shadows: p.input_resource::<ShadowMaps>("Light Shadows", ResourceKind::Shadows),
+                max_lights: p.input("Max Lights", i64::from(DEFAULT_MAX_LIGHTS)),
                 out: p.output_resource::<Environment>("Environment", ResourceKind::Environment),
             };
             move |cx| {
@@ -220,6 +235,30 @@ pub fn register(r: &mut Registry) {
                     None => None,
                 };
                 let scene = scene.with_sun_shadow(shadow).map_err(|e| cx.error(pins.shadows, e.to_string()))?;
+                require_finite(cx, pins.max_lights)?;
+                let max_lights = cx.first(pins.max_lights, i64::from(DEFAULT_MAX_LIGHTS))?;
+                let max_lights = u32::try_from(max_lights)
+                    .map_err(|_| cx.error(pins.max_lights, format!("is {max_lights}; the count is 0 or more")))?;
+                let shadows = cx.resources(pins.light_shadows)?;
+                // Each light buffer is shadowed by the maps of its type: two of one type would be a guess.
+                for (i, s) in shadows.iter().enumerate() {
+                    if shadows[..i].iter().any(|other| other.kind == s.kind) {
+                        return Err(cx.error(
+                            pins.light_shadows,
+                            format!("slices hold two shadow maps of {:?} lights: connect one per light type", s.kind),
+                        ));
+                    }
+                }
+                let lights = cx
+                    .resources(pins.lights)?
+                    .into_iter()
+                    .map(|lights| ProbeLights {
+                        shadows: shadows.iter().find(|s| s.kind == lights.kind).cloned(),
+                        lights,
+                    })
+                    .collect();
+                let scene =
+                    scene.with_lights(lights, max_lights).map_err(|e| cx.error(pins.lights, e.to_string()))?;
                 let renderer = renderer(cx)?;
                 let environment =
                     Environment::new(&renderer, Some(cx.node_id.0), EnvironmentSource::Probe(std::sync::Arc::new(scene)), quality);

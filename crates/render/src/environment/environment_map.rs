@@ -230,28 +230,50 @@ impl Recipe for Environment {
             EnvironmentSource::Probe(scene) => (scene.layers(), scene.sun_shadow()),
             _ => (&[], None),
         };
-        let normal_map =
-            |l: &'a Arc<Layer>| l.normal_map.as_ref().filter(|_| l.features.normal_map);
+        // (A glTF layer's surface maps replace them: uploaded arrays, no recipe.)
+        let normal_map = |l: &'a Arc<Layer>| {
+            (l.normal_map.as_ref()).filter(|_| l.features.normal_map && l.map_world().is_none())
+        };
+        let color_map = |l: &'a Arc<Layer>| l.color_map.as_ref().filter(|_| l.map_world().is_none());
         for map in layers
             .iter()
-            .flat_map(|l| l.color_map.iter().chain(normal_map(l)))
+            .flat_map(|l| color_map(l).into_iter().chain(normal_map(l)))
         {
             map.recipe.declare(renderer, fg);
         }
         if let Some(sun) = sun_shadow {
             sun.maps.declare(renderer, fg);
         }
+        // Its light buffers' spot textures and shadow maps.
+        let lights = match &self.source {
+            EnvironmentSource::Probe(scene) => scene.lights(),
+            _ => &[],
+        };
+        for set in lights {
+            if let Some(textures) = set.lights.textures() {
+                textures.recipe.declare(renderer, fg);
+            }
+            if let Some(shadows) = &set.shadows {
+                shadows.declare(renderer, fg);
+            }
+        }
         let mut pass = fg.pass(name, self.owner);
         let textures = ProbeTextures {
             color: (layers.iter())
-                .map(|l| l.color_map.as_ref().map(|m| pass.read(&m.name)))
+                .map(|l| color_map(l).map(|m| pass.read(&m.name)))
                 .collect(),
             normal: (layers.iter())
                 .map(|l| normal_map(l).map(|m| pass.read(&m.name)))
                 .collect(),
+            spots: (lights.iter())
+                .map(|set| set.lights.textures().map(|t| pass.read(&t.name)))
+                .collect(),
         };
         if let Some(sun) = sun_shadow {
             pass.read(sun.maps.token());
+        }
+        for shadows in lights.iter().filter_map(|set| set.shadows.as_ref()) {
+            pass.read(shadows.token());
         }
         // The maps live in the store; the token orders the passes that read them.
         pass.write(&self.token, TextureDesc::token());

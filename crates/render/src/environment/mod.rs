@@ -23,7 +23,8 @@ pub use environment_map::{Environment, PROBE_RENDERED, PROBE_REUSED};
 pub use fog::{Fog, FogSettings};
 pub use pass::{FOG_AND_SKY, ImageKind, ImagePass};
 pub use probe::{
-    ProbeError, ProbeLighting, ProbeScene, ProbeSettings, ProbeShadow, ProbeUpdate, ProbeVolume,
+    ProbeError, ProbeLighting, ProbeLights, ProbeScene, ProbeSettings, ProbeShadow, ProbeUpdate,
+    ProbeVolume,
 };
 pub use reflection::{BOTH_IN_ONE_PASS as REFLECTION_BOTH_IN_ONE_PASS, Reflection, ReflectionMode};
 pub use sky::Sky;

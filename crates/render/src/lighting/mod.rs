@@ -199,6 +199,17 @@ pub struct LightBuffer {
     projections: Option<wgpu::Buffer>,
     /// Spots: the texture array their `texture` layers index.
     textures: Option<TextureRef>,
+    /// A hash of what was uploaded (the lights, the spots' projections):
+    /// an environment probe's re-render key.
+    content: u64,
+}
+
+/// A hash of `bytes`, for [`LightBuffer::hash_content`].
+fn bytes_hash(bytes: &[u8]) -> u64 {
+    use std::hash::{Hash, Hasher};
+    let mut h = std::collections::hash_map::DefaultHasher::new();
+    bytes.hash(&mut h);
+    h.finish()
 }
 
 impl std::fmt::Debug for LightBuffer {
@@ -282,15 +293,17 @@ impl LightBuffer {
         if projections.is_empty() {
             projections.push(Mat4::ZERO.to_cols_array());
         }
+        let projections_cpu = projections;
         let projections = renderer.kept_init(
             owner,
             "spot projections",
-            bytemuck::cast_slice(&projections),
+            bytemuck::cast_slice(&projections_cpu),
             wgpu::BufferUsages::STORAGE,
         );
         let mut buffer = Self::upload(renderer, owner, LightKind::Spot, gpu);
         let b = Arc::get_mut(&mut buffer).expect("just made");
         b.projections = Some(projections);
+        b.content ^= bytes_hash(bytemuck::cast_slice(&projections_cpu)).rotate_left(1);
         b.textures = textures.filter(|_| lights.iter().any(|l| l.texture.is_some()));
         Ok(buffer)
     }
@@ -320,6 +333,7 @@ impl LightBuffer {
         gpu: Vec<GpuLight>,
     ) -> Arc<Self> {
         let count = gpu.len() as u32;
+        let content = bytes_hash(bytemuck::cast_slice(&gpu));
         let buffer = renderer.kept_storage(owner, "lights", &gpu);
         Arc::new(LightBuffer {
             kind,
@@ -327,11 +341,21 @@ impl LightBuffer {
             buffer,
             projections: None,
             textures: None,
+            content,
         })
     }
 
     pub fn count(&self) -> u32 {
         self.count
+    }
+
+    /// What the buffer holds, as far as it lights anything: its type, the
+    /// lights as uploaded, the spots' projections and texture by name (a
+    /// probe renders its faces again when this changes).
+    pub fn hash_content(&self, h: &mut impl std::hash::Hasher) {
+        use std::hash::Hash;
+        (self.kind, self.count, self.content).hash(h);
+        self.textures.as_ref().map(|t| &t.name).hash(h);
     }
 
     pub(crate) fn buffer(&self) -> &wgpu::Buffer {

@@ -51,6 +51,7 @@ pub const LIBRARIES: &[ShaderFile] = &[
     library!("lib/ibl.wgsl"),
     library!("lib/post.wgsl"),
     library!("lighting/shadow_sampling.wgsl"),
+    library!("lib/forward_light.wgsl"),
     library!("lib/surface.wgsl"),
     library!("lib/custom_surface.wgsl"),
     library!("lib/light_shader.wgsl"),

@@ -738,3 +738,280 @@ fn a_normal_mapped_floor_differs_from_the_flat_one_as_its_normal_says() {
         "the normal-mapped faces' permutation"
     );
 }
+
+/// A red point light beside the probe, above the floor.
+const LAMP: Vec3 = Vec3::new(-0.6, 0.6, 0.4);
+
+fn red_lamp(position: Vec3) -> spreadlight_render::lighting::PointLight {
+    spreadlight_render::lighting::PointLight {
+        position,
+        color: Vec3::new(1.0, 0.05, 0.05),
+        intensity: 3.0,
+        range: 3.0,
+        shadow: None,
+    }
+}
+
+/// [`above`]'s probe lit by `lights` too (at most `max_lights` of each buffer).
+fn lit_probe(
+    renderer: &Renderer,
+    owner: Option<u32>,
+    surroundings: &Arc<Layer>,
+    lights: Vec<spreadlight_render::environment::ProbeLights>,
+    max_lights: u32,
+) -> Arc<Environment> {
+    let scene = ProbeScene::new(vec![surroundings.clone()], above())
+        .and_then(|s| s.with_lights(lights, max_lights))
+        .expect("valid");
+    Environment::new(
+        renderer,
+        owner,
+        EnvironmentSource::Probe(Arc::new(scene)),
+        QUALITY,
+    )
+}
+
+fn point_buffer(
+    renderer: &Renderer,
+    lights: &[spreadlight_render::lighting::PointLight],
+) -> Vec<spreadlight_render::environment::ProbeLights> {
+    vec![spreadlight_render::environment::ProbeLights {
+        lights: spreadlight_render::lighting::LightBuffer::points(renderer, lights),
+        shadows: None,
+    }]
+}
+
+/// The -Y face's texel (level 0) that holds floor point (x, 0, z): its
+/// colour, and the floor point at the texel's centre (where the raster
+/// shaded it).
+fn floor_texel(renderer: &Renderer, env: &Environment, x: f32, z: f32) -> (Vec3, Vec3) {
+    use spreadlight_render::environment::probe::cube_direction;
+    let maps = env.maps().expect("the probe was built");
+    let face = read_texture_layer(&renderer.gpu, &maps.base, 3, 0).expect("reads");
+    let n = face.width as f32;
+    let texel = |t: f32| ((t * 0.5 + 0.5) * n).floor().clamp(0.0, n - 1.0);
+    let (i, j) = (texel(x / ABOVE.y), texel(-z / ABOVE.y));
+    let centre = |k: f32| (k + 0.5) / n * 2.0 - 1.0;
+    // The face's direction has y = -1: ABOVE.y along it reaches the floor.
+    let d = cube_direction(3, Vec2::new(centre(i), centre(j)));
+    let colour = Vec3::from_slice(&face.pixel(i as u32, j as u32)[..3]);
+    (colour, ABOVE + d * ABOVE.y)
+}
+
+/// What the probe sees of floor point `p` (the CPU reference): the base
+/// pass's albedo x (ambient + sun N.L), plus each point light's
+/// Cook-Torrance light (spreadlight-reference's BRDF and falloff) for the
+/// probe's rough dielectric, seen from the probe.
+fn floor_reference(p: Vec3, lights: &[spreadlight_render::lighting::PointLight]) -> Vec3 {
+    use spreadlight_reference::brdf::cook_torrance_f0;
+    use spreadlight_reference::lights::point_attenuation;
+    use spreadlight_render::environment::probe::{SURFACE_METALLIC, SURFACE_ROUGHNESS};
+    let albedo = Vec3::splat(FLOOR_ALBEDO);
+    let sun = Vec3::Y.dot(-SUN_DIRECTION.normalize()).max(0.0);
+    let mut c = albedo * (0.25 + 2.0 * sun);
+    let v = (ABOVE - p).normalize();
+    for light in lights {
+        let to = light.position - p;
+        let b = cook_torrance_f0(
+            Vec3::Y,
+            v,
+            to.normalize(),
+            albedo,
+            SURFACE_ROUGHNESS,
+            SURFACE_METALLIC,
+            0.04,
+            true,
+        );
+        c += (b.diffuse + b.specular)
+            * light.color
+            * light.intensity
+            * point_attenuation(to.length(), light.range);
+    }
+    c
+}
+
+fn close(got: Vec3, want: Vec3) -> bool {
+    (got - want).abs().cmple(want.abs() * 0.02 + Vec3::splat(3e-3)).all()
+}
+
+/// A red point light beside the probe reddens the floor the probe sees, by
+/// the light CookTorrance would give it: the CPU reference at chosen
+/// texels, each channel within 2%. Green and blue (the lamp's are 0.05 of
+/// its red) barely change. A moved light renders the probe again, the
+/// same light in a new buffer does not.
+#[test]
+fn a_red_point_light_beside_the_probe_reddens_what_it_shows() {
+    let renderer = test_renderer();
+    let s = scene(&renderer);
+    let unlit = lit_probe(&renderer, None, &s.surroundings, Vec::new(), 64);
+    mirror(&renderer, &s, EYE, unlit.clone());
+    let lamps = [red_lamp(LAMP)];
+    let lit = lit_probe(
+        &renderer,
+        None,
+        &s.surroundings,
+        point_buffer(&renderer, &lamps),
+        64,
+    );
+    let (report, ..) = mirror(&renderer, &s, EYE, lit.clone());
+    assert!(report.errors.is_empty(), "{:?}", report.errors);
+    for (x, z) in [(-0.8, 0.0), (-0.3, 0.6), (0.4, -0.3), (-1.0, 0.9)] {
+        let (before, _) = floor_texel(&renderer, &unlit, x, z);
+        let (after, p) = floor_texel(&renderer, &lit, x, z);
+        let want = floor_reference(p, &lamps);
+        assert!(
+            close(after, want),
+            "({x}, {z}) at {p}: {after}, want {want}"
+        );
+        assert!(
+            close(before, floor_reference(p, &[])),
+            "({x}, {z}) unlit: {before}"
+        );
+        assert!(
+            after.x > before.x + 0.05 && after.x > after.y + 0.05,
+            "({x}, {z}) reddened: {before} -> {after}"
+        );
+    }
+    assert!(
+        renderer
+            .shaders()
+            .compiled_keys()
+            .any(|k| k.path() == "environment/environment_probe.wgsl"
+                && k.features.contains("LIGHT_PASS")),
+        "the light pass's permutation"
+    );
+
+    // Rendered again only when the lights change.
+    let frame = |lamp: Vec3| {
+        let env = lit_probe(
+            &renderer,
+            Some(701),
+            &s.surroundings,
+            point_buffer(&renderer, &[red_lamp(lamp)]),
+            64,
+        );
+        let (report, ..) = mirror(&renderer, &s, EYE, env);
+        (
+            report.counter("environment probe rendered"),
+            report.counter("environment probe reused"),
+        )
+    };
+    assert_eq!(frame(LAMP), (1, 0), "first");
+    assert_eq!(frame(LAMP), (0, 1), "the same light, a new buffer");
+    let moved = LAMP + Vec3::new(0.3, 0.0, 0.0);
+    assert_eq!(frame(moved), (1, 0), "a moved light");
+    assert_eq!(frame(moved), (0, 1), "still again");
+}
+
+/// A red spot shining down beside the probe reddens the floor inside its
+/// cone and leaves the floor outside it as the unlit probe shows it.
+#[test]
+fn a_spot_light_reddens_the_floor_inside_its_cone_only() {
+    use spreadlight_render::lighting::{LightBuffer, SpotLight};
+    let renderer = test_renderer();
+    let s = scene(&renderer);
+    let unlit = lit_probe(&renderer, None, &s.surroundings, Vec::new(), 64);
+    mirror(&renderer, &s, EYE, unlit.clone());
+    let spot = SpotLight::cone(Vec3::new(-0.6, 1.0, -0.5), Vec3::NEG_Y, 3.0, 0.2, 0.3)
+        .with_light(Vec3::new(1.0, 0.05, 0.05), 3.0);
+    let lights = vec![spreadlight_render::environment::ProbeLights {
+        lights: LightBuffer::spots(&renderer, &[spot], None).expect("a valid spot"),
+        shadows: None,
+    }];
+    let lit = lit_probe(&renderer, None, &s.surroundings, lights, 64);
+    let (report, ..) = mirror(&renderer, &s, EYE, lit.clone());
+    assert!(report.errors.is_empty(), "{:?}", report.errors);
+    let (under_before, _) = floor_texel(&renderer, &unlit, -0.6, -0.5);
+    let (under, _) = floor_texel(&renderer, &lit, -0.6, -0.5);
+    assert!(
+        under.x > under_before.x + 0.2 && under.x > 1.3 * under.y,
+        "under the spot: {under_before} -> {under}"
+    );
+    let (outside_before, _) = floor_texel(&renderer, &unlit, 0.5, 0.6);
+    let (outside, _) = floor_texel(&renderer, &lit, 0.5, 0.6);
+    assert!(
+        (outside - outside_before).abs().max_element() < 1e-3,
+        "outside the cone: {outside_before} -> {outside}"
+    );
+    assert!(
+        renderer
+            .shaders()
+            .compiled_keys()
+            .any(|k| k.path() == "environment/environment_probe.wgsl"
+                && k.features.contains("LIGHT_SPOT")),
+        "the spot pass's permutation"
+    );
+}
+
+/// Hard cases: a light at the probe's very centre lights every face
+/// finitely; a light of range 0, and Max Lights 0, add exactly nothing; a
+/// sun buffer is refused, naming the probe's own sun.
+#[test]
+fn probe_lights_at_its_centre_or_without_range_stay_finite() {
+    use spreadlight_render::environment::{ProbeError, ProbeLights};
+    use spreadlight_render::lighting::{LightBuffer, SunLight};
+    let renderer = test_renderer();
+    let s = scene(&renderer);
+    let unlit = lit_probe(&renderer, None, &s.surroundings, Vec::new(), 64);
+    mirror(&renderer, &s, EYE, unlit.clone());
+    let centre = lit_probe(
+        &renderer,
+        None,
+        &s.surroundings,
+        point_buffer(&renderer, &[red_lamp(ABOVE)]),
+        64,
+    );
+    mirror(&renderer, &s, EYE, centre.clone());
+    let maps = centre.maps().expect("built");
+    for face in 0..6 {
+        let image = read_texture_layer(&renderer.gpu, &maps.base, face, 0).expect("reads");
+        assert!(image.all_finite(), "face {face}: NaN or infinity");
+    }
+    let no_range = spreadlight_render::lighting::PointLight {
+        range: 0.0,
+        ..red_lamp(LAMP)
+    };
+    let none = [
+        lit_probe(
+            &renderer,
+            None,
+            &s.surroundings,
+            point_buffer(&renderer, &[no_range]),
+            64,
+        ),
+        lit_probe(
+            &renderer,
+            None,
+            &s.surroundings,
+            point_buffer(&renderer, &[red_lamp(LAMP)]),
+            0,
+        ),
+    ];
+    for env in none {
+        mirror(&renderer, &s, EYE, env.clone());
+        for (x, z) in [(-0.8, 0.0), (-0.3, 0.6)] {
+            assert_eq!(
+                floor_texel(&renderer, &env, x, z).0,
+                floor_texel(&renderer, &unlit, x, z).0,
+                "({x}, {z})"
+            );
+        }
+    }
+    let suns = vec![ProbeLights {
+        lights: LightBuffer::suns(
+            &renderer,
+            &[SunLight {
+                direction: SUN_DIRECTION,
+                color: Vec3::ONE,
+                illuminance: 1.0,
+                shadow: None,
+            }],
+        ),
+        shadows: None,
+    }];
+    let e = ProbeScene::new(vec![s.surroundings.clone()], above())
+        .and_then(|p| p.with_lights(suns, 64))
+        .map(|_| ())
+        .expect_err("refused");
+    assert_eq!(e, ProbeError::SunBuffer { index: 0 });
+}

@@ -3,21 +3,27 @@
 //! the layer's instances pulled from the mesh arena as the shadow depth
 //! pass pulls them, each surface shaded forward with the probe's lighting,
 //! its layer's Color Texture and Normal Map (one pipeline permutation per
-//! kind of layer: none, by UVs, triplanar) and, when the probe has one, the
-//! sun's shadow maps. The prefilter then makes the cube's mips and
-//! roughness levels from it.
+//! kind of layer: none, by UVs, triplanar, a glTF layer's surface maps)
+//! and, when the probe has one, the sun's shadow maps; then, in the same
+//! render pass, each point or spot light buffer draws the layers again
+//! (LIGHT_PASS, depth-tested equal, added), its lights shaded by the
+//! forward passes' shared light function. The prefilter then makes the
+//! cube's mips and roughness levels from it.
 
 use std::hash::{Hash, Hasher};
 
 use wgpu::util::DeviceExt;
 
-use super::key::{ProbeFacesKey, ProbeUv};
-use super::{ProbeScene, face_view_projection};
+use super::key::{ProbeFacesKey, ProbePass, ProbeUv};
+use super::{ProbeScene, SURFACE_METALLIC, SURFACE_ROUGHNESS, face_view_projection};
 use crate::error::RenderError;
 use crate::frame_graph::{Bindings, PassContext, Tex};
 use crate::gbuffer::{Draw, GpuInstance, Layer, pack_instances};
+use crate::material::MaterialWorld;
 use crate::mesh_arena::pulled_pipeline;
+use crate::post::transparency::ShadowKey;
 use crate::renderer::Renderer;
+use crate::texture_pool::ViewSpec;
 use crate::shaders::{Permutation, Sampling, ShaderKey};
 
 const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
@@ -33,6 +39,8 @@ pub(crate) struct PackedProbe {
     ranges: Vec<(u32, u32)>,
     /// Each layer's textures as its faces sample them.
     maps: Vec<ProbeMaps>,
+    /// Each layer's material world, when its glTF surface maps are read (MATERIAL_MAPS).
+    worlds: Vec<Option<std::sync::Arc<MaterialWorld>>>,
 }
 
 /// How a layer's Color Texture and Normal Map reach the probe's faces (by name).
@@ -43,10 +51,39 @@ struct ProbeMaps {
     uv: ProbeUv,
     /// Triplanar: the normal's power that blends the three projections.
     sharpness: u32,
+    /// A glTF layer's surface maps: a hash of its world's materials and map arrays.
+    surface_maps: Option<u64>,
+}
+
+/// What a world shows the probe: its materials' features and parameters,
+/// and which map arrays (kept across frames while the maps are the same).
+fn world_hash(world: &MaterialWorld) -> u64 {
+    let mut h = std::collections::hash_map::DefaultHasher::new();
+    for m in world.materials() {
+        m.flags().hash(&mut h);
+        for (_, params) in m.features() {
+            for c in params.iter().flatten() {
+                c.to_bits().hash(&mut h);
+            }
+        }
+    }
+    (world.world_maps()).map(|w| std::sync::Arc::as_ptr(&w.textures) as usize).hash(&mut h);
+    h.finish()
 }
 
 impl ProbeMaps {
     fn of(layer: &Layer) -> Self {
+        // A glTF layer's surface maps take the place of a layer's own
+        // textures (as in the G-buffer resolve and Transparency).
+        if let Some(world) = layer.map_world() {
+            return ProbeMaps {
+                color: None,
+                normal: None,
+                uv: ProbeUv::None,
+                sharpness: layer.features.triplanar_sharpness,
+                surface_maps: Some(world_hash(world)),
+            };
+        }
         let color = layer.color_map.as_ref().map(|m| m.name.clone());
         let normal = (layer.normal_map.as_ref())
             .filter(|_| layer.features.normal_map)
@@ -64,6 +101,7 @@ impl ProbeMaps {
             normal,
             uv,
             sharpness: layer.features.triplanar_sharpness,
+            surface_maps: None,
         }
     }
 }
@@ -72,11 +110,13 @@ impl PackedProbe {
     pub(crate) fn new(layers: &[std::sync::Arc<Layer>]) -> Self {
         let (instances, draws, ranges) = pack_instances(layers);
         let maps = layers.iter().map(|l| ProbeMaps::of(l)).collect();
+        let worlds = layers.iter().map(|l| l.map_world().cloned()).collect();
         PackedProbe {
             instances,
             draws,
             ranges,
             maps,
+            worlds,
         }
     }
 }
@@ -87,6 +127,8 @@ impl PackedProbe {
 pub(crate) struct ProbeTextures {
     pub color: Vec<Option<Tex>>,
     pub normal: Vec<Option<Tex>>,
+    /// Per light buffer: its spots' texture array.
+    pub spots: Vec<Option<Tex>>,
 }
 
 /// Matches `ProbeLayer` in shaders/environment/environment_probe.wgsl (TRIPLANAR).
@@ -129,16 +171,40 @@ struct GpuProbeFace {
     ambient: [f32; 4],
     /// x: the sun's slice of the shadow maps (SHADOWS).
     shadow: [u32; 4],
+    /// LIGHT_PASS: x the most lights a face adds of a buffer; y, z the
+    /// roughness and metallic of surfaces without a world (f32 bits).
+    light_params: [u32; 4],
 }
 
 /// The faces' pipeline for one kind of layer (`key`).
+/// A light pass adds its light to the base pass's where the base pass drew
+/// (depth equal: the same vertex code, so the same depths), writing no depth.
 fn pipeline(
     cx: &mut PassContext<'_>,
     key: &ShaderKey,
+    light: bool,
 ) -> Result<wgpu::RenderPipeline, RenderError> {
     let device = cx.gpu.device.clone();
+    let variant = if light { "rgba16f, added" } else { "rgba16f" };
+    let additive = wgpu::BlendComponent {
+        src_factor: wgpu::BlendFactor::One,
+        dst_factor: wgpu::BlendFactor::One,
+        operation: wgpu::BlendOperation::Add,
+    };
+    let target = wgpu::ColorTargetState {
+        format: COLOR_FORMAT,
+        blend: light.then_some(wgpu::BlendState {
+            color: additive,
+            alpha: additive,
+        }),
+        write_mask: if light {
+            wgpu::ColorWrites::COLOR
+        } else {
+            wgpu::ColorWrites::ALL
+        },
+    };
     cx.shaders
-        .render_pipeline(&device, key, "rgba16f", |module, cache| {
+        .render_pipeline(&device, key, variant, |module, cache| {
             // Both sides: the faces' handedness differs, and a probe
             // inside an object sees its inside (the shader turns each
             // normal towards the probe).
@@ -150,20 +216,37 @@ fn pipeline(
                 wgpu::PrimitiveState::default(),
                 Some(wgpu::DepthStencilState {
                     format: DEPTH_FORMAT,
-                    depth_write_enabled: Some(true),
+                    depth_write_enabled: Some(!light),
                     // Reversed-Z: nearer is greater.
-                    depth_compare: Some(wgpu::CompareFunction::Greater),
+                    depth_compare: Some(if light {
+                        wgpu::CompareFunction::Equal
+                    } else {
+                        wgpu::CompareFunction::Greater
+                    }),
                     stencil: Default::default(),
                     bias: Default::default(),
                 }),
-                &[Some(COLOR_FORMAT.into())],
+                &[Some(target)],
             )
         })
 }
 
+/// One pipeline of the faces: the layer's instances `range`, drawn by
+/// `pipeline` with the bind groups each face makes from `bindings`.
+struct LayerDraw<'b> {
+    range: (u32, u32),
+    key: ShaderKey,
+    pipeline: wgpu::RenderPipeline,
+    bindings: crate::frame_graph::Bindings<'b>,
+    /// A light buffer's pass (drawn after every base pass).
+    lit: bool,
+}
+
 /// Draw `scene` into level 0 of `base` (a cube, RENDER_ATTACHMENT), one
-/// render pass per face. `textures`: each layer's Color Texture and Normal
-/// Map as the frame graph handed them to this pass.
+/// render pass per face: every layer's base pass, then every layer again
+/// per light buffer. `textures`: each layer's Color Texture and Normal Map,
+/// and each light buffer's spot textures, as the frame graph handed them
+/// to this pass.
 pub(crate) fn render(
     cx: &mut PassContext<'_>,
     renderer: &Renderer,
@@ -177,14 +260,15 @@ pub(crate) fn render(
     let s = scene.settings();
     let l = s.lighting;
     let towards_sun = (-l.sun_direction).try_normalize().unwrap_or(glam::Vec3::Y);
+    let not_rendered = |what: &str| RenderError::Pass {
+        pass: "EnvironmentProbe".to_owned(),
+        message: format!("the {what} shadow maps were not rendered this frame"),
+    };
     // The sun's shadow maps, when the probe has them: rendered this frame
     // (the pass read their token) or kept from an earlier one.
     let shadow = match scene.sun_shadow() {
         Some(sun) => {
-            let (depth, _) = sun.maps.textures().ok_or_else(|| RenderError::Pass {
-                pass: "EnvironmentProbe".to_owned(),
-                message: "the sun's shadow maps were not rendered this frame".to_owned(),
-            })?;
+            let (depth, _) = sun.maps.textures().ok_or_else(|| not_rendered("sun's"))?;
             let view = depth.create_view(&wgpu::TextureViewDescriptor {
                 dimension: Some(wgpu::TextureViewDimension::D2Array),
                 ..Default::default()
@@ -193,40 +277,36 @@ pub(crate) fn render(
         }
         None => None,
     };
-    // Per layer with instances: its permutation, pipeline, textures and (triplanar) uniform.
-    let mut layers = Vec::new();
-    for (index, (range, maps)) in packed.ranges.iter().zip(&packed.maps).enumerate() {
-        if range.0 == range.1 {
-            continue;
+    // Each light buffer's bindings: its lights, spots' projections and
+    // texture array, and shadow maps (lit transparency binds the same).
+    let mut light_sets = Vec::with_capacity(scene.lights().len());
+    for (index, set) in scene.lights().iter().enumerate() {
+        let spot_textures = textures.spots.get(index).copied().flatten();
+        let mut b = Bindings::new()
+            .buffer("lights", set.lights.buffer())
+            .buffer_opt("spot_projections", set.lights.projections());
+        if let Some(t) = spot_textures {
+            b = b
+                .array("spot_textures", t)
+                .sampler("spot_sampler", Sampling::LinearClamp);
         }
-        // A texture the pass was not handed is drawn without (never the
-        // case when declared together); the key follows what is bound.
-        let color = textures.color.get(index).copied().flatten();
-        let normal = textures.normal.get(index).copied().flatten();
-        let uv = if color.is_none() && normal.is_none() {
-            ProbeUv::None
-        } else {
-            maps.uv
+        if let Some(shadows) = &set.shadows {
+            let (depth, moments) = shadows.textures().ok_or_else(|| not_rendered("lights'"))?;
+            let array = |t: &wgpu::Texture| cx.view_of(t, ViewSpec::array());
+            b = b
+                .view("shadow_maps", array(&depth))
+                .buffer("shadow_views", shadows.views())
+                .buffer("shadow_params", shadows.params());
+            if let Some(moments) = moments {
+                b = b.view("shadow_moments", array(&moments));
+            }
+        }
+        let pass = ProbePass::Light {
+            spot: set.lights.kind == crate::lighting::LightKind::Spot,
+            spot_texture: spot_textures.is_some(),
+            shadows: ShadowKey::of(set.shadows.as_ref().map(|s| s.filter())),
         };
-        let faces_key = ProbeFacesKey {
-            uv,
-            color_map: color.is_some(),
-            normal_map: normal.is_some(),
-            sun_shadow: shadow.is_some(),
-        };
-        let key = faces_key.key();
-        let pipeline = pipeline(cx, &key)?;
-        let uniform = (uv == ProbeUv::Triplanar).then(|| {
-            device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some("environment probe layer"),
-                contents: bytemuck::bytes_of(&GpuProbeLayer {
-                    triplanar_sharpness: maps.sharpness as f32,
-                    pad: [0.0; 3],
-                }),
-                usage: wgpu::BufferUsages::UNIFORM,
-            })
-        });
-        layers.push((*range, key, pipeline, (color, normal), uniform));
+        light_sets.push((pass, b));
     }
     let (vertices, indices, _) = renderer.meshes.buffers();
     // A storage binding cannot be empty: an empty layer binds one unused instance.
@@ -241,6 +321,94 @@ pub(crate) fn render(
         contents: bytemuck::cast_slice(instances),
         usage: wgpu::BufferUsages::STORAGE,
     });
+    // Per layer with instances and pass: its permutation, pipeline and the
+    // bindings every face shares (textures, world, lights).
+    let base_pass = ProbePass::Base {
+        sun_shadow: shadow.is_some(),
+    };
+    let mut draws_of = Vec::new();
+    let mut layer_uniforms = Vec::new();
+    for (index, (range, maps)) in packed.ranges.iter().zip(&packed.maps).enumerate() {
+        if range.0 == range.1 {
+            continue;
+        }
+        // A texture the pass was not handed is drawn without (never the
+        // case when declared together); the key follows what is bound.
+        let color = textures.color.get(index).copied().flatten();
+        let normal = textures.normal.get(index).copied().flatten();
+        let world = packed.worlds.get(index).cloned().flatten();
+        let uv = if color.is_none() && normal.is_none() {
+            ProbeUv::None
+        } else {
+            maps.uv
+        };
+        let uniform = (uv == ProbeUv::Triplanar).then(|| {
+            device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("environment probe layer"),
+                contents: bytemuck::bytes_of(&GpuProbeLayer {
+                    triplanar_sharpness: maps.sharpness as f32,
+                    pad: [0.0; 3],
+                }),
+                usage: wgpu::BufferUsages::UNIFORM,
+            })
+        });
+        layer_uniforms.push((index, uv, color, normal, world, uniform));
+    }
+    for (index, uv, color, normal, world, uniform) in &layer_uniforms {
+        let range = packed.ranges[*index];
+        let passes = std::iter::once((base_pass, None))
+            .chain(light_sets.iter().map(|(pass, b)| (*pass, Some(b))));
+        for (pass, light) in passes {
+            let faces_key = ProbeFacesKey {
+                uv: *uv,
+                color_map: color.is_some(),
+                normal_map: normal.is_some(),
+                surface_maps: world.is_some(),
+                pass,
+            };
+            let key = faces_key.key();
+            let lit = matches!(pass, ProbePass::Light { .. });
+            let pipeline = pipeline(cx, &key, lit)?;
+            let mut b = Bindings::new()
+                .buffer("vertices", &vertices)
+                .buffer("indices", &indices)
+                .buffer("instances", &instances)
+                .buffer_opt("probe_layer", uniform.as_ref());
+            if let Some(color) = color {
+                b = b
+                    .texture("color_map", *color)
+                    .sampler("color_sampler", Sampling::LinearRepeat);
+            }
+            if let Some(normal) = normal {
+                b = b
+                    .texture("normal_map", *normal)
+                    .sampler("normal_sampler", Sampling::LinearRepeat);
+            }
+            if let Some(world) = world {
+                b = b.extend(world.bindings(None));
+                if let Some(maps) = world.maps_bindings() {
+                    b = b.extend(maps);
+                }
+            }
+            match (light, &shadow) {
+                (Some(light), _) => b = b.extend(light.clone()),
+                (None, Some((sun, depth))) => {
+                    b = b
+                        .view("shadow_maps", depth.clone())
+                        .buffer("shadow_views", sun.maps.views())
+                        .buffer("shadow_params", sun.maps.params());
+                }
+                (None, None) => {}
+            }
+            draws_of.push(LayerDraw {
+                range,
+                key,
+                pipeline,
+                bindings: b,
+                lit,
+            });
+        }
+    }
     let depth = device.create_texture(&wgpu::TextureDescriptor {
         label: Some("environment probe depth"),
         size: wgpu::Extent3d {
@@ -265,37 +433,22 @@ pub(crate) fn render(
             sun_color: l.sun_color.extend(0.0).to_array(),
             ambient: l.ambient.extend(0.0).to_array(),
             shadow: [shadow.as_ref().map_or(0, |(sun, _)| sun.slice), 0, 0, 0],
+            light_params: [
+                scene.max_lights(),
+                SURFACE_ROUGHNESS.to_bits(),
+                SURFACE_METALLIC.to_bits(),
+                0,
+            ],
         };
         let buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("environment probe face"),
             contents: bytemuck::bytes_of(&uniform),
             usage: wgpu::BufferUsages::UNIFORM,
         });
-        let mut per_layer = Vec::with_capacity(layers.len());
-        for (_, key, pipeline, (color, normal), uniform) in &layers {
-            let mut b = Bindings::new()
-                .buffer("face", &buffer)
-                .buffer("vertices", &vertices)
-                .buffer("indices", &indices)
-                .buffer("instances", &instances)
-                .buffer_opt("probe_layer", uniform.as_ref());
-            if let Some(color) = color {
-                b = b
-                    .texture("color_map", *color)
-                    .sampler("color_sampler", Sampling::LinearRepeat);
-            }
-            if let Some(normal) = normal {
-                b = b
-                    .texture("normal_map", *normal)
-                    .sampler("normal_sampler", Sampling::LinearRepeat);
-            }
-            if let Some((sun, depth)) = &shadow {
-                b = b
-                    .view("shadow_maps", depth.clone())
-                    .buffer("shadow_views", sun.maps.views())
-                    .buffer("shadow_params", sun.maps.params());
-            }
-            per_layer.push(cx.render_bind_groups(key, &["vs", "fs"], pipeline, b)?);
+        let mut per_draw = Vec::with_capacity(draws_of.len());
+        for d in &draws_of {
+            let b = d.bindings.clone().buffer("face", &buffer);
+            per_draw.push(cx.render_bind_groups(&d.key, &["vs", "fs"], &d.pipeline, b)?);
         }
         let target = base.create_view(&wgpu::TextureViewDescriptor {
             label: Some("environment probe face"),
@@ -306,7 +459,7 @@ pub(crate) fn render(
             array_layer_count: Some(1),
             ..Default::default()
         });
-        faces.push((per_layer, target));
+        faces.push((per_draw, target));
     }
     let clear = wgpu::Color {
         r: f64::from(l.background.x),
@@ -352,8 +505,17 @@ pub(crate) fn render(
             occlusion_query_set: None,
             multiview_mask: None,
         });
-        for ((range, _, pipeline, _, _), groups) in layers.iter().zip(groups) {
-            pass.set_pipeline(pipeline);
+        // Every base pass before any light pass: a light pass adds only
+        // where the nearest surface of all layers lies (depth equal).
+        let order = |lit: bool| {
+            draws_of
+                .iter()
+                .zip(groups)
+                .filter(move |(d, _)| d.lit == lit)
+        };
+        for (d, groups) in order(false).chain(order(true)) {
+            let range = d.range;
+            pass.set_pipeline(&d.pipeline);
             for (i, group) in groups.iter().enumerate() {
                 pass.set_bind_group(i as u32, group, &[]);
             }
@@ -392,7 +554,8 @@ mod wgsl_layout {
                 towards_sun,
                 sun_color,
                 ambient,
-                shadow
+                shadow,
+                light_params
             ]
         );
     }

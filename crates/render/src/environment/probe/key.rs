@@ -2,23 +2,76 @@
 //! (`environment/environment_probe.wgsl`). It declares its shader file (`shader_file!`), so no
 //! table below the effects names it; `environment/probe/faces.rs` uses it.
 
+use crate::post::transparency::ShadowKey;
 use crate::shaders::permutation::Permutation;
 
 /// `environment/environment_probe.wgsl`'s permutations: how a layer's
-/// Color Texture and Normal Map reach the probe's faces (one pipeline per
-/// kind of layer), and whether the sun's shadow map darkens them.
+/// surface reaches the probe's faces (one pipeline per kind of layer), and
+/// which pass draws it: the base (ambient, the probe's sun and its shadow)
+/// or a light buffer's.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct ProbeFacesKey {
     /// How the layer's textures are mapped; [`ProbeUv::None`] only for a
-    /// layer with neither texture.
+    /// layer with neither texture (and for glTF surface maps, which carry their own).
     pub uv: ProbeUv,
     /// The Color Texture scales the instance colour (COLOR_MAP).
     pub color_map: bool,
     /// The Normal Map perturbs the normal (NORMAL_MAP), as the G-buffer resolve does.
     pub normal_map: bool,
-    /// The sun's light is shadowed by a ShadowMap (Sun)'s maps (SHADOWS,
-    /// read with PCF: SHADOW_PCF).
-    pub sun_shadow: bool,
+    /// A glTF layer's surface maps (MATERIAL_MAPS; never with the layer's own textures).
+    pub surface_maps: bool,
+    pub pass: ProbePass,
+}
+
+/// Which of a face's passes a pipeline draws.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum ProbePass {
+    /// The probe's ambient and sun; `sun_shadow`: shadowed by a ShadowMap
+    /// (Sun)'s maps (SHADOWS, read with PCF: SHADOW_PCF).
+    Base { sun_shadow: bool },
+    /// A point or spot light buffer's light added (LIGHT_PASS; LIGHT_SPOT,
+    /// SPOT_TEXTURE), shadowed by its ShadowMap's maps with their filter.
+    Light {
+        spot: bool,
+        spot_texture: bool,
+        shadows: ShadowKey,
+    },
+}
+
+impl ProbePass {
+    /// Every pass the node set can ask for.
+    fn all() -> Vec<ProbePass> {
+        let mut all = vec![
+            ProbePass::Base { sun_shadow: false },
+            ProbePass::Base { sun_shadow: true },
+        ];
+        for (spot, spot_texture) in [(false, false), (true, false), (true, true)] {
+            for shadows in ShadowKey::ALL {
+                all.push(ProbePass::Light {
+                    spot,
+                    spot_texture,
+                    shadows,
+                });
+            }
+        }
+        all
+    }
+
+    fn features(self) -> Vec<&'static str> {
+        match self {
+            ProbePass::Base { sun_shadow: true } => vec!["SHADOWS", "SHADOW_PCF"],
+            ProbePass::Base { sun_shadow: false } => Vec::new(),
+            ProbePass::Light {
+                spot,
+                spot_texture,
+                shadows,
+            } => std::iter::once("LIGHT_PASS")
+                .chain(spot.then_some("LIGHT_SPOT"))
+                .chain(spot_texture.then_some("SPOT_TEXTURE"))
+                .chain(shadows.features())
+                .collect(),
+        }
+    }
 }
 
 /// Where a probe face's texture coordinates come from.
@@ -38,8 +91,14 @@ impl Permutation for ProbeFacesKey {
         "NORMAL_MAP",
         "TEXCOORDS",
         "TRIPLANAR",
+        "MATERIAL_MAPS",
         "SHADOWS",
         "SHADOW_PCF",
+        "SHADOW_PCSS",
+        "SHADOW_VSM",
+        "LIGHT_PASS",
+        "LIGHT_SPOT",
+        "SPOT_TEXTURE",
     ];
 
     fn features(self) -> impl Iterator<Item = &'static str> {
@@ -48,35 +107,33 @@ impl Permutation for ProbeFacesKey {
             ProbeUv::Texcoords => Some("TEXCOORDS"),
             ProbeUv::Triplanar => Some("TRIPLANAR"),
         };
-        let shadow: &[&'static str] = if self.sun_shadow {
-            &["SHADOWS", "SHADOW_PCF"]
-        } else {
-            &[]
-        };
         (self.color_map.then_some("COLOR_MAP"))
             .into_iter()
             .chain(self.normal_map.then_some("NORMAL_MAP"))
             .chain(uv)
-            .chain(shadow.iter().copied())
+            .chain(self.surface_maps.then_some("MATERIAL_MAPS"))
+            .chain(self.pass.features())
     }
 
-    /// A layer without textures, or with a Color Texture, a Normal Map or
-    /// both by either mapping; each with and without the sun's shadow.
+    /// A layer without textures, with a Color Texture, a Normal Map or
+    /// both by either mapping, or with glTF surface maps; each in every pass.
     fn all() -> Vec<Self> {
-        let mut textures = vec![(ProbeUv::None, false, false)];
+        let mut surfaces = vec![(ProbeUv::None, false, false, false)];
         for uv in [ProbeUv::Texcoords, ProbeUv::Triplanar] {
             for (color_map, normal_map) in [(true, false), (false, true), (true, true)] {
-                textures.push((uv, color_map, normal_map));
+                surfaces.push((uv, color_map, normal_map, false));
             }
         }
+        surfaces.push((ProbeUv::None, false, false, true));
         let mut all = Vec::new();
-        for sun_shadow in [false, true] {
-            for &(uv, color_map, normal_map) in &textures {
+        for pass in ProbePass::all() {
+            for &(uv, color_map, normal_map, surface_maps) in &surfaces {
                 all.push(ProbeFacesKey {
                     uv,
                     color_map,
                     normal_map,
-                    sun_shadow,
+                    surface_maps,
+                    pass,
                 });
             }
         }

@@ -8,11 +8,19 @@
 //!   layer's Color Texture) lit by the probe's own ambient and one sun, its
 //!   normal perturbed by the layer's Normal Map, the sun shadowed by a
 //!   ShadowMap (Sun)'s maps when given them ([`ProbeShadow`]), the
-//!   background a flat colour. A mirror then shows the box's colour, at the
-//!   cost of six rasterizations and a prefilter, not six G-buffers.
+//!   background a flat colour; then each point or spot light buffer
+//!   ([`ProbeLights`]) draws the layer again, adding its lights'
+//!   Cook-Torrance light through the forward passes' shared light function
+//!   (shaders/lib/forward_light.wgsl, lit transparency's), with their
+//!   shadow maps. A glTF layer's surface maps (base colour, normal,
+//!   metallic-roughness, occlusion, emissive) colour and shape what it
+//!   sees. A mirror then shows the box's colour, at the cost of six
+//!   rasterizations (and one more per light buffer) and a prefilter, not
+//!   six G-buffers.
 //! - When: the probe's content key (its position, lighting, every
 //!   instance's transform, colour and mesh, its layers' textures by name,
-//!   and the shadow's light and casters) is compared with the last
+//!   the shadow's light and casters, and every light buffer's lights and
+//!   shadows) is compared with the last
 //!   render's; [`ProbeUpdate`] says whether a change, a frame count or
 //!   nothing triggers the next. The camera is not part of the key: a moved
 //!   camera reuses the cube ("environment probe reused").
@@ -34,7 +42,7 @@ use glam::{Mat4, Vec3, Vec4};
 use thiserror::Error;
 
 use crate::gbuffer::Layer;
-use crate::lighting::LightKind;
+use crate::lighting::{LightBuffer, LightKind};
 use crate::shadows::ShadowMaps;
 
 /// Why a probe was refused; names the setting.
@@ -50,7 +58,34 @@ pub enum ProbeError {
     NotSunShadow(LightKind),
     #[error("the probe's sun shadow slice {slice} is not in the shadow maps (slices 0..{count})")]
     ShadowSlice { slice: u32, count: u32 },
+    #[error(
+        "the probe's lights take point and spot light buffers; its sun is its Sun pins (light buffer {index} holds suns)"
+    )]
+    SunBuffer { index: usize },
+    #[error("light buffer {index} holds {lights:?} lights but its shadow maps are a {maps:?} ShadowMap's")]
+    ShadowKind {
+        index: usize,
+        lights: LightKind,
+        maps: LightKind,
+    },
 }
+
+/// A point or spot light buffer that lights the probe's faces, with the
+/// shadow maps its lights' slices index (a ShadowMap of the same type).
+#[derive(Clone, Debug)]
+pub struct ProbeLights {
+    pub lights: Arc<LightBuffer>,
+    pub shadows: Option<Arc<ShadowMaps>>,
+}
+
+/// How many lights of each buffer a face adds by default (Max Lights).
+pub const DEFAULT_MAX_LIGHTS: u32 = 64;
+
+/// The roughness and metallic the light passes give surfaces without a
+/// material world (glTF layers bring theirs): a rough dielectric, as
+/// Transparency's defaults.
+pub const SURFACE_ROUGHNESS: f32 = 0.5;
+pub const SURFACE_METALLIC: f32 = 0.0;
 
 /// The shadow of a probe's sun: slice `slice` of a ShadowMap (Sun)'s maps
 /// (the scene's sun, whose direction the probe's lighting should share).
@@ -141,13 +176,28 @@ pub struct ProbeScene {
     layers: Vec<Arc<Layer>>,
     settings: ProbeSettings,
     sun_shadow: Option<ProbeShadow>,
+    lights: Vec<ProbeLights>,
+    /// The most lights of each buffer a face adds (the first ones).
+    max_lights: u32,
 }
 
 impl PartialEq for ProbeScene {
     fn eq(&self, other: &Self) -> bool {
         let shadow = |s: &Option<ProbeShadow>| s.as_ref().map(|s| (Arc::as_ptr(&s.maps), s.slice));
+        let lights = |l: &[ProbeLights]| -> Vec<_> {
+            l.iter()
+                .map(|l| {
+                    (
+                        Arc::as_ptr(&l.lights),
+                        l.shadows.as_ref().map(Arc::as_ptr),
+                    )
+                })
+                .collect()
+        };
         self.settings == other.settings
             && shadow(&self.sun_shadow) == shadow(&other.sun_shadow)
+            && lights(&self.lights) == lights(&other.lights)
+            && self.max_lights == other.max_lights
             && self.layers.len() == other.layers.len()
             && self
                 .layers
@@ -207,6 +257,8 @@ impl ProbeScene {
             layers,
             settings,
             sun_shadow: None,
+            lights: Vec::new(),
+            max_lights: DEFAULT_MAX_LIGHTS,
         })
     }
 
@@ -227,6 +279,46 @@ impl ProbeScene {
         }
         self.sun_shadow = shadow;
         Ok(self)
+    }
+
+    /// The probe lit by `lights` too, at most `max_lights` of each buffer
+    /// (its first ones; 0: none) per face. Sun buffers are refused (the
+    /// probe's sun is its own), and shadow maps of another light type.
+    pub fn with_lights(
+        mut self,
+        lights: Vec<ProbeLights>,
+        max_lights: u32,
+    ) -> Result<Self, ProbeError> {
+        for (index, l) in lights.iter().enumerate() {
+            if l.lights.kind == LightKind::Sun {
+                return Err(ProbeError::SunBuffer { index });
+            }
+            if let Some(maps) = &l.shadows
+                && maps.kind != l.lights.kind
+            {
+                return Err(ProbeError::ShadowKind {
+                    index,
+                    lights: l.lights.kind,
+                    maps: maps.kind,
+                });
+            }
+        }
+        // Buffers without lights light nothing: no pass for them.
+        self.lights = lights.into_iter().filter(|l| l.lights.count() > 0).collect();
+        self.max_lights = max_lights;
+        Ok(self)
+    }
+
+    /// The light buffers whose light the faces add (none when Max Lights is 0).
+    pub fn lights(&self) -> &[ProbeLights] {
+        match self.max_lights {
+            0 => &[],
+            _ => &self.lights,
+        }
+    }
+
+    pub fn max_lights(&self) -> u32 {
+        self.max_lights
     }
 
     pub fn sun_shadow(&self) -> Option<&ProbeShadow> {
@@ -270,6 +362,15 @@ impl ProbeScene {
         if let Some(s) = &self.sun_shadow {
             s.slice.hash(h);
             s.maps.hash_content(h);
+        }
+        // A moved, recoloured or added light renders the faces again; the
+        // camera (which moves only the shadows' sun cascades) does not.
+        self.max_lights.hash(h);
+        for l in self.lights() {
+            l.lights.hash_content(h);
+            if let Some(maps) = &l.shadows {
+                maps.hash_content(h);
+            }
         }
     }
 }

@@ -180,7 +180,7 @@ impl ShadowKey {
         }
     }
 
-    fn features(self) -> impl Iterator<Item = &'static str> {
+    pub(crate) fn features(self) -> impl Iterator<Item = &'static str> {
         let (on, filter) = match self {
             ShadowKey::None => (false, None),
             ShadowKey::Raw => (true, None),
@@ -191,7 +191,7 @@ impl ShadowKey {
         on.then_some("SHADOWS").into_iter().chain(filter)
     }
 
-    const ALL: [ShadowKey; 5] = [
+    pub(crate) const ALL: [ShadowKey; 5] = [
         ShadowKey::None,
         ShadowKey::Raw,
         ShadowKey::Pcf,

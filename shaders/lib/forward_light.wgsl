@@ -1,0 +1,86 @@
+// One light of a buffer at a world point, Cook-Torrance weighted, for the
+// forward passes that shade surfaces outside the G-buffer: lit transparency
+// (post/transparency.wgsl) and EnvironmentProbe's faces
+// (environment/environment_probe.wgsl). CookTorrance's `shade` in world
+// space: the attenuation, cone and shadow functions are the libraries' it
+// calls, so a light lights a glass pane, and what a probe sees, exactly as
+// it lights the wall behind them. The light type is compiled in as
+// CookTorrance compiles it: point by default, LIGHT_SPOT, LIGHT_SUN;
+// SHADOWS (and its filter) reads the buffer's shadow maps.
+#define_import_path spreadlight::forward_light
+#import spreadlight::brdf::{BrdfSurface, LightSums, add_light, cook_torrance_weights, half_vector_cosines}
+#import spreadlight::lights::{range_window, inverse_square}
+#import spreadlight::packing::safe_normalize
+#ifdef LIGHT_SPOT
+#import spreadlight::spot::spot_mask
+#endif
+#ifdef SHADOWS
+#import spreadlight::shadow_sampling::light_shadow
+#endif
+
+// Matches `GpuLight` in crates/render/src/lighting/mod.rs.
+struct Light {
+    position_range: vec4<f32>,
+    intensity: vec4<f32>,
+    direction: vec4<f32>,
+    cone: vec4<f32>,
+}
+
+@group(0) @binding(13) var<storage, read> lights: array<Light>;
+
+// Light `i`'s radiance at world point `pw` times its Cook-Torrance weights,
+// added to `sums`. `view_depth` (the camera's depth of the point) picks a
+// sun's cascade (LIGHT_SUN with SHADOWS); point and spot lights ignore it.
+fn add_forward_light(i: u32, pw: vec3<f32>, s: BrdfSurface, view_depth: f32, sums: ptr<function, LightSums>) {
+    add_light_record(lights[i], i, pw, s, view_depth, sums);
+}
+
+// `add_forward_light` with light `i`'s record already loaded (SHADE_TILED
+// shares a batch of records through workgroup memory).
+fn add_light_record(record: Light, i: u32, pw: vec3<f32>, s: BrdfSurface, view_depth: f32, sums: ptr<function, LightSums>) {
+#ifdef LIGHT_SUN
+    let l = safe_normalize(-record.direction.xyz, vec3<f32>(0.0, 1.0, 0.0));
+    let n_dot_l = dot(s.n, l);
+    let v_dot_l = dot(s.v, l);
+    var radiance = record.intensity.rgb;
+    let attenuation = 1.0;
+#ifdef SHADOWS
+    if (record.cone.z >= 0.0) {
+        radiance *= light_shadow(u32(record.cone.z), pw, s.n, record.direction.xyz, view_depth, n_dot_l);
+    }
+#endif
+#else
+    let range = record.position_range.w;
+    // A light without a range lights nothing.
+    if (!(range > 0.0)) {
+        return;
+    }
+    let to_light = record.position_range.xyz - pw;
+    let distance2 = dot(to_light, to_light);
+    // (distance / range)^2; the floor keeps a range whose square underflows finite.
+    let ratio2 = distance2 / max(range * range, 1e-30);
+    if (!(ratio2 < 1.0)) {
+        return;
+    }
+    let inverse_distance = inverseSqrt(max(distance2, 1e-20));
+    let attenuation = range_window(ratio2) * inverse_square(inverse_distance);
+    var n_dot_l = dot(s.n, to_light) * inverse_distance;
+    var v_dot_l = dot(s.v, to_light) * inverse_distance;
+    if (!(distance2 > 1e-20)) {
+        // A light at the surface point: from along the normal.
+        n_dot_l = 1.0;
+        v_dot_l = s.view_cosine;
+    }
+    var radiance = record.intensity.rgb;
+#ifdef LIGHT_SPOT
+    radiance *= spot_mask(i, record.cone, pw);
+#endif
+#ifdef SHADOWS
+    if (record.cone.z >= 0.0) {
+        radiance *= light_shadow(u32(record.cone.z), pw, s.n, pw - record.position_range.xyz, view_depth, n_dot_l);
+    }
+#endif
+#endif
+    let cosines = half_vector_cosines(s, n_dot_l, v_dot_l);
+    add_light(sums, radiance, cook_torrance_weights(s, n_dot_l, cosines.x, cosines.y) * attenuation);
+}
