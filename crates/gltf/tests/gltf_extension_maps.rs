@@ -5,6 +5,8 @@
 //! against the CPU references (spreadlight-reference's BRDF and coat,
 //! spreadlight-gltf's Beer-Lambert `MaterialData::transmittance`) at every
 //! inner pixel. A world without such a map compiles none of their code.
+//! And the core maps beyond the G-buffer: an EnvironmentProbe's faces show
+//! a quad's checkered base colour texture.
 
 // The post tests' scene helpers, shared with the renderer's tests.
 #[path = "../../render/tests/post_common/mod.rs"]
@@ -535,4 +537,108 @@ fn lit_transparency_reads_the_specular_map() {
         checked[u] += 1;
     }
     assert!(checked[0] > 300 && checked[1] > 300, "{checked:?}");
+}
+
+/// An EnvironmentProbe in front of a generated glTF quad whose base colour
+/// texture is a 4 x 4 checker of red and blue cells (sampled NEAREST) sees
+/// the checker: the probe's -Z face shows, at each cell's centre, the
+/// cell's colour, through the layer's surface maps (MATERIAL_MAPS on its
+/// faces) as the G-buffer reads them. Without the maps it would be one
+/// colour (the base colour factor's white).
+#[test]
+fn an_environment_probe_shows_a_gltf_quads_checker_base_colour() {
+    use spreadlight_gltf::builder::info;
+    use spreadlight_render::environment::probe::cube_direction;
+    use spreadlight_render::environment::{
+        Environment, EnvironmentQuality, EnvironmentSource, ProbeScene, ProbeSettings, Sky,
+    };
+    use spreadlight_render::readback::read_texture_layer;
+    use spreadlight_render::static_texture::StaticTexture;
+    const RED: [u8; 4] = [230, 40, 20, 255];
+    const BLUE: [u8; 4] = [20, 40, 230, 255];
+    let renderer = test_renderer();
+    let checker = png(&image::RgbaImage::from_fn(16, 16, |x, y| {
+        image::Rgba(if (x / 4 + y / 4) % 2 == 0 { RED } else { BLUE })
+    }));
+    let mut material = opaque_material();
+    material.pbr_metallic_roughness.base_color_factor =
+        json::material::PbrBaseColorFactor([1.0, 1.0, 1.0, 1.0]);
+    // The first texture `model` makes: the checker.
+    material.pbr_metallic_roughness.base_color_texture = Some(info(json::Index::new(0)));
+    let scene = load_gltf_slice(&model(material, "{}", &[checker]), None).expect("loads");
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    let (_, layer) = world_and_layer(&renderer, &scene);
+    // Before the quad (z = 0, facing +Z), looking at it through its -Z face.
+    let position = Vec3::new(0.0, 0.0, 1.5);
+    let probe = ProbeScene::new(
+        vec![layer.clone()],
+        ProbeSettings {
+            position,
+            ..Default::default()
+        },
+    )
+    .expect("valid");
+    let env = Environment::new(
+        &renderer,
+        None,
+        EnvironmentSource::Probe(Arc::new(probe)),
+        EnvironmentQuality {
+            cube_size: 32,
+            samples: 8,
+        },
+    );
+    // Built for a Sky that shows it behind an empty G-buffer.
+    let g = GBuffer::new(
+        &renderer,
+        None,
+        Vec::new(),
+        camera(),
+        None,
+        SizeRule::Relative(1.0),
+    );
+    let black = vec![[0.0f32; 4]; (SIZE.0 * SIZE.1) as usize];
+    let lit = StaticTexture::from_rgba32f(&renderer.gpu, SIZE.0, SIZE.1, &black, "lit");
+    let sky = Sky::with_environment(
+        &renderer,
+        None,
+        g,
+        lit.texture_ref(),
+        Default::default(),
+        Some(env.clone()),
+    );
+    let (report, _) = render_and_read(&renderer, sky.as_ref(), SIZE, &[&sky.output]).expect("renders");
+    assert!(report.errors.is_empty(), "{:?}", report.errors);
+    assert_eq!(report.counter("environment probe rendered"), 1);
+    let maps = env.maps().expect("built");
+    let face = read_texture_layer(&renderer.gpu, &maps.base, 5, 0).expect("reads");
+    assert!(face.all_finite());
+    let n = face.width as f32;
+    // Each cell's centre (u, v in the texture, the quad's x = 2u - 1, y = 1 - 2v).
+    for row in 0..4 {
+        for column in 0..4 {
+            let (u, v) = ((column as f32 + 0.5) / 4.0, (row as f32 + 0.5) / 4.0);
+            let p = Vec3::new(2.0 * u - 1.0, 1.0 - 2.0 * v, 0.0);
+            // The -Z face's uv of the direction to it (`cube_direction(5, uv)` = (-u, -v, -1)).
+            let d = (p - position) / (position.z - p.z);
+            let face_uv = glam::Vec2::new(-d.x, -d.y);
+            assert!((cube_direction(5, face_uv) - d).length() < 1e-5);
+            let texel = |t: f32| ((t * 0.5 + 0.5) * n).floor().clamp(0.0, n - 1.0) as u32;
+            let c = face.pixel(texel(face_uv.x), texel(face_uv.y));
+            let red = (row + column) % 2 == 0;
+            let (hot, cold) = if red { (c[0], c[2]) } else { (c[2], c[0]) };
+            assert!(
+                hot > 4.0 * cold,
+                "cell ({column}, {row}) should be {}: {c:?}",
+                if red { "red" } else { "blue" }
+            );
+        }
+    }
+    assert!(
+        renderer
+            .shaders()
+            .compiled_keys()
+            .any(|k| k.path() == "environment/environment_probe.wgsl"
+                && k.features.contains("MATERIAL_MAPS")),
+        "the surface maps' permutation"
+    );
 }
