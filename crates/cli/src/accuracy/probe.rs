@@ -9,7 +9,12 @@
 //! - update rate (Every N Frames): the box circles the ball; each interval's
 //!   probe time per frame (the renders spread over the frames) against its
 //!   error, over the frames, versus a probe of the same size rendered every
-//!   frame (how far the reflection lags behind the box).
+//!   frame (how far the reflection lags behind the box);
+//! - lights (Max Lights): `--lights` red, green and blue point lights in a
+//!   ring around the ball light the probe's faces; each Max Lights setting's
+//!   probe pass (rendered every frame) against its error versus the probe
+//!   that adds them all (a face adds only the first Max Lights of a buffer).
+//!   Max Lights 0 runs no light pass: its time is the probe without lights.
 //!
 //! Error: RMSE of the linear specular term over the ball's pixels, and SSIM.
 
@@ -18,10 +23,12 @@ use std::sync::Arc;
 
 use anyhow::Context;
 use glam::{Mat4, Vec2, Vec3};
+use spreadlight_render::environment::probe::DEFAULT_MAX_LIGHTS;
 use spreadlight_render::environment::{
-    Environment, EnvironmentQuality, EnvironmentSource, ProbeScene, ProbeSettings, ProbeUpdate,
-    Reflection, ReflectionMode,
+    Environment, EnvironmentQuality, EnvironmentSource, ProbeLights, ProbeScene, ProbeSettings,
+    ProbeUpdate, Reflection, ReflectionMode,
 };
+use spreadlight_render::lighting::{LightBuffer, PointLight};
 use spreadlight_render::gbuffer::{GBuffer, Layer};
 use spreadlight_render::material::{Feature, Material, MaterialWorld};
 use spreadlight_render::readback::{ImageF32, render_and_read};
@@ -60,6 +67,32 @@ pub struct ProbeArgs {
     /// The ball's roughness (0: a mirror).
     #[arg(long, default_value_t = 0.05)]
     roughness: f32,
+    /// Point lights around the ball that light the probe (0: no lights method).
+    #[arg(long, default_value_t = 32)]
+    lights: u32,
+    /// Max Lights settings, comma-separated (each against all `--lights`).
+    #[arg(long, default_value = "0,1,4,16,32", value_delimiter = ',')]
+    max_lights: Vec<u32>,
+}
+
+/// `count` point lights in a ring around the ball, red, green and blue in
+/// turn, at heights 0.2..1.2, each reaching the floor and the box.
+fn ring_of_lights(count: u32) -> Vec<PointLight> {
+    (0..count)
+        .map(|i| {
+            let t = i as f32 / count.max(1) as f32;
+            let at = Vec2::from_angle(t * std::f32::consts::TAU * 3.0).rotate(Vec2::new(1.2 + t, 0.0));
+            let mut color = Vec3::splat(0.05);
+            color[(i % 3) as usize] = 1.0;
+            PointLight {
+                position: Vec3::new(at.x, 0.2 + (i % 5) as f32 * 0.25, at.y),
+                color,
+                intensity: 2.0,
+                range: 3.0,
+                shadow: None,
+            }
+        })
+        .collect()
 }
 
 const BALL: Vec3 = Vec3::new(0.0, 0.6, 0.0);
@@ -84,7 +117,10 @@ fn box_at(s: &MirrorBesideBox, angle: f32) -> Arc<Layer> {
     Arc::new(layer)
 }
 
-/// One frame: the ball's specular from a probe of `surroundings`, and the probe pass's GPU ms.
+/// One frame: the ball's specular from a probe of `surroundings` (lit by
+/// `lights`' buffers, at most their `.1` first lights each), and the probe
+/// pass's GPU ms.
+#[allow(clippy::too_many_arguments)]
 fn frame(
     renderer: &Renderer,
     s: &Scene,
@@ -93,6 +129,7 @@ fn frame(
     owner: u32,
     quality: EnvironmentQuality,
     update: ProbeUpdate,
+    lights: (&[ProbeLights], u32),
 ) -> anyhow::Result<(ImageF32, Option<f64>)> {
     let g = GBuffer::new(
         renderer,
@@ -107,7 +144,8 @@ fn frame(
         update,
         ..Default::default()
     };
-    let probe = ProbeScene::new(vec![surroundings.clone()], settings)?;
+    let probe = ProbeScene::new(vec![surroundings.clone()], settings)?
+        .with_lights(lights.0.to_vec(), lights.1)?;
     let env = Environment::new(
         renderer,
         Some(owner),
@@ -190,6 +228,7 @@ pub fn run(args: &ProbeArgs) -> anyhow::Result<ExitCode> {
         1,
         reference_quality,
         ProbeUpdate::OnChange,
+        (&[], DEFAULT_MAX_LIGHTS),
     )?;
     let mut rows = Vec::new();
     let mut owner = 10;
@@ -209,6 +248,7 @@ pub fn run(args: &ProbeArgs) -> anyhow::Result<ExitCode> {
                     owner,
                     quality,
                     ProbeUpdate::EveryNFrames(1),
+                    (&[], DEFAULT_MAX_LIGHTS),
                 )?;
                 if i >= args.common.warmup {
                     times.extend(ms);
@@ -246,6 +286,7 @@ pub fn run(args: &ProbeArgs) -> anyhow::Result<ExitCode> {
                 every_frame,
                 quality,
                 ProbeUpdate::OnChange,
+                (&[], DEFAULT_MAX_LIGHTS),
             )?
             .0,
         );
@@ -262,6 +303,7 @@ pub fn run(args: &ProbeArgs) -> anyhow::Result<ExitCode> {
                 owner,
                 quality,
                 ProbeUpdate::EveryNFrames(n.max(1)),
+                (&[], DEFAULT_MAX_LIGHTS),
             )?;
             if let Some(ms) = ms {
                 total_ms += ms;
@@ -283,6 +325,53 @@ pub fn run(args: &ProbeArgs) -> anyhow::Result<ExitCode> {
             },
         });
     }
+    // Max Lights at the default probe quality, the box still.
+    if args.lights > 0 {
+        let lights = vec![ProbeLights {
+            lights: LightBuffer::points(&renderer, &ring_of_lights(args.lights)),
+            shadows: None,
+        }];
+        owner += 1;
+        let (all, _) = frame(
+            &renderer,
+            &s,
+            &still,
+            size,
+            owner,
+            quality,
+            ProbeUpdate::OnChange,
+            (&lights, args.lights),
+        )?;
+        for &max in &args.max_lights {
+            owner += 1;
+            let mut times = Vec::new();
+            let mut last = None;
+            for i in 0..args.common.warmup + args.common.frames.max(1) {
+                let (image, ms) = frame(
+                    &renderer,
+                    &s,
+                    &still,
+                    size,
+                    owner,
+                    quality,
+                    ProbeUpdate::EveryNFrames(1),
+                    (&lights, max),
+                )?;
+                if i >= args.common.warmup {
+                    times.extend(ms);
+                }
+                last = Some(image);
+            }
+            let image = last.context("a frame")?;
+            rows.push(Row {
+                family: "lights",
+                setting: format!("max {max} of {} point lights", args.lights),
+                ms: median(times),
+                renders: 1,
+                e: error(&image, &all),
+            });
+        }
+    }
     let (ew, eh) = size;
     if args.common.json {
         for r in &rows {
@@ -302,7 +391,8 @@ pub fn run(args: &ProbeArgs) -> anyhow::Result<ExitCode> {
          of {} frames after {}, rendered every frame; update rate: the mean per frame over {} frames of a box circling \
          the ball, {} rad a frame, cube 64 x 32 samples, renders: how many frames rendered it), error at {ew}x{eh} over \
          the ball's pixels (roughness {}; RMSE of the linear specular term, SSIM) against a cube {} x {} samples probe \
-         (resolution) or a probe rendered every frame (update rate).\n\n| method | setting | probe ms | renders | RMSE | SSIM |\n|---|---|---|---|---|---|\n",
+         (resolution), a probe rendered every frame (update rate) or the probe adding all {} point lights (lights: \
+         Max Lights, cube 64 x 32 samples, rendered every frame).\n\n| method | setting | probe ms | renders | RMSE | SSIM |\n|---|---|---|---|---|---|\n",
         args.common.frames,
         args.common.warmup,
         args.update_frames,
@@ -310,6 +400,7 @@ pub fn run(args: &ProbeArgs) -> anyhow::Result<ExitCode> {
         args.roughness,
         args.reference_size,
         args.reference_samples,
+        args.lights,
     );
     for r in &rows {
         table.push_str(&format!(

@@ -112,4 +112,10 @@ fn bad_environment_probe_pins_are_errors_naming_the_pin() {
         "Cube Size",
     );
     assert!(e.to_string().contains("at least 1"), "{e}");
+    let e = eval_err(
+        "EnvironmentProbe",
+        &[("Max Lights", Spread::Int(vec![-1]))],
+        "Max Lights",
+    );
+    assert!(e.to_string().contains("0 or more"), "{e}");
 }
