@@ -86,7 +86,9 @@ struct ProbeLayer {
 const HALF_MAX: f32 = 65000.0;
 
 struct Varyings {
-    @builtin(position) clip: vec4<f32>,
+    // Invariant: a light pass depth-tests equal against the base pass's depths,
+    // so every pipeline must compute the same position from the same vertex.
+    @builtin(position) @invariant clip: vec4<f32>,
     @location(0) world: vec3<f32>,
     @location(1) normal: vec3<f32>,
     @location(2) albedo: vec3<f32>,

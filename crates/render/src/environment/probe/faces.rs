@@ -178,7 +178,8 @@ struct GpuProbeFace {
 
 /// The faces' pipeline for one kind of layer (`key`).
 /// A light pass adds its light to the base pass's where the base pass drew
-/// (depth equal: the same vertex code, so the same depths), writing no depth.
+/// (depth equal: the same vertex code, its position `@invariant`, so the
+/// same depths), writing no depth.
 fn pipeline(
     cx: &mut PassContext<'_>,
     key: &ShaderKey,
