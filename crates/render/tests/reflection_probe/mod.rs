@@ -1015,3 +1015,72 @@ fn probe_lights_at_its_centre_or_without_range_stay_finite() {
         .expect_err("refused");
     assert_eq!(e, ProbeError::SunBuffer { index: 0 });
 }
+
+/// A point light's shadow map reaches the probe's light pass: a light on
+/// the box's far side (+x) leaves the floor behind the box, as the probe
+/// sees it, as unlit as without the light, and the floor beside the box lit
+/// as without the shadow maps.
+#[test]
+fn a_point_lights_shadow_darkens_what_the_probe_sees_behind_the_box() {
+    use spreadlight_render::environment::ProbeLights;
+    use spreadlight_render::lighting::{LightBuffer, PointLight};
+    use spreadlight_render::shadows::{ShadowLights, ShadowMaps, ShadowSettings};
+    let renderer = test_renderer();
+    let s = scene(&renderer);
+    let at = Vec3::new(2.8, 0.6, 0.0);
+    let light = PointLight {
+        position: at,
+        color: Vec3::ONE,
+        intensity: 40.0,
+        range: 4.0,
+        shadow: Some(0),
+    };
+    let maps = ShadowMaps::new(
+        &renderer,
+        None,
+        &ShadowLights::Point(vec![(0, at, 4.0)]),
+        vec![s.surroundings.clone()],
+        &camera(EYE, BALL),
+        ShadowSettings::default(),
+    )
+    .expect("valid point shadow maps");
+    let probe_of = |shadows: Option<Arc<ShadowMaps>>| {
+        let lights = vec![ProbeLights {
+            lights: LightBuffer::points(&renderer, &[light]),
+            shadows,
+        }];
+        let env = lit_probe(&renderer, None, &s.surroundings, lights, 64);
+        let (report, ..) = mirror(&renderer, &s, EYE, env.clone());
+        assert!(report.errors.is_empty(), "{:?}", report.errors);
+        env
+    };
+    let unlit = lit_probe(&renderer, None, &s.surroundings, Vec::new(), 64);
+    mirror(&renderer, &s, EYE, unlit.clone());
+    let unshadowed = probe_of(None);
+    let shadowed = probe_of(Some(maps));
+    // Behind the box from the light; beside it, in the light's view.
+    let (behind, beside) = ((0.8, 0.0), (0.8, 1.2));
+    let seen = |env: &Environment, (x, z): (f32, f32)| floor_texel(&renderer, env, x, z).0;
+    let dark = seen(&unlit, behind);
+    let light_behind = seen(&unshadowed, behind).x - dark.x;
+    assert!(light_behind > 0.1, "the light reaches the floor unshadowed: {light_behind}");
+    let in_shadow = seen(&shadowed, behind);
+    assert!(
+        (in_shadow.x - dark.x).abs() < 0.05 * light_behind,
+        "behind the box: {in_shadow}, unlit {dark}"
+    );
+    let lit = seen(&unshadowed, beside);
+    let still_lit = seen(&shadowed, beside);
+    assert!(
+        (still_lit - lit).abs().max_element() < 0.03 * lit.x,
+        "beside the box: {still_lit}, unshadowed {lit}"
+    );
+    assert!(
+        renderer.shaders().compiled_keys().any(|k| {
+            k.path() == "environment/environment_probe.wgsl"
+                && k.features.contains("LIGHT_PASS")
+                && k.features.contains("SHADOWS")
+        }),
+        "the shadowed light pass's permutation"
+    );
+}
