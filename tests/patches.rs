@@ -474,7 +474,7 @@ fn a_scene_without_reflective_or_subsurface_materials_runs_no_reflection_or_sss_
 }
 
 /// The environment-probe example renders its probe on the first frame, its
-/// sun shadowed, and then reuses it while the camera orbits (the probe sees
+/// sun shadowed and its point light added, and then reuses it while the camera orbits (the probe sees
 /// nothing move, and the shadow's cascades following the camera are not
 /// what it sees);
 /// moving the red box renders it again once. The showcase, with no probe,
@@ -499,6 +499,13 @@ fn the_environment_probe_example_renders_its_probe_once_while_the_camera_orbits(
             k.path() == "environment/environment_probe.wgsl" && k.features.contains("SHADOWS")
         }),
         "the probe's faces are drawn with the sun's shadow"
+    );
+    // Its red point light reaches the probe's faces (their light pass).
+    assert!(
+        renderer.shaders().compiled_keys().any(|k| {
+            k.path() == "environment/environment_probe.wgsl" && k.features.contains("LIGHT_PASS")
+        }),
+        "the probe's faces are lit by the point light"
     );
     for frame in 1..4 {
         rt.evaluate(FrameClock::fixed(frame * 20, 60.0));
