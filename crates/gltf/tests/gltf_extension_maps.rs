@@ -606,7 +606,8 @@ fn an_environment_probe_shows_a_gltf_quads_checker_base_colour() {
         Default::default(),
         Some(env.clone()),
     );
-    let (report, _) = render_and_read(&renderer, sky.as_ref(), SIZE, &[&sky.output]).expect("renders");
+    let (report, _) =
+        render_and_read(&renderer, sky.as_ref(), SIZE, &[&sky.output]).expect("renders");
     assert!(report.errors.is_empty(), "{:?}", report.errors);
     assert_eq!(report.counter("environment probe rendered"), 1);
     let maps = env.maps().expect("built");

@@ -28,8 +28,8 @@ use spreadlight_render::environment::{
     Environment, EnvironmentQuality, EnvironmentSource, ProbeLights, ProbeScene, ProbeSettings,
     ProbeUpdate, Reflection, ReflectionMode,
 };
-use spreadlight_render::lighting::{LightBuffer, PointLight};
 use spreadlight_render::gbuffer::{GBuffer, Layer};
+use spreadlight_render::lighting::{LightBuffer, PointLight};
 use spreadlight_render::material::{Feature, Material, MaterialWorld};
 use spreadlight_render::readback::{ImageF32, render_and_read};
 use spreadlight_render::scenes::{MirrorBesideBox, mirror_beside_box};
@@ -81,7 +81,8 @@ fn ring_of_lights(count: u32) -> Vec<PointLight> {
     (0..count)
         .map(|i| {
             let t = i as f32 / count.max(1) as f32;
-            let at = Vec2::from_angle(t * std::f32::consts::TAU * 3.0).rotate(Vec2::new(1.2 + t, 0.0));
+            let at =
+                Vec2::from_angle(t * std::f32::consts::TAU * 3.0).rotate(Vec2::new(1.2 + t, 0.0));
             let mut color = Vec3::splat(0.05);
             color[(i % 3) as usize] = 1.0;
             PointLight {

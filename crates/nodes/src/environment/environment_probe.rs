@@ -14,13 +14,13 @@ use glam::Vec3;
 use spreadlight_graph::{
     Choice, Choices, Color, EvalContext, In, NodeDef, NodeError, Out, Registry, Res, ResourceKind,
 };
+use spreadlight_render::environment::probe::DEFAULT_MAX_LIGHTS;
 use spreadlight_render::environment::{
     Environment, EnvironmentQuality, EnvironmentSource, ProbeLighting, ProbeLights, ProbeScene,
     ProbeSettings, ProbeShadow, ProbeUpdate, ProbeVolume,
 };
-use spreadlight_render::environment::probe::DEFAULT_MAX_LIGHTS;
-use spreadlight_render::lighting::LightBuffer;
 use spreadlight_render::gbuffer::Layer;
+use spreadlight_render::lighting::LightBuffer;
 use spreadlight_render::shadows::ShadowMaps;
 
 use crate::gpu::renderer;

@@ -234,7 +234,8 @@ impl Recipe for Environment {
         let normal_map = |l: &'a Arc<Layer>| {
             (l.normal_map.as_ref()).filter(|_| l.features.normal_map && l.map_world().is_none())
         };
-        let color_map = |l: &'a Arc<Layer>| l.color_map.as_ref().filter(|_| l.map_world().is_none());
+        let color_map =
+            |l: &'a Arc<Layer>| l.color_map.as_ref().filter(|_| l.map_world().is_none());
         for map in layers
             .iter()
             .flat_map(|l| color_map(l).into_iter().chain(normal_map(l)))

@@ -831,7 +831,10 @@ fn floor_reference(p: Vec3, lights: &[spreadlight_render::lighting::PointLight])
 }
 
 fn close(got: Vec3, want: Vec3) -> bool {
-    (got - want).abs().cmple(want.abs() * 0.02 + Vec3::splat(3e-3)).all()
+    (got - want)
+        .abs()
+        .cmple(want.abs() * 0.02 + Vec3::splat(3e-3))
+        .all()
 }
 
 /// A red point light beside the probe reddens the floor the probe sees, by
@@ -1063,7 +1066,10 @@ fn a_point_lights_shadow_darkens_what_the_probe_sees_behind_the_box() {
     let seen = |env: &Environment, (x, z): (f32, f32)| floor_texel(&renderer, env, x, z).0;
     let dark = seen(&unlit, behind);
     let light_behind = seen(&unshadowed, behind).x - dark.x;
-    assert!(light_behind > 0.1, "the light reaches the floor unshadowed: {light_behind}");
+    assert!(
+        light_behind > 0.1,
+        "the light reaches the floor unshadowed: {light_behind}"
+    );
     let in_shadow = seen(&shadowed, behind);
     assert!(
         (in_shadow.x - dark.x).abs() < 0.05 * light_behind,

@@ -23,8 +23,8 @@ use crate::material::MaterialWorld;
 use crate::mesh_arena::pulled_pipeline;
 use crate::post::transparency::ShadowKey;
 use crate::renderer::Renderer;
-use crate::texture_pool::ViewSpec;
 use crate::shaders::{Permutation, Sampling, ShaderKey};
+use crate::texture_pool::ViewSpec;
 
 const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 /// The base cube's format (prefilter.rs).
@@ -67,7 +67,9 @@ fn world_hash(world: &MaterialWorld) -> u64 {
             }
         }
     }
-    (world.world_maps()).map(|w| std::sync::Arc::as_ptr(&w.textures) as usize).hash(&mut h);
+    (world.world_maps())
+        .map(|w| std::sync::Arc::as_ptr(&w.textures) as usize)
+        .hash(&mut h);
     h.finish()
 }
 

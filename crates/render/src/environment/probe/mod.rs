@@ -62,7 +62,9 @@ pub enum ProbeError {
         "the probe's lights take point and spot light buffers; its sun is its Sun pins (light buffer {index} holds suns)"
     )]
     SunBuffer { index: usize },
-    #[error("light buffer {index} holds {lights:?} lights but its shadow maps are a {maps:?} ShadowMap's")]
+    #[error(
+        "light buffer {index} holds {lights:?} lights but its shadow maps are a {maps:?} ShadowMap's"
+    )]
     ShadowKind {
         index: usize,
         lights: LightKind,
@@ -186,12 +188,7 @@ impl PartialEq for ProbeScene {
         let shadow = |s: &Option<ProbeShadow>| s.as_ref().map(|s| (Arc::as_ptr(&s.maps), s.slice));
         let lights = |l: &[ProbeLights]| -> Vec<_> {
             l.iter()
-                .map(|l| {
-                    (
-                        Arc::as_ptr(&l.lights),
-                        l.shadows.as_ref().map(Arc::as_ptr),
-                    )
-                })
+                .map(|l| (Arc::as_ptr(&l.lights), l.shadows.as_ref().map(Arc::as_ptr)))
                 .collect()
         };
         self.settings == other.settings
@@ -304,7 +301,10 @@ impl ProbeScene {
             }
         }
         // Buffers without lights light nothing: no pass for them.
-        self.lights = lights.into_iter().filter(|l| l.lights.count() > 0).collect();
+        self.lights = lights
+            .into_iter()
+            .filter(|l| l.lights.count() > 0)
+            .collect();
         self.max_lights = max_lights;
         Ok(self)
     }
