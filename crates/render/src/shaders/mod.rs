@@ -18,7 +18,7 @@ macro_rules! library {
     ($path:literal) => {
         ShaderFile {
             path: $path,
-            source: include_str!(concat!("../../../../shaders/", $path)),
+            source: crate::shader_source!($path),
             features: &[],
             library: true,
             keys: None,
