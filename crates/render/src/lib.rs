@@ -21,6 +21,7 @@ pub mod lighting;
 pub mod material;
 pub mod mesh;
 pub mod mesh_arena;
+pub mod mip_chain;
 pub mod particles;
 pub mod permutations;
 pub mod pipeline_cache;

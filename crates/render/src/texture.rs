@@ -2,7 +2,6 @@
 //! textures). 8-bit textures get their whole mip chain on upload
 //! ([`mips`]), so samplers with a mip filter never alias.
 
-pub mod mip_chain;
 pub mod mips;
 
 use crate::context::GpuContext;

@@ -7,7 +7,7 @@ use super::{Ssr, SsrKey};
 use crate::error::RenderError;
 use crate::frame_graph::{PassContext, Tex};
 use crate::shaders::Permutation;
-use crate::texture::mip_chain::MipChainShader;
+use crate::mip_chain::MipChainShader;
 
 /// Statistic: the dispatches that built the hierarchical depth (two levels
 /// each where they can).
@@ -34,7 +34,7 @@ impl Ssr {
         {
             return t.clone();
         }
-        let t = crate::texture::mip_chain::texture(
+        let t = crate::mip_chain::texture(
             &cx.gpu.device,
             "ssr hi-z",
             size,

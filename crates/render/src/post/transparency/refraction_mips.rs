@@ -20,7 +20,7 @@ use crate::context::GpuContext;
 use crate::error::RenderError;
 use crate::frame_graph::{PassContext, Tex};
 use crate::shaders::Permutation;
-use crate::texture::mip_chain::MipChainShader;
+use crate::mip_chain::MipChainShader;
 use crate::texture_pool::ViewSpec;
 
 /// Counted once per frame the chain was built: 0 when nothing refracts or
@@ -43,7 +43,7 @@ impl RefractionMips {
         {
             return (t.clone(), s.clone());
         }
-        let texture = crate::texture::mip_chain::texture(
+        let texture = crate::mip_chain::texture(
             &gpu.device,
             "transparency refraction mips",
             size,

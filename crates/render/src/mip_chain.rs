@@ -32,7 +32,7 @@ pub fn texture(
             height,
             depth_or_array_layers: 1,
         },
-        mip_level_count: super::mips::level_count(width, height),
+        mip_level_count: crate::texture::mips::level_count(width, height),
         sample_count: 1,
         dimension: wgpu::TextureDimension::D2,
         format,
