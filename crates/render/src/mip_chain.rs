@@ -8,7 +8,8 @@
 //! The shaders follow one shape: `copy` writes level 0 alone (a 1x1
 //! chain), `first` writes levels 0 and 1 from the source, `down` one level
 //! from the level above, and `down2`, where a shader has one, two levels a
-//! dispatch (the second from the first, held in workgroup memory).
+//! dispatch (a thread per texel of the second makes the texels of the
+//! first under it, and keeps them to reduce).
 
 use smallvec::SmallVec;
 
