@@ -16,18 +16,18 @@ mod common;
 
 use std::sync::Arc;
 
-use glam::{Mat4, Vec3};
 use common::{QuadView, transparency_over};
+use glam::{Mat4, Vec3};
 use gltf_json as json;
 use post_common::*;
 use spreadlight_gltf::builder::{Doc, info, png, quad};
 use spreadlight_gltf::{AlphaMode, load_gltf_slice};
+use spreadlight_render::Renderer;
 use spreadlight_render::frame_graph::FrameReport;
 use spreadlight_render::gbuffer::GBuffer;
 use spreadlight_render::mesh::MeshData;
 use spreadlight_render::post::{Transparency, TransparencySettings};
 use spreadlight_render::renderer::test_renderer;
-use spreadlight_render::Renderer;
 
 const SIZE: (u32, u32) = (64, 64);
 const DISTANCE: f32 = 3.0;

@@ -12,8 +12,8 @@ mod post_common;
 // The glTF tests' quad view and layer.
 mod common;
 
-use glam::{Mat4, Vec3};
 use common::{QuadView, transparency_over, world_and_layer};
+use glam::{Mat4, Vec3};
 use gltf_json as json;
 use post_common::*;
 use spreadlight_gltf::builder::{Doc, png, quad};
@@ -117,7 +117,12 @@ fn inner_pixels() -> impl Iterator<Item = (usize, Vec3, usize, usize)> {
 fn lit(renderer: &Renderer, model: &[u8]) -> (ImageF32, ImageF32) {
     let scene = load_gltf_slice(model, None).expect("loads");
     assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
-    let (world, layer) = world_and_layer(renderer, &scene, Mat4::IDENTITY, scene.materials[0].base_color);
+    let (world, layer) = world_and_layer(
+        renderer,
+        &scene,
+        Mat4::IDENTITY,
+        scene.materials[0].base_color,
+    );
     let g = GBuffer::new(
         renderer,
         None,
@@ -400,7 +405,12 @@ fn lit_transparency_reads_the_specular_map() {
         energy_compensation: true,
         ..Default::default()
     };
-    let (_, layer) = world_and_layer(&renderer, &scene, Mat4::IDENTITY, scene.materials[0].base_color);
+    let (_, layer) = world_and_layer(
+        &renderer,
+        &scene,
+        Mat4::IDENTITY,
+        scene.materials[0].base_color,
+    );
     let lights = vec![TransparentLights {
         lights: LightBuffer::suns(&renderer, &[SUN]),
         shadows: None,

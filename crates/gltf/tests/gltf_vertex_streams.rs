@@ -9,17 +9,16 @@
 // The glTF tests' quad view and layer.
 mod common;
 
-
 use common::{QuadView, world_and_layer};
 use glam::Mat4;
 use gltf_json as json;
 use spreadlight_gltf::builder::{Doc, QUAD_UVS, info, png, quad};
 use spreadlight_gltf::load_gltf_slice;
+use spreadlight_render::SizeRule;
 use spreadlight_render::gbuffer::{GBuffer, RasterChoice, RasterMode};
 use spreadlight_render::mesh::MeshData;
 use spreadlight_render::readback::render_and_read;
 use spreadlight_render::renderer::test_renderer;
-use spreadlight_render::SizeRule;
 
 const SIZE: (u32, u32) = (64, 64);
 /// The camera: on +Z at this distance, looking at the quad's centre.

@@ -87,11 +87,23 @@ mod tests {
         ];
         assert_eq!(with(&CACHE, &all), PathBuf::from("/own/cache"));
         assert_eq!(with(&CONFIG, &all), PathBuf::from("/own/config"));
-        assert_eq!(with(&CACHE, &all[2..]), PathBuf::from("/xdg/cache/spreadlight"));
-        assert_eq!(with(&CONFIG, &all[2..]), PathBuf::from("/xdg/config/spreadlight"));
+        assert_eq!(
+            with(&CACHE, &all[2..]),
+            PathBuf::from("/xdg/cache/spreadlight")
+        );
+        assert_eq!(
+            with(&CONFIG, &all[2..]),
+            PathBuf::from("/xdg/config/spreadlight")
+        );
         let home = &all[4..];
-        assert_eq!(with(&CACHE, home), PathBuf::from("/home/u/.cache/spreadlight"));
-        assert_eq!(with(&CONFIG, home), PathBuf::from("/home/u/.config/spreadlight"));
+        assert_eq!(
+            with(&CACHE, home),
+            PathBuf::from("/home/u/.cache/spreadlight")
+        );
+        assert_eq!(
+            with(&CONFIG, home),
+            PathBuf::from("/home/u/.config/spreadlight")
+        );
         let temp = std::env::temp_dir();
         assert_eq!(with(&CACHE, &[]), temp.join("spreadlight-cache"));
         assert_eq!(with(&CONFIG, &[]), temp.join("spreadlight"));

@@ -190,7 +190,12 @@ mod tests {
         // 64x36: levels 0..=6; the last odd one out takes `down`.
         assert_eq!(
             shape(Some("down2"), 7),
-            vec![("first", 0, 1), ("down2", 2, 3), ("down2", 4, 5), ("down", 6, 6)]
+            vec![
+                ("first", 0, 1),
+                ("down2", 2, 3),
+                ("down2", 4, 5),
+                ("down", 6, 6)
+            ]
         );
         assert_eq!(
             shape(Some("down2"), 6),

@@ -1057,11 +1057,19 @@ fn ambient_occlusion_darkens_the_ambient_term_as_each_material_says() {
     let occluded = composite(true, None);
     let weighted_off = composite(
         true,
-        Some(world_with(&renderer, Feature::AmbientOcclusion, [0.0, 0.0, 0.0, 0.0])),
+        Some(world_with(
+            &renderer,
+            Feature::AmbientOcclusion,
+            [0.0, 0.0, 0.0, 0.0],
+        )),
     );
     let weighted_on = composite(
         true,
-        Some(world_with(&renderer, Feature::AmbientOcclusion, [1.0, 0.0, 0.0, 0.0])),
+        Some(world_with(
+            &renderer,
+            Feature::AmbientOcclusion,
+            [1.0, 0.0, 0.0, 0.0],
+        )),
     );
     for (i, p) in open.pixels.iter().enumerate() {
         if p[0] == 0.0 {

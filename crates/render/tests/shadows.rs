@@ -164,7 +164,13 @@ fn casting_sun(direction: Vec3) -> SunLight {
 
 /// `sun` casting through `count` cascades out to `distance`, split by
 /// `split_lambda` and held by `step`.
-fn sun_cascades(sun: &SunLight, count: u32, split_lambda: f32, distance: f32, step: f32) -> ShadowLights {
+fn sun_cascades(
+    sun: &SunLight,
+    count: u32,
+    split_lambda: f32,
+    distance: f32,
+    step: f32,
+) -> ShadowLights {
     ShadowLights::Sun {
         lights: vec![(0, sun.direction)],
         cascades: Cascades {
@@ -392,7 +398,7 @@ fn a_stepped_sun_renders_no_cascade_while_the_camera_moves_within_a_step() {
     let layers = casters(&renderer, Vec3::new(0.0, 1.5, 0.0));
     let sun = casting_sun(Vec3::new(-0.2, -1.0, -0.1));
     let lights = LightBuffer::suns(&renderer, &[sun]);
-        for (owner, raster) in [(40, RasterChoice::Compute), (41, RasterChoice::Hardware)] {
+    for (owner, raster) in [(40, RasterChoice::Compute), (41, RasterChoice::Hardware)] {
         for step in [0.0, 0.25] {
             let casting = sun_cascades(&sun, 3, 0.6, 30.0, step);
             let owner = owner + if step > 0.0 { 10 } else { 0 };
@@ -1098,7 +1104,7 @@ fn a_panning_camera_scrolls_sun_cascades_and_draws_only_their_new_strips() {
     let sun = casting_sun(Vec3::new(-0.2, -1.0, -0.1));
     let lights = LightBuffer::suns(&renderer, &[sun]);
     let casting = sun_cascades(&sun, 3, 0.6, 30.0, 0.0);
-        // Small maps: the compute rasterizer runs on the CPU here (lavapipe).
+    // Small maps: the compute rasterizer runs on the CPU here (lavapipe).
     const RES: u64 = 128;
     let vsm = ShadowFilter::Vsm {
         bleeding: 0.2,

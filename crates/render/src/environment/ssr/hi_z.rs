@@ -6,8 +6,8 @@ use super::super::prefilter::split_sum_table;
 use super::{Ssr, SsrKey};
 use crate::error::RenderError;
 use crate::frame_graph::{PassContext, Tex};
-use crate::shaders::Permutation;
 use crate::mip_chain::MipChainShader;
+use crate::shaders::Permutation;
 
 /// Statistic: the dispatches that built the hierarchical depth (two levels
 /// each where they can).
@@ -60,7 +60,8 @@ impl Ssr {
         let levels: Vec<wgpu::TextureView> = (0..hiz.mip_level_count())
             .map(|m| cx.view_of(&hiz, crate::texture_pool::ViewSpec::mip(m)))
             .collect();
-        let dispatches = SHADER.build(cx, &SsrKey::PLAIN.key(), "ssr hi-z", depth, &levels, size)?;
+        let dispatches =
+            SHADER.build(cx, &SsrKey::PLAIN.key(), "ssr hi-z", depth, &levels, size)?;
         cx.count(HIZ_DISPATCHES, dispatches);
         Ok(())
     }

@@ -19,8 +19,8 @@ use super::TransparencyKey;
 use crate::context::GpuContext;
 use crate::error::RenderError;
 use crate::frame_graph::{PassContext, Tex};
-use crate::shaders::Permutation;
 use crate::mip_chain::MipChainShader;
+use crate::shaders::Permutation;
 use crate::texture_pool::ViewSpec;
 
 /// Counted once per frame the chain was built: 0 when nothing refracts or
@@ -91,7 +91,14 @@ pub(super) fn build(
         .collect();
     let key = TransparencyKey::COMPOSITE.key();
     let size = (mips.width(), mips.height());
-    SHADER.build(cx, &key, "transparency refraction mips", source, &levels, size)?;
+    SHADER.build(
+        cx,
+        &key,
+        "transparency refraction mips",
+        source,
+        &levels,
+        size,
+    )?;
     cx.count(MIP_CHAINS, 1);
     Ok(())
 }
