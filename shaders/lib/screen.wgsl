@@ -2,6 +2,7 @@
 // reversed-Z depth, projection back to pixels, and per-pixel noise.
 #define_import_path spreadlight::screen
 #import spreadlight::camera::{Camera, pixel_to_ndc}
+#import spreadlight::packing::safe_normalize
 
 // The view-space position under a pixel centre at reversed-Z depth `d` (> 0).
 fn view_position(camera: Camera, pixel: vec2<u32>, d: f32) -> vec3<f32> {
@@ -135,4 +136,50 @@ fn facing8(c: f32) -> f32 {
 // 1 / (falloff z0 + 1e-6), `facing` = dot(n0, n), both per centre.
 fn tap_weight(o: i32, spread: f32, dz: f32, reach: f32, facing: f32) -> f32 {
     return exp(-f32(o * o) * spread - abs(dz) * reach) * facing8(facing);
+}
+
+// A depth- and normal-aware separable blur about one pixel (AO's and
+// SSGI's blurs, one axis a pass): a Gaussian of half-width `radius` (sigma
+// radius / 2, at least 0.5) whose taps lose weight with their view
+// distance's gap from the centre's `z0` (3% of it falls off by e) and
+// their normal's angle from the centre's `n0` ([`tap_weight`]).
+// (Members: naga_oil refuses imported names that end in a digit.)
+struct SeparableBlur {
+    radius: i32,
+    spread: f32,
+    reach: f32,
+    centre_distance: f32,
+    centre_normal: vec3<f32>,
+}
+
+fn separable_blur(radius: u32, z0: f32, n0: vec3<f32>) -> SeparableBlur {
+    let r = i32(radius);
+    let sigma = max(f32(r), 1.0) * 0.5;
+    return SeparableBlur(r, 1.0 / (2.0 * sigma * sigma), 1.0 / (0.03 * z0 + 1e-6), z0, n0);
+}
+
+// One tap of a separable blur: the texel it reads and its weight. Not
+// `valid` (left out) off the image or on the background (depth 0).
+struct BlurTap {
+    pixel: vec2<u32>,
+    weight: f32,
+    valid: bool,
+}
+
+// Tap `o` along `axis` of `blur` about `pixel` of a `size` image.
+fn blur_tap(camera: Camera, depth: texture_2d<f32>, normals: texture_2d<f32>, blur: SeparableBlur, pixel: vec2<u32>, axis: vec2<i32>, o: i32, size: vec2<u32>) -> BlurTap {
+    let q = vec2<i32>(pixel) + axis * o;
+    if (any(q < vec2<i32>(0)) || any(q >= vec2<i32>(size))) {
+        return BlurTap(vec2<u32>(0u), 0.0, false);
+    }
+    let qu = vec2<u32>(q);
+    let dq = textureLoad(depth, qu, 0).r;
+    if (dq <= 0.0) {
+        return BlurTap(qu, 0.0, false);
+    }
+    let zq = -view_position(camera, qu, dq).z;
+    let n0 = blur.centre_normal;
+    let nq = safe_normalize(textureLoad(normals, qu, 0).xyz, n0);
+    let w = tap_weight(o, blur.spread, zq - blur.centre_distance, blur.reach, dot(n0, nq));
+    return BlurTap(qu, w, true);
 }

@@ -21,7 +21,7 @@
 #import spreadlight::packing::safe_normalize
 #import spreadlight::screen::{RayParams, view_position}
 #ifdef BLUR
-#import spreadlight::screen::tap_weight
+#import spreadlight::screen::{separable_blur, blur_tap}
 #endif
 #ifndef BLUR
 #import spreadlight::screen::{tangent_frame, interleaved_gradient_noise, cosine_direction, march}
@@ -94,29 +94,17 @@ fn resolve(pixel: vec2<u32>, size: vec2<u32>, p: vec3<f32>) -> vec4<f32> {
 #else
 #ifdef BLUR
 fn resolve(pixel: vec2<u32>, size: vec2<u32>, p: vec3<f32>) -> vec4<f32> {
-    let z0 = -p.z;
     let n0 = safe_normalize(textureLoad(normals, pixel, 0).xyz, vec3<f32>(0.0, 0.0, 1.0));
-    let r = i32(params.blur_radius);
-    let sigma = max(f32(r), 1.0) * 0.5;
-    let spread = 1.0 / (2.0 * sigma * sigma);
-    let reach = 1.0 / (0.03 * z0 + 1e-6);
+    let blur = separable_blur(params.blur_radius, -p.z, n0);
     var sum = vec4<f32>(0.0);
     var weights = 0.0;
-    for (var o = -r; o <= r; o++) {
-        let q = vec2<i32>(pixel) + axis.axis * o;
-        if (any(q < vec2<i32>(0)) || any(q >= vec2<i32>(size))) {
+    for (var o = -blur.radius; o <= blur.radius; o++) {
+        let tap = blur_tap(camera, depth, normals, blur, pixel, axis.axis, o, size);
+        if (!tap.valid) {
             continue;
         }
-        let qu = vec2<u32>(q);
-        let dq = textureLoad(depth, qu, 0).r;
-        if (dq <= 0.0) {
-            continue;
-        }
-        let zq = -view_position(camera, qu, dq).z;
-        let nq = safe_normalize(textureLoad(normals, qu, 0).xyz, n0);
-        let w = tap_weight(o, spread, zq - z0, reach, dot(n0, nq));
-        sum += w * clean_gi(textureLoad(source, qu, 0));
-        weights += w;
+        sum += tap.weight * clean_gi(textureLoad(source, tap.pixel, 0));
+        weights += tap.weight;
     }
     var gi = clean_gi(textureLoad(source, pixel, 0));
     if (weights > 1e-6) {

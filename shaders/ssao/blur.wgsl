@@ -6,7 +6,7 @@
 // multiplies another AO in. Half-width 0 is a copy.
 #import spreadlight::camera::Camera
 #import spreadlight::packing::safe_normalize
-#import spreadlight::screen::{RayParams, view_position, tap_weight}
+#import spreadlight::screen::{RayParams, view_position, separable_blur, blur_tap}
 
 @group(0) @binding(0) var<uniform> camera: Camera;
 @group(0) @binding(1) var<uniform> params: RayParams;
@@ -39,31 +39,20 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
 #else
         let axis = vec2<i32>(1, 0);
 #endif
-        let r = i32(params.blur_radius);
-        let sigma = max(f32(r), 1.0) * 0.5;
-        let spread = 1.0 / (2.0 * sigma * sigma);
-        let reach = 1.0 / (0.03 * z0 + 1e-6);
+        let blur = separable_blur(params.blur_radius, z0, n0);
         var sum = 0.0;
         var weights = 0.0;
-        for (var o = -r; o <= r; o++) {
-            let q = vec2<i32>(pixel) + axis * o;
-            if (any(q < vec2<i32>(0)) || any(q >= vec2<i32>(size))) {
+        for (var o = -blur.radius; o <= blur.radius; o++) {
+            let tap = blur_tap(camera, depth, normals, blur, pixel, axis, o, size);
+            if (!tap.valid) {
                 continue;
             }
-            let qu = vec2<u32>(q);
-            let dq = textureLoad(depth, qu, 0).r;
-            if (dq <= 0.0) {
-                continue;
-            }
-            let zq = -view_position(camera, qu, dq).z;
-            let nq = safe_normalize(textureLoad(normals, qu, 0).xyz, n0);
-            let s = textureLoad(source, qu, 0).r;
+            let s = textureLoad(source, tap.pixel, 0).r;
             if (!(abs(s) <= 1e30)) {
                 continue;
             }
-            let w = tap_weight(o, spread, zq - z0, reach, dot(n0, nq));
-            sum += w * clamp(s, 0.0, 1.0);
-            weights += w;
+            sum += tap.weight * clamp(s, 0.0, 1.0);
+            weights += tap.weight;
         }
         if (weights > 1e-6) {
             v = sum / weights;

@@ -10,7 +10,7 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-use spreadlight_gltf::builder::{Doc, info, png};
+use spreadlight_gltf::builder::{self, Doc, info, png};
 use spreadlight_gltf::{models, skinned_models};
 
 const SIZE: &str = "64x64";
@@ -159,23 +159,7 @@ fn quad_with(
     material: impl FnOnce(&mut Doc) -> Option<gltf_json::Material>,
 ) -> Vec<u8> {
     let mut doc = Doc::new();
-    let mut plane = spreadlight_render::mesh::MeshData {
-        positions: vec![
-            [-1.0, -1.0, 0.0],
-            [1.0, -1.0, 0.0],
-            [1.0, 1.0, 0.0],
-            [-1.0, 1.0, 0.0],
-        ],
-        normals: vec![[0.0, 0.0, 1.0]; 4],
-        uvs: Some(vec![[0.0, 1.0], [1.0, 1.0], [1.0, 0.0], [0.0, 0.0]]),
-        tangents: None,
-        uvs1: None,
-        colors: None,
-        indices: vec![0, 1, 2, 0, 2, 3],
-        bounds: spreadlight_render::mesh::Aabb::ZERO,
-    };
-    plane.recompute_bounds();
-    let mesh = doc.mesh_data("Quad", &plane);
+    let mesh = doc.mesh_data("Quad", &builder::quad());
     if let Some(m) = material(&mut doc) {
         let m = doc.material(m);
         doc.root.meshes[mesh.value()].primitives[0].material = Some(m);

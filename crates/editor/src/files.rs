@@ -28,19 +28,8 @@ pub const RECENT_MAX: usize = 10;
 
 /// The editor's own directory: `SPREADLIGHT_CONFIG_DIR` if set (tests point it
 /// at a temporary directory), else `$XDG_CONFIG_HOME/spreadlight`, else
-/// `~/.config/spreadlight`.
-pub fn config_dir() -> PathBuf {
-    if let Some(dir) = std::env::var_os("SPREADLIGHT_CONFIG_DIR") {
-        return PathBuf::from(dir);
-    }
-    if let Some(dir) = std::env::var_os("XDG_CONFIG_HOME") {
-        return PathBuf::from(dir).join("spreadlight");
-    }
-    match std::env::var_os("HOME") {
-        Some(home) => PathBuf::from(home).join(".config").join("spreadlight"),
-        None => std::env::temp_dir().join("spreadlight"),
-    }
-}
+/// `~/.config/spreadlight`; the renderer's `app_dirs` knows them all.
+pub use spreadlight_render::app_dirs::config_dir;
 
 /// The recovery file of a patch: hidden beside it (`.NAME.ron.autosave`), so
 /// it follows the patch and is found again however the editor is started.

@@ -264,6 +264,37 @@ impl Doc {
         self.root.push(material)
     }
 
+    /// A sampler that magnifies NEAREST (glTF's defaults otherwise), so a
+    /// small test texture's regions stay sharp when magnified.
+    pub fn nearest_sampler(&mut self) -> Index<json::texture::Sampler> {
+        self.root.push(json::texture::Sampler {
+            mag_filter: Some(Valid(json::texture::MagFilter::Nearest)),
+            ..Default::default()
+        })
+    }
+
+    /// A texture of `png` sampled by a [`Doc::nearest_sampler`] of its own.
+    pub fn nearest_texture(&mut self, png: &[u8]) -> Index<json::Texture> {
+        let image = self.png_image(png);
+        let texture = self.texture(image);
+        let sampler = self.nearest_sampler();
+        self.root.textures[texture.value()].sampler = Some(sampler);
+        texture
+    }
+
+    /// The document's scene: one node holding `mesh`, whose primitives
+    /// take `material`.
+    pub fn mesh_scene(&mut self, mesh: Index<json::Mesh>, material: Index<json::Material>) {
+        for primitive in &mut self.root.meshes[mesh.value()].primitives {
+            primitive.material = Some(material);
+        }
+        let node = self.node(json::Node {
+            mesh: Some(mesh),
+            ..Default::default()
+        });
+        self.scene(vec![node]);
+    }
+
     /// The file's `KHR_lights_punctual` lights, which [`light_node`]s name by index.
     pub fn punctual_lights(
         &mut self,
@@ -346,6 +377,32 @@ pub fn mesh_node(mesh: Option<Index<json::Mesh>>, translation: [f32; 3], scale: 
         scale: Some([scale; 3]),
         ..Default::default()
     }
+}
+
+/// The UVs of [`quad`]: spanning the texture, v down.
+pub const QUAD_UVS: [[f32; 2]; 4] = [[0.0, 1.0], [1.0, 1.0], [1.0, 0.0], [0.0, 0.0]];
+
+/// The quad x, y in [-1, 1] at z = 0, facing +Z, corners counter-clockwise
+/// from (-1, -1), [`QUAD_UVS`] spanning it, no second UV set or colours
+/// (set them over it: the bounds hold only the positions).
+pub fn quad() -> spreadlight_render::mesh::MeshData {
+    let mut quad = spreadlight_render::mesh::MeshData {
+        positions: vec![
+            [-1.0, -1.0, 0.0],
+            [1.0, -1.0, 0.0],
+            [1.0, 1.0, 0.0],
+            [-1.0, 1.0, 0.0],
+        ],
+        normals: vec![[0.0, 0.0, 1.0]; 4],
+        uvs: Some(QUAD_UVS.to_vec()),
+        tangents: None,
+        uvs1: None,
+        colors: None,
+        indices: vec![0, 1, 2, 0, 2, 3],
+        bounds: spreadlight_render::mesh::Aabb::ZERO,
+    };
+    quad.recompute_bounds();
+    quad
 }
 
 /// A 2 x 2 RGBA PNG: red, green / blue, white.

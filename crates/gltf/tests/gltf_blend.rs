@@ -11,26 +11,32 @@
 // The post tests' scene helpers, shared with the renderer's tests.
 #[path = "../../render/tests/post_common/mod.rs"]
 mod post_common;
+// The glTF tests' quad view and layer.
+mod common;
 
 use std::sync::Arc;
 
+use common::{QuadView, transparency_over};
 use glam::{Mat4, Vec3};
 use gltf_json as json;
 use post_common::*;
-use spreadlight_gltf::builder::{Doc, info, png};
-use spreadlight_gltf::{AlphaMode, GltfScene, MaterialData, load_gltf_slice};
-use spreadlight_render::camera::CameraInput;
+use spreadlight_gltf::builder::{Doc, info, png, quad};
+use spreadlight_gltf::{AlphaMode, load_gltf_slice};
+use spreadlight_render::Renderer;
 use spreadlight_render::frame_graph::FrameReport;
-use spreadlight_render::gbuffer::{DrawBatch, GBuffer, InstanceInput, Layer, LayerFeatures};
-use spreadlight_render::material::MaterialWorld;
-use spreadlight_render::mesh::{Aabb, MeshData};
+use spreadlight_render::gbuffer::GBuffer;
+use spreadlight_render::mesh::MeshData;
 use spreadlight_render::post::{Transparency, TransparencySettings};
 use spreadlight_render::renderer::test_renderer;
-use spreadlight_render::{Renderer, SizeRule};
 
 const SIZE: (u32, u32) = (64, 64);
 const DISTANCE: f32 = 3.0;
 const FOV_Y: f32 = 0.8;
+const VIEW: QuadView = QuadView {
+    size: SIZE,
+    distance: DISTANCE,
+    fov_y: FOV_Y,
+};
 const BACKGROUND: [f32; 4] = [0.0, 1.0, 0.0, 1.0];
 /// The texture's left and right halves (linear RGB, alpha); 0 and 255
 /// decode exactly, and alpha is stored linear.
@@ -60,32 +66,14 @@ fn model(tex_coord: u32, double_sided: bool) -> Vec<u8> {
     } else {
         (spanning, constant)
     };
-    let mut quad = MeshData {
-        positions: vec![
-            [-1.0, -1.0, 0.0],
-            [1.0, -1.0, 0.0],
-            [1.0, 1.0, 0.0],
-            [-1.0, 1.0, 0.0],
-        ],
-        normals: vec![[0.0, 0.0, 1.0]; 4],
+    let quad = MeshData {
         uvs: Some(uvs),
-        tangents: None,
         uvs1: Some(uvs1),
         colors: Some(vec![LEFT, RIGHT, RIGHT, LEFT]),
-        indices: vec![0, 1, 2, 0, 2, 3],
-        bounds: Aabb::ZERO,
+        ..quad()
     };
-    quad.recompute_bounds();
     let mesh = doc.mesh_data("Quad", &quad);
-    let image = doc.png_image(&halves_png());
-    let texture = doc.texture(image);
-    let sampler = doc.root.push(json::texture::Sampler {
-        mag_filter: Some(json::validation::Checked::Valid(
-            json::texture::MagFilter::Nearest,
-        )),
-        ..Default::default()
-    });
-    doc.root.textures[texture.value()].sampler = Some(sampler);
+    let texture = doc.nearest_texture(&halves_png());
     let mut material = json::Material::default();
     material.pbr_metallic_roughness.base_color_factor = json::material::PbrBaseColorFactor(FACTOR);
     material.pbr_metallic_roughness.base_color_texture = Some(json::texture::Info {
@@ -95,59 +83,8 @@ fn model(tex_coord: u32, double_sided: bool) -> Vec<u8> {
     material.alpha_mode = json::validation::Checked::Valid(json::material::AlphaMode::Blend);
     material.double_sided = double_sided;
     let material = doc.material(material);
-    doc.root.meshes[mesh.value()].primitives[0].material = Some(material);
-    let node = doc.node(json::Node {
-        mesh: Some(mesh),
-        ..Default::default()
-    });
-    doc.scene(vec![node]);
+    doc.mesh_scene(mesh, material);
     doc.gltf_data_uri()
-}
-
-fn camera() -> CameraInput {
-    look(Vec3::Z * DISTANCE, Vec3::ZERO, FOV_Y, 1.0)
-}
-
-/// Where the ray through pixel (x, y)'s centre meets the plane z = 0.
-fn hit(x: u32, y: u32) -> (f32, f32) {
-    let half = DISTANCE * (FOV_Y / 2.0).tan();
-    let ndc_x = (x as f32 + 0.5) / SIZE.0 as f32 * 2.0 - 1.0;
-    let ndc_y = 1.0 - (y as f32 + 0.5) / SIZE.1 as f32 * 2.0;
-    (ndc_x * half, ndc_y * half)
-}
-
-/// The file's quad with its material (id 1 of the world: glTF's default
-/// material, then the file's), coloured by its factor as the glTF node does.
-fn layer(renderer: &Renderer, scene: &GltfScene, transform: Mat4) -> Arc<Layer> {
-    let mesh = renderer
-        .meshes
-        .upload(&renderer.gpu, &scene.meshes[0])
-        .expect("upload");
-    let materials = std::iter::once(MaterialData::default())
-        .chain(scene.materials.iter().cloned())
-        .map(|m| m.to_material())
-        .collect();
-    let world = MaterialWorld::new(renderer, materials);
-    let instance = InstanceInput {
-        transform,
-        previous_transform: transform,
-        color: scene.materials[0].base_color,
-        material_id: 1,
-        object_id: 1,
-    };
-    Arc::new(
-        Layer::new(
-            Some(1),
-            vec![DrawBatch {
-                mesh,
-                instances: vec![instance],
-            }],
-            LayerFeatures::default(),
-            None,
-        )
-        .expect("layer")
-        .with_materials(Some(world)),
-    )
 }
 
 /// The quad placed by `transform`, composited over the background, unlit
@@ -165,30 +102,20 @@ fn scene(renderer: &Renderer, model: &[u8], transform: Mat4) -> (Arc<GBuffer>, A
     let scene = load_gltf_slice(model, None).expect("loads");
     assert_eq!(scene.materials[0].alpha_mode, AlphaMode::Blend);
     assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
-    // Nothing opaque: the G-buffer's depth is the far plane everywhere.
-    let g = GBuffer::new(
-        renderer,
-        None,
-        vec![],
-        camera(),
-        None,
-        SizeRule::Relative(1.0),
-    );
     let background = image(renderer, SIZE, |_, _| BACKGROUND);
     let settings = TransparencySettings {
         ambient: Vec3::ONE,
         light_color: Vec3::ZERO,
         ..Default::default()
     };
-    let pass = Transparency::new(
+    transparency_over(
         renderer,
-        None,
+        &VIEW,
+        &scene,
+        transform,
         background.texture_ref(),
-        g.clone(),
-        vec![layer(renderer, &scene, transform)],
         settings,
-    );
-    (g, pass)
+    )
 }
 
 fn check(tex_coord: u32) {
@@ -196,7 +123,7 @@ fn check(tex_coord: u32) {
     let mut checked = [0; 2];
     for py in 0..SIZE.1 {
         for px in 0..SIZE.0 {
-            let (x, y) = hit(px, py);
+            let (x, y) = VIEW.hit(px, py);
             let got = pixels[(py * SIZE.0 + px) as usize];
             if x.abs() > 1.03 || y.abs() > 1.03 {
                 assert_eq!(got[..3], BACKGROUND[..3], "pixel ({px}, {py}) off the quad");
@@ -301,23 +228,7 @@ fn blend_binds_the_material_groups_it_made_before() {
 /// `KHR_materials_emissive_strength` as lit transparency draws them.
 fn transmissive_model() -> Vec<u8> {
     let mut doc = Doc::new();
-    let mut quad = MeshData {
-        positions: vec![
-            [-1.0, -1.0, 0.0],
-            [1.0, -1.0, 0.0],
-            [1.0, 1.0, 0.0],
-            [-1.0, 1.0, 0.0],
-        ],
-        normals: vec![[0.0, 0.0, 1.0]; 4],
-        uvs: Some(vec![[0.0, 1.0], [1.0, 1.0], [1.0, 0.0], [0.0, 0.0]]),
-        tangents: None,
-        uvs1: None,
-        colors: None,
-        indices: vec![0, 1, 2, 0, 2, 3],
-        bounds: Aabb::ZERO,
-    };
-    quad.recompute_bounds();
-    let mesh = doc.mesh_data("Quad", &quad);
+    let mesh = doc.mesh_data("Quad", &quad());
     let halves = image::RgbaImage::from_fn(16, 16, |x, _| {
         image::Rgba(if x >= 8 {
             [255, 0, 0, 255]
@@ -325,15 +236,7 @@ fn transmissive_model() -> Vec<u8> {
             [0, 0, 0, 255]
         })
     });
-    let image = doc.png_image(&png(&halves));
-    let texture = doc.texture(image);
-    let sampler = doc.root.push(json::texture::Sampler {
-        mag_filter: Some(json::validation::Checked::Valid(
-            json::texture::MagFilter::Nearest,
-        )),
-        ..Default::default()
-    });
-    doc.root.textures[texture.value()].sampler = Some(sampler);
+    let texture = doc.nearest_texture(&png(&halves));
     let mut material = json::Material::default();
     material.pbr_metallic_roughness.base_color_factor =
         json::material::PbrBaseColorFactor([0.25, 0.25, 0.25, 1.0]);
@@ -354,12 +257,7 @@ fn transmissive_model() -> Vec<u8> {
         doc.root.extensions_used.push(name.into());
     }
     let material = doc.material(material);
-    doc.root.meshes[mesh.value()].primitives[0].material = Some(material);
-    let node = doc.node(json::Node {
-        mesh: Some(mesh),
-        ..Default::default()
-    });
-    doc.scene(vec![node]);
+    doc.mesh_scene(mesh, material);
     doc.gltf_data_uri()
 }
 
@@ -370,26 +268,18 @@ fn transmission_maps_and_emissive_strength_reach_lit_transparency() {
     let material = &scene.materials[0];
     assert_eq!(material.alpha_mode, AlphaMode::Blend);
     assert_eq!(material.emissive_strength, 2.0);
-    let g = GBuffer::new(
-        &renderer,
-        None,
-        vec![],
-        camera(),
-        None,
-        SizeRule::Relative(1.0),
-    );
     let background = image(&renderer, SIZE, |_, _| BACKGROUND);
     let settings = TransparencySettings {
         ambient: Vec3::ONE,
         light_color: Vec3::ZERO,
         ..Default::default()
     };
-    let pass = Transparency::new(
+    let (_, pass) = transparency_over(
         &renderer,
-        None,
+        &VIEW,
+        &scene,
+        Mat4::IDENTITY,
         background.texture_ref(),
-        g,
-        vec![layer(&renderer, &scene, Mat4::IDENTITY)],
         settings,
     );
     let pixels = render(&renderer, pass.as_ref(), &pass.output, SIZE)
@@ -405,7 +295,7 @@ fn transmission_maps_and_emissive_strength_reach_lit_transparency() {
     let mut checked = [0; 2];
     for py in 0..SIZE.1 {
         for px in 0..SIZE.0 {
-            let (x, y) = hit(px, py);
+            let (x, y) = VIEW.hit(px, py);
             let t = (x + 1.0) / 2.0;
             if x.abs() > 0.95 || y.abs() > 0.95 || (t - 0.5).abs() < 0.04 {
                 continue;

@@ -11,20 +11,18 @@
 // The post tests' scene helpers, shared with the renderer's tests.
 #[path = "../../render/tests/post_common/mod.rs"]
 mod post_common;
+// The glTF tests' quad view and layer.
+mod common;
 
-use std::sync::Arc;
-
+use common::{QuadView, transparency_over, world_and_layer};
 use glam::{Mat4, Vec3};
 use gltf_json as json;
 use post_common::*;
-use spreadlight_gltf::builder::{Doc, png};
-use spreadlight_gltf::{GltfScene, MaterialData, load_gltf_slice};
+use spreadlight_gltf::builder::{Doc, png, quad};
+use spreadlight_gltf::load_gltf_slice;
 use spreadlight_reference::brdf::{clearcoat, cook_torrance_f0};
-use spreadlight_render::camera::CameraInput;
-use spreadlight_render::gbuffer::{DrawBatch, GBuffer, InstanceInput, Layer, LayerFeatures};
+use spreadlight_render::gbuffer::GBuffer;
 use spreadlight_render::lighting::{CookTorrance, LightBuffer, LightLoop, SunLight, Surfaces};
-use spreadlight_render::material::MaterialWorld;
-use spreadlight_render::mesh::{Aabb, MeshData};
 use spreadlight_render::post::{Transparency, TransparencySettings};
 use spreadlight_render::readback::{ImageF32, render_and_read};
 use spreadlight_render::renderer::test_renderer;
@@ -33,6 +31,11 @@ use spreadlight_render::{Renderer, SizeRule};
 const SIZE: (u32, u32) = (48, 48);
 const DISTANCE: f32 = 3.0;
 const FOV_Y: f32 = 0.8;
+const VIEW: QuadView = QuadView {
+    size: SIZE,
+    distance: DISTANCE,
+    fov_y: FOV_Y,
+};
 const ALBEDO: [f32; 3] = [0.8, 0.7, 0.6];
 const ROUGHNESS: f32 = 0.7;
 /// From the camera's side and above, so the quad shows a highlight.
@@ -57,29 +60,8 @@ fn halves(left: [u8; 4], right: [u8; 4], rows: bool) -> Vec<u8> {
 /// .. the indices of `maps`' textures, each sampled NEAREST so halves stay sharp).
 fn model(material: json::Material, extensions: &str, maps: &[Vec<u8>]) -> Vec<u8> {
     let mut doc = Doc::new();
-    let mut quad = MeshData {
-        positions: vec![
-            [-1.0, -1.0, 0.0],
-            [1.0, -1.0, 0.0],
-            [1.0, 1.0, 0.0],
-            [-1.0, 1.0, 0.0],
-        ],
-        normals: vec![[0.0, 0.0, 1.0]; 4],
-        uvs: Some(vec![[0.0, 1.0], [1.0, 1.0], [1.0, 0.0], [0.0, 0.0]]),
-        tangents: None,
-        uvs1: None,
-        colors: None,
-        indices: vec![0, 1, 2, 0, 2, 3],
-        bounds: Aabb::ZERO,
-    };
-    quad.recompute_bounds();
-    let mesh = doc.mesh_data("Quad", &quad);
-    let sampler = doc.root.push(json::texture::Sampler {
-        mag_filter: Some(json::validation::Checked::Valid(
-            json::texture::MagFilter::Nearest,
-        )),
-        ..Default::default()
-    });
+    let mesh = doc.mesh_data("Quad", &quad());
+    let sampler = doc.nearest_sampler();
     let mut extensions = extensions.to_owned();
     for (i, map) in maps.iter().enumerate() {
         let image = doc.png_image(map);
@@ -95,12 +77,7 @@ fn model(material: json::Material, extensions: &str, maps: &[Vec<u8>]) -> Vec<u8
     }
     material.extensions = Some(others);
     let material = doc.material(material);
-    doc.root.meshes[mesh.value()].primitives[0].material = Some(material);
-    let node = doc.node(json::Node {
-        mesh: Some(mesh),
-        ..Default::default()
-    });
-    doc.scene(vec![node]);
+    doc.mesh_scene(mesh, material);
     doc.gltf_data_uri()
 }
 
@@ -115,25 +92,13 @@ fn opaque_material() -> json::Material {
     material
 }
 
-fn camera() -> CameraInput {
-    look(Vec3::Z * DISTANCE, Vec3::ZERO, FOV_Y, 1.0)
-}
-
-/// Where the ray through pixel (x, y)'s centre meets the plane z = 0.
-fn hit(x: u32, y: u32) -> (f32, f32) {
-    let half = DISTANCE * (FOV_Y / 2.0).tan();
-    let ndc_x = (x as f32 + 0.5) / SIZE.0 as f32 * 2.0 - 1.0;
-    let ndc_y = 1.0 - (y as f32 + 0.5) / SIZE.1 as f32 * 2.0;
-    (ndc_x * half, ndc_y * half)
-}
-
 /// Every pixel well inside the quad and inside a half of each map: its
 /// pixel index, the point it sees, and which half of the columns (u) and
 /// of the rows (v) it is in.
 fn inner_pixels() -> impl Iterator<Item = (usize, Vec3, usize, usize)> {
     (0..SIZE.1).flat_map(|py| {
         (0..SIZE.0).filter_map(move |px| {
-            let (x, y) = hit(px, py);
+            let (x, y) = VIEW.hit(px, py);
             let (u, v) = ((x + 1.0) / 2.0, (1.0 - y) / 2.0);
             let inner = x.abs() < 0.95 && y.abs() < 0.95;
             let clear = (u - 0.5).abs() > 0.04 && (v - 0.5).abs() > 0.04;
@@ -150,49 +115,21 @@ fn inner_pixels() -> impl Iterator<Item = (usize, Vec3, usize, usize)> {
     })
 }
 
-/// The file's material world (glTF's default material first, as the
-/// importer's users number them) and its quad as a layer.
-fn world_and_layer(renderer: &Renderer, scene: &GltfScene) -> (Arc<MaterialWorld>, Arc<Layer>) {
-    let mesh = renderer
-        .meshes
-        .upload(&renderer.gpu, &scene.meshes[0])
-        .expect("upload");
-    let materials = std::iter::once(MaterialData::default())
-        .chain(scene.materials.iter().cloned())
-        .map(|m| m.to_material())
-        .collect();
-    let world = MaterialWorld::new(renderer, materials);
-    let instance = InstanceInput {
-        transform: Mat4::IDENTITY,
-        previous_transform: Mat4::IDENTITY,
-        color: scene.materials[0].base_color,
-        material_id: 1,
-        object_id: 1,
-    };
-    let layer = Layer::new(
-        Some(1),
-        vec![DrawBatch {
-            mesh,
-            instances: vec![instance],
-        }],
-        LayerFeatures::default(),
-        None,
-    )
-    .expect("layer")
-    .with_materials(Some(world.clone()));
-    (world, Arc::new(layer))
-}
-
 /// CookTorrance's diffuse and specular of `model` under [`SUN`].
 fn lit(renderer: &Renderer, model: &[u8]) -> (ImageF32, ImageF32) {
     let scene = load_gltf_slice(model, None).expect("loads");
     assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
-    let (world, layer) = world_and_layer(renderer, &scene);
+    let (world, layer) = world_and_layer(
+        renderer,
+        &scene,
+        Mat4::IDENTITY,
+        scene.materials[0].base_color,
+    );
     let g = GBuffer::new(
         renderer,
         None,
         vec![layer],
-        camera(),
+        VIEW.camera(),
         None,
         SizeRule::Relative(1.0),
     );
@@ -349,14 +286,6 @@ fn the_thickness_map_sets_how_much_a_transmissive_volume_absorbs() {
             "attenuationColor": [0.5, 0.5, 0.5], "attenuationDistance": 0.25}}"#;
     let scene = load_gltf_slice(&model(material, ext, &[thickness_map]), None).expect("loads");
     let data = &scene.materials[0];
-    let g = GBuffer::new(
-        &renderer,
-        None,
-        vec![],
-        camera(),
-        None,
-        SizeRule::Relative(1.0),
-    );
     // Green behind: what shows through is green, absorbed.
     let background = image(&renderer, SIZE, |_, _| [0.0, 1.0, 0.0, 1.0]);
     let settings = TransparencySettings {
@@ -364,13 +293,12 @@ fn the_thickness_map_sets_how_much_a_transmissive_volume_absorbs() {
         light_color: Vec3::ZERO,
         ..Default::default()
     };
-    let (_, layer) = world_and_layer(&renderer, &scene);
-    let pass = Transparency::new(
+    let (_, pass) = transparency_over(
         &renderer,
-        None,
+        &VIEW,
+        &scene,
+        Mat4::IDENTITY,
         background.texture_ref(),
-        g,
-        vec![layer],
         settings,
     );
     let pixels = render(&renderer, pass.as_ref(), &pass.output, SIZE)
@@ -425,22 +353,13 @@ fn extreme_factors_under_the_maps_stay_finite() {
         "KHR_materials_volume": {"thicknessFactor": 1e30, "thicknessTexture": {"index": {0}},
             "attenuationColor": [0.5, 0.5, 0.5], "attenuationDistance": 0.25}}"#;
     let scene = load_gltf_slice(&model(material, ext, &[white]), None).expect("loads");
-    let g = GBuffer::new(
-        &renderer,
-        None,
-        vec![],
-        camera(),
-        None,
-        SizeRule::Relative(1.0),
-    );
     let background = image(&renderer, SIZE, |_, _| [0.0, 1.0, 0.0, 1.0]);
-    let (_, layer) = world_and_layer(&renderer, &scene);
-    let pass = Transparency::new(
+    let (_, pass) = transparency_over(
         &renderer,
-        None,
+        &VIEW,
+        &scene,
+        Mat4::IDENTITY,
         background.texture_ref(),
-        g,
-        vec![layer],
         TransparencySettings::default(),
     );
     // Finite (checked by `render`): a thickness past 1e6 is no slab at all
@@ -477,7 +396,7 @@ fn lit_transparency_reads_the_specular_map() {
         &renderer,
         None,
         vec![],
-        camera(),
+        VIEW.camera(),
         None,
         SizeRule::Relative(1.0),
     );
@@ -488,7 +407,12 @@ fn lit_transparency_reads_the_specular_map() {
         energy_compensation: true,
         ..Default::default()
     };
-    let (_, layer) = world_and_layer(&renderer, &scene);
+    let (_, layer) = world_and_layer(
+        &renderer,
+        &scene,
+        Mat4::IDENTITY,
+        scene.materials[0].base_color,
+    );
     let lights = vec![TransparentLights {
         lights: LightBuffer::suns(&renderer, &[SUN]),
         shadows: None,

@@ -6,26 +6,29 @@
 //! pixel is checked against the value predicted from the camera ray:
 //! base colour factor x texel at TEXCOORD_1 x interpolated COLOR_0.
 
-use std::sync::Arc;
+// The glTF tests' quad view and layer.
+mod common;
 
-use glam::{Mat4, Vec3};
+use common::{QuadView, world_and_layer};
+use glam::Mat4;
 use gltf_json as json;
-use spreadlight_gltf::builder::{Doc, info, png};
-use spreadlight_gltf::{GltfScene, MaterialData, load_gltf_slice};
-use spreadlight_render::camera::CameraInput;
-use spreadlight_render::gbuffer::{
-    DrawBatch, GBuffer, InstanceInput, Layer, LayerFeatures, RasterChoice, RasterMode,
-};
-use spreadlight_render::material::MaterialWorld;
-use spreadlight_render::mesh::{Aabb, MeshData};
+use spreadlight_gltf::builder::{Doc, QUAD_UVS, info, png, quad};
+use spreadlight_gltf::load_gltf_slice;
+use spreadlight_render::SizeRule;
+use spreadlight_render::gbuffer::{GBuffer, RasterChoice, RasterMode};
+use spreadlight_render::mesh::MeshData;
 use spreadlight_render::readback::render_and_read;
 use spreadlight_render::renderer::test_renderer;
-use spreadlight_render::{Renderer, SizeRule};
 
 const SIZE: (u32, u32) = (64, 64);
 /// The camera: on +Z at this distance, looking at the quad's centre.
 const DISTANCE: f32 = 3.0;
 const FOV_Y: f32 = 0.8;
+const VIEW: QuadView = QuadView {
+    size: SIZE,
+    distance: DISTANCE,
+    fov_y: FOV_Y,
+};
 /// COLOR_0 at the quad's left (x = -1) and right (x = +1) edges.
 const LEFT: [f32; 4] = [1.0, 0.5, 0.25, 1.0];
 const RIGHT: [f32; 4] = [0.25, 0.5, 1.0, 1.0];
@@ -63,33 +66,15 @@ fn model(with_colors: bool, alpha: bool) -> Vec<u8> {
     } else {
         (LEFT, RIGHT)
     };
-    let mut quad = MeshData {
-        positions: vec![
-            [-1.0, -1.0, 0.0],
-            [1.0, -1.0, 0.0],
-            [1.0, 1.0, 0.0],
-            [-1.0, 1.0, 0.0],
-        ],
-        normals: vec![[0.0, 0.0, 1.0]; 4],
+    let quad = MeshData {
         uvs: Some(vec![[0.75, 0.75]; 4]),
-        tangents: None,
-        uvs1: Some(vec![[0.0, 1.0], [1.0, 1.0], [1.0, 0.0], [0.0, 0.0]]),
+        uvs1: Some(QUAD_UVS.to_vec()),
         colors: with_colors.then(|| vec![left, right, right, left]),
-        indices: vec![0, 1, 2, 0, 2, 3],
-        bounds: Aabb::ZERO,
+        ..quad()
     };
-    quad.recompute_bounds();
     let mesh = doc.mesh_data("Quad", &quad);
-    let image = doc.png_image(&quadrants_png());
-    let texture = doc.texture(image);
     // NEAREST magnification: the quadrants stay sharp when magnified.
-    let sampler = doc.root.push(json::texture::Sampler {
-        mag_filter: Some(json::validation::Checked::Valid(
-            json::texture::MagFilter::Nearest,
-        )),
-        ..Default::default()
-    });
-    doc.root.textures[texture.value()].sampler = Some(sampler);
+    let texture = doc.nearest_texture(&quadrants_png());
     let mut material = json::Material::default();
     material.pbr_metallic_roughness.base_color_texture = Some(json::texture::Info {
         tex_coord: 1,
@@ -100,61 +85,8 @@ fn model(with_colors: bool, alpha: bool) -> Vec<u8> {
         material.alpha_cutoff = Some(json::material::AlphaCutoff(0.5));
     }
     let material = doc.material(material);
-    doc.root.meshes[mesh.value()].primitives[0].material = Some(material);
-    let node = doc.node(json::Node {
-        mesh: Some(mesh),
-        ..Default::default()
-    });
-    doc.scene(vec![node]);
+    doc.mesh_scene(mesh, material);
     doc.gltf_data_uri()
-}
-
-fn camera() -> CameraInput {
-    CameraInput {
-        view: glam::camera::rh::view::look_at_mat4(Vec3::Z * DISTANCE, Vec3::ZERO, Vec3::Y),
-        projection: glam::camera::rh::proj::directx::perspective(FOV_Y, 1.0, 0.1, 100.0),
-    }
-}
-
-/// Where the ray through pixel (x, y)'s centre meets the plane z = 0.
-fn hit(x: u32, y: u32) -> (f32, f32) {
-    let half = DISTANCE * (FOV_Y / 2.0).tan();
-    let ndc_x = (x as f32 + 0.5) / SIZE.0 as f32 * 2.0 - 1.0;
-    let ndc_y = 1.0 - (y as f32 + 0.5) / SIZE.1 as f32 * 2.0;
-    (ndc_x * half, ndc_y * half)
-}
-
-/// The glTF world: the default material (id 0), then the file's.
-fn layer(renderer: &Renderer, scene: &GltfScene) -> Arc<Layer> {
-    let mesh = renderer
-        .meshes
-        .upload(&renderer.gpu, &scene.meshes[0])
-        .expect("upload");
-    let materials = std::iter::once(MaterialData::default())
-        .chain(scene.materials.iter().cloned())
-        .map(|m| m.to_material())
-        .collect();
-    let world = MaterialWorld::new(renderer, materials);
-    let instance = InstanceInput {
-        transform: Mat4::IDENTITY,
-        previous_transform: Mat4::IDENTITY,
-        color: [1.0; 4],
-        material_id: 1,
-        object_id: 1,
-    };
-    Arc::new(
-        Layer::new(
-            Some(1),
-            vec![DrawBatch {
-                mesh,
-                instances: vec![instance],
-            }],
-            LayerFeatures::default(),
-            None,
-        )
-        .expect("layer")
-        .with_materials(Some(world)),
-    )
 }
 
 /// The albedo target (linear RGB) and which raster made it.
@@ -169,8 +101,8 @@ fn albedo(model: &[u8], choice: RasterChoice) -> (Vec<[f32; 4]>, RasterMode) {
     let g = GBuffer::with_raster(
         &renderer,
         Some(2),
-        vec![layer(&renderer, &scene)],
-        camera(),
+        vec![world_and_layer(&renderer, &scene, Mat4::IDENTITY, [1.0; 4]).1],
+        VIEW.camera(),
         None,
         SizeRule::Relative(1.0),
         choice,
@@ -186,7 +118,7 @@ fn albedo(model: &[u8], choice: RasterChoice) -> (Vec<[f32; 4]>, RasterMode) {
 fn inner_pixels() -> impl Iterator<Item = (u32, u32, f32, usize)> {
     (0..SIZE.1).flat_map(|py| {
         (0..SIZE.0).filter_map(move |px| {
-            let (x, y) = hit(px, py);
+            let (x, y) = VIEW.hit(px, py);
             let (u, v) = ((x + 1.0) / 2.0, (1.0 - y) / 2.0);
             let away = |t: f32| (0.07..0.43).contains(&t) || (0.57..0.93).contains(&t);
             (away(u) && away(v)).then(|| {

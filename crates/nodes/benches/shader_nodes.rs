@@ -47,7 +47,7 @@ fn node_evaluation(bencher: divan::Bencher) {
 
 /// The blur example grown to 200 lines with helper functions (all parsed and validated).
 fn two_hundred_lines(variant: u32) -> String {
-    let mut text = include_str!("../../../shaders/nodes/blur.wgsl").to_owned();
+    let mut text = spreadlight_render::shader_source!("nodes/blur.wgsl").to_owned();
     let mut k = 0;
     while text.lines().count() < 196 {
         text.push_str(&format!(

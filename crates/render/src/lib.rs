@@ -6,6 +6,7 @@
 pub mod accumulate;
 pub mod adapter_class;
 pub mod allocation_count;
+pub mod app_dirs;
 pub mod bench;
 pub mod camera;
 pub mod context;
@@ -21,6 +22,7 @@ pub mod lighting;
 pub mod material;
 pub mod mesh;
 pub mod mesh_arena;
+pub mod mip_chain;
 pub mod particles;
 pub mod permutations;
 pub mod pipeline_cache;

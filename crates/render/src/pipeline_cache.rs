@@ -36,18 +36,7 @@ impl std::fmt::Debug for DiskPipelineCache {
 }
 
 /// Spreadlight's cache directory (see the module docs).
-pub fn cache_dir() -> PathBuf {
-    if let Some(dir) = std::env::var_os("SPREADLIGHT_CACHE_DIR") {
-        return PathBuf::from(dir);
-    }
-    if let Some(dir) = std::env::var_os("XDG_CACHE_HOME") {
-        return PathBuf::from(dir).join("spreadlight");
-    }
-    match std::env::var_os("HOME") {
-        Some(home) => PathBuf::from(home).join(".cache").join("spreadlight"),
-        None => std::env::temp_dir().join("spreadlight-cache"),
-    }
-}
+pub use crate::app_dirs::cache_dir;
 
 impl DiskPipelineCache {
     /// The cache for `device` on the adapter `info` describes, from its file

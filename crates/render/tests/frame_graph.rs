@@ -145,6 +145,18 @@ fn logs(
     }
 }
 
+/// A pass named `name` that reads `reads`, writes `write` and logs its
+/// name when it runs.
+fn logged_pass<'a>(
+    fg: &mut FrameGraph<'a>,
+    log: &Log,
+    name: &'static str,
+    reads: &[&str],
+    write: &str,
+) {
+    declare_pass(fg, name, None, reads, &[(write, target())], logs(log, name));
+}
+
 /// Two passes declared to run together: one pass when the frame needs both,
 /// each alone when it needs one, and never merged when the second reads
 /// what the first makes.
@@ -155,35 +167,14 @@ fn a_pair_that_runs_together_is_one_pass_only_when_both_are_needed() {
     let frame = |requests: &[&str], second_reads_first: bool| {
         let mut fg = FrameGraph::new((16, 16));
         let run = |what: &'static str| logs(&log, what);
-        declare_pass(
-            &mut fg,
-            "source",
-            None,
-            &[],
-            &[("source", target())],
-            run("source"),
-        );
-        declare_pass(
-            &mut fg,
-            "first",
-            None,
-            &["source"],
-            &[("a", target())],
-            run("first"),
-        );
+        logged_pass(&mut fg, &log, "source", &[], "source");
+        logged_pass(&mut fg, &log, "first", &["source"], "a");
         let reads: &[&str] = if second_reads_first {
             &["source", "a"]
         } else {
             &["source"]
         };
-        declare_pass(
-            &mut fg,
-            "second",
-            None,
-            reads,
-            &[("b", target())],
-            run("second"),
-        );
+        logged_pass(&mut fg, &log, "second", reads, "b");
         fg.runs_together("both", run("both"));
         for r in requests {
             fg.request(r);
@@ -222,40 +213,12 @@ fn a_chain_is_one_pass_only_when_nothing_else_reads_the_inner_output() {
     let frame = |requests: &[&str], third_reads_inner: bool| {
         let mut fg = FrameGraph::new((16, 16));
         let run = |what: &'static str| logs(&log, what);
-        declare_pass(
-            &mut fg,
-            "source",
-            None,
-            &[],
-            &[("source", target())],
-            run("source"),
-        );
-        declare_pass(
-            &mut fg,
-            "inner",
-            None,
-            &["source"],
-            &[("inner", target())],
-            run("inner"),
-        );
-        declare_pass(
-            &mut fg,
-            "outer",
-            None,
-            &["inner"],
-            &[("outer", target())],
-            run("outer"),
-        );
+        logged_pass(&mut fg, &log, "source", &[], "source");
+        logged_pass(&mut fg, &log, "inner", &["source"], "inner");
+        logged_pass(&mut fg, &log, "outer", &["inner"], "outer");
         fg.chains_into("inner", "inner and outer", run("both"));
         if third_reads_inner {
-            declare_pass(
-                &mut fg,
-                "third",
-                None,
-                &["inner"],
-                &[("third", target())],
-                run("third"),
-            );
+            logged_pass(&mut fg, &log, "third", &["inner"], "third");
         }
         for r in requests {
             fg.request(r);
@@ -343,31 +306,10 @@ fn a_watch_hands_back_what_the_frame_makes_and_changes_nothing_else() {
             &[("source", narrow), ("unread", narrow)],
             run("source"),
         );
-        declare_pass(
-            &mut fg,
-            "inner",
-            None,
-            &["source"],
-            &[("inner", target())],
-            run("inner"),
-        );
-        declare_pass(
-            &mut fg,
-            "outer",
-            None,
-            &["inner"],
-            &[("outer", target())],
-            run("outer"),
-        );
+        logged_pass(&mut fg, &log, "inner", &["source"], "inner");
+        logged_pass(&mut fg, &log, "outer", &["inner"], "outer");
         fg.chains_into("inner", "inner and outer", run("both"));
-        declare_pass(
-            &mut fg,
-            "aside",
-            None,
-            &["source"],
-            &[("aside", target())],
-            run("aside"),
-        );
+        logged_pass(&mut fg, &log, "aside", &["source"], "aside");
         fg.request("outer");
         for w in watches {
             fg.watch(w);

@@ -707,16 +707,7 @@ fn the_material_buffer_drives_shading_and_unused_features_cost_nothing() {
 
     // Emission: compiled in only for a world where some material has it.
     let composite = |world: Option<std::sync::Arc<MaterialWorld>>| {
-        let lights = LightBuffer::points(&renderer, &[]);
-        let ct = CookTorrance::new(
-            &renderer,
-            None,
-            g.clone(),
-            lights,
-            LightLoop::Naive,
-            false,
-            Surfaces::PerMaterialId(vec![(0.5, 0.0)]),
-        );
+        let ct = unlit_cook_torrance(&renderer, &g);
         let c = CompositeLight::new(
             &renderer,
             None,
@@ -772,6 +763,33 @@ fn uv_halves(left: [u8; 4], right: [u8; 4]) -> Vec<u8> {
     (0..HALVES * HALVES)
         .flat_map(|i| if i % HALVES < HALVES / 2 { left } else { right })
         .collect()
+}
+
+/// A CookTorrance over `g` with no lights (every material 0.5 rough,
+/// dielectric): a composite's light input that adds nothing, so what shows
+/// is the composite's own terms.
+fn unlit_cook_torrance(renderer: &Renderer, g: &Arc<GBuffer>) -> Arc<CookTorrance> {
+    CookTorrance::new(
+        renderer,
+        None,
+        g.clone(),
+        LightBuffer::points(renderer, &[]),
+        LightLoop::Naive,
+        false,
+        Surfaces::PerMaterialId(vec![(0.5, 0.0)]),
+    )
+}
+
+/// A world of one material: the default with `feature` of `params`.
+fn world_with(
+    renderer: &Renderer,
+    feature: spreadlight_render::material::Feature,
+    params: [f32; 4],
+) -> Arc<spreadlight_render::material::MaterialWorld> {
+    let material = spreadlight_render::material::Material::default_material()
+        .with(feature, &[params])
+        .expect("valid");
+    spreadlight_render::material::MaterialWorld::new(renderer, vec![material])
 }
 
 /// CompositeLight over a CookTorrance with no lights and no ambient, both
@@ -1014,30 +1032,17 @@ fn fake_sss_adds_light_past_the_terminator_only_for_materials_that_have_it() {
 
 #[test]
 fn ambient_occlusion_darkens_the_ambient_term_as_each_material_says() {
-    use spreadlight_render::lighting::{CompositeInputs, CompositeLight, LightComponents};
-    use spreadlight_render::material::{Feature, Material, MaterialWorld};
+    use spreadlight_render::lighting::{CompositeInputs, CompositeLight};
+    use spreadlight_render::material::{Feature, MaterialWorld};
     use spreadlight_render::static_texture::StaticTexture;
     let renderer = test_renderer();
     let g = scene(&renderer);
     let half = vec![[0.5f32, 0.5, 0.5, 1.0]; (SIZE.0 * SIZE.1) as usize];
     let ao = StaticTexture::from_rgba32f(&renderer.gpu, SIZE.0, SIZE.1, &half, "ao");
     let composite = |occlusion: bool, world: Option<std::sync::Arc<MaterialWorld>>| {
-        let lights = LightBuffer::points(&renderer, &[]);
-        let ct = CookTorrance::new(
-            &renderer,
-            None,
-            g.clone(),
-            lights,
-            LightLoop::Naive,
-            false,
-            Surfaces::PerMaterialId(vec![(0.5, 0.0)]),
-        );
+        let ct = unlit_cook_torrance(&renderer, &g);
         let inputs = CompositeInputs {
-            components: vec![LightComponents {
-                diffuse: ct.diffuse_texture(),
-                specular: ct.specular_texture(),
-                sss: None,
-            }],
+            components: vec![ct.components()],
             ambient: [1.0; 3],
             materials: world,
             occlusion: occlusion.then(|| ao.texture_ref()),
@@ -1052,24 +1057,18 @@ fn ambient_occlusion_darkens_the_ambient_term_as_each_material_says() {
     let occluded = composite(true, None);
     let weighted_off = composite(
         true,
-        Some(MaterialWorld::new(
+        Some(world_with(
             &renderer,
-            vec![
-                Material::default_material()
-                    .with(Feature::AmbientOcclusion, &[[0.0, 0.0, 0.0, 0.0]])
-                    .expect("valid"),
-            ],
+            Feature::AmbientOcclusion,
+            [0.0, 0.0, 0.0, 0.0],
         )),
     );
     let weighted_on = composite(
         true,
-        Some(MaterialWorld::new(
+        Some(world_with(
             &renderer,
-            vec![
-                Material::default_material()
-                    .with(Feature::AmbientOcclusion, &[[1.0, 0.0, 0.0, 0.0]])
-                    .expect("valid"),
-            ],
+            Feature::AmbientOcclusion,
+            [1.0, 0.0, 0.0, 0.0],
         )),
     );
     for (i, p) in open.pixels.iter().enumerate() {
@@ -1094,7 +1093,7 @@ fn ambient_occlusion_darkens_the_ambient_term_as_each_material_says() {
 
 #[test]
 fn gi_and_reflection_are_weighted_per_material_and_unreflective_scenes_render_no_reflection() {
-    use spreadlight_render::lighting::{CompositeInputs, CompositeLight, LightComponents};
+    use spreadlight_render::lighting::{CompositeInputs, CompositeLight};
     use spreadlight_render::material::{Feature, Material, MaterialWorld};
     use spreadlight_render::ssao::{AmbientOcclusion, AoSettings};
     use spreadlight_render::static_texture::StaticTexture;
@@ -1121,22 +1120,9 @@ fn gi_and_reflection_are_weighted_per_material_and_unreflective_scenes_render_no
         MaterialWorld::new(&renderer, vec![m])
     };
     let composite = |gi_on: bool, reflection: Option<spreadlight_render::TextureRef>, materials| {
-        let lights = LightBuffer::points(&renderer, &[]);
-        let ct = CookTorrance::new(
-            &renderer,
-            None,
-            g.clone(),
-            lights,
-            LightLoop::Naive,
-            false,
-            Surfaces::PerMaterialId(vec![(0.5, 0.0)]),
-        );
+        let ct = unlit_cook_torrance(&renderer, &g);
         let inputs = CompositeInputs {
-            components: vec![LightComponents {
-                diffuse: ct.diffuse_texture(),
-                specular: ct.specular_texture(),
-                sss: None,
-            }],
+            components: vec![ct.components()],
             ambient: [0.0; 3],
             materials: Some(materials),
             occlusion: None,
@@ -1162,14 +1148,7 @@ fn gi_and_reflection_are_weighted_per_material_and_unreflective_scenes_render_no
     }
     assert!(surface > 0);
     // Metals reflect, they do not diffuse: no GI on a metallic material.
-    let metal = MaterialWorld::new(
-        &renderer,
-        vec![
-            Material::default_material()
-                .with(Feature::CookTorrance, &[[0.3, 1.0, 0.04, 0.0]])
-                .expect("valid"),
-        ],
-    );
+    let metal = world_with(&renderer, Feature::CookTorrance, [0.3, 1.0, 0.04, 0.0]);
     let (_, images) = composite(true, None, metal);
     assert!(
         images[0].pixels.iter().all(|p| p[0].abs() < 1e-4),

@@ -36,6 +36,13 @@ fn camera() -> CameraInput {
     }
 }
 
+/// [`camera`] moved `dx` along +X.
+fn camera_moved(dx: f32) -> CameraInput {
+    let mut c = camera();
+    c.view *= glam::Mat4::from_translation(Vec3::new(-dx, 0.0, 0.0));
+    c
+}
+
 /// The lit image (diffuse + specular) and the frame's report.
 fn shade(
     renderer: &Renderer,
@@ -145,6 +152,59 @@ fn settings(filter: ShadowFilter) -> ShadowSettings {
     }
 }
 
+/// A white sun of 5 lux along `direction`, casting into slice 0.
+fn casting_sun(direction: Vec3) -> SunLight {
+    SunLight {
+        direction,
+        color: Vec3::ONE,
+        illuminance: 5.0,
+        shadow: Some(0),
+    }
+}
+
+/// `sun` casting through `count` cascades out to `distance`, split by
+/// `split_lambda` and held by `step`.
+fn sun_cascades(
+    sun: &SunLight,
+    count: u32,
+    split_lambda: f32,
+    distance: f32,
+    step: f32,
+) -> ShadowLights {
+    ShadowLights::Sun {
+        lights: vec![(0, sun.direction)],
+        cascades: Cascades {
+            count,
+            split_lambda,
+            distance,
+            step,
+        },
+    }
+}
+
+/// `casting`'s maps of `layers` seen from [`camera`], drawn by `raster`
+/// and read through `filter` ([`settings`]).
+fn maps_drawn_by(
+    renderer: &Renderer,
+    casting: &ShadowLights,
+    layers: &[Arc<Layer>],
+    raster: RasterChoice,
+    filter: ShadowFilter,
+) -> Arc<ShadowMaps> {
+    ShadowMaps::new(
+        renderer,
+        None,
+        casting,
+        layers.to_vec(),
+        &camera(),
+        ShadowSettings {
+            raster,
+            ..settings(filter)
+        },
+    )
+    .expect("valid shadows")
+}
+
 /// A spot, a point light and a sun (three cascades) over the ball, each
 /// casting into slice 0 of its own maps.
 fn three_lights(renderer: &Renderer) -> [(&'static str, Arc<LightBuffer>, ShadowLights); 3] {
@@ -160,12 +220,7 @@ fn three_lights(renderer: &Renderer) -> [(&'static str, Arc<LightBuffer>, Shadow
         range: 15.0,
         shadow: Some(0),
     };
-    let sun = SunLight {
-        direction: Vec3::NEG_Y,
-        color: Vec3::ONE,
-        illuminance: 5.0,
-        shadow: Some(0),
-    };
+    let sun = casting_sun(Vec3::NEG_Y);
     [
         (
             "spot",
@@ -180,15 +235,7 @@ fn three_lights(renderer: &Renderer) -> [(&'static str, Arc<LightBuffer>, Shadow
         (
             "sun",
             LightBuffer::suns(renderer, &[sun]),
-            ShadowLights::Sun {
-                lights: vec![(0, sun.direction)],
-                cascades: Cascades {
-                    count: 3,
-                    split_lambda: 0.6,
-                    distance: 30.0,
-                    step: 0.0,
-                },
-            },
+            sun_cascades(&sun, 3, 0.6, 30.0, 0.0),
         ),
     ]
 }
@@ -214,18 +261,7 @@ fn every_light_type_casts_through_every_filter() {
             let mut images = Vec::new();
             let mut depths = Vec::new();
             for raster in [RasterChoice::Compute, RasterChoice::Hardware] {
-                let maps = ShadowMaps::new(
-                    &renderer,
-                    None,
-                    &casting,
-                    layers.clone(),
-                    &camera(),
-                    ShadowSettings {
-                        raster,
-                        ..settings(filter)
-                    },
-                )
-                .expect("valid shadows");
+                let maps = maps_drawn_by(&renderer, &casting, &layers, raster, filter);
                 assert_eq!(maps.compute_raster(), raster == RasterChoice::Compute);
                 let (shadowed, report) =
                     shade(&renderer, &layers, lights.clone(), Some(maps.clone()));
@@ -360,33 +396,15 @@ fn a_static_scene_renders_no_shadow_map_after_its_first_frame() {
 fn a_stepped_sun_renders_no_cascade_while_the_camera_moves_within_a_step() {
     let renderer = test_renderer();
     let layers = casters(&renderer, Vec3::new(0.0, 1.5, 0.0));
-    let sun = SunLight {
-        direction: Vec3::new(-0.2, -1.0, -0.1),
-        color: Vec3::ONE,
-        illuminance: 5.0,
-        shadow: Some(0),
-    };
+    let sun = casting_sun(Vec3::new(-0.2, -1.0, -0.1));
     let lights = LightBuffer::suns(&renderer, &[sun]);
-    let moved = |dx: f32| {
-        let mut c = camera();
-        c.view *= glam::Mat4::from_translation(Vec3::new(-dx, 0.0, 0.0));
-        c
-    };
     for (owner, raster) in [(40, RasterChoice::Compute), (41, RasterChoice::Hardware)] {
         for step in [0.0, 0.25] {
-            let casting = ShadowLights::Sun {
-                lights: vec![(0, sun.direction)],
-                cascades: Cascades {
-                    count: 3,
-                    split_lambda: 0.6,
-                    distance: 30.0,
-                    step,
-                },
-            };
+            let casting = sun_cascades(&sun, 3, 0.6, 30.0, step);
             let owner = owner + if step > 0.0 { 10 } else { 0 };
             let (mut rendered, mut whole) = (Vec::new(), Vec::new());
             for frame in 0..4 {
-                let camera = moved(frame as f32 * 0.01);
+                let camera = camera_moved(frame as f32 * 0.01);
                 let maps = ShadowMaps::new(
                     &renderer,
                     Some(owner),
@@ -607,21 +625,8 @@ fn shadow_hard_cases_stay_finite_and_bounded() {
     }
     // VSM over a huge depth range: a sun whose cascades reach 10,000 units.
     let layers = casters(&renderer, Vec3::new(0.0, 1.5, 0.0));
-    let sun = SunLight {
-        direction: Vec3::new(-0.2, -1.0, 0.1),
-        color: Vec3::ONE,
-        illuminance: 5.0,
-        shadow: Some(0),
-    };
-    let casting = ShadowLights::Sun {
-        lights: vec![(0, sun.direction)],
-        cascades: Cascades {
-            count: 4,
-            split_lambda: 1.0,
-            distance: 10_000.0,
-            step: 0.0,
-        },
-    };
+    let sun = casting_sun(Vec3::new(-0.2, -1.0, 0.1));
+    let casting = sun_cascades(&sun, 4, 1.0, 10_000.0, 0.0);
     let maps = ShadowMaps::new(
         &renderer,
         None,
@@ -698,21 +703,8 @@ fn no_acne_at_grazing_angles_and_no_seams_at_cascade_borders_with_the_default_bi
     let layers = floor_only(&renderer);
     // A sun 10 degrees above the horizon over a bare floor: nothing shadows
     // it, so every pixel must be as lit as without shadows, across all cascades.
-    let sun = SunLight {
-        direction: Vec3::new(1.0, -0.176, 0.3).normalize(),
-        color: Vec3::ONE,
-        illuminance: 5.0,
-        shadow: Some(0),
-    };
-    let casting = ShadowLights::Sun {
-        lights: vec![(0, sun.direction)],
-        cascades: Cascades {
-            count: 4,
-            split_lambda: 0.5,
-            distance: 40.0,
-            step: 0.0,
-        },
-    };
+    let sun = casting_sun(Vec3::new(1.0, -0.176, 0.3).normalize());
+    let casting = sun_cascades(&sun, 4, 0.5, 40.0, 0.0);
     let (lit, _) = shade(
         &renderer,
         &layers,
@@ -852,18 +844,7 @@ fn a_one_sided_plane_facing_away_from_the_light_still_casts_on_either_rasterizer
     let casting = ShadowLights::Spot(vec![(0, spot.view, spot.projection)]);
     let (lit, _) = shade(&renderer, &layers, lights.clone(), None);
     for raster in [RasterChoice::Compute, RasterChoice::Hardware] {
-        let maps = ShadowMaps::new(
-            &renderer,
-            None,
-            &casting,
-            layers.clone(),
-            &camera(),
-            ShadowSettings {
-                raster,
-                ..settings(ShadowFilter::Raw)
-            },
-        )
-        .expect("valid");
+        let maps = maps_drawn_by(&renderer, &casting, &layers, raster, ShadowFilter::Raw);
         let (shadowed, _) = shade(&renderer, &layers, lights.clone(), Some(maps));
         let (cx, cy) = (SIZE.0 / 2, SIZE.1 / 2);
         assert!(
@@ -1120,27 +1101,9 @@ fn assert_scrolled_depths_agree(scrolled: &[ImageF32], whole: &[ImageF32], what:
 fn a_panning_camera_scrolls_sun_cascades_and_draws_only_their_new_strips() {
     let renderer = test_renderer();
     let layers = casters(&renderer, Vec3::new(0.0, 1.5, 0.0));
-    let sun = SunLight {
-        direction: Vec3::new(-0.2, -1.0, -0.1),
-        color: Vec3::ONE,
-        illuminance: 5.0,
-        shadow: Some(0),
-    };
+    let sun = casting_sun(Vec3::new(-0.2, -1.0, -0.1));
     let lights = LightBuffer::suns(&renderer, &[sun]);
-    let casting = ShadowLights::Sun {
-        lights: vec![(0, sun.direction)],
-        cascades: Cascades {
-            count: 3,
-            split_lambda: 0.6,
-            distance: 30.0,
-            step: 0.0,
-        },
-    };
-    let at = |dx: f32| {
-        let mut c = camera();
-        c.view *= glam::Mat4::from_translation(Vec3::new(-dx, 0.0, 0.0));
-        c
-    };
+    let casting = sun_cascades(&sun, 3, 0.6, 30.0, 0.0);
     // Small maps: the compute rasterizer runs on the CPU here (lavapipe).
     const RES: u64 = 128;
     let vsm = ShadowFilter::Vsm {
@@ -1188,7 +1151,7 @@ fn a_panning_camera_scrolls_sun_cascades_and_draws_only_their_new_strips() {
                         .expect("rendered");
                     (image, report, depth)
                 };
-            let (_, first, _) = frame(at(0.0), &at(0.0), &layers);
+            let (_, first, _) = frame(camera_moved(0.0), &camera_moved(0.0), &layers);
             assert_eq!(first.counter("shadow layers drawn whole"), 3, "{what}");
             assert_eq!(
                 first.counter("shadow texels drawn"),
@@ -1197,7 +1160,7 @@ fn a_panning_camera_scrolls_sun_cascades_and_draws_only_their_new_strips() {
             );
             let mut scrolled = 0;
             for k in 1..=3 {
-                let camera = at(k as f32 * 0.2);
+                let camera = camera_moved(k as f32 * 0.2);
                 let (image, report, depth) = frame(camera, &camera, &layers);
                 let counted = |name: &str| report.counter(name);
                 // Every cascade that changed scrolled; none was drawn whole,
@@ -1253,7 +1216,7 @@ fn a_panning_camera_scrolls_sun_cascades_and_draws_only_their_new_strips() {
             // The finest cascade moves a few texels a frame here: it scrolls every time.
             assert!(scrolled >= 3, "{what}: {scrolled} cascades scrolled");
             // A still camera over a still scene: nothing is drawn.
-            let still = at(0.6);
+            let still = camera_moved(0.6);
             let (_, report, _) = frame(still, &still, &layers);
             assert_eq!(
                 report.counter("shadow maps reused"),
@@ -1264,12 +1227,12 @@ fn a_panning_camera_scrolls_sun_cascades_and_draws_only_their_new_strips() {
             assert_eq!(report.counter("shadow texels drawn"), 0, "{what}");
             // A moving caster (a layer new this frame) draws the cascades whole.
             let moved = casters(&renderer, Vec3::new(0.3, 1.5, 0.0));
-            let panned = at(0.75);
+            let panned = camera_moved(0.75);
             let (_, report, _) = frame(panned, &panned, &moved);
             assert_eq!(report.counter("shadow layers scrolled"), 0, "{what}");
             assert_eq!(report.counter("shadow layers drawn whole"), 3, "{what}");
             // A jump further than any cascade is wide: drawn whole.
-            let far = at(500.0);
+            let far = camera_moved(500.0);
             let (_, report, _) = frame(far, &far, &moved);
             assert_eq!(report.counter("shadow layers scrolled"), 0, "{what}");
             assert_eq!(report.counter("shadow layers drawn whole"), 3, "{what}");
@@ -1278,7 +1241,7 @@ fn a_panning_camera_scrolls_sun_cascades_and_draws_only_their_new_strips() {
             // whatever the next sound frame keeps of them, its maps are what
             // drawing them whole gives.
             for broken in [f32::NAN, f32::INFINITY] {
-                let (image, _, depth) = frame(at(0.0), &at(broken), &moved);
+                let (image, _, depth) = frame(camera_moved(0.0), &camera_moved(broken), &moved);
                 assert!(image.all_finite(), "{what}, camera at {broken}");
                 assert!(
                     depth
@@ -1286,11 +1249,11 @@ fn a_panning_camera_scrolls_sun_cascades_and_draws_only_their_new_strips() {
                         .all(|l| l.pixels.iter().all(|p| (0.0..=1.0).contains(&p[0]))),
                     "{what}, camera at {broken}: the maps hold depths"
                 );
-                let (_, _, depth) = frame(at(0.0), &at(0.0), &moved);
-                let whole = maps(&at(0.0), None, &moved);
+                let (_, _, depth) = frame(camera_moved(0.0), &camera_moved(0.0), &moved);
+                let whole = maps(&camera_moved(0.0), None, &moved);
                 shade_from(
                     &renderer,
-                    at(0.0),
+                    camera_moved(0.0),
                     &moved,
                     lights.clone(),
                     Some(whole.clone()),

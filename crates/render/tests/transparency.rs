@@ -581,6 +581,39 @@ fn point(position: Vec3, color: Vec3, intensity: f32, range: f32) -> PointLight 
     }
 }
 
+/// Two points lighting the glass pane from in front, of different colours and reaches.
+fn glass_points() -> [PointLight; 2] {
+    [
+        point(Vec3::new(1.0, 1.5, 4.5), Vec3::new(1.0, 0.9, 0.8), 6.0, 6.0),
+        point(
+            Vec3::new(-1.5, -1.0, 4.0),
+            Vec3::new(0.3, 0.5, 1.0),
+            4.0,
+            4.0,
+        ),
+    ]
+}
+
+/// A warm sun from above and behind the camera.
+const GLASS_SUN: SunLight = SunLight {
+    direction: Vec3::new(0.4, -0.3, -1.0),
+    color: Vec3::new(1.0, 0.95, 0.9),
+    illuminance: 0.8,
+    shadow: None,
+};
+
+/// A buffer of `points` and one of `suns`: a light pass each.
+fn light_buffers(
+    renderer: &Renderer,
+    points: &[PointLight],
+    suns: &[SunLight],
+) -> Vec<Arc<LightBuffer>> {
+    vec![
+        LightBuffer::points(renderer, points),
+        LightBuffer::suns(renderer, suns),
+    ]
+}
+
 /// Compares the pane's colour with the reference at a spread of pixels.
 fn assert_matches_reference(out: &ImageF32, points: &[PointLight], suns: &[SunLight], what: &str) {
     let mut lit = 0;
@@ -601,29 +634,15 @@ fn assert_matches_reference(out: &ImageF32, points: &[PointLight], suns: &[SunLi
 #[test]
 fn point_and_sun_lights_on_glass_match_the_cpu_brdf_naive_and_clustered() {
     let renderer = test_renderer();
+    let [near, far] = glass_points();
     let points = [
-        point(Vec3::new(1.0, 1.5, 4.5), Vec3::new(1.0, 0.9, 0.8), 6.0, 6.0),
-        point(
-            Vec3::new(-1.5, -1.0, 4.0),
-            Vec3::new(0.3, 0.5, 1.0),
-            4.0,
-            4.0,
-        ),
+        near,
+        far,
         // Out of reach of the pane: lights nothing.
         point(Vec3::new(0.0, 0.0, 12.0), Vec3::ONE, 100.0, 2.0),
     ];
-    let suns = [SunLight {
-        direction: Vec3::new(0.4, -0.3, -1.0),
-        color: Vec3::new(1.0, 0.95, 0.9),
-        illuminance: 0.8,
-        shadow: None,
-    }];
-    let buffers = || {
-        vec![
-            LightBuffer::points(&renderer, &points),
-            LightBuffer::suns(&renderer, &suns),
-        ]
-    };
+    let suns = [GLASS_SUN];
+    let buffers = || light_buffers(&renderer, &points, &suns);
     let mut images = Vec::new();
     for light_loop in [LightLoop::Naive, LightLoop::Clustered] {
         let (report, out, pass) = lit_pane(
@@ -660,27 +679,8 @@ fn point_and_sun_lights_on_glass_match_the_cpu_brdf_naive_and_clustered() {
 #[test]
 fn compute_shading_matches_the_cpu_brdf_and_records_every_fragment() {
     let renderer = test_renderer();
-    let points = [
-        point(Vec3::new(1.0, 1.5, 4.5), Vec3::new(1.0, 0.9, 0.8), 6.0, 6.0),
-        point(
-            Vec3::new(-1.5, -1.0, 4.0),
-            Vec3::new(0.3, 0.5, 1.0),
-            4.0,
-            4.0,
-        ),
-    ];
-    let suns = [SunLight {
-        direction: Vec3::new(0.4, -0.3, -1.0),
-        color: Vec3::new(1.0, 0.95, 0.9),
-        illuminance: 0.8,
-        shadow: None,
-    }];
-    let buffers = || {
-        vec![
-            LightBuffer::points(&renderer, &points),
-            LightBuffer::suns(&renderer, &suns),
-        ]
-    };
+    let (points, suns) = (glass_points(), [GLASS_SUN]);
+    let buffers = || light_buffers(&renderer, &points, &suns);
     for light_loop in [LightLoop::Naive, LightLoop::Clustered] {
         let what = format!("{light_loop:?} in compute");
         let (report, out, pass) = lit_pane(

@@ -28,7 +28,7 @@ macro_rules! example {
         (
             $stem,
             concat!("shaders/nodes/", $stem, ".wgsl"),
-            include_str!(concat!("../../../../shaders/nodes/", $stem, ".wgsl")),
+            spreadlight_render::shader_source!("nodes/", $stem, ".wgsl"),
         )
     };
 }

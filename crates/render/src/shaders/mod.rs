@@ -13,12 +13,17 @@
 //! libraries ([`LIBRARIES`]). Every key type is named in one place above the
 //! effects, `crate::permutations`, which the exhaustive tests walk.
 
+// `shader_source!` by its textual scope (it is exported at the crate's root,
+// which this layer does not import).
+#[macro_use]
+pub mod permutation;
+
 /// A library of `shaders/`: imported by the entry shaders, no entry points.
 macro_rules! library {
     ($path:literal) => {
         ShaderFile {
             path: $path,
-            source: include_str!(concat!("../../../../shaders/", $path)),
+            source: shader_source!($path),
             features: &[],
             library: true,
             keys: None,
@@ -67,7 +72,6 @@ mod cache;
 mod composer;
 mod flags;
 pub mod layout;
-pub mod permutation;
 mod reflection;
 mod uniform;
 

@@ -76,11 +76,20 @@ fn keyed_features(
 macro_rules! shader_file {
     ($path:literal) => {
         const PATH: &'static str = $path;
-        const SOURCE: &'static str = include_str!(concat!(
-            env!("CARGO_MANIFEST_DIR"),
-            "/../../shaders/",
-            $path
-        ));
+        const SOURCE: &'static str = $crate::shader_source!($path);
+    };
+}
+
+/// The text of a file below the repository's `shaders/`, embedded in the
+/// binary: the one spelling of where the shaders are, for entry shaders
+/// ([`shader_file!`](crate::shader_file)), libraries
+/// ([`LIBRARIES`](crate::shaders::LIBRARIES)) and the node library's
+/// examples. From the including crate's manifest, so it holds for every
+/// crate under `crates/` and for files at any depth.
+#[macro_export]
+macro_rules! shader_source {
+    ($($path:tt)+) => {
+        include_str!(concat!(env!("CARGO_MANIFEST_DIR"), "/../../shaders/", $($path)+))
     };
 }
 

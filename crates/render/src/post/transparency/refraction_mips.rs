@@ -18,7 +18,8 @@ use std::sync::Mutex;
 use super::TransparencyKey;
 use crate::context::GpuContext;
 use crate::error::RenderError;
-use crate::frame_graph::{Bindings, PassContext, Tex};
+use crate::frame_graph::{PassContext, Tex};
+use crate::mip_chain::MipChainShader;
 use crate::shaders::Permutation;
 use crate::texture_pool::ViewSpec;
 
@@ -42,22 +43,13 @@ impl RefractionMips {
         {
             return (t.clone(), s.clone());
         }
-        let (w, h) = (size.0.max(1), size.1.max(1));
-        let levels = crate::texture::mips::level_count(w, h);
-        let texture = gpu.device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("transparency refraction mips"),
-            size: wgpu::Extent3d {
-                width: w,
-                height: h,
-                depth_or_array_layers: 1,
-            },
-            mip_level_count: levels,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: FORMAT,
-            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::STORAGE_BINDING,
-            view_formats: &[],
-        });
+        let texture = crate::mip_chain::texture(
+            &gpu.device,
+            "transparency refraction mips",
+            size,
+            FORMAT,
+            wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::STORAGE_BINDING,
+        );
         // Trilinear and clamped: a fractional level blends the two either
         // side, and the border repeats the edge as the taps' clamp does.
         let sampler = gpu.device.create_sampler(&wgpu::SamplerDescriptor {
@@ -74,6 +66,19 @@ impl RefractionMips {
     }
 }
 
+/// The chain's entry points and bindings in `post/transparency.wgsl`: one
+/// level a dispatch (a box average has no `down2`).
+const SHADER: MipChainShader = MipChainShader {
+    copy: "refraction_mips_copy",
+    first: "refraction_mips_first",
+    down: "refraction_mips_down",
+    down2: None,
+    source: "mips_image",
+    level_in: "mips_source",
+    out: "mips_out",
+    out_next: "mips_out_next",
+};
+
 /// Builds every level of `mips` from `source` (the opaque image, any float
 /// format): one compute pass, a dispatch per level after the first two.
 pub(super) fn build(
@@ -81,48 +86,19 @@ pub(super) fn build(
     source: Tex,
     mips: &wgpu::Texture,
 ) -> Result<(), RenderError> {
-    let device = cx.gpu.device.clone();
+    let levels: Vec<wgpu::TextureView> = (0..mips.mip_level_count())
+        .map(|m| cx.view_of(mips, ViewSpec::mip(m)))
+        .collect();
     let key = TransparencyKey::COMPOSITE.key();
-    let levels = mips.mip_level_count() as usize;
-    let level = |m: usize| cx.view_of(mips, ViewSpec::mip(m as u32));
-    // Each step: its entry point, bindings and the level its threads cover
-    // (a thread per texel of the last level it writes).
-    let mut plan: Vec<(&'static str, Bindings<'_>, usize)> = Vec::new();
-    if levels == 1 {
-        // A 1x1 image: the copy alone (the first step writes two levels).
-        let b = Bindings::new()
-            .texture("mips_image", source)
-            .view("mips_out", level(0));
-        plan.push(("refraction_mips_copy", b, 0));
-    } else {
-        let b = Bindings::new()
-            .texture("mips_image", source)
-            .view("mips_out", level(0))
-            .view("mips_out_next", level(1));
-        plan.push(("refraction_mips_first", b, 1));
-        for m in 2..levels {
-            let b = Bindings::new()
-                .view("mips_source", level(m - 1))
-                .view("mips_out", level(m));
-            plan.push(("refraction_mips_down", b, m));
-        }
-    }
-    let (w, h) = (mips.width(), mips.height());
-    let mut steps = Vec::with_capacity(plan.len());
-    for (entry, bindings, m) in plan {
-        let pipeline = cx.shaders.compute_pipeline(&device, &key, entry)?;
-        let groups = cx.bind_groups(&key, entry, &pipeline, bindings)?;
-        let (x, y) = ((w >> m).max(1), (h >> m).max(1));
-        steps.push((pipeline, groups, (x.div_ceil(8), y.div_ceil(8))));
-    }
+    let size = (mips.width(), mips.height());
+    SHADER.build(
+        cx,
+        &key,
+        "transparency refraction mips",
+        source,
+        &levels,
+        size,
+    )?;
     cx.count(MIP_CHAINS, 1);
-    let pass = cx.compute_pass("transparency refraction mips");
-    for (pipeline, groups, (x, y)) in &steps {
-        pass.set_pipeline(pipeline);
-        for (i, group) in groups.iter().enumerate() {
-            pass.set_bind_group(i as u32, group, &[]);
-        }
-        pass.dispatch_workgroups(*x, *y, 1);
-    }
     Ok(())
 }
