@@ -491,7 +491,12 @@ fn an_environment_probe_shows_a_gltf_quads_checker_base_colour() {
     material.pbr_metallic_roughness.base_color_texture = Some(info(json::Index::new(0)));
     let scene = load_gltf_slice(&model(material, "{}", &[checker]), None).expect("loads");
     assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
-    let (_, layer) = world_and_layer(&renderer, &scene);
+    let (_, layer) = world_and_layer(
+        &renderer,
+        &scene,
+        Mat4::IDENTITY,
+        scene.materials[0].base_color,
+    );
     // Before the quad (z = 0, facing +Z), looking at it through its -Z face.
     let position = Vec3::new(0.0, 0.0, 1.5);
     let probe = ProbeScene::new(
@@ -505,7 +510,7 @@ fn an_environment_probe_shows_a_gltf_quads_checker_base_colour() {
     let env = Environment::new(
         &renderer,
         None,
-        EnvironmentSource::Probe(Arc::new(probe)),
+        EnvironmentSource::Probe(std::sync::Arc::new(probe)),
         EnvironmentQuality {
             cube_size: 32,
             samples: 8,
@@ -516,7 +521,7 @@ fn an_environment_probe_shows_a_gltf_quads_checker_base_colour() {
         &renderer,
         None,
         Vec::new(),
-        camera(),
+        VIEW.camera(),
         None,
         SizeRule::Relative(1.0),
     );
