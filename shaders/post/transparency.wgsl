@@ -45,7 +45,17 @@
 // scaled by the metallic-roughness and emissive maps), else the node's pins.
 // EXTENSION_MAPS (with MATERIAL_MAPS; the world has a material extension's
 // map): the reflectance by the specular maps, the thickness by the
-// thickness map (the coat is not drawn here, nor its maps).
+// thickness map, the coat by the clearcoat maps.
+// CLEARCOAT (with MATERIALS; the layer's world has a Clearcoat material):
+// the light passes add the coat's lobe (GGX, f0 0.04, on the coat's own
+// normal: the clearcoat normal map's, else the surface's geometric one)
+// and dim what is under it by the coat's Fresnel at N.V, as CookTorrance
+// does for opaque surfaces. Compute shading keeps each fragment's coat in
+// a record of its own (`coat_records`, 8 bytes a slot, bound and cleared
+// only when some layer of the node is coated), so the records of uncoated
+// frames stay as they are; the shade passes of a node with a coated layer
+// compile CLEARCOAT, the base passes of its coated layers write it, and a
+// fragment no coated layer wrote reads a cleared record: no coat.
 // MATCAP (base pass, with MATERIALS): a layer whose material has MatCap
 // gets it as CompositeLight gives opaque surfaces, looked up by the
 // view-space normal of the face shown (MATCAP_TEXTURE: the world's texture
@@ -101,6 +111,9 @@
 #import spreadlight::material_maps::{MapCoords, sample_map, has_map, map_settings, MAP_BASE_COLOR, MAP_METALLIC_ROUGHNESS, MAP_NORMAL, MAP_OCCLUSION, MAP_EMISSIVE}
 #ifdef EXTENSION_MAPS
 #import spreadlight::material_maps::{mapped_reflectance, MAP_THICKNESS}
+#ifdef CLEARCOAT
+#import spreadlight::material_maps::{mapped_clearcoat, clearcoat_normal_texel}
+#endif
 #endif
 #endif
 #ifdef VERTEX_EXTRAS
@@ -115,6 +128,19 @@
 #endif
 #ifdef SHADOWS
 #import spreadlight::shadow_sampling::light_shadow
+#endif
+#endif
+#ifdef CLEARCOAT
+#ifdef MATERIALS
+#import spreadlight::material::FEATURE_CLEARCOAT
+#endif
+#ifdef LIGHT_PASS
+#import spreadlight::brdf::{cook_torrance_weights_scaled, schlick_weight, DIELECTRIC_F0}
+// The shaded fragment's coat: its coverage (0: none), its lobe's surface
+// (the coat's normal and roughness, f0 0.04) and its summed specular.
+var<private> coat_factor: f32;
+var<private> coat_surface: BrdfSurface;
+var<private> coat_sum: vec3<f32>;
 #endif
 #endif
 
@@ -424,6 +450,13 @@ fn mark_froxels(frag: vec2<f32>, view_depth: f32) {
 // shading knows how many fragments it missed.
 @group(0) @binding(40) var<storage, read_write> fragment_counts: array<atomic<u32>>;
 @group(0) @binding(41) var<storage, read_write> fragment_records: array<u32>;
+#ifdef CLEARCOAT
+// Two words a slot, beside the fragment's record (compute.rs's coat buffer).
+@group(0) @binding(44) var<storage, read_write> coat_records: array<u32>;
+// What `record_fragment` stores in it: set by `fs` before the call.
+var<private> record_coat: vec2<f32>;
+var<private> record_coat_normal: vec3<f32>;
+#endif
 
 // World position and albedo as f32 (6), the normal (1), reflectance as f32
 // (1), roughness with metallic and alpha with coverage in 16 bits each (2).
@@ -466,12 +499,21 @@ fn record_fragment(frag: vec2<f32>, world: vec3<f32>, n: vec3<f32>, albedo: vec3
     fragment_records[at + 7u] = bitcast<u32>(colour.w);
     fragment_records[at + 8u] = pack2x16unorm(unit.xy);
     fragment_records[at + 9u] = pack2x16unorm(unit.zw);
+#ifdef CLEARCOAT
+    // The coat's record: its normal (octahedral), then factor and roughness.
+    let coat_at = 2u * (pixel * slots + k);
+    coat_records[coat_at] = pack2x16snorm(octahedral(record_coat_normal));
+    coat_records[coat_at + 1u] = pack2x16unorm(clamp(sanitize(vec4<f32>(record_coat, 0.0, 0.0)).xy, vec2<f32>(0.0), vec2<f32>(1.0)));
+#endif
 }
 #endif
 
 #ifdef COMPUTE_SHADE
 @group(0) @binding(40) var<storage, read> fragment_counts: array<u32>;
 @group(0) @binding(41) var<storage, read> fragment_records: array<u32>;
+#ifdef CLEARCOAT
+@group(0) @binding(44) var<storage, read> coat_records: array<u32>;
+#endif
 // As FRAGMENT_RECORDS writes them.
 const RECORD_WORDS: u32 = 10u;
 // Per pixel: the light the compute passes add to the accumulation's colour.
@@ -522,6 +564,9 @@ fn add_light_record(record: Light, i: u32, pw: vec3<f32>, s: BrdfSurface, view_d
     let l = safe_normalize(-record.direction.xyz, vec3<f32>(0.0, 1.0, 0.0));
     let n_dot_l = dot(s.n, l);
     let v_dot_l = dot(s.v, l);
+#ifdef CLEARCOAT
+    let coat_n_dot_l = dot(coat_surface.n, l);
+#endif
     var radiance = record.intensity.rgb;
     let attenuation = 1.0;
 #ifdef SHADOWS
@@ -551,6 +596,12 @@ fn add_light_record(record: Light, i: u32, pw: vec3<f32>, s: BrdfSurface, view_d
         n_dot_l = 1.0;
         v_dot_l = s.view_cosine;
     }
+#ifdef CLEARCOAT
+    var coat_n_dot_l = dot(coat_surface.n, to_light) * inverse_distance;
+    if (!(distance2 > 1e-20)) {
+        coat_n_dot_l = 1.0;
+    }
+#endif
     var radiance = record.intensity.rgb;
 #ifdef LIGHT_SPOT
     radiance *= spot_mask(i, record.cone, pw);
@@ -563,7 +614,29 @@ fn add_light_record(record: Light, i: u32, pw: vec3<f32>, s: BrdfSurface, view_d
 #endif
     let cosines = half_vector_cosines(s, n_dot_l, v_dot_l);
     add_light(sums, radiance, cook_torrance_weights(s, n_dot_l, cosines.x, cosines.y) * attenuation);
+#ifdef CLEARCOAT
+    if (coat_factor > 0.0) {
+        // D V N.L (F0 + (1 - F0) w) on the coat's normal: CookTorrance's coat lobe.
+        let coat_cosines = half_vector_cosines(coat_surface, coat_n_dot_l, v_dot_l);
+        let coat = cook_torrance_weights_scaled(coat_surface, coat_n_dot_l, coat_cosines.x, coat_cosines.y, attenuation);
+        coat_sum += radiance * (coat.x * DIELECTRIC_F0 + coat.y * (1.0 - DIELECTRIC_F0));
+    }
+#endif
 }
+
+#ifdef CLEARCOAT
+// The coat over a lit fragment (the private coat state, summed over its
+// lights): what the coat reflects neither reaches the base nor leaves it,
+// and the coat's lobe adds to the specular. x: the diffuse's scale; the
+// specular is returned whole.
+fn coated_specular(specular: vec3<f32>) -> vec4<f32> {
+    if (!(coat_factor > 0.0)) {
+        return vec4<f32>(specular, 1.0);
+    }
+    let dim = 1.0 - coat_factor * (DIELECTRIC_F0 + (1.0 - DIELECTRIC_F0) * schlick_weight(coat_surface.n_dot_v));
+    return vec4<f32>(specular * dim + coat_factor * coat_sum, dim);
+}
+#endif
 
 // Every light of the buffer that reaches `pw`: with CLUSTERED, those listed
 // in the froxel of the fragment (pixel `frag`, camera depth `view_depth`).
@@ -654,6 +727,8 @@ fn perturb(n: vec3<f32>, tangent: vec4<f32>, texel: vec3<f32>) -> vec3<f32> {
 fn fs(in: VertexOut, @builtin(front_facing) front: bool) -> Accumulated {
     var base = in.color;
     var n = safe_normalize(in.normal, vec3<f32>(0.0, 1.0, 0.0));
+    // What a clearcoat normal map bends (glTF: not the base normal map's normal).
+    let geometric = n;
     // Textures first, in uniform control flow (implicit derivatives).
 #ifdef TEXCOORDS
     let uv = in.uv;
@@ -717,6 +792,19 @@ fn fs(in: VertexOut, @builtin(front_facing) front: bool) -> Accumulated {
     thickness_scale = max(sample_map(in.material, MAP_THICKNESS, coords, vec4<f32>(1.0)).g, 0.0);
 #endif
 #endif
+#ifdef CLEARCOAT
+    // The coat's (factor, roughness) and its normal, before facing.
+    var coat = vec2<f32>(0.0);
+    var coat_n = geometric;
+#ifdef MATERIALS
+    let coat_params = feature_param(in.material, FEATURE_CLEARCOAT, 0u, vec4<f32>(0.0)).xy;
+    coat = clamp(sanitize(vec4<f32>(coat_params, 0.0, 0.0)).xy, vec2<f32>(0.0), vec2<f32>(1.0));
+#ifdef EXTENSION_MAPS
+    coat = mapped_clearcoat(in.material, coords, coat);
+    coat_n = perturb(geometric, in.tangent, clearcoat_normal_texel(in.material, coords));
+#endif
+#endif
+#endif
     // Behind the opaque surface (reversed-Z: a smaller depth is further): hidden.
     let opaque_z = textureLoad(opaque_depth, vec2<i32>(in.clip.xy), 0).r;
     let alpha = clamp(sanitize(base).a, 0.0, 1.0);
@@ -738,14 +826,25 @@ fn fs(in: VertexOut, @builtin(front_facing) front: bool) -> Accumulated {
     let facing = select(-n, n, front);
     let v = safe_normalize(camera.position.xyz - in.world, facing);
     let s = brdf_surface(facing, v, albedo, roughness, metallic, reflectance);
+#ifdef CLEARCOAT
+    coat_factor = coat.x;
+    coat_surface = brdf_surface(select(-coat_n, coat_n, front), v, vec3<f32>(0.0), coat.y, 0.0, DIELECTRIC_F0);
+    coat_sum = vec3<f32>(0.0);
+#endif
     let lit = light_sums_brdf(s, light_sums(in.clip.xy, in.world, s, in.distance));
     var specular = lit.specular;
+    var lit_diffuse = lit.diffuse;
     if (params.surface.z > 0.5) {
         specular *= surface_energy_compensation(s);
     }
+#ifdef CLEARCOAT
+    let over = coated_specular(specular);
+    specular = over.xyz;
+    lit_diffuse *= over.w;
+#endif
     // Held at 600 before sanitizing: a light that overflows to infinity
     // saturates the pixel instead of blacking it out; NaN becomes 0.
-    let diffuse = max(sanitize(vec4<f32>(min(lit.diffuse, vec3<f32>(600.0)), 0.0)).rgb, vec3<f32>(0.0));
+    let diffuse = max(sanitize(vec4<f32>(min(lit_diffuse, vec3<f32>(600.0)), 0.0)).rgb, vec3<f32>(0.0));
     let glossy = max(sanitize(vec4<f32>(min(specular, vec3<f32>(600.0)), 0.0)).rgb, vec3<f32>(0.0));
     // The colour alone: alpha and the revealage are the base pass's (the
     // pipeline masks them). Transmission takes the diffuse's place in what
@@ -779,6 +878,10 @@ fn fs(in: VertexOut, @builtin(front_facing) front: bool) -> Accumulated {
     mark_froxels(in.clip.xy, in.distance);
 #endif
 #ifdef FRAGMENT_RECORDS
+#ifdef CLEARCOAT
+    record_coat = coat;
+    record_coat_normal = select(-coat_n, coat_n, front);
+#endif
     record_fragment(in.clip.xy, in.world, select(-n, n, front), albedo, roughness, metallic, reflectance, alpha, coverage);
 #endif
     var through = vec3<f32>(0.0);
@@ -811,6 +914,10 @@ struct Recorded {
     surface: BrdfSurface,
     alpha: f32,
     coverage: f32,
+#ifdef CLEARCOAT
+    coat: f32,
+    coat_surface: BrdfSurface,
+#endif
 }
 
 fn recorded(at: u32) -> Recorded {
@@ -827,18 +934,42 @@ fn recorded(at: u32) -> Recorded {
     f.surface = brdf_surface(n, v, colour.rgb, rough_metal.x, rough_metal.y, colour.w);
     f.alpha = cover.x;
     f.coverage = cover.y;
+#ifdef CLEARCOAT
+    let coat_at = 2u * (at / RECORD_WORDS);
+    let coat = unpack2x16unorm(coat_records[coat_at + 1u]);
+    f.coat = coat.x;
+    f.coat_surface = brdf_surface(unoctahedral(unpack2x16snorm(coat_records[coat_at])), v, vec3<f32>(0.0), coat.y, 0.0, DIELECTRIC_F0);
+#endif
     return f;
 }
 
+#ifdef CLEARCOAT
+// Sets the private coat state to fragment `f`'s, with `sum` its coat's
+// light so far.
+fn begin_coat(f: Recorded, sum: vec3<f32>) {
+    coat_factor = f.coat;
+    coat_surface = f.coat_surface;
+    coat_sum = sum;
+}
+#endif
+
 // What fragment `f` lit by `sums` adds to the accumulation's colour: the
 // forward light pass's output for it.
+// With CLEARCOAT, the private coat state is the fragment's, summed over
+// the same lights (begin_coat, then the walk).
 fn recorded_light(f: Recorded, sums: LightSums) -> vec3<f32> {
     let lit = light_sums_brdf(f.surface, sums);
     var specular = lit.specular;
+    var lit_diffuse = lit.diffuse;
     if (params.surface.z > 0.5) {
         specular *= surface_energy_compensation(f.surface);
     }
-    let diffuse = max(sanitize(vec4<f32>(min(lit.diffuse, vec3<f32>(600.0)), 0.0)).rgb, vec3<f32>(0.0));
+#ifdef CLEARCOAT
+    let over = coated_specular(specular);
+    specular = over.xyz;
+    lit_diffuse *= over.w;
+#endif
+    let diffuse = max(sanitize(vec4<f32>(min(lit_diffuse, vec3<f32>(600.0)), 0.0)).rgb, vec3<f32>(0.0));
     let glossy = max(sanitize(vec4<f32>(min(specular, vec3<f32>(600.0)), 0.0)).rgb, vec3<f32>(0.0));
     return (diffuse * f.alpha + glossy * f.coverage) * weight(f.view_depth, f.coverage);
 }
@@ -885,6 +1016,9 @@ fn shade(@builtin(global_invocation_id) id: vec3<u32>) {
     var kept_weight = 0.0;
     for (var k = 0u; k < kept; k++) {
         let f = recorded(RECORD_WORDS * (pixel * slots + k));
+#ifdef CLEARCOAT
+        begin_coat(f, vec3<f32>(0.0));
+#endif
         sum += recorded_light(f, light_sums(frag, f.world, f.surface, f.view_depth));
         // What the base pass added to the accumulation's alpha for it.
         kept_weight += f.coverage * weight(f.view_depth, f.coverage);
@@ -927,6 +1061,10 @@ fn shade_tiled(@builtin(global_invocation_id) id: vec3<u32>, @builtin(local_invo
     }
     workgroupBarrier();
     var sums: array<LightSums, MAX_SLOTS>;
+#ifdef CLEARCOAT
+    // Each fragment's coat light, as `sums`.
+    var coat_sums: array<vec3<f32>, MAX_SLOTS>;
+#endif
     for (var k = 0u; k < kept; k++) {
         let s = slice_of(recorded(first_at + RECORD_WORDS * k).view_depth);
         atomicOr(&tile_slices[s / 32u], 1u << (s % 32u));
@@ -964,10 +1102,16 @@ fn shade_tiled(@builtin(global_invocation_id) id: vec3<u32>, @builtin(local_invo
                         // A whole local, not a pointer into the array: naga's SPIR-V
                         // output fails on a dynamically indexed element passed by pointer.
                         var acc = sums[k];
+#ifdef CLEARCOAT
+                        begin_coat(f, coat_sums[k]);
+#endif
                         for (var j = 0u; j < n; j++) {
                             add_light_record(batch_lights[j], batch_index[j], f.world, f.surface, f.view_depth, &acc);
                         }
                         sums[k] = acc;
+#ifdef CLEARCOAT
+                        coat_sums[k] = coat_sum;
+#endif
                     }
                 }
                 workgroupBarrier();
@@ -981,6 +1125,9 @@ fn shade_tiled(@builtin(global_invocation_id) id: vec3<u32>, @builtin(local_invo
     var kept_weight = 0.0;
     for (var k = 0u; k < kept; k++) {
         let f = recorded(first_at + RECORD_WORDS * k);
+#ifdef CLEARCOAT
+        begin_coat(f, coat_sums[k]);
+#endif
         sum += recorded_light(f, sums[k]);
         kept_weight += f.coverage * weight(f.view_depth, f.coverage);
     }
