@@ -252,7 +252,9 @@ fn the_clearcoat_and_specular_maps_are_read_and_become_surface_maps() {
     }
     // The coat's normal map is sampled too: nothing says otherwise.
     assert!(
-        !warnings.iter().any(|w| w.contains("not sampled") || w.contains("clearcoat")),
+        !warnings
+            .iter()
+            .any(|w| w.contains("not sampled") || w.contains("clearcoat")),
         "{warnings:?}"
     );
     assert_eq!(m.clearcoat_normal_scale, 0.5);

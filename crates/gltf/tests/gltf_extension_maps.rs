@@ -638,7 +638,11 @@ fn the_clearcoat_normal_map_bends_the_coat_alone() {
         checked[u] += 1;
     }
     assert!(checked[0] > 300 && checked[1] > 300, "{checked:?}");
-    assert!(bent * 2 > checked[1], "{bent} of {} pixels bent", checked[1]);
+    assert!(
+        bent * 2 > checked[1],
+        "{bent} of {} pixels bent",
+        checked[1]
+    );
 }
 
 /// A BLEND quad of alpha 1 lit by `lights`, shaded as `shading`.
@@ -692,9 +696,7 @@ fn lit_blend(
         shading != TransparencyShading::Forward
     );
     // `render` asserts every pixel finite.
-    render(renderer, pass.as_ref(), &pass.output, SIZE)
-        .1
-        .pixels
+    render(renderer, pass.as_ref(), &pass.output, SIZE).1.pixels
 }
 
 /// How many compiled shaders have CLEARCOAT on.
@@ -777,7 +779,10 @@ fn lit_transparency_draws_the_coat_on_its_normal_map() {
         clustered,
         TransparencyShading::Tiled,
     );
-    let flat_ext = COAT_NORMAL_EXT.replace(r#", "clearcoatNormalTexture": {"index": {0}, "scale": 0.8}"#, "");
+    let flat_ext = COAT_NORMAL_EXT.replace(
+        r#", "clearcoatNormalTexture": {"index": {0}, "scale": 0.8}"#,
+        "",
+    );
     assert!(!flat_ext.contains("Normal"), "{flat_ext}");
     let flat = lit_blend(
         &renderer,

@@ -588,7 +588,10 @@ mod tests {
         assert!(all.contains(&shade) && all.contains(&TransparencyKey::SHADED_RESOLVE));
         // The coat: compiled for the light passes and recording base passes
         // of surfaces with a material world, and for compute shading.
-        let coated_shade = TransparencyKey { coat: true, ..shade };
+        let coated_shade = TransparencyKey {
+            coat: true,
+            ..shade
+        };
         assert!(all.contains(&coated_shade));
         assert_eq!(coated_shade.features().last(), Some("CLEARCOAT"));
         assert!(all.iter().filter(|k| k.coat).all(|k| match k.pass {

@@ -855,9 +855,7 @@ impl Transparency {
                 ),
             });
         }
-        Ok(self
-            .lists
-            .get(cx.gpu, (w * h).max(1), slots, self.coated()))
+        Ok(self.lists.get(cx.gpu, (w * h).max(1), slots, self.coated()))
     }
 
     /// Light buffer `set`'s light on every recorded fragment, added to the
