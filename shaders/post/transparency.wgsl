@@ -48,7 +48,7 @@
 // thickness map, the coat by the clearcoat maps.
 // CLEARCOAT (with MATERIALS; the layer's world has a Clearcoat material):
 // the light passes add the coat's lobe (GGX, f0 0.04, on the coat's own
-// normal: the clearcoat normal map's, else the surface's geometric one)
+// normal: the clearcoat normal map's, else the surface's, normal mapped)
 // and dim what is under it by the coat's Fresnel at N.V, as CookTorrance
 // does for opaque surfaces. Compute shading keeps each fragment's coat in
 // a record of its own (`coat_records`, 8 bytes a slot, bound and cleared
@@ -112,7 +112,7 @@
 #ifdef EXTENSION_MAPS
 #import spreadlight::material_maps::{mapped_reflectance, MAP_THICKNESS}
 #ifdef CLEARCOAT
-#import spreadlight::material_maps::{mapped_clearcoat, clearcoat_normal_texel}
+#import spreadlight::material_maps::{mapped_clearcoat, clearcoat_normal_texel, MAP_CLEARCOAT_NORMAL}
 #endif
 #endif
 #endif
@@ -793,15 +793,19 @@ fn fs(in: VertexOut, @builtin(front_facing) front: bool) -> Accumulated {
 #endif
 #endif
 #ifdef CLEARCOAT
-    // The coat's (factor, roughness) and its normal, before facing.
+    // The coat's (factor, roughness) and its normal, before facing: its
+    // normal map's on the geometric normal, else the surface's (normal
+    // mapped) one, as CookTorrance shares it on opaque surfaces.
     var coat = vec2<f32>(0.0);
-    var coat_n = geometric;
+    var coat_n = n;
 #ifdef MATERIALS
     let coat_params = feature_param(in.material, FEATURE_CLEARCOAT, 0u, vec4<f32>(0.0)).xy;
     coat = clamp(sanitize(vec4<f32>(coat_params, 0.0, 0.0)).xy, vec2<f32>(0.0), vec2<f32>(1.0));
 #ifdef EXTENSION_MAPS
     coat = mapped_clearcoat(in.material, coords, coat);
-    coat_n = perturb(geometric, in.tangent, clearcoat_normal_texel(in.material, coords));
+    if (has_map(in.material, MAP_CLEARCOAT_NORMAL)) {
+        coat_n = perturb(geometric, in.tangent, clearcoat_normal_texel(in.material, coords));
+    }
 #endif
 #endif
 #endif
