@@ -20,7 +20,9 @@
 // EXTENSION_MAPS: (with MATERIAL_MAPS) some material of the world has a
 //                 material extension's map: for those materials, the coat's
 //                 factor and roughness (clearcoat maps) and the reflectance
-//                 (specular maps) too, in the surface target's w.
+//                 (specular maps) too, in the surface target's w, and the
+//                 coat's own normal (clearcoat normal map) in the bits
+//                 pack_coat_normal frees for it.
 // CUSTOM_SURFACE: this layer has a shader node material: its
 //                 `surface` function (spreadlight::custom_surface, swapped
 //                 for the material's file) shades each pixel; its bindings
@@ -45,8 +47,8 @@
 #import spreadlight::material_maps::{MapCoords, sample_map, has_map, map_settings, MAP_BASE_COLOR, MAP_METALLIC_ROUGHNESS, MAP_NORMAL, MAP_OCCLUSION, MAP_EMISSIVE}
 #ifdef EXTENSION_MAPS
 #import spreadlight::material::FEATURE_CLEARCOAT
-#import spreadlight::material_maps::{has_extension_maps, mapped_reflectance, mapped_clearcoat}
-#import spreadlight::surface_target::pack_extension
+#import spreadlight::material_maps::{has_extension_maps, mapped_reflectance, mapped_clearcoat, clearcoat_normal_texel, MAP_CLEARCOAT_NORMAL}
+#import spreadlight::surface_target::{pack_extension, pack_coat_normal}
 #endif
 #endif
 #ifdef CUSTOM_SURFACE
@@ -314,6 +316,8 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     coords.second_dx = coords.dx;
     coords.second_dy = coords.dy;
 #endif
+    // What the coat's normal map bends (glTF: the geometric normal, not the base map's).
+    let geometric_world = normal_world;
     if (has_map(material, MAP_NORMAL)) {
         let t4 = v0.tangent * b.x + v1.tangent * b.y + v2.tangent * b.z;
         let t = safe_normalize((instance.model * vec4<f32>(t4.xyz, 0.0)).xyz, vec3<f32>(1.0, 0.0, 0.0));
@@ -341,7 +345,19 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
 #ifdef EXTENSION_MAPS
         if (has_extension_maps(material)) {
             let coat = mapped_clearcoat(material, coords, feature_param(material, FEATURE_CLEARCOAT, 0u, vec4<f32>(0.0)).xy);
-            surface_texel.w = pack_extension(coat.x, coat.y, mapped_reflectance(material, coords, ct.z));
+            let reflectance = mapped_reflectance(material, coords, ct.z);
+            if (has_map(material, MAP_CLEARCOAT_NORMAL)) {
+                let t4 = v0.tangent * b.x + v1.tangent * b.y + v2.tangent * b.z;
+                let t = safe_normalize((instance.model * vec4<f32>(t4.xyz, 0.0)).xyz, vec3<f32>(1.0, 0.0, 0.0));
+                let bt = cross(geometric_world, t) * select(-1.0, 1.0, t4.w >= 0.0);
+                let texel = clearcoat_normal_texel(material, coords);
+                // A texel of length zero (or one that cancels the frame) keeps the geometric normal.
+                let coat_world = safe_normalize(t * texel.x + bt * texel.y + geometric_world * texel.z, geometric_world);
+                let coat_view = safe_normalize((camera.view * vec4<f32>(coat_world, 0.0)).xyz, vec3<f32>(0.0, 0.0, 1.0));
+                surface_texel = pack_coat_normal(surface_texel, coat.x, coat.y, reflectance, coat_view);
+            } else {
+                surface_texel.w = pack_extension(coat.x, coat.y, reflectance);
+            }
         }
 #endif
     }

@@ -6,7 +6,8 @@
 // calls, so a light lights a glass pane, and what a probe sees, exactly as
 // it lights the wall behind them. The light type is compiled in as
 // CookTorrance compiles it: point by default, LIGHT_SPOT, LIGHT_SUN;
-// SHADOWS (and its filter) reads the buffer's shadow maps.
+// SHADOWS (and its filter) reads the buffer's shadow maps; CLEARCOAT adds
+// the coat's lobe on the coat's own normal (lit transparency's coated layers).
 #define_import_path spreadlight::forward_light
 #import spreadlight::brdf::{BrdfSurface, LightSums, add_light, cook_torrance_weights, half_vector_cosines}
 #import spreadlight::lights::{range_window, inverse_square}
@@ -16,6 +17,9 @@
 #endif
 #ifdef SHADOWS
 #import spreadlight::shadow_sampling::light_shadow
+#endif
+#ifdef CLEARCOAT
+#import spreadlight::brdf::{cook_torrance_weights_scaled, schlick_weight, DIELECTRIC_F0}
 #endif
 
 // Matches `GpuLight` in crates/render/src/lighting/mod.rs.
@@ -27,6 +31,15 @@ struct Light {
 }
 
 @group(0) @binding(13) var<storage, read> lights: array<Light>;
+
+#ifdef CLEARCOAT
+// The shaded fragment's coat, set by the importer before its lights: its
+// coverage (0: none), its lobe's surface (the coat's normal and roughness,
+// f0 0.04) and the coat's specular summed over the lights.
+var<private> coat_factor: f32;
+var<private> coat_surface: BrdfSurface;
+var<private> coat_sum: vec3<f32>;
+#endif
 
 // Light `i`'s radiance at world point `pw` times its Cook-Torrance weights,
 // added to `sums`. `view_depth` (the camera's depth of the point) picks a
@@ -42,6 +55,9 @@ fn add_light_record(record: Light, i: u32, pw: vec3<f32>, s: BrdfSurface, view_d
     let l = safe_normalize(-record.direction.xyz, vec3<f32>(0.0, 1.0, 0.0));
     let n_dot_l = dot(s.n, l);
     let v_dot_l = dot(s.v, l);
+#ifdef CLEARCOAT
+    let coat_n_dot_l = dot(coat_surface.n, l);
+#endif
     var radiance = record.intensity.rgb;
     let attenuation = 1.0;
 #ifdef SHADOWS
@@ -71,6 +87,12 @@ fn add_light_record(record: Light, i: u32, pw: vec3<f32>, s: BrdfSurface, view_d
         n_dot_l = 1.0;
         v_dot_l = s.view_cosine;
     }
+#ifdef CLEARCOAT
+    var coat_n_dot_l = dot(coat_surface.n, to_light) * inverse_distance;
+    if (!(distance2 > 1e-20)) {
+        coat_n_dot_l = 1.0;
+    }
+#endif
     var radiance = record.intensity.rgb;
 #ifdef LIGHT_SPOT
     radiance *= spot_mask(i, record.cone, pw);
@@ -83,4 +105,26 @@ fn add_light_record(record: Light, i: u32, pw: vec3<f32>, s: BrdfSurface, view_d
 #endif
     let cosines = half_vector_cosines(s, n_dot_l, v_dot_l);
     add_light(sums, radiance, cook_torrance_weights(s, n_dot_l, cosines.x, cosines.y) * attenuation);
+#ifdef CLEARCOAT
+    if (coat_factor > 0.0) {
+        // D V N.L (F0 + (1 - F0) w) on the coat's normal: CookTorrance's coat lobe.
+        let coat_cosines = half_vector_cosines(coat_surface, coat_n_dot_l, v_dot_l);
+        let coat = cook_torrance_weights_scaled(coat_surface, coat_n_dot_l, coat_cosines.x, coat_cosines.y, attenuation);
+        coat_sum += radiance * (coat.x * DIELECTRIC_F0 + coat.y * (1.0 - DIELECTRIC_F0));
+    }
+#endif
 }
+
+#ifdef CLEARCOAT
+// The coat over a lit fragment (the private coat state, summed over its
+// lights): what the coat reflects neither reaches the base nor leaves it,
+// and the coat's lobe adds to the specular. x: the diffuse's scale; the
+// specular is returned whole.
+fn coated_specular(specular: vec3<f32>) -> vec4<f32> {
+    if (!(coat_factor > 0.0)) {
+        return vec4<f32>(specular, 1.0);
+    }
+    let dim = 1.0 - coat_factor * (DIELECTRIC_F0 + (1.0 - DIELECTRIC_F0) * schlick_weight(coat_surface.n_dot_v));
+    return vec4<f32>(specular * dim + coat_factor * coat_sum, dim);
+}
+#endif

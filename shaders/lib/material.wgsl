@@ -180,3 +180,16 @@ fn clearcoat_at(id: u32, pixel: vec2<u32>) -> vec2<f32> {
 #endif
     return coat;
 }
+
+// The coat's own view-space normal at a pixel: where the G-buffer resolve
+// wrote a clearcoat normal map's (SURFACE_TARGET), that; else `n`, the
+// pixel's normal, which the coat then shares.
+fn clearcoat_normal_at(pixel: vec2<u32>, n: vec3<f32>) -> vec3<f32> {
+#ifdef SURFACE_TARGET
+    let s = surface_at(pixel);
+    if (s.extended && s.coat_normal_written) {
+        return s.coat_normal;
+    }
+#endif
+    return n;
+}

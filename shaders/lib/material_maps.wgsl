@@ -5,12 +5,13 @@
 // dispatch. Sampled with explicit screen derivatives (trilinear +
 // anisotropic in compute, where there are no implicit ones).
 //
-// Slots 5..9 are the material extensions' maps (clearcoat factor in red,
+// Slots 5..10 are the material extensions' maps (clearcoat factor in red,
 // clearcoat roughness in green, specular in alpha, specular colour in rgb,
-// thickness in green); a material packs them, and the specular factors
-// after them (MAP_SPECULAR_FACTORS), only when it has one, and a pass reads
-// them only under EXTENSION_MAPS (the world has one): `has_map` reads "none"
-// past a material's parameters.
+// thickness in green, the clearcoat's tangent-space normal in rgb); a
+// material packs them, and the specular factors and the clearcoat normal's
+// scale after them (MAP_SPECULAR_FACTORS, MAP_CLEARCOAT_NORMAL_SCALE), only
+// when it has one, and a pass reads them only under EXTENSION_MAPS (the
+// world has one): `has_map` reads "none" past a material's parameters.
 #define_import_path spreadlight::material_maps
 #import spreadlight::material::{feature_param, FEATURE_SURFACE_MAPS}
 
@@ -24,8 +25,11 @@ const MAP_CLEARCOAT_ROUGHNESS: u32 = 6u;
 const MAP_SPECULAR: u32 = 7u;
 const MAP_SPECULAR_COLOR: u32 = 8u;
 const MAP_THICKNESS: u32 = 9u;
+const MAP_CLEARCOAT_NORMAL: u32 = 10u;
 // The parameter after the last slot's: (ior's f0 x specular colour factor, specular factor).
-const MAP_SPECULAR_FACTORS: u32 = 21u;
+const MAP_SPECULAR_FACTORS: u32 = 23u;
+// The one after it: (the clearcoat normal map's scale, 0, 0, 0).
+const MAP_CLEARCOAT_NORMAL_SCALE: u32 = 24u;
 
 @group(3) @binding(0) var maps_0: texture_2d_array<f32>;
 @group(3) @binding(1) var maps_1: texture_2d_array<f32>;
@@ -152,4 +156,19 @@ fn mapped_clearcoat(material: u32, coords: MapCoords, coat: vec2<f32>) -> vec2<f
     let factor = coat.x * sample_map(material, MAP_CLEARCOAT, coords, vec4<f32>(1.0)).r;
     let roughness = coat.y * sample_map(material, MAP_CLEARCOAT_ROUGHNESS, coords, vec4<f32>(1.0)).g;
     return clamp(vec2<f32>(factor, roughness), vec2<f32>(0.0), vec2<f32>(1.0));
+}
+
+// The coat's tangent-space normal (-1..1, x and y times the map's scale)
+// from clearcoatNormalTexture, or straight up (0, 0, 1) without one: the
+// caller turns it into its space by the tangent frame of the surface's
+// geometric normal (glTF: not the base normal map's), as for the base
+// normal map. Any texel is finite; a texel of length zero is the
+// caller's to guard (safe_normalize with the geometric normal).
+fn clearcoat_normal_texel(material: u32, coords: MapCoords) -> vec3<f32> {
+    if (!has_map(material, MAP_CLEARCOAT_NORMAL)) {
+        return vec3<f32>(0.0, 0.0, 1.0);
+    }
+    let scale = feature_param(material, FEATURE_SURFACE_MAPS, MAP_CLEARCOAT_NORMAL_SCALE, vec4<f32>(1.0)).x;
+    let texel = sample_map(material, MAP_CLEARCOAT_NORMAL, coords, vec4<f32>(0.5, 0.5, 1.0, 1.0)).xyz * 2.0 - 1.0;
+    return vec3<f32>(texel.xy * scale, texel.z);
 }

@@ -13,9 +13,10 @@
 // overflow so no infinity reaches a target. CLEARCOAT (some material has
 // the Clearcoat feature): a second GGX lobe, f0 0.04, over the base, which
 // it dims by its Fresnel reflectance at N.V (glTF's KHR_materials_clearcoat
-// as the Khronos sample viewer shades it; the coat shares the pixel's normal:
-// clearcoatNormalTexture is not applied), its factor and roughness scaled
-// by their maps where the G-buffer resolved them (material::clearcoat_at).
+// as the Khronos sample viewer shades it), its factor and roughness scaled
+// by their maps where the G-buffer resolved them (material::clearcoat_at),
+// on its own normal where a clearcoat normal map gave one
+// (material::clearcoat_normal_at; else the pixel's).
 // CUSTOM_LIGHT: a light shader node's `light` function (lib/light_shader.wgsl,
 // spliced in for lib/custom_light.wgsl) replaces the BRDF: the same walk,
 // clusters and shadows, its outputs summed into the two targets.
@@ -41,9 +42,9 @@
 #endif
 #endif
 #ifdef CLEARCOAT
-#import spreadlight::material::clearcoat_at
-// The pixel's coat: its coverage (0: none), its lobe's surface (the
-// pixel's normal, the coat's roughness, f0 0.04) and its summed specular.
+#import spreadlight::material::{clearcoat_at, clearcoat_normal_at}
+// The pixel's coat: its coverage (0: none), its lobe's surface (the coat's
+// normal, its roughness, f0 0.04) and its summed specular.
 var<private> coat_factor: f32;
 var<private> coat_surface: BrdfSurface;
 var<private> coat_sum: vec3<f32>;
@@ -161,6 +162,9 @@ fn shade(slot: u32, lv: vec4<f32>, p: vec3<f32>, pw: vec3<f32>, surface: BrdfSur
     let l = -travel;
     let n_dot_l = dot(n, l);
     let v_dot_l = dot(surface.v, l);
+#ifdef CLEARCOAT
+    let coat_n_dot_l = dot(coat_surface.n, l);
+#endif
     var radiance = light_radiance(slot);
 #ifdef SHADOWS
     if (record.cone.z >= 0.0) {
@@ -188,13 +192,22 @@ fn shade(slot: u32, lv: vec4<f32>, p: vec3<f32>, pw: vec3<f32>, surface: BrdfSur
 #ifndef CUSTOM_LIGHT
 #ifndef FAKE_SSS
     // A light behind the surface adds nothing (cook_torrance_weights is 0
-    // for N.L <= 0, the coat's too): leave before its radiance is read and
-    // its half vector made. Not with FAKE_SSS, which wraps light past the
-    // terminator, nor for a light shader, which sees every light in range.
-    // A light at the surface point is lit from along the normal (below).
+    // for N.L <= 0): leave before its radiance is read and its half vector
+    // made. Not with FAKE_SSS, which wraps light past the terminator, nor
+    // for a light shader, which sees every light in range. A light at the
+    // surface point is lit from along the normal (below). With a coat,
+    // behind both the surface and the coat (a coat normal map bends the
+    // coat's own way).
+#ifdef CLEARCOAT
+    let coat_facing = dot(coat_surface.n, to_light);
+    if (!(facing > 0.0) && !(coat_factor > 0.0 && coat_facing > 0.0) && distance2 > 1e-20) {
+        return;
+    }
+#else
     if (!(facing > 0.0) && distance2 > 1e-20) {
         return;
     }
+#endif
 #endif
 #endif
     // point_attenuation_squared, with one reciprocal square root for both
@@ -210,6 +223,12 @@ fn shade(slot: u32, lv: vec4<f32>, p: vec3<f32>, pw: vec3<f32>, surface: BrdfSur
         n_dot_l = 1.0;
         v_dot_l = surface.view_cosine;
     }
+#ifdef CLEARCOAT
+    var coat_n_dot_l = dot(coat_surface.n, to_light) * inverse_distance;
+    if (!(distance2 > 1e-20)) {
+        coat_n_dot_l = 1.0;
+    }
+#endif
 #ifdef LIGHT_SPOT
     // The 64-byte record only for lights that reach the pixel: most of a
     // froxel's list does not (its 256-pixel tile is wider than a light's reach
@@ -246,8 +265,10 @@ fn shade(slot: u32, lv: vec4<f32>, p: vec3<f32>, pw: vec3<f32>, surface: BrdfSur
     add_light(sums, radiance, cook_torrance_weights_scaled(surface, n_dot_l, cosines.x, cosines.y, scale));
 #ifdef CLEARCOAT
     if (coat_factor > 0.0) {
-        // D V N.L (F0 + (1 - F0) w): the coat's Schlick Fresnel at V.H.
-        let coat = cook_torrance_weights_scaled(coat_surface, n_dot_l, cosines.x, cosines.y, scale);
+        // D V N.L (F0 + (1 - F0) w): the coat's Schlick Fresnel at V.H,
+        // its cosines on its own normal.
+        let coat_cosines = half_vector_cosines(coat_surface, coat_n_dot_l, v_dot_l);
+        let coat = cook_torrance_weights_scaled(coat_surface, coat_n_dot_l, coat_cosines.x, coat_cosines.y, scale);
         coat_sum += radiance * (coat.x * DIELECTRIC_F0 + coat.y * (1.0 - DIELECTRIC_F0));
     }
 #endif
@@ -635,13 +656,17 @@ fn main(@builtin(local_invocation_index) lane: u32, @builtin(workgroup_id) wid: 
 #ifdef CLEARCOAT
     coat_factor = 0.0;
     var coat_roughness = 0.0;
+    var coat_n = n;
     if (covered) {
         // Scaled by its maps where the G-buffer resolved them.
         let coat = clearcoat_at(material, pixel);
         coat_factor = clamp(coat.x, 0.0, 1.0);
         coat_roughness = clamp(coat.y, 0.0, 1.0);
+        if (coat_factor > 0.0) {
+            coat_n = clearcoat_normal_at(pixel, n);
+        }
     }
-    coat_surface = brdf_surface(n, v, vec3<f32>(0.0), coat_roughness, 0.0, DIELECTRIC_F0);
+    coat_surface = brdf_surface(coat_n, v, vec3<f32>(0.0), coat_roughness, 0.0, DIELECTRIC_F0);
     coat_sum = vec3<f32>(0.0);
 #endif
 #ifdef CLUSTERED
@@ -809,7 +834,7 @@ fn main(@builtin(local_invocation_index) lane: u32, @builtin(workgroup_id) wid: 
 #ifdef CLEARCOAT
     if (coat_factor > 0.0) {
         // What the coat reflects does not reach the base, nor leave it.
-        let dim = 1.0 - coat_factor * (DIELECTRIC_F0 + (1.0 - DIELECTRIC_F0) * schlick_weight(surface.n_dot_v));
+        let dim = 1.0 - coat_factor * (DIELECTRIC_F0 + (1.0 - DIELECTRIC_F0) * schlick_weight(coat_surface.n_dot_v));
         diffuse *= dim;
         specular = specular * dim + coat_factor * coat_sum;
     }

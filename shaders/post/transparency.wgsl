@@ -45,7 +45,17 @@
 // scaled by the metallic-roughness and emissive maps), else the node's pins.
 // EXTENSION_MAPS (with MATERIAL_MAPS; the world has a material extension's
 // map): the reflectance by the specular maps, the thickness by the
-// thickness map (the coat is not drawn here, nor its maps).
+// thickness map, the coat by the clearcoat maps.
+// CLEARCOAT (with MATERIALS; the layer's world has a Clearcoat material):
+// the light passes add the coat's lobe (GGX, f0 0.04, on the coat's own
+// normal: the clearcoat normal map's, else the surface's, normal mapped)
+// and dim what is under it by the coat's Fresnel at N.V, as CookTorrance
+// does for opaque surfaces. Compute shading keeps each fragment's coat in
+// a record of its own (`coat_records`, 8 bytes a slot, bound and cleared
+// only when some layer of the node is coated), so the records of uncoated
+// frames stay as they are; the shade passes of a node with a coated layer
+// compile CLEARCOAT, the base passes of its coated layers write it, and a
+// fragment no coated layer wrote reads a cleared record: no coat.
 // MATCAP (base pass, with MATERIALS): a layer whose material has MatCap
 // gets it as CompositeLight gives opaque surfaces, looked up by the
 // view-space normal of the face shown (MATCAP_TEXTURE: the world's texture
@@ -101,6 +111,9 @@
 #import spreadlight::material_maps::{MapCoords, sample_map, has_map, map_settings, MAP_BASE_COLOR, MAP_METALLIC_ROUGHNESS, MAP_NORMAL, MAP_OCCLUSION, MAP_EMISSIVE}
 #ifdef EXTENSION_MAPS
 #import spreadlight::material_maps::{mapped_reflectance, MAP_THICKNESS}
+#ifdef CLEARCOAT
+#import spreadlight::material_maps::{mapped_clearcoat, clearcoat_normal_texel, MAP_CLEARCOAT_NORMAL}
+#endif
 #endif
 #endif
 #ifdef VERTEX_EXTRAS
@@ -112,6 +125,17 @@
 // A light's share: the forward passes' one copy of CookTorrance's `shade`
 // (lib/forward_light.wgsl), which the environment probe's faces use too.
 #import spreadlight::forward_light::{Light, lights, add_forward_light, add_light_record}
+#endif
+#ifdef CLEARCOAT
+#ifdef MATERIALS
+#import spreadlight::material::FEATURE_CLEARCOAT
+#endif
+#ifdef LIGHT_PASS
+#import spreadlight::brdf::DIELECTRIC_F0
+// The shaded fragment's coat, which the light function sums into
+// (lib/forward_light.wgsl holds it beside the coat's lobe).
+#import spreadlight::forward_light::{coat_factor, coat_surface, coat_sum, coated_specular}
+#endif
 #endif
 
 struct Params {
@@ -420,6 +444,13 @@ fn mark_froxels(frag: vec2<f32>, view_depth: f32) {
 // shading knows how many fragments it missed.
 @group(0) @binding(40) var<storage, read_write> fragment_counts: array<atomic<u32>>;
 @group(0) @binding(41) var<storage, read_write> fragment_records: array<u32>;
+#ifdef CLEARCOAT
+// Two words a slot, beside the fragment's record (compute.rs's coat buffer).
+@group(0) @binding(44) var<storage, read_write> coat_records: array<u32>;
+// What `record_fragment` stores in it: set by `fs` before the call.
+var<private> record_coat: vec2<f32>;
+var<private> record_coat_normal: vec3<f32>;
+#endif
 
 // World position and albedo as f32 (6), the normal (1), reflectance as f32
 // (1), roughness with metallic and alpha with coverage in 16 bits each (2).
@@ -462,12 +493,21 @@ fn record_fragment(frag: vec2<f32>, world: vec3<f32>, n: vec3<f32>, albedo: vec3
     fragment_records[at + 7u] = bitcast<u32>(colour.w);
     fragment_records[at + 8u] = pack2x16unorm(unit.xy);
     fragment_records[at + 9u] = pack2x16unorm(unit.zw);
+#ifdef CLEARCOAT
+    // The coat's record: its normal (octahedral), then factor and roughness.
+    let coat_at = 2u * (pixel * slots + k);
+    coat_records[coat_at] = pack2x16snorm(octahedral(record_coat_normal));
+    coat_records[coat_at + 1u] = pack2x16unorm(clamp(sanitize(vec4<f32>(record_coat, 0.0, 0.0)).xy, vec2<f32>(0.0), vec2<f32>(1.0)));
+#endif
 }
 #endif
 
 #ifdef COMPUTE_SHADE
 @group(0) @binding(40) var<storage, read> fragment_counts: array<u32>;
 @group(0) @binding(41) var<storage, read> fragment_records: array<u32>;
+#ifdef CLEARCOAT
+@group(0) @binding(44) var<storage, read> coat_records: array<u32>;
+#endif
 // As FRAGMENT_RECORDS writes them.
 const RECORD_WORDS: u32 = 10u;
 // Per pixel: the light the compute passes add to the accumulation's colour.
@@ -584,6 +624,8 @@ fn perturb(n: vec3<f32>, tangent: vec4<f32>, texel: vec3<f32>) -> vec3<f32> {
 fn fs(in: VertexOut, @builtin(front_facing) front: bool) -> Accumulated {
     var base = in.color;
     var n = safe_normalize(in.normal, vec3<f32>(0.0, 1.0, 0.0));
+    // What a clearcoat normal map bends (glTF: not the base normal map's normal).
+    let geometric = n;
     // Textures first, in uniform control flow (implicit derivatives).
 #ifdef TEXCOORDS
     let uv = in.uv;
@@ -647,6 +689,23 @@ fn fs(in: VertexOut, @builtin(front_facing) front: bool) -> Accumulated {
     thickness_scale = max(sample_map(in.material, MAP_THICKNESS, coords, vec4<f32>(1.0)).g, 0.0);
 #endif
 #endif
+#ifdef CLEARCOAT
+    // The coat's (factor, roughness) and its normal, before facing: its
+    // normal map's on the geometric normal, else the surface's (normal
+    // mapped) one, as CookTorrance shares it on opaque surfaces.
+    var coat = vec2<f32>(0.0);
+    var coat_n = n;
+#ifdef MATERIALS
+    let coat_params = feature_param(in.material, FEATURE_CLEARCOAT, 0u, vec4<f32>(0.0)).xy;
+    coat = clamp(sanitize(vec4<f32>(coat_params, 0.0, 0.0)).xy, vec2<f32>(0.0), vec2<f32>(1.0));
+#ifdef EXTENSION_MAPS
+    coat = mapped_clearcoat(in.material, coords, coat);
+    if (has_map(in.material, MAP_CLEARCOAT_NORMAL)) {
+        coat_n = perturb(geometric, in.tangent, clearcoat_normal_texel(in.material, coords));
+    }
+#endif
+#endif
+#endif
     // Behind the opaque surface (reversed-Z: a smaller depth is further): hidden.
     let opaque_z = textureLoad(opaque_depth, vec2<i32>(in.clip.xy), 0).r;
     let alpha = clamp(sanitize(base).a, 0.0, 1.0);
@@ -668,14 +727,25 @@ fn fs(in: VertexOut, @builtin(front_facing) front: bool) -> Accumulated {
     let facing = select(-n, n, front);
     let v = safe_normalize(camera.position.xyz - in.world, facing);
     let s = brdf_surface(facing, v, albedo, roughness, metallic, reflectance);
+#ifdef CLEARCOAT
+    coat_factor = coat.x;
+    coat_surface = brdf_surface(select(-coat_n, coat_n, front), v, vec3<f32>(0.0), coat.y, 0.0, DIELECTRIC_F0);
+    coat_sum = vec3<f32>(0.0);
+#endif
     let lit = light_sums_brdf(s, light_sums(in.clip.xy, in.world, s, in.distance));
     var specular = lit.specular;
+    var lit_diffuse = lit.diffuse;
     if (params.surface.z > 0.5) {
         specular *= surface_energy_compensation(s);
     }
+#ifdef CLEARCOAT
+    let over = coated_specular(specular);
+    specular = over.xyz;
+    lit_diffuse *= over.w;
+#endif
     // Held at 600 before sanitizing: a light that overflows to infinity
     // saturates the pixel instead of blacking it out; NaN becomes 0.
-    let diffuse = max(sanitize(vec4<f32>(min(lit.diffuse, vec3<f32>(600.0)), 0.0)).rgb, vec3<f32>(0.0));
+    let diffuse = max(sanitize(vec4<f32>(min(lit_diffuse, vec3<f32>(600.0)), 0.0)).rgb, vec3<f32>(0.0));
     let glossy = max(sanitize(vec4<f32>(min(specular, vec3<f32>(600.0)), 0.0)).rgb, vec3<f32>(0.0));
     // The colour alone: alpha and the revealage are the base pass's (the
     // pipeline masks them). Transmission takes the diffuse's place in what
@@ -709,6 +779,10 @@ fn fs(in: VertexOut, @builtin(front_facing) front: bool) -> Accumulated {
     mark_froxels(in.clip.xy, in.distance);
 #endif
 #ifdef FRAGMENT_RECORDS
+#ifdef CLEARCOAT
+    record_coat = coat;
+    record_coat_normal = select(-coat_n, coat_n, front);
+#endif
     record_fragment(in.clip.xy, in.world, select(-n, n, front), albedo, roughness, metallic, reflectance, alpha, coverage);
 #endif
     var through = vec3<f32>(0.0);
@@ -741,6 +815,10 @@ struct Recorded {
     surface: BrdfSurface,
     alpha: f32,
     coverage: f32,
+#ifdef CLEARCOAT
+    coat: f32,
+    coat_lobe: BrdfSurface,
+#endif
 }
 
 fn recorded(at: u32) -> Recorded {
@@ -757,18 +835,42 @@ fn recorded(at: u32) -> Recorded {
     f.surface = brdf_surface(n, v, colour.rgb, rough_metal.x, rough_metal.y, colour.w);
     f.alpha = cover.x;
     f.coverage = cover.y;
+#ifdef CLEARCOAT
+    let coat_at = 2u * (at / RECORD_WORDS);
+    let coat = unpack2x16unorm(coat_records[coat_at + 1u]);
+    f.coat = coat.x;
+    f.coat_lobe = brdf_surface(unoctahedral(unpack2x16snorm(coat_records[coat_at])), v, vec3<f32>(0.0), coat.y, 0.0, DIELECTRIC_F0);
+#endif
     return f;
 }
 
+#ifdef CLEARCOAT
+// Sets the private coat state to fragment `f`'s, with `sum` its coat's
+// light so far.
+fn begin_coat(f: Recorded, sum: vec3<f32>) {
+    coat_factor = f.coat;
+    coat_surface = f.coat_lobe;
+    coat_sum = sum;
+}
+#endif
+
 // What fragment `f` lit by `sums` adds to the accumulation's colour: the
 // forward light pass's output for it.
+// With CLEARCOAT, the private coat state is the fragment's, summed over
+// the same lights (begin_coat, then the walk).
 fn recorded_light(f: Recorded, sums: LightSums) -> vec3<f32> {
     let lit = light_sums_brdf(f.surface, sums);
     var specular = lit.specular;
+    var lit_diffuse = lit.diffuse;
     if (params.surface.z > 0.5) {
         specular *= surface_energy_compensation(f.surface);
     }
-    let diffuse = max(sanitize(vec4<f32>(min(lit.diffuse, vec3<f32>(600.0)), 0.0)).rgb, vec3<f32>(0.0));
+#ifdef CLEARCOAT
+    let over = coated_specular(specular);
+    specular = over.xyz;
+    lit_diffuse *= over.w;
+#endif
+    let diffuse = max(sanitize(vec4<f32>(min(lit_diffuse, vec3<f32>(600.0)), 0.0)).rgb, vec3<f32>(0.0));
     let glossy = max(sanitize(vec4<f32>(min(specular, vec3<f32>(600.0)), 0.0)).rgb, vec3<f32>(0.0));
     return (diffuse * f.alpha + glossy * f.coverage) * weight(f.view_depth, f.coverage);
 }
@@ -815,6 +917,9 @@ fn shade(@builtin(global_invocation_id) id: vec3<u32>) {
     var kept_weight = 0.0;
     for (var k = 0u; k < kept; k++) {
         let f = recorded(RECORD_WORDS * (pixel * slots + k));
+#ifdef CLEARCOAT
+        begin_coat(f, vec3<f32>(0.0));
+#endif
         sum += recorded_light(f, light_sums(frag, f.world, f.surface, f.view_depth));
         // What the base pass added to the accumulation's alpha for it.
         kept_weight += f.coverage * weight(f.view_depth, f.coverage);
@@ -857,6 +962,10 @@ fn shade_tiled(@builtin(global_invocation_id) id: vec3<u32>, @builtin(local_invo
     }
     workgroupBarrier();
     var sums: array<LightSums, MAX_SLOTS>;
+#ifdef CLEARCOAT
+    // Each fragment's coat light, as `sums`.
+    var coat_sums: array<vec3<f32>, MAX_SLOTS>;
+#endif
     for (var k = 0u; k < kept; k++) {
         let s = slice_of(recorded(first_at + RECORD_WORDS * k).view_depth);
         atomicOr(&tile_slices[s / 32u], 1u << (s % 32u));
@@ -894,10 +1003,16 @@ fn shade_tiled(@builtin(global_invocation_id) id: vec3<u32>, @builtin(local_invo
                         // A whole local, not a pointer into the array: naga's SPIR-V
                         // output fails on a dynamically indexed element passed by pointer.
                         var acc = sums[k];
+#ifdef CLEARCOAT
+                        begin_coat(f, coat_sums[k]);
+#endif
                         for (var j = 0u; j < n; j++) {
                             add_light_record(batch_lights[j], batch_index[j], f.world, f.surface, f.view_depth, &acc);
                         }
                         sums[k] = acc;
+#ifdef CLEARCOAT
+                        coat_sums[k] = coat_sum;
+#endif
                     }
                 }
                 workgroupBarrier();
@@ -911,6 +1026,9 @@ fn shade_tiled(@builtin(global_invocation_id) id: vec3<u32>, @builtin(local_invo
     var kept_weight = 0.0;
     for (var k = 0u; k < kept; k++) {
         let f = recorded(first_at + RECORD_WORDS * k);
+#ifdef CLEARCOAT
+        begin_coat(f, coat_sums[k]);
+#endif
         sum += recorded_light(f, sums[k]);
         kept_weight += f.coverage * weight(f.view_depth, f.coverage);
     }

@@ -196,12 +196,15 @@ pub struct MaterialData {
     pub attenuation_distance: f32,
     /// `KHR_materials_clearcoat`: clearcoatTexture (red scales the factor)
     /// and clearcoatRoughnessTexture (green), sampled in the G-buffer
-    /// resolve (the surface maps' coat slots); clearcoatNormalTexture is
-    /// read and decoded, not sampled (the coat shares the pixel's normal:
-    /// the G-buffer has one normal per pixel).
+    /// resolve (the surface maps' coat slots); clearcoatNormalTexture, the
+    /// coat's own tangent-space normal (its x and y scaled by
+    /// `clearcoat_normal_scale`), for the coat lobe alone (the G-buffer
+    /// resolve packs it beside the coat in the surface target; lit
+    /// transparency samples it per fragment).
     pub clearcoat_texture: Option<TextureData>,
     pub clearcoat_roughness_texture: Option<TextureData>,
     pub clearcoat_normal_texture: Option<TextureData>,
+    pub clearcoat_normal_scale: f32,
     /// `KHR_materials_specular`: specularTexture (alpha scales the factor)
     /// and specularColorTexture (rgb, sRGB), sampled per pixel into the
     /// reflectance (the surface maps' specular slots).
@@ -247,6 +250,7 @@ impl Default for MaterialData {
             clearcoat_texture: None,
             clearcoat_roughness_texture: None,
             clearcoat_normal_texture: None,
+            clearcoat_normal_scale: 1.0,
             specular_texture: None,
             specular_color_texture: None,
             from_spec_gloss: false,

@@ -300,6 +300,7 @@ impl MaterialData {
         }
         let mut maps = SurfaceMaps {
             normal_scale: self.normal_scale,
+            clearcoat_normal_scale: self.clearcoat_normal_scale,
             occlusion_strength: self.occlusion_strength,
             alpha: self.alpha_mode,
             double_sided: self.double_sided,
@@ -323,6 +324,11 @@ impl MaterialData {
             (
                 MapSlot::ClearcoatRoughness,
                 &self.clearcoat_roughness_texture,
+                coated,
+            ),
+            (
+                MapSlot::ClearcoatNormal,
+                &self.clearcoat_normal_texture,
                 coated,
             ),
             (MapSlot::Specular, &self.specular_texture, true),

@@ -22,12 +22,11 @@
 //!   ([`super::spec_gloss`]), maps included.
 //! - `KHR_materials_emissive_strength` (typed by the gltf crate): checked.
 //!
-//! The clearcoat, clearcoat roughness, specular, specular colour and
-//! thickness maps are surface maps of their own slots
+//! The clearcoat, clearcoat roughness, clearcoat normal, specular,
+//! specular colour and thickness maps are surface maps of their own slots
 //! ([`MaterialData::to_material`]), sampled where their factor is read: the
-//! coat and the reflectance in the G-buffer resolve, the reflectance and
-//! the thickness in lit transparency. clearcoatNormalTexture is read and
-//! decoded, not sampled (warned): the coat shares the pixel's normal.
+//! coat (its normal too) and the reflectance in the G-buffer resolve and in
+//! lit transparency, the thickness in lit transparency.
 
 use gltf::Document;
 use gltf::json::Value;
@@ -35,11 +34,6 @@ use gltf::json::Value;
 use super::material::{Slot, parse_transform};
 use super::spec_gloss::{self, SpecGloss};
 use super::{AlphaMode, GltfError, Importer, MaterialData, TextureData};
-
-/// The maps read into [`MaterialData`] that no pass samples yet: the coat
-/// shares the pixel's normal (the G-buffer keeps one per pixel).
-const UNSAMPLED_MAPS: &[(&str, &[&str])] =
-    &[("KHR_materials_clearcoat", &["clearcoatNormalTexture"])];
 
 impl Importer<'_> {
     /// Reads `m`'s material extensions into `data` (already holding the core material).
@@ -94,6 +88,12 @@ impl Importer<'_> {
             )?;
             data.clearcoat_normal_texture =
                 self.extension_texture(document, &who, name, ext, "clearcoatNormalTexture", false)?;
+            // normalTextureInfo's scale: any finite number (a negative one
+            // turns the map's x and y around, as glTF allows).
+            if let Some(info) = ext.get("clearcoatNormalTexture") {
+                data.clearcoat_normal_scale =
+                    self.factor(&who, name, info, "scale", 1.0, f32::MIN, f32::MAX);
+            }
         }
         // Spec-gloss replaces the base colour map; transmission's map is
         // baked into whichever base colour map results.
@@ -105,16 +105,6 @@ impl Importer<'_> {
         }
         if let Some(ext) = m.extension_value("KHR_materials_volume") {
             self.volume(document, &who, ext, data)?;
-        }
-        for (extension, maps) in UNSAMPLED_MAPS {
-            let Some(ext) = m.extension_value(extension) else {
-                continue;
-            };
-            for map in maps.iter().filter(|map| ext.get(**map).is_some()) {
-                self.warn(format!(
-                    "{who}: {extension} {map} is read but not sampled (the coat shares the surface's normal)"
-                ));
-            }
         }
         Ok(())
     }

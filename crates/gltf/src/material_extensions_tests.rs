@@ -174,7 +174,7 @@ fn clearcoat_becomes_the_clearcoat_feature() {
 }
 
 #[test]
-fn clearcoat_bad_values_and_the_unread_normal_map_are_warned() {
+fn clearcoat_bad_values_are_warned_and_its_normal_map_is_not() {
     let mut doc = cube_with(named("Coat"), "{}");
     let image = doc.png_image(&png(&image::RgbaImage::from_pixel(
         1,
@@ -184,7 +184,7 @@ fn clearcoat_bad_values_and_the_unread_normal_map_are_warned() {
     let texture = doc.texture(image);
     let ext = format!(
         r#"{{"KHR_materials_clearcoat": {{"clearcoatFactor": 1.5, "clearcoatRoughnessFactor": -1,
-            "clearcoatTexture": {{"index": {0}}}, "clearcoatNormalTexture": {{"index": {0}}}}}}}"#,
+            "clearcoatTexture": {{"index": {0}}}, "clearcoatNormalTexture": {{"index": {0}, "scale": "x"}}}}}}"#,
         texture.value()
     );
     doc.root.materials[0].extensions = Some(json::extensions::material::Material {
@@ -196,10 +196,17 @@ fn clearcoat_bad_values_and_the_unread_normal_map_are_warned() {
         .push("KHR_materials_clearcoat".into());
     let (m, warnings) = load_one(doc);
     assert_eq!(params(&m, Feature::Clearcoat), Some([1.0, 0.0, 0.0, 0.0]));
+    assert!(
+        !warnings.iter().any(|w| w.contains("not sampled")),
+        "the coat's normal map is sampled: {warnings:?}"
+    );
+    // A scale that is not a number is warned and reads 1.
+    assert_eq!(m.clearcoat_normal_scale, 1.0);
+    assert!(m.clearcoat_normal_texture.is_some());
     for what in [
         "clearcoatFactor is 1.5",
         "clearcoatRoughnessFactor is -1",
-        "clearcoatNormalTexture is read but not sampled",
+        "scale is \"x\"",
     ] {
         assert!(
             warnings

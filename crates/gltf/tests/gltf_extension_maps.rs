@@ -1,7 +1,9 @@
 //! The material extensions' maps, sampled: generated glTF quads whose
-//! `KHR_materials_clearcoat` and `KHR_materials_specular` maps (through the
-//! G-buffer resolve into CookTorrance) and `KHR_materials_volume` thickness
-//! map (through lit transparency) change each pixel as the map says, checked
+//! `KHR_materials_clearcoat` maps (its normal map too) and
+//! `KHR_materials_specular` maps (through the G-buffer resolve into
+//! CookTorrance, and through lit transparency's every shading path) and
+//! `KHR_materials_volume` thickness map (through lit transparency) change
+//! each pixel as the map says, checked
 //! against the CPU references (spreadlight-reference's BRDF and coat,
 //! spreadlight-gltf's Beer-Lambert `MaterialData::transmittance`) at every
 //! inner pixel. A world without such a map compiles none of their code.
@@ -14,16 +16,22 @@ mod post_common;
 // The glTF tests' quad view and layer.
 mod common;
 
+use std::sync::Arc;
+
 use common::{QuadView, transparency_over, world_and_layer};
-use glam::{Mat4, Vec3};
+use glam::{Mat4, Vec2, Vec3};
 use gltf_json as json;
 use post_common::*;
 use spreadlight_gltf::builder::{Doc, png, quad};
 use spreadlight_gltf::load_gltf_slice;
 use spreadlight_reference::brdf::{clearcoat, cook_torrance_f0};
 use spreadlight_render::gbuffer::GBuffer;
-use spreadlight_render::lighting::{CookTorrance, LightBuffer, LightLoop, SunLight, Surfaces};
-use spreadlight_render::post::{Transparency, TransparencySettings};
+use spreadlight_render::lighting::{
+    CookTorrance, LightBuffer, LightLoop, PointLight, SunLight, Surfaces,
+};
+use spreadlight_render::post::{
+    LitBy, Transparency, TransparencySettings, TransparencyShading, TransparentLights,
+};
 use spreadlight_render::readback::{ImageF32, render_and_read};
 use spreadlight_render::renderer::test_renderer;
 use spreadlight_render::{Renderer, SizeRule};
@@ -510,7 +518,7 @@ fn an_environment_probe_shows_a_gltf_quads_checker_base_colour() {
     let env = Environment::new(
         &renderer,
         None,
-        EnvironmentSource::Probe(std::sync::Arc::new(probe)),
+        EnvironmentSource::Probe(Arc::new(probe)),
         EnvironmentQuality {
             cube_size: 32,
             samples: 8,
@@ -571,4 +579,323 @@ fn an_environment_probe_shows_a_gltf_quads_checker_base_colour() {
                 && k.features.contains("MATERIAL_MAPS")),
         "the surface maps' permutation"
     );
+}
+
+/// The coat's unit normal that a clearcoatNormalTexture texel (rgb) gives
+/// on the quad: glTF's tangent frame there (MikkTSpace's, as the importer
+/// makes it) is +x along u and +y up the image (v runs down the quad); x
+/// and y scaled by `scale`.
+fn coat_normal(texel: [u8; 3], scale: f32) -> Vec3 {
+    let [x, y, z] = texel.map(|c| c as f32 / 255.0 * 2.0 - 1.0);
+    Vec3::new(x * scale, y * scale, z).normalize()
+}
+
+/// `n` (z > 0) as the surface target keeps it: octahedral, 1022 steps an
+/// axis (shaders/lib/surface_target.wgsl's pack_coat_normal). The camera
+/// looks down -z from +z, so view space is world space turned by nothing.
+fn kept_normal(n: Vec3) -> Vec3 {
+    let e = n.truncate() / (n.x.abs() + n.y.abs() + n.z.abs());
+    let q = ((e * 0.5 + Vec2::splat(0.5)) * 1022.0).round() / 1022.0 * 2.0 - Vec2::ONE;
+    Vec3::new(q.x, q.y, 1.0 - q.x.abs() - q.y.abs()).normalize()
+}
+
+/// A coat over the whole quad (factor 1, roughness 0.4), its normal map
+/// flat on the left and tilted along +u on the right (scale 0.8).
+const FLAT: [u8; 3] = [128, 128, 255];
+const TILTED: [u8; 3] = [200, 128, 220];
+const COAT_NORMAL_EXT: &str = r#"{"KHR_materials_clearcoat": {"clearcoatFactor": 1.0,
+    "clearcoatRoughnessFactor": 0.4, "clearcoatNormalTexture": {"index": {0}, "scale": 0.8}}}"#;
+
+fn coat_normal_map() -> Vec<u8> {
+    let [a, b, c] = FLAT;
+    let [d, e, f] = TILTED;
+    halves([a, b, c, 255], [d, e, f, 255], false)
+}
+
+/// The CPU reference of the coated quad at `p` under [`SUN`]: diffuse and
+/// specular (per channel), with the coat's normal `coat_n` and the base's
+/// reflectance `reflectance`.
+fn coated_reference(p: Vec3, coat_n: Vec3, coat_roughness: f32, reflectance: f32) -> (Vec3, Vec3) {
+    let l = -SUN.direction.normalize();
+    let radiance = SUN.color * SUN.illuminance;
+    let view = (Vec3::Z * DISTANCE - p).normalize();
+    let brdf = cook_torrance_f0(
+        Vec3::Z,
+        view,
+        l,
+        ALBEDO.into(),
+        ROUGHNESS,
+        0.0,
+        reflectance,
+        true,
+    );
+    let (dim, lobe) = clearcoat(coat_n, view, l, 1.0, coat_roughness);
+    (
+        brdf.diffuse * radiance * dim,
+        (brdf.specular * dim + Vec3::splat(lobe)) * radiance,
+    )
+}
+
+/// The coat's own normal: a glTF with a clearcoatNormalTexture loads with
+/// no warning, and CookTorrance shades the coat lobe (and the Fresnel it
+/// dims the base by) on the map's normal, the base on the quad's: each
+/// inner pixel is the CPU BRDF's with the coat on the normal the surface
+/// target keeps (8-bit coat roughness, the reflectance's 9-bit square root,
+/// the normal in 2 x 10 bits), within 0.8% + 2e-4 (half-float targets);
+/// the tilted half's coat differs from a flat coat's there by far more.
+#[test]
+fn the_clearcoat_normal_map_bends_the_coat_alone() {
+    let renderer = test_renderer();
+    let (d, s) = lit(
+        &renderer,
+        &model(opaque_material(), COAT_NORMAL_EXT, &[coat_normal_map()]),
+    );
+    assert!(extension_permutations(&renderer) >= 1);
+    let kept = |x: f32, steps: f32| (x * steps).round() / steps;
+    let coat_roughness = kept(0.4, 255.0);
+    let reflectance = kept(0.04f32.sqrt(), 511.0).powi(2);
+    let near = |got: f32, want: f32| (got - want).abs() <= 8e-3 * want + 2e-4;
+    let mut checked = [0; 2];
+    let mut bent = 0;
+    for (i, p, u, _) in inner_pixels() {
+        let coat_n = kept_normal(coat_normal([FLAT, TILTED][u], 0.8));
+        let (want_d, want_s) = coated_reference(p, coat_n, coat_roughness, reflectance);
+        for c in 0..3 {
+            assert!(
+                near(d.pixels[i][c], want_d[c]) && near(s.pixels[i][c], want_s[c]),
+                "pixel {i} (half {u}): diffuse {:?} specular {:?}, the reference says {want_d} {want_s} (coat normal {coat_n})",
+                d.pixels[i],
+                s.pixels[i]
+            );
+        }
+        // Where the map tilts the coat, a flat coat would look otherwise.
+        let (_, flat_s) = coated_reference(p, Vec3::Z, coat_roughness, reflectance);
+        if u == 1 && (s.pixels[i][0] - flat_s.x).abs() > 0.1 * flat_s.x {
+            bent += 1;
+        }
+        checked[u] += 1;
+    }
+    assert!(checked[0] > 300 && checked[1] > 300, "{checked:?}");
+    assert!(
+        bent * 2 > checked[1],
+        "{bent} of {} pixels bent",
+        checked[1]
+    );
+}
+
+/// A BLEND quad of alpha 1 lit by `lights`, shaded as `shading`.
+fn lit_blend(
+    renderer: &Renderer,
+    ext: &str,
+    maps: &[Vec<u8>],
+    lights: Arc<LightBuffer>,
+    light_loop: LightLoop,
+    shading: TransparencyShading,
+) -> Vec<[f32; 4]> {
+    let mut material = opaque_material();
+    material.alpha_mode = json::validation::Checked::Valid(json::material::AlphaMode::Blend);
+    let scene = load_gltf_slice(&model(material, ext, maps), None).expect("loads");
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    let g = GBuffer::new(
+        renderer,
+        None,
+        vec![],
+        VIEW.camera(),
+        None,
+        SizeRule::Relative(1.0),
+    );
+    let background = image(renderer, SIZE, |_, _| [0.0, 0.0, 0.0, 1.0]);
+    let settings = TransparencySettings {
+        ambient: Vec3::ZERO,
+        light_color: Vec3::ZERO,
+        energy_compensation: true,
+        light_loop,
+        shading,
+        ..Default::default()
+    };
+    let (_, layer) = world_and_layer(
+        renderer,
+        &scene,
+        Mat4::IDENTITY,
+        scene.materials[0].base_color,
+    );
+    let pass = Transparency::lit(
+        renderer,
+        None,
+        background.texture_ref(),
+        g,
+        vec![layer],
+        settings,
+        LitBy {
+            lights: vec![TransparentLights {
+                lights,
+                shadows: None,
+            }],
+            ..Default::default()
+        },
+    );
+    assert_eq!(
+        pass.shades_in_compute(),
+        shading != TransparencyShading::Forward
+    );
+    // `render` asserts every pixel finite.
+    render(renderer, pass.as_ref(), &pass.output, SIZE).1.pixels
+}
+
+/// How many compiled shaders have CLEARCOAT on.
+fn coat_permutations(renderer: &Renderer) -> usize {
+    renderer
+        .shaders()
+        .compiled_keys()
+        .filter(|k| k.path() == "post/transparency.wgsl" && k.features.contains("CLEARCOAT"))
+        .count()
+}
+
+/// Lit transparency draws the coat, on its normal map's normal, in every
+/// shading path: forward and compute under [`SUN`] match the CPU BRDF's
+/// (diffuse + specular) x dim + the coat's lobe at every inner pixel
+/// (within 1% + 2e-3: the half-float accumulation); a clustered point
+/// light shaded in tiles matches its forward picture, and the tilted
+/// half differs from a flat coat's. A layer without a coat compiles none
+/// of it.
+#[test]
+fn lit_transparency_draws_the_coat_on_its_normal_map() {
+    let renderer = test_renderer();
+    let suns = || LightBuffer::suns(&renderer, &[SUN]);
+    let forward = TransparencyShading::Forward;
+    // Uncoated first: no coat code compiled.
+    lit_blend(&renderer, "{}", &[], suns(), LightLoop::Naive, forward);
+    assert_eq!(coat_permutations(&renderer), 0);
+    for shading in [forward, TransparencyShading::Compute] {
+        let pixels = lit_blend(
+            &renderer,
+            COAT_NORMAL_EXT,
+            &[coat_normal_map()],
+            suns(),
+            LightLoop::Naive,
+            shading,
+        );
+        let mut checked = [0; 2];
+        for (i, p, u, _) in inner_pixels() {
+            let coat_n = coat_normal([FLAT, TILTED][u], 0.8);
+            let (d, s) = coated_reference(p, coat_n, 0.4, 0.04);
+            let want = d + s;
+            for c in 0..3 {
+                assert!(
+                    (pixels[i][c] - want[c]).abs() <= 2e-3 + 1e-2 * want[c],
+                    "{shading:?}: pixel {i} (half {u}): {:?}, the reference says {want}",
+                    pixels[i]
+                );
+            }
+            checked[u] += 1;
+        }
+        assert!(checked[0] > 300 && checked[1] > 300, "{checked:?}");
+    }
+    assert!(coat_permutations(&renderer) >= 2);
+    // A point light in front of the tilted half, its lists walked in tiles.
+    let point = || {
+        LightBuffer::points(
+            &renderer,
+            &[PointLight {
+                position: Vec3::new(0.6, 0.2, 1.0),
+                color: Vec3::ONE,
+                intensity: 4.0,
+                range: 10.0,
+                shadow: None,
+            }],
+        )
+    };
+    let clustered = LightLoop::Clustered;
+    let ahead = lit_blend(
+        &renderer,
+        COAT_NORMAL_EXT,
+        &[coat_normal_map()],
+        point(),
+        clustered,
+        forward,
+    );
+    let tiled = lit_blend(
+        &renderer,
+        COAT_NORMAL_EXT,
+        &[coat_normal_map()],
+        point(),
+        clustered,
+        TransparencyShading::Tiled,
+    );
+    let flat_ext = COAT_NORMAL_EXT.replace(
+        r#", "clearcoatNormalTexture": {"index": {0}, "scale": 0.8}"#,
+        "",
+    );
+    assert!(!flat_ext.contains("Normal"), "{flat_ext}");
+    let flat = lit_blend(
+        &renderer,
+        &flat_ext,
+        &[],
+        point(),
+        clustered,
+        TransparencyShading::Tiled,
+    );
+    // Per half: how far the tiled picture is from the flat coat's, and the flat coat's light.
+    let mut apart = [0.0f32; 2];
+    let mut light = [0.0f32; 2];
+    for (i, _, u, _) in inner_pixels() {
+        for c in 0..3 {
+            assert!(
+                (tiled[i][c] - ahead[i][c]).abs() <= 2e-3 + 1e-2 * ahead[i][c],
+                "pixel {i}: tiled {:?}, forward {:?}",
+                tiled[i],
+                ahead[i]
+            );
+            apart[u] += (tiled[i][c] - flat[i][c]).abs();
+            light[u] += flat[i][c];
+        }
+    }
+    // The flat texels leave the coat as it was; the tilted ones move its highlight.
+    assert!(
+        apart[1] > 10.0 * apart[0] && apart[1] > 0.01 * light[1],
+        "the map moves the tiled coat: {apart:?} apart over {light:?}"
+    );
+}
+
+/// Hard cases of the coat's normal map: texels of (almost) zero length
+/// (128, 128, 128: the quad's frame times 1/255) on the left and pointing
+/// into the surface (128, 128, 0) on the right, under a coat of factor 0
+/// and 1 and roughness 0, opaque and blended, forward and in compute:
+/// every pixel finite (`lit` and `render` check). Factor 0 drops the maps
+/// (the plain file's picture); factor 1 with the coat facing away from
+/// the viewer reflects all at N.V = 0 (Schlick), so nothing of the base
+/// shows through it there.
+#[test]
+fn degenerate_clearcoat_normals_stay_finite() {
+    let renderer = test_renderer();
+    let map = halves([128, 128, 128, 255], [128, 128, 0, 255], false);
+    let (plain_d, _) = lit(&renderer, &model(opaque_material(), "{}", &[]));
+    for factor in [0.0, 1.0] {
+        let ext = format!(
+            r#"{{"KHR_materials_clearcoat": {{"clearcoatFactor": {factor:.1},
+                "clearcoatRoughnessFactor": 0.0, "clearcoatNormalTexture": {{"index": {{0}}}}}}}}"#
+        );
+        let (d, _) = lit(
+            &renderer,
+            &model(opaque_material(), &ext, std::slice::from_ref(&map)),
+        );
+        for (i, _, u, _) in inner_pixels() {
+            let (got, plain) = (d.pixels[i][0], plain_d.pixels[i][0]);
+            if factor == 0.0 {
+                assert!(close(got, plain), "pixel {i}: {got} against {plain}");
+            } else if u == 1 {
+                assert!(got < 0.01 * plain, "pixel {i}: {got} shows through");
+            }
+        }
+        for shading in [TransparencyShading::Forward, TransparencyShading::Compute] {
+            lit_blend(
+                &renderer,
+                &ext,
+                std::slice::from_ref(&map),
+                LightBuffer::suns(&renderer, &[SUN]),
+                LightLoop::Naive,
+                shading,
+            );
+        }
+    }
 }

@@ -1,19 +1,20 @@
 //! Surface maps: the textures of a glTF metallic-roughness material (base
 //! colour, metallic-roughness, normal, occlusion, emissive) and of its
 //! extensions (clearcoat, clearcoat roughness, specular, specular colour,
-//! thickness), each with its UV set, `KHR_texture_transform` and sampler,
+//! thickness, clearcoat normal), each with its UV set, `KHR_texture_transform` and sampler,
 //! plus the alpha mode and double-sidedness. A [`Material`](super::Material)
 //! carries them as the built-in feature
 //! [`FEATURE_SURFACE_MAPS`](super::FEATURE_SURFACE_MAPS): its flag bit and,
 //! when packed, 11 parameter vec4s that `shaders/lib/material_maps.wgsl`
-//! reads in the G-buffer resolve, 22 when it has an extension's map (so a
+//! reads in the G-buffer resolve, 25 when it has an extension's map (so a
 //! material without one packs, and shades, as before). The factors stay
 //! where every other material keeps them: roughness, metallic and
 //! reflectance in CookTorrance, emissive colour and strength in Emission,
 //! the coat's in Clearcoat, the thickness in Transmission, the base colour
 //! factor in the instance colour; maps multiply them. The one exception is
 //! the specular maps' factors ([`SpecularFactors`]): the reflectance is one
-//! number made of three, so a map of one of them needs the others.
+//! number made of three, so a map of one of them needs the others; and the
+//! clearcoat normal map's scale, which belongs to no factor.
 
 use std::sync::Arc;
 
@@ -38,10 +39,13 @@ pub enum MapSlot {
     SpecularColor = 8,
     /// `KHR_materials_volume`'s thicknessTexture: the thickness in green.
     Thickness = 9,
+    /// `KHR_materials_clearcoat`'s clearcoatNormalTexture: the coat's own
+    /// tangent-space normal (rgb), for the coat lobe alone.
+    ClearcoatNormal = 10,
 }
 
 impl MapSlot {
-    pub const ALL: [MapSlot; 10] = [
+    pub const ALL: [MapSlot; 11] = [
         MapSlot::BaseColor,
         MapSlot::MetallicRoughness,
         MapSlot::Normal,
@@ -52,17 +56,19 @@ impl MapSlot {
         MapSlot::Specular,
         MapSlot::SpecularColor,
         MapSlot::Thickness,
+        MapSlot::ClearcoatNormal,
     ];
 
     /// The slots of the material extensions: a material with a map in one
     /// of them packs the long layout, and the passes that read them compile
     /// their code only for a world that has one (EXTENSION_MAPS).
-    pub const EXTENSIONS: [MapSlot; 5] = [
+    pub const EXTENSIONS: [MapSlot; 6] = [
         MapSlot::Clearcoat,
         MapSlot::ClearcoatRoughness,
         MapSlot::Specular,
         MapSlot::SpecularColor,
         MapSlot::Thickness,
+        MapSlot::ClearcoatNormal,
     ];
 
     /// Colour maps are stored sRGB-encoded and sampled through an sRGB format.
@@ -187,9 +193,11 @@ pub enum AlphaMode {
 /// Everything of a glTF material that is not a factor of another feature.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SurfaceMaps {
-    pub maps: [Option<MapRef>; 10],
+    pub maps: [Option<MapRef>; 11],
     /// Scales the normal map's x and y.
     pub normal_scale: f32,
+    /// Scales the clearcoat normal map's x and y (its normalTextureInfo's scale).
+    pub clearcoat_normal_scale: f32,
     /// How much of the occlusion map applies (0..=1).
     pub occlusion_strength: f32,
     pub alpha: AlphaMode,
@@ -204,6 +212,7 @@ impl Default for SurfaceMaps {
         Self {
             maps: Default::default(),
             normal_scale: 1.0,
+            clearcoat_normal_scale: 1.0,
             occlusion_strength: 1.0,
             alpha: AlphaMode::Opaque,
             double_sided: false,
@@ -224,8 +233,12 @@ pub struct MapLocation {
 /// How many parameter vec4s the SurfaceMaps feature packs without an
 /// extension's map: the settings and the core slots.
 pub const PARAM_COUNT: usize = 1 + 2 * MapSlot::EXTENSIONS[0] as usize;
-/// With one: every slot, then the specular factors.
-pub const EXTENDED_PARAM_COUNT: usize = 1 + 2 * MapSlot::ALL.len() + 1;
+/// With one: every slot, then the specular factors, then the clearcoat
+/// normal map's scale.
+pub const EXTENDED_PARAM_COUNT: usize = SPECULAR_FACTORS_PARAM + 2;
+/// Where the extended layout keeps the specular factors (`MAP_SPECULAR_FACTORS`
+/// in material_maps.wgsl); the clearcoat normal scale is the one after.
+pub const SPECULAR_FACTORS_PARAM: usize = 1 + 2 * MapSlot::ALL.len();
 
 impl SurfaceMaps {
     pub fn map(&self, slot: MapSlot) -> Option<&MapRef> {
@@ -245,8 +258,9 @@ impl SurfaceMaps {
     /// 0: (alpha mode 0/1/2 + 4 x double-sided, cutoff, normal scale, occlusion strength);
     /// per slot: (location, UV set 0/1, wrap s + 4 x wrap t + 16 x nearest, rotation),
     /// (offset u, offset v, scale u, scale v); with an extension's map every
-    /// slot, then (specular f0 x colour rgb, specular factor), else the
-    /// core slots alone ([`PARAM_COUNT`]).
+    /// slot, then (specular f0 x colour rgb, specular factor), then
+    /// (clearcoat normal scale, 0, 0, 0), else the core slots alone
+    /// ([`PARAM_COUNT`]).
     pub fn pack(&self, locate: &dyn Fn(&MapRef, MapSlot) -> Option<MapLocation>) -> Vec<[f32; 4]> {
         let (mode, cutoff) = match self.alpha {
             AlphaMode::Opaque => (0.0, 0.0),
@@ -294,6 +308,7 @@ impl SurfaceMaps {
             let s = &self.specular;
             let [r, g, b] = s.f0_color.map(|c| finite(c, 0.04).max(0.0));
             params.push([r, g, b, finite(s.factor, 1.0).clamp(0.0, 1.0)]);
+            params.push([finite(self.clearcoat_normal_scale, 1.0), 0.0, 0.0, 0.0]);
         }
         params
     }
@@ -358,6 +373,7 @@ mod tests {
                 f0_color: [0.04, f32::NAN, -1.0],
                 factor: 2.0,
             },
+            clearcoat_normal_scale: f32::INFINITY,
             ..SurfaceMaps::default()
         };
         maps.set_map(MapSlot::Clearcoat, Some(MapRef::new(image)));
@@ -367,10 +383,12 @@ mod tests {
         assert_eq!(packed.len(), EXTENDED_PARAM_COUNT);
         let at = 1 + 2 * MapSlot::Clearcoat as usize;
         assert_eq!(packed[at], [(65536 + 3) as f32, 0.0, 0.0, 0.0]);
-        // The specular factors last, finite and in range.
-        assert_eq!(packed[EXTENDED_PARAM_COUNT - 1], [0.04, 0.04, 0.0, 1.0]);
+        // The specular factors after the slots, finite and in range, then
+        // the coat normal's scale (finite: an infinite one reads 1).
+        assert_eq!(packed[SPECULAR_FACTORS_PARAM], [0.04, 0.04, 0.0, 1.0]);
+        assert_eq!(packed[EXTENDED_PARAM_COUNT - 1], [1.0, 0.0, 0.0, 0.0]);
         // Only the colour slot of the extensions is sRGB.
         let srgb: Vec<_> = MapSlot::EXTENSIONS.iter().map(|s| s.srgb()).collect();
-        assert_eq!(srgb, [false, false, false, true, false]);
+        assert_eq!(srgb, [false, false, false, true, false, false]);
     }
 }

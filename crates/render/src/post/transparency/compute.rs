@@ -86,6 +86,9 @@ pub const SLOTS: u32 = 8;
 
 /// One fragment record: ten u32 words (transparency.wgsl's RECORD_WORDS).
 const RECORD_BYTES: u64 = 40;
+/// A coated node's second record per slot: the coat's normal, factor and
+/// roughness (two u32 words; transparency.wgsl's `coat_records`).
+const COAT_RECORD_BYTES: u64 = 8;
 
 /// Counted: the slots per pixel of this frame's fragment lists.
 pub const FRAGMENT_SLOTS: &str = "transparency fragment slots per pixel";
@@ -120,6 +123,8 @@ pub(crate) struct ListBuffers {
     pub records: wgpu::Buffer,
     /// Per pixel, the compute-shaded light (vec4<f32>).
     pub light: wgpu::Buffer,
+    /// `slots` coat records per pixel, only when some layer has a coat.
+    pub coat: Option<wgpu::Buffer>,
 }
 
 /// Per node: the fragment lists' buffers, kept from frame to frame while
@@ -128,12 +133,20 @@ pub(crate) struct ListBuffers {
 pub(crate) struct FragmentLists(Mutex<Option<std::sync::Arc<ListBuffers>>>);
 
 impl FragmentLists {
-    /// Buffers for `pixels` pixels with `slots` slots each, last frame's when they match.
-    pub fn get(&self, gpu: &GpuContext, pixels: u32, slots: u32) -> std::sync::Arc<ListBuffers> {
+    /// Buffers for `pixels` pixels with `slots` slots each (and coat
+    /// records with `coat`), last frame's when they match.
+    pub fn get(
+        &self,
+        gpu: &GpuContext,
+        pixels: u32,
+        slots: u32,
+        coat: bool,
+    ) -> std::sync::Arc<ListBuffers> {
         let mut kept = self.0.lock().unwrap_or_else(|e| e.into_inner());
         if let Some(buffers) = kept.as_ref()
             && buffers.pixels == pixels
             && buffers.slots == slots
+            && buffers.coat.is_some() == coat
         {
             return buffers.clone();
         }
@@ -166,6 +179,14 @@ impl FragmentLists {
                 pixels64 * 16,
                 wgpu::BufferUsages::empty(),
             ),
+            // A fifth of the records: within the limits whenever they are.
+            coat: coat.then(|| {
+                storage(
+                    "transparency coat records",
+                    pixels64 * u64::from(slots) * COAT_RECORD_BYTES,
+                    wgpu::BufferUsages::empty(),
+                )
+            }),
         });
         *kept = Some(buffers.clone());
         buffers

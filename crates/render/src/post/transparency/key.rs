@@ -15,6 +15,13 @@ use crate::shadows::filter::ShadowFilter;
 pub struct TransparencyKey {
     pub surface: SurfaceKey,
     pub pass: TransparencyPass,
+    /// The clear coat (CLEARCOAT): a light pass of a layer whose world has
+    /// a Clearcoat material adds the coat's lobe; a base pass of such a
+    /// layer that records fragments writes their coat records; the compute
+    /// shading of a node with a coated layer reads them. Never for the
+    /// composite and resolve entry points, nor for a surface without a
+    /// material world (it has no coat), nor a base pass that records nothing.
+    pub coat: bool,
 }
 
 /// What a layer's fragments read.
@@ -338,6 +345,7 @@ impl Permutation for TransparencyKey {
         "COMPUTE_SHADE",
         "LIGHT_SUMS",
         "SHADE_TILED",
+        "CLEARCOAT",
     ];
 
     fn features(self) -> impl Iterator<Item = &'static str> {
@@ -368,14 +376,18 @@ impl Permutation for TransparencyKey {
                 .collect(),
             TransparencyPass::ShadedResolve => vec!["LIGHT_SUMS"],
         };
-        self.surface.features().chain(light)
+        self.surface
+            .features()
+            .chain(light)
+            .chain(self.coat.then_some("CLEARCOAT"))
     }
 
     /// Every surface with the base passes (a matcap only with a material
     /// world; marking froxels or not; recording fragments or not), each
     /// without transmission and with either blur, and with every light pass;
     /// the compute shading of every light pass and its resolve, without a
-    /// surface. The validation test composes each.
+    /// surface; each with the coat where it can have one
+    /// ([`TransparencyKey::coat`]). The validation test composes each.
     fn all() -> Vec<Self> {
         let lights: Vec<TransparencyPass> = LightKey::all()
             .into_iter()
@@ -406,9 +418,23 @@ impl Permutation for TransparencyKey {
                         })
                     })
                 });
+                let coated = surface.reads_materials();
                 bases
                     .chain(lights.iter().copied())
-                    .map(move |pass| TransparencyKey { surface, pass })
+                    .flat_map(move |pass| {
+                        let coats = match pass {
+                            TransparencyPass::Base { records, .. } => coated && records,
+                            _ => coated,
+                        };
+                        [false, true]
+                            .into_iter()
+                            .filter(move |&coat| !coat || coats)
+                            .map(move |coat| TransparencyKey {
+                                surface,
+                                pass,
+                                coat,
+                            })
+                    })
                     .collect::<Vec<_>>()
             })
             .chain(
@@ -420,11 +446,14 @@ impl Permutation for TransparencyKey {
                             .then_some(TransparencyPass::ShadeTiled(light));
                         std::iter::once(TransparencyPass::Shade(light)).chain(tiled)
                     })
-                    .chain([TransparencyPass::ShadedResolve])
-                    .map(|pass| TransparencyKey {
-                        surface: Self::COMPOSITE.surface,
-                        pass,
-                    }),
+                    .flat_map(|pass| {
+                        [false, true].map(|coat| TransparencyKey {
+                            surface: Self::COMPOSITE.surface,
+                            pass,
+                            coat,
+                        })
+                    })
+                    .chain([TransparencyKey::SHADED_RESOLVE]),
             )
             .collect()
     }
@@ -445,12 +474,14 @@ impl TransparencyKey {
             transmission: RefractionKey::Off,
             records: false,
         },
+        coat: false,
     };
 
     /// The resolve of a frame whose lights were shaded in compute.
     pub const SHADED_RESOLVE: TransparencyKey = TransparencyKey {
         surface: Self::COMPOSITE.surface,
         pass: TransparencyPass::ShadedResolve,
+        coat: false,
     };
 }
 
@@ -555,5 +586,23 @@ mod tests {
             ["LIGHT_PASS", "CLUSTERED", "FROXELS", "COMPUTE_SHADE"]
         );
         assert!(all.contains(&shade) && all.contains(&TransparencyKey::SHADED_RESOLVE));
+        // The coat: compiled for the light passes and recording base passes
+        // of surfaces with a material world, and for compute shading.
+        let coated_shade = TransparencyKey {
+            coat: true,
+            ..shade
+        };
+        assert!(all.contains(&coated_shade));
+        assert_eq!(coated_shade.features().last(), Some("CLEARCOAT"));
+        assert!(all.iter().filter(|k| k.coat).all(|k| match k.pass {
+            TransparencyPass::Base { records, .. } => records && k.surface.reads_materials(),
+            TransparencyPass::Light(_) => k.surface.reads_materials(),
+            TransparencyPass::Shade(_) | TransparencyPass::ShadeTiled(_) => true,
+            TransparencyPass::ShadedResolve => false,
+        }));
+        assert!(!all.contains(&TransparencyKey {
+            coat: true,
+            ..TransparencyKey::COMPOSITE
+        }));
     }
 }

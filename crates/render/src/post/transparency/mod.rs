@@ -66,7 +66,7 @@ use crate::error::RenderError;
 use crate::frame_graph::{Bindings, FrameGraph, PassContext, Tex, TextureDesc};
 use crate::gbuffer::{Draw, GBuffer, Layer, mesh_bindings, pack_instances};
 use crate::lighting::{ClusterGrid, ClusterStore, FEW_LIGHTS, LightBuffer, LightKind, LightLoop};
-use crate::material::{FEATURE_MATCAP, FEATURE_TRANSMISSION, MaterialWorld};
+use crate::material::{FEATURE_CLEARCOAT, FEATURE_MATCAP, FEATURE_TRANSMISSION, MaterialWorld};
 use crate::mesh_arena::pulled_pipeline;
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
@@ -440,7 +440,11 @@ impl Transparency {
             }
             let (surface, world) = self.surface(layer);
             for pass in self.passes(Self::matcap(world), self.transmits(world)) {
-                let key = TransparencyKey { surface, pass };
+                let key = TransparencyKey {
+                    surface,
+                    pass,
+                    coat: Self::coat(world, pass),
+                };
                 if !keys.contains(&key) {
                     keys.push(key);
                 }
@@ -451,6 +455,7 @@ impl Transparency {
                 let key = TransparencyKey {
                     surface: TransparencyKey::COMPOSITE.surface,
                     pass: self.shade_pass(light),
+                    coat: self.coated(),
                 };
                 if !keys.contains(&key) {
                     keys.push(key);
@@ -514,6 +519,30 @@ impl Transparency {
         };
         let forward = (!self.compute).then(|| self.light_keys().map(TransparencyPass::Light));
         std::iter::once(base).chain(forward.into_iter().flatten())
+    }
+
+    /// Whether a pass of a layer reading `world` compiles the coat
+    /// ([`TransparencyKey::coat`]): its world has a Clearcoat material, and
+    /// the pass is a light pass or a base pass that records fragments.
+    fn coat(world: Option<&Arc<MaterialWorld>>, pass: TransparencyPass) -> bool {
+        let coated = world.is_some_and(|w| w.union_flags() & (1 << FEATURE_CLEARCOAT) != 0);
+        coated
+            && match pass {
+                TransparencyPass::Base { records, .. } => records,
+                _ => true,
+            }
+    }
+
+    /// Some layer of the node has a coat: the compute shading reads coat
+    /// records (which are then made and cleared each frame).
+    fn coated(&self) -> bool {
+        self.layers.iter().zip(&self.layer_ranges).any(|(l, r)| {
+            r.0 != r.1
+                && self
+                    .surface(l)
+                    .1
+                    .is_some_and(|w| w.union_flags() & (1 << FEATURE_CLEARCOAT) != 0)
+        })
     }
 
     /// Whether some light pass walks froxel lists (which the base pass marks).
@@ -650,7 +679,12 @@ impl Transparency {
                     .passes(Self::matcap(world), transmits)
                     .zip(std::iter::once(None).chain((0..self.lights.len()).map(Some)))
                 {
-                    let key = TransparencyKey { surface, pass }.key();
+                    let key = TransparencyKey {
+                        surface,
+                        pass,
+                        coat: Self::coat(world, pass),
+                    }
+                    .key();
                     let pipeline = accumulate_pipeline(cx, key.clone(), culled, pass)?;
                     let mut b = mesh_bindings(&vertices, &indices, &self.instances)
                         .buffer("camera", self.gbuffer.camera_buffer())
@@ -685,7 +719,8 @@ impl Transparency {
                     if let (None, Some(lists)) = (set, &lists) {
                         b = b
                             .buffer("fragment_counts", &lists.counts)
-                            .buffer("fragment_records", &lists.records);
+                            .buffer("fragment_records", &lists.records)
+                            .buffer_opt("coat_records", lists.coat.as_ref());
                     }
                     match (set, transmits, io.lit, &mips) {
                         // The chain's levels, read trilinearly (RefractionKey::Mips).
@@ -759,6 +794,11 @@ impl Transparency {
             // The records need no clearing: a pixel reads only as many as it counted.
             cx.encoder().clear_buffer(&lists.counts, 0, None);
             cx.encoder().clear_buffer(&lists.light, 0, None);
+            // Cleared: a fragment of an uncoated layer writes no coat record,
+            // and reads none (factor 0).
+            if let Some(coat) = &lists.coat {
+                cx.encoder().clear_buffer(coat, 0, None);
+            }
             cx.count(compute::FRAGMENT_SLOTS, u64::from(lists.slots));
         }
         // The base passes first: they mark the froxels their fragments lie
@@ -815,7 +855,7 @@ impl Transparency {
                 ),
             });
         }
-        Ok(self.lists.get(cx.gpu, (w * h).max(1), slots))
+        Ok(self.lists.get(cx.gpu, (w * h).max(1), slots, self.coated()))
     }
 
     /// Light buffer `set`'s light on every recorded fragment, added to the
@@ -842,6 +882,7 @@ impl Transparency {
         let key = TransparencyKey {
             surface: TransparencyKey::COMPOSITE.surface,
             pass,
+            coat: lists.coat.is_some(),
         }
         .key();
         let size = cx.size_of(io.accumulation)?;
@@ -850,6 +891,7 @@ impl Transparency {
             .buffer("params", &self.params)
             .buffer("fragment_counts", &lists.counts)
             .buffer("fragment_records", &lists.records)
+            .buffer_opt("coat_records", lists.coat.as_ref())
             .buffer("shaded_light", &lists.light)
             .texture("shade_accumulation", io.accumulation)
             .extend(self.light_bindings(cx, set, io.spot_textures[set])?);
