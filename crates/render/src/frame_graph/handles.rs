@@ -34,6 +34,8 @@ pub struct PassBuilder<'g, 'a> {
     owner: Option<u32>,
     reads: Vec<String>,
     writes: Vec<(String, TextureDesc)>,
+    /// The handles of `reads` and `writes`, in their order (plan.rs).
+    handles: super::PassHandles,
     /// What the pass binds, named where it was declared (bound.rs).
     pub(super) bindings: super::Bindings<'a>,
 }
@@ -48,6 +50,7 @@ impl<'a> FrameGraph<'a> {
             owner,
             reads: Vec::new(),
             writes: Vec::new(),
+            handles: Default::default(),
             bindings: super::Bindings::new(),
         }
     }
@@ -70,10 +73,12 @@ impl<'a> FrameGraph<'a> {
 impl<'a> PassBuilder<'_, 'a> {
     /// The pass reads `name`: another pass writes it, or it is imported or persistent.
     pub fn read(&mut self, name: &str) -> Tex {
+        let tex = self.graph.handle(name);
         if !self.reads.iter().any(|r| r == name) {
             self.reads.push(name.to_owned());
+            self.handles.reads.push(tex.0);
         }
-        self.graph.handle(name)
+        tex
     }
 
     /// Reads of an optional input: `None` stays `None`.
@@ -83,8 +88,10 @@ impl<'a> PassBuilder<'_, 'a> {
 
     /// The pass writes `name`, which the graph creates as `desc` says.
     pub fn write(&mut self, name: &str, desc: TextureDesc) -> Tex {
+        let tex = self.graph.handle(name);
         self.writes.push((name.to_owned(), desc));
-        self.graph.handle(name)
+        self.handles.writes.push(tex.0);
+        tex
     }
 
     /// The graph the pass is declared in (its output size, counters).
@@ -99,6 +106,7 @@ impl<'a> PassBuilder<'_, 'a> {
             owner: self.owner,
             reads: self.reads,
             writes: self.writes,
+            handles: self.handles,
             run: Box::new(run),
         });
     }

@@ -28,6 +28,7 @@ mod finisher;
 mod handles;
 mod history;
 mod merge;
+mod plan;
 #[cfg(test)]
 mod tests;
 
@@ -214,7 +215,17 @@ struct PassEntry<'a> {
     owner: Option<u32>,
     reads: Vec<String>,
     writes: Vec<(String, TextureDesc)>,
+    handles: PassHandles,
     run: PassFn<'a>,
+}
+
+/// A pass's reads and writes as handles (indices into the frame's texture
+/// names), inline: how a kept plan recognises the same graph when its
+/// recipes were made again under new names (plan.rs).
+#[derive(Clone, Default, PartialEq, Eq)]
+struct PassHandles {
+    reads: smallvec::SmallVec<[u32; 8]>,
+    writes: smallvec::SmallVec<[u32; 4]>,
 }
 
 /// What a pass sees while it records.
@@ -237,12 +248,12 @@ pub struct PassContext<'f> {
     pub(crate) writes: &'f [(String, TextureDesc)],
     /// This frame's temporaries a history may trade textures with (not
     /// handed to the caller, not permanent): see `history.rs`.
-    pub(crate) tradable: &'f FxHashSet<&'f str>,
+    pub(crate) tradable: &'f FxHashSet<String>,
     /// The step at which each texture is last read or written, the names
     /// the caller asked for, and this pass's step: whether its outputs are
     /// read ([`PassContext::is_read`]).
-    pub(crate) last_use: &'f FxHashMap<&'f str, usize>,
-    pub(crate) requested: &'f FxHashSet<&'f str>,
+    pub(crate) last_use: &'f FxHashMap<String, usize>,
+    pub(crate) requested: &'f FxHashSet<String>,
     pub(crate) step: usize,
     pub(crate) handovers: Vec<history::Handover>,
     pub(crate) views: &'f std::cell::RefCell<crate::texture_pool::ViewCache>,
@@ -592,6 +603,11 @@ pub(crate) struct GraphParts<'a> {
     pub counters: BTreeMap<&'static str, u64>,
     /// Texture names by handle.
     pub texture_names: Vec<String>,
+    /// The merges that applied (merge.rs), for a kept plan (plan.rs).
+    pub merged: Vec<merge::Applied>,
+    /// Names live passes read, or the caller requested, that no pass
+    /// writes and none imports: persistent textures the frame needs.
+    pub outside: Vec<String>,
 }
 
 impl<'a> FrameGraph<'a> {
@@ -621,6 +637,25 @@ impl<'a> FrameGraph<'a> {
             let requested = &self.requested;
             self.watched.retain(|w| !requested.contains(w));
             self.watched.dedup();
+        }
+        // What a kept plan needs to exist (plan.rs): what scheduling found
+        // available outside the frame.
+        let mut outside: Vec<String> = Vec::new();
+        {
+            let written = |name: &str| {
+                order
+                    .iter()
+                    .any(|&p| self.passes[p].writes.iter().any(|(w, _)| w == name))
+            };
+            let needed = self
+                .requested
+                .iter()
+                .chain(order.iter().flat_map(|&p| &self.passes[p].reads));
+            for name in needed {
+                if !written(name) && !self.imports.contains_key(name) && !outside.contains(name) {
+                    outside.push(name.clone());
+                }
+            }
         }
         // What the caller gets back, any sink must be able to read: copy
         // it (Output's readback) or sample it (the editor's viewport).
@@ -657,6 +692,8 @@ impl<'a> FrameGraph<'a> {
             keys,
             counters: self.counters,
             texture_names: self.texture_names,
+            merged: Vec::new(),
+            outside,
         };
         for pass in self.passes {
             parts.names.push(pass.name.text(pass.owner));
