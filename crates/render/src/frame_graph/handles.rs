@@ -32,10 +32,11 @@ pub struct PassBuilder<'g, 'a> {
     graph: &'g mut FrameGraph<'a>,
     name: PassName,
     owner: Option<u32>,
-    reads: Vec<String>,
-    writes: Vec<(String, TextureDesc)>,
-    /// The handles of `reads` and `writes`, in their order (plan.rs).
+    /// What it reads and writes, as handles (the names are the graph's
+    /// `texture_names`: not copied into each pass every frame), and how it
+    /// declared each write.
     handles: super::PassHandles,
+    descs: smallvec::SmallVec<[TextureDesc; 4]>,
     /// What the pass binds, named where it was declared (bound.rs).
     pub(super) bindings: super::Bindings<'a>,
 }
@@ -48,9 +49,8 @@ impl<'a> FrameGraph<'a> {
             graph: self,
             name: name.into(),
             owner,
-            reads: Vec::new(),
-            writes: Vec::new(),
             handles: Default::default(),
+            descs: Default::default(),
             bindings: super::Bindings::new(),
         }
     }
@@ -74,8 +74,7 @@ impl<'a> PassBuilder<'_, 'a> {
     /// The pass reads `name`: another pass writes it, or it is imported or persistent.
     pub fn read(&mut self, name: &str) -> Tex {
         let tex = self.graph.handle(name);
-        if !self.reads.iter().any(|r| r == name) {
-            self.reads.push(name.to_owned());
+        if !self.handles.reads.contains(&tex.0) {
             self.handles.reads.push(tex.0);
         }
         tex
@@ -89,7 +88,7 @@ impl<'a> PassBuilder<'_, 'a> {
     /// The pass writes `name`, which the graph creates as `desc` says.
     pub fn write(&mut self, name: &str, desc: TextureDesc) -> Tex {
         let tex = self.graph.handle(name);
-        self.writes.push((name.to_owned(), desc));
+        self.descs.push(desc);
         self.handles.writes.push(tex.0);
         tex
     }
@@ -104,9 +103,10 @@ impl<'a> PassBuilder<'_, 'a> {
         self.graph.passes.push(PassEntry {
             name: self.name,
             owner: self.owner,
-            reads: self.reads,
-            writes: self.writes,
+            reads: Vec::new(),
+            writes: Vec::new(),
             handles: self.handles,
+            descs: self.descs,
             run: Box::new(run),
         });
     }

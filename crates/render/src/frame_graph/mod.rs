@@ -213,9 +213,13 @@ struct PassEntry<'a> {
     name: PassName,
     /// The patch node that declared the pass, for error reports.
     owner: Option<u32>,
+    /// Filled from `handles` and `descs` when the graph is planned
+    /// (`FrameGraph::into_parts`), not while it is declared: a frame that
+    /// takes a kept plan never names them (plan.rs).
     reads: Vec<String>,
     writes: Vec<(String, TextureDesc)>,
     handles: PassHandles,
+    descs: smallvec::SmallVec<[TextureDesc; 4]>,
     run: PassFn<'a>,
 }
 
@@ -483,11 +487,11 @@ impl<'a> FrameGraph<'a> {
     /// How the pass that writes `name` declared it (a name has one writer:
     /// `schedule` refuses two).
     fn declared(&self, name: &str) -> Option<&TextureDesc> {
-        self.passes
-            .iter()
-            .flat_map(|p| &p.writes)
-            .find(|(n, _)| n == name)
-            .map(|(_, d)| d)
+        let &h = self.handles.get(name)?;
+        self.passes.iter().find_map(|p| {
+            let at = p.handles.writes.iter().position(|&w| w == h)?;
+            p.descs.get(at)
+        })
     }
 
     pub fn resolve(&self, desc: &TextureDesc) -> TextureKey {
@@ -615,6 +619,15 @@ impl<'a> FrameGraph<'a> {
         mut self,
         persistent: &dyn Fn(&str) -> bool,
     ) -> Result<GraphParts<'a>, RenderError> {
+        // The passes' reads and writes by name, from their handles.
+        let names = &self.texture_names;
+        for pass in &mut self.passes {
+            let name = |h: &u32| names[*h as usize].clone();
+            pass.reads = pass.handles.reads.iter().map(name).collect();
+            pass.writes = (pass.handles.writes.iter().map(name))
+                .zip(pass.descs.iter().copied())
+                .collect();
+        }
         let (mut order, mut culled) = self.schedule(persistent)?;
         // A watched texture no pass of the frame makes is made for the watch
         // alone: requested. The frame's own passes are scheduled as before,

@@ -105,7 +105,7 @@ impl Shape {
     fn of(graph: &FrameGraph<'_>) -> Shape {
         let mut renamable = vec![false; graph.texture_names.len()];
         for pass in &graph.passes {
-            for (&h, (_, desc)) in pass.handles.writes.iter().zip(&pass.writes) {
+            for (&h, desc) in pass.handles.writes.iter().zip(&pass.descs) {
                 if desc.lifetime != Lifetime::Persistent {
                     renamable[h as usize] = true;
                 }
@@ -129,7 +129,7 @@ impl Shape {
                     name: p.name.clone(),
                     owner: p.owner,
                     handles: p.handles.clone(),
-                    descs: p.writes.iter().map(|(_, d)| *d).collect(),
+                    descs: p.descs.clone(),
                 })
                 .collect(),
             requested: graph.requested.iter().map(|n| Named::of(graph, n)).collect(),
@@ -170,7 +170,7 @@ impl Shape {
                 s.owner == p.owner
                     && s.handles == p.handles
                     && s.name == p.name
-                    && s.descs.iter().eq(p.writes.iter().map(|(_, d)| d))
+                    && s.descs == p.descs
             })
             && self
                 .fixed
