@@ -60,14 +60,39 @@ impl<'a> FrameGraph<'a> {
     /// run of two passes ([`FrameGraph::chains_into`]), which holds the
     /// reads and writes of both, where each was declared by its own recipe.
     pub fn handle(&mut self, name: &str) -> Tex {
-        if let Some(&id) = self.handles.get(name) {
+        let hash = name_hash(name);
+        if let Some(id) = self.handle_hashed(hash, name) {
             return Tex(id);
         }
         let id = self.texture_names.len() as u32;
         self.texture_names.push(name.to_owned());
-        self.handles.insert(name.to_owned(), id);
+        self.handles.entry(hash).or_default().push(id);
         Tex(id)
     }
+
+    /// The handle of `name`, if a pass declared it.
+    pub(super) fn handle_of(&self, name: &str) -> Option<u32> {
+        self.handle_hashed(name_hash(name), name)
+    }
+
+    fn handle_hashed(&self, hash: u64, name: &str) -> Option<u32> {
+        let ids = self.handles.get(&hash)?;
+        ids.iter()
+            .copied()
+            .find(|&id| self.texture_names[id as usize] == name)
+    }
+}
+
+/// Handles by their name's hash (names that share one, in a list): the
+/// names live once, in `texture_names`, instead of a second copy a name a
+/// frame as a map's keys.
+pub(super) type HandleTable = rustc_hash::FxHashMap<u64, smallvec::SmallVec<[u32; 1]>>;
+
+fn name_hash(name: &str) -> u64 {
+    use std::hash::{Hash, Hasher};
+    let mut hasher = rustc_hash::FxHasher::default();
+    name.hash(&mut hasher);
+    hasher.finish()
 }
 
 impl<'a> PassBuilder<'_, 'a> {

@@ -379,7 +379,7 @@ pub struct FrameGraph<'a> {
     included: FxHashSet<u64>,
     /// Texture names by handle ([`Tex`]), and handles by name.
     texture_names: Vec<String>,
-    handles: FxHashMap<String, u32>,
+    handles: handles::HandleTable,
     counters: BTreeMap<&'static str, u64>,
     /// Pairs of passes that run as one when both are needed (merge.rs).
     merges: Vec<merge::Merge<'a>>,
@@ -395,7 +395,7 @@ impl<'a> FrameGraph<'a> {
             imports: FxHashMap::default(),
             included: FxHashSet::default(),
             texture_names: Vec::new(),
-            handles: FxHashMap::default(),
+            handles: Default::default(),
             counters: BTreeMap::new(),
             merges: Vec::new(),
         }
@@ -487,7 +487,7 @@ impl<'a> FrameGraph<'a> {
     /// How the pass that writes `name` declared it (a name has one writer:
     /// `schedule` refuses two).
     fn declared(&self, name: &str) -> Option<&TextureDesc> {
-        let &h = self.handles.get(name)?;
+        let h = self.handle_of(name)?;
         self.passes.iter().find_map(|p| {
             let at = p.handles.writes.iter().position(|&w| w == h)?;
             p.descs.get(at)

@@ -73,16 +73,16 @@ enum Named {
 
 impl Named {
     fn of(graph: &FrameGraph<'_>, name: &str) -> Named {
-        match graph.handles.get(name) {
-            Some(&h) => Named::Handle(h),
+        match graph.handle_of(name) {
+            Some(h) => Named::Handle(h),
             None => Named::Name(name.to_owned()),
         }
     }
 
     fn is(&self, graph: &FrameGraph<'_>, name: &str) -> bool {
         match self {
-            Named::Handle(h) => graph.handles.get(name) == Some(h),
-            Named::Name(n) => n == name && !graph.handles.contains_key(name),
+            Named::Handle(h) => graph.handle_of(name) == Some(*h),
+            Named::Name(n) => n == name && graph.handle_of(name).is_none(),
         }
     }
 }
@@ -137,7 +137,7 @@ impl Shape {
             imports: graph
                 .imports
                 .keys()
-                .map(|n| (n.clone(), graph.handles.get(n).copied()))
+                .map(|n| (n.clone(), graph.handle_of(n)))
                 .collect(),
             merges: graph
                 .merges
@@ -179,7 +179,7 @@ impl Shape {
             && self.requested.iter().zip(&graph.requested).all(|(s, n)| s.is(graph, n))
             && self.watched.iter().zip(&graph.watched).all(|(s, n)| s.is(graph, n))
             && self.imports.iter().all(|(name, h)| {
-                graph.imports.contains_key(name) && graph.handles.get(name).copied() == *h
+                graph.imports.contains_key(name) && graph.handle_of(name) == *h
             })
             && self.merges.iter().zip(&graph.merges).all(|(s, m)| {
                 let (first, second, chain, name) = m.shape();
@@ -234,7 +234,10 @@ pub(crate) struct Plan {
 }
 
 impl Plan {
-    fn new(shape: Shape, parts: GraphParts<'_>, handles: FxHashMap<String, u32>) -> Plan {
+    fn new(shape: Shape, parts: GraphParts<'_>) -> Plan {
+        let handles = (parts.texture_names.iter().enumerate())
+            .map(|(h, name)| (name.clone(), h as u32))
+            .collect();
         let mut last_use = FxHashMap::default();
         for (step, &p) in parts.order.iter().enumerate() {
             for name in parts.reads[p]
@@ -369,7 +372,7 @@ impl<'a> FrameGraph<'a> {
     /// made from and the persistent textures it reads exist, else a new one
     /// (kept for the next frames).
     pub(crate) fn plan(
-        mut self,
+        self,
         plans: &Plans,
         persistent: &dyn Fn(&str) -> bool,
     ) -> Result<Planned<'a>, RenderError> {
@@ -387,12 +390,11 @@ impl<'a> FrameGraph<'a> {
             });
         }
         let shape = Shape::of(&self);
-        let handles = std::mem::take(&mut self.handles);
         let mut parts = self.into_parts(persistent)?;
         let runs = std::mem::take(&mut parts.runs);
         let imports = std::mem::take(&mut parts.imports);
         let counters = std::mem::take(&mut parts.counters);
-        let plan = Arc::new(Plan::new(shape, parts, handles));
+        let plan = Arc::new(Plan::new(shape, parts));
         plans.keep(plan.clone());
         Ok(Planned {
             plan,
