@@ -81,14 +81,17 @@ fn execute(
     let mut watched_made: Vec<String> = Vec::new();
     let tradable = &plan.tradable;
     let occurrence = &plan.occurrence;
-    let outputs_declared: usize = plan.writes.iter().map(Vec::len).sum();
     // A temporary whose history took its texture gives back the one the history had.
     let mut release_instead: FxHashMap<String, wgpu::Texture> = FxHashMap::default();
 
-    let mut live: FxHashMap<String, wgpu::Texture> = planned.imports;
-    live.reserve(textures.persistent.len() + outputs_declared);
+    // The plan's map of live textures, its names kept from the last frame
+    // that took the plan (live.rs); put back, emptied, at the end.
+    let mut live = std::mem::take(&mut *plan.live.lock().unwrap_or_else(|e| e.into_inner()));
+    for (name, texture) in planned.imports {
+        live.insert(&name, texture);
+    }
     for (name, (_, texture)) in &textures.persistent {
-        live.insert(name.clone(), texture.clone());
+        live.insert(name, texture.clone());
     }
     let mut fresh = FxHashSet::default();
     let mut report = FrameReport {
@@ -180,7 +183,7 @@ fn execute(
                     }
                 }
             }
-            live.insert(name.clone(), texture);
+            live.insert(name, texture);
         }
 
         // Batched: the encoder of the pass's run; isolated: one named for the pass.
@@ -545,6 +548,8 @@ fn execute(
             outputs.insert(frame_name(&name), t.clone());
         }
     }
+    live.clear();
+    *plan.live.lock().unwrap_or_else(|e| e.into_inner()) = live;
     report.wait_ms = (started.elapsed().as_secs_f64() * 1e3 - report.record_ms).max(0.0);
     report.allocations_after_passes = allocation_count::since(tail_allocations);
     // Errors outside every pass's scope (allocating the frame's textures,

@@ -27,6 +27,7 @@ mod executor;
 mod finisher;
 mod handles;
 mod history;
+mod live;
 mod merge;
 mod plan;
 #[cfg(test)]
@@ -244,7 +245,7 @@ pub struct PassContext<'f> {
     /// timed graph pass can share one.
     pub(crate) timestamps_inside_passes: bool,
     pub shaders: &'f mut ShaderCache,
-    pub(crate) textures: &'f mut FxHashMap<String, wgpu::Texture>,
+    pub(crate) textures: &'f mut live::Live,
     /// The frame's texture names by handle, and what this pass declared:
     /// the only textures its handles resolve to (handles.rs).
     pub(crate) texture_names: &'f [String],

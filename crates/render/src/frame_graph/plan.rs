@@ -228,6 +228,9 @@ pub(crate) struct Plan {
     pub watched_set: FxHashSet<String>,
     /// Temporaries a history may trade textures with (history.rs).
     pub tradable: FxHashSet<String>,
+    /// The live textures' map, kept between the frames that take the plan
+    /// (live.rs): empty of textures between frames.
+    pub live: Mutex<super::live::Live>,
     /// Which of the passes of its name each pass is, in declaration order:
     /// with the pass name, what keeps an output's texture from frame to frame.
     pub occurrence: Vec<u32>,
@@ -288,6 +291,7 @@ impl Plan {
             requested_set,
             watched_set,
             tradable,
+            live: Default::default(),
             occurrence,
         }
     }
