@@ -386,20 +386,38 @@ pub struct FrameGraph<'a> {
     merges: Vec<merge::Merge<'a>>,
 }
 
+thread_local! {
+    /// How many passes, textures and recipes the last graph planned on this
+    /// thread declared: the next is sized for as many up front (it grew
+    /// its vectors and maps step by step, a score of allocations a frame).
+    static LAST_SIZES: std::cell::Cell<(usize, usize, usize)> =
+        const { std::cell::Cell::new((0, 0, 0)) };
+}
+
 impl<'a> FrameGraph<'a> {
     pub fn new(output_size: (u32, u32)) -> Self {
+        let (passes, textures, recipes) = LAST_SIZES.get();
         FrameGraph {
             output_size: (output_size.0.max(1), output_size.1.max(1)),
-            passes: Vec::new(),
+            passes: Vec::with_capacity(passes),
             requested: Vec::new(),
             watched: Vec::new(),
             imports: FxHashMap::default(),
-            included: FxHashSet::default(),
-            texture_names: Vec::new(),
-            handles: Default::default(),
+            included: FxHashSet::with_capacity_and_hasher(recipes, Default::default()),
+            texture_names: Vec::with_capacity(textures),
+            handles: handles::HandleTable::with_capacity_and_hasher(textures, Default::default()),
             counters: BTreeMap::new(),
             merges: Vec::new(),
         }
+    }
+
+    /// Remember this graph's sizes for the next one made on this thread.
+    fn note_sizes(&self) {
+        LAST_SIZES.set((
+            self.passes.len(),
+            self.texture_names.len(),
+            self.included.len(),
+        ));
     }
 
     /// Count a decision made while declaring (work a recipe left out

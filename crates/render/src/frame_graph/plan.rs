@@ -380,6 +380,7 @@ impl<'a> FrameGraph<'a> {
         plans: &Plans,
         persistent: &dyn Fn(&str) -> bool,
     ) -> Result<Planned<'a>, RenderError> {
+        self.note_sizes();
         if let Some(plan) = plans.find(&self, persistent) {
             let mut runs: Vec<Option<PassFn<'a>>> =
                 self.passes.into_iter().map(|p| Some(p.run)).collect();
