@@ -1083,8 +1083,16 @@ fn shipped_frames_render_the_same_with_a_kept_plan_and_planned_afresh() {
                 for (k, reused) in [(FRAMES, 0), (FRAMES + 1, 1)] {
                     run.render_next();
                     let report = run.renderer().last_report();
-                    assert_eq!(report.counter("plans reused"), reused, "{patch}, resized frame {k}");
-                    assert_eq!(report.counter("plans made"), 1 - reused, "{patch}, resized frame {k}");
+                    assert_eq!(
+                        report.counter("plans reused"),
+                        reused,
+                        "{patch}, resized frame {k}"
+                    );
+                    assert_eq!(
+                        report.counter("plans made"),
+                        1 - reused,
+                        "{patch}, resized frame {k}"
+                    );
                     assert_eq!(run.image(output).0.width, 48);
                 }
             }

@@ -1310,10 +1310,34 @@ fn a_frame_declared_again_reuses_its_plan_and_any_change_makes_a_new_one() {
         ((16, 16), rgba16, "history", false, true),
         ((24, 16), rgba16, "history", false, false),
         ((24, 16), rgba16, "history", false, true),
-        ((24, 16), wgpu::TextureFormat::Rgba8Unorm, "history", false, false),
-        ((24, 16), wgpu::TextureFormat::Rgba8Unorm, "history", true, false),
-        ((24, 16), wgpu::TextureFormat::Rgba8Unorm, "history", true, true),
-        ((24, 16), wgpu::TextureFormat::Rgba8Unorm, "other history", true, false),
+        (
+            (24, 16),
+            wgpu::TextureFormat::Rgba8Unorm,
+            "history",
+            false,
+            false,
+        ),
+        (
+            (24, 16),
+            wgpu::TextureFormat::Rgba8Unorm,
+            "history",
+            true,
+            false,
+        ),
+        (
+            (24, 16),
+            wgpu::TextureFormat::Rgba8Unorm,
+            "history",
+            true,
+            true,
+        ),
+        (
+            (24, 16),
+            wgpu::TextureFormat::Rgba8Unorm,
+            "other history",
+            true,
+            false,
+        ),
         // Back to a frame seen before: its plan was kept.
         ((16, 16), rgba16, "history", false, true),
     ];
@@ -1334,9 +1358,18 @@ fn a_frame_declared_again_reuses_its_plan_and_any_change_makes_a_new_one() {
             let texture = outputs
                 .get(&requested)
                 .unwrap_or_else(|| panic!("frame {id}: no `{requested}` in {:?}", outputs.keys()));
-            assert_eq!((texture.width(), texture.height(), texture.format()), (size.0, size.1, format));
+            assert_eq!(
+                (texture.width(), texture.height(), texture.format()),
+                (size.0, size.1, format)
+            );
             assert_eq!(outputs.len(), 1, "frame {id}");
-            seen.push(report.passes.iter().map(|p| p.name.clone()).collect::<Vec<_>>());
+            seen.push(
+                report
+                    .passes
+                    .iter()
+                    .map(|p| p.name.clone())
+                    .collect::<Vec<_>>(),
+            );
         }
         seen
     };

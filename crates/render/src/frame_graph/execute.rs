@@ -187,9 +187,7 @@ fn execute(
         }
 
         // Batched: the encoder of the pass's run; isolated: one named for the pass.
-        let encoder = shared
-            .take()
-            .unwrap_or_else(|| new_encoder(&plan.names[p]));
+        let encoder = shared.take().unwrap_or_else(|| new_encoder(&plan.names[p]));
         let scope = (!batched).then(|| device.push_error_scope(wgpu::ErrorFilter::Validation));
         // Timing::Frame times the first and the last pass: the frame's span.
         let timed = match timing {
@@ -349,11 +347,7 @@ fn execute(
     }
     let passes_recorded = started.elapsed();
     let tail_allocations = allocation_count::now();
-    report.culled = plan
-        .culled
-        .iter()
-        .map(|&p| plan.names[p].clone())
-        .collect();
+    report.culled = plan.culled.iter().map(|&p| plan.names[p].clone()).collect();
     report.pipelines_compiled = shaders.pipelines_compiled - compiled_before;
     let mut views = views.into_inner();
     for (name, n) in counters().into_iter().chain([

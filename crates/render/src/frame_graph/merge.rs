@@ -100,7 +100,11 @@ pub(super) type Applied = (usize, usize, usize);
 
 /// Hand this frame's joint runs to the passes a kept plan merged (plan.rs):
 /// the first pass of each takes the joint run, the second none.
-pub(super) fn rerun<'a>(runs: &mut [Option<PassFn<'a>>], merges: Vec<Merge<'a>>, applied: &[Applied]) {
+pub(super) fn rerun<'a>(
+    runs: &mut [Option<PassFn<'a>>],
+    merges: Vec<Merge<'a>>,
+    applied: &[Applied],
+) {
     let mut applied = applied.iter().peekable();
     for (index, merge) in merges.into_iter().enumerate() {
         if let Some(&(_, first, second)) = applied.next_if(|(i, _, _)| *i == index) {

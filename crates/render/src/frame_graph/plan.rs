@@ -132,7 +132,11 @@ impl Shape {
                     descs: p.descs.clone(),
                 })
                 .collect(),
-            requested: graph.requested.iter().map(|n| Named::of(graph, n)).collect(),
+            requested: graph
+                .requested
+                .iter()
+                .map(|n| Named::of(graph, n))
+                .collect(),
             watched: graph.watched.iter().map(|n| Named::of(graph, n)).collect(),
             imports: graph
                 .imports
@@ -176,11 +180,20 @@ impl Shape {
                 .fixed
                 .iter()
                 .all(|(h, name)| names.get(*h as usize) == Some(name))
-            && self.requested.iter().zip(&graph.requested).all(|(s, n)| s.is(graph, n))
-            && self.watched.iter().zip(&graph.watched).all(|(s, n)| s.is(graph, n))
-            && self.imports.iter().all(|(name, h)| {
-                graph.imports.contains_key(name) && graph.handle_of(name) == *h
-            })
+            && self
+                .requested
+                .iter()
+                .zip(&graph.requested)
+                .all(|(s, n)| s.is(graph, n))
+            && self
+                .watched
+                .iter()
+                .zip(&graph.watched)
+                .all(|(s, n)| s.is(graph, n))
+            && self
+                .imports
+                .iter()
+                .all(|(name, h)| graph.imports.contains_key(name) && graph.handle_of(name) == *h)
             && self.merges.iter().zip(&graph.merges).all(|(s, m)| {
                 let (first, second, chain, name) = m.shape();
                 s.second == second
@@ -364,7 +377,11 @@ pub(crate) struct Planned<'a> {
 
 /// The name the caller knows a texture of the plan by: this frame's name
 /// of its handle, where the frame took a kept plan (`frame_names`).
-pub(crate) fn frame_name<'n>(plan: &'n Plan, frame_names: Option<&'n [String]>, name: &'n str) -> &'n str {
+pub(crate) fn frame_name<'n>(
+    plan: &'n Plan,
+    frame_names: Option<&'n [String]>,
+    name: &'n str,
+) -> &'n str {
     match (frame_names, plan.handles.get(name)) {
         (Some(names), Some(&h)) => names.get(h as usize).map_or(name, String::as_str),
         _ => name,
