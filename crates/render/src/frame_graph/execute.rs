@@ -30,7 +30,7 @@ use crate::allocation_count;
 use crate::context::GpuContext;
 use crate::error::RenderError;
 use crate::report::{FrameReport, PassReport};
-use crate::texture_pool::{create_texture, slot};
+use crate::texture_pool::create_texture;
 
 /// Frames the CPU may run ahead of the GPU when nothing is read back.
 pub const FRAMES_IN_FLIGHT: usize = 2;
@@ -80,7 +80,6 @@ fn execute(
     let watched = &plan.watched_set;
     let mut watched_made: Vec<String> = Vec::new();
     let tradable = &plan.tradable;
-    let occurrence = &plan.occurrence;
     // A temporary whose history took its texture gives back the one the history had.
     let mut release_instead: FxHashMap<String, wgpu::Texture> = FxHashMap::default();
 
@@ -170,7 +169,7 @@ fn execute(
                     }
                 },
                 Lifetime::Temporary | Lifetime::Permanent => {
-                    let slot = slot(&plan.names[p], occurrence[p], output);
+                    let slot = plan.slots[p][output];
                     owned.push((p, output, *key, desc.lifetime, slot));
                     textures.take(device, key, (slot, name), &mut report.textures_created)
                 }

@@ -244,9 +244,11 @@ pub(crate) struct Plan {
     /// The live textures' map, kept between the frames that take the plan
     /// (live.rs): empty of textures between frames.
     pub live: Mutex<super::live::Live>,
-    /// Which of the passes of its name each pass is, in declaration order:
-    /// with the pass name, what keeps an output's texture from frame to frame.
-    pub occurrence: Vec<u32>,
+    /// Per pass and output, its pool slot: what keeps an output's texture
+    /// from frame to frame (`texture_pool::slot` of the pass name, which of
+    /// the passes of its name the pass is, and the output; hashed a write a
+    /// frame before).
+    pub slots: Vec<smallvec::SmallVec<[u64; 4]>>,
 }
 
 impl Plan {
@@ -283,6 +285,13 @@ impl Plan {
                 *n += 1;
                 *n - 1
             })
+            .collect::<Vec<u32>>();
+        let slots = (parts.names.iter().zip(&occurrence).zip(&parts.writes))
+            .map(|((name, &n), writes)| {
+                (0..writes.len())
+                    .map(|output| crate::texture_pool::slot(name, n, output))
+                    .collect()
+            })
             .collect();
         Plan {
             shape,
@@ -305,7 +314,7 @@ impl Plan {
             watched_set,
             tradable,
             live: Default::default(),
-            occurrence,
+            slots,
         }
     }
 }
