@@ -1057,3 +1057,58 @@ fn the_most_used_node_types_have_help_patches() {
         );
     }
 }
+
+/// The frame graph's kept plan (issue 33, `frame_graph/plan.rs`) changes no
+/// pixel: the shipped frames issue 33 times, rendered with it and planned
+/// afresh every frame, are identical frame by frame (temporal effects
+/// included). Every frame after the first two (the first finds no history
+/// yet, and declares its temporal passes otherwise) takes the kept plan
+/// though its animated recipes are made again under new names; a resized
+/// output plans again, and the frame after takes that plan.
+#[test]
+fn shipped_frames_render_the_same_with_a_kept_plan_and_planned_afresh() {
+    const FRAMES: usize = 4;
+    for (patch, output) in [("emeshe-frame.ron", "bench"), ("post.ron", "post")] {
+        let path = spreadlight_tests::root().join("patches").join(patch);
+        let render = |reuse: bool| {
+            let mut run = spreadlight_tests::PatchRun::new(&path, (64, 36), |_| {});
+            run.renderer().set_plan_reuse(reuse);
+            let mut frames = Vec::new();
+            for k in 0..FRAMES {
+                run.render_next();
+                let report = run.renderer().last_report();
+                let reused = reuse && k > 1;
+                assert_eq!(
+                    (report.counter("plans reused"), report.counter("plans made")),
+                    (u64::from(reused), u64::from(!reused)),
+                    "{patch}, frame {k}"
+                );
+                frames.push(run.image(output).0.pixels);
+            }
+            if reuse {
+                run.renderer().set_output_size((48, 27));
+                for (k, reused) in [(FRAMES, 0), (FRAMES + 1, 1)] {
+                    run.render_next();
+                    let report = run.renderer().last_report();
+                    assert_eq!(
+                        report.counter("plans reused"),
+                        reused,
+                        "{patch}, resized frame {k}"
+                    );
+                    assert_eq!(
+                        report.counter("plans made"),
+                        1 - reused,
+                        "{patch}, resized frame {k}"
+                    );
+                    assert_eq!(run.image(output).0.width, 48);
+                }
+            }
+            frames
+        };
+        let (kept, afresh) = (render(true), render(false));
+        for (k, (a, b)) in kept.iter().zip(&afresh).enumerate() {
+            let differ = a.iter().zip(b).filter(|(a, b)| a != b).count();
+            assert_eq!(differ, 0, "{patch}, frame {k}: {differ} pixels differ");
+        }
+    }
+}

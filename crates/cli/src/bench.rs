@@ -60,6 +60,11 @@ pub struct Args {
     /// Record the frame in one command encoder (`batched`, as the CLI and editor do) or each pass in its own (`isolated`).
     #[arg(long, default_value = "batched", value_parser = ["isolated", "batched"])]
     recording: String,
+    /// Plan the frame graph afresh every frame instead of reusing last
+    /// frame's plan while nothing declared changed: the same frames, for
+    /// timing what the kept plan saves (`plans_reused` in `--json`).
+    #[arg(long)]
+    no_plan_reuse: bool,
     /// Run a patch even though an unknown node type (misspelled, or a shader
     /// or subpatch file that is missing) feeds its Output or a Probe: that
     /// node's work is left out. Without it such a patch is an error.
@@ -157,6 +162,9 @@ struct Series {
     record: Vec<f64>,
     submit: Vec<f64>,
     queue_submit: Vec<f64>,
+    /// Frame graphs whose kept plan was reused, and those planned afresh.
+    plans_reused: u64,
+    plans_made: u64,
 }
 
 /// Frames run back to back with timing off (frames in flight): what a host gets.
@@ -245,6 +253,7 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
     } else {
         Recording::Isolated
     });
+    renderer.set_plan_reuse(!args.no_plan_reuse);
     // Geometry and particle passes run as their nodes evaluate: time them too.
     let geometry = spreadlight_render::geometry::GeometryStats::of(&renderer);
     geometry.set_timing(true);
@@ -287,6 +296,8 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
         series.record.push(report.record_ms);
         series.submit.push(report.submit_ms);
         series.queue_submit.push(report.queue_submit_ms);
+        series.plans_reused += report.counter("plans reused");
+        series.plans_made += report.counter("plans made");
         series.eval.push((cpu - report.record_ms).max(0.0));
         if let Some(span) = report.gpu_frame_ms {
             series.gpu.push(span + geometry_ms);
@@ -381,6 +392,9 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
             "cpu_record_ms_median": record,
             "cpu_submit_ms_median": submit,
             "cpu_queue_submit_ms_median": median(series.queue_submit),
+            // Over the timed frames (not `--wall`'s).
+            "plans_reused": series.plans_reused,
+            "plans_made": series.plans_made,
             "wall_ms_per_frame": wall.as_ref().map(|w| w.ms_per_frame),
             "wall_cpu_ms_median": wall_cpu.0,
             "wall_cpu_eval_ms_median": wall_cpu.1,
@@ -413,6 +427,10 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
         println!("    evaluating the patch {}", show(eval));
         println!("    recording the frame  {}", show(record));
         println!("      of which finishing and submitting {}", show(submit));
+        println!(
+            "    frame graph plans  {} reused, {} made",
+            series.plans_reused, series.plans_made
+        );
         if let Some(w) = &wall {
             println!(
                 "  wall clock, frames in flight {:.3} ms a frame (CPU {} = {} + {}, no timestamps)",

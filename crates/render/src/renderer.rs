@@ -99,6 +99,12 @@ impl Renderer {
         self.executor.set_recording(recording);
     }
 
+    /// Reuse frame graphs' plans while their declarations stay the same
+    /// (the default), or plan each afresh (`Executor::set_plan_reuse`).
+    pub fn set_plan_reuse(&self, reuse: bool) {
+        self.executor.set_plan_reuse(reuse);
+    }
+
     /// Wait for every submission so far (frames in flight drained).
     pub fn wait_idle(&self) -> Result<(), RenderError> {
         self.executor.wait_idle()

@@ -1190,3 +1190,137 @@ fn an_image_effect_takes_its_sources_size() {
     assert_eq!(fg.effect_size("fixed"), fixed);
     assert_eq!(fg.effect_size("undeclared"), SizeRule::Relative(1.0));
 }
+
+/// A frame as a recipe re-made every frame declares it: pass "A" writes
+/// `a{id}/out`, "B" reads it and writes `b{id}/out` (the names carry the
+/// recipe's id, new each time it is made), "H" keeps a persistent
+/// `history` (named `history_name`), and with `extra` a pass "C" reads B's
+/// output. Returns the requested name.
+fn re_made_frame<'a>(
+    fg: &mut FrameGraph<'a>,
+    id: u32,
+    format: wgpu::TextureFormat,
+    history_name: &str,
+    extra: bool,
+) -> String {
+    let (a, b, c) = (
+        format!("a{id}/out"),
+        format!("b{id}/out"),
+        format!("c{id}/out"),
+    );
+    let mut pass = fg.pass("A", Some(1));
+    let written = pass.write(&a, TextureDesc::storage(format));
+    pass.run(move |cx| cx.texture(written).map(|_| ()));
+    let mut pass = fg.pass("B", Some(2));
+    let read = pass.read(&a);
+    let written = pass.write(&b, TextureDesc::storage(format));
+    let history = pass.write(history_name, TextureDesc::history(format));
+    pass.run(move |cx| {
+        cx.texture(read)?;
+        cx.texture(history)?;
+        cx.texture(written).map(|_| ())
+    });
+    if extra {
+        let mut pass = fg.pass("C", Some(3));
+        let read = pass.read(&b);
+        let written = pass.write(&c, TextureDesc::storage(format));
+        pass.run(move |cx| {
+            cx.texture(read)?;
+            cx.texture(written).map(|_| ())
+        });
+        fg.request(&c);
+        return c;
+    }
+    fg.request(&b);
+    b
+}
+
+/// A graph declared again as it was (its recipes made again under new
+/// names) runs on last frame's plan, and hands its output back under this
+/// frame's name; a change to what was declared (a texture's format, as a
+/// pin that changes a key does; the output size; a pass added; a
+/// persistent texture's name) makes a new plan; with reuse off every frame
+/// plans afresh. The passes, textures and outputs are the same either way.
+#[test]
+fn a_frame_declared_again_reuses_its_plan_and_any_change_makes_a_new_one() {
+    let renderer = test_renderer();
+    let rgba16 = wgpu::TextureFormat::Rgba16Float;
+    // (output size, format, history name, extra pass, reused)
+    let frames = [
+        ((16, 16), rgba16, "history", false, false),
+        ((16, 16), rgba16, "history", false, true),
+        ((16, 16), rgba16, "history", false, true),
+        ((24, 16), rgba16, "history", false, false),
+        ((24, 16), rgba16, "history", false, true),
+        (
+            (24, 16),
+            wgpu::TextureFormat::Rgba8Unorm,
+            "history",
+            false,
+            false,
+        ),
+        (
+            (24, 16),
+            wgpu::TextureFormat::Rgba8Unorm,
+            "history",
+            true,
+            false,
+        ),
+        (
+            (24, 16),
+            wgpu::TextureFormat::Rgba8Unorm,
+            "history",
+            true,
+            true,
+        ),
+        (
+            (24, 16),
+            wgpu::TextureFormat::Rgba8Unorm,
+            "other history",
+            true,
+            false,
+        ),
+        // Back to a frame seen before: its plan was kept.
+        ((16, 16), rgba16, "history", false, true),
+    ];
+    let run = |reuse: bool| {
+        renderer.set_plan_reuse(reuse);
+        let mut seen = Vec::new();
+        for (id, &(size, format, history, extra, reused)) in frames.iter().enumerate() {
+            let mut fg = FrameGraph::new(size);
+            let requested = re_made_frame(&mut fg, id as u32, format, history, extra);
+            let (report, outputs) = fg.execute(&renderer).expect("executes");
+            assert!(report.errors.is_empty(), "frame {id}: {:?}", report.errors);
+            let reused = reuse && reused;
+            assert_eq!(
+                (report.counter("plans reused"), report.counter("plans made")),
+                (u64::from(reused), u64::from(!reused)),
+                "frame {id}"
+            );
+            let texture = outputs
+                .get(&requested)
+                .unwrap_or_else(|| panic!("frame {id}: no `{requested}` in {:?}", outputs.keys()));
+            assert_eq!(
+                (texture.width(), texture.height(), texture.format()),
+                (size.0, size.1, format)
+            );
+            assert_eq!(outputs.len(), 1, "frame {id}");
+            seen.push(
+                report
+                    .passes
+                    .iter()
+                    .map(|p| p.name.clone())
+                    .collect::<Vec<_>>(),
+            );
+        }
+        seen
+    };
+    let reusing = run(true);
+    renderer.reset_history();
+    let afresh = run(false);
+    // The same passes ran in each frame, with or without a kept plan.
+    assert_eq!(reusing, afresh);
+    assert_eq!(reusing[6], ["A #1", "B #2", "C #3"]);
+    renderer.set_plan_reuse(true);
+    renderer.wait_idle().expect("drains");
+}

@@ -30,7 +30,7 @@ use crate::allocation_count;
 use crate::context::GpuContext;
 use crate::error::RenderError;
 use crate::report::{FrameReport, PassReport};
-use crate::texture_pool::{create_texture, slot};
+use crate::texture_pool::create_texture;
 
 /// Frames the CPU may run ahead of the GPU when nothing is read back.
 pub const FRAMES_IN_FLIGHT: usize = 2;
@@ -65,72 +65,58 @@ fn execute(
     for (key, texture) in lent {
         textures.give_back(key, texture);
     }
-    // Which names have a persistent texture (asked, not collected: no names cloned a frame).
-    let mut parts = graph.into_parts(&|name| textures.persistent.contains_key(name))?;
-
-    // Where each texture is last read, so temporaries go back to the pool after it.
-    // Maps and vectors sized once (they grew pass by pass).
-    let outputs_declared: usize = parts.writes.iter().map(Vec::len).sum();
-    let mut last_use: FxHashMap<&str, usize> =
-        FxHashMap::with_capacity_and_hasher(outputs_declared, Default::default());
-    for (step, &p) in parts.order.iter().enumerate() {
-        for name in parts.reads[p]
-            .iter()
-            .chain(parts.writes[p].iter().map(|(n, _)| n))
-        {
-            last_use.insert(name.as_str(), step);
-        }
-    }
-    let requested: FxHashSet<&str> = parts.requested.iter().map(String::as_str).collect();
+    // Which names have a persistent texture (asked, not collected: no names
+    // cloned a frame). The plan is last frame's when the graph declares what
+    // it did then (plan.rs): then nothing below is worked out again.
+    let planned = graph.plan(executor.plans(), &|name| {
+        textures.persistent.contains_key(name)
+    })?;
+    let plan = &*planned.plan;
+    let mut runs = planned.runs;
+    let last_use = &plan.last_use;
+    let requested = &plan.requested_set;
     // Watched textures are kept to the end of the frame, nothing else
     // (`FrameGraph::watch`); those made and read are handed back.
-    let watched: FxHashSet<&str> = parts.watched.iter().map(String::as_str).collect();
+    let watched = &plan.watched_set;
     let mut watched_made: Vec<String> = Vec::new();
-    // Temporaries a history may trade textures with (history.rs).
-    let tradable: FxHashSet<&str> = parts
-        .writes
-        .iter()
-        .flatten()
-        .filter(|(name, desc)| {
-            desc.lifetime == Lifetime::Temporary && !requested.contains(name.as_str())
-        })
-        .map(|(name, _)| name.as_str())
-        .collect();
+    let tradable = &plan.tradable;
     // A temporary whose history took its texture gives back the one the history had.
     let mut release_instead: FxHashMap<String, wgpu::Texture> = FxHashMap::default();
-    // Which of the passes of its name each pass is, in declaration order:
-    // with the pass name, what keeps an output's texture from frame to frame.
-    let mut seen: FxHashMap<&str, u32> =
-        FxHashMap::with_capacity_and_hasher(parts.names.len(), Default::default());
-    let occurrence: Vec<u32> = parts
-        .names
-        .iter()
-        .map(|name| {
-            let n = seen.entry(name.as_str()).or_default();
-            *n += 1;
-            *n - 1
-        })
-        .collect();
 
-    let mut live: FxHashMap<String, wgpu::Texture> = std::mem::take(&mut parts.imports);
-    live.reserve(textures.persistent.len() + outputs_declared);
+    // The plan's map of live textures, its names kept from the last frame
+    // that took the plan (live.rs); put back, emptied, at the end.
+    let mut live = std::mem::take(&mut *plan.live.lock().unwrap_or_else(|e| e.into_inner()));
+    for (name, texture) in planned.imports {
+        live.insert(&name, texture);
+    }
     for (name, (_, texture)) in &textures.persistent {
-        live.insert(name.clone(), texture.clone());
+        live.insert(name, texture.clone());
     }
     let mut fresh = FxHashSet::default();
     let mut report = FrameReport {
         adapter: gpu.adapter_name(),
         ..Default::default()
     };
-    for (name, n) in std::mem::take(&mut parts.counters) {
+    for (name, n) in planned.counters {
         add_counter(&mut report, name, n);
     }
-    report.passes.reserve(parts.order.len());
+    let plans = if planned.reused {
+        "plans reused"
+    } else {
+        "plans made"
+    };
+    add_counter(&mut report, plans, 1);
+    // A kept plan runs under its own names; the caller gets this frame's.
+    let frame_names = planned.frame_names;
+    let frame_name = |name: &'_ str| -> String {
+        super::plan::frame_name(plan, frame_names.as_deref(), name).to_owned()
+    };
+    report.passes.reserve(plan.order.len());
     // Pool textures this frame took, by pass and output (the name is
-    // `parts.writes[p][output]`: not cloned a texture a frame).
+    // `plan.writes[p][output]`: not cloned a texture a frame).
     let mut owned: Vec<(usize, usize, _, Lifetime, _)> = Vec::new();
     let mut commands = Vec::new();
-    let mut pass_queries: Vec<(usize, super::PassQueries)> = Vec::with_capacity(parts.order.len());
+    let mut pass_queries: Vec<(usize, super::PassQueries)> = Vec::with_capacity(plan.order.len());
     let mut next_query = 0u32;
     let timestamps = executor.timestamps().filter(|_| timing != Timing::Off);
     let capacity = if timestamps.is_some() { MAX_QUERIES } else { 0 };
@@ -155,22 +141,22 @@ fn execute(
         .features()
         .contains(wgpu::Features::TIMESTAMP_QUERY_INSIDE_PASSES);
     let mut finishing = batched.then(|| executor.finisher().begin());
-    let steps = parts.order.len();
+    let steps = plan.order.len();
 
     let max_side = device.limits().max_texture_dimension_2d;
     report.allocations_before_passes = allocation_count::since(allocations_started);
-    for (step, &p) in parts.order.clone().iter().enumerate() {
+    for (step, &p) in plan.order.iter().enumerate() {
         let pass_started = std::time::Instant::now();
         let pass_allocations = allocation_count::now();
         // A texture past the adapter's limit fails its pass before anything
         // is allocated (wgpu would refuse it with an error outside any scope).
-        let mut too_large = too_large(&parts.writes[p], &parts.keys[p], max_side, output_size);
+        let mut too_large = too_large(&plan.writes[p], &plan.keys[p], max_side, output_size);
         let writes = if too_large.is_some() {
             &[][..]
         } else {
-            &parts.writes[p][..]
+            &plan.writes[p][..]
         };
-        for (output, ((name, desc), key)) in writes.iter().zip(&parts.keys[p]).enumerate() {
+        for (output, ((name, desc), key)) in writes.iter().zip(&plan.keys[p]).enumerate() {
             let texture = match desc.lifetime {
                 Lifetime::Persistent => match textures.persistent.get(name) {
                     Some((k, t)) if k == key => t.clone(),
@@ -183,7 +169,7 @@ fn execute(
                     }
                 },
                 Lifetime::Temporary | Lifetime::Permanent => {
-                    let slot = slot(&parts.names[p], occurrence[p], output);
+                    let slot = plan.slots[p][output];
                     owned.push((p, output, *key, desc.lifetime, slot));
                     textures.take(device, key, (slot, name), &mut report.textures_created)
                 }
@@ -196,13 +182,11 @@ fn execute(
                     }
                 }
             }
-            live.insert(name.clone(), texture);
+            live.insert(name, texture);
         }
 
         // Batched: the encoder of the pass's run; isolated: one named for the pass.
-        let encoder = shared
-            .take()
-            .unwrap_or_else(|| new_encoder(&parts.names[p]));
+        let encoder = shared.take().unwrap_or_else(|| new_encoder(&plan.names[p]));
         let scope = (!batched).then(|| device.push_error_scope(wgpu::ErrorFilter::Validation));
         // Timing::Frame times the first and the last pass: the frame's span.
         let timed = match timing {
@@ -210,7 +194,7 @@ fn execute(
             Timing::Frame => step == 0 || step + 1 == steps,
             Timing::Off => false,
         };
-        let run = parts.runs[p].take();
+        let run = runs[p].take();
         let mut cx = PassContext {
             gpu,
             encoder,
@@ -218,12 +202,12 @@ fn execute(
             timestamps_inside_passes: inside_passes,
             shaders: &mut shaders,
             textures: &mut live,
-            texture_names: &parts.texture_names,
-            reads: &parts.reads[p],
-            writes: &parts.writes[p],
-            tradable: &tradable,
-            last_use: &last_use,
-            requested: &requested,
+            texture_names: &plan.texture_names,
+            reads: &plan.reads[p],
+            writes: &plan.writes[p],
+            tradable,
+            last_use,
+            requested,
             step,
             handovers: Vec::new(),
             views: &views,
@@ -286,7 +270,7 @@ fn execute(
                 (Err(e), _) => Some(e.to_string()),
                 (Ok(()), Some(e)) => Some(
                     RenderError::Validation {
-                        pass: parts.names[p].clone(),
+                        pass: plan.names[p].clone(),
                         message: e.to_string(),
                     }
                     .to_string(),
@@ -300,7 +284,7 @@ fn execute(
         if error.is_none() && !watched.is_empty() {
             // Made: written by this pass and read by a later one (a pass may
             // leave an output nobody reads unwritten, `PassContext::is_read`).
-            for (name, _) in &parts.writes[p] {
+            for (name, _) in &plan.writes[p] {
                 if watched.contains(name.as_str())
                     && last_use.get(name.as_str()).is_some_and(|&s| s > step)
                 {
@@ -310,22 +294,22 @@ fn execute(
         }
         match error {
             Some(message) => {
-                let message = format!("pass `{}`: {message}", parts.names[p]);
+                let message = format!("pass `{}`: {message}", plan.names[p]);
                 // A merged pass's error is both nodes' (merge.rs).
-                if let Some(partner) = parts.partners[p] {
+                if let Some(partner) = plan.partners[p] {
                     report.errors.push((Some(partner), message.clone()));
                 }
-                report.errors.push((parts.owners[p], message));
+                report.errors.push((plan.owners[p], message));
             }
             None => pass_queries.push((report.passes.len(), queries)),
         }
         report.draws += draws;
         report.passes.push(PassReport {
-            name: parts.names[p].clone(),
-            kind: parts.labels[p].kind.clone(),
-            step: parts.labels[p].step.clone(),
-            owner: parts.owners[p],
-            partner: parts.partners[p],
+            name: plan.names[p].clone(),
+            kind: plan.labels[p].kind.clone(),
+            step: plan.labels[p].step.clone(),
+            owner: plan.owners[p],
+            partner: plan.partners[p],
             gpu_ms: None,
             idle_ms: None,
             draws,
@@ -338,7 +322,7 @@ fn execute(
         // leave the live textures: no later pass can reach memory the pool
         // may hand to another.
         owned.retain(|&(pass, output, ref key, lifetime, ref slot)| {
-            let name = &parts.writes[pass][output].0;
+            let name = &plan.writes[pass][output].0;
             let done = lifetime == Lifetime::Temporary
                 && last_use.get(name.as_str()).is_some_and(|&s| s <= step)
                 && !requested.contains(name.as_str())
@@ -362,11 +346,7 @@ fn execute(
     }
     let passes_recorded = started.elapsed();
     let tail_allocations = allocation_count::now();
-    report.culled = parts
-        .culled
-        .iter()
-        .map(|&p| parts.names[p].clone())
-        .collect();
+    report.culled = plan.culled.iter().map(|&p| plan.names[p].clone()).collect();
     report.pipelines_compiled = shaders.pipelines_compiled - compiled_before;
     let mut views = views.into_inner();
     for (name, n) in counters().into_iter().chain([
@@ -508,10 +488,10 @@ fn execute(
     let pool = &mut *textures;
     let idle = &mut pool.idle;
     pool.persistent.retain(|name, _| {
-        if parts
+        if plan
             .order
             .iter()
-            .any(|&p| parts.writes[p].iter().any(|(n, _)| n == name))
+            .any(|&p| plan.writes[p].iter().any(|(n, _)| n == name))
         {
             return true;
         }
@@ -535,7 +515,7 @@ fn execute(
     // other permanent textures return now.
     let mut outputs = HashMap::new();
     for (pass, output, key, _, _) in owned {
-        let name = &parts.writes[pass][output].0;
+        let name = &plan.writes[pass][output].0;
         let texture = release_instead
             .remove(name)
             .or_else(|| live.get(name).cloned());
@@ -547,9 +527,9 @@ fn execute(
             }
         }
     }
-    for name in &parts.requested {
+    for name in &plan.requested {
         if let Some(t) = live.get(name) {
-            outputs.insert(name.clone(), t.clone());
+            outputs.insert(frame_name(name), t.clone());
         }
     }
     // A watched texture is handed back only if it can be sampled: a watch
@@ -558,9 +538,11 @@ fn execute(
         if let Some(t) = live.get(&name)
             && t.usage().contains(wgpu::TextureUsages::TEXTURE_BINDING)
         {
-            outputs.insert(name, t.clone());
+            outputs.insert(frame_name(&name), t.clone());
         }
     }
+    live.clear();
+    *plan.live.lock().unwrap_or_else(|e| e.into_inner()) = live;
     report.wait_ms = (started.elapsed().as_secs_f64() * 1e3 - report.record_ms).max(0.0);
     report.allocations_after_passes = allocation_count::since(tail_allocations);
     // Errors outside every pass's scope (allocating the frame's textures,

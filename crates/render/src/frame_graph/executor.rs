@@ -67,6 +67,8 @@ pub struct Executor {
     last_report: Mutex<FrameReport>,
     /// The thread that finishes a batched frame's encoders beside its recording.
     finisher: Finisher,
+    /// Frame graphs' plans kept across frames (plan.rs).
+    plans: super::plan::Plans,
 }
 
 impl Executor {
@@ -101,6 +103,7 @@ impl Executor {
             in_flight: Mutex::new(VecDeque::new()),
             last_report: Mutex::new(FrameReport::default()),
             finisher: Finisher::new(gpu.device.clone()),
+            plans: Default::default(),
         })
     }
 
@@ -119,6 +122,17 @@ impl Executor {
 
     pub fn set_recording(&self, recording: Recording) {
         self.settings.lock().unwrap_or_else(|e| e.into_inner()).1 = recording;
+    }
+
+    /// Reuse a frame graph's plan while its declaration stays the same (the
+    /// default), or plan every graph afresh: the frames are the same either
+    /// way (plan.rs), this is for tests and benchmarks to compare.
+    pub fn set_plan_reuse(&self, reuse: bool) {
+        self.plans.set_reuse(reuse);
+    }
+
+    pub(crate) fn plans(&self) -> &super::plan::Plans {
+        &self.plans
     }
 
     pub(crate) fn texture_pool(&self) -> std::sync::MutexGuard<'_, TexturePool> {

@@ -32,8 +32,11 @@ pub struct PassBuilder<'g, 'a> {
     graph: &'g mut FrameGraph<'a>,
     name: PassName,
     owner: Option<u32>,
-    reads: Vec<String>,
-    writes: Vec<(String, TextureDesc)>,
+    /// What it reads and writes, as handles (the names are the graph's
+    /// `texture_names`: not copied into each pass every frame), and how it
+    /// declared each write.
+    handles: super::PassHandles,
+    descs: smallvec::SmallVec<[TextureDesc; 4]>,
     /// What the pass binds, named where it was declared (bound.rs).
     pub(super) bindings: super::Bindings<'a>,
 }
@@ -46,8 +49,8 @@ impl<'a> FrameGraph<'a> {
             graph: self,
             name: name.into(),
             owner,
-            reads: Vec::new(),
-            writes: Vec::new(),
+            handles: Default::default(),
+            descs: Default::default(),
             bindings: super::Bindings::new(),
         }
     }
@@ -57,23 +60,49 @@ impl<'a> FrameGraph<'a> {
     /// run of two passes ([`FrameGraph::chains_into`]), which holds the
     /// reads and writes of both, where each was declared by its own recipe.
     pub fn handle(&mut self, name: &str) -> Tex {
-        if let Some(&id) = self.handles.get(name) {
+        let hash = name_hash(name);
+        if let Some(id) = self.handle_hashed(hash, name) {
             return Tex(id);
         }
         let id = self.texture_names.len() as u32;
         self.texture_names.push(name.to_owned());
-        self.handles.insert(name.to_owned(), id);
+        self.handles.entry(hash).or_default().push(id);
         Tex(id)
     }
+
+    /// The handle of `name`, if a pass declared it.
+    pub(super) fn handle_of(&self, name: &str) -> Option<u32> {
+        self.handle_hashed(name_hash(name), name)
+    }
+
+    fn handle_hashed(&self, hash: u64, name: &str) -> Option<u32> {
+        let ids = self.handles.get(&hash)?;
+        ids.iter()
+            .copied()
+            .find(|&id| self.texture_names[id as usize] == name)
+    }
+}
+
+/// Handles by their name's hash (names that share one, in a list): the
+/// names live once, in `texture_names`, instead of a second copy a name a
+/// frame as a map's keys.
+pub(super) type HandleTable = rustc_hash::FxHashMap<u64, smallvec::SmallVec<[u32; 1]>>;
+
+fn name_hash(name: &str) -> u64 {
+    use std::hash::{Hash, Hasher};
+    let mut hasher = rustc_hash::FxHasher::default();
+    name.hash(&mut hasher);
+    hasher.finish()
 }
 
 impl<'a> PassBuilder<'_, 'a> {
     /// The pass reads `name`: another pass writes it, or it is imported or persistent.
     pub fn read(&mut self, name: &str) -> Tex {
-        if !self.reads.iter().any(|r| r == name) {
-            self.reads.push(name.to_owned());
+        let tex = self.graph.handle(name);
+        if !self.handles.reads.contains(&tex.0) {
+            self.handles.reads.push(tex.0);
         }
-        self.graph.handle(name)
+        tex
     }
 
     /// Reads of an optional input: `None` stays `None`.
@@ -83,8 +112,10 @@ impl<'a> PassBuilder<'_, 'a> {
 
     /// The pass writes `name`, which the graph creates as `desc` says.
     pub fn write(&mut self, name: &str, desc: TextureDesc) -> Tex {
-        self.writes.push((name.to_owned(), desc));
-        self.graph.handle(name)
+        let tex = self.graph.handle(name);
+        self.descs.push(desc);
+        self.handles.writes.push(tex.0);
+        tex
     }
 
     /// The graph the pass is declared in (its output size, counters).
@@ -97,8 +128,10 @@ impl<'a> PassBuilder<'_, 'a> {
         self.graph.passes.push(PassEntry {
             name: self.name,
             owner: self.owner,
-            reads: self.reads,
-            writes: self.writes,
+            reads: Vec::new(),
+            writes: Vec::new(),
+            handles: self.handles,
+            descs: self.descs,
             run: Box::new(run),
         });
     }

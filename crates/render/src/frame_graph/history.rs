@@ -57,7 +57,7 @@ impl PassContext<'_> {
     fn copy_history_by_name(&mut self, history: &str, previous: &str) -> Result<bool, RenderError> {
         let (last, spare) = (self.live(history)?.clone(), self.live(previous)?.clone());
         if self.can_trade(previous, &last, &spare) {
-            self.textures.insert(previous.to_owned(), last.clone());
+            self.textures.insert(previous, last.clone());
             self.hand_over(history, spare, previous, last);
         } else {
             self.encoder().copy_texture_to_texture(
@@ -100,7 +100,7 @@ impl PassContext<'_> {
         temporary: &str,
         release: wgpu::Texture,
     ) {
-        self.textures.insert(history.to_owned(), takes);
+        self.textures.insert(history, takes);
         self.handovers.push(Handover {
             persistent: history.to_owned(),
             temporary: temporary.to_owned(),

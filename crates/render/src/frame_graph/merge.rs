@@ -81,11 +81,45 @@ impl<'a> FrameGraph<'a> {
     }
 }
 
-/// Folds each pair that can be one pass into its first pass (see the module).
+impl Merge<'_> {
+    /// What was declared, its run aside: the texture the first pass writes
+    /// (`None`: the pass declared before the second), the second pass,
+    /// whether it is a chain, and the joint pass's name (plan.rs compares it).
+    pub(super) fn shape(&self) -> (Option<&str>, usize, bool, &PassName) {
+        let first = match &self.first {
+            First::Before => None,
+            First::Writing(name) => Some(name.as_str()),
+        };
+        (first, self.second, self.kind == Kind::Chain, &self.name)
+    }
+}
+
+/// A merge that applied: its index among the graph's merges, its first
+/// pass and its second.
+pub(super) type Applied = (usize, usize, usize);
+
+/// Hand this frame's joint runs to the passes a kept plan merged (plan.rs):
+/// the first pass of each takes the joint run, the second none.
+pub(super) fn rerun<'a>(
+    runs: &mut [Option<PassFn<'a>>],
+    merges: Vec<Merge<'a>>,
+    applied: &[Applied],
+) {
+    let mut applied = applied.iter().peekable();
+    for (index, merge) in merges.into_iter().enumerate() {
+        if let Some(&(_, first, second)) = applied.next_if(|(i, _, _)| *i == index) {
+            runs[first] = Some(merge.both);
+            runs[second] = None;
+        }
+    }
+}
+
+/// Folds each pair that can be one pass into its first pass (see the
+/// module), noting which in `parts.merged`.
 pub(super) fn apply<'a>(parts: &mut GraphParts<'a>, merges: Vec<Merge<'a>>) {
     // A pass folds into at most one other.
     let mut merged = vec![false; parts.names.len()];
-    for merge in merges {
+    for (index, merge) in merges.into_iter().enumerate() {
         let second = merge.second;
         let first = match &merge.first {
             First::Before => second.checked_sub(1),
@@ -163,6 +197,7 @@ pub(super) fn apply<'a>(parts: &mut GraphParts<'a>, merges: Vec<Merge<'a>>) {
         parts.labels[first] = merge.name;
         parts.runs[first] = Some(merge.both);
         parts.runs[second] = None;
+        parts.merged.push((index, first, second));
         merged[first] = true;
         merged[second] = true;
     }

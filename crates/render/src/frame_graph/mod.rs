@@ -27,7 +27,9 @@ mod executor;
 mod finisher;
 mod handles;
 mod history;
+mod live;
 mod merge;
+mod plan;
 #[cfg(test)]
 mod tests;
 
@@ -212,9 +214,23 @@ struct PassEntry<'a> {
     name: PassName,
     /// The patch node that declared the pass, for error reports.
     owner: Option<u32>,
+    /// Filled from `handles` and `descs` when the graph is planned
+    /// (`FrameGraph::into_parts`), not while it is declared: a frame that
+    /// takes a kept plan never names them (plan.rs).
     reads: Vec<String>,
     writes: Vec<(String, TextureDesc)>,
+    handles: PassHandles,
+    descs: smallvec::SmallVec<[TextureDesc; 4]>,
     run: PassFn<'a>,
+}
+
+/// A pass's reads and writes as handles (indices into the frame's texture
+/// names), inline: how a kept plan recognises the same graph when its
+/// recipes were made again under new names (plan.rs).
+#[derive(Clone, Default, PartialEq, Eq)]
+struct PassHandles {
+    reads: smallvec::SmallVec<[u32; 8]>,
+    writes: smallvec::SmallVec<[u32; 4]>,
 }
 
 /// What a pass sees while it records.
@@ -229,7 +245,7 @@ pub struct PassContext<'f> {
     /// timed graph pass can share one.
     pub(crate) timestamps_inside_passes: bool,
     pub shaders: &'f mut ShaderCache,
-    pub(crate) textures: &'f mut FxHashMap<String, wgpu::Texture>,
+    pub(crate) textures: &'f mut live::Live,
     /// The frame's texture names by handle, and what this pass declared:
     /// the only textures its handles resolve to (handles.rs).
     pub(crate) texture_names: &'f [String],
@@ -237,12 +253,12 @@ pub struct PassContext<'f> {
     pub(crate) writes: &'f [(String, TextureDesc)],
     /// This frame's temporaries a history may trade textures with (not
     /// handed to the caller, not permanent): see `history.rs`.
-    pub(crate) tradable: &'f FxHashSet<&'f str>,
+    pub(crate) tradable: &'f FxHashSet<String>,
     /// The step at which each texture is last read or written, the names
     /// the caller asked for, and this pass's step: whether its outputs are
     /// read ([`PassContext::is_read`]).
-    pub(crate) last_use: &'f FxHashMap<&'f str, usize>,
-    pub(crate) requested: &'f FxHashSet<&'f str>,
+    pub(crate) last_use: &'f FxHashMap<String, usize>,
+    pub(crate) requested: &'f FxHashSet<String>,
     pub(crate) step: usize,
     pub(crate) handovers: Vec<history::Handover>,
     pub(crate) views: &'f std::cell::RefCell<crate::texture_pool::ViewCache>,
@@ -364,26 +380,44 @@ pub struct FrameGraph<'a> {
     included: FxHashSet<u64>,
     /// Texture names by handle ([`Tex`]), and handles by name.
     texture_names: Vec<String>,
-    handles: FxHashMap<String, u32>,
+    handles: handles::HandleTable,
     counters: BTreeMap<&'static str, u64>,
     /// Pairs of passes that run as one when both are needed (merge.rs).
     merges: Vec<merge::Merge<'a>>,
 }
 
+thread_local! {
+    /// How many passes, textures and recipes the last graph planned on this
+    /// thread declared: the next is sized for as many up front (it grew
+    /// its vectors and maps step by step, a score of allocations a frame).
+    static LAST_SIZES: std::cell::Cell<(usize, usize, usize)> =
+        const { std::cell::Cell::new((0, 0, 0)) };
+}
+
 impl<'a> FrameGraph<'a> {
     pub fn new(output_size: (u32, u32)) -> Self {
+        let (passes, textures, recipes) = LAST_SIZES.get();
         FrameGraph {
             output_size: (output_size.0.max(1), output_size.1.max(1)),
-            passes: Vec::new(),
+            passes: Vec::with_capacity(passes),
             requested: Vec::new(),
             watched: Vec::new(),
             imports: FxHashMap::default(),
-            included: FxHashSet::default(),
-            texture_names: Vec::new(),
-            handles: FxHashMap::default(),
+            included: FxHashSet::with_capacity_and_hasher(recipes, Default::default()),
+            texture_names: Vec::with_capacity(textures),
+            handles: handles::HandleTable::with_capacity_and_hasher(textures, Default::default()),
             counters: BTreeMap::new(),
             merges: Vec::new(),
         }
+    }
+
+    /// Remember this graph's sizes for the next one made on this thread.
+    fn note_sizes(&self) {
+        LAST_SIZES.set((
+            self.passes.len(),
+            self.texture_names.len(),
+            self.included.len(),
+        ));
     }
 
     /// Count a decision made while declaring (work a recipe left out
@@ -472,11 +506,11 @@ impl<'a> FrameGraph<'a> {
     /// How the pass that writes `name` declared it (a name has one writer:
     /// `schedule` refuses two).
     fn declared(&self, name: &str) -> Option<&TextureDesc> {
-        self.passes
-            .iter()
-            .flat_map(|p| &p.writes)
-            .find(|(n, _)| n == name)
-            .map(|(_, d)| d)
+        let h = self.handle_of(name)?;
+        self.passes.iter().find_map(|p| {
+            let at = p.handles.writes.iter().position(|&w| w == h)?;
+            p.descs.get(at)
+        })
     }
 
     pub fn resolve(&self, desc: &TextureDesc) -> TextureKey {
@@ -592,6 +626,11 @@ pub(crate) struct GraphParts<'a> {
     pub counters: BTreeMap<&'static str, u64>,
     /// Texture names by handle.
     pub texture_names: Vec<String>,
+    /// The merges that applied (merge.rs), for a kept plan (plan.rs).
+    pub merged: Vec<merge::Applied>,
+    /// Names live passes read, or the caller requested, that no pass
+    /// writes and none imports: persistent textures the frame needs.
+    pub outside: Vec<String>,
 }
 
 impl<'a> FrameGraph<'a> {
@@ -599,6 +638,15 @@ impl<'a> FrameGraph<'a> {
         mut self,
         persistent: &dyn Fn(&str) -> bool,
     ) -> Result<GraphParts<'a>, RenderError> {
+        // The passes' reads and writes by name, from their handles.
+        let names = &self.texture_names;
+        for pass in &mut self.passes {
+            let name = |h: &u32| names[*h as usize].clone();
+            pass.reads = pass.handles.reads.iter().map(name).collect();
+            pass.writes = (pass.handles.writes.iter().map(name))
+                .zip(pass.descs.iter().copied())
+                .collect();
+        }
         let (mut order, mut culled) = self.schedule(persistent)?;
         // A watched texture no pass of the frame makes is made for the watch
         // alone: requested. The frame's own passes are scheduled as before,
@@ -621,6 +669,25 @@ impl<'a> FrameGraph<'a> {
             let requested = &self.requested;
             self.watched.retain(|w| !requested.contains(w));
             self.watched.dedup();
+        }
+        // What a kept plan needs to exist (plan.rs): what scheduling found
+        // available outside the frame.
+        let mut outside: Vec<String> = Vec::new();
+        {
+            let written = |name: &str| {
+                order
+                    .iter()
+                    .any(|&p| self.passes[p].writes.iter().any(|(w, _)| w == name))
+            };
+            let needed = self
+                .requested
+                .iter()
+                .chain(order.iter().flat_map(|&p| &self.passes[p].reads));
+            for name in needed {
+                if !written(name) && !self.imports.contains_key(name) && !outside.contains(name) {
+                    outside.push(name.clone());
+                }
+            }
         }
         // What the caller gets back, any sink must be able to read: copy
         // it (Output's readback) or sample it (the editor's viewport).
@@ -657,6 +724,8 @@ impl<'a> FrameGraph<'a> {
             keys,
             counters: self.counters,
             texture_names: self.texture_names,
+            merged: Vec::new(),
+            outside,
         };
         for pass in self.passes {
             parts.names.push(pass.name.text(pass.owner));

@@ -12,7 +12,7 @@ type Seen = Arc<Mutex<Vec<(&'static str, [bool; 3])>>>;
 
 /// Which of `names` are among the frame's live textures while a pass records.
 fn live(cx: &PassContext<'_>, names: [&str; 3]) -> [bool; 3] {
-    names.map(|name| cx.textures.contains_key(name))
+    names.map(|name| cx.textures.contains(name))
 }
 
 /// A temporary whose last reader has recorded is back in the pool and gone
