@@ -15,7 +15,7 @@
 //! `wall_cpu_submit_ms_median`: timestamps cost CPU too, so these are the
 //! frame's own CPU, not the measurement's).
 
-use spreadlight_render::renderer::{Recording, Timing};
+use spreadlight_render::renderer::{PassOrder, Recording, Timing};
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -60,6 +60,12 @@ pub struct Args {
     /// Record the frame in one command encoder (`batched`, as the CLI and editor do) or each pass in its own (`isolated`).
     #[arg(long, default_value = "batched", value_parser = ["isolated", "batched"])]
     recording: String,
+    /// The order the passes run in: `declared` (declaration order wherever
+    /// the reads allow) or `waves` (passes that read nothing of each other
+    /// side by side, no barrier between them: docs/benchmarks.md, "Passes in
+    /// waves"). Unset: what SPREADLIGHT_PASS_ORDER says, else `declared`.
+    #[arg(long, value_parser = ["declared", "waves"])]
+    schedule: Option<String>,
     /// Run a patch even though an unknown node type (misspelled, or a shader
     /// or subpatch file that is missing) feeds its Output or a Probe: that
     /// node's work is left out. Without it such a patch is an error.
@@ -245,6 +251,13 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
     } else {
         Recording::Isolated
     });
+    if let Some(order) = args.schedule.as_deref().and_then(PassOrder::parse) {
+        renderer.set_pass_order(order);
+    }
+    let schedule = match renderer.pass_order() {
+        PassOrder::Declared => "declared",
+        PassOrder::Waves => "waves",
+    };
     // Geometry and particle passes run as their nodes evaluate: time them too.
     let geometry = spreadlight_render::geometry::GeometryStats::of(&renderer);
     geometry.set_timing(true);
@@ -374,6 +387,7 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
             "frames": args.frames,
             "timing": args.timing,
             "recording": args.recording,
+            "schedule": schedule,
             "gpu_ms_median": gpu,
             "gpu_idle_ms_median": idle,
             "cpu_ms_median": cpu,
@@ -394,7 +408,7 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
         println!("{line}");
     } else {
         println!(
-            "{} at {}x{} on {adapter}, median of {} frames ({} timing, {} recording)",
+            "{} at {}x{} on {adapter}, median of {} frames ({} timing, {} recording, {schedule} order)",
             args.patch.display(),
             args.size.0,
             args.size.1,

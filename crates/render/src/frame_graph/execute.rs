@@ -66,7 +66,22 @@ fn execute(
         textures.give_back(key, texture);
     }
     // Which names have a persistent texture (asked, not collected: no names cloned a frame).
-    let mut parts = graph.into_parts(&|name| textures.persistent.contains_key(name))?;
+    let pass_order = executor.pass_order();
+    let mut parts =
+        graph.into_parts(&|name| textures.persistent.contains_key(name), pass_order)?;
+    // In waves, a temporary goes back to the pool after its last reader's
+    // wave, not after its last reader: a pass beside that reader must not be
+    // handed its memory (waves.rs). In declaration order, after the reader.
+    let wave_end = std::mem::take(&mut parts.wave_end);
+    let released_after = |step: usize| wave_end.get(step).copied().unwrap_or(step);
+    // A wave of two passes or more begins a compute pass of its own, so
+    // every first use in it is prepared before it and no barrier parts its
+    // dispatches (waves.rs).
+    let begins_wave = |step: usize| {
+        wave_end
+            .get(step)
+            .is_some_and(|&end| end > step && (step == 0 || wave_end[step - 1] < step))
+    };
 
     // Where each texture is last read, so temporaries go back to the pool after it.
     // Maps and vectors sized once (they grew pass by pass).
@@ -210,6 +225,11 @@ fn execute(
             Timing::Frame => step == 0 || step + 1 == steps,
             Timing::Off => false,
         };
+        if begins_wave(step) {
+            add_counter(&mut report, super::PASS_WAVES, 1);
+            // Ended here: wgpu encodes what the wave first uses before the next one.
+            drop(open_compute.take());
+        }
         let run = parts.runs[p].take();
         let mut cx = PassContext {
             gpu,
@@ -340,7 +360,7 @@ fn execute(
         owned.retain(|&(pass, output, ref key, lifetime, ref slot)| {
             let name = &parts.writes[pass][output].0;
             let done = lifetime == Lifetime::Temporary
-                && last_use.get(name.as_str()).is_some_and(|&s| s <= step)
+                && last_use.get(name.as_str()).is_some_and(|&s| released_after(s) <= step)
                 && !requested.contains(name.as_str())
                 && !watched.contains(name.as_str());
             if done {

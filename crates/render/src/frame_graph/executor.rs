@@ -9,7 +9,7 @@
 use std::collections::VecDeque;
 use std::sync::Mutex;
 
-use super::Finisher;
+use super::{Finisher, PassOrder};
 use crate::context::GpuContext;
 use crate::error::RenderError;
 use crate::report::FrameReport;
@@ -62,6 +62,8 @@ pub struct Executor {
     textures: Mutex<TexturePool>,
     timestamps: Option<Timestamps>,
     settings: Mutex<(Timing, Recording)>,
+    /// The order passes run in (waves.rs); from [`super::PASS_ORDER_VAR`] at first.
+    pass_order: Mutex<PassOrder>,
     /// Submissions not yet known to be done, oldest first (`Timing::Off`).
     in_flight: Mutex<VecDeque<wgpu::SubmissionIndex>>,
     last_report: Mutex<FrameReport>,
@@ -98,6 +100,7 @@ impl Executor {
             textures: Mutex::new(TexturePool::default()),
             timestamps,
             settings: Mutex::new((Timing::default(), Recording::default())),
+            pass_order: Mutex::new(PassOrder::from_env().map_err(RenderError::Graph)?),
             in_flight: Mutex::new(VecDeque::new()),
             last_report: Mutex::new(FrameReport::default()),
             finisher: Finisher::new(gpu.device.clone()),
@@ -119,6 +122,15 @@ impl Executor {
 
     pub fn set_recording(&self, recording: Recording) {
         self.settings.lock().unwrap_or_else(|e| e.into_inner()).1 = recording;
+    }
+
+    /// The order passes run in ([`PassOrder`]).
+    pub fn pass_order(&self) -> PassOrder {
+        *self.pass_order.lock().unwrap_or_else(|e| e.into_inner())
+    }
+
+    pub fn set_pass_order(&self, order: PassOrder) {
+        *self.pass_order.lock().unwrap_or_else(|e| e.into_inner()) = order;
     }
 
     pub(crate) fn texture_pool(&self) -> std::sync::MutexGuard<'_, TexturePool> {

@@ -30,6 +30,7 @@ mod history;
 mod merge;
 #[cfg(test)]
 mod tests;
+mod waves;
 
 use crate::context::GpuContext;
 use crate::error::RenderError;
@@ -45,6 +46,7 @@ pub use finisher::FRAME_CHUNKS;
 pub(crate) use finisher::Finisher;
 pub use handles::{PassBuilder, Tex};
 pub use history::{COPIED as HISTORIES_COPIED, HANDED_OVER as HISTORIES_HANDED_OVER};
+pub use waves::{PASS_ORDER_VAR, PASS_WAVES, PassOrder};
 
 /// What every texture a frame hands back to its caller can do, so that any
 /// sink can read it: be copied (Output's readback) and sampled (the
@@ -582,6 +584,9 @@ pub(crate) struct GraphParts<'a> {
     pub writes: Vec<Vec<(String, TextureDesc)>>,
     pub runs: Vec<Option<PassFn<'a>>>,
     pub order: Vec<usize>,
+    /// With [`PassOrder::Waves`], per step of `order`: the last step of its
+    /// wave (waves.rs); empty in declaration order.
+    pub wave_end: Vec<usize>,
     pub culled: Vec<usize>,
     pub requested: Vec<String>,
     /// Watched textures that no request names ([`FrameGraph::watch`]).
@@ -598,6 +603,7 @@ impl<'a> FrameGraph<'a> {
     pub(crate) fn into_parts(
         mut self,
         persistent: &dyn Fn(&str) -> bool,
+        pass_order: PassOrder,
     ) -> Result<GraphParts<'a>, RenderError> {
         let (mut order, mut culled) = self.schedule(persistent)?;
         // A watched texture no pass of the frame makes is made for the watch
@@ -650,6 +656,7 @@ impl<'a> FrameGraph<'a> {
             writes: Vec::with_capacity(n),
             runs: Vec::with_capacity(n),
             order,
+            wave_end: Vec::new(),
             culled,
             requested: self.requested,
             watched: self.watched,
@@ -667,7 +674,12 @@ impl<'a> FrameGraph<'a> {
             parts.writes.push(pass.writes);
             parts.runs.push(Some(pass.run));
         }
+        // Merges first, in declaration order, so that both orders merge the
+        // same passes (and so render the same images).
         merge::apply(&mut parts, self.merges);
+        if pass_order == PassOrder::Waves {
+            (parts.order, parts.wave_end) = waves::in_waves(&parts.order, &parts.reads, &parts.writes);
+        }
         Ok(parts)
     }
 }
