@@ -1069,14 +1069,21 @@ fn passes_in_waves_render_what_declaration_order_renders() {
             run.renderer().set_pass_order(order);
             run.run_to(2);
             let report = run.renderer().last_report();
-            assert!(report.errors.is_empty(), "{patch} {order:?}: {:?}", report.errors);
+            assert!(
+                report.errors.is_empty(),
+                "{patch} {order:?}: {:?}",
+                report.errors
+            );
             let passes: Vec<String> = report.passes.iter().map(|p| p.name.clone()).collect();
             (run.image(output).0, passes, report.counter(PASS_WAVES))
         };
         let (declared, declared_passes, none) = run(PassOrder::Declared);
         let (waves, wave_passes, waves_taken) = run(PassOrder::Waves);
         assert_eq!(none, 0, "{patch}: declaration order has no waves");
-        assert!(waves_taken >= 2, "{patch}: {waves_taken} waves of two passes or more");
+        assert!(
+            waves_taken >= 2,
+            "{patch}: {waves_taken} waves of two passes or more"
+        );
         // The same passes, in another order.
         assert_ne!(declared_passes, wave_passes, "{patch}");
         let (mut a, mut b) = (declared_passes.clone(), wave_passes.clone());

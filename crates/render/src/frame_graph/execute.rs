@@ -67,8 +67,7 @@ fn execute(
     }
     // Which names have a persistent texture (asked, not collected: no names cloned a frame).
     let pass_order = executor.pass_order();
-    let mut parts =
-        graph.into_parts(&|name| textures.persistent.contains_key(name), pass_order)?;
+    let mut parts = graph.into_parts(&|name| textures.persistent.contains_key(name), pass_order)?;
     // In waves, a temporary goes back to the pool after its last reader's
     // wave, not after its last reader: a pass beside that reader must not be
     // handed its memory (waves.rs). In declaration order, after the reader.
@@ -360,7 +359,9 @@ fn execute(
         owned.retain(|&(pass, output, ref key, lifetime, ref slot)| {
             let name = &parts.writes[pass][output].0;
             let done = lifetime == Lifetime::Temporary
-                && last_use.get(name.as_str()).is_some_and(|&s| released_after(s) <= step)
+                && last_use
+                    .get(name.as_str())
+                    .is_some_and(|&s| released_after(s) <= step)
                 && !requested.contains(name.as_str())
                 && !watched.contains(name.as_str());
             if done {

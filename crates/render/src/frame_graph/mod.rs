@@ -678,7 +678,8 @@ impl<'a> FrameGraph<'a> {
         // same passes (and so render the same images).
         merge::apply(&mut parts, self.merges);
         if pass_order == PassOrder::Waves {
-            (parts.order, parts.wave_end) = waves::in_waves(&parts.order, &parts.reads, &parts.writes);
+            (parts.order, parts.wave_end) =
+                waves::in_waves(&parts.order, &parts.reads, &parts.writes);
         }
         Ok(parts)
     }
