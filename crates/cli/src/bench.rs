@@ -61,10 +61,11 @@ pub struct Args {
     #[arg(long, default_value = "batched", value_parser = ["isolated", "batched"])]
     recording: String,
     /// The order the passes run in: `declared` (declaration order wherever
-    /// the reads allow) or `waves` (passes that read nothing of each other
+    /// the reads allow), `waves` (passes that read nothing of each other
     /// side by side, no barrier between them: docs/benchmarks.md, "Passes in
-    /// waves"). Unset: what SPREADLIGHT_PASS_ORDER says, else `declared`.
-    #[arg(long, value_parser = ["declared", "waves"])]
+    /// waves") or `auto` (waves on a GPU, declared on a CPU adapter). Unset:
+    /// what SPREADLIGHT_PASS_ORDER says, else `declared`.
+    #[arg(long, value_parser = ["declared", "waves", "auto"])]
     schedule: Option<String>,
     /// Run a patch even though an unknown node type (misspelled, or a shader
     /// or subpatch file that is missing) feeds its Output or a Probe: that
@@ -254,9 +255,10 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
     if let Some(order) = args.schedule.as_deref().and_then(PassOrder::parse) {
         renderer.set_pass_order(order);
     }
-    let schedule = match renderer.pass_order() {
-        PassOrder::Declared => "declared",
+    // The order taken, `auto` resolved for this adapter.
+    let schedule = match renderer.pass_order().on(renderer.gpu.adapter_class()) {
         PassOrder::Waves => "waves",
+        _ => "declared",
     };
     // Geometry and particle passes run as their nodes evaluate: time them too.
     let geometry = spreadlight_render::geometry::GeometryStats::of(&renderer);

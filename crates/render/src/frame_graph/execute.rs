@@ -66,7 +66,7 @@ fn execute(
         textures.give_back(key, texture);
     }
     // Which names have a persistent texture (asked, not collected: no names cloned a frame).
-    let pass_order = executor.pass_order();
+    let pass_order = executor.pass_order().on(gpu.adapter_class());
     let mut parts = graph.into_parts(&|name| textures.persistent.contains_key(name), pass_order)?;
     // In waves, a temporary goes back to the pool after its last reader's
     // wave, not after its last reader: a pass beside that reader must not be

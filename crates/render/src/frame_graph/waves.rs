@@ -50,10 +50,15 @@ pub enum PassOrder {
     /// Wave by wave: passes that depend on nothing of each other next to
     /// each other, with no barrier between them (this module).
     Waves,
+    /// Waves on a GPU, declaration order on a CPU adapter (lavapipe runs
+    /// one dispatch at a time whatever the barriers, so waves only cost it
+    /// compute passes): what the default becomes once the H200 has shown
+    /// waves pay ([`PassOrder::on`]).
+    Auto,
 }
 
 /// The environment variable that picks the order for a process
-/// (`declared` or `waves`), for benchmarking both in one call
+/// (`declared`, `waves` or `auto`), for benchmarking both in one call
 /// (docs/benchmarks.md); a renderer's `set_pass_order` overrides it.
 pub const PASS_ORDER_VAR: &str = "SPREADLIGHT_PASS_ORDER";
 
@@ -66,7 +71,18 @@ impl PassOrder {
         match value.trim().to_ascii_lowercase().as_str() {
             "declared" => Some(PassOrder::Declared),
             "waves" => Some(PassOrder::Waves),
+            "auto" => Some(PassOrder::Auto),
             _ => None,
+        }
+    }
+
+    /// The order taken on an adapter of `class`: `Auto` resolved, the others as they are.
+    pub fn on(self, class: crate::adapter_class::AdapterClass) -> Self {
+        use crate::adapter_class::AdapterClass;
+        match (self, class) {
+            (PassOrder::Auto, AdapterClass::Gpu) => PassOrder::Waves,
+            (PassOrder::Auto, AdapterClass::Cpu) => PassOrder::Declared,
+            (order, _) => order,
         }
     }
 
@@ -78,7 +94,7 @@ impl PassOrder {
             Err(std::env::VarError::NotPresent) => Ok(PassOrder::Declared),
             Err(e) => Err(format!("{PASS_ORDER_VAR}: {e}")),
             Ok(value) => Self::parse(&value).ok_or_else(|| {
-                format!("{PASS_ORDER_VAR} is `{value}`: it takes `declared` or `waves`")
+                format!("{PASS_ORDER_VAR} is `{value}`: it takes `declared`, `waves` or `auto`")
             }),
         }
     }
@@ -160,7 +176,19 @@ mod tests {
     fn the_order_is_named_by_the_environment_value() {
         assert_eq!(PassOrder::parse("waves"), Some(PassOrder::Waves));
         assert_eq!(PassOrder::parse(" Declared "), Some(PassOrder::Declared));
+        assert_eq!(PassOrder::parse("auto"), Some(PassOrder::Auto));
         assert_eq!(PassOrder::parse("fast"), None);
         assert_eq!(PassOrder::default(), PassOrder::Declared);
+    }
+
+    #[test]
+    fn auto_takes_waves_on_a_gpu_and_declaration_order_on_a_cpu_adapter() {
+        use crate::adapter_class::AdapterClass::{Cpu, Gpu};
+        assert_eq!(PassOrder::Auto.on(Gpu), PassOrder::Waves);
+        assert_eq!(PassOrder::Auto.on(Cpu), PassOrder::Declared);
+        for order in [PassOrder::Declared, PassOrder::Waves] {
+            assert_eq!(order.on(Gpu), order);
+            assert_eq!(order.on(Cpu), order);
+        }
     }
 }
