@@ -25,7 +25,7 @@ use rustc_hash::{FxHashMap, FxHashSet};
 
 use super::executor::{Executor, MAX_QUERIES, PERSISTENT_IDLE_GRAPHS, Recording, Timing};
 use super::finisher::chunk_of;
-use super::{FrameGraph, Lifetime, PassContext, Recorded};
+use super::{FrameGraph, Lifetime, PassContext, PassOrder, Recorded};
 use crate::allocation_count;
 use crate::context::GpuContext;
 use crate::error::RenderError;
@@ -67,7 +67,13 @@ fn execute(
     }
     // Which names have a persistent texture (asked, not collected: no names cloned a frame).
     let pass_order = executor.pass_order().on(gpu.adapter_class());
-    let mut parts = graph.into_parts(&|name| textures.persistent.contains_key(name), pass_order)?;
+    // In waves: which passes asked for the encoder last frame (first in their wave).
+    let mut encoder_passes = (pass_order == PassOrder::Waves).then(|| executor.encoder_passes());
+    let mut parts = graph.into_parts(
+        &|name| textures.persistent.contains_key(name),
+        pass_order,
+        &|name| encoder_passes.as_ref().is_some_and(|e| e.contains(name)),
+    )?;
     // In waves, a temporary goes back to the pool after its last reader's
     // wave, not after its last reader: a pass beside that reader must not be
     // handed its memory (waves.rs). In declaration order, after the reader.
@@ -254,6 +260,7 @@ fn execute(
             draws: 0,
             output_size,
             counters: Default::default(),
+            used_encoder: false,
         };
         let result = match (too_large.take(), run) {
             (Some(error), _) => Err(error),
@@ -262,12 +269,21 @@ fn execute(
         };
         let Recorded {
             encoder,
+            used_encoder,
             compute,
             queries,
             draws,
             counters,
             handovers,
         } = cx.finish();
+        if let Some(passes) = &mut encoder_passes {
+            // Remembered by name for the next frame's order; a name cloned only when it changes.
+            if used_encoder && !passes.contains(&parts.names[p]) {
+                passes.insert(parts.names[p].clone());
+            } else if !used_encoder && passes.contains(&parts.names[p]) {
+                passes.remove(&parts.names[p]);
+            }
+        }
         for handover in handovers {
             if let (Some((_, kept)), Some(texture)) = (
                 textures.persistent.get_mut(&handover.persistent),

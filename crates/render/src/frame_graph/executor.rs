@@ -64,6 +64,9 @@ pub struct Executor {
     settings: Mutex<(Timing, Recording)>,
     /// The order passes run in (waves.rs); from [`super::PASS_ORDER_VAR`] at first.
     pass_order: Mutex<PassOrder>,
+    /// The passes (by name) that asked for the encoder itself in their last
+    /// run: first in their wave (waves.rs). Kept only in waves.
+    encoder_passes: Mutex<rustc_hash::FxHashSet<String>>,
     /// Submissions not yet known to be done, oldest first (`Timing::Off`).
     in_flight: Mutex<VecDeque<wgpu::SubmissionIndex>>,
     last_report: Mutex<FrameReport>,
@@ -101,6 +104,7 @@ impl Executor {
             timestamps,
             settings: Mutex::new((Timing::default(), Recording::default())),
             pass_order: Mutex::new(PassOrder::from_env().map_err(RenderError::Graph)?),
+            encoder_passes: Mutex::new(Default::default()),
             in_flight: Mutex::new(VecDeque::new()),
             last_report: Mutex::new(FrameReport::default()),
             finisher: Finisher::new(gpu.device.clone()),
@@ -131,6 +135,15 @@ impl Executor {
 
     pub fn set_pass_order(&self, order: PassOrder) {
         *self.pass_order.lock().unwrap_or_else(|e| e.into_inner()) = order;
+    }
+
+    /// The passes that used the encoder itself in their last run (waves.rs).
+    pub(crate) fn encoder_passes(
+        &self,
+    ) -> std::sync::MutexGuard<'_, rustc_hash::FxHashSet<String>> {
+        self.encoder_passes
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
     }
 
     pub(crate) fn texture_pool(&self) -> std::sync::MutexGuard<'_, TexturePool> {

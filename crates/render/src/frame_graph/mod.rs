@@ -258,6 +258,10 @@ pub struct PassContext<'f> {
     pub output_size: (u32, u32),
     /// What the pass decided, by name (shadow maps rendered, reused, culled...): summed into the frame report.
     pub(crate) counters: PassCounters,
+    /// Whether the pass asked for the encoder itself (a render pass, a copy,
+    /// a clear), ending the open compute pass: such passes go first in
+    /// their wave next frame (waves.rs).
+    pub(crate) used_encoder: bool,
 }
 
 /// A pass's timestamp query pairs, inline: a pass writes one or a few, and
@@ -604,6 +608,7 @@ impl<'a> FrameGraph<'a> {
         mut self,
         persistent: &dyn Fn(&str) -> bool,
         pass_order: PassOrder,
+        encoder_first: &dyn Fn(&str) -> bool,
     ) -> Result<GraphParts<'a>, RenderError> {
         let (mut order, mut culled) = self.schedule(persistent)?;
         // A watched texture no pass of the frame makes is made for the watch
@@ -678,8 +683,9 @@ impl<'a> FrameGraph<'a> {
         // same passes (and so render the same images).
         merge::apply(&mut parts, self.merges);
         if pass_order == PassOrder::Waves {
+            let first = |p: usize| encoder_first(&parts.names[p]);
             (parts.order, parts.wave_end) =
-                waves::in_waves(&parts.order, &parts.reads, &parts.writes);
+                waves::in_waves(&parts.order, &parts.reads, &parts.writes, &first);
         }
         Ok(parts)
     }
@@ -689,6 +695,8 @@ impl<'a> FrameGraph<'a> {
 /// batched frame shares one between passes).
 pub(crate) struct Recorded {
     pub encoder: wgpu::CommandEncoder,
+    /// The pass asked for the encoder itself ([`PassContext::used_encoder`]).
+    pub used_encoder: bool,
     /// The compute pass left open for the next graph pass on this encoder.
     pub compute: Option<compute_pass::OpenCompute>,
     pub queries: PassQueries,
@@ -702,6 +710,7 @@ impl PassContext<'_> {
         self.close_graph_pass();
         Recorded {
             encoder: self.encoder,
+            used_encoder: self.used_encoder,
             compute: self.compute,
             queries: self.queries,
             draws: self.draws,

@@ -35,6 +35,13 @@
 //! same wave is handed the memory a pass beside it still reads (wgpu would
 //! put a barrier there, correct but no longer side by side).
 //!
+//! A pass that asks for the encoder itself (a render pass, a copy, a
+//! clear: `PassContext::encoder`) ends the open compute pass, and the
+//! barriers before it wait for everything before it. The executor remembers
+//! by name which passes did in their last run, and such passes go first in
+//! their wave: their barriers then wait only for earlier waves, and the
+//! wave's dispatches after them stay in one compute pass.
+//!
 //! The images are the same in either order: each pass reads the same
 //! textures, written by the same passes, and wgpu orders what depends. Only
 //! when the passes start on the GPU changes, and the texture pool's
@@ -101,14 +108,19 @@ impl PassOrder {
 }
 
 /// `order` (a valid order of the passes: each after the passes it reads
-/// from) re-ordered wave by wave, keeping its order within a wave, and for
-/// each step of the new order the last step of its wave. `reads` and
-/// `writes` are by pass; a read that no pass of `order` writes (imported,
-/// persistent from the last frame) puts the reader in no later wave.
+/// from) re-ordered wave by wave, and for each step of the new order the
+/// last step of its wave. Within a wave the passes for which `first` holds
+/// come first (those that used the encoder itself last frame: a render
+/// pass's or a copy's barriers then wait only for the waves before, and the
+/// wave's dispatches stay in one compute pass after them), then the rest,
+/// each group in the order given. `reads` and `writes` are by pass; a read
+/// that no pass of `order` writes (imported, persistent from the last
+/// frame) puts the reader in no later wave.
 pub(crate) fn in_waves<W>(
     order: &[usize],
     reads: &[Vec<String>],
     writes: &[Vec<(String, W)>],
+    first: &dyn Fn(usize) -> bool,
 ) -> (Vec<usize>, Vec<usize>) {
     let mut wave_of_name: rustc_hash::FxHashMap<&str, u32> =
         rustc_hash::FxHashMap::with_capacity_and_hasher(order.len() * 2, Default::default());
@@ -126,8 +138,8 @@ pub(crate) fn in_waves<W>(
         }
         waves.push((wave, p));
     }
-    // Stable: within a wave, the order given.
-    waves.sort_by_key(|&(wave, _)| wave);
+    // Stable: within a wave and group, the order given.
+    waves.sort_by_key(|&(wave, p)| (wave, !first(p)));
     let mut ends = vec![0; waves.len()];
     let mut start = 0;
     while start < waves.len() {
@@ -162,13 +174,18 @@ mod tests {
             .iter()
             .map(|w| vec![(w.to_string(), ())])
             .collect();
-        let (order, ends) = in_waves(&[0, 1, 2, 3, 4], &reads, &writes);
+        let none = |_: usize| false;
+        let (order, ends) = in_waves(&[0, 1, 2, 3, 4], &reads, &writes, &none);
         assert_eq!(order, vec![0, 2, 4, 1, 3]);
         // Wave 0 is steps 0..=2, wave 1 step 3, wave 2 step 4.
         assert_eq!(ends, vec![2, 2, 2, 3, 4]);
+        // A pass that used the encoder goes first in its wave, and only there.
+        let (order, ends) = in_waves(&[0, 1, 2, 3, 4], &reads, &writes, &|p| p == 4 || p == 3);
+        assert_eq!(order, vec![4, 0, 2, 1, 3]);
+        assert_eq!(ends, vec![2, 2, 2, 3, 4]);
         // A chain stays a chain, one pass a wave.
         let chain: Vec<Vec<String>> = vec![names(&[]), names(&["a"]), names(&["b"])];
-        let (order, ends) = in_waves(&[0, 1, 2], &chain, &writes[..3]);
+        let (order, ends) = in_waves(&[0, 1, 2], &chain, &writes[..3], &none);
         assert_eq!((order, ends), (vec![0, 1, 2], vec![0, 1, 2]));
     }
 
