@@ -1112,3 +1112,53 @@ fn shipped_frames_render_the_same_with_a_kept_plan_and_planned_afresh() {
         }
     }
 }
+
+/// Passes in waves (`PassOrder::Waves`, crates/render/src/frame_graph/waves.rs)
+/// render what declaration order renders, bit for bit, over five frames
+/// (so the histories of TAA, the temporal AO and SSGI are read back in the
+/// other order too), in the two heaviest shipped frames, recorded as the
+/// CLI and editor record them; and the waves are taken (each wave of two
+/// passes or more is counted), and a frame in waves keeps its plan.
+#[test]
+fn passes_in_waves_render_what_declaration_order_renders() {
+    use spreadlight_render::frame_graph::{PASS_WAVES, PassOrder};
+    use spreadlight_render::renderer::Recording;
+    for (patch, output) in [("emeshe-frame", "bench"), ("post", "post")] {
+        let path = spreadlight_tests::root().join(format!("patches/{patch}.ron"));
+        let run = |order: PassOrder| {
+            let mut run = spreadlight_tests::PatchRun::new(&path, (64, 36), |_| {});
+            run.renderer().set_recording(Recording::Batched);
+            run.renderer().set_pass_order(order);
+            run.run_to(4);
+            let report = run.renderer().last_report();
+            // Its waves learned, the order keeps its plan (plan.rs) too.
+            assert_eq!(
+                report.counter("plans reused"),
+                1,
+                "{patch} {order:?}: the last frame plans afresh"
+            );
+            assert!(
+                report.errors.is_empty(),
+                "{patch} {order:?}: {:?}",
+                report.errors
+            );
+            let passes: Vec<String> = report.passes.iter().map(|p| p.name.clone()).collect();
+            (run.image(output).0, passes, report.counter(PASS_WAVES))
+        };
+        let (declared, declared_passes, none) = run(PassOrder::Declared);
+        let (waves, wave_passes, waves_taken) = run(PassOrder::Waves);
+        assert_eq!(none, 0, "{patch}: declaration order has no waves");
+        assert!(
+            waves_taken >= 2,
+            "{patch}: {waves_taken} waves of two passes or more"
+        );
+        // The same passes, in another order.
+        assert_ne!(declared_passes, wave_passes, "{patch}");
+        let (mut a, mut b) = (declared_passes.clone(), wave_passes.clone());
+        a.sort();
+        b.sort();
+        assert_eq!(a, b, "{patch}");
+        assert!(declared.all_finite(), "{patch}");
+        assert_eq!(declared.pixels, waves.pixels, "{patch}: the images differ");
+    }
+}

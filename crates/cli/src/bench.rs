@@ -15,7 +15,7 @@
 //! `wall_cpu_submit_ms_median`: timestamps cost CPU too, so these are the
 //! frame's own CPU, not the measurement's).
 
-use spreadlight_render::renderer::{Recording, Timing};
+use spreadlight_render::renderer::{PassOrder, Recording, Timing};
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -65,6 +65,13 @@ pub struct Args {
     /// timing what the kept plan saves (`plans_reused` in `--json`).
     #[arg(long)]
     no_plan_reuse: bool,
+    /// The order the passes run in: `declared` (declaration order wherever
+    /// the reads allow), `waves` (passes that read nothing of each other
+    /// side by side, no barrier between them: docs/benchmarks.md, "Passes in
+    /// waves") or `auto` (waves on a GPU, declared on a CPU adapter). Unset:
+    /// what SPREADLIGHT_PASS_ORDER says, else `auto`.
+    #[arg(long, value_parser = ["declared", "waves", "auto"])]
+    schedule: Option<String>,
     /// Run a patch even though an unknown node type (misspelled, or a shader
     /// or subpatch file that is missing) feeds its Output or a Probe: that
     /// node's work is left out. Without it such a patch is an error.
@@ -254,6 +261,14 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
         Recording::Isolated
     });
     renderer.set_plan_reuse(!args.no_plan_reuse);
+    if let Some(order) = args.schedule.as_deref().and_then(PassOrder::parse) {
+        renderer.set_pass_order(order);
+    }
+    // The order taken, `auto` resolved for this adapter.
+    let schedule = match renderer.pass_order().on(renderer.gpu.adapter_class()) {
+        PassOrder::Waves => "waves",
+        _ => "declared",
+    };
     // Geometry and particle passes run as their nodes evaluate: time them too.
     let geometry = spreadlight_render::geometry::GeometryStats::of(&renderer);
     geometry.set_timing(true);
@@ -385,6 +400,7 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
             "frames": args.frames,
             "timing": args.timing,
             "recording": args.recording,
+            "schedule": schedule,
             "gpu_ms_median": gpu,
             "gpu_idle_ms_median": idle,
             "cpu_ms_median": cpu,
@@ -408,7 +424,7 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
         println!("{line}");
     } else {
         println!(
-            "{} at {}x{} on {adapter}, median of {} frames ({} timing, {} recording)",
+            "{} at {}x{} on {adapter}, median of {} frames ({} timing, {} recording, {schedule} order)",
             args.patch.display(),
             args.size.0,
             args.size.1,

@@ -19,7 +19,7 @@ mod kept;
 use kept::{KeptBuffer, KeptKey, Uploads};
 
 pub(crate) use crate::context::read_buffer;
-pub use crate::frame_graph::{Executor, PERSISTENT_IDLE_GRAPHS, Recording, Timing};
+pub use crate::frame_graph::{Executor, PERSISTENT_IDLE_GRAPHS, PassOrder, Recording, Timing};
 
 pub struct Renderer {
     pub gpu: GpuContext,
@@ -103,6 +103,16 @@ impl Renderer {
     /// (the default), or plan each afresh (`Executor::set_plan_reuse`).
     pub fn set_plan_reuse(&self, reuse: bool) {
         self.executor.set_plan_reuse(reuse);
+    }
+
+    /// The order passes run in (`frame_graph::PassOrder`: declaration order,
+    /// or waves of passes the GPU may run side by side).
+    pub fn pass_order(&self) -> PassOrder {
+        self.executor.pass_order()
+    }
+
+    pub fn set_pass_order(&self, order: PassOrder) {
+        self.executor.set_pass_order(order);
     }
 
     /// Wait for every submission so far (frames in flight drained).

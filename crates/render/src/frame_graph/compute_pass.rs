@@ -64,6 +64,7 @@ impl PassContext<'_> {
     /// an encoder while a pass on it is open ("Encoder is locked").
     pub fn encoder(&mut self) -> &mut wgpu::CommandEncoder {
         self.end_compute();
+        self.used_encoder = true;
         &mut self.encoder
     }
 

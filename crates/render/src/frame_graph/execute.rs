@@ -25,7 +25,7 @@ use rustc_hash::{FxHashMap, FxHashSet};
 
 use super::executor::{Executor, MAX_QUERIES, PERSISTENT_IDLE_GRAPHS, Recording, Timing};
 use super::finisher::chunk_of;
-use super::{FrameGraph, Lifetime, PassContext, Recorded};
+use super::{FrameGraph, Lifetime, PassContext, PassOrder, Recorded};
 use crate::allocation_count;
 use crate::context::GpuContext;
 use crate::error::RenderError;
@@ -68,13 +68,33 @@ fn execute(
     // Which names have a persistent texture (asked, not collected: no names
     // cloned a frame). The plan is last frame's when the graph declares what
     // it did then (plan.rs): then nothing below is worked out again.
-    let planned = graph.plan(executor.plans(), &|name| {
-        textures.persistent.contains_key(name)
-    })?;
+    let pass_order = executor.pass_order().on(gpu.adapter_class());
+    // In waves: which passes asked for the encoder last frame (first in
+    // their wave, so part of what a kept plan must match).
+    let mut encoder_passes = (pass_order == PassOrder::Waves).then(|| executor.encoder_passes());
+    let planned = graph.plan(
+        executor.plans(),
+        &|name| textures.persistent.contains_key(name),
+        pass_order,
+        &|name| encoder_passes.as_ref().is_some_and(|e| e.contains(name)),
+    )?;
     let plan = &*planned.plan;
     let mut runs = planned.runs;
     let last_use = &plan.last_use;
     let requested = &plan.requested_set;
+    // In waves, a temporary goes back to the pool after its last reader's
+    // wave, not after its last reader: a pass beside that reader must not be
+    // handed its memory (waves.rs). In declaration order, after the reader.
+    let wave_end = &plan.wave_end;
+    let released_after = |step: usize| wave_end.get(step).copied().unwrap_or(step);
+    // A wave of two passes or more begins a compute pass of its own, so
+    // every first use in it is prepared before it and no barrier parts its
+    // dispatches (waves.rs).
+    let begins_wave = |step: usize| {
+        wave_end
+            .get(step)
+            .is_some_and(|&end| end > step && (step == 0 || wave_end[step - 1] < step))
+    };
     // Watched textures are kept to the end of the frame, nothing else
     // (`FrameGraph::watch`); those made and read are handed back.
     let watched = &plan.watched_set;
@@ -194,6 +214,11 @@ fn execute(
             Timing::Frame => step == 0 || step + 1 == steps,
             Timing::Off => false,
         };
+        if begins_wave(step) {
+            add_counter(&mut report, super::PASS_WAVES, 1);
+            // Ended here: wgpu encodes what the wave first uses before the next one.
+            drop(open_compute.take());
+        }
         let run = runs[p].take();
         let mut cx = PassContext {
             gpu,
@@ -219,6 +244,7 @@ fn execute(
             draws: 0,
             output_size,
             counters: Default::default(),
+            used_encoder: false,
         };
         let result = match (too_large.take(), run) {
             (Some(error), _) => Err(error),
@@ -227,12 +253,21 @@ fn execute(
         };
         let Recorded {
             encoder,
+            used_encoder,
             compute,
             queries,
             draws,
             counters,
             handovers,
         } = cx.finish();
+        if let Some(passes) = &mut encoder_passes {
+            // Remembered by name for the next frame's order; a name cloned only when it changes.
+            if used_encoder && !passes.contains(&plan.names[p]) {
+                passes.insert(plan.names[p].clone());
+            } else if !used_encoder && passes.contains(&plan.names[p]) {
+                passes.remove(&plan.names[p]);
+            }
+        }
         for handover in handovers {
             if let (Some((_, kept)), Some(texture)) = (
                 textures.persistent.get_mut(&handover.persistent),
@@ -324,7 +359,9 @@ fn execute(
         owned.retain(|&(pass, output, ref key, lifetime, ref slot)| {
             let name = &plan.writes[pass][output].0;
             let done = lifetime == Lifetime::Temporary
-                && last_use.get(name.as_str()).is_some_and(|&s| s <= step)
+                && last_use
+                    .get(name.as_str())
+                    .is_some_and(|&s| released_after(s) <= step)
                 && !requested.contains(name.as_str())
                 && !watched.contains(name.as_str());
             if done {

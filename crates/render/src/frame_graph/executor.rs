@@ -9,7 +9,7 @@
 use std::collections::VecDeque;
 use std::sync::Mutex;
 
-use super::Finisher;
+use super::{Finisher, PassOrder};
 use crate::context::GpuContext;
 use crate::error::RenderError;
 use crate::report::FrameReport;
@@ -62,6 +62,11 @@ pub struct Executor {
     textures: Mutex<TexturePool>,
     timestamps: Option<Timestamps>,
     settings: Mutex<(Timing, Recording)>,
+    /// The order passes run in (waves.rs); from [`super::PASS_ORDER_VAR`] at first.
+    pass_order: Mutex<PassOrder>,
+    /// The passes (by name) that asked for the encoder itself in their last
+    /// run: first in their wave (waves.rs). Kept only in waves.
+    encoder_passes: Mutex<rustc_hash::FxHashSet<String>>,
     /// Submissions not yet known to be done, oldest first (`Timing::Off`).
     in_flight: Mutex<VecDeque<wgpu::SubmissionIndex>>,
     last_report: Mutex<FrameReport>,
@@ -100,6 +105,8 @@ impl Executor {
             textures: Mutex::new(TexturePool::default()),
             timestamps,
             settings: Mutex::new((Timing::default(), Recording::default())),
+            pass_order: Mutex::new(PassOrder::from_env().map_err(RenderError::Graph)?),
+            encoder_passes: Mutex::new(Default::default()),
             in_flight: Mutex::new(VecDeque::new()),
             last_report: Mutex::new(FrameReport::default()),
             finisher: Finisher::new(gpu.device.clone()),
@@ -133,6 +140,24 @@ impl Executor {
 
     pub(crate) fn plans(&self) -> &super::plan::Plans {
         &self.plans
+    }
+
+    /// The order passes run in ([`PassOrder`]).
+    pub fn pass_order(&self) -> PassOrder {
+        *self.pass_order.lock().unwrap_or_else(|e| e.into_inner())
+    }
+
+    pub fn set_pass_order(&self, order: PassOrder) {
+        *self.pass_order.lock().unwrap_or_else(|e| e.into_inner()) = order;
+    }
+
+    /// The passes that used the encoder itself in their last run (waves.rs).
+    pub(crate) fn encoder_passes(
+        &self,
+    ) -> std::sync::MutexGuard<'_, rustc_hash::FxHashSet<String>> {
+        self.encoder_passes
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
     }
 
     pub(crate) fn texture_pool(&self) -> std::sync::MutexGuard<'_, TexturePool> {

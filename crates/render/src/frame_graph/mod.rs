@@ -32,6 +32,7 @@ mod merge;
 mod plan;
 #[cfg(test)]
 mod tests;
+mod waves;
 
 use crate::context::GpuContext;
 use crate::error::RenderError;
@@ -47,6 +48,7 @@ pub use finisher::FRAME_CHUNKS;
 pub(crate) use finisher::Finisher;
 pub use handles::{PassBuilder, Tex};
 pub use history::{COPIED as HISTORIES_COPIED, HANDED_OVER as HISTORIES_HANDED_OVER};
+pub use waves::{PASS_ORDER_VAR, PASS_WAVES, PassOrder};
 
 /// What every texture a frame hands back to its caller can do, so that any
 /// sink can read it: be copied (Output's readback) and sampled (the
@@ -272,6 +274,10 @@ pub struct PassContext<'f> {
     pub output_size: (u32, u32),
     /// What the pass decided, by name (shadow maps rendered, reused, culled...): summed into the frame report.
     pub(crate) counters: PassCounters,
+    /// Whether the pass asked for the encoder itself (a render pass, a copy,
+    /// a clear), ending the open compute pass: such passes go first in
+    /// their wave next frame (waves.rs).
+    pub(crate) used_encoder: bool,
 }
 
 /// A pass's timestamp query pairs, inline: a pass writes one or a few, and
@@ -616,6 +622,9 @@ pub(crate) struct GraphParts<'a> {
     pub writes: Vec<Vec<(String, TextureDesc)>>,
     pub runs: Vec<Option<PassFn<'a>>>,
     pub order: Vec<usize>,
+    /// With [`PassOrder::Waves`], per step of `order`: the last step of its
+    /// wave (waves.rs); empty in declaration order.
+    pub wave_end: Vec<usize>,
     pub culled: Vec<usize>,
     pub requested: Vec<String>,
     /// Watched textures that no request names ([`FrameGraph::watch`]).
@@ -637,6 +646,8 @@ impl<'a> FrameGraph<'a> {
     pub(crate) fn into_parts(
         mut self,
         persistent: &dyn Fn(&str) -> bool,
+        pass_order: PassOrder,
+        encoder_first: &dyn Fn(&str) -> bool,
     ) -> Result<GraphParts<'a>, RenderError> {
         // The passes' reads and writes by name, from their handles.
         let names = &self.texture_names;
@@ -717,6 +728,7 @@ impl<'a> FrameGraph<'a> {
             writes: Vec::with_capacity(n),
             runs: Vec::with_capacity(n),
             order,
+            wave_end: Vec::new(),
             culled,
             requested: self.requested,
             watched: self.watched,
@@ -736,7 +748,14 @@ impl<'a> FrameGraph<'a> {
             parts.writes.push(pass.writes);
             parts.runs.push(Some(pass.run));
         }
+        // Merges first, in declaration order, so that both orders merge the
+        // same passes (and so render the same images).
         merge::apply(&mut parts, self.merges);
+        if pass_order == PassOrder::Waves {
+            let first = |p: usize| encoder_first(&parts.names[p]);
+            (parts.order, parts.wave_end) =
+                waves::in_waves(&parts.order, &parts.reads, &parts.writes, &first);
+        }
         Ok(parts)
     }
 }
@@ -745,6 +764,8 @@ impl<'a> FrameGraph<'a> {
 /// batched frame shares one between passes).
 pub(crate) struct Recorded {
     pub encoder: wgpu::CommandEncoder,
+    /// The pass asked for the encoder itself ([`PassContext::used_encoder`]).
+    pub used_encoder: bool,
     /// The compute pass left open for the next graph pass on this encoder.
     pub compute: Option<compute_pass::OpenCompute>,
     pub queries: PassQueries,
@@ -758,6 +779,7 @@ impl PassContext<'_> {
         self.close_graph_pass();
         Recorded {
             encoder: self.encoder,
+            used_encoder: self.used_encoder,
             compute: self.compute,
             queries: self.queries,
             draws: self.draws,

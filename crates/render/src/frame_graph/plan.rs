@@ -31,7 +31,7 @@ use std::sync::{Arc, Mutex};
 use rustc_hash::{FxHashMap, FxHashSet};
 
 use super::merge::Applied;
-use super::{FrameGraph, GraphParts, Lifetime, PassFn, PassName, TextureDesc};
+use super::{FrameGraph, GraphParts, Lifetime, PassFn, PassName, PassOrder, TextureDesc};
 use crate::error::RenderError;
 use crate::texture_pool::TextureKey;
 
@@ -224,6 +224,14 @@ pub(crate) struct Plan {
     pub writes: Vec<Vec<(String, TextureDesc)>>,
     pub keys: Vec<smallvec::SmallVec<[TextureKey; 4]>>,
     pub order: Vec<usize>,
+    /// The order the plan was made for, and with [`PassOrder::Waves`] per
+    /// step of `order` the last step of its wave (waves.rs; empty in
+    /// declaration order) and per pass whether it went first in its wave
+    /// (it asked for the encoder itself last frame): a frame whose passes
+    /// ask otherwise orders afresh.
+    pub pass_order: PassOrder,
+    pub wave_end: Vec<usize>,
+    encoder_first: Vec<bool>,
     pub culled: Vec<usize>,
     pub requested: Vec<String>,
     /// Texture names by handle, and handles by name, as the frame that made
@@ -252,7 +260,17 @@ pub(crate) struct Plan {
 }
 
 impl Plan {
-    fn new(shape: Shape, parts: GraphParts<'_>) -> Plan {
+    fn new(
+        shape: Shape,
+        parts: GraphParts<'_>,
+        pass_order: PassOrder,
+        encoder_first: &dyn Fn(&str) -> bool,
+    ) -> Plan {
+        let encoder_first = if pass_order == PassOrder::Waves {
+            parts.names.iter().map(|n| encoder_first(n)).collect()
+        } else {
+            Vec::new()
+        };
         let handles = (parts.texture_names.iter().enumerate())
             .map(|(h, name)| (name.clone(), h as u32))
             .collect();
@@ -303,6 +321,9 @@ impl Plan {
             writes: parts.writes,
             keys: parts.keys,
             order: parts.order,
+            pass_order,
+            wave_end: parts.wave_end,
+            encoder_first,
             culled: parts.culled,
             requested: parts.requested,
             texture_names: parts.texture_names,
@@ -343,13 +364,21 @@ impl Plans {
     }
 
     /// The kept plan `graph` declares again, if any (moved to the front).
-    fn find(&self, graph: &FrameGraph<'_>, persistent: &dyn Fn(&str) -> bool) -> Option<Arc<Plan>> {
+    fn find(
+        &self,
+        graph: &FrameGraph<'_>,
+        persistent: &dyn Fn(&str) -> bool,
+        pass_order: PassOrder,
+        encoder_first: &dyn Fn(&str) -> bool,
+    ) -> Option<Arc<Plan>> {
         let mut kept = self.kept.lock().unwrap_or_else(|e| e.into_inner());
         if !kept.0 {
             return None;
         }
         let at = kept.1.iter().position(|plan| {
-            plan.shape.matches(graph)
+            plan.pass_order == pass_order
+                && plan.shape.matches(graph)
+                && (plan.names.iter().zip(&plan.encoder_first)).all(|(n, &e)| encoder_first(n) == e)
                 && plan
                     .outside
                     .iter()
@@ -405,9 +434,11 @@ impl<'a> FrameGraph<'a> {
         self,
         plans: &Plans,
         persistent: &dyn Fn(&str) -> bool,
+        pass_order: PassOrder,
+        encoder_first: &dyn Fn(&str) -> bool,
     ) -> Result<Planned<'a>, RenderError> {
         self.note_sizes();
-        if let Some(plan) = plans.find(&self, persistent) {
+        if let Some(plan) = plans.find(&self, persistent, pass_order, encoder_first) {
             let mut runs: Vec<Option<PassFn<'a>>> =
                 self.passes.into_iter().map(|p| Some(p.run)).collect();
             super::merge::rerun(&mut runs, self.merges, &plan.merged);
@@ -421,11 +452,11 @@ impl<'a> FrameGraph<'a> {
             });
         }
         let shape = Shape::of(&self);
-        let mut parts = self.into_parts(persistent)?;
+        let mut parts = self.into_parts(persistent, pass_order, encoder_first)?;
         let runs = std::mem::take(&mut parts.runs);
         let imports = std::mem::take(&mut parts.imports);
         let counters = std::mem::take(&mut parts.counters);
-        let plan = Arc::new(Plan::new(shape, parts));
+        let plan = Arc::new(Plan::new(shape, parts, pass_order, encoder_first));
         plans.keep(plan.clone());
         Ok(Planned {
             plan,
