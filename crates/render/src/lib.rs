@@ -24,6 +24,7 @@ pub mod mesh_arena;
 pub mod particles;
 pub mod permutations;
 pub mod pipeline_cache;
+pub mod precompose;
 pub mod post;
 pub mod readback;
 pub mod recipe;
