@@ -125,12 +125,23 @@ impl ColdStart {
     pub fn line(&self) -> String {
         let c = self.compile;
         let ms = |s: f64| format!("{:.0} ms", s * 1e3);
+        let ahead = self.opened.precompose.map_or(String::new(), |p| {
+            format!(
+                "; {} of {} permutations composed ahead on {} threads, waited {}",
+                p.composed,
+                p.listed,
+                p.threads,
+                ms(p.waited.as_secs_f64())
+            )
+        });
         format!(
-            "cold start {}: registry {}, GPU {}, patch {}, first frame {} (composing shaders {}, \
-             shader modules {}, {} pipelines {})",
+            "cold start {}: registry {}, GPU {} (adapter {}, device {}), patch {}, first frame {} \
+             (composing shaders {}, shader modules {}, {} pipelines {}){ahead}",
             ms(self.total),
             ms(self.opened.registry),
             ms(self.opened.gpu),
+            ms(self.open_times.adapter.as_secs_f64()),
+            ms(self.open_times.device.as_secs_f64()),
             ms(self.opened.load),
             ms(self.first_frame),
             ms(c.compose.as_secs_f64()),
