@@ -836,15 +836,25 @@ fn bench_prints_one_json_line_with_the_adapter() {
     assert!(ms("total_ms") >= steps, "{cold}");
     // The finer steps: parts of the registry and of opening the GPU, and what the composing found.
     assert!(ms("registry_nodes_ms") <= ms("registry_ms"), "{cold}");
-    assert!(ms("shader_folders_ms") >= 0.0 && ms("network_ms") >= 0.0, "{cold}");
+    assert!(
+        ms("shader_folders_ms") >= 0.0 && ms("network_ms") >= 0.0,
+        "{cold}"
+    );
     let driver = ms("gpu_adapter_ms") + ms("gpu_device_ms") + ms("gpu_pipeline_cache_ms");
     assert!(driver > 0.0 && driver <= ms("open_gpu_ms") + 0.01, "{cold}");
     assert!(ms("renderer_setup_ms") >= 0.0 && ms("before_first_frame_ms") >= 0.0);
     assert!(ms("shader_libraries_ms") >= 0.0, "{cold}");
-    let found = cold["permutations_composed"].as_u64().expect("permutations_composed")
-        + cold["permutations_ready"].as_u64().expect("permutations_ready");
+    let found = cold["permutations_composed"]
+        .as_u64()
+        .expect("permutations_composed")
+        + cold["permutations_ready"]
+            .as_u64()
+            .expect("permutations_ready");
     assert!(found > 0, "{cold}");
-    assert!(cold.get("precompose").is_some(), "null or what was composed ahead: {cold}");
+    assert!(
+        cold.get("precompose").is_some(),
+        "null or what was composed ahead: {cold}"
+    );
     let compiling = ms("compose_ms") + ms("shader_modules_ms") + ms("pipelines_ms");
     assert!(
         compiling > 0.0 && ms("first_frame_other_ms") >= 0.0,
@@ -1098,16 +1108,29 @@ fn permutations_are_composed_ahead_from_the_last_runs_list_and_a_damaged_list_re
     let composed = first["permutations_composed"].as_u64().expect("a count");
     assert!(composed > 0, "{first}");
     let [list] = lists().try_into().expect("one list, the patch's");
-    let entries = std::fs::read_to_string(&list).expect("a list").lines().count() - 1;
-    assert_eq!(entries as u64, composed, "the list is what the first frame composed");
+    let entries = std::fs::read_to_string(&list)
+        .expect("a list")
+        .lines()
+        .count()
+        - 1;
+    assert_eq!(
+        entries as u64, composed,
+        "the list is what the first frame composed"
+    );
 
     let (second, second_image, _) = run("second.png");
     let ahead = &second["precompose"];
     assert_eq!(ahead["listed"].as_u64(), Some(composed), "{second}");
     assert_eq!(ahead["composed"].as_u64(), Some(composed), "{second}");
     assert_eq!(second["permutations_composed"], 0, "{second}");
-    assert!(second["permutations_ready"].as_u64() >= Some(composed), "{second}");
-    assert_eq!(second["shader_libraries_ms"], 0.0, "no composer made: {second}");
+    assert!(
+        second["permutations_ready"].as_u64() >= Some(composed),
+        "{second}"
+    );
+    assert_eq!(
+        second["shader_libraries_ms"], 0.0,
+        "no composer made: {second}"
+    );
     assert_eq!(first_image, second_image, "composed ahead, the same bytes");
 
     std::fs::write(&list, "not a list").expect("damage it");

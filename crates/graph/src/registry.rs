@@ -450,3 +450,36 @@ impl Registry {
         self.defs.is_empty()
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::sync::atomic::{AtomicUsize, Ordering};
+
+    #[test]
+    fn a_lazy_type_is_made_once_when_first_looked_up_and_clones_share_it() {
+        static MADE: AtomicUsize = AtomicUsize::new(0);
+        let mut registry = Registry::new();
+        registry.add(NodeDef::new("Eager", "Test", ""));
+        registry.add_lazy("Lazy", || {
+            MADE.fetch_add(1, Ordering::Relaxed);
+            NodeDef::new("Lazy", "Test", "made when looked up")
+        });
+        // Counting and spelling suggestions go by name: nothing is made.
+        assert_eq!(registry.len(), 2);
+        assert_eq!(registry.nearest("Lazi"), Some("Lazy"));
+        assert_eq!(MADE.load(Ordering::Relaxed), 0);
+        let copy = registry.clone();
+        let def = registry.get("Lazy").expect("registered").clone();
+        assert_eq!(def.help, "made when looked up");
+        assert_eq!(MADE.load(Ordering::Relaxed), 1);
+        // The clone finds the same definition (a runtime tells a replaced type by its pointer).
+        assert!(Arc::ptr_eq(&def, copy.get("Lazy").expect("in the clone")));
+        assert_eq!(registry.iter().count(), 2);
+        assert_eq!(MADE.load(Ordering::Relaxed), 1);
+        // Replacing it hands back the one it replaced.
+        let replaced = registry.replace(NodeDef::new("Lazy", "Test", "a file's"));
+        assert!(replaced.is_some_and(|old| Arc::ptr_eq(&old, &def)));
+        assert_eq!(registry.get("Lazy").expect("replaced").help, "a file's");
+    }
+}

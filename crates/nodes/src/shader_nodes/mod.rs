@@ -87,7 +87,11 @@ fn example(i: usize) -> Option<&'static LoadedExample> {
     static LOADED: [std::sync::OnceLock<LoadedExample>; EXAMPLES.len()] =
         [const { std::sync::OnceLock::new() }; EXAMPLES.len()];
     let (stem, path, source) = EXAMPLES.get(i)?;
-    Some(LOADED.get(i)?.get_or_init(|| ShaderType::load(&type_name(stem), path, source)))
+    Some(
+        LOADED
+            .get(i)?
+            .get_or_init(|| ShaderType::load(&type_name(stem), path, source)),
+    )
 }
 
 #[cfg(test)]

@@ -382,13 +382,10 @@ impl ShaderCache {
         // A name the permutation lacks must be one the shader (or a library)
         // declares under some feature: compiled out, not a typo.
         let composer = &mut self.composer;
-        let declared = self
-            .declared
-            .entry(path)
-            .or_insert_with(|| match composer {
-                Some(composer) => composer.declared_names(key.file),
-                None => super::composer::embedded_declared_names(key.file),
-            });
+        let declared = self.declared.entry(path).or_insert_with(|| match composer {
+            Some(composer) => composer.declared_names(key.file),
+            None => super::composer::embedded_declared_names(key.file),
+        });
         let matched = match_bindings(&reflection, resources, prebuilt, |name| {
             declared
                 .contains(name)
