@@ -101,8 +101,9 @@ pub struct CompileTimes {
     pub libraries: std::time::Duration,
     /// Permutations this cache composed itself.
     pub composed: u64,
-    /// Permutations it found composed already in the process (by
-    /// `crate::precompose`'s threads, or by another renderer).
+    /// Look-ups (a module's, a reflection's) that found their permutation
+    /// composed already in the process (by `crate::precompose`'s threads,
+    /// by another renderer, or by this cache for another look-up).
     pub ready: u64,
     /// Pipelines made (naga's backend writes the driver's language, the driver compiles it).
     pub pipelines: std::time::Duration,
