@@ -127,10 +127,11 @@ impl ColdStart {
         let ms = |s: f64| format!("{:.0} ms", s * 1e3);
         let ahead = self.opened.precompose.map_or(String::new(), |p| {
             format!(
-                "; {} of {} permutations composed ahead on {} threads, waited {}",
+                "; {} of {} permutations composed ahead on {} thread{}, waited {}",
                 p.composed,
                 p.listed,
                 p.threads,
+                if p.threads == 1 { "" } else { "s" },
                 ms(p.waited.as_secs_f64())
             )
         });
