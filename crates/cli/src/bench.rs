@@ -297,6 +297,8 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
         let wall_ms = started.elapsed().as_secs_f64() * 1e3;
         if frame == 0 {
             cold_start = Some(ColdStart::now(&session, wall_ms / 1e3));
+            // What the first frame composed, for the next run to compose ahead.
+            session.remember_permutations(&args.patch);
         }
         let geometry_ms = geometry.take_gpu_ms();
         // Skinning (glTF skins and morph targets) is a part of the above, named apart.

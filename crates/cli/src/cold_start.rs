@@ -7,9 +7,10 @@ use std::sync::OnceLock;
 use std::time::Instant;
 
 use serde_json::{Value, json};
+use spreadlight_render::context::OpenTimes;
 use spreadlight_render::shaders::CompileTimes;
 
-use crate::session::Session;
+use crate::session::{Opened, Session};
 
 static PROCESS_STARTED: OnceLock<Instant> = OnceLock::new();
 
@@ -30,9 +31,10 @@ fn since_start() -> f64 {
 pub struct ColdStart {
     /// Process start to the end of the first frame's evaluation.
     pub total: f64,
-    pub registry: f64,
-    pub gpu: f64,
-    pub load: f64,
+    /// Opening the session, by step.
+    pub opened: Opened,
+    /// Of `opened.gpu`: the driver's steps (the rest is the renderer's setup).
+    pub open_times: OpenTimes,
     /// The first frame's evaluation (every sub-frame), of which `compile` was
     /// making shaders and pipelines; the rest is uploads, recording and the GPU.
     pub first_frame: f64,
@@ -61,9 +63,11 @@ impl ColdStart {
         ColdStart {
             pipeline_cache,
             total: since_start(),
-            registry: session.opened.registry,
-            gpu: session.opened.gpu,
-            load: session.opened.load,
+            opened: session.opened,
+            open_times: session
+                .renderer
+                .as_ref()
+                .map_or_else(OpenTimes::default, |r| r.gpu.open_times),
             first_frame,
             compile,
             pipelines,
@@ -74,14 +78,38 @@ impl ColdStart {
     pub fn json(&self) -> Value {
         let ms = |s: f64| (s * 1e6).round() / 1e3;
         let c = self.compile;
-        let compiling = (c.compose + c.modules + c.pipelines).as_secs_f64();
+        let (opened, gpu) = (&self.opened, &self.open_times);
+        let compiling = (c.compose + c.libraries + c.modules + c.pipelines).as_secs_f64();
+        let driver = (gpu.adapter + gpu.device + gpu.pipeline_cache).as_secs_f64();
+        let steps = opened.registry + opened.network + opened.gpu + opened.load;
+        let precompose = opened.precompose.map(|p| {
+            json!({
+                "listed": p.listed,
+                "composed": p.composed,
+                "threads": p.threads,
+                "wall_ms": ms(p.wall.as_secs_f64()),
+                "waited_ms": ms(p.waited.as_secs_f64()),
+            })
+        });
         json!({
             "total_ms": ms(self.total),
-            "registry_ms": ms(self.registry),
-            "open_gpu_ms": ms(self.gpu),
-            "load_patch_ms": ms(self.load),
+            "registry_ms": ms(opened.registry),
+            "registry_nodes_ms": ms(opened.registry_nodes),
+            "shader_folders_ms": ms(opened.registry - opened.registry_nodes),
+            "network_ms": ms(opened.network),
+            "open_gpu_ms": ms(opened.gpu),
+            "gpu_adapter_ms": ms(gpu.adapter.as_secs_f64()),
+            "gpu_device_ms": ms(gpu.device.as_secs_f64()),
+            "gpu_pipeline_cache_ms": ms(gpu.pipeline_cache.as_secs_f64()),
+            "renderer_setup_ms": ms((opened.gpu - driver).max(0.0)),
+            "load_patch_ms": ms(opened.load),
+            "precompose": precompose,
+            "before_first_frame_ms": ms((self.total - self.first_frame - steps).max(0.0)),
             "first_frame_ms": ms(self.first_frame),
             "compose_ms": ms(c.compose.as_secs_f64()),
+            "shader_libraries_ms": ms(c.libraries.as_secs_f64()),
+            "permutations_composed": c.composed,
+            "permutations_ready": c.ready,
             "shader_modules_ms": ms(c.modules.as_secs_f64()),
             "pipelines_ms": ms(c.pipelines.as_secs_f64()),
             "first_frame_other_ms": ms((self.first_frame - compiling).max(0.0)),
@@ -97,13 +125,25 @@ impl ColdStart {
     pub fn line(&self) -> String {
         let c = self.compile;
         let ms = |s: f64| format!("{:.0} ms", s * 1e3);
+        let ahead = self.opened.precompose.map_or(String::new(), |p| {
+            format!(
+                "; {} of {} permutations composed ahead on {} thread{}, waited {}",
+                p.composed,
+                p.listed,
+                p.threads,
+                if p.threads == 1 { "" } else { "s" },
+                ms(p.waited.as_secs_f64())
+            )
+        });
         format!(
-            "cold start {}: registry {}, GPU {}, patch {}, first frame {} (composing shaders {}, \
-             shader modules {}, {} pipelines {})",
+            "cold start {}: registry {}, GPU {} (adapter {}, device {}), patch {}, first frame {} \
+             (composing shaders {}, shader modules {}, {} pipelines {}){ahead}",
             ms(self.total),
-            ms(self.registry),
-            ms(self.gpu),
-            ms(self.load),
+            ms(self.opened.registry),
+            ms(self.opened.gpu),
+            ms(self.open_times.adapter.as_secs_f64()),
+            ms(self.open_times.device.as_secs_f64()),
+            ms(self.opened.load),
             ms(self.first_frame),
             ms(c.compose.as_secs_f64()),
             ms(c.modules.as_secs_f64()),

@@ -1,7 +1,7 @@
 //! A loaded patch ready to run: the runtime, and the renderer when the patch
 //! has GPU nodes. Shared by `eval`, `render` and `stats`.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use anyhow::Context;
@@ -14,6 +14,7 @@ use spreadlight_nodes::gpu::GPU_CATEGORIES;
 use spreadlight_nodes::output::RenderedImages;
 use spreadlight_nodes::shader_nodes::ShaderLibrary;
 use spreadlight_render::Renderer;
+use spreadlight_render::precompose::{self, Precomposed};
 
 pub struct Session {
     pub runtime: Runtime,
@@ -30,10 +31,42 @@ pub struct Session {
 pub struct Opened {
     /// The node registry with the shader nodes of the user's library and the patch's folder.
     pub registry: f64,
+    /// Of which the built-in node types (shader node examples are made when looked up).
+    pub registry_nodes: f64,
+    /// The patch compiled against the registry (does it need a GPU), its runtime made.
+    pub network: f64,
     /// The adapter and device, the renderer with its shader libraries.
     pub gpu: f64,
     /// The patch loaded into the runtime (nodes made, files they read at load).
     pub load: f64,
+    /// The permutations composed ahead (`spreadlight_render::precompose`),
+    /// with a damaged list's warning; None without a list.
+    pub precompose: Option<Precomposed>,
+}
+
+/// The list of permutations `path`'s patch composed last time (`precompose.rs` in render).
+fn permutation_list(path: &Path) -> PathBuf {
+    let name = std::fs::canonicalize(path).unwrap_or_else(|_| path.to_path_buf());
+    precompose::list_path(&name.display().to_string())
+}
+
+/// Start composing, on threads of their own, what the patch at `path`
+/// composed last time; None without a list (a warning for a damaged one).
+fn start_precompose(path: &Path) -> Option<precompose::Precomposing> {
+    if !precompose::enabled() {
+        return None;
+    }
+    let list = permutation_list(path);
+    match precompose::read(&list) {
+        Ok(Some(list)) if !list.keys.is_empty() => {
+            Some(precompose::start(list.keys, precompose::threads()))
+        }
+        Ok(_) => None,
+        Err(e) => {
+            eprintln!("warning: {e}; composing shaders as they are needed (it is rewritten)");
+            None
+        }
+    }
 }
 
 /// A load problem as a headless command reports it: its line, and its
@@ -91,14 +124,20 @@ pub fn memory(patch: &Patch, path: &Path) -> (Memory, Vec<String>) {
 /// do not compile are returned (their nodes show the error too).
 pub fn registry_for(path: Option<&Path>) -> (Registry, Vec<String>) {
     let mut registry = spreadlight_nodes::registry();
+    let errors = poll_shader_library(path, &mut registry);
+    (registry, errors)
+}
+
+/// Add the shader nodes of the user's library and of the `shaders/` folder
+/// beside the patch to `registry`; the errors of files that do not compile.
+fn poll_shader_library(path: Option<&Path>, registry: &mut Registry) -> Vec<String> {
     let mut library = ShaderLibrary::for_patch(path);
-    library.poll(&mut registry);
-    let errors = library
+    library.poll(registry);
+    library
         .errors()
         .values()
         .map(|e| format!("error: {e}"))
-        .collect();
-    (registry, errors)
+        .collect()
 }
 
 impl Session {
@@ -132,15 +171,21 @@ impl Session {
         capture: bool,
         allow_unknown: bool,
     ) -> anyhow::Result<Self> {
+        // First, so that the threads compose while the registry and the GPU are made.
+        let precomposing = start_precompose(path);
         let started = std::time::Instant::now();
         let mut opened = Opened::default();
-        let (registry, shader_errors) = registry_for(Some(path));
+        let mut registry = spreadlight_nodes::registry();
+        opened.registry_nodes = started.elapsed().as_secs_f64();
+        let shader_errors = poll_shader_library(Some(path), &mut registry);
         opened.registry = started.elapsed().as_secs_f64();
         for error in &shader_errors {
             eprintln!("{error}");
         }
+        let started = std::time::Instant::now();
         let gpu = force_gpu || needs_gpu(patch, path, &registry);
         let mut runtime = Runtime::new(registry);
+        opened.network = started.elapsed().as_secs_f64();
         let dir = path.parent().unwrap_or(Path::new("")).to_path_buf();
         runtime.provide(Arc::new(spreadlight_graph::PatchDir(dir)));
         let images = Arc::new(RenderedImages::default());
@@ -182,6 +227,7 @@ impl Session {
             load_errors |= severity == Severity::Error;
         }
         opened.load = started.elapsed().as_secs_f64();
+        opened.precompose = precomposing.map(precompose::Precomposing::finish);
         Ok(Session {
             runtime,
             renderer,
@@ -189,6 +235,26 @@ impl Session {
             load_errors,
             opened,
         })
+    }
+
+    /// Remember the permutations the renderer composed so far, for the next
+    /// run of the patch at `path` to compose ahead (`precompose.rs` in render).
+    pub fn remember_permutations(&self, path: &Path) {
+        let Some(renderer) = self.renderer.as_ref().filter(|_| precompose::enabled()) else {
+            return;
+        };
+        let keys = renderer.shaders().used_permutations();
+        if keys.is_empty() {
+            return;
+        }
+        let list = permutation_list(path);
+        if let Err(e) = precompose::remember(&list, &keys) {
+            // Nothing else is lost: the next run composes as the first frame needs.
+            eprintln!(
+                "warning: could not save the permutation list {}: {e}",
+                list.display()
+            );
+        }
     }
 
     /// Evaluate frame `frame` at `fps`; print node errors and GPU pass errors

@@ -834,6 +834,27 @@ fn bench_prints_one_json_line_with_the_adapter() {
     );
     let steps = ms("registry_ms") + ms("open_gpu_ms") + ms("load_patch_ms") + ms("first_frame_ms");
     assert!(ms("total_ms") >= steps, "{cold}");
+    // The finer steps: parts of the registry and of opening the GPU, and what the composing found.
+    assert!(ms("registry_nodes_ms") <= ms("registry_ms"), "{cold}");
+    assert!(
+        ms("shader_folders_ms") >= 0.0 && ms("network_ms") >= 0.0,
+        "{cold}"
+    );
+    let driver = ms("gpu_adapter_ms") + ms("gpu_device_ms") + ms("gpu_pipeline_cache_ms");
+    assert!(driver > 0.0 && driver <= ms("open_gpu_ms") + 0.01, "{cold}");
+    assert!(ms("renderer_setup_ms") >= 0.0 && ms("before_first_frame_ms") >= 0.0);
+    assert!(ms("shader_libraries_ms") >= 0.0, "{cold}");
+    let found = cold["permutations_composed"]
+        .as_u64()
+        .expect("permutations_composed")
+        + cold["permutations_ready"]
+            .as_u64()
+            .expect("permutations_ready");
+    assert!(found > 0, "{cold}");
+    assert!(
+        cold.get("precompose").is_some(),
+        "null or what was composed ahead: {cold}"
+    );
     let compiling = ms("compose_ms") + ms("shader_modules_ms") + ms("pipelines_ms");
     assert!(
         compiling > 0.0 && ms("first_frame_other_ms") >= 0.0,
@@ -1038,4 +1059,88 @@ fn the_pipeline_cache_is_kept_between_runs_and_a_damaged_file_is_a_cold_start() 
     let (third, third_image) = run("third.png");
     assert!(!third.is_null(), "{third}");
     assert_eq!(first_image, third_image);
+}
+
+/// Permutations composed ahead (crates/render/src/precompose.rs): the first
+/// run of a patch composes in its first frame and leaves a list; the next
+/// composes that list on threads of its own while it starts, its renderer
+/// composes nothing itself, and it renders the same bytes; a damaged list
+/// is a warning naming it and a normal start, and is written anew.
+#[test]
+fn permutations_are_composed_ahead_from_the_last_runs_list_and_a_damaged_list_recovers() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let cache = dir.path().join("cache");
+    let cache_dir = cache.to_str().expect("utf-8 path");
+    let env = [
+        ("SPREADLIGHT_CACHE_DIR", cache_dir),
+        ("SPREADLIGHT_PIPELINE_CACHE", "off"),
+    ];
+    let run = |name: &str| {
+        let image = dir.path().join(name);
+        let image = image.to_str().expect("utf-8 path");
+        let args = [
+            "render",
+            "patches/gbuffer-spheres.ron",
+            "-o",
+            image,
+            "--size",
+            "32x18",
+            "--json",
+        ];
+        let out = spreadlight_env(&args, &env);
+        let stdout = text(&out.stdout);
+        assert_eq!(out.status.code(), Some(0), "{stdout}{}", text(&out.stderr));
+        let done: serde_json::Value = stdout
+            .lines()
+            .filter_map(|l| serde_json::from_str(l).ok())
+            .next_back()
+            .expect("a done line");
+        let bytes = std::fs::read(image).expect("image written");
+        (done["cold_start"].clone(), bytes, text(&out.stderr))
+    };
+    let lists = || -> Vec<PathBuf> {
+        std::fs::read_dir(cache.join("permutations"))
+            .map(|d| d.flatten().map(|e| e.path()).collect())
+            .unwrap_or_default()
+    };
+    let (first, first_image, _) = run("first.png");
+    assert!(first["precompose"].is_null(), "no list yet: {first}");
+    let composed = first["permutations_composed"].as_u64().expect("a count");
+    assert!(composed > 0, "{first}");
+    let [list] = lists().try_into().expect("one list, the patch's");
+    let entries = std::fs::read_to_string(&list)
+        .expect("a list")
+        .lines()
+        .count()
+        - 1;
+    assert_eq!(
+        entries as u64, composed,
+        "the list is what the first frame composed"
+    );
+
+    let (second, second_image, _) = run("second.png");
+    let ahead = &second["precompose"];
+    assert_eq!(ahead["listed"].as_u64(), Some(composed), "{second}");
+    assert_eq!(ahead["composed"].as_u64(), Some(composed), "{second}");
+    assert_eq!(second["permutations_composed"], 0, "{second}");
+    assert!(
+        second["permutations_ready"].as_u64() >= Some(composed),
+        "{second}"
+    );
+    assert_eq!(
+        second["shader_libraries_ms"], 0.0,
+        "no composer made: {second}"
+    );
+    assert_eq!(first_image, second_image, "composed ahead, the same bytes");
+
+    std::fs::write(&list, "not a list").expect("damage it");
+    let (third, third_image, stderr) = run("third.png");
+    assert!(third["precompose"].is_null(), "{third}");
+    assert!(
+        stderr.contains("warning:") && stderr.contains(&list.display().to_string()),
+        "{stderr}"
+    );
+    assert_eq!(first_image, third_image);
+    let rewritten = std::fs::read_to_string(&list).expect("written anew");
+    assert_eq!(rewritten.lines().count() - 1, entries, "{rewritten}");
 }

@@ -356,7 +356,30 @@ impl<F: Fn(&mut EvalContext<'_>) -> Result<(), NodeError> + Send> Node for Closu
 /// All node types known to this build, by type name.
 #[derive(Default, Clone)]
 pub struct Registry {
-    defs: BTreeMap<Name, Arc<NodeDef>>,
+    defs: BTreeMap<Name, Entry>,
+}
+
+/// A registered type: made, or made the first time it is looked up ([`Registry::add_lazy`]).
+#[derive(Clone)]
+enum Entry {
+    Made(Arc<NodeDef>),
+    /// Shared by the registry's clones, so every clone gets the same
+    /// definition (a runtime tells a replaced type by its pointer).
+    Lazy(Arc<LazyDef>),
+}
+
+struct LazyDef {
+    made: std::sync::OnceLock<Arc<NodeDef>>,
+    make: Box<dyn Fn() -> NodeDef + Send + Sync>,
+}
+
+impl Entry {
+    fn def(&self) -> &Arc<NodeDef> {
+        match self {
+            Entry::Made(def) => def,
+            Entry::Lazy(lazy) => lazy.made.get_or_init(|| Arc::new((lazy.make)())),
+        }
+    }
 }
 
 impl Registry {
@@ -367,7 +390,25 @@ impl Registry {
     /// Register a node type. Two types with one name is a bug in the node library, so it panics.
     pub fn add(&mut self, def: NodeDef) {
         let name = def.name.clone();
-        let previous = self.defs.insert(name.clone(), Arc::new(def));
+        let previous = self.defs.insert(name.clone(), Entry::Made(Arc::new(def)));
+        assert!(previous.is_none(), "node type `{name}` registered twice");
+    }
+
+    /// Register node type `name`, made by `make` the first time it is looked
+    /// up (or listed): for types whose making costs (a shader node example
+    /// is parsed and validated), which most patches never use. `make` must
+    /// make a type of that name.
+    pub fn add_lazy(
+        &mut self,
+        name: impl Into<Name>,
+        make: impl Fn() -> NodeDef + Send + Sync + 'static,
+    ) {
+        let name = name.into();
+        let lazy = LazyDef {
+            made: std::sync::OnceLock::new(),
+            make: Box::new(make),
+        };
+        let previous = self.defs.insert(name.clone(), Entry::Lazy(Arc::new(lazy)));
         assert!(previous.is_none(), "node type `{name}` registered twice");
     }
 
@@ -375,21 +416,23 @@ impl Registry {
     /// if any (a reloaded shader file, an edited subpatch). A [`Runtime`](crate::Runtime)
     /// given the new registry re-instantiates the nodes of a replaced type.
     pub fn replace(&mut self, def: NodeDef) -> Option<Arc<NodeDef>> {
-        self.defs.insert(def.name.clone(), Arc::new(def))
+        self.defs
+            .insert(def.name.clone(), Entry::Made(Arc::new(def)))
+            .map(|e| e.def().clone())
     }
 
     /// Forget a node type (its file was deleted); nodes of it become unknown-type placeholders.
     pub fn remove(&mut self, name: &str) -> Option<Arc<NodeDef>> {
-        self.defs.remove(name)
+        self.defs.remove(name).map(|e| e.def().clone())
     }
 
     pub fn get(&self, name: &str) -> Option<&Arc<NodeDef>> {
-        self.defs.get(name)
+        self.defs.get(name).map(Entry::def)
     }
 
-    /// Every node type, sorted by name.
+    /// Every node type, sorted by name (types registered lazily are made).
     pub fn iter(&self) -> impl Iterator<Item = &Arc<NodeDef>> {
-        self.defs.values()
+        self.defs.values().map(Entry::def)
     }
 
     pub fn len(&self) -> usize {
@@ -405,5 +448,38 @@ impl Registry {
 
     pub fn is_empty(&self) -> bool {
         self.defs.is_empty()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::sync::atomic::{AtomicUsize, Ordering};
+
+    #[test]
+    fn a_lazy_type_is_made_once_when_first_looked_up_and_clones_share_it() {
+        static MADE: AtomicUsize = AtomicUsize::new(0);
+        let mut registry = Registry::new();
+        registry.add(NodeDef::new("Eager", "Test", ""));
+        registry.add_lazy("Lazy", || {
+            MADE.fetch_add(1, Ordering::Relaxed);
+            NodeDef::new("Lazy", "Test", "made when looked up")
+        });
+        // Counting and spelling suggestions go by name: nothing is made.
+        assert_eq!(registry.len(), 2);
+        assert_eq!(registry.nearest("Lazi"), Some("Lazy"));
+        assert_eq!(MADE.load(Ordering::Relaxed), 0);
+        let copy = registry.clone();
+        let def = registry.get("Lazy").expect("registered").clone();
+        assert_eq!(def.help, "made when looked up");
+        assert_eq!(MADE.load(Ordering::Relaxed), 1);
+        // The clone finds the same definition (a runtime tells a replaced type by its pointer).
+        assert!(Arc::ptr_eq(&def, copy.get("Lazy").expect("in the clone")));
+        assert_eq!(registry.iter().count(), 2);
+        assert_eq!(MADE.load(Ordering::Relaxed), 1);
+        // Replacing it hands back the one it replaced.
+        let replaced = registry.replace(NodeDef::new("Lazy", "Test", "a file's"));
+        assert!(replaced.is_some_and(|old| Arc::ptr_eq(&old, &def)));
+        assert_eq!(registry.get("Lazy").expect("replaced").help, "a file's");
     }
 }

@@ -46,6 +46,20 @@ pub struct GpuContext {
     /// Compiled pipelines kept between runs, where the device offers it;
     /// saved when the last clone of the context is dropped.
     pipeline_cache: Option<Arc<DiskPipelineCache>>,
+    /// Where opening it went (zero for a device opened elsewhere).
+    pub open_times: OpenTimes,
+}
+
+/// Where opening a headless context went, by step (`cold_start` of the
+/// CLI's `--json`): what of "open GPU" is the driver and what is ours.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct OpenTimes {
+    /// The instance and the adapter (the driver loads and enumerates).
+    pub adapter: std::time::Duration,
+    /// The device and its queue.
+    pub device: std::time::Duration,
+    /// The pipeline cache: its file read, the driver's cache made from it.
+    pub pipeline_cache: std::time::Duration,
 }
 
 impl std::fmt::Debug for GpuContext {
@@ -61,6 +75,7 @@ impl GpuContext {
     }
 
     async fn headless_async() -> Result<Self, RenderError> {
+        let started = std::time::Instant::now();
         let instance =
             wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
         let adapter = match std::env::var("WGPU_ADAPTER_NAME") {
@@ -99,6 +114,8 @@ impl GpuContext {
             });
         }
         let limits = required_limits(&adapter.limits(), &info.name)?;
+        let adapter_time = started.elapsed();
+        let started = std::time::Instant::now();
         let (device, queue) = adapter
             .request_device(&wgpu::DeviceDescriptor {
                 label: Some("spreadlight"),
@@ -111,7 +128,11 @@ impl GpuContext {
                 adapter: info.name.clone(),
                 message: e.to_string(),
             })?;
-        Ok(Self::from_parts(device, queue, info))
+        let device_time = started.elapsed();
+        let mut context = Self::from_parts(device, queue, info);
+        context.open_times.adapter = adapter_time;
+        context.open_times.device = device_time;
+        Ok(context)
     }
 
     /// Wrap a device opened elsewhere (the editor's egui-wgpu device).
@@ -123,8 +144,13 @@ impl GpuContext {
         let uncaptured = Arc::new(UncapturedErrors::default());
         let recorder = uncaptured.clone();
         device.on_uncaptured_error(Arc::new(move |error: wgpu::Error| recorder.record(&error)));
+        let started = std::time::Instant::now();
         let pipeline_cache = DiskPipelineCache::open(&device, &adapter_info);
         GpuContext {
+            open_times: OpenTimes {
+                pipeline_cache: started.elapsed(),
+                ..OpenTimes::default()
+            },
             pipeline_cache,
             device,
             queue,

@@ -27,6 +27,7 @@ pub mod particles;
 pub mod permutations;
 pub mod pipeline_cache;
 pub mod post;
+pub mod precompose;
 pub mod readback;
 pub mod recipe;
 pub mod renderer;

@@ -226,6 +226,8 @@ impl Evaluator {
         if self.cold_start.is_none() {
             let seconds = started.elapsed().as_secs_f64();
             self.cold_start = Some(ColdStart::now(&self.session, seconds));
+            // What the first frame composed, for the next run to compose ahead.
+            self.session.remember_permutations(&self.patch);
         }
         result
     }

@@ -49,44 +49,49 @@ pub const EXAMPLES: &[(&str, &str, &str)] = &[
     example!("ashikhmin_shirley"),
 ];
 
-/// Register the shipped examples. One that does not compile (a bug a test
-/// catches) is registered as a node that shows its error.
+/// Register the shipped examples, each made (parsed and validated) the
+/// first time its type is looked up: a patch that uses none of them, like
+/// most, never pays for them (`spreadlight render`'s cold start). One that
+/// does not compile (a bug a test catches) is a node that shows its error.
 pub fn register(r: &mut Registry) {
     builtin_blur::register(r);
-    for (name, loaded) in examples() {
-        match loaded {
-            Ok(ty) => r.add(ty.node_def(None)),
-            Err(e) => r.add(def::broken_def(name, e)),
-        }
+    for (i, (stem, _, _)) in EXAMPLES.iter().enumerate() {
+        let name = type_name(stem);
+        r.add_lazy(name.clone(), move || match example(i) {
+            Some(Ok(ty)) => ty.node_def(None),
+            Some(Err(e)) => def::broken_def(&name, e),
+            None => def::broken_def(
+                &name,
+                &ShaderNodeError::at(&name, Default::default(), "no such example".to_owned()),
+            ),
+        });
     }
 }
 
 /// The shipped example named `name` (a type name), if it compiled.
 fn shipped(name: &str) -> Option<Arc<ShaderType>> {
-    examples()
+    let i = EXAMPLES
         .iter()
-        .find(|(n, _)| n == name)
-        .and_then(|(_, loaded)| loaded.as_ref().ok().cloned())
+        .position(|(stem, _, _)| type_name(stem) == name)?;
+    example(i).and_then(|loaded| loaded.as_ref().ok().cloned())
 }
 
-/// A shipped example's node type name and what loading it gave.
-type LoadedExample = (String, Result<Arc<ShaderType>, ShaderNodeError>);
+/// What loading a shipped example gave.
+type LoadedExample = Result<Arc<ShaderType>, ShaderNodeError>;
 
-/// The shipped examples, parsed and validated once per process: their
-/// sources are compiled in, so every registry (each CLI command, runtime
-/// and test builds one) would otherwise run naga over the same files again.
-fn examples() -> &'static [LoadedExample] {
-    static EXAMPLES_LOADED: std::sync::OnceLock<Vec<LoadedExample>> = std::sync::OnceLock::new();
-    EXAMPLES_LOADED.get_or_init(|| {
-        EXAMPLES
-            .iter()
-            .map(|(stem, path, source)| {
-                let name = type_name(stem);
-                let loaded = ShaderType::load(&name, path, source);
-                (name, loaded)
-            })
-            .collect()
-    })
+/// Shipped example `i` of [`EXAMPLES`], parsed and validated once per
+/// process and only when asked for: their sources are compiled in, so
+/// every registry (each CLI command, runtime and test builds one) would
+/// otherwise run naga over the same files again.
+fn example(i: usize) -> Option<&'static LoadedExample> {
+    static LOADED: [std::sync::OnceLock<LoadedExample>; EXAMPLES.len()] =
+        [const { std::sync::OnceLock::new() }; EXAMPLES.len()];
+    let (stem, path, source) = EXAMPLES.get(i)?;
+    Some(
+        LOADED
+            .get(i)?
+            .get_or_init(|| ShaderType::load(&type_name(stem), path, source)),
+    )
 }
 
 #[cfg(test)]

@@ -13,7 +13,7 @@ use super::{Finisher, PassOrder};
 use crate::context::GpuContext;
 use crate::error::RenderError;
 use crate::report::FrameReport;
-use crate::shaders::{ShaderCache, ShaderComposer};
+use crate::shaders::ShaderCache;
 use crate::texture_pool::TexturePool;
 
 /// Timestamp queries a frame may write (two a timed pass).
@@ -78,8 +78,9 @@ pub struct Executor {
 
 impl Executor {
     pub(crate) fn new(gpu: &GpuContext) -> Result<Self, RenderError> {
-        let shaders = ShaderCache::new(ShaderComposer::new()?)
-            .with_pipeline_cache(gpu.pipeline_cache().cloned());
+        // The composer is made when a permutation is not composed already:
+        // a process that composed ahead (`crate::precompose`) skips it.
+        let shaders = ShaderCache::lazy().with_pipeline_cache(gpu.pipeline_cache().cloned());
         let timestamps = gpu.has_timestamps().then(|| Timestamps {
             set: gpu.device.create_query_set(&wgpu::QuerySetDescriptor {
                 label: Some("pass timestamps"),

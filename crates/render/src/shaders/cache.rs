@@ -44,7 +44,10 @@ type MergedStages = (Vec<String>, Arc<Reflection>);
 /// Compiled shader modules and pipelines, keyed by permutation. Counts what it
 /// compiles, so the frame statistics show when a frame had to compile.
 pub struct ShaderCache {
-    composer: ShaderComposer,
+    /// Made when first needed ([`ShaderCache::lazy`]): naga_oil reading
+    /// the libraries is CPU a renderer whose permutations were all composed
+    /// ahead (`crate::precompose`) never spends.
+    composer: Option<ShaderComposer>,
     modules: FxHashMap<ShaderKey, wgpu::ShaderModule>,
     /// Per permutation and entry point: its resource variables by name and
     /// which it uses. (Keyed by permutation, then entry: a look-up borrows
@@ -94,6 +97,14 @@ pub struct CompileTimes {
     pub compose: std::time::Duration,
     /// Shader modules made from composed naga modules (wgpu validates them again).
     pub modules: std::time::Duration,
+    /// The composer made (naga_oil reading the libraries), once per cache at most.
+    pub libraries: std::time::Duration,
+    /// Permutations this cache composed itself.
+    pub composed: u64,
+    /// Look-ups (a module's, a reflection's) that found their permutation
+    /// composed already in the process (by `crate::precompose`'s threads,
+    /// by another renderer, or by this cache for another look-up).
+    pub ready: u64,
     /// Pipelines made (naga's backend writes the driver's language, the driver compiles it).
     pub pipelines: std::time::Duration,
 }
@@ -211,7 +222,16 @@ const BIND_GROUP_IDLE_FRAMES: u64 = 2;
 impl ShaderCache {
     pub fn new(composer: ShaderComposer) -> Self {
         ShaderCache {
-            composer,
+            composer: Some(composer),
+            ..ShaderCache::lazy()
+        }
+    }
+
+    /// A cache over the embedded sources whose composer is made when a
+    /// permutation is not composed already (`crate::precompose`).
+    pub fn lazy() -> Self {
+        ShaderCache {
+            composer: None,
             modules: FxHashMap::default(),
             reflections: FxHashMap::default(),
             merged: FxHashMap::default(),
@@ -257,6 +277,43 @@ impl ShaderCache {
         };
     }
 
+    /// The composer, made the first time it is needed.
+    fn composer(&mut self) -> Result<&mut ShaderComposer, RenderError> {
+        let times = &mut self.compile_times;
+        match &mut self.composer {
+            Some(composer) => Ok(composer),
+            slot @ None => {
+                let made = timed(&mut times.libraries, ShaderComposer::new)?;
+                Ok(slot.insert(made))
+            }
+        }
+    }
+
+    /// Permutation `key` composed: found composed in the process where the
+    /// sources are the embedded ones, else composed here.
+    fn compose(&mut self, key: &ShaderKey) -> Result<naga::Module, RenderError> {
+        let shared = self
+            .composer
+            .as_ref()
+            .is_none_or(ShaderComposer::shares_embedded);
+        if shared
+            && let Some(module) = timed(&mut self.compile_times.compose, || {
+                super::composer::embedded_module(key)
+            })
+        {
+            self.compile_times.ready += 1;
+            return Ok(module);
+        }
+        // Made first: its making is timed apart (`libraries`).
+        self.composer()?;
+        let started = std::time::Instant::now();
+        let composed = self.composer()?.compose(key);
+        self.compile_times.compose += started.elapsed();
+        let module = composed?;
+        self.compile_times.composed += 1;
+        Ok(module)
+    }
+
     pub fn module(
         &mut self,
         device: &wgpu::Device,
@@ -265,8 +322,7 @@ impl ShaderCache {
         if let Some(m) = self.modules.get(key) {
             return Ok(m.clone());
         }
-        let composer = &mut self.composer;
-        let module = timed(&mut self.compile_times.compose, || composer.compose(key))?;
+        let module = self.compose(key)?;
         let label = format!("{}{}", key.path(), key.describe_defs());
         let m = timed(&mut self.compile_times.modules, || {
             device.create_shader_module(wgpu::ShaderModuleDescriptor {
@@ -288,8 +344,7 @@ impl ShaderCache {
         if let Some(found) = self.reflections.get(key).and_then(|by| by.get(entry)) {
             return Ok(found.clone());
         }
-        let composer = &mut self.composer;
-        let module = timed(&mut self.compile_times.compose, || composer.compose(key))?;
+        let module = self.compose(key)?;
         let reflection =
             Arc::new(
                 reflect(&module, entry).map_err(|message| RenderError::Shader {
@@ -328,10 +383,10 @@ impl ShaderCache {
         // A name the permutation lacks must be one the shader (or a library)
         // declares under some feature: compiled out, not a typo.
         let composer = &mut self.composer;
-        let declared = self
-            .declared
-            .entry(path)
-            .or_insert_with(|| composer.declared_names(key.file));
+        let declared = self.declared.entry(path).or_insert_with(|| match composer {
+            Some(composer) => composer.declared_names(key.file),
+            None => super::composer::embedded_declared_names(key.file),
+        });
         let matched = match_bindings(&reflection, resources, prebuilt, |name| {
             declared
                 .contains(name)
@@ -492,6 +547,14 @@ impl ShaderCache {
         self.modules.keys()
     }
 
+    /// Every permutation composed for this cache so far (made a module of,
+    /// or reflected), sorted: what `crate::precompose` composes ahead next time.
+    pub fn used_permutations(&self) -> Vec<ShaderKey> {
+        let used: std::collections::BTreeSet<&ShaderKey> =
+            self.modules.keys().chain(self.reflections.keys()).collect();
+        used.into_iter().cloned().collect()
+    }
+
     /// The compute pipeline of `entry` in a permutation (bind group layouts derived from the shader).
     pub fn compute_pipeline(
         &mut self,
@@ -576,10 +639,13 @@ impl ShaderCache {
         if let Some(found) = self.surfaces.get(&cache_key) {
             return Ok(found.clone());
         }
-        let composer = &mut self.composer;
-        let composed = timed(&mut self.compile_times.compose, || {
-            composer.compose_with_module(key, module, file_path, source)
-        })?;
+        self.composer()?;
+        let started = std::time::Instant::now();
+        let composed = self
+            .composer()?
+            .compose_with_module(key, module, file_path, source);
+        self.compile_times.compose += started.elapsed();
+        let composed = composed?;
         let reflection =
             Arc::new(
                 reflect(&composed, entry).map_err(|message| RenderError::Shader {

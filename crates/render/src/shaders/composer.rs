@@ -42,7 +42,44 @@ fn embedded_modules() -> &'static std::sync::Mutex<HashMap<ShaderKey, naga::Modu
     MODULES.get_or_init(Default::default)
 }
 
+/// Permutation `key` of the embedded sources, if a composer of this process
+/// (a renderer's, or [`crate::precompose`]'s threads) composed it already.
+pub(super) fn embedded_module(key: &ShaderKey) -> Option<naga::Module> {
+    embedded_modules()
+        .lock()
+        .unwrap_or_else(|e| e.into_inner())
+        .get(key)
+        .cloned()
+}
+
+/// Whether permutation `key` of the embedded sources is composed in this process.
+#[cfg(test)]
+pub(crate) fn is_composed(key: &ShaderKey) -> bool {
+    embedded_modules()
+        .lock()
+        .unwrap_or_else(|e| e.into_inner())
+        .contains_key(key)
+}
+
+/// [`ShaderComposer::declared_names`] over the embedded sources, without a
+/// composer (a renderer whose permutations were all composed ahead never makes one).
+pub(super) fn embedded_declared_names(file: &'static ShaderFile) -> rustc_hash::FxHashSet<String> {
+    LIBRARIES
+        .iter()
+        .chain([file])
+        .flat_map(|f| super::reflection::declared_names(f.source))
+        .map(str::to_owned)
+        .collect()
+}
+
 impl ShaderComposer {
+    /// Whether what it composes is what every composer over the embedded
+    /// sources composes (no folder on disk, no library replaced): then
+    /// [`embedded_module`] may stand in for it.
+    pub(super) fn shares_embedded(&self) -> bool {
+        self.embedded && !self.replaced
+    }
+
     /// The resource variables `file` and the libraries declare under any
     /// feature (a pass may bind one its permutation compiled out).
     pub(super) fn declared_names(

@@ -76,6 +76,8 @@ mod reflection;
 mod uniform;
 
 pub use cache::{CompileTimes, PipelineRef, Sampling, ShaderCache};
+#[cfg(test)]
+pub(crate) use composer::is_composed;
 pub use composer::{ShaderComposer, Splice};
 pub use permutation::{Permutation, ShaderFile, ShaderKey};
 pub(crate) use reflection::INLINE_BINDINGS;

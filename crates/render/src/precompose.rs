@@ -1,0 +1,232 @@
+//! Composing a patch's shader permutations ahead, on every core, while the
+//! process does its other start-up work (the node registry, the GPU).
+//!
+//! A fresh process composes each permutation its first frame needs with
+//! naga_oil (preprocessing, naga's parse and validation): 100-180 ms of one
+//! core for post.ron on the H200 host, inside the first frame, one
+//! permutation after another. Which permutations a patch needs is only
+//! known while its passes record; so each run remembers them in a small
+//! list ([`remember`]), and the next run of the same patch composes that
+//! list on threads of their own from the moment it starts ([`start`]).
+//! The first frame then finds them composed (the process's shared
+//! permutations, `shaders/composer.rs`) and its renderer never even makes a
+//! composer of its own.
+//!
+//! The list holds names, not composed code: each entry is composed from the
+//! sources this binary embeds, exactly as the first frame would have, so a
+//! changed source or a new build can never bring back a stale shader, and
+//! the frames are the same bytes (tested). An entry this build does not
+//! know (a shader or a feature since removed) is skipped; a damaged list is
+//! a warning and a normal start. A wrong list costs CPU, never pixels.
+//!
+//! Where: `permutations/` in Spreadlight's cache directory
+//! ([`crate::pipeline_cache::cache_dir`]), one file per patch (by its
+//! path). `SPREADLIGHT_PRECOMPOSE=off` leaves it out.
+//!
+//! Why not keep the composed naga modules themselves: naga's serde support
+//! (its `serialize`/`deserialize` features) turns on serde in `bitflags`,
+//! `hashbrown` and `half`, which nearly every crate of the tree depends
+//! on, for a saving the threads already make at no risk to the pixels.
+
+use std::collections::BTreeSet;
+use std::hash::{Hash, Hasher};
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::thread::JoinHandle;
+use std::time::{Duration, Instant};
+
+use crate::permutations::ENTRY_SHADERS;
+use crate::shaders::{ShaderComposer, ShaderKey};
+
+/// The first line of a list (its format's version).
+const HEADER: &str = "spreadlight permutations 1";
+
+/// More than any patch composes; a longer list is cut there.
+const MOST: usize = 1024;
+
+/// Whether lists are read and written (`SPREADLIGHT_PRECOMPOSE=off|0`: not).
+pub fn enabled() -> bool {
+    !matches!(
+        std::env::var("SPREADLIGHT_PRECOMPOSE").as_deref(),
+        Ok("off" | "0")
+    )
+}
+
+/// The list of what `name` (a patch's path) composed last time.
+pub fn list_path(name: &str) -> PathBuf {
+    let mut hasher = rustc_hash::FxHasher::default();
+    name.hash(&mut hasher);
+    crate::pipeline_cache::cache_dir()
+        .join("permutations")
+        .join(format!("{:016x}.txt", hasher.finish()))
+}
+
+/// `keys` as a list's text: a header, then a line per permutation, its
+/// shader's path and its features separated by spaces after a tab.
+pub fn to_text(keys: &[ShaderKey]) -> String {
+    let mut text = format!("{HEADER}\n");
+    for key in keys.iter().take(MOST) {
+        let features: Vec<&str> = key.features.iter().copied().collect();
+        text.push_str(&format!("{}\t{}\n", key.path(), features.join(" ")));
+    }
+    text
+}
+
+/// A list read back: its permutations this build has, and how many lines
+/// named one it does not (a shader or feature since removed).
+#[derive(Debug, Default)]
+pub struct List {
+    pub keys: Vec<ShaderKey>,
+    pub unknown: usize,
+}
+
+/// Parse a list's text; an error says what is wrong with it, and where.
+pub fn parse(text: &str) -> Result<List, String> {
+    let mut lines = text.lines();
+    if lines.next() != Some(HEADER) {
+        return Err(format!("its first line is not `{HEADER}`"));
+    }
+    let mut list = List::default();
+    for (i, line) in lines.enumerate() {
+        let Some((path, features)) = line.split_once('\t') else {
+            return Err(format!("line {}: not `PATH<tab>FEATURES`", i + 2));
+        };
+        match key_of(path, features) {
+            Some(key) if list.keys.len() < MOST => list.keys.push(key),
+            Some(_) => {}
+            None => list.unknown += 1,
+        }
+    }
+    Ok(list)
+}
+
+/// The permutation a line names, if this build's shaders allow it.
+fn key_of(path: &str, features: &str) -> Option<ShaderKey> {
+    let file = ENTRY_SHADERS.iter().find(|f| f.path == path)?;
+    let features: Option<BTreeSet<&'static str>> = features
+        .split_whitespace()
+        .map(|name| file.features.iter().copied().find(|f| *f == name))
+        .collect();
+    let features = features?;
+    file.check(&features).ok()?;
+    Some(ShaderKey::new(file, features))
+}
+
+/// The list at `path`: None when there is none (a first run); an error
+/// naming the file when it cannot be read or is not a list.
+pub fn read(path: &Path) -> Result<Option<List>, String> {
+    let bytes = match std::fs::read(path) {
+        Ok(bytes) => bytes,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(None),
+        Err(e) => return Err(format!("cannot read {}: {e}", path.display())),
+    };
+    let text = String::from_utf8(bytes)
+        .map_err(|_| format!("{} is not a permutation list (not text)", path.display()))?;
+    parse(&text)
+        .map(Some)
+        .map_err(|e| format!("{} is not a permutation list: {e}", path.display()))
+}
+
+/// Write `keys` to the list at `path`, through a temporary file and a
+/// rename (a run killed half-way leaves the old list). Unchanged text is not written again.
+pub fn remember(path: &Path, keys: &[ShaderKey]) -> std::io::Result<()> {
+    let text = to_text(keys);
+    if std::fs::read(path).is_ok_and(|old| old == text.as_bytes()) {
+        return Ok(());
+    }
+    if let Some(dir) = path.parent() {
+        std::fs::create_dir_all(dir)?;
+    }
+    let temp = path.with_extension(format!("{}.tmp", std::process::id()));
+    std::fs::write(&temp, text)?;
+    std::fs::rename(&temp, path)
+}
+
+/// What composing ahead did (`cold_start` of the CLI's `--json`).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Precomposed {
+    /// Permutations in the list, and of them composed (the rest failed, or
+    /// were composed already).
+    pub listed: usize,
+    pub composed: usize,
+    pub threads: usize,
+    /// From [`start`] until the last thread ended.
+    pub wall: Duration,
+    /// How long [`Precomposing::finish`] waited for them.
+    pub waited: Duration,
+}
+
+/// Threads composing ahead, until [`Precomposing::finish`].
+pub struct Precomposing {
+    handle: Option<JoinHandle<Precomposed>>,
+}
+
+/// Compose `keys` on up to `threads` threads (each with a composer of its
+/// own) in the background; what they compose joins the process's shared
+/// permutations, where every renderer over the embedded sources finds it.
+pub fn start(keys: Vec<ShaderKey>, threads: usize) -> Precomposing {
+    let threads = threads.clamp(1, keys.len().max(1));
+    let spawned = std::thread::Builder::new()
+        .name("precompose".to_owned())
+        .spawn(move || {
+            let started = Instant::now();
+            let composed = compose_all(&keys, threads);
+            Precomposed {
+                listed: keys.len(),
+                composed,
+                threads,
+                wall: started.elapsed(),
+                waited: Duration::ZERO,
+            }
+        });
+    // No thread (the system refused one): the first frame composes as before.
+    Precomposing {
+        handle: spawned.ok(),
+    }
+}
+
+/// Compose `keys` on `threads` scoped threads, each taking the next key not
+/// yet taken; returns how many composed. A permutation that fails is left
+/// for the renderer, which reports it where it is used.
+pub fn compose_all(keys: &[ShaderKey], threads: usize) -> usize {
+    let next = AtomicUsize::new(0);
+    let composed = AtomicUsize::new(0);
+    std::thread::scope(|scope| {
+        for _ in 0..threads.max(1) {
+            scope.spawn(|| {
+                let Ok(mut composer) = ShaderComposer::new() else {
+                    return;
+                };
+                while let Some(key) = keys.get(next.fetch_add(1, Ordering::Relaxed)) {
+                    if composer.compose(key).is_ok() {
+                        composed.fetch_add(1, Ordering::Relaxed);
+                    }
+                }
+            });
+        }
+    });
+    composed.into_inner()
+}
+
+/// The threads to compose with: every core but the one the main thread uses.
+pub fn threads() -> usize {
+    std::thread::available_parallelism()
+        .map_or(1, |n| n.get().saturating_sub(1))
+        .clamp(1, 16)
+}
+
+impl Precomposing {
+    /// Wait for the threads; what they did.
+    pub fn finish(self) -> Precomposed {
+        let started = Instant::now();
+        let done = self.handle.and_then(|h| h.join().ok());
+        done.map(|done| Precomposed {
+            waited: started.elapsed(),
+            ..done
+        })
+        .unwrap_or_default()
+    }
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,86 @@
+use super::*;
+use crate::post::copy_key::CopyKey;
+use crate::shaders::{Permutation, ShaderCache};
+
+/// A few permutations with features, and one without.
+fn some_keys() -> Vec<ShaderKey> {
+    let mut keys: Vec<ShaderKey> = crate::permutations::all_permutations()
+        .into_iter()
+        .filter(|k| k.features.len() >= 2)
+        .take(4)
+        .collect();
+    keys.push(CopyKey.key());
+    keys
+}
+
+#[test]
+fn a_list_reads_back_as_the_permutations_it_was_written_from() {
+    let keys = some_keys();
+    let list = parse(&to_text(&keys)).expect("a list");
+    assert_eq!(list.keys, keys);
+    assert_eq!(list.unknown, 0);
+}
+
+#[test]
+fn entries_this_build_lacks_are_skipped_and_a_damaged_list_is_an_error_saying_where() {
+    let text = format!(
+        "{HEADER}\npost/copy.wgsl\t\nlighting/gone.wgsl\t\npost/copy.wgsl\tNOT_A_FEATURE\n"
+    );
+    let list = parse(&text).expect("a list");
+    assert_eq!(list.keys, vec![CopyKey.key()]);
+    assert_eq!(list.unknown, 2);
+    let bad_header = parse("spreadlight permutations 0\npost/copy.wgsl\t\n").unwrap_err();
+    assert!(bad_header.contains("first line"), "{bad_header}");
+    let bad_line = parse(&format!("{HEADER}\npost/copy.wgsl\n")).unwrap_err();
+    assert!(bad_line.contains("line 2"), "{bad_line}");
+}
+
+#[test]
+fn remembered_lists_read_back_and_a_damaged_file_names_itself() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let path = dir.path().join("permutations").join("list.txt");
+    assert!(matches!(read(&path), Ok(None)), "no list: a first run");
+    let keys = some_keys();
+    remember(&path, &keys).expect("written");
+    let read_back = read(&path).expect("readable").expect("there");
+    assert_eq!(read_back.keys, keys);
+    std::fs::write(&path, [0xff, 0xfe, 0x00]).expect("damaged");
+    let error = read(&path).unwrap_err();
+    assert!(error.contains(&path.display().to_string()), "{error}");
+    std::fs::write(&path, "garbage").expect("damaged");
+    assert!(read(&path).unwrap_err().contains("first line"));
+}
+
+#[test]
+fn what_the_threads_compose_a_renderer_finds_without_a_composer_of_its_own() {
+    let keys = vec![CopyKey.key()];
+    assert_eq!(compose_all(&keys, 2), 1);
+    let mut cache = ShaderCache::lazy();
+    let reflection = cache.reflection(&keys[0], "main").expect("reflects");
+    assert!(!reflection.vars().is_empty());
+    let times = cache.compile_times;
+    assert_eq!((times.ready, times.composed), (1, 0), "{times:?}");
+    assert_eq!(times.libraries, Duration::ZERO, "no composer was made");
+    // A permutation nobody composed ahead is composed by the cache itself,
+    // which makes its composer then.
+    let other = crate::permutations::all_permutations()
+        .into_iter()
+        .find(|k| k.path() == "post/tonemap.wgsl")
+        .expect("a tonemap permutation");
+    let composer = ShaderComposer::from_dir(Path::new("/nonexistent")).expect("libraries");
+    let mut fresh = ShaderCache::new(composer);
+    fresh.reflection(&other, "main").expect("reflects");
+    assert_eq!(fresh.compile_times.composed, 1);
+}
+
+#[test]
+fn threads_started_compose_the_list_and_say_so() {
+    let keys = some_keys();
+    let done = start(keys.clone(), 3).finish();
+    assert_eq!(done.listed, keys.len());
+    assert_eq!(done.composed, keys.len());
+    assert_eq!(done.threads, 3);
+    for key in &keys {
+        assert!(crate::shaders::is_composed(key), "{key:?}");
+    }
+}
