@@ -388,11 +388,13 @@ impl PreviewEngine {
                 return Some(Err(e));
             }
         };
-        if self.budgeted && self.scaled > 0 {
-            // The scaling is timed with the frame it belongs to, not the next
-            // (a frame graph that reads its timestamps back has waited for its
-            // passes and these blits already; a failed wait only shifts a
-            // sample to the next frame).
+        // A frame that read its timestamps back has waited for its passes
+        // and these blits (one submission). One that did not is waited for
+        // here, so the scaling is timed with the frame it belongs to, not the
+        // next (a failed wait only shifts a sample to the next frame). Not
+        // both: a second wait for the whole queue also waited for the UI's
+        // paint submitted meanwhile, and only when thumbnails were scaled.
+        if self.budgeted && self.scaled > 0 && report.gpu_frame_ms.is_none() {
             let _ = renderer
                 .gpu
                 .device
