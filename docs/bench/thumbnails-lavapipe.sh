@@ -9,7 +9,9 @@
 #   ZOOMS  --min-zoom values, comma-separated (default "0.3,0.1": about 25
 #          and 34 thumbnails on screen at 1600x900)
 #   ROUNDS off/on pairs per zoom (default 2); FRAMES editor frames a run (80)
-# Each run prints one JSON line: the editor's --measure-frames report plus
+# Each run prints one JSON line: the editor's --measure-frames report (with
+# what each patch frame cost the UI: submissions and waits at the submission
+# gate, docs/editor.md "What asked for those frames") plus
 # "zoom", "thumbs" (off/on), "round", "load_before" and "load_after"; a
 # summary per zoom follows on standard error (needs jq).
 set -euo pipefail
@@ -50,5 +52,5 @@ done
 # Per zoom and round: the patch frame off and on, the rise, the UI pass on.
 jq -rs 'group_by([.zoom, .round])[] |
     (map(select(.thumbs == "off"))[0]) as $off | (map(select(.thumbs == "on"))[0]) as $on |
-    "zoom \($on.zoom) round \($on.round): \($on.thumbnails) thumbnails, patch \($off.patch_ms_median) -> \($on.patch_ms_median) ms (\((($on.patch_ms_median / $off.patch_ms_median - 1) * 1000 | round) / 10)%), ui \($on.ui_ms_median) ms, thumbnail_ms \($on.thumbnail_ms), patch_alone_ms \($on.patch_alone_ms), load \($off.load_before)-\($on.load_after)"' \
+    "zoom \($on.zoom) round \($on.round): \($on.thumbnails) thumbnails, patch \($off.patch_ms_median) -> \($on.patch_ms_median) ms (\((($on.patch_ms_median / $off.patch_ms_median - 1) * 1000 | round) / 10)%), ui \($on.ui_ms_median) ms, thumbnail_ms \($on.thumbnail_ms), patch_alone_ms \($on.patch_alone_ms), patch frames \($off.patch_frames)/\($on.patch_frames) of \($on.frames), per patch frame off/on: submissions \($off.submissions_per_patch_frame)/\($on.submissions_per_patch_frame), gate waits \($off.gate_waits_per_patch_frame)/\($on.gate_waits_per_patch_frame), thumbnails scaled \($on.thumbnails_scaled_per_patch_frame), load \($off.load_before)-\($on.load_after)"' \
     "$results" >&2

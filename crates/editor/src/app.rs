@@ -93,6 +93,8 @@ struct AutoRun {
     /// The worker's seconds per finished patch frame, one entry per new frame.
     patch: Vec<f64>,
     last_evaluations: u64,
+    /// The first patch frame counted and the worker's counts then (automation.rs).
+    counted_from: Option<(u64, crate::worker::WorkerCounts)>,
     screenshot_sent: bool,
     /// When the frames were done and the screenshot began waiting for the patch.
     wait_started: Option<Instant>,

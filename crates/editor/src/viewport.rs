@@ -2,6 +2,7 @@
 //! device egui draws with, then shown as a native egui texture. No readback:
 //! the frame graph's output is copied on the GPU into a texture egui samples.
 
+use std::collections::HashMap;
 use std::sync::Arc;
 
 use spreadlight_render::shaders::Reflection;
@@ -341,6 +342,20 @@ pub fn render_frame(
     watched: &[&TextureRef],
     size: (u32, u32),
 ) -> Result<RenderedFrame, ViewportError> {
+    render_frame_then(renderer, textures, watched, size, |_| Vec::new())
+}
+
+/// [`render_frame`], with `then`'s commands (the blits of what the frame
+/// hands back into egui's textures) in the frame's own submission
+/// ([`FrameGraph::execute_then`]): every submission of the worker's may wait
+/// at the gate for a UI frame, so a frame and its blits wait once.
+pub fn render_frame_then(
+    renderer: &Arc<Renderer>,
+    textures: &[&TextureRef],
+    watched: &[&TextureRef],
+    size: (u32, u32),
+    then: impl FnOnce(&HashMap<String, wgpu::Texture>) -> Vec<wgpu::CommandBuffer>,
+) -> Result<RenderedFrame, ViewportError> {
     let size = (size.0.max(1), size.1.max(1));
     renderer.set_output_size(size);
     let mut graph = FrameGraph::new(size);
@@ -353,19 +368,19 @@ pub fn render_frame(
         graph.watch(&texture.name);
     }
     graph
-        .execute(renderer)
+        .execute_then(renderer, then)
         .map_err(|e| ViewportError::Render(e.to_string()))
 }
 
 /// A rendered frame: its report and its requested textures by name.
 pub type RenderedFrame = (
     spreadlight_render::FrameReport,
-    std::collections::HashMap<String, wgpu::Texture>,
+    HashMap<String, wgpu::Texture>,
 );
 
 /// Render `texture` at `size` with the shared renderer and copy it into
-/// `target` (made or resized as needed). Returns the frame's report for the
-/// GPU times.
+/// `target` (made or resized as needed), in the frame's own submission.
+/// Returns the frame's report for the GPU times.
 pub fn render_into(
     render_state: &egui_wgpu::RenderState,
     renderer: &Arc<Renderer>,
@@ -374,47 +389,29 @@ pub fn render_into(
     size: (u32, u32),
     target: &mut Option<ViewTarget>,
 ) -> Result<spreadlight_render::FrameReport, ViewportError> {
-    let (report, outputs) = render_frame(renderer, &[texture], &[], size)?;
-    let src = outputs
-        .get(&texture.name)
-        .ok_or_else(|| ViewportError::Missing(texture.name.clone()))?;
-    show_in(
-        render_state,
-        renderer,
-        blitter,
-        src,
-        (src.width(), src.height()),
-        target,
-    )?;
-    Ok(report)
+    let mut shown = Err(ViewportError::Missing(texture.name.clone()));
+    let (report, _) = render_frame_then(renderer, &[texture], &[], size, |outputs| {
+        let mut batch = Vec::new();
+        if let Some(src) = outputs.get(&texture.name) {
+            shown = show_in_batch(
+                render_state,
+                renderer,
+                blitter,
+                src,
+                (src.width(), src.height()),
+                target,
+                &mut batch,
+            );
+        }
+        batch
+    })?;
+    shown.map(|()| report)
 }
 
 /// Copy `src` into `target` at `size` in pixels (made, or remade at another
 /// size, and registered with egui as needed): one blit, scaled down when
-/// `size` is smaller (a thumbnail).
-pub fn show_in(
-    render_state: &egui_wgpu::RenderState,
-    renderer: &Renderer,
-    blitter: &Blitter,
-    src: &wgpu::Texture,
-    size: (u32, u32),
-    target: &mut Option<ViewTarget>,
-) -> Result<(), ViewportError> {
-    let mut commands = Vec::new();
-    show_in_batch(
-        render_state,
-        renderer,
-        blitter,
-        src,
-        size,
-        target,
-        &mut commands,
-    )?;
-    renderer.gpu.submit(commands);
-    Ok(())
-}
-
-/// [`show_in`], its blit's commands added to `batch` for the caller to submit.
+/// `size` is smaller (a thumbnail), its commands added to `batch` for the
+/// caller to submit (with the frame that made `src`: [`render_frame_then`]).
 pub fn show_in_batch(
     render_state: &egui_wgpu::RenderState,
     renderer: &Renderer,

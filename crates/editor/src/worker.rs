@@ -29,7 +29,7 @@ use spreadlight_graph::{
 };
 use spreadlight_nodes::input::HostInput;
 use spreadlight_nodes::media::midi_in::MidiLearn;
-use spreadlight_render::{SubmissionGate, TextureRef};
+use spreadlight_render::{GateCounts, SubmissionGate, TextureRef};
 
 use crate::gpu::WorkerGpu;
 use crate::previews::engine::PreviewEngine;
@@ -128,6 +128,18 @@ impl Request {
     }
 }
 
+/// What the worker's frames cost the UI, counted since it started
+/// ([`Frame::counts`]); machine-independent, unlike their times.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct WorkerCounts {
+    /// Submissions through the gate and waits there (`GateCounts`).
+    pub gate: GateCounts,
+    /// Frames published: each calls the UI's wake.
+    pub published: u64,
+    /// Thumbnails (not the hovered preview) scaled from a frame.
+    pub thumbnails_scaled: u64,
+}
+
 /// One viewport's finished image, or why there is none.
 #[derive(Clone, Default)]
 pub struct ViewOut {
@@ -159,6 +171,11 @@ pub struct Frame {
     pub seconds: f64,
     /// The thumbnails' schedule: the patch's frame alone and one thumbnail's cost.
     pub thumbnail_cost: Measured,
+    /// What cost the UI, counted since the worker started (compare two
+    /// frames for what happened between them): submissions through the
+    /// renderer's gate and the waits there (each a repaint request: a UI
+    /// frame), frames published (each wakes the UI once), thumbnails scaled.
+    pub counts: WorkerCounts,
     /// A panic in a node or pass, caught so the editor keeps the document.
     pub failure: Option<String>,
     /// The recording in progress, or the last one finished.
@@ -337,6 +354,9 @@ struct Engine {
     playback: spreadlight_nodes::media::Playback,
     recording: Option<Recording>,
     recorded: Option<RecordingStatus>,
+    /// Frames published and thumbnails scaled so far (`WorkerCounts`).
+    published: u64,
+    thumbnails_scaled: u64,
 }
 
 impl Engine {
@@ -363,6 +383,8 @@ impl Engine {
             playback: spreadlight_nodes::media::Playback::Live,
             recording: None,
             recorded: None,
+            published: 0,
+            thumbnails_scaled: 0,
         };
         engine.reset(engine.registry.clone());
         engine
@@ -431,6 +453,7 @@ impl Engine {
                 gpu_errors: self.gpu_errors.clone(),
                 seconds: started.elapsed().as_secs_f64(),
                 thumbnail_cost: self.previews.measurements(),
+                counts: self.counts(),
                 failure,
                 recording: self
                     .recording
@@ -450,6 +473,20 @@ impl Engine {
             if let Some(wake) = &*shared.wake.lock().unwrap_or_else(|e| e.into_inner()) {
                 wake();
             }
+        }
+    }
+
+    /// What this worker's frames cost so far, this one counted as published.
+    fn counts(&mut self) -> WorkerCounts {
+        self.published += 1;
+        WorkerCounts {
+            gate: self
+                .gpu
+                .as_ref()
+                .map(|g| g.renderer.gpu.submission_gate().counts())
+                .unwrap_or_default(),
+            published: self.published,
+            thumbnails_scaled: self.thumbnails_scaled,
         }
     }
 
@@ -599,27 +636,18 @@ impl Engine {
             } else {
                 want.size
             };
-            let frame = self
-                .previews
-                .render(&self.runtime, gpu, main, size, self.clock.time);
+            let frame = self.previews.render(
+                &self.runtime,
+                gpu,
+                (main, &mut out.target),
+                size,
+                self.clock.time,
+            );
+            self.thumbnails_scaled += self.previews.scaled() as u64;
             match (texture, frame) {
                 (Err(e), _) => Err(e),
                 (Ok(_), None) => Err(ViewportError::NoTexture),
-                (Ok(_), Some(Err(e))) => Err(e),
-                (Ok(t), Some(Ok((report, outputs)))) => outputs
-                    .get(&t.name)
-                    .ok_or_else(|| ViewportError::Missing(t.name.clone()))
-                    .and_then(|src| {
-                        viewport::show_in(
-                            &gpu.state,
-                            &gpu.renderer,
-                            &gpu.blitter,
-                            src,
-                            (src.width(), src.height()),
-                            &mut out.target,
-                        )
-                    })
-                    .map(|()| report),
+                (Ok(_), Some(shown)) => shown,
             }
         } else {
             texture.and_then(|t| {

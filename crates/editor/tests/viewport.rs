@@ -378,6 +378,101 @@ fn a_thumbnail_of_a_texture_the_frame_makes_shows_it_without_a_request() {
     assert_grey(pixel_in(&image, rect, ppp, 0.9, 0.9), 90, "its far corner");
 }
 
+/// Thumbnails ride the patch's own frame (issue 32: previews must not slow
+/// the patch): each submission of the worker's waits at the submission gate
+/// for a UI frame, and each wait asks for a repaint. So the thumbnails' and
+/// the viewport's blits go in the frame's own submission: N patch frames
+/// with K thumbnails refreshed in each make N submissions and publish N
+/// frames (one wake of the UI each), as with no thumbnail at all; they made
+/// 3N submissions when the blits were submitted apart.
+#[test]
+fn thumbnails_refreshed_with_a_patch_frame_go_in_its_one_submission() {
+    use spreadlight_graph::{NodeDoc, NodeId, Spread};
+    let dir = tempfile::tempdir().expect("tempdir");
+    image::RgbaImage::from_pixel(64, 36, image::Rgba([90, 90, 90, 255]))
+        .save(dir.path().join("flat.png"))
+        .expect("png");
+    // FileTexture -> Tonemap -> FXAA -> FXAA -> Output: four thumbnails,
+    // three of which change with the Tonemap's exposure.
+    let mut p = file_texture_patch("flat.png", true, false);
+    p.add(NodeDoc::new(2, "Tonemap").at(160.0, 0.0));
+    p.add(NodeDoc::new(3, "FXAA").at(320.0, 0.0));
+    // Two rows, so that all fit the window at the readable zoom.
+    p.add(NodeDoc::new(4, "FXAA").at(0.0, 240.0));
+    p.add(
+        NodeDoc::new(5, "Output")
+            .at(160.0, 240.0)
+            .with("Write", vec![false]),
+    );
+    p.link(1, "Texture", 2, "Texture");
+    p.link(2, "Texture", 3, "Texture");
+    p.link(3, "Texture", 4, "Texture");
+    p.link(4, "Texture", 5, "Texture");
+    let mut h = editor_on(&p, &dir, Vec2::new(1300.0, 800.0));
+    for node in 1..=4 {
+        assert!(
+            h.state().thumbnail_rect(&thumb_key(node)).is_some(),
+            "node {node}'s thumbnail is on screen"
+        );
+    }
+    let (before, evaluated) = (h.state().worker_counts(), h.state().evaluations());
+    let frames = 4u64;
+    for k in 0..frames {
+        // An edit: one patch frame (the editor is paused, each UI frame
+        // waits for it), every changed thumbnail refreshed.
+        let exposure = Spread::Float(vec![2.0 + k as f32 * 0.5]);
+        h.state_mut()
+            .doc_mut()
+            .set_value(NodeId(2), "Exposure", Some(exposure), false);
+        h.step();
+    }
+    let after = h.state().worker_counts();
+    assert_eq!(h.state().evaluations() - evaluated, frames, "patch frames");
+    assert_eq!(
+        after.thumbnails_scaled - before.thumbnails_scaled,
+        3 * frames,
+        "the Tonemap's and both FXAAs' thumbnails refreshed in every frame \
+         (the FileTexture's did not change)"
+    );
+    assert_eq!(
+        after.gate.submissions - before.gate.submissions,
+        frames,
+        "one submission a patch frame, its thumbnails' and viewport's blits in it"
+    );
+    assert_eq!(
+        after.published - before.published,
+        frames,
+        "one frame published (one wake of the UI) a patch frame"
+    );
+    // The right pixels: the tonemapped grey in the Tonemap's thumbnail, the
+    // same through both (flat-image) FXAAs and in the viewport.
+    for node in 1..=4 {
+        let out = h.state().preview(&thumb_key(node)).expect("made");
+        assert_eq!(out.error, None, "node {node}");
+    }
+    let ppp = h.ctx.pixels_per_point();
+    let image = h.render().expect("render the window");
+    let at = |rect: egui::Rect| pixel_in(&image, rect, ppp, 0.5, 0.5);
+    let thumb = |node| h.state().thumbnail_rect(&thumb_key(node)).expect("drawn");
+    let source = at(thumb(1));
+    assert_grey(source, 90, "the FileTexture's thumbnail");
+    let tonemapped = at(thumb(2));
+    assert!(
+        tonemapped[0] > source[0] + 30,
+        "exposure 3.5 brightens: {tonemapped:?} against {source:?}"
+    );
+    for (rect, what) in [
+        (thumb(3), "the first FXAA's thumbnail"),
+        (thumb(4), "the second FXAA's thumbnail"),
+        (
+            h.state().viewport_rect(0).expect("the viewport was drawn"),
+            "the viewport",
+        ),
+    ] {
+        assert_grey(at(rect), tonemapped[0], what);
+    }
+}
+
 #[test]
 fn a_preview_of_an_unsunk_branch_evaluates_it_and_render_still_does_not() {
     use spreadlight_graph::stats::NodeRun;

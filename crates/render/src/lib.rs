@@ -51,4 +51,4 @@ pub use error::RenderError;
 pub use frame_graph::{FrameGraph, FrameReport, Lifetime, SizeRule, TextureDesc};
 pub use recipe::{Recipe, TextureRef};
 pub use renderer::Renderer;
-pub use submission_gate::SubmissionGate;
+pub use submission_gate::{GateCounts, SubmissionGate};

@@ -164,15 +164,37 @@ impl<'a> crate::frame_graph::FrameGraph<'a> {
         ),
         RenderError,
     > {
-        self.execute_on(&renderer.executor, &renderer.gpu, || {
-            let uploads = renderer.take_uploads();
-            vec![
-                ("uniform uploads", uploads.made),
-                ("uniform uploads skipped", uploads.skipped),
-                ("uniform bytes uploaded", uploads.bytes),
-                ("kept bytes compared", uploads.compared),
-            ]
-        })
+        self.execute_then(renderer, |_| Vec::new())
+    }
+
+    /// [`FrameGraph::execute`], with `then`'s commands (given the textures
+    /// the frame hands back) in the frame's own submission, after its passes
+    /// ([`FrameGraph::execute_on_then`]).
+    pub fn execute_then(
+        self,
+        renderer: &Renderer,
+        then: impl FnOnce(&std::collections::HashMap<String, wgpu::Texture>) -> Vec<wgpu::CommandBuffer>,
+    ) -> Result<
+        (
+            FrameReport,
+            std::collections::HashMap<String, wgpu::Texture>,
+        ),
+        RenderError,
+    > {
+        self.execute_on_then(
+            &renderer.executor,
+            &renderer.gpu,
+            || {
+                let uploads = renderer.take_uploads();
+                vec![
+                    ("uniform uploads", uploads.made),
+                    ("uniform uploads skipped", uploads.skipped),
+                    ("uniform bytes uploaded", uploads.bytes),
+                    ("kept bytes compared", uploads.compared),
+                ]
+            },
+            then,
+        )
     }
 }
 

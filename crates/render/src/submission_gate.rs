@@ -47,6 +47,29 @@ struct State {
     /// Opened for good: closing no longer does anything.
     for_good: bool,
     waker: Option<Waker>,
+    counts: GateCounts,
+}
+
+/// What passed the gate since it was made ([`SubmissionGate::counts`]): a
+/// host compares two readings to say what one of its frames cost the UI.
+/// Each wait called the host's waker, which in the editor is one repaint
+/// request: a submission that waits costs a UI frame.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct GateCounts {
+    /// Submissions that passed.
+    pub submissions: u64,
+    /// Times a submit found the gate closed and called the waker.
+    pub waits: u64,
+}
+
+impl GateCounts {
+    /// What passed between `earlier` and this reading.
+    pub fn since(self, earlier: GateCounts) -> GateCounts {
+        GateCounts {
+            submissions: self.submissions.saturating_sub(earlier.submissions),
+            waits: self.waits.saturating_sub(earlier.waits),
+        }
+    }
 }
 
 impl std::fmt::Debug for SubmissionGate {
@@ -89,6 +112,11 @@ impl SubmissionGate {
         !self.lock().closed
     }
 
+    /// Submissions passed and waits (waker calls) so far.
+    pub fn counts(&self) -> GateCounts {
+        self.lock().counts
+    }
+
     /// Call `waker` whenever a submit finds the gate closed (again).
     pub fn set_waker(&self, waker: impl Fn() + Send + Sync + 'static) {
         self.lock().waker = Some(Arc::new(waker));
@@ -122,6 +150,7 @@ impl SubmissionGate {
             } else {
                 // Called unlocked: the waker may take the host's own locks.
                 let waker = s.waker.clone();
+                s.counts.waits += 1;
                 drop(s);
                 if let Some(wake) = waker {
                     wake();
@@ -131,6 +160,7 @@ impl SubmissionGate {
             }
         }
         let done = submit();
+        s.counts.submissions += 1;
         drop(s);
         done
     }

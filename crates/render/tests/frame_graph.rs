@@ -637,6 +637,85 @@ fn requested_textures_can_be_copied_and_sampled() {
     assert_eq!((image.width, image.height), (4, 4));
 }
 
+/// A host's commands ride the frame's own submission
+/// (`FrameGraph::execute_then`): they get the textures the frame hands back
+/// before it submits, run after its passes (a copy of the frame's last
+/// output holds what the passes wrote, not the cleared texture it was
+/// before them), and the frame with them is one submission through the gate
+/// (the editor's blits into its viewport and thumbnails: each submission of
+/// its worker waits for a UI frame).
+#[test]
+fn a_host_s_commands_go_in_the_frame_s_submission_after_its_passes() {
+    use spreadlight_render::post::CopyKey;
+    use spreadlight_render::readback::read_texture;
+    use spreadlight_render::shaders::Permutation;
+    let renderer = test_renderer();
+    let mut fg = FrameGraph::new((8, 8));
+    let mut seeded = target();
+    seeded.usage |= wgpu::TextureUsages::COPY_DST;
+    let mut pass = fg.pass("seed", None);
+    let s0 = pass.write("s0", seeded);
+    pass.run(move |cx| {
+        seed_ramp(cx, &cx.texture(s0)?.clone());
+        Ok(())
+    });
+    let mut pass = fg.pass("copy", None);
+    let (source, output) = (pass.read("s0"), pass.write("s1", target()));
+    pass.run(move |cx| {
+        cx.dispatch_image(
+            "copy",
+            &CopyKey.key(),
+            Bindings::new()
+                .texture("source", source)
+                .texture("output", output),
+            (8, 8),
+        )
+    });
+    fg.request("s1");
+    let device = &renderer.gpu.device;
+    let copy = device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("host copy"),
+        size: wgpu::Extent3d {
+            width: 8,
+            height: 8,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: wgpu::TextureFormat::Rgba16Float,
+        usage: wgpu::TextureUsages::COPY_DST | wgpu::TextureUsages::COPY_SRC,
+        view_formats: &[],
+    });
+    let gate = renderer.gpu.submission_gate().clone();
+    let before = gate.counts();
+    let mut handed = Vec::new();
+    let (report, outputs) = fg
+        .execute_then(&renderer, |outputs| {
+            handed = outputs.keys().cloned().collect();
+            let mut encoder = device.create_command_encoder(&Default::default());
+            encoder.copy_texture_to_texture(
+                outputs["s1"].as_image_copy(),
+                copy.as_image_copy(),
+                copy.size(),
+            );
+            vec![encoder.finish()]
+        })
+        .expect("executes");
+    let counts = gate.counts().since(before);
+    assert!(report.errors.is_empty(), "{:?}", report.errors);
+    assert_eq!(handed, ["s1"], "the host gets what the frame hands back");
+    assert_eq!(
+        counts.submissions, 1,
+        "the frame and the host's copy: one submission"
+    );
+    assert_eq!(report.counters.get("host command buffers"), Some(&1));
+    let made = read_texture(&renderer.gpu, &outputs["s1"]).expect("reads back");
+    let copied = read_texture(&renderer.gpu, &copy).expect("reads back");
+    assert_eq!(made.pixels[9][0], 9.0 / 64.0, "the frame's passes ran");
+    assert_eq!(copied.pixels, made.pixels, "after them, the host's copy");
+}
+
 /// A readback whose buffer would be one byte past the adapter's largest is
 /// refused before anything is allocated, naming the size and the limit.
 #[test]

@@ -32,11 +32,13 @@ impl EditorApp {
             && self.frame.views.first().is_none_or(|v| {
                 v.target.is_none() || v.for_size == Some(self.viewports.views[0].size)
             });
+        let counts = self.frame.counts;
         let a = &mut self.auto;
         // Each new patch frame once: how long the worker took for it.
         if patch_frame.0 != a.last_evaluations {
             a.last_evaluations = patch_frame.0;
             a.patch.push(patch_frame.1);
+            a.counted_from.get_or_insert((patch_frame.0, counts));
         }
         if let Some(last) = a.last_start {
             a.intervals.push(started.duration_since(last).as_secs_f64());
@@ -83,11 +85,12 @@ impl EditorApp {
             let (frame_med, frame_p95) = median_and_p95(&a.intervals);
             let (cpu_med, _) = median_and_p95(&a.cpu);
             let (patch_med, _) = median_and_p95(&a.patch);
+            let per_frame = per_patch_frame(a.counted_from, (a.last_evaluations, counts));
             let ppp = ctx.pixels_per_point();
             let rect = self.viewports.rects[0]
                 .map(|r| [r.min.x * ppp, r.min.y * ppp, r.max.x * ppp, r.max.y * ppp]);
             println!(
-                "{{\"frames\": {}, \"nodes\": {}, \"ui_ms_median\": {:.3}, \"ui_ms_p95\": {:.3}, \"frame_ms_median\": {:.3}, \"frame_ms_p95\": {:.3}, \"eframe_cpu_ms_median\": {:.3}, \"patch_frames\": {}, \"patch_ms_median\": {:.3}, \"viewport_px\": {}, \"viewport_error\": {:?}, \"canvas_zoom\": {:.3}, \"canvas_text_px\": {:.2}, \"recovery_offered\": {}, \"recovery_module_files\": {}, \"nodes_laid_out\": {}, \"thumbnails\": {}, \"recorded_frames\": {}, \"recording_first_frame\": {}, \"recording_dropped\": {}, \"recording_error\": {:?}, \"thumbnail_ms\": {}, \"patch_alone_ms\": {}, \"thumbnails_low_rate\": {}}}",
+                "{{\"frames\": {}, \"nodes\": {}, \"ui_ms_median\": {:.3}, \"ui_ms_p95\": {:.3}, \"frame_ms_median\": {:.3}, \"frame_ms_p95\": {:.3}, \"eframe_cpu_ms_median\": {:.3}, \"patch_frames\": {}, \"patch_ms_median\": {:.3}, \"viewport_px\": {}, \"viewport_error\": {:?}, \"canvas_zoom\": {:.3}, \"canvas_text_px\": {:.2}, \"recovery_offered\": {}, \"recovery_module_files\": {}, \"nodes_laid_out\": {}, \"thumbnails\": {}, \"recorded_frames\": {}, \"recording_first_frame\": {}, \"recording_dropped\": {}, \"recording_error\": {:?}, \"thumbnail_ms\": {}, \"patch_alone_ms\": {}, \"thumbnails_low_rate\": {}, {}}}",
                 a.frames,
                 nodes,
                 ui_med * 1e3,
@@ -129,11 +132,50 @@ impl EditorApp {
                     .iter()
                     .filter(|(k, o)| !k.large && o.note.is_some())
                     .count(),
+                per_frame,
             );
             self.allow_close = true;
             ctx.send_viewport_cmd(ViewportCommand::Close);
         }
     }
+}
+
+/// What each patch frame cost the UI, from the worker's counts at the first
+/// and the last patch frame of the run (worker.rs, `WorkerCounts`): the
+/// report's `submissions_per_patch_frame` (through the renderer's gate),
+/// `gate_waits_per_patch_frame` (submits that found the gate closed and
+/// asked for a UI frame), `published_per_patch_frame` (frames the worker
+/// published, each a wake of the UI) and `thumbnails_scaled_per_patch_frame`;
+/// `null` with fewer than two patch frames.
+fn per_patch_frame(
+    first: Option<(u64, crate::worker::WorkerCounts)>,
+    (last_evaluations, last): (u64, crate::worker::WorkerCounts),
+) -> String {
+    let ratios = first.and_then(|(from, c)| {
+        let frames = last_evaluations.checked_sub(from).filter(|n| *n > 0)? as f64;
+        let ratio = |now: u64, then: u64| now.saturating_sub(then) as f64 / frames;
+        Some([
+            ratio(last.gate.submissions, c.gate.submissions),
+            ratio(last.gate.waits, c.gate.waits),
+            ratio(last.published, c.published),
+            ratio(last.thumbnails_scaled, c.thumbnails_scaled),
+        ])
+    });
+    let names = [
+        "submissions_per_patch_frame",
+        "gate_waits_per_patch_frame",
+        "published_per_patch_frame",
+        "thumbnails_scaled_per_patch_frame",
+    ];
+    names
+        .iter()
+        .enumerate()
+        .map(|(k, name)| {
+            let value = ratios.map_or_else(|| "null".to_owned(), |r| format!("{:.3}", r[k]));
+            format!("\"{name}\": {value}")
+        })
+        .collect::<Vec<_>>()
+        .join(", ")
 }
 
 /// Milliseconds for the report, `null` when not measured.

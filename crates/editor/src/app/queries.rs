@@ -114,6 +114,13 @@ impl EditorApp {
         self.frame.evaluations
     }
 
+    /// What the worker's frames cost the UI so far, as of the frame shown
+    /// (submissions and waits at the gate, frames published, thumbnails
+    /// scaled): compare two readings.
+    pub fn worker_counts(&self) -> crate::worker::WorkerCounts {
+        self.frame.counts
+    }
+
     /// The egui texture a viewport shows, once something was rendered into it.
     pub fn viewport_texture(&self, index: usize) -> Option<&wgpu::Texture> {
         self.frame

@@ -22,7 +22,7 @@ use spreadlight_graph::{NodeId, ResourceKind, Runtime, Spread};
 use spreadlight_render::gbuffer::{Channel, GBuffer, GBufferView};
 use spreadlight_render::mesh_arena::GpuMesh;
 use spreadlight_render::recipe::Recipe;
-use spreadlight_render::{Renderer, TextureRef};
+use spreadlight_render::{FrameReport, Renderer, TextureRef};
 
 use super::schedule::{Candidate, Measured, Scheduler};
 use super::{
@@ -30,7 +30,7 @@ use super::{
     THUMB_PIXELS,
 };
 use crate::gpu::WorkerGpu;
-use crate::viewport::{self, Blitter, RenderedFrame};
+use crate::viewport::{self, Blitter, ViewTarget};
 
 /// Runs of the worker a preview no longer asked for keeps its texture, so
 /// a frame the UI still draws never loses it; then it is freed.
@@ -146,6 +146,8 @@ pub struct PreviewEngine {
     budgeted: bool,
     /// Frames rendered, for the merged thumbnails' low rate.
     frames: u64,
+    /// Thumbnails (not live) scaled in the last frame rendered.
+    scaled: usize,
 }
 
 impl PreviewEngine {
@@ -275,24 +277,29 @@ impl PreviewEngine {
     }
 
     /// Render the first viewport's `main` texture with every preview's in one
-    /// frame graph at `size`, then scale each preview into its texture.
+    /// frame graph at `size`, and scale each preview into its texture and
+    /// `main` into `main_target`, all in the frame's own submission (each
+    /// submission of the worker's may wait at the gate for a UI frame, and
+    /// that wait is the patch's: one a frame, as without thumbnails).
     /// `time` (seconds) turns mesh turntables.
-    /// Returns the frame (for the viewport to show `main` from) or the
-    /// error of `main`'s frame. A preview that breaks the joint frame does
-    /// not take the viewport with it: `main` is rendered again alone.
+    /// Returns the frame's report, or the error of `main`'s frame or blit
+    /// (None when there was nothing to render). A preview that breaks the
+    /// joint frame does not take the viewport with it: `main` is rendered
+    /// again alone.
     pub fn render(
         &mut self,
         runtime: &Runtime,
         gpu: &WorkerGpu,
-        main: Option<&TextureRef>,
+        (main, main_target): (Option<&TextureRef>, &mut Option<ViewTarget>),
         size: (u32, u32),
         time: f64,
-    ) -> Option<Result<RenderedFrame, viewport::ViewportError>> {
+    ) -> Option<Result<FrameReport, viewport::ViewportError>> {
         let (render_state, renderer, blitter) = (&gpu.state, &gpu.renderer, &gpu.blitter);
         let started = Instant::now();
         self.due = false;
         self.reprobe = false;
         self.sources.clear();
+        self.scaled = 0;
         let resolved = self.resolve(runtime, size);
         // One G-buffer view per (G-buffer, channel): the large and the small
         // preview of a channel share its pass.
@@ -332,46 +339,116 @@ impl PreviewEngine {
                 }
             }
         }
-        let frame = if textures.is_empty() && watched.is_empty() {
-            None
-        } else {
-            match viewport::render_frame(renderer, &textures, &watched, size) {
-                Ok(frame) => Some(Ok(frame)),
-                Err(e) if textures.len() > 1 || !watched.is_empty() => {
-                    // The previews' error; the viewport renders on its own.
-                    let alone = main.map(|m| viewport::render_frame(renderer, &[m], &[], size));
-                    for (request, _, _, _) in &resolved {
-                        slot(&mut self.slots, &request.key).out.error = Some(e.to_string());
-                        // Tried again in the next frame, not taken as shown.
-                        self.schedule.refreshed(&request.key, None);
-                    }
-                    self.age();
-                    return alone;
+        if textures.is_empty() && watched.is_empty() {
+            // Nothing to render; what failed to resolve still says why.
+            self.scale(&resolved, None, gpu, &mut Vec::new());
+            self.age();
+            return None;
+        }
+        let mut main_shown = None;
+        let mut probes = Vec::new();
+        let frame = viewport::render_frame_then(renderer, &textures, &watched, size, |outputs| {
+            let mut batch = Vec::new();
+            probes = self.scale(&resolved, Some(outputs), gpu, &mut batch);
+            main_shown = main.map(|m| match outputs.get(&m.name) {
+                Some(src) => viewport::show_in_batch(
+                    render_state,
+                    renderer,
+                    blitter,
+                    src,
+                    (src.width(), src.height()),
+                    main_target,
+                    &mut batch,
+                ),
+                None => Err(viewport::ViewportError::Missing(m.name.clone())),
+            });
+            batch
+        });
+        let report = match frame {
+            Ok((report, _)) => report,
+            Err(e) if textures.len() > 1 || !watched.is_empty() => {
+                // The previews' error; the viewport renders on its own.
+                let alone = main.map(|m| {
+                    viewport::render_into(render_state, renderer, blitter, m, size, main_target)
+                });
+                for (request, _, _, _) in &resolved {
+                    slot(&mut self.slots, &request.key).out.error = Some(e.to_string());
+                    // Tried again in the next frame, not taken as shown.
+                    self.schedule.refreshed(&request.key, None);
+                    self.sources.remove(&request.key);
                 }
-                Err(e) => Some(Err(e)),
+                self.scaled = 0;
+                self.age();
+                return alone;
+            }
+            Err(e) => {
+                // `main`'s own frame failed: the previews say so too.
+                self.scale(&resolved, None, gpu, &mut Vec::new());
+                self.age();
+                return Some(Err(e));
             }
         };
-        let outputs = frame.as_ref().and_then(|f| f.as_ref().ok()).map(|f| &f.1);
-        // Every thumbnail's blit in one submission (each may wait at the gate).
-        let mut batch = Vec::new();
+        // A frame that read its timestamps back has waited for its passes
+        // and these blits (one submission). One that did not is waited for
+        // here, so the scaling is timed with the frame it belongs to, not the
+        // next (a failed wait only shifts a sample to the next frame). Not
+        // both: a second wait for the whole queue also waited for the UI's
+        // paint submitted meanwhile, and only when thumbnails were scaled.
+        if self.budgeted && self.scaled > 0 && report.gpu_frame_ms.is_none() {
+            let _ = renderer
+                .gpu
+                .device
+                .poll(wgpu::PollType::wait_indefinitely());
+        }
+        // The texels under the pointer, after the thumbnails (each waits for the GPU).
+        for (key, uv) in probes {
+            if let (Some(src), Some(slot)) = (self.sources.get(&key), self.slots.get_mut(&key)) {
+                slot.out.value = probe(renderer, blitter, src, uv);
+            }
+        }
+        if self.budgeted {
+            self.schedule
+                .measured(started.elapsed().as_secs_f64() * 1e3, self.scaled);
+        }
+        self.age();
+        Some(match main_shown {
+            Some(Err(e)) => Err(e),
+            _ => Ok(report),
+        })
+    }
+
+    /// Thumbnails (not live) scaled in the last frame rendered.
+    pub fn scaled(&self) -> usize {
+        self.scaled
+    }
+
+    /// Record each refreshed preview's blit from the frame's `outputs` into
+    /// `batch` (None: no frame was rendered) and note what it shows; returns
+    /// the texels to probe once the frame is done.
+    fn scale(
+        &mut self,
+        resolved: &[Refreshed],
+        outputs: Option<&HashMap<String, wgpu::Texture>>,
+        gpu: &WorkerGpu,
+        batch: &mut Vec<wgpu::CommandBuffer>,
+    ) -> Vec<(PreviewKey, (f32, f32))> {
+        let (render_state, renderer, blitter) = (&gpu.state, &gpu.renderer, &gpu.blitter);
         let mut probes = Vec::new();
-        // Thumbnails scaled (not live): the frame's cost over the patch's own is theirs.
-        let mut thumbnails = 0;
         let frames = self.frames;
         for (request, shown, source, via) in resolved {
             let slot = slot(&mut self.slots, &request.key);
             slot.out.mesh = None;
             slot.out.error = None;
             slot.out.value = None;
-            if let Ok(Shown::Mesh(counts, _)) = &shown {
+            if let Ok(Shown::Mesh(counts, _)) = shown {
                 slot.out.mesh = Some(*counts);
             }
             match shown {
-                Err(e) => slot.out.error = Some(e),
+                Err(e) => slot.out.error = Some(e.clone()),
                 Ok(Shown::Mesh(_, None)) => {}
                 Ok(Shown::Mesh(_, Some(t)) | Shown::Texture(t)) => {
                     let Some(src) = outputs.and_then(|o| o.get(&t.name)) else {
-                        if via == Via::Watch && outputs.is_some() {
+                        if *via == Via::Watch && outputs.is_some() {
                             // The patch's frame merged it away (or left it
                             // unwritten): requested at the low rate from now
                             // on, at once when the thumbnail shows nothing yet.
@@ -391,7 +468,7 @@ impl PreviewEngine {
                         // (the patch may have changed so that it is made).
                         slot.merged = false;
                         slot.forced_at = frames;
-                    } else if via == Via::Watch {
+                    } else if *via == Via::Watch {
                         slot.out.note = None;
                     }
                     let src_size = (src.width().max(1), src.height().max(1));
@@ -409,7 +486,7 @@ impl PreviewEngine {
                         src,
                         size,
                         &mut slot.out.target,
-                        &mut batch,
+                        batch,
                     ) {
                         slot.out.error = Some(e.to_string());
                         continue;
@@ -417,36 +494,14 @@ impl PreviewEngine {
                     if let Some(uv) = request.probe {
                         probes.push((request.key.clone(), uv));
                     }
-                    thumbnails += usize::from(!live);
+                    self.scaled += usize::from(!live);
                     self.sources.insert(request.key.clone(), src.clone());
                     // Shown: skipped from now on while its source stays the same.
-                    self.schedule.refreshed(&request.key, source);
+                    self.schedule.refreshed(&request.key, source.clone());
                 }
             }
         }
-        let scaled = !batch.is_empty();
-        renderer.gpu.submit(batch);
-        if self.budgeted && scaled {
-            // The scaling is timed with the frame it belongs to, not the next
-            // (the frame graph waits for its own passes; a failed wait only
-            // shifts a sample to the next frame).
-            let _ = renderer
-                .gpu
-                .device
-                .poll(wgpu::PollType::wait_indefinitely());
-        }
-        // The texels under the pointer, after the thumbnails (each waits for the GPU).
-        for (key, uv) in probes {
-            if let (Some(src), Some(slot)) = (self.sources.get(&key), self.slots.get_mut(&key)) {
-                slot.out.value = probe(renderer, blitter, src, uv);
-            }
-        }
-        if self.budgeted {
-            self.schedule
-                .measured(started.elapsed().as_secs_f64() * 1e3, thumbnails);
-        }
-        self.age();
-        frame
+        probes
     }
 
     /// Count a run for every preview not asked for.

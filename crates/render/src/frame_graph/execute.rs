@@ -1,6 +1,8 @@
 //! Executing a frame graph on the renderer: allocate each pass's textures
 //! (pooled temporaries, persistent histories), record the passes in order,
 //! time them, submit, and hand the requested (and watched) textures back.
+//! A host may add commands that read those textures to the frame's own
+//! submission ([`FrameGraph::execute_on_then`]).
 //!
 //! Two choices are the renderer's settings ([`Recording`], [`Timing`]):
 //! - `Recording::Isolated` records each pass into its own command encoder
@@ -45,7 +47,23 @@ impl FrameGraph<'_> {
         gpu: &GpuContext,
         counters: impl FnOnce() -> Vec<(&'static str, u64)>,
     ) -> Result<(FrameReport, HashMap<String, wgpu::Texture>), RenderError> {
-        execute(executor, gpu, self, counters)
+        execute(executor, gpu, self, counters, |_| Vec::new())
+    }
+
+    /// [`FrameGraph::execute_on`], with `then`'s commands in the frame's own
+    /// submission, after its passes: `then` gets the textures the frame
+    /// hands back (requested and watched) before the submit, and records
+    /// what the host does with them (an editor's blits into egui's
+    /// textures). One submission a frame instead of two: on a host that
+    /// gates submissions behind its UI frames, one wait instead of two.
+    pub fn execute_on_then(
+        self,
+        executor: &Executor,
+        gpu: &GpuContext,
+        counters: impl FnOnce() -> Vec<(&'static str, u64)>,
+        then: impl FnOnce(&HashMap<String, wgpu::Texture>) -> Vec<wgpu::CommandBuffer>,
+    ) -> Result<(FrameReport, HashMap<String, wgpu::Texture>), RenderError> {
+        execute(executor, gpu, self, counters, then)
     }
 }
 
@@ -54,6 +72,7 @@ fn execute(
     gpu: &GpuContext,
     graph: FrameGraph<'_>,
     counters: impl FnOnce() -> Vec<(&'static str, u64)>,
+    then: impl FnOnce(&HashMap<String, wgpu::Texture>) -> Vec<wgpu::CommandBuffer>,
 ) -> Result<(FrameReport, HashMap<String, wgpu::Texture>), RenderError> {
     let started = std::time::Instant::now();
     let allocations_started = allocation_count::now();
@@ -465,6 +484,34 @@ fn execute(
     if !commands.is_empty() {
         add_counter(&mut report, "command buffers", commands.len() as u64);
     }
+    // The textures handed back, known before the submit so the host's own
+    // commands that read them (the editor's blits into its viewport and
+    // thumbnails) go in the frame's submission: each submission may wait
+    // at the gate for a UI frame (submission_gate.rs).
+    let mut outputs = HashMap::new();
+    for name in &plan.requested {
+        if let Some(t) = live.get(name) {
+            outputs.insert(frame_name(name), t.clone());
+        }
+    }
+    // A watched texture is handed back only if it can be sampled: a watch
+    // changes no texture's usage.
+    for name in watched_made {
+        if let Some(t) = live.get(&name)
+            && t.usage().contains(wgpu::TextureUsages::TEXTURE_BINDING)
+        {
+            outputs.insert(frame_name(&name), t.clone());
+        }
+    }
+    let host_commands = then(&outputs);
+    if !host_commands.is_empty() {
+        add_counter(
+            &mut report,
+            "host command buffers",
+            host_commands.len() as u64,
+        );
+    }
+    commands.extend(host_commands);
     let submitting = std::time::Instant::now();
     let submission = gpu.submit(commands);
     report.queue_submit_ms = submitting.elapsed().as_secs_f64() * 1e3;
@@ -550,7 +597,6 @@ fn execute(
 
     // Requested outputs go to the caller and come back to the pool next frame;
     // other permanent textures return now.
-    let mut outputs = HashMap::new();
     for (pass, output, key, _, _) in owned {
         let name = &plan.writes[pass][output].0;
         let texture = release_instead
@@ -562,20 +608,6 @@ fn execute(
             } else {
                 textures.give_back(key, texture);
             }
-        }
-    }
-    for name in &plan.requested {
-        if let Some(t) = live.get(name) {
-            outputs.insert(frame_name(name), t.clone());
-        }
-    }
-    // A watched texture is handed back only if it can be sampled: a watch
-    // changes no texture's usage.
-    for name in watched_made {
-        if let Some(t) = live.get(&name)
-            && t.usage().contains(wgpu::TextureUsages::TEXTURE_BINDING)
-        {
-            outputs.insert(frame_name(&name), t.clone());
         }
     }
     live.clear();
