@@ -17,7 +17,7 @@ use crate::material::{FEATURE_CLEARCOAT, FEATURE_FAKE_SSS, MaterialTextures, Mat
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
 use crate::report::PassName;
-use crate::shaders::{Permutation, Sampling, ShaderKey};
+use crate::shaders::{Permutation, ShaderKey};
 use crate::shadows::ShadowMaps;
 
 pub use super::cook_torrance_key::Walk;
@@ -403,27 +403,15 @@ impl CookTorrance {
             .texture("out_diffuse", io.diffuse)
             .texture("out_specular", io.specular)
             .texture_opt("out_sss", io.sss)
-            .texture_opt("surface_target", io.surface)
-            .buffer_opt("spot_projections", self.lights.projections());
-        if let Some(textures) = io.spot_textures {
-            b = b
-                .array("spot_textures", textures)
-                .sampler("spot_sampler", Sampling::LinearClamp);
-        }
-        if let Some(shadows) = &self.shadows {
-            let (depth, moments) = shadows.textures().ok_or_else(|| RenderError::Pass {
-                pass: "cook torrance".to_owned(),
-                message: "the shadow maps were not rendered this frame".to_owned(),
-            })?;
-            let array = |t: &wgpu::Texture| cx.view_of(t, crate::texture_pool::ViewSpec::array());
-            b = b
-                .view("shadow_maps", array(&depth))
-                .buffer("shadow_views", shadows.views())
-                .buffer("shadow_params", shadows.params());
-            if let Some(moments) = moments {
-                b = b.view("shadow_moments", array(&moments));
-            }
-        }
+            .texture_opt("surface_target", io.surface);
+        b = super::bind_light_buffer(
+            b,
+            cx,
+            &self.lights,
+            self.shadows.as_deref(),
+            io.spot_textures,
+            "cook torrance",
+        )?;
         if let Some(world) = &self.materials {
             b = b.extend(world.bindings(io.material_textures));
         }

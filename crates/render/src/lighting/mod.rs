@@ -190,6 +190,46 @@ struct GpuLight {
     cone: [f32; 4],
 }
 
+/// A light buffer's own bindings beside its `lights`: spots' projections
+/// and texture array, and its shadow maps (depth, views, parameters and
+/// the moments of a filter that keeps them). The one place every pass that
+/// walks a light buffer (CookTorrance, lit transparency, EnvironmentProbe's
+/// faces) binds them; `pass` names the pass in the error of shadow maps
+/// not rendered this frame.
+pub(crate) fn bind_light_buffer<'r>(
+    mut b: crate::frame_graph::Bindings<'r>,
+    cx: &crate::frame_graph::PassContext<'_>,
+    lights: &'r LightBuffer,
+    shadows: Option<&'r crate::shadows::ShadowMaps>,
+    spot_textures: Option<crate::frame_graph::Tex>,
+    pass: &str,
+) -> Result<crate::frame_graph::Bindings<'r>, crate::error::RenderError> {
+    b = b.buffer_opt("spot_projections", lights.projections());
+    if let Some(textures) = spot_textures {
+        b = b
+            .array("spot_textures", textures)
+            .sampler("spot_sampler", crate::shaders::Sampling::LinearClamp);
+    }
+    if let Some(shadows) = shadows {
+        let (depth, moments) =
+            shadows
+                .textures()
+                .ok_or_else(|| crate::error::RenderError::Pass {
+                    pass: pass.to_owned(),
+                    message: "the shadow maps were not rendered this frame".to_owned(),
+                })?;
+        let array = |t: &wgpu::Texture| cx.view_of(t, crate::texture_pool::ViewSpec::array());
+        b = b
+            .view("shadow_maps", array(&depth))
+            .buffer("shadow_views", shadows.views())
+            .buffer("shadow_params", shadows.params());
+        if let Some(moments) = moments {
+            b = b.view("shadow_moments", array(&moments));
+        }
+    }
+    Ok(b)
+}
+
 /// What a light-buffer node outputs: lights of one type, uploaded once when its inputs change.
 pub struct LightBuffer {
     pub kind: LightKind,

@@ -24,7 +24,6 @@ use crate::mesh_arena::pulled_pipeline;
 use crate::post::transparency::ShadowKey;
 use crate::renderer::Renderer;
 use crate::shaders::{Permutation, Sampling, ShaderKey};
-use crate::texture_pool::ViewSpec;
 
 const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 /// The base cube's format (prefilter.rs).
@@ -285,25 +284,14 @@ pub(crate) fn render(
     let mut light_sets = Vec::with_capacity(scene.lights().len());
     for (index, set) in scene.lights().iter().enumerate() {
         let spot_textures = textures.spots.get(index).copied().flatten();
-        let mut b = Bindings::new()
-            .buffer("lights", set.lights.buffer())
-            .buffer_opt("spot_projections", set.lights.projections());
-        if let Some(t) = spot_textures {
-            b = b
-                .array("spot_textures", t)
-                .sampler("spot_sampler", Sampling::LinearClamp);
-        }
-        if let Some(shadows) = &set.shadows {
-            let (depth, moments) = shadows.textures().ok_or_else(|| not_rendered("lights'"))?;
-            let array = |t: &wgpu::Texture| cx.view_of(t, ViewSpec::array());
-            b = b
-                .view("shadow_maps", array(&depth))
-                .buffer("shadow_views", shadows.views())
-                .buffer("shadow_params", shadows.params());
-            if let Some(moments) = moments {
-                b = b.view("shadow_moments", array(&moments));
-            }
-        }
+        let b = crate::lighting::bind_light_buffer(
+            Bindings::new().buffer("lights", set.lights.buffer()),
+            cx,
+            &set.lights,
+            set.shadows.as_deref(),
+            spot_textures,
+            "environment probe",
+        )?;
         let pass = ProbePass::Light {
             spot: set.lights.kind == crate::lighting::LightKind::Spot,
             spot_texture: spot_textures.is_some(),

@@ -978,29 +978,15 @@ impl Transparency {
         spot_textures: Option<Tex>,
     ) -> Result<Bindings<'_>, RenderError> {
         let light_set = &self.lights[set];
-        let mut b = Bindings::new()
-            .buffer("lights", light_set.lights.buffer())
-            .buffer_opt("spot_projections", light_set.lights.projections());
-        if let Some(textures) = spot_textures {
-            b = b
-                .array("spot_textures", textures)
-                .sampler("spot_sampler", Sampling::LinearClamp);
-        }
-        if let Some(shadows) = &light_set.shadows {
-            let (depth, moments) = shadows.textures().ok_or_else(|| RenderError::Pass {
-                pass: "transparency".to_owned(),
-                message: "the shadow maps were not rendered this frame".to_owned(),
-            })?;
-            let array = |t: &wgpu::Texture| cx.view_of(t, ViewSpec::array());
-            b = b
-                .view("shadow_maps", array(&depth))
-                .buffer("shadow_views", shadows.views())
-                .buffer("shadow_params", shadows.params());
-            if let Some(moments) = moments {
-                b = b.view("shadow_moments", array(&moments));
-            }
-        }
-        Ok(b)
+        let b = Bindings::new().buffer("lights", light_set.lights.buffer());
+        crate::lighting::bind_light_buffer(
+            b,
+            cx,
+            &light_set.lights,
+            light_set.shadows.as_deref(),
+            spot_textures,
+            "transparency",
+        )
     }
 
     /// The opaque image's mip chain, at the image's size.
