@@ -17,6 +17,7 @@
 
 // Named by the permutation keys without the passes.
 pub(crate) mod filter;
+mod filter_key;
 mod raster;
 pub(crate) mod raster_key;
 mod scroll;
@@ -39,6 +40,7 @@ use raster::{CasterSet, SetKind, StillSets};
 use store::ShadowStore;
 
 pub use filter::ShadowFilter;
+pub use filter_key::ShadowKey;
 pub use views::{Cascades, LayerView};
 
 /// What every shadow map of a node shares.

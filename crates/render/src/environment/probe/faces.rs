@@ -21,9 +21,9 @@ use crate::frame_graph::{Bindings, PassContext, Tex};
 use crate::gbuffer::{Draw, GpuInstance, Layer, pack_instances};
 use crate::material::MaterialWorld;
 use crate::mesh_arena::pulled_pipeline;
-use crate::post::transparency::ShadowKey;
 use crate::renderer::Renderer;
 use crate::shaders::{Permutation, Sampling, ShaderKey};
+use crate::shadows::ShadowKey;
 
 const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 /// The base cube's format (prefilter.rs).

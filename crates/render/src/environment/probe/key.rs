@@ -2,8 +2,8 @@
 //! (`environment/environment_probe.wgsl`). It declares its shader file (`shader_file!`), so no
 //! table below the effects names it; `environment/probe/faces.rs` uses it.
 
-use crate::post::transparency::ShadowKey;
 use crate::shaders::permutation::Permutation;
+use crate::shadows::ShadowKey;
 
 /// `environment/environment_probe.wgsl`'s permutations: how a layer's
 /// surface reaches the probe's faces (one pipeline per kind of layer), and
