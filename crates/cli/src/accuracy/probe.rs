@@ -118,6 +118,24 @@ fn box_at(s: &MirrorBesideBox, angle: f32) -> Arc<Layer> {
     Arc::new(layer)
 }
 
+/// The warm-up frames and then the timed ones of `render` (a probe
+/// rendered every frame): the last image and the timed frames' GPU times.
+fn timed(
+    common: &super::Common,
+    mut render: impl FnMut() -> anyhow::Result<(ImageF32, Option<f64>)>,
+) -> anyhow::Result<(ImageF32, Vec<f64>)> {
+    let mut times = Vec::new();
+    let mut last = None;
+    for i in 0..common.warmup + common.frames.max(1) {
+        let (image, ms) = render()?;
+        if i >= common.warmup {
+            times.extend(ms);
+        }
+        last = Some(image);
+    }
+    Ok((last.context("a frame")?, times))
+}
+
 /// One frame: the ball's specular from a probe of `surroundings` (lit by
 /// `lights`' buffers, at most their `.1` first lights each), and the probe
 /// pass's GPU ms.
@@ -237,11 +255,9 @@ pub fn run(args: &ProbeArgs) -> anyhow::Result<ExitCode> {
         for &samples in &args.samples {
             let quality = EnvironmentQuality { cube_size, samples };
             owner += 1;
-            let mut times = Vec::new();
-            let mut last = None;
             // Rendered every frame, so every frame times the whole probe.
-            for i in 0..args.common.warmup + args.common.frames.max(1) {
-                let (image, ms) = frame(
+            let (image, times) = timed(&args.common, || {
+                frame(
                     &renderer,
                     &s,
                     &still,
@@ -250,13 +266,8 @@ pub fn run(args: &ProbeArgs) -> anyhow::Result<ExitCode> {
                     quality,
                     ProbeUpdate::EveryNFrames(1),
                     (&[], DEFAULT_MAX_LIGHTS),
-                )?;
-                if i >= args.common.warmup {
-                    times.extend(ms);
-                }
-                last = Some(image);
-            }
-            let image = last.context("a frame")?;
+                )
+            })?;
             rows.push(Row {
                 family: "resolution",
                 setting: format!("cube {cube_size} x {samples} samples"),
@@ -345,10 +356,8 @@ pub fn run(args: &ProbeArgs) -> anyhow::Result<ExitCode> {
         )?;
         for &max in &args.max_lights {
             owner += 1;
-            let mut times = Vec::new();
-            let mut last = None;
-            for i in 0..args.common.warmup + args.common.frames.max(1) {
-                let (image, ms) = frame(
+            let (image, times) = timed(&args.common, || {
+                frame(
                     &renderer,
                     &s,
                     &still,
@@ -357,13 +366,8 @@ pub fn run(args: &ProbeArgs) -> anyhow::Result<ExitCode> {
                     quality,
                     ProbeUpdate::EveryNFrames(1),
                     (&lights, max),
-                )?;
-                if i >= args.common.warmup {
-                    times.extend(ms);
-                }
-                last = Some(image);
-            }
-            let image = last.context("a frame")?;
+                )
+            })?;
             rows.push(Row {
                 family: "lights",
                 setting: format!("max {max} of {} point lights", args.lights),
