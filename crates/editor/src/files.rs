@@ -28,8 +28,8 @@ pub const RECENT_MAX: usize = 10;
 
 /// The editor's own directory: `SPREADLIGHT_CONFIG_DIR` if set (tests point it
 /// at a temporary directory), else `$XDG_CONFIG_HOME/spreadlight`, else
-/// `~/.config/spreadlight`; the renderer's `app_dirs` knows them all.
-pub use spreadlight_render::app_dirs::config_dir;
+/// `~/.config/spreadlight`; `spreadlight_dirs` knows them all.
+pub use spreadlight_dirs::config_dir;
 
 /// The recovery file of a patch: hidden beside it (`.NAME.ron.autosave`), so
 /// it follows the patch and is found again however the editor is started.

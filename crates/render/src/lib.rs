@@ -6,7 +6,6 @@
 pub mod accumulate;
 pub mod adapter_class;
 pub mod allocation_count;
-pub mod app_dirs;
 pub mod bench;
 pub mod camera;
 pub mod context;

@@ -36,7 +36,7 @@ impl std::fmt::Debug for DiskPipelineCache {
 }
 
 /// Spreadlight's cache directory (see the module docs).
-pub use crate::app_dirs::cache_dir;
+pub use spreadlight_dirs::cache_dir;
 
 impl DiskPipelineCache {
     /// The cache for `device` on the adapter `info` describes, from its file

@@ -16,7 +16,7 @@ pub const MODULES_DIR: &str = "modules";
 
 /// The environment variable naming the user's library folder; without it,
 /// `$XDG_DATA_HOME/spreadlight/library` (or `~/.local/share/spreadlight/library`).
-pub const LIBRARY_ENV: &str = "SPREADLIGHT_LIBRARY";
+pub use spreadlight_dirs::LIBRARY_ENV;
 
 /// A subpatch file as last read: its definition, or why it could not be read.
 #[derive(Clone, Debug)]
@@ -48,7 +48,7 @@ impl Library {
     /// The library a patch in `patch_dir` sees: its `modules/` folder, then the user library.
     pub fn beside(patch_dir: &Path) -> Self {
         let mut dirs = vec![patch_dir.join(MODULES_DIR)];
-        dirs.extend(user_library_dir());
+        dirs.push(user_library_dir());
         Library::new(dirs)
     }
 
@@ -104,15 +104,10 @@ impl Library {
     }
 }
 
-/// The user's library folder, if one can be named.
-pub fn user_library_dir() -> Option<PathBuf> {
-    if let Some(dir) = std::env::var_os(LIBRARY_ENV) {
-        return Some(PathBuf::from(dir));
-    }
-    let data = std::env::var_os("XDG_DATA_HOME")
-        .map(PathBuf::from)
-        .or_else(|| std::env::var_os("HOME").map(|h| PathBuf::from(h).join(".local/share")))?;
-    Some(data.join("spreadlight/library"))
+/// The user's library folder (`spreadlight_dirs::library_dir`: the same
+/// rules as the cache and the settings).
+pub fn user_library_dir() -> PathBuf {
+    spreadlight_dirs::library_dir()
 }
 
 #[cfg(test)]

@@ -1,9 +1,12 @@
 //! Where Spreadlight keeps its own files on a machine: one place that knows
-//! the directories, so the renderer's pipeline cache and the editor's
-//! settings follow the same rules. Each is its `SPREADLIGHT_*` variable if
-//! set (tests and farm workers point it elsewhere), else the XDG base
-//! directory's `spreadlight` folder, else the same under `$HOME`, else the
-//! temporary directory.
+//! the directories, so the renderer's pipeline cache, the editor's settings
+//! and the patch runtime's subpatch library follow the same rules. Each is its
+//! `SPREADLIGHT_*` variable if set (tests and farm workers point it
+//! elsewhere), else the XDG base directory's `spreadlight` folder, else the
+//! same under `$HOME`, else the temporary directory.
+//!
+//! A crate of its own because the renderer (no patch) and the patch runtime
+//! (no GPU) both need it and neither may depend on the other.
 
 use std::ffi::OsString;
 use std::path::PathBuf;
@@ -21,6 +24,16 @@ pub fn config_dir() -> PathBuf {
     CONFIG.find(|name| std::env::var_os(name))
 }
 
+/// The user's subpatch library (`graph::subpatch`): `SPREADLIGHT_LIBRARY`,
+/// else `$XDG_DATA_HOME/spreadlight/library`, else
+/// `~/.local/share/spreadlight/library`.
+pub fn library_dir() -> PathBuf {
+    LIBRARY.find(|name| std::env::var_os(name))
+}
+
+/// The variable naming the user's subpatch library folder.
+pub const LIBRARY_ENV: &str = "SPREADLIGHT_LIBRARY";
+
 /// One of the app's directories, by the variables and folders that name it.
 struct AppDir {
     /// Spreadlight's own variable: the directory itself.
@@ -31,6 +44,9 @@ struct AppDir {
     home: &'static str,
     /// Its name in the temporary directory, with no `$HOME` either.
     temp: &'static str,
+    /// A folder inside the base directory's `spreadlight` folder, if the
+    /// directory is not that folder itself.
+    inside: Option<&'static str>,
 }
 
 const CACHE: AppDir = AppDir {
@@ -38,6 +54,7 @@ const CACHE: AppDir = AppDir {
     xdg: "XDG_CACHE_HOME",
     home: ".cache",
     temp: "spreadlight-cache",
+    inside: None,
 };
 
 const CONFIG: AppDir = AppDir {
@@ -45,6 +62,17 @@ const CONFIG: AppDir = AppDir {
     xdg: "XDG_CONFIG_HOME",
     home: ".config",
     temp: "spreadlight",
+    inside: None,
+};
+
+/// The library is a folder inside the data directory, not the directory
+/// itself: the data directory may hold other things one day.
+const LIBRARY: AppDir = AppDir {
+    own: LIBRARY_ENV,
+    xdg: "XDG_DATA_HOME",
+    home: ".local/share",
+    temp: "spreadlight-library",
+    inside: Some("library"),
 };
 
 impl AppDir {
@@ -53,12 +81,15 @@ impl AppDir {
         if let Some(dir) = var(self.own) {
             return PathBuf::from(dir);
         }
-        if let Some(dir) = var(self.xdg) {
-            return PathBuf::from(dir).join("spreadlight");
-        }
-        match var("HOME") {
-            Some(home) => PathBuf::from(home).join(self.home).join("spreadlight"),
-            None => std::env::temp_dir().join(self.temp),
+        let base = match (var(self.xdg), var("HOME")) {
+            (Some(xdg), _) => PathBuf::from(xdg),
+            (None, Some(home)) => PathBuf::from(home).join(self.home),
+            (None, None) => return std::env::temp_dir().join(self.temp),
+        };
+        let ours = base.join("spreadlight");
+        match self.inside {
+            Some(folder) => ours.join(folder),
+            None => ours,
         }
     }
 }
@@ -107,5 +138,27 @@ mod tests {
         let temp = std::env::temp_dir();
         assert_eq!(with(&CACHE, &[]), temp.join("spreadlight-cache"));
         assert_eq!(with(&CONFIG, &[]), temp.join("spreadlight"));
+    }
+
+    #[test]
+    fn the_subpatch_library_is_a_folder_in_the_data_directory() {
+        let all = [
+            ("SPREADLIGHT_LIBRARY", "/own/library"),
+            ("XDG_DATA_HOME", "/xdg/data"),
+            ("HOME", "/home/u"),
+        ];
+        assert_eq!(with(&LIBRARY, &all), PathBuf::from("/own/library"));
+        assert_eq!(
+            with(&LIBRARY, &all[1..]),
+            PathBuf::from("/xdg/data/spreadlight/library")
+        );
+        assert_eq!(
+            with(&LIBRARY, &all[2..]),
+            PathBuf::from("/home/u/.local/share/spreadlight/library")
+        );
+        assert_eq!(
+            with(&LIBRARY, &[]),
+            std::env::temp_dir().join("spreadlight-library")
+        );
     }
 }
