@@ -8,6 +8,7 @@ use std::time::Instant;
 
 use serde_json::{Value, json};
 use spreadlight_render::context::OpenTimes;
+use spreadlight_render::pipelines_ahead::AheadStats;
 use spreadlight_render::shaders::CompileTimes;
 
 use crate::session::{Opened, Session};
@@ -43,16 +44,23 @@ pub struct ColdStart {
     /// The pipeline cache file and the bytes read from it (None: the device
     /// keeps none, pipeline_cache.rs).
     pub pipeline_cache: Option<(std::path::PathBuf, usize)>,
+    /// What creating the last run's pipelines ahead did (None: no list, or
+    /// `SPREADLIGHT_PIPELINES_AHEAD=off`).
+    pub ahead: Option<AheadStats>,
 }
 
 impl ColdStart {
     /// Measured now, just after the first frame, which took `first_frame` seconds.
     pub fn now(session: &Session, first_frame: f64) -> ColdStart {
-        let (compile, pipelines) = session.renderer.as_ref().map_or_else(
-            || (CompileTimes::default(), 0),
+        let (compile, pipelines, ahead) = session.renderer.as_ref().map_or_else(
+            || (CompileTimes::default(), 0, None),
             |r| {
                 let shaders = r.shaders();
-                (shaders.compile_times, shaders.pipelines_compiled)
+                (
+                    shaders.compile_times,
+                    shaders.pipelines_compiled,
+                    shaders.pipelines_ahead(),
+                )
             },
         );
         let pipeline_cache = session
@@ -71,6 +79,7 @@ impl ColdStart {
             first_frame,
             compile,
             pipelines,
+            ahead,
         }
     }
 
@@ -89,6 +98,23 @@ impl ColdStart {
                 "threads": p.threads,
                 "wall_ms": ms(p.wall.as_secs_f64()),
                 "waited_ms": ms(p.waited.as_secs_f64()),
+            })
+        });
+        // Pipelines made on threads from the last run's list: `created`
+        // by them, of which the frame `taken` ready or `waited` for; those
+        // the frame asked for before a thread began them it made itself
+        // (`claimed`, counted in `pipelines_compiled` too).
+        let ahead = self.ahead.map(|a| {
+            json!({
+                "listed": a.listed,
+                "threads": a.threads,
+                "created": a.created,
+                "failed": a.failed,
+                "taken": a.taken,
+                "waited": a.waited,
+                "waited_ms": ms(a.wait.as_secs_f64()),
+                "claimed": a.claimed,
+                "wall_ms": (a.wall > std::time::Duration::ZERO).then(|| ms(a.wall.as_secs_f64())),
             })
         });
         json!({
@@ -114,6 +140,7 @@ impl ColdStart {
             "pipelines_ms": ms(c.pipelines.as_secs_f64()),
             "first_frame_other_ms": ms((self.first_frame - compiling).max(0.0)),
             "pipelines_compiled": self.pipelines,
+            "pipelines_ahead": ahead,
             "pipeline_cache": self.pipeline_cache.as_ref().map(|(path, bytes)| json!({
                 "path": path.display().to_string(),
                 "loaded_bytes": bytes,
@@ -135,9 +162,20 @@ impl ColdStart {
                 ms(p.waited.as_secs_f64())
             )
         });
+        let pipelines_ahead = self.ahead.map_or(String::new(), |a| {
+            format!(
+                "; {} of {} pipelines created ahead on {} threads ({} ready, {} waited for {})",
+                a.created,
+                a.listed,
+                a.threads,
+                a.taken,
+                a.waited,
+                ms(a.wait.as_secs_f64())
+            )
+        });
         format!(
             "cold start {}: registry {}, GPU {} (adapter {}, device {}), patch {}, first frame {} \
-             (composing shaders {}, shader modules {}, {} pipelines {}){ahead}",
+             (composing shaders {}, shader modules {}, {} pipelines {}){ahead}{pipelines_ahead}",
             ms(self.total),
             ms(self.opened.registry),
             ms(self.opened.gpu),

@@ -14,6 +14,7 @@ use spreadlight_nodes::gpu::GPU_CATEGORIES;
 use spreadlight_nodes::output::RenderedImages;
 use spreadlight_nodes::shader_nodes::ShaderLibrary;
 use spreadlight_render::Renderer;
+use spreadlight_render::pipelines_ahead::{self, PipelineId, PipelinesAhead};
 use spreadlight_render::precompose::{self, Precomposed};
 
 pub struct Session {
@@ -50,17 +51,26 @@ fn permutation_list(path: &Path) -> PathBuf {
     precompose::list_path(&name.display().to_string())
 }
 
+/// What the last run of a patch left to do ahead: its permutations being
+/// composed on threads of their own, and the compute pipelines to create
+/// once the device is open.
+struct Ahead {
+    composing: precompose::Precomposing,
+    pipelines: Vec<PipelineId>,
+}
+
 /// Start composing, on threads of their own, what the patch at `path`
 /// composed last time; None without a list (a warning for a damaged one).
-fn start_precompose(path: &Path) -> Option<precompose::Precomposing> {
+fn start_precompose(path: &Path) -> Option<Ahead> {
     if !precompose::enabled() {
         return None;
     }
     let list = permutation_list(path);
     match precompose::read(&list) {
-        Ok(Some(list)) if !list.keys.is_empty() => {
-            Some(precompose::start(list.keys, precompose::threads()))
-        }
+        Ok(Some(list)) if !list.keys.is_empty() => Some(Ahead {
+            composing: precompose::start(list.keys, precompose::threads()),
+            pipelines: list.pipelines,
+        }),
         Ok(_) => None,
         Err(e) => {
             eprintln!("warning: {e}; composing shaders as they are needed (it is rewritten)");
@@ -193,9 +203,25 @@ impl Session {
             runtime.provide(images.clone());
         }
         let started = std::time::Instant::now();
+        let mut pipelines_making = None;
         let renderer = if gpu {
             let renderer =
                 Arc::new(Renderer::headless().context("cannot open the GPU this patch needs")?);
+            // The device is open: the last run's pipelines are created on
+            // threads while the patch loads and its first frame evaluates.
+            if let Some(ahead) = precomposing.as_ref().filter(|_| pipelines_ahead::enabled())
+                && !ahead.pipelines.is_empty()
+            {
+                let gpu = &renderer.gpu;
+                let making = PipelinesAhead::start(
+                    gpu.device.clone(),
+                    gpu.pipeline_cache().cloned(),
+                    ahead.pipelines.clone(),
+                    precompose::threads(),
+                );
+                renderer.shaders().set_pipelines_ahead(making.clone());
+                pipelines_making = Some(making);
+            }
             // A few command encoders a frame, not one a pass: 1.2 ms less CPU
             // on post.ron on the H100 (docs/benchmarks.md); a failing frame falls back to
             // recording pass by pass, which names the pass.
@@ -227,7 +253,11 @@ impl Session {
             load_errors |= severity == Severity::Error;
         }
         opened.load = started.elapsed().as_secs_f64();
-        opened.precompose = precomposing.map(precompose::Precomposing::finish);
+        opened.precompose = precomposing.map(|ahead| ahead.composing.finish());
+        if let Some(making) = pipelines_making.filter(|_| pipelines_ahead::wait_before_first_frame())
+        {
+            making.wait();
+        }
         Ok(Session {
             runtime,
             renderer,
@@ -237,18 +267,20 @@ impl Session {
         })
     }
 
-    /// Remember the permutations the renderer composed so far, for the next
-    /// run of the patch at `path` to compose ahead (`precompose.rs` in render).
+    /// Remember the permutations the renderer composed so far and its
+    /// compute pipelines, for the next run of the patch at `path` to compose
+    /// and create ahead (`precompose.rs`, `pipelines_ahead.rs` in render).
     pub fn remember_permutations(&self, path: &Path) {
         let Some(renderer) = self.renderer.as_ref().filter(|_| precompose::enabled()) else {
             return;
         };
-        let keys = renderer.shaders().used_permutations();
+        let shaders = renderer.shaders();
+        let keys = shaders.used_permutations();
         if keys.is_empty() {
             return;
         }
         let list = permutation_list(path);
-        if let Err(e) = precompose::remember(&list, &keys) {
+        if let Err(e) = precompose::remember(&list, &keys, shaders.compute_pipelines_used()) {
             // Nothing else is lost: the next run composes as the first frame needs.
             eprintln!(
                 "warning: could not save the permutation list {}: {e}",

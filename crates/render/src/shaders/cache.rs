@@ -10,9 +10,11 @@ use super::BindGroups;
 use super::reflection::{GroupEntries, Reflection, match_bindings, reflect};
 use super::{ShaderComposer, ShaderKey, Splice};
 use crate::error::RenderError;
+use crate::pipelines_ahead::{AheadStats, PipelinesAhead};
 
-/// A compute pipeline of `entry` in `module`, its bind group layouts derived from the shader.
-fn compute_pipeline_of(
+/// A compute pipeline of `entry` in `module`, its bind group layouts derived
+/// from the shader (also what `crate::pipelines_ahead` makes, the same way).
+pub(crate) fn compute_pipeline_of(
     device: &wgpu::Device,
     cache: Option<&wgpu::PipelineCache>,
     module: &wgpu::ShaderModule,
@@ -85,6 +87,13 @@ pub struct ShaderCache {
     /// The driver's cache kept on disk between runs (pipeline_cache.rs), if
     /// the device has one: every pipeline is compiled through it.
     pipeline_cache: Option<wgpu::PipelineCache>,
+    /// Compute pipelines being made ahead on threads, from the last run's
+    /// list (`crate::pipelines_ahead`): a look-up takes one from there
+    /// before making its own.
+    ahead: Option<PipelinesAhead>,
+    /// Compute pipelines in the order first looked up: what the next run
+    /// creates ahead, in the order its frame will want them.
+    compute_order: Vec<(ShaderKey, &'static str)>,
 }
 
 /// CPU time spent making shaders and pipelines, by step: most of what a
@@ -248,7 +257,26 @@ impl ShaderCache {
             bind_groups_reused: 0,
             compile_times: CompileTimes::default(),
             pipeline_cache: None,
+            ahead: None,
+            compute_order: Vec::new(),
         }
+    }
+
+    /// Take compute pipelines from `ahead` where it made them (over the
+    /// embedded sources: a cache over other sources ignores it).
+    pub fn set_pipelines_ahead(&mut self, ahead: PipelinesAhead) {
+        self.ahead = Some(ahead);
+    }
+
+    /// What creating pipelines ahead did, if this cache was given any.
+    pub fn pipelines_ahead(&self) -> Option<AheadStats> {
+        self.ahead.as_ref().map(PipelinesAhead::stats)
+    }
+
+    /// Every compute pipeline looked up so far, by permutation and entry
+    /// point, in the order first asked for.
+    pub fn compute_pipelines_used(&self) -> &[(ShaderKey, &'static str)] {
+        &self.compute_order
     }
 
     /// Compile every pipeline through `cache` (GpuContext::pipeline_cache).
@@ -550,8 +578,12 @@ impl ShaderCache {
     /// Every permutation composed for this cache so far (made a module of,
     /// or reflected), sorted: what `crate::precompose` composes ahead next time.
     pub fn used_permutations(&self) -> Vec<ShaderKey> {
-        let used: std::collections::BTreeSet<&ShaderKey> =
-            self.modules.keys().chain(self.reflections.keys()).collect();
+        let used: std::collections::BTreeSet<&ShaderKey> = self
+            .modules
+            .keys()
+            .chain(self.reflections.keys())
+            .chain(self.compute_order.iter().map(|(key, _)| key))
+            .collect();
         used.into_iter().cloned().collect()
     }
 
@@ -568,6 +600,20 @@ impl ShaderCache {
             .and_then(|by_entry| by_entry.get(entry))
         {
             return Ok(p.clone());
+        }
+        self.compute_order.push((key.clone(), entry));
+        let embedded = self
+            .composer
+            .as_ref()
+            .is_none_or(ShaderComposer::shares_embedded);
+        if let Some(ahead) = self.ahead.as_ref().filter(|_| embedded)
+            && let Some(pipeline) = ahead.take(key, entry)
+        {
+            self.compute
+                .entry(key.clone())
+                .or_default()
+                .insert(entry, pipeline.clone());
+            return Ok(pipeline);
         }
         let module = self.module(device, key)?;
         let label = format!("{}{}::{entry}", key.path(), key.describe_defs());

@@ -44,7 +44,7 @@ fn embedded_modules() -> &'static std::sync::Mutex<HashMap<ShaderKey, naga::Modu
 
 /// Permutation `key` of the embedded sources, if a composer of this process
 /// (a renderer's, or [`crate::precompose`]'s threads) composed it already.
-pub(super) fn embedded_module(key: &ShaderKey) -> Option<naga::Module> {
+pub(crate) fn embedded_module(key: &ShaderKey) -> Option<naga::Module> {
     embedded_modules()
         .lock()
         .unwrap_or_else(|e| e.into_inner())

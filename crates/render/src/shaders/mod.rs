@@ -76,6 +76,8 @@ mod reflection;
 mod uniform;
 
 pub use cache::{CompileTimes, PipelineRef, Sampling, ShaderCache};
+pub(crate) use cache::compute_pipeline_of;
+pub(crate) use composer::embedded_module;
 #[cfg(test)]
 pub(crate) use composer::is_composed;
 pub use composer::{ShaderComposer, Splice};
