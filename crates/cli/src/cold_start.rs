@@ -47,19 +47,23 @@ pub struct ColdStart {
     /// What creating the last run's pipelines ahead did (None: no list, or
     /// `SPREADLIGHT_PIPELINES_AHEAD=off`).
     pub ahead: Option<AheadStats>,
+    /// What the threads making the pipelines frames announced did (None:
+    /// none announced one the cache lacked: `frame_graph/gather.rs`).
+    pub gathered: Option<AheadStats>,
 }
 
 impl ColdStart {
     /// Measured now, just after the first frame, which took `first_frame` seconds.
     pub fn now(session: &Session, first_frame: f64) -> ColdStart {
-        let (compile, pipelines, ahead) = session.renderer.as_ref().map_or_else(
-            || (CompileTimes::default(), 0, None),
+        let (compile, pipelines, ahead, gathered) = session.renderer.as_ref().map_or_else(
+            || (CompileTimes::default(), 0, None, None),
             |r| {
                 let shaders = r.shaders();
                 (
                     shaders.compile_times,
                     shaders.pipelines_compiled,
                     shaders.pipelines_ahead(),
+                    shaders.pipelines_gathered(),
                 )
             },
         );
@@ -80,6 +84,7 @@ impl ColdStart {
             compile,
             pipelines,
             ahead,
+            gathered,
         }
     }
 
@@ -90,7 +95,8 @@ impl ColdStart {
         let (opened, gpu) = (&self.opened, &self.open_times);
         let compiling = (c.compose + c.libraries + c.modules + c.pipelines).as_secs_f64();
         let driver = (gpu.adapter + gpu.device + gpu.pipeline_cache).as_secs_f64();
-        let steps = opened.registry + opened.network + opened.gpu + opened.load;
+        // The start's own time: where the GPU opened on a thread, only the wait for it.
+        let steps = opened.registry + opened.network + opened.gpu_waited + opened.load;
         let precompose = opened.precompose.map(|p| {
             json!({
                 "listed": p.listed,
@@ -100,11 +106,12 @@ impl ColdStart {
                 "waited_ms": ms(p.waited.as_secs_f64()),
             })
         });
-        // Pipelines made on threads from the last run's list: `created`
-        // by them, of which the frame `taken` ready or `waited` for; those
-        // the frame asked for before a thread began them it made itself
+        // Pipelines made on threads, from the last run's list (`ahead`) or
+        // announced by the first frame's passes (`gathered`): `created` by
+        // them, of which the frame `taken` ready or `waited` for; those the
+        // frame asked for before a thread began them it made itself
         // (`claimed`, counted in `pipelines_compiled` too).
-        let ahead = self.ahead.map(|a| {
+        let counts = |a: AheadStats| {
             json!({
                 "listed": a.listed,
                 "threads": a.threads,
@@ -116,7 +123,7 @@ impl ColdStart {
                 "claimed": a.claimed,
                 "wall_ms": (a.wall > std::time::Duration::ZERO).then(|| ms(a.wall.as_secs_f64())),
             })
-        });
+        };
         json!({
             "total_ms": ms(self.total),
             "registry_ms": ms(opened.registry),
@@ -124,6 +131,7 @@ impl ColdStart {
             "shader_folders_ms": ms(opened.registry - opened.registry_nodes),
             "network_ms": ms(opened.network),
             "open_gpu_ms": ms(opened.gpu),
+            "gpu_waited_ms": ms(opened.gpu_waited),
             "gpu_adapter_ms": ms(gpu.adapter.as_secs_f64()),
             "gpu_device_ms": ms(gpu.device.as_secs_f64()),
             "gpu_pipeline_cache_ms": ms(gpu.pipeline_cache.as_secs_f64()),
@@ -140,7 +148,8 @@ impl ColdStart {
             "pipelines_ms": ms(c.pipelines.as_secs_f64()),
             "first_frame_other_ms": ms((self.first_frame - compiling).max(0.0)),
             "pipelines_compiled": self.pipelines,
-            "pipelines_ahead": ahead,
+            "pipelines_ahead": self.ahead.map(counts),
+            "pipelines_gathered": self.gathered.map(counts),
             "pipeline_cache": self.pipeline_cache.as_ref().map(|(path, bytes)| json!({
                 "path": path.display().to_string(),
                 "loaded_bytes": bytes,
@@ -173,9 +182,15 @@ impl ColdStart {
                 ms(a.wait.as_secs_f64())
             )
         });
+        let gathered = self.gathered.map_or(String::new(), |a| {
+            format!(
+                "; {} of {} pipelines the frame announced created on {} threads",
+                a.created, a.listed, a.threads
+            )
+        });
         format!(
             "cold start {}: registry {}, GPU {} (adapter {}, device {}), patch {}, first frame {} \
-             (composing shaders {}, shader modules {}, {} pipelines {}){ahead}{pipelines_ahead}",
+             (composing shaders {}, shader modules {}, {} pipelines {}){ahead}{pipelines_ahead}{gathered}",
             ms(self.total),
             ms(self.opened.registry),
             ms(self.opened.gpu),

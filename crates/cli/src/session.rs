@@ -14,6 +14,7 @@ use spreadlight_nodes::gpu::GPU_CATEGORIES;
 use spreadlight_nodes::output::RenderedImages;
 use spreadlight_nodes::shader_nodes::ShaderLibrary;
 use spreadlight_render::Renderer;
+use spreadlight_render::error::RenderError;
 use spreadlight_render::pipelines_ahead::{self, PipelineId, PipelinesAhead};
 use spreadlight_render::precompose::{self, Precomposed};
 
@@ -38,6 +39,10 @@ pub struct Opened {
     pub network: f64,
     /// The adapter and device, the renderer with its shader libraries.
     pub gpu: f64,
+    /// Of the start's own time, how long it waited for the GPU: `gpu` where
+    /// it opened it itself; less where the GPU opened on a thread of its
+    /// own beside the patch's parsing and the registry ([`OpeningGpu`]).
+    pub gpu_waited: f64,
     /// The patch loaded into the runtime (nodes made, files they read at load).
     pub load: f64,
     /// The permutations composed ahead (`spreadlight_render::precompose`),
@@ -76,6 +81,39 @@ fn start_precompose(path: &Path) -> Option<Ahead> {
             eprintln!("warning: {e}; composing shaders as they are needed (it is rewritten)");
             None
         }
+    }
+}
+
+/// A renderer being opened on a thread of its own, from the start of a
+/// session that needs the GPU whatever the patch holds (`render`, `bench`,
+/// `view`): the driver's adapter and device (about 0.2 s on the H200 host)
+/// overlap parsing the patch, the registry and the network.
+pub struct OpeningGpu {
+    thread: std::thread::JoinHandle<(Result<Renderer, RenderError>, f64)>,
+}
+
+impl OpeningGpu {
+    /// Start opening it; None where no thread could be made (the session
+    /// opens it itself, as before).
+    pub fn start() -> Option<OpeningGpu> {
+        std::thread::Builder::new()
+            .name("open gpu".to_owned())
+            .spawn(|| {
+                let started = std::time::Instant::now();
+                let renderer = Renderer::headless();
+                (renderer, started.elapsed().as_secs_f64())
+            })
+            .ok()
+            .map(|thread| OpeningGpu { thread })
+    }
+
+    /// The renderer, and the seconds opening it took on its thread.
+    fn finish(self) -> anyhow::Result<(Renderer, f64)> {
+        let (renderer, seconds) = self
+            .thread
+            .join()
+            .map_err(|_| anyhow::anyhow!("the thread opening the GPU panicked"))?;
+        Ok((renderer?, seconds))
     }
 }
 
@@ -159,8 +197,10 @@ impl Session {
         size: Option<(u32, u32)>,
         allow_unknown: bool,
     ) -> anyhow::Result<Self> {
+        // Opened beside the patch's parsing when it is needed for sure.
+        let opening = force_gpu.then(OpeningGpu::start).flatten();
         let patch = format::load(path)?;
-        Self::build(&patch, path, force_gpu, size, true, allow_unknown)
+        Self::build_opening(&patch, path, size, true, allow_unknown, opening, force_gpu)
     }
 
     pub fn from_patch(
@@ -180,6 +220,20 @@ impl Session {
         size: Option<(u32, u32)>,
         capture: bool,
         allow_unknown: bool,
+    ) -> anyhow::Result<Self> {
+        let opening = force_gpu.then(OpeningGpu::start).flatten();
+        Self::build_opening(patch, path, size, capture, allow_unknown, opening, force_gpu)
+    }
+
+    /// [`Session::build`] with the GPU perhaps being opened already.
+    fn build_opening(
+        patch: &Patch,
+        path: &Path,
+        size: Option<(u32, u32)>,
+        capture: bool,
+        allow_unknown: bool,
+        opening: Option<OpeningGpu>,
+        force_gpu: bool,
     ) -> anyhow::Result<Self> {
         // First, so that the threads compose while the registry and the GPU are made.
         let precomposing = start_precompose(path);
@@ -204,9 +258,17 @@ impl Session {
         }
         let started = std::time::Instant::now();
         let mut pipelines_making = None;
+        let mut gpu_on_thread = None;
         let renderer = if gpu {
-            let renderer =
-                Arc::new(Renderer::headless().context("cannot open the GPU this patch needs")?);
+            let (renderer, on_thread) = match opening {
+                Some(opening) => {
+                    let (renderer, seconds) = opening.finish()?;
+                    (Ok(renderer), Some(seconds))
+                }
+                None => (Renderer::headless(), None),
+            };
+            let renderer = Arc::new(renderer.context("cannot open the GPU this patch needs")?);
+            gpu_on_thread = on_thread;
             // The device is open: the last run's pipelines are created on
             // threads while the patch loads and its first frame evaluates.
             if let Some(ahead) = precomposing.as_ref().filter(|_| pipelines_ahead::enabled())
@@ -244,7 +306,10 @@ impl Session {
         } else {
             None
         };
-        opened.gpu = started.elapsed().as_secs_f64();
+        opened.gpu_waited = started.elapsed().as_secs_f64();
+        // On a thread: its own time; the setup after the wait (the
+        // renderer's settings, the pipelines started) counts as waiting.
+        opened.gpu = gpu_on_thread.unwrap_or(opened.gpu_waited);
         let started = std::time::Instant::now();
         let mut load_errors = !shader_errors.is_empty();
         for problem in runtime.load(patch) {

@@ -79,6 +79,21 @@ pub struct AheadStats {
     pub wall: Duration,
 }
 
+impl AheadStats {
+    /// Add `other`'s counts (several runs of threads: a frame's each).
+    pub fn add(&mut self, other: &AheadStats) {
+        self.listed += other.listed;
+        self.threads = self.threads.max(other.threads);
+        self.created += other.created;
+        self.failed += other.failed;
+        self.taken += other.taken;
+        self.waited += other.waited;
+        self.wait += other.wait;
+        self.claimed += other.claimed;
+        self.wall += other.wall;
+    }
+}
+
 struct Shared {
     slots: Mutex<FxHashMap<PipelineId, Slot>>,
     changed: Condvar,
@@ -192,6 +207,11 @@ impl PipelinesAhead {
                 }
             }
         }
+    }
+
+    /// Whether `id` is in its list (made, being made or still to make).
+    pub fn has(&self, id: &PipelineId) -> bool {
+        locked(&self.shared.slots).contains_key(id)
     }
 
     /// What it did so far.

@@ -20,6 +20,7 @@ use super::probe::ProbeUpdate;
 use super::probe::faces::{PackedProbe, ProbeTextures};
 use super::source::{EnvironmentMaps, EnvironmentQuality, EnvironmentSource};
 use crate::error::RenderError;
+use crate::shaders::Permutation;
 use crate::frame_graph::{FrameGraph, PassContext, TextureDesc};
 use crate::gbuffer::Layer;
 use crate::recipe::{Recipe, next_recipe_id};
@@ -259,6 +260,16 @@ impl Recipe for Environment {
             }
         }
         let mut pass = fg.pass(name, self.owner);
+        // The pipelines prefiltering dispatches (frame_graph/gather.rs).
+        let first = match self.source {
+            EnvironmentSource::Equirect(_) => Some("from_equirect"),
+            EnvironmentSource::Sky(_) => Some("from_sky"),
+            EnvironmentSource::Probe(_) => None,
+        };
+        let key = super::prefilter_key::PrefilterKey.key();
+        for entry in first.into_iter().chain(["downsample", "prefilter", "irradiance"]) {
+            pass.will_dispatch(&key, entry);
+        }
         let textures = ProbeTextures {
             color: (layers.iter())
                 .map(|l| color_map(l).map(|m| pass.read(&m.name)))

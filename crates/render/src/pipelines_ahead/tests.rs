@@ -96,3 +96,34 @@ fn a_pipeline_no_thread_began_is_claimed_by_the_frame() {
     assert_eq!(ahead.stats().claimed, 1);
     assert!(ahead.take(&copy, "main").is_none(), "claimed, not queued");
 }
+
+/// A frame's announced pipelines (frame_graph/gather.rs): those the cache
+/// lacks go to threads, and the frame's look-up takes, waits for or claims
+/// each; one the cache has, or threads make already, is not handed again.
+#[test]
+fn announced_pipelines_the_cache_lacks_are_made_on_threads_once() {
+    let gpu = gpu();
+    let copy = CopyKey.key();
+    let tonemap = crate::permutations::all_permutations()
+        .into_iter()
+        .find(|k| k.path() == "post/tonemap.wgsl")
+        .expect("a tonemap permutation");
+    let mut cache = ShaderCache::lazy();
+    cache
+        .compute_pipeline(&gpu.device, &tonemap, "main")
+        .expect("made by the cache");
+    assert_eq!(cache.pipelines_gathered(), None, "none announced yet");
+    let announced = vec![(copy.clone(), "main"), (tonemap.clone(), "main")];
+    cache.make_ahead(&gpu.device, announced.clone());
+    // Announced again (the next frame) while the threads still run: not handed twice.
+    cache.make_ahead(&gpu.device, announced);
+    cache
+        .compute_pipeline(&gpu.device, &copy, "main")
+        .expect("taken, or made");
+    cache.end_frame_ahead();
+    let made = cache.pipelines_gathered().expect("one announced the cache lacked");
+    assert_eq!(made.listed, 1, "the tonemap was the cache's already: {made:?}");
+    // The thread made it (taken, or waited for), or the frame asked first.
+    assert_eq!(made.taken + made.waited + made.claimed, 1, "{made:?}");
+    assert_eq!(cache.pipelines_compiled, 1 + made.claimed as u64, "{made:?}");
+}

@@ -91,6 +91,11 @@ pub struct ShaderCache {
     /// list (`crate::pipelines_ahead`): a look-up takes one from there
     /// before making its own.
     ahead: Option<PipelinesAhead>,
+    /// Compute pipelines a frame's passes announced, being made on threads
+    /// while it records (`frame_graph/gather.rs`), until the frame ends; and
+    /// what those threads did, summed.
+    frame_ahead: Vec<PipelinesAhead>,
+    frame_ahead_done: AheadStats,
     /// Compute pipelines in the order first looked up: what the next run
     /// creates ahead, in the order its frame will want them.
     compute_order: Vec<(ShaderKey, &'static str)>,
@@ -258,8 +263,72 @@ impl ShaderCache {
             compile_times: CompileTimes::default(),
             pipeline_cache: None,
             ahead: None,
+            frame_ahead: Vec::new(),
+            frame_ahead_done: AheadStats::default(),
             compute_order: Vec::new(),
         }
+    }
+
+    /// Whether look-ups may take pipelines made on threads: over the
+    /// embedded sources, as those threads compose (`crate::pipelines_ahead`).
+    fn shares_embedded(&self) -> bool {
+        self.composer
+            .as_ref()
+            .is_none_or(ShaderComposer::shares_embedded)
+    }
+
+    /// Start making, on threads, those of `wanted` (a frame's announced
+    /// compute pipelines) that are neither made nor being made already.
+    pub fn make_ahead(&mut self, device: &wgpu::Device, wanted: Vec<(ShaderKey, &'static str)>) {
+        if !self.shares_embedded() || !crate::pipelines_ahead::enabled() {
+            return;
+        }
+        let mut missing: Vec<crate::pipelines_ahead::PipelineId> = Vec::new();
+        for (key, entry) in wanted {
+            let made = self.compute.get(&key).is_some_and(|m| m.contains_key(entry));
+            let id = (key, entry.to_owned());
+            let making = self
+                .ahead
+                .iter()
+                .chain(&self.frame_ahead)
+                .any(|a| a.has(&id));
+            if !made && !making && !missing.contains(&id) {
+                missing.push(id);
+            }
+        }
+        if missing.is_empty() {
+            return;
+        }
+        self.frame_ahead.push(PipelinesAhead::start(
+            device.clone(),
+            self.pipeline_cache.clone(),
+            missing,
+            crate::precompose::threads(),
+        ));
+    }
+
+    /// A frame ended: what its threads made and it did not take is let go
+    /// once they are done (a later frame makes it if it needs it).
+    pub fn end_frame_ahead(&mut self) {
+        let done = &mut self.frame_ahead_done;
+        self.frame_ahead.retain(|ahead| {
+            let stats = ahead.stats();
+            let running = stats.wall == std::time::Duration::ZERO;
+            if !running {
+                done.add(&stats);
+            }
+            running
+        });
+    }
+
+    /// What the threads making frames' announced pipelines did so far
+    /// (None: no frame announced one the cache lacked).
+    pub fn pipelines_gathered(&self) -> Option<AheadStats> {
+        let mut sum = self.frame_ahead_done;
+        for ahead in &self.frame_ahead {
+            sum.add(&ahead.stats());
+        }
+        (sum.listed > 0).then_some(sum)
     }
 
     /// Take compute pipelines from `ahead` where it made them (over the
@@ -602,13 +671,11 @@ impl ShaderCache {
             return Ok(p.clone());
         }
         self.compute_order.push((key.clone(), entry));
-        let embedded = self
-            .composer
-            .as_ref()
-            .is_none_or(ShaderComposer::shares_embedded);
-        if let Some(ahead) = self.ahead.as_ref().filter(|_| embedded)
-            && let Some(pipeline) = ahead.take(key, entry)
-        {
+        let taken = match self.shares_embedded() {
+            true => (self.ahead.iter().chain(&self.frame_ahead)).find_map(|a| a.take(key, entry)),
+            false => None,
+        };
+        if let Some(pipeline) = taken {
             self.compute
                 .entry(key.clone())
                 .or_default()
