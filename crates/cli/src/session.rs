@@ -222,7 +222,15 @@ impl Session {
         allow_unknown: bool,
     ) -> anyhow::Result<Self> {
         let opening = force_gpu.then(OpeningGpu::start).flatten();
-        Self::build_opening(patch, path, size, capture, allow_unknown, opening, force_gpu)
+        Self::build_opening(
+            patch,
+            path,
+            size,
+            capture,
+            allow_unknown,
+            opening,
+            force_gpu,
+        )
     }
 
     /// [`Session::build`] with the GPU perhaps being opened already.
@@ -319,7 +327,8 @@ impl Session {
         }
         opened.load = started.elapsed().as_secs_f64();
         opened.precompose = precomposing.map(|ahead| ahead.composing.finish());
-        if let Some(making) = pipelines_making.filter(|_| pipelines_ahead::wait_before_first_frame())
+        if let Some(making) =
+            pipelines_making.filter(|_| pipelines_ahead::wait_before_first_frame())
         {
             making.wait();
         }

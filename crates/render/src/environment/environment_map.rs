@@ -20,12 +20,12 @@ use super::probe::ProbeUpdate;
 use super::probe::faces::{PackedProbe, ProbeTextures};
 use super::source::{EnvironmentMaps, EnvironmentQuality, EnvironmentSource};
 use crate::error::RenderError;
-use crate::shaders::Permutation;
 use crate::frame_graph::{FrameGraph, PassContext, TextureDesc};
 use crate::gbuffer::Layer;
 use crate::recipe::{Recipe, next_recipe_id};
 use crate::renderer::Renderer;
 use crate::report::PassName;
+use crate::shaders::Permutation;
 
 /// Where a node's maps are kept across frames, and (for a probe updated
 /// every n frames) the frames since they were built.
@@ -267,7 +267,10 @@ impl Recipe for Environment {
             EnvironmentSource::Probe(_) => None,
         };
         let key = super::prefilter_key::PrefilterKey.key();
-        for entry in first.into_iter().chain(["downsample", "prefilter", "irradiance"]) {
+        for entry in first
+            .into_iter()
+            .chain(["downsample", "prefilter", "irradiance"])
+        {
             pass.will_dispatch(&key, entry);
         }
         let textures = ProbeTextures {

@@ -412,9 +412,7 @@ fn execute(
     report.culled = plan.culled.iter().map(|&p| plan.names[p].clone()).collect();
     report.pipelines_compiled = shaders.pipelines_compiled - compiled_before;
     // Frames announce their pipelines while a frame still looks new ones up.
-    super::gather::frame_made_pipelines(
-        shaders.compute_pipelines_used().len() > looked_up_before,
-    );
+    super::gather::frame_made_pipelines(shaders.compute_pipelines_used().len() > looked_up_before);
     shaders.end_frame_ahead();
     let mut views = views.into_inner();
     for (name, n) in counters().into_iter().chain([

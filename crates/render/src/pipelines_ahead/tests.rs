@@ -121,9 +121,18 @@ fn announced_pipelines_the_cache_lacks_are_made_on_threads_once() {
         .compute_pipeline(&gpu.device, &copy, "main")
         .expect("taken, or made");
     cache.end_frame_ahead();
-    let made = cache.pipelines_gathered().expect("one announced the cache lacked");
-    assert_eq!(made.listed, 1, "the tonemap was the cache's already: {made:?}");
+    let made = cache
+        .pipelines_gathered()
+        .expect("one announced the cache lacked");
+    assert_eq!(
+        made.listed, 1,
+        "the tonemap was the cache's already: {made:?}"
+    );
     // The thread made it (taken, or waited for), or the frame asked first.
     assert_eq!(made.taken + made.waited + made.claimed, 1, "{made:?}");
-    assert_eq!(cache.pipelines_compiled, 1 + made.claimed as u64, "{made:?}");
+    assert_eq!(
+        cache.pipelines_compiled,
+        1 + made.claimed as u64,
+        "{made:?}"
+    );
 }

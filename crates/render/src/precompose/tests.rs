@@ -105,5 +105,8 @@ fn pipelines_read_back_in_their_order_their_permutations_first_and_an_old_list_s
     let old = parse(&old).expect("an old list");
     assert_eq!((old.keys.len(), old.pipelines.len()), (1, 0));
     let bad = parse(&format!("{HEADER}\npost/copy.wgsl\t\tma in\n")).unwrap_err();
-    assert!(bad.contains("line 2") && bad.contains("entry point"), "{bad}");
+    assert!(
+        bad.contains("line 2") && bad.contains("entry point"),
+        "{bad}"
+    );
 }

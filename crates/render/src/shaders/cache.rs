@@ -285,7 +285,10 @@ impl ShaderCache {
         }
         let mut missing: Vec<crate::pipelines_ahead::PipelineId> = Vec::new();
         for (key, entry) in wanted {
-            let made = self.compute.get(&key).is_some_and(|m| m.contains_key(entry));
+            let made = self
+                .compute
+                .get(&key)
+                .is_some_and(|m| m.contains_key(entry));
             let id = (key, entry.to_owned());
             let making = self
                 .ahead
@@ -395,7 +398,7 @@ impl ShaderCache {
             .is_none_or(ShaderComposer::shares_embedded);
         if shared
             && let Some(module) = timed(&mut self.compile_times.compose, || {
-                super::composer::embedded_module(key)
+                super::composer::embedded_module_or_wait(key)
             })
         {
             self.compile_times.ready += 1;
