@@ -40,7 +40,10 @@ pub struct ColdStart {
     /// making shaders and pipelines; the rest is uploads, recording and the GPU.
     pub first_frame: f64,
     pub compile: CompileTimes,
+    /// Pipelines the first frame needed, and of them those it made itself
+    /// (the rest were made on threads ahead of it).
     pub pipelines: u64,
+    pub pipelines_at_frame: u64,
     /// The pipeline cache file and the bytes read from it (None: the device
     /// keeps none, pipeline_cache.rs).
     pub pipeline_cache: Option<(std::path::PathBuf, usize)>,
@@ -55,18 +58,20 @@ pub struct ColdStart {
 impl ColdStart {
     /// Measured now, just after the first frame, which took `first_frame` seconds.
     pub fn now(session: &Session, first_frame: f64) -> ColdStart {
-        let (compile, pipelines, ahead, gathered) = session.renderer.as_ref().map_or_else(
-            || (CompileTimes::default(), 0, None, None),
-            |r| {
-                let shaders = r.shaders();
-                (
-                    shaders.compile_times,
-                    shaders.pipelines_compiled,
-                    shaders.pipelines_ahead(),
-                    shaders.pipelines_gathered(),
-                )
-            },
-        );
+        let (compile, pipelines, at_frame, ahead, gathered) =
+            session.renderer.as_ref().map_or_else(
+                || (CompileTimes::default(), 0, 0, None, None),
+                |r| {
+                    let shaders = r.shaders();
+                    (
+                        shaders.compile_times,
+                        shaders.pipelines_compiled,
+                        shaders.pipelines_compiled - shaders.pipelines_taken_ahead,
+                        shaders.pipelines_ahead(),
+                        shaders.pipelines_gathered(),
+                    )
+                },
+            );
         let pipeline_cache = session
             .renderer
             .as_ref()
@@ -83,6 +88,7 @@ impl ColdStart {
             first_frame,
             compile,
             pipelines,
+            pipelines_at_frame: at_frame,
             ahead,
             gathered,
         }
@@ -110,7 +116,7 @@ impl ColdStart {
         // announced by the first frame's passes (`gathered`): `created` by
         // them, of which the frame `taken` ready or `waited` for; those the
         // frame asked for before a thread began them it made itself
-        // (`claimed`, counted in `pipelines_compiled` too).
+        // (`claimed`, counted in `pipelines_at_frame`).
         let counts = |a: AheadStats| {
             json!({
                 "listed": a.listed,
@@ -148,6 +154,7 @@ impl ColdStart {
             "pipelines_ms": ms(c.pipelines.as_secs_f64()),
             "first_frame_other_ms": ms((self.first_frame - compiling).max(0.0)),
             "pipelines_compiled": self.pipelines,
+            "pipelines_at_frame": self.pipelines_at_frame,
             "pipelines_ahead": self.ahead.map(counts),
             "pipelines_gathered": self.gathered.map(counts),
             "pipeline_cache": self.pipeline_cache.as_ref().map(|(path, bytes)| json!({
@@ -190,7 +197,7 @@ impl ColdStart {
         });
         format!(
             "cold start {}: registry {}, GPU {} (adapter {}, device {}), patch {}, first frame {} \
-             (composing shaders {}, shader modules {}, {} pipelines {}){ahead}{pipelines_ahead}{gathered}",
+             (composing shaders {}, shader modules {}, {} pipelines made in it {}){ahead}{pipelines_ahead}{gathered}",
             ms(self.total),
             ms(self.opened.registry),
             ms(self.opened.gpu),
@@ -200,7 +207,7 @@ impl ColdStart {
             ms(self.first_frame),
             ms(c.compose.as_secs_f64()),
             ms(c.modules.as_secs_f64()),
-            self.pipelines,
+            self.pipelines_at_frame,
             ms(c.pipelines.as_secs_f64()),
         )
     }

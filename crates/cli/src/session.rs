@@ -107,13 +107,11 @@ impl OpeningGpu {
             .map(|thread| OpeningGpu { thread })
     }
 
-    /// The renderer, and the seconds opening it took on its thread.
-    fn finish(self) -> anyhow::Result<(Renderer, f64)> {
-        let (renderer, seconds) = self
-            .thread
+    /// The renderer (or why there is none), and the seconds opening it took on its thread.
+    fn finish(self) -> anyhow::Result<(Result<Renderer, RenderError>, f64)> {
+        self.thread
             .join()
-            .map_err(|_| anyhow::anyhow!("the thread opening the GPU panicked"))?;
-        Ok((renderer?, seconds))
+            .map_err(|_| anyhow::anyhow!("the thread opening the GPU panicked"))
     }
 }
 
@@ -271,7 +269,7 @@ impl Session {
             let (renderer, on_thread) = match opening {
                 Some(opening) => {
                     let (renderer, seconds) = opening.finish()?;
-                    (Ok(renderer), Some(seconds))
+                    (renderer, Some(seconds))
                 }
                 None => (Renderer::headless(), None),
             };

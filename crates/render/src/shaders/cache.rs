@@ -77,8 +77,11 @@ pub struct ShaderCache {
     /// them in place, without building (allocating, cloning) a key.
     bind_groups: FxHashMap<u64, Vec<CachedGroup>>,
     frame: u64,
-    /// Pipelines compiled since the cache was made.
+    /// Pipelines compiled since the cache was made: by the cache itself,
+    /// or on threads ahead of the look-up (`crate::pipelines_ahead`), of
+    /// which those are `pipelines_taken_ahead`.
     pub pipelines_compiled: u64,
+    pub pipelines_taken_ahead: u64,
     /// Bind groups made and reused since the cache was made.
     pub bind_groups_created: u64,
     pub bind_groups_reused: u64,
@@ -258,6 +261,7 @@ impl ShaderCache {
             bind_groups: FxHashMap::default(),
             frame: 0,
             pipelines_compiled: 0,
+            pipelines_taken_ahead: 0,
             bind_groups_created: 0,
             bind_groups_reused: 0,
             compile_times: CompileTimes::default(),
@@ -371,6 +375,7 @@ impl ShaderCache {
     pub fn replace_sources(&mut self, composer: ShaderComposer) {
         *self = ShaderCache {
             pipelines_compiled: self.pipelines_compiled,
+            pipelines_taken_ahead: self.pipelines_taken_ahead,
             compile_times: self.compile_times,
             pipeline_cache: self.pipeline_cache.take(),
             ..ShaderCache::new(composer)
@@ -679,6 +684,8 @@ impl ShaderCache {
             false => None,
         };
         if let Some(pipeline) = taken {
+            self.pipelines_compiled += 1;
+            self.pipelines_taken_ahead += 1;
             self.compute
                 .entry(key.clone())
                 .or_default()
