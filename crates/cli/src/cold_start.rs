@@ -178,12 +178,13 @@ impl ColdStart {
                 ms(p.waited.as_secs_f64())
             )
         });
+        let threads = |n: usize| format!("{n} thread{}", if n == 1 { "" } else { "s" });
         let pipelines_ahead = self.ahead.map_or(String::new(), |a| {
             format!(
-                "; {} of {} pipelines created ahead on {} threads ({} ready, {} waited for {})",
+                "; {} of {} pipelines created ahead on {} ({} ready, {} waited for {})",
                 a.created,
                 a.listed,
-                a.threads,
+                threads(a.threads),
                 a.taken,
                 a.waited,
                 ms(a.wait.as_secs_f64())
@@ -191,8 +192,10 @@ impl ColdStart {
         });
         let gathered = self.gathered.map_or(String::new(), |a| {
             format!(
-                "; {} of {} pipelines the frame announced created on {} threads",
-                a.created, a.listed, a.threads
+                "; {} of {} pipelines the frame announced created on {}",
+                a.created,
+                a.listed,
+                threads(a.threads)
             )
         });
         format!(
