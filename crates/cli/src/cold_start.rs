@@ -8,6 +8,7 @@ use std::time::Instant;
 
 use serde_json::{Value, json};
 use spreadlight_render::context::OpenTimes;
+use spreadlight_render::pipelines_ahead::AheadStats;
 use spreadlight_render::shaders::CompileTimes;
 
 use crate::session::{Opened, Session};
@@ -39,22 +40,38 @@ pub struct ColdStart {
     /// making shaders and pipelines; the rest is uploads, recording and the GPU.
     pub first_frame: f64,
     pub compile: CompileTimes,
+    /// Pipelines the first frame needed, and of them those it made itself
+    /// (the rest were made on threads ahead of it).
     pub pipelines: u64,
+    pub pipelines_at_frame: u64,
     /// The pipeline cache file and the bytes read from it (None: the device
     /// keeps none, pipeline_cache.rs).
     pub pipeline_cache: Option<(std::path::PathBuf, usize)>,
+    /// What creating the last run's pipelines ahead did (None: no list, or
+    /// `SPREADLIGHT_PIPELINES_AHEAD=off`).
+    pub ahead: Option<AheadStats>,
+    /// What the threads making the pipelines frames announced did (None:
+    /// none announced one the cache lacked: `frame_graph/gather.rs`).
+    pub gathered: Option<AheadStats>,
 }
 
 impl ColdStart {
     /// Measured now, just after the first frame, which took `first_frame` seconds.
     pub fn now(session: &Session, first_frame: f64) -> ColdStart {
-        let (compile, pipelines) = session.renderer.as_ref().map_or_else(
-            || (CompileTimes::default(), 0),
-            |r| {
-                let shaders = r.shaders();
-                (shaders.compile_times, shaders.pipelines_compiled)
-            },
-        );
+        let (compile, pipelines, at_frame, ahead, gathered) =
+            session.renderer.as_ref().map_or_else(
+                || (CompileTimes::default(), 0, 0, None, None),
+                |r| {
+                    let shaders = r.shaders();
+                    (
+                        shaders.compile_times,
+                        shaders.pipelines_compiled,
+                        shaders.pipelines_compiled - shaders.pipelines_taken_ahead,
+                        shaders.pipelines_ahead(),
+                        shaders.pipelines_gathered(),
+                    )
+                },
+            );
         let pipeline_cache = session
             .renderer
             .as_ref()
@@ -71,6 +88,9 @@ impl ColdStart {
             first_frame,
             compile,
             pipelines,
+            pipelines_at_frame: at_frame,
+            ahead,
+            gathered,
         }
     }
 
@@ -81,7 +101,8 @@ impl ColdStart {
         let (opened, gpu) = (&self.opened, &self.open_times);
         let compiling = (c.compose + c.libraries + c.modules + c.pipelines).as_secs_f64();
         let driver = (gpu.adapter + gpu.device + gpu.pipeline_cache).as_secs_f64();
-        let steps = opened.registry + opened.network + opened.gpu + opened.load;
+        // The start's own time: where the GPU opened on a thread, only the wait for it.
+        let steps = opened.registry + opened.network + opened.gpu_waited + opened.load;
         let precompose = opened.precompose.map(|p| {
             json!({
                 "listed": p.listed,
@@ -91,6 +112,24 @@ impl ColdStart {
                 "waited_ms": ms(p.waited.as_secs_f64()),
             })
         });
+        // Pipelines made on threads, from the last run's list (`ahead`) or
+        // announced by the first frame's passes (`gathered`): `created` by
+        // them, of which the frame `taken` ready or `waited` for; those the
+        // frame asked for before a thread began them it made itself
+        // (`claimed`, counted in `pipelines_at_frame`).
+        let counts = |a: AheadStats| {
+            json!({
+                "listed": a.listed,
+                "threads": a.threads,
+                "created": a.created,
+                "failed": a.failed,
+                "taken": a.taken,
+                "waited": a.waited,
+                "waited_ms": ms(a.wait.as_secs_f64()),
+                "claimed": a.claimed,
+                "wall_ms": (a.wall > std::time::Duration::ZERO).then(|| ms(a.wall.as_secs_f64())),
+            })
+        };
         json!({
             "total_ms": ms(self.total),
             "registry_ms": ms(opened.registry),
@@ -98,6 +137,7 @@ impl ColdStart {
             "shader_folders_ms": ms(opened.registry - opened.registry_nodes),
             "network_ms": ms(opened.network),
             "open_gpu_ms": ms(opened.gpu),
+            "gpu_waited_ms": ms(opened.gpu_waited),
             "gpu_adapter_ms": ms(gpu.adapter.as_secs_f64()),
             "gpu_device_ms": ms(gpu.device.as_secs_f64()),
             "gpu_pipeline_cache_ms": ms(gpu.pipeline_cache.as_secs_f64()),
@@ -114,6 +154,9 @@ impl ColdStart {
             "pipelines_ms": ms(c.pipelines.as_secs_f64()),
             "first_frame_other_ms": ms((self.first_frame - compiling).max(0.0)),
             "pipelines_compiled": self.pipelines,
+            "pipelines_at_frame": self.pipelines_at_frame,
+            "pipelines_ahead": self.ahead.map(counts),
+            "pipelines_gathered": self.gathered.map(counts),
             "pipeline_cache": self.pipeline_cache.as_ref().map(|(path, bytes)| json!({
                 "path": path.display().to_string(),
                 "loaded_bytes": bytes,
@@ -135,9 +178,29 @@ impl ColdStart {
                 ms(p.waited.as_secs_f64())
             )
         });
+        let threads = |n: usize| format!("{n} thread{}", if n == 1 { "" } else { "s" });
+        let pipelines_ahead = self.ahead.map_or(String::new(), |a| {
+            format!(
+                "; {} of {} pipelines created ahead on {} ({} ready, {} waited for {})",
+                a.created,
+                a.listed,
+                threads(a.threads),
+                a.taken,
+                a.waited,
+                ms(a.wait.as_secs_f64())
+            )
+        });
+        let gathered = self.gathered.map_or(String::new(), |a| {
+            format!(
+                "; {} of {} pipelines the frame announced created on {}",
+                a.created,
+                a.listed,
+                threads(a.threads)
+            )
+        });
         format!(
             "cold start {}: registry {}, GPU {} (adapter {}, device {}), patch {}, first frame {} \
-             (composing shaders {}, shader modules {}, {} pipelines {}){ahead}",
+             (composing shaders {}, shader modules {}, {} pipelines made in it {}){ahead}{pipelines_ahead}{gathered}",
             ms(self.total),
             ms(self.opened.registry),
             ms(self.opened.gpu),
@@ -147,7 +210,7 @@ impl ColdStart {
             ms(self.first_frame),
             ms(c.compose.as_secs_f64()),
             ms(c.modules.as_secs_f64()),
-            self.pipelines,
+            self.pipelines_at_frame,
             ms(c.pipelines.as_secs_f64()),
         )
     }

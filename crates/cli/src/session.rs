@@ -14,6 +14,8 @@ use spreadlight_nodes::gpu::GPU_CATEGORIES;
 use spreadlight_nodes::output::RenderedImages;
 use spreadlight_nodes::shader_nodes::ShaderLibrary;
 use spreadlight_render::Renderer;
+use spreadlight_render::error::RenderError;
+use spreadlight_render::pipelines_ahead::{self, PipelineId, PipelinesAhead};
 use spreadlight_render::precompose::{self, Precomposed};
 
 pub struct Session {
@@ -37,6 +39,10 @@ pub struct Opened {
     pub network: f64,
     /// The adapter and device, the renderer with its shader libraries.
     pub gpu: f64,
+    /// Of the start's own time, how long it waited for the GPU: `gpu` where
+    /// it opened it itself; less where the GPU opened on a thread of its
+    /// own beside the patch's parsing and the registry ([`OpeningGpu`]).
+    pub gpu_waited: f64,
     /// The patch loaded into the runtime (nodes made, files they read at load).
     pub load: f64,
     /// The permutations composed ahead (`spreadlight_render::precompose`),
@@ -50,22 +56,62 @@ fn permutation_list(path: &Path) -> PathBuf {
     precompose::list_path(&name.display().to_string())
 }
 
+/// What the last run of a patch left to do ahead: its permutations being
+/// composed on threads of their own, and the compute pipelines to create
+/// once the device is open.
+struct Ahead {
+    composing: precompose::Precomposing,
+    pipelines: Vec<PipelineId>,
+}
+
 /// Start composing, on threads of their own, what the patch at `path`
 /// composed last time; None without a list (a warning for a damaged one).
-fn start_precompose(path: &Path) -> Option<precompose::Precomposing> {
+fn start_precompose(path: &Path) -> Option<Ahead> {
     if !precompose::enabled() {
         return None;
     }
     let list = permutation_list(path);
     match precompose::read(&list) {
-        Ok(Some(list)) if !list.keys.is_empty() => {
-            Some(precompose::start(list.keys, precompose::threads()))
-        }
+        Ok(Some(list)) if !list.keys.is_empty() => Some(Ahead {
+            composing: precompose::start(list.keys, precompose::threads()),
+            pipelines: list.pipelines,
+        }),
         Ok(_) => None,
         Err(e) => {
             eprintln!("warning: {e}; composing shaders as they are needed (it is rewritten)");
             None
         }
+    }
+}
+
+/// A renderer being opened on a thread of its own, from the start of a
+/// session that needs the GPU whatever the patch holds (`render`, `bench`,
+/// `view`): the driver's adapter and device (about 0.2 s on the H200 host)
+/// overlap parsing the patch, the registry and the network.
+pub struct OpeningGpu {
+    thread: std::thread::JoinHandle<(Result<Renderer, RenderError>, f64)>,
+}
+
+impl OpeningGpu {
+    /// Start opening it; None where no thread could be made (the session
+    /// opens it itself, as before).
+    pub fn start() -> Option<OpeningGpu> {
+        std::thread::Builder::new()
+            .name("open gpu".to_owned())
+            .spawn(|| {
+                let started = std::time::Instant::now();
+                let renderer = Renderer::headless();
+                (renderer, started.elapsed().as_secs_f64())
+            })
+            .ok()
+            .map(|thread| OpeningGpu { thread })
+    }
+
+    /// The renderer (or why there is none), and the seconds opening it took on its thread.
+    fn finish(self) -> anyhow::Result<(Result<Renderer, RenderError>, f64)> {
+        self.thread
+            .join()
+            .map_err(|_| anyhow::anyhow!("the thread opening the GPU panicked"))
     }
 }
 
@@ -149,8 +195,10 @@ impl Session {
         size: Option<(u32, u32)>,
         allow_unknown: bool,
     ) -> anyhow::Result<Self> {
+        // Opened beside the patch's parsing when it is needed for sure.
+        let opening = force_gpu.then(OpeningGpu::start).flatten();
         let patch = format::load(path)?;
-        Self::build(&patch, path, force_gpu, size, true, allow_unknown)
+        Self::build_opening(&patch, path, size, true, allow_unknown, opening, force_gpu)
     }
 
     pub fn from_patch(
@@ -170,6 +218,28 @@ impl Session {
         size: Option<(u32, u32)>,
         capture: bool,
         allow_unknown: bool,
+    ) -> anyhow::Result<Self> {
+        let opening = force_gpu.then(OpeningGpu::start).flatten();
+        Self::build_opening(
+            patch,
+            path,
+            size,
+            capture,
+            allow_unknown,
+            opening,
+            force_gpu,
+        )
+    }
+
+    /// [`Session::build`] with the GPU perhaps being opened already.
+    fn build_opening(
+        patch: &Patch,
+        path: &Path,
+        size: Option<(u32, u32)>,
+        capture: bool,
+        allow_unknown: bool,
+        opening: Option<OpeningGpu>,
+        force_gpu: bool,
     ) -> anyhow::Result<Self> {
         // First, so that the threads compose while the registry and the GPU are made.
         let precomposing = start_precompose(path);
@@ -193,9 +263,33 @@ impl Session {
             runtime.provide(images.clone());
         }
         let started = std::time::Instant::now();
+        let mut pipelines_making = None;
+        let mut gpu_on_thread = None;
         let renderer = if gpu {
-            let renderer =
-                Arc::new(Renderer::headless().context("cannot open the GPU this patch needs")?);
+            let (renderer, on_thread) = match opening {
+                Some(opening) => {
+                    let (renderer, seconds) = opening.finish()?;
+                    (renderer, Some(seconds))
+                }
+                None => (Renderer::headless(), None),
+            };
+            let renderer = Arc::new(renderer.context("cannot open the GPU this patch needs")?);
+            gpu_on_thread = on_thread;
+            // The device is open: the last run's pipelines are created on
+            // threads while the patch loads and its first frame evaluates.
+            if let Some(ahead) = precomposing.as_ref().filter(|_| pipelines_ahead::enabled())
+                && !ahead.pipelines.is_empty()
+            {
+                let gpu = &renderer.gpu;
+                let making = PipelinesAhead::start(
+                    gpu.device.clone(),
+                    gpu.pipeline_cache().cloned(),
+                    ahead.pipelines.clone(),
+                    precompose::threads(),
+                );
+                renderer.shaders().set_pipelines_ahead(making.clone());
+                pipelines_making = Some(making);
+            }
             // A few command encoders a frame, not one a pass: 1.2 ms less CPU
             // on post.ron on the H100 (docs/benchmarks.md); a failing frame falls back to
             // recording pass by pass, which names the pass.
@@ -218,7 +312,10 @@ impl Session {
         } else {
             None
         };
-        opened.gpu = started.elapsed().as_secs_f64();
+        opened.gpu_waited = started.elapsed().as_secs_f64();
+        // On a thread: its own time; the setup after the wait (the
+        // renderer's settings, the pipelines started) counts as waiting.
+        opened.gpu = gpu_on_thread.unwrap_or(opened.gpu_waited);
         let started = std::time::Instant::now();
         let mut load_errors = !shader_errors.is_empty();
         for problem in runtime.load(patch) {
@@ -227,7 +324,12 @@ impl Session {
             load_errors |= severity == Severity::Error;
         }
         opened.load = started.elapsed().as_secs_f64();
-        opened.precompose = precomposing.map(precompose::Precomposing::finish);
+        opened.precompose = precomposing.map(|ahead| ahead.composing.finish());
+        if let Some(making) =
+            pipelines_making.filter(|_| pipelines_ahead::wait_before_first_frame())
+        {
+            making.wait();
+        }
         Ok(Session {
             runtime,
             renderer,
@@ -237,18 +339,20 @@ impl Session {
         })
     }
 
-    /// Remember the permutations the renderer composed so far, for the next
-    /// run of the patch at `path` to compose ahead (`precompose.rs` in render).
+    /// Remember the permutations the renderer composed so far and its
+    /// compute pipelines, for the next run of the patch at `path` to compose
+    /// and create ahead (`precompose.rs`, `pipelines_ahead.rs` in render).
     pub fn remember_permutations(&self, path: &Path) {
         let Some(renderer) = self.renderer.as_ref().filter(|_| precompose::enabled()) else {
             return;
         };
-        let keys = renderer.shaders().used_permutations();
+        let shaders = renderer.shaders();
+        let keys = shaders.used_permutations();
         if keys.is_empty() {
             return;
         }
         let list = permutation_list(path);
-        if let Err(e) = precompose::remember(&list, &keys) {
+        if let Err(e) = precompose::remember(&list, &keys, shaders.compute_pipelines_used()) {
             // Nothing else is lost: the next run composes as the first frame needs.
             eprintln!(
                 "warning: could not save the permutation list {}: {e}",

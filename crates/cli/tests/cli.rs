@@ -832,7 +832,9 @@ fn bench_prints_one_json_line_with_the_adapter() {
         cold["pipelines_compiled"].as_u64().is_some_and(|n| n > 0),
         "{cold}"
     );
-    let steps = ms("registry_ms") + ms("open_gpu_ms") + ms("load_patch_ms") + ms("first_frame_ms");
+    // Of opening the GPU (on a thread beside the registry), what the start waited for.
+    let steps =
+        ms("registry_ms") + ms("gpu_waited_ms") + ms("load_patch_ms") + ms("first_frame_ms");
     assert!(ms("total_ms") >= steps, "{cold}");
     // The finer steps: parts of the registry and of opening the GPU, and what the composing found.
     assert!(ms("registry_nodes_ms") <= ms("registry_ms"), "{cold}");
@@ -1061,11 +1063,14 @@ fn the_pipeline_cache_is_kept_between_runs_and_a_damaged_file_is_a_cold_start() 
     assert_eq!(first_image, third_image);
 }
 
-/// Permutations composed ahead (crates/render/src/precompose.rs): the first
-/// run of a patch composes in its first frame and leaves a list; the next
-/// composes that list on threads of its own while it starts, its renderer
-/// composes nothing itself, and it renders the same bytes; a damaged list
-/// is a warning naming it and a normal start, and is written anew.
+/// Composing and creating pipelines ahead (precompose.rs and
+/// pipelines_ahead.rs in render): the first run of a patch composes in its
+/// first frame and leaves a list of its permutations and compute
+/// pipelines; the next composes that list on threads of its own while it
+/// starts and creates the pipelines once the device is open, its renderer
+/// composes nothing and makes only what the list does not name, and it
+/// renders the same bytes; a stale entry is skipped, and a damaged list is
+/// a warning naming it and a normal start, and is written anew.
 #[test]
 fn permutations_are_composed_ahead_from_the_last_runs_list_and_a_damaged_list_recovers() {
     let dir = tempfile::tempdir().expect("temp dir");
@@ -1074,6 +1079,9 @@ fn permutations_are_composed_ahead_from_the_last_runs_list_and_a_damaged_list_re
     let env = [
         ("SPREADLIGHT_CACHE_DIR", cache_dir),
         ("SPREADLIGHT_PIPELINE_CACHE", "off"),
+        // Every listed pipeline made before the first frame: the counts
+        // do not depend on how the threads were scheduled.
+        ("SPREADLIGHT_PIPELINES_AHEAD", "wait"),
     ];
     let run = |name: &str| {
         let image = dir.path().join(name);
@@ -1103,19 +1111,30 @@ fn permutations_are_composed_ahead_from_the_last_runs_list_and_a_damaged_list_re
             .map(|d| d.flatten().map(|e| e.path()).collect())
             .unwrap_or_default()
     };
+    // A list's permutation lines (two fields) and pipeline lines (three).
+    let count = |text: &str, fields: usize| {
+        text.lines()
+            .skip(1)
+            .filter(|l| l.split('\t').count() == fields)
+            .count() as u64
+    };
     let (first, first_image, _) = run("first.png");
     assert!(first["precompose"].is_null(), "no list yet: {first}");
+    assert!(first["pipelines_ahead"].is_null(), "no list yet: {first}");
     let composed = first["permutations_composed"].as_u64().expect("a count");
     assert!(composed > 0, "{first}");
+    let compiled = first["pipelines_compiled"].as_u64().expect("a count");
     let [list] = lists().try_into().expect("one list, the patch's");
-    let entries = std::fs::read_to_string(&list)
-        .expect("a list")
-        .lines()
-        .count()
-        - 1;
+    let text = std::fs::read_to_string(&list).expect("a list");
     assert_eq!(
-        entries as u64, composed,
+        count(&text, 2),
+        composed,
         "the list is what the first frame composed"
+    );
+    let pipelines = count(&text, 3);
+    assert!(
+        pipelines > 0 && pipelines <= compiled,
+        "the frame's compute pipelines: {text}{first}"
     );
 
     let (second, second_image, _) = run("second.png");
@@ -1131,16 +1150,45 @@ fn permutations_are_composed_ahead_from_the_last_runs_list_and_a_damaged_list_re
         second["shader_libraries_ms"], 0.0,
         "no composer made: {second}"
     );
-    assert_eq!(first_image, second_image, "composed ahead, the same bytes");
+    let made = &second["pipelines_ahead"];
+    for (count, expected) in [
+        ("listed", pipelines),
+        ("created", pipelines),
+        ("taken", pipelines),
+        ("failed", 0),
+        ("waited", 0),
+        ("claimed", 0),
+    ] {
+        assert_eq!(made[count].as_u64(), Some(expected), "{count}: {second}");
+    }
+    assert_eq!(
+        second["pipelines_at_frame"].as_u64(),
+        Some(compiled - pipelines),
+        "the frame made only what the list did not name: {second}"
+    );
+    assert_eq!(second["pipelines_compiled"].as_u64(), Some(compiled));
+    assert_eq!(first_image, second_image, "made ahead, the same bytes");
+
+    // A stale list: an entry point and a shader this build lacks.
+    let stale = format!("{text}post/copy.wgsl\t\tno_such_entry\nlighting/gone.wgsl\t\tmain\n");
+    std::fs::write(&list, stale).expect("make it stale");
+    let (stale, stale_image, stderr) = run("stale.png");
+    let made = &stale["pipelines_ahead"];
+    assert_eq!(made["listed"].as_u64(), Some(pipelines + 1), "{stale}");
+    assert_eq!(made["failed"].as_u64(), Some(1), "{stale}");
+    assert_eq!(made["taken"].as_u64(), Some(pipelines), "{stale}");
+    assert!(!stderr.contains("error"), "{stderr}");
+    assert_eq!(first_image, stale_image, "a stale list, the same bytes");
 
     std::fs::write(&list, "not a list").expect("damage it");
     let (third, third_image, stderr) = run("third.png");
     assert!(third["precompose"].is_null(), "{third}");
+    assert!(third["pipelines_ahead"].is_null(), "{third}");
     assert!(
         stderr.contains("warning:") && stderr.contains(&list.display().to_string()),
         "{stderr}"
     );
     assert_eq!(first_image, third_image);
     let rewritten = std::fs::read_to_string(&list).expect("written anew");
-    assert_eq!(rewritten.lines().count() - 1, entries, "{rewritten}");
+    assert_eq!(rewritten, text, "written anew as the first run wrote it");
 }

@@ -19,6 +19,12 @@
 //! know (a shader or a feature since removed) is skipped; a damaged list is
 //! a warning and a normal start. A wrong list costs CPU, never pixels.
 //!
+//! The list names the frame's compute pipelines too (a permutation and an
+//! entry point, in the order the frame asked for them): a renderer creates
+//! those on threads as soon as its device is open
+//! (`crate::pipelines_ahead`), and the list's permutations are ordered so
+//! that theirs are composed first.
+//!
 //! Where: `permutations/` in Spreadlight's cache directory
 //! ([`crate::pipeline_cache::cache_dir`]), one file per patch (by its
 //! path). `SPREADLIGHT_PRECOMPOSE=off` leaves it out.
@@ -36,10 +42,14 @@ use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
 use crate::permutations::ENTRY_SHADERS;
+use crate::pipelines_ahead::PipelineId;
 use crate::shaders::{ShaderComposer, ShaderKey};
 
 /// The first line of a list (its format's version).
-const HEADER: &str = "spreadlight permutations 1";
+const HEADER: &str = "spreadlight permutations 2";
+
+/// The first line of a list an earlier build wrote: permutations only.
+const HEADER_1: &str = "spreadlight permutations 1";
 
 /// More than any patch composes; a longer list is cut there.
 const MOST: usize = 1024;
@@ -61,40 +71,73 @@ pub fn list_path(name: &str) -> PathBuf {
         .join(format!("{:016x}.txt", hasher.finish()))
 }
 
-/// `keys` as a list's text: a header, then a line per permutation, its
-/// shader's path and its features separated by spaces after a tab.
-pub fn to_text(keys: &[ShaderKey]) -> String {
+/// A permutation's two fields: its shader's path, and its features
+/// separated by spaces, after a tab.
+fn key_text(key: &ShaderKey) -> String {
+    let features: Vec<&str> = key.features.iter().copied().collect();
+    format!("{}\t{}", key.path(), features.join(" "))
+}
+
+/// `keys` and `pipelines` as a list's text: a header, a line per compute
+/// pipeline in the order given (the frame's: `crate::pipelines_ahead`
+/// creates them in that order), its permutation's fields and its entry
+/// point after a second tab, then a line per permutation.
+pub fn to_text(keys: &[ShaderKey], pipelines: &[(ShaderKey, &str)]) -> String {
     let mut text = format!("{HEADER}\n");
+    for (key, entry) in pipelines.iter().take(MOST) {
+        text.push_str(&format!("{}\t{entry}\n", key_text(key)));
+    }
     for key in keys.iter().take(MOST) {
-        let features: Vec<&str> = key.features.iter().copied().collect();
-        text.push_str(&format!("{}\t{}\n", key.path(), features.join(" ")));
+        text.push_str(&format!("{}\n", key_text(key)));
     }
     text
 }
 
-/// A list read back: its permutations this build has, and how many lines
-/// named one it does not (a shader or feature since removed).
+/// A list read back: its permutations this build has (those of the
+/// pipelines first, in the pipelines' order), its compute pipelines, and
+/// how many lines named a permutation this build does not have (a shader or
+/// feature since removed).
 #[derive(Debug, Default)]
 pub struct List {
     pub keys: Vec<ShaderKey>,
+    pub pipelines: Vec<PipelineId>,
     pub unknown: usize,
 }
 
 /// Parse a list's text; an error says what is wrong with it, and where.
 pub fn parse(text: &str) -> Result<List, String> {
     let mut lines = text.lines();
-    if lines.next() != Some(HEADER) {
+    let version = lines.next();
+    if version != Some(HEADER) && version != Some(HEADER_1) {
         return Err(format!("its first line is not `{HEADER}`"));
     }
     let mut list = List::default();
+    let mut seen = std::collections::HashSet::new();
     for (i, line) in lines.enumerate() {
-        let Some((path, features)) = line.split_once('\t') else {
+        let mut fields = line.split('\t');
+        let (Some(path), Some(features)) = (fields.next(), fields.next()) else {
             return Err(format!("line {}: not `PATH<tab>FEATURES`", i + 2));
         };
-        match key_of(path, features) {
-            Some(key) if list.keys.len() < MOST => list.keys.push(key),
-            Some(_) => {}
-            None => list.unknown += 1,
+        let entry = fields.next();
+        if fields.next().is_some() {
+            return Err(format!("line {}: more than three fields", i + 2));
+        }
+        if let Some(entry) = entry
+            && (entry.is_empty() || !entry.chars().all(|c| c.is_ascii_alphanumeric() || c == '_'))
+        {
+            return Err(format!("line {}: `{entry}` is not an entry point", i + 2));
+        }
+        let Some(key) = key_of(path, features) else {
+            list.unknown += 1;
+            continue;
+        };
+        if list.keys.len() < MOST && seen.insert(key.clone()) {
+            list.keys.push(key.clone());
+        }
+        if let Some(entry) = entry
+            && list.pipelines.len() < MOST
+        {
+            list.pipelines.push((key, entry.to_owned()));
         }
     }
     Ok(list)
@@ -127,10 +170,15 @@ pub fn read(path: &Path) -> Result<Option<List>, String> {
         .map_err(|e| format!("{} is not a permutation list: {e}", path.display()))
 }
 
-/// Write `keys` to the list at `path`, through a temporary file and a
-/// rename (a run killed half-way leaves the old list). Unchanged text is not written again.
-pub fn remember(path: &Path, keys: &[ShaderKey]) -> std::io::Result<()> {
-    let text = to_text(keys);
+/// Write `keys` and `pipelines` to the list at `path`, through a temporary
+/// file and a rename (a run killed half-way leaves the old list). Unchanged
+/// text is not written again.
+pub fn remember(
+    path: &Path,
+    keys: &[ShaderKey],
+    pipelines: &[(ShaderKey, &str)],
+) -> std::io::Result<()> {
+    let text = to_text(keys, pipelines);
     if std::fs::read(path).is_ok_and(|old| old == text.as_bytes()) {
         return Ok(());
     }

@@ -25,6 +25,7 @@ use crate::gbuffer::Layer;
 use crate::recipe::{Recipe, next_recipe_id};
 use crate::renderer::Renderer;
 use crate::report::PassName;
+use crate::shaders::Permutation;
 
 /// Where a node's maps are kept across frames, and (for a probe updated
 /// every n frames) the frames since they were built.
@@ -259,6 +260,19 @@ impl Recipe for Environment {
             }
         }
         let mut pass = fg.pass(name, self.owner);
+        // The pipelines prefiltering dispatches (frame_graph/gather.rs).
+        let first = match self.source {
+            EnvironmentSource::Equirect(_) => Some("from_equirect"),
+            EnvironmentSource::Sky(_) => Some("from_sky"),
+            EnvironmentSource::Probe(_) => None,
+        };
+        let key = super::prefilter_key::PrefilterKey.key();
+        for entry in first
+            .into_iter()
+            .chain(["downsample", "prefilter", "irradiance"])
+        {
+            pass.will_dispatch(&key, entry);
+        }
         let textures = ProbeTextures {
             color: (layers.iter())
                 .map(|l| color_map(l).map(|m| pass.read(&m.name)))

@@ -208,6 +208,18 @@ impl Recipe for ImagePass {
             depth: pass.read(&self.gbuffer.targets.depth),
             output: pass.write(&self.output, desc),
         };
+        // The joint pass's pipeline where it can run joint with the pass
+        // under it, as it does when the frame needs both (frame_graph/gather.rs).
+        // A pass alone announces none: it cannot know whether a pass over
+        // it will take it in, and a pipeline announced and not used is
+        // made in vain at every start.
+        if let Some(inner) = self.over() {
+            let sky = match self.kind {
+                ImageKind::Sky => self,
+                ImageKind::Fog => inner,
+            };
+            pass.will_dispatch(&sky.kind.key(sky.environment.is_some(), true), "main");
+        }
         pass.run(move |cx| self.record(cx, &io, None));
         if let Some(inner) = self.over() {
             // Of both kinds; the report names both nodes (owner and partner).

@@ -306,6 +306,8 @@ impl Recipe for Reflection {
             diffuse: pass.write(&self.diffuse, hdr),
             specular: Some(pass.write(&self.specular, hdr)),
         };
+        // The pipeline of the usual case, both outputs read (frame_graph/gather.rs).
+        pass.will_dispatch(&self.key().key(), "both");
         pass.run(move |cx| {
             let specular = io.specular.is_some_and(|s| cx.is_read(s));
             let outputs = match (cx.is_read(io.diffuse), specular) {

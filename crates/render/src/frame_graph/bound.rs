@@ -92,7 +92,8 @@ impl<'a> PassBuilder<'_, 'a> {
 
     /// Add the pass as the most common one: `key`'s `main`, one thread per
     /// pixel of `size` ([`PassContext::dispatch_image`]), bound as declared.
-    pub fn dispatch_image(self, label: &'a str, key: ShaderKey, size: SizeRule) {
+    pub fn dispatch_image(mut self, label: &'a str, key: ShaderKey, size: SizeRule) {
+        self.will_dispatch(&key, "main");
         self.run_bound(move |cx, b| cx.dispatch_image(label, &key, b, size.pixels(cx.output_size)));
     }
 }

@@ -70,7 +70,7 @@ impl FrameGraph<'_> {
 fn execute(
     executor: &Executor,
     gpu: &GpuContext,
-    graph: FrameGraph<'_>,
+    mut graph: FrameGraph<'_>,
     counters: impl FnOnce() -> Vec<(&'static str, u64)>,
     then: impl FnOnce(&HashMap<String, wgpu::Texture>) -> Vec<wgpu::CommandBuffer>,
 ) -> Result<(FrameReport, HashMap<String, wgpu::Texture>), RenderError> {
@@ -79,6 +79,12 @@ fn execute(
     let (timing, recording) = executor.settings();
     let output_size = graph.output_size();
     let device = &gpu.device;
+    // The pipelines the passes announced and the cache lacks: made on
+    // threads from here, while the frame plans and records (gather.rs).
+    let announced = graph.take_pipelines();
+    if !announced.is_empty() {
+        executor.shaders().make_ahead(device, announced);
+    }
     let mut textures = executor.texture_pool();
     let lent = std::mem::take(&mut textures.lent);
     for (key, texture) in lent {
@@ -162,6 +168,7 @@ fn execute(
     let mut shaders = executor.shaders();
     shaders.begin_frame();
     let compiled_before = shaders.pipelines_compiled;
+    let looked_up_before = shaders.compute_pipelines_used().len();
     let groups_before = (shaders.bind_groups_created, shaders.bind_groups_reused);
     let views = std::cell::RefCell::new(std::mem::take(&mut textures.views));
     let views_before = {
@@ -404,6 +411,9 @@ fn execute(
     let tail_allocations = allocation_count::now();
     report.culled = plan.culled.iter().map(|&p| plan.names[p].clone()).collect();
     report.pipelines_compiled = shaders.pipelines_compiled - compiled_before;
+    // Frames announce their pipelines while a frame still looks new ones up.
+    super::gather::frame_made_pipelines(shaders.compute_pipelines_used().len() > looked_up_before);
+    shaders.end_frame_ahead();
     let mut views = views.into_inner();
     for (name, n) in counters().into_iter().chain([
         (

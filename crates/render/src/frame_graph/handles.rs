@@ -118,6 +118,12 @@ impl<'a> PassBuilder<'_, 'a> {
         tex
     }
 
+    /// The pass will dispatch `entry` of `key` (gather.rs): made on a thread
+    /// ahead of the frame's recording where it is not made yet.
+    pub fn will_dispatch(&mut self, key: &crate::shaders::ShaderKey, entry: &'static str) {
+        self.graph.will_dispatch(key, entry);
+    }
+
     /// The graph the pass is declared in (its output size, counters).
     pub fn graph(&self) -> &FrameGraph<'a> {
         self.graph

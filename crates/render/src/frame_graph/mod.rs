@@ -25,6 +25,7 @@ mod compute_pass;
 mod execute;
 mod executor;
 mod finisher;
+mod gather;
 mod handles;
 mod history;
 mod live;
@@ -390,6 +391,8 @@ pub struct FrameGraph<'a> {
     counters: BTreeMap<&'static str, u64>,
     /// Pairs of passes that run as one when both are needed (merge.rs).
     merges: Vec<merge::Merge<'a>>,
+    /// Compute pipelines its passes will dispatch, announced (gather.rs).
+    pipelines: Vec<(crate::shaders::ShaderKey, &'static str)>,
 }
 
 thread_local! {
@@ -414,6 +417,7 @@ impl<'a> FrameGraph<'a> {
             handles: handles::HandleTable::with_capacity_and_hasher(textures, Default::default()),
             counters: BTreeMap::new(),
             merges: Vec::new(),
+            pipelines: Vec::new(),
         }
     }
 

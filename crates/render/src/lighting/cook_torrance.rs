@@ -575,6 +575,9 @@ impl Recipe for CookTorrance {
                 .map(|t| pass.read(&t.name))
                 .collect(),
         };
+        if self.custom.is_none() {
+            pass.will_dispatch(&self.key(), "main");
+        }
         pass.run(move |cx| self.shade(cx, &io));
     }
 }

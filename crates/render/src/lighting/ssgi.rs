@@ -378,6 +378,8 @@ impl Ssgi {
             &raw_target,
             rgba.size(resolution.size_rule(self.gbuffer.size, pixels)),
         );
+        let half = resolution.is_half();
+        pass.will_dispatch(&SsgiKey::Gather { half }.key(), "main");
         pass.run(move |cx| self.raw(cx, &io));
         declare_upsample(
             fg,
@@ -400,6 +402,7 @@ impl Ssgi {
         }
         let mut pass = fg.pass(PassName::new("SSGI").step("temporal"), self.owner);
         let (io, t) = self.declare_temporal(&mut pass, &raw);
+        pass.will_dispatch(&SsgiKey::Temporal { gather: false }.key(), "main");
         pass.run(move |cx| self.temporal_pass(cx, false, &io, &t));
         self.history_name()
     }
@@ -419,6 +422,7 @@ impl Recipe for Ssgi {
         let source = if self.fused() {
             let mut pass = fg.pass(PassName::new("SSGI").step("gather"), self.owner);
             let (io, t) = self.declare_temporal(&mut pass, &self.source.name);
+            pass.will_dispatch(&SsgiKey::Temporal { gather: true }.key(), "main");
             pass.run(move |cx| self.gather_temporal(cx, &io, &t));
             self.history_name()
         } else {
@@ -432,12 +436,17 @@ impl Recipe for Ssgi {
             let blurred = self.name("blurred");
             let mut pass = fg.pass(PassName::new("SSGI").step("blur x"), self.owner);
             let io = self.declare_pass(&mut pass, &last, &blurred, rgba);
+            pass.will_dispatch(&SsgiKey::Blur { ambient: false }.key(), "main");
             pass.run(move |cx| self.blur(cx, &io, false, None));
             last = blurred;
         }
         let mut pass = fg.pass(PassName::new("SSGI").step("blur y"), self.owner);
         let io = self.declare_pass(&mut pass, &last, &self.output, rgba);
         let ambient = pass.read_opt(self.ambient.as_ref().map(|a| a.name.as_str()));
+        let key = SsgiKey::Blur {
+            ambient: ambient.is_some(),
+        };
+        pass.will_dispatch(&key.key(), "main");
         pass.run(move |cx| self.blur(cx, &io, true, ambient));
     }
 }

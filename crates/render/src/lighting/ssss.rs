@@ -238,6 +238,7 @@ impl Recipe for Ssss {
                     .map(|(read, name)| (read, pass.write(name, rgba)))
                     .collect(),
             };
+            pass.will_dispatch(&self.key(vertical), "main");
             pass.run(move |cx| self.pass(cx, vertical, &io));
         }
     }

@@ -166,6 +166,7 @@ impl Recipe for Autofocus {
             output: pass.write(&self.output, target),
             previous: pass.write(&self.previous, previous),
         };
+        pass.will_dispatch(&AutofocusKey.key(), "main");
         pass.run(move |cx| self.run(cx, &io));
     }
 }

@@ -328,6 +328,15 @@ impl Recipe for Dof {
             Focus::Distance(_) => None,
         };
         let inline = self.inline_coc();
+        // The pipelines `run` dispatches (frame_graph/gather.rs).
+        let key = self.key();
+        let entries: &[&'static str] = match inline {
+            true => &["tiles", "main"],
+            false => &["coc", "tiles", "main"],
+        };
+        for entry in entries {
+            fg.will_dispatch(&key, entry);
+        }
         if !inline {
             let mut pass = fg.pass(PassName::new("DOF").step("circle of confusion"), self.owner);
             let (depth, focus) = (pass.read(depth), pass.read_opt(focus));

@@ -190,6 +190,18 @@ impl Recipe for Glare {
             levels += 1;
         }
         let level = |l: usize| full.size(source_size.scaled(0.5f32.powi(l as i32 + 1)));
+        // The pipelines `run` dispatches (frame_graph/gather.rs): the
+        // composite's is the one of a filterable source, the usual one.
+        for (entry, filtered_source, used) in [
+            ("bright", false, true),
+            ("down", false, levels > 1),
+            ("up", false, levels > 1),
+            ("composite", true, true),
+        ] {
+            if used {
+                fg.will_dispatch(&GlareKey { filtered_source }.key(), entry);
+            }
+        }
         let mut pass = fg.pass(name("bright pass".into()), self.owner);
         let source = pass.read(&self.source.name);
         let output = pass.write(&self.down(0), level(0));

@@ -102,6 +102,7 @@ pub(crate) fn declare_copy<'a>(
     let mut pass = fg.pass(name, owner);
     let source = pass.read(source);
     let output = pass.write(output.0, output.1);
+    pass.will_dispatch(&CopyKey.key(), "main");
     pass.run(move |cx| {
         cx.count(counter, 1);
         let size = cx.size_of(output)?;

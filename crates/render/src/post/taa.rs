@@ -208,6 +208,7 @@ impl Recipe for Taa {
             output: pass.write(&self.output, output),
             history: pass.write(&self.history, history),
         };
+        pass.will_dispatch(&self.settings.quality.key(), "main");
         pass.run(move |cx| self.run(cx, &io));
     }
 }

@@ -149,6 +149,10 @@ impl Recipe for Tonemap {
             adaptation: pass.read_opt(self.adaptation.as_ref().map(|a| a.name.as_str())),
             output: pass.write(&self.output, desc),
         };
+        let key = TonemapKey {
+            eye_adaptation: io.adaptation.is_some(),
+        };
+        pass.will_dispatch(&key.key(), "main");
         pass.run(move |cx| self.run(cx, &io));
     }
 }

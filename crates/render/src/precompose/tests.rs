@@ -16,7 +16,7 @@ fn some_keys() -> Vec<ShaderKey> {
 #[test]
 fn a_list_reads_back_as_the_permutations_it_was_written_from() {
     let keys = some_keys();
-    let list = parse(&to_text(&keys)).expect("a list");
+    let list = parse(&to_text(&keys, &[])).expect("a list");
     assert_eq!(list.keys, keys);
     assert_eq!(list.unknown, 0);
 }
@@ -41,7 +41,7 @@ fn remembered_lists_read_back_and_a_damaged_file_names_itself() {
     let path = dir.path().join("permutations").join("list.txt");
     assert!(matches!(read(&path), Ok(None)), "no list: a first run");
     let keys = some_keys();
-    remember(&path, &keys).expect("written");
+    remember(&path, &keys, &[]).expect("written");
     let read_back = read(&path).expect("readable").expect("there");
     assert_eq!(read_back.keys, keys);
     std::fs::write(&path, [0xff, 0xfe, 0x00]).expect("damaged");
@@ -83,4 +83,30 @@ fn threads_started_compose_the_list_and_say_so() {
     for key in &keys {
         assert!(crate::shaders::is_composed(key), "{key:?}");
     }
+}
+
+#[test]
+fn pipelines_read_back_in_their_order_their_permutations_first_and_an_old_list_still_reads() {
+    let keys = some_keys();
+    let copy = CopyKey.key();
+    let pipelines = [(keys[1].clone(), "main"), (copy.clone(), "main")];
+    let list = parse(&to_text(&keys, &pipelines)).expect("a list");
+    let read: Vec<(ShaderKey, &str)> = list
+        .pipelines
+        .iter()
+        .map(|(k, e)| (k.clone(), e.as_str()))
+        .collect();
+    assert_eq!(read, pipelines);
+    // Composed in the order the frame wants them, each once.
+    assert_eq!(list.keys[..2], [keys[1].clone(), copy]);
+    assert_eq!(list.keys.len(), keys.len());
+    // A list of a build before pipelines were listed: its permutations.
+    let old = format!("{HEADER_1}\npost/copy.wgsl\t\n");
+    let old = parse(&old).expect("an old list");
+    assert_eq!((old.keys.len(), old.pipelines.len()), (1, 0));
+    let bad = parse(&format!("{HEADER}\npost/copy.wgsl\t\tma in\n")).unwrap_err();
+    assert!(
+        bad.contains("line 2") && bad.contains("entry point"),
+        "{bad}"
+    );
 }

@@ -10,9 +10,11 @@ use super::BindGroups;
 use super::reflection::{GroupEntries, Reflection, match_bindings, reflect};
 use super::{ShaderComposer, ShaderKey, Splice};
 use crate::error::RenderError;
+use crate::pipelines_ahead::{AheadStats, PipelinesAhead};
 
-/// A compute pipeline of `entry` in `module`, its bind group layouts derived from the shader.
-fn compute_pipeline_of(
+/// A compute pipeline of `entry` in `module`, its bind group layouts derived
+/// from the shader (also what `crate::pipelines_ahead` makes, the same way).
+pub(crate) fn compute_pipeline_of(
     device: &wgpu::Device,
     cache: Option<&wgpu::PipelineCache>,
     module: &wgpu::ShaderModule,
@@ -75,8 +77,11 @@ pub struct ShaderCache {
     /// them in place, without building (allocating, cloning) a key.
     bind_groups: FxHashMap<u64, Vec<CachedGroup>>,
     frame: u64,
-    /// Pipelines compiled since the cache was made.
+    /// Pipelines compiled since the cache was made: by the cache itself,
+    /// or on threads ahead of the look-up (`crate::pipelines_ahead`), of
+    /// which those are `pipelines_taken_ahead`.
     pub pipelines_compiled: u64,
+    pub pipelines_taken_ahead: u64,
     /// Bind groups made and reused since the cache was made.
     pub bind_groups_created: u64,
     pub bind_groups_reused: u64,
@@ -85,6 +90,18 @@ pub struct ShaderCache {
     /// The driver's cache kept on disk between runs (pipeline_cache.rs), if
     /// the device has one: every pipeline is compiled through it.
     pipeline_cache: Option<wgpu::PipelineCache>,
+    /// Compute pipelines being made ahead on threads, from the last run's
+    /// list (`crate::pipelines_ahead`): a look-up takes one from there
+    /// before making its own.
+    ahead: Option<PipelinesAhead>,
+    /// Compute pipelines a frame's passes announced, being made on threads
+    /// while it records (`frame_graph/gather.rs`), until the frame ends; and
+    /// what those threads did, summed.
+    frame_ahead: Vec<PipelinesAhead>,
+    frame_ahead_done: AheadStats,
+    /// Compute pipelines in the order first looked up: what the next run
+    /// creates ahead, in the order its frame will want them.
+    compute_order: Vec<(ShaderKey, &'static str)>,
 }
 
 /// CPU time spent making shaders and pipelines, by step: most of what a
@@ -244,11 +261,98 @@ impl ShaderCache {
             bind_groups: FxHashMap::default(),
             frame: 0,
             pipelines_compiled: 0,
+            pipelines_taken_ahead: 0,
             bind_groups_created: 0,
             bind_groups_reused: 0,
             compile_times: CompileTimes::default(),
             pipeline_cache: None,
+            ahead: None,
+            frame_ahead: Vec::new(),
+            frame_ahead_done: AheadStats::default(),
+            compute_order: Vec::new(),
         }
+    }
+
+    /// Whether look-ups may take pipelines made on threads: over the
+    /// embedded sources, as those threads compose (`crate::pipelines_ahead`).
+    fn shares_embedded(&self) -> bool {
+        self.composer
+            .as_ref()
+            .is_none_or(ShaderComposer::shares_embedded)
+    }
+
+    /// Start making, on threads, those of `wanted` (a frame's announced
+    /// compute pipelines) that are neither made nor being made already.
+    pub fn make_ahead(&mut self, device: &wgpu::Device, wanted: Vec<(ShaderKey, &'static str)>) {
+        if !self.shares_embedded() || !crate::pipelines_ahead::enabled() {
+            return;
+        }
+        let mut missing: Vec<crate::pipelines_ahead::PipelineId> = Vec::new();
+        for (key, entry) in wanted {
+            let made = self
+                .compute
+                .get(&key)
+                .is_some_and(|m| m.contains_key(entry));
+            let id = (key, entry.to_owned());
+            let making = self
+                .ahead
+                .iter()
+                .chain(&self.frame_ahead)
+                .any(|a| a.has(&id));
+            if !made && !making && !missing.contains(&id) {
+                missing.push(id);
+            }
+        }
+        if missing.is_empty() {
+            return;
+        }
+        self.frame_ahead.push(PipelinesAhead::start(
+            device.clone(),
+            self.pipeline_cache.clone(),
+            missing,
+            crate::precompose::threads(),
+        ));
+    }
+
+    /// A frame ended: what its threads made and it did not take is let go
+    /// once they are done (a later frame makes it if it needs it).
+    pub fn end_frame_ahead(&mut self) {
+        let done = &mut self.frame_ahead_done;
+        self.frame_ahead.retain(|ahead| {
+            let stats = ahead.stats();
+            let running = stats.wall == std::time::Duration::ZERO;
+            if !running {
+                done.add(&stats);
+            }
+            running
+        });
+    }
+
+    /// What the threads making frames' announced pipelines did so far
+    /// (None: no frame announced one the cache lacked).
+    pub fn pipelines_gathered(&self) -> Option<AheadStats> {
+        let mut sum = self.frame_ahead_done;
+        for ahead in &self.frame_ahead {
+            sum.add(&ahead.stats());
+        }
+        (sum.listed > 0).then_some(sum)
+    }
+
+    /// Take compute pipelines from `ahead` where it made them (over the
+    /// embedded sources: a cache over other sources ignores it).
+    pub fn set_pipelines_ahead(&mut self, ahead: PipelinesAhead) {
+        self.ahead = Some(ahead);
+    }
+
+    /// What creating pipelines ahead did, if this cache was given any.
+    pub fn pipelines_ahead(&self) -> Option<AheadStats> {
+        self.ahead.as_ref().map(PipelinesAhead::stats)
+    }
+
+    /// Every compute pipeline looked up so far, by permutation and entry
+    /// point, in the order first asked for.
+    pub fn compute_pipelines_used(&self) -> &[(ShaderKey, &'static str)] {
+        &self.compute_order
     }
 
     /// Compile every pipeline through `cache` (GpuContext::pipeline_cache).
@@ -271,6 +375,7 @@ impl ShaderCache {
     pub fn replace_sources(&mut self, composer: ShaderComposer) {
         *self = ShaderCache {
             pipelines_compiled: self.pipelines_compiled,
+            pipelines_taken_ahead: self.pipelines_taken_ahead,
             compile_times: self.compile_times,
             pipeline_cache: self.pipeline_cache.take(),
             ..ShaderCache::new(composer)
@@ -298,7 +403,7 @@ impl ShaderCache {
             .is_none_or(ShaderComposer::shares_embedded);
         if shared
             && let Some(module) = timed(&mut self.compile_times.compose, || {
-                super::composer::embedded_module(key)
+                super::composer::embedded_module_or_wait(key)
             })
         {
             self.compile_times.ready += 1;
@@ -550,8 +655,12 @@ impl ShaderCache {
     /// Every permutation composed for this cache so far (made a module of,
     /// or reflected), sorted: what `crate::precompose` composes ahead next time.
     pub fn used_permutations(&self) -> Vec<ShaderKey> {
-        let used: std::collections::BTreeSet<&ShaderKey> =
-            self.modules.keys().chain(self.reflections.keys()).collect();
+        let used: std::collections::BTreeSet<&ShaderKey> = self
+            .modules
+            .keys()
+            .chain(self.reflections.keys())
+            .chain(self.compute_order.iter().map(|(key, _)| key))
+            .collect();
         used.into_iter().cloned().collect()
     }
 
@@ -568,6 +677,20 @@ impl ShaderCache {
             .and_then(|by_entry| by_entry.get(entry))
         {
             return Ok(p.clone());
+        }
+        self.compute_order.push((key.clone(), entry));
+        let taken = match self.shares_embedded() {
+            true => (self.ahead.iter().chain(&self.frame_ahead)).find_map(|a| a.take(key, entry)),
+            false => None,
+        };
+        if let Some(pipeline) = taken {
+            self.pipelines_compiled += 1;
+            self.pipelines_taken_ahead += 1;
+            self.compute
+                .entry(key.clone())
+                .or_default()
+                .insert(entry, pipeline.clone());
+            return Ok(pipeline);
         }
         let module = self.module(device, key)?;
         let label = format!("{}{}::{entry}", key.path(), key.describe_defs());

@@ -36,29 +36,82 @@ pub struct ShaderComposer {
 /// most of what opening a renderer costs the CPU, and every renderer of a
 /// process (each test, each CLI run's renderers) composes the same
 /// permutations from the same compiled-in text: they are made once.
-fn embedded_modules() -> &'static std::sync::Mutex<HashMap<ShaderKey, naga::Module>> {
-    static MODULES: std::sync::OnceLock<std::sync::Mutex<HashMap<ShaderKey, naga::Module>>> =
+/// Also which permutations a composer is composing now: another that
+/// wants one of those waits for it rather than composing it again (the
+/// threads composing ahead, those creating pipelines ahead and the first
+/// frame often reach the same permutation at once).
+#[derive(Default)]
+struct Embedded {
+    modules: HashMap<ShaderKey, naga::Module>,
+    composing: std::collections::HashSet<ShaderKey>,
+}
+
+fn embedded_modules() -> &'static (std::sync::Mutex<Embedded>, std::sync::Condvar) {
+    static MODULES: std::sync::OnceLock<(std::sync::Mutex<Embedded>, std::sync::Condvar)> =
         std::sync::OnceLock::new();
     MODULES.get_or_init(Default::default)
 }
 
-/// Permutation `key` of the embedded sources, if a composer of this process
-/// (a renderer's, or [`crate::precompose`]'s threads) composed it already.
-pub(super) fn embedded_module(key: &ShaderKey) -> Option<naga::Module> {
+fn embedded() -> std::sync::MutexGuard<'static, Embedded> {
     embedded_modules()
+        .0
         .lock()
         .unwrap_or_else(|e| e.into_inner())
-        .get(key)
-        .cloned()
+}
+
+/// Permutation `key` of the embedded sources, if a composer of this process
+/// (a renderer's, or [`crate::precompose`]'s threads) composed it already.
+pub(crate) fn embedded_module(key: &ShaderKey) -> Option<naga::Module> {
+    embedded().modules.get(key).cloned()
+}
+
+/// [`embedded_module`], waiting first where a composer is composing it
+/// (a renderer without a composer of its own need not make one for it).
+pub(crate) fn embedded_module_or_wait(key: &ShaderKey) -> Option<naga::Module> {
+    let mut shared = embedded();
+    while shared.composing.contains(key) {
+        shared = embedded_modules()
+            .1
+            .wait(shared)
+            .unwrap_or_else(|e| e.into_inner());
+    }
+    shared.modules.get(key).cloned()
 }
 
 /// Whether permutation `key` of the embedded sources is composed in this process.
 #[cfg(test)]
 pub(crate) fn is_composed(key: &ShaderKey) -> bool {
-    embedded_modules()
-        .lock()
-        .unwrap_or_else(|e| e.into_inner())
-        .contains_key(key)
+    embedded().modules.contains_key(key)
+}
+
+/// A permutation this composer is composing (see [`Embedded`]): taken off
+/// the list when it ends (composed, failed or panicked), waking those waiting.
+struct Composing<'k>(&'k ShaderKey);
+
+impl Drop for Composing<'_> {
+    fn drop(&mut self) {
+        embedded().composing.remove(self.0);
+        embedded_modules().1.notify_all();
+    }
+}
+
+/// Permutation `key` composed already, or waited for where another
+/// composer is composing it; else None, with `key` marked as this caller's
+/// to compose until the guard is dropped.
+fn composed_or_claim(key: &ShaderKey) -> Result<naga::Module, Composing<'_>> {
+    let mut shared = embedded();
+    loop {
+        if let Some(module) = shared.modules.get(key) {
+            return Ok(module.clone());
+        }
+        if shared.composing.insert(key.clone()) {
+            return Err(Composing(key));
+        }
+        shared = embedded_modules()
+            .1
+            .wait(shared)
+            .unwrap_or_else(|e| e.into_inner());
+    }
 }
 
 /// [`ShaderComposer::declared_names`] over the embedded sources, without a
@@ -189,14 +242,11 @@ impl ShaderComposer {
             });
         }
         let shared = self.embedded && !self.replaced;
-        if shared
-            && let Some(module) = embedded_modules()
-                .lock()
-                .unwrap_or_else(|e| e.into_inner())
-                .get(key)
-        {
-            return Ok(module.clone());
-        }
+        let _composing = match shared.then(|| composed_or_claim(key)) {
+            Some(Ok(module)) => return Ok(module),
+            Some(Err(claimed)) => Some(claimed),
+            None => None,
+        };
         let shader_defs = key
             .features
             .iter()
@@ -216,10 +266,8 @@ impl ShaderComposer {
             message: e.emit_to_string(&self.composer),
         })?;
         if shared {
-            embedded_modules()
-                .lock()
-                .unwrap_or_else(|e| e.into_inner())
-                .insert(key.clone(), module.clone());
+            // Before the claim is dropped (which wakes those waiting).
+            embedded().modules.insert(key.clone(), module.clone());
         }
         Ok(module)
     }

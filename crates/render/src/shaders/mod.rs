@@ -75,7 +75,9 @@ pub mod layout;
 mod reflection;
 mod uniform;
 
+pub(crate) use cache::compute_pipeline_of;
 pub use cache::{CompileTimes, PipelineRef, Sampling, ShaderCache};
+pub(crate) use composer::embedded_module;
 #[cfg(test)]
 pub(crate) use composer::is_composed;
 pub use composer::{ShaderComposer, Splice};

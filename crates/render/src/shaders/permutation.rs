@@ -157,7 +157,7 @@ impl ShaderKey {
         self.file.path
     }
 
-    pub(super) fn describe_defs(&self) -> String {
+    pub(crate) fn describe_defs(&self) -> String {
         if self.features.is_empty() {
             String::new()
         } else {

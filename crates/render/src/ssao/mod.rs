@@ -302,6 +302,7 @@ impl Recipe for AmbientOcclusion {
                 (Resolution::Full, None) => AoTarget::Full,
             },
         };
+        pass.will_dispatch(&key.key(), "main");
         pass.run_bound(move |cx, b| self.raw(cx, b, key, fused));
         if fused.is_some() {
             // The estimate and its accumulation in one pass: straight to the blur.
@@ -330,6 +331,7 @@ impl Recipe for AmbientOcclusion {
         pass.input("raw", &raw);
         self.common(&mut pass);
         let h = self.history(&mut pass);
+        pass.will_dispatch(&TemporalKey.key(), "main");
         pass.run_bound(move |cx, b| {
             let b = b.buffer("temporal", self.rays.hand_over(cx, h)?);
             let size = self.gbuffer.pixel_size(cx.output_size);

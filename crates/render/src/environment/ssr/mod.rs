@@ -451,6 +451,16 @@ impl Recipe for Ssr {
         let depth = pass.read(&g.depth);
         pass.write(&self.token, TextureDesc::token());
         pass.run(move |cx| self.build_hiz(cx, depth));
+        // The pipelines the hi-z, the trace and the resolve dispatch
+        // (frame_graph/gather.rs; the hi-z's entries as hi_z.rs names them).
+        let plain = SsrKey::PLAIN.key();
+        for entry in ["hiz_first", "hiz_down", "hiz_down2"] {
+            fg.will_dispatch(&plain, entry);
+        }
+        fg.will_dispatch(&self.trace_key(self.fused()).key(), "main");
+        if self.settings.temporal && !self.fused() {
+            fg.will_dispatch(&plain, "resolve");
+        }
         let resolution = self.settings.resolution;
         let pixels = self.gbuffer.pixel_size(fg.output_size());
         // Alike, so the output becomes the history without a copy.

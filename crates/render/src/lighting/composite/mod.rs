@@ -257,6 +257,7 @@ impl Recipe for CompositeLight {
             b.buffer("camera", self.gbuffer.camera_buffer())
                 .buffer("params", &self.params)
         });
+        pass.will_dispatch(&self.key.key(), "main");
         pass.run_bound(move |cx, b| {
             for counter in &self.counts {
                 cx.count(counter, 1);

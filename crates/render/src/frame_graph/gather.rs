@@ -1,0 +1,50 @@
+//! The compute pipelines a frame's passes will dispatch, announced where the
+//! passes are declared ([`FrameGraph::will_dispatch`]), so that a frame
+//! whose pipelines are not made yet creates them on threads while it
+//! records: the first frame of a first run, which has no list of the last
+//! run's pipelines to create ahead (`crate::pipelines_ahead`).
+//!
+//! Without it each pipeline was made where its pass recorded, one after
+//! another (the driver compiling each: 2.3 s for post.ron's 31 on the H200
+//! host with its shader cache empty). With it the executor hands the
+//! announced pipelines the shader cache lacks to threads before the first
+//! pass records, and a pass's look-up takes the one made, waits for one in
+//! the making, or makes one no thread began yet itself
+//! (`ShaderCache::make_ahead`). A pass that announces nothing is recorded
+//! as before; an announced pipeline a culled pass would have used is made
+//! and not used. Nothing a pass records changes: the pipelines are those the
+//! look-up would have made.
+//!
+//! Announcing clones a key, so it is only done while frames still make
+//! pipelines: the executor clears [`GATHERING`] after a frame that looked
+//! none up for the first time, and sets it again when one did.
+
+use std::sync::atomic::{AtomicBool, Ordering};
+
+use super::FrameGraph;
+use crate::shaders::ShaderKey;
+
+/// Whether frames announce their pipelines (process-wide: a hint, never a
+/// correctness matter: a frame that does not announce makes its pipelines as
+/// it records).
+static GATHERING: AtomicBool = AtomicBool::new(true);
+
+/// After a frame: whether it looked a compute pipeline up for the first time.
+pub(super) fn frame_made_pipelines(made: bool) {
+    GATHERING.store(made, Ordering::Relaxed);
+}
+
+impl FrameGraph<'_> {
+    /// A pass of this frame will dispatch `entry` of `key` (to call where
+    /// the pass is declared, before the frame records).
+    pub fn will_dispatch(&mut self, key: &ShaderKey, entry: &'static str) {
+        if GATHERING.load(Ordering::Relaxed) {
+            self.pipelines.push((key.clone(), entry));
+        }
+    }
+
+    /// The pipelines announced, taken (the executor hands them to threads).
+    pub(super) fn take_pipelines(&mut self) -> Vec<(ShaderKey, &'static str)> {
+        std::mem::take(&mut self.pipelines)
+    }
+}

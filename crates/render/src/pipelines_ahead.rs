@@ -1,0 +1,344 @@
+//! Creating a patch's compute pipelines ahead, on threads, from the list
+//! its last run left (`crate::precompose`), while the patch loads and its
+//! first frame evaluates.
+//!
+//! A fresh process's first frame used to create every pipeline where a
+//! pass first asked for it, one after another: on the H200 host with the
+//! driver's shader cache empty that was 2.3 s of post.ron's 2.8 s start,
+//! 31 pipelines each compiled by the driver in turn. wgpu's `Device` may be
+//! used from many threads and Vulkan drivers compile pipelines in parallel,
+//! so as soon as the device is open, threads of their own create what the
+//! list names, each pipeline exactly as the frame would have (the same
+//! composed module, entry point, derived layout and pipeline cache, no
+//! overridable constants: `shaders/cache.rs`), and the frame's look-up
+//! takes the one made ahead ([`PipelinesAhead::take`]), waits for one in
+//! the making, or makes a pipeline no thread started yet itself.
+//!
+//! A stale list costs time, never pixels: an entry whose permutation or
+//! entry point this build lacks is skipped, and a pipeline the device
+//! refuses ahead (caught in an error scope of the thread) is left for the
+//! frame, which makes it and reports its error where it is used.
+
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::{Arc, Condvar, Mutex, MutexGuard};
+use std::time::{Duration, Instant};
+
+use rustc_hash::FxHashMap;
+
+use crate::shaders::{ShaderComposer, ShaderKey};
+
+/// Whether pipelines are created ahead (`SPREADLIGHT_PIPELINES_AHEAD=off|0`:
+/// not, to measure the frame making them itself with the same list).
+pub fn enabled() -> bool {
+    !matches!(
+        std::env::var("SPREADLIGHT_PIPELINES_AHEAD").as_deref(),
+        Ok("off" | "0")
+    )
+}
+
+/// Whether a host waits for every listed pipeline before the first frame
+/// (`SPREADLIGHT_PIPELINES_AHEAD=wait`): counts that do not depend on how
+/// the threads were scheduled (tests), and how long making them all takes.
+pub fn wait_before_first_frame() -> bool {
+    std::env::var("SPREADLIGHT_PIPELINES_AHEAD").as_deref() == Ok("wait")
+}
+
+/// A compute pipeline by its permutation and entry point.
+pub type PipelineId = (ShaderKey, String);
+
+/// Where one listed pipeline is.
+enum Slot {
+    /// No thread has begun it: the frame may make it itself.
+    Queued,
+    /// A thread is making it: the frame waits.
+    Making,
+    Ready(wgpu::ComputePipeline),
+    /// Skipped (this build lacks its entry point) or refused by the device:
+    /// the frame makes it, or never asks.
+    Failed,
+}
+
+/// What creating ahead did (`cold_start` of the CLI's `--json`).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct AheadStats {
+    /// Pipelines in the list, the threads creating them.
+    pub listed: usize,
+    pub threads: usize,
+    /// Made by the threads, and of those listed, the ones skipped or refused.
+    pub created: usize,
+    pub failed: usize,
+    /// Frame look-ups that found theirs made, and that waited for a thread
+    /// still making it (and how long, in all).
+    pub taken: usize,
+    pub waited: usize,
+    pub wait: Duration,
+    /// Listed pipelines the frame asked for before a thread began them
+    /// (it made them itself).
+    pub claimed: usize,
+    /// From the start until the last thread ended (zero while one runs).
+    pub wall: Duration,
+}
+
+impl AheadStats {
+    /// Add `other`'s counts (several runs of threads: a frame's each).
+    pub fn add(&mut self, other: &AheadStats) {
+        self.listed += other.listed;
+        self.threads = self.threads.max(other.threads);
+        self.created += other.created;
+        self.failed += other.failed;
+        self.taken += other.taken;
+        self.waited += other.waited;
+        self.wait += other.wait;
+        self.claimed += other.claimed;
+        self.wall += other.wall;
+    }
+}
+
+struct Shared {
+    slots: Mutex<FxHashMap<PipelineId, Slot>>,
+    changed: Condvar,
+    stats: Mutex<AheadStats>,
+}
+
+/// Pipelines being created ahead, for a shader cache to take
+/// (`ShaderCache::set_pipelines_ahead`). Cloning shares them.
+#[derive(Clone)]
+pub struct PipelinesAhead {
+    shared: Arc<Shared>,
+}
+
+impl std::fmt::Debug for PipelinesAhead {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "PipelinesAhead({:?})", self.stats())
+    }
+}
+
+/// `lock`'s guard, whether or not a thread panicked holding it (the slots
+/// stay consistent: each change is one assignment).
+fn locked<T>(lock: &Mutex<T>) -> MutexGuard<'_, T> {
+    lock.lock().unwrap_or_else(|e| e.into_inner())
+}
+
+impl PipelinesAhead {
+    /// Start creating `pipelines` (in the order the last run's first frame
+    /// asked for them) on up to `threads` threads, on `device` through
+    /// `cache` (the context's pipeline cache, as the frame's own pipelines).
+    pub fn start(
+        device: wgpu::Device,
+        cache: Option<wgpu::PipelineCache>,
+        pipelines: Vec<PipelineId>,
+        threads: usize,
+    ) -> PipelinesAhead {
+        let mut slots = FxHashMap::default();
+        let mut order = Vec::with_capacity(pipelines.len());
+        for id in pipelines {
+            if slots.insert(id.clone(), Slot::Queued).is_none() {
+                order.push(id);
+            }
+        }
+        let threads = threads.clamp(1, order.len().max(1));
+        let shared = Arc::new(Shared {
+            slots: Mutex::new(slots),
+            changed: Condvar::new(),
+            stats: Mutex::new(AheadStats {
+                listed: order.len(),
+                threads,
+                ..AheadStats::default()
+            }),
+        });
+        let work = Arc::new(Work {
+            order,
+            next: AtomicUsize::new(0),
+            running: AtomicUsize::new(threads),
+            started: Instant::now(),
+            device,
+            cache,
+        });
+        for i in 0..threads {
+            let (thread_shared, thread_work) = (shared.clone(), work.clone());
+            let spawned = std::thread::Builder::new()
+                .name(format!("pipelines ahead {i}"))
+                .spawn(move || thread_work.run(&thread_shared));
+            if spawned.is_err() {
+                // No thread (the system refused one): what it would have
+                // made stays queued for the others, or for the frame.
+                work.ended(&shared);
+            }
+        }
+        PipelinesAhead { shared }
+    }
+
+    /// The pipeline `entry` of `key` made ahead: taken if ready, waited for
+    /// if a thread is making it; None when it is not in the list, failed,
+    /// or no thread began it yet (then no thread will: the caller makes it).
+    pub fn take(&self, key: &ShaderKey, entry: &str) -> Option<wgpu::ComputePipeline> {
+        let id = (key.clone(), entry.to_owned());
+        let mut slots = locked(&self.shared.slots);
+        let mut waited = None;
+        loop {
+            match slots.get(&id) {
+                None | Some(Slot::Failed) => return None,
+                Some(Slot::Queued) => {
+                    slots.insert(id, Slot::Failed);
+                    drop(slots);
+                    locked(&self.shared.stats).claimed += 1;
+                    return None;
+                }
+                Some(Slot::Making) => {
+                    waited.get_or_insert_with(Instant::now);
+                    slots = self
+                        .shared
+                        .changed
+                        .wait(slots)
+                        .unwrap_or_else(|e| e.into_inner());
+                }
+                Some(Slot::Ready(pipeline)) => {
+                    let pipeline = pipeline.clone();
+                    drop(slots);
+                    let mut stats = locked(&self.shared.stats);
+                    match waited {
+                        Some(since) => {
+                            stats.waited += 1;
+                            stats.wait += since.elapsed();
+                        }
+                        None => stats.taken += 1,
+                    }
+                    return Some(pipeline);
+                }
+            }
+        }
+    }
+
+    /// Whether `id` is in its list (made, being made or still to make).
+    pub fn has(&self, id: &PipelineId) -> bool {
+        locked(&self.shared.slots).contains_key(id)
+    }
+
+    /// What it did so far.
+    pub fn stats(&self) -> AheadStats {
+        *locked(&self.shared.stats)
+    }
+
+    /// Wait until every thread ended (tests; a caller that must know the counts are final).
+    pub fn wait(&self) -> AheadStats {
+        let mut slots = locked(&self.shared.slots);
+        while slots.values().any(|s| matches!(s, Slot::Making))
+            || locked(&self.shared.stats).wall == Duration::ZERO
+        {
+            slots = self
+                .shared
+                .changed
+                .wait(slots)
+                .unwrap_or_else(|e| e.into_inner());
+        }
+        drop(slots);
+        self.stats()
+    }
+}
+
+/// What the threads share: the list in order, the next to take.
+struct Work {
+    order: Vec<PipelineId>,
+    next: AtomicUsize,
+    /// Threads still running; the last one to end notes the wall time.
+    running: AtomicUsize,
+    started: Instant,
+    device: wgpu::Device,
+    cache: Option<wgpu::PipelineCache>,
+}
+
+impl Work {
+    fn run(&self, shared: &Shared) {
+        // Made only where a permutation was not composed already (by
+        // `crate::precompose`'s threads, which usually ran ahead of these).
+        let mut composer: Option<ShaderComposer> = None;
+        while let Some(id) = self.order.get(self.next.fetch_add(1, Ordering::Relaxed)) {
+            {
+                let mut slots = locked(&shared.slots);
+                match slots.get_mut(id) {
+                    Some(slot @ Slot::Queued) => *slot = Slot::Making,
+                    // The frame claimed it first.
+                    _ => continue,
+                }
+            }
+            let made = self.make(&mut composer, id);
+            let mut stats = locked(&shared.stats);
+            match made {
+                Some(_) => stats.created += 1,
+                None => stats.failed += 1,
+            }
+            drop(stats);
+            let slot = made.map_or(Slot::Failed, Slot::Ready);
+            locked(&shared.slots).insert(id.clone(), slot);
+            shared.changed.notify_all();
+        }
+        self.ended(shared);
+    }
+
+    /// One thread ended: the last notes the wall time.
+    fn ended(&self, shared: &Shared) {
+        if self.running.fetch_sub(1, Ordering::AcqRel) == 1 {
+            // At least a nanosecond: zero means "still running" to `wait`.
+            locked(&shared.stats).wall = self.started.elapsed().max(Duration::from_nanos(1));
+            let _slots = locked(&shared.slots);
+            shared.changed.notify_all();
+        }
+    }
+
+    /// The pipeline as `ShaderCache::compute_pipeline` makes it; None
+    /// where the entry point is not a compute entry point of the
+    /// permutation or the device refuses it.
+    fn make(
+        &self,
+        composer: &mut Option<ShaderComposer>,
+        (key, entry): &PipelineId,
+    ) -> Option<wgpu::ComputePipeline> {
+        let module = match crate::shaders::embedded_module(key) {
+            Some(module) => module,
+            None => {
+                if composer.is_none() {
+                    *composer = ShaderComposer::new().ok();
+                }
+                composer.as_mut()?.compose(key).ok()?
+            }
+        };
+        let has_entry = module
+            .entry_points
+            .iter()
+            .any(|e| e.name == *entry && e.stage == naga::ShaderStage::Compute);
+        if !has_entry {
+            return None;
+        }
+        // Errors of this thread's calls land here, not in the device's
+        // uncaptured errors, which a host reports against its frame.
+        let scopes = [
+            wgpu::ErrorFilter::OutOfMemory,
+            wgpu::ErrorFilter::Internal,
+            wgpu::ErrorFilter::Validation,
+        ]
+        .map(|filter| self.device.push_error_scope(filter));
+        let label = format!("{}{}", key.path(), key.describe_defs());
+        let shader = self
+            .device
+            .create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some(&label),
+                source: wgpu::ShaderSource::Naga(std::borrow::Cow::Owned(module)),
+            });
+        let pipeline = crate::shaders::compute_pipeline_of(
+            &self.device,
+            self.cache.as_ref(),
+            &shader,
+            &format!("{label}::{entry}"),
+            entry,
+        );
+        // Popped innermost first, as they must be.
+        let mut refused = false;
+        for scope in scopes.into_iter().rev() {
+            refused |= pollster::block_on(scope.pop()).is_some();
+        }
+        (!refused).then_some(pipeline)
+    }
+}
+
+#[cfg(test)]
+mod tests;
