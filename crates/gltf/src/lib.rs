@@ -43,6 +43,8 @@
 //!   ignored with one warning each; `asset.version` must be 2.x.
 
 mod accessor;
+#[cfg(test)]
+mod anisotropy_tests;
 pub mod animation;
 pub mod builder;
 mod content;

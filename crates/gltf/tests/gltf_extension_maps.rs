@@ -1112,3 +1112,89 @@ fn degenerate_anisotropy_stays_finite() {
         Mat4::from_rotation_y(89f32.to_radians()),
     );
 }
+
+/// Lit transparency draws the anisotropic lobe: a BLEND metal quad of
+/// alpha 1 (the map and factors of
+/// [`the_anisotropy_map_and_factors_stretch_the_highlight`]) under [`SUN`],
+/// every inner pixel against the CPU lobe's diffuse + specular within 1% +
+/// 2e-3 (the half-float accumulation). Asked to shade in compute, the node
+/// shades forward (the compute records keep no direction) and draws the
+/// same picture.
+#[test]
+fn lit_transparency_draws_the_anisotropic_lobe() {
+    let renderer = test_renderer();
+    let roughness = 0.3;
+    let map = halves([255, 128, 255, 255], [128, 255, 128, 255], false);
+    let ext = r#"{"KHR_materials_anisotropy": {"anisotropyStrength": 0.8, "anisotropyRotation": 0.5,
+        "anisotropyTexture": {"index": {0}}}}"#;
+    let mut material = metal_material(roughness);
+    material.alpha_mode = json::validation::Checked::Valid(json::material::AlphaMode::Blend);
+    let scene = load_gltf_slice(&model(material, ext, &[map]), None).expect("loads");
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    let texels = [[255u8, 128, 255], [128, 255, 128]];
+    for shading in [TransparencyShading::Forward, TransparencyShading::Compute] {
+        let g = GBuffer::new(
+            &renderer,
+            None,
+            vec![],
+            VIEW.camera(),
+            None,
+            SizeRule::Relative(1.0),
+        );
+        let background = image(&renderer, SIZE, |_, _| [0.0, 0.0, 0.0, 1.0]);
+        let settings = TransparencySettings {
+            ambient: Vec3::ZERO,
+            light_color: Vec3::ZERO,
+            energy_compensation: true,
+            light_loop: LightLoop::Naive,
+            shading,
+            ..Default::default()
+        };
+        let (_, layer) = world_and_layer(
+            &renderer,
+            &scene,
+            Mat4::IDENTITY,
+            scene.materials[0].base_color,
+        );
+        let pass = Transparency::lit(
+            &renderer,
+            None,
+            background.texture_ref(),
+            g,
+            vec![layer],
+            settings,
+            LitBy {
+                lights: vec![TransparentLights {
+                    lights: LightBuffer::suns(&renderer, &[SUN]),
+                    shadows: None,
+                }],
+                ..Default::default()
+            },
+        );
+        assert!(!pass.shades_in_compute(), "{shading:?} shades forward");
+        let pixels = render(&renderer, pass.as_ref(), &pass.output, SIZE).1.pixels;
+        let mut checked = [0; 2];
+        for (i, p, u, _) in inner_pixels() {
+            let [r, g, b] = texels[u].map(|c| c as f32 / 255.0);
+            let direction = anisotropy_direction(0.5, Some([r, g]));
+            let (d, s) = anisotropic_reference(p, roughness, direction, 0.8 * b);
+            let want = d + s;
+            for c in 0..3 {
+                assert!(
+                    (pixels[i][c] - want[c]).abs() <= 2e-3 + 1e-2 * want[c],
+                    "{shading:?}: pixel {i} (half {u}): {:?}, the reference says {want}",
+                    pixels[i]
+                );
+            }
+            checked[u] += 1;
+        }
+        assert!(checked[0] > 300 && checked[1] > 300, "{checked:?}");
+    }
+    assert!(
+        renderer
+            .shaders()
+            .compiled_keys()
+            .any(|k| k.path() == "post/transparency.wgsl" && k.features.contains("ANISOTROPY")),
+        "the light pass compiled the lobe"
+    );
+}

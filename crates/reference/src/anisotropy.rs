@@ -226,6 +226,61 @@ mod tests {
         assert!((across2.specular.x - along.specular.x).abs() < 1e-4 * along.specular.x);
     }
 
+    /// The single-scattering albedo (F = 1) of the anisotropic lobe for a
+    /// view at `n_dot_v` in the plane of n and t, by a midpoint grid over
+    /// the hemisphere of light directions.
+    fn anisotropic_albedo(n_dot_v: f32, roughness: f32, strength: f32) -> f32 {
+        let (n, t) = (Vec3::Z, Vec3::X);
+        let v = Vec3::new((1.0 - n_dot_v * n_dot_v).sqrt(), 0.0, n_dot_v);
+        let (at, ab) = anisotropic_alphas(roughness, strength);
+        let b = n.cross(t);
+        let (steps_theta, steps_phi) = (384, 768);
+        let (d_theta, d_phi) = (
+            std::f32::consts::FRAC_PI_2 / steps_theta as f32,
+            std::f32::consts::TAU / steps_phi as f32,
+        );
+        let mut sum = 0.0f64;
+        for i in 0..steps_theta {
+            let theta = (i as f32 + 0.5) * d_theta;
+            let (st, ct) = theta.sin_cos();
+            for j in 0..steps_phi {
+                let phi = (j as f32 + 0.5) * d_phi;
+                let l = Vec3::new(st * phi.cos(), st * phi.sin(), ct);
+                let h = safe_normalize(v + l, n);
+                let d = d_ggx_anisotropic(n.dot(h), t.dot(h), b.dot(h), at, ab);
+                let vis = v_ggx_anisotropic(ct, n_dot_v, b.dot(v), t.dot(v), t.dot(l), b.dot(l), at, ab);
+                sum += f64::from(d * vis * ct * st * d_theta * d_phi);
+            }
+        }
+        sum as f32
+    }
+
+    /// What the isotropic energy compensation leaves out: the anisotropic
+    /// lobe's own single-scattering albedo against the isotropic one the
+    /// compensation is fitted to (`brdf::specular_albedo`, itself within
+    /// 1.03% of its integral). The stretched lobe loses more energy at
+    /// grazing angles, so it is darker than the compensation assumes; the
+    /// bound is what docs/gltf.md states.
+    #[test]
+    fn the_isotropic_compensation_against_the_anisotropic_albedo() {
+        let mut worst = 0.0f32;
+        for roughness in [0.3, 0.6] {
+            for n_dot_v in [0.3, 0.7, 1.0] {
+                let iso = anisotropic_albedo(n_dot_v, roughness, 0.0);
+                for strength in [0.5, 1.0] {
+                    let aniso = anisotropic_albedo(n_dot_v, roughness, strength);
+                    let gap = (iso - aniso) / iso;
+                    eprintln!(
+                        "roughness {roughness} N.V {n_dot_v} strength {strength}: albedo {aniso:.4} against {iso:.4} isotropic ({:+.1}%)",
+                        -gap * 100.0
+                    );
+                    worst = worst.max(gap.abs());
+                }
+            }
+        }
+        assert!(worst < 0.35, "the anisotropic albedo strays {worst} from the isotropic");
+    }
+
     #[test]
     fn the_hard_cases_stay_finite() {
         // Strength 1 over roughness 0, the tangent along the view (grazing),
