@@ -19,14 +19,13 @@ fn anisotropy_factors_and_map_make_the_anisotropy_feature() {
         r#"{{"anisotropyStrength": 0.6, "anisotropyRotation": 1.25, "anisotropyTexture": {{"index": {}}}}}"#,
         texture.value()
     );
-    doc.root.extensions_used.push("KHR_materials_anisotropy".into());
+    doc.root
+        .extensions_used
+        .push("KHR_materials_anisotropy".into());
     doc.root.extensions_required = vec!["KHR_materials_anisotropy".into()];
     let material = &mut doc.root.materials[0];
     let mut others = material.extensions.clone().unwrap_or_default().others;
-    others.insert(
-        "KHR_materials_anisotropy".into(),
-        json_value(&ext),
-    );
+    others.insert("KHR_materials_anisotropy".into(), json_value(&ext));
     material.extensions = Some(gltf::json::extensions::material::Material {
         others,
         ..Default::default()
@@ -115,12 +114,20 @@ fn the_brushed_metal_asset_is_what_the_generator_makes_and_loads_clean() {
         .map(|m| m.anisotropy_strength)
         .collect();
     assert_eq!(strengths, super::models::BRUSHED_STRENGTHS);
-    assert!(scene.materials.iter().all(|m| m.anisotropy_texture.is_some()));
+    assert!(
+        scene
+            .materials
+            .iter()
+            .all(|m| m.anisotropy_texture.is_some())
+    );
     // The map's direction runs around its centre: at the middle of the
     // right edge it points up the image (g high), at the top along -u.
     let brush = super::models::circular_brush(64);
     let right = brush.get_pixel(63, 32).0;
     let top = brush.get_pixel(32, 0).0;
-    assert!(right[1] > 250 && (right[0] as i32 - 128).abs() < 8, "{right:?}");
+    assert!(
+        right[1] > 250 && (right[0] as i32 - 128).abs() < 8,
+        "{right:?}"
+    );
     assert!(top[0] < 5 && (top[1] as i32 - 128).abs() < 8, "{top:?}");
 }

@@ -43,9 +43,9 @@
 //!   ignored with one warning each; `asset.version` must be 2.x.
 
 mod accessor;
+pub mod animation;
 #[cfg(test)]
 mod anisotropy_tests;
-pub mod animation;
 pub mod builder;
 mod content;
 pub mod deform;

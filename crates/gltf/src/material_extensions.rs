@@ -102,8 +102,15 @@ impl Importer<'_> {
             data.anisotropy_strength =
                 self.factor(&who, name, ext, "anisotropyStrength", 0.0, 0.0, 1.0);
             // Any finite angle turns the direction (radians).
-            data.anisotropy_rotation =
-                self.factor(&who, name, ext, "anisotropyRotation", 0.0, f32::MIN, f32::MAX);
+            data.anisotropy_rotation = self.factor(
+                &who,
+                name,
+                ext,
+                "anisotropyRotation",
+                0.0,
+                f32::MIN,
+                f32::MAX,
+            );
             data.anisotropy_texture =
                 self.extension_texture(document, &who, name, ext, "anisotropyTexture", false)?;
         }

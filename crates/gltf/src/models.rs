@@ -712,7 +712,9 @@ fn metal_disc_row(strengths: [f32; 4]) -> Vec<u8> {
     );
     let brush = doc.png_image(&png(&circular_brush(64)));
     let brush = doc.texture(brush);
-    doc.root.extensions_used.push("KHR_materials_anisotropy".into());
+    doc.root
+        .extensions_used
+        .push("KHR_materials_anisotropy".into());
     // The cylinder's top cap (+Y) turned to face the camera on +Z.
     let facing = glam::Quat::from_rotation_x(std::f32::consts::FRAC_PI_2);
     let mut nodes = Vec::new();

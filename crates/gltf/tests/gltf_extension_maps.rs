@@ -919,7 +919,8 @@ fn metal_material(roughness: f32) -> json::Material {
 /// placed by `transform`.
 fn lit_at(renderer: &Renderer, model: &[u8], transform: Mat4) -> (ImageF32, ImageF32) {
     let scene = load_gltf_slice(model, None).expect("loads");
-    let (world, layer) = world_and_layer(renderer, &scene, transform, scene.materials[0].base_color);
+    let (world, layer) =
+        world_and_layer(renderer, &scene, transform, scene.materials[0].base_color);
     let g = GBuffer::new(
         renderer,
         None,
@@ -958,7 +959,12 @@ fn anisotropy_permutations(renderer: &Renderer) -> usize {
 /// The CPU reference of the anisotropic metal quad at `p` under [`SUN`]:
 /// diffuse and specular, the direction `direction` in the quad's tangent
 /// frame (+x along u, +y up the image: see [`coat_normal`]).
-fn anisotropic_reference(p: Vec3, roughness: f32, direction: [f32; 2], strength: f32) -> (Vec3, Vec3) {
+fn anisotropic_reference(
+    p: Vec3,
+    roughness: f32,
+    direction: [f32; 2],
+    strength: f32,
+) -> (Vec3, Vec3) {
     let l = -SUN.direction.normalize();
     let radiance = SUN.color * SUN.illuminance;
     let view = (Vec3::Z * DISTANCE - p).normalize();
@@ -1010,7 +1016,10 @@ fn the_anisotropy_map_and_factors_stretch_the_highlight() {
     let scene = load_gltf_slice(required.as_bytes(), None).expect("a file requiring it loads");
     assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
     let (d, s) = lit(&renderer, required.as_bytes());
-    assert!(anisotropy_permutations(&renderer) >= 2, "the resolve's and the light loop's");
+    assert!(
+        anisotropy_permutations(&renderer) >= 2,
+        "the resolve's and the light loop's"
+    );
     let near = |got: f32, want: f32| (got - want).abs() <= 1e-2 * want + 2e-4;
     let texels = [[255u8, 128, 255], [128, 255, 128]];
     let mut checked = [0; 2];
@@ -1172,7 +1181,9 @@ fn lit_transparency_draws_the_anisotropic_lobe() {
             },
         );
         assert!(!pass.shades_in_compute(), "{shading:?} shades forward");
-        let pixels = render(&renderer, pass.as_ref(), &pass.output, SIZE).1.pixels;
+        let pixels = render(&renderer, pass.as_ref(), &pass.output, SIZE)
+            .1
+            .pixels;
         let mut checked = [0; 2];
         for (i, p, u, _) in inner_pixels() {
             let [r, g, b] = texels[u].map(|c| c as f32 / 255.0);

@@ -396,8 +396,7 @@ impl Permutation for TransparencyKey {
                             TransparencyPass::Base { records, .. } => coated && records,
                             _ => coated,
                         };
-                        let stretches =
-                            anisotropic && matches!(pass, TransparencyPass::Light(_));
+                        let stretches = anisotropic && matches!(pass, TransparencyPass::Light(_));
                         [false, true]
                             .into_iter()
                             .filter(move |&coat| !coat || coats)
