@@ -485,6 +485,19 @@ static CASES: &[Case] = &[
             tolerance: LIT,
         }],
     },
+    // Four metal discs, anisotropy strength 0 to 1 over a circular brush
+    // map, each lit by a point light: the anisotropic lobe's arithmetic.
+    Case {
+        patch: "patches/brushed-metal.ron",
+        size: SCENE,
+        edit: unchanged,
+        shots: &[Shot {
+            name: "brushed-metal",
+            output: "output",
+            frame: 0,
+            tolerance: LIT,
+        }],
+    },
     Case {
         patch: "patches/bench-particles.ron",
         size: SCENE,
@@ -638,6 +651,11 @@ fn bench_transparency_glass_under_a_thousand_lights() {
 #[test]
 fn showcase_all_three_light_types() {
     check("patches/showcase.ron");
+}
+
+#[test]
+fn brushed_metal_discs_of_four_anisotropy_strengths() {
+    check("patches/brushed-metal.ron");
 }
 
 #[test]

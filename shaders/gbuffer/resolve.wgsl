@@ -30,6 +30,11 @@
 // VELOCITY_OUT:   (without MOTION) also what MOTION writes, into binding 13:
 //                 the surface and motion resolves in one dispatch when the
 //                 frame reads both (crates/render/src/gbuffer/resolve.rs).
+// ANISOTROPY:     (with MATERIAL_MAPS) some material of the world has the
+//                 Anisotropy feature (KHR_materials_anisotropy): for those
+//                 materials, the anisotropy direction (the tangent frame
+//                 turned by the rotation and the anisotropy map, view
+//                 space) and strength into the anisotropy target.
 // VERTEX_EXTRAS:  some mesh of this layer has vertex colours (COLOR_0, they
 //                 multiply albedo) or a second UV set (TEXCOORD_1, for maps
 //                 whose texCoord is 1): read the arena's extra stream.
@@ -49,6 +54,10 @@
 #import spreadlight::material::FEATURE_CLEARCOAT
 #import spreadlight::material_maps::{has_extension_maps, mapped_reflectance, mapped_clearcoat, clearcoat_normal_texel, MAP_CLEARCOAT_NORMAL}
 #import spreadlight::surface_target::{pack_extension, pack_coat_normal}
+#endif
+#ifdef ANISOTROPY
+#import spreadlight::material::FEATURE_ANISOTROPY
+#import spreadlight::material_maps::mapped_anisotropy
 #endif
 #endif
 #ifdef CUSTOM_SURFACE
@@ -96,6 +105,10 @@ struct Layer {
 #endif
 #ifdef VELOCITY_OUT
 @group(0) @binding(13) var out_velocity_uv: texture_storage_2d<rgba16float, write>;
+#endif
+#ifdef ANISOTROPY
+// View-space anisotropy direction (rgb) and strength (a).
+@group(0) @binding(16) var out_anisotropy: texture_storage_2d<rgba16float, write>;
 #endif
 #endif
 // Group 1 is the material world (MATERIAL_MAPS), group 3 its map arrays.
@@ -226,6 +239,9 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
             textureStore(out_depth, pixel, vec4<f32>(0.0));
 #ifdef SURFACE_OUT
             textureStore(out_surface, pixel, vec4<u32>(0u));
+#endif
+#ifdef ANISOTROPY
+            textureStore(out_anisotropy, pixel, vec4<f32>(0.0));
 #endif
 #ifdef VELOCITY_OUT
             textureStore(out_velocity_uv, pixel, vec4<f32>(0.0));
@@ -362,6 +378,26 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
 #endif
     }
     textureStore(out_surface, pixel, surface_texel);
+#ifdef ANISOTROPY
+    if (has_feature(material, FEATURE_ANISOTROPY)) {
+        // The direction in the geometric normal's tangent frame (as the
+        // Khronos sample viewer: not bent by the normal map; lighting makes
+        // it orthogonal to the shaded normal), turned by the rotation and
+        // the map. A zero tangent or a map texel of no direction stores no
+        // direction: that pixel is lit isotropic.
+        let t4 = v0.tangent * b.x + v1.tangent * b.y + v2.tangent * b.z;
+        let t = safe_normalize((instance.model * vec4<f32>(t4.xyz, 0.0)).xyz, vec3<f32>(1.0, 0.0, 0.0));
+        let bt = cross(geometric_world, t) * select(-1.0, 1.0, t4.w >= 0.0);
+        let aniso = mapped_anisotropy(material, coords, feature_param(material, FEATURE_ANISOTROPY, 0u, vec4<f32>(0.0)).xy);
+        let along = (camera.view * vec4<f32>(t * aniso.x + bt * aniso.y, 0.0)).xyz;
+        let length2 = dot(along, along);
+        var texel = vec4<f32>(0.0);
+        if (length2 > 1e-12) {
+            texel = vec4<f32>(along * inverseSqrt(length2), aniso.z);
+        }
+        textureStore(out_anisotropy, pixel, texel);
+    }
+#endif
 #else
 #ifdef SURFACE_OUT
 #ifndef CUSTOM_SURFACE

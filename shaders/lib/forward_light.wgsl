@@ -7,7 +7,9 @@
 // it lights the wall behind them. The light type is compiled in as
 // CookTorrance compiles it: point by default, LIGHT_SPOT, LIGHT_SUN;
 // SHADOWS (and its filter) reads the buffer's shadow maps; CLEARCOAT adds
-// the coat's lobe on the coat's own normal (lit transparency's coated layers).
+// the coat's lobe on the coat's own normal (lit transparency's coated layers);
+// ANISOTROPY stretches the specular lobe along the fragment's anisotropy
+// direction (lib/anisotropy.wgsl; lit transparency's anisotropic layers).
 #define_import_path spreadlight::forward_light
 #import spreadlight::brdf::{BrdfSurface, LightSums, add_light, cook_torrance_weights, half_vector_cosines}
 #import spreadlight::lights::{range_window, inverse_square}
@@ -20,6 +22,12 @@
 #endif
 #ifdef CLEARCOAT
 #import spreadlight::brdf::{cook_torrance_weights_scaled, schlick_weight, DIELECTRIC_F0}
+#endif
+#ifdef ANISOTROPY
+#import spreadlight::anisotropy::{AnisotropicSurface, anisotropic_weights_scaled}
+// The shaded fragment's anisotropic lobe, set by the importer before its
+// lights (strength 0: the isotropic lobe).
+var<private> aniso: AnisotropicSurface;
 #endif
 
 // Matches `GpuLight` in crates/render/src/lighting/mod.rs.
@@ -82,10 +90,16 @@ fn add_light_record(record: Light, i: u32, pw: vec3<f32>, s: BrdfSurface, view_d
     let attenuation = range_window(ratio2) * inverse_square(inverse_distance);
     var n_dot_l = dot(s.n, to_light) * inverse_distance;
     var v_dot_l = dot(s.v, to_light) * inverse_distance;
+#ifdef ANISOTROPY
+    var l = to_light * inverse_distance;
+#endif
     if (!(distance2 > 1e-20)) {
         // A light at the surface point: from along the normal.
         n_dot_l = 1.0;
         v_dot_l = s.view_cosine;
+#ifdef ANISOTROPY
+        l = s.n;
+#endif
     }
 #ifdef CLEARCOAT
     var coat_n_dot_l = dot(coat_surface.n, to_light) * inverse_distance;
@@ -104,7 +118,15 @@ fn add_light_record(record: Light, i: u32, pw: vec3<f32>, s: BrdfSurface, view_d
 #endif
 #endif
     let cosines = half_vector_cosines(s, n_dot_l, v_dot_l);
+#ifdef ANISOTROPY
+    if (aniso.strength > 0.0) {
+        add_light(sums, radiance, anisotropic_weights_scaled(s, aniso, l, n_dot_l, attenuation));
+    } else {
+        add_light(sums, radiance, cook_torrance_weights(s, n_dot_l, cosines.x, cosines.y) * attenuation);
+    }
+#else
     add_light(sums, radiance, cook_torrance_weights(s, n_dot_l, cosines.x, cosines.y) * attenuation);
+#endif
 #ifdef CLEARCOAT
     if (coat_factor > 0.0) {
         // D V N.L (F0 + (1 - F0) w) on the coat's normal: CookTorrance's coat lobe.

@@ -24,6 +24,10 @@ const FEATURE_UNLIT: u32 = 8u;
 // Refracted transmission (factor, ior, thickness; absorption rgb): lit
 // transparency's TRANSMISSION (post/transparency.wgsl).
 const FEATURE_TRANSMISSION: u32 = 9u;
+// An anisotropic specular lobe (strength, rotation): the G-buffer's
+// anisotropy target carries its direction per pixel, CookTorrance's
+// ANISOTROPY draws it (shaders/lib/anisotropy.wgsl).
+const FEATURE_ANISOTROPY: u32 = 12u;
 const FIRST_CUSTOM_FEATURE: u32 = 16u;
 const MAX_FEATURES: u32 = 32u;
 

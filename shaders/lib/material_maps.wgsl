@@ -5,9 +5,10 @@
 // dispatch. Sampled with explicit screen derivatives (trilinear +
 // anisotropic in compute, where there are no implicit ones).
 //
-// Slots 5..10 are the material extensions' maps (clearcoat factor in red,
+// Slots 5..11 are the material extensions' maps (clearcoat factor in red,
 // clearcoat roughness in green, specular in alpha, specular colour in rgb,
-// thickness in green, the clearcoat's tangent-space normal in rgb); a
+// thickness in green, the clearcoat's tangent-space normal in rgb, the
+// anisotropy direction in rg and its strength in b); a
 // material packs them, and the specular factors and the clearcoat normal's
 // scale after them (MAP_SPECULAR_FACTORS, MAP_CLEARCOAT_NORMAL_SCALE), only
 // when it has one, and a pass reads them only under EXTENSION_MAPS (the
@@ -26,10 +27,11 @@ const MAP_SPECULAR: u32 = 7u;
 const MAP_SPECULAR_COLOR: u32 = 8u;
 const MAP_THICKNESS: u32 = 9u;
 const MAP_CLEARCOAT_NORMAL: u32 = 10u;
+const MAP_ANISOTROPY: u32 = 11u;
 // The parameter after the last slot's: (ior's f0 x specular colour factor, specular factor).
-const MAP_SPECULAR_FACTORS: u32 = 23u;
+const MAP_SPECULAR_FACTORS: u32 = 25u;
 // The one after it: (the clearcoat normal map's scale, 0, 0, 0).
-const MAP_CLEARCOAT_NORMAL_SCALE: u32 = 24u;
+const MAP_CLEARCOAT_NORMAL_SCALE: u32 = 26u;
 
 @group(3) @binding(0) var maps_0: texture_2d_array<f32>;
 @group(3) @binding(1) var maps_1: texture_2d_array<f32>;
@@ -156,6 +158,26 @@ fn mapped_clearcoat(material: u32, coords: MapCoords, coat: vec2<f32>) -> vec2<f
     let factor = coat.x * sample_map(material, MAP_CLEARCOAT, coords, vec4<f32>(1.0)).r;
     let roughness = coat.y * sample_map(material, MAP_CLEARCOAT_ROUGHNESS, coords, vec4<f32>(1.0)).g;
     return clamp(vec2<f32>(factor, roughness), vec2<f32>(0.0), vec2<f32>(1.0));
+}
+
+// The anisotropy direction in the tangent frame (x along the tangent, y
+// along the bitangent; unnormalised, (0, 0) for a map texel of no
+// direction) and strength (0..1), from the Anisotropy feature's
+// (strength, rotation) and anisotropyTexture (rg: the direction as 0..1,
+// b: a factor of the strength; (1, 0) and 1 without one), the direction
+// turned by the rotation (KHR_materials_anisotropy; the CPU twin is
+// spreadlight-reference's anisotropy::anisotropy_direction).
+fn mapped_anisotropy(material: u32, coords: MapCoords, params: vec2<f32>) -> vec3<f32> {
+    var direction = vec2<f32>(1.0, 0.0);
+    var strength = clamp(params.x, 0.0, 1.0);
+    if (has_map(material, MAP_ANISOTROPY)) {
+        let texel = sample_map(material, MAP_ANISOTROPY, coords, vec4<f32>(1.0, 0.5, 1.0, 1.0));
+        direction = texel.xy * 2.0 - 1.0;
+        strength *= clamp(texel.z, 0.0, 1.0);
+    }
+    let c = cos(params.y);
+    let s = sin(params.y);
+    return vec3<f32>(c * direction.x - s * direction.y, s * direction.x + c * direction.y, strength);
 }
 
 // The coat's tangent-space normal (-1..1, x and y times the map's scale)

@@ -17,6 +17,12 @@
 // by their maps where the G-buffer resolved them (material::clearcoat_at),
 // on its own normal where a clearcoat normal map gave one
 // (material::clearcoat_normal_at; else the pixel's).
+// ANISOTROPY (some surface-mapped material has the Anisotropy feature,
+// KHR_materials_anisotropy): for such a material's pixels, the specular lobe
+// stretched along the G-buffer's anisotropy direction (its anisotropy
+// target: the tangent turned by the rotation and the map) by its strength
+// (lib/anisotropy.wgsl); the diffuse, Fresnel and energy compensation stay
+// the isotropic lobe's.
 // CUSTOM_LIGHT: a light shader node's `light` function (lib/light_shader.wgsl,
 // spliced in for lib/custom_light.wgsl) replaces the BRDF: the same walk,
 // clusters and shadows, its outputs summed into the two targets.
@@ -48,6 +54,15 @@
 var<private> coat_factor: f32;
 var<private> coat_surface: BrdfSurface;
 var<private> coat_sum: vec3<f32>;
+#endif
+#ifdef ANISOTROPY
+#import spreadlight::material::{has_feature, FEATURE_ANISOTROPY}
+#import spreadlight::anisotropy::{AnisotropicSurface, anisotropic_surface, anisotropic_weights_scaled}
+// View-space anisotropy direction (rgb) and strength (a), written by the
+// G-buffer resolve for pixels of Anisotropy materials only.
+@group(0) @binding(32) var anisotropy_target: texture_2d<f32>;
+// The pixel's anisotropic lobe (strength 0: the isotropic one).
+var<private> aniso: AnisotropicSurface;
 #endif
 #ifdef SHADOWS
 #import spreadlight::shadow_sampling::light_shadow
@@ -217,11 +232,17 @@ fn shade(slot: u32, lv: vec4<f32>, p: vec3<f32>, pw: vec3<f32>, surface: BrdfSur
     let attenuation = range_window(ratio2) * inverse_square(inverse_distance);
     var n_dot_l = facing * inverse_distance;
     var v_dot_l = dot(surface.v, to_light) * inverse_distance;
+#ifdef ANISOTROPY
+    var l = to_light * inverse_distance;
+#endif
     if (!(distance2 > 1e-20)) {
         // A light at the surface point: from along the normal, as
         // safe_normalize makes its direction.
         n_dot_l = 1.0;
         v_dot_l = surface.view_cosine;
+#ifdef ANISOTROPY
+        l = n;
+#endif
     }
 #ifdef CLEARCOAT
     var coat_n_dot_l = dot(coat_surface.n, to_light) * inverse_distance;
@@ -262,7 +283,15 @@ fn shade(slot: u32, lv: vec4<f32>, p: vec3<f32>, pw: vec3<f32>, surface: BrdfSur
     // through N.L (cook_torrance_weights_scaled), one multiplication a light.
     let scale = attenuation * shadow;
     let cosines = half_vector_cosines(surface, n_dot_l, v_dot_l);
+#ifdef ANISOTROPY
+    if (aniso.strength > 0.0) {
+        add_light(sums, radiance, anisotropic_weights_scaled(surface, aniso, l, n_dot_l, scale));
+    } else {
+        add_light(sums, radiance, cook_torrance_weights_scaled(surface, n_dot_l, cosines.x, cosines.y, scale));
+    }
+#else
     add_light(sums, radiance, cook_torrance_weights_scaled(surface, n_dot_l, cosines.x, cosines.y, scale));
+#endif
 #ifdef CLEARCOAT
     if (coat_factor > 0.0) {
         // D V N.L (F0 + (1 - F0) w): the coat's Schlick Fresnel at V.H,
@@ -623,6 +652,13 @@ fn main(@builtin(local_invocation_index) lane: u32, @builtin(workgroup_id) wid: 
     // rm: roughness, metallic, reflectance (the dielectric F0).
     let surface = brdf_surface(n, v, albedo, rm.x, rm.y, rm.z);
     var sums = no_light_sums();
+#ifdef ANISOTROPY
+    var aniso_texel = vec4<f32>(0.0);
+    if (covered && has_feature(material, FEATURE_ANISOTROPY)) {
+        aniso_texel = textureLoad(anisotropy_target, pixel, 0);
+    }
+    aniso = anisotropic_surface(surface, aniso_texel.xyz, aniso_texel.w);
+#endif
 #ifdef CUSTOM_LIGHT
     custom_diffuse = vec3<f32>(0.0);
     custom_specular = vec3<f32>(0.0);

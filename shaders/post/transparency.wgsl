@@ -46,6 +46,12 @@
 // EXTENSION_MAPS (with MATERIAL_MAPS; the world has a material extension's
 // map): the reflectance by the specular maps, the thickness by the
 // thickness map, the coat by the clearcoat maps.
+// ANISOTROPY (a light pass with MATERIAL_MAPS; the layer's world has an
+// Anisotropy material, KHR_materials_anisotropy): the specular lobe
+// stretched along the fragment's anisotropy direction (its tangent turned by
+// the rotation and the anisotropy map), as CookTorrance draws it on opaque
+// surfaces. Forward light passes only: a node with such a layer shades its
+// lights forward (Transparency::new).
 // CLEARCOAT (with MATERIALS; the layer's world has a Clearcoat material):
 // the light passes add the coat's lobe (GGX, f0 0.04, on the coat's own
 // normal: the clearcoat normal map's, else the surface's, normal mapped)
@@ -125,6 +131,14 @@
 // A light's share: the forward passes' one copy of CookTorrance's `shade`
 // (lib/forward_light.wgsl), which the environment probe's faces use too.
 #import spreadlight::forward_light::{Light, lights, add_forward_light, add_light_record}
+#endif
+#ifdef ANISOTROPY
+// (Light passes over surface maps only.) The fragment's anisotropic lobe,
+// which the light function reads (lib/forward_light.wgsl holds it).
+#import spreadlight::material::{has_feature, FEATURE_ANISOTROPY}
+#import spreadlight::material_maps::mapped_anisotropy
+#import spreadlight::anisotropy::anisotropic_surface
+#import spreadlight::forward_light::aniso
 #endif
 #ifdef CLEARCOAT
 #ifdef MATERIALS
@@ -689,6 +703,21 @@ fn fs(in: VertexOut, @builtin(front_facing) front: bool) -> Accumulated {
     thickness_scale = max(sample_map(in.material, MAP_THICKNESS, coords, vec4<f32>(1.0)).g, 0.0);
 #endif
 #endif
+#ifdef ANISOTROPY
+    // The anisotropy direction in the geometric normal's tangent frame,
+    // turned by the rotation and the map, as the G-buffer resolve makes it
+    // (world space here); the light function makes it orthogonal to the
+    // shaded normal, and draws a fragment with none isotropic.
+    var aniso_direction = vec3<f32>(0.0);
+    var aniso_strength = 0.0;
+    if (has_feature(in.material, FEATURE_ANISOTROPY)) {
+        let a = mapped_anisotropy(in.material, coords, feature_param(in.material, FEATURE_ANISOTROPY, 0u, vec4<f32>(0.0)).xy);
+        let t = safe_normalize(in.tangent.xyz, vec3<f32>(1.0, 0.0, 0.0));
+        let bt = cross(geometric, t) * select(-1.0, 1.0, in.tangent.w >= 0.0);
+        aniso_direction = t * a.x + bt * a.y;
+        aniso_strength = a.z;
+    }
+#endif
 #ifdef CLEARCOAT
     // The coat's (factor, roughness) and its normal, before facing: its
     // normal map's on the geometric normal, else the surface's (normal
@@ -727,6 +756,9 @@ fn fs(in: VertexOut, @builtin(front_facing) front: bool) -> Accumulated {
     let facing = select(-n, n, front);
     let v = safe_normalize(camera.position.xyz - in.world, facing);
     let s = brdf_surface(facing, v, albedo, roughness, metallic, reflectance);
+#ifdef ANISOTROPY
+    aniso = anisotropic_surface(s, aniso_direction, aniso_strength);
+#endif
 #ifdef CLEARCOAT
     coat_factor = coat.x;
     coat_surface = brdf_surface(select(-coat_n, coat_n, front), v, vec3<f32>(0.0), coat.y, 0.0, DIELECTRIC_F0);

@@ -44,6 +44,8 @@
 
 mod accessor;
 pub mod animation;
+#[cfg(test)]
+mod anisotropy_tests;
 pub mod builder;
 mod content;
 pub mod deform;
@@ -210,6 +212,14 @@ pub struct MaterialData {
     /// reflectance (the surface maps' specular slots).
     pub specular_texture: Option<TextureData>,
     pub specular_color_texture: Option<TextureData>,
+    /// `KHR_materials_anisotropy`: anisotropyStrength (0..=1; 0 without
+    /// it: isotropic), anisotropyRotation (radians, counter-clockwise from
+    /// the tangent) and anisotropyTexture (rg: the direction in the tangent
+    /// frame as 0..1, b: scales the strength), drawn by the Anisotropy
+    /// feature and the anisotropy map slot.
+    pub anisotropy_strength: f32,
+    pub anisotropy_rotation: f32,
+    pub anisotropy_texture: Option<TextureData>,
     /// The file gave this material as `KHR_materials_pbrSpecularGlossiness`;
     /// base colour, metallic, roughness and their maps are its conversion
     /// (`spec_gloss`).
@@ -253,6 +263,9 @@ impl Default for MaterialData {
             clearcoat_normal_scale: 1.0,
             specular_texture: None,
             specular_color_texture: None,
+            anisotropy_strength: 0.0,
+            anisotropy_rotation: 0.0,
+            anisotropy_texture: None,
             from_spec_gloss: false,
         }
     }
@@ -473,6 +486,7 @@ fn check_camera_projections(root: &gltf::json::Root, path: &Path) -> Result<(), 
 /// The extensions read; a file may require these and no others.
 pub const SUPPORTED_EXTENSIONS: &[&str] = &[
     "KHR_lights_punctual",
+    "KHR_materials_anisotropy",
     "KHR_materials_clearcoat",
     "KHR_materials_emissive_strength",
     "KHR_materials_ior",

@@ -247,7 +247,8 @@ impl MaterialData {
     /// (`KHR_materials_clearcoat`), Unlit (`KHR_materials_unlit`),
     /// Transmission when it transmits (`KHR_materials_transmission`, its
     /// refraction by `KHR_materials_ior`, its thickness and absorption by
-    /// `KHR_materials_volume`), and
+    /// `KHR_materials_volume`), Anisotropy when its highlight stretches
+    /// (`KHR_materials_anisotropy`), and
     /// SurfaceMaps for its textures (the extensions' clearcoat, clearcoat
     /// roughness, specular, specular colour and thickness maps included),
     /// alpha mode and sidedness. The base
@@ -278,6 +279,18 @@ impl MaterialData {
         }
         if self.unlit {
             let _ = material.set(Feature::Unlit, &[[1.0, 0.0, 0.0, 0.0]]);
+        }
+        let anisotropic = finite(self.anisotropy_strength) > 0.0;
+        if anisotropic {
+            let _ = material.set(
+                Feature::Anisotropy,
+                &[[
+                    finite(self.anisotropy_strength),
+                    finite(self.anisotropy_rotation),
+                    0.0,
+                    0.0,
+                ]],
+            );
         }
         if finite(self.transmission) > 0.0 {
             // The factor and map are in the base colour's alpha already
@@ -334,6 +347,7 @@ impl MaterialData {
             (MapSlot::Specular, &self.specular_texture, true),
             (MapSlot::SpecularColor, &self.specular_color_texture, true),
             (MapSlot::Thickness, &self.thickness_texture, transmits),
+            (MapSlot::Anisotropy, &self.anisotropy_texture, anisotropic),
         ] {
             maps.set_map(
                 slot,

@@ -9,6 +9,8 @@
 //! - `KHR_materials_ior`, `KHR_materials_specular`: the dielectric f0
 //!   ([`MaterialData::reflectance`], CookTorrance's reflectance).
 //! - `KHR_materials_clearcoat`: factor and roughness (the Clearcoat feature).
+//! - `KHR_materials_anisotropy`: strength and rotation (the Anisotropy
+//!   feature), its map a surface map (the G-buffer's anisotropy target).
 //! - `KHR_materials_transmission`: drawn BLEND with opacity
 //!   alpha x (1 - transmission), what shows through refracted by lit
 //!   transparency (the material's Transmission feature, with
@@ -94,6 +96,23 @@ impl Importer<'_> {
                 data.clearcoat_normal_scale =
                     self.factor(&who, name, info, "scale", 1.0, f32::MIN, f32::MAX);
             }
+        }
+        if let Some(ext) = m.extension_value("KHR_materials_anisotropy") {
+            let name = "KHR_materials_anisotropy";
+            data.anisotropy_strength =
+                self.factor(&who, name, ext, "anisotropyStrength", 0.0, 0.0, 1.0);
+            // Any finite angle turns the direction (radians).
+            data.anisotropy_rotation = self.factor(
+                &who,
+                name,
+                ext,
+                "anisotropyRotation",
+                0.0,
+                f32::MIN,
+                f32::MAX,
+            );
+            data.anisotropy_texture =
+                self.extension_texture(document, &who, name, ext, "anisotropyTexture", false)?;
         }
         // Spec-gloss replaces the base colour map; transmission's map is
         // baked into whichever base colour map results.

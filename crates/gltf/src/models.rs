@@ -660,3 +660,95 @@ pub fn refraction_block() -> Vec<u8> {
     doc.scene(vec![wall, block]);
     doc.gltf_data_uri()
 }
+
+/// The strengths of [`brushed_metal_row`]'s discs, left to right.
+pub const BRUSHED_STRENGTHS: [f32; 4] = [0.0, 0.3, 0.6, 1.0];
+
+/// A circularly brushed anisotropy map (`KHR_materials_anisotropy`'s
+/// anisotropyTexture): at each texel the direction runs around the map's
+/// centre (rg, in the tangent frame: x along u, y up the image), at full
+/// strength (b); the centre texel, which has no such direction, along u.
+pub fn circular_brush(size: u32) -> image::RgbaImage {
+    image::RgbaImage::from_fn(size, size, |x, y| {
+        let half = size as f32 / 2.0;
+        let px = (x as f32 + 0.5 - half) / half;
+        let py = (half - y as f32 - 0.5) / half;
+        let (dx, dy) = match glam::Vec2::new(-py, px).try_normalize() {
+            Some(d) => (d.x, d.y),
+            None => (1.0, 0.0),
+        };
+        let channel = |c: f32| ((c * 0.5 + 0.5) * 255.0).round() as u8;
+        image::Rgba([channel(dx), channel(dy), 255, 255])
+    })
+}
+
+/// Brushed metal: four discs (flat cylinders, a cap facing +Z) in a row
+/// along x, a silvery metal of roughness 0.35 with
+/// `KHR_materials_anisotropy` strengths [`BRUSHED_STRENGTHS`] over a
+/// [`circular_brush`] map, for `patches/brushed-metal.ron` and the picture
+/// in docs/materials.md.
+pub fn brushed_metal_row() -> Vec<u8> {
+    metal_disc_row(BRUSHED_STRENGTHS)
+}
+
+/// [`brushed_metal_row`] with every strength 0: the same discs, maps and
+/// materials, which the importer makes isotropic (no Anisotropy feature,
+/// no map): what `spreadlight bench` compares the example against.
+pub fn plain_metal_row() -> Vec<u8> {
+    metal_disc_row([0.0; 4])
+}
+
+fn metal_disc_row(strengths: [f32; 4]) -> Vec<u8> {
+    use spreadlight_render::mesh::primitives::{CylinderParams, cylinder};
+    let mut doc = Doc::new();
+    let disc = doc.mesh_data(
+        "Disc",
+        &cylinder(CylinderParams {
+            radius: 0.8,
+            height: 0.1,
+            sectors: 48,
+            caps: true,
+        }),
+    );
+    let brush = doc.png_image(&png(&circular_brush(64)));
+    let brush = doc.texture(brush);
+    doc.root
+        .extensions_used
+        .push("KHR_materials_anisotropy".into());
+    // The cylinder's top cap (+Y) turned to face the camera on +Z.
+    let facing = glam::Quat::from_rotation_x(std::f32::consts::FRAC_PI_2);
+    let mut nodes = Vec::new();
+    for (i, strength) in strengths.into_iter().enumerate() {
+        let extension = format!(
+            r#"{{"KHR_materials_anisotropy": {{"anisotropyStrength": {strength}, "anisotropyTexture": {{"index": {}}}}}}}"#,
+            brush.value()
+        );
+        let others = json::deserialize::from_str::<json::Value>(&extension)
+            .ok()
+            .and_then(|v| v.as_object().cloned())
+            .unwrap_or_default();
+        let material = doc.material(json::Material {
+            name: Some(format!("Brushed {strength}")),
+            pbr_metallic_roughness: json::material::PbrMetallicRoughness {
+                base_color_factor: json::material::PbrBaseColorFactor([0.92, 0.92, 0.95, 1.0]),
+                metallic_factor: json::material::StrengthFactor(1.0),
+                roughness_factor: json::material::StrengthFactor(0.35),
+                ..Default::default()
+            },
+            extensions: Some(json::extensions::material::Material {
+                others,
+                ..Default::default()
+            }),
+            ..Default::default()
+        });
+        let mut mesh = doc.root.meshes[disc.value()].clone();
+        mesh.primitives[0].material = Some(material);
+        mesh.name = Some(format!("Disc {i}"));
+        let mesh = doc.root.push(mesh);
+        let mut node = mesh_node(Some(mesh), [i as f32 * 1.8 - 2.7, 0.0, 0.0], 1.0);
+        node.rotation = Some(json::scene::UnitQuaternion(facing.to_array()));
+        nodes.push(doc.node(node));
+    }
+    doc.scene(nodes);
+    doc.gltf_data_uri()
+}

@@ -1,5 +1,5 @@
 //! The CPU reference of the renderer's pure maths: BRDF terms
-//! ([`brdf`]), light falloff ([`lights`]) and tone operators ([`tonemap`]),
+//! ([`brdf`], the anisotropic lobe in [`anisotropy`]), light falloff ([`lights`]) and tone operators ([`tonemap`]),
 //! the matcap lookup ([`matcap`]), a material shaded under the sun
 //! ([`material`]), ray-cast soft shadows ([`shadows`]) and ambient
 //! occlusion ([`ssao`]) to measure the filters by, reflections ray-traced
@@ -17,6 +17,7 @@
 //! renderer, which depends on this crate and not the other way round: a
 //! change in an effect does not rebuild the references.
 
+pub mod anisotropy;
 pub mod ashikhmin_shirley;
 pub mod brdf;
 pub mod lights;

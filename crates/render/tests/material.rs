@@ -11,9 +11,9 @@ use naga_oil::compose::{
     ComposableModuleDescriptor, Composer, NagaModuleDescriptor, ShaderLanguage, ShaderType,
 };
 use spreadlight_render::material::{
-    FEATURE_AMBIENT_OCCLUSION, FEATURE_CLEARCOAT, FEATURE_COOK_TORRANCE, FEATURE_EMISSION,
-    FEATURE_FAKE_SSS, FEATURE_MATCAP, FEATURE_REFLECTION, FEATURE_TRANSMISSION, FEATURE_UNLIT,
-    FIRST_CUSTOM_FEATURE, Feature, MAX_FEATURES, Material, MaterialWorld,
+    FEATURE_AMBIENT_OCCLUSION, FEATURE_ANISOTROPY, FEATURE_CLEARCOAT, FEATURE_COOK_TORRANCE,
+    FEATURE_EMISSION, FEATURE_FAKE_SSS, FEATURE_MATCAP, FEATURE_REFLECTION, FEATURE_TRANSMISSION,
+    FEATURE_UNLIT, FIRST_CUSTOM_FEATURE, Feature, MAX_FEATURES, Material, MaterialWorld,
 };
 use spreadlight_render::renderer::test_renderer;
 use spreadlight_render::shaders::library;
@@ -91,6 +91,7 @@ fn library_composes_validates_and_mirrors_the_rust_constants() {
         ("FEATURE_CLEARCOAT", FEATURE_CLEARCOAT),
         ("FEATURE_UNLIT", FEATURE_UNLIT),
         ("FEATURE_TRANSMISSION", FEATURE_TRANSMISSION),
+        ("FEATURE_ANISOTROPY", FEATURE_ANISOTROPY),
         ("FIRST_CUSTOM_FEATURE", FIRST_CUSTOM_FEATURE),
         ("MAX_FEATURES", MAX_FEATURES),
     ] {
@@ -152,10 +153,11 @@ fn shader_reads_what_the_material_world_holds() {
     let other = MaterialWorld::new(&renderer, Vec::new());
     assert_eq!(other.len(), 1);
     assert_eq!(other.union_flags(), 1);
-    // The built-ins (0..=5, Clearcoat 7, Unlit 8, Transmission 9) and the custom ones.
+    // The built-ins (0..=5, Clearcoat 7, Unlit 8, Transmission 9,
+    // Anisotropy 12) and the custom ones.
     assert_eq!(
         world.union_flags(),
-        0b11_1011_1111 | 1 << 16 | 1 << 17 | 1 << 31
+        0b1_0011_1011_1111 | 1 << 16 | 1 << 17 | 1 << 31
     );
 
     let mut queries: Vec<[u32; 4]> = Vec::new();

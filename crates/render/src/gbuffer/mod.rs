@@ -173,6 +173,13 @@ pub struct GBufferTargets {
     /// reads in place of the material's parameters. Only when some layer
     /// has surface maps or a shader node material.
     pub surface: Option<String>,
+    /// Per pixel of Anisotropy materials (`KHR_materials_anisotropy`): the
+    /// anisotropy direction (view space, unit, orthogonal to nothing yet:
+    /// lighting makes it so against the shaded normal) in rgb and the
+    /// strength (0..1) in a, Rgba16Float; other pixels are not written
+    /// (lighting reads it only where the material has the feature). Only
+    /// when some layer's maps world has such a material.
+    pub anisotropy: Option<String>,
 }
 
 impl GBufferTargets {
@@ -409,6 +416,10 @@ impl GBuffer {
                     .iter()
                     .any(|l| l.map_world().is_some() || l.surface.is_some())
                     .then(|| format!("{prefix}/surface")),
+                anisotropy: layers
+                    .iter()
+                    .any(|l| l.map_world().is_some_and(|w| w.has_anisotropy()))
+                    .then(|| format!("{prefix}/anisotropy")),
             },
             layers,
             draws,

@@ -82,6 +82,9 @@ pub(super) fn declare<'a>(g: &'a GBuffer, renderer: &'a Renderer, fg: &mut Frame
     if let Some(name) = &t.surface {
         pass.output("out_surface", name, target(SURFACE_FORMAT));
     }
+    if let Some(name) = &t.anisotropy {
+        pass.output("out_anisotropy", name, target(TARGET_FORMAT));
+    }
     let surface = pass.bindings().clone();
     let surface_layers = layers.clone();
     pass.run_bound(move |cx, b| resolve(g, renderer, cx, Targets::Surface, &surface_layers, b));
@@ -91,13 +94,14 @@ pub(super) fn declare<'a>(g: &'a GBuffer, renderer: &'a Renderer, fg: &mut Frame
     pass.run_bound(move |cx, b| resolve(g, renderer, cx, Targets::Motion, &[], b));
     // Both read the visibility: one dispatch per run when the frame reads both,
     // where the device binds the five storage textures that takes with a
-    // surface target (WebGPU's minimum is four).
+    // surface target (WebGPU's minimum is four), six with an anisotropy target.
     let storage = renderer
         .gpu
         .device
         .limits()
         .max_storage_textures_per_shader_stage;
-    if t.surface.is_none() || storage >= 5 {
+    let needed = 4 + u32::from(t.surface.is_some()) + u32::from(t.anisotropy.is_some());
+    if needed <= 4 || storage >= needed {
         let both = surface.texture("out_velocity_uv", velocity_uv);
         fg.runs_together(label("resolve surface and motion"), move |cx| {
             resolve(g, renderer, cx, Targets::Both, &layers, both)

@@ -55,6 +55,10 @@ pub struct SurfaceResolve {
     pub velocity: bool,
     /// The surface target, and what fills it.
     pub surface: Option<SurfaceOut>,
+    /// The anisotropy target (ANISOTROPY): the direction and strength of
+    /// the layer's Anisotropy materials per pixel. Only with surface maps
+    /// (`SurfaceOut::MaterialMaps` or `ExtendedMaps`), whose world has one.
+    pub anisotropy: bool,
 }
 
 /// The surface target is written (SURFACE_OUT), from the material world's
@@ -145,6 +149,7 @@ impl Permutation for ResolveKey {
         "CUSTOM_SURFACE",
         "VERTEX_EXTRAS",
         "VELOCITY_OUT",
+        "ANISOTROPY",
     ];
 
     fn features(self) -> impl Iterator<Item = &'static str> {
@@ -171,14 +176,16 @@ impl Permutation for ResolveKey {
                     }
                     Some(SurfaceOut::Custom) => f.extend(["SURFACE_OUT", "CUSTOM_SURFACE"]),
                 }
+                f.extend(s.anisotropy.then_some("ANISOTROPY"));
             }
         }
         f.into_iter()
     }
 
-    /// 2 rasters x 3 UV sources x 2 x 2 x (the motion resolve and 40
-    /// surface resolves): the 984 feature sets the string rules allow (792
-    /// before EXTENSION_MAPS, which only surface maps take).
+    /// 2 rasters x 3 UV sources x 2 x 2 x (the motion resolve and 56
+    /// surface resolves): the 1,368 feature sets the string rules allow
+    /// (792 before EXTENSION_MAPS, which only surface maps take; 984 before
+    /// ANISOTROPY, which only surface maps take too).
     fn all() -> Vec<Self> {
         let surfaces = [
             None,
@@ -192,12 +199,22 @@ impl Permutation for ResolveKey {
             for vertex_extras in [false, true] {
                 for velocity in [false, true] {
                     for surface in surfaces {
-                        written.push(Written::Surface(SurfaceResolve {
-                            color_map,
-                            vertex_extras,
-                            velocity,
+                        let maps = matches!(
                             surface,
-                        }));
+                            Some(SurfaceOut::MaterialMaps | SurfaceOut::ExtendedMaps)
+                        );
+                        for anisotropy in [false, true] {
+                            if anisotropy && !maps {
+                                continue;
+                            }
+                            written.push(Written::Surface(SurfaceResolve {
+                                color_map,
+                                vertex_extras,
+                                velocity,
+                                surface,
+                                anisotropy,
+                            }));
+                        }
                     }
                 }
             }

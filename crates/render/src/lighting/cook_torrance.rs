@@ -362,6 +362,7 @@ impl CookTorrance {
                     reads,
                     fake_sss: self.sss.is_some(),
                     clearcoat: self.clearcoat(),
+                    anisotropy: self.gbuffer.targets.anisotropy.is_some(),
                 }),
             },
         };
@@ -403,7 +404,8 @@ impl CookTorrance {
             .texture("out_diffuse", io.diffuse)
             .texture("out_specular", io.specular)
             .texture_opt("out_sss", io.sss)
-            .texture_opt("surface_target", io.surface);
+            .texture_opt("surface_target", io.surface)
+            .texture_opt("anisotropy_target", io.anisotropy);
         b = super::bind_light_buffer(
             b,
             cx,
@@ -482,6 +484,8 @@ struct ShadeIo {
     /// Where some material has FakeSSS.
     sss: Option<Tex>,
     surface: Option<Tex>,
+    /// The G-buffer's anisotropy target, where it has one.
+    anisotropy: Option<Tex>,
     /// Textured spot lights' images.
     spot_textures: Option<Tex>,
     material_textures: Option<MaterialTextures>,
@@ -560,6 +564,10 @@ impl Recipe for CookTorrance {
             normals: pass.read(&g.normals),
             depth: pass.read(&g.depth),
             surface: pass.read_opt(g.surface.as_deref()),
+            anisotropy: self
+                .materials
+                .as_ref()
+                .and_then(|_| pass.read_opt(g.anisotropy.as_deref())),
             spot_textures: self.lights.textures().map(|t| pass.read(&t.name)),
             material_textures: self
                 .materials

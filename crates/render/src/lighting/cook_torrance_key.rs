@@ -120,6 +120,11 @@ pub struct BrdfMaterials {
     pub fake_sss: bool,
     /// Some material has a clear coat: its lobe is compiled in.
     pub clearcoat: bool,
+    /// Some surface-mapped material has the Anisotropy feature: the
+    /// G-buffer's anisotropy target is read and the anisotropic lobe
+    /// compiled in (ANISOTROPY; only with the surface target, which every
+    /// G-buffer with surface maps has).
+    pub anisotropy: bool,
 }
 
 /// The material buffer (MATERIALS), and whether some material's
@@ -148,6 +153,7 @@ impl Shading {
                     f.extend(m.reads.features());
                     f.extend(m.fake_sss.then_some("FAKE_SSS"));
                     f.extend(m.clearcoat.then_some("CLEARCOAT"));
+                    f.extend(m.anisotropy.then_some("ANISOTROPY"));
                 }
             }
             Shading::Custom { materials } => {
@@ -164,11 +170,14 @@ impl Shading {
         for reads in reads {
             for fake_sss in [false, true] {
                 for clearcoat in [false, true] {
-                    brdf_materials.push(Some(BrdfMaterials {
-                        reads,
-                        fake_sss,
-                        clearcoat,
-                    }));
+                    for anisotropy in [false, true] {
+                        brdf_materials.push(Some(BrdfMaterials {
+                            reads,
+                            fake_sss,
+                            clearcoat,
+                            anisotropy,
+                        }));
+                    }
                 }
             }
         }
@@ -268,6 +277,7 @@ impl Permutation for CookTorranceKey {
         "CUSTOM_LIGHT",
         "TILED",
         "PER_PIXEL",
+        "ANISOTROPY",
     ];
 
     fn features(self) -> impl Iterator<Item = &'static str> {
@@ -278,14 +288,28 @@ impl Permutation for CookTorranceKey {
             .chain(self.surface_target.then_some("SURFACE_TARGET"))
     }
 
-    /// 13 light walks x 21 shadings x 5 shadow samplings x 2: the 2,730
-    /// feature sets the string rules allowed.
+    /// 13 light walks x 5 shadow samplings x (21 shadings x 2, and the 16
+    /// anisotropic ones with the surface target): the 3,770 feature sets the
+    /// string rules allow (2,730 before ANISOTROPY).
     fn all() -> Vec<Self> {
         let mut all = Vec::new();
         for lights in Lights::all() {
             for shading in Shading::all() {
+                let anisotropic = matches!(
+                    shading,
+                    Shading::Brdf {
+                        materials: Some(BrdfMaterials {
+                            anisotropy: true,
+                            ..
+                        }),
+                        ..
+                    }
+                );
                 for shadows in ShadowSampling::ALL {
                     for surface_target in [false, true] {
+                        if anisotropic && !surface_target {
+                            continue;
+                        }
                         all.push(CookTorranceKey {
                             lights,
                             shading,

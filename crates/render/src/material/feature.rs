@@ -1,8 +1,8 @@
 //! Material features: what a bit of a material's flag word switches on, and
 //! the parameters it reads. Feature id `n` is flag `1 << n` (Emeshe's
 //! convention: the id is the exponent, the flag the power of two). Ids 0..16
-//! belong to built-in features (0..=9 exist now; 10..=15 are kept for the
-//! ones to come), 16..=31 are free for custom features.
+//! belong to built-in features (0..=9 and 12 exist now; the others up to
+//! 15 are kept for the ones to come), 16..=31 are free for custom features.
 //!
 //! Mirrored by the `FEATURE_*` constants of `shaders/lib/material.wgsl`.
 
@@ -26,6 +26,9 @@ pub const FEATURE_UNLIT: u32 = 8;
 /// with `KHR_materials_ior` and `KHR_materials_volume`): drawn by lit
 /// transparency, which samples the opaque image along the refracted ray.
 pub const FEATURE_TRANSMISSION: u32 = 9;
+/// A specular highlight stretched along a direction on the surface
+/// (glTF's `KHR_materials_anisotropy`): strength and rotation.
+pub const FEATURE_ANISOTROPY: u32 = 12;
 /// The first id free for custom features.
 pub const FIRST_CUSTOM_FEATURE: u32 = 16;
 /// One bit of a `u32` per feature.
@@ -83,6 +86,15 @@ const CLEARCOAT: ParamLayout = ParamLayout {
     names: ["factor", "roughness", "", ""],
     ranges: [Unit, Unit, Unused, Unused],
     default: [1.0, 0.0, 0.0, 0.0],
+};
+/// The anisotropic GGX lobe (`KHR_materials_anisotropy`): how much the
+/// highlight stretches (0..1: the width along the direction is
+/// mix(alpha, 1, strength²)) and the direction's rotation from the tangent
+/// (radians, counter-clockwise; any finite angle).
+const ANISOTROPY: ParamLayout = ParamLayout {
+    names: ["strength", "rotation", "", ""],
+    ranges: [Unit, Range::Free, Unused, Unused],
+    default: [0.0, 0.0, 0.0, 0.0],
 };
 /// Two vec4s ([`transmission_params`]): how much of what shows through is
 /// refracted (0..1), the index of refraction and the volume's thickness
@@ -215,13 +227,19 @@ pub enum Feature {
     /// transparency draws what shows through a layer of such a material as
     /// the opaque image along the refracted ray, tinted and absorbed.
     Transmission,
+    /// An anisotropic specular lobe: strength (0..1), rotation (radians).
+    /// The G-buffer resolve turns the surface's tangent by the rotation and
+    /// the material's anisotropy map into a direction per pixel (its own
+    /// target, `ANISOTROPY`), along which CookTorrance stretches the
+    /// highlight.
+    Anisotropy,
     /// A user feature, id 16..=31, with as many vec4 parameters as it is given.
     Custom(u32),
 }
 
 impl Feature {
     /// In ascending id (6, SurfaceMaps, is set through `Material::set_maps`).
-    pub const BUILT_IN: [Feature; 9] = [
+    pub const BUILT_IN: [Feature; 10] = [
         Feature::CookTorrance,
         Feature::Emission,
         Feature::FakeSss,
@@ -231,6 +249,7 @@ impl Feature {
         Feature::Clearcoat,
         Feature::Unlit,
         Feature::Transmission,
+        Feature::Anisotropy,
     ];
 
     /// The feature with id `id`: a built-in one, or a custom one for 16..=31.
@@ -256,6 +275,7 @@ impl Feature {
             Feature::Clearcoat => FEATURE_CLEARCOAT,
             Feature::Unlit => FEATURE_UNLIT,
             Feature::Transmission => FEATURE_TRANSMISSION,
+            Feature::Anisotropy => FEATURE_ANISOTROPY,
             Feature::Custom(id) => id,
         }
     }
@@ -276,6 +296,7 @@ impl Feature {
             Feature::Clearcoat => "Clearcoat".to_owned(),
             Feature::Unlit => "Unlit".to_owned(),
             Feature::Transmission => "Transmission".to_owned(),
+            Feature::Anisotropy => "Anisotropy".to_owned(),
             Feature::Custom(id) => format!("Custom{id}"),
         }
     }
@@ -291,6 +312,7 @@ impl Feature {
             Feature::Clearcoat => Some(&CLEARCOAT),
             Feature::MatCap => Some(&MATCAP),
             Feature::Transmission => Some(&TRANSMISSION),
+            Feature::Anisotropy => Some(&ANISOTROPY),
             Feature::Custom(_) => None,
         }
     }
@@ -308,6 +330,7 @@ impl Feature {
                 | Feature::Clearcoat
                 | Feature::Unlit
                 | Feature::Transmission
+                | Feature::Anisotropy
         )
     }
 
@@ -330,7 +353,11 @@ impl Feature {
             Feature::Emission | Feature::FakeSss => COLOR_PARAMS,
             Feature::Reflection | Feature::AmbientOcclusion | Feature::MatCap => STRENGTH_PARAMS,
             // Per material: no shader samples a texture layer for them.
-            Feature::Clearcoat | Feature::Unlit | Feature::Transmission | Feature::Custom(_) => &[],
+            Feature::Clearcoat
+            | Feature::Unlit
+            | Feature::Transmission
+            | Feature::Anisotropy
+            | Feature::Custom(_) => &[],
         }
     }
 

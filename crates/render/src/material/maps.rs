@@ -1,12 +1,12 @@
 //! Surface maps: the textures of a glTF metallic-roughness material (base
 //! colour, metallic-roughness, normal, occlusion, emissive) and of its
 //! extensions (clearcoat, clearcoat roughness, specular, specular colour,
-//! thickness, clearcoat normal), each with its UV set, `KHR_texture_transform` and sampler,
+//! thickness, clearcoat normal, anisotropy), each with its UV set, `KHR_texture_transform` and sampler,
 //! plus the alpha mode and double-sidedness. A [`Material`](super::Material)
 //! carries them as the built-in feature
 //! [`FEATURE_SURFACE_MAPS`](super::FEATURE_SURFACE_MAPS): its flag bit and,
 //! when packed, 11 parameter vec4s that `shaders/lib/material_maps.wgsl`
-//! reads in the G-buffer resolve, 25 when it has an extension's map (so a
+//! reads in the G-buffer resolve, 27 when it has an extension's map (so a
 //! material without one packs, and shades, as before). The factors stay
 //! where every other material keeps them: roughness, metallic and
 //! reflectance in CookTorrance, emissive colour and strength in Emission,
@@ -42,10 +42,13 @@ pub enum MapSlot {
     /// `KHR_materials_clearcoat`'s clearcoatNormalTexture: the coat's own
     /// tangent-space normal (rgb), for the coat lobe alone.
     ClearcoatNormal = 10,
+    /// `KHR_materials_anisotropy`'s anisotropyTexture: the direction in the
+    /// tangent frame in red and green (-1..1 as 0..1), the strength in blue.
+    Anisotropy = 11,
 }
 
 impl MapSlot {
-    pub const ALL: [MapSlot; 11] = [
+    pub const ALL: [MapSlot; 12] = [
         MapSlot::BaseColor,
         MapSlot::MetallicRoughness,
         MapSlot::Normal,
@@ -57,18 +60,20 @@ impl MapSlot {
         MapSlot::SpecularColor,
         MapSlot::Thickness,
         MapSlot::ClearcoatNormal,
+        MapSlot::Anisotropy,
     ];
 
     /// The slots of the material extensions: a material with a map in one
     /// of them packs the long layout, and the passes that read them compile
     /// their code only for a world that has one (EXTENSION_MAPS).
-    pub const EXTENSIONS: [MapSlot; 6] = [
+    pub const EXTENSIONS: [MapSlot; 7] = [
         MapSlot::Clearcoat,
         MapSlot::ClearcoatRoughness,
         MapSlot::Specular,
         MapSlot::SpecularColor,
         MapSlot::Thickness,
         MapSlot::ClearcoatNormal,
+        MapSlot::Anisotropy,
     ];
 
     /// Colour maps are stored sRGB-encoded and sampled through an sRGB format.
@@ -193,7 +198,7 @@ pub enum AlphaMode {
 /// Everything of a glTF material that is not a factor of another feature.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SurfaceMaps {
-    pub maps: [Option<MapRef>; 11],
+    pub maps: [Option<MapRef>; 12],
     /// Scales the normal map's x and y.
     pub normal_scale: f32,
     /// Scales the clearcoat normal map's x and y (its normalTextureInfo's scale).
@@ -389,6 +394,6 @@ mod tests {
         assert_eq!(packed[EXTENDED_PARAM_COUNT - 1], [1.0, 0.0, 0.0, 0.0]);
         // Only the colour slot of the extensions is sRGB.
         let srgb: Vec<_> = MapSlot::EXTENSIONS.iter().map(|s| s.srgb()).collect();
-        assert_eq!(srgb, [false, false, false, true, false, false]);
+        assert_eq!(srgb, [false, false, false, true, false, false, false]);
     }
 }

@@ -40,8 +40,8 @@ use thiserror::Error;
 use wgpu::util::DeviceExt;
 
 pub use feature::{
-    FEATURE_AMBIENT_OCCLUSION, FEATURE_CLEARCOAT, FEATURE_COOK_TORRANCE, FEATURE_EMISSION,
-    FEATURE_FAKE_SSS, FEATURE_MATCAP, FEATURE_REFLECTION, FEATURE_SURFACE_MAPS,
+    FEATURE_AMBIENT_OCCLUSION, FEATURE_ANISOTROPY, FEATURE_CLEARCOAT, FEATURE_COOK_TORRANCE,
+    FEATURE_EMISSION, FEATURE_FAKE_SSS, FEATURE_MATCAP, FEATURE_REFLECTION, FEATURE_SURFACE_MAPS,
     FEATURE_TRANSMISSION, FEATURE_UNLIT, FIRST_CUSTOM_FEATURE, Feature, MAX_ABSORPTION,
     MAX_FEATURES, MatCapMapping, MatCapMode, ParamLayout, Range, matcap_params,
     transmission_params,
@@ -579,6 +579,15 @@ impl MaterialWorld {
     /// thickness: `maps::MapSlot::EXTENSIONS`).
     pub fn has_extension_maps(&self) -> bool {
         self.extension_maps
+    }
+
+    /// Whether some material with surface maps (a glTF material) has the
+    /// Anisotropy feature: the G-buffer then gets an anisotropy target,
+    /// which the resolve fills from the mesh's tangents, and CookTorrance
+    /// compiles the anisotropic lobe (`ANISOTROPY`). Materials without maps
+    /// have no tangent frame the resolve reads, and shade isotropic.
+    pub fn has_anisotropy(&self) -> bool {
+        self.maps.is_some() && self.has(FEATURE_ANISOTROPY)
     }
 
     /// The surface maps' textures and samplers, when some material has maps.

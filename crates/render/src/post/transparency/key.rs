@@ -22,6 +22,14 @@ pub struct TransparencyKey {
     /// composite and resolve entry points, nor for a surface without a
     /// material world (it has no coat), nor a base pass that records nothing.
     pub coat: bool,
+    /// The anisotropic lobe (ANISOTROPY): a forward light pass of a layer
+    /// with surface maps whose world has an Anisotropy material stretches
+    /// its fragments' highlights along the direction its tangents and
+    /// anisotropy map give (`KHR_materials_anisotropy`). Only for light
+    /// passes over surface maps: a node with such a layer shades its lights
+    /// forward, whatever its shading asks (the compute records carry no
+    /// direction).
+    pub anisotropy: bool,
 }
 
 /// What a layer's fragments read.
@@ -305,6 +313,7 @@ impl Permutation for TransparencyKey {
         "LIGHT_SUMS",
         "SHADE_TILED",
         "CLEARCOAT",
+        "ANISOTROPY",
     ];
 
     fn features(self) -> impl Iterator<Item = &'static str> {
@@ -339,6 +348,7 @@ impl Permutation for TransparencyKey {
             .features()
             .chain(light)
             .chain(self.coat.then_some("CLEARCOAT"))
+            .chain(self.anisotropy.then_some("ANISOTROPY"))
     }
 
     /// Every surface with the base passes (a matcap only with a material
@@ -378,6 +388,7 @@ impl Permutation for TransparencyKey {
                     })
                 });
                 let coated = surface.reads_materials();
+                let anisotropic = surface.maps.is_surface();
                 bases
                     .chain(lights.iter().copied())
                     .flat_map(move |pass| {
@@ -385,13 +396,20 @@ impl Permutation for TransparencyKey {
                             TransparencyPass::Base { records, .. } => coated && records,
                             _ => coated,
                         };
+                        let stretches = anisotropic && matches!(pass, TransparencyPass::Light(_));
                         [false, true]
                             .into_iter()
                             .filter(move |&coat| !coat || coats)
-                            .map(move |coat| TransparencyKey {
-                                surface,
-                                pass,
-                                coat,
+                            .flat_map(move |coat| {
+                                [false, true]
+                                    .into_iter()
+                                    .filter(move |&anisotropy| !anisotropy || stretches)
+                                    .map(move |anisotropy| TransparencyKey {
+                                        surface,
+                                        pass,
+                                        coat,
+                                        anisotropy,
+                                    })
                             })
                     })
                     .collect::<Vec<_>>()
@@ -410,6 +428,7 @@ impl Permutation for TransparencyKey {
                             surface: Self::COMPOSITE.surface,
                             pass,
                             coat,
+                            anisotropy: false,
                         })
                     })
                     .chain([TransparencyKey::SHADED_RESOLVE]),
@@ -434,6 +453,7 @@ impl TransparencyKey {
             records: false,
         },
         coat: false,
+        anisotropy: false,
     };
 
     /// The resolve of a frame whose lights were shaded in compute.
@@ -441,6 +461,7 @@ impl TransparencyKey {
         surface: Self::COMPOSITE.surface,
         pass: TransparencyPass::ShadedResolve,
         coat: false,
+        anisotropy: false,
     };
 }
 

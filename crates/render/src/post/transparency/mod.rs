@@ -366,7 +366,13 @@ impl Transparency {
             let (w, h) = renderer.output_size();
             compute::slots_on(&renderer.gpu, u64::from(w) * u64::from(h)) > 0
         };
+        // A layer with an anisotropic material is lit forward: the compute
+        // records keep no anisotropy direction (TransparencyKey::anisotropy).
+        let anisotropic = layers
+            .iter()
+            .any(|l| l.map_world().is_some_and(|w| w.has_anisotropy()));
         let compute = !lights.is_empty()
+            && !anisotropic
             && settings.shading.computes(renderer.gpu.adapter_class())
             && (settings.shading != TransparencyShading::Auto || fits());
         let lists = owner
@@ -444,6 +450,7 @@ impl Transparency {
                     surface,
                     pass,
                     coat: Self::coat(world, pass),
+                    anisotropy: Self::anisotropy(surface, world, pass),
                 };
                 if !keys.contains(&key) {
                     keys.push(key);
@@ -456,6 +463,7 @@ impl Transparency {
                     surface: TransparencyKey::COMPOSITE.surface,
                     pass: self.shade_pass(light),
                     coat: self.coated(),
+                    anisotropy: false,
                 };
                 if !keys.contains(&key) {
                     keys.push(key);
@@ -531,6 +539,19 @@ impl Transparency {
                 TransparencyPass::Base { records, .. } => records,
                 _ => true,
             }
+    }
+
+    /// Whether a pass of a layer with `surface` reading `world` compiles
+    /// the anisotropic lobe ([`TransparencyKey::anisotropy`]): a forward
+    /// light pass over surface maps whose world has an Anisotropy material.
+    fn anisotropy(
+        surface: SurfaceKey,
+        world: Option<&Arc<MaterialWorld>>,
+        pass: TransparencyPass,
+    ) -> bool {
+        surface.maps.is_surface()
+            && world.is_some_and(|w| w.has_anisotropy())
+            && matches!(pass, TransparencyPass::Light(_))
     }
 
     /// Some layer of the node has a coat: the compute shading reads coat
@@ -683,6 +704,7 @@ impl Transparency {
                         surface,
                         pass,
                         coat: Self::coat(world, pass),
+                        anisotropy: Self::anisotropy(surface, world, pass),
                     }
                     .key();
                     let pipeline = accumulate_pipeline(cx, key.clone(), culled, pass)?;
@@ -883,6 +905,7 @@ impl Transparency {
             surface: TransparencyKey::COMPOSITE.surface,
             pass,
             coat: lists.coat.is_some(),
+            anisotropy: false,
         }
         .key();
         let size = cx.size_of(io.accumulation)?;
