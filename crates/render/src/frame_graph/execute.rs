@@ -161,6 +161,8 @@ fn execute(
     let capacity = if timestamps.is_some() { MAX_QUERIES } else { 0 };
     let mut shaders = executor.shaders();
     shaders.begin_frame();
+    let mut kept = executor.kept_bindings();
+    kept.begin(plan.id, plan.names.len(), shaders.generation);
     let compiled_before = shaders.pipelines_compiled;
     let groups_before = (shaders.bind_groups_created, shaders.bind_groups_reused);
     let views = std::cell::RefCell::new(std::mem::take(&mut textures.views));
@@ -245,6 +247,7 @@ fn execute(
             compute: open_compute.take(),
             timestamps_inside_passes: inside_passes,
             shaders: &mut shaders,
+            kept: kept.pass(p),
             textures: &mut live,
             texture_names: &plan.texture_names,
             reads: &plan.reads[p],
@@ -405,15 +408,19 @@ fn execute(
     report.culled = plan.culled.iter().map(|&p| plan.names[p].clone()).collect();
     report.pipelines_compiled = shaders.pipelines_compiled - compiled_before;
     let mut views = views.into_inner();
+    let (pipelines_kept, groups_kept) = kept.counted();
     for (name, n) in counters().into_iter().chain([
         (
             "bind groups created",
             shaders.bind_groups_created - groups_before.0,
         ),
+        // Kept ones too: reused without a look-up (kept_bindings.rs).
         (
             "bind groups reused",
-            shaders.bind_groups_reused - groups_before.1,
+            shaders.bind_groups_reused - groups_before.1 + groups_kept,
         ),
+        (super::PIPELINES_KEPT, pipelines_kept),
+        (super::BIND_GROUPS_KEPT, groups_kept),
         ("texture views created", views.created - views_before.0),
         ("texture views reused", views.reused - views_before.1),
     ]) {
@@ -424,6 +431,7 @@ fn execute(
     views.end_frame();
     textures.end_frame();
     textures.views = views;
+    drop(kept);
     drop(shaders);
 
     // The last run's compute pass ends before its encoder resolves the timestamps and finishes.

@@ -75,6 +75,9 @@ pub struct ShaderCache {
     /// them in place, without building (allocating, cloning) a key.
     bind_groups: FxHashMap<u64, Vec<CachedGroup>>,
     frame: u64,
+    /// Sources swapped in since the cache was made ([`ShaderCache::replace_sources`]):
+    /// what a pipeline or bind group held outside the cache was resolved under.
+    pub(crate) generation: u64,
     /// Pipelines compiled since the cache was made.
     pub pipelines_compiled: u64,
     /// Bind groups made and reused since the cache was made.
@@ -243,6 +246,7 @@ impl ShaderCache {
             surfaces: FxHashMap::default(),
             bind_groups: FxHashMap::default(),
             frame: 0,
+            generation: 0,
             pipelines_compiled: 0,
             bind_groups_created: 0,
             bind_groups_reused: 0,
@@ -273,6 +277,7 @@ impl ShaderCache {
             pipelines_compiled: self.pipelines_compiled,
             compile_times: self.compile_times,
             pipeline_cache: self.pipeline_cache.take(),
+            generation: self.generation + 1,
             ..ShaderCache::new(composer)
         };
     }
