@@ -1522,5 +1522,16 @@ fn a_kept_plan_s_dispatch_binds_what_it_binds_now() {
         assert_eq!(kept(&report), (0, 0), "{:?}", report.counters);
     }
     renderer.set_plan_reuse(true);
+    // Kept bindings off: the plan is kept, every call looks its pipeline and
+    // groups up in the shader cache, and the images are the same.
+    renderer.set_kept_bindings(false);
+    for (frame, pick) in [0, 0, 1, 0].into_iter().enumerate() {
+        let (pixels, report) = picked_frame(&renderer, &images, pick);
+        assert_eq!(pixels, wanted(pick));
+        // Planned again in the first (plans made afresh were not kept).
+        assert_eq!(report.counter("plans reused"), u64::from(frame > 0));
+        assert_eq!(kept(&report), (0, 0), "{:?}", report.counters);
+    }
+    renderer.set_kept_bindings(true);
     renderer.wait_idle().expect("drains");
 }

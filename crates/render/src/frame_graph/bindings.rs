@@ -228,11 +228,14 @@ impl PassContext<'_> {
         };
         let shaders = &mut *self.shaders;
         let device = &self.gpu.device;
-        let (groups, _) = self.kept.groups(&call, || {
+        let mut resolve = || {
             let resources = as_resources(owned);
             shaders.named_groups(device, key, entries, pipeline, &resources, prebuilt)
-        })?;
-        Ok(groups)
+        };
+        match &mut self.kept {
+            Some(kept) => Ok(kept.groups(&call, resolve)?.0),
+            None => resolve(),
+        }
     }
 
     /// The compute pipeline of `entry` in permutation `key`: the one this
@@ -245,10 +248,11 @@ impl PassContext<'_> {
     ) -> Result<wgpu::ComputePipeline, RenderError> {
         let shaders = &mut *self.shaders;
         let device = &self.gpu.device;
-        let (pipeline, _) = self
-            .kept
-            .pipeline(key, entry, || shaders.compute_pipeline(device, key, entry))?;
-        Ok(pipeline)
+        let mut resolve = || shaders.compute_pipeline(device, key, entry);
+        match &mut self.kept {
+            Some(kept) => Ok(kept.pipeline(key, entry, resolve)?.0),
+            None => resolve(),
+        }
     }
 
     /// [`PassContext::bind_groups`] for a pipeline reflected elsewhere

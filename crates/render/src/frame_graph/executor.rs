@@ -142,6 +142,14 @@ impl Executor {
         self.plans.set_reuse(reuse);
     }
 
+    /// Let a kept plan's dispatches take what they resolved last frame (the
+    /// default), or resolve every pipeline and bind group through the shader
+    /// cache: the frames are the same either way (kept_bindings.rs), this is
+    /// for tests and benchmarks to compare.
+    pub fn set_kept_bindings(&self, keep: bool) {
+        self.kept_bindings().on = keep;
+    }
+
     pub(crate) fn kept_bindings(
         &self,
     ) -> std::sync::MutexGuard<'_, super::kept_bindings::KeptBindings> {

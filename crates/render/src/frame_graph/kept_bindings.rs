@@ -38,8 +38,9 @@ pub const PIPELINES_KEPT: &str = "pipelines kept";
 pub const BIND_GROUPS_KEPT: &str = "bind groups kept";
 
 /// The calls of every pass of one plan.
-#[derive(Default)]
 pub(crate) struct KeptBindings {
+    /// Whether calls are kept at all (`Executor::set_kept_bindings`).
+    pub on: bool,
     /// The plan they are of (`Plan::id`).
     plan: u64,
     /// The shader cache's sources they were resolved under (`ShaderCache::generation`).
@@ -48,10 +49,25 @@ pub(crate) struct KeptBindings {
     passes: Vec<PassCalls>,
 }
 
+impl Default for KeptBindings {
+    fn default() -> Self {
+        KeptBindings {
+            on: true,
+            plan: 0,
+            generation: 0,
+            passes: Vec::new(),
+        }
+    }
+}
+
 impl KeptBindings {
     /// Ready for a frame on plan `plan` of `passes` passes under the shader
     /// cache's `generation`: what another plan or other sources resolved is dropped.
     pub fn begin(&mut self, plan: u64, passes: usize, generation: u64) {
+        if !self.on {
+            self.passes.clear();
+            return;
+        }
         if self.plan != plan || self.generation != generation || self.passes.len() != passes {
             self.plan = plan;
             self.generation = generation;
@@ -71,12 +87,12 @@ impl KeptBindings {
         })
     }
 
-    /// Pass `p`'s calls, its cursors at its first call.
-    pub fn pass(&mut self, p: usize) -> &mut PassCalls {
-        let calls = &mut self.passes[p];
+    /// Pass `p`'s calls, its cursors at its first call; None when calls are not kept.
+    pub fn pass(&mut self, p: usize) -> Option<&mut PassCalls> {
+        let calls = self.passes.get_mut(p)?;
         calls.next_pipeline = 0;
         calls.next_groups = 0;
-        calls
+        Some(calls)
     }
 }
 

@@ -250,7 +250,8 @@ pub struct PassContext<'f> {
     pub(crate) timestamps_inside_passes: bool,
     pub shaders: &'f mut ShaderCache,
     /// What this pass's calls resolved last frame (kept_bindings.rs).
-    pub(crate) kept: &'f mut kept_bindings::PassCalls,
+    /// None where calls are not kept (`Executor::set_kept_bindings`).
+    pub(crate) kept: Option<&'f mut kept_bindings::PassCalls>,
     pub(crate) textures: &'f mut live::Live,
     /// The frame's texture names by handle, and what this pass declared:
     /// the only textures its handles resolve to (handles.rs).
