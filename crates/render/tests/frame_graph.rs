@@ -1425,6 +1425,16 @@ fn picked_frame(
     images: &[Arc<spreadlight_render::static_texture::StaticTexture>; 2],
     pick: usize,
 ) -> ([[f32; 4]; 2], spreadlight_render::FrameReport) {
+    picked_frame_at(renderer, images, pick, (8, 8))
+}
+
+/// [`picked_frame`] at output size `size`.
+fn picked_frame_at(
+    renderer: &spreadlight_render::Renderer,
+    images: &[Arc<spreadlight_render::static_texture::StaticTexture>; 2],
+    pick: usize,
+    size: (u32, u32),
+) -> ([[f32; 4]; 2], spreadlight_render::FrameReport) {
     use spreadlight_render::post::CopyKey;
     use spreadlight_render::readback::render_and_read;
     use spreadlight_render::shaders::Permutation;
@@ -1456,7 +1466,7 @@ fn picked_frame(
     }
     let recipe = Pick(images.clone(), pick);
     let (report, images) =
-        render_and_read(renderer, &recipe, (8, 8), &["picked", "other"]).expect("renders");
+        render_and_read(renderer, &recipe, size, &["picked", "other"]).expect("renders");
     assert!(report.errors.is_empty(), "{:?}", report.errors);
     ([images[0].pixels[0], images[1].pixels[0]], report)
 }
@@ -1465,7 +1475,8 @@ fn picked_frame(
 /// from what it resolved before (`pipelines kept`, `bind groups kept`)
 /// only while it binds the same: a dispatch binding another texture than
 /// last frame binds the new one, and one going back to what it bound
-/// before that (a history and its twin in turns) takes those groups again.
+/// before that (a history and its twin in turns) takes those groups again;
+/// another graph rendered in turns keeps its own.
 #[test]
 fn a_kept_plan_s_dispatch_binds_what_it_binds_now() {
     use spreadlight_render::static_texture::StaticTexture;
@@ -1484,8 +1495,11 @@ fn a_kept_plan_s_dispatch_binds_what_it_binds_now() {
         let [a, b] = [[0.25, 0.75][pick], [0.25, 0.75][1 - pick]];
         [[a, a, a, 1.0], [b, b, b, 1.0]]
     };
-    // (which image "picked" copies, whether the frame's groups are kept)
+    // (which image "picked" copies, whether the frame's groups are kept):
+    // the plan is made in the first frame and taken from the second, whose
+    // calls are kept from then on.
     let frames = [
+        (0, false),
         (0, false),
         (0, true),
         // The images trade roles: resolved afresh, each bound where it is now.
@@ -1500,8 +1514,12 @@ fn a_kept_plan_s_dispatch_binds_what_it_binds_now() {
         let (pixels, report) = picked_frame(&renderer, &images, pick);
         assert_eq!(pixels, wanted(pick), "frame {frame}");
         let (pipelines, groups) = kept(&report);
-        if frame > 0 {
-            assert_eq!(report.counter("plans reused"), 1, "frame {frame}");
+        assert_eq!(
+            report.counter("plans reused"),
+            u64::from(frame > 0),
+            "frame {frame}"
+        );
+        if frame > 1 {
             // The copies' pipeline, whatever they bind.
             assert_eq!(pipelines, 2, "frame {frame}: {:?}", report.counters);
         } else {
@@ -1513,6 +1531,27 @@ fn a_kept_plan_s_dispatch_binds_what_it_binds_now() {
             assert_eq!(report.counter("bind groups created"), 0, "frame {frame}");
             assert_eq!(report.counter("bind groups reused"), 2, "frame {frame}");
         }
+    }
+    // Another graph rendered in turns with this one (a patch with two
+    // Outputs): each plan keeps its own calls.
+    for turn in 0..4 {
+        // The other graph: the same passes at another size, so another plan.
+        let (pixels, other) = picked_frame_at(&renderer, &images, 1, (16, 8));
+        assert_eq!(pixels, wanted(1), "turn {turn}");
+        let (pixels, report) = picked_frame(&renderer, &images, 0);
+        assert_eq!(pixels, wanted(0), "turn {turn}");
+        // Pipelines only: the view cache makes the views of a texture no
+        // frame used again (each graph's outputs, here), so their groups
+        // are new in each turn.
+        assert_eq!(kept(&report).0, 2, "turn {turn}: {:?}", report.counters);
+        // Its plan is made in its first turn and keeps its calls from its second.
+        let other_kept = if turn > 1 { 2 } else { 0 };
+        assert_eq!(
+            kept(&other).0,
+            other_kept,
+            "turn {turn}: {:?}",
+            other.counters
+        );
     }
     // Planned afresh each frame, nothing is kept and the images are the same.
     renderer.set_plan_reuse(false);

@@ -162,7 +162,12 @@ fn execute(
     let mut shaders = executor.shaders();
     shaders.begin_frame();
     let mut kept = executor.kept_bindings();
-    kept.begin(plan.id, plan.names.len(), shaders.generation);
+    kept.begin(
+        plan.id,
+        plan.names.len(),
+        shaders.generation,
+        planned.reused,
+    );
     let compiled_before = shaders.pipelines_compiled;
     let groups_before = (shaders.bind_groups_created, shaders.bind_groups_reused);
     let views = std::cell::RefCell::new(std::mem::take(&mut textures.views));

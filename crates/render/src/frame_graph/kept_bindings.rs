@@ -18,10 +18,10 @@
 //!
 //! A call keeps what it bound in the last two frames that bound something
 //! new: a temporal pass binds its history and the history's twin in turns.
-//! The executor holds one plan's worth, the plan the last frame took: a
-//! frame on another plan starts afresh, so the views and buffers held here
-//! (and the textures behind them) never outlive the plan that bound them
-//! by more than a frame.
+//! The executor holds the calls of the plans frames took lately: a host
+//! running a few graphs in turns keeps each one's, and the views and
+//! buffers held for a plan no frame took in the last 8 (and the textures
+//! behind them) are let go.
 //!
 //! Counted in the frame report (`spreadlight stats`, `bench --json`) as
 //! `pipelines kept` and `bind groups kept`; a kept group counts as reused
@@ -37,59 +37,110 @@ use crate::shaders::{BindGroups, INLINE_BINDINGS, PipelineRef, ShaderKey};
 pub const PIPELINES_KEPT: &str = "pipelines kept";
 pub const BIND_GROUPS_KEPT: &str = "bind groups kept";
 
-/// The calls of every pass of one plan.
+/// The calls of every pass of the plans frames took lately.
 pub(crate) struct KeptBindings {
     /// Whether calls are kept at all (`Executor::set_kept_bindings`).
     pub on: bool,
+    /// Frames begun (what a plan's calls were last used at is counted in).
+    frames: u64,
+    plans: SmallVec<[PlanCalls; 2]>,
+    /// The one of `plans` this frame's plan is.
+    current: Option<usize>,
+}
+
+/// The calls of one plan's passes.
+struct PlanCalls {
     /// The plan they are of (`Plan::id`).
     plan: u64,
     /// The shader cache's sources they were resolved under (`ShaderCache::generation`).
     generation: u64,
+    /// The frame that last took the plan.
+    last: u64,
     /// By the plan's pass index.
     passes: Vec<PassCalls>,
 }
+
+/// Frames a plan's calls are kept while no frame takes it: a host running
+/// a few graphs in turns (a patch with two Outputs) keeps each one's, and
+/// the calls of a plan left behind (a resized output) let go of what they
+/// hold soon after.
+const IDLE_FRAMES: u64 = 8;
 
 impl Default for KeptBindings {
     fn default() -> Self {
         KeptBindings {
             on: true,
-            plan: 0,
-            generation: 0,
-            passes: Vec::new(),
+            frames: 0,
+            plans: SmallVec::new(),
+            current: None,
         }
     }
 }
 
 impl KeptBindings {
     /// Ready for a frame on plan `plan` of `passes` passes under the shader
-    /// cache's `generation`: what another plan or other sources resolved is dropped.
-    pub fn begin(&mut self, plan: u64, passes: usize, generation: u64) {
+    /// cache's `generation`, `reused` when the frame took a kept plan: what
+    /// other sources resolved is dropped, and so is what plans no frame took
+    /// for a while resolved. Calls are kept from a plan's second frame on:
+    /// a plan taken once (every plan, with plan reuse off) keeps nothing.
+    pub fn begin(&mut self, plan: u64, passes: usize, generation: u64, reused: bool) {
+        self.frames += 1;
+        let frame = self.frames;
+        self.current = None;
         if !self.on {
-            self.passes.clear();
+            self.plans.clear();
             return;
         }
-        if self.plan != plan || self.generation != generation || self.passes.len() != passes {
-            self.plan = plan;
-            self.generation = generation;
-            self.passes.clear();
-            self.passes.resize_with(passes, PassCalls::default);
+        self.plans
+            .retain(|p| p.generation == generation && frame - p.last <= IDLE_FRAMES);
+        if !reused {
+            return;
         }
-        for calls in &mut self.passes {
-            calls.pipelines_kept = 0;
-            calls.groups_kept = 0;
+        let at = match self.plans.iter().position(|p| p.plan == plan) {
+            Some(at) if self.plans[at].passes.len() == passes => at,
+            found => {
+                let calls = PlanCalls {
+                    plan,
+                    generation,
+                    last: frame,
+                    passes: std::iter::repeat_with(PassCalls::default)
+                        .take(passes)
+                        .collect(),
+                };
+                match found {
+                    Some(at) => {
+                        self.plans[at] = calls;
+                        at
+                    }
+                    None => {
+                        self.plans.push(calls);
+                        self.plans.len() - 1
+                    }
+                }
+            }
+        };
+        let calls = &mut self.plans[at];
+        calls.last = frame;
+        for pass in &mut calls.passes {
+            pass.pipelines_kept = 0;
+            pass.groups_kept = 0;
         }
+        self.current = Some(at);
     }
 
     /// Pipelines and bind groups taken from last frame's calls this frame.
     pub fn counted(&self) -> (u64, u64) {
-        self.passes.iter().fold((0, 0), |(p, g), calls| {
-            (p + calls.pipelines_kept, g + calls.groups_kept)
+        let Some(calls) = self.current.and_then(|at| self.plans.get(at)) else {
+            return (0, 0);
+        };
+        calls.passes.iter().fold((0, 0), |(p, g), pass| {
+            (p + pass.pipelines_kept, g + pass.groups_kept)
         })
     }
 
     /// Pass `p`'s calls, its cursors at its first call; None when calls are not kept.
     pub fn pass(&mut self, p: usize) -> Option<&mut PassCalls> {
-        let calls = self.passes.get_mut(p)?;
+        let calls = self.plans.get_mut(self.current?)?.passes.get_mut(p)?;
         calls.next_pipeline = 0;
         calls.next_groups = 0;
         Some(calls)
