@@ -91,6 +91,12 @@ struct Frame {
     after_passes: u64,
     /// Other threads (the finishing thread's `finish`).
     elsewhere: u64,
+    /// Bind groups and pipelines of the frame's dispatches: made, found in
+    /// the shader cache's maps, kept from last frame's calls with no look-up.
+    groups_created: u64,
+    groups_reused: u64,
+    groups_kept: u64,
+    pipelines_kept: u64,
 }
 
 impl Frame {
@@ -135,6 +141,10 @@ fn frame(run: &mut PatchRun) -> Frame {
         passes,
         after_passes,
         elsewhere: all.saturating_sub(mine),
+        groups_created: report.counter("bind groups created"),
+        groups_reused: report.counter("bind groups reused"),
+        groups_kept: report.counter("bind groups kept"),
+        pipelines_kept: report.counter("pipelines kept"),
     }
 }
 
@@ -199,6 +209,20 @@ fn a_frame_rendered_again_allocates_under_its_bound() {
     for (patch, bound) in BOUNDS {
         let frame = steady_frame(patch);
         println!("{patch}: {}", frame.breakdown());
+        // Nothing changed that a pass binds (the moving sphere's buffers
+        // are kept and rewritten in place), so every dispatch takes last
+        // frame's bind groups and pipeline without a look-up.
+        if frame.groups_created > 0
+            || frame.groups_kept == 0
+            || frame.groups_kept != frame.groups_reused
+            || frame.pipelines_kept == 0
+        {
+            failures.push(format!(
+                "{patch}: a steady frame made {} bind groups and reused {}, of which {} \
+                 kept from its last frame, and kept {} pipelines: every group should be kept",
+                frame.groups_created, frame.groups_reused, frame.groups_kept, frame.pipelines_kept
+            ));
+        }
         if frame.all > bound {
             failures.push(format!(
                 "{patch} allocates {} times a frame, over its bound of {bound}:\n{}",

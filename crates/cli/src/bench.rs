@@ -65,6 +65,12 @@ pub struct Args {
     /// timing what the kept plan saves (`plans_reused` in `--json`).
     #[arg(long)]
     no_plan_reuse: bool,
+    /// Look every dispatch's pipeline and bind groups up in the shader
+    /// cache instead of taking what the same call resolved last frame on a
+    /// kept plan: the same frames, for timing what that saves
+    /// (`bind_groups_kept` in `--json`).
+    #[arg(long)]
+    no_kept_bindings: bool,
     /// The order the passes run in: `declared` (declaration order wherever
     /// the reads allow), `waves` (passes that read nothing of each other
     /// side by side, no barrier between them: docs/benchmarks.md, "Passes in
@@ -172,6 +178,11 @@ struct Series {
     /// Frame graphs whose kept plan was reused, and those planned afresh.
     plans_reused: u64,
     plans_made: u64,
+    /// Pipelines and bind groups dispatches took from their last frame's
+    /// calls without a look-up, and bind groups made.
+    pipelines_kept: u64,
+    bind_groups_kept: u64,
+    bind_groups_created: u64,
 }
 
 /// Frames run back to back with timing off (frames in flight): what a host gets.
@@ -261,6 +272,7 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
         Recording::Isolated
     });
     renderer.set_plan_reuse(!args.no_plan_reuse);
+    renderer.set_kept_bindings(!args.no_kept_bindings);
     if let Some(order) = args.schedule.as_deref().and_then(PassOrder::parse) {
         renderer.set_pass_order(order);
     }
@@ -315,6 +327,9 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
         series.queue_submit.push(report.queue_submit_ms);
         series.plans_reused += report.counter("plans reused");
         series.plans_made += report.counter("plans made");
+        series.pipelines_kept += report.counter("pipelines kept");
+        series.bind_groups_kept += report.counter("bind groups kept");
+        series.bind_groups_created += report.counter("bind groups created");
         series.eval.push((cpu - report.record_ms).max(0.0));
         if let Some(span) = report.gpu_frame_ms {
             series.gpu.push(span + geometry_ms);
@@ -413,6 +428,9 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
             // Over the timed frames (not `--wall`'s).
             "plans_reused": series.plans_reused,
             "plans_made": series.plans_made,
+            "pipelines_kept": series.pipelines_kept,
+            "bind_groups_kept": series.bind_groups_kept,
+            "bind_groups_created": series.bind_groups_created,
             "wall_ms_per_frame": wall.as_ref().map(|w| w.ms_per_frame),
             "wall_cpu_ms_median": wall_cpu.0,
             "wall_cpu_eval_ms_median": wall_cpu.1,
@@ -448,6 +466,10 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
         println!(
             "    frame graph plans  {} reused, {} made",
             series.plans_reused, series.plans_made
+        );
+        println!(
+            "    dispatches kept    {} pipelines, {} bind groups ({} bind groups made)",
+            series.pipelines_kept, series.bind_groups_kept, series.bind_groups_created
         );
         if let Some(w) = &wall {
             println!(

@@ -126,12 +126,11 @@ impl MipChainShader {
         levels: &[wgpu::TextureView],
         size: (u32, u32),
     ) -> Result<u64, RenderError> {
-        let device = cx.gpu.device.clone();
         let plan = self.plan(levels.len());
         let mut steps = Vec::with_capacity(plan.len());
         for step in plan {
             let bindings = self.bindings(step, source, levels);
-            let pipeline = cx.shaders.compute_pipeline(&device, key, step.entry)?;
+            let pipeline = cx.compute_pipeline(key, step.entry)?;
             let groups = cx.bind_groups(key, step.entry, &pipeline, bindings)?;
             // A thread per texel of the last level the step writes.
             let (w, h) = ((size.0 >> step.last).max(1), (size.1 >> step.last).max(1));

@@ -105,6 +105,12 @@ impl Renderer {
         self.executor.set_plan_reuse(reuse);
     }
 
+    /// Let dispatches on a kept plan take last frame's pipelines and bind
+    /// groups (the default), or look each up (`Executor::set_kept_bindings`).
+    pub fn set_kept_bindings(&self, keep: bool) {
+        self.executor.set_kept_bindings(keep);
+    }
+
     /// The order passes run in (`frame_graph::PassOrder`: declaration order,
     /// or waves of passes the GPU may run side by side).
     pub fn pass_order(&self) -> PassOrder {

@@ -914,6 +914,18 @@ fn a_repeated_frame_reuses_its_bind_groups_and_texture_views() {
     );
     assert!(report.counter("bind groups reused") >= 2);
     assert!(report.counter("texture views reused") >= 3);
+    // The plan was kept: each copy's groups and pipeline came from its last
+    // frame's call without a look-up (and count as reused).
+    assert!(
+        report.counter("bind groups kept") >= 2,
+        "{:?}",
+        report.counters
+    );
+    assert!(
+        report.counter("pipelines kept") >= 2,
+        "{:?}",
+        report.counters
+    );
 }
 
 /// [`arithmetic_frame`] as a re-made recipe declares it: its textures named
@@ -1401,5 +1413,164 @@ fn a_frame_declared_again_reuses_its_plan_and_any_change_makes_a_new_one() {
     assert_eq!(reusing, afresh);
     assert_eq!(reusing[6], ["A #1", "B #2", "C #3"]);
     renderer.set_plan_reuse(true);
+    renderer.wait_idle().expect("drains");
+}
+
+/// A frame whose pass "pick" copies one of two imported images (`pick`: 0
+/// or 1, each a flat grey of its own) into `picked` and whose pass "other"
+/// copies the other into `other` (their roles trade as a history and its
+/// twin do); returns both outputs' first pixels and the frame's report.
+fn picked_frame(
+    renderer: &spreadlight_render::Renderer,
+    images: &[Arc<spreadlight_render::static_texture::StaticTexture>; 2],
+    pick: usize,
+) -> ([[f32; 4]; 2], spreadlight_render::FrameReport) {
+    picked_frame_at(renderer, images, pick, (8, 8))
+}
+
+/// [`picked_frame`] at output size `size`.
+fn picked_frame_at(
+    renderer: &spreadlight_render::Renderer,
+    images: &[Arc<spreadlight_render::static_texture::StaticTexture>; 2],
+    pick: usize,
+    size: (u32, u32),
+) -> ([[f32; 4]; 2], spreadlight_render::FrameReport) {
+    use spreadlight_render::post::CopyKey;
+    use spreadlight_render::readback::render_and_read;
+    use spreadlight_render::shaders::Permutation;
+    struct Pick(
+        [Arc<spreadlight_render::static_texture::StaticTexture>; 2],
+        usize,
+    );
+    impl spreadlight_render::Recipe for Pick {
+        fn declare<'a>(&'a self, _: &'a spreadlight_render::Renderer, fg: &mut FrameGraph<'a>) {
+            fg.import("image 0", self.0[0].texture.texture.clone());
+            fg.import("image 1", self.0[1].texture.texture.clone());
+            for (name, image) in [("picked", self.1), ("other", 1 - self.1)] {
+                let mut pass = fg.pass(name, Some(5));
+                let sources = [pass.read("image 0"), pass.read("image 1")];
+                let output = pass.write(name, target());
+                let source = sources[image];
+                pass.run(move |cx| {
+                    cx.dispatch_image(
+                        "copy",
+                        &CopyKey.key(),
+                        Bindings::new()
+                            .texture("source", source)
+                            .texture("output", output),
+                        (8, 8),
+                    )
+                });
+            }
+        }
+    }
+    let recipe = Pick(images.clone(), pick);
+    let (report, images) =
+        render_and_read(renderer, &recipe, size, &["picked", "other"]).expect("renders");
+    assert!(report.errors.is_empty(), "{:?}", report.errors);
+    ([images[0].pixels[0], images[1].pixels[0]], report)
+}
+
+/// A frame on a kept plan takes each dispatch's pipeline and bind groups
+/// from what it resolved before (`pipelines kept`, `bind groups kept`)
+/// only while it binds the same: a dispatch binding another texture than
+/// last frame binds the new one, and one going back to what it bound
+/// before that (a history and its twin in turns) takes those groups again;
+/// another graph rendered in turns keeps its own.
+#[test]
+fn a_kept_plan_s_dispatch_binds_what_it_binds_now() {
+    use spreadlight_render::static_texture::StaticTexture;
+    let renderer = test_renderer();
+    let grey = |v: f32, name: &str| {
+        StaticTexture::from_rgba32f(&renderer.gpu, 8, 8, &[[v, v, v, 1.0]; 64], name)
+    };
+    let images = [grey(0.25, "image 0"), grey(0.75, "image 1")];
+    let kept = |report: &spreadlight_render::FrameReport| {
+        (
+            report.counter("pipelines kept"),
+            report.counter("bind groups kept"),
+        )
+    };
+    let wanted = |pick: usize| {
+        let [a, b] = [[0.25, 0.75][pick], [0.25, 0.75][1 - pick]];
+        [[a, a, a, 1.0], [b, b, b, 1.0]]
+    };
+    // (which image "picked" copies, whether the frame's groups are kept):
+    // the plan is made in the first frame and taken from the second, whose
+    // calls are kept from then on.
+    let frames = [
+        (0, false),
+        (0, false),
+        (0, true),
+        // The images trade roles: resolved afresh, each bound where it is now.
+        (1, false),
+        (1, true),
+        // And back: kept from before.
+        (0, true),
+        (1, true),
+        (0, true),
+    ];
+    for (frame, &(pick, groups_kept)) in frames.iter().enumerate() {
+        let (pixels, report) = picked_frame(&renderer, &images, pick);
+        assert_eq!(pixels, wanted(pick), "frame {frame}");
+        let (pipelines, groups) = kept(&report);
+        assert_eq!(
+            report.counter("plans reused"),
+            u64::from(frame > 0),
+            "frame {frame}"
+        );
+        if frame > 1 {
+            // The copies' pipeline, whatever they bind.
+            assert_eq!(pipelines, 2, "frame {frame}: {:?}", report.counters);
+        } else {
+            assert_eq!((pipelines, groups), (0, 0), "frame {frame}");
+        }
+        let all = if groups_kept { 2 } else { 0 };
+        assert_eq!(groups, all, "frame {frame}: {:?}", report.counters);
+        if groups_kept {
+            assert_eq!(report.counter("bind groups created"), 0, "frame {frame}");
+            assert_eq!(report.counter("bind groups reused"), 2, "frame {frame}");
+        }
+    }
+    // Another graph rendered in turns with this one (a patch with two
+    // Outputs): each plan keeps its own calls.
+    for turn in 0..4 {
+        // The other graph: the same passes at another size, so another plan.
+        let (pixels, other) = picked_frame_at(&renderer, &images, 1, (16, 8));
+        assert_eq!(pixels, wanted(1), "turn {turn}");
+        let (pixels, report) = picked_frame(&renderer, &images, 0);
+        assert_eq!(pixels, wanted(0), "turn {turn}");
+        // Pipelines only: the view cache makes the views of a texture no
+        // frame used again (each graph's outputs, here), so their groups
+        // are new in each turn.
+        assert_eq!(kept(&report).0, 2, "turn {turn}: {:?}", report.counters);
+        // Its plan is made in its first turn and keeps its calls from its second.
+        let other_kept = if turn > 1 { 2 } else { 0 };
+        assert_eq!(
+            kept(&other).0,
+            other_kept,
+            "turn {turn}: {:?}",
+            other.counters
+        );
+    }
+    // Planned afresh each frame, nothing is kept and the images are the same.
+    renderer.set_plan_reuse(false);
+    for pick in [0, 1, 0] {
+        let (pixels, report) = picked_frame(&renderer, &images, pick);
+        assert_eq!(pixels, wanted(pick));
+        assert_eq!(kept(&report), (0, 0), "{:?}", report.counters);
+    }
+    renderer.set_plan_reuse(true);
+    // Kept bindings off: the plan is kept, every call looks its pipeline and
+    // groups up in the shader cache, and the images are the same.
+    renderer.set_kept_bindings(false);
+    for (frame, pick) in [0, 0, 1, 0].into_iter().enumerate() {
+        let (pixels, report) = picked_frame(&renderer, &images, pick);
+        assert_eq!(pixels, wanted(pick));
+        // Planned again in the first (plans made afresh were not kept).
+        assert_eq!(report.counter("plans reused"), u64::from(frame > 0));
+        assert_eq!(kept(&report), (0, 0), "{:?}", report.counters);
+    }
+    renderer.set_kept_bindings(true);
     renderer.wait_idle().expect("drains");
 }

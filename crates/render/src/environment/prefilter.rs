@@ -157,7 +157,7 @@ pub(crate) fn build(
                     size: u32,
                     layers: u32|
      -> Result<(), RenderError> {
-        let pipeline = cx.shaders.compute_pipeline(&device, &key_shader, entry)?;
+        let pipeline = cx.compute_pipeline(&key_shader, entry)?;
         let groups = cx.bind_groups(&key_shader, entry, &pipeline, bindings)?;
         let workgroups = size.div_ceil(8);
         steps.push((pipeline, groups, (workgroups, workgroups, layers)));

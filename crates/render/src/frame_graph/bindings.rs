@@ -8,6 +8,7 @@
 
 use smallvec::SmallVec;
 
+use super::kept_bindings::{Given, GroupsCall};
 use super::{PassContext, Tex};
 use crate::error::RenderError;
 use crate::shaders::{PipelineRef, Reflection, Sampling, ShaderKey};
@@ -165,6 +166,18 @@ enum Owned<'r> {
     Sampler(wgpu::Sampler),
 }
 
+impl Owned<'_> {
+    /// What the binding is by identity, to compare with last frame's.
+    fn given(&self) -> Given<'_> {
+        match self {
+            Owned::View(view) => Given::View(view),
+            Owned::Buffer(buffer) => Given::Buffer(buffer, 0, None),
+            Owned::BufferRange(buffer, offset, size) => Given::Buffer(buffer, *offset, Some(*size)),
+            Owned::Sampler(sampler) => Given::Sampler(sampler),
+        }
+    }
+}
+
 impl PassContext<'_> {
     /// The bind groups (0 up to the last the entry point uses) of a compute
     /// pipeline of `key`/`entry`, from `bindings` by name.
@@ -176,16 +189,8 @@ impl PassContext<'_> {
         bindings: Bindings<'_>,
     ) -> Result<BindGroups, RenderError> {
         let (owned, groups) = self.resolve_bindings(bindings)?;
-        let resources = as_resources(&owned);
-        let device = self.gpu.device.clone();
-        self.shaders.named_groups(
-            &device,
-            key,
-            &[entry],
-            &PipelineRef::Compute(pipeline.clone()),
-            &resources,
-            &groups,
-        )
+        let pipeline = PipelineRef::Compute(pipeline.clone());
+        self.kept_groups(key, &[entry], &pipeline, &owned, &groups)
     }
 
     /// [`PassContext::bind_groups`] for a render pipeline of `key`'s stages `entries`.
@@ -197,16 +202,57 @@ impl PassContext<'_> {
         bindings: Bindings<'_>,
     ) -> Result<BindGroups, RenderError> {
         let (owned, groups) = self.resolve_bindings(bindings)?;
-        let resources = as_resources(&owned);
-        let device = self.gpu.device.clone();
-        self.shaders.named_groups(
-            &device,
+        let pipeline = PipelineRef::Render(pipeline.clone());
+        self.kept_groups(key, entries, &pipeline, &owned, &groups)
+    }
+
+    /// The groups this call got last frame when it binds exactly what it
+    /// bound then (kept_bindings.rs), else the shader cache's: matched by
+    /// name to the permutation's reflection, each group found or made.
+    fn kept_groups(
+        &mut self,
+        key: &ShaderKey,
+        entries: &[&str],
+        pipeline: &PipelineRef,
+        owned: &[(&str, Owned<'_>)],
+        prebuilt: &[(u32, wgpu::BindGroup)],
+    ) -> Result<BindGroups, RenderError> {
+        let given: SmallVec<[(&str, Given<'_>); INLINE_BINDINGS]> =
+            owned.iter().map(|(name, r)| (*name, r.given())).collect();
+        let call = GroupsCall {
             key,
             entries,
-            &PipelineRef::Render(pipeline.clone()),
-            &resources,
-            &groups,
-        )
+            pipeline,
+            resources: &given,
+            prebuilt,
+        };
+        let shaders = &mut *self.shaders;
+        let device = &self.gpu.device;
+        let mut resolve = || {
+            let resources = as_resources(owned);
+            shaders.named_groups(device, key, entries, pipeline, &resources, prebuilt)
+        };
+        match &mut self.kept {
+            Some(kept) => Ok(kept.groups(&call, resolve)?.0),
+            None => resolve(),
+        }
+    }
+
+    /// The compute pipeline of `entry` in permutation `key`: the one this
+    /// pass's call got last frame when it asks for the same (kept_bindings.rs),
+    /// else the shader cache's.
+    pub fn compute_pipeline(
+        &mut self,
+        key: &ShaderKey,
+        entry: &'static str,
+    ) -> Result<wgpu::ComputePipeline, RenderError> {
+        let shaders = &mut *self.shaders;
+        let device = &self.gpu.device;
+        let mut resolve = || shaders.compute_pipeline(device, key, entry);
+        match &mut self.kept {
+            Some(kept) => Ok(kept.pipeline(key, entry, resolve)?.0),
+            None => resolve(),
+        }
     }
 
     /// [`PassContext::bind_groups`] for a pipeline reflected elsewhere
@@ -273,8 +319,7 @@ impl PassContext<'_> {
         bindings: Bindings<'_>,
         workgroups: (u32, u32, u32),
     ) -> Result<(), RenderError> {
-        let device = self.gpu.device.clone();
-        let pipeline = self.shaders.compute_pipeline(&device, key, entry)?;
+        let pipeline = self.compute_pipeline(key, entry)?;
         let groups = self.bind_groups(key, entry, &pipeline, bindings)?;
         let groups: SmallVec<[&wgpu::BindGroup; 4]> = groups.iter().collect();
         self.dispatch(label, &pipeline, &groups, workgroups);

@@ -167,6 +167,13 @@ fn execute(
     let capacity = if timestamps.is_some() { MAX_QUERIES } else { 0 };
     let mut shaders = executor.shaders();
     shaders.begin_frame();
+    let mut kept = executor.kept_bindings();
+    kept.begin(
+        plan.id,
+        plan.names.len(),
+        shaders.generation,
+        planned.reused,
+    );
     let compiled_before = shaders.pipelines_compiled;
     let looked_up_before = shaders.compute_pipelines_used().len();
     let groups_before = (shaders.bind_groups_created, shaders.bind_groups_reused);
@@ -252,6 +259,7 @@ fn execute(
             compute: open_compute.take(),
             timestamps_inside_passes: inside_passes,
             shaders: &mut shaders,
+            kept: kept.pass(p),
             textures: &mut live,
             texture_names: &plan.texture_names,
             reads: &plan.reads[p],
@@ -415,15 +423,19 @@ fn execute(
     super::gather::frame_made_pipelines(shaders.compute_pipelines_used().len() > looked_up_before);
     shaders.end_frame_ahead();
     let mut views = views.into_inner();
+    let (pipelines_kept, groups_kept) = kept.counted();
     for (name, n) in counters().into_iter().chain([
         (
             "bind groups created",
             shaders.bind_groups_created - groups_before.0,
         ),
+        // Kept ones too: reused without a look-up (kept_bindings.rs).
         (
             "bind groups reused",
-            shaders.bind_groups_reused - groups_before.1,
+            shaders.bind_groups_reused - groups_before.1 + groups_kept,
         ),
+        (super::PIPELINES_KEPT, pipelines_kept),
+        (super::BIND_GROUPS_KEPT, groups_kept),
         ("texture views created", views.created - views_before.0),
         ("texture views reused", views.reused - views_before.1),
     ]) {
@@ -434,6 +446,7 @@ fn execute(
     views.end_frame();
     textures.end_frame();
     textures.views = views;
+    drop(kept);
     drop(shaders);
 
     // The last run's compute pass ends before its encoder resolves the timestamps and finishes.

@@ -74,6 +74,8 @@ pub struct Executor {
     finisher: Finisher,
     /// Frame graphs' plans kept across frames (plan.rs).
     plans: super::plan::Plans,
+    /// What the last plan's dispatches resolved (kept_bindings.rs).
+    kept_bindings: Mutex<super::kept_bindings::KeptBindings>,
 }
 
 impl Executor {
@@ -112,6 +114,7 @@ impl Executor {
             last_report: Mutex::new(FrameReport::default()),
             finisher: Finisher::new(gpu.device.clone()),
             plans: Default::default(),
+            kept_bindings: Default::default(),
         })
     }
 
@@ -137,6 +140,20 @@ impl Executor {
     /// way (plan.rs), this is for tests and benchmarks to compare.
     pub fn set_plan_reuse(&self, reuse: bool) {
         self.plans.set_reuse(reuse);
+    }
+
+    /// Let a kept plan's dispatches take what they resolved last frame (the
+    /// default), or resolve every pipeline and bind group through the shader
+    /// cache: the frames are the same either way (kept_bindings.rs), this is
+    /// for tests and benchmarks to compare.
+    pub fn set_kept_bindings(&self, keep: bool) {
+        self.kept_bindings().on = keep;
+    }
+
+    pub(crate) fn kept_bindings(
+        &self,
+    ) -> std::sync::MutexGuard<'_, super::kept_bindings::KeptBindings> {
+        self.kept_bindings.lock().unwrap_or_else(|e| e.into_inner())
     }
 
     pub(crate) fn plans(&self) -> &super::plan::Plans {

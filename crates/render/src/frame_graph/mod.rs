@@ -28,6 +28,7 @@ mod finisher;
 mod gather;
 mod handles;
 mod history;
+mod kept_bindings;
 mod live;
 mod merge;
 mod plan;
@@ -49,6 +50,7 @@ pub use finisher::FRAME_CHUNKS;
 pub(crate) use finisher::Finisher;
 pub use handles::{PassBuilder, Tex};
 pub use history::{COPIED as HISTORIES_COPIED, HANDED_OVER as HISTORIES_HANDED_OVER};
+pub use kept_bindings::{BIND_GROUPS_KEPT, PIPELINES_KEPT};
 pub use waves::{PASS_ORDER_VAR, PASS_WAVES, PassOrder};
 
 /// What every texture a frame hands back to its caller can do, so that any
@@ -248,6 +250,9 @@ pub struct PassContext<'f> {
     /// timed graph pass can share one.
     pub(crate) timestamps_inside_passes: bool,
     pub shaders: &'f mut ShaderCache,
+    /// What this pass's calls resolved last frame (kept_bindings.rs).
+    /// None where calls are not kept (`Executor::set_kept_bindings`).
+    pub(crate) kept: Option<&'f mut kept_bindings::PassCalls>,
     pub(crate) textures: &'f mut live::Live,
     /// The frame's texture names by handle, and what this pass declared:
     /// the only textures its handles resolve to (handles.rs).

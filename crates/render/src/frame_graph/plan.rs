@@ -211,6 +211,8 @@ impl Shape {
 /// A frame graph's plan: the passes after culling, ordering and merging,
 /// and what the executor derives from them before any pass records.
 pub(crate) struct Plan {
+    /// Unique in the process: what a frame's kept bindings are of (kept_bindings.rs).
+    pub id: u64,
     shape: Shape,
     /// Per pass (declaration order, merged pairs folded into their first):
     /// its name as fields, as text (with its owner), its owner, the owner of
@@ -311,7 +313,9 @@ impl Plan {
                     .collect()
             })
             .collect();
+        static PLANS_MADE: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(1);
         Plan {
+            id: PLANS_MADE.fetch_add(1, std::sync::atomic::Ordering::Relaxed),
             shape,
             labels: parts.labels,
             names: parts.names,

@@ -308,20 +308,15 @@ impl ComputeRaster {
         for batch in &self.batches {
             let sided = view.two_sided || batch.two_sided;
             if triangle_pipelines[usize::from(sided)].is_none() {
-                triangle_pipelines[usize::from(sided)] = Some(cx.shaders.compute_pipeline(
-                    &device,
-                    &key(sided),
-                    "raster_triangles",
-                )?);
+                triangle_pipelines[usize::from(sided)] =
+                    Some(cx.compute_pipeline(&key(sided), "raster_triangles")?);
             }
         }
         // Big triangles queued as tiles are set up again there: with back
         // faces turned around when any draw queued some (a front face is
         // rasterized the same either way).
         let any_two_sided = triangle_pipelines[1].is_some() || view.two_sided;
-        let tiles_pipeline =
-            cx.shaders
-                .compute_pipeline(&device, &key(any_two_sided), "raster_tiles")?;
+        let tiles_pipeline = cx.compute_pipeline(&key(any_two_sided), "raster_tiles")?;
         let (vertices, indices, _) = renderer.meshes.buffers();
         // The same buffers every frame (kept under the node): the groups are cached.
         let groups_of = |cx: &mut PassContext<'_>,

@@ -196,7 +196,7 @@ pub(super) fn resolve(
                         b = b.extend(maps);
                     }
                 }
-                let pipeline = cx.shaders.compute_pipeline(&device, &key, "main")?;
+                let pipeline = cx.compute_pipeline(&key, "main")?;
                 let groups = cx.bind_groups(&key, "main", &pipeline, b)?;
                 (pipeline, groups)
             }

@@ -225,7 +225,6 @@ pub(crate) fn assign_lights(
     lights: &LightBuffer,
     occupied: Option<&wgpu::Buffer>,
 ) -> Result<(), RenderError> {
-    let device = cx.gpu.device.clone();
     let count = lights.count();
     let guard = store.get(cx.gpu, grid.clusters(), count);
     let Some(b) = guard.as_ref() else {
@@ -246,7 +245,7 @@ pub(crate) fn assign_lights(
     let steps = ["transform", "count", "scan", "fill"];
     let mut work = Vec::new();
     for step in steps {
-        let pipeline = cx.shaders.compute_pipeline(&device, &key, step)?;
+        let pipeline = cx.compute_pipeline(&key, step)?;
         let bindings = Bindings::new()
             .buffer("camera", camera)
             .buffer("grid", grid_buffer)

@@ -77,6 +77,9 @@ pub struct ShaderCache {
     /// them in place, without building (allocating, cloning) a key.
     bind_groups: FxHashMap<u64, Vec<CachedGroup>>,
     frame: u64,
+    /// Sources swapped in since the cache was made ([`ShaderCache::replace_sources`]):
+    /// what a pipeline or bind group held outside the cache was resolved under.
+    pub(crate) generation: u64,
     /// Pipelines compiled since the cache was made: by the cache itself,
     /// or on threads ahead of the look-up (`crate::pipelines_ahead`), of
     /// which those are `pipelines_taken_ahead`.
@@ -260,6 +263,7 @@ impl ShaderCache {
             surfaces: FxHashMap::default(),
             bind_groups: FxHashMap::default(),
             frame: 0,
+            generation: 0,
             pipelines_compiled: 0,
             pipelines_taken_ahead: 0,
             bind_groups_created: 0,
@@ -378,6 +382,7 @@ impl ShaderCache {
             pipelines_taken_ahead: self.pipelines_taken_ahead,
             compile_times: self.compile_times,
             pipeline_cache: self.pipeline_cache.take(),
+            generation: self.generation + 1,
             ..ShaderCache::new(composer)
         };
     }

@@ -479,13 +479,10 @@ impl ShadowMaps {
         moments: &wgpu::Texture,
         regions: &[(u32, Rect, wgpu::Buffer)],
     ) -> Result<(), RenderError> {
-        let device = cx.gpu.device.clone();
         let key = MomentsKey.key();
-        let pipeline = cx.shaders.compute_pipeline(&device, &key, "main")?;
-        let depth_view = depth.create_view(&wgpu::TextureViewDescriptor {
-            dimension: Some(wgpu::TextureViewDimension::D2Array),
-            ..Default::default()
-        });
+        let pipeline = cx.compute_pipeline(&key, "main")?;
+        // The view cache's: a view made here each frame was a new bind group each frame.
+        let depth_view = cx.view_of(depth, crate::texture_pool::ViewSpec::array());
         let mut groups = Vec::new();
         for (layer, rect, info) in regions {
             let b = Bindings::new()
