@@ -194,6 +194,10 @@ pub struct MaterialData {
     /// it: no absorption). Infinity stays on the CPU: what leaves for the
     /// GPU is [`MaterialData::transmittance`], finite.
     pub attenuation_distance: f32,
+    /// `KHR_materials_dispersion`: dispersion, 20 / the Abbe number (0
+    /// without it: every colour refracts alike). Lit transparency bends
+    /// red, green and blue by their own index through a transmissive volume.
+    pub dispersion: f32,
     /// `KHR_materials_clearcoat`: clearcoatTexture (red scales the factor)
     /// and clearcoatRoughnessTexture (green), sampled in the G-buffer
     /// resolve (the surface maps' coat slots); clearcoatNormalTexture, the
@@ -247,6 +251,7 @@ impl Default for MaterialData {
             thickness_texture: None,
             attenuation_color: [1.0; 3],
             attenuation_distance: f32::INFINITY,
+            dispersion: 0.0,
             clearcoat_texture: None,
             clearcoat_roughness_texture: None,
             clearcoat_normal_texture: None,
@@ -474,6 +479,7 @@ fn check_camera_projections(root: &gltf::json::Root, path: &Path) -> Result<(), 
 pub const SUPPORTED_EXTENSIONS: &[&str] = &[
     "KHR_lights_punctual",
     "KHR_materials_clearcoat",
+    "KHR_materials_dispersion",
     "KHR_materials_emissive_strength",
     "KHR_materials_ior",
     "KHR_materials_pbrSpecularGlossiness",

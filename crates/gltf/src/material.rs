@@ -290,6 +290,7 @@ impl MaterialData {
                     self.thickness,
                     self.attenuation_color,
                     self.attenuation_distance,
+                    self.dispersion,
                 ),
             );
         }

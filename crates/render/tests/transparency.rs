@@ -9,7 +9,10 @@
 //! Transmission: a glass slab over a ramp shifts what is behind by what
 //! Snell's law says (the CPU reference, `spreadlight_reference::
 //! refraction`), ior 1 shows it unshifted, the volume absorbs by
-//! exp(-σ path); ior 0 or NaN, an infinite thickness, grazing angles and
+//! exp(-σ path); a dispersive material (KHR_materials_dispersion) bends
+//! red, green and blue by their own ior as the CPU reference does (fringes
+//! on the predicted side of a white/black edge), dispersion 0 bit for bit
+//! as before; ior 0 or NaN, an infinite thickness, grazing angles and
 //! rays leaving the screen stay finite and clamp. Rough glass blurs through
 //! the opaque image's mip chain (built only when a layer refracts) as the
 //! taps do; rays leaving the screen see the Environment where there is one.
@@ -1541,6 +1544,124 @@ fn the_volume_absorbs_by_beer_lambert_over_the_path_inside() {
             want.x < 0.75 && path > thickness,
             "absorbed along a slanted path"
         );
+    }
+}
+
+/// A grey ramp: every channel holds the pixel's u, so each channel of what
+/// a pixel shows says where that channel sampled.
+fn grey_ramp(x: u32, _: u32) -> [f32; 4] {
+    let u = (x as f32 + 0.5) / SIZE.0 as f32;
+    [u, u, u, 1.0]
+}
+
+/// The column of [`white_then_black`]'s first black texel.
+const EDGE: u32 = 24;
+
+/// White left of column EDGE, black from it on.
+fn white_then_black(x: u32, _: u32) -> [f32; 4] {
+    if x < EDGE { [1.0; 4] } else { [0.0, 0.0, 0.0, 1.0] }
+}
+
+#[test]
+fn dispersion_bends_red_green_and_blue_by_their_own_ior_and_zero_is_todays_image() {
+    use spreadlight_render::material::{Feature, Material, MaterialWorld, transmission_params};
+    let renderer = test_renderer();
+    let texel = 1.0 / SIZE.0 as f32;
+    let (tilt, ior, thickness) = (0.6, 1.5, 2.0);
+    let glass = |dispersion: f32| {
+        let params = transmission_params(1.0, ior, thickness, [1.0; 3], f32::INFINITY, dispersion);
+        let material = Material::new()
+            .with(Feature::Transmission, &params)
+            .expect("valid");
+        Some(MaterialWorld::new(&renderer, vec![material]))
+    };
+    let node = glass_settings(TransmissionSettings::default());
+    // Dispersion 20 (an Abbe number of 1, far beyond flint's 30ish, so
+    // the spread is pixels wide): KHR_materials_dispersion's spread is
+    // (ior - 1) x 20 / 20 = 0.5 about the green's 1.5.
+    let iors = [1.25, 1.5, 1.75];
+    let (_, out, _, n) = refract_through(&renderer, tilt, node, glass(20.0), grey_ramp);
+    for (x, y) in REFRACTED_PIXELS {
+        let got = at(&out, x, y);
+        let want = iors.map(|ior| snell_uv(x, y, n, ior, thickness).expect("on the pane").0.x);
+        for c in 0..3 {
+            assert!(
+                (got[c] - want[c]).abs() < 0.3 * texel,
+                "({x}, {y}) channel {c} (ior {}): sampled u {}, Snell says {}",
+                iors[c],
+                got[c],
+                want[c]
+            );
+        }
+        assert!(
+            want[0] - want[2] > 1.5 * texel,
+            "a spread worth testing at ({x}, {y}): {want:?}"
+        );
+    }
+    // Over a white/black edge: the fringes the CPU predicts. Bilinear
+    // filtering of the edge gives a sample at texel coordinate t (u x width
+    // - 0.5) white below EDGE - 1 and black above EDGE; channels whose
+    // sample is clear of that band by 0.3 texel (the tolerance above) are
+    // checked.
+    let (_, out, _, n) = refract_through(&renderer, tilt, node, glass(20.0), white_then_black);
+    let (mut checked, mut fringes) = (0, 0);
+    for y in [20, 24, 28] {
+        for x in 0..SIZE.0 {
+            let Some(want) = iors
+                .iter()
+                .map(|&ior| snell_uv(x, y, n, ior, thickness))
+                .collect::<Option<Vec<_>>>()
+            else {
+                continue;
+            };
+            let got = at(&out, x, y);
+            let mut seen = [None; 3];
+            for c in 0..3 {
+                let t = want[c].0.x * SIZE.0 as f32 - 0.5;
+                let expected = if t <= EDGE as f32 - 1.3 {
+                    1.0
+                } else if t >= EDGE as f32 + 0.3 {
+                    0.0
+                } else {
+                    continue;
+                };
+                assert!(
+                    (got[c] - expected).abs() < 0.02,
+                    "({x}, {y}) channel {c}: {} instead of {expected} (sampled at texel {t})",
+                    got[c]
+                );
+                seen[c] = Some(expected);
+                checked += 1;
+            }
+            // A fringe: red (the least bent) already on the black side
+            // while blue (the most) still sees white; never the other way.
+            if seen[0] == Some(0.0) && seen[2] == Some(1.0) {
+                fringes += 1;
+            }
+            assert!(
+                !(seen[0] == Some(1.0) && seen[2] == Some(0.0)),
+                "({x}, {y}): {got:?}"
+            );
+        }
+    }
+    assert!(fringes >= 3 && checked > 200, "{fringes} fringes, {checked} checked");
+    // Dispersion 0 takes the walk it always did: the node's own glass
+    // (no material world) with the same ior and thickness, bit for bit, and
+    // every channel alike.
+    let (_, zero, _, _) = refract_through(&renderer, tilt, node, glass(0.0), grey_ramp);
+    let same = TransmissionSettings {
+        factor: 1.0,
+        ior,
+        thickness,
+        ..Default::default()
+    };
+    let (_, today, _, _) = refract_through(&renderer, tilt, glass_settings(same), None, grey_ramp);
+    assert_eq!(zero.pixels, today.pixels, "dispersion 0 against the node's glass");
+    for (x, y) in REFRACTED_PIXELS {
+        let got = at(&zero, x, y);
+        assert!(got[0] == got[1] && got[1] == got[2], "({x}, {y}): {got:?}");
+        let want = snell_uv(x, y, n, ior, thickness).expect("on the pane").0.x;
+        assert!((got[1] - want).abs() < 0.3 * texel, "({x}, {y}): {got:?} vs {want}");
     }
 }
 
