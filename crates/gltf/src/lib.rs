@@ -37,7 +37,8 @@
 //!   specular, clearcoat, transmission as blending with its map baked into
 //!   the base colour's alpha, volume read, spec-gloss converted to
 //!   metal-rough); [`MaterialData::to_material`] makes them materials of the
-//!   one world;
+//!   one world; `KHR_materials_variants`' mappings per instance
+//!   ([`variants`]);
 //! - a file requiring an extension outside [`SUPPORTED_EXTENSIONS`] is
 //!   refused with a [`GltfError`] naming it; unknown optional ones are
 //!   ignored with one warning each; `asset.version` must be 2.x.
@@ -69,6 +70,7 @@ pub mod spec_gloss;
 #[cfg(test)]
 mod tests;
 pub mod transmission;
+pub mod variants;
 mod volume;
 #[cfg(test)]
 mod volume_tests;
@@ -112,6 +114,9 @@ pub struct GltfScene {
     pub graph: animation::SceneGraph,
     /// Node animations (TRS channels), in file order.
     pub animations: Vec<animation::Animation>,
+    /// `KHR_materials_variants`' variant names, in file order (empty
+    /// without the extension); see [`GltfScene::variant`].
+    pub variants: Vec<String>,
     /// What was skipped or ignored; the rest of the file loaded.
     pub warnings: Vec<String>,
 }
@@ -131,6 +136,10 @@ pub struct MeshInstance {
     pub skin: Option<usize>,
     /// Its morph weights at rest (the node's, else the mesh's; one per target).
     pub weights: Vec<f32>,
+    /// `KHR_materials_variants`: its material in each of the file's
+    /// variants (`None`: its default `material`); empty without variants.
+    /// [`MeshInstance::material_in`] picks.
+    pub variant_materials: Vec<Option<usize>>,
 }
 
 pub use spreadlight_render::material::maps::AlphaMode;
@@ -486,6 +495,7 @@ pub const SUPPORTED_EXTENSIONS: &[&str] = &[
     "KHR_materials_specular",
     "KHR_materials_transmission",
     "KHR_materials_unlit",
+    "KHR_materials_variants",
     "KHR_materials_volume",
     "KHR_texture_transform",
 ];
