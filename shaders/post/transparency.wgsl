@@ -61,7 +61,9 @@
 // view-space normal of the face shown (MATCAP_TEXTURE: the world's texture
 // array holds its images; else the built-in clay). SSR, Reflection's
 // screen-space input and SSAO are the G-buffer's, which transparent layers
-// are not in: they get the Environment (ENVIRONMENT) and no SSR.
+// are not in: they get the Environment (ENVIRONMENT) and no SSR; a coated
+// layer's base pass (CLEARCOAT with ENVIRONMENT) adds the coat's own
+// reflection of it and dims the base's (`coated_environment`).
 // TRANSMISSION (base pass; a layer whose world has a Transmission material,
 // or any layer when the node's Transmission is on): of what shows through
 // a fragment (1 - alpha), the material's share is refracted instead of
@@ -137,6 +139,11 @@
 // The shaded fragment's coat, which the light function sums into
 // (lib/forward_light.wgsl holds it beside the coat's lobe).
 #import spreadlight::forward_light::{coat_factor, coat_surface, coat_sum, coated_specular}
+#endif
+#ifdef ENVIRONMENT
+// The coat's reflection of the environment (the base pass's; ENVIRONMENT
+// is never a light pass's).
+#import spreadlight::brdf::{schlick_weight, DIELECTRIC_F0}
 #endif
 #endif
 
@@ -378,6 +385,27 @@ fn environment_light(n: vec3<f32>, v: vec3<f32>, albedo: vec3<f32>, roughness: f
     let specular = textureSampleLevel(prefiltered, cube_sampler, reflect(-v, nf), lod).rgb * factor;
     return max(diffuse, vec3<f32>(0.0)) + max(specular, vec3<f32>(0.0)) * max(reflective, 0.0);
 }
+
+#ifdef CLEARCOAT
+// `base` (environment_light's) under a coat (`coat`: factor, roughness;
+// its normal `n`, the face shown): what the coat reflects does not reach
+// the base, nor leave it (1 - factor x F(N.V), as the light walk dims it),
+// and the coat's own reflection of the environment (f0 0.04 at its
+// roughness) adds, scaled by `reflective` as the base's specular is.
+// Reflection does the same for opaque surfaces.
+fn coated_environment(base: vec3<f32>, n: vec3<f32>, v: vec3<f32>, coat: vec2<f32>, reflective: f32) -> vec3<f32> {
+    if (!(coat.x > 0.0)) {
+        return base;
+    }
+    let nf = facing_normal(n, v);
+    let n_dot_v = clamp(dot(nf, v), 1e-4, 1.0);
+    let dim = 1.0 - coat.x * (DIELECTRIC_F0 + (1.0 - DIELECTRIC_F0) * schlick_weight(n_dot_v));
+    let factor = split_sum(lut, cube_sampler, vec3<f32>(DIELECTRIC_F0), n_dot_v, coat.y);
+    let lod = coat.y * max(params.surface.w - 1.0, 0.0);
+    let lobe = textureSampleLevel(prefiltered, cube_sampler, reflect(-v, nf), lod).rgb * factor;
+    return base * dim + max(lobe, vec3<f32>(0.0)) * coat.x * max(reflective, 0.0);
+}
+#endif
 #endif
 
 #ifdef MATCAP
@@ -791,7 +819,11 @@ fn fs(in: VertexOut, @builtin(front_facing) front: bool) -> Accumulated {
 #endif
     let facing = select(-n, n, front);
     let v = safe_normalize(camera.position.xyz - in.world, facing);
-    unlit += environment_light(facing, v, albedo, roughness, metallic, reflectance, reflective) * occlusion;
+    var environment = environment_light(facing, v, albedo, roughness, metallic, reflectance, reflective);
+#ifdef CLEARCOAT
+    environment = coated_environment(environment, select(-coat_n, coat_n, front), v, coat, reflective);
+#endif
+    unlit += environment * occlusion;
 #endif
 #ifdef MATCAP
     unlit += matcap_light(in.material, select(-n, n, front), in.world, albedo);

@@ -6,7 +6,8 @@
 //! reference at chosen pixels, naive and clustered alike; zero normals,
 //! zero roughness and a light at the surface stay finite; light passes run
 //! only for connected light buffers, with only their type compiled in.
-//! Transmission: a glass slab over a ramp shifts what is behind by what
+//! A clear coat on a BLEND surface reflects a uniform environment over its
+//! dimmed base as the analytic value says. Transmission: a glass slab over a ramp shifts what is behind by what
 //! Snell's law says (the CPU reference, `spreadlight_reference::
 //! refraction`), ior 1 shows it unshifted, the volume absorbs by
 //! exp(-σ path); a dispersive material (KHR_materials_dispersion) bends
@@ -1057,6 +1058,105 @@ fn a_uniform_environment_reflects_off_white_metal_glass_as_its_specular_albedo()
                 "pixel ({x}, {y}): {got:?}, the reference says {want}"
             );
         }
+    }
+}
+
+/// A clear coat on a BLEND surface reflects the environment too (the base
+/// pass's `coated_environment`, as Reflection for opaque ones). Radiance L
+/// from every direction: the irradiance is L and the prefiltered reflection
+/// L at every roughness, and at roughness 0 the split sum is Schlick's
+/// S(f0, N.V). A pane turned 1.2 rad (N.V about 0.36, where the coat's
+/// Fresnel is 0.14), albedo 0.5, not metal, reflectance 0, with a mirror
+/// coat of factor c, shows L [(0.5 + S(0, N.V)) (1 - c S(0.04, N.V)) +
+/// c S(0.04, N.V)]: diffuse and base reflection dimmed by what the coat
+/// reflects, and the coat's lobe.
+#[test]
+fn a_coated_blend_surface_reflects_the_environment_over_its_dimmed_base() {
+    use spreadlight_reference::refraction::hit_plane;
+    use spreadlight_render::material::{Feature, Material, MaterialWorld};
+    let renderer = test_renderer();
+    let radiance = 1.0;
+    let image = Arc::new(EquirectImage {
+        width: 16,
+        height: 8,
+        pixels: vec![[radiance, radiance, radiance, 1.0]; 16 * 8],
+    });
+    let environment = Environment::new(
+        &renderer,
+        None,
+        EnvironmentSource::Equirect(image),
+        EnvironmentQuality {
+            cube_size: 16,
+            samples: 64,
+        },
+    );
+    let albedo = 0.5;
+    let tilt = 1.2;
+    let (_, n) = glass_pane(&renderer, tilt);
+    let schlick = |f0: f32, n_dot_v: f32| f0 + (1.0 - f0) * (1.0 - n_dot_v).powi(5);
+    for coat in [0.0, 1.0, 0.5] {
+        let mut material = Material::new()
+            .with(Feature::CookTorrance, &[[0.0, 0.0, 0.0, 0.0]])
+            .and_then(|m| m.with(Feature::Reflection, &[[1.0, 0.0, 0.0, 0.0]]))
+            .expect("valid");
+        if coat > 0.0 {
+            material = material
+                .with(Feature::Clearcoat, &[[coat, 0.0, 0.0, 0.0]])
+                .expect("valid");
+        }
+        let world = MaterialWorld::new(&renderer, vec![material]);
+        // The turned pane, opaque grey (alpha 1: its own colour alone).
+        let (glass, _) = glass_pane(&renderer, tilt);
+        let batch = &glass.batches[0];
+        let instance = InstanceInput {
+            color: [albedo, albedo, albedo, 1.0],
+            ..batch.instances[0]
+        };
+        let layer = Arc::new(Layer::plain(vec![DrawBatch {
+            mesh: batch.mesh.clone(),
+            instances: vec![instance],
+        }]));
+        let settings = TransparencySettings {
+            light_color: Vec3::ZERO,
+            ..dark(LightLoop::Auto)
+        };
+        let by = LitBy {
+            environment: Some(environment.clone()),
+            materials: Some(world),
+            ..Default::default()
+        };
+        let (_, out, pass) = lit_pane_with(&renderer, layer, settings, by);
+        assert_eq!(
+            pass.keys()
+                .iter()
+                .any(|k| k.key().features.contains("CLEARCOAT")),
+            coat > 0.0,
+            "the base pass compiles the coat only for a coated world"
+        );
+        let mut checked = 0;
+        for x in 0..SIZE.0 {
+            let y = 24;
+            let d = pixel_ray(x, y);
+            let Some(p) = hit_plane(EYE, d, Vec3::new(0.0, 0.0, PANE_Z), n) else {
+                continue;
+            };
+            let across = n.cross(Vec3::Y).normalize();
+            if (p - Vec3::new(0.0, 0.0, PANE_Z)).dot(across).abs() > 1.8 {
+                continue;
+            }
+            let n_dot_v = (EYE - p).normalize().dot(n);
+            let lobe = coat * schlick(0.04, n_dot_v);
+            let want = radiance * ((albedo + schlick(0.0, n_dot_v)) * (1.0 - lobe) + lobe);
+            let got = at(&out, x, y);
+            for c in &got[..3] {
+                assert!(
+                    (c - want).abs() < 0.02 * want,
+                    "coat {coat}, pixel ({x}, {y}), N.V {n_dot_v}: {got:?}, analytic {want}"
+                );
+            }
+            checked += 1;
+        }
+        assert!(checked > 8, "{checked} pane pixels checked");
     }
 }
 
