@@ -504,6 +504,18 @@ fn the_extensions_row_asset_is_what_the_generator_makes_and_loads_clean() {
 #[test]
 fn material_variants_map_each_primitive_and_an_unknown_one_lists_the_files() {
     let made = super::models::material_variants();
+    // patches/assets/gltf-variants.gltf (docs/gltf.md's picture, `spreadlight
+    // view --variant` of it) is the committed output of the generator.
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../patches/assets/gltf-variants.gltf");
+    if std::env::var_os("SPREADLIGHT_BLESS").is_some() {
+        std::fs::write(&path, &made).expect("bless the asset");
+    }
+    assert!(
+        std::fs::read(&path).expect("the committed asset") == made,
+        "{} is stale: regenerate with SPREADLIGHT_BLESS=1",
+        path.display()
+    );
     let scene = load_gltf_slice(&made, None).expect("loads");
     assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
     assert_eq!(scene.variants, ["Forest", "Ocean"]);

@@ -594,6 +594,21 @@ pub fn transmission_window() -> Vec<u8> {
 /// a pale blue absorption over 0.8), turned so the wall's lines bend
 /// through it; docs/gltf.md's picture of refracted transmission.
 pub fn refraction_block() -> Vec<u8> {
+    glass_block(None)
+}
+
+/// [`refraction_block`]'s glass with `KHR_materials_dispersion` 20 (an Abbe
+/// number of 1, exaggerated: dense flint glass is about 30; so the fringes
+/// are pixels wide at a picture's size), the checkered wall's edges fringed
+/// in colour;
+/// docs/gltf.md's picture of dispersion and the scene its cost is measured
+/// on (against `refraction_block`, the same scene without it).
+pub fn dispersion_block() -> Vec<u8> {
+    glass_block(Some(20.0))
+}
+
+/// The wall and the turned glass block, with `dispersion` where given.
+fn glass_block(dispersion: Option<f32>) -> Vec<u8> {
     let mut doc = Doc::new();
     let wall = floor_mesh(&mut doc, glam::Vec2::splat(4.0));
     let image = doc.png_image(&png(&checker([230, 220, 200, 255], [30, 40, 60, 255])));
@@ -616,6 +631,13 @@ pub fn refraction_block() -> Vec<u8> {
     .ok()
     .and_then(|v| v.as_object().cloned())
     .unwrap_or_default();
+    let mut others = others;
+    if let Some(d) = dispersion {
+        others.insert(
+            "KHR_materials_dispersion".into(),
+            json::deserialize::from_str(&format!(r#"{{"dispersion": {d}}}"#)).unwrap_or_default(),
+        );
+    }
     for name in others.keys() {
         doc.root.extensions_used.push(name.clone());
     }

@@ -391,3 +391,40 @@ fn the_refraction_asset_is_what_the_generator_makes_and_refracts() {
         assert_close(*sigma, -c.ln() / 0.8, 1e-6, "σ = -ln(c) / d");
     }
 }
+
+#[test]
+fn the_dispersion_asset_is_what_the_generator_makes_and_disperses() {
+    // patches/assets/gltf-dispersion.gltf (docs/gltf.md's picture of
+    // dispersion, and its bench scene) is the committed output of the
+    // generator: the refraction block's scene with dispersion 20.
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../patches/assets/gltf-dispersion.gltf");
+    let made = super::models::dispersion_block();
+    if std::env::var_os("SPREADLIGHT_BLESS").is_some() {
+        std::fs::write(&path, &made).expect("bless the asset");
+    }
+    let committed = std::fs::read(&path).expect("the committed asset");
+    assert!(
+        committed == made,
+        "{} is stale: regenerate with SPREADLIGHT_BLESS=1",
+        path.display()
+    );
+    let scene = load_gltf_slice(&made, None).expect("loads");
+    let plain = load_gltf_slice(&super::models::refraction_block(), None).expect("loads");
+    let glass = |s: &GltfScene| {
+        s.materials
+            .iter()
+            .find(|m| m.name.as_deref() == Some("Glass"))
+            .expect("the glass")
+            .to_material()
+            .params(Feature::Transmission)
+            .expect("a Transmission feature")
+            .to_vec()
+    };
+    let (dispersive, refracting) = (glass(&scene), glass(&plain));
+    assert_eq!(dispersive[1][3], 20.0);
+    assert_eq!(refracting[1][3], 0.0);
+    // Otherwise the same glass.
+    assert_eq!(dispersive[0], refracting[0]);
+    assert_eq!(dispersive[1][..3], refracting[1][..3]);
+}
