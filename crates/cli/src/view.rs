@@ -228,7 +228,12 @@ pub fn build_patch(
 /// by Transparency over the lit image before tonemapping, with their maps
 /// and vertex colours (the layer carries the material world), lit by the
 /// scene's light buffers (`lights`: their nodes, and the shadow maps' node).
-fn transparent(patch: &mut Patch, file: String, framing: &Framing, lights: (Vec<u32>, Option<u32>)) {
+fn transparent(
+    patch: &mut Patch,
+    file: String,
+    framing: &Framing,
+    lights: (Vec<u32>, Option<u32>),
+) {
     patch.add(
         NodeDoc::new(40, "glTF")
             .at(800.0, 0.0)

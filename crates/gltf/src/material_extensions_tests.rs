@@ -542,7 +542,8 @@ fn material_variants_map_each_primitive_and_an_unknown_one_lists_the_files() {
         assert_eq!(shown(&scene, variant), want, "`{choice}`");
     }
     // The material colour each variant gives the body.
-    let body = |v: Option<usize>| scene.materials[scene.instances[0].material_in(v).unwrap()].base_color;
+    let body =
+        |v: Option<usize>| scene.materials[scene.instances[0].material_in(v).unwrap()].base_color;
     assert_eq!(body(Some(1)), [0.05, 0.05, 0.8, 1.0]);
     for unknown in ["Desert", "2", "-1"] {
         let e = scene.variant(unknown).expect_err("unknown");
@@ -558,9 +559,17 @@ fn material_variants_map_each_primitive_and_an_unknown_one_lists_the_files() {
     load_gltf_slice(&json::serialize::to_vec(&json).expect("JSON"), None).expect("required");
     let plain = load_gltf_slice(&super::models::textured_cube(), None).expect("loads");
     assert!(plain.variants.is_empty());
-    assert!(plain.instances.iter().all(|i| i.variant_materials.is_empty()));
+    assert!(
+        plain
+            .instances
+            .iter()
+            .all(|i| i.variant_materials.is_empty())
+    );
     let e = plain.variant("Forest").expect_err("no variants");
-    assert!(e.to_string().contains("no KHR_materials_variants variants"), "{e}");
+    assert!(
+        e.to_string().contains("no KHR_materials_variants variants"),
+        "{e}"
+    );
 }
 
 #[test]
@@ -581,7 +590,9 @@ fn malformed_variant_mappings_are_warned_by_primitive_and_left_out() {
     let said = |text: &str| {
         assert!(w.iter().any(|m| m.contains(text)), "`{text}` in {w:?}");
     };
-    said("mesh 0 `Body` primitive 0: KHR_materials_variants mappings[0] names material 99, the file has 5; ignored");
+    said(
+        "mesh 0 `Body` primitive 0: KHR_materials_variants mappings[0] names material 99, the file has 5; ignored",
+    );
     said("mappings[1] names variant 5, the file has 2; ignored");
     said("mappings[2] has no material index; ignored");
     said("mappings[4] maps variant 1 again; its first mapping is kept");

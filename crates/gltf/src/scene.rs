@@ -103,12 +103,8 @@ impl Importer<'_> {
                         &skins,
                     )?;
                     let targets = deforms[index].targets.len();
-                    let variant_materials = self.variant_materials(
-                        &mesh,
-                        &primitive,
-                        variants.len(),
-                        materials.len(),
-                    );
+                    let variant_materials =
+                        self.variant_materials(&mesh, &primitive, variants.len(), materials.len());
                     instances.push(MeshInstance {
                         mesh: index,
                         transform: world,

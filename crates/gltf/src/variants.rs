@@ -125,7 +125,11 @@ impl Importer<'_> {
             return out;
         };
         let who = match mesh.name() {
-            Some(name) => format!("mesh {} `{name}` primitive {}", mesh.index(), primitive.index()),
+            Some(name) => format!(
+                "mesh {} `{name}` primitive {}",
+                mesh.index(),
+                primitive.index()
+            ),
             None => format!("mesh {} primitive {}", mesh.index(), primitive.index()),
         };
         let Some(mappings) = ext.get("mappings").and_then(Value::as_array) else {

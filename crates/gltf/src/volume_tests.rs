@@ -113,7 +113,10 @@ fn dispersion_reaches_the_transmission_feature_and_bad_values_are_warned() {
         assert_finite(&m);
     }
     // A file may require it.
-    let mut doc = cube_with(named("Flint"), r#"{"KHR_materials_dispersion": {"dispersion": 0.5}}"#);
+    let mut doc = cube_with(
+        named("Flint"),
+        r#"{"KHR_materials_dispersion": {"dispersion": 0.5}}"#,
+    );
     doc.root.extensions_required = vec!["KHR_materials_dispersion".into()];
     let scene = load_gltf_slice(&doc.glb(), None).expect("dispersion is supported");
     assert_eq!(scene.materials[0].dispersion, 0.5);

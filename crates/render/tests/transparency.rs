@@ -1659,7 +1659,11 @@ const EDGE: u32 = 24;
 
 /// White left of column EDGE, black from it on.
 fn white_then_black(x: u32, _: u32) -> [f32; 4] {
-    if x < EDGE { [1.0; 4] } else { [0.0, 0.0, 0.0, 1.0] }
+    if x < EDGE {
+        [1.0; 4]
+    } else {
+        [0.0, 0.0, 0.0, 1.0]
+    }
 }
 
 #[test]
@@ -1744,7 +1748,10 @@ fn dispersion_bends_red_green_and_blue_by_their_own_ior_and_zero_is_todays_image
             );
         }
     }
-    assert!(fringes >= 3 && checked > 200, "{fringes} fringes, {checked} checked");
+    assert!(
+        fringes >= 3 && checked > 200,
+        "{fringes} fringes, {checked} checked"
+    );
     // Dispersion 0 takes the walk it always did: the node's own glass
     // (no material world) with the same ior and thickness, bit for bit, and
     // every channel alike.
@@ -1756,12 +1763,18 @@ fn dispersion_bends_red_green_and_blue_by_their_own_ior_and_zero_is_todays_image
         ..Default::default()
     };
     let (_, today, _, _) = refract_through(&renderer, tilt, glass_settings(same), None, grey_ramp);
-    assert_eq!(zero.pixels, today.pixels, "dispersion 0 against the node's glass");
+    assert_eq!(
+        zero.pixels, today.pixels,
+        "dispersion 0 against the node's glass"
+    );
     for (x, y) in REFRACTED_PIXELS {
         let got = at(&zero, x, y);
         assert!(got[0] == got[1] && got[1] == got[2], "({x}, {y}): {got:?}");
         let want = snell_uv(x, y, n, ior, thickness).expect("on the pane").0.x;
-        assert!((got[1] - want).abs() < 0.3 * texel, "({x}, {y}): {got:?} vs {want}");
+        assert!(
+            (got[1] - want).abs() < 0.3 * texel,
+            "({x}, {y}): {got:?} vs {want}"
+        );
     }
 }
 

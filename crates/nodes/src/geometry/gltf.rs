@@ -258,10 +258,12 @@ impl Node for GltfNode {
             // An unknown variant is shown on the node; the file keeps its
             // default materials and the rest of the patch runs.
             let variant = variants.get(f % variants.len().max(1));
-            let chosen = scene.variant(variant.map_or("", |v| v)).unwrap_or_else(|e| {
-                cx.report(NodeError::Other(format!("{file}: {e}")));
-                None
-            });
+            let chosen = scene
+                .variant(variant.map_or("", |v| v))
+                .unwrap_or_else(|e| {
+                    cx.report(NodeError::Other(format!("{file}: {e}")));
+                    None
+                });
             let (lights, cameras) = scene.posed_content(&world);
             extend(&mut points, &lights.points, file);
             extend(&mut spots, &lights.spots, file);

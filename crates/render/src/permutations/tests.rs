@@ -264,7 +264,12 @@ fn typed_keys_enumerate_what_the_string_rules_did() {
         ("post/glare.wgsl", &["FILTERED_SOURCE"], vec![]),
         (
             "environment/reflection.wgsl",
-            &["MATERIAL_TEXTURES", "SURFACE_TARGET", "PARALLAX", "CLEARCOAT"],
+            &[
+                "MATERIAL_TEXTURES",
+                "SURFACE_TARGET",
+                "PARALLAX",
+                "CLEARCOAT",
+            ],
             vec![],
         ),
         (
