@@ -723,10 +723,7 @@ pub fn material_variants() -> Vec<u8> {
         .unwrap_or_default();
         (
             Some(materials[default]),
-            Some(json::extensions::mesh::Primitive {
-                others,
-                ..Default::default()
-            }),
+            Some(json::extensions::mesh::Primitive { others }),
         )
     };
     let body_primitive = &mut doc.root.meshes[body.value()].primitives[0];
