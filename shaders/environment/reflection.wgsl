@@ -18,10 +18,22 @@
 // sphere) and the cube read towards that hit from the probe's position
 // (Lagarde & Zanuttini 2012); outside the volume, or for a ray that does
 // not leave it, the direction stays as it is.
+// CLEARCOAT (some material of the world has a Clearcoat): a coated pixel's
+// specular adds the coat's own reflection of the environment, along the
+// coat's normal (its map's, where the G-buffer resolved one) at the coat's
+// roughness with f0 0.04, times the coat's factor, and dims the base's by
+// 1 - factor x F(N.V), as CookTorrance's light walk does for each light
+// (Khronos' sample viewer's clear coat IBL). Reflect mode only: refraction
+// shows what the surface lets through, base and coat alike. The diffuse
+// output (irradiance, for every surface) is not dimmed.
 #import spreadlight::camera::{Camera, pixel_to_ndc}
 #import spreadlight::packing::{channel_to_id, safe_normalize}
 #import spreadlight::ibl::{split_sum, facing_normal}
 #import spreadlight::material::{feature_param_at, has_feature, FEATURE_COOK_TORRANCE, FEATURE_REFLECTION}
+#ifdef CLEARCOAT
+#import spreadlight::material::{clearcoat_at, clearcoat_normal_at}
+#import spreadlight::brdf::{schlick_weight, DIELECTRIC_F0}
+#endif
 
 struct Params {
     // 0: reflect, 1: refract
@@ -122,14 +134,36 @@ fn specular_at(pixel: vec2<u32>) -> vec4<f32> {
             weight = max(vec3<f32>(1.0) - factor, vec3<f32>(0.0));
         }
     }
+    var specular = environment_along(p, dir, roughness) * weight;
+#ifdef CLEARCOAT
+    if (params.mode == 0u) {
+        // Scaled by its maps where the G-buffer resolved them.
+        let coat = clamp(clearcoat_at(material, pixel), vec2<f32>(0.0), vec2<f32>(1.0));
+        if (coat.x > 0.0) {
+            let coat_n = facing_normal(safe_normalize(clearcoat_normal_at(pixel, n), n), v);
+            let coat_n_dot_v = clamp(dot(coat_n, v), 1e-4, 1.0);
+            // What the coat reflects does not reach the base, nor leave it.
+            let dim = 1.0 - coat.x * (DIELECTRIC_F0 + (1.0 - DIELECTRIC_F0) * schlick_weight(coat_n_dot_v));
+            let coat_weight = split_sum(lut, cube_sampler, vec3<f32>(DIELECTRIC_F0), coat_n_dot_v, coat.y);
+            let coat_light = environment_along(p, reflect(-v, coat_n), coat.y) * coat_weight;
+            specular = specular * dim + coat.x * coat_light;
+        }
+    }
+#endif
+    return clean(specular);
+}
+
+// The prefiltered environment along view-space direction `dir` from
+// view-space point `p` (corrected for a probe's volume with PARALLAX), at
+// `roughness`'s level.
+fn environment_along(p: vec3<f32>, dir: vec3<f32>, roughness: f32) -> vec3<f32> {
     var world_dir = safe_normalize((camera.view_inverse * vec4<f32>(dir, 0.0)).xyz, vec3<f32>(0.0, 1.0, 0.0));
 #ifdef PARALLAX
     let world = camera.view_inverse * vec4<f32>(p, 1.0);
     world_dir = parallax_corrected(world.xyz / world.w, world_dir);
 #endif
     let lod = roughness * f32(max(params.levels, 1u) - 1u);
-    let radiance = textureSampleLevel(prefiltered, cube_sampler, world_dir, lod).rgb;
-    return clean(radiance * weight);
+    return textureSampleLevel(prefiltered, cube_sampler, world_dir, lod).rgb;
 }
 
 // The environment's diffuse light at `pixel` (zero where depth is empty).

@@ -67,7 +67,9 @@
 // view-space normal of the face shown (MATCAP_TEXTURE: the world's texture
 // array holds its images; else the built-in clay). SSR, Reflection's
 // screen-space input and SSAO are the G-buffer's, which transparent layers
-// are not in: they get the Environment (ENVIRONMENT) and no SSR.
+// are not in: they get the Environment (ENVIRONMENT) and no SSR; a coated
+// layer's base pass (CLEARCOAT with ENVIRONMENT) adds the coat's own
+// reflection of it and dims the base's (`coated_environment`).
 // TRANSMISSION (base pass; a layer whose world has a Transmission material,
 // or any layer when the node's Transmission is on): of what shows through
 // a fragment (1 - alpha), the material's share is refracted instead of
@@ -79,7 +81,9 @@
 // REFRACTION_MIPS by one trilinear read of the opaque image's mip chain
 // (`refraction_mips`, built by `refraction_mips_first` / `_down` below) at
 // the level as wide as the taps' disc, tinted by the base colour and
-// absorbed by Beer-Lambert over the path inside. The fragment then covers
+// absorbed by Beer-Lambert over the path inside; a dispersive material
+// (KHR_materials_dispersion) walks red, green and blue at their own index
+// (`transmitted`, a branch on its dispersion). The fragment then covers
 // alpha + share (the weight and the revealage see that); its diffuse keeps
 // alpha, emission, reflections and speculars take the coverage. Only the
 // opaque scene is seen refracted (other transparent layers behind are not
@@ -149,6 +153,11 @@
 // The shaded fragment's coat, which the light function sums into
 // (lib/forward_light.wgsl holds it beside the coat's lobe).
 #import spreadlight::forward_light::{coat_factor, coat_surface, coat_sum, coated_specular}
+#endif
+#ifdef ENVIRONMENT
+// The coat's reflection of the environment (the base pass's; ENVIRONMENT
+// is never a light pass's).
+#import spreadlight::brdf::{schlick_weight, DIELECTRIC_F0}
 #endif
 #endif
 
@@ -311,7 +320,26 @@ fn blurred(uv: vec2<f32>, radius: f32) -> vec3<f32> {
 // inside (Beer-Lambert, coefficients `sigma`). Where the ray leaves the
 // screen, the environment along it (ENVIRONMENT), faded in over EDGE_BAND;
 // without one, the screen's edge. Finite for every input.
-fn transmitted(world: vec3<f32>, n: vec3<f32>, v: vec3<f32>, ior_in: f32, thickness_in: f32, roughness: f32, sigma: vec3<f32>, frag: vec2<f32>) -> vec3<f32> {
+// `dispersion` (KHR_materials_dispersion, 20 / the Abbe number): red, green
+// and blue refract by their own index, spread (ior - 1) x dispersion / 20
+// about the green's (the extension's and Khronos' viewer's form); each
+// channel is the whole walk at its index. A material without dispersion (0,
+// the Transmission feature's default) takes the one walk it always did: a
+// branch uniform over the material, so no permutation for it.
+fn transmitted(world: vec3<f32>, n: vec3<f32>, v: vec3<f32>, ior_in: f32, thickness_in: f32, roughness: f32, sigma: vec3<f32>, frag: vec2<f32>, dispersion: f32) -> vec3<f32> {
+    if (dispersion > 0.0 && dispersion < 1e6) {
+        let ior = select(1.0, ior_in, ior_in > 0.0 && ior_in < 1e6);
+        let half_spread = (ior - 1.0) * 0.025 * dispersion;
+        let red = transmitted_at(world, n, v, ior - half_spread, thickness_in, roughness, sigma, frag).r;
+        let green = transmitted_at(world, n, v, ior, thickness_in, roughness, sigma, frag).g;
+        let blue = transmitted_at(world, n, v, ior + half_spread, thickness_in, roughness, sigma, frag).b;
+        return vec3<f32>(red, green, blue);
+    }
+    return transmitted_at(world, n, v, ior_in, thickness_in, roughness, sigma, frag);
+}
+
+// [`transmitted`] at one index of refraction for every channel.
+fn transmitted_at(world: vec3<f32>, n: vec3<f32>, v: vec3<f32>, ior_in: f32, thickness_in: f32, roughness: f32, sigma: vec3<f32>, frag: vec2<f32>) -> vec3<f32> {
     let own = clamp(frag / vec2<f32>(textureDimensions(opaque_depth)), vec2<f32>(0.0), vec2<f32>(1.0));
     let ior = select(1.0, ior_in, ior_in > 0.0 && ior_in < 1e6);
     let thickness = select(0.0, thickness_in, thickness_in > 0.0 && thickness_in < 1e6);
@@ -371,6 +399,27 @@ fn environment_light(n: vec3<f32>, v: vec3<f32>, albedo: vec3<f32>, roughness: f
     let specular = textureSampleLevel(prefiltered, cube_sampler, reflect(-v, nf), lod).rgb * factor;
     return max(diffuse, vec3<f32>(0.0)) + max(specular, vec3<f32>(0.0)) * max(reflective, 0.0);
 }
+
+#ifdef CLEARCOAT
+// `base` (environment_light's) under a coat (`coat`: factor, roughness;
+// its normal `n`, the face shown): what the coat reflects does not reach
+// the base, nor leave it (1 - factor x F(N.V), as the light walk dims it),
+// and the coat's own reflection of the environment (f0 0.04 at its
+// roughness) adds, scaled by `reflective` as the base's specular is.
+// Reflection does the same for opaque surfaces.
+fn coated_environment(base: vec3<f32>, n: vec3<f32>, v: vec3<f32>, coat: vec2<f32>, reflective: f32) -> vec3<f32> {
+    if (!(coat.x > 0.0)) {
+        return base;
+    }
+    let nf = facing_normal(n, v);
+    let n_dot_v = clamp(dot(nf, v), 1e-4, 1.0);
+    let dim = 1.0 - coat.x * (DIELECTRIC_F0 + (1.0 - DIELECTRIC_F0) * schlick_weight(n_dot_v));
+    let factor = split_sum(lut, cube_sampler, vec3<f32>(DIELECTRIC_F0), n_dot_v, coat.y);
+    let lod = coat.y * max(params.surface.w - 1.0, 0.0);
+    let lobe = textureSampleLevel(prefiltered, cube_sampler, reflect(-v, nf), lod).rgb * factor;
+    return base * dim + max(lobe, vec3<f32>(0.0)) * coat.x * max(reflective, 0.0);
+}
+#endif
 #endif
 
 #ifdef MATCAP
@@ -802,7 +851,11 @@ fn fs(in: VertexOut, @builtin(front_facing) front: bool) -> Accumulated {
 #endif
     let facing = select(-n, n, front);
     let v = safe_normalize(camera.position.xyz - in.world, facing);
-    unlit += environment_light(facing, v, albedo, roughness, metallic, reflectance, reflective) * occlusion;
+    var environment = environment_light(facing, v, albedo, roughness, metallic, reflectance, reflective);
+#ifdef CLEARCOAT
+    environment = coated_environment(environment, select(-coat_n, coat_n, front), v, coat, reflective);
+#endif
+    unlit += environment * occlusion;
 #endif
 #ifdef MATCAP
     unlit += matcap_light(in.material, select(-n, n, front), in.world, albedo);
@@ -820,14 +873,17 @@ fn fs(in: VertexOut, @builtin(front_facing) front: bool) -> Accumulated {
     var through = vec3<f32>(0.0);
 #ifdef TRANSMISSION
     if (share > 0.0) {
-        var sigma = params.absorption.rgb;
+        // rgb: the absorption coefficients; w: the dispersion (layers
+        // without a Transmission material: none).
+        var absorption = vec4<f32>(params.absorption.rgb, 0.0);
 #ifdef MATERIALS
-        sigma = feature_param(in.material, FEATURE_TRANSMISSION, 1u, vec4<f32>(sigma, 0.0)).rgb;
+        absorption = feature_param(in.material, FEATURE_TRANSMISSION, 1u, absorption);
 #endif
+        let sigma = absorption.rgb;
         let n_t = select(-n, n, front);
         let v_t = safe_normalize(camera.position.xyz - in.world, n_t);
         // Tinted by the base colour (glTF: the transmitted light is).
-        through = albedo * transmitted(in.world, n_t, v_t, transmission.y, transmission.z * thickness_scale, roughness, sigma, in.clip.xy);
+        through = albedo * transmitted(in.world, n_t, v_t, transmission.y, transmission.z * thickness_scale, roughness, sigma, in.clip.xy, absorption.w);
     }
 #endif
     let surface = max(sanitize(vec4<f32>(min(diffuse, vec3<f32>(600.0)), 0.0)).rgb, vec3<f32>(0.0));

@@ -4,7 +4,10 @@
 //! and MRE with the file's first camera or one framing the model's bounds,
 //! the file's own lights (`KHR_lights_punctual`) or else a sun with a
 //! shadow, image-based light from the procedural sky (or `--environment`),
-//! the sky behind, tonemapped; or, with `--channel`, a G-buffer view.
+//! the sky behind, tonemapped; or, with `--channel`, a G-buffer view;
+//! `--variant` shows a `KHR_materials_variants` variant (the glTF nodes'
+//! Variant pin; an unknown one is a warning listing the file's, and the
+//! default materials are shown).
 //! A file whose lights give the model more than [`KEY_ILLUMINANCE`] lux
 //! (photometric exports: suns of thousands of lux) is exposed down to it
 //! ([`file_exposure`]), the sky scaled with it, so it is not burnt white.
@@ -41,6 +44,10 @@ pub struct Args {
     /// morph target weights).
     #[arg(long, default_value_t = 0.0)]
     time: f32,
+    /// A KHR_materials_variants variant of the file, by name or index (default: the file's default
+    /// materials). An unknown one is a warning naming the file's variants.
+    #[arg(long)]
+    variant: Option<String>,
     /// Also save the patch this command built, to open and change it.
     #[arg(long)]
     save_patch: Option<PathBuf>,
@@ -138,6 +145,9 @@ pub struct Framing {
     pub file_lights: [bool; 3],
     /// The animation time the glTF node poses the model at.
     pub time: f32,
+    /// The material variant the glTF nodes show (their Variant pin; empty:
+    /// the file's default materials).
+    pub variant: String,
     /// Whether some instance has a BLEND material (drawn by Transparency).
     pub blend: bool,
     /// Tonemap's exposure ([`file_exposure`]; 1 with view's own sun). The
@@ -160,6 +170,7 @@ pub fn build_patch(
             .at(0.0, 0.0)
             .with("Filename", vec![file.clone()])
             .with("Time", vec![framing.time])
+            .with("Variant", vec![framing.variant.clone()])
             .with(
                 "Instances",
                 spreadlight_graph::Spread::Enum(vec!["Opaque".to_owned()]),
@@ -206,7 +217,7 @@ pub fn build_patch(
     };
     image_light(&mut patch, environment, framing.exposure);
     if framing.blend {
-        transparent(&mut patch, file, framing.time, lights);
+        transparent(&mut patch, file, framing, lights);
     } else {
         patch.link(14, "Texture", 15, "Texture");
     }
@@ -217,12 +228,18 @@ pub fn build_patch(
 /// by Transparency over the lit image before tonemapping, with their maps
 /// and vertex colours (the layer carries the material world), lit by the
 /// scene's light buffers (`lights`: their nodes, and the shadow maps' node).
-fn transparent(patch: &mut Patch, file: String, time: f32, lights: (Vec<u32>, Option<u32>)) {
+fn transparent(
+    patch: &mut Patch,
+    file: String,
+    framing: &Framing,
+    lights: (Vec<u32>, Option<u32>),
+) {
     patch.add(
         NodeDoc::new(40, "glTF")
             .at(800.0, 0.0)
             .with("Filename", vec![file])
-            .with("Time", vec![time])
+            .with("Time", vec![framing.time])
+            .with("Variant", vec![framing.variant.clone()])
             .with(
                 "Instances",
                 spreadlight_graph::Spread::Enum(vec!["Blend".to_owned()]),
@@ -389,6 +406,15 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
         };
         anyhow::bail!("{}: nothing to show: {why}", args.model.display());
     }
+    // An unknown variant is a warning; the default materials are shown.
+    let variant = match args.variant.as_deref().map(|v| scene.variant(v)) {
+        None => None,
+        Some(Ok(chosen)) => chosen,
+        Some(Err(e)) => {
+            eprintln!("{}: warning: {e}", args.model.display());
+            None
+        }
+    };
     let radius = scene.bounds.size().length() * 0.5;
     let aspect = args.size.0 as f32 / args.size.1 as f32;
     // The file's first camera, as the file places it at the posed time's
@@ -424,8 +450,16 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
             !lights.suns.is_empty(),
         ],
         time: args.time,
+        // The variant by its name (what a saved patch reads best), or by
+        // its index where an earlier variant has the same name.
+        variant: variant
+            .map(|v| match scene.variant(&scene.variants[v]) {
+                Ok(Some(same)) if same == v => scene.variants[v].clone(),
+                _ => v.to_string(),
+            })
+            .unwrap_or_default(),
         blend: scene.instances.iter().any(|i| {
-            i.material
+            i.material_in(variant)
                 .and_then(|m| scene.materials.get(m))
                 .is_some_and(|m| m.alpha_mode == AlphaMode::Blend)
         }),

@@ -601,3 +601,35 @@ fn a_depth_of_field_shaped_file_is_seen_from_its_camera_and_its_floor_is_not_bur
         "the floor's median green {median}: neither black nor burnt"
     );
 }
+
+#[test]
+fn variant_shows_a_material_variant_and_an_unknown_one_is_a_warning() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let model = models::material_variants();
+    // Pixels of the body's colour in the albedo view: red (the default
+    // mapping) or blue (Ocean), whichever the material says.
+    let counts = |variant: &str| {
+        let (image, stderr) = view(
+            dir.path(),
+            "variants",
+            &model,
+            &["--channel", "Albedo", "--variant", variant],
+        );
+        let (mut red, mut blue) = (0, 0);
+        for p in image.pixels() {
+            let [r, _, b, _] = p.0.map(i32::from);
+            red += i32::from(r > b + 100);
+            blue += i32::from(b > r + 100);
+        }
+        (red, blue, stderr)
+    };
+    let (red, blue, _) = counts("Ocean");
+    assert!(blue > 50 && red == 0, "Ocean: {blue} blue, {red} red");
+    let (red, blue, stderr) = counts("Desert");
+    assert!(red > 50 && blue == 0, "Desert: {red} red, {blue} blue");
+    assert!(
+        stderr.contains("variants.gltf: warning: material variant `Desert`")
+            && stderr.contains("`Forest`, `Ocean`"),
+        "{stderr}"
+    );
+}

@@ -37,7 +37,8 @@
 //!   specular, clearcoat, transmission as blending with its map baked into
 //!   the base colour's alpha, volume read, spec-gloss converted to
 //!   metal-rough); [`MaterialData::to_material`] makes them materials of the
-//!   one world;
+//!   one world; `KHR_materials_variants`' mappings per instance
+//!   ([`variants`]);
 //! - a file requiring an extension outside [`SUPPORTED_EXTENSIONS`] is
 //!   refused with a [`GltfError`] naming it; unknown optional ones are
 //!   ignored with one warning each; `asset.version` must be 2.x.
@@ -71,6 +72,7 @@ pub mod spec_gloss;
 #[cfg(test)]
 mod tests;
 pub mod transmission;
+pub mod variants;
 mod volume;
 #[cfg(test)]
 mod volume_tests;
@@ -114,6 +116,9 @@ pub struct GltfScene {
     pub graph: animation::SceneGraph,
     /// Node animations (TRS channels), in file order.
     pub animations: Vec<animation::Animation>,
+    /// `KHR_materials_variants`' variant names, in file order (empty
+    /// without the extension); see [`GltfScene::variant`].
+    pub variants: Vec<String>,
     /// What was skipped or ignored; the rest of the file loaded.
     pub warnings: Vec<String>,
 }
@@ -133,6 +138,10 @@ pub struct MeshInstance {
     pub skin: Option<usize>,
     /// Its morph weights at rest (the node's, else the mesh's; one per target).
     pub weights: Vec<f32>,
+    /// `KHR_materials_variants`: its material in each of the file's
+    /// variants (`None`: its default `material`); empty without variants.
+    /// [`MeshInstance::material_in`] picks.
+    pub variant_materials: Vec<Option<usize>>,
 }
 
 pub use spreadlight_render::material::maps::AlphaMode;
@@ -196,6 +205,10 @@ pub struct MaterialData {
     /// it: no absorption). Infinity stays on the CPU: what leaves for the
     /// GPU is [`MaterialData::transmittance`], finite.
     pub attenuation_distance: f32,
+    /// `KHR_materials_dispersion`: dispersion, 20 / the Abbe number (0
+    /// without it: every colour refracts alike). Lit transparency bends
+    /// red, green and blue by their own index through a transmissive volume.
+    pub dispersion: f32,
     /// `KHR_materials_clearcoat`: clearcoatTexture (red scales the factor)
     /// and clearcoatRoughnessTexture (green), sampled in the G-buffer
     /// resolve (the surface maps' coat slots); clearcoatNormalTexture, the
@@ -257,6 +270,7 @@ impl Default for MaterialData {
             thickness_texture: None,
             attenuation_color: [1.0; 3],
             attenuation_distance: f32::INFINITY,
+            dispersion: 0.0,
             clearcoat_texture: None,
             clearcoat_roughness_texture: None,
             clearcoat_normal_texture: None,
@@ -488,12 +502,14 @@ pub const SUPPORTED_EXTENSIONS: &[&str] = &[
     "KHR_lights_punctual",
     "KHR_materials_anisotropy",
     "KHR_materials_clearcoat",
+    "KHR_materials_dispersion",
     "KHR_materials_emissive_strength",
     "KHR_materials_ior",
     "KHR_materials_pbrSpecularGlossiness",
     "KHR_materials_specular",
     "KHR_materials_transmission",
     "KHR_materials_unlit",
+    "KHR_materials_variants",
     "KHR_materials_volume",
     "KHR_texture_transform",
 ];

@@ -303,6 +303,7 @@ impl MaterialData {
                     self.thickness,
                     self.attenuation_color,
                     self.attenuation_distance,
+                    self.dispersion,
                 ),
             );
         }

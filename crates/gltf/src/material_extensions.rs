@@ -20,6 +20,9 @@
 //! - `KHR_materials_volume`: thickness, its map, attenuation colour and
 //!   distance read and checked ([`super::volume`]), drawn by lit
 //!   transparency (the thickness map sampled per fragment).
+//! - `KHR_materials_dispersion`: the dispersion, carried by the
+//!   Transmission feature; lit transparency refracts red, green and blue
+//!   by their own index (it changes nothing without transmission and volume).
 //! - `KHR_materials_pbrSpecularGlossiness`: converted to metal-rough
 //!   ([`super::spec_gloss`]), maps included.
 //! - `KHR_materials_emissive_strength` (typed by the gltf crate): checked.
@@ -124,6 +127,18 @@ impl Importer<'_> {
         }
         if let Some(ext) = m.extension_value("KHR_materials_volume") {
             self.volume(document, &who, ext, data)?;
+        }
+        if let Some(ext) = m.extension_value("KHR_materials_dispersion") {
+            // Any finite number >= 0 (no upper bound in the extension).
+            data.dispersion = self.factor(
+                &who,
+                "KHR_materials_dispersion",
+                ext,
+                "dispersion",
+                0.0,
+                0.0,
+                f32::MAX,
+            );
         }
         Ok(())
     }

@@ -500,3 +500,107 @@ fn the_extensions_row_asset_is_what_the_generator_makes_and_loads_clean() {
     // The one warning: transmission drawn as blending.
     assert_eq!(scene.warnings.len(), 1, "{:?}", scene.warnings);
 }
+
+#[test]
+fn material_variants_map_each_primitive_and_an_unknown_one_lists_the_files() {
+    let made = super::models::material_variants();
+    // patches/assets/gltf-variants.gltf (docs/gltf.md's picture, `spreadlight
+    // view --variant` of it) is the committed output of the generator.
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../patches/assets/gltf-variants.gltf");
+    if std::env::var_os("SPREADLIGHT_BLESS").is_some() {
+        std::fs::write(&path, &made).expect("bless the asset");
+    }
+    assert!(
+        std::fs::read(&path).expect("the committed asset") == made,
+        "{} is stale: regenerate with SPREADLIGHT_BLESS=1",
+        path.display()
+    );
+    let scene = load_gltf_slice(&made, None).expect("loads");
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    assert_eq!(scene.variants, ["Forest", "Ocean"]);
+    let shown = |scene: &GltfScene, variant: Option<usize>| -> Vec<String> {
+        scene
+            .instances
+            .iter()
+            .map(|i| {
+                let m = i.material_in(variant).expect("a material");
+                scene.materials[m].name.clone().unwrap_or_default()
+            })
+            .collect()
+    };
+    // Body, then lid: the lid has no Forest mapping and keeps its default.
+    assert_eq!(shown(&scene, None), ["Red", "White"]);
+    for (choice, want) in [
+        ("", ["Red", "White"]),
+        ("Forest", ["Green", "White"]),
+        ("0", ["Green", "White"]),
+        ("Ocean", ["Blue", "Black"]),
+        (" 1 ", ["Blue", "Black"]),
+    ] {
+        let variant = scene.variant(choice).expect("known");
+        assert_eq!(shown(&scene, variant), want, "`{choice}`");
+    }
+    // The material colour each variant gives the body.
+    let body =
+        |v: Option<usize>| scene.materials[scene.instances[0].material_in(v).unwrap()].base_color;
+    assert_eq!(body(Some(1)), [0.05, 0.05, 0.8, 1.0]);
+    for unknown in ["Desert", "2", "-1"] {
+        let e = scene.variant(unknown).expect_err("unknown");
+        let text = e.to_string();
+        assert!(
+            text.contains(&format!("`{unknown}`")) && text.contains("`Forest`, `Ocean`"),
+            "{text}"
+        );
+    }
+    // A file may require the extension; one without variants names none.
+    let mut json: Value = json::deserialize::from_slice(&made).expect("JSON");
+    json["extensionsRequired"] = value(r#"["KHR_materials_variants"]"#);
+    load_gltf_slice(&json::serialize::to_vec(&json).expect("JSON"), None).expect("required");
+    let plain = load_gltf_slice(&super::models::textured_cube(), None).expect("loads");
+    assert!(plain.variants.is_empty());
+    assert!(
+        plain
+            .instances
+            .iter()
+            .all(|i| i.variant_materials.is_empty())
+    );
+    let e = plain.variant("Forest").expect_err("no variants");
+    assert!(
+        e.to_string().contains("no KHR_materials_variants variants"),
+        "{e}"
+    );
+}
+
+#[test]
+fn malformed_variant_mappings_are_warned_by_primitive_and_left_out() {
+    let mut json: Value =
+        json::deserialize::from_slice(&super::models::material_variants()).expect("JSON");
+    // The body: a material the file lacks, a variant it lacks beside one it
+    // has, no material, and variant 1 mapped twice; the lid: no mappings.
+    json["meshes"][0]["primitives"][0]["extensions"]["KHR_materials_variants"]["mappings"] = value(
+        r#"[{"material": 99, "variants": [0]}, {"material": 1, "variants": [5, 0]},
+            {"variants": [1]}, {"material": 2, "variants": [1]}, {"material": 3, "variants": [1]}]"#,
+    );
+    json["meshes"][1]["primitives"][0]["extensions"]["KHR_materials_variants"] = value("{}");
+    json["extensions"]["KHR_materials_variants"]["variants"][1] = value("{}");
+    let scene =
+        load_gltf_slice(&json::serialize::to_vec(&json).expect("JSON"), None).expect("loads");
+    let w = &scene.warnings;
+    let said = |text: &str| {
+        assert!(w.iter().any(|m| m.contains(text)), "`{text}` in {w:?}");
+    };
+    said(
+        "mesh 0 `Body` primitive 0: KHR_materials_variants mappings[0] names material 99, the file has 5; ignored",
+    );
+    said("mappings[1] names variant 5, the file has 2; ignored");
+    said("mappings[2] has no material index; ignored");
+    said("mappings[4] maps variant 1 again; its first mapping is kept");
+    said("mesh 1 `Lid` primitive 0: KHR_materials_variants has no `mappings` array; ignored");
+    said("variants[1] has no name: `variant 1` used");
+    assert_eq!(scene.variants, ["Forest", "variant 1"]);
+    let body = &scene.instances[0];
+    assert_eq!(body.variant_materials, [Some(1), Some(2)]);
+    assert_eq!(scene.instances[1].variant_materials, [None, None]);
+    assert_eq!(scene.instances[1].material_in(Some(1)), Some(3));
+}

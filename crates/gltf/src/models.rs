@@ -594,6 +594,21 @@ pub fn transmission_window() -> Vec<u8> {
 /// a pale blue absorption over 0.8), turned so the wall's lines bend
 /// through it; docs/gltf.md's picture of refracted transmission.
 pub fn refraction_block() -> Vec<u8> {
+    glass_block(None)
+}
+
+/// [`refraction_block`]'s glass with `KHR_materials_dispersion` 20 (an Abbe
+/// number of 1, exaggerated: dense flint glass is about 30; so the fringes
+/// are pixels wide at a picture's size), the checkered wall's edges fringed
+/// in colour;
+/// docs/gltf.md's picture of dispersion and the scene its cost is measured
+/// on (against `refraction_block`, the same scene without it).
+pub fn dispersion_block() -> Vec<u8> {
+    glass_block(Some(20.0))
+}
+
+/// The wall and the turned glass block, with `dispersion` where given.
+fn glass_block(dispersion: Option<f32>) -> Vec<u8> {
     let mut doc = Doc::new();
     let wall = floor_mesh(&mut doc, glam::Vec2::splat(4.0));
     let image = doc.png_image(&png(&checker([230, 220, 200, 255], [30, 40, 60, 255])));
@@ -616,6 +631,13 @@ pub fn refraction_block() -> Vec<u8> {
     .ok()
     .and_then(|v| v.as_object().cloned())
     .unwrap_or_default();
+    let mut others = others;
+    if let Some(d) = dispersion {
+        others.insert(
+            "KHR_materials_dispersion".into(),
+            json::deserialize::from_str(&format!(r#"{{"dispersion": {d}}}"#)).unwrap_or_default(),
+        );
+    }
     for name in others.keys() {
         doc.root.extensions_used.push(name.clone());
     }
@@ -750,5 +772,71 @@ fn metal_disc_row(strengths: [f32; 4]) -> Vec<u8> {
         nodes.push(doc.node(node));
     }
     doc.scene(nodes);
+/// `KHR_materials_variants`: a box "Body" and a smaller box "Lid" on it.
+/// Materials: Red (0, the body's default), Green (1), Blue (2), White (3,
+/// the lid's default), Black (4). Variants: "Forest" (body Green, the lid
+/// unmapped: White) and "Ocean" (body Blue, lid Black). For the loader's,
+/// the glTF node's and `spreadlight view --variant`'s tests.
+pub fn material_variants() -> Vec<u8> {
+    let mut doc = Doc::new();
+    let colours: [(&str, [f32; 4]); 5] = [
+        ("Red", [0.8, 0.05, 0.05, 1.0]),
+        ("Green", [0.05, 0.8, 0.05, 1.0]),
+        ("Blue", [0.05, 0.05, 0.8, 1.0]),
+        ("White", [0.9, 0.9, 0.9, 1.0]),
+        ("Black", [0.02, 0.02, 0.02, 1.0]),
+    ];
+    let materials: Vec<_> = colours
+        .iter()
+        .map(|&(name, colour)| {
+            doc.material(json::Material {
+                name: Some(name.into()),
+                pbr_metallic_roughness: json::material::PbrMetallicRoughness {
+                    base_color_factor: json::material::PbrBaseColorFactor(colour),
+                    metallic_factor: json::material::StrengthFactor(0.0),
+                    roughness_factor: json::material::StrengthFactor(0.5),
+                    ..Default::default()
+                },
+                ..Default::default()
+            })
+        })
+        .collect();
+    let body = doc.mesh_data("Body", &box_mesh(BoxParams::default()));
+    let lid = doc.mesh_data("Lid", &box_mesh(BoxParams::default()));
+    let mapped = |default: usize, mappings: &str| {
+        let others = json::deserialize::from_str::<json::Value>(&format!(
+            r#"{{"KHR_materials_variants": {{"mappings": {mappings}}}}}"#
+        ))
+        .ok()
+        .and_then(|v| v.as_object().cloned())
+        .unwrap_or_default();
+        (
+            Some(materials[default]),
+            Some(json::extensions::mesh::Primitive { others }),
+        )
+    };
+    let body_primitive = &mut doc.root.meshes[body.value()].primitives[0];
+    (body_primitive.material, body_primitive.extensions) = mapped(
+        0,
+        r#"[{"material": 1, "variants": [0]}, {"material": 2, "variants": [1]}]"#,
+    );
+    let lid_primitive = &mut doc.root.meshes[lid.value()].primitives[0];
+    (lid_primitive.material, lid_primitive.extensions) =
+        mapped(3, r#"[{"material": 4, "variants": [1]}]"#);
+    let variants = json::deserialize::from_str::<json::Value>(
+        r#"{"variants": [{"name": "Forest"}, {"name": "Ocean"}]}"#,
+    )
+    .unwrap_or_default();
+    doc.root
+        .extensions
+        .get_or_insert_with(Default::default)
+        .others
+        .insert("KHR_materials_variants".into(), variants);
+    doc.root
+        .extensions_used
+        .push("KHR_materials_variants".into());
+    let body = doc.node(mesh_node(Some(body), [0.0; 3], 1.0));
+    let lid = doc.node(mesh_node(Some(lid), [0.0, 0.75, 0.0], 0.5));
+    doc.scene(vec![body, lid]);
     doc.gltf_data_uri()
 }

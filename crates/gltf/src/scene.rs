@@ -86,6 +86,7 @@ impl Importer<'_> {
             .map(|m| self.material(document, &m))
             .collect::<Result<Vec<_>, _>>()?;
         let animations = self.animations(document)?;
+        let variants = self.variant_names(document);
 
         let mut instances = Vec::new();
         let nodes = self.scene_nodes(document);
@@ -102,6 +103,8 @@ impl Importer<'_> {
                         &skins,
                     )?;
                     let targets = deforms[index].targets.len();
+                    let variant_materials =
+                        self.variant_materials(&mesh, &primitive, variants.len(), materials.len());
                     instances.push(MeshInstance {
                         mesh: index,
                         transform: world,
@@ -109,6 +112,7 @@ impl Importer<'_> {
                         node: node.index(),
                         skin,
                         weights: self.rest_weights(node, &mesh, targets),
+                        variant_materials,
                     });
                 }
             }
@@ -148,6 +152,7 @@ impl Importer<'_> {
             cameras,
             graph,
             animations,
+            variants,
             warnings: std::mem::take(&mut self.warnings),
         };
         // Skinned meshes lie where their joints put them, not where their

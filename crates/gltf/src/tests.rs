@@ -50,6 +50,7 @@ fn cube_with_data_uri_buffer() {
             node: 0,
             skin: None,
             weights: Vec::new(),
+            variant_materials: Vec::new(),
         }]
     );
     assert_eq!(scene.bounds, cube.bounds);

@@ -74,6 +74,55 @@ fn volume_values_are_read_and_absorb_by_beer_lambert() {
 }
 
 #[test]
+fn dispersion_reaches_the_transmission_feature_and_bad_values_are_warned() {
+    let glass = |dispersion: &str| {
+        let ext = format!(
+            r#"{{"KHR_materials_transmission": {{"transmissionFactor": 1}},
+            "KHR_materials_volume": {{"thicknessFactor": 0.5}},
+            "KHR_materials_dispersion": {{"dispersion": {dispersion}}}}}"#
+        );
+        let (m, warnings) = load_one(cube_with(named("Flint"), &ext));
+        let p = m
+            .to_material()
+            .params(Feature::Transmission)
+            .expect("a Transmission feature")
+            .to_vec();
+        (m, warnings, p)
+    };
+    // An Abbe number of 20: dispersion 1, the second vec4's fourth.
+    let (m, warnings, p) = glass("1.0");
+    assert_eq!(m.dispersion, 1.0);
+    assert_eq!(p[1][3], 1.0);
+    assert!(
+        warnings.iter().all(|w| !w.contains("dispersion")),
+        "{warnings:?}"
+    );
+    // Large values are the extension's (no upper bound) and kept.
+    assert_eq!(glass("40").2[1][3], 40.0);
+    // Negative, not a number: warned naming the material, 0 (no dispersion).
+    for bad in ["-2", "\"x\"", "1e39"] {
+        let (m, warnings, p) = glass(bad);
+        assert_eq!(m.dispersion, 0.0, "{bad}");
+        assert_eq!(p[1][3], 0.0, "{bad}");
+        assert!(
+            warnings
+                .iter()
+                .any(|w| w.contains("material 0 `Flint`") && w.contains("dispersion")),
+            "{bad}: {warnings:?}"
+        );
+        assert_finite(&m);
+    }
+    // A file may require it.
+    let mut doc = cube_with(
+        named("Flint"),
+        r#"{"KHR_materials_dispersion": {"dispersion": 0.5}}"#,
+    );
+    doc.root.extensions_required = vec!["KHR_materials_dispersion".into()];
+    let scene = load_gltf_slice(&doc.glb(), None).expect("dispersion is supported");
+    assert_eq!(scene.materials[0].dispersion, 0.5);
+}
+
+#[test]
 fn volume_hard_cases_stay_finite_and_in_range() {
     // No volume object values: thin-walled, infinite distance, no absorption.
     let (thin, warnings) = load_one(cube_with(named("Thin"), r#"{"KHR_materials_volume": {}}"#));
@@ -344,4 +393,41 @@ fn the_refraction_asset_is_what_the_generator_makes_and_refracts() {
     for (sigma, c) in p[1][..3].iter().zip([0.6f32, 0.85, 1.0]) {
         assert_close(*sigma, -c.ln() / 0.8, 1e-6, "σ = -ln(c) / d");
     }
+}
+
+#[test]
+fn the_dispersion_asset_is_what_the_generator_makes_and_disperses() {
+    // patches/assets/gltf-dispersion.gltf (docs/gltf.md's picture of
+    // dispersion, and its bench scene) is the committed output of the
+    // generator: the refraction block's scene with dispersion 20.
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../patches/assets/gltf-dispersion.gltf");
+    let made = super::models::dispersion_block();
+    if std::env::var_os("SPREADLIGHT_BLESS").is_some() {
+        std::fs::write(&path, &made).expect("bless the asset");
+    }
+    let committed = std::fs::read(&path).expect("the committed asset");
+    assert!(
+        committed == made,
+        "{} is stale: regenerate with SPREADLIGHT_BLESS=1",
+        path.display()
+    );
+    let scene = load_gltf_slice(&made, None).expect("loads");
+    let plain = load_gltf_slice(&super::models::refraction_block(), None).expect("loads");
+    let glass = |s: &GltfScene| {
+        s.materials
+            .iter()
+            .find(|m| m.name.as_deref() == Some("Glass"))
+            .expect("the glass")
+            .to_material()
+            .params(Feature::Transmission)
+            .expect("a Transmission feature")
+            .to_vec()
+    };
+    let (dispersive, refracting) = (glass(&scene), glass(&plain));
+    assert_eq!(dispersive[1][3], 20.0);
+    assert_eq!(refracting[1][3], 0.0);
+    // Otherwise the same glass.
+    assert_eq!(dispersive[0], refracting[0]);
+    assert_eq!(dispersive[1][..3], refracting[1][..3]);
 }

@@ -1,8 +1,11 @@
 //! Environment maps and `Reflection`: the prefiltered environment is
 //! built once and reused, mirrors show what the CPU sky and the CPU ray
 //! tracer say, roughness 1 is the irradiance's blur, a 1e6 sun pixel stays
-//! inside the stated bound, passes run only when a material reflects, and
-//! no target ever holds NaN or infinity. SSR's tests are in ssr.rs.
+//! inside the stated bound, passes run only when a material reflects, a
+//! clear coat adds its own reflection over the dimmed base (against the
+//! analytic value in a uniform environment, compiled only for a world with
+//! a coat), and no target ever holds NaN or infinity. SSR's tests are in
+//! ssr.rs.
 
 mod reflection_probe;
 mod reflection_scene;
@@ -19,7 +22,7 @@ use spreadlight_render::environment::{
     Reflection, ReflectionMode, Sky, SkySettings,
 };
 use spreadlight_render::gbuffer::GBuffer;
-use spreadlight_render::material::{Material, MaterialWorld};
+use spreadlight_render::material::{Feature, Material, MaterialWorld};
 use spreadlight_render::readback::{ImageF32, read_texture_layer, render_and_read};
 use spreadlight_render::renderer::test_renderer;
 use spreadlight_render::static_texture::StaticTexture;
@@ -498,3 +501,95 @@ fn the_sky_node_draws_an_environment_where_depth_is_empty() {
 }
 
 // ---- SSR ----
+
+/// The clear coat in image-based reflection. Radiance L from every
+/// direction: the prefiltered environment is L along every direction at
+/// every roughness, and at roughness 0 the split sum is Schlick's Fresnel
+/// S(f0, N.V) = f0 + (1 - f0)(1 - N.V)^5. So a floor whose base (f0 0: not
+/// metal, reflectance 0) and coat (factor c) are both mirrors reflects
+/// L [S(0, N.V) (1 - c S(0.04, N.V)) + c S(0.04, N.V)]: the base dimmed by
+/// what the coat reflects, and the coat's own lobe. Without a coat the
+/// CLEARCOAT permutation is not compiled.
+#[test]
+fn the_clear_coat_reflects_the_environment_over_the_dimmed_base() {
+    let renderer = test_renderer();
+    let g = gbuffer(&renderer);
+    let radiance = 0.5;
+    let image = Arc::new(EquirectImage {
+        width: 16,
+        height: 8,
+        pixels: vec![[radiance, radiance, radiance, 1.0]; 16 * 8],
+    });
+    let environment = Environment::new(
+        &renderer,
+        None,
+        EnvironmentSource::Equirect(image),
+        EnvironmentQuality {
+            cube_size: 16,
+            samples: 64,
+        },
+    );
+    let floor = |coat: f32| {
+        let m = Material::new()
+            .with(Feature::CookTorrance, &[[0.0, 0.0, 0.0, 0.0]])
+            .and_then(|m| m.with(Feature::Reflection, &[[1.0, 0.0, 0.0, 0.0]]))
+            .expect("valid");
+        if coat > 0.0 {
+            m.with(Feature::Clearcoat, &[[coat, 0.0, 0.0, 0.0]])
+                .expect("valid")
+        } else {
+            m
+        }
+    };
+    let coat_keys = |renderer: &Renderer| {
+        renderer
+            .shaders()
+            .compiled_keys()
+            .filter(|k| k.features.contains("CLEARCOAT"))
+            .count()
+    };
+    let schlick = |f0: f32, n_dot_v: f32| f0 + (1.0 - f0) * (1.0 - n_dot_v).powi(5);
+    for coat in [0.0, 1.0, 0.5] {
+        let (_, specular, _, depth) = reflect(
+            &renderer,
+            &g,
+            vec![reflective(0.5, 0.0), floor(coat)],
+            environment.clone(),
+            ReflectionMode::Reflect,
+        );
+        assert!(specular.all_finite());
+        if coat == 0.0 {
+            assert_eq!(coat_keys(&renderer), 0, "no coat, no CLEARCOAT");
+        }
+        let (mut checked, mut largest_lobe) = (0, 0.0f32);
+        for y in 0..SIZE.1 {
+            for x in 0..SIZE.0 {
+                let d = depth.pixel(x, y)[0];
+                if d <= 0.0 {
+                    continue;
+                }
+                let p = world_position(&g, x, y, d);
+                if p.y.abs() > 1e-3 || p.length() < 1.5 {
+                    continue; // the ball, or the floor next to it
+                }
+                let n_dot_v = (EYE - p).normalize().y;
+                let lobe = coat * schlick(0.04, n_dot_v);
+                let want = radiance * (schlick(0.0, n_dot_v) * (1.0 - lobe) + lobe);
+                let got = specular.pixel(x, y);
+                for c in &got[..3] {
+                    assert!(
+                        (c - want).abs() < 0.01 + 0.05 * want,
+                        "coat {coat}, pixel ({x}, {y}), N.V {n_dot_v}: {got:?}, analytic {want}"
+                    );
+                }
+                largest_lobe = largest_lobe.max(radiance * lobe);
+                checked += 1;
+            }
+        }
+        assert!(checked > 100, "{checked} floor pixels checked");
+        if coat > 0.0 {
+            assert!(coat_keys(&renderer) > 0, "a coat compiles CLEARCOAT");
+            assert!(largest_lobe > 0.05, "a lobe worth testing: {largest_lobe}");
+        }
+    }
+}

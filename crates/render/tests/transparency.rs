@@ -6,10 +6,14 @@
 //! reference at chosen pixels, naive and clustered alike; zero normals,
 //! zero roughness and a light at the surface stay finite; light passes run
 //! only for connected light buffers, with only their type compiled in.
-//! Transmission: a glass slab over a ramp shifts what is behind by what
+//! A clear coat on a BLEND surface reflects a uniform environment over its
+//! dimmed base as the analytic value says. Transmission: a glass slab over a ramp shifts what is behind by what
 //! Snell's law says (the CPU reference, `spreadlight_reference::
 //! refraction`), ior 1 shows it unshifted, the volume absorbs by
-//! exp(-σ path); ior 0 or NaN, an infinite thickness, grazing angles and
+//! exp(-σ path); a dispersive material (KHR_materials_dispersion) bends
+//! red, green and blue by their own ior as the CPU reference does (fringes
+//! on the predicted side of a white/black edge), dispersion 0 bit for bit
+//! as before; ior 0 or NaN, an infinite thickness, grazing angles and
 //! rays leaving the screen stay finite and clamp. Rough glass blurs through
 //! the opaque image's mip chain (built only when a layer refracts) as the
 //! taps do; rays leaving the screen see the Environment where there is one.
@@ -1057,6 +1061,105 @@ fn a_uniform_environment_reflects_off_white_metal_glass_as_its_specular_albedo()
     }
 }
 
+/// A clear coat on a BLEND surface reflects the environment too (the base
+/// pass's `coated_environment`, as Reflection for opaque ones). Radiance L
+/// from every direction: the irradiance is L and the prefiltered reflection
+/// L at every roughness, and at roughness 0 the split sum is Schlick's
+/// S(f0, N.V). A pane turned 1.2 rad (N.V about 0.36, where the coat's
+/// Fresnel is 0.14), albedo 0.5, not metal, reflectance 0, with a mirror
+/// coat of factor c, shows L [(0.5 + S(0, N.V)) (1 - c S(0.04, N.V)) +
+/// c S(0.04, N.V)]: diffuse and base reflection dimmed by what the coat
+/// reflects, and the coat's lobe.
+#[test]
+fn a_coated_blend_surface_reflects_the_environment_over_its_dimmed_base() {
+    use spreadlight_reference::refraction::hit_plane;
+    use spreadlight_render::material::{Feature, Material, MaterialWorld};
+    let renderer = test_renderer();
+    let radiance = 1.0;
+    let image = Arc::new(EquirectImage {
+        width: 16,
+        height: 8,
+        pixels: vec![[radiance, radiance, radiance, 1.0]; 16 * 8],
+    });
+    let environment = Environment::new(
+        &renderer,
+        None,
+        EnvironmentSource::Equirect(image),
+        EnvironmentQuality {
+            cube_size: 16,
+            samples: 64,
+        },
+    );
+    let albedo = 0.5;
+    let tilt = 1.2;
+    let (_, n) = glass_pane(&renderer, tilt);
+    let schlick = |f0: f32, n_dot_v: f32| f0 + (1.0 - f0) * (1.0 - n_dot_v).powi(5);
+    for coat in [0.0, 1.0, 0.5] {
+        let mut material = Material::new()
+            .with(Feature::CookTorrance, &[[0.0, 0.0, 0.0, 0.0]])
+            .and_then(|m| m.with(Feature::Reflection, &[[1.0, 0.0, 0.0, 0.0]]))
+            .expect("valid");
+        if coat > 0.0 {
+            material = material
+                .with(Feature::Clearcoat, &[[coat, 0.0, 0.0, 0.0]])
+                .expect("valid");
+        }
+        let world = MaterialWorld::new(&renderer, vec![material]);
+        // The turned pane, opaque grey (alpha 1: its own colour alone).
+        let (glass, _) = glass_pane(&renderer, tilt);
+        let batch = &glass.batches[0];
+        let instance = InstanceInput {
+            color: [albedo, albedo, albedo, 1.0],
+            ..batch.instances[0]
+        };
+        let layer = Arc::new(Layer::plain(vec![DrawBatch {
+            mesh: batch.mesh.clone(),
+            instances: vec![instance],
+        }]));
+        let settings = TransparencySettings {
+            light_color: Vec3::ZERO,
+            ..dark(LightLoop::Auto)
+        };
+        let by = LitBy {
+            environment: Some(environment.clone()),
+            materials: Some(world),
+            ..Default::default()
+        };
+        let (_, out, pass) = lit_pane_with(&renderer, layer, settings, by);
+        assert_eq!(
+            pass.keys()
+                .iter()
+                .any(|k| k.key().features.contains("CLEARCOAT")),
+            coat > 0.0,
+            "the base pass compiles the coat only for a coated world"
+        );
+        let mut checked = 0;
+        for x in 0..SIZE.0 {
+            let y = 24;
+            let d = pixel_ray(x, y);
+            let Some(p) = hit_plane(EYE, d, Vec3::new(0.0, 0.0, PANE_Z), n) else {
+                continue;
+            };
+            let across = n.cross(Vec3::Y).normalize();
+            if (p - Vec3::new(0.0, 0.0, PANE_Z)).dot(across).abs() > 1.8 {
+                continue;
+            }
+            let n_dot_v = (EYE - p).normalize().dot(n);
+            let lobe = coat * schlick(0.04, n_dot_v);
+            let want = radiance * ((albedo + schlick(0.0, n_dot_v)) * (1.0 - lobe) + lobe);
+            let got = at(&out, x, y);
+            for c in &got[..3] {
+                assert!(
+                    (c - want).abs() < 0.02 * want,
+                    "coat {coat}, pixel ({x}, {y}), N.V {n_dot_v}: {got:?}, analytic {want}"
+                );
+            }
+            checked += 1;
+        }
+        assert!(checked > 8, "{checked} pane pixels checked");
+    }
+}
+
 /// MatCap is a material feature, so a transparent layer whose material has
 /// it gets it in its base pass as CompositeLight gives opaque surfaces: the
 /// pane faces the eye, its view-space normal is +z everywhere, and the
@@ -1540,6 +1643,137 @@ fn the_volume_absorbs_by_beer_lambert_over_the_path_inside() {
         assert!(
             want.x < 0.75 && path > thickness,
             "absorbed along a slanted path"
+        );
+    }
+}
+
+/// A grey ramp: every channel holds the pixel's u, so each channel of what
+/// a pixel shows says where that channel sampled.
+fn grey_ramp(x: u32, _: u32) -> [f32; 4] {
+    let u = (x as f32 + 0.5) / SIZE.0 as f32;
+    [u, u, u, 1.0]
+}
+
+/// The column of [`white_then_black`]'s first black texel.
+const EDGE: u32 = 24;
+
+/// White left of column EDGE, black from it on.
+fn white_then_black(x: u32, _: u32) -> [f32; 4] {
+    if x < EDGE {
+        [1.0; 4]
+    } else {
+        [0.0, 0.0, 0.0, 1.0]
+    }
+}
+
+#[test]
+fn dispersion_bends_red_green_and_blue_by_their_own_ior_and_zero_is_todays_image() {
+    use spreadlight_render::material::{Feature, Material, MaterialWorld, transmission_params};
+    let renderer = test_renderer();
+    let texel = 1.0 / SIZE.0 as f32;
+    let (tilt, ior, thickness) = (0.6, 1.5, 2.0);
+    let glass = |dispersion: f32| {
+        let params = transmission_params(1.0, ior, thickness, [1.0; 3], f32::INFINITY, dispersion);
+        let material = Material::new()
+            .with(Feature::Transmission, &params)
+            .expect("valid");
+        Some(MaterialWorld::new(&renderer, vec![material]))
+    };
+    let node = glass_settings(TransmissionSettings::default());
+    // Dispersion 20 (an Abbe number of 1, far beyond flint's 30ish, so
+    // the spread is pixels wide): KHR_materials_dispersion's spread is
+    // (ior - 1) x 20 / 20 = 0.5 about the green's 1.5.
+    let iors = [1.25, 1.5, 1.75];
+    let (_, out, _, n) = refract_through(&renderer, tilt, node, glass(20.0), grey_ramp);
+    for (x, y) in REFRACTED_PIXELS {
+        let got = at(&out, x, y);
+        let want = iors.map(|ior| snell_uv(x, y, n, ior, thickness).expect("on the pane").0.x);
+        for c in 0..3 {
+            assert!(
+                (got[c] - want[c]).abs() < 0.3 * texel,
+                "({x}, {y}) channel {c} (ior {}): sampled u {}, Snell says {}",
+                iors[c],
+                got[c],
+                want[c]
+            );
+        }
+        assert!(
+            want[0] - want[2] > 1.5 * texel,
+            "a spread worth testing at ({x}, {y}): {want:?}"
+        );
+    }
+    // Over a white/black edge: the fringes the CPU predicts. Bilinear
+    // filtering of the edge gives a sample at texel coordinate t (u x width
+    // - 0.5) white below EDGE - 1 and black above EDGE; channels whose
+    // sample is clear of that band by 0.3 texel (the tolerance above) are
+    // checked.
+    let (_, out, _, n) = refract_through(&renderer, tilt, node, glass(20.0), white_then_black);
+    let (mut checked, mut fringes) = (0, 0);
+    for y in [20, 24, 28] {
+        for x in 0..SIZE.0 {
+            let Some(want) = iors
+                .iter()
+                .map(|&ior| snell_uv(x, y, n, ior, thickness))
+                .collect::<Option<Vec<_>>>()
+            else {
+                continue;
+            };
+            let got = at(&out, x, y);
+            let mut seen = [None; 3];
+            for c in 0..3 {
+                let t = want[c].0.x * SIZE.0 as f32 - 0.5;
+                let expected = if t <= EDGE as f32 - 1.3 {
+                    1.0
+                } else if t >= EDGE as f32 + 0.3 {
+                    0.0
+                } else {
+                    continue;
+                };
+                assert!(
+                    (got[c] - expected).abs() < 0.02,
+                    "({x}, {y}) channel {c}: {} instead of {expected} (sampled at texel {t})",
+                    got[c]
+                );
+                seen[c] = Some(expected);
+                checked += 1;
+            }
+            // A fringe: red (the least bent) already on the black side
+            // while blue (the most) still sees white; never the other way.
+            if seen[0] == Some(0.0) && seen[2] == Some(1.0) {
+                fringes += 1;
+            }
+            assert!(
+                !(seen[0] == Some(1.0) && seen[2] == Some(0.0)),
+                "({x}, {y}): {got:?}"
+            );
+        }
+    }
+    assert!(
+        fringes >= 3 && checked > 200,
+        "{fringes} fringes, {checked} checked"
+    );
+    // Dispersion 0 takes the walk it always did: the node's own glass
+    // (no material world) with the same ior and thickness, bit for bit, and
+    // every channel alike.
+    let (_, zero, _, _) = refract_through(&renderer, tilt, node, glass(0.0), grey_ramp);
+    let same = TransmissionSettings {
+        factor: 1.0,
+        ior,
+        thickness,
+        ..Default::default()
+    };
+    let (_, today, _, _) = refract_through(&renderer, tilt, glass_settings(same), None, grey_ramp);
+    assert_eq!(
+        zero.pixels, today.pixels,
+        "dispersion 0 against the node's glass"
+    );
+    for (x, y) in REFRACTED_PIXELS {
+        let got = at(&zero, x, y);
+        assert!(got[0] == got[1] && got[1] == got[2], "({x}, {y}): {got:?}");
+        let want = snell_uv(x, y, n, ior, thickness).expect("on the pane").0.x;
+        assert!(
+            (got[1] - want).abs() < 0.3 * texel,
+            "({x}, {y}): {got:?} vs {want}"
         );
     }
 }

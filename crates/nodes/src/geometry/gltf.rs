@@ -5,7 +5,9 @@
 //! chains and `MaterialBuffer` uploads), with their names so a patch can
 //! pick one (`MaterialByName`) and change it; its `KHR_lights_punctual`
 //! lights as light lists that start `AddLight` chains; its cameras as View
-//! and Projection. Time and Animation pose the scene (node TRS animations,
+//! and Projection. Variant picks a `KHR_materials_variants` variant (by
+//! name or index; empty: the file's default materials): only the instances'
+//! material ids change, nothing is reloaded. Time and Animation pose the scene (node TRS animations,
 //! skins and morph weights: skinned and morphed instances are deformed on
 //! the GPU, see `gltf_deform`); the files are loaded and uploaded once and
 //! kept while Filename stays.
@@ -72,6 +74,7 @@ struct GltfPins {
     time: In<f32>,
     animation: In<i64>,
     instances: In<Choice<Instances>>,
+    variant: In<String>,
     mesh: Out<Res<GpuMesh>>,
     transform: Out<Mat4>,
     base_color: Out<Color>,
@@ -106,7 +109,11 @@ pub fn register(r: &mut Registry) {
              compute dispatch per file and pose change) into meshes that carry last frame's positions, for DeferredBase's \
              Velocity Geometry; skinned instances come out in world space with an identity Transform. Instances: All, Opaque (OPAQUE and MASK materials, for the \
              G-buffer) or Blend (BLEND materials, for a DeferredBase layer drawn by Transparency: Base Color's alpha is \
-             their opacity). A relative Filename is relative to the patch's folder.",
+             their opacity). Variant: a KHR_materials_variants variant of the file, by name or index (empty: the file's \
+             default materials; one slice per file, cycling); each instance gets its primitive's material for it (the same material ids: the \
+             Materials output holds every material of the file); an unknown one is reported on the node, naming the \
+             file and its variants, and the default materials are shown. A relative Filename is relative to the \
+             patch's folder.",
         )
         .with_pins_node(|p| {
             let pins = GltfPins {
@@ -115,6 +122,7 @@ pub fn register(r: &mut Registry) {
                 time: p.input("Time", 0.0f32),
                 animation: p.input("Animation", 0i64),
                 instances: p.input_choice("Instances", &INSTANCES, Instances::All),
+                variant: p.input("Variant", String::new()),
                 mesh: super::mesh_output(p, "Mesh"),
                 transform: p.output::<Mat4>("Transform"),
                 base_color: p.output::<Color>("Base Color"),
@@ -204,6 +212,8 @@ impl Node for GltfNode {
         let time = cx.first(pins.time, 0.0)?;
         let animation = cx.first(pins.animation, -1)?;
         let which = cx.choice(pins.instances)?;
+        // One variant per file, the slices cycling with Filename's.
+        let variants: Vec<String> = cx.get(pins.variant)?.to_vec();
         self.load(cx)?;
         let (mut meshes, mut transforms, mut colors, mut ids) =
             (Vec::new(), Vec::new(), Vec::new(), Vec::new());
@@ -216,13 +226,13 @@ impl Node for GltfNode {
         let (mut points, mut spots, mut suns) = (empty(), empty(), empty());
         let (mut views, mut projections) = (Vec::new(), Vec::new());
         let mut settle = false;
-        for Loaded {
-            file,
-            scene,
-            meshes: uploaded,
-            deformer,
-        } in &mut self.loaded
-        {
+        for (f, loaded) in self.loaded.iter_mut().enumerate() {
+            let Loaded {
+                file,
+                scene,
+                meshes: uploaded,
+                deformer,
+            } = loaded;
             // This file's default material, then its materials.
             let base = materials.len() as i64;
             materials.push(Arc::new(MaterialData::default().to_material()));
@@ -245,6 +255,15 @@ impl Node for GltfNode {
                     Ran::Deformed { settle: false } | Ran::Nothing => {}
                 }
             }
+            // An unknown variant is shown on the node; the file keeps its
+            // default materials and the rest of the patch runs.
+            let variant = variants.get(f % variants.len().max(1));
+            let chosen = scene
+                .variant(variant.map_or("", |v| v))
+                .unwrap_or_else(|e| {
+                    cx.report(NodeError::Other(format!("{file}: {e}")));
+                    None
+                });
             let (lights, cameras) = scene.posed_content(&world);
             extend(&mut points, &lights.points, file);
             extend(&mut spots, &lights.spots, file);
@@ -254,7 +273,8 @@ impl Node for GltfNode {
                 projections.push(camera.projection);
             }
             for (k, instance) in scene.instances.iter().enumerate() {
-                let material = instance.material.and_then(|m| scene.materials.get(m));
+                let index = instance.material_in(chosen);
+                let material = index.and_then(|m| scene.materials.get(m));
                 let blend = material.is_some_and(|m| m.alpha_mode == AlphaMode::Blend);
                 match which {
                     Instances::Opaque if blend => continue,
@@ -278,7 +298,7 @@ impl Node for GltfNode {
                 }
                 let c = material.map_or([1.0; 4], |m| m.base_color);
                 colors.push(Color::rgba(c[0], c[1], c[2], c[3]));
-                ids.push(base + instance.material.map_or(0, |m| m as i64 + 1));
+                ids.push(base + index.map_or(0, |m| m as i64 + 1));
             }
         }
         cx.put_resources(pins.mesh, meshes);

@@ -1,6 +1,7 @@
 //! The `glTF` node over generated files: its materials join the material
 //! world at stable ids, a patch changes one by name, its lights start light
-//! lists, and many instances of one mesh stay one draw.
+//! lists, many instances of one mesh stay one draw, and Variant picks a
+//! `KHR_materials_variants` variant's materials (an unknown one reported).
 
 use std::sync::Arc;
 
@@ -165,4 +166,63 @@ fn five_thousand_nodes_load_and_draw_as_one_batch_per_mesh() {
         .map(|i| i.transform.w_axis.truncate().to_array().map(f32::to_bits))
         .collect();
     assert_eq!(places.len(), 5000);
+}
+
+#[test]
+fn variant_picks_each_instances_material_and_an_unknown_one_is_reported() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("box.gltf"), models::material_variants()).unwrap();
+    // Material ids: 0 glTF's default, then Red 1, Green 2, Blue 3, White 4, Black 5.
+    let frame = |variant: &str| {
+        let mut patch = Patch::default();
+        patch.add(
+            NodeDoc::new(1, "glTF")
+                .with("Filename", vec!["box.gltf".to_owned()])
+                .with("Variant", vec![variant.to_owned()]),
+        );
+        // A sink, so the node runs.
+        patch.add(NodeDoc::new(2, "Probe"));
+        patch.link(1, "Material ID", 2, "Input");
+        let mut runtime = Runtime::new(crate::registry());
+        runtime.provide(spreadlight_render::renderer::test_renderer());
+        runtime.provide(Arc::new(spreadlight_graph::PatchDir(dir.path().to_owned())));
+        assert!(runtime.load(&patch).is_empty());
+        runtime.evaluate(FrameClock::default());
+        let errors: Vec<String> = runtime.node_errors().map(|(_, e)| e.to_string()).collect();
+        let ids = match runtime.output(NodeId(1), "Material ID").map(|s| s.as_ref()) {
+            Some(Spread::Int(ids)) => ids.clone(),
+            other => panic!("{other:?}"),
+        };
+        let colours = match runtime.output(NodeId(1), "Base Color").map(|s| s.as_ref()) {
+            Some(Spread::Color(c)) => c.iter().map(|c| [c.r, c.g, c.b, c.a]).collect::<Vec<_>>(),
+            other => panic!("{other:?}"),
+        };
+        (ids, colours, errors)
+    };
+    // Body, then lid (Forest leaves the lid White).
+    for (variant, want) in [
+        ("", [1, 4]),
+        ("Forest", [2, 4]),
+        ("Ocean", [3, 5]),
+        ("1", [3, 5]),
+    ] {
+        let (ids, _, errors) = frame(variant);
+        assert!(errors.is_empty(), "{variant}: {errors:?}");
+        assert_eq!(ids, want, "`{variant}`");
+    }
+    // The material colour follows: Ocean's body is blue.
+    let (_, colours, _) = frame("Ocean");
+    assert_eq!(colours[0], [0.05, 0.05, 0.8, 1.0]);
+    // Unknown: the default materials, and the node says which file and
+    // which variants it has.
+    let (ids, colours, errors) = frame("Desert");
+    assert_eq!(ids, [1, 4]);
+    assert_eq!(colours[0], [0.8, 0.05, 0.05, 1.0]);
+    assert!(
+        errors.len() == 1
+            && errors[0].contains("box.gltf")
+            && errors[0].contains("`Desert`")
+            && errors[0].contains("`Forest`, `Ocean`"),
+        "{errors:?}"
+    );
 }

@@ -9,6 +9,11 @@
 //! material of the world has the Reflection feature, the specular pass
 //! only clears its output ("reflection skipped" in the frame report), and
 //! the environment is built only if the diffuse light is read.
+//!
+//! A world with a Clearcoat material (CLEARCOAT) gives coated pixels the
+//! coat's own reflection of the environment (its normal, its roughness, f0
+//! 0.04) over the base's, dimmed by 1 - factor x F(N.V) as CookTorrance
+//! dims the base under each light.
 
 use std::sync::Arc;
 
@@ -16,7 +21,9 @@ use super::environment_map::Environment;
 use crate::error::RenderError;
 use crate::frame_graph::{Bindings, FrameGraph, PassContext, Tex, TextureDesc};
 use crate::gbuffer::GBuffer;
-use crate::material::{FEATURE_COOK_TORRANCE, FEATURE_REFLECTION, MaterialTextures, MaterialWorld};
+use crate::material::{
+    FEATURE_CLEARCOAT, FEATURE_COOK_TORRANCE, FEATURE_REFLECTION, MaterialTextures, MaterialWorld,
+};
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
 use crate::report::PassName;
@@ -153,6 +160,8 @@ impl Reflection {
             material_textures: self.textured(),
             surface_target: self.gbuffer.targets.surface.is_some(),
             parallax: self.volume.is_some(),
+            // Only a world with a coat compiles the coat's lobe.
+            clearcoat: self.materials.any_has(FEATURE_CLEARCOAT),
         }
     }
 

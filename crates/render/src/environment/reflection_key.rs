@@ -14,5 +14,8 @@ crate::flag_key! {
         /// The cube is a probe's with a volume: the lookup is corrected by
         /// the volume (parallax), not taken as if infinitely far.
         parallax: "PARALLAX",
+        /// Some material has a clear coat: coated pixels add the coat's
+        /// reflection of the environment and dim the base's.
+        clearcoat: "CLEARCOAT",
     }
 }

@@ -99,12 +99,13 @@ const ANISOTROPY: ParamLayout = ParamLayout {
 /// Two vec4s ([`transmission_params`]): how much of what shows through is
 /// refracted (0..1), the index of refraction and the volume's thickness
 /// (world units, 0: thin-walled); then the volume's absorption coefficient
-/// per channel (1 / world unit, Beer-Lambert). Every component is kept
-/// non-negative (the coefficients are unbounded, so the factor's 0..1 is
-/// the shader's clamp).
+/// per channel (1 / world unit, Beer-Lambert) and its dispersion
+/// (`KHR_materials_dispersion`, 20 / the Abbe number; 0: none). Every
+/// component is kept non-negative (the coefficients are unbounded, so the
+/// factor's 0..1 is the shader's clamp); the first vec4's fourth is 0.
 const TRANSMISSION: ParamLayout = ParamLayout {
     names: ["factor", "ior", "thickness", ""],
-    ranges: [NonNegative, NonNegative, NonNegative, Unused],
+    ranges: [NonNegative, NonNegative, NonNegative, NonNegative],
     default: [1.0, 1.5, 0.0, 0.0],
 };
 
@@ -118,13 +119,15 @@ pub const MAX_ABSORPTION: f32 = 1e6;
 /// absorbing as `attenuation_color` after `attenuation_distance` (glTF's
 /// `KHR_materials_volume`; infinite or white: nothing). Every input made
 /// finite: a NaN or non-positive ior is 1 (no bend), a NaN or infinite
-/// thickness 0 (thin-walled), a black channel [`MAX_ABSORPTION`].
+/// thickness 0 (thin-walled), a black channel [`MAX_ABSORPTION`]; a NaN,
+/// infinite or negative `dispersion` 0 (red, green and blue refract alike).
 pub fn transmission_params(
     factor: f32,
     ior: f32,
     thickness: f32,
     attenuation_color: [f32; 3],
     attenuation_distance: f32,
+    dispersion: f32,
 ) -> [[f32; 4]; 2] {
     let factor = if factor.is_finite() {
         factor.clamp(0.0, 1.0)
@@ -153,9 +156,16 @@ pub fn transmission_params(
             (-c.ln() / d).clamp(0.0, MAX_ABSORPTION)
         }
     });
+    // KHR_materials_dispersion: red and blue refract by ior -/+ (ior - 1) x
+    // dispersion / 40 (lit transparency's `transmitted`).
+    let dispersion = if dispersion.is_finite() {
+        dispersion.max(0.0)
+    } else {
+        0.0
+    };
     [
         [factor, ior, thickness, 0.0],
-        [sigma[0], sigma[1], sigma[2], 0.0],
+        [sigma[0], sigma[1], sigma[2], dispersion],
     ]
 }
 

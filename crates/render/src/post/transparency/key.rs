@@ -17,10 +17,12 @@ pub struct TransparencyKey {
     pub pass: TransparencyPass,
     /// The clear coat (CLEARCOAT): a light pass of a layer whose world has
     /// a Clearcoat material adds the coat's lobe; a base pass of such a
-    /// layer that records fragments writes their coat records; the compute
+    /// layer that records fragments writes their coat records, and one that
+    /// reads the environment adds the coat's reflection of it; the compute
     /// shading of a node with a coated layer reads them. Never for the
     /// composite and resolve entry points, nor for a surface without a
-    /// material world (it has no coat), nor a base pass that records nothing.
+    /// material world (it has no coat), nor a base pass that records nothing
+    /// and reads no environment.
     pub coat: bool,
     /// The anisotropic lobe (ANISOTROPY): a forward light pass of a layer
     /// with surface maps whose world has an Anisotropy material stretches
@@ -393,7 +395,11 @@ impl Permutation for TransparencyKey {
                     .chain(lights.iter().copied())
                     .flat_map(move |pass| {
                         let coats = match pass {
-                            TransparencyPass::Base { records, .. } => coated && records,
+                            TransparencyPass::Base {
+                                records,
+                                environment,
+                                ..
+                            } => coated && (records || environment),
                             _ => coated,
                         };
                         let stretches = anisotropic && matches!(pass, TransparencyPass::Light(_));
@@ -566,8 +572,9 @@ mod tests {
             ["LIGHT_PASS", "CLUSTERED", "FROXELS", "COMPUTE_SHADE"]
         );
         assert!(all.contains(&shade) && all.contains(&TransparencyKey::SHADED_RESOLVE));
-        // The coat: compiled for the light passes and recording base passes
-        // of surfaces with a material world, and for compute shading.
+        // The coat: compiled for the light passes and the recording or
+        // environment-reading base passes of surfaces with a material world,
+        // and for compute shading.
         let coated_shade = TransparencyKey {
             coat: true,
             ..shade
@@ -575,7 +582,11 @@ mod tests {
         assert!(all.contains(&coated_shade));
         assert_eq!(coated_shade.features().last(), Some("CLEARCOAT"));
         assert!(all.iter().filter(|k| k.coat).all(|k| match k.pass {
-            TransparencyPass::Base { records, .. } => records && k.surface.reads_materials(),
+            TransparencyPass::Base {
+                records,
+                environment,
+                ..
+            } => (records || environment) && k.surface.reads_materials(),
             TransparencyPass::Light(_) => k.surface.reads_materials(),
             TransparencyPass::Shade(_) | TransparencyPass::ShadeTiled(_) => true,
             TransparencyPass::ShadedResolve => false,

@@ -531,12 +531,17 @@ impl Transparency {
 
     /// Whether a pass of a layer reading `world` compiles the coat
     /// ([`TransparencyKey::coat`]): its world has a Clearcoat material, and
-    /// the pass is a light pass or a base pass that records fragments.
+    /// the pass is a light pass or a base pass that records fragments or
+    /// reads the environment (the coat reflects it).
     fn coat(world: Option<&Arc<MaterialWorld>>, pass: TransparencyPass) -> bool {
         let coated = world.is_some_and(|w| w.union_flags() & (1 << FEATURE_CLEARCOAT) != 0);
         coated
             && match pass {
-                TransparencyPass::Base { records, .. } => records,
+                TransparencyPass::Base {
+                    records,
+                    environment,
+                    ..
+                } => records || environment,
                 _ => true,
             }
     }

@@ -102,6 +102,9 @@ impl TransmissionSettings {
             self.thickness,
             self.attenuation_color.to_array(),
             self.attenuation_distance,
+            // The node's layers refract red, green and blue alike; a
+            // material's Transmission carries its own dispersion.
+            0.0,
         );
         [
             factor,
