@@ -124,7 +124,7 @@ pub fn energy_compensation(f0: Vec3, n_dot_v: f32, roughness: f32) -> Vec3 {
 }
 
 /// `v` normalised, or `fallback` where it has no direction (like `safe_normalize` in `spreadlight::packing`).
-fn safe_normalize(v: Vec3, fallback: Vec3) -> Vec3 {
+pub fn safe_normalize(v: Vec3, fallback: Vec3) -> Vec3 {
     let len2 = v.dot(v);
     if len2 > 1e-20 {
         v / len2.sqrt()
