@@ -18,10 +18,18 @@
 // sphere) and the cube read towards that hit from the probe's position
 // (Lagarde & Zanuttini 2012); outside the volume, or for a ray that does
 // not leave it, the direction stays as it is.
+// IRIDESCENCE (some material has the Iridescence feature): a film's
+// Fresnel at N.V (lib/iridescence.wgsl) replaces the split sum's Schlick
+// term, mixed by its factor: (1 - k) (F0 A + B) + k F_film (A + B), the
+// Khronos sample viewer's image-based iridescence.
 #import spreadlight::camera::{Camera, pixel_to_ndc}
 #import spreadlight::packing::{channel_to_id, safe_normalize}
 #import spreadlight::ibl::{split_sum, facing_normal}
 #import spreadlight::material::{feature_param_at, has_feature, FEATURE_COOK_TORRANCE, FEATURE_REFLECTION}
+#ifdef IRIDESCENCE
+#import spreadlight::material::iridescence_at
+#import spreadlight::iridescence::iridescence_fresnel
+#endif
 
 struct Params {
     // 0: reflect, 1: refract
@@ -112,7 +120,14 @@ fn specular_at(pixel: vec2<u32>) -> vec4<f32> {
     let albedo = max(texel.rgb, vec3<f32>(0.0));
     let f0 = mix(vec3<f32>(ct.z), albedo, ct.y);
     let n_dot_v = clamp(dot(n, v), 1e-4, 1.0);
-    let factor = split_sum(lut, cube_sampler, f0, n_dot_v, roughness);
+    var factor = split_sum(lut, cube_sampler, f0, n_dot_v, roughness);
+#ifdef IRIDESCENCE
+    let film = iridescence_at(material, pixel);
+    if (film.x > 0.0) {
+        let film_f = iridescence_fresnel(ct.z, albedo, ct.y, n_dot_v, film.y, film.z);
+        factor = mix(factor, film_f * split_sum(lut, cube_sampler, vec3<f32>(1.0), n_dot_v, roughness), film.x);
+    }
+#endif
     var dir = reflect(-v, n);
     var weight = factor;
     if (params.mode == 1u) {

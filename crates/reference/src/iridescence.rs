@@ -90,14 +90,19 @@ pub fn eval_iridescence(
     let r0 = ior_to_fresnel0(iridescence_ior, outside_ior);
     let r12 = schlick(r0, cos_theta1);
     let t121 = 1.0 - r12;
-    let phi12 = if iridescence_ior < outside_ior { PI } else { 0.0 };
+    let phi12 = if iridescence_ior < outside_ior {
+        PI
+    } else {
+        0.0
+    };
     let phi21 = PI - phi12;
     // The second interface (film to base).
     let base_ior = base_f0
         .clamp(Vec3::ZERO, Vec3::splat(0.9999))
         .to_array()
         .map(fresnel0_to_ior);
-    let r23 = Vec3::from(base_ior.map(|b| schlick(ior_to_fresnel0(b, iridescence_ior), cos_theta2)));
+    let r23 =
+        Vec3::from(base_ior.map(|b| schlick(ior_to_fresnel0(b, iridescence_ior), cos_theta2)));
     let phi23 = Vec3::from(base_ior.map(|b| if b < iridescence_ior { PI } else { 0.0 }));
     // The phase shift.
     let opd = 2.0 * iridescence_ior * thickness * cos_theta2;
@@ -216,7 +221,14 @@ pub fn cook_torrance_iridescent(
     let albedo = albedo.max(Vec3::ZERO);
     let f0 = Vec3::splat(reflectance.clamp(0.0, 1.0)).lerp(albedo, metallic);
     let schlick_f = f_schlick(f0, v.dot(h));
-    let film_f = iridescence_fresnel(reflectance, albedo, metallic, n_dot_v, film.ior, film.thickness);
+    let film_f = iridescence_fresnel(
+        reflectance,
+        albedo,
+        metallic,
+        n_dot_v,
+        film.ior,
+        film.thickness,
+    );
     let f = schlick_f.lerp(film_f, film.factor);
     let lobe = d_ggx(n.dot(h), roughness) * v_smith_ggx_correlated(n_dot_v, n_dot_l, roughness);
     let mut specular = f * (lobe * n_dot_l);
@@ -236,14 +248,56 @@ mod tests {
     /// hand in double precision): (film ior, cos theta1, thickness nm,
     /// base f0) -> reflectance, pasted from its output.
     const PYTHON: [(f32, f32, f32, [f32; 3], [f32; 3]); 8] = [
-        (1.3, 1.0, 400.0, [0.04; 3], [0.0074565, 0.0383517, 0.0160382]),
-        (1.3, 0.5, 400.0, [0.04; 3], [0.0608344, 0.0228908, 0.0505085]),
-        (1.3, 1.0, 250.0, [0.04; 3], [0.0479931, 0.0268589, 0.0049179]),
-        (1.33, 0.8, 100.0, [0.02; 3], [0.0255891, 0.0258561, 0.0259334]),
-        (1.5, 0.3, 600.0, [0.9, 0.6, 0.3], [0.8519820, 0.3115119, 0.4630560]),
-        (1.3, 0.05, 400.0, [0.04; 3], [0.8326797, 0.7849511, 0.7358476]),
+        (
+            1.3,
+            1.0,
+            400.0,
+            [0.04; 3],
+            [0.0074565, 0.0383517, 0.0160382],
+        ),
+        (
+            1.3,
+            0.5,
+            400.0,
+            [0.04; 3],
+            [0.0608344, 0.0228908, 0.0505085],
+        ),
+        (
+            1.3,
+            1.0,
+            250.0,
+            [0.04; 3],
+            [0.0479931, 0.0268589, 0.0049179],
+        ),
+        (
+            1.33,
+            0.8,
+            100.0,
+            [0.02; 3],
+            [0.0255891, 0.0258561, 0.0259334],
+        ),
+        (
+            1.5,
+            0.3,
+            600.0,
+            [0.9, 0.6, 0.3],
+            [0.8519820, 0.3115119, 0.4630560],
+        ),
+        (
+            1.3,
+            0.05,
+            400.0,
+            [0.04; 3],
+            [0.8326797, 0.7849511, 0.7358476],
+        ),
         (1.3, 1.0, 10.0, [0.04; 3], [0.0430404, 0.0383185, 0.0372864]),
-        (1.8, 0.7, 1200.0, [0.04, 0.5, 0.99], [0.0940726, 0.3199580, 0.9821176]),
+        (
+            1.8,
+            0.7,
+            1200.0,
+            [0.04, 0.5, 0.99],
+            [0.0940726, 0.3199580, 0.9821176],
+        ),
     ];
 
     #[test]
@@ -269,7 +323,10 @@ mod tests {
         for cos in [1.0f32, 0.6, 0.2] {
             let got = eval_iridescence(1.0, 1.0, cos, 400.0, Vec3::splat(0.04));
             let want = schlick(0.04, cos);
-            assert!((got - Vec3::splat(want)).abs().max_element() < 1e-2, "{got} {want}");
+            assert!(
+                (got - Vec3::splat(want)).abs().max_element() < 1e-2,
+                "{got} {want}"
+            );
         }
         // A soap film at 400 nm is green at normal incidence (the sample
         // viewer's): green above red and blue.
@@ -277,7 +334,10 @@ mod tests {
         assert!(soap.y > soap.x && soap.y > soap.z, "{soap}");
         // Total internal reflection (a film below the outside's index at a
         // grazing angle) reflects all.
-        assert_eq!(eval_iridescence(1.5, 1.0, 0.1, 300.0, Vec3::splat(0.04)), Vec3::ONE);
+        assert_eq!(
+            eval_iridescence(1.5, 1.0, 0.1, 300.0, Vec3::splat(0.04)),
+            Vec3::ONE
+        );
     }
 
     #[test]
@@ -287,14 +347,31 @@ mod tests {
                 for cos in [0.0, MIN_COS, 0.5, 1.0] {
                     for f0 in [0.0, 0.04, 1.0] {
                         let r = eval_iridescence(1.0, ior, cos, thickness, Vec3::splat(f0));
-                        assert!(r.is_finite() && r.min_element() >= 0.0, "{thickness} {ior} {cos} {f0}: {r}");
+                        assert!(
+                            r.is_finite() && r.min_element() >= 0.0,
+                            "{thickness} {ior} {cos} {f0}: {r}"
+                        );
                     }
                 }
             }
         }
         let film = Film::new(f32::NAN, f32::INFINITY, f32::NAN);
-        assert_eq!(film, Film { factor: 0.0, ior: DEFAULT_FILM_IOR, thickness: 0.0 });
-        assert_eq!(Film::new(2.0, 0.5, 300.0), Film { factor: 1.0, ior: 1.0, thickness: 300.0 });
+        assert_eq!(
+            film,
+            Film {
+                factor: 0.0,
+                ior: DEFAULT_FILM_IOR,
+                thickness: 0.0
+            }
+        );
+        assert_eq!(
+            Film::new(2.0, 0.5, 300.0),
+            Film {
+                factor: 1.0,
+                ior: 1.0,
+                thickness: 300.0
+            }
+        );
         assert_eq!(Film::new(1.0, 1.3, 0.0).factor, 0.0);
     }
 
@@ -306,14 +383,37 @@ mod tests {
         let albedo = Vec3::new(0.8, 0.5, 0.2);
         for metallic in [0.0, 0.5, 1.0] {
             let plain = cook_torrance_f0(n, v, l, albedo, 0.4, metallic, 0.04, true);
-            let off = cook_torrance_iridescent(n, v, l, albedo, 0.4, metallic, 0.04, Film::new(0.0, 1.3, 400.0), true);
+            let off = cook_torrance_iridescent(
+                n,
+                v,
+                l,
+                albedo,
+                0.4,
+                metallic,
+                0.04,
+                Film::new(0.0, 1.3, 400.0),
+                true,
+            );
             assert!((plain.specular - off.specular).abs().max_element() < 1e-7);
             assert!((plain.diffuse - off.diffuse).abs().max_element() < 1e-7);
-            let on = cook_torrance_iridescent(n, v, l, albedo, 0.4, metallic, 0.04, Film::new(1.0, 1.3, 400.0), false);
+            let on = cook_torrance_iridescent(
+                n,
+                v,
+                l,
+                albedo,
+                0.4,
+                metallic,
+                0.04,
+                Film::new(1.0, 1.3, 400.0),
+                false,
+            );
             let film = iridescence_fresnel(0.04, albedo, metallic, n.dot(v), 1.3, 400.0);
             let bare = cook_torrance_f0(n, v, l, Vec3::ZERO, 0.4, 0.0, 1.0, false);
             // F = 1 gives the lobe alone: the film's lobe is it times the film's F.
-            assert!((on.specular - film * bare.specular).abs().max_element() < 1e-6, "{metallic}");
+            assert!(
+                (on.specular - film * bare.specular).abs().max_element() < 1e-6,
+                "{metallic}"
+            );
         }
     }
 }

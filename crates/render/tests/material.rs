@@ -12,8 +12,9 @@ use naga_oil::compose::{
 };
 use spreadlight_render::material::{
     FEATURE_AMBIENT_OCCLUSION, FEATURE_CLEARCOAT, FEATURE_COOK_TORRANCE, FEATURE_EMISSION,
-    FEATURE_FAKE_SSS, FEATURE_MATCAP, FEATURE_REFLECTION, FEATURE_TRANSMISSION, FEATURE_UNLIT,
-    FIRST_CUSTOM_FEATURE, Feature, MAX_FEATURES, Material, MaterialWorld,
+    FEATURE_FAKE_SSS, FEATURE_IRIDESCENCE, FEATURE_MATCAP, FEATURE_REFLECTION,
+    FEATURE_TRANSMISSION, FEATURE_UNLIT, FIRST_CUSTOM_FEATURE, Feature, MAX_FEATURES, Material,
+    MaterialWorld,
 };
 use spreadlight_render::renderer::test_renderer;
 use spreadlight_render::shaders::library;
@@ -91,6 +92,7 @@ fn library_composes_validates_and_mirrors_the_rust_constants() {
         ("FEATURE_CLEARCOAT", FEATURE_CLEARCOAT),
         ("FEATURE_UNLIT", FEATURE_UNLIT),
         ("FEATURE_TRANSMISSION", FEATURE_TRANSMISSION),
+        ("FEATURE_IRIDESCENCE", FEATURE_IRIDESCENCE),
         ("FIRST_CUSTOM_FEATURE", FIRST_CUSTOM_FEATURE),
         ("MAX_FEATURES", MAX_FEATURES),
     ] {

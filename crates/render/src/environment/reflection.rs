@@ -16,7 +16,9 @@ use super::environment_map::Environment;
 use crate::error::RenderError;
 use crate::frame_graph::{Bindings, FrameGraph, PassContext, Tex, TextureDesc};
 use crate::gbuffer::GBuffer;
-use crate::material::{FEATURE_COOK_TORRANCE, FEATURE_REFLECTION, MaterialTextures, MaterialWorld};
+use crate::material::{
+    FEATURE_COOK_TORRANCE, FEATURE_IRIDESCENCE, FEATURE_REFLECTION, MaterialTextures, MaterialWorld,
+};
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
 use crate::report::PassName;
@@ -153,6 +155,7 @@ impl Reflection {
             material_textures: self.textured(),
             surface_target: self.gbuffer.targets.surface.is_some(),
             parallax: self.volume.is_some(),
+            iridescence: self.materials.any_has(FEATURE_IRIDESCENCE),
         }
     }
 

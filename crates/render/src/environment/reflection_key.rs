@@ -14,5 +14,8 @@ crate::flag_key! {
         /// The cube is a probe's with a volume: the lookup is corrected by
         /// the volume (parallax), not taken as if infinitely far.
         parallax: "PARALLAX",
+        /// Some material has a thin film (Iridescence): its Fresnel at
+        /// N.V replaces the split sum's Schlick term, mixed by its factor.
+        iridescence: "IRIDESCENCE",
     }
 }

@@ -120,6 +120,9 @@ pub struct BrdfMaterials {
     pub fake_sss: bool,
     /// Some material has a clear coat: its lobe is compiled in.
     pub clearcoat: bool,
+    /// Some material has a thin film (Iridescence): its Fresnel is
+    /// compiled in (`spreadlight::iridescence`).
+    pub iridescence: bool,
 }
 
 /// The material buffer (MATERIALS), and whether some material's
@@ -137,7 +140,7 @@ impl MaterialReads {
 
 impl Shading {
     fn features(self) -> impl Iterator<Item = &'static str> {
-        let mut f: Vec<&'static str> = Vec::with_capacity(5);
+        let mut f: Vec<&'static str> = Vec::with_capacity(6);
         match self {
             Shading::Brdf {
                 energy_compensation,
@@ -148,6 +151,7 @@ impl Shading {
                     f.extend(m.reads.features());
                     f.extend(m.fake_sss.then_some("FAKE_SSS"));
                     f.extend(m.clearcoat.then_some("CLEARCOAT"));
+                    f.extend(m.iridescence.then_some("IRIDESCENCE"));
                 }
             }
             Shading::Custom { materials } => {
@@ -164,11 +168,14 @@ impl Shading {
         for reads in reads {
             for fake_sss in [false, true] {
                 for clearcoat in [false, true] {
-                    brdf_materials.push(Some(BrdfMaterials {
-                        reads,
-                        fake_sss,
-                        clearcoat,
-                    }));
+                    for iridescence in [false, true] {
+                        brdf_materials.push(Some(BrdfMaterials {
+                            reads,
+                            fake_sss,
+                            clearcoat,
+                            iridescence,
+                        }));
+                    }
                 }
             }
         }
@@ -265,6 +272,7 @@ impl Permutation for CookTorranceKey {
         "SHADOW_VSM",
         "SURFACE_TARGET",
         "CLEARCOAT",
+        "IRIDESCENCE",
         "CUSTOM_LIGHT",
         "TILED",
         "PER_PIXEL",
@@ -278,8 +286,10 @@ impl Permutation for CookTorranceKey {
             .chain(self.surface_target.then_some("SURFACE_TARGET"))
     }
 
-    /// 13 light walks x 21 shadings x 5 shadow samplings x 2: the 2,730
-    /// feature sets the string rules allowed.
+    /// 13 light walks x 37 shadings x 5 shadow samplings x 2: the 4,810
+    /// feature sets the string rules allow (2,730 before IRIDESCENCE
+    /// doubled the built-in BRDF's material shadings, 16 + 1 per energy
+    /// compensation, the 3 custom ones unchanged).
     fn all() -> Vec<Self> {
         let mut all = Vec::new();
         for lights in Lights::all() {
