@@ -316,15 +316,18 @@ mod tests {
     }
 
     #[test]
-    fn no_film_is_the_bare_interface_and_a_film_colours_it() {
-        // A film of index 1 (air) is nearly the base's Schlick
-        // reflectance: the model keeps the compound reflectance R12 R23
-        // above 1e-5, which leaves interference terms of a few thousandths.
+    fn a_thick_film_is_grey_and_a_thin_one_colours() {
+        // A thick film (20 um) has no colour: the sensitivity's Gaussians
+        // vanish and what is left is the incoherent sum of the two
+        // interfaces' reflections, R12 + T121^2 R23 / (1 - R12 R23), grey.
         for cos in [1.0f32, 0.6, 0.2] {
-            let got = eval_iridescence(1.0, 1.0, cos, 400.0, Vec3::splat(0.04));
-            let want = schlick(0.04, cos);
+            let got = eval_iridescence(1.0, 1.3, cos, 20_000.0, Vec3::splat(0.04));
+            let r12 = schlick(ior_to_fresnel0(1.3, 1.0), cos);
+            let cos2 = (1.0 - (1.0 - cos * cos) / (1.3 * 1.3)).sqrt();
+            let r23 = schlick(ior_to_fresnel0(fresnel0_to_ior(0.04), 1.3), cos2);
+            let want = r12 + (1.0 - r12).powi(2) * r23 / (1.0 - r12 * r23);
             assert!(
-                (got - Vec3::splat(want)).abs().max_element() < 1e-2,
+                (got - Vec3::splat(want)).abs().max_element() < 1e-5,
                 "{got} {want}"
             );
         }
