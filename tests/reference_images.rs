@@ -224,6 +224,20 @@ static CASES: &[Case] = &[
             tolerance: LIT,
         }],
     },
+    // Thin films on three balls: CookTorrance's sun highlight and
+    // Reflection's sky through the film's Fresnel (pow, exp, cos in the
+    // XYZ fit: lighting arithmetic).
+    Case {
+        patch: "patches/iridescence.ron",
+        size: SCENE,
+        edit: unchanged,
+        shots: &[Shot {
+            name: "iridescence",
+            output: "iridescence",
+            frame: 0,
+            tolerance: LIT,
+        }],
+    },
     // The mirror ball reflecting the red box through an EnvironmentProbe
     // (box-projected), at the first frame: the probe's faces are lit by its
     // own ambient and sun, so the same lighting tolerance.
@@ -661,6 +675,11 @@ fn brushed_metal_discs_of_four_anisotropy_strengths() {
 #[test]
 fn matcaps_beside_pbr_materials() {
     check("patches/matcap.ron");
+}
+
+#[test]
+fn thin_films_on_a_bubble_an_oil_slick_and_a_metal() {
+    check("patches/iridescence.ron");
 }
 
 #[test]

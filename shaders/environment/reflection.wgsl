@@ -26,6 +26,10 @@
 // (Khronos' sample viewer's clear coat IBL). Reflect mode only: refraction
 // shows what the surface lets through, base and coat alike. The diffuse
 // output (irradiance, for every surface) is not dimmed.
+// IRIDESCENCE (some material has the Iridescence feature): a film's
+// Fresnel at N.V (lib/iridescence.wgsl) replaces the split sum's Schlick
+// term, mixed by its factor: (1 - k) (F0 A + B) + k F_film (A + B), the
+// Khronos sample viewer's image-based iridescence.
 #import spreadlight::camera::{Camera, pixel_to_ndc}
 #import spreadlight::packing::{channel_to_id, safe_normalize}
 #import spreadlight::ibl::{split_sum, facing_normal}
@@ -33,6 +37,10 @@
 #ifdef CLEARCOAT
 #import spreadlight::material::{clearcoat_at, clearcoat_normal_at}
 #import spreadlight::brdf::{schlick_weight, DIELECTRIC_F0}
+#endif
+#ifdef IRIDESCENCE
+#import spreadlight::material::iridescence_at
+#import spreadlight::iridescence::iridescence_fresnel
 #endif
 
 struct Params {
@@ -124,7 +132,14 @@ fn specular_at(pixel: vec2<u32>) -> vec4<f32> {
     let albedo = max(texel.rgb, vec3<f32>(0.0));
     let f0 = mix(vec3<f32>(ct.z), albedo, ct.y);
     let n_dot_v = clamp(dot(n, v), 1e-4, 1.0);
-    let factor = split_sum(lut, cube_sampler, f0, n_dot_v, roughness);
+    var factor = split_sum(lut, cube_sampler, f0, n_dot_v, roughness);
+#ifdef IRIDESCENCE
+    let film = iridescence_at(material, pixel);
+    if (film.x > 0.0) {
+        let film_f = iridescence_fresnel(ct.z, albedo, ct.y, n_dot_v, film.y, film.z);
+        factor = mix(factor, film_f * split_sum(lut, cube_sampler, vec3<f32>(1.0), n_dot_v, roughness), film.x);
+    }
+#endif
     var dir = reflect(-v, n);
     var weight = factor;
     if (params.mode == 1u) {

@@ -28,6 +28,9 @@ const FEATURE_TRANSMISSION: u32 = 9u;
 // anisotropy target carries its direction per pixel, CookTorrance's
 // ANISOTROPY draws it (shaders/lib/anisotropy.wgsl).
 const FEATURE_ANISOTROPY: u32 = 12u;
+// A thin film over the surface (factor, film ior, thickness minimum and
+// maximum in nm): CookTorrance's and Reflection's IRIDESCENCE.
+const FEATURE_IRIDESCENCE: u32 = 11u;
 const FIRST_CUSTOM_FEATURE: u32 = 16u;
 const MAX_FEATURES: u32 = 32u;
 
@@ -196,4 +199,15 @@ fn clearcoat_normal_at(pixel: vec2<u32>, n: vec3<f32>) -> vec3<f32> {
     }
 #endif
     return n;
+}
+
+// The Iridescence feature's film at a pixel: (factor 0..1, the film's
+// index >= 1, its thickness in nm >= 0). Without a thickness map the film
+// is its maximum thickness (glTF's rule). A film of no thickness has no
+// factor (as the Khronos sample viewer has it). 0 without the feature.
+fn iridescence_at(id: u32, pixel: vec2<u32>) -> vec3<f32> {
+    let film = feature_param(id, FEATURE_IRIDESCENCE, 0u, vec4<f32>(0.0, 1.3, 0.0, 0.0));
+    let thickness = max(film.w, 0.0);
+    let factor = select(0.0, clamp(film.x, 0.0, 1.0), thickness > 0.0);
+    return vec3<f32>(factor, max(film.y, 1.0), thickness);
 }

@@ -23,6 +23,12 @@
 // target: the tangent turned by the rotation and the map) by its strength
 // (lib/anisotropy.wgsl); the diffuse, Fresnel and energy compensation stay
 // the isotropic lobe's.
+// IRIDESCENCE (some material has the Iridescence feature): a thin film's
+// Fresnel reflectance at N.V (lib/iridescence.wgsl, Belcour & Barla as the
+// Khronos sample viewer evaluates it) replaces Schlick's F, mixed by the
+// film's factor, in the specular lobe and the diffuse's 1 - F (glTF's
+// KHR_materials_iridescence); made once per pixel, it costs a light one
+// more sum (of radiance N.L, for the diffuse).
 // CUSTOM_LIGHT: a light shader node's `light` function (lib/light_shader.wgsl,
 // spliced in for lib/custom_light.wgsl) replaces the BRDF: the same walk,
 // clusters and shadows, its outputs summed into the two targets.
@@ -63,6 +69,15 @@ var<private> coat_sum: vec3<f32>;
 @group(0) @binding(32) var anisotropy_target: texture_2d<f32>;
 // The pixel's anisotropic lobe (strength 0: the isotropic one).
 var<private> aniso: AnisotropicSurface;
+#endif
+#ifdef IRIDESCENCE
+#import spreadlight::material::iridescence_at
+#import spreadlight::iridescence::iridescence_fresnel
+// The pixel's film: its factor (0: none), its Fresnel at N.V, and the
+// summed radiance N.L its diffuse takes.
+var<private> film_factor: f32;
+var<private> film_fresnel: vec3<f32>;
+var<private> film_lit: vec3<f32>;
 #endif
 #ifdef SHADOWS
 #import spreadlight::shadow_sampling::light_shadow
@@ -291,6 +306,11 @@ fn shade(slot: u32, lv: vec4<f32>, p: vec3<f32>, pw: vec3<f32>, surface: BrdfSur
     }
 #else
     add_light(sums, radiance, cook_torrance_weights_scaled(surface, n_dot_l, cosines.x, cosines.y, scale));
+#endif
+#ifdef IRIDESCENCE
+    if (film_factor > 0.0 && n_dot_l > 0.0) {
+        film_lit += radiance * (min(n_dot_l, 1.0) * scale);
+    }
 #endif
 #ifdef CLEARCOAT
     if (coat_factor > 0.0) {
@@ -705,6 +725,18 @@ fn main(@builtin(local_invocation_index) lane: u32, @builtin(workgroup_id) wid: 
     coat_surface = brdf_surface(coat_n, v, vec3<f32>(0.0), coat_roughness, 0.0, DIELECTRIC_F0);
     coat_sum = vec3<f32>(0.0);
 #endif
+#ifdef IRIDESCENCE
+    film_factor = 0.0;
+    film_fresnel = vec3<f32>(0.0);
+    film_lit = vec3<f32>(0.0);
+    if (covered) {
+        let film = iridescence_at(material, pixel);
+        film_factor = film.x;
+        if (film_factor > 0.0) {
+            film_fresnel = iridescence_fresnel(rm.z, albedo, rm.y, surface.n_dot_v, film.y, film.z);
+        }
+    }
+#endif
 #ifdef CLUSTERED
     // The pixel's depth slice (covered pixels only).
     var slice = 0u;
@@ -864,6 +896,15 @@ fn main(@builtin(local_invocation_index) lane: u32, @builtin(workgroup_id) wid: 
     let lit = light_sums_brdf(surface, sums);
     var diffuse = lit.diffuse;
     var specular = lit.specular;
+#ifdef IRIDESCENCE
+    if (film_factor > 0.0) {
+        // F = mix(Schlick's, the film's, factor): the film's F is one per
+        // pixel, so its specular is F times the lobes' sum (D V N.L), its
+        // diffuse (1 - F) times the Lambert term's.
+        specular = mix(specular, film_fresnel * sums.specular, film_factor);
+        diffuse = mix(diffuse, (vec3<f32>(1.0) - film_fresnel) * surface.diffuse * film_lit, film_factor);
+    }
+#endif
 #ifdef ENERGY_COMPENSATION
     specular *= surface_energy_compensation(surface);
 #endif

@@ -183,6 +183,21 @@ pub struct MaterialData {
     pub clearcoat: f32,
     /// `KHR_materials_clearcoat`: clearcoatRoughnessFactor.
     pub clearcoat_roughness: f32,
+    /// `KHR_materials_iridescence`: iridescenceFactor (0 without it: no film).
+    pub iridescence: f32,
+    /// `KHR_materials_iridescence`: iridescenceIor, the film's index (1.3).
+    pub iridescence_ior: f32,
+    /// `KHR_materials_iridescence`: iridescenceThicknessMinimum and
+    /// Maximum (nm; 100 and 400). Without a thickness map the film is the
+    /// maximum thick.
+    pub iridescence_thickness_minimum: f32,
+    pub iridescence_thickness_maximum: f32,
+    /// `KHR_materials_iridescence`: iridescenceTexture (red scales the
+    /// factor) and iridescenceThicknessTexture (green picks the thickness
+    /// between minimum and maximum). Read and checked, not yet sampled (a
+    /// warning says so): the factor and the maximum are drawn.
+    pub iridescence_texture: Option<TextureData>,
+    pub iridescence_thickness_texture: Option<TextureData>,
     /// `KHR_materials_transmission`: transmissionFactor (0 without it). Until
     /// a pass refracts, a transmissive material is drawn BLEND with its base
     /// colour alpha times 1 - transmission (the importer has applied that to
@@ -264,6 +279,12 @@ impl Default for MaterialData {
             specular_color: [1.0; 3],
             clearcoat: 0.0,
             clearcoat_roughness: 0.0,
+            iridescence: 0.0,
+            iridescence_ior: 1.3,
+            iridescence_thickness_minimum: 100.0,
+            iridescence_thickness_maximum: 400.0,
+            iridescence_texture: None,
+            iridescence_thickness_texture: None,
             transmission: 0.0,
             transmission_texture: None,
             thickness: 0.0,
@@ -505,6 +526,7 @@ pub const SUPPORTED_EXTENSIONS: &[&str] = &[
     "KHR_materials_dispersion",
     "KHR_materials_emissive_strength",
     "KHR_materials_ior",
+    "KHR_materials_iridescence",
     "KHR_materials_pbrSpecularGlossiness",
     "KHR_materials_specular",
     "KHR_materials_transmission",

@@ -244,7 +244,8 @@ impl MaterialData {
     /// `KHR_materials_specular` ([`MaterialData::reflectance`]; 0.04, glTF's,
     /// without them), Emission when it emits (colour,
     /// `KHR_materials_emissive_strength`), Clearcoat when it has a coat
-    /// (`KHR_materials_clearcoat`), Unlit (`KHR_materials_unlit`),
+    /// (`KHR_materials_clearcoat`), Iridescence when it has a film
+    /// (`KHR_materials_iridescence`), Unlit (`KHR_materials_unlit`),
     /// Transmission when it transmits (`KHR_materials_transmission`, its
     /// refraction by `KHR_materials_ior`, its thickness and absorption by
     /// `KHR_materials_volume`), Anisotropy when its highlight stretches
@@ -274,6 +275,21 @@ impl MaterialData {
                     finite(self.clearcoat_roughness),
                     0.0,
                     0.0,
+                ]],
+            );
+        }
+        if finite(self.iridescence) > 0.0 {
+            let _ = material.set(
+                Feature::Iridescence,
+                &[[
+                    finite(self.iridescence),
+                    if self.iridescence_ior.is_finite() {
+                        self.iridescence_ior.max(1.0)
+                    } else {
+                        1.3
+                    },
+                    finite(self.iridescence_thickness_minimum),
+                    finite(self.iridescence_thickness_maximum),
                 ]],
             );
         }

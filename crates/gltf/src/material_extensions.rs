@@ -11,6 +11,9 @@
 //! - `KHR_materials_clearcoat`: factor and roughness (the Clearcoat feature).
 //! - `KHR_materials_anisotropy`: strength and rotation (the Anisotropy
 //!   feature), its map a surface map (the G-buffer's anisotropy target).
+//! - `KHR_materials_iridescence`: factor, film ior, thickness minimum and
+//!   maximum (the Iridescence feature); its two maps are read and warned
+//!   as not sampled (the factor and the maximum thickness are drawn).
 //! - `KHR_materials_transmission`: drawn BLEND with opacity
 //!   alpha x (1 - transmission), what shows through refracted by lit
 //!   transparency (the material's Transmission feature, with
@@ -117,6 +120,9 @@ impl Importer<'_> {
             data.anisotropy_texture =
                 self.extension_texture(document, &who, name, ext, "anisotropyTexture", false)?;
         }
+        if let Some(ext) = m.extension_value("KHR_materials_iridescence") {
+            self.iridescence(document, &who, ext, data)?;
+        }
         // Spec-gloss replaces the base colour map; transmission's map is
         // baked into whichever base colour map results.
         if let Some(ext) = m.extension_value("KHR_materials_pbrSpecularGlossiness") {
@@ -192,6 +198,81 @@ impl Importer<'_> {
             "{who}: {name} {} with transmissionTexture is drawn as BLEND with opacity alpha x (1 - transmission x map), what shows through refracted in screen space (the opaque scene only)",
             data.transmission
         ));
+        Ok(())
+    }
+
+    /// `KHR_materials_iridescence`: the factor (0..1), the film's index
+    /// (>= 1; else 1.3), the thickness range (nm, >= 0, the minimum at
+    /// most the maximum), all warned when out of range; the maps read.
+    fn iridescence(
+        &mut self,
+        document: &Document,
+        who: &str,
+        ext: &Value,
+        data: &mut MaterialData,
+    ) -> Result<(), GltfError> {
+        let name = "KHR_materials_iridescence";
+        data.iridescence = self.factor(who, name, ext, "iridescenceFactor", 0.0, 0.0, 1.0);
+        data.iridescence_ior = match ext.get("iridescenceIor") {
+            None => 1.3,
+            Some(v) => match v.as_f64().map(|v| v as f32) {
+                Some(ior) if ior.is_finite() && ior >= 1.0 => ior,
+                _ => {
+                    self.warn(format!(
+                        "{who}: {name} iridescenceIor is {v}, not a finite number >= 1: 1.3 used"
+                    ));
+                    1.3
+                }
+            },
+        };
+        let lo = self.factor(
+            who,
+            name,
+            ext,
+            "iridescenceThicknessMinimum",
+            100.0,
+            0.0,
+            f32::MAX,
+        );
+        let hi = self.factor(
+            who,
+            name,
+            ext,
+            "iridescenceThicknessMaximum",
+            400.0,
+            0.0,
+            f32::MAX,
+        );
+        if lo > hi {
+            self.warn(format!(
+                "{who}: {name} iridescenceThicknessMinimum {lo} is above the maximum {hi}: kept as given (a thickness map runs from one to the other)"
+            ));
+        }
+        data.iridescence_thickness_minimum = lo;
+        data.iridescence_thickness_maximum = hi;
+        data.iridescence_texture =
+            self.extension_texture(document, who, name, ext, "iridescenceTexture", false)?;
+        data.iridescence_thickness_texture = self.extension_texture(
+            document,
+            who,
+            name,
+            ext,
+            "iridescenceThicknessTexture",
+            false,
+        )?;
+        if data.iridescence > 0.0 {
+            if data.iridescence_texture.is_some() {
+                self.warn(format!(
+                    "{who}: {name} iridescenceTexture is not sampled: the factor {} is drawn over the whole surface",
+                    data.iridescence
+                ));
+            }
+            if data.iridescence_thickness_texture.is_some() {
+                self.warn(format!(
+                    "{who}: {name} iridescenceThicknessTexture is not sampled: the film is drawn {hi} nm thick (the maximum) everywhere"
+                ));
+            }
+        }
         Ok(())
     }
 

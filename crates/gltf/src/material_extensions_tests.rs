@@ -223,6 +223,125 @@ fn clearcoat_bad_values_are_warned_and_its_normal_map_is_not() {
 }
 
 #[test]
+fn iridescence_becomes_the_iridescence_feature() {
+    let ext = r#"{"KHR_materials_iridescence": {"iridescenceFactor": 0.75, "iridescenceIor": 1.5,
+        "iridescenceThicknessMinimum": 200, "iridescenceThicknessMaximum": 800}}"#;
+    let (m, warnings) = load_one(cube_with(named("Bubble"), ext));
+    assert!(warnings.is_empty(), "{warnings:?}");
+    assert_eq!(
+        params(&m, Feature::Iridescence),
+        Some([0.75, 1.5, 200.0, 800.0])
+    );
+    // The extension's defaults: ior 1.3, 100..400 nm; factor 0 is no film.
+    let (defaults, _) = load_one(cube_with(
+        named("Film"),
+        r#"{"KHR_materials_iridescence": {"iridescenceFactor": 1}}"#,
+    ));
+    assert_eq!(
+        params(&defaults, Feature::Iridescence),
+        Some([1.0, 1.3, 100.0, 400.0])
+    );
+    let (none, _) = load_one(cube_with(
+        named("Bare"),
+        r#"{"KHR_materials_iridescence": {}}"#,
+    ));
+    assert_eq!(params(&none, Feature::Iridescence), None);
+    // A file may require it.
+    let mut doc = cube_with(named("Bubble"), ext);
+    doc.root.extensions_required = vec!["KHR_materials_iridescence".into()];
+    let scene = load_gltf_slice(&doc.glb(), None).expect("iridescence is supported");
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+}
+
+#[test]
+fn iridescence_bad_values_are_warned_by_material_and_its_maps_as_not_sampled() {
+    let mut doc = cube_with(named("Oil"), "{}");
+    let image = doc.png_image(&png(&image::RgbaImage::from_pixel(
+        1,
+        1,
+        image::Rgba([255; 4]),
+    )));
+    let texture = doc.texture(image);
+    let ext = format!(
+        r#"{{"KHR_materials_iridescence": {{"iridescenceFactor": 1e39, "iridescenceIor": 0.5,
+            "iridescenceThicknessMinimum": -5, "iridescenceThicknessMaximum": "thick",
+            "iridescenceTexture": {{"index": {0}}}, "iridescenceThicknessTexture": {{"index": {0}}}}}}}"#,
+        texture.value()
+    );
+    doc.root.materials[0].extensions = Some(json::extensions::material::Material {
+        others: value(&ext).as_object().cloned().unwrap_or_default(),
+        ..Default::default()
+    });
+    doc.root
+        .extensions_used
+        .push("KHR_materials_iridescence".into());
+    let (m, warnings) = load_one(doc);
+    assert_finite(&m);
+    // 1e39 is no f32: infinite, not finite, so the default (0, no film)
+    // stays; the ior 1.3; the minimum clamped to 0, the maximum 400.
+    assert_eq!(
+        (
+            m.iridescence,
+            m.iridescence_ior,
+            m.iridescence_thickness_minimum,
+            m.iridescence_thickness_maximum
+        ),
+        (0.0, 1.3, 0.0, 400.0)
+    );
+    for what in [
+        "iridescenceFactor is ",
+        "iridescenceIor is 0.5",
+        "iridescenceThicknessMinimum is -5",
+        "iridescenceThicknessMaximum is \"thick\"",
+    ] {
+        assert!(
+            warnings
+                .iter()
+                .any(|w| w.contains("material 0 `Oil`") && w.contains(what)),
+            "{what}: {warnings:?}"
+        );
+    }
+    assert!(m.iridescence_texture.is_some() && m.iridescence_thickness_texture.is_some());
+    // With a film, the maps are said not to be sampled.
+    let mut doc = cube_with(named("Oil"), "{}");
+    let image = doc.png_image(&png(&image::RgbaImage::from_pixel(
+        1,
+        1,
+        image::Rgba([255; 4]),
+    )));
+    let texture = doc.texture(image);
+    let ext = format!(
+        r#"{{"KHR_materials_iridescence": {{"iridescenceFactor": 2,
+            "iridescenceTexture": {{"index": {0}}}, "iridescenceThicknessTexture": {{"index": {0}}}}}}}"#,
+        texture.value()
+    );
+    doc.root.materials[0].extensions = Some(json::extensions::material::Material {
+        others: value(&ext).as_object().cloned().unwrap_or_default(),
+        ..Default::default()
+    });
+    doc.root
+        .extensions_used
+        .push("KHR_materials_iridescence".into());
+    let (m, warnings) = load_one(doc);
+    assert_eq!(
+        params(&m, Feature::Iridescence),
+        Some([1.0, 1.3, 100.0, 400.0])
+    );
+    for what in [
+        "iridescenceFactor is 2",
+        "iridescenceTexture is not sampled",
+        "iridescenceThicknessTexture is not sampled",
+    ] {
+        assert!(
+            warnings
+                .iter()
+                .any(|w| w.contains("material 0 `Oil`") && w.contains(what)),
+            "{what}: {warnings:?}"
+        );
+    }
+}
+
+#[test]
 fn transmission_is_blended_with_opacity_one_minus_transmission() {
     let mut material = named("Glass");
     material.pbr_metallic_roughness.base_color_factor =

@@ -772,6 +772,9 @@ fn metal_disc_row(strengths: [f32; 4]) -> Vec<u8> {
         nodes.push(doc.node(node));
     }
     doc.scene(nodes);
+    doc.gltf_data_uri()
+}
+
 /// `KHR_materials_variants`: a box "Body" and a smaller box "Lid" on it.
 /// Materials: Red (0, the body's default), Green (1), Blue (2), White (3,
 /// the lid's default), Black (4). Variants: "Forest" (body Green, the lid

@@ -11,7 +11,9 @@
 //! a quad's checkered base colour texture.
 //! `KHR_materials_anisotropy`'s factors and map through the G-buffer's
 //! anisotropy target into CookTorrance, against the CPU anisotropic lobe
-//! (`spreadlight_reference::anisotropy`).
+//! (`spreadlight_reference::anisotropy`). And `KHR_materials_iridescence`
+//! (factor-only: its maps are not sampled yet): the film's Fresnel at every
+//! inner pixel against `reference::iridescence`.
 
 // The post tests' scene helpers, shared with the renderer's tests.
 #[path = "../../render/tests/post_common/mod.rs"]
@@ -31,6 +33,7 @@ use spreadlight_reference::anisotropy::{
     anisotropy_direction, anisotropy_tangent, cook_torrance_anisotropic,
 };
 use spreadlight_reference::brdf::{clearcoat, cook_torrance_f0};
+use spreadlight_reference::iridescence::{Film, cook_torrance_iridescent};
 use spreadlight_render::gbuffer::GBuffer;
 use spreadlight_render::lighting::{
     CookTorrance, LightBuffer, LightLoop, PointLight, SunLight, Surfaces,
@@ -1208,4 +1211,156 @@ fn lit_transparency_draws_the_anisotropic_lobe() {
             .any(|k| k.path() == "post/transparency.wgsl" && k.features.contains("ANISOTROPY")),
         "the light pass compiled the lobe"
     );
+}
+
+/// How many compiled shaders have IRIDESCENCE on.
+fn film_permutations(renderer: &Renderer) -> usize {
+    renderer
+        .shaders()
+        .compiled_keys()
+        .filter(|k| k.features.contains("IRIDESCENCE"))
+        .count()
+}
+
+/// `KHR_materials_iridescence` through CookTorrance: a soap film (ior 1.3,
+/// 400 nm, factor 1) over the dielectric quad and an oil film (ior 1.5,
+/// 700 nm, factor 0.6) over a copper-coloured metal match the CPU BRDF with
+/// the film's Fresnel (`cook_torrance_iridescent`, a port of the Khronos
+/// sample viewer's thin film) at every inner pixel, diffuse and specular
+/// (half-float targets: 4e-3 relative); the film changes the highlight's
+/// colour (green over red where Schlick's F is grey). No IRIDESCENCE code
+/// compiled for a file without a film.
+#[test]
+fn an_iridescent_film_colours_the_specular_as_the_reference_says() {
+    let renderer = test_renderer();
+    let (_, plain_s) = lit(&renderer, &model(opaque_material(), "{}", &[]));
+    assert_eq!(film_permutations(&renderer), 0);
+    let l = -SUN.direction.normalize();
+    let radiance = SUN.color * SUN.illuminance;
+    let eye = Vec3::Z * DISTANCE;
+    let copper = [0.95, 0.64, 0.54];
+    for (albedo, metallic, ext, film) in [
+        (
+            ALBEDO,
+            0.0,
+            r#"{"KHR_materials_iridescence": {"iridescenceFactor": 1.0}}"#,
+            Film::new(1.0, 1.3, 400.0),
+        ),
+        (
+            copper,
+            1.0,
+            r#"{"KHR_materials_iridescence": {"iridescenceFactor": 0.6, "iridescenceIor": 1.5,
+                "iridescenceThicknessMaximum": 700}}"#,
+            Film::new(0.6, 1.5, 700.0),
+        ),
+    ] {
+        let mut material = opaque_material();
+        let [r, g, b] = albedo;
+        material.pbr_metallic_roughness.base_color_factor =
+            json::material::PbrBaseColorFactor([r, g, b, 1.0]);
+        material.pbr_metallic_roughness.metallic_factor = json::material::StrengthFactor(metallic);
+        let (d, s) = lit(&renderer, &model(material, ext, &[]));
+        assert!(film_permutations(&renderer) >= 1);
+        let mut checked = 0;
+        for (i, p, _, _) in inner_pixels() {
+            let view = (eye - p).normalize();
+            let want = cook_torrance_iridescent(
+                Vec3::Z,
+                view,
+                l,
+                albedo.into(),
+                ROUGHNESS,
+                metallic,
+                0.04,
+                film,
+                true,
+            );
+            let (want_d, want_s) = (want.diffuse * radiance, want.specular * radiance);
+            for c in 0..3 {
+                assert!(
+                    close(d.pixels[i][c], want_d[c]) && close(s.pixels[i][c], want_s[c]),
+                    "pixel {i} (metallic {metallic}): diffuse {:?} specular {:?}, the reference says {want_d} {want_s}",
+                    d.pixels[i],
+                    s.pixels[i]
+                );
+            }
+            checked += 1;
+        }
+        assert!(checked > 1000, "{checked} pixels");
+    }
+    // The soap film's highlight is green at near-normal view (its F at 400
+    // nm: 0.007, 0.038, 0.016), where the bare dielectric's is grey.
+    let (_, soap_s) = lit(
+        &renderer,
+        &model(
+            opaque_material(),
+            r#"{"KHR_materials_iridescence": {"iridescenceFactor": 1.0}}"#,
+            &[],
+        ),
+    );
+    let centre = (SIZE.1 / 2 * SIZE.0 + SIZE.0 / 2) as usize;
+    let [r, g, _, _] = soap_s.pixels[centre];
+    let [pr, pg, _, _] = plain_s.pixels[centre];
+    assert!(
+        g > 2.0 * r && (pg - pr).abs() < 1e-3 * pg,
+        "soap {r} {g}, plain {pr} {pg}"
+    );
+}
+
+/// Hard films stay finite: a factor of 1e30 (warned, 1), an ior below 1
+/// (warned, 1.3), a thickness of 1e30 nm, a minimum above the maximum, a
+/// grazing metal film; every pixel finite (`lit` asserts it) and each bad
+/// value warned naming the material.
+#[test]
+fn hard_iridescence_values_stay_finite_and_are_warned() {
+    let renderer = test_renderer();
+    for ext in [
+        r#"{"KHR_materials_iridescence": {"iridescenceFactor": 1e30, "iridescenceIor": 0.2}}"#,
+        r#"{"KHR_materials_iridescence": {"iridescenceFactor": 1, "iridescenceThicknessMaximum": 1e30}}"#,
+        r#"{"KHR_materials_iridescence": {"iridescenceFactor": 1, "iridescenceThicknessMinimum": 900,
+            "iridescenceThicknessMaximum": 0}}"#,
+        r#"{"KHR_materials_iridescence": {"iridescenceFactor": 1, "iridescenceIor": 1e30}}"#,
+    ] {
+        let file = model(opaque_material(), ext, &[]);
+        let scene = load_gltf_slice(&file, None).expect("loads");
+        let quiet = ext.contains("1e30}") && !ext.contains("Factor\": 1e30");
+        assert!(
+            quiet
+                || scene.warnings.iter().all(|w| w.contains("material 0"))
+                    && !scene.warnings.is_empty(),
+            "{ext}: {:?}",
+            scene.warnings
+        );
+        let (world, layer) = world_and_layer(
+            &renderer,
+            &scene,
+            Mat4::IDENTITY,
+            scene.materials[0].base_color,
+        );
+        let g = GBuffer::new(
+            &renderer,
+            None,
+            vec![layer],
+            VIEW.camera(),
+            None,
+            SizeRule::Relative(1.0),
+        );
+        let ct = CookTorrance::new(
+            &renderer,
+            None,
+            g,
+            LightBuffer::suns(&renderer, &[SUN]),
+            LightLoop::Clustered,
+            true,
+            Surfaces::Materials(world),
+        );
+        let (report, images) =
+            render_and_read(&renderer, ct.as_ref(), SIZE, &[&ct.diffuse, &ct.specular])
+                .expect("renders");
+        assert!(report.errors.is_empty(), "{:?}", report.errors);
+        assert!(
+            images.iter().all(|i| i.all_finite()),
+            "{ext}: no NaN or infinity"
+        );
+    }
 }

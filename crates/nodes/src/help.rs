@@ -60,7 +60,7 @@ pub const HELP_PATCHES: &[HelpPatch] = &[
     help!("material.ron" => [
         "AddCookTorrance", "AddEmission", "AddAmbientOcclusion", "AddMatCap", "FeatureManager",
         "MaterialManager", "MaterialBuffer", "MaterialByName", "ParameterTexture", "AddClearcoat",
-        "AddUnlit",
+        "AddIridescence", "AddUnlit",
     ]),
     help!("occlusion.ron" => ["SSAO", "HBAO", "SSGI", "SSSS", "AddFakeSSS"]),
     help!("environment.ron" => [

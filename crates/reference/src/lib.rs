@@ -3,7 +3,8 @@
 //! the matcap lookup ([`matcap`]), a material shaded under the sun
 //! ([`material`]), ray-cast soft shadows ([`shadows`]) and ambient
 //! occlusion ([`ssao`]) to measure the filters by, reflections ray-traced
-//! ([`reflection`]), refraction through a slab ([`refraction`]), and the shipped light shader nodes' models ([`toon`],
+//! ([`reflection`]), refraction through a slab ([`refraction`]), thin-film
+//! iridescence ([`iridescence`]), and the shipped light shader nodes' models ([`toon`],
 //! [`ashikhmin_shirley`]); glTF materials point-sampled are
 //! `spreadlight_gltf::reference`, beside the importer.
 //!
@@ -20,6 +21,7 @@
 pub mod anisotropy;
 pub mod ashikhmin_shirley;
 pub mod brdf;
+pub mod iridescence;
 pub mod lights;
 pub mod matcap;
 pub mod material;

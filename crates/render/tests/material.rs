@@ -12,8 +12,9 @@ use naga_oil::compose::{
 };
 use spreadlight_render::material::{
     FEATURE_AMBIENT_OCCLUSION, FEATURE_ANISOTROPY, FEATURE_CLEARCOAT, FEATURE_COOK_TORRANCE,
-    FEATURE_EMISSION, FEATURE_FAKE_SSS, FEATURE_MATCAP, FEATURE_REFLECTION, FEATURE_TRANSMISSION,
-    FEATURE_UNLIT, FIRST_CUSTOM_FEATURE, Feature, MAX_FEATURES, Material, MaterialWorld,
+    FEATURE_EMISSION, FEATURE_FAKE_SSS, FEATURE_IRIDESCENCE, FEATURE_MATCAP, FEATURE_REFLECTION,
+    FEATURE_TRANSMISSION, FEATURE_UNLIT, FIRST_CUSTOM_FEATURE, Feature, MAX_FEATURES, Material,
+    MaterialWorld,
 };
 use spreadlight_render::renderer::test_renderer;
 use spreadlight_render::shaders::library;
@@ -91,6 +92,7 @@ fn library_composes_validates_and_mirrors_the_rust_constants() {
         ("FEATURE_CLEARCOAT", FEATURE_CLEARCOAT),
         ("FEATURE_UNLIT", FEATURE_UNLIT),
         ("FEATURE_TRANSMISSION", FEATURE_TRANSMISSION),
+        ("FEATURE_IRIDESCENCE", FEATURE_IRIDESCENCE),
         ("FEATURE_ANISOTROPY", FEATURE_ANISOTROPY),
         ("FIRST_CUSTOM_FEATURE", FIRST_CUSTOM_FEATURE),
         ("MAX_FEATURES", MAX_FEATURES),
@@ -154,10 +156,10 @@ fn shader_reads_what_the_material_world_holds() {
     assert_eq!(other.len(), 1);
     assert_eq!(other.union_flags(), 1);
     // The built-ins (0..=5, Clearcoat 7, Unlit 8, Transmission 9,
-    // Anisotropy 12) and the custom ones.
+    // Iridescence 11, Anisotropy 12) and the custom ones.
     assert_eq!(
         world.union_flags(),
-        0b1_0011_1011_1111 | 1 << 16 | 1 << 17 | 1 << 31
+        0b1_1011_1011_1111 | 1 << 16 | 1 << 17 | 1 << 31
     );
 
     let mut queries: Vec<[u32; 4]> = Vec::new();

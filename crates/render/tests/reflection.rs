@@ -4,7 +4,8 @@
 //! inside the stated bound, passes run only when a material reflects, a
 //! clear coat adds its own reflection over the dimmed base (against the
 //! analytic value in a uniform environment, compiled only for a world with
-//! a coat), and no target ever holds NaN or infinity. SSR's tests are in
+//! a coat), an iridescent mirror reflects the sky times the thin film's
+//! Fresnel, and no target ever holds NaN or infinity. SSR's tests are in
 //! ssr.rs.
 
 mod reflection_probe;
@@ -15,6 +16,7 @@ use std::sync::Arc;
 use glam::Vec3;
 use reflection_scene::*;
 use spreadlight_reference::brdf::f_schlick;
+use spreadlight_reference::iridescence::iridescence_fresnel;
 use spreadlight_reference::reflection::CpuSky;
 use spreadlight_render::Renderer;
 use spreadlight_render::environment::{
@@ -205,6 +207,67 @@ fn a_mirror_floor_reflects_the_sky_the_cpu_sky_gives_times_fresnel() {
         }
     }
     assert!(checked > 100, "{checked} floor pixels checked");
+}
+
+/// Image-based iridescence: a metal mirror floor (albedo 0.8) under a
+/// soap film (ior 1.3, 400 nm, factor 1) reflects the CPU sky times the
+/// film's Fresnel at N.V (`reference::iridescence`; the split sum at
+/// roughness 0 is F x (A + B), A + B = 1), not Schlick's: the film's blue
+/// falls to 0.5 at grazing views where Schlick's F stays 0.8 and more.
+/// Reflection compiles IRIDESCENCE only for a world with a film.
+#[test]
+fn an_iridescent_mirror_reflects_the_sky_times_the_films_fresnel() {
+    let renderer = test_renderer();
+    let g = gbuffer(&renderer);
+    let film = |m: Material| {
+        m.with(Feature::Iridescence, &[[1.0, 1.3, 400.0, 400.0]])
+            .expect("valid")
+    };
+    let (_, specular, _, depth) = reflect(
+        &renderer,
+        &g,
+        vec![reflective(0.5, 0.0), film(reflective(0.0, 1.0))],
+        sky_environment(&renderer, None, calm_sky()),
+        ReflectionMode::Reflect,
+    );
+    assert!(specular.all_finite());
+    assert!(
+        renderer.shaders().compiled_keys().any(
+            |k| k.path() == "environment/reflection.wgsl" && k.features.contains("IRIDESCENCE")
+        )
+    );
+    let sky = CpuSky::from(&calm_sky());
+    let (mut checked, mut coloured) = (0, 0);
+    for y in 0..SIZE.1 {
+        for x in 0..SIZE.0 {
+            let d = depth.pixel(x, y)[0];
+            if d <= 0.0 {
+                continue;
+            }
+            let got = Vec3::from_slice(&specular.pixel(x, y)[..3]);
+            let p = world_position(&g, x, y, d);
+            if p.y.abs() > 1e-3 || p.length() < 1.5 {
+                continue; // the ball, or the floor next to it
+            }
+            let v = (EYE - p).normalize();
+            let r = Vec3::new(-v.x, v.y, -v.z);
+            let fresnel = iridescence_fresnel(0.04, Vec3::splat(0.8), 1.0, v.y, 1.3, 400.0);
+            let expected = sky.radiance(r) * fresnel;
+            let tolerance = 0.03 + 0.05 * expected.max_element();
+            let error = (got - expected).abs().max_element();
+            assert!(error < tolerance, "pixel ({x}, {y}): {got} vs {expected}");
+            let schlick = sky.radiance(r) * f_schlick(Vec3::splat(0.8), v.y);
+            if (schlick - expected).abs().max_element() > 2.0 * tolerance {
+                coloured += 1;
+            }
+            checked += 1;
+        }
+    }
+    assert!(checked > 100, "{checked} floor pixels checked");
+    assert!(
+        coloured * 4 > checked,
+        "{coloured} of {checked} pixels tell the film from Schlick's F"
+    );
 }
 
 fn cube_level(renderer: &Renderer, texture: &wgpu::Texture, mip: u32) -> Vec<ImageF32> {

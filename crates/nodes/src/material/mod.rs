@@ -15,6 +15,7 @@
 
 pub mod add_clearcoat;
 pub mod add_feature;
+pub mod add_iridescence;
 pub mod add_unlit;
 pub mod feature_manager;
 pub mod material_buffer;
@@ -34,6 +35,7 @@ pub fn register(r: &mut Registry) {
     feature_manager::register(r);
     add_feature::register(r);
     add_clearcoat::register(r);
+    add_iridescence::register(r);
     add_unlit::register(r);
     material_manager::register(r);
     parameter_texture::register(r);

@@ -22,7 +22,8 @@ use crate::error::RenderError;
 use crate::frame_graph::{Bindings, FrameGraph, PassContext, Tex, TextureDesc};
 use crate::gbuffer::GBuffer;
 use crate::material::{
-    FEATURE_CLEARCOAT, FEATURE_COOK_TORRANCE, FEATURE_REFLECTION, MaterialTextures, MaterialWorld,
+    FEATURE_CLEARCOAT, FEATURE_COOK_TORRANCE, FEATURE_IRIDESCENCE, FEATURE_REFLECTION,
+    MaterialTextures, MaterialWorld,
 };
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
@@ -162,6 +163,7 @@ impl Reflection {
             parallax: self.volume.is_some(),
             // Only a world with a coat compiles the coat's lobe.
             clearcoat: self.materials.any_has(FEATURE_CLEARCOAT),
+            iridescence: self.materials.any_has(FEATURE_IRIDESCENCE),
         }
     }
 

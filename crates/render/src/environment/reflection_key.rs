@@ -17,5 +17,8 @@ crate::flag_key! {
         /// Some material has a clear coat: coated pixels add the coat's
         /// reflection of the environment and dim the base's.
         clearcoat: "CLEARCOAT",
+        /// Some material has a thin film (Iridescence): its Fresnel at
+        /// N.V replaces the split sum's Schlick term, mixed by its factor.
+        iridescence: "IRIDESCENCE",
     }
 }

@@ -13,7 +13,9 @@ use crate::error::RenderError;
 use crate::frame_graph::{Bindings, FrameGraph, PassContext, Tex, TextureDesc};
 use crate::gbuffer::GBuffer;
 use crate::gbuffer::SurfaceShader;
-use crate::material::{FEATURE_CLEARCOAT, FEATURE_FAKE_SSS, MaterialTextures, MaterialWorld};
+use crate::material::{
+    FEATURE_CLEARCOAT, FEATURE_FAKE_SSS, FEATURE_IRIDESCENCE, MaterialTextures, MaterialWorld,
+};
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
 use crate::report::PassName;
@@ -324,6 +326,13 @@ impl CookTorrance {
             .is_some_and(|w| w.union_flags() & (1 << FEATURE_CLEARCOAT) != 0)
     }
 
+    /// Whether some material has a thin film: its Fresnel is compiled in.
+    fn iridescence(&self) -> bool {
+        self.materials
+            .as_ref()
+            .is_some_and(|w| w.union_flags() & (1 << FEATURE_IRIDESCENCE) != 0)
+    }
+
     /// The walk this recipe's shade pass does.
     pub fn walk(&self) -> Walk {
         self.walk
@@ -363,6 +372,7 @@ impl CookTorrance {
                     fake_sss: self.sss.is_some(),
                     clearcoat: self.clearcoat(),
                     anisotropy: self.gbuffer.targets.anisotropy.is_some(),
+                    iridescence: self.iridescence(),
                 }),
             },
         };

@@ -125,6 +125,9 @@ pub struct BrdfMaterials {
     /// compiled in (ANISOTROPY; only with the surface target, which every
     /// G-buffer with surface maps has).
     pub anisotropy: bool,
+    /// Some material has a thin film (Iridescence): its Fresnel is
+    /// compiled in (`spreadlight::iridescence`).
+    pub iridescence: bool,
 }
 
 /// The material buffer (MATERIALS), and whether some material's
@@ -142,7 +145,7 @@ impl MaterialReads {
 
 impl Shading {
     fn features(self) -> impl Iterator<Item = &'static str> {
-        let mut f: Vec<&'static str> = Vec::with_capacity(5);
+        let mut f: Vec<&'static str> = Vec::with_capacity(6);
         match self {
             Shading::Brdf {
                 energy_compensation,
@@ -154,6 +157,7 @@ impl Shading {
                     f.extend(m.fake_sss.then_some("FAKE_SSS"));
                     f.extend(m.clearcoat.then_some("CLEARCOAT"));
                     f.extend(m.anisotropy.then_some("ANISOTROPY"));
+                    f.extend(m.iridescence.then_some("IRIDESCENCE"));
                 }
             }
             Shading::Custom { materials } => {
@@ -171,12 +175,15 @@ impl Shading {
             for fake_sss in [false, true] {
                 for clearcoat in [false, true] {
                     for anisotropy in [false, true] {
-                        brdf_materials.push(Some(BrdfMaterials {
-                            reads,
-                            fake_sss,
-                            clearcoat,
-                            anisotropy,
-                        }));
+                        for iridescence in [false, true] {
+                            brdf_materials.push(Some(BrdfMaterials {
+                                reads,
+                                fake_sss,
+                                clearcoat,
+                                anisotropy,
+                                iridescence,
+                            }));
+                        }
                     }
                 }
             }
@@ -274,6 +281,7 @@ impl Permutation for CookTorranceKey {
         "SHADOW_VSM",
         "SURFACE_TARGET",
         "CLEARCOAT",
+        "IRIDESCENCE",
         "CUSTOM_LIGHT",
         "TILED",
         "PER_PIXEL",
@@ -288,9 +296,11 @@ impl Permutation for CookTorranceKey {
             .chain(self.surface_target.then_some("SURFACE_TARGET"))
     }
 
-    /// 13 light walks x 5 shadow samplings x (21 shadings x 2, and the 16
-    /// anisotropic ones with the surface target): the 3,770 feature sets the
-    /// string rules allow (2,730 before ANISOTROPY).
+    /// 13 light walks x 5 shadow samplings x (37 shadings x 2, and the 32
+    /// anisotropic ones with the surface target): the 6,890 feature sets the
+    /// string rules allow (2,730 before ANISOTROPY and IRIDESCENCE each
+    /// doubled the built-in BRDF's material shadings: 4 x 8 + 1 per energy
+    /// compensation, the 3 custom ones unchanged).
     fn all() -> Vec<Self> {
         let mut all = Vec::new();
         for lights in Lights::all() {

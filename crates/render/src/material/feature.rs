@@ -1,8 +1,8 @@
 //! Material features: what a bit of a material's flag word switches on, and
 //! the parameters it reads. Feature id `n` is flag `1 << n` (Emeshe's
 //! convention: the id is the exponent, the flag the power of two). Ids 0..16
-//! belong to built-in features (0..=9 and 12 exist now; the others up to
-//! 15 are kept for the ones to come), 16..=31 are free for custom features.
+//! belong to built-in features (0..=9, 11 and 12 exist now; 10 and 13..=15
+//! are kept for the ones to come), 16..=31 are free for custom features.
 //!
 //! Mirrored by the `FEATURE_*` constants of `shaders/lib/material.wgsl`.
 
@@ -26,6 +26,9 @@ pub const FEATURE_UNLIT: u32 = 8;
 /// with `KHR_materials_ior` and `KHR_materials_volume`): drawn by lit
 /// transparency, which samples the opaque image along the refracted ray.
 pub const FEATURE_TRANSMISSION: u32 = 9;
+/// A thin film over the surface (glTF's `KHR_materials_iridescence`): its
+/// interference colours replace Schlick's Fresnel in the specular lobes.
+pub const FEATURE_IRIDESCENCE: u32 = 11;
 /// A specular highlight stretched along a direction on the surface
 /// (glTF's `KHR_materials_anisotropy`): strength and rotation.
 pub const FEATURE_ANISOTROPY: u32 = 12;
@@ -107,6 +110,17 @@ const TRANSMISSION: ParamLayout = ParamLayout {
     names: ["factor", "ior", "thickness", ""],
     ranges: [NonNegative, NonNegative, NonNegative, NonNegative],
     default: [1.0, 1.5, 0.0, 0.0],
+};
+
+/// A thin dielectric film over the surface: how much of the surface it
+/// covers (the factor, 0..1), its index of refraction and its thickness's
+/// minimum and maximum in nanometres (a thickness map picks between them;
+/// without one the film is the maximum thick). The shaders keep the index
+/// at 1 or more, and a film of no thickness has no factor.
+const IRIDESCENCE: ParamLayout = ParamLayout {
+    names: ["factor", "ior", "thickness minimum", "thickness maximum"],
+    ranges: [Unit, NonNegative, NonNegative, NonNegative],
+    default: [1.0, 1.3, 100.0, 400.0],
 };
 
 /// The largest absorption coefficient kept (1 / world unit): a black
@@ -237,6 +251,11 @@ pub enum Feature {
     /// transparency draws what shows through a layer of such a material as
     /// the opaque image along the refracted ray, tinted and absorbed.
     Transmission,
+    /// A thin film (soap bubble, oil slick): factor, film ior, thickness
+    /// minimum and maximum (nm). Its Fresnel reflectance (Belcour & Barla,
+    /// `spreadlight::iridescence`) replaces Schlick's in CookTorrance's
+    /// lobes and Reflection's, mixed by the factor (`IRIDESCENCE`).
+    Iridescence,
     /// An anisotropic specular lobe: strength (0..1), rotation (radians).
     /// The G-buffer resolve turns the surface's tangent by the rotation and
     /// the material's anisotropy map into a direction per pixel (its own
@@ -249,7 +268,7 @@ pub enum Feature {
 
 impl Feature {
     /// In ascending id (6, SurfaceMaps, is set through `Material::set_maps`).
-    pub const BUILT_IN: [Feature; 10] = [
+    pub const BUILT_IN: [Feature; 11] = [
         Feature::CookTorrance,
         Feature::Emission,
         Feature::FakeSss,
@@ -259,11 +278,12 @@ impl Feature {
         Feature::Clearcoat,
         Feature::Unlit,
         Feature::Transmission,
+        Feature::Iridescence,
         Feature::Anisotropy,
     ];
 
     /// The feature with id `id`: a built-in one, or a custom one for 16..=31.
-    /// Id 6 is SurfaceMaps (not set as a feature); 10..=15 are reserved for built-ins to come.
+    /// Id 6 is SurfaceMaps (not set as a feature); 10 and 12..=15 are reserved for built-ins to come.
     pub fn from_id(id: i64) -> Result<Feature, FeatureError> {
         if let Some(f) = Feature::BUILT_IN.iter().find(|f| i64::from(f.id()) == id) {
             return Ok(*f);
@@ -285,6 +305,7 @@ impl Feature {
             Feature::Clearcoat => FEATURE_CLEARCOAT,
             Feature::Unlit => FEATURE_UNLIT,
             Feature::Transmission => FEATURE_TRANSMISSION,
+            Feature::Iridescence => FEATURE_IRIDESCENCE,
             Feature::Anisotropy => FEATURE_ANISOTROPY,
             Feature::Custom(id) => id,
         }
@@ -306,6 +327,7 @@ impl Feature {
             Feature::Clearcoat => "Clearcoat".to_owned(),
             Feature::Unlit => "Unlit".to_owned(),
             Feature::Transmission => "Transmission".to_owned(),
+            Feature::Iridescence => "Iridescence".to_owned(),
             Feature::Anisotropy => "Anisotropy".to_owned(),
             Feature::Custom(id) => format!("Custom{id}"),
         }
@@ -322,6 +344,7 @@ impl Feature {
             Feature::Clearcoat => Some(&CLEARCOAT),
             Feature::MatCap => Some(&MATCAP),
             Feature::Transmission => Some(&TRANSMISSION),
+            Feature::Iridescence => Some(&IRIDESCENCE),
             Feature::Anisotropy => Some(&ANISOTROPY),
             Feature::Custom(_) => None,
         }
@@ -340,6 +363,7 @@ impl Feature {
                 | Feature::Clearcoat
                 | Feature::Unlit
                 | Feature::Transmission
+                | Feature::Iridescence
                 | Feature::Anisotropy
         )
     }
@@ -366,6 +390,7 @@ impl Feature {
             Feature::Clearcoat
             | Feature::Unlit
             | Feature::Transmission
+            | Feature::Iridescence
             | Feature::Anisotropy
             | Feature::Custom(_) => &[],
         }
