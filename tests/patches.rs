@@ -1162,3 +1162,61 @@ fn passes_in_waves_render_what_declaration_order_renders() {
         assert_eq!(declared.pixels, waves.pixels, "{patch}: the images differ");
     }
 }
+
+/// CookTorrance nodes of one G-buffer shaded in one dispatch
+/// (`lighting::light_sets`) render what their own passes render:
+/// emeshe-frame.ron's sun and spot (each with a PCSS shadow map) and its
+/// 1,000 clustered point lights, and post.ron's light types, three frames
+/// each (post's TAA and temporal AO read their histories back). Each set
+/// runs its own copy of the light loop on the same inputs, so the pictures
+/// are expected bit for bit equal; the bound asserted is half an 8-bit step
+/// of the tonemapped output, in case a compiler contracts the copies'
+/// arithmetic differently.
+#[test]
+fn fused_light_sets_render_what_their_own_passes_render() {
+    use spreadlight_render::lighting::light_sets::{self, FUSED_LIGHT_SETS, LightFusion};
+    for (patch, output, sets) in [("emeshe-frame", "bench", 3), ("post", "post", 2)] {
+        let path = spreadlight_tests::root().join(format!("patches/{patch}.ron"));
+        let run = |fusion: LightFusion| {
+            let mut run = spreadlight_tests::PatchRun::new(&path, (64, 36), |_| {});
+            light_sets::set_light_fusion(run.renderer(), fusion);
+            run.run_to(2);
+            let report = run.renderer().last_report();
+            assert!(
+                report.errors.is_empty(),
+                "{patch} {fusion:?}: {:?}",
+                report.errors
+            );
+            let shades: Vec<String> = report
+                .passes
+                .iter()
+                .map(|p| p.name.clone())
+                .filter(|n| n.starts_with("CookTorrance") && n.contains("shade"))
+                .collect();
+            (run.image(output).0, shades, report.counter(FUSED_LIGHT_SETS))
+        };
+        let (separate, separate_shades, none) = run(LightFusion::Separate);
+        let (fused, fused_shades, fused_sets) = run(LightFusion::Fused);
+        assert_eq!(none, 0, "{patch}: nothing fused when separate");
+        assert_eq!(fused_sets, sets, "{patch}: {fused_shades:?}");
+        let joint: Vec<&String> = fused_shades
+            .iter()
+            .filter(|n| n.ends_with(&format!("shade {sets} light sets")))
+            .collect();
+        assert_eq!(joint.len(), 1, "{patch}: {fused_shades:?}");
+        // The fused pass stands for `sets` of the separate ones.
+        assert_eq!(
+            fused_shades.len() + sets as usize - 1,
+            separate_shades.len(),
+            "{patch}: {fused_shades:?} against {separate_shades:?}"
+        );
+        assert!(separate.all_finite() && fused.all_finite(), "{patch}");
+        let worst = separate
+            .pixels
+            .iter()
+            .zip(&fused.pixels)
+            .flat_map(|(a, b)| a.iter().zip(b).map(|(a, b)| (a - b).abs()))
+            .fold(0.0f32, f32::max);
+        assert!(worst <= 0.5 / 255.0, "{patch}: fused and separate differ by {worst}");
+    }
+}
