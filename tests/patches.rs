@@ -1166,8 +1166,9 @@ fn passes_in_waves_render_what_declaration_order_renders() {
 /// CookTorrance nodes of one G-buffer shaded in one dispatch
 /// (`lighting::light_sets`) render what their own passes render:
 /// emeshe-frame.ron's sun and spot (each with a PCSS shadow map) and its
-/// 1,000 clustered point lights, and post.ron's light types, three frames
-/// each (post's TAA and temporal AO read their histories back). Each set
+/// 1,000 point lights, and post.ron's spot and point lights (its sun's
+/// diffuse feeds SSGI first, so it keeps its own pass), two frames each
+/// (post's TAA and temporal AO read their histories back). Each set
 /// runs its own copy of the light loop on the same inputs, so the pictures
 /// are expected bit for bit equal; the bound asserted is half an 8-bit step
 /// of the tonemapped output, in case a compiler contracts the copies'
@@ -1180,7 +1181,7 @@ fn fused_light_sets_render_what_their_own_passes_render() {
         let run = |fusion: LightFusion| {
             let mut run = spreadlight_tests::PatchRun::new(&path, (64, 36), |_| {});
             light_sets::set_light_fusion(run.renderer(), fusion);
-            run.run_to(2);
+            run.run_to(1);
             let report = run.renderer().last_report();
             assert!(
                 report.errors.is_empty(),
@@ -1193,7 +1194,11 @@ fn fused_light_sets_render_what_their_own_passes_render() {
                 .map(|p| p.name.clone())
                 .filter(|n| n.starts_with("CookTorrance") && n.contains("shade"))
                 .collect();
-            (run.image(output).0, shades, report.counter(FUSED_LIGHT_SETS))
+            (
+                run.image(output).0,
+                shades,
+                report.counter(FUSED_LIGHT_SETS),
+            )
         };
         let (separate, separate_shades, none) = run(LightFusion::Separate);
         let (fused, fused_shades, fused_sets) = run(LightFusion::Fused);
@@ -1217,6 +1222,10 @@ fn fused_light_sets_render_what_their_own_passes_render() {
             .zip(&fused.pixels)
             .flat_map(|(a, b)| a.iter().zip(b).map(|(a, b)| (a - b).abs()))
             .fold(0.0f32, f32::max);
-        assert!(worst <= 0.5 / 255.0, "{patch}: fused and separate differ by {worst}");
+        eprintln!("{patch}: fused against separate, largest difference {worst}");
+        assert!(
+            worst <= 0.5 / 255.0,
+            "{patch}: fused and separate differ by {worst}"
+        );
     }
 }

@@ -697,13 +697,14 @@ impl ShaderCache {
         let composed = compose(self.composer()?);
         self.compile_times.compose += started.elapsed();
         let composed = composed?;
-        let reflection = Arc::new(reflect(&composed, entry).map_err(|message| {
-            RenderError::Shader {
-                shader: key.to_owned(),
-                defs: String::new(),
-                message,
-            }
-        })?);
+        let reflection =
+            Arc::new(
+                reflect(&composed, entry).map_err(|message| RenderError::Shader {
+                    shader: key.to_owned(),
+                    defs: String::new(),
+                    message,
+                })?,
+            );
         let shader = timed(&mut self.compile_times.modules, || {
             device.create_shader_module(wgpu::ShaderModuleDescriptor {
                 label: Some(key),

@@ -143,16 +143,17 @@ impl Use {
             && self.shared_walks <= 1
     }
 
-    /// What the sets share, bound once: the surface target, and room for the
-    /// material world's group (its buffers, texture arrays and samplers).
+    /// What the sets share, bound once: the surface target, and the
+    /// material world's group (lib/material.wgsl: three buffers, its
+    /// texture array, the UV target and a sampler).
     fn shared(recipe: &CookTorrance) -> Use {
-        let materials = recipe.materials().is_some();
+        let materials = u32::from(recipe.materials().is_some());
         Use {
-            uniform: if materials { 2 } else { 0 },
-            storage: if materials { 4 } else { 0 },
+            uniform: 0,
+            storage: 3 * materials,
             storage_textures: 0,
-            sampled: 1 + if materials { 8 } else { 0 },
-            samplers: if materials { 2 } else { 0 },
+            sampled: 1 + 2 * materials,
+            samplers: materials,
             shared_walks: 0,
         }
     }
@@ -168,8 +169,10 @@ impl Use {
         Use {
             // camera, grid, the shadows' parameters
             uniform: 2 + u32::from(shadows.is_some()),
-            // lights, surfaces, the froxel lists (4), spot projections, shadow views
-            storage: 2
+            // lights, surfaces (the node's pins: not read with a material
+            // world), the froxel lists (4), spot projections, shadow views
+            storage: 1
+                + u32::from(recipe.materials().is_none())
                 + 4 * u32::from(froxels)
                 + u32::from(spot)
                 + u32::from(shadows.is_some()),
@@ -329,13 +332,14 @@ fn compose(
     let spot = composer.source_of(library("lib/spot.wgsl")?).to_owned();
     let mut modules = Vec::new();
     for i in 0..sets {
-        let set = source::set_modules(i, &light_loop, &shadow_sampling, &spot).map_err(|message| {
-            RenderError::Shader {
-                shader: file.path.to_owned(),
-                defs: String::new(),
-                message,
-            }
-        })?;
+        let set =
+            source::set_modules(i, &light_loop, &shadow_sampling, &spot).map_err(|message| {
+                RenderError::Shader {
+                    shader: file.path.to_owned(),
+                    defs: String::new(),
+                    message,
+                }
+            })?;
         modules.extend(set);
     }
     composer.compose_generated(
@@ -373,18 +377,27 @@ fn shade(
     }
     let keys: Vec<CookTorranceKey> = members.iter().map(|m| m.shade_key()).collect();
     let defs = switches(&keys);
-    let key = format!("lighting/light_sets x{} [{}]", members.len(), defs.join(", "));
+    let key = format!(
+        "lighting/light_sets x{} [{}]",
+        members.len(),
+        defs.join(", ")
+    );
     let device = cx.gpu.device.clone();
     let sets = members.len();
-    let (pipeline, reflection) = cx
-        .shaders
-        .generated_pipeline(&device, &key, "main", |composer| {
-            compose(composer, sets, &defs)
-        })?;
+    let (pipeline, reflection) =
+        cx.shaders
+            .generated_pipeline(&device, &key, "main", |composer| {
+                compose(composer, sets, &defs)
+            })?;
     let label = "CookTorrance: shade light sets";
     let groups = cx.bind_groups_reflected(label, &reflection, &pipeline, bindings)?;
     let groups: Vec<&wgpu::BindGroup> = groups.iter().collect();
-    cx.dispatch(label, &pipeline, &groups, members[0].workgroups(cx.output_size));
+    cx.dispatch(
+        label,
+        &pipeline,
+        &groups,
+        members[0].workgroups(cx.output_size),
+    );
     Ok(())
 }
 

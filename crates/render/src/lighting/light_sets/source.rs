@@ -289,7 +289,14 @@ mod tests {
     fn the_files_give_every_binding_a_name_and_the_loop_its_entry() {
         let light_loop = <crate::lighting::cook_torrance_key::CookTorranceKey as crate::shaders::Permutation>::FILE.source;
         let names = group0_names(light_loop);
-        for name in ["camera", "grid", "lights", "indices", "out_diffuse", "out_sss"] {
+        for name in [
+            "camera",
+            "grid",
+            "lights",
+            "indices",
+            "out_diffuse",
+            "out_sss",
+        ] {
             assert!(names.contains(&name), "{name} in {names:?}");
         }
         // Every `@group(0)` line of the three files yields a name, and none is
@@ -301,9 +308,10 @@ mod tests {
         }
         let highest = [light_loop]
             .into_iter()
-            .chain(["lighting/shadow_sampling.wgsl", "lib/spot.wgsl"].map(|f| {
-                crate::shaders::library(f).expect("a library").source
-            }))
+            .chain(
+                ["lighting/shadow_sampling.wgsl", "lib/spot.wgsl"]
+                    .map(|f| crate::shaders::library(f).expect("a library").source),
+            )
             .flat_map(|s| s.split("@binding(").skip(1))
             .filter_map(|s| s.split(')').next()?.parse::<u32>().ok())
             .max();

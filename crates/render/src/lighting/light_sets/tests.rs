@@ -101,7 +101,13 @@ fn the_material_switches_are_shared_and_four_sets_compose() {
     .map(with_materials);
     let defs = switches(&keys);
     // The shared switches once, unrenamed; each set's renamed for its place.
-    for shared in ["MATERIALS", "MATERIAL_TEXTURES", "FAKE_SSS", "CLEARCOAT", "SURFACE_TARGET"] {
+    for shared in [
+        "MATERIALS",
+        "MATERIAL_TEXTURES",
+        "FAKE_SSS",
+        "CLEARCOAT",
+        "SURFACE_TARGET",
+    ] {
         assert_eq!(defs.iter().filter(|d| *d == shared).count(), 1, "{shared}");
     }
     for set in [
@@ -116,7 +122,10 @@ fn the_material_switches_are_shared_and_four_sets_compose() {
     ] {
         assert!(defs.iter().any(|d| d == set), "{set} in {defs:?}");
     }
-    assert!(!defs.iter().any(|d| d == "SHADOWS" || d == "LIGHT_SUN"), "{defs:?}");
+    assert!(
+        !defs.iter().any(|d| d == "SHADOWS" || d == "LIGHT_SUN"),
+        "{defs:?}"
+    );
     let mut composer = ShaderComposer::new().expect("libraries compose");
     let module = compose(&mut composer, keys.len(), &defs).expect("four sets compose");
     // Each set binds its own outputs, by its own names.
@@ -130,5 +139,8 @@ fn the_material_switches_are_shared_and_four_sets_compose() {
     assert!(reflection.position("shadow_maps_s0").is_some());
     assert!(reflection.position("spot_textures_s1").is_some());
     assert!(reflection.position("indices_s2").is_some());
-    assert!(reflection.position("indices_s0").is_none(), "a sun walks no froxels");
+    assert!(
+        reflection.position("indices_s0").is_none(),
+        "a sun walks no froxels"
+    );
 }
