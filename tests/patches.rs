@@ -1169,10 +1169,9 @@ fn passes_in_waves_render_what_declaration_order_renders() {
 /// 1,000 point lights, and post.ron's spot and point lights (its sun's
 /// diffuse feeds SSGI first, so it keeps its own pass), two frames each
 /// (post's TAA and temporal AO read their histories back). Each set
-/// runs its own copy of the light loop on the same inputs, so the pictures
-/// are expected bit for bit equal; the bound asserted is half an 8-bit step
-/// of the tonemapped output, in case a compiler contracts the copies'
-/// arithmetic differently.
+/// runs its own copy of the light loop on the same inputs: the pictures are
+/// equal bit for bit (on lavapipe; a driver that contracted the copies'
+/// arithmetic differently would show it here first).
 #[test]
 fn fused_light_sets_render_what_their_own_passes_render() {
     use spreadlight_render::lighting::light_sets::{self, FUSED_LIGHT_SETS, LightFusion};
@@ -1222,10 +1221,9 @@ fn fused_light_sets_render_what_their_own_passes_render() {
             .zip(&fused.pixels)
             .flat_map(|(a, b)| a.iter().zip(b).map(|(a, b)| (a - b).abs()))
             .fold(0.0f32, f32::max);
-        eprintln!("{patch}: fused against separate, largest difference {worst}");
         assert!(
-            worst <= 0.5 / 255.0,
-            "{patch}: fused and separate differ by {worst}"
+            separate.pixels == fused.pixels,
+            "{patch}: fused and separate differ, by up to {worst}"
         );
     }
 }

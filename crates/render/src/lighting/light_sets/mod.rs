@@ -22,6 +22,7 @@
 
 mod source;
 
+use std::hash::{Hash, Hasher};
 use std::sync::{Arc, Mutex};
 
 pub use source::MAX_SETS;
@@ -356,15 +357,19 @@ fn shade(
     members: &[&CookTorrance],
     ios: &[ShadeIo],
 ) -> Result<(), RenderError> {
-    let guards: Vec<_> = members
+    let guards: smallvec::SmallVec<[_; MAX_SETS]> = members
         .iter()
         .map(|m| m.cluster_store().get(cx.gpu, 1, m.lights().count()))
         .collect();
     let mut bindings = Bindings::new();
+    // The pipeline's key: the sets' permutations in order (a hash, so a
+    // frame formats no name; the switches are made only to compose).
+    let mut hasher = rustc_hash::FxHasher::default();
     for (i, ((member, io), guard)) in members.iter().zip(ios).zip(&guards).enumerate() {
         let Some(clusters) = guard.as_ref() else {
             return Ok(());
         };
+        member.shade_key().hash(&mut hasher);
         let names = source::binding_names(i);
         let rename = |name: &str| {
             names
@@ -375,23 +380,18 @@ fn shade(
         let set = member.shade_bindings(cx, io, clusters)?;
         bindings = bindings.extend(set.renamed(rename, i == 0));
     }
-    let keys: Vec<CookTorranceKey> = members.iter().map(|m| m.shade_key()).collect();
-    let defs = switches(&keys);
-    let key = format!(
-        "lighting/light_sets x{} [{}]",
-        members.len(),
-        defs.join(", ")
-    );
     let device = cx.gpu.device.clone();
-    let sets = members.len();
     let (pipeline, reflection) =
         cx.shaders
-            .generated_pipeline(&device, &key, "main", |composer| {
-                compose(composer, sets, &defs)
+            .generated_pipeline(&device, hasher.finish(), "main", |composer| {
+                let keys: Vec<CookTorranceKey> = members.iter().map(|m| m.shade_key()).collect();
+                let defs = switches(&keys);
+                let label = format!("lighting/light_sets x{} [{}]", keys.len(), defs.join(", "));
+                Ok((label, compose(composer, keys.len(), &defs)?))
             })?;
     let label = "CookTorrance: shade light sets";
     let groups = cx.bind_groups_reflected(label, &reflection, &pipeline, bindings)?;
-    let groups: Vec<&wgpu::BindGroup> = groups.iter().collect();
+    let groups: smallvec::SmallVec<[&wgpu::BindGroup; 4]> = groups.iter().collect();
     cx.dispatch(
         label,
         &pipeline,
