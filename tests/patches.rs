@@ -1162,3 +1162,68 @@ fn passes_in_waves_render_what_declaration_order_renders() {
         assert_eq!(declared.pixels, waves.pixels, "{patch}: the images differ");
     }
 }
+
+/// CookTorrance nodes of one G-buffer shaded in one dispatch
+/// (`lighting::light_sets`) render what their own passes render:
+/// emeshe-frame.ron's sun and spot (each with a PCSS shadow map) and its
+/// 1,000 point lights, and post.ron's spot and point lights (its sun's
+/// diffuse feeds SSGI first, so it keeps its own pass), two frames each
+/// (post's TAA and temporal AO read their histories back). Each set
+/// runs its own copy of the light loop on the same inputs: the pictures are
+/// equal bit for bit (on lavapipe; a driver that contracted the copies'
+/// arithmetic differently would show it here first).
+#[test]
+fn fused_light_sets_render_what_their_own_passes_render() {
+    use spreadlight_render::lighting::light_sets::{self, FUSED_LIGHT_SETS, LightFusion};
+    for (patch, output, sets) in [("emeshe-frame", "bench", 3), ("post", "post", 2)] {
+        let path = spreadlight_tests::root().join(format!("patches/{patch}.ron"));
+        let run = |fusion: LightFusion| {
+            let mut run = spreadlight_tests::PatchRun::new(&path, (64, 36), |_| {});
+            light_sets::set_light_fusion(run.renderer(), fusion);
+            run.run_to(1);
+            let report = run.renderer().last_report();
+            assert!(
+                report.errors.is_empty(),
+                "{patch} {fusion:?}: {:?}",
+                report.errors
+            );
+            let shades: Vec<String> = report
+                .passes
+                .iter()
+                .map(|p| p.name.clone())
+                .filter(|n| n.starts_with("CookTorrance") && n.contains("shade"))
+                .collect();
+            (
+                run.image(output).0,
+                shades,
+                report.counter(FUSED_LIGHT_SETS),
+            )
+        };
+        let (separate, separate_shades, none) = run(LightFusion::Separate);
+        let (fused, fused_shades, fused_sets) = run(LightFusion::Fused);
+        assert_eq!(none, 0, "{patch}: nothing fused when separate");
+        assert_eq!(fused_sets, sets, "{patch}: {fused_shades:?}");
+        let joint: Vec<&String> = fused_shades
+            .iter()
+            .filter(|n| n.ends_with(&format!("shade {sets} light sets")))
+            .collect();
+        assert_eq!(joint.len(), 1, "{patch}: {fused_shades:?}");
+        // The fused pass stands for `sets` of the separate ones.
+        assert_eq!(
+            fused_shades.len() + sets as usize - 1,
+            separate_shades.len(),
+            "{patch}: {fused_shades:?} against {separate_shades:?}"
+        );
+        assert!(separate.all_finite() && fused.all_finite(), "{patch}");
+        let worst = separate
+            .pixels
+            .iter()
+            .zip(&fused.pixels)
+            .flat_map(|(a, b)| a.iter().zip(b).map(|(a, b)| (a - b).abs()))
+            .fold(0.0f32, f32::max);
+        assert!(
+            separate.pixels == fused.pixels,
+            "{patch}: fused and separate differ, by up to {worst}"
+        );
+    }
+}

@@ -15,6 +15,7 @@
 //! `wall_cpu_submit_ms_median`: timestamps cost CPU too, so these are the
 //! frame's own CPU, not the measurement's).
 
+use spreadlight_render::lighting::light_sets::{self, LightFusion};
 use spreadlight_render::renderer::{PassOrder, Recording, Timing};
 
 use std::path::PathBuf;
@@ -78,6 +79,12 @@ pub struct Args {
     /// what SPREADLIGHT_PASS_ORDER says, else `auto`.
     #[arg(long, value_parser = ["declared", "waves", "auto"])]
     schedule: Option<String>,
+    /// Shade the CookTorrance nodes of one G-buffer in one dispatch
+    /// (`fused`), a pass each (`separate`), or `auto` (fused on a GPU):
+    /// docs/benchmarks.md, "Light sets in one dispatch". Unset: what
+    /// SPREADLIGHT_LIGHT_FUSION says, else `separate`.
+    #[arg(long, value_parser = ["separate", "fused", "auto"])]
+    light_fusion: Option<String>,
     /// Run a patch even though an unknown node type (misspelled, or a shader
     /// or subpatch file that is missing) feeds its Output or a Probe: that
     /// node's work is left out. Without it such a patch is an error.
@@ -276,6 +283,17 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
     if let Some(order) = args.schedule.as_deref().and_then(PassOrder::parse) {
         renderer.set_pass_order(order);
     }
+    let fusion = match args.light_fusion.as_deref().and_then(LightFusion::parse) {
+        Some(fusion) => fusion,
+        // A bench must not measure another setting than the one asked for.
+        None => LightFusion::from_env().map_err(anyhow::Error::msg)?,
+    };
+    light_sets::set_light_fusion(&renderer, fusion);
+    let light_fusion = if fusion.fuses_on(renderer.gpu.adapter_class()) {
+        "fused"
+    } else {
+        "separate"
+    };
     // The order taken, `auto` resolved for this adapter.
     let schedule = match renderer.pass_order().on(renderer.gpu.adapter_class()) {
         PassOrder::Waves => "waves",
@@ -418,6 +436,7 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
             "timing": args.timing,
             "recording": args.recording,
             "schedule": schedule,
+            "light_fusion": light_fusion,
             "gpu_ms_median": gpu,
             "gpu_idle_ms_median": idle,
             "cpu_ms_median": cpu,
@@ -444,7 +463,7 @@ pub fn run(args: &Args) -> anyhow::Result<ExitCode> {
         println!("{line}");
     } else {
         println!(
-            "{} at {}x{} on {adapter}, median of {} frames ({} timing, {} recording, {schedule} order)",
+            "{} at {}x{} on {adapter}, median of {} frames ({} timing, {} recording, {schedule} order, light sets {light_fusion})",
             args.patch.display(),
             args.size.0,
             args.size.1,

@@ -124,6 +124,24 @@ impl<'r> Bindings<'r> {
         self
     }
 
+    /// The same resources under the names `rename` gives (a fused light
+    /// set's, `lighting::light_sets`); one it gives none for is kept only
+    /// with `keep_others` (resources shared by the sets, bound once), and so
+    /// are whole groups.
+    pub fn renamed(mut self, rename: impl Fn(&str) -> Option<&'r str>, keep_others: bool) -> Self {
+        self.entries.retain_mut(|(name, _)| match rename(name) {
+            Some(to) => {
+                *name = to;
+                true
+            }
+            None => keep_others,
+        });
+        if !keep_others {
+            self.groups.clear();
+        }
+        self
+    }
+
     /// Everything `other` binds too (a library's resources, such as the material world's).
     pub fn extend(mut self, other: Bindings<'r>) -> Self {
         self.entries.extend(other.entries);

@@ -476,6 +476,11 @@ impl<'a> FrameGraph<'a> {
         self.included.insert(id)
     }
 
+    /// Whether recipe `id` was included already (declared, or being declared).
+    pub fn included(&self, id: u64) -> bool {
+        self.included.contains(&id)
+    }
+
     /// The texture `name` will be, before the frame runs: written by a pass
     /// (its descriptor at this frame's size, readable if requested) or
     /// imported. For a sink to refuse what it could not read back before

@@ -3,14 +3,14 @@
 
 use std::sync::Arc;
 
-use super::clusters::{ClusterGrid, ClusterStore};
+use super::clusters::{ClusterBuffers, ClusterGrid, ClusterStore};
 use super::cook_torrance_key::{
     BrdfMaterials, CookTorranceKey, Lights, MaterialReads, Shading, ShadowSampling,
 };
 use super::{LightBuffer, LightKind};
 use crate::adapter_class::AdapterClass;
 use crate::error::RenderError;
-use crate::frame_graph::{Bindings, FrameGraph, PassContext, Tex, TextureDesc};
+use crate::frame_graph::{Bindings, FrameGraph, PassBuilder, PassContext, Tex, TextureDesc};
 use crate::gbuffer::GBuffer;
 use crate::gbuffer::SurfaceShader;
 use crate::material::{
@@ -359,6 +359,11 @@ impl CookTorrance {
 
     /// The permutation: what the lights, materials and shadows call for.
     fn key(&self) -> ShaderKey {
+        self.shade_key().key()
+    }
+
+    /// [`CookTorrance::key`] as its typed key.
+    pub(super) fn shade_key(&self) -> CookTorranceKey {
         let reads = MaterialReads {
             textures: self.textured(),
         };
@@ -390,15 +395,53 @@ impl CookTorrance {
             // Roughness and metallic where the G-buffer resolved them, with or without materials.
             surface_target: self.gbuffer.targets.surface.is_some(),
         }
-        .key()
     }
 
-    fn shade(&self, cx: &mut PassContext<'_>, io: &ShadeIo) -> Result<(), RenderError> {
+    pub(super) fn id(&self) -> u64 {
+        self.id
+    }
+
+    pub(super) fn owner(&self) -> Option<u32> {
+        self.owner
+    }
+
+    pub(super) fn lights(&self) -> &LightBuffer {
+        &self.lights
+    }
+
+    pub(super) fn materials(&self) -> Option<&Arc<MaterialWorld>> {
+        self.materials.as_ref()
+    }
+
+    pub(super) fn shadow_maps(&self) -> Option<&ShadowMaps> {
+        self.shadows.as_deref()
+    }
+
+    pub(super) fn cluster_store(&self) -> &ClusterStore {
+        &self.clusters
+    }
+
+    /// Whether `other` keeps its light assignment in this one's store (two
+    /// recipes of one node): their shade passes cannot hold both at once.
+    pub(super) fn shares_clusters(&self, other: &CookTorrance) -> bool {
+        Arc::ptr_eq(&self.clusters, &other.clusters)
+    }
+
+    /// Whether its shade pass may join others' (`light_sets`): a light
+    /// shader node's function is spliced into its own composition.
+    pub(super) fn fusable(&self) -> bool {
+        self.custom.is_none()
+    }
+
+    /// The shade pass's resources, by the names the light loop declares
+    /// (the fused loop renames them per set, `light_sets`).
+    pub(super) fn shade_bindings<'r>(
+        &'r self,
+        cx: &PassContext<'_>,
+        io: &ShadeIo,
+        clusters: &'r ClusterBuffers,
+    ) -> Result<Bindings<'r>, RenderError> {
         let g = &self.gbuffer;
-        let guard = self.clusters.get(cx.gpu, 1, self.lights.count());
-        let Some(clusters) = guard.as_ref() else {
-            return Ok(());
-        };
         let mut b = Bindings::new()
             .buffer("camera", g.camera_buffer())
             .buffer("grid", &self.grid)
@@ -427,9 +470,22 @@ impl CookTorrance {
         if let Some(world) = &self.materials {
             b = b.extend(world.bindings(io.material_textures));
         }
-        let (w, h) = g.pixel_size(cx.output_size);
-        // 16x16 blocks: shaders/lighting/cook_torrance.wgsl's GROUP.
-        let groups = (w.div_ceil(16), h.div_ceil(16), 1);
+        Ok(b)
+    }
+
+    /// 16x16 blocks: shaders/lighting/cook_torrance.wgsl's GROUP.
+    pub(super) fn workgroups(&self, output_size: (u32, u32)) -> (u32, u32, u32) {
+        let (w, h) = self.gbuffer.pixel_size(output_size);
+        (w.div_ceil(16), h.div_ceil(16), 1)
+    }
+
+    fn shade(&self, cx: &mut PassContext<'_>, io: &ShadeIo) -> Result<(), RenderError> {
+        let guard = self.clusters.get(cx.gpu, 1, self.lights.count());
+        let Some(clusters) = guard.as_ref() else {
+            return Ok(());
+        };
+        let b = self.shade_bindings(cx, io, clusters)?;
+        let groups = self.workgroups(cx.output_size);
         match &self.custom {
             Some(custom) => self.shade_custom(cx, custom, io, b, groups),
             None => cx.dispatch_shader("cook torrance", &self.key(), "main", b, groups),
@@ -485,7 +541,7 @@ impl CookTorrance {
 }
 
 /// What the shade pass declared.
-struct ShadeIo {
+pub(super) struct ShadeIo {
     color: Tex,
     normals: Tex,
     depth: Tex,
@@ -512,11 +568,12 @@ fn sanitize(v: f32) -> f32 {
     }
 }
 
-impl Recipe for CookTorrance {
-    fn declare<'a>(&'a self, renderer: &'a Renderer, fg: &mut FrameGraph<'a>) {
-        if !fg.include(self.id) {
-            return;
-        }
+impl CookTorrance {
+    /// Everything the shade pass needs declared before it: the G-buffer,
+    /// the light assignment (a pass of its own when the walk reads froxels),
+    /// spot textures, materials, shadow maps. The caller has included the
+    /// recipe (`fg.include`).
+    pub(super) fn declare_inputs<'a>(&'a self, renderer: &'a Renderer, fg: &mut FrameGraph<'a>) {
         self.gbuffer.declare(renderer, fg);
         let size = self.gbuffer.pixel_size(fg.output_size());
         let (near, far) = near_far(self.gbuffer.camera.projection).unwrap_or((0.1, 1000.0));
@@ -533,8 +590,7 @@ impl Recipe for CookTorrance {
         // dispatch of its own before the shade, 6 µs on the H100, cost a
         // compute-pass boundary and barrier more: 17 µs of idle before each
         // naive shade against 7.6 before other passes, session 10.)
-        let clustered = self.walk.uses_froxels();
-        if clustered {
+        if self.walk.uses_froxels() {
             let mut pass = fg.pass(self.label("clustered light assignment"), self.owner);
             // The assignment's buffers live in the cluster store; the token orders the shade after it.
             pass.write(&self.token, TextureDesc::token());
@@ -558,18 +614,22 @@ impl Recipe for CookTorrance {
                 fg.count("shader node permutations compiled", compiled);
             }
         }
+    }
+
+    /// What the shade pass reads and writes, declared on `pass` (its own,
+    /// or the fused pass of several recipes).
+    pub(super) fn declare_shade_io(&self, pass: &mut PassBuilder<'_, '_>) -> ShadeIo {
         let g = &self.gbuffer.targets;
         let hdr = TextureDesc::storage(wgpu::TextureFormat::Rgba16Float).size(self.gbuffer.size);
-        let mut pass = fg.pass(self.label("shade"), self.owner);
         // Ordering tokens: the light assignment's buffers and the shadow
         // maps live outside the graph.
-        if clustered {
+        if self.walk.uses_froxels() {
             pass.read(&self.token);
         }
         if let Some(shadows) = &self.shadows {
             pass.read(shadows.token());
         }
-        let io = ShadeIo {
+        ShadeIo {
             color: pass.read(&g.color),
             normals: pass.read(&g.normals),
             depth: pass.read(&g.depth),
@@ -582,7 +642,7 @@ impl Recipe for CookTorrance {
             material_textures: self
                 .materials
                 .as_ref()
-                .and_then(|w| w.read_textures(&mut pass, self.textured(), g.surface_targets())),
+                .and_then(|w| w.read_textures(pass, self.textured(), g.surface_targets())),
             diffuse: pass.write(&self.diffuse, hdr),
             specular: pass.write(&self.specular, hdr),
             sss: self.sss.as_ref().map(|sss| pass.write(sss, hdr)),
@@ -592,7 +652,18 @@ impl Recipe for CookTorrance {
                 .flat_map(|c| &c.shader.textures)
                 .map(|t| pass.read(&t.name))
                 .collect(),
-        };
+        }
+    }
+}
+
+impl Recipe for CookTorrance {
+    fn declare<'a>(&'a self, renderer: &'a Renderer, fg: &mut FrameGraph<'a>) {
+        if !fg.include(self.id) {
+            return;
+        }
+        self.declare_inputs(renderer, fg);
+        let mut pass = fg.pass(self.label("shade"), self.owner);
+        let io = self.declare_shade_io(&mut pass);
         if self.custom.is_none() {
             pass.will_dispatch(&self.key(), "main");
         }

@@ -7,6 +7,7 @@ pub(crate) mod clusters_key;
 pub(crate) mod composite;
 mod cook_torrance;
 pub(crate) mod cook_torrance_key;
+pub mod light_sets;
 mod ssgi;
 pub(crate) mod ssgi_key;
 mod ssss;

@@ -70,6 +70,8 @@ pub struct ShaderCache {
     external: FxHashMap<(u64, String), wgpu::ComputePipeline>,
     /// Resolve permutations composed with a shader node material, by its source key.
     surfaces: FxHashMap<(ShaderKey, u64), SplicedPipeline>,
+    /// Pipelines of generated shaders (the fused light loop), by the caller's key.
+    generated: FxHashMap<u64, SplicedPipeline>,
     /// Bind groups by pipeline, group and what they bind (by identity), with
     /// the frame they were last used in: a pass that binds what it bound
     /// last frame reuses its group instead of making one. Under the hash of
@@ -261,6 +263,7 @@ impl ShaderCache {
             samplers: FxHashMap::default(),
             external: FxHashMap::default(),
             surfaces: FxHashMap::default(),
+            generated: FxHashMap::default(),
             bind_groups: FxHashMap::default(),
             frame: 0,
             generation: 0,
@@ -801,6 +804,55 @@ impl ShaderCache {
         self.pipelines_compiled += 1;
         self.surfaces
             .insert(cache_key, (pipeline.clone(), reflection.clone()));
+        Ok((pipeline, reflection))
+    }
+
+    /// The compute pipeline of `entry` in a shader generated over the
+    /// sources (the fused light loop, `lighting::light_sets`) and its
+    /// reflection, cached under `key`, which must change with everything
+    /// `compose` makes it from (a hash: a frame looks it up without
+    /// formatting a name). `compose` runs only the first time and names
+    /// what it made, for messages and captures.
+    pub fn generated_pipeline(
+        &mut self,
+        device: &wgpu::Device,
+        key: u64,
+        entry: &str,
+        compose: impl FnOnce(&mut ShaderComposer) -> Result<(String, naga::Module), RenderError>,
+    ) -> Result<SplicedPipeline, RenderError> {
+        if let Some(found) = self.generated.get(&key) {
+            return Ok(found.clone());
+        }
+        let started = std::time::Instant::now();
+        let composed = compose(self.composer()?);
+        self.compile_times.compose += started.elapsed();
+        let (label, composed) = composed?;
+        let reflection =
+            Arc::new(
+                reflect(&composed, entry).map_err(|message| RenderError::Shader {
+                    shader: label.clone(),
+                    defs: String::new(),
+                    message,
+                })?,
+            );
+        let shader = timed(&mut self.compile_times.modules, || {
+            device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some(&label),
+                source: wgpu::ShaderSource::Naga(Cow::Owned(composed)),
+            })
+        });
+        let pipeline = timed(&mut self.compile_times.pipelines, || {
+            compute_pipeline_of(
+                device,
+                self.pipeline_cache.as_ref(),
+                &shader,
+                &format!("{label}::{entry}"),
+                entry,
+            )
+        });
+        self.pipelines_compiled += 1;
+        self.generated
+            .insert(key, (pipeline.clone(), reflection.clone()));
         Ok((pipeline, reflection))
     }
 

@@ -376,6 +376,64 @@ impl ShaderComposer {
     }
 }
 
+impl ShaderComposer {
+    /// The current text of `file` (from the folder when live editing).
+    pub fn source_of(&mut self, file: &'static ShaderFile) -> &str {
+        self.load(file);
+        &self.sources[file.path]
+    }
+
+    /// Compose a generated entry shader (`source`, named `file_path`) over
+    /// the libraries plus `modules` (import path, file name for messages,
+    /// text; each after what it imports), with `defs` set: the fused light
+    /// loop (`lighting::light_sets`). The added libraries stay: a later
+    /// composition adds them again over themselves.
+    pub fn compose_generated(
+        &mut self,
+        modules: &[(String, String, String)],
+        file_path: &str,
+        source: &str,
+        defs: &[String],
+    ) -> Result<naga::Module, RenderError> {
+        let describe = || format!(" [{}]", defs.join(", "));
+        for (name, path, text) in modules {
+            let added = self
+                .composer
+                .add_composable_module(ComposableModuleDescriptor {
+                    source: text,
+                    file_path: path,
+                    language: ShaderLanguage::Wgsl,
+                    as_name: Some(name.clone()),
+                    ..Default::default()
+                })
+                .map(|_| ())
+                .map_err(|e| e.emit_to_string(&self.composer));
+            added.map_err(|message| RenderError::Shader {
+                shader: path.clone(),
+                defs: describe(),
+                message,
+            })?;
+        }
+        let shader_defs = defs
+            .iter()
+            .map(|f| (f.clone(), ShaderDefValue::Bool(true)))
+            .collect();
+        self.composer
+            .make_naga_module(NagaModuleDescriptor {
+                source,
+                file_path,
+                shader_type: ShaderType::Wgsl,
+                shader_defs,
+                additional_imports: &[],
+            })
+            .map_err(|e| RenderError::Shader {
+                shader: file_path.to_owned(),
+                defs: describe(),
+                message: e.emit_to_string(&self.composer),
+            })
+    }
+}
+
 /// `file`'s text in `dir`, or the embedded one where `dir` lacks it.
 fn read_or_embedded(dir: &Path, file: &ShaderFile) -> Cow<'static, str> {
     std::fs::read_to_string(dir.join(file.path))

@@ -85,6 +85,8 @@ pub(crate) use composer::is_composed;
 pub use composer::{ShaderComposer, Splice};
 pub use permutation::{Permutation, ShaderFile, ShaderKey};
 pub(crate) use reflection::INLINE_BINDINGS;
+#[cfg(test)]
+pub(crate) use reflection::reflect as reflection_of;
 pub use reflection::{BindGroups, Reflection, ShaderVar};
 pub use uniform::Uniform;
 

@@ -214,7 +214,11 @@ impl Recipe for CompositeLight {
             .iter()
             .flat_map(|c| [Some(&c.diffuse), Some(&c.specular), c.sss.as_ref()]);
         let inputs = [&self.occlusion, &self.gi, &self.reflection].map(Option::as_ref);
-        declare_inputs(renderer, fg, inputs.into_iter().chain(lights).flatten());
+        declare_inputs(renderer, fg, inputs.into_iter().flatten());
+        // The CookTorrance recipes behind the components that can share
+        // one dispatch, as one pass (when the renderer fuses light sets).
+        super::light_sets::declare(renderer, fg, self.components.iter().map(|c| &c.diffuse));
+        declare_inputs(renderer, fg, lights.flatten());
         declare_inputs(renderer, fg, &self.matcap_images);
         if let Some(world) = &self.materials {
             world.declare_upstream(renderer, fg, self.textured());

@@ -1,0 +1,405 @@
+//! Light sets in one dispatch: the `CookTorrance` recipes of one G-buffer
+//! (a sun's, a spot's, the point lights'), shaded by one compute pass
+//! instead of a pass each (issue 33, GPU per frame).
+//!
+//! Each CookTorrance pass reads the G-buffer, rebuilds the pixel's surface
+//! and writes its own diffuse and specular targets; emeshe-frame.ron runs
+//! three of them (0.146 + 0.107 + 0.073 ms on the H200), each with its own
+//! ramp and tail of workgroups. Fused, one dispatch runs each set's light
+//! loop in turn for the same 16x16 block: the block's G-buffer texels are
+//! read from memory once and from the cache for the next sets, and the
+//! dispatch starts and drains once. Every set still writes its own node's
+//! outputs, by its own copy of the light loop (`source.rs`), so whatever
+//! else reads one of them reads what the separate pass would have written.
+//!
+//! What fuses: CookTorrance recipes that CompositeLight combines, not yet
+//! declared by another reader (a recipe declared first keeps its own pass),
+//! with the same G-buffer and the same material switches (the shading part
+//! of their permutation), no light shader node, each with its own cluster
+//! store, within the device's per-stage binding limits and with at most one
+//! walk that keeps lights in workgroup memory (WebGPU's 16 KiB of it). The
+//! switch: [`LightFusion`], `SPREADLIGHT_LIGHT_FUSION`, `bench --light-fusion`.
+
+mod source;
+
+use std::hash::{Hash, Hasher};
+use std::sync::{Arc, Mutex};
+
+pub use source::MAX_SETS;
+
+use super::cook_torrance::{CookTorrance, ShadeIo, Walk};
+use super::cook_torrance_key::CookTorranceKey;
+use crate::adapter_class::AdapterClass;
+use crate::error::RenderError;
+use crate::frame_graph::{Bindings, FrameGraph, PassContext};
+use crate::recipe::{AsAny, Recipe, TextureRef};
+use crate::renderer::Renderer;
+use crate::report::PassName;
+use crate::shaders::{Permutation, ShaderComposer};
+use crate::shadows::filter::ShadowFilter;
+
+/// Whether the CookTorrance passes of one G-buffer run as one dispatch.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum LightFusion {
+    /// A pass per CookTorrance (every session before this one).
+    #[default]
+    Separate,
+    /// One pass for the light sets that can share it (this module).
+    Fused,
+    /// Fused on a GPU, separate on a CPU adapter (lavapipe runs dispatches
+    /// one at a time: a pass's ramp and tail cost it nothing to save).
+    Auto,
+}
+
+/// The environment variable that picks [`LightFusion`] for a process
+/// (`separate`, `fused` or `auto`), so both can be measured in one call;
+/// `set_light_fusion` (`bench --light-fusion`) overrides it.
+pub const LIGHT_FUSION_VAR: &str = "SPREADLIGHT_LIGHT_FUSION";
+
+/// Counted each frame: the light sets shaded in a fused pass (two or more a pass).
+pub const FUSED_LIGHT_SETS: &str = "light sets fused";
+
+impl LightFusion {
+    /// The setting a value of [`LIGHT_FUSION_VAR`] names, `None` for any other.
+    pub fn parse(value: &str) -> Option<Self> {
+        match value.trim().to_ascii_lowercase().as_str() {
+            "separate" => Some(LightFusion::Separate),
+            "fused" => Some(LightFusion::Fused),
+            "auto" => Some(LightFusion::Auto),
+            _ => None,
+        }
+    }
+
+    /// Whether light sets fuse on an adapter of `class`.
+    pub fn fuses_on(self, class: AdapterClass) -> bool {
+        match self {
+            LightFusion::Separate => false,
+            LightFusion::Fused => true,
+            LightFusion::Auto => class == AdapterClass::Gpu,
+        }
+    }
+
+    /// What [`LIGHT_FUSION_VAR`] asks for; unset, the default. A value it
+    /// does not know is an error naming the variable and the value.
+    pub fn from_env() -> Result<Self, String> {
+        match std::env::var(LIGHT_FUSION_VAR) {
+            Err(std::env::VarError::NotPresent) => Ok(LightFusion::default()),
+            Err(e) => Err(format!("{LIGHT_FUSION_VAR}: {e}")),
+            Ok(value) => Self::parse(&value).ok_or_else(|| {
+                format!("{LIGHT_FUSION_VAR} is `{value}`: it takes `separate`, `fused` or `auto`")
+            }),
+        }
+    }
+}
+
+/// A renderer's setting, kept as its state (`Renderer::state`): unset, the
+/// environment's (an unknown value there counts as the default; `bench`
+/// refuses it before it measures anything).
+#[derive(Default)]
+struct FusionSetting(Mutex<Option<LightFusion>>);
+
+/// The renderer's [`LightFusion`].
+pub fn light_fusion(renderer: &Renderer) -> LightFusion {
+    let setting = renderer.state::<FusionSetting>(0);
+    let mut chosen = setting.0.lock().unwrap_or_else(|e| e.into_inner());
+    *chosen.get_or_insert_with(|| LightFusion::from_env().unwrap_or_default())
+}
+
+/// Set the renderer's [`LightFusion`] (from the next frame graph declared on).
+pub fn set_light_fusion(renderer: &Renderer, fusion: LightFusion) {
+    let setting = renderer.state::<FusionSetting>(0);
+    *setting.0.lock().unwrap_or_else(|e| e.into_inner()) = Some(fusion);
+}
+
+/// What the bindings of one set use, against the device's per-stage limits.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+struct Use {
+    uniform: u32,
+    storage: u32,
+    storage_textures: u32,
+    sampled: u32,
+    samplers: u32,
+    /// Walks that keep a batch of lights in workgroup memory (about 9 KiB).
+    shared_walks: u32,
+}
+
+impl Use {
+    fn add(self, o: Use) -> Use {
+        Use {
+            uniform: self.uniform + o.uniform,
+            storage: self.storage + o.storage,
+            storage_textures: self.storage_textures + o.storage_textures,
+            sampled: self.sampled + o.sampled,
+            samplers: self.samplers + o.samplers,
+            shared_walks: self.shared_walks + o.shared_walks,
+        }
+    }
+
+    fn within(self, limits: &wgpu::Limits) -> bool {
+        self.uniform <= limits.max_uniform_buffers_per_shader_stage
+            && self.storage <= limits.max_storage_buffers_per_shader_stage
+            && self.storage_textures <= limits.max_storage_textures_per_shader_stage
+            && self.sampled <= limits.max_sampled_textures_per_shader_stage
+            && self.samplers <= limits.max_samplers_per_shader_stage
+            && self.shared_walks <= 1
+    }
+
+    /// What the sets share, bound once: the surface target, and the
+    /// material world's group (lib/material.wgsl: three buffers, its
+    /// texture array, the UV target and a sampler).
+    fn shared(recipe: &CookTorrance) -> Use {
+        let materials = u32::from(recipe.materials().is_some());
+        Use {
+            uniform: 0,
+            storage: 3 * materials,
+            storage_textures: 0,
+            sampled: 1 + 2 * materials,
+            samplers: materials,
+            shared_walks: 0,
+        }
+    }
+
+    /// One set's own bindings (a bound: a binding its permutation compiles
+    /// out is counted too).
+    fn of_set(recipe: &CookTorrance) -> Use {
+        let froxels = recipe.walk().uses_froxels();
+        let spot = recipe.lights().kind == super::LightKind::Spot;
+        let shadows = recipe.shadow_maps();
+        let vsm = shadows.is_some_and(|s| matches!(s.filter(), ShadowFilter::Vsm { .. }));
+        let textured = recipe.lights().textures().is_some();
+        Use {
+            // camera, grid, the shadows' parameters
+            uniform: 2 + u32::from(shadows.is_some()),
+            // lights, surfaces (the node's pins: not read with a material
+            // world), the froxel lists (4), spot projections, shadow views
+            storage: 1
+                + u32::from(recipe.materials().is_none())
+                + 4 * u32::from(froxels)
+                + u32::from(spot)
+                + u32::from(shadows.is_some()),
+            storage_textures: 2 + u32::from(recipe.sss.is_some()),
+            // color, normals, depth, spot textures, shadow maps and moments
+            sampled: 3 + u32::from(textured) + u32::from(shadows.is_some()) + u32::from(vsm),
+            samplers: u32::from(textured),
+            shared_walks: u32::from(matches!(recipe.walk(), Walk::Clustered | Walk::Tiled)),
+        }
+    }
+}
+
+/// The switches all sets of a fused pass must share: their permutation's
+/// features other than a set's own.
+fn shared_features(key: &CookTorranceKey) -> Vec<&'static str> {
+    key.features()
+        .filter(|f| !source::SET_FEATURES.contains(f))
+        .collect()
+}
+
+/// A CookTorrance recipe behind a light component, if it is one.
+fn cook_torrance(texture: &TextureRef) -> Option<&CookTorrance> {
+    <dyn Recipe as AsAny>::as_any(&*texture.recipe).downcast_ref::<CookTorrance>()
+}
+
+/// The groups of recipes among `components` (CompositeLight's diffuse
+/// inputs) that one pass can shade, each of two or more, in input order.
+fn plan<'a>(
+    fg: &FrameGraph<'a>,
+    limits: &wgpu::Limits,
+    components: impl IntoIterator<Item = &'a TextureRef>,
+) -> Vec<Vec<&'a CookTorrance>> {
+    let mut seen: Vec<u64> = Vec::new();
+    let mut groups: Vec<(Vec<&'static str>, Use, Vec<&'a CookTorrance>)> = Vec::new();
+    for texture in components {
+        let Some(recipe) = cook_torrance(texture) else {
+            continue;
+        };
+        if seen.contains(&recipe.id()) || fg.included(recipe.id()) || !recipe.fusable() {
+            continue;
+        }
+        seen.push(recipe.id());
+        let shared = shared_features(&recipe.shade_key());
+        let own = Use::of_set(recipe);
+        let joins = groups.iter_mut().find(|(features, used, members)| {
+            let first = members[0];
+            *features == shared
+                && Arc::ptr_eq(first.gbuffer(), recipe.gbuffer())
+                && same_world(first, recipe)
+                && members.len() < MAX_SETS
+                && members.iter().all(|m| !m.shares_clusters(recipe))
+                && used.add(own).within(limits)
+        });
+        match joins {
+            Some((_, used, members)) => {
+                *used = used.add(own);
+                members.push(recipe);
+            }
+            None => groups.push((shared, Use::shared(recipe).add(own), vec![recipe])),
+        }
+    }
+    groups
+        .into_iter()
+        .map(|(_, _, members)| members)
+        .filter(|members| members.len() >= 2)
+        .collect()
+}
+
+/// The same material world (bound once for all sets), or none for either.
+fn same_world(a: &CookTorrance, b: &CookTorrance) -> bool {
+    match (a.materials(), b.materials()) {
+        (None, None) => true,
+        (Some(a), Some(b)) => Arc::ptr_eq(a, b),
+        _ => false,
+    }
+}
+
+/// Declare, as one pass each, the groups of CookTorrance recipes behind
+/// `components` that can share a dispatch (when the renderer's
+/// [`LightFusion`] fuses on its adapter). The recipes of a group are
+/// included here, so declaring one later adds nothing; the others declare
+/// their own passes as before.
+pub(crate) fn declare<'a>(
+    renderer: &'a Renderer,
+    fg: &mut FrameGraph<'a>,
+    components: impl IntoIterator<Item = &'a TextureRef>,
+) {
+    if !light_fusion(renderer).fuses_on(renderer.gpu.adapter_class()) {
+        return;
+    }
+    let limits = renderer.gpu.device.limits();
+    for members in plan(fg, &limits, components) {
+        for member in &members {
+            fg.include(member.id());
+        }
+        for member in &members {
+            member.declare_inputs(renderer, fg);
+        }
+        // Named without formatting a string each frame.
+        const STEPS: [&str; MAX_SETS + 1] = [
+            "",
+            "",
+            "shade 2 light sets",
+            "shade 3 light sets",
+            "shade 4 light sets",
+        ];
+        let name = PassName::new("CookTorrance").step(STEPS[members.len()]);
+        let mut pass = fg.pass(name, members[0].owner());
+        let ios: Vec<ShadeIo> = members
+            .iter()
+            .map(|m| m.declare_shade_io(&mut pass))
+            .collect();
+        let count = members.len() as u64;
+        pass.run(move |cx| {
+            cx.count(FUSED_LIGHT_SETS, count);
+            shade(cx, &members, &ios)
+        });
+    }
+}
+
+/// The generated shader's switches: each set's own renamed for its
+/// place, the shared ones (the first set's: a group's agree) once.
+fn switches(keys: &[CookTorranceKey]) -> Vec<String> {
+    let mut defs: Vec<String> = Vec::new();
+    for (i, key) in keys.iter().enumerate() {
+        if i == 0 {
+            defs.extend(shared_features(key).into_iter().map(str::to_owned));
+        }
+        defs.extend(
+            key.features()
+                .filter(|f| source::SET_FEATURES.contains(f))
+                .map(|f| source::set_feature(i, f)),
+        );
+    }
+    defs
+}
+
+/// Compose the fused loop of `sets` sets with `defs` (the tests compose
+/// every kind of set through it, as a frame does).
+fn compose(
+    composer: &mut ShaderComposer,
+    sets: usize,
+    defs: &[String],
+) -> Result<naga::Module, RenderError> {
+    let file = <CookTorranceKey as Permutation>::FILE;
+    let library = |path: &'static str| {
+        crate::shaders::library(path).ok_or_else(|| RenderError::Shader {
+            shader: path.to_owned(),
+            defs: String::new(),
+            message: "no such library".to_owned(),
+        })
+    };
+    let light_loop = composer.source_of(file).to_owned();
+    let shadow_sampling = composer
+        .source_of(library("lighting/shadow_sampling.wgsl")?)
+        .to_owned();
+    let spot = composer.source_of(library("lib/spot.wgsl")?).to_owned();
+    let mut modules = Vec::new();
+    for i in 0..sets {
+        let set =
+            source::set_modules(i, &light_loop, &shadow_sampling, &spot).map_err(|message| {
+                RenderError::Shader {
+                    shader: file.path.to_owned(),
+                    defs: String::new(),
+                    message,
+                }
+            })?;
+        modules.extend(set);
+    }
+    composer.compose_generated(
+        &modules,
+        "lighting/light_sets (generated)",
+        &source::entry_source(sets),
+        defs,
+    )
+}
+
+/// The fused pass: each set's resources under its own names, one dispatch.
+fn shade(
+    cx: &mut PassContext<'_>,
+    members: &[&CookTorrance],
+    ios: &[ShadeIo],
+) -> Result<(), RenderError> {
+    let guards: smallvec::SmallVec<[_; MAX_SETS]> = members
+        .iter()
+        .map(|m| m.cluster_store().get(cx.gpu, 1, m.lights().count()))
+        .collect();
+    let mut bindings = Bindings::new();
+    // The pipeline's key: the sets' permutations in order (a hash, so a
+    // frame formats no name; the switches are made only to compose).
+    let mut hasher = rustc_hash::FxHasher::default();
+    for (i, ((member, io), guard)) in members.iter().zip(ios).zip(&guards).enumerate() {
+        let Some(clusters) = guard.as_ref() else {
+            return Ok(());
+        };
+        member.shade_key().hash(&mut hasher);
+        let names = source::binding_names(i);
+        let rename = |name: &str| {
+            names
+                .iter()
+                .find(|(from, _)| *from == name)
+                .map(|(_, to)| to.as_str())
+        };
+        let set = member.shade_bindings(cx, io, clusters)?;
+        bindings = bindings.extend(set.renamed(rename, i == 0));
+    }
+    let device = cx.gpu.device.clone();
+    let (pipeline, reflection) =
+        cx.shaders
+            .generated_pipeline(&device, hasher.finish(), "main", |composer| {
+                let keys: Vec<CookTorranceKey> = members.iter().map(|m| m.shade_key()).collect();
+                let defs = switches(&keys);
+                let label = format!("lighting/light_sets x{} [{}]", keys.len(), defs.join(", "));
+                Ok((label, compose(composer, keys.len(), &defs)?))
+            })?;
+    let label = "CookTorrance: shade light sets";
+    let groups = cx.bind_groups_reflected(label, &reflection, &pipeline, bindings)?;
+    let groups: smallvec::SmallVec<[&wgpu::BindGroup; 4]> = groups.iter().collect();
+    cx.dispatch(
+        label,
+        &pipeline,
+        &groups,
+        members[0].workgroups(cx.output_size),
+    );
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests;
