@@ -8,7 +8,7 @@ use std::process::Stdio;
 
 // Shared with show_window.rs, which uses helpers this file does not.
 #[allow(dead_code)]
-mod xwindow;
+use crate::xwindow;
 
 use xwindow::{Input, Xvfb};
 

@@ -6,7 +6,7 @@ use std::process::Stdio;
 
 // Shared with editor_window.rs, which uses the helpers this file does not.
 #[allow(dead_code)]
-mod xwindow;
+use crate::xwindow;
 
 use xwindow::{Input, Xvfb};
 
