@@ -8,7 +8,7 @@ use std::process::Stdio;
 
 // Shared with show_window.rs, which uses helpers this file does not.
 #[allow(dead_code)]
-use crate::xwindow;
+mod xwindow;
 
 use xwindow::{Input, Xvfb};
 
@@ -166,8 +166,8 @@ fn heavy_patch(slices: i64) -> spreadlight_graph::Patch {
 /// The measurement of docs/editor.md (Performance): the UI's frame times
 /// while a patch that takes ~200 ms a frame plays on the worker thread.
 /// Ignored by default (it measures, it asserts no time): run it with
-/// `cargo test --workspace --test cli -- --ignored --nocapture
-/// editor_window::ui_frame_times_while_a_heavy_patch_plays`; `SPREADLIGHT_HEAVY_SLICES` sets the
+/// `cargo test -p spreadlight-cli --test editor_window -- --ignored --nocapture
+/// ui_frame_times_while_a_heavy_patch_plays`; `SPREADLIGHT_HEAVY_SLICES` sets the
 /// patch's size (pick it so `patch_ms_median` is ~200), `SPREADLIGHT_EDITOR_FRAMES`
 /// the frame count. It prints the editor's JSON report.
 #[test]

@@ -3,19 +3,18 @@
 //! file beside this one is a module here, so its tests are named
 //! `file::test` (`cargo test --workspace --test cli -- accuracy::` runs
 //! one file's); a new test file needs its `mod` line below, which
-//! `tests/test_files.rs` checks.
+//! `tests/test_files.rs` checks. The window tests (`editor_window.rs`,
+//! `show_window.rs`, with `xwindow/`) are binaries of their own: Cargo.toml
+//! says why.
 
 // Shared by several files.
 mod support;
-mod xwindow;
 
 // The test files.
 mod accuracy;
 mod cli;
-mod editor_window;
 mod farm;
 mod half_resolution;
 mod sequence;
 mod sequence_quality;
-mod show_window;
 mod view;

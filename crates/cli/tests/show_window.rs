@@ -6,7 +6,7 @@ use std::process::Stdio;
 
 // Shared with editor_window.rs, which uses the helpers this file does not.
 #[allow(dead_code)]
-use crate::xwindow;
+mod xwindow;
 
 use xwindow::{Input, Xvfb};
 
@@ -138,7 +138,7 @@ fn f11_opens_a_second_window_for_the_output_and_esc_closes_it() {
 /// editor then died ("Surface is not configured for presentation"); the
 /// submission gate (`crates/render/src/submission_gate.rs`) keeps them apart.
 /// A stress run by hand (tens of seconds; `SPREADLIGHT_RESIZES`, default 60):
-/// `cargo test --workspace --test cli -- --ignored show_window::resiz`.
+/// `cargo test -p spreadlight-cli --test show_window -- --ignored resiz`.
 #[test]
 #[ignore = "a stress run by hand: tens of seconds"]
 fn resizing_both_windows_while_the_showcase_plays_keeps_the_editor_running() {
