@@ -11,7 +11,7 @@
 //! difference image in `target/tmp/reference-images/NAME/`.
 //!
 //! Re-make the references after an intended change with
-//! `SPREADLIGHT_BLESS=1 cargo test -p spreadlight-tests --test reference_images`
+//! `SPREADLIGHT_BLESS=1 cargo test --workspace --test workspace -- reference_images::`
 //! and look at each `target/tmp/reference-images/NAME/rendered.png` before
 //! committing them.
 

@@ -12,7 +12,7 @@
 //! One test binary for all eight subcommands: each test binary costs a link
 //! in CI, and the tests of one binary run side by side.
 
-mod support;
+use crate::support;
 
 use serde_json::Value;
 use support::{path, spreadlight, text};

@@ -3,7 +3,7 @@
 //! screen-space effect at half resolution: they name real nodes and pins,
 //! and the frame then runs each effect's half pass and its upsample.
 
-mod support;
+use crate::support;
 
 use support::{spreadlight, text};
 

@@ -2,7 +2,7 @@
 //! templates, resuming, atomic files, failing frames, several outputs,
 //! bad input and progress. Renders are 64x36 (lavapipe in CI is slow).
 
-mod support;
+use crate::support;
 
 use std::path::Path;
 

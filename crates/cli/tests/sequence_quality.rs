@@ -2,7 +2,7 @@
 //! equals the full run; `--samples` accumulates sub-frames (anti-aliasing
 //! and motion blur); video streams through ffmpeg. Renders are 64x36.
 
-mod support;
+use crate::support;
 
 use support::*;
 

@@ -4,7 +4,7 @@
 //! references are float (`tests/float_compare.rs`): `view` writes a tonemapped,
 //! display-referred image, 0 to 1, and its PNG is what a user gets.
 //! Bless after an intended change with
-//! `SPREADLIGHT_BLESS=1 cargo test -p spreadlight-cli --test view`, and look
+//! `SPREADLIGHT_BLESS=1 cargo test --workspace --test cli -- view::`, and look
 //! at the images before committing them.
 
 use std::path::{Path, PathBuf};

@@ -1,7 +1,7 @@
 //! The real editor, driven through egui_kittest: clicks, drags, keys and text
 //! go through egui's input like a user's, on a wgpu device (lavapipe in CI).
 
-mod common;
+use crate::common;
 
 use std::path::{Path, PathBuf};
 

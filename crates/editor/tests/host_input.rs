@@ -4,7 +4,7 @@
 //! is over it. Driven through egui's input, on a paused patch (input alone
 //! re-evaluates a patch that reads it).
 
-mod common;
+use crate::common;
 
 use egui::{Key, Vec2};
 use egui_kittest::Harness;

@@ -2,7 +2,7 @@
 //! place, slices added and undone; a linked IOBox shows its live value,
 //! updating as time runs. At a small window size.
 
-mod common;
+use crate::common;
 
 use egui::Vec2;
 use egui_kittest::Harness;

@@ -3,7 +3,7 @@
 //! layout) and pans to the patch's top left instead; the mouse wheel zooms
 //! around the pointer rather than panning. At a small window size.
 
-mod common;
+use crate::common;
 
 use egui::{Event, Modifiers, MouseWheelUnit, Pos2, TouchPhase, Vec2};
 use egui_kittest::Harness;

@@ -2,7 +2,7 @@
 //! the node browser, wires dragged between pins and the inspector only; saved
 //! through the Save-as dialog; reopened unchanged, and rendering.
 
-mod common;
+use crate::common;
 
 use egui::accesskit::Role;
 use egui::{Event, Key, Modifiers, PointerButton, Pos2, Vec2};

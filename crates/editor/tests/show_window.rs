@@ -5,7 +5,7 @@
 //! editor's (egui's embedded viewport); the real window is tested under Xvfb
 //! in crates/cli/tests/editor_window.rs.
 
-mod common;
+use crate::common;
 
 use egui::{Key, Vec2};
 use egui_kittest::Harness;

@@ -4,7 +4,7 @@
 //! (Ctrl+Shift+G), each undone and redone; a subpatch file opened in place
 //! and its edit saved to it, or recovered after a crash.
 
-mod common;
+use crate::common;
 
 use egui::accesskit::Role;
 use egui::{Event, Key, Modifiers, PointerButton, Pos2, Vec2};

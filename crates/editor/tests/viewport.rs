@@ -1,7 +1,7 @@
 //! The viewports and the GPU timings, on the showcase patch: rendered by the
 //! shared renderer on the device the harness's egui draws with.
 
-mod common;
+use crate::common;
 
 use std::path::PathBuf;
 

@@ -9,10 +9,9 @@
 //! world's groups made in the first.
 
 // The post tests' scene helpers, shared with the renderer's tests.
-#[path = "../../render/tests/post_common/mod.rs"]
-mod post_common;
+use crate::post_common;
 // The glTF tests' quad view and layer.
-mod common;
+use crate::common;
 
 use std::sync::Arc;
 

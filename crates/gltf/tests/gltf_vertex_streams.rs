@@ -7,7 +7,7 @@
 //! base colour factor x texel at TEXCOORD_1 x interpolated COLOR_0.
 
 // The glTF tests' quad view and layer.
-mod common;
+use crate::common;
 
 use common::{QuadView, world_and_layer};
 use glam::Mat4;

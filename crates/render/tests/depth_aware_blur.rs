@@ -5,7 +5,7 @@
 //! size that is a multiple of 8 neither way, workgroups end at the image's
 //! edge.
 
-mod occlusion_scene;
+use crate::occlusion_scene;
 
 use glam::Vec3;
 use spreadlight_render::FrameReport;

@@ -4,7 +4,7 @@
 //! distance and eases towards a new one over time. A lens that cannot blur
 //! half a pixel costs a copy, and the frame report says so.
 
-mod post_common;
+use crate::post_common;
 
 use glam::{Vec2, Vec3};
 use post_common::*;

@@ -2,7 +2,7 @@
 //! G-buffer's velocity as the analytic motion predicts, geometry ids reach
 //! its object-id channel, and each geometry pass keeps its shape properties.
 
-mod common;
+use crate::common;
 
 use std::sync::Arc;
 

@@ -4,7 +4,7 @@
 //! (heights and recomputed normals), Decimate (ratio, borders, seams), and
 //! Bezier splines through their anchors.
 
-mod common;
+use crate::common;
 
 use glam::{Mat2, Vec2, Vec3, Vec4};
 use spreadlight_render::geometry::analytic::icosahedron;

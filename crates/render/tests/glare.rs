@@ -2,7 +2,7 @@
 //! nothing glows; chromatic aberration parts red from blue radially; with
 //! nothing to add it costs a counted copy.
 
-mod post_common;
+use crate::post_common;
 
 use post_common::*;
 use spreadlight_render::post::glare::SKIPPED;

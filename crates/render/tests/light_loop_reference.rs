@@ -5,7 +5,7 @@
 //! falloff give per light, for the clustered and the naive loop, for
 //! dielectrics and metals, sharp and rough.
 
-mod floor_view;
+use crate::floor_view;
 
 use std::sync::Arc;
 

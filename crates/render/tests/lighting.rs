@@ -2,7 +2,7 @@
 //! pixel) against the naive reference, and the hard cases of the stability suite that are in place
 //! so far (no NaN or infinity in any HDR target).
 
-mod floor_view;
+use crate::floor_view;
 
 use std::sync::Arc;
 

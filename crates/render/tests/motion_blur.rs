@@ -2,7 +2,7 @@
 //! over the still background, keeps still tiles exact, and costs a copy
 //! (counted) when nothing moves.
 
-mod post_common;
+use crate::post_common;
 
 use glam::Vec3;
 use post_common::*;

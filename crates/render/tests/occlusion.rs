@@ -8,7 +8,7 @@
 //! a uniformly lit scene gathers that light exactly where ray-cast AO says
 //! rays are blocked.
 
-mod occlusion_scene;
+use crate::occlusion_scene;
 
 use std::sync::Arc;
 

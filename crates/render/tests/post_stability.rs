@@ -3,7 +3,7 @@
 //! f-stop; velocities of thousands of pixels a frame; glare threshold 0. No
 //! NaN or infinity reaches any target, and nothing exceeds half-float range.
 
-mod post_common;
+use crate::post_common;
 
 use std::sync::Arc;
 

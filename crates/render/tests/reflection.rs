@@ -8,8 +8,9 @@
 //! Fresnel, and no target ever holds NaN or infinity. SSR's tests are in
 //! ssr.rs.
 
+#[path = "reflection_probe/mod.rs"]
 mod reflection_probe;
-mod reflection_scene;
+use crate::reflection_scene;
 
 use std::sync::Arc;
 

@@ -3,7 +3,7 @@
 //! a target, the history survives a NaN, a cut and a resize, and the passes
 //! run only when a material reflects and the output is wanted.
 
-mod reflection_scene;
+use crate::reflection_scene;
 
 use std::sync::Arc;
 

@@ -3,7 +3,7 @@
 //! the last row or column whatever an odd level leaves, checked level by
 //! level against the same rule on the CPU, at a size whose levels are odd.
 
-mod post_common;
+use crate::post_common;
 
 use std::sync::Arc;
 

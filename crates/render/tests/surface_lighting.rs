@@ -5,7 +5,7 @@
 //! written shade bit for bit as before, and G-buffers without a surface
 //! target compile no surface-reading permutation.
 
-mod floor_view;
+use crate::floor_view;
 
 use std::sync::Arc;
 

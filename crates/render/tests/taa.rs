@@ -3,7 +3,7 @@
 //! closer than one aliased frame; a cut, a resize and a fresh target reset
 //! the history (counted); a NaN held in the history never reaches the image.
 
-mod post_common;
+use crate::post_common;
 
 use std::sync::Arc;
 

@@ -24,7 +24,7 @@
 //! layers than slots counts the missed fragments and lights them as the
 //! recorded ones.
 
-mod post_common;
+use crate::post_common;
 
 use std::sync::Arc;
 
