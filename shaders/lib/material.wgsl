@@ -24,6 +24,9 @@ const FEATURE_UNLIT: u32 = 8u;
 // Refracted transmission (factor, ior, thickness; absorption rgb): lit
 // transparency's TRANSMISSION (post/transparency.wgsl).
 const FEATURE_TRANSMISSION: u32 = 9u;
+// A sheen (rgb colour, roughness): CookTorrance's, Reflection's and lit
+// transparency's SHEEN (shaders/lib/sheen.wgsl).
+const FEATURE_SHEEN: u32 = 10u;
 const FIRST_CUSTOM_FEATURE: u32 = 16u;
 const MAX_FEATURES: u32 = 32u;
 

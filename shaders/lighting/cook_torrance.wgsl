@@ -17,6 +17,10 @@
 // by their maps where the G-buffer resolved them (material::clearcoat_at),
 // on its own normal where a clearcoat normal map gave one
 // (material::clearcoat_normal_at; else the pixel's).
+// SHEEN (some material has the Sheen feature): the Charlie sheen lobe
+// (lib/sheen.wgsl) tinted by the material's sheen colour, under the coat and
+// over the base, which it dims by 1 - max(colour) x the lobe's albedo at N.V
+// (glTF's KHR_materials_sheen as the Khronos sample viewer shades it).
 // CUSTOM_LIGHT: a light shader node's `light` function (lib/light_shader.wgsl,
 // spliced in for lib/custom_light.wgsl) replaces the BRDF: the same walk,
 // clusters and shadows, its outputs summed into the two targets.
@@ -48,6 +52,15 @@
 var<private> coat_factor: f32;
 var<private> coat_surface: BrdfSurface;
 var<private> coat_sum: vec3<f32>;
+#endif
+#ifdef SHEEN
+#import spreadlight::material::{feature_param, FEATURE_SHEEN}
+#import spreadlight::sheen::{sheen_weight, sheen_scaling}
+// The pixel's sheen colour (black: none), its roughness and the summed
+// lobe (white, times each light's radiance).
+var<private> sheen_color: vec3<f32>;
+var<private> sheen_roughness: f32;
+var<private> sheen_sum: vec3<f32>;
 #endif
 #ifdef SHADOWS
 #import spreadlight::shadow_sampling::light_shadow
@@ -270,6 +283,11 @@ fn shade(slot: u32, lv: vec4<f32>, p: vec3<f32>, pw: vec3<f32>, surface: BrdfSur
         let coat_cosines = half_vector_cosines(coat_surface, coat_n_dot_l, v_dot_l);
         let coat = cook_torrance_weights_scaled(coat_surface, coat_n_dot_l, coat_cosines.x, coat_cosines.y, scale);
         coat_sum += radiance * (coat.x * DIELECTRIC_F0 + coat.y * (1.0 - DIELECTRIC_F0));
+    }
+#endif
+#ifdef SHEEN
+    if (any(sheen_color > vec3<f32>(0.0))) {
+        sheen_sum += radiance * sheen_weight(surface.n_dot_v, n_dot_l, cosines.x, sheen_roughness, scale);
     }
 #endif
 #ifdef FAKE_SSS
@@ -669,6 +687,16 @@ fn main(@builtin(local_invocation_index) lane: u32, @builtin(workgroup_id) wid: 
     coat_surface = brdf_surface(coat_n, v, vec3<f32>(0.0), coat_roughness, 0.0, DIELECTRIC_F0);
     coat_sum = vec3<f32>(0.0);
 #endif
+#ifdef SHEEN
+    sheen_color = vec3<f32>(0.0);
+    sheen_roughness = 0.0;
+    sheen_sum = vec3<f32>(0.0);
+    if (covered) {
+        let sheen = feature_param(material, FEATURE_SHEEN, 0u, vec4<f32>(0.0));
+        sheen_color = clamp(sheen.rgb, vec3<f32>(0.0), vec3<f32>(1.0));
+        sheen_roughness = clamp(sheen.a, 0.0, 1.0);
+    }
+#endif
 #ifdef CLUSTERED
     // The pixel's depth slice (covered pixels only).
     var slice = 0u;
@@ -830,6 +858,15 @@ fn main(@builtin(local_invocation_index) lane: u32, @builtin(workgroup_id) wid: 
     var specular = lit.specular;
 #ifdef ENERGY_COMPENSATION
     specular *= surface_energy_compensation(surface);
+#endif
+#ifdef SHEEN
+    if (any(sheen_color > vec3<f32>(0.0))) {
+        // The sheen lies over the base: what it reflects the base does not
+        // receive (the albedo scaling); the coat, below, lies over both.
+        let scaling = sheen_scaling(sheen_color, surface.n_dot_v, sheen_roughness);
+        diffuse *= scaling;
+        specular = specular * scaling + sheen_color * sheen_sum;
+    }
 #endif
 #ifdef CLEARCOAT
     if (coat_factor > 0.0) {

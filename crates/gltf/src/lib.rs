@@ -172,6 +172,11 @@ pub struct MaterialData {
     pub clearcoat: f32,
     /// `KHR_materials_clearcoat`: clearcoatRoughnessFactor.
     pub clearcoat_roughness: f32,
+    /// `KHR_materials_sheen`: sheenColorFactor (linear; black without it:
+    /// no sheen), each channel 0..1.
+    pub sheen_color: [f32; 3],
+    /// `KHR_materials_sheen`: sheenRoughnessFactor (0..1).
+    pub sheen_roughness: f32,
     /// `KHR_materials_transmission`: transmissionFactor (0 without it). Until
     /// a pass refracts, a transmissive material is drawn BLEND with its base
     /// colour alpha times 1 - transmission (the importer has applied that to
@@ -241,6 +246,8 @@ impl Default for MaterialData {
             specular_color: [1.0; 3],
             clearcoat: 0.0,
             clearcoat_roughness: 0.0,
+            sheen_color: [0.0; 3],
+            sheen_roughness: 0.0,
             transmission: 0.0,
             transmission_texture: None,
             thickness: 0.0,
@@ -477,6 +484,7 @@ pub const SUPPORTED_EXTENSIONS: &[&str] = &[
     "KHR_materials_emissive_strength",
     "KHR_materials_ior",
     "KHR_materials_pbrSpecularGlossiness",
+    "KHR_materials_sheen",
     "KHR_materials_specular",
     "KHR_materials_transmission",
     "KHR_materials_unlit",

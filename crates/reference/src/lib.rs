@@ -3,7 +3,7 @@
 //! the matcap lookup ([`matcap`]), a material shaded under the sun
 //! ([`material`]), ray-cast soft shadows ([`shadows`]) and ambient
 //! occlusion ([`ssao`]) to measure the filters by, reflections ray-traced
-//! ([`reflection`]), refraction through a slab ([`refraction`]), and the shipped light shader nodes' models ([`toon`],
+//! ([`reflection`]), refraction through a slab ([`refraction`]), the sheen lobe ([`sheen`]), and the shipped light shader nodes' models ([`toon`],
 //! [`ashikhmin_shirley`]); glTF materials point-sampled are
 //! `spreadlight_gltf::reference`, beside the importer.
 //!
@@ -25,6 +25,7 @@ pub mod material;
 pub mod reflection;
 pub mod refraction;
 pub mod shadows;
+pub mod sheen;
 pub mod ssao;
 pub mod tonemap;
 pub mod toon;

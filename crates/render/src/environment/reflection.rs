@@ -16,7 +16,9 @@ use super::environment_map::Environment;
 use crate::error::RenderError;
 use crate::frame_graph::{Bindings, FrameGraph, PassContext, Tex, TextureDesc};
 use crate::gbuffer::GBuffer;
-use crate::material::{FEATURE_COOK_TORRANCE, FEATURE_REFLECTION, MaterialTextures, MaterialWorld};
+use crate::material::{
+    FEATURE_COOK_TORRANCE, FEATURE_REFLECTION, FEATURE_SHEEN, MaterialTextures, MaterialWorld,
+};
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
 use crate::report::PassName;
@@ -153,6 +155,8 @@ impl Reflection {
             material_textures: self.textured(),
             surface_target: self.gbuffer.targets.surface.is_some(),
             parallax: self.volume.is_some(),
+            // Only a reflective world's passes read colours and materials.
+            sheen: self.active() && self.materials.any_has(FEATURE_SHEEN),
         }
     }
 
@@ -221,8 +225,11 @@ impl Reflection {
             b = b
                 .texture_opt("out_specular", io.specular)
                 .texture_opt("surface_target", io.surface)
-                .buffer_opt("volume", self.volume.as_ref())
-                .extend(self.materials.bindings(io.material_textures));
+                .buffer_opt("volume", self.volume.as_ref());
+        }
+        // The diffuse entry reads the materials too where a sheen dims it.
+        if specular || self.key().sheen {
+            b = b.extend(self.materials.bindings(io.material_textures));
         }
         match outputs {
             Outputs::Both => self.dispatch(cx, "both", "reflection", b),

@@ -14,5 +14,8 @@ crate::flag_key! {
         /// The cube is a probe's with a volume: the lookup is corrected by
         /// the volume (parallax), not taken as if infinitely far.
         parallax: "PARALLAX",
+        /// Some material has a sheen: its image-based light and the base's
+        /// dimming under it are compiled in.
+        sheen: "SHEEN",
     }
 }

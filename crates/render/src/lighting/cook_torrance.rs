@@ -13,7 +13,9 @@ use crate::error::RenderError;
 use crate::frame_graph::{Bindings, FrameGraph, PassContext, Tex, TextureDesc};
 use crate::gbuffer::GBuffer;
 use crate::gbuffer::SurfaceShader;
-use crate::material::{FEATURE_CLEARCOAT, FEATURE_FAKE_SSS, MaterialTextures, MaterialWorld};
+use crate::material::{
+    FEATURE_CLEARCOAT, FEATURE_FAKE_SSS, FEATURE_SHEEN, MaterialTextures, MaterialWorld,
+};
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
 use crate::report::PassName;
@@ -324,6 +326,13 @@ impl CookTorrance {
             .is_some_and(|w| w.union_flags() & (1 << FEATURE_CLEARCOAT) != 0)
     }
 
+    /// Whether some material has a sheen: its lobe is compiled in.
+    fn sheen(&self) -> bool {
+        self.materials
+            .as_ref()
+            .is_some_and(|w| w.union_flags() & (1 << FEATURE_SHEEN) != 0)
+    }
+
     /// The walk this recipe's shade pass does.
     pub fn walk(&self) -> Walk {
         self.walk
@@ -362,6 +371,7 @@ impl CookTorrance {
                     reads,
                     fake_sss: self.sss.is_some(),
                     clearcoat: self.clearcoat(),
+                    sheen: self.sheen(),
                 }),
             },
         };

@@ -120,6 +120,8 @@ pub struct BrdfMaterials {
     pub fake_sss: bool,
     /// Some material has a clear coat: its lobe is compiled in.
     pub clearcoat: bool,
+    /// Some material has a sheen: its lobe is compiled in.
+    pub sheen: bool,
 }
 
 /// The material buffer (MATERIALS), and whether some material's
@@ -148,6 +150,7 @@ impl Shading {
                     f.extend(m.reads.features());
                     f.extend(m.fake_sss.then_some("FAKE_SSS"));
                     f.extend(m.clearcoat.then_some("CLEARCOAT"));
+                    f.extend(m.sheen.then_some("SHEEN"));
                 }
             }
             Shading::Custom { materials } => {
@@ -164,11 +167,14 @@ impl Shading {
         for reads in reads {
             for fake_sss in [false, true] {
                 for clearcoat in [false, true] {
-                    brdf_materials.push(Some(BrdfMaterials {
-                        reads,
-                        fake_sss,
-                        clearcoat,
-                    }));
+                    for sheen in [false, true] {
+                        brdf_materials.push(Some(BrdfMaterials {
+                            reads,
+                            fake_sss,
+                            clearcoat,
+                            sheen,
+                        }));
+                    }
                 }
             }
         }
@@ -265,6 +271,7 @@ impl Permutation for CookTorranceKey {
         "SHADOW_VSM",
         "SURFACE_TARGET",
         "CLEARCOAT",
+        "SHEEN",
         "CUSTOM_LIGHT",
         "TILED",
         "PER_PIXEL",
@@ -278,7 +285,7 @@ impl Permutation for CookTorranceKey {
             .chain(self.surface_target.then_some("SURFACE_TARGET"))
     }
 
-    /// 13 light walks x 21 shadings x 5 shadow samplings x 2: the 2,730
+    /// 13 light walks x 37 shadings x 5 shadow samplings x 2: the 4,810
     /// feature sets the string rules allowed.
     fn all() -> Vec<Self> {
         let mut all = Vec::new();

@@ -1,7 +1,7 @@
 //! Material features: what a bit of a material's flag word switches on, and
 //! the parameters it reads. Feature id `n` is flag `1 << n` (Emeshe's
 //! convention: the id is the exponent, the flag the power of two). Ids 0..16
-//! belong to built-in features (0..=9 exist now; 10..=15 are kept for the
+//! belong to built-in features (0..=10 exist now; 11..=15 are kept for the
 //! ones to come), 16..=31 are free for custom features.
 //!
 //! Mirrored by the `FEATURE_*` constants of `shaders/lib/material.wgsl`.
@@ -26,6 +26,9 @@ pub const FEATURE_UNLIT: u32 = 8;
 /// with `KHR_materials_ior` and `KHR_materials_volume`): drawn by lit
 /// transparency, which samples the opaque image along the refracted ray.
 pub const FEATURE_TRANSMISSION: u32 = 9;
+/// A velvet-like sheen over the surface (glTF's `KHR_materials_sheen`):
+/// CookTorrance's `SHEEN` lobe, Reflection's and lit transparency's.
+pub const FEATURE_SHEEN: u32 = 10;
 /// The first id free for custom features.
 pub const FIRST_CUSTOM_FEATURE: u32 = 16;
 /// One bit of a `u32` per feature.
@@ -83,6 +86,13 @@ const CLEARCOAT: ParamLayout = ParamLayout {
     names: ["factor", "roughness", "", ""],
     ranges: [Unit, Unit, Unused, Unused],
     default: [1.0, 0.0, 0.0, 0.0],
+};
+/// The sheen's colour (each channel 0..1: glTF's sheenColorFactor, linear)
+/// and its roughness (0..1): the Charlie lobe's tint and width.
+const SHEEN: ParamLayout = ParamLayout {
+    names: ["red", "green", "blue", "roughness"],
+    ranges: [Unit, Unit, Unit, Unit],
+    default: [1.0, 1.0, 1.0, 0.5],
 };
 /// Two vec4s ([`transmission_params`]): how much of what shows through is
 /// refracted (0..1), the index of refraction and the volume's thickness
@@ -215,13 +225,17 @@ pub enum Feature {
     /// transparency draws what shows through a layer of such a material as
     /// the opaque image along the refracted ray, tinted and absorbed.
     Transmission,
+    /// A sheen (glTF's `KHR_materials_sheen`): rgb colour, roughness.
+    /// CookTorrance adds its Charlie lobe and dims the base by
+    /// 1 - max(colour) x its albedo (`SHEEN`).
+    Sheen,
     /// A user feature, id 16..=31, with as many vec4 parameters as it is given.
     Custom(u32),
 }
 
 impl Feature {
     /// In ascending id (6, SurfaceMaps, is set through `Material::set_maps`).
-    pub const BUILT_IN: [Feature; 9] = [
+    pub const BUILT_IN: [Feature; 10] = [
         Feature::CookTorrance,
         Feature::Emission,
         Feature::FakeSss,
@@ -231,10 +245,11 @@ impl Feature {
         Feature::Clearcoat,
         Feature::Unlit,
         Feature::Transmission,
+        Feature::Sheen,
     ];
 
     /// The feature with id `id`: a built-in one, or a custom one for 16..=31.
-    /// Id 6 is SurfaceMaps (not set as a feature); 10..=15 are reserved for built-ins to come.
+    /// Id 6 is SurfaceMaps (not set as a feature); 11..=15 are reserved for built-ins to come.
     pub fn from_id(id: i64) -> Result<Feature, FeatureError> {
         if let Some(f) = Feature::BUILT_IN.iter().find(|f| i64::from(f.id()) == id) {
             return Ok(*f);
@@ -256,6 +271,7 @@ impl Feature {
             Feature::Clearcoat => FEATURE_CLEARCOAT,
             Feature::Unlit => FEATURE_UNLIT,
             Feature::Transmission => FEATURE_TRANSMISSION,
+            Feature::Sheen => FEATURE_SHEEN,
             Feature::Custom(id) => id,
         }
     }
@@ -276,6 +292,7 @@ impl Feature {
             Feature::Clearcoat => "Clearcoat".to_owned(),
             Feature::Unlit => "Unlit".to_owned(),
             Feature::Transmission => "Transmission".to_owned(),
+            Feature::Sheen => "Sheen".to_owned(),
             Feature::Custom(id) => format!("Custom{id}"),
         }
     }
@@ -291,6 +308,7 @@ impl Feature {
             Feature::Clearcoat => Some(&CLEARCOAT),
             Feature::MatCap => Some(&MATCAP),
             Feature::Transmission => Some(&TRANSMISSION),
+            Feature::Sheen => Some(&SHEEN),
             Feature::Custom(_) => None,
         }
     }
@@ -308,6 +326,7 @@ impl Feature {
                 | Feature::Clearcoat
                 | Feature::Unlit
                 | Feature::Transmission
+                | Feature::Sheen
         )
     }
 
@@ -330,7 +349,11 @@ impl Feature {
             Feature::Emission | Feature::FakeSss => COLOR_PARAMS,
             Feature::Reflection | Feature::AmbientOcclusion | Feature::MatCap => STRENGTH_PARAMS,
             // Per material: no shader samples a texture layer for them.
-            Feature::Clearcoat | Feature::Unlit | Feature::Transmission | Feature::Custom(_) => &[],
+            Feature::Clearcoat
+            | Feature::Unlit
+            | Feature::Transmission
+            | Feature::Sheen
+            | Feature::Custom(_) => &[],
         }
     }
 

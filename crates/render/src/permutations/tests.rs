@@ -262,7 +262,7 @@ fn typed_keys_enumerate_what_the_string_rules_did() {
         ("post/glare.wgsl", &["FILTERED_SOURCE"], vec![]),
         (
             "environment/reflection.wgsl",
-            &["MATERIAL_TEXTURES", "SURFACE_TARGET", "PARALLAX"],
+            &["MATERIAL_TEXTURES", "SURFACE_TARGET", "PARALLAX", "SHEEN"],
             vec![],
         ),
         (
@@ -355,12 +355,14 @@ fn hand_written_keys_allow_what_the_string_rules_did() {
         Rule::AtMostOne(&["CUSTOM_LIGHT", "ENERGY_COMPENSATION"]),
         Rule::AtMostOne(&["CUSTOM_LIGHT", "FAKE_SSS"]),
         Rule::AtMostOne(&["CUSTOM_LIGHT", "CLEARCOAT"]),
+        Rule::AtMostOne(&["CUSTOM_LIGHT", "SHEEN"]),
         Rule::AtMostOne(&["SHADOW_PCF", "SHADOW_PCSS", "SHADOW_VSM"]),
         Rule::Requires("SHADOW_PCF", "SHADOWS"),
         Rule::Requires("SHADOW_PCSS", "SHADOWS"),
         Rule::Requires("SHADOW_VSM", "SHADOWS"),
         Rule::Requires("FAKE_SSS", "MATERIALS"),
         Rule::Requires("CLEARCOAT", "MATERIALS"),
+        Rule::Requires("SHEEN", "MATERIALS"),
         Rule::AtMostOne(&["LIGHT_SUN", "CLUSTERED"]),
         Rule::Requires("SPOT_TEXTURE", "LIGHT_SPOT"),
         Rule::Requires("MATERIAL_TEXTURES", "MATERIALS"),
@@ -371,7 +373,7 @@ fn hand_written_keys_allow_what_the_string_rules_did() {
     let (sets, n) = keyed("lighting/cook_torrance.wgsl");
     assert_eq!(
         (sets, n),
-        (ruled(cook_torrance, &cook_torrance_rules), 2730)
+        (ruled(cook_torrance, &cook_torrance_rules), 4810)
     );
     // The G-buffer view: the rule's empty choice (no channel, a black
     // image) was never built, as every view shows a Channel.

@@ -41,6 +41,7 @@ pub const LIBRARIES: &[ShaderFile] = &[
     library!("lib/mesh_fetch.wgsl"),
     library!("lib/vertex_extras.wgsl"),
     library!("lib/brdf.wgsl"),
+    library!("lib/sheen.wgsl"),
     library!("lib/lights.wgsl"),
     library!("lib/spot.wgsl"),
     library!("lib/tonemap.wgsl"),

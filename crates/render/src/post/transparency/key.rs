@@ -22,6 +22,12 @@ pub struct TransparencyKey {
     /// composite and resolve entry points, nor for a surface without a
     /// material world (it has no coat), nor a base pass that records nothing.
     pub coat: bool,
+    /// The sheen (SHEEN): a forward light pass of a layer whose world has a
+    /// Sheen material adds the sheen's lobe and dims the base under it.
+    /// Only light passes of a surface with a material world (a node with
+    /// a sheen layer shades forward under Auto: the compute records keep
+    /// no sheen).
+    pub sheen: bool,
 }
 
 /// What a layer's fragments read.
@@ -339,6 +345,7 @@ impl Permutation for TransparencyKey {
             .features()
             .chain(light)
             .chain(self.coat.then_some("CLEARCOAT"))
+            .chain(self.sheen.then_some("SHEEN"))
     }
 
     /// Every surface with the base passes (a matcap only with a material
@@ -385,13 +392,20 @@ impl Permutation for TransparencyKey {
                             TransparencyPass::Base { records, .. } => coated && records,
                             _ => coated,
                         };
+                        let sheens = coated && matches!(pass, TransparencyPass::Light(_));
                         [false, true]
                             .into_iter()
                             .filter(move |&coat| !coat || coats)
-                            .map(move |coat| TransparencyKey {
-                                surface,
-                                pass,
-                                coat,
+                            .flat_map(move |coat| {
+                                [false, true]
+                                    .into_iter()
+                                    .filter(move |&sheen| !sheen || sheens)
+                                    .map(move |sheen| TransparencyKey {
+                                        surface,
+                                        pass,
+                                        coat,
+                                        sheen,
+                                    })
                             })
                     })
                     .collect::<Vec<_>>()
@@ -410,6 +424,7 @@ impl Permutation for TransparencyKey {
                             surface: Self::COMPOSITE.surface,
                             pass,
                             coat,
+                            sheen: false,
                         })
                     })
                     .chain([TransparencyKey::SHADED_RESOLVE]),
@@ -434,6 +449,7 @@ impl TransparencyKey {
             records: false,
         },
         coat: false,
+        sheen: false,
     };
 
     /// The resolve of a frame whose lights were shaded in compute.
@@ -441,6 +457,7 @@ impl TransparencyKey {
         surface: Self::COMPOSITE.surface,
         pass: TransparencyPass::ShadedResolve,
         coat: false,
+        sheen: false,
     };
 }
 
@@ -549,10 +566,16 @@ mod tests {
         // of surfaces with a material world, and for compute shading.
         let coated_shade = TransparencyKey {
             coat: true,
+            sheen: false,
             ..shade
         };
         assert!(all.contains(&coated_shade));
         assert_eq!(coated_shade.features().last(), Some("CLEARCOAT"));
+        // The sheen: forward light passes of surfaces with a material world only.
+        assert!(all.iter().any(|k| k.sheen));
+        assert!(all.iter().filter(|k| k.sheen).all(|k| {
+            matches!(k.pass, TransparencyPass::Light(_)) && k.surface.reads_materials()
+        }));
         assert!(all.iter().filter(|k| k.coat).all(|k| match k.pass {
             TransparencyPass::Base { records, .. } => records && k.surface.reads_materials(),
             TransparencyPass::Light(_) => k.surface.reads_materials(),
@@ -561,6 +584,7 @@ mod tests {
         }));
         assert!(!all.contains(&TransparencyKey {
             coat: true,
+            sheen: false,
             ..TransparencyKey::COMPOSITE
         }));
     }
