@@ -519,6 +519,30 @@ fn no_extension_value_makes_a_material_non_finite() {
 }
 
 #[test]
+fn the_sheen_asset_is_what_the_generator_makes_and_loads_clean() {
+    // patches/assets/gltf-sheen.gltf (docs/gltf.md's picture, `spreadlight
+    // view` of it) is the committed output of the generator.
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../patches/assets/gltf-sheen.gltf");
+    let made = super::models::sheen_row();
+    if std::env::var_os("SPREADLIGHT_BLESS").is_some() {
+        std::fs::write(&path, &made).unwrap();
+    }
+    let committed = std::fs::read(&path).expect("patches/assets/gltf-sheen.gltf");
+    assert!(committed == made, "regenerate it with SPREADLIGHT_BLESS=1");
+    let scene = load_gltf_slice(&made, None).expect("loads");
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    let sheens: Vec<_> = scene
+        .materials
+        .iter()
+        .map(|m| params(m, Feature::Sheen))
+        .collect();
+    assert_eq!(sheens[0], None);
+    assert_eq!(sheens[1], Some([1.0, 1.0, 1.0, 0.3]));
+    assert_eq!(sheens[3], Some([1.0, 1.0, 1.0, 0.9]));
+}
+
+#[test]
 fn the_extensions_row_asset_is_what_the_generator_makes_and_loads_clean() {
     // patches/assets/gltf-material-extensions.gltf (docs/gltf.md's picture,
     // `spreadlight view` of it) is the committed output of the generator.
