@@ -311,6 +311,7 @@ impl Permutation for TransparencyKey {
         "LIGHT_SUMS",
         "SHADE_TILED",
         "CLEARCOAT",
+        "SHEEN",
     ];
 
     fn features(self) -> impl Iterator<Item = &'static str> {
