@@ -445,7 +445,8 @@ fn the_supported_material_extensions_may_be_required() {
     doc.root.extensions_used = doc.root.extensions_required.clone();
     let err = load_gltf_slice(&doc.glb(), None).expect_err("refused");
     assert!(
-        err.to_string().contains("KHR_materials_diffuse_transmission"),
+        err.to_string()
+            .contains("KHR_materials_diffuse_transmission"),
         "{err}"
     );
 }
@@ -525,11 +526,24 @@ fn the_sheen_asset_is_what_the_generator_makes_and_loads_clean() {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("../../patches/assets/gltf-sheen.gltf");
     let made = super::models::sheen_row();
+    // Its baseline without the sheens, for `spreadlight bench` (docs/gltf.md).
+    let off_path = path.with_file_name("gltf-sheen-off.gltf");
+    let off = super::models::sheen_row_without_sheen();
     if std::env::var_os("SPREADLIGHT_BLESS").is_some() {
         std::fs::write(&path, &made).unwrap();
+        std::fs::write(&off_path, &off).unwrap();
     }
     let committed = std::fs::read(&path).expect("patches/assets/gltf-sheen.gltf");
     assert!(committed == made, "regenerate it with SPREADLIGHT_BLESS=1");
+    let committed = std::fs::read(&off_path).expect("patches/assets/gltf-sheen-off.gltf");
+    assert!(committed == off, "regenerate it with SPREADLIGHT_BLESS=1");
+    let plain = load_gltf_slice(&off, None).expect("loads");
+    assert!(
+        plain
+            .materials
+            .iter()
+            .all(|m| params(m, Feature::Sheen).is_none())
+    );
     let scene = load_gltf_slice(&made, None).expect("loads");
     assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
     let sheens: Vec<_> = scene

@@ -521,6 +521,16 @@ pub fn material_extensions_row() -> Vec<u8> {
 /// and white at 0.9 (the factors only), for docs/gltf.md's picture and the
 /// view test's reference image (`patches/assets/gltf-sheen.gltf`).
 pub fn sheen_row() -> Vec<u8> {
+    velvet_row(true)
+}
+
+/// [`sheen_row`] without its sheens (`patches/assets/gltf-sheen-off.gltf`):
+/// the baseline of the sheen's cost (`spreadlight bench`, docs/gltf.md).
+pub fn sheen_row_without_sheen() -> Vec<u8> {
+    velvet_row(false)
+}
+
+fn velvet_row(with_sheen: bool) -> Vec<u8> {
     let mut doc = Doc::new();
     let sphere = doc.mesh_data(
         "Sphere",
@@ -532,9 +542,11 @@ pub fn sheen_row() -> Vec<u8> {
             },
         ),
     );
-    doc.root
-        .extensions_used
-        .push("KHR_materials_sheen".to_owned());
+    if with_sheen {
+        doc.root
+            .extensions_used
+            .push("KHR_materials_sheen".to_owned());
+    }
     let sheens: [(&str, Option<([f32; 3], f32)>); 4] = [
         ("Cloth", None),
         ("Satin", Some(([1.0, 1.0, 1.0], 0.3))),
@@ -544,6 +556,7 @@ pub fn sheen_row() -> Vec<u8> {
     let mut nodes = Vec::new();
     for (i, (name, sheen)) in sheens.into_iter().enumerate() {
         let others = sheen
+            .filter(|_| with_sheen)
             .map(|([r, g, b], roughness)| {
                 json::deserialize::from_str::<json::Value>(&format!(
                     r#"{{"KHR_materials_sheen": {{"sheenColorFactor": [{r}, {g}, {b}], "sheenRoughnessFactor": {roughness}}}}}"#

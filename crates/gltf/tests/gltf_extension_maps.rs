@@ -915,7 +915,8 @@ fn sheened_reference(p: Vec3, sheen: ([f32; 3], f32)) -> (Vec3, Vec3) {
     let radiance = SUN.color * SUN.illuminance;
     let view = (Vec3::Z * DISTANCE - p).normalize();
     let brdf = cook_torrance_f0(Vec3::Z, view, l, ALBEDO.into(), ROUGHNESS, 0.0, 0.04, true);
-    let (scaling, lobe) = spreadlight_reference::sheen::sheen(Vec3::Z, view, l, sheen.0.into(), sheen.1);
+    let (scaling, lobe) =
+        spreadlight_reference::sheen::sheen(Vec3::Z, view, l, sheen.0.into(), sheen.1);
     (
         brdf.diffuse * scaling * radiance,
         (brdf.specular * scaling + lobe) * radiance,
@@ -966,7 +967,11 @@ fn the_sheen_factors_light_the_quad_as_the_reference_says() {
     let wild = r#"{"KHR_materials_sheen": {"sheenColorFactor": [1e30, 1e30, 1e30], "sheenRoughnessFactor": 0}}"#;
     let scene = load_gltf_slice(&model(opaque_material(), wild, &[]), None).expect("loads");
     assert_eq!(scene.warnings.len(), 1, "{:?}", scene.warnings);
-    assert!(scene.warnings[0].contains("material 0"), "{:?}", scene.warnings);
+    assert!(
+        scene.warnings[0].contains("material 0"),
+        "{:?}",
+        scene.warnings
+    );
     // What the loader made of it (white, roughness 0) draws finite (`lit`
     // asserts every pixel finite) and within the reference.
     let clamped = model(

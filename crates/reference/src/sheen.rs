@@ -68,9 +68,7 @@ fn poly4(x: f32, c: [f32; 5]) -> f32 {
 /// towards `v`, integrated over light directions; the analytic fit (see the
 /// module's docs for its domain and error). Never negative.
 pub fn sheen_albedo(n_dot_v: f32, roughness: f32) -> f32 {
-    let q = roughness
-        .clamp(SHEEN_ALBEDO_MIN_ROUGHNESS, 1.0)
-        .sqrt();
+    let q = roughness.clamp(SHEEN_ALBEDO_MIN_ROUGHNESS, 1.0).sqrt();
     let s = n_dot_v.clamp(SHEEN_ALBEDO_MIN_COS, 1.0).sqrt();
     let c = SHEEN_ALBEDO_FIT;
     let ln_e = poly4(

@@ -13,8 +13,7 @@ use naga_oil::compose::{
 use spreadlight_render::material::{
     FEATURE_AMBIENT_OCCLUSION, FEATURE_CLEARCOAT, FEATURE_COOK_TORRANCE, FEATURE_EMISSION,
     FEATURE_FAKE_SSS, FEATURE_MATCAP, FEATURE_REFLECTION, FEATURE_SHEEN, FEATURE_TRANSMISSION,
-    FEATURE_UNLIT,
-    FIRST_CUSTOM_FEATURE, Feature, MAX_FEATURES, Material, MaterialWorld,
+    FEATURE_UNLIT, FIRST_CUSTOM_FEATURE, Feature, MAX_FEATURES, Material, MaterialWorld,
 };
 use spreadlight_render::renderer::test_renderer;
 use spreadlight_render::shaders::library;

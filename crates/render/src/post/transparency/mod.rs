@@ -549,7 +549,8 @@ impl Transparency {
     /// Whether a pass of a layer reading `world` compiles the sheen
     /// ([`TransparencyKey::sheen`]): a light pass of a world with a Sheen material.
     fn sheen(world: Option<&Arc<MaterialWorld>>, pass: TransparencyPass) -> bool {
-        matches!(pass, TransparencyPass::Light(_)) && world.is_some_and(|w| w.any_has(FEATURE_SHEEN))
+        matches!(pass, TransparencyPass::Light(_))
+            && world.is_some_and(|w| w.any_has(FEATURE_SHEEN))
     }
 
     /// Some layer of the node has a coat: the compute shading reads coat
