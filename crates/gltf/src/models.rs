@@ -547,7 +547,9 @@ fn velvet_row(with_sheen: bool) -> Vec<u8> {
             .extensions_used
             .push("KHR_materials_sheen".to_owned());
     }
-    let sheens: [(&str, Option<([f32; 3], f32)>); 4] = [
+    // A material's name and its sheen (colour, roughness), if any.
+    type Sheen = Option<([f32; 3], f32)>;
+    let sheens: [(&str, Sheen); 4] = [
         ("Cloth", None),
         ("Satin", Some(([1.0, 1.0, 1.0], 0.3))),
         ("Pink velvet", Some(([1.0, 0.45, 0.6], 0.5))),
