@@ -153,10 +153,10 @@ fn shader_reads_what_the_material_world_holds() {
     let other = MaterialWorld::new(&renderer, Vec::new());
     assert_eq!(other.len(), 1);
     assert_eq!(other.union_flags(), 1);
-    // The built-ins (0..=5, Clearcoat 7, Unlit 8, Transmission 9) and the custom ones.
+    // The built-ins (0..=5, Clearcoat 7, Unlit 8, Transmission 9, Sheen 10) and the custom ones.
     assert_eq!(
         world.union_flags(),
-        0b11_1011_1111 | 1 << 16 | 1 << 17 | 1 << 31
+        0b111_1011_1111 | 1 << 16 | 1 << 17 | 1 << 31
     );
 
     let mut queries: Vec<[u32; 4]> = Vec::new();
