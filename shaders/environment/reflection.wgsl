@@ -30,6 +30,14 @@
 // Fresnel at N.V (lib/iridescence.wgsl) replaces the split sum's Schlick
 // term, mixed by its factor: (1 - k) (F0 A + B) + k F_film (A + B), the
 // Khronos sample viewer's image-based iridescence.
+// SHEEN (some material has the Sheen feature, glTF's KHR_materials_sheen):
+// for a sheen material, the specular is dimmed by the sheen's albedo
+// scaling, 1 - max(colour) E(N.V) (lib/sheen.wgsl), and the sheen's own
+// image-based light is added as colour x E(N.V) x irradiance(N): the lobe's
+// albedo times the environment's cosine-weighted mean radiance about the
+// normal, in place of a cube prefiltered with the Charlie lobe (exact for a
+// uniform environment; a sharp environment's sheen comes out as soft as
+// its diffuse light). The diffuse output is dimmed by the same scaling.
 #import spreadlight::camera::{Camera, pixel_to_ndc}
 #import spreadlight::packing::{channel_to_id, safe_normalize}
 #import spreadlight::ibl::{split_sum, facing_normal}
@@ -41,6 +49,15 @@
 #ifdef IRIDESCENCE
 #import spreadlight::material::iridescence_at
 #import spreadlight::iridescence::iridescence_fresnel
+#endif
+#ifdef SHEEN
+#import spreadlight::material::{feature_param, FEATURE_SHEEN}
+#import spreadlight::sheen::{sheen_albedo, sheen_scaling}
+
+// A material's sheen: colour (0..1) and roughness; black without one.
+fn sheen_of(material: u32) -> vec4<f32> {
+    return clamp(feature_param(material, FEATURE_SHEEN, 0u, vec4<f32>(0.0)), vec4<f32>(0.0), vec4<f32>(1.0));
+}
 #endif
 
 struct Params {
@@ -150,6 +167,17 @@ fn specular_at(pixel: vec2<u32>) -> vec4<f32> {
         }
     }
     var specular = environment_along(p, dir, roughness) * weight;
+#ifdef SHEEN
+    // The sheen lies over the base (and under a coat): the base's light is
+    // dimmed by its albedo scaling and the sheen adds its own, lit by the
+    // environment's irradiance at the normal (exact for a uniform one).
+    let sheen = sheen_of(material);
+    if (params.mode == 0u && any(sheen.rgb > vec3<f32>(0.0))) {
+        let world_n = safe_normalize((camera.view_inverse * vec4<f32>(n, 0.0)).xyz, vec3<f32>(0.0, 1.0, 0.0));
+        let around = textureSampleLevel(irradiance, cube_sampler, world_n, 0.0).rgb;
+        specular = specular * sheen_scaling(sheen.rgb, n_dot_v, sheen.a) + sheen.rgb * sheen_albedo(n_dot_v, sheen.a) * around;
+    }
+#endif
 #ifdef CLEARCOAT
     if (params.mode == 0u) {
         // Scaled by its maps where the G-buffer resolved them.
@@ -191,7 +219,15 @@ fn diffuse_at(pixel: vec2<u32>) -> vec4<f32> {
     let v = safe_normalize(-h.xyz / h.w, vec3<f32>(0.0, 0.0, 1.0));
     let n = facing_normal(safe_normalize(textureLoad(normals, pixel, 0).xyz, v), v);
     let world_n = safe_normalize((camera.view_inverse * vec4<f32>(n, 0.0)).xyz, vec3<f32>(0.0, 1.0, 0.0));
-    return clean(textureSampleLevel(irradiance, cube_sampler, world_n, 0.0).rgb);
+    var light = textureSampleLevel(irradiance, cube_sampler, world_n, 0.0).rgb;
+#ifdef SHEEN
+    // Under a sheen the base receives what the sheen does not reflect.
+    let sheen = sheen_of(channel_to_id(textureLoad(color, pixel, 0).a));
+    if (any(sheen.rgb > vec3<f32>(0.0))) {
+        light *= sheen_scaling(sheen.rgb, clamp(dot(n, v), 1e-4, 1.0), sheen.a);
+    }
+#endif
+    return clean(light);
 }
 
 @compute @workgroup_size(8, 8)

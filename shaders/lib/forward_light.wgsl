@@ -9,7 +9,8 @@
 // SHADOWS (and its filter) reads the buffer's shadow maps; CLEARCOAT adds
 // the coat's lobe on the coat's own normal (lit transparency's coated layers);
 // ANISOTROPY stretches the specular lobe along the fragment's anisotropy
-// direction (lib/anisotropy.wgsl; lit transparency's anisotropic layers).
+// direction (lib/anisotropy.wgsl; lit transparency's anisotropic layers);
+// SHEEN the sheen's Charlie lobe (lib/sheen.wgsl) and its dimming of the base.
 #define_import_path spreadlight::forward_light
 #import spreadlight::brdf::{BrdfSurface, LightSums, add_light, cook_torrance_weights, half_vector_cosines}
 #import spreadlight::lights::{range_window, inverse_square}
@@ -29,6 +30,9 @@
 // lights (strength 0: the isotropic lobe).
 var<private> aniso: AnisotropicSurface;
 #endif
+#ifdef SHEEN
+#import spreadlight::sheen::{sheen_weight, sheen_scaling}
+#endif
 
 // Matches `GpuLight` in crates/render/src/lighting/mod.rs.
 struct Light {
@@ -47,6 +51,13 @@ struct Light {
 var<private> coat_factor: f32;
 var<private> coat_surface: BrdfSurface;
 var<private> coat_sum: vec3<f32>;
+#endif
+#ifdef SHEEN
+// The shaded fragment's sheen, set by the importer before its lights: its
+// colour (black: none), its roughness and its lobe summed over the lights.
+var<private> sheen_color: vec3<f32>;
+var<private> sheen_roughness: f32;
+var<private> sheen_sum: vec3<f32>;
 #endif
 
 // Light `i`'s radiance at world point `pw` times its Cook-Torrance weights,
@@ -135,6 +146,11 @@ fn add_light_record(record: Light, i: u32, pw: vec3<f32>, s: BrdfSurface, view_d
         coat_sum += radiance * (coat.x * DIELECTRIC_F0 + coat.y * (1.0 - DIELECTRIC_F0));
     }
 #endif
+#ifdef SHEEN
+    if (any(sheen_color > vec3<f32>(0.0))) {
+        sheen_sum += radiance * sheen_weight(s.n_dot_v, n_dot_l, cosines.x, sheen_roughness, attenuation);
+    }
+#endif
 }
 
 #ifdef CLEARCOAT
@@ -148,5 +164,20 @@ fn coated_specular(specular: vec3<f32>) -> vec4<f32> {
     }
     let dim = 1.0 - coat_factor * (DIELECTRIC_F0 + (1.0 - DIELECTRIC_F0) * schlick_weight(coat_surface.n_dot_v));
     return vec4<f32>(specular * dim + coat_factor * coat_sum, dim);
+}
+#endif
+
+#ifdef SHEEN
+// The sheen over a lit fragment of surface `s` (the private sheen state,
+// summed over its lights), as CookTorrance's SHEEN: the base is dimmed by
+// 1 - max(colour) E(N.V) and the lobe adds to the specular. x: the
+// diffuse's scale; the specular is returned whole. Apply before the coat,
+// which lies over both.
+fn sheened_specular(s: BrdfSurface, specular: vec3<f32>) -> vec4<f32> {
+    if (!any(sheen_color > vec3<f32>(0.0))) {
+        return vec4<f32>(specular, 1.0);
+    }
+    let scaling = sheen_scaling(sheen_color, s.n_dot_v, sheen_roughness);
+    return vec4<f32>(specular * scaling + sheen_color * sheen_sum, scaling);
 }
 #endif

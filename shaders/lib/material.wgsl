@@ -31,6 +31,9 @@ const FEATURE_ANISOTROPY: u32 = 12u;
 // A thin film over the surface (factor, film ior, thickness minimum and
 // maximum in nm): CookTorrance's and Reflection's IRIDESCENCE.
 const FEATURE_IRIDESCENCE: u32 = 11u;
+// A sheen (rgb colour, roughness): CookTorrance's, Reflection's and lit
+// transparency's SHEEN (shaders/lib/sheen.wgsl).
+const FEATURE_SHEEN: u32 = 10u;
 const FIRST_CUSTOM_FEATURE: u32 = 16u;
 const MAX_FEATURES: u32 = 32u;
 

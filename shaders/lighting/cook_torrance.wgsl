@@ -29,6 +29,10 @@
 // film's factor, in the specular lobe and the diffuse's 1 - F (glTF's
 // KHR_materials_iridescence); made once per pixel, it costs a light one
 // more sum (of radiance N.L, for the diffuse).
+// SHEEN (some material has the Sheen feature): the Charlie sheen lobe
+// (lib/sheen.wgsl) tinted by the material's sheen colour, under the coat and
+// over the base, which it dims by 1 - max(colour) x the lobe's albedo at N.V
+// (glTF's KHR_materials_sheen as the Khronos sample viewer shades it).
 // CUSTOM_LIGHT: a light shader node's `light` function (lib/light_shader.wgsl,
 // spliced in for lib/custom_light.wgsl) replaces the BRDF: the same walk,
 // clusters and shadows, its outputs summed into the two targets.
@@ -78,6 +82,15 @@ var<private> aniso: AnisotropicSurface;
 var<private> film_factor: f32;
 var<private> film_fresnel: vec3<f32>;
 var<private> film_lit: vec3<f32>;
+#endif
+#ifdef SHEEN
+#import spreadlight::material::{feature_param, FEATURE_SHEEN}
+#import spreadlight::sheen::{sheen_weight, sheen_scaling}
+// The pixel's sheen colour (black: none), its roughness and the summed
+// lobe (white, times each light's radiance).
+var<private> sheen_color: vec3<f32>;
+var<private> sheen_roughness: f32;
+var<private> sheen_sum: vec3<f32>;
 #endif
 #ifdef SHADOWS
 #import spreadlight::shadow_sampling::light_shadow
@@ -319,6 +332,11 @@ fn shade(slot: u32, lv: vec4<f32>, p: vec3<f32>, pw: vec3<f32>, surface: BrdfSur
         let coat_cosines = half_vector_cosines(coat_surface, coat_n_dot_l, v_dot_l);
         let coat = cook_torrance_weights_scaled(coat_surface, coat_n_dot_l, coat_cosines.x, coat_cosines.y, scale);
         coat_sum += radiance * (coat.x * DIELECTRIC_F0 + coat.y * (1.0 - DIELECTRIC_F0));
+    }
+#endif
+#ifdef SHEEN
+    if (any(sheen_color > vec3<f32>(0.0))) {
+        sheen_sum += radiance * sheen_weight(surface.n_dot_v, n_dot_l, cosines.x, sheen_roughness, scale);
     }
 #endif
 #ifdef FAKE_SSS
@@ -737,6 +755,16 @@ fn main(@builtin(local_invocation_index) lane: u32, @builtin(workgroup_id) wid: 
         }
     }
 #endif
+#ifdef SHEEN
+    sheen_color = vec3<f32>(0.0);
+    sheen_roughness = 0.0;
+    sheen_sum = vec3<f32>(0.0);
+    if (covered) {
+        let sheen = feature_param(material, FEATURE_SHEEN, 0u, vec4<f32>(0.0));
+        sheen_color = clamp(sheen.rgb, vec3<f32>(0.0), vec3<f32>(1.0));
+        sheen_roughness = clamp(sheen.a, 0.0, 1.0);
+    }
+#endif
 #ifdef CLUSTERED
     // The pixel's depth slice (covered pixels only).
     var slice = 0u;
@@ -907,6 +935,15 @@ fn main(@builtin(local_invocation_index) lane: u32, @builtin(workgroup_id) wid: 
 #endif
 #ifdef ENERGY_COMPENSATION
     specular *= surface_energy_compensation(surface);
+#endif
+#ifdef SHEEN
+    if (any(sheen_color > vec3<f32>(0.0))) {
+        // The sheen lies over the base: what it reflects the base does not
+        // receive (the albedo scaling); the coat, below, lies over both.
+        let scaling = sheen_scaling(sheen_color, surface.n_dot_v, sheen_roughness);
+        diffuse *= scaling;
+        specular = specular * scaling + sheen_color * sheen_sum;
+    }
 #endif
 #ifdef CLEARCOAT
     if (coat_factor > 0.0) {

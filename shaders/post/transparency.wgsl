@@ -62,6 +62,9 @@
 // frames stay as they are; the shade passes of a node with a coated layer
 // compile CLEARCOAT, the base passes of its coated layers write it, and a
 // fragment no coated layer wrote reads a cleared record: no coat.
+// SHEEN (forward light passes of a layer whose world has a Sheen material):
+// the sheen's Charlie lobe and the base's dimming under it, as CookTorrance
+// draws them (lib/forward_light.wgsl's sheened_specular), under the coat.
 // MATCAP (base pass, with MATERIALS): a layer whose material has MatCap
 // gets it as CompositeLight gives opaque surfaces, looked up by the
 // view-space normal of the face shown (MATCAP_TEXTURE: the world's texture
@@ -159,6 +162,12 @@
 // is never a light pass's).
 #import spreadlight::brdf::{schlick_weight, DIELECTRIC_F0}
 #endif
+#endif
+#ifdef SHEEN
+// The shaded fragment's sheen (a light pass of a layer whose world has a
+// Sheen material), summed by the light function as the coat is.
+#import spreadlight::material::FEATURE_SHEEN
+#import spreadlight::forward_light::{sheen_color, sheen_roughness, sheen_sum, sheened_specular}
 #endif
 
 struct Params {
@@ -813,12 +822,23 @@ fn fs(in: VertexOut, @builtin(front_facing) front: bool) -> Accumulated {
     coat_surface = brdf_surface(select(-coat_n, coat_n, front), v, vec3<f32>(0.0), coat.y, 0.0, DIELECTRIC_F0);
     coat_sum = vec3<f32>(0.0);
 #endif
+#ifdef SHEEN
+    let sheen = clamp(sanitize(feature_param(in.material, FEATURE_SHEEN, 0u, vec4<f32>(0.0))), vec4<f32>(0.0), vec4<f32>(1.0));
+    sheen_color = sheen.rgb;
+    sheen_roughness = sheen.a;
+    sheen_sum = vec3<f32>(0.0);
+#endif
     let lit = light_sums_brdf(s, light_sums(in.clip.xy, in.world, s, in.distance));
     var specular = lit.specular;
     var lit_diffuse = lit.diffuse;
     if (params.surface.z > 0.5) {
         specular *= surface_energy_compensation(s);
     }
+#ifdef SHEEN
+    let sheened = sheened_specular(s, specular);
+    specular = sheened.xyz;
+    lit_diffuse *= sheened.w;
+#endif
 #ifdef CLEARCOAT
     let over = coated_specular(specular);
     specular = over.xyz;

@@ -476,6 +476,14 @@ fn material_extensions_show_as_their_materials_say() {
     matches_reference("view-material-extensions", &lit);
 }
 
+#[test]
+fn sheen_shows_on_the_velvet_row() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let (lit, stderr) = view(dir.path(), "sheen", &models::sheen_row(), &[]);
+    assert!(!stderr.contains("not supported"), "{stderr}");
+    matches_reference("view-sheen", &lit);
+}
+
 /// A file shaped like Khronos' DepthOfFieldExample (Blender's export): a
 /// large floor, blocks at several depths along the view, a camera of the
 /// file's own looking down the row, and point lights of thousands of

@@ -198,6 +198,11 @@ pub struct MaterialData {
     /// warning says so): the factor and the maximum are drawn.
     pub iridescence_texture: Option<TextureData>,
     pub iridescence_thickness_texture: Option<TextureData>,
+    /// `KHR_materials_sheen`: sheenColorFactor (linear; black without it:
+    /// no sheen), each channel 0..1.
+    pub sheen_color: [f32; 3],
+    /// `KHR_materials_sheen`: sheenRoughnessFactor (0..1).
+    pub sheen_roughness: f32,
     /// `KHR_materials_transmission`: transmissionFactor (0 without it). Until
     /// a pass refracts, a transmissive material is drawn BLEND with its base
     /// colour alpha times 1 - transmission (the importer has applied that to
@@ -285,6 +290,8 @@ impl Default for MaterialData {
             iridescence_thickness_maximum: 400.0,
             iridescence_texture: None,
             iridescence_thickness_texture: None,
+            sheen_color: [0.0; 3],
+            sheen_roughness: 0.0,
             transmission: 0.0,
             transmission_texture: None,
             thickness: 0.0,
@@ -528,6 +535,7 @@ pub const SUPPORTED_EXTENSIONS: &[&str] = &[
     "KHR_materials_ior",
     "KHR_materials_iridescence",
     "KHR_materials_pbrSpecularGlossiness",
+    "KHR_materials_sheen",
     "KHR_materials_specular",
     "KHR_materials_transmission",
     "KHR_materials_unlit",

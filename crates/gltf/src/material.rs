@@ -245,7 +245,8 @@ impl MaterialData {
     /// without them), Emission when it emits (colour,
     /// `KHR_materials_emissive_strength`), Clearcoat when it has a coat
     /// (`KHR_materials_clearcoat`), Iridescence when it has a film
-    /// (`KHR_materials_iridescence`), Unlit (`KHR_materials_unlit`),
+    /// (`KHR_materials_iridescence`), Sheen when its sheen colour is not
+    /// black (`KHR_materials_sheen`), Unlit (`KHR_materials_unlit`),
     /// Transmission when it transmits (`KHR_materials_transmission`, its
     /// refraction by `KHR_materials_ior`, its thickness and absorption by
     /// `KHR_materials_volume`), Anisotropy when its highlight stretches
@@ -292,6 +293,11 @@ impl MaterialData {
                     finite(self.iridescence_thickness_maximum),
                 ]],
             );
+        }
+        let sheen = self.sheen_color.map(finite);
+        if sheen.iter().any(|&c| c > 0.0) {
+            let [r, g, b] = sheen;
+            let _ = material.set(Feature::Sheen, &[[r, g, b, finite(self.sheen_roughness)]]);
         }
         if self.unlit {
             let _ = material.set(Feature::Unlit, &[[1.0, 0.0, 0.0, 0.0]]);

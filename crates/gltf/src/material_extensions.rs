@@ -14,6 +14,9 @@
 //! - `KHR_materials_iridescence`: factor, film ior, thickness minimum and
 //!   maximum (the Iridescence feature); its two maps are read and warned
 //!   as not sampled (the factor and the maximum thickness are drawn).
+//! - `KHR_materials_sheen`: colour and roughness factors (the Sheen
+//!   feature); its two maps are not sampled yet (warned: the factors alone
+//!   are drawn).
 //! - `KHR_materials_transmission`: drawn BLEND with opacity
 //!   alpha x (1 - transmission), what shows through refracted by lit
 //!   transparency (the material's Transmission feature, with
@@ -122,6 +125,19 @@ impl Importer<'_> {
         }
         if let Some(ext) = m.extension_value("KHR_materials_iridescence") {
             self.iridescence(document, &who, ext, data)?;
+        }
+        if let Some(ext) = m.extension_value("KHR_materials_sheen") {
+            let name = "KHR_materials_sheen";
+            data.sheen_color = self.color(&who, name, ext, "sheenColorFactor", [0.0; 3], 1.0);
+            data.sheen_roughness =
+                self.factor(&who, name, ext, "sheenRoughnessFactor", 0.0, 0.0, 1.0);
+            for key in ["sheenColorTexture", "sheenRoughnessTexture"] {
+                if ext.get(key).is_some() {
+                    self.warn(format!(
+                        "{who}: {name} {key} is not sampled yet: the factor alone is drawn"
+                    ));
+                }
+            }
         }
         // Spec-gloss replaces the base colour map; transmission's map is
         // baked into whichever base colour map results.

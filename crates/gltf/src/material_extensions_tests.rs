@@ -550,12 +550,63 @@ fn the_supported_material_extensions_may_be_required() {
     doc.root.extensions_required = vec!["KHR_materials_volume".into()];
     doc.root.extensions_used = doc.root.extensions_required.clone();
     load_gltf_slice(&doc.glb(), None).expect("volume is supported");
-    // Sheen is not read: a file that requires it is refused by name.
-    let mut doc = cube_with(named("Velvet"), "{}");
+    // Sheen is read: a file that requires it loads.
+    let mut doc = cube_with(
+        named("Velvet"),
+        r#"{"KHR_materials_sheen": {"sheenColorFactor": [0.5, 0.2, 0.8]}}"#,
+    );
     doc.root.extensions_required = vec!["KHR_materials_sheen".into()];
+    let scene = load_gltf_slice(&doc.glb(), None).expect("sheen is supported");
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    // One that is not read is refused by name.
+    let mut doc = cube_with(named("Leaf"), "{}");
+    doc.root.extensions_required = vec!["KHR_materials_diffuse_transmission".into()];
     doc.root.extensions_used = doc.root.extensions_required.clone();
     let err = load_gltf_slice(&doc.glb(), None).expect_err("refused");
-    assert!(err.to_string().contains("KHR_materials_sheen"), "{err}");
+    assert!(
+        err.to_string()
+            .contains("KHR_materials_diffuse_transmission"),
+        "{err}"
+    );
+}
+
+#[test]
+fn sheen_factors_become_the_sheen_feature_and_bad_ones_are_warned() {
+    let (m, warnings) = load_one(cube_with(
+        named("Velvet"),
+        r#"{"KHR_materials_sheen": {"sheenColorFactor": [0.5, 0.2, 0.8], "sheenRoughnessFactor": 0.3}}"#,
+    ));
+    assert!(warnings.is_empty(), "{warnings:?}");
+    assert_eq!(params(&m, Feature::Sheen), Some([0.5, 0.2, 0.8, 0.3]));
+    // No extension, or a black sheen (the extension's default): no feature.
+    let (plain, _) = load_one(cube_with(named("Plain"), "{}"));
+    assert_eq!(params(&plain, Feature::Sheen), None);
+    let (black, _) = load_one(cube_with(
+        named("Black"),
+        r#"{"KHR_materials_sheen": {"sheenRoughnessFactor": 0.5}}"#,
+    ));
+    assert_eq!(params(&black, Feature::Sheen), None);
+    // Out of range: clamped; not numbers: the default; maps: warned, not
+    // sampled. Each warning names the material.
+    let (wild, warnings) = load_one(cube_with(
+        named("Wild"),
+        r#"{"KHR_materials_sheen": {"sheenColorFactor": [2.0, -1.0, 0.5],
+            "sheenRoughnessFactor": 1.5, "sheenRoughnessTexture": {"index": 0}}}"#,
+    ));
+    assert_eq!(params(&wild, Feature::Sheen), Some([1.0, 0.0, 0.5, 1.0]));
+    assert_finite(&wild);
+    assert_eq!(warnings.len(), 3, "{warnings:?}");
+    assert!(
+        warnings.iter().all(|w| w.contains("material 0 `Wild`")),
+        "{warnings:?}"
+    );
+    let (nan, warnings) = load_one(cube_with(
+        named("Nan"),
+        r#"{"KHR_materials_sheen": {"sheenColorFactor": "red", "sheenRoughnessFactor": "x"}}"#,
+    ));
+    assert_eq!(params(&nan, Feature::Sheen), None);
+    assert_finite(&nan);
+    assert_eq!(warnings.len(), 2, "{warnings:?}");
 }
 
 #[test]
@@ -585,6 +636,43 @@ fn no_extension_value_makes_a_material_non_finite() {
             .chain([&metallic, &roughness])
             .all(|v| v.is_finite())
     );
+}
+
+#[test]
+fn the_sheen_asset_is_what_the_generator_makes_and_loads_clean() {
+    // patches/assets/gltf-sheen.gltf (docs/gltf.md's picture, `spreadlight
+    // view` of it) is the committed output of the generator.
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../patches/assets/gltf-sheen.gltf");
+    let made = super::models::sheen_row();
+    // Its baseline without the sheens, for `spreadlight bench` (docs/gltf.md).
+    let off_path = path.with_file_name("gltf-sheen-off.gltf");
+    let off = super::models::sheen_row_without_sheen();
+    if std::env::var_os("SPREADLIGHT_BLESS").is_some() {
+        std::fs::write(&path, &made).unwrap();
+        std::fs::write(&off_path, &off).unwrap();
+    }
+    let committed = std::fs::read(&path).expect("patches/assets/gltf-sheen.gltf");
+    assert!(committed == made, "regenerate it with SPREADLIGHT_BLESS=1");
+    let committed = std::fs::read(&off_path).expect("patches/assets/gltf-sheen-off.gltf");
+    assert!(committed == off, "regenerate it with SPREADLIGHT_BLESS=1");
+    let plain = load_gltf_slice(&off, None).expect("loads");
+    assert!(
+        plain
+            .materials
+            .iter()
+            .all(|m| params(m, Feature::Sheen).is_none())
+    );
+    let scene = load_gltf_slice(&made, None).expect("loads");
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    let sheens: Vec<_> = scene
+        .materials
+        .iter()
+        .map(|m| params(m, Feature::Sheen))
+        .collect();
+    assert_eq!(sheens[0], None);
+    assert_eq!(sheens[1], Some([1.0, 1.0, 1.0, 0.3]));
+    assert_eq!(sheens[3], Some([1.0, 1.0, 1.0, 0.9]));
 }
 
 #[test]

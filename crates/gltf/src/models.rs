@@ -516,6 +516,82 @@ pub fn material_extensions_row() -> Vec<u8> {
     doc.gltf_data_uri()
 }
 
+/// Velvet: four spheres of one dark blue cloth, left to right without a
+/// sheen, then `KHR_materials_sheen` white at roughness 0.3, pink at 0.5
+/// and white at 0.9 (the factors only), for docs/gltf.md's picture and the
+/// view test's reference image (`patches/assets/gltf-sheen.gltf`).
+pub fn sheen_row() -> Vec<u8> {
+    velvet_row(true)
+}
+
+/// [`sheen_row`] without its sheens (`patches/assets/gltf-sheen-off.gltf`):
+/// the baseline of the sheen's cost (`spreadlight bench`, docs/gltf.md).
+pub fn sheen_row_without_sheen() -> Vec<u8> {
+    velvet_row(false)
+}
+
+fn velvet_row(with_sheen: bool) -> Vec<u8> {
+    let mut doc = Doc::new();
+    let sphere = doc.mesh_data(
+        "Sphere",
+        &spreadlight_render::mesh::primitives::sphere(
+            spreadlight_render::mesh::primitives::SphereParams {
+                radius: 0.45,
+                sectors: 32,
+                stacks: 16,
+            },
+        ),
+    );
+    if with_sheen {
+        doc.root
+            .extensions_used
+            .push("KHR_materials_sheen".to_owned());
+    }
+    // A material's name and its sheen (colour, roughness), if any.
+    type Sheen = Option<([f32; 3], f32)>;
+    let sheens: [(&str, Sheen); 4] = [
+        ("Cloth", None),
+        ("Satin", Some(([1.0, 1.0, 1.0], 0.3))),
+        ("Pink velvet", Some(([1.0, 0.45, 0.6], 0.5))),
+        ("Velvet", Some(([1.0, 1.0, 1.0], 0.9))),
+    ];
+    let mut nodes = Vec::new();
+    for (i, (name, sheen)) in sheens.into_iter().enumerate() {
+        let others = sheen
+            .filter(|_| with_sheen)
+            .map(|([r, g, b], roughness)| {
+                json::deserialize::from_str::<json::Value>(&format!(
+                    r#"{{"KHR_materials_sheen": {{"sheenColorFactor": [{r}, {g}, {b}], "sheenRoughnessFactor": {roughness}}}}}"#
+                ))
+                .ok()
+                .and_then(|v| v.as_object().cloned())
+                .unwrap_or_default()
+            })
+            .unwrap_or_default();
+        let material = doc.material(json::Material {
+            name: Some(name.into()),
+            pbr_metallic_roughness: json::material::PbrMetallicRoughness {
+                base_color_factor: json::material::PbrBaseColorFactor([0.05, 0.07, 0.25, 1.0]),
+                metallic_factor: json::material::StrengthFactor(0.0),
+                roughness_factor: json::material::StrengthFactor(0.8),
+                ..Default::default()
+            },
+            extensions: Some(json::extensions::material::Material {
+                others,
+                ..Default::default()
+            }),
+            ..Default::default()
+        });
+        let mut mesh = doc.root.meshes[sphere.value()].clone();
+        mesh.primitives[0].material = Some(material);
+        mesh.name = Some(name.into());
+        let mesh = doc.root.push(mesh);
+        nodes.push(doc.node(mesh_node(Some(mesh), [i as f32 - 1.5, 0.0, 0.0], 1.0)));
+    }
+    doc.scene(nodes);
+    doc.gltf_data_uri()
+}
+
 /// A window: an orange box seen through a pane whose
 /// `KHR_materials_transmission` map is a frame (red 0: opaque) around four
 /// panes (red 255: transmission 0.9), for docs/gltf.md's picture of the

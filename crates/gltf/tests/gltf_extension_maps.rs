@@ -7,6 +7,8 @@
 //! against the CPU references (spreadlight-reference's BRDF and coat,
 //! spreadlight-gltf's Beer-Lambert `MaterialData::transmittance`) at every
 //! inner pixel. A world without such a map compiles none of their code.
+//! `KHR_materials_sheen`'s factors, through CookTorrance and lit
+//! transparency, against `spreadlight_reference::sheen`.
 //! And the core maps beyond the G-buffer: an EnvironmentProbe's faces show
 //! a quad's checkered base colour texture.
 //! `KHR_materials_anisotropy`'s factors and map through the G-buffer's
@@ -1362,4 +1364,157 @@ fn hard_iridescence_values_stay_finite_and_are_warned() {
             "{ext}: no NaN or infinity"
         );
     }
+}
+
+const SHEEN_COLOR: [f32; 3] = [0.9, 0.5, 0.7];
+const SHEEN_ROUGHNESS: f32 = 0.6;
+const SHEEN_EXT: &str = r#"{"KHR_materials_sheen": {"sheenColorFactor": [0.9, 0.5, 0.7],
+    "sheenRoughnessFactor": 0.6}}"#;
+
+/// What the CPU references say a pixel seeing `p` on the quad under [`SUN`]
+/// gets with `sheen` (colour, roughness) over the opaque material:
+/// diffuse and specular radiance (the sheen's lobe is specular).
+fn sheened_reference(p: Vec3, sheen: ([f32; 3], f32)) -> (Vec3, Vec3) {
+    let l = -SUN.direction.normalize();
+    let radiance = SUN.color * SUN.illuminance;
+    let view = (Vec3::Z * DISTANCE - p).normalize();
+    let brdf = cook_torrance_f0(Vec3::Z, view, l, ALBEDO.into(), ROUGHNESS, 0.0, 0.04, true);
+    let (scaling, lobe) =
+        spreadlight_reference::sheen::sheen(Vec3::Z, view, l, sheen.0.into(), sheen.1);
+    (
+        brdf.diffuse * scaling * radiance,
+        (brdf.specular * scaling + lobe) * radiance,
+    )
+}
+
+/// How many compiled shaders have SHEEN on.
+fn sheen_permutations(renderer: &Renderer) -> usize {
+    renderer
+        .shaders()
+        .compiled_keys()
+        .filter(|k| k.features.contains("SHEEN"))
+        .count()
+}
+
+/// KHR_materials_sheen's factors through CookTorrance (SHEEN): every inner
+/// pixel's diffuse (dimmed by the sheen's albedo scaling) and specular
+/// (with the Charlie lobe) against `spreadlight_reference::sheen`; a file
+/// without a sheen compiles none of its code; extreme factors stay finite.
+#[test]
+fn the_sheen_factors_light_the_quad_as_the_reference_says() {
+    let renderer = test_renderer();
+    let (plain_d, plain_s) = lit(&renderer, &model(opaque_material(), "{}", &[]));
+    assert_eq!(sheen_permutations(&renderer), 0, "no sheen, no SHEEN code");
+    let (d, s) = lit(&renderer, &model(opaque_material(), SHEEN_EXT, &[]));
+    assert!(sheen_permutations(&renderer) >= 1);
+    let mut checked = 0;
+    for (i, p, _, _) in inner_pixels() {
+        let (want_d, want_s) = sheened_reference(p, (SHEEN_COLOR, SHEEN_ROUGHNESS));
+        for c in 0..3 {
+            assert!(
+                close(d.pixels[i][c], want_d[c]) && close(s.pixels[i][c], want_s[c]),
+                "pixel {i}: diffuse {:?} specular {:?}, the reference says {want_d} {want_s}",
+                d.pixels[i],
+                s.pixels[i]
+            );
+        }
+        // The sheen takes from the base's diffuse and adds its lobe,
+        // tinted by its colour (red over green), to the base's grey specular.
+        assert!(d.pixels[i][0] < plain_d.pixels[i][0]);
+        assert!((plain_s.pixels[i][0] - plain_s.pixels[i][1]).abs() < 1e-3 * plain_s.pixels[i][0]);
+        assert!(s.pixels[i][0] > s.pixels[i][1]);
+        checked += 1;
+    }
+    assert!(checked > 600, "{checked} pixels checked");
+    // Out of range and degenerate: a colour of 1e30 (clamped to 1 by the
+    // loader, warned) at roughness 0, the narrowest lobe: finite (`lit` asserts it).
+    let wild = r#"{"KHR_materials_sheen": {"sheenColorFactor": [1e30, 1e30, 1e30], "sheenRoughnessFactor": 0}}"#;
+    let scene = load_gltf_slice(&model(opaque_material(), wild, &[]), None).expect("loads");
+    assert_eq!(scene.warnings.len(), 1, "{:?}", scene.warnings);
+    assert!(
+        scene.warnings[0].contains("material 0"),
+        "{:?}",
+        scene.warnings
+    );
+    // What the loader made of it (white, roughness 0) draws finite (`lit`
+    // asserts every pixel finite) and within the reference.
+    let clamped = model(
+        opaque_material(),
+        r#"{"KHR_materials_sheen": {"sheenColorFactor": [1, 1, 1], "sheenRoughnessFactor": 0}}"#,
+        &[],
+    );
+    let (d, s) = lit(&renderer, &clamped);
+    for (i, p, _, _) in inner_pixels() {
+        let (want_d, want_s) = sheened_reference(p, ([1.0; 3], 0.0));
+        assert!(close(d.pixels[i][1], want_d[1]) && close(s.pixels[i][1], want_s[1]));
+    }
+}
+
+/// A BLEND quad with a sheen through lit transparency's forward light pass
+/// (a node with a sheen layer shades forward under Auto): every inner
+/// pixel's colour against the same reference as the opaque surface.
+#[test]
+fn lit_transparency_draws_the_sheen() {
+    let renderer = test_renderer();
+    let mut material = opaque_material();
+    material.alpha_mode = json::validation::Checked::Valid(json::material::AlphaMode::Blend);
+    let scene = load_gltf_slice(&model(material, SHEEN_EXT, &[]), None).expect("loads");
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    let g = GBuffer::new(
+        &renderer,
+        None,
+        vec![],
+        VIEW.camera(),
+        None,
+        SizeRule::Relative(1.0),
+    );
+    let background = image(&renderer, SIZE, |_, _| [0.0, 0.0, 0.0, 1.0]);
+    let settings = TransparencySettings {
+        ambient: Vec3::ZERO,
+        light_color: Vec3::ZERO,
+        energy_compensation: true,
+        ..Default::default()
+    };
+    let (_, layer) = world_and_layer(
+        &renderer,
+        &scene,
+        Mat4::IDENTITY,
+        scene.materials[0].base_color,
+    );
+    let lights = vec![TransparentLights {
+        lights: LightBuffer::suns(&renderer, &[SUN]),
+        shadows: None,
+    }];
+    let pass = Transparency::lit(
+        &renderer,
+        None,
+        background.texture_ref(),
+        g,
+        vec![layer],
+        settings,
+        LitBy {
+            lights,
+            ..Default::default()
+        },
+    );
+    assert!(!pass.shades_in_compute(), "a sheen layer shades forward");
+    let pixels = render(&renderer, pass.as_ref(), &pass.output, SIZE)
+        .1
+        .pixels;
+    assert!(sheen_permutations(&renderer) >= 1);
+    let mut checked = 0;
+    for (i, p, _, _) in inner_pixels() {
+        let (want_d, want_s) = sheened_reference(p, (SHEEN_COLOR, SHEEN_ROUGHNESS));
+        let want = want_d + want_s;
+        for c in 0..3 {
+            // Half-float accumulation: about three decimal digits.
+            assert!(
+                (pixels[i][c] - want[c]).abs() <= 2e-3 + 1e-2 * want[c],
+                "pixel {i}: {:?}, the reference says {want}",
+                pixels[i]
+            );
+        }
+        checked += 1;
+    }
+    assert!(checked > 600, "{checked} pixels checked");
 }

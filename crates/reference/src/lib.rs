@@ -4,7 +4,7 @@
 //! ([`material`]), ray-cast soft shadows ([`shadows`]) and ambient
 //! occlusion ([`ssao`]) to measure the filters by, reflections ray-traced
 //! ([`reflection`]), refraction through a slab ([`refraction`]), thin-film
-//! iridescence ([`iridescence`]), and the shipped light shader nodes' models ([`toon`],
+//! iridescence ([`iridescence`]), the sheen lobe ([`sheen`]), and the shipped light shader nodes' models ([`toon`],
 //! [`ashikhmin_shirley`]); glTF materials point-sampled are
 //! `spreadlight_gltf::reference`, beside the importer.
 //!
@@ -28,6 +28,7 @@ pub mod material;
 pub mod reflection;
 pub mod refraction;
 pub mod shadows;
+pub mod sheen;
 pub mod ssao;
 pub mod tonemap;
 pub mod toon;

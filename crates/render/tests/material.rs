@@ -13,8 +13,8 @@ use naga_oil::compose::{
 use spreadlight_render::material::{
     FEATURE_AMBIENT_OCCLUSION, FEATURE_ANISOTROPY, FEATURE_CLEARCOAT, FEATURE_COOK_TORRANCE,
     FEATURE_EMISSION, FEATURE_FAKE_SSS, FEATURE_IRIDESCENCE, FEATURE_MATCAP, FEATURE_REFLECTION,
-    FEATURE_TRANSMISSION, FEATURE_UNLIT, FIRST_CUSTOM_FEATURE, Feature, MAX_FEATURES, Material,
-    MaterialWorld,
+    FEATURE_SHEEN, FEATURE_TRANSMISSION, FEATURE_UNLIT, FIRST_CUSTOM_FEATURE, Feature,
+    MAX_FEATURES, Material, MaterialWorld,
 };
 use spreadlight_render::renderer::test_renderer;
 use spreadlight_render::shaders::library;
@@ -94,6 +94,7 @@ fn library_composes_validates_and_mirrors_the_rust_constants() {
         ("FEATURE_TRANSMISSION", FEATURE_TRANSMISSION),
         ("FEATURE_IRIDESCENCE", FEATURE_IRIDESCENCE),
         ("FEATURE_ANISOTROPY", FEATURE_ANISOTROPY),
+        ("FEATURE_SHEEN", FEATURE_SHEEN),
         ("FIRST_CUSTOM_FEATURE", FIRST_CUSTOM_FEATURE),
         ("MAX_FEATURES", MAX_FEATURES),
     ] {
@@ -155,11 +156,11 @@ fn shader_reads_what_the_material_world_holds() {
     let other = MaterialWorld::new(&renderer, Vec::new());
     assert_eq!(other.len(), 1);
     assert_eq!(other.union_flags(), 1);
-    // The built-ins (0..=5, Clearcoat 7, Unlit 8, Transmission 9,
+    // The built-ins (0..=5, Clearcoat 7, Unlit 8, Transmission 9, Sheen 10,
     // Iridescence 11, Anisotropy 12) and the custom ones.
     assert_eq!(
         world.union_flags(),
-        0b1_1011_1011_1111 | 1 << 16 | 1 << 17 | 1 << 31
+        0b1_1111_1011_1111 | 1 << 16 | 1 << 17 | 1 << 31
     );
 
     let mut queries: Vec<[u32; 4]> = Vec::new();

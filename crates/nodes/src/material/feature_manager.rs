@@ -21,7 +21,8 @@ pub fn register(r: &mut Registry) {
              Ids: 0 CookTorrance (roughness, metallic, reflectance), 1 Emission (rgb, strength), 2 FakeSSS \
              (rgb, strength), 3 Reflection, 4 MatCap, 5 AmbientOcclusion (strength), 7 Clearcoat (factor, \
              roughness), 8 Unlit (strength), 9 Transmission (factor, ior, thickness; then absorption rgb: \
-             Transparency refracts what shows through); 16..31 custom. Each \
+             Transparency refracts what shows through), 10 Sheen (rgb, roughness: a velvet sheen CookTorrance \
+             adds over the base); 16..31 custom. Each \
              material takes Bin Size slices of Parameters (built-ins take 1, Transmission 2; 0 sets a custom \
              flag alone). \
              Values are clamped to their physical ranges. Texture ID: the layer of the MaterialBuffer's \

@@ -23,7 +23,7 @@ use crate::frame_graph::{Bindings, FrameGraph, PassContext, Tex, TextureDesc};
 use crate::gbuffer::GBuffer;
 use crate::material::{
     FEATURE_CLEARCOAT, FEATURE_COOK_TORRANCE, FEATURE_IRIDESCENCE, FEATURE_REFLECTION,
-    MaterialTextures, MaterialWorld,
+    FEATURE_SHEEN, MaterialTextures, MaterialWorld,
 };
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
@@ -164,6 +164,8 @@ impl Reflection {
             // Only a world with a coat compiles the coat's lobe.
             clearcoat: self.materials.any_has(FEATURE_CLEARCOAT),
             iridescence: self.materials.any_has(FEATURE_IRIDESCENCE),
+            // Only a reflective world's passes read colours and materials.
+            sheen: self.active() && self.materials.any_has(FEATURE_SHEEN),
         }
     }
 
@@ -232,8 +234,11 @@ impl Reflection {
             b = b
                 .texture_opt("out_specular", io.specular)
                 .texture_opt("surface_target", io.surface)
-                .buffer_opt("volume", self.volume.as_ref())
-                .extend(self.materials.bindings(io.material_textures));
+                .buffer_opt("volume", self.volume.as_ref());
+        }
+        // The diffuse entry reads the materials too where a sheen dims it.
+        if specular || self.key().sheen {
+            b = b.extend(self.materials.bindings(io.material_textures));
         }
         match outputs {
             Outputs::Both => self.dispatch(cx, "both", "reflection", b),

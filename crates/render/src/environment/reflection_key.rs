@@ -20,5 +20,8 @@ crate::flag_key! {
         /// Some material has a thin film (Iridescence): its Fresnel at
         /// N.V replaces the split sum's Schlick term, mixed by its factor.
         iridescence: "IRIDESCENCE",
+        /// Some material has a sheen: its image-based light and the base's
+        /// dimming under it are compiled in.
+        sheen: "SHEEN",
     }
 }

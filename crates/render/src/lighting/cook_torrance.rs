@@ -14,7 +14,8 @@ use crate::frame_graph::{Bindings, FrameGraph, PassBuilder, PassContext, Tex, Te
 use crate::gbuffer::GBuffer;
 use crate::gbuffer::SurfaceShader;
 use crate::material::{
-    FEATURE_CLEARCOAT, FEATURE_FAKE_SSS, FEATURE_IRIDESCENCE, MaterialTextures, MaterialWorld,
+    FEATURE_CLEARCOAT, FEATURE_FAKE_SSS, FEATURE_IRIDESCENCE, FEATURE_SHEEN, MaterialTextures,
+    MaterialWorld,
 };
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
@@ -333,6 +334,13 @@ impl CookTorrance {
             .is_some_and(|w| w.union_flags() & (1 << FEATURE_IRIDESCENCE) != 0)
     }
 
+    /// Whether some material has a sheen: its lobe is compiled in.
+    fn sheen(&self) -> bool {
+        self.materials
+            .as_ref()
+            .is_some_and(|w| w.union_flags() & (1 << FEATURE_SHEEN) != 0)
+    }
+
     /// The walk this recipe's shade pass does.
     pub fn walk(&self) -> Walk {
         self.walk
@@ -378,6 +386,7 @@ impl CookTorrance {
                     clearcoat: self.clearcoat(),
                     anisotropy: self.gbuffer.targets.anisotropy.is_some(),
                     iridescence: self.iridescence(),
+                    sheen: self.sheen(),
                 }),
             },
         };

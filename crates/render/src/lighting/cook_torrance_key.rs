@@ -128,6 +128,8 @@ pub struct BrdfMaterials {
     /// Some material has a thin film (Iridescence): its Fresnel is
     /// compiled in (`spreadlight::iridescence`).
     pub iridescence: bool,
+    /// Some material has a sheen: its lobe is compiled in.
+    pub sheen: bool,
 }
 
 /// The material buffer (MATERIALS), and whether some material's
@@ -158,6 +160,7 @@ impl Shading {
                     f.extend(m.clearcoat.then_some("CLEARCOAT"));
                     f.extend(m.anisotropy.then_some("ANISOTROPY"));
                     f.extend(m.iridescence.then_some("IRIDESCENCE"));
+                    f.extend(m.sheen.then_some("SHEEN"));
                 }
             }
             Shading::Custom { materials } => {
@@ -176,13 +179,16 @@ impl Shading {
                 for clearcoat in [false, true] {
                     for anisotropy in [false, true] {
                         for iridescence in [false, true] {
-                            brdf_materials.push(Some(BrdfMaterials {
-                                reads,
-                                fake_sss,
-                                clearcoat,
-                                anisotropy,
-                                iridescence,
-                            }));
+                            for sheen in [false, true] {
+                                brdf_materials.push(Some(BrdfMaterials {
+                                    reads,
+                                    fake_sss,
+                                    clearcoat,
+                                    anisotropy,
+                                    iridescence,
+                                    sheen,
+                                }));
+                            }
                         }
                     }
                 }
@@ -282,6 +288,7 @@ impl Permutation for CookTorranceKey {
         "SURFACE_TARGET",
         "CLEARCOAT",
         "IRIDESCENCE",
+        "SHEEN",
         "CUSTOM_LIGHT",
         "TILED",
         "PER_PIXEL",
@@ -296,11 +303,12 @@ impl Permutation for CookTorranceKey {
             .chain(self.surface_target.then_some("SURFACE_TARGET"))
     }
 
-    /// 13 light walks x 5 shadow samplings x (37 shadings x 2, and the 32
-    /// anisotropic ones with the surface target): the 6,890 feature sets the
-    /// string rules allow (2,730 before ANISOTROPY and IRIDESCENCE each
-    /// doubled the built-in BRDF's material shadings: 4 x 8 + 1 per energy
-    /// compensation, the 3 custom ones unchanged).
+    /// 13 light walks x 5 shadow samplings x (69 shadings x 2, and the 64
+    /// anisotropic ones with the surface target): the 13,130 feature sets
+    /// the string rules allow (2,730 before ANISOTROPY, IRIDESCENCE and
+    /// SHEEN each doubled the built-in BRDF's material shadings: 2 x 16 + 1
+    /// per energy compensation, and as many anisotropic ones; the 3 custom
+    /// ones unchanged).
     fn all() -> Vec<Self> {
         let mut all = Vec::new();
         for lights in Lights::all() {

@@ -1,8 +1,8 @@
 //! Material features: what a bit of a material's flag word switches on, and
 //! the parameters it reads. Feature id `n` is flag `1 << n` (Emeshe's
 //! convention: the id is the exponent, the flag the power of two). Ids 0..16
-//! belong to built-in features (0..=9, 11 and 12 exist now; 10 and 13..=15
-//! are kept for the ones to come), 16..=31 are free for custom features.
+//! belong to built-in features (0..=12 but 6 exist now; 13..=15 are kept for
+//! the ones to come), 16..=31 are free for custom features.
 //!
 //! Mirrored by the `FEATURE_*` constants of `shaders/lib/material.wgsl`.
 
@@ -32,6 +32,9 @@ pub const FEATURE_IRIDESCENCE: u32 = 11;
 /// A specular highlight stretched along a direction on the surface
 /// (glTF's `KHR_materials_anisotropy`): strength and rotation.
 pub const FEATURE_ANISOTROPY: u32 = 12;
+/// A velvet-like sheen over the surface (glTF's `KHR_materials_sheen`):
+/// CookTorrance's `SHEEN` lobe, Reflection's and lit transparency's.
+pub const FEATURE_SHEEN: u32 = 10;
 /// The first id free for custom features.
 pub const FIRST_CUSTOM_FEATURE: u32 = 16;
 /// One bit of a `u32` per feature.
@@ -98,6 +101,13 @@ const ANISOTROPY: ParamLayout = ParamLayout {
     names: ["strength", "rotation", "", ""],
     ranges: [Unit, Range::Free, Unused, Unused],
     default: [0.0, 0.0, 0.0, 0.0],
+};
+/// The sheen's colour (each channel 0..1: glTF's sheenColorFactor, linear)
+/// and its roughness (0..1): the Charlie lobe's tint and width.
+const SHEEN: ParamLayout = ParamLayout {
+    names: ["red", "green", "blue", "roughness"],
+    ranges: [Unit, Unit, Unit, Unit],
+    default: [1.0, 1.0, 1.0, 0.5],
 };
 /// Two vec4s ([`transmission_params`]): how much of what shows through is
 /// refracted (0..1), the index of refraction and the volume's thickness
@@ -262,13 +272,17 @@ pub enum Feature {
     /// target, `ANISOTROPY`), along which CookTorrance stretches the
     /// highlight.
     Anisotropy,
+    /// A sheen (glTF's `KHR_materials_sheen`): rgb colour, roughness.
+    /// CookTorrance adds its Charlie lobe and dims the base by
+    /// 1 - max(colour) x its albedo (`SHEEN`).
+    Sheen,
     /// A user feature, id 16..=31, with as many vec4 parameters as it is given.
     Custom(u32),
 }
 
 impl Feature {
     /// In ascending id (6, SurfaceMaps, is set through `Material::set_maps`).
-    pub const BUILT_IN: [Feature; 11] = [
+    pub const BUILT_IN: [Feature; 12] = [
         Feature::CookTorrance,
         Feature::Emission,
         Feature::FakeSss,
@@ -278,12 +292,13 @@ impl Feature {
         Feature::Clearcoat,
         Feature::Unlit,
         Feature::Transmission,
+        Feature::Sheen,
         Feature::Iridescence,
         Feature::Anisotropy,
     ];
 
     /// The feature with id `id`: a built-in one, or a custom one for 16..=31.
-    /// Id 6 is SurfaceMaps (not set as a feature); 10 and 12..=15 are reserved for built-ins to come.
+    /// Id 6 is SurfaceMaps (not set as a feature); 13..=15 are reserved for built-ins to come.
     pub fn from_id(id: i64) -> Result<Feature, FeatureError> {
         if let Some(f) = Feature::BUILT_IN.iter().find(|f| i64::from(f.id()) == id) {
             return Ok(*f);
@@ -307,6 +322,7 @@ impl Feature {
             Feature::Transmission => FEATURE_TRANSMISSION,
             Feature::Iridescence => FEATURE_IRIDESCENCE,
             Feature::Anisotropy => FEATURE_ANISOTROPY,
+            Feature::Sheen => FEATURE_SHEEN,
             Feature::Custom(id) => id,
         }
     }
@@ -329,6 +345,7 @@ impl Feature {
             Feature::Transmission => "Transmission".to_owned(),
             Feature::Iridescence => "Iridescence".to_owned(),
             Feature::Anisotropy => "Anisotropy".to_owned(),
+            Feature::Sheen => "Sheen".to_owned(),
             Feature::Custom(id) => format!("Custom{id}"),
         }
     }
@@ -346,6 +363,7 @@ impl Feature {
             Feature::Transmission => Some(&TRANSMISSION),
             Feature::Iridescence => Some(&IRIDESCENCE),
             Feature::Anisotropy => Some(&ANISOTROPY),
+            Feature::Sheen => Some(&SHEEN),
             Feature::Custom(_) => None,
         }
     }
@@ -365,6 +383,7 @@ impl Feature {
                 | Feature::Transmission
                 | Feature::Iridescence
                 | Feature::Anisotropy
+                | Feature::Sheen
         )
     }
 
@@ -390,6 +409,7 @@ impl Feature {
             Feature::Clearcoat
             | Feature::Unlit
             | Feature::Transmission
+            | Feature::Sheen
             | Feature::Iridescence
             | Feature::Anisotropy
             | Feature::Custom(_) => &[],

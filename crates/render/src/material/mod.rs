@@ -42,9 +42,9 @@ use wgpu::util::DeviceExt;
 pub use feature::{
     FEATURE_AMBIENT_OCCLUSION, FEATURE_ANISOTROPY, FEATURE_CLEARCOAT, FEATURE_COOK_TORRANCE,
     FEATURE_EMISSION, FEATURE_FAKE_SSS, FEATURE_IRIDESCENCE, FEATURE_MATCAP, FEATURE_REFLECTION,
-    FEATURE_SURFACE_MAPS, FEATURE_TRANSMISSION, FEATURE_UNLIT, FIRST_CUSTOM_FEATURE, Feature,
-    MAX_ABSORPTION, MAX_FEATURES, MatCapMapping, MatCapMode, ParamLayout, Range, matcap_params,
-    transmission_params,
+    FEATURE_SHEEN, FEATURE_SURFACE_MAPS, FEATURE_TRANSMISSION, FEATURE_UNLIT, FIRST_CUSTOM_FEATURE,
+    Feature, MAX_ABSORPTION, MAX_FEATURES, MatCapMapping, MatCapMode, ParamLayout, Range,
+    matcap_params, transmission_params,
 };
 use map_textures::MapLayout;
 pub use map_textures::{MapFiltering, WorldMaps};

@@ -13,9 +13,10 @@ fn feature_ids_flags_and_names() {
     assert_eq!(Feature::from_id(7), Ok(Feature::Clearcoat));
     assert_eq!(Feature::from_id(8), Ok(Feature::Unlit));
     assert_eq!(Feature::from_id(9), Ok(Feature::Transmission));
+    assert_eq!(Feature::from_id(10), Ok(Feature::Sheen));
     assert_eq!(Feature::from_id(11), Ok(Feature::Iridescence));
     assert_eq!(Feature::from_id(12), Ok(Feature::Anisotropy));
-    for bad in [-1, 6, 10, 15, 32, 1 << 40] {
+    for bad in [-1, 6, 13, 15, 32, 1 << 40] {
         assert_eq!(
             Feature::from_id(bad),
             Err(FeatureError::UnknownFeature { id: bad })
@@ -23,7 +24,7 @@ fn feature_ids_flags_and_names() {
     }
     // In ascending id, each once; 6 (SurfaceMaps) is set through `set_maps`.
     let ids: Vec<u32> = Feature::BUILT_IN.iter().map(|f| f.id()).collect();
-    assert_eq!(ids, [0, 1, 2, 3, 4, 5, 7, 8, 9, 11, 12]);
+    assert_eq!(ids, [0, 1, 2, 3, 4, 5, 7, 8, 9, 10, 11, 12]);
     for f in Feature::BUILT_IN {
         // Transmission: refraction, then absorption.
         let count = if f == Feature::Transmission { 2 } else { 1 };

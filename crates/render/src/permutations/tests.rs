@@ -99,12 +99,13 @@ fn every_shader_file_is_a_library_or_a_listed_entry() {
 }
 
 /// All the permutations there are: the composite's 6,720, the light loop's
-/// 6,890 (4,160 more than before ANISOTROPY and IRIDESCENCE), the resolve's 1,368 (384 of them
+/// 13,130 (ANISOTROPY, IRIDESCENCE and SHEEN each double its shadings with a
+/// material world: 2,730 before them), the resolve's 1,368 (384 of them
 /// writing the anisotropy target), lit transparency's (with refraction's blurs,
 /// compute shading's records and kernels, the clear coat's 1,652 (324 of
-/// them its reflection of the environment in the base passes) and the
-/// anisotropic lobe's 280 forward light passes over surface maps),
-/// Reflection's 32 (CLEARCOAT and IRIDESCENCE each double it) and the
+/// them its reflection of the environment in the base passes), the
+/// anisotropic lobe's and the sheen's forward light passes over surface maps),
+/// Reflection's 64 (CLEARCOAT, IRIDESCENCE and SHEEN each double it) and the
 /// rest. A key left out of
 /// [`ENTRY_SHADERS`] changes the count, and docs/architecture.md states it,
 /// so the number there cannot go stale. The fused light loop
@@ -116,7 +117,7 @@ fn every_shader_file_is_a_library_or_a_listed_entry() {
 fn the_permutation_count_is_unchanged() {
     assert_eq!(ENTRY_SHADERS.len(), 46);
     let count = all_permutations().len();
-    assert_eq!(count, 20_004);
+    assert_eq!(count, 27_816);
     let doc = std::fs::read_to_string(concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/../../docs/architecture.md"
@@ -276,6 +277,7 @@ fn typed_keys_enumerate_what_the_string_rules_did() {
                 "PARALLAX",
                 "CLEARCOAT",
                 "IRIDESCENCE",
+                "SHEEN",
             ],
             vec![],
         ),
@@ -374,6 +376,7 @@ fn hand_written_keys_allow_what_the_string_rules_did() {
         Rule::Requires("ANISOTROPY", "MATERIALS"),
         Rule::Requires("ANISOTROPY", "SURFACE_TARGET"),
         Rule::AtMostOne(&["CUSTOM_LIGHT", "IRIDESCENCE"]),
+        Rule::AtMostOne(&["CUSTOM_LIGHT", "SHEEN"]),
         Rule::AtMostOne(&["SHADOW_PCF", "SHADOW_PCSS", "SHADOW_VSM"]),
         Rule::Requires("SHADOW_PCF", "SHADOWS"),
         Rule::Requires("SHADOW_PCSS", "SHADOWS"),
@@ -381,6 +384,7 @@ fn hand_written_keys_allow_what_the_string_rules_did() {
         Rule::Requires("FAKE_SSS", "MATERIALS"),
         Rule::Requires("CLEARCOAT", "MATERIALS"),
         Rule::Requires("IRIDESCENCE", "MATERIALS"),
+        Rule::Requires("SHEEN", "MATERIALS"),
         Rule::AtMostOne(&["LIGHT_SUN", "CLUSTERED"]),
         Rule::Requires("SPOT_TEXTURE", "LIGHT_SPOT"),
         Rule::Requires("MATERIAL_TEXTURES", "MATERIALS"),
@@ -391,7 +395,7 @@ fn hand_written_keys_allow_what_the_string_rules_did() {
     let (sets, n) = keyed("lighting/cook_torrance.wgsl");
     assert_eq!(
         (sets, n),
-        (ruled(cook_torrance, &cook_torrance_rules), 6890)
+        (ruled(cook_torrance, &cook_torrance_rules), 13130)
     );
     // The G-buffer view: the rule's empty choice (no channel, a black
     // image) was never built, as every view shows a Channel.

@@ -43,6 +43,7 @@ pub const LIBRARIES: &[ShaderFile] = &[
     library!("lib/brdf.wgsl"),
     library!("lib/iridescence.wgsl"),
     library!("lib/anisotropy.wgsl"),
+    library!("lib/sheen.wgsl"),
     library!("lib/lights.wgsl"),
     library!("lib/spot.wgsl"),
     library!("lib/tonemap.wgsl"),

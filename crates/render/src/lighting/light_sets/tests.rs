@@ -76,6 +76,7 @@ fn the_material_switches_are_shared_and_four_sets_compose() {
                 clearcoat: true,
                 anisotropy: true,
                 iridescence: true,
+                sheen: true,
             }),
         };
         k.surface_target = true;
@@ -110,6 +111,7 @@ fn the_material_switches_are_shared_and_four_sets_compose() {
         "CLEARCOAT",
         "ANISOTROPY",
         "IRIDESCENCE",
+        "SHEEN",
         "SURFACE_TARGET",
     ] {
         assert_eq!(defs.iter().filter(|d| *d == shared).count(), 1, "{shared}");

@@ -32,6 +32,12 @@ pub struct TransparencyKey {
     /// forward, whatever its shading asks (the compute records carry no
     /// direction).
     pub anisotropy: bool,
+    /// The sheen (SHEEN): a forward light pass of a layer whose world has a
+    /// Sheen material adds the sheen's lobe and dims the base under it.
+    /// Only light passes of a surface with a material world (a node with
+    /// a sheen layer shades forward under Auto: the compute records keep
+    /// no sheen).
+    pub sheen: bool,
 }
 
 /// What a layer's fragments read.
@@ -316,6 +322,7 @@ impl Permutation for TransparencyKey {
         "SHADE_TILED",
         "CLEARCOAT",
         "ANISOTROPY",
+        "SHEEN",
     ];
 
     fn features(self) -> impl Iterator<Item = &'static str> {
@@ -351,6 +358,7 @@ impl Permutation for TransparencyKey {
             .chain(light)
             .chain(self.coat.then_some("CLEARCOAT"))
             .chain(self.anisotropy.then_some("ANISOTROPY"))
+            .chain(self.sheen.then_some("SHEEN"))
     }
 
     /// Every surface with the base passes (a matcap only with a material
@@ -403,6 +411,7 @@ impl Permutation for TransparencyKey {
                             _ => coated,
                         };
                         let stretches = anisotropic && matches!(pass, TransparencyPass::Light(_));
+                        let sheens = coated && matches!(pass, TransparencyPass::Light(_));
                         [false, true]
                             .into_iter()
                             .filter(move |&coat| !coat || coats)
@@ -410,11 +419,17 @@ impl Permutation for TransparencyKey {
                                 [false, true]
                                     .into_iter()
                                     .filter(move |&anisotropy| !anisotropy || stretches)
-                                    .map(move |anisotropy| TransparencyKey {
-                                        surface,
-                                        pass,
-                                        coat,
-                                        anisotropy,
+                                    .flat_map(move |anisotropy| {
+                                        [false, true]
+                                            .into_iter()
+                                            .filter(move |&sheen| !sheen || sheens)
+                                            .map(move |sheen| TransparencyKey {
+                                                surface,
+                                                pass,
+                                                coat,
+                                                anisotropy,
+                                                sheen,
+                                            })
                                     })
                             })
                     })
@@ -435,6 +450,7 @@ impl Permutation for TransparencyKey {
                             pass,
                             coat,
                             anisotropy: false,
+                            sheen: false,
                         })
                     })
                     .chain([TransparencyKey::SHADED_RESOLVE]),
@@ -460,6 +476,7 @@ impl TransparencyKey {
         },
         coat: false,
         anisotropy: false,
+        sheen: false,
     };
 
     /// The resolve of a frame whose lights were shaded in compute.
@@ -468,6 +485,7 @@ impl TransparencyKey {
         pass: TransparencyPass::ShadedResolve,
         coat: false,
         anisotropy: false,
+        sheen: false,
     };
 }
 
@@ -577,10 +595,16 @@ mod tests {
         // and for compute shading.
         let coated_shade = TransparencyKey {
             coat: true,
+            sheen: false,
             ..shade
         };
         assert!(all.contains(&coated_shade));
         assert_eq!(coated_shade.features().last(), Some("CLEARCOAT"));
+        // The sheen: forward light passes of surfaces with a material world only.
+        assert!(all.iter().any(|k| k.sheen));
+        assert!(all.iter().filter(|k| k.sheen).all(|k| {
+            matches!(k.pass, TransparencyPass::Light(_)) && k.surface.reads_materials()
+        }));
         assert!(all.iter().filter(|k| k.coat).all(|k| match k.pass {
             TransparencyPass::Base {
                 records,
@@ -593,6 +617,7 @@ mod tests {
         }));
         assert!(!all.contains(&TransparencyKey {
             coat: true,
+            sheen: false,
             ..TransparencyKey::COMPOSITE
         }));
     }

@@ -66,7 +66,9 @@ use crate::error::RenderError;
 use crate::frame_graph::{Bindings, FrameGraph, PassContext, Tex, TextureDesc};
 use crate::gbuffer::{Draw, GBuffer, Layer, mesh_bindings, pack_instances};
 use crate::lighting::{ClusterGrid, ClusterStore, FEW_LIGHTS, LightBuffer, LightKind, LightLoop};
-use crate::material::{FEATURE_CLEARCOAT, FEATURE_MATCAP, FEATURE_TRANSMISSION, MaterialWorld};
+use crate::material::{
+    FEATURE_CLEARCOAT, FEATURE_MATCAP, FEATURE_SHEEN, FEATURE_TRANSMISSION, MaterialWorld,
+};
 use crate::mesh_arena::pulled_pipeline;
 use crate::recipe::{Recipe, TextureRef, next_recipe_id};
 use crate::renderer::Renderer;
@@ -371,10 +373,19 @@ impl Transparency {
         let anisotropic = layers
             .iter()
             .any(|l| l.map_world().is_some_and(|w| w.has_anisotropy()));
+        // A layer with a sheen shades forward under Auto: the compute
+        // shading's fragment records keep no sheen (Compute and Tiled asked
+        // by name draw such a layer without its sheen).
+        let sheened = layers.iter().any(|l| {
+            l.map_world()
+                .or(l.materials.as_ref())
+                .or(materials.as_ref())
+                .is_some_and(|w| w.any_has(FEATURE_SHEEN))
+        });
         let compute = !lights.is_empty()
             && !anisotropic
             && settings.shading.computes(renderer.gpu.adapter_class())
-            && (settings.shading != TransparencyShading::Auto || fits());
+            && (settings.shading != TransparencyShading::Auto || (fits() && !sheened));
         let lists = owner
             .map(|node| renderer.state::<FragmentLists>(u64::from(node)))
             .unwrap_or_default();
@@ -451,6 +462,7 @@ impl Transparency {
                     pass,
                     coat: Self::coat(world, pass),
                     anisotropy: Self::anisotropy(surface, world, pass),
+                    sheen: Self::sheen(world, pass),
                 };
                 if !keys.contains(&key) {
                     keys.push(key);
@@ -464,6 +476,7 @@ impl Transparency {
                     pass: self.shade_pass(light),
                     coat: self.coated(),
                     anisotropy: false,
+                    sheen: false,
                 };
                 if !keys.contains(&key) {
                     keys.push(key);
@@ -557,6 +570,13 @@ impl Transparency {
         surface.maps.is_surface()
             && world.is_some_and(|w| w.has_anisotropy())
             && matches!(pass, TransparencyPass::Light(_))
+    }
+
+    /// Whether a pass of a layer reading `world` compiles the sheen
+    /// ([`TransparencyKey::sheen`]): a light pass of a world with a Sheen material.
+    fn sheen(world: Option<&Arc<MaterialWorld>>, pass: TransparencyPass) -> bool {
+        matches!(pass, TransparencyPass::Light(_))
+            && world.is_some_and(|w| w.any_has(FEATURE_SHEEN))
     }
 
     /// Some layer of the node has a coat: the compute shading reads coat
@@ -710,6 +730,7 @@ impl Transparency {
                         pass,
                         coat: Self::coat(world, pass),
                         anisotropy: Self::anisotropy(surface, world, pass),
+                        sheen: Self::sheen(world, pass),
                     }
                     .key();
                     let pipeline = accumulate_pipeline(cx, key.clone(), culled, pass)?;
@@ -911,6 +932,7 @@ impl Transparency {
             pass,
             coat: lists.coat.is_some(),
             anisotropy: false,
+            sheen: false,
         }
         .key();
         let size = cx.size_of(io.accumulation)?;
