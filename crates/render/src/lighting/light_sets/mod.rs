@@ -42,12 +42,15 @@ use crate::shadows::filter::ShadowFilter;
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum LightFusion {
     /// A pass per CookTorrance (every session before this one).
-    #[default]
     Separate,
     /// One pass for the light sets that can share it (this module).
     Fused,
     /// Fused on a GPU, separate on a CPU adapter (lavapipe runs dispatches
-    /// one at a time: a pass's ramp and tail cost it nothing to save).
+    /// one at a time: a pass's ramp and tail cost it nothing to save). The
+    /// default since the H200 measured it (docs/benchmarks.md, "Session 20
+    /// on the H200"): emeshe-frame's frame 1.476 -> 1.459 ms, the same
+    /// pictures bit for bit.
+    #[default]
     Auto,
 }
 
