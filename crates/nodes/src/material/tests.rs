@@ -186,7 +186,7 @@ fn feature_manager_sets_built_in_and_custom_features() {
 
 #[test]
 fn feature_manager_refuses_unknown_ids_and_wrong_bin_sizes() {
-    for id in [6, 11, 15, 32, -1] {
+    for id in [6, 13, 15, 32, -1] {
         let e = eval_err(
             "FeatureManager",
             &[("Feature ID", ints(&[1, id]))],

@@ -655,9 +655,16 @@ impl ShaderCache {
             .clone()
     }
 
-    /// The permutations compiled so far (tests check a feature no scene uses never is).
+    /// The permutations compiled so far (tests check a feature no scene uses
+    /// never is): a module made here, or a pipeline made for this cache on
+    /// a thread ahead of its look-up (`crate::pipelines_ahead`), which
+    /// leaves no module here.
     pub fn compiled_keys(&self) -> impl Iterator<Item = &ShaderKey> {
-        self.modules.keys()
+        self.modules.keys().chain(
+            self.compute
+                .keys()
+                .filter(|key| !self.modules.contains_key(*key)),
+        )
     }
 
     /// Every permutation composed for this cache so far (made a module of,
