@@ -55,6 +55,12 @@ impl FrameGraph<'_> {
         }
     }
 
+    /// Whether announcing is on (frames still make pipelines): a pass whose
+    /// keys take work to build asks first, so a warm frame builds none.
+    pub fn gathers_pipelines(&self) -> bool {
+        GATHERING.load(Ordering::Relaxed)
+    }
+
     /// Like [`Self::will_dispatch`], for the pass `pass` of `owner` (the
     /// name of a merged pair's joint run where it is that run's): made
     /// ahead only where the frame's plan runs such a pass.
@@ -66,7 +72,8 @@ impl FrameGraph<'_> {
         entry: &'static str,
     ) {
         if GATHERING.load(Ordering::Relaxed) {
-            self.pipelines_if_run.push((pass, owner, key.clone(), entry));
+            self.pipelines_if_run
+                .push((pass, owner, key.clone(), entry));
         }
     }
 

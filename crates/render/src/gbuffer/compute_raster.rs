@@ -196,7 +196,14 @@ impl ComputeRaster {
     /// view (frame_graph/gather.rs): the same keys and entry points, known
     /// from the batches when the recipe is declared, so a first frame makes
     /// them on threads instead of in the pass.
-    pub(crate) fn announce(&self, renderer: &Renderer, fg: &mut crate::frame_graph::FrameGraph<'_>) {
+    pub(crate) fn announce(
+        &self,
+        renderer: &Renderer,
+        fg: &mut crate::frame_graph::FrameGraph<'_>,
+    ) {
+        if !fg.gathers_pipelines() {
+            return;
+        }
         let particles = self.batches.iter().any(|b| b.procedural);
         let class = renderer.gpu.adapter_class();
         let key = |two_sided: bool| raster_key(class, two_sided, particles, self.words);

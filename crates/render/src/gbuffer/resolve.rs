@@ -240,6 +240,9 @@ pub(super) fn announce(
     targets: Targets,
     pass: &crate::report::PassName,
 ) {
+    if !fg.gathers_pipelines() {
+        return;
+    }
     let compute = g.compute.is_some() && g.raster == RasterMode::Compute;
     let mut announce = |key: crate::shaders::ShaderKey| {
         fg.will_dispatch_if_run(pass.clone(), g.owner, &key, "main");

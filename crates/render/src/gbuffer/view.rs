@@ -96,7 +96,9 @@ impl Recipe for GBufferView {
         let source = pass.read(self.channel.source(&self.gbuffer));
         let output = pass.write(&self.output, desc);
         // Its pipeline, made on a thread on a first frame (frame_graph/gather.rs).
-        pass.will_dispatch(&self.channel.key(), "main");
+        if pass.graph().gathers_pipelines() {
+            pass.will_dispatch(&self.channel.key(), "main");
+        }
         pass.run(move |cx| self.run(cx, source, output));
     }
 }
