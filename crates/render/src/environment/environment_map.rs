@@ -269,7 +269,7 @@ impl Recipe for Environment {
         let key = super::prefilter_key::PrefilterKey.key();
         for entry in first
             .into_iter()
-            .chain(["downsample", "prefilter", "irradiance"])
+            .chain(["downsample", "prefilter", "irradiance", "brdf_lut"])
         {
             pass.will_dispatch(&key, entry);
         }

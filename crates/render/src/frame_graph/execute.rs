@@ -85,6 +85,7 @@ fn execute(
     if !announced.is_empty() {
         executor.shaders().make_ahead(device, announced);
     }
+    let announced_if_run = graph.take_pipelines_if_run();
     let mut textures = executor.texture_pool();
     let lent = std::mem::take(&mut textures.lent);
     for (key, texture) in lent {
@@ -104,6 +105,14 @@ fn execute(
         &|name| encoder_passes.as_ref().is_some_and(|e| e.contains(name)),
     )?;
     let plan = &*planned.plan;
+    // Those announced for passes that may be culled or merged, now that the
+    // plan says which run (gather.rs).
+    if !announced_if_run.is_empty() {
+        let run = super::gather::run_by(plan, announced_if_run);
+        if !run.is_empty() {
+            executor.shaders().make_ahead(device, run);
+        }
+    }
     let mut runs = planned.runs;
     let last_use = &plan.last_use;
     let requested = &plan.requested_set;

@@ -15,6 +15,13 @@
 //! and not used. Nothing a pass records changes: the pipelines are those the
 //! look-up would have made.
 //!
+//! A recipe whose passes may be culled or merged (the G-buffer's surface
+//! and motion resolves, run as one when the frame reads both) announces a
+//! pipeline for the pass that runs it ([`FrameGraph::will_dispatch_if_run`]):
+//! handed to threads once the frame is planned, and only where a pass of
+//! that name and owner runs, so a variant the frame does not record is not
+//! made.
+//!
 //! Announcing clones a key, so it is only done while frames still make
 //! pipelines: the executor clears [`GATHERING`] after a frame that looked
 //! none up for the first time, and sets it again when one did.
@@ -22,7 +29,12 @@
 use std::sync::atomic::{AtomicBool, Ordering};
 
 use super::FrameGraph;
+use super::plan::Plan;
+use crate::report::PassName;
 use crate::shaders::ShaderKey;
+
+/// A pipeline announced for the pass named so, of that owner.
+pub(super) type IfRun = (PassName, Option<u32>, ShaderKey, &'static str);
 
 /// Whether frames announce their pipelines (process-wide: a hint, never a
 /// correctness matter: a frame that does not announce makes its pipelines as
@@ -43,8 +55,48 @@ impl FrameGraph<'_> {
         }
     }
 
+    /// Whether announcing is on (frames still make pipelines): a pass whose
+    /// keys take work to build asks first, so a warm frame builds none.
+    pub fn gathers_pipelines(&self) -> bool {
+        GATHERING.load(Ordering::Relaxed)
+    }
+
+    /// Like [`Self::will_dispatch`], for the pass `pass` of `owner` (the
+    /// name of a merged pair's joint run where it is that run's): made
+    /// ahead only where the frame's plan runs such a pass.
+    pub fn will_dispatch_if_run(
+        &mut self,
+        pass: PassName,
+        owner: Option<u32>,
+        key: &ShaderKey,
+        entry: &'static str,
+    ) {
+        if GATHERING.load(Ordering::Relaxed) {
+            self.pipelines_if_run
+                .push((pass, owner, key.clone(), entry));
+        }
+    }
+
     /// The pipelines announced, taken (the executor hands them to threads).
     pub(super) fn take_pipelines(&mut self) -> Vec<(ShaderKey, &'static str)> {
         std::mem::take(&mut self.pipelines)
     }
+
+    /// The pipelines announced for passes that may not run, taken.
+    pub(super) fn take_pipelines_if_run(&mut self) -> Vec<IfRun> {
+        std::mem::take(&mut self.pipelines_if_run)
+    }
+}
+
+/// Of `announced`, those of a pass `plan` runs.
+pub(super) fn run_by(plan: &Plan, announced: Vec<IfRun>) -> Vec<(ShaderKey, &'static str)> {
+    announced
+        .into_iter()
+        .filter(|(pass, owner, _, _)| {
+            plan.order
+                .iter()
+                .any(|&p| plan.labels.get(p) == Some(pass) && plan.owners.get(p) == Some(owner))
+        })
+        .map(|(_, _, key, entry)| (key, entry))
+        .collect()
 }

@@ -398,6 +398,8 @@ pub struct FrameGraph<'a> {
     merges: Vec<merge::Merge<'a>>,
     /// Compute pipelines its passes will dispatch, announced (gather.rs).
     pipelines: Vec<(crate::shaders::ShaderKey, &'static str)>,
+    /// Those announced for a pass that may be culled or merged (gather.rs).
+    pipelines_if_run: Vec<gather::IfRun>,
 }
 
 thread_local! {
@@ -423,6 +425,7 @@ impl<'a> FrameGraph<'a> {
             counters: BTreeMap::new(),
             merges: Vec::new(),
             pipelines: Vec::new(),
+            pipelines_if_run: Vec::new(),
         }
     }
 

@@ -192,6 +192,33 @@ impl ComputeRaster {
         }
     }
 
+    /// Announce the pipelines [`Self::record`] dispatches for the G-buffer's
+    /// view (frame_graph/gather.rs): the same keys and entry points, known
+    /// from the batches when the recipe is declared, so a first frame makes
+    /// them on threads instead of in the pass.
+    pub(crate) fn announce(
+        &self,
+        renderer: &Renderer,
+        fg: &mut crate::frame_graph::FrameGraph<'_>,
+    ) {
+        if !fg.gathers_pipelines() {
+            return;
+        }
+        let particles = self.batches.iter().any(|b| b.procedural);
+        let class = renderer.gpu.adapter_class();
+        let key = |two_sided: bool| raster_key(class, two_sided, particles, self.words);
+        let mut sides = [false; 2];
+        for batch in &self.batches {
+            sides[usize::from(batch.two_sided)] = true;
+        }
+        for sided in [false, true] {
+            if sides[usize::from(sided)] {
+                fg.will_dispatch(&key(sided), "raster_triangles");
+            }
+        }
+        fg.will_dispatch(&key(sides[1]), "raster_tiles");
+    }
+
     /// The visibility buffer of the last frame this G-buffer rasterized.
     pub fn visibility(&self) -> Option<wgpu::Buffer> {
         self.targets

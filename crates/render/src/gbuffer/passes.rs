@@ -25,6 +25,7 @@ pub(super) fn declare<'a>(g: &'a GBuffer, renderer: &'a Renderer, fg: &mut Frame
     let label = |what: &'static str| PassName::new("MRE").step(what);
     let hardware = match (g.raster, &g.compute) {
         (RasterMode::Compute, Some(compute)) => {
+            compute.announce(renderer, fg);
             // The 64-bit buffer belongs to the G-buffer; this 1x1 token
             // carries the dependency through the frame graph.
             let mut pass = fg.pass(label("compute raster"), g.owner);
@@ -101,7 +102,14 @@ pub(super) fn declare<'a>(g: &'a GBuffer, renderer: &'a Renderer, fg: &mut Frame
         .limits()
         .max_storage_textures_per_shader_stage;
     let needed = 4 + u32::from(t.surface.is_some()) + u32::from(t.anisotropy.is_some());
-    if needed <= 4 || storage >= needed {
+    let fused = needed <= 4 || storage >= needed;
+    // The resolves' pipelines, made on threads on a first frame, for the
+    // passes the plan runs: the surface's alone, the motion's, or both in one.
+    super::resolve::announce(g, fg, Targets::Surface, &label("resolve surface"));
+    super::resolve::announce(g, fg, Targets::Motion, &label("resolve motion"));
+    if fused {
+        let both_label = label("resolve surface and motion");
+        super::resolve::announce(g, fg, Targets::Both, &both_label);
         let both = surface.texture("out_velocity_uv", velocity_uv);
         fg.runs_together(label("resolve surface and motion"), move |cx| {
             resolve(g, renderer, cx, Targets::Both, &layers, both)

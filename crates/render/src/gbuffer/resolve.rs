@@ -104,26 +104,7 @@ pub(super) fn resolve(
         let i = index.unwrap_or(0);
         let layer = index.and_then(|i| g.layers.get(i));
         let reads = index.and_then(|i| layers.get(i)).filter(|_| !motion);
-        let key = match (layer, targets) {
-            (Some(l), Targets::Motion) => l.features.motion_key(),
-            (Some(l), Targets::Surface) => l.surface_key(),
-            (Some(l), Targets::Both) => l.fused_key(),
-            (None, Targets::Motion) => ResolveKey::motion(),
-            (None, Targets::Surface) => ResolveKey::surface(SurfaceResolve::default()),
-            (None, Targets::Both) => ResolveKey::surface(SurfaceResolve {
-                velocity: true,
-                ..SurfaceResolve::default()
-            }),
-        };
-        let key = ResolveKey {
-            compute_raster: compute.is_some(),
-            ..key
-        };
-        let key = match g.targets.surface {
-            Some(_) => key.with_surface_target(),
-            None => key,
-        }
-        .key();
+        let key = dispatch_key(g, layer.map(|l| &**l), targets, compute.is_some());
         let layer_buffer = match layer_buffer {
             Some(b) => b.clone(),
             None => background_layer(&device),
@@ -213,6 +194,77 @@ pub(super) fn resolve(
         );
     }
     Ok(())
+}
+
+/// The permutation of the dispatch for `layer` (None: the background
+/// dispatch of a G-buffer with no layers), as recorded and as announced.
+fn dispatch_key(
+    g: &GBuffer,
+    layer: Option<&super::Layer>,
+    targets: Targets,
+    compute_raster: bool,
+) -> crate::shaders::ShaderKey {
+    let key = match (layer, targets) {
+        (Some(l), Targets::Motion) => l.features.motion_key(),
+        (Some(l), Targets::Surface) => l.surface_key(),
+        (Some(l), Targets::Both) => l.fused_key(),
+        (None, Targets::Motion) => ResolveKey::motion(),
+        (None, Targets::Surface) => ResolveKey::surface(SurfaceResolve::default()),
+        (None, Targets::Both) => ResolveKey::surface(SurfaceResolve {
+            velocity: true,
+            ..SurfaceResolve::default()
+        }),
+    };
+    let key = ResolveKey {
+        compute_raster,
+        ..key
+    };
+    match g.targets.surface {
+        Some(_) => key.with_surface_target(),
+        None => key,
+    }
+    .key()
+}
+
+/// Announce the pipelines a `targets` resolve will dispatch, where the
+/// G-buffer is declared (frame_graph/gather.rs): their keys are known from
+/// the layers and the raster mode, so a first frame makes them on threads
+/// instead of in the pass. A shader node material's surface pipeline is
+/// made its own way (surface_shader.rs) and is left to the pass.
+/// The pass that records them is named `pass`: it may be culled (no one
+/// reads the motion) or merged (the surface and motion run as one), so they
+/// are made only where it runs.
+pub(super) fn announce(
+    g: &GBuffer,
+    fg: &mut crate::frame_graph::FrameGraph<'_>,
+    targets: Targets,
+    pass: &crate::report::PassName,
+) {
+    if !fg.gathers_pipelines() {
+        return;
+    }
+    let compute = g.compute.is_some() && g.raster == RasterMode::Compute;
+    let mut announce = |key: crate::shaders::ShaderKey| {
+        fg.will_dispatch_if_run(pass.clone(), g.owner, &key, "main");
+    };
+    if g.layers.is_empty() {
+        announce(dispatch_key(g, None, targets, compute));
+        return;
+    }
+    let runs = match targets {
+        Targets::Surface => &g.surface_runs,
+        Targets::Motion => &g.motion_runs,
+        Targets::Both => &g.fused_runs,
+    };
+    for (i, _) in runs {
+        let Some(layer) = g.layers.get(*i) else {
+            continue;
+        };
+        if layer.surface.is_some() && targets != Targets::Motion {
+            continue;
+        }
+        announce(dispatch_key(g, Some(&**layer), targets, compute));
+    }
 }
 
 /// The layer record of a G-buffer with no layers: covers nothing, clears everything.

@@ -95,6 +95,10 @@ impl Recipe for GBufferView {
         let mut pass = fg.pass(name, self.owner);
         let source = pass.read(self.channel.source(&self.gbuffer));
         let output = pass.write(&self.output, desc);
+        // Its pipeline, made on a thread on a first frame (frame_graph/gather.rs).
+        if pass.graph().gathers_pipelines() {
+            pass.will_dispatch(&self.channel.key(), "main");
+        }
         pass.run(move |cx| self.run(cx, source, output));
     }
 }

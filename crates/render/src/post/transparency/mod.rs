@@ -1339,8 +1339,20 @@ impl Recipe for Transparency {
             spot_textures,
             grid,
         };
+        // The compute pipelines of the clear and the resolve, made on threads
+        // on a first frame (frame_graph/gather.rs).
+        if pass.graph().gathers_pipelines() {
+            pass.will_dispatch(&TransparencyKey::COMPOSITE.key(), "clear");
+        }
         pass.run(move |cx| self.accumulate(renderer, cx, &io));
         let mut pass = fg.pass(name("resolve"), self.owner);
+        if pass.graph().gathers_pipelines() {
+            let resolve_key = match self.compute {
+                true => TransparencyKey::SHADED_RESOLVE,
+                false => TransparencyKey::COMPOSITE,
+            };
+            pass.will_dispatch(&resolve_key.key(), "resolve");
+        }
         let io = ResolveIo {
             opaque: pass.read(&self.source.name),
             accumulation: pass.read(&self.accumulation),
