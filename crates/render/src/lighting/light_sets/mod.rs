@@ -41,16 +41,18 @@ use crate::shadows::filter::ShadowFilter;
 /// Whether the CookTorrance passes of one G-buffer run as one dispatch.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum LightFusion {
-    /// A pass per CookTorrance (every session before this one).
+    /// A pass per CookTorrance (every session before this one). The
+    /// default: the H200 measured Fused 1% faster a frame (emeshe-frame
+    /// 1.476 -> 1.459 ms), but its generated shader is in neither of the
+    /// cold start's lists (composed ahead, pipelines ahead), so a warm start
+    /// composes it in the frame: 244-298 -> 296-348 ms for post.ron, past
+    /// the 0.3 s target (docs/benchmarks.md, "Session 20 on the H200").
+    #[default]
     Separate,
     /// One pass for the light sets that can share it (this module).
     Fused,
     /// Fused on a GPU, separate on a CPU adapter (lavapipe runs dispatches
-    /// one at a time: a pass's ramp and tail cost it nothing to save). The
-    /// default since the H200 measured it (docs/benchmarks.md, "Session 20
-    /// on the H200"): emeshe-frame's frame 1.476 -> 1.459 ms, the same
-    /// pictures bit for bit.
-    #[default]
+    /// one at a time: a pass's ramp and tail cost it nothing to save).
     Auto,
 }
 
