@@ -793,9 +793,25 @@ impl ShaderCache {
                 })?,
             );
         let label = format!("{}{} + {file_path}", key.path(), key.describe_defs());
+        let pipeline = self.composed_pipeline(device, &label, composed, entry);
+        self.surfaces
+            .insert(cache_key, (pipeline.clone(), reflection.clone()));
+        Ok((pipeline, reflection))
+    }
+
+    /// The compute pipeline of `entry` in a module composed outside the
+    /// permutation table (a spliced or generated shader), timed and counted
+    /// as the table's are.
+    fn composed_pipeline(
+        &mut self,
+        device: &wgpu::Device,
+        label: &str,
+        composed: naga::Module,
+        entry: &str,
+    ) -> wgpu::ComputePipeline {
         let shader = timed(&mut self.compile_times.modules, || {
             device.create_shader_module(wgpu::ShaderModuleDescriptor {
-                label: Some(&label),
+                label: Some(label),
                 source: wgpu::ShaderSource::Naga(Cow::Owned(composed)),
             })
         });
@@ -809,9 +825,7 @@ impl ShaderCache {
             )
         });
         self.pipelines_compiled += 1;
-        self.surfaces
-            .insert(cache_key, (pipeline.clone(), reflection.clone()));
-        Ok((pipeline, reflection))
+        pipeline
     }
 
     /// The compute pipeline of `entry` in a shader generated over the
@@ -842,22 +856,7 @@ impl ShaderCache {
                     message,
                 })?,
             );
-        let shader = timed(&mut self.compile_times.modules, || {
-            device.create_shader_module(wgpu::ShaderModuleDescriptor {
-                label: Some(&label),
-                source: wgpu::ShaderSource::Naga(Cow::Owned(composed)),
-            })
-        });
-        let pipeline = timed(&mut self.compile_times.pipelines, || {
-            compute_pipeline_of(
-                device,
-                self.pipeline_cache.as_ref(),
-                &shader,
-                &format!("{label}::{entry}"),
-                entry,
-            )
-        });
-        self.pipelines_compiled += 1;
+        let pipeline = self.composed_pipeline(device, &label, composed, entry);
         self.generated
             .insert(key, (pipeline.clone(), reflection.clone()));
         Ok((pipeline, reflection))
