@@ -25,7 +25,7 @@ pub mod mip_chain;
 pub mod particles;
 pub mod permutations;
 pub mod pipeline_cache;
-pub mod pipelines_ahead;
+pub use shaders::pipelines_ahead;
 pub mod post;
 pub mod precompose;
 pub mod readback;

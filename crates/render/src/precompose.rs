@@ -22,7 +22,7 @@
 //! The list names the frame's compute pipelines too (a permutation and an
 //! entry point, in the order the frame asked for them): a renderer creates
 //! those on threads as soon as its device is open
-//! (`crate::pipelines_ahead`), and the list's permutations are ordered so
+//! (`crate::shaders::pipelines_ahead`), and the list's permutations are ordered so
 //! that theirs are composed first.
 //!
 //! Where: `permutations/` in Spreadlight's cache directory
@@ -42,7 +42,7 @@ use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
 use crate::permutations::ENTRY_SHADERS;
-use crate::pipelines_ahead::PipelineId;
+use crate::shaders::pipelines_ahead::PipelineId;
 use crate::shaders::{ShaderComposer, ShaderKey};
 
 /// The first line of a list (its format's version).
@@ -79,7 +79,7 @@ fn key_text(key: &ShaderKey) -> String {
 }
 
 /// `keys` and `pipelines` as a list's text: a header, a line per compute
-/// pipeline in the order given (the frame's: `crate::pipelines_ahead`
+/// pipeline in the order given (the frame's: `crate::shaders::pipelines_ahead`
 /// creates them in that order), its permutation's fields and its entry
 /// point after a second tab, then a line per permutation.
 pub fn to_text(keys: &[ShaderKey], pipelines: &[(ShaderKey, &str)]) -> String {
@@ -256,12 +256,9 @@ pub fn compose_all(keys: &[ShaderKey], threads: usize) -> usize {
     composed.into_inner()
 }
 
-/// The threads to compose with: every core but the one the main thread uses.
-pub fn threads() -> usize {
-    std::thread::available_parallelism()
-        .map_or(1, |n| n.get().saturating_sub(1))
-        .clamp(1, 16)
-}
+/// The threads to compose with: every core but the one the main thread
+/// uses (the shader cache's pipeline threads take as many).
+pub use crate::shaders::pipelines_ahead::threads;
 
 impl Precomposing {
     /// Wait for the threads; what they did.

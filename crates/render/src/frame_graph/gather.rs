@@ -2,7 +2,7 @@
 //! passes are declared ([`FrameGraph::will_dispatch`]), so that a frame
 //! whose pipelines are not made yet creates them on threads while it
 //! records: the first frame of a first run, which has no list of the last
-//! run's pipelines to create ahead (`crate::pipelines_ahead`).
+//! run's pipelines to create ahead (`crate::shaders::pipelines_ahead`).
 //!
 //! Without it each pipeline was made where its pass recorded, one after
 //! another (the driver compiling each: 2.3 s for post.ron's 31 on the H200

@@ -10,10 +10,10 @@ use super::BindGroups;
 use super::reflection::{GroupEntries, Reflection, match_bindings, reflect};
 use super::{ShaderComposer, ShaderKey, Splice};
 use crate::error::RenderError;
-use crate::pipelines_ahead::{AheadStats, PipelinesAhead};
+use crate::shaders::pipelines_ahead::{AheadStats, PipelinesAhead};
 
 /// A compute pipeline of `entry` in `module`, its bind group layouts derived
-/// from the shader (also what `crate::pipelines_ahead` makes, the same way).
+/// from the shader (also what `crate::shaders::pipelines_ahead` makes, the same way).
 pub(crate) fn compute_pipeline_of(
     device: &wgpu::Device,
     cache: Option<&wgpu::PipelineCache>,
@@ -83,7 +83,7 @@ pub struct ShaderCache {
     /// what a pipeline or bind group held outside the cache was resolved under.
     pub(crate) generation: u64,
     /// Pipelines compiled since the cache was made: by the cache itself,
-    /// or on threads ahead of the look-up (`crate::pipelines_ahead`), of
+    /// or on threads ahead of the look-up (`crate::shaders::pipelines_ahead`), of
     /// which those are `pipelines_taken_ahead`.
     pub pipelines_compiled: u64,
     pub pipelines_taken_ahead: u64,
@@ -96,7 +96,7 @@ pub struct ShaderCache {
     /// the device has one: every pipeline is compiled through it.
     pipeline_cache: Option<wgpu::PipelineCache>,
     /// Compute pipelines being made ahead on threads, from the last run's
-    /// list (`crate::pipelines_ahead`): a look-up takes one from there
+    /// list (`crate::shaders::pipelines_ahead`): a look-up takes one from there
     /// before making its own.
     ahead: Option<PipelinesAhead>,
     /// Compute pipelines a frame's passes announced, being made on threads
@@ -281,7 +281,7 @@ impl ShaderCache {
     }
 
     /// Whether look-ups may take pipelines made on threads: over the
-    /// embedded sources, as those threads compose (`crate::pipelines_ahead`).
+    /// embedded sources, as those threads compose (`crate::shaders::pipelines_ahead`).
     fn shares_embedded(&self) -> bool {
         self.composer
             .as_ref()
@@ -291,10 +291,10 @@ impl ShaderCache {
     /// Start making, on threads, those of `wanted` (a frame's announced
     /// compute pipelines) that are neither made nor being made already.
     pub fn make_ahead(&mut self, device: &wgpu::Device, wanted: Vec<(ShaderKey, &'static str)>) {
-        if !self.shares_embedded() || !crate::pipelines_ahead::enabled() {
+        if !self.shares_embedded() || !crate::shaders::pipelines_ahead::enabled() {
             return;
         }
-        let mut missing: Vec<crate::pipelines_ahead::PipelineId> = Vec::new();
+        let mut missing: Vec<crate::shaders::pipelines_ahead::PipelineId> = Vec::new();
         for (key, entry) in wanted {
             let made = self
                 .compute
@@ -317,7 +317,7 @@ impl ShaderCache {
             device.clone(),
             self.pipeline_cache.clone(),
             missing,
-            crate::precompose::threads(),
+            crate::shaders::pipelines_ahead::threads(),
         ));
     }
 
@@ -657,7 +657,7 @@ impl ShaderCache {
 
     /// The permutations compiled so far (tests check a feature no scene uses
     /// never is): a module made here, or a pipeline made for this cache on
-    /// a thread ahead of its look-up (`crate::pipelines_ahead`), which
+    /// a thread ahead of its look-up (`crate::shaders::pipelines_ahead`), which
     /// leaves no module here.
     pub fn compiled_keys(&self) -> impl Iterator<Item = &ShaderKey> {
         self.modules.keys().chain(

@@ -60,7 +60,7 @@ fn embedded() -> std::sync::MutexGuard<'static, Embedded> {
 }
 
 /// Permutation `key` of the embedded sources, if a composer of this process
-/// (a renderer's, or [`crate::precompose`]'s threads) composed it already.
+/// (a renderer's, or the precompose threads') composed it already.
 pub(crate) fn embedded_module(key: &ShaderKey) -> Option<naga::Module> {
     embedded().modules.get(key).cloned()
 }

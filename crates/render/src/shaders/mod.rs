@@ -75,6 +75,10 @@ mod cache;
 mod composer;
 mod flags;
 pub mod layout;
+/// Compute pipelines created on threads ahead of the frame's look-up (the
+/// last run's list, or what a first frame's passes announce): the cache's
+/// own helper, so it lives beside the cache.
+pub mod pipelines_ahead;
 mod reflection;
 mod uniform;
 

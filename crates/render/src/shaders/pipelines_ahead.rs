@@ -340,5 +340,13 @@ impl Work {
     }
 }
 
+/// The threads to compose or create pipelines with: every core but the one
+/// the main thread uses, at most 16.
+pub fn threads() -> usize {
+    std::thread::available_parallelism()
+        .map_or(1, |n| n.get().saturating_sub(1))
+        .clamp(1, 16)
+}
+
 #[cfg(test)]
 mod tests;
