@@ -173,6 +173,35 @@ pub fn cook_torrance_f0(
     reflectance: f32,
     compensate: bool,
 ) -> Brdf {
+    cook_torrance_fresnel(
+        n,
+        v,
+        l,
+        albedo,
+        roughness,
+        metallic,
+        reflectance,
+        compensate,
+        |f0, v_dot_h, _| f_schlick(f0, v_dot_h),
+    )
+}
+
+/// [`cook_torrance_f0`] with its Fresnel term given: `fresnel(f0, V.H,
+/// N.V)` (Schlick's for the plain lobe; a thin film's mixed in for
+/// `iridescence::cook_torrance_iridescent`), in the specular lobe and the
+/// diffuse's (1 - F). The energy compensation keeps the base's F0.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn cook_torrance_fresnel(
+    n: Vec3,
+    v: Vec3,
+    l: Vec3,
+    albedo: Vec3,
+    roughness: f32,
+    metallic: f32,
+    reflectance: f32,
+    compensate: bool,
+    fresnel: impl Fn(Vec3, f32, f32) -> Vec3,
+) -> Brdf {
     let n_dot_l = n.dot(l);
     if n_dot_l <= 0.0 {
         return Brdf::default();
@@ -184,7 +213,7 @@ pub fn cook_torrance_f0(
     let metallic = metallic.clamp(0.0, 1.0);
     let albedo = albedo.max(Vec3::ZERO);
     let f0 = Vec3::splat(reflectance.clamp(0.0, 1.0)).lerp(albedo, metallic);
-    let f = f_schlick(f0, v.dot(h));
+    let f = fresnel(f0, v.dot(h), n_dot_v);
     let lobe = d_ggx(n.dot(h), roughness) * v_smith_ggx_correlated(n_dot_v, n_dot_l, roughness);
     let mut specular = f * (lobe * n_dot_l);
     if compensate {

@@ -18,10 +18,7 @@ use std::f32::consts::PI;
 
 use glam::{Mat3, Vec3};
 
-use crate::brdf::{
-    Brdf, MIN_COS, d_ggx, diffuse_lambert, energy_compensation, f_schlick, safe_normalize,
-    v_smith_ggx_correlated,
-};
+use crate::brdf::{Brdf, MIN_COS, cook_torrance_fresnel, f_schlick};
 
 /// CIE XYZ to linear Rec. 709 (sRGB primaries, D65), by columns.
 const XYZ_TO_REC709: Mat3 = Mat3::from_cols(
@@ -209,34 +206,30 @@ pub fn cook_torrance_iridescent(
     film: Film,
     compensate: bool,
 ) -> Brdf {
-    let n_dot_l = n.dot(l);
-    if n_dot_l <= 0.0 {
-        return Brdf::default();
-    }
-    let n_dot_l = n_dot_l.min(1.0);
-    let n_dot_v = n.dot(v).clamp(MIN_COS, 1.0);
-    let h = safe_normalize(v + l, n);
-    let roughness = roughness.clamp(0.0, 1.0);
+    // Clamped here as the lobe clamps them (idempotent), for the film's F.
     let metallic = metallic.clamp(0.0, 1.0);
     let albedo = albedo.max(Vec3::ZERO);
-    let f0 = Vec3::splat(reflectance.clamp(0.0, 1.0)).lerp(albedo, metallic);
-    let schlick_f = f_schlick(f0, v.dot(h));
-    let film_f = iridescence_fresnel(
-        reflectance,
+    cook_torrance_fresnel(
+        n,
+        v,
+        l,
         albedo,
+        roughness,
         metallic,
-        n_dot_v,
-        film.ior,
-        film.thickness,
-    );
-    let f = schlick_f.lerp(film_f, film.factor);
-    let lobe = d_ggx(n.dot(h), roughness) * v_smith_ggx_correlated(n_dot_v, n_dot_l, roughness);
-    let mut specular = f * (lobe * n_dot_l);
-    if compensate {
-        specular *= energy_compensation(f0, n_dot_v, roughness);
-    }
-    let diffuse = (Vec3::ONE - f) * (1.0 - metallic) * albedo * (diffuse_lambert() * n_dot_l);
-    Brdf { diffuse, specular }
+        reflectance,
+        compensate,
+        |f0, v_dot_h, n_dot_v| {
+            let film_f = iridescence_fresnel(
+                reflectance,
+                albedo,
+                metallic,
+                n_dot_v,
+                film.ior,
+                film.thickness,
+            );
+            f_schlick(f0, v_dot_h).lerp(film_f, film.factor)
+        },
+    )
 }
 
 #[cfg(test)]
